@@ -1,0 +1,159 @@
+//! Excel's coercions between value kinds, used by operators and functions alike.
+
+use std::cmp::Ordering;
+use std::rc::Rc;
+
+use super::number_format::general;
+use super::value::{Value, XlError, XlResult};
+
+/// A value as a number for arithmetic: `"2"` is 2, `TRUE` is 1, blank is 0, other text `#VALUE!`.
+pub fn to_number(v: &Value) -> XlResult<f64> {
+    match v {
+        Value::Number(n) => Ok(*n),
+        Value::Bool(b) => Ok(f64::from(u8::from(*b))),
+        Value::Blank => Ok(0.0),
+        Value::Text(s) => parse_number(s).ok_or(XlError::Value),
+        Value::Error(e) => Err(*e),
+        Value::Array(a) => to_number(a.data.first().unwrap_or(&Value::Blank)),
+    }
+}
+
+/// A value as text: numbers to 15 significant digits, `TRUE`/`FALSE`, blank is "".
+pub fn to_text(v: &Value) -> XlResult<Rc<str>> {
+    match v {
+        Value::Text(s) => Ok(s.clone()),
+        Value::Number(n) => Ok(general(*n).into()),
+        Value::Bool(b) => Ok(if *b { "TRUE" } else { "FALSE" }.into()),
+        Value::Blank => Ok("".into()),
+        Value::Error(e) => Err(*e),
+        Value::Array(a) => to_text(a.data.first().unwrap_or(&Value::Blank)),
+    }
+}
+
+/// A value as a condition: numbers are TRUE unless 0, text "TRUE"/"FALSE" only.
+pub fn to_bool(v: &Value) -> XlResult<bool> {
+    match v {
+        Value::Bool(b) => Ok(*b),
+        Value::Number(n) => Ok(*n != 0.0),
+        Value::Blank => Ok(false),
+        Value::Text(s) if s.eq_ignore_ascii_case("TRUE") => Ok(true),
+        Value::Text(s) if s.eq_ignore_ascii_case("FALSE") => Ok(false),
+        Value::Text(_) => Err(XlError::Value),
+        Value::Error(e) => Err(*e),
+        Value::Array(a) => to_bool(a.data.first().unwrap_or(&Value::Blank)),
+    }
+}
+
+/// Reads text the way Excel's `VALUE` and arithmetic do: optional sign, thousands
+/// separators, decimals, exponent, a trailing `%`, surrounding spaces.
+pub fn parse_number(text: &str) -> Option<f64> {
+    let t = text.trim();
+    if t.is_empty() {
+        return None;
+    }
+    let (t, scale) = match t.strip_suffix('%') {
+        Some(rest) => (rest.trim_end(), 0.01),
+        None => (t, 1.0),
+    };
+    let (negative, body) = match t.as_bytes().first() {
+        Some(b'-') => (true, &t[1..]),
+        Some(b'+') => (false, &t[1..]),
+        _ => (false, t),
+    };
+    let body = body.trim_start();
+    let (negative, body) = match body.strip_prefix('(').and_then(|b| b.strip_suffix(')')) {
+        Some(inner) if !negative => (true, inner),
+        _ => (negative, body),
+    };
+    let plain = strip_thousands(body)?;
+    if !plain
+        .bytes()
+        .next()
+        .is_some_and(|b| b.is_ascii_digit() || b == b'.')
+    {
+        return None;
+    }
+    if plain
+        .bytes()
+        .any(|b| !(b.is_ascii_digit() || matches!(b, b'.' | b'e' | b'E' | b'+' | b'-')))
+    {
+        return None;
+    }
+    let v: f64 = plain.parse().ok()?;
+    let v = if negative { -v } else { v } * scale;
+    v.is_finite().then_some(v)
+}
+
+/// `1,234,567.5` to `1234567.5`; commas must group the integer part by three.
+fn strip_thousands(body: &str) -> Option<String> {
+    if !body.contains(',') {
+        return Some(body.to_string());
+    }
+    let int_end = body.find(['.', 'e', 'E']).unwrap_or(body.len());
+    let (int, rest) = body.split_at(int_end);
+    let groups: Vec<&str> = int.split(',').collect();
+    let well_grouped = !groups[0].is_empty()
+        && groups[0].len() <= 3
+        && groups[1..].iter().all(|g| g.len() == 3)
+        && !rest.contains(',');
+    well_grouped.then(|| format!("{}{rest}", groups.concat()))
+}
+
+/// Excel's ordering across kinds: numbers < text < booleans; blank counts as the other
+/// side's empty value; text compares without regard to case.
+pub fn compare(a: &Value, b: &Value) -> XlResult<Ordering> {
+    use Value::*;
+    Ok(match (a, b) {
+        (Error(e), _) | (_, Error(e)) => return Err(*e),
+        (Array(x), _) => return compare(x.data.first().unwrap_or(&Blank), b),
+        (_, Array(y)) => return compare(a, y.data.first().unwrap_or(&Blank)),
+        (Number(x), Number(y)) => x.partial_cmp(y).unwrap_or(Ordering::Equal),
+        (Text(x), Text(y)) => compare_text(x, y),
+        (Bool(x), Bool(y)) => x.cmp(y),
+        (Blank, Blank) => Ordering::Equal,
+        (Blank, Number(y)) => 0.0.partial_cmp(y).unwrap_or(Ordering::Equal),
+        (Number(x), Blank) => x.partial_cmp(&0.0).unwrap_or(Ordering::Equal),
+        (Blank, Text(y)) => compare_text("", y),
+        (Text(x), Blank) => compare_text(x, ""),
+        (Blank, Bool(y)) => false.cmp(y),
+        (Bool(x), Blank) => x.cmp(&false),
+        (Number(_), _) => Ordering::Less,
+        (_, Number(_)) => Ordering::Greater,
+        (Text(_), Bool(_)) => Ordering::Less,
+        (Bool(_), Text(_)) => Ordering::Greater,
+    })
+}
+
+pub fn compare_text(a: &str, b: &str) -> Ordering {
+    let lower = |s: &str| s.chars().flat_map(char::to_lowercase).collect::<Vec<_>>();
+    if a.is_ascii() && b.is_ascii() {
+        let (x, y) = (a.as_bytes(), b.as_bytes());
+        return x
+            .iter()
+            .map(u8::to_ascii_lowercase)
+            .cmp(y.iter().map(u8::to_ascii_lowercase));
+    }
+    lower(a).cmp(&lower(b))
+}
+
+/// Equality as `=` tests it (case-insensitive text, numbers as stored).
+pub fn values_equal(a: &Value, b: &Value) -> XlResult<bool> {
+    compare(a, b).map(|o| o == Ordering::Equal)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn text_reads_as_excel_reads_it() {
+        assert_eq!(parse_number(" 2 "), Some(2.0));
+        assert_eq!(parse_number("1,234.5"), Some(1234.5));
+        assert_eq!(parse_number("50%"), Some(0.5));
+        assert_eq!(parse_number("-1.5e3"), Some(-1500.0));
+        assert_eq!(parse_number("(3)"), Some(-3.0));
+        assert_eq!(parse_number("1,23"), None);
+        assert_eq!(parse_number("abc"), None);
+        assert_eq!(parse_number(""), None);
+    }
+}

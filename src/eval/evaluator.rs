@@ -1,0 +1,465 @@
+//! The one evaluator: a syntax tree plus the cells it reads (through [`Env`]) to a value.
+//! Cells, macros and surface equations all evaluate through here.
+
+use std::rc::Rc;
+
+use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
+use crate::formula::ast::*;
+
+use super::coerce::{compare, to_number, to_text};
+use super::functions::{self, FnKind};
+use super::value::{Array, Value, XlError, XlResult};
+
+/// What the evaluator reads: cell values, defined names and sheet facts. The workbook
+/// implements it; tests and macro code may implement it over anything.
+pub trait Env {
+    /// The value of one cell (blank when empty or off the sheet).
+    fn value(&self, sheet: SheetId, pos: Pos) -> Value;
+
+    /// Calls `f` for every non-blank cell in `rect`, row by row (Excel's order: it decides
+    /// which error a SUM reports and the rounding of long sums).
+    fn for_each_value(&self, sheet: SheetId, rect: Rect, f: &mut dyn FnMut(Pos, &Value));
+
+    /// The rectangle from A1 to the last used row and column (`None` for an empty sheet).
+    fn used_rect(&self, sheet: SheetId) -> Option<Rect>;
+
+    /// A defined name visible from `sheet`: its formula and the sheet it is evaluated on.
+    fn defined_name(&self, name: &str, sheet: SheetId) -> Option<(Rc<Expr>, SheetId)>;
+
+    /// The cells a dynamic array anchored at `pos` spilled into, for `A1#`.
+    fn spill_rect(&self, sheet: SheetId, pos: Pos) -> Option<Rect>;
+
+    fn sheet_count(&self) -> usize;
+
+    fn sheet_name(&self, sheet: SheetId) -> Option<String>;
+}
+
+/// The result of evaluating an expression that may be a reference.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Operand {
+    Value(Value),
+    Ref(SheetId, Rect),
+}
+
+/// A diagnostic a function leaves for the cell it evaluates (e.g. why a geometry is invalid).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Note {
+    pub error: XlError,
+    pub message: String,
+}
+
+/// The evaluation of one formula: where it is, what it reads, its local names.
+pub struct Ctx<'a> {
+    pub env: &'a dyn Env,
+    pub sheet: SheetId,
+    pub at: Pos,
+    locals: Vec<(Rc<str>, Value)>,
+    depth: u32,
+    /// Messages explaining error values, for the CLI to show.
+    pub notes: Vec<Note>,
+}
+
+/// Nested name definitions or LET bodies deeper than this are a cycle.
+const MAX_DEPTH: u32 = 200;
+
+impl<'a> Ctx<'a> {
+    pub fn new(env: &'a dyn Env, sheet: SheetId, at: Pos) -> Ctx<'a> {
+        Ctx {
+            env,
+            sheet,
+            at,
+            locals: Vec::new(),
+            depth: 0,
+            notes: Vec::new(),
+        }
+    }
+
+    /// Records why `error` happened and returns it, for `return Err(ctx.explain(..))`.
+    pub fn explain(&mut self, error: XlError, message: impl Into<String>) -> XlError {
+        self.notes.push(Note {
+            error,
+            message: message.into(),
+        });
+        error
+    }
+
+    /// Evaluates to a value: a multi-cell reference becomes an array, a single cell its value.
+    pub fn eval(&mut self, e: &Expr) -> Value {
+        match &e.kind {
+            ExprKind::Number(n) => Value::Number(*n),
+            ExprKind::Text(s) => Value::Text(s.clone()),
+            ExprKind::Bool(b) => Value::Bool(*b),
+            ExprKind::Error(err) => Value::Error(*err),
+            ExprKind::Missing => Value::Blank,
+            ExprKind::Ref(r) => match self.resolve(r) {
+                Ok((sheet, rect)) => self.rect_value(sheet, rect),
+                Err(err) => Value::Error(err),
+            },
+            ExprKind::Paren(inner) => self.eval(inner),
+            ExprKind::Array(lit) => self.array_literal(lit),
+            ExprKind::Unary(op, inner) => self.unary(*op, inner),
+            ExprKind::Binary(BinOp::Range, ..) | ExprKind::Name(_) => {
+                let operand = self.operand(e);
+                self.deref(operand)
+            }
+            ExprKind::Binary(op, a, b) => {
+                let (a, b) = (self.eval(a), self.eval(b));
+                binary(*op, &a, &b)
+            }
+            ExprKind::Call(id, args) => self.call(*id, args),
+            ExprKind::UnknownCall(..) => Value::Error(XlError::Name),
+        }
+    }
+
+    /// Evaluates keeping references as references (for SUM over ranges, ROW, INDEX, …).
+    pub fn operand(&mut self, e: &Expr) -> Operand {
+        match &e.kind {
+            ExprKind::Ref(r) => match self.resolve(r) {
+                Ok((sheet, rect)) => Operand::Ref(sheet, rect),
+                Err(err) => Operand::Value(Value::Error(err)),
+            },
+            ExprKind::Paren(inner) => self.operand(inner),
+            ExprKind::Name(name) => self.name_operand(name),
+            ExprKind::Binary(BinOp::Range, a, b) => self.range_operand(a, b),
+            ExprKind::Unary(UnaryOp::Spill, inner) => self.spill_operand(inner),
+            ExprKind::Call(id, args) => match functions::spec(*id).kind {
+                FnKind::Ref(f) => f(self, args),
+                FnKind::Value(_) => Operand::Value(self.call(*id, args)),
+            },
+            _ => Operand::Value(self.eval(e)),
+        }
+    }
+
+    /// A reference operand read as a value; a value operand unchanged.
+    pub fn deref(&mut self, operand: Operand) -> Value {
+        match operand {
+            Operand::Value(v) => v,
+            Operand::Ref(sheet, rect) => self.rect_value(sheet, rect),
+        }
+    }
+
+    /// The absolute sheet and rectangle a reference points at from this cell.
+    pub fn resolve(&self, r: &Reference) -> XlResult<(SheetId, Rect)> {
+        let sheet = match &r.sheet {
+            SheetRef::Current => self.sheet,
+            SheetRef::Id(id) => *id,
+            SheetRef::Missing(_) => return Err(XlError::Ref),
+        };
+        let row = |c: Coord| c.resolve(self.at.row, MAX_ROWS).ok_or(XlError::Ref);
+        let col = |c: Coord| c.resolve(self.at.col, MAX_COLS).ok_or(XlError::Ref);
+        let rect = match r.shape {
+            RefShape::Cell(c) => Rect::cell(Pos::new(row(c.row)?, col(c.col)?)),
+            RefShape::Cells(a, b) => Rect::new(
+                Pos::new(row(a.row)?, col(a.col)?),
+                Pos::new(row(b.row)?, col(b.col)?),
+            ),
+            RefShape::Cols(a, b) => {
+                Rect::new(Pos::new(0, col(a)?), Pos::new(MAX_ROWS - 1, col(b)?))
+            }
+            RefShape::Rows(a, b) => {
+                Rect::new(Pos::new(row(a)?, 0), Pos::new(row(b)?, MAX_COLS - 1))
+            }
+        };
+        Ok((sheet, rect))
+    }
+
+    /// A rectangle's values: one cell's value, or an array clipped to the used area
+    /// (a whole column reads as far down as the sheet has data).
+    pub fn rect_value(&self, sheet: SheetId, rect: Rect) -> Value {
+        if rect.is_cell() {
+            return self.env.value(sheet, rect.first);
+        }
+        let rect = self.clip_to_used(sheet, rect);
+        let (rows, cols) = (rect.rows() as usize, rect.cols() as usize);
+        let mut data = vec![Value::Blank; rows * cols];
+        self.env.for_each_value(sheet, rect, &mut |p, v| {
+            data[(p.row - rect.first.row) as usize * cols + (p.col - rect.first.col) as usize] =
+                v.clone();
+        });
+        Value::Array(Rc::new(Array::new(rows, cols, data)))
+    }
+
+    /// Whole rows and columns shrink to the used area; ordinary ranges stay as written.
+    pub fn clip_to_used(&self, sheet: SheetId, rect: Rect) -> Rect {
+        let whole_cols = rect.first.row == 0 && rect.last.row == MAX_ROWS - 1;
+        let whole_rows = rect.first.col == 0 && rect.last.col == MAX_COLS - 1;
+        if !whole_cols && !whole_rows {
+            return rect;
+        }
+        let used = self
+            .env
+            .used_rect(sheet)
+            .unwrap_or(Rect::cell(Pos::new(0, 0)));
+        let mut r = rect;
+        if whole_cols {
+            r.last.row = used.last.row.max(r.first.row);
+        }
+        if whole_rows {
+            r.last.col = used.last.col.max(r.first.col);
+        }
+        r
+    }
+
+    /// Evaluates `body` with `name` bound to `value` (for LET and LAMBDA).
+    pub fn with_local<T>(
+        &mut self,
+        name: Rc<str>,
+        value: Value,
+        body: impl FnOnce(&mut Ctx<'a>) -> T,
+    ) -> T {
+        self.locals.push((name, value));
+        let out = body(self);
+        self.locals.pop();
+        out
+    }
+
+    /// Calls a registered function by id with unevaluated arguments.
+    pub fn call(&mut self, id: FnId, args: &[Expr]) -> Value {
+        match functions::spec(id).kind {
+            FnKind::Value(f) => f(self, args).unwrap_or_else(Value::Error),
+            FnKind::Ref(f) => {
+                let operand = f(self, args);
+                self.deref(operand)
+            }
+        }
+    }
+
+    fn name_operand(&mut self, name: &str) -> Operand {
+        if let Some((_, v)) = self
+            .locals
+            .iter()
+            .rev()
+            .find(|(n, _)| n.eq_ignore_ascii_case(name))
+        {
+            return Operand::Value(v.clone());
+        }
+        let Some((expr, sheet)) = self.env.defined_name(name, self.sheet) else {
+            return Operand::Value(Value::Error(XlError::Name));
+        };
+        if self.depth >= MAX_DEPTH {
+            return Operand::Value(Value::Error(XlError::Circ));
+        }
+        // A defined name is evaluated as if it sat in A1 of its sheet (its references are absolute
+        // as Excel stores them) and without the caller's LET variables.
+        let saved = (self.sheet, self.at, std::mem::take(&mut self.locals));
+        self.sheet = sheet;
+        self.at = Pos::new(0, 0);
+        self.depth += 1;
+        let out = self.operand(&expr);
+        self.depth -= 1;
+        (self.sheet, self.at, self.locals) = saved;
+        out
+    }
+
+    fn range_operand(&mut self, a: &Expr, b: &Expr) -> Operand {
+        match (self.operand(a), self.operand(b)) {
+            (Operand::Ref(s1, r1), Operand::Ref(s2, r2)) if s1 == s2 => {
+                let first = Pos::new(
+                    r1.first.row.min(r2.first.row),
+                    r1.first.col.min(r2.first.col),
+                );
+                let last = Pos::new(r1.last.row.max(r2.last.row), r1.last.col.max(r2.last.col));
+                Operand::Ref(s1, Rect { first, last })
+            }
+            (Operand::Value(Value::Error(e)), _) | (_, Operand::Value(Value::Error(e))) => {
+                Operand::Value(Value::Error(e))
+            }
+            _ => Operand::Value(Value::Error(XlError::Value)),
+        }
+    }
+
+    fn spill_operand(&mut self, inner: &Expr) -> Operand {
+        match self.operand(inner) {
+            Operand::Ref(sheet, rect) => match self.env.spill_rect(sheet, rect.first) {
+                Some(r) => Operand::Ref(sheet, r),
+                None => Operand::Value(Value::Error(XlError::Ref)),
+            },
+            Operand::Value(Value::Error(e)) => Operand::Value(Value::Error(e)),
+            Operand::Value(_) => Operand::Value(Value::Error(XlError::Ref)),
+        }
+    }
+
+    fn array_literal(&mut self, lit: &ArrayLit) -> Value {
+        let data = lit.items.iter().map(|e| self.eval(e)).collect();
+        Value::Array(Rc::new(Array::new(lit.rows, lit.cols, data)))
+    }
+
+    fn unary(&mut self, op: UnaryOp, inner: &Expr) -> Value {
+        match op {
+            UnaryOp::Neg => map_number(&self.eval(inner), |x| Ok(-x)),
+            UnaryOp::Plus => self.eval(inner),
+            UnaryOp::Percent => map_number(&self.eval(inner), |x| Ok(x / 100.0)),
+            UnaryOp::Implicit => {
+                let operand = self.operand(inner);
+                self.implicit_intersection(operand)
+            }
+            UnaryOp::Spill => {
+                let operand = self.spill_operand(inner);
+                self.deref(operand)
+            }
+        }
+    }
+
+    /// `@A1:A10` in row 5 is A5; a range not in line with the cell is `#VALUE!`.
+    pub fn implicit_intersection(&mut self, operand: Operand) -> Value {
+        match operand {
+            Operand::Value(Value::Array(a)) => a.data.first().cloned().unwrap_or(Value::Blank),
+            Operand::Value(v) => v,
+            Operand::Ref(sheet, rect) if rect.is_cell() => self.env.value(sheet, rect.first),
+            Operand::Ref(sheet, rect) => {
+                let row = if rect.rows() == 1 {
+                    Some(rect.first.row)
+                } else {
+                    (rect.first.row..=rect.last.row)
+                        .contains(&self.at.row)
+                        .then_some(self.at.row)
+                };
+                let col = if rect.cols() == 1 {
+                    Some(rect.first.col)
+                } else {
+                    (rect.first.col..=rect.last.col)
+                        .contains(&self.at.col)
+                        .then_some(self.at.col)
+                };
+                match (row, col) {
+                    (Some(r), Some(c)) if rect.rows() == 1 || rect.cols() == 1 => {
+                        self.env.value(sheet, Pos::new(r, c))
+                    }
+                    _ => Value::Error(XlError::Value),
+                }
+            }
+        }
+    }
+}
+
+/// Applies a numeric function to a scalar or element-wise to an array.
+pub fn map_number(v: &Value, f: impl Fn(f64) -> XlResult<f64>) -> Value {
+    map_value(v, &|x| match to_number(x).and_then(&f) {
+        Ok(n) => number_result(n),
+        Err(e) => Value::Error(e),
+    })
+}
+
+/// Applies `f` to a scalar, or to each item of an array.
+pub fn map_value(v: &Value, f: &dyn Fn(&Value) -> Value) -> Value {
+    match v {
+        Value::Array(a) => Value::Array(Rc::new(Array::new(
+            a.rows,
+            a.cols,
+            a.data.iter().map(f).collect(),
+        ))),
+        other => f(other),
+    }
+}
+
+/// Combines two operands item by item with Excel's broadcasting (a single row or
+/// column repeats; beyond the smaller array's edge the item is `#N/A`).
+pub fn broadcast2(a: &Value, b: &Value, f: &dyn Fn(&Value, &Value) -> Value) -> Value {
+    match (a, b) {
+        (Value::Array(x), Value::Array(y)) => {
+            let rows = x.rows.max(y.rows);
+            let cols = x.cols.max(y.cols);
+            let mut data = Vec::with_capacity(rows * cols);
+            for r in 0..rows {
+                for c in 0..cols {
+                    data.push(f(&x.broadcast_get(r, c), &y.broadcast_get(r, c)));
+                }
+            }
+            Value::Array(Rc::new(Array::new(rows, cols, data)))
+        }
+        (Value::Array(x), s) => Value::Array(Rc::new(Array::new(
+            x.rows,
+            x.cols,
+            x.data.iter().map(|v| f(v, s)).collect(),
+        ))),
+        (s, Value::Array(y)) => Value::Array(Rc::new(Array::new(
+            y.rows,
+            y.cols,
+            y.data.iter().map(|v| f(s, v)).collect(),
+        ))),
+        (x, y) => f(x, y),
+    }
+}
+
+/// A computed number as a value: NaN and infinities are `#NUM!`, as Excel reports overflow.
+#[inline]
+pub fn number_result(n: f64) -> Value {
+    if n.is_finite() {
+        Value::Number(n)
+    } else {
+        Value::Error(XlError::Num)
+    }
+}
+
+/// A binary operator applied with broadcasting.
+pub fn binary(op: BinOp, a: &Value, b: &Value) -> Value {
+    if let (Value::Number(x), Value::Number(y)) = (a, b) {
+        return scalar_binary_numbers(op, *x, *y);
+    }
+    broadcast2(a, b, &|x, y| scalar_binary(op, x, y))
+}
+
+fn scalar_binary(op: BinOp, a: &Value, b: &Value) -> Value {
+    match op {
+        BinOp::Concat => match (to_text(a), to_text(b)) {
+            (Ok(x), Ok(y)) => Value::Text(format!("{x}{y}").into()),
+            (Err(e), _) | (_, Err(e)) => Value::Error(e),
+        },
+        BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge => {
+            match compare(a, b) {
+                Ok(ord) => Value::Bool(comparison_holds(op, ord)),
+                Err(e) => Value::Error(e),
+            }
+        }
+        _ => match (to_number(a), to_number(b)) {
+            (Ok(x), Ok(y)) => scalar_binary_numbers(op, x, y),
+            (Err(e), _) | (_, Err(e)) => Value::Error(e),
+        },
+    }
+}
+
+fn comparison_holds(op: BinOp, ord: std::cmp::Ordering) -> bool {
+    use std::cmp::Ordering::*;
+    match op {
+        BinOp::Eq => ord == Equal,
+        BinOp::Ne => ord != Equal,
+        BinOp::Lt => ord == Less,
+        BinOp::Le => ord != Greater,
+        BinOp::Gt => ord == Greater,
+        BinOp::Ge => ord != Less,
+        _ => unreachable!("not a comparison"),
+    }
+}
+
+#[inline]
+fn scalar_binary_numbers(op: BinOp, x: f64, y: f64) -> Value {
+    match op {
+        BinOp::Add => number_result(x + y),
+        BinOp::Sub => number_result(x - y),
+        BinOp::Mul => number_result(x * y),
+        BinOp::Div if y == 0.0 => Value::Error(XlError::Div0),
+        BinOp::Div => number_result(x / y),
+        BinOp::Pow => power(x, y).map_or_else(Value::Error, number_result),
+        _ => scalar_binary(op, &Value::Number(x), &Value::Number(y)),
+    }
+}
+
+/// Excel's `^` and `POWER`: `0^0` and a negative base with a fractional exponent are `#NUM!`,
+/// `0^-1` is `#DIV/0!`.
+pub fn power(x: f64, y: f64) -> XlResult<f64> {
+    if x == 0.0 && y == 0.0 {
+        return Err(XlError::Num);
+    }
+    if x == 0.0 && y < 0.0 {
+        return Err(XlError::Div0);
+    }
+    if x < 0.0 && y.fract() != 0.0 {
+        return Err(XlError::Num);
+    }
+    let v = x.powf(y);
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(XlError::Num)
+    }
+}

@@ -1,0 +1,193 @@
+//! Argument helpers shared by function bodies: Excel's rules for reading arguments live
+//! here once, not in every function.
+
+use std::rc::Rc;
+
+use crate::formula::ast::{Expr, ExprKind};
+
+use crate::eval::coerce::{to_bool, to_number, to_text};
+use crate::eval::evaluator::{Ctx, Operand};
+use crate::eval::value::{Array, Value, XlError, XlResult};
+
+/// Where a value came from, which decides how aggregates treat text and booleans.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Source {
+    /// Typed as an argument (`SUM(1,"2",TRUE)` counts all three).
+    Direct,
+    /// Read from a range or an array (`SUM(A1:A3)` skips text and booleans).
+    Collection,
+}
+
+/// A scalar argument as a number (arrays give their first item; use [`lift`] to map instead).
+pub fn number(ctx: &mut Ctx, e: &Expr) -> XlResult<f64> {
+    to_number(&ctx.eval(e))
+}
+
+/// An optional number argument: `default` when omitted or left empty.
+pub fn number_or(ctx: &mut Ctx, args: &[Expr], i: usize, default: f64) -> XlResult<f64> {
+    match args.get(i) {
+        None => Ok(default),
+        Some(e) if e.kind == ExprKind::Missing => Ok(default),
+        Some(e) => number(ctx, e),
+    }
+}
+
+pub fn text(ctx: &mut Ctx, e: &Expr) -> XlResult<Rc<str>> {
+    to_text(&ctx.eval(e))
+}
+
+pub fn boolean(ctx: &mut Ctx, e: &Expr) -> XlResult<bool> {
+    to_bool(&ctx.eval(e))
+}
+
+/// An optional boolean argument.
+pub fn bool_or(ctx: &mut Ctx, args: &[Expr], i: usize, default: bool) -> XlResult<bool> {
+    match args.get(i) {
+        None => Ok(default),
+        Some(e) if e.kind == ExprKind::Missing => Ok(default),
+        Some(e) => boolean(ctx, e),
+    }
+}
+
+/// Evaluates every argument and calls `f` on the scalars; when any argument is an array
+/// (or a multi-cell range) `f` runs item by item with broadcasting and the result is an
+/// array — how `SIN(A1:A5)` spills in Excel 365.
+pub fn lift(
+    ctx: &mut Ctx,
+    args: &[Expr],
+    f: &dyn Fn(&[Value]) -> XlResult<Value>,
+) -> XlResult<Value> {
+    let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    lift_values(&values, f)
+}
+
+/// [`lift`] over values already evaluated.
+pub fn lift_values(values: &[Value], f: &dyn Fn(&[Value]) -> XlResult<Value>) -> XlResult<Value> {
+    let dims = values
+        .iter()
+        .fold(None, |acc: Option<(usize, usize)>, v| match v {
+            Value::Array(a) => {
+                Some(acc.map_or((a.rows, a.cols), |(r, c)| (r.max(a.rows), c.max(a.cols))))
+            }
+            _ => acc,
+        });
+    let Some((rows, cols)) = dims else {
+        return f(values);
+    };
+    let mut data = Vec::with_capacity(rows * cols);
+    let mut scalars = Vec::with_capacity(values.len());
+    for r in 0..rows {
+        for c in 0..cols {
+            scalars.clear();
+            scalars.extend(values.iter().map(|v| match v {
+                Value::Array(a) => a.broadcast_get(r, c),
+                other => other.clone(),
+            }));
+            data.push(f(&scalars).unwrap_or_else(Value::Error));
+        }
+    }
+    Ok(Value::Array(Rc::new(Array::new(rows, cols, data))))
+}
+
+/// A one-number function lifted over arrays: `f` gets the argument as a number.
+pub fn lift_number1(ctx: &mut Ctx, args: &[Expr], f: fn(f64) -> XlResult<f64>) -> XlResult<Value> {
+    lift(ctx, args, &|v| {
+        let x = to_number(&v[0])?;
+        Ok(crate::eval::evaluator::number_result(f(x)?))
+    })
+}
+
+/// A two-number function lifted over arrays; a missing second argument reads as `default`.
+pub fn lift_number2(
+    ctx: &mut Ctx,
+    args: &[Expr],
+    default: f64,
+    f: fn(f64, f64) -> XlResult<f64>,
+) -> XlResult<Value> {
+    let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    let missing_second = args.get(1).is_none_or(|e| e.kind == ExprKind::Missing);
+    lift_values(&values, &|v| {
+        let x = to_number(&v[0])?;
+        let y = if missing_second {
+            default
+        } else {
+            to_number(&v[1])?
+        };
+        Ok(crate::eval::evaluator::number_result(f(x, y)?))
+    })
+}
+
+/// Visits every value the arguments hold, in order: a range's non-blank cells, an array's
+/// items, or the argument's own value. Stops at the first `Err` from `f`.
+pub fn for_each_value(
+    ctx: &mut Ctx,
+    args: &[Expr],
+    f: &mut dyn FnMut(&Value, Source) -> XlResult<()>,
+) -> XlResult<()> {
+    for a in args {
+        if a.kind == ExprKind::Missing {
+            continue;
+        }
+        match ctx.operand(a) {
+            Operand::Ref(sheet, rect) => {
+                let rect = ctx.clip_to_used(sheet, rect);
+                let mut outcome = Ok(());
+                ctx.env.for_each_value(sheet, rect, &mut |_, v| {
+                    if outcome.is_ok() {
+                        outcome = f(v, Source::Collection);
+                    }
+                });
+                outcome?;
+            }
+            Operand::Value(Value::Array(arr)) => {
+                for v in &arr.data {
+                    f(v, Source::Collection)?;
+                }
+            }
+            Operand::Value(v) => f(&v, Source::Direct)?,
+        }
+    }
+    Ok(())
+}
+
+/// Visits the numbers of the arguments as SUM, AVERAGE, MIN, MAX read them: numbers
+/// anywhere; typed text and booleans coerced; text, booleans and blanks in ranges and
+/// arrays skipped; any error stops with that error.
+pub fn for_each_number(ctx: &mut Ctx, args: &[Expr], f: &mut dyn FnMut(f64)) -> XlResult<()> {
+    for_each_value(ctx, args, &mut |v, source| {
+        match (v, source) {
+            (Value::Number(n), _) => f(*n),
+            (Value::Error(e), _) => return Err(*e),
+            (_, Source::Collection) => {}
+            (Value::Blank, Source::Direct) => {}
+            (other, Source::Direct) => f(to_number(other)?),
+        }
+        Ok(())
+    })
+}
+
+/// The numbers of the arguments, collected.
+pub fn numbers(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<f64>> {
+    let mut out = Vec::new();
+    for_each_number(ctx, args, &mut |n| out.push(n))?;
+    Ok(out)
+}
+
+/// An argument read as a 2-D block of values: a range (all cells, blanks included) or an
+/// array; a scalar is a 1×1 block.
+pub fn block(ctx: &mut Ctx, e: &Expr) -> XlResult<Rc<Array>> {
+    match ctx.eval(e) {
+        Value::Array(a) => Ok(a),
+        Value::Error(err) => Err(err),
+        v => Ok(Rc::new(Array::new(1, 1, vec![v]))),
+    }
+}
+
+/// `#VALUE!` unless `ok`: for argument checks that read as sentences.
+pub fn require(ok: bool) -> XlResult<()> {
+    if ok {
+        Ok(())
+    } else {
+        Err(XlError::Value)
+    }
+}

@@ -1,0 +1,5 @@
+//! info functions.
+
+use super::FnSpec;
+
+pub const FUNCTIONS: &[FnSpec] = &[];

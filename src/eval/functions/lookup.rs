@@ -1,0 +1,5 @@
+//! lookup functions.
+
+use super::FnSpec;
+
+pub const FUNCTIONS: &[FnSpec] = &[];

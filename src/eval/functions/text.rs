@@ -1,0 +1,5 @@
+//! text functions.
+
+use super::FnSpec;
+
+pub const FUNCTIONS: &[FnSpec] = &[];

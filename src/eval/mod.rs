@@ -1,0 +1,12 @@
+//! Evaluation: values, coercions, the evaluator and the function table. Reads cells only
+//! through the [`Env`] trait; knows nothing of workbooks, files or the command line.
+
+pub mod coerce;
+pub mod evaluator;
+pub mod functions;
+pub mod number_format;
+pub mod testing;
+pub mod value;
+
+pub use evaluator::{Ctx, Env, Note, Operand};
+pub use value::{Array, Value, XlError, XlResult};

@@ -1,0 +1,138 @@
+//! A small in-memory [`Env`] for evaluating formulas without a workbook (unit tests,
+//! examples). One sheet named `Sheet1`; cells hold constants only.
+
+use std::collections::BTreeMap;
+use std::rc::Rc;
+
+use crate::formula::address::{parse_cell, Pos, Rect};
+use crate::formula::ast::{Expr, SheetId};
+use crate::formula::parse::{parse_formula, ParseContext, ParseError};
+
+use super::evaluator::{Ctx, Env};
+use super::functions::Registry;
+use super::value::Value;
+
+#[derive(Default)]
+pub struct MapEnv {
+    pub cells: BTreeMap<(u32, u32), Value>,
+}
+
+impl MapEnv {
+    /// `MapEnv::with(&[("A1", 1.0.into()), ("A2", "x".into())])`
+    pub fn with(cells: &[(&str, Value)]) -> MapEnv {
+        let mut env = MapEnv::default();
+        for (addr, v) in cells {
+            let p = parse_cell(addr).expect("cell address");
+            env.cells.insert((p.row, p.col), v.clone());
+        }
+        env
+    }
+
+    /// Parses and evaluates `formula` as if it sat in cell `at` of Sheet1.
+    pub fn eval_at(&self, formula: &str, at: &str) -> Result<Value, ParseError> {
+        let at = parse_cell(at).expect("cell address");
+        let expr = parse_formula(
+            formula,
+            &ParseContext {
+                at,
+                functions: &Registry,
+                sheet: &|n| (n.eq_ignore_ascii_case("Sheet1")).then_some(0),
+            },
+        )?;
+        Ok(Ctx::new(self, 0, at).eval(&expr).unwrap_single())
+    }
+
+    /// Evaluates `formula` in cell Z100 (away from the usual test data).
+    pub fn eval(&self, formula: &str) -> Value {
+        self.eval_at(formula, "Z100")
+            .unwrap_or_else(|e| panic!("{}", e.render(formula)))
+    }
+}
+
+impl Env for MapEnv {
+    fn value(&self, _: SheetId, pos: Pos) -> Value {
+        self.cells
+            .get(&(pos.row, pos.col))
+            .cloned()
+            .unwrap_or_default()
+    }
+
+    fn for_each_value(&self, _: SheetId, rect: Rect, f: &mut dyn FnMut(Pos, &Value)) {
+        for (&(row, col), v) in self
+            .cells
+            .range((rect.first.row, 0)..=(rect.last.row, u32::MAX))
+        {
+            if (rect.first.col..=rect.last.col).contains(&col) && !v.is_blank() {
+                f(Pos::new(row, col), v);
+            }
+        }
+    }
+
+    fn used_rect(&self, _: SheetId) -> Option<Rect> {
+        let last_row = self.cells.keys().map(|k| k.0).max()?;
+        let last_col = self.cells.keys().map(|k| k.1).max()?;
+        Some(Rect::new(Pos::new(0, 0), Pos::new(last_row, last_col)))
+    }
+
+    fn defined_name(&self, _: &str, _: SheetId) -> Option<(Rc<Expr>, SheetId)> {
+        None
+    }
+
+    fn spill_rect(&self, _: SheetId, _: Pos) -> Option<Rect> {
+        None
+    }
+
+    fn sheet_count(&self) -> usize {
+        1
+    }
+
+    fn sheet_name(&self, sheet: SheetId) -> Option<String> {
+        (sheet == 0).then(|| "Sheet1".to_string())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::eval::XlError;
+
+    fn n(v: f64) -> Value {
+        Value::Number(v)
+    }
+
+    #[test]
+    fn excel_precedence_and_associativity() {
+        let env = MapEnv::default();
+        // Excel: negation binds tighter than ^, ^ is left-associative.
+        assert_eq!(env.eval("=-2^2"), n(4.0));
+        assert_eq!(env.eval("=2^3^2"), n(64.0));
+        assert_eq!(env.eval("=2+3*4"), n(14.0));
+        assert_eq!(env.eval("=1+2&3"), Value::text("33"));
+        assert_eq!(env.eval("=1+2=3"), Value::Bool(true));
+        assert_eq!(env.eval("=50%*2"), n(1.0));
+        assert_eq!(env.eval("=2^-1"), n(0.5));
+        assert_eq!(env.eval("=--2"), n(2.0));
+    }
+
+    #[test]
+    fn coercions_and_errors() {
+        let env = MapEnv::with(&[
+            ("A1", n(2.0)),
+            ("A2", Value::text("x")),
+            ("A3", Value::Bool(true)),
+        ]);
+        assert_eq!(env.eval("=\"2\"*3"), n(6.0));
+        assert_eq!(env.eval("=TRUE+1"), n(2.0));
+        assert_eq!(env.eval("=1&TRUE"), Value::text("1TRUE"));
+        assert_eq!(env.eval("=TRUE>1"), Value::Bool(true));
+        assert_eq!(env.eval("=1/0"), Value::Error(XlError::Div0));
+        assert_eq!(env.eval("=A2+1"), Value::Error(XlError::Value));
+        assert_eq!(env.eval("=SQRT(-1)"), Value::Error(XlError::Num));
+        assert_eq!(env.eval("=ATAN2(0,0)"), Value::Error(XlError::Div0));
+        assert_eq!(env.eval("=POWER(-8,1/3)"), Value::Error(XlError::Num));
+        assert_eq!(env.eval("=SUM(A1:A3)"), n(2.0));
+        assert_eq!(env.eval("=NOSUCH(1)"), Value::Error(XlError::Name));
+        assert_eq!(env.eval("=B7"), Value::Blank);
+        assert_eq!(env.eval("=B7=\"\""), Value::Bool(true));
+    }
+}

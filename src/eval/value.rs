@@ -1,0 +1,168 @@
+//! Excel's value model: number, text, boolean, blank, error, and arrays of those.
+
+use std::fmt;
+use std::rc::Rc;
+
+pub use crate::formula::XlError;
+
+/// The result of evaluating anything. Errors are values, as in Excel.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub enum Value {
+    #[default]
+    Blank,
+    Number(f64),
+    Bool(bool),
+    Text(Rc<str>),
+    Error(XlError),
+    Array(Rc<Array>),
+}
+
+pub type XlResult<T> = Result<T, XlError>;
+
+/// A rectangular block of values, row-major. Never holds a nested array.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Array {
+    pub rows: usize,
+    pub cols: usize,
+    pub data: Vec<Value>,
+}
+
+impl Array {
+    pub fn new(rows: usize, cols: usize, data: Vec<Value>) -> Array {
+        debug_assert_eq!(rows * cols, data.len());
+        Array { rows, cols, data }
+    }
+
+    pub fn filled(rows: usize, cols: usize, v: Value) -> Array {
+        Array {
+            rows,
+            cols,
+            data: vec![v; rows * cols],
+        }
+    }
+
+    /// A one-row array.
+    pub fn row(data: Vec<Value>) -> Array {
+        Array {
+            rows: 1,
+            cols: data.len(),
+            data,
+        }
+    }
+
+    /// A one-column array.
+    pub fn column(data: Vec<Value>) -> Array {
+        Array {
+            rows: data.len(),
+            cols: 1,
+            data,
+        }
+    }
+
+    pub fn get(&self, row: usize, col: usize) -> &Value {
+        &self.data[row * self.cols + col]
+    }
+
+    /// Excel's broadcasting read: a single row or column repeats, beyond the edge is `#N/A`.
+    pub fn broadcast_get(&self, row: usize, col: usize) -> Value {
+        let r = if self.rows == 1 { 0 } else { row };
+        let c = if self.cols == 1 { 0 } else { col };
+        if r < self.rows && c < self.cols {
+            self.get(r, c).clone()
+        } else {
+            Value::Error(XlError::NA)
+        }
+    }
+}
+
+impl Value {
+    pub fn text(s: impl Into<Rc<str>>) -> Value {
+        Value::Text(s.into())
+    }
+
+    pub fn is_blank(&self) -> bool {
+        matches!(self, Value::Blank)
+    }
+
+    pub fn as_error(&self) -> Option<XlError> {
+        match self {
+            Value::Error(e) => Some(*e),
+            _ => None,
+        }
+    }
+
+    /// A 1×1 array is its only item; anything else is unchanged.
+    pub fn unwrap_single(self) -> Value {
+        match self {
+            Value::Array(a) if a.rows == 1 && a.cols == 1 => a.data[0].clone(),
+            v => v,
+        }
+    }
+
+    /// What a cell shows for a formula result: a blank result reads as 0, as in Excel.
+    pub fn blank_as_zero(self) -> Value {
+        match self {
+            Value::Blank => Value::Number(0.0),
+            v => v,
+        }
+    }
+}
+
+impl From<f64> for Value {
+    fn from(v: f64) -> Value {
+        Value::Number(v)
+    }
+}
+
+impl From<bool> for Value {
+    fn from(v: bool) -> Value {
+        Value::Bool(v)
+    }
+}
+
+impl From<&str> for Value {
+    fn from(v: &str) -> Value {
+        Value::Text(v.into())
+    }
+}
+
+impl From<String> for Value {
+    fn from(v: String) -> Value {
+        Value::Text(v.into())
+    }
+}
+
+impl From<XlError> for Value {
+    fn from(v: XlError) -> Value {
+        Value::Error(v)
+    }
+}
+
+impl From<Array> for Value {
+    fn from(v: Array) -> Value {
+        Value::Array(Rc::new(v))
+    }
+}
+
+impl From<XlResult<Value>> for Value {
+    fn from(r: XlResult<Value>) -> Value {
+        r.unwrap_or_else(Value::Error)
+    }
+}
+
+/// Displays a value as a cell shows it: numbers to 15 significant digits.
+impl fmt::Display for Value {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Value::Blank => Ok(()),
+            Value::Number(n) => f.write_str(&super::number_format::general(*n)),
+            Value::Bool(b) => f.write_str(if *b { "TRUE" } else { "FALSE" }),
+            Value::Text(s) => f.write_str(s),
+            Value::Error(e) => f.write_str(e.as_str()),
+            Value::Array(a) => match a.data.first() {
+                Some(v) => v.fmt(f),
+                None => Ok(()),
+            },
+        }
+    }
+}

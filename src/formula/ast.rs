@@ -1,0 +1,187 @@
+//! The formula syntax tree. Plain data: nothing here evaluates or touches a workbook.
+//!
+//! References are stored relative to the cell that holds the formula (like Excel's R1C1
+//! form), so a formula copied down a column parses to one tree that every copy shares.
+
+use std::rc::Rc;
+
+pub use super::error::XlError;
+
+/// Index of a sheet in its workbook.
+pub type SheetId = u16;
+
+/// Byte range of a node in the formula text as typed (a leading `=` included).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub struct Span {
+    pub start: u32,
+    pub end: u32,
+}
+
+/// One coordinate of a reference: an absolute index (`$A`) or an offset from the
+/// formula's own cell (`A`). Both are 0-based.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Coord {
+    pub value: i32,
+    pub absolute: bool,
+}
+
+impl Coord {
+    pub fn absolute(value: u32) -> Coord {
+        Coord {
+            value: value as i32,
+            absolute: true,
+        }
+    }
+
+    pub fn relative(offset: i32) -> Coord {
+        Coord {
+            value: offset,
+            absolute: false,
+        }
+    }
+
+    /// The 0-based index this coordinate points at from `base`, if it lies on the sheet.
+    #[inline]
+    pub fn resolve(self, base: u32, limit: u32) -> Option<u32> {
+        let v = if self.absolute {
+            self.value as i64
+        } else {
+            base as i64 + self.value as i64
+        };
+        (0..limit as i64).contains(&v).then_some(v as u32)
+    }
+}
+
+/// A cell address inside a reference.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct CellCoord {
+    pub row: Coord,
+    pub col: Coord,
+}
+
+/// What a reference covers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum RefShape {
+    /// `A1`
+    Cell(CellCoord),
+    /// `A1:C10`
+    Cells(CellCoord, CellCoord),
+    /// `A:C` (whole columns)
+    Cols(Coord, Coord),
+    /// `3:5` (whole rows)
+    Rows(Coord, Coord),
+}
+
+/// Which sheet a reference points at.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub enum SheetRef {
+    /// The sheet holding the formula.
+    Current,
+    Id(SheetId),
+    /// A sheet name the workbook does not have: evaluates to `#REF!`.
+    Missing(Rc<str>),
+}
+
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct Reference {
+    pub sheet: SheetRef,
+    pub shape: RefShape,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum BinOp {
+    Range,
+    Pow,
+    Mul,
+    Div,
+    Add,
+    Sub,
+    Concat,
+    Eq,
+    Ne,
+    Lt,
+    Le,
+    Gt,
+    Ge,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum UnaryOp {
+    Neg,
+    Plus,
+    Percent,
+    /// `@`: implicit intersection.
+    Implicit,
+    /// `A1#`: the spill range anchored at a cell.
+    Spill,
+}
+
+/// Index of a function in the registry (`eval::functions::REGISTRY`).
+pub type FnId = u16;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Expr {
+    pub kind: ExprKind,
+    pub span: Span,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum ExprKind {
+    Number(f64),
+    Text(Rc<str>),
+    Bool(bool),
+    Error(XlError),
+    /// An omitted argument, as in `IF(A1,,2)`.
+    Missing,
+    Ref(Reference),
+    /// A defined name or a `LET`/`LAMBDA` variable.
+    Name(Rc<str>),
+    Array(Rc<ArrayLit>),
+    /// Parentheses as typed, kept so that a formula prints back as it was written.
+    Paren(Box<Expr>),
+    Unary(UnaryOp, Box<Expr>),
+    Binary(BinOp, Box<Expr>, Box<Expr>),
+    Call(FnId, Vec<Expr>),
+    /// A function the registry does not know: evaluates to `#NAME?`.
+    UnknownCall(Rc<str>, Vec<Expr>),
+}
+
+/// An array constant `{1,2;3,4}`, row-major.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ArrayLit {
+    pub rows: usize,
+    pub cols: usize,
+    pub items: Vec<Expr>,
+}
+
+impl Expr {
+    pub fn new(kind: ExprKind, span: Span) -> Expr {
+        Expr { kind, span }
+    }
+
+    /// Calls `f` for every reference in the tree, in text order.
+    pub fn visit_refs(&self, f: &mut dyn FnMut(&Reference)) {
+        self.visit(&mut |e| {
+            if let ExprKind::Ref(r) = &e.kind {
+                f(r)
+            }
+        });
+    }
+
+    /// Calls `f` for every node of the tree, parents before children.
+    pub fn visit(&self, f: &mut dyn FnMut(&Expr)) {
+        f(self);
+        match &self.kind {
+            ExprKind::Unary(_, e) | ExprKind::Paren(e) => e.visit(f),
+            ExprKind::Binary(_, a, b) => {
+                a.visit(f);
+                b.visit(f);
+            }
+            ExprKind::Call(_, args) | ExprKind::UnknownCall(_, args) => {
+                args.iter().for_each(|a| a.visit(f))
+            }
+            ExprKind::Array(lit) => lit.items.iter().for_each(|a| a.visit(f)),
+            _ => {}
+        }
+    }
+}

@@ -1,0 +1,13 @@
+//! The formula language: grammar binding, syntax tree, printing. Knows nothing of values,
+//! workbooks or files.
+
+pub mod address;
+pub mod ast;
+pub mod error;
+pub mod parse;
+pub mod print;
+
+pub use address::{Pos, Rect};
+pub use ast::{Expr, ExprKind};
+pub use error::XlError;
+pub use parse::{parse_formula, FunctionTable, ParseContext, ParseError};

@@ -1,0 +1,503 @@
+//! Formula text to syntax tree: binds `grammar/formula.pest` and holds the one Pratt table.
+//!
+//! Precedence, lowest first (Excel's, every binary operator left-associative):
+//!
+//! ```text
+//! = <> < <= > >=      comparison
+//! &                   concatenation
+//! + -                 addition
+//! * /                 multiplication
+//! ^                   power        (2^3^2 = 64)
+//! %                   percent      (postfix)
+//! - +                 negation     (prefix: -2^2 = 4)
+//! @                   implicit intersection
+//! #                   spill range  (postfix)
+//! :                   range
+//! ```
+
+use std::rc::Rc;
+use std::sync::LazyLock;
+
+use pest::error::{ErrorVariant, InputLocation};
+use pest::iterators::{Pair, Pairs};
+use pest::pratt_parser::{Assoc, Op, PrattParser};
+use pest::Parser;
+use pest_derive::Parser;
+
+use super::address::{column_index, Pos, MAX_COLS, MAX_ROWS};
+use super::ast::*;
+
+#[derive(Parser)]
+#[grammar = "../grammar/formula.pest"]
+pub struct FormulaGrammar;
+
+static PRATT: LazyLock<PrattParser<Rule>> = LazyLock::new(|| {
+    use Assoc::Left;
+    PrattParser::new()
+        .op(Op::infix(Rule::eq, Left)
+            | Op::infix(Rule::ne, Left)
+            | Op::infix(Rule::lt, Left)
+            | Op::infix(Rule::le, Left)
+            | Op::infix(Rule::gt, Left)
+            | Op::infix(Rule::ge, Left))
+        .op(Op::infix(Rule::concat, Left))
+        .op(Op::infix(Rule::add, Left) | Op::infix(Rule::sub, Left))
+        .op(Op::infix(Rule::mul, Left) | Op::infix(Rule::div, Left))
+        .op(Op::infix(Rule::pow, Left))
+        .op(Op::postfix(Rule::percent))
+        .op(Op::prefix(Rule::neg) | Op::prefix(Rule::plus))
+        .op(Op::prefix(Rule::implicit))
+        .op(Op::postfix(Rule::spill_ref))
+        .op(Op::infix(Rule::range_op, Left))
+});
+
+/// What the parser needs to know about functions; the evaluator's registry provides it.
+pub trait FunctionTable {
+    /// The id and argument bounds of a function, by name in any case (`_xlfn.` already removed).
+    fn lookup(&self, name: &str) -> Option<FnInfo>;
+    /// The canonical name of a function id.
+    fn name(&self, id: FnId) -> &str;
+}
+
+#[derive(Clone, Copy, Debug)]
+pub struct FnInfo {
+    pub id: FnId,
+    pub min_args: usize,
+    pub max_args: usize,
+}
+
+/// Where a formula lives, which decides how its relative references are stored.
+pub struct ParseContext<'a> {
+    /// The cell that holds the formula (relative references are offsets from it).
+    pub at: Pos,
+    pub functions: &'a dyn FunctionTable,
+    /// Resolves a sheet name used in a reference; `None` means the workbook has no such sheet.
+    pub sheet: &'a dyn Fn(&str) -> Option<SheetId>,
+}
+
+/// A formula that does not parse: where (byte offset in the text as typed) and why.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ParseError {
+    pub offset: usize,
+    pub message: String,
+}
+
+impl ParseError {
+    fn at(offset: usize, message: impl Into<String>) -> ParseError {
+        ParseError {
+            offset,
+            message: message.into(),
+        }
+    }
+
+    /// 1-based column in characters.
+    pub fn column(&self, text: &str) -> usize {
+        text.get(..self.offset.min(text.len()))
+            .map_or(self.offset, |s| s.chars().count())
+            + 1
+    }
+
+    /// The formula, a caret under the place, and the message:
+    ///
+    /// ```text
+    /// =1+*2
+    ///    ^ column 4: expected a value
+    /// ```
+    pub fn render(&self, text: &str) -> String {
+        let col = self.column(text);
+        format!(
+            "{text}\n{}^ column {col}: {}",
+            " ".repeat(col - 1),
+            self.message
+        )
+    }
+}
+
+/// Parses a formula (with or without its leading `=`).
+pub fn parse_formula(text: &str, ctx: &ParseContext) -> Result<Expr, ParseError> {
+    let mut pairs = FormulaGrammar::parse(Rule::formula, text).map_err(from_pest)?;
+    let formula = pairs.next().expect("formula rule");
+    let expr = formula
+        .into_inner()
+        .find(|p| p.as_rule() == Rule::expr)
+        .expect("expr");
+    Builder { ctx }.expr(expr.into_inner())
+}
+
+fn from_pest(err: pest::error::Error<Rule>) -> ParseError {
+    let offset = match err.location {
+        InputLocation::Pos(p) => p,
+        InputLocation::Span((s, _)) => s,
+    };
+    let message = match &err.variant {
+        ErrorVariant::CustomError { message } => message.clone(),
+        ErrorVariant::ParsingError { positives, .. } => expected_message(positives),
+    };
+    ParseError::at(offset, message)
+}
+
+fn expected_message(positives: &[Rule]) -> String {
+    let mut wanted: Vec<&str> = positives.iter().map(|r| describe(*r)).collect();
+    wanted.sort_unstable();
+    wanted.dedup();
+    match wanted.as_slice() {
+        [] => "unexpected character".to_string(),
+        [one] => format!("expected {one}"),
+        many => format!("expected one of: {}", many.join(", ")),
+    }
+}
+
+fn describe(rule: Rule) -> &'static str {
+    match rule {
+        Rule::expr | Rule::arg | Rule::paren | Rule::call | Rule::number | Rule::string => {
+            "a value"
+        }
+        Rule::reference | Rule::cell | Rule::cell_range | Rule::name => "a value",
+        Rule::EOI => "an operator or the end of the formula",
+        Rule::array_item | Rule::signed_number => "a constant in the array",
+        Rule::array_row => "an array row",
+        _ if is_operator(rule) => "an operator",
+        _ => "a value",
+    }
+}
+
+fn is_operator(rule: Rule) -> bool {
+    matches!(
+        rule,
+        Rule::range_op
+            | Rule::le
+            | Rule::ge
+            | Rule::ne
+            | Rule::eq
+            | Rule::lt
+            | Rule::gt
+            | Rule::concat
+            | Rule::add
+            | Rule::sub
+            | Rule::mul
+            | Rule::div
+            | Rule::pow
+            | Rule::percent
+            | Rule::spill_ref
+    )
+}
+
+fn span_of(pair: &Pair<Rule>) -> Span {
+    let s = pair.as_span();
+    Span {
+        start: s.start() as u32,
+        end: s.end() as u32,
+    }
+}
+
+fn join(a: Span, b: Span) -> Span {
+    Span {
+        start: a.start.min(b.start),
+        end: a.end.max(b.end),
+    }
+}
+
+/// Prefixes Excel writes into stored formulas for functions newer than Excel 2007.
+pub fn strip_future_prefix(name: &str) -> &str {
+    for prefix in ["_xlfn._xlws.", "_xlfn.", "_xlws.", "_xlpm."] {
+        if name.len() > prefix.len() && name[..prefix.len()].eq_ignore_ascii_case(prefix) {
+            return &name[prefix.len()..];
+        }
+    }
+    name
+}
+
+struct Builder<'a, 'c> {
+    ctx: &'a ParseContext<'c>,
+}
+
+type Built = Result<Expr, ParseError>;
+
+impl Builder<'_, '_> {
+    fn expr(&self, pairs: Pairs<Rule>) -> Built {
+        PRATT
+            .map_primary(|p| self.primary(p))
+            .map_prefix(|op, rhs| {
+                let rhs = rhs?;
+                let kind = match op.as_rule() {
+                    Rule::neg => UnaryOp::Neg,
+                    Rule::plus => UnaryOp::Plus,
+                    _ => UnaryOp::Implicit,
+                };
+                let span = join(span_of(&op), rhs.span);
+                Ok(Expr::new(ExprKind::Unary(kind, Box::new(rhs)), span))
+            })
+            .map_postfix(|lhs, op| {
+                let lhs = lhs?;
+                let kind = match op.as_rule() {
+                    Rule::percent => UnaryOp::Percent,
+                    _ => UnaryOp::Spill,
+                };
+                let span = join(lhs.span, span_of(&op));
+                Ok(Expr::new(ExprKind::Unary(kind, Box::new(lhs)), span))
+            })
+            .map_infix(|lhs, op, rhs| {
+                let (lhs, rhs) = (lhs?, rhs?);
+                let span = join(lhs.span, rhs.span);
+                let kind = ExprKind::Binary(binary_op(op.as_rule()), Box::new(lhs), Box::new(rhs));
+                Ok(Expr::new(kind, span))
+            })
+            .parse(pairs)
+    }
+
+    fn primary(&self, pair: Pair<Rule>) -> Built {
+        let span = span_of(&pair);
+        let kind = match pair.as_rule() {
+            Rule::paren => {
+                let inner = pair.into_inner().next().expect("paren holds expr");
+                ExprKind::Paren(Box::new(self.expr(inner.into_inner())?))
+            }
+            Rule::call => return self.call(pair),
+            Rule::array => ExprKind::Array(Rc::new(self.array(pair)?)),
+            Rule::number => ExprKind::Number(number(&pair)?),
+            Rule::string => ExprKind::Text(unescape(&pair).into()),
+            Rule::error => ExprKind::Error(pair.as_str().parse().expect("grammar lists errors")),
+            Rule::boolean => ExprKind::Bool(pair.as_str().eq_ignore_ascii_case("TRUE")),
+            Rule::reference => ExprKind::Ref(self.reference(pair)?),
+            Rule::name => ExprKind::Name(strip_future_prefix(pair.as_str()).into()),
+            rule => unreachable!("primary {rule:?}"),
+        };
+        Ok(Expr::new(kind, span))
+    }
+
+    fn call(&self, pair: Pair<Rule>) -> Built {
+        let span = span_of(&pair);
+        let mut inner = pair.into_inner();
+        let name_pair = inner.next().expect("func_name");
+        let name = strip_future_prefix(name_pair.as_str());
+        let mut args = Vec::new();
+        for arg in inner {
+            let arg_span = span_of(&arg);
+            match arg.into_inner().next() {
+                Some(e) => args.push(self.expr(e.into_inner())?),
+                None => args.push(Expr::new(ExprKind::Missing, arg_span)),
+            }
+        }
+        // `PI()` has one empty argument slot in the grammar, and no argument.
+        if args.len() == 1 && args[0].kind == ExprKind::Missing {
+            args.clear();
+        }
+        let Some(info) = self.ctx.functions.lookup(name) else {
+            return Ok(Expr::new(
+                ExprKind::UnknownCall(name.to_ascii_uppercase().into(), args),
+                span,
+            ));
+        };
+        if args.len() < info.min_args || args.len() > info.max_args {
+            let canonical = self.ctx.functions.name(info.id);
+            return Err(ParseError::at(
+                name_pair.as_span().start(),
+                arity_message(canonical, info, args.len()),
+            ));
+        }
+        Ok(Expr::new(ExprKind::Call(info.id, args), span))
+    }
+
+    fn array(&self, pair: Pair<Rule>) -> Result<ArrayLit, ParseError> {
+        let mut rows = 0;
+        let mut cols = None;
+        let mut items = Vec::new();
+        for row in pair.into_inner() {
+            let row_start = row.as_span().start();
+            let before = items.len();
+            for item in row.into_inner() {
+                items.push(self.array_item(item.into_inner().next().expect("array item"))?);
+            }
+            let n = items.len() - before;
+            if *cols.get_or_insert(n) != n {
+                return Err(ParseError::at(
+                    row_start,
+                    "every row of an array constant needs the same number of items",
+                ));
+            }
+            rows += 1;
+        }
+        Ok(ArrayLit {
+            rows,
+            cols: cols.unwrap_or(0),
+            items,
+        })
+    }
+
+    fn array_item(&self, pair: Pair<Rule>) -> Built {
+        let span = span_of(&pair);
+        if pair.as_rule() != Rule::signed_number {
+            return self.primary(pair);
+        }
+        let mut negative = false;
+        let mut value = 0.0;
+        for part in pair.into_inner() {
+            match part.as_rule() {
+                Rule::neg => negative = !negative,
+                Rule::number => value = number(&part)?,
+                _ => {}
+            }
+        }
+        Ok(Expr::new(
+            ExprKind::Number(if negative { -value } else { value }),
+            span,
+        ))
+    }
+
+    fn reference(&self, pair: Pair<Rule>) -> Result<Reference, ParseError> {
+        let mut sheet = SheetRef::Current;
+        let mut shape = None;
+        for part in pair.into_inner() {
+            match part.as_rule() {
+                Rule::sheet_prefix => sheet = self.sheet(part),
+                Rule::cell => shape = Some(RefShape::Cell(self.cell(&part)?)),
+                Rule::cell_range => {
+                    let mut cells = part.into_inner();
+                    let a = self.cell(&cells.next().expect("first cell"))?;
+                    let b = self.cell(&cells.next().expect("second cell"))?;
+                    shape = Some(RefShape::Cells(a, b));
+                }
+                Rule::col_range => {
+                    let mut cols = part.into_inner();
+                    let a = self.col(&cols.next().expect("first column"))?;
+                    let b = self.col(&cols.next().expect("second column"))?;
+                    shape = Some(RefShape::Cols(a, b));
+                }
+                Rule::row_range => {
+                    let mut rows = part.into_inner();
+                    let a = self.row(&rows.next().expect("first row"))?;
+                    let b = self.row(&rows.next().expect("second row"))?;
+                    shape = Some(RefShape::Rows(a, b));
+                }
+                rule => unreachable!("reference part {rule:?}"),
+            }
+        }
+        Ok(Reference {
+            sheet,
+            shape: shape.expect("reference has a shape"),
+        })
+    }
+
+    fn sheet(&self, pair: Pair<Rule>) -> SheetRef {
+        let raw = pair.into_inner().next().expect("sheet name").as_str();
+        let name = match raw.strip_prefix('\'').and_then(|s| s.strip_suffix('\'')) {
+            Some(quoted) => quoted.replace("''", "'"),
+            None => raw.to_string(),
+        };
+        match (self.ctx.sheet)(&name) {
+            Some(id) => SheetRef::Id(id),
+            None => SheetRef::Missing(name.into()),
+        }
+    }
+
+    fn cell(&self, pair: &Pair<Rule>) -> Result<CellCoord, ParseError> {
+        let text = pair.as_str();
+        let split = text
+            .rfind(|c: char| !c.is_ascii_digit())
+            .map_or(0, |i| i + 1);
+        let (col_text, row_text) = text.split_at(split);
+        let col_text = col_text.strip_suffix('$').unwrap_or(col_text);
+        let off_sheet = || {
+            ParseError::at(
+                pair.as_span().start(),
+                format!("{text} is off the sheet (columns A to XFD, rows 1 to {MAX_ROWS})"),
+            )
+        };
+        let col = self.col_coord(col_text).ok_or_else(off_sheet)?;
+        let row = self.row_coord(row_text).ok_or_else(off_sheet)?;
+        Ok(CellCoord { row, col })
+    }
+
+    fn col(&self, pair: &Pair<Rule>) -> Result<Coord, ParseError> {
+        self.col_coord(pair.as_str()).ok_or_else(|| {
+            ParseError::at(
+                pair.as_span().start(),
+                format!("column {} is off the sheet (A to XFD)", pair.as_str()),
+            )
+        })
+    }
+
+    fn row(&self, pair: &Pair<Rule>) -> Result<Coord, ParseError> {
+        self.row_coord(pair.as_str()).ok_or_else(|| {
+            ParseError::at(
+                pair.as_span().start(),
+                format!("row {} is off the sheet (1 to {MAX_ROWS})", pair.as_str()),
+            )
+        })
+    }
+
+    fn col_coord(&self, text: &str) -> Option<Coord> {
+        let (absolute, letters) = split_dollar(text);
+        let col = column_index(letters)?;
+        debug_assert!(col < MAX_COLS);
+        Some(coord(absolute, col, self.ctx.at.col))
+    }
+
+    fn row_coord(&self, text: &str) -> Option<Coord> {
+        let (absolute, digits) = split_dollar(text);
+        let row: u32 = digits.parse().ok()?;
+        if !(1..=MAX_ROWS).contains(&row) {
+            return None;
+        }
+        Some(coord(absolute, row - 1, self.ctx.at.row))
+    }
+}
+
+fn split_dollar(text: &str) -> (bool, &str) {
+    match text.strip_prefix('$') {
+        Some(rest) => (true, rest),
+        None => (false, text),
+    }
+}
+
+fn coord(absolute: bool, index: u32, base: u32) -> Coord {
+    if absolute {
+        Coord::absolute(index)
+    } else {
+        Coord::relative(index as i32 - base as i32)
+    }
+}
+
+fn arity_message(name: &str, info: FnInfo, got: usize) -> String {
+    let wanted = match (info.min_args, info.max_args) {
+        (a, b) if a == b => format!("{a}"),
+        (a, usize::MAX) => format!("at least {a}"),
+        (a, b) => format!("{a} to {b}"),
+    };
+    let plural = if wanted == "1" { "" } else { "s" };
+    format!("{name} takes {wanted} argument{plural}, not {got}")
+}
+
+fn number(pair: &Pair<Rule>) -> Result<f64, ParseError> {
+    match pair.as_str().parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        _ => Err(ParseError::at(
+            pair.as_span().start(),
+            format!("number {} is too large", pair.as_str()),
+        )),
+    }
+}
+
+fn unescape(pair: &Pair<Rule>) -> String {
+    let inner = pair.clone().into_inner().next().map_or("", |p| p.as_str());
+    inner.replace("\"\"", "\"")
+}
+
+fn binary_op(rule: Rule) -> BinOp {
+    match rule {
+        Rule::range_op => BinOp::Range,
+        Rule::pow => BinOp::Pow,
+        Rule::mul => BinOp::Mul,
+        Rule::div => BinOp::Div,
+        Rule::add => BinOp::Add,
+        Rule::sub => BinOp::Sub,
+        Rule::concat => BinOp::Concat,
+        Rule::eq => BinOp::Eq,
+        Rule::ne => BinOp::Ne,
+        Rule::lt => BinOp::Lt,
+        Rule::le => BinOp::Le,
+        Rule::gt => BinOp::Gt,
+        Rule::ge => BinOp::Ge,
+        rule => unreachable!("infix {rule:?}"),
+    }
+}

@@ -1,0 +1,210 @@
+//! Syntax tree back to formula text (Excel's canonical spelling: upper-case function names).
+
+use std::fmt::Write;
+
+use super::address::{column_name, Pos, MAX_COLS, MAX_ROWS};
+use super::ast::*;
+use super::parse::FunctionTable;
+
+/// Names the sheets of a workbook for printing sheet-qualified references.
+pub type SheetNames<'a> = &'a dyn Fn(SheetId) -> String;
+
+/// Prints `expr` as held by the cell `at`, without the leading `=`.
+pub fn print_formula(
+    expr: &Expr,
+    at: Pos,
+    functions: &dyn FunctionTable,
+    sheets: SheetNames,
+) -> String {
+    let mut out = String::new();
+    Printer {
+        at,
+        functions,
+        sheets,
+        out: &mut out,
+    }
+    .expr(expr);
+    out
+}
+
+/// Quotes a sheet name when Excel would (`'Chamfer data'!A1`).
+pub fn quote_sheet_name(name: &str) -> String {
+    let plain = name
+        .chars()
+        .next()
+        .is_some_and(|c| c.is_alphabetic() || c == '_')
+        && name
+            .chars()
+            .all(|c| c.is_alphanumeric() || c == '_' || c == '.')
+        && super::address::parse_cell(name).is_none();
+    if plain {
+        name.to_string()
+    } else {
+        format!("'{}'", name.replace('\'', "''"))
+    }
+}
+
+/// Shortest text that reads back as the same number.
+pub fn number_literal(v: f64) -> String {
+    let plain = format!("{v}");
+    if plain.len() <= 17 {
+        plain
+    } else {
+        format!("{v:E}")
+    }
+}
+
+struct Printer<'a> {
+    at: Pos,
+    functions: &'a dyn FunctionTable,
+    sheets: SheetNames<'a>,
+    out: &'a mut String,
+}
+
+impl Printer<'_> {
+    fn expr(&mut self, e: &Expr) {
+        match &e.kind {
+            ExprKind::Number(v) => self.out.push_str(&number_literal(*v)),
+            ExprKind::Text(s) => {
+                let _ = write!(self.out, "\"{}\"", s.replace('"', "\"\""));
+            }
+            ExprKind::Bool(b) => self.out.push_str(if *b { "TRUE" } else { "FALSE" }),
+            ExprKind::Error(err) => self.out.push_str(err.as_str()),
+            ExprKind::Missing => {}
+            ExprKind::Ref(r) => self.reference(r),
+            ExprKind::Name(n) => self.out.push_str(n),
+            ExprKind::Array(lit) => self.array(lit),
+            ExprKind::Paren(inner) => {
+                self.out.push('(');
+                self.expr(inner);
+                self.out.push(')');
+            }
+            ExprKind::Unary(op, inner) => self.unary(*op, inner),
+            ExprKind::Binary(op, a, b) => {
+                self.expr(a);
+                self.out.push_str(binary_symbol(*op));
+                self.expr(b);
+            }
+            ExprKind::Call(id, args) => {
+                let name = self.functions.name(*id).to_string();
+                self.call(&name, args)
+            }
+            ExprKind::UnknownCall(name, args) => self.call(name, args),
+        }
+    }
+
+    fn unary(&mut self, op: UnaryOp, inner: &Expr) {
+        match op {
+            UnaryOp::Neg => self.out.push('-'),
+            UnaryOp::Plus => self.out.push('+'),
+            UnaryOp::Implicit => self.out.push('@'),
+            UnaryOp::Percent | UnaryOp::Spill => {}
+        }
+        self.expr(inner);
+        match op {
+            UnaryOp::Percent => self.out.push('%'),
+            UnaryOp::Spill => self.out.push('#'),
+            _ => {}
+        }
+    }
+
+    fn call(&mut self, name: &str, args: &[Expr]) {
+        self.out.push_str(name);
+        self.out.push('(');
+        for (i, a) in args.iter().enumerate() {
+            if i > 0 {
+                self.out.push(',');
+            }
+            self.expr(a);
+        }
+        self.out.push(')');
+    }
+
+    fn array(&mut self, lit: &ArrayLit) {
+        self.out.push('{');
+        for (i, item) in lit.items.iter().enumerate() {
+            if i > 0 {
+                self.out
+                    .push(if i % lit.cols.max(1) == 0 { ';' } else { ',' });
+            }
+            self.expr(item);
+        }
+        self.out.push('}');
+    }
+
+    fn reference(&mut self, r: &Reference) {
+        match &r.sheet {
+            SheetRef::Current => {}
+            SheetRef::Id(id) => {
+                let _ = write!(self.out, "{}!", quote_sheet_name(&(self.sheets)(*id)));
+            }
+            SheetRef::Missing(name) => {
+                let _ = write!(self.out, "{}!", quote_sheet_name(name));
+            }
+        }
+        match r.shape {
+            RefShape::Cell(c) => self.cell(c),
+            RefShape::Cells(a, b) => {
+                self.cell(a);
+                self.out.push(':');
+                self.cell(b);
+            }
+            RefShape::Cols(a, b) => {
+                self.col(a);
+                self.out.push(':');
+                self.col(b);
+            }
+            RefShape::Rows(a, b) => {
+                self.row(a);
+                self.out.push(':');
+                self.row(b);
+            }
+        }
+    }
+
+    fn cell(&mut self, c: CellCoord) {
+        self.col(c.col);
+        self.row(c.row);
+    }
+
+    fn col(&mut self, c: Coord) {
+        match c.resolve(self.at.col, MAX_COLS) {
+            Some(i) => {
+                let _ = write!(
+                    self.out,
+                    "{}{}",
+                    if c.absolute { "$" } else { "" },
+                    column_name(i)
+                );
+            }
+            None => self.out.push_str("#REF!"),
+        }
+    }
+
+    fn row(&mut self, c: Coord) {
+        match c.resolve(self.at.row, MAX_ROWS) {
+            Some(i) => {
+                let _ = write!(self.out, "{}{}", if c.absolute { "$" } else { "" }, i + 1);
+            }
+            None => self.out.push_str("#REF!"),
+        }
+    }
+}
+
+pub fn binary_symbol(op: BinOp) -> &'static str {
+    match op {
+        BinOp::Range => ":",
+        BinOp::Pow => "^",
+        BinOp::Mul => "*",
+        BinOp::Div => "/",
+        BinOp::Add => "+",
+        BinOp::Sub => "-",
+        BinOp::Concat => "&",
+        BinOp::Eq => "=",
+        BinOp::Ne => "<>",
+        BinOp::Lt => "<",
+        BinOp::Le => "<=",
+        BinOp::Gt => ">",
+        BinOp::Ge => ">=",
+    }
+}
