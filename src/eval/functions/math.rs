@@ -9,14 +9,7 @@ use super::{FnSpec, MANY};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("ABS", 1, 1, abs, "ABS(number)", "Absolute value"),
-    FnSpec::value(
-        "ATAN",
-        1,
-        1,
-        atan,
-        "ATAN(number)",
-        "Arctangent in radians, -pi/2 to pi/2",
-    ),
+    FnSpec::value("ATAN", 1, 1, atan, "ATAN(number)", "Arctangent in radians, -pi/2 to pi/2"),
     FnSpec::value(
         "ATAN2",
         2,
@@ -25,55 +18,13 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "ATAN2(x, y)",
         "Angle of the point (x, y) in radians, -pi to pi; x before y as in Excel",
     ),
-    FnSpec::value(
-        "COS",
-        1,
-        1,
-        cos,
-        "COS(angle)",
-        "Cosine of an angle in radians",
-    ),
-    FnSpec::value(
-        "DEGREES",
-        1,
-        1,
-        degrees,
-        "DEGREES(angle)",
-        "Radians to degrees",
-    ),
+    FnSpec::value("COS", 1, 1, cos, "COS(angle)", "Cosine of an angle in radians"),
+    FnSpec::value("DEGREES", 1, 1, degrees, "DEGREES(angle)", "Radians to degrees"),
     FnSpec::value("PI", 0, 0, pi, "PI()", "3.14159265358979"),
-    FnSpec::value(
-        "POWER",
-        2,
-        2,
-        power_fn,
-        "POWER(number, power)",
-        "number^power",
-    ),
-    FnSpec::value(
-        "ROUND",
-        2,
-        2,
-        round,
-        "ROUND(number, digits)",
-        "Rounds half away from zero to digits decimals",
-    ),
-    FnSpec::value(
-        "SIN",
-        1,
-        1,
-        sin,
-        "SIN(angle)",
-        "Sine of an angle in radians",
-    ),
-    FnSpec::value(
-        "SQRT",
-        1,
-        1,
-        sqrt,
-        "SQRT(number)",
-        "Square root; #NUM! for negative numbers",
-    ),
+    FnSpec::value("POWER", 2, 2, power_fn, "POWER(number, power)", "number^power"),
+    FnSpec::value("ROUND", 2, 2, round, "ROUND(number, digits)", "Rounds half away from zero to digits decimals"),
+    FnSpec::value("SIN", 1, 1, sin, "SIN(angle)", "Sine of an angle in radians"),
+    FnSpec::value("SQRT", 1, 1, sqrt, "SQRT(number)", "Square root; #NUM! for negative numbers"),
     FnSpec::value(
         "SUM",
         1,
@@ -93,13 +44,7 @@ fn atan(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn atan2(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number2(ctx, args, 0.0, |x, y| {
-        if x == 0.0 && y == 0.0 {
-            Err(XlError::Div0)
-        } else {
-            Ok(y.atan2(x))
-        }
-    })
+    lift_number2(ctx, args, 0.0, |x, y| if x == 0.0 && y == 0.0 { Err(XlError::Div0) } else { Ok(y.atan2(x)) })
 }
 
 fn cos(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
@@ -119,9 +64,7 @@ fn power_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn round(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number2(ctx, args, 0.0, |x, d| {
-        Ok(round_half_away(x, d.trunc() as i32))
-    })
+    lift_number2(ctx, args, 0.0, |x, d| Ok(round_half_away(x, d.trunc() as i32)))
 }
 
 /// Excel's ROUND: half away from zero, judged on the 15-significant-digit value so that
@@ -133,15 +76,8 @@ pub fn round_half_away(x: f64, digits: i32) -> f64 {
     let digits = digits.clamp(-308, 308);
     let x15 = crate::eval::number_format::round15(x);
     let scale = 10f64.powi(digits.abs());
-    let scaled = if digits >= 0 {
-        x15 * scale
-    } else {
-        x15 / scale
-    };
-    let rounded = crate::eval::number_format::round15(scaled)
-        .abs()
-        .add_half_floor()
-        * x.signum();
+    let scaled = if digits >= 0 { x15 * scale } else { x15 / scale };
+    let rounded = crate::eval::number_format::round15(scaled).abs().add_half_floor() * x.signum();
     if digits >= 0 {
         rounded / scale
     } else {
@@ -164,13 +100,7 @@ fn sin(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn sqrt(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number1(ctx, args, |x| {
-        if x < 0.0 {
-            Err(XlError::Num)
-        } else {
-            Ok(x.sqrt())
-        }
-    })
+    lift_number1(ctx, args, |x| if x < 0.0 { Err(XlError::Num) } else { Ok(x.sqrt()) })
 }
 
 fn sum(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {

@@ -55,14 +55,7 @@ impl FnSpec {
         signature: &'static str,
         summary: &'static str,
     ) -> FnSpec {
-        FnSpec {
-            name,
-            min_args,
-            max_args,
-            kind: FnKind::Value(f),
-            signature,
-            summary,
-        }
+        FnSpec { name, min_args, max_args, kind: FnKind::Value(f), signature, summary }
     }
 
     pub const fn reference(
@@ -73,39 +66,20 @@ impl FnSpec {
         signature: &'static str,
         summary: &'static str,
     ) -> FnSpec {
-        FnSpec {
-            name,
-            min_args,
-            max_args,
-            kind: FnKind::Ref(f),
-            signature,
-            summary,
-        }
+        FnSpec { name, min_args, max_args, kind: FnKind::Ref(f), signature, summary }
     }
 }
 
 /// Every function, in one list. Ids are indexes into it.
 pub static REGISTRY: LazyLock<Vec<FnSpec>> = LazyLock::new(|| {
-    [
-        math::FUNCTIONS,
-        stats::FUNCTIONS,
-        logic::FUNCTIONS,
-        lookup::FUNCTIONS,
-        text::FUNCTIONS,
-        info::FUNCTIONS,
-    ]
-    .concat()
+    [math::FUNCTIONS, stats::FUNCTIONS, logic::FUNCTIONS, lookup::FUNCTIONS, text::FUNCTIONS, info::FUNCTIONS].concat()
 });
 
 static BY_NAME: LazyLock<HashMap<String, FnId>> = LazyLock::new(|| {
     let mut map = HashMap::new();
     for (i, f) in REGISTRY.iter().enumerate() {
         let previous = map.insert(f.name.to_ascii_uppercase(), i as FnId);
-        assert!(
-            previous.is_none(),
-            "function {} is registered twice",
-            f.name
-        );
+        assert!(previous.is_none(), "function {} is registered twice", f.name);
     }
     map
 });
@@ -125,11 +99,7 @@ impl FunctionTable for Registry {
     fn lookup(&self, name: &str) -> Option<FnInfo> {
         let id = find(name)?;
         let f = spec(id);
-        Some(FnInfo {
-            id,
-            min_args: f.min_args,
-            max_args: f.max_args,
-        })
+        Some(FnInfo { id, min_args: f.min_args, max_args: f.max_args })
     }
 
     fn name(&self, id: FnId) -> &str {
@@ -145,12 +115,7 @@ mod tests {
     fn every_function_has_a_unique_name_and_sane_bounds() {
         for f in REGISTRY.iter() {
             assert!(f.min_args <= f.max_args, "{}", f.name);
-            assert!(
-                f.signature.starts_with(f.name),
-                "{} signature {}",
-                f.name,
-                f.signature
-            );
+            assert!(f.signature.starts_with(f.name), "{} signature {}", f.name, f.signature);
         }
         assert_eq!(BY_NAME.len(), REGISTRY.len());
     }
