@@ -8,9 +8,8 @@
 //! Each workbook is measured in a child process of its own so that its memory figures are
 //! not mixed with another's.
 
-use std::fmt::Write as _;
 use std::process::{Command, ExitCode};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use ncsheet::eval::Value;
 use ncsheet::formula::Pos;
@@ -66,6 +65,7 @@ impl Bench {
     fn build(&self, wb: &mut Workbook) -> usize {
         let mut text = String::with_capacity(64);
         let mut formulas = 0;
+        let grid: Vec<Vec<&str>> = GRID.iter().map(|f| f.split("{r}").collect()).collect();
         let put = |wb: &mut Workbook, row: u32, col: u32, text: &str| {
             wb.set_input_deferred(0, Pos::new(row - 1, col), text).expect("benchmark formula parses");
         };
@@ -76,16 +76,18 @@ impl Bench {
                     if r == 1 {
                         text.push('1');
                     } else {
-                        let _ = write!(text, "=A{}+1", r - 1);
+                        text.push_str("=A");
+                        push_u32(&mut text, r - 1);
+                        text.push_str("+1");
                         formulas += 1;
                     }
                     put(wb, r, 0, &text);
                 }
                 Kind::Grid => {
                     text.clear();
-                    let _ = write!(text, "{r}");
+                    push_u32(&mut text, r);
                     put(wb, r, 0, &text);
-                    for (i, f) in GRID.iter().enumerate() {
+                    for (i, f) in grid.iter().enumerate() {
                         text.clear();
                         text.push('=');
                         push_row_formula(&mut text, f, r);
@@ -98,7 +100,9 @@ impl Bench {
                         put(wb, 1, 0, "1");
                     }
                     text.clear();
-                    let _ = write!(text, "=$A$1*{r}+SIN($A$1)");
+                    text.push_str("=$A$1*");
+                    push_u32(&mut text, r);
+                    text.push_str("+SIN($A$1)");
                     put(wb, r, 1, &text);
                     formulas += 1;
                 }
@@ -145,11 +149,26 @@ impl Bench {
     }
 }
 
-fn push_row_formula(out: &mut String, template: &str, r: u32) {
-    let mut parts = template.split("{r}");
-    out.push_str(parts.next().unwrap_or(""));
-    for p in parts {
-        let _ = write!(out, "{r}");
+/// Appends `n` in decimal (cheaper than `write!`, so that the harness costs little).
+fn push_u32(out: &mut String, n: u32) {
+    let mut buf = [0u8; 10];
+    let mut i = buf.len();
+    let mut n = n;
+    loop {
+        i -= 1;
+        buf[i] = b'0' + (n % 10) as u8;
+        n /= 10;
+        if n == 0 {
+            break;
+        }
+    }
+    out.push_str(std::str::from_utf8(&buf[i..]).expect("digits"));
+}
+
+fn push_row_formula(out: &mut String, parts: &[&str], r: u32) {
+    out.push_str(parts[0]);
+    for p in &parts[1..] {
+        push_u32(out, r);
         out.push_str(p);
     }
 }
@@ -174,6 +193,64 @@ fn grid_row(a: f64) -> f64 {
     let i = b + c + d + e + f + g + h;
     let j = (i / 1000.0).atan().to_degrees();
     j + a
+}
+
+/// Wall-clock and this thread's CPU time. On a loaded machine the CPU time is what the work
+/// costs; the wall time includes waiting for a core.
+#[derive(Clone, Copy)]
+struct Stamp {
+    wall: Instant,
+    cpu: f64,
+}
+
+#[repr(C)]
+struct Timespec {
+    tv_sec: i64,
+    tv_nsec: i64,
+}
+
+extern "C" {
+    fn clock_gettime(clock: i32, ts: *mut Timespec) -> i32;
+}
+
+/// Linux's `CLOCK_THREAD_CPUTIME_ID`.
+const CLOCK_THREAD_CPUTIME_ID: i32 = 3;
+
+fn thread_cpu_seconds() -> f64 {
+    let mut ts = Timespec { tv_sec: 0, tv_nsec: 0 };
+    // SAFETY: clock_gettime writes one timespec, which `ts` is (64-bit Linux layout).
+    let rc = unsafe { clock_gettime(CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    if rc == 0 {
+        ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
+    } else {
+        0.0
+    }
+}
+
+impl Stamp {
+    fn now() -> Stamp {
+        Stamp { wall: Instant::now(), cpu: thread_cpu_seconds() }
+    }
+
+    /// (wall, cpu) seconds since `self`.
+    fn since(self, earlier: Stamp) -> Time {
+        Time { wall: (self.wall - earlier.wall).as_secs_f64(), cpu: self.cpu - earlier.cpu }
+    }
+}
+
+/// A measured duration: wall-clock and CPU seconds.
+#[derive(Clone, Copy, Debug)]
+struct Time {
+    wall: f64,
+    cpu: f64,
+}
+
+impl Time {
+    const MAX: Time = Time { wall: f64::MAX, cpu: f64::MAX };
+
+    fn min(self, other: Time) -> Time {
+        Time { wall: self.wall.min(other.wall), cpu: self.cpu.min(other.cpu) }
+    }
 }
 
 fn close(got: f64, want: f64, rel: f64) -> bool {
@@ -232,30 +309,31 @@ fn proc_status(field: &str) -> u64 {
 }
 
 /// One workbook's figures (seconds and bytes), as the child prints them for the parent.
-#[derive(Default, Debug)]
+#[derive(Debug)]
 struct Figures {
     formulas: usize,
     distinct: usize,
-    build: f64,
-    compute: f64,
-    total: f64,
-    edit_best: f64,
-    edit_median: f64,
+    build: Time,
+    compute: Time,
+    total: Time,
+    edit_best: Time,
+    edit_median: Time,
     rss_bytes: u64,
     hwm_bytes: u64,
 }
 
 impl Figures {
     fn to_line(&self) -> String {
+        let t = |t: Time| format!("{} {}", t.wall, t.cpu);
         format!(
             "FIGURES {} {} {} {} {} {} {} {} {}",
             self.formulas,
             self.distinct,
-            self.build,
-            self.compute,
-            self.total,
-            self.edit_best,
-            self.edit_median,
+            t(self.build),
+            t(self.compute),
+            t(self.total),
+            t(self.edit_best),
+            t(self.edit_median),
             self.rss_bytes,
             self.hwm_bytes
         )
@@ -264,17 +342,18 @@ impl Figures {
     fn from_line(line: &str) -> Option<Figures> {
         let f: Vec<&str> = line.strip_prefix("FIGURES ")?.split(' ').collect();
         let x = |i: usize| f.get(i)?.parse::<f64>().ok();
+        let t = |i: usize| Some(Time { wall: x(i)?, cpu: x(i + 1)? });
         let u = |i: usize| f.get(i)?.parse::<u64>().ok();
         Some(Figures {
             formulas: u(0)? as usize,
             distinct: u(1)? as usize,
-            build: x(2)?,
-            compute: x(3)?,
-            total: x(4)?,
-            edit_best: x(5)?,
-            edit_median: x(6)?,
-            rss_bytes: u(7)?,
-            hwm_bytes: u(8)?,
+            build: t(2)?,
+            compute: t(4)?,
+            total: t(6)?,
+            edit_best: t(8)?,
+            edit_median: t(10)?,
+            rss_bytes: u(12)?,
+            hwm_bytes: u(13)?,
         })
     }
 }
@@ -282,19 +361,29 @@ impl Figures {
 /// Measures one workbook in this process.
 fn run_child(bench: &Bench, runs: usize, builds: usize) -> Result<Figures, String> {
     let spec = bench.spec();
-    let mut fig = Figures { total: f64::MAX, build: f64::MAX, compute: f64::MAX, ..Figures::default() };
+    let mut fig = Figures {
+        formulas: 0,
+        distinct: 0,
+        build: Time::MAX,
+        compute: Time::MAX,
+        total: Time::MAX,
+        edit_best: Time::MAX,
+        edit_median: Time::MAX,
+        rss_bytes: 0,
+        hwm_bytes: 0,
+    };
     let mut kept = None;
     for i in 0..builds.max(1) {
         // Drop the previous copy first, so the memory figures are those of one workbook.
         drop(kept.take());
         let rss0 = proc_status("VmRSS");
         let hwm0 = proc_status("VmHWM");
-        let t0 = Instant::now();
+        let t0 = Stamp::now();
         let mut wb = Workbook::with_sheet();
         let formulas = bench.build(&mut wb);
-        let t1 = Instant::now();
+        let t1 = Stamp::now();
         wb.recalculate();
-        let t2 = Instant::now();
+        let t2 = Stamp::now();
         if i == 0 {
             fig.rss_bytes = proc_status("VmRSS").saturating_sub(rss0);
             fig.hwm_bytes = proc_status("VmHWM").saturating_sub(hwm0);
@@ -305,42 +394,49 @@ fn run_child(bench: &Bench, runs: usize, builds: usize) -> Result<Figures, Strin
             fig.formulas = formulas;
             fig.distinct = distinct;
         }
-        fig.build = fig.build.min((t1 - t0).as_secs_f64());
-        fig.compute = fig.compute.min((t2 - t1).as_secs_f64());
-        fig.total = fig.total.min((t2 - t0).as_secs_f64());
+        fig.build = fig.build.min(t1.since(t0));
+        fig.compute = fig.compute.min(t2.since(t1));
+        fig.total = fig.total.min(t2.since(t0));
         check(&wb, spec.last, spec.expect, &format!("{} after the full computation", bench.name))?;
         kept = Some(wb);
     }
     let mut wb = kept.expect("built once");
-    let mut times = Vec::with_capacity(runs);
+    let mut times = Vec::with_capacity(runs * 2);
     let edit_text = format!("{}", spec.edit_value);
     let back_text = format!("{}", bench.original_value());
     for _ in 0..runs.max(1) {
-        let t = Instant::now();
+        let t = Stamp::now();
         wb.set_input(0, spec.edit, &edit_text).map_err(|e| e.to_string())?;
-        times.push(t.elapsed());
+        times.push(Stamp::now().since(t));
         check(&wb, spec.last, spec.expect_after, &format!("{} after the edit", bench.name))?;
         // Back to the original input (timed as well: it is the same amount of work).
-        let t = Instant::now();
+        let t = Stamp::now();
         wb.set_input(0, spec.edit, &back_text).map_err(|e| e.to_string())?;
-        times.push(t.elapsed());
+        times.push(Stamp::now().since(t));
         check(&wb, spec.last, spec.expect, &format!("{} after undoing the edit", bench.name))?;
     }
-    times.sort();
-    fig.edit_best = times[0].as_secs_f64();
-    fig.edit_median = times[times.len() / 2].as_secs_f64();
+    let mut walls: Vec<f64> = times.iter().map(|t| t.wall).collect();
+    let mut cpus: Vec<f64> = times.iter().map(|t| t.cpu).collect();
+    walls.sort_by(f64::total_cmp);
+    cpus.sort_by(f64::total_cmp);
+    fig.edit_best = Time { wall: walls[0], cpu: cpus[0] };
+    fig.edit_median = Time { wall: walls[walls.len() / 2], cpu: cpus[cpus.len() / 2] };
     Ok(fig)
 }
 
 fn seconds(s: f64) -> String {
-    let d = Duration::from_secs_f64(s);
-    if d >= Duration::from_secs(1) {
+    if s >= 1.0 {
         format!("{:.2} s", s)
-    } else if d >= Duration::from_millis(1) {
+    } else if s >= 1e-3 {
         format!("{:.1} ms", s * 1e3)
     } else {
         format!("{:.1} µs", s * 1e6)
     }
+}
+
+/// `wall (cpu)`.
+fn both(t: Time) -> String {
+    format!("{} ({})", seconds(t.wall), seconds(t.cpu))
 }
 
 /// The targets: (workbook, build+compute, one edit).
@@ -428,10 +524,7 @@ fn run() -> Result<(), String> {
         args.builds,
         args.runs * 2
     );
-    println!(
-        "{:<14} {:>9} {:>8} {:>10} {:>10} {:>10} {:>10} {:>10} {:>9} {:>9}",
-        "workbook", "formulas", "parsed", "build", "compute", "total", "edit best", "edit med", "B/formula", "peak MiB"
-    );
+    println!("times: wall-clock (this thread's CPU time in parentheses)");
     let exe = std::env::current_exe().map_err(|e| e.to_string())?;
     let mut failures = Vec::new();
     for b in &benches {
@@ -444,25 +537,29 @@ fn run() -> Result<(), String> {
             return Err(format!("{} failed: {}", b.name, String::from_utf8_lossy(&out.stderr).trim()));
         };
         let per_formula = fig.rss_bytes as f64 / fig.formulas as f64;
+        println!("{}: {} formula cells, {} distinct parsed formulas", b.name, fig.formulas, fig.distinct);
+        println!("  build (set_input_deferred of every cell) {}", both(fig.build));
+        println!("  full computation (recalculate)           {}", both(fig.compute));
+        println!("  build + full computation                 {}", both(fig.total));
         println!(
-            "{:<14} {:>9} {:>8} {:>10} {:>10} {:>10} {:>10} {:>10} {:>9.0} {:>9.0}",
-            b.name,
-            fig.formulas,
-            fig.distinct,
-            seconds(fig.build),
-            seconds(fig.compute),
-            seconds(fig.total),
-            seconds(fig.edit_best),
-            seconds(fig.edit_median),
+            "  one edit ({} := {}) best {}, median {}",
+            b.spec().edit,
+            b.spec().edit_value,
+            both(fig.edit_best),
+            both(fig.edit_median)
+        );
+        println!(
+            "  memory: {:.0} bytes per formula cell (resident growth {:.1} MiB, peak growth {:.1} MiB)",
             per_formula,
+            fig.rss_bytes as f64 / (1 << 20) as f64,
             fig.hwm_bytes as f64 / (1 << 20) as f64,
         );
         let (total_target, edit_target) = target(&b.name);
-        if let Some(t) = total_target.filter(|&t| fig.total > t) {
-            failures.push(format!("{}: build+compute {} > target {}", b.name, seconds(fig.total), seconds(t)));
+        if let Some(t) = total_target.filter(|&t| fig.total.wall > t) {
+            failures.push(format!("{}: build+compute {} > target {}", b.name, seconds(fig.total.wall), seconds(t)));
         }
-        if let Some(t) = edit_target.filter(|&t| fig.edit_best > t) {
-            failures.push(format!("{}: edit {} > target {}", b.name, seconds(fig.edit_best), seconds(t)));
+        if let Some(t) = edit_target.filter(|&t| fig.edit_best.wall > t) {
+            failures.push(format!("{}: edit {} > target {}", b.name, seconds(fig.edit_best.wall), seconds(t)));
         }
         if b.kind == Kind::Grid && per_formula > BYTES_PER_FORMULA_TARGET {
             failures.push(format!("{}: {per_formula:.0} bytes per formula > target 100", b.name));

@@ -21,7 +21,7 @@ mod shared;
 mod sheet;
 
 use graph::{Deps, FxMap, RangeIndex};
-use shared::{relative_key, FormulaStore, SharedFormula};
+use shared::{relative_key_into, FormulaStore, SharedFormula};
 use sheet::Sheet;
 
 const NO_FORMULA: u32 = u32::MAX;
@@ -127,6 +127,9 @@ pub struct Workbook {
     /// Cells of each circular reference found by the last recalculation.
     cycles: Vec<Vec<u32>>,
     scratch: recalc::Scratch,
+    /// Reused buffers: the relative key of the formula being stored, a formula's precedents.
+    key_buf: String,
+    precedents_buf: Vec<(SheetId, Rect)>,
 }
 
 impl Workbook {
@@ -179,6 +182,10 @@ impl Workbook {
 
     /// Sets a cell without recalculating; call [`Workbook::recalculate`] after a batch.
     pub fn set_input_deferred(&mut self, sheet: SheetId, pos: Pos, text: &str) -> Result<(), WorkbookError> {
+        // A formula (what `Input::parse` reads as one) without copying its text.
+        if text.len() > 1 && text.starts_with('=') {
+            return self.set_formula(sheet, pos, text);
+        }
         match Input::parse(text) {
             Input::Empty => {
                 self.set_constant(sheet, pos, Value::Blank);
@@ -223,12 +230,17 @@ impl Workbook {
 
     /// The shared parsed form of `text` typed at `pos`, parsing only when no copy exists.
     fn shared_formula(&mut self, text: &str, sheet: SheetId, pos: Pos) -> Result<u32, ParseError> {
-        let key = relative_key(text, pos);
-        if let Some(id) = key.as_deref().and_then(|k| self.formulas.find(k)) {
-            return Ok(id);
-        }
-        let expr = self.parse_at(text, sheet, pos)?;
-        Ok(self.formulas.add(key, SharedFormula::new(expr)))
+        let mut key = std::mem::take(&mut self.key_buf);
+        let keyed = relative_key_into(text, pos, &mut key);
+        let found = if keyed { self.formulas.find(&key) } else { None };
+        let result = match found {
+            Some(id) => Ok(id),
+            None => self
+                .parse_at(text, sheet, pos)
+                .map(|expr| self.formulas.add(keyed.then(|| key.clone()), SharedFormula::new(expr))),
+        };
+        self.key_buf = key;
+        result
     }
 
     /// Parses formula text as if typed in `pos` (used by the macro language too).
@@ -420,9 +432,10 @@ impl Workbook {
 
     /// Adds the graph edges of a formula cell.
     fn link(&mut self, id: u32) {
-        let mut precedents = Vec::new();
+        let mut precedents = std::mem::take(&mut self.precedents_buf);
+        precedents.clear();
         self.for_each_precedent(id, &mut |s, r| precedents.push((s, r)));
-        for (sheet, rect) in precedents {
+        for &(sheet, rect) in &precedents {
             if rect.is_cell() {
                 let p = self.cell_at(sheet, rect.first);
                 self.cells[p as usize].dependents.push(id);
@@ -431,13 +444,15 @@ impl Workbook {
                 self.ranges.nodes[r as usize].dependents.push(id);
             }
         }
+        self.precedents_buf = precedents;
     }
 
     /// Removes the graph edges of a formula cell.
     fn unlink(&mut self, id: u32) {
-        let mut precedents = Vec::new();
+        let mut precedents = std::mem::take(&mut self.precedents_buf);
+        precedents.clear();
         self.for_each_precedent(id, &mut |s, r| precedents.push((s, r)));
-        for (sheet, rect) in precedents {
+        for &(sheet, rect) in &precedents {
             if rect.is_cell() {
                 if let Some(p) = self.sheets[sheet as usize].get(rect.first) {
                     self.cells[p as usize].dependents.remove(id);
@@ -446,6 +461,7 @@ impl Workbook {
                 self.ranges.nodes[r as usize].dependents.remove(id);
             }
         }
+        self.precedents_buf = precedents;
     }
 
     /// Rebuilds every edge (after a name changes meaning).

@@ -242,9 +242,9 @@ impl Workbook {
 
     fn evaluate(&mut self, id: u32, late: &mut Vec<u32>) {
         let cell = &self.cells[id as usize];
-        let expr = self.formulas.get(cell.formula).expr.clone();
+        let expr = &self.formulas.get(cell.formula).expr;
         let mut ctx = Ctx::new(self, cell.sheet, cell.pos);
-        let value = ctx.eval(&expr);
+        let value = ctx.eval(expr);
         let notes = ctx.notes;
         if notes.is_empty() {
             if !self.notes.is_empty() {

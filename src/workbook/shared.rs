@@ -5,12 +5,12 @@
 //! as an offset from the formula's cell (R1C1 style). Texts with equal keys parse to equal
 //! trees (references are stored as offsets), so the parse is skipped for every copy.
 
-use std::collections::HashMap;
-use std::fmt::Write;
 use std::rc::Rc;
 
 use crate::formula::address::{column_index, Pos, MAX_ROWS};
 use crate::formula::ast::{Expr, Reference};
+
+use super::graph::FxMap;
 
 /// One parsed formula and what the dependency graph needs of it.
 pub struct SharedFormula {
@@ -26,7 +26,8 @@ impl SharedFormula {
         let mut refs = Vec::new();
         let mut names = Vec::new();
         expr.visit(&mut |e| match &e.kind {
-            crate::formula::ast::ExprKind::Ref(r) => refs.push(r.clone()),
+            // A reference read twice (`IF(C1>1,C1-1,C1+1)`) is one edge of the graph.
+            crate::formula::ast::ExprKind::Ref(r) if !refs.contains(r) => refs.push(r.clone()),
             crate::formula::ast::ExprKind::Name(n) => names.push(n.clone()),
             _ => {}
         });
@@ -38,7 +39,7 @@ impl SharedFormula {
 #[derive(Default)]
 pub struct FormulaStore {
     pub formulas: Vec<SharedFormula>,
-    by_key: HashMap<String, u32>,
+    by_key: FxMap<String, u32>,
 }
 
 impl FormulaStore {
@@ -68,22 +69,30 @@ impl FormulaStore {
 
 /// The relative key of a formula typed in cell `at`, or `None` when the text has a form the
 /// scan does not understand (whole rows/columns, unusual tokens): such text is parsed each time.
+#[cfg(test)]
 pub fn relative_key(text: &str, at: Pos) -> Option<String> {
-    let b = text.as_bytes();
     let mut out = String::with_capacity(text.len() + 16);
+    relative_key_into(text, at, &mut out).then_some(out)
+}
+
+/// [`relative_key`] written into `out` (cleared first), so that a caller can reuse one buffer
+/// for every cell of a workbook; `false` where `relative_key` gives `None`.
+pub fn relative_key_into(text: &str, at: Pos, out: &mut String) -> bool {
+    out.clear();
+    let b = text.as_bytes();
     let mut i = 0;
     while i < b.len() {
         let c = b[i];
         match c {
             b'"' | b'\'' => {
-                let end = quoted_end(b, i)?;
+                let Some(end) = quoted_end(b, i) else { return false };
                 out.push_str(&text[i..end]);
                 i = end;
             }
             b'0'..=b'9' | b'.' => {
                 let end = number_end(b, i);
                 if next_non_space(b, end) == Some(b':') {
-                    return None;
+                    return false;
                 }
                 out.push_str(&text[i..end]);
                 i = end;
@@ -92,18 +101,22 @@ pub fn relative_key(text: &str, at: Pos) -> Option<String> {
                 let end = word_end(b, i);
                 let word = &text[i..end];
                 let next = next_non_space(b, end);
-                match cell_offsets(word, at) {
-                    Some((row, col)) if !matches!(next, Some(b'(') | Some(b'!')) => {
-                        let _ = write!(out, "\u{1}{row}\u{1}{col}\u{1}");
+                match cell_address(word) {
+                    Some(cell) if !matches!(next, Some(b'(') | Some(b'!')) => {
+                        out.push('\u{1}');
+                        push_coord(out, cell.row_abs, cell.row, at.row);
+                        out.push('\u{1}');
+                        push_coord(out, cell.col_abs, cell.col, at.col);
+                        out.push('\u{1}');
                     }
-                    _ if next == Some(b':') && !word.bytes().any(|c| c.is_ascii_digit()) => return None,
-                    _ if word.contains('$') => return None,
+                    _ if next == Some(b':') && !word.bytes().any(|c| c.is_ascii_digit()) => return false,
+                    _ if word.contains('$') => return false,
                     _ => out.push_str(word),
                 }
                 i = end;
             }
             _ if c >= 0x80 => {
-                let ch = text[i..].chars().next()?;
+                let Some(ch) = text[i..].chars().next() else { return false };
                 out.push(ch);
                 i += ch.len_utf8();
             }
@@ -113,7 +126,7 @@ pub fn relative_key(text: &str, at: Pos) -> Option<String> {
             }
         }
     }
-    Some(out)
+    true
 }
 
 fn quoted_end(b: &[u8], start: usize) -> Option<usize> {
@@ -164,8 +177,15 @@ fn next_non_space(b: &[u8], from: usize) -> Option<u8> {
     b[from..].iter().copied().find(|c| !c.is_ascii_whitespace())
 }
 
-/// `B3` at C5 gives row offset "-2" and column offset "-1"; `$B$3` gives "$2" and "$1".
-fn cell_offsets(word: &str, at: Pos) -> Option<(String, String)> {
+/// A cell address as typed: 0-based indexes and which parts carry a `$`.
+struct CellAddress {
+    row: u32,
+    col: u32,
+    row_abs: bool,
+    col_abs: bool,
+}
+
+fn cell_address(word: &str) -> Option<CellAddress> {
     let (col_abs, rest) = match word.strip_prefix('$') {
         Some(r) => (true, r),
         None => (false, word),
@@ -184,9 +204,36 @@ fn cell_offsets(word: &str, at: Pos) -> Option<(String, String)> {
     if !(1..=MAX_ROWS).contains(&row) {
         return None;
     }
-    let row = row - 1;
-    let fmt = |abs: bool, v: u32, base: u32| if abs { format!("${v}") } else { format!("{}", v as i64 - base as i64) };
-    Some((fmt(row_abs, row, at.row), fmt(col_abs, col, at.col)))
+    Some(CellAddress { row: row - 1, col, row_abs, col_abs })
+}
+
+/// `B3` at C5 gives row offset "-2" and column offset "-1"; `$B$3` gives "$2" and "$1".
+fn push_coord(out: &mut String, absolute: bool, v: u32, base: u32) {
+    if absolute {
+        out.push('$');
+        push_int(out, v as i64);
+    } else {
+        push_int(out, v as i64 - base as i64);
+    }
+}
+
+/// Appends `n` in decimal (`write!` costs more than the rest of the scan).
+fn push_int(out: &mut String, n: i64) {
+    if n < 0 {
+        out.push('-');
+    }
+    let mut m = n.unsigned_abs();
+    let mut buf = [0u8; 20];
+    let mut i = buf.len();
+    loop {
+        i -= 1;
+        buf[i] = b'0' + (m % 10) as u8;
+        m /= 10;
+        if m == 0 {
+            break;
+        }
+    }
+    out.push_str(std::str::from_utf8(&buf[i..]).expect("digits"));
 }
 
 #[cfg(test)]
