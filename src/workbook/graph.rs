@@ -62,14 +62,15 @@ impl FxHasher {
 
 pub type FxMap<K, V> = HashMap<K, V, BuildHasherDefault<FxHasher>>;
 
-/// The formula cells that read a cell or a range. Most cells have one or two, so those
-/// are stored inline.
+/// The formula cells that read a cell or a range. Most cells have one to three, so those
+/// are stored inline (in the 16 bytes the boxed case needs anyway).
 #[derive(Clone, Debug, Default)]
 pub enum Deps {
     #[default]
     None,
     One(u32),
     Two(u32, u32),
+    Three(u32, u32, u32),
     Many(Box<Vec<u32>>),
 }
 
@@ -78,7 +79,8 @@ impl Deps {
         *self = match std::mem::take(self) {
             Deps::None => Deps::One(id),
             Deps::One(a) => Deps::Two(a, id),
-            Deps::Two(a, b) => Deps::Many(Box::new(vec![a, b, id])),
+            Deps::Two(a, b) => Deps::Three(a, b, id),
+            Deps::Three(a, b, c) => Deps::Many(Box::new(vec![a, b, c, id])),
             Deps::Many(mut v) => {
                 v.push(id);
                 Deps::Many(v)
@@ -92,12 +94,15 @@ impl Deps {
             Deps::One(a) if a == id => Deps::None,
             Deps::Two(a, b) if a == id => Deps::One(b),
             Deps::Two(a, b) if b == id => Deps::One(a),
+            Deps::Three(a, b, c) if a == id => Deps::Two(b, c),
+            Deps::Three(a, b, c) if b == id => Deps::Two(a, c),
+            Deps::Three(a, b, c) if c == id => Deps::Two(a, b),
             Deps::Many(mut v) => {
                 if let Some(i) = v.iter().position(|&x| x == id) {
                     v.swap_remove(i);
                 }
                 match v.as_slice() {
-                    [a, b] => Deps::Two(*a, *b),
+                    [a, b, c] => Deps::Three(*a, *b, *c),
                     _ => Deps::Many(v),
                 }
             }
@@ -112,6 +117,11 @@ impl Deps {
             Deps::Two(a, b) => {
                 f(*a);
                 f(*b)
+            }
+            Deps::Three(a, b, c) => {
+                f(*a);
+                f(*b);
+                f(*c)
             }
             Deps::Many(v) => v.iter().copied().for_each(f),
         }
@@ -208,6 +218,18 @@ mod tests {
         d.for_each(|x| seen.push(x));
         seen.sort();
         assert_eq!(seen, vec![1, 3, 4]);
+        for n in 0..6u32 {
+            for gone in 0..n {
+                let mut d = Deps::None;
+                (0..n).for_each(|i| d.push(i));
+                d.remove(gone);
+                let mut seen = Vec::new();
+                d.for_each(|x| seen.push(x));
+                seen.sort();
+                assert_eq!(seen, (0..n).filter(|&i| i != gone).collect::<Vec<_>>());
+            }
+        }
+        assert_eq!(std::mem::size_of::<Deps>(), 16);
     }
 
     #[test]

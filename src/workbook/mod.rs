@@ -26,6 +26,10 @@ use sheet::Sheet;
 
 const NO_FORMULA: u32 = u32::MAX;
 
+/// A range of at most this many cells is linked cell by cell rather than through a range
+/// node: cheaper to build, to walk and to store (`MAX(B3:G3)` is six edges).
+const SMALL_RANGE: u64 = 16;
+
 /// One cell: its current value and, for a formula cell, which shared formula it runs.
 struct Cell {
     value: Value,
@@ -436,9 +440,11 @@ impl Workbook {
         precedents.clear();
         self.for_each_precedent(id, &mut |s, r| precedents.push((s, r)));
         for &(sheet, rect) in &precedents {
-            if rect.is_cell() {
-                let p = self.cell_at(sheet, rect.first);
-                self.cells[p as usize].dependents.push(id);
+            if is_small(rect) {
+                for_each_pos(rect, |pos| {
+                    let p = self.cell_at(sheet, pos);
+                    self.cells[p as usize].dependents.push(id);
+                });
             } else {
                 let r = self.ranges.intern(sheet, rect);
                 self.ranges.nodes[r as usize].dependents.push(id);
@@ -453,10 +459,12 @@ impl Workbook {
         precedents.clear();
         self.for_each_precedent(id, &mut |s, r| precedents.push((s, r)));
         for &(sheet, rect) in &precedents {
-            if rect.is_cell() {
-                if let Some(p) = self.sheets[sheet as usize].get(rect.first) {
-                    self.cells[p as usize].dependents.remove(id);
-                }
+            if is_small(rect) {
+                for_each_pos(rect, |pos| {
+                    if let Some(p) = self.sheets[sheet as usize].get(pos) {
+                        self.cells[p as usize].dependents.remove(id);
+                    }
+                });
             } else if let Some(r) = self.ranges.find(sheet, rect) {
                 self.ranges.nodes[r as usize].dependents.remove(id);
             }
@@ -474,6 +482,18 @@ impl Workbook {
             if self.cells[id as usize].formula != NO_FORMULA {
                 self.link(id);
             }
+        }
+    }
+}
+
+fn is_small(rect: Rect) -> bool {
+    rect.rows() as u64 * rect.cols() as u64 <= SMALL_RANGE
+}
+
+fn for_each_pos(rect: Rect, mut f: impl FnMut(Pos)) {
+    for row in rect.first.row..=rect.last.row {
+        for col in rect.first.col..=rect.last.col {
+            f(Pos::new(row, col));
         }
     }
 }

@@ -47,7 +47,20 @@ impl SpillState {
 pub struct Scratch {
     cell_slot: Vec<u32>,
     range_slot: Vec<u32>,
+    /// Depth-first search state per node (`UNSEEN`, `OPEN`, `DONE`).
+    cell_mark: Vec<u8>,
+    range_mark: Vec<u8>,
+    /// The search's stack (node, whether its successors are all done) and finishing order.
+    stack: Vec<(u32, bool)>,
+    order: Vec<u32>,
+    successors: Vec<u32>,
 }
+
+/// Entries of the search's buffers kept between recalculations.
+const KEEP_SCRATCH: usize = 1 << 16;
+const UNSEEN: u8 = 0;
+const OPEN: u8 = 1;
+const DONE: u8 = 2;
 
 /// The affected part of the graph, in compressed adjacency form over slot numbers.
 struct Affected {
@@ -96,6 +109,110 @@ impl Workbook {
     /// One topological pass; returns cells that spills changed and whose dependents still
     /// need recomputing.
     fn pass(&mut self, sources: &[u32]) -> Vec<u32> {
+        self.acyclic_pass(sources).unwrap_or_else(|| self.kahn_pass(sources))
+    }
+
+    /// The pass without a cycle among the affected nodes, the usual case: a depth-first
+    /// search orders them (reverse finishing order) without building the affected graph.
+    /// `None`, having computed nothing, when the search meets a cycle.
+    fn acyclic_pass(&mut self, sources: &[u32]) -> Option<Vec<u32>> {
+        self.scratch.cell_mark.resize(self.cells.len(), UNSEEN);
+        self.scratch.range_mark.resize(self.ranges.nodes.len(), UNSEEN);
+        let mut stack = std::mem::take(&mut self.scratch.stack);
+        let mut order = std::mem::take(&mut self.scratch.order);
+        let mut successors = std::mem::take(&mut self.scratch.successors);
+        stack.clear();
+        order.clear();
+        let mut cycle = false;
+        'search: for &source in sources {
+            if self.mark(source) != UNSEEN {
+                continue;
+            }
+            stack.push((source, false));
+            while let Some((node, finished)) = stack.pop() {
+                if finished {
+                    *self.mark_mut(node) = DONE;
+                    order.push(node);
+                    continue;
+                }
+                match self.mark(node) {
+                    UNSEEN => {}
+                    DONE => continue,
+                    _ => {
+                        cycle = true;
+                        break 'search;
+                    }
+                }
+                *self.mark_mut(node) = OPEN;
+                stack.push((node, true));
+                successors.clear();
+                self.successors(node, &mut successors);
+                for &next in &successors {
+                    match self.mark(next) {
+                        UNSEEN => stack.push((next, false)),
+                        DONE => {}
+                        _ => {
+                            // `next` is on the search path: a cycle.
+                            cycle = true;
+                            break 'search;
+                        }
+                    }
+                }
+            }
+        }
+        let mut late = Vec::new();
+        if cycle {
+            for &(node, finished) in &stack {
+                if finished {
+                    *self.mark_mut(node) = UNSEEN;
+                }
+            }
+        } else {
+            // Cycles through affected cells are gone (they would have been met).
+            let marks = &self.scratch.cell_mark;
+            self.cycles.retain(|c| c.iter().all(|&id| marks[id as usize] == UNSEEN));
+            for &node in order.iter().rev() {
+                if node & RANGE_BIT == 0 && self.cells[node as usize].formula != NO_FORMULA {
+                    self.evaluate(node, &mut late);
+                }
+            }
+        }
+        for &node in &order {
+            *self.mark_mut(node) = UNSEEN;
+        }
+        // Keep small buffers for the next edit; give back what a huge pass needed.
+        for v in [&mut order, &mut successors] {
+            v.clear();
+            v.shrink_to(KEEP_SCRATCH);
+        }
+        stack.clear();
+        stack.shrink_to(KEEP_SCRATCH);
+        self.scratch.stack = stack;
+        self.scratch.order = order;
+        self.scratch.successors = successors;
+        (!cycle).then_some(late)
+    }
+
+    #[inline]
+    fn mark(&self, node: u32) -> u8 {
+        if node & RANGE_BIT == 0 {
+            self.scratch.cell_mark[node as usize]
+        } else {
+            self.scratch.range_mark[(node & !RANGE_BIT) as usize]
+        }
+    }
+
+    #[inline]
+    fn mark_mut(&mut self, node: u32) -> &mut u8 {
+        if node & RANGE_BIT == 0 {
+            &mut self.scratch.cell_mark[node as usize]
+        } else {
+            &mut self.scratch.range_mark[(node & !RANGE_BIT) as usize]
+        }
+    }
+
+    /// The pass by Kahn's algorithm over the affected graph, which also finds cycles.
+    fn kahn_pass(&mut self, sources: &[u32]) -> Vec<u32> {
         let affected = self.collect_affected(sources);
         let n = affected.nodes.len();
         let mut indegree = vec![0u32; n];
@@ -263,7 +380,8 @@ impl Workbook {
             Value::Array(a) => return self.spill_array(id, &a, late),
             v => v,
         };
-        if self.spill.areas.contains_key(&id) || self.spill.blocked.contains_key(&id) {
+        let spilled = |m: &FxMap<u32, Rect>| !m.is_empty() && m.contains_key(&id);
+        if spilled(&self.spill.areas) || spilled(&self.spill.blocked) {
             self.spill.blocked.remove(&id);
             self.release_spill(id, late);
         }
