@@ -219,6 +219,11 @@ impl Builder<'_, '_> {
             .map_infix(|lhs, op, rhs| {
                 let (lhs, rhs) = (lhs?, rhs?);
                 let span = join(lhs.span, rhs.span);
+                if op.as_rule() == Rule::range_op {
+                    if let Some(r) = cell_range(&lhs, &rhs) {
+                        return Ok(Expr::new(ExprKind::Ref(r), span));
+                    }
+                }
                 let kind = ExprKind::Binary(binary_op(op.as_rule()), Box::new(lhs), Box::new(rhs));
                 Ok(Expr::new(kind, span))
             })
@@ -435,6 +440,20 @@ fn number(pair: &Pair<Rule>) -> Result<f64, ParseError> {
 fn unescape(pair: &Pair<Rule>) -> String {
     let inner = pair.clone().into_inner().next().map_or("", |p| p.as_str());
     inner.replace("\"\"", "\"")
+}
+
+/// `A1 : B2` (spaces around the colon) is the range `A1:B2`, as Excel reads it: one
+/// reference, which prints back as `A1:B2` and gives the dependency graph every cell.
+fn cell_range(lhs: &Expr, rhs: &Expr) -> Option<Reference> {
+    match (&lhs.kind, &rhs.kind) {
+        (ExprKind::Ref(a), ExprKind::Ref(b)) if a.sheet == b.sheet => match (a.shape, b.shape) {
+            (RefShape::Cell(x), RefShape::Cell(y)) => {
+                Some(Reference { sheet: a.sheet.clone(), shape: RefShape::Cells(x, y) })
+            }
+            _ => None,
+        },
+        _ => None,
+    }
 }
 
 fn binary_op(rule: Rule) -> BinOp {

@@ -1,0 +1,530 @@
+//! LibreOffice as an oracle: a few hundred formulas (operators, precedence, coercions,
+//! errors, and the functions ncsheet has registered) are written to an .xlsx, LibreOffice
+//! computes them headless and exports csv, and ncsheet must compute the same.
+//!
+//! Where LibreOffice and Excel disagree Excel wins: those cases are left out of the
+//! comparison and Excel's documented values are asserted without LibreOffice in
+//! `excel_values_where_libreoffice_differs`.
+//!
+//! Skips (with a message) when `soffice` is not installed.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use ncsheet::eval::functions::find;
+use ncsheet::eval::{Value, XlError};
+use ncsheet::formula::address::parse_cell;
+use ncsheet::formula::Pos;
+use ncsheet::workbook::Workbook;
+use rust_xlsxwriter::{Format, Formula};
+
+/// Data the formulas read, column A (and B1:B5 for aggregates).
+const DATA: &[(&str, Data)] = &[
+    ("A1", Data::Number(2.0)),
+    ("A2", Data::Number(-1.5)),
+    ("A3", Data::Text("x")),
+    ("A4", Data::Bool(true)),
+    // A5 is left empty.
+    ("A6", Data::Number(0.0)),
+    ("A7", Data::Text("3")),
+    ("A8", Data::Number(0.1)),
+    ("A9", Data::Number(-7.0)),
+    ("A10", Data::Number(1e-5)),
+    ("B1", Data::Number(1.0)),
+    ("B2", Data::Number(2.5)),
+    ("B3", Data::Number(-3.0)),
+    ("B4", Data::Number(4.0)),
+    ("B5", Data::Number(10.0)),
+];
+
+#[derive(Clone, Copy)]
+enum Data {
+    Number(f64),
+    Text(&'static str),
+    Bool(bool),
+}
+
+impl Data {
+    fn input(self) -> String {
+        match self {
+            Data::Number(n) => format!("{n}"),
+            Data::Text(t) => format!("'{t}"),
+            Data::Bool(b) => if b { "TRUE" } else { "FALSE" }.to_string(),
+        }
+    }
+}
+
+/// Operands for the operator table: numbers, numeric text, text, booleans, blank, cells.
+const OPERANDS: &[&str] =
+    &["1", "-2.5", "0", "\"3\"", "\"x\"", "\"\"", "TRUE", "FALSE", "$A$1", "$A$3", "$A$5", "$A$7"];
+const OPERATORS: &[&str] = &["+", "-", "*", "/", "^", "&", "=", "<>", "<", "<=", ">", ">="];
+
+fn is_boolean(operand: &str) -> bool {
+    matches!(operand, "TRUE" | "FALSE" | "$A$4")
+}
+
+/// Operator cases where LibreOffice is known to differ from Excel.
+fn excel_differs(a: &str, op: &str, b: &str) -> bool {
+    let comparison = matches!(op, "=" | "<>" | "<" | "<=" | ">" | ">=");
+    // LibreOffice treats a boolean as the number 1/0: `1&TRUE` is "11" (Excel "1TRUE"),
+    // `TRUE>1` is FALSE (Excel orders booleans after numbers and text).
+    if (op == "&" || comparison) && (is_boolean(a) || is_boolean(b)) {
+        return true;
+    }
+    // `0^0`: Excel #NUM!, LibreOffice 1; `0^-2.5`: Excel #DIV/0!, LibreOffice #NUM!.
+    if op == "^" && zeroish(a) && (zeroish(b) || b.starts_with('-')) {
+        return true;
+    }
+    // Empty text in arithmetic: Excel #VALUE!, LibreOffice (by default) 0 or #VALUE! depending
+    // on its "conversion from text to number" setting.
+    if !comparison && op != "&" && (a == "\"\"" || b == "\"\"") {
+        return true;
+    }
+    false
+}
+
+fn zeroish(operand: &str) -> bool {
+    matches!(operand, "0" | "$A$5" | "FALSE" | "\"\"")
+}
+
+/// Formulas beyond the operator table. Cases calling a function ncsheet lacks are skipped.
+const CASES: &[&str] = &[
+    // Precedence and associativity.
+    "=-2^2",
+    "=2^3^2",
+    "=1+2*3",
+    "=(1+2)*3",
+    "=1+2&3",
+    "=1&2+3",
+    "=1+2=3",
+    "=2*3%",
+    "=50%*2",
+    "=-(-2)",
+    "=--2",
+    "=1-2-3",
+    "=8/2/2",
+    "=2^-1",
+    "=-2^-2",
+    "=2*-3",
+    "=\"a\"&1+1",
+    "=1<2=TRUE",
+    "=(1<2)+1",
+    "=3-2^2*2",
+    "=10%%",
+    "=1/3*3",
+    "=0.1+0.2",
+    "=1E+300*10",
+    "=-$A$1^2",
+    "=$A$1^$A$1^$A$1",
+    // Errors propagate; the first (leftmost) wins.
+    "=1/0+1",
+    "=1/0&#N/A",
+    "=\"x\"*1+1/0",
+    "=#REF!",
+    "=#NAME?",
+    "=NOSUCHFUNCTION(1)",
+    // Cells: blanks read as 0, text that looks like a number is coerced in arithmetic.
+    "=$A$5",
+    "=$A$5+1",
+    "=$A$5&\"x\"",
+    "=$A$7*2",
+    "=$A$3",
+    "=$A$8*3",
+    "=$A$10/7",
+    // Math and trigonometry.
+    "=ABS(-3.5)",
+    "=ABS($A$2)",
+    "=ABS(\"-2\")",
+    "=ABS(\"x\")",
+    "=ABS(1/0)",
+    "=SIN(1)",
+    "=SIN(PI())",
+    "=SIN(PI()/6)",
+    "=SIN(-1E+3)",
+    "=COS(0)",
+    "=COS(PI()/3)",
+    "=COS($A$1)",
+    "=TAN(1)",
+    "=ATAN(1)",
+    "=ATAN(-1E+10)",
+    "=ATAN2(1,1)",
+    "=ATAN2(-1,0)",
+    "=ATAN2(0,-1)",
+    "=ATAN2(-1,-1E-10)",
+    "=ATAN2($A$1,$A$2)",
+    "=ASIN(0.5)",
+    "=ASIN(2)",
+    "=ACOS(-0.5)",
+    "=ACOS(1.5)",
+    "=DEGREES(PI())",
+    "=DEGREES(1)",
+    "=RADIANS(180)",
+    "=RADIANS(-45)",
+    "=PI()",
+    "=PI()*2",
+    "=SQRT(2)",
+    "=SQRT(0)",
+    "=SQRT(1E+300)",
+    "=SQRT($A$7)",
+    "=POWER(2,10)",
+    "=POWER(2,0.5)",
+    "=POWER(-8,3)",
+    "=POWER(10,-3)",
+    "=POWER(0,2)",
+    "=POWER(-2,2)",
+    "=ROUND(2.675,2)",
+    "=ROUND(-2.5,0)",
+    "=ROUND(2.5,0)",
+    "=ROUND(1234.5678,-2)",
+    "=ROUND(0.125,2)",
+    "=ROUND(1.005,2)",
+    "=ROUND(-0.0005,3)",
+    "=ROUND(12345.678,1.9)",
+    "=ROUND(1E+20,2)",
+    "=ROUND(PI(),10)",
+    "=ROUND(\"2.25\",1)",
+    "=ROUNDUP(2.1,0)",
+    "=ROUNDUP(-2.1,0)",
+    "=ROUNDDOWN(2.9,0)",
+    "=ROUNDDOWN(-2.9,0)",
+    "=INT(2.7)",
+    "=INT(-2.7)",
+    "=TRUNC(-2.7)",
+    "=TRUNC(3.14159,3)",
+    "=MOD(10,3)",
+    "=MOD(-10,3)",
+    "=MOD(10,-3)",
+    "=MOD(5.5,2)",
+    "=MOD(1,0)",
+    "=SIGN(-3)",
+    "=SIGN(0)",
+    "=EXP(1)",
+    "=EXP(-1)",
+    "=LN(10)",
+    "=LOG10(1000)",
+    "=LOG(8,2)",
+    "=LOG(100)",
+    "=FLOOR(2.5,1)",
+    "=CEILING(2.1,1)",
+    "=SUM(1,2,3)",
+    "=SUM($A$7,1)",
+    "=SUM($B$1:$B$5)",
+    "=SUM($B$1:$B$5,10)",
+    "=SUM($A$1:$A$2,$B$1)",
+    "=SUM($A$5,$A$6)",
+    "=SUM(1/0,1)",
+    "=SUM($B$1:$B$5)/5",
+    "=SUM(0.1,0.2,0.3)",
+    "=SUMSQ(1,2,3)",
+    "=PRODUCT(2,3,4)",
+    "=PRODUCT($B$1:$B$5)",
+    // Statistics over ranges without booleans (LibreOffice counts booleans in ranges).
+    "=MAX(1,5,3)",
+    "=MAX($B$1:$B$5)",
+    "=MAX(-1,-5)",
+    "=MAX($A$5:$A$6)",
+    "=MAX($A$3,1)",
+    "=MAX(#N/A,1)",
+    "=MIN(1,5,3)",
+    "=MIN($B$1:$B$5)",
+    "=AVERAGE($B$1:$B$5)",
+    "=AVERAGE(1,2)",
+    "=COUNT($B$1:$B$5)",
+    "=COUNT(1,\"x\",2)",
+    "=COUNTA($B$1:$B$5)",
+    "=MEDIAN(1,3,2,4)",
+    // Logic.
+    "=IF(1,\"yes\",\"no\")",
+    "=IF(0,\"yes\",\"no\")",
+    "=IF($A$5,1,2)",
+    "=IF(\"TRUE\",1,2)",
+    "=IF(\"x\",1,2)",
+    "=IF(1/0,1,2)",
+    "=IF(1>2,1)",
+    "=IF(1<2,,2)",
+    "=IF(TRUE,$A$1*2,1/0)",
+    "=IF(FALSE,1/0,3)",
+    "=IF($A$1>1,IF($A$2<0,\"both\",\"one\"),\"none\")",
+    "=AND(TRUE,1)",
+    "=AND(TRUE,0)",
+    "=OR(FALSE,0)",
+    "=OR(1,1/0)",
+    "=NOT(0)",
+    "=NOT(2)",
+    "=XOR(TRUE,TRUE)",
+    "=IFERROR(1/0,\"err\")",
+    "=IFERROR(2,\"err\")",
+    "=IFNA(#N/A,1)",
+    "=ISERROR(1/0)",
+    "=ISNUMBER($A$7)",
+    "=ISTEXT($A$3)",
+    "=ISBLANK($A$5)",
+    // Text.
+    "=LEN(\"hello\")",
+    "=LEN($A$1)",
+    "=LEFT(\"hello\",2)",
+    "=RIGHT(\"hello\",3)",
+    "=MID(\"hello\",2,3)",
+    "=UPPER(\"MiXed\")",
+    "=LOWER(\"MiXed\")",
+    "=TRIM(\"  a  b  \")",
+    "=CONCATENATE(\"a\",1,\"b\")",
+    "=REPT(\"ab\",3)",
+    "=FIND(\"l\",\"hello\")",
+    "=SEARCH(\"L\",\"hello\")",
+    "=SUBSTITUTE(\"a-b-c\",\"-\",\"+\")",
+    "=EXACT(\"a\",\"A\")",
+    "=VALUE(\"1,234.5\")",
+    "=\"a\"=\"A\"",
+    "=\"a\"<\"B\"",
+    "=\"10\"<\"9\"",
+    "=1&\"\"",
+    "=0.1+0.2&\"\"",
+    "=1/3&\"\"",
+    "=-0.000001&\"\"",
+];
+
+fn function_names(formula: &str) -> Vec<String> {
+    let b = formula.as_bytes();
+    let mut names = Vec::new();
+    let mut i = 0;
+    let mut in_string = false;
+    while i < b.len() {
+        let c = b[i];
+        if c == b'"' {
+            in_string = !in_string;
+            i += 1;
+            continue;
+        }
+        if !in_string && c.is_ascii_alphabetic() {
+            let start = i;
+            while i < b.len() && (b[i].is_ascii_alphanumeric() || b[i] == b'.' || b[i] == b'_') {
+                i += 1;
+            }
+            if b.get(i) == Some(&b'(') {
+                names.push(formula[start..i].to_string());
+            }
+            continue;
+        }
+        i += 1;
+    }
+    names
+}
+
+/// Every case whose functions ncsheet has (NOSUCHFUNCTION is kept on purpose: both say #NAME?).
+fn cases() -> (Vec<String>, usize) {
+    let mut all: Vec<String> = Vec::new();
+    for a in OPERANDS {
+        for op in OPERATORS {
+            for b in OPERANDS {
+                if !excel_differs(a, op, b) {
+                    all.push(format!("={a}{op}{b}"));
+                }
+            }
+        }
+    }
+    all.extend(CASES.iter().map(|s| s.to_string()));
+    let total = all.len();
+    let kept: Vec<String> = all
+        .into_iter()
+        .filter(|f| function_names(f).iter().all(|n| n == "NOSUCHFUNCTION" || find(n).is_some()))
+        .collect();
+    let skipped = total - kept.len();
+    (kept, skipped)
+}
+
+fn soffice() -> Option<PathBuf> {
+    let candidates = ["/usr/bin/soffice", "/usr/local/bin/soffice", "/usr/lib/libreoffice/program/soffice"];
+    if let Some(p) = candidates.iter().map(PathBuf::from).find(|p| p.exists()) {
+        return Some(p);
+    }
+    Command::new("soffice").arg("--version").output().ok().filter(|o| o.status.success()).map(|_| "soffice".into())
+}
+
+/// Cases go in column C (General format: the kind of result) and column D (the same formula
+/// with 16 significant digits: the number), one row each.
+fn write_xlsx(path: &Path, cases: &[String]) {
+    let mut book = rust_xlsxwriter::Workbook::new();
+    let sheet = book.add_worksheet();
+    sheet.set_name("Sheet1").unwrap();
+    // Formula cells carry an empty result (`<v></v>`), not the writer's default 0.
+    sheet.set_formula_result_default("");
+    for (cell, data) in DATA {
+        let p = parse_cell(cell).unwrap();
+        match *data {
+            Data::Number(n) => sheet.write_number(p.row, p.col as u16, n).map(|_| ()),
+            Data::Text(t) => sheet.write_string(p.row, p.col as u16, t).map(|_| ()),
+            Data::Bool(b) => sheet.write_boolean(p.row, p.col as u16, b).map(|_| ()),
+        }
+        .unwrap();
+    }
+    let precise = Format::new().set_num_format("0.000000000000000E+00");
+    for (i, f) in cases.iter().enumerate() {
+        sheet.write_formula(i as u32, 2, Formula::new(f)).unwrap();
+        sheet.write_formula_with_format(i as u32, 3, Formula::new(f), &precise).unwrap();
+    }
+    book.save(path).unwrap();
+}
+
+/// LibreOffice settings for the run: recalculate every formula of an .xlsx on load (by
+/// default it trusts the cached results; ours are empty).
+const RECALC_ON_LOAD: &str = r#"<?xml version="1.0" encoding="UTF-8"?>
+<oor:items xmlns:oor="http://openoffice.org/2001/registry" xmlns:xs="http://www.w3.org/2001/XMLSchema" xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance">
+<item oor:path="/org.openoffice.Office.Calc/Formula/Load"><prop oor:name="OOXMLRecalcMode" oor:op="fuse"><value>0</value></prop></item>
+<item oor:path="/org.openoffice.Office.Calc/Formula/Load"><prop oor:name="ODFRecalcMode" oor:op="fuse"><value>0</value></prop></item>
+</oor:items>
+"#;
+
+/// Runs LibreOffice on the workbook, with a profile of its own (other LibreOffice processes
+/// may be running); the csv's rows as cells.
+fn libreoffice_csv(soffice: &Path, xlsx: &Path, dir: &Path) -> Vec<Vec<String>> {
+    let profile = dir.join("profile");
+    std::fs::create_dir_all(profile.join("user")).unwrap();
+    std::fs::write(profile.join("user/registrymodifications.xcu"), RECALC_ON_LOAD).unwrap();
+    let out = Command::new(soffice)
+        .arg(format!("-env:UserInstallation=file://{}", profile.display()))
+        .args(["--headless", "--norestore", "--convert-to", "csv:Text - txt - csv (StarCalc):44,34,76,1", "--outdir"])
+        .arg(dir)
+        .arg(xlsx)
+        .output()
+        .expect("soffice runs");
+    let csv_path = xlsx.with_extension("csv");
+    assert!(
+        csv_path.exists(),
+        "soffice wrote no csv: {}\n{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let mut reader = csv::ReaderBuilder::new().has_headers(false).flexible(true).from_path(&csv_path).unwrap();
+    reader.records().map(|r| r.unwrap().iter().map(str::to_string).collect()).collect()
+}
+
+fn ncsheet_values(cases: &[String]) -> Workbook {
+    let mut wb = Workbook::with_sheet();
+    for (cell, data) in DATA {
+        wb.set_input_deferred(0, parse_cell(cell).unwrap(), &data.input()).unwrap();
+    }
+    for (i, f) in cases.iter().enumerate() {
+        let _ = wb.set_input_deferred(0, Pos::new(i as u32, 2), f);
+    }
+    wb.recalculate();
+    wb
+}
+
+fn close(a: f64, b: f64) -> bool {
+    a == b || (a - b).abs() <= 1e-9 * a.abs().max(b.abs()) || (a - b).abs() < 1e-300
+}
+
+/// Whether ncsheet's value is what LibreOffice shows (`general` in column C, `precise` in D).
+fn agrees(ours: &Value, general: &str, precise: &str) -> bool {
+    match ours {
+        Value::Number(n) => match precise.trim().parse::<f64>() {
+            Ok(x) => close(*n, x),
+            Err(_) => false,
+        },
+        Value::Bool(b) => general == if *b { "TRUE" } else { "FALSE" },
+        Value::Text(t) => general == &**t,
+        Value::Error(e) => general == e.as_str(),
+        Value::Blank => general.is_empty(),
+        Value::Array(_) => false,
+    }
+}
+
+#[test]
+fn formulas_compute_as_libreoffice_computes_them() {
+    let Some(soffice) = soffice() else {
+        println!("SKIPPED: LibreOffice (soffice) is not installed; the oracle comparison did not run");
+        return;
+    };
+    let (cases, skipped) = cases();
+    let dir = tempfile::tempdir().unwrap();
+    if let Ok(keep) = std::env::var("NCSHEET_KEEP_ORACLE") {
+        // For debugging: leave the workbook and csv in this directory.
+        std::fs::create_dir_all(&keep).unwrap();
+        let keep = PathBuf::from(keep);
+        write_xlsx(&keep.join("oracle.xlsx"), &cases);
+        let _ = libreoffice_csv(&soffice, &keep.join("oracle.xlsx"), &keep);
+    }
+    let xlsx = dir.path().join("oracle.xlsx");
+    write_xlsx(&xlsx, &cases);
+    let rows = libreoffice_csv(&soffice, &xlsx, dir.path());
+    let wb = ncsheet_values(&cases);
+    let mut mismatches = Vec::new();
+    for (i, f) in cases.iter().enumerate() {
+        let row = rows.get(i).map(Vec::as_slice).unwrap_or(&[]);
+        let general = row.get(2).map_or("", String::as_str);
+        let precise = row.get(3).map_or("", String::as_str);
+        let ours = wb.value(0, Pos::new(i as u32, 2));
+        if !agrees(&ours, general, precise) {
+            mismatches.push(format!("{f}: ncsheet {ours:?}, LibreOffice {general:?} ({precise})"));
+        }
+    }
+    // LibreOffice computed rather than echoing the (empty) cached results.
+    let sanity = cases.iter().position(|f| f == "=1+2*3").expect("case =1+2*3");
+    assert_eq!(rows[sanity].get(2).map(String::as_str), Some("7"), "LibreOffice did not recalculate on load");
+    println!(
+        "compared {} formulas with LibreOffice ({} skipped: functions ncsheet does not have yet)",
+        cases.len(),
+        skipped
+    );
+    assert!(mismatches.is_empty(), "{} of {} differ:\n{}", mismatches.len(), cases.len(), mismatches.join("\n"));
+}
+
+/// Excel's documented values where LibreOffice computes otherwise (no LibreOffice needed).
+#[test]
+fn excel_values_where_libreoffice_differs() {
+    let cases: &[(&str, Value)] = &[
+        // Booleans in ranges are skipped by aggregates (A1:A4 = 2, -1.5, "x", TRUE).
+        ("=SUM($A$1:$A$4)", Value::Number(0.5)),
+        ("=COUNT($A$1:$A$4)", Value::Number(2.0)),
+        ("=AVERAGE($A$1:$A$4)", Value::Number(0.25)),
+        ("=MAX($A$4:$A$6)", Value::Number(0.0)),
+        ("=MIN($A$1:$A$4)", Value::Number(-1.5)),
+        // Typed booleans count.
+        ("=SUM(TRUE,1)", Value::Number(2.0)),
+        // Domain errors: #NUM! and #DIV/0! (LibreOffice: Err:502 and others).
+        ("=SQRT(-1)", Value::Error(XlError::Num)),
+        ("=LN(0)", Value::Error(XlError::Num)),
+        ("=ATAN2(0,0)", Value::Error(XlError::Div0)),
+        ("=POWER(-8,1/3)", Value::Error(XlError::Num)),
+        ("=0^0", Value::Error(XlError::Num)),
+        ("=POWER(0,0)", Value::Error(XlError::Num)),
+        ("=0^-1", Value::Error(XlError::Div0)),
+        // Booleans are text when joined and rank above numbers and text when compared.
+        ("=1&TRUE", Value::text("1TRUE")),
+        ("=FALSE&\"\"", Value::text("FALSE")),
+        ("=TRUE>1", Value::Bool(true)),
+        ("=TRUE>\"zzz\"", Value::Bool(true)),
+        ("=FALSE<1", Value::Bool(false)),
+        ("=TRUE=1", Value::Bool(false)),
+        ("=$A$4=1", Value::Bool(false)),
+        ("=0^-2.5", Value::Error(XlError::Div0)),
+        // Empty text is not a number.
+        ("=\"\"+1", Value::Error(XlError::Value)),
+        // The leftmost error wins (LibreOffice: #DIV/0!).
+        ("=#N/A+1/0", Value::Error(XlError::NA)),
+        // Numbers typed as text directly in the arguments count (LibreOffice: #VALUE!, Err:504).
+        ("=SUM(\"3\",1)", Value::Number(4.0)),
+        ("=MAX(\"7\",1)", Value::Number(7.0)),
+        // Exponents without padding (LibreOffice: 1E+020).
+        ("=1E+20&\"\"", Value::text("1E+20")),
+        ("=123456789012345678&\"\"", Value::text("1.23456789012346E+17")),
+    ];
+    let mut wb = Workbook::with_sheet();
+    for (cell, data) in DATA {
+        wb.set_input_deferred(0, parse_cell(cell).unwrap(), &data.input()).unwrap();
+    }
+    let mut checked = 0;
+    let mut skipped = Vec::new();
+    for (i, (f, want)) in cases.iter().enumerate() {
+        if let Some(missing) = function_names(f).into_iter().find(|n| find(n).is_none()) {
+            skipped.push(format!("{f} ({missing} not registered)"));
+            continue;
+        }
+        let pos = Pos::new(i as u32, 5);
+        wb.set_input(0, pos, f).unwrap();
+        assert_eq!(&wb.value(0, pos), want, "{f}");
+        checked += 1;
+    }
+    println!("checked {checked} Excel values; skipped {}: {}", skipped.len(), skipped.join(", "));
+}
