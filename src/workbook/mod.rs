@@ -395,7 +395,9 @@ impl Workbook {
     }
 
     fn clear_formula(&mut self, id: u32) {
-        self.bad_inputs.remove(&id);
+        if !self.bad_inputs.is_empty() {
+            self.bad_inputs.remove(&id);
+        }
         if self.cells[id as usize].formula != NO_FORMULA {
             self.unlink(id);
             self.cells[id as usize].formula = NO_FORMULA;

@@ -53,7 +53,6 @@ pub struct Scratch {
     /// The search's stack (node, whether its successors are all done) and finishing order.
     stack: Vec<(u32, bool)>,
     order: Vec<u32>,
-    successors: Vec<u32>,
 }
 
 /// Entries of the search's buffers kept between recalculations.
@@ -120,51 +119,14 @@ impl Workbook {
         self.scratch.range_mark.resize(self.ranges.nodes.len(), UNSEEN);
         let mut stack = std::mem::take(&mut self.scratch.stack);
         let mut order = std::mem::take(&mut self.scratch.order);
-        let mut successors = std::mem::take(&mut self.scratch.successors);
         stack.clear();
         order.clear();
-        let mut cycle = false;
-        'search: for &source in sources {
-            if self.mark(source) != UNSEEN {
-                continue;
-            }
-            stack.push((source, false));
-            while let Some((node, finished)) = stack.pop() {
-                if finished {
-                    *self.mark_mut(node) = DONE;
-                    order.push(node);
-                    continue;
-                }
-                match self.mark(node) {
-                    UNSEEN => {}
-                    DONE => continue,
-                    _ => {
-                        cycle = true;
-                        break 'search;
-                    }
-                }
-                *self.mark_mut(node) = OPEN;
-                stack.push((node, true));
-                successors.clear();
-                self.successors(node, &mut successors);
-                for &next in &successors {
-                    match self.mark(next) {
-                        UNSEEN => stack.push((next, false)),
-                        DONE => {}
-                        _ => {
-                            // `next` is on the search path: a cycle.
-                            cycle = true;
-                            break 'search;
-                        }
-                    }
-                }
-            }
-        }
+        let cycle = self.search(sources, &mut stack, &mut order);
         let mut late = Vec::new();
         if cycle {
             for &(node, finished) in &stack {
                 if finished {
-                    *self.mark_mut(node) = UNSEEN;
+                    set_mark(&mut self.scratch.cell_mark, &mut self.scratch.range_mark, node, UNSEEN);
                 }
             }
         } else {
@@ -178,37 +140,69 @@ impl Workbook {
             }
         }
         for &node in &order {
-            *self.mark_mut(node) = UNSEEN;
+            set_mark(&mut self.scratch.cell_mark, &mut self.scratch.range_mark, node, UNSEEN);
         }
         // Keep small buffers for the next edit; give back what a huge pass needed.
-        for v in [&mut order, &mut successors] {
-            v.clear();
-            v.shrink_to(KEEP_SCRATCH);
-        }
+        order.clear();
+        order.shrink_to(KEEP_SCRATCH);
         stack.clear();
         stack.shrink_to(KEEP_SCRATCH);
         self.scratch.stack = stack;
         self.scratch.order = order;
-        self.scratch.successors = successors;
         (!cycle).then_some(late)
     }
 
-    #[inline]
-    fn mark(&self, node: u32) -> u8 {
-        if node & RANGE_BIT == 0 {
-            self.scratch.cell_mark[node as usize]
-        } else {
-            self.scratch.range_mark[(node & !RANGE_BIT) as usize]
+    /// Depth-first search along dependent edges from `sources`, leaving the nodes in
+    /// `order` as they finish (dependents before what they read); stops at the first cycle
+    /// and says so.
+    fn search(&mut self, sources: &[u32], stack: &mut Vec<(u32, bool)>, order: &mut Vec<u32>) -> bool {
+        let (cells, ranges) = (&self.cells, &self.ranges);
+        let Scratch { cell_mark, range_mark, .. } = &mut self.scratch;
+        let with_ranges = !ranges.nodes.is_empty();
+        let mut cycle = false;
+        'search: for &source in sources {
+            if mark_of(cell_mark, range_mark, source) != UNSEEN {
+                continue;
+            }
+            stack.push((source, false));
+            while let Some((node, finished)) = stack.pop() {
+                if finished {
+                    set_mark(cell_mark, range_mark, node, DONE);
+                    order.push(node);
+                    continue;
+                }
+                match mark_of(cell_mark, range_mark, node) {
+                    UNSEEN => {}
+                    DONE => continue,
+                    _ => {
+                        cycle = true;
+                        break 'search;
+                    }
+                }
+                set_mark(cell_mark, range_mark, node, OPEN);
+                stack.push((node, true));
+                let (cm, rm): (&[u8], &[u8]) = (cell_mark, range_mark);
+                let mut push = |next: u32| match mark_of(cm, rm, next) {
+                    UNSEEN => stack.push((next, false)),
+                    DONE => {}
+                    // `next` is on the search path: a cycle.
+                    _ => cycle = true,
+                };
+                if node & RANGE_BIT != 0 {
+                    ranges.nodes[(node & !RANGE_BIT) as usize].dependents.for_each(&mut push);
+                } else {
+                    let cell = &cells[node as usize];
+                    cell.dependents.for_each(&mut push);
+                    if with_ranges {
+                        ranges.containing(cell.sheet, cell.pos, |r| push(r | RANGE_BIT));
+                    }
+                }
+                if cycle {
+                    break 'search;
+                }
+            }
         }
-    }
-
-    #[inline]
-    fn mark_mut(&mut self, node: u32) -> &mut u8 {
-        if node & RANGE_BIT == 0 {
-            &mut self.scratch.cell_mark[node as usize]
-        } else {
-            &mut self.scratch.range_mark[(node & !RANGE_BIT) as usize]
-        }
+        cycle
     }
 
     /// The pass by Kahn's algorithm over the affected graph, which also finds cycles.
@@ -470,9 +464,30 @@ impl Workbook {
 
     /// A user typed into a spilled cell: the anchor must recompute (and will show `#SPILL!`).
     pub(super) fn take_spilled_cell(&mut self, id: u32) {
+        if self.spill.owners.is_empty() {
+            return;
+        }
         if let Some(anchor) = self.spill.owners.remove(&id) {
             self.spill.pending.push(anchor);
         }
+    }
+}
+
+#[inline]
+fn mark_of(cell_mark: &[u8], range_mark: &[u8], node: u32) -> u8 {
+    if node & RANGE_BIT == 0 {
+        cell_mark[node as usize]
+    } else {
+        range_mark[(node & !RANGE_BIT) as usize]
+    }
+}
+
+#[inline]
+fn set_mark(cell_mark: &mut [u8], range_mark: &mut [u8], node: u32, mark: u8) {
+    if node & RANGE_BIT == 0 {
+        cell_mark[node as usize] = mark;
+    } else {
+        range_mark[(node & !RANGE_BIT) as usize] = mark;
     }
 }
 

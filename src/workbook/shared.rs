@@ -7,7 +7,7 @@
 
 use std::rc::Rc;
 
-use crate::formula::address::{column_index, Pos, MAX_ROWS};
+use crate::formula::address::{Pos, MAX_COLS, MAX_ROWS};
 use crate::formula::ast::{Expr, Reference};
 
 use super::graph::FxMap;
@@ -101,7 +101,7 @@ pub fn relative_key_into(text: &str, at: Pos, out: &mut String) -> bool {
                 let end = word_end(b, i);
                 let word = &text[i..end];
                 let next = next_non_space(b, end);
-                match cell_address(word) {
+                match cell_address(word.as_bytes()) {
                     Some(cell) if !matches!(next, Some(b'(') | Some(b'!')) => {
                         out.push('\u{1}');
                         push_coord(out, cell.row_abs, cell.row, at.row);
@@ -121,12 +121,19 @@ pub fn relative_key_into(text: &str, at: Pos, out: &mut String) -> bool {
                 i += ch.len_utf8();
             }
             _ => {
-                out.push(c as char);
-                i += 1;
+                // Operators, parentheses, commas, spaces: copied as a run.
+                let end = b[i..].iter().position(|&c| !is_plain(c)).map_or(b.len(), |n| i + n);
+                out.push_str(&text[i..end]);
+                i = end;
             }
         }
     }
     true
+}
+
+/// ASCII that the scan copies without looking at it.
+fn is_plain(c: u8) -> bool {
+    c < 0x80 && !matches!(c, b'"' | b'\'' | b'0'..=b'9' | b'.' | b'$' | b'A'..=b'Z' | b'a'..=b'z' | b'_' | b'\\')
 }
 
 fn quoted_end(b: &[u8], start: usize) -> Option<usize> {
@@ -185,26 +192,39 @@ struct CellAddress {
     col_abs: bool,
 }
 
-fn cell_address(word: &str) -> Option<CellAddress> {
-    let (col_abs, rest) = match word.strip_prefix('$') {
-        Some(r) => (true, r),
-        None => (false, word),
-    };
-    let letters_end = rest.find(|c: char| !c.is_ascii_alphabetic())?;
-    let (letters, rest) = rest.split_at(letters_end);
-    let (row_abs, digits) = match rest.strip_prefix('$') {
-        Some(r) => (true, r),
-        None => (false, rest),
-    };
-    if digits.is_empty() || !digits.bytes().all(|c| c.is_ascii_digit()) {
+/// `B3`, `$B$3`, `b3`: the address, or `None` for a word that is not one cell on the sheet.
+fn cell_address(word: &[u8]) -> Option<CellAddress> {
+    let col_abs = word.first() == Some(&b'$');
+    let mut i = usize::from(col_abs);
+    let mut col: u32 = 0;
+    let letters_start = i;
+    while i < word.len() && word[i].is_ascii_alphabetic() {
+        if i - letters_start == 3 {
+            return None;
+        }
+        col = col * 26 + (word[i].to_ascii_uppercase() - b'A' + 1) as u32;
+        i += 1;
+    }
+    if i == letters_start || col > MAX_COLS {
         return None;
     }
-    let col = column_index(letters)?;
-    let row: u32 = digits.parse().ok()?;
-    if !(1..=MAX_ROWS).contains(&row) {
+    let row_abs = word.get(i) == Some(&b'$');
+    i += usize::from(row_abs);
+    let digits = &word[i..];
+    if digits.is_empty() {
         return None;
     }
-    Some(CellAddress { row: row - 1, col, row_abs, col_abs })
+    let mut row: u64 = 0;
+    for &d in digits {
+        if !d.is_ascii_digit() {
+            return None;
+        }
+        row = (row * 10 + (d - b'0') as u64).min(u64::from(u32::MAX) + 1);
+    }
+    if !(1..=MAX_ROWS as u64).contains(&row) {
+        return None;
+    }
+    Some(CellAddress { row: row as u32 - 1, col: col - 1, row_abs, col_abs })
 }
 
 /// `B3` at C5 gives row offset "-2" and column offset "-1"; `$B$3` gives "$2" and "$1".
@@ -233,7 +253,9 @@ fn push_int(out: &mut String, n: i64) {
             break;
         }
     }
-    out.push_str(std::str::from_utf8(&buf[i..]).expect("digits"));
+    for &d in &buf[i..] {
+        out.push(d as char);
+    }
 }
 
 #[cfg(test)]
@@ -263,6 +285,14 @@ mod tests {
         assert_eq!(relative_key("=SUM(1:1)", at), None);
         assert_eq!(relative_key("=SUM(A:A)", at), None);
         assert_eq!(relative_key("=SUM($1:2)", at), None);
+        // Not cells: too many letters, row 0, past the last row or column, stray characters.
+        for word in ["ABCD1", "A0", "A1048577", "XFE1", "A1.5", "A_1", "$$A1", "A$$1", "$1", "A", "A99999999999"] {
+            assert!(cell_address(word.as_bytes()).is_none(), "{word}");
+        }
+        let c = cell_address(b"$xfd$1048576").unwrap();
+        assert_eq!((c.row, c.col, c.row_abs, c.col_abs), (MAX_ROWS - 1, MAX_COLS - 1, true, true));
+        let c = cell_address(b"b0003").unwrap();
+        assert_eq!((c.row, c.col, c.row_abs, c.col_abs), (2, 1, false, false));
         // Sheet names followed by ! are not cells.
         assert_ne!(relative_key("=AB1!A1", at), relative_key("=AB2!A2", below));
     }
