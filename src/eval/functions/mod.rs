@@ -14,6 +14,7 @@ use super::evaluator::{Ctx, Operand};
 use super::value::{Value, XlResult};
 
 pub mod args;
+mod criteria;
 mod info;
 mod logic;
 mod lookup;
