@@ -41,9 +41,14 @@ enum Target {
     Bool(bool),
     Error(XlError),
     /// Text matched without regard to case; `*`, `?` and `~` are wildcards when `pattern`.
-    Text { text: Rc<str>, pattern: bool },
+    Text {
+        text: Rc<str>,
+        pattern: bool,
+    },
     /// `""` matches empty cells and empty text; `"="` and `"<>"` test truly empty cells.
-    Empty { strict: bool },
+    Empty {
+        strict: bool,
+    },
 }
 
 /// One parsed criterion.
@@ -242,7 +247,11 @@ impl CellBlock {
             }
             Operand::Value(v) => {
                 let block = CellBlock::from_value(v)?;
-                Ok(CellBlock { rows, cols, ..block })
+                Ok(CellBlock {
+                    rows,
+                    cols,
+                    ..block
+                })
             }
         }
     }

@@ -70,14 +70,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "COS(angle)",
         "Cosine of an angle in radians",
     ),
-    FnSpec::value(
-        "COSH",
-        1,
-        1,
-        cosh,
-        "COSH(number)",
-        "Hyperbolic cosine",
-    ),
+    FnSpec::value("COSH", 1, 1, cosh, "COSH(number)", "Hyperbolic cosine"),
     FnSpec::value(
         "DEGREES",
         1,
@@ -135,14 +128,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "LOG(number, [base])",
         "Logarithm to base (10 when omitted)",
     ),
-    FnSpec::value(
-        "LOG10",
-        1,
-        1,
-        log10,
-        "LOG10(number)",
-        "Base-10 logarithm",
-    ),
+    FnSpec::value("LOG10", 1, 1, log10, "LOG10(number)", "Base-10 logarithm"),
     FnSpec::value(
         "MOD",
         2,
@@ -469,7 +455,7 @@ fn modulo(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn quotient(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number2(ctx, args, 0.0, |n, d| {
+    lift_toolpak2(ctx, args, |n, d| {
         if d == 0.0 {
             Err(XlError::Div0)
         } else {
@@ -478,22 +464,45 @@ fn quotient(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     })
 }
 
+/// A number argument of a function from Excel's old Analysis ToolPak (QUOTIENT, MROUND):
+/// these refuse booleans (`QUOTIENT(TRUE, 1)` is #VALUE!) where built-ins read TRUE as 1.
+fn toolpak_number(v: &Value) -> XlResult<f64> {
+    match v {
+        Value::Bool(_) => Err(XlError::Value),
+        v => to_number(v),
+    }
+}
+
+/// [`lift_number2`] for Analysis ToolPak functions.
+fn lift_toolpak2(
+    ctx: &mut Ctx,
+    args: &[Expr],
+    f: fn(f64, f64) -> XlResult<f64>,
+) -> XlResult<Value> {
+    lift(ctx, args, &|v| {
+        let (x, y) = (toolpak_number(&v[0])?, toolpak_number(&v[1])?);
+        Ok(number_result(f(x, y)?))
+    })
+}
+
 // ---- rounding -----------------------------------------------------------------------------
 
-/// How the digits beyond the kept ones are dropped, on a non-negative scaled value.
+/// How the digits beyond the kept ones are dropped. Applied to the magnitude, so "up"
+/// is away from zero and "down" toward zero, as Excel's ROUNDUP and ROUNDDOWN name them.
 #[derive(Clone, Copy)]
 enum Rounding {
-    HalfAwayFromZero,
-    AwayFromZero,
-    TowardZero,
+    /// ROUND: halves go up (away from zero).
+    HalfUp,
+    Up,
+    Down,
 }
 
 impl Rounding {
     fn apply(self, magnitude: f64) -> f64 {
         match self {
-            Rounding::HalfAwayFromZero => (magnitude + 0.5).floor(),
-            Rounding::AwayFromZero => magnitude.ceil(),
-            Rounding::TowardZero => magnitude.trunc(),
+            Rounding::HalfUp => (magnitude + 0.5).floor(),
+            Rounding::Up => magnitude.ceil(),
+            Rounding::Down => magnitude.trunc(),
         }
     }
 }
@@ -508,7 +517,11 @@ fn round_to(x: f64, digits: f64, mode: Rounding) -> f64 {
     let digits = digits.trunc().clamp(-400.0, 400.0) as i32;
     let scale = 10f64.powi(digits.abs());
     let x15 = round15(x);
-    let scaled = if digits >= 0 { x15 * scale } else { x15 / scale };
+    let scaled = if digits >= 0 {
+        x15 * scale
+    } else {
+        x15 / scale
+    };
     if !scaled.is_finite() || scaled.abs() >= 1e15 {
         // Every significant digit is kept: nothing to round.
         return x;
@@ -527,7 +540,7 @@ fn round_to(x: f64, digits: f64, mode: Rounding) -> f64 {
 
 /// Excel's ROUND: half away from zero, on the 15-significant-digit value.
 pub fn round_half_away(x: f64, digits: i32) -> f64 {
-    round_to(x, f64::from(digits), Rounding::HalfAwayFromZero)
+    round_to(x, f64::from(digits), Rounding::HalfUp)
 }
 
 fn round(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
@@ -536,15 +549,15 @@ fn round(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn roundup(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number2(ctx, args, 0.0, |x, d| Ok(round_to(x, d, Rounding::AwayFromZero)))
+    lift_number2(ctx, args, 0.0, |x, d| Ok(round_to(x, d, Rounding::Up)))
 }
 
 fn rounddown(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number2(ctx, args, 0.0, |x, d| Ok(round_to(x, d, Rounding::TowardZero)))
+    lift_number2(ctx, args, 0.0, |x, d| Ok(round_to(x, d, Rounding::Down)))
 }
 
 fn trunc(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number2(ctx, args, 0.0, |x, d| Ok(round_to(x, d, Rounding::TowardZero)))
+    lift_number2(ctx, args, 0.0, |x, d| Ok(round_to(x, d, Rounding::Down)))
 }
 
 /// `x / step` as Excel sees it before rounding to a multiple: on 15 significant digits, so
@@ -568,6 +581,9 @@ fn ceiling(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 fn floor(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number2(ctx, args, 1.0, |x, s| {
+        if x == 0.0 {
+            return Ok(0.0);
+        }
         if s == 0.0 {
             return Err(XlError::Div0);
         }
@@ -611,14 +627,18 @@ fn floor_math(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn mround(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number2(ctx, args, 0.0, |x, m| {
+    // Excel: MROUND(, 5) and MROUND(5, ) are #N/A, not a rounding of 0.
+    if args.iter().any(|a| a.kind == ExprKind::Missing) {
+        return Err(XlError::NA);
+    }
+    lift_toolpak2(ctx, args, |x, m| {
         if m == 0.0 {
             return Ok(0.0);
         }
         if x * m < 0.0 {
             return Err(XlError::Num);
         }
-        Ok(round_to(multiples(x, m), 0.0, Rounding::HalfAwayFromZero) * m)
+        Ok(round_to(multiples(x, m), 0.0, Rounding::HalfUp) * m)
     })
 }
 
@@ -712,7 +732,10 @@ mod tests {
             let got = env.eval(formula);
             match (&got, expected) {
                 (Value::Number(a), Value::Number(b)) => {
-                    assert!((a - b).abs() <= 1e-12 * b.abs().max(1.0), "{formula}: {a} vs {b}")
+                    assert!(
+                        (a - b).abs() <= 1e-12 * b.abs().max(1.0),
+                        "{formula}: {a} vs {b}"
+                    )
                 }
                 _ => assert_eq!(&got, expected, "{formula}"),
             }
@@ -779,7 +802,7 @@ mod tests {
             ("=ROUNDDOWN(-3.14159,1)", n(-3.1)),
             ("=TRUNC(8.9)", n(8.0)),
             ("=TRUNC(-8.9)", n(-8.0)),
-            ("=TRUNC(3.14159,2)", n(3.14)),
+            ("=TRUNC(2.71828,2)", n(2.71)),
             ("=INT(8.9)", n(8.0)),
             ("=INT(-8.9)", n(-9.0)),
             ("=CEILING(2.5,1)", n(3.0)),

@@ -286,7 +286,10 @@ impl Conditions {
     /// `aggregate` of the target's numbers at the matching positions, per criteria item.
     /// Text, booleans and blanks there are skipped; an error there is the result.
     fn aggregate(&self, aggregate: Aggregate) -> XlResult<Value> {
-        let target = self.target.as_ref().expect("an aggregate has a target range");
+        let target = self
+            .target
+            .as_ref()
+            .expect("an aggregate has a target range");
         if !target.same_shape(&self.ranges[0]) {
             return Err(XlError::Value);
         }
@@ -448,14 +451,14 @@ mod tests {
     fn multi_criteria_functions_follow_excel() {
         let env = env();
         assert_eq!(env.eval("=COUNTIFS(B1:B6,\">15\",B1:B6,\"<45\")"), n(3.0));
-        assert_eq!(env.eval("=SUMIFS(B1:B6,A1:A6,\">0\",B1:B6,\">15\")"), n(40.0));
+        assert_eq!(
+            env.eval("=SUMIFS(B1:B6,A1:A6,\">0\",B1:B6,\">15\")"),
+            n(40.0)
+        );
         assert_eq!(env.eval("=AVERAGEIFS(B1:B6,B1:B6,\">15\")"), n(40.0));
         assert_eq!(env.eval("=MINIFS(B1:B6,B1:B6,\">15\")"), n(20.0));
         assert_eq!(env.eval("=MAXIFS(B1:B6,A1:A6,\"<>x\")"), n(60.0));
         assert_eq!(env.eval("=MAXIFS(B1:B6,B1:B6,\">100\")"), n(0.0));
-        assert_eq!(
-            env.eval("=SUMIFS(B1:B6,A1:A5,\">0\")"),
-            err(XlError::Value)
-        );
+        assert_eq!(env.eval("=SUMIFS(B1:B6,A1:A5,\">0\")"), err(XlError::Value));
     }
 }
