@@ -21,14 +21,34 @@ use ncsheet::eval::{Ctx, Value, XlError};
 use ncsheet::formula::ast::{BinOp, ExprKind, RefShape, SheetRef, UnaryOp};
 use ncsheet::formula::{parse_formula, Expr, ParseContext, Pos};
 
-const DEFAULT_CORPUS: &str = "/work/shared/excel-corpus/ironcalc/calc_tests";
-const FOLDERS: &[&str] = &["MATH_AND_TRIGONOMETRY", "STATISTICAL"];
+const DEFAULT_CORPUS: &str = "/work/shared/excel-corpus/ironcalc";
+/// The math and statistics tests, and the documentation examples (SIN, COS, TAN, SQRT, PI).
+const FOLDERS: &[&str] = &[
+    "calc_tests/MATH_AND_TRIGONOMETRY",
+    "calc_tests/STATISTICAL",
+    "docs",
+];
 
 /// Files whose cached values are not Excel's (README: "Files NOT produced by Excel").
-const NOT_EXCEL: &[&str] = &["GEOMEAN.xlsx"];
+const NOT_EXCEL: &[&str] = &["GEOMEAN.xlsx", "CHOOSE.xlsx"];
 
 /// Cells where we knowingly differ from Excel: (file, sheet, cell, why).
-const ALLOWED: &[(&str, &str, &str, &str)] = &[];
+const ALLOWED: &[(&str, &str, &str, &str)] = &[
+    // Angles 1e-12 from a zero of sin or cos: the result is the reciprocal of a
+    // difference of nearly equal numbers, and Excel's argument reduction differs from the
+    // correctly rounded libm one in the 8th digit (IronCalc skips TAN for the same reason).
+    ("TRIGONOMETRIC.xlsx", "COT_CSC_SEC", "B33", ILL_CONDITIONED),
+    ("TRIGONOMETRIC.xlsx", "COT_CSC_SEC", "C33", ILL_CONDITIONED),
+    ("TRIGONOMETRIC.xlsx", "COT_CSC_SEC", "D34", ILL_CONDITIONED),
+    ("TRIGONOMETRIC.xlsx", "COT_CSC_SEC", "D35", ILL_CONDITIONED),
+    // TAN at odd multiples of pi/2 (as doubles): about 1.6e16, differing in the 4th digit.
+    ("TAN.xlsx", "Sheet1", "B2", ILL_CONDITIONED),
+    ("TAN.xlsx", "Sheet1", "B4", ILL_CONDITIONED),
+    ("TAN.xlsx", "Sheet1", "B8", ILL_CONDITIONED),
+    ("TAN.xlsx", "Sheet1", "B10", ILL_CONDITIONED),
+];
+
+const ILL_CONDITIONED: &str = "tan, 1/sin or 1/cos within 1e-12 of a pole";
 
 /// Texts Excel reads as numbers that `coerce::parse_number` does not read yet: an ISO date
 /// (Excel: its serial number) and euro amounts (read by the locale the files were saved in).

@@ -23,12 +23,44 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "Arccosine in radians, 0 to pi; #NUM! outside -1..1",
     ),
     FnSpec::value(
+        "ACOSH",
+        1,
+        1,
+        acosh,
+        "ACOSH(number)",
+        "Inverse hyperbolic cosine; #NUM! below 1",
+    ),
+    FnSpec::value(
+        "ACOT",
+        1,
+        1,
+        acot,
+        "ACOT(number)",
+        "Arccotangent in radians, 0 to pi",
+    ),
+    FnSpec::value(
+        "ACOTH",
+        1,
+        1,
+        acoth,
+        "ACOTH(number)",
+        "Inverse hyperbolic cotangent; #NUM! for -1..1",
+    ),
+    FnSpec::value(
         "ASIN",
         1,
         1,
         asin,
         "ASIN(number)",
         "Arcsine in radians, -pi/2 to pi/2; #NUM! outside -1..1",
+    ),
+    FnSpec::value(
+        "ASINH",
+        1,
+        1,
+        asinh,
+        "ASINH(number)",
+        "Inverse hyperbolic sine",
     ),
     FnSpec::value(
         "ATAN",
@@ -47,6 +79,14 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "Angle of the point (x, y) in radians, -pi to pi; x before y as in Excel",
     ),
     FnSpec::value(
+        "ATANH",
+        1,
+        1,
+        atanh,
+        "ATANH(number)",
+        "Inverse hyperbolic tangent; #NUM! outside -1..1 (exclusive)",
+    ),
+    FnSpec::value(
         "CEILING",
         2,
         2,
@@ -63,6 +103,14 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "Rounds up to a multiple of |significance|; mode<>0 rounds negatives away from zero",
     ),
     FnSpec::value(
+        "CEILING.PRECISE",
+        1,
+        2,
+        ceiling_precise,
+        "CEILING.PRECISE(number, [significance])",
+        "Rounds up (toward +infinity) to a multiple of |significance|",
+    ),
+    FnSpec::value(
         "COS",
         1,
         1,
@@ -72,6 +120,24 @@ pub const FUNCTIONS: &[FnSpec] = &[
     ),
     FnSpec::value("COSH", 1, 1, cosh, "COSH(number)", "Hyperbolic cosine"),
     FnSpec::value(
+        "COT",
+        1,
+        1,
+        cot,
+        "COT(angle)",
+        "Cotangent of an angle in radians",
+    ),
+    FnSpec::value("COTH", 1, 1, coth, "COTH(number)", "Hyperbolic cotangent"),
+    FnSpec::value(
+        "CSC",
+        1,
+        1,
+        csc,
+        "CSC(angle)",
+        "Cosecant of an angle in radians",
+    ),
+    FnSpec::value("CSCH", 1, 1, csch, "CSCH(number)", "Hyperbolic cosecant"),
+    FnSpec::value(
         "DEGREES",
         1,
         1,
@@ -80,6 +146,14 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "Radians to degrees",
     ),
     FnSpec::value("EXP", 1, 1, exp, "EXP(number)", "e raised to number"),
+    FnSpec::value(
+        "EVEN",
+        1,
+        1,
+        even,
+        "EVEN(number)",
+        "Rounds away from zero to an even integer",
+    ),
     FnSpec::value(
         "FACT",
         1,
@@ -105,12 +179,28 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "Rounds down to a multiple of |significance|; mode<>0 rounds negatives toward zero",
     ),
     FnSpec::value(
+        "FLOOR.PRECISE",
+        1,
+        2,
+        floor_precise,
+        "FLOOR.PRECISE(number, [significance])",
+        "Rounds down (toward -infinity) to a multiple of |significance|",
+    ),
+    FnSpec::value(
         "INT",
         1,
         1,
         int,
         "INT(number)",
         "Rounds down to an integer (INT(-2.5) = -3)",
+    ),
+    FnSpec::value(
+        "ISO.CEILING",
+        1,
+        2,
+        ceiling_precise,
+        "ISO.CEILING(number, [significance])",
+        "Same as CEILING.PRECISE",
     ),
     FnSpec::value(
         "LN",
@@ -146,6 +236,14 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "Rounds half away from zero to a multiple; #NUM! when the signs differ",
     ),
     FnSpec::value("PI", 0, 0, pi, "PI()", "3.14159265358979"),
+    FnSpec::value(
+        "ODD",
+        1,
+        1,
+        odd,
+        "ODD(number)",
+        "Rounds away from zero to an odd integer",
+    ),
     FnSpec::value(
         "POWER",
         2,
@@ -203,6 +301,15 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "Rounds away from zero to digits decimals",
     ),
     FnSpec::value(
+        "SEC",
+        1,
+        1,
+        sec,
+        "SEC(angle)",
+        "Secant of an angle in radians",
+    ),
+    FnSpec::value("SECH", 1, 1, sech, "SECH(number)", "Hyperbolic secant"),
+    FnSpec::value(
         "SEQUENCE",
         1,
         4,
@@ -234,6 +341,14 @@ pub const FUNCTIONS: &[FnSpec] = &[
         sqrt,
         "SQRT(number)",
         "Square root; #NUM! for negative numbers",
+    ),
+    FnSpec::value(
+        "SQRTPI",
+        1,
+        1,
+        sqrtpi,
+        "SQRTPI(number)",
+        "Square root of number*pi; #NUM! for negative numbers",
     ),
     FnSpec::value(
         "SUM",
@@ -345,6 +460,77 @@ fn tanh(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number1(ctx, args, |x| Ok(x.tanh()))
 }
 
+/// `1 / x` for the reciprocal functions: #DIV/0! where x is 0 (COT(0), CSCH(0)).
+fn reciprocal(x: f64) -> XlResult<f64> {
+    if x == 0.0 {
+        Err(XlError::Div0)
+    } else {
+        Ok(1.0 / x)
+    }
+}
+
+fn cot(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| reciprocal(trig_angle(x)?.tan()))
+}
+
+fn csc(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| reciprocal(trig_angle(x)?.sin()))
+}
+
+fn sec(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| reciprocal(trig_angle(x)?.cos()))
+}
+
+fn acot(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| Ok(std::f64::consts::FRAC_PI_2 - x.atan()))
+}
+
+fn coth(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| reciprocal(x.tanh()))
+}
+
+fn csch(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| reciprocal(x.sinh()))
+}
+
+fn sech(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| reciprocal(x.cosh()))
+}
+
+fn asinh(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| Ok(x.asinh()))
+}
+
+fn acosh(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| {
+        if x < 1.0 {
+            Err(XlError::Num)
+        } else {
+            Ok(x.acosh())
+        }
+    })
+}
+
+fn atanh(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| {
+        if x.abs() >= 1.0 {
+            Err(XlError::Num)
+        } else {
+            Ok(x.atanh())
+        }
+    })
+}
+
+fn acoth(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| {
+        if x.abs() <= 1.0 {
+            Err(XlError::Num)
+        } else {
+            Ok(0.5 * ((x + 1.0) / (x - 1.0)).ln())
+        }
+    })
+}
+
 fn degrees(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number1(ctx, args, |x| Ok(x.to_degrees()))
 }
@@ -365,6 +551,16 @@ fn sqrt(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
             Err(XlError::Num)
         } else {
             Ok(x.sqrt())
+        }
+    })
+}
+
+fn sqrtpi(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| {
+        if x < 0.0 {
+            Err(XlError::Num)
+        } else {
+            Ok((x * std::f64::consts::PI).sqrt())
         }
     })
 }
@@ -435,6 +631,23 @@ fn sign(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         } else {
             0.0
         })
+    })
+}
+
+fn even(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(
+        ctx,
+        args,
+        |x| Ok(((x.abs() / 2.0).ceil() * 2.0).copysign(x)),
+    )
+}
+
+fn odd(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| {
+        let up = x.abs().ceil();
+        let odd = if up % 2.0 == 0.0 { up + 1.0 } else { up };
+        // ODD(0) is 1: zero rounds "away from zero" to the positive side.
+        Ok(if x < 0.0 { -odd } else { odd })
     })
 }
 
@@ -618,6 +831,15 @@ fn math_rounding(ctx: &mut Ctx, args: &[Expr], up: bool) -> XlResult<Value> {
     })
 }
 
+/// CEILING.PRECISE and ISO.CEILING: CEILING.MATH without its mode argument.
+fn ceiling_precise(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    math_rounding(ctx, args, true)
+}
+
+fn floor_precise(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    math_rounding(ctx, args, false)
+}
+
 fn ceiling_math(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     math_rounding(ctx, args, true)
 }
@@ -760,6 +982,17 @@ mod tests {
             ("=COSH(0)", n(1.0)),
             ("=TANH(0.5)", n(0.46211715726001)),
             ("=SIN(2^27)", err(XlError::Num)),
+            ("=COT(0)", err(XlError::Div0)),
+            ("=CSC(PI()/2)", n(1.0)),
+            ("=SEC(0)", n(1.0)),
+            ("=ACOT(0)", n(std::f64::consts::FRAC_PI_2)),
+            ("=ACOSH(1)", n(0.0)),
+            ("=ACOSH(0.5)", err(XlError::Num)),
+            ("=ATANH(1)", err(XlError::Num)),
+            ("=ASINH(0)", n(0.0)),
+            ("=ACOTH(1)", err(XlError::Num)),
+            ("=COTH(0)", err(XlError::Div0)),
+            ("=SECH(0)", n(1.0)),
         ]);
     }
 
@@ -768,6 +1001,7 @@ mod tests {
         check(&[
             ("=SQRT(16)", n(4.0)),
             ("=SQRT(-1)", err(XlError::Num)),
+            ("=SQRTPI(2)", n(2.5066282746310002)),
             ("=POWER(2,10)", n(1024.0)),
             ("=POWER(-8,1/3)", err(XlError::Num)),
             ("=POWER(0,-1)", err(XlError::Div0)),
@@ -827,6 +1061,20 @@ mod tests {
             ("=MROUND(-10,-3)", n(-9.0)),
             ("=MROUND(1.3,0.2)", n(1.4)),
             ("=MROUND(5,-2)", err(XlError::Num)),
+            ("=MROUND(,5)", err(XlError::NA)),
+            ("=QUOTIENT(TRUE,1)", err(XlError::Value)),
+            ("=CEILING.PRECISE(4.3)", n(5.0)),
+            ("=CEILING.PRECISE(-4.3)", n(-4.0)),
+            ("=CEILING.PRECISE(4.3,-2)", n(6.0)),
+            ("=ISO.CEILING(-4.3,2)", n(-4.0)),
+            ("=FLOOR.PRECISE(-3.2,-1)", n(-4.0)),
+            ("=FLOOR.PRECISE(3.2,-1)", n(3.0)),
+            ("=EVEN(1.5)", n(2.0)),
+            ("=EVEN(3)", n(4.0)),
+            ("=EVEN(-1)", n(-2.0)),
+            ("=ODD(1.5)", n(3.0)),
+            ("=ODD(2)", n(3.0)),
+            ("=ODD(-2)", n(-3.0)),
         ]);
     }
 
