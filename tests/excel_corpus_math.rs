@@ -1,11 +1,16 @@
 //! Excel itself as the oracle for the math, trigonometry and statistical functions.
 //!
-//! The workbooks under `calc_tests/MATH_AND_TRIGONOMETRY` and `calc_tests/STATISTICAL` of
-//! the IronCalc corpus (see /work/shared/excel-corpus/README.md) were saved by Excel, so
-//! every formula cell carries the value Excel computed. Each sheet's cached values are
-//! loaded as constants; every formula cell that uses only functions we know and only cells
-//! of its own sheet is evaluated against them and compared with its own cached value.
-//! A cell's inputs are Excel's values, not ours, so each check is independent.
+//! The workbooks under `calc_tests/MATH_AND_TRIGONOMETRY`, `calc_tests/STATISTICAL` and
+//! `docs` of the IronCalc corpus (see /work/shared/excel-corpus/README.md) were saved by
+//! Excel, so every formula cell carries the value Excel computed. Each sheet's cached
+//! values are loaded as constants; every formula cell that uses only functions we know and
+//! only cells of its own sheet is evaluated against them and compared with its own cached
+//! value. A cell's inputs are Excel's values, not ours, so each check is independent.
+//!
+//! An array result must match the cached values of the cells it spills into; failing that,
+//! the formula is read as Excel did before dynamic arrays (implicit intersection), since
+//! most of these workbooks hold such legacy formulas. Run with `-- --nocapture` for the
+//! per-file and per-function counts.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::fs::File;

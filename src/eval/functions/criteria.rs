@@ -83,7 +83,10 @@ impl Criterion {
             Target::Number(n)
         } else if operand.eq_ignore_ascii_case("TRUE") || operand.eq_ignore_ascii_case("FALSE") {
             Target::Bool(operand.eq_ignore_ascii_case("TRUE"))
-        } else if let Some(e) = XlError::ALL.iter().find(|e| e.as_str() == operand) {
+        } else if let Some(e) = XlError::ALL
+            .iter()
+            .find(|e| e.as_str().eq_ignore_ascii_case(operand))
+        {
             Target::Error(*e)
         } else {
             Target::Text {
