@@ -62,6 +62,8 @@ pub enum Deps {
     None,
     One(u32),
     Two(u32, u32),
+    // Boxed so that the enum stays 16 bytes: most cells never need the vector.
+    #[allow(clippy::box_collection)]
     Many(Box<Vec<u32>>),
 }
 

@@ -313,7 +313,7 @@ impl Workbook {
             }
             let c = &self.cells[cid as usize];
             let owned_elsewhere = self.spill.owners.get(&cid).is_some_and(|&o| o != anchor);
-            let own_content = self.spill.owners.get(&cid).is_none() && !c.value.is_blank();
+            let own_content = !self.spill.owners.contains_key(&cid) && !c.value.is_blank();
             blocked = c.formula != NO_FORMULA || owned_elsewhere || own_content || self.bad_inputs.contains_key(&cid);
         });
         blocked

@@ -14,6 +14,7 @@ use super::evaluator::{Ctx, Operand};
 use super::value::{Value, XlResult};
 
 pub mod args;
+mod geometry;
 mod info;
 mod logic;
 mod lookup;
@@ -72,7 +73,16 @@ impl FnSpec {
 
 /// Every function, in one list. Ids are indexes into it.
 pub static REGISTRY: LazyLock<Vec<FnSpec>> = LazyLock::new(|| {
-    [math::FUNCTIONS, stats::FUNCTIONS, logic::FUNCTIONS, lookup::FUNCTIONS, text::FUNCTIONS, info::FUNCTIONS].concat()
+    [
+        math::FUNCTIONS,
+        stats::FUNCTIONS,
+        logic::FUNCTIONS,
+        lookup::FUNCTIONS,
+        text::FUNCTIONS,
+        info::FUNCTIONS,
+        geometry::FUNCTIONS,
+    ]
+    .concat()
 });
 
 static BY_NAME: LazyLock<HashMap<String, FnId>> = LazyLock::new(|| {
