@@ -6,3 +6,6 @@
 
 pub mod eval;
 pub mod formula;
+pub mod geometry;
+pub mod nc;
+pub mod workbook;

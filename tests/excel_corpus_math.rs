@@ -17,9 +17,7 @@ use std::fs::File;
 use std::io::BufReader;
 use std::path::{Path, PathBuf};
 
-use calamine::{
-    expand_shared_formula, open_workbook, CellErrorType, DataRef, Reader, Xlsx, XlsxFormulaMetadata,
-};
+use calamine::{expand_shared_formula, open_workbook, CellErrorType, DataRef, Reader, Xlsx, XlsxFormulaMetadata};
 use ncsheet::eval::functions::{spec, Registry};
 use ncsheet::eval::testing::MapEnv;
 use ncsheet::eval::{Ctx, Value, XlError};
@@ -28,11 +26,7 @@ use ncsheet::formula::{parse_formula, Expr, ParseContext, Pos};
 
 const DEFAULT_CORPUS: &str = "/work/shared/excel-corpus/ironcalc";
 /// The math and statistics tests, and the documentation examples (SIN, COS, TAN, SQRT, PI).
-const FOLDERS: &[&str] = &[
-    "calc_tests/MATH_AND_TRIGONOMETRY",
-    "calc_tests/STATISTICAL",
-    "docs",
-];
+const FOLDERS: &[&str] = &["calc_tests/MATH_AND_TRIGONOMETRY", "calc_tests/STATISTICAL", "docs"];
 
 /// Files whose cached values are not Excel's (README: "Files NOT produced by Excel").
 const NOT_EXCEL: &[&str] = &["GEOMEAN.xlsx", "CHOOSE.xlsx"];
@@ -106,22 +100,12 @@ struct Sheet {
 fn read_sheet(wb: &mut Xlsx<BufReader<File>>, name: &str) -> Sheet {
     let mut reader = wb.worksheet_cells_reader(name).expect("worksheet");
     let mut templates: BTreeMap<usize, ((u32, u32), String)> = BTreeMap::new();
-    let mut sheet = Sheet {
-        values: BTreeMap::new(),
-        formulas: Vec::new(),
-    };
-    while let Some(cell) = reader
-        .next_cell_with_formula_metadata()
-        .expect("cell record")
-    {
+    let mut sheet = Sheet { values: BTreeMap::new(), formulas: Vec::new() };
+    while let Some(cell) = reader.next_cell_with_formula_metadata().expect("cell record") {
         let text = match cell.formula {
             None => None,
             Some(XlsxFormulaMetadata::Normal { formula }) => Some(formula),
-            Some(XlsxFormulaMetadata::Shared {
-                shared_index,
-                formula,
-                ..
-            }) => {
+            Some(XlsxFormulaMetadata::Shared { shared_index, formula, .. }) => {
                 templates.insert(shared_index, (cell.pos, formula.clone()));
                 Some(formula)
             }
@@ -167,9 +151,7 @@ fn checkable(expr: &Expr) -> Result<BTreeSet<&'static str>, &'static str> {
         ExprKind::UnknownCall(..) => why = why.or(Some("unknown function")),
         ExprKind::Name(_) => why = why.or(Some("defined name")),
         ExprKind::Unary(UnaryOp::Spill, _) => why = why.or(Some("spill reference")),
-        ExprKind::Ref(r) if !matches!(r.sheet, SheetRef::Current) => {
-            why = why.or(Some("other sheet"))
-        }
+        ExprKind::Ref(r) if !matches!(r.sheet, SheetRef::Current) => why = why.or(Some("other sheet")),
         _ => {}
     });
     match why {
@@ -231,12 +213,7 @@ fn judge(env: &MapEnv, at: Pos, expr: &Expr, ours: &Value, excel: &Value) -> Ver
     if !matches!(intersected, Value::Array(_)) && agrees(&intersected.blank_as_zero(), excel) {
         return Verdict::AgreesAsLegacy;
     }
-    Verdict::Differs(format!(
-        "ours {}x{} array starting {:?}, Excel {excel:?}",
-        a.rows,
-        a.cols,
-        a.data.first()
-    ))
+    Verdict::Differs(format!("ours {}x{} array starting {:?}, Excel {excel:?}", a.rows, a.cols, a.data.first()))
 }
 
 /// The formula as Excel evaluated it before dynamic arrays: every multi-cell reference
@@ -248,14 +225,10 @@ fn legacy(e: &Expr) -> Expr {
         ExprKind::Ref(r) if !matches!(r.shape, RefShape::Cell(_)) => {
             ExprKind::Unary(UnaryOp::Implicit, Box::new(e.clone()))
         }
-        ExprKind::Binary(BinOp::Range, ..) => {
-            ExprKind::Unary(UnaryOp::Implicit, Box::new(e.clone()))
-        }
+        ExprKind::Binary(BinOp::Range, ..) => ExprKind::Unary(UnaryOp::Implicit, Box::new(e.clone())),
         ExprKind::Paren(inner) => ExprKind::Paren(Box::new(legacy(inner))),
         ExprKind::Unary(op, inner) => ExprKind::Unary(*op, Box::new(legacy(inner))),
-        ExprKind::Binary(op, a, b) => {
-            ExprKind::Binary(*op, Box::new(legacy(a)), Box::new(legacy(b)))
-        }
+        ExprKind::Binary(op, a, b) => ExprKind::Binary(*op, Box::new(legacy(a)), Box::new(legacy(b))),
         ExprKind::Call(id, args) => ExprKind::Call(*id, args.iter().map(legacy).collect()),
         other => other.clone(),
     };
@@ -271,13 +244,10 @@ fn reads_unread_number_text(env: &MapEnv, at: Pos, expr: &Expr) -> bool {
             return;
         };
         let rect = ctx.clip_to_used(0, rect);
-        found |= env
-            .cells
-            .range((rect.first.row, 0)..=(rect.last.row, u32::MAX))
-            .any(|(&(_, c), v)| {
-                (rect.first.col..=rect.last.col).contains(&c)
-                    && matches!(v, Value::Text(t) if UNREAD_NUMBER_TEXTS.contains(&&**t))
-            });
+        found |= env.cells.range((rect.first.row, 0)..=(rect.last.row, u32::MAX)).any(|(&(_, c), v)| {
+            (rect.first.col..=rect.last.col).contains(&c)
+                && matches!(v, Value::Text(t) if UNREAD_NUMBER_TEXTS.contains(&&**t))
+        });
     });
     found
 }
@@ -292,21 +262,13 @@ struct Case<'a> {
 
 impl Case<'_> {
     fn cell(&self) -> String {
-        format!(
-            "{}{}",
-            ncsheet::formula::address::column_name(self.at.col),
-            self.at.row + 1
-        )
+        format!("{}{}", ncsheet::formula::address::column_name(self.at.col), self.at.row + 1)
     }
 
     /// Parses the formula; `Err` says why it is not checked.
     fn parse(&self) -> Result<(Expr, BTreeSet<&'static str>), &'static str> {
         let sheet_id = |n: &str| n.eq_ignore_ascii_case(self.sheet).then_some(0);
-        let context = ParseContext {
-            at: self.at,
-            functions: &Registry,
-            sheet: &sheet_id,
-        };
+        let context = ParseContext { at: self.at, functions: &Registry, sheet: &sheet_id };
         let expr = parse_formula(self.text, &context).map_err(|_| "does not parse")?;
         let names = checkable(&expr)?;
         Ok((expr, names))
@@ -332,16 +294,11 @@ impl Case<'_> {
                 report.excused += 1;
                 return;
             }
-            let allowed = ALLOWED
-                .iter()
-                .any(|(f, s, c, _)| *f == self.file && *s == self.sheet && *c == cell);
+            let allowed = ALLOWED.iter().any(|(f, s, c, _)| *f == self.file && *s == self.sheet && *c == cell);
             if allowed {
                 report.allowed += 1;
             } else {
-                report.failures.push(format!(
-                    "{} {}!{cell} ={}: {how}",
-                    self.file, self.sheet, self.text
-                ));
+                report.failures.push(format!("{} {}!{cell} ={}: {how}", self.file, self.sheet, self.text));
             }
         }
         report.count(self.file, &names, &verdict);
@@ -364,16 +321,9 @@ impl Report {
 }
 
 fn check_sheet(file: &str, name: &str, sheet: Sheet, report: &mut Report) {
-    let env = MapEnv {
-        cells: sheet.values,
-    };
+    let env = MapEnv { cells: sheet.values };
     for ((row, col), text) in &sheet.formulas {
-        let case = Case {
-            file,
-            sheet: name,
-            at: Pos::new(*row, *col),
-            text,
-        };
+        let case = Case { file, sheet: name, at: Pos::new(*row, *col), text };
         case.check(&env, report);
     }
 }
@@ -430,11 +380,7 @@ fn math_and_statistics_agree_with_excel() {
     for f in &report.failures {
         println!("DIFFERS {f}");
     }
-    assert!(
-        report.failures.is_empty(),
-        "{} formula cells differ from Excel",
-        report.failures.len()
-    );
+    assert!(report.failures.is_empty(), "{} formula cells differ from Excel", report.failures.len());
     let checked: usize = report.per_file.values().map(|t| t.checked).sum();
     assert!(checked > 500, "only {checked} cells checked");
 }

@@ -66,17 +66,10 @@ pub fn parse_number(text: &str) -> Option<f64> {
         _ => (negative, body),
     };
     let plain = strip_thousands(body)?;
-    if !plain
-        .bytes()
-        .next()
-        .is_some_and(|b| b.is_ascii_digit() || b == b'.')
-    {
+    if !plain.bytes().next().is_some_and(|b| b.is_ascii_digit() || b == b'.') {
         return None;
     }
-    if plain
-        .bytes()
-        .any(|b| !(b.is_ascii_digit() || matches!(b, b'.' | b'e' | b'E' | b'+' | b'-')))
-    {
+    if plain.bytes().any(|b| !(b.is_ascii_digit() || matches!(b, b'.' | b'e' | b'E' | b'+' | b'-'))) {
         return None;
     }
     let v: f64 = plain.parse().ok()?;
@@ -128,10 +121,7 @@ pub fn compare_text(a: &str, b: &str) -> Ordering {
     let lower = |s: &str| s.chars().flat_map(char::to_lowercase).collect::<Vec<_>>();
     if a.is_ascii() && b.is_ascii() {
         let (x, y) = (a.as_bytes(), b.as_bytes());
-        return x
-            .iter()
-            .map(u8::to_ascii_lowercase)
-            .cmp(y.iter().map(u8::to_ascii_lowercase));
+        return x.iter().map(u8::to_ascii_lowercase).cmp(y.iter().map(u8::to_ascii_lowercase));
     }
     lower(a).cmp(&lower(b))
 }

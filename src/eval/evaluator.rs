@@ -64,22 +64,12 @@ const MAX_DEPTH: u32 = 200;
 
 impl<'a> Ctx<'a> {
     pub fn new(env: &'a dyn Env, sheet: SheetId, at: Pos) -> Ctx<'a> {
-        Ctx {
-            env,
-            sheet,
-            at,
-            locals: Vec::new(),
-            depth: 0,
-            notes: Vec::new(),
-        }
+        Ctx { env, sheet, at, locals: Vec::new(), depth: 0, notes: Vec::new() }
     }
 
     /// Records why `error` happened and returns it, for `return Err(ctx.explain(..))`.
     pub fn explain(&mut self, error: XlError, message: impl Into<String>) -> XlError {
-        self.notes.push(Note {
-            error,
-            message: message.into(),
-        });
+        self.notes.push(Note { error, message: message.into() });
         error
     }
 
@@ -149,16 +139,9 @@ impl<'a> Ctx<'a> {
         let col = |c: Coord| c.resolve(self.at.col, MAX_COLS).ok_or(XlError::Ref);
         let rect = match r.shape {
             RefShape::Cell(c) => Rect::cell(Pos::new(row(c.row)?, col(c.col)?)),
-            RefShape::Cells(a, b) => Rect::new(
-                Pos::new(row(a.row)?, col(a.col)?),
-                Pos::new(row(b.row)?, col(b.col)?),
-            ),
-            RefShape::Cols(a, b) => {
-                Rect::new(Pos::new(0, col(a)?), Pos::new(MAX_ROWS - 1, col(b)?))
-            }
-            RefShape::Rows(a, b) => {
-                Rect::new(Pos::new(row(a)?, 0), Pos::new(row(b)?, MAX_COLS - 1))
-            }
+            RefShape::Cells(a, b) => Rect::new(Pos::new(row(a.row)?, col(a.col)?), Pos::new(row(b.row)?, col(b.col)?)),
+            RefShape::Cols(a, b) => Rect::new(Pos::new(0, col(a)?), Pos::new(MAX_ROWS - 1, col(b)?)),
+            RefShape::Rows(a, b) => Rect::new(Pos::new(row(a)?, 0), Pos::new(row(b)?, MAX_COLS - 1)),
         };
         Ok((sheet, rect))
     }
@@ -173,8 +156,7 @@ impl<'a> Ctx<'a> {
         let (rows, cols) = (rect.rows() as usize, rect.cols() as usize);
         let mut data = vec![Value::Blank; rows * cols];
         self.env.for_each_value(sheet, rect, &mut |p, v| {
-            data[(p.row - rect.first.row) as usize * cols + (p.col - rect.first.col) as usize] =
-                v.clone();
+            data[(p.row - rect.first.row) as usize * cols + (p.col - rect.first.col) as usize] = v.clone();
         });
         Value::Array(Rc::new(Array::new(rows, cols, data)))
     }
@@ -186,10 +168,7 @@ impl<'a> Ctx<'a> {
         if !whole_cols && !whole_rows {
             return rect;
         }
-        let used = self
-            .env
-            .used_rect(sheet)
-            .unwrap_or(Rect::cell(Pos::new(0, 0)));
+        let used = self.env.used_rect(sheet).unwrap_or(Rect::cell(Pos::new(0, 0)));
         let mut r = rect;
         if whole_cols {
             r.last.row = used.last.row.max(r.first.row);
@@ -201,12 +180,7 @@ impl<'a> Ctx<'a> {
     }
 
     /// Evaluates `body` with `name` bound to `value` (for LET and LAMBDA).
-    pub fn with_local<T>(
-        &mut self,
-        name: Rc<str>,
-        value: Value,
-        body: impl FnOnce(&mut Ctx<'a>) -> T,
-    ) -> T {
+    pub fn with_local<T>(&mut self, name: Rc<str>, value: Value, body: impl FnOnce(&mut Ctx<'a>) -> T) -> T {
         self.locals.push((name, value));
         let out = body(self);
         self.locals.pop();
@@ -225,12 +199,7 @@ impl<'a> Ctx<'a> {
     }
 
     fn name_operand(&mut self, name: &str) -> Operand {
-        if let Some((_, v)) = self
-            .locals
-            .iter()
-            .rev()
-            .find(|(n, _)| n.eq_ignore_ascii_case(name))
-        {
+        if let Some((_, v)) = self.locals.iter().rev().find(|(n, _)| n.eq_ignore_ascii_case(name)) {
             return Operand::Value(v.clone());
         }
         let Some((expr, sheet)) = self.env.defined_name(name, self.sheet) else {
@@ -254,10 +223,7 @@ impl<'a> Ctx<'a> {
     fn range_operand(&mut self, a: &Expr, b: &Expr) -> Operand {
         match (self.operand(a), self.operand(b)) {
             (Operand::Ref(s1, r1), Operand::Ref(s2, r2)) if s1 == s2 => {
-                let first = Pos::new(
-                    r1.first.row.min(r2.first.row),
-                    r1.first.col.min(r2.first.col),
-                );
+                let first = Pos::new(r1.first.row.min(r2.first.row), r1.first.col.min(r2.first.col));
                 let last = Pos::new(r1.last.row.max(r2.last.row), r1.last.col.max(r2.last.col));
                 Operand::Ref(s1, Rect { first, last })
             }
@@ -310,21 +276,15 @@ impl<'a> Ctx<'a> {
                 let row = if rect.rows() == 1 {
                     Some(rect.first.row)
                 } else {
-                    (rect.first.row..=rect.last.row)
-                        .contains(&self.at.row)
-                        .then_some(self.at.row)
+                    (rect.first.row..=rect.last.row).contains(&self.at.row).then_some(self.at.row)
                 };
                 let col = if rect.cols() == 1 {
                     Some(rect.first.col)
                 } else {
-                    (rect.first.col..=rect.last.col)
-                        .contains(&self.at.col)
-                        .then_some(self.at.col)
+                    (rect.first.col..=rect.last.col).contains(&self.at.col).then_some(self.at.col)
                 };
                 match (row, col) {
-                    (Some(r), Some(c)) if rect.rows() == 1 || rect.cols() == 1 => {
-                        self.env.value(sheet, Pos::new(r, c))
-                    }
+                    (Some(r), Some(c)) if rect.rows() == 1 || rect.cols() == 1 => self.env.value(sheet, Pos::new(r, c)),
                     _ => Value::Error(XlError::Value),
                 }
             }
@@ -343,11 +303,7 @@ pub fn map_number(v: &Value, f: impl Fn(f64) -> XlResult<f64>) -> Value {
 /// Applies `f` to a scalar, or to each item of an array.
 pub fn map_value(v: &Value, f: &dyn Fn(&Value) -> Value) -> Value {
     match v {
-        Value::Array(a) => Value::Array(Rc::new(Array::new(
-            a.rows,
-            a.cols,
-            a.data.iter().map(f).collect(),
-        ))),
+        Value::Array(a) => Value::Array(Rc::new(Array::new(a.rows, a.cols, a.data.iter().map(f).collect()))),
         other => f(other),
     }
 }
@@ -367,16 +323,12 @@ pub fn broadcast2(a: &Value, b: &Value, f: &dyn Fn(&Value, &Value) -> Value) -> 
             }
             Value::Array(Rc::new(Array::new(rows, cols, data)))
         }
-        (Value::Array(x), s) => Value::Array(Rc::new(Array::new(
-            x.rows,
-            x.cols,
-            x.data.iter().map(|v| f(v, s)).collect(),
-        ))),
-        (s, Value::Array(y)) => Value::Array(Rc::new(Array::new(
-            y.rows,
-            y.cols,
-            y.data.iter().map(|v| f(s, v)).collect(),
-        ))),
+        (Value::Array(x), s) => {
+            Value::Array(Rc::new(Array::new(x.rows, x.cols, x.data.iter().map(|v| f(v, s)).collect())))
+        }
+        (s, Value::Array(y)) => {
+            Value::Array(Rc::new(Array::new(y.rows, y.cols, y.data.iter().map(|v| f(s, v)).collect())))
+        }
         (x, y) => f(x, y),
     }
 }
@@ -405,12 +357,10 @@ fn scalar_binary(op: BinOp, a: &Value, b: &Value) -> Value {
             (Ok(x), Ok(y)) => Value::Text(format!("{x}{y}").into()),
             (Err(e), _) | (_, Err(e)) => Value::Error(e),
         },
-        BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge => {
-            match compare(a, b) {
-                Ok(ord) => Value::Bool(comparison_holds(op, ord)),
-                Err(e) => Value::Error(e),
-            }
-        }
+        BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge => match compare(a, b) {
+            Ok(ord) => Value::Bool(comparison_holds(op, ord)),
+            Err(e) => Value::Error(e),
+        },
         _ => match (to_number(a), to_number(b)) {
             (Ok(x), Ok(y)) => scalar_binary_numbers(op, x, y),
             (Err(e), _) | (_, Err(e)) => Value::Error(e),

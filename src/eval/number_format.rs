@@ -8,11 +8,7 @@ pub fn general(n: f64) -> String {
     }
     let (digits, exp) = significant_digits(n, 15);
     let negative = n < 0.0;
-    let body = if (-10..15).contains(&exp) {
-        positional(&digits, exp)
-    } else {
-        scientific(&digits, exp)
-    };
+    let body = if (-10..15).contains(&exp) { positional(&digits, exp) } else { scientific(&digits, exp) };
     if negative {
         format!("-{body}")
     } else {
@@ -54,11 +50,7 @@ fn positional(digits: &str, exp: i32) -> String {
 }
 
 fn scientific(digits: &str, exp: i32) -> String {
-    let mantissa = if digits.len() > 1 {
-        format!("{}.{}", &digits[..1], &digits[1..])
-    } else {
-        digits.to_string()
-    };
+    let mantissa = if digits.len() > 1 { format!("{}.{}", &digits[..1], &digits[1..]) } else { digits.to_string() };
     let sign = if exp < 0 { '-' } else { '+' };
     format!("{mantissa}E{sign}{:02}", exp.abs())
 }

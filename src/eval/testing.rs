@@ -33,35 +33,24 @@ impl MapEnv {
         let at = parse_cell(at).expect("cell address");
         let expr = parse_formula(
             formula,
-            &ParseContext {
-                at,
-                functions: &Registry,
-                sheet: &|n| (n.eq_ignore_ascii_case("Sheet1")).then_some(0),
-            },
+            &ParseContext { at, functions: &Registry, sheet: &|n| (n.eq_ignore_ascii_case("Sheet1")).then_some(0) },
         )?;
         Ok(Ctx::new(self, 0, at).eval(&expr).unwrap_single())
     }
 
     /// Evaluates `formula` in cell Z100 (away from the usual test data).
     pub fn eval(&self, formula: &str) -> Value {
-        self.eval_at(formula, "Z100")
-            .unwrap_or_else(|e| panic!("{}", e.render(formula)))
+        self.eval_at(formula, "Z100").unwrap_or_else(|e| panic!("{}", e.render(formula)))
     }
 }
 
 impl Env for MapEnv {
     fn value(&self, _: SheetId, pos: Pos) -> Value {
-        self.cells
-            .get(&(pos.row, pos.col))
-            .cloned()
-            .unwrap_or_default()
+        self.cells.get(&(pos.row, pos.col)).cloned().unwrap_or_default()
     }
 
     fn for_each_value(&self, _: SheetId, rect: Rect, f: &mut dyn FnMut(Pos, &Value)) {
-        for (&(row, col), v) in self
-            .cells
-            .range((rect.first.row, 0)..=(rect.last.row, u32::MAX))
-        {
+        for (&(row, col), v) in self.cells.range((rect.first.row, 0)..=(rect.last.row, u32::MAX)) {
             if (rect.first.col..=rect.last.col).contains(&col) && !v.is_blank() {
                 f(Pos::new(row, col), v);
             }
@@ -116,11 +105,7 @@ mod tests {
 
     #[test]
     fn coercions_and_errors() {
-        let env = MapEnv::with(&[
-            ("A1", n(2.0)),
-            ("A2", Value::text("x")),
-            ("A3", Value::Bool(true)),
-        ]);
+        let env = MapEnv::with(&[("A1", n(2.0)), ("A2", Value::text("x")), ("A3", Value::Bool(true))]);
         assert_eq!(env.eval("=\"2\"*3"), n(6.0));
         assert_eq!(env.eval("=TRUE+1"), n(2.0));
         assert_eq!(env.eval("=1&TRUE"), Value::text("1TRUE"));

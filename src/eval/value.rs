@@ -34,29 +34,17 @@ impl Array {
     }
 
     pub fn filled(rows: usize, cols: usize, v: Value) -> Array {
-        Array {
-            rows,
-            cols,
-            data: vec![v; rows * cols],
-        }
+        Array { rows, cols, data: vec![v; rows * cols] }
     }
 
     /// A one-row array.
     pub fn row(data: Vec<Value>) -> Array {
-        Array {
-            rows: 1,
-            cols: data.len(),
-            data,
-        }
+        Array { rows: 1, cols: data.len(), data }
     }
 
     /// A one-column array.
     pub fn column(data: Vec<Value>) -> Array {
-        Array {
-            rows: data.len(),
-            cols: 1,
-            data,
-        }
+        Array { rows: data.len(), cols: 1, data }
     }
 
     pub fn get(&self, row: usize, col: usize) -> &Value {

@@ -34,10 +34,7 @@ pub struct Rect {
 
 impl Rect {
     pub fn new(a: Pos, b: Pos) -> Rect {
-        Rect {
-            first: Pos::new(a.row.min(b.row), a.col.min(b.col)),
-            last: Pos::new(a.row.max(b.row), a.col.max(b.col)),
-        }
+        Rect { first: Pos::new(a.row.min(b.row), a.col.min(b.col)), last: Pos::new(a.row.max(b.row), a.col.max(b.col)) }
     }
 
     pub fn cell(p: Pos) -> Rect {
@@ -53,8 +50,7 @@ impl Rect {
     }
 
     pub fn contains(&self, p: Pos) -> bool {
-        (self.first.row..=self.last.row).contains(&p.row)
-            && (self.first.col..=self.last.col).contains(&p.col)
+        (self.first.row..=self.last.row).contains(&p.row) && (self.first.col..=self.last.col).contains(&p.col)
     }
 
     pub fn is_cell(&self) -> bool {
@@ -107,9 +103,7 @@ pub fn parse_cell(text: &str) -> Option<Pos> {
     let (letters, digits) = t.split_at(split);
     let col = column_index(letters)?;
     let row: u32 = digits.parse().ok()?;
-    (1..=MAX_ROWS)
-        .contains(&row)
-        .then(|| Pos::new(row - 1, col))
+    (1..=MAX_ROWS).contains(&row).then(|| Pos::new(row - 1, col))
 }
 
 /// Parses `A1:C10` or a single cell `B3` into a rectangle.
@@ -126,14 +120,7 @@ mod tests {
 
     #[test]
     fn column_names_round_trip_at_excel_boundaries() {
-        for (i, s) in [
-            (0, "A"),
-            (25, "Z"),
-            (26, "AA"),
-            (701, "ZZ"),
-            (702, "AAA"),
-            (16383, "XFD"),
-        ] {
+        for (i, s) in [(0, "A"), (25, "Z"), (26, "AA"), (701, "ZZ"), (702, "AAA"), (16383, "XFD")] {
             assert_eq!(column_name(i), s);
             assert_eq!(column_index(s), Some(i));
         }

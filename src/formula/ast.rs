@@ -27,27 +27,17 @@ pub struct Coord {
 
 impl Coord {
     pub fn absolute(value: u32) -> Coord {
-        Coord {
-            value: value as i32,
-            absolute: true,
-        }
+        Coord { value: value as i32, absolute: true }
     }
 
     pub fn relative(offset: i32) -> Coord {
-        Coord {
-            value: offset,
-            absolute: false,
-        }
+        Coord { value: offset, absolute: false }
     }
 
     /// The 0-based index this coordinate points at from `base`, if it lies on the sheet.
     #[inline]
     pub fn resolve(self, base: u32, limit: u32) -> Option<u32> {
-        let v = if self.absolute {
-            self.value as i64
-        } else {
-            base as i64 + self.value as i64
-        };
+        let v = if self.absolute { self.value as i64 } else { base as i64 + self.value as i64 };
         (0..limit as i64).contains(&v).then_some(v as u32)
     }
 }
@@ -177,9 +167,7 @@ impl Expr {
                 a.visit(f);
                 b.visit(f);
             }
-            ExprKind::Call(_, args) | ExprKind::UnknownCall(_, args) => {
-                args.iter().for_each(|a| a.visit(f))
-            }
+            ExprKind::Call(_, args) | ExprKind::UnknownCall(_, args) => args.iter().for_each(|a| a.visit(f)),
             ExprKind::Array(lit) => lit.items.iter().for_each(|a| a.visit(f)),
             _ => {}
         }

@@ -78,9 +78,6 @@ impl FromStr for XlError {
     type Err = ();
 
     fn from_str(s: &str) -> Result<XlError, ()> {
-        XlError::ALL
-            .into_iter()
-            .find(|e| e.as_str().eq_ignore_ascii_case(s.trim()))
-            .ok_or(())
+        XlError::ALL.into_iter().find(|e| e.as_str().eq_ignore_ascii_case(s.trim())).ok_or(())
     }
 }

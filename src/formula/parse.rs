@@ -84,17 +84,12 @@ pub struct ParseError {
 
 impl ParseError {
     fn at(offset: usize, message: impl Into<String>) -> ParseError {
-        ParseError {
-            offset,
-            message: message.into(),
-        }
+        ParseError { offset, message: message.into() }
     }
 
     /// 1-based column in characters.
     pub fn column(&self, text: &str) -> usize {
-        text.get(..self.offset.min(text.len()))
-            .map_or(self.offset, |s| s.chars().count())
-            + 1
+        text.get(..self.offset.min(text.len())).map_or(self.offset, |s| s.chars().count()) + 1
     }
 
     /// The formula, a caret under the place, and the message:
@@ -105,11 +100,7 @@ impl ParseError {
     /// ```
     pub fn render(&self, text: &str) -> String {
         let col = self.column(text);
-        format!(
-            "{text}\n{}^ column {col}: {}",
-            " ".repeat(col - 1),
-            self.message
-        )
+        format!("{text}\n{}^ column {col}: {}", " ".repeat(col - 1), self.message)
     }
 }
 
@@ -117,10 +108,7 @@ impl ParseError {
 pub fn parse_formula(text: &str, ctx: &ParseContext) -> Result<Expr, ParseError> {
     let mut pairs = FormulaGrammar::parse(Rule::formula, text).map_err(from_pest)?;
     let formula = pairs.next().expect("formula rule");
-    let expr = formula
-        .into_inner()
-        .find(|p| p.as_rule() == Rule::expr)
-        .expect("expr");
+    let expr = formula.into_inner().find(|p| p.as_rule() == Rule::expr).expect("expr");
     Builder { ctx }.expr(expr.into_inner())
 }
 
@@ -149,9 +137,7 @@ fn expected_message(positives: &[Rule]) -> String {
 
 fn describe(rule: Rule) -> &'static str {
     match rule {
-        Rule::expr | Rule::arg | Rule::paren | Rule::call | Rule::number | Rule::string => {
-            "a value"
-        }
+        Rule::expr | Rule::arg | Rule::paren | Rule::call | Rule::number | Rule::string => "a value",
         Rule::reference | Rule::cell | Rule::cell_range | Rule::name => "a value",
         Rule::EOI => "an operator or the end of the formula",
         Rule::array_item | Rule::signed_number => "a constant in the array",
@@ -184,17 +170,11 @@ fn is_operator(rule: Rule) -> bool {
 
 fn span_of(pair: &Pair<Rule>) -> Span {
     let s = pair.as_span();
-    Span {
-        start: s.start() as u32,
-        end: s.end() as u32,
-    }
+    Span { start: s.start() as u32, end: s.end() as u32 }
 }
 
 fn join(a: Span, b: Span) -> Span {
-    Span {
-        start: a.start.min(b.start),
-        end: a.end.max(b.end),
-    }
+    Span { start: a.start.min(b.start), end: a.end.max(b.end) }
 }
 
 /// Prefixes Excel writes into stored formulas for functions newer than Excel 2007.
@@ -283,17 +263,11 @@ impl Builder<'_, '_> {
             args.clear();
         }
         let Some(info) = self.ctx.functions.lookup(name) else {
-            return Ok(Expr::new(
-                ExprKind::UnknownCall(name.to_ascii_uppercase().into(), args),
-                span,
-            ));
+            return Ok(Expr::new(ExprKind::UnknownCall(name.to_ascii_uppercase().into(), args), span));
         };
         if args.len() < info.min_args || args.len() > info.max_args {
             let canonical = self.ctx.functions.name(info.id);
-            return Err(ParseError::at(
-                name_pair.as_span().start(),
-                arity_message(canonical, info, args.len()),
-            ));
+            return Err(ParseError::at(name_pair.as_span().start(), arity_message(canonical, info, args.len())));
         }
         Ok(Expr::new(ExprKind::Call(info.id, args), span))
     }
@@ -310,18 +284,11 @@ impl Builder<'_, '_> {
             }
             let n = items.len() - before;
             if *cols.get_or_insert(n) != n {
-                return Err(ParseError::at(
-                    row_start,
-                    "every row of an array constant needs the same number of items",
-                ));
+                return Err(ParseError::at(row_start, "every row of an array constant needs the same number of items"));
             }
             rows += 1;
         }
-        Ok(ArrayLit {
-            rows,
-            cols: cols.unwrap_or(0),
-            items,
-        })
+        Ok(ArrayLit { rows, cols: cols.unwrap_or(0), items })
     }
 
     fn array_item(&self, pair: Pair<Rule>) -> Built {
@@ -338,10 +305,7 @@ impl Builder<'_, '_> {
                 _ => {}
             }
         }
-        Ok(Expr::new(
-            ExprKind::Number(if negative { -value } else { value }),
-            span,
-        ))
+        Ok(Expr::new(ExprKind::Number(if negative { -value } else { value }), span))
     }
 
     fn reference(&self, pair: Pair<Rule>) -> Result<Reference, ParseError> {
@@ -372,10 +336,7 @@ impl Builder<'_, '_> {
                 rule => unreachable!("reference part {rule:?}"),
             }
         }
-        Ok(Reference {
-            sheet,
-            shape: shape.expect("reference has a shape"),
-        })
+        Ok(Reference { sheet, shape: shape.expect("reference has a shape") })
     }
 
     fn sheet(&self, pair: Pair<Rule>) -> SheetRef {
@@ -392,11 +353,13 @@ impl Builder<'_, '_> {
 
     fn cell(&self, pair: &Pair<Rule>) -> Result<CellCoord, ParseError> {
         let text = pair.as_str();
-        let split = text
-            .rfind(|c: char| !c.is_ascii_digit())
-            .map_or(0, |i| i + 1);
+        let split = text.rfind(|c: char| !c.is_ascii_digit()).map_or(0, |i| i + 1);
         let (col_text, row_text) = text.split_at(split);
-        let col_text = col_text.strip_suffix('$').unwrap_or(col_text);
+        // `$A$1`: the `$` before the digits belongs to the row.
+        let (col_text, row_text) = match col_text.strip_suffix('$') {
+            Some(c) => (c, &text[c.len()..]),
+            None => (col_text, row_text),
+        };
         let off_sheet = || {
             ParseError::at(
                 pair.as_span().start(),
@@ -410,19 +373,13 @@ impl Builder<'_, '_> {
 
     fn col(&self, pair: &Pair<Rule>) -> Result<Coord, ParseError> {
         self.col_coord(pair.as_str()).ok_or_else(|| {
-            ParseError::at(
-                pair.as_span().start(),
-                format!("column {} is off the sheet (A to XFD)", pair.as_str()),
-            )
+            ParseError::at(pair.as_span().start(), format!("column {} is off the sheet (A to XFD)", pair.as_str()))
         })
     }
 
     fn row(&self, pair: &Pair<Rule>) -> Result<Coord, ParseError> {
         self.row_coord(pair.as_str()).ok_or_else(|| {
-            ParseError::at(
-                pair.as_span().start(),
-                format!("row {} is off the sheet (1 to {MAX_ROWS})", pair.as_str()),
-            )
+            ParseError::at(pair.as_span().start(), format!("row {} is off the sheet (1 to {MAX_ROWS})", pair.as_str()))
         })
     }
 
@@ -471,10 +428,7 @@ fn arity_message(name: &str, info: FnInfo, got: usize) -> String {
 fn number(pair: &Pair<Rule>) -> Result<f64, ParseError> {
     match pair.as_str().parse::<f64>() {
         Ok(v) if v.is_finite() => Ok(v),
-        _ => Err(ParseError::at(
-            pair.as_span().start(),
-            format!("number {} is too large", pair.as_str()),
-        )),
+        _ => Err(ParseError::at(pair.as_span().start(), format!("number {} is too large", pair.as_str()))),
     }
 }
 

@@ -10,32 +10,16 @@ use super::parse::FunctionTable;
 pub type SheetNames<'a> = &'a dyn Fn(SheetId) -> String;
 
 /// Prints `expr` as held by the cell `at`, without the leading `=`.
-pub fn print_formula(
-    expr: &Expr,
-    at: Pos,
-    functions: &dyn FunctionTable,
-    sheets: SheetNames,
-) -> String {
+pub fn print_formula(expr: &Expr, at: Pos, functions: &dyn FunctionTable, sheets: SheetNames) -> String {
     let mut out = String::new();
-    Printer {
-        at,
-        functions,
-        sheets,
-        out: &mut out,
-    }
-    .expr(expr);
+    Printer { at, functions, sheets, out: &mut out }.expr(expr);
     out
 }
 
 /// Quotes a sheet name when Excel would (`'Chamfer data'!A1`).
 pub fn quote_sheet_name(name: &str) -> String {
-    let plain = name
-        .chars()
-        .next()
-        .is_some_and(|c| c.is_alphabetic() || c == '_')
-        && name
-            .chars()
-            .all(|c| c.is_alphanumeric() || c == '_' || c == '.')
+    let plain = name.chars().next().is_some_and(|c| c.is_alphabetic() || c == '_')
+        && name.chars().all(|c| c.is_alphanumeric() || c == '_' || c == '.')
         && super::address::parse_cell(name).is_none();
     if plain {
         name.to_string()
@@ -124,8 +108,7 @@ impl Printer<'_> {
         self.out.push('{');
         for (i, item) in lit.items.iter().enumerate() {
             if i > 0 {
-                self.out
-                    .push(if i % lit.cols.max(1) == 0 { ';' } else { ',' });
+                self.out.push(if i % lit.cols.max(1) == 0 { ';' } else { ',' });
             }
             self.expr(item);
         }
@@ -170,12 +153,7 @@ impl Printer<'_> {
     fn col(&mut self, c: Coord) {
         match c.resolve(self.at.col, MAX_COLS) {
             Some(i) => {
-                let _ = write!(
-                    self.out,
-                    "{}{}",
-                    if c.absolute { "$" } else { "" },
-                    column_name(i)
-                );
+                let _ = write!(self.out, "{}{}", if c.absolute { "$" } else { "" }, column_name(i));
             }
             None => self.out.push_str("#REF!"),
         }

@@ -52,25 +52,17 @@ pub fn bool_or(ctx: &mut Ctx, args: &[Expr], i: usize, default: bool) -> XlResul
 /// Evaluates every argument and calls `f` on the scalars; when any argument is an array
 /// (or a multi-cell range) `f` runs item by item with broadcasting and the result is an
 /// array — how `SIN(A1:A5)` spills in Excel 365.
-pub fn lift(
-    ctx: &mut Ctx,
-    args: &[Expr],
-    f: &dyn Fn(&[Value]) -> XlResult<Value>,
-) -> XlResult<Value> {
+pub fn lift(ctx: &mut Ctx, args: &[Expr], f: &dyn Fn(&[Value]) -> XlResult<Value>) -> XlResult<Value> {
     let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
     lift_values(&values, f)
 }
 
 /// [`lift`] over values already evaluated.
 pub fn lift_values(values: &[Value], f: &dyn Fn(&[Value]) -> XlResult<Value>) -> XlResult<Value> {
-    let dims = values
-        .iter()
-        .fold(None, |acc: Option<(usize, usize)>, v| match v {
-            Value::Array(a) => {
-                Some(acc.map_or((a.rows, a.cols), |(r, c)| (r.max(a.rows), c.max(a.cols))))
-            }
-            _ => acc,
-        });
+    let dims = values.iter().fold(None, |acc: Option<(usize, usize)>, v| match v {
+        Value::Array(a) => Some(acc.map_or((a.rows, a.cols), |(r, c)| (r.max(a.rows), c.max(a.cols)))),
+        _ => acc,
+    });
     let Some((rows, cols)) = dims else {
         return f(values);
     };
@@ -98,32 +90,19 @@ pub fn lift_number1(ctx: &mut Ctx, args: &[Expr], f: fn(f64) -> XlResult<f64>) -
 }
 
 /// A two-number function lifted over arrays; a missing second argument reads as `default`.
-pub fn lift_number2(
-    ctx: &mut Ctx,
-    args: &[Expr],
-    default: f64,
-    f: fn(f64, f64) -> XlResult<f64>,
-) -> XlResult<Value> {
+pub fn lift_number2(ctx: &mut Ctx, args: &[Expr], default: f64, f: fn(f64, f64) -> XlResult<f64>) -> XlResult<Value> {
     let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
     let missing_second = args.get(1).is_none_or(|e| e.kind == ExprKind::Missing);
     lift_values(&values, &|v| {
         let x = to_number(&v[0])?;
-        let y = if missing_second {
-            default
-        } else {
-            to_number(&v[1])?
-        };
+        let y = if missing_second { default } else { to_number(&v[1])? };
         Ok(crate::eval::evaluator::number_result(f(x, y)?))
     })
 }
 
 /// Visits every value the arguments hold, in order: a range's non-blank cells, an array's
 /// items, or the argument's own value. Stops at the first `Err` from `f`.
-pub fn for_each_value(
-    ctx: &mut Ctx,
-    args: &[Expr],
-    f: &mut dyn FnMut(&Value, Source) -> XlResult<()>,
-) -> XlResult<()> {
+pub fn for_each_value(ctx: &mut Ctx, args: &[Expr], f: &mut dyn FnMut(&Value, Source) -> XlResult<()>) -> XlResult<()> {
     for a in args {
         if a.kind == ExprKind::Missing {
             continue;

@@ -76,23 +76,15 @@ impl Criterion {
     fn parse(s: &str) -> Criterion {
         let (op, operand) = split_operator(s);
         let target = if operand.is_empty() {
-            Target::Empty {
-                strict: operand.len() != s.len(),
-            }
+            Target::Empty { strict: operand.len() != s.len() }
         } else if let Some(n) = parse_number(operand) {
             Target::Number(n)
         } else if operand.eq_ignore_ascii_case("TRUE") || operand.eq_ignore_ascii_case("FALSE") {
             Target::Bool(operand.eq_ignore_ascii_case("TRUE"))
-        } else if let Some(e) = XlError::ALL
-            .iter()
-            .find(|e| e.as_str().eq_ignore_ascii_case(operand))
-        {
+        } else if let Some(e) = XlError::ALL.iter().find(|e| e.as_str().eq_ignore_ascii_case(operand)) {
             Target::Error(*e)
         } else {
-            Target::Text {
-                text: operand.into(),
-                pattern: operand.contains(['*', '?', '~']),
-            }
+            Target::Text { text: operand.into(), pattern: operand.contains(['*', '?', '~']) }
         };
         Criterion { op, target }
     }
@@ -138,18 +130,9 @@ impl Criterion {
 }
 
 fn split_operator(s: &str) -> (Op, &str) {
-    const OPERATORS: [(&str, Op); 6] = [
-        ("<=", Op::Le),
-        (">=", Op::Ge),
-        ("<>", Op::Ne),
-        ("<", Op::Lt),
-        (">", Op::Gt),
-        ("=", Op::Eq),
-    ];
-    OPERATORS
-        .iter()
-        .find_map(|(prefix, op)| s.strip_prefix(prefix).map(|rest| (*op, rest)))
-        .unwrap_or((Op::Eq, s))
+    const OPERATORS: [(&str, Op); 6] =
+        [("<=", Op::Le), (">=", Op::Ge), ("<>", Op::Ne), ("<", Op::Lt), (">", Op::Gt), ("=", Op::Eq)];
+    OPERATORS.iter().find_map(|(prefix, op)| s.strip_prefix(prefix).map(|rest| (*op, rest))).unwrap_or((Op::Eq, s))
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -250,11 +233,7 @@ impl CellBlock {
             }
             Operand::Value(v) => {
                 let block = CellBlock::from_value(v)?;
-                Ok(CellBlock {
-                    rows,
-                    cols,
-                    ..block
-                })
+                Ok(CellBlock { rows, cols, ..block })
             }
         }
     }
@@ -262,16 +241,8 @@ impl CellBlock {
     fn from_value(v: Value) -> XlResult<CellBlock> {
         match v {
             Value::Error(err) => Err(err),
-            Value::Array(a) => Ok(CellBlock {
-                rows: a.rows,
-                cols: a.cols,
-                read: a,
-            }),
-            v => Ok(CellBlock {
-                rows: 1,
-                cols: 1,
-                read: Rc::new(Array::new(1, 1, vec![v])),
-            }),
+            Value::Array(a) => Ok(CellBlock { rows: a.rows, cols: a.cols, read: a }),
+            v => Ok(CellBlock { rows: 1, cols: 1, read: Rc::new(Array::new(1, 1, vec![v])) }),
         }
     }
 
@@ -281,11 +252,7 @@ impl CellBlock {
             Value::Array(a) => a,
             v => Rc::new(Array::new(1, 1, vec![v])),
         };
-        CellBlock {
-            rows: rect.rows() as usize,
-            cols: rect.cols() as usize,
-            read,
-        }
+        CellBlock { rows: rect.rows() as usize, cols: rect.cols() as usize, read }
     }
 
     /// The cell at (row, col) of the range: blank beyond the part that was read.
@@ -322,11 +289,7 @@ pub fn matching_cells(ranges: &[CellBlock], criteria: &[Criterion]) -> XlResult<
     let mut cells = Vec::new();
     for row in 0..read_rows {
         for col in 0..read_cols {
-            if ranges
-                .iter()
-                .zip(criteria)
-                .all(|(r, c)| c.matches(r.get(row, col)))
-            {
+            if ranges.iter().zip(criteria).all(|(r, c)| c.matches(r.get(row, col))) {
                 cells.push((row, col));
             }
         }
@@ -336,10 +299,7 @@ pub fn matching_cells(ranges: &[CellBlock], criteria: &[Criterion]) -> XlResult<
     } else {
         0
     };
-    Ok(Matches {
-        cells,
-        blanks_beyond,
-    })
+    Ok(Matches { cells, blanks_beyond })
 }
 
 #[cfg(test)]

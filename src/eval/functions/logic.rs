@@ -28,11 +28,7 @@ fn if_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
             Err(e) => Value::Error(e),
         }));
     }
-    Ok(if to_bool(&condition)? {
-        branch(ctx, args, 1)
-    } else {
-        branch(ctx, args, 2)
-    })
+    Ok(if to_bool(&condition)? { branch(ctx, args, 1) } else { branch(ctx, args, 2) })
 }
 
 /// An IF branch: an omitted else is FALSE, an empty one (`IF(c, 1, )`) is 0.

@@ -14,62 +14,13 @@ use super::{FnSpec, MANY};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("ABS", 1, 1, abs, "ABS(number)", "Absolute value"),
-    FnSpec::value(
-        "ACOS",
-        1,
-        1,
-        acos,
-        "ACOS(number)",
-        "Arccosine in radians, 0 to pi; #NUM! outside -1..1",
-    ),
-    FnSpec::value(
-        "ACOSH",
-        1,
-        1,
-        acosh,
-        "ACOSH(number)",
-        "Inverse hyperbolic cosine; #NUM! below 1",
-    ),
-    FnSpec::value(
-        "ACOT",
-        1,
-        1,
-        acot,
-        "ACOT(number)",
-        "Arccotangent in radians, 0 to pi",
-    ),
-    FnSpec::value(
-        "ACOTH",
-        1,
-        1,
-        acoth,
-        "ACOTH(number)",
-        "Inverse hyperbolic cotangent; #NUM! for -1..1",
-    ),
-    FnSpec::value(
-        "ASIN",
-        1,
-        1,
-        asin,
-        "ASIN(number)",
-        "Arcsine in radians, -pi/2 to pi/2; #NUM! outside -1..1",
-    ),
-    FnSpec::value(
-        "ASINH",
-        1,
-        1,
-        asinh,
-        "ASINH(number)",
-        "Inverse hyperbolic sine",
-    ),
-    FnSpec::value(
-        "ATAN",
-        1,
-        1,
-        atan,
-        "ATAN(number)",
-        "Arctangent in radians, -pi/2 to pi/2",
-    ),
+    FnSpec::value("ACOS", 1, 1, acos, "ACOS(number)", "Arccosine in radians, 0 to pi; #NUM! outside -1..1"),
+    FnSpec::value("ACOSH", 1, 1, acosh, "ACOSH(number)", "Inverse hyperbolic cosine; #NUM! below 1"),
+    FnSpec::value("ACOT", 1, 1, acot, "ACOT(number)", "Arccotangent in radians, 0 to pi"),
+    FnSpec::value("ACOTH", 1, 1, acoth, "ACOTH(number)", "Inverse hyperbolic cotangent; #NUM! for -1..1"),
+    FnSpec::value("ASIN", 1, 1, asin, "ASIN(number)", "Arcsine in radians, -pi/2 to pi/2; #NUM! outside -1..1"),
+    FnSpec::value("ASINH", 1, 1, asinh, "ASINH(number)", "Inverse hyperbolic sine"),
+    FnSpec::value("ATAN", 1, 1, atan, "ATAN(number)", "Arctangent in radians, -pi/2 to pi/2"),
     FnSpec::value(
         "ATAN2",
         2,
@@ -78,14 +29,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "ATAN2(x, y)",
         "Angle of the point (x, y) in radians, -pi to pi; x before y as in Excel",
     ),
-    FnSpec::value(
-        "ATANH",
-        1,
-        1,
-        atanh,
-        "ATANH(number)",
-        "Inverse hyperbolic tangent; #NUM! outside -1..1 (exclusive)",
-    ),
+    FnSpec::value("ATANH", 1, 1, atanh, "ATANH(number)", "Inverse hyperbolic tangent; #NUM! outside -1..1 (exclusive)"),
     FnSpec::value(
         "CEILING",
         2,
@@ -110,58 +54,16 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "CEILING.PRECISE(number, [significance])",
         "Rounds up (toward +infinity) to a multiple of |significance|",
     ),
-    FnSpec::value(
-        "COS",
-        1,
-        1,
-        cos,
-        "COS(angle)",
-        "Cosine of an angle in radians",
-    ),
+    FnSpec::value("COS", 1, 1, cos, "COS(angle)", "Cosine of an angle in radians"),
     FnSpec::value("COSH", 1, 1, cosh, "COSH(number)", "Hyperbolic cosine"),
-    FnSpec::value(
-        "COT",
-        1,
-        1,
-        cot,
-        "COT(angle)",
-        "Cotangent of an angle in radians",
-    ),
+    FnSpec::value("COT", 1, 1, cot, "COT(angle)", "Cotangent of an angle in radians"),
     FnSpec::value("COTH", 1, 1, coth, "COTH(number)", "Hyperbolic cotangent"),
-    FnSpec::value(
-        "CSC",
-        1,
-        1,
-        csc,
-        "CSC(angle)",
-        "Cosecant of an angle in radians",
-    ),
+    FnSpec::value("CSC", 1, 1, csc, "CSC(angle)", "Cosecant of an angle in radians"),
     FnSpec::value("CSCH", 1, 1, csch, "CSCH(number)", "Hyperbolic cosecant"),
-    FnSpec::value(
-        "DEGREES",
-        1,
-        1,
-        degrees,
-        "DEGREES(angle)",
-        "Radians to degrees",
-    ),
+    FnSpec::value("DEGREES", 1, 1, degrees, "DEGREES(angle)", "Radians to degrees"),
     FnSpec::value("EXP", 1, 1, exp, "EXP(number)", "e raised to number"),
-    FnSpec::value(
-        "EVEN",
-        1,
-        1,
-        even,
-        "EVEN(number)",
-        "Rounds away from zero to an even integer",
-    ),
-    FnSpec::value(
-        "FACT",
-        1,
-        1,
-        fact,
-        "FACT(number)",
-        "Factorial of the integer part; #NUM! below 0 or above 170",
-    ),
+    FnSpec::value("EVEN", 1, 1, even, "EVEN(number)", "Rounds away from zero to an even integer"),
+    FnSpec::value("FACT", 1, 1, fact, "FACT(number)", "Factorial of the integer part; #NUM! below 0 or above 170"),
     FnSpec::value(
         "FLOOR",
         2,
@@ -186,14 +88,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "FLOOR.PRECISE(number, [significance])",
         "Rounds down (toward -infinity) to a multiple of |significance|",
     ),
-    FnSpec::value(
-        "INT",
-        1,
-        1,
-        int,
-        "INT(number)",
-        "Rounds down to an integer (INT(-2.5) = -3)",
-    ),
+    FnSpec::value("INT", 1, 1, int, "INT(number)", "Rounds down to an integer (INT(-2.5) = -3)"),
     FnSpec::value(
         "ISO.CEILING",
         1,
@@ -202,22 +97,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "ISO.CEILING(number, [significance])",
         "Same as CEILING.PRECISE",
     ),
-    FnSpec::value(
-        "LN",
-        1,
-        1,
-        ln,
-        "LN(number)",
-        "Natural logarithm; #NUM! for 0 and below",
-    ),
-    FnSpec::value(
-        "LOG",
-        1,
-        2,
-        log,
-        "LOG(number, [base])",
-        "Logarithm to base (10 when omitted)",
-    ),
+    FnSpec::value("LN", 1, 1, ln, "LN(number)", "Natural logarithm; #NUM! for 0 and below"),
+    FnSpec::value("LOG", 1, 2, log, "LOG(number, [base])", "Logarithm to base (10 when omitted)"),
     FnSpec::value("LOG10", 1, 1, log10, "LOG10(number)", "Base-10 logarithm"),
     FnSpec::value(
         "MOD",
@@ -236,22 +117,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "Rounds half away from zero to a multiple; #NUM! when the signs differ",
     ),
     FnSpec::value("PI", 0, 0, pi, "PI()", "3.14159265358979"),
-    FnSpec::value(
-        "ODD",
-        1,
-        1,
-        odd,
-        "ODD(number)",
-        "Rounds away from zero to an odd integer",
-    ),
-    FnSpec::value(
-        "POWER",
-        2,
-        2,
-        power_fn,
-        "POWER(number, power)",
-        "number^power",
-    ),
+    FnSpec::value("ODD", 1, 1, odd, "ODD(number)", "Rounds away from zero to an odd integer"),
+    FnSpec::value("POWER", 2, 2, power_fn, "POWER(number, power)", "number^power"),
     FnSpec::value(
         "PRODUCT",
         1,
@@ -260,54 +127,12 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "PRODUCT(number1, [number2], ...)",
         "Multiplies numbers; text and booleans in ranges are skipped",
     ),
-    FnSpec::value(
-        "QUOTIENT",
-        2,
-        2,
-        quotient,
-        "QUOTIENT(numerator, denominator)",
-        "Integer part of a division",
-    ),
-    FnSpec::value(
-        "RADIANS",
-        1,
-        1,
-        radians,
-        "RADIANS(angle)",
-        "Degrees to radians",
-    ),
-    FnSpec::value(
-        "ROUND",
-        2,
-        2,
-        round,
-        "ROUND(number, digits)",
-        "Rounds half away from zero to digits decimals",
-    ),
-    FnSpec::value(
-        "ROUNDDOWN",
-        2,
-        2,
-        rounddown,
-        "ROUNDDOWN(number, digits)",
-        "Rounds toward zero to digits decimals",
-    ),
-    FnSpec::value(
-        "ROUNDUP",
-        2,
-        2,
-        roundup,
-        "ROUNDUP(number, digits)",
-        "Rounds away from zero to digits decimals",
-    ),
-    FnSpec::value(
-        "SEC",
-        1,
-        1,
-        sec,
-        "SEC(angle)",
-        "Secant of an angle in radians",
-    ),
+    FnSpec::value("QUOTIENT", 2, 2, quotient, "QUOTIENT(numerator, denominator)", "Integer part of a division"),
+    FnSpec::value("RADIANS", 1, 1, radians, "RADIANS(angle)", "Degrees to radians"),
+    FnSpec::value("ROUND", 2, 2, round, "ROUND(number, digits)", "Rounds half away from zero to digits decimals"),
+    FnSpec::value("ROUNDDOWN", 2, 2, rounddown, "ROUNDDOWN(number, digits)", "Rounds toward zero to digits decimals"),
+    FnSpec::value("ROUNDUP", 2, 2, roundup, "ROUNDUP(number, digits)", "Rounds away from zero to digits decimals"),
+    FnSpec::value("SEC", 1, 1, sec, "SEC(angle)", "Secant of an angle in radians"),
     FnSpec::value("SECH", 1, 1, sech, "SECH(number)", "Hyperbolic secant"),
     FnSpec::value(
         "SEQUENCE",
@@ -317,39 +142,11 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "SEQUENCE(rows, [columns], [start], [step])",
         "Array of rows x columns numbers counting from start by step",
     ),
-    FnSpec::value(
-        "SIGN",
-        1,
-        1,
-        sign,
-        "SIGN(number)",
-        "1, 0 or -1 by the sign of number",
-    ),
-    FnSpec::value(
-        "SIN",
-        1,
-        1,
-        sin,
-        "SIN(angle)",
-        "Sine of an angle in radians",
-    ),
+    FnSpec::value("SIGN", 1, 1, sign, "SIGN(number)", "1, 0 or -1 by the sign of number"),
+    FnSpec::value("SIN", 1, 1, sin, "SIN(angle)", "Sine of an angle in radians"),
     FnSpec::value("SINH", 1, 1, sinh, "SINH(number)", "Hyperbolic sine"),
-    FnSpec::value(
-        "SQRT",
-        1,
-        1,
-        sqrt,
-        "SQRT(number)",
-        "Square root; #NUM! for negative numbers",
-    ),
-    FnSpec::value(
-        "SQRTPI",
-        1,
-        1,
-        sqrtpi,
-        "SQRTPI(number)",
-        "Square root of number*pi; #NUM! for negative numbers",
-    ),
+    FnSpec::value("SQRT", 1, 1, sqrt, "SQRT(number)", "Square root; #NUM! for negative numbers"),
+    FnSpec::value("SQRTPI", 1, 1, sqrtpi, "SQRTPI(number)", "Square root of number*pi; #NUM! for negative numbers"),
     FnSpec::value(
         "SUM",
         1,
@@ -374,23 +171,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "SUMSQ(number1, [number2], ...)",
         "Sum of squares; text and booleans in ranges are skipped",
     ),
-    FnSpec::value(
-        "TAN",
-        1,
-        1,
-        tan,
-        "TAN(angle)",
-        "Tangent of an angle in radians",
-    ),
+    FnSpec::value("TAN", 1, 1, tan, "TAN(angle)", "Tangent of an angle in radians"),
     FnSpec::value("TANH", 1, 1, tanh, "TANH(number)", "Hyperbolic tangent"),
-    FnSpec::value(
-        "TRUNC",
-        1,
-        2,
-        trunc,
-        "TRUNC(number, [digits])",
-        "Cuts off decimals beyond digits (0 when omitted)",
-    ),
+    FnSpec::value("TRUNC", 1, 2, trunc, "TRUNC(number, [digits])", "Cuts off decimals beyond digits (0 when omitted)"),
 ];
 
 // ---- trigonometry -------------------------------------------------------------------------
@@ -439,13 +222,7 @@ fn atan(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn atan2(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number2(ctx, args, 0.0, |x, y| {
-        if x == 0.0 && y == 0.0 {
-            Err(XlError::Div0)
-        } else {
-            Ok(y.atan2(x))
-        }
-    })
+    lift_number2(ctx, args, 0.0, |x, y| if x == 0.0 && y == 0.0 { Err(XlError::Div0) } else { Ok(y.atan2(x)) })
 }
 
 fn sinh(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
@@ -502,33 +279,15 @@ fn asinh(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn acosh(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number1(ctx, args, |x| {
-        if x < 1.0 {
-            Err(XlError::Num)
-        } else {
-            Ok(x.acosh())
-        }
-    })
+    lift_number1(ctx, args, |x| if x < 1.0 { Err(XlError::Num) } else { Ok(x.acosh()) })
 }
 
 fn atanh(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number1(ctx, args, |x| {
-        if x.abs() >= 1.0 {
-            Err(XlError::Num)
-        } else {
-            Ok(x.atanh())
-        }
-    })
+    lift_number1(ctx, args, |x| if x.abs() >= 1.0 { Err(XlError::Num) } else { Ok(x.atanh()) })
 }
 
 fn acoth(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number1(ctx, args, |x| {
-        if x.abs() <= 1.0 {
-            Err(XlError::Num)
-        } else {
-            Ok(0.5 * ((x + 1.0) / (x - 1.0)).ln())
-        }
-    })
+    lift_number1(ctx, args, |x| if x.abs() <= 1.0 { Err(XlError::Num) } else { Ok(0.5 * ((x + 1.0) / (x - 1.0)).ln()) })
 }
 
 fn degrees(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
@@ -546,23 +305,11 @@ fn pi(_: &mut Ctx, _: &[Expr]) -> XlResult<Value> {
 // ---- powers and logarithms ----------------------------------------------------------------
 
 fn sqrt(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number1(ctx, args, |x| {
-        if x < 0.0 {
-            Err(XlError::Num)
-        } else {
-            Ok(x.sqrt())
-        }
-    })
+    lift_number1(ctx, args, |x| if x < 0.0 { Err(XlError::Num) } else { Ok(x.sqrt()) })
 }
 
 fn sqrtpi(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number1(ctx, args, |x| {
-        if x < 0.0 {
-            Err(XlError::Num)
-        } else {
-            Ok((x * std::f64::consts::PI).sqrt())
-        }
-    })
+    lift_number1(ctx, args, |x| if x < 0.0 { Err(XlError::Num) } else { Ok((x * std::f64::consts::PI).sqrt()) })
 }
 
 fn power_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
@@ -635,11 +382,7 @@ fn sign(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn even(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number1(
-        ctx,
-        args,
-        |x| Ok(((x.abs() / 2.0).ceil() * 2.0).copysign(x)),
-    )
+    lift_number1(ctx, args, |x| Ok(((x.abs() / 2.0).ceil() * 2.0).copysign(x)))
 }
 
 fn odd(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
@@ -668,13 +411,7 @@ fn modulo(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn quotient(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_toolpak2(ctx, args, |n, d| {
-        if d == 0.0 {
-            Err(XlError::Div0)
-        } else {
-            Ok((n / d).trunc())
-        }
-    })
+    lift_toolpak2(ctx, args, |n, d| if d == 0.0 { Err(XlError::Div0) } else { Ok((n / d).trunc()) })
 }
 
 /// A number argument of a function from Excel's old Analysis ToolPak (QUOTIENT, MROUND):
@@ -687,11 +424,7 @@ fn toolpak_number(v: &Value) -> XlResult<f64> {
 }
 
 /// [`lift_number2`] for Analysis ToolPak functions.
-fn lift_toolpak2(
-    ctx: &mut Ctx,
-    args: &[Expr],
-    f: fn(f64, f64) -> XlResult<f64>,
-) -> XlResult<Value> {
+fn lift_toolpak2(ctx: &mut Ctx, args: &[Expr], f: fn(f64, f64) -> XlResult<f64>) -> XlResult<Value> {
     lift(ctx, args, &|v| {
         let (x, y) = (toolpak_number(&v[0])?, toolpak_number(&v[1])?);
         Ok(number_result(f(x, y)?))
@@ -730,11 +463,7 @@ fn round_to(x: f64, digits: f64, mode: Rounding) -> f64 {
     let digits = digits.trunc().clamp(-400.0, 400.0) as i32;
     let scale = 10f64.powi(digits.abs());
     let x15 = round15(x);
-    let scaled = if digits >= 0 {
-        x15 * scale
-    } else {
-        x15 / scale
-    };
+    let scaled = if digits >= 0 { x15 * scale } else { x15 / scale };
     if !scaled.is_finite() || scaled.abs() >= 1e15 {
         // Every significant digit is kept: nothing to round.
         return x;
@@ -815,11 +544,7 @@ fn math_rounding(ctx: &mut Ctx, args: &[Expr], up: bool) -> XlResult<Value> {
     let default_significance = omitted(1);
     lift(ctx, args, &|v| {
         let x = to_number(&v[0])?;
-        let s = if default_significance {
-            1.0
-        } else {
-            to_number(&v[1])?.abs()
-        };
+        let s = if default_significance { 1.0 } else { to_number(&v[1])?.abs() };
         let mode = v.get(2).map_or(Ok(0.0), to_number)?;
         if s == 0.0 {
             return Ok(Value::Number(0.0));
@@ -886,10 +611,7 @@ fn product(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn sumproduct(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    let blocks = args
-        .iter()
-        .map(|a| block(ctx, a))
-        .collect::<XlResult<Vec<_>>>()?;
+    let blocks = args.iter().map(|a| block(ctx, a)).collect::<XlResult<Vec<_>>>()?;
     let (rows, cols) = (blocks[0].rows, blocks[0].cols);
     if blocks.iter().any(|b| b.rows != rows || b.cols != cols) {
         return Err(XlError::Value);
@@ -928,9 +650,7 @@ fn sequence(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         return Err(ctx.explain(XlError::Num, "SEQUENCE is too large"));
     }
     let (rows, cols) = (rows as usize, cols as usize);
-    let data = (0..rows * cols)
-        .map(|i| number_result(start + step * i as f64))
-        .collect();
+    let data = (0..rows * cols).map(|i| number_result(start + step * i as f64)).collect();
     Ok(Value::Array(Rc::new(Array::new(rows, cols, data))))
 }
 
@@ -954,10 +674,7 @@ mod tests {
             let got = env.eval(formula);
             match (&got, expected) {
                 (Value::Number(a), Value::Number(b)) => {
-                    assert!(
-                        (a - b).abs() <= 1e-12 * b.abs().max(1.0),
-                        "{formula}: {a} vs {b}"
-                    )
+                    assert!((a - b).abs() <= 1e-12 * b.abs().max(1.0), "{formula}: {a} vs {b}")
                 }
                 _ => assert_eq!(&got, expected, "{formula}"),
             }

@@ -15,6 +15,7 @@ use super::value::{Value, XlResult};
 
 pub mod args;
 mod criteria;
+mod geometry;
 mod info;
 mod logic;
 mod lookup;
@@ -56,14 +57,7 @@ impl FnSpec {
         signature: &'static str,
         summary: &'static str,
     ) -> FnSpec {
-        FnSpec {
-            name,
-            min_args,
-            max_args,
-            kind: FnKind::Value(f),
-            signature,
-            summary,
-        }
+        FnSpec { name, min_args, max_args, kind: FnKind::Value(f), signature, summary }
     }
 
     pub const fn reference(
@@ -74,14 +68,7 @@ impl FnSpec {
         signature: &'static str,
         summary: &'static str,
     ) -> FnSpec {
-        FnSpec {
-            name,
-            min_args,
-            max_args,
-            kind: FnKind::Ref(f),
-            signature,
-            summary,
-        }
+        FnSpec { name, min_args, max_args, kind: FnKind::Ref(f), signature, summary }
     }
 }
 
@@ -94,6 +81,7 @@ pub static REGISTRY: LazyLock<Vec<FnSpec>> = LazyLock::new(|| {
         lookup::FUNCTIONS,
         text::FUNCTIONS,
         info::FUNCTIONS,
+        geometry::FUNCTIONS,
     ]
     .concat()
 });
@@ -102,11 +90,7 @@ static BY_NAME: LazyLock<HashMap<String, FnId>> = LazyLock::new(|| {
     let mut map = HashMap::new();
     for (i, f) in REGISTRY.iter().enumerate() {
         let previous = map.insert(f.name.to_ascii_uppercase(), i as FnId);
-        assert!(
-            previous.is_none(),
-            "function {} is registered twice",
-            f.name
-        );
+        assert!(previous.is_none(), "function {} is registered twice", f.name);
     }
     map
 });
@@ -126,11 +110,7 @@ impl FunctionTable for Registry {
     fn lookup(&self, name: &str) -> Option<FnInfo> {
         let id = find(name)?;
         let f = spec(id);
-        Some(FnInfo {
-            id,
-            min_args: f.min_args,
-            max_args: f.max_args,
-        })
+        Some(FnInfo { id, min_args: f.min_args, max_args: f.max_args })
     }
 
     fn name(&self, id: FnId) -> &str {
@@ -146,12 +126,7 @@ mod tests {
     fn every_function_has_a_unique_name_and_sane_bounds() {
         for f in REGISTRY.iter() {
             assert!(f.min_args <= f.max_args, "{}", f.name);
-            assert!(
-                f.signature.starts_with(f.name),
-                "{} signature {}",
-                f.name,
-                f.signature
-            );
+            assert!(f.signature.starts_with(f.name), "{} signature {}", f.name, f.signature);
         }
         assert_eq!(BY_NAME.len(), REGISTRY.len());
     }

@@ -51,14 +51,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "COUNTA(value1, [value2], ...)",
         "How many values are not empty (errors and \"\" count)",
     ),
-    FnSpec::value(
-        "COUNTBLANK",
-        1,
-        1,
-        countblank,
-        "COUNTBLANK(range)",
-        "How many cells are empty or hold \"\"",
-    ),
+    FnSpec::value("COUNTBLANK", 1, 1, countblank, "COUNTBLANK(range)", "How many cells are empty or hold \"\""),
     FnSpec::value(
         "COUNTIF",
         2,
@@ -75,14 +68,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "COUNTIFS(criteria_range1, criteria1, ...)",
         "How many positions meet every criteria",
     ),
-    FnSpec::value(
-        "MAX",
-        1,
-        MANY,
-        max,
-        "MAX(number1, [number2], ...)",
-        "Largest number; 0 when there is none",
-    ),
+    FnSpec::value("MAX", 1, MANY, max, "MAX(number1, [number2], ...)", "Largest number; 0 when there is none"),
     FnSpec::value(
         "MAXIFS",
         3,
@@ -99,14 +85,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "MEDIAN(number1, [number2], ...)",
         "Middle number (mean of the two middle ones for an even count)",
     ),
-    FnSpec::value(
-        "MIN",
-        1,
-        MANY,
-        min,
-        "MIN(number1, [number2], ...)",
-        "Smallest number; 0 when there is none",
-    ),
+    FnSpec::value("MIN", 1, MANY, min, "MIN(number1, [number2], ...)", "Smallest number; 0 when there is none"),
     FnSpec::value(
         "MINIFS",
         3,
@@ -137,17 +116,13 @@ pub const FUNCTIONS: &[FnSpec] = &[
 
 fn max(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let mut best: Option<f64> = None;
-    for_each_number(ctx, args, &mut |n| {
-        best = Some(best.map_or(n, |b| b.max(n)))
-    })?;
+    for_each_number(ctx, args, &mut |n| best = Some(best.map_or(n, |b| b.max(n))))?;
     Ok(Value::Number(best.unwrap_or(0.0)))
 }
 
 fn min(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let mut best: Option<f64> = None;
-    for_each_number(ctx, args, &mut |n| {
-        best = Some(best.map_or(n, |b| b.min(n)))
-    })?;
+    for_each_number(ctx, args, &mut |n| best = Some(best.map_or(n, |b| b.min(n))))?;
     Ok(Value::Number(best.unwrap_or(0.0)))
 }
 
@@ -175,11 +150,7 @@ fn median(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     }
     xs.sort_by(f64::total_cmp);
     let mid = xs.len() / 2;
-    let m = if xs.len() % 2 == 1 {
-        xs[mid]
-    } else {
-        (xs[mid - 1] + xs[mid]) / 2.0
-    };
+    let m = if xs.len() % 2 == 1 { xs[mid] } else { (xs[mid - 1] + xs[mid]) / 2.0 };
     Ok(Value::Number(m))
 }
 
@@ -238,26 +209,17 @@ impl Conditions {
         let range = CellBlock::read(ctx, &args[0])?;
         let criteria = vec![ctx.eval(&args[1])];
         let target = match args.get(2) {
-            Some(e) if e.kind != ExprKind::Missing => {
-                CellBlock::read_sized(ctx, e, range.rows, range.cols)?
-            }
+            Some(e) if e.kind != ExprKind::Missing => CellBlock::read_sized(ctx, e, range.rows, range.cols)?,
             _ => range.clone(),
         };
-        Ok(Conditions {
-            target: Some(target),
-            ranges: vec![range],
-            criteria,
-        })
+        Ok(Conditions { target: Some(target), ranges: vec![range], criteria })
     }
 
     /// `COUNTIFS(range1, criteria1, …)` and, with a target, `SUMIFS(sum_range, range1,
     /// criteria1, …)`.
     fn pairs(ctx: &mut Ctx, args: &[Expr], with_target: bool) -> XlResult<Conditions> {
-        let (target, pairs) = if with_target {
-            (Some(CellBlock::read(ctx, &args[0])?), &args[1..])
-        } else {
-            (None, args)
-        };
+        let (target, pairs) =
+            if with_target { (Some(CellBlock::read(ctx, &args[0])?), &args[1..]) } else { (None, args) };
         if pairs.len() % 2 != 0 {
             return Err(XlError::Value);
         }
@@ -267,11 +229,7 @@ impl Conditions {
             ranges.push(CellBlock::read(ctx, &pair[0])?);
             criteria.push(ctx.eval(&pair[1]));
         }
-        Ok(Conditions {
-            target,
-            ranges,
-            criteria,
-        })
+        Ok(Conditions { target, ranges, criteria })
     }
 
     /// How many positions meet every criterion, per criteria item.
@@ -286,10 +244,7 @@ impl Conditions {
     /// `aggregate` of the target's numbers at the matching positions, per criteria item.
     /// Text, booleans and blanks there are skipped; an error there is the result.
     fn aggregate(&self, aggregate: Aggregate) -> XlResult<Value> {
-        let target = self
-            .target
-            .as_ref()
-            .expect("an aggregate has a target range");
+        let target = self.target.as_ref().expect("an aggregate has a target range");
         if !target.same_shape(&self.ranges[0]) {
             return Err(XlError::Value);
         }
@@ -451,10 +406,7 @@ mod tests {
     fn multi_criteria_functions_follow_excel() {
         let env = env();
         assert_eq!(env.eval("=COUNTIFS(B1:B6,\">15\",B1:B6,\"<45\")"), n(3.0));
-        assert_eq!(
-            env.eval("=SUMIFS(B1:B6,A1:A6,\">0\",B1:B6,\">15\")"),
-            n(40.0)
-        );
+        assert_eq!(env.eval("=SUMIFS(B1:B6,A1:A6,\">0\",B1:B6,\">15\")"), n(40.0));
         assert_eq!(env.eval("=AVERAGEIFS(B1:B6,B1:B6,\">15\")"), n(40.0));
         assert_eq!(env.eval("=MINIFS(B1:B6,B1:B6,\">15\")"), n(20.0));
         assert_eq!(env.eval("=MAXIFS(B1:B6,A1:A6,\"<>x\")"), n(60.0));

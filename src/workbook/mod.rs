@@ -1,0 +1,544 @@
+//! The workbook: sheets of cells, defined names, the dependency graph and recalculation.
+//!
+//! Editing a cell marks only what depends on it and recomputes that in topological order
+//! (see `recalc.rs`). Bad input never stops the rest: a formula that does not parse holds
+//! `#NAME?` and is listed by [`Workbook::problems`]; a cycle's cells hold `#CIRC!`.
+
+use std::fmt;
+use std::rc::Rc;
+
+use crate::eval::coerce::parse_number;
+use crate::eval::functions::Registry;
+use crate::eval::{Env, Note, Value, XlError};
+use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
+use crate::formula::ast::{Expr, RefShape, Reference, SheetId, SheetRef};
+use crate::formula::parse::{parse_formula, ParseContext, ParseError};
+use crate::formula::print::{print_formula, quote_sheet_name};
+
+mod graph;
+mod recalc;
+mod shared;
+mod sheet;
+
+use graph::{Deps, FxMap, RangeIndex};
+use shared::{relative_key, FormulaStore, SharedFormula};
+use sheet::Sheet;
+
+const NO_FORMULA: u32 = u32::MAX;
+
+/// One cell: its current value and, for a formula cell, which shared formula it runs.
+struct Cell {
+    value: Value,
+    formula: u32,
+    sheet: SheetId,
+    pos: Pos,
+    dependents: Deps,
+}
+
+/// What a user typed into a cell, as a spreadsheet reads it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Input {
+    Empty,
+    Value(Value),
+    Formula(String),
+}
+
+impl Input {
+    /// `=…` is a formula; numbers (`1,234.5`, `50%`), `TRUE`/`FALSE` and error literals are
+    /// values; a leading `'` forces text; anything else is text.
+    pub fn parse(text: &str) -> Input {
+        if text.is_empty() {
+            return Input::Empty;
+        }
+        if text.len() > 1 && text.starts_with('=') {
+            return Input::Formula(text.to_string());
+        }
+        if let Some(rest) = text.strip_prefix('\'') {
+            return Input::Value(Value::text(rest));
+        }
+        if let Some(n) = parse_number(text) {
+            return Input::Value(Value::Number(n));
+        }
+        let t = text.trim();
+        if t.eq_ignore_ascii_case("TRUE") || t.eq_ignore_ascii_case("FALSE") {
+            return Input::Value(Value::Bool(t.eq_ignore_ascii_case("TRUE")));
+        }
+        if let Ok(e) = t.parse::<XlError>() {
+            return Input::Value(Value::Error(e));
+        }
+        Input::Value(Value::text(text))
+    }
+}
+
+/// A defined name: a formula (usually a reference) evaluated on its sheet.
+struct DefinedName {
+    name: String,
+    expr: Rc<Expr>,
+    scope: Option<SheetId>,
+}
+
+/// Something wrong with a cell that a user should be told about.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Problem {
+    pub sheet: SheetId,
+    pub pos: Pos,
+    pub message: String,
+}
+
+/// Errors from workbook operations (not cell errors, which are values).
+#[derive(Clone, Debug, PartialEq)]
+pub enum WorkbookError {
+    DuplicateSheet(String),
+    NoSuchSheet(String),
+    BadName(String),
+    /// A formula (of a cell or a name) that does not parse; `text` is what was typed.
+    Parse {
+        place: String,
+        text: String,
+        error: ParseError,
+    },
+}
+
+impl fmt::Display for WorkbookError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            WorkbookError::DuplicateSheet(s) => write!(f, "a sheet named '{s}' exists already"),
+            WorkbookError::NoSuchSheet(s) => write!(f, "no sheet named '{s}'"),
+            WorkbookError::BadName(s) => write!(f, "'{s}' cannot be a defined name"),
+            WorkbookError::Parse { place, text, error } => write!(f, "{place}: {}", error.render(text)),
+        }
+    }
+}
+
+impl std::error::Error for WorkbookError {}
+
+#[derive(Default)]
+pub struct Workbook {
+    sheets: Vec<Sheet>,
+    cells: Vec<Cell>,
+    formulas: FormulaStore,
+    ranges: RangeIndex,
+    names: Vec<DefinedName>,
+    /// Formula text that did not parse, by cell id, with the error.
+    bad_inputs: FxMap<u32, (String, ParseError)>,
+    /// Messages functions left explaining a cell's error value.
+    notes: FxMap<u32, Vec<Note>>,
+    spill: recalc::SpillState,
+    /// Cells of each circular reference found by the last recalculation.
+    cycles: Vec<Vec<u32>>,
+    scratch: recalc::Scratch,
+}
+
+impl Workbook {
+    pub fn new() -> Workbook {
+        Workbook::default()
+    }
+
+    /// A workbook with one sheet named `Sheet1`.
+    pub fn with_sheet() -> Workbook {
+        let mut wb = Workbook::new();
+        wb.add_sheet("Sheet1").expect("first sheet");
+        wb
+    }
+
+    pub fn add_sheet(&mut self, name: &str) -> Result<SheetId, WorkbookError> {
+        if self.sheet_id(name).is_some() {
+            return Err(WorkbookError::DuplicateSheet(name.to_string()));
+        }
+        self.sheets.push(Sheet::new(name));
+        // References to this name parsed before it existed are stale now.
+        self.formulas.forget_keys();
+        Ok((self.sheets.len() - 1) as SheetId)
+    }
+
+    pub fn sheet_id(&self, name: &str) -> Option<SheetId> {
+        self.sheets.iter().position(|s| s.name.eq_ignore_ascii_case(name)).map(|i| i as SheetId)
+    }
+
+    pub fn sheet_names(&self) -> Vec<String> {
+        self.sheets.iter().map(|s| s.name.clone()).collect()
+    }
+
+    pub fn sheet_len(&self) -> usize {
+        self.sheets.len()
+    }
+
+    /// `Sheet1!B3`, quoted as Excel would.
+    pub fn cell_name(&self, sheet: SheetId, pos: Pos) -> String {
+        format!("{}!{pos}", quote_sheet_name(&self.sheets[sheet as usize].name))
+    }
+
+    /// Sets a cell from what a user typed and recalculates what depends on it. A formula
+    /// that does not parse is stored anyway (as `#NAME?`) and its error returned.
+    pub fn set_input(&mut self, sheet: SheetId, pos: Pos, text: &str) -> Result<(), WorkbookError> {
+        let result = self.set_input_deferred(sheet, pos, text);
+        let id = self.sheets[sheet as usize].get(pos);
+        self.recalculate_from(id.into_iter().collect());
+        result
+    }
+
+    /// Sets a cell without recalculating; call [`Workbook::recalculate`] after a batch.
+    pub fn set_input_deferred(&mut self, sheet: SheetId, pos: Pos, text: &str) -> Result<(), WorkbookError> {
+        match Input::parse(text) {
+            Input::Empty => {
+                self.set_constant(sheet, pos, Value::Blank);
+                Ok(())
+            }
+            Input::Value(v) => {
+                self.set_constant(sheet, pos, v);
+                Ok(())
+            }
+            Input::Formula(f) => self.set_formula(sheet, pos, &f),
+        }
+    }
+
+    fn set_constant(&mut self, sheet: SheetId, pos: Pos, value: Value) {
+        let id = match self.sheets[sheet as usize].get(pos) {
+            Some(id) => id,
+            None if value.is_blank() => return,
+            None => self.cell_at(sheet, pos),
+        };
+        self.take_spilled_cell(id);
+        self.clear_formula(id);
+        self.store_value(id, value);
+    }
+
+    fn set_formula(&mut self, sheet: SheetId, pos: Pos, text: &str) -> Result<(), WorkbookError> {
+        let id = self.cell_at(sheet, pos);
+        self.take_spilled_cell(id);
+        self.clear_formula(id);
+        match self.shared_formula(text, sheet, pos) {
+            Ok(fid) => {
+                self.cells[id as usize].formula = fid;
+                self.link(id);
+                Ok(())
+            }
+            Err(error) => {
+                self.store_value(id, Value::Error(XlError::Name));
+                self.bad_inputs.insert(id, (text.to_string(), error.clone()));
+                Err(WorkbookError::Parse { place: self.cell_name(sheet, pos), text: text.to_string(), error })
+            }
+        }
+    }
+
+    /// The shared parsed form of `text` typed at `pos`, parsing only when no copy exists.
+    fn shared_formula(&mut self, text: &str, sheet: SheetId, pos: Pos) -> Result<u32, ParseError> {
+        let key = relative_key(text, pos);
+        if let Some(id) = key.as_deref().and_then(|k| self.formulas.find(k)) {
+            return Ok(id);
+        }
+        let expr = self.parse_at(text, sheet, pos)?;
+        Ok(self.formulas.add(key, SharedFormula::new(expr)))
+    }
+
+    /// Parses formula text as if typed in `pos` (used by the macro language too).
+    pub fn parse_at(&self, text: &str, _sheet: SheetId, pos: Pos) -> Result<Expr, ParseError> {
+        let sheets = |name: &str| self.sheet_id(name);
+        parse_formula(text, &ParseContext { at: pos, functions: &Registry, sheet: &sheets })
+    }
+
+    /// Defines (or redefines) a name, workbook-wide or for one sheet. References in it are
+    /// read as from cell A1 of its sheet, so write them absolute (`$B$3`) as Excel stores them.
+    pub fn define_name(&mut self, name: &str, formula: &str, scope: Option<SheetId>) -> Result<(), WorkbookError> {
+        let valid = name.chars().next().is_some_and(|c| c.is_alphabetic() || c == '_' || c == '\\')
+            && name.chars().all(|c| c.is_alphanumeric() || matches!(c, '_' | '.' | '\\'))
+            && crate::formula::address::parse_cell(name).is_none()
+            && !name.eq_ignore_ascii_case("TRUE")
+            && !name.eq_ignore_ascii_case("FALSE");
+        if !valid {
+            return Err(WorkbookError::BadName(name.to_string()));
+        }
+        let expr = self.parse_at(formula, scope.unwrap_or(0), Pos::new(0, 0)).map_err(|error| {
+            WorkbookError::Parse { place: format!("name {name}"), text: formula.to_string(), error }
+        })?;
+        self.names.retain(|n| !(n.name.eq_ignore_ascii_case(name) && n.scope == scope));
+        self.names.push(DefinedName { name: name.to_string(), expr: Rc::new(expr), scope });
+        self.rebuild_graph();
+        self.recalculate();
+        Ok(())
+    }
+
+    /// Defined names: (name, formula text, scope sheet).
+    pub fn names(&self) -> Vec<(String, String, Option<SheetId>)> {
+        self.names
+            .iter()
+            .map(|n| (n.name.clone(), format!("={}", self.print(&n.expr, Pos::new(0, 0))), n.scope))
+            .collect()
+    }
+
+    /// The value a cell shows.
+    pub fn value(&self, sheet: SheetId, pos: Pos) -> Value {
+        Env::value(self, sheet, pos)
+    }
+
+    /// The cell's formula as Excel would print it (`=SUM(A1:A3)`), or the text that did not parse.
+    pub fn formula(&self, sheet: SheetId, pos: Pos) -> Option<String> {
+        let id = self.sheets.get(sheet as usize)?.get(pos)?;
+        if let Some((text, _)) = self.bad_inputs.get(&id) {
+            return Some(text.clone());
+        }
+        let cell = &self.cells[id as usize];
+        (cell.formula != NO_FORMULA).then(|| format!("={}", self.print(&self.formulas.get(cell.formula).expr, pos)))
+    }
+
+    /// What a user would type to recreate the cell: its formula, or its constant.
+    pub fn input(&self, sheet: SheetId, pos: Pos) -> Option<String> {
+        if let Some(f) = self.formula(sheet, pos) {
+            return Some(f);
+        }
+        let id = self.sheets.get(sheet as usize)?.get(pos)?;
+        if self.spill.owner(id).is_some() {
+            return None;
+        }
+        match &self.cells[id as usize].value {
+            Value::Blank => None,
+            Value::Number(n) => Some(crate::formula::print::number_literal(*n)),
+            Value::Text(t) if Input::parse(t) != Input::Value(Value::Text(t.clone())) => Some(format!("'{t}")),
+            v => Some(v.to_string()),
+        }
+    }
+
+    pub fn is_formula(&self, sheet: SheetId, pos: Pos) -> bool {
+        self.sheets[sheet as usize].get(pos).is_some_and(|id| self.cells[id as usize].formula != NO_FORMULA)
+    }
+
+    /// A1 to the last row and column holding a value (`None` for an empty sheet).
+    pub fn used_rect(&self, sheet: SheetId) -> Option<Rect> {
+        Env::used_rect(self, sheet)
+    }
+
+    /// Everything a user should hear about: formulas that do not parse, circular
+    /// references, and explanations functions gave for error values. Sorted by place.
+    pub fn problems(&self) -> Vec<Problem> {
+        let mut out = Vec::new();
+        for (&id, (text, err)) in &self.bad_inputs {
+            let c = &self.cells[id as usize];
+            out.push(Problem { sheet: c.sheet, pos: c.pos, message: err.render(text) });
+        }
+        for cycle in &self.cycles {
+            let names: Vec<String> = cycle
+                .iter()
+                .map(|&id| self.cell_name(self.cells[id as usize].sheet, self.cells[id as usize].pos))
+                .collect();
+            let c = &self.cells[cycle[0] as usize];
+            out.push(Problem {
+                sheet: c.sheet,
+                pos: c.pos,
+                message: format!("circular reference: {}", names.join(" -> ")),
+            });
+        }
+        for (&id, notes) in &self.notes {
+            let c = &self.cells[id as usize];
+            for n in notes {
+                out.push(Problem { sheet: c.sheet, pos: c.pos, message: format!("{}: {}", n.error, n.message) });
+            }
+        }
+        out.sort_by(|a, b| {
+            (a.sheet, a.pos.row, a.pos.col, &a.message).cmp(&(b.sheet, b.pos.row, b.pos.col, &b.message))
+        });
+        out
+    }
+
+    /// The cells of each circular reference, as `Sheet1!A1` names.
+    pub fn cycles(&self) -> Vec<Vec<String>> {
+        self.cycles
+            .iter()
+            .map(|c| {
+                c.iter().map(|&id| self.cell_name(self.cells[id as usize].sheet, self.cells[id as usize].pos)).collect()
+            })
+            .collect()
+    }
+
+    /// Number of formula cells and of distinct parsed formulas (shared ones count once).
+    pub fn formula_counts(&self) -> (usize, usize) {
+        let cells = self.cells.iter().filter(|c| c.formula != NO_FORMULA).count();
+        (cells, self.formulas.formulas.len())
+    }
+
+    fn print(&self, expr: &Expr, pos: Pos) -> String {
+        let names = |id: SheetId| self.sheets.get(id as usize).map_or_else(|| "#REF".into(), |s| s.name.clone());
+        print_formula(expr, pos, &Registry, &names)
+    }
+
+    fn cell_at(&mut self, sheet: SheetId, pos: Pos) -> u32 {
+        if let Some(id) = self.sheets[sheet as usize].get(pos) {
+            return id;
+        }
+        let id = self.cells.len() as u32;
+        self.cells.push(Cell { value: Value::Blank, formula: NO_FORMULA, sheet, pos, dependents: Deps::None });
+        self.sheets[sheet as usize].set(pos, id);
+        id
+    }
+
+    fn store_value(&mut self, id: u32, value: Value) {
+        let c = &mut self.cells[id as usize];
+        if !value.is_blank() {
+            self.sheets[c.sheet as usize].grow_extent(c.pos);
+        }
+        c.value = value;
+    }
+
+    fn clear_formula(&mut self, id: u32) {
+        self.bad_inputs.remove(&id);
+        if self.cells[id as usize].formula != NO_FORMULA {
+            self.unlink(id);
+            self.cells[id as usize].formula = NO_FORMULA;
+            self.notes.remove(&id);
+            self.clear_spill(id);
+        }
+    }
+
+    /// Calls `f` with each cell or range a formula cell reads (names expanded).
+    fn for_each_precedent(&self, id: u32, f: &mut dyn FnMut(SheetId, Rect)) {
+        let cell = &self.cells[id as usize];
+        let formula = self.formulas.get(cell.formula);
+        for r in &formula.refs {
+            if let Some((sheet, rect)) = resolve_static(r, cell.sheet, cell.pos) {
+                f(sheet, rect);
+            }
+        }
+        for name in &formula.names {
+            self.name_precedents(name, cell.sheet, 0, f);
+        }
+    }
+
+    fn name_precedents(&self, name: &str, sheet: SheetId, depth: u32, f: &mut dyn FnMut(SheetId, Rect)) {
+        let Some((expr, name_sheet)) = Env::defined_name(self, name, sheet) else { return };
+        if depth > 32 {
+            return;
+        }
+        expr.visit(&mut |e| match &e.kind {
+            crate::formula::ast::ExprKind::Ref(r) => {
+                if let Some((s, rect)) = resolve_static(r, name_sheet, Pos::new(0, 0)) {
+                    f(s, rect);
+                }
+            }
+            crate::formula::ast::ExprKind::Name(inner) => self.name_precedents(inner, name_sheet, depth + 1, f),
+            _ => {}
+        });
+    }
+
+    /// Adds the graph edges of a formula cell.
+    fn link(&mut self, id: u32) {
+        let mut precedents = Vec::new();
+        self.for_each_precedent(id, &mut |s, r| precedents.push((s, r)));
+        for (sheet, rect) in precedents {
+            if rect.is_cell() {
+                let p = self.cell_at(sheet, rect.first);
+                self.cells[p as usize].dependents.push(id);
+            } else {
+                let r = self.ranges.intern(sheet, rect);
+                self.ranges.nodes[r as usize].dependents.push(id);
+            }
+        }
+    }
+
+    /// Removes the graph edges of a formula cell.
+    fn unlink(&mut self, id: u32) {
+        let mut precedents = Vec::new();
+        self.for_each_precedent(id, &mut |s, r| precedents.push((s, r)));
+        for (sheet, rect) in precedents {
+            if rect.is_cell() {
+                if let Some(p) = self.sheets[sheet as usize].get(rect.first) {
+                    self.cells[p as usize].dependents.remove(id);
+                }
+            } else if let Some(r) = self.ranges.find(sheet, rect) {
+                self.ranges.nodes[r as usize].dependents.remove(id);
+            }
+        }
+    }
+
+    /// Rebuilds every edge (after a name changes meaning).
+    fn rebuild_graph(&mut self) {
+        self.ranges.clear();
+        for c in &mut self.cells {
+            c.dependents = Deps::None;
+        }
+        for id in 0..self.cells.len() as u32 {
+            if self.cells[id as usize].formula != NO_FORMULA {
+                self.link(id);
+            }
+        }
+    }
+}
+
+/// The sheet and rectangle a reference in a formula at `pos` points at, if on the sheet.
+fn resolve_static(r: &Reference, sheet: SheetId, pos: Pos) -> Option<(SheetId, Rect)> {
+    let sheet = match &r.sheet {
+        SheetRef::Current => sheet,
+        SheetRef::Id(id) => *id,
+        SheetRef::Missing(_) => return None,
+    };
+    let row = |c: crate::formula::ast::Coord| c.resolve(pos.row, MAX_ROWS);
+    let col = |c: crate::formula::ast::Coord| c.resolve(pos.col, MAX_COLS);
+    let rect = match r.shape {
+        RefShape::Cell(c) => Rect::cell(Pos::new(row(c.row)?, col(c.col)?)),
+        RefShape::Cells(a, b) => Rect::new(Pos::new(row(a.row)?, col(a.col)?), Pos::new(row(b.row)?, col(b.col)?)),
+        RefShape::Cols(a, b) => Rect::new(Pos::new(0, col(a)?), Pos::new(MAX_ROWS - 1, col(b)?)),
+        RefShape::Rows(a, b) => Rect::new(Pos::new(row(a)?, 0), Pos::new(row(b)?, MAX_COLS - 1)),
+    };
+    Some((sheet, rect))
+}
+
+impl Env for Workbook {
+    #[inline]
+    fn value(&self, sheet: SheetId, pos: Pos) -> Value {
+        match self.sheets.get(sheet as usize).and_then(|s| s.get(pos)) {
+            Some(id) => self.cells[id as usize].value.clone(),
+            None => Value::Blank,
+        }
+    }
+
+    fn for_each_value(&self, sheet: SheetId, rect: Rect, f: &mut dyn FnMut(Pos, &Value)) {
+        if let Some(s) = self.sheets.get(sheet as usize) {
+            s.for_each_in(rect, &mut |p, id| {
+                let v = &self.cells[id as usize].value;
+                if !v.is_blank() {
+                    f(p, v)
+                }
+            });
+        }
+    }
+
+    fn used_rect(&self, sheet: SheetId) -> Option<Rect> {
+        self.sheets.get(sheet as usize)?.extent()
+    }
+
+    fn defined_name(&self, name: &str, sheet: SheetId) -> Option<(Rc<Expr>, SheetId)> {
+        let matching =
+            |scope: Option<SheetId>| self.names.iter().find(|n| n.scope == scope && n.name.eq_ignore_ascii_case(name));
+        let n = matching(Some(sheet)).or_else(|| matching(None))?;
+        Some((n.expr.clone(), n.scope.unwrap_or(sheet)))
+    }
+
+    fn spill_rect(&self, sheet: SheetId, pos: Pos) -> Option<Rect> {
+        let id = self.sheets.get(sheet as usize)?.get(pos)?;
+        self.spill.rect(id)
+    }
+
+    fn sheet_count(&self) -> usize {
+        self.sheets.len()
+    }
+
+    fn sheet_name(&self, sheet: SheetId) -> Option<String> {
+        self.sheets.get(sheet as usize).map(|s| s.name.clone())
+    }
+}
+
+/// Cells by position for callers that walk a sheet (printing, export).
+impl Workbook {
+    /// Every non-blank position of a sheet with its value, row by row.
+    pub fn values(&self, sheet: SheetId) -> Vec<(Pos, Value)> {
+        let mut out: Vec<(Pos, Value)> = Vec::new();
+        if let Some(rect) = self.used_rect(sheet) {
+            self.for_each_value(sheet, rect, &mut |p, v| out.push((p, v.clone())));
+        }
+        out
+    }
+
+    /// Notes on one cell (why it holds an error), if any.
+    pub fn notes(&self, sheet: SheetId, pos: Pos) -> Vec<String> {
+        let Some(id) = self.sheets.get(sheet as usize).and_then(|s| s.get(pos)) else { return Vec::new() };
+        self.notes.get(&id).map(|ns| ns.iter().map(|n| n.message.clone()).collect()).unwrap_or_default()
+    }
+}

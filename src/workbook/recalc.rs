@@ -1,0 +1,418 @@
+//! Recalculation: from the changed cells, collect what depends on them (cells and range
+//! nodes), order it topologically (Kahn), evaluate each formula once. Cells left over have
+//! a cycle upstream: strongly connected components name the cycle's cells, which get
+//! `#CIRC!`, and everything downstream then computes from that error.
+//!
+//! Dynamic arrays spill into the cells below/right of their formula. Cells whose value
+//! changed by a spill are recalculated in a following pass.
+
+use crate::eval::{Ctx, Value, XlError};
+use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
+
+use super::graph::FxMap;
+use super::{Workbook, NO_FORMULA};
+
+/// Node ids with this bit set are range nodes, others are cells.
+const RANGE_BIT: u32 = 1 << 31;
+const NO_SLOT: u32 = u32::MAX;
+/// Spills feeding spills feeding spills… deeper than this is reported as `#SPILL!`-free but
+/// possibly stale; real sheets need one or two passes.
+const MAX_PASSES: usize = 32;
+
+/// Where dynamic arrays spilled, and which are blocked.
+#[derive(Default)]
+pub struct SpillState {
+    /// Anchor cell → the rectangle it fills (anchor included).
+    areas: FxMap<u32, Rect>,
+    /// Spilled cell → its anchor.
+    owners: FxMap<u32, u32>,
+    /// Anchor showing `#SPILL!` → the rectangle it wants.
+    blocked: FxMap<u32, Rect>,
+    /// Anchors and freed cells to recompute at the next recalculation.
+    pending: Vec<u32>,
+}
+
+impl SpillState {
+    pub fn owner(&self, id: u32) -> Option<u32> {
+        self.owners.get(&id).copied()
+    }
+
+    pub fn rect(&self, anchor: u32) -> Option<Rect> {
+        self.areas.get(&anchor).copied()
+    }
+}
+
+/// Reusable per-node slots, so a recalculation allocates nothing proportional to the book.
+#[derive(Default)]
+pub struct Scratch {
+    cell_slot: Vec<u32>,
+    range_slot: Vec<u32>,
+}
+
+/// The affected part of the graph, in compressed adjacency form over slot numbers.
+struct Affected {
+    nodes: Vec<u32>,
+    adj_start: Vec<u32>,
+    adj: Vec<u32>,
+}
+
+impl Affected {
+    fn successors(&self, slot: usize) -> &[u32] {
+        &self.adj[self.adj_start[slot] as usize..self.adj_start[slot + 1] as usize]
+    }
+}
+
+impl Workbook {
+    /// Recomputes every formula (after loading a file or redefining names).
+    pub fn recalculate(&mut self) {
+        self.cycles.clear();
+        let sources: Vec<u32> =
+            (0..self.cells.len() as u32).filter(|&id| self.cells[id as usize].formula != NO_FORMULA).collect();
+        self.run_passes(sources);
+    }
+
+    /// Recomputes what depends on `changed` (cells whose input was just set).
+    pub(super) fn recalculate_from(&mut self, mut changed: Vec<u32>) {
+        for &id in &changed.clone() {
+            let c = &self.cells[id as usize];
+            let (sheet, pos) = (c.sheet, c.pos);
+            let blocked: Vec<u32> =
+                self.spill.blocked.iter().filter(|(_, r)| r.contains(pos)).map(|(&a, _)| a).collect();
+            changed.extend(blocked.into_iter().filter(|&a| self.cells[a as usize].sheet == sheet));
+        }
+        self.run_passes(changed);
+    }
+
+    fn run_passes(&mut self, mut sources: Vec<u32>) {
+        for _ in 0..MAX_PASSES {
+            sources.append(&mut self.spill.pending);
+            if sources.is_empty() {
+                return;
+            }
+            sources = self.pass(&sources);
+        }
+    }
+
+    /// One topological pass; returns cells that spills changed and whose dependents still
+    /// need recomputing.
+    fn pass(&mut self, sources: &[u32]) -> Vec<u32> {
+        let affected = self.collect_affected(sources);
+        let n = affected.nodes.len();
+        let mut indegree = vec![0u32; n];
+        for &t in &affected.adj {
+            indegree[t as usize] += 1;
+        }
+        // Cycles through affected cells are found again below if they still exist.
+        let slots = &self.scratch.cell_slot;
+        self.cycles.retain(|c| c.iter().all(|&id| slots[id as usize] == NO_SLOT));
+        let mut late = Vec::new();
+        let mut done = vec![false; n];
+        let mut queue: Vec<u32> = (0..n as u32).filter(|&s| indegree[s as usize] == 0).collect();
+        self.drain(&affected, &mut indegree, &mut done, &mut queue, &mut late);
+        if done.iter().any(|d| !d) {
+            self.break_cycles(&affected, &mut indegree, &mut done, &mut late);
+        }
+        self.release_slots(&affected.nodes);
+        late
+    }
+
+    /// Kahn's algorithm: evaluate each node whose inputs are all computed.
+    fn drain(
+        &mut self,
+        a: &Affected,
+        indegree: &mut [u32],
+        done: &mut [bool],
+        queue: &mut Vec<u32>,
+        late: &mut Vec<u32>,
+    ) {
+        let mut head = 0;
+        while head < queue.len() {
+            let slot = queue[head] as usize;
+            head += 1;
+            if done[slot] {
+                continue;
+            }
+            done[slot] = true;
+            let node = a.nodes[slot];
+            if node & RANGE_BIT == 0 && self.cells[node as usize].formula != NO_FORMULA {
+                self.evaluate(node, late);
+            }
+            for &t in a.successors(slot) {
+                indegree[t as usize] -= 1;
+                if indegree[t as usize] == 0 {
+                    queue.push(t);
+                }
+            }
+        }
+    }
+
+    /// Gives the cells of every cycle among the leftover nodes `#CIRC!`, records the cycle,
+    /// then finishes the nodes downstream of it.
+    fn break_cycles(&mut self, a: &Affected, indegree: &mut [u32], done: &mut [bool], late: &mut Vec<u32>) {
+        let components = strongly_connected(a, done);
+        let mut queue = Vec::new();
+        for comp in components {
+            let self_loop = comp.len() == 1 && a.successors(comp[0] as usize).contains(&comp[0]);
+            if comp.len() == 1 && !self_loop {
+                continue;
+            }
+            let mut cells: Vec<u32> =
+                comp.iter().map(|&s| a.nodes[s as usize]).filter(|n| n & RANGE_BIT == 0).collect();
+            cells.sort_by_key(|&id| (self.cells[id as usize].sheet, self.cells[id as usize].pos));
+            for &id in &cells {
+                self.set_result(id, Value::Error(XlError::Circ), late);
+            }
+            self.cycles.retain(|c| !c.iter().any(|id| cells.contains(id)));
+            self.cycles.push(cells);
+            for &s in &comp {
+                done[s as usize] = true;
+            }
+            for &s in &comp {
+                for &t in a.successors(s as usize) {
+                    indegree[t as usize] -= 1;
+                    if indegree[t as usize] == 0 {
+                        queue.push(t);
+                    }
+                }
+            }
+        }
+        self.drain(a, indegree, done, &mut queue, late);
+    }
+
+    /// Everything reachable from `sources` along dependent edges, with those edges.
+    fn collect_affected(&mut self, sources: &[u32]) -> Affected {
+        self.scratch.cell_slot.resize(self.cells.len(), NO_SLOT);
+        self.scratch.range_slot.resize(self.ranges.nodes.len(), NO_SLOT);
+        let mut nodes = Vec::with_capacity(sources.len());
+        for &s in sources {
+            self.claim_slot(s, &mut nodes);
+        }
+        let mut adj_start = Vec::with_capacity(nodes.len() + 1);
+        let mut adj = Vec::with_capacity(nodes.len());
+        let mut successors = Vec::new();
+        let mut i = 0;
+        while i < nodes.len() {
+            adj_start.push(adj.len() as u32);
+            successors.clear();
+            self.successors(nodes[i], &mut successors);
+            for &t in &successors {
+                adj.push(self.claim_slot(t, &mut nodes));
+            }
+            i += 1;
+        }
+        adj_start.push(adj.len() as u32);
+        Affected { nodes, adj_start, adj }
+    }
+
+    /// The slot of a node, assigning the next one on first sight.
+    fn claim_slot(&mut self, node: u32, nodes: &mut Vec<u32>) -> u32 {
+        let slot = if node & RANGE_BIT == 0 {
+            &mut self.scratch.cell_slot[node as usize]
+        } else {
+            &mut self.scratch.range_slot[(node & !RANGE_BIT) as usize]
+        };
+        if *slot == NO_SLOT {
+            *slot = nodes.len() as u32;
+            nodes.push(node);
+        }
+        *slot
+    }
+
+    fn release_slots(&mut self, nodes: &[u32]) {
+        for &node in nodes {
+            if node & RANGE_BIT == 0 {
+                self.scratch.cell_slot[node as usize] = NO_SLOT;
+            } else {
+                self.scratch.range_slot[(node & !RANGE_BIT) as usize] = NO_SLOT;
+            }
+        }
+    }
+
+    /// Nodes that read this one: a cell's dependents and the ranges containing it, or a
+    /// range's dependents.
+    fn successors(&self, node: u32, out: &mut Vec<u32>) {
+        if node & RANGE_BIT != 0 {
+            self.ranges.nodes[(node & !RANGE_BIT) as usize].dependents.for_each(|d| out.push(d));
+            return;
+        }
+        let cell = &self.cells[node as usize];
+        cell.dependents.for_each(|d| out.push(d));
+        self.ranges.containing(cell.sheet, cell.pos, |r| out.push(r | RANGE_BIT));
+    }
+
+    fn evaluate(&mut self, id: u32, late: &mut Vec<u32>) {
+        let cell = &self.cells[id as usize];
+        let expr = self.formulas.get(cell.formula).expr.clone();
+        let mut ctx = Ctx::new(self, cell.sheet, cell.pos);
+        let value = ctx.eval(&expr);
+        let notes = ctx.notes;
+        if notes.is_empty() {
+            if !self.notes.is_empty() {
+                self.notes.remove(&id);
+            }
+        } else {
+            self.notes.insert(id, notes);
+        }
+        self.set_result(id, value, late);
+    }
+
+    /// Stores a formula's result: blank reads as 0, an array spills or reports `#SPILL!`.
+    fn set_result(&mut self, id: u32, value: Value, late: &mut Vec<u32>) {
+        let value = match value {
+            Value::Array(a) if a.rows == 1 && a.cols == 1 => a.data[0].clone(),
+            Value::Array(a) => return self.spill_array(id, &a, late),
+            v => v,
+        };
+        if self.spill.areas.contains_key(&id) || self.spill.blocked.contains_key(&id) {
+            self.spill.blocked.remove(&id);
+            self.release_spill(id, late);
+        }
+        self.store_value(id, value.blank_as_zero());
+    }
+
+    fn spill_array(&mut self, id: u32, a: &crate::eval::Array, late: &mut Vec<u32>) {
+        let (sheet, anchor) = (self.cells[id as usize].sheet, self.cells[id as usize].pos);
+        let last = Pos::new(anchor.row + a.rows as u32 - 1, anchor.col + a.cols as u32 - 1);
+        let fits = last.row < MAX_ROWS && last.col < MAX_COLS;
+        let rect = Rect::new(anchor, Pos::new(last.row.min(MAX_ROWS - 1), last.col.min(MAX_COLS - 1)));
+        if !fits || self.spill_blocked(id, sheet, rect) {
+            self.release_spill(id, late);
+            self.spill.blocked.insert(id, rect);
+            self.store_value(id, Value::Error(XlError::Spill));
+            return;
+        }
+        self.spill.blocked.remove(&id);
+        if let Some(old) = self.spill.areas.get(&id).copied() {
+            self.clear_cells_outside(id, old, rect, late);
+        }
+        for r in 0..a.rows {
+            for c in 0..a.cols {
+                let pos = Pos::new(anchor.row + r as u32, anchor.col + c as u32);
+                let v = a.get(r, c).clone().blank_as_zero();
+                if pos == anchor {
+                    self.store_value(id, v);
+                    continue;
+                }
+                let target = self.cell_at(sheet, pos);
+                self.spill.owners.insert(target, id);
+                if self.cells[target as usize].value != v {
+                    self.store_value(target, v);
+                    late.push(target);
+                }
+            }
+        }
+        self.spill.areas.insert(id, rect);
+    }
+
+    /// Whether any cell of `rect` other than the anchor holds something of its own.
+    fn spill_blocked(&self, anchor: u32, sheet: u16, rect: Rect) -> bool {
+        let mut blocked = false;
+        self.sheets[sheet as usize].for_each_in(rect, &mut |_, cid| {
+            if cid == anchor || blocked {
+                return;
+            }
+            let c = &self.cells[cid as usize];
+            let owned_elsewhere = self.spill.owners.get(&cid).is_some_and(|&o| o != anchor);
+            let own_content = !self.spill.owners.contains_key(&cid) && !c.value.is_blank();
+            blocked = c.formula != NO_FORMULA || owned_elsewhere || own_content || self.bad_inputs.contains_key(&cid);
+        });
+        blocked
+    }
+
+    fn clear_cells_outside(&mut self, anchor: u32, old: Rect, new: Rect, late: &mut Vec<u32>) {
+        let sheet = self.cells[anchor as usize].sheet;
+        let mut freed = Vec::new();
+        self.sheets[sheet as usize].for_each_in(old, &mut |p, cid| {
+            if cid != anchor && !new.contains(p) {
+                freed.push(cid);
+            }
+        });
+        for cid in freed {
+            self.spill.owners.remove(&cid);
+            self.cells[cid as usize].value = Value::Blank;
+            late.push(cid);
+        }
+    }
+
+    /// Empties the cells an anchor spilled into.
+    fn release_spill(&mut self, anchor: u32, late: &mut Vec<u32>) {
+        if let Some(old) = self.spill.areas.remove(&anchor) {
+            let empty = Rect::cell(self.cells[anchor as usize].pos);
+            self.clear_cells_outside(anchor, old, empty, late);
+        }
+    }
+
+    /// Called when a formula leaves a cell: its spill goes, and the freed cells recompute.
+    pub(super) fn clear_spill(&mut self, anchor: u32) {
+        let mut freed = Vec::new();
+        self.release_spill(anchor, &mut freed);
+        self.spill.blocked.remove(&anchor);
+        self.spill.pending.extend(freed);
+    }
+
+    /// A user typed into a spilled cell: the anchor must recompute (and will show `#SPILL!`).
+    pub(super) fn take_spilled_cell(&mut self, id: u32) {
+        if let Some(anchor) = self.spill.owners.remove(&id) {
+            self.spill.pending.push(anchor);
+        }
+    }
+}
+
+/// Tarjan's strongly connected components over the nodes not yet `done`, iteratively
+/// (a chain of a million formulas must not overflow the stack).
+fn strongly_connected(a: &Affected, done: &[bool]) -> Vec<Vec<u32>> {
+    const UNSEEN: u32 = u32::MAX;
+    let n = a.nodes.len();
+    let mut index = vec![UNSEEN; n];
+    let mut low = vec![0u32; n];
+    let mut on_stack = vec![false; n];
+    let mut stack = Vec::new();
+    let mut components = Vec::new();
+    let mut next = 0u32;
+    let mut call: Vec<(u32, usize)> = Vec::new();
+    for root in 0..n as u32 {
+        if done[root as usize] || index[root as usize] != UNSEEN {
+            continue;
+        }
+        call.push((root, 0));
+        while let Some(&(v, edge)) = call.last() {
+            let vi = v as usize;
+            if edge == 0 && index[vi] == UNSEEN {
+                index[vi] = next;
+                low[vi] = next;
+                next += 1;
+                stack.push(v);
+                on_stack[vi] = true;
+            }
+            if let Some(&w) = a.successors(vi).get(edge) {
+                call.last_mut().expect("frame").1 += 1;
+                let wi = w as usize;
+                if done[wi] {
+                    continue;
+                }
+                if index[wi] == UNSEEN {
+                    call.push((w, 0));
+                } else if on_stack[wi] {
+                    low[vi] = low[vi].min(index[wi]);
+                }
+                continue;
+            }
+            call.pop();
+            if let Some(&(parent, _)) = call.last() {
+                low[parent as usize] = low[parent as usize].min(low[vi]);
+            }
+            if low[vi] == index[vi] {
+                let mut comp = Vec::new();
+                while let Some(w) = stack.pop() {
+                    on_stack[w as usize] = false;
+                    comp.push(w);
+                    if w == v {
+                        break;
+                    }
+                }
+                components.push(comp);
+            }
+        }
+    }
+    components
+}

@@ -1,0 +1,78 @@
+//! One sheet's grid: which cell id sits at each position. Columns are dense vectors,
+//! which suits spreadsheets (data runs down columns) and makes range scans cheap.
+
+use crate::formula::address::{Pos, Rect};
+
+/// Marks an empty slot.
+pub const NO_CELL: u32 = u32::MAX;
+
+pub struct Sheet {
+    pub name: String,
+    columns: Vec<Vec<u32>>,
+    /// The last row and column that ever held a value (grows only; blank cells that exist
+    /// because a formula points at them do not count).
+    extent: Option<Pos>,
+}
+
+impl Sheet {
+    pub fn new(name: &str) -> Sheet {
+        Sheet { name: name.to_string(), columns: Vec::new(), extent: None }
+    }
+
+    pub fn grow_extent(&mut self, p: Pos) {
+        let e = self.extent.get_or_insert(p);
+        e.row = e.row.max(p.row);
+        e.col = e.col.max(p.col);
+    }
+
+    /// A1 to the extent, or `None` when nothing was ever stored.
+    pub fn extent(&self) -> Option<Rect> {
+        self.extent.map(|e| Rect::new(Pos::new(0, 0), e))
+    }
+
+    #[inline]
+    pub fn get(&self, pos: Pos) -> Option<u32> {
+        let id = *self.columns.get(pos.col as usize)?.get(pos.row as usize)?;
+        (id != NO_CELL).then_some(id)
+    }
+
+    pub fn set(&mut self, pos: Pos, id: u32) {
+        let (row, col) = (pos.row as usize, pos.col as usize);
+        if self.columns.len() <= col {
+            self.columns.resize_with(col + 1, Vec::new);
+        }
+        let column = &mut self.columns[col];
+        if column.len() <= row {
+            column.resize(row + 1, NO_CELL);
+        }
+        column[row] = id;
+    }
+
+    /// Cell ids in `rect`, row by row.
+    pub fn for_each_in(&self, rect: Rect, f: &mut dyn FnMut(Pos, u32)) {
+        let last_col = (rect.last.col as usize).min(self.columns.len().saturating_sub(1));
+        if self.columns.is_empty() || rect.first.col as usize > last_col {
+            return;
+        }
+        let cols = &self.columns[rect.first.col as usize..=last_col];
+        let last_row = cols.iter().map(Vec::len).max().unwrap_or(0).min(rect.last.row as usize + 1);
+        if rect.is_cell() || cols.len() == 1 {
+            let col = rect.first.col;
+            for (row, &id) in cols[0].iter().enumerate().take(last_row).skip(rect.first.row as usize) {
+                if id != NO_CELL {
+                    f(Pos::new(row as u32, col), id);
+                }
+            }
+            return;
+        }
+        for row in rect.first.row as usize..last_row {
+            for (i, column) in cols.iter().enumerate() {
+                if let Some(&id) = column.get(row) {
+                    if id != NO_CELL {
+                        f(Pos::new(row as u32, rect.first.col + i as u32), id);
+                    }
+                }
+            }
+        }
+    }
+}

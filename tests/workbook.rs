@@ -1,0 +1,158 @@
+//! Recalculation behaviour of the workbook: dependencies, cycles, spills, names.
+
+use ncsheet::eval::{Value, XlError};
+use ncsheet::formula::address::parse_cell;
+use ncsheet::workbook::Workbook;
+
+fn set(wb: &mut Workbook, cell: &str, input: &str) {
+    let _ = wb.set_input(0, parse_cell(cell).unwrap(), input);
+}
+
+fn get(wb: &Workbook, cell: &str) -> Value {
+    wb.value(0, parse_cell(cell).unwrap())
+}
+
+fn n(v: f64) -> Value {
+    Value::Number(v)
+}
+
+#[test]
+fn editing_a_cell_updates_its_dependents() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, "A1", "2");
+    set(&mut wb, "A2", "=A1*3");
+    set(&mut wb, "A3", "=SUM(A1:A2)+1");
+    assert_eq!(get(&wb, "A3"), n(9.0));
+    set(&mut wb, "A1", "10");
+    assert_eq!(get(&wb, "A2"), n(30.0));
+    assert_eq!(get(&wb, "A3"), n(41.0));
+}
+
+#[test]
+fn a_range_sees_cells_created_after_the_formula() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, "B1", "=SUM(A1:A100)");
+    assert_eq!(get(&wb, "B1"), n(0.0));
+    set(&mut wb, "A50", "4");
+    assert_eq!(get(&wb, "B1"), n(4.0));
+    set(&mut wb, "C1", "=SUM(A:A)");
+    set(&mut wb, "A5000", "1");
+    assert_eq!(get(&wb, "C1"), n(5.0));
+}
+
+#[test]
+fn cycles_are_named_and_hold_an_error_while_the_rest_computes() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, "A1", "=B1+1");
+    set(&mut wb, "B1", "=A1+1");
+    set(&mut wb, "C1", "=A1*2");
+    set(&mut wb, "D1", "5");
+    set(&mut wb, "E1", "=D1+1");
+    assert_eq!(get(&wb, "A1"), Value::Error(XlError::Circ));
+    assert_eq!(get(&wb, "B1"), Value::Error(XlError::Circ));
+    assert_eq!(get(&wb, "C1"), Value::Error(XlError::Circ));
+    assert_eq!(get(&wb, "E1"), n(6.0));
+    assert_eq!(wb.cycles(), vec![vec!["Sheet1!A1".to_string(), "Sheet1!B1".to_string()]]);
+    // Breaking the cycle recomputes all three.
+    set(&mut wb, "B1", "1");
+    assert_eq!(get(&wb, "A1"), n(2.0));
+    assert_eq!(get(&wb, "C1"), n(4.0));
+    assert!(wb.cycles().is_empty());
+}
+
+#[test]
+fn a_cell_reading_a_range_that_holds_it_is_a_cycle() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, "A3", "=SUM(A1:A5)");
+    assert_eq!(get(&wb, "A3"), Value::Error(XlError::Circ));
+    assert_eq!(wb.cycles(), vec![vec!["Sheet1!A3".to_string()]]);
+}
+
+#[test]
+fn arrays_spill_and_report_spill_when_blocked() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, "A1", "={1;2;3}");
+    assert_eq!(get(&wb, "A3"), n(3.0));
+    set(&mut wb, "B1", "=SUM(A1#)");
+    assert_eq!(get(&wb, "B1"), n(6.0));
+    set(&mut wb, "C1", "=A3*10");
+    assert_eq!(get(&wb, "C1"), n(30.0));
+    // A value in the way blocks the spill.
+    set(&mut wb, "A2", "x");
+    assert_eq!(get(&wb, "A1"), Value::Error(XlError::Spill));
+    assert_eq!(get(&wb, "A3"), Value::Blank);
+    assert_eq!(get(&wb, "C1"), n(0.0));
+    // Clearing it lets the array spill again.
+    set(&mut wb, "A2", "");
+    assert_eq!(get(&wb, "A1"), n(1.0));
+    assert_eq!(get(&wb, "C1"), n(30.0));
+}
+
+#[test]
+fn spilled_arithmetic_over_ranges() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, "A1", "1");
+    set(&mut wb, "A2", "2");
+    set(&mut wb, "B1", "=A1:A2*10");
+    assert_eq!(get(&wb, "B2"), n(20.0));
+    set(&mut wb, "A2", "3");
+    assert_eq!(get(&wb, "B2"), n(30.0));
+}
+
+#[test]
+fn defined_names_and_other_sheets() {
+    let mut wb = Workbook::with_sheet();
+    let data = wb.add_sheet("Chamfer data").unwrap();
+    wb.set_input(data, parse_cell("B4").unwrap(), "40").unwrap();
+    wb.define_name("Dv", "='Chamfer data'!$B$4", None).unwrap();
+    set(&mut wb, "A1", "=Dv/2");
+    set(&mut wb, "A2", "='Chamfer data'!B4+1");
+    assert_eq!(get(&wb, "A1"), n(20.0));
+    assert_eq!(get(&wb, "A2"), n(41.0));
+    wb.set_input(data, parse_cell("B4").unwrap(), "50").unwrap();
+    assert_eq!(get(&wb, "A1"), n(25.0));
+    assert_eq!(get(&wb, "A2"), n(51.0));
+    set(&mut wb, "A3", "=Nowhere!A1");
+    assert_eq!(get(&wb, "A3"), Value::Error(XlError::Ref));
+    set(&mut wb, "A4", "=undefined_name+1");
+    assert_eq!(get(&wb, "A4"), Value::Error(XlError::Name));
+}
+
+#[test]
+fn a_bad_formula_is_reported_with_a_caret_and_the_rest_computes() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, "A1", "1");
+    let err = wb.set_input(0, parse_cell("B2").unwrap(), "=1+*2").unwrap_err();
+    set(&mut wb, "C1", "=A1+1");
+    assert_eq!(get(&wb, "B2"), Value::Error(XlError::Name));
+    assert_eq!(get(&wb, "C1"), n(2.0));
+    let text = err.to_string();
+    assert!(text.starts_with("Sheet1!B2: =1+*2\n   ^ column 4"), "{text}");
+    assert_eq!(wb.problems().len(), 1);
+    assert_eq!(wb.formula(0, parse_cell("B2").unwrap()).as_deref(), Some("=1+*2"));
+}
+
+#[test]
+fn copied_formulas_share_one_parsed_form() {
+    let mut wb = Workbook::with_sheet();
+    for r in 1..=100 {
+        set(&mut wb, &format!("A{r}"), &r.to_string());
+        set(&mut wb, &format!("B{r}"), &format!("=A{r}*2+SUM($A$1:A{r})"));
+    }
+    assert_eq!(wb.formula_counts(), (100, 1));
+    assert_eq!(get(&wb, "B100"), n(200.0 + 5050.0));
+    assert_eq!(wb.formula(0, parse_cell("B7").unwrap()).as_deref(), Some("=A7*2+SUM($A$1:A7)"));
+}
+
+#[test]
+fn a_long_chain_recalculates_without_deep_recursion() {
+    let mut wb = Workbook::with_sheet();
+    wb.set_input_deferred(0, parse_cell("A1").unwrap(), "1").unwrap();
+    for r in 2..=200_000u32 {
+        wb.set_input_deferred(0, ncsheet::formula::Pos::new(r - 1, 0), &format!("=A{}+1", r - 1)).unwrap();
+    }
+    wb.recalculate();
+    assert_eq!(get(&wb, "A200000"), n(200_000.0));
+    set(&mut wb, "A1", "2");
+    assert_eq!(get(&wb, "A200000"), n(200_001.0));
+}
