@@ -132,7 +132,9 @@ fn iserror(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn iserr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    is(ctx, args, |v| v.as_error().is_some_and(|e| e != XlError::NA))
+    is(ctx, args, |v| {
+        v.as_error().is_some_and(|e| e != XlError::NA)
+    })
 }
 
 fn isna(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
@@ -140,7 +142,10 @@ fn isna(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn isref(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Ok(Value::Bool(matches!(ctx.operand(&args[0]), Operand::Ref(..))))
+    Ok(Value::Bool(matches!(
+        ctx.operand(&args[0]),
+        Operand::Ref(..)
+    )))
 }
 
 fn na(_: &mut Ctx, _: &[Expr]) -> XlResult<Value> {

@@ -86,7 +86,14 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "The index-th value (1-based); references stay references",
     ),
     FnSpec::value("TRUE", 0, 0, true_fn, "TRUE()", "The logical value TRUE"),
-    FnSpec::value("FALSE", 0, 0, false_fn, "FALSE()", "The logical value FALSE"),
+    FnSpec::value(
+        "FALSE",
+        0,
+        0,
+        false_fn,
+        "FALSE()",
+        "The logical value FALSE",
+    ),
     FnSpec::value(
         "LET",
         3,
@@ -135,7 +142,7 @@ fn branch_operand(ctx: &mut Ctx, args: &[Expr], i: usize) -> Operand {
 }
 
 fn ifs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    if args.len() % 2 != 0 {
+    if !args.len().is_multiple_of(2) {
         return Err(XlError::Value);
     }
     for (k, pair) in args.chunks(2).enumerate() {
@@ -319,7 +326,7 @@ fn false_fn(_: &mut Ctx, _: &[Expr]) -> XlResult<Value> {
 }
 
 fn let_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    if args.len() % 2 == 0 {
+    if args.len().is_multiple_of(2) {
         return Err(XlError::Value);
     }
     Ok(bind_names(ctx, args))
@@ -380,13 +387,19 @@ mod tests {
         let env = env();
         assert_eq!(env.eval("=IFS(A1=2,\"a\",A1=1,\"b\")"), Value::text("b"));
         assert_eq!(env.eval("=IFS(FALSE,1)"), Value::Error(XlError::NA));
-        assert_eq!(env.eval("=SWITCH(2,1,\"a\",2,\"b\",\"z\")"), Value::text("b"));
+        assert_eq!(
+            env.eval("=SWITCH(2,1,\"a\",2,\"b\",\"z\")"),
+            Value::text("b")
+        );
         assert_eq!(env.eval("=SWITCH(9,1,\"a\",\"z\")"), Value::text("z"));
         assert_eq!(env.eval("=SWITCH(9,1,\"a\")"), Value::Error(XlError::NA));
         assert_eq!(env.eval("=SWITCH(\"1\",1,\"a\",\"z\")"), Value::text("z"));
         assert_eq!(env.eval("=CHOOSE(2,\"a\",\"b\")"), Value::text("b"));
         assert_eq!(env.eval("=CHOOSE(1.9,\"a\",\"b\")"), Value::text("a"));
-        assert_eq!(env.eval("=CHOOSE(3,\"a\",\"b\")"), Value::Error(XlError::Value));
+        assert_eq!(
+            env.eval("=CHOOSE(3,\"a\",\"b\")"),
+            Value::Error(XlError::Value)
+        );
         assert_eq!(env.eval("=SUM(CHOOSE(2,B1:B2,B1:B3))"), n(60.0));
     }
 

@@ -158,7 +158,11 @@ fn pick(
 ) -> XlResult<(Span, Span)> {
     let r = position(row)?;
     let c = position(col)?;
-    let (r, c) = if rows == 1 && !col_given { (c, r) } else { (r, c) };
+    let (r, c) = if rows == 1 && !col_given {
+        (c, r)
+    } else {
+        (r, c)
+    };
     Ok((span(r, rows)?, span(c, cols)?))
 }
 
@@ -184,10 +188,7 @@ fn sub_rect(rect: Rect, rows: Span, cols: Span) -> Rect {
         rect.first.row + rows.0 as u32,
         rect.first.col + cols.0 as u32,
     );
-    let last = Pos::new(
-        first.row + rows.1 as u32 - 1,
-        first.col + cols.1 as u32 - 1,
-    );
+    let last = Pos::new(first.row + rows.1 as u32 - 1, first.col + cols.1 as u32 - 1);
     Rect { first, last }
 }
 
@@ -481,6 +482,19 @@ fn xlookup_operand(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Operand> {
     }
     let items = &lookup.values.data;
     let search = |key: &Value| -> XlResult<Option<usize>> {
+        if key.is_blank() {
+            // An empty lookup value finds the first (or last) empty cell, whatever the
+            // match mode (Excel: `XLOOKUP(, A:A, B:B,, 1, 2)` returns the first blank row).
+            let reverse = search_mode < 0;
+            let blank = if reverse {
+                items.iter().rposition(Value::is_blank)
+            } else {
+                items.iter().position(Value::is_blank)
+            };
+            if blank.is_some() {
+                return Ok(blank);
+            }
+        }
         let key = lookup_key(key)?;
         Ok(match search_mode {
             2 | -2 => xlookup_binary(&key, items, fallback, search_mode == -2),
@@ -589,33 +603,44 @@ fn xlookup_order(a: &Value, b: &Value) -> Option<Ordering> {
     }
 }
 
-/// XLOOKUP's binary search on data sorted ascending (or descending when `reverse`).
+/// XLOOKUP's binary search on data sorted ascending (or descending when `reverse`,
+/// searched as the ascending sequence read backwards). Among equal items it finds the
+/// first in ascending order, as Excel does: with duplicates, `2` finds the first and `-2`
+/// the last of them.
 fn xlookup_binary(
     key: &Value,
     items: &[Value],
     fallback: Fallback,
     reverse: bool,
 ) -> Option<usize> {
-    let order = |a: &Value, b: &Value| {
-        let o = xlookup_order(a, b);
-        if reverse {
-            o.map(Ordering::reverse)
-        } else {
-            o
-        }
-    };
-    let last = binary_search_last_not_after(key, items, order);
-    let exact = last.filter(|&i| order(&items[i], key) == Some(Ordering::Equal));
-    if exact.is_some() {
-        return exact;
+    let n = items.len();
+    let original = |i: usize| if reverse { n - 1 - i } else { i };
+    let order = |i: usize| xlookup_order(&items[original(i)], key);
+    let bound = lower_bound(n, order);
+    let at_or_after = (bound..n).find(|&i| order(i).is_some());
+    if let Some(i) = at_or_after.filter(|&i| order(i) == Some(Ordering::Equal)) {
+        return Some(original(i));
     }
-    let (before, after) = (last, last.map_or(0, |i| i + 1));
-    let wanted = match (fallback, reverse) {
-        (Fallback::None, _) => return None,
-        (Fallback::NextSmaller, false) | (Fallback::NextLarger, true) => before,
-        _ => (after..items.len()).find(|&i| order(&items[i], key).is_some()),
+    let found = match fallback {
+        Fallback::None => None,
+        Fallback::NextSmaller => (0..bound).rev().find(|&i| order(i).is_some()),
+        Fallback::NextLarger => at_or_after,
     };
-    wanted
+    found.map(original)
+}
+
+/// The first position whose item is not before the key, for items sorted by `order`
+/// (item against key); positions it cannot compare are stepped over.
+fn lower_bound(n: usize, order: impl Fn(usize) -> Option<Ordering>) -> usize {
+    let (mut lo, mut hi) = (0, n);
+    while lo < hi {
+        let mid = lo + (hi - lo) / 2;
+        match (mid..hi).find(|&i| order(i).is_some()) {
+            Some(p) if order(p) == Some(Ordering::Less) => lo = p + 1,
+            _ => hi = mid,
+        }
+    }
+    lo
 }
 
 // ---------------------------------------------------------------------------------------
@@ -701,7 +726,10 @@ mod tests {
         assert_eq!(env.eval("=SUM(A1:INDEX(A1:A4,3))"), n(19.0));
         assert_eq!(env.eval("=SUM(INDEX(A1:C4,0,3))"), n(1670.0));
         assert_eq!(env.eval("=INDEX({1,2,3},2)"), n(2.0));
-        assert_eq!(env.eval("=INDEX({1,2;3,4},2)"), Value::from(Array::row(vec![n(3.0), n(4.0)])));
+        assert_eq!(
+            env.eval("=INDEX({1,2;3,4},2)"),
+            Value::from(Array::row(vec![n(3.0), n(4.0)]))
+        );
         assert_eq!(env.eval("=INDEX(A1:A4,5)"), Value::Error(XlError::Ref));
         assert_eq!(env.eval("=INDEX(A1:A4,-1)"), Value::Error(XlError::Value));
         assert_eq!(env.eval("=INDEX(A1:A4,1.9)"), n(3.0));
@@ -728,17 +756,32 @@ mod tests {
         assert_eq!(env.eval("=VLOOKUP(10,A1:C4,3,FALSE)"), n(450.0));
         assert_eq!(env.eval("=VLOOKUP(12,A1:C4,2)"), t("end mill 10"));
         assert_eq!(env.eval("=VLOOKUP(1,A1:C4,2)"), Value::Error(XlError::NA));
-        assert_eq!(env.eval("=VLOOKUP(12,A1:C4,2,FALSE)"), Value::Error(XlError::NA));
-        assert_eq!(env.eval("=VLOOKUP(10,A1:C4,4,FALSE)"), Value::Error(XlError::Ref));
-        assert_eq!(env.eval("=VLOOKUP(10,A1:C4,0,FALSE)"), Value::Error(XlError::Value));
-        assert_eq!(env.eval("=HLOOKUP(\"b\",{\"a\",\"b\";1,2},2,FALSE)"), n(2.0));
+        assert_eq!(
+            env.eval("=VLOOKUP(12,A1:C4,2,FALSE)"),
+            Value::Error(XlError::NA)
+        );
+        assert_eq!(
+            env.eval("=VLOOKUP(10,A1:C4,4,FALSE)"),
+            Value::Error(XlError::Ref)
+        );
+        assert_eq!(
+            env.eval("=VLOOKUP(10,A1:C4,0,FALSE)"),
+            Value::Error(XlError::Value)
+        );
+        assert_eq!(
+            env.eval("=HLOOKUP(\"b\",{\"a\",\"b\";1,2},2,FALSE)"),
+            n(2.0)
+        );
     }
 
     #[test]
     fn xlookup_modes() {
         let env = tools();
         assert_eq!(env.eval("=XLOOKUP(10,A1:A4,C1:C4)"), n(450.0));
-        assert_eq!(env.eval("=XLOOKUP(11,A1:A4,C1:C4)"), Value::Error(XlError::NA));
+        assert_eq!(
+            env.eval("=XLOOKUP(11,A1:A4,C1:C4)"),
+            Value::Error(XlError::NA)
+        );
         assert_eq!(env.eval("=XLOOKUP(11,A1:A4,C1:C4,\"none\")"), t("none"));
         assert_eq!(env.eval("=XLOOKUP(11,A1:A4,C1:C4,,-1)"), n(450.0));
         assert_eq!(env.eval("=XLOOKUP(11,A1:A4,C1:C4,,1)"), n(800.0));
@@ -750,8 +793,14 @@ mod tests {
             Value::from(Array::row(vec![t("end mill 6"), n(300.0)]))
         );
         assert_eq!(env.eval("=SUM(XLOOKUP(6,A1:A4,C1:C4):C4)"), n(1550.0));
-        assert_eq!(env.eval("=XLOOKUP(6,A1:A4,C1:C3)"), Value::Error(XlError::Value));
-        assert_eq!(env.eval("=XLOOKUP(6,A1:A4,C1:C4,,3)"), Value::Error(XlError::Value));
+        assert_eq!(
+            env.eval("=XLOOKUP(6,A1:A4,C1:C3)"),
+            Value::Error(XlError::Value)
+        );
+        assert_eq!(
+            env.eval("=XLOOKUP(6,A1:A4,C1:C4,,3)"),
+            Value::Error(XlError::Value)
+        );
     }
 
     #[test]

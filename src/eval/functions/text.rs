@@ -325,7 +325,9 @@ fn right(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         let count = count_arg(v.get(1))?;
         let len = text.chars().count();
         Ok(Value::from(
-            text.chars().skip(len.saturating_sub(count)).collect::<String>(),
+            text.chars()
+                .skip(len.saturating_sub(count))
+                .collect::<String>(),
         ))
     })
 }
@@ -376,7 +378,10 @@ fn lower(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 fn trim(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     // Only the space character (32); Excel's TRIM leaves tabs and non-breaking spaces.
     map_text(ctx, args, |s| {
-        s.split(' ').filter(|w| !w.is_empty()).collect::<Vec<_>>().join(" ")
+        s.split(' ')
+            .filter(|w| !w.is_empty())
+            .collect::<Vec<_>>()
+            .join(" ")
     })
 }
 
@@ -574,9 +579,9 @@ impl Wildcard {
 
 /// Windows-1252 characters for codes 128-159; the rest of 1-255 is Latin-1.
 const CP1252_HIGH: [char; 32] = [
-    '€', '\u{81}', '‚', 'ƒ', '„', '…', '†', '‡', 'ˆ', '‰', 'Š', '‹', 'Œ', '\u{8D}', 'Ž',
-    '\u{8F}', '\u{90}', '\u{2018}', '\u{2019}', '\u{201C}', '\u{201D}', '•', '–', '—', '˜', '™',
-    'š', '›', 'œ', '\u{9D}', 'ž', 'Ÿ',
+    '€', '\u{81}', '‚', 'ƒ', '„', '…', '†', '‡', 'ˆ', '‰', 'Š', '‹', 'Œ', '\u{8D}', 'Ž', '\u{8F}',
+    '\u{90}', '\u{2018}', '\u{2019}', '\u{201C}', '\u{201D}', '•', '–', '—', '˜', '™', 'š', '›',
+    'œ', '\u{9D}', 'ž', 'Ÿ',
 ];
 
 fn char_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
@@ -695,7 +700,10 @@ mod tests {
         let env = env();
         assert_eq!(env.eval("=UPPER(A1)"), t("G01 X10"));
         assert_eq!(env.eval("=LOWER(A2)"), t("y-5"));
-        assert_eq!(env.eval("=PROPER(\"hello wORLD 2nd\")"), t("Hello World 2Nd"));
+        assert_eq!(
+            env.eval("=PROPER(\"hello wORLD 2nd\")"),
+            t("Hello World 2Nd")
+        );
         assert_eq!(env.eval("=TRIM(\"  a   b  \")"), t("a b"));
         assert_eq!(env.eval("=VALUE(\"1,234.5\")"), n(1234.5));
         assert_eq!(env.eval("=VALUE(\"abc\")"), Value::Error(XlError::Value));
@@ -711,11 +719,17 @@ mod tests {
         let env = env();
         assert_eq!(env.eval("=CONCAT(A1:A3,\"!\")"), t("g01 x10Y-512.5!"));
         assert_eq!(env.eval("=CONCATENATE(\"G\",1,TRUE)"), t("G1TRUE"));
-        assert_eq!(env.eval("=TEXTJOIN(\" \",TRUE,A1:A4)"), t("g01 x10 Y-5 12.5"));
+        assert_eq!(
+            env.eval("=TEXTJOIN(\" \",TRUE,A1:A4)"),
+            t("g01 x10 Y-5 12.5")
+        );
         assert_eq!(env.eval("=TEXTJOIN(\",\",FALSE,A2:A4)"), t("Y-5,12.5,"));
         assert_eq!(env.eval("=TEXTJOIN({\"-\",\"+\"},TRUE,1,2,3)"), t("1-2+3"));
         assert_eq!(env.eval("=REPT(\"ab\",3)"), t("ababab"));
-        assert_eq!(env.eval("=REPT(\"ab\",20000)"), Value::Error(XlError::Value));
+        assert_eq!(
+            env.eval("=REPT(\"ab\",20000)"),
+            Value::Error(XlError::Value)
+        );
     }
 
     #[test]
@@ -723,7 +737,10 @@ mod tests {
         let env = env();
         assert_eq!(env.eval("=SUBSTITUTE(\"a-b-c\",\"-\",\"+\")"), t("a+b+c"));
         assert_eq!(env.eval("=SUBSTITUTE(\"a-b-c\",\"-\",\"+\",2)"), t("a-b+c"));
-        assert_eq!(env.eval("=SUBSTITUTE(\"a-b\",\"-\",\"+\",0)"), Value::Error(XlError::Value));
+        assert_eq!(
+            env.eval("=SUBSTITUTE(\"a-b\",\"-\",\"+\",0)"),
+            Value::Error(XlError::Value)
+        );
         assert_eq!(env.eval("=FIND(\"x\",A1)"), n(5.0));
         assert_eq!(env.eval("=FIND(\"X\",A1)"), Value::Error(XlError::Value));
         assert_eq!(env.eval("=SEARCH(\"X\",A1)"), n(5.0));

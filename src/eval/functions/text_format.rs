@@ -19,7 +19,9 @@ enum Tok {
     Comma,
     Percent,
     /// `E+` (sign always shown) or `E-` (only a minus sign).
-    Exp { plus: bool },
+    Exp {
+        plus: bool,
+    },
     Lit(String),
     /// `@`: the text value.
     TextAt,
@@ -41,7 +43,10 @@ enum DatePart {
     /// `.0`, `.00`, `.000` after seconds.
     SubSecond(usize),
     /// `AM/PM` or `A/P`, with the case as written.
-    AmPm { short: bool, lower: bool },
+    AmPm {
+        short: bool,
+        lower: bool,
+    },
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -316,7 +321,11 @@ fn bracket(inner: &str, section: &mut Section) -> XlResult<Option<Tok>> {
         return Ok(None);
     }
     let lower = inner.to_ascii_lowercase();
-    if let Some(unit) = lower.chars().next().filter(|c| matches!(c, 'h' | 'm' | 's')) {
+    if let Some(unit) = lower
+        .chars()
+        .next()
+        .filter(|c| matches!(c, 'h' | 'm' | 's'))
+    {
         if lower.chars().all(|c| c == unit) {
             return Ok(Some(Tok::Date(DatePart::Elapsed(unit, lower.len()))));
         }
@@ -447,7 +456,10 @@ fn round_digits(digits: &str, exp: i32, decimals: usize) -> (String, String) {
         .map(|d| char::from(b'0' + d))
         .skip_while(|&c| c == '0')
         .collect();
-    let frac: String = all[int_len..].iter().map(|d| char::from(b'0' + d)).collect();
+    let frac: String = all[int_len..]
+        .iter()
+        .map(|d| char::from(b'0' + d))
+        .collect();
     (int, frac)
 }
 
@@ -998,7 +1010,10 @@ mod tests {
     #[test]
     fn dates_and_times() {
         assert_eq!(fmt(41181.0, "m/d/y"), "9/29/12");
-        assert_eq!(fmt(41181.0, "dddd, mmmm d, yyyy"), "Saturday, September 29, 2012");
+        assert_eq!(
+            fmt(41181.0, "dddd, mmmm d, yyyy"),
+            "Saturday, September 29, 2012"
+        );
         assert_eq!(fmt(45000.75, "yyyy-mm-dd hh:mm:ss"), "2023-03-15 18:00:00");
         assert_eq!(fmt(0.5 + 1.0 / 86400.0, "h:mm:ss AM/PM"), "12:00:01 PM");
         assert_eq!(fmt(1.25, "[h]:mm"), "30:00");
