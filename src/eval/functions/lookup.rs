@@ -56,6 +56,22 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "The return_array row or column at value's position in lookup_array",
     ),
     FnSpec::value(
+        "XMATCH",
+        2,
+        4,
+        xmatch,
+        "XMATCH(value, lookup_array, [match_mode], [search_mode])",
+        "Position of value, with XLOOKUP's match and search modes",
+    ),
+    FnSpec::value(
+        "LOOKUP",
+        2,
+        3,
+        lookup_fn,
+        "LOOKUP(value, lookup_vector, [result_vector])",
+        "Approximate lookup in sorted data: the result at the last position not above value",
+    ),
+    FnSpec::value(
         "ROW",
         0,
         1,
@@ -460,18 +476,7 @@ fn xlookup_operand(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Operand> {
     let key = ctx.eval(&args[0]);
     let lookup = source_of(ctx, &args[1])?;
     let result = source_of(ctx, &args[2])?;
-    let match_mode = number_or(ctx, args, 4, 0.0)?;
-    let fallback = match match_mode as i64 {
-        0 | 2 => Fallback::None,
-        -1 => Fallback::NextSmaller,
-        1 => Fallback::NextLarger,
-        _ => return Err(XlError::Value),
-    };
-    let wildcards = match_mode == 2.0;
-    let search_mode = number_or(ctx, args, 5, 1.0)? as i64;
-    if !matches!(search_mode, 1 | -1 | 2 | -2) || (wildcards && search_mode.abs() == 2) {
-        return Err(XlError::Value);
-    }
+    let mode = XMode::read(ctx, args, 4)?;
     let vertical = lookup.cols == 1;
     if lookup.rows != 1 && !vertical {
         return Err(XlError::Value);
@@ -481,11 +486,68 @@ fn xlookup_operand(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Operand> {
         return Err(XlError::Value);
     }
     let items = &lookup.values.data;
-    let search = |key: &Value| -> XlResult<Option<usize>> {
+    let not_found = args.get(3).filter(|e| e.kind != ExprKind::Missing);
+    if let Value::Array(_) = key {
+        // One lookup per key; each result must be a single item.
+        let fallback = not_found.map(|e| ctx.eval(e));
+        let picked = lift_values(&[key], &|v| match mode.find(&v[0], items)? {
+            Some(i) => Ok(result_line(&result, i, vertical).unwrap_single()),
+            None => fallback.clone().ok_or(XlError::NA),
+        })?;
+        return Ok(Operand::Value(picked));
+    }
+    match mode.find(&key, items)? {
+        Some(i) => Ok(match result.place {
+            Some((sheet, rect)) => {
+                let (rows, cols) = line_span(&result, i, vertical);
+                Operand::Ref(sheet, sub_rect(rect, rows, cols))
+            }
+            None => Operand::Value(result_line(&result, i, vertical)),
+        }),
+        None => match not_found {
+            Some(e) => Ok(ctx.operand(e)),
+            None => Err(XlError::NA),
+        },
+    }
+}
+
+/// XLOOKUP and XMATCH's match mode (0 exact, -1 or next smaller, 1 or next larger,
+/// 2 wildcards) and search mode (1 first to last, -1 last to first, 2 and -2 binary on
+/// data sorted ascending or descending).
+struct XMode {
+    fallback: Fallback,
+    wildcards: bool,
+    search: i64,
+}
+
+impl XMode {
+    /// Reads the two modes from `args[at]` and `args[at + 1]`.
+    fn read(ctx: &mut Ctx, args: &[Expr], at: usize) -> XlResult<XMode> {
+        let match_mode = number_or(ctx, args, at, 0.0)?.trunc();
+        let search = number_or(ctx, args, at + 1, 1.0)?.trunc() as i64;
+        let fallback = match match_mode as i64 {
+            0 | 2 => Fallback::None,
+            -1 => Fallback::NextSmaller,
+            1 => Fallback::NextLarger,
+            _ => return Err(XlError::Value),
+        };
+        let wildcards = match_mode == 2.0;
+        if !matches!(search, 1 | -1 | 2 | -2) || (wildcards && search.abs() == 2) {
+            return Err(XlError::Value);
+        }
+        Ok(XMode {
+            fallback,
+            wildcards,
+            search,
+        })
+    }
+
+    /// The position of `key` in `items`.
+    fn find(&self, key: &Value, items: &[Value]) -> XlResult<Option<usize>> {
+        let reverse = self.search < 0;
         if key.is_blank() {
             // An empty lookup value finds the first (or last) empty cell, whatever the
             // match mode (Excel: `XLOOKUP(, A:A, B:B,, 1, 2)` returns the first blank row).
-            let reverse = search_mode < 0;
             let blank = if reverse {
                 items.iter().rposition(Value::is_blank)
             } else {
@@ -496,32 +558,53 @@ fn xlookup_operand(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Operand> {
             }
         }
         let key = lookup_key(key)?;
-        Ok(match search_mode {
-            2 | -2 => xlookup_binary(&key, items, fallback, search_mode == -2),
-            _ => xlookup_linear(&key, items, fallback, wildcards, search_mode == -1),
+        Ok(match self.search {
+            2 | -2 => xlookup_binary(&key, items, self.fallback, reverse),
+            _ => xlookup_linear(&key, items, self.fallback, self.wildcards, reverse),
         })
+    }
+}
+
+fn xmatch(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let key = ctx.eval(&args[0]);
+    let haystack = grid_of_expr(ctx, &args[1])?;
+    let mode = XMode::read(ctx, args, 2)?;
+    let items = line_of(&haystack).ok_or(XlError::Value)?;
+    lift_values(&[key], &|v| {
+        let i = mode.find(&v[0], items)?.ok_or(XlError::NA)?;
+        Ok(Value::Number(i as f64 + 1.0))
+    })
+}
+
+/// LOOKUP's vector form (value, lookup_vector, result_vector) and array form (value,
+/// array): the array's first row or column is searched, its last returned.
+fn lookup_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let key = ctx.eval(&args[0]);
+    let table = grid_of_expr(ctx, &args[1])?;
+    let (keys, results) = match args.get(2) {
+        Some(e) => {
+            let results = grid_of_expr(ctx, e)?;
+            let keys = line_of(&table).ok_or(XlError::NA)?.to_vec();
+            (keys, results.data.clone())
+        }
+        None if table.cols > table.rows => (
+            (0..table.cols).map(|c| table.get(0, c).clone()).collect(),
+            (0..table.cols)
+                .map(|c| table.get(table.rows - 1, c).clone())
+                .collect(),
+        ),
+        None => (
+            (0..table.rows).map(|r| table.get(r, 0).clone()).collect(),
+            (0..table.rows)
+                .map(|r| table.get(r, table.cols - 1).clone())
+                .collect(),
+        ),
     };
-    if let Value::Array(_) = key {
-        // One lookup per key; each result must be a single item.
-        let picked = lift_values(&[key], &|v| match search(&v[0])? {
-            Some(i) => Ok(result_line(&result, i, vertical).unwrap_single()),
-            None => Err(XlError::NA),
-        })?;
-        return Ok(Operand::Value(picked));
-    }
-    match search(&key)? {
-        Some(i) => Ok(match result.place {
-            Some((sheet, rect)) => {
-                let (rows, cols) = line_span(&result, i, vertical);
-                Operand::Ref(sheet, sub_rect(rect, rows, cols))
-            }
-            None => Operand::Value(result_line(&result, i, vertical)),
-        }),
-        None => match args.get(3) {
-            Some(e) if e.kind != ExprKind::Missing => Ok(ctx.operand(e)),
-            _ => Err(XlError::NA),
-        },
-    }
+    lift_values(&[key], &|v| {
+        let key = lookup_key(&v[0])?;
+        let i = binary_search_last_not_after(&key, &keys, ascending).ok_or(XlError::NA)?;
+        results.get(i).cloned().ok_or(XlError::NA)
+    })
 }
 
 /// The row (vertical lookup) or column of the return source at position `i`.
@@ -800,6 +883,22 @@ mod tests {
         assert_eq!(
             env.eval("=XLOOKUP(6,A1:A4,C1:C4,,3)"),
             Value::Error(XlError::Value)
+        );
+    }
+
+    #[test]
+    fn xmatch_and_lookup() {
+        let env = tools();
+        assert_eq!(env.eval("=XMATCH(10,A1:A4)"), n(3.0));
+        assert_eq!(env.eval("=XMATCH(11,A1:A4,1)"), n(4.0));
+        assert_eq!(env.eval("=XMATCH(\"end*\",B1:B4,2,-1)"), n(3.0));
+        assert_eq!(env.eval("=XMATCH(1,A1:C2)"), Value::Error(XlError::Value));
+        assert_eq!(env.eval("=LOOKUP(12,A1:A4,C1:C4)"), n(450.0));
+        assert_eq!(env.eval("=LOOKUP(7,A1:C4)"), n(300.0));
+        assert_eq!(env.eval("=LOOKUP(\"b\",{\"a\",\"b\",\"c\";1,2,3})"), n(2.0));
+        assert_eq!(
+            env.eval("=LOOKUP(1,A1:A4,C1:C4)"),
+            Value::Error(XlError::NA)
         );
     }
 

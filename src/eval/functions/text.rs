@@ -108,6 +108,14 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "The number a text represents (\"1,234.5\", \"50%\", \"1e-3\")",
     ),
     FnSpec::value(
+        "VALUETOTEXT",
+        1,
+        2,
+        valuetotext,
+        "VALUETOTEXT(value, [format])",
+        "Any value as text, errors included; format 1 puts text in quotes",
+    ),
+    FnSpec::value(
         "SUBSTITUTE",
         3,
         4,
@@ -416,6 +424,25 @@ fn value(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     })
 }
 
+fn valuetotext(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift(ctx, args, &|v| {
+        let strict = match v.get(1) {
+            Some(f) => match to_number(f)? {
+                0.0 => false,
+                1.0 => true,
+                _ => return Err(XlError::Value),
+            },
+            None => false,
+        };
+        let text = match &v[0] {
+            Value::Error(e) => e.as_str().into(),
+            Value::Text(s) if strict => format!("\"{s}\"").into(),
+            other => to_text(other)?,
+        };
+        Ok(Value::Text(text))
+    })
+}
+
 fn substitute(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift(ctx, args, &|v| {
         let text = to_text(&v[0])?;
@@ -708,6 +735,8 @@ mod tests {
         assert_eq!(env.eval("=VALUE(\"1,234.5\")"), n(1234.5));
         assert_eq!(env.eval("=VALUE(\"abc\")"), Value::Error(XlError::Value));
         assert_eq!(env.eval("=VALUE(TRUE)"), Value::Error(XlError::Value));
+        assert_eq!(env.eval("=VALUETOTEXT(1/0)"), t("#DIV/0!"));
+        assert_eq!(env.eval("=VALUETOTEXT(\"a\",1)"), t("\"a\""));
         assert_eq!(
             env.eval("=UPPER(A1:A2)"),
             Value::from(Array::column(vec![t("G01 X10"), t("Y-5")]))

@@ -296,8 +296,24 @@ fn parse_section(text: &str) -> XlResult<Section> {
     }
     if section.is_date() {
         settle_date_tokens(&mut section)?;
+    } else if is_fraction(&section.tokens) {
+        // Fractions (`# ?/?`, `# ??/16`) are not implemented: an error, not wrong digits.
+        return Err(XlError::Value);
     }
     Ok(section)
+}
+
+/// A `/` between digit placeholders, or between a placeholder and a fixed denominator.
+fn is_fraction(tokens: &[Tok]) -> bool {
+    tokens.windows(3).any(|w| {
+        matches!(w[0], Tok::Digit(_))
+            && w[1] == Tok::Lit("/".to_string())
+            && match &w[2] {
+                Tok::Digit(_) => true,
+                Tok::Lit(s) => s.starts_with(|c: char| c.is_ascii_digit()),
+                _ => false,
+            }
+    })
 }
 
 fn starts_with_ignore_case(chars: &[char], word: &str) -> bool {
@@ -994,6 +1010,17 @@ mod tests {
         assert_eq!(fmt(-0.0001, "0.00"), "0.00");
         assert_eq!(fmt(12.0, "#.#"), "12.");
         assert_eq!(fmt(123456789012.0, "#,##,, \"M\""), "123,457 M");
+        assert_eq!(fmt(-1234.5678, "#,##0.00"), "-1,234.57");
+        assert_eq!(fmt(-0.25, "0%;(0%)"), "(25%)");
+        assert_eq!(fmt(12.3, "000.000"), "012.300");
+        assert_eq!(fmt(5.5, "?.??"), "5.5 ");
+        assert_eq!(fmt(1e15, "#,##0"), "1,000,000,000,000,000");
+        assert_eq!(fmt(12345.0, "##0.0E+0"), "12.3E+3");
+        assert_eq!(fmt(1234567.0, "#,##0,"), "1,235");
+        assert_eq!(fmt(150.0, "[>=100]\"big\";0"), "big");
+        assert_eq!(fmt(-3.0, "[Red]0.0;[Blue]-0.0"), "-3.0");
+        assert!(NumberFormat::parse("# ?/?").is_err());
+        assert!(NumberFormat::parse("0.0\"/min\"").is_ok());
     }
 
     #[test]
