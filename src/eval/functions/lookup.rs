@@ -388,16 +388,15 @@ fn hlookup(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// VLOOKUP, and HLOOKUP as VLOOKUP on the transposed table.
 fn table_lookup(ctx: &mut Ctx, args: &[Expr], by_row: bool) -> XlResult<Value> {
     let key = ctx.eval(&args[0]);
-    let table = ctx.eval(&args[1]);
+    // A one-cell reference is a 1×1 table; typed text is no table at all.
+    let table = match ctx.operand(&args[1]) {
+        Operand::Value(Value::Text(_)) => Err(XlError::Value),
+        operand => grid_of(ctx, operand),
+    };
     let offset = ctx.eval(&args[2]);
     let approximate = approximate_flag(ctx, args.get(3))?;
     let key = lookup_key(&key)?;
-    let table = match table {
-        Value::Array(a) => a,
-        Value::Error(e) => return Err(e),
-        Value::Text(_) => return Err(XlError::Value),
-        v => Rc::new(Array::new(1, 1, vec![v])),
-    };
+    let table = table?;
     let offset = to_number(&offset)?.trunc();
     let (length, width) = if by_row {
         (table.cols, table.rows)
@@ -854,6 +853,12 @@ mod tests {
         assert_eq!(
             env.eval("=HLOOKUP(\"b\",{\"a\",\"b\";1,2},2,FALSE)"),
             n(2.0)
+        );
+        // A one-cell reference is a table; typed text is not.
+        assert_eq!(env.eval("=VLOOKUP(\"drill 3\",B1,1,FALSE)"), t("drill 3"));
+        assert_eq!(
+            env.eval("=VLOOKUP(\"x\",\"x\",1,FALSE)"),
+            Value::Error(XlError::Value)
         );
     }
 
