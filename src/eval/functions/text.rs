@@ -261,7 +261,17 @@ fn items_of(v: Value) -> Vec<Value> {
 // Numbers as text
 
 fn text_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift(ctx, args, &|v| {
+    let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    if let Value::Text(format) = &values[1] {
+        if NumberFormat::parse(format).is_err() {
+            let why = format!(
+                "TEXT cannot use the format \"{format}\" (fractions and digit placeholders \
+                 in dates are not supported)"
+            );
+            return Err(ctx.explain(XlError::Value, why));
+        }
+    }
+    lift_values(&values, &|v| {
         let format = NumberFormat::parse(&to_text(&v[1])?)?;
         let shown = match &v[0] {
             Value::Error(e) => return Err(*e),

@@ -130,7 +130,7 @@ impl NumberFormat {
             .sections
             .iter()
             .take(3)
-            .filter(|s| !(self.sections.len() > 1 && is_text_only(s)))
+            .filter(|s| !(self.sections.len() > 1 && is_text_section(s)))
             .collect();
         if numeric.iter().any(|s| s.condition.is_some()) {
             return choose_by_condition(&numeric, n);
@@ -145,22 +145,20 @@ impl NumberFormat {
     }
 }
 
-fn is_text_only(s: &Section) -> bool {
+/// A section with `@` formats text, not numbers.
+fn is_text_section(s: &Section) -> bool {
     s.has(&Tok::TextAt)
 }
 
 /// Sections with conditions (`[>=100]0;[<0]-0;0.00`) are tried in order; the first
-/// without a condition catches the rest.
+/// without a condition catches the rest. A negative number keeps its minus sign: a
+/// condition, unlike the negative section, does not imply one.
 fn choose_by_condition<'a>(sections: &[&'a Section], n: f64) -> (&'a Section, f64, bool) {
-    for s in sections {
-        match s.condition {
-            Some((cmp, limit)) if holds(cmp, n, limit) => return (s, n.abs(), n < 0.0),
-            Some(_) => {}
-            None => return (s, n.abs(), n < 0.0),
-        }
-    }
-    // Nothing applies: Excel shows a row of hashes; TEXT gives the general text.
-    (sections[sections.len() - 1], n.abs(), n < 0.0)
+    let chosen = sections
+        .iter()
+        .find(|s| s.condition.is_none_or(|(cmp, limit)| holds(cmp, n, limit)))
+        .unwrap_or(&sections[sections.len() - 1]);
+    (chosen, n, true)
 }
 
 fn holds(cmp: Cmp, n: f64, limit: f64) -> bool {
