@@ -345,7 +345,11 @@ fn line_of(grid: &Array) -> Option<&[Value]> {
 fn match_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let key = ctx.eval(&args[0]);
     let haystack = grid_of_expr(ctx, &args[1])?;
-    let match_type = number_or(ctx, args, 2, 1.0)?;
+    // Omitted is 1; left empty (`MATCH(x, r, )`) is 0, as Excel reads empty arguments.
+    let match_type = match args.get(2) {
+        None => 1.0,
+        Some(e) => to_number(&ctx.eval(e))?,
+    };
     let items = line_of(&haystack).ok_or(XlError::NA)?;
     lift_values(&[key], &|v| {
         let key = lookup_key(&v[0])?;
@@ -830,6 +834,7 @@ mod tests {
         assert_eq!(env.eval("=MATCH(6,{9,7,5,3},-1)"), n(2.0));
         assert_eq!(env.eval("=MATCH(\"6\",A1:A4,0)"), Value::Error(XlError::NA));
         assert_eq!(env.eval("=MATCH(2,{1,2,2,2,3},1)"), n(4.0));
+        assert_eq!(env.eval("=MATCH(11,A1:A4,)"), Value::Error(XlError::NA));
     }
 
     #[test]

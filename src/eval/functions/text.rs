@@ -791,6 +791,35 @@ mod tests {
         assert_eq!(env.eval("=EXACT(\"a\",\"A\")"), Value::Bool(false));
     }
 
+    /// Examples from Microsoft's function reference pages.
+    #[test]
+    fn documented_examples() {
+        let env = env();
+        assert_eq!(env.eval("=TEXT(1234.567,\"$#,##0.00\")"), t("$1,234.57"));
+        assert_eq!(env.eval("=TEXT(0.285,\"0.0%\")"), t("28.5%"));
+        assert_eq!(env.eval("=TEXT(12200000,\"0.00E+00\")"), t("1.22E+07"));
+        assert_eq!(env.eval("=TEXT(1234,\"0000000\")"), t("0001234"));
+        assert_eq!(env.eval("=FIXED(1234.567,1)"), t("1,234.6"));
+        assert_eq!(env.eval("=FIXED(-1234.567,-1,TRUE)"), t("-1230"));
+        assert_eq!(env.eval("=FIXED(44.332)"), t("44.33"));
+        assert_eq!(env.eval("=SEARCH(\"e\",\"Statements\",6)"), n(7.0));
+        assert_eq!(env.eval("=SEARCH(\"margin\",\"Profit Margin\")"), n(8.0));
+        assert_eq!(env.eval("=FIND(\"m\",\"Miriam McGovern\")"), n(6.0));
+        assert_eq!(env.eval("=FIND(\"M\",\"Miriam McGovern\",3)"), n(8.0));
+        assert_eq!(env.eval("=MID(\"Fluid Flow\",7,20)"), t("Flow"));
+        assert_eq!(env.eval("=MID(\"Fluid Flow\",20,5)"), t(""));
+        assert_eq!(
+            env.eval("=SUBSTITUTE(\"Quarter 1, 2011\",\"1\",\"2\",3)"),
+            t("Quarter 1, 2012")
+        );
+        assert_eq!(env.eval("=PROPER(\"76BudGet\")"), t("76Budget"));
+        assert_eq!(env.eval("=PROPER(\"2-way street\")"), t("2-Way Street"));
+        assert_eq!(
+            env.eval("=TRIM(\" First Quarter   Earnings \")"),
+            t("First Quarter Earnings")
+        );
+    }
+
     #[test]
     fn character_codes() {
         let env = env();
