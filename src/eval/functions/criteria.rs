@@ -93,16 +93,18 @@ impl Criterion {
     /// other here: they never match a number and always match `"<>5"`.
     pub fn matches(&self, v: &Value) -> bool {
         match self.op {
-            Op::Eq => self.equals(v),
-            Op::Ne => !self.equals(v),
+            Op::Eq => self.equals(v, true),
+            // Excel counts the text "23" as different from 23 for "<>23" although "=23"
+            // matches it (COUNTIF.xlsx in the corpus).
+            Op::Ne => !self.equals(v, false),
             op => self.order(v).is_some_and(|ord| op.holds(ord)),
         }
     }
 
-    fn equals(&self, v: &Value) -> bool {
+    fn equals(&self, v: &Value, numeric_text: bool) -> bool {
         match (&self.target, v) {
             (Target::Number(n), Value::Number(x)) => x == n,
-            (Target::Number(n), Value::Text(t)) => parse_number(t) == Some(*n),
+            (Target::Number(n), Value::Text(t)) => numeric_text && parse_number(t) == Some(*n),
             (Target::Bool(b), Value::Bool(x)) => b == x,
             (Target::Error(e), Value::Error(x)) => e == x,
             (Target::Text { text, pattern }, Value::Text(t)) => {
@@ -323,6 +325,7 @@ mod tests {
         assert!(holds("<>3", Value::Blank));
         assert!(holds("<>3", "x"));
         assert!(!holds("<>3", 3.0));
+        assert!(holds("<>3", "3"));
     }
 
     #[test]

@@ -22,6 +22,7 @@ mod lookup;
 mod math;
 mod stats;
 mod text;
+mod text_format;
 
 /// A function body that returns a value.
 pub type ValueFn = fn(&mut Ctx, &[Expr]) -> XlResult<Value>;
