@@ -6,4 +6,5 @@
 
 pub mod eval;
 pub mod formula;
+pub mod io;
 pub mod workbook;
