@@ -12,6 +12,8 @@
 //! most of these workbooks hold such legacy formulas. Run with `-- --nocapture` for the
 //! per-file and per-function counts.
 
+mod common;
+
 use std::collections::{BTreeMap, BTreeSet};
 use std::fs::File;
 use std::io::BufReader;
@@ -24,7 +26,6 @@ use ncsheet::eval::{Ctx, Value, XlError};
 use ncsheet::formula::ast::{BinOp, ExprKind, RefShape, SheetRef, UnaryOp};
 use ncsheet::formula::{parse_formula, Expr, ParseContext, Pos};
 
-const DEFAULT_CORPUS: &str = "/work/shared/excel-corpus/ironcalc";
 /// The math and statistics tests, and the documentation examples (SIN, COS, TAN, SQRT, PI).
 const FOLDERS: &[&str] = &["calc_tests/MATH_AND_TRIGONOMETRY", "calc_tests/STATISTICAL", "docs"];
 
@@ -361,12 +362,8 @@ fn print_report(report: &Report) {
 
 #[test]
 fn math_and_statistics_agree_with_excel() {
-    let root = std::env::var("NCSHEET_EXCEL_CORPUS").unwrap_or_else(|_| DEFAULT_CORPUS.into());
-    let root = Path::new(&root);
-    if !root.is_dir() {
-        eprintln!("Excel corpus not found at {}: skipped", root.display());
-        return;
-    }
+    let Some(root) = common::corpus::root() else { return };
+    let root = root.as_path();
     let mut report = Report::default();
     for path in workbooks(root) {
         let file = path.file_name().unwrap().to_string_lossy().into_owned();

@@ -12,6 +12,8 @@
 //! reports that and passes. Set `NCSHEET_EXCEL_CORPUS` to its `ironcalc` folder to use
 //! another copy, and `NCSHEET_CORPUS_VERBOSE=1` to list every formula left unchecked.
 
+mod common;
+
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
@@ -24,8 +26,6 @@ use ncsheet::eval::testing::MapEnv;
 use ncsheet::eval::{Array, Ctx, Operand, Value, XlError};
 use ncsheet::formula::ast::{Expr, ExprKind, SheetRef};
 use ncsheet::formula::{parse_formula, ParseContext, Pos};
-
-const DEFAULT_CORPUS: &str = "/work/shared/excel-corpus/ironcalc";
 
 /// Folders and files in scope: the function tests, and the templates (real sheets, whose
 /// formulas count where they use only what we implement).
@@ -81,12 +81,8 @@ impl Report {
 
 #[test]
 fn excel_cached_values_agree() {
-    let root = std::env::var("NCSHEET_EXCEL_CORPUS").unwrap_or_else(|_| DEFAULT_CORPUS.into());
-    let root = Path::new(&root);
-    if !root.exists() {
-        eprintln!("Excel corpus not found at {}: skipped", root.display());
-        return;
-    }
+    let Some(root) = common::corpus::root() else { return };
+    let root = root.as_path();
     let mut report = Report::default();
     for file in workbooks(root) {
         check_workbook(root, &file, &mut report);

@@ -31,8 +31,11 @@ pub enum Move {
 }
 
 /// Whether `rs274` can be run here; tests that need it skip (and say so) when it cannot.
+/// On CI (`CI` set) it must be there: `.ci/run` installs it.
 pub fn available() -> bool {
-    Command::new("rs274").arg("-h").output().is_ok()
+    let found = Command::new("rs274").arg("-h").output().is_ok();
+    assert!(found || std::env::var_os("CI").is_none(), "rs274 is missing on CI (linuxcnc-uspace)");
+    found
 }
 
 /// The moves `rs274 -g` reads from `program`, or the interpreter's complaint.
