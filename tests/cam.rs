@@ -9,8 +9,8 @@ use ncsheet::eval::testing::MapEnv;
 use ncsheet::eval::{Value, XlError};
 use ncsheet::geometry::cam::output::{arcs_csv, nc_program, svg_drawing, NcOptions, SvgOptions, CSV_HEADER};
 use ncsheet::geometry::cam::{
-    by_disc, check_coverage, fit_cam, fit_piece, lower_bound, parse_sheet, Arc, CamError, CamOptions, CoverageIssue,
-    Piece, PieceKind, Segment,
+    by_disc, check_coverage, fit_cam, fit_design_sheet, fit_piece, lower_bound, parse_sheet, Arc, CamError, CamOptions,
+    CoverageIssue, Piece, PieceKind, Segment,
 };
 use ncsheet::geometry::GeometryError;
 
@@ -271,7 +271,7 @@ fn a_closed_cam_has_no_issues_and_an_overlap_is_fatal_even_when_partial() {
 
 fn sample_cams(tolerance: f64) -> Vec<ncsheet::geometry::cam::CamFit> {
     let options = CamOptions { tolerance, allow_partial: true, with_bounds: false };
-    by_disc(&sheet()).iter().map(|(d, segs)| fit_cam(d, segs, &options).unwrap()).collect()
+    fit_design_sheet(SHEET, &options).unwrap()
 }
 
 #[test]

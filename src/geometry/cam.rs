@@ -26,6 +26,7 @@ pub use arc::{Arc, Turn};
 pub use fit::{deviation, fit_piece, lower_bound, Deviation};
 pub use piece::{Piece, PieceKind};
 pub use profile::{
-    by_disc, check_coverage, fit_cam, CamError, CamFit, CamOptions, CoverageIssue, FittedSegment, Segment,
+    by_disc, check_coverage, fit_cam, fit_design_sheet, CamError, CamFit, CamOptions, CoverageIssue, FittedSegment,
+    Segment,
 };
 pub use sheet::parse_sheet;

@@ -313,18 +313,19 @@ fn trial_error(piece: &Piece, k: &Knot, tb: f64, samples: usize) -> f64 {
 /// smallest sample.
 fn extreme_abs(f: impl Fn(f64) -> f64, a: f64, b: f64, samples: usize) -> f64 {
     let h = (b - a) / samples as f64;
-    let values: Vec<f64> = (0..=samples).map(|i| f(a + h * i as f64)).collect();
-    let (mut i_max, mut i_min) = (0, 0);
-    for (i, v) in values.iter().enumerate() {
-        if *v > values[i_max] {
-            i_max = i;
+    let (mut top, mut bottom) = ((a, f64::NEG_INFINITY), (a, f64::INFINITY));
+    for i in 0..=samples {
+        let t = a + h * i as f64;
+        let v = f(t);
+        if v > top.1 {
+            top = (t, v);
         }
-        if *v < values[i_min] {
-            i_min = i;
+        if v < bottom.1 {
+            bottom = (t, v);
         }
     }
-    let top = refine_peak(&f, a + h * i_max as f64, values[i_max], h, (a, b));
-    let bottom = -refine_peak(|t| -f(t), a + h * i_min as f64, -values[i_min], h, (a, b));
+    let top = refine_peak(&f, top.0, top.1, h, (a, b));
+    let bottom = -refine_peak(|t| -f(t), bottom.0, -bottom.1, h, (a, b));
     top.abs().max(bottom.abs())
 }
 
