@@ -380,7 +380,7 @@ fn longest(l_max: f64, guess: f64, h: f64, error: impl Fn(f64) -> f64) -> f64 {
             _ => 3.0,
         };
         let mut next = if e > 0.0 { l * (h / e).powf(1.0 / exponent) } else { 2.0 * l };
-        if !(next > lo && next < hi) || !next.is_finite() {
+        if !(next > lo && next < hi && next.is_finite()) {
             next = if lo > 0.0 { (lo * hi).sqrt() } else { 0.5 * hi };
         }
         prev = Some((l, e));
