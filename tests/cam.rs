@@ -311,3 +311,24 @@ fn time_the_whole_sample_cam_at_one_micron() {
     // Timed here in the test profile; docs/cam.md gives the release time of examples/cam_bench.
     println!("whole sample cam at H = 0.001 mm: {n} arcs in {elapsed:?}");
 }
+
+#[test]
+fn unusual_pieces_still_meet_the_requirements() {
+    let cases = [
+        // From the cam centre, a whole turn.
+        (PieceKind::Archimedean, 0.0, 0.0, 20.0, 360.0, 0.01),
+        // Nearly straight: a steep logarithmic spiral.
+        (PieceKind::Logarithmic, 100.0, 0.0, 10.0, 0.5, 0.001),
+        // A tolerance far coarser than the piece needs.
+        (PieceKind::Archimedean, 79.0, 36.0, 102.0, 160.2, 5.0),
+        // A tiny piece.
+        (PieceKind::Logarithmic, 50.0, 10.0, 50.01, 10.01, 0.0005),
+    ];
+    for (kind, r0, p0, r1, p1, h) in cases {
+        let piece = Piece::new(kind, r0, p0, r1, p1).unwrap();
+        let n = check_fit(&piece, h);
+        let bound = lower_bound(&piece, h).unwrap();
+        println!("{kind:?} {r0}→{r1} over {p0}°→{p1}° at H = {h}: {n} arcs, lower bound {bound}");
+        assert!(n <= ceil_125(bound), "{n} arcs against a lower bound of {bound}");
+    }
+}

@@ -389,39 +389,46 @@ fn longest(l_max: f64, guess: f64, h: f64, error: impl Fn(f64) -> f64) -> f64 {
     lo
 }
 
-/// Levelled error of the best (minimax) circle through the curve part [ta, tb], by the Remez
-/// exchange: the error |C(t) − M| − R of the best circle alternates ±E at four points (its
-/// three parameters plus one), the two ends and two interior extremes. Returns |E|, which
-/// never exceeds the true minimax error, so counts built on it stay lower bounds.
+/// Error of the best (minimax) circle through the curve part [ta, tb], by the Remez exchange:
+/// the error |C(t) − M| − R of the best circle alternates ±E at four points (its three
+/// parameters plus one), the two ends and two interior extremes. Once the exchange settles,
+/// returns the levelled |E|, which does not exceed the true minimax error, so counts built on it
+/// stay lower bounds. Where it does not settle (parts far from any circle, whose error has more
+/// extremes, far longer than any part a fit uses) it returns the error of the circle found,
+/// which only says "too long" sooner.
 fn minimax_circle_error(piece: &Piece, ta: f64, tb: f64) -> f64 {
+    const N: usize = 48;
     let d = tb - ta;
+    let h = d / N as f64;
+    let at = |i: usize| ta + h * i as f64;
     let mut nodes = [ta, ta + 0.25 * d, ta + 0.75 * d, tb];
     let (mut centre, mut radius) = circle_through(piece.point(ta), piece.point(ta + 0.5 * d), piece.point(tb));
     let mut level = 0.0;
+    let mut worst = f64::INFINITY;
     for _ in 0..12 {
         (centre, radius, level) = level_circle(piece, nodes, centre, radius, level);
         let err = |t: f64| (piece.point(t) - centre).norm() - radius;
         let sign = if level >= 0.0 { 1.0 } else { -1.0 };
         // The error runs +E, −E, +E, −E (times `sign`): u2 is the highest interior peak, u1
         // the lowest valley before it.
-        const N: usize = 48;
-        let h = d / N as f64;
-        let at = |i: usize| ta + h * i as f64;
         let v: Vec<f64> = (0..=N).map(|i| sign * err(at(i))).collect();
+        worst = v.iter().fold(0.0, |m: f64, e| m.max(e.abs()));
         let peaks = (1..N).filter(|&i| v[i] >= v[i - 1] && v[i] >= v[i + 1]);
         let Some(i2) = peaks.max_by(|&i, &j| v[i].total_cmp(&v[j])) else { break };
         let valleys = (1..i2).filter(|&i| v[i] <= v[i - 1] && v[i] <= v[i + 1]);
         let Some(i1) = valleys.min_by(|&i, &j| v[i].total_cmp(&v[j])) else { break };
         let u2 = golden_arg(|t| sign * err(t), at(i2 - 1), at(i2 + 1));
         let u1 = golden_arg(|t| -sign * err(t), at(i1 - 1), at(i1 + 1));
-        let spread = [ta, u1, u2, tb].iter().map(|&t| err(t).abs()).fold(0.0, f64::max);
-        let converged = spread <= level.abs() * (1.0 + 1e-9) + 1e-15;
-        if !(ta < u1 && u1 < u2 && u2 < tb) || converged {
+        worst = [u1, u2].iter().fold(worst, |m, &t| m.max(err(t).abs()));
+        if worst <= level.abs() * (1.0 + 1e-6) + 1e-15 {
+            return level.abs();
+        }
+        if !(ta < u1 && u1 < u2 && u2 < tb) {
             break;
         }
         nodes = [ta, u1, u2, tb];
     }
-    level.abs()
+    worst.max(level.abs())
 }
 
 /// Newton's method on |C(u_j) − M| − R = (−1)^j·E for the four nodes.
