@@ -8,6 +8,7 @@ use crate::eval::coerce::{to_number, to_text};
 use crate::eval::evaluator::Ctx;
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::ast::Expr;
+use crate::geometry::cam::{fit_piece, Piece, PieceKind};
 use crate::geometry::chamfer::{chamfer, ChamferKind, ChamferPoints, ChamferSpec};
 use crate::geometry::head::head_ab;
 use crate::geometry::GeometryError;
@@ -65,6 +66,14 @@ pub const FUNCTIONS: &[FnSpec] = &[
         head_row,
         "HEAD_AB(xT, yT, zT, ax, ay, az, H)",
         "Spills {X, Y, Z, A, B}: pivot point and angles (degrees) of an (A,B) 5-axis head",
+    ),
+    FnSpec::value(
+        "ARCH_FIT",
+        6,
+        6,
+        arch_fit,
+        "ARCH_FIT(kind, r0, phi0, r1, phi1, tol)",
+        "Spills one row {x0, y0, x1, y1, cx, cy, r, dir} per tangent arc within tol of a cam piece",
     ),
 ];
 
@@ -149,6 +158,33 @@ fn head_row(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         ctx.explain(err, m)
     })?;
     Ok(number_row(&[pose.pivot.x, pose.pivot.y, pose.pivot.z, pose.a_deg, pose.b_deg]))
+}
+
+const ARCH_FIT_ARGS: &str = "(kind, r0, phi0, r1, phi1, tol)";
+
+/// A cam piece ("arch", "log" or "circle") replaced by tangent arcs: one row per arc, dir = 1
+/// counter-clockwise, −1 clockwise.
+fn arch_fit(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let values = scalars(ctx, args);
+    let kind_text = to_text(&values[0]).map_err(|e| ctx.explain(e, format!("ARCH_FIT kind is {e}")))?;
+    let mut n = [0.0; 5];
+    for (i, v) in values[1..].iter().enumerate() {
+        n[i] = to_number(v).map_err(|e| ctx.explain(e, format!("argument {} of {ARCH_FIT_ARGS} is {e}", i + 2)))?;
+    }
+    let [r0, phi0, r1, phi1, tol] = n;
+    let arcs = PieceKind::parse(&kind_text)
+        .and_then(|kind| Piece::new(kind, r0, phi0, r1, phi1))
+        .and_then(|piece| fit_piece(&piece, tol))
+        .map_err(|e| {
+            let (err, m) = geometry_error(e);
+            ctx.explain(err, m)
+        })?;
+    let mut data = Vec::with_capacity(arcs.len() * 8);
+    for a in &arcs {
+        let row = [a.start.x, a.start.y, a.end.x, a.end.y, a.centre.x, a.centre.y, a.radius, a.turn.sign()];
+        data.extend(row.iter().map(|&v| Value::Number(v)));
+    }
+    Ok(Array::new(arcs.len(), 8, data).into())
 }
 
 fn number_row(values: &[f64]) -> Value {
