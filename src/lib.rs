@@ -2,8 +2,13 @@
 //!
 //! Layers, each using only those before it: [`formula`] (grammar, syntax tree) →
 //! [`eval`] (values, evaluator, functions) → [`workbook`] (cells, dependency graph,
-//! recalculation) → [`io`] (csv, xlsx) → `cli` (in the binary). See ARCHITECTURE.md.
+//! recalculation) → [`io`] (csv, xlsx) and [`nc`] (NC programs) → `cli` (in the binary).
+//! [`geometry`] is pure and stands apart; the evaluator registers it as sheet functions.
+//! See ARCHITECTURE.md.
 
 pub mod eval;
 pub mod formula;
+pub mod geometry;
+pub mod io;
+pub mod nc;
 pub mod workbook;

@@ -1,3 +1,22 @@
-fn main() {
-    println!("Hello, world!");
+//! The `ncsheet` binary: parses the command line and renders a failure once, ripgrep style
+//! (`ncsheet: parts.csv: Sheet1!B3: …`). Exit codes: 0 success, 1 bad input (a file, a cell,
+//! a formula), 2 bad usage (clap's code for its own errors too).
+
+use std::process::ExitCode;
+
+use clap::Parser;
+
+mod cli;
+
+fn main() -> ExitCode {
+    let args = cli::Cli::parse();
+    match cli::run(args) {
+        Ok(()) => ExitCode::SUCCESS,
+        // `ncsheet eval big.csv | head`: the reader has all it wanted.
+        Err(e) if e.is_broken_pipe() => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("{}", cli::report::prepend("ncsheet: ", &e.to_string()));
+            ExitCode::from(e.exit_code())
+        }
+    }
 }

@@ -156,4 +156,3 @@ fn a_long_chain_recalculates_without_deep_recursion() {
     set(&mut wb, "A1", "2");
     assert_eq!(get(&wb, "A200000"), n(200_001.0));
 }
-

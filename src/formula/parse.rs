@@ -474,3 +474,33 @@ fn binary_op(rule: Rule) -> BinOp {
         rule => unreachable!("infix {rule:?}"),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct NoFunctions;
+
+    impl FunctionTable for NoFunctions {
+        fn lookup(&self, _: &str) -> Option<FnInfo> {
+            None
+        }
+
+        fn name(&self, _: FnId) -> &str {
+            ""
+        }
+    }
+
+    #[test]
+    fn dollar_signs_fix_the_column_or_the_row() {
+        let ctx = ParseContext { at: Pos::new(2, 2), functions: &NoFunctions, sheet: &|_| None };
+        let cell = |text: &str| match parse_formula(text, &ctx).expect("parses").kind {
+            ExprKind::Ref(Reference { shape: RefShape::Cell(c), .. }) => (c.col, c.row),
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(cell("C$2"), (Coord::relative(0), Coord::absolute(1)));
+        assert_eq!(cell("$A3"), (Coord::absolute(0), Coord::relative(0)));
+        assert_eq!(cell("$B$1"), (Coord::absolute(1), Coord::absolute(0)));
+        assert_eq!(cell("D4"), (Coord::relative(1), Coord::relative(1)));
+    }
+}

@@ -71,7 +71,7 @@ pub enum Deps {
     One(u32),
     Two(u32, u32),
     Three(u32, u32, u32),
-    /// Boxed so that `Deps` stays 16 bytes (a `Vec` inline would make every cell 8 bytes larger).
+    // Boxed so that the enum stays 16 bytes: most cells never need the vector.
     #[allow(clippy::box_collection)]
     Many(Box<Vec<u32>>),
 }

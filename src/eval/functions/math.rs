@@ -1,14 +1,25 @@
 //! Math and trigonometry. Angles in radians, as in Excel.
 
-use crate::eval::evaluator::{power, Ctx};
-use crate::eval::value::{Value, XlError, XlResult};
-use crate::formula::ast::Expr;
+use std::rc::Rc;
 
-use super::args::{for_each_number, lift_number1, lift_number2};
+use crate::eval::coerce::to_number;
+use crate::eval::evaluator::{number_result, power, Ctx};
+use crate::eval::number_format::round15;
+use crate::eval::value::{Array, Value, XlError, XlResult};
+use crate::formula::address::{MAX_COLS, MAX_ROWS};
+use crate::formula::ast::{Expr, ExprKind};
+
+use super::args::{block, for_each_number, lift, lift_number1, lift_number2, number_or};
 use super::{FnSpec, MANY};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("ABS", 1, 1, abs, "ABS(number)", "Absolute value"),
+    FnSpec::value("ACOS", 1, 1, acos, "ACOS(number)", "Arccosine in radians, 0 to pi; #NUM! outside -1..1"),
+    FnSpec::value("ACOSH", 1, 1, acosh, "ACOSH(number)", "Inverse hyperbolic cosine; #NUM! below 1"),
+    FnSpec::value("ACOT", 1, 1, acot, "ACOT(number)", "Arccotangent in radians, 0 to pi"),
+    FnSpec::value("ACOTH", 1, 1, acoth, "ACOTH(number)", "Inverse hyperbolic cotangent; #NUM! for -1..1"),
+    FnSpec::value("ASIN", 1, 1, asin, "ASIN(number)", "Arcsine in radians, -pi/2 to pi/2; #NUM! outside -1..1"),
+    FnSpec::value("ASINH", 1, 1, asinh, "ASINH(number)", "Inverse hyperbolic sine"),
     FnSpec::value("ATAN", 1, 1, atan, "ATAN(number)", "Arctangent in radians, -pi/2 to pi/2"),
     FnSpec::value(
         "ATAN2",
@@ -18,13 +29,124 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "ATAN2(x, y)",
         "Angle of the point (x, y) in radians, -pi to pi; x before y as in Excel",
     ),
+    FnSpec::value("ATANH", 1, 1, atanh, "ATANH(number)", "Inverse hyperbolic tangent; #NUM! outside -1..1 (exclusive)"),
+    FnSpec::value(
+        "CEILING",
+        2,
+        2,
+        ceiling,
+        "CEILING(number, significance)",
+        "Rounds up to a multiple of significance (negative numbers toward zero)",
+    ),
+    FnSpec::value(
+        "CEILING.MATH",
+        1,
+        3,
+        ceiling_math,
+        "CEILING.MATH(number, [significance], [mode])",
+        "Rounds up to a multiple of |significance|; mode<>0 rounds negatives away from zero",
+    ),
+    FnSpec::value(
+        "CEILING.PRECISE",
+        1,
+        2,
+        ceiling_precise,
+        "CEILING.PRECISE(number, [significance])",
+        "Rounds up (toward +infinity) to a multiple of |significance|",
+    ),
     FnSpec::value("COS", 1, 1, cos, "COS(angle)", "Cosine of an angle in radians"),
+    FnSpec::value("COSH", 1, 1, cosh, "COSH(number)", "Hyperbolic cosine"),
+    FnSpec::value("COT", 1, 1, cot, "COT(angle)", "Cotangent of an angle in radians"),
+    FnSpec::value("COTH", 1, 1, coth, "COTH(number)", "Hyperbolic cotangent"),
+    FnSpec::value("CSC", 1, 1, csc, "CSC(angle)", "Cosecant of an angle in radians"),
+    FnSpec::value("CSCH", 1, 1, csch, "CSCH(number)", "Hyperbolic cosecant"),
     FnSpec::value("DEGREES", 1, 1, degrees, "DEGREES(angle)", "Radians to degrees"),
+    FnSpec::value("EXP", 1, 1, exp, "EXP(number)", "e raised to number"),
+    FnSpec::value("EVEN", 1, 1, even, "EVEN(number)", "Rounds away from zero to an even integer"),
+    FnSpec::value("FACT", 1, 1, fact, "FACT(number)", "Factorial of the integer part; #NUM! below 0 or above 170"),
+    FnSpec::value(
+        "FLOOR",
+        2,
+        2,
+        floor,
+        "FLOOR(number, significance)",
+        "Rounds down to a multiple of significance (negative numbers away from zero)",
+    ),
+    FnSpec::value(
+        "FLOOR.MATH",
+        1,
+        3,
+        floor_math,
+        "FLOOR.MATH(number, [significance], [mode])",
+        "Rounds down to a multiple of |significance|; mode<>0 rounds negatives toward zero",
+    ),
+    FnSpec::value(
+        "FLOOR.PRECISE",
+        1,
+        2,
+        floor_precise,
+        "FLOOR.PRECISE(number, [significance])",
+        "Rounds down (toward -infinity) to a multiple of |significance|",
+    ),
+    FnSpec::value("INT", 1, 1, int, "INT(number)", "Rounds down to an integer (INT(-2.5) = -3)"),
+    FnSpec::value(
+        "ISO.CEILING",
+        1,
+        2,
+        ceiling_precise,
+        "ISO.CEILING(number, [significance])",
+        "Same as CEILING.PRECISE",
+    ),
+    FnSpec::value("LN", 1, 1, ln, "LN(number)", "Natural logarithm; #NUM! for 0 and below"),
+    FnSpec::value("LOG", 1, 2, log, "LOG(number, [base])", "Logarithm to base (10 when omitted)"),
+    FnSpec::value("LOG10", 1, 1, log10, "LOG10(number)", "Base-10 logarithm"),
+    FnSpec::value(
+        "MOD",
+        2,
+        2,
+        modulo,
+        "MOD(number, divisor)",
+        "Remainder with the sign of the divisor; #DIV/0! for divisor 0",
+    ),
+    FnSpec::value(
+        "MROUND",
+        2,
+        2,
+        mround,
+        "MROUND(number, multiple)",
+        "Rounds half away from zero to a multiple; #NUM! when the signs differ",
+    ),
     FnSpec::value("PI", 0, 0, pi, "PI()", "3.14159265358979"),
+    FnSpec::value("ODD", 1, 1, odd, "ODD(number)", "Rounds away from zero to an odd integer"),
     FnSpec::value("POWER", 2, 2, power_fn, "POWER(number, power)", "number^power"),
+    FnSpec::value(
+        "PRODUCT",
+        1,
+        MANY,
+        product,
+        "PRODUCT(number1, [number2], ...)",
+        "Multiplies numbers; text and booleans in ranges are skipped",
+    ),
+    FnSpec::value("QUOTIENT", 2, 2, quotient, "QUOTIENT(numerator, denominator)", "Integer part of a division"),
+    FnSpec::value("RADIANS", 1, 1, radians, "RADIANS(angle)", "Degrees to radians"),
     FnSpec::value("ROUND", 2, 2, round, "ROUND(number, digits)", "Rounds half away from zero to digits decimals"),
+    FnSpec::value("ROUNDDOWN", 2, 2, rounddown, "ROUNDDOWN(number, digits)", "Rounds toward zero to digits decimals"),
+    FnSpec::value("ROUNDUP", 2, 2, roundup, "ROUNDUP(number, digits)", "Rounds away from zero to digits decimals"),
+    FnSpec::value("SEC", 1, 1, sec, "SEC(angle)", "Secant of an angle in radians"),
+    FnSpec::value("SECH", 1, 1, sech, "SECH(number)", "Hyperbolic secant"),
+    FnSpec::value(
+        "SEQUENCE",
+        1,
+        4,
+        sequence,
+        "SEQUENCE(rows, [columns], [start], [step])",
+        "Array of rows x columns numbers counting from start by step",
+    ),
+    FnSpec::value("SIGN", 1, 1, sign, "SIGN(number)", "1, 0 or -1 by the sign of number"),
     FnSpec::value("SIN", 1, 1, sin, "SIN(angle)", "Sine of an angle in radians"),
+    FnSpec::value("SINH", 1, 1, sinh, "SINH(number)", "Hyperbolic sine"),
     FnSpec::value("SQRT", 1, 1, sqrt, "SQRT(number)", "Square root; #NUM! for negative numbers"),
+    FnSpec::value("SQRTPI", 1, 1, sqrtpi, "SQRTPI(number)", "Square root of number*pi; #NUM! for negative numbers"),
     FnSpec::value(
         "SUM",
         1,
@@ -33,10 +155,66 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "SUM(number1, [number2], ...)",
         "Adds numbers; text and booleans in ranges are skipped",
     ),
+    FnSpec::value(
+        "SUMPRODUCT",
+        1,
+        MANY,
+        sumproduct,
+        "SUMPRODUCT(array1, [array2], ...)",
+        "Sum of the item-by-item products of same-sized arrays; non-numbers count as 0",
+    ),
+    FnSpec::value(
+        "SUMSQ",
+        1,
+        MANY,
+        sumsq,
+        "SUMSQ(number1, [number2], ...)",
+        "Sum of squares; text and booleans in ranges are skipped",
+    ),
+    FnSpec::value("TAN", 1, 1, tan, "TAN(angle)", "Tangent of an angle in radians"),
+    FnSpec::value("TANH", 1, 1, tanh, "TANH(number)", "Hyperbolic tangent"),
+    FnSpec::value("TRUNC", 1, 2, trunc, "TRUNC(number, [digits])", "Cuts off decimals beyond digits (0 when omitted)"),
 ];
 
-fn abs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number1(ctx, args, |x| Ok(x.abs()))
+// ---- trigonometry -------------------------------------------------------------------------
+
+/// Excel refuses sine, cosine and tangent of angles of 2^27 and beyond (#NUM!): so few
+/// periods are left in a double there that the result would be noise.
+fn trig_angle(x: f64) -> XlResult<f64> {
+    if x.abs() >= 134_217_728.0 {
+        Err(XlError::Num)
+    } else {
+        Ok(x)
+    }
+}
+
+/// The arcsine and arccosine domain.
+fn unit_interval(x: f64) -> XlResult<f64> {
+    if (-1.0..=1.0).contains(&x) {
+        Ok(x)
+    } else {
+        Err(XlError::Num)
+    }
+}
+
+fn sin(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| Ok(trig_angle(x)?.sin()))
+}
+
+fn cos(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| Ok(trig_angle(x)?.cos()))
+}
+
+fn tan(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| Ok(trig_angle(x)?.tan()))
+}
+
+fn asin(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| Ok(unit_interval(x)?.asin()))
+}
+
+fn acos(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| Ok(unit_interval(x)?.acos()))
 }
 
 fn atan(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
@@ -47,37 +225,254 @@ fn atan2(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number2(ctx, args, 0.0, |x, y| if x == 0.0 && y == 0.0 { Err(XlError::Div0) } else { Ok(y.atan2(x)) })
 }
 
-fn cos(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number1(ctx, args, |x| Ok(x.cos()))
+fn sinh(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| Ok(x.sinh()))
+}
+
+fn cosh(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| Ok(x.cosh()))
+}
+
+fn tanh(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| Ok(x.tanh()))
+}
+
+/// `1 / x` for the reciprocal functions: #DIV/0! where x is 0 (COT(0), CSCH(0)).
+fn reciprocal(x: f64) -> XlResult<f64> {
+    if x == 0.0 {
+        Err(XlError::Div0)
+    } else {
+        Ok(1.0 / x)
+    }
+}
+
+fn cot(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| reciprocal(trig_angle(x)?.tan()))
+}
+
+fn csc(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| reciprocal(trig_angle(x)?.sin()))
+}
+
+fn sec(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| reciprocal(trig_angle(x)?.cos()))
+}
+
+fn acot(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| Ok(std::f64::consts::FRAC_PI_2 - x.atan()))
+}
+
+fn coth(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| reciprocal(x.tanh()))
+}
+
+fn csch(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| reciprocal(x.sinh()))
+}
+
+fn sech(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| reciprocal(x.cosh()))
+}
+
+fn asinh(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| Ok(x.asinh()))
+}
+
+fn acosh(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| if x < 1.0 { Err(XlError::Num) } else { Ok(x.acosh()) })
+}
+
+fn atanh(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| if x.abs() >= 1.0 { Err(XlError::Num) } else { Ok(x.atanh()) })
+}
+
+fn acoth(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| if x.abs() <= 1.0 { Err(XlError::Num) } else { Ok(0.5 * ((x + 1.0) / (x - 1.0)).ln()) })
 }
 
 fn degrees(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number1(ctx, args, |x| Ok(x.to_degrees()))
 }
 
+fn radians(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| Ok(x.to_radians()))
+}
+
 fn pi(_: &mut Ctx, _: &[Expr]) -> XlResult<Value> {
     Ok(Value::Number(std::f64::consts::PI))
+}
+
+// ---- powers and logarithms ----------------------------------------------------------------
+
+fn sqrt(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| if x < 0.0 { Err(XlError::Num) } else { Ok(x.sqrt()) })
+}
+
+fn sqrtpi(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| if x < 0.0 { Err(XlError::Num) } else { Ok((x * std::f64::consts::PI).sqrt()) })
 }
 
 fn power_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number2(ctx, args, 0.0, power)
 }
 
-fn round(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number2(ctx, args, 0.0, |x, d| Ok(round_half_away(x, d.trunc() as i32)))
+fn exp(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| Ok(x.exp()))
 }
 
-/// Excel's ROUND: half away from zero, judged on the 15-significant-digit value so that
-/// `ROUND(2.675, 2)` is 2.68 although 2.675 is stored as 2.67499999….
-pub fn round_half_away(x: f64, digits: i32) -> f64 {
+/// Logarithms exist for positive numbers only.
+fn positive(x: f64) -> XlResult<f64> {
+    if x > 0.0 {
+        Ok(x)
+    } else {
+        Err(XlError::Num)
+    }
+}
+
+fn ln(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| Ok(positive(x)?.ln()))
+}
+
+fn log10(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| Ok(positive(x)?.log10()))
+}
+
+fn log(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number2(ctx, args, 10.0, |x, base| {
+        let (x, base) = (positive(x)?, positive(base)?);
+        if base == 1.0 {
+            Err(XlError::Div0)
+        } else if base == 10.0 {
+            // log10 is exact on powers of ten, where ln(x)/ln(10) is not (LOG(1000) = 3).
+            Ok(x.log10())
+        } else {
+            Ok(x.ln() / base.ln())
+        }
+    })
+}
+
+fn fact(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| {
+        if x < 0.0 {
+            return Err(XlError::Num);
+        }
+        // 170! is the largest factorial a double holds; beyond it the loop yields infinity,
+        // which the lift reports as #NUM!.
+        let n = x.trunc().min(171.0) as u32;
+        Ok((2..=n).fold(1.0, |acc, k| acc * f64::from(k)))
+    })
+}
+
+// ---- signs, integers and division ----------------------------------------------------------
+
+fn abs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| Ok(x.abs()))
+}
+
+fn sign(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| {
+        Ok(if x > 0.0 {
+            1.0
+        } else if x < 0.0 {
+            -1.0
+        } else {
+            0.0
+        })
+    })
+}
+
+fn even(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| Ok(((x.abs() / 2.0).ceil() * 2.0).copysign(x)))
+}
+
+fn odd(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| {
+        let up = x.abs().ceil();
+        let odd = if up % 2.0 == 0.0 { up + 1.0 } else { up };
+        // ODD(0) is 1: zero rounds "away from zero" to the positive side.
+        Ok(if x < 0.0 { -odd } else { odd })
+    })
+}
+
+fn int(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| Ok(x.floor()))
+}
+
+fn modulo(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number2(ctx, args, 0.0, |n, d| {
+        if d == 0.0 {
+            return Err(XlError::Div0);
+        }
+        // n - d*INT(n/d): the remainder takes the divisor's sign (MOD(-3, 2) = 1).
+        let r = n - d * (n / d).floor();
+        // A quotient rounded up to the next integer leaves r = d; that remainder is 0.
+        Ok(if r.abs() >= d.abs() { 0.0 } else { r })
+    })
+}
+
+fn quotient(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_toolpak2(ctx, args, |n, d| if d == 0.0 { Err(XlError::Div0) } else { Ok((n / d).trunc()) })
+}
+
+/// A number argument of a function from Excel's old Analysis ToolPak (QUOTIENT, MROUND):
+/// these refuse booleans (`QUOTIENT(TRUE, 1)` is #VALUE!) where built-ins read TRUE as 1.
+fn toolpak_number(v: &Value) -> XlResult<f64> {
+    match v {
+        Value::Bool(_) => Err(XlError::Value),
+        v => to_number(v),
+    }
+}
+
+/// [`lift_number2`] for Analysis ToolPak functions.
+fn lift_toolpak2(ctx: &mut Ctx, args: &[Expr], f: fn(f64, f64) -> XlResult<f64>) -> XlResult<Value> {
+    lift(ctx, args, &|v| {
+        let (x, y) = (toolpak_number(&v[0])?, toolpak_number(&v[1])?);
+        Ok(number_result(f(x, y)?))
+    })
+}
+
+// ---- rounding -----------------------------------------------------------------------------
+
+/// How the digits beyond the kept ones are dropped. Applied to the magnitude, so "up"
+/// is away from zero and "down" toward zero, as Excel's ROUNDUP and ROUNDDOWN name them.
+#[derive(Clone, Copy)]
+enum Rounding {
+    /// ROUND: halves go up (away from zero).
+    HalfUp,
+    Up,
+    Down,
+}
+
+impl Rounding {
+    fn apply(self, magnitude: f64) -> f64 {
+        match self {
+            Rounding::HalfUp => (magnitude + 0.5).floor(),
+            Rounding::Up => magnitude.ceil(),
+            Rounding::Down => magnitude.trunc(),
+        }
+    }
+}
+
+/// Rounds `x` to `digits` decimals (negative: to tens, hundreds, …), judged on the
+/// 15-significant-digit values Excel shows, so that `ROUND(2.675, 2)` is 2.68 although
+/// 2.675 is stored as 2.67499999….
+fn round_to(x: f64, digits: f64, mode: Rounding) -> f64 {
     if !x.is_finite() || x == 0.0 {
         return x;
     }
-    let digits = digits.clamp(-308, 308);
-    let x15 = crate::eval::number_format::round15(x);
+    let digits = digits.trunc().clamp(-400.0, 400.0) as i32;
     let scale = 10f64.powi(digits.abs());
+    let x15 = round15(x);
     let scaled = if digits >= 0 { x15 * scale } else { x15 / scale };
-    let rounded = crate::eval::number_format::round15(scaled).abs().add_half_floor() * x.signum();
+    if !scaled.is_finite() || scaled.abs() >= 1e15 {
+        // Every significant digit is kept: nothing to round.
+        return x;
+    }
+    let rounded = mode.apply(round15(scaled).abs());
+    if rounded == 0.0 {
+        return 0.0;
+    }
+    let rounded = rounded.copysign(x);
     if digits >= 0 {
         rounded / scale
     } else {
@@ -85,26 +480,384 @@ pub fn round_half_away(x: f64, digits: i32) -> f64 {
     }
 }
 
-trait HalfUp {
-    fn add_half_floor(self) -> f64;
+/// Excel's ROUND: half away from zero, on the 15-significant-digit value.
+pub fn round_half_away(x: f64, digits: i32) -> f64 {
+    round_to(x, f64::from(digits), Rounding::HalfUp)
 }
 
-impl HalfUp for f64 {
-    fn add_half_floor(self) -> f64 {
-        (self + 0.5).floor()
+fn round(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    // `as` truncates the digits toward zero, as Excel does (ROUND(x, 1.9) keeps 1 digit).
+    lift_number2(ctx, args, 0.0, |x, d| Ok(round_half_away(x, d as i32)))
+}
+
+fn roundup(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number2(ctx, args, 0.0, |x, d| Ok(round_to(x, d, Rounding::Up)))
+}
+
+fn rounddown(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number2(ctx, args, 0.0, |x, d| Ok(round_to(x, d, Rounding::Down)))
+}
+
+fn trunc(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number2(ctx, args, 0.0, |x, d| Ok(round_to(x, d, Rounding::Down)))
+}
+
+/// `x / step` as Excel sees it before rounding to a multiple: on 15 significant digits, so
+/// that `FLOOR(0.3, 0.1)` is 0.3 although 0.3/0.1 is 2.9999999999999996.
+fn multiples(x: f64, step: f64) -> f64 {
+    round15(x / step)
+}
+
+fn ceiling(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number2(ctx, args, 1.0, |x, s| {
+        if s == 0.0 {
+            return Ok(0.0);
+        }
+        // A negative significance only rounds negative numbers (away from zero).
+        if x > 0.0 && s < 0.0 {
+            return Err(XlError::Num);
+        }
+        Ok(multiples(x, s).ceil() * s)
+    })
+}
+
+fn floor(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number2(ctx, args, 1.0, |x, s| {
+        if x == 0.0 {
+            return Ok(0.0);
+        }
+        if s == 0.0 {
+            return Err(XlError::Div0);
+        }
+        if x > 0.0 && s < 0.0 {
+            return Err(XlError::Num);
+        }
+        Ok(multiples(x, s).floor() * s)
+    })
+}
+
+/// CEILING.MATH and FLOOR.MATH: the sign of significance is ignored (omitted: 1) and a
+/// non-zero mode flips the direction for negative numbers.
+fn math_rounding(ctx: &mut Ctx, args: &[Expr], up: bool) -> XlResult<Value> {
+    // Only an omitted significance is 1; an empty cell reads as 0 like any other number.
+    let omitted = |i: usize| args.get(i).is_none_or(|e| e.kind == ExprKind::Missing);
+    let default_significance = omitted(1);
+    lift(ctx, args, &|v| {
+        let x = to_number(&v[0])?;
+        let s = if default_significance { 1.0 } else { to_number(&v[1])?.abs() };
+        let mode = v.get(2).map_or(Ok(0.0), to_number)?;
+        if s == 0.0 {
+            return Ok(Value::Number(0.0));
+        }
+        let q = multiples(x, s);
+        let toward_positive = up != (x < 0.0 && mode != 0.0);
+        let q = if toward_positive { q.ceil() } else { q.floor() };
+        Ok(number_result(q * s))
+    })
+}
+
+/// CEILING.PRECISE and ISO.CEILING: CEILING.MATH without its mode argument.
+fn ceiling_precise(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    math_rounding(ctx, args, true)
+}
+
+fn floor_precise(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    math_rounding(ctx, args, false)
+}
+
+fn ceiling_math(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    math_rounding(ctx, args, true)
+}
+
+fn floor_math(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    math_rounding(ctx, args, false)
+}
+
+fn mround(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    // Excel: MROUND(, 5) and MROUND(5, ) are #N/A, not a rounding of 0.
+    if args.iter().any(|a| a.kind == ExprKind::Missing) {
+        return Err(XlError::NA);
     }
+    lift_toolpak2(ctx, args, |x, m| {
+        if m == 0.0 {
+            return Ok(0.0);
+        }
+        if x * m < 0.0 {
+            return Err(XlError::Num);
+        }
+        Ok(round_to(multiples(x, m), 0.0, Rounding::HalfUp) * m)
+    })
 }
 
-fn sin(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number1(ctx, args, |x| Ok(x.sin()))
-}
-
-fn sqrt(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number1(ctx, args, |x| if x < 0.0 { Err(XlError::Num) } else { Ok(x.sqrt()) })
-}
+// ---- aggregates ---------------------------------------------------------------------------
 
 fn sum(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let mut total = 0.0;
     for_each_number(ctx, args, &mut |n| total += n)?;
-    Ok(crate::eval::evaluator::number_result(total))
+    Ok(number_result(total))
+}
+
+fn sumsq(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let mut total = 0.0;
+    for_each_number(ctx, args, &mut |n| total += n * n)?;
+    Ok(number_result(total))
+}
+
+fn product(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let mut total: Option<f64> = None;
+    for_each_number(ctx, args, &mut |n| total = Some(total.unwrap_or(1.0) * n))?;
+    // No numbers at all is 0 in Excel, not the empty product 1.
+    Ok(number_result(total.unwrap_or(0.0)))
+}
+
+fn sumproduct(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let blocks = args.iter().map(|a| block(ctx, a)).collect::<XlResult<Vec<_>>>()?;
+    let (rows, cols) = (blocks[0].rows, blocks[0].cols);
+    if blocks.iter().any(|b| b.rows != rows || b.cols != cols) {
+        return Err(XlError::Value);
+    }
+    let mut total = 0.0;
+    for i in 0..rows * cols {
+        let mut term = 1.0;
+        for b in &blocks {
+            match &b.data[i] {
+                Value::Number(n) => term *= n,
+                Value::Error(e) => return Err(*e),
+                // Text, booleans and blanks are zeros in SUMPRODUCT.
+                _ => term = 0.0,
+            }
+        }
+        total += term;
+    }
+    Ok(number_result(total))
+}
+
+// ---- arrays -------------------------------------------------------------------------------
+
+/// More items than this is refused (#NUM!) rather than allocated: a sheet-sized SEQUENCE
+/// would need tens of gigabytes.
+const MAX_SEQUENCE_ITEMS: f64 = 16_777_216.0;
+
+fn sequence(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let rows = number_or(ctx, args, 0, 1.0)?.trunc();
+    let cols = number_or(ctx, args, 1, 1.0)?.trunc();
+    let start = number_or(ctx, args, 2, 1.0)?;
+    let step = number_or(ctx, args, 3, 1.0)?;
+    if rows < 1.0 || cols < 1.0 || rows > f64::from(MAX_ROWS) || cols > f64::from(MAX_COLS) {
+        return Err(XlError::Value);
+    }
+    if rows * cols > MAX_SEQUENCE_ITEMS {
+        return Err(ctx.explain(XlError::Num, "SEQUENCE is too large"));
+    }
+    let (rows, cols) = (rows as usize, cols as usize);
+    let data = (0..rows * cols).map(|i| number_result(start + step * i as f64)).collect();
+    Ok(Value::Array(Rc::new(Array::new(rows, cols, data))))
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::eval::testing::MapEnv;
+    use crate::eval::value::{Value, XlError};
+
+    fn n(v: f64) -> Value {
+        Value::Number(v)
+    }
+
+    fn err(e: XlError) -> Value {
+        Value::Error(e)
+    }
+
+    /// Evaluates each formula against no cells and checks the result.
+    fn check(cases: &[(&str, Value)]) {
+        let env = MapEnv::default();
+        for (formula, expected) in cases {
+            let got = env.eval(formula);
+            match (&got, expected) {
+                (Value::Number(a), Value::Number(b)) => {
+                    assert!((a - b).abs() <= 1e-12 * b.abs().max(1.0), "{formula}: {a} vs {b}")
+                }
+                _ => assert_eq!(&got, expected, "{formula}"),
+            }
+        }
+    }
+
+    #[test]
+    fn trigonometry_follows_excel() {
+        check(&[
+            ("=SIN(PI()/2)", n(1.0)),
+            ("=COS(0)", n(1.0)),
+            ("=TAN(PI()/4)", n(1.0)),
+            ("=ASIN(1)", n(std::f64::consts::FRAC_PI_2)),
+            ("=ACOS(2)", err(XlError::Num)),
+            ("=ASIN(-1.5)", err(XlError::Num)),
+            ("=ATAN2(1,1)", n(std::f64::consts::FRAC_PI_4)),
+            ("=ATAN2(-1,0)", n(std::f64::consts::PI)),
+            ("=ATAN2(0,0)", err(XlError::Div0)),
+            ("=DEGREES(PI())", n(180.0)),
+            ("=RADIANS(270)", n(4.71238898038469)),
+            ("=SINH(0)", n(0.0)),
+            ("=COSH(0)", n(1.0)),
+            ("=TANH(0.5)", n(0.46211715726001)),
+            ("=SIN(2^27)", err(XlError::Num)),
+            ("=COT(0)", err(XlError::Div0)),
+            ("=CSC(PI()/2)", n(1.0)),
+            ("=SEC(0)", n(1.0)),
+            ("=ACOT(0)", n(std::f64::consts::FRAC_PI_2)),
+            ("=ACOSH(1)", n(0.0)),
+            ("=ACOSH(0.5)", err(XlError::Num)),
+            ("=ATANH(1)", err(XlError::Num)),
+            ("=ASINH(0)", n(0.0)),
+            ("=ACOTH(1)", err(XlError::Num)),
+            ("=COTH(0)", err(XlError::Div0)),
+            ("=SECH(0)", n(1.0)),
+        ]);
+    }
+
+    #[test]
+    fn powers_and_logarithms_follow_excel() {
+        check(&[
+            ("=SQRT(16)", n(4.0)),
+            ("=SQRT(-1)", err(XlError::Num)),
+            ("=SQRTPI(2)", n(2.5066282746310002)),
+            ("=POWER(2,10)", n(1024.0)),
+            ("=POWER(-8,1/3)", err(XlError::Num)),
+            ("=POWER(0,-1)", err(XlError::Div0)),
+            ("=EXP(1)", n(std::f64::consts::E)),
+            ("=EXP(1000)", err(XlError::Num)),
+            ("=LN(0)", err(XlError::Num)),
+            ("=LN(EXP(2))", n(2.0)),
+            ("=LOG(1000)", n(3.0)),
+            ("=LOG(8,2)", n(3.0)),
+            ("=LOG(0)", err(XlError::Num)),
+            ("=LOG(10,1)", err(XlError::Div0)),
+            ("=LOG10(0.001)", n(-3.0)),
+            ("=FACT(5)", n(120.0)),
+            ("=FACT(5.9)", n(120.0)),
+            ("=FACT(0)", n(1.0)),
+            ("=FACT(-1)", err(XlError::Num)),
+            ("=FACT(171)", err(XlError::Num)),
+        ]);
+    }
+
+    #[test]
+    fn rounding_follows_excel() {
+        check(&[
+            ("=ROUND(2.5,0)", n(3.0)),
+            ("=ROUND(-2.5,0)", n(-3.0)),
+            ("=ROUND(2.675,2)", n(2.68)),
+            ("=ROUND(1234.5678,-2)", n(1200.0)),
+            ("=ROUNDUP(3.2,0)", n(4.0)),
+            ("=ROUNDUP(-3.14159,1)", n(-3.2)),
+            ("=ROUNDUP(31415.92654,-2)", n(31500.0)),
+            ("=ROUNDDOWN(3.9,0)", n(3.0)),
+            ("=ROUNDDOWN(-3.14159,1)", n(-3.1)),
+            ("=TRUNC(8.9)", n(8.0)),
+            ("=TRUNC(-8.9)", n(-8.0)),
+            ("=TRUNC(2.71828,2)", n(2.71)),
+            ("=INT(8.9)", n(8.0)),
+            ("=INT(-8.9)", n(-9.0)),
+            ("=CEILING(2.5,1)", n(3.0)),
+            ("=CEILING(-2.5,2)", n(-2.0)),
+            ("=CEILING(-2.5,-2)", n(-4.0)),
+            ("=CEILING(2.5,-2)", err(XlError::Num)),
+            ("=CEILING(1.5,0.1)", n(1.5)),
+            ("=FLOOR(3.7,2)", n(2.0)),
+            ("=FLOOR(-2.5,-2)", n(-2.0)),
+            ("=FLOOR(-2.5,2)", n(-4.0)),
+            ("=FLOOR(2.5,-2)", err(XlError::Num)),
+            ("=FLOOR(0.3,0.1)", n(0.3)),
+            ("=CEILING.MATH(24.3,5)", n(25.0)),
+            ("=CEILING.MATH(6.7)", n(7.0)),
+            ("=CEILING.MATH(-8.1,2)", n(-8.0)),
+            ("=CEILING.MATH(-5.5,2,-1)", n(-6.0)),
+            ("=FLOOR.MATH(24.3,5)", n(20.0)),
+            ("=FLOOR.MATH(6.7)", n(6.0)),
+            ("=FLOOR.MATH(-8.1,2)", n(-10.0)),
+            ("=FLOOR.MATH(-5.5,2,-1)", n(-4.0)),
+            ("=MROUND(10,3)", n(9.0)),
+            ("=MROUND(-10,-3)", n(-9.0)),
+            ("=MROUND(1.3,0.2)", n(1.4)),
+            ("=MROUND(5,-2)", err(XlError::Num)),
+            ("=MROUND(,5)", err(XlError::NA)),
+            ("=QUOTIENT(TRUE,1)", err(XlError::Value)),
+            ("=CEILING.PRECISE(4.3)", n(5.0)),
+            ("=CEILING.PRECISE(-4.3)", n(-4.0)),
+            ("=CEILING.PRECISE(4.3,-2)", n(6.0)),
+            ("=ISO.CEILING(-4.3,2)", n(-4.0)),
+            ("=FLOOR.PRECISE(-3.2,-1)", n(-4.0)),
+            ("=FLOOR.PRECISE(3.2,-1)", n(3.0)),
+            ("=EVEN(1.5)", n(2.0)),
+            ("=EVEN(3)", n(4.0)),
+            ("=EVEN(-1)", n(-2.0)),
+            ("=ODD(1.5)", n(3.0)),
+            ("=ODD(2)", n(3.0)),
+            ("=ODD(-2)", n(-3.0)),
+        ]);
+    }
+
+    #[test]
+    fn signs_and_division_follow_excel() {
+        check(&[
+            ("=ABS(-2)", n(2.0)),
+            ("=SIGN(-0.5)", n(-1.0)),
+            ("=SIGN(0)", n(0.0)),
+            ("=MOD(3,2)", n(1.0)),
+            ("=MOD(-3,2)", n(1.0)),
+            ("=MOD(3,-2)", n(-1.0)),
+            ("=MOD(-3,-2)", n(-1.0)),
+            ("=MOD(5,0)", err(XlError::Div0)),
+            ("=QUOTIENT(5,2)", n(2.0)),
+            ("=QUOTIENT(-10,3)", n(-3.0)),
+            ("=QUOTIENT(1,0)", err(XlError::Div0)),
+        ]);
+    }
+
+    #[test]
+    fn aggregates_follow_excel() {
+        let env = MapEnv::with(&[
+            ("A1", n(1.0)),
+            ("A2", Value::text("2")),
+            ("A3", Value::Bool(true)),
+            ("A4", n(3.0)),
+            ("B1", n(4.0)),
+            ("B2", n(5.0)),
+            ("B3", n(6.0)),
+            ("B4", Value::text("x")),
+        ]);
+        assert_eq!(env.eval("=SUM(1,\"2\",TRUE)"), n(4.0));
+        assert_eq!(env.eval("=SUM(\"x\")"), err(XlError::Value));
+        assert_eq!(env.eval("=SUM(A1:A4)"), n(4.0));
+        assert_eq!(env.eval("=SUMSQ(A1:A4,2)"), n(14.0));
+        assert_eq!(env.eval("=PRODUCT(A1:A4,2)"), n(6.0));
+        assert_eq!(env.eval("=PRODUCT(C1:C3)"), n(0.0));
+        assert_eq!(env.eval("=SUMPRODUCT(A1:A4,B1:B4)"), n(4.0));
+        assert_eq!(env.eval("=SUMPRODUCT({1,2,3},{4,5,6})"), n(32.0));
+        assert_eq!(env.eval("=SUMPRODUCT(A1:A4,B1:B3)"), err(XlError::Value));
+        assert_eq!(env.eval("=SUMPRODUCT({1,2}*{3,4})"), n(11.0));
+    }
+
+    #[test]
+    fn scalar_functions_lift_over_ranges() {
+        let env = MapEnv::with(&[("A1", n(0.0)), ("A2", n(1.0)), ("A3", n(4.0))]);
+        let Value::Array(a) = env.eval_at("=SQRT(A1:A3)", "C1").unwrap() else {
+            panic!("SQRT of a range is an array");
+        };
+        assert_eq!((a.rows, a.cols), (3, 1));
+        assert_eq!(a.data, vec![n(0.0), n(1.0), n(2.0)]);
+        assert_eq!(env.eval("=SUM(ROUND(A1:A3/2,0))"), n(3.0));
+    }
+
+    #[test]
+    fn sequence_spills_an_array() {
+        let env = MapEnv::default();
+        let Value::Array(a) = env.eval_at("=SEQUENCE(2,3,10,5)", "A1").unwrap() else {
+            panic!("SEQUENCE is an array");
+        };
+        assert_eq!((a.rows, a.cols), (2, 3));
+        assert_eq!(a.data[5], n(35.0));
+        assert_eq!(env.eval("=SUM(SEQUENCE(10))"), n(55.0));
+        assert_eq!(env.eval("=SUM(SEQUENCE(,3))"), n(6.0));
+        assert_eq!(env.eval("=SEQUENCE(0)"), err(XlError::Value));
+        assert_eq!(env.eval("=SEQUENCE(-1)"), err(XlError::Value));
+    }
 }

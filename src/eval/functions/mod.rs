@@ -14,12 +14,15 @@ use super::evaluator::{Ctx, Operand};
 use super::value::{Value, XlResult};
 
 pub mod args;
+mod criteria;
+mod geometry;
 mod info;
 mod logic;
 mod lookup;
 mod math;
 mod stats;
 mod text;
+mod text_format;
 
 /// A function body that returns a value.
 pub type ValueFn = fn(&mut Ctx, &[Expr]) -> XlResult<Value>;
@@ -72,7 +75,16 @@ impl FnSpec {
 
 /// Every function, in one list. Ids are indexes into it.
 pub static REGISTRY: LazyLock<Vec<FnSpec>> = LazyLock::new(|| {
-    [math::FUNCTIONS, stats::FUNCTIONS, logic::FUNCTIONS, lookup::FUNCTIONS, text::FUNCTIONS, info::FUNCTIONS].concat()
+    [
+        math::FUNCTIONS,
+        stats::FUNCTIONS,
+        logic::FUNCTIONS,
+        lookup::FUNCTIONS,
+        text::FUNCTIONS,
+        info::FUNCTIONS,
+        geometry::FUNCTIONS,
+    ]
+    .concat()
 });
 
 static BY_NAME: LazyLock<HashMap<String, FnId>> = LazyLock::new(|| {

@@ -1,17 +1,416 @@
-//! Statistical aggregates: MIN, MAX, AVERAGE, COUNT and their conditional forms.
+//! Statistical aggregates: MIN, MAX, AVERAGE, MEDIAN, the COUNT family and the
+//! conditional forms (COUNTIF, SUMIF, AVERAGEIF, COUNTIFS, SUMIFS, AVERAGEIFS, MINIFS, MAXIFS).
 
-use crate::eval::evaluator::Ctx;
-use crate::eval::value::{Value, XlResult};
-use crate::formula::ast::Expr;
+use crate::eval::coerce::parse_number;
+use crate::eval::evaluator::{number_result, Ctx};
+use crate::eval::value::{Value, XlError, XlResult};
+use crate::formula::ast::{Expr, ExprKind};
 
-use super::args::for_each_number;
+use super::args::{for_each_number, for_each_value, lift_values, numbers, Source};
+use super::criteria::{matching_cells, CellBlock, Criterion};
 use super::{FnSpec, MANY};
 
-pub const FUNCTIONS: &[FnSpec] =
-    &[FnSpec::value("MAX", 1, MANY, max, "MAX(number1, [number2], ...)", "Largest number; 0 when there is none")];
+pub const FUNCTIONS: &[FnSpec] = &[
+    FnSpec::value(
+        "AVERAGE",
+        1,
+        MANY,
+        average,
+        "AVERAGE(number1, [number2], ...)",
+        "Arithmetic mean; #DIV/0! when there are no numbers",
+    ),
+    FnSpec::value(
+        "AVERAGEIF",
+        2,
+        3,
+        averageif,
+        "AVERAGEIF(range, criteria, [average_range])",
+        "Mean of the cells whose range cell meets the criteria",
+    ),
+    FnSpec::value(
+        "AVERAGEIFS",
+        3,
+        MANY,
+        averageifs,
+        "AVERAGEIFS(average_range, criteria_range1, criteria1, ...)",
+        "Mean of the cells where every criteria range meets its criteria",
+    ),
+    FnSpec::value(
+        "COUNT",
+        1,
+        MANY,
+        count,
+        "COUNT(value1, [value2], ...)",
+        "How many numbers (typed numeric text and booleans count too)",
+    ),
+    FnSpec::value(
+        "COUNTA",
+        1,
+        MANY,
+        counta,
+        "COUNTA(value1, [value2], ...)",
+        "How many values are not empty (errors and \"\" count)",
+    ),
+    FnSpec::value("COUNTBLANK", 1, 1, countblank, "COUNTBLANK(range)", "How many cells are empty or hold \"\""),
+    FnSpec::value(
+        "COUNTIF",
+        2,
+        2,
+        countif,
+        "COUNTIF(range, criteria)",
+        "How many cells meet the criteria (\"<5\", \"<>x\", \"ab*\", 3, …)",
+    ),
+    FnSpec::value(
+        "COUNTIFS",
+        2,
+        MANY,
+        countifs,
+        "COUNTIFS(criteria_range1, criteria1, ...)",
+        "How many positions meet every criteria",
+    ),
+    FnSpec::value("MAX", 1, MANY, max, "MAX(number1, [number2], ...)", "Largest number; 0 when there is none"),
+    FnSpec::value(
+        "MAXIFS",
+        3,
+        MANY,
+        maxifs,
+        "MAXIFS(max_range, criteria_range1, criteria1, ...)",
+        "Largest number where every criteria range meets its criteria; 0 when none",
+    ),
+    FnSpec::value(
+        "MEDIAN",
+        1,
+        MANY,
+        median,
+        "MEDIAN(number1, [number2], ...)",
+        "Middle number (mean of the two middle ones for an even count)",
+    ),
+    FnSpec::value("MIN", 1, MANY, min, "MIN(number1, [number2], ...)", "Smallest number; 0 when there is none"),
+    FnSpec::value(
+        "MINIFS",
+        3,
+        MANY,
+        minifs,
+        "MINIFS(min_range, criteria_range1, criteria1, ...)",
+        "Smallest number where every criteria range meets its criteria; 0 when none",
+    ),
+    FnSpec::value(
+        "SUMIF",
+        2,
+        3,
+        sumif,
+        "SUMIF(range, criteria, [sum_range])",
+        "Sum of the cells whose range cell meets the criteria",
+    ),
+    FnSpec::value(
+        "SUMIFS",
+        3,
+        MANY,
+        sumifs,
+        "SUMIFS(sum_range, criteria_range1, criteria1, ...)",
+        "Sum of the cells where every criteria range meets its criteria",
+    ),
+];
+
+// ---- plain aggregates ---------------------------------------------------------------------
 
 fn max(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let mut best: Option<f64> = None;
     for_each_number(ctx, args, &mut |n| best = Some(best.map_or(n, |b| b.max(n))))?;
     Ok(Value::Number(best.unwrap_or(0.0)))
+}
+
+fn min(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let mut best: Option<f64> = None;
+    for_each_number(ctx, args, &mut |n| best = Some(best.map_or(n, |b| b.min(n))))?;
+    Ok(Value::Number(best.unwrap_or(0.0)))
+}
+
+fn average(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let (mut total, mut count) = (0.0, 0usize);
+    for_each_number(ctx, args, &mut |n| {
+        total += n;
+        count += 1;
+    })?;
+    mean(total, count).map(number_result)
+}
+
+fn mean(total: f64, count: usize) -> XlResult<f64> {
+    if count == 0 {
+        Err(XlError::Div0)
+    } else {
+        Ok(total / count as f64)
+    }
+}
+
+fn median(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let mut xs = numbers(ctx, args)?;
+    if xs.is_empty() {
+        return Err(XlError::Num);
+    }
+    xs.sort_by(f64::total_cmp);
+    let mid = xs.len() / 2;
+    let m = if xs.len() % 2 == 1 { xs[mid] } else { (xs[mid - 1] + xs[mid]) / 2.0 };
+    Ok(Value::Number(m))
+}
+
+/// COUNT: numbers anywhere; typed booleans and numeric text too. Errors are not counted and,
+/// unlike in SUM, do not stop the count.
+fn count(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let mut n = 0usize;
+    for_each_value(ctx, args, &mut |v, source| {
+        let counted = match (v, source) {
+            (Value::Number(_), _) => true,
+            (Value::Bool(_), Source::Direct) => true,
+            (Value::Text(t), Source::Direct) => parse_number(t).is_some(),
+            _ => false,
+        };
+        n += usize::from(counted);
+        Ok(())
+    })?;
+    Ok(Value::Number(n as f64))
+}
+
+/// COUNTA: everything but empty cells, errors and empty text included.
+fn counta(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let mut n = 0usize;
+    for_each_value(ctx, args, &mut |v, _| {
+        n += usize::from(!v.is_blank());
+        Ok(())
+    })?;
+    Ok(Value::Number(n as f64))
+}
+
+fn countblank(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let range = CellBlock::read(ctx, &args[0])?;
+    // The criterion "" is exactly COUNTBLANK's test: empty cells and empty text.
+    let m = matching_cells(&[range], &[Criterion::new(&Value::text(""))])?;
+    Ok(Value::Number((m.cells.len() + m.blanks_beyond) as f64))
+}
+
+// ---- conditional aggregates ---------------------------------------------------------------
+
+/// The arguments of a conditional aggregate: the cells aggregated (none for COUNTIF(S)) and
+/// the (range, criteria) pairs. Criteria are kept as values: an array of criteria gives an
+/// array of results, one per criterion (`SUMIF(A:A, {"x";"y"}, B:B)` spills).
+struct Conditions {
+    target: Option<CellBlock>,
+    ranges: Vec<CellBlock>,
+    criteria: Vec<Value>,
+}
+
+/// How the aggregated numbers become the result.
+type Aggregate = fn(&[f64]) -> XlResult<f64>;
+
+impl Conditions {
+    /// `COUNTIF(range, criteria)`, `SUMIF(range, criteria, [sum_range])`: the sum range
+    /// takes the criteria range's shape from its own top-left cell.
+    fn single(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Conditions> {
+        let range = CellBlock::read(ctx, &args[0])?;
+        let criteria = vec![ctx.eval(&args[1])];
+        let target = match args.get(2) {
+            Some(e) if e.kind != ExprKind::Missing => CellBlock::read_sized(ctx, e, range.rows, range.cols)?,
+            _ => range.clone(),
+        };
+        Ok(Conditions { target: Some(target), ranges: vec![range], criteria })
+    }
+
+    /// `COUNTIFS(range1, criteria1, …)` and, with a target, `SUMIFS(sum_range, range1,
+    /// criteria1, …)`.
+    fn pairs(ctx: &mut Ctx, args: &[Expr], with_target: bool) -> XlResult<Conditions> {
+        let (target, pairs) =
+            if with_target { (Some(CellBlock::read(ctx, &args[0])?), &args[1..]) } else { (None, args) };
+        if pairs.len() % 2 != 0 {
+            return Err(XlError::Value);
+        }
+        let mut ranges = Vec::new();
+        let mut criteria = Vec::new();
+        for pair in pairs.chunks(2) {
+            ranges.push(CellBlock::read(ctx, &pair[0])?);
+            criteria.push(ctx.eval(&pair[1]));
+        }
+        Ok(Conditions { target, ranges, criteria })
+    }
+
+    /// How many positions meet every criterion, per criteria item.
+    fn count(&self) -> XlResult<Value> {
+        lift_values(&self.criteria, &|items| {
+            let criteria: Vec<Criterion> = items.iter().map(Criterion::new).collect();
+            let m = matching_cells(&self.ranges, &criteria)?;
+            Ok(Value::Number((m.cells.len() + m.blanks_beyond) as f64))
+        })
+    }
+
+    /// `aggregate` of the target's numbers at the matching positions, per criteria item.
+    /// Text, booleans and blanks there are skipped; an error there is the result.
+    fn aggregate(&self, aggregate: Aggregate) -> XlResult<Value> {
+        let target = self.target.as_ref().expect("an aggregate has a target range");
+        if !target.same_shape(&self.ranges[0]) {
+            return Err(XlError::Value);
+        }
+        lift_values(&self.criteria, &|items| {
+            let criteria: Vec<Criterion> = items.iter().map(Criterion::new).collect();
+            let m = matching_cells(&self.ranges, &criteria)?;
+            let mut xs = Vec::with_capacity(m.cells.len());
+            for &(r, c) in &m.cells {
+                match target.get(r, c) {
+                    Value::Number(n) => xs.push(*n),
+                    Value::Error(e) => return Err(*e),
+                    _ => {}
+                }
+            }
+            aggregate(&xs).map(number_result)
+        })
+    }
+}
+
+fn total(xs: &[f64]) -> XlResult<f64> {
+    Ok(xs.iter().sum())
+}
+
+fn arithmetic_mean(xs: &[f64]) -> XlResult<f64> {
+    mean(xs.iter().sum(), xs.len())
+}
+
+fn smallest(xs: &[f64]) -> XlResult<f64> {
+    Ok(xs.iter().copied().reduce(f64::min).unwrap_or(0.0))
+}
+
+fn largest(xs: &[f64]) -> XlResult<f64> {
+    Ok(xs.iter().copied().reduce(f64::max).unwrap_or(0.0))
+}
+
+fn countif(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    Conditions::single(ctx, args)?.count()
+}
+
+fn countifs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    Conditions::pairs(ctx, args, false)?.count()
+}
+
+fn sumif(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    Conditions::single(ctx, args)?.aggregate(total)
+}
+
+fn averageif(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    Conditions::single(ctx, args)?.aggregate(arithmetic_mean)
+}
+
+fn sumifs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    Conditions::pairs(ctx, args, true)?.aggregate(total)
+}
+
+fn averageifs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    Conditions::pairs(ctx, args, true)?.aggregate(arithmetic_mean)
+}
+
+fn minifs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    Conditions::pairs(ctx, args, true)?.aggregate(smallest)
+}
+
+fn maxifs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    Conditions::pairs(ctx, args, true)?.aggregate(largest)
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::eval::testing::MapEnv;
+    use crate::eval::value::{Value, XlError};
+
+    fn n(v: f64) -> Value {
+        Value::Number(v)
+    }
+
+    fn err(e: XlError) -> Value {
+        Value::Error(e)
+    }
+
+    /// A1:A6 = 1, "2", TRUE, 4, "x", (blank); B1:B6 = 10..60; C1:C3 = "apple", "Banana", "".
+    fn env() -> MapEnv {
+        MapEnv::with(&[
+            ("A1", n(1.0)),
+            ("A2", Value::text("2")),
+            ("A3", Value::Bool(true)),
+            ("A4", n(4.0)),
+            ("A5", Value::text("x")),
+            ("B1", n(10.0)),
+            ("B2", n(20.0)),
+            ("B3", n(30.0)),
+            ("B4", n(40.0)),
+            ("B5", n(50.0)),
+            ("B6", n(60.0)),
+            ("C1", Value::text("apple")),
+            ("C2", Value::text("Banana")),
+            ("C3", Value::text("")),
+            ("D1", err(XlError::Div0)),
+        ])
+    }
+
+    #[test]
+    fn aggregates_skip_text_in_ranges_but_coerce_typed_arguments() {
+        let env = env();
+        assert_eq!(env.eval("=MAX(A1:A6)"), n(4.0));
+        assert_eq!(env.eval("=MIN(A1:A6)"), n(1.0));
+        assert_eq!(env.eval("=MIN(A1:A6,\"-1\")"), n(-1.0));
+        assert_eq!(env.eval("=MAX(C1:C3)"), n(0.0));
+        assert_eq!(env.eval("=AVERAGE(A1:A6)"), n(2.5));
+        assert_eq!(env.eval("=AVERAGE(A1:A6,TRUE)"), n(2.0));
+        assert_eq!(env.eval("=AVERAGE(C1:C3)"), err(XlError::Div0));
+        assert_eq!(env.eval("=AVERAGE(A1,D1)"), err(XlError::Div0));
+        assert_eq!(env.eval("=MIN(\"x\")"), err(XlError::Value));
+        assert_eq!(env.eval("=MEDIAN(B1:B6)"), n(35.0));
+        assert_eq!(env.eval("=MEDIAN(3,1,2)"), n(2.0));
+        assert_eq!(env.eval("=MEDIAN(C1:C3)"), err(XlError::Num));
+    }
+
+    #[test]
+    fn counts_follow_excel() {
+        let env = env();
+        assert_eq!(env.eval("=COUNT(A1:A6)"), n(2.0));
+        assert_eq!(env.eval("=COUNT(1,\"2\",TRUE,\"x\",#N/A)"), n(3.0));
+        assert_eq!(env.eval("=COUNT(A1:D6)"), n(8.0));
+        assert_eq!(env.eval("=COUNTA(A1:A6)"), n(5.0));
+        assert_eq!(env.eval("=COUNTA(C1:D3)"), n(4.0));
+        assert_eq!(env.eval("=COUNTBLANK(A1:A6)"), n(1.0));
+        assert_eq!(env.eval("=COUNTBLANK(C1:C4)"), n(2.0));
+    }
+
+    #[test]
+    fn countif_reads_criteria_as_excel_does() {
+        let env = env();
+        assert_eq!(env.eval("=COUNTIF(B1:B6,\">25\")"), n(4.0));
+        assert_eq!(env.eval("=COUNTIF(B1:B6,\"<=20\")"), n(2.0));
+        assert_eq!(env.eval("=COUNTIF(A1:A6,2)"), n(1.0));
+        assert_eq!(env.eval("=COUNTIF(A1:A6,\"<>x\")"), n(5.0));
+        assert_eq!(env.eval("=COUNTIF(C1:C3,\"?a*\")"), n(1.0));
+        assert_eq!(env.eval("=COUNTIF(C1:C3,\"A*\")"), n(1.0));
+        assert_eq!(env.eval("=COUNTIF(C1:C4,\"\")"), n(2.0));
+        assert_eq!(env.eval("=COUNTIF(A1:D1,D1)"), n(1.0));
+        assert_eq!(env.eval("=COUNTIF(A:A,\"\")"), n(1_048_576.0 - 5.0));
+        assert_eq!(env.eval("=SUM(COUNTIF(B1:B6,{\">10\",\">50\"}))"), n(6.0));
+    }
+
+    #[test]
+    fn sumif_and_averageif_follow_excel() {
+        let env = env();
+        assert_eq!(env.eval("=SUMIF(B1:B6,\">25\")"), n(180.0));
+        assert_eq!(env.eval("=SUMIF(C1:C3,\"*an*\",B1:B3)"), n(20.0));
+        // The sum range takes the criteria range's shape from its top-left cell.
+        assert_eq!(env.eval("=SUMIF(C1:C3,\"<>x\",B1)"), n(60.0));
+        assert_eq!(env.eval("=AVERAGEIF(B1:B6,\">25\")"), n(45.0));
+        assert_eq!(env.eval("=AVERAGEIF(B1:B6,\">100\")"), err(XlError::Div0));
+        assert_eq!(env.eval("=SUMIF(A1:A4,1,D1:D4)"), err(XlError::Div0));
+    }
+
+    #[test]
+    fn multi_criteria_functions_follow_excel() {
+        let env = env();
+        assert_eq!(env.eval("=COUNTIFS(B1:B6,\">15\",B1:B6,\"<45\")"), n(3.0));
+        assert_eq!(env.eval("=SUMIFS(B1:B6,A1:A6,\">0\",B1:B6,\">15\")"), n(40.0));
+        assert_eq!(env.eval("=AVERAGEIFS(B1:B6,B1:B6,\">15\")"), n(40.0));
+        assert_eq!(env.eval("=MINIFS(B1:B6,B1:B6,\">15\")"), n(20.0));
+        assert_eq!(env.eval("=MAXIFS(B1:B6,A1:A6,\"<>x\")"), n(60.0));
+        assert_eq!(env.eval("=MAXIFS(B1:B6,B1:B6,\">100\")"), n(0.0));
+        assert_eq!(env.eval("=SUMIFS(B1:B6,A1:A5,\">0\")"), err(XlError::Value));
+    }
 }

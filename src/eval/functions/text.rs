@@ -1,5 +1,697 @@
-//! text functions.
+//! Text functions. Positions and lengths count characters, not bytes; one-value
+//! functions lift over arrays (`UPPER(A1:A3)` spills three results).
 
-use super::FnSpec;
+use std::rc::Rc;
 
-pub const FUNCTIONS: &[FnSpec] = &[];
+use crate::eval::coerce::{parse_number, to_bool, to_number, to_text};
+use crate::eval::evaluator::Ctx;
+use crate::eval::value::{Value, XlError, XlResult};
+use crate::formula::ast::{Expr, ExprKind};
+
+use super::args::{for_each_value, lift, lift_values};
+use super::text_format::{fixed_digits, NumberFormat};
+use super::{FnSpec, MANY};
+
+/// Excel's longest text; longer results are `#VALUE!`.
+const MAX_TEXT: usize = 32_767;
+
+pub const FUNCTIONS: &[FnSpec] = &[
+    FnSpec::value("CONCAT", 1, MANY, concat, "CONCAT(text1, …)", "Joins texts; ranges are read cell by cell"),
+    FnSpec::value(
+        "CONCATENATE",
+        1,
+        MANY,
+        concatenate,
+        "CONCATENATE(text1, …)",
+        "Joins texts (a range argument joins item by item)",
+    ),
+    FnSpec::value(
+        "TEXTJOIN",
+        3,
+        MANY,
+        textjoin,
+        "TEXTJOIN(delimiter, ignore_empty, text1, …)",
+        "Joins texts with a delimiter, optionally skipping empty ones",
+    ),
+    FnSpec::value(
+        "TEXT",
+        2,
+        2,
+        text_fn,
+        "TEXT(value, format)",
+        "A number as text in an Excel number format: \"0.000\", \"#,##0.00\", \"0.0%\", \"0.00E+00\"",
+    ),
+    FnSpec::value(
+        "FIXED",
+        1,
+        3,
+        fixed,
+        "FIXED(number, [decimals], [no_commas])",
+        "A number rounded to decimals (2 by default) as text, with thousands separators unless no_commas",
+    ),
+    FnSpec::value("LEFT", 1, 2, left, "LEFT(text, [count])", "The first count characters (1 by default)"),
+    FnSpec::value("RIGHT", 1, 2, right, "RIGHT(text, [count])", "The last count characters (1 by default)"),
+    FnSpec::value("MID", 3, 3, mid, "MID(text, start, count)", "count characters from position start (1-based)"),
+    FnSpec::value("LEN", 1, 1, len, "LEN(text)", "Number of characters"),
+    FnSpec::value("UPPER", 1, 1, upper, "UPPER(text)", "Text in capitals"),
+    FnSpec::value("LOWER", 1, 1, lower, "LOWER(text)", "Text in small letters"),
+    FnSpec::value("PROPER", 1, 1, proper, "PROPER(text)", "Each word capitalised, the rest in small letters"),
+    FnSpec::value(
+        "TRIM",
+        1,
+        1,
+        trim,
+        "TRIM(text)",
+        "Removes leading and trailing spaces and collapses runs of spaces to one",
+    ),
+    FnSpec::value("VALUE", 1, 1, value, "VALUE(text)", "The number a text represents (\"1,234.5\", \"50%\", \"1e-3\")"),
+    FnSpec::value(
+        "VALUETOTEXT",
+        1,
+        2,
+        valuetotext,
+        "VALUETOTEXT(value, [format])",
+        "Any value as text, errors included; format 1 puts text in quotes",
+    ),
+    FnSpec::value(
+        "SUBSTITUTE",
+        3,
+        4,
+        substitute,
+        "SUBSTITUTE(text, old, new, [instance])",
+        "Replaces every occurrence of old (or only the instance-th) with new; case-sensitive",
+    ),
+    FnSpec::value("REPT", 2, 2, rept, "REPT(text, times)", "text repeated times times"),
+    FnSpec::value(
+        "FIND",
+        2,
+        3,
+        find,
+        "FIND(find_text, within_text, [start])",
+        "Position of find_text in within_text, case-sensitive; #VALUE! when absent",
+    ),
+    FnSpec::value(
+        "SEARCH",
+        2,
+        3,
+        search,
+        "SEARCH(find_text, within_text, [start])",
+        "Position of find_text, ignoring case, with wildcards ? * and ~; #VALUE! when absent",
+    ),
+    FnSpec::value("EXACT", 2, 2, exact, "EXACT(text1, text2)", "TRUE when the texts are identical, case included"),
+    FnSpec::value(
+        "CHAR",
+        1,
+        1,
+        char_fn,
+        "CHAR(code)",
+        "The character with a code 1-255 (Windows-1252, as Excel on Windows; CHAR(10) is a line feed)",
+    ),
+    FnSpec::value("CODE", 1, 1, code, "CODE(text)", "The code 1-255 of the first character (Windows-1252)"),
+    FnSpec::value("UNICHAR", 1, 1, unichar, "UNICHAR(code)", "The Unicode character with a code point"),
+    FnSpec::value("UNICODE", 1, 1, unicode, "UNICODE(text)", "The Unicode code point of the first character"),
+];
+
+// ---------------------------------------------------------------------------------------
+// Joining
+
+fn concat(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let mut out = String::new();
+    for_each_value(ctx, args, &mut |v, _| {
+        out.push_str(&to_text(v)?);
+        limit(&out)
+    })?;
+    Ok(Value::from(out))
+}
+
+fn concatenate(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift(ctx, args, &|v| {
+        let mut out = String::new();
+        for item in v {
+            out.push_str(&to_text(item)?);
+        }
+        limit(&out)?;
+        Ok(Value::from(out))
+    })
+}
+
+fn limit(s: &str) -> XlResult<()> {
+    if s.len() > MAX_TEXT && s.chars().count() > MAX_TEXT {
+        Err(XlError::Value)
+    } else {
+        Ok(())
+    }
+}
+
+fn textjoin(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let delimiters = items_of(ctx.eval(&args[0])).iter().map(to_text).collect::<XlResult<Vec<_>>>()?;
+    let ignore_empty = to_bool(&ctx.eval(&args[1]))?;
+    let mut texts = Vec::new();
+    for e in &args[2..] {
+        if e.kind == ExprKind::Missing {
+            continue;
+        }
+        for v in items_of(ctx.eval(e)) {
+            let text = to_text(&v)?;
+            if !(ignore_empty && text.is_empty()) {
+                texts.push(text);
+            }
+        }
+    }
+    let mut out = String::new();
+    for (i, text) in texts.iter().enumerate() {
+        if i > 0 && !delimiters.is_empty() {
+            out.push_str(&delimiters[(i - 1) % delimiters.len()]);
+        }
+        out.push_str(text);
+        limit(&out)?;
+    }
+    Ok(Value::from(out))
+}
+
+/// A value's items in row order: an array's (blanks included) or the value itself.
+fn items_of(v: Value) -> Vec<Value> {
+    match v {
+        Value::Array(a) => a.data.clone(),
+        v => vec![v],
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Numbers as text
+
+fn text_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    if let Value::Text(format) = &values[1] {
+        if NumberFormat::parse(format).is_err() {
+            let why = format!(
+                "TEXT cannot use the format \"{format}\" (fractions and digit placeholders \
+                 in dates are not supported)"
+            );
+            return Err(ctx.explain(XlError::Value, why));
+        }
+    }
+    lift_values(&values, &|v| {
+        let format = NumberFormat::parse(&to_text(&v[1])?)?;
+        let shown = match &v[0] {
+            Value::Error(e) => return Err(*e),
+            Value::Bool(b) => if *b { "TRUE" } else { "FALSE" }.to_string(),
+            // Text that reads as a number is formatted as that number.
+            Value::Text(s) => match parse_number(s) {
+                Some(n) => format.format_number(n)?,
+                None => format.format_text(s),
+            },
+            other => format.format_number(to_number(other)?)?,
+        };
+        Ok(Value::from(shown))
+    })
+}
+
+fn fixed(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    let decimals_given = args.get(1).is_some_and(|e| e.kind != ExprKind::Missing);
+    lift_values(&values, &|v| {
+        let n = to_number(&v[0])?;
+        let decimals = if decimals_given { to_number(&v[1])?.trunc() } else { 2.0 };
+        let no_commas = match v.get(2) {
+            Some(flag) => to_bool(flag)?,
+            None => false,
+        };
+        Ok(Value::from(fixed_text(n, decimals, no_commas)?))
+    })
+}
+
+/// FIXED: negative decimals round to tens, hundreds, …; more than 127 is `#VALUE!`.
+fn fixed_text(n: f64, decimals: f64, no_commas: bool) -> XlResult<String> {
+    if decimals > 127.0 {
+        return Err(XlError::Value);
+    }
+    let (n, places) = if decimals < 0.0 {
+        let unit = 10f64.powf(-decimals);
+        let (int, _) = fixed_digits((n / unit).abs(), 0);
+        let rounded = int.parse::<f64>().unwrap_or(0.0) * unit;
+        (rounded.copysign(n), 0)
+    } else {
+        (n, decimals as usize)
+    };
+    let mut format = String::from(if no_commas { "0" } else { "#,##0" });
+    if places > 0 {
+        format.push('.');
+        format.push_str(&"0".repeat(places));
+    }
+    NumberFormat::parse(&format)?.format_number(n)
+}
+
+// ---------------------------------------------------------------------------------------
+// Pieces of text
+
+fn left(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift(ctx, args, &|v| {
+        let text = to_text(&v[0])?;
+        let count = count_arg(v.get(1))?;
+        Ok(Value::from(text.chars().take(count).collect::<String>()))
+    })
+}
+
+fn right(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift(ctx, args, &|v| {
+        let text = to_text(&v[0])?;
+        let count = count_arg(v.get(1))?;
+        let len = text.chars().count();
+        Ok(Value::from(text.chars().skip(len.saturating_sub(count)).collect::<String>()))
+    })
+}
+
+/// LEFT and RIGHT's count: 1 when omitted, truncated, negative `#VALUE!`.
+fn count_arg(v: Option<&Value>) -> XlResult<usize> {
+    let Some(v) = v else {
+        return Ok(1);
+    };
+    let n = to_number(v)?.trunc();
+    if n < 0.0 {
+        return Err(XlError::Value);
+    }
+    Ok(n.min(MAX_TEXT as f64) as usize)
+}
+
+fn mid(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift(ctx, args, &|v| {
+        let text = to_text(&v[0])?;
+        let start = to_number(&v[1])?.trunc();
+        let count = to_number(&v[2])?.trunc();
+        if start < 1.0 || count < 0.0 {
+            return Err(XlError::Value);
+        }
+        let piece: String = text.chars().skip(start as usize - 1).take(count.min(MAX_TEXT as f64) as usize).collect();
+        Ok(Value::from(piece))
+    })
+}
+
+fn len(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift(ctx, args, &|v| Ok(Value::Number(to_text(&v[0])?.chars().count() as f64)))
+}
+
+fn upper(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    map_text(ctx, args, |s| s.to_uppercase())
+}
+
+fn lower(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    map_text(ctx, args, |s| s.to_lowercase())
+}
+
+fn trim(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    // Only the space character (32); Excel's TRIM leaves tabs and non-breaking spaces.
+    map_text(ctx, args, |s| s.split(' ').filter(|w| !w.is_empty()).collect::<Vec<_>>().join(" "))
+}
+
+fn proper(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    map_text(ctx, args, |s| {
+        let mut out = String::with_capacity(s.len());
+        let mut after_letter = false;
+        for c in s.chars() {
+            if after_letter {
+                out.extend(c.to_lowercase());
+            } else {
+                out.extend(c.to_uppercase());
+            }
+            after_letter = c.is_alphabetic();
+        }
+        out
+    })
+}
+
+/// A text-to-text function lifted over arrays.
+fn map_text(ctx: &mut Ctx, args: &[Expr], f: fn(&str) -> String) -> XlResult<Value> {
+    lift(ctx, args, &|v| Ok(Value::from(f(&to_text(&v[0])?))))
+}
+
+fn value(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift(ctx, args, &|v| match &v[0] {
+        Value::Number(n) => Ok(Value::Number(*n)),
+        Value::Blank => Ok(Value::Number(0.0)),
+        Value::Text(s) => parse_number(s).map(Value::Number).ok_or(XlError::Value),
+        Value::Error(e) => Err(*e),
+        _ => Err(XlError::Value),
+    })
+}
+
+fn valuetotext(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift(ctx, args, &|v| {
+        let strict = match v.get(1) {
+            Some(f) => match to_number(f)? {
+                0.0 => false,
+                1.0 => true,
+                _ => return Err(XlError::Value),
+            },
+            None => false,
+        };
+        let text = match &v[0] {
+            Value::Error(e) => e.as_str().into(),
+            Value::Text(s) if strict => format!("\"{s}\"").into(),
+            other => to_text(other)?,
+        };
+        Ok(Value::Text(text))
+    })
+}
+
+fn substitute(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift(ctx, args, &|v| {
+        let text = to_text(&v[0])?;
+        let old = to_text(&v[1])?;
+        let new = to_text(&v[2])?;
+        let instance = match v.get(3) {
+            Some(i) => {
+                let i = to_number(i)?.trunc();
+                if i < 1.0 {
+                    return Err(XlError::Value);
+                }
+                Some(i as usize)
+            }
+            None => None,
+        };
+        if old.is_empty() {
+            return Ok(Value::Text(text));
+        }
+        let out = match instance {
+            None => text.replace(&*old, &new),
+            Some(n) => match text.match_indices(&*old).nth(n - 1) {
+                Some((at, _)) => format!("{}{}{}", &text[..at], new, &text[at + old.len()..]),
+                None => text.to_string(),
+            },
+        };
+        limit(&out)?;
+        Ok(Value::from(out))
+    })
+}
+
+fn rept(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift(ctx, args, &|v| {
+        let text = to_text(&v[0])?;
+        let times = to_number(&v[1])?.trunc();
+        if times < 0.0 {
+            return Err(XlError::Value);
+        }
+        if text.chars().count() as f64 * times > MAX_TEXT as f64 {
+            return Err(XlError::Value);
+        }
+        Ok(Value::from(text.repeat(times as usize)))
+    })
+}
+
+fn exact(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift(ctx, args, &|v| Ok(Value::Bool(to_text(&v[0])? == to_text(&v[1])?)))
+}
+
+// ---------------------------------------------------------------------------------------
+// FIND and SEARCH
+
+fn find(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift(ctx, args, &|v| {
+        let (needle, haystack, start) = search_args(v)?;
+        let needle: Vec<char> = needle.chars().collect();
+        let found = (start..=haystack.len().saturating_sub(needle.len())).find(|&i| haystack[i..].starts_with(&needle));
+        position(found)
+    })
+}
+
+fn search(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift(ctx, args, &|v| {
+        let (needle, haystack, start) = search_args(v)?;
+        let found = Wildcard::new(&needle).find_in(&haystack, start);
+        position(found)
+    })
+}
+
+/// FIND and SEARCH's arguments: the text sought, the text searched as characters, and
+/// the 0-based start (`#VALUE!` below 1 or past the end).
+fn search_args(v: &[Value]) -> XlResult<(Rc<str>, Vec<char>, usize)> {
+    let needle = to_text(&v[0])?;
+    let haystack: Vec<char> = to_text(&v[1])?.chars().collect();
+    let start = match v.get(2) {
+        Some(s) => to_number(s)?.trunc(),
+        None => 1.0,
+    };
+    if start < 1.0 || start > haystack.len() as f64 + 1.0 {
+        return Err(XlError::Value);
+    }
+    Ok((needle, haystack, start as usize - 1))
+}
+
+fn position(found: Option<usize>) -> XlResult<Value> {
+    found.map(|i| Value::Number(i as f64 + 1.0)).ok_or(XlError::Value)
+}
+
+/// An Excel wildcard pattern: `?` any one character, `*` any run, `~` escapes the next
+/// character. Matching ignores case.
+pub struct Wildcard {
+    tokens: Vec<WildTok>,
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum WildTok {
+    Char(char),
+    One,
+    Any,
+}
+
+fn fold(c: char) -> char {
+    c.to_lowercase().next().unwrap_or(c)
+}
+
+impl Wildcard {
+    pub fn new(pattern: &str) -> Wildcard {
+        let mut tokens = Vec::new();
+        let mut chars = pattern.chars();
+        while let Some(c) = chars.next() {
+            tokens.push(match c {
+                '?' => WildTok::One,
+                '*' => WildTok::Any,
+                // A lone `~` at the end matches nothing (Excel: SEARCH("~", "Hello") is 1).
+                '~' => match chars.next() {
+                    Some(next) => WildTok::Char(fold(next)),
+                    None => continue,
+                },
+                c => WildTok::Char(fold(c)),
+            });
+        }
+        Wildcard { tokens }
+    }
+
+    pub fn has_wildcards(s: &str) -> bool {
+        s.contains(['*', '?', '~'])
+    }
+
+    /// Whether the whole of `text` matches.
+    pub fn matches(&self, text: &str) -> bool {
+        let text: Vec<char> = text.chars().map(fold).collect();
+        self.match_at(&self.tokens, &text, true)
+    }
+
+    /// The first position from `start` where a match begins.
+    pub fn find_in(&self, text: &[char], start: usize) -> Option<usize> {
+        let text: Vec<char> = text.iter().map(|&c| fold(c)).collect();
+        (start..=text.len()).find(|&i| self.match_at(&self.tokens, &text[i..], false))
+    }
+
+    /// Matches `tokens` against the start of `text` (all of it when `whole`), with
+    /// backtracking over `*`.
+    fn match_at(&self, tokens: &[WildTok], text: &[char], whole: bool) -> bool {
+        let Some((first, rest)) = tokens.split_first() else {
+            return !whole || text.is_empty();
+        };
+        match first {
+            WildTok::Any => (0..=text.len()).any(|k| self.match_at(rest, &text[k..], whole)),
+            WildTok::One => !text.is_empty() && self.match_at(rest, &text[1..], whole),
+            WildTok::Char(c) => text.first() == Some(c) && self.match_at(rest, &text[1..], whole),
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Character codes
+
+/// Windows-1252 characters for codes 128-159; the rest of 1-255 is Latin-1.
+const CP1252_HIGH: [char; 32] = [
+    '€', '\u{81}', '‚', 'ƒ', '„', '…', '†', '‡', 'ˆ', '‰', 'Š', '‹', 'Œ', '\u{8D}', 'Ž', '\u{8F}', '\u{90}',
+    '\u{2018}', '\u{2019}', '\u{201C}', '\u{201D}', '•', '–', '—', '˜', '™', 'š', '›', 'œ', '\u{9D}', 'ž', 'Ÿ',
+];
+
+fn char_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift(ctx, args, &|v| {
+        let code = to_number(&v[0])?.trunc();
+        if !(1.0..=255.0).contains(&code) {
+            return Err(XlError::Value);
+        }
+        let code = code as u32;
+        let c = match code {
+            128..=159 => CP1252_HIGH[code as usize - 128],
+            _ => char::from_u32(code).ok_or(XlError::Value)?,
+        };
+        Ok(Value::from(c.to_string()))
+    })
+}
+
+fn code(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift(ctx, args, &|v| {
+        let c = first_char(&v[0])?;
+        let code = match c as u32 {
+            n @ (0..=127 | 160..=255) => n,
+            // Characters outside Windows-1252 read as "?".
+            _ => CP1252_HIGH.iter().position(|&x| x == c).map_or(63, |i| 128 + i as u32),
+        };
+        Ok(Value::Number(f64::from(code)))
+    })
+}
+
+fn unichar(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift(ctx, args, &|v| {
+        let code = to_number(&v[0])?.trunc();
+        if !(1.0..=1_114_111.0).contains(&code) {
+            return Err(XlError::Value);
+        }
+        let c = char::from_u32(code as u32).ok_or(XlError::NA)?;
+        Ok(Value::from(c.to_string()))
+    })
+}
+
+fn unicode(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift(ctx, args, &|v| Ok(Value::Number(f64::from(first_char(&v[0])? as u32))))
+}
+
+fn first_char(v: &Value) -> XlResult<char> {
+    to_text(v)?.chars().next().ok_or(XlError::Value)
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::eval::testing::MapEnv;
+    use crate::eval::{Array, Value, XlError};
+
+    fn t(s: &str) -> Value {
+        Value::text(s)
+    }
+
+    fn n(v: f64) -> Value {
+        Value::Number(v)
+    }
+
+    fn env() -> MapEnv {
+        MapEnv::with(&[("A1", t("g01 x10")), ("A2", t("Y-5")), ("A3", n(12.5)), ("B1", t("園田 直子"))])
+    }
+
+    #[test]
+    fn text_formats_numbers_like_excel() {
+        let env = env();
+        assert_eq!(env.eval("=TEXT(1234.5678,\"#,##0.00\")"), t("1,234.57"));
+        assert_eq!(env.eval("=TEXT(2.5,\"0.000\")"), t("2.500"));
+        assert_eq!(env.eval("=TEXT(-2.5,\"+0.000;-0.000\")"), t("-2.500"));
+        assert_eq!(env.eval("=TEXT(0.256,\"0.0%\")"), t("25.6%"));
+        assert_eq!(env.eval("=TEXT(1500,\"0.00E+00\")"), t("1.50E+03"));
+        assert_eq!(env.eval("=TEXT(\"abc\",\"@\")"), t("abc"));
+        assert_eq!(env.eval("=TEXT(\"12.5\",\"0.0\")"), t("12.5"));
+        assert_eq!(env.eval("=TEXT(A3,\"\"\"X\"\"0.000\")"), t("X12.500"));
+        assert_eq!(env.eval("=\"X\"&TEXT(-0.0004,\"0.000\")"), t("X0.000"));
+        assert_eq!(env.eval("=1&TRUE"), t("1TRUE"));
+    }
+
+    #[test]
+    fn fixed_rounds_and_groups() {
+        let env = env();
+        assert_eq!(env.eval("=FIXED(1234.567)"), t("1,234.57"));
+        assert_eq!(env.eval("=FIXED(1234.567,1,TRUE)"), t("1234.6"));
+        assert_eq!(env.eval("=FIXED(1234.567,-1)"), t("1,230"));
+        assert_eq!(env.eval("=FIXED(-0.5,0)"), t("-1"));
+        assert_eq!(env.eval("=FIXED(1,128)"), Value::Error(XlError::Value));
+    }
+
+    #[test]
+    fn pieces_count_characters() {
+        let env = env();
+        assert_eq!(env.eval("=LEFT(B1,2)"), t("園田"));
+        assert_eq!(env.eval("=RIGHT(B1)"), t("子"));
+        assert_eq!(env.eval("=MID(A1,5,3)"), t("x10"));
+        assert_eq!(env.eval("=MID(A1,0,3)"), Value::Error(XlError::Value));
+        assert_eq!(env.eval("=MID(A1,50,3)"), t(""));
+        assert_eq!(env.eval("=LEN(B1)"), n(5.0));
+        assert_eq!(env.eval("=LEFT(A1,-1)"), Value::Error(XlError::Value));
+        assert_eq!(env.eval("=LEN(A3)"), n(4.0));
+    }
+
+    #[test]
+    fn case_trim_and_value() {
+        let env = env();
+        assert_eq!(env.eval("=UPPER(A1)"), t("G01 X10"));
+        assert_eq!(env.eval("=LOWER(A2)"), t("y-5"));
+        assert_eq!(env.eval("=PROPER(\"hello wORLD 2nd\")"), t("Hello World 2Nd"));
+        assert_eq!(env.eval("=TRIM(\"  a   b  \")"), t("a b"));
+        assert_eq!(env.eval("=VALUE(\"1,234.5\")"), n(1234.5));
+        assert_eq!(env.eval("=VALUE(\"abc\")"), Value::Error(XlError::Value));
+        assert_eq!(env.eval("=VALUE(TRUE)"), Value::Error(XlError::Value));
+        assert_eq!(env.eval("=VALUETOTEXT(1/0)"), t("#DIV/0!"));
+        assert_eq!(env.eval("=VALUETOTEXT(\"a\",1)"), t("\"a\""));
+        assert_eq!(env.eval("=UPPER(A1:A2)"), Value::from(Array::column(vec![t("G01 X10"), t("Y-5")])));
+    }
+
+    #[test]
+    fn joining() {
+        let env = env();
+        assert_eq!(env.eval("=CONCAT(A1:A3,\"!\")"), t("g01 x10Y-512.5!"));
+        assert_eq!(env.eval("=CONCATENATE(\"G\",1,TRUE)"), t("G1TRUE"));
+        assert_eq!(env.eval("=TEXTJOIN(\" \",TRUE,A1:A4)"), t("g01 x10 Y-5 12.5"));
+        assert_eq!(env.eval("=TEXTJOIN(\",\",FALSE,A2:A4)"), t("Y-5,12.5,"));
+        assert_eq!(env.eval("=TEXTJOIN({\"-\",\"+\"},TRUE,1,2,3)"), t("1-2+3"));
+        assert_eq!(env.eval("=REPT(\"ab\",3)"), t("ababab"));
+        assert_eq!(env.eval("=REPT(\"ab\",20000)"), Value::Error(XlError::Value));
+    }
+
+    #[test]
+    fn substitute_find_search() {
+        let env = env();
+        assert_eq!(env.eval("=SUBSTITUTE(\"a-b-c\",\"-\",\"+\")"), t("a+b+c"));
+        assert_eq!(env.eval("=SUBSTITUTE(\"a-b-c\",\"-\",\"+\",2)"), t("a-b+c"));
+        assert_eq!(env.eval("=SUBSTITUTE(\"a-b\",\"-\",\"+\",0)"), Value::Error(XlError::Value));
+        assert_eq!(env.eval("=FIND(\"x\",A1)"), n(5.0));
+        assert_eq!(env.eval("=FIND(\"X\",A1)"), Value::Error(XlError::Value));
+        assert_eq!(env.eval("=SEARCH(\"X\",A1)"), n(5.0));
+        assert_eq!(env.eval("=SEARCH(\"g?1\",A1)"), n(1.0));
+        assert_eq!(env.eval("=SEARCH(\"x*0\",A1)"), n(5.0));
+        assert_eq!(env.eval("=SEARCH(\"~*\",\"a*b\")"), n(2.0));
+        assert_eq!(env.eval("=FIND(\"直\",B1)"), n(4.0));
+        assert_eq!(env.eval("=FIND(\"\",A1,3)"), n(3.0));
+        assert_eq!(env.eval("=EXACT(\"a\",\"A\")"), Value::Bool(false));
+    }
+
+    /// Examples from Microsoft's function reference pages.
+    #[test]
+    fn documented_examples() {
+        let env = env();
+        assert_eq!(env.eval("=TEXT(1234.567,\"$#,##0.00\")"), t("$1,234.57"));
+        assert_eq!(env.eval("=TEXT(0.285,\"0.0%\")"), t("28.5%"));
+        assert_eq!(env.eval("=TEXT(12200000,\"0.00E+00\")"), t("1.22E+07"));
+        assert_eq!(env.eval("=TEXT(1234,\"0000000\")"), t("0001234"));
+        assert_eq!(env.eval("=FIXED(1234.567,1)"), t("1,234.6"));
+        assert_eq!(env.eval("=FIXED(-1234.567,-1,TRUE)"), t("-1230"));
+        assert_eq!(env.eval("=FIXED(44.332)"), t("44.33"));
+        assert_eq!(env.eval("=SEARCH(\"e\",\"Statements\",6)"), n(7.0));
+        assert_eq!(env.eval("=SEARCH(\"margin\",\"Profit Margin\")"), n(8.0));
+        assert_eq!(env.eval("=FIND(\"m\",\"Miriam McGovern\")"), n(6.0));
+        assert_eq!(env.eval("=FIND(\"M\",\"Miriam McGovern\",3)"), n(8.0));
+        assert_eq!(env.eval("=MID(\"Fluid Flow\",7,20)"), t("Flow"));
+        assert_eq!(env.eval("=MID(\"Fluid Flow\",20,5)"), t(""));
+        assert_eq!(env.eval("=SUBSTITUTE(\"Quarter 1, 2011\",\"1\",\"2\",3)"), t("Quarter 1, 2012"));
+        assert_eq!(env.eval("=PROPER(\"76BudGet\")"), t("76Budget"));
+        assert_eq!(env.eval("=PROPER(\"2-way street\")"), t("2-Way Street"));
+        assert_eq!(env.eval("=TRIM(\" First Quarter   Earnings \")"), t("First Quarter Earnings"));
+    }
+
+    #[test]
+    fn character_codes() {
+        let env = env();
+        assert_eq!(env.eval("=CHAR(65)"), t("A"));
+        assert_eq!(env.eval("=CHAR(128)"), t("€"));
+        assert_eq!(env.eval("=CODE(\"€\")"), n(128.0));
+        assert_eq!(env.eval("=UNICODE(\"の\")"), n(12398.0));
+        assert_eq!(env.eval("=UNICHAR(960)"), t("π"));
+        assert_eq!(env.eval("=CHAR(0)"), Value::Error(XlError::Value));
+    }
+}

@@ -1,0 +1,281 @@
+//! The command line: clap types, whose doc comments are the help text, and one function per
+//! subcommand. The only layer that prints; `main` renders a failed command's [`Error`] once
+//! and picks the exit code (0 success, 1 bad input, 2 bad usage).
+
+use std::io::{self, BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use clap::{ArgGroup, Args, Parser, Subcommand};
+use ncsheet::eval::functions::REGISTRY;
+use ncsheet::formula::ast::SheetId;
+use ncsheet::io::{Content, Export};
+use ncsheet::workbook::Workbook;
+
+mod output;
+mod repl;
+pub mod report;
+mod target;
+
+use output::{OutputFormat, Selection};
+use report::{prepend, Error, Result};
+use target::{parse_assignment, parse_target, Assignment, Target};
+
+/// A spreadsheet formula engine for CNC programming: compute, edit and export sheets.
+///
+/// A csv file is one sheet named Sheet1. A field starting with `=` is a formula; anything
+/// else is read as a spreadsheet reads it (number, TRUE/FALSE, error like #N/A, or text; a
+/// leading ' forces text).
+#[derive(Debug, Parser)]
+#[command(name = "ncsheet", version, propagate_version = true)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    Eval(EvalArgs),
+    Set(SetArgs),
+    Export(ExportArgs),
+    Repl(ReplArgs),
+    Functions(FunctionsArgs),
+}
+
+/// Compute a sheet and print its values (all of it, or the cells and ranges named).
+///
+/// Cells whose formula is broken hold an error value (#NAME?, #REF!, #CIRC!, …) and are
+/// explained on stderr, e.g. `ncsheet: parts.csv: Sheet1!B2: =1+*2` with a caret under the
+/// fault; the other cells compute and print, and the exit code stays 0, because an error
+/// value is a value. A file that cannot be read is exit code 1.
+#[derive(Debug, Args)]
+pub struct EvalArgs {
+    /// The workbook (.csv)
+    pub file: PathBuf,
+    /// Cells or ranges to print: B3, A1:D20, Sheet1!B3 (default: the whole sheet)
+    #[arg(value_name = "CELL|RANGE", value_parser = parse_target)]
+    pub cells: Vec<Target>,
+    /// The sheet to print (default: the first)
+    #[arg(long, value_name = "NAME")]
+    pub sheet: Option<String>,
+    /// How to print the values
+    #[arg(long, value_enum, default_value_t)]
+    pub format: OutputFormat,
+}
+
+/// Set cells, recalculate and save the workbook.
+///
+/// Each CELL=INPUT is typed into the cell as into a spreadsheet: `B3=45`, `B3==A1*2` (a
+/// formula), `B3=` (empties it). Quote it for the shell: 'B3==A1*2'. A formula that does not
+/// parse is refused and nothing is written. The save goes to a temporary file renamed over
+/// the target, so the target is never left half-written; the input file is only replaced
+/// with --in-place.
+#[derive(Debug, Args)]
+#[command(group(ArgGroup::new("destination").required(true).args(["output", "in_place"])))]
+pub struct SetArgs {
+    /// The workbook (.csv)
+    pub file: PathBuf,
+    /// What to type into which cell
+    #[arg(value_name = "CELL=INPUT", required = true, value_parser = parse_assignment)]
+    pub assignments: Vec<Assignment>,
+    /// Write the result here (must not be FILE; see --in-place)
+    #[arg(short, long, value_name = "OUT")]
+    pub output: Option<PathBuf>,
+    /// Replace FILE with the result
+    #[arg(long)]
+    pub in_place: bool,
+    /// The sheet of cells named without one (default: the first)
+    #[arg(long, value_name = "NAME")]
+    pub sheet: Option<String>,
+}
+
+/// Write a sheet's values (or formulas) to a csv file.
+///
+/// The csv is a table of the sheet from A1 (or of --range) to its last used row and column,
+/// quoted per RFC 4180. Values are written as shown (15 significant digits). Text that a
+/// spreadsheet could run as a formula (starting with = + - @) or read as something else
+/// (12, TRUE, #N/A) is written with a leading ', which spreadsheets show as text and ncsheet
+/// reads back as the original text. With --formulas, each cell is written as typed: formulas
+/// as =… text, so the file loads back as the same sheet.
+#[derive(Debug, Args)]
+pub struct ExportArgs {
+    /// The workbook (.csv)
+    pub file: PathBuf,
+    /// The csv file to write (must not be FILE)
+    #[arg(short, long, value_name = "OUT.csv")]
+    pub output: PathBuf,
+    /// Only these cells, e.g. A1:D20 or Sheet1!A1:D20
+    #[arg(long, value_name = "RANGE", value_parser = parse_target)]
+    pub range: Option<Target>,
+    /// Write formulas as =… text instead of their values
+    #[arg(long)]
+    pub formulas: bool,
+    /// The sheet to write (default: the first)
+    #[arg(long, value_name = "NAME")]
+    pub sheet: Option<String>,
+}
+
+/// Edit a workbook interactively: CELL=INPUT, CELL or RANGE, save PATH, quit.
+///
+/// With a terminal there is a prompt and line editing; piped input is read line by line
+/// without a prompt. Values print on stdout, problems on stderr. Piped, the exit code is 1
+/// when any command failed.
+#[derive(Debug, Args)]
+pub struct ReplArgs {
+    /// The workbook (.csv)
+    pub file: PathBuf,
+    /// Print time_s=<seconds> to stderr after each command
+    #[arg(long)]
+    pub timings: bool,
+    /// The sheet of cells named without one (default: the first)
+    #[arg(long, value_name = "NAME")]
+    pub sheet: Option<String>,
+}
+
+/// List every sheet function with its signature and a one-line summary.
+#[derive(Debug, Args)]
+pub struct FunctionsArgs {}
+
+pub fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Eval(args) => eval(args),
+        Command::Set(args) => set(args),
+        Command::Export(args) => export(args),
+        Command::Repl(args) => repl(args),
+        Command::Functions(_) => functions(),
+    }
+}
+
+fn eval(args: EvalArgs) -> Result<()> {
+    let wb = ncsheet::io::load(&args.file)?;
+    let sheet = default_sheet(&wb, &args.file, args.sheet.as_deref())?;
+    let selections = args
+        .cells
+        .iter()
+        .map(|t| Ok(Selection { sheet: target_sheet(&wb, &args.file, t, sheet)?, rect: t.rect }))
+        .collect::<Result<Vec<_>>>()?;
+    let mut out = BufWriter::new(io::stdout().lock());
+    if selections.is_empty() {
+        output::print_sheet(&mut out, &wb, sheet, args.format)?;
+    } else {
+        output::print_selections(&mut out, &wb, sheet, &selections, args.format)?;
+    }
+    out.flush()?;
+    report_problems(&args.file, &wb);
+    Ok(())
+}
+
+fn set(args: SetArgs) -> Result<()> {
+    let out_path = match (&args.output, args.in_place) {
+        (Some(out), false) => {
+            refuse_overwriting_input(&args.file, out, "write elsewhere with -o, or replace it with --in-place")?;
+            out.clone()
+        }
+        (None, true) => args.file.clone(),
+        // clap's argument group makes exactly one of them required.
+        _ => return Err(Error::Usage("give either -o OUT or --in-place".into())),
+    };
+    let mut wb = ncsheet::io::load(&args.file)?;
+    let sheet = default_sheet(&wb, &args.file, args.sheet.as_deref())?;
+    for a in &args.assignments {
+        let cell_sheet = target_sheet(&wb, &args.file, &a.target, sheet)?;
+        wb.set_input_deferred(cell_sheet, a.target.rect.first, &a.input)
+            .map_err(|e| in_file(&args.file, repl::refused(e)))?;
+    }
+    wb.recalculate();
+    report_problems(&args.file, &wb);
+    ncsheet::io::save(&wb, &out_path)?;
+    Ok(())
+}
+
+fn export(args: ExportArgs) -> Result<()> {
+    refuse_overwriting_input(&args.file, &args.output, "an export cannot replace its input; write elsewhere")?;
+    let wb = ncsheet::io::load(&args.file)?;
+    let mut sheet = default_sheet(&wb, &args.file, args.sheet.as_deref())?;
+    if let Some(t) = &args.range {
+        sheet = target_sheet(&wb, &args.file, t, sheet)?;
+    }
+    let content = if args.formulas { Content::Formulas } else { Content::Values };
+    let what = Export { sheet, range: args.range.as_ref().map(|t| t.rect), content };
+    report_problems(&args.file, &wb);
+    ncsheet::io::export(&wb, &args.output, &what)?;
+    Ok(())
+}
+
+fn repl(args: ReplArgs) -> Result<()> {
+    let wb = ncsheet::io::load(&args.file)?;
+    let sheet = default_sheet(&wb, &args.file, args.sheet.as_deref())?;
+    report_problems(&args.file, &wb);
+    repl::run(&args.file, wb, sheet, args.timings)
+}
+
+fn functions() -> Result<()> {
+    let mut specs: Vec<_> = REGISTRY.iter().collect();
+    specs.sort_by_key(|f| f.name);
+    let width = specs.iter().map(|f| f.signature.chars().count()).max().unwrap_or(0);
+    let mut out = BufWriter::new(io::stdout().lock());
+    for f in specs {
+        writeln!(out, "{:width$}  {}", f.signature, f.summary)?;
+    }
+    out.flush()?;
+    Ok(())
+}
+
+/// Prints each problem of the workbook's cells on stderr: `ncsheet: FILE: Sheet1!B2: …`.
+fn report_problems(file: &Path, wb: &Workbook) {
+    let context = format!("ncsheet: {}: ", file.display());
+    for p in report::problems(wb) {
+        eprintln!("{}", prepend(&context, &p.render(wb)));
+    }
+}
+
+fn in_file(file: &Path, e: Error) -> Error {
+    match e {
+        Error::User(m) => Error::User(prepend(&format!("{}: ", file.display()), &m)),
+        e => e,
+    }
+}
+
+/// `--sheet NAME`, or the first sheet.
+fn default_sheet(wb: &Workbook, file: &Path, name: Option<&str>) -> Result<SheetId> {
+    match name {
+        Some(name) => sheet_named(wb, file, name),
+        None => Ok(0),
+    }
+}
+
+fn target_sheet(wb: &Workbook, file: &Path, target: &Target, default: SheetId) -> Result<SheetId> {
+    match &target.sheet {
+        Some(name) => sheet_named(wb, file, name),
+        None => Ok(default),
+    }
+}
+
+fn sheet_named(wb: &Workbook, file: &Path, name: &str) -> Result<SheetId> {
+    wb.sheet_id(name).ok_or_else(|| {
+        let names = wb.sheet_names().join(", ");
+        Error::User(format!("{}: no sheet named '{name}' (it has: {names})", file.display()))
+    })
+}
+
+/// Refuses an output path that is the input file (however it is spelled).
+fn refuse_overwriting_input(input: &Path, output: &Path, hint: &str) -> Result<()> {
+    let same = match (input.canonicalize(), output.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => input == output,
+    };
+    if same {
+        return Err(Error::Usage(format!("refusing to overwrite the input file {}: {hint}", input.display())));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+
+    #[test]
+    fn the_command_line_definition_is_consistent() {
+        Cli::command().debug_assert();
+    }
+}

@@ -1,0 +1,191 @@
+//! `ncsheet repl`: edit a loaded workbook one command at a time. With a terminal on stdin
+//! there is a prompt and line editing (rustyline); piped input is read as plain lines, so a
+//! script can drive a session and, with `--timings`, measure each edit from outside.
+
+use std::io::{self, BufRead, IsTerminal, Write};
+use std::path::Path;
+use std::time::Instant;
+
+use ncsheet::formula::ast::SheetId;
+use ncsheet::workbook::{Workbook, WorkbookError};
+use rustyline::error::ReadlineError;
+
+use super::output::{self, OutputFormat, Selection};
+use super::report::{self, prepend, CellProblem, Error, Result};
+use super::target::{parse_assignment, parse_target, Assignment, Target};
+
+const HELP: &str = "\
+commands:
+  CELL=INPUT    set a cell (a value, or a formula starting with =) and recalculate
+  CELL, RANGE   print values (B3, A1:D20, Sheet1!B3)
+  save PATH     save the workbook (csv: formulas as =… text)
+  help          this list
+  quit          leave (also exit, or end of input)";
+
+/// Where lines come from: an editor with a prompt, or plain lines from a pipe.
+enum Lines {
+    Editor(Box<rustyline::DefaultEditor>),
+    Piped(io::StdinLock<'static>),
+}
+
+impl Lines {
+    fn next(&mut self, prompt: &str) -> Result<Option<String>> {
+        match self {
+            Lines::Editor(editor) => loop {
+                match editor.readline(prompt) {
+                    Ok(line) => {
+                        let _ = editor.add_history_entry(line.as_str());
+                        return Ok(Some(line));
+                    }
+                    // Ctrl-C drops the line being typed, as in a shell.
+                    Err(ReadlineError::Interrupted) => continue,
+                    Err(ReadlineError::Eof) => return Ok(None),
+                    Err(e) => return Err(Error::User(format!("cannot read the terminal: {e}"))),
+                }
+            },
+            Lines::Piped(stdin) => {
+                let mut line = String::new();
+                match stdin.read_line(&mut line) {
+                    Ok(0) => Ok(None),
+                    Ok(_) => Ok(Some(line.trim_end_matches(['\n', '\r']).to_string())),
+                    Err(e) => Err(Error::User(format!("cannot read stdin: {e}"))),
+                }
+            }
+        }
+    }
+}
+
+enum Flow {
+    Continue,
+    Quit,
+}
+
+struct Session<'a> {
+    file: &'a Path,
+    wb: Workbook,
+    sheet: SheetId,
+}
+
+/// Runs commands until `quit` or the end of input. Piped, it fails (exit code 1) when any
+/// command failed, so a script notices; each failure was reported when it happened.
+pub fn run(file: &Path, wb: Workbook, sheet: SheetId, timings: bool) -> Result<()> {
+    let interactive = io::stdin().is_terminal();
+    let mut lines = if interactive {
+        let editor =
+            rustyline::DefaultEditor::new().map_err(|e| Error::User(format!("cannot start line editing: {e}")))?;
+        Lines::Editor(Box::new(editor))
+    } else {
+        Lines::Piped(io::stdin().lock())
+    };
+    let prompt = format!(
+        "{}> ",
+        file.file_name().map_or_else(|| file.display().to_string(), |n| n.to_string_lossy().into_owned())
+    );
+    if interactive {
+        eprintln!("ncsheet repl on {}: type help for commands", file.display());
+    }
+    let mut session = Session { file, wb, sheet };
+    let mut n_failed = 0;
+    let stdout = io::stdout();
+    while let Some(line) = lines.next(&prompt)? {
+        let command = line.trim();
+        if command.is_empty() {
+            continue;
+        }
+        let start = Instant::now();
+        let mut out = stdout.lock();
+        let res = session.command(command, &mut out);
+        out.flush()?;
+        let flow = match res {
+            Ok(flow) => flow,
+            Err(e) if matches!(e, Error::Output(_)) => return Err(e),
+            Err(e) => {
+                eprintln!("{}", prepend("ncsheet: ", &e.to_string()));
+                n_failed += 1;
+                Flow::Continue
+            }
+        };
+        if timings {
+            eprintln!("time_s={:.6}", start.elapsed().as_secs_f64());
+        }
+        if let Flow::Quit = flow {
+            break;
+        }
+    }
+    if n_failed > 0 && !interactive {
+        let commands = if n_failed == 1 { "command" } else { "commands" };
+        return Err(Error::User(format!("{}: {n_failed} {commands} failed", file.display())));
+    }
+    Ok(())
+}
+
+impl Session<'_> {
+    fn command(&mut self, command: &str, out: &mut dyn Write) -> Result<Flow> {
+        match command.split_once(char::is_whitespace).map_or((command, ""), |(c, rest)| (c, rest.trim())) {
+            ("quit" | "exit", "") => return Ok(Flow::Quit),
+            ("help", "") => writeln!(out, "{HELP}")?,
+            ("save", "") => return Err(Error::User("save needs a file name: save PATH".into())),
+            ("save", path) => {
+                ncsheet::io::save(&self.wb, Path::new(path))?;
+                writeln!(out, "saved {path}")?;
+            }
+            _ if command.contains('=') => {
+                let assignment = parse_assignment(command).map_err(|e| Error::User(format!("{command}: {e}")))?;
+                self.set(assignment, out)?;
+            }
+            _ => {
+                let target = parse_target(command)
+                    .map_err(|_| Error::User(format!("unknown command '{command}' (type help for the list)")))?;
+                let selection = self.select(&target)?;
+                output::print_selections(out, &self.wb, self.sheet, &[selection], OutputFormat::Table)?;
+            }
+        }
+        Ok(Flow::Continue)
+    }
+
+    /// Sets a cell and prints its new value. A formula that does not parse is refused (the
+    /// cell keeps what it had); new problems, such as a circular reference, are reported.
+    fn set(&mut self, assignment: Assignment, out: &mut dyn Write) -> Result<()> {
+        let Selection { sheet, rect } = self.select(&assignment.target)?;
+        let pos = rect.first;
+        let before = self.problems();
+        let old = self.wb.input(sheet, pos);
+        if let Err(e) = self.wb.set_input(sheet, pos, &assignment.input) {
+            let _ = self.wb.set_input(sheet, pos, old.as_deref().unwrap_or(""));
+            return Err(super::in_file(self.file, refused(e)));
+        }
+        writeln!(out, "{}", self.wb.value(sheet, pos))?;
+        let mut news: Vec<CellProblem> = self.problems().into_iter().filter(|p| !before.contains(p)).collect();
+        news.extend(report::unknowns(&self.wb, sheet, pos));
+        for p in news {
+            eprintln!("{}", prepend(&format!("ncsheet: {}: ", self.file.display()), &p.render(&self.wb)));
+        }
+        Ok(())
+    }
+
+    fn problems(&self) -> Vec<CellProblem> {
+        self.wb
+            .problems()
+            .into_iter()
+            .map(|p| CellProblem { sheet: p.sheet, row: p.pos.row, col: p.pos.col, message: p.message })
+            .collect()
+    }
+
+    fn select(&self, target: &Target) -> Result<Selection> {
+        let sheet = match &target.sheet {
+            None => self.sheet,
+            Some(name) => super::sheet_named(&self.wb, self.file, name)?,
+        };
+        Ok(Selection { sheet, rect: target.rect })
+    }
+}
+
+/// The error for input that was not taken: a formula with a caret under the fault.
+pub fn refused(e: WorkbookError) -> Error {
+    match e {
+        WorkbookError::Parse { place, text, error } => {
+            Error::User(prepend(&format!("{place}: "), &error.render(&text)))
+        }
+        e => Error::User(e.to_string()),
+    }
+}

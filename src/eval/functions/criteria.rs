@@ -1,0 +1,376 @@
+//! The criteria of COUNTIF, SUMIF, AVERAGEIF and the *IFS functions (`5`, `"<5"`, `">=2"`,
+//! `"<>x"`, `"=3"`, `"abc*"`), and the cell blocks they are tested against.
+
+use std::cmp::Ordering;
+use std::rc::Rc;
+
+use crate::eval::coerce::{compare_text, parse_number};
+use crate::eval::evaluator::{Ctx, Operand};
+use crate::eval::value::{Array, Value, XlError, XlResult};
+use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
+use crate::formula::ast::{Expr, SheetId};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Op {
+    Eq,
+    Ne,
+    Lt,
+    Le,
+    Gt,
+    Ge,
+}
+
+impl Op {
+    fn holds(self, ord: Ordering) -> bool {
+        match self {
+            Op::Eq => ord == Ordering::Equal,
+            Op::Ne => ord != Ordering::Equal,
+            Op::Lt => ord == Ordering::Less,
+            Op::Le => ord != Ordering::Greater,
+            Op::Gt => ord == Ordering::Greater,
+            Op::Ge => ord != Ordering::Less,
+        }
+    }
+}
+
+/// What a criterion compares cells with.
+#[derive(Clone, Debug, PartialEq)]
+enum Target {
+    /// Matches numbers, and text that reads as the same number (`COUNTIF(r, 23)` counts "23").
+    Number(f64),
+    Bool(bool),
+    Error(XlError),
+    /// Text matched without regard to case; `*`, `?` and `~` are wildcards when `pattern`.
+    Text {
+        text: Rc<str>,
+        pattern: bool,
+    },
+    /// `""` matches empty cells and empty text; `"="` and `"<>"` test truly empty cells.
+    Empty {
+        strict: bool,
+    },
+}
+
+/// One parsed criterion.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Criterion {
+    op: Op,
+    target: Target,
+}
+
+impl Criterion {
+    /// Reads a criterion argument (one item of it when it is an array).
+    pub fn new(v: &Value) -> Criterion {
+        let eq = |target| Criterion { op: Op::Eq, target };
+        match v {
+            Value::Number(n) => eq(Target::Number(*n)),
+            Value::Bool(b) => eq(Target::Bool(*b)),
+            Value::Error(e) => eq(Target::Error(*e)),
+            // Documented: "a reference to an empty cell is treated as 0".
+            Value::Blank => eq(Target::Number(0.0)),
+            Value::Text(s) => Criterion::parse(s),
+            Value::Array(a) => Criterion::new(a.data.first().unwrap_or(&Value::Blank)),
+        }
+    }
+
+    fn parse(s: &str) -> Criterion {
+        let (op, operand) = split_operator(s);
+        let target = if operand.is_empty() {
+            Target::Empty { strict: operand.len() != s.len() }
+        } else if let Some(n) = parse_number(operand) {
+            Target::Number(n)
+        } else if operand.eq_ignore_ascii_case("TRUE") || operand.eq_ignore_ascii_case("FALSE") {
+            Target::Bool(operand.eq_ignore_ascii_case("TRUE"))
+        } else if let Some(e) = XlError::ALL.iter().find(|e| e.as_str().eq_ignore_ascii_case(operand)) {
+            Target::Error(*e)
+        } else {
+            Target::Text { text: operand.into(), pattern: operand.contains(['*', '?', '~']) }
+        };
+        Criterion { op, target }
+    }
+
+    /// Whether a cell's value meets the criterion. Errors in the range are values like any
+    /// other here: they never match a number and always match `"<>5"`.
+    pub fn matches(&self, v: &Value) -> bool {
+        match self.op {
+            Op::Eq => self.equals(v, true),
+            // Excel counts the text "23" as different from 23 for "<>23" although "=23"
+            // matches it (COUNTIF.xlsx in the corpus).
+            Op::Ne => !self.equals(v, false),
+            op => self.order(v).is_some_and(|ord| op.holds(ord)),
+        }
+    }
+
+    fn equals(&self, v: &Value, numeric_text: bool) -> bool {
+        match (&self.target, v) {
+            (Target::Number(n), Value::Number(x)) => x == n,
+            (Target::Number(n), Value::Text(t)) => numeric_text && parse_number(t) == Some(*n),
+            (Target::Bool(b), Value::Bool(x)) => b == x,
+            (Target::Error(e), Value::Error(x)) => e == x,
+            (Target::Text { text, pattern }, Value::Text(t)) => {
+                if *pattern {
+                    wildcard_match(text, t)
+                } else {
+                    compare_text(t, text) == Ordering::Equal
+                }
+            }
+            (Target::Empty { .. }, Value::Blank) => true,
+            (Target::Empty { strict }, Value::Text(t)) => !strict && t.is_empty(),
+            _ => false,
+        }
+    }
+
+    /// The cell compared with the target for `<`, `>` …: only values of the same kind compare.
+    fn order(&self, v: &Value) -> Option<Ordering> {
+        match (&self.target, v) {
+            (Target::Number(n), Value::Number(x)) => x.partial_cmp(n),
+            (Target::Text { text, .. }, Value::Text(t)) => Some(compare_text(t, text)),
+            (Target::Bool(b), Value::Bool(x)) => Some(x.cmp(b)),
+            _ => None,
+        }
+    }
+}
+
+fn split_operator(s: &str) -> (Op, &str) {
+    const OPERATORS: [(&str, Op); 6] =
+        [("<=", Op::Le), (">=", Op::Ge), ("<>", Op::Ne), ("<", Op::Lt), (">", Op::Gt), ("=", Op::Eq)];
+    OPERATORS.iter().find_map(|(prefix, op)| s.strip_prefix(prefix).map(|rest| (*op, rest))).unwrap_or((Op::Eq, s))
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Token {
+    Char(char),
+    AnyOne,
+    AnyMany,
+}
+
+/// Excel's wildcard match of a whole text: `*` any run, `?` one character, `~` makes the
+/// next `*`, `?` or `~` literal. Case-insensitive.
+pub fn wildcard_match(pattern: &str, text: &str) -> bool {
+    let tokens = tokenize(pattern);
+    let text: Vec<char> = text.chars().flat_map(char::to_lowercase).collect();
+    glob(&tokens, &text)
+}
+
+fn tokenize(pattern: &str) -> Vec<Token> {
+    let mut tokens = Vec::new();
+    let mut chars = pattern.chars().flat_map(char::to_lowercase).peekable();
+    while let Some(c) = chars.next() {
+        tokens.push(match c {
+            '~' => match chars.peek() {
+                Some(&next @ ('*' | '?' | '~')) => {
+                    chars.next();
+                    Token::Char(next)
+                }
+                _ => Token::Char('~'),
+            },
+            '*' => Token::AnyMany,
+            '?' => Token::AnyOne,
+            c => Token::Char(c),
+        });
+    }
+    tokens
+}
+
+/// Iterative glob matching with one backtrack point (the last `*`): linear in practice.
+fn glob(tokens: &[Token], text: &[char]) -> bool {
+    let (mut t, mut s) = (0, 0);
+    let mut star: Option<(usize, usize)> = None;
+    while s < text.len() {
+        match tokens.get(t) {
+            Some(Token::AnyMany) => {
+                star = Some((t, s));
+                t += 1;
+            }
+            Some(Token::AnyOne) => {
+                t += 1;
+                s += 1;
+            }
+            Some(Token::Char(c)) if *c == text[s] => {
+                t += 1;
+                s += 1;
+            }
+            _ => match star {
+                Some((st, ss)) => {
+                    t = st + 1;
+                    s = ss + 1;
+                    star = Some((st, ss + 1));
+                }
+                None => return false,
+            },
+        }
+    }
+    tokens[t..].iter().all(|k| *k == Token::AnyMany)
+}
+
+/// A range argument as the *IF functions read it: every cell, blanks included. Whole
+/// columns and rows are read only as far as the sheet's used area; the cells beyond are
+/// blank, counted but not stored.
+#[derive(Clone, Debug)]
+pub struct CellBlock {
+    pub rows: usize,
+    pub cols: usize,
+    read: Rc<Array>,
+}
+
+impl CellBlock {
+    pub fn read(ctx: &mut Ctx, e: &Expr) -> XlResult<CellBlock> {
+        match ctx.operand(e) {
+            Operand::Ref(sheet, rect) => Ok(CellBlock::of_rect(ctx, sheet, rect)),
+            Operand::Value(v) => CellBlock::from_value(v),
+        }
+    }
+
+    /// SUMIF's sum range: Excel uses its top-left cell and the criteria range's shape.
+    pub fn read_sized(ctx: &mut Ctx, e: &Expr, rows: usize, cols: usize) -> XlResult<CellBlock> {
+        match ctx.operand(e) {
+            Operand::Ref(sheet, rect) => {
+                let last = Pos::new(
+                    (rect.first.row as usize + rows - 1).min(MAX_ROWS as usize - 1) as u32,
+                    (rect.first.col as usize + cols - 1).min(MAX_COLS as usize - 1) as u32,
+                );
+                let mut block = CellBlock::of_rect(ctx, sheet, Rect::new(rect.first, last));
+                (block.rows, block.cols) = (rows, cols);
+                Ok(block)
+            }
+            Operand::Value(v) => {
+                let block = CellBlock::from_value(v)?;
+                Ok(CellBlock { rows, cols, ..block })
+            }
+        }
+    }
+
+    fn from_value(v: Value) -> XlResult<CellBlock> {
+        match v {
+            Value::Error(err) => Err(err),
+            Value::Array(a) => Ok(CellBlock { rows: a.rows, cols: a.cols, read: a }),
+            v => Ok(CellBlock { rows: 1, cols: 1, read: Rc::new(Array::new(1, 1, vec![v])) }),
+        }
+    }
+
+    fn of_rect(ctx: &Ctx, sheet: SheetId, rect: Rect) -> CellBlock {
+        let clipped = ctx.clip_to_used(sheet, rect);
+        let read = match ctx.rect_value(sheet, clipped) {
+            Value::Array(a) => a,
+            v => Rc::new(Array::new(1, 1, vec![v])),
+        };
+        CellBlock { rows: rect.rows() as usize, cols: rect.cols() as usize, read }
+    }
+
+    /// The cell at (row, col) of the range: blank beyond the part that was read.
+    pub fn get(&self, row: usize, col: usize) -> &Value {
+        if row < self.read.rows && col < self.read.cols {
+            self.read.get(row, col)
+        } else {
+            &Value::Blank
+        }
+    }
+
+    pub fn same_shape(&self, other: &CellBlock) -> bool {
+        self.rows == other.rows && self.cols == other.cols
+    }
+}
+
+/// The cells where every range meets its criterion: the positions read, and how many
+/// unread (blank) cells beyond the sheet's used area match too.
+pub struct Matches {
+    pub cells: Vec<(usize, usize)>,
+    pub blanks_beyond: usize,
+}
+
+/// Tests `ranges[i]` against `criteria[i]` cell by cell; the ranges must share one shape
+/// (`#VALUE!` otherwise, as in Excel's COUNTIFS).
+pub fn matching_cells(ranges: &[CellBlock], criteria: &[Criterion]) -> XlResult<Matches> {
+    let first = &ranges[0];
+    if ranges.iter().any(|r| !r.same_shape(first)) {
+        return Err(XlError::Value);
+    }
+    let read_rows = ranges.iter().map(|r| r.read.rows).max().unwrap_or(0);
+    let read_cols = ranges.iter().map(|r| r.read.cols).max().unwrap_or(0);
+    let (read_rows, read_cols) = (read_rows.min(first.rows), read_cols.min(first.cols));
+    let mut cells = Vec::new();
+    for row in 0..read_rows {
+        for col in 0..read_cols {
+            if ranges.iter().zip(criteria).all(|(r, c)| c.matches(r.get(row, col))) {
+                cells.push((row, col));
+            }
+        }
+    }
+    let blanks_beyond = if criteria.iter().all(|c| c.matches(&Value::Blank)) {
+        first.rows * first.cols - read_rows * read_cols
+    } else {
+        0
+    };
+    Ok(Matches { cells, blanks_beyond })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn holds(criterion: impl Into<Value>, cell: impl Into<Value>) -> bool {
+        Criterion::new(&criterion.into()).matches(&cell.into())
+    }
+
+    #[test]
+    fn numeric_criteria_match_numbers_and_numeric_text() {
+        assert!(holds(23.0, 23.0));
+        assert!(holds(23.0, "23"));
+        assert!(holds("=23", "23"));
+        assert!(holds("<5", 4.0));
+        assert!(!holds("<5", "4"));
+        assert!(!holds("<5", Value::Blank));
+        assert!(!holds("<5", true));
+        assert!(holds(">=2", 2.0));
+        assert!(holds("<>3", Value::Blank));
+        assert!(holds("<>3", "x"));
+        assert!(!holds("<>3", 3.0));
+        assert!(holds("<>3", "3"));
+    }
+
+    #[test]
+    fn text_criteria_are_case_insensitive_with_wildcards() {
+        assert!(holds("abc*", "ABCdef"));
+        assert!(!holds("abc*", "xabc"));
+        assert!(holds("a?c", "abc"));
+        assert!(!holds("a?c", "ac"));
+        assert!(holds("*~*", "5*"));
+        assert!(!holds("*~*", "5"));
+        assert!(holds("~?", "?"));
+        assert!(holds("<>x", 1.0));
+        assert!(!holds("<>X", "x"));
+        assert!(holds("<b", "Apple"));
+        assert!(!holds("<b", 1.0));
+        assert!(holds("*", "anything"));
+        assert!(!holds("*", 1.0));
+    }
+
+    #[test]
+    fn empty_criteria_tell_blank_from_empty_text() {
+        assert!(holds("", Value::Blank));
+        assert!(holds("", ""));
+        assert!(holds("=", Value::Blank));
+        assert!(!holds("=", ""));
+        assert!(!holds("<>", Value::Blank));
+        assert!(holds("<>", ""));
+        assert!(holds(Value::Blank, 0.0));
+    }
+
+    #[test]
+    fn booleans_and_errors_match_their_own_kind() {
+        assert!(holds(true, true));
+        assert!(!holds(true, 1.0));
+        assert!(holds("true", true));
+        assert!(holds("#N/A", XlError::NA));
+        assert!(holds(XlError::Div0, XlError::Div0));
+        assert!(!holds(XlError::Div0, XlError::NA));
+    }
+
+    #[test]
+    fn glob_backtracks_over_stars() {
+        assert!(wildcard_match("*b*b", "abcbab"));
+        assert!(wildcard_match("**", ""));
+        assert!(!wildcard_match("?", ""));
+        assert!(wildcard_match("Mr*. Brown", "mrs. brown"));
+    }
+}

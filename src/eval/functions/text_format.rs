@@ -1,0 +1,948 @@
+//! Excel number formats as TEXT and FIXED apply them: `0.000`, `#,##0.00`, `0.0%`,
+//! `0.00E+00`, `+0.000;-0.000;0`, quoted literals, `@`, `General`, and dates and times
+//! (`yyyy-mm-dd hh:mm:ss`).
+//!
+//! Digits come from the number's 15 significant decimal digits and are rounded in
+//! decimal, half away from zero, as Excel displays them (2.675 shows as 2.68 although the
+//! binary double is a little below).
+
+use crate::eval::number_format::significant_digits;
+use crate::eval::value::{XlError, XlResult};
+
+/// One piece of a format section.
+#[derive(Clone, Debug, PartialEq)]
+enum Tok {
+    /// A digit placeholder: `0` (always a digit), `#` (digit if significant), `?` (digit
+    /// or space).
+    Digit(char),
+    Point,
+    Comma,
+    Percent,
+    /// `E+` (sign always shown) or `E-` (only a minus sign).
+    Exp {
+        plus: bool,
+    },
+    Lit(String),
+    /// `@`: the text value.
+    TextAt,
+    General,
+    Date(DatePart),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum DatePart {
+    Year(usize),
+    /// `m` runs: a month, unless it sits after hours or before seconds (then minutes).
+    Month(usize),
+    Day(usize),
+    Hour(usize),
+    Minute(usize),
+    Second(usize),
+    /// `[h]`, `[m]`, `[s]`: hours, minutes or seconds elapsed in total.
+    Elapsed(char, usize),
+    /// `.0`, `.00`, `.000` after seconds.
+    SubSecond(usize),
+    /// `AM/PM` or `A/P`, with the case as written.
+    AmPm {
+        short: bool,
+        lower: bool,
+    },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Cmp {
+    Lt,
+    Le,
+    Gt,
+    Ge,
+    Eq,
+    Ne,
+}
+
+#[derive(Clone, Debug, Default)]
+struct Section {
+    tokens: Vec<Tok>,
+    condition: Option<(Cmp, f64)>,
+}
+
+impl Section {
+    fn is_date(&self) -> bool {
+        self.tokens.iter().any(|t| matches!(t, Tok::Date(_)))
+    }
+
+    fn has(&self, tok: &Tok) -> bool {
+        self.tokens.contains(tok)
+    }
+}
+
+/// A parsed format: up to four `;`-separated sections (positive; negative; zero; text).
+pub struct NumberFormat {
+    sections: Vec<Section>,
+}
+
+impl NumberFormat {
+    pub fn parse(format: &str) -> XlResult<NumberFormat> {
+        let sections = split_sections(format).iter().map(|s| parse_section(s)).collect::<XlResult<Vec<_>>>()?;
+        Ok(NumberFormat { sections })
+    }
+
+    /// A number as text under this format.
+    pub fn format_number(&self, n: f64) -> XlResult<String> {
+        let (section, value, signed) = self.choose(n);
+        if section.tokens.is_empty() {
+            return Ok(String::new());
+        }
+        if section.is_date() {
+            return format_date(section, value);
+        }
+        format_in_section(section, value, signed)
+    }
+
+    /// A text value under this format: the text section when there is one, else the text
+    /// unchanged.
+    pub fn format_text(&self, text: &str) -> String {
+        let section = match self.sections.len() {
+            4.. => Some(&self.sections[3]),
+            1 if self.sections[0].has(&Tok::TextAt) => Some(&self.sections[0]),
+            _ => None,
+        };
+        let Some(section) = section else {
+            return text.to_string();
+        };
+        let mut out = String::new();
+        for tok in &section.tokens {
+            match tok {
+                Tok::TextAt => out.push_str(text),
+                Tok::Lit(s) => out.push_str(s),
+                _ => {}
+            }
+        }
+        out
+    }
+
+    /// The section for `n`, the value it shows, and whether that section prints a minus
+    /// sign itself (only a single section covering negatives does).
+    fn choose(&self, n: f64) -> (&Section, f64, bool) {
+        let numeric: Vec<&Section> =
+            self.sections.iter().take(3).filter(|s| !(self.sections.len() > 1 && is_text_section(s))).collect();
+        if numeric.iter().any(|s| s.condition.is_some()) {
+            return choose_by_condition(&numeric, n);
+        }
+        match (numeric.len(), n) {
+            (0, _) => (&self.sections[0], n, true),
+            (1, _) => (numeric[0], n, true),
+            (_, n) if n < 0.0 => (numeric[1], -n, false),
+            (3.., n) if n == 0.0 => (numeric[2], n, false),
+            _ => (numeric[0], n, false),
+        }
+    }
+}
+
+/// A section with `@` formats text, not numbers.
+fn is_text_section(s: &Section) -> bool {
+    s.has(&Tok::TextAt)
+}
+
+/// Sections with conditions (`[>=100]0;[<0]-0;0.00`) are tried in order; the first
+/// without a condition catches the rest. A negative number keeps its minus sign: a
+/// condition, unlike the negative section, does not imply one.
+fn choose_by_condition<'a>(sections: &[&'a Section], n: f64) -> (&'a Section, f64, bool) {
+    let chosen = sections
+        .iter()
+        .find(|s| s.condition.is_none_or(|(cmp, limit)| holds(cmp, n, limit)))
+        .unwrap_or(&sections[sections.len() - 1]);
+    (chosen, n, true)
+}
+
+fn holds(cmp: Cmp, n: f64, limit: f64) -> bool {
+    match cmp {
+        Cmp::Lt => n < limit,
+        Cmp::Le => n <= limit,
+        Cmp::Gt => n > limit,
+        Cmp::Ge => n >= limit,
+        Cmp::Eq => n == limit,
+        Cmp::Ne => n != limit,
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Parsing
+
+/// Splits at `;` outside quotes, brackets and escapes.
+fn split_sections(format: &str) -> Vec<String> {
+    let mut sections = vec![String::new()];
+    let mut chars = format.chars();
+    let mut quoted = false;
+    let mut bracket = false;
+    while let Some(c) = chars.next() {
+        let current = sections.last_mut().expect("one section at least");
+        match c {
+            '"' => quoted = !quoted,
+            '[' if !quoted => bracket = true,
+            ']' if !quoted => bracket = false,
+            '\\' | '_' | '*' if !quoted => {
+                current.push(c);
+                if let Some(next) = chars.next() {
+                    current.push(next);
+                }
+                continue;
+            }
+            ';' if !quoted && !bracket => {
+                sections.push(String::new());
+                continue;
+            }
+            _ => {}
+        }
+        current.push(c);
+    }
+    sections
+}
+
+fn parse_section(text: &str) -> XlResult<Section> {
+    let chars: Vec<char> = text.chars().collect();
+    let mut section = Section::default();
+    let mut i = 0;
+    while i < chars.len() {
+        let c = chars[i];
+        let lower = c.to_ascii_lowercase();
+        i += 1;
+        let tok = match lower {
+            '"' => {
+                let end = chars[i..].iter().position(|&q| q == '"').map(|p| i + p);
+                let end = end.unwrap_or(chars.len());
+                let lit: String = chars[i..end].iter().collect();
+                i = end + 1;
+                Tok::Lit(lit)
+            }
+            '\\' => {
+                i += 1;
+                Tok::Lit(chars.get(i - 1).map(|c| c.to_string()).unwrap_or_default())
+            }
+            '_' => {
+                // Space as wide as the next character: one space in text.
+                i += 1;
+                Tok::Lit(" ".to_string())
+            }
+            '*' => {
+                // Fill character: TEXT has no column width to fill.
+                i += 1;
+                continue;
+            }
+            '[' => {
+                let end = chars[i..].iter().position(|&q| q == ']').map(|p| i + p);
+                let end = end.ok_or(XlError::Value)?;
+                let inner: String = chars[i..end].iter().collect();
+                i = end + 1;
+                match bracket(&inner, &mut section)? {
+                    Some(tok) => tok,
+                    None => continue,
+                }
+            }
+            '0' | '#' | '?' => Tok::Digit(c),
+            '.' => Tok::Point,
+            ',' => Tok::Comma,
+            '%' => Tok::Percent,
+            '@' => Tok::TextAt,
+            'e' if matches!(chars.get(i), Some('+' | '-')) => {
+                i += 1;
+                Tok::Exp { plus: chars[i - 1] == '+' }
+            }
+            'g' if starts_with_ignore_case(&chars[i - 1..], "general") => {
+                i += "general".len() - 1;
+                Tok::General
+            }
+            'a' if starts_with_ignore_case(&chars[i - 1..], "am/pm") => {
+                i += 4;
+                Tok::Date(DatePart::AmPm { short: false, lower: c == 'a' })
+            }
+            'a' if starts_with_ignore_case(&chars[i - 1..], "a/p") => {
+                i += 2;
+                Tok::Date(DatePart::AmPm { short: true, lower: c == 'a' })
+            }
+            'y' | 'm' | 'd' | 'h' | 's' => {
+                let run = 1 + chars[i..].iter().take_while(|x| x.to_ascii_lowercase() == lower).count();
+                i += run - 1;
+                Tok::Date(match lower {
+                    'y' => DatePart::Year(run),
+                    'm' => DatePart::Month(run),
+                    'd' => DatePart::Day(run),
+                    'h' => DatePart::Hour(run),
+                    _ => DatePart::Second(run),
+                })
+            }
+            _ => Tok::Lit(c.to_string()),
+        };
+        section.tokens.push(tok);
+    }
+    if section.is_date() {
+        settle_date_tokens(&mut section)?;
+    } else if is_fraction(&section.tokens) {
+        // Fractions (`# ?/?`, `# ??/16`) are not implemented: an error, not wrong digits.
+        return Err(XlError::Value);
+    }
+    Ok(section)
+}
+
+/// A `/` between digit placeholders, or between a placeholder and a fixed denominator.
+fn is_fraction(tokens: &[Tok]) -> bool {
+    tokens.windows(3).any(|w| {
+        matches!(w[0], Tok::Digit(_))
+            && w[1] == Tok::Lit("/".to_string())
+            && match &w[2] {
+                Tok::Digit(_) => true,
+                Tok::Lit(s) => s.starts_with(|c: char| c.is_ascii_digit()),
+                _ => false,
+            }
+    })
+}
+
+fn starts_with_ignore_case(chars: &[char], word: &str) -> bool {
+    let n = word.chars().count();
+    chars.len() >= n && chars[..n].iter().zip(word.chars()).all(|(a, b)| a.eq_ignore_ascii_case(&b))
+}
+
+/// `[Red]`, `[Color5]`, `[$-409]`: ignored; `[$€-407]`: the currency text;
+/// `[>=100]`: a condition; `[h]`, `[mm]`, `[ss]`: elapsed time.
+fn bracket(inner: &str, section: &mut Section) -> XlResult<Option<Tok>> {
+    if let Some(currency) = inner.strip_prefix('$') {
+        let symbol = currency.split('-').next().unwrap_or("");
+        return Ok((!symbol.is_empty()).then(|| Tok::Lit(symbol.to_string())));
+    }
+    if let Some(cond) = parse_condition(inner) {
+        section.condition = Some(cond);
+        return Ok(None);
+    }
+    let lower = inner.to_ascii_lowercase();
+    if let Some(unit) = lower.chars().next().filter(|c| matches!(c, 'h' | 'm' | 's')) {
+        if lower.chars().all(|c| c == unit) {
+            return Ok(Some(Tok::Date(DatePart::Elapsed(unit, lower.len()))));
+        }
+    }
+    // Colours and locale codes change nothing in text.
+    Ok(None)
+}
+
+fn parse_condition(inner: &str) -> Option<(Cmp, f64)> {
+    let (cmp, rest) =
+        [("<=", Cmp::Le), (">=", Cmp::Ge), ("<>", Cmp::Ne), ("<", Cmp::Lt), (">", Cmp::Gt), ("=", Cmp::Eq)]
+            .iter()
+            .find_map(|(op, cmp)| inner.strip_prefix(op).map(|rest| (*cmp, rest)))?;
+    rest.trim().parse().ok().map(|v| (cmp, v))
+}
+
+/// Resolves `m` to minutes next to hours or seconds, turns `.00` after seconds into
+/// fractions of a second, and rejects digit placeholders mixed into a date (`mm###`).
+fn settle_date_tokens(section: &mut Section) -> XlResult<()> {
+    let tokens = std::mem::take(&mut section.tokens);
+    let date_positions: Vec<usize> = (0..tokens.len()).filter(|&i| matches!(tokens[i], Tok::Date(_))).collect();
+    let mut out = Vec::with_capacity(tokens.len());
+    let mut i = 0;
+    while i < tokens.len() {
+        match &tokens[i] {
+            Tok::Date(DatePart::Month(n)) if is_minute(&tokens, &date_positions, i) => {
+                out.push(Tok::Date(DatePart::Minute(*n)));
+            }
+            Tok::Point if follows_seconds(&out) => {
+                let zeros = tokens[i + 1..].iter().take_while(|t| **t == Tok::Digit('0')).count();
+                if zeros == 0 {
+                    out.push(Tok::Lit(".".to_string()));
+                } else {
+                    out.push(Tok::Date(DatePart::SubSecond(zeros.min(3))));
+                    i += zeros;
+                }
+            }
+            Tok::Point => out.push(Tok::Lit(".".to_string())),
+            Tok::Comma => out.push(Tok::Lit(",".to_string())),
+            Tok::Digit(_) | Tok::Exp { .. } | Tok::General => return Err(XlError::Value),
+            other => out.push(other.clone()),
+        }
+        i += 1;
+    }
+    section.tokens = out;
+    Ok(())
+}
+
+fn is_minute(tokens: &[Tok], date_positions: &[usize], i: usize) -> bool {
+    let k = date_positions.iter().position(|&p| p == i).unwrap_or(0);
+    let before = k
+        .checked_sub(1)
+        .map(|j| &tokens[date_positions[j]])
+        .is_some_and(|t| matches!(t, Tok::Date(DatePart::Hour(_)) | Tok::Date(DatePart::Elapsed('h', _))));
+    let after = date_positions
+        .get(k + 1)
+        .map(|&j| &tokens[j])
+        .is_some_and(|t| matches!(t, Tok::Date(DatePart::Second(_)) | Tok::Date(DatePart::Elapsed('s', _))));
+    before || after
+}
+
+fn follows_seconds(out: &[Tok]) -> bool {
+    matches!(out.last(), Some(Tok::Date(DatePart::Second(_))) | Some(Tok::Date(DatePart::Elapsed('s', _))))
+}
+
+// ---------------------------------------------------------------------------------------
+// Numbers
+
+/// Decimal digits of a number rounded to `decimals` places: the integer digits without
+/// leading zeros ("" for zero) and exactly `decimals` fraction digits.
+pub fn fixed_digits(n: f64, decimals: usize) -> (String, String) {
+    let (digits, exp) = significant_digits(n, 15);
+    round_digits(&digits, exp, decimals)
+}
+
+/// [`fixed_digits`] on a number given as significant digits and the exponent of the
+/// first one.
+fn round_digits(digits: &str, exp: i32, decimals: usize) -> (String, String) {
+    if digits == "0" {
+        return (String::new(), "0".repeat(decimals));
+    }
+    // All digits, the decimal point after `point` of them.
+    let mut all: Vec<u8> = digits.bytes().map(|b| b - b'0').collect();
+    let mut point = exp + 1;
+    if point < 0 {
+        let mut padded = vec![0; (-point) as usize];
+        padded.extend(all);
+        all = padded;
+        point = 0;
+    }
+    let point = point as usize;
+    if all.len() < point + decimals {
+        all.resize(point + decimals, 0);
+    }
+    let keep = point + decimals;
+    let round_up = all.get(keep).is_some_and(|&d| d >= 5);
+    all.truncate(keep);
+    if round_up && !increment(&mut all) {
+        all.insert(0, 1);
+    }
+    let int_len = all.len() - decimals;
+    let int: String = all[..int_len].iter().map(|d| char::from(b'0' + d)).skip_while(|&c| c == '0').collect();
+    let frac: String = all[int_len..].iter().map(|d| char::from(b'0' + d)).collect();
+    (int, frac)
+}
+
+/// Adds one unit in the last place; false when it carries out of the first digit.
+fn increment(digits: &mut [u8]) -> bool {
+    for d in digits.iter_mut().rev() {
+        if *d == 9 {
+            *d = 0;
+        } else {
+            *d += 1;
+            return true;
+        }
+    }
+    false
+}
+
+/// How a number section lays out its digits.
+struct Layout {
+    int_places: Vec<char>,
+    frac_places: Vec<char>,
+    exp_places: Vec<char>,
+    grouping: bool,
+    /// Divide by 1000 per comma after the last integer placeholder.
+    thousands: i32,
+    percents: i32,
+}
+
+fn layout(tokens: &[Tok]) -> Layout {
+    let exp_at = tokens.iter().position(|t| matches!(t, Tok::Exp { .. })).unwrap_or(tokens.len());
+    let point_at = tokens[..exp_at].iter().position(|t| *t == Tok::Point).unwrap_or(exp_at);
+    let digits = |range: &[Tok]| -> Vec<char> {
+        range
+            .iter()
+            .filter_map(|t| match t {
+                Tok::Digit(c) => Some(*c),
+                _ => None,
+            })
+            .collect()
+    };
+    let int = &tokens[..point_at];
+    let last_int_digit = int.iter().rposition(|t| matches!(t, Tok::Digit(_)));
+    let first_int_digit = int.iter().position(|t| matches!(t, Tok::Digit(_)));
+    let mut grouping = false;
+    let mut thousands = 0;
+    for (i, t) in int.iter().enumerate() {
+        if *t != Tok::Comma {
+            continue;
+        }
+        match (first_int_digit, last_int_digit) {
+            (Some(first), Some(last)) if i > first && i < last => grouping = true,
+            (_, Some(last)) if i > last => thousands += 1,
+            _ => {}
+        }
+    }
+    Layout {
+        int_places: digits(int),
+        frac_places: digits(&tokens[point_at.min(exp_at)..exp_at]),
+        exp_places: digits(tokens.get(exp_at..).unwrap_or(&[])),
+        grouping,
+        thousands,
+        percents: tokens.iter().filter(|t| **t == Tok::Percent).count() as i32,
+    }
+}
+
+/// The digits a number section shows: integer and fraction digits, and the exponent
+/// for scientific formats.
+struct Shown {
+    int: String,
+    frac: String,
+    exponent: Option<i32>,
+}
+
+impl Shown {
+    fn is_zero(&self) -> bool {
+        self.int.bytes().all(|b| b == b'0') && self.frac.bytes().all(|b| b == b'0')
+    }
+}
+
+fn shown_digits(value: f64, layout: &Layout, scientific: bool) -> Shown {
+    let scaled = value * 100f64.powi(layout.percents) / 1000f64.powi(layout.thousands);
+    let decimals = layout.frac_places.len();
+    if !scientific {
+        let (int, frac) = fixed_digits(scaled, decimals);
+        return Shown { int, frac, exponent: None };
+    }
+    let (digits, exp) = significant_digits(scaled, 15);
+    if digits == "0" {
+        let (int, frac) = round_digits("0", 0, decimals);
+        return Shown { int, frac, exponent: Some(0) };
+    }
+    // The exponent steps by the count of integer placeholders (##0.0E+0 is engineering).
+    let step = layout.int_places.len().max(1) as i32;
+    let mut exponent = exp.div_euclid(step) * step;
+    loop {
+        let (int, frac) = round_digits(&digits, exp - exponent, decimals);
+        if int.len() as i32 > step {
+            exponent += step;
+            continue;
+        }
+        return Shown { int, frac, exponent: Some(exponent) };
+    }
+}
+
+fn format_in_section(section: &Section, value: f64, signed: bool) -> XlResult<String> {
+    if section.has(&Tok::General) {
+        let body = general_in_section(section, value.abs());
+        return Ok(with_sign(body, signed && value < 0.0));
+    }
+    let has_digits = section.tokens.iter().any(|t| matches!(t, Tok::Digit(_)));
+    if !has_digits {
+        // Literal-only sections (`"zero"`), or `@` showing the number as text.
+        let mut out = String::new();
+        for t in &section.tokens {
+            match t {
+                Tok::Lit(s) => out.push_str(s),
+                Tok::TextAt => out.push_str(&crate::eval::number_format::general(value.abs())),
+                Tok::Percent => out.push('%'),
+                _ => {}
+            }
+        }
+        return Ok(with_sign(out, signed && value < 0.0));
+    }
+    let layout = layout(&section.tokens);
+    let scientific = section.tokens.iter().any(|t| matches!(t, Tok::Exp { .. }));
+    let shown = shown_digits(value.abs(), &layout, scientific);
+    let body = render(section, &layout, &shown);
+    Ok(with_sign(body, signed && value < 0.0 && !shown.is_zero()))
+}
+
+fn with_sign(body: String, negative: bool) -> String {
+    if negative {
+        format!("-{body}")
+    } else {
+        body
+    }
+}
+
+fn general_in_section(section: &Section, value: f64) -> String {
+    let mut out = String::new();
+    for t in &section.tokens {
+        match t {
+            Tok::General => out.push_str(&general_text(value)),
+            Tok::Lit(s) => out.push_str(s),
+            _ => {}
+        }
+    }
+    out
+}
+
+/// Writes the section's tokens with the digits in place.
+fn render(section: &Section, layout: &Layout, shown: &Shown) -> String {
+    let int_texts = integer_texts(&shown.int, &layout.int_places);
+    let frac_texts = fraction_texts(&shown.frac, &layout.frac_places);
+    let mut out = String::new();
+    let (mut int_i, mut frac_i, mut exp_i) = (0, 0, 0);
+    let mut region = 0; // 0 integer part, 1 fraction, 2 exponent
+    for t in &section.tokens {
+        match t {
+            Tok::Digit(_) if region == 0 => {
+                if !layout.grouping {
+                    out.push_str(&int_texts[int_i]);
+                } else if int_i == 0 {
+                    out.push_str(&group_thousands(&int_texts.concat()));
+                }
+                int_i += 1;
+            }
+            Tok::Digit(_) if region == 1 => {
+                out.push_str(&frac_texts[frac_i]);
+                frac_i += 1;
+            }
+            Tok::Digit(_) => {
+                if exp_i == 0 {
+                    out.push_str(&exponent_text(shown.exponent.unwrap_or(0), &layout.exp_places));
+                }
+                exp_i += 1;
+            }
+            Tok::Point if region == 0 => {
+                out.push('.');
+                region = 1;
+            }
+            Tok::Exp { plus } => {
+                out.push('E');
+                let e = shown.exponent.unwrap_or(0);
+                if e < 0 {
+                    out.push('-');
+                } else if *plus {
+                    out.push('+');
+                }
+                region = 2;
+            }
+            Tok::Percent => out.push('%'),
+            Tok::Lit(s) => out.push_str(s),
+            Tok::Point => out.push('.'),
+            Tok::Comma | Tok::TextAt | Tok::General | Tok::Date(_) => {}
+        }
+    }
+    out
+}
+
+/// What each integer placeholder shows: digits assigned from the right, the leftmost
+/// placeholder taking all the digits left over.
+fn integer_texts(int: &str, places: &[char]) -> Vec<String> {
+    let digits: Vec<char> = int.chars().collect();
+    let mut texts = vec![String::new(); places.len()];
+    for (k, &place) in places.iter().rev().enumerate() {
+        let slot = places.len() - 1 - k;
+        texts[slot] = match digits.len().checked_sub(k + 1) {
+            Some(d) => digits[d].to_string(),
+            None => match place {
+                '0' => "0".to_string(),
+                '?' => " ".to_string(),
+                _ => String::new(),
+            },
+        };
+    }
+    if let Some(first) = texts.first_mut() {
+        let extra = digits.len().saturating_sub(places.len());
+        let prefix: String = digits[..extra].iter().collect();
+        first.insert_str(0, &prefix);
+    }
+    texts
+}
+
+/// What each fraction placeholder shows: trailing zeros vanish under `#` and become
+/// spaces under `?`.
+fn fraction_texts(frac: &str, places: &[char]) -> Vec<String> {
+    let digits: Vec<char> = frac.chars().collect();
+    let mut texts: Vec<String> = digits.iter().map(|d| d.to_string()).collect();
+    for (i, &place) in places.iter().enumerate().rev() {
+        if place == '0' || digits[i] != '0' {
+            break;
+        }
+        texts[i] = if place == '?' { " ".to_string() } else { String::new() };
+    }
+    texts
+}
+
+fn group_thousands(digits: &str) -> String {
+    let lead = digits.len() - digits.trim_start_matches(' ').len();
+    let (spaces, number) = digits.split_at(lead);
+    let mut out = String::from(spaces);
+    for (i, c) in number.chars().enumerate() {
+        if i > 0 && (number.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+fn exponent_text(exponent: i32, places: &[char]) -> String {
+    let min = places.iter().filter(|&&c| c == '0').count();
+    format!("{:0min$}", exponent.abs())
+}
+
+/// Excel's "General" in TEXT: at most 11 characters (sign aside), positional unless
+/// scientific notation keeps more of the number.
+pub fn general_text(n: f64) -> String {
+    if n == 0.0 || !n.is_finite() {
+        return "0".to_string();
+    }
+    let (digits, exp) = significant_digits(n, 15);
+    let sign = if n < 0.0 { "-" } else { "" };
+    let last_digit = exp - (digits.len() as i32 - 1);
+    let int_len = (exp + 1).max(1);
+    let sci_decimals = if exp.abs() >= 100 { 4 } else { 5 };
+    let sci_unit = exp - sci_decimals;
+    if int_len <= 11 {
+        let decimals = (10 - int_len).max(0);
+        let positional_exact = last_digit >= -decimals;
+        if positional_exact || -decimals <= sci_unit {
+            let (int, frac) = round_digits(&digits, exp, decimals as usize);
+            let frac = frac.trim_end_matches('0');
+            let int = if int.is_empty() { "0" } else { &int };
+            return match frac {
+                "" => format!("{sign}{int}"),
+                f => format!("{sign}{int}.{f}"),
+            };
+        }
+    }
+    let (mut int, mut frac) = round_digits(&digits, 0, sci_decimals as usize);
+    let mut exp = exp;
+    if int.len() > 1 {
+        // 9.999995 rounds up to 10.00000: 1E+(exp+1).
+        exp += 1;
+        (int, frac) = ("1".to_string(), String::new());
+    }
+    let frac = frac.trim_end_matches('0');
+    let mantissa = match frac {
+        "" => int,
+        f => format!("{int}.{f}"),
+    };
+    let e_sign = if exp < 0 { '-' } else { '+' };
+    format!("{sign}{mantissa}E{e_sign}{:02}", exp.abs())
+}
+
+// ---------------------------------------------------------------------------------------
+// Dates and times
+
+/// The last serial number Excel shows as a date (9999-12-31).
+const LAST_DATE: f64 = 2_958_465.0;
+
+struct DateTime {
+    year: i64,
+    month: u32,
+    day: u32,
+    weekday: usize,
+    hour: u32,
+    minute: u32,
+    second: u32,
+    millis: u32,
+    /// Whole seconds since serial 0, for elapsed-time codes.
+    total_seconds: f64,
+}
+
+fn format_date(section: &Section, serial: f64) -> XlResult<String> {
+    if !(0.0..LAST_DATE + 1.0).contains(&serial) {
+        return Err(XlError::Value);
+    }
+    let sub_second = section.tokens.iter().find_map(|t| match t {
+        Tok::Date(DatePart::SubSecond(n)) => Some(*n),
+        _ => None,
+    });
+    let dt = date_time(serial, sub_second.unwrap_or(0));
+    let twelve_hour = section.tokens.iter().any(|t| matches!(t, Tok::Date(DatePart::AmPm { .. })));
+    let mut out = String::new();
+    for t in &section.tokens {
+        match t {
+            Tok::Date(part) => out.push_str(&date_part(*part, &dt, twelve_hour)),
+            Tok::Lit(s) => out.push_str(s),
+            Tok::Percent => out.push('%'),
+            _ => {}
+        }
+    }
+    Ok(out)
+}
+
+fn date_time(serial: f64, sub_second_digits: usize) -> DateTime {
+    // Round to the finest unit shown (whole seconds unless `.0`/`.00`/`.000`), carrying
+    // into the next day as Excel does.
+    let unit = 10f64.powi(sub_second_digits as i32);
+    let ticks = (serial * 86_400.0 * unit).round();
+    let total_seconds = ticks / unit;
+    let days = (total_seconds / 86_400.0).floor();
+    let in_day = total_seconds - days * 86_400.0;
+    let secs = in_day.floor() as u32;
+    let millis = ((in_day - in_day.floor()) * 1000.0).round() as u32;
+    let (year, month, day) = civil_date(days as i64);
+    DateTime {
+        year,
+        month,
+        day,
+        weekday: ((days as i64 + 6) % 7) as usize,
+        hour: secs / 3600,
+        minute: secs / 60 % 60,
+        second: secs % 60,
+        millis,
+        total_seconds,
+    }
+}
+
+/// Year, month and day of a serial day number in Excel's 1900 system, which counts the
+/// non-existent 1900-02-29 as day 60 (serial 0 shows as 1900-01-00).
+fn civil_date(serial: i64) -> (i64, u32, u32) {
+    match serial {
+        0 => (1900, 1, 0),
+        1..=31 => (1900, 1, serial as u32),
+        32..=60 => (1900, 2, (serial - 31) as u32),
+        _ => days_to_civil(serial - 25_569),
+    }
+}
+
+/// Proleptic Gregorian date of a day count from 1970-01-01 (Howard Hinnant's algorithm).
+fn days_to_civil(z: i64) -> (i64, u32, u32) {
+    let z = z + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z.rem_euclid(146_097);
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = (doy - (153 * mp + 2) / 5 + 1) as u32;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 } as u32;
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    (year, month, day)
+}
+
+const MONTHS: [&str; 12] = [
+    "January",
+    "February",
+    "March",
+    "April",
+    "May",
+    "June",
+    "July",
+    "August",
+    "September",
+    "October",
+    "November",
+    "December",
+];
+
+const WEEKDAYS: [&str; 7] = ["Sunday", "Monday", "Tuesday", "Wednesday", "Thursday", "Friday", "Saturday"];
+
+fn date_part(part: DatePart, dt: &DateTime, twelve_hour: bool) -> String {
+    let month_name = MONTHS[dt.month as usize - 1];
+    let weekday = WEEKDAYS[dt.weekday];
+    match part {
+        DatePart::Year(n) if n <= 2 => format!("{:02}", dt.year % 100),
+        DatePart::Year(_) => format!("{:04}", dt.year),
+        DatePart::Month(1) => dt.month.to_string(),
+        DatePart::Month(2) => format!("{:02}", dt.month),
+        DatePart::Month(3) => month_name[..3].to_string(),
+        DatePart::Month(5) => month_name[..1].to_string(),
+        DatePart::Month(_) => month_name.to_string(),
+        DatePart::Day(1) => dt.day.to_string(),
+        DatePart::Day(2) => format!("{:02}", dt.day),
+        DatePart::Day(3) => weekday[..3].to_string(),
+        DatePart::Day(_) => weekday.to_string(),
+        DatePart::Hour(n) => {
+            let h = if twelve_hour { (dt.hour + 11) % 12 + 1 } else { dt.hour };
+            padded(h, n)
+        }
+        DatePart::Minute(n) => padded(dt.minute, n),
+        DatePart::Second(n) => padded(dt.second, n),
+        DatePart::SubSecond(n) => {
+            let digits = format!("{:03}", dt.millis);
+            format!(".{}", &digits[..n])
+        }
+        DatePart::Elapsed(unit, n) => {
+            let per = match unit {
+                'h' => 3600.0,
+                'm' => 60.0,
+                _ => 1.0,
+            };
+            format!("{:0n$}", (dt.total_seconds / per).floor() as i64)
+        }
+        DatePart::AmPm { short, lower } => {
+            let pm = dt.hour >= 12;
+            let text = match (short, pm) {
+                (true, false) => "A",
+                (true, true) => "P",
+                (false, false) => "AM",
+                (false, true) => "PM",
+            };
+            if lower {
+                text.to_ascii_lowercase()
+            } else {
+                text.to_string()
+            }
+        }
+    }
+}
+
+fn padded(v: u32, width: usize) -> String {
+    if width >= 2 {
+        format!("{v:02}")
+    } else {
+        v.to_string()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fmt(n: f64, f: &str) -> String {
+        NumberFormat::parse(f).unwrap().format_number(n).unwrap()
+    }
+
+    #[test]
+    fn decimal_rounding_is_half_away_from_zero_on_shown_digits() {
+        assert_eq!(fixed_digits(2.675, 2), ("2".into(), "68".into()));
+        assert_eq!(fixed_digits(0.5, 0), ("1".into(), "".into()));
+        assert_eq!(fixed_digits(9.995, 2), ("10".into(), "00".into()));
+        assert_eq!(fixed_digits(0.0004, 3), ("".into(), "000".into()));
+        assert_eq!(fixed_digits(123.0, 0), ("123".into(), "".into()));
+    }
+
+    #[test]
+    fn cnc_number_formats() {
+        assert_eq!(fmt(12.3456, "0.000"), "12.346");
+        assert_eq!(fmt(-0.5, "0.000"), "-0.500");
+        assert_eq!(fmt(1234.5678, "#,##0.00"), "1,234.57");
+        assert_eq!(fmt(0.1234, "0.0%"), "12.3%");
+        assert_eq!(fmt(12345.678, "0.00E+00"), "1.23E+04");
+        assert_eq!(fmt(0.000123, "0.00E+00"), "1.23E-04");
+        assert_eq!(fmt(1.5, "+0.000;-0.000"), "+1.500");
+        assert_eq!(fmt(-1.5, "+0.000;-0.000"), "-1.500");
+        assert_eq!(fmt(0.0, "+0.000;-0.000;0"), "0");
+        assert_eq!(fmt(25.0, "\"X\"0.0"), "X25.0");
+        assert_eq!(fmt(7.0, "\\T00"), "T07");
+        assert_eq!(fmt(-0.0001, "0.00"), "0.00");
+        assert_eq!(fmt(12.0, "#.#"), "12.");
+        assert_eq!(fmt(123456789012.0, "#,##,, \"M\""), "123,457 M");
+        assert_eq!(fmt(-1234.5678, "#,##0.00"), "-1,234.57");
+        assert_eq!(fmt(-0.25, "0%;(0%)"), "(25%)");
+        assert_eq!(fmt(12.3, "000.000"), "012.300");
+        assert_eq!(fmt(5.5, "?.??"), "5.5 ");
+        assert_eq!(fmt(1e15, "#,##0"), "1,000,000,000,000,000");
+        assert_eq!(fmt(12345.0, "##0.0E+0"), "12.3E+3");
+        assert_eq!(fmt(1234567.0, "#,##0,"), "1,235");
+        assert_eq!(fmt(150.0, "[>=100]\"big\";0"), "big");
+        assert_eq!(fmt(-3.0, "[Red]0.0;[Blue]-0.0"), "-3.0");
+        assert!(NumberFormat::parse("# ?/?").is_err());
+        assert!(NumberFormat::parse("0.0\"/min\"").is_ok());
+    }
+
+    #[test]
+    fn general_fits_eleven_characters() {
+        assert_eq!(general_text(1.0 / 3.0), "0.333333333");
+        assert_eq!(general_text(123456789012.0), "1.23457E+11");
+        assert_eq!(general_text(25000000000.0), "25000000000");
+        assert_eq!(general_text(-2.5e-9), "-2.5E-09");
+        assert_eq!(general_text(-1e-8), "-0.00000001");
+        assert_eq!(general_text(12345.6789), "12345.6789");
+        assert_eq!(general_text(1e16), "1E+16");
+    }
+
+    #[test]
+    fn dates_and_times() {
+        assert_eq!(fmt(41181.0, "m/d/y"), "9/29/12");
+        assert_eq!(fmt(41181.0, "dddd, mmmm d, yyyy"), "Saturday, September 29, 2012");
+        assert_eq!(fmt(45000.75, "yyyy-mm-dd hh:mm:ss"), "2023-03-15 18:00:00");
+        assert_eq!(fmt(0.5 + 1.0 / 86400.0, "h:mm:ss AM/PM"), "12:00:01 PM");
+        assert_eq!(fmt(1.25, "[h]:mm"), "30:00");
+        assert_eq!(fmt(60.0, "yyyy-mm-dd"), "1900-02-29");
+        assert!(NumberFormat::parse("mm###").is_err());
+    }
+}

@@ -1,0 +1,226 @@
+//! csv files (RFC 4180): one sheet, named `Sheet1`.
+//!
+//! Reading: each record is a row and each field a cell, typed in as a spreadsheet would read
+//! it ([`Input::parse`]): `=…` is a formula, `12.5` a number, `TRUE` a boolean, `'…` forced
+//! text, anything else text. A blank line is an empty row, so cell addresses match the line
+//! layout a user sees. The file must be UTF-8 (a byte-order mark is skipped).
+//!
+//! Writing: fields are quoted per RFC 4180, only when needed (`,`, `"`, line breaks); lines
+//! end in LF (as files made on Linux do; readers take LF and CRLF alike).
+//! Values are written as the sheet shows them (numbers to 15 significant digits). A text
+//! value that a spreadsheet would not read back as that same text — one starting with `=`,
+//! `+`, `-`, `@`, a tab or a carriage return (which Excel and LibreOffice may run as a
+//! formula), or one that looks like a number, boolean or error — is written with a leading
+//! `'`, the spreadsheet's own mark for "this is text". ncsheet drops the `'` on reading.
+//! With [`Content::Formulas`] each cell is written as typed (`Workbook::input`), which reads
+//! back as the same workbook.
+
+use std::fmt;
+use std::io::{self, Write};
+
+use crate::eval::Value;
+use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
+use crate::workbook::{Input, Workbook};
+
+use super::{Content, Export};
+
+/// What is wrong with a csv text, and on which line (1-based).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Malformed {
+    pub line: u64,
+    pub message: String,
+}
+
+impl fmt::Display for Malformed {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "line {}: {}", self.line, self.message)
+    }
+}
+
+/// The name of the one sheet of a csv file.
+pub const SHEET_NAME: &str = "Sheet1";
+
+/// Reads csv text into a new, recalculated workbook with one sheet.
+pub fn read(bytes: &[u8]) -> Result<Workbook, Malformed> {
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    let text = std::str::from_utf8(bytes).map_err(|e| {
+        let line = 1 + bytes[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count() as u64;
+        Malformed { line, message: "not UTF-8 text (save the csv as UTF-8)".into() }
+    })?;
+    let starts = record_starts(text)?;
+
+    let mut wb = Workbook::new();
+    let sheet = wb.add_sheet(SHEET_NAME).expect("a new workbook has no sheets");
+    let mut reader = ::csv::ReaderBuilder::new().has_headers(false).flexible(true).from_reader(text.as_bytes());
+    let mut record = ::csv::StringRecord::new();
+    for start in &starts {
+        let more = reader
+            .read_record(&mut record)
+            .map_err(|e| Malformed { line: e.position().map_or(start.line, |p| p.line()), message: e.to_string() })?;
+        if !more {
+            break;
+        }
+        if start.row >= MAX_ROWS {
+            return Err(Malformed { line: start.line, message: format!("more than {MAX_ROWS} rows") });
+        }
+        if record.len() > MAX_COLS as usize {
+            return Err(Malformed { line: start.line, message: format!("more than {MAX_COLS} columns") });
+        }
+        for (col, field) in record.iter().enumerate() {
+            if !field.is_empty() {
+                // A formula that does not parse stays in its cell as `#NAME?` and is listed
+                // by `Workbook::problems`: one bad cell does not stop the file loading.
+                let _ = wb.set_input_deferred(sheet, Pos::new(start.row, col as u32), field);
+            }
+        }
+    }
+    wb.recalculate();
+    Ok(wb)
+}
+
+/// Where a record starts: its row on the sheet (0-based) and its line in the file (1-based).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct RecordStart {
+    row: u32,
+    line: u64,
+}
+
+/// The start of each record the csv reader will return, in order. The reader skips blank
+/// lines; a spreadsheet counts them as rows, so the rows are counted here. This is also
+/// where an unterminated quoted field is caught, which the reader would take silently as
+/// running to the end of the file. Follows the reader's rules: a `"` opens a quoted field
+/// only at the start of a field, `""` inside one is a quote, and `\n`, `\r\n` or `\r` ends
+/// a record.
+fn record_starts(text: &str) -> Result<Vec<RecordStart>, Malformed> {
+    let bytes = text.as_bytes();
+    let mut starts = Vec::new();
+    let (mut row, mut line) = (0u32, 1u64);
+    let mut at_record_start = true;
+    let mut at_field_start = true;
+    let mut quote_opened: Option<u64> = None;
+    let mut i = 0;
+    while i < bytes.len() {
+        let b = bytes[i];
+        let terminator_len = match b {
+            b'\r' if bytes.get(i + 1) == Some(&b'\n') => 2,
+            b'\r' | b'\n' => 1,
+            _ => 0,
+        };
+        if quote_opened.is_some() {
+            if b == b'"' {
+                if bytes.get(i + 1) == Some(&b'"') {
+                    i += 1;
+                } else {
+                    quote_opened = None;
+                }
+            } else if terminator_len > 0 {
+                line += 1;
+                i += terminator_len - 1;
+            }
+        } else if terminator_len > 0 {
+            // Either ends a record or is a blank line: one row either way.
+            row = row.saturating_add(1);
+            line += 1;
+            at_record_start = true;
+            at_field_start = true;
+            i += terminator_len - 1;
+        } else {
+            if at_record_start {
+                starts.push(RecordStart { row, line });
+                at_record_start = false;
+            }
+            if at_field_start && b == b'"' {
+                quote_opened = Some(line);
+            }
+            at_field_start = b == b',';
+        }
+        i += 1;
+    }
+    if let Some(opened) = quote_opened {
+        return Err(Malformed {
+            line: opened,
+            message: "unterminated quoted field (a '\"' opened here is never closed)".into(),
+        });
+    }
+    Ok(starts)
+}
+
+/// Writes a sheet, or a range of it, as csv.
+pub fn write(wb: &Workbook, what: &Export, out: &mut dyn Write) -> io::Result<()> {
+    let rect = match what.range {
+        Some(r) => r,
+        None => match wb.used_rect(what.sheet) {
+            Some(used) => Rect::new(Pos::new(0, 0), used.last),
+            None => return Ok(()),
+        },
+    };
+    let mut writer = ::csv::WriterBuilder::new().from_writer(out);
+    let mut fields: Vec<String> = Vec::with_capacity(rect.cols() as usize);
+    for row in rect.first.row..=rect.last.row {
+        fields.clear();
+        for col in rect.first.col..=rect.last.col {
+            let pos = Pos::new(row, col);
+            fields.push(match what.content {
+                Content::Values => value_field(&wb.value(what.sheet, pos)),
+                Content::Formulas => wb.input(what.sheet, pos).unwrap_or_default(),
+            });
+        }
+        writer.write_record(&fields)?;
+    }
+    writer.flush()
+}
+
+/// The csv text of a value: what the sheet shows, text guarded so it reads back as text.
+pub fn value_field(v: &Value) -> String {
+    match v {
+        Value::Text(t) if needs_text_mark(t) => format!("'{t}"),
+        v => v.to_string(),
+    }
+}
+
+/// Whether a spreadsheet could read this text as something else: a formula, a number, a
+/// boolean, an error, or text with a `'` dropped. Empty text is written as an empty field.
+fn needs_text_mark(text: &str) -> bool {
+    if text.is_empty() {
+        return false;
+    }
+    let formula_like = text.starts_with(['=', '+', '-', '@', '\t', '\r']);
+    formula_like || Input::parse(text) != Input::Value(Value::text(text))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn starts(text: &str) -> Vec<(u32, u64)> {
+        record_starts(text).unwrap().into_iter().map(|s| (s.row, s.line)).collect()
+    }
+
+    #[test]
+    fn blank_lines_are_rows_and_quoted_line_breaks_are_not() {
+        assert_eq!(starts("a\n\nb\n"), [(0, 1), (2, 3)]);
+        assert_eq!(starts("\"x\ny\",1\r\nz\r\n"), [(0, 1), (1, 3)]);
+        assert_eq!(starts("a\r\rb"), [(0, 1), (2, 3)]);
+        assert_eq!(starts("a,\"\"\"q\"\"\"\nb"), [(0, 1), (1, 2)]);
+        assert_eq!(starts(""), []);
+    }
+
+    #[test]
+    fn an_unterminated_quote_names_the_line_it_opened_on() {
+        let err = record_starts("a,b\nc,\"d\ne\n").unwrap_err();
+        assert_eq!(err, Malformed { line: 2, message: err.message.clone() });
+        // A quote inside an unquoted field is a literal character, as the reader takes it.
+        assert!(record_starts("ab\"c\n").is_ok());
+    }
+
+    #[test]
+    fn text_that_would_read_back_as_something_else_gets_a_mark() {
+        for t in ["=1+1", "+x", "-x", "@SUM(A1)", "12", "TRUE", "#N/A", "'q"] {
+            assert_eq!(value_field(&Value::text(t)), format!("'{t}"));
+        }
+        for t in ["plain", "a=b", "x-1"] {
+            assert_eq!(value_field(&Value::text(t)), t);
+        }
+        assert_eq!(value_field(&Value::Number(-2.5)), "-2.5");
+    }
+}

@@ -1,0 +1,9 @@
+//! NC programs: the model ([`program`]) that macros and geometry commands fill, and the
+//! dialects ([`dialect`]) that write it for a control. Knows nothing of workbooks or files.
+
+pub mod dialect;
+pub mod format;
+pub mod program;
+
+pub use dialect::{by_name, Dialect, NcError};
+pub use program::{ArcDirection, Block, Machine, Program, Target, Word};

@@ -1,0 +1,101 @@
+//! The NC program model: what a macro or a geometry command emits, before any dialect
+//! decides how it is written. Units are millimetres and degrees; on a lathe X is a diameter.
+
+/// Which machine the program is for; it decides the plane and how X is read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Machine {
+    /// Z along the spindle, X a diameter, arcs in the ZX plane (G18).
+    Lathe,
+    /// X, Y, Z milling, arcs in the XY plane (G17) unless a block says otherwise.
+    Mill,
+}
+
+/// A position; axes left `None` keep their current value.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Target {
+    pub x: Option<f64>,
+    pub y: Option<f64>,
+    pub z: Option<f64>,
+    pub a: Option<f64>,
+    pub b: Option<f64>,
+    pub c: Option<f64>,
+}
+
+impl Target {
+    pub fn xz(x: f64, z: f64) -> Target {
+        Target { x: Some(x), z: Some(z), ..Target::default() }
+    }
+
+    pub fn xy(x: f64, y: f64) -> Target {
+        Target { x: Some(x), y: Some(y), ..Target::default() }
+    }
+
+    pub fn xyz(x: f64, y: f64, z: f64) -> Target {
+        Target { x: Some(x), y: Some(y), z: Some(z), ..Target::default() }
+    }
+
+    /// The axes that are set, as (letter, value), in the order controls print them.
+    pub fn axes(&self) -> impl Iterator<Item = (char, f64)> {
+        [('X', self.x), ('Y', self.y), ('Z', self.z), ('A', self.a), ('B', self.b), ('C', self.c)]
+            .into_iter()
+            .filter_map(|(l, v)| v.map(|v| (l, v)))
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArcDirection {
+    Clockwise,
+    CounterClockwise,
+}
+
+/// One word of a raw block: `G1`, `X12.5`, `M30`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Word {
+    pub address: char,
+    pub value: f64,
+}
+
+/// One line of the program.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Block {
+    /// Rapid positioning (G0).
+    Rapid(Target),
+    /// Straight cut at a feed in mm/min (mill) or mm/rev (lathe) (G1).
+    Line {
+        to: Target,
+        feed: Option<f64>,
+    },
+    /// Circular cut to `to` around the absolute `centre`, written like a position (on a
+    /// lathe its X is a diameter too). The working plane is XY on a mill, ZX on a lathe.
+    Arc {
+        direction: ArcDirection,
+        to: Target,
+        centre: Target,
+        feed: Option<f64>,
+    },
+    /// Dwell in seconds.
+    Dwell(f64),
+    Comment(String),
+    /// Words as the user wrote them (`Nc.Block "G1", "X", x`), checked against the dialect.
+    Words(Vec<Word>),
+}
+
+/// A whole program: a name, a number (for controls that want `O0001`), and blocks.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Program {
+    pub name: String,
+    pub number: u32,
+    pub machine: Machine,
+    pub blocks: Vec<Block>,
+}
+
+impl Program {
+    pub fn new(name: &str, machine: Machine) -> Program {
+        Program { name: name.to_string(), number: 1, machine, blocks: Vec::new() }
+    }
+
+    pub fn push(&mut self, block: Block) -> &mut Program {
+        self.blocks.push(block);
+        self
+    }
+}

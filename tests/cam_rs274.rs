@@ -1,0 +1,89 @@
+//! The NC program of the sample cam run through LinuxCNC's rs274 interpreter: every ARC_FEED it
+//! reports must end and be centred where our arcs are, to 1e-4 mm. Skipped (with a message)
+//! where rs274 is not installed.
+
+use std::path::Path;
+use std::process::Command;
+
+use ncsheet::geometry::cam::output::{nc_program, Compensation, NcOptions};
+use ncsheet::geometry::cam::{by_disc, fit_cam, parse_sheet, CamFit, CamOptions};
+
+const SHEET: &str = include_str!("../sheets/cam-turret.csv");
+
+fn rs274() -> Option<&'static str> {
+    ["/usr/bin/rs274", "/usr/local/bin/rs274"].into_iter().find(|p| Path::new(p).exists())
+}
+
+fn sample_cams() -> Vec<CamFit> {
+    let options = CamOptions { tolerance: 0.001, allow_partial: true, with_bounds: false };
+    let segments = parse_sheet(SHEET).unwrap();
+    by_disc(&segments).iter().map(|(d, s)| fit_cam(d, s, &options).unwrap()).collect()
+}
+
+/// rs274's canonical commands for `program`, or its complaint.
+fn interpret(rs274: &str, program: &str) -> Result<String, String> {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("cam.ngc");
+    std::fs::write(&file, program).unwrap();
+    let out = Command::new(rs274).arg("-g").arg(&file).output().map_err(|e| format!("cannot run {rs274}: {e}"))?;
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    if !out.status.success() || stdout.contains("error") || stderr.contains("error") {
+        return Err(format!("rs274 failed ({}):\n{stderr}\n{stdout}", out.status));
+    }
+    Ok(stdout)
+}
+
+/// The numbers inside `NAME(...)` on each line that has it.
+fn calls(canon: &str, name: &str) -> Vec<Vec<f64>> {
+    canon
+        .lines()
+        .filter_map(|l| l.split_once(&format!("{name}(")))
+        .map(|(_, rest)| rest.trim_end_matches(')').split(',').map(|v| v.trim().parse().unwrap()).collect())
+        .collect()
+}
+
+#[test]
+fn rs274_cuts_our_arcs() {
+    let Some(rs274) = rs274() else {
+        println!("skipped: rs274 (LinuxCNC) is not installed");
+        return;
+    };
+    for cam in sample_cams() {
+        let canon = interpret(rs274, &nc_program(&cam, &NcOptions::default())).unwrap();
+        let arcs: Vec<_> = cam.arcs().collect();
+        let feeds = calls(&canon, "ARC_FEED");
+        assert_eq!(feeds.len(), arcs.len(), "disc {}: {canon}", cam.disc);
+        for (i, (a, f)) in arcs.iter().zip(&feeds).enumerate() {
+            // ARC_FEED(end x, end y, centre x, centre y, rotation, end z, ...)
+            let close = |x: f64, y: f64| (x - y).abs() <= 1e-4;
+            assert!(
+                close(f[0], a.end.x) && close(f[1], a.end.y),
+                "disc {} arc {}: end {f:?} vs {a:?}",
+                cam.disc,
+                i + 1
+            );
+            assert!(
+                close(f[2], a.centre.x) && close(f[3], a.centre.y),
+                "disc {} arc {}: centre {f:?} vs {a:?}",
+                cam.disc,
+                i + 1
+            );
+            assert_eq!(f[4].signum(), a.turn.sign(), "disc {} arc {}: direction", cam.disc, i + 1);
+        }
+    }
+}
+
+#[test]
+fn rs274_accepts_cutter_compensation() {
+    let Some(rs274) = rs274() else {
+        println!("skipped: rs274 (LinuxCNC) is not installed");
+        return;
+    };
+    let cam = &sample_cams()[0];
+    let options = NcOptions { compensation: Compensation::Right, ..NcOptions::default() };
+    let canon = interpret(rs274, &nc_program(cam, &options)).unwrap();
+    // The control adds its own corner arcs where segments meet at an angle (circle to log
+    // spiral, across gaps), so there are at least as many arcs as ours.
+    assert!(calls(&canon, "ARC_FEED").len() >= cam.n_arcs());
+}

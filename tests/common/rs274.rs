@@ -1,0 +1,68 @@
+//! Runs LinuxCNC's stand-alone interpreter `rs274` on a program and reads back the moves it
+//! would make (its canonical machining commands), so tests check NC text with a real
+//! interpreter instead of with our own parser.
+
+use std::path::Path;
+use std::process::Command;
+
+/// One canonical move, in the interpreter's units (mm, X as a radius on a lathe).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Move {
+    Traverse {
+        x: f64,
+        y: f64,
+        z: f64,
+    },
+    Feed {
+        x: f64,
+        y: f64,
+        z: f64,
+    },
+    /// `ARC_FEED(first_end, second_end, first_centre, second_centre, rotation, axis_end, …)`;
+    /// in the XZ plane (G18) "first" is Z and "second" is X.
+    Arc {
+        first_end: f64,
+        second_end: f64,
+        first_centre: f64,
+        second_centre: f64,
+        rotation: i32,
+        axis_end: f64,
+    },
+}
+
+/// Whether `rs274` can be run here; tests that need it skip (and say so) when it cannot.
+/// On CI (`CI` set) it must be there: `.ci/run` installs it.
+pub fn available() -> bool {
+    let found = Command::new("rs274").arg("-h").output().is_ok();
+    assert!(found || std::env::var_os("CI").is_none(), "rs274 is missing on CI (linuxcnc-uspace)");
+    found
+}
+
+/// The moves `rs274 -g` reads from `program`, or the interpreter's complaint.
+pub fn moves(program: &Path) -> Result<Vec<Move>, String> {
+    let out = Command::new("rs274").arg("-g").arg(program).output().map_err(|e| format!("rs274: {e}"))?;
+    let text = String::from_utf8_lossy(&out.stdout).to_string() + &String::from_utf8_lossy(&out.stderr);
+    if !out.status.success() || text.contains("error") || text.contains("Error") {
+        return Err(text);
+    }
+    Ok(text.lines().filter_map(parse_line).collect())
+}
+
+fn parse_line(line: &str) -> Option<Move> {
+    let (name, rest) = line.split_once('(')?;
+    let args: Vec<f64> = rest.trim_end_matches(')').split(',').filter_map(|a| a.trim().parse().ok()).collect();
+    let name = name.split_whitespace().last()?;
+    match name {
+        "STRAIGHT_TRAVERSE" => Some(Move::Traverse { x: args[0], y: args[1], z: args[2] }),
+        "STRAIGHT_FEED" => Some(Move::Feed { x: args[0], y: args[1], z: args[2] }),
+        "ARC_FEED" => Some(Move::Arc {
+            first_end: args[0],
+            second_end: args[1],
+            first_centre: args[2],
+            second_centre: args[3],
+            rotation: args[4] as i32,
+            axis_end: args[5],
+        }),
+        _ => None,
+    }
+}

@@ -1,0 +1,12 @@
+%
+O0001 (POCKET)
+N10 G21 G17 G90 G40
+(square with a round corner)
+N20 G0 X0. Y0. Z5.
+N30 G1 Z-1. F100.
+N40 G1 X10. Y0. F200.
+N50 G3 X10. Y10. I0. J5. F200.
+N60 G1 X0. Y10. F200.
+N70 G0 Z5.
+N80 M30
+%
