@@ -150,3 +150,67 @@ proptest! {
         check(&wb, &inputs)?;
     }
 }
+
+/// Formulas that differ only in their numbers are made by copying one parsed tree with the
+/// numbers replaced (src/workbook/shared.rs); each must read and compute as if parsed alone.
+mod same_shape {
+    use super::*;
+
+    const SHAPES: &[&str] = &[
+        "=$A$1*{n}+SIN($A$1)",
+        "=IF(A1>{n},{n}%,-{n})",
+        "={n}^2-{n}/A2",
+        "=ROUND(A1*{n},{n})",
+        "=SUM(A1:A3,{n})*{n}E2",
+        "=SUM({1,{n};{n},2})",
+        "=SUM({-{n},1})",
+        "=\"{n}\"&{n}",
+        "=A1+{n}.",
+        "=MAX(A1:A3)*.{n}",
+    ];
+
+    fn number() -> impl Strategy<Value = String> {
+        prop_oneof![
+            (0u32..200).prop_map(|n| n.to_string()),
+            Just("0".to_string()),
+            Just("007".to_string()),
+            Just("2.50".to_string()),
+            Just("1e3".to_string()),
+            Just("1E-2".to_string()),
+            Just("1e999".to_string()),
+        ]
+    }
+
+    fn data(wb: &mut Workbook) {
+        for (r, v) in ["2", "-1.5", "4"].iter().enumerate() {
+            wb.set_input_deferred(0, Pos::new(r as u32, 0), v).unwrap();
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+        #[test]
+        fn copies_with_other_numbers_read_and_compute_as_if_parsed_alone(
+            shape in prop::sample::select(SHAPES),
+            numbers in prop::collection::vec(number(), 1..12),
+        ) {
+            let mut wb = Workbook::with_sheet();
+            data(&mut wb);
+            let texts: Vec<String> = numbers.iter().map(|n| shape.replace("{n}", n)).collect();
+            for (i, t) in texts.iter().enumerate() {
+                let _ = wb.set_input_deferred(0, Pos::new(i as u32, 1), t);
+            }
+            wb.recalculate();
+            for (i, t) in texts.iter().enumerate() {
+                let pos = Pos::new(i as u32, 1);
+                let mut alone = Workbook::with_sheet();
+                data(&mut alone);
+                let parsed = alone.set_input(0, pos, t).is_ok();
+                prop_assert_eq!(wb.value(0, pos), alone.value(0, pos), "{}", t);
+                prop_assert_eq!(wb.formula(0, pos), alone.formula(0, pos), "{}", t);
+                prop_assert_eq!(wb.problems().iter().any(|p| p.pos == pos), !parsed, "{}", t);
+            }
+        }
+    }
+}

@@ -21,7 +21,7 @@ mod shared;
 mod sheet;
 
 use graph::{Deps, FxMap, RangeIndex};
-use shared::{relative_key_into, FormulaStore, SharedFormula};
+use shared::{relative_key_into, shape_of, with_numbers, FormulaStore, SharedFormula};
 use sheet::Sheet;
 
 const NO_FORMULA: u32 = u32::MAX;
@@ -134,6 +134,10 @@ pub struct Workbook {
     /// Reused buffers: the relative key of the formula being stored, a formula's precedents.
     key_buf: String,
     precedents_buf: Vec<(SheetId, Rect)>,
+    /// The formula being stored: where its number literals are in its key, its shape, their values.
+    literal_spans: Vec<(usize, usize)>,
+    shape_buf: String,
+    literals: Vec<f64>,
 }
 
 impl Workbook {
@@ -235,15 +239,48 @@ impl Workbook {
     /// The shared parsed form of `text` typed at `pos`, parsing only when no copy exists.
     fn shared_formula(&mut self, text: &str, sheet: SheetId, pos: Pos) -> Result<u32, ParseError> {
         let mut key = std::mem::take(&mut self.key_buf);
-        let keyed = relative_key_into(text, pos, &mut key);
+        let mut spans = std::mem::take(&mut self.literal_spans);
+        let keyed = relative_key_into(text, pos, &mut key, &mut spans);
         let found = if keyed { self.formulas.find(&key) } else { None };
         let result = match found {
             Some(id) => Ok(id),
-            None => self
-                .parse_at(text, sheet, pos)
-                .map(|expr| self.formulas.add(keyed.then(|| key.clone()), SharedFormula::new(expr))),
+            None if keyed => self.shaped_formula(text, sheet, pos, &key, &spans),
+            None => self.parse_at(text, sheet, pos).map(|expr| self.formulas.add(None, SharedFormula::new(expr))),
         };
         self.key_buf = key;
+        self.literal_spans = spans;
+        result
+    }
+
+    /// A formula whose exact key is new: a copy of one of the same shape with its numbers,
+    /// or else parsed (and then offered as the pattern of its shape).
+    fn shaped_formula(
+        &mut self,
+        text: &str,
+        sheet: SheetId,
+        pos: Pos,
+        key: &str,
+        spans: &[(usize, usize)],
+    ) -> Result<u32, ParseError> {
+        let mut shape = std::mem::take(&mut self.shape_buf);
+        let mut literals = std::mem::take(&mut self.literals);
+        let shaped = !spans.is_empty() && shape_of(key, spans, &mut shape, &mut literals);
+        let pattern = if shaped { self.formulas.find_shape(&shape) } else { None };
+        let result = match pattern {
+            Some(p) => {
+                let expr = with_numbers(&self.formulas.get(p).expr, &mut literals.iter());
+                Ok(self.formulas.add(Some(key.to_string()), SharedFormula::new(expr)))
+            }
+            None => self.parse_at(text, sheet, pos).map(|expr| {
+                let id = self.formulas.add(Some(key.to_string()), SharedFormula::new(expr));
+                if shaped {
+                    self.formulas.add_shape(&shape, id, &literals);
+                }
+                id
+            }),
+        };
+        self.shape_buf = shape;
+        self.literals = literals;
         result
     }
 

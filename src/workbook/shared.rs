@@ -4,11 +4,15 @@
 //! A cheap scan turns the formula text into a key in which each cell reference is written
 //! as an offset from the formula's cell (R1C1 style). Texts with equal keys parse to equal
 //! trees (references are stored as offsets), so the parse is skipped for every copy.
+//!
+//! Formulas that differ only in their numbers (`=$A$1*2+1`, `=$A$1*3+1`) share a "shape":
+//! the key with each number literal left out. A formula whose shape is known is made by
+//! copying that tree with its own numbers put in, without parsing.
 
 use std::rc::Rc;
 
 use crate::formula::address::{Pos, MAX_COLS, MAX_ROWS};
-use crate::formula::ast::{Expr, Reference};
+use crate::formula::ast::{ArrayLit, Expr, ExprKind, Reference};
 
 use super::graph::FxMap;
 
@@ -40,6 +44,8 @@ impl SharedFormula {
 pub struct FormulaStore {
     pub formulas: Vec<SharedFormula>,
     by_key: FxMap<String, u32>,
+    /// Formulas by shape (see the module doc), for copying with other numbers.
+    by_shape: FxMap<String, u32>,
 }
 
 impl FormulaStore {
@@ -64,7 +70,73 @@ impl FormulaStore {
     /// Forgets the keys (after a sheet is added, `Missing` sheet references may resolve now).
     pub fn forget_keys(&mut self) {
         self.by_key.clear();
+        self.by_shape.clear();
     }
+
+    /// A formula with this shape, to copy with other numbers.
+    pub fn find_shape(&self, shape: &str) -> Option<u32> {
+        self.by_shape.get(shape).copied()
+    }
+
+    /// Offers formula `id` as the pattern for its shape: taken when its tree's numbers, in
+    /// order, are the literals of its text (then every text of that shape parses to the
+    /// same tree but for those numbers).
+    pub fn add_shape(&mut self, shape: &str, id: u32, literals: &[f64]) {
+        let mut numbers = Vec::with_capacity(literals.len());
+        self.formulas[id as usize].expr.visit(&mut |e| {
+            if let ExprKind::Number(n) = e.kind {
+                numbers.push(n);
+            }
+        });
+        let same =
+            numbers.len() == literals.len() && numbers.iter().zip(literals).all(|(a, b)| a.to_bits() == b.to_bits());
+        if same {
+            self.by_shape.insert(shape.to_string(), id);
+        }
+    }
+}
+
+/// The shape of a relative key and the values of its number literals, from the literal
+/// spans [`relative_key_into`] recorded; `None` when a literal is not a plain finite number.
+pub fn shape_of(key: &str, spans: &[(usize, usize)], shape: &mut String, literals: &mut Vec<f64>) -> bool {
+    shape.clear();
+    literals.clear();
+    let mut last = 0;
+    for &(start, end) in spans {
+        match key[start..end].parse::<f64>() {
+            Ok(v) if v.is_finite() => literals.push(v),
+            _ => return false,
+        }
+        shape.push_str(&key[last..start]);
+        shape.push('\u{2}');
+        last = end;
+    }
+    shape.push_str(&key[last..]);
+    true
+}
+
+/// A copy of `e` with its numbers, in the order [`Expr::visit`] meets them, taken from `numbers`.
+pub fn with_numbers(e: &Expr, numbers: &mut std::slice::Iter<f64>) -> Expr {
+    let kind = match &e.kind {
+        ExprKind::Number(n) => ExprKind::Number(numbers.next().copied().unwrap_or(*n)),
+        ExprKind::Paren(a) => ExprKind::Paren(Box::new(with_numbers(a, numbers))),
+        ExprKind::Unary(op, a) => ExprKind::Unary(*op, Box::new(with_numbers(a, numbers))),
+        ExprKind::Binary(op, a, b) => {
+            let a = with_numbers(a, numbers);
+            ExprKind::Binary(*op, Box::new(a), Box::new(with_numbers(b, numbers)))
+        }
+        ExprKind::Call(id, args) => ExprKind::Call(*id, args.iter().map(|a| with_numbers(a, numbers)).collect()),
+        ExprKind::UnknownCall(name, args) => {
+            ExprKind::UnknownCall(name.clone(), args.iter().map(|a| with_numbers(a, numbers)).collect())
+        }
+        ExprKind::Array(lit) => ExprKind::Array(Rc::new(ArrayLit {
+            rows: lit.rows,
+            cols: lit.cols,
+            items: lit.items.iter().map(|a| with_numbers(a, numbers)).collect(),
+        })),
+        other => other.clone(),
+    };
+    Expr::new(kind, e.span)
 }
 
 /// The relative key of a formula typed in cell `at`, or `None` when the text has a form the
@@ -72,13 +144,15 @@ impl FormulaStore {
 #[cfg(test)]
 pub fn relative_key(text: &str, at: Pos) -> Option<String> {
     let mut out = String::with_capacity(text.len() + 16);
-    relative_key_into(text, at, &mut out).then_some(out)
+    relative_key_into(text, at, &mut out, &mut Vec::new()).then_some(out)
 }
 
 /// [`relative_key`] written into `out` (cleared first), so that a caller can reuse one buffer
-/// for every cell of a workbook; `false` where `relative_key` gives `None`.
-pub fn relative_key_into(text: &str, at: Pos, out: &mut String) -> bool {
+/// for every cell of a workbook; `false` where `relative_key` gives `None`. `literals`
+/// receives where in `out` each number literal is.
+pub fn relative_key_into(text: &str, at: Pos, out: &mut String, literals: &mut Vec<(usize, usize)>) -> bool {
     out.clear();
+    literals.clear();
     let b = text.as_bytes();
     let mut i = 0;
     while i < b.len() {
@@ -94,6 +168,7 @@ pub fn relative_key_into(text: &str, at: Pos, out: &mut String) -> bool {
                 if next_non_space(b, end) == Some(b':') {
                     return false;
                 }
+                literals.push((out.len(), out.len() + end - i));
                 out.push_str(&text[i..end]);
                 i = end;
             }
