@@ -81,6 +81,13 @@ impl<'a> Ctx<'a> {
             ExprKind::Bool(b) => Value::Bool(*b),
             ExprKind::Error(err) => Value::Error(*err),
             ExprKind::Missing => Value::Blank,
+            // One cell of this sheet, the commonest reference, read without building a range.
+            ExprKind::Ref(Reference { sheet: SheetRef::Current, shape: RefShape::Cell(c) }) => {
+                match (c.row.resolve(self.at.row, MAX_ROWS), c.col.resolve(self.at.col, MAX_COLS)) {
+                    (Some(row), Some(col)) => self.env.value(self.sheet, Pos::new(row, col)),
+                    _ => Value::Error(XlError::Ref),
+                }
+            }
             ExprKind::Ref(r) => match self.resolve(r) {
                 Ok((sheet, rect)) => self.rect_value(sheet, rect),
                 Err(err) => Value::Error(err),

@@ -369,6 +369,15 @@ impl Workbook {
 
     /// Stores a formula's result: blank reads as 0, an array spills or reports `#SPILL!`.
     fn set_result(&mut self, id: u32, value: Value, late: &mut Vec<u32>) {
+        // The usual result, a number in a sheet without spills, stored directly.
+        if let Value::Number(n) = value {
+            if self.spill.areas.is_empty() && self.spill.blocked.is_empty() {
+                let c = &mut self.cells[id as usize];
+                c.value = Value::Number(n);
+                self.sheets[c.sheet as usize].grow_extent(c.pos);
+                return;
+            }
+        }
         let value = match value {
             Value::Array(a) if a.rows == 1 && a.cols == 1 => a.data[0].clone(),
             Value::Array(a) => return self.spill_array(id, &a, late),
