@@ -16,7 +16,10 @@ use ncsheet::formula::Pos;
 use ncsheet::workbook::Workbook;
 
 const DEFAULT_SIZES: &[&str] = &["chain-100000", "chain-1000000", "grid-100000", "fan-100000"];
-const DEFAULT_SPEC: &str = "/work/shared/bench/gen_workbooks.py";
+/// gen_workbooks.py, in `shared/` beside the repository.
+fn default_spec() -> String {
+    format!("{}/../shared/bench/gen_workbooks.py", env!("CARGO_MANIFEST_DIR"))
+}
 
 /// The formulas of each grid row, column B to K, as in gen_workbooks.py (`{r}` = row number).
 const GRID: [&str; 10] = [
@@ -460,7 +463,7 @@ struct Args {
 }
 
 fn parse_args() -> Result<Args, String> {
-    let mut args = Args { sizes: Vec::new(), runs: 15, builds: 3, spec: Some(DEFAULT_SPEC.to_string()), child: None };
+    let mut args = Args { sizes: Vec::new(), runs: 15, builds: 3, spec: Some(default_spec()), child: None };
     let mut it = std::env::args().skip(1).peekable();
     while let Some(a) = it.next() {
         let mut value = |what: &str| it.next().ok_or_else(|| format!("{what} needs a value"));
@@ -517,6 +520,8 @@ fn run() -> Result<(), String> {
                 cross_check_spec(script, b)?;
             }
             println!("expectations agree with {script} --spec");
+        } else {
+            println!("{script} not found: expectations from the bench's port of it");
         }
     }
     println!(
@@ -537,7 +542,10 @@ fn run() -> Result<(), String> {
             return Err(format!("{} failed: {}", b.name, String::from_utf8_lossy(&out.stderr).trim()));
         };
         let per_formula = fig.rss_bytes as f64 / fig.formulas as f64;
-        println!("{}: {} formula cells, {} distinct parsed formulas", b.name, fig.formulas, fig.distinct);
+        println!(
+            "{}: {} formula cells, {} formula trees (copied formulas share one)",
+            b.name, fig.formulas, fig.distinct
+        );
         println!("  build (set_input_deferred of every cell) {}", both(fig.build));
         println!("  full computation (recalculate)           {}", both(fig.compute));
         println!("  build + full computation                 {}", both(fig.total));
