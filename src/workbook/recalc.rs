@@ -50,8 +50,8 @@ pub struct Scratch {
     /// Depth-first search state per node (`UNSEEN`, `OPEN`, `DONE`).
     cell_mark: Vec<u8>,
     range_mark: Vec<u8>,
-    /// The search's stack (node, whether its successors are all done) and finishing order.
-    stack: Vec<(u32, bool)>,
+    /// The search's stack of nodes and the order in which they finished.
+    stack: Vec<u32>,
     order: Vec<u32>,
 }
 
@@ -124,10 +124,8 @@ impl Workbook {
         let cycle = self.search(sources, &mut stack, &mut order);
         let mut late = Vec::new();
         if cycle {
-            for &(node, finished) in &stack {
-                if finished {
-                    set_mark(&mut self.scratch.cell_mark, &mut self.scratch.range_mark, node, UNSEEN);
-                }
+            for &node in &stack {
+                set_mark(&mut self.scratch.cell_mark, &mut self.scratch.range_mark, node, UNSEEN);
             }
         } else {
             // Cycles through affected cells are gone (they would have been met).
@@ -142,11 +140,13 @@ impl Workbook {
         for &node in &order {
             set_mark(&mut self.scratch.cell_mark, &mut self.scratch.range_mark, node, UNSEEN);
         }
-        // Keep small buffers for the next edit; give back what a huge pass needed.
+        // Keep the buffers for the next edit (allocating them anew costs page faults) unless
+        // they outgrew the workbook.
+        let keep = KEEP_SCRATCH.max(self.cells.len() + self.ranges.nodes.len());
         order.clear();
-        order.shrink_to(KEEP_SCRATCH);
+        order.shrink_to(keep);
         stack.clear();
-        stack.shrink_to(KEEP_SCRATCH);
+        stack.shrink_to(keep);
         self.scratch.stack = stack;
         self.scratch.order = order;
         (!cycle).then_some(late)
@@ -155,7 +155,7 @@ impl Workbook {
     /// Depth-first search along dependent edges from `sources`, leaving the nodes in
     /// `order` as they finish (dependents before what they read); stops at the first cycle
     /// and says so.
-    fn search(&mut self, sources: &[u32], stack: &mut Vec<(u32, bool)>, order: &mut Vec<u32>) -> bool {
+    fn search(&mut self, sources: &[u32], stack: &mut Vec<u32>, order: &mut Vec<u32>) -> bool {
         let (cells, ranges) = (&self.cells, &self.ranges);
         let Scratch { cell_mark, range_mark, .. } = &mut self.scratch;
         let with_ranges = !ranges.nodes.is_empty();
@@ -164,26 +164,27 @@ impl Workbook {
             if mark_of(cell_mark, range_mark, source) != UNSEEN {
                 continue;
             }
-            stack.push((source, false));
-            while let Some((node, finished)) = stack.pop() {
-                if finished {
-                    set_mark(cell_mark, range_mark, node, DONE);
-                    order.push(node);
-                    continue;
-                }
+            stack.push(source);
+            // A node stays on the stack while its dependents are searched; met again on
+            // top (OPEN), it is finished.
+            while let Some(&node) = stack.last() {
                 match mark_of(cell_mark, range_mark, node) {
-                    UNSEEN => {}
-                    DONE => continue,
-                    _ => {
-                        cycle = true;
-                        break 'search;
+                    OPEN => {
+                        stack.pop();
+                        set_mark(cell_mark, range_mark, node, DONE);
+                        order.push(node);
+                        continue;
                     }
+                    DONE => {
+                        stack.pop();
+                        continue;
+                    }
+                    _ => {}
                 }
                 set_mark(cell_mark, range_mark, node, OPEN);
-                stack.push((node, true));
                 let (cm, rm): (&[u8], &[u8]) = (cell_mark, range_mark);
                 let mut push = |next: u32| match mark_of(cm, rm, next) {
-                    UNSEEN => stack.push((next, false)),
+                    UNSEEN => stack.push(next),
                     DONE => {}
                     // `next` is on the search path: a cycle.
                     _ => cycle = true,
