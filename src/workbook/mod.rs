@@ -194,6 +194,16 @@ impl Workbook {
         if text.len() > 1 && text.starts_with('=') {
             return self.set_formula(sheet, pos, text);
         }
+        // A plain decimal number (`12`, `-0.5`), read as `Input::parse` reads it but sooner.
+        let digits = text.strip_prefix('-').unwrap_or(text);
+        if digits.bytes().any(|b| b.is_ascii_digit()) && digits.bytes().all(|b| b.is_ascii_digit() || b == b'.') {
+            if let Ok(n) = text.parse::<f64>() {
+                if n.is_finite() {
+                    self.set_constant(sheet, pos, Value::Number(n));
+                    return Ok(());
+                }
+            }
+        }
         match Input::parse(text) {
             Input::Empty => {
                 self.set_constant(sheet, pos, Value::Blank);

@@ -127,18 +127,19 @@ impl Workbook {
             for &node in &stack {
                 set_mark(&mut self.scratch.cell_mark, &mut self.scratch.range_mark, node, UNSEEN);
             }
+            for &node in &order {
+                set_mark(&mut self.scratch.cell_mark, &mut self.scratch.range_mark, node, UNSEEN);
+            }
         } else {
             // Cycles through affected cells are gone (they would have been met).
             let marks = &self.scratch.cell_mark;
             self.cycles.retain(|c| c.iter().all(|&id| marks[id as usize] == UNSEEN));
             for &node in order.iter().rev() {
+                set_mark(&mut self.scratch.cell_mark, &mut self.scratch.range_mark, node, UNSEEN);
                 if node & RANGE_BIT == 0 && self.cells[node as usize].formula != NO_FORMULA {
                     self.evaluate(node, &mut late);
                 }
             }
-        }
-        for &node in &order {
-            set_mark(&mut self.scratch.cell_mark, &mut self.scratch.range_mark, node, UNSEEN);
         }
         // Keep the buffers for the next edit (allocating them anew costs page faults) unless
         // they outgrew the workbook.
