@@ -165,7 +165,9 @@ fn push_u32(out: &mut String, n: u32) {
             break;
         }
     }
-    out.push_str(std::str::from_utf8(&buf[i..]).expect("digits"));
+    for &d in &buf[i..] {
+        out.push(d as char);
+    }
 }
 
 fn push_row_formula(out: &mut String, parts: &[&str], r: u32) {

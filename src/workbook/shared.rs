@@ -169,7 +169,7 @@ pub fn relative_key_into(text: &str, at: Pos, out: &mut String, literals: &mut V
                     return false;
                 }
                 literals.push((out.len(), out.len() + end - i));
-                out.push_str(&text[i..end]);
+                push_ascii(out, &b[i..end]);
                 i = end;
             }
             b'$' | b'A'..=b'Z' | b'a'..=b'z' | b'_' | b'\\' => {
@@ -186,7 +186,7 @@ pub fn relative_key_into(text: &str, at: Pos, out: &mut String, literals: &mut V
                     }
                     _ if next == Some(b':') && !word.bytes().any(|c| c.is_ascii_digit()) => return false,
                     _ if word.contains('$') => return false,
-                    _ => out.push_str(word),
+                    _ => push_ascii(out, word.as_bytes()),
                 }
                 i = end;
             }
@@ -198,12 +198,21 @@ pub fn relative_key_into(text: &str, at: Pos, out: &mut String, literals: &mut V
             _ => {
                 // Operators, parentheses, commas, spaces: copied as a run.
                 let end = b[i..].iter().position(|&c| !is_plain(c)).map_or(b.len(), |n| i + n);
-                out.push_str(&text[i..end]);
+                push_ascii(out, &b[i..end]);
                 i = end;
             }
         }
     }
     true
+}
+
+/// Appends a few ASCII bytes (byte by byte: cheaper than a `memcpy` call for the short
+/// pieces a formula is made of).
+fn push_ascii(out: &mut String, bytes: &[u8]) {
+    for &c in bytes {
+        debug_assert!(c.is_ascii());
+        out.push(c as char);
+    }
 }
 
 /// ASCII that the scan copies without looking at it.
