@@ -569,7 +569,11 @@ impl Env for Workbook {
     #[inline]
     fn value(&self, sheet: SheetId, pos: Pos) -> Value {
         match self.sheets.get(sheet as usize).and_then(|s| s.get(pos)) {
-            Some(id) => self.cells[id as usize].value.clone(),
+            // Numbers, the usual case, copied without `clone`'s dispatch on the kind.
+            Some(id) => match &self.cells[id as usize].value {
+                Value::Number(n) => Value::Number(*n),
+                v => v.clone(),
+            },
             None => Value::Blank,
         }
     }
