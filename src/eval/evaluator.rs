@@ -57,6 +57,10 @@ pub struct Ctx<'a> {
     depth: u32,
     /// Messages explaining error values, for the CLI to show.
     pub notes: Vec<Note>,
+    /// Numbers to read in place of number literals of the tree being evaluated, each with
+    /// the literal's node (by address): formulas that differ only in their numbers share one
+    /// tree (src/workbook/shared.rs). Usually empty.
+    pub numbers: &'a [(*const Expr, f64)],
 }
 
 /// Nested name definitions or LET bodies deeper than this are a cycle.
@@ -64,7 +68,7 @@ const MAX_DEPTH: u32 = 200;
 
 impl<'a> Ctx<'a> {
     pub fn new(env: &'a dyn Env, sheet: SheetId, at: Pos) -> Ctx<'a> {
-        Ctx { env, sheet, at, locals: Vec::new(), depth: 0, notes: Vec::new() }
+        Ctx { env, sheet, at, locals: Vec::new(), depth: 0, notes: Vec::new(), numbers: &[] }
     }
 
     /// Records why `error` happened and returns it, for `return Err(ctx.explain(..))`.
@@ -76,7 +80,11 @@ impl<'a> Ctx<'a> {
     /// Evaluates to a value: a multi-cell reference becomes an array, a single cell its value.
     pub fn eval(&mut self, e: &Expr) -> Value {
         match &e.kind {
-            ExprKind::Number(n) => Value::Number(*n),
+            ExprKind::Number(n) if self.numbers.is_empty() => Value::Number(*n),
+            ExprKind::Number(n) => {
+                let own = self.numbers.iter().find(|&&(node, _)| std::ptr::eq(node, e));
+                Value::Number(own.map_or(*n, |&(_, v)| v))
+            }
             ExprKind::Text(s) => Value::Text(s.clone()),
             ExprKind::Bool(b) => Value::Bool(*b),
             ExprKind::Error(err) => Value::Error(*err),

@@ -21,7 +21,7 @@ mod shared;
 mod sheet;
 
 use graph::{Deps, FxMap, RangeIndex};
-use shared::{relative_key_into, shape_of, with_numbers, FormulaStore, SharedFormula};
+use shared::{relative_key_into, shape_of, FormulaStore, SharedFormula};
 use sheet::Sheet;
 
 const NO_FORMULA: u32 = u32::MAX;
@@ -278,8 +278,8 @@ impl Workbook {
         let pattern = if shaped { self.formulas.find_shape(&shape) } else { None };
         let result = match pattern {
             Some(p) => {
-                let expr = with_numbers(&self.formulas.get(p).expr, &mut literals.iter());
-                Ok(self.formulas.add(Some(key.to_string()), SharedFormula::new(expr)))
+                let formula = SharedFormula::with_literals(self.formulas.get(p), &literals);
+                Ok(self.formulas.add(Some(key.to_string()), formula))
             }
             None => self.parse_at(text, sheet, pos).map(|expr| {
                 let id = self.formulas.add(Some(key.to_string()), SharedFormula::new(expr));
@@ -341,7 +341,16 @@ impl Workbook {
             return Some(text.clone());
         }
         let cell = &self.cells[id as usize];
-        (cell.formula != NO_FORMULA).then(|| format!("={}", self.print(&self.formulas.get(cell.formula).expr, pos)))
+        if cell.formula == NO_FORMULA {
+            return None;
+        }
+        let formula = self.formulas.get(cell.formula);
+        let text = if formula.numbers.is_empty() {
+            self.print(&formula.expr, pos)
+        } else {
+            self.print(&formula.own_tree(), pos)
+        };
+        Some(format!("={text}"))
     }
 
     /// What a user would type to recreate the cell: its formula, or its constant.
@@ -457,12 +466,12 @@ impl Workbook {
     fn for_each_precedent(&self, id: u32, f: &mut dyn FnMut(SheetId, Rect)) {
         let cell = &self.cells[id as usize];
         let formula = self.formulas.get(cell.formula);
-        for r in &formula.refs {
+        for r in formula.refs.iter() {
             if let Some((sheet, rect)) = resolve_static(r, cell.sheet, cell.pos) {
                 f(sheet, rect);
             }
         }
-        for name in &formula.names {
+        for name in formula.names.iter() {
             self.name_precedents(name, cell.sheet, 0, f);
         }
     }

@@ -355,9 +355,10 @@ impl Workbook {
 
     fn evaluate(&mut self, id: u32, late: &mut Vec<u32>) {
         let cell = &self.cells[id as usize];
-        let expr = &self.formulas.get(cell.formula).expr;
+        let formula = self.formulas.get(cell.formula);
         let mut ctx = Ctx::new(self, cell.sheet, cell.pos);
-        let value = ctx.eval(expr);
+        ctx.numbers = &formula.numbers;
+        let value = ctx.eval(&formula.expr);
         let notes = ctx.notes;
         if notes.is_empty() {
             if !self.notes.is_empty() {

@@ -6,8 +6,9 @@
 //! trees (references are stored as offsets), so the parse is skipped for every copy.
 //!
 //! Formulas that differ only in their numbers (`=$A$1*2+1`, `=$A$1*3+1`) share a "shape":
-//! the key with each number literal left out. A formula whose shape is known is made by
-//! copying that tree with its own numbers put in, without parsing.
+//! the key with each number literal left out. A formula whose shape is known shares that
+//! tree too, with its own numbers beside it (the evaluator reads them in place of the
+//! tree's literals), without parsing.
 
 use std::rc::Rc;
 
@@ -20,9 +21,12 @@ use super::graph::FxMap;
 pub struct SharedFormula {
     pub expr: Rc<Expr>,
     /// The references in the tree, so edges are found without walking it again.
-    pub refs: Vec<Reference>,
+    pub refs: Rc<[Reference]>,
     /// Uses a defined name (its references are looked up when edges are built).
-    pub names: Vec<Rc<str>>,
+    pub names: Rc<[Rc<str>]>,
+    /// This formula's numbers where they differ from the shared tree's: each number literal
+    /// of `expr` (by address) with the value to read instead (see `Ctx::numbers`).
+    pub numbers: Box<[(*const Expr, f64)]>,
 }
 
 impl SharedFormula {
@@ -35,7 +39,31 @@ impl SharedFormula {
             crate::formula::ast::ExprKind::Name(n) => names.push(n.clone()),
             _ => {}
         });
-        SharedFormula { expr: Rc::new(expr), refs, names }
+        SharedFormula { expr: Rc::new(expr), refs: refs.into(), names: names.into(), numbers: Box::new([]) }
+    }
+
+    /// `pattern`'s formula with `literals` for its numbers, in the order [`Expr::visit`]
+    /// meets them (the caller checked that the pattern has as many).
+    pub fn with_literals(pattern: &SharedFormula, literals: &[f64]) -> SharedFormula {
+        let mut nodes = Vec::with_capacity(literals.len());
+        pattern.expr.visit(&mut |e| {
+            if let ExprKind::Number(_) = e.kind {
+                nodes.push(e as *const Expr);
+            }
+        });
+        debug_assert_eq!(nodes.len(), literals.len());
+        SharedFormula {
+            expr: pattern.expr.clone(),
+            refs: pattern.refs.clone(),
+            names: pattern.names.clone(),
+            numbers: nodes.into_iter().zip(literals.iter().copied()).collect(),
+        }
+    }
+
+    /// The tree with this formula's own numbers in it (for printing).
+    pub fn own_tree(&self) -> Expr {
+        let mut numbers = self.numbers.iter().map(|&(_, v)| v);
+        with_numbers(&self.expr, &mut numbers)
     }
 }
 
@@ -116,9 +144,9 @@ pub fn shape_of(key: &str, spans: &[(usize, usize)], shape: &mut String, literal
 }
 
 /// A copy of `e` with its numbers, in the order [`Expr::visit`] meets them, taken from `numbers`.
-pub fn with_numbers(e: &Expr, numbers: &mut std::slice::Iter<f64>) -> Expr {
+fn with_numbers(e: &Expr, numbers: &mut dyn Iterator<Item = f64>) -> Expr {
     let kind = match &e.kind {
-        ExprKind::Number(n) => ExprKind::Number(numbers.next().copied().unwrap_or(*n)),
+        ExprKind::Number(n) => ExprKind::Number(numbers.next().unwrap_or(*n)),
         ExprKind::Paren(a) => ExprKind::Paren(Box::new(with_numbers(a, numbers))),
         ExprKind::Unary(op, a) => ExprKind::Unary(*op, Box::new(with_numbers(a, numbers))),
         ExprKind::Binary(op, a, b) => {
