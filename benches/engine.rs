@@ -544,10 +544,7 @@ fn run() -> Result<(), String> {
             return Err(format!("{} failed: {}", b.name, String::from_utf8_lossy(&out.stderr).trim()));
         };
         let per_formula = fig.rss_bytes as f64 / fig.formulas as f64;
-        println!(
-            "{}: {} formula cells, {} formula trees (copied formulas share one)",
-            b.name, fig.formulas, fig.distinct
-        );
+        println!("{}: {} formula cells, {} distinct formulas (copies count once)", b.name, fig.formulas, fig.distinct);
         println!("  build (set_input_deferred of every cell) {}", both(fig.build));
         println!("  full computation (recalculate)           {}", both(fig.compute));
         println!("  build + full computation                 {}", both(fig.total));
