@@ -18,6 +18,7 @@ use crate::formula::ast::SheetId;
 use crate::workbook::Workbook;
 
 pub mod atomic;
+pub mod cam;
 pub mod csv;
 
 /// The file types ncsheet knows, by extension.

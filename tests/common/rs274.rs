@@ -40,7 +40,11 @@ pub fn available() -> bool {
 
 /// The moves `rs274 -g` reads from `program`, or the interpreter's complaint.
 pub fn moves(program: &Path) -> Result<Vec<Move>, String> {
-    let out = Command::new("rs274").arg("-g").arg(program).output().map_err(|e| format!("rs274: {e}"))?;
+    // rs274 keeps its parameter file in the working directory: run it in the program's own
+    // folder so that parallel tests do not share one.
+    let dir = program.parent().unwrap_or(Path::new("."));
+    let out =
+        Command::new("rs274").current_dir(dir).arg("-g").arg(program).output().map_err(|e| format!("rs274: {e}"))?;
     let text = String::from_utf8_lossy(&out.stdout).to_string() + &String::from_utf8_lossy(&out.stderr);
     if !out.status.success() || text.contains("error") || text.contains("Error") {
         return Err(text);
