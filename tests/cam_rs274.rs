@@ -32,10 +32,11 @@ fn interpret(rs274: &str, program: &str) -> Result<String, String> {
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("cam.ngc");
     std::fs::write(&file, program).unwrap();
-    // rs274 keeps its parameter file in the working directory: one per run, so that
-    // parallel tests do not share it.
+    // rs274 keeps state in the working directory and in $HOME (.tool.mmap): one of each per
+    // run, so that parallel tests do not share them.
     let out = Command::new(rs274)
         .current_dir(dir.path())
+        .env("HOME", dir.path())
         .arg("-g")
         .arg(&file)
         .output()
