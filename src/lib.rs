@@ -2,10 +2,12 @@
 //!
 //! Layers, each using only those before it: [`formula`] (grammar, syntax tree) →
 //! [`eval`] (values, evaluator, functions) → [`workbook`] (cells, dependency graph,
-//! recalculation) → [`io`] (csv, xlsx) → `cli` (in the binary). See ARCHITECTURE.md.
+//! recalculation) → [`io`] (csv, xlsx) → `cli` (in the binary); [`vba`] (macros) runs on a
+//! workbook and fills an [`nc`] program. See ARCHITECTURE.md.
 
 pub mod eval;
 pub mod formula;
 pub mod geometry;
 pub mod nc;
+pub mod vba;
 pub mod workbook;

@@ -21,6 +21,7 @@ mod lookup;
 mod math;
 mod stats;
 mod text;
+pub mod vba;
 
 /// A function body that returns a value.
 pub type ValueFn = fn(&mut Ctx, &[Expr]) -> XlResult<Value>;
@@ -81,6 +82,7 @@ pub static REGISTRY: LazyLock<Vec<FnSpec>> = LazyLock::new(|| {
         text::FUNCTIONS,
         info::FUNCTIONS,
         geometry::FUNCTIONS,
+        vba::FUNCTIONS,
     ]
     .concat()
 });
