@@ -17,7 +17,7 @@ use crate::eval::functions::vba::vba_text;
 use crate::eval::{Array, Ctx, Env, Operand, Value, XlError};
 use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::{Expr, ExprKind, SheetId};
-use crate::workbook::{Input, Workbook};
+use crate::workbook::{Input, Workbook, WorkbookError};
 
 use super::ast::*;
 use super::parser::Lines;
@@ -964,7 +964,7 @@ impl Interp<'_, '_> {
                     other => other.clone(),
                 };
                 let pos = Pos::new(row, col);
-                wb.set_input_deferred(sheet, pos, &input_text(&item)).map_err(|e| self.fault(e.to_string()))?;
+                wb.set_input_deferred(sheet, pos, &input_text(&item)).map_err(|e| self.fault(one_line(&e)))?;
             }
         }
         wb.recalculate();
@@ -1134,6 +1134,16 @@ fn preserve_items(old: &VArray, new: &mut VArray) {
 pub fn print_text(v: &Value) -> String {
     match v {
         Value::Bool(b) => if *b { "True" } else { "False" }.to_string(),
+        other => other.to_string(),
+    }
+}
+
+/// A workbook error on one line (a formula's parse error with its column, not a caret).
+pub fn one_line(e: &WorkbookError) -> String {
+    match e {
+        WorkbookError::Parse { place, text, error } => {
+            format!("{place}: {text}: column {}: {}", error.column(text), error.message)
+        }
         other => other.to_string(),
     }
 }

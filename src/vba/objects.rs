@@ -20,7 +20,7 @@ use crate::formula::print::print_formula;
 use crate::nc::{ArcDirection, Block, Machine, Target, Word};
 
 use super::ast::{Link, Node, Path, Span};
-use super::interp::{input_text, print_text, Interp, Obj, Run};
+use super::interp::{input_text, one_line, print_text, Interp, Obj, Run};
 
 /// The modal state of the program being emitted.
 #[derive(Debug, Default)]
@@ -384,7 +384,9 @@ impl Interp<'_, '_> {
             _ => return Err(self.fault_at(link.span, "Evaluate takes one text")),
         };
         let parsed = self.wb.borrow().parse_at(&text, sheet, Pos::new(0, 0));
-        let expr = parsed.map_err(|e| self.fault_at(link.span, format!("Evaluate: {}", e.render(&text))))?;
+        let expr = parsed.map_err(|e| {
+            self.fault_at(link.span, format!("Evaluate: {text}: column {}: {}", e.column(&text), e.message))
+        })?;
         Ok(match Ctx::new(self, sheet, Pos::new(0, 0)).operand(&expr) {
             Operand::Ref(s, r) => Obj::Range(s, r),
             Operand::Value(v) => Obj::Value(v),
@@ -445,17 +447,19 @@ impl Interp<'_, '_> {
                     vba_text(&v).map_err(|e| self.fault_at(self.expr_span(value), format!("the formula is {e}")))?;
                 self.write_formula(*sheet, *rect, &text, link.span)
             }
-            (Obj::Range(sheet, rect), _) => {
-                let target = self.range_member(ctx, *sheet, *rect, link)?;
-                let v = self.eval(value)?;
-                self.write_default(target, &v, link.span)
-            }
             (Obj::Nc, _) => self.set_nc(&name, value, link.span),
             (Obj::App, "screenupdating" | "displayalerts" | "enableevents" | "calculation" | "statusbar") => {
                 // Settings of Excel's window: nothing to do without one.
                 self.eval(value).map(|_| ())
             }
-            _ => Err(self.fault_at(link.span, format!("cannot assign to {} of {}", link.name, obj.describe()))),
+            // `ws.Range("A1") = v`, `r.Offset(1, 0) = v`: the member is a range; write its values.
+            _ => match self.member(ctx, obj.clone(), link)? {
+                target @ Obj::Range(..) => {
+                    let v = self.eval(value)?;
+                    self.write_default(target, &v, link.span)
+                }
+                _ => Err(self.fault_at(link.span, format!("cannot assign to {} of {}", link.name, obj.describe()))),
+            },
         }
     }
 
@@ -467,7 +471,9 @@ impl Interp<'_, '_> {
         }
         let texts = {
             let wb = self.wb.borrow();
-            let expr = wb.parse_at(text, sheet, rect.first).map_err(|e| self.fault_at(span, e.render(text)))?;
+            let expr = wb
+                .parse_at(text, sheet, rect.first)
+                .map_err(|e| self.fault_at(span, format!("{text}: column {}: {}", e.column(text), e.message)))?;
             let names = |id: SheetId| Env::sheet_name(&**wb, id).unwrap_or_default();
             let mut texts = Vec::new();
             for row in rect.first.row..=rect.last.row {
@@ -480,7 +486,7 @@ impl Interp<'_, '_> {
         };
         let mut wb = self.wb.borrow_mut();
         for (pos, t) in texts {
-            wb.set_input_deferred(sheet, pos, &t).map_err(|e| self.fault_at(span, e.to_string()))?;
+            wb.set_input_deferred(sheet, pos, &t).map_err(|e| self.fault_at(span, one_line(&e)))?;
         }
         wb.recalculate();
         Ok(())

@@ -138,13 +138,20 @@ fn closer(rule: Rule) -> Option<&'static str> {
 
 fn describe(rule: Rule) -> &'static str {
     match rule {
-        Rule::vexpr | Rule::vparen | Rule::number | Rule::string | Rule::boolean | Rule::path | Rule::bracket => {
-            "a value"
-        }
+        Rule::vexpr
+        | Rule::vparen
+        | Rule::number
+        | Rule::string
+        | Rule::boolean
+        | Rule::path
+        | Rule::bracket
+        | Rule::neg
+        | Rule::plus
+        | Rule::not_op => "a value",
         Rule::ident | Rule::member_name | Rule::link | Rule::member => "a name",
         Rule::EOI | Rule::eol => "the end of the line",
         Rule::sub_def | Rule::function_def | Rule::k_sub | Rule::k_function => "Sub or Function",
-        Rule::eq => "=",
+        Rule::eq => "an operator",
         _ if is_operator(rule) => "an operator",
         _ => "a statement",
     }
