@@ -37,7 +37,11 @@ pub fn available() -> bool {
 
 /// The moves `rs274 -g` reads from `program`, or the interpreter's complaint.
 pub fn moves(program: &Path) -> Result<Vec<Move>, String> {
-    let out = Command::new("rs274").arg("-g").arg(program).output().map_err(|e| format!("rs274: {e}"))?;
+    // rs274 truncates and maps `$HOME/.tool.mmap`; two at once crash each other with SIGBUS.
+    // Each program's own directory is its HOME.
+    let home = program.parent().unwrap_or(Path::new("."));
+    let out =
+        Command::new("rs274").arg("-g").arg(program).env("HOME", home).output().map_err(|e| format!("rs274: {e}"))?;
     let text = String::from_utf8_lossy(&out.stdout).to_string() + &String::from_utf8_lossy(&out.stderr);
     if !out.status.success() || text.contains("error") || text.contains("Error") {
         return Err(text);
