@@ -164,10 +164,10 @@ fn option_explicit_accepts_declared_names() {
 fn byref_changes_the_callers_variable_and_byval_does_not() {
     let out = run("Sub Bump(ByRef a, ByVal b)\n    a = a + 1\n    b = b + 1\nEnd Sub\n\
                    Sub Twice(x)\n    x = x * 2\nEnd Sub\n\
-                   Sub Main()\n    Dim p, q\n    p = 1: q = 1\n    Bump p, q\n    Call Twice(p)\n\
-                   \x20   Twice q + 0\n    Debug.Print p & \" \" & q\nEnd Sub\n");
-    // ByRef is VBA's default; an expression argument is a copy.
-    assert_eq!(out.printed, ["4 1"]);
+                   Sub Main()\n    Dim p, q\n    Const K = 5\n    p = 1: q = 1\n    Bump p, q\n    Call Twice(p)\n\
+                   \x20   Twice q + 0\n    Twice K\n    Debug.Print p & \" \" & q & \" \" & K\nEnd Sub\n");
+    // ByRef is VBA's default; an expression or a constant argument is a copy.
+    assert_eq!(out.printed, ["4 1 5"]);
 }
 
 #[test]
@@ -292,4 +292,40 @@ fn the_sub_to_run_and_its_arguments_come_from_the_options() {
 fn attribute_lines_of_an_exported_module_are_ignored() {
     let out = run("Attribute VB_Name = \"Module1\"\nOption Explicit\nSub Main()\n    Debug.Print \"ok\"\nEnd Sub");
     assert_eq!(out.printed, ["ok"]);
+}
+
+#[test]
+fn static_variables_keep_their_value_between_calls() {
+    let out = run("Function Counter()\n    Static n As Long\n    Dim fresh\n    n = n + 1: fresh = fresh + 1\n\
+                   \x20   Counter = n * 10 + fresh\nEnd Function\n\
+                   Sub Main()\n    Debug.Print Counter() & \" \" & Counter() & \" \" & Counter()\nEnd Sub\n");
+    assert_eq!(out.printed, ["11 21 31"]);
+}
+
+#[test]
+fn option_base_one_moves_the_default_lower_bound() {
+    let out = run("Option Base 1\nSub Main()\n    Dim a(3), b\n    b = Array(7, 8)\n\
+                   \x20   Debug.Print LBound(a) & UBound(a) & LBound(b) & b(1)\nEnd Sub\n");
+    assert_eq!(out.printed, ["1317"]);
+}
+
+#[test]
+fn a_macro_runs_on_a_workbook_without_sheets() {
+    let mut wb = Workbook::new();
+    let src = "Sub Main()\n    [A1] = 2\n    Debug.Print \"\" & [A1] * 2\nEnd Sub\n";
+    assert_eq!(vba::run(&mut wb, src, "t.bas", &RunOptions::default()).unwrap().printed, ["4"]);
+}
+
+#[test]
+fn cells_keep_the_formula_language() {
+    // The macro grammar shares the parser but adds nothing a cell can reach.
+    let mut wb = Workbook::with_sheet();
+    let at = |c: &str| parse_cell(c).unwrap();
+    wb.set_input(0, at("A1"), "=1+\n2").unwrap();
+    assert_eq!(wb.value(0, at("A1")), n(3.0), "a line break is a space in a formula");
+    assert!(wb.set_input(0, at("A2"), "=7 Mod 2").is_err(), "Mod is not an Excel operator");
+    wb.set_input(0, at("A3"), "=-2^2").unwrap();
+    assert_eq!(wb.value(0, at("A3")), n(4.0));
+    wb.set_input(0, at("A4"), "=VBA.SQR(16)+VBA.ROUND(2.5)").unwrap();
+    assert_eq!(wb.value(0, at("A4")), n(6.0), "VBA's functions are rows of the one table");
 }

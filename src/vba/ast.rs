@@ -113,6 +113,8 @@ pub struct Stmt {
 #[derive(Debug)]
 pub enum StmtKind {
     Dim(Vec<VarDecl>),
+    /// `Static n`: a procedure's variable that keeps its value from one call to the next.
+    Static(Vec<VarDecl>),
     ReDim {
         preserve: bool,
         vars: Vec<VarDecl>,

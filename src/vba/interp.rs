@@ -31,6 +31,10 @@ pub fn run(
     file: &str,
     options: &RunOptions,
 ) -> Result<RunOutput, MacroError> {
+    if wb.sheet_len() == 0 {
+        // A workbook always has a sheet for Range and Cells to mean, as in Excel.
+        wb.add_sheet("Sheet1").expect("the first sheet");
+    }
     let active = match &options.sheet {
         Some(name) => {
             wb.sheet_id(name).ok_or_else(|| usage(file, format!("the workbook has no sheet named {name}")))?
@@ -51,6 +55,7 @@ pub fn run(
         line: RefCell::new(None),
         nc: RefCell::new(super::objects::NcState::default()),
         steps: Cell::new(0),
+        kept: RefCell::new(Vec::new()),
         pending: RefCell::new(None),
         ended: Cell::new(false),
         active: Cell::new(active),
@@ -203,6 +208,8 @@ pub struct Interp<'m, 'w> {
     line: RefCell<Option<String>>,
     pub nc: RefCell<super::objects::NcState>,
     steps: Cell<u64>,
+    /// Static variables between calls: (procedure, variable).
+    kept: RefCell<Vec<(usize, Slot)>>,
     pending: RefCell<Option<Fault>>,
     /// An `End` statement ran: every procedure stops.
     ended: Cell<bool>,
@@ -474,6 +481,10 @@ impl Interp<'_, '_> {
         }
         let (result, frame) = self.invoke_frame(proc, bound, Some(span))?;
         for (index, caller_var) in back {
+            // A constant passed ByRef is passed as a copy, as in VBA.
+            if self.with_slot(&caller_var, |s| s.constant) == Some(true) {
+                continue;
+            }
             let name = &p.params[index].name;
             if let Some(slot) = frame.vars.iter().find(|s| s.name.eq_ignore_ascii_case(name)) {
                 self.set_var(&caller_var, slot.var.clone(), span)?;
@@ -500,6 +511,7 @@ impl Interp<'_, '_> {
         self.frames.borrow_mut().push(Frame { proc, vars: Vec::new(), with: Vec::new(), call_site });
         let result = self.bind_and_run(p, bound);
         let frame = self.frames.borrow_mut().pop().expect("the frame pushed above");
+        self.keep_statics(&frame);
         result?;
         let value = match p.kind {
             ProcKind::Function => {
@@ -572,6 +584,7 @@ impl Interp<'_, '_> {
     fn exec_kind(&self, stmt: &Stmt) -> Run<Flow> {
         match &stmt.kind {
             StmtKind::Dim(vars) => self.dim(vars, false, false)?,
+            StmtKind::Static(vars) => self.statics(vars)?,
             StmtKind::ReDim { preserve, vars } => self.dim(vars, true, *preserve)?,
             StmtKind::Const(items) => {
                 for (name, e) in items {
@@ -635,6 +648,41 @@ impl Interp<'_, '_> {
             self.declare(Slot { name: d.name.clone(), var, ty: d.ty.clone(), constant: false });
         }
         Ok(())
+    }
+
+    /// `Static`: the variable the procedure's last call left, or a new one.
+    fn statics(&self, vars: &[VarDecl]) -> Run<()> {
+        let proc = self.frames.borrow().last().expect("Static runs in a procedure").proc;
+        for d in vars {
+            if self.has_local(&d.name) {
+                continue;
+            }
+            let kept =
+                self.kept.borrow().iter().find(|(p, s)| *p == proc && s.name.eq_ignore_ascii_case(&d.name)).cloned();
+            let slot = match kept {
+                Some((_, slot)) => slot,
+                None => {
+                    self.dim(std::slice::from_ref(d), false, false)?;
+                    let slot = self.frames.borrow().last().and_then(|f| f.vars.last().cloned()).expect("declared");
+                    self.kept.borrow_mut().push((proc, slot));
+                    continue;
+                }
+            };
+            self.declare(slot);
+        }
+        Ok(())
+    }
+
+    /// Keeps the Static variables of a frame that is being left.
+    fn keep_statics(&self, frame: &Frame) {
+        for (proc, slot) in self.kept.borrow_mut().iter_mut() {
+            if *proc != frame.proc {
+                continue;
+            }
+            if let Some(s) = frame.vars.iter().find(|v| v.name.eq_ignore_ascii_case(&slot.name)) {
+                slot.var = s.var.clone();
+            }
+        }
     }
 
     fn new_array(&self, bounds: &[(Option<Expr>, Expr)], ty: Option<&Ty>, span: Span) -> Run<VArray> {

@@ -1,15 +1,72 @@
-//! The macro language: VBA's statements (`Sub`, `Dim`, `If`, `For`, `GoTo`, …) around the
-//! formula language's expressions, run against a [`Workbook`] and filling an NC [`Program`].
+//! The macro language: VBA's statements around the formula language's expressions, run
+//! against a [`Workbook`] and filling an NC [`Program`].
 //!
 //! `parser.rs` turns the source into [`ast::Module`] through the one pest parser
 //! (grammar/formula.pest + grammar/macro.pest); `interp.rs` walks the statements and hands
 //! every expression to the one evaluator, which reads macro variables and macro-only nodes
-//! (`Range("B3").Value`, calls of the module's Functions) through its `Host` hook.
+//! (`Range("B3").Value`, calls of the module's Functions) through its `Host` hook;
+//! `objects.rs` holds the objects (`Range`, `Cells`, `Worksheets`, `Application`, `Nc`, …).
 //!
 //! **Architecture Invariant:** a macro cannot reach files, programs or the system: the
-//! language has no such statement or object (`Open`, `Kill`, `Shell`, `CreateObject` are
-//! refused by the parser), and this module touches neither files nor stdout; [`run`] returns
-//! what the macro printed and emitted, and the CLI decides where it goes.
+//! language has no such statement or object (`Open`, `Kill`, `Shell`, `CreateObject`,
+//! `Declare`, `Workbooks.Open`, `SaveAs` … are refused by the parser, by name), and this
+//! module touches neither files nor stdout: [`run`] returns what the macro printed and
+//! emitted, and the CLI decides where it goes. A statement limit and a call-depth limit
+//! ([`RunOptions`]) stop endless loops and recursion with the line that was running.
+//!
+//! # The language, for a VBA user
+//!
+//! Statements: `Sub`/`Function` with `ByVal`/`ByRef` (the default), `Optional` parameters
+//! with defaults and named arguments (`x:=1`); a Function returns by assigning its name;
+//! `Dim`/`Static`/`ReDim [Preserve]` with `As Integer|Long|Double|String|Boolean|Variant|Range…`
+//! (typed variables convert as VBA does: an Integer rounds halves to even), one- and
+//! two-dimensional arrays (`Dim a(1 To 5)`, `UBound`, `LBound`, `Array(…)`, `Option Base`),
+//! `Const`, `Set`, `If … Then … ElseIf … Else … End If` and the one-line `If`, `Select Case`
+//! (values, `a To b`, `Is >= x`, `Case Else`), `For … To … Step … Next`, `For Each`
+//! (cells of a range, items of an array, `Worksheets`), `Do [While|Until] … Loop
+//! [While|Until]`, `While … Wend`, `With … End With`, `Exit For|Do|Sub|Function`, labels
+//! (`N10:` or a line number) and `GoTo` to a label of the same block or one around it, `End`,
+//! `'` and `Rem` comments, ` _` continuation, `:` between statements, `Option Explicit`,
+//! `Attribute` lines of exported modules (ignored).
+//!
+//! Expressions are the formula language's (same precedence, functions and error values) plus
+//! VBA's `Mod`, `\`, `Not`, `And`, `Or`, `Xor`, `Eqv`, `Imp` at VBA's levels. A name is, in
+//! this order: a variable (the workbook's defined names are reached by `Range("D")` or `[D]`,
+//! not bare), a constant (`vbCrLf`, `vbTab`, `Empty`, …), a procedure of the module, one of
+//! VBA's functions (`Sqr Atn Tan Sin Cos Exp Log Abs Sgn Int Fix Round Format CStr CDbl CInt
+//! CLng CBool Val Str Len Left Mid Right UCase LCase Trim LTrim RTrim InStr Replace Chr Asc
+//! Space IIf IsEmpty IsNumeric IsError IsObject Array`, the `VBA.*` rows of the function
+//! table, `$` suffix allowed), an object, or a sheet function (`CHAMFER_XA`, `SUM`, `ATAN2`,
+//! …; also as `Application.WorksheetFunction.Sum` or `WorksheetFunction.Sum`).
+//!
+//! Where VBA and the sheet differ, a macro follows the sheet for what both have, so that a
+//! formula means the same in a cell and in a macro:
+//! - `-2^2` is 4 (VBA: -4); write `-(2^2)`.
+//! - `"a" = "A"` is True and `"10" = 10` is False (Excel's comparison: text without case,
+//!   numbers before text); `&` writes TRUE/FALSE for booleans; `+` does not join text.
+//! - Errors are values: `1/0` is `#DIV/0!`, and a Variant can hold it as a cell does. A
+//!   statement that needs a number, a truth value or an index (If, For, Cells, Nc.Line, a
+//!   typed variable) stops there with the error and the function's explanation.
+//! - `Round` is VBA's (halves to even); `WorksheetFunction.Round` is Excel's.
+//!
+//! Sheet access: `Range("B3")`, `Range("A1:C4")`, `Range("Sheet2!B3")`, `Range("XA")` (a
+//! defined name), `Range(Cells(1, 1), Cells(2, 3))`, `Cells(r, c)` (c may be letters),
+//! `Worksheets("Name")` / `Worksheets(1)` / `Sheets` / `ActiveSheet`, `[B3]` and `[SUM(A1:A3)]`
+//! (formula text evaluated as in a cell), `Evaluate("…")`. Range members: `Value` (the
+//! default), `Value2`, `Formula`, `Text`, `Row`, `Column`, `Count`, `Rows`, `Columns`,
+//! `Address`, `Offset`, `Resize`, `Cells`, `Item`, `ClearContents`, `Worksheet`, `Activate`.
+//! A write is typed into the cell (text starting with `=` is a formula, as in VBA) and
+//! recalculates what depends on it before the next statement.
+//!
+//! Output: `Debug.Print` lines (VBA's `;` and `,` and number spacing) go to
+//! [`RunOutput::printed`] (the CLI writes them to standard output); `MsgBox` texts to
+//! [`RunOutput::messages`] (standard error); `Nc.*` builds [`RunOutput::program`] (see
+//! `objects.rs` for `Nc.Rapid`, `Nc.Line`, `Nc.ArcCW`, `Nc.Block`, … and `Nc.Feed`).
+//! `InputBox` is refused: pass values with `--arg`.
+//!
+//! Not in the language: `On Error` (a macro stops at its first error), `GoSub`, user types
+//! and classes, `Like`, `Is`, date literals, `Static Sub`, `ParamArray`, arrays of more than
+//! two dimensions, events and forms.
 
 pub mod ast;
 mod interp;

@@ -451,6 +451,9 @@ impl<'s> Build<'s> {
 
     fn proc(&self, pair: Pair<Rule>) -> Res<Proc> {
         let k = kids(&pair);
+        if let Some(s) = find(&k, Rule::k_static) {
+            return Err(self.error_at(&s, "Static Sub/Function is not supported: declare each variable with Static"));
+        }
         let kind = if pair.as_rule() == Rule::sub_def { ProcKind::Sub } else { ProcKind::Function };
         let name = name_of(&find(&k, Rule::ident).expect("procedure name"));
         *self.scope.borrow_mut() = Scope {
@@ -537,6 +540,12 @@ impl<'s> Build<'s> {
         let span = self.span(start(&pair));
         let kind = match pair.as_rule() {
             Rule::rem_stmt | Rule::comment_text => return Ok(None),
+            Rule::dim_stmt if find(&kids(&pair), Rule::k_static).is_some() => {
+                if self.in_module_level() {
+                    return Err(self.error_at(&pair, "Static declares a procedure's variable; use Dim here"));
+                }
+                StmtKind::Static(self.dims(&pair)?)
+            }
             Rule::dim_stmt => StmtKind::Dim(self.dims(&pair)?),
             Rule::redim_stmt => {
                 StmtKind::ReDim { preserve: find(&kids(&pair), Rule::k_preserve).is_some(), vars: self.dims(&pair)? }
