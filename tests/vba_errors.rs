@@ -193,3 +193,29 @@ fn a_missing_sub_or_argument_is_a_usage_error() {
     let e = fail_with(src, &RunOptions { sub: Some("Cut".into()), args, ..RunOptions::default() });
     assert_eq!(e.message, "Sub Cut has no parameter E (it has: D)");
 }
+
+#[test]
+fn any_cut_of_the_example_macros_parses_or_says_why_without_panicking() {
+    let wb = Workbook::with_sheet();
+    for src in [include_str!("../sheets/chamfer.bas"), include_str!("../sheets/cycles.bas")] {
+        let lines: Vec<&str> = src.lines().collect();
+        for n in 0..lines.len() {
+            let cut = lines[..n].join("\n");
+            if let Err(e) = vba::parse(&cut, "cut.bas", &wb) {
+                assert!(e.span.is_some() && !e.message.is_empty(), "{e}");
+            }
+            // Every line dropped once, too.
+            let dropped: Vec<&str> = lines.iter().enumerate().filter(|(i, _)| *i != n).map(|(_, l)| *l).collect();
+            let dropped = dropped.join("\n");
+            if vba::parse(&dropped, "dropped.bas", &wb).is_ok() {
+                // And it runs to its end or to an error, without a panic.
+                let mut wb = Workbook::with_sheet();
+                for (cell, v) in [(1, "40"), (2, "2"), (3, "45"), (4, "0.8"), (5, "1"), (6, "1")] {
+                    wb.set_input(0, ncsheet::formula::address::Pos::new(cell, 1), v).unwrap();
+                }
+                let options = RunOptions { max_statements: 100_000, ..RunOptions::default() };
+                let _ = vba::run(&mut wb, &dropped, "dropped.bas", &options);
+            }
+        }
+    }
+}

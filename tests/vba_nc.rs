@@ -372,3 +372,68 @@ fn cycles_main_writes_one_program_for_every_dialect_that_has_arcs() {
     let e = dialect::by_name("nc31").unwrap().render(&out.program).unwrap_err();
     assert!(e.message.contains("no circular interpolation"), "{e}");
 }
+
+// ---- the Nc object -------------------------------------------------------------------------
+
+#[test]
+fn nc_builds_blocks_from_positional_named_and_modal_arguments() {
+    use ncsheet::nc::{ArcDirection, Machine, Target, Word};
+    let src = "Sub Main()\n    Nc.Machine = \"mill\"\n    Nc.Name = \"POCKET\": Nc.Number = 7\n\
+               \x20   Nc.Rapid 10, 0, 5\n    Nc.Feed = 100\n    Nc.Line Z:=-1\n    Nc.ArcCCW 0, 10, 0, 0\n\
+               \x20   Nc.Line 0, 20, F:=200\n    Nc.Line 5, 20\n    Nc.Dwell 0.5\n    Nc.Comment \"done\", 1\n\
+               \x20   Nc.Block \"M5\", \"S\", 0\n    Debug.Print Nc.Count & Nc.Machine & Nc.Feed\nEnd Sub\n";
+    let mut wb = Workbook::with_sheet();
+    let out = run(&mut wb, src, &RunOptions::default());
+    let p = &out.program;
+    assert_eq!((p.name.as_str(), p.number, p.machine), ("POCKET", 7, Machine::Mill));
+    let z = |z: f64| Target { z: Some(z), ..Target::default() };
+    assert_eq!(
+        p.blocks,
+        [
+            Block::Rapid(Target::xyz(10.0, 0.0, 5.0)),
+            Block::Line { to: z(-1.0), feed: Some(100.0) },
+            Block::Arc {
+                direction: ArcDirection::CounterClockwise,
+                to: Target::xy(0.0, 10.0),
+                centre: Target::xy(0.0, 0.0),
+                feed: None
+            },
+            Block::Line { to: Target::xy(0.0, 20.0), feed: Some(200.0) },
+            Block::Line { to: Target::xy(5.0, 20.0), feed: None },
+            Block::Dwell(0.5),
+            Block::Comment("done 1".into()),
+            Block::Words(vec![Word { address: 'M', value: 5.0 }, Word { address: 'S', value: 0.0 }]),
+        ]
+    );
+    assert_eq!(out.printed, ["8mill200"]);
+    let Some(moves) = moves(p) else { return };
+    // A quarter circle from (10, 0) around the origin to (0, 10), counter-clockwise.
+    let arc = moves.iter().find(|m| matches!(m, Move::Arc { .. })).expect("an arc");
+    assert!(
+        matches!(*arc, Move::Arc { first_end, second_end, rotation: 1, .. }
+        if first_end.abs() < 1e-9 && (second_end - 10.0).abs() < 1e-9),
+        "{arc:?}"
+    );
+}
+
+#[test]
+fn nc_says_what_is_wrong_with_a_call() {
+    let cases = [
+        ("    Nc.Line 1, 2, 3, 4", "Nc.Line takes X, Z, F"),
+        ("    Nc.Line 1, 2", "Nc.Line needs a feed: pass F:= or set Nc.Feed first"),
+        ("    Nc.Rapid Q:=1", "Nc.Rapid has no argument Q (it takes X, Z)"),
+        ("    Nc.Rapid", "Nc.Rapid needs a point to move to"),
+        ("    Nc.ArcCW 1, 2, F:=0.1", "Nc.ArcCW needs the centre (CX and CZ)"),
+        ("    Nc.Block \"G\"", "Nc.Block: G needs a number after it"),
+        ("    Nc.Block 5", "Nc.Block: 5 has no address letter before it"),
+        ("    Nc.Machine = \"robot\"", "Nc.Machine is \"lathe\" or \"mill\", not \"robot\""),
+        ("    Nc.Fly", "Nc has no member Fly"),
+    ];
+    for (body, message) in cases {
+        let mut wb = Workbook::with_sheet();
+        let src = format!("Sub Main()\n{body}\nEnd Sub\n");
+        let e = vba::run(&mut wb, &src, "nc.bas", &RunOptions::default()).unwrap_err();
+        assert_eq!(e.message, message, "{body}");
+        assert_eq!(e.span.unwrap().line, 2, "{body}");
+    }
+}
