@@ -68,6 +68,7 @@
 //! and classes, `Like`, `Is`, date literals, `Static Sub`, `ParamArray`, arrays of more than
 //! two dimensions, events and forms.
 
+mod arrays;
 pub mod ast;
 mod interp;
 mod objects;
