@@ -219,3 +219,9 @@ fn any_cut_of_the_example_macros_parses_or_says_why_without_panicking() {
         }
     }
 }
+
+#[test]
+fn a_write_to_a_whole_sheet_is_refused_not_attempted() {
+    let e = fail(&main_body("    Range(\"A1:XFD1048576\").Value = 1"));
+    assert_eq!(e.message, "writing 17179869184 cells at once is more than a macro may (10000000)");
+}

@@ -893,6 +893,10 @@ impl Interp<'_, '_> {
     /// Writes a value into every cell of a range as if typed (VBA's `Range.Value =`): text
     /// starting with `=` becomes a formula, `"12"` a number; an array fills item by item.
     pub fn write_range(&self, sheet: SheetId, rect: Rect, v: &Value) -> Run<()> {
+        let cells = rect.rows() as u64 * rect.cols() as u64;
+        if cells > MAX_WRITE {
+            return Err(self.fault(format!("writing {cells} cells at once is more than a macro may ({MAX_WRITE})")));
+        }
         let mut wb = self.wb.borrow_mut();
         for row in rect.first.row..=rect.last.row {
             for col in rect.first.col..=rect.last.col {
@@ -910,6 +914,9 @@ impl Interp<'_, '_> {
         Ok(())
     }
 }
+
+/// The most cells one assignment writes (a whole sheet is 17 billion).
+const MAX_WRITE: u64 = 10_000_000;
 
 impl Env for Interp<'_, '_> {
     fn value(&self, sheet: SheetId, pos: Pos) -> Value {
