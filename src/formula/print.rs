@@ -74,6 +74,10 @@ impl Printer<'_> {
                 self.call(&name, args)
             }
             ExprKind::UnknownCall(name, args) => self.call(name, args),
+            // Only macros hold host nodes, and macros are not printed back; say what it is.
+            ExprKind::Host(id) => {
+                let _ = write!(self.out, "MACRO_NODE({id})");
+            }
         }
     }
 
@@ -82,6 +86,7 @@ impl Printer<'_> {
             UnaryOp::Neg => self.out.push('-'),
             UnaryOp::Plus => self.out.push('+'),
             UnaryOp::Implicit => self.out.push('@'),
+            UnaryOp::Not => self.out.push_str("Not "),
             UnaryOp::Percent | UnaryOp::Spill => {}
         }
         self.expr(inner);
@@ -184,5 +189,12 @@ pub fn binary_symbol(op: BinOp) -> &'static str {
         BinOp::Le => "<=",
         BinOp::Gt => ">",
         BinOp::Ge => ">=",
+        BinOp::Mod => " Mod ",
+        BinOp::IntDiv => "\\",
+        BinOp::And => " And ",
+        BinOp::Or => " Or ",
+        BinOp::Xor => " Xor ",
+        BinOp::Eqv => " Eqv ",
+        BinOp::Imp => " Imp ",
     }
 }
