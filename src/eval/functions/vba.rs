@@ -11,11 +11,12 @@ use std::rc::Rc;
 
 use crate::eval::coerce::{parse_number, to_bool, to_number, to_text};
 use crate::eval::evaluator::{number_result, Ctx, Operand};
-use crate::eval::number_format::{general, significant_digits};
+use crate::eval::number_format::general;
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
 
 use super::args::{lift, lift_number1, lift_number2};
+use super::text_format::NumberFormat;
 use super::{FnSpec, MANY};
 
 /// The prefix of this module's names in the function table.
@@ -405,12 +406,9 @@ fn format(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     })
 }
 
-/// A number in a VBA/Excel number format: named formats (`Fixed`, `Standard`, `Percent`,
-/// `Scientific`, `General Number`) and patterns of `0 # . , % E+ E-` with literal text
-/// (`"mm"`, `\x`), up to three `;`-separated sections (positive; negative; zero). Digits are
-/// rounded in decimal, half away from zero, on the number's 15 significant digits, as Excel
-/// displays them. (The fn-text branch's TEXT engine, `text_format.rs`, covers more; when it
-/// lands this should call it, so that there is one number-format engine.)
+/// A number in a VBA/Excel number format: VBA's named formats (`Fixed`, `Standard`,
+/// `Percent`, `Scientific`, `General Number`) or any pattern Excel's TEXT reads — the one
+/// number-format engine of `text_format.rs`.
 pub fn format_number(n: f64, pattern: &str) -> XlResult<String> {
     let named = match pattern.to_ascii_lowercase().as_str() {
         "" | "general number" | "general" => return Ok(general(n)),
@@ -420,248 +418,7 @@ pub fn format_number(n: f64, pattern: &str) -> XlResult<String> {
         "scientific" => "0.00E+00",
         _ => pattern,
     };
-    let sections = split_sections(named);
-    let (section, value, signed) = match (sections.len(), n) {
-        (_, n) if n > 0.0 || sections.len() == 1 => (&sections[0], n, sections.len() == 1),
-        (2, n) if n < 0.0 => (&sections[1], -n, false),
-        (2, _) => (&sections[0], n, false),
-        (_, n) if n < 0.0 => (&sections[1], -n, false),
-        _ => (&sections[2], n, false),
-    };
-    let text = format_section(section, value.abs())?;
-    let negative = signed && value < 0.0 && text.chars().any(|c| c.is_ascii_digit() && c != '0');
-    Ok(if negative { format!("-{text}") } else { text })
-}
-
-fn split_sections(pattern: &str) -> Vec<String> {
-    let mut out = vec![String::new()];
-    let mut quoted = false;
-    let mut chars = pattern.chars();
-    while let Some(c) = chars.next() {
-        match c {
-            '"' => quoted = !quoted,
-            '\\' if !quoted => {
-                out.last_mut().expect("a section").push(c);
-                if let Some(next) = chars.next() {
-                    out.last_mut().expect("a section").push(next);
-                }
-                continue;
-            }
-            ';' if !quoted => {
-                out.push(String::new());
-                continue;
-            }
-            _ => {}
-        }
-        out.last_mut().expect("a section").push(c);
-    }
-    out.truncate(3);
-    out
-}
-
-/// One piece of a pattern: a digit placeholder or literal text.
-#[derive(Debug)]
-enum Piece {
-    Digit(char),
-    Point,
-    Exponent(bool),
-    Text(String),
-}
-
-struct Pattern {
-    pieces: Vec<Piece>,
-    thousands: bool,
-    percent: bool,
-}
-
-fn read_pattern(section: &str) -> Pattern {
-    let mut pieces = Vec::new();
-    let (mut thousands, mut percent) = (false, false);
-    let chars: Vec<char> = section.chars().collect();
-    let mut i = 0;
-    while i < chars.len() {
-        let c = chars[i];
-        i += 1;
-        match c {
-            '0' | '#' | '?' => pieces.push(Piece::Digit(c)),
-            '.' => pieces.push(Piece::Point),
-            ',' => thousands = true,
-            '%' => {
-                percent = true;
-                pieces.push(Piece::Text("%".into()));
-            }
-            'E' | 'e' if matches!(chars.get(i), Some('+' | '-')) => {
-                pieces.push(Piece::Exponent(chars[i] == '+'));
-                i += 1;
-            }
-            '"' => {
-                let end = chars[i..].iter().position(|&q| q == '"').map_or(chars.len(), |p| i + p);
-                pieces.push(Piece::Text(chars[i..end].iter().collect()));
-                i = end + 1;
-            }
-            '\\' => {
-                if let Some(&next) = chars.get(i) {
-                    pieces.push(Piece::Text(next.to_string()));
-                    i += 1;
-                }
-            }
-            other => pieces.push(Piece::Text(other.to_string())),
-        }
-    }
-    Pattern { pieces, thousands, percent }
-}
-
-fn format_section(section: &str, value: f64) -> XlResult<String> {
-    let p = read_pattern(section);
-    let value = if p.percent { value * 100.0 } else { value };
-    let exp_at = p.pieces.iter().position(|x| matches!(x, Piece::Exponent(_)));
-    let mantissa = &p.pieces[..exp_at.unwrap_or(p.pieces.len())];
-    let point = mantissa.iter().position(|x| matches!(x, Piece::Point));
-    let int_places: Vec<char> = mantissa[..point.unwrap_or(mantissa.len())]
-        .iter()
-        .filter_map(|x| if let Piece::Digit(d) = x { Some(*d) } else { None })
-        .collect();
-    let frac_places: Vec<char> = point
-        .map(|pt| mantissa[pt..].iter().filter_map(|x| if let Piece::Digit(d) = x { Some(*d) } else { None }).collect())
-        .unwrap_or_default();
-    let (value, exponent) = match exp_at {
-        Some(_) if value != 0.0 => {
-            let shift = int_places.len().max(1) as i32;
-            let e = value.abs().log10().floor() as i32 - (shift - 1);
-            (value / 10f64.powi(e), Some(e))
-        }
-        Some(_) => (value, Some(0)),
-        None => (value, None),
-    };
-    let (mut int_digits, frac_digits) = decimal_digits(value, frac_places.len());
-    // A rounded mantissa may reach the next power of ten (9.99 → 10.0): renormalise.
-    let exponent = match exponent {
-        Some(e) if int_digits.len() > int_places.len().max(1) && value != 0.0 => {
-            let (d, _) = decimal_digits(value / 10.0, frac_places.len());
-            int_digits = d;
-            Some(e + 1)
-        }
-        other => other,
-    };
-    let int_text = integer_text(&int_digits, &int_places, p.thousands);
-    let frac_text = fraction_text(&frac_digits, &frac_places);
-    Ok(assemble(&p.pieces, point, &int_text, &frac_text, exponent))
-}
-
-/// The integer and fraction digits of `value` rounded to `decimals`, half away from zero,
-/// judged on its 15 significant digits.
-fn decimal_digits(value: f64, decimals: usize) -> (String, String) {
-    if value == 0.0 {
-        return ("0".into(), "0".repeat(decimals));
-    }
-    let (digits, exp) = significant_digits(value, 15);
-    // Place the digits on a fixed grid: `exp + 1` integer digits (at least one).
-    let int_len = (exp + 1).max(0) as usize;
-    let lead_zeros = if exp < 0 { (-exp - 1) as usize } else { 0 };
-    let mut all: Vec<u8> = std::iter::repeat_n(b'0', lead_zeros).chain(digits.bytes()).collect();
-    let keep = int_len + decimals;
-    if all.len() < keep {
-        all.resize(keep, b'0');
-    }
-    let round_up = all.get(keep).is_some_and(|&d| d >= b'5');
-    all.truncate(keep);
-    if round_up && !increment(&mut all) {
-        all.insert(0, b'1');
-    }
-    let split = all.len() - decimals;
-    let int = String::from_utf8(all[..split].to_vec()).expect("ascii digits");
-    let int = int.trim_start_matches('0');
-    let int = if int.is_empty() { "0".to_string() } else { int.to_string() };
-    (int, String::from_utf8(all[split..].to_vec()).expect("ascii digits"))
-}
-
-/// Adds one to a run of decimal digits; false when it carries out of the first digit.
-fn increment(digits: &mut [u8]) -> bool {
-    for d in digits.iter_mut().rev() {
-        if *d == b'9' {
-            *d = b'0';
-        } else {
-            *d += 1;
-            return true;
-        }
-    }
-    false
-}
-
-fn integer_text(digits: &str, places: &[char], thousands: bool) -> String {
-    let mut digits = digits.to_string();
-    if digits == "0" && !places.contains(&'0') {
-        digits.clear();
-    }
-    let zeros = places.iter().filter(|&&c| c == '0').count();
-    while digits.len() < zeros {
-        digits.insert(0, '0');
-    }
-    if !thousands {
-        return digits;
-    }
-    let mut out = String::new();
-    for (i, c) in digits.chars().enumerate() {
-        if i > 0 && (digits.len() - i).is_multiple_of(3) {
-            out.push(',');
-        }
-        out.push(c);
-    }
-    out
-}
-
-fn fraction_text(digits: &str, places: &[char]) -> String {
-    let mut out: Vec<char> = digits.chars().collect();
-    // Trailing digits whose placeholder is `#` disappear when they are zeros.
-    while let (Some('0'), Some('#' | '?')) = (out.last(), places.get(out.len().wrapping_sub(1))) {
-        out.pop();
-    }
-    out.into_iter().collect()
-}
-
-fn assemble(pieces: &[Piece], point: Option<usize>, int_text: &str, frac_text: &str, exponent: Option<i32>) -> String {
-    let mut out = String::new();
-    let mut int_written = false;
-    let mut frac_written = false;
-    for (i, piece) in pieces.iter().enumerate() {
-        let before_point = point.is_none_or(|p| i < p);
-        match piece {
-            Piece::Digit(_) if before_point => {
-                if !int_written {
-                    out.push_str(int_text);
-                    int_written = true;
-                }
-            }
-            Piece::Digit(_) => {
-                if !frac_written {
-                    out.push_str(frac_text);
-                    frac_written = true;
-                }
-            }
-            Piece::Point => {
-                if !int_written {
-                    out.push_str(int_text);
-                    int_written = true;
-                }
-                out.push('.');
-            }
-            Piece::Exponent(plus) => {
-                let e = exponent.unwrap_or(0);
-                let digits = pieces[i + 1..].iter().take_while(|p| matches!(p, Piece::Digit(_))).count().max(1);
-                let sign = if e < 0 {
-                    "-"
-                } else if *plus {
-                    "+"
-                } else {
-                    ""
-                };
-                out.push_str(&format!("E{sign}{:0digits$}", e.abs()));
-                return out;
-            }
-            Piece::Text(t) => out.push_str(t),
-        }
-    }
-    out
+    NumberFormat::parse(named)?.format_number(n)
 }
 
 #[cfg(test)]
