@@ -15,6 +15,7 @@ mod cam;
 mod output;
 mod repl;
 pub mod report;
+mod run;
 mod target;
 
 use output::{OutputFormat, Selection};
@@ -42,6 +43,7 @@ pub enum Command {
     Functions(FunctionsArgs),
     Cam(cam::CamArgs),
     Arcfit(cam::ArcfitArgs),
+    Run(run::RunArgs),
 }
 
 /// Compute a sheet and print its values (all of it, or the cells and ranges named).
@@ -147,6 +149,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Functions(_) => functions(),
         Command::Cam(args) => cam::cam(args),
         Command::Arcfit(args) => cam::arcfit(args),
+        Command::Run(args) => run::run(args),
     }
 }
 
@@ -263,7 +266,7 @@ fn sheet_named(wb: &Workbook, file: &Path, name: &str) -> Result<SheetId> {
 }
 
 /// Refuses an output path that is the input file (however it is spelled).
-fn refuse_overwriting_input(input: &Path, output: &Path, hint: &str) -> Result<()> {
+pub(crate) fn refuse_overwriting_input(input: &Path, output: &Path, hint: &str) -> Result<()> {
     let same = match (input.canonicalize(), output.canonicalize()) {
         (Ok(a), Ok(b)) => a == b,
         _ => input == output,

@@ -28,13 +28,17 @@ pub fn quote_sheet_name(name: &str) -> String {
     }
 }
 
-/// Shortest text that reads back as the same number.
+/// Shortest text that reads back as the same number: positional for everyday magnitudes,
+/// `1.5E+20` style for very large and very small ones (as Excel writes them).
 pub fn number_literal(v: f64) -> String {
-    let plain = format!("{v}");
-    if plain.len() <= 17 {
-        plain
-    } else {
-        format!("{v:E}")
+    let magnitude = v.abs();
+    if v == 0.0 || (1e-5..1e15).contains(&magnitude) {
+        return format!("{v}");
+    }
+    let text = format!("{v:E}");
+    match text.split_once('E') {
+        Some((mantissa, exp)) if !exp.starts_with('-') => format!("{mantissa}E+{exp}"),
+        _ => text,
     }
 }
 
