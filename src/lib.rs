@@ -7,4 +7,5 @@
 pub mod eval;
 pub mod formula;
 pub mod geometry;
+pub mod io;
 pub mod workbook;

@@ -1,0 +1,232 @@
+//! Export with rust_xlsxwriter: every sheet, constants, formulas in file spelling with their
+//! computed results as cached values, dynamic arrays with their spill area, defined names,
+//! and the number formats and column widths of a [`Layout`].
+//!
+//! What xlsx cannot say the way we hold it: an error typed as a constant is written as the
+//! formula `=#N/A` (rust_xlsxwriter has no error cells); a formula result that is text
+//! looking like a number is cached as that number (rust_xlsxwriter types results by their
+//! text). Excel recalculates on load, so both only matter to viewers that do not.
+
+use std::collections::HashMap;
+use std::fs;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU32, Ordering};
+
+use rust_xlsxwriter::{Format, Formula, Worksheet};
+
+use crate::eval::{Env, Value, XlError};
+use crate::formula::address::Pos;
+use crate::formula::ast::SheetId;
+use crate::formula::print::{number_literal, quote_sheet_name};
+use crate::workbook::Workbook;
+
+use super::syntax::{self, Storage};
+use super::{ErrorKind, Layout, XlsxError};
+
+/// Writes the workbook to `path` (xlsx, or xlsm when the name says so), atomically.
+pub fn save(wb: &Workbook, path: &Path) -> Result<(), XlsxError> {
+    save_with_layout(wb, &Layout::default(), path)
+}
+
+/// Writes the workbook with the formats and widths of `layout` to a temporary file in the
+/// target's folder, then renames it over the target: an interrupted save leaves the old
+/// file as it was.
+pub fn save_with_layout(wb: &Workbook, layout: &Layout, path: &Path) -> Result<(), XlsxError> {
+    let macros = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("xlsm"));
+    if macros && layout.vba_project.is_none() {
+        let message = "an .xlsm file needs the VBA project of a workbook read from .xlsm; save as .xlsx";
+        return Err(XlsxError::new(path, None, ErrorKind::Unwritable, message));
+    }
+    let bytes = build(wb, layout, path, macros)?;
+    write_atomically(path, &bytes)
+}
+
+/// The workbook as xlsx bytes (for benchmarks and tests).
+pub fn to_bytes(wb: &Workbook, layout: &Layout) -> Result<Vec<u8>, XlsxError> {
+    build(wb, layout, Path::new("(xlsx in memory)"), false)
+}
+
+fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Vec<u8>, XlsxError> {
+    let fail = |part: Option<&str>, e: rust_xlsxwriter::XlsxError| {
+        XlsxError::new(file, part, ErrorKind::Unwritable, e.to_string())
+    };
+    let mut book = rust_xlsxwriter::Workbook::new();
+    let mut formats: HashMap<&str, Format> = HashMap::new();
+    let names = wb.sheet_names();
+    for (i, name) in names.iter().enumerate() {
+        let sheet = i as SheetId;
+        let sheet_layout = layout.sheets.get(name);
+        let ws = book.add_worksheet();
+        ws.set_name(name).map_err(|e| fail(Some(name), e))?;
+        // A formula whose result is "" must cache "", not rust_xlsxwriter's default 0.
+        ws.set_formula_result_default("");
+        if let Some(l) = sheet_layout {
+            for &(col, width) in &l.column_widths {
+                ws.set_column_width_pixels(col, (width * 7.0).round() as u32).map_err(|e| fail(Some(name), e))?;
+            }
+            if macros {
+                if let Some(code_name) = &l.code_name {
+                    ws.set_vba_name(code_name).map_err(|e| fail(Some(name), e))?;
+                }
+            }
+        }
+        for (pos, value) in wb.values(sheet) {
+            let format = sheet_layout.and_then(|l| l.number_formats.get(&pos)).map(|code| {
+                &*formats.entry(code.as_str()).or_insert_with(|| Format::new().set_num_format(code.as_str()))
+            });
+            let place = || wb.cell_name(sheet, pos);
+            match wb.formula(sheet, pos) {
+                Some(text) => write_formula(ws, wb, sheet, pos, &text, &value, format),
+                None => write_value(ws, pos, &value, format),
+            }
+            .map_err(|e| fail(Some(&place()), e))?;
+        }
+    }
+    for (name, formula, scope) in wb.names() {
+        let text = syntax::to_file(&formula, wb, scope.unwrap_or(0), Pos::new(0, 0), Storage::Dynamic);
+        let full = match scope {
+            Some(s) => format!("{}!{name}", quote_sheet_name(&names[s as usize])),
+            None => name.clone(),
+        };
+        book.define_name(full, &format!("={text}")).map_err(|e| fail(Some(&format!("name {name}")), e))?;
+    }
+    let mut vba_file = None;
+    if macros {
+        if let Some(vba) = &layout.vba_project {
+            let tmp = temp_path(file);
+            fs::write(&tmp, vba).map_err(|e| {
+                XlsxError::new(file, None, ErrorKind::Io, format!("cannot write {}: {e}", tmp.display()))
+            })?;
+            vba_file = Some(TempFile(tmp));
+            let result = book.add_vba_project(&vba_file.as_ref().expect("just set").0).map(|_| ());
+            result.map_err(|e| fail(Some("xl/vbaProject.bin"), e))?;
+            if let Some(code_name) = &layout.workbook_code_name {
+                book.set_vba_name(code_name).map_err(|e| fail(Some("xl/workbook.xml"), e))?;
+            }
+        }
+    }
+    let bytes = book.save_to_buffer().map_err(|e| fail(None, e));
+    drop(vba_file);
+    bytes
+}
+
+fn write_formula(
+    ws: &mut Worksheet,
+    wb: &Workbook,
+    sheet: SheetId,
+    pos: Pos,
+    text: &str,
+    value: &Value,
+    format: Option<&Format>,
+) -> Result<(), rust_xlsxwriter::XlsxError> {
+    let spill = Env::spill_rect(wb, sheet, pos).filter(|r| !r.is_cell());
+    let mut file_text = syntax::to_file(text, wb, sheet, pos, Storage::Legacy);
+    if spill.is_some() || *value == Value::Error(XlError::Spill) || syntax::calls_dynamic_function(&file_text) {
+        file_text = syntax::to_file(text, wb, sheet, pos, Storage::Dynamic);
+    }
+    // rust_xlsxwriter reads a leading `{` or trailing `}` as array-formula braces and drops
+    // them; a space around the formula keeps an array constant whole.
+    if file_text.starts_with('{') || file_text.ends_with('}') {
+        file_text = format!(" {file_text} ");
+    }
+    let formula = Formula::new(&file_text).set_result(result_text(value));
+    let (row, col) = (pos.row, pos.col as u16);
+    match (spill, format) {
+        (Some(r), Some(f)) => {
+            ws.write_dynamic_array_formula_with_format(row, col, r.last.row, r.last.col as u16, formula, f).map(|_| ())
+        }
+        (Some(r), None) => ws.write_dynamic_array_formula(row, col, r.last.row, r.last.col as u16, formula).map(|_| ()),
+        (None, _) if *value == Value::Error(XlError::Spill) => match format {
+            Some(f) => ws.write_dynamic_formula_with_format(row, col, formula, f).map(|_| ()),
+            None => ws.write_dynamic_formula(row, col, formula).map(|_| ()),
+        },
+        (None, Some(f)) => ws.write_formula_with_format(row, col, formula, f).map(|_| ()),
+        (None, None) => ws.write_formula(row, col, formula).map(|_| ()),
+    }
+}
+
+/// A constant, or a value an array spilled into (Excel stores those as plain values too).
+fn write_value(
+    ws: &mut Worksheet,
+    pos: Pos,
+    value: &Value,
+    format: Option<&Format>,
+) -> Result<(), rust_xlsxwriter::XlsxError> {
+    let (row, col) = (pos.row, pos.col as u16);
+    match (value, format) {
+        (Value::Blank | Value::Array(_), _) => Ok(()),
+        (Value::Number(n), Some(f)) => ws.write_number_with_format(row, col, *n, f).map(|_| ()),
+        (Value::Number(n), None) => ws.write_number(row, col, *n).map(|_| ()),
+        (Value::Text(s), Some(f)) => ws.write_string_with_format(row, col, s.as_ref(), f).map(|_| ()),
+        (Value::Text(s), None) => ws.write_string(row, col, s.as_ref()).map(|_| ()),
+        (Value::Bool(b), Some(f)) => ws.write_boolean_with_format(row, col, *b, f).map(|_| ()),
+        (Value::Bool(b), None) => ws.write_boolean(row, col, *b).map(|_| ()),
+        (Value::Error(e), f) => {
+            let formula = Formula::new(format!("={}", e.as_str())).set_result(e.as_str());
+            match f {
+                Some(f) => ws.write_formula_with_format(row, col, formula, f).map(|_| ()),
+                None => ws.write_formula(row, col, formula).map(|_| ()),
+            }
+        }
+    }
+}
+
+/// A formula's value as the cached result text rust_xlsxwriter types by its spelling.
+fn result_text(value: &Value) -> String {
+    match value {
+        Value::Number(n) => number_literal(*n),
+        Value::Bool(b) => if *b { "TRUE" } else { "FALSE" }.to_string(),
+        Value::Error(e) => e.as_str().to_string(),
+        // "inf" and "nan" would be written as numbers XML cannot hold.
+        Value::Text(s) if s.parse::<f64>().is_ok_and(|n| !n.is_finite()) => String::new(),
+        Value::Text(s) => s.to_string(),
+        Value::Blank | Value::Array(_) => String::new(),
+    }
+}
+
+/// A file removed when dropped, unless kept.
+struct TempFile(PathBuf);
+
+impl TempFile {
+    fn keep(mut self) {
+        self.0 = PathBuf::new();
+    }
+}
+
+impl Drop for TempFile {
+    fn drop(&mut self) {
+        if !self.0.as_os_str().is_empty() {
+            let _ = fs::remove_file(&self.0);
+        }
+    }
+}
+
+/// A fresh name beside `target`: `.name.xlsx.<pid>-<n>.tmp`.
+fn temp_path(target: &Path) -> PathBuf {
+    static COUNTER: AtomicU32 = AtomicU32::new(0);
+    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+    let dir = target.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let name = target.file_name().map_or("workbook".into(), |n| n.to_string_lossy());
+    dir.join(format!(".{name}.{}-{n}.tmp", std::process::id()))
+}
+
+fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), XlsxError> {
+    let io = |what: &str, e: std::io::Error| XlsxError::new(path, None, ErrorKind::Io, format!("{what}: {e}"));
+    let tmp = TempFile(temp_path(path));
+    let mut file = fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&tmp.0)
+        .map_err(|e| io(&format!("cannot create the temporary file {}", tmp.0.display()), e))?;
+    if let Ok(meta) = fs::metadata(path) {
+        // Keep the permissions of the file being replaced.
+        let _ = file.set_permissions(meta.permissions());
+    }
+    file.write_all(bytes).map_err(|e| io("cannot write", e))?;
+    file.sync_all().map_err(|e| io("cannot write", e))?;
+    drop(file);
+    fs::rename(&tmp.0, path).map_err(|e| io("cannot replace the file", e))?;
+    tmp.keep();
+    Ok(())
+}
