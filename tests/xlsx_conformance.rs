@@ -12,16 +12,14 @@
 //! The test fails when a cell disagrees on its own, unless it is in [`KNOWN_DISAGREEMENTS`].
 //! It writes the pass rates to `docs/excel-conformance.md`.
 
-use std::collections::{BTreeMap, HashMap, HashSet};
-use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+mod common;
 
-use ncsheet::eval::functions::spec;
-use ncsheet::eval::Env;
-use ncsheet::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
-use ncsheet::formula::ast::{Expr, ExprKind, RefShape, Reference, SheetId, SheetRef, UnaryOp};
-use ncsheet::io::xlsx::{self, values_agree, Imported};
-use ncsheet::workbook::Workbook;
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+use common::{corpus_root, judge, percent, workbooks, Tally, Verdict};
+use ncsheet::io::xlsx;
 
 /// Files the corpus README lists as not produced by Excel: imported, not compared.
 const NOT_FROM_EXCEL: &[&str] = &[
@@ -65,255 +63,6 @@ const KNOWN_DISAGREEMENTS: &[(&str, &str, &str)] = &[
     ("calc_tests/spill_operator.xlsx", "Sheet1!G2", "C2# of a multi-cell CSE area"),
 ];
 
-const VOLATILE: &[&str] = &["NOW", "TODAY", "RAND", "RANDBETWEEN", "RANDARRAY"];
-
-fn corpus_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/excel-corpus/ironcalc")
-}
-
-fn workbooks(dir: &Path, out: &mut Vec<PathBuf>) {
-    let mut entries: Vec<PathBuf> = std::fs::read_dir(dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .map(|e| e.expect("directory entry").path())
-        .collect();
-    entries.sort();
-    for p in entries {
-        if p.is_dir() {
-            workbooks(&p, out);
-        } else if p.extension().is_some_and(|e| e == "xlsx" || e == "xlsm") {
-            out.push(p);
-        }
-    }
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Verdict {
-    Agree,
-    Disagree,
-    Upstream,
-    Unsupported,
-    Volatile,
-}
-
-/// What a formula calls and reads.
-struct FormulaInfo {
-    /// Registered functions it calls (canonical names), or `(operators only)`.
-    functions: Vec<String>,
-    /// Unregistered functions it calls.
-    unknown: Vec<String>,
-    parses: bool,
-    volatile: bool,
-    reads: Vec<(SheetId, Rect)>,
-}
-
-fn analyse(wb: &Workbook, sheet: SheetId, anchor: Pos) -> FormulaInfo {
-    let mut info =
-        FormulaInfo { functions: Vec::new(), unknown: Vec::new(), parses: false, volatile: false, reads: Vec::new() };
-    let Some(text) = wb.formula(sheet, anchor) else { return info };
-    let Ok(expr) = wb.parse_at(&text, sheet, anchor) else { return info };
-    info.parses = true;
-    let mut names = Vec::new();
-    expr.visit(&mut |e| match &e.kind {
-        ExprKind::Call(id, _) => info.functions.push(spec(*id).name.to_string()),
-        ExprKind::UnknownCall(name, _) => info.unknown.push(name.to_string()),
-        ExprKind::Ref(r) => info.reads.extend(resolve(r, sheet, anchor)),
-        ExprKind::Name(n) => names.push(n.clone()),
-        _ => {}
-    });
-    spill_reads(wb, &expr, sheet, anchor, &mut info.reads);
-    for n in names {
-        if let Some((name_expr, name_sheet)) = Env::defined_name(wb, &n, sheet) {
-            name_expr.visit_refs(&mut |r| info.reads.extend(resolve(r, name_sheet, Pos::new(0, 0))));
-        }
-    }
-    info.volatile = info.functions.iter().chain(&info.unknown).any(|f| VOLATILE.contains(&f.as_str()));
-    info.functions.sort();
-    info.functions.dedup();
-    if info.functions.is_empty() {
-        info.functions.push("(operators only)".into());
-    }
-    info
-}
-
-/// `A1#` reads the whole area the anchor spilled into.
-fn spill_reads(wb: &Workbook, expr: &Expr, sheet: SheetId, at: Pos, reads: &mut Vec<(SheetId, Rect)>) {
-    expr.visit(&mut |e| {
-        if let ExprKind::Unary(UnaryOp::Spill, inner) = &e.kind {
-            if let Some((s, rect)) = match &inner.kind {
-                ExprKind::Ref(r) => resolve(r, sheet, at),
-                _ => None,
-            } {
-                reads.push((s, Env::spill_rect(wb, s, rect.first).unwrap_or(rect)));
-            }
-        }
-    });
-}
-
-fn resolve(r: &Reference, sheet: SheetId, at: Pos) -> Option<(SheetId, Rect)> {
-    let sheet = match &r.sheet {
-        SheetRef::Current => sheet,
-        SheetRef::Id(id) => *id,
-        SheetRef::Missing(_) => return None,
-    };
-    let row = |c: ncsheet::formula::ast::Coord| c.resolve(at.row, MAX_ROWS);
-    let col = |c: ncsheet::formula::ast::Coord| c.resolve(at.col, MAX_COLS);
-    let rect = match r.shape {
-        RefShape::Cell(c) => Rect::cell(Pos::new(row(c.row)?, col(c.col)?)),
-        RefShape::Cells(a, b) => Rect::new(Pos::new(row(a.row)?, col(a.col)?), Pos::new(row(b.row)?, col(b.col)?)),
-        RefShape::Cols(a, b) => Rect::new(Pos::new(0, col(a)?), Pos::new(MAX_ROWS - 1, col(b)?)),
-        RefShape::Rows(a, b) => Rect::new(Pos::new(row(a)?, 0), Pos::new(row(b)?, MAX_COLS - 1)),
-    };
-    Some((sheet, rect))
-}
-
-/// Cells by sheet, for "does this rectangle hold one of them".
-#[derive(Default)]
-struct CellSet {
-    cells: HashSet<(SheetId, Pos)>,
-    by_sheet: HashMap<SheetId, Vec<Pos>>,
-}
-
-impl CellSet {
-    fn insert(&mut self, sheet: SheetId, pos: Pos) -> bool {
-        let new = self.cells.insert((sheet, pos));
-        if new {
-            self.by_sheet.entry(sheet).or_default().push(pos);
-        }
-        new
-    }
-
-    fn hits(&self, sheet: SheetId, rect: Rect, except: (SheetId, Pos)) -> bool {
-        let area = rect.rows() as u64 * rect.cols() as u64;
-        let list = self.by_sheet.get(&sheet).map_or(&[][..], Vec::as_slice);
-        if area <= list.len() as u64 {
-            (rect.first.row..=rect.last.row).any(|r| {
-                (rect.first.col..=rect.last.col)
-                    .any(|c| (sheet, Pos::new(r, c)) != except && self.cells.contains(&(sheet, Pos::new(r, c))))
-            })
-        } else {
-            list.iter().any(|&p| rect.contains(p) && (sheet, p) != except)
-        }
-    }
-}
-
-struct CellResult {
-    sheet: SheetId,
-    pos: Pos,
-    anchor: Pos,
-    verdict: Verdict,
-}
-
-/// Judges every cached value of one workbook.
-fn judge(imported: &Imported) -> (Vec<CellResult>, HashMap<(SheetId, Pos), FormulaInfo>) {
-    let wb = &imported.workbook;
-    let mut infos: HashMap<(SheetId, Pos), FormulaInfo> = HashMap::new();
-    for c in &imported.cached {
-        infos.entry((c.sheet, c.anchor)).or_insert_with(|| analyse(wb, c.sheet, c.anchor));
-    }
-    // Unsupported and volatile cells, then everything that reads them.
-    let mut tainted = CellSet::default();
-    let mut volatile = HashSet::new();
-    for c in &imported.cached {
-        let info = &infos[&(c.sheet, c.anchor)];
-        if !info.parses || !info.unknown.is_empty() || info.volatile {
-            tainted.insert(c.sheet, c.pos);
-            if info.volatile {
-                volatile.insert((c.sheet, c.pos));
-            }
-        }
-    }
-    loop {
-        let mut grew = false;
-        for c in &imported.cached {
-            if tainted.cells.contains(&(c.sheet, c.pos)) {
-                continue;
-            }
-            let info = &infos[&(c.sheet, c.anchor)];
-            let reads_tainted = info.reads.iter().any(|&(s, r)| tainted.hits(s, r, (c.sheet, c.anchor)))
-                || tainted.cells.contains(&(c.sheet, c.anchor));
-            if reads_tainted {
-                let from_volatile = info
-                    .reads
-                    .iter()
-                    .any(|&(s, r)| volatile.iter().any(|&(vs, vp): &(SheetId, Pos)| vs == s && r.contains(vp)));
-                if from_volatile {
-                    volatile.insert((c.sheet, c.pos));
-                }
-                grew |= tainted.insert(c.sheet, c.pos);
-            }
-        }
-        if !grew {
-            break;
-        }
-    }
-    let mut wrong = CellSet::default();
-    for c in &imported.cached {
-        if !values_agree(&c.value, &wb.value(c.sheet, c.pos)) {
-            wrong.insert(c.sheet, c.pos);
-        }
-    }
-    let results = imported
-        .cached
-        .iter()
-        .map(|c| {
-            let key = (c.sheet, c.pos);
-            let info = &infos[&(c.sheet, c.anchor)];
-            let verdict = if volatile.contains(&key) {
-                Verdict::Volatile
-            } else if tainted.cells.contains(&key) {
-                Verdict::Unsupported
-            } else if !wrong.cells.contains(&key) {
-                Verdict::Agree
-            } else if info.reads.iter().any(|&(s, r)| wrong.hits(s, r, (c.sheet, c.anchor)))
-                || (c.anchor != c.pos && wrong.cells.contains(&(c.sheet, c.anchor)))
-            {
-                Verdict::Upstream
-            } else {
-                Verdict::Disagree
-            };
-            CellResult { sheet: c.sheet, pos: c.pos, anchor: c.anchor, verdict }
-        })
-        .collect();
-    (results, infos)
-}
-
-#[derive(Default, Clone, Copy)]
-struct Tally {
-    agree: usize,
-    disagree: usize,
-    upstream: usize,
-    unsupported: usize,
-    volatile: usize,
-}
-
-impl Tally {
-    fn add(&mut self, v: Verdict) {
-        match v {
-            Verdict::Agree => self.agree += 1,
-            Verdict::Disagree => self.disagree += 1,
-            Verdict::Upstream => self.upstream += 1,
-            Verdict::Unsupported => self.unsupported += 1,
-            Verdict::Volatile => self.volatile += 1,
-        }
-    }
-
-    fn compared(&self) -> usize {
-        self.agree + self.disagree + self.upstream
-    }
-
-    fn all(&self) -> usize {
-        self.compared() + self.unsupported + self.volatile
-    }
-}
-
-fn percent(part: usize, whole: usize) -> String {
-    if whole == 0 {
-        "–".into()
-    } else {
-        format!("{:.1}%", 100.0 * part as f64 / whole as f64)
-    }
-}
-
 #[test]
 fn excel_corpus_agrees_with_excel_for_every_supported_function() {
     let root = corpus_root();
@@ -339,7 +88,7 @@ fn excel_corpus_agrees_with_excel_for_every_supported_function() {
         if NOT_FROM_EXCEL.contains(&rel.as_str()) {
             continue;
         }
-        let (results, infos) = judge(&imported);
+        let (results, infos) = judge(&imported, &|c| Some(c.value.clone()), &|_| false, &xlsx::values_agree);
         let mut tally = Tally::default();
         for r in &results {
             tally.add(r.verdict);
@@ -356,12 +105,11 @@ fn excel_corpus_agrees_with_excel_for_every_supported_function() {
             if r.verdict == Verdict::Disagree {
                 let cell = imported.workbook.cell_name(r.sheet, r.pos);
                 if !KNOWN_DISAGREEMENTS.iter().any(|(f, c, _)| *f == rel && *c == cell) {
-                    let excel = imported.cached.iter().find(|c| c.sheet == r.sheet && c.pos == r.pos).map(|c| &c.value);
                     failures.push(format!(
                         "{rel}: {cell}: {} gives {:?}, Excel cached {:?}",
                         imported.workbook.formula(r.sheet, r.anchor).unwrap_or_default(),
                         imported.workbook.value(r.sheet, r.pos),
-                        excel.expect("cached"),
+                        r.expected.as_ref().expect("compared"),
                     ));
                 }
             }

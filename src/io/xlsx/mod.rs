@@ -28,7 +28,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 use crate::eval::Value;
-use crate::formula::address::Pos;
+use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::SheetId;
 use crate::workbook::Workbook;
 
@@ -84,6 +84,20 @@ pub struct SheetLayout {
     pub number_formats: HashMap<Pos, String>,
     /// The sheet's VBA code name (`Sheet1`), if the file gave one.
     pub code_name: Option<String>,
+    /// Array formulas of the file by anchor: written back over the same area when ncsheet
+    /// does not spill them itself (it may lack a function, or the formula is a legacy
+    /// Ctrl+Shift+Enter one filling its area with a scalar).
+    pub array_formulas: HashMap<Pos, ArrayFormula>,
+}
+
+/// An array formula as the file stored it: `<f t="array" ref="A1:A5">` in its anchor.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ArrayFormula {
+    pub anchor: Pos,
+    /// The cells it fills, anchor included.
+    pub area: Rect,
+    /// A dynamic array (`cm="1"`, Excel 365) rather than a legacy Ctrl+Shift+Enter formula.
+    pub dynamic: bool,
 }
 
 /// An xlsx file that could not be read or written.

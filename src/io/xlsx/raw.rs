@@ -13,7 +13,7 @@ use zip::ZipArchive;
 
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 
-use super::ErrorKind;
+use super::{ArrayFormula, ErrorKind};
 
 /// The zip package with its workbook-level parts read.
 pub struct Package<'a> {
@@ -44,14 +44,23 @@ pub struct NameEntry {
 /// What the worksheet scan found.
 #[derive(Default, Debug)]
 pub struct SheetScan {
-    /// Array formulas: anchor cell and the area Excel filled (anchor included).
-    pub arrays: Vec<(Pos, Rect)>,
+    /// Array formulas, in file order.
+    pub arrays: Vec<ArrayFormula>,
     /// Cells with a style other than the default, with their style index.
     pub styled: Vec<(Pos, u32)>,
     /// `<col>` widths: first and last column (0-based) and the width.
     pub widths: Vec<(u32, u32, f64)>,
     /// `<sheetPr codeName="…">`: the sheet's VBA name.
     pub code_name: Option<String>,
+    /// Per column, one past the last row holding a cell.
+    pub column_rows: Vec<u32>,
+}
+
+impl SheetScan {
+    /// The grid slots the sheet needs: columns are stored densely down to their last cell.
+    pub fn grid_slots(&self) -> u64 {
+        self.column_rows.iter().map(|&r| r as u64).sum()
+    }
 }
 
 type Err = (Option<String>, ErrorKind, String);
@@ -213,6 +222,8 @@ struct SheetScanner {
     row: u32,
     col: u32,
     cell: Option<Pos>,
+    /// The current cell has `cm="…"`: cell metadata, which marks dynamic arrays.
+    cell_metadata: bool,
 }
 
 impl SheetScanner {
@@ -237,8 +248,14 @@ impl SheetScanner {
                     None => Some(Pos::new(self.row, self.col)),
                 };
                 self.cell = pos;
+                self.cell_metadata = tag.attr("cm").is_some();
                 if let Some(p) = pos {
                     self.col = p.col + 1;
+                    let rows = &mut self.scan.column_rows;
+                    if rows.len() <= p.col as usize {
+                        rows.resize(p.col as usize + 1, 0);
+                    }
+                    rows[p.col as usize] = rows[p.col as usize].max(p.row + 1);
                     if let Some(s) = tag.attr("s").and_then(parse_u32) {
                         if s != 0 {
                             self.scan.styled.push((p, s));
@@ -253,7 +270,7 @@ impl SheetScanner {
             (TagKind::Start | TagKind::Empty, b"f") => {
                 if let (Some(anchor), Some(b"array")) = (self.cell, tag.attr("t")) {
                     let area = tag.attr("ref").and_then(parse_rect).unwrap_or(Rect::cell(anchor));
-                    self.scan.arrays.push((anchor, area));
+                    self.scan.arrays.push(ArrayFormula { anchor, area, dynamic: self.cell_metadata });
                 }
             }
             (TagKind::Start | TagKind::Empty, b"sheetPr") => self.scan.code_name = tag.attr("codeName").map(unescape),
@@ -540,7 +557,7 @@ mod tests {
         assert_eq!(scan.styled.len(), 5000);
         assert_eq!(scan.styled[4999], (Pos::new(4999, 0), 3));
         let area = Rect::new(Pos::new(5000, 2), Pos::new(5002, 2));
-        assert_eq!(scan.arrays, vec![(Pos::new(5000, 2), area)]);
+        assert_eq!(scan.arrays, vec![ArrayFormula { anchor: Pos::new(5000, 2), area, dynamic: true }]);
     }
 
     #[test]

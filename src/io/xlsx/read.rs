@@ -14,19 +14,20 @@ use std::collections::{HashMap, HashSet};
 use std::io::Cursor;
 use std::path::Path;
 
-use calamine::{CellErrorType, DataRef, Reader, Style, Xlsx};
+use calamine::{CellErrorType, DataRef, Reader, Style, Xlsx, XlsxFormulaMetadata};
 
 use crate::eval::{Env, Value, XlError};
-use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
+use crate::formula::address::{Pos, MAX_COLS, MAX_ROWS};
 use crate::formula::ast::SheetId;
 use crate::workbook::Workbook;
 
 use super::raw::{Package, SheetEntry, SheetScan};
-use super::{syntax, CachedValue, ErrorKind, Imported, Layout, SheetLayout, XlsxError};
+use super::{syntax, ArrayFormula, CachedValue, ErrorKind, Imported, Layout, SheetLayout, XlsxError};
 
 /// Sheets store each column densely down to its last used row. A workbook needing more
-/// slots than this (4 bytes each, 1 GiB) is refused instead of exhausting memory.
-const MAX_GRID_SLOTS: u64 = 1 << 28;
+/// slots than this (4 bytes each, 512 MiB) is refused before any is allocated: a few cells
+/// far apart must not exhaust memory.
+const MAX_GRID_SLOTS: u64 = 1 << 27;
 
 /// Reads an .xlsx or .xlsm file into a recalculated workbook.
 pub fn load(path: &Path) -> Result<Imported, XlsxError> {
@@ -67,13 +68,20 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
     }
     define_names(&mut imported, &package, &sheets, &ids);
 
-    let mut budget = GridBudget::default();
+    let mut slots = 0u64;
     let mut legacy_ranges = Vec::new();
     for (entry, id) in sheets.iter().zip(&ids) {
         let Some(sheet) = *id else { continue };
         let scan = package.scan_sheet(&entry.part).map_err(fail)?;
-        let mut sheet_import =
-            SheetImport { sheet, entry, scan: &scan, budget: &mut budget, legacy_ranges: &mut legacy_ranges };
+        slots += scan.grid_slots();
+        if slots > MAX_GRID_SLOTS {
+            let message = format!(
+                "the cells lie too far apart: the sheets would need more than {} MiB of grid",
+                (MAX_GRID_SLOTS * 4) >> 20
+            );
+            return Err(XlsxError::new(file, Some(&entry.part), ErrorKind::TooLarge, message));
+        }
+        let mut sheet_import = SheetImport { sheet, entry, scan: &scan, legacy_ranges: &mut legacy_ranges };
         let formats = sheet_import.read_cells(&mut calamine, &mut imported, file)?;
         imported.layout.sheets.insert(entry.name.clone(), sheet_layout(&scan, &formats));
     }
@@ -108,7 +116,6 @@ struct SheetImport<'a> {
     sheet: SheetId,
     entry: &'a SheetEntry,
     scan: &'a SheetScan,
-    budget: &'a mut GridBudget,
     /// Plain (not array) formulas with a range in them: candidates for implicit intersection.
     legacy_ranges: &'a mut Vec<(SheetId, Pos)>,
 }
@@ -123,52 +130,102 @@ impl SheetImport<'_> {
     ) -> Result<Vec<Option<String>>, XlsxError> {
         let (sheet, part) = (self.sheet, self.entry.part.as_str());
         let spilled = spill_children(&self.scan.arrays);
-        let anchors: HashSet<Pos> = self.scan.arrays.iter().map(|&(anchor, _)| anchor).collect();
+        let anchors: HashSet<Pos> = self.scan.arrays.iter().map(|a| a.anchor).collect();
         let mut reader =
             calamine.worksheet_cells_reader(&self.entry.name).map_err(|e| calamine_error(file, Some(part), e))?;
         let formats = style_formats(reader.styles());
-        self.budget.next_sheet();
-        let wb = &mut imported.workbook;
-        let mut formula = String::new();
-        while let Some(cell) = reader.next_cell_with_formula().map_err(|e| calamine_error(file, Some(part), e))? {
+        // Shared formulas: index → (cell holding the text, text). Cells of a shared formula
+        // that come before that cell in the file wait for it.
+        let mut shared: HashMap<usize, (Pos, String)> = HashMap::new();
+        let mut waiting: Vec<(Pos, usize, Option<Value>)> = Vec::new();
+        while let Some(cell) =
+            reader.next_cell_with_formula_metadata().map_err(|e| calamine_error(file, Some(part), e))?
+        {
             let (row, col) = cell.pos;
             if row >= MAX_ROWS || col >= MAX_COLS {
                 let message = format!("a cell at row {} column {} is off the sheet", row as u64 + 1, col as u64 + 1);
                 return Err(XlsxError::new(file, Some(part), ErrorKind::Damaged, message));
             }
             let pos = Pos::new(row, col);
-            self.budget.grow(pos).map_err(|m| XlsxError::new(file, Some(part), ErrorKind::TooLarge, m))?;
             let cached = cached_value(&cell.value);
-            match cell.formula.as_deref().filter(|f| !f.trim().is_empty()) {
-                Some(text) => {
-                    formula.clear();
-                    formula.push('=');
-                    formula.push_str(&syntax::from_file(text, wb, sheet, pos));
-                    // A formula that does not parse is kept as typed, shows #NAME? and is
-                    // listed by `Workbook::problems`.
-                    let _ = wb.set_input_deferred(sheet, pos, &formula);
-                    if text.contains(':') && !anchors.contains(&pos) {
-                        self.legacy_ranges.push((sheet, pos));
-                    }
-                    if let Some(value) = cached {
-                        imported.cached.push(CachedValue { sheet, pos, value, anchor: pos });
-                    }
+            let text = match cell.formula {
+                Some(XlsxFormulaMetadata::Shared { shared_index, formula, .. }) => {
+                    shared.insert(shared_index, (pos, formula.clone()));
+                    Some(formula)
                 }
-                None => match (spilled.get(&pos), cached) {
-                    (Some(&anchor), Some(value)) => imported.cached.push(CachedValue { sheet, pos, value, anchor }),
-                    (None, Some(value)) => wb.set_value_deferred(sheet, pos, value),
-                    (_, None) => {}
+                Some(XlsxFormulaMetadata::SharedDerived { shared_index }) => match shared.get(&shared_index) {
+                    // Relative to the cell that holds the text, which need not be the top
+                    // left of the shared range.
+                    Some((holder, formula)) => Some(shared_text(formula, *holder, pos)),
+                    None => {
+                        waiting.push((pos, shared_index, cached));
+                        continue;
+                    }
                 },
+                Some(XlsxFormulaMetadata::Normal { formula }) => Some(formula),
+                Some(_) => None,
+                None => None,
+            };
+            self.cell(imported, pos, text.filter(|t| !t.trim().is_empty()), cached, &spilled, &anchors);
+        }
+        for (pos, index, cached) in waiting {
+            let text = shared.get(&index).map(|(holder, formula)| shared_text(formula, *holder, pos));
+            if text.is_none() {
+                imported.notes.push(format!(
+                    "{}: the shared formula it belongs to is missing; its value is kept as a constant",
+                    imported.workbook.cell_name(sheet, pos)
+                ));
             }
+            self.cell(imported, pos, text, cached, &spilled, &anchors);
         }
         Ok(formats)
     }
+
+    /// Stores one cell: a formula with its cached result, a value an array filled (kept as
+    /// cached only), or a constant.
+    fn cell(
+        &mut self,
+        imported: &mut Imported,
+        pos: Pos,
+        formula: Option<String>,
+        cached: Option<Value>,
+        spilled: &HashMap<Pos, Pos>,
+        anchors: &HashSet<Pos>,
+    ) {
+        let sheet = self.sheet;
+        let wb = &mut imported.workbook;
+        match formula {
+            Some(text) => {
+                let typed = format!("={}", syntax::from_file(&text, wb, sheet, pos));
+                // A formula that does not parse is kept as typed, shows #NAME? and is listed
+                // by `Workbook::problems`.
+                let _ = wb.set_input_deferred(sheet, pos, &typed);
+                if text.contains(':') && !anchors.contains(&pos) {
+                    self.legacy_ranges.push((sheet, pos));
+                }
+                if let Some(value) = cached {
+                    imported.cached.push(CachedValue { sheet, pos, value, anchor: pos });
+                }
+            }
+            None => match (spilled.get(&pos), cached) {
+                (Some(&anchor), Some(value)) => imported.cached.push(CachedValue { sheet, pos, value, anchor }),
+                (None, Some(value)) => wb.set_value_deferred(sheet, pos, value),
+                (_, None) => {}
+            },
+        }
+    }
+}
+
+/// The text of a shared formula in `pos`, moved from the cell that holds it.
+fn shared_text(formula: &str, holder: Pos, pos: Pos) -> String {
+    calamine::expand_shared_formula(formula, (holder.row, holder.col), (pos.row, pos.col))
+        .unwrap_or_else(|_| formula.to_string())
 }
 
 /// Every cell an array formula filled, except its anchor, with the anchor.
-fn spill_children(arrays: &[(Pos, Rect)]) -> HashMap<Pos, Pos> {
+fn spill_children(arrays: &[ArrayFormula]) -> HashMap<Pos, Pos> {
     let mut out = HashMap::new();
-    for &(anchor, area) in arrays {
+    for &ArrayFormula { anchor, area, .. } in arrays {
         // An area is bounded by the sheet; the cap only keeps a hostile file from asking
         // for billions of entries (the cells beyond it then read as constants).
         if area.rows() as u64 * area.cols() as u64 > 1 << 22 {
@@ -230,7 +287,11 @@ fn style_formats(styles: &[Style]) -> Vec<Option<String>> {
 }
 
 fn sheet_layout(scan: &SheetScan, formats: &[Option<String>]) -> SheetLayout {
-    let mut layout = SheetLayout { code_name: scan.code_name.clone(), ..SheetLayout::default() };
+    let mut layout = SheetLayout {
+        code_name: scan.code_name.clone(),
+        array_formulas: scan.arrays.iter().map(|a| (a.anchor, *a)).collect(),
+        ..SheetLayout::default()
+    };
     for &(first, last, width) in &scan.widths {
         // `<col min="1" max="16384">` sets the width of the rest of the sheet; only ranges a
         // user sized are worth carrying.
@@ -267,40 +328,6 @@ fn cached_value(v: &DataRef) -> Option<Value> {
             CellErrorType::GettingData => XlError::GettingData,
         }),
     })
-}
-
-/// Counts the grid slots the sheets will allocate (see [`MAX_GRID_SLOTS`]).
-#[derive(Default)]
-struct GridBudget {
-    total: u64,
-    column_rows: Vec<u32>,
-}
-
-impl GridBudget {
-    fn next_sheet(&mut self) {
-        self.column_rows.clear();
-    }
-
-    fn grow(&mut self, pos: Pos) -> Result<(), String> {
-        let col = pos.col as usize;
-        if self.column_rows.len() <= col {
-            self.column_rows.resize(col + 1, 0);
-        }
-        let have = self.column_rows[col];
-        if pos.row >= have {
-            self.total += (pos.row + 1 - have) as u64;
-            self.column_rows[col] = pos.row + 1;
-            if self.total > MAX_GRID_SLOTS {
-                return Err(format!(
-                    "the cells reach too far (column {}, row {}): the sheets would need more than {} MiB",
-                    crate::formula::address::column_name(pos.col),
-                    pos.row + 1,
-                    (MAX_GRID_SLOTS * 4) >> 20
-                ));
-            }
-        }
-        Ok(())
-    }
 }
 
 /// Recognizes what is not an xlsx package before a zip reader says something obscure.

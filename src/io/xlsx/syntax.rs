@@ -33,8 +33,9 @@ pub fn from_file<'t>(text: &'t str, wb: &Workbook, sheet: SheetId, pos: Pos) -> 
 /// How a formula is stored: which decides how `@` is written.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Storage {
-    /// A plain `<f>`: Excel intersects by itself, so `@x` is written `x` (which LibreOffice
-    /// reads too), except inside arguments that take arrays.
+    /// A plain `<f>`: Excel intersects by itself, so an `@x` outside any function call is
+    /// written `x` (which LibreOffice reads too). Inside a call, whether Excel would
+    /// intersect depends on the function, so `@` stays `_xlfn.SINGLE`.
     Legacy,
     /// A dynamic-array formula (`t="array"`, `cm="1"`): `@x` is `_xlfn.SINGLE(x)`.
     Dynamic,
@@ -54,7 +55,7 @@ pub fn to_file(formula: &str, wb: &Workbook, sheet: SheetId, pos: Pos, storage: 
                 out: String::new(),
                 params: Vec::new(),
                 storage,
-                array_args: 0,
+                calls: 0,
             };
             p.expr(&expr);
             p.out
@@ -81,6 +82,7 @@ pub fn calls_dynamic_function(file_text: &str) -> bool {
         "MAKEARRAY",
         "MAP",
         "PY",
+        "QUERYSTRING",
         "RANDARRAY",
         "REDUCE",
         "SCAN",
@@ -324,7 +326,9 @@ pub fn future_prefix(name: &str) -> Option<&'static str> {
     FUTURE_FUNCTIONS.binary_search(&upper.as_str()).is_ok().then_some("_xlfn.")
 }
 
-/// Functions Excel stores with `_xlfn.` (added after Excel 2007), sorted.
+/// Functions Excel stores with `_xlfn.` (added after Excel 2007), sorted: rust_xlsxwriter's
+/// list and the newer ones the Excel corpus shows (REGEX…, TRIMRANGE). Not ISO.CEILING,
+/// which Excel stores bare.
 static FUTURE_FUNCTIONS: &[&str] = &[
     "ACOT",
     "ACOTH",
@@ -368,7 +372,6 @@ static FUTURE_FUNCTIONS: &[&str] = &[
     "DECIMAL",
     "DETECTLANGUAGE",
     "DROP",
-    "ECMA.CEILING",
     "ENCODEURL",
     "ERF.PRECISE",
     "ERFC.PRECISE",
@@ -409,7 +412,6 @@ static FUTURE_FUNCTIONS: &[&str] = &[
     "IMSINH",
     "IMTAN",
     "ISFORMULA",
-    "ISO.CEILING",
     "ISOMITTED",
     "ISOWEEKNUM",
     "LAMBDA",
@@ -424,7 +426,6 @@ static FUTURE_FUNCTIONS: &[&str] = &[
     "MODE.SNGL",
     "MUNIT",
     "NEGBINOM.DIST",
-    "NETWORKDAYS.INTL",
     "NORM.DIST",
     "NORM.INV",
     "NORM.S.DIST",
@@ -440,8 +441,13 @@ static FUTURE_FUNCTIONS: &[&str] = &[
     "PHI",
     "PIVOTBY",
     "POISSON.DIST",
+    "PQSOURCE",
+    "PYTHON_STR",
+    "PYTHON_TYPE",
+    "PYTHON_TYPENAME",
     "QUARTILE.EXC",
     "QUARTILE.INC",
+    "QUERYSTRING",
     "RANDARRAY",
     "RANK.AVG",
     "RANK.EQ",
@@ -487,7 +493,6 @@ static FUTURE_FUNCTIONS: &[&str] = &[
     "VSTACK",
     "WEBSERVICE",
     "WEIBULL.DIST",
-    "WORKDAY.INTL",
     "WRAPCOLS",
     "WRAPROWS",
     "XLOOKUP",
@@ -504,8 +509,8 @@ struct FilePrinter {
     /// LET and LAMBDA parameters in scope, written with `_xlpm.`.
     params: Vec<Rc<str>>,
     storage: Storage,
-    /// How many arguments that take arrays enclose the current node.
-    array_args: u32,
+    /// How many function calls enclose the current node.
+    calls: u32,
 }
 
 impl FilePrinter {
@@ -549,7 +554,7 @@ impl FilePrinter {
                     self.expr(inner);
                     self.out.push('%');
                 }
-                UnaryOp::Implicit if self.storage == Storage::Legacy && self.array_args == 0 => self.expr(inner),
+                UnaryOp::Implicit if self.storage == Storage::Legacy && self.calls == 0 => self.expr(inner),
                 UnaryOp::Implicit | UnaryOp::Spill => {
                     let name = if *op == UnaryOp::Implicit { "_xlfn.SINGLE(" } else { "_xlfn.ANCHORARRAY(" };
                     self.out.push_str(name);
@@ -571,7 +576,10 @@ impl FilePrinter {
     }
 
     fn call(&mut self, name: &str, args: &[Expr]) {
-        if let Some(prefix) = future_prefix(name) {
+        if self.params.iter().any(|p| p.eq_ignore_ascii_case(name)) {
+            // A LAMBDA bound by LET, called by its name.
+            self.out.push_str("_xlpm.");
+        } else if let Some(prefix) = future_prefix(name) {
             self.out.push_str(prefix);
         }
         self.out.push_str(name);
@@ -584,16 +592,14 @@ impl FilePrinter {
         };
         let depth = self.params.len();
         self.params.extend(declared);
-        let upper = name.to_ascii_uppercase();
+        self.calls += 1;
         for (i, a) in args.iter().enumerate() {
             if i > 0 {
                 self.out.push(',');
             }
-            let array = takes_array(&upper, i);
-            self.array_args += array as u32;
             self.expr(a);
-            self.array_args -= array as u32;
         }
+        self.calls -= 1;
         self.params.truncate(depth);
         self.out.push(')');
     }
@@ -718,7 +724,7 @@ mod tests {
         assert_eq!(legacy("SUMPRODUCT(E15:E19*F15:F19)"), None);
         assert_eq!(legacy("IF(A1,B1:B5,2)").as_deref(), Some("IF(A1,@B1:B5,2)"));
         let written = |text| to_file(text, &wb, 0, at, Storage::Legacy);
-        assert_eq!(written("=SIN(@E15:E19)"), "SIN(E15:E19)");
-        assert_eq!(written("=SUMPRODUCT(@E15:E19*F15:F19)"), "SUMPRODUCT(_xlfn.SINGLE(E15:E19)*F15:F19)");
+        assert_eq!(written("=@E15:E19*2"), "E15:E19*2");
+        assert_eq!(written("=SIN(@E15:E19)"), "SIN(_xlfn.SINGLE(E15:E19))");
     }
 }

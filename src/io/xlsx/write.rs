@@ -2,10 +2,11 @@
 //! computed results as cached values, dynamic arrays with their spill area, defined names,
 //! and the number formats and column widths of a [`Layout`].
 //!
-//! What xlsx cannot say the way we hold it: an error typed as a constant is written as the
-//! formula `=#N/A` (rust_xlsxwriter has no error cells); a formula result that is text
-//! looking like a number is cached as that number (rust_xlsxwriter types results by their
-//! text). Excel recalculates on load, so both only matter to viewers that do not.
+//! rust_xlsxwriter writes no error cells and no empty-text cells: those constants are
+//! written as placeholder numbers and put right in the finished package
+//! (`rewrite_constants`). A formula result that is text looking like a number is cached as that number
+//! (rust_xlsxwriter types results by their text); Excel recalculates on load, so that only
+//! matters to viewers that do not.
 
 use std::collections::HashMap;
 use std::fs;
@@ -22,7 +23,7 @@ use crate::formula::print::{number_literal, quote_sheet_name};
 use crate::workbook::Workbook;
 
 use super::syntax::{self, Storage};
-use super::{ErrorKind, Layout, XlsxError};
+use super::{ArrayFormula, ErrorKind, Layout, XlsxError};
 
 /// Writes the workbook to `path` (xlsx, or xlsm when the name says so), atomically.
 pub fn save(wb: &Workbook, path: &Path) -> Result<(), XlsxError> {
@@ -54,6 +55,8 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
     let mut book = rust_xlsxwriter::Workbook::new();
     let mut formats: HashMap<&str, Format> = HashMap::new();
     let names = wb.sheet_names();
+    // Per sheet, constants rust_xlsxwriter cannot write, as written over their placeholders.
+    let mut patches: Vec<Vec<(Pos, &'static str)>> = vec![Vec::new(); names.len()];
     for (i, name) in names.iter().enumerate() {
         let sheet = i as SheetId;
         let sheet_layout = layout.sheets.get(name);
@@ -77,8 +80,24 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
             });
             let place = || wb.cell_name(sheet, pos);
             match wb.formula(sheet, pos) {
-                Some(text) => write_formula(ws, wb, sheet, pos, &text, &value, format),
-                None => write_value(ws, pos, &value, format),
+                Some(text) => {
+                    let array = sheet_layout.and_then(|l| l.array_formulas.get(&pos));
+                    write_formula(ws, wb, Cell { sheet, pos, array }, &text, &value, format)
+                }
+                None => {
+                    let patch = match &value {
+                        Value::Error(e) => Some(error_cell(*e)),
+                        Value::Text(t) if t.is_empty() => Some(r#"t="inlineStr"><is><t></t></is>"#),
+                        _ => None,
+                    };
+                    match patch {
+                        Some(p) => {
+                            patches[i].push((pos, p));
+                            write_value(ws, pos, &Value::Number(0.0), format)
+                        }
+                        None => write_value(ws, pos, &value, format),
+                    }
+                }
             }
             .map_err(|e| fail(Some(&place()), e))?;
         }
@@ -108,21 +127,108 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
     }
     let bytes = book.save_to_buffer().map_err(|e| fail(None, e));
     drop(vba_file);
-    bytes
+    let bytes = bytes?;
+    if patches.iter().all(Vec::is_empty) {
+        return Ok(bytes);
+    }
+    rewrite_constants(&bytes, &patches).map_err(|e| {
+        XlsxError::new(file, None, ErrorKind::Unwritable, format!("writing error and empty-text cells: {e}"))
+    })
+}
+
+/// The type and content of an error cell, after its `<c r=".." s="..">` attributes.
+fn error_cell(e: XlError) -> &'static str {
+    match e {
+        XlError::Null => r#"t="e"><v>#NULL!</v>"#,
+        XlError::Div0 => r#"t="e"><v>#DIV/0!</v>"#,
+        XlError::Value => r#"t="e"><v>#VALUE!</v>"#,
+        XlError::Ref => r#"t="e"><v>#REF!</v>"#,
+        XlError::Name => r#"t="e"><v>#NAME?</v>"#,
+        XlError::Num => r#"t="e"><v>#NUM!</v>"#,
+        XlError::NA => r#"t="e"><v>#N/A</v>"#,
+        XlError::GettingData => r#"t="e"><v>#GETTING_DATA</v>"#,
+        // Errors newer than the file format's list are stored as Excel stores them for
+        // older readers.
+        XlError::Spill | XlError::Calc | XlError::Circ => r#"t="e"><v>#VALUE!</v>"#,
+    }
+}
+
+/// Replaces the placeholder cells of each sheet part (`xl/worksheets/sheetN.xml`, as
+/// rust_xlsxwriter names them) and copies every other part as it is.
+fn rewrite_constants(package: &[u8], patches: &[Vec<(Pos, &str)>]) -> zip::result::ZipResult<Vec<u8>> {
+    use std::io::{Cursor, Read};
+    let mut zip = zip::ZipArchive::new(Cursor::new(package))?;
+    let mut out = zip::ZipWriter::new(Cursor::new(Vec::with_capacity(package.len())));
+    for i in 0..zip.len() {
+        let mut entry = zip.by_index(i)?;
+        let name = entry.name()?.to_string();
+        let cells = name
+            .strip_prefix("xl/worksheets/sheet")
+            .and_then(|rest| rest.strip_suffix(".xml"))
+            .and_then(|n| n.parse::<usize>().ok())
+            .and_then(|n| patches.get(n.wrapping_sub(1)))
+            .filter(|cells| !cells.is_empty());
+        let Some(cells) = cells else {
+            out.raw_copy_file(entry)?;
+            continue;
+        };
+        let mut xml = String::new();
+        entry.read_to_string(&mut xml)?;
+        let options = zip::write::SimpleFileOptions::default().compression_method(entry.compression());
+        out.start_file(name.as_str(), options)?;
+        out.write_all(rewrite_cells(&xml, cells).as_bytes())?;
+    }
+    Ok(out.finish()?.into_inner())
+}
+
+/// Rewrites the given cells (listed in row order, as the part is written), keeping their
+/// style: `<c r="A1" s="2"><v>0</v></c>` becomes `<c r="A1" s="2" t="e"><v>#N/A</v></c>`.
+fn rewrite_cells(xml: &str, cells: &[(Pos, &str)]) -> String {
+    let mut out = String::with_capacity(xml.len() + 32 * cells.len());
+    let mut rest = xml;
+    for (pos, body) in cells {
+        let tag = format!("<c r=\"{pos}\"");
+        let Some(start) = rest.find(&tag) else { continue };
+        let Some(open_end) = rest[start..].find('>').map(|i| start + i) else { continue };
+        let Some(close) = rest[open_end..].find("</c>").map(|i| open_end + i) else { continue };
+        let attrs = rest[start..open_end].trim_end_matches('/');
+        out.push_str(&rest[..start]);
+        out.push_str(attrs);
+        out.push(' ');
+        out.push_str(body);
+        out.push_str("</c>");
+        rest = &rest[close + "</c>".len()..];
+    }
+    out.push_str(rest);
+    out
+}
+
+/// Where a formula goes, with the array formula the source file had there.
+struct Cell<'a> {
+    sheet: SheetId,
+    pos: Pos,
+    array: Option<&'a ArrayFormula>,
 }
 
 fn write_formula(
     ws: &mut Worksheet,
     wb: &Workbook,
-    sheet: SheetId,
-    pos: Pos,
+    cell: Cell,
     text: &str,
     value: &Value,
     format: Option<&Format>,
 ) -> Result<(), rust_xlsxwriter::XlsxError> {
+    let Cell { sheet, pos, array } = cell;
     let spill = Env::spill_rect(wb, sheet, pos).filter(|r| !r.is_cell());
+    // An array formula of the source that did not spill here keeps its area, so that Excel
+    // (and LibreOffice) fill it as before; unless cells of ours are in the way.
+    let kept = array.filter(|a| spill.is_none() && !a.area.is_cell() && area_is_free(wb, sheet, a));
+    let dynamic = spill.is_some()
+        || *value == Value::Error(XlError::Spill)
+        || kept.is_some_and(|a| a.dynamic)
+        || array.is_some_and(|a| a.dynamic);
     let mut file_text = syntax::to_file(text, wb, sheet, pos, Storage::Legacy);
-    if spill.is_some() || *value == Value::Error(XlError::Spill) || syntax::calls_dynamic_function(&file_text) {
+    if dynamic || syntax::calls_dynamic_function(&file_text) {
         file_text = syntax::to_file(text, wb, sheet, pos, Storage::Dynamic);
     }
     // rust_xlsxwriter reads a leading `{` or trailing `}` as array-formula braces and drops
@@ -132,18 +238,39 @@ fn write_formula(
     }
     let formula = Formula::new(&file_text).set_result(result_text(value));
     let (row, col) = (pos.row, pos.col as u16);
-    match (spill, format) {
-        (Some(r), Some(f)) => {
-            ws.write_dynamic_array_formula_with_format(row, col, r.last.row, r.last.col as u16, formula, f).map(|_| ())
+    let plain = Format::new();
+    let f = format.unwrap_or(&plain);
+    match (spill, kept) {
+        (Some(r), _) => ws.write_dynamic_array_formula_with_format(row, col, r.last.row, r.last.col as u16, formula, f),
+        (None, Some(a)) if a.dynamic => {
+            let (last_row, last_col) = (a.area.last.row, a.area.last.col as u16);
+            ws.write_dynamic_array_formula_with_format(row, col, last_row, last_col, formula, f)
         }
-        (Some(r), None) => ws.write_dynamic_array_formula(row, col, r.last.row, r.last.col as u16, formula).map(|_| ()),
-        (None, _) if *value == Value::Error(XlError::Spill) => match format {
-            Some(f) => ws.write_dynamic_formula_with_format(row, col, formula, f).map(|_| ()),
-            None => ws.write_dynamic_formula(row, col, formula).map(|_| ()),
+        (None, Some(a)) => {
+            let (last_row, last_col) = (a.area.last.row, a.area.last.col as u16);
+            ws.write_array_formula_with_format(row, col, last_row, last_col, formula, f)
+        }
+        (None, None) if dynamic => ws.write_dynamic_formula_with_format(row, col, formula, f),
+        (None, None) => match format {
+            Some(f) => ws.write_formula_with_format(row, col, formula, f),
+            None => ws.write_formula(row, col, formula),
         },
-        (None, Some(f)) => ws.write_formula_with_format(row, col, formula, f).map(|_| ()),
-        (None, None) => ws.write_formula(row, col, formula).map(|_| ()),
     }
+    .map(|_| ())
+}
+
+/// Whether the area of an array formula holds nothing but its anchor (and is of a sane size).
+fn area_is_free(wb: &Workbook, sheet: SheetId, a: &ArrayFormula) -> bool {
+    let area = a.area;
+    if area.rows() as u64 * area.cols() as u64 > 1 << 20 {
+        return false;
+    }
+    (area.first.row..=area.last.row).all(|row| {
+        (area.first.col..=area.last.col).all(|col| {
+            let p = Pos::new(row, col);
+            p == a.anchor || wb.value(sheet, p).is_blank()
+        })
+    })
 }
 
 /// A constant, or a value an array spilled into (Excel stores those as plain values too).
@@ -162,13 +289,7 @@ fn write_value(
         (Value::Text(s), None) => ws.write_string(row, col, s.as_ref()).map(|_| ()),
         (Value::Bool(b), Some(f)) => ws.write_boolean_with_format(row, col, *b, f).map(|_| ()),
         (Value::Bool(b), None) => ws.write_boolean(row, col, *b).map(|_| ()),
-        (Value::Error(e), f) => {
-            let formula = Formula::new(format!("={}", e.as_str())).set_result(e.as_str());
-            match f {
-                Some(f) => ws.write_formula_with_format(row, col, formula, f).map(|_| ()),
-                None => ws.write_formula(row, col, formula).map(|_| ()),
-            }
-        }
+        (Value::Error(_), _) => unreachable!("error constants are written as placeholders"),
     }
 }
 
