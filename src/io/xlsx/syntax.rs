@@ -299,18 +299,15 @@ fn operators_from_file(e: &mut Expr) {
 /// Whether typed text differs from its file spelling: it has `#` or `@` outside strings, or
 /// calls a function Excel prefixes (LET and LAMBDA included, for their parameters).
 fn needs_file_spelling(text: &str) -> bool {
-    let mut outside = String::with_capacity(text.len());
     let mut quote = None;
-    for c in text.chars() {
+    for c in text.bytes() {
         match quote {
             Some(q) if c == q => quote = None,
             Some(_) => {}
-            None if c == '"' || c == '\'' => quote = Some(c),
-            None => outside.push(c),
+            None if c == b'"' || c == b'\'' => quote = Some(c),
+            None if c == b'#' || c == b'@' => return true,
+            None => {}
         }
-    }
-    if outside.contains(['#', '@']) {
-        return true;
     }
     let mut found = false;
     for_each_call(text, &mut |name| found |= future_prefix(name).is_some());
@@ -319,11 +316,11 @@ fn needs_file_spelling(text: &str) -> bool {
 
 /// The prefix Excel stores before a function name, if any.
 pub fn future_prefix(name: &str) -> Option<&'static str> {
-    let upper = name.to_ascii_uppercase();
-    if matches!(upper.as_str(), "FILTER" | "SORT" | "PY") {
+    if ["FILTER", "SORT", "PY"].iter().any(|f| f.eq_ignore_ascii_case(name)) {
         return Some("_xlfn._xlws.");
     }
-    FUTURE_FUNCTIONS.binary_search(&upper.as_str()).is_ok().then_some("_xlfn.")
+    let upper = name.bytes().map(|b| b.to_ascii_uppercase());
+    FUTURE_FUNCTIONS.binary_search_by(|f| f.bytes().cmp(upper.clone())).is_ok().then_some("_xlfn.")
 }
 
 /// Functions Excel stores with `_xlfn.` (added after Excel 2007), sorted: rust_xlsxwriter's
