@@ -247,3 +247,19 @@ fn every_corpus_workbook_survives_export_and_import() {
     println!("{} formulas respelled", respelled.len());
     assert!(problems.is_empty(), "{} differences:\n{}", problems.len(), problems.join("\n"));
 }
+
+#[test]
+fn an_xlsm_keeps_its_vba_project() {
+    let (wb, _) = sample();
+    let mut layout = Layout { vba_project: Some(b"not really VBA".to_vec()), ..Layout::default() };
+    layout.workbook_code_name = Some("ThisWorkbook".into());
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("macros.xlsm");
+    xlsx::save_with_layout(&wb, &layout, &path).unwrap();
+    let back = xlsx::load(&path).unwrap();
+    assert_eq!(back.layout.vba_project.as_deref(), Some(&b"not really VBA"[..]));
+    assert_eq!(differences(&wb, &back.workbook), Vec::<String>::new());
+    assert!(back.notes.iter().any(|n| n.contains("VBA project is kept")), "{:?}", back.notes);
+    let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(names, vec![std::ffi::OsString::from("macros.xlsm")], "no temporary file is left");
+}
