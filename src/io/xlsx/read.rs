@@ -105,7 +105,7 @@ fn intersect_legacy_formulas(wb: &mut Workbook, candidates: &[(SheetId, Pos)]) {
             continue;
         }
         let Some(text) = wb.formula(sheet, pos) else { continue };
-        if let Some(fixed) = syntax::legacy_intersection(text.trim_start_matches('='), wb, sheet, pos) {
+        if let Some(fixed) = syntax::legacy_intersection(text.strip_prefix('=').unwrap_or(&text), wb, sheet, pos) {
             let _ = wb.set_input(sheet, pos, &format!("={fixed}"));
         }
     }
