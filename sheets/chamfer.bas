@@ -12,8 +12,8 @@ Attribute VB_Name = "Chamfer"
 ' Cells: the workbook's defined names D, f, alpha, r, eA, eB, XA, ZA, XB, ZB when it has them,
 ' else the fixed layout below (column B of the active sheet). X is a diameter.
 '
-'   ncsheet run chamfer.xlsx chamfer.bas --dialect linuxcnc -o chamfer.ngc
-'   ncsheet run chamfer.xlsx chamfer.bas --arg kind=pipe --arg feed=0.08 --save out.xlsx
+'   ncsheet run chamfer.xlsx chamfer.bas --sheet Outer --dialect linuxcnc -o chamfer.ngc
+'   ncsheet run chamfer.xlsx chamfer.bas --sheet Pipe --arg kind=pipe --arg feed=0.08 --save out.xlsx
 Option Explicit
 
 Const Pi As Double = 3.14159265358979
@@ -27,7 +27,8 @@ Sub Main(Optional kind As String = "outer", Optional feed As Double = 0.1, Optio
     D = Range(Place("D", "B2")).Value
     f = Range(Place("f", "B3")).Value
     alpha = Range(Place("alpha", "B4")).Value
-    r = Range(Place("r", "B5")).Value
+    ' Excel reserves the name r (a row in R1C1 style), so a workbook may call it r_.
+    r = Range(Place("r_", Place("r", "B5"))).Value
     eA = Range(Place("eA", "B6")).Value
     eB = Range(Place("eB", "B7")).Value
     If alpha <= 0 Or alpha >= 90 Or r < 0 Or D <= 0 Or f <= 0 Then

@@ -360,13 +360,17 @@ pub fn broadcast2(a: &Value, b: &Value, f: &dyn Fn(&Value, &Value) -> Value) -> 
     }
 }
 
-/// A computed number as a value: NaN and infinities are `#NUM!`, as Excel reports overflow.
+/// A computed number as a value: NaN and infinities are `#NUM!`, as Excel reports overflow;
+/// numbers below the smallest normal double are 0, as Excel keeps no subnormals
+/// (`EXP(-745)` is 0).
 #[inline]
 pub fn number_result(n: f64) -> Value {
-    if n.is_finite() {
-        Value::Number(n)
-    } else {
+    if !n.is_finite() {
         Value::Error(XlError::Num)
+    } else if n != 0.0 && n.abs() < f64::MIN_POSITIVE {
+        Value::Number(0.0)
+    } else {
+        Value::Number(n)
     }
 }
 
