@@ -4,7 +4,8 @@
 
 use std::time::Instant;
 
-use ncsheet::geometry::cam::{fit_design_sheet, CamOptions};
+use ncsheet::geometry::cam::CamOptions;
+use ncsheet::io::cam::fit_design_sheet;
 
 const SHEET: &str = include_str!("../sheets/cam-turret.csv");
 

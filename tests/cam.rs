@@ -2,17 +2,17 @@
 //! on every spiral piece of the paper's design sheet, plus the sheet function, whole cams and
 //! the writers.
 
-use std::time::Instant;
-
 use nalgebra::{Point2, Vector2};
 use ncsheet::eval::testing::MapEnv;
 use ncsheet::eval::{Value, XlError};
-use ncsheet::geometry::cam::output::{arcs_csv, nc_program, svg_drawing, NcOptions, SvgOptions, CSV_HEADER};
 use ncsheet::geometry::cam::{
-    by_disc, check_coverage, fit_cam, fit_design_sheet, fit_piece, lower_bound, parse_sheet, Arc, CamError, CamOptions,
-    CoverageIssue, Piece, PieceKind, Segment,
+    by_disc, check_coverage, fit_cam, fit_piece, lower_bound, Arc, CamError, CamOptions, CoverageIssue, Piece,
+    PieceKind, Segment,
 };
 use ncsheet::geometry::GeometryError;
+use ncsheet::io::cam::{arcs_csv, fit_design_sheet, parse_sheet, svg_drawing, SvgOptions, CSV_HEADER};
+use ncsheet::nc::cam::{cam_program, CamNcOptions};
+use ncsheet::nc::dialect;
 
 const SHEET: &str = include_str!("../sheets/cam-turret.csv");
 
@@ -283,8 +283,8 @@ fn writers_give_the_table_the_program_and_the_drawing() {
     assert_eq!(lines[0], CSV_HEADER);
     assert_eq!(lines.len(), turret.n_arcs() + 1);
     assert!(lines[1].starts_with("114.000000,0.000000,"), "{}", lines[1]);
-    let nc = nc_program(turret, &NcOptions::default());
-    assert!(nc.contains("G17 G21 G90"));
+    let nc = dialect::by_name("iso").unwrap().render(&cam_program(turret, &CamNcOptions::default())).unwrap();
+    assert!(nc.contains("G21 G17 G90"));
     let n_arc_blocks = nc.lines().filter(|l| l.contains(" G3 ") || l.contains(" G2 ")).count();
     assert_eq!(n_arc_blocks, turret.n_arcs());
     // Lead-in, lead-out, and the three gaps of the printed sheet crossed by straight moves.
@@ -300,16 +300,6 @@ fn writers_give_the_table_the_program_and_the_drawing() {
 /// Ticks drawn towards centres outside the drawing are two-point polylines.
 fn far_centres(svg: &str) -> usize {
     svg.lines().filter(|l| l.starts_with("<polyline") && l.matches(',').count() == 2).count()
-}
-
-#[test]
-fn time_the_whole_sample_cam_at_one_micron() {
-    let start = Instant::now();
-    let cams = sample_cams(0.001);
-    let elapsed = start.elapsed();
-    let n: usize = cams.iter().map(|c| c.n_arcs()).sum();
-    // Timed here in the test profile; docs/cam.md gives the release time of examples/cam_bench.
-    println!("whole sample cam at H = 0.001 mm: {n} arcs in {elapsed:?}");
 }
 
 #[test]

@@ -5,8 +5,15 @@
 use std::path::Path;
 use std::process::Command;
 
-use ncsheet::geometry::cam::output::{nc_program, Compensation, NcOptions};
-use ncsheet::geometry::cam::{by_disc, fit_cam, parse_sheet, CamFit, CamOptions};
+use ncsheet::geometry::cam::{by_disc, fit_cam, CamFit, CamOptions};
+use ncsheet::io::cam::parse_sheet;
+use ncsheet::nc::cam::{cam_program, CamNcOptions, Compensation};
+use ncsheet::nc::dialect;
+
+/// The program as LinuxCNC reads it (the `iso` dialect writes a Fanuc O-number it rejects).
+fn nc_program(cam: &CamFit, options: &CamNcOptions) -> String {
+    dialect::by_name("linuxcnc").unwrap().render(&cam_program(cam, options)).unwrap()
+}
 
 const SHEET: &str = include_str!("../sheets/cam-turret.csv");
 
@@ -25,7 +32,15 @@ fn interpret(rs274: &str, program: &str) -> Result<String, String> {
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("cam.ngc");
     std::fs::write(&file, program).unwrap();
-    let out = Command::new(rs274).arg("-g").arg(&file).output().map_err(|e| format!("cannot run {rs274}: {e}"))?;
+    // rs274 keeps state in the working directory and in $HOME (.tool.mmap): one of each per
+    // run, so that parallel tests do not share them.
+    let out = Command::new(rs274)
+        .current_dir(dir.path())
+        .env("HOME", dir.path())
+        .arg("-g")
+        .arg(&file)
+        .output()
+        .map_err(|e| format!("cannot run {rs274}: {e}"))?;
     let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
     let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
     if !out.status.success() || stdout.contains("error") || stderr.contains("error") {
@@ -50,7 +65,7 @@ fn rs274_cuts_our_arcs() {
         return;
     };
     for cam in sample_cams() {
-        let canon = interpret(rs274, &nc_program(&cam, &NcOptions::default())).unwrap();
+        let canon = interpret(rs274, &nc_program(&cam, &CamNcOptions::default())).unwrap();
         let arcs: Vec<_> = cam.arcs().collect();
         let feeds = calls(&canon, "ARC_FEED");
         assert_eq!(feeds.len(), arcs.len(), "disc {}: {canon}", cam.disc);
@@ -81,7 +96,7 @@ fn rs274_accepts_cutter_compensation() {
         return;
     };
     let cam = &sample_cams()[0];
-    let options = NcOptions { compensation: Compensation::Right, ..NcOptions::default() };
+    let options = CamNcOptions { compensation: Compensation::Right, ..CamNcOptions::default() };
     let canon = interpret(rs274, &nc_program(cam, &options)).unwrap();
     // The control adds its own corner arcs where segments meet at an angle (circle to log
     // spiral, across gaps), so there are at least as many arcs as ours.

@@ -224,16 +224,16 @@ fn a_missing_file_is_a_user_error_naming_it() {
 }
 
 #[test]
-fn xlsx_is_refused_clearly_until_it_is_supported() {
+fn a_csv_sheet_goes_to_xlsx_and_back_and_other_files_are_refused() {
     let dir = folder(&[("parts.csv", PARTS)]);
-    let run = ncsheet_in(dir.path(), &["eval", "parts.xlsx"], "");
-    assert_eq!(
-        (run.code, run.stderr.as_str()),
-        (1, "ncsheet: parts.xlsx: xlsx is not supported yet (use a .csv file)\n")
-    );
-    let run = ncsheet_in(dir.path(), &["set", "parts.csv", "B1=1", "-o", "out.xlsx"], "");
+    let run = ncsheet_in(dir.path(), &["set", "parts.csv", "B1=50", "-o", "out.xlsx"], "");
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    // D = 50, f = 2: total = D + 3·f as the sheet computes it.
+    let run = ncsheet_in(dir.path(), &["eval", "out.xlsx", "B3"], "");
+    assert_eq!((run.code, run.stdout.as_str()), (0, "56\n"), "{}", run.stderr);
+    let run = ncsheet_in(dir.path(), &["eval", "missing.xlsx"], "");
     assert_eq!(run.code, 1);
-    assert!(run.stderr.contains("out.xlsx: xlsx is not supported yet"), "{}", run.stderr);
+    assert!(run.stderr.starts_with("ncsheet: missing.xlsx: "), "{}", run.stderr);
     let run = ncsheet_in(dir.path(), &["eval", "parts.txt"], "");
     assert_eq!(run.code, 1);
     assert!(run.stderr.contains("parts.txt: unknown file type"), "{}", run.stderr);

@@ -88,11 +88,9 @@ fn missing_and_unknown_files_are_named() {
     assert!(err.to_string().contains("none.csv: cannot read: "), "{err}");
     let err = load_err(io::load(&dir.path().join("a.ods")));
     assert!(matches!(err.kind, ErrorKind::UnknownFormat));
+    // An xlsx that is not there is a read error naming it, like a csv.
     let err = load_err(io::load(&dir.path().join("a.XLSX")));
-    assert_eq!(
-        err.to_string(),
-        format!("{}: xlsx is not supported yet (use a .csv file)", dir.path().join("a.XLSX").display())
-    );
+    assert!(err.to_string().starts_with(&format!("{}: ", dir.path().join("a.XLSX").display())), "{err}");
 }
 
 /// Every cell of a few rows, as typed, to compare two workbooks.

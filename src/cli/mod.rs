@@ -11,9 +11,11 @@ use ncsheet::formula::ast::SheetId;
 use ncsheet::io::{Content, Export};
 use ncsheet::workbook::Workbook;
 
+mod cam;
 mod output;
 mod repl;
 pub mod report;
+mod run;
 mod target;
 
 use output::{OutputFormat, Selection};
@@ -39,6 +41,9 @@ pub enum Command {
     Export(ExportArgs),
     Repl(ReplArgs),
     Functions(FunctionsArgs),
+    Cam(cam::CamArgs),
+    Arcfit(cam::ArcfitArgs),
+    Run(run::RunArgs),
 }
 
 /// Compute a sheet and print its values (all of it, or the cells and ranges named).
@@ -49,7 +54,7 @@ pub enum Command {
 /// value is a value. A file that cannot be read is exit code 1.
 #[derive(Debug, Args)]
 pub struct EvalArgs {
-    /// The workbook (.csv)
+    /// The workbook (.csv, .xlsx, .xlsm)
     pub file: PathBuf,
     /// Cells or ranges to print: B3, A1:D20, Sheet1!B3 (default: the whole sheet)
     #[arg(value_name = "CELL|RANGE", value_parser = parse_target)]
@@ -60,6 +65,10 @@ pub struct EvalArgs {
     /// How to print the values
     #[arg(long, value_enum, default_value_t)]
     pub format: OutputFormat,
+    /// Instead of the values, list every cell whose recomputed value differs from the one
+    /// Excel stored in the file (.xlsx), with both values; exit code 1 when any differs
+    #[arg(long, conflicts_with = "cells")]
+    pub check: bool,
 }
 
 /// Set cells, recalculate and save the workbook.
@@ -72,7 +81,7 @@ pub struct EvalArgs {
 #[derive(Debug, Args)]
 #[command(group(ArgGroup::new("destination").required(true).args(["output", "in_place"])))]
 pub struct SetArgs {
-    /// The workbook (.csv)
+    /// The workbook (.csv, .xlsx, .xlsm)
     pub file: PathBuf,
     /// What to type into which cell
     #[arg(value_name = "CELL=INPUT", required = true, value_parser = parse_assignment)]
@@ -98,7 +107,7 @@ pub struct SetArgs {
 /// as =… text, so the file loads back as the same sheet.
 #[derive(Debug, Args)]
 pub struct ExportArgs {
-    /// The workbook (.csv)
+    /// The workbook (.csv, .xlsx, .xlsm)
     pub file: PathBuf,
     /// The csv file to write (must not be FILE)
     #[arg(short, long, value_name = "OUT.csv")]
@@ -121,7 +130,7 @@ pub struct ExportArgs {
 /// when any command failed.
 #[derive(Debug, Args)]
 pub struct ReplArgs {
-    /// The workbook (.csv)
+    /// The workbook (.csv, .xlsx, .xlsm)
     pub file: PathBuf,
     /// Print time_s=<seconds> to stderr after each command
     #[arg(long)]
@@ -142,11 +151,18 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Export(args) => export(args),
         Command::Repl(args) => repl(args),
         Command::Functions(_) => functions(),
+        Command::Cam(args) => cam::cam(args),
+        Command::Arcfit(args) => cam::arcfit(args),
+        Command::Run(args) => run::run(args),
     }
 }
 
 fn eval(args: EvalArgs) -> Result<()> {
-    let wb = ncsheet::io::load(&args.file)?;
+    let opened = open(&args.file)?;
+    if args.check {
+        return check(&args.file, &opened);
+    }
+    let wb = opened.workbook;
     let sheet = default_sheet(&wb, &args.file, args.sheet.as_deref())?;
     let selections = args
         .cells
@@ -174,7 +190,8 @@ fn set(args: SetArgs) -> Result<()> {
         // clap's argument group makes exactly one of them required.
         _ => return Err(Error::Usage("give either -o OUT or --in-place".into())),
     };
-    let mut wb = ncsheet::io::load(&args.file)?;
+    let opened = open(&args.file)?;
+    let mut wb = opened.workbook;
     let sheet = default_sheet(&wb, &args.file, args.sheet.as_deref())?;
     for a in &args.assignments {
         let cell_sheet = target_sheet(&wb, &args.file, &a.target, sheet)?;
@@ -183,13 +200,65 @@ fn set(args: SetArgs) -> Result<()> {
     }
     wb.recalculate();
     report_problems(&args.file, &wb);
-    ncsheet::io::save(&wb, &out_path)?;
+    ncsheet::io::save_with_layout(&wb, opened.layout.as_ref(), &out_path)?;
     Ok(())
+}
+
+/// Reads a workbook and tells the user what the import left out.
+fn open(file: &Path) -> Result<ncsheet::io::Opened> {
+    let opened = ncsheet::io::open(file)?;
+    for note in &opened.notes {
+        eprintln!("ncsheet: {}: note: {note}", file.display());
+    }
+    Ok(opened)
+}
+
+/// `eval --check`: every cell where ncsheet and Excel's stored value disagree.
+fn check(file: &Path, opened: &ncsheet::io::Opened) -> Result<()> {
+    let wb = &opened.workbook;
+    let differences = ncsheet::io::xlsx::compare_cached(wb, &opened.cached);
+    let mut out = BufWriter::new(io::stdout().lock());
+    for d in &differences {
+        let formula = d.formula.as_deref().unwrap_or("");
+        let volatile = if d.volatile { " (volatile: expected to differ)" } else { "" };
+        writeln!(
+            out,
+            "{}: {formula}: Excel {}, ncsheet {}{volatile}",
+            wb.cell_name(d.sheet, d.pos),
+            show(&d.excel),
+            show(&d.ncsheet)
+        )?;
+    }
+    out.flush()?;
+    let compared = opened.cached.len();
+    if opened.layout.is_none() {
+        eprintln!("ncsheet: {}: a csv file stores no computed values to check against", file.display());
+        return Ok(());
+    }
+    let real = differences.iter().filter(|d| !d.volatile).count();
+    eprintln!(
+        "ncsheet: {}: {} of {compared} stored values agree with Excel",
+        file.display(),
+        compared - differences.len()
+    );
+    if real > 0 {
+        return Err(Error::User(format!("{}: {real} cells differ from Excel", file.display())));
+    }
+    Ok(())
+}
+
+/// A value for a message: text quoted, so that "12" and 12 read apart.
+fn show(v: &ncsheet::eval::Value) -> String {
+    match v {
+        ncsheet::eval::Value::Text(t) => format!("{t:?}"),
+        ncsheet::eval::Value::Blank => "(blank)".into(),
+        other => other.to_string(),
+    }
 }
 
 fn export(args: ExportArgs) -> Result<()> {
     refuse_overwriting_input(&args.file, &args.output, "an export cannot replace its input; write elsewhere")?;
-    let wb = ncsheet::io::load(&args.file)?;
+    let wb = open(&args.file)?.workbook;
     let mut sheet = default_sheet(&wb, &args.file, args.sheet.as_deref())?;
     if let Some(t) = &args.range {
         sheet = target_sheet(&wb, &args.file, t, sheet)?;
@@ -202,7 +271,7 @@ fn export(args: ExportArgs) -> Result<()> {
 }
 
 fn repl(args: ReplArgs) -> Result<()> {
-    let wb = ncsheet::io::load(&args.file)?;
+    let wb = open(&args.file)?.workbook;
     let sheet = default_sheet(&wb, &args.file, args.sheet.as_deref())?;
     report_problems(&args.file, &wb);
     repl::run(&args.file, wb, sheet, args.timings)
@@ -258,7 +327,7 @@ fn sheet_named(wb: &Workbook, file: &Path, name: &str) -> Result<SheetId> {
 }
 
 /// Refuses an output path that is the input file (however it is spelled).
-fn refuse_overwriting_input(input: &Path, output: &Path, hint: &str) -> Result<()> {
+pub(crate) fn refuse_overwriting_input(input: &Path, output: &Path, hint: &str) -> Result<()> {
     let same = match (input.canonicalize(), output.canonicalize()) {
         (Ok(a), Ok(b)) => a == b,
         _ => input == output,

@@ -45,8 +45,13 @@ pub fn to_bool(v: &Value) -> XlResult<bool> {
 }
 
 /// Reads text the way Excel's `VALUE` and arithmetic do: optional sign, thousands
-/// separators, decimals, exponent, a trailing `%`, surrounding spaces.
+/// separators, decimals, exponent, a trailing `%`, a currency sign (`$`, `€`, `£`) before or
+/// after, an ISO date (`2024-01-10`, as its serial number), surrounding spaces.
 pub fn parse_number(text: &str) -> Option<f64> {
+    // Excel reads " 2024-01-10 " as text although it reads " 100 " as a number.
+    if let Some(serial) = iso_date_serial(text) {
+        return Some(serial);
+    }
     let t = text.trim();
     if t.is_empty() {
         return None;
@@ -60,9 +65,9 @@ pub fn parse_number(text: &str) -> Option<f64> {
         Some(b'+') => (false, &t[1..]),
         _ => (false, t),
     };
-    let body = body.trim_start();
+    let body = without_currency(body.trim_start());
     let (negative, body) = match body.strip_prefix('(').and_then(|b| b.strip_suffix(')')) {
-        Some(inner) if !negative => (true, inner),
+        Some(inner) if !negative => (true, without_currency(inner)),
         _ => (negative, body),
     };
     let plain = strip_thousands(body)?;
@@ -75,6 +80,52 @@ pub fn parse_number(text: &str) -> Option<f64> {
     let v: f64 = plain.parse().ok()?;
     let v = if negative { -v } else { v } * scale;
     v.is_finite().then_some(v)
+}
+
+/// `$100`, `€ 100`, `100€` → `100`: one currency sign, before or after.
+fn without_currency(text: &str) -> &str {
+    const SIGNS: [char; 3] = ['$', '€', '£'];
+    if let Some(rest) = text.strip_prefix(SIGNS) {
+        return rest.trim_start();
+    }
+    match text.strip_suffix(SIGNS) {
+        Some(rest) => rest.trim_end(),
+        None => text,
+    }
+}
+
+/// `yyyy-mm-dd` as Excel's date serial (days since 1899-12-30 in the 1900 date system, which
+/// is exact from 1900-03-01 on; earlier dates are left to be text).
+fn iso_date_serial(text: &str) -> Option<f64> {
+    let mut parts = text.splitn(3, '-');
+    let (y, m, d) = (parts.next()?, parts.next()?, parts.next()?);
+    let digits =
+        |s: &str, n: std::ops::RangeInclusive<usize>| n.contains(&s.len()) && s.bytes().all(|b| b.is_ascii_digit());
+    if !(digits(y, 4..=4) && digits(m, 1..=2) && digits(d, 1..=2)) {
+        return None;
+    }
+    let (y, m, d): (i64, i64, i64) = (y.parse().ok()?, m.parse().ok()?, d.parse().ok()?);
+    let days_in_month = [31, if is_leap(y) { 29 } else { 28 }, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31];
+    if !(1..=12).contains(&m) || d < 1 || d > days_in_month[(m - 1) as usize] || y > 9999 {
+        return None;
+    }
+    let serial = days_from_civil(y, m, d) - days_from_civil(1899, 12, 30);
+    (serial >= 61).then_some(serial as f64)
+}
+
+fn is_leap(y: i64) -> bool {
+    (y % 4 == 0 && y % 100 != 0) || y % 400 == 0
+}
+
+/// Days since 1970-01-01 of a proleptic Gregorian date (Howard Hinnant's algorithm).
+fn days_from_civil(y: i64, m: i64, d: i64) -> i64 {
+    let y = if m <= 2 { y - 1 } else { y };
+    let era = y.div_euclid(400);
+    let yoe = y - era * 400;
+    let mp = (m + 9) % 12;
+    let doy = (153 * mp + 2) / 5 + d - 1;
+    let doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
+    era * 146_097 + doe - 719_468
 }
 
 /// `1,234,567.5` to `1234567.5`; commas must group the integer part by three.
@@ -144,6 +195,14 @@ mod tests {
         assert_eq!(parse_number("(3)"), Some(-3.0));
         assert_eq!(parse_number("1,23"), None);
         assert_eq!(parse_number("abc"), None);
+        // Excel's serial numbers of ISO dates (DATE(2024,1,10) = 45301, DATE(1900,3,1) = 61).
+        assert_eq!(parse_number("2024-01-10"), Some(45301.0));
+        assert_eq!(parse_number("1900-03-01"), Some(61.0));
+        assert_eq!(parse_number("2023-02-29"), None);
+        assert_eq!(parse_number(" 2024-01-10 "), None);
+        assert_eq!(parse_number("$100"), Some(100.0));
+        assert_eq!(parse_number("100€"), Some(100.0));
+        assert_eq!(parse_number("-$1,234.5"), Some(-1234.5));
         assert_eq!(parse_number(""), None);
     }
 }

@@ -34,6 +34,18 @@ pub trait Env {
     fn sheet_name(&self, sheet: SheetId) -> Option<String>;
 }
 
+/// What an embedding language adds to the expressions it hands the evaluator: the macro
+/// interpreter's variables (read where a formula reads a LET variable) and its own nodes
+/// ([`ExprKind::Host`]: member paths, calls of the macro's procedures). Cells have no host.
+pub trait Host {
+    /// What the variable `name` holds (a range object as a reference), or `None` when the host
+    /// has no such variable and the name is a defined name.
+    fn variable(&self, name: &str) -> Option<Operand>;
+
+    /// Evaluates the host's node `id`, reading its argument expressions through `ctx`.
+    fn node(&self, ctx: &mut Ctx, id: u32) -> Operand;
+}
+
 /// The result of evaluating an expression that may be a reference.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Operand {
@@ -54,6 +66,7 @@ pub struct Ctx<'a> {
     pub sheet: SheetId,
     pub at: Pos,
     locals: Vec<(Rc<str>, Value)>,
+    host: Option<&'a dyn Host>,
     depth: u32,
     /// Messages explaining error values, for the CLI to show.
     pub notes: Vec<Note>,
@@ -68,7 +81,13 @@ const MAX_DEPTH: u32 = 200;
 
 impl<'a> Ctx<'a> {
     pub fn new(env: &'a dyn Env, sheet: SheetId, at: Pos) -> Ctx<'a> {
-        Ctx { env, sheet, at, locals: Vec::new(), depth: 0, notes: Vec::new(), numbers: &[] }
+        Ctx { env, sheet, at, locals: Vec::new(), host: None, depth: 0, notes: Vec::new(), numbers: &[] }
+    }
+
+    /// The same evaluation with a macro interpreter's variables and nodes.
+    pub fn with_host(mut self, host: &'a dyn Host) -> Ctx<'a> {
+        self.host = Some(host);
+        self
     }
 
     /// Records why `error` happened and returns it, for `return Err(ctx.explain(..))`.
@@ -103,7 +122,7 @@ impl<'a> Ctx<'a> {
             ExprKind::Paren(inner) => self.eval(inner),
             ExprKind::Array(lit) => self.array_literal(lit),
             ExprKind::Unary(op, inner) => self.unary(*op, inner),
-            ExprKind::Binary(BinOp::Range, ..) | ExprKind::Name(_) => {
+            ExprKind::Binary(BinOp::Range, ..) | ExprKind::Name(_) | ExprKind::Host(_) => {
                 let operand = self.operand(e);
                 self.deref(operand)
             }
@@ -125,6 +144,10 @@ impl<'a> Ctx<'a> {
             },
             ExprKind::Paren(inner) => self.operand(inner),
             ExprKind::Name(name) => self.name_operand(name),
+            ExprKind::Host(id) => match self.host {
+                Some(host) => host.node(self, *id),
+                None => Operand::Value(Value::Error(XlError::Name)),
+            },
             ExprKind::Binary(BinOp::Range, a, b) => self.range_operand(a, b),
             ExprKind::Unary(UnaryOp::Spill, inner) => self.spill_operand(inner),
             ExprKind::Call(id, args) => match functions::spec(*id).kind {
@@ -217,6 +240,9 @@ impl<'a> Ctx<'a> {
         if let Some((_, v)) = self.locals.iter().rev().find(|(n, _)| n.eq_ignore_ascii_case(name)) {
             return Operand::Value(v.clone());
         }
+        if let Some(operand) = self.host.and_then(|h| h.variable(name)) {
+            return operand;
+        }
         let Some((expr, sheet)) = self.env.defined_name(name, self.sheet) else {
             return Operand::Value(Value::Error(XlError::Name));
         };
@@ -224,14 +250,14 @@ impl<'a> Ctx<'a> {
             return Operand::Value(Value::Error(XlError::Circ));
         }
         // A defined name is evaluated as if it sat in A1 of its sheet (its references are absolute
-        // as Excel stores them) and without the caller's LET variables.
-        let saved = (self.sheet, self.at, std::mem::take(&mut self.locals));
+        // as Excel stores them) and without the caller's LET or macro variables.
+        let saved = (self.sheet, self.at, std::mem::take(&mut self.locals), self.host.take());
         self.sheet = sheet;
         self.at = Pos::new(0, 0);
         self.depth += 1;
         let out = self.operand(&expr);
         self.depth -= 1;
-        (self.sheet, self.at, self.locals) = saved;
+        (self.sheet, self.at, self.locals, self.host) = saved;
         out
     }
 
@@ -278,6 +304,7 @@ impl<'a> Ctx<'a> {
                 let operand = self.spill_operand(inner);
                 self.deref(operand)
             }
+            UnaryOp::Not => map_value(&self.eval(inner), &vba_not),
         }
     }
 
@@ -348,13 +375,17 @@ pub fn broadcast2(a: &Value, b: &Value, f: &dyn Fn(&Value, &Value) -> Value) -> 
     }
 }
 
-/// A computed number as a value: NaN and infinities are `#NUM!`, as Excel reports overflow.
+/// A computed number as a value: NaN and infinities are `#NUM!`, as Excel reports overflow;
+/// numbers below the smallest normal double are 0, as Excel keeps no subnormals
+/// (`EXP(-745)` is 0).
 #[inline]
 pub fn number_result(n: f64) -> Value {
-    if n.is_finite() {
-        Value::Number(n)
-    } else {
+    if !n.is_finite() {
         Value::Error(XlError::Num)
+    } else if n != 0.0 && n.abs() < f64::MIN_POSITIVE {
+        Value::Number(0.0)
+    } else {
+        Value::Number(n)
     }
 }
 
@@ -376,6 +407,7 @@ fn scalar_binary(op: BinOp, a: &Value, b: &Value) -> Value {
             Ok(ord) => Value::Bool(comparison_holds(op, ord)),
             Err(e) => Value::Error(e),
         },
+        BinOp::And | BinOp::Or | BinOp::Xor | BinOp::Eqv | BinOp::Imp => vba_logic(op, a, b),
         _ => match (to_number(a), to_number(b)) {
             (Ok(x), Ok(y)) => scalar_binary_numbers(op, x, y),
             (Err(e), _) | (_, Err(e)) => Value::Error(e),
@@ -405,7 +437,87 @@ fn scalar_binary_numbers(op: BinOp, x: f64, y: f64) -> Value {
         BinOp::Div if y == 0.0 => Value::Error(XlError::Div0),
         BinOp::Div => number_result(x / y),
         BinOp::Pow => power(x, y).map_or_else(Value::Error, number_result),
+        BinOp::Mod | BinOp::IntDiv => vba_integer_division(op, x, y),
         _ => scalar_binary(op, &Value::Number(x), &Value::Number(y)),
+    }
+}
+
+// VBA's operators, for macros. VBA rounds their operands to whole numbers half to even
+// (`5.5 Mod 2` is 0), and its True is -1 where a bitwise operator meets a number.
+
+/// A number as VBA's operators read it: rounded half to even, `#NUM!` beyond 64 bits.
+fn vba_integer(x: f64) -> XlResult<i64> {
+    let r = x.round_ties_even();
+    if r.abs() < 9.2e18 {
+        Ok(r as i64)
+    } else {
+        Err(XlError::Num)
+    }
+}
+
+fn vba_integer_division(op: BinOp, x: f64, y: f64) -> Value {
+    let (a, b) = match (vba_integer(x), vba_integer(y)) {
+        (Ok(a), Ok(b)) => (a, b),
+        (Err(e), _) | (_, Err(e)) => return Value::Error(e),
+    };
+    match (op, b) {
+        (_, 0) => Value::Error(XlError::Div0),
+        (BinOp::Mod, _) => Value::Number(a.wrapping_rem(b) as f64),
+        _ => Value::Number(a.wrapping_div(b) as f64),
+    }
+}
+
+/// A logical operand: booleans stay booleans; anything else is an integer (True is -1).
+enum Logic {
+    Bool(bool),
+    Int(i64),
+}
+
+fn logic_operand(v: &Value) -> XlResult<Logic> {
+    match v {
+        Value::Bool(b) => Ok(Logic::Bool(*b)),
+        Value::Text(t) if t.eq_ignore_ascii_case("TRUE") || t.eq_ignore_ascii_case("FALSE") => {
+            Ok(Logic::Bool(t.eq_ignore_ascii_case("TRUE")))
+        }
+        other => vba_integer(to_number(other)?).map(Logic::Int),
+    }
+}
+
+fn vba_logic(op: BinOp, a: &Value, b: &Value) -> Value {
+    let (a, b) = match (logic_operand(a), logic_operand(b)) {
+        (Ok(a), Ok(b)) => (a, b),
+        (Err(e), _) | (_, Err(e)) => return Value::Error(e),
+    };
+    let bits = |l: Logic| match l {
+        Logic::Bool(b) => -i64::from(b),
+        Logic::Int(i) => i,
+    };
+    match (a, b) {
+        (Logic::Bool(x), Logic::Bool(y)) => Value::Bool(match op {
+            BinOp::And => x && y,
+            BinOp::Or => x || y,
+            BinOp::Xor => x != y,
+            BinOp::Eqv => x == y,
+            _ => !x || y,
+        }),
+        (a, b) => {
+            let (x, y) = (bits(a), bits(b));
+            Value::Number(match op {
+                BinOp::And => x & y,
+                BinOp::Or => x | y,
+                BinOp::Xor => x ^ y,
+                BinOp::Eqv => !(x ^ y),
+                _ => !x | y,
+            } as f64)
+        }
+    }
+}
+
+fn vba_not(v: &Value) -> Value {
+    match logic_operand(v) {
+        Ok(Logic::Bool(b)) => Value::Bool(!b),
+        Ok(Logic::Int(i)) => Value::Number(!i as f64),
+        Err(e) => Value::Error(e),
     }
 }
 

@@ -93,6 +93,17 @@ pub enum BinOp {
     Le,
     Gt,
     Ge,
+    // The macro language's operators (src/vba); formula text never produces them.
+    /// `a Mod b`: VBA's remainder of the operands rounded to integers, signed like `a`.
+    Mod,
+    /// `a \ b`: VBA's integer division.
+    IntDiv,
+    /// `And`, `Or`, `Xor`, `Eqv`, `Imp`: logical on booleans, bitwise on integers.
+    And,
+    Or,
+    Xor,
+    Eqv,
+    Imp,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -104,6 +115,8 @@ pub enum UnaryOp {
     Implicit,
     /// `A1#`: the spill range anchored at a cell.
     Spill,
+    /// `Not x` (macros only): logical on a boolean, bitwise on an integer.
+    Not,
 }
 
 /// Index of a function in the registry (`eval::functions::REGISTRY`).
@@ -134,6 +147,10 @@ pub enum ExprKind {
     Call(FnId, Vec<Expr>),
     /// A function the registry does not know: evaluates to `#NAME?`.
     UnknownCall(Rc<str>, Vec<Expr>),
+    /// A node of the macro language that only its interpreter can evaluate (`Range("B3").Value`,
+    /// a call of the macro's own Function): an index into the macro's node table, evaluated
+    /// through the evaluator's `Host`. Formula text never produces it.
+    Host(u32),
 }
 
 /// An array constant `{1,2;3,4}`, row-major.

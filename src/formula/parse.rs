@@ -14,6 +14,17 @@
 //! #                   spill range  (postfix)
 //! :                   range
 //! ```
+//!
+//! The macro language (src/vba) is compiled into the same parser (`grammar/macro.pest`
+//! beside `grammar/formula.pest`, one `Rule` enum) and its expressions go through this table
+//! too. Its operators follow the table for everything a formula has — so `-2^2` is 4 in a
+//! macro as in a cell (VBA says -4) — and add VBA's own at VBA's levels, none of which formula
+//! text can produce:
+//!
+//! ```text
+//! Imp < Eqv < Xor < Or < And < Not (prefix)   below the comparisons
+//! Mod < \                                     between + - and * /
+//! ```
 
 use std::rc::Rc;
 use std::sync::LazyLock;
@@ -27,13 +38,21 @@ use pest_derive::Parser;
 use super::address::{column_index, Pos, MAX_COLS, MAX_ROWS};
 use super::ast::*;
 
+/// The one parser: formulas (`Rule::formula`) and macro modules (`Rule::module`).
 #[derive(Parser)]
 #[grammar = "../grammar/formula.pest"]
+#[grammar = "../grammar/macro.pest"]
 pub struct FormulaGrammar;
 
 static PRATT: LazyLock<PrattParser<Rule>> = LazyLock::new(|| {
     use Assoc::Left;
     PrattParser::new()
+        .op(Op::infix(Rule::imp_op, Left))
+        .op(Op::infix(Rule::eqv_op, Left))
+        .op(Op::infix(Rule::xor_op, Left))
+        .op(Op::infix(Rule::or_op, Left))
+        .op(Op::infix(Rule::and_op, Left))
+        .op(Op::prefix(Rule::not_op))
         .op(Op::infix(Rule::eq, Left)
             | Op::infix(Rule::ne, Left)
             | Op::infix(Rule::lt, Left)
@@ -42,6 +61,8 @@ static PRATT: LazyLock<PrattParser<Rule>> = LazyLock::new(|| {
             | Op::infix(Rule::ge, Left))
         .op(Op::infix(Rule::concat, Left))
         .op(Op::infix(Rule::add, Left) | Op::infix(Rule::sub, Left))
+        .op(Op::infix(Rule::mod_op, Left))
+        .op(Op::infix(Rule::int_div, Left))
         .op(Op::infix(Rule::mul, Left) | Op::infix(Rule::div, Left))
         .op(Op::infix(Rule::pow, Left))
         .op(Op::postfix(Rule::percent))
@@ -109,7 +130,19 @@ pub fn parse_formula(text: &str, ctx: &ParseContext) -> Result<Expr, ParseError>
     let mut pairs = FormulaGrammar::parse(Rule::formula, text).map_err(from_pest)?;
     let formula = pairs.next().expect("formula rule");
     let expr = formula.into_inner().find(|p| p.as_rule() == Rule::expr).expect("expr");
-    Builder { ctx }.expr(expr.into_inner())
+    Builder { ctx, host: None }.expr(expr.into_inner())
+}
+
+/// The primaries of the macro language that formulas do not have (variables, member paths,
+/// `[B3]`): the macro parser builds them, calling [`build_expr`] for their inner expressions.
+pub trait HostPrimaries {
+    fn primary(&self, pair: Pair<Rule>) -> Result<Expr, ParseError>;
+}
+
+/// Builds the tree of an `expr` (formula) or `vexpr` (macro) pair through the one Pratt table.
+/// Offsets in errors and spans are in the text the pair was parsed from.
+pub fn build_expr(pair: Pair<Rule>, ctx: &ParseContext, host: Option<&dyn HostPrimaries>) -> Result<Expr, ParseError> {
+    Builder { ctx, host }.expr(pair.into_inner())
 }
 
 fn from_pest(err: pest::error::Error<Rule>) -> ParseError {
@@ -165,6 +198,13 @@ fn is_operator(rule: Rule) -> bool {
             | Rule::pow
             | Rule::percent
             | Rule::spill_ref
+            | Rule::mod_op
+            | Rule::int_div
+            | Rule::and_op
+            | Rule::or_op
+            | Rule::xor_op
+            | Rule::eqv_op
+            | Rule::imp_op
     )
 }
 
@@ -189,6 +229,7 @@ pub fn strip_future_prefix(name: &str) -> &str {
 
 struct Builder<'a, 'c> {
     ctx: &'a ParseContext<'c>,
+    host: Option<&'a dyn HostPrimaries>,
 }
 
 type Built = Result<Expr, ParseError>;
@@ -202,6 +243,7 @@ impl Builder<'_, '_> {
                 let kind = match op.as_rule() {
                     Rule::neg => UnaryOp::Neg,
                     Rule::plus => UnaryOp::Plus,
+                    Rule::not_op => UnaryOp::Not,
                     _ => UnaryOp::Implicit,
                 };
                 let span = join(span_of(&op), rhs.span);
@@ -233,7 +275,7 @@ impl Builder<'_, '_> {
     fn primary(&self, pair: Pair<Rule>) -> Built {
         let span = span_of(&pair);
         let kind = match pair.as_rule() {
-            Rule::paren => {
+            Rule::paren | Rule::vparen => {
                 let inner = pair.into_inner().next().expect("paren holds expr");
                 ExprKind::Paren(Box::new(self.expr(inner.into_inner())?))
             }
@@ -245,7 +287,10 @@ impl Builder<'_, '_> {
             Rule::boolean => ExprKind::Bool(pair.as_str().eq_ignore_ascii_case("TRUE")),
             Rule::reference => ExprKind::Ref(self.reference(pair)?),
             Rule::name => ExprKind::Name(strip_future_prefix(pair.as_str()).into()),
-            rule => unreachable!("primary {rule:?}"),
+            rule => match self.host {
+                Some(host) => return host.primary(pair),
+                None => unreachable!("primary {rule:?}"),
+            },
         };
         Ok(Expr::new(kind, span))
     }
@@ -471,6 +516,13 @@ fn binary_op(rule: Rule) -> BinOp {
         Rule::le => BinOp::Le,
         Rule::gt => BinOp::Gt,
         Rule::ge => BinOp::Ge,
+        Rule::mod_op => BinOp::Mod,
+        Rule::int_div => BinOp::IntDiv,
+        Rule::and_op => BinOp::And,
+        Rule::or_op => BinOp::Or,
+        Rule::xor_op => BinOp::Xor,
+        Rule::eqv_op => BinOp::Eqv,
+        Rule::imp_op => BinOp::Imp,
         rule => unreachable!("infix {rule:?}"),
     }
 }

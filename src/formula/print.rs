@@ -28,13 +28,17 @@ pub fn quote_sheet_name(name: &str) -> String {
     }
 }
 
-/// Shortest text that reads back as the same number.
+/// Shortest text that reads back as the same number: positional for everyday magnitudes,
+/// `1.5E+20` style for very large and very small ones (as Excel writes them).
 pub fn number_literal(v: f64) -> String {
-    let plain = format!("{v}");
-    if plain.len() <= 17 {
-        plain
-    } else {
-        format!("{v:E}")
+    let magnitude = v.abs();
+    if v == 0.0 || (1e-5..1e15).contains(&magnitude) {
+        return format!("{v}");
+    }
+    let text = format!("{v:E}");
+    match text.split_once('E') {
+        Some((mantissa, exp)) if !exp.starts_with('-') => format!("{mantissa}E+{exp}"),
+        _ => text,
     }
 }
 
@@ -74,6 +78,10 @@ impl Printer<'_> {
                 self.call(&name, args)
             }
             ExprKind::UnknownCall(name, args) => self.call(name, args),
+            // Only macros hold host nodes, and macros are not printed back; say what it is.
+            ExprKind::Host(id) => {
+                let _ = write!(self.out, "MACRO_NODE({id})");
+            }
         }
     }
 
@@ -82,6 +90,7 @@ impl Printer<'_> {
             UnaryOp::Neg => self.out.push('-'),
             UnaryOp::Plus => self.out.push('+'),
             UnaryOp::Implicit => self.out.push('@'),
+            UnaryOp::Not => self.out.push_str("Not "),
             UnaryOp::Percent | UnaryOp::Spill => {}
         }
         self.expr(inner);
@@ -184,5 +193,12 @@ pub fn binary_symbol(op: BinOp) -> &'static str {
         BinOp::Le => "<=",
         BinOp::Gt => ">",
         BinOp::Ge => ">=",
+        BinOp::Mod => " Mod ",
+        BinOp::IntDiv => "\\",
+        BinOp::And => " And ",
+        BinOp::Or => " Or ",
+        BinOp::Xor => " Xor ",
+        BinOp::Eqv => " Eqv ",
+        BinOp::Imp => " Imp ",
     }
 }

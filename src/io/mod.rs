@@ -1,5 +1,6 @@
-//! Files in and out. The file type is chosen by extension: `.csv` now; `.xlsx` is recognised
-//! and refused with a clear error until its reader and writer exist.
+//! Files in and out. The file type is chosen by extension: `.csv` (one sheet) and `.xlsx` /
+//! `.xlsm` (every sheet, formulas, names, Excel's cached values, number formats and column
+//! widths).
 //!
 //! To add a format: write `io/<format>.rs` with a reader (bytes → [`Workbook`]) and a writer
 //! (workbook → bytes), add a [`Format`] variant and its arms in [`load`], [`save`] and
@@ -18,7 +19,9 @@ use crate::formula::ast::SheetId;
 use crate::workbook::Workbook;
 
 pub mod atomic;
+pub mod cam;
 pub mod csv;
+pub mod xlsx;
 
 /// The file types ncsheet knows, by extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -33,7 +36,7 @@ impl Format {
         let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
         match ext.as_deref() {
             Some("csv") => Ok(Format::Csv),
-            Some("xlsx") => Ok(Format::Xlsx),
+            Some("xlsx" | "xlsm") => Ok(Format::Xlsx),
             _ => Err(Error::new(path, ErrorKind::UnknownFormat)),
         }
     }
@@ -74,11 +77,14 @@ pub enum ErrorKind {
         message: String,
     },
     UnknownFormat,
-    /// A format ncsheet will read and write but does not yet.
-    NotYetSupported(Format),
     /// A csv file holds one sheet; the workbook has several.
     OneSheetOnly {
         sheets: usize,
+    },
+    /// An xlsx package that cannot be read or written; `part` names the piece of it.
+    Xlsx {
+        part: Option<String>,
+        message: String,
     },
 }
 
@@ -95,9 +101,9 @@ impl fmt::Display for Error {
             ErrorKind::Read(e) => write!(f, "cannot read: {e}"),
             ErrorKind::Write(e) => write!(f, "cannot write: {e}"),
             ErrorKind::Malformed { line, message } => write!(f, "line {line}: {message}"),
-            ErrorKind::UnknownFormat => write!(f, "unknown file type (ncsheet reads and writes .csv files)"),
-            ErrorKind::NotYetSupported(Format::Xlsx) => write!(f, "xlsx is not supported yet (use a .csv file)"),
-            ErrorKind::NotYetSupported(Format::Csv) => write!(f, "csv is not supported"),
+            ErrorKind::UnknownFormat => write!(f, "unknown file type (ncsheet reads and writes .csv, .xlsx and .xlsm)"),
+            ErrorKind::Xlsx { part: Some(part), message } => write!(f, "{part}: {message}"),
+            ErrorKind::Xlsx { part: None, message } => f.write_str(message),
             ErrorKind::OneSheetOnly { sheets } => {
                 write!(f, "a csv file holds one sheet and the workbook has {sheets}; export one with --sheet")
             }
@@ -114,20 +120,51 @@ impl std::error::Error for Error {
     }
 }
 
-/// Reads a workbook and recalculates it. Cells that hold bad input (a formula that does not
-/// parse) are not an error here: they load as error values, listed by `Workbook::problems`.
-pub fn load(path: &Path) -> Result<Workbook, Error> {
+/// A workbook as read from a file, with what the file held besides the cells' inputs.
+pub struct Opened {
+    pub workbook: Workbook,
+    /// The values Excel stored for formula cells (empty for csv), for `eval --check`.
+    pub cached: Vec<xlsx::CachedValue>,
+    /// Number formats and column widths to write back (xlsx only).
+    pub layout: Option<xlsx::Layout>,
+    /// What the import left out, one sentence each, for the user to hear.
+    pub notes: Vec<String>,
+}
+
+/// Reads a workbook and recalculates it, keeping what the file said besides the cells.
+/// Cells that hold bad input (a formula that does not parse) are not an error here: they
+/// load as error values, listed by `Workbook::problems`.
+pub fn open(path: &Path) -> Result<Opened, Error> {
     match Format::of(path)? {
         Format::Csv => {
             let bytes = std::fs::read(path).map_err(|e| Error::new(path, ErrorKind::Read(e)))?;
-            csv::read(&bytes).map_err(|m| Error::new(path, m.into()))
+            let workbook = csv::read(&bytes).map_err(|m| Error::new(path, m.into()))?;
+            Ok(Opened { workbook, cached: Vec::new(), layout: None, notes: Vec::new() })
         }
-        format @ Format::Xlsx => Err(Error::new(path, ErrorKind::NotYetSupported(format))),
+        Format::Xlsx => {
+            let imported = xlsx::load(path)?;
+            Ok(Opened {
+                workbook: imported.workbook,
+                cached: imported.cached,
+                layout: Some(imported.layout),
+                notes: imported.notes,
+            })
+        }
     }
+}
+
+/// Reads a workbook and recalculates it (see [`open`]).
+pub fn load(path: &Path) -> Result<Workbook, Error> {
+    open(path).map(|o| o.workbook)
 }
 
 /// Saves a whole workbook so that [`load`] reads back the same inputs.
 pub fn save(wb: &Workbook, path: &Path) -> Result<(), Error> {
+    save_with_layout(wb, None, path)
+}
+
+/// [`save`], writing back an xlsx source's number formats and column widths.
+pub fn save_with_layout(wb: &Workbook, layout: Option<&xlsx::Layout>, path: &Path) -> Result<(), Error> {
     match Format::of(path)? {
         Format::Csv => {
             if wb.sheet_len() != 1 {
@@ -135,16 +172,45 @@ pub fn save(wb: &Workbook, path: &Path) -> Result<(), Error> {
             }
             export(wb, path, &Export { sheet: 0, range: None, content: Content::Formulas })
         }
-        format @ Format::Xlsx => Err(Error::new(path, ErrorKind::NotYetSupported(format))),
+        Format::Xlsx => {
+            let default = xlsx::Layout::default();
+            Ok(xlsx::save_with_layout(wb, layout.unwrap_or(&default), path)?)
+        }
     }
 }
 
-/// Writes one sheet (or a range of it) as values or as formulas.
+/// Writes one sheet (or a range of it) as values or as formulas. An xlsx export is a new
+/// one-sheet workbook: the values as constants (a coordinate table to hand on), or, with
+/// formulas, the whole workbook.
 pub fn export(wb: &Workbook, path: &Path, what: &Export) -> Result<(), Error> {
     match Format::of(path)? {
         Format::Csv => atomic::write_file(path, |out: &mut dyn Write| csv::write(wb, what, out))
             .map_err(|e| Error::new(path, ErrorKind::Write(e))),
-        format @ Format::Xlsx => Err(Error::new(path, ErrorKind::NotYetSupported(format))),
+        Format::Xlsx => match what.content {
+            Content::Formulas => save(wb, path),
+            Content::Values => save(&values_only(wb, what), path),
+        },
+    }
+}
+
+/// A one-sheet workbook holding the values of `what`'s cells as constants, from A1.
+fn values_only(wb: &Workbook, what: &Export) -> Workbook {
+    let name = wb.sheet_names().into_iter().nth(what.sheet as usize).unwrap_or_else(|| "Sheet1".into());
+    let mut out = Workbook::new();
+    let sheet = out.add_sheet(&name).expect("a new workbook has no sheets");
+    let Some(rect) = what.range.or_else(|| wb.used_rect(what.sheet)) else { return out };
+    for (pos, value) in wb.values(what.sheet) {
+        if rect.contains(pos) {
+            let at = crate::formula::Pos::new(pos.row - rect.first.row, pos.col - rect.first.col);
+            out.set_value_deferred(sheet, at, value);
+        }
+    }
+    out
+}
+
+impl From<xlsx::XlsxError> for Error {
+    fn from(e: xlsx::XlsxError) -> Error {
+        Error { path: e.file, kind: ErrorKind::Xlsx { part: e.part, message: e.message } }
     }
 }
 

@@ -1,6 +1,7 @@
 //! NC programs: the model ([`program`]) that macros and geometry commands fill, and the
 //! dialects ([`dialect`]) that write it for a control. Knows nothing of workbooks or files.
 
+pub mod cam;
 pub mod dialect;
 pub mod format;
 pub mod program;

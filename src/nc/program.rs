@@ -87,11 +87,14 @@ pub struct Program {
     pub number: u32,
     pub machine: Machine,
     pub blocks: Vec<Block>,
+    /// Digits after the point, when the machine resolves finer than its dialect's default
+    /// (a cam at 0.001 mm tolerance on a 0.1 µm machine).
+    pub precision: Option<usize>,
 }
 
 impl Program {
     pub fn new(name: &str, machine: Machine) -> Program {
-        Program { name: name.to_string(), number: 1, machine, blocks: Vec::new() }
+        Program { name: name.to_string(), number: 1, machine, blocks: Vec::new(), precision: None }
     }
 
     pub fn push(&mut self, block: Block) -> &mut Program {

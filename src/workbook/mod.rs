@@ -217,6 +217,17 @@ impl Workbook {
         }
     }
 
+    /// Sets a constant value without recalculating (a file reader's path: no text round trip,
+    /// so text that looks like a number or a formula stays text). Arrays are not cell values
+    /// and are stored as their first item.
+    pub fn set_value_deferred(&mut self, sheet: SheetId, pos: Pos, value: Value) {
+        let value = match value {
+            Value::Array(a) => a.data.first().cloned().unwrap_or(Value::Blank),
+            v => v,
+        };
+        self.set_constant(sheet, pos, value)
+    }
+
     fn set_constant(&mut self, sheet: SheetId, pos: Pos, value: Value) {
         let id = match self.sheets[sheet as usize].get(pos) {
             Some(id) => id,

@@ -4,3 +4,7 @@
 
 pub mod corpus;
 pub mod rs274;
+pub mod xlsx;
+
+#[allow(unused_imports)]
+pub use xlsx::*;

@@ -40,7 +40,17 @@ pub fn available() -> bool {
 
 /// The moves `rs274 -g` reads from `program`, or the interpreter's complaint.
 pub fn moves(program: &Path) -> Result<Vec<Move>, String> {
-    let out = Command::new("rs274").arg("-g").arg(program).output().map_err(|e| format!("rs274: {e}"))?;
+    // rs274 keeps state in the working directory (its parameter file) and maps
+    // `$HOME/.tool.mmap`; two runs sharing either crash each other (SIGBUS). Each program's
+    // own folder is its working directory and its HOME.
+    let dir = program.parent().unwrap_or(Path::new("."));
+    let out = Command::new("rs274")
+        .current_dir(dir)
+        .env("HOME", dir)
+        .arg("-g")
+        .arg(program)
+        .output()
+        .map_err(|e| format!("rs274: {e}"))?;
     let text = String::from_utf8_lossy(&out.stdout).to_string() + &String::from_utf8_lossy(&out.stderr);
     if !out.status.success() || text.contains("error") || text.contains("Error") {
         return Err(text);

@@ -23,6 +23,7 @@ mod math;
 mod stats;
 mod text;
 mod text_format;
+pub mod vba;
 
 /// A function body that returns a value.
 pub type ValueFn = fn(&mut Ctx, &[Expr]) -> XlResult<Value>;
@@ -83,6 +84,7 @@ pub static REGISTRY: LazyLock<Vec<FnSpec>> = LazyLock::new(|| {
         text::FUNCTIONS,
         info::FUNCTIONS,
         geometry::FUNCTIONS,
+        vba::FUNCTIONS,
     ]
     .concat()
 });

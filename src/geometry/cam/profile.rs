@@ -259,13 +259,6 @@ pub fn fit_cam(disc: &str, segments: &[Segment], options: &CamOptions) -> Result
     Ok(CamFit { disc: disc.to_string(), tolerance: options.tolerance, segments: fitted, issues })
 }
 
-/// Reads a design sheet and fits every disc on it, discs in order of first appearance. What
-/// `ncsheet cam` runs, and what examples/cam_bench.rs times.
-pub fn fit_design_sheet(text: &str, options: &CamOptions) -> Result<Vec<CamFit>, CamError> {
-    let segments = super::sheet::parse_sheet(text)?;
-    by_disc(&segments).iter().map(|(disc, segs)| fit_cam(disc, segs, options)).collect()
-}
-
 /// The segments grouped by disc, discs in order of first appearance.
 pub fn by_disc(segments: &[Segment]) -> Vec<(String, Vec<Segment>)> {
     let mut discs: Vec<(String, Vec<Segment>)> = Vec::new();

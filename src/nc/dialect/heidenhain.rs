@@ -38,6 +38,8 @@ impl Dialect for Heidenhain {
                 "plain language here is for milling programs; use iso or sinumerik for a lathe".into(),
             ));
         }
+        let numbers = NumberStyle { decimals: program.precision.unwrap_or(0).max(NUMBERS.decimals), ..NUMBERS };
+        let axes = |t: &Target| t.axes().map(|(l, v)| format!("{l}{}", numbers.write(v))).collect::<Vec<_>>().join(" ");
         let name = program.name.replace(' ', "_");
         let mut lines = vec![format!("BEGIN PGM {name} MM")];
         for (i, block) in program.blocks.iter().enumerate() {
@@ -51,7 +53,7 @@ impl Dialect for Heidenhain {
                     let (Some(cx), Some(cy)) = (centre.x, centre.y) else {
                         return Err(error(Some(i + 1), "an arc needs its centre's X and Y".into()));
                     };
-                    lines.push(format!("CC X{} Y{}", NUMBERS.write(cx), NUMBERS.write(cy)));
+                    lines.push(format!("CC X{} Y{}", numbers.write(cx), numbers.write(cy)));
                     let dr = match direction {
                         ArcDirection::CounterClockwise => "DR+",
                         ArcDirection::Clockwise => "DR-",
@@ -79,10 +81,6 @@ impl Dialect for Heidenhain {
         }
         Ok(out)
     }
-}
-
-fn axes(t: &Target) -> String {
-    t.axes().map(|(l, v)| format!("{l}{}", NUMBERS.write(v))).collect::<Vec<_>>().join(" ")
 }
 
 fn feed_word(feed: Option<f64>) -> String {

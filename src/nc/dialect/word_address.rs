@@ -127,7 +127,9 @@ impl Dialect for WordAddress {
         if !self.machines.contains(&program.machine) {
             return Err(self.error(None, format!("writes no {:?} programs", program.machine).to_lowercase()));
         }
-        let mut w = Writer { d: self, out: String::new(), next: self.block_step, position: Position::default() };
+        let numbers = NumberStyle { decimals: program.precision.unwrap_or(self.numbers.decimals), ..self.numbers };
+        let mut w =
+            Writer { d: self, numbers, out: String::new(), next: self.block_step, position: Position::default() };
         for line in self.header {
             w.line(&line.replace("{name}", &program.name).replace("{number:04}", &format!("{:04}", program.number)));
         }
@@ -157,6 +159,8 @@ impl WordAddress {
 
 struct Writer<'a> {
     d: &'a WordAddress,
+    /// The dialect's number style at the program's precision.
+    numbers: NumberStyle,
     out: String,
     next: u32,
     position: Position,
@@ -175,7 +179,22 @@ impl Writer<'_> {
     }
 
     fn number(&self, v: f64) -> String {
-        self.d.numbers.write(v)
+        self.numbers.write(v)
+    }
+
+    /// Moves the known position to `t` as printed: the control measures arc centre offsets
+    /// from the start point it was given, not from the exact one.
+    fn moved_to(&mut self, t: &Target) {
+        let step = self.numbers.resolution();
+        let printed = |v: Option<f64>| v.map(|v| (v / step).round() * step);
+        self.position.apply(&Target {
+            x: printed(t.x),
+            y: printed(t.y),
+            z: printed(t.z),
+            a: printed(t.a),
+            b: printed(t.b),
+            c: printed(t.c),
+        });
     }
 
     fn axes(&self, t: &Target) -> String {
@@ -183,7 +202,7 @@ impl Writer<'_> {
     }
 
     fn feed(&self, feed: Option<f64>) -> String {
-        feed.map(|f| format!(" F{}", feed_style(self.d.numbers).write(f))).unwrap_or_default()
+        feed.map(|f| format!(" F{}", feed_style(self.numbers).write(f))).unwrap_or_default()
     }
 
     fn block(&mut self, machine: Machine, block: &Block) -> Result<(), String> {
@@ -197,13 +216,13 @@ impl Writer<'_> {
                     None => format!("G0 {}", self.axes(t)),
                 };
                 self.numbered(&text);
-                self.position.apply(t);
+                self.moved_to(t);
             }
             Block::Line { to, feed } => {
                 let g = if self.d.rapid_suffix.is_some() { "" } else { "G1 " };
                 let text = format!("{g}{}{}", self.axes(to), self.feed(*feed));
                 self.numbered(&text);
-                self.position.apply(to);
+                self.moved_to(to);
             }
             Block::Arc { direction, to, centre, feed } => self.arc(machine, *direction, to, centre, *feed)?,
             Block::Dwell(s) => {
@@ -236,7 +255,7 @@ impl Writer<'_> {
         let ij: Vec<String> = offsets.iter().map(|(l, v)| format!("{l}{}", self.number(*v))).collect();
         let text = format!("{g} {} {}{}", self.axes(to), ij.join(" "), self.feed(feed));
         self.numbered(&text);
-        self.position.apply(to);
+        self.moved_to(to);
         Ok(())
     }
 
@@ -256,7 +275,8 @@ impl Writer<'_> {
             if !self.d.legal.contains(letter) {
                 return Err(format!("address {letter} is not a word this control reads (legal: {})", self.d.legal));
             }
-            let is_code = matches!(letter, 'G' | 'M' | 'T' | 'L') && w.value.fract() == 0.0;
+            // Codes, tool and offset numbers and speeds are whole numbers on every control.
+            let is_code = matches!(letter, 'G' | 'M' | 'T' | 'L' | 'D' | 'H' | 'S' | 'O') && w.value.fract() == 0.0;
             let value = if is_code { format!("{}", w.value as i64) } else { self.number(w.value) };
             text.push(format!("{letter}{value}"));
         }

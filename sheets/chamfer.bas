@@ -1,0 +1,112 @@
+Attribute VB_Name = "Chamfer"
+' Chamfer coordinates on an NC lathe — the macro Tamul & Olt proposed (DOMAIN.md §1): the
+' sheet holds only the inputs and the results, and this macro does the arithmetic.
+'
+' It reads D, f, alpha, r, eA, eB (shaft diameter, chamfer length along Z, chamfer angle to
+' the Z axis in degrees, insert nose radius, clearances past the chamfer ends A and B), computes
+' the theoretical tool tip at the start T1 (XA, ZA) and at the end T2 (XB, ZB) of an outer
+' chamfer with the paper's formulas 1–14, checks them against ncsheet's CHAMFER_XA … sheet
+' functions, writes XA, ZA, XB, ZB to the sheet and emits the cut: rapid to T1, feed along the
+' chamfer to T2, retract.
+'
+' Cells: the workbook's defined names D, f, alpha, r, eA, eB, XA, ZA, XB, ZB when it has them,
+' else the fixed layout below (column B of the active sheet). X is a diameter.
+'
+'   ncsheet run chamfer.xlsx chamfer.bas --sheet Outer --dialect linuxcnc -o chamfer.ngc
+'   ncsheet run chamfer.xlsx chamfer.bas --sheet Pipe --arg kind=pipe --arg feed=0.08 --save out.xlsx
+Option Explicit
+
+Const Pi As Double = 3.14159265358979
+
+' kind: "outer" (formulas 1-14 here), or "pipe" / "blind" (inner chamfers, by CHAMFER_XA …).
+' feed: mm per revolution along the chamfer; speed: spindle rev/min.
+Sub Main(Optional kind As String = "outer", Optional feed As Double = 0.1, Optional speed As Double = 800)
+    Dim D As Double, f As Double, alpha As Double, r As Double, eA As Double, eB As Double
+    Dim XA As Double, ZA As Double, XB As Double, ZB As Double
+
+    D = Range(Place("D", "B2")).Value
+    f = Range(Place("f", "B3")).Value
+    alpha = Range(Place("alpha", "B4")).Value
+    ' Excel reserves the name r (a row in R1C1 style), so a workbook may call it r_.
+    r = Range(Place("r_", Place("r", "B5"))).Value
+    eA = Range(Place("eA", "B6")).Value
+    eB = Range(Place("eB", "B7")).Value
+    If alpha <= 0 Or alpha >= 90 Or r < 0 Or D <= 0 Or f <= 0 Then
+        MsgBox "no chamfer has D=" & D & " f=" & f & " alpha=" & alpha & " r=" & r
+        End
+    End If
+
+    If kind = "outer" Then
+        OuterChamfer D, f, alpha, r, eA, eB, XA, ZA, XB, ZB
+    Else
+        XA = CHAMFER_XA(kind, D, f, alpha, r, eA, eB)
+        ZA = CHAMFER_ZA(kind, D, f, alpha, r, eA, eB)
+        XB = CHAMFER_XB(kind, D, f, alpha, r, eA, eB)
+        ZB = CHAMFER_ZB(kind, D, f, alpha, r, eA, eB)
+    End If
+    Check "XA", XA, CHAMFER_XA(kind, D, f, alpha, r, eA, eB)
+    Check "ZA", ZA, CHAMFER_ZA(kind, D, f, alpha, r, eA, eB)
+    Check "XB", XB, CHAMFER_XB(kind, D, f, alpha, r, eA, eB)
+    Check "ZB", ZB, CHAMFER_ZB(kind, D, f, alpha, r, eA, eB)
+
+    Range(Place("XA", "B9")).Value = XA
+    Range(Place("ZA", "B10")).Value = ZA
+    Range(Place("XB", "B11")).Value = XB
+    Range(Place("ZB", "B12")).Value = ZB
+    Debug.Print "XA=" & Format(XA, "0.000") & " ZA=" & Format(ZA, "0.000") & _
+                " XB=" & Format(XB, "0.000") & " ZB=" & Format(ZB, "0.000")
+
+    Cut kind, XA, ZA, XB, ZB, feed, speed
+End Sub
+
+' The paper's formulas 1-14 for the outer chamfer (exact for every angle).
+Sub OuterChamfer(ByVal D, ByVal f, ByVal alpha, ByVal r, ByVal eA, ByVal eB, XA, ZA, XB, ZB)
+    Dim beta As Double, AC1 As Double, AD As Double, CD As Double, A1D As Double
+    Dim BE As Double, EF As Double, B1F As Double, B1E As Double, f1 As Double
+    Dim t As Double
+
+    t = Tan(alpha * Pi / 180)
+    beta = Pi / 2 - alpha * Pi / 180          ' 1
+    AC1 = r / Sin(beta)                        ' 2  A'C
+    AD = eA + r                                ' 3
+    CD = AD * t                                ' 4
+    A1D = CD + AC1                             ' 5  A'D
+    XA = D + (A1D - r) * 2                     ' 6
+    ZA = -(f + AD + r)                         ' 7
+    BE = eB + r                                ' 8
+    EF = BE * t                                ' 9
+    B1F = r / Sin(beta)                        ' 10 B'F
+    B1E = EF - B1F                             ' 11 B'E
+    f1 = f * t                                 ' 12 f'
+    XB = D - (f1 + B1E + r) * 2                ' 13
+    ZB = eB                                    ' 14
+End Sub
+
+' Warns (on standard error) when our arithmetic and the sheet function disagree.
+Sub Check(what As String, ours As Double, sheet As Double)
+    If Abs(ours - sheet) > 0.000001 Then
+        MsgBox what & ": the macro gives " & ours & ", CHAMFER_" & what & " gives " & sheet
+    End If
+End Sub
+
+' The cut from T1 to T2: approach off the face above T1, rapid along the part to T1, feed along
+' the chamfer to T2 (off the face), then back to the start.
+Sub Cut(kind As String, XA As Double, ZA As Double, XB As Double, ZB As Double, feed As Double, speed As Double)
+    Dim safeZ As Double
+    safeZ = ZB + 1
+    Nc.Name = "CHAMFER"
+    Nc.Machine = "lathe"
+    Nc.Comment kind & " chamfer, tool tip T1 to T2"
+    Nc.Block "S", speed, "M3"
+    Nc.Rapid XA, safeZ
+    Nc.Rapid XA, ZA
+    Nc.Line XB, ZB, feed
+    Nc.Rapid XB, safeZ
+    Nc.Rapid XA, safeZ
+    Nc.Block "M5"
+End Sub
+
+' A defined name of the workbook if it names cells, else the fixed address.
+Function Place(name As String, fixed As String) As String
+    If IsObject(Evaluate(name)) Then Place = name Else Place = fixed
+End Function

@@ -1,0 +1,150 @@
+Attribute VB_Name = "Cycles"
+' Multi-pass turning cycles for old NC lathes (Bondar; DOMAIN.md §2), as macros that emit
+' the blocks. Written as the paper writes them: R-parameters, numbered labels, and
+' "If … Then GoTo Nn". X is a diameter, Z runs along the spindle with the face at Z0.
+'
+'   ncsheet run part.xlsx cycles.bas --sub L16 --arg X=30 --arg W=40 --dialect nc31
+'   ncsheet run part.xlsx cycles.bas --sub L17 --dialect linuxcnc -o l17.ngc
+'   ncsheet run part.xlsx cycles.bas --sub L13 --arg R0=3 --arg R4=2.5
+'
+' L16  zigzag roughing of an open surface: cuts along Z toward the chuck and back, stepping
+'      X down by P between the cuts, until the final diameter X plus the allowance A.
+' L17  loop: the finish contour L03, shifted out in X by a shrinking amount, cut once per pass
+'      from the face toward the chuck, each pass returning by rapid.
+' L13  plunge ("descent") into a recess whose bottom is a contour of lines and an arc, a
+'      grooving tool of width R0 stepping along Z by R4, with a dwell of R5 seconds.
+Option Explicit
+
+' ---- L16 -------------------------------------------------------------------------------
+
+' X: final diameter; W: loop length along Z; A: finishing allowance on X; P: depth of cut
+' (in X, as the control's X words); Stock: the blank's diameter; F: feed (mm/rev).
+Sub L16(Optional X As Double = 30, Optional W As Double = 40, Optional A As Double = 0.5, _
+        Optional P As Double = 2, Optional Stock As Double = 44, Optional F As Double = 0.2)
+    Dim XT As Double, XK As Double, R1 As Double
+    Begin "L16", 700
+    Nc.Comment "L16 zigzag X" & X & " W" & W & " A" & A & " P" & P
+    XK = X + A                      ' the lowest diameter a pass may cut
+    XT = Stock
+    R1 = 0                          ' where the loop is: 0 at the face, W toward the chuck
+    Nc.Rapid Stock + 2, 1
+    Nc.Rapid Stock + 2, 0
+N10:
+    XT = XT - P
+    If XT < XK Then XT = XK         ' the last pass takes what is left, no more
+    Nc.Line XT, , F                 ' in to the pass diameter
+    If R1 = 0 Then R1 = W Else R1 = 0
+    Nc.Line , -R1                   ' along Z: toward the chuck, next time back
+    If XT > XK Then GoTo N10
+    Nc.Rapid Stock + 2, -R1
+    Nc.Rapid Stock + 2, 1
+    Finish
+End Sub
+
+' ---- L17 and its contour L03 --------------------------------------------------------------
+
+' A: allowance left on the contour; P: depth of cut per pass (in X); Stock: the blank's
+' diameter; F: feed.
+Sub L17(Optional A As Double = 0.5, Optional P As Double = 3, Optional Stock As Double = 44, _
+        Optional F As Double = 0.15)
+    Dim R2 As Double
+    Begin "L17", 700
+    Nc.Comment "L17 loop A" & A & " P" & P
+    R2 = Stock - 20                 ' the thickest layer: the contour's smallest diameter is 20
+N10:
+    R2 = R2 - P
+    If R2 < A Then R2 = A
+    L03 R2, Stock, F                ' one pass along the contour, R2 above it
+    If R2 > A Then GoTo N10
+    Finish
+End Sub
+
+' The finish contour, shifted out in X by dx: a face-side diameter 20, a fillet of radius 5
+' up to diameter 30, a cylinder, and a taper to diameter 40. Cut from the face toward the
+' chuck, then back by rapid.
+Sub L03(dx As Double, Stock As Double, F As Double)
+    Nc.Rapid 20 + dx, 2
+    Nc.Line 20 + dx, 0, F
+    Nc.Line 20 + dx, -10
+    Nc.ArcCW 30 + dx, -15, 30 + dx, -10    ' centre at diameter 30, Z-10: a concave fillet
+    Nc.Line 30 + dx, -25
+    Nc.Line 40 + dx, -35
+    Nc.Rapid Stock + 2, -35
+    Nc.Rapid Stock + 2, 2
+End Sub
+
+' ---- L13 -------------------------------------------------------------------------------
+
+' XStart: the diameter the tool plunges from and returns to; ZRight, ZLeft: the recess's
+' ends; R0: tool width (the programmed point is its right corner); R4: step along Z;
+' R5: dwell (s); A: allowance on the bottom; F: plunge feed.
+Sub L13(Optional XStart As Double = 44, Optional ZRight As Double = -10, Optional ZLeft As Double = -30, _
+        Optional R0 As Double = 3, Optional R4 As Double = 2.5, Optional R5 As Double = 0.5, _
+        Optional A As Double = 0, Optional F As Double = 0.05)
+    Dim Z As Double, R3 As Double, X As Double
+    Begin "L13", 500
+    Nc.Comment "L13 plunge R0=" & R0 & " R4=" & R4
+    Z = ZRight                      ' the tool's right corner
+    R3 = (ZRight - ZLeft) - R0      ' width still to plunge after this one
+    Nc.Rapid XStart, 1
+    Nc.Rapid XStart, Z
+N10:
+    X = Deepest(Z - R0, Z) + A      ' the larger of the bottom under the two corners
+    Nc.Line X, Z, F
+    Nc.Dwell R5
+    Nc.Rapid XStart, Z
+    If R3 <= 0 Then GoTo N20
+    If R3 < R4 Then Z = Z - R3 Else Z = Z - R4
+    R3 = R3 - R4
+    Nc.Rapid XStart, Z
+    GoTo N10
+N20:
+    Nc.Rapid XStart, 1
+    Finish
+End Sub
+
+' The recess bottom's diameter at Z: a taper down, a flat, an arc bulging up by 2 (radius 5,
+' centre at diameter 24, Z-22), a flat, a taper up.
+Function Bottom(Z As Double) As Double
+    Select Case Z
+        Case Is >= -14
+            Bottom = 36 + (Z + 10) * (30 - 36) / (-14 + 10)   ' R = (Z-Z1)(X2-X1)/(Z2-Z1) + X1
+        Case Is >= -18
+            Bottom = 30
+        Case Is >= -26
+            Bottom = 2 * (12 + Sqr(5 ^ 2 - (Z + 22) ^ 2))    ' the circle solved for X (radius)
+        Case Is >= -30
+            Bottom = 30 + (Z + 26) * (36 - 30) / (-30 + 26)
+        Case Else
+            Bottom = 36
+    End Select
+End Function
+
+' The highest bottom under a tool between ZL and ZR: the paper takes the larger of the two
+' corners, which is enough for lines and hollows; a bulging arc's top between them counts too.
+Function Deepest(ZL As Double, ZR As Double) As Double
+    Deepest = Bottom(ZL)
+    If Bottom(ZR) > Deepest Then Deepest = Bottom(ZR)
+    If ZL <= -22 And ZR >= -22 Then
+        If Bottom(-22) > Deepest Then Deepest = Bottom(-22)
+    End If
+End Function
+
+' ---- shared ------------------------------------------------------------------------------
+
+Sub Begin(name As String, speed As Double)
+    Nc.Name = name
+    Nc.Machine = "lathe"
+    Nc.Block "S", speed, "M3"
+End Sub
+
+Sub Finish()
+    Nc.Block "M5"
+End Sub
+
+' All three, one after another, as one program.
+Sub Main()
+    L16
+    L17
+    L13
+End Sub

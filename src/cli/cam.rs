@@ -1,0 +1,200 @@
+//! `ncsheet cam` (a whole cam from its design sheet) and `ncsheet arcfit` (one spiral piece):
+//! spirals replaced by tangent arcs within a tolerance, written as a coordinate table, an NC
+//! milling program or a drawing.
+
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
+
+use clap::{Args, ValueEnum};
+use ncsheet::geometry::cam::{
+    by_disc, fit_cam, fit_piece, CamFit, CamOptions, FittedSegment, Piece, PieceKind, Segment,
+};
+use ncsheet::io::cam::{arcs_csv, parse_sheet, svg_drawing, SvgOptions};
+use ncsheet::nc::cam::{cam_program, CamNcOptions, Compensation};
+use ncsheet::nc::dialect;
+
+use super::report::{Error, Result};
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum CamFormat {
+    /// The arcs: x0,y0,x1,y1,cx,cy,r,dir (dir ccw or cw), one per line, in cutting order
+    #[default]
+    Csv,
+    /// An NC milling program (G17, G2/G3 with I J, a radial lead-in and lead-out)
+    Nc,
+    /// A drawing: the curve, the numbered arcs, their centres and the deviation magnified
+    Svg,
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum CutterSide {
+    /// The program follows the profile with the cutter's centre
+    #[default]
+    Off,
+    /// G41: cutter left of the profile
+    Left,
+    /// G42: cutter right of the profile (outside a cam cut counter-clockwise)
+    Right,
+}
+
+/// What both commands write and where.
+#[derive(Debug, Args)]
+pub struct CamOutput {
+    /// What to write
+    #[arg(long, value_enum, default_value_t)]
+    pub format: CamFormat,
+    /// NC dialect for --format nc: iso, linuxcnc, sinumerik, heidenhain
+    #[arg(long, default_value = "iso")]
+    pub dialect: String,
+    /// Cutter radius compensation in the NC program
+    #[arg(long, value_enum, default_value_t)]
+    pub cutter: CutterSide,
+    /// Cutting feed in mm/min for the NC program
+    #[arg(long, default_value_t = 200.0)]
+    pub feed: f64,
+    /// Write here instead of standard output
+    #[arg(short, long, value_name = "OUT")]
+    pub output: Option<PathBuf>,
+}
+
+/// Fit every segment of a cam design sheet with tangent arcs within --tol.
+///
+/// The sheet is csv with a header naming the columns row, operation, disc, type (circle, arch
+/// or log), from_deg, to_deg, r_start, r_end (row, operation and disc may be left out). The
+/// segments of a disc must go round 0–360° once: gaps, overlaps and steps are reported with
+/// the rows involved, and are an error unless --partial (then the cutter goes straight across
+/// gaps and steps; overlaps stay an error).
+#[derive(Debug, Args)]
+pub struct CamArgs {
+    /// The design sheet (.csv)
+    pub file: PathBuf,
+    /// Tolerance H in mm: every arc within H of the curve and the curve within H of the arcs
+    #[arg(long, default_value_t = 0.05)]
+    pub tol: f64,
+    /// The disc to write, when the sheet has several (default: the first)
+    #[arg(long)]
+    pub disc: Option<String>,
+    /// Accept gaps and steps between segments
+    #[arg(long)]
+    pub partial: bool,
+    #[command(flatten)]
+    pub out: CamOutput,
+}
+
+/// Replace one spiral piece by the fewest tangent arcs within --tol.
+///
+/// Angles in degrees about the cam centre, radii in mm: an Archimedean spiral grows by the
+/// same amount per degree, a logarithmic one by the same ratio.
+#[derive(Debug, Args)]
+pub struct ArcfitArgs {
+    /// The piece: arch (Archimedean), log (logarithmic) or circle
+    #[arg(long)]
+    pub kind: String,
+    /// Radius at the start (mm)
+    #[arg(long, allow_negative_numbers = true)]
+    pub r0: f64,
+    /// Angle at the start (degrees)
+    #[arg(long, allow_negative_numbers = true)]
+    pub phi0: f64,
+    /// Radius at the end (mm)
+    #[arg(long, allow_negative_numbers = true)]
+    pub r1: f64,
+    /// Angle at the end (degrees)
+    #[arg(long, allow_negative_numbers = true)]
+    pub phi1: f64,
+    /// Tolerance H in mm
+    #[arg(long, allow_negative_numbers = true)]
+    pub tol: f64,
+    #[command(flatten)]
+    pub out: CamOutput,
+}
+
+pub fn cam(args: CamArgs) -> Result<()> {
+    let file = &args.file;
+    let text =
+        std::fs::read_to_string(file).map_err(|e| Error::User(format!("{}: cannot read: {e}", file.display())))?;
+    let segments = parse_sheet(&text).map_err(|e| Error::User(format!("{}: {e}", file.display())))?;
+    let discs = by_disc(&segments);
+    let (disc, segs) = pick_disc(file, &discs, args.disc.as_deref())?;
+    let options = CamOptions { tolerance: args.tol, allow_partial: args.partial, with_bounds: false };
+    let fit = fit_cam(disc, segs, &options).map_err(|e| Error::User(format!("{}: {e}", file.display())))?;
+    for issue in &fit.issues {
+        eprintln!("ncsheet: {}: warning: {issue}", file.display());
+    }
+    write_fit(&fit, &args.out)
+}
+
+pub fn arcfit(args: ArcfitArgs) -> Result<()> {
+    let geometry = |e: ncsheet::geometry::GeometryError| Error::User(e.to_string());
+    let kind = PieceKind::parse(&args.kind).map_err(geometry)?;
+    let piece = Piece::new(kind, args.r0, args.phi0, args.r1, args.phi1).map_err(geometry)?;
+    let arcs = fit_piece(&piece, args.tol).map_err(geometry)?;
+    let segment = Segment { row: String::new(), operation: String::new(), disc: String::new(), line: 0, piece };
+    let fit = CamFit {
+        disc: String::new(),
+        tolerance: args.tol,
+        segments: vec![FittedSegment { segment, arcs, lower_bound: None }],
+        issues: Vec::new(),
+    };
+    write_fit(&fit, &args.out)
+}
+
+fn pick_disc<'a>(
+    file: &Path,
+    discs: &'a [(String, Vec<Segment>)],
+    wanted: Option<&str>,
+) -> Result<(&'a str, &'a [Segment])> {
+    let names = || discs.iter().map(|(d, _)| d.as_str()).collect::<Vec<_>>().join(", ");
+    let found = match wanted {
+        Some(w) => discs.iter().find(|(d, _)| d.eq_ignore_ascii_case(w)),
+        None => discs.first(),
+    };
+    let Some((disc, segs)) = found else {
+        return Err(Error::User(match wanted {
+            Some(w) => format!("{}: no disc '{w}' (the sheet has: {})", file.display(), names()),
+            None => format!("{}: the sheet has no segments", file.display()),
+        }));
+    };
+    if wanted.is_none() && discs.len() > 1 {
+        eprintln!(
+            "ncsheet: {}: the sheet has discs {}; writing disc {disc} (choose with --disc)",
+            file.display(),
+            names()
+        );
+    }
+    Ok((disc, segs))
+}
+
+fn write_fit(fit: &CamFit, out: &CamOutput) -> Result<()> {
+    let text = match out.format {
+        CamFormat::Csv => arcs_csv(fit.arcs()),
+        CamFormat::Svg => svg_drawing(fit, &SvgOptions::default()),
+        CamFormat::Nc => {
+            let names = dialect::names().join(", ");
+            let d = dialect::by_name(&out.dialect)
+                .ok_or_else(|| Error::Usage(format!("unknown dialect '{}' (known: {names})", out.dialect)))?;
+            let compensation = match out.cutter {
+                CutterSide::Off => Compensation::Off,
+                CutterSide::Left => Compensation::Left,
+                CutterSide::Right => Compensation::Right,
+            };
+            let options = CamNcOptions { compensation, feed: out.feed, ..CamNcOptions::default() };
+            d.render(&cam_program(fit, &options)).map_err(|e| Error::User(e.to_string()))?
+        }
+    };
+    emit(&text, out.output.as_deref())
+}
+
+/// Text to a file (through a temporary file renamed over it) or to standard output.
+pub fn emit(text: &str, path: Option<&Path>) -> Result<()> {
+    match path {
+        Some(p) => ncsheet::io::atomic::write_file(p, |w| w.write_all(text.as_bytes()))
+            .map_err(|e| Error::User(format!("{}: cannot write: {e}", p.display()))),
+        None => {
+            let mut stdout = io::stdout().lock();
+            stdout.write_all(text.as_bytes())?;
+            stdout.flush()?;
+            Ok(())
+        }
+    }
+}

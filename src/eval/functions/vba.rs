@@ -1,0 +1,457 @@
+//! VBA's library functions (`Sqr`, `Atn`, `Format`, `CStr`, `IIf`, …) for the macro language.
+//!
+//! They are rows of the one function table named `VBA.SQR`, `VBA.FORMAT`, …: VBA itself
+//! files them in its `VBA` library, and the prefix keeps them apart from Excel's functions of
+//! the same name that behave differently (`VBA.ROUND` rounds half to even, `VBA.LOG` is the
+//! natural logarithm, `VBA.TRIM` keeps inner spaces). In a macro a bare `Round(x)` means
+//! `VBA.Round`; `Application.WorksheetFunction.Round(x, 2)` means Excel's. They are harmless
+//! in cells, where `=VBA.SQR(2)` works too.
+
+use std::rc::Rc;
+
+use crate::eval::coerce::{parse_number, to_bool, to_number, to_text};
+use crate::eval::evaluator::{number_result, Ctx, Operand};
+use crate::eval::number_format::general;
+use crate::eval::value::{Value, XlError, XlResult};
+use crate::formula::ast::{Expr, ExprKind};
+
+use super::args::{lift, lift_number1, lift_number2};
+use super::text_format::NumberFormat;
+use super::{FnSpec, MANY};
+
+/// The prefix of this module's names in the function table.
+pub const PREFIX: &str = "VBA.";
+
+pub const FUNCTIONS: &[FnSpec] = &[
+    FnSpec::value("VBA.ABS", 1, 1, abs, "VBA.ABS(number)", "VBA Abs: absolute value"),
+    FnSpec::value("VBA.ARRAY", 0, MANY, array, "VBA.ARRAY(item1, ...)", "VBA Array: the items as a one-row array"),
+    FnSpec::value("VBA.ASC", 1, 1, asc, "VBA.ASC(text)", "VBA Asc: code of the first character"),
+    FnSpec::value("VBA.ATN", 1, 1, atn, "VBA.ATN(number)", "VBA Atn: arctangent in radians"),
+    FnSpec::value("VBA.CBOOL", 1, 1, cbool, "VBA.CBOOL(value)", "VBA CBool: value as True or False"),
+    FnSpec::value("VBA.CDBL", 1, 1, cdbl, "VBA.CDBL(value)", "VBA CDbl: value as a number; #VALUE! for other text"),
+    FnSpec::value("VBA.CHR", 1, 1, chr, "VBA.CHR(code)", "VBA Chr: the character with this code"),
+    FnSpec::value("VBA.CINT", 1, 1, cint, "VBA.CINT(value)", "VBA CInt: whole number, halves to even, -32768 to 32767"),
+    FnSpec::value("VBA.CLNG", 1, 1, clng, "VBA.CLNG(value)", "VBA CLng: whole number, halves to even, 32 bits"),
+    FnSpec::value("VBA.COS", 1, 1, cos, "VBA.COS(angle)", "VBA Cos: cosine of an angle in radians"),
+    FnSpec::value("VBA.CSTR", 1, 1, cstr, "VBA.CSTR(value)", "VBA CStr: value as text (True, 0.5, 1E+20)"),
+    FnSpec::value("VBA.EXP", 1, 1, exp, "VBA.EXP(number)", "VBA Exp: e raised to number"),
+    FnSpec::value("VBA.FIX", 1, 1, fix, "VBA.FIX(number)", "VBA Fix: drops the fraction (toward zero)"),
+    FnSpec::value(
+        "VBA.FORMAT",
+        1,
+        2,
+        format,
+        "VBA.FORMAT(value, [format])",
+        "VBA Format: number as text in an Excel/VBA number format (\"0.000\", \"#,##0.0\", \"0.00E+00\")",
+    ),
+    FnSpec::value("VBA.IIF", 3, 3, iif, "VBA.IIF(condition, then, else)", "VBA IIf: evaluates both, returns one"),
+    FnSpec::value(
+        "VBA.INSTR",
+        2,
+        3,
+        instr,
+        "VBA.INSTR([start], text, find)",
+        "VBA InStr: 1-based position of find in text, 0 when absent",
+    ),
+    FnSpec::value("VBA.INT", 1, 1, int, "VBA.INT(number)", "VBA Int: largest whole number not above number"),
+    FnSpec::value(
+        "VBA.ISEMPTY",
+        1,
+        1,
+        is_empty,
+        "VBA.ISEMPTY(value)",
+        "VBA IsEmpty: True for an empty cell or variable",
+    ),
+    FnSpec::value("VBA.ISERROR", 1, 1, is_error, "VBA.ISERROR(value)", "VBA IsError: True for an error value"),
+    FnSpec::value(
+        "VBA.ISOBJECT",
+        1,
+        1,
+        is_object,
+        "VBA.ISOBJECT(value)",
+        "VBA IsObject: True for a range (Evaluate(\"XA\") of a defined name of cells)",
+    ),
+    FnSpec::value(
+        "VBA.ISNUMERIC",
+        1,
+        1,
+        is_numeric,
+        "VBA.ISNUMERIC(value)",
+        "VBA IsNumeric: True if value reads as a number",
+    ),
+    FnSpec::value("VBA.LCASE", 1, 1, lcase, "VBA.LCASE(text)", "VBA LCase: text in small letters"),
+    FnSpec::value("VBA.LEFT", 2, 2, left, "VBA.LEFT(text, length)", "VBA Left: the first length characters"),
+    FnSpec::value("VBA.LEN", 1, 1, len, "VBA.LEN(text)", "VBA Len: number of characters"),
+    FnSpec::value("VBA.LOG", 1, 1, log, "VBA.LOG(number)", "VBA Log: natural logarithm (Excel's LN)"),
+    FnSpec::value("VBA.LTRIM", 1, 1, ltrim, "VBA.LTRIM(text)", "VBA LTrim: text without leading spaces"),
+    FnSpec::value("VBA.MID", 2, 3, mid, "VBA.MID(text, start, [length])", "VBA Mid: characters from start (1-based)"),
+    FnSpec::value("VBA.REPLACE", 3, 3, replace, "VBA.REPLACE(text, find, with)", "VBA Replace: every find replaced"),
+    FnSpec::value("VBA.RIGHT", 2, 2, right, "VBA.RIGHT(text, length)", "VBA Right: the last length characters"),
+    FnSpec::value(
+        "VBA.ROUND",
+        1,
+        2,
+        round,
+        "VBA.ROUND(number, [digits])",
+        "VBA Round: to digits decimals, halves to even (Round(2.5) is 2)",
+    ),
+    FnSpec::value("VBA.RTRIM", 1, 1, rtrim, "VBA.RTRIM(text)", "VBA RTrim: text without trailing spaces"),
+    FnSpec::value("VBA.SGN", 1, 1, sgn, "VBA.SGN(number)", "VBA Sgn: -1, 0 or 1"),
+    FnSpec::value("VBA.SIN", 1, 1, sin, "VBA.SIN(angle)", "VBA Sin: sine of an angle in radians"),
+    FnSpec::value("VBA.SPACE", 1, 1, space, "VBA.SPACE(count)", "VBA Space: count spaces"),
+    FnSpec::value("VBA.SQR", 1, 1, sqr, "VBA.SQR(number)", "VBA Sqr: square root; #NUM! below zero"),
+    FnSpec::value("VBA.STR", 1, 1, str_fn, "VBA.STR(number)", "VBA Str: number as text, a space before a positive one"),
+    FnSpec::value("VBA.TAN", 1, 1, tan, "VBA.TAN(angle)", "VBA Tan: tangent of an angle in radians"),
+    FnSpec::value("VBA.TRIM", 1, 1, trim, "VBA.TRIM(text)", "VBA Trim: text without leading and trailing spaces"),
+    FnSpec::value("VBA.UCASE", 1, 1, ucase, "VBA.UCASE(text)", "VBA UCase: text in capitals"),
+    FnSpec::value("VBA.VAL", 1, 1, val, "VBA.VAL(text)", "VBA Val: the number text starts with (0 if none)"),
+];
+
+fn abs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| Ok(x.abs()))
+}
+
+fn array(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let items = args.iter().map(|a| ctx.eval(a).unwrap_single()).collect();
+    Ok(Value::from(crate::eval::value::Array::row(items)))
+}
+
+fn atn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| Ok(x.atan()))
+}
+
+fn cos(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| Ok(x.cos()))
+}
+
+fn exp(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| Ok(x.exp()))
+}
+
+fn fix(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| Ok(x.trunc()))
+}
+
+fn int(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| Ok(x.floor()))
+}
+
+fn log(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| if x > 0.0 { Ok(x.ln()) } else { Err(XlError::Num) })
+}
+
+fn sgn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| {
+        Ok(if x > 0.0 {
+            1.0
+        } else if x < 0.0 {
+            -1.0
+        } else {
+            0.0
+        })
+    })
+}
+
+fn sin(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| Ok(x.sin()))
+}
+
+fn sqr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| if x < 0.0 { Err(XlError::Num) } else { Ok(x.sqrt()) })
+}
+
+fn tan(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number1(ctx, args, |x| Ok(x.tan()))
+}
+
+fn round(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_number2(ctx, args, 0.0, |x, digits| {
+        if !(0.0..=22.0).contains(&digits.trunc()) {
+            return Err(XlError::Value);
+        }
+        let scale = 10f64.powi(digits.trunc() as i32);
+        Ok((x * scale).round_ties_even() / scale)
+    })
+}
+
+/// VBA's conversion to a whole number: halves to even, `#NUM!` (VBA's Overflow) out of range.
+fn whole(ctx: &mut Ctx, args: &[Expr], limit: f64) -> XlResult<Value> {
+    lift(ctx, args, &|v| {
+        let r = to_number(&v[0])?.round_ties_even();
+        if r < -limit - 1.0 || r > limit {
+            return Err(XlError::Num);
+        }
+        Ok(Value::Number(r))
+    })
+}
+
+fn cint(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    whole(ctx, args, 32767.0)
+}
+
+fn clng(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    whole(ctx, args, 2147483647.0)
+}
+
+fn cdbl(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift(ctx, args, &|v| Ok(number_result(to_number(&v[0])?)))
+}
+
+fn cbool(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift(ctx, args, &|v| Ok(Value::Bool(to_bool(&v[0])?)))
+}
+
+/// A value as VBA's CStr writes it: `True`/`False` in VBA's spelling, numbers to 15 digits.
+pub fn vba_text(v: &Value) -> XlResult<Rc<str>> {
+    match v {
+        Value::Bool(b) => Ok(if *b { "True" } else { "False" }.into()),
+        other => to_text(other),
+    }
+}
+
+fn cstr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift(ctx, args, &|v| Ok(Value::Text(vba_text(&v[0])?)))
+}
+
+fn str_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift(ctx, args, &|v| {
+        let n = to_number(&v[0])?;
+        let text = general(n);
+        Ok(Value::text(if n >= 0.0 { format!(" {text}") } else { text }))
+    })
+}
+
+fn iif(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    // Unlike IF, VBA's IIf evaluates both branches before choosing.
+    let condition = to_bool(&ctx.eval(&args[0]))?;
+    let then = ctx.eval(&args[1]);
+    let otherwise = ctx.eval(&args[2]);
+    Ok(if condition { then } else { otherwise })
+}
+
+/// Applies a text function to the text of each argument (lifted over arrays).
+fn text_fn(ctx: &mut Ctx, args: &[Expr], f: &dyn Fn(&str, &[Value]) -> XlResult<Value>) -> XlResult<Value> {
+    lift(ctx, args, &|v| f(&vba_text(&v[0])?, &v[1..]))
+}
+
+/// A count argument (lengths, positions): a whole number, `#VALUE!` below zero.
+fn count(v: &Value) -> XlResult<usize> {
+    let n = to_number(v)?.trunc();
+    if n < 0.0 {
+        return Err(XlError::Value);
+    }
+    Ok(n.min(u32::MAX as f64) as usize)
+}
+
+fn len(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    text_fn(ctx, args, &|s, _| Ok(Value::Number(s.chars().count() as f64)))
+}
+
+fn left(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    text_fn(ctx, args, &|s, rest| Ok(Value::text(s.chars().take(count(&rest[0])?).collect::<String>())))
+}
+
+fn right(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    text_fn(ctx, args, &|s, rest| {
+        let n = s.chars().count();
+        Ok(Value::text(s.chars().skip(n.saturating_sub(count(&rest[0])?)).collect::<String>()))
+    })
+}
+
+fn mid(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let has_length = args.get(2).is_some_and(|e| e.kind != ExprKind::Missing);
+    text_fn(ctx, args, &|s, rest| {
+        let start = count(&rest[0])?;
+        if start == 0 {
+            return Err(XlError::Value);
+        }
+        let length = if has_length { count(&rest[1])? } else { usize::MAX };
+        Ok(Value::text(s.chars().skip(start - 1).take(length).collect::<String>()))
+    })
+}
+
+fn ucase(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    text_fn(ctx, args, &|s, _| Ok(Value::text(s.to_uppercase())))
+}
+
+fn lcase(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    text_fn(ctx, args, &|s, _| Ok(Value::text(s.to_lowercase())))
+}
+
+fn trim(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    text_fn(ctx, args, &|s, _| Ok(Value::text(s.trim_matches(' '))))
+}
+
+fn ltrim(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    text_fn(ctx, args, &|s, _| Ok(Value::text(s.trim_start_matches(' '))))
+}
+
+fn rtrim(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    text_fn(ctx, args, &|s, _| Ok(Value::text(s.trim_end_matches(' '))))
+}
+
+fn replace(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    text_fn(ctx, args, &|s, rest| {
+        let find = vba_text(&rest[0])?;
+        if find.is_empty() {
+            return Ok(Value::text(s));
+        }
+        Ok(Value::text(s.replace(&*find, &vba_text(&rest[1])?)))
+    })
+}
+
+fn instr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    let (start, text, find) = match values.as_slice() {
+        [t, f] => (1, vba_text(t)?, vba_text(f)?),
+        [s, t, f] => (count(s)?.max(1), vba_text(t)?, vba_text(f)?),
+        _ => return Err(XlError::Value),
+    };
+    let chars: Vec<char> = text.chars().collect();
+    let needle: Vec<char> = find.chars().collect();
+    if start > chars.len() + 1 {
+        return Ok(Value::Number(0.0));
+    }
+    let found = (start - 1..=chars.len().saturating_sub(needle.len()))
+        .find(|&i| chars.get(i..i + needle.len()) == Some(&needle[..]));
+    Ok(Value::Number(found.map_or(0.0, |i| (i + 1) as f64)))
+}
+
+fn chr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift(ctx, args, &|v| {
+        let code = to_number(&v[0])?.trunc();
+        let c = char::from_u32(code as u32).filter(|_| (0.0..=1114111.0).contains(&code)).ok_or(XlError::Value)?;
+        Ok(Value::text(c.to_string()))
+    })
+}
+
+fn asc(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    text_fn(ctx, args, &|s, _| s.chars().next().map(|c| Value::Number(c as u32 as f64)).ok_or(XlError::Value))
+}
+
+fn space(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift(ctx, args, &|v| Ok(Value::text(" ".repeat(count(&v[0])?.min(32767)))))
+}
+
+fn is_empty(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    Ok(Value::Bool(ctx.eval(&args[0]).unwrap_single().is_blank()))
+}
+
+fn is_error(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    Ok(Value::Bool(ctx.eval(&args[0]).unwrap_single().as_error().is_some()))
+}
+
+fn is_object(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    Ok(Value::Bool(matches!(ctx.operand(&args[0]), Operand::Ref(..))))
+}
+
+fn is_numeric(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    Ok(Value::Bool(match ctx.eval(&args[0]).unwrap_single() {
+        Value::Number(_) | Value::Bool(_) | Value::Blank => true,
+        Value::Text(t) => parse_number(&t).is_some(),
+        _ => false,
+    }))
+}
+
+fn val(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    text_fn(ctx, args, &|s, _| Ok(Value::Number(vba_val(s))))
+}
+
+/// VBA's Val: spaces anywhere are ignored, and the longest leading piece that reads as a
+/// number is the result (`Val(" 1 2.5mm")` is 12.5, `Val("x")` is 0).
+pub fn vba_val(text: &str) -> f64 {
+    let s: String = text.chars().filter(|c| !matches!(c, ' ' | '\t' | '\n' | '\r')).collect();
+    let b = s.as_bytes();
+    let mut i = usize::from(matches!(b.first(), Some(b'+' | b'-')));
+    let digits = |i: &mut usize| {
+        let start = *i;
+        while *i < b.len() && b[*i].is_ascii_digit() {
+            *i += 1;
+        }
+        *i > start
+    };
+    let mut any = digits(&mut i);
+    if b.get(i) == Some(&b'.') {
+        i += 1;
+        any |= digits(&mut i);
+    }
+    if !any {
+        return 0.0;
+    }
+    let mantissa_end = i;
+    if matches!(b.get(i), Some(b'e' | b'E' | b'd' | b'D')) {
+        let mut j = i + 1 + usize::from(matches!(b.get(i + 1), Some(b'+' | b'-')));
+        if digits(&mut j) {
+            i = j;
+        }
+    }
+    let piece = s[..i].replace(['d', 'D'], "e");
+    piece.parse().or_else(|_| s[..mantissa_end].parse()).unwrap_or(0.0)
+}
+
+fn format(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let has_format = args.get(1).is_some_and(|e| e.kind != ExprKind::Missing);
+    lift(ctx, args, &|v| {
+        let pattern = if has_format { vba_text(&v[1])? } else { Rc::from("") };
+        let number = match &v[0] {
+            Value::Number(n) => *n,
+            Value::Blank => return Ok(Value::text("")),
+            Value::Error(e) => return Err(*e),
+            other => match to_number(other) {
+                Ok(n) if !matches!(other, Value::Bool(_)) => n,
+                _ => return Ok(Value::Text(vba_text(other)?)),
+            },
+        };
+        Ok(Value::text(format_number(number, &pattern)?))
+    })
+}
+
+/// A number in a VBA/Excel number format: VBA's named formats (`Fixed`, `Standard`,
+/// `Percent`, `Scientific`, `General Number`) or any pattern Excel's TEXT reads — the one
+/// number-format engine of `text_format.rs`.
+pub fn format_number(n: f64, pattern: &str) -> XlResult<String> {
+    let named = match pattern.to_ascii_lowercase().as_str() {
+        "" | "general number" | "general" => return Ok(general(n)),
+        "fixed" => "0.00",
+        "standard" => "#,##0.00",
+        "percent" => "0.00%",
+        "scientific" => "0.00E+00",
+        _ => pattern,
+    };
+    NumberFormat::parse(named)?.format_number(n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn formats_as_excel_and_vba_show_numbers() {
+        // Expected texts as Excel's TEXT and VBA's Format produce them.
+        assert_eq!(format_number(44.262741699797, "0.000").unwrap(), "44.263");
+        assert_eq!(format_number(-4.6, "0.000").unwrap(), "-4.600");
+        assert_eq!(format_number(2.675, "0.00").unwrap(), "2.68");
+        assert_eq!(format_number(1234567.891, "#,##0.00").unwrap(), "1,234,567.89");
+        assert_eq!(format_number(0.5, "0%").unwrap(), "50%");
+        assert_eq!(format_number(12345.0, "0.00E+00").unwrap(), "1.23E+04");
+        assert_eq!(format_number(0.00012, "0.0E-00").unwrap(), "1.2E-04");
+        assert_eq!(format_number(3.0, "0.###").unwrap(), "3.");
+        assert_eq!(format_number(3.25, "0.0##").unwrap(), "3.25");
+        assert_eq!(format_number(-2.0, "+0.0;-0.0").unwrap(), "-2.0");
+        assert_eq!(format_number(2.0, "+0.0;-0.0").unwrap(), "+2.0");
+        assert_eq!(format_number(0.0, "0.0;-0.0;\"zero\"").unwrap(), "zero");
+        assert_eq!(format_number(7.0, "\"X\"0.000").unwrap(), "X7.000");
+        assert_eq!(format_number(0.25, "#.00").unwrap(), ".25");
+        assert_eq!(format_number(99.996, "0.00").unwrap(), "100.00");
+        assert_eq!(format_number(1.5, "Fixed").unwrap(), "1.50");
+    }
+
+    #[test]
+    fn val_reads_the_leading_number() {
+        assert_eq!(vba_val(" 1 2.5mm"), 12.5);
+        assert_eq!(vba_val("-3e2x"), -300.0);
+        assert_eq!(vba_val("abc"), 0.0);
+        assert_eq!(vba_val(".5"), 0.5);
+        assert_eq!(vba_val("2e"), 2.0);
+    }
+}

@@ -1,0 +1,147 @@
+//! Excel workbooks (.xlsx, .xlsm): import with calamine, export with rust_xlsxwriter.
+//!
+//! **API Boundary.** This module is the only place that knows how Excel spells formulas in
+//! its files: `_xlfn.`/`_xlws.` prefixes on newer functions, `_xlpm.` on LET/LAMBDA
+//! parameters, `_xlfn.ANCHORARRAY(A1)` for the spill operator `A1#` and `_xlfn.SINGLE(x)` for
+//! `@x` (see `syntax.rs`). The workbook only ever sees the spelling a user types.
+//!
+//! Import (`read.rs`) takes every worksheet: values, formulas (shared formulas expanded for
+//! each cell), defined names with their scope, and keeps the values Excel cached for formula
+//! cells, so [`compare_cached`] can list where ncsheet disagrees with Excel. A formula that
+//! does not parse keeps its text and shows `#NAME?` (the workbook lists it in `problems`);
+//! nothing is dropped silently: what is skipped (chart sheets, built-in `_xlnm.` names)
+//! is said in [`Imported::notes`]. What calamine does not expose (array-formula areas,
+//! the sheet of a sheet-scoped name, column widths) comes from a light scan of the raw XML
+//! (`raw.rs`).
+//!
+//! Export (`write.rs`) writes all sheets, values, formulas with their computed results as
+//! cached values (viewers that do not recalculate show numbers), defined names, and the
+//! number formats and column widths the source file had ([`Layout`]). [`save`] writes a
+//! temporary file beside the target and renames it over, so an interrupted save leaves the
+//! old file intact.
+//!
+//! **Architecture Invariant:** every error names the file and, when known, the part of the
+//! package (`parts.xlsx: xl/worksheets/sheet2.xml: …`); bad input never panics.
+
+use std::collections::HashMap;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use crate::eval::Value;
+use crate::formula::address::{Pos, Rect};
+use crate::formula::ast::SheetId;
+use crate::workbook::Workbook;
+
+mod check;
+mod raw;
+mod read;
+mod syntax;
+mod write;
+
+pub use check::{compare_cached, values_agree, Difference, REL_TOLERANCE};
+pub use read::{load, load_bytes};
+pub use write::{save, save_with_layout, to_bytes};
+
+/// A workbook read from an xlsx file, with what the file said besides the cells.
+pub struct Imported {
+    pub workbook: Workbook,
+    /// The values the file stored for formula cells and for the cells their arrays spilled
+    /// into (Excel's results, for comparison), in file order.
+    pub cached: Vec<CachedValue>,
+    /// Number formats and column widths, to write back on export.
+    pub layout: Layout,
+    /// What the import left out or could not take, one sentence each.
+    pub notes: Vec<String>,
+}
+
+/// A value Excel computed and stored in the file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CachedValue {
+    pub sheet: SheetId,
+    pub pos: Pos,
+    pub value: Value,
+    /// The formula cell that computed it: `pos` itself, or the anchor of the array formula
+    /// whose result spilled into `pos`.
+    pub anchor: Pos,
+}
+
+/// Presentation the engine does not model but a saved file should keep.
+#[derive(Clone, Debug, Default)]
+pub struct Layout {
+    /// By sheet name (case as in the workbook).
+    pub sheets: HashMap<String, SheetLayout>,
+    /// The file's VBA project (`xl/vbaProject.bin`), written back when saving as .xlsm.
+    pub vba_project: Option<Vec<u8>>,
+    /// The workbook's VBA code name (`ThisWorkbook`), if the file gave one.
+    pub workbook_code_name: Option<String>,
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct SheetLayout {
+    /// Column index → width in Excel's character units, as stored in the file.
+    pub column_widths: Vec<(u16, f64)>,
+    /// Cells with a number format other than General, with its format code.
+    pub number_formats: HashMap<Pos, String>,
+    /// The sheet's VBA code name (`Sheet1`), if the file gave one.
+    pub code_name: Option<String>,
+    /// Array formulas of the file by anchor: written back over the same area when ncsheet
+    /// does not spill them itself (it may lack a function, or the formula is a legacy
+    /// Ctrl+Shift+Enter one filling its area with a scalar).
+    pub array_formulas: HashMap<Pos, ArrayFormula>,
+}
+
+/// An array formula as the file stored it: `<f t="array" ref="A1:A5">` in its anchor.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ArrayFormula {
+    pub anchor: Pos,
+    /// The cells it fills, anchor included.
+    pub area: Rect,
+    /// A dynamic array (`cm="1"`, Excel 365) rather than a legacy Ctrl+Shift+Enter formula.
+    pub dynamic: bool,
+}
+
+/// An xlsx file that could not be read or written.
+#[derive(Debug)]
+pub struct XlsxError {
+    pub file: PathBuf,
+    /// The part of the package (`xl/worksheets/sheet2.xml`) or the sheet, when known.
+    pub part: Option<String>,
+    pub kind: ErrorKind,
+    pub message: String,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ErrorKind {
+    /// The file could not be opened, read or written.
+    Io,
+    /// Not a zip package at all, or a damaged one.
+    NotXlsx,
+    /// An Excel 97-2003 binary workbook.
+    LegacyXls,
+    /// Encrypted with a password.
+    Encrypted,
+    /// A part of the package holds XML or values that do not make sense.
+    Damaged,
+    /// More than this program will hold in memory.
+    TooLarge,
+    /// The workbook cannot be written as xlsx (a name or text Excel does not allow).
+    Unwritable,
+}
+
+impl XlsxError {
+    pub(crate) fn new(file: &Path, part: Option<&str>, kind: ErrorKind, message: impl Into<String>) -> XlsxError {
+        XlsxError { file: file.to_path_buf(), part: part.map(str::to_string), kind, message: message.into() }
+    }
+}
+
+impl fmt::Display for XlsxError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: ", self.file.display())?;
+        if let Some(part) = &self.part {
+            write!(f, "{part}: ")?;
+        }
+        f.write_str(&self.message)
+    }
+}
+
+impl std::error::Error for XlsxError {}

@@ -1,0 +1,356 @@
+//! Export with rust_xlsxwriter: every sheet, constants, formulas in file spelling with their
+//! computed results as cached values, dynamic arrays with their spill area, defined names,
+//! and the number formats and column widths of a [`Layout`].
+//!
+//! rust_xlsxwriter writes no error cells and no empty-text cells: those constants are
+//! written as placeholder numbers and put right in the finished package
+//! (`rewrite_constants`). A formula result that is text looking like a number is cached as that number
+//! (rust_xlsxwriter types results by their text); Excel recalculates on load, so that only
+//! matters to viewers that do not.
+
+use std::collections::HashMap;
+use std::fs;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU32, Ordering};
+
+use rust_xlsxwriter::{Format, Formula, Worksheet};
+
+use crate::eval::{Env, Value, XlError};
+use crate::formula::address::Pos;
+use crate::formula::ast::SheetId;
+use crate::formula::print::{number_literal, quote_sheet_name};
+use crate::workbook::Workbook;
+
+use super::syntax::{self, Storage};
+use super::{ArrayFormula, ErrorKind, Layout, XlsxError};
+
+/// Writes the workbook to `path` (xlsx, or xlsm when the name says so), atomically.
+pub fn save(wb: &Workbook, path: &Path) -> Result<(), XlsxError> {
+    save_with_layout(wb, &Layout::default(), path)
+}
+
+/// Writes the workbook with the formats and widths of `layout` to a temporary file in the
+/// target's folder, then renames it over the target: an interrupted save leaves the old
+/// file as it was.
+pub fn save_with_layout(wb: &Workbook, layout: &Layout, path: &Path) -> Result<(), XlsxError> {
+    let macros = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("xlsm"));
+    if macros && layout.vba_project.is_none() {
+        let message = "an .xlsm file needs the VBA project of a workbook read from .xlsm; save as .xlsx";
+        return Err(XlsxError::new(path, None, ErrorKind::Unwritable, message));
+    }
+    let bytes = build(wb, layout, path, macros)?;
+    write_atomically(path, &bytes)
+}
+
+/// The workbook as xlsx bytes (for benchmarks and tests).
+pub fn to_bytes(wb: &Workbook, layout: &Layout) -> Result<Vec<u8>, XlsxError> {
+    build(wb, layout, Path::new("(xlsx in memory)"), false)
+}
+
+fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Vec<u8>, XlsxError> {
+    let fail = |part: Option<&str>, e: rust_xlsxwriter::XlsxError| {
+        XlsxError::new(file, part, ErrorKind::Unwritable, e.to_string())
+    };
+    let mut book = rust_xlsxwriter::Workbook::new();
+    // Level 6 (the default) spends most of an export compressing; level 2 is several times
+    // faster for files a tenth larger.
+    book.set_zip_compression_level(2);
+    let mut formats: HashMap<&str, Format> = HashMap::new();
+    let names = wb.sheet_names();
+    // Per sheet, constants rust_xlsxwriter cannot write, as written over their placeholders.
+    let mut patches: Vec<Vec<(Pos, &'static str)>> = vec![Vec::new(); names.len()];
+    for (i, name) in names.iter().enumerate() {
+        let sheet = i as SheetId;
+        let sheet_layout = layout.sheets.get(name);
+        let ws = book.add_worksheet();
+        ws.set_name(name).map_err(|e| fail(Some(name), e))?;
+        // A formula whose result is "" must cache "", not rust_xlsxwriter's default 0.
+        ws.set_formula_result_default("");
+        if let Some(l) = sheet_layout {
+            for &(col, width) in &l.column_widths {
+                ws.set_column_width_pixels(col, (width * 7.0).round() as u32).map_err(|e| fail(Some(name), e))?;
+            }
+            if macros {
+                if let Some(code_name) = &l.code_name {
+                    ws.set_vba_name(code_name).map_err(|e| fail(Some(name), e))?;
+                }
+            }
+        }
+        for (pos, value) in wb.values(sheet) {
+            let format = sheet_layout.and_then(|l| l.number_formats.get(&pos)).map(|code| {
+                &*formats.entry(code.as_str()).or_insert_with(|| Format::new().set_num_format(code.as_str()))
+            });
+            let place = || wb.cell_name(sheet, pos);
+            match wb.formula(sheet, pos) {
+                Some(text) => {
+                    let array = sheet_layout.and_then(|l| l.array_formulas.get(&pos));
+                    write_formula(ws, wb, Cell { sheet, pos, array }, &text, &value, format)
+                }
+                None => {
+                    let patch = match &value {
+                        Value::Error(e) => Some(error_cell(*e)),
+                        Value::Text(t) if t.is_empty() => Some(r#"t="inlineStr"><is><t></t></is>"#),
+                        _ => None,
+                    };
+                    match patch {
+                        Some(p) => {
+                            patches[i].push((pos, p));
+                            write_value(ws, pos, &Value::Number(0.0), format)
+                        }
+                        None => write_value(ws, pos, &value, format),
+                    }
+                }
+            }
+            .map_err(|e| fail(Some(&place()), e))?;
+        }
+    }
+    for (name, formula, scope) in wb.names() {
+        let text = syntax::to_file(&formula, wb, scope.unwrap_or(0), Pos::new(0, 0), Storage::Dynamic);
+        let full = match scope {
+            Some(s) => format!("{}!{name}", quote_sheet_name(&names[s as usize])),
+            None => name.clone(),
+        };
+        book.define_name(full, &format!("={text}")).map_err(|e| fail(Some(&format!("name {name}")), e))?;
+    }
+    let mut vba_file = None;
+    if macros {
+        if let Some(vba) = &layout.vba_project {
+            let tmp = temp_path(file);
+            fs::write(&tmp, vba).map_err(|e| {
+                XlsxError::new(file, None, ErrorKind::Io, format!("cannot write {}: {e}", tmp.display()))
+            })?;
+            vba_file = Some(TempFile(tmp));
+            let result = book.add_vba_project(&vba_file.as_ref().expect("just set").0).map(|_| ());
+            result.map_err(|e| fail(Some("xl/vbaProject.bin"), e))?;
+            if let Some(code_name) = &layout.workbook_code_name {
+                book.set_vba_name(code_name).map_err(|e| fail(Some("xl/workbook.xml"), e))?;
+            }
+        }
+    }
+    let bytes = book.save_to_buffer().map_err(|e| fail(None, e));
+    drop(vba_file);
+    let bytes = bytes?;
+    if patches.iter().all(Vec::is_empty) {
+        return Ok(bytes);
+    }
+    rewrite_constants(&bytes, &patches).map_err(|e| {
+        XlsxError::new(file, None, ErrorKind::Unwritable, format!("writing error and empty-text cells: {e}"))
+    })
+}
+
+/// The type and content of an error cell, after its `<c r=".." s="..">` attributes.
+fn error_cell(e: XlError) -> &'static str {
+    match e {
+        XlError::Null => r#"t="e"><v>#NULL!</v>"#,
+        XlError::Div0 => r#"t="e"><v>#DIV/0!</v>"#,
+        XlError::Value => r#"t="e"><v>#VALUE!</v>"#,
+        XlError::Ref => r#"t="e"><v>#REF!</v>"#,
+        XlError::Name => r#"t="e"><v>#NAME?</v>"#,
+        XlError::Num => r#"t="e"><v>#NUM!</v>"#,
+        XlError::NA => r#"t="e"><v>#N/A</v>"#,
+        XlError::GettingData => r#"t="e"><v>#GETTING_DATA</v>"#,
+        // Errors newer than the file format's list are stored as Excel stores them for
+        // older readers.
+        XlError::Spill | XlError::Calc | XlError::Circ => r#"t="e"><v>#VALUE!</v>"#,
+    }
+}
+
+/// Replaces the placeholder cells of each sheet part (`xl/worksheets/sheetN.xml`, as
+/// rust_xlsxwriter names them) and copies every other part as it is.
+fn rewrite_constants(package: &[u8], patches: &[Vec<(Pos, &str)>]) -> zip::result::ZipResult<Vec<u8>> {
+    use std::io::{Cursor, Read};
+    let mut zip = zip::ZipArchive::new(Cursor::new(package))?;
+    let mut out = zip::ZipWriter::new(Cursor::new(Vec::with_capacity(package.len())));
+    for i in 0..zip.len() {
+        let mut entry = zip.by_index(i)?;
+        let name = entry.name()?.to_string();
+        let cells = name
+            .strip_prefix("xl/worksheets/sheet")
+            .and_then(|rest| rest.strip_suffix(".xml"))
+            .and_then(|n| n.parse::<usize>().ok())
+            .and_then(|n| patches.get(n.wrapping_sub(1)))
+            .filter(|cells| !cells.is_empty());
+        let Some(cells) = cells else {
+            out.raw_copy_file(entry)?;
+            continue;
+        };
+        let mut xml = String::new();
+        entry.read_to_string(&mut xml)?;
+        let options = zip::write::SimpleFileOptions::default().compression_method(entry.compression());
+        out.start_file(name.as_str(), options)?;
+        out.write_all(rewrite_cells(&xml, cells).as_bytes())?;
+    }
+    Ok(out.finish()?.into_inner())
+}
+
+/// Rewrites the given cells (listed in row order, as the part is written), keeping their
+/// style: `<c r="A1" s="2"><v>0</v></c>` becomes `<c r="A1" s="2" t="e"><v>#N/A</v></c>`.
+fn rewrite_cells(xml: &str, cells: &[(Pos, &str)]) -> String {
+    let mut out = String::with_capacity(xml.len() + 32 * cells.len());
+    let mut rest = xml;
+    for (pos, body) in cells {
+        let tag = format!("<c r=\"{pos}\"");
+        let Some(start) = rest.find(&tag) else { continue };
+        let Some(open_end) = rest[start..].find('>').map(|i| start + i) else { continue };
+        let Some(close) = rest[open_end..].find("</c>").map(|i| open_end + i) else { continue };
+        let attrs = rest[start..open_end].trim_end_matches('/');
+        out.push_str(&rest[..start]);
+        out.push_str(attrs);
+        out.push(' ');
+        out.push_str(body);
+        out.push_str("</c>");
+        rest = &rest[close + "</c>".len()..];
+    }
+    out.push_str(rest);
+    out
+}
+
+/// Where a formula goes, with the array formula the source file had there.
+struct Cell<'a> {
+    sheet: SheetId,
+    pos: Pos,
+    array: Option<&'a ArrayFormula>,
+}
+
+fn write_formula(
+    ws: &mut Worksheet,
+    wb: &Workbook,
+    cell: Cell,
+    text: &str,
+    value: &Value,
+    format: Option<&Format>,
+) -> Result<(), rust_xlsxwriter::XlsxError> {
+    let Cell { sheet, pos, array } = cell;
+    let spill = Env::spill_rect(wb, sheet, pos).filter(|r| !r.is_cell());
+    // An array formula of the source that did not spill here keeps its area, so that Excel
+    // (and LibreOffice) fill it as before; unless cells of ours are in the way.
+    let kept = array.filter(|a| spill.is_none() && !a.area.is_cell() && area_is_free(wb, sheet, a));
+    let dynamic = spill.is_some()
+        || *value == Value::Error(XlError::Spill)
+        || kept.is_some_and(|a| a.dynamic)
+        || array.is_some_and(|a| a.dynamic);
+    let mut file_text = syntax::to_file(text, wb, sheet, pos, Storage::Legacy);
+    if dynamic || syntax::calls_dynamic_function(&file_text) {
+        file_text = syntax::to_file(text, wb, sheet, pos, Storage::Dynamic);
+    }
+    // rust_xlsxwriter reads a leading `{` or trailing `}` as array-formula braces and drops
+    // them; a space around the formula keeps an array constant whole.
+    if file_text.starts_with('{') || file_text.ends_with('}') {
+        file_text = format!(" {file_text} ");
+    }
+    let formula = Formula::new(&file_text).set_result(result_text(value));
+    let (row, col) = (pos.row, pos.col as u16);
+    let plain = Format::new();
+    let f = format.unwrap_or(&plain);
+    match (spill, kept) {
+        (Some(r), _) => ws.write_dynamic_array_formula_with_format(row, col, r.last.row, r.last.col as u16, formula, f),
+        (None, Some(a)) if a.dynamic => {
+            let (last_row, last_col) = (a.area.last.row, a.area.last.col as u16);
+            ws.write_dynamic_array_formula_with_format(row, col, last_row, last_col, formula, f)
+        }
+        (None, Some(a)) => {
+            let (last_row, last_col) = (a.area.last.row, a.area.last.col as u16);
+            ws.write_array_formula_with_format(row, col, last_row, last_col, formula, f)
+        }
+        (None, None) if dynamic => ws.write_dynamic_formula_with_format(row, col, formula, f),
+        (None, None) => match format {
+            Some(f) => ws.write_formula_with_format(row, col, formula, f),
+            None => ws.write_formula(row, col, formula),
+        },
+    }
+    .map(|_| ())
+}
+
+/// Whether the area of an array formula holds nothing but its anchor (and is of a sane size).
+fn area_is_free(wb: &Workbook, sheet: SheetId, a: &ArrayFormula) -> bool {
+    let area = a.area;
+    if area.rows() as u64 * area.cols() as u64 > 1 << 20 {
+        return false;
+    }
+    (area.first.row..=area.last.row).all(|row| {
+        (area.first.col..=area.last.col).all(|col| {
+            let p = Pos::new(row, col);
+            p == a.anchor || wb.value(sheet, p).is_blank()
+        })
+    })
+}
+
+/// A constant, or a value an array spilled into (Excel stores those as plain values too).
+fn write_value(
+    ws: &mut Worksheet,
+    pos: Pos,
+    value: &Value,
+    format: Option<&Format>,
+) -> Result<(), rust_xlsxwriter::XlsxError> {
+    let (row, col) = (pos.row, pos.col as u16);
+    match (value, format) {
+        (Value::Blank | Value::Array(_), _) => Ok(()),
+        (Value::Number(n), Some(f)) => ws.write_number_with_format(row, col, *n, f).map(|_| ()),
+        (Value::Number(n), None) => ws.write_number(row, col, *n).map(|_| ()),
+        (Value::Text(s), Some(f)) => ws.write_string_with_format(row, col, s.as_ref(), f).map(|_| ()),
+        (Value::Text(s), None) => ws.write_string(row, col, s.as_ref()).map(|_| ()),
+        (Value::Bool(b), Some(f)) => ws.write_boolean_with_format(row, col, *b, f).map(|_| ()),
+        (Value::Bool(b), None) => ws.write_boolean(row, col, *b).map(|_| ()),
+        (Value::Error(_), _) => unreachable!("error constants are written as placeholders"),
+    }
+}
+
+/// A formula's value as the cached result text rust_xlsxwriter types by its spelling.
+fn result_text(value: &Value) -> String {
+    match value {
+        Value::Number(n) => number_literal(*n),
+        Value::Bool(b) => if *b { "TRUE" } else { "FALSE" }.to_string(),
+        Value::Error(e) => e.as_str().to_string(),
+        // "inf" and "nan" would be written as numbers XML cannot hold.
+        Value::Text(s) if s.parse::<f64>().is_ok_and(|n| !n.is_finite()) => String::new(),
+        Value::Text(s) => s.to_string(),
+        Value::Blank | Value::Array(_) => String::new(),
+    }
+}
+
+/// A file removed when dropped, unless kept.
+struct TempFile(PathBuf);
+
+impl TempFile {
+    fn keep(mut self) {
+        self.0 = PathBuf::new();
+    }
+}
+
+impl Drop for TempFile {
+    fn drop(&mut self) {
+        if !self.0.as_os_str().is_empty() {
+            let _ = fs::remove_file(&self.0);
+        }
+    }
+}
+
+/// A fresh name beside `target`: `.name.xlsx.<pid>-<n>.tmp`.
+fn temp_path(target: &Path) -> PathBuf {
+    static COUNTER: AtomicU32 = AtomicU32::new(0);
+    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+    let dir = target.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let name = target.file_name().map_or("workbook".into(), |n| n.to_string_lossy());
+    dir.join(format!(".{name}.{}-{n}.tmp", std::process::id()))
+}
+
+fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), XlsxError> {
+    let io = |what: &str, e: std::io::Error| XlsxError::new(path, None, ErrorKind::Io, format!("{what}: {e}"));
+    let tmp = TempFile(temp_path(path));
+    let mut file = fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&tmp.0)
+        .map_err(|e| io(&format!("cannot create the temporary file {}", tmp.0.display()), e))?;
+    if let Ok(meta) = fs::metadata(path) {
+        // Keep the permissions of the file being replaced.
+        let _ = file.set_permissions(meta.permissions());
+    }
+    file.write_all(bytes).map_err(|e| io("cannot write", e))?;
+    file.sync_all().map_err(|e| io("cannot write", e))?;
+    drop(file);
+    fs::rename(&tmp.0, path).map_err(|e| io("cannot replace the file", e))?;
+    tmp.keep();
+    Ok(())
+}

@@ -1,0 +1,263 @@
+//! The macro syntax tree. Plain data: statements here, expressions as formula trees
+//! ([`Expr`]) whose macro-only parts (member paths, calls of the module's procedures,
+//! `[B3]`) are [`Node`]s in the module's table, referenced by `ExprKind::Host(index)`.
+//! Variables are `ExprKind::Name`s, read through the evaluator's `Host::variable`.
+
+use std::fmt;
+use std::rc::Rc;
+
+use crate::formula::ast::Expr;
+
+/// A place in the macro source: 1-based line and column (in characters).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct Span {
+    pub line: u32,
+    pub col: u32,
+}
+
+impl fmt::Display for Span {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "line {}, column {}", self.line, self.col)
+    }
+}
+
+/// A parsed `.bas` module.
+#[derive(Debug, Default)]
+pub struct Module {
+    /// `Option Explicit`: every variable must be declared (checked by the parser).
+    pub explicit: bool,
+    /// `Option Base 1`: the lower bound of arrays dimensioned without one.
+    pub base: i64,
+    /// Module-level `Dim`/`Private`/`Public` variables and `Const`s, in order.
+    pub globals: Vec<Stmt>,
+    pub procs: Vec<Proc>,
+    /// The macro-only expression nodes; `ExprKind::Host(i)` is `nodes[i]`.
+    pub nodes: Vec<Node>,
+}
+
+impl Module {
+    /// A Sub or Function by name (any case).
+    pub fn proc(&self, name: &str) -> Option<usize> {
+        self.procs.iter().position(|p| p.name.eq_ignore_ascii_case(name))
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ProcKind {
+    Sub,
+    Function,
+}
+
+impl fmt::Display for ProcKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            ProcKind::Sub => "Sub",
+            ProcKind::Function => "Function",
+        })
+    }
+}
+
+#[derive(Debug)]
+pub struct Proc {
+    pub name: Rc<str>,
+    pub kind: ProcKind,
+    pub params: Vec<Param>,
+    /// `Function F() As Double`: the type of the result.
+    pub ty: Option<Ty>,
+    pub body: Block,
+    pub span: Span,
+}
+
+#[derive(Debug)]
+pub struct Param {
+    pub name: Rc<str>,
+    /// VBA passes by reference unless `ByVal` says otherwise.
+    pub by_ref: bool,
+    pub optional: bool,
+    pub default: Option<Expr>,
+    pub ty: Option<Ty>,
+}
+
+/// A declared type, as far as it changes what a variable holds.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Ty {
+    /// Integer, Long, LongLong, Byte: whole numbers, halves rounded to even.
+    Whole,
+    /// Double, Single, Currency, Decimal.
+    Number,
+    String,
+    Boolean,
+    /// Variant, or an object type (Range, Worksheet, Object, …): holds anything.
+    Variant,
+}
+
+/// Statements in order, and where each label points (the index of the next statement).
+#[derive(Debug, Default)]
+pub struct Block {
+    pub stmts: Vec<Stmt>,
+    pub labels: Vec<(Rc<str>, usize)>,
+}
+
+impl Block {
+    pub fn label(&self, name: &str) -> Option<usize> {
+        self.labels.iter().find(|(l, _)| l.eq_ignore_ascii_case(name)).map(|(_, i)| *i)
+    }
+}
+
+#[derive(Debug)]
+pub struct Stmt {
+    pub kind: StmtKind,
+    pub span: Span,
+}
+
+#[derive(Debug)]
+pub enum StmtKind {
+    Dim(Vec<VarDecl>),
+    /// `Static n`: a procedure's variable that keeps its value from one call to the next.
+    Static(Vec<VarDecl>),
+    ReDim {
+        preserve: bool,
+        vars: Vec<VarDecl>,
+    },
+    Const(Vec<(Rc<str>, Expr)>),
+    /// `x = …`, `Range("B3").Value = …`, `Set r = …`.
+    Assign {
+        target: Target,
+        value: Expr,
+        set: bool,
+    },
+    /// A call statement or a method: evaluating the expression does the work.
+    Call(Expr),
+    Print(Vec<PrintItem>),
+    If {
+        arms: Vec<(Expr, Block)>,
+        otherwise: Option<Block>,
+    },
+    Select {
+        subject: Expr,
+        cases: Vec<Case>,
+        otherwise: Option<Block>,
+    },
+    For {
+        var: Rc<str>,
+        from: Expr,
+        to: Expr,
+        step: Option<Expr>,
+        body: Block,
+    },
+    ForEach {
+        var: Rc<str>,
+        group: Expr,
+        body: Block,
+    },
+    /// `Do [While|Until c] … Loop [While|Until c]` and `While c … Wend`.
+    Do {
+        test: Option<LoopTest>,
+        at_end: bool,
+        body: Block,
+    },
+    With {
+        object: Expr,
+        body: Block,
+    },
+    Exit(ExitKind),
+    GoTo(Rc<str>),
+    /// `End`: stops the macro.
+    End,
+}
+
+#[derive(Debug)]
+pub struct VarDecl {
+    pub name: Rc<str>,
+    pub ty: Option<Ty>,
+    /// `Dim a(1 To 5, 3)`: (lower, upper) per dimension, lower `None` for Option Base.
+    pub bounds: Option<Vec<(Option<Expr>, Expr)>>,
+    pub span: Span,
+}
+
+#[derive(Debug)]
+pub struct LoopTest {
+    pub until: bool,
+    pub cond: Expr,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ExitKind {
+    For,
+    Do,
+    Sub,
+    Function,
+}
+
+#[derive(Debug)]
+pub enum PrintItem {
+    Value(Expr),
+    /// `;`: no space.
+    Join,
+    /// `,`: to the next print zone.
+    Zone,
+}
+
+#[derive(Debug)]
+pub struct Case {
+    pub tests: Vec<CaseTest>,
+    pub body: Block,
+}
+
+#[derive(Debug)]
+pub enum CaseTest {
+    Value(Expr),
+    Range(Expr, Expr),
+    /// `Case Is >= 5`: the comparison as a binary operator applied to the subject.
+    Is(crate::formula::ast::BinOp, Expr),
+}
+
+/// What an assignment writes.
+#[derive(Debug)]
+pub enum Target {
+    /// A variable (or the function's result, by the function's name).
+    Var(Rc<str>),
+    /// `a(i, j)`: an element of an array variable.
+    Element(Rc<str>, Vec<Expr>),
+    /// A member path or `[B3]`: a node of the module (`Node::Path` or `Node::Evaluate`).
+    Node(u32),
+}
+
+/// A macro-only expression node.
+#[derive(Debug)]
+pub enum Node {
+    /// A call of the module's own Function or Sub.
+    Call { proc: usize, args: Vec<Arg>, span: Span },
+    /// `Range("B3").Value`, `Cells(i, 2)`, `Nc.Line x, z`, `ws.Name`, `.Value` in a With block.
+    Path(Path),
+    /// `a(i)`: an element of an array variable.
+    Element { var: Rc<str>, index: Vec<Expr>, span: Span },
+    /// `UBound(a, 1)` and `LBound(a)`, which need the variable's bounds.
+    Bound { upper: bool, var: Rc<str>, dim: Option<Expr>, span: Span },
+    /// `[B3]`, `[Sheet2!A1:C4]`, `[D]`: formula text evaluated as in a cell (no macro variables).
+    Evaluate { expr: Expr, span: Span },
+}
+
+#[derive(Debug)]
+pub struct Path {
+    /// Starts with `.`: a member of the innermost With object.
+    pub with: bool,
+    pub links: Vec<Link>,
+    pub span: Span,
+}
+
+/// One `Name(args)` of a member path.
+#[derive(Debug)]
+pub struct Link {
+    pub name: Rc<str>,
+    pub args: Option<Vec<Arg>>,
+    pub span: Span,
+}
+
+#[derive(Debug)]
+pub struct Arg {
+    /// `x:=1`
+    pub name: Option<Rc<str>>,
+    /// `ExprKind::Missing` when left empty (`Nc.Line , -10`).
+    pub value: Expr,
+}

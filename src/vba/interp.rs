@@ -1,0 +1,1098 @@
+//! The interpreter: walks statements, keeps variables in call frames, and evaluates every
+//! expression with the one evaluator ([`Ctx`]), to which it is both the [`Env`] (cells,
+//! through the workbook) and the [`Host`] (variables and macro-only nodes).
+//!
+//! It is reentrant through the evaluator — a Function called inside an expression runs its
+//! statements while that expression is being evaluated — so its state sits in cells
+//! (`RefCell`), each borrowed only for a moment. A failure inside a host node cannot unwind
+//! through the evaluator: it is parked in `pending`, later host nodes do nothing, and the
+//! statement that started the evaluation raises it.
+
+use std::cell::{Cell, RefCell};
+use std::rc::Rc;
+
+use crate::eval::coerce::{compare, to_bool, to_number};
+use crate::eval::evaluator::{binary, Host};
+use crate::eval::functions::vba::vba_text;
+use crate::eval::{Array, Ctx, Env, Operand, Value, XlError};
+use crate::formula::address::{Pos, Rect};
+use crate::formula::ast::{Expr, ExprKind, SheetId};
+use crate::workbook::{Input, Workbook, WorkbookError};
+
+use super::ast::*;
+use super::parser::Lines;
+use super::{ErrorKind, MacroError, RunOptions, RunOutput};
+
+/// Runs the entry procedure that `options` chooses.
+pub fn run(
+    module: &Module,
+    wb: &mut Workbook,
+    source: &str,
+    file: &str,
+    options: &RunOptions,
+) -> Result<RunOutput, MacroError> {
+    if wb.sheet_len() == 0 {
+        // A workbook always has a sheet for Range and Cells to mean, as in Excel.
+        wb.add_sheet("Sheet1").expect("the first sheet");
+    }
+    let active = match &options.sheet {
+        Some(name) => {
+            wb.sheet_id(name).ok_or_else(|| usage(file, format!("the workbook has no sheet named {name}")))?
+        }
+        None => 0,
+    };
+    let entry = entry(module, options).map_err(|m| usage(file, m))?;
+    let stem = std::path::Path::new(file).file_stem().and_then(|s| s.to_str()).unwrap_or("MACRO");
+    let it = Interp {
+        module,
+        options,
+        source,
+        lines: Lines::new(source),
+        wb: RefCell::new(wb),
+        globals: RefCell::new(Vec::new()),
+        frames: RefCell::new(Vec::new()),
+        out: RefCell::new(RunOutput::new(&stem.to_ascii_uppercase(), options.machine)),
+        line: RefCell::new(None),
+        nc: RefCell::new(super::objects::NcState::default()),
+        steps: Cell::new(0),
+        kept: RefCell::new(Vec::new()),
+        pending: RefCell::new(None),
+        ended: Cell::new(false),
+        active: Cell::new(active),
+        notes: RefCell::new(Vec::new()),
+    };
+    let result = it.start(entry);
+    it.flush_line();
+    let output = it.out.into_inner();
+    match result {
+        Ok(()) => Ok(output),
+        Err(fault) => Err(it_error(source, file, fault, output)),
+    }
+}
+
+fn it_error(source: &str, file: &str, fault: Fault, output: RunOutput) -> MacroError {
+    let lines = Lines::new(source);
+    MacroError {
+        kind: fault.kind,
+        file: file.to_string(),
+        span: fault.span,
+        message: fault.message,
+        source_line: fault.span.map_or(String::new(), |s| lines.text(source, s.line).to_string()),
+        trace: fault.trace,
+        output: Box::new(output),
+    }
+}
+
+fn usage(file: &str, message: String) -> MacroError {
+    MacroError {
+        kind: ErrorKind::Usage,
+        file: file.to_string(),
+        span: None,
+        message,
+        source_line: String::new(),
+        trace: Vec::new(),
+        output: Box::new(RunOutput::new("", crate::nc::Machine::Lathe)),
+    }
+}
+
+/// The procedure to run: `--sub NAME`, else `Main`, else the first Sub that needs no arguments.
+fn entry(module: &Module, options: &RunOptions) -> Result<usize, String> {
+    let subs: Vec<&str> = module.procs.iter().filter(|p| p.kind == ProcKind::Sub).map(|p| &*p.name).collect();
+    if let Some(name) = &options.sub {
+        return module.proc(name).ok_or_else(|| format!("no Sub named {name} (the module has: {})", subs.join(", ")));
+    }
+    if let Some(main) = module.proc("Main").filter(|&i| module.procs[i].kind == ProcKind::Sub) {
+        return Ok(main);
+    }
+    let plain = module.procs.iter().position(|p| p.kind == ProcKind::Sub && p.params.iter().all(|q| q.optional));
+    plain.ok_or_else(|| match subs.as_slice() {
+        [] => "the module has no Sub to run".to_string(),
+        _ => format!("which Sub? pass --sub NAME (the module has: {})", subs.join(", ")),
+    })
+}
+
+/// A runtime failure before it is rendered: message, place (filled in by the statement when
+/// the failing part did not know it) and the procedures that were running.
+#[derive(Debug)]
+pub struct Fault {
+    pub kind: ErrorKind,
+    pub message: String,
+    pub span: Option<Span>,
+    pub trace: Vec<String>,
+}
+
+pub type Run<T> = Result<T, Fault>;
+
+/// How a statement ends: on to the next, or out of a loop, a procedure or the macro.
+#[derive(Debug)]
+enum Flow {
+    Next,
+    Exit(ExitKind),
+    GoTo(Rc<str>),
+    End,
+}
+
+/// What a variable holds.
+#[derive(Clone, Debug)]
+pub enum Var {
+    Value(Value),
+    Obj(Obj),
+    Array(VArray),
+}
+
+/// An array variable: its items (row-major) and the lower bound of each dimension.
+#[derive(Clone, Debug)]
+pub struct VArray {
+    pub data: Rc<Array>,
+    /// (first row, first column) indexes; a one-dimensional array uses only the column.
+    pub lower: (i64, i64),
+    pub dims: u8,
+}
+
+/// The objects a macro reaches through member paths.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Obj {
+    Value(Value),
+    Range(SheetId, Rect),
+    /// `r.Rows` / `r.Columns` without an index: for `.Count` and `(i)`.
+    Lines(SheetId, Rect, bool),
+    Sheet(SheetId),
+    Sheets,
+    Workbook,
+    App,
+    Nc,
+    Debug,
+}
+
+impl Obj {
+    pub fn describe(&self) -> &'static str {
+        match self {
+            Obj::Value(_) => "a value",
+            Obj::Range(..) => "a Range",
+            Obj::Lines(..) => "a Rows or Columns collection",
+            Obj::Sheet(_) => "a Worksheet",
+            Obj::Sheets => "the Worksheets collection",
+            Obj::Workbook => "the Workbook",
+            Obj::App => "Application",
+            Obj::Nc => "Nc",
+            Obj::Debug => "Debug",
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct Slot {
+    pub name: Rc<str>,
+    pub var: Var,
+    pub ty: Option<Ty>,
+    pub constant: bool,
+}
+
+struct Frame {
+    proc: usize,
+    vars: Vec<Slot>,
+    with: Vec<Obj>,
+    call_site: Option<Span>,
+}
+
+pub struct Interp<'m, 'w> {
+    pub module: &'m Module,
+    pub options: &'m RunOptions,
+    source: &'m str,
+    lines: Lines,
+    pub wb: RefCell<&'w mut Workbook>,
+    globals: RefCell<Vec<Slot>>,
+    frames: RefCell<Vec<Frame>>,
+    pub out: RefCell<RunOutput>,
+    /// A `Debug.Print` line left open by a trailing `;` or `,`.
+    line: RefCell<Option<String>>,
+    pub nc: RefCell<super::objects::NcState>,
+    steps: Cell<u64>,
+    /// Static variables between calls: (procedure, variable).
+    kept: RefCell<Vec<(usize, Slot)>>,
+    pending: RefCell<Option<Fault>>,
+    /// An `End` statement ran: every procedure stops.
+    ended: Cell<bool>,
+    pub active: Cell<SheetId>,
+    /// Explanations the last evaluation left (why a value is an error).
+    notes: RefCell<Vec<String>>,
+}
+
+impl Interp<'_, '_> {
+    fn start(&self, entry: usize) -> Run<()> {
+        for g in &self.module.globals {
+            self.exec(g)?;
+        }
+        let proc = &self.module.procs[entry];
+        let mut bound = Vec::new();
+        for (name, text) in &self.options.args {
+            let Some(i) = proc.params.iter().position(|p| p.name.eq_ignore_ascii_case(name)) else {
+                let names: Vec<&str> = proc.params.iter().map(|p| &*p.name).collect();
+                return Err(self.plain_fault(
+                    ErrorKind::Usage,
+                    format!("{} {} has no parameter {name} (it has: {})", proc.kind, proc.name, names.join(", ")),
+                ));
+            };
+            let value = match Input::parse(text) {
+                Input::Empty => Value::Blank,
+                Input::Value(v) => v,
+                Input::Formula(f) => Value::text(f),
+            };
+            bound.push((i, Var::Value(value)));
+        }
+        for (i, p) in proc.params.iter().enumerate() {
+            if !p.optional && !bound.iter().any(|(j, _)| *j == i) {
+                return Err(self.plain_fault(
+                    ErrorKind::Usage,
+                    format!("{} {} needs {}: pass --arg {}=VALUE", proc.kind, proc.name, p.name, p.name),
+                ));
+            }
+        }
+        self.invoke(entry, bound, None).map(|_| ())
+    }
+
+    // ---- faults ----------------------------------------------------------------------
+
+    fn plain_fault(&self, kind: ErrorKind, message: String) -> Fault {
+        Fault { kind, message, span: None, trace: Vec::new() }
+    }
+
+    /// A runtime failure here, with the procedures now running.
+    pub fn fault(&self, message: impl Into<String>) -> Fault {
+        let frames = self.frames.borrow();
+        let trace = frames
+            .iter()
+            .rev()
+            .map(|f| {
+                let p = &self.module.procs[f.proc];
+                match f.call_site {
+                    Some(s) => format!("in {} {} (called at {s})", p.kind, p.name),
+                    None => format!("in {} {}", p.kind, p.name),
+                }
+            })
+            .collect();
+        Fault { kind: ErrorKind::Runtime, message: message.into(), span: None, trace }
+    }
+
+    pub fn fault_at(&self, span: Span, message: impl Into<String>) -> Fault {
+        Fault { span: Some(span), ..self.fault(message) }
+    }
+
+    /// The place of an expression (its first character).
+    pub fn expr_span(&self, e: &Expr) -> Span {
+        self.lines.span(self.source, e.span.start as usize)
+    }
+
+    /// Counts one statement or loop turn against the limit.
+    fn tick(&self, span: Span) -> Run<()> {
+        let n = self.steps.get() + 1;
+        self.steps.set(n);
+        if n > self.options.max_statements {
+            let limit = self.options.max_statements;
+            let mut f = self.fault_at(
+                span,
+                format!("the statement limit ({limit}) is reached: an endless loop? (raise the limit with --max-statements)"),
+            );
+            f.kind = ErrorKind::Limit;
+            return Err(f);
+        }
+        Ok(())
+    }
+
+    // ---- evaluation ------------------------------------------------------------------
+
+    pub fn ctx(&self) -> Ctx<'_> {
+        Ctx::new(self, self.active.get(), Pos::new(0, 0)).with_host(self)
+    }
+
+    /// Takes the failure a host node parked during an evaluation.
+    pub fn take_pending(&self) -> Run<()> {
+        match self.pending.borrow_mut().take() {
+            Some(f) => Err(f),
+            None => Ok(()),
+        }
+    }
+
+    /// Evaluates an expression to a value (a 1×1 array is its item).
+    pub fn eval(&self, e: &Expr) -> Run<Value> {
+        let mut ctx = self.ctx();
+        let v = ctx.eval(e).unwrap_single();
+        self.take_pending()?;
+        *self.notes.borrow_mut() = ctx.notes.into_iter().map(|n| n.message).collect();
+        Ok(v)
+    }
+
+    /// What an error value means, with the notes functions left about it.
+    fn describe_error(&self, what: &str, v: &Value, err: XlError) -> String {
+        let notes = self.notes.borrow();
+        let why = match v {
+            Value::Text(t) => format!(" (\"{t}\" is not a number)"),
+            _ if !notes.is_empty() => format!(" ({})", notes.join("; ")),
+            _ => String::new(),
+        };
+        format!("{what} is {err}{why}")
+    }
+
+    /// A number, or a failure that names `what` and points at the expression.
+    pub fn number(&self, e: &Expr, what: &str) -> Run<f64> {
+        let v = self.eval(e)?;
+        self.number_of(&v, what).map_err(|m| self.fault_at(self.expr_span(e), m))
+    }
+
+    pub fn number_of(&self, v: &Value, what: &str) -> Result<f64, String> {
+        if let Value::Array(_) = v {
+            return Err(format!("{what} is an array, not a number"));
+        }
+        to_number(v).map_err(|err| self.describe_error(what, v, err))
+    }
+
+    pub fn truth(&self, e: &Expr, what: &str) -> Run<bool> {
+        let v = self.eval(e)?;
+        to_bool(&v).map_err(|err| self.fault_at(self.expr_span(e), self.describe_error(what, &v, err)))
+    }
+
+    /// Whole-number indexes, rounded as VBA rounds them.
+    pub fn index(&self, e: &Expr, what: &str) -> Run<i64> {
+        Ok(self.number(e, what)?.round_ties_even() as i64)
+    }
+
+    // ---- variables -------------------------------------------------------------------
+
+    /// A copy of what the variable `name` holds (current procedure first, then module).
+    pub fn lookup(&self, name: &str) -> Option<Var> {
+        let frames = self.frames.borrow();
+        let local = frames.last().and_then(|f| f.vars.iter().find(|s| s.name.eq_ignore_ascii_case(name)));
+        if let Some(s) = local {
+            return Some(s.var.clone());
+        }
+        self.globals.borrow().iter().find(|s| s.name.eq_ignore_ascii_case(name)).map(|s| s.var.clone())
+    }
+
+    /// Changes a variable in place; `None` when there is no such variable.
+    pub(super) fn with_slot<T>(&self, name: &str, f: impl FnOnce(&mut Slot) -> T) -> Option<T> {
+        let mut frames = self.frames.borrow_mut();
+        if let Some(s) = frames.last_mut().and_then(|fr| fr.vars.iter_mut().find(|s| s.name.eq_ignore_ascii_case(name)))
+        {
+            return Some(f(s));
+        }
+        drop(frames);
+        self.globals.borrow_mut().iter_mut().find(|s| s.name.eq_ignore_ascii_case(name)).map(f)
+    }
+
+    /// Declares a variable in the running procedure (or the module, before any runs).
+    fn declare(&self, slot: Slot) {
+        let mut frames = self.frames.borrow_mut();
+        match frames.last_mut() {
+            Some(f) => f.vars.push(slot),
+            None => self.globals.borrow_mut().push(slot),
+        }
+    }
+
+    fn has_local(&self, name: &str) -> bool {
+        let frames = self.frames.borrow();
+        match frames.last() {
+            Some(f) => f.vars.iter().any(|s| s.name.eq_ignore_ascii_case(name)),
+            None => self.globals.borrow().iter().any(|s| s.name.eq_ignore_ascii_case(name)),
+        }
+    }
+
+    /// Assigns a variable, converting to its declared type; an undeclared one is created.
+    pub fn set_var(&self, name: &Rc<str>, var: Var, span: Span) -> Run<()> {
+        let result = self.with_slot(name, |slot| {
+            if slot.constant {
+                return Err(format!("{} is a constant", slot.name));
+            }
+            slot.var = convert(var.clone(), slot.ty.as_ref(), &slot.name)?;
+            Ok(())
+        });
+        match result {
+            Some(r) => r.map_err(|m| self.fault_at(span, m)),
+            None => {
+                self.declare(Slot { name: name.clone(), var, ty: None, constant: false });
+                Ok(())
+            }
+        }
+    }
+
+    /// What an expression is as something a variable can hold: a value, an array, or an
+    /// object (a range stays a range for `Set` and `For Each`).
+    pub fn var_of(&self, e: &Expr, as_object: bool) -> Run<Var> {
+        match &e.kind {
+            ExprKind::Paren(inner) => self.var_of(inner, as_object),
+            ExprKind::Name(n) => match self.lookup(n) {
+                Some(Var::Obj(Obj::Range(sheet, rect))) if !as_object => {
+                    Ok(array_var(self.ctx().rect_value(sheet, rect), self.module.base))
+                }
+                Some(var) => Ok(var),
+                None => Ok(Var::Value(Value::Blank)),
+            },
+            ExprKind::Host(id) if as_object => {
+                if let Node::Path(path) = &self.module.nodes[*id as usize] {
+                    let mut ctx = self.ctx();
+                    let obj = self.path(&mut ctx, path);
+                    self.take_pending()?;
+                    return Ok(Var::Obj(obj?));
+                }
+                self.operand_var(e, as_object)
+            }
+            _ => self.operand_var(e, as_object),
+        }
+    }
+
+    fn operand_var(&self, e: &Expr, as_object: bool) -> Run<Var> {
+        let mut ctx = self.ctx();
+        let operand = ctx.operand(e);
+        self.take_pending()?;
+        Ok(match operand {
+            Operand::Ref(sheet, rect) if as_object => Var::Obj(Obj::Range(sheet, rect)),
+            Operand::Ref(sheet, rect) => array_var(ctx.rect_value(sheet, rect), self.module.base),
+            Operand::Value(v) => array_var(v, self.module.base),
+        })
+    }
+
+    // ---- procedures ------------------------------------------------------------------
+
+    /// Calls a procedure with arguments from expressions; ByRef arguments that are plain
+    /// variables are copied back when it returns.
+    pub fn call(&self, ctx: &mut Ctx, proc: usize, args: &[Arg], span: Span) -> Run<Value> {
+        let p = &self.module.procs[proc];
+        let mut bound = Vec::new();
+        let mut back = Vec::new();
+        for (i, a) in args.iter().enumerate() {
+            let index = match &a.name {
+                Some(n) => p.params.iter().position(|q| q.name.eq_ignore_ascii_case(n)).expect("checked by the parser"),
+                None => i,
+            };
+            if a.value.kind == ExprKind::Missing {
+                continue;
+            }
+            if let (true, ExprKind::Name(caller_var)) = (p.params[index].by_ref, &a.value.kind) {
+                back.push((index, caller_var.clone()));
+            }
+            let var = match ctx.operand(&a.value) {
+                Operand::Ref(sheet, rect) => Var::Obj(Obj::Range(sheet, rect)),
+                Operand::Value(v) => match &a.value.kind {
+                    ExprKind::Name(n) => self.lookup(n).unwrap_or(Var::Value(v)),
+                    _ => array_var(v, self.module.base),
+                },
+            };
+            self.take_pending()?;
+            bound.push((index, var));
+        }
+        let (result, frame) = self.invoke_frame(proc, bound, Some(span))?;
+        for (index, caller_var) in back {
+            // A constant passed ByRef is passed as a copy, as in VBA.
+            if self.with_slot(&caller_var, |s| s.constant) == Some(true) {
+                continue;
+            }
+            let name = &p.params[index].name;
+            if let Some(slot) = frame.vars.iter().find(|s| s.name.eq_ignore_ascii_case(name)) {
+                self.set_var(&caller_var, slot.var.clone(), span)?;
+            }
+        }
+        Ok(result)
+    }
+
+    fn invoke(&self, proc: usize, bound: Vec<(usize, Var)>, call_site: Option<Span>) -> Run<Value> {
+        self.invoke_frame(proc, bound, call_site).map(|(v, _)| v)
+    }
+
+    fn invoke_frame(&self, proc: usize, bound: Vec<(usize, Var)>, call_site: Option<Span>) -> Run<(Value, Frame)> {
+        let p = &self.module.procs[proc];
+        if self.frames.borrow().len() >= self.options.max_depth {
+            let limit = self.options.max_depth;
+            let mut f = self.fault(format!(
+                "calls nest deeper than the limit ({limit}) calling {} {}: endless recursion? (raise the limit with --max-depth)",
+                p.kind, p.name
+            ));
+            f.kind = ErrorKind::Limit;
+            return Err(f);
+        }
+        self.frames.borrow_mut().push(Frame { proc, vars: Vec::new(), with: Vec::new(), call_site });
+        let result = self.bind_and_run(p, bound);
+        let frame = self.frames.borrow_mut().pop().expect("the frame pushed above");
+        self.keep_statics(&frame);
+        result?;
+        let value = match p.kind {
+            ProcKind::Function => {
+                match frame.vars.iter().find(|s| s.name.eq_ignore_ascii_case(&p.name)).map(|s| &s.var) {
+                    Some(Var::Value(v)) => v.clone(),
+                    Some(Var::Array(a)) => Value::Array(a.data.clone()),
+                    Some(Var::Obj(Obj::Value(v))) => v.clone(),
+                    Some(Var::Obj(Obj::Range(s, r))) => self.ctx().rect_value(*s, *r).unwrap_single(),
+                    _ => Value::Blank,
+                }
+            }
+            ProcKind::Sub => Value::Blank,
+        };
+        Ok((value, frame))
+    }
+
+    fn bind_and_run(&self, p: &Proc, mut bound: Vec<(usize, Var)>) -> Run<()> {
+        for (i, param) in p.params.iter().enumerate() {
+            let var = match bound.iter().position(|(j, _)| *j == i) {
+                Some(k) => bound.swap_remove(k).1,
+                None => match &param.default {
+                    Some(d) => Var::Value(self.eval(d)?),
+                    None => Var::Value(default_value(param.ty.as_ref())),
+                },
+            };
+            let var = convert(var, param.ty.as_ref(), &param.name).map_err(|m| self.fault(m))?;
+            self.declare(Slot { name: param.name.clone(), var, ty: param.ty.clone(), constant: false });
+        }
+        if p.kind == ProcKind::Function {
+            let var = Var::Value(default_value(p.ty.as_ref()));
+            self.declare(Slot { name: p.name.clone(), var, ty: p.ty.clone(), constant: false });
+        }
+        match self.block(&p.body)? {
+            Flow::GoTo(label) => Err(self.fault(format!("GoTo {label}: no such label"))),
+            Flow::End => {
+                self.ended.set(true);
+                Ok(())
+            }
+            _ => Ok(()),
+        }
+    }
+
+    // ---- statements ------------------------------------------------------------------
+
+    fn block(&self, block: &Block) -> Run<Flow> {
+        let mut i = 0;
+        while i < block.stmts.len() {
+            match self.exec(&block.stmts[i])? {
+                Flow::Next => i += 1,
+                Flow::GoTo(label) => match block.label(&label) {
+                    Some(target) => i = target,
+                    None => return Ok(Flow::GoTo(label)),
+                },
+                other => return Ok(other),
+            }
+        }
+        Ok(Flow::Next)
+    }
+
+    fn exec(&self, stmt: &Stmt) -> Run<Flow> {
+        self.tick(stmt.span)?;
+        let flow = self.exec_kind(stmt).map_err(|mut f| {
+            f.span.get_or_insert(stmt.span);
+            f
+        })?;
+        // `End` in a procedure called from this statement's expression stops everything.
+        Ok(if self.ended.get() { Flow::End } else { flow })
+    }
+
+    fn exec_kind(&self, stmt: &Stmt) -> Run<Flow> {
+        match &stmt.kind {
+            StmtKind::Dim(vars) => self.dim(vars, false, false)?,
+            StmtKind::Static(vars) => self.statics(vars)?,
+            StmtKind::ReDim { preserve, vars } => self.dim(vars, true, *preserve)?,
+            StmtKind::Const(items) => {
+                for (name, e) in items {
+                    let var = Var::Value(self.eval(e)?);
+                    if !self.has_local(name) {
+                        self.declare(Slot { name: name.clone(), var, ty: None, constant: true });
+                    }
+                }
+            }
+            StmtKind::Assign { target, value, set } => self.assign(target, value, *set, stmt.span)?,
+            StmtKind::Call(e) => {
+                self.eval(e)?;
+            }
+            StmtKind::Print(items) => self.print(items)?,
+            StmtKind::If { arms, otherwise } => return self.if_stmt(arms, otherwise.as_ref()),
+            StmtKind::Select { subject, cases, otherwise } => return self.select(subject, cases, otherwise.as_ref()),
+            StmtKind::For { var, from, to, step, body } => {
+                return self.for_loop(var, from, to, step.as_ref(), body, stmt.span)
+            }
+            StmtKind::ForEach { var, group, body } => return self.for_each(var, group, body, stmt.span),
+            StmtKind::Do { test, at_end, body } => return self.do_loop(test.as_ref(), *at_end, body, stmt.span),
+            StmtKind::With { object, body } => {
+                let obj = match self.var_of(object, true)? {
+                    Var::Obj(o) => o,
+                    Var::Value(v) => Obj::Value(v),
+                    Var::Array(a) => Obj::Value(Value::Array(a.data)),
+                };
+                self.frames.borrow_mut().last_mut().expect("a running procedure").with.push(obj);
+                let flow = self.block(body);
+                self.frames.borrow_mut().last_mut().expect("a running procedure").with.pop();
+                return flow;
+            }
+            StmtKind::Exit(kind) => return Ok(Flow::Exit(*kind)),
+            StmtKind::GoTo(label) => return Ok(Flow::GoTo(label.clone())),
+            StmtKind::End => return Ok(Flow::End),
+        }
+        Ok(Flow::Next)
+    }
+
+    fn dim(&self, vars: &[VarDecl], redim: bool, preserve: bool) -> Run<()> {
+        for d in vars {
+            if !redim && self.has_local(&d.name) {
+                // VBA's Dim is a declaration, not an action: running it again keeps the value.
+                continue;
+            }
+            let var = match &d.bounds {
+                Some(bounds) if !bounds.is_empty() => {
+                    let mut array = self.new_array(bounds, d.ty.as_ref(), d.span)?;
+                    if preserve {
+                        if let Some(Var::Array(old)) = self.lookup(&d.name) {
+                            super::arrays::preserve_items(&old, &mut array);
+                        }
+                    }
+                    Var::Array(array)
+                }
+                _ => Var::Value(default_value(d.ty.as_ref())),
+            };
+            if redim && self.with_slot(&d.name, |s| s.var = var.clone()).is_some() {
+                continue;
+            }
+            self.declare(Slot { name: d.name.clone(), var, ty: d.ty.clone(), constant: false });
+        }
+        Ok(())
+    }
+
+    /// `Static`: the variable the procedure's last call left, or a new one.
+    fn statics(&self, vars: &[VarDecl]) -> Run<()> {
+        let proc = self.frames.borrow().last().expect("Static runs in a procedure").proc;
+        for d in vars {
+            if self.has_local(&d.name) {
+                continue;
+            }
+            let kept =
+                self.kept.borrow().iter().find(|(p, s)| *p == proc && s.name.eq_ignore_ascii_case(&d.name)).cloned();
+            let slot = match kept {
+                Some((_, slot)) => slot,
+                None => {
+                    self.dim(std::slice::from_ref(d), false, false)?;
+                    let slot = self.frames.borrow().last().and_then(|f| f.vars.last().cloned()).expect("declared");
+                    self.kept.borrow_mut().push((proc, slot));
+                    continue;
+                }
+            };
+            self.declare(slot);
+        }
+        Ok(())
+    }
+
+    /// Keeps the Static variables of a frame that is being left.
+    fn keep_statics(&self, frame: &Frame) {
+        for (proc, slot) in self.kept.borrow_mut().iter_mut() {
+            if *proc != frame.proc {
+                continue;
+            }
+            if let Some(s) = frame.vars.iter().find(|v| v.name.eq_ignore_ascii_case(&slot.name)) {
+                slot.var = s.var.clone();
+            }
+        }
+    }
+
+    fn assign(&self, target: &Target, value: &Expr, set: bool, span: Span) -> Run<()> {
+        match target {
+            Target::Var(name) => {
+                let var = self.var_of(value, set)?;
+                if set && matches!(var, Var::Value(ref v) if !v.is_blank()) {
+                    return Err(self.fault_at(self.expr_span(value), "Set needs an object (a Range, a Worksheet, …)"));
+                }
+                self.set_var(name, var, span)
+            }
+            Target::Element(name, index) => {
+                let v = self.eval(value)?;
+                self.set_element(name, index, v, span)
+            }
+            Target::Node(id) => self.assign_node(*id, value),
+        }
+    }
+
+    fn print(&self, items: &[PrintItem]) -> Run<()> {
+        let mut line = self.line.borrow_mut().take().unwrap_or_default();
+        let mut open = false;
+        for item in items {
+            open = false;
+            match item {
+                PrintItem::Value(e) => {
+                    let v = self.eval(e)?;
+                    if let Value::Array(_) = v {
+                        return Err(self.fault_at(self.expr_span(e), "Debug.Print prints values, not arrays"));
+                    }
+                    // VBA's Print leaves room for a sign before a number and a space after it.
+                    match v {
+                        Value::Number(n) if n >= 0.0 => line.push_str(&format!(" {} ", print_text(&v))),
+                        Value::Number(_) => line.push_str(&format!("{} ", print_text(&v))),
+                        _ => line.push_str(&print_text(&v)),
+                    }
+                }
+                PrintItem::Join => open = true,
+                PrintItem::Zone => {
+                    let width = line.chars().count();
+                    line.push_str(&" ".repeat(14 - width % 14));
+                    open = true;
+                }
+            }
+        }
+        if open {
+            *self.line.borrow_mut() = Some(line);
+        } else {
+            self.out.borrow_mut().printed.push(line);
+        }
+        Ok(())
+    }
+
+    fn flush_line(&self) {
+        if let Some(line) = self.line.borrow_mut().take() {
+            self.out.borrow_mut().printed.push(line);
+        }
+    }
+
+    fn if_stmt(&self, arms: &[(Expr, Block)], otherwise: Option<&Block>) -> Run<Flow> {
+        for (cond, body) in arms {
+            if self.truth(cond, "the If condition")? {
+                return self.block(body);
+            }
+        }
+        match otherwise {
+            Some(b) => self.block(b),
+            None => Ok(Flow::Next),
+        }
+    }
+
+    fn select(&self, subject: &Expr, cases: &[Case], otherwise: Option<&Block>) -> Run<Flow> {
+        let s = self.eval(subject)?;
+        if let Some(err) = s.as_error() {
+            return Err(self.fault_at(self.expr_span(subject), self.describe_error("the Select Case value", &s, err)));
+        }
+        for case in cases {
+            for test in &case.tests {
+                if self.case_matches(&s, test)? {
+                    return self.block(&case.body);
+                }
+            }
+        }
+        match otherwise {
+            Some(b) => self.block(b),
+            None => Ok(Flow::Next),
+        }
+    }
+
+    fn case_matches(&self, s: &Value, test: &CaseTest) -> Run<bool> {
+        let cmp = |e: &Expr| -> Run<std::cmp::Ordering> {
+            let v = self.eval(e)?;
+            compare(s, &v)
+                .map_err(|err| self.fault_at(self.expr_span(e), self.describe_error("the Case value", &v, err)))
+        };
+        Ok(match test {
+            CaseTest::Value(e) => cmp(e)?.is_eq(),
+            CaseTest::Range(lo, hi) => cmp(lo)?.is_ge() && cmp(hi)?.is_le(),
+            CaseTest::Is(op, e) => {
+                let v = self.eval(e)?;
+                to_bool(&binary(*op, s, &v)).unwrap_or(false)
+            }
+        })
+    }
+
+    fn for_loop(
+        &self,
+        var: &Rc<str>,
+        from: &Expr,
+        to: &Expr,
+        step: Option<&Expr>,
+        body: &Block,
+        span: Span,
+    ) -> Run<Flow> {
+        let start = self.number(from, "the For start")?;
+        let end = self.number(to, "the For end")?;
+        let step = match step {
+            Some(e) => self.number(e, "the For step")?,
+            None => 1.0,
+        };
+        self.set_var(var, Var::Value(Value::Number(start)), span)?;
+        loop {
+            let v = match self.lookup(var) {
+                Some(Var::Value(v)) => self.number_of(&v, var).map_err(|m| self.fault_at(span, m))?,
+                _ => return Err(self.fault_at(span, format!("the For variable {var} no longer holds a number"))),
+            };
+            if (step >= 0.0 && v > end) || (step < 0.0 && v < end) {
+                return Ok(Flow::Next);
+            }
+            self.tick(span)?;
+            match self.block(body)? {
+                Flow::Next => {}
+                Flow::Exit(ExitKind::For) => return Ok(Flow::Next),
+                other => return Ok(other),
+            }
+            let v = match self.lookup(var) {
+                Some(Var::Value(v)) => to_number(&v).unwrap_or(f64::NAN),
+                _ => f64::NAN,
+            };
+            self.set_var(var, Var::Value(Value::Number(v + step)), span)?;
+        }
+    }
+
+    fn for_each(&self, var: &Rc<str>, group: &Expr, body: &Block, span: Span) -> Run<Flow> {
+        let items: Vec<Var> =
+            match self.var_of(group, true)? {
+                Var::Obj(Obj::Range(sheet, rect)) => {
+                    let rect = self.ctx().clip_to_used(sheet, rect);
+                    let mut cells = Vec::new();
+                    for row in rect.first.row..=rect.last.row {
+                        for col in rect.first.col..=rect.last.col {
+                            cells.push(Var::Obj(Obj::Range(sheet, Rect::cell(Pos::new(row, col)))));
+                        }
+                    }
+                    cells
+                }
+                Var::Obj(Obj::Sheets) => {
+                    (0..self.wb.borrow().sheet_len()).map(|i| Var::Obj(Obj::Sheet(i as SheetId))).collect()
+                }
+                Var::Array(a) => a.data.data.iter().cloned().map(Var::Value).collect(),
+                Var::Obj(Obj::Value(Value::Array(a))) => a.data.iter().cloned().map(Var::Value).collect(),
+                Var::Obj(other) => {
+                    return Err(self
+                        .fault_at(self.expr_span(group), format!("For Each cannot go through {}", other.describe())))
+                }
+                Var::Value(v) => {
+                    let shown = print_text(&v);
+                    return Err(self
+                        .fault_at(self.expr_span(group), format!("For Each needs a range or an array, not {shown}")));
+                }
+            };
+        for item in items {
+            self.tick(span)?;
+            self.set_var(var, item, span)?;
+            match self.block(body)? {
+                Flow::Next => {}
+                Flow::Exit(ExitKind::For) => return Ok(Flow::Next),
+                other => return Ok(other),
+            }
+        }
+        Ok(Flow::Next)
+    }
+
+    fn do_loop(&self, test: Option<&LoopTest>, at_end: bool, body: &Block, span: Span) -> Run<Flow> {
+        let holds = |t: &LoopTest| -> Run<bool> { Ok(self.truth(&t.cond, "the loop condition")? != t.until) };
+        loop {
+            self.tick(span)?;
+            if let Some(t) = test.filter(|_| !at_end) {
+                if !holds(t)? {
+                    return Ok(Flow::Next);
+                }
+            }
+            match self.block(body)? {
+                Flow::Next => {}
+                Flow::Exit(ExitKind::Do) => return Ok(Flow::Next),
+                other => return Ok(other),
+            }
+            if let Some(t) = test.filter(|_| at_end) {
+                if !holds(t)? {
+                    return Ok(Flow::Next);
+                }
+            }
+        }
+    }
+
+    // ---- cells -----------------------------------------------------------------------
+
+    /// Writes a value into every cell of a range as if typed (VBA's `Range.Value =`): text
+    /// starting with `=` becomes a formula, `"12"` a number; an array fills item by item.
+    pub fn write_range(&self, sheet: SheetId, rect: Rect, v: &Value) -> Run<()> {
+        let cells = rect.rows() as u64 * rect.cols() as u64;
+        if cells > MAX_WRITE {
+            return Err(self.fault(format!("writing {cells} cells at once is more than a macro may ({MAX_WRITE})")));
+        }
+        let mut wb = self.wb.borrow_mut();
+        for row in rect.first.row..=rect.last.row {
+            for col in rect.first.col..=rect.last.col {
+                let item = match v {
+                    Value::Array(a) => {
+                        a.broadcast_get((row - rect.first.row) as usize, (col - rect.first.col) as usize)
+                    }
+                    other => other.clone(),
+                };
+                let pos = Pos::new(row, col);
+                wb.set_input_deferred(sheet, pos, &input_text(&item)).map_err(|e| self.fault(one_line(&e)))?;
+            }
+        }
+        wb.recalculate();
+        Ok(())
+    }
+}
+
+/// The most cells one assignment writes (a whole sheet is 17 billion).
+const MAX_WRITE: u64 = 10_000_000;
+
+impl Env for Interp<'_, '_> {
+    fn value(&self, sheet: SheetId, pos: Pos) -> Value {
+        self.wb.borrow().value(sheet, pos)
+    }
+
+    fn for_each_value(&self, sheet: SheetId, rect: Rect, f: &mut dyn FnMut(Pos, &Value)) {
+        // Collected first: `f` may run macro code that writes cells.
+        let mut items = Vec::new();
+        self.wb.borrow().for_each_value(sheet, rect, &mut |p, v| items.push((p, v.clone())));
+        for (p, v) in items {
+            f(p, &v);
+        }
+    }
+
+    fn used_rect(&self, sheet: SheetId) -> Option<Rect> {
+        Env::used_rect(&**self.wb.borrow(), sheet)
+    }
+
+    fn defined_name(&self, name: &str, sheet: SheetId) -> Option<(Rc<Expr>, SheetId)> {
+        self.wb.borrow().defined_name(name, sheet)
+    }
+
+    fn spill_rect(&self, sheet: SheetId, pos: Pos) -> Option<Rect> {
+        self.wb.borrow().spill_rect(sheet, pos)
+    }
+
+    fn sheet_count(&self) -> usize {
+        self.wb.borrow().sheet_count()
+    }
+
+    fn sheet_name(&self, sheet: SheetId) -> Option<String> {
+        Env::sheet_name(&**self.wb.borrow(), sheet)
+    }
+}
+
+impl Host for Interp<'_, '_> {
+    fn variable(&self, name: &str) -> Option<Operand> {
+        Some(match self.lookup(name) {
+            None => Operand::Value(Value::Blank),
+            Some(Var::Value(v)) => Operand::Value(v),
+            Some(Var::Array(a)) => Operand::Value(Value::Array(a.data)),
+            Some(Var::Obj(Obj::Range(sheet, rect))) => Operand::Ref(sheet, rect),
+            Some(Var::Obj(Obj::Value(v))) => Operand::Value(v),
+            Some(Var::Obj(other)) => {
+                self.park(self.fault(format!("{name} is {}, not a value", other.describe())));
+                Operand::Value(Value::Error(XlError::Value))
+            }
+        })
+    }
+
+    fn node(&self, ctx: &mut Ctx, id: u32) -> Operand {
+        if self.pending.borrow().is_some() || self.ended.get() {
+            return Operand::Value(Value::Error(XlError::Value));
+        }
+        match self.node_operand(ctx, id) {
+            Ok(operand) => operand,
+            Err(fault) => {
+                self.park(fault);
+                Operand::Value(Value::Error(XlError::Value))
+            }
+        }
+    }
+}
+
+impl Interp<'_, '_> {
+    fn park(&self, fault: Fault) {
+        let mut pending = self.pending.borrow_mut();
+        if pending.is_none() {
+            *pending = Some(fault);
+        }
+    }
+
+    fn node_operand(&self, ctx: &mut Ctx, id: u32) -> Run<Operand> {
+        match &self.module.nodes[id as usize] {
+            Node::Call { proc, args, span } => self.call(ctx, *proc, args, *span).map(Operand::Value),
+            Node::Path(path) => {
+                let obj = self.path(ctx, path)?;
+                self.operand_of(obj, path.span)
+            }
+            Node::Element { var, index, span } => self.element(ctx, var, index, *span),
+            Node::Bound { upper, var, dim, span } => {
+                self.bound(ctx, *upper, var, dim.as_ref(), *span).map(Operand::Value)
+            }
+            Node::Evaluate { expr, .. } => Ok(Ctx::new(self, self.active.get(), Pos::new(0, 0)).operand(expr)),
+        }
+    }
+
+    pub fn operand_of(&self, obj: Obj, span: Span) -> Run<Operand> {
+        match obj {
+            Obj::Value(v) => Ok(Operand::Value(v)),
+            Obj::Range(sheet, rect) => Ok(Operand::Ref(sheet, rect)),
+            other => Err(self.fault_at(span, format!("{} is not a value", other.describe()))),
+        }
+    }
+
+    pub fn with_object(&self, span: Span) -> Run<Obj> {
+        let frames = self.frames.borrow();
+        frames
+            .last()
+            .and_then(|f| f.with.last().cloned())
+            .ok_or_else(|| self.fault_at(span, "a name starting with . needs a With block around it"))
+    }
+}
+
+/// A value as a variable holds it: arrays become array variables (one row: one dimension
+/// from Option Base; more rows: two dimensions from 1, as VBA reads a Range's values).
+pub fn array_var(v: Value, base: i64) -> Var {
+    match v {
+        Value::Array(a) if a.rows == 1 && a.cols == 1 => Var::Value(a.data[0].clone()),
+        Value::Array(a) if a.rows == 1 => Var::Array(VArray { data: a, lower: (1, base), dims: 1 }),
+        Value::Array(a) => Var::Array(VArray { data: a, lower: (1, 1), dims: 2 }),
+        other => Var::Value(other),
+    }
+}
+
+pub(super) fn default_value(ty: Option<&Ty>) -> Value {
+    match ty {
+        Some(Ty::Whole | Ty::Number) => Value::Number(0.0),
+        Some(Ty::String) => Value::text(""),
+        Some(Ty::Boolean) => Value::Bool(false),
+        _ => Value::Blank,
+    }
+}
+
+/// What a typed variable makes of an assigned value (VBA's implicit conversions).
+pub(super) fn convert(var: Var, ty: Option<&Ty>, name: &str) -> Result<Var, String> {
+    let Some(ty) = ty.filter(|t| **t != Ty::Variant) else { return Ok(var) };
+    let Var::Value(v) = var else {
+        return Err(format!("{name} is declared with a type and cannot hold an object or an array"));
+    };
+    let mismatch = |e: XlError| format!("{name} cannot hold {e} (type mismatch)");
+    let text_mismatch = |v: &Value| format!("{name} cannot hold \"{}\" (type mismatch)", print_text(v));
+    Ok(Var::Value(match ty {
+        Ty::Whole => match (&v, to_number(&v)) {
+            (_, Ok(n)) => Value::Number(n.round_ties_even()),
+            (Value::Text(_), Err(_)) => return Err(text_mismatch(&v)),
+            (_, Err(e)) => return Err(mismatch(e)),
+        },
+        Ty::Number => match (&v, to_number(&v)) {
+            (_, Ok(n)) => Value::Number(n),
+            (Value::Text(_), Err(_)) => return Err(text_mismatch(&v)),
+            (_, Err(e)) => return Err(mismatch(e)),
+        },
+        Ty::String => Value::Text(vba_text(&v).map_err(mismatch)?),
+        Ty::Boolean => Value::Bool(to_bool(&v).map_err(mismatch)?),
+        Ty::Variant => v,
+    }))
+}
+
+/// How `Debug.Print` shows a value: as a cell shows it, booleans in VBA's spelling.
+pub fn print_text(v: &Value) -> String {
+    match v {
+        Value::Bool(b) => if *b { "True" } else { "False" }.to_string(),
+        other => other.to_string(),
+    }
+}
+
+/// A workbook error on one line (a formula's parse error with its column, not a caret).
+pub fn one_line(e: &WorkbookError) -> String {
+    match e {
+        WorkbookError::Parse { place, text, error } => {
+            format!("{place}: {text}: column {}: {}", error.column(text), error.message)
+        }
+        other => other.to_string(),
+    }
+}
+
+/// What to type into a cell for a value (VBA's Range.Value = v).
+pub fn input_text(v: &Value) -> String {
+    match v {
+        Value::Blank => String::new(),
+        Value::Number(n) => crate::formula::print::number_literal(*n),
+        Value::Bool(b) => if *b { "TRUE" } else { "FALSE" }.to_string(),
+        Value::Text(t) => t.to_string(),
+        Value::Error(e) => e.as_str().to_string(),
+        Value::Array(a) => a.data.first().map(input_text).unwrap_or_default(),
+    }
+}

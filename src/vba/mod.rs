@@ -1,0 +1,235 @@
+//! The macro language: VBA's statements around the formula language's expressions, run
+//! against a [`Workbook`] and filling an NC [`Program`].
+//!
+//! `parser.rs` turns the source into [`ast::Module`] through the one pest parser
+//! (grammar/formula.pest + grammar/macro.pest); `interp.rs` walks the statements and hands
+//! every expression to the one evaluator, which reads macro variables and macro-only nodes
+//! (`Range("B3").Value`, calls of the module's Functions) through its `Host` hook;
+//! `objects.rs` holds the objects (`Range`, `Cells`, `Worksheets`, `Application`, `Nc`, …).
+//!
+//! **Architecture Invariant:** a macro cannot reach files, programs or the system: the
+//! language has no such statement or object (`Open`, `Kill`, `Shell`, `CreateObject`,
+//! `Declare`, `Workbooks.Open`, `SaveAs` … are refused by the parser, by name), and this
+//! module touches neither files nor stdout: [`run`] returns what the macro printed and
+//! emitted, and the CLI decides where it goes. A statement limit and a call-depth limit
+//! ([`RunOptions`]) stop endless loops and recursion with the line that was running.
+//!
+//! # The language, for a VBA user
+//!
+//! Statements: `Sub`/`Function` with `ByVal`/`ByRef` (the default), `Optional` parameters
+//! with defaults and named arguments (`x:=1`); a Function returns by assigning its name;
+//! `Dim`/`Static`/`ReDim [Preserve]` with `As Integer|Long|Double|String|Boolean|Variant|Range…`
+//! (typed variables convert as VBA does: an Integer rounds halves to even), one- and
+//! two-dimensional arrays (`Dim a(1 To 5)`, `UBound`, `LBound`, `Array(…)`, `Option Base`),
+//! `Const`, `Set`, `If … Then … ElseIf … Else … End If` and the one-line `If`, `Select Case`
+//! (values, `a To b`, `Is >= x`, `Case Else`), `For … To … Step … Next`, `For Each`
+//! (cells of a range, items of an array, `Worksheets`), `Do [While|Until] … Loop
+//! [While|Until]`, `While … Wend`, `With … End With`, `Exit For|Do|Sub|Function`, labels
+//! (`N10:` or a line number) and `GoTo` to a label of the same block or one around it, `End`,
+//! `'` and `Rem` comments, ` _` continuation, `:` between statements, `Option Explicit`,
+//! `Attribute` lines of exported modules (ignored).
+//!
+//! Expressions are the formula language's (same precedence, functions and error values) plus
+//! VBA's `Mod`, `\`, `Not`, `And`, `Or`, `Xor`, `Eqv`, `Imp` at VBA's levels. A name is, in
+//! this order: a variable (the workbook's defined names are reached by `Range("D")` or `[D]`,
+//! not bare), a constant (`vbCrLf`, `vbTab`, `Empty`, …), a procedure of the module, one of
+//! VBA's functions (`Sqr Atn Tan Sin Cos Exp Log Abs Sgn Int Fix Round Format CStr CDbl CInt
+//! CLng CBool Val Str Len Left Mid Right UCase LCase Trim LTrim RTrim InStr Replace Chr Asc
+//! Space IIf IsEmpty IsNumeric IsError IsObject Array`, the `VBA.*` rows of the function
+//! table, `$` suffix allowed), an object, or a sheet function (`CHAMFER_XA`, `SUM`, `ATAN2`,
+//! …; also as `Application.WorksheetFunction.Sum` or `WorksheetFunction.Sum`).
+//!
+//! Where VBA and the sheet differ, a macro follows the sheet for what both have, so that a
+//! formula means the same in a cell and in a macro:
+//! - `-2^2` is 4 (VBA: -4); write `-(2^2)`.
+//! - `"a" = "A"` is True and `"10" = 10` is False (Excel's comparison: text without case,
+//!   numbers before text); `&` writes TRUE/FALSE for booleans; `+` does not join text.
+//! - Errors are values: `1/0` is `#DIV/0!`, and a Variant can hold it as a cell does. A
+//!   statement that needs a number, a truth value or an index (If, For, Cells, Nc.Line, a
+//!   typed variable) stops there with the error and the function's explanation.
+//! - `Round` is VBA's (halves to even); `WorksheetFunction.Round` is Excel's.
+//!
+//! Sheet access: `Range("B3")`, `Range("A1:C4")`, `Range("Sheet2!B3")`, `Range("XA")` (a
+//! defined name), `Range(Cells(1, 1), Cells(2, 3))`, `Cells(r, c)` (c may be letters),
+//! `Worksheets("Name")` / `Worksheets(1)` / `Sheets` / `ActiveSheet`, `[B3]` and `[SUM(A1:A3)]`
+//! (formula text evaluated as in a cell), `Evaluate("…")`. Range members: `Value` (the
+//! default), `Value2`, `Formula`, `Text`, `Row`, `Column`, `Count`, `Rows`, `Columns`,
+//! `Address`, `Offset`, `Resize`, `Cells`, `Item`, `ClearContents`, `Worksheet`, `Activate`.
+//! A write is typed into the cell (text starting with `=` is a formula, as in VBA) and
+//! recalculates what depends on it before the next statement.
+//!
+//! Output: `Debug.Print` lines (VBA's `;` and `,` and number spacing) go to
+//! [`RunOutput::printed`] (the CLI writes them to standard output); `MsgBox` texts to
+//! [`RunOutput::messages`] (standard error); `Nc.*` builds [`RunOutput::program`] (see
+//! `objects.rs` for `Nc.Rapid`, `Nc.Line`, `Nc.ArcCW`, `Nc.Block`, … and `Nc.Feed`).
+//! `InputBox` is refused: pass values with `--arg`.
+//!
+//! Not in the language: `On Error` (a macro stops at its first error), `GoSub`, user types
+//! and classes, `Like`, `Is`, date literals, `Static Sub`, `ParamArray`, arrays of more than
+//! two dimensions, events and forms.
+
+mod arrays;
+pub mod ast;
+mod interp;
+mod objects;
+pub mod parser;
+
+use std::fmt;
+
+use crate::nc::{Machine, Program};
+use crate::workbook::Workbook;
+
+pub use ast::{Module, Span};
+
+/// How to run a macro.
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    /// The Sub (or Function) to run; `None` runs `Main`, or else the first Sub that needs no
+    /// arguments.
+    pub sub: Option<String>,
+    /// Arguments for its parameters, by name, as typed (`"40"`, `"outer"`, `"TRUE"`): read
+    /// as a cell reads what is typed into it.
+    pub args: Vec<(String, String)>,
+    /// Stops the macro after this many statements and loop turns (an endless loop, usually).
+    pub max_statements: u64,
+    /// Stops the macro when procedure calls nest deeper than this (endless recursion).
+    pub max_depth: usize,
+    /// The sheet `Range`, `Cells` and `[B3]` mean before a macro activates another; `None`
+    /// is the first sheet.
+    pub sheet: Option<String>,
+    /// The dialect the program will be written in, as `Nc.Dialect` tells the macro (`""`
+    /// when none was chosen). Rendering is the caller's: see [`RunOutput::program`].
+    pub dialect: Option<String>,
+    /// The machine of the program until the macro sets `Nc.Machine`.
+    pub machine: Machine,
+}
+
+impl Default for RunOptions {
+    fn default() -> RunOptions {
+        RunOptions {
+            sub: None,
+            args: Vec::new(),
+            max_statements: 10_000_000,
+            max_depth: 100,
+            sheet: None,
+            dialect: None,
+            machine: Machine::Lathe,
+        }
+    }
+}
+
+/// What a macro produced. Cell writes are already in the workbook.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunOutput {
+    /// `Debug.Print` lines, for standard output.
+    pub printed: Vec<String>,
+    /// `MsgBox` texts, for standard error.
+    pub messages: Vec<String>,
+    /// The NC program the macro emitted with `Nc.*` (empty when it emitted none); write it
+    /// with `nc::by_name(dialect)?.render(&program)`.
+    pub program: Program,
+}
+
+impl RunOutput {
+    fn new(name: &str, machine: Machine) -> RunOutput {
+        RunOutput { printed: Vec::new(), messages: Vec::new(), program: Program::new(name, machine) }
+    }
+
+    pub fn has_program(&self) -> bool {
+        !self.program.blocks.is_empty()
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ErrorKind {
+    /// The source does not parse, or names something the language does not have.
+    Syntax,
+    /// A statement failed while running.
+    Runtime,
+    /// The statement or recursion limit stopped the macro.
+    Limit,
+    /// The run was asked for something the module does not have (`--sub`, `--arg`).
+    Usage,
+}
+
+/// Why a macro did not run to its end: where (file, line, column, the source line for a
+/// caret), what, and which procedures were running.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MacroError {
+    pub kind: ErrorKind,
+    pub file: String,
+    pub span: Option<Span>,
+    pub message: String,
+    /// The source line at `span`.
+    pub source_line: String,
+    /// Innermost first: `in Function Area (called at line 12, column 5)`, `in Sub Main`.
+    pub trace: Vec<String>,
+    /// What the macro printed and emitted before it stopped.
+    pub output: Box<RunOutput>,
+}
+
+/// Renders as a compiler does:
+///
+/// ```text
+/// chamfer.bas:14:13: error: Nc.Line: X is #DIV/0!
+///    14 |     Nc.Line x / 0, z
+///       |             ^
+///   in Sub Cut (called at line 3, column 5)
+///   in Sub Main
+/// ```
+impl fmt::Display for MacroError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let kind = match self.kind {
+            ErrorKind::Syntax => "syntax error",
+            ErrorKind::Runtime | ErrorKind::Usage => "error",
+            ErrorKind::Limit => "stopped",
+        };
+        let Some(span) = self.span else {
+            return write!(f, "{}: {kind}: {}", self.file, self.message);
+        };
+        write!(f, "{}:{}:{}: {kind}: {}", self.file, span.line, span.col, self.message)?;
+        let number = span.line.to_string();
+        let pad = " ".repeat(number.len());
+        // The caret lines up under tabs too: copy the line's own whitespace up to the column.
+        let lead: String =
+            self.source_line.chars().take(span.col as usize - 1).map(|c| if c == '\t' { '\t' } else { ' ' }).collect();
+        write!(f, "\n {number} | {}\n {pad} | {lead}^", self.source_line)?;
+        for t in &self.trace {
+            write!(f, "\n  {t}")?;
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for MacroError {}
+
+/// Parses a module without running it (for listing its Subs, or checking it). `workbook`
+/// resolves sheet names in `[Sheet2!A1]` brackets.
+pub fn parse(source: &str, file_name: &str, workbook: &Workbook) -> Result<Module, MacroError> {
+    parser::parse_module(source, &|n| workbook.sheet_id(n)).map_err(|e| {
+        let lines = parser::Lines::new(source);
+        let span = lines.span(source, e.offset);
+        MacroError {
+            kind: ErrorKind::Syntax,
+            file: file_name.to_string(),
+            span: Some(span),
+            message: e.message,
+            source_line: lines.text(source, span.line).to_string(),
+            trace: Vec::new(),
+            output: Box::new(RunOutput::new("", Machine::Lathe)),
+        }
+    })
+}
+
+/// Runs a macro: parses `source` (named `file_name` in messages), runs the Sub chosen by
+/// `options` against `workbook` (cell writes stay in it), and returns what the macro printed
+/// and the NC program it emitted.
+pub fn run(
+    workbook: &mut Workbook,
+    source: &str,
+    file_name: &str,
+    options: &RunOptions,
+) -> Result<RunOutput, MacroError> {
+    let module = parse(source, file_name, workbook)?;
+    interp::run(&module, workbook, source, file_name, options)
+}

@@ -1,0 +1,1172 @@
+//! Macro source to [`Module`]: runs the one pest parser (`Rule::module`, grammar/macro.pest)
+//! and builds statements here and expressions through the formula builder's Pratt table
+//! ([`build_expr`]), which hands back the primaries only macros have (variables, member
+//! paths, `[B3]`) through [`HostPrimaries`].
+//!
+//! Names are resolved here, once: a variable, a procedure of the module, one of VBA's
+//! functions (`VBA.*` rows of the function table), an object (`Range`, `Cells`, `Nc`, …) or a
+//! sheet function, in that order. File and program access has no name to resolve to: the
+//! parser refuses `Open`, `Kill`, `Shell`, `CreateObject` … with a message that says so.
+
+use std::cell::{Cell, RefCell};
+use std::rc::Rc;
+
+use pest::error::{ErrorVariant, InputLocation};
+use pest::iterators::Pair;
+use pest::Parser;
+
+use crate::eval::functions::{vba::PREFIX, Registry};
+use crate::formula::address::Pos;
+use crate::formula::ast::{BinOp, Expr, ExprKind, SheetId, Span as ByteSpan};
+use crate::formula::parse::{
+    build_expr, strip_future_prefix, FormulaGrammar, FunctionTable, HostPrimaries, ParseContext, ParseError, Rule,
+};
+
+use super::ast::*;
+
+/// Where byte offsets of the source fall in lines and columns.
+pub struct Lines {
+    starts: Vec<usize>,
+}
+
+impl Lines {
+    pub fn new(src: &str) -> Lines {
+        let mut starts = vec![0];
+        starts.extend(src.match_indices('\n').map(|(i, _)| i + 1));
+        Lines { starts }
+    }
+
+    pub fn span(&self, src: &str, offset: usize) -> Span {
+        let offset = offset.min(src.len());
+        let line = self.starts.partition_point(|&s| s <= offset) - 1;
+        let col = src.get(self.starts[line]..offset).map_or(0, |s| s.chars().count());
+        Span { line: line as u32 + 1, col: col as u32 + 1 }
+    }
+
+    /// The text of a 1-based line, without its line break.
+    pub fn text<'s>(&self, src: &'s str, line: u32) -> &'s str {
+        let Some(&start) = self.starts.get(line as usize - 1) else { return "" };
+        let end = self.starts.get(line as usize).map_or(src.len(), |&e| e);
+        src[start..end].trim_end_matches(['\n', '\r'])
+    }
+}
+
+/// A syntax error: where (byte offset) and why.
+pub type SyntaxError = ParseError;
+
+type Res<T> = Result<T, ParseError>;
+
+/// Parses a module. `sheets` resolves sheet names written in `[Sheet2!A1]` brackets.
+pub fn parse_module(src: &str, sheets: &dyn Fn(&str) -> Option<SheetId>) -> Result<Module, SyntaxError> {
+    let mut pairs = FormulaGrammar::parse(Rule::module, src).map_err(from_pest)?;
+    let module = pairs.next().expect("module rule");
+    let items: Vec<Pair<Rule>> = module.into_inner().collect();
+    let b = Build::new(src, sheets, &items)?;
+    let mut out = Module { base: 0, ..Module::default() };
+    for item in items {
+        match item.as_rule() {
+            Rule::option_stmt => b.option(item)?,
+            Rule::declare_stmt => {
+                return Err(b.error_at(&item, "Declare calls into a DLL: a macro cannot run other programs"))
+            }
+            Rule::sub_def | Rule::function_def => {
+                let p = b.proc(item)?;
+                out.procs.push(p);
+            }
+            Rule::dim_stmt | Rule::const_stmt => {
+                b.building_globals.set(true);
+                let s = b.statement(item)?.expect("a declaration");
+                b.building_globals.set(false);
+                out.globals.push(s);
+            }
+            _ => {}
+        }
+    }
+    out.explicit = b.explicit.get();
+    out.base = b.base.get();
+    out.nodes = b.nodes.into_inner();
+    Ok(out)
+}
+
+fn from_pest(err: pest::error::Error<Rule>) -> ParseError {
+    let offset = match err.location {
+        InputLocation::Pos(p) => p,
+        InputLocation::Span((s, _)) => s,
+    };
+    let message = match &err.variant {
+        ErrorVariant::CustomError { message } => message.clone(),
+        ErrorVariant::ParsingError { positives, .. } => expected(positives),
+    };
+    ParseError { offset, message }
+}
+
+/// What the parser wanted, in the words of the language: the closing keyword when one is
+/// possible (the usual mistake), else the kinds of thing that could follow.
+fn expected(positives: &[Rule]) -> String {
+    let closers: Vec<&str> = positives.iter().filter_map(|r| closer(*r)).collect();
+    if let Some(first) = closers.first() {
+        let mut all = closers.clone();
+        all.dedup();
+        return if all.len() == 1 { format!("expected {first}") } else { format!("expected {}", all.join(" or ")) };
+    }
+    let mut kinds: Vec<&str> = positives.iter().map(|r| describe(*r)).collect();
+    kinds.sort_unstable();
+    kinds.dedup();
+    match kinds.as_slice() {
+        [] => "this is not a statement or expression the macro language knows".into(),
+        [one] => format!("expected {one}"),
+        many => format!("expected {}", many.join(", ")),
+    }
+}
+
+fn closer(rule: Rule) -> Option<&'static str> {
+    Some(match rule {
+        Rule::k_end_if => "End If",
+        Rule::k_end_sub => "End Sub",
+        Rule::k_end_function => "End Function",
+        Rule::k_end_select => "End Select",
+        Rule::k_end_with => "End With",
+        Rule::k_next => "Next",
+        Rule::k_loop => "Loop",
+        Rule::k_wend => "Wend",
+        Rule::k_then => "Then",
+        Rule::k_to => "To",
+        Rule::k_in => "In",
+        _ => return None,
+    })
+}
+
+fn describe(rule: Rule) -> &'static str {
+    match rule {
+        Rule::vexpr
+        | Rule::vparen
+        | Rule::number
+        | Rule::string
+        | Rule::boolean
+        | Rule::path
+        | Rule::bracket
+        | Rule::neg
+        | Rule::plus
+        | Rule::not_op => "a value",
+        Rule::ident | Rule::member_name | Rule::link | Rule::member => "a name",
+        Rule::EOI | Rule::eol => "the end of the line",
+        Rule::sub_def | Rule::function_def | Rule::k_sub | Rule::k_function => "Sub or Function",
+        Rule::eq => "an operator",
+        _ if is_operator(rule) => "an operator",
+        _ => "a statement",
+    }
+}
+
+fn is_operator(rule: Rule) -> bool {
+    matches!(
+        rule,
+        Rule::le
+            | Rule::ge
+            | Rule::ne
+            | Rule::lt
+            | Rule::gt
+            | Rule::concat
+            | Rule::add
+            | Rule::sub
+            | Rule::mul
+            | Rule::div
+            | Rule::pow
+            | Rule::int_div
+            | Rule::mod_op
+            | Rule::and_op
+            | Rule::or_op
+            | Rule::xor_op
+            | Rule::eqv_op
+            | Rule::imp_op
+    )
+}
+
+/// Names that would reach files, other programs or the system. The language has none of
+/// them; the parser says so instead of "not defined".
+const FORBIDDEN: &[&str] = &[
+    "appactivate",
+    "callbyname",
+    "chdir",
+    "chdrive",
+    "close",
+    "createobject",
+    "curdir",
+    "deletesetting",
+    "dir",
+    "environ",
+    "eof",
+    "exportasfixedformat",
+    "filecopy",
+    "filedatetime",
+    "filelen",
+    "followhyperlink",
+    "freefile",
+    "getallsettings",
+    "getattr",
+    "getobject",
+    "getsetting",
+    "kill",
+    "loc",
+    "lof",
+    "mkdir",
+    "open",
+    "printout",
+    "rmdir",
+    "save",
+    "saveas",
+    "savecopyas",
+    "savesetting",
+    "sendkeys",
+    "setattr",
+    "shell",
+    "workbooks",
+];
+
+fn refusal(name: &str) -> String {
+    format!(
+        "{name}: a macro cannot touch files or run programs (the language has no Open, Kill, Shell, \
+         CreateObject, …); read and write cells, and let `ncsheet run -o FILE` write the program"
+    )
+}
+
+/// Objects a path can start from (lower case).
+const OBJECTS: &[&str] = &[
+    "activesheet",
+    "activeworkbook",
+    "application",
+    "cells",
+    "debug",
+    "evaluate",
+    "inputbox",
+    "msgbox",
+    "nc",
+    "range",
+    "sheets",
+    "thisworkbook",
+    "worksheetfunction",
+    "worksheets",
+];
+
+/// Objects that are called like procedures: `MsgBox "done"` as a statement.
+fn is_object(lower: &str) -> bool {
+    OBJECTS.contains(&lower)
+}
+
+/// VBA's constants, as literals.
+fn constant(lower: &str) -> Option<ExprKind> {
+    let text = |s: &str| Some(ExprKind::Text(s.into()));
+    let number = |n: f64| Some(ExprKind::Number(n));
+    match lower {
+        "vbcrlf" => text("\r\n"),
+        "vbnewline" | "vblf" => text("\n"),
+        "vbcr" => text("\r"),
+        "vbtab" => text("\t"),
+        "vbnullstring" => text(""),
+        "empty" | "nothing" => Some(ExprKind::Missing),
+        "vbokonly" => number(0.0),
+        "vbok" => number(1.0),
+        "vbcancel" => number(2.0),
+        "vbyesno" => number(4.0),
+        "vbyes" => number(6.0),
+        "vbno" => number(7.0),
+        "vbcritical" => number(16.0),
+        "vbquestion" => number(32.0),
+        "vbexclamation" => number(48.0),
+        "vbinformation" => number(64.0),
+        _ => None,
+    }
+}
+
+fn lower_bare(name: &str) -> String {
+    name.trim_end_matches('$').to_ascii_lowercase()
+}
+
+/// What a call of a procedure is checked against.
+struct Signature {
+    name: Rc<str>,
+    kind: ProcKind,
+    params: Vec<Rc<str>>,
+    /// How many parameters come before the first Optional one.
+    required: usize,
+}
+
+/// What the parser knows while it builds one procedure.
+#[derive(Default)]
+struct Scope {
+    /// The Function being built: its name is its result variable.
+    function: Option<Rc<str>>,
+    /// Declared or assigned names, lower case.
+    vars: Vec<String>,
+}
+
+struct Build<'s> {
+    src: &'s str,
+    sheets: &'s dyn Fn(&str) -> Option<SheetId>,
+    /// Every procedure's signature, by index.
+    procs: Vec<Signature>,
+    globals: RefCell<Vec<String>>,
+    scope: RefCell<Scope>,
+    nodes: RefCell<Vec<Node>>,
+    explicit: Cell<bool>,
+    base: Cell<i64>,
+    /// Module-level declarations are being built: they declare globals.
+    building_globals: Cell<bool>,
+    lines: Lines,
+}
+
+fn start(pair: &Pair<Rule>) -> usize {
+    pair.as_span().start()
+}
+
+fn find<'i>(kids: &[Pair<'i, Rule>], rule: Rule) -> Option<Pair<'i, Rule>> {
+    kids.iter().find(|p| p.as_rule() == rule).cloned()
+}
+
+fn all<'i>(kids: &[Pair<'i, Rule>], rule: Rule) -> Vec<Pair<'i, Rule>> {
+    kids.iter().filter(|p| p.as_rule() == rule).cloned().collect()
+}
+
+fn kids<'i>(pair: &Pair<'i, Rule>) -> Vec<Pair<'i, Rule>> {
+    pair.clone().into_inner().collect()
+}
+
+fn name_of(pair: &Pair<Rule>) -> Rc<str> {
+    pair.as_str().into()
+}
+
+impl<'s> Build<'s> {
+    fn new(src: &'s str, sheets: &'s dyn Fn(&str) -> Option<SheetId>, items: &[Pair<Rule>]) -> Res<Build<'s>> {
+        let b = Build {
+            src,
+            sheets,
+            procs: Vec::new(),
+            globals: RefCell::new(Vec::new()),
+            scope: RefCell::new(Scope::default()),
+            nodes: RefCell::new(Vec::new()),
+            explicit: Cell::new(false),
+            base: Cell::new(0),
+            building_globals: Cell::new(false),
+            lines: Lines::new(src),
+        };
+        let mut procs = Vec::new();
+        for item in items {
+            if !matches!(item.as_rule(), Rule::sub_def | Rule::function_def) {
+                continue;
+            }
+            let k = kids(item);
+            let name_pair = find(&k, Rule::ident).expect("procedure name");
+            let name = name_of(&name_pair);
+            if procs.iter().any(|p: &Signature| p.name.eq_ignore_ascii_case(&name)) {
+                return Err(b.error_at(&name_pair, format!("{name} is defined twice")));
+            }
+            let kind = if item.as_rule() == Rule::sub_def { ProcKind::Sub } else { ProcKind::Function };
+            let params: Vec<Pair<Rule>> =
+                find(&k, Rule::param_list).map(|l| all(&kids(&l), Rule::param)).unwrap_or_default();
+            let names = params.iter().map(|p| name_of(&find(&kids(p), Rule::ident).expect("param name"))).collect();
+            let required = params
+                .iter()
+                .filter(|p| find(&kids(p), Rule::k_optional).is_none() && find(&kids(p), Rule::vexpr).is_none())
+                .count();
+            procs.push(Signature { name, kind, params: names, required });
+        }
+        Ok(Build { procs, ..b })
+    }
+
+    fn error_at(&self, pair: &Pair<Rule>, message: impl Into<String>) -> ParseError {
+        ParseError { offset: start(pair), message: message.into() }
+    }
+
+    fn span(&self, offset: usize) -> Span {
+        self.lines.span(self.src, offset)
+    }
+
+    fn ctx(&self) -> ParseContext<'_> {
+        ParseContext { at: Pos::new(0, 0), functions: &Registry, sheet: self.sheets }
+    }
+
+    fn expr(&self, pair: Pair<Rule>) -> Res<Expr> {
+        build_expr(pair, &self.ctx(), Some(self))
+    }
+
+    fn node(&self, node: Node, at: usize, end: usize) -> Expr {
+        let mut nodes = self.nodes.borrow_mut();
+        nodes.push(node);
+        Expr::new(ExprKind::Host(nodes.len() as u32 - 1), ByteSpan { start: at as u32, end: end as u32 })
+    }
+
+    // ---- names -----------------------------------------------------------------------
+
+    fn is_var(&self, name: &str) -> bool {
+        let lower = name.to_ascii_lowercase();
+        self.scope.borrow().vars.contains(&lower) || self.globals.borrow().contains(&lower)
+    }
+
+    fn declare(&self, name: &str) {
+        let lower = name.to_ascii_lowercase();
+        let mut scope = self.scope.borrow_mut();
+        if !scope.vars.contains(&lower) {
+            scope.vars.push(lower);
+        }
+    }
+
+    fn proc_index(&self, name: &str) -> Option<usize> {
+        self.procs.iter().position(|p| p.name.eq_ignore_ascii_case(name))
+    }
+
+    /// A variable used where none is declared: an error under Option Explicit, else declared.
+    fn implicit(&self, pair_offset: usize, name: &str) -> Res<()> {
+        if self.is_var(name) {
+            return Ok(());
+        }
+        if self.explicit.get() {
+            return Err(ParseError {
+                offset: pair_offset,
+                message: format!("variable {name} is not declared (Option Explicit): add Dim {name}"),
+            });
+        }
+        self.declare(name);
+        Ok(())
+    }
+
+    // ---- module ----------------------------------------------------------------------
+
+    fn option(&self, pair: Pair<Rule>) -> Res<()> {
+        let k = kids(&pair);
+        let words: Vec<String> = all(&k, Rule::option_word).iter().map(|w| w.as_str().to_ascii_lowercase()).collect();
+        match words.first().map(String::as_str) {
+            Some("explicit") => self.explicit.set(true),
+            Some("base") => {
+                let n = find(&k, Rule::number).map(|n| n.as_str().to_string()).unwrap_or_default();
+                match n.as_str() {
+                    "0" | "1" => self.base.set(n.parse().expect("0 or 1")),
+                    _ => return Err(self.error_at(&pair, "Option Base is 0 or 1")),
+                }
+            }
+            // Text comparison is what the formula language does anyway; Private Module is moot.
+            Some("compare") | Some("private") => {}
+            _ => return Err(self.error_at(&pair, "Option is Explicit, Base 0|1, Compare or Private Module")),
+        }
+        Ok(())
+    }
+
+    fn proc(&self, pair: Pair<Rule>) -> Res<Proc> {
+        let k = kids(&pair);
+        if let Some(s) = find(&k, Rule::k_static) {
+            return Err(self.error_at(&s, "Static Sub/Function is not supported: declare each variable with Static"));
+        }
+        let kind = if pair.as_rule() == Rule::sub_def { ProcKind::Sub } else { ProcKind::Function };
+        let name = name_of(&find(&k, Rule::ident).expect("procedure name"));
+        *self.scope.borrow_mut() = Scope {
+            function: (kind == ProcKind::Function).then(|| name.clone()),
+            vars: if kind == ProcKind::Function { vec![name.to_ascii_lowercase()] } else { Vec::new() },
+        };
+        let params = match find(&k, Rule::param_list) {
+            Some(list) => all(&kids(&list), Rule::param).into_iter().map(|p| self.param(p)).collect::<Res<Vec<_>>>()?,
+            None => Vec::new(),
+        };
+        let ty = find(&k, Rule::as_clause).map(|a| ty_of(&a));
+        let body = self.block(find(&k, Rule::block).expect("procedure body"))?;
+        self.check_gotos(&body, &mut Vec::new())?;
+        Ok(Proc { name, kind, params, ty, body, span: self.span(start(&pair)) })
+    }
+
+    fn param(&self, pair: Pair<Rule>) -> Res<Param> {
+        let k = kids(&pair);
+        let name = name_of(&find(&k, Rule::ident).expect("parameter name"));
+        self.declare(&name);
+        let by_ref = find(&k, Rule::pass_mode).is_none_or(|m| m.as_str().eq_ignore_ascii_case("ByRef"));
+        let default = find(&k, Rule::vexpr).map(|e| self.expr(e)).transpose()?;
+        Ok(Param {
+            name,
+            by_ref,
+            optional: find(&k, Rule::k_optional).is_some(),
+            default,
+            ty: find(&k, Rule::as_clause).map(|a| ty_of(&a)),
+        })
+    }
+
+    /// Every GoTo must name a label of its own block or of one around it: jumping into a
+    /// loop or an If from outside has no meaning the interpreter could give it.
+    fn check_gotos<'b>(&self, block: &'b Block, outer: &mut Vec<&'b Block>) -> Res<()> {
+        outer.push(block);
+        for s in &block.stmts {
+            match &s.kind {
+                StmtKind::GoTo(label) if !outer.iter().any(|b| b.label(label).is_some()) => {
+                    return Err(ParseError {
+                        offset: self.offset_of(s.span),
+                        message: format!("GoTo {label}: no label {label} in this block or a block around it"),
+                    });
+                }
+                _ => {}
+            }
+            for inner in inner_blocks(&s.kind) {
+                self.check_gotos(inner, outer)?;
+            }
+        }
+        outer.pop();
+        Ok(())
+    }
+
+    fn offset_of(&self, span: Span) -> usize {
+        let line_start = self.lines.starts[span.line as usize - 1];
+        self.src[line_start..].char_indices().nth(span.col as usize - 1).map_or(self.src.len(), |(i, _)| line_start + i)
+    }
+
+    // ---- statements ------------------------------------------------------------------
+
+    fn block(&self, pair: Pair<Rule>) -> Res<Block> {
+        let mut out = Block::default();
+        for item in pair.into_inner() {
+            match item.as_rule() {
+                Rule::label => {
+                    let text = item.as_str().trim_end_matches(':');
+                    if out.label(text).is_some() {
+                        return Err(self.error_at(&item, format!("label {text} is defined twice")));
+                    }
+                    out.labels.push((text.into(), out.stmts.len()));
+                }
+                _ => {
+                    if let Some(s) = self.statement(item)? {
+                        out.stmts.push(s);
+                    }
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    /// One statement; `None` for comments.
+    fn statement(&self, pair: Pair<Rule>) -> Res<Option<Stmt>> {
+        let span = self.span(start(&pair));
+        let kind = match pair.as_rule() {
+            Rule::rem_stmt | Rule::comment_text => return Ok(None),
+            Rule::dim_stmt if find(&kids(&pair), Rule::k_static).is_some() => {
+                if self.in_module_level() {
+                    return Err(self.error_at(&pair, "Static declares a procedure's variable; use Dim here"));
+                }
+                StmtKind::Static(self.dims(&pair)?)
+            }
+            Rule::dim_stmt => StmtKind::Dim(self.dims(&pair)?),
+            Rule::redim_stmt => {
+                StmtKind::ReDim { preserve: find(&kids(&pair), Rule::k_preserve).is_some(), vars: self.dims(&pair)? }
+            }
+            Rule::const_stmt => self.consts(&pair)?,
+            Rule::set_stmt | Rule::assign_stmt => self.assign(&pair)?,
+            Rule::call_stmt => StmtKind::Call(self.call_stmt(&pair)?),
+            Rule::print_stmt => self.print(&pair)?,
+            Rule::if_block => self.if_block(&pair)?,
+            Rule::if_line => self.if_line(&pair)?,
+            Rule::select_block => self.select(&pair)?,
+            Rule::for_block => self.for_block(&pair)?,
+            Rule::for_each_block => self.for_each(&pair)?,
+            Rule::do_block => self.do_block(&pair)?,
+            Rule::while_block => {
+                let k = kids(&pair);
+                let cond = self.expr(find(&k, Rule::vexpr).expect("While condition"))?;
+                let body = self.block(find(&k, Rule::block).expect("While body"))?;
+                StmtKind::Do { test: Some(LoopTest { until: false, cond }), at_end: false, body }
+            }
+            Rule::with_block => {
+                let k = kids(&pair);
+                let object = self.expr(find(&k, Rule::vexpr).expect("With object"))?;
+                StmtKind::With { object, body: self.block(find(&k, Rule::block).expect("With body"))? }
+            }
+            Rule::exit_stmt => StmtKind::Exit(self.exit(&pair)?),
+            Rule::goto_stmt => {
+                let k = kids(&pair);
+                let target = find(&k, Rule::ident).or_else(|| find(&k, Rule::line_number)).expect("GoTo label");
+                StmtKind::GoTo(name_of(&target))
+            }
+            Rule::line_number => StmtKind::GoTo(name_of(&pair)),
+            Rule::end_stmt => StmtKind::End,
+            Rule::on_error_stmt => {
+                return Err(self.error_at(
+                    &pair,
+                    "On Error is not supported: a macro stops at its first error and shows the line and a caret",
+                ))
+            }
+            Rule::file_stmt => {
+                let word = pair.as_str().split(|c: char| !c.is_alphabetic()).next().unwrap_or("");
+                return Err(self.error_at(&pair, refusal(word)));
+            }
+            rule => unreachable!("statement {rule:?}"),
+        };
+        Ok(Some(Stmt { kind, span }))
+    }
+
+    fn dims(&self, pair: &Pair<Rule>) -> Res<Vec<VarDecl>> {
+        let at_module = self.in_module_level();
+        let mut out = Vec::new();
+        for var in all(&kids(pair), Rule::dim_var) {
+            let k = kids(&var);
+            let name = name_of(&find(&k, Rule::ident).expect("variable name"));
+            let bounds = match find(&k, Rule::dim_bounds) {
+                Some(b) => Some(self.bounds(b)?),
+                None => None,
+            };
+            if at_module {
+                self.globals.borrow_mut().push(name.to_ascii_lowercase());
+            } else {
+                self.declare(&name);
+            }
+            let ty = find(&k, Rule::as_clause).map(|a| ty_of(&a));
+            out.push(VarDecl { name, ty, bounds, span: self.span(start(&var)) });
+        }
+        Ok(out)
+    }
+
+    fn in_module_level(&self) -> bool {
+        self.building_globals.get()
+    }
+
+    fn bounds(&self, pair: Pair<Rule>) -> Res<Vec<(Option<Expr>, Expr)>> {
+        let mut out = Vec::new();
+        for bound in all(&kids(&pair), Rule::bound) {
+            let mut exprs = all(&kids(&bound), Rule::vexpr).into_iter();
+            let first = self.expr(exprs.next().expect("bound"))?;
+            out.push(match exprs.next() {
+                Some(upper) => (Some(first), self.expr(upper)?),
+                None => (None, first),
+            });
+        }
+        Ok(out)
+    }
+
+    fn consts(&self, pair: &Pair<Rule>) -> Res<StmtKind> {
+        let at_module = self.in_module_level();
+        let mut out = Vec::new();
+        for item in all(&kids(pair), Rule::const_item) {
+            let k = kids(&item);
+            let name = name_of(&find(&k, Rule::ident).expect("constant name"));
+            let value = self.expr(find(&k, Rule::vexpr).expect("constant value"))?;
+            if at_module {
+                self.globals.borrow_mut().push(name.to_ascii_lowercase());
+            } else {
+                self.declare(&name);
+            }
+            out.push((name, value));
+        }
+        Ok(StmtKind::Const(out))
+    }
+
+    fn assign(&self, pair: &Pair<Rule>) -> Res<StmtKind> {
+        let k = kids(pair);
+        let set = pair.as_rule() == Rule::set_stmt;
+        let value = self.expr(find(&k, Rule::vexpr).expect("assigned value"))?;
+        let target = match find(&k, Rule::bracket) {
+            Some(b) => match self.bracket(b)?.kind {
+                ExprKind::Host(id) => Target::Node(id),
+                _ => unreachable!("a bracket is a node"),
+            },
+            None => self.target(find(&k, Rule::path).expect("assignment target"))?,
+        };
+        Ok(StmtKind::Assign { target, value, set })
+    }
+
+    fn target(&self, pair: Pair<Rule>) -> Res<Target> {
+        let path = self.path_syntax(&pair)?;
+        if !path.with && path.links.len() == 1 {
+            let link = &path.links[0];
+            let lower = lower_bare(&link.name);
+            if FORBIDDEN.contains(&lower.as_str()) && !self.is_var(&link.name) {
+                return Err(self.error_at(&pair, refusal(&link.name)));
+            }
+            match &link.args {
+                None if is_object(&lower) => {}
+                None if self.proc_index(&link.name).is_some() && !self.is_own_function(&link.name) => {
+                    return Err(self.error_at(&pair, format!("{} is a procedure, not a variable", link.name)))
+                }
+                None => {
+                    self.implicit(start(&pair), &link.name)?;
+                    return Ok(Target::Var(link.name.clone()));
+                }
+                Some(args) if self.is_var(&link.name) => {
+                    let index = args.iter().map(|a| a.value.clone()).collect();
+                    return Ok(Target::Element(link.name.clone(), index));
+                }
+                Some(_) => {}
+            }
+        }
+        self.check_path(&pair, &path)?;
+        let end = pair.as_span().end();
+        match self.node(Node::Path(path), start(&pair), end).kind {
+            ExprKind::Host(id) => Ok(Target::Node(id)),
+            _ => unreachable!("a node"),
+        }
+    }
+
+    fn is_own_function(&self, name: &str) -> bool {
+        self.scope.borrow().function.as_deref().is_some_and(|f| f.eq_ignore_ascii_case(name))
+    }
+
+    fn call_stmt(&self, pair: &Pair<Rule>) -> Res<Expr> {
+        let k = kids(pair);
+        if let Some(path) = find(&k, Rule::path) {
+            return self.path_expr(path, true);
+        }
+        // `Nc.Line x, z`: the callee's last name takes the arguments.
+        let callee = find(&k, Rule::callee).expect("callee");
+        let args = self.args(find(&k, Rule::call_args).expect("arguments"))?;
+        let mut path = Path { with: false, links: Vec::new(), span: self.span(start(&callee)) };
+        for part in callee.clone().into_inner() {
+            match part.as_rule() {
+                Rule::with_dot => path.with = true,
+                Rule::link | Rule::member => path.links.push(self.link(part)?),
+                Rule::member_name | Rule::ident => {
+                    path.links.push(Link { name: name_of(&part), args: None, span: self.span(start(&part)) })
+                }
+                rule => unreachable!("callee part {rule:?}"),
+            }
+        }
+        path.links.last_mut().expect("a name").args = Some(args);
+        self.resolve(&callee, path, true, pair.as_span().end())
+    }
+
+    fn print(&self, pair: &Pair<Rule>) -> Res<StmtKind> {
+        let mut items = Vec::new();
+        for p in pair.clone().into_inner() {
+            match p.as_rule() {
+                Rule::vexpr => items.push(PrintItem::Value(self.expr(p)?)),
+                Rule::print_sep if p.as_str() == ";" => items.push(PrintItem::Join),
+                Rule::print_sep => items.push(PrintItem::Zone),
+                _ => {}
+            }
+        }
+        Ok(StmtKind::Print(items))
+    }
+
+    fn if_block(&self, pair: &Pair<Rule>) -> Res<StmtKind> {
+        let k = kids(pair);
+        let mut arms = vec![(
+            self.expr(find(&k, Rule::vexpr).expect("If condition"))?,
+            self.block(find(&k, Rule::block).expect("If body"))?,
+        )];
+        for arm in all(&k, Rule::elseif_arm) {
+            let ak = kids(&arm);
+            arms.push((
+                self.expr(find(&ak, Rule::vexpr).expect("ElseIf condition"))?,
+                self.block(find(&ak, Rule::block).expect("ElseIf body"))?,
+            ));
+        }
+        let otherwise = match find(&k, Rule::else_arm) {
+            Some(e) => Some(self.block(find(&kids(&e), Rule::block).expect("Else body"))?),
+            None => None,
+        };
+        Ok(StmtKind::If { arms, otherwise })
+    }
+
+    fn if_line(&self, pair: &Pair<Rule>) -> Res<StmtKind> {
+        let k = kids(pair);
+        let cond = self.expr(find(&k, Rule::vexpr).expect("If condition"))?;
+        let mut bodies = all(&k, Rule::line_body).into_iter();
+        let then = self.line_body(bodies.next().expect("Then part"))?;
+        let otherwise = match (find(&k, Rule::k_else), bodies.next()) {
+            (Some(_), Some(b)) => Some(self.line_body(b)?),
+            (Some(_), None) => Some(Block::default()),
+            _ => None,
+        };
+        Ok(StmtKind::If { arms: vec![(cond, then)], otherwise })
+    }
+
+    fn line_body(&self, pair: Pair<Rule>) -> Res<Block> {
+        let mut out = Block::default();
+        for p in pair.into_inner() {
+            if let Some(s) = self.statement(p)? {
+                out.stmts.push(s);
+            }
+        }
+        Ok(out)
+    }
+
+    fn select(&self, pair: &Pair<Rule>) -> Res<StmtKind> {
+        let k = kids(pair);
+        let subject = self.expr(find(&k, Rule::vexpr).expect("Select subject"))?;
+        let mut cases = Vec::new();
+        let mut otherwise = None;
+        for arm in k.iter().filter(|p| matches!(p.as_rule(), Rule::case_arm | Rule::case_else)) {
+            let ak = kids(arm);
+            if otherwise.is_some() {
+                return Err(self.error_at(arm, "Case Else must be the last Case"));
+            }
+            let body = self.block(find(&ak, Rule::block).expect("Case body"))?;
+            if arm.as_rule() == Rule::case_else {
+                otherwise = Some(body);
+                continue;
+            }
+            let mut tests = Vec::new();
+            for t in ak.iter().filter(|p| matches!(p.as_rule(), Rule::case_is | Rule::case_range | Rule::case_value)) {
+                tests.push(self.case_test(t)?);
+            }
+            cases.push(Case { tests, body });
+        }
+        Ok(StmtKind::Select { subject, cases, otherwise })
+    }
+
+    fn case_test(&self, pair: &Pair<Rule>) -> Res<CaseTest> {
+        let k = kids(pair);
+        let mut exprs = all(&k, Rule::vexpr).into_iter();
+        let first = self.expr(exprs.next().expect("Case value"))?;
+        Ok(match pair.as_rule() {
+            Rule::case_range => CaseTest::Range(first, self.expr(exprs.next().expect("Case upper bound"))?),
+            Rule::case_is => {
+                let op = k.iter().find_map(|p| comparison(p.as_rule())).expect("Case Is operator");
+                CaseTest::Is(op, first)
+            }
+            _ => CaseTest::Value(first),
+        })
+    }
+
+    fn for_block(&self, pair: &Pair<Rule>) -> Res<StmtKind> {
+        let k = kids(pair);
+        let names = all(&k, Rule::ident);
+        let var = name_of(&names[0]);
+        self.implicit(start(&names[0]), &var)?;
+        self.check_next(&names)?;
+        let mut exprs = all(&k, Rule::vexpr).into_iter().map(|e| self.expr(e));
+        let from = exprs.next().expect("For start")?;
+        let to = exprs.next().expect("For end")?;
+        let step = exprs.next().transpose()?;
+        let body = self.block(find(&k, Rule::block).expect("For body"))?;
+        Ok(StmtKind::For { var, from, to, step, body })
+    }
+
+    /// `Next j` must close the loop over `j`.
+    fn check_next(&self, names: &[Pair<Rule>]) -> Res<()> {
+        match names {
+            [var, next, ..] if !var.as_str().eq_ignore_ascii_case(next.as_str()) => {
+                Err(self.error_at(next, format!("Next {} closes the For loop over {}", next.as_str(), var.as_str())))
+            }
+            _ => Ok(()),
+        }
+    }
+
+    fn for_each(&self, pair: &Pair<Rule>) -> Res<StmtKind> {
+        let k = kids(pair);
+        let names = all(&k, Rule::ident);
+        let var = name_of(&names[0]);
+        self.implicit(start(&names[0]), &var)?;
+        self.check_next(&names)?;
+        let group = self.expr(find(&k, Rule::vexpr).expect("For Each group"))?;
+        let body = self.block(find(&k, Rule::block).expect("For Each body"))?;
+        Ok(StmtKind::ForEach { var, group, body })
+    }
+
+    fn do_block(&self, pair: &Pair<Rule>) -> Res<StmtKind> {
+        let k = kids(pair);
+        let mut test = None;
+        let mut at_end = false;
+        let mut body = None;
+        for p in &k {
+            match p.as_rule() {
+                Rule::block => body = Some(self.block(p.clone())?),
+                Rule::loop_cond => {
+                    if test.is_some() {
+                        return Err(self.error_at(p, "a Do loop has its condition after Do or after Loop, not both"));
+                    }
+                    at_end = body.is_some();
+                    let ck = kids(p);
+                    let until = find(&ck, Rule::k_until).is_some();
+                    test = Some(LoopTest { until, cond: self.expr(find(&ck, Rule::vexpr).expect("loop condition"))? });
+                }
+                _ => {}
+            }
+        }
+        Ok(StmtKind::Do { test, at_end, body: body.expect("Do body") })
+    }
+
+    fn exit(&self, pair: &Pair<Rule>) -> Res<ExitKind> {
+        let what = find(&kids(pair), Rule::exit_kind).expect("Exit kind").as_str().to_ascii_lowercase();
+        let in_function = self.scope.borrow().function.is_some();
+        Ok(match what.as_str() {
+            "for" => ExitKind::For,
+            "do" => ExitKind::Do,
+            "sub" if !in_function => ExitKind::Sub,
+            "function" if in_function => ExitKind::Function,
+            _ => return Err(self.error_at(pair, format!("Exit {what} outside a {what}"))),
+        })
+    }
+
+    // ---- expressions -------------------------------------------------------------------
+
+    fn bracket(&self, pair: Pair<Rule>) -> Res<Expr> {
+        let (at, end) = (start(&pair), pair.as_span().end());
+        let inner = find(&kids(&pair), Rule::expr).expect("bracket expression");
+        let expr = build_expr(inner, &self.ctx(), None)?;
+        Ok(self.node(Node::Evaluate { expr, span: self.span(at) }, at, end))
+    }
+
+    fn args(&self, pair: Pair<Rule>) -> Res<Vec<Arg>> {
+        let mut out = Vec::new();
+        for a in all(&kids(&pair), Rule::varg) {
+            let k = kids(&a);
+            let name = find(&k, Rule::varg_name).map(|n| n.as_str().trim_end_matches(":=").trim().into());
+            let value = match find(&k, Rule::vexpr) {
+                Some(e) => self.expr(e)?,
+                None => Expr::new(ExprKind::Missing, ByteSpan { start: start(&a) as u32, end: start(&a) as u32 }),
+            };
+            out.push(Arg { name, value });
+        }
+        // `Foo()` has one empty argument slot in the grammar, and no argument.
+        if out.len() == 1 && out[0].name.is_none() && out[0].value.kind == ExprKind::Missing {
+            out.clear();
+        }
+        Ok(out)
+    }
+
+    fn link(&self, pair: Pair<Rule>) -> Res<Link> {
+        let span = self.span(start(&pair));
+        let k = kids(&pair);
+        let name = k.iter().find(|p| matches!(p.as_rule(), Rule::ident | Rule::member_name)).expect("link name");
+        let args = match find(&k, Rule::call_parens) {
+            Some(p) => Some(self.args(p)?),
+            None => None,
+        };
+        Ok(Link { name: name_of(name), args, span })
+    }
+
+    fn path_syntax(&self, pair: &Pair<Rule>) -> Res<Path> {
+        let mut path = Path { with: false, links: Vec::new(), span: self.span(start(pair)) };
+        for part in pair.clone().into_inner() {
+            match part.as_rule() {
+                Rule::with_dot => path.with = true,
+                _ => path.links.push(self.link(part)?),
+            }
+        }
+        Ok(path)
+    }
+
+    fn path_expr(&self, pair: Pair<Rule>, statement: bool) -> Res<Expr> {
+        let path = self.path_syntax(&pair)?;
+        self.resolve(&pair, path, statement, pair.as_span().end())
+    }
+
+    /// Decides what a path names (see the module doc for the order).
+    fn resolve(&self, pair: &Pair<Rule>, mut path: Path, statement: bool, end: usize) -> Res<Expr> {
+        let at = start(pair);
+        if path.with {
+            self.check_path(pair, &path)?;
+            return Ok(self.node(Node::Path(path), at, end));
+        }
+        if path.links.len() == 1 {
+            let link = path.links.pop().expect("one link");
+            return self.single(pair, link, statement, end);
+        }
+        if let Some(call) = self.qualified_call(pair, &mut path)? {
+            return Ok(call);
+        }
+        self.check_path(pair, &path)?;
+        let root = &path.links[0];
+        if !self.is_var(&root.name) && !is_object(&lower_bare(&root.name)) {
+            return Err(self.error_at(pair, format!("{} is not an object or a variable", root.name)));
+        }
+        Ok(self.node(Node::Path(path), at, end))
+    }
+
+    /// Refuses paths that reach files (`Workbooks.Open`, `ThisWorkbook.SaveAs`).
+    fn check_path(&self, pair: &Pair<Rule>, path: &Path) -> Res<()> {
+        for (i, link) in path.links.iter().enumerate() {
+            let lower = lower_bare(&link.name);
+            let is_var = i == 0 && !path.with && self.is_var(&link.name);
+            if FORBIDDEN.contains(&lower.as_str()) && !is_var {
+                return Err(self.error_at(pair, refusal(&link.name)));
+            }
+        }
+        Ok(())
+    }
+
+    /// `VBA.Sqr(x)`, `WorksheetFunction.Sum(…)`, `Application.WorksheetFunction.Sum(…)`:
+    /// rows of the function table, checked here like any call.
+    fn qualified_call(&self, pair: &Pair<Rule>, path: &mut Path) -> Res<Option<Expr>> {
+        let names: Vec<String> = path.links.iter().map(|l| lower_bare(&l.name)).collect();
+        let qualifier_len = match names.iter().map(String::as_str).collect::<Vec<_>>().as_slice() {
+            ["vba", _] => 1,
+            ["worksheetfunction", _] => 1,
+            ["application", "worksheetfunction", _] => 2,
+            _ => return Ok(None),
+        };
+        if path.links[..qualifier_len].iter().any(|l| l.args.is_some()) {
+            return Ok(None);
+        }
+        let link = path.links.pop().expect("function link");
+        let name =
+            if names[0] == "vba" { format!("{PREFIX}{}", lower_bare(&link.name)) } else { link.name.to_string() };
+        if FORBIDDEN.contains(&lower_bare(&link.name).as_str()) {
+            return Err(self.error_at(pair, refusal(&link.name)));
+        }
+        if names[0] != "vba" && name.to_ascii_uppercase().starts_with(PREFIX) {
+            return Err(self.error_at(pair, format!("{name} is one of VBA's functions, not a worksheet function")));
+        }
+        match self.function_call(pair, &name, &link)? {
+            Some(e) => Ok(Some(e)),
+            None => Err(self.error_at(pair, format!("{} is not a function of {}", link.name, path.links[0].name))),
+        }
+    }
+
+    /// A call of a row of the function table by `name`, with `link`'s arguments.
+    fn function_call(&self, pair: &Pair<Rule>, name: &str, link: &Link) -> Res<Option<Expr>> {
+        let Some(info) = Registry.lookup(strip_future_prefix(name)) else { return Ok(None) };
+        let args = link.args.as_deref().unwrap_or(&[]);
+        if args.iter().any(|a| a.name.is_some()) {
+            return Err(
+                self.error_at(pair, format!("{}: named arguments (x:=) are for the macro's own procedures", link.name))
+            );
+        }
+        if args.len() < info.min_args || args.len() > info.max_args {
+            return Err(self.error_at(pair, arity_message(&link.name, info.min_args, info.max_args, args.len())));
+        }
+        let exprs = args.iter().map(|a| a.value.clone()).collect();
+        let span = ByteSpan { start: start(pair) as u32, end: pair.as_span().end() as u32 };
+        Ok(Some(Expr::new(ExprKind::Call(info.id, exprs), span)))
+    }
+
+    /// A path of one name: a variable, constant, procedure, VBA function, object or sheet function.
+    fn single(&self, pair: &Pair<Rule>, link: Link, statement: bool, end: usize) -> Res<Expr> {
+        let at = start(pair);
+        let span = ByteSpan { start: at as u32, end: end as u32 };
+        let lower = lower_bare(&link.name);
+        let is_var = self.is_var(&link.name);
+        if FORBIDDEN.contains(&lower.as_str()) && !is_var {
+            return Err(self.error_at(pair, refusal(&link.name)));
+        }
+        let Some(args) = &link.args else {
+            if let Some(kind) = constant(&lower) {
+                return Ok(Expr::new(kind, span));
+            }
+            if is_var {
+                if statement {
+                    return Err(self.error_at(pair, format!("{}: a statement cannot be just a value", link.name)));
+                }
+                return Ok(Expr::new(ExprKind::Name(link.name.clone()), span));
+            }
+            if let Some(proc) = self.proc_index(&link.name) {
+                return self.proc_call(pair, proc, Vec::new(), statement, end);
+            }
+            if is_object(&lower) {
+                let path = Path { with: false, links: vec![link], span: self.span(at) };
+                return Ok(self.node(Node::Path(path), at, end));
+            }
+            if statement {
+                return Err(self.error_at(pair, format!("no Sub named {}", link.name)));
+            }
+            self.implicit(at, &link.name)?;
+            return Ok(Expr::new(ExprKind::Name(link.name.clone()), span));
+        };
+        if let Some(proc) = self.proc_index(&link.name).filter(|_| !is_var || self.is_own_function(&link.name)) {
+            let args = link.args.expect("arguments");
+            return self.proc_call(pair, proc, args, statement, end);
+        }
+        if is_var {
+            let index = args.iter().map(|a| a.value.clone()).collect();
+            return Ok(self.node(Node::Element { var: link.name.clone(), index, span: self.span(at) }, at, end));
+        }
+        if lower == "ubound" || lower == "lbound" {
+            return self.bound(pair, &link, lower == "ubound", end);
+        }
+        if let Some(call) = self.function_call(pair, &format!("{PREFIX}{lower}"), &link)? {
+            return Ok(call);
+        }
+        if is_object(&lower) {
+            let path = Path { with: false, links: vec![link], span: self.span(at) };
+            return Ok(self.node(Node::Path(path), at, end));
+        }
+        match self.function_call(pair, &link.name, &link)? {
+            Some(call) => Ok(call),
+            None => Err(self.error_at(pair, format!("no Function, Sub or sheet function named {}", link.name))),
+        }
+    }
+
+    fn proc_call(&self, pair: &Pair<Rule>, proc: usize, args: Vec<Arg>, statement: bool, end: usize) -> Res<Expr> {
+        let Signature { name, kind, params, required } = &self.procs[proc];
+        if *kind == ProcKind::Sub && !statement {
+            return Err(self.error_at(pair, format!("Sub {name} has no value; call it as a statement")));
+        }
+        let positional = args.iter().take_while(|a| a.name.is_none()).count();
+        if args.len() > params.len() {
+            return Err(self.error_at(pair, arity_message(name, *required, params.len(), args.len())));
+        }
+        for a in &args[positional..] {
+            let Some(arg_name) = &a.name else {
+                return Err(self.error_at(pair, "a positional argument cannot follow a named one"));
+            };
+            if !params.iter().any(|p| p.eq_ignore_ascii_case(arg_name)) {
+                return Err(self.error_at(pair, format!("{name} has no parameter {arg_name}")));
+            }
+        }
+        let given = |i: usize, p: &str| {
+            args.get(i).is_some_and(|a| a.name.is_none() && a.value.kind != ExprKind::Missing)
+                || args.iter().any(|a| a.name.as_deref().is_some_and(|n| n.eq_ignore_ascii_case(p)))
+        };
+        if let Some(missing) = params.iter().take(*required).enumerate().find(|(i, p)| !given(*i, p)) {
+            return Err(self.error_at(pair, format!("{name}: argument {} is not optional", missing.1)));
+        }
+        let at = start(pair);
+        Ok(self.node(Node::Call { proc, args, span: self.span(at) }, at, end))
+    }
+
+    fn bound(&self, pair: &Pair<Rule>, link: &Link, upper: bool, end: usize) -> Res<Expr> {
+        let args = link.args.as_deref().unwrap_or(&[]);
+        let var = match args.first().map(|a| &a.value.kind) {
+            Some(ExprKind::Name(n)) if args.len() <= 2 => n.clone(),
+            _ => return Err(self.error_at(pair, format!("{}(array, [dimension]) needs an array variable", link.name))),
+        };
+        let dim = args.get(1).map(|a| a.value.clone());
+        let at = start(pair);
+        Ok(self.node(Node::Bound { upper, var, dim, span: self.span(at) }, at, end))
+    }
+}
+
+impl HostPrimaries for Build<'_> {
+    fn primary(&self, pair: Pair<Rule>) -> Result<Expr, ParseError> {
+        match pair.as_rule() {
+            Rule::bracket => self.bracket(pair),
+            Rule::path => self.path_expr(pair, false),
+            rule => unreachable!("macro primary {rule:?}"),
+        }
+    }
+}
+
+fn arity_message(name: &str, min: usize, max: usize, got: usize) -> String {
+    let wanted = match (min, max) {
+        (a, b) if a == b => format!("{a}"),
+        (a, b) if b >= 255 => format!("at least {a}"),
+        (a, b) => format!("{a} to {b}"),
+    };
+    let plural = if wanted == "1" { "" } else { "s" };
+    format!("{name} takes {wanted} argument{plural}, not {got}")
+}
+
+fn comparison(rule: Rule) -> Option<BinOp> {
+    Some(match rule {
+        Rule::eq => BinOp::Eq,
+        Rule::ne => BinOp::Ne,
+        Rule::lt => BinOp::Lt,
+        Rule::le => BinOp::Le,
+        Rule::gt => BinOp::Gt,
+        Rule::ge => BinOp::Ge,
+        _ => return None,
+    })
+}
+
+fn ty_of(as_clause: &Pair<Rule>) -> Ty {
+    let name = find(&kids(as_clause), Rule::type_name).map(|t| t.as_str().to_ascii_lowercase()).unwrap_or_default();
+    match name.as_str() {
+        "integer" | "long" | "longlong" | "longptr" | "byte" => Ty::Whole,
+        "double" | "single" | "currency" | "decimal" => Ty::Number,
+        "string" => Ty::String,
+        "boolean" => Ty::Boolean,
+        _ => Ty::Variant,
+    }
+}
+
+/// The blocks nested directly in a statement.
+pub fn inner_blocks(kind: &StmtKind) -> Vec<&Block> {
+    match kind {
+        StmtKind::If { arms, otherwise } => arms.iter().map(|(_, b)| b).chain(otherwise).collect(),
+        StmtKind::Select { cases, otherwise, .. } => cases.iter().map(|c| &c.body).chain(otherwise).collect(),
+        StmtKind::For { body, .. }
+        | StmtKind::ForEach { body, .. }
+        | StmtKind::Do { body, .. }
+        | StmtKind::With { body, .. } => vec![body],
+        _ => Vec::new(),
+    }
+}

@@ -1,0 +1,109 @@
+//! `ncsheet run` as a user runs it: the paper's chamfer macro on a workbook, its program read
+//! back by LinuxCNC's rs274, and the refusals a macro meets.
+
+mod common;
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use common::rs274::{self, Move};
+
+fn ncsheet(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_ncsheet")).args(args).output().unwrap()
+}
+
+/// The fixed layout of sheets/chamfer.bas: inputs in B2:B7, results in B9:B12.
+const CHAMFER_SHEET: &str = "input,value\nD,40\nf,2\nalpha,45\nr,0.8\neA,1\neB,1\n\nXA,\nZA,\nXB,\nZB,\n";
+
+fn macro_path(name: &str) -> String {
+    format!("{}/sheets/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> String {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p.to_str().unwrap().to_string()
+}
+
+#[test]
+fn chamfer_macro_cuts_from_t1_to_t2_as_domain_md_computes_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let book = write(dir.path(), "chamfer.csv", CHAMFER_SHEET);
+    let program = dir.path().join("chamfer.ngc");
+    let saved = dir.path().join("out.csv");
+    let out = ncsheet(&[
+        "run",
+        &book,
+        &macro_path("chamfer.bas"),
+        "--dialect",
+        "linuxcnc",
+        "-o",
+        program.to_str().unwrap(),
+        "--save",
+        saved.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    // The results were written into the workbook (DOMAIN.md §1, outer, α = 45°).
+    let wb = ncsheet(&["eval", saved.to_str().unwrap(), "B9:B12", "--format", "csv"]);
+    let values: Vec<f64> = String::from_utf8(wb.stdout).unwrap().lines().map(|l| l.parse().unwrap()).collect();
+    for (got, want) in values.iter().zip([44.262742, -4.6, 33.062742, 1.0]) {
+        assert!((got - want).abs() < 1e-6, "{values:?}");
+    }
+    if !rs274::available() {
+        eprintln!("skipped the rs274 part: rs274 is not installed");
+        return;
+    }
+    let moves = rs274::moves(&program).unwrap();
+    // rs274 reports X as a radius (G7 diameter mode on input).
+    let feed: Vec<&Move> = moves.iter().filter(|m| matches!(m, Move::Feed { .. })).collect();
+    let Move::Feed { x, z, .. } = feed[0] else { unreachable!() };
+    assert!((x - 33.062742 / 2.0).abs() < 0.001 && (z - 1.0).abs() < 0.001, "{feed:?}");
+    let start = moves.iter().rev().skip_while(|m| !matches!(m, Move::Feed { .. })).nth(1).unwrap();
+    let Move::Traverse { x, z, .. } = start else { panic!("expected a rapid to T1, got {start:?}") };
+    assert!((x - 44.262742 / 2.0).abs() < 0.001 && (z + 4.6).abs() < 0.001, "{moves:?}");
+}
+
+#[test]
+fn stdout_carries_only_what_the_macro_prints_and_the_program() {
+    let dir = tempfile::tempdir().unwrap();
+    let book = write(dir.path(), "b.csv", "1\n");
+    let bas = write(dir.path(), "m.bas", "Sub Main()\n  Debug.Print \"x=\"; [A1] * 2\n  MsgBox \"done\"\nEnd Sub\n");
+    let out = ncsheet(&["run", &book, &bas]);
+    assert!(out.status.success());
+    assert_eq!(String::from_utf8_lossy(&out.stdout), "x= 2 \n");
+    assert_eq!(String::from_utf8_lossy(&out.stderr).trim(), "done");
+}
+
+#[test]
+fn a_runaway_macro_stops_with_its_line_and_a_caret() {
+    let dir = tempfile::tempdir().unwrap();
+    let book = write(dir.path(), "b.csv", "1\n");
+    let bas = write(dir.path(), "loop.bas", "Sub Main()\n  Dim i\n  Do\n    i = i + 1\n  Loop\nEnd Sub\n");
+    let out = ncsheet(&["run", &book, &bas, "--max-statements", "1000"]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("loop.bas:") && err.contains('^') && err.contains("--max-statements"), "{err}");
+}
+
+#[test]
+fn a_macro_cannot_touch_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let book = write(dir.path(), "b.csv", "1\n");
+    let victim = write(dir.path(), "victim.txt", "keep me");
+    let bas = write(dir.path(), "kill.bas", &format!("Sub Main()\n  Kill \"{victim}\"\nEnd Sub\n"));
+    let out = ncsheet(&["run", &book, &bas]);
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(std::fs::read_to_string(&victim).unwrap(), "keep me");
+    let bas = write(dir.path(), "shell.bas", "Sub Main()\n  Shell \"rm -rf /tmp/x\"\nEnd Sub\n");
+    assert_eq!(ncsheet(&["run", &book, &bas]).status.code(), Some(1));
+}
+
+#[test]
+fn saving_over_the_input_workbook_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let book = write(dir.path(), "b.csv", "1\n");
+    let bas = write(dir.path(), "m.bas", "Sub Main()\n  [A1] = 2\nEnd Sub\n");
+    let out = ncsheet(&["run", &book, &bas, "--save", &book]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(std::fs::read_to_string(&book).unwrap(), "1\n");
+}

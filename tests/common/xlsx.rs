@@ -1,0 +1,351 @@
+//! Shared by the xlsx tests: walking the Excel corpus and judging formula results against
+//! reference values (Excel's cached ones, or LibreOffice's).
+
+use std::collections::{HashMap, HashSet};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use ncsheet::eval::functions::spec;
+use ncsheet::eval::{Env, Value};
+use ncsheet::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
+use ncsheet::formula::ast::{Expr, ExprKind, RefShape, Reference, SheetId, SheetRef, UnaryOp};
+use ncsheet::io::xlsx::{CachedValue, Imported};
+use ncsheet::workbook::Workbook;
+
+const VOLATILE: &[&str] = &["NOW", "TODAY", "RAND", "RANDBETWEEN", "RANDARRAY"];
+
+pub fn corpus_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/excel-corpus/ironcalc")
+}
+
+pub fn workbooks(dir: &Path, out: &mut Vec<PathBuf>) {
+    let mut entries: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|e| e.expect("directory entry").path())
+        .collect();
+    entries.sort();
+    for p in entries {
+        if p.is_dir() {
+            workbooks(&p, out);
+        } else if p.extension().is_some_and(|e| e == "xlsx" || e == "xlsm") {
+            out.push(p);
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Verdict {
+    Agree,
+    Disagree,
+    Upstream,
+    Unsupported,
+    Volatile,
+}
+
+/// What a formula calls and reads.
+pub struct FormulaInfo {
+    /// Registered functions it calls (canonical names), or `(operators only)`.
+    pub functions: Vec<String>,
+    /// Unregistered functions it calls.
+    pub unknown: Vec<String>,
+    pub parses: bool,
+    pub volatile: bool,
+    pub reads: Vec<(SheetId, Rect)>,
+    /// Uses the spill operator `A1#` (stored as `_xlfn.ANCHORARRAY`).
+    pub spill_ref: bool,
+    /// Uses `@` inside a function call (stored as `_xlfn.SINGLE`).
+    pub at_in_call: bool,
+}
+
+pub fn analyse(wb: &Workbook, sheet: SheetId, anchor: Pos) -> FormulaInfo {
+    let mut info = FormulaInfo {
+        functions: Vec::new(),
+        unknown: Vec::new(),
+        parses: false,
+        volatile: false,
+        reads: Vec::new(),
+        spill_ref: false,
+        at_in_call: false,
+    };
+    let Some(text) = wb.formula(sheet, anchor) else { return info };
+    let Ok(expr) = wb.parse_at(&text, sheet, anchor) else { return info };
+    info.parses = true;
+    let mut names = Vec::new();
+    expr.visit(&mut |e| match &e.kind {
+        ExprKind::Call(id, _) => info.functions.push(spec(*id).name.to_string()),
+        ExprKind::UnknownCall(name, _) => info.unknown.push(name.to_string()),
+        ExprKind::Ref(r) => info.reads.extend(resolve(r, sheet, anchor)),
+        ExprKind::Name(n) => names.push(n.clone()),
+        _ => {}
+    });
+    spill_reads(wb, &expr, sheet, anchor, &mut info.reads);
+    expr.visit(&mut |e| match &e.kind {
+        ExprKind::Unary(UnaryOp::Spill, _) => info.spill_ref = true,
+        ExprKind::Call(_, args) | ExprKind::UnknownCall(_, args) => args
+            .iter()
+            .for_each(|a| a.visit(&mut |x| info.at_in_call |= matches!(x.kind, ExprKind::Unary(UnaryOp::Implicit, _)))),
+        _ => {}
+    });
+    for n in names {
+        if let Some((name_expr, name_sheet)) = Env::defined_name(wb, &n, sheet) {
+            name_expr.visit_refs(&mut |r| info.reads.extend(resolve(r, name_sheet, Pos::new(0, 0))));
+        }
+    }
+    info.volatile = info.functions.iter().chain(&info.unknown).any(|f| VOLATILE.contains(&f.as_str()));
+    info.functions.sort();
+    info.functions.dedup();
+    if info.functions.is_empty() {
+        info.functions.push("(operators only)".into());
+    }
+    info
+}
+
+/// `A1#` reads the whole area the anchor spilled into.
+fn spill_reads(wb: &Workbook, expr: &Expr, sheet: SheetId, at: Pos, reads: &mut Vec<(SheetId, Rect)>) {
+    expr.visit(&mut |e| {
+        if let ExprKind::Unary(UnaryOp::Spill, inner) = &e.kind {
+            if let Some((s, rect)) = match &inner.kind {
+                ExprKind::Ref(r) => resolve(r, sheet, at),
+                _ => None,
+            } {
+                reads.push((s, Env::spill_rect(wb, s, rect.first).unwrap_or(rect)));
+            }
+        }
+    });
+}
+
+fn resolve(r: &Reference, sheet: SheetId, at: Pos) -> Option<(SheetId, Rect)> {
+    let sheet = match &r.sheet {
+        SheetRef::Current => sheet,
+        SheetRef::Id(id) => *id,
+        SheetRef::Missing(_) => return None,
+    };
+    let row = |c: ncsheet::formula::ast::Coord| c.resolve(at.row, MAX_ROWS);
+    let col = |c: ncsheet::formula::ast::Coord| c.resolve(at.col, MAX_COLS);
+    let rect = match r.shape {
+        RefShape::Cell(c) => Rect::cell(Pos::new(row(c.row)?, col(c.col)?)),
+        RefShape::Cells(a, b) => Rect::new(Pos::new(row(a.row)?, col(a.col)?), Pos::new(row(b.row)?, col(b.col)?)),
+        RefShape::Cols(a, b) => Rect::new(Pos::new(0, col(a)?), Pos::new(MAX_ROWS - 1, col(b)?)),
+        RefShape::Rows(a, b) => Rect::new(Pos::new(row(a)?, 0), Pos::new(row(b)?, MAX_COLS - 1)),
+    };
+    Some((sheet, rect))
+}
+
+/// Cells by sheet, for "does this rectangle hold one of them".
+#[derive(Default)]
+struct CellSet {
+    cells: HashSet<(SheetId, Pos)>,
+    by_sheet: HashMap<SheetId, Vec<Pos>>,
+}
+
+impl CellSet {
+    fn insert(&mut self, sheet: SheetId, pos: Pos) -> bool {
+        let new = self.cells.insert((sheet, pos));
+        if new {
+            self.by_sheet.entry(sheet).or_default().push(pos);
+        }
+        new
+    }
+
+    fn hits(&self, sheet: SheetId, rect: Rect, except: (SheetId, Pos)) -> bool {
+        let area = rect.rows() as u64 * rect.cols() as u64;
+        let list = self.by_sheet.get(&sheet).map_or(&[][..], Vec::as_slice);
+        if area <= list.len() as u64 {
+            (rect.first.row..=rect.last.row).any(|r| {
+                (rect.first.col..=rect.last.col)
+                    .any(|c| (sheet, Pos::new(r, c)) != except && self.cells.contains(&(sheet, Pos::new(r, c))))
+            })
+        } else {
+            list.iter().any(|&p| rect.contains(p) && (sheet, p) != except)
+        }
+    }
+}
+
+pub struct CellResult {
+    pub sheet: SheetId,
+    pub pos: Pos,
+    pub anchor: Pos,
+    pub verdict: Verdict,
+    /// The reference value the cell was judged against.
+    pub expected: Option<Value>,
+}
+
+/// Judges the formula results of one workbook against a reference: `expected` gives the
+/// value a cell should have (`None`: nothing to compare); `excluded` says which formulas
+/// count as unsupported besides those calling a function missing from our table; `agree`
+/// compares the reference value with ours.
+pub fn judge(
+    imported: &Imported,
+    expected: &dyn Fn(&CachedValue) -> Option<Value>,
+    excluded: &dyn Fn(&FormulaInfo) -> bool,
+    agree: &dyn Fn(&Value, &Value) -> bool,
+) -> (Vec<CellResult>, HashMap<(SheetId, Pos), FormulaInfo>) {
+    let wb = &imported.workbook;
+    let mut infos: HashMap<(SheetId, Pos), FormulaInfo> = HashMap::new();
+    for c in &imported.cached {
+        infos.entry((c.sheet, c.anchor)).or_insert_with(|| analyse(wb, c.sheet, c.anchor));
+    }
+    // Unsupported and volatile cells, then everything that reads them.
+    let mut tainted = CellSet::default();
+    let mut volatile = HashSet::new();
+    for c in &imported.cached {
+        let info = &infos[&(c.sheet, c.anchor)];
+        if !info.parses || !info.unknown.is_empty() || info.volatile || excluded(info) {
+            tainted.insert(c.sheet, c.pos);
+            if info.volatile {
+                volatile.insert((c.sheet, c.pos));
+            }
+        }
+    }
+    loop {
+        let mut grew = false;
+        for c in &imported.cached {
+            if tainted.cells.contains(&(c.sheet, c.pos)) {
+                continue;
+            }
+            let info = &infos[&(c.sheet, c.anchor)];
+            let reads_tainted = info.reads.iter().any(|&(s, r)| tainted.hits(s, r, (c.sheet, c.anchor)))
+                || tainted.cells.contains(&(c.sheet, c.anchor));
+            if reads_tainted {
+                let from_volatile = info
+                    .reads
+                    .iter()
+                    .any(|&(s, r)| volatile.iter().any(|&(vs, vp): &(SheetId, Pos)| vs == s && r.contains(vp)));
+                if from_volatile {
+                    volatile.insert((c.sheet, c.pos));
+                }
+                grew |= tainted.insert(c.sheet, c.pos);
+            }
+        }
+        if !grew {
+            break;
+        }
+    }
+    let expectations: Vec<Option<Value>> = imported.cached.iter().map(expected).collect();
+    let mut wrong = CellSet::default();
+    for (c, want) in imported.cached.iter().zip(&expectations) {
+        if want.as_ref().is_some_and(|w| !agree(w, &wb.value(c.sheet, c.pos))) {
+            wrong.insert(c.sheet, c.pos);
+        }
+    }
+    let results = imported
+        .cached
+        .iter()
+        .zip(expectations)
+        .filter(|(_, want)| want.is_some())
+        .map(|(c, want)| {
+            let key = (c.sheet, c.pos);
+            let info = &infos[&(c.sheet, c.anchor)];
+            let verdict = if volatile.contains(&key) {
+                Verdict::Volatile
+            } else if tainted.cells.contains(&key) {
+                Verdict::Unsupported
+            } else if !wrong.cells.contains(&key) {
+                Verdict::Agree
+            } else if info.reads.iter().any(|&(s, r)| wrong.hits(s, r, (c.sheet, c.anchor)))
+                || (c.anchor != c.pos && wrong.cells.contains(&(c.sheet, c.anchor)))
+            {
+                Verdict::Upstream
+            } else {
+                Verdict::Disagree
+            };
+            CellResult { sheet: c.sheet, pos: c.pos, anchor: c.anchor, verdict, expected: want }
+        })
+        .collect();
+    (results, infos)
+}
+
+#[derive(Default, Clone, Copy)]
+pub struct Tally {
+    pub agree: usize,
+    pub disagree: usize,
+    pub upstream: usize,
+    pub unsupported: usize,
+    pub volatile: usize,
+}
+
+impl Tally {
+    pub fn add(&mut self, v: Verdict) {
+        match v {
+            Verdict::Agree => self.agree += 1,
+            Verdict::Disagree => self.disagree += 1,
+            Verdict::Upstream => self.upstream += 1,
+            Verdict::Unsupported => self.unsupported += 1,
+            Verdict::Volatile => self.volatile += 1,
+        }
+    }
+
+    pub fn compared(&self) -> usize {
+        self.agree + self.disagree + self.upstream
+    }
+
+    pub fn all(&self) -> usize {
+        self.compared() + self.unsupported + self.volatile
+    }
+}
+
+pub fn percent(part: usize, whole: usize) -> String {
+    if whole == 0 {
+        "–".into()
+    } else {
+        format!("{:.1}%", 100.0 * part as f64 / whole as f64)
+    }
+}
+
+pub fn soffice() -> Option<PathBuf> {
+    let candidates = ["/usr/bin/soffice", "/usr/local/bin/soffice", "/opt/libreoffice/program/soffice"];
+    candidates.iter().map(PathBuf::from).find(|p| p.exists())
+}
+
+/// A LibreOffice profile that recalculates every xlsx on load (by default it trusts the
+/// cached values, which would make this test compare our numbers with themselves).
+pub fn recalculating_profile(dir: &Path) -> String {
+    let user = dir.join("user");
+    std::fs::create_dir_all(&user).unwrap();
+    let settings = r#"<?xml version="1.0" encoding="UTF-8"?>
+<oor:items xmlns:oor="http://openoffice.org/2001/registry" xmlns:xs="http://www.w3.org/2001/XMLSchema" xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance">
+<item oor:path="/org.openoffice.Office.Calc/Formula/Load"><prop oor:name="OOXMLRecalcMode" oor:op="fuse"><value>0</value></prop></item>
+<item oor:path="/org.openoffice.Office.Calc/Formula/Load"><prop oor:name="ODFRecalcMode" oor:op="fuse"><value>0</value></prop></item>
+</oor:items>
+"#;
+    std::fs::write(user.join("registrymodifications.xcu"), settings).unwrap();
+    format!("-env:UserInstallation=file://{}", dir.display())
+}
+
+/// Converts `inputs` to xlsx in `out` with LibreOffice: in batches (one process each), and
+/// once more for the files a batch left out (LibreOffice sometimes dies under load).
+pub fn libreoffice_convert(soffice: &Path, profile: &str, inputs: &[PathBuf], out: &Path) {
+    for batch in inputs.chunks(40) {
+        run_soffice(soffice, profile, batch, out);
+    }
+    let missing: Vec<PathBuf> =
+        inputs.iter().filter(|p| !out.join(p.file_name().expect("file name")).exists()).cloned().collect();
+    for batch in missing.chunks(10) {
+        run_soffice(soffice, profile, batch, out);
+    }
+}
+
+fn run_soffice(soffice: &Path, profile: &str, inputs: &[PathBuf], out: &Path) {
+    let mut child = Command::new(soffice)
+        .arg(profile)
+        .args(["--headless", "--norestore", "--convert-to", "xlsx", "--outdir"])
+        .arg(out)
+        .args(inputs)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("start soffice");
+    let start = Instant::now();
+    loop {
+        if child.try_wait().expect("wait for soffice").is_some() {
+            return;
+        }
+        if start.elapsed() > Duration::from_secs(600) {
+            let _ = child.kill();
+            let _ = child.wait();
+            return;
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}

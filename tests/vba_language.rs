@@ -1,0 +1,331 @@
+//! The macro language, one statement form or built-in at a time. Expected values are VBA's
+//! documented behaviour (Round(2.5) is 2, -7 Mod 3 is -1, …), not our own output.
+
+use ncsheet::eval::Value;
+use ncsheet::formula::address::parse_cell;
+use ncsheet::vba::{self, RunOptions, RunOutput};
+use ncsheet::workbook::Workbook;
+
+fn run(src: &str) -> RunOutput {
+    let mut wb = Workbook::with_sheet();
+    vba::run(&mut wb, src, "test.bas", &RunOptions::default()).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The lines `Sub Main` prints.
+fn printed(body: &str) -> Vec<String> {
+    run(&format!("Sub Main()\n{body}\nEnd Sub\n")).printed
+}
+
+/// A macro expression's value, as written into a cell.
+fn value(expr: &str) -> Value {
+    let mut wb = Workbook::with_sheet();
+    let src = format!("Sub Main()\n    [A1] = {expr}\nEnd Sub\n");
+    vba::run(&mut wb, &src, "test.bas", &RunOptions::default()).unwrap_or_else(|e| panic!("{expr}: {e}"));
+    wb.value(0, parse_cell("A1").unwrap())
+}
+
+fn n(x: f64) -> Value {
+    Value::Number(x)
+}
+
+/// A text expression's value, as printed.
+fn text(expr: &str) -> String {
+    printed(&format!("Debug.Print {expr}")).remove(0)
+}
+
+#[test]
+fn sub_and_function_with_parameters_return_by_name() {
+    let out = run("Function Area(w, h)\n    Area = w * h\nEnd Function\n\n\
+                   Private Function Twice(ByVal x As Double) As Double\n    Twice = 2 * x\nEnd Function\n\n\
+                   Sub Main()\n    Debug.Print \"area \" & Area(3, 4) & \" twice \" & Twice(Area(1, 2))\nEnd Sub\n");
+    assert_eq!(out.printed, ["area 12 twice 4"]);
+}
+
+#[test]
+fn a_function_can_recurse_by_name_with_arguments() {
+    let out = run("Function Fact(n)\n    If n <= 1 Then Fact = 1 Else Fact = n * Fact(n - 1)\nEnd Function\n\
+                   Sub Main()\n    Debug.Print \"\" & Fact(10)\nEnd Sub\n");
+    assert_eq!(out.printed, ["3628800"]);
+}
+
+#[test]
+fn dim_with_types_converts_as_vba_does() {
+    let lines = printed(
+        "    Dim i As Integer, s As String, b As Boolean, d As Double, v\n\
+         \x20   Debug.Print \"[\" & s & \"]\" & d & b & \"[\" & v & \"]\"\n\
+         \x20   i = 2.5: d = \"1.5\": s = 7\n\
+         \x20   Debug.Print i & \" \" & d & \" \" & s",
+    );
+    // Integer rounds halves to even; a String holds "7"; defaults are "", 0, False, Empty.
+    assert_eq!(lines, ["[]0FALSE[]", "2 1.5 7"]);
+}
+
+#[test]
+fn const_at_module_and_procedure_level() {
+    let out = run("Const Pi As Double = 3.14159265358979\nPrivate Const Half = 0.5\n\
+                   Sub Main()\n    Const Two = 2\n    Debug.Print \"\" & Round(Pi * Two * Half, 4)\nEnd Sub\n");
+    assert_eq!(out.printed, ["3.1416"]);
+}
+
+#[test]
+fn if_block_with_elseif_and_else() {
+    let body = "    Dim x\n    For Each x In Array(-1, 0, 5, 50)\n\
+                \x20       If x < 0 Then\n            Debug.Print \"negative\"\n\
+                \x20       ElseIf x = 0 Then\n            Debug.Print \"zero\"\n\
+                \x20       ElseIf x < 10 Then\n            Debug.Print \"small\"\n\
+                \x20       Else\n            Debug.Print \"large\"\n        End If\n    Next";
+    assert_eq!(printed(body), ["negative", "zero", "small", "large"]);
+}
+
+#[test]
+fn one_line_if_with_else_and_several_statements() {
+    let body = "    Dim a, b\n    If 1 < 2 Then a = 1: b = 2 Else a = 3\n    Debug.Print a & \",\" & b\n\
+                \x20   If 1 > 2 Then a = 1: b = 2 Else a = 3: b = 4\n    Debug.Print a & \",\" & b\n\
+                \x20   If a = 3 Then If b = 4 Then Debug.Print \"nested\"";
+    assert_eq!(printed(body), ["1,2", "3,4", "nested"]);
+}
+
+#[test]
+fn select_case_with_values_ranges_is_and_else() {
+    let body = "    Dim x\n    For Each x In Array(1, 3, 7, 12, 20, \"b\")\n        Select Case x\n\
+                \x20           Case 1, 2\n                Debug.Print \"one or two\"\n\
+                \x20           Case 3 To 8\n                Debug.Print \"three to eight\"\n\
+                \x20           Case \"a\", \"b\"\n                Debug.Print \"a letter\"\n\
+                \x20           Case Is >= 20\n                Debug.Print \"twenty or more\"\n\
+                \x20           Case Else\n                Debug.Print \"else\"\n        End Select\n    Next x";
+    assert_eq!(printed(body), ["one or two", "three to eight", "three to eight", "else", "twenty or more", "a letter"]);
+}
+
+#[test]
+fn for_next_with_step_counts_as_vba_does() {
+    let body = "    Dim i, s\n    For i = 10 To 1 Step -3\n        s = s & i & \" \"\n    Next i\n\
+                \x20   Debug.Print s & \"after \" & i\n\
+                \x20   For i = 1 To 0\n        Debug.Print \"never\"\n    Next\n\
+                \x20   For i = 0 To 1 Step 0.25: s = i: Next: Debug.Print \"\" & s";
+    // The variable ends one step past the last value; an empty range runs no turn.
+    assert_eq!(printed(body), ["10 7 4 1 after -2", "1"]);
+}
+
+#[test]
+fn exit_for_and_exit_do_leave_the_innermost_loop() {
+    let body = "    Dim i, j, n\n    For i = 1 To 3\n        For j = 1 To 10\n            If j > 2 Then Exit For\n\
+                \x20           n = n + 1\n        Next j\n    Next i\n    Debug.Print \"\" & n\n\
+                \x20   Do\n        n = n + 1\n        If n >= 10 Then Exit Do\n    Loop\n    Debug.Print \"\" & n";
+    assert_eq!(printed(body), ["6", "10"]);
+}
+
+#[test]
+fn do_loops_test_before_or_after_with_while_or_until() {
+    let body = "    Dim n\n    n = 0: Do While n < 3: n = n + 1: Loop: Debug.Print \"\" & n\n\
+                \x20   n = 0: Do Until n >= 4\n        n = n + 1\n    Loop\n    Debug.Print \"\" & n\n\
+                \x20   n = 10: Do\n        n = n + 1\n    Loop While n < 5\n    Debug.Print \"\" & n\n\
+                \x20   n = 10: Do\n        n = n - 1\n    Loop Until n < 8\n    Debug.Print \"\" & n";
+    // A test after Loop runs the body once even when it is false at the start.
+    assert_eq!(printed(body), ["3", "4", "11", "7"]);
+}
+
+#[test]
+fn while_wend() {
+    assert_eq!(printed("    Dim n\n    While n < 5\n        n = n + 2\n    Wend\n    Debug.Print \"\" & n"), ["6"]);
+}
+
+#[test]
+fn exit_sub_and_exit_function() {
+    let out = run("Function F(x)\n    F = 1\n    If x > 0 Then Exit Function\n    F = 2\nEnd Function\n\
+                   Sub Main()\n    Debug.Print F(1) & \" \" & F(0)\n    Exit Sub\n    Debug.Print \"not here\"\nEnd Sub\n");
+    assert_eq!(out.printed, ["1 2"]);
+}
+
+#[test]
+fn goto_and_labels_as_the_papers_cycles_are_written() {
+    // DOMAIN.md §2: numbered blocks with IF … THEN GOTO Nn.
+    let body = "    Dim x\n    x = 0\nN10:\n    x = x + 1\n    If x < 5 Then GoTo N10\n    Debug.Print \"\" & x\n\
+                \x20   GoTo 100\n    Debug.Print \"skipped\"\n100 Debug.Print \"line 100\"\n\
+                \x20   For x = 1 To 10\n        If x = 3 Then GoTo Done\n    Next\nDone:\n    Debug.Print \"left at \" & x";
+    assert_eq!(printed(body), ["5", "line 100", "left at 3"]);
+}
+
+#[test]
+fn comments_rem_continuation_and_colons() {
+    let body = "    Dim total ' a comment after a statement\n    Rem a Rem line\n\
+                \x20   ' a comment line\n    total = 1 + _\n        2 + _\n        3: total = total * 2 ' two statements\n\
+                \x20   Debug.Print \"it's \" & total";
+    assert_eq!(printed(body), ["it's 12"]);
+}
+
+#[test]
+fn option_explicit_accepts_declared_names() {
+    let out = run("Option Explicit\nDim counter As Long\n\nSub Main()\n    Dim i As Long\n\
+                   \x20   For i = 1 To 4: counter = counter + i: Next\n    Debug.Print \"\" & counter\nEnd Sub\n");
+    assert_eq!(out.printed, ["10"]);
+}
+
+#[test]
+fn byref_changes_the_callers_variable_and_byval_does_not() {
+    let out = run("Sub Bump(ByRef a, ByVal b)\n    a = a + 1\n    b = b + 1\nEnd Sub\n\
+                   Sub Twice(x)\n    x = x * 2\nEnd Sub\n\
+                   Sub Main()\n    Dim p, q\n    Const K = 5\n    p = 1: q = 1\n    Bump p, q\n    Call Twice(p)\n\
+                   \x20   Twice q + 0\n    Twice K\n    Debug.Print p & \" \" & q & \" \" & K\nEnd Sub\n");
+    // ByRef is VBA's default; an expression or a constant argument is a copy.
+    assert_eq!(out.printed, ["4 1 5"]);
+}
+
+#[test]
+fn optional_and_named_arguments() {
+    let out = run("Function Pt(Optional x = 1, Optional z As Double = 2)\n    Pt = x & \"/\" & z\nEnd Function\n\
+                   Sub Main()\n    Debug.Print Pt() & \" \" & Pt(5) & \" \" & Pt(z:=7) & \" \" & Pt(, 9)\nEnd Sub\n");
+    assert_eq!(out.printed, ["1/2 5/2 1/7 1/9"]);
+}
+
+#[test]
+fn vba_operators() {
+    assert_eq!(value("7 Mod 3"), n(1.0));
+    assert_eq!(value("-7 Mod 3"), n(-1.0));
+    assert_eq!(value("5.5 Mod 2"), n(0.0)); // operands round half to even: 6 Mod 2
+    assert_eq!(value("7 \\ 2"), n(3.0));
+    assert_eq!(value("-7 \\ 2"), n(-3.0));
+    assert_eq!(value("1 < 2 And 2 < 3"), Value::Bool(true));
+    assert_eq!(value("1 > 2 Or 2 > 3"), Value::Bool(false));
+    assert_eq!(value("Not 1 = 2 And 3 = 3"), Value::Bool(true)); // Not binds looser than =
+    assert_eq!(value("True Xor True"), Value::Bool(false));
+    assert_eq!(value("12 And 10"), n(8.0)); // bitwise on numbers
+    assert_eq!(value("Not 0"), n(-1.0));
+    assert_eq!(value("2 + 3 Mod 2"), n(3.0)); // Mod above +
+    assert_eq!(value("2 ^ 3 ^ 2"), n(64.0)); // left-associative, as in the formula language
+                                             // A macro follows the formula language where both have the operator: -2^2 is 4 (VBA: -4).
+    assert_eq!(value("-2 ^ 2"), n(4.0));
+    assert_eq!(text("\"G\" & 1 & \" X\" & 2.5"), "G1 X2.5");
+}
+
+#[test]
+fn math_built_ins() {
+    assert_eq!(value("Sqr(16)"), n(4.0));
+    assert_eq!(value("Atn(1) * 4"), n(std::f64::consts::PI));
+    assert_eq!(value("Round(Tan(Atn(1)), 12)"), n(1.0));
+    assert_eq!(value("Sin(0) + Cos(0)"), n(1.0));
+    assert_eq!(value("Round(Exp(2), 3)"), n(7.389));
+    assert_eq!(value("Round(Log(100), 3)"), n(4.605)); // natural logarithm
+    assert_eq!(value("Abs(-3) + Sgn(-2)"), n(2.0));
+    assert_eq!(value("Int(-2.5)"), n(-3.0));
+    assert_eq!(value("Fix(-2.5)"), n(-2.0));
+    assert_eq!(value("Round(2.5)"), n(2.0)); // halves to even
+    assert_eq!(value("Round(3.5)"), n(4.0));
+    assert_eq!(value("Round(1.2345, 2)"), n(1.23));
+    assert_eq!(value("CInt(2.5) + CInt(3.5)"), n(6.0));
+    assert_eq!(value("CDbl(\"1.5\") * 2"), n(3.0));
+    assert_eq!(value("Val(\" 1 2.5mm\")"), n(12.5));
+    assert_eq!(value("IIf(2 > 1, 10, 20)"), n(10.0));
+}
+
+#[test]
+fn text_built_ins() {
+    assert_eq!(text("Format(44.2627417, \"0.000\")"), "44.263");
+    assert_eq!(text("Format(1234.5, \"#,##0.00\")"), "1,234.50");
+    assert_eq!(text("Format(-4.6, \"0.000\")"), "-4.600");
+    assert_eq!(text("CStr(1 / 4) & CStr(True)"), "0.25True");
+    assert_eq!(text("Len(\"abc\") & Left(\"abcdef\", 2) & Mid(\"abcdef\", 3, 2) & Right(\"abcdef\", 1)"), "3abcdf");
+    assert_eq!(text("Mid(\"abcdef\", 4)"), "def");
+    assert_eq!(text("UCase(\"g1x\") & LCase(\"M30\")"), "G1Xm30");
+    assert_eq!(text("\"[\" & Trim(\"  a  b  \") & \"]\""), "[a  b]");
+    assert_eq!(text("Left$(\"N0010\", 1) & InStr(\"G01 X5\", \"X\")"), "N5");
+    assert_eq!(text("Replace(\"X1,5\", \",\", \".\")"), "X1.5");
+}
+
+#[test]
+fn sheet_functions_are_callable_with_or_without_worksheetfunction() {
+    assert_eq!(value("Application.WorksheetFunction.Sum(1, 2, 3)"), n(6.0));
+    assert_eq!(value("WorksheetFunction.Max(4, 9, 2)"), n(9.0));
+    assert_eq!(value("SUM(1, 2) + Atan2(1, 1) * 0"), n(3.0));
+    // DOMAIN.md §1, outer chamfer D=40 f=2 α=45 r=0.8 eA=eB=1: XA = 44.262742.
+    assert_eq!(value("Round(CHAMFER_XA(\"outer\", 40, 2, 45, 0.8, 1, 1), 6)"), n(44.262742));
+    // Excel's ROUND rounds halves away from zero, VBA's Round to even.
+    assert_eq!(value("WorksheetFunction.Round(2.5, 0)"), n(3.0));
+}
+
+#[test]
+fn arrays_with_bounds_redim_and_ubound() {
+    let body = "    Dim a(1 To 3) As Double, b(2), i, s\n    For i = 1 To 3: a(i) = i * i: Next\n\
+                \x20   Debug.Print LBound(a) & \"..\" & UBound(a) & \" \" & a(3) & \" \" & UBound(b)\n\
+                \x20   ReDim Preserve a(1 To 4)\n    a(4) = 16\n    Debug.Print \"\" & Application.WorksheetFunction.Sum(a)\n\
+                \x20   Dim m(1 To 2, 1 To 3)\n    m(2, 3) = 7\n    Debug.Print UBound(m, 1) & \"x\" & UBound(m, 2) & \" \" & m(2, 3)\n\
+                \x20   s = Array(\"x\", \"z\")\n    Debug.Print s(0) & s(1) & UBound(s)";
+    assert_eq!(printed(body), ["1..3 9 2", "30", "2x3 7", "xz1"]);
+}
+
+#[test]
+fn with_block_and_end() {
+    let mut wb = Workbook::with_sheet();
+    let src =
+        "Sub Main()\n    With Range(\"B2\")\n        .Value = 5\n        Debug.Print \"\" & .Value * 2 & .Address\n\
+               \x20   End With\n    Stop2\n    Debug.Print \"not reached\"\nEnd Sub\n\
+               Sub Stop2()\n    Debug.Print \"ending\"\n    End\nEnd Sub\n";
+    let out = vba::run(&mut wb, src, "t.bas", &RunOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.printed, ["10$B$2", "ending"]);
+}
+
+#[test]
+fn debug_print_separators_and_msgbox() {
+    let out = run("Sub Main()\n    Debug.Print \"a\"; \"b\", \"c\"\n    Debug.Print 5; -2\n    Debug.Print \"x\";\n\
+                   \x20   Debug.Print \"y\"\n    Debug.Print\n    MsgBox \"done\"\nEnd Sub\n");
+    // `;` joins, `,` moves to the next 14-column zone, a trailing `;` keeps the line open,
+    // numbers get VBA's sign space before and a space after.
+    assert_eq!(out.printed, ["ab            c", " 5 -2 ", "xy", ""]);
+    assert_eq!(out.messages, ["done"]);
+}
+
+#[test]
+fn the_sub_to_run_and_its_arguments_come_from_the_options() {
+    let mut wb = Workbook::with_sheet();
+    let src = "Sub Other()\n    Debug.Print \"other\"\nEnd Sub\nSub Cut(D As Double, Optional kind = \"outer\")\n\
+               \x20   Debug.Print kind & \" \" & D * 2\nEnd Sub\n";
+    let options = RunOptions {
+        sub: Some("cut".into()),
+        args: vec![("D".into(), "20.5".into()), ("kind".into(), "pipe".into())],
+        ..RunOptions::default()
+    };
+    assert_eq!(vba::run(&mut wb, src, "t.bas", &options).unwrap().printed, ["pipe 41"]);
+    // Without --sub: Main if there is one, else the first Sub that needs no arguments.
+    assert_eq!(vba::run(&mut wb, src, "t.bas", &RunOptions::default()).unwrap().printed, ["other"]);
+}
+
+#[test]
+fn attribute_lines_of_an_exported_module_are_ignored() {
+    let out = run("Attribute VB_Name = \"Module1\"\nOption Explicit\nSub Main()\n    Debug.Print \"ok\"\nEnd Sub");
+    assert_eq!(out.printed, ["ok"]);
+}
+
+#[test]
+fn static_variables_keep_their_value_between_calls() {
+    let out = run("Function Counter()\n    Static n As Long\n    Dim fresh\n    n = n + 1: fresh = fresh + 1\n\
+                   \x20   Counter = n * 10 + fresh\nEnd Function\n\
+                   Sub Main()\n    Debug.Print Counter() & \" \" & Counter() & \" \" & Counter()\nEnd Sub\n");
+    assert_eq!(out.printed, ["11 21 31"]);
+}
+
+#[test]
+fn option_base_one_moves_the_default_lower_bound() {
+    let out = run("Option Base 1\nSub Main()\n    Dim a(3), b\n    b = Array(7, 8)\n\
+                   \x20   Debug.Print LBound(a) & UBound(a) & LBound(b) & b(1)\nEnd Sub\n");
+    assert_eq!(out.printed, ["1317"]);
+}
+
+#[test]
+fn a_macro_runs_on_a_workbook_without_sheets() {
+    let mut wb = Workbook::new();
+    let src = "Sub Main()\n    [A1] = 2\n    Debug.Print \"\" & [A1] * 2\nEnd Sub\n";
+    assert_eq!(vba::run(&mut wb, src, "t.bas", &RunOptions::default()).unwrap().printed, ["4"]);
+}
+
+#[test]
+fn cells_keep_the_formula_language() {
+    // The macro grammar shares the parser but adds nothing a cell can reach.
+    let mut wb = Workbook::with_sheet();
+    let at = |c: &str| parse_cell(c).unwrap();
+    wb.set_input(0, at("A1"), "=1+\n2").unwrap();
+    assert_eq!(wb.value(0, at("A1")), n(3.0), "a line break is a space in a formula");
+    assert!(wb.set_input(0, at("A2"), "=7 Mod 2").is_err(), "Mod is not an Excel operator");
+    wb.set_input(0, at("A3"), "=-2^2").unwrap();
+    assert_eq!(wb.value(0, at("A3")), n(4.0));
+    wb.set_input(0, at("A4"), "=VBA.SQR(16)+VBA.ROUND(2.5)").unwrap();
+    assert_eq!(wb.value(0, at("A4")), n(6.0), "VBA's functions are rows of the one table");
+}

@@ -1,0 +1,171 @@
+//! Macros reading and writing the workbook: writes are seen by later reads, formulas
+//! recalculate, names and other sheets are reachable as a VBA user reaches them.
+
+use ncsheet::eval::Value;
+use ncsheet::formula::address::parse_cell;
+use ncsheet::vba::{self, RunOptions};
+use ncsheet::workbook::Workbook;
+
+fn set(wb: &mut Workbook, sheet: u16, cell: &str, input: &str) {
+    wb.set_input(sheet, parse_cell(cell).unwrap(), input).unwrap();
+}
+
+fn get(wb: &Workbook, sheet: u16, cell: &str) -> Value {
+    wb.value(sheet, parse_cell(cell).unwrap())
+}
+
+fn run(wb: &mut Workbook, body: &str) -> Vec<String> {
+    let src = format!("Sub Main()\n{body}\nEnd Sub\n");
+    vba::run(wb, &src, "sheet.bas", &RunOptions::default()).unwrap_or_else(|e| panic!("{e}")).printed
+}
+
+fn n(x: f64) -> Value {
+    Value::Number(x)
+}
+
+#[test]
+fn a_write_is_seen_by_the_formulas_that_read_it() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, 0, "A1", "2");
+    set(&mut wb, 0, "A2", "=A1*3");
+    let printed = run(
+        &mut wb,
+        "    Debug.Print \"\" & Range(\"A2\").Value\n    Range(\"A1\").Value = 10\n\
+         \x20   Debug.Print \"\" & Range(\"A2\").Value & \" \" & Range(\"A2\") + 1",
+    );
+    assert_eq!(printed, ["6", "30 31"]);
+    assert_eq!(get(&wb, 0, "A2"), n(30.0));
+}
+
+#[test]
+fn values_are_written_as_if_typed() {
+    let mut wb = Workbook::with_sheet();
+    run(&mut wb, "    Range(\"A1\").Value = \"12\"\n    Range(\"A2\").Value = \"=A1+1\"\n    Range(\"A3\") = True");
+    // As in Excel's VBA: numeric text becomes a number, "=…" a formula.
+    assert_eq!(get(&wb, 0, "A1"), n(12.0));
+    assert_eq!(get(&wb, 0, "A2"), n(13.0));
+    assert_eq!(get(&wb, 0, "A3"), Value::Bool(true));
+}
+
+#[test]
+fn formula_property_reads_and_writes_formula_text() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, 0, "A1", "4");
+    set(&mut wb, 0, "A2", "5");
+    let printed = run(
+        &mut wb,
+        "    Range(\"B1\").Formula = \"=A1+1\"\n    Debug.Print Range(\"B1\").Formula & \" \" & Range(\"B1\").Value\n\
+         \x20   Range(\"C1:C2\").Formula = \"=A1*2\"",
+    );
+    assert_eq!(printed, ["=A1+1 5"]);
+    // Filling a range moves relative references along, as VBA's Range.Formula does.
+    assert_eq!(wb.formula(0, parse_cell("C2").unwrap()).as_deref(), Some("=A2*2"));
+    assert_eq!(get(&wb, 0, "C2"), n(10.0));
+}
+
+#[test]
+fn cells_by_row_and_column() {
+    let mut wb = Workbook::with_sheet();
+    let printed = run(
+        &mut wb,
+        "    Dim i\n    For i = 1 To 3\n        Cells(i, 2).Value = i * 10\n    Next\n\
+         \x20   Debug.Print Cells(3, \"B\").Value & \" \" & Cells(2, 2).Address & \" \" & Range(\"B1:B3\").Cells(2, 1).Value",
+    );
+    assert_eq!(printed, ["30 $B$2 20"]);
+    assert_eq!(get(&wb, 0, "B1"), n(10.0));
+}
+
+#[test]
+fn worksheets_by_name_and_number_and_as_object_variables() {
+    let mut wb = Workbook::with_sheet();
+    let data = wb.add_sheet("Data").unwrap();
+    set(&mut wb, data, "A1", "21");
+    let printed = run(
+        &mut wb,
+        "    Dim ws\n    Set ws = Worksheets(\"Data\")\n    ws.Range(\"B1\").Value = ws.Range(\"A1\").Value * 2\n\
+         \x20   Worksheets(1).Range(\"A1\") = Sheets(\"Data\").Cells(1, 2)\n\
+         \x20   Debug.Print ws.Name & \" \" & Worksheets.Count & \" \" & ActiveSheet.Name",
+    );
+    assert_eq!(printed, ["Data 2 Sheet1"]);
+    assert_eq!(get(&wb, data, "B1"), n(42.0));
+    assert_eq!(get(&wb, 0, "A1"), n(42.0));
+}
+
+#[test]
+fn brackets_evaluate_formula_text_as_in_a_cell() {
+    let mut wb = Workbook::with_sheet();
+    let data = wb.add_sheet("Data").unwrap();
+    set(&mut wb, data, "A1", "3");
+    let printed = run(&mut wb, "    [B3] = 4\n    Debug.Print [B3] * [Data!A1] & \" \" & [SUM(B3, Data!A1)]");
+    assert_eq!(printed, ["12 7"]);
+    assert_eq!(get(&wb, 0, "B3"), n(4.0));
+}
+
+#[test]
+fn defined_names_through_range_brackets_and_evaluate() {
+    let mut wb = Workbook::with_sheet();
+    wb.define_name("D", "=Sheet1!$B$2", None).unwrap();
+    wb.define_name("XA", "=Sheet1!$B$9", None).unwrap();
+    set(&mut wb, 0, "B2", "40");
+    let printed = run(
+        &mut wb,
+        "    Dim D\n    D = 1\n    Range(\"XA\").Value = Range(\"D\").Value + D\n\
+         \x20   Debug.Print [XA] & \" \" & Evaluate(\"XA*2\") & \" \" & IsObject(Evaluate(\"XA\")) & IsObject(Evaluate(\"nope\"))",
+    );
+    // A macro variable D and the workbook's name D are different things, as in VBA.
+    assert_eq!(printed, ["41 82 TRUEFALSE"]);
+    assert_eq!(get(&wb, 0, "B9"), n(41.0));
+}
+
+#[test]
+fn for_each_cell_of_a_range() {
+    let mut wb = Workbook::with_sheet();
+    for (i, v) in ["1", "2", "3", "4"].iter().enumerate() {
+        set(&mut wb, 0, &format!("A{}", i + 1), v);
+    }
+    let printed = run(
+        &mut wb,
+        "    Dim c, total\n    For Each c In Range(\"A1:A4\")\n        total = total + c.Value\n\
+         \x20       c.Offset(0, 1).Value = c * c\n    Next c\n    Debug.Print \"\" & total",
+    );
+    assert_eq!(printed, ["10"]);
+    assert_eq!(get(&wb, 0, "B4"), n(16.0));
+}
+
+#[test]
+fn range_members() {
+    let mut wb = Workbook::with_sheet();
+    let printed = run(
+        &mut wb,
+        "    Dim r\n    Set r = Range(\"B2:D5\")\n\
+         \x20   Debug.Print r.Row & \" \" & r.Column & \" \" & r.Count & \" \" & r.Rows.Count & \" \" & r.Columns.Count\n\
+         \x20   Debug.Print r.Offset(1, 1).Address & \" \" & r.Resize(1, 2).Address & \" \" & Range(Cells(1, 1), Cells(2, 3)).Address\n\
+         \x20   r.Value = 1\n    Debug.Print \"\" & Application.WorksheetFunction.Sum(r)\n    r.ClearContents\n\
+         \x20   Debug.Print \"\" & WorksheetFunction.Sum(Range(\"B2:D5\"))",
+    );
+    assert_eq!(printed, ["2 2 12 4 3", "$C$3:$E$6 $B$2:$C$2 $A$1:$C$2", "12", "0"]);
+}
+
+#[test]
+fn a_range_passed_to_a_function_stays_a_range() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, 0, "A1", "5");
+    set(&mut wb, 0, "A2", "7");
+    let src =
+        "Function Total(r)\n    Dim c\n    For Each c In r\n        Total = Total + c.Value\n    Next\nEnd Function\n\
+               Sub Main()\n    Debug.Print \"\" & Total(Range(\"A1:A2\"))\nEnd Sub\n";
+    let out = vba::run(&mut wb, src, "t.bas", &RunOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.printed, ["12"]);
+}
+
+#[test]
+fn the_active_sheet_comes_from_the_options_and_activate() {
+    let mut wb = Workbook::with_sheet();
+    let data = wb.add_sheet("Data").unwrap();
+    let src =
+        "Sub Main()\n    Range(\"A1\") = 1\n    Worksheets(\"Sheet1\").Activate\n    Range(\"A1\") = 2\nEnd Sub\n";
+    let options = RunOptions { sheet: Some("Data".into()), ..RunOptions::default() };
+    vba::run(&mut wb, src, "t.bas", &options).unwrap();
+    assert_eq!(get(&wb, data, "A1"), n(1.0));
+    assert_eq!(get(&wb, 0, "A1"), n(2.0));
+}

@@ -1,0 +1,258 @@
+//! Excel conformance: every workbook of the Excel oracle corpus (`../shared/excel-corpus`,
+//! see its README) goes through import and recalculation, and each formula result is
+//! compared with the value Excel cached in the file.
+//!
+//! A cell counts as:
+//! - *unsupported* when its formula does not parse or calls a function that is not in our
+//!   function table, or reads such a cell (directly or through other cells);
+//! - *volatile* when it calls NOW, TODAY or a random function, or reads such a cell;
+//! - *upstream* when it disagrees but reads a cell that disagrees too (the blame is there);
+//! - otherwise *agree* or *disagree* (numbers to a relative 1e-9).
+//!
+//! The test fails when a cell disagrees on its own, unless it is in [`KNOWN_DISAGREEMENTS`].
+//! It writes the pass rates to `docs/excel-conformance.md`.
+
+mod common;
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+use common::{corpus_root, judge, percent, workbooks, Tally, Verdict};
+use ncsheet::io::xlsx;
+
+/// Files the corpus README lists as not produced by Excel: imported, not compared.
+const NOT_FROM_EXCEL: &[&str] = &[
+    "calc_tests/LOOKUP_AND_REFERENCE/XMATCH_arrays.xlsx",
+    "calc_tests/STATISTICAL/GEOMEAN.xlsx",
+    "calc_tests/array_in_scalar_repro.xlsx",
+    "docs/CHOOSE.xlsx",
+    "libreoffice_888_example.xlsx",
+    "missing_r_on_row.xlsx",
+    "openpyxl_example.xlsx",
+    "shared_formula_volatile.xlsx",
+];
+
+/// Cells where we knowingly differ from Excel: (file, cell, why). Keep this short: fix the
+/// cause and delete the entry.
+const KNOWN_DISAGREEMENTS: &[(&str, &str, &str)] = &[
+    // Excel's SIN and COS reduce arguments near multiples of pi/2 less exactly than libm:
+    // SIN(PI()) is 1.22514845490862E-16 in Excel, 1.2246467991473532E-16 here. Both are
+    // rounding residue of an exact zero; they differ by 5E-20.
+    ("calc_tests/MATH_AND_TRIGONOMETRY/trigonometric_functions.xlsx", "Sheet1!B12", "SIN near pi: residue"),
+    ("calc_tests/MATH_AND_TRIGONOMETRY/trigonometric_functions.xlsx", "Sheet1!C13", "COS near pi/2: residue"),
+    ("docs/COS.xlsx", "Sheet1!B2", "COS near pi/2: residue"),
+    ("docs/COS.xlsx", "Sheet1!B6", "COS near pi/2: residue"),
+    // FIXME(functions/logic.rs): IF with array arguments maps the condition but not the
+    // branches, so each item holds a whole branch array (a nested array) instead of
+    // broadcasting condition, then and else item by item as Excel does.
+    ("calc_tests/LOGICAL/IF_ARRAY.xlsx", "Sheet1!C1", "IF does not broadcast array branches"),
+    ("calc_tests/LOGICAL/IF_ARRAY.xlsx", "Sheet1!E8", "IF does not broadcast array branches"),
+    ("calc_tests/LOGICAL/IF_ARRAY.xlsx", "Sheet1!E10", "IF does not broadcast array branches"),
+    ("calc_tests/LOGICAL/IF_ARRAY.xlsx", "Sheet1!E12", "IF does not broadcast array branches"),
+    ("calc_tests/LOGICAL/IF_ARRAY.xlsx", "Sheet1!D20", "IF does not broadcast array branches"),
+    ("calc_tests/LOGICAL/IF_ARRAY.xlsx", "Sheet1!A26", "IF does not broadcast array branches"),
+    ("calc_tests/LOGICAL/IF_ARRAY.xlsx", "Sheet1!A28", "IF does not broadcast array branches"),
+    // A legacy Ctrl+Shift+Enter formula over several cells (`<f t="array" ref="C2:C5">123`)
+    // fills its whole area, a scalar repeated; the workbook has no such multi-cell formula,
+    // so ncsheet runs it as a dynamic array from C2 and the scalar stays in C2 (and C2#,
+    // which Excel reads as C2:C5, is #REF!). Arrays the size of the area come out right.
+    ("calc_tests/spill_operator.xlsx", "Sheet1!C3", "scalar in a multi-cell CSE area"),
+    ("calc_tests/spill_operator.xlsx", "Sheet1!C4", "scalar in a multi-cell CSE area"),
+    ("calc_tests/spill_operator.xlsx", "Sheet1!C5", "scalar in a multi-cell CSE area"),
+    ("calc_tests/spill_operator.xlsx", "Sheet1!G2", "C2# of a multi-cell CSE area"),
+    // The argument cells hold #CALC! and #SPILL!, which the file stores as #VALUE! with
+    // metadata calamine does not read.
+    ("calc_tests/INFORMATION/ERROR.TYPE.xlsx", "Sheet1!B8", "#CALC! stored as #VALUE!"),
+    ("calc_tests/INFORMATION/ERROR.TYPE.xlsx", "Sheet1!B14", "#SPILL! stored as #VALUE!"),
+    // FIXME(workbook/recalc.rs): cycles are found from the formulas' references, so a cell
+    // naming itself in a CHOOSE branch that is never taken is #CIRC!; Excel evaluates lazily.
+    ("calc_tests/LOOKUP_AND_REFERENCE/CHOOSE.xlsx", "CHOOSE!B40", "static cycle through an untaken branch"),
+    // A legacy (pre-dynamic-array) formula returning an array: Excel showed its first item.
+    ("calc_tests/LOOKUP_AND_REFERENCE/ROW_COLUM.xlsx", "ROW_COLUMN!G4", "legacy array formula in one cell"),
+    ("calc_tests/simple_functions.xlsx", "INDEX!H6", "legacy INDEX(range, 0) in one cell"),
+    // XMATCH match mode 3 (regular expressions) is not implemented.
+    ("calc_tests/LOOKUP_AND_REFERENCE/XMATCH.xlsx", "Sheet1!D6", "XMATCH regular expressions"),
+    ("calc_tests/LOOKUP_AND_REFERENCE/XMATCH.xlsx", "Sheet1!D7", "XMATCH regular expressions"),
+    ("calc_tests/LOOKUP_AND_REFERENCE/XMATCH.xlsx", "Sheet1!B14", "XMATCH regular expressions"),
+    // Excel's MOD keeps residue digits of operands near 1e10 that n - d*INT(n/d) in doubles
+    // does not reproduce; the results are within 1e-10 of each other and of zero.
+    ("calc_tests/MATH_AND_TRIGONOMETRY/MOD_QUOTIENT.xlsx", "DATEVALUE!C20", "MOD residue near zero"),
+    ("calc_tests/MATH_AND_TRIGONOMETRY/MOD_QUOTIENT.xlsx", "DATEVALUE!C25", "MOD residue near zero"),
+    ("calc_tests/MATH_AND_TRIGONOMETRY/MOD_QUOTIENT.xlsx", "DATEVALUE!C26", "MOD residue near zero"),
+    // Ill-conditioned: tangent-like functions within 1e-12 of a pole, or of an exact zero,
+    // amplify Excel's and libm's different argument reductions (as SIN and COS above).
+    ("calc_tests/MATH_AND_TRIGONOMETRY/TRIGONOMETRIC.xlsx", "COT_CSC_SEC!B33", "COT near a pole"),
+    ("calc_tests/MATH_AND_TRIGONOMETRY/TRIGONOMETRIC.xlsx", "COT_CSC_SEC!C33", "CSC near a pole"),
+    ("calc_tests/MATH_AND_TRIGONOMETRY/TRIGONOMETRIC.xlsx", "COT_CSC_SEC!B34", "COT near zero"),
+    ("calc_tests/MATH_AND_TRIGONOMETRY/TRIGONOMETRIC.xlsx", "COT_CSC_SEC!D34", "SEC near a pole"),
+    ("calc_tests/MATH_AND_TRIGONOMETRY/TRIGONOMETRIC.xlsx", "COT_CSC_SEC!B35", "COT near zero"),
+    ("calc_tests/MATH_AND_TRIGONOMETRY/TRIGONOMETRIC.xlsx", "COT_CSC_SEC!D35", "SEC near a pole"),
+    ("calc_tests/MATH_AND_TRIGONOMETRY/TRIGONOMETRIC.xlsx", "ACOT_ACOTH!B13", "ACOT of 1e13"),
+    ("calc_tests/MATH_AND_TRIGONOMETRY/TRIGONOMETRIC.xlsx", "ACOT_ACOTH!C13", "ACOTH of 1e13"),
+    ("calc_tests/MATH_AND_TRIGONOMETRY/trigonometric_functions.xlsx", "Sheet1!D12", "TAN near pi: residue"),
+    ("docs/TAN.xlsx", "Sheet1!B2", "TAN near a pole"),
+    ("docs/TAN.xlsx", "Sheet1!B3", "TAN near pi: residue"),
+    ("docs/TAN.xlsx", "Sheet1!B4", "TAN near a pole"),
+    ("docs/TAN.xlsx", "Sheet1!B8", "TAN near a pole"),
+    ("docs/TAN.xlsx", "Sheet1!B9", "TAN near pi: residue"),
+    ("docs/TAN.xlsx", "Sheet1!B10", "TAN near a pole"),
+    // Dates typed the en-GB way ("10-12-1999", "2/3/2023") are read by the workbook's locale.
+    ("calc_tests/TEXT/T_VALUE_VALUETOTEXT.xlsx", "Sheet1!I5", "en-GB date text"),
+    ("calc_tests/TEXT/T_VALUE_VALUETOTEXT.xlsx", "Sheet1!I7", "en-GB date text"),
+    ("calc_tests/TEXT/T_VALUE_VALUETOTEXT.xlsx", "Sheet1!C15", "en-GB date text"),
+    // The spill K1# is wider here than in Excel's cached result (TEXTSPLIT-like source).
+    ("dynamic_arrays.xlsx", "Sheet1!M1", "spill width of K1#"),
+];
+
+#[test]
+fn excel_corpus_agrees_with_excel_for_every_supported_function() {
+    let root = corpus_root();
+    assert!(root.is_dir(), "the Excel corpus is missing: {} (shared/ must sit beside the repository)", root.display());
+    let mut files = Vec::new();
+    workbooks(&root, &mut files);
+    assert!(files.len() > 200, "expected the whole corpus, found {} files", files.len());
+
+    let mut failures = Vec::new();
+    let mut per_file = Vec::new();
+    let mut per_function: BTreeMap<String, Tally> = BTreeMap::new();
+    let mut unsupported_calls: BTreeMap<String, usize> = BTreeMap::new();
+    let mut total = Tally::default();
+    for path in &files {
+        let rel = path.strip_prefix(&root).expect("under root").to_string_lossy().replace('\\', "/");
+        let imported = match xlsx::load(path) {
+            Ok(i) => i,
+            Err(e) => {
+                failures.push(format!("import failed: {e}"));
+                continue;
+            }
+        };
+        if NOT_FROM_EXCEL.contains(&rel.as_str()) {
+            continue;
+        }
+        let (results, infos) = judge(&imported, &|c| Some(c.value.clone()), &|_| false, &xlsx::values_agree);
+        let mut tally = Tally::default();
+        for r in &results {
+            tally.add(r.verdict);
+            let info = &infos[&(r.sheet, r.anchor)];
+            for name in &info.unknown {
+                *unsupported_calls.entry(name.clone()).or_default() += 1;
+            }
+            if matches!(r.verdict, Verdict::Unsupported | Verdict::Volatile) {
+                continue;
+            }
+            for f in &info.functions {
+                per_function.entry(f.clone()).or_default().add(r.verdict);
+            }
+            if r.verdict == Verdict::Disagree {
+                let cell = imported.workbook.cell_name(r.sheet, r.pos);
+                if !KNOWN_DISAGREEMENTS.iter().any(|(f, c, _)| *f == rel && *c == cell) {
+                    failures.push(format!(
+                        "{rel}: {cell}: {} gives {:?}, Excel cached {:?}",
+                        imported.workbook.formula(r.sheet, r.anchor).unwrap_or_default(),
+                        imported.workbook.value(r.sheet, r.pos),
+                        r.expected.as_ref().expect("compared"),
+                    ));
+                }
+            }
+        }
+        for field in [
+            (&mut total.agree, tally.agree),
+            (&mut total.disagree, tally.disagree),
+            (&mut total.upstream, tally.upstream),
+            (&mut total.unsupported, tally.unsupported),
+            (&mut total.volatile, tally.volatile),
+        ] {
+            *field.0 += field.1;
+        }
+        per_file.push((rel, tally));
+    }
+
+    let report = render(&per_file, &per_function, &unsupported_calls, total);
+    println!("{report}");
+    let doc = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/excel-conformance.md");
+    std::fs::create_dir_all(doc.parent().expect("docs")).expect("create docs/");
+    std::fs::write(&doc, &report).unwrap_or_else(|e| panic!("{}: {e}", doc.display()));
+
+    assert!(failures.is_empty(), "{} cells disagree with Excel:\n{}", failures.len(), failures.join("\n"));
+}
+
+fn render(
+    per_file: &[(String, Tally)],
+    per_function: &BTreeMap<String, Tally>,
+    unsupported_calls: &BTreeMap<String, usize>,
+    total: Tally,
+) -> String {
+    let mut out = String::new();
+    let _ = writeln!(out, "# Excel conformance\n");
+    let _ = writeln!(
+        out,
+        "Written by `tests/xlsx_conformance.rs` (do not edit): every workbook of the Excel oracle corpus \
+         (`../shared/excel-corpus`, {} files compared) imported, recalculated and compared with the values \
+         Excel cached. Numbers agree to a relative 1e-9; text, booleans and errors exactly.\n",
+        per_file.len()
+    );
+    let _ = writeln!(
+        out,
+        "A cell is *unsupported* when its formula calls a function ncsheet does not have (or does not \
+         parse), or reads such a cell; *volatile* when it calls NOW, TODAY or RAND…, or reads such a cell; \
+         *upstream* when it disagrees because a cell it reads disagrees.\n"
+    );
+    let _ = writeln!(out, "## Summary\n");
+    let _ = writeln!(out, "| formula results | compared | agree | disagree | upstream | unsupported | volatile |");
+    let _ = writeln!(out, "|---:|---:|---:|---:|---:|---:|---:|");
+    let _ = writeln!(
+        out,
+        "| {} | {} | {} ({}) | {} | {} | {} | {} |\n",
+        total.all(),
+        total.compared(),
+        total.agree,
+        percent(total.agree, total.compared()),
+        total.disagree,
+        total.upstream,
+        total.unsupported,
+        total.volatile
+    );
+    let _ = writeln!(
+        out,
+        "Of all formula results in the corpus, {} are computed and agree with Excel.\n",
+        percent(total.agree, total.all())
+    );
+    let _ = writeln!(out, "## By function (supported functions only)\n");
+    let _ = writeln!(out, "| function | compared | agree | disagree | upstream | rate |");
+    let _ = writeln!(out, "|---|---:|---:|---:|---:|---:|");
+    for (name, t) in per_function {
+        let _ = writeln!(
+            out,
+            "| {name} | {} | {} | {} | {} | {} |",
+            t.compared(),
+            t.agree,
+            t.disagree,
+            t.upstream,
+            percent(t.agree, t.compared())
+        );
+    }
+    let _ = writeln!(out, "\n## Unsupported functions, by cells that call them\n");
+    let mut calls: Vec<(&String, &usize)> = unsupported_calls.iter().collect();
+    calls.sort_by(|a, b| b.1.cmp(a.1).then(a.0.cmp(b.0)));
+    let list: Vec<String> = calls.iter().map(|(n, c)| format!("{n} {c}")).collect();
+    let _ = writeln!(out, "{}\n", list.join(", "));
+    let _ = writeln!(out, "## By file\n");
+    let _ = writeln!(out, "| file | results | compared | agree | disagree | upstream | unsupported | volatile |");
+    let _ = writeln!(out, "|---|---:|---:|---:|---:|---:|---:|---:|");
+    for (file, t) in per_file {
+        let _ = writeln!(
+            out,
+            "| `{file}` | {} | {} | {} ({}) | {} | {} | {} | {} |",
+            t.all(),
+            t.compared(),
+            t.agree,
+            percent(t.agree, t.compared()),
+            t.disagree,
+            t.upstream,
+            t.unsupported,
+            t.volatile
+        );
+    }
+    out
+}

@@ -1,0 +1,177 @@
+//! Import details, each on a small package written here by hand the way Excel writes it.
+
+use std::io::{Cursor, Write};
+use std::path::Path;
+
+use ncsheet::eval::{Value, XlError};
+use ncsheet::formula::address::{parse_cell, Pos};
+use ncsheet::io::xlsx::{self, Imported};
+
+fn at(cell: &str) -> Pos {
+    parse_cell(cell).unwrap()
+}
+
+/// An xlsx package: worksheets given by name and `<sheetData>` content, plus extra
+/// `<workbook>` content (defined names).
+fn package(sheets: &[(&str, &str)], workbook_extra: &str) -> Vec<u8> {
+    let mut zip = zip::ZipWriter::new(Cursor::new(Vec::new()));
+    let options = zip::write::SimpleFileOptions::default();
+    let mut put = |name: &str, text: String| {
+        zip.start_file(name, options).unwrap();
+        zip.write_all(text.as_bytes()).unwrap();
+    };
+    put(
+        "_rels/.rels",
+        r#"<?xml version="1.0" encoding="UTF-8"?><Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships"><Relationship Id="rId1" Type="http://schemas.openxmlformats.org/officeDocument/2006/relationships/officeDocument" Target="xl/workbook.xml"/></Relationships>"#.into(),
+    );
+    let mut sheet_list = String::new();
+    let mut rels = String::new();
+    for (i, (name, data)) in sheets.iter().enumerate() {
+        let n = i + 1;
+        sheet_list.push_str(&format!(r#"<sheet name="{name}" sheetId="{n}" r:id="rId{n}"/>"#));
+        rels.push_str(&format!(
+            r#"<Relationship Id="rId{n}" Type="http://schemas.openxmlformats.org/officeDocument/2006/relationships/worksheet" Target="worksheets/sheet{n}.xml"/>"#
+        ));
+        put(
+            &format!("xl/worksheets/sheet{n}.xml"),
+            format!(
+                r#"<?xml version="1.0" encoding="UTF-8"?><worksheet xmlns="http://schemas.openxmlformats.org/spreadsheetml/2006/main"><sheetData>{data}</sheetData></worksheet>"#
+            ),
+        );
+    }
+    put(
+        "xl/workbook.xml",
+        format!(
+            r#"<?xml version="1.0" encoding="UTF-8"?><workbook xmlns="http://schemas.openxmlformats.org/spreadsheetml/2006/main" xmlns:r="http://schemas.openxmlformats.org/officeDocument/2006/relationships"><sheets>{sheet_list}</sheets>{workbook_extra}</workbook>"#
+        ),
+    );
+    put(
+        "xl/_rels/workbook.xml.rels",
+        format!(
+            r#"<?xml version="1.0" encoding="UTF-8"?><Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships">{rels}</Relationships>"#
+        ),
+    );
+    zip.finish().unwrap().into_inner()
+}
+
+fn load(sheets: &[(&str, &str)], workbook_extra: &str) -> Imported {
+    xlsx::load_bytes(&package(sheets, workbook_extra), Path::new("book.xlsx")).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn num(v: f64) -> Value {
+    Value::Number(v)
+}
+
+#[test]
+fn shared_formulas_move_from_the_cell_that_holds_their_text() {
+    // Excel may put the text of a shared formula in a cell that is not the top left of its
+    // range, after cells that use it.
+    let data = r#"<row r="1"><c r="A1"><v>1</v></c><c r="B1"><v>2</v></c><c r="C1"><v>3</v></c></row>
+<row r="2"><c r="A2"><f t="shared" si="0"/><v>10</v></c><c r="B2"><f t="shared" si="0"/><v>20</v></c><c r="C2"><f t="shared" ref="A2:C3" si="0">C1*10</f><v>30</v></c></row>
+<row r="3"><c r="A3"><f t="shared" si="0"/><v>100</v></c><c r="B3"><f t="shared" si="0"/><v>200</v></c><c r="C3"><f t="shared" si="0"/><v>300</v></c></row>"#;
+    let imported = load(&[("Sheet1", data)], "");
+    let wb = &imported.workbook;
+    for (cell, formula, value) in [
+        ("A2", "=A1*10", 10.0),
+        ("B2", "=B1*10", 20.0),
+        ("C2", "=C1*10", 30.0),
+        ("A3", "=A2*10", 100.0),
+        ("C3", "=C2*10", 300.0),
+    ] {
+        assert_eq!(wb.formula(0, at(cell)).as_deref(), Some(formula), "{cell}");
+        assert_eq!(wb.value(0, at(cell)), num(value), "{cell}");
+    }
+    assert!(xlsx::compare_cached(wb, &imported.cached).is_empty());
+}
+
+#[test]
+fn cached_neighbours_of_a_dynamic_array_do_not_block_its_spill() {
+    let data = r#"<row r="1"><c r="A1"><v>1</v></c><c r="B1" cm="1"><f t="array" ref="B1:B3">A1:A3*2</f><v>2</v></c></row>
+<row r="2"><c r="A2"><v>2</v></c><c r="B2"><v>4</v></c></row>
+<row r="3"><c r="A3"><v>3</v></c><c r="B3"><v>6</v></c><c r="C3"><f>SUM(_xlfn.ANCHORARRAY(B1))</f><v>12</v></c></row>"#;
+    let imported = load(&[("Sheet1", data)], "");
+    let wb = &imported.workbook;
+    assert_eq!(wb.value(0, at("B3")), num(6.0));
+    assert_eq!(wb.input(0, at("B3")), None, "a spilled value, not a constant");
+    assert_eq!(wb.formula(0, at("C3")).as_deref(), Some("=SUM(B1#)"));
+    assert_eq!(wb.value(0, at("C3")), num(12.0));
+    let spilled: Vec<_> = imported.cached.iter().filter(|c| c.anchor == at("B1")).map(|c| c.pos).collect();
+    assert_eq!(spilled, vec![at("B1"), at("B2"), at("B3")]);
+    assert!(xlsx::compare_cached(wb, &imported.cached).is_empty());
+}
+
+#[test]
+fn a_plain_formula_over_a_range_intersects_as_in_excel() {
+    let data = r#"<row r="1"><c r="A1"><v>5</v></c></row><row r="2"><c r="A2"><v>7</v></c><c r="B2"><f>A1:A3</f><v>7</v></c><c r="C2"><f>SUM(A1:A3)</f><v>12</v></c></row><row r="3"><c r="D3"><f>_xlfn.SINGLE(A1:A3)+1</f><v>1</v></c></row>"#;
+    let imported = load(&[("Sheet1", data)], "");
+    let wb = &imported.workbook;
+    assert_eq!(wb.formula(0, at("B2")).as_deref(), Some("=@A1:A3"));
+    assert_eq!(wb.value(0, at("B2")), num(7.0));
+    assert_eq!(wb.formula(0, at("C2")).as_deref(), Some("=SUM(A1:A3)"));
+    assert_eq!(wb.formula(0, at("D3")).as_deref(), Some("=@A1:A3+1"));
+    assert_eq!(wb.value(0, at("D3")), num(1.0));
+}
+
+#[test]
+fn names_keep_their_scope_and_built_in_names_are_noted() {
+    let data = r#"<row r="1"><c r="A1"><v>3</v></c><c r="B1"><f>rate*2</f><v>6</v></c></row>"#;
+    let other = r#"<row r="1"><c r="A1"><v>10</v></c><c r="B1"><f>rate*2</f><v>20</v></c></row>"#;
+    let names = r#"<definedNames><definedName name="_xlfn.SINGLE" hidden="1">#NAME?</definedName><definedName name="_xlnm.Print_Area" localSheetId="0">Sheet1!$A$1:$B$1</definedName><definedName name="rate">Sheet1!$A$1</definedName><definedName name="rate" localSheetId="1">Other!$A$1</definedName></definedNames>"#;
+    let imported = load(&[("Sheet1", data), ("Other", other)], names);
+    let wb = &imported.workbook;
+    let mut defined = wb.names();
+    defined.sort();
+    assert_eq!(
+        defined,
+        vec![("rate".into(), "=Other!$A$1".into(), Some(1)), ("rate".into(), "=Sheet1!$A$1".into(), None)]
+    );
+    assert_eq!(wb.value(0, at("B1")), num(6.0));
+    assert_eq!(wb.value(1, at("B1")), num(20.0));
+    assert_eq!(imported.notes, vec!["the print area of 'Sheet1' (Sheet1!$A$1:$B$1) is not kept".to_string()]);
+}
+
+#[test]
+fn a_formula_we_cannot_read_keeps_its_text_and_shows_name() {
+    let data = r#"<row r="1"><c r="A1"><f>SUM(Table1[Qty])</f><v>12</v></c><c r="B1"><f>A1+1</f><v>13</v></c></row>"#;
+    let imported = load(&[("Sheet1", data)], "");
+    let wb = &imported.workbook;
+    assert_eq!(wb.formula(0, at("A1")).as_deref(), Some("=SUM(Table1[Qty])"));
+    assert_eq!(wb.value(0, at("A1")), Value::Error(XlError::Name));
+    assert_eq!(wb.problems().len(), 1);
+    assert_eq!((wb.problems()[0].sheet, wb.problems()[0].pos), (0, at("A1")));
+    // Both cells show in the comparison with Excel, with both values.
+    let differences = xlsx::compare_cached(wb, &imported.cached);
+    let found: Vec<_> = differences.iter().map(|d| (d.pos, d.excel.clone(), d.ncsheet.clone())).collect();
+    assert_eq!(
+        found,
+        vec![(at("A1"), num(12.0), Value::Error(XlError::Name)), (at("B1"), num(13.0), Value::Error(XlError::Name))]
+    );
+}
+
+#[test]
+fn cached_values_keep_their_types() {
+    let data = r#"<row r="1"><c r="A1" t="b"><f>1=1</f><v>1</v></c><c r="B1" t="e"><f>1/0</f><v>#DIV/0!</v></c><c r="C1" t="str"><f>"a"&amp;"b"</f><v>ab</v></c><c r="D1"><f>0.1+0.2</f><v>0.30000000000000004</v></c><c r="E1" t="str"><f>NOW()</f><v>x</v></c></row>
+<row r="2"><c r="A2" t="b"><v>0</v></c><c r="B2" t="e"><v>#N/A</v></c><c r="C2" t="inlineStr"><is><t>=not a formula</t></is></c><c r="D2"><v>45000.5</v></c></row>"#;
+    let imported = load(&[("Sheet1", data)], "");
+    let wb = &imported.workbook;
+    let cached: Vec<_> = imported.cached.iter().map(|c| c.value.clone()).collect();
+    assert_eq!(
+        cached,
+        vec![
+            Value::Bool(true),
+            Value::Error(XlError::Div0),
+            Value::text("ab"),
+            num(0.30000000000000004),
+            Value::text("x")
+        ]
+    );
+    assert_eq!(wb.value(0, at("A2")), Value::Bool(false));
+    assert_eq!(wb.value(0, at("B2")), Value::Error(XlError::NA));
+    assert_eq!(wb.value(0, at("C2")), Value::text("=not a formula"));
+    assert_eq!(wb.formula(0, at("C2")), None);
+    assert_eq!(wb.value(0, at("D2")), num(45000.5));
+    // Only NOW() disagrees (NOW is not in our table), and it is marked volatile.
+    let differences = xlsx::compare_cached(wb, &imported.cached);
+    assert_eq!(differences.len(), 1);
+    assert!(differences[0].volatile);
+}
