@@ -11,6 +11,7 @@ use ncsheet::formula::ast::SheetId;
 use ncsheet::io::{Content, Export};
 use ncsheet::workbook::Workbook;
 
+mod ballpath;
 mod output;
 mod repl;
 pub mod report;
@@ -39,6 +40,7 @@ pub enum Command {
     Export(ExportArgs),
     Repl(ReplArgs),
     Functions(FunctionsArgs),
+    Ballpath(ballpath::BallpathArgs),
 }
 
 /// Compute a sheet and print its values (all of it, or the cells and ranges named).
@@ -142,6 +144,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Export(args) => export(args),
         Command::Repl(args) => repl(args),
         Command::Functions(_) => functions(),
+        Command::Ballpath(args) => ballpath::run(args),
     }
 }
 
