@@ -327,6 +327,9 @@ struct HeightMap {
     y0: f64,
     hx: f64,
     hy: f64,
+    /// 1/hx and 1/hy (0 for a map one sample wide): multiplying is faster than dividing.
+    inv_hx: f64,
+    inv_hy: f64,
     nx: usize,
     ny: usize,
     /// Row-major by y: `z[j * nx + i]` is the height at (x0 + i·hx, y0 + j·hy).
@@ -350,20 +353,20 @@ impl HeightMap {
                 z.push(surface.height(x, y).map_err(|error| PathError::Surface { x, y, error })?);
             }
         }
-        Ok(HeightMap { x0: spec.x[0], y0: spec.y[0], hx, hy, nx, ny, z })
+        let inverse = |h: f64| if h > 0.0 { 1.0 / h } else { 0.0 };
+        Ok(HeightMap { x0: spec.x[0], y0: spec.y[0], hx, hy, inv_hx: inverse(hx), inv_hy: inverse(hy), nx, ny, z })
     }
 
     /// The sample poking deepest into the ball centred at `c` (vertical depth), if any does
     /// by more than [`GOUGE_TOLERANCE`].
     fn deepest(&self, c: &Point3<f64>, r: f64) -> Option<(f64, f64, f64)> {
         // Indices of the samples within `half` of `c` along one axis.
-        let range = |c: f64, half: f64, origin: f64, h: f64, n: usize| {
-            if h == 0.0 {
+        let range = |c: f64, half: f64, origin: f64, inv_h: f64, n: usize| {
+            if inv_h == 0.0 {
                 return 0..1;
             }
             // `as` truncates (and saturates at 0): floor for the non-negative, without libm.
-            let inv = 1.0 / h;
-            let (a, b) = ((c - half - origin) * inv, (c + half - origin) * inv);
+            let (a, b) = ((c - half - origin) * inv_h, (c + half - origin) * inv_h);
             let lo = a as usize + usize::from(a > 0.0 && a.fract() != 0.0);
             let hi = if b < 0.0 { 0 } else { (b as usize + 1).min(n) };
             lo.min(hi)..hi
@@ -371,11 +374,11 @@ impl HeightMap {
         let mut best: Option<(f64, f64, f64)> = None;
         let mut best_depth = GOUGE_TOLERANCE;
         let r2 = r * r;
-        for j in range(c.y, r, self.y0, self.hy, self.ny) {
+        for j in range(c.y, r, self.y0, self.inv_hy, self.ny) {
             let y = self.y0 + j as f64 * self.hy;
             let room_row = r2 - (y - c.y) * (y - c.y);
             // Only the chord of the ball's footprint on this row.
-            let cols = range(c.x, room_row.max(0.0).sqrt(), self.x0, self.hx, self.nx);
+            let cols = range(c.x, room_row.max(0.0).sqrt(), self.x0, self.inv_hx, self.nx);
             let first = cols.start;
             let mut dx = self.x0 + first as f64 * self.hx - c.x;
             for (k, &z) in self.z[j * self.nx + first..j * self.nx + cols.end].iter().enumerate() {
