@@ -42,7 +42,7 @@ use super::report::{prepend, Error, Result};
 #[derive(Debug, Args)]
 pub struct BallpathArgs {
     /// The surface: a formula in x and y such as "0.3*EXP(-16*(x^2+y^2))", or LAMBDA(x, y, …)
-    #[arg(long, value_name = "EXPR")]
+    #[arg(long, value_name = "EXPR", allow_hyphen_values = true)]
     pub surface: String,
     /// Ball radius R (mm)
     #[arg(long, value_name = "R")]
