@@ -154,3 +154,43 @@ fn timings_are_split_into_compute_and_format() {
         assert!(r.stderr.contains(word), "{}", r.stderr);
     }
 }
+
+/// The command docs/ballpath.md gives for `sheets/eqcam-bump.h`.
+const EQCAM_BUMP: &[&str] = &[
+    "ballpath",
+    "--surface",
+    "15*EXP(-16*((x/50)^2+(y/50)^2))",
+    "--radius",
+    "3",
+    "--x=-25:25",
+    "--y=-25:25",
+    "--stepover",
+    "1",
+    "--step",
+    "1",
+    "--format",
+    "heidenhain",
+    "-o",
+    "eqcam-bump.h",
+];
+
+#[test]
+fn the_shipped_bump_program_is_what_the_command_writes_and_what_the_sheet_computes() {
+    let dir = tempfile::tempdir().unwrap();
+    let r = ncsheet(dir.path(), EQCAM_BUMP);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    let written = std::fs::read_to_string(dir.path().join("eqcam-bump.h")).unwrap();
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let shipped = std::fs::read_to_string(repo.join("sheets/eqcam-bump.h")).unwrap();
+    assert!(written == shipped, "sheets/eqcam-bump.h is stale: rerun the command in docs/ballpath.md");
+    // The sheet spills the same tip points from row 13 on.
+    let sheet = repo.join("sheets/eqcam-bump.csv");
+    let r = ncsheet(dir.path(), &["eval", sheet.to_str().unwrap(), "A13:C14", "--format", "csv"]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    let cuts: Vec<&str> = shipped.lines().filter(|l| l.ends_with("F480")).take(2).collect();
+    for (row, cut) in r.stdout.lines().zip(cuts) {
+        let v: Vec<f64> = row.split(',').map(|x| x.parse().unwrap()).collect();
+        let want = format!("L X{:+.4} Y{:+.4} Z{:+.4} F480", v[0], v[1], v[2]);
+        assert!(cut.ends_with(&want), "{cut} vs sheet {row}");
+    }
+}
