@@ -141,7 +141,8 @@ fn a_surface_without_a_derivative_is_shown_with_a_caret() {
     let args: Vec<&str> = args.iter().copied().chain(["--stepover", "1", "--step", "1"]).collect();
     let r = ncsheet(dir.path(), &args);
     assert_eq!(r.code, 1);
-    let want = "ncsheet: --surface: 1+VLOOKUP(x,A1:B2,2)\n                      ^ column 3: cannot differentiate VLOOKUP";
+    let want =
+        "ncsheet: --surface: 1+VLOOKUP(x,A1:B2,2)\n                      ^ column 3: cannot differentiate VLOOKUP";
     assert!(r.stderr.starts_with(want), "{}", r.stderr);
 }
 

@@ -294,10 +294,10 @@ fn program(path: &BallPath, args: &BallpathArgs, name: &str) -> Program {
             let first = at(start);
             p.push(Block::Rapid(Target::xy(first.x, first.y)));
         }
-        for i in start..end {
+        p.blocks.extend((start..end).map(|i| {
             let q = at(i);
-            p.push(Block::Line { to: Target::xyz(q.x, q.y, q.z), feed: Some(args.feed) });
-        }
+            Block::Line { to: Target::xyz(q.x, q.y, q.z), feed: Some(args.feed) }
+        }));
     }
     p.push(Block::Rapid(up));
     p

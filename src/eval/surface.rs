@@ -195,7 +195,9 @@ impl Shared {
             .iter()
             .filter(|k| counter.refs[*k] >= 2)
             .enumerate()
-            .map(|(i, k)| (k.clone(), Rc::from(format!("∂t{}", i + 1))))
+            // Names no formula can spell, differing in their first byte: the evaluator finds a
+            // local by comparing names from the first byte on.
+            .map(|(i, k)| (k.clone(), Rc::from(format!("{}∂", i + 1))))
             .collect();
         // Keys in the order first met: a part's own parts come before it.
         let temps = counter

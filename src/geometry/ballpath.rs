@@ -14,7 +14,7 @@
 //!
 //! Gouge check: a ball placed by its contact point may still cut the surface elsewhere (a
 //! concave region whose curvature radius is below R, a steep wall nearby). The surface inside
-//! the rectangle is sampled once on a grid (spacing R/4, coarser for huge maps); for each
+//! the rectangle is sampled once on a grid (spacing R/3, coarser for huge maps); for each
 //! centre the samples within R horizontally are compared with the ball's lower hemisphere, and
 //! where one pokes into it the deepest point is refined against the surface itself. The depth
 //! is vertical: how far the ball must rise to clear the surface (drop-cutter). A gouge is
@@ -336,13 +336,13 @@ struct HeightMap {
     z: Vec<f64>,
 }
 
-/// Grids above this many samples get coarser than R/4.
+/// Grids above this many samples get coarser than R/3.
 const MAX_MAP_SAMPLES: f64 = 4.0e6;
 
 impl HeightMap {
     fn sample<S: Surface>(surface: &mut S, spec: &BallPathSpec) -> Result<HeightMap, PathError<S::Error>> {
         let (w, h) = (spec.x[1] - spec.x[0], spec.y[1] - spec.y[0]);
-        let spacing = (spec.radius / 4.0).max((w * h / MAX_MAP_SAMPLES).sqrt());
+        let spacing = (spec.radius / 3.0).max((w * h / MAX_MAP_SAMPLES).sqrt());
         let count = |len: f64| (len / spacing).ceil().max(1.0) as usize + 1;
         let (nx, ny) = (count(w), count(h));
         let (hx, hy) = (w / (nx - 1) as f64, h / (ny - 1) as f64);
@@ -458,16 +458,9 @@ fn refine_gouge<S: Surface>(
     let (mut u, mut v) = (x, y);
     let Some((mut best, mut z)) = depth_at(u, v)? else { return Ok((Point3::new(x, y, c.z), 0.0)) };
     let mut step = spec.radius / 8.0;
-    const DIRECTIONS: [(f64, f64); 8] = [
-        (1.0, 0.0),
-        (-1.0, 0.0),
-        (0.0, 1.0),
-        (0.0, -1.0),
-        (0.7071067811865476, 0.7071067811865476),
-        (-0.7071067811865476, -0.7071067811865476),
-        (0.7071067811865476, -0.7071067811865476),
-        (-0.7071067811865476, 0.7071067811865476),
-    ];
+    const D: f64 = std::f64::consts::FRAC_1_SQRT_2;
+    const DIRECTIONS: [(f64, f64); 8] =
+        [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0), (D, D), (-D, -D), (D, -D), (-D, D)];
     // The depth is smooth where the surface is: at a step of 1e-10·R the position is as good
     // as the depth needs (the depth's error goes with the square of the step).
     while step > spec.radius * 1e-10 {

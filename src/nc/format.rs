@@ -61,10 +61,16 @@ impl NumberStyle {
             [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000, 10_000_000, 100_000_000, 1_000_000_000];
         let Some(&scale) = POW10.get(self.decimals) else { return false };
         let scaled = v.abs() * scale as f64;
-        if !(scaled < 4.0e9) || (scaled - scaled.floor() - 0.5).abs() < 1e-6 {
+        if scaled.is_nan() || scaled >= 4.0e9 {
             return false;
         }
-        let n = scaled.round() as u64;
+        // `as` truncates: floor and round without calls into libm.
+        let whole = scaled as u64;
+        let fraction = scaled - whole as f64;
+        if (fraction - 0.5).abs() < 1e-6 {
+            return false;
+        }
+        let n = whole + u64::from(fraction > 0.5);
         if v.is_sign_negative() && n != 0 {
             out.push('-');
         } else if self.plus_sign {
@@ -97,7 +103,9 @@ fn push_digits(out: &mut String, mut n: u64, width: usize) {
         buf[i] = b'0' + (n % 10) as u8;
         n /= 10;
     }
-    out.extend(buf[i..].iter().map(|&b| char::from(b)));
+    for &b in &buf[i..] {
+        out.push(char::from(b));
+    }
 }
 
 #[cfg(test)]
