@@ -38,7 +38,10 @@ use super::report::{prepend, Error, Result};
 ///
 /// Example (the paper's Gaussian bump on a 50 × 50 mm part, 3 mm ball):
 /// ncsheet ballpath --surface "15*EXP(-16*((x/50)^2+(y/50)^2))" --radius 3 --x -25:25
-/// --y -25:25 --stepover 1 --step 0.5 --format heidenhain -o bump.h
+/// --y -25:25 --stepover 1 --step 1 --format heidenhain -o bump.h
+///
+/// Excel's precedence applies: -x^2 is (-x)^2; write -(x^2). docs/ballpath.md has the rules
+/// for differentiating the formula and the gouge check.
 #[derive(Debug, Args)]
 pub struct BallpathArgs {
     /// The surface: a formula in x and y such as "0.3*EXP(-16*(x^2+y^2))", or LAMBDA(x, y, …)
