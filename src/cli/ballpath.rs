@@ -153,11 +153,12 @@ pub fn run(args: BallpathArgs) -> Result<()> {
             bar.set_position(done as u64);
         }
     };
-    let path = formula_ball_path(&mut ctx, &surface, Home::Here, &spec, &mut progress)
-        .map_err(|(_, message)| Error::User(prepend("--surface: ", &message)))?;
+    let path = formula_ball_path(&mut ctx, &surface, Home::Here, &spec, &mut progress);
+    // Cleared before any message, so an error does not land on the bar's line.
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
+    let path = path.map_err(|(_, message)| Error::User(prepend("--surface: ", &message)))?;
     let computed = started.elapsed();
     report_gouges(&path, spec.gouge)?;
     let started = Instant::now();
@@ -205,7 +206,7 @@ fn progress_bar(spec: &BallPathSpec) -> Option<ProgressBar> {
         return None;
     }
     let bar = ProgressBar::new(0);
-    let style = ProgressStyle::with_template("{bar:40} {pos}/{len} lines, {elapsed} elapsed, {eta} left")
+    let style = ProgressStyle::with_template("{bar:40} {percent}% of the path, {elapsed} elapsed, {eta} left")
         .expect("the template is valid");
     bar.set_style(style);
     Some(bar)

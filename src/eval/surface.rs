@@ -350,7 +350,10 @@ pub fn surface_argument(ctx: &mut Ctx, e: &Expr) -> Result<(FormulaSurface, Home
             return Ok((definition(FormulaSurface::from_expr(&expr))?, Home::Name(sheet)));
         }
     }
-    let text = to_text(&value.unwrap_single()).map_err(|err| (err, format!("the surface is {err}")))?;
+    let text = to_text(&value.unwrap_single()).map_err(|err| match err {
+        XlError::Calc => (err, "the surface is #CALC!: a LAMBDA in a cell has no value; define it as a name".into()),
+        _ => (err, format!("the surface is {err}")),
+    })?;
     let env = ctx.env;
     let sheet = |name: &str| {
         (0..env.sheet_count() as SheetId).find(|&i| env.sheet_name(i).is_some_and(|n| n.eq_ignore_ascii_case(name)))

@@ -165,6 +165,8 @@ pub fn ball_path<S: Surface>(
         Lines::ConstantY => (spec.y, spec.x),
     };
     let stations = stations(across, spec.stepover);
+    // Progress counts lines placed, then lines checked for gouges.
+    let total = stations.len() * if spec.gouge == GougeCheck::Off { 1 } else { 2 };
     let mut path = BallPath { radius: spec.radius, points: Vec::new(), line_starts: Vec::new(), gouges: Vec::new() };
     if let Spacing::Step(step) = spec.spacing {
         let per_line = ((along[1] - along[0]) / step).ceil() + 1.0;
@@ -179,11 +181,11 @@ pub fn ball_path<S: Surface>(
         if k % 2 == 1 {
             path.points[start..].reverse();
         }
-        progress(k + 1, stations.len());
+        progress(k + 1, total);
     }
     if spec.gouge != GougeCheck::Off {
         let map = HeightMap::sample(placer.surface, spec)?;
-        check_gouges(placer.surface, &map, spec, &mut path)?;
+        check_gouges(placer.surface, &map, spec, &mut path, &mut |k| progress(stations.len() + k, total))?;
     }
     Ok(path)
 }
@@ -406,33 +408,47 @@ fn check_gouges<S: Surface>(
     map: &HeightMap,
     spec: &BallPathSpec,
     path: &mut BallPath,
+    lines_checked: &mut dyn FnMut(usize),
 ) -> Result<(), PathError<S::Error>> {
-    for index in 0..path.points.len() {
-        let original = path.points[index];
-        let mut p = original;
-        let mut lift = 0.0;
-        // A lifted ball may still touch another hollow whose samples were shallower: check
-        // again from the new height (twice is plenty in practice; the cap stops a loop).
-        for _ in 0..4 {
-            let Some((x, y, _)) = map.deepest(&p.centre, spec.radius) else { break };
-            let (at, depth) = refine_gouge(surface, spec, &p.centre, x, y)?;
-            if depth <= GOUGE_TOLERANCE {
-                break;
-            }
-            lift += depth;
-            p = PathPoint { contact: at, centre: p.centre + Vector3::new(0.0, 0.0, depth) };
-            if spec.gouge != GougeCheck::Lift {
-                break;
-            }
-        }
-        if lift > 0.0 {
-            path.gouges.push(Gouge { point: index, contact: original.contact, at: p.contact, depth: lift });
+    for k in 0..path.line_starts.len() {
+        let end = path.line_starts.get(k + 1).copied().unwrap_or(path.points.len());
+        for index in path.line_starts[k]..end {
+            let original = path.points[index];
+            let Some((lifted, depth)) = gouge_at(surface, map, spec, original)? else { continue };
+            path.gouges.push(Gouge { point: index, contact: original.contact, at: lifted.contact, depth });
             if spec.gouge == GougeCheck::Lift {
-                path.points[index] = p;
+                path.points[index] = lifted;
             }
         }
+        lines_checked(k + 1);
     }
     Ok(())
+}
+
+/// Whether the ball `p` cuts the surface: the ball raised clear of it (touching it at the
+/// deepest point) and how far it rose; `None` where it does not cut.
+fn gouge_at<S: Surface>(
+    surface: &mut S,
+    map: &HeightMap,
+    spec: &BallPathSpec,
+    original: PathPoint,
+) -> Result<Option<(PathPoint, f64)>, PathError<S::Error>> {
+    let mut p = original;
+    let mut lift = 0.0;
+    // A lifted ball may still touch another hollow whose samples were shallower: check again
+    // from the new height (twice is plenty in practice; the cap stops a loop). Reporting needs
+    // only the first.
+    let rounds = if spec.gouge == GougeCheck::Lift { 4 } else { 1 };
+    for _ in 0..rounds {
+        let Some((x, y, _)) = map.deepest(&p.centre, spec.radius) else { break };
+        let (at, depth) = refine_gouge(surface, spec, &p.centre, x, y)?;
+        if depth <= GOUGE_TOLERANCE {
+            break;
+        }
+        lift += depth;
+        p = PathPoint { contact: at, centre: p.centre + Vector3::new(0.0, 0.0, depth) };
+    }
+    Ok((lift > 0.0).then_some((p, lift)))
 }
 
 /// Climbs from the sample (x, y) to the deepest point of the surface inside the ball centred
