@@ -11,6 +11,7 @@ use ncsheet::formula::ast::SheetId;
 use ncsheet::io::{Content, Export};
 use ncsheet::workbook::Workbook;
 
+mod ballpath;
 mod cam;
 mod output;
 mod repl;
@@ -44,6 +45,7 @@ pub enum Command {
     Cam(cam::CamArgs),
     Arcfit(cam::ArcfitArgs),
     Run(run::RunArgs),
+    Ballpath(ballpath::BallpathArgs),
 }
 
 /// Compute a sheet and print its values (all of it, or the cells and ranges named).
@@ -154,6 +156,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Cam(args) => cam::cam(args),
         Command::Arcfit(args) => cam::arcfit(args),
         Command::Run(args) => run::run(args),
+        Command::Ballpath(args) => ballpath::run(args),
     }
 }
 

@@ -2,9 +2,11 @@
 //! through the [`Env`] trait; knows nothing of workbooks, files or the command line.
 
 pub mod coerce;
+pub mod diff;
 pub mod evaluator;
 pub mod functions;
 pub mod number_format;
+pub mod surface;
 pub mod testing;
 pub mod value;
 

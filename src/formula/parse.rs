@@ -44,32 +44,88 @@ use super::ast::*;
 #[grammar = "../grammar/macro.pest"]
 pub struct FormulaGrammar;
 
+/// Every operator's binding power, lowest first: Excel's levels, with the macro language's
+/// logical operators below the comparisons and `Mod`, `\\` between `+ -` and `* /`. The Pratt
+/// table is built from this, and code that builds trees (derivatives) parenthesises by it:
+/// precedence is written here and nowhere else.
+pub fn binary_precedence(op: BinOp) -> u8 {
+    match op {
+        BinOp::Imp => 1,
+        BinOp::Eqv => 2,
+        BinOp::Xor => 3,
+        BinOp::Or => 4,
+        BinOp::And => 5,
+        BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge => 7,
+        BinOp::Concat => 8,
+        BinOp::Add | BinOp::Sub => 9,
+        BinOp::Mod => 10,
+        BinOp::IntDiv => 11,
+        BinOp::Mul | BinOp::Div => 12,
+        BinOp::Pow => 13,
+        BinOp::Range => 18,
+    }
+}
+
+/// The binding power of prefix and postfix operators, on the scale of [`binary_precedence`].
+pub fn unary_precedence(op: UnaryOp) -> u8 {
+    match op {
+        UnaryOp::Not => 6,
+        UnaryOp::Percent => 14,
+        UnaryOp::Neg | UnaryOp::Plus => 15,
+        UnaryOp::Implicit => 16,
+        UnaryOp::Spill => 17,
+    }
+}
+
+const INFIX_RULES: [(Rule, BinOp); 20] = [
+    (Rule::range_op, BinOp::Range),
+    (Rule::pow, BinOp::Pow),
+    (Rule::mul, BinOp::Mul),
+    (Rule::div, BinOp::Div),
+    (Rule::add, BinOp::Add),
+    (Rule::sub, BinOp::Sub),
+    (Rule::concat, BinOp::Concat),
+    (Rule::eq, BinOp::Eq),
+    (Rule::ne, BinOp::Ne),
+    (Rule::lt, BinOp::Lt),
+    (Rule::le, BinOp::Le),
+    (Rule::gt, BinOp::Gt),
+    (Rule::ge, BinOp::Ge),
+    (Rule::mod_op, BinOp::Mod),
+    (Rule::int_div, BinOp::IntDiv),
+    (Rule::and_op, BinOp::And),
+    (Rule::or_op, BinOp::Or),
+    (Rule::xor_op, BinOp::Xor),
+    (Rule::eqv_op, BinOp::Eqv),
+    (Rule::imp_op, BinOp::Imp),
+];
+
+const PREFIX_RULES: [(Rule, UnaryOp); 4] = [
+    (Rule::neg, UnaryOp::Neg),
+    (Rule::plus, UnaryOp::Plus),
+    (Rule::not_op, UnaryOp::Not),
+    (Rule::implicit, UnaryOp::Implicit),
+];
+
+const POSTFIX_RULES: [(Rule, UnaryOp); 2] = [(Rule::percent, UnaryOp::Percent), (Rule::spill_ref, UnaryOp::Spill)];
+
+/// The Pratt table, level by level from [`binary_precedence`] and [`unary_precedence`]; every
+/// binary operator is left-associative (`2^3^2` is 64).
 static PRATT: LazyLock<PrattParser<Rule>> = LazyLock::new(|| {
-    use Assoc::Left;
-    PrattParser::new()
-        .op(Op::infix(Rule::imp_op, Left))
-        .op(Op::infix(Rule::eqv_op, Left))
-        .op(Op::infix(Rule::xor_op, Left))
-        .op(Op::infix(Rule::or_op, Left))
-        .op(Op::infix(Rule::and_op, Left))
-        .op(Op::prefix(Rule::not_op))
-        .op(Op::infix(Rule::eq, Left)
-            | Op::infix(Rule::ne, Left)
-            | Op::infix(Rule::lt, Left)
-            | Op::infix(Rule::le, Left)
-            | Op::infix(Rule::gt, Left)
-            | Op::infix(Rule::ge, Left))
-        .op(Op::infix(Rule::concat, Left))
-        .op(Op::infix(Rule::add, Left) | Op::infix(Rule::sub, Left))
-        .op(Op::infix(Rule::mod_op, Left))
-        .op(Op::infix(Rule::int_div, Left))
-        .op(Op::infix(Rule::mul, Left) | Op::infix(Rule::div, Left))
-        .op(Op::infix(Rule::pow, Left))
-        .op(Op::postfix(Rule::percent))
-        .op(Op::prefix(Rule::neg) | Op::prefix(Rule::plus))
-        .op(Op::prefix(Rule::implicit))
-        .op(Op::postfix(Rule::spill_ref))
-        .op(Op::infix(Rule::range_op, Left))
+    let mut pratt = PrattParser::new();
+    for level in 1..=18 {
+        let infix = INFIX_RULES
+            .iter()
+            .filter(|(_, op)| binary_precedence(*op) == level)
+            .map(|(r, _)| Op::infix(*r, Assoc::Left));
+        let prefix = PREFIX_RULES.iter().filter(|(_, op)| unary_precedence(*op) == level).map(|(r, _)| Op::prefix(*r));
+        let postfix =
+            POSTFIX_RULES.iter().filter(|(_, op)| unary_precedence(*op) == level).map(|(r, _)| Op::postfix(*r));
+        if let Some(ops) = infix.chain(prefix).chain(postfix).reduce(|a, b| a | b) {
+            pratt = pratt.op(ops);
+        }
+    }
+    pratt
 });
 
 /// What the parser needs to know about functions; the evaluator's registry provides it.
@@ -240,21 +296,13 @@ impl Builder<'_, '_> {
             .map_primary(|p| self.primary(p))
             .map_prefix(|op, rhs| {
                 let rhs = rhs?;
-                let kind = match op.as_rule() {
-                    Rule::neg => UnaryOp::Neg,
-                    Rule::plus => UnaryOp::Plus,
-                    Rule::not_op => UnaryOp::Not,
-                    _ => UnaryOp::Implicit,
-                };
+                let kind = unary_op(&PREFIX_RULES, op.as_rule());
                 let span = join(span_of(&op), rhs.span);
                 Ok(Expr::new(ExprKind::Unary(kind, Box::new(rhs)), span))
             })
             .map_postfix(|lhs, op| {
                 let lhs = lhs?;
-                let kind = match op.as_rule() {
-                    Rule::percent => UnaryOp::Percent,
-                    _ => UnaryOp::Spill,
-                };
+                let kind = unary_op(&POSTFIX_RULES, op.as_rule());
                 let span = join(lhs.span, span_of(&op));
                 Ok(Expr::new(ExprKind::Unary(kind, Box::new(lhs)), span))
             })
@@ -502,29 +550,11 @@ fn cell_range(lhs: &Expr, rhs: &Expr) -> Option<Reference> {
 }
 
 fn binary_op(rule: Rule) -> BinOp {
-    match rule {
-        Rule::range_op => BinOp::Range,
-        Rule::pow => BinOp::Pow,
-        Rule::mul => BinOp::Mul,
-        Rule::div => BinOp::Div,
-        Rule::add => BinOp::Add,
-        Rule::sub => BinOp::Sub,
-        Rule::concat => BinOp::Concat,
-        Rule::eq => BinOp::Eq,
-        Rule::ne => BinOp::Ne,
-        Rule::lt => BinOp::Lt,
-        Rule::le => BinOp::Le,
-        Rule::gt => BinOp::Gt,
-        Rule::ge => BinOp::Ge,
-        Rule::mod_op => BinOp::Mod,
-        Rule::int_div => BinOp::IntDiv,
-        Rule::and_op => BinOp::And,
-        Rule::or_op => BinOp::Or,
-        Rule::xor_op => BinOp::Xor,
-        Rule::eqv_op => BinOp::Eqv,
-        Rule::imp_op => BinOp::Imp,
-        rule => unreachable!("infix {rule:?}"),
-    }
+    INFIX_RULES.iter().find(|(r, _)| *r == rule).map(|(_, op)| *op).unwrap_or_else(|| unreachable!("infix {rule:?}"))
+}
+
+fn unary_op(table: &[(Rule, UnaryOp)], rule: Rule) -> UnaryOp {
+    table.iter().find(|(r, _)| *r == rule).map(|(_, op)| *op).unwrap_or_else(|| unreachable!("operator {rule:?}"))
 }
 
 #[cfg(test)]

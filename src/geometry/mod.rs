@@ -5,6 +5,7 @@
 
 use std::fmt;
 
+pub mod ballpath;
 pub mod cam;
 pub mod chamfer;
 pub mod head;

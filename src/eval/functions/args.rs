@@ -82,8 +82,10 @@ pub fn lift_values(values: &[Value], f: &dyn Fn(&[Value]) -> XlResult<Value>) ->
 }
 
 /// A one-number function lifted over arrays: `f` gets the argument as a number.
+/// The arguments sit in a stack array, not a `Vec`: a scalar call allocates nothing (surface
+/// equations call these a million times).
 pub fn lift_number1(ctx: &mut Ctx, args: &[Expr], f: fn(f64) -> XlResult<f64>) -> XlResult<Value> {
-    lift(ctx, args, &|v| {
+    lift_values(&[ctx.eval(&args[0])], &|v| {
         let x = to_number(&v[0])?;
         Ok(crate::eval::evaluator::number_result(f(x)?))
     })
@@ -91,9 +93,10 @@ pub fn lift_number1(ctx: &mut Ctx, args: &[Expr], f: fn(f64) -> XlResult<f64>) -
 
 /// A two-number function lifted over arrays; a missing second argument reads as `default`.
 pub fn lift_number2(ctx: &mut Ctx, args: &[Expr], default: f64, f: fn(f64, f64) -> XlResult<f64>) -> XlResult<Value> {
-    let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    let values = [ctx.eval(&args[0]), args.get(1).map_or(Value::Blank, |e| ctx.eval(e))];
+    let values = &values[..args.len().min(2)];
     let missing_second = args.get(1).is_none_or(|e| e.kind == ExprKind::Missing);
-    lift_values(&values, &|v| {
+    lift_values(values, &|v| {
         let x = to_number(&v[0])?;
         let y = if missing_second { default } else { to_number(&v[1])? };
         Ok(crate::eval::evaluator::number_result(f(x, y)?))

@@ -2,12 +2,19 @@
 //! Each body reads its arguments, calls a pure function and maps a geometry error to
 //! `#NUM!` (a number out of range) or `#VALUE!` (an unknown word) with its message.
 
+use std::cell::Cell;
+
 use nalgebra::{Point3, Vector3};
 
 use crate::eval::coerce::{to_number, to_text};
 use crate::eval::evaluator::Ctx;
+use crate::eval::surface::{surface_argument, BoundSurface, FormulaSurface, Home, SurfaceFault};
 use crate::eval::value::{Array, Value, XlError, XlResult};
-use crate::formula::ast::Expr;
+use crate::formula::address::Pos;
+use crate::formula::ast::{Expr, ExprKind};
+use crate::geometry::ballpath::{
+    ball_path, BallPath, BallPathSpec, Gouge, GougeCheck, Lines, PathError, Sample, Spacing, Surface,
+};
 use crate::geometry::cam::{fit_piece, Piece, PieceKind};
 use crate::geometry::chamfer::{chamfer, ChamferKind, ChamferPoints, ChamferSpec};
 use crate::geometry::head::head_ab;
@@ -74,6 +81,14 @@ pub const FUNCTIONS: &[FnSpec] = &[
         arch_fit,
         "ARCH_FIT(kind, r0, phi0, r1, phi1, tol)",
         "Spills one row {x0, y0, x1, y1, cx, cy, r, dir} per tangent arc within tol of a cam piece",
+    ),
+    FnSpec::value(
+        "BALLPATH",
+        8,
+        10,
+        ballpath,
+        "BALLPATH(surface, R, x0, x1, y0, y1, stepover, step, [program], [gouge])",
+        "Spills {x, y, z} of a ball-end mill's zig-zag path over z = surface(x, y); program \"tip\" or \"centre\", gouge \"fail\" or \"lift\"",
     ),
 ];
 
@@ -189,4 +204,128 @@ fn arch_fit(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 fn number_row(values: &[f64]) -> Value {
     Array::row(values.iter().map(|&v| Value::Number(v)).collect()).into()
+}
+
+// ---- BALLPATH ------------------------------------------------------------------------------
+
+/// Excel's last row: a spill cannot be longer.
+const SHEET_ROWS: usize = 1_048_576;
+
+impl Surface for BoundSurface<'_, '_, '_> {
+    type Error = SurfaceFault;
+
+    fn height(&mut self, x: f64, y: f64) -> Result<f64, SurfaceFault> {
+        self.height_at(x, y)
+    }
+
+    fn sample(&mut self, x: f64, y: f64) -> Result<Sample, SurfaceFault> {
+        let [z, dzdx, dzdy] = self.sample_at(x, y)?;
+        Ok(Sample { z, dzdx, dzdy })
+    }
+}
+
+thread_local! {
+    /// Set while a BALLPATH evaluates its surface: a surface calling BALLPATH (through a named
+    /// LAMBDA, itself) would recurse without end.
+    static IN_SURFACE: Cell<bool> = const { Cell::new(false) };
+}
+
+/// The ball path over a formula surface, evaluated where `home` says; a failure as an error
+/// value with its message. The CLI's `ballpath` command runs this too.
+pub fn formula_ball_path(
+    ctx: &mut Ctx,
+    surface: &FormulaSurface,
+    home: Home,
+    spec: &BallPathSpec,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<BallPath, (XlError, String)> {
+    if IN_SURFACE.get() {
+        return Err((XlError::Calc, "a surface formula cannot itself compute a BALLPATH".into()));
+    }
+    IN_SURFACE.set(true);
+    let result = match home {
+        Home::Here => ball_path(&mut surface.bind(ctx), spec, progress),
+        Home::Name(sheet) => {
+            ball_path(&mut surface.bind(&mut Ctx::new(ctx.env, sheet, Pos::new(0, 0))), spec, progress)
+        }
+    };
+    IN_SURFACE.set(false);
+    result.map_err(|e| match e {
+        PathError::Spec(g) => geometry_error(g),
+        PathError::Surface { x, y, error } => {
+            (error.error, format!("the surface's {} is {} at x={x}, y={y}", error.part.describe(), error.error))
+        }
+    })
+}
+
+/// One gouge, said in a line: where the ball was placed, where it cuts and how deep.
+pub fn describe_gouge(g: &Gouge) -> String {
+    let p = |v: f64| format!("{v:.4}");
+    format!(
+        "the ball touching ({}, {}, {}) cuts {} mm into the surface at ({}, {}, {})",
+        p(g.contact.x),
+        p(g.contact.y),
+        p(g.contact.z),
+        p(g.depth),
+        p(g.at.x),
+        p(g.at.y),
+        p(g.at.z)
+    )
+}
+
+fn ballpath(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let mut n = [0.0; 7];
+    for (i, e) in args[1..8].iter().enumerate() {
+        n[i] = to_number(&ctx.eval(e).unwrap_single())?;
+    }
+    let centre = match word(ctx, args.get(8), "tip")?.as_str() {
+        "tip" => false,
+        "centre" | "center" => true,
+        other => {
+            return Err(ctx.explain(XlError::Value, format!("BALLPATH program '{other}' is not \"tip\" or \"centre\"")))
+        }
+    };
+    let gouge = match word(ctx, args.get(9), "fail")?.as_str() {
+        "fail" => GougeCheck::Report,
+        "lift" => GougeCheck::Lift,
+        other => {
+            return Err(ctx.explain(XlError::Value, format!("BALLPATH gouge '{other}' is not \"fail\" or \"lift\"")))
+        }
+    };
+    let spec = BallPathSpec {
+        radius: n[0],
+        x: [n[1], n[2]],
+        y: [n[3], n[4]],
+        stepover: n[5],
+        spacing: Spacing::Step(n[6]),
+        lines: Lines::ConstantX,
+        gouge,
+        max_points: SHEET_ROWS,
+    };
+    let explained = |ctx: &mut Ctx, (e, message): (XlError, String)| ctx.explain(e, message);
+    let (surface, home) = surface_argument(ctx, &args[0]).map_err(|f| explained(ctx, f))?;
+    let path = formula_ball_path(ctx, &surface, home, &spec, &mut |_, _| {}).map_err(|f| explained(ctx, f))?;
+    if let (GougeCheck::Report, Some(first)) = (gouge, path.gouges.first()) {
+        let message = format!(
+            "{} gouges; the first: {} (BALLPATH(…, \"lift\") lifts the ball)",
+            path.gouges.len(),
+            describe_gouge(first)
+        );
+        return Err(ctx.explain(XlError::Num, message));
+    }
+    let mut data = Vec::with_capacity(path.points.len() * 3);
+    for p in &path.points {
+        let at = if centre { p.centre } else { p.tip(path.radius) };
+        data.extend([Value::Number(at.x), Value::Number(at.y), Value::Number(at.z)]);
+    }
+    Ok(Array::new(path.points.len(), 3, data).into())
+}
+
+/// An optional word argument in lower case.
+fn word(ctx: &mut Ctx, e: Option<&Expr>, default: &str) -> XlResult<String> {
+    match e {
+        None => Ok(default.to_string()),
+        Some(e) if e.kind == ExprKind::Missing => Ok(default.to_string()),
+        Some(e) => Ok(to_text(&ctx.eval(e))?.trim().to_ascii_lowercase()),
+    }
 }

@@ -2,11 +2,12 @@
 //! an array condition makes them choose item by item (Excel 365 spills the result).
 
 use std::rc::Rc;
+use std::sync::LazyLock;
 
 use crate::eval::coerce::{to_bool, to_number, values_equal};
 use crate::eval::evaluator::{broadcast2, Ctx, Operand};
 use crate::eval::value::{Value, XlError, XlResult};
-use crate::formula::ast::{Expr, ExprKind};
+use crate::formula::ast::{Expr, ExprKind, FnId};
 
 use super::args::{for_each_value, lift, lift_values, Source};
 use super::{FnSpec, MANY};
@@ -80,6 +81,14 @@ pub const FUNCTIONS: &[FnSpec] = &[
         let_fn,
         "LET(name1, value1, [name2, value2, …], calculation)",
         "calculation with each name bound to its value, in order",
+    ),
+    FnSpec::value(
+        "LAMBDA",
+        1,
+        MANY,
+        lambda,
+        "LAMBDA([parameter1, …], calculation)",
+        "A function of its parameters, called through a defined name (bump(1, 2)); alone in a cell #CALC!",
     ),
 ];
 
@@ -312,6 +321,42 @@ fn bind_names(ctx: &mut Ctx, args: &[Expr]) -> Value {
     ctx.with_local(name, value, |ctx| bind_names(ctx, rest))
 }
 
+/// A LAMBDA that is not called has no value: Excel shows `#CALC!` for one left alone in a cell.
+fn lambda(_: &mut Ctx, _: &[Expr]) -> XlResult<Value> {
+    Err(XlError::Calc)
+}
+
+/// `LAMBDA(p1, …, body)` taken apart.
+pub struct Lambda<'e> {
+    /// The parameters, each an `ExprKind::Name`.
+    pub params: &'e [Expr],
+    pub body: &'e Expr,
+}
+
+impl<'e> Lambda<'e> {
+    pub fn param_names(&self) -> impl Iterator<Item = &'e Rc<str>> {
+        self.params.iter().map(|p| match &p.kind {
+            ExprKind::Name(n) => n,
+            _ => unreachable!("as_lambda checked the parameters"),
+        })
+    }
+}
+
+static LAMBDA_ID: LazyLock<FnId> = LazyLock::new(|| super::find("LAMBDA").expect("LAMBDA is registered"));
+
+/// `e` as a LAMBDA (parentheses around it allowed); `None` for anything else, and for a
+/// LAMBDA whose parameters are not all names.
+pub fn as_lambda(e: &Expr) -> Option<Lambda<'_>> {
+    match &e.kind {
+        ExprKind::Paren(inner) => as_lambda(inner),
+        ExprKind::Call(id, args) if *id == *LAMBDA_ID => {
+            let (body, params) = args.split_last()?;
+            params.iter().all(|p| matches!(p.kind, ExprKind::Name(_))).then_some(Lambda { params, body })
+        }
+        _ => None,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use crate::eval::testing::MapEnv;
@@ -401,5 +446,13 @@ mod tests {
         // Excel refuses an even argument count (no calculation after the last pair).
         assert_eq!(env.eval("=LET(x,1,y,2)"), Value::Error(XlError::Value));
         assert_eq!(env.eval("=LET(x,1,2,3,x)"), Value::Error(XlError::Value));
+    }
+
+    #[test]
+    fn a_lambda_alone_is_calc() {
+        let env = env();
+        // Excel 365: =LAMBDA(x,x+1) in a cell shows #CALC!.
+        assert_eq!(env.eval("=LAMBDA(x,x+1)"), Value::Error(XlError::Calc));
+        assert_eq!(env.eval("=ISERROR(LAMBDA(1))"), Value::Bool(true));
     }
 }

@@ -25,6 +25,9 @@ mod text;
 mod text_format;
 pub mod vba;
 
+pub use geometry::{describe_gouge, formula_ball_path};
+pub use logic::{as_lambda, Lambda};
+
 /// A function body that returns a value.
 pub type ValueFn = fn(&mut Ctx, &[Expr]) -> XlResult<Value>;
 /// A function body that may return a reference (INDEX, OFFSET, …).

@@ -1,0 +1,343 @@
+//! `ncsheet ballpath`: a ball-end mill's finishing path over a surface formula, written as csv
+//! or as an NC program (DOMAIN.md §3). The path itself is `geometry::ballpath`, run on the
+//! formula by `eval::functions::formula_ball_path`; this is flags, output and timing.
+
+use std::fmt::Write as _;
+use std::io::{self, IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use clap::{Args, ValueEnum};
+use indicatif::{ProgressBar, ProgressStyle};
+use nalgebra::Point3;
+use ncsheet::eval::functions::{describe_gouge, formula_ball_path, Registry};
+use ncsheet::eval::surface::{FormulaSurface, Home};
+use ncsheet::eval::Ctx;
+use ncsheet::formula::parse::ParseContext;
+use ncsheet::formula::Pos;
+use ncsheet::geometry::ballpath::{BallPath, BallPathSpec, GougeCheck, Lines, Spacing};
+use ncsheet::nc::{dialect, Block, Machine, Program, Target};
+use ncsheet::workbook::Workbook;
+
+use super::report::{prepend, Error, Result};
+
+/// Compute a ball-end mill's finishing path over a surface z = f(x, y) and write it as csv or
+/// as an NC program.
+///
+/// The path is a zig-zag raster over the rectangle --x × --y: lines of constant x (or y with
+/// --lines y) --stepover apart, the last one on the far edge, each running the full width with
+/// both edges included, alternating direction; points --step apart along a line (with
+/// --tolerance: as few as keep the programmed polyline within the tolerance of the tool path,
+/// --step apart at most). At each contact point T the ball's centre is T + R·n with n the
+/// outward unit normal, from exact partial derivatives of the formula. The programmed point
+/// is the ball's tip (centre − R in z) unless --program centre.
+///
+/// Every ball position is checked against the surface within its radius: one that would cut
+/// the surface elsewhere (a hollow tighter than R, a steep wall) fails the command with where
+/// and how deep, unless --gouge lift raises it until it clears.
+///
+/// Example (the paper's Gaussian bump on a 50 × 50 mm part, 3 mm ball):
+/// ncsheet ballpath --surface "15*EXP(-16*((x/50)^2+(y/50)^2))" --radius 3 --x -25:25
+/// --y -25:25 --stepover 1 --step 1 --format heidenhain -o bump.h
+///
+/// Excel's precedence applies: -x^2 is (-x)^2; write -(x^2). docs/ballpath.md has the rules
+/// for differentiating the formula and the gouge check.
+#[derive(Debug, Args)]
+pub struct BallpathArgs {
+    /// The surface: a formula in x and y such as "0.3*EXP(-16*(x^2+y^2))", or LAMBDA(x, y, …)
+    #[arg(long, value_name = "EXPR", allow_hyphen_values = true)]
+    pub surface: String,
+    /// Ball radius R (mm)
+    #[arg(long, value_name = "R")]
+    pub radius: f64,
+    /// The rectangle's x range (mm)
+    #[arg(long, value_name = "A:B", value_parser = parse_range, allow_hyphen_values = true)]
+    pub x: [f64; 2],
+    /// The rectangle's y range (mm)
+    #[arg(long, value_name = "A:B", value_parser = parse_range, allow_hyphen_values = true)]
+    pub y: [f64; 2],
+    /// Distance between raster lines (mm)
+    #[arg(long, value_name = "S")]
+    pub stepover: f64,
+    /// Distance between points along a line (mm); with --tolerance, the longest allowed
+    #[arg(long, value_name = "S")]
+    pub step: f64,
+    /// Chord tolerance (mm): space points by the path's curvature instead of a fixed step
+    #[arg(long, value_name = "T")]
+    pub tolerance: Option<f64>,
+    /// Raster lines of constant x (running along y) or of constant y
+    #[arg(long, value_enum, default_value_t)]
+    pub lines: LinesArg,
+    /// The programmed point: the ball's tip (lowest point) or its centre
+    #[arg(long, value_enum, default_value_t)]
+    pub program: Programmed,
+    /// A ball position that cuts the surface elsewhere: fail, lift it clear, or do not check
+    #[arg(long, value_enum, default_value_t)]
+    pub gouge: GougeArg,
+    /// Feed rate of the cutting moves (mm/min)
+    #[arg(long, value_name = "F", default_value_t = 480.0)]
+    pub feed: f64,
+    /// csv of the points (cx,cy,cz,px,py,pz,tx,ty,tz), or an NC program for a control
+    #[arg(long, value_enum, default_value_t)]
+    pub format: OutputFormat,
+    /// Rapid up to the clearance height between lines (by default the link move cuts)
+    #[arg(long)]
+    pub retract: bool,
+    /// Clearance height (mm) for approach, retracts and end [default: highest point + 5, whole mm]
+    #[arg(long, value_name = "Z", allow_hyphen_values = true)]
+    pub clearance: Option<f64>,
+    /// Program name [default: from OUT, else BALLPATH]
+    #[arg(long)]
+    pub name: Option<String>,
+    /// Write here instead of to stdout
+    #[arg(short, long, value_name = "OUT")]
+    pub output: Option<PathBuf>,
+    /// Print the time spent computing, formatting and writing to stderr
+    #[arg(long)]
+    pub timings: bool,
+}
+
+#[derive(Clone, Copy, Debug, Default, ValueEnum)]
+pub enum LinesArg {
+    #[default]
+    X,
+    Y,
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum Programmed {
+    #[default]
+    Tip,
+    #[value(alias = "center")]
+    Centre,
+}
+
+#[derive(Clone, Copy, Debug, Default, ValueEnum)]
+pub enum GougeArg {
+    #[default]
+    Fail,
+    Lift,
+    Off,
+}
+
+/// `iso` is Fanuc-style (`%`, `O0001`); LinuxCNC reads `linuxcnc`, which has no O-number.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum OutputFormat {
+    #[default]
+    Csv,
+    Heidenhain,
+    Iso,
+    Linuxcnc,
+    Sinumerik,
+}
+
+fn parse_range(text: &str) -> std::result::Result<[f64; 2], String> {
+    let (a, b) = text.split_once(':').ok_or_else(|| format!("'{text}' is not a range A:B"))?;
+    let number = |s: &str| s.trim().parse::<f64>().map_err(|_| format!("'{s}' in '{text}' is not a number"));
+    Ok([number(a)?, number(b)?])
+}
+
+pub fn run(args: BallpathArgs) -> Result<()> {
+    let parse_ctx = ParseContext { at: Pos::new(0, 0), functions: &Registry, sheet: &|_| None };
+    let surface = FormulaSurface::parse(&args.surface, &parse_ctx)
+        .map_err(|e| Error::User(prepend("--surface: ", &e.render(&args.surface))))?;
+    let spec = spec(&args);
+    // An empty sheet: references in the surface read as blank cells (0).
+    let wb = Workbook::with_sheet();
+    let mut ctx = Ctx::new(&wb, 0, Pos::new(0, 0));
+    let started = Instant::now();
+    let bar = progress_bar(&spec);
+    let mut progress = |done: usize, total: usize| {
+        if let Some(bar) = &bar {
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+        }
+    };
+    let path = formula_ball_path(&mut ctx, &surface, Home::Here, &spec, &mut progress);
+    // Cleared before any message, so an error does not land on the bar's line.
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+    let path = path.map_err(|(_, message)| Error::User(prepend("--surface: ", &message)))?;
+    let computed = started.elapsed();
+    report_gouges(&path, spec.gouge)?;
+    let started = Instant::now();
+    let text = render(&path, &args)?;
+    let formatted = started.elapsed();
+    let started = Instant::now();
+    write_output(args.output.as_deref(), &text)?;
+    if args.timings {
+        print_timings(path.points.len(), computed, formatted, started.elapsed());
+    }
+    Ok(())
+}
+
+fn spec(args: &BallpathArgs) -> BallPathSpec {
+    BallPathSpec {
+        radius: args.radius,
+        x: args.x,
+        y: args.y,
+        stepover: args.stepover,
+        spacing: match args.tolerance {
+            Some(tolerance) => Spacing::Chord { tolerance, max_step: args.step },
+            None => Spacing::Step(args.step),
+        },
+        lines: match args.lines {
+            LinesArg::X => Lines::ConstantX,
+            LinesArg::Y => Lines::ConstantY,
+        },
+        gouge: match args.gouge {
+            GougeArg::Fail => GougeCheck::Report,
+            GougeArg::Lift => GougeCheck::Lift,
+            GougeArg::Off => GougeCheck::Off,
+        },
+        max_points: 200_000_000,
+    }
+}
+
+/// A bar on stderr for paths of more than 100,000 points, when stderr is a terminal.
+fn progress_bar(spec: &BallPathSpec) -> Option<ProgressBar> {
+    let lines = (spec.x[1] - spec.x[0]).max(spec.y[1] - spec.y[0]) / spec.stepover;
+    let step = match spec.spacing {
+        Spacing::Step(s) | Spacing::Chord { max_step: s, .. } => s,
+    };
+    let per_line = (spec.x[1] - spec.x[0]).max(spec.y[1] - spec.y[0]) / step;
+    if !io::stderr().is_terminal() || lines * per_line < 1e5 {
+        return None;
+    }
+    let bar = ProgressBar::new(0);
+    let style = ProgressStyle::with_template("{bar:40} {percent}% of the path, {elapsed} elapsed, {eta} left")
+        .expect("the template is valid");
+    bar.set_style(style);
+    Some(bar)
+}
+
+/// Gouges fail the command unless the balls were lifted, which is said on stderr.
+fn report_gouges(path: &BallPath, check: GougeCheck) -> Result<()> {
+    const SHOWN: usize = 10;
+    if path.gouges.is_empty() {
+        return Ok(());
+    }
+    let mut list: Vec<String> = path.gouges.iter().take(SHOWN).map(describe_gouge).collect();
+    if path.gouges.len() > SHOWN {
+        list.push(format!("… and {} more", path.gouges.len() - SHOWN));
+    }
+    let deepest = path.gouges.iter().map(|g| g.depth).fold(0.0, f64::max);
+    match check {
+        GougeCheck::Lift => {
+            let n = path.gouges.len();
+            eprintln!("ncsheet: lifted {n} ball positions clear of the surface (at most {deepest:.4} mm):");
+            for line in list {
+                eprintln!("  {line}");
+            }
+            Ok(())
+        }
+        _ => Err(Error::User(format!(
+            "{} ball positions cut into the surface (up to {deepest:.4} mm); --gouge lift raises them until \
+             they clear:\n  {}",
+            path.gouges.len(),
+            list.join("\n  ")
+        ))),
+    }
+}
+
+fn render(path: &BallPath, args: &BallpathArgs) -> Result<String> {
+    if args.format == OutputFormat::Csv {
+        return Ok(csv(path));
+    }
+    let name = program_name(args);
+    let dialect_name = format!("{:?}", args.format).to_ascii_lowercase();
+    let dialect = dialect::by_name(&dialect_name).expect("every program format is a dialect");
+    dialect.render(&program(path, args, &name)).map_err(|e| Error::User(e.to_string()))
+}
+
+/// `cx,cy,cz,px,py,pz,tx,ty,tz`: ball centre, contact point, tip; numbers as short as read
+/// back exactly.
+fn csv(path: &BallPath) -> String {
+    let mut out = String::with_capacity(path.points.len() * 120);
+    out.push_str("cx,cy,cz,px,py,pz,tx,ty,tz\n");
+    for p in &path.points {
+        let (c, t) = (p.centre, p.tip(path.radius));
+        let _ = writeln!(
+            out,
+            "{},{},{},{},{},{},{},{},{}",
+            c.x, c.y, c.z, p.contact.x, p.contact.y, p.contact.z, t.x, t.y, t.z
+        );
+    }
+    out
+}
+
+/// The paper's program: to the clearance height, above the first point, down at the feed,
+/// along each line; the link to the next line cuts unless --retract.
+fn program(path: &BallPath, args: &BallpathArgs, name: &str) -> Program {
+    let at = |i: usize| -> Point3<f64> {
+        let p = &path.points[i];
+        if args.program == Programmed::Centre {
+            p.centre
+        } else {
+            p.tip(path.radius)
+        }
+    };
+    let highest = (0..path.points.len()).map(|i| at(i).z).fold(f64::NEG_INFINITY, f64::max);
+    let clearance = args.clearance.unwrap_or((highest + 5.0).ceil());
+    let mut p = Program::new(name, Machine::Mill);
+    p.blocks.reserve(path.points.len() + 4 * path.line_starts.len() + 4);
+    let what = match args.program {
+        Programmed::Tip => "ball tip (centre - R in Z)",
+        Programmed::Centre => "ball centre",
+    };
+    p.push(Block::Comment(format!("ball-end mill R{}: programmed point is the {what}", path.radius)));
+    let up = Target { z: Some(clearance), ..Target::default() };
+    p.push(Block::Rapid(up));
+    for (k, &start) in path.line_starts.iter().enumerate() {
+        let end = path.line_starts.get(k + 1).copied().unwrap_or(path.points.len());
+        if k == 0 || args.retract {
+            if k > 0 {
+                p.push(Block::Rapid(up));
+            }
+            let first = at(start);
+            p.push(Block::Rapid(Target::xy(first.x, first.y)));
+        }
+        p.blocks.extend((start..end).map(|i| {
+            let q = at(i);
+            Block::Line { to: Target::xyz(q.x, q.y, q.z), feed: Some(args.feed) }
+        }));
+    }
+    p.push(Block::Rapid(up));
+    p
+}
+
+/// `--name`, or OUT's file stem in capitals (`eqcam-bump.h` → `EQCAM_BUMP`), or BALLPATH.
+fn program_name(args: &BallpathArgs) -> String {
+    if let Some(name) = &args.name {
+        return name.clone();
+    }
+    let stem = args.output.as_deref().and_then(Path::file_stem).map(|s| s.to_string_lossy().to_string());
+    match stem {
+        Some(s) if !s.is_empty() => {
+            s.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_uppercase() } else { '_' }).collect()
+        }
+        _ => "BALLPATH".to_string(),
+    }
+}
+
+fn write_output(path: Option<&Path>, text: &str) -> Result<()> {
+    match path {
+        Some(path) => ncsheet::io::atomic::write_file(path, |w| w.write_all(text.as_bytes()))
+            .map_err(|e| Error::User(format!("{}: {e}", path.display()))),
+        None => {
+            let mut out = io::stdout().lock();
+            out.write_all(text.as_bytes())?;
+            Ok(out.flush()?)
+        }
+    }
+}
+
+fn print_timings(points: usize, compute: Duration, format: Duration, write: Duration) {
+    let per_point = |d: Duration| d.as_secs_f64() * 1e9 / points.max(1) as f64;
+    eprintln!("points   {points}");
+    eprintln!("compute  {:.3} s  ({:.0} ns/point)", compute.as_secs_f64(), per_point(compute));
+    eprintln!("format   {:.3} s  ({:.0} ns/point)", format.as_secs_f64(), per_point(format));
+    eprintln!("write    {:.3} s", write.as_secs_f64());
+    eprintln!("total    {:.3} s", (compute + format + write).as_secs_f64());
+}

@@ -1,0 +1,197 @@
+//! `ncsheet ballpath` as a user runs it: csv and NC programs from the real binary, the ISO
+//! program read back by LinuxCNC's `rs274` interpreter.
+
+mod common;
+
+use std::path::Path;
+use std::process::Command;
+
+use common::rs274::{self, Move};
+
+struct Run {
+    code: i32,
+    stdout: String,
+    stderr: String,
+}
+
+fn ncsheet(dir: &Path, args: &[&str]) -> Run {
+    let out = Command::new(env!("CARGO_BIN_EXE_ncsheet")).args(args).current_dir(dir).output().unwrap();
+    Run {
+        code: out.status.code().unwrap(),
+        stdout: String::from_utf8(out.stdout).unwrap(),
+        stderr: String::from_utf8(out.stderr).unwrap(),
+    }
+}
+
+/// A small path over a tilted plane z = 0.5x + 1 (slope 1/2 in x): 3 lines × 3 points.
+const TILTED: &[&str] =
+    &["ballpath", "--surface", "0.5*x+1", "--radius", "2", "--x", "0:4", "--y=-2:2", "--stepover", "2", "--step", "2"];
+
+fn with(extra: &[&str]) -> Vec<String> {
+    TILTED.iter().chain(extra).map(|s| s.to_string()).collect()
+}
+
+fn run(dir: &Path, args: &[String]) -> Run {
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    ncsheet(dir, &args)
+}
+
+/// The csv rows as numbers.
+fn csv_rows(text: &str) -> Vec<Vec<f64>> {
+    text.lines().skip(1).map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect()
+}
+
+#[test]
+fn csv_has_centre_contact_and_tip() {
+    let dir = tempfile::tempdir().unwrap();
+    let r = run(dir.path(), &with(&[]));
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert_eq!(r.stdout.lines().next(), Some("cx,cy,cz,px,py,pz,tx,ty,tz"));
+    let rows = csv_rows(&r.stdout);
+    assert_eq!(rows.len(), 9);
+    // By hand: the normal of z = 0.5x + 1 is (−0.5, 0, 1)/√1.25, so the centre is the contact
+    // point plus 2·(−0.4472, 0, 0.8944), the tip 2 below the centre.
+    let n = 1.25f64.sqrt();
+    for row in &rows {
+        let [cx, cy, cz, px, py, pz, tx, ty, tz] = row[..] else { panic!("{row:?}") };
+        assert!((pz - (0.5 * px + 1.0)).abs() < 1e-12);
+        assert!((cx - (px - 1.0 / n)).abs() < 1e-12 && cy == py && (cz - (pz + 2.0 / n)).abs() < 1e-12);
+        assert!(tx == cx && ty == cy && (tz - (cz - 2.0)).abs() < 1e-12);
+    }
+    // Zig-zag: the second line runs backwards.
+    let ys: Vec<f64> = rows.iter().map(|r| r[4]).collect();
+    assert_eq!(ys, [-2.0, 0.0, 2.0, 2.0, 0.0, -2.0, -2.0, 0.0, 2.0]);
+}
+
+#[test]
+fn heidenhain_program_in_the_papers_form() {
+    let dir = tempfile::tempdir().unwrap();
+    let r = run(dir.path(), &with(&["--format", "heidenhain", "--feed", "480", "-o", "bump.h"]));
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    let text = std::fs::read_to_string(dir.path().join("bump.h")).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines[0], "0 BEGIN PGM BUMP MM");
+    assert_eq!(lines[1], "1 ; ball-end mill R2: programmed point is the ball tip (centre - R in Z)");
+    // Clearance: the highest tip is at x = 4 − 2/√1.25: z = 3 + 2/√1.25 − 2 = 2.789, + 5 → 8.
+    assert_eq!(lines[2], "2 L Z+8.0000 FMAX");
+    assert_eq!(lines[3], "3 L X-0.8944 Y-2.0000 FMAX");
+    // First cut: contact (0, −2, 1), tip (−0.8944, −2, 1 + 1.7889 − 2).
+    assert_eq!(lines[4], "4 L X-0.8944 Y-2.0000 Z+0.7889 F480");
+    assert_eq!(lines[12], "12 L X+3.1056 Y+2.0000 Z+2.7889 F480");
+    assert_eq!(lines[13], "13 L Z+8.0000 FMAX");
+    assert_eq!(lines[14], "14 END PGM BUMP MM");
+    assert_eq!(lines.len(), 15);
+}
+
+#[test]
+fn iso_programs_and_linuxcnc_reads_its_own() {
+    let dir = tempfile::tempdir().unwrap();
+    let r = run(dir.path(), &with(&["--format", "iso"]));
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert!(r.stdout.starts_with("%\nO0001 (BALLPATH)\n"), "{}", r.stdout);
+    assert!(r.stdout.contains("G1 X-0.894 Y-2. Z0.789 F480."), "{}", r.stdout);
+
+    let r = run(dir.path(), &with(&["--format", "linuxcnc", "--retract", "--program", "centre", "-o", "p.ngc"]));
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    let csv = csv_rows(&run(dir.path(), &with(&[])).stdout);
+    if !rs274::available() {
+        eprintln!("skipped: LinuxCNC's rs274 is not installed (bash .ci/run installs linuxcnc-uspace)");
+        return;
+    }
+    let moves = rs274::moves(&dir.path().join("p.ngc")).unwrap_or_else(|e| panic!("rs274 rejected it:\n{e}"));
+    let feeds: Vec<[f64; 3]> = moves
+        .iter()
+        .filter_map(|m| match m {
+            Move::Feed { x, y, z } => Some([*x, *y, *z]),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(feeds.len(), 9);
+    for (f, row) in feeds.iter().zip(&csv) {
+        for (got, want) in f.iter().zip(&row[0..3]) {
+            assert!((got - want).abs() <= 0.0005, "{f:?} vs centre {row:?}");
+        }
+    }
+    // With --retract: up to the clearance after each line, over, down.
+    let traverses = moves.iter().filter(|m| matches!(m, Move::Traverse { .. })).count();
+    // Up, over the first line; up, over for the two others; up at the end.
+    assert_eq!(traverses, 2 + 2 + 2 + 1);
+}
+
+#[test]
+fn a_gouge_fails_with_where_and_how_deep_or_lifts() {
+    let dir = tempfile::tempdir().unwrap();
+    let groove = ["ballpath", "--surface", "-EXP(-(x^2)/4)", "--radius", "3", "--x=-1:1", "--y", "0:0"];
+    let args: Vec<&str> = groove.iter().copied().chain(["--stepover", "1", "--step", "1"]).collect();
+    let r = ncsheet(dir.path(), &args);
+    assert_eq!(r.code, 1);
+    assert!(r.stderr.starts_with("ncsheet: 3 ball positions cut into the surface (up to 0."), "{}", r.stderr);
+    assert!(r.stderr.contains("the ball touching (0.0000, 0.0000, -1.0000) cuts 0."), "{}", r.stderr);
+    assert!(r.stderr.contains("--gouge lift"), "{}", r.stderr);
+    let lifted: Vec<&str> = args.iter().copied().chain(["--gouge", "lift"]).collect();
+    let r = ncsheet(dir.path(), &lifted);
+    assert_eq!(r.code, 0);
+    assert!(r.stderr.starts_with("ncsheet: lifted 3 ball positions clear of the surface"), "{}", r.stderr);
+}
+
+#[test]
+fn a_surface_without_a_derivative_is_shown_with_a_caret() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = ["ballpath", "--surface", "1+VLOOKUP(x,A1:B2,2)", "--radius", "1", "--x", "0:1", "--y", "0:1"];
+    let args: Vec<&str> = args.iter().copied().chain(["--stepover", "1", "--step", "1"]).collect();
+    let r = ncsheet(dir.path(), &args);
+    assert_eq!(r.code, 1);
+    let want =
+        "ncsheet: --surface: 1+VLOOKUP(x,A1:B2,2)\n                      ^ column 3: cannot differentiate VLOOKUP";
+    assert!(r.stderr.starts_with(want), "{}", r.stderr);
+}
+
+#[test]
+fn timings_are_split_into_compute_and_format() {
+    let dir = tempfile::tempdir().unwrap();
+    let r = run(dir.path(), &with(&["--format", "heidenhain", "--timings", "-o", "t.h"]));
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    for word in ["points   9", "compute", "format", "write", "ns/point"] {
+        assert!(r.stderr.contains(word), "{}", r.stderr);
+    }
+}
+
+/// The command docs/ballpath.md gives for `sheets/eqcam-bump.h`.
+const EQCAM_BUMP: &[&str] = &[
+    "ballpath",
+    "--surface",
+    "15*EXP(-16*((x/50)^2+(y/50)^2))",
+    "--radius",
+    "3",
+    "--x=-25:25",
+    "--y=-25:25",
+    "--stepover",
+    "1",
+    "--step",
+    "1",
+    "--format",
+    "heidenhain",
+    "-o",
+    "eqcam-bump.h",
+];
+
+#[test]
+fn the_shipped_bump_program_is_what_the_command_writes_and_what_the_sheet_computes() {
+    let dir = tempfile::tempdir().unwrap();
+    let r = ncsheet(dir.path(), EQCAM_BUMP);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    let written = std::fs::read_to_string(dir.path().join("eqcam-bump.h")).unwrap();
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let shipped = std::fs::read_to_string(repo.join("sheets/eqcam-bump.h")).unwrap();
+    assert!(written == shipped, "sheets/eqcam-bump.h is stale: rerun the command in docs/ballpath.md");
+    // The sheet spills the same tip points from row 13 on.
+    let sheet = repo.join("sheets/eqcam-bump.csv");
+    let r = ncsheet(dir.path(), &["eval", sheet.to_str().unwrap(), "A13:C14", "--format", "csv"]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    let cuts: Vec<&str> = shipped.lines().filter(|l| l.ends_with("F480")).take(2).collect();
+    for (row, cut) in r.stdout.lines().zip(cuts) {
+        let v: Vec<f64> = row.split(',').map(|x| x.parse().unwrap()).collect();
+        let want = format!("L X{:+.4} Y{:+.4} Z{:+.4} F480", v[0], v[1], v[2]);
+        assert!(cut.ends_with(&want), "{cut} vs sheet {row}");
+    }
+}
