@@ -214,3 +214,28 @@ mod same_shape {
         }
     }
 }
+
+/// A LAMBDA's body is read as a tree (BALLPATH differentiates it), not only evaluated: two
+/// formulas differing only in a number inside one must each keep their own number.
+#[test]
+fn inline_lambdas_that_differ_in_a_number_keep_their_own() {
+    let a = "=BALLPATH(LAMBDA(x,y,0.3*EXP(-16*(x^2+y^2))),0.1,-0.5,0.5,-0.5,0.5,0.5,0.5)";
+    let b = "=BALLPATH(LAMBDA(x,y,0.5*EXP(-16*(x^2+y^2))),0.1,-0.5,0.5,-0.5,0.5,0.5,0.5)";
+    if ncsheet::eval::functions::find("BALLPATH").is_none() {
+        println!("SKIPPED: BALLPATH is not registered");
+        return;
+    }
+    let block = |wb: &Workbook, col: u32| -> Vec<Value> {
+        (0..12).flat_map(|r| (col..col + 8).map(move |c| (r, c))).map(|(r, c)| wb.value(0, Pos::new(r, c))).collect()
+    };
+    let mut both = Workbook::with_sheet();
+    let _ = both.set_input(0, Pos::new(0, 0), a);
+    let _ = both.set_input(0, Pos::new(0, 12), b);
+    for (text, col) in [(a, 0), (b, 12)] {
+        let mut alone = Workbook::with_sheet();
+        let _ = alone.set_input(0, Pos::new(0, col), text);
+        assert_eq!(block(&both, col), block(&alone, col), "{text}");
+        assert_eq!(both.formula(0, Pos::new(0, col)).as_deref(), Some(text));
+    }
+    assert_ne!(block(&both, 0), block(&both, 12));
+}

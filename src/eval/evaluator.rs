@@ -72,7 +72,8 @@ pub struct Ctx<'a> {
     pub notes: Vec<Note>,
     /// Numbers to read in place of number literals of the tree being evaluated, each with
     /// the literal's node (by address): formulas that differ only in their numbers share one
-    /// tree (src/workbook/shared.rs). Usually empty.
+    /// tree (src/workbook/shared.rs). Usually empty. Code that reads numbers from the tree
+    /// itself, not through `eval`, must be listed in `READ_AS_TREES` there.
     pub numbers: &'a [(*const Expr, f64)],
 }
 
