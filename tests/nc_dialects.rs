@@ -7,6 +7,7 @@ use proptest::prelude::*;
 
 fn lathe_program(with_arc: bool) -> Program {
     let mut p = Program::new("CHAMFER", Machine::Lathe);
+    p.number = Some(1);
     p.push(Block::Comment("outer chamfer".into()));
     p.push(Block::Rapid(Target::xz(50.0, 2.0)));
     p.push(Block::Line { to: Target::xz(40.0, 0.0), feed: Some(0.1) });
@@ -24,6 +25,7 @@ fn lathe_program(with_arc: bool) -> Program {
 
 fn mill_program() -> Program {
     let mut p = Program::new("POCKET", Machine::Mill);
+    p.number = Some(1);
     p.push(Block::Comment("square with a round corner".into()));
     p.push(Block::Rapid(Target::xyz(0.0, 0.0, 5.0)));
     p.push(Block::Line { to: Target { z: Some(-1.0), ..Target::default() }, feed: Some(100.0) });

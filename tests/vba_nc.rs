@@ -385,7 +385,7 @@ fn nc_builds_blocks_from_positional_named_and_modal_arguments() {
     let mut wb = Workbook::with_sheet();
     let out = run(&mut wb, src, &RunOptions::default());
     let p = &out.program;
-    assert_eq!((p.name.as_str(), p.number, p.machine), ("POCKET", 7, Machine::Mill));
+    assert_eq!((p.name.as_str(), p.number, p.machine), ("POCKET", Some(7), Machine::Mill));
     let z = |z: f64| Target { z: Some(z), ..Target::default() };
     assert_eq!(
         p.blocks,

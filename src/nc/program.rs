@@ -80,11 +80,13 @@ pub enum Block {
     Words(Vec<Word>),
 }
 
-/// A whole program: a name, a number (for controls that want `O0001`), and blocks.
+/// A whole program: a name, an optional number (for controls that want `O0001`), and blocks.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Program {
     pub name: String,
-    pub number: u32,
+    /// The program number for controls that store programs by number (Fanuc `O0001`);
+    /// `None` writes none, which is also what LinuxCNC reads.
+    pub number: Option<u32>,
     pub machine: Machine,
     pub blocks: Vec<Block>,
     /// Digits after the point, when the machine resolves finer than its dialect's default
@@ -94,7 +96,7 @@ pub struct Program {
 
 impl Program {
     pub fn new(name: &str, machine: Machine) -> Program {
-        Program { name: name.to_string(), number: 1, machine, blocks: Vec::new(), precision: None }
+        Program { name: name.to_string(), number: None, machine, blocks: Vec::new(), precision: None }
     }
 
     pub fn push(&mut self, block: Block) -> &mut Program {

@@ -503,7 +503,7 @@ impl Interp<'_, '_> {
         let out = self.out.borrow();
         let property = match name.as_str() {
             "name" => Some(Value::text(out.program.name.clone())),
-            "number" => Some(Value::Number(out.program.number as f64)),
+            "number" => Some(Value::Number(out.program.number.unwrap_or(0) as f64)),
             "machine" => Some(Value::text(if out.program.machine == Machine::Lathe { "lathe" } else { "mill" })),
             "feed" => Some(self.nc.borrow().feed.map_or(Value::Blank, Value::Number)),
             "dialect" => Some(Value::text(self.options.dialect.clone().unwrap_or_default())),
@@ -704,7 +704,7 @@ impl Interp<'_, '_> {
                 if !(0.0..=99_999_999.0).contains(&n) || n.fract() != 0.0 {
                     return Err(self.fault_at(span, "Nc.Number is a whole number from 0"));
                 }
-                self.out.borrow_mut().program.number = n as u32;
+                self.out.borrow_mut().program.number = Some(n as u32);
             }
             "machine" => {
                 let machine = match text().to_ascii_lowercase().as_str() {

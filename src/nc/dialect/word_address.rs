@@ -41,7 +41,9 @@ const FANUC_NUMBERS: NumberStyle =
 const PLAIN_NUMBERS: NumberStyle =
     NumberStyle { decimals: 3, plus_sign: false, trailing_zeros: false, always_point: false };
 
-/// Fanuc-style ISO: `%`, `O0001 (NAME)`, `N10 G0 X44.263 Z-4.6`, lathe X in diameter.
+/// Fanuc-style ISO: `%`, `O0001 (NAME)` (the O-number only when the program has a number,
+/// so that a numberless program is plain RS-274 that LinuxCNC reads too), `N10 G0 X44.263
+/// Z-4.6`, lathe X in diameter.
 pub const ISO: WordAddress = WordAddress {
     name: "iso",
     numbers: FANUC_NUMBERS,
@@ -131,7 +133,11 @@ impl Dialect for WordAddress {
         let mut w =
             Writer { d: self, numbers, out: String::new(), next: self.block_step, position: Position::default() };
         for line in self.header {
-            w.line(&line.replace("{name}", &program.name).replace("{number:04}", &format!("{:04}", program.number)));
+            let line = match program.number {
+                Some(n) => line.replace("{number:04}", &format!("{n:04}")),
+                None => line.replace("O{number:04} ", ""),
+            };
+            w.line(&line.replace("{name}", &program.name));
         }
         let setup = match program.machine {
             Machine::Lathe => self.setup_lathe,
