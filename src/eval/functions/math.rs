@@ -197,15 +197,15 @@ fn unit_interval(x: f64) -> XlResult<f64> {
     }
 }
 
-fn sin(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+pub(super) fn sin(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number1(ctx, args, |x| Ok(trig_angle(x)?.sin()))
 }
 
-fn cos(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+pub(super) fn cos(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number1(ctx, args, |x| Ok(trig_angle(x)?.cos()))
 }
 
-fn tan(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+pub(super) fn tan(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number1(ctx, args, |x| Ok(trig_angle(x)?.tan()))
 }
 
@@ -217,7 +217,7 @@ fn acos(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number1(ctx, args, |x| Ok(unit_interval(x)?.acos()))
 }
 
-fn atan(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+pub(super) fn atan(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number1(ctx, args, |x| Ok(x.atan()))
 }
 
@@ -304,7 +304,7 @@ fn pi(_: &mut Ctx, _: &[Expr]) -> XlResult<Value> {
 
 // ---- powers and logarithms ----------------------------------------------------------------
 
-fn sqrt(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+pub(super) fn sqrt(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number1(ctx, args, |x| if x < 0.0 { Err(XlError::Num) } else { Ok(x.sqrt()) })
 }
 
@@ -316,7 +316,7 @@ fn power_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number2(ctx, args, 0.0, power)
 }
 
-fn exp(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+pub(super) fn exp(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number1(ctx, args, |x| Ok(x.exp()))
 }
 
@@ -329,7 +329,7 @@ fn positive(x: f64) -> XlResult<f64> {
     }
 }
 
-fn ln(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+pub(super) fn ln(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number1(ctx, args, |x| Ok(positive(x)?.ln()))
 }
 
@@ -365,11 +365,11 @@ fn fact(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 // ---- signs, integers and division ----------------------------------------------------------
 
-fn abs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+pub(super) fn abs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number1(ctx, args, |x| Ok(x.abs()))
 }
 
-fn sign(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+pub(super) fn sign(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number1(ctx, args, |x| {
         Ok(if x > 0.0 {
             1.0
@@ -394,7 +394,7 @@ fn odd(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     })
 }
 
-fn int(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+pub(super) fn int(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number1(ctx, args, |x| Ok(x.floor()))
 }
 

@@ -16,6 +16,7 @@ use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
 
 use super::args::{lift, lift_number1, lift_number2};
+use super::math;
 use super::text_format::NumberFormat;
 use super::{FnSpec, MANY};
 
@@ -23,18 +24,18 @@ use super::{FnSpec, MANY};
 pub const PREFIX: &str = "VBA.";
 
 pub const FUNCTIONS: &[FnSpec] = &[
-    FnSpec::value("VBA.ABS", 1, 1, abs, "VBA.ABS(number)", "VBA Abs: absolute value"),
+    FnSpec::value("VBA.ABS", 1, 1, math::abs, "VBA.ABS(number)", "VBA Abs: absolute value"),
     FnSpec::value("VBA.ARRAY", 0, MANY, array, "VBA.ARRAY(item1, ...)", "VBA Array: the items as a one-row array"),
     FnSpec::value("VBA.ASC", 1, 1, asc, "VBA.ASC(text)", "VBA Asc: code of the first character"),
-    FnSpec::value("VBA.ATN", 1, 1, atn, "VBA.ATN(number)", "VBA Atn: arctangent in radians"),
+    FnSpec::value("VBA.ATN", 1, 1, math::atan, "VBA.ATN(number)", "VBA Atn: arctangent in radians"),
     FnSpec::value("VBA.CBOOL", 1, 1, cbool, "VBA.CBOOL(value)", "VBA CBool: value as True or False"),
     FnSpec::value("VBA.CDBL", 1, 1, cdbl, "VBA.CDBL(value)", "VBA CDbl: value as a number; #VALUE! for other text"),
     FnSpec::value("VBA.CHR", 1, 1, chr, "VBA.CHR(code)", "VBA Chr: the character with this code"),
     FnSpec::value("VBA.CINT", 1, 1, cint, "VBA.CINT(value)", "VBA CInt: whole number, halves to even, -32768 to 32767"),
     FnSpec::value("VBA.CLNG", 1, 1, clng, "VBA.CLNG(value)", "VBA CLng: whole number, halves to even, 32 bits"),
-    FnSpec::value("VBA.COS", 1, 1, cos, "VBA.COS(angle)", "VBA Cos: cosine of an angle in radians"),
+    FnSpec::value("VBA.COS", 1, 1, math::cos, "VBA.COS(angle)", "VBA Cos: cosine of an angle in radians"),
     FnSpec::value("VBA.CSTR", 1, 1, cstr, "VBA.CSTR(value)", "VBA CStr: value as text (True, 0.5, 1E+20)"),
-    FnSpec::value("VBA.EXP", 1, 1, exp, "VBA.EXP(number)", "VBA Exp: e raised to number"),
+    FnSpec::value("VBA.EXP", 1, 1, math::exp, "VBA.EXP(number)", "VBA Exp: e raised to number"),
     FnSpec::value("VBA.FIX", 1, 1, fix, "VBA.FIX(number)", "VBA Fix: drops the fraction (toward zero)"),
     FnSpec::value(
         "VBA.FORMAT",
@@ -53,7 +54,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "VBA.INSTR([start], text, find)",
         "VBA InStr: 1-based position of find in text, 0 when absent",
     ),
-    FnSpec::value("VBA.INT", 1, 1, int, "VBA.INT(number)", "VBA Int: largest whole number not above number"),
+    FnSpec::value("VBA.INT", 1, 1, math::int, "VBA.INT(number)", "VBA Int: largest whole number not above number"),
     FnSpec::value(
         "VBA.ISEMPTY",
         1,
@@ -82,7 +83,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("VBA.LCASE", 1, 1, lcase, "VBA.LCASE(text)", "VBA LCase: text in small letters"),
     FnSpec::value("VBA.LEFT", 2, 2, left, "VBA.LEFT(text, length)", "VBA Left: the first length characters"),
     FnSpec::value("VBA.LEN", 1, 1, len, "VBA.LEN(text)", "VBA Len: number of characters"),
-    FnSpec::value("VBA.LOG", 1, 1, log, "VBA.LOG(number)", "VBA Log: natural logarithm (Excel's LN)"),
+    FnSpec::value("VBA.LOG", 1, 1, math::ln, "VBA.LOG(number)", "VBA Log: natural logarithm (Excel's LN)"),
     FnSpec::value("VBA.LTRIM", 1, 1, ltrim, "VBA.LTRIM(text)", "VBA LTrim: text without leading spaces"),
     FnSpec::value("VBA.MID", 2, 3, mid, "VBA.MID(text, start, [length])", "VBA Mid: characters from start (1-based)"),
     FnSpec::value("VBA.REPLACE", 3, 3, replace, "VBA.REPLACE(text, find, with)", "VBA Replace: every find replaced"),
@@ -96,72 +97,24 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "VBA Round: to digits decimals, halves to even (Round(2.5) is 2)",
     ),
     FnSpec::value("VBA.RTRIM", 1, 1, rtrim, "VBA.RTRIM(text)", "VBA RTrim: text without trailing spaces"),
-    FnSpec::value("VBA.SGN", 1, 1, sgn, "VBA.SGN(number)", "VBA Sgn: -1, 0 or 1"),
-    FnSpec::value("VBA.SIN", 1, 1, sin, "VBA.SIN(angle)", "VBA Sin: sine of an angle in radians"),
+    FnSpec::value("VBA.SGN", 1, 1, math::sign, "VBA.SGN(number)", "VBA Sgn: -1, 0 or 1"),
+    FnSpec::value("VBA.SIN", 1, 1, math::sin, "VBA.SIN(angle)", "VBA Sin: sine of an angle in radians"),
     FnSpec::value("VBA.SPACE", 1, 1, space, "VBA.SPACE(count)", "VBA Space: count spaces"),
-    FnSpec::value("VBA.SQR", 1, 1, sqr, "VBA.SQR(number)", "VBA Sqr: square root; #NUM! below zero"),
+    FnSpec::value("VBA.SQR", 1, 1, math::sqrt, "VBA.SQR(number)", "VBA Sqr: square root; #NUM! below zero"),
     FnSpec::value("VBA.STR", 1, 1, str_fn, "VBA.STR(number)", "VBA Str: number as text, a space before a positive one"),
-    FnSpec::value("VBA.TAN", 1, 1, tan, "VBA.TAN(angle)", "VBA Tan: tangent of an angle in radians"),
+    FnSpec::value("VBA.TAN", 1, 1, math::tan, "VBA.TAN(angle)", "VBA Tan: tangent of an angle in radians"),
     FnSpec::value("VBA.TRIM", 1, 1, trim, "VBA.TRIM(text)", "VBA Trim: text without leading and trailing spaces"),
     FnSpec::value("VBA.UCASE", 1, 1, ucase, "VBA.UCASE(text)", "VBA UCase: text in capitals"),
     FnSpec::value("VBA.VAL", 1, 1, val, "VBA.VAL(text)", "VBA Val: the number text starts with (0 if none)"),
 ];
-
-fn abs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number1(ctx, args, |x| Ok(x.abs()))
-}
 
 fn array(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let items = args.iter().map(|a| ctx.eval(a).unwrap_single()).collect();
     Ok(Value::from(crate::eval::value::Array::row(items)))
 }
 
-fn atn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number1(ctx, args, |x| Ok(x.atan()))
-}
-
-fn cos(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number1(ctx, args, |x| Ok(x.cos()))
-}
-
-fn exp(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number1(ctx, args, |x| Ok(x.exp()))
-}
-
 fn fix(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number1(ctx, args, |x| Ok(x.trunc()))
-}
-
-fn int(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number1(ctx, args, |x| Ok(x.floor()))
-}
-
-fn log(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number1(ctx, args, |x| if x > 0.0 { Ok(x.ln()) } else { Err(XlError::Num) })
-}
-
-fn sgn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number1(ctx, args, |x| {
-        Ok(if x > 0.0 {
-            1.0
-        } else if x < 0.0 {
-            -1.0
-        } else {
-            0.0
-        })
-    })
-}
-
-fn sin(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number1(ctx, args, |x| Ok(x.sin()))
-}
-
-fn sqr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number1(ctx, args, |x| if x < 0.0 { Err(XlError::Num) } else { Ok(x.sqrt()) })
-}
-
-fn tan(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number1(ctx, args, |x| Ok(x.tan()))
 }
 
 fn round(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
