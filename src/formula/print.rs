@@ -125,56 +125,61 @@ impl Printer<'_> {
     }
 
     fn reference(&mut self, r: &Reference) {
-        match &r.sheet {
-            SheetRef::Current => {}
-            SheetRef::Id(id) => {
-                let _ = write!(self.out, "{}!", quote_sheet_name(&(self.sheets)(*id)));
-            }
-            SheetRef::Missing(name) => {
-                let _ = write!(self.out, "{}!", quote_sheet_name(name));
-            }
+        write_reference(self.out, r, self.at, self.sheets);
+    }
+}
+
+/// Writes a reference as held by the cell `at` (`Sheet2!$A$1:B3`; `#REF!` off the sheet):
+/// the one spelling of references, for formulas as typed and as files store them.
+pub fn write_reference(out: &mut String, r: &Reference, at: Pos, sheets: SheetNames) {
+    match &r.sheet {
+        SheetRef::Current => {}
+        SheetRef::Id(id) => {
+            let _ = write!(out, "{}!", quote_sheet_name(&sheets(*id)));
         }
-        match r.shape {
-            RefShape::Cell(c) => self.cell(c),
-            RefShape::Cells(a, b) => {
-                self.cell(a);
-                self.out.push(':');
-                self.cell(b);
-            }
-            RefShape::Cols(a, b) => {
-                self.col(a);
-                self.out.push(':');
-                self.col(b);
-            }
-            RefShape::Rows(a, b) => {
-                self.row(a);
-                self.out.push(':');
-                self.row(b);
-            }
+        SheetRef::Missing(name) => {
+            let _ = write!(out, "{}!", quote_sheet_name(name));
         }
     }
-
-    fn cell(&mut self, c: CellCoord) {
-        self.col(c.col);
-        self.row(c.row);
-    }
-
-    fn col(&mut self, c: Coord) {
-        match c.resolve(self.at.col, MAX_COLS) {
-            Some(i) => {
-                let _ = write!(self.out, "{}{}", if c.absolute { "$" } else { "" }, column_name(i));
-            }
-            None => self.out.push_str("#REF!"),
+    let cell = |out: &mut String, c: CellCoord| {
+        write_col(out, c.col, at);
+        write_row(out, c.row, at);
+    };
+    match r.shape {
+        RefShape::Cell(c) => cell(out, c),
+        RefShape::Cells(a, b) => {
+            cell(out, a);
+            out.push(':');
+            cell(out, b);
+        }
+        RefShape::Cols(a, b) => {
+            write_col(out, a, at);
+            out.push(':');
+            write_col(out, b, at);
+        }
+        RefShape::Rows(a, b) => {
+            write_row(out, a, at);
+            out.push(':');
+            write_row(out, b, at);
         }
     }
+}
 
-    fn row(&mut self, c: Coord) {
-        match c.resolve(self.at.row, MAX_ROWS) {
-            Some(i) => {
-                let _ = write!(self.out, "{}{}", if c.absolute { "$" } else { "" }, i + 1);
-            }
-            None => self.out.push_str("#REF!"),
+fn write_col(out: &mut String, c: Coord, at: Pos) {
+    match c.resolve(at.col, MAX_COLS) {
+        Some(i) => {
+            let _ = write!(out, "{}{}", if c.absolute { "$" } else { "" }, column_name(i));
         }
+        None => out.push_str("#REF!"),
+    }
+}
+
+fn write_row(out: &mut String, c: Coord, at: Pos) {
+    match c.resolve(at.row, MAX_ROWS) {
+        Some(i) => {
+            let _ = write!(out, "{}{}", if c.absolute { "$" } else { "" }, i + 1);
+        }
+        None => out.push_str("#REF!"),
     }
 }
 

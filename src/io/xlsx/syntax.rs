@@ -13,9 +13,9 @@ use std::fmt::Write;
 use std::rc::Rc;
 
 use crate::eval::functions::{spec, Registry};
-use crate::formula::address::{column_name, Pos, MAX_COLS, MAX_ROWS};
+use crate::formula::address::Pos;
 use crate::formula::ast::*;
-use crate::formula::print::{binary_symbol, number_literal, print_formula, quote_sheet_name};
+use crate::formula::print::{binary_symbol, number_literal, print_formula, write_reference};
 use crate::workbook::Workbook;
 
 /// A formula as stored in a file (no leading `=`) → as typed (no leading `=`).
@@ -610,57 +610,9 @@ impl FilePrinter {
     }
 
     fn reference(&mut self, r: &Reference) {
-        match &r.sheet {
-            SheetRef::Current => {}
-            SheetRef::Id(id) => {
-                let name = self.sheets.get(*id as usize).map_or("#REF", String::as_str);
-                let _ = write!(self.out, "{}!", quote_sheet_name(name));
-            }
-            SheetRef::Missing(name) => {
-                let _ = write!(self.out, "{}!", quote_sheet_name(name));
-            }
-        }
-        match r.shape {
-            RefShape::Cell(c) => self.cell(c),
-            RefShape::Cells(a, b) => {
-                self.cell(a);
-                self.out.push(':');
-                self.cell(b);
-            }
-            RefShape::Cols(a, b) => {
-                self.col(a);
-                self.out.push(':');
-                self.col(b);
-            }
-            RefShape::Rows(a, b) => {
-                self.row(a);
-                self.out.push(':');
-                self.row(b);
-            }
-        }
-    }
-
-    fn cell(&mut self, c: CellCoord) {
-        self.col(c.col);
-        self.row(c.row);
-    }
-
-    fn col(&mut self, c: Coord) {
-        match c.resolve(self.at.col, MAX_COLS) {
-            Some(i) => {
-                let _ = write!(self.out, "{}{}", if c.absolute { "$" } else { "" }, column_name(i));
-            }
-            None => self.out.push_str("#REF!"),
-        }
-    }
-
-    fn row(&mut self, c: Coord) {
-        match c.resolve(self.at.row, MAX_ROWS) {
-            Some(i) => {
-                let _ = write!(self.out, "{}{}", if c.absolute { "$" } else { "" }, i + 1);
-            }
-            None => self.out.push_str("#REF!"),
-        }
+        let sheets = &self.sheets;
+        let names = |id: SheetId| sheets.get(id as usize).cloned().unwrap_or_else(|| "#REF".to_string());
+        write_reference(&mut self.out, r, self.at, &names);
     }
 }
 
