@@ -169,20 +169,7 @@ impl<'a> Ctx<'a> {
 
     /// The absolute sheet and rectangle a reference points at from this cell.
     pub fn resolve(&self, r: &Reference) -> XlResult<(SheetId, Rect)> {
-        let sheet = match &r.sheet {
-            SheetRef::Current => self.sheet,
-            SheetRef::Id(id) => *id,
-            SheetRef::Missing(_) => return Err(XlError::Ref),
-        };
-        let row = |c: Coord| c.resolve(self.at.row, MAX_ROWS).ok_or(XlError::Ref);
-        let col = |c: Coord| c.resolve(self.at.col, MAX_COLS).ok_or(XlError::Ref);
-        let rect = match r.shape {
-            RefShape::Cell(c) => Rect::cell(Pos::new(row(c.row)?, col(c.col)?)),
-            RefShape::Cells(a, b) => Rect::new(Pos::new(row(a.row)?, col(a.col)?), Pos::new(row(b.row)?, col(b.col)?)),
-            RefShape::Cols(a, b) => Rect::new(Pos::new(0, col(a)?), Pos::new(MAX_ROWS - 1, col(b)?)),
-            RefShape::Rows(a, b) => Rect::new(Pos::new(row(a)?, 0), Pos::new(row(b)?, MAX_COLS - 1)),
-        };
-        Ok((sheet, rect))
+        r.resolve(self.sheet, self.at).ok_or(XlError::Ref)
     }
 
     /// A rectangle's values: one cell's value, or an array clipped to the used area

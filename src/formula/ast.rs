@@ -5,6 +5,8 @@
 
 use std::rc::Rc;
 
+use super::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
+
 pub use super::error::XlError;
 
 /// Index of a sheet in its workbook.
@@ -76,6 +78,27 @@ pub enum SheetRef {
 pub struct Reference {
     pub sheet: SheetRef,
     pub shape: RefShape,
+}
+
+impl Reference {
+    /// The sheet and rectangle this reference points at from cell `at` of `sheet`; `None`
+    /// when it names a missing sheet or lands off the sheet (Excel's `#REF!`).
+    pub fn resolve(&self, sheet: SheetId, at: Pos) -> Option<(SheetId, Rect)> {
+        let sheet = match &self.sheet {
+            SheetRef::Current => sheet,
+            SheetRef::Id(id) => *id,
+            SheetRef::Missing(_) => return None,
+        };
+        let row = |c: Coord| c.resolve(at.row, MAX_ROWS);
+        let col = |c: Coord| c.resolve(at.col, MAX_COLS);
+        let rect = match self.shape {
+            RefShape::Cell(c) => Rect::cell(Pos::new(row(c.row)?, col(c.col)?)),
+            RefShape::Cells(a, b) => Rect::new(Pos::new(row(a.row)?, col(a.col)?), Pos::new(row(b.row)?, col(b.col)?)),
+            RefShape::Cols(a, b) => Rect::new(Pos::new(0, col(a)?), Pos::new(MAX_ROWS - 1, col(b)?)),
+            RefShape::Rows(a, b) => Rect::new(Pos::new(row(a)?, 0), Pos::new(row(b)?, MAX_COLS - 1)),
+        };
+        Some((sheet, rect))
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -10,8 +10,8 @@ use std::rc::Rc;
 use crate::eval::coerce::parse_number;
 use crate::eval::functions::Registry;
 use crate::eval::{Env, Note, Value, XlError};
-use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
-use crate::formula::ast::{Expr, RefShape, Reference, SheetId, SheetRef};
+use crate::formula::address::{Pos, Rect};
+use crate::formula::ast::{Expr, Reference, SheetId};
 use crate::formula::parse::{parse_formula, ParseContext, ParseError};
 use crate::formula::print::{print_formula, quote_sheet_name};
 
@@ -569,20 +569,7 @@ fn for_each_pos(rect: Rect, mut f: impl FnMut(Pos)) {
 
 /// The sheet and rectangle a reference in a formula at `pos` points at, if on the sheet.
 fn resolve_static(r: &Reference, sheet: SheetId, pos: Pos) -> Option<(SheetId, Rect)> {
-    let sheet = match &r.sheet {
-        SheetRef::Current => sheet,
-        SheetRef::Id(id) => *id,
-        SheetRef::Missing(_) => return None,
-    };
-    let row = |c: crate::formula::ast::Coord| c.resolve(pos.row, MAX_ROWS);
-    let col = |c: crate::formula::ast::Coord| c.resolve(pos.col, MAX_COLS);
-    let rect = match r.shape {
-        RefShape::Cell(c) => Rect::cell(Pos::new(row(c.row)?, col(c.col)?)),
-        RefShape::Cells(a, b) => Rect::new(Pos::new(row(a.row)?, col(a.col)?), Pos::new(row(b.row)?, col(b.col)?)),
-        RefShape::Cols(a, b) => Rect::new(Pos::new(0, col(a)?), Pos::new(MAX_ROWS - 1, col(b)?)),
-        RefShape::Rows(a, b) => Rect::new(Pos::new(row(a)?, 0), Pos::new(row(b)?, MAX_COLS - 1)),
-    };
-    Some((sheet, rect))
+    r.resolve(sheet, pos)
 }
 
 impl Env for Workbook {

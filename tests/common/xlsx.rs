@@ -8,8 +8,8 @@ use std::time::{Duration, Instant};
 
 use ncsheet::eval::functions::spec;
 use ncsheet::eval::{Env, Value};
-use ncsheet::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
-use ncsheet::formula::ast::{Expr, ExprKind, RefShape, Reference, SheetId, SheetRef, UnaryOp};
+use ncsheet::formula::address::{Pos, Rect};
+use ncsheet::formula::ast::{Expr, ExprKind, Reference, SheetId, UnaryOp};
 use ncsheet::io::xlsx::{CachedValue, Imported};
 use ncsheet::workbook::Workbook;
 
@@ -116,20 +116,7 @@ fn spill_reads(wb: &Workbook, expr: &Expr, sheet: SheetId, at: Pos, reads: &mut 
 }
 
 fn resolve(r: &Reference, sheet: SheetId, at: Pos) -> Option<(SheetId, Rect)> {
-    let sheet = match &r.sheet {
-        SheetRef::Current => sheet,
-        SheetRef::Id(id) => *id,
-        SheetRef::Missing(_) => return None,
-    };
-    let row = |c: ncsheet::formula::ast::Coord| c.resolve(at.row, MAX_ROWS);
-    let col = |c: ncsheet::formula::ast::Coord| c.resolve(at.col, MAX_COLS);
-    let rect = match r.shape {
-        RefShape::Cell(c) => Rect::cell(Pos::new(row(c.row)?, col(c.col)?)),
-        RefShape::Cells(a, b) => Rect::new(Pos::new(row(a.row)?, col(a.col)?), Pos::new(row(b.row)?, col(b.col)?)),
-        RefShape::Cols(a, b) => Rect::new(Pos::new(0, col(a)?), Pos::new(MAX_ROWS - 1, col(b)?)),
-        RefShape::Rows(a, b) => Rect::new(Pos::new(row(a)?, 0), Pos::new(row(b)?, MAX_COLS - 1)),
-    };
-    Some((sheet, rect))
+    r.resolve(sheet, at)
 }
 
 /// Cells by sheet, for "does this rectangle hold one of them".
