@@ -236,7 +236,9 @@ fn describe(rule: Rule) -> &'static str {
     }
 }
 
-fn is_operator(rule: Rule) -> bool {
+/// Whether a rule is an operator token (for "expected an operator" messages, formulas and
+/// macros alike).
+pub(crate) fn is_operator(rule: Rule) -> bool {
     matches!(
         rule,
         Rule::range_op

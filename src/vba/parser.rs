@@ -19,7 +19,8 @@ use crate::eval::functions::{vba::PREFIX, Registry};
 use crate::formula::address::Pos;
 use crate::formula::ast::{BinOp, Expr, ExprKind, SheetId, Span as ByteSpan};
 use crate::formula::parse::{
-    build_expr, strip_future_prefix, FormulaGrammar, FunctionTable, HostPrimaries, ParseContext, ParseError, Rule,
+    build_expr, is_operator, strip_future_prefix, FormulaGrammar, FunctionTable, HostPrimaries, ParseContext,
+    ParseError, Rule,
 };
 
 use super::ast::*;
@@ -155,30 +156,6 @@ fn describe(rule: Rule) -> &'static str {
         _ if is_operator(rule) => "an operator",
         _ => "a statement",
     }
-}
-
-fn is_operator(rule: Rule) -> bool {
-    matches!(
-        rule,
-        Rule::le
-            | Rule::ge
-            | Rule::ne
-            | Rule::lt
-            | Rule::gt
-            | Rule::concat
-            | Rule::add
-            | Rule::sub
-            | Rule::mul
-            | Rule::div
-            | Rule::pow
-            | Rule::int_div
-            | Rule::mod_op
-            | Rule::and_op
-            | Rule::or_op
-            | Rule::xor_op
-            | Rule::eqv_op
-            | Rule::imp_op
-    )
 }
 
 /// Names that would reach files, other programs or the system. The language has none of
