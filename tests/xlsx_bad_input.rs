@@ -221,3 +221,25 @@ fn damaged_parts_never_panic() {
         let _ = xlsx::load_bytes(&changed, Path::new(FILE));
     }
 }
+
+#[test]
+fn a_damaged_workbook_part_is_named() {
+    let good = good_workbook();
+    for name in ["xl/sharedStrings.xml", "xl/styles.xml", "xl/workbook.xml"] {
+        let text = part(&good, name);
+        let cut = text.len() - 20;
+        let e = load_err(&with_part(&good, name, &text.as_bytes()[..cut]));
+        assert_eq!((e.kind, e.part.as_deref()), (ErrorKind::Damaged, Some(name)), "{e}");
+        assert!(e.to_string().starts_with(&format!("parts.xlsx: {name}: ")), "{e}");
+    }
+}
+
+#[test]
+fn a_cell_pointing_past_the_string_table_names_the_cell() {
+    let good = good_workbook();
+    let sheet = "xl/worksheets/sheet1.xml";
+    let xml = sheet_xml("A1", r#"<row r="1"><c r="A1"><v>1</v></c><c r="B1" t="s"><v>99</v></c></row>"#);
+    let e = load_err(&with_part(&good, sheet, &xml));
+    assert_eq!((e.kind, e.part.as_deref()), (ErrorKind::Damaged, Some(sheet)), "{e}");
+    assert!(e.to_string().contains("cell B1: shared string '99' is not in the table"), "{e}");
+}

@@ -10,9 +10,11 @@
 //! cells, so [`compare_cached`] can list where ncsheet disagrees with Excel. A formula that
 //! does not parse keeps its text and shows `#NAME?` (the workbook lists it in `problems`);
 //! nothing is dropped silently: what is skipped (chart sheets, built-in `_xlnm.` names)
-//! is said in [`Imported::notes`]. What calamine does not expose (array-formula areas,
-//! the sheet of a sheet-scoped name, column widths) comes from a light scan of the raw XML
-//! (`raw.rs`).
+//! is said in [`Imported::notes`]. calamine opens the package and reads its styles; the
+//! cells come from one streaming pass over each worksheet's XML (`sheet_xml.rs`, over the
+//! small checked XML reader of `xml.rs`), which also finds what calamine does not expose:
+//! array-formula areas and dynamic-array marks, column widths. The sheet list and the scope
+//! of names come from `raw.rs`.
 //!
 //! Export (`write.rs`) writes all sheets, values, formulas with their computed results as
 //! cached values (viewers that do not recalculate show numbers), defined names, and the
@@ -35,8 +37,10 @@ use crate::workbook::Workbook;
 mod check;
 mod raw;
 mod read;
+mod sheet_xml;
 mod syntax;
 mod write;
+mod xml;
 
 pub use check::{compare_cached, values_agree, Difference, REL_TOLERANCE};
 pub use read::{load, load_bytes};

@@ -1,6 +1,7 @@
-//! Import: calamine reads cell values and formula text (shared formulas expanded for every
-//! cell they cover); the raw scan (`raw.rs`) adds array-formula areas, the scope of names,
-//! cell styles and column widths.
+//! Import: calamine opens the package and reads the styles; the worksheets' cells, their
+//! formulas as stored (shared formulas expanded for every cell they cover, array-formula
+//! areas) and the column widths come from one streaming pass over each sheet's XML
+//! (`sheet_xml.rs`); the sheet list and the scope of names from `raw.rs`.
 //!
 //! Order matters: every sheet is added before any formula is parsed (so `Sheet3!A1` typed in
 //! Sheet1 resolves), names are defined before cells (each definition recalculates, which is
@@ -10,24 +11,22 @@
 //! constants (they would block our own spill) but kept in [`Imported::cached`] like the
 //! results of formula cells.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 use std::io::Cursor;
 use std::path::Path;
+use std::rc::Rc;
 
-use calamine::{CellErrorType, DataRef, Reader, Style, Xlsx, XlsxFormulaMetadata};
+use calamine::{Reader, Style, Xlsx};
 
 use crate::eval::{Env, Value, XlError};
-use crate::formula::address::{Pos, MAX_COLS, MAX_ROWS};
+use crate::formula::address::Pos;
 use crate::formula::ast::SheetId;
 use crate::workbook::Workbook;
 
-use super::raw::{Package, SheetEntry, SheetScan};
+use super::raw::{Package, SheetEntry};
+use super::sheet_xml::{self, CellXml, FormulaXml, ScanError, SheetScan};
+use super::xml::StreamError;
 use super::{syntax, ArrayFormula, CachedValue, ErrorKind, Imported, Layout, SheetLayout, XlsxError};
-
-/// Sheets store each column densely down to its last used row. A workbook needing more
-/// slots than this (4 bytes each, 512 MiB) is refused before any is allocated: a few cells
-/// far apart must not exhaust memory.
-const MAX_GRID_SLOTS: u64 = 1 << 27;
 
 /// Reads an .xlsx or .xlsm file into a recalculated workbook.
 pub fn load(path: &Path) -> Result<Imported, XlsxError> {
@@ -43,7 +42,13 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
     };
     sniff(bytes, file)?;
     let mut package = Package::open(bytes).map_err(fail)?;
-    let mut calamine: Xlsx<Cursor<&[u8]>> = Xlsx::new(Cursor::new(bytes)).map_err(|e| calamine_error(file, None, e))?;
+    let strings = shared_strings(&mut package, file)?;
+    let mut calamine: Xlsx<Cursor<&[u8]>> = match Xlsx::new(Cursor::new(bytes)) {
+        Ok(calamine) => calamine,
+        Err(e) => {
+            return Err(damaged_workbook_part(&mut package, file).unwrap_or_else(|| calamine_error(file, None, e)))
+        }
+    };
     let mut imported =
         Imported { workbook: Workbook::new(), cached: Vec::new(), layout: Layout::default(), notes: Vec::new() };
     if calamine.has_1904_epoch() {
@@ -68,21 +73,19 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
     }
     define_names(&mut imported, &package, &sheets, &ids);
 
-    let mut slots = 0u64;
+    let formats = number_formats(&mut calamine, &sheets, file)?;
+    let mut grid_slots = 0u64;
     let mut legacy_ranges = Vec::new();
     for (entry, id) in sheets.iter().zip(&ids) {
         let Some(sheet) = *id else { continue };
-        let scan = package.scan_sheet(&entry.part).map_err(fail)?;
-        slots += scan.grid_slots();
-        if slots > MAX_GRID_SLOTS {
-            let message = format!(
-                "the cells lie too far apart: the sheets would need more than {} MiB of grid",
-                (MAX_GRID_SLOTS * 4) >> 20
-            );
-            return Err(XlsxError::new(file, Some(&entry.part), ErrorKind::TooLarge, message));
-        }
-        let mut sheet_import = SheetImport { sheet, entry, scan: &scan, legacy_ranges: &mut legacy_ranges };
-        let formats = sheet_import.read_cells(&mut calamine, &mut imported, file)?;
+        let mut sheet_import = SheetImport::new(sheet, &mut legacy_ranges);
+        let part = package.entry(&entry.part).map_err(fail)?;
+        let scan = sheet_xml::read_sheet(part, &strings, &mut grid_slots, &mut |cell| {
+            sheet_import.cell(&mut imported, cell);
+            Ok(())
+        })
+        .map_err(|e| stream_error(file, &entry.part, e))?;
+        sheet_import.finish(&mut imported);
         imported.layout.sheets.insert(entry.name.clone(), sheet_layout(&scan, &formats));
     }
     imported.layout.vba_project = package.read_optional("xl/vbaProject.bin").map_err(fail)?;
@@ -93,6 +96,55 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
     imported.workbook.recalculate();
     intersect_legacy_formulas(&mut imported.workbook, &legacy_ranges);
     Ok(imported)
+}
+
+/// The number format code of each style index (`None` for General), as calamine read the
+/// styles part. calamine hands styles out with a sheet's cell reader, which reads the sheet
+/// only up to its cells.
+fn number_formats(
+    calamine: &mut Xlsx<Cursor<&[u8]>>,
+    sheets: &[SheetEntry],
+    file: &Path,
+) -> Result<Vec<Option<String>>, XlsxError> {
+    let Some(first) = sheets.iter().find(|s| s.kind == "worksheet") else { return Ok(Vec::new()) };
+    let reader =
+        calamine.worksheet_cells_reader(&first.name).map_err(|e| calamine_error(file, Some(&first.part), e))?;
+    Ok(style_formats(reader.styles()))
+}
+
+fn shared_strings(package: &mut Package, file: &Path) -> Result<Vec<Rc<str>>, XlsxError> {
+    let Some(part) = package.shared_strings.clone() else { return Ok(Vec::new()) };
+    let entry = match package.entry(&part) {
+        Ok(entry) => entry,
+        // Excel reads a workbook whose relationship names a missing table; its cells say
+        // whether a string was needed.
+        Err((_, ErrorKind::Damaged, _)) => return Ok(Vec::new()),
+        Err((part, kind, message)) => return Err(XlsxError::new(file, part.as_deref(), kind, message)),
+    };
+    sheet_xml::read_shared_strings(entry).map_err(|e| stream_error(file, &part, e))
+}
+
+/// When calamine cannot open the workbook, the workbook-level part whose XML is broken, so
+/// the error names it (calamine's own does not).
+fn damaged_workbook_part(package: &mut Package, file: &Path) -> Option<XlsxError> {
+    for part in package.workbook_parts.clone() {
+        let Ok(entry) = package.entry(&part) else { continue };
+        if let Err(e) = crate::io::xlsx::xml::stream(entry, &mut |_| Ok::<(), ScanError>(())) {
+            return Some(stream_error(file, &part, e));
+        }
+    }
+    None
+}
+
+fn stream_error(file: &Path, part: &str, e: StreamError<ScanError>) -> XlsxError {
+    match e {
+        StreamError::Io(e) => XlsxError::new(file, Some(part), ErrorKind::Damaged, format!("damaged zip entry: {e}")),
+        StreamError::Xml { offset, message } => {
+            let message = format!("the XML is not well-formed at byte {offset}: {message}");
+            XlsxError::new(file, Some(part), ErrorKind::Damaged, message)
+        }
+        StreamError::Handler((kind, message)) => XlsxError::new(file, Some(part), kind, message),
+    }
 }
 
 /// A formula Excel stored as a plain `<f>` never spills: Excel evaluated it with implicit
@@ -114,104 +166,114 @@ fn intersect_legacy_formulas(wb: &mut Workbook, candidates: &[(SheetId, Pos)]) {
 /// One worksheet on its way in.
 struct SheetImport<'a> {
     sheet: SheetId,
-    entry: &'a SheetEntry,
-    scan: &'a SheetScan,
     /// Plain (not array) formulas with a range in them: candidates for implicit intersection.
     legacy_ranges: &'a mut Vec<(SheetId, Pos)>,
+    /// Cells an array formula filled, with its anchor (anchors come first in the file).
+    spilled: HashMap<Pos, Pos>,
+    /// Shared formulas: index → (cell holding the text, text).
+    shared: HashMap<u32, (Pos, String)>,
+    /// Copies of a shared formula that came before the cell holding its text.
+    waiting: Vec<(Pos, u32, Option<Value>)>,
+    /// The formula as typed (`=` and the text), reused from cell to cell.
+    typed: String,
 }
 
-impl SheetImport<'_> {
-    /// Reads the cells; returns the number format code of each style index.
-    fn read_cells(
-        &mut self,
-        calamine: &mut Xlsx<Cursor<&[u8]>>,
-        imported: &mut Imported,
-        file: &Path,
-    ) -> Result<Vec<Option<String>>, XlsxError> {
-        let (sheet, part) = (self.sheet, self.entry.part.as_str());
-        let spilled = spill_children(&self.scan.arrays);
-        let anchors: HashSet<Pos> = self.scan.arrays.iter().map(|a| a.anchor).collect();
-        let mut reader =
-            calamine.worksheet_cells_reader(&self.entry.name).map_err(|e| calamine_error(file, Some(part), e))?;
-        let formats = style_formats(reader.styles());
-        // Shared formulas: index → (cell holding the text, text). Cells of a shared formula
-        // that come before that cell in the file wait for it.
-        let mut shared: HashMap<usize, (Pos, String)> = HashMap::new();
-        let mut waiting: Vec<(Pos, usize, Option<Value>)> = Vec::new();
-        while let Some(cell) =
-            reader.next_cell_with_formula_metadata().map_err(|e| calamine_error(file, Some(part), e))?
-        {
-            let (row, col) = cell.pos;
-            if row >= MAX_ROWS || col >= MAX_COLS {
-                let message = format!("a cell at row {} column {} is off the sheet", row as u64 + 1, col as u64 + 1);
-                return Err(XlsxError::new(file, Some(part), ErrorKind::Damaged, message));
-            }
-            let pos = Pos::new(row, col);
-            let cached = cached_value(&cell.value);
-            let text = match cell.formula {
-                Some(XlsxFormulaMetadata::Shared { shared_index, formula, .. }) => {
-                    shared.insert(shared_index, (pos, formula.clone()));
-                    Some(formula)
-                }
-                Some(XlsxFormulaMetadata::SharedDerived { shared_index }) => match shared.get(&shared_index) {
-                    // Relative to the cell that holds the text, which need not be the top
-                    // left of the shared range.
-                    Some((holder, formula)) => Some(shared_text(formula, *holder, pos)),
-                    None => {
-                        waiting.push((pos, shared_index, cached));
-                        continue;
-                    }
-                },
-                Some(XlsxFormulaMetadata::Normal { formula }) => Some(formula),
-                Some(_) => None,
-                None => None,
-            };
-            self.cell(imported, pos, text.filter(|t| !t.trim().is_empty()), cached, &spilled, &anchors);
+impl<'a> SheetImport<'a> {
+    fn new(sheet: SheetId, legacy_ranges: &'a mut Vec<(SheetId, Pos)>) -> SheetImport<'a> {
+        SheetImport {
+            sheet,
+            legacy_ranges,
+            spilled: HashMap::new(),
+            shared: HashMap::new(),
+            waiting: Vec::new(),
+            typed: String::new(),
         }
-        for (pos, index, cached) in waiting {
-            let text = shared.get(&index).map(|(holder, formula)| shared_text(formula, *holder, pos));
-            if text.is_none() {
-                imported.notes.push(format!(
-                    "{}: the shared formula it belongs to is missing; its value is kept as a constant",
-                    imported.workbook.cell_name(sheet, pos)
-                ));
-            }
-            self.cell(imported, pos, text, cached, &spilled, &anchors);
-        }
-        Ok(formats)
     }
 
-    /// Stores one cell: a formula with its cached result, a value an array filled (kept as
-    /// cached only), or a constant.
-    fn cell(
-        &mut self,
-        imported: &mut Imported,
-        pos: Pos,
-        formula: Option<String>,
-        cached: Option<Value>,
-        spilled: &HashMap<Pos, Pos>,
-        anchors: &HashSet<Pos>,
-    ) {
-        let sheet = self.sheet;
-        let wb = &mut imported.workbook;
+    fn cell(&mut self, imported: &mut Imported, cell: CellXml) {
+        let CellXml { pos, value, formula } = cell;
         match formula {
-            Some(text) => {
-                let typed = format!("={}", syntax::from_file(&text, wb, sheet, pos));
-                // A formula that does not parse is kept as typed, shows #NAME? and is listed
-                // by `Workbook::problems`.
-                let _ = wb.set_input_deferred(sheet, pos, &typed);
-                if text.contains(':') && !anchors.contains(&pos) {
-                    self.legacy_ranges.push((sheet, pos));
+            None => self.constant(imported, pos, value),
+            Some(FormulaXml::Plain(text)) => self.formula(imported, pos, text, value, true),
+            Some(FormulaXml::Array(text, array)) => {
+                self.note_spill(array);
+                self.formula(imported, pos, text, value, false);
+            }
+            Some(FormulaXml::SharedText { index, text }) => {
+                self.shared.insert(index, (pos, text.to_string()));
+                self.formula(imported, pos, text, value, true);
+            }
+            Some(FormulaXml::SharedCopy { index }) => match self.shared.get(&index) {
+                // Relative to the cell that holds the text, which need not be the top left
+                // of the shared range.
+                Some((holder, text)) => {
+                    let moved = shared_text(text, *holder, pos);
+                    self.formula(imported, pos, &moved, value, true);
                 }
-                if let Some(value) = cached {
-                    imported.cached.push(CachedValue { sheet, pos, value, anchor: pos });
+                None => self.waiting.push((pos, index, value)),
+            },
+        }
+    }
+
+    /// Copies of shared formulas whose text came later in the file.
+    fn finish(&mut self, imported: &mut Imported) {
+        for (pos, index, value) in std::mem::take(&mut self.waiting) {
+            match self.shared.get(&index) {
+                Some((holder, text)) => {
+                    let moved = shared_text(text, *holder, pos);
+                    self.formula(imported, pos, &moved, value, true);
+                }
+                None => {
+                    imported.notes.push(format!(
+                        "{}: the shared formula it belongs to is missing; its value is kept as a constant",
+                        imported.workbook.cell_name(self.sheet, pos)
+                    ));
+                    self.constant(imported, pos, value);
                 }
             }
-            None => match (spilled.get(&pos), cached) {
-                (Some(&anchor), Some(value)) => imported.cached.push(CachedValue { sheet, pos, value, anchor }),
-                (None, Some(value)) => wb.set_value_deferred(sheet, pos, value),
-                (_, None) => {}
-            },
+        }
+    }
+
+    fn note_spill(&mut self, array: ArrayFormula) {
+        let ArrayFormula { anchor, area, .. } = array;
+        // An area is bounded by the sheet; the cap only keeps a hostile file from asking
+        // for billions of entries (the cells beyond it then read as constants).
+        if area.rows() as u64 * area.cols() as u64 > 1 << 22 {
+            return;
+        }
+        for row in area.first.row..=area.last.row {
+            for col in area.first.col..=area.last.col {
+                let p = Pos::new(row, col);
+                if p != anchor {
+                    self.spilled.insert(p, anchor);
+                }
+            }
+        }
+    }
+
+    /// Stores a formula with its cached result. One that does not parse is kept as typed,
+    /// shows #NAME? and is listed by `Workbook::problems`.
+    fn formula(&mut self, imported: &mut Imported, pos: Pos, text: &str, cached: Option<Value>, plain: bool) {
+        let (sheet, wb) = (self.sheet, &mut imported.workbook);
+        self.typed.clear();
+        self.typed.push('=');
+        self.typed.push_str(&syntax::from_file(text, wb, sheet, pos));
+        let _ = wb.set_input_deferred(sheet, pos, &self.typed);
+        if plain && text.contains(':') {
+            self.legacy_ranges.push((sheet, pos));
+        }
+        if let Some(value) = cached {
+            imported.cached.push(CachedValue { sheet, pos, value, anchor: pos });
+        }
+    }
+
+    /// A constant, or a value an array formula filled (kept as cached only).
+    fn constant(&mut self, imported: &mut Imported, pos: Pos, value: Option<Value>) {
+        let sheet = self.sheet;
+        match (self.spilled.get(&pos), value) {
+            (Some(&anchor), Some(value)) => imported.cached.push(CachedValue { sheet, pos, value, anchor }),
+            (None, Some(value)) => imported.workbook.set_value_deferred(sheet, pos, value),
+            (_, None) => {}
         }
     }
 }
@@ -220,27 +282,6 @@ impl SheetImport<'_> {
 fn shared_text(formula: &str, holder: Pos, pos: Pos) -> String {
     calamine::expand_shared_formula(formula, (holder.row, holder.col), (pos.row, pos.col))
         .unwrap_or_else(|_| formula.to_string())
-}
-
-/// Every cell an array formula filled, except its anchor, with the anchor.
-fn spill_children(arrays: &[ArrayFormula]) -> HashMap<Pos, Pos> {
-    let mut out = HashMap::new();
-    for &ArrayFormula { anchor, area, .. } in arrays {
-        // An area is bounded by the sheet; the cap only keeps a hostile file from asking
-        // for billions of entries (the cells beyond it then read as constants).
-        if area.rows() as u64 * area.cols() as u64 > 1 << 22 {
-            continue;
-        }
-        for row in area.first.row..=area.last.row {
-            for col in area.first.col..=area.last.col {
-                let p = Pos::new(row, col);
-                if p != anchor {
-                    out.insert(p, anchor);
-                }
-            }
-        }
-    }
-    out
 }
 
 fn define_names(imported: &mut Imported, package: &Package, sheets: &[SheetEntry], ids: &[Option<SheetId>]) {
@@ -305,29 +346,6 @@ fn sheet_layout(scan: &SheetScan, formats: &[Option<String>]) -> SheetLayout {
         }
     }
     layout
-}
-
-/// A value as calamine read it, `None` for an empty cell.
-fn cached_value(v: &DataRef) -> Option<Value> {
-    Some(match v {
-        DataRef::Empty => return None,
-        DataRef::Int(i) => Value::Number(*i as f64),
-        DataRef::Float(f) => Value::Number(*f),
-        DataRef::DateTime(d) => Value::Number(d.as_f64()),
-        DataRef::String(s) | DataRef::DateTimeIso(s) | DataRef::DurationIso(s) => Value::text(s.as_str()),
-        DataRef::SharedString(s) => Value::text(*s),
-        DataRef::Bool(b) => Value::Bool(*b),
-        DataRef::Error(e) => Value::Error(match e {
-            CellErrorType::Div0 => XlError::Div0,
-            CellErrorType::NA => XlError::NA,
-            CellErrorType::Name => XlError::Name,
-            CellErrorType::Null => XlError::Null,
-            CellErrorType::Num => XlError::Num,
-            CellErrorType::Ref => XlError::Ref,
-            CellErrorType::Value => XlError::Value,
-            CellErrorType::GettingData => XlError::GettingData,
-        }),
-    })
 }
 
 /// Recognizes what is not an xlsx package before a zip reader says something obscure.

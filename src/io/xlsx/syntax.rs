@@ -20,7 +20,7 @@ use crate::workbook::Workbook;
 
 /// A formula as stored in a file (no leading `=`) → as typed (no leading `=`).
 pub fn from_file<'t>(text: &'t str, wb: &Workbook, sheet: SheetId, pos: Pos) -> Cow<'t, str> {
-    if !contains_ignore_case(text, "ANCHORARRAY(") && !contains_ignore_case(text, "SINGLE(") {
+    if !calls_any(text, &["ANCHORARRAY", "SINGLE"]) {
         return Cow::Borrowed(text);
     }
     let Ok(mut expr) = wb.parse_at(text, sheet, pos) else { return Cow::Borrowed(text) };
@@ -145,8 +145,15 @@ fn for_each_call(text: &str, f: &mut dyn FnMut(&str)) {
     }
 }
 
-fn contains_ignore_case(text: &str, needle: &str) -> bool {
-    text.as_bytes().windows(needle.len()).any(|w| w.eq_ignore_ascii_case(needle.as_bytes()))
+/// Whether `text` has `NAME(` for one of `names`, in any case. Looks only before each `(`:
+/// this runs on every formula of an import.
+fn calls_any(text: &str, names: &[&str]) -> bool {
+    let bytes = text.as_bytes();
+    memchr::memchr_iter(b'(', bytes).any(|paren| {
+        names
+            .iter()
+            .any(|name| paren >= name.len() && bytes[paren - name.len()..paren].eq_ignore_ascii_case(name.as_bytes()))
+    })
 }
 
 /// Excel evaluates a formula that is not an array formula (`<f>` without `t="array"`) the

@@ -1,0 +1,583 @@
+//! A worksheet's cells, read straight from its XML in one streaming pass: each cell's value
+//! (typed as its `t` attribute says), its formula as stored (plain, shared, array), and
+//! beside them the sheet's array areas, cell styles and column widths.
+//!
+//! calamine reads the workbook's structure and styles; this pass reads the cells because
+//! it is the whole cost of an import (it keeps no tree, copies no text it does not hand on)
+//! and because calamine's cell API hides what an import needs: array-formula areas and the
+//! metadata that marks a dynamic array. Its checks match calamine's: a value that does not
+//! fit its type, a shared-string index out of the table or markup that does not nest is an
+//! error naming the cell or the byte, not a cell left out.
+
+use std::io::Read;
+use std::rc::Rc;
+
+use crate::eval::{Value, XlError};
+use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
+
+use super::xml::{self, Event, Tag, TagKind};
+use super::{ArrayFormula, ErrorKind};
+
+/// What the worksheet pass found besides the cells.
+#[derive(Default, Debug)]
+pub struct SheetScan {
+    /// Array formulas, in file order.
+    pub arrays: Vec<ArrayFormula>,
+    /// Cells with a style other than the default, with their style index.
+    pub styled: Vec<(Pos, u32)>,
+    /// `<col>` widths: first and last column (0-based) and the width.
+    pub widths: Vec<(u32, u32, f64)>,
+    /// `<sheetPr codeName="…">`: the sheet's VBA name.
+    pub code_name: Option<String>,
+}
+
+/// One cell as the file holds it.
+pub struct CellXml<'a> {
+    pub pos: Pos,
+    /// The stored value: a constant's, or the result Excel cached for a formula.
+    pub value: Option<Value>,
+    pub formula: Option<FormulaXml<'a>>,
+}
+
+/// A cell's `<f>`, its text as stored (file spelling, no `=`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FormulaXml<'a> {
+    Plain(&'a str),
+    /// `t="array"`: the anchor of an array formula.
+    Array(&'a str, ArrayFormula),
+    /// `t="shared"` with text: the cell that holds a shared formula's text.
+    SharedText {
+        index: u32,
+        text: &'a str,
+    },
+    /// `t="shared"` without text: a copy of shared formula `index`, moved to this cell.
+    SharedCopy {
+        index: u32,
+    },
+}
+
+/// A cell or markup the pass refuses, with what to say about it.
+pub type ScanError = (ErrorKind, String);
+
+/// The grid a workbook may need: sheets store each column densely down to its last used
+/// row, 4 bytes a slot. A workbook needing more than this (512 MiB) is refused as its cells
+/// arrive, before they are stored: a few cells far apart must not exhaust memory.
+pub const MAX_GRID_SLOTS: u64 = 1 << 27;
+
+/// Streams a worksheet part: calls `on_cell` for each cell in file order and returns what
+/// else the sheet holds. `grid_slots` counts the grid of the sheets read before; this
+/// sheet's columns are added to it.
+pub fn read_sheet(
+    part: impl Read,
+    strings: &[Rc<str>],
+    grid_slots: &mut u64,
+    on_cell: &mut dyn FnMut(CellXml) -> Result<(), ScanError>,
+) -> Result<SheetScan, xml::StreamError<ScanError>> {
+    let mut scanner = SheetScanner { strings, grid_slots: Some(grid_slots), ..SheetScanner::default() };
+    xml::stream(part, &mut |event| scanner.event(event, on_cell))?;
+    Ok(scanner.scan)
+}
+
+/// Where text inside a cell goes.
+#[derive(Clone, Copy, Default, PartialEq, Eq)]
+enum Capture {
+    #[default]
+    Nothing,
+    Formula,
+    Value,
+    /// A `<t>` of an inline string (`<is>`), not of its phonetic reading.
+    Inline,
+}
+
+/// The cell being read: attributes of `<c>`, and the text of its `<f>`, `<v>` and `<is>`.
+/// The buffers live from cell to cell, so a million cells cost no allocations.
+#[derive(Default)]
+struct OpenCell {
+    pos: Option<Pos>,
+    kind: CellType,
+    metadata: bool,
+    formula: Option<FormulaAttrs>,
+    formula_text: String,
+    has_value: bool,
+    value_text: String,
+    has_inline: bool,
+    inline_text: String,
+    phonetic: bool,
+}
+
+impl OpenCell {
+    fn reset(&mut self) {
+        self.pos = None;
+        self.kind = CellType::Untyped;
+        self.metadata = false;
+        self.formula = None;
+        self.formula_text.clear();
+        self.has_value = false;
+        self.value_text.clear();
+        self.has_inline = false;
+        self.inline_text.clear();
+        self.phonetic = false;
+    }
+
+    fn formula(&self, pos: Pos) -> Option<FormulaXml<'_>> {
+        let text = self.formula_text.as_str();
+        let has_text = !text.trim().is_empty();
+        match self.formula? {
+            FormulaAttrs::Normal if has_text => Some(FormulaXml::Plain(text)),
+            FormulaAttrs::Array(area) if has_text => {
+                let area = area.filter(|a| a.first == pos).unwrap_or(Rect::cell(pos));
+                Some(FormulaXml::Array(text, ArrayFormula { anchor: pos, area, dynamic: self.metadata }))
+            }
+            FormulaAttrs::Shared(Some(index)) if has_text => Some(FormulaXml::SharedText { index, text }),
+            FormulaAttrs::Shared(Some(index)) => Some(FormulaXml::SharedCopy { index }),
+            FormulaAttrs::Shared(None) if has_text => Some(FormulaXml::Plain(text)),
+            _ => None,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Default, PartialEq, Eq, Debug)]
+enum CellType {
+    /// No `t`: a number, or text when it does not read as one.
+    #[default]
+    Untyped,
+    Number,
+    SharedString,
+    Str,
+    InlineString,
+    Bool,
+    Error,
+    IsoDate,
+}
+
+#[derive(Clone, Copy)]
+enum FormulaAttrs {
+    Normal,
+    Array(Option<Rect>),
+    Shared(Option<u32>),
+    /// A what-if data table: no formula of its own; its values stay as Excel stored them.
+    DataTable,
+}
+
+#[derive(Default)]
+struct SheetScanner<'s> {
+    strings: &'s [Rc<str>],
+    scan: SheetScan,
+    /// Next row and column for markup that leaves `r` out.
+    row: u32,
+    col: u32,
+    cell: OpenCell,
+    in_cell: bool,
+    capture: Capture,
+    /// Per column, one past the last row holding a cell.
+    column_rows: Vec<u32>,
+    grid_slots: Option<&'s mut u64>,
+}
+
+impl SheetScanner<'_> {
+    fn event(
+        &mut self,
+        event: Event,
+        on_cell: &mut dyn FnMut(CellXml) -> Result<(), ScanError>,
+    ) -> Result<(), ScanError> {
+        match event {
+            Event::Tag(tag) => self.tag(&tag, on_cell),
+            Event::Text(raw) if self.capture != Capture::Nothing => {
+                let text = std::str::from_utf8(raw).map_err(|_| self.damaged("holds text that is not UTF-8"))?;
+                xml::unescape_into(text, self.capture_buffer());
+                Ok(())
+            }
+            Event::CData(raw) if self.capture != Capture::Nothing => {
+                let text = std::str::from_utf8(raw).map_err(|_| self.damaged("holds text that is not UTF-8"))?;
+                self.capture_buffer().push_str(text);
+                Ok(())
+            }
+            _ => Ok(()),
+        }
+    }
+
+    fn capture_buffer(&mut self) -> &mut String {
+        let cell = &mut self.cell;
+        match self.capture {
+            Capture::Formula => &mut cell.formula_text,
+            Capture::Value => &mut cell.value_text,
+            Capture::Inline | Capture::Nothing => &mut cell.inline_text,
+        }
+    }
+
+    fn tag(&mut self, tag: &Tag, on_cell: &mut dyn FnMut(CellXml) -> Result<(), ScanError>) -> Result<(), ScanError> {
+        let opens = tag.kind != TagKind::End;
+        match tag.name {
+            b"c" if opens => self.open_cell(tag)?,
+            b"c" => return self.close_cell(on_cell),
+            b"f" | b"v" | b"t" | b"is" | b"rPh" if self.in_cell => self.cell_part(tag)?,
+            b"row" if opens => {
+                if let Some(r) = tag.attr("r") {
+                    let r = parse_u32(r).filter(|r| (1..=MAX_ROWS).contains(r));
+                    self.row = r.ok_or_else(|| self.damaged("has a row number off the sheet"))? - 1;
+                }
+                self.col = 0;
+            }
+            b"row" => {
+                self.row += 1;
+                self.col = 0;
+            }
+            b"col" if opens => self.column_width(tag),
+            b"sheetPr" if opens => self.scan.code_name = tag.attr("codeName").map(xml::unescape),
+            _ => {}
+        }
+        if tag.kind == TagKind::Empty {
+            match tag.name {
+                b"c" => return self.close_cell(on_cell),
+                b"row" => self.row += 1,
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+
+    fn open_cell(&mut self, tag: &Tag) -> Result<(), ScanError> {
+        self.cell.reset();
+        let mut pos = Pos::new(self.row, self.col);
+        let mut style = 0;
+        for (name, value) in tag.attrs() {
+            match name {
+                b"r" => pos = parse_pos(value).ok_or_else(|| bad_reference(value))?,
+                b"t" => self.cell.kind = cell_type(value)?,
+                b"s" => style = parse_u32(value).unwrap_or(0),
+                b"cm" => self.cell.metadata = true,
+                _ => {}
+            }
+        }
+        self.grow_grid(pos)?;
+        if style != 0 {
+            self.scan.styled.push((pos, style));
+        }
+        self.col = pos.col + 1;
+        self.cell.pos = Some(pos);
+        self.in_cell = true;
+        Ok(())
+    }
+
+    /// Counts the grid slots a cell at `pos` adds; refuses the cell when the workbook would
+    /// pass [`MAX_GRID_SLOTS`].
+    fn grow_grid(&mut self, pos: Pos) -> Result<(), ScanError> {
+        let col = pos.col as usize;
+        if self.column_rows.len() <= col {
+            self.column_rows.resize(col + 1, 0);
+        }
+        let rows = &mut self.column_rows[col];
+        if pos.row < *rows {
+            return Ok(());
+        }
+        let slots = self.grid_slots.as_deref_mut().expect("read_sheet sets the count");
+        *slots += (pos.row + 1 - *rows) as u64;
+        *rows = pos.row + 1;
+        if *slots > MAX_GRID_SLOTS {
+            let message = format!(
+                "the cells lie too far apart: the sheets would need more than {} MiB of grid",
+                (MAX_GRID_SLOTS * 4) >> 20
+            );
+            return Err((ErrorKind::TooLarge, message));
+        }
+        Ok(())
+    }
+
+    fn cell_part(&mut self, tag: &Tag) -> Result<(), ScanError> {
+        let opens = tag.kind == TagKind::Start;
+        match tag.name {
+            b"f" if tag.kind != TagKind::End => {
+                self.cell.formula = Some(formula_attrs(tag).map_err(|m| self.damaged(&m))?);
+                self.capture = if opens { Capture::Formula } else { Capture::Nothing };
+            }
+            b"v" if tag.kind != TagKind::End => {
+                self.cell.has_value = true;
+                self.capture = if opens { Capture::Value } else { Capture::Nothing };
+            }
+            b"is" if tag.kind != TagKind::End => self.cell.has_inline = true,
+            b"rPh" => self.cell.phonetic = opens,
+            b"t" if opens && !self.cell.phonetic => self.capture = Capture::Inline,
+            _ => self.capture = Capture::Nothing,
+        }
+        Ok(())
+    }
+
+    fn close_cell(&mut self, on_cell: &mut dyn FnMut(CellXml) -> Result<(), ScanError>) -> Result<(), ScanError> {
+        self.in_cell = false;
+        self.capture = Capture::Nothing;
+        let pos = self.cell.pos.take().expect("a cell closes after it opens");
+        let value = self.value().map_err(|message| self.damaged_cell(pos, &message))?;
+        let formula = self.cell.formula(pos);
+        if let Some(FormulaXml::Array(_, array)) = formula {
+            self.scan.arrays.push(array);
+        }
+        on_cell(CellXml { pos, value, formula }).map_err(|(kind, message)| (kind, cell_place(pos, &message)))
+    }
+
+    /// The cell's value as its type says: a shared string looked up, a number parsed.
+    fn value(&self) -> Result<Option<Value>, String> {
+        let cell = &self.cell;
+        if cell.kind == CellType::InlineString {
+            return Ok(cell.has_inline.then(|| Value::text(&*xml::unescape_excel(&cell.inline_text))));
+        }
+        if !cell.has_value {
+            return Ok(None);
+        }
+        let raw = cell.value_text.as_str();
+        let trimmed = raw.trim();
+        Ok(Some(match cell.kind {
+            CellType::Untyped | CellType::Number if trimmed.is_empty() => return Ok(None),
+            CellType::Untyped => match trimmed.parse::<f64>() {
+                Ok(n) if n.is_finite() => Value::Number(n),
+                _ => Value::text(raw),
+            },
+            CellType::Number => match trimmed.parse::<f64>() {
+                Ok(n) if n.is_finite() => Value::Number(n),
+                _ => return Err(format!("'{raw}' is not a number")),
+            },
+            CellType::SharedString if trimmed.is_empty() => return Ok(None),
+            CellType::SharedString => {
+                let index = trimmed.parse::<usize>().ok();
+                match index.and_then(|i| self.strings.get(i)) {
+                    Some(s) => Value::Text(s.clone()),
+                    None => {
+                        let count = self.strings.len();
+                        return Err(format!("shared string '{raw}' is not in the table ({count} strings)"));
+                    }
+                }
+            }
+            CellType::Bool if trimmed.is_empty() => return Ok(None),
+            CellType::Bool => match trimmed {
+                "1" => Value::Bool(true),
+                "0" => Value::Bool(false),
+                t if t.eq_ignore_ascii_case("true") => Value::Bool(true),
+                t if t.eq_ignore_ascii_case("false") => Value::Bool(false),
+                _ => return Err(format!("'{raw}' is not a boolean")),
+            },
+            CellType::Error => match trimmed.parse::<XlError>() {
+                Ok(e) => Value::Error(e),
+                Err(()) => return Err(format!("'{raw}' is not an Excel error value")),
+            },
+            CellType::Str => Value::text(&*xml::unescape_excel(raw)),
+            CellType::IsoDate => Value::text(raw),
+            CellType::InlineString => unreachable!("handled above"),
+        }))
+    }
+
+    fn column_width(&mut self, tag: &Tag) {
+        let min = tag.attr("min").and_then(parse_u32);
+        let max = tag.attr("max").and_then(parse_u32);
+        let width = tag.attr("width").and_then(|w| std::str::from_utf8(w).ok()?.parse::<f64>().ok());
+        if let (Some(min), Some(max), Some(width)) = (min, max, width) {
+            if min >= 1 && min <= max && max <= MAX_COLS && width.is_finite() && width >= 0.0 {
+                self.scan.widths.push((min - 1, max - 1, width));
+            }
+        }
+    }
+
+    fn damaged(&self, what: &str) -> ScanError {
+        let place = match self.cell.pos {
+            Some(pos) if self.in_cell => format!("cell {}", cell_name(pos)),
+            _ => format!("row {}", self.row as u64 + 1),
+        };
+        (ErrorKind::Damaged, format!("{place} {what}"))
+    }
+
+    fn damaged_cell(&self, pos: Pos, message: &str) -> ScanError {
+        (ErrorKind::Damaged, cell_place(pos, message))
+    }
+}
+
+fn cell_place(pos: Pos, message: &str) -> String {
+    format!("cell {}: {message}", cell_name(pos))
+}
+
+fn cell_name(pos: Pos) -> String {
+    format!("{}{}", crate::formula::address::column_name(pos.col), pos.row as u64 + 1)
+}
+
+fn bad_reference(value: &[u8]) -> ScanError {
+    let text = String::from_utf8_lossy(value);
+    (ErrorKind::Damaged, format!("a cell's reference '{text}' is not a cell of the sheet"))
+}
+
+fn cell_type(value: &[u8]) -> Result<CellType, ScanError> {
+    Ok(match value {
+        b"n" => CellType::Number,
+        b"s" => CellType::SharedString,
+        b"str" => CellType::Str,
+        b"inlineStr" => CellType::InlineString,
+        b"b" => CellType::Bool,
+        b"e" => CellType::Error,
+        b"d" => CellType::IsoDate,
+        other => {
+            let text = String::from_utf8_lossy(other);
+            return Err((ErrorKind::Damaged, format!("a cell has the unknown type t=\"{text}\"")));
+        }
+    })
+}
+
+fn formula_attrs(tag: &Tag) -> Result<FormulaAttrs, String> {
+    let area = tag.attr("ref").and_then(parse_rect);
+    Ok(match tag.attr("t") {
+        None | Some(b"normal") => FormulaAttrs::Normal,
+        Some(b"array") => FormulaAttrs::Array(area),
+        Some(b"shared") => FormulaAttrs::Shared(tag.attr("si").and_then(parse_u32)),
+        Some(b"dataTable") => FormulaAttrs::DataTable,
+        Some(other) => return Err(format!("has a formula of unknown type t=\"{}\"", String::from_utf8_lossy(other))),
+    })
+}
+
+fn parse_u32(v: &[u8]) -> Option<u32> {
+    std::str::from_utf8(v).ok()?.trim().parse().ok()
+}
+
+/// `AB12` (no `$`) to a position on the sheet.
+pub fn parse_pos(v: &[u8]) -> Option<Pos> {
+    let letters = v.iter().take_while(|b| b.is_ascii_alphabetic()).count();
+    if letters == 0 || letters > 3 || letters == v.len() {
+        return None;
+    }
+    let mut col: u32 = 0;
+    for &b in &v[..letters] {
+        col = col * 26 + (b.to_ascii_uppercase() - b'A' + 1) as u32;
+    }
+    let row = parse_u32(&v[letters..])?;
+    ((1..=MAX_ROWS).contains(&row) && (1..=MAX_COLS).contains(&col)).then(|| Pos::new(row - 1, col - 1))
+}
+
+fn parse_rect(v: &[u8]) -> Option<Rect> {
+    match memchr::memchr(b':', v) {
+        Some(i) => Some(Rect::new(parse_pos(&v[..i])?, parse_pos(&v[i + 1..])?)),
+        None => parse_pos(v).map(Rect::cell),
+    }
+}
+
+/// The shared-string table (`xl/sharedStrings.xml`): each `<si>`'s text, rich-text runs
+/// joined, phonetic readings (`<rPh>`) left out, as Excel shows the string.
+pub fn read_shared_strings(part: impl Read) -> Result<Vec<Rc<str>>, xml::StreamError<ScanError>> {
+    let mut strings = Vec::new();
+    let mut current: Option<String> = None;
+    let mut in_text = false;
+    let mut phonetic = false;
+    xml::stream(part, &mut |event| {
+        match event {
+            Event::Tag(tag) => match (tag.name, tag.kind) {
+                (b"si", TagKind::Start) => current = Some(String::new()),
+                (b"si", TagKind::Empty) => strings.push(Rc::from("")),
+                (b"si", TagKind::End) => {
+                    let text = current.take().unwrap_or_default();
+                    strings.push(Rc::from(&*xml::unescape_excel(&text)));
+                }
+                (b"rPh", kind) => phonetic = kind == TagKind::Start,
+                (b"t", kind) => in_text = kind == TagKind::Start && !phonetic && current.is_some(),
+                _ => in_text = false,
+            },
+            Event::Text(raw) if in_text => {
+                let text = std::str::from_utf8(raw)
+                    .map_err(|_| (ErrorKind::Damaged, format!("string {} is not UTF-8 text", strings.len())))?;
+                xml::unescape_into(text, current.as_mut().expect("text inside <si>"));
+            }
+            Event::CData(raw) if in_text => {
+                let text = String::from_utf8_lossy(raw);
+                current.as_mut().expect("text inside <si>").push_str(&text);
+            }
+            _ => {}
+        }
+        Ok(())
+    })?;
+    Ok(strings)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A cell's name, value and formula (as `Debug` text).
+    type Seen = (String, Option<Value>, String);
+
+    fn cells(xml: &str) -> Result<(Vec<Seen>, SheetScan), String> {
+        let strings: Vec<Rc<str>> = vec!["zero".into(), "one".into()];
+        let mut out = Vec::new();
+        let mut slots = 0;
+        let scan = read_sheet(xml.as_bytes(), &strings, &mut slots, &mut |c| {
+            out.push((cell_name(c.pos), c.value, format!("{:?}", c.formula)));
+            Ok(())
+        });
+        match scan {
+            Ok(scan) => Ok((out, scan)),
+            Err(xml::StreamError::Handler(error)) => Err(error.1),
+            Err(e) => Err(format!("{e:?}")),
+        }
+    }
+
+    #[test]
+    fn cells_follow_rows_and_columns_when_references_are_left_out() {
+        let xml = r#"<worksheet><sheetData><row r="2"><c><v>1</v></c><c s="4"><f>A2*2</f></c></row><row><c r="C3" t="s"><v>1</v></c></row></sheetData></worksheet>"#;
+        let (cells, scan) = cells(xml).unwrap();
+        let names: Vec<&str> = cells.iter().map(|c| c.0.as_str()).collect();
+        assert_eq!(names, ["A2", "B2", "C3"]);
+        assert_eq!(cells[0].1, Some(Value::Number(1.0)));
+        assert_eq!(cells[1].2, r#"Some(Plain("A2*2"))"#);
+        assert_eq!(cells[2].1, Some(Value::text("one")));
+        assert_eq!(scan.styled, vec![(Pos::new(1, 1), 4)]);
+    }
+
+    #[test]
+    fn values_are_read_as_their_type_says() {
+        let xml = r#"<worksheet><sheetData><row r="1"><c r="A1" t="b"><v>1</v></c><c r="B1" t="e"><v>#N/A</v></c><c r="C1" t="str"><f>"a"&amp;"b"</f><v>a_x000D_b</v></c><c r="D1" t="inlineStr"><is><r><t>x</t></r><r><t xml:space="preserve"> y</t></r><rPh><t>z</t></rPh></is></c><c r="E1"><v>n/a</v></c><c r="F1" t="d"><v>2024-01-02T00:00:00</v></c></row></sheetData></worksheet>"#;
+        let (cells, _) = cells(xml).unwrap();
+        let values: Vec<Option<Value>> = cells.into_iter().map(|c| c.1).collect();
+        assert_eq!(
+            values,
+            vec![
+                Some(Value::Bool(true)),
+                Some(Value::Error(XlError::NA)),
+                Some(Value::text("a\rb")),
+                Some(Value::text("x y")),
+                Some(Value::text("n/a")),
+                Some(Value::text("2024-01-02T00:00:00")),
+            ]
+        );
+    }
+
+    #[test]
+    fn shared_and_array_formulas_keep_what_the_import_needs() {
+        let xml = r#"<worksheet><sheetData><row r="1"><c r="A1"><f t="shared" ref="A1:A2" si="0">B1+1</f><v>2</v></c><c r="B1" cm="1"><f t="array" ref="B1:B3">SEQUENCE(3)</f><v>1</v></c></row><row r="2"><c r="A2"><f t="shared" si="0"/><v>3</v></c></row></sheetData></worksheet>"#;
+        let (cells, scan) = cells(xml).unwrap();
+        assert_eq!(cells[0].2, r#"Some(SharedText { index: 0, text: "B1+1" })"#);
+        assert_eq!(cells[2].2, "Some(SharedCopy { index: 0 })");
+        let array =
+            ArrayFormula { anchor: Pos::new(0, 1), area: Rect::new(Pos::new(0, 1), Pos::new(2, 1)), dynamic: true };
+        assert_eq!(scan.arrays, vec![array]);
+    }
+
+    #[test]
+    fn bad_cells_name_themselves() {
+        let sheet = |data: &str| format!("<worksheet><sheetData>{data}</sheetData></worksheet>");
+        let bad_number = cells(&sheet(r#"<row r="1"><c r="A1" t="n"><v>12,5</v></c></row>"#)).unwrap_err();
+        assert_eq!(bad_number, "cell A1: '12,5' is not a number");
+        let bad_string = cells(&sheet(r#"<row r="1"><c r="B1" t="s"><v>7</v></c></row>"#)).unwrap_err();
+        assert_eq!(bad_string, "cell B1: shared string '7' is not in the table (2 strings)");
+        let off = cells(&sheet(r#"<row r="1"><c r="A1048577"><v>1</v></c></row>"#)).unwrap_err();
+        assert_eq!(off, "a cell's reference 'A1048577' is not a cell of the sheet");
+        let cut = cells(r#"<worksheet><sheetData><row r="1"><c r="A1"><v>1</v>"#).unwrap_err();
+        assert!(cut.contains("the part ends inside <c>"), "{cut}");
+    }
+
+    #[test]
+    fn shared_strings_join_runs_and_leave_out_readings() {
+        let xml = r#"<sst><si><t>plain</t></si><si><r><t>ri</t></r><r><t>ch</t></r><rPh><t>x</t></rPh></si><si/><si><t>a&amp;b_x000A_</t></si></sst>"#;
+        let strings = read_shared_strings(xml.as_bytes()).unwrap();
+        let strings: Vec<&str> = strings.iter().map(|s| &**s).collect();
+        assert_eq!(strings, ["plain", "rich", "", "a&b\n"]);
+    }
+
+    #[test]
+    fn column_widths_and_code_name() {
+        let xml = r#"<worksheet><sheetPr codeName="Tabelle1"/><cols><col min="2" max="3" width="12.5" customWidth="1"/></cols><sheetData/></worksheet>"#;
+        let (_, scan) = cells(xml).unwrap();
+        assert_eq!(scan.widths, vec![(1, 2, 12.5)]);
+        assert_eq!(scan.code_name.as_deref(), Some("Tabelle1"));
+    }
+}
