@@ -80,9 +80,8 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
         let Some(sheet) = *id else { continue };
         let mut sheet_import = SheetImport::new(sheet, &mut legacy_ranges);
         let part = package.entry(&entry.part).map_err(fail)?;
-        let scan = sheet_xml::read_sheet(part, &strings, &mut grid_slots, &mut |cell| {
-            sheet_import.cell(&mut imported, cell);
-            Ok(())
+        let scan = sheet_xml::read_sheet_ahead(part, strings.len(), &mut grid_slots, &mut |cell| {
+            sheet_import.cell(&mut imported, &strings, cell);
         })
         .map_err(|e| stream_error(file, &entry.part, e))?;
         sheet_import.finish(&mut imported);
@@ -190,8 +189,9 @@ impl<'a> SheetImport<'a> {
         }
     }
 
-    fn cell(&mut self, imported: &mut Imported, cell: CellXml) {
+    fn cell(&mut self, imported: &mut Imported, strings: &[Rc<str>], cell: CellXml) {
         let CellXml { pos, value, formula } = cell;
+        let value = value.map(|v| v.into_value(strings));
         match formula {
             None => self.constant(imported, pos, value),
             Some(FormulaXml::Plain(text)) => self.formula(imported, pos, text, value, true),

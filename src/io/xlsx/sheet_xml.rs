@@ -35,8 +35,32 @@ pub struct SheetScan {
 pub struct CellXml<'a> {
     pub pos: Pos,
     /// The stored value: a constant's, or the result Excel cached for a formula.
-    pub value: Option<Value>,
+    pub value: Option<Stored>,
     pub formula: Option<FormulaXml<'a>>,
+}
+
+/// A value as a cell stores it. Strings of the shared table stay an index, so cells can
+/// cross to the importing thread without the table.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Stored {
+    Number(f64),
+    Bool(bool),
+    Error(XlError),
+    Text(String),
+    /// An index the pass checked against the table's length.
+    SharedString(u32),
+}
+
+impl Stored {
+    pub fn into_value(self, strings: &[Rc<str>]) -> Value {
+        match self {
+            Stored::Number(n) => Value::Number(n),
+            Stored::Bool(b) => Value::Bool(b),
+            Stored::Error(e) => Value::Error(e),
+            Stored::Text(t) => Value::text(t),
+            Stored::SharedString(i) => strings.get(i as usize).map_or(Value::Blank, |s| Value::Text(s.clone())),
+        }
+    }
 }
 
 /// A cell's `<f>`, its text as stored (file spelling, no `=`).
@@ -69,11 +93,11 @@ pub const MAX_GRID_SLOTS: u64 = 1 << 27;
 /// sheet's columns are added to it.
 pub fn read_sheet(
     part: impl Read,
-    strings: &[Rc<str>],
+    string_count: usize,
     grid_slots: &mut u64,
     on_cell: &mut dyn FnMut(CellXml) -> Result<(), ScanError>,
 ) -> Result<SheetScan, xml::StreamError<ScanError>> {
-    let mut scanner = SheetScanner { strings, grid_slots: Some(grid_slots), ..SheetScanner::default() };
+    let mut scanner = SheetScanner { string_count, grid_slots: Some(grid_slots), ..SheetScanner::default() };
     xml::stream(part, &mut |event| scanner.event(event, on_cell))?;
     Ok(scanner.scan)
 }
@@ -161,7 +185,7 @@ enum FormulaAttrs {
 
 #[derive(Default)]
 struct SheetScanner<'s> {
-    strings: &'s [Rc<str>],
+    string_count: usize,
     scan: SheetScan,
     /// Next row and column for markup that leaves `r` out.
     row: u32,
@@ -315,10 +339,10 @@ impl SheetScanner<'_> {
     }
 
     /// The cell's value as its type says: a shared string looked up, a number parsed.
-    fn value(&self) -> Result<Option<Value>, String> {
+    fn value(&self) -> Result<Option<Stored>, String> {
         let cell = &self.cell;
         if cell.kind == CellType::InlineString {
-            return Ok(cell.has_inline.then(|| Value::text(&*xml::unescape_excel(&cell.inline_text))));
+            return Ok(cell.has_inline.then(|| Stored::Text(xml::unescape_excel(&cell.inline_text).into_owned())));
         }
         if !cell.has_value {
             return Ok(None);
@@ -328,38 +352,35 @@ impl SheetScanner<'_> {
         Ok(Some(match cell.kind {
             CellType::Untyped | CellType::Number if trimmed.is_empty() => return Ok(None),
             CellType::Untyped => match trimmed.parse::<f64>() {
-                Ok(n) if n.is_finite() => Value::Number(n),
-                _ => Value::text(raw),
+                Ok(n) if n.is_finite() => Stored::Number(n),
+                _ => Stored::Text(raw.to_string()),
             },
             CellType::Number => match trimmed.parse::<f64>() {
-                Ok(n) if n.is_finite() => Value::Number(n),
+                Ok(n) if n.is_finite() => Stored::Number(n),
                 _ => return Err(format!("'{raw}' is not a number")),
             },
             CellType::SharedString if trimmed.is_empty() => return Ok(None),
-            CellType::SharedString => {
-                let index = trimmed.parse::<usize>().ok();
-                match index.and_then(|i| self.strings.get(i)) {
-                    Some(s) => Value::Text(s.clone()),
-                    None => {
-                        let count = self.strings.len();
-                        return Err(format!("shared string '{raw}' is not in the table ({count} strings)"));
-                    }
+            CellType::SharedString => match trimmed.parse::<u32>() {
+                Ok(i) if (i as usize) < self.string_count => Stored::SharedString(i),
+                _ => {
+                    let count = self.string_count;
+                    return Err(format!("shared string '{raw}' is not in the table ({count} strings)"));
                 }
-            }
+            },
             CellType::Bool if trimmed.is_empty() => return Ok(None),
             CellType::Bool => match trimmed {
-                "1" => Value::Bool(true),
-                "0" => Value::Bool(false),
-                t if t.eq_ignore_ascii_case("true") => Value::Bool(true),
-                t if t.eq_ignore_ascii_case("false") => Value::Bool(false),
+                "1" => Stored::Bool(true),
+                "0" => Stored::Bool(false),
+                t if t.eq_ignore_ascii_case("true") => Stored::Bool(true),
+                t if t.eq_ignore_ascii_case("false") => Stored::Bool(false),
                 _ => return Err(format!("'{raw}' is not a boolean")),
             },
             CellType::Error => match trimmed.parse::<XlError>() {
-                Ok(e) => Value::Error(e),
+                Ok(e) => Stored::Error(e),
                 Err(()) => return Err(format!("'{raw}' is not an Excel error value")),
             },
-            CellType::Str => Value::text(&*xml::unescape_excel(raw)),
-            CellType::IsoDate => Value::text(raw),
+            CellType::Str => Stored::Text(xml::unescape_excel(raw).into_owned()),
+            CellType::IsoDate => Stored::Text(raw.to_string()),
             CellType::InlineString => unreachable!("handled above"),
         }))
     }
@@ -489,6 +510,101 @@ pub fn read_shared_strings(part: impl Read) -> Result<Vec<Rc<str>>, xml::StreamE
     Ok(strings)
 }
 
+/// Cells the scanning thread hands to the importing one, a few thousand at a time.
+#[derive(Default)]
+struct Batch {
+    cells: Vec<BatchCell>,
+    /// The formula texts of `cells`, end to end.
+    text: String,
+}
+
+struct BatchCell {
+    pos: Pos,
+    value: Option<Stored>,
+    formula: Option<(FormulaShape, std::ops::Range<usize>)>,
+}
+
+/// A [`FormulaXml`] without its text.
+#[derive(Clone, Copy)]
+enum FormulaShape {
+    Plain,
+    Array(ArrayFormula),
+    SharedText(u32),
+    SharedCopy(u32),
+}
+
+const BATCH_CELLS: usize = 4096;
+/// Batches read ahead: enough to keep both threads busy, few enough to hold little memory.
+const BATCHES_AHEAD: usize = 4;
+
+impl Batch {
+    fn push(&mut self, cell: CellXml) {
+        let formula = cell.formula.map(|f| {
+            let (shape, text) = match f {
+                FormulaXml::Plain(text) => (FormulaShape::Plain, text),
+                FormulaXml::Array(text, array) => (FormulaShape::Array(array), text),
+                FormulaXml::SharedText { index, text } => (FormulaShape::SharedText(index), text),
+                FormulaXml::SharedCopy { index } => (FormulaShape::SharedCopy(index), ""),
+            };
+            let start = self.text.len();
+            self.text.push_str(text);
+            (shape, start..self.text.len())
+        });
+        self.cells.push(BatchCell { pos: cell.pos, value: cell.value, formula });
+    }
+
+    fn hand_over(self, on_cell: &mut dyn FnMut(CellXml)) {
+        let Batch { cells, text } = self;
+        for BatchCell { pos, value, formula } in cells {
+            let formula = formula.map(|(shape, range)| {
+                let text = &text[range];
+                match shape {
+                    FormulaShape::Plain => FormulaXml::Plain(text),
+                    FormulaShape::Array(array) => FormulaXml::Array(text, array),
+                    FormulaShape::SharedText(index) => FormulaXml::SharedText { index, text },
+                    FormulaShape::SharedCopy(index) => FormulaXml::SharedCopy { index },
+                }
+            });
+            on_cell(CellXml { pos, value, formula });
+        }
+    }
+}
+
+/// [`read_sheet`] on a thread of its own, handing the cells to `on_cell` on this one: the
+/// XML is inflated and read while the cells before are stored, so an import takes about
+/// the longer of the two instead of their sum.
+pub fn read_sheet_ahead(
+    part: impl Read + Send,
+    string_count: usize,
+    grid_slots: &mut u64,
+    on_cell: &mut dyn FnMut(CellXml),
+) -> Result<SheetScan, xml::StreamError<ScanError>> {
+    let (sender, batches) = std::sync::mpsc::sync_channel::<Batch>(BATCHES_AHEAD);
+    let mut slots = *grid_slots;
+    let scan = std::thread::scope(|scope| {
+        let scanner = scope.spawn(move || {
+            let mut batch = Batch::default();
+            let scan = read_sheet(part, string_count, &mut slots, &mut |cell| {
+                batch.push(cell);
+                if batch.cells.len() >= BATCH_CELLS {
+                    // Sending fails only when this thread's receiver is gone, after a panic
+                    // there, which the scope passes on.
+                    let _ = sender.send(std::mem::take(&mut batch));
+                }
+                Ok(())
+            });
+            let _ = sender.send(batch);
+            scan.map(|scan| (scan, slots))
+        });
+        for batch in batches {
+            batch.hand_over(on_cell);
+        }
+        scanner.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+    })?;
+    *grid_slots = scan.1;
+    Ok(scan.0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -496,13 +612,16 @@ mod tests {
     /// A cell's name, value and formula (as `Debug` text).
     type Seen = (String, Option<Value>, String);
 
+    fn strings() -> Vec<Rc<str>> {
+        vec!["zero".into(), "one".into()]
+    }
+
     fn cells(xml: &str) -> Result<(Vec<Seen>, SheetScan), String> {
-        let strings: Vec<Rc<str>> = vec!["zero".into(), "one".into()];
+        let strings = strings();
         let mut out = Vec::new();
         let mut slots = 0;
-        let scan = read_sheet(xml.as_bytes(), &strings, &mut slots, &mut |c| {
-            out.push((cell_name(c.pos), c.value, format!("{:?}", c.formula)));
-            Ok(())
+        let scan = read_sheet_ahead(xml.as_bytes(), strings.len(), &mut slots, &mut |c| {
+            out.push((cell_name(c.pos), c.value.map(|v| v.into_value(&strings)), format!("{:?}", c.formula)));
         });
         match scan {
             Ok(scan) => Ok((out, scan)),
