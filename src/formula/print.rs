@@ -1,6 +1,11 @@
 //! Syntax tree back to formula text (Excel's canonical spelling: upper-case function names).
+//!
+//! One printer for every spelling of a formula: as a user types it, and as a file stores it.
+//! Each node (and so every parenthesis and operator) is printed here once; a [`Spelling`] only
+//! chooses the few words that differ, so a file format cannot drift from the language.
 
 use std::fmt::Write;
+use std::rc::Rc;
 
 use super::address::{column_name, Pos, MAX_COLS, MAX_ROWS};
 use super::ast::*;
@@ -9,11 +14,67 @@ use super::parse::FunctionTable;
 /// Names the sheets of a workbook for printing sheet-qualified references.
 pub type SheetNames<'a> = &'a dyn Fn(SheetId) -> String;
 
-/// Prints `expr` as held by the cell `at`, without the leading `=`.
+/// Prints `expr` as held by the cell `at`, without the leading `=`, as a user types it.
 pub fn print_formula(expr: &Expr, at: Pos, functions: &dyn FunctionTable, sheets: SheetNames) -> String {
+    print_spelled(expr, at, functions, sheets, &AsTyped)
+}
+
+/// Prints `expr` as held by the cell `at`, without the leading `=`, in `spelling`.
+pub fn print_spelled(
+    expr: &Expr,
+    at: Pos,
+    functions: &dyn FunctionTable,
+    sheets: SheetNames,
+    spelling: &dyn Spelling,
+) -> String {
     let mut out = String::new();
-    Printer { at, functions, sheets, out: &mut out }.expr(expr);
+    Printer { at, functions, sheets, spelling, out: &mut out, parameters: Vec::new(), call_depth: 0 }.expr(expr);
     out
+}
+
+/// The words that differ between the spellings of one formula tree. Every hook defaults to
+/// the spelling a user types; a file format (xlsx's `_xlfn.` prefixes …) overrides the few it
+/// changes, so that this module need not know any file format.
+pub trait Spelling {
+    /// Writes the name of a function being called (a name bound by LET or LAMBDA goes to
+    /// [`Spelling::parameter_name`] instead).
+    fn function_name(&self, name: &str, out: &mut String) {
+        out.push_str(name);
+    }
+
+    /// Writes a name bound by an enclosing LET or LAMBDA, where it is declared and where it
+    /// is used (also when it is called, as a LAMBDA bound by LET).
+    fn parameter_name(&self, name: &str, out: &mut String) {
+        out.push_str(name);
+    }
+
+    /// How the implicit intersection `@x` is written; `in_call` says whether it sits inside
+    /// a function call's arguments.
+    fn implicit_intersection(&self, _in_call: bool) -> OperatorSpelling {
+        OperatorSpelling::Symbol
+    }
+
+    /// How the spill operator `x#` is written.
+    fn spill(&self) -> OperatorSpelling {
+        OperatorSpelling::Symbol
+    }
+}
+
+/// The spelling a user types, which the parser reads and the workbook shows.
+pub struct AsTyped;
+
+impl Spelling for AsTyped {}
+
+/// How a prefix or postfix operator is written.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OperatorSpelling {
+    /// Its own symbol: `@x`, `x#`.
+    Symbol,
+    /// A call of the function of that name (spelled by [`Spelling::function_name`]) on the
+    /// operand, whose own parentheses the call's replace: `@(A1+1)` → `SINGLE(A1+1)`.
+    Function(&'static str),
+    /// Left out: the operand alone.
+    Omitted,
 }
 
 /// Quotes a sheet name when Excel would (`'Chamfer data'!A1`).
@@ -46,7 +107,12 @@ struct Printer<'a> {
     at: Pos,
     functions: &'a dyn FunctionTable,
     sheets: SheetNames<'a>,
+    spelling: &'a dyn Spelling,
     out: &'a mut String,
+    /// Names bound by the LET and LAMBDA calls around the current node.
+    parameters: Vec<Rc<str>>,
+    /// How many function calls enclose the current node.
+    call_depth: u32,
 }
 
 impl Printer<'_> {
@@ -59,8 +125,8 @@ impl Printer<'_> {
             ExprKind::Bool(b) => self.out.push_str(if *b { "TRUE" } else { "FALSE" }),
             ExprKind::Error(err) => self.out.push_str(err.as_str()),
             ExprKind::Missing => {}
-            ExprKind::Ref(r) => self.reference(r),
-            ExprKind::Name(n) => self.out.push_str(n),
+            ExprKind::Ref(r) => write_reference(self.out, r, self.at, self.sheets),
+            ExprKind::Name(n) => self.name(n),
             ExprKind::Array(lit) => self.array(lit),
             ExprKind::Paren(inner) => {
                 self.out.push('(');
@@ -74,8 +140,8 @@ impl Printer<'_> {
                 self.expr(b);
             }
             ExprKind::Call(id, args) => {
-                let name = self.functions.name(*id).to_string();
-                self.call(&name, args)
+                let functions = self.functions;
+                self.call(functions.name(*id), args)
             }
             ExprKind::UnknownCall(name, args) => self.call(name, args),
             // Only macros hold host nodes, and macros are not printed back; say what it is.
@@ -85,7 +151,32 @@ impl Printer<'_> {
         }
     }
 
+    fn name(&mut self, name: &str) {
+        if self.is_parameter(name) {
+            self.spelling.parameter_name(name, self.out);
+        } else {
+            self.out.push_str(name);
+        }
+    }
+
+    fn is_parameter(&self, name: &str) -> bool {
+        self.parameters.iter().any(|p| p.eq_ignore_ascii_case(name))
+    }
+
     fn unary(&mut self, op: UnaryOp, inner: &Expr) {
+        let spelling = match op {
+            UnaryOp::Implicit => self.spelling.implicit_intersection(self.call_depth > 0),
+            UnaryOp::Spill => self.spelling.spill(),
+            _ => OperatorSpelling::Symbol,
+        };
+        match spelling {
+            OperatorSpelling::Symbol => self.operator_symbol(op, inner),
+            OperatorSpelling::Function(name) => self.operator_as_function(name, inner),
+            OperatorSpelling::Omitted => self.expr(inner),
+        }
+    }
+
+    fn operator_symbol(&mut self, op: UnaryOp, inner: &Expr) {
         match op {
             UnaryOp::Neg => self.out.push('-'),
             UnaryOp::Plus => self.out.push('+'),
@@ -101,15 +192,36 @@ impl Printer<'_> {
         }
     }
 
-    fn call(&mut self, name: &str, args: &[Expr]) {
-        self.out.push_str(name);
+    /// `@(A1+1)` as `SINGLE(A1+1)`: the call's parentheses stand for the operand's. The
+    /// operand does not count as a call argument: it is the operator's, not a function's.
+    fn operator_as_function(&mut self, name: &str, inner: &Expr) {
+        self.spelling.function_name(name, self.out);
         self.out.push('(');
+        match &inner.kind {
+            ExprKind::Paren(x) => self.expr(x),
+            _ => self.expr(inner),
+        }
+        self.out.push(')');
+    }
+
+    fn call(&mut self, name: &str, args: &[Expr]) {
+        if self.is_parameter(name) {
+            self.spelling.parameter_name(name, self.out);
+        } else {
+            self.spelling.function_name(name, self.out);
+        }
+        self.out.push('(');
+        let outer_parameters = self.parameters.len();
+        self.parameters.extend(bound_names(name, args));
+        self.call_depth += 1;
         for (i, a) in args.iter().enumerate() {
             if i > 0 {
                 self.out.push(',');
             }
             self.expr(a);
         }
+        self.call_depth -= 1;
+        self.parameters.truncate(outer_parameters);
         self.out.push(')');
     }
 
@@ -123,10 +235,22 @@ impl Printer<'_> {
         }
         self.out.push('}');
     }
+}
 
-    fn reference(&mut self, r: &Reference) {
-        write_reference(self.out, r, self.at, self.sheets);
+/// The names a call declares for its arguments, in scope in every one of them:
+/// `LET(n1, v1, n2, v2, body)` and `LAMBDA(p1, p2, body)`.
+fn bound_names(function: &str, args: &[Expr]) -> Vec<Rc<str>> {
+    let is_let = function.eq_ignore_ascii_case("LET");
+    let is_lambda = function.eq_ignore_ascii_case("LAMBDA");
+    if !is_let && !is_lambda {
+        return Vec::new();
     }
+    let declares = |i: usize| i + 1 < args.len() && (is_lambda || i.is_multiple_of(2));
+    let name = |e: &Expr| match &e.kind {
+        ExprKind::Name(n) => Some(n.clone()),
+        _ => None,
+    };
+    args.iter().enumerate().filter(|(i, _)| declares(*i)).filter_map(|(_, e)| name(e)).collect()
 }
 
 /// Writes a reference as held by the cell `at` (`Sheet2!$A$1:B3`; `#REF!` off the sheet):
@@ -205,5 +329,120 @@ pub fn binary_symbol(op: BinOp) -> &'static str {
         BinOp::Xor => " Xor ",
         BinOp::Eqv => " Eqv ",
         BinOp::Imp => " Imp ",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::formula::parse::{parse_formula, FnInfo, ParseContext};
+
+    /// A few functions known by id, so that calls print through [`FunctionTable::name`];
+    /// the rest parse as unknown calls, printed by the name typed.
+    struct Functions;
+
+    const KNOWN: [&str; 5] = ["SUM", "SIN", "LET", "LAMBDA", "XLOOKUP"];
+
+    impl FunctionTable for Functions {
+        fn lookup(&self, name: &str) -> Option<FnInfo> {
+            let id = KNOWN.iter().position(|f| f.eq_ignore_ascii_case(name))?;
+            Some(FnInfo { id: id as FnId, min_args: 0, max_args: 255 })
+        }
+
+        fn name(&self, id: FnId) -> &str {
+            KNOWN[id as usize]
+        }
+    }
+
+    /// Excel's xlsx spelling (MS-XLSX §2.2.2 formulas; its future-function list) cut down to
+    /// the functions these tests call; `legacy` is a plain `<f>` rather than a dynamic-array
+    /// formula, where Excel intersects by itself.
+    struct ExcelFile {
+        legacy: bool,
+    }
+
+    impl Spelling for ExcelFile {
+        fn function_name(&self, name: &str, out: &mut String) {
+            if ["XLOOKUP", "LET", "LAMBDA", "SINGLE", "ANCHORARRAY"].contains(&name) {
+                out.push_str("_xlfn.");
+            }
+            out.push_str(name);
+        }
+
+        fn parameter_name(&self, name: &str, out: &mut String) {
+            out.push_str("_xlpm.");
+            out.push_str(name);
+        }
+
+        fn implicit_intersection(&self, in_call: bool) -> OperatorSpelling {
+            if self.legacy && !in_call {
+                OperatorSpelling::Omitted
+            } else {
+                OperatorSpelling::Function("SINGLE")
+            }
+        }
+
+        fn spill(&self) -> OperatorSpelling {
+            OperatorSpelling::Function("ANCHORARRAY")
+        }
+    }
+
+    fn printed(text: &str, spelling: &dyn Spelling) -> String {
+        let ctx = ParseContext { at: Pos::new(0, 0), functions: &Functions, sheet: &|_| None };
+        let expr = parse_formula(text, &ctx).expect("parses");
+        print_spelled(&expr, Pos::new(0, 0), &Functions, &|_| String::new(), spelling)
+    }
+
+    fn dynamic(text: &str) -> String {
+        printed(text, &ExcelFile { legacy: false })
+    }
+
+    fn legacy(text: &str) -> String {
+        printed(text, &ExcelFile { legacy: true })
+    }
+
+    #[test]
+    fn the_default_spelling_is_the_formula_as_typed() {
+        for text in ["XLOOKUP(1,A:A,B:B)", "LET(x,1,x+1)", "A1#", "@A1:A3", "-(@A1:A3+B1#)%*2"] {
+            assert_eq!(printed(text, &AsTyped), text);
+        }
+    }
+
+    #[test]
+    fn newer_functions_carry_the_future_prefix_in_a_file() {
+        assert_eq!(dynamic("=XLOOKUP(1,A:A,B:B)"), "_xlfn.XLOOKUP(1,A:A,B:B)");
+        assert_eq!(dynamic("=SUM(A1:A3)+SIN(1)"), "SUM(A1:A3)+SIN(1)");
+    }
+
+    #[test]
+    fn let_and_lambda_parameters_carry_the_parameter_prefix_inside_their_call() {
+        assert_eq!(dynamic("=LET(x,1,x+1)"), "_xlfn.LET(_xlpm.x,1,_xlpm.x+1)");
+        assert_eq!(dynamic("=LET(x,2,y,x+1,x*y)+x"), "_xlfn.LET(_xlpm.x,2,_xlpm.y,_xlpm.x+1,_xlpm.x*_xlpm.y)+x");
+        assert_eq!(dynamic("=LAMBDA(temp,(5/9)*(temp-32))"), "_xlfn.LAMBDA(_xlpm.temp,(5/9)*(_xlpm.temp-32))");
+        // A LAMBDA bound by LET is called by its parameter name. (The parser upper-cases the
+        // name of a call it does not know, hence F.)
+        assert_eq!(
+            dynamic("=LET(F,LAMBDA(t,t+1),F(2))"),
+            "_xlfn.LET(_xlpm.F,_xlfn.LAMBDA(_xlpm.t,_xlpm.t+1),_xlpm.F(2))"
+        );
+    }
+
+    #[test]
+    fn the_spill_operator_is_stored_as_anchorarray() {
+        assert_eq!(dynamic("=A1#"), "_xlfn.ANCHORARRAY(A1)");
+        assert_eq!(dynamic("=SUM(A1#)"), "SUM(_xlfn.ANCHORARRAY(A1))");
+        assert_eq!(dynamic("=(A1#+1)*2"), "(_xlfn.ANCHORARRAY(A1)+1)*2");
+    }
+
+    #[test]
+    fn implicit_intersection_is_single_in_a_dynamic_formula() {
+        assert_eq!(dynamic("=@A1:A3"), "_xlfn.SINGLE(A1:A3)");
+        assert_eq!(dynamic("=@(A1:A3+1)*2"), "_xlfn.SINGLE(A1:A3+1)*2");
+    }
+
+    #[test]
+    fn implicit_intersection_is_left_out_of_a_legacy_formula_outside_calls() {
+        assert_eq!(legacy("=@A1:A3*2"), "A1:A3*2");
+        assert_eq!(legacy("=SIN(@A1:A3)"), "SIN(_xlfn.SINGLE(A1:A3))");
     }
 }

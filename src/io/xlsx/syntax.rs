@@ -4,18 +4,18 @@
 //! FILTER and SORT), LET and LAMBDA parameters with `_xlpm.`, the spill operator `A1#` as
 //! `_xlfn.ANCHORARRAY(A1)` and the implicit intersection `@x` as `_xlfn.SINGLE(x)`. Our
 //! parser drops the prefixes by itself; this module turns ANCHORARRAY and SINGLE back into
-//! operators on import, and writes all of it back on export.
+//! operators on import, and writes all of it back on export. Export prints through the one
+//! printer of `formula::print`: `FileSpelling` only says how names and the two operators
+//! are spelled, so parentheses and every other node are printed as for the formula typed.
 //!
 //! Both directions take a fast path: text that has none of these needs no parse.
 
 use std::borrow::Cow;
-use std::fmt::Write;
-use std::rc::Rc;
 
 use crate::eval::functions::{spec, Registry};
 use crate::formula::address::Pos;
 use crate::formula::ast::*;
-use crate::formula::print::{binary_symbol, number_literal, print_formula, write_reference};
+use crate::formula::print::{print_spelled, AsTyped, OperatorSpelling, Spelling};
 use crate::workbook::Workbook;
 
 /// A formula as stored in a file (no leading `=`) → as typed (no leading `=`).
@@ -25,9 +25,7 @@ pub fn from_file<'t>(text: &'t str, wb: &Workbook, sheet: SheetId, pos: Pos) -> 
     }
     let Ok(mut expr) = wb.parse_at(text, sheet, pos) else { return Cow::Borrowed(text) };
     operators_from_file(&mut expr);
-    let names = wb.sheet_names();
-    let sheet_name = |id: SheetId| names.get(id as usize).cloned().unwrap_or_else(|| "#REF".into());
-    Cow::Owned(print_formula(&expr, pos, &Registry, &sheet_name))
+    Cow::Owned(print(&expr, wb, pos, &AsTyped))
 }
 
 /// How a formula is stored: which decides how `@` is written.
@@ -48,18 +46,7 @@ pub fn to_file(formula: &str, wb: &Workbook, sheet: SheetId, pos: Pos, storage: 
         return text.to_string();
     }
     match wb.parse_at(text, sheet, pos) {
-        Ok(expr) => {
-            let mut p = FilePrinter {
-                at: pos,
-                sheets: wb.sheet_names(),
-                out: String::new(),
-                params: Vec::new(),
-                storage,
-                calls: 0,
-            };
-            p.expr(&expr);
-            p.out
-        }
+        Ok(expr) => print(&expr, wb, pos, &FileSpelling { storage }),
         // Text that does not parse (a table reference, an external link) goes back as it came.
         Err(_) => text.to_string(),
     }
@@ -170,9 +157,7 @@ pub fn legacy_intersection(text: &str, wb: &Workbook, sheet: SheetId, pos: Pos) 
     if !changed {
         return None;
     }
-    let names = wb.sheet_names();
-    let sheet_name = |id: SheetId| names.get(id as usize).cloned().unwrap_or_else(|| "#REF".into());
-    Some(print_formula(&expr, pos, &Registry, &sheet_name))
+    Some(print(&expr, wb, pos, &AsTyped))
 }
 
 /// Puts `@` on the ranges under `e` that Excel intersects, `e` being where one value is
@@ -505,129 +490,42 @@ static FUTURE_FUNCTIONS: &[&str] = &[
     "Z.TEST",
 ];
 
-/// Prints a tree in file spelling. Mirrors `formula::print`, which prints it as typed.
-struct FilePrinter {
-    at: Pos,
-    sheets: Vec<String>,
-    out: String,
-    /// LET and LAMBDA parameters in scope, written with `_xlpm.`.
-    params: Vec<Rc<str>>,
+/// Excel's spelling of a formula in a file stored as `storage`.
+struct FileSpelling {
     storage: Storage,
-    /// How many function calls enclose the current node.
-    calls: u32,
 }
 
-impl FilePrinter {
-    fn expr(&mut self, e: &Expr) {
-        match &e.kind {
-            ExprKind::Number(v) => self.out.push_str(&number_literal(*v)),
-            ExprKind::Text(s) => {
-                let _ = write!(self.out, "\"{}\"", s.replace('"', "\"\""));
-            }
-            ExprKind::Bool(b) => self.out.push_str(if *b { "TRUE" } else { "FALSE" }),
-            ExprKind::Error(err) => self.out.push_str(err.as_str()),
-            ExprKind::Missing => {}
-            ExprKind::Ref(r) => self.reference(r),
-            ExprKind::Name(n) => {
-                if self.params.iter().any(|p| p.eq_ignore_ascii_case(n)) {
-                    self.out.push_str("_xlpm.");
-                }
-                self.out.push_str(n);
-            }
-            ExprKind::Array(lit) => {
-                self.out.push('{');
-                for (i, item) in lit.items.iter().enumerate() {
-                    if i > 0 {
-                        self.out.push(if i % lit.cols.max(1) == 0 { ';' } else { ',' });
-                    }
-                    self.expr(item);
-                }
-                self.out.push('}');
-            }
-            ExprKind::Paren(inner) => {
-                self.out.push('(');
-                self.expr(inner);
-                self.out.push(')');
-            }
-            ExprKind::Unary(op, inner) => match op {
-                UnaryOp::Neg | UnaryOp::Plus => {
-                    self.out.push(if *op == UnaryOp::Neg { '-' } else { '+' });
-                    self.expr(inner);
-                }
-                UnaryOp::Percent => {
-                    self.expr(inner);
-                    self.out.push('%');
-                }
-                // Macro-only: never in a cell's formula, but printable as the function it means.
-                UnaryOp::Not => {
-                    self.out.push_str("NOT(");
-                    self.expr(inner);
-                    self.out.push(')');
-                }
-                UnaryOp::Implicit if self.storage == Storage::Legacy && self.calls == 0 => self.expr(inner),
-                UnaryOp::Implicit | UnaryOp::Spill => {
-                    let name = if *op == UnaryOp::Implicit { "_xlfn.SINGLE(" } else { "_xlfn.ANCHORARRAY(" };
-                    self.out.push_str(name);
-                    match &inner.kind {
-                        ExprKind::Paren(x) => self.expr(x),
-                        _ => self.expr(inner),
-                    }
-                    self.out.push(')');
-                }
-            },
-            ExprKind::Binary(op, a, b) => {
-                self.expr(a);
-                self.out.push_str(binary_symbol(*op));
-                self.expr(b);
-            }
-            ExprKind::Call(id, args) => self.call(spec(*id).name, args),
-            ExprKind::UnknownCall(name, args) => self.call(name, args),
-            // Macro-only nodes never reach a cell.
-            ExprKind::Host(_) => self.out.push_str("#VALUE!"),
+impl Spelling for FileSpelling {
+    fn function_name(&self, name: &str, out: &mut String) {
+        if let Some(prefix) = future_prefix(name) {
+            out.push_str(prefix);
+        }
+        out.push_str(name);
+    }
+
+    fn parameter_name(&self, name: &str, out: &mut String) {
+        out.push_str("_xlpm.");
+        out.push_str(name);
+    }
+
+    fn implicit_intersection(&self, in_call: bool) -> OperatorSpelling {
+        if self.storage == Storage::Legacy && !in_call {
+            OperatorSpelling::Omitted
+        } else {
+            OperatorSpelling::Function("SINGLE")
         }
     }
 
-    fn call(&mut self, name: &str, args: &[Expr]) {
-        if self.params.iter().any(|p| p.eq_ignore_ascii_case(name)) {
-            // A LAMBDA bound by LET, called by its name.
-            self.out.push_str("_xlpm.");
-        } else if let Some(prefix) = future_prefix(name) {
-            self.out.push_str(prefix);
-        }
-        self.out.push_str(name);
-        self.out.push('(');
-        // LET(n1, v1, n2, v2, body) and LAMBDA(p1, p2, body) bind the names they declare.
-        let declared: Vec<Rc<str>> = match name.to_ascii_uppercase().as_str() {
-            "LET" => args.iter().step_by(2).take(args.len() / 2).filter_map(name_of).collect(),
-            "LAMBDA" => args.iter().take(args.len().saturating_sub(1)).filter_map(name_of).collect(),
-            _ => Vec::new(),
-        };
-        let depth = self.params.len();
-        self.params.extend(declared);
-        self.calls += 1;
-        for (i, a) in args.iter().enumerate() {
-            if i > 0 {
-                self.out.push(',');
-            }
-            self.expr(a);
-        }
-        self.calls -= 1;
-        self.params.truncate(depth);
-        self.out.push(')');
-    }
-
-    fn reference(&mut self, r: &Reference) {
-        let sheets = &self.sheets;
-        let names = |id: SheetId| sheets.get(id as usize).cloned().unwrap_or_else(|| "#REF".to_string());
-        write_reference(&mut self.out, r, self.at, &names);
+    fn spill(&self) -> OperatorSpelling {
+        OperatorSpelling::Function("ANCHORARRAY")
     }
 }
 
-fn name_of(e: &Expr) -> Option<Rc<str>> {
-    match &e.kind {
-        ExprKind::Name(n) => Some(n.clone()),
-        _ => None,
-    }
+/// Prints `expr`, held by the cell `pos`, in `spelling`, naming sheets as `wb` does.
+fn print(expr: &Expr, wb: &Workbook, pos: Pos, spelling: &dyn Spelling) -> String {
+    let names = wb.sheet_names();
+    let sheet_name = |id: SheetId| names.get(id as usize).cloned().unwrap_or_else(|| "#REF".into());
+    print_spelled(expr, pos, &Registry, &sheet_name, spelling)
 }
 
 #[cfg(test)]
