@@ -97,8 +97,9 @@ pub fn read_sheet(
     grid_slots: &mut u64,
     on_cell: &mut dyn FnMut(CellXml) -> Result<(), ScanError>,
 ) -> Result<SheetScan, xml::StreamError<ScanError>> {
-    let mut scanner = SheetScanner { string_count, grid_slots: Some(grid_slots), ..SheetScanner::default() };
+    let mut scanner = SheetScanner { string_count, grid_slots: *grid_slots, ..SheetScanner::default() };
     xml::stream(part, &mut |event| scanner.event(event, on_cell))?;
+    *grid_slots = scanner.grid_slots;
     Ok(scanner.scan)
 }
 
@@ -184,7 +185,7 @@ enum FormulaAttrs {
 }
 
 #[derive(Default)]
-struct SheetScanner<'s> {
+struct SheetScanner {
     string_count: usize,
     scan: SheetScan,
     /// Next row and column for markup that leaves `r` out.
@@ -195,10 +196,11 @@ struct SheetScanner<'s> {
     capture: Capture,
     /// Per column, one past the last row holding a cell.
     column_rows: Vec<u32>,
-    grid_slots: Option<&'s mut u64>,
+    /// Grid slots of the workbook so far (see [`MAX_GRID_SLOTS`]).
+    grid_slots: u64,
 }
 
-impl SheetScanner<'_> {
+impl SheetScanner {
     fn event(
         &mut self,
         event: Event,
@@ -294,10 +296,9 @@ impl SheetScanner<'_> {
         if pos.row < *rows {
             return Ok(());
         }
-        let slots = self.grid_slots.as_deref_mut().expect("read_sheet sets the count");
-        *slots += (pos.row + 1 - *rows) as u64;
+        self.grid_slots += (pos.row + 1 - *rows) as u64;
         *rows = pos.row + 1;
-        if *slots > MAX_GRID_SLOTS {
+        if self.grid_slots > MAX_GRID_SLOTS {
             let message = format!(
                 "the cells lie too far apart: the sheets would need more than {} MiB of grid",
                 (MAX_GRID_SLOTS * 4) >> 20
