@@ -17,11 +17,13 @@ use super::value::{Value, XlResult};
 pub mod args;
 mod criteria;
 mod date;
+mod dispersion;
 mod geometry;
 mod info;
 mod logic;
 mod lookup;
 mod math;
+mod order;
 mod stats;
 mod text;
 mod text_format;
@@ -92,6 +94,8 @@ pub static REGISTRY: LazyLock<Vec<FnSpec>> = LazyLock::new(|| {
     [
         math::FUNCTIONS,
         stats::FUNCTIONS,
+        dispersion::FUNCTIONS,
+        order::FUNCTIONS,
         date::FUNCTIONS,
         logic::FUNCTIONS,
         lookup::FUNCTIONS,
