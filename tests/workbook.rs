@@ -156,3 +156,51 @@ fn a_long_chain_recalculates_without_deep_recursion() {
     set(&mut wb, "A1", "2");
     assert_eq!(get(&wb, "A200000"), n(200_001.0));
 }
+
+/// The local date as the system's `date` command prints it: (year, month, day).
+fn system_date() -> Option<(f64, f64, f64)> {
+    let out = std::process::Command::new("date").arg("+%Y %m %d").output().ok()?;
+    let text = String::from_utf8(out.stdout).ok()?;
+    let parts: Vec<f64> = text.split_whitespace().filter_map(|p| p.parse().ok()).collect();
+    (parts.len() == 3).then(|| (parts[0], parts[1], parts[2]))
+}
+
+#[test]
+fn today_is_the_system_clocks_local_date() {
+    let Some(before) = system_date() else {
+        println!("SKIPPED: no `date` command to compare TODAY() with");
+        return;
+    };
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, "A1", "=TODAY()");
+    set(&mut wb, "A2", "=YEAR(A1)");
+    set(&mut wb, "A3", "=MONTH(A1)");
+    set(&mut wb, "A4", "=DAY(A1)");
+    set(&mut wb, "A5", "=INT(NOW())=A1");
+    let after = system_date().expect("date ran a moment ago");
+    let ours = [get(&wb, "A2"), get(&wb, "A3"), get(&wb, "A4")];
+    // Midnight may pass between the two readings of the clock: either date will do.
+    let matches = |(y, m, d): (f64, f64, f64)| ours == [n(y), n(m), n(d)];
+    assert!(matches(before) || matches(after), "TODAY() is {ours:?}, date says {before:?}");
+    if before == after {
+        assert_eq!(get(&wb, "A5"), Value::Bool(true));
+    }
+}
+
+#[test]
+fn volatile_cells_recalculate_at_every_edit() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, "A1", "=NOW()");
+    set(&mut wb, "A2", "=A1*86400");
+    let first = get(&wb, "A2");
+    std::thread::sleep(std::time::Duration::from_millis(20));
+    // An edit that NOW() does not read still moves the clock forward.
+    set(&mut wb, "B1", "1");
+    let Value::Number(later) = get(&wb, "A2") else { panic!("NOW() is a number") };
+    let Value::Number(earlier) = first else { panic!("NOW() is a number") };
+    assert!(later - earlier >= 0.015, "NOW() moved {} s", later - earlier);
+    // A cell that no longer calls NOW() stops moving.
+    set(&mut wb, "A1", "5");
+    set(&mut wb, "B1", "2");
+    assert_eq!(get(&wb, "A2"), n(432_000.0));
+}

@@ -97,9 +97,9 @@ const KNOWN_DISAGREEMENTS: &[(&str, &str, &str)] = &[
     ("docs/TAN.xlsx", "Sheet1!B8", "TAN near a pole"),
     ("docs/TAN.xlsx", "Sheet1!B9", "TAN near pi: residue"),
     ("docs/TAN.xlsx", "Sheet1!B10", "TAN near a pole"),
-    // Dates typed the en-GB way ("10-12-1999", "2/3/2023") are read by the workbook's locale.
+    // Dates typed the en-GB way ("10-12-1999", "2/3/2023") are read by the workbook's locale,
+    // day first; ours read them month first, as in the US.
     ("calc_tests/TEXT/T_VALUE_VALUETOTEXT.xlsx", "Sheet1!I5", "en-GB date text"),
-    ("calc_tests/TEXT/T_VALUE_VALUETOTEXT.xlsx", "Sheet1!I7", "en-GB date text"),
     ("calc_tests/TEXT/T_VALUE_VALUETOTEXT.xlsx", "Sheet1!C15", "en-GB date text"),
     // The spill K1# is wider here than in Excel's cached result (TEXTSPLIT-like source).
     ("dynamic_arrays.xlsx", "Sheet1!M1", "spill width of K1#"),

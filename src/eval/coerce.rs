@@ -3,6 +3,7 @@
 use std::cmp::Ordering;
 use std::rc::Rc;
 
+use super::dates::{self, DateText};
 use super::number_format::general;
 use super::value::{Value, XlError, XlResult};
 
@@ -46,12 +47,16 @@ pub fn to_bool(v: &Value) -> XlResult<bool> {
 
 /// Reads text the way Excel's `VALUE` and arithmetic do: optional sign, thousands
 /// separators, decimals, exponent, a trailing `%`, a currency sign (`$`, `€`, `£`) before or
-/// after, an ISO date (`2024-01-10`, as its serial number), surrounding spaces.
+/// after, surrounding spaces; or a date or time (`2024-01-10`, `1/10/2024`, `13:30`, as its
+/// serial number: see [`dates::parse_date_text`]).
 pub fn parse_number(text: &str) -> Option<f64> {
-    // Excel reads " 2024-01-10 " as text although it reads " 100 " as a number.
-    if let Some(serial) = iso_date_serial(text) {
-        return Some(serial);
-    }
+    // Excel reads " 2024-01-10 " as text although it reads " 100 " as a number: date text is
+    // read untrimmed.
+    parse_plain_number(text).or_else(|| dates::parse_date_text(text).map(DateText::serial))
+}
+
+/// [`parse_number`] without dates and times: what VBA's `IsNumeric` accepts.
+pub fn parse_plain_number(text: &str) -> Option<f64> {
     let t = text.trim();
     if t.is_empty() {
         return None;
@@ -92,40 +97,6 @@ fn without_currency(text: &str) -> &str {
         Some(rest) => rest.trim_end(),
         None => text,
     }
-}
-
-/// `yyyy-mm-dd` as Excel's date serial (days since 1899-12-30 in the 1900 date system, which
-/// is exact from 1900-03-01 on; earlier dates are left to be text).
-fn iso_date_serial(text: &str) -> Option<f64> {
-    let mut parts = text.splitn(3, '-');
-    let (y, m, d) = (parts.next()?, parts.next()?, parts.next()?);
-    let digits =
-        |s: &str, n: std::ops::RangeInclusive<usize>| n.contains(&s.len()) && s.bytes().all(|b| b.is_ascii_digit());
-    if !(digits(y, 4..=4) && digits(m, 1..=2) && digits(d, 1..=2)) {
-        return None;
-    }
-    let (y, m, d): (i64, i64, i64) = (y.parse().ok()?, m.parse().ok()?, d.parse().ok()?);
-    let days_in_month = [31, if is_leap(y) { 29 } else { 28 }, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31];
-    if !(1..=12).contains(&m) || d < 1 || d > days_in_month[(m - 1) as usize] || y > 9999 {
-        return None;
-    }
-    let serial = days_from_civil(y, m, d) - days_from_civil(1899, 12, 30);
-    (serial >= 61).then_some(serial as f64)
-}
-
-fn is_leap(y: i64) -> bool {
-    (y % 4 == 0 && y % 100 != 0) || y % 400 == 0
-}
-
-/// Days since 1970-01-01 of a proleptic Gregorian date (Howard Hinnant's algorithm).
-fn days_from_civil(y: i64, m: i64, d: i64) -> i64 {
-    let y = if m <= 2 { y - 1 } else { y };
-    let era = y.div_euclid(400);
-    let yoe = y - era * 400;
-    let mp = (m + 9) % 12;
-    let doy = (153 * mp + 2) / 5 + d - 1;
-    let doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
-    era * 146_097 + doe - 719_468
 }
 
 /// `1,234,567.5` to `1234567.5`; commas must group the integer part by three.
@@ -199,6 +170,10 @@ mod tests {
         assert_eq!(parse_number("2024-01-10"), Some(45301.0));
         assert_eq!(parse_number("1900-03-01"), Some(61.0));
         assert_eq!(parse_number("2023-02-29"), None);
+        // Excel (en-US): dates month first, times as fractions of a day.
+        assert_eq!(parse_number("1/10/2024"), Some(45301.0));
+        assert_eq!(parse_number("12:00"), Some(0.5));
+        assert_eq!(parse_number("1900-01-01"), Some(1.0));
         assert_eq!(parse_number(" 2024-01-10 "), None);
         assert_eq!(parse_number("$100"), Some(100.0));
         assert_eq!(parse_number("100€"), Some(100.0));

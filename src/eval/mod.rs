@@ -2,6 +2,7 @@
 //! through the [`Env`] trait; knows nothing of workbooks, files or the command line.
 
 pub mod coerce;
+pub mod dates;
 pub mod diff;
 pub mod evaluator;
 pub mod functions;

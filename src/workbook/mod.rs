@@ -130,6 +130,8 @@ pub struct Workbook {
     spill: recalc::SpillState,
     /// Cells of each circular reference found by the last recalculation.
     cycles: Vec<Vec<u32>>,
+    /// Formula cells calling a volatile function (NOW, TODAY), recalculated at every edit.
+    volatile: Vec<u32>,
     scratch: recalc::Scratch,
     /// Reused buffers: the relative key of the formula being stored, a formula's precedents.
     key_buf: String,
@@ -247,6 +249,9 @@ impl Workbook {
             Ok(fid) => {
                 self.cells[id as usize].formula = fid;
                 self.link(id);
+                if self.formulas.get(fid).volatile {
+                    self.volatile.push(id);
+                }
                 Ok(())
             }
             Err(error) => {
@@ -465,7 +470,11 @@ impl Workbook {
         if !self.bad_inputs.is_empty() {
             self.bad_inputs.remove(&id);
         }
-        if self.cells[id as usize].formula != NO_FORMULA {
+        let formula = self.cells[id as usize].formula;
+        if formula != NO_FORMULA {
+            if self.formulas.get(formula).volatile {
+                self.volatile.retain(|&v| v != id);
+            }
             self.unlink(id);
             self.cells[id as usize].formula = NO_FORMULA;
             self.notes.remove(&id);

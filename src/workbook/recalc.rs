@@ -83,8 +83,10 @@ impl Workbook {
         self.run_passes(sources);
     }
 
-    /// Recomputes what depends on `changed` (cells whose input was just set).
+    /// Recomputes what depends on `changed` (cells whose input was just set), and the volatile
+    /// cells, which Excel recalculates at every edit.
     pub(super) fn recalculate_from(&mut self, mut changed: Vec<u32>) {
+        changed.extend_from_slice(&self.volatile);
         for &id in &changed.clone() {
             let c = &self.cells[id as usize];
             let (sheet, pos) = (c.sheet, c.pos);

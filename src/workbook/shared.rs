@@ -28,19 +28,23 @@ pub struct SharedFormula {
     /// This formula's numbers where they differ from the shared tree's: each number literal
     /// of `expr` (by address) with the value to read instead (see `Ctx::numbers`).
     pub numbers: Box<[(*const Expr, f64)]>,
+    /// Calls a volatile function (NOW, TODAY): recalculated whatever changed.
+    pub volatile: bool,
 }
 
 impl SharedFormula {
     pub fn new(expr: Expr) -> SharedFormula {
         let mut refs = Vec::new();
         let mut names = Vec::new();
+        let mut volatile = false;
         expr.visit(&mut |e| match &e.kind {
             // A reference read twice (`IF(C1>1,C1-1,C1+1)`) is one edge of the graph.
             crate::formula::ast::ExprKind::Ref(r) if !refs.contains(r) => refs.push(r.clone()),
             crate::formula::ast::ExprKind::Name(n) => names.push(n.clone()),
+            ExprKind::Call(id, _) => volatile |= functions::spec(*id).volatile,
             _ => {}
         });
-        SharedFormula { expr: Rc::new(expr), refs: refs.into(), names: names.into(), numbers: Box::new([]) }
+        SharedFormula { expr: Rc::new(expr), refs: refs.into(), names: names.into(), numbers: Box::new([]), volatile }
     }
 
     /// `pattern`'s formula with `literals` for its numbers, in the order [`Expr::visit`]
@@ -58,6 +62,7 @@ impl SharedFormula {
             refs: pattern.refs.clone(),
             names: pattern.names.clone(),
             numbers: nodes.into_iter().zip(literals.iter().copied()).collect(),
+            volatile: pattern.volatile,
         }
     }
 

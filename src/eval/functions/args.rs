@@ -155,6 +155,25 @@ pub fn numbers(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<f64>> {
     Ok(out)
 }
 
+/// The values of the arguments as the functions ending in A (AVERAGEA, MINA, VARA, STDEVA…)
+/// read them: as [`numbers`], except that in ranges and arrays TRUE is 1, FALSE and text
+/// (even "") are 0. Blank cells are still skipped.
+pub fn numbers_a(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<f64>> {
+    let mut out = Vec::new();
+    for_each_value(ctx, args, &mut |v, source| {
+        match (v, source) {
+            (Value::Number(n), _) => out.push(*n),
+            (Value::Error(e), _) => return Err(*e),
+            (Value::Bool(b), _) => out.push(f64::from(u8::from(*b))),
+            (Value::Text(_), Source::Collection) => out.push(0.0),
+            (Value::Blank, _) | (Value::Array(_), Source::Collection) => {}
+            (other, Source::Direct) => out.push(to_number(other)?),
+        }
+        Ok(())
+    })?;
+    Ok(out)
+}
+
 /// An argument read as a 2-D block of values: a range (all cells, blanks included) or an
 /// array; a scalar is a 1×1 block.
 pub fn block(ctx: &mut Ctx, e: &Expr) -> XlResult<Rc<Array>> {

@@ -416,7 +416,7 @@ fn quotient(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 /// A number argument of a function from Excel's old Analysis ToolPak (QUOTIENT, MROUND):
 /// these refuse booleans (`QUOTIENT(TRUE, 1)` is #VALUE!) where built-ins read TRUE as 1.
-fn toolpak_number(v: &Value) -> XlResult<f64> {
+pub(super) fn toolpak_number(v: &Value) -> XlResult<f64> {
     match v {
         Value::Bool(_) => Err(XlError::Value),
         v => to_number(v),

@@ -2,7 +2,8 @@
 //! is a row here: name, argument bounds, body, signature and a one-line summary.
 //!
 //! To add a function: write its body in the category module and add its row to that
-//! module's `FUNCTIONS`; a new category module is listed once in [`REGISTRY`].
+//! module's `FUNCTIONS`; a new category module is listed once in [`REGISTRY`]. A function
+//! whose result changes by itself (NOW) is marked [`FnSpec::volatile`].
 
 use std::collections::HashMap;
 use std::sync::LazyLock;
@@ -15,11 +16,14 @@ use super::value::{Value, XlResult};
 
 pub mod args;
 mod criteria;
+mod date;
+mod dispersion;
 mod geometry;
 mod info;
 mod logic;
 mod lookup;
 mod math;
+mod order;
 mod stats;
 mod text;
 mod text_format;
@@ -51,6 +55,9 @@ pub struct FnSpec {
     /// `ROUND(number, digits)`: shown by `ncsheet functions`.
     pub signature: &'static str,
     pub summary: &'static str,
+    /// Its result changes with no change to its arguments (NOW, TODAY): a cell calling it is
+    /// recalculated at every recalculation, not only when what it reads changes.
+    pub volatile: bool,
 }
 
 impl FnSpec {
@@ -62,7 +69,7 @@ impl FnSpec {
         signature: &'static str,
         summary: &'static str,
     ) -> FnSpec {
-        FnSpec { name, min_args, max_args, kind: FnKind::Value(f), signature, summary }
+        FnSpec { name, min_args, max_args, kind: FnKind::Value(f), signature, summary, volatile: false }
     }
 
     pub const fn reference(
@@ -73,7 +80,12 @@ impl FnSpec {
         signature: &'static str,
         summary: &'static str,
     ) -> FnSpec {
-        FnSpec { name, min_args, max_args, kind: FnKind::Ref(f), signature, summary }
+        FnSpec { name, min_args, max_args, kind: FnKind::Ref(f), signature, summary, volatile: false }
+    }
+
+    /// The same function, volatile.
+    pub const fn volatile(self) -> FnSpec {
+        FnSpec { volatile: true, ..self }
     }
 }
 
@@ -82,6 +94,9 @@ pub static REGISTRY: LazyLock<Vec<FnSpec>> = LazyLock::new(|| {
     [
         math::FUNCTIONS,
         stats::FUNCTIONS,
+        dispersion::FUNCTIONS,
+        order::FUNCTIONS,
+        date::FUNCTIONS,
         logic::FUNCTIONS,
         lookup::FUNCTIONS,
         text::FUNCTIONS,

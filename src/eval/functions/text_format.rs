@@ -6,6 +6,7 @@
 //! decimal, half away from zero, as Excel displays them (2.675 shows as 2.68 although the
 //! binary double is a little below).
 
+use crate::eval::dates::{DateTime, LAST_SERIAL};
 use crate::eval::number_format::significant_digits;
 use crate::eval::value::{XlError, XlResult};
 
@@ -716,31 +717,16 @@ pub fn general_text(n: f64) -> String {
 // ---------------------------------------------------------------------------------------
 // Dates and times
 
-/// The last serial number Excel shows as a date (9999-12-31).
-const LAST_DATE: f64 = 2_958_465.0;
-
-struct DateTime {
-    year: i64,
-    month: u32,
-    day: u32,
-    weekday: usize,
-    hour: u32,
-    minute: u32,
-    second: u32,
-    millis: u32,
-    /// Whole seconds since serial 0, for elapsed-time codes.
-    total_seconds: f64,
-}
-
 fn format_date(section: &Section, serial: f64) -> XlResult<String> {
-    if !(0.0..LAST_DATE + 1.0).contains(&serial) {
+    if !(0.0..(LAST_SERIAL + 1) as f64).contains(&serial) {
         return Err(XlError::Value);
     }
     let sub_second = section.tokens.iter().find_map(|t| match t {
         Tok::Date(DatePart::SubSecond(n)) => Some(*n),
         _ => None,
     });
-    let dt = date_time(serial, sub_second.unwrap_or(0));
+    // Rounded to the finest unit shown (whole seconds unless `.0`/`.00`/`.000`).
+    let dt = DateTime::from_serial(serial, sub_second.unwrap_or(0));
     let twelve_hour = section.tokens.iter().any(|t| matches!(t, Tok::Date(DatePart::AmPm { .. })));
     let mut out = String::new();
     for t in &section.tokens {
@@ -752,55 +738,6 @@ fn format_date(section: &Section, serial: f64) -> XlResult<String> {
         }
     }
     Ok(out)
-}
-
-fn date_time(serial: f64, sub_second_digits: usize) -> DateTime {
-    // Round to the finest unit shown (whole seconds unless `.0`/`.00`/`.000`), carrying
-    // into the next day as Excel does.
-    let unit = 10f64.powi(sub_second_digits as i32);
-    let ticks = (serial * 86_400.0 * unit).round();
-    let total_seconds = ticks / unit;
-    let days = (total_seconds / 86_400.0).floor();
-    let in_day = total_seconds - days * 86_400.0;
-    let secs = in_day.floor() as u32;
-    let millis = ((in_day - in_day.floor()) * 1000.0).round() as u32;
-    let (year, month, day) = civil_date(days as i64);
-    DateTime {
-        year,
-        month,
-        day,
-        weekday: ((days as i64 + 6) % 7) as usize,
-        hour: secs / 3600,
-        minute: secs / 60 % 60,
-        second: secs % 60,
-        millis,
-        total_seconds,
-    }
-}
-
-/// Year, month and day of a serial day number in Excel's 1900 system, which counts the
-/// non-existent 1900-02-29 as day 60 (serial 0 shows as 1900-01-00).
-fn civil_date(serial: i64) -> (i64, u32, u32) {
-    match serial {
-        0 => (1900, 1, 0),
-        1..=31 => (1900, 1, serial as u32),
-        32..=60 => (1900, 2, (serial - 31) as u32),
-        _ => days_to_civil(serial - 25_569),
-    }
-}
-
-/// Proleptic Gregorian date of a day count from 1970-01-01 (Howard Hinnant's algorithm).
-fn days_to_civil(z: i64) -> (i64, u32, u32) {
-    let z = z + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z.rem_euclid(146_097);
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let day = (doy - (153 * mp + 2) / 5 + 1) as u32;
-    let month = if mp < 10 { mp + 3 } else { mp - 9 } as u32;
-    let year = yoe + era * 400 + i64::from(month <= 2);
-    (year, month, day)
 }
 
 const MONTHS: [&str; 12] = [
@@ -822,7 +759,7 @@ const WEEKDAYS: [&str; 7] = ["Sunday", "Monday", "Tuesday", "Wednesday", "Thursd
 
 fn date_part(part: DatePart, dt: &DateTime, twelve_hour: bool) -> String {
     let month_name = MONTHS[dt.month as usize - 1];
-    let weekday = WEEKDAYS[dt.weekday];
+    let weekday = WEEKDAYS[dt.weekday as usize];
     match part {
         DatePart::Year(n) if n <= 2 => format!("{:02}", dt.year % 100),
         DatePart::Year(_) => format!("{:04}", dt.year),

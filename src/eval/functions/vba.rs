@@ -9,7 +9,7 @@
 
 use std::rc::Rc;
 
-use crate::eval::coerce::{parse_number, to_bool, to_number, to_text};
+use crate::eval::coerce::{parse_plain_number, to_bool, to_number, to_text};
 use crate::eval::evaluator::{number_result, Ctx, Operand};
 use crate::eval::number_format::general;
 use crate::eval::value::{Value, XlError, XlResult};
@@ -298,10 +298,11 @@ fn is_object(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     Ok(Value::Bool(matches!(ctx.operand(&args[0]), Operand::Ref(..))))
 }
 
+/// VBA's IsNumeric: numbers and number text; date text is not numeric there (IsDate's).
 fn is_numeric(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     Ok(Value::Bool(match ctx.eval(&args[0]).unwrap_single() {
         Value::Number(_) | Value::Bool(_) | Value::Blank => true,
-        Value::Text(t) => parse_number(&t).is_some(),
+        Value::Text(t) => parse_plain_number(&t).is_some(),
         _ => false,
     }))
 }
