@@ -12,6 +12,16 @@ use super::evaluator::{Ctx, Env};
 use super::functions::Registry;
 use super::value::Value;
 
+/// A number value (shorthand for tests).
+pub fn n(v: f64) -> Value {
+    Value::Number(v)
+}
+
+/// An error value (shorthand for tests).
+pub fn err(e: super::value::XlError) -> Value {
+    Value::Error(e)
+}
+
 #[derive(Default)]
 pub struct MapEnv {
     pub cells: BTreeMap<(u32, u32), Value>,
@@ -84,10 +94,6 @@ impl Env for MapEnv {
 mod tests {
     use super::*;
     use crate::eval::XlError;
-
-    fn n(v: f64) -> Value {
-        Value::Number(v)
-    }
 
     #[test]
     fn excel_precedence_and_associativity() {

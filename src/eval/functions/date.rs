@@ -674,15 +674,8 @@ fn workday_intl(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 #[cfg(test)]
 mod tests {
     use crate::eval::testing::MapEnv;
+    use crate::eval::testing::{err, n};
     use crate::eval::value::{Value, XlError};
-
-    fn n(v: f64) -> Value {
-        Value::Number(v)
-    }
-
-    fn err(e: XlError) -> Value {
-        Value::Error(e)
-    }
 
     /// Values from Microsoft's documentation of each function and from hand counting on a
     /// calendar.

@@ -231,12 +231,9 @@ fn maxa(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 #[cfg(test)]
 mod tests {
+    use crate::eval::testing::n;
     use crate::eval::testing::MapEnv;
     use crate::eval::value::{Value, XlError};
-
-    fn n(v: f64) -> Value {
-        Value::Number(v)
-    }
 
     /// A1:A5 = 1, 2, TRUE, "x", 5 (A6 blank); B1:B3 = 1e9+0.1, 1e9+0.2, 1e9+0.3.
     fn env() -> MapEnv {

@@ -359,12 +359,9 @@ pub fn as_lambda(e: &Expr) -> Option<Lambda<'_>> {
 
 #[cfg(test)]
 mod tests {
+    use crate::eval::testing::n;
     use crate::eval::testing::MapEnv;
     use crate::eval::{Array, Value, XlError};
-
-    fn n(v: f64) -> Value {
-        Value::Number(v)
-    }
 
     fn env() -> MapEnv {
         MapEnv::with(&[

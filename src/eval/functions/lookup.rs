@@ -721,12 +721,9 @@ fn dimensions(ctx: &mut Ctx, e: &Expr) -> XlResult<(usize, usize)> {
 
 #[cfg(test)]
 mod tests {
+    use crate::eval::testing::n;
     use crate::eval::testing::MapEnv;
     use crate::eval::{Array, Value, XlError};
-
-    fn n(v: f64) -> Value {
-        Value::Number(v)
-    }
 
     fn t(s: &str) -> Value {
         Value::text(s)

@@ -657,15 +657,8 @@ fn sequence(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 #[cfg(test)]
 mod tests {
     use crate::eval::testing::MapEnv;
+    use crate::eval::testing::{err, n};
     use crate::eval::value::{Value, XlError};
-
-    fn n(v: f64) -> Value {
-        Value::Number(v)
-    }
-
-    fn err(e: XlError) -> Value {
-        Value::Error(e)
-    }
 
     /// Evaluates each formula against no cells and checks the result.
     fn check(cases: &[(&str, Value)]) {

@@ -330,15 +330,8 @@ fn mode_mult(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 #[cfg(test)]
 mod tests {
     use crate::eval::testing::MapEnv;
+    use crate::eval::testing::{err, n};
     use crate::eval::value::{Value, XlError};
-
-    fn n(v: f64) -> Value {
-        Value::Number(v)
-    }
-
-    fn err(e: XlError) -> Value {
-        Value::Error(e)
-    }
 
     /// A1:A10 = 1..10; B1:B8 = 65, 70, 66, 65, 72, 37, 89, 70; C1:C3 = TRUE, "x", 3.
     fn env() -> MapEnv {

@@ -315,15 +315,8 @@ fn maxifs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 #[cfg(test)]
 mod tests {
     use crate::eval::testing::MapEnv;
+    use crate::eval::testing::{err, n};
     use crate::eval::value::{Value, XlError};
-
-    fn n(v: f64) -> Value {
-        Value::Number(v)
-    }
-
-    fn err(e: XlError) -> Value {
-        Value::Error(e)
-    }
 
     /// A1:A6 = 1, "2", TRUE, 4, "x", (blank); B1:B6 = 10..60; C1:C3 = "apple", "Banana", "".
     fn env() -> MapEnv {

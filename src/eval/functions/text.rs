@@ -564,15 +564,12 @@ fn first_char(v: &Value) -> XlResult<char> {
 
 #[cfg(test)]
 mod tests {
+    use crate::eval::testing::n;
     use crate::eval::testing::MapEnv;
     use crate::eval::{Array, Value, XlError};
 
     fn t(s: &str) -> Value {
         Value::text(s)
-    }
-
-    fn n(v: f64) -> Value {
-        Value::Number(v)
     }
 
     fn env() -> MapEnv {
