@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod corpus;
+pub mod excel_oracle;
 pub mod rs274;
 pub mod xlsx;
 
