@@ -6,15 +6,20 @@ use std::path::PathBuf;
 /// The corpus folder, or `None` (with a message) on a machine without it. On CI (`CI` set)
 /// a missing corpus is a failure, so a green run always means the comparison ran.
 pub fn root() -> Option<PathBuf> {
-    let path = std::env::var_os("NCSHEET_EXCEL_CORPUS")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/excel-corpus/ironcalc")));
+    let path = path();
     if path.is_dir() {
         return Some(path);
     }
     assert!(std::env::var_os("CI").is_none(), "Excel corpus not found at {}", path.display());
     eprintln!("skipped: Excel corpus not found at {}", path.display());
     None
+}
+
+/// Where the corpus should be, whether or not it is there.
+pub fn path() -> PathBuf {
+    std::env::var_os("NCSHEET_EXCEL_CORPUS")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/excel-corpus/ironcalc")))
 }
 
 /// Files the corpus README lists as not produced by Excel (relative to [`root`]): their

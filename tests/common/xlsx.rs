@@ -15,8 +15,10 @@ use ncsheet::workbook::Workbook;
 
 const VOLATILE: &[&str] = &["NOW", "TODAY", "RAND", "RANDBETWEEN", "RANDARRAY"];
 
+/// The corpus, which these tests always need (see `corpus::root` for the tests that may
+/// skip without it).
 pub fn corpus_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/excel-corpus/ironcalc")
+    super::corpus::path()
 }
 
 pub fn workbooks(dir: &Path, out: &mut Vec<PathBuf>) {
