@@ -239,8 +239,8 @@ impl SheetScanner {
             b"f" | b"v" | b"t" | b"is" | b"rPh" if self.in_cell => self.cell_part(tag)?,
             b"row" if opens => {
                 if let Some(r) = tag.attr("r") {
-                    let r = parse_u32(r).filter(|r| (1..=MAX_ROWS).contains(r));
-                    self.row = r.ok_or_else(|| self.damaged("has a row number off the sheet"))? - 1;
+                    let number = parse_u32(r).filter(|n| (1..=MAX_ROWS).contains(n));
+                    self.row = number.ok_or_else(|| bad_row(r))? - 1;
                 }
                 self.col = 0;
             }
@@ -263,6 +263,9 @@ impl SheetScanner {
     }
 
     fn open_cell(&mut self, tag: &Tag) -> Result<(), ScanError> {
+        if self.in_cell {
+            return Err(self.damaged("holds another cell"));
+        }
         self.cell.reset();
         let mut pos = Pos::new(self.row, self.col);
         let mut style = 0;
@@ -421,6 +424,11 @@ fn cell_name(pos: Pos) -> String {
 fn bad_reference(value: &[u8]) -> ScanError {
     let text = String::from_utf8_lossy(value);
     (ErrorKind::Damaged, format!("a cell's reference '{text}' is not a cell of the sheet"))
+}
+
+fn bad_row(value: &[u8]) -> ScanError {
+    let text = String::from_utf8_lossy(value);
+    (ErrorKind::Damaged, format!("a row's number '{text}' is not a row of the sheet"))
 }
 
 fn cell_type(value: &[u8]) -> Result<CellType, ScanError> {
@@ -681,6 +689,10 @@ mod tests {
         assert_eq!(bad_string, "cell B1: shared string '7' is not in the table (2 strings)");
         let off = cells(&sheet(r#"<row r="1"><c r="A1048577"><v>1</v></c></row>"#)).unwrap_err();
         assert_eq!(off, "a cell's reference 'A1048577' is not a cell of the sheet");
+        let row = cells(&sheet(r#"<row r="0"><c><v>1</v></c></row>"#)).unwrap_err();
+        assert_eq!(row, "a row's number '0' is not a row of the sheet");
+        let nested = cells(&sheet(r#"<row r="1"><c r="A1"><c r="B1"/></c></row>"#)).unwrap_err();
+        assert_eq!(nested, "cell A1 holds another cell");
         let cut = cells(r#"<worksheet><sheetData><row r="1"><c r="A1"><v>1</v>"#).unwrap_err();
         assert!(cut.contains("the part ends inside <c>"), "{cut}");
     }
