@@ -98,8 +98,9 @@ fn round15_in_integers(a: f64) -> Option<f64> {
             e -= 1;
         } else {
             let round_up = rest == Ordering::Greater || (rest == Ordering::Equal && int % 2 == 1);
-            // At most 10^15 (999…9 rounded up), so exact as a double.
-            let digits = (int + u128::from(round_up)) as f64;
+            // At most 10^15 (999…9 rounded up), so exact as a double; converted from 64 bits,
+            // one instruction where a 128-bit integer takes a library call.
+            let digits = (int as u64 + u64::from(round_up)) as f64;
             return Some(if e <= 14 {
                 digits / POW10_F64[(14 - e) as usize]
             } else {
