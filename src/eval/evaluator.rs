@@ -115,10 +115,12 @@ impl<'a> Ctx<'a> {
             ExprKind::Error(err) => Value::Error(*err),
             ExprKind::Missing => Value::Blank,
             // One cell of this sheet, the commonest reference, read without building a range.
-            ExprKind::Ref(Reference { sheet: SheetRef::Current, shape: RefShape::Cell(c) }) => match self.cell_here(c) {
-                Some(pos) => self.env.value(self.sheet, pos),
-                None => Value::Error(XlError::Ref),
-            },
+            ExprKind::Ref(Reference { sheet: SheetRef::Current, shape: RefShape::Cell(c) }) => {
+                match self.cell_here(c) {
+                    Some(pos) => self.env.value(self.sheet, pos),
+                    None => Value::Error(XlError::Ref),
+                }
+            }
             ExprKind::Ref(r) => match self.resolve(r) {
                 Ok((sheet, rect)) => self.rect_value(sheet, rect),
                 Err(err) => Value::Error(err),
@@ -163,7 +165,7 @@ impl<'a> Ctx<'a> {
     /// first: a number in registers costs a fraction of building and copying a `Value`, and
     /// `A1+1` is most of what a long chain of formulas evaluates.
     #[inline]
-    fn leaf_number(&self, e: &Expr) -> Option<f64> {
+    pub fn leaf_number(&self, e: &Expr) -> Option<f64> {
         match &e.kind {
             ExprKind::Number(n) => Some(self.literal(e, *n)),
             ExprKind::Ref(Reference { sheet: SheetRef::Current, shape: RefShape::Cell(c) }) => {
