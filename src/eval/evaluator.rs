@@ -132,13 +132,14 @@ impl<'a> Ctx<'a> {
                 let operand = self.operand(e);
                 self.deref(operand)
             }
-            ExprKind::Binary(op, a, b) => {
-                if let (Some(x), Some(y)) = (self.leaf_number(a), self.leaf_number(b)) {
-                    return scalar_binary_numbers(*op, x, y);
+            ExprKind::Binary(op, a, b) => match (self.leaf_number(a), self.leaf_number(b)) {
+                (Some(x), Some(y)) => scalar_binary_numbers(*op, x, y),
+                (x, y) => {
+                    let a = x.map_or_else(|| self.eval(a), Value::Number);
+                    let b = y.map_or_else(|| self.eval(b), Value::Number);
+                    binary(*op, &a, &b)
                 }
-                let (a, b) = (self.eval(a), self.eval(b));
-                binary(*op, &a, &b)
-            }
+            },
             ExprKind::Call(id, args) => self.call(*id, args),
             ExprKind::UnknownCall(name, args) => self.call_defined_lambda(name, args),
         }
