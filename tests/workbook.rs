@@ -204,3 +204,68 @@ fn volatile_cells_recalculate_at_every_edit() {
     set(&mut wb, "B1", "2");
     assert_eq!(get(&wb, "A2"), n(432_000.0));
 }
+
+/// Operators and one- or two-number functions read number operands without building values;
+/// every other kind of operand must still follow Excel's coercions.
+#[test]
+fn operands_of_every_kind_in_arithmetic_and_number_functions() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, "A1", "2");
+    set(&mut wb, "A2", "'3");
+    set(&mut wb, "A3", "TRUE");
+    // A4 stays empty.
+    set(&mut wb, "A5", "x");
+    set(&mut wb, "A6", "=1/0");
+    set(&mut wb, "A7", "1E+308");
+    let cases: &[(&str, Value)] = &[
+        ("=A1+1", n(3.0)),
+        ("=A2+1", n(4.0)),
+        ("=A3+1", n(2.0)),
+        ("=A4+1", n(1.0)),
+        ("=A5+1", Value::Error(XlError::Value)),
+        ("=A6+1", Value::Error(XlError::Div0)),
+        ("=A7*10", Value::Error(XlError::Num)),
+        ("=A1/A4", Value::Error(XlError::Div0)),
+        ("=A1&A1", Value::text("22")),
+        ("=A1>A4", Value::Bool(true)),
+        ("=A1=2", Value::Bool(true)),
+        ("=ZZ1048576+A1", n(2.0)),
+        ("=SQRT(A1+2)", n(2.0)),
+        ("=SIN(A4)", n(0.0)),
+        ("=ABS(A5)", Value::Error(XlError::Value)),
+        ("=ABS(A6)", Value::Error(XlError::Div0)),
+        ("=ROUND(A1/3,A4)", n(1.0)),
+        ("=ROUND(2.5,)", n(3.0)),
+        ("=ROUND(A1/3,2)", n(0.67)),
+        ("=ROUND(A5,1)", Value::Error(XlError::Value)),
+        ("=ROUND(A1,A6)", Value::Error(XlError::Div0)),
+    ];
+    for (i, (formula, want)) in cases.iter().enumerate() {
+        let cell = format!("C{}", i + 1);
+        set(&mut wb, &cell, formula);
+        assert_eq!(&get(&wb, &cell), want, "{formula}");
+    }
+}
+
+/// Formulas that differ only in their numbers share one tree, each reading its own numbers.
+#[test]
+fn formulas_differing_in_numbers_read_their_own() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, "A1", "2");
+    set(&mut wb, "B1", "=$A$1*7+1");
+    set(&mut wb, "B2", "=$A$1*8+1");
+    set(&mut wb, "C1", "=ROUND($A$1/3,2)");
+    set(&mut wb, "C2", "=ROUND($A$1/3,3)");
+    set(&mut wb, "D1", "=SQRT($A$1*8)");
+    set(&mut wb, "D2", "=SQRT($A$1*18)");
+    assert_eq!(get(&wb, "B1"), n(15.0));
+    assert_eq!(get(&wb, "B2"), n(17.0));
+    assert_eq!(get(&wb, "C1"), n(0.67));
+    assert_eq!(get(&wb, "C2"), n(0.667));
+    assert_eq!(get(&wb, "D1"), n(4.0));
+    assert_eq!(get(&wb, "D2"), n(6.0));
+    set(&mut wb, "A1", "4.5");
+    assert_eq!(get(&wb, "B2"), n(37.0));
+    assert_eq!(get(&wb, "C2"), n(1.5));
+    assert_eq!(get(&wb, "D2"), n(9.0));
+}

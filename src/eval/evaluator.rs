@@ -16,6 +16,15 @@ pub trait Env {
     /// The value of one cell (blank when empty or off the sheet).
     fn value(&self, sheet: SheetId, pos: Pos) -> Value;
 
+    /// The cell's number, `None` when it holds anything else: arithmetic reads its operands
+    /// through this, in registers, before falling back to [`Env::value`].
+    fn number(&self, sheet: SheetId, pos: Pos) -> Option<f64> {
+        match self.value(sheet, pos) {
+            Value::Number(n) => Some(n),
+            _ => None,
+        }
+    }
+
     /// Calls `f` for every non-blank cell in `rect`, row by row (Excel's order: it decides
     /// which error a SUM reports and the rounding of long sums).
     fn for_each_value(&self, sheet: SheetId, rect: Rect, f: &mut dyn FnMut(Pos, &Value));
@@ -100,20 +109,16 @@ impl<'a> Ctx<'a> {
     /// Evaluates to a value: a multi-cell reference becomes an array, a single cell its value.
     pub fn eval(&mut self, e: &Expr) -> Value {
         match &e.kind {
-            ExprKind::Number(n) if self.numbers.is_empty() => Value::Number(*n),
-            ExprKind::Number(n) => {
-                let own = self.numbers.iter().find(|&&(node, _)| std::ptr::eq(node, e));
-                Value::Number(own.map_or(*n, |&(_, v)| v))
-            }
+            ExprKind::Number(n) => Value::Number(self.literal(e, *n)),
             ExprKind::Text(s) => Value::Text(s.clone()),
             ExprKind::Bool(b) => Value::Bool(*b),
             ExprKind::Error(err) => Value::Error(*err),
             ExprKind::Missing => Value::Blank,
             // One cell of this sheet, the commonest reference, read without building a range.
             ExprKind::Ref(Reference { sheet: SheetRef::Current, shape: RefShape::Cell(c) }) => {
-                match (c.row.resolve(self.at.row, MAX_ROWS), c.col.resolve(self.at.col, MAX_COLS)) {
-                    (Some(row), Some(col)) => self.env.value(self.sheet, Pos::new(row, col)),
-                    _ => Value::Error(XlError::Ref),
+                match self.cell_here(c) {
+                    Some(pos) => self.env.value(self.sheet, pos),
+                    None => Value::Error(XlError::Ref),
                 }
             }
             ExprKind::Ref(r) => match self.resolve(r) {
@@ -127,12 +132,47 @@ impl<'a> Ctx<'a> {
                 let operand = self.operand(e);
                 self.deref(operand)
             }
-            ExprKind::Binary(op, a, b) => {
-                let (a, b) = (self.eval(a), self.eval(b));
-                binary(*op, &a, &b)
-            }
+            ExprKind::Binary(op, a, b) => match (self.leaf_number(a), self.leaf_number(b)) {
+                (Some(x), Some(y)) => scalar_binary_numbers(*op, x, y),
+                (x, y) => {
+                    let a = x.map_or_else(|| self.eval(a), Value::Number);
+                    let b = y.map_or_else(|| self.eval(b), Value::Number);
+                    binary(*op, &a, &b)
+                }
+            },
             ExprKind::Call(id, args) => self.call(*id, args),
             ExprKind::UnknownCall(name, args) => self.call_defined_lambda(name, args),
+        }
+    }
+
+    /// A number literal's value: its own, or this formula's in place of a shared tree's.
+    #[inline]
+    fn literal(&self, e: &Expr, n: f64) -> f64 {
+        if self.numbers.is_empty() {
+            return n;
+        }
+        let own = self.numbers.iter().find(|&&(node, _)| std::ptr::eq(node, e));
+        own.map_or(n, |&(_, v)| v)
+    }
+
+    /// Where a one-cell reference relative to this formula's cell points, if on the sheet.
+    #[inline]
+    fn cell_here(&self, c: &CellCoord) -> Option<Pos> {
+        Some(Pos::new(c.row.resolve(self.at.row, MAX_ROWS)?, c.col.resolve(self.at.col, MAX_COLS)?))
+    }
+
+    /// The number a leaf holds, a literal or a cell of this sheet holding a number; `None`
+    /// for anything else, left to [`Ctx::eval`]. Arithmetic reads its operands through this
+    /// first: a number in registers costs a fraction of building and copying a `Value`, and
+    /// `A1+1` is most of what a long chain of formulas evaluates.
+    #[inline]
+    pub fn leaf_number(&self, e: &Expr) -> Option<f64> {
+        match &e.kind {
+            ExprKind::Number(n) => Some(self.literal(e, *n)),
+            ExprKind::Ref(Reference { sheet: SheetRef::Current, shape: RefShape::Cell(c) }) => {
+                self.env.number(self.sheet, self.cell_here(c)?)
+            }
+            _ => None,
         }
     }
 

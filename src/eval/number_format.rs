@@ -1,5 +1,7 @@
 //! Numbers as Excel turns them into text: 15 significant digits, no trailing zeros.
 
+use std::cmp::Ordering;
+
 /// Excel's "General" text of a number, as `=A1&""` produces it: 15 significant digits,
 /// positional notation for moderate magnitudes, `1.5E+20` style otherwise.
 pub fn general(n: f64) -> String {
@@ -30,11 +32,107 @@ pub fn significant_digits(n: f64, precision: usize) -> (String, i32) {
 }
 
 /// Rounds to 15 significant digits, the precision Excel keeps when it shows or compares.
+///
+/// The result is the double nearest to the 15-digit decimal nearest to `n` (a tie goes to
+/// the even digit): exactly what printing `n` with `{:.14e}` and parsing it back gives, but
+/// without the text for magnitudes from 10^-8 to 10^37 (ROUND calls this twice per cell).
+/// Other magnitudes go through the text.
 pub fn round15(n: f64) -> f64 {
     if n == 0.0 || !n.is_finite() {
         return n;
     }
+    match round15_in_integers(n.abs()) {
+        Some(r) => r.copysign(n),
+        None => round15_by_text(n),
+    }
+}
+
+/// The 15 significant digits by printing and parsing back: the definition, used outside the
+/// range [`round15_in_integers`] covers.
+fn round15_by_text(n: f64) -> f64 {
     format!("{n:.14e}").parse().unwrap_or(n)
+}
+
+/// Powers of ten that are exact doubles (10^22 is the last).
+const POW10_F64: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20,
+    1e21, 1e22,
+];
+
+/// `10^k` for `k <= 22`, as integers.
+const POW10_INT: [u128; 23] = {
+    let mut t = [1u128; 23];
+    let mut k = 1;
+    while k < 23 {
+        t[k] = t[k - 1] * 10;
+        k += 1;
+    }
+    t
+};
+
+const FIFTEEN_DIGITS: std::ops::Range<u128> = POW10_INT[14]..POW10_INT[15];
+
+/// [`round15`] of a positive `a`, or `None` outside the range it handles.
+///
+/// With `a = m·2^q` exactly and `e` its decimal exponent, the 15 digits are the integer
+/// nearest to `a / 10^(e-14)`, which is computed exactly in 128-bit integers. The digits
+/// times `10^(e-14)` is then one multiplication or division of two exact doubles (the
+/// digits are below 2^53 and the power of ten at most 10^22), which IEEE arithmetic rounds
+/// correctly, as the parser does: the same double as the text round trip.
+fn round15_in_integers(a: f64) -> Option<f64> {
+    let bits = a.to_bits();
+    let biased_exp = (bits >> 52) as i32;
+    if biased_exp == 0 {
+        return None; // subnormal
+    }
+    let m = (bits & ((1 << 52) - 1)) | (1 << 52);
+    let q = biased_exp - 1075;
+    // a lies in [2^(q+52), 2^(q+53)), so its decimal exponent is this or one more; the
+    // exponents handled are -8 to 36 (powers of ten up to 10^22 either way).
+    let mut e = ((f64::from(q + 52) * std::f64::consts::LOG10_2).floor() as i32).clamp(-8, 36);
+    for _ in 0..3 {
+        let (int, rest) = scaled_by_pow10(m, q, 14 - e)?;
+        if int >= FIFTEEN_DIGITS.end {
+            e += 1;
+        } else if int < FIFTEEN_DIGITS.start {
+            e -= 1;
+        } else {
+            let round_up = rest == Ordering::Greater || (rest == Ordering::Equal && int % 2 == 1);
+            // At most 10^15 (999…9 rounded up), so exact as a double; converted from 64 bits,
+            // one instruction where a 128-bit integer takes a library call.
+            let digits = (int as u64 + u64::from(round_up)) as f64;
+            return Some(if e <= 14 {
+                digits / POW10_F64[(14 - e) as usize]
+            } else {
+                digits * POW10_F64[(e - 14) as usize]
+            });
+        }
+    }
+    None
+}
+
+/// `m·2^q·10^k` split into its integer part and how the fraction compares with one half;
+/// `None` when `|k|` is over 22 or a term would not fit in 128 bits.
+fn scaled_by_pow10(m: u64, q: i32, k: i32) -> Option<(u128, Ordering)> {
+    let pow = *POW10_INT.get(k.unsigned_abs() as usize)?;
+    let (mut num, mut den) = if k >= 0 { (u128::from(m) * pow, 1) } else { (u128::from(m), pow) };
+    let shift = q.unsigned_abs();
+    if q >= 0 {
+        num = shifted_left(num, shift)?;
+    } else if k >= 0 && shift < 128 {
+        // The usual case (|a| below 2^52, at least 1e-8): a division by a power of two.
+        let rest = num & ((1 << shift) - 1);
+        return Some((num >> shift, rest.cmp(&(1 << (shift - 1)))));
+    } else {
+        den = shifted_left(den, shift)?;
+    }
+    let rest = num % den;
+    Some((num / den, rest.cmp(&(den - rest))))
+}
+
+/// `x·2^shift`, or `None` when it would not fit.
+fn shifted_left(x: u128, shift: u32) -> Option<u128> {
+    (shift < x.leading_zeros()).then(|| x << shift)
 }
 
 fn positional(digits: &str, exp: i32) -> String {
@@ -70,5 +168,155 @@ mod tests {
         assert_eq!(general(-44.262741699796952), "-44.262741699797");
         assert_eq!(general(1.5e-11), "1.5E-11");
         assert_eq!(general(100.0), "100");
+    }
+
+    /// The definition `round15` must agree with bit for bit: the original text round trip.
+    fn round15_reference(n: f64) -> f64 {
+        if n == 0.0 || !n.is_finite() {
+            return n;
+        }
+        format!("{n:.14e}").parse().unwrap_or(n)
+    }
+
+    fn assert_same_as_reference(n: f64) {
+        let (fast, text) = (round15(n), round15_reference(n));
+        assert_eq!(fast.to_bits(), text.to_bits(), "round15({n:e}) = {fast:e}, the text round trip gives {text:e}");
+    }
+
+    #[test]
+    fn fifteen_significant_digits_as_excel_keeps_them() {
+        // Excel shows and compares these on 15 significant digits.
+        assert_eq!(round15(0.1 + 0.2), 0.3);
+        assert_eq!(round15(1.0 / 3.0 * 3.0), 1.0);
+        assert_eq!(round15(1.0 - 0.9), 0.1);
+        assert_eq!(round15(0.1 * 3.0), 0.3);
+        assert_eq!(round15(2.0 / 3.0), 0.666666666666667);
+        assert_eq!(round15(-2.0 / 3.0), -0.666666666666667);
+        assert_eq!(round15(1.0 / 3.0), 0.333333333333333);
+        assert_eq!(round15(-44.262741699796952), -44.262741699797);
+        assert_eq!(round15(123456789012345678.0), 123456789012346000.0);
+        assert_eq!(round15(1e15 + 0.3), 1e15);
+        assert_eq!(round15(2.675), 2.675);
+        assert_eq!(round15(1.5e-11), 1.5e-11);
+        assert_eq!(round15(1e300 / 3.0), 3.33333333333333e299);
+        // 999999999999999.9 has 16 digits: rounding carries into a 16th place.
+        assert_eq!(round15(999999999999999.9), 1e15);
+        // Halves of the 15th digit go to the even digit (exact binary values, so true ties).
+        assert_eq!(round15(123456789012345.5), 123456789012346.0);
+        assert_eq!(round15(123456789012344.5), 123456789012344.0);
+        assert_eq!(round15(1000000000000005.0), 1000000000000000.0);
+        assert_eq!(round15(1000000000000015.0), 1000000000000020.0);
+        for n in [0.0, -0.0, f64::INFINITY, f64::NEG_INFINITY] {
+            assert_eq!(round15(n).to_bits(), n.to_bits());
+        }
+        assert!(round15(f64::NAN).is_nan());
+    }
+
+    #[test]
+    fn round15_agrees_with_the_text_round_trip_at_the_edges() {
+        let mut edges = vec![
+            f64::MIN_POSITIVE,
+            f64::MAX,
+            f64::from_bits(1),
+            f64::from_bits((1 << 52) - 1),
+            f64::EPSILON,
+            2f64.powi(52),
+            2f64.powi(53),
+            2f64.powi(53) - 1.0,
+            2f64.powi(127),
+            2f64.powi(-75),
+            0.5,
+            1.0,
+        ];
+        // Around every power of ten and the ends of the integer range.
+        for p in -325..=308 {
+            let ten: f64 = format!("1e{p}").parse().unwrap();
+            for step in -4i64..=4 {
+                edges.push(f64::from_bits((ten.to_bits() as i64 + step).max(0) as u64));
+            }
+        }
+        for n in edges {
+            assert_same_as_reference(n);
+            assert_same_as_reference(-n);
+        }
+    }
+
+    #[test]
+    fn round15_needs_no_text_for_moderate_magnitudes() {
+        for n in [
+            1.0000001e-8,
+            1.1e-8,
+            1e-7,
+            0.1 + 0.2,
+            2.675,
+            1.0,
+            123456.789,
+            999999999999999.9,
+            1e15,
+            4.5e15,
+            1e20,
+            9.9e36,
+            9.999999e36,
+        ] {
+            assert!(round15_in_integers(n).is_some(), "{n:e}");
+        }
+    }
+
+    /// A double from a sign, a binary exponent and 52 mantissa bits (normal numbers only).
+    fn normal(negative: bool, exp: i32, mantissa: u64) -> f64 {
+        let bits = (u64::from(negative) << 63) | (((exp + 1023) as u64) << 52) | (mantissa & ((1 << 52) - 1));
+        f64::from_bits(bits)
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(20_000))]
+
+        #[test]
+        fn round15_agrees_for_any_bits(bits: u64) {
+            assert_same_as_reference(f64::from_bits(bits));
+        }
+
+        #[test]
+        fn round15_agrees_across_the_integer_range(negative: bool, exp in -40i32..130, mantissa: u64) {
+            assert_same_as_reference(normal(negative, exp, mantissa));
+        }
+
+        #[test]
+        fn round15_agrees_on_subnormals(mantissa in 1u64..(1 << 52)) {
+            assert_same_as_reference(f64::from_bits(mantissa));
+        }
+
+        #[test]
+        fn round15_agrees_on_decimals(k in -10_000_000i64..10_000_000, d in 0i32..=25) {
+            let k = k as f64;
+            assert_same_as_reference(k / 1000.0);
+            assert_same_as_reference(k / 10f64.powi(d));
+            assert_same_as_reference(k * 10f64.powi(d));
+        }
+
+        #[test]
+        fn round15_agrees_on_sums_and_products_of_decimals(
+            a in -100_000i64..100_000, b in -100_000i64..100_000, da in 0i32..8, db in 0i32..8,
+        ) {
+            let (x, y) = (a as f64 / 10f64.powi(da), b as f64 / 10f64.powi(db));
+            for n in [x + y, x - y, x * y, x / y, (x + y) * 3.0, x * 0.1 + y * 0.2] {
+                assert_same_as_reference(n);
+            }
+        }
+
+        #[test]
+        fn round15_agrees_around_1e15(x in -1e6f64..1e6, ulps in -1000i64..1000) {
+            assert_same_as_reference(1e15 + x);
+            assert_same_as_reference(1e15 - x.abs());
+            assert_same_as_reference(f64::from_bits((1e15f64.to_bits() as i64 + ulps) as u64));
+            assert_same_as_reference(f64::from_bits((1e14f64.to_bits() as i64 + ulps) as u64));
+        }
+
+        /// Halfway between two 15-digit decimals, and the doubles next to it.
+        #[test]
+        fn round15_agrees_near_ties(digits in 100_000_000_000_000u64..1_000_000_000_000_000, exp in -30i32..45, ulps in -2i64..=2) {
+            let tie: f64 = format!("{digits}5e{exp}").parse().unwrap();
+            assert_same_as_reference(f64::from_bits((tie.to_bits() as i64 + ulps) as u64));
+        }
     }
 }

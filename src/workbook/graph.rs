@@ -63,14 +63,15 @@ impl FxHasher {
 pub type FxMap<K, V> = HashMap<K, V, BuildHasherDefault<FxHasher>>;
 
 /// The formula cells that read a cell or a range. Most cells have one to three, so those
-/// are stored inline (in the 16 bytes the boxed case needs anyway).
+/// are stored inline (in the 16 bytes the boxed case needs anyway), as arrays so that every
+/// case reads as a slice.
 #[derive(Clone, Debug, Default)]
 pub enum Deps {
     #[default]
     None,
-    One(u32),
-    Two(u32, u32),
-    Three(u32, u32, u32),
+    One([u32; 1]),
+    Two([u32; 2]),
+    Three([u32; 3]),
     // Boxed so that the enum stays 16 bytes: most cells never need the vector.
     #[allow(clippy::box_collection)]
     Many(Box<Vec<u32>>),
@@ -79,10 +80,10 @@ pub enum Deps {
 impl Deps {
     pub fn push(&mut self, id: u32) {
         *self = match std::mem::take(self) {
-            Deps::None => Deps::One(id),
-            Deps::One(a) => Deps::Two(a, id),
-            Deps::Two(a, b) => Deps::Three(a, b, id),
-            Deps::Three(a, b, c) => Deps::Many(Box::new(vec![a, b, c, id])),
+            Deps::None => Deps::One([id]),
+            Deps::One([a]) => Deps::Two([a, id]),
+            Deps::Two([a, b]) => Deps::Three([a, b, id]),
+            Deps::Three([a, b, c]) => Deps::Many(Box::new(vec![a, b, c, id])),
             Deps::Many(mut v) => {
                 v.push(id);
                 Deps::Many(v)
@@ -93,18 +94,18 @@ impl Deps {
     /// Removes one occurrence of `id`.
     pub fn remove(&mut self, id: u32) {
         *self = match std::mem::take(self) {
-            Deps::One(a) if a == id => Deps::None,
-            Deps::Two(a, b) if a == id => Deps::One(b),
-            Deps::Two(a, b) if b == id => Deps::One(a),
-            Deps::Three(a, b, c) if a == id => Deps::Two(b, c),
-            Deps::Three(a, b, c) if b == id => Deps::Two(a, c),
-            Deps::Three(a, b, c) if c == id => Deps::Two(a, b),
+            Deps::One([a]) if a == id => Deps::None,
+            Deps::Two([a, b]) if a == id => Deps::One([b]),
+            Deps::Two([a, b]) if b == id => Deps::One([a]),
+            Deps::Three([a, b, c]) if a == id => Deps::Two([b, c]),
+            Deps::Three([a, b, c]) if b == id => Deps::Two([a, c]),
+            Deps::Three([a, b, c]) if c == id => Deps::Two([a, b]),
             Deps::Many(mut v) => {
                 if let Some(i) = v.iter().position(|&x| x == id) {
                     v.swap_remove(i);
                 }
                 match v.as_slice() {
-                    [a, b, c] => Deps::Three(*a, *b, *c),
+                    [a, b, c] => Deps::Three([*a, *b, *c]),
                     _ => Deps::Many(v),
                 }
             }
@@ -112,20 +113,16 @@ impl Deps {
         }
     }
 
-    pub fn for_each(&self, mut f: impl FnMut(u32)) {
+    /// The dependents, in no particular order. A slice rather than a callback, so that the
+    /// recalculation's search loops over it inline.
+    #[inline]
+    pub fn as_slice(&self) -> &[u32] {
         match self {
-            Deps::None => {}
-            Deps::One(a) => f(*a),
-            Deps::Two(a, b) => {
-                f(*a);
-                f(*b)
-            }
-            Deps::Three(a, b, c) => {
-                f(*a);
-                f(*b);
-                f(*c)
-            }
-            Deps::Many(v) => v.iter().copied().for_each(f),
+            Deps::None => &[],
+            Deps::One(ids) => ids,
+            Deps::Two(ids) => ids,
+            Deps::Three(ids) => ids,
+            Deps::Many(ids) => ids,
         }
     }
 
@@ -216,8 +213,7 @@ mod tests {
         }
         d.remove(2);
         d.remove(0);
-        let mut seen = Vec::new();
-        d.for_each(|x| seen.push(x));
+        let mut seen = d.as_slice().to_vec();
         seen.sort();
         assert_eq!(seen, vec![1, 3, 4]);
         for n in 0..6u32 {
@@ -225,8 +221,7 @@ mod tests {
                 let mut d = Deps::None;
                 (0..n).for_each(|i| d.push(i));
                 d.remove(gone);
-                let mut seen = Vec::new();
-                d.for_each(|x| seen.push(x));
+                let mut seen = d.as_slice().to_vec();
                 seen.sort();
                 assert_eq!(seen, (0..n).filter(|&i| i != gone).collect::<Vec<_>>());
             }

@@ -594,6 +594,15 @@ impl Env for Workbook {
         }
     }
 
+    #[inline]
+    fn number(&self, sheet: SheetId, pos: Pos) -> Option<f64> {
+        let id = self.sheets.get(sheet as usize)?.get(pos)?;
+        match self.cells[id as usize].value {
+            Value::Number(n) => Some(n),
+            _ => None,
+        }
+    }
+
     fn for_each_value(&self, sheet: SheetId, rect: Rect, f: &mut dyn FnMut(Pos, &Value)) {
         if let Some(s) = self.sheets.get(sheet as usize) {
             s.for_each_in(rect, &mut |p, id| {

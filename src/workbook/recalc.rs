@@ -193,10 +193,14 @@ impl Workbook {
                     _ => cycle = true,
                 };
                 if node & RANGE_BIT != 0 {
-                    ranges.nodes[(node & !RANGE_BIT) as usize].dependents.for_each(&mut push);
+                    for &next in ranges.nodes[(node & !RANGE_BIT) as usize].dependents.as_slice() {
+                        push(next);
+                    }
                 } else {
                     let cell = &cells[node as usize];
-                    cell.dependents.for_each(&mut push);
+                    for &next in cell.dependents.as_slice() {
+                        push(next);
+                    }
                     if with_ranges {
                         ranges.containing(cell.sheet, cell.pos, |r| push(r | RANGE_BIT));
                     }
@@ -347,11 +351,11 @@ impl Workbook {
     /// range's dependents.
     fn successors(&self, node: u32, out: &mut Vec<u32>) {
         if node & RANGE_BIT != 0 {
-            self.ranges.nodes[(node & !RANGE_BIT) as usize].dependents.for_each(|d| out.push(d));
+            out.extend_from_slice(self.ranges.nodes[(node & !RANGE_BIT) as usize].dependents.as_slice());
             return;
         }
         let cell = &self.cells[node as usize];
-        cell.dependents.for_each(|d| out.push(d));
+        out.extend_from_slice(cell.dependents.as_slice());
         self.ranges.containing(cell.sheet, cell.pos, |r| out.push(r | RANGE_BIT));
     }
 

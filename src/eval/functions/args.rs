@@ -6,7 +6,7 @@ use std::rc::Rc;
 use crate::formula::ast::{Expr, ExprKind};
 
 use crate::eval::coerce::{to_bool, to_number, to_text};
-use crate::eval::evaluator::{Ctx, Operand};
+use crate::eval::evaluator::{number_result, Ctx, Operand};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 
 /// Where a value came from, which decides how aggregates treat text and booleans.
@@ -85,21 +85,35 @@ pub fn lift_values(values: &[Value], f: &dyn Fn(&[Value]) -> XlResult<Value>) ->
 /// The arguments sit in a stack array, not a `Vec`: a scalar call allocates nothing (surface
 /// equations call these a million times).
 pub fn lift_number1(ctx: &mut Ctx, args: &[Expr], f: fn(f64) -> XlResult<f64>) -> XlResult<Value> {
-    lift_values(&[ctx.eval(&args[0])], &|v| {
+    // A number, the usual case, needs no lifting.
+    if let Some(x) = ctx.leaf_number(&args[0]) {
+        return Ok(number_result(f(x)?));
+    }
+    let x = ctx.eval(&args[0]);
+    if let Value::Number(x) = x {
+        return Ok(number_result(f(x)?));
+    }
+    lift_values(&[x], &|v| {
         let x = to_number(&v[0])?;
-        Ok(crate::eval::evaluator::number_result(f(x)?))
+        Ok(number_result(f(x)?))
     })
 }
 
 /// A two-number function lifted over arrays; a missing second argument reads as `default`.
 pub fn lift_number2(ctx: &mut Ctx, args: &[Expr], default: f64, f: fn(f64, f64) -> XlResult<f64>) -> XlResult<Value> {
-    let values = [ctx.eval(&args[0]), args.get(1).map_or(Value::Blank, |e| ctx.eval(e))];
-    let values = &values[..args.len().min(2)];
     let missing_second = args.get(1).is_none_or(|e| e.kind == ExprKind::Missing);
+    let values = [ctx.eval(&args[0]), args.get(1).map_or(Value::Blank, |e| ctx.eval(e))];
+    // Numbers, the usual case, need no lifting.
+    match values {
+        [Value::Number(x), _] if missing_second => return Ok(number_result(f(x, default)?)),
+        [Value::Number(x), Value::Number(y)] => return Ok(number_result(f(x, y)?)),
+        _ => {}
+    }
+    let values = &values[..args.len().min(2)];
     lift_values(values, &|v| {
         let x = to_number(&v[0])?;
         let y = if missing_second { default } else { to_number(&v[1])? };
-        Ok(crate::eval::evaluator::number_result(f(x, y)?))
+        Ok(number_result(f(x, y)?))
     })
 }
 
