@@ -105,10 +105,10 @@ fn check_workbook(root: &Path, path: &Path, suite: &Suite, report: &mut Report) 
 }
 
 /// One worksheet as Excel saved it.
-struct Sheet {
+pub struct Sheet {
     /// Every cached value, formula results included: the constants formulas are evaluated on.
-    values: BTreeMap<(u32, u32), Value>,
-    formulas: BTreeMap<(u32, u32), Formula>,
+    pub values: BTreeMap<(u32, u32), Value>,
+    pub formulas: BTreeMap<(u32, u32), Formula>,
 }
 
 /// A formula cell: the formula text and the cell it was written for. A shared formula (one
@@ -117,14 +117,14 @@ struct Sheet {
 /// cell's formula (calamine's own expansion starts from the top-left of the shared range,
 /// which is not always the template's cell: FLOOR_CEILING.xlsx has such groups).
 #[derive(Clone)]
-struct Formula {
-    text: String,
-    anchor: Pos,
+pub struct Formula {
+    pub text: String,
+    pub anchor: Pos,
 }
 
 /// Reads a worksheet in one pass; `None` where calamine cannot, or a shared formula comes
 /// before its template.
-fn read_sheet(workbook: &mut Xlsx<BufReader<File>>, name: &str) -> Option<Sheet> {
+pub fn read_sheet(workbook: &mut Xlsx<BufReader<File>>, name: &str) -> Option<Sheet> {
     let mut reader = workbook.worksheet_cells_reader(name).ok()?;
     let mut templates: BTreeMap<usize, Formula> = BTreeMap::new();
     let mut sheet = Sheet { values: BTreeMap::new(), formulas: BTreeMap::new() };
