@@ -269,3 +269,44 @@ fn formulas_differing_in_numbers_read_their_own() {
     assert_eq!(get(&wb, "C2"), n(1.5));
     assert_eq!(get(&wb, "D2"), n(9.0));
 }
+
+/// INDIRECT and OFFSET reach cells their text does not name; an edit there still
+/// recomputes them, in order, as in Excel.
+#[test]
+fn run_time_references_follow_the_cells_they_reach() {
+    let mut wb = Workbook::with_sheet();
+    // C1 is set first, so a pass that ordered it by its text alone would run it before A2.
+    set(&mut wb, "C1", "=INDIRECT(B1)*10");
+    set(&mut wb, "C2", "=SUM(OFFSET(A1,1,0,2,1))");
+    set(&mut wb, "B1", "A2");
+    set(&mut wb, "A1", "1");
+    set(&mut wb, "A2", "=A1*2");
+    set(&mut wb, "A3", "=A2+1");
+    assert_eq!(get(&wb, "C1"), n(20.0));
+    assert_eq!(get(&wb, "C2"), n(5.0));
+    set(&mut wb, "A1", "5");
+    assert_eq!(get(&wb, "C1"), n(100.0));
+    assert_eq!(get(&wb, "C2"), n(21.0));
+    // Pointed elsewhere, it follows the new cell and no longer the old one.
+    set(&mut wb, "B1", "A3");
+    assert_eq!(get(&wb, "C1"), n(110.0));
+    set(&mut wb, "A3", "7");
+    assert_eq!(get(&wb, "C1"), n(70.0));
+    // A cell that reaches itself is a cycle.
+    set(&mut wb, "D1", "=INDIRECT(\"D1\")+1");
+    assert_eq!(get(&wb, "D1"), Value::Error(XlError::Circ));
+    // Where a reference is, unlike what it holds, is no dependency (Excel: no cycle).
+    set(&mut wb, "D2", "=ROW(INDIRECT(\"D2\"))+ISREF(OFFSET(D2,0,0))");
+    assert_eq!(get(&wb, "D2"), n(3.0));
+}
+
+#[test]
+fn run_time_references_computed_in_a_full_recalculation() {
+    let mut wb = Workbook::with_sheet();
+    for (cell, input) in [("E1", "=INDIRECT(\"A\"&B1)"), ("A1", "3"), ("A2", "=A1^2"), ("B1", "2")] {
+        wb.set_input_deferred(0, parse_cell(cell).unwrap(), input).unwrap();
+    }
+    wb.recalculate();
+    assert_eq!(get(&wb, "E1"), n(9.0));
+}
+

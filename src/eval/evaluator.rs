@@ -84,6 +84,9 @@ pub struct Ctx<'a> {
     /// tree (src/workbook/shared.rs). Usually empty. Code that reads numbers from the tree
     /// itself, not through `eval`, must be listed in `READ_AS_TREES` there.
     pub numbers: &'a [(*const Expr, f64)],
+    /// References made at run time (INDIRECT, OFFSET) that the formula's text does not name:
+    /// the workbook links the cell to them after evaluation.
+    pub dynamic_refs: Vec<(SheetId, Rect)>,
 }
 
 /// Nested name definitions or LET bodies deeper than this are a cycle.
@@ -91,13 +94,40 @@ const MAX_DEPTH: u32 = 200;
 
 impl<'a> Ctx<'a> {
     pub fn new(env: &'a dyn Env, sheet: SheetId, at: Pos) -> Ctx<'a> {
-        Ctx { env, sheet, at, locals: Vec::new(), host: None, depth: 0, notes: Vec::new(), numbers: &[] }
+        Ctx {
+            env,
+            sheet,
+            at,
+            locals: Vec::new(),
+            host: None,
+            depth: 0,
+            notes: Vec::new(),
+            numbers: &[],
+            dynamic_refs: Vec::new(),
+        }
     }
 
     /// The same evaluation with a macro interpreter's variables and nodes.
     pub fn with_host(mut self, host: &'a dyn Host) -> Ctx<'a> {
         self.host = Some(host);
         self
+    }
+
+    /// Records a reference made at run time, for the dependency graph.
+    pub fn note_dynamic_ref(&mut self, sheet: SheetId, rect: Rect) {
+        if !self.dynamic_refs.contains(&(sheet, rect)) {
+            self.dynamic_refs.push((sheet, rect));
+        }
+    }
+
+    /// The operand of a function that reads where a reference is, not what it holds (ROW,
+    /// COLUMN, ROWS, COLUMNS, ISREF): references made at run time inside it are not
+    /// dependencies, so `ROW(INDIRECT("A1"))` in A1 is no cycle, as in Excel.
+    pub fn reference_only(&mut self, e: &Expr) -> Operand {
+        let made_before = self.dynamic_refs.len();
+        let operand = self.operand(e);
+        self.dynamic_refs.truncate(made_before);
+        operand
     }
 
     /// Records why `error` happened and returns it, for `return Err(ctx.explain(..))`.

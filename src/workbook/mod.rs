@@ -132,6 +132,8 @@ pub struct Workbook {
     cycles: Vec<Vec<u32>>,
     /// Formula cells calling a volatile function (NOW, TODAY), recalculated at every edit.
     volatile: Vec<u32>,
+    /// References formula cells made at run time (INDIRECT, OFFSET), linked in the graph.
+    dynamic_refs: FxMap<u32, Vec<(SheetId, Rect)>>,
     scratch: recalc::Scratch,
     /// Reused buffers: the relative key of the formula being stored, a formula's precedents.
     key_buf: String,
@@ -518,15 +520,7 @@ impl Workbook {
         precedents.clear();
         self.for_each_precedent(id, &mut |s, r| precedents.push((s, r)));
         for &(sheet, rect) in &precedents {
-            if is_small(rect) {
-                for_each_pos(rect, |pos| {
-                    let p = self.cell_at(sheet, pos);
-                    self.cells[p as usize].dependents.push(id);
-                });
-            } else {
-                let r = self.ranges.intern(sheet, rect);
-                self.ranges.nodes[r as usize].dependents.push(id);
-            }
+            self.add_edge(id, sheet, rect);
         }
         self.precedents_buf = precedents;
     }
@@ -537,22 +531,69 @@ impl Workbook {
         precedents.clear();
         self.for_each_precedent(id, &mut |s, r| precedents.push((s, r)));
         for &(sheet, rect) in &precedents {
-            if is_small(rect) {
-                for_each_pos(rect, |pos| {
-                    if let Some(p) = self.sheets[sheet as usize].get(pos) {
-                        self.cells[p as usize].dependents.remove(id);
-                    }
-                });
-            } else if let Some(r) = self.ranges.find(sheet, rect) {
-                self.ranges.nodes[r as usize].dependents.remove(id);
-            }
+            self.remove_edge(id, sheet, rect);
         }
         self.precedents_buf = precedents;
+        if let Some(dynamic) = self.dynamic_refs.remove(&id) {
+            for (sheet, rect) in dynamic {
+                self.remove_edge(id, sheet, rect);
+            }
+        }
+    }
+
+    /// Makes formula cell `id` a dependent of `rect`: of each cell of a small one, of a range
+    /// node for a large one.
+    fn add_edge(&mut self, id: u32, sheet: SheetId, rect: Rect) {
+        if is_small(rect) {
+            for_each_pos(rect, |pos| {
+                let p = self.cell_at(sheet, pos);
+                self.cells[p as usize].dependents.push(id);
+            });
+        } else {
+            let r = self.ranges.intern(sheet, rect);
+            self.ranges.nodes[r as usize].dependents.push(id);
+        }
+    }
+
+    fn remove_edge(&mut self, id: u32, sheet: SheetId, rect: Rect) {
+        if is_small(rect) {
+            for_each_pos(rect, |pos| {
+                if let Some(p) = self.sheets[sheet as usize].get(pos) {
+                    self.cells[p as usize].dependents.remove(id);
+                }
+            });
+        } else if let Some(r) = self.ranges.find(sheet, rect) {
+            self.ranges.nodes[r as usize].dependents.remove(id);
+        }
+    }
+
+    /// Gives formula cell `id` edges from the references it made at run time (INDIRECT,
+    /// OFFSET), in place of those of its last evaluation. `true` when it reached somewhere
+    /// new: what it read there may not have been computed yet in this pass.
+    fn relink_dynamic(&mut self, id: u32, refs: Vec<(SheetId, Rect)>) -> bool {
+        if self.dynamic_refs.get(&id).map_or(refs.is_empty(), |old| *old == refs) {
+            return false;
+        }
+        if let Some(old) = self.dynamic_refs.remove(&id) {
+            for (sheet, rect) in old {
+                self.remove_edge(id, sheet, rect);
+            }
+        }
+        if refs.is_empty() {
+            return false;
+        }
+        for &(sheet, rect) in &refs {
+            self.add_edge(id, sheet, rect);
+        }
+        self.dynamic_refs.insert(id, refs);
+        true
     }
 
     /// Rebuilds every edge (after a name changes meaning).
     fn rebuild_graph(&mut self) {
         self.ranges.clear();
+        // The recalculation that follows links run-time references again.
+        self.dynamic_refs.clear();
         for c in &mut self.cells {
             c.dependents = Deps::None;
         }

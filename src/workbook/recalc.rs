@@ -366,6 +366,7 @@ impl Workbook {
         ctx.numbers = &formula.numbers;
         let value = ctx.eval(&formula.expr);
         let notes = ctx.notes;
+        let dynamic_refs = ctx.dynamic_refs;
         if notes.is_empty() {
             if !self.notes.is_empty() {
                 self.notes.remove(&id);
@@ -374,6 +375,10 @@ impl Workbook {
             self.notes.insert(id, notes);
         }
         self.set_result(id, value, late);
+        if (!dynamic_refs.is_empty() || !self.dynamic_refs.is_empty()) && self.relink_dynamic(id, dynamic_refs) {
+            // Now in the graph, the cells it reached are ordered before it in the next pass.
+            late.push(id);
+        }
     }
 
     /// Stores a formula's result: blank reads as 0, an array spills or reports `#SPILL!`.

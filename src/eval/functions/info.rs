@@ -70,7 +70,7 @@ fn isna(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn isref(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Ok(Value::Bool(matches!(ctx.operand(&args[0]), Operand::Ref(..))))
+    Ok(Value::Bool(matches!(ctx.reference_only(&args[0]), Operand::Ref(..))))
 }
 
 fn na(_: &mut Ctx, _: &[Expr]) -> XlResult<Value> {

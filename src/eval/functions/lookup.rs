@@ -693,7 +693,7 @@ fn column(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 fn reference_or_here(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Rect> {
     match args.first() {
         None => Ok(Rect::cell(ctx.at)),
-        Some(e) => match ctx.operand(e) {
+        Some(e) => match ctx.reference_only(e) {
             Operand::Ref(_, rect) => Ok(rect),
             Operand::Value(Value::Error(err)) => Err(err),
             Operand::Value(_) => Err(XlError::Value),
@@ -711,7 +711,7 @@ fn columns(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 /// Rows and columns as written: `ROWS(C:C)` is 1048576 however much of C is used.
 fn dimensions(ctx: &mut Ctx, e: &Expr) -> XlResult<(usize, usize)> {
-    match ctx.operand(e) {
+    match ctx.reference_only(e) {
         Operand::Ref(_, rect) => Ok((rect.rows() as usize, rect.cols() as usize)),
         Operand::Value(Value::Array(a)) => Ok((a.rows, a.cols)),
         Operand::Value(Value::Error(err)) => Err(err),

@@ -18,6 +18,7 @@ pub mod args;
 mod criteria;
 mod date;
 mod dispersion;
+mod dynamic_ref;
 mod geometry;
 mod info;
 mod logic;
@@ -99,6 +100,7 @@ pub static REGISTRY: LazyLock<Vec<FnSpec>> = LazyLock::new(|| {
         date::FUNCTIONS,
         logic::FUNCTIONS,
         lookup::FUNCTIONS,
+        dynamic_ref::FUNCTIONS,
         text::FUNCTIONS,
         info::FUNCTIONS,
         geometry::FUNCTIONS,

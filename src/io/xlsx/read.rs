@@ -259,7 +259,7 @@ impl<'a> SheetImport<'a> {
         self.typed.push('=');
         self.typed.push_str(&syntax::from_file(text, wb, sheet, pos));
         let _ = wb.set_input_deferred(sheet, pos, &self.typed);
-        if plain && text.contains(':') {
+        if plain && (text.contains(':') || makes_references(text)) {
             self.legacy_ranges.push((sheet, pos));
         }
         if let Some(value) = cached {
@@ -276,6 +276,13 @@ impl<'a> SheetImport<'a> {
             (_, None) => {}
         }
     }
+}
+
+/// Whether a formula may make a multi-cell reference at run time (a candidate for implicit
+/// intersection like a formula with a range in its text).
+fn makes_references(text: &str) -> bool {
+    let upper = text.to_ascii_uppercase();
+    upper.contains("OFFSET(") || upper.contains("INDIRECT(")
 }
 
 /// The text of a shared formula in `pos`, moved from the cell that holds it.

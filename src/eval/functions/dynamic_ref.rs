@@ -1,0 +1,205 @@
+//! References made at run time: INDIRECT (from text) and OFFSET (moved from another
+//! reference). Their cells are not in the formula's text, so the dependency graph cannot
+//! know them in advance: each is reported through [`Ctx::note_dynamic_ref`], and the workbook
+//! links the cell to it after evaluation (src/workbook/recalc.rs). Excel also recalculates
+//! both at every edit (they are volatile), which is kept.
+
+use crate::eval::coerce::{to_bool, to_number, to_text};
+use crate::eval::evaluator::{Ctx, Operand};
+use crate::eval::value::{Value, XlError, XlResult};
+use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
+use crate::formula::ast::{BinOp, Expr, ExprKind, SheetId};
+use crate::formula::parse::{parse_formula, ParseContext};
+
+use super::{FnSpec, Registry};
+
+pub const FUNCTIONS: &[FnSpec] = &[
+    FnSpec::reference(
+        "INDIRECT",
+        1,
+        2,
+        indirect,
+        "INDIRECT(ref_text, [a1])",
+        "The reference named by text: A1 style (`B3`, `Sheet2!A1:C4`, a defined name), or R1C1 style when a1 is FALSE",
+    )
+    .volatile(),
+    FnSpec::reference(
+        "OFFSET",
+        3,
+        5,
+        offset,
+        "OFFSET(reference, rows, cols, [height], [width])",
+        "The reference moved by rows and cols, with the given height and width (the original's by default)",
+    )
+    .volatile(),
+];
+
+fn indirect(ctx: &mut Ctx, args: &[Expr]) -> Operand {
+    let made = indirect_ref(ctx, args);
+    into_operand(ctx, made)
+}
+
+fn offset(ctx: &mut Ctx, args: &[Expr]) -> Operand {
+    let made = offset_ref(ctx, args);
+    into_operand(ctx, made)
+}
+
+/// A reference made here is reported to the workbook before it is used.
+fn into_operand(ctx: &mut Ctx, made: XlResult<(SheetId, Rect)>) -> Operand {
+    match made {
+        Ok((sheet, rect)) => {
+            ctx.note_dynamic_ref(sheet, rect);
+            Operand::Ref(sheet, rect)
+        }
+        Err(e) => Operand::Value(Value::Error(e)),
+    }
+}
+
+fn scalar(ctx: &mut Ctx, e: &Expr) -> XlResult<Value> {
+    match ctx.eval(e) {
+        Value::Array(_) => Err(XlError::Value),
+        Value::Error(err) => Err(err),
+        v => Ok(v),
+    }
+}
+
+fn indirect_ref(ctx: &mut Ctx, args: &[Expr]) -> XlResult<(SheetId, Rect)> {
+    let text = to_text(&scalar(ctx, &args[0])?)?;
+    let a1 = match args.get(1).filter(|e| e.kind != ExprKind::Missing) {
+        Some(e) => to_bool(&scalar(ctx, e)?)?,
+        None => true,
+    };
+    let text = text.trim();
+    if a1 {
+        a1_reference(ctx, text)
+    } else {
+        r1c1_reference(ctx, text)
+    }
+}
+
+/// `B3`, `$B$3:C4`, `Sheet2!A1`, `'My sheet'!A:A` or a defined name, read with the formula
+/// parser. Anything else (a formula, a number) is `#REF!`, as in Excel.
+fn a1_reference(ctx: &mut Ctx, text: &str) -> XlResult<(SheetId, Rect)> {
+    let env = ctx.env;
+    let sheet_named = |name: &str| sheet_id(env, name);
+    let parse = ParseContext { at: ctx.at, functions: &Registry, sheet: &sheet_named };
+    let expr = parse_formula(text, &parse).map_err(|_| XlError::Ref)?;
+    if !is_reference(&expr) {
+        return Err(XlError::Ref);
+    }
+    match ctx.operand(&expr) {
+        Operand::Ref(sheet, rect) => Ok((sheet, rect)),
+        // Text that reads as an unknown name names no cell.
+        Operand::Value(Value::Error(XlError::Name)) => Err(XlError::Ref),
+        Operand::Value(Value::Error(e)) => Err(e),
+        Operand::Value(_) => Err(XlError::Ref),
+    }
+}
+
+fn is_reference(e: &Expr) -> bool {
+    match &e.kind {
+        ExprKind::Ref(_) | ExprKind::Name(_) => true,
+        ExprKind::Binary(BinOp::Range, a, b) => is_reference(a) && is_reference(b),
+        _ => false,
+    }
+}
+
+fn sheet_id(env: &dyn crate::eval::Env, name: &str) -> Option<SheetId> {
+    (0..env.sheet_count()).find_map(|i| {
+        let id = i as SheetId;
+        env.sheet_name(id).filter(|n| n.eq_ignore_ascii_case(name)).map(|_| id)
+    })
+}
+
+/// `R2C3`, `R[-1]C`, `R1C1:R4C2`, `Sheet2!R1C1`: rows and columns absolute, or in brackets
+/// relative to the formula's cell; a letter alone is the formula's own row or column.
+fn r1c1_reference(ctx: &Ctx, text: &str) -> XlResult<(SheetId, Rect)> {
+    let (sheet, cells) = match text.rsplit_once('!') {
+        Some((name, cells)) => {
+            let name = name.strip_prefix('\'').and_then(|n| n.strip_suffix('\'')).unwrap_or(name);
+            (sheet_id(ctx.env, &name.replace("''", "'")).ok_or(XlError::Ref)?, cells)
+        }
+        None => (ctx.sheet, text),
+    };
+    let (first, last) = match cells.split_once(':') {
+        Some((a, b)) => (r1c1_cell(a, ctx.at)?, r1c1_cell(b, ctx.at)?),
+        None => {
+            let p = r1c1_cell(cells, ctx.at)?;
+            (p, p)
+        }
+    };
+    Ok((sheet, Rect::new(first, last)))
+}
+
+fn r1c1_cell(text: &str, at: Pos) -> XlResult<Pos> {
+    let rest = text.strip_prefix(['R', 'r']).ok_or(XlError::Ref)?;
+    let c = rest.find(['C', 'c']).ok_or(XlError::Ref)?;
+    let row = r1c1_index(&rest[..c], at.row, MAX_ROWS)?;
+    let col = r1c1_index(&rest[c + 1..], at.col, MAX_COLS)?;
+    Ok(Pos::new(row, col))
+}
+
+/// One coordinate: empty (the formula's own), `n` (1-based) or `[k]` (an offset).
+fn r1c1_index(text: &str, here: u32, count: u32) -> XlResult<u32> {
+    let index = if text.is_empty() {
+        i64::from(here)
+    } else if let Some(offset) = text.strip_prefix('[').and_then(|t| t.strip_suffix(']')) {
+        i64::from(here) + offset.parse::<i64>().map_err(|_| XlError::Ref)?
+    } else {
+        text.parse::<i64>().map_err(|_| XlError::Ref)? - 1
+    };
+    in_sheet(index, count)
+}
+
+fn in_sheet(index: i64, count: u32) -> XlResult<u32> {
+    if (0..i64::from(count)).contains(&index) {
+        Ok(index as u32)
+    } else {
+        Err(XlError::Ref)
+    }
+}
+
+/// A height or width as given, the reference's own when left out.
+fn whole_or(ctx: &mut Ctx, args: &[Expr], i: usize, default: u32) -> XlResult<f64> {
+    match args.get(i).filter(|e| e.kind != ExprKind::Missing) {
+        Some(e) => to_number(&scalar(ctx, e)?),
+        None => Ok(f64::from(default)),
+    }
+}
+
+/// Whole rows or columns of a height or width, truncated: 0 is `#REF!`, and a size between
+/// 0 and 1 is one (Excel: `OFFSET(W39,2,2,3,0.9)` is one column wide).
+fn size(n: f64) -> XlResult<i64> {
+    if n == 0.0 {
+        return Err(XlError::Ref);
+    }
+    let whole = n.trunc();
+    Ok(if whole == 0.0 { n.signum() as i64 } else { whole as i64 })
+}
+
+fn offset_ref(ctx: &mut Ctx, args: &[Expr]) -> XlResult<(SheetId, Rect)> {
+    let (sheet, base) = match ctx.operand(&args[0]) {
+        Operand::Ref(sheet, rect) => (sheet, rect),
+        Operand::Value(Value::Error(e)) => return Err(e),
+        Operand::Value(_) => return Err(XlError::Value),
+    };
+    let mut whole = |i: usize, default: f64| -> XlResult<i64> {
+        match args.get(i).filter(|e| e.kind != ExprKind::Missing) {
+            Some(e) => Ok(to_number(&scalar(ctx, e)?)?.trunc() as i64),
+            None => Ok(default as i64),
+        }
+    };
+    let rows = whole(1, 0.0)?;
+    let cols = whole(2, 0.0)?;
+    let height = size(whole_or(ctx, args, 3, base.rows())?)?;
+    let width = size(whole_or(ctx, args, 4, base.cols())?)?;
+    let corner = |start: u32, by: i64, size: i64, count: u32| -> XlResult<(u32, u32)> {
+        let from = i64::from(start) + by;
+        // A negative height or width reaches up or left from the moved corner, as in Excel.
+        let (low, high) = if size > 0 { (from, from + size - 1) } else { (from + size + 1, from) };
+        Ok((in_sheet(low, count)?, in_sheet(high, count)?))
+    };
+    let (top, bottom) = corner(base.first.row, rows, height, MAX_ROWS)?;
+    let (left, right) = corner(base.first.col, cols, width, MAX_COLS)?;
+    Ok((sheet, Rect::new(Pos::new(top, left), Pos::new(bottom, right))))
+}
