@@ -2,7 +2,8 @@
 //! reports must end and be centred where our arcs are, to 1e-4 mm. Skipped (with a message)
 //! where rs274 is not installed.
 
-use std::path::Path;
+mod common;
+
 use std::process::Command;
 
 use ncsheet::geometry::cam::{by_disc, fit_cam, CamFit, CamOptions};
@@ -17,8 +18,10 @@ fn nc_program(cam: &CamFit, options: &CamNcOptions) -> String {
 
 const SHEET: &str = include_str!("../sheets/cam-turret.csv");
 
+/// rs274 (found on PATH), or `None` where it is not installed; on CI it must be (see
+/// `common::rs274::available`).
 fn rs274() -> Option<&'static str> {
-    ["/usr/bin/rs274", "/usr/local/bin/rs274"].into_iter().find(|p| Path::new(p).exists())
+    common::rs274::available().then_some("rs274")
 }
 
 fn sample_cams() -> Vec<CamFit> {

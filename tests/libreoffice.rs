@@ -11,6 +11,9 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+mod common;
+
+use common::soffice;
 use ncsheet::eval::functions::Registry;
 use ncsheet::eval::{Value, XlError};
 use ncsheet::formula::address::parse_cell;
@@ -728,13 +731,6 @@ fn cases() -> (Vec<String>, usize) {
     (kept, skipped)
 }
 
-fn soffice() -> Option<PathBuf> {
-    let candidates = ["/usr/bin/soffice", "/usr/local/bin/soffice", "/usr/lib/libreoffice/program/soffice"];
-    if let Some(p) = candidates.iter().map(PathBuf::from).find(|p| p.exists()) {
-        return Some(p);
-    }
-    Command::new("soffice").arg("--version").output().ok().filter(|o| o.status.success()).map(|_| "soffice".into())
-}
 
 /// Cases go in column C (General format: the kind of result) and column D (the same formula
 /// with 16 significant digits: the number), one row each.

@@ -282,9 +282,18 @@ pub fn percent(part: usize, whole: usize) -> String {
     }
 }
 
+/// LibreOffice's `soffice`, or `None` on a machine without it. On CI (`CI` set) it must be
+/// there: `.ci/run` installs it, and a test that skipped there would pass with no oracle.
 pub fn soffice() -> Option<PathBuf> {
-    let candidates = ["/usr/bin/soffice", "/usr/local/bin/soffice", "/opt/libreoffice/program/soffice"];
-    candidates.iter().map(PathBuf::from).find(|p| p.exists())
+    let candidates = [
+        "/usr/bin/soffice",
+        "/usr/local/bin/soffice",
+        "/usr/lib/libreoffice/program/soffice",
+        "/opt/libreoffice/program/soffice",
+    ];
+    let found = candidates.iter().map(PathBuf::from).find(|p| p.exists());
+    assert!(found.is_some() || std::env::var_os("CI").is_none(), "LibreOffice (soffice) is missing on CI");
+    found
 }
 
 /// A LibreOffice profile that recalculates every xlsx on load (by default it trusts the
