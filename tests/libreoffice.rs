@@ -731,7 +731,6 @@ fn cases() -> (Vec<String>, usize) {
     (kept, skipped)
 }
 
-
 /// Cases go in column C (General format: the kind of result) and column D (the same formula
 /// with 16 significant digits: the number), one row each.
 fn write_xlsx(path: &Path, cases: &[String]) {

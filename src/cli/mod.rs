@@ -13,6 +13,7 @@ use ncsheet::workbook::Workbook;
 
 mod ballpath;
 mod cam;
+mod macros;
 mod output;
 mod repl;
 pub mod report;
@@ -46,6 +47,7 @@ pub enum Command {
     Arcfit(cam::ArcfitArgs),
     Run(run::RunArgs),
     Ballpath(ballpath::BallpathArgs),
+    Macros(macros::MacrosArgs),
 }
 
 /// Compute a sheet and print its values (all of it, or the cells and ranges named).
@@ -157,6 +159,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Arcfit(args) => cam::arcfit(args),
         Command::Run(args) => run::run(args),
         Command::Ballpath(args) => ballpath::run(args),
+        Command::Macros(args) => macros::run(args),
     }
 }
 

@@ -72,7 +72,9 @@ mod arrays;
 pub mod ast;
 mod interp;
 mod objects;
+pub mod ovba;
 pub mod parser;
+pub mod project;
 
 use std::fmt;
 

@@ -1,0 +1,85 @@
+//! The VBA projects stored in Excel-saved .xlsm files, read by ncsheet and by olevba
+//! (oletools, installed by `.ci/run`): every module's source must be the same text.
+
+mod common;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use ncsheet::vba::project::read_project;
+
+/// olevba's reading of `file`: module stream path (`VBA/Module1`) → source. `None` where
+/// oletools is not installed (an error on CI, where `.ci/run` installs it).
+fn olevba(file: &Path) -> Option<BTreeMap<String, String>> {
+    let script = r#"
+import json, sys
+from oletools.olevba import VBA_Parser
+p = VBA_Parser(sys.argv[1])
+out = {}
+if p.detect_vba_macros():
+    for (_, stream, _, code) in p.extract_macros():
+        out[stream] = code
+print(json.dumps(out))
+"#;
+    let run = Command::new("python3").arg("-c").arg(script).arg(file).output();
+    let ok = run.as_ref().is_ok_and(|o| o.status.success());
+    if !ok {
+        let why = run.map(|o| String::from_utf8_lossy(&o.stderr).into_owned()).unwrap_or_else(|e| e.to_string());
+        assert!(std::env::var_os("CI").is_none(), "olevba (pip oletools) is missing on CI: {why}");
+        eprintln!("skipped: olevba (pip install oletools) does not run here: {why}");
+        return None;
+    }
+    let text = String::from_utf8(run.unwrap().stdout).unwrap();
+    let map: serde_json::Value = serde_json::from_str(&text).unwrap();
+    Some(map.as_object().unwrap().iter().map(|(k, v)| (k.clone(), v.as_str().unwrap().to_string())).collect())
+}
+
+fn xlsm_files() -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    common::workbooks(&common::corpus::path().join("../public"), &mut files);
+    files.retain(|f| f.extension().is_some_and(|e| e == "xlsm"));
+    files
+}
+
+#[test]
+fn modules_read_as_olevba_reads_them() {
+    let files = xlsm_files();
+    let mut projects = 0;
+    for file in &files {
+        let opened = ncsheet::io::open(file).unwrap_or_else(|e| panic!("{e}"));
+        let Some(bytes) = opened.layout.and_then(|l| l.vba_project) else {
+            continue;
+        };
+        let Some(theirs) = olevba(file) else {
+            return;
+        };
+        let project = read_project(&bytes).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+        let ours: BTreeMap<String, String> =
+            project.modules.iter().map(|m| (format!("VBA/{}", m.stream), m.source.clone())).collect();
+        assert_eq!(ours.keys().collect::<Vec<_>>(), theirs.keys().collect::<Vec<_>>(), "{}", file.display());
+        for (stream, text) in &theirs {
+            assert!(ours[stream] == *text, "{}: {stream} differs from olevba's", file.display());
+        }
+        projects += 1;
+    }
+    // The public corpus has ten Excel-saved workbooks with a VBA project.
+    assert!(projects >= 10, "only {projects} VBA projects found in {} .xlsm files", files.len());
+}
+
+/// A project cut short or with a damaged stream is an error that names the stream.
+#[test]
+fn damaged_projects_are_errors_naming_the_stream() {
+    let file = xlsm_files().into_iter().find(|f| f.to_string_lossy().contains("SimpleMacro")).unwrap();
+    let bytes = ncsheet::io::open(&file).unwrap().layout.unwrap().vba_project.unwrap();
+    let cut = read_project(&bytes[..bytes.len() / 2]).unwrap_err();
+    assert!(!cut.stream.is_empty(), "{cut}");
+    // Overwrite the compressed dir stream's signature byte wherever the stream starts: find
+    // it by damaging each sector start in turn until the dir stream is the one named.
+    let named_dir = (512..bytes.len()).step_by(64).any(|at| {
+        let mut broken = bytes.clone();
+        broken[at] ^= 0xFF;
+        matches!(read_project(&broken), Err(e) if e.stream.ends_with("/dir"))
+    });
+    assert!(named_dir, "no damage to the dir stream was reported as the dir stream's");
+}
