@@ -83,3 +83,34 @@ fn damaged_projects_are_errors_naming_the_stream() {
     });
     assert!(named_dir, "no damage to the dir stream was reported as the dir stream's");
 }
+
+/// The paper's chamfer macro put into the chamfer workbook: olevba reads the module back as
+/// the .bas file's text (with CRLF line ends, as VBA stores them), and so does
+/// ncsheet, beside a document module for the workbook and one for each sheet.
+#[test]
+fn an_imported_macro_reads_back_as_its_bas_file() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("chamfer.xlsm");
+    let run = Command::new(env!("CARGO_BIN_EXE_ncsheet"))
+        .arg("macros")
+        .arg(root.join("sheets/chamfer.xlsx"))
+        .arg("--import")
+        .arg(root.join("sheets/chamfer.bas"))
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let bas = std::fs::read_to_string(root.join("sheets/chamfer.bas")).unwrap();
+    assert!(bas.starts_with("Attribute VB_Name = \"Chamfer\""), "the module names itself");
+    let want = bas.replace("\r\n", "\n").replace('\n', "\r\n");
+    let project = read_project(&ncsheet::io::open(&out).unwrap().layout.unwrap().vba_project.unwrap()).unwrap();
+    let names: Vec<&str> = project.modules.iter().map(|m| m.name.as_str()).collect();
+    assert_eq!(names, ["ThisWorkbook", "Sheet1", "Sheet2", "Sheet3", "Sheet4", "Chamfer"]);
+    assert!(project.modules[5].source == want, "ncsheet reads back another text");
+    if let Some(theirs) = olevba(&out) {
+        assert!(theirs["VBA/Chamfer"] == want, "olevba reads back another text");
+        assert_eq!(theirs.len(), 6);
+    }
+}

@@ -5,28 +5,118 @@ use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use ncsheet::vba::project::{read_project, ProjectModule, VbaProject};
+use ncsheet::vba::project::{build_project, read_project, ModuleKind, NewModule, ProjectModule, VbaProject};
 
 use super::report::{Error, Result};
 
 /// List the macros stored in a workbook (.xlsm): each module with its Subs and Functions.
 ///
 /// With --export DIR, write every module into DIR as the VBA editor exports it (Module1.bas,
-/// Sheet1.cls, …), ready for `ncsheet run WORKBOOK FILE.bas`.
+/// Sheet1.cls, …), ready for `ncsheet run WORKBOOK FILE.bas`. With --import FILE.bas -o
+/// OUT.xlsm, put macros into a workbook that has none: the modules are stored as source,
+/// which Excel compiles when it opens the file.
 #[derive(Debug, Args)]
 pub struct MacrosArgs {
-    /// The workbook (.xlsm)
+    /// The workbook (.xlsm; with --import also .xlsx or .csv)
     pub file: PathBuf,
     /// Write the modules into this folder (made if missing) instead of listing them
-    #[arg(long, value_name = "DIR")]
+    #[arg(long, value_name = "DIR", conflicts_with = "import")]
     pub export: Option<PathBuf>,
+    /// A module to put into the workbook (.bas, named by its Attribute VB_Name line or its
+    /// file name); give it once per module
+    #[arg(long, value_name = "FILE.bas", requires = "output")]
+    pub import: Vec<PathBuf>,
+    /// The workbook to write with --import (.xlsm; never the input)
+    #[arg(short, long, value_name = "OUT.xlsm")]
+    pub output: Option<PathBuf>,
 }
 
 pub fn run(args: MacrosArgs) -> Result<()> {
+    if let Some(out) = &args.output {
+        return import(&args.file, &args.import, out);
+    }
     let project = open_project(&args.file)?;
     match &args.export {
         Some(dir) => export(&project, dir),
         None => list(&project),
+    }
+}
+
+/// Document modules as Excel makes them: the workbook's and each sheet's, bound to them by
+/// code name (`VB_Base` names the Excel object's class).
+fn document_module(name: &str, base: &str) -> NewModule {
+    let source = format!(
+        "Attribute VB_Name = \"{name}\"\r\nAttribute VB_Base = \"0{{{base}}}\"\r\n\
+         Attribute VB_GlobalNameSpace = False\r\nAttribute VB_Creatable = False\r\n\
+         Attribute VB_PredeclaredId = True\r\nAttribute VB_Exposed = True\r\n\
+         Attribute VB_TemplateDerived = False\r\nAttribute VB_Customizable = True\r\n"
+    );
+    NewModule { name: name.to_string(), kind: ModuleKind::DocumentOrClass, source }
+}
+
+const WORKBOOK_CLASS: &str = "00020819-0000-0000-C000-000000000046";
+const WORKSHEET_CLASS: &str = "00020820-0000-0000-C000-000000000046";
+
+fn import(file: &Path, modules: &[PathBuf], out: &Path) -> Result<()> {
+    if !out.extension().is_some_and(|e| e.eq_ignore_ascii_case("xlsm")) {
+        return Err(Error::Usage(format!("{}: a workbook with macros is saved as .xlsm", out.display())));
+    }
+    if modules.is_empty() {
+        return Err(Error::Usage("-o goes with --import FILE.bas".into()));
+    }
+    if same_file(file, out) || modules.iter().any(|m| same_file(m, out)) {
+        return Err(Error::Usage(format!("{}: -o names an input file", out.display())));
+    }
+    let opened = ncsheet::io::open(file)?;
+    let mut layout = opened.layout.unwrap_or_default();
+    if layout.vba_project.is_some() {
+        return Err(Error::User(format!(
+            "{}: the workbook already has a VBA project; importing into it is not supported yet \
+             (export its modules with --export, add yours, and import them all into the .xlsx)",
+            file.display()
+        )));
+    }
+    let mut project = vec![document_module("ThisWorkbook", WORKBOOK_CLASS)];
+    layout.workbook_code_name = Some("ThisWorkbook".into());
+    for (i, sheet) in opened.workbook.sheet_names().iter().enumerate() {
+        let entry = layout.sheets.entry(sheet.clone()).or_default();
+        let code_name = entry.code_name.get_or_insert_with(|| format!("Sheet{}", i + 1)).clone();
+        project.push(document_module(&code_name, WORKSHEET_CLASS));
+    }
+    for path in modules {
+        project.push(read_module(path)?);
+    }
+    let bytes = build_project(&project, 0x4E).map_err(|e| Error::User(format!("{}: {e}", out.display())))?;
+    layout.vba_project = Some(bytes);
+    ncsheet::io::save_with_layout(&opened.workbook, Some(&layout), out)?;
+    eprintln!("ncsheet: wrote {} with {} module(s) imported", out.display(), modules.len());
+    Ok(())
+}
+
+/// A .bas file as a module: named by its `Attribute VB_Name` line, else by the file name.
+fn read_module(path: &Path) -> Result<NewModule> {
+    let source = std::fs::read_to_string(path).map_err(|e| Error::User(format!("{}: {e}", path.display())))?;
+    let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let name = source
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("Attribute VB_Name = ").map(|n| n.trim_matches('"').to_string()))
+        .unwrap_or(stem);
+    let valid = name.chars().next().is_some_and(|c| c.is_ascii_alphabetic())
+        && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+        && name.len() <= 31;
+    if !valid {
+        return Err(Error::User(format!(
+            "{}: '{name}' is not a VBA module name (a letter, then letters, digits or _, at most 31)",
+            path.display()
+        )));
+    }
+    Ok(NewModule { name, kind: ModuleKind::Standard, source })
+}
+
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
     }
 }
 

@@ -204,6 +204,163 @@ fn encoding_for(code_page: u16) -> Option<&'static encoding_rs::Encoding> {
     encoding_rs::Encoding::for_label(label.as_bytes())
 }
 
+/// A module to put into a new project: its name, kind and source (as exported: CRLF line
+/// ends; a first `Attribute VB_Name` line is added where the source has none).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct NewModule {
+    pub name: String,
+    pub kind: ModuleKind,
+    pub source: String,
+}
+
+/// The project identifier of the projects ncsheet makes; any GUID will do.
+const PROJECT_ID: &str = "{5A6E4353-4845-4554-0000-4E4353484545}";
+
+/// A new `vbaProject.bin` holding `modules` as source only ([MS-OVBA] 2.3): no compiled
+/// code, and a `_VBA_PROJECT` version of 0xFFFF, which makes Excel compile the source when
+/// it opens the workbook. Text is written in code page 1252; `seed` makes the obfuscated
+/// protection fields of the PROJECT stream reproducible.
+pub fn build_project(modules: &[NewModule], seed: u8) -> Result<Vec<u8>, ProjectError> {
+    let windows_1252 = encoding_rs::WINDOWS_1252;
+    let mut cfb = cfb::CompoundFile::create(Cursor::new(Vec::new())).map_err(|e| error("vbaProject.bin", e))?;
+    cfb.create_storage("/VBA").map_err(|e| error("VBA", e))?;
+    let mut put = |path: &str, data: &[u8]| -> Result<(), ProjectError> {
+        let mut s = cfb.create_stream(path).map_err(|e| error(path, e))?;
+        std::io::Write::write_all(&mut s, data).map_err(|e| error(path, e))
+    };
+    let mut encoded = Vec::with_capacity(modules.len());
+    for m in modules {
+        let source = with_name_attribute(&m.source, &m.name);
+        let (bytes, _, unmappable) = windows_1252.encode(&source);
+        if unmappable {
+            return Err(error(&m.name, "holds characters code page 1252 cannot write"));
+        }
+        encoded.push(bytes.into_owned());
+    }
+    put("/PROJECT", project_stream(modules, seed).as_bytes())?;
+    put("/PROJECTwm", &name_map(modules))?;
+    // Reserved1 0x61CC, Version 0xFFFF (no compiled cache), Reserved2, Reserved3.
+    put("/VBA/_VBA_PROJECT", &[0xCC, 0x61, 0xFF, 0xFF, 0x00, 0x00, 0x00])?;
+    put("/VBA/dir", &ovba::compress(&dir_stream(modules)))?;
+    for (m, source) in modules.iter().zip(&encoded) {
+        put(&format!("/VBA/{}", m.name), &ovba::compress(source))?;
+    }
+    cfb.flush().map_err(|e| error("vbaProject.bin", e))?;
+    Ok(cfb.into_inner().into_inner())
+}
+
+fn with_name_attribute(source: &str, name: &str) -> String {
+    let source = source.replace("\r\n", "\n").replace('\n', "\r\n");
+    if source.trim_start().to_ascii_lowercase().starts_with("attribute vb_name") {
+        return source;
+    }
+    format!("Attribute VB_Name = \"{name}\"\r\n{source}")
+}
+
+/// The PROJECT stream ([MS-OVBA] 2.3.1): the project's properties as text.
+fn project_stream(modules: &[NewModule], seed: u8) -> String {
+    let mut text = format!("ID=\"{PROJECT_ID}\"\r\n");
+    for m in modules {
+        match m.kind {
+            ModuleKind::Standard => text += &format!("Module={}\r\n", m.name),
+            ModuleKind::DocumentOrClass => text += &format!("Document={}/&H00000000\r\n", m.name),
+        }
+    }
+    text += "Name=\"VBAProject\"\r\nHelpContextID=\"0\"\r\nVersionCompatible32=\"393222000\"\r\n";
+    // Not protected, no password, visible (2.3.1.15-17), obfuscated as 2.4.3.2 says.
+    text += &format!("CMG=\"{}\"\r\n", encrypt(&[0, 0, 0, 0], seed));
+    text += &format!("DPB=\"{}\"\r\n", encrypt(&[0], seed.wrapping_add(1)));
+    text += &format!("GC=\"{}\"\r\n\r\n", encrypt(&[0xFF], seed.wrapping_add(2)));
+    text += "[Host Extender Info]\r\n&H00000001={3832D640-CF90-11CF-8E43-00A0C911005A};VBE;&H00000000\r\n";
+    text
+}
+
+/// Data Encryption ([MS-OVBA] 2.4.3.2), as upper-case hex.
+fn encrypt(data: &[u8], seed: u8) -> String {
+    let version = 2u8;
+    let proj_key = PROJECT_ID.bytes().fold(0u8, u8::wrapping_add);
+    let mut out = vec![seed, seed ^ version, seed ^ proj_key];
+    let (mut plain1, mut enc1, mut enc2) = (proj_key, seed ^ proj_key, seed ^ version);
+    let mut push = |byte: u8, out: &mut Vec<u8>| {
+        let enc = (enc2.wrapping_add(plain1)) ^ byte;
+        out.push(enc);
+        enc2 = enc1;
+        enc1 = enc;
+        plain1 = byte;
+    };
+    let ignored = (seed & 6) / 2;
+    for _ in 0..ignored {
+        push(7, &mut out);
+    }
+    for b in (data.len() as u32).to_le_bytes().into_iter().chain(data.iter().copied()) {
+        push(b, &mut out);
+    }
+    out.iter().map(|b| format!("{b:02X}")).collect()
+}
+
+/// PROJECTwm (2.3.3): each module's name in MBCS and in UTF-16.
+fn name_map(modules: &[NewModule]) -> Vec<u8> {
+    let mut out = Vec::new();
+    for m in modules {
+        out.extend(m.name.bytes());
+        out.push(0);
+        out.extend(m.name.encode_utf16().flat_map(u16::to_le_bytes));
+        out.extend([0, 0]);
+    }
+    out.extend([0, 0]);
+    out
+}
+
+/// The dir stream (2.3.4.2), uncompressed.
+fn dir_stream(modules: &[NewModule]) -> Vec<u8> {
+    let mut d = Vec::new();
+    let rec = |id: u16, data: &[u8], d: &mut Vec<u8>| {
+        d.extend(id.to_le_bytes());
+        d.extend((data.len() as u32).to_le_bytes());
+        d.extend_from_slice(data);
+    };
+    let utf16 = |s: &str| -> Vec<u8> { s.encode_utf16().flat_map(u16::to_le_bytes).collect() };
+    rec(0x0001, &1u32.to_le_bytes(), &mut d); // PROJECTSYSKIND: 32-bit Windows
+    rec(0x0002, &0x0409u32.to_le_bytes(), &mut d); // PROJECTLCID
+    rec(0x0014, &0x0409u32.to_le_bytes(), &mut d); // PROJECTLCIDINVOKE
+    rec(id::PROJECT_CODE_PAGE, &1252u16.to_le_bytes(), &mut d);
+    rec(0x0004, b"VBAProject", &mut d); // PROJECTNAME
+    rec(0x0005, b"", &mut d); // PROJECTDOCSTRING
+    rec(0x0040, b"", &mut d);
+    rec(0x0006, b"", &mut d); // PROJECTHELPFILEPATH
+    rec(0x003D, b"", &mut d);
+    rec(0x0007, &0u32.to_le_bytes(), &mut d); // PROJECTHELPCONTEXT
+    rec(0x0008, &0u32.to_le_bytes(), &mut d); // PROJECTLIBFLAGS
+                                              // PROJECTVERSION: Reserved (4), VersionMajor, VersionMinor.
+    d.extend(id::PROJECT_VERSION.to_le_bytes());
+    d.extend(4u32.to_le_bytes());
+    d.extend(1u32.to_le_bytes());
+    d.extend(0u16.to_le_bytes());
+    rec(0x000C, b"", &mut d); // PROJECTCONSTANTS
+    rec(0x003C, b"", &mut d);
+    rec(0x000F, &(modules.len() as u16).to_le_bytes(), &mut d); // PROJECTMODULES
+    rec(0x0013, &0xFFFFu16.to_le_bytes(), &mut d); // PROJECTCOOKIE
+    for m in modules {
+        rec(id::MODULE_NAME, m.name.as_bytes(), &mut d);
+        rec(id::MODULE_NAME_UNICODE, &utf16(&m.name), &mut d);
+        rec(id::MODULE_STREAM_NAME, m.name.as_bytes(), &mut d);
+        rec(0x0032, &utf16(&m.name), &mut d);
+        rec(0x001C, b"", &mut d); // MODULEDOCSTRING
+        rec(0x0048, b"", &mut d);
+        rec(id::MODULE_OFFSET, &0u32.to_le_bytes(), &mut d);
+        rec(0x001E, &0u32.to_le_bytes(), &mut d); // MODULEHELPCONTEXT
+        rec(0x002C, &0xFFFFu16.to_le_bytes(), &mut d); // MODULECOOKIE
+        let kind = match m.kind {
+            ModuleKind::Standard => id::MODULE_TYPE_PROCEDURAL,
+            ModuleKind::DocumentOrClass => id::MODULE_TYPE_OTHER,
+        };
+        rec(kind, b"", &mut d);
+        rec(id::MODULE_TERMINATOR, b"", &mut d);
+    }
+    rec(id::DIR_TERMINATOR, b"", &mut d);
+    d
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -224,5 +381,25 @@ mod tests {
         dir.extend_from_slice(&id::MODULE_NAME.to_le_bytes());
         dir.extend_from_slice(&99u32.to_le_bytes());
         assert!(parse_dir(&dir).unwrap_err().contains("cut short"));
+    }
+
+    #[test]
+    fn a_built_project_reads_back() {
+        let modules = [
+            NewModule { name: "ThisWorkbook".into(), kind: ModuleKind::DocumentOrClass, source: String::new() },
+            NewModule {
+                name: "Chamfer".into(),
+                kind: ModuleKind::Standard,
+                source: "Sub Main()\n  x = 1\nEnd Sub\n".into(),
+            },
+        ];
+        let project = read_project(&build_project(&modules, 0x5A).unwrap()).unwrap();
+        assert_eq!(project.modules.len(), 2);
+        assert_eq!(project.modules[1].name, "Chamfer");
+        assert_eq!(project.modules[1].kind, ModuleKind::Standard);
+        assert_eq!(
+            project.modules[1].source,
+            "Attribute VB_Name = \"Chamfer\"\r\nSub Main()\r\n  x = 1\r\nEnd Sub\r\n"
+        );
     }
 }
