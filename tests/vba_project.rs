@@ -114,3 +114,44 @@ fn an_imported_macro_reads_back_as_its_bas_file() {
         assert_eq!(theirs.len(), 6);
     }
 }
+
+/// The imported macro runs from the workbook itself: LinuxCNC's rs274 reads the program it
+/// writes, and the chamfer cut goes from T1 to T2 of DOMAIN.md §1's table (outer, α = 45°).
+#[test]
+fn the_workbooks_own_chamfer_macro_runs_from_the_file() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = tempfile::tempdir().unwrap();
+    let book = dir.path().join("chamfer.xlsm");
+    let (xlsx, bas) = (root.join("sheets/chamfer.xlsx"), root.join("sheets/chamfer.bas"));
+    let made = Command::new(env!("CARGO_BIN_EXE_ncsheet"))
+        .arg("macros")
+        .arg(&xlsx)
+        .arg("--import")
+        .arg(&bas)
+        .arg("-o")
+        .arg(&book)
+        .output()
+        .unwrap();
+    assert!(made.status.success(), "{}", String::from_utf8_lossy(&made.stderr));
+    let program = dir.path().join("chamfer.ngc");
+    let ran = Command::new(env!("CARGO_BIN_EXE_ncsheet"))
+        .arg("run")
+        .arg(&book)
+        .args(["--sub", "Chamfer.Main", "--sheet", "Outer", "--dialect", "linuxcnc", "-o"])
+        .arg(&program)
+        .output()
+        .unwrap();
+    assert!(ran.status.success(), "{}", String::from_utf8_lossy(&ran.stderr));
+    if !common::rs274::available() {
+        return;
+    }
+    let moves = common::rs274::moves(&program).unwrap();
+    let feeds: Vec<&common::rs274::Move> =
+        moves.iter().filter(|m| matches!(m, common::rs274::Move::Feed { .. })).collect();
+    let common::rs274::Move::Feed { x, z, .. } = feeds[0] else { unreachable!() };
+    // rs274 reports X as a radius (the program is in diameter mode, G7).
+    assert!((x - 33.062742 / 2.0).abs() < 0.001 && (z - 1.0).abs() < 0.001, "{feeds:?}");
+    let before = moves.iter().rev().skip_while(|m| !matches!(m, common::rs274::Move::Feed { .. })).nth(1).unwrap();
+    let common::rs274::Move::Traverse { x, z, .. } = before else { panic!("expected a rapid to T1, got {before:?}") };
+    assert!((x - 44.262742 / 2.0).abs() < 0.001 && (z + 4.6).abs() < 0.001, "{moves:?}");
+}

@@ -129,6 +129,41 @@ pub fn open_project(file: &Path) -> Result<VbaProject> {
     read_project(&bytes).map_err(|e| Error::User(format!("{}: xl/vbaProject.bin: {e}", file.display())))
 }
 
+/// The module a `run` of a workbook's own macros means, and the Sub to call in it:
+/// `--sub Module1.Chamfer`, `--sub Chamfer` (the module that declares it), or no `--sub` when
+/// the project has one standard module.
+pub fn pick_macro<'p>(project: &'p VbaProject, sub: Option<&str>) -> Result<(&'p ProjectModule, Option<String>)> {
+    let modules = || project.modules.iter().map(|m| m.name.as_str()).collect::<Vec<_>>().join(", ");
+    if let Some((module, name)) = sub.and_then(|s| s.split_once('.')) {
+        let m = project.modules.iter().find(|m| m.name.eq_ignore_ascii_case(module));
+        let m = m.ok_or_else(|| Error::User(format!("no module {module} in the workbook (modules: {})", modules())))?;
+        return Ok((m, Some(name.to_string())));
+    }
+    let candidates: Vec<&ProjectModule> = match sub {
+        Some(name) => project.modules.iter().filter(|m| declares(&m.source, name)).collect(),
+        None => project.modules.iter().filter(|m| m.kind == ModuleKind::Standard).collect(),
+    };
+    match (candidates.as_slice(), sub) {
+        ([m], _) => Ok((m, sub.map(str::to_string))),
+        ([], Some(name)) => Err(Error::User(format!("no module declares {name} (modules: {})", modules()))),
+        ([], None) => {
+            Err(Error::User("the workbook's VBA project has no standard module: name one with --sub MODULE.SUB".into()))
+        }
+        (_, _) => Err(Error::Usage(format!(
+            "several modules could be meant ({}): name one with --sub MODULE.SUB",
+            candidates.iter().map(|m| m.name.as_str()).collect::<Vec<_>>().join(", ")
+        ))),
+    }
+}
+
+/// Whether `source` declares a procedure called `name`.
+fn declares(source: &str, name: &str) -> bool {
+    procedures(source).iter().any(|line| {
+        let words = line.split(|c: char| c.is_whitespace() || c == '(');
+        words.filter(|w| !w.is_empty()).any(|w| w.eq_ignore_ascii_case(name))
+    })
+}
+
 fn list(project: &VbaProject) -> Result<()> {
     let mut out = BufWriter::new(io::stdout().lock());
     for m in &project.modules {

@@ -31,10 +31,11 @@ pub enum MachineKind {
 pub struct RunArgs {
     /// The workbook the macro works on (.csv or .xlsx)
     pub workbook: PathBuf,
-    /// The macro file
+    /// The macro file (default: the macros stored in the workbook, an .xlsm)
     #[arg(value_name = "MACRO.bas")]
-    pub macro_file: PathBuf,
-    /// The Sub to run (default: Main, or the first Sub without arguments)
+    pub macro_file: Option<PathBuf>,
+    /// The Sub to run (default: Main, or the first Sub without arguments); for the
+    /// workbook's own macros also MODULE.SUB (Module1.Chamfer)
     #[arg(long, value_name = "NAME")]
     pub sub: Option<String>,
     /// A value for one of the Sub's parameters, read as a cell reads what is typed
@@ -92,11 +93,10 @@ pub fn run(args: RunArgs) -> Result<()> {
 
 fn run_on_this_thread(args: RunArgs, dialect_name: &'static str) -> Result<()> {
     let mut wb = ncsheet::io::load(&args.workbook)?;
-    let file = &args.macro_file;
-    let source =
-        std::fs::read_to_string(file).map_err(|e| Error::User(format!("{}: cannot read: {e}", file.display())))?;
+    let (file, source, sub) = macro_source(&args)?;
+    let file = &file;
     let options = RunOptions {
-        sub: args.sub.clone(),
+        sub,
         args: args.args.clone(),
         max_statements: args.max_statements,
         max_depth: args.max_depth,
@@ -128,6 +128,20 @@ fn run_on_this_thread(args: RunArgs, dialect_name: &'static str) -> Result<()> {
         ncsheet::io::save(&wb, save)?;
     }
     Ok(())
+}
+
+/// The macro's place (for messages), its source and the Sub to call: the .bas file given,
+/// or a module of the workbook's own VBA project.
+fn macro_source(args: &RunArgs) -> Result<(PathBuf, String, Option<String>)> {
+    if let Some(file) = &args.macro_file {
+        let source =
+            std::fs::read_to_string(file).map_err(|e| Error::User(format!("{}: cannot read: {e}", file.display())))?;
+        return Ok((file.clone(), source, args.sub.clone()));
+    }
+    let project = super::macros::open_project(&args.workbook)?;
+    let (module, sub) = super::macros::pick_macro(&project, args.sub.as_deref())?;
+    let place = args.workbook.join(&module.name);
+    Ok((place, module.source.clone(), sub))
 }
 
 fn print_output(out: &RunOutput) -> Result<()> {
