@@ -18,7 +18,10 @@ fn nc_program(cam: &CamFit, options: &CamNcOptions) -> String {
 const SHEET: &str = include_str!("../sheets/cam-turret.csv");
 
 fn rs274() -> Option<&'static str> {
-    ["/usr/bin/rs274", "/usr/local/bin/rs274"].into_iter().find(|p| Path::new(p).exists())
+    let found = ["/usr/bin/rs274", "/usr/local/bin/rs274"].into_iter().find(|p| Path::new(p).exists());
+    // On CI (`CI` set) the oracle must be there: `.ci/run` installs it.
+    assert!(found.is_some() || std::env::var_os("CI").is_none(), "rs274 is missing on CI (linuxcnc-uspace)");
+    found
 }
 
 fn sample_cams() -> Vec<CamFit> {
