@@ -545,3 +545,62 @@ fn nc_says_what_is_wrong_with_a_call() {
         assert_eq!(e.span.unwrap().line, 2, "{body}");
     }
 }
+
+#[test]
+fn nc_sets_feed_mode_spindle_tool_and_coolant() {
+    use ncsheet::nc::{FeedMode, Spindle, SpindleDirection};
+    let src = "Sub Main()\n    Nc.Tool 3\n    Nc.FeedPerRev 0.2\n    Nc.Spindle Vc:=180, Limit:=2500\n\
+               \x20   Nc.Coolant True\n    Nc.Rapid 50, 2\n    Nc.Line 40, 0\n    Nc.FeedPerMin\n    Nc.Line 40, -5\n\
+               \x20   Nc.Spindle 800, \"ccw\"\n    Nc.Spindle 0\nEnd Sub\n";
+    let mut wb = Workbook::with_sheet();
+    let out = run(&mut wb, src, &RunOptions::default());
+    let cw = SpindleDirection::Clockwise;
+    assert_eq!(
+        out.program.blocks,
+        [
+            Block::Tool(3),
+            Block::FeedMode(FeedMode::PerRevolution),
+            Block::Spindle(Spindle::SurfaceSpeed { metres_per_min: 180.0, max_rpm: 2500.0, direction: cw }),
+            Block::Coolant(true),
+            Block::Rapid(ncsheet::nc::Target::xz(50.0, 2.0)),
+            Block::Line { to: ncsheet::nc::Target::xz(40.0, 0.0), feed: Some(0.2) },
+            Block::FeedMode(FeedMode::PerMinute),
+            // F means mm/min now: the next cut writes it again.
+            Block::Line { to: ncsheet::nc::Target::xz(40.0, -5.0), feed: Some(0.2) },
+            Block::Spindle(Spindle::Rpm { rpm: 800.0, direction: SpindleDirection::CounterClockwise }),
+            Block::Spindle(Spindle::Stop),
+        ]
+    );
+    let cases = [
+        ("    Nc.Tool 0", "Nc.Tool takes a tool number from 1 to 99"),
+        ("    Nc.FeedPerRev -1", "Nc.FeedPerRev takes the feed, above 0"),
+        ("    Nc.Spindle 800, \"up\"", "Nc.Spindle: Dir is \"cw\" or \"ccw\", not \"up\""),
+        ("    Nc.Coolant", "Nc.Coolant takes True or False"),
+    ];
+    for (body, message) in cases {
+        let mut wb = Workbook::with_sheet();
+        let e =
+            vba::run(&mut wb, &format!("Sub Main()\n{body}\nEnd Sub\n"), "nc.bas", &RunOptions::default()).unwrap_err();
+        assert_eq!(e.message, message, "{body}");
+    }
+}
+
+#[test]
+fn text_from_a_macro_stays_a_comment_in_every_dialect() {
+    // The issue's injections: a line break in a comment, a comment closed inside a name.
+    let src = "Sub Main()\n    Nc.Name = \"A) G0 Z-500 (\"\n    Nc.Comment \"hello\" & Chr(10) & \"G0 X0 Z-500\"\n\
+               \x20   Nc.FeedPerRev 0.1\n    Nc.Spindle 500\n    Nc.Rapid 10, 1\nEnd Sub\n";
+    let mut wb = Workbook::with_sheet();
+    let out = run(&mut wb, src, &RunOptions::default());
+    for name in ["iso", "linuxcnc", "sinumerik", "nc31"] {
+        let text = dialect::by_name(name).unwrap().render(&out.program).unwrap();
+        // Sinumerik's archive header holds the name as a file name (letters, digits, `_`).
+        for line in text.lines().filter(|l| !l.starts_with("%_N_")) {
+            let code = match name {
+                "sinumerik" => line.split(';').next().unwrap(),
+                _ => line.split('(').next().unwrap(),
+            };
+            assert!(!code.contains("500") || code.contains("S500"), "{name}: {line:?} runs as code in\n{text}");
+        }
+    }
+}
