@@ -601,7 +601,7 @@ impl Interp<'_, '_> {
             }
         };
         match (number("s")?, number("vc")?, number("limit")?) {
-            (Some(s), None, None) if s == 0.0 => Ok(Spindle::Stop),
+            (Some(0.0), None, None) => Ok(Spindle::Stop),
             (Some(rpm), None, None) if rpm > 0.0 => Ok(Spindle::Rpm { rpm, direction }),
             (None, Some(v), Some(max)) if v > 0.0 && max > 0.0 => {
                 Ok(Spindle::SurfaceSpeed { metres_per_min: v, max_rpm: max, direction })
