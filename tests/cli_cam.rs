@@ -253,3 +253,26 @@ fn cam_programs_as_written_stay_within_the_tolerance_of_the_spiral() {
         }
     }
 }
+
+#[test]
+fn every_listed_dialect_writes_and_bad_feeds_are_refused() {
+    let help = String::from_utf8(ncsheet(&["arcfit", "--help"]).stdout).unwrap();
+    let piece = ["arcfit", "--kind", "arch", "--r0", "79", "--phi0", "36", "--r1", "102", "--phi1", "160.2"];
+    // Every dialect the help offers for --dialect writes the program (nc31 has no arcs and
+    // is not offered).
+    let listed: Vec<&str> = ["iso", "linuxcnc", "sinumerik", "heidenhain", "nc31"]
+        .into_iter()
+        .filter(|d| help.lines().any(|l| l.contains("possible values") && l.contains(d)))
+        .collect();
+    assert_eq!(listed, ["iso", "linuxcnc", "sinumerik", "heidenhain"], "{help}");
+    for d in listed {
+        let out = ncsheet(&[&piece[..], &["--tol", "0.01", "--format", "nc", "--dialect", d]].concat());
+        assert!(out.status.success(), "{d}: {}", String::from_utf8_lossy(&out.stderr));
+    }
+    for feed in ["--feed=0", "--feed=-5"] {
+        let out = ncsheet(&[&piece[..], &["--tol", "0.01", "--format", "nc", feed]].concat());
+        assert_eq!(out.status.code(), Some(1), "{feed}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("block") && err.contains("feed"), "{feed}: {err}");
+    }
+}
