@@ -153,6 +153,10 @@ fn numbers_no_control_should_get_are_refused() {
     let iso = dialect::by_name("iso").unwrap();
     assert!(one(iso, line(99_999.0, 1.0)).is_ok());
     assert!(one(iso, line(100_000.0, 1.0)).is_err());
+    // Fanuc stores programs O0001–O9999.
+    let mut p = mill_program();
+    p.number = Some(10_000);
+    assert!(iso.render(&p).unwrap_err().message.contains("O0001"));
 }
 
 #[test]
