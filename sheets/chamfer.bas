@@ -19,8 +19,10 @@ Option Explicit
 Const Pi As Double = 3.14159265358979
 
 ' kind: "outer" (formulas 1-14 here), or "pipe" / "blind" (inner chamfers, by CHAMFER_XA …).
-' feed: mm per revolution along the chamfer; speed: spindle rev/min.
-Sub Main(Optional kind As String = "outer", Optional feed As Double = 0.1, Optional speed As Double = 800)
+' feed: mm per revolution along the chamfer; speed: spindle rev/min; tool: the tool number;
+' clear: how far (mm) the tool's nose stays off the part wherever it moves in rapid.
+Sub Main(Optional kind As String = "outer", Optional feed As Double = 0.1, Optional speed As Double = 800, _
+         Optional tool As Double = 1, Optional clear As Double = 1)
     Dim D As Double, f As Double, alpha As Double, r As Double, eA As Double, eB As Double
     Dim XA As Double, ZA As Double, XB As Double, ZB As Double
 
@@ -56,7 +58,7 @@ Sub Main(Optional kind As String = "outer", Optional feed As Double = 0.1, Optio
     Debug.Print "XA=" & Format(XA, "0.000") & " ZA=" & Format(ZA, "0.000") & _
                 " XB=" & Format(XB, "0.000") & " ZB=" & Format(ZB, "0.000")
 
-    Cut kind, XA, ZA, XB, ZB, feed, speed
+    Cut kind, alpha, XA, ZA, XB, ZB, feed, speed, tool, clear
 End Sub
 
 ' The paper's formulas 1-14 for the outer chamfer (exact for every angle).
@@ -89,21 +91,48 @@ Sub Check(what As String, ours As Double, sheet As Double)
     End If
 End Sub
 
-' The cut from T1 to T2: approach off the face above T1, rapid along the part to T1, feed along
-' the chamfer to T2 (off the face), then back to the start.
-Sub Cut(kind As String, XA As Double, ZA As Double, XB As Double, ZB As Double, feed As Double, speed As Double)
-    Dim safeZ As Double
-    safeZ = ZB + 1
+' The cut from T1 to T2. The nose at T1 touches the chamfer's line (and, in a blind bore, the
+' bottom), so the tool comes in rapid only to P, T1 moved off the part far enough that the nose
+' is `clear` away from the chamfer's line and from the cylinder, bore wall or bottom next to it:
+'   outer  P = T1 out by clear / cos(alpha) (in X, a radius)
+'   pipe   P = T1 in toward the axis by clear / cos(alpha)
+'   blind  P = T1 in toward the axis by clear and up off the bottom by clear
+' (moving the nose by d changes its distance to a line with unit normal n by d·n, and these
+' moves make d·n at least `clear` for each line). From P it feeds to T1, cuts to T2 off the
+' face, and retracts in rapid along +Z, away from the face, then back to the start.
+Sub Cut(kind As String, alpha As Double, XA As Double, ZA As Double, XB As Double, ZB As Double, _
+        feed As Double, speed As Double, tool As Double, clear As Double)
+    Dim safeZ As Double, PX As Double, PZ As Double, c As Double
+    c = Cos(alpha * Pi / 180)
+    Select Case kind
+        Case "outer"
+            PX = XA + 2 * clear / c
+            PZ = ZA
+        Case "pipe"
+            PX = XA - 2 * clear / c
+            PZ = ZA
+        Case Else
+            PX = XA - 2 * clear
+            PZ = ZA + clear
+    End Select
+    If PX <= 0 Then
+        MsgBox "the bore is too small to approach T1 with " & clear & " mm clearance"
+        End
+    End If
+    safeZ = ZB + clear + 1
     Nc.Name = "CHAMFER"
     Nc.Machine = "lathe"
     Nc.Comment kind & " chamfer, tool tip T1 to T2"
-    Nc.Block "S", speed, "M3"
-    Nc.Rapid XA, safeZ
-    Nc.Rapid XA, ZA
-    Nc.Line XB, ZB, feed
+    Nc.Tool tool
+    Nc.FeedPerRev feed
+    Nc.Spindle speed
+    Nc.Rapid PX, safeZ
+    Nc.Rapid PX, PZ
+    Nc.Line XA, ZA
+    Nc.Line XB, ZB
     Nc.Rapid XB, safeZ
-    Nc.Rapid XA, safeZ
-    Nc.Block "M5"
+    Nc.Rapid PX, safeZ
+    Nc.Spindle 0
 End Sub
 
 ' A defined name of the workbook if it names cells, else the fixed address.

@@ -15,6 +15,9 @@ Attribute VB_Name = "Cycles"
 '      grooving tool of width R0 stepping along Z by R4, with a dwell of R5 seconds.
 Option Explicit
 
+' How far (mm, in X as a radius) the tool stays off the blank wherever it moves in rapid.
+Const Clear As Double = 1
+
 ' ---- L16 -------------------------------------------------------------------------------
 
 ' X: final diameter; W: loop length along Z; A: finishing allowance on X; P: depth of cut
@@ -22,13 +25,13 @@ Option Explicit
 Sub L16(Optional X As Double = 30, Optional W As Double = 40, Optional A As Double = 0.5, _
         Optional P As Double = 2, Optional Stock As Double = 44, Optional F As Double = 0.2)
     Dim XT As Double, XK As Double, R1 As Double
-    Begin "L16", 700
+    Begin "L16", 700, F
     Nc.Comment "L16 zigzag X" & X & " W" & W & " A" & A & " P" & P
     XK = X + A                      ' the lowest diameter a pass may cut
     XT = Stock
     R1 = 0                          ' where the loop is: 0 at the face, W toward the chuck
-    Nc.Rapid Stock + 2, 1
-    Nc.Rapid Stock + 2, 0
+    Nc.Rapid Stock + 2 * Clear, 1
+    Nc.Rapid Stock + 2 * Clear, 0
 N10:
     XT = XT - P
     If XT < XK Then XT = XK         ' the last pass takes what is left, no more
@@ -36,8 +39,8 @@ N10:
     If R1 = 0 Then R1 = W Else R1 = 0
     Nc.Line , -R1                   ' along Z: toward the chuck, next time back
     If XT > XK Then GoTo N10
-    Nc.Rapid Stock + 2, -R1
-    Nc.Rapid Stock + 2, 1
+    Nc.Rapid Stock + 2 * Clear, -R1
+    Nc.Rapid Stock + 2 * Clear, 1
     Finish
 End Sub
 
@@ -48,7 +51,7 @@ End Sub
 Sub L17(Optional A As Double = 0.5, Optional P As Double = 3, Optional Stock As Double = 44, _
         Optional F As Double = 0.15)
     Dim R2 As Double
-    Begin "L17", 700
+    Begin "L17", 700, F
     Nc.Comment "L17 loop A" & A & " P" & P
     R2 = Stock - 20                 ' the thickest layer: the contour's smallest diameter is 20
 N10:
@@ -69,37 +72,39 @@ Sub L03(dx As Double, Stock As Double, F As Double)
     Nc.ArcCW 30 + dx, -15, 30 + dx, -10    ' centre at diameter 30, Z-10: a concave fillet
     Nc.Line 30 + dx, -25
     Nc.Line 40 + dx, -35
-    Nc.Rapid Stock + 2, -35
-    Nc.Rapid Stock + 2, 2
+    Nc.Rapid Stock + 2 * Clear, -35
+    Nc.Rapid Stock + 2 * Clear, 2
 End Sub
 
 ' ---- L13 -------------------------------------------------------------------------------
 
-' XStart: the diameter the tool plunges from and returns to; ZRight, ZLeft: the recess's
+' XStart: the diameter of the part where the recess is (the tool plunges from Clear above it
+' and returns there); ZRight, ZLeft: the recess's
 ' ends; R0: tool width (the programmed point is its right corner); R4: step along Z;
 ' R5: dwell (s); A: allowance on the bottom; F: plunge feed.
 Sub L13(Optional XStart As Double = 44, Optional ZRight As Double = -10, Optional ZLeft As Double = -30, _
         Optional R0 As Double = 3, Optional R4 As Double = 2.5, Optional R5 As Double = 0.5, _
         Optional A As Double = 0, Optional F As Double = 0.05)
-    Dim Z As Double, R3 As Double, X As Double
-    Begin "L13", 500
+    Dim Z As Double, R3 As Double, X As Double, XSafe As Double
+    Begin "L13", 500, F
+    XSafe = XStart + 2 * Clear
     Nc.Comment "L13 plunge R0=" & R0 & " R4=" & R4
     Z = ZRight                      ' the tool's right corner
     R3 = (ZRight - ZLeft) - R0      ' width still to plunge after this one
-    Nc.Rapid XStart, 1
-    Nc.Rapid XStart, Z
+    Nc.Rapid XSafe, 1
+    Nc.Rapid XSafe, Z
 N10:
     X = Deepest(Z - R0, Z) + A      ' the larger of the bottom under the two corners
     Nc.Line X, Z, F
     Nc.Dwell R5
-    Nc.Rapid XStart, Z
+    Nc.Rapid XSafe, Z
     If R3 <= 0 Then GoTo N20
     If R3 < R4 Then Z = Z - R3 Else Z = Z - R4
     R3 = R3 - R4
-    Nc.Rapid XStart, Z
+    Nc.Rapid XSafe, Z
     GoTo N10
 N20:
-    Nc.Rapid XStart, 1
+    Nc.Rapid XSafe, 1
     Finish
 End Sub
 
@@ -132,14 +137,17 @@ End Function
 
 ' ---- shared ------------------------------------------------------------------------------
 
-Sub Begin(name As String, speed As Double)
+' The cycle's start: its name, tool 1, feed per revolution, the spindle at `speed` 1/min.
+Sub Begin(name As String, speed As Double, F As Double)
     Nc.Name = name
     Nc.Machine = "lathe"
-    Nc.Block "S", speed, "M3"
+    Nc.Tool 1
+    Nc.FeedPerRev F
+    Nc.Spindle speed
 End Sub
 
 Sub Finish()
-    Nc.Block "M5"
+    Nc.Spindle 0
 End Sub
 
 ' All three, one after another, as one program.

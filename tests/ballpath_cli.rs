@@ -71,16 +71,23 @@ fn heidenhain_program_in_the_papers_form() {
     let text = std::fs::read_to_string(dir.path().join("bump.h")).unwrap();
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(lines[0], "0 BEGIN PGM BUMP MM");
-    assert_eq!(lines[1], "1 ; ball-end mill R2: programmed point is the ball tip (centre - R in Z)");
+    // The blank drawn for the control: the rectangle, from the lowest surface point (z = 1 at
+    // x = 0) to the highest (z = 3 at x = 4).
+    assert_eq!(lines[1], "1 BLK FORM 0.1 Z X+0.0000 Y-2.0000 Z+1.0000");
+    assert_eq!(lines[2], "2 BLK FORM 0.2 X+4.0000 Y+2.0000 Z+3.0000");
+    assert_eq!(lines[3], "3 ; ball-end mill R2: programmed point is the ball tip (centre - R in Z)");
+    // Tool 1 at the default 3000 1/min; the spindle starts (M3) on the first move.
+    assert_eq!(lines[4], "4 TOOL CALL 1 Z S3000");
     // Clearance: the highest tip is at x = 4 − 2/√1.25: z = 3 + 2/√1.25 − 2 = 2.789, + 5 → 8.
-    assert_eq!(lines[2], "2 L Z+8.0000 FMAX");
-    assert_eq!(lines[3], "3 L X-0.8944 Y-2.0000 FMAX");
+    assert_eq!(lines[5], "5 L Z+8.0000 FMAX M3");
+    assert_eq!(lines[6], "6 L X-0.8944 Y-2.0000 FMAX");
     // First cut: contact (0, −2, 1), tip (−0.8944, −2, 1 + 1.7889 − 2).
-    assert_eq!(lines[4], "4 L X-0.8944 Y-2.0000 Z+0.7889 F480");
-    assert_eq!(lines[12], "12 L X+3.1056 Y+2.0000 Z+2.7889 F480");
-    assert_eq!(lines[13], "13 L Z+8.0000 FMAX");
-    assert_eq!(lines[14], "14 END PGM BUMP MM");
-    assert_eq!(lines.len(), 15);
+    assert_eq!(lines[7], "7 L X-0.8944 Y-2.0000 Z+0.7889 F480");
+    assert_eq!(lines[15], "15 L X+3.1056 Y+2.0000 Z+2.7889 F480");
+    // The end: back to the clearance, compensation cancelled, spindle stopped.
+    assert_eq!(lines[16], "16 L Z+8.0000 R0 FMAX M5");
+    assert_eq!(lines[17], "17 END PGM BUMP MM");
+    assert_eq!(lines.len(), 18);
 }
 
 #[test]
@@ -102,6 +109,10 @@ fn iso_programs_and_linuxcnc_reads_its_own() {
     // The Fanuc-style ISO program (no O-number unless one is asked for) reads in LinuxCNC too,
     // and cuts through the programmed tips.
     let iso = rs274::moves(&dir.path().join("iso.ngc")).unwrap_or_else(|e| panic!("rs274 rejected iso:\n{e}"));
+    // Milling feeds are per minute (G94: SET_FEED_MODE(0, 0)) before the first cut.
+    for p in ["iso.ngc", "p.ngc"] {
+        assert_eq!(rs274::feed_mode_at_first_cut(&dir.path().join(p)), Ok(Some(0)), "{p}");
+    }
     let iso_feeds: Vec<[f64; 3]> = iso
         .iter()
         .filter_map(|m| match m {

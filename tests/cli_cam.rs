@@ -89,6 +89,8 @@ fn cam_program_is_read_by_rs274_as_the_arcs_of_the_table() {
         ncsheet(&[&common[..], &["--format", "nc", "--dialect", "linuxcnc", "-o", program.to_str().unwrap()]].concat());
     assert!(nc.status.success(), "{}", String::from_utf8_lossy(&nc.stderr));
     let moves = rs274::moves(&program).unwrap();
+    // A milling feed is per minute (G94) from the first cut.
+    assert_eq!(rs274::feed_mode_at_first_cut(&program), Ok(Some(0)));
     let read: Vec<&Move> = moves.iter().filter(|m| matches!(m, Move::Arc { .. })).collect();
     assert_eq!(read.len(), table.len());
     for (m, (a, dir)) in read.iter().zip(&table) {
@@ -98,5 +100,179 @@ fn cam_program_is_read_by_rs274_as_the_arcs_of_the_table() {
         assert!(close(*first_end, a[2]) && close(*second_end, a[3]), "{m:?} vs {a:?}");
         assert!(close(*first_centre, a[4]) && close(*second_centre, a[5]), "{m:?} vs {a:?}");
         assert_eq!(*rotation, if dir == "ccw" { 1 } else { -1 });
+    }
+}
+
+/// One arc of a program as the control reads it: start, end, centre (absolute), turning
+/// counter-clockwise or not.
+#[derive(Debug)]
+struct WrittenArc {
+    start: (f64, f64),
+    end: (f64, f64),
+    centre: (f64, f64),
+    ccw: bool,
+}
+
+/// The arcs of a word-address program (G2/G3 X Y I J, modal G, centre offsets from the start
+/// as written) or of a plain-language one (L X Y, CC X Y, C X Y DR±), read from the text with
+/// the decimals it has.
+fn written_arcs(text: &str) -> Vec<WrittenArc> {
+    let mut arcs = Vec::new();
+    let (mut at, mut centre, mut g) = ((f64::NAN, f64::NAN), (f64::NAN, f64::NAN), 0);
+    for line in text.lines() {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        if line.starts_with('(') || line.starts_with(';') || words.is_empty() {
+            continue;
+        }
+        let value = |letter: &str| -> Option<f64> {
+            words.iter().find_map(|w| w.strip_prefix(letter).and_then(|v| v.parse::<f64>().ok()))
+        };
+        let (x, y) = (value("X").unwrap_or(at.0), value("Y").unwrap_or(at.1));
+        match words.get(1).copied() {
+            // Plain language: block number, then the function.
+            Some("L") if words[0].parse::<u32>().is_ok() => at = (x, y),
+            Some("CC") if words[0].parse::<u32>().is_ok() => centre = (x, y),
+            Some("C") if words[0].parse::<u32>().is_ok() => {
+                arcs.push(WrittenArc { start: at, end: (x, y), centre, ccw: words.contains(&"DR+") });
+                at = (x, y);
+            }
+            _ => {
+                for w in &words {
+                    if let Some(code) = w.strip_prefix('G').and_then(|c| c.parse::<u32>().ok()) {
+                        if code <= 3 {
+                            g = code;
+                        }
+                    }
+                }
+                if value("X").is_none() && value("Y").is_none() {
+                    continue;
+                }
+                if g == 2 || g == 3 {
+                    let c = (at.0 + value("I").unwrap(), at.1 + value("J").unwrap());
+                    arcs.push(WrittenArc { start: at, end: (x, y), centre: c, ccw: g == 3 });
+                }
+                at = (x, y);
+            }
+        }
+    }
+    arcs
+}
+
+/// Points along a written arc as a control cuts it: the radius going from the start's to the
+/// end's (they differ by the rounding), the angle the arc's way round.
+fn arc_points(a: &WrittenArc, n: usize) -> Vec<(f64, f64)> {
+    let polar =
+        |p: (f64, f64)| ((p.0 - a.centre.0).hypot(p.1 - a.centre.1), (p.1 - a.centre.1).atan2(p.0 - a.centre.0));
+    let ((r0, t0), (r1, t1)) = (polar(a.start), polar(a.end));
+    let mut sweep = t1 - t0;
+    if a.ccw && sweep <= 0.0 {
+        sweep += std::f64::consts::TAU;
+    }
+    if !a.ccw && sweep >= 0.0 {
+        sweep -= std::f64::consts::TAU;
+    }
+    (0..=n)
+        .map(|i| {
+            let t = i as f64 / n as f64;
+            let (r, angle) = (r0 + (r1 - r0) * t, t0 + sweep * t);
+            (a.centre.0 + r * angle.cos(), a.centre.1 + r * angle.sin())
+        })
+        .collect()
+}
+
+/// The spiral piece exactly: radius at an angle in degrees.
+fn spiral(kind: &str, [r0, phi0, r1, phi1]: [f64; 4]) -> impl Fn(f64) -> f64 {
+    let log = kind == "log";
+    move |phi: f64| {
+        let t = (phi - phi0) / (phi1 - phi0);
+        if log {
+            r0 * (r1 / r0).powf(t)
+        } else {
+            r0 + (r1 - r0) * t
+        }
+    }
+}
+
+fn polyline_distance(p: (f64, f64), line: &[(f64, f64)]) -> f64 {
+    line.windows(2)
+        .map(|w| {
+            let (a, b) = (w[0], w[1]);
+            let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+            let t = (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
+            (p.0 - a.0 - t * dx).hypot(p.1 - a.1 - t * dy)
+        })
+        .fold(f64::MAX, f64::min)
+}
+
+#[test]
+fn cam_programs_as_written_stay_within_the_tolerance_of_the_spiral() {
+    let pieces = [("arch", [79.0, 36.0, 102.0, 160.2]), ("log", [116.0, 25.2, 79.0, 28.0])];
+    for (kind, piece) in pieces {
+        let r = spiral(kind, piece);
+        // The exact curve, densely: chords of 0.05° on radii near 100 mm sag by < 1e-6 mm.
+        let n = ((piece[3] - piece[1]) / 0.05).ceil() as usize;
+        let curve: Vec<(f64, f64)> = (0..=n)
+            .map(|i| {
+                let phi = piece[1] + (piece[3] - piece[1]) * i as f64 / n as f64;
+                (r(phi) * phi.to_radians().cos(), r(phi) * phi.to_radians().sin())
+            })
+            .collect();
+        for tol in ["0.01", "0.001"] {
+            let tol_mm: f64 = tol.parse().unwrap();
+            for dialect in ["iso", "linuxcnc", "sinumerik", "heidenhain"] {
+                let numbers = piece.map(|v| v.to_string());
+                let out = ncsheet(&[
+                    "arcfit",
+                    "--kind",
+                    kind,
+                    "--r0",
+                    &numbers[0],
+                    "--phi0",
+                    &numbers[1],
+                    "--r1",
+                    &numbers[2],
+                    "--phi1",
+                    &numbers[3],
+                    "--tol",
+                    tol,
+                    "--format",
+                    "nc",
+                    "--dialect",
+                    dialect,
+                ]);
+                assert!(out.status.success(), "{dialect}: {}", String::from_utf8_lossy(&out.stderr));
+                let text = String::from_utf8(out.stdout).unwrap();
+                let arcs = written_arcs(&text);
+                assert!(!arcs.is_empty(), "{dialect}: no arcs in\n{text}");
+                let path: Vec<(f64, f64)> = arcs.iter().flat_map(|a| arc_points(a, 400)).collect();
+                let worst = path.iter().map(|p| polyline_distance(*p, &curve)).fold(0.0, f64::max);
+                assert!(worst <= tol_mm, "{kind} {dialect} tol {tol}: the program is {worst} mm off the spiral");
+                let worst = curve.iter().map(|p| polyline_distance(*p, &path)).fold(0.0, f64::max);
+                assert!(worst <= tol_mm, "{kind} {dialect} tol {tol}: the spiral is {worst} mm off the program");
+            }
+        }
+    }
+}
+
+#[test]
+fn every_listed_dialect_writes_and_bad_feeds_are_refused() {
+    let help = String::from_utf8(ncsheet(&["arcfit", "--help"]).stdout).unwrap();
+    let piece = ["arcfit", "--kind", "arch", "--r0", "79", "--phi0", "36", "--r1", "102", "--phi1", "160.2"];
+    // Every dialect the help offers for --dialect writes the program (nc31 has no arcs and
+    // is not offered).
+    let listed: Vec<&str> = ["iso", "linuxcnc", "sinumerik", "heidenhain", "nc31"]
+        .into_iter()
+        .filter(|d| help.lines().any(|l| l.contains("possible values") && l.contains(d)))
+        .collect();
+    assert_eq!(listed, ["iso", "linuxcnc", "sinumerik", "heidenhain"], "{help}");
+    for d in listed {
+        let out = ncsheet(&[&piece[..], &["--tol", "0.01", "--format", "nc", "--dialect", d]].concat());
+        assert!(out.status.success(), "{d}: {}", String::from_utf8_lossy(&out.stderr));
+    }
+    for feed in ["--feed=0", "--feed=-5"] {
+        let out = ncsheet(&[&piece[..], &["--tol", "0.01", "--format", "nc", feed]].concat());
+        assert_eq!(out.status.code(), Some(1), "{feed}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("block") && err.contains("feed"), "{feed}: {err}");
     }
 }

@@ -55,12 +55,19 @@ fn chamfer_macro_cuts_from_t1_to_t2_as_domain_md_computes_them() {
     }
     let moves = rs274::moves(&program).unwrap();
     // rs274 reports X as a radius (G7 diameter mode on input).
+    // In at feed to T1, along the chamfer to T2; the rapid before ends 1 mm (the macro's
+    // clearance) off the chamfer line: 1/cos 45° further out in X than T1.
     let feed: Vec<&Move> = moves.iter().filter(|m| matches!(m, Move::Feed { .. })).collect();
     let Move::Feed { x, z, .. } = feed[0] else { unreachable!() };
+    assert!((x - 44.262742 / 2.0).abs() < 0.001 && (z + 4.6).abs() < 0.001, "{feed:?}");
+    let Move::Feed { x, z, .. } = feed[1] else { unreachable!() };
     assert!((x - 33.062742 / 2.0).abs() < 0.001 && (z - 1.0).abs() < 0.001, "{feed:?}");
-    let start = moves.iter().rev().skip_while(|m| !matches!(m, Move::Feed { .. })).nth(1).unwrap();
-    let Move::Traverse { x, z, .. } = start else { panic!("expected a rapid to T1, got {start:?}") };
-    assert!((x - 44.262742 / 2.0).abs() < 0.001 && (z + 4.6).abs() < 0.001, "{moves:?}");
+    let first_cut = moves.iter().position(|m| matches!(m, Move::Feed { .. })).unwrap();
+    let Move::Traverse { x, z, .. } = moves[first_cut - 1] else { panic!("expected a rapid before T1: {moves:?}") };
+    let clear = 44.262742 / 2.0 + 1.0 / 45f64.to_radians().cos();
+    assert!((x - clear).abs() < 0.001 && (z + 4.6).abs() < 0.001, "{moves:?}");
+    // F0.1 is per revolution: G95 before the first cut.
+    assert_eq!(rs274::feed_mode_at_first_cut(&program), Ok(Some(1)));
 }
 
 #[test]

@@ -2,13 +2,24 @@
 //! (tests/nc/<dialect>/*.nc), plus a round-trip property of the number formatter.
 
 use ncsheet::nc::dialect::{self, Dialect};
-use ncsheet::nc::{ArcDirection, Block, Machine, Program, Target, Word};
+use ncsheet::nc::{ArcDirection, Block, FeedMode, Machine, Program, Spindle, SpindleDirection, Target, Word};
 use proptest::prelude::*;
 
 fn lathe_program(with_arc: bool) -> Program {
     let mut p = Program::new("CHAMFER", Machine::Lathe);
     p.number = Some(1);
+    p.retract = Some(Target::xz(60.0, 5.0));
     p.push(Block::Comment("outer chamfer".into()));
+    p.push(Block::Tool(1));
+    p.push(Block::FeedMode(FeedMode::PerRevolution));
+    let direction = SpindleDirection::Clockwise;
+    // NC31 has no constant surface speed: its program turns at a fixed speed.
+    p.push(Block::Spindle(if with_arc {
+        Spindle::SurfaceSpeed { metres_per_min: 180.0, max_rpm: 2500.0, direction }
+    } else {
+        Spindle::Rpm { rpm: 800.0, direction }
+    }));
+    p.push(Block::Coolant(true));
     p.push(Block::Rapid(Target::xz(50.0, 2.0)));
     p.push(Block::Line { to: Target::xz(40.0, 0.0), feed: Some(0.1) });
     if with_arc {
@@ -26,7 +37,12 @@ fn lathe_program(with_arc: bool) -> Program {
 fn mill_program() -> Program {
     let mut p = Program::new("POCKET", Machine::Mill);
     p.number = Some(1);
+    p.retract = Some(Target { z: Some(50.0), ..Target::default() });
+    p.blank = Some(([0.0, 0.0, -5.0], [10.0, 10.0, 0.0]));
     p.push(Block::Comment("square with a round corner".into()));
+    p.push(Block::FeedMode(FeedMode::PerMinute));
+    p.push(Block::Tool(1));
+    p.push(Block::Spindle(Spindle::Rpm { rpm: 3000.0, direction: SpindleDirection::Clockwise }));
     p.push(Block::Rapid(Target::xyz(0.0, 0.0, 5.0)));
     p.push(Block::Line { to: Target { z: Some(-1.0), ..Target::default() }, feed: Some(100.0) });
     p.push(Block::Line { to: Target::xy(10.0, 0.0), feed: Some(200.0) });
@@ -80,8 +96,10 @@ fn nc31_lathe() {
 #[test]
 fn what_a_control_cannot_read_is_an_error_naming_the_block() {
     let nc31 = dialect::by_name("nc31").unwrap();
-    let err = nc31.render(&lathe_program(true)).unwrap_err();
-    assert_eq!(err.block, Some(4));
+    let mut with_arc = lathe_program(true);
+    with_arc.blocks[3] = Block::Spindle(Spindle::Rpm { rpm: 800.0, direction: SpindleDirection::Clockwise });
+    let err = nc31.render(&with_arc).unwrap_err();
+    assert_eq!(err.block, Some(8));
     assert!(err.to_string().contains("circular interpolation"), "{err}");
     assert!(dialect::by_name("heidenhain").unwrap().render(&lathe_program(false)).is_err());
     assert!(nc31.render(&mill_program()).is_err());
@@ -92,6 +110,116 @@ fn what_a_control_cannot_read_is_an_error_naming_the_block() {
     let mut p = mill_program();
     p.push(Block::Rapid(Target::xy(f64::NAN, 0.0)));
     assert!(dialect::by_name("iso").unwrap().render(&p).is_err());
+}
+
+#[test]
+fn a_lathe_cut_without_a_feed_mode_is_refused_naming_the_block() {
+    let mut p = Program::new("NOMODE", Machine::Lathe);
+    p.push(Block::Rapid(Target::xz(50.0, 2.0)));
+    p.push(Block::Line { to: Target::xz(40.0, 0.0), feed: Some(0.1) });
+    for d in dialect::all().into_iter().filter(|d| d.writes(Machine::Lathe)) {
+        let err = d.render(&p).unwrap_err();
+        assert_eq!(err.block, Some(2), "{}: {err}", d.name());
+        assert!(err.message.contains("feed mode"), "{err}");
+    }
+}
+
+/// A mill program (lathe for NC31) whose fourth block is `block`, in dialect `d`.
+fn one(d: &dyn Dialect, block: Block) -> Result<String, dialect::NcError> {
+    let machine = if d.writes(Machine::Mill) { Machine::Mill } else { Machine::Lathe };
+    let mut p = Program::new("P", machine);
+    p.push(Block::FeedMode(FeedMode::PerRevolution));
+    p.push(Block::Spindle(Spindle::Rpm { rpm: 800.0, direction: SpindleDirection::Clockwise }));
+    p.push(Block::Rapid(Target::xyz(10.0, 0.0, 0.0)));
+    p.push(block);
+    d.render(&p)
+}
+
+#[test]
+fn numbers_no_control_should_get_are_refused() {
+    let line = |x: f64, feed: f64| Block::Line { to: Target { x: Some(x), ..Target::default() }, feed: Some(feed) };
+    for d in dialect::all() {
+        for bad in [line(1e300, 1.0), line(f64::NAN, 1.0), line(f64::INFINITY, 1.0), line(1.0, 0.0), line(1.0, -5.0)] {
+            let err = one(d, bad.clone()).unwrap_err();
+            assert_eq!(err.block, Some(4), "{}: {bad:?}: {err}", d.name());
+        }
+        assert!(one(d, line(9_999.0, 1.0)).is_ok(), "{}", d.name());
+        assert!(one(d, Block::Dwell(0.0)).is_err() && one(d, Block::Dwell(f64::NAN)).is_err());
+        let spindle = |rpm: f64| Block::Spindle(Spindle::Rpm { rpm, direction: SpindleDirection::Clockwise });
+        assert!(one(d, spindle(1e300)).is_err() && one(d, spindle(0.0)).is_err() && one(d, spindle(800.0)).is_ok());
+        assert!(one(d, Block::Tool(0)).is_err());
+    }
+    // ±99999.999 fits Fanuc's 8 digits, 100000 does not.
+    let iso = dialect::by_name("iso").unwrap();
+    assert!(one(iso, line(99_999.0, 1.0)).is_ok());
+    assert!(one(iso, line(100_000.0, 1.0)).is_err());
+    // Fanuc stores programs O0001–O9999.
+    let mut p = mill_program();
+    p.number = Some(10_000);
+    assert!(iso.render(&p).unwrap_err().message.contains("O0001"));
+}
+
+#[test]
+fn arcs_off_their_circle_are_refused() {
+    let arc =
+        |to: Target, centre: Target| Block::Arc { direction: ArcDirection::Clockwise, to, centre, feed: Some(1.0) };
+    for d in dialect::all().into_iter().filter(|d| d.writes(Machine::Mill)) {
+        // Start (10, 0): radius 0, and a centre 7.6 from the start but 9.9 from the end.
+        let err = one(d, arc(Target::xy(0.0, 10.0), Target::xy(10.0, 0.0))).unwrap_err();
+        assert!(err.message.contains("radius 0"), "{}: {err}", d.name());
+        let centre = Target::xy(2.4, 0.0);
+        let to = Target::xy(2.4 + 9.9, 0.0);
+        let err = one(d, arc(to, centre)).unwrap_err();
+        assert_eq!(err.block, Some(4), "{err}");
+        // A true quarter circle is written.
+        assert!(one(d, arc(Target::xy(0.0, 10.0), Target::xy(0.0, 0.0))).is_ok(), "{}", d.name());
+    }
+}
+
+#[test]
+fn comments_and_names_stay_comments_in_every_dialect() {
+    let evil = "A) G0 Z-500 (\nG0 X0 Z-500\r; %, (MSG, hi)";
+    for d in dialect::all() {
+        let machine = if d.writes(Machine::Mill) { Machine::Mill } else { Machine::Lathe };
+        let mut p = Program::new(evil, machine);
+        p.number = Some(1);
+        p.push(Block::Comment(evil.into()));
+        let text = d.render(&p).unwrap();
+        for line in text.lines() {
+            let code = match d.name() {
+                "iso" | "linuxcnc" => {
+                    // Everything outside one pair of parentheses is code.
+                    let outside: String = line.split('(').next().unwrap().to_string()
+                        + line.rsplit(')').next().filter(|_| line.contains(')')).unwrap_or("");
+                    assert!(line.matches('(').count() <= 1 && line.matches(')').count() <= 1, "{line}");
+                    outside
+                }
+                "sinumerik" | "heidenhain" => line.split(';').next().unwrap().to_string(),
+                _ => line.to_string(),
+            };
+            assert!(!code.contains("Z-500"), "{}: code line {line:?} in\n{text}", d.name());
+        }
+        if d.name() == "iso" {
+            assert!(!text.contains(',') && !text.chars().any(|c| c.is_ascii_lowercase()), "{text}");
+        }
+        if d.name() == "linuxcnc" {
+            assert!(!text.contains(','), "(MSG, … is a command in LinuxCNC: {text}");
+        }
+    }
+}
+
+#[test]
+fn block_numbers_wrap_past_the_controls_digits() {
+    let mut p = Program::new("LONG", Machine::Lathe);
+    p.push(Block::FeedMode(FeedMode::PerRevolution));
+    for i in 0..12_000 {
+        p.push(Block::Rapid(Target::xz(10.0 + (i % 7) as f64, 1.0)));
+    }
+    let text = render("iso", &p);
+    let widest = text.lines().filter_map(|l| l.strip_prefix('N')?.split(' ').next()?.parse::<u64>().ok()).max();
+    assert_eq!(widest, Some(99_990), "Fanuc reads N1–N99999");
+    let text = render("nc31", &p);
+    assert!(text.lines().all(|l| l.len() < 5 || !l.as_bytes()[4].is_ascii_digit()), "NC31 reads N001–N999");
 }
 
 #[test]
@@ -115,7 +243,7 @@ proptest! {
     #[test]
     fn coordinates_round_trip_to_the_dialect_resolution(v in -5000.0f64..5000.0, which in 0usize..5) {
         let d: &dyn Dialect = dialect::all()[which];
-        let machine = if d.name() == "heidenhain" { Machine::Mill } else { Machine::Lathe };
+        let machine = if d.writes(Machine::Lathe) { Machine::Lathe } else { Machine::Mill };
         let mut p = Program::new("P", machine);
         p.push(Block::Rapid(Target { x: Some(v), ..Target::default() }));
         let back = first_x(&d.render(&p).unwrap());

@@ -4,7 +4,7 @@ mod common;
 
 use common::rs274::{self, Move};
 use ncsheet::nc::dialect;
-use ncsheet::nc::{ArcDirection, Block, Machine, Program, Target};
+use ncsheet::nc::{ArcDirection, Block, FeedMode, Machine, Program, Spindle, SpindleDirection, Target};
 
 fn close(a: f64, b: f64) -> bool {
     (a - b).abs() < 1e-4
@@ -24,6 +24,8 @@ fn run(p: &Program) -> Option<Vec<Move>> {
 #[test]
 fn lathe_program_moves_in_diameter_mode() {
     let mut p = Program::new("LATHE", Machine::Lathe);
+    p.push(Block::FeedMode(FeedMode::PerRevolution));
+    p.push(Block::Spindle(Spindle::Rpm { rpm: 800.0, direction: SpindleDirection::Clockwise }));
     p.push(Block::Rapid(Target::xz(50.0, 2.0)));
     p.push(Block::Line { to: Target::xz(40.0, 0.0), feed: Some(0.1) });
     // Quarter circle of radius 3 from (X40, Z0) around (X46, Z0): I is a radius offset (3)

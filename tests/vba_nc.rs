@@ -128,13 +128,120 @@ fn chamfer_program_read_by_rs274_cuts_from_t1_to_t2() {
     // linuxcnc writes 3 decimals of a diameter: a radius is good to 0.0005.
     let near = |(z, x): (f64, f64), (wz, wx): (f64, f64)| (z - wz).abs() < 6e-4 && (x - wx).abs() < 6e-4;
     let feeds: Vec<usize> = (0..moves.len()).filter(|&i| matches!(moves[i], Move::Feed { .. })).collect();
-    assert_eq!(feeds.len(), 1, "one cut along the chamfer: {moves:?}");
-    let cut = feeds[0];
+    assert_eq!(feeds.len(), 2, "in to T1 and along the chamfer: {moves:?}");
+    let cut = feeds[1];
     // T1: XA 44.262742 is radius 22.131371, ZA -4.6; T2: XB 33.062742, ZB 1 (DOMAIN.md §1).
-    assert!(matches!(moves[cut - 1], Move::Traverse { .. }), "approach by rapid: {moves:?}");
+    assert!(matches!(moves[cut - 2], Move::Traverse { .. }), "approach by rapid: {moves:?}");
     assert!(near(end(&moves[cut - 1]), (-4.6, 22.131371)), "T1: {:?}", moves[cut - 1]);
     assert!(near(end(&moves[cut]), (1.0, 16.531371)), "T2: {:?}", moves[cut]);
     assert!(moves[cut + 1..].iter().all(|m| matches!(m, Move::Traverse { .. })), "retract by rapid: {moves:?}");
+}
+
+/// The finished part near a chamfer as segments ((z, r), (z, r)) with r a radius, drawn from
+/// the inputs alone: the chamfer runs f along Z and f·tan α in radius (DOMAIN.md §1's
+/// corrected model); an outer chamfer joins the shaft and the face, a pipe chamfer the bore
+/// and the face, a blind one the bore's flat bottom at Z −f and the face.
+fn chamfer_contour(kind: &str, [d, f, alpha, ..]: [f64; 6]) -> Vec<((f64, f64), (f64, f64))> {
+    let (r, h) = (d / 2.0, f * alpha.to_radians().tan());
+    match kind {
+        "outer" => vec![((-80.0, r), (-f, r)), ((-f, r), (0.0, r - h)), ((0.0, r - h), (0.0, 0.0))],
+        "pipe" => vec![((-80.0, r), (-f, r)), ((-f, r), (0.0, r + h)), ((0.0, r + h), (0.0, r + 80.0))],
+        _ => vec![((-f, 0.0), (-f, r)), ((-f, r), (0.0, r + h)), ((0.0, r + h), (0.0, r + 80.0))],
+    }
+}
+
+fn distance_to_segment(p: (f64, f64), (a, b): ((f64, f64), (f64, f64))) -> f64 {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let t = (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
+    (p.0 - a.0 - t * dx).hypot(p.1 - a.1 - t * dy)
+}
+
+/// How far the insert's nose is from the part when the theoretical tip is at (z, radius):
+/// the nose centre is r above the tip in Z, and r outward (outer tool) or inward (boring
+/// tool) in radius (DOMAIN.md §1).
+fn nose_clearance(kind: &str, inputs: [f64; 6], (z, x): (f64, f64)) -> f64 {
+    let r = inputs[3];
+    let centre = if kind == "outer" { (z + r, x + r) } else { (z + r, x - r) };
+    chamfer_contour(kind, inputs).into_iter().map(|s| distance_to_segment(centre, s)).fold(f64::MAX, f64::min) - r
+}
+
+#[test]
+fn chamfer_rapids_never_end_within_the_clearance_of_the_part() {
+    // DOMAIN.md §1's four worked cases and a few more angles and clearances; the macro's
+    // default clearance is 1 mm.
+    let cases = [
+        ("outer", [40.0, 2.0, 45.0, 0.8, 1.0, 1.0]),
+        ("outer", [40.0, 2.0, 30.0, 0.8, 1.0, 1.0]),
+        ("outer", [40.0, 3.0, 60.0, 0.4, 0.2, 0.0]),
+        ("pipe", [30.0, 2.0, 45.0, 0.8, 1.0, 1.0]),
+        ("pipe", [30.0, 1.5, 45.0, 0.4, 0.2, 0.5]),
+        ("blind", [20.0, 2.0, 45.0, 0.8, 0.0, 1.0]),
+        ("blind", [24.0, 1.0, 45.0, 0.4, 0.0, 0.0]),
+    ];
+    let clear = 1.0;
+    // 3 decimals of a diameter move the tip by up to 0.0005 in radius and Z.
+    let slack = 1e-3;
+    for (kind, inputs) in cases {
+        let mut wb = chamfer_workbook(inputs, true);
+        let options = RunOptions { args: vec![("kind".into(), kind.into())], ..RunOptions::default() };
+        let out = run(&mut wb, CHAMFER, &options);
+        assert!(out.messages.is_empty(), "{kind} {inputs:?}: {:?}", out.messages);
+        let Some(moves) = moves(&out.program) else { return };
+        let from = starts(&moves);
+        let mut cuts = 0;
+        for (m, s) in moves.iter().zip(&from) {
+            match m {
+                Move::Traverse { .. } => {
+                    let gap = nose_clearance(kind, inputs, end(m));
+                    assert!(gap >= clear - slack, "{kind} {inputs:?}: a rapid ends {gap:.4} mm off the part: {m:?}");
+                    for p in samples(*s, m) {
+                        let gap = nose_clearance(kind, inputs, p);
+                        assert!(gap >= -slack, "{kind} {inputs:?}: a rapid cuts {:.4} mm deep at {p:?}", -gap);
+                    }
+                }
+                _ => cuts += 1,
+            }
+        }
+        assert_eq!(cuts, 2, "{kind}: in to T1 at feed, then the chamfer: {moves:?}");
+        let path = dialect_text_path(&out.program);
+        assert_eq!(rs274::feed_mode_at_first_cut(&path.1), Ok(Some(1)), "{kind}: G95 before the first cut");
+    }
+}
+
+/// The program in the linuxcnc dialect in a temporary folder (kept alive by the first item).
+fn dialect_text_path(program: &Program) -> (tempfile::TempDir, std::path::PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("p.ngc");
+    std::fs::write(&path, dialect::by_name("linuxcnc").unwrap().render(program).unwrap()).unwrap();
+    (dir, path)
+}
+
+#[test]
+fn every_cycle_program_feeds_per_revolution_from_its_first_cut() {
+    if !rs274::available() {
+        eprintln!("skipped: LinuxCNC's rs274 is not installed");
+        return;
+    }
+    for sub in ["L16", "L17", "L13", "Main"] {
+        let mut wb = Workbook::with_sheet();
+        let out = run(&mut wb, CYCLES, &RunOptions { sub: Some(sub.into()), ..RunOptions::default() });
+        let path = dialect_text_path(&out.program);
+        assert_eq!(rs274::feed_mode_at_first_cut(&path.1), Ok(Some(1)), "{sub}");
+        // Every rapid ends at least the cycles' Clear (1 mm) off the blank: diameter 44, face
+        // at Z0 (the finished part lies inside it).
+        for m in moves(&out.program).unwrap() {
+            if let Move::Traverse { .. } = m {
+                let (z, r) = end(&m);
+                let gap = match (z > 0.0, r > 22.0) {
+                    (true, true) => z.hypot(r - 22.0),
+                    (true, false) => z,
+                    (false, true) => r - 22.0,
+                    (false, false) => -(r - 22.0).abs().min(z.abs()),
+                };
+                assert!(gap >= 1.0 - TOL, "{sub}: a rapid ends {gap} mm off the blank: {m:?}");
+            }
+        }
+    }
 }
 
 #[test]
@@ -348,7 +455,8 @@ fn l13_plunges_never_reach_below_the_bottom_and_cover_the_recess() {
                 assert!(e.1 <= highest + 2e-3, "plunge at Z{} stops short of the bottom: {} > {highest}", e.0, e.1);
                 covered.push((e.0 - 3.0, e.0));
             }
-            Move::Traverse { .. } => assert!(e.1 >= 22.0 - TOL, "rapids stay above the blank: {m:?}"),
+            // Rapids end 1 mm (the cycles' Clear) above the blank's diameter 44.
+            Move::Traverse { .. } => assert!(e.1 >= 23.0 - TOL, "rapids stay clear of the blank: {m:?}"),
             Move::Arc { .. } => panic!("L13 plunges straight"),
         }
     }
@@ -435,5 +543,64 @@ fn nc_says_what_is_wrong_with_a_call() {
         let e = vba::run(&mut wb, &src, "nc.bas", &RunOptions::default()).unwrap_err();
         assert_eq!(e.message, message, "{body}");
         assert_eq!(e.span.unwrap().line, 2, "{body}");
+    }
+}
+
+#[test]
+fn nc_sets_feed_mode_spindle_tool_and_coolant() {
+    use ncsheet::nc::{FeedMode, Spindle, SpindleDirection};
+    let src = "Sub Main()\n    Nc.Tool 3\n    Nc.FeedPerRev 0.2\n    Nc.Spindle Vc:=180, Limit:=2500\n\
+               \x20   Nc.Coolant True\n    Nc.Rapid 50, 2\n    Nc.Line 40, 0\n    Nc.FeedPerMin\n    Nc.Line 40, -5\n\
+               \x20   Nc.Spindle 800, \"ccw\"\n    Nc.Spindle 0\nEnd Sub\n";
+    let mut wb = Workbook::with_sheet();
+    let out = run(&mut wb, src, &RunOptions::default());
+    let cw = SpindleDirection::Clockwise;
+    assert_eq!(
+        out.program.blocks,
+        [
+            Block::Tool(3),
+            Block::FeedMode(FeedMode::PerRevolution),
+            Block::Spindle(Spindle::SurfaceSpeed { metres_per_min: 180.0, max_rpm: 2500.0, direction: cw }),
+            Block::Coolant(true),
+            Block::Rapid(ncsheet::nc::Target::xz(50.0, 2.0)),
+            Block::Line { to: ncsheet::nc::Target::xz(40.0, 0.0), feed: Some(0.2) },
+            Block::FeedMode(FeedMode::PerMinute),
+            // F means mm/min now: the next cut writes it again.
+            Block::Line { to: ncsheet::nc::Target::xz(40.0, -5.0), feed: Some(0.2) },
+            Block::Spindle(Spindle::Rpm { rpm: 800.0, direction: SpindleDirection::CounterClockwise }),
+            Block::Spindle(Spindle::Stop),
+        ]
+    );
+    let cases = [
+        ("    Nc.Tool 0", "Nc.Tool takes a tool number from 1 to 99"),
+        ("    Nc.FeedPerRev -1", "Nc.FeedPerRev takes the feed, above 0"),
+        ("    Nc.Spindle 800, \"up\"", "Nc.Spindle: Dir is \"cw\" or \"ccw\", not \"up\""),
+        ("    Nc.Coolant", "Nc.Coolant takes True or False"),
+    ];
+    for (body, message) in cases {
+        let mut wb = Workbook::with_sheet();
+        let e =
+            vba::run(&mut wb, &format!("Sub Main()\n{body}\nEnd Sub\n"), "nc.bas", &RunOptions::default()).unwrap_err();
+        assert_eq!(e.message, message, "{body}");
+    }
+}
+
+#[test]
+fn text_from_a_macro_stays_a_comment_in_every_dialect() {
+    // The issue's injections: a line break in a comment, a comment closed inside a name.
+    let src = "Sub Main()\n    Nc.Name = \"A) G0 Z-500 (\"\n    Nc.Comment \"hello\" & Chr(10) & \"G0 X0 Z-500\"\n\
+               \x20   Nc.FeedPerRev 0.1\n    Nc.Spindle 500\n    Nc.Rapid 10, 1\nEnd Sub\n";
+    let mut wb = Workbook::with_sheet();
+    let out = run(&mut wb, src, &RunOptions::default());
+    for name in ["iso", "linuxcnc", "sinumerik", "nc31"] {
+        let text = dialect::by_name(name).unwrap().render(&out.program).unwrap();
+        // Sinumerik's archive header holds the name as a file name (letters, digits, `_`).
+        for line in text.lines().filter(|l| !l.starts_with("%_N_")) {
+            let code = match name {
+                "sinumerik" => line.split(';').next().unwrap(),
+                _ => line.split('(').next().unwrap(),
+            };
+            assert!(!code.contains("500") || code.contains("S500"), "{name}: {line:?} runs as code in\n{text}");
+        }
     }
 }

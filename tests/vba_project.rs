@@ -146,12 +146,17 @@ fn the_workbooks_own_chamfer_macro_runs_from_the_file() {
         return;
     }
     let moves = common::rs274::moves(&program).unwrap();
-    let feeds: Vec<&common::rs274::Move> =
-        moves.iter().filter(|m| matches!(m, common::rs274::Move::Feed { .. })).collect();
-    let common::rs274::Move::Feed { x, z, .. } = feeds[0] else { unreachable!() };
-    // rs274 reports X as a radius (the program is in diameter mode, G7).
-    assert!((x - 33.062742 / 2.0).abs() < 0.001 && (z - 1.0).abs() < 0.001, "{feeds:?}");
-    let before = moves.iter().rev().skip_while(|m| !matches!(m, common::rs274::Move::Feed { .. })).nth(1).unwrap();
-    let common::rs274::Move::Traverse { x, z, .. } = before else { panic!("expected a rapid to T1, got {before:?}") };
-    assert!((x - 44.262742 / 2.0).abs() < 0.001 && (z + 4.6).abs() < 0.001, "{moves:?}");
+    let feeds: Vec<(f64, f64)> = moves
+        .iter()
+        .filter_map(|m| match m {
+            common::rs274::Move::Feed { x, z, .. } => Some((*x, *z)),
+            _ => None,
+        })
+        .collect();
+    // rs274 reports X as a radius (the program is in diameter mode, G7): the cut feeds to T1,
+    // then along the chamfer to T2.
+    let near = |(x, z): (f64, f64), (dx, dz): (f64, f64)| (x - dx / 2.0).abs() < 0.001 && (z - dz).abs() < 0.001;
+    let t1 = feeds.iter().position(|&p| near(p, (44.262742, -4.6)));
+    let t2 = feeds.iter().position(|&p| near(p, (33.062742, 1.0)));
+    assert!(matches!((t1, t2), (Some(a), Some(b)) if b == a + 1), "{feeds:?}");
 }

@@ -16,7 +16,7 @@ use ncsheet::eval::Ctx;
 use ncsheet::formula::parse::ParseContext;
 use ncsheet::formula::Pos;
 use ncsheet::geometry::ballpath::{BallPath, BallPathSpec, GougeCheck, Lines, Spacing};
-use ncsheet::nc::{dialect, Block, Machine, Program, Target};
+use ncsheet::nc::{dialect, Block, FeedMode, Machine, Program, Spindle, SpindleDirection, Target};
 use ncsheet::workbook::Workbook;
 
 use super::report::{prepend, Error, Result};
@@ -77,9 +77,15 @@ pub struct BallpathArgs {
     /// Feed rate of the cutting moves (mm/min)
     #[arg(long, value_name = "F", default_value_t = 480.0)]
     pub feed: f64,
-    /// csv of the points (cx,cy,cz,px,py,pz,tx,ty,tz), or an NC program for a control
-    #[arg(long, value_enum, default_value_t)]
-    pub format: OutputFormat,
+    /// Tool number called at the start of the NC program
+    #[arg(long, value_name = "T", default_value_t = 1)]
+    pub tool: u32,
+    /// Spindle speed of the NC program (1/min, M3)
+    #[arg(long, value_name = "S", default_value_t = 3000.0)]
+    pub spindle: f64,
+    /// csv of the points (cx,cy,cz,px,py,pz,tx,ty,tz), or an NC program in a milling dialect
+    #[arg(long, default_value = "csv", ignore_case = true, value_parser = output_formats())]
+    pub format: String,
     /// Rapid up to the clearance height between lines (by default the link move cuts)
     #[arg(long)]
     pub retract: bool,
@@ -120,15 +126,12 @@ pub enum GougeArg {
     Off,
 }
 
-/// `iso` is Fanuc-style (`%`, `O0001`); LinuxCNC reads `linuxcnc`, which has no O-number.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
-pub enum OutputFormat {
-    #[default]
-    Csv,
-    Heidenhain,
-    Iso,
-    Linuxcnc,
-    Sinumerik,
+/// `csv` and every dialect that writes milling programs (`iso` is Fanuc-style with `%` and
+/// `O0001`; LinuxCNC reads `linuxcnc`, which has no O-number).
+fn output_formats() -> clap::builder::PossibleValuesParser {
+    let mut names = vec!["csv"];
+    names.extend(dialect::names_for(Machine::Mill));
+    clap::builder::PossibleValuesParser::new(names)
 }
 
 fn parse_range(text: &str) -> std::result::Result<[f64; 2], String> {
@@ -242,12 +245,11 @@ fn report_gouges(path: &BallPath, check: GougeCheck) -> Result<()> {
 }
 
 fn render(path: &BallPath, args: &BallpathArgs) -> Result<String> {
-    if args.format == OutputFormat::Csv {
+    if args.format.eq_ignore_ascii_case("csv") {
         return Ok(csv(path));
     }
     let name = program_name(args);
-    let dialect_name = format!("{:?}", args.format).to_ascii_lowercase();
-    let dialect = dialect::by_name(&dialect_name).expect("every program format is a dialect");
+    let dialect = dialect::by_name(&args.format).expect("every program format is a dialect");
     dialect.render(&program(path, args, &name)).map_err(|e| Error::User(e.to_string()))
 }
 
@@ -281,13 +283,22 @@ fn program(path: &BallPath, args: &BallpathArgs, name: &str) -> Program {
     let highest = (0..path.points.len()).map(|i| at(i).z).fold(f64::NEG_INFINITY, f64::max);
     let clearance = args.clearance.unwrap_or((highest + 5.0).ceil());
     let mut p = Program::new(name, Machine::Mill);
-    p.blocks.reserve(path.points.len() + 4 * path.line_starts.len() + 4);
+    p.blocks.reserve(path.points.len() + 4 * path.line_starts.len() + 8);
+    let (low, high) = path
+        .points
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), q| (lo.min(q.contact.z), hi.max(q.contact.z)));
+    p.blank = Some(([args.x[0], args.y[0], low], [args.x[1], args.y[1], high]));
     let what = match args.program {
         Programmed::Tip => "ball tip (centre - R in Z)",
         Programmed::Centre => "ball centre",
     };
     p.push(Block::Comment(format!("ball-end mill R{}: programmed point is the {what}", path.radius)));
     let up = Target { z: Some(clearance), ..Target::default() };
+    p.retract = Some(up);
+    p.push(Block::FeedMode(FeedMode::PerMinute));
+    p.push(Block::Tool(args.tool));
+    p.push(Block::Spindle(Spindle::Rpm { rpm: args.spindle, direction: SpindleDirection::Clockwise }));
     p.push(Block::Rapid(up));
     for (k, &start) in path.line_starts.iter().enumerate() {
         let end = path.line_starts.get(k + 1).copied().unwrap_or(path.points.len());
@@ -303,7 +314,6 @@ fn program(path: &BallPath, args: &BallpathArgs, name: &str) -> Program {
             Block::Line { to: Target::xyz(q.x, q.y, q.z), feed: Some(args.feed) }
         }));
     }
-    p.push(Block::Rapid(up));
     p
 }
 

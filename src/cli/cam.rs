@@ -5,13 +5,14 @@
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
+use clap::builder::PossibleValuesParser;
 use clap::{Args, ValueEnum};
 use ncsheet::geometry::cam::{
     by_disc, fit_cam, fit_piece, CamFit, CamOptions, FittedSegment, Piece, PieceKind, Segment,
 };
 use ncsheet::io::cam::{arcs_csv, parse_sheet, svg_drawing, SvgOptions};
-use ncsheet::nc::cam::{cam_program, CamNcOptions, Compensation};
-use ncsheet::nc::dialect;
+use ncsheet::nc::cam::{cam_program, fit_tolerance, CamNcOptions, Compensation};
+use ncsheet::nc::{dialect, Machine};
 
 use super::report::{Error, Result};
 
@@ -43,15 +44,22 @@ pub struct CamOutput {
     /// What to write
     #[arg(long, value_enum, default_value_t)]
     pub format: CamFormat,
-    /// NC dialect for --format nc: iso, linuxcnc, sinumerik, heidenhain
-    #[arg(long, default_value = "iso")]
+    /// NC dialect for --format nc
+    #[arg(long, default_value = "iso", ignore_case = true,
+          value_parser = PossibleValuesParser::new(dialect::names_for(Machine::Mill)))]
     pub dialect: String,
     /// Cutter radius compensation in the NC program
     #[arg(long, value_enum, default_value_t)]
     pub cutter: CutterSide,
     /// Cutting feed in mm/min for the NC program
-    #[arg(long, default_value_t = 200.0)]
+    #[arg(long, default_value_t = 200.0, allow_negative_numbers = true)]
     pub feed: f64,
+    /// Tool number called at the start of the NC program (its offset for --cutter)
+    #[arg(long, default_value_t = 1)]
+    pub tool: u32,
+    /// Spindle speed in 1/min for the NC program (M3)
+    #[arg(long, default_value_t = 1000.0)]
+    pub spindle: f64,
     /// Write here instead of standard output
     #[arg(short, long, value_name = "OUT")]
     pub output: Option<PathBuf>,
@@ -116,8 +124,10 @@ pub fn cam(args: CamArgs) -> Result<()> {
     let segments = parse_sheet(&text).map_err(|e| Error::User(format!("{}: {e}", file.display())))?;
     let discs = by_disc(&segments);
     let (disc, segs) = pick_disc(file, &discs, args.disc.as_deref())?;
-    let options = CamOptions { tolerance: args.tol, allow_partial: args.partial, with_bounds: false };
-    let fit = fit_cam(disc, segs, &options).map_err(|e| Error::User(format!("{}: {e}", file.display())))?;
+    let tolerance = fitted_tolerance(args.tol);
+    let options = CamOptions { tolerance, allow_partial: args.partial, with_bounds: false };
+    let mut fit = fit_cam(disc, segs, &options).map_err(|e| Error::User(format!("{}: {e}", file.display())))?;
+    fit.tolerance = args.tol;
     for issue in &fit.issues {
         eprintln!("ncsheet: {}: warning: {issue}", file.display());
     }
@@ -128,7 +138,7 @@ pub fn arcfit(args: ArcfitArgs) -> Result<()> {
     let geometry = |e: ncsheet::geometry::GeometryError| Error::User(e.to_string());
     let kind = PieceKind::parse(&args.kind).map_err(geometry)?;
     let piece = Piece::new(kind, args.r0, args.phi0, args.r1, args.phi1).map_err(geometry)?;
-    let arcs = fit_piece(&piece, args.tol).map_err(geometry)?;
+    let arcs = fit_piece(&piece, fitted_tolerance(args.tol)).map_err(geometry)?;
     let segment = Segment { row: String::new(), operation: String::new(), disc: String::new(), line: 0, piece };
     let fit = CamFit {
         disc: String::new(),
@@ -137,6 +147,17 @@ pub fn arcfit(args: ArcfitArgs) -> Result<()> {
         issues: Vec::new(),
     };
     write_fit(&fit, &args.out)
+}
+
+/// The tolerance to fit at: an NC program's rounded numbers move its arcs, so the fit keeps
+/// that much in reserve and the program as written stays within `tol`. The table and the
+/// drawing show the same arcs as the program.
+fn fitted_tolerance(tol: f64) -> f64 {
+    if tol.is_finite() && fit_tolerance(tol) > 0.0 {
+        fit_tolerance(tol)
+    } else {
+        tol
+    }
 }
 
 fn pick_disc<'a>(
@@ -170,15 +191,19 @@ fn write_fit(fit: &CamFit, out: &CamOutput) -> Result<()> {
         CamFormat::Csv => arcs_csv(fit.arcs()),
         CamFormat::Svg => svg_drawing(fit, &SvgOptions::default()),
         CamFormat::Nc => {
-            let names = dialect::names().join(", ");
-            let d = dialect::by_name(&out.dialect)
-                .ok_or_else(|| Error::Usage(format!("unknown dialect '{}' (known: {names})", out.dialect)))?;
+            let d = dialect::by_name(&out.dialect).expect("clap checked the dialect");
             let compensation = match out.cutter {
                 CutterSide::Off => Compensation::Off,
                 CutterSide::Left => Compensation::Left,
                 CutterSide::Right => Compensation::Right,
             };
-            let options = CamNcOptions { compensation, feed: out.feed, ..CamNcOptions::default() };
+            let options = CamNcOptions {
+                compensation,
+                feed: out.feed,
+                tool: out.tool,
+                spindle: out.spindle,
+                ..CamNcOptions::default()
+            };
             d.render(&cam_program(fit, &options)).map_err(|e| Error::User(e.to_string()))?
         }
     };

@@ -25,7 +25,7 @@ pub enum MachineKind {
 /// The macro language is VBA as an Excel user writes it (Sub/Function, Dim, If/Select/For/Do,
 /// GoTo labels, Range("B3").Value, Cells(r, c), [B3], every sheet function) plus an `Nc`
 /// object for the program: Nc.Rapid, Nc.Line, Nc.ArcCW/ArcCCW, Nc.Dwell, Nc.Comment,
-/// Nc.Block. A macro can touch no file and run no program; it stops with its line and a
+/// Nc.Block, Nc.FeedPerRev/FeedPerMin, Nc.Spindle, Nc.Tool, Nc.Coolant. A macro can touch no file and run no program; it stops with its line and a
 /// caret after --max-statements statements or --max-depth nested calls.
 #[derive(Debug, Args)]
 pub struct RunArgs {
@@ -41,8 +41,9 @@ pub struct RunArgs {
     /// A value for one of the Sub's parameters, read as a cell reads what is typed
     #[arg(long = "arg", value_name = "NAME=VALUE", value_parser = parse_arg)]
     pub args: Vec<(String, String)>,
-    /// Write the NC program in this dialect: iso, linuxcnc, sinumerik, heidenhain, nc31
-    #[arg(long, default_value = "iso")]
+    /// Write the NC program in this dialect
+    #[arg(long, default_value = "iso", ignore_case = true,
+          value_parser = clap::builder::PossibleValuesParser::new(dialect::names()))]
     pub dialect: String,
     /// The machine the program is for, until the macro sets Nc.Machine
     #[arg(long, value_enum, default_value_t)]
@@ -78,9 +79,7 @@ pub fn run(args: RunArgs) -> Result<()> {
     if let Some(save) = &args.save {
         super::refuse_overwriting_input(&args.workbook, save, "save the changed workbook elsewhere")?;
     }
-    let names = dialect::names().join(", ");
-    let d = dialect::by_name(&args.dialect)
-        .ok_or_else(|| Error::Usage(format!("unknown dialect '{}' (known: {names})", args.dialect)))?;
+    let d = dialect::by_name(&args.dialect).expect("clap checked the dialect");
     let stack = (8 << 20).max(args.max_depth.saturating_mul(STACK_BYTES_PER_LEVEL));
     // The workbook is not Send, so it is loaded and used on the macro's own thread.
     let dialect_name = d.name();

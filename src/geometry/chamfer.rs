@@ -145,7 +145,26 @@ pub fn chamfer(spec: &ChamferSpec) -> Result<ChamferGeometry, GeometryError> {
     let centre1 = centre_at(z1);
     let centre2 = centre_at(b.x + spec.clearance_b + r);
     let tip = |c: ZxPoint| ZxPoint::new(c.x - r, if inner { c.y + r } else { c.y - r });
-    Ok(ChamferGeometry { a, b, centre1, centre2, tip1: tip(centre1), tip2: tip(centre2) })
+    let geometry = ChamferGeometry { a, b, centre1, centre2, tip1: tip(centre1), tip2: tip(centre2) };
+    stays_off_the_axis(&geometry, r)?;
+    Ok(geometry)
+}
+
+/// The nose must stay on its side of the spindle axis at both ends of the cut: a steep
+/// chamfer on a thin shaft, or a wide nose in a small bore, would put it across the axis,
+/// and X would come out negative (a point on the other side of the part).
+fn stays_off_the_axis(g: &ChamferGeometry, r: f64) -> Result<(), GeometryError> {
+    for (name, centre, tip) in [("T1", g.centre1, g.tip1), ("T2", g.centre2, g.tip2)] {
+        ensure(centre.y - r >= 0.0, || {
+            format!(
+                "the tool would cross the spindle axis at {name} (tip X = {:.3} as a diameter, nose down to \
+                 radius {:.3}): the chamfer does not fit this part and tool",
+                2.0 * tip.y,
+                centre.y - r
+            )
+        })?;
+    }
+    Ok(())
 }
 
 fn validate(s: &ChamferSpec) -> Result<(), GeometryError> {

@@ -5,19 +5,9 @@
 
 use nalgebra::{Point2, Vector2};
 
-use super::program::{ArcDirection, Block, Machine, Program, Target, Word};
+pub use super::program::Compensation;
+use super::program::{ArcDirection, Block, FeedMode, Machine, Program, Spindle, SpindleDirection, Target};
 use crate::geometry::cam::{Arc, CamFit, Turn};
-
-/// Cutter radius compensation.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Compensation {
-    /// The programmed path is the profile itself (the cutter's centre follows it).
-    Off,
-    /// G41, cutter left of the path.
-    Left,
-    /// G42, cutter right of the path: outside a cam cut counter-clockwise.
-    Right,
-}
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CamNcOptions {
@@ -34,7 +24,7 @@ pub struct CamNcOptions {
     /// Length of the straight radial lead-in and lead-out, from outside the profile.
     pub lead: f64,
     pub compensation: Compensation,
-    /// Tool offset number for G41/G42 (D word).
+    /// The tool called at the start (its offset is the one G41/G42 use).
     pub tool: u32,
 }
 
@@ -57,6 +47,27 @@ impl Default for CamNcOptions {
 /// tolerance of 0.001 mm leaves no room for 0.5 µm of rounding.
 pub const CAM_DECIMALS: usize = 4;
 
+/// Digits after the point for a program within `tol` of its curve: at least
+/// [`CAM_DECIMALS`], and enough that rounding moves an arc by at most a quarter of `tol`.
+pub fn written_decimals(tol: f64) -> usize {
+    let mut decimals = CAM_DECIMALS;
+    while decimals < 6 && ROUNDING_REACH * 10f64.powi(-(decimals as i32)) > tol / 4.0 {
+        decimals += 1;
+    }
+    decimals
+}
+
+/// How far the written arcs may lie from the fitted ones, in units of the last digit: the
+/// start point rounds by half a digit in each axis (0.71), the centre offset from it as well
+/// (0.71), so the centre moves 0.71 and the radius 1.42; 2.13 in all, rounded up.
+const ROUNDING_REACH: f64 = 2.2;
+
+/// The tolerance to fit at so that the program written with [`written_decimals`] stays within
+/// `tol` of the curve.
+pub fn fit_tolerance(tol: f64) -> f64 {
+    tol - ROUNDING_REACH * 10f64.powi(-(written_decimals(tol) as i32))
+}
+
 /// Consecutive arcs farther apart than this (mm) get a straight move between them.
 const GAP: f64 = 1e-6;
 
@@ -64,24 +75,24 @@ const GAP: f64 = 1e-6;
 pub fn cam_program(fit: &CamFit, options: &CamNcOptions) -> Program {
     let disc = if fit.disc.is_empty() { String::new() } else { format!("_{}", fit.disc) };
     let mut p = Program::new(&format!("CAM{disc}"), Machine::Mill);
-    p.precision = Some(CAM_DECIMALS);
+    p.precision = Some(written_decimals(fit.tolerance));
     let arcs: Vec<&Arc> = fit.arcs().collect();
     p.push(Block::Comment(format!("ncsheet cam {}: {} arcs, tolerance {} mm", fit.disc, arcs.len(), fit.tolerance)));
     let (Some(first), Some(last)) = (arcs.first(), arcs.last()) else { return p };
     let outward = |q: Point2<f64>| if q.coords.norm() > 0.0 { q.coords.normalize() } else { Vector2::x() };
     let entry = first.start + outward(first.start) * options.lead;
-    p.push(words(&[('S', options.spindle), ('M', 3.0)]));
-    p.push(Block::Rapid(Target { z: Some(options.z_safe), ..Target::default() }));
+    let reach = arcs.iter().map(|a| a.start.coords.norm().max(a.end.coords.norm())).fold(0.0, f64::max);
+    p.blank = Some(([-reach, -reach, options.z_cut.min(0.0)], [reach, reach, 0.0]));
+    let safe = Target { z: Some(options.z_safe), ..Target::default() };
+    p.retract = Some(safe);
+    p.push(Block::FeedMode(FeedMode::PerMinute));
+    p.push(Block::Tool(options.tool));
+    p.push(Block::Spindle(Spindle::Rpm { rpm: options.spindle, direction: SpindleDirection::Clockwise }));
+    p.push(Block::Rapid(safe));
     p.push(Block::Rapid(Target::xy(entry.x, entry.y)));
     p.push(Block::Line { to: Target { z: Some(options.z_cut), ..Target::default() }, feed: Some(options.plunge_feed) });
-    match options.compensation {
-        Compensation::Off => {}
-        Compensation::Left => {
-            p.push(words(&[('G', 41.0), ('D', options.tool as f64)]));
-        }
-        Compensation::Right => {
-            p.push(words(&[('G', 42.0), ('D', options.tool as f64)]));
-        }
+    if options.compensation != Compensation::Off {
+        p.push(Block::Compensation(options.compensation));
     }
     p.push(Block::Line { to: Target::xy(first.start.x, first.start.y), feed: Some(options.feed) });
     let mut previous_end = first.start;
@@ -97,14 +108,8 @@ pub fn cam_program(fit: &CamFit, options: &CamNcOptions) -> Program {
     }
     let exit = last.end + outward(last.end) * options.lead;
     if options.compensation != Compensation::Off {
-        p.push(words(&[('G', 40.0)]));
+        p.push(Block::Compensation(Compensation::Off));
     }
     p.push(Block::Line { to: Target::xy(exit.x, exit.y), feed: None });
-    p.push(Block::Rapid(Target { z: Some(options.z_safe), ..Target::default() }));
-    p.push(words(&[('M', 5.0)]));
     p
-}
-
-fn words(list: &[(char, f64)]) -> Block {
-    Block::Words(list.iter().map(|&(address, value)| Word { address, value }).collect())
 }

@@ -7,4 +7,6 @@ pub mod format;
 pub mod program;
 
 pub use dialect::{by_name, Dialect, NcError};
-pub use program::{ArcDirection, Block, Machine, Program, Target, Word};
+pub use program::{
+    ArcDirection, Block, Compensation, FeedMode, Machine, Program, Spindle, SpindleDirection, Target, Word,
+};

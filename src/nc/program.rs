@@ -55,9 +55,57 @@ pub struct Word {
     pub value: f64,
 }
 
+/// What an F word means: mm per minute (milling, G94) or mm per spindle revolution
+/// (turning, G95; Fanuc lathes in G-code system A say G98/G99).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FeedMode {
+    PerMinute,
+    PerRevolution,
+}
+
+/// Which way the spindle turns: M3 (clockwise seen from the spindle) or M4.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SpindleDirection {
+    Clockwise,
+    CounterClockwise,
+}
+
+/// The spindle's state from a block on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Spindle {
+    /// M5.
+    Stop,
+    /// A fixed speed in revolutions per minute (G97 S… M3).
+    Rpm { rpm: f64, direction: SpindleDirection },
+    /// Constant surface speed on a lathe: `metres_per_min` at the cut, the spindle never
+    /// faster than `max_rpm` (G50 S… / LIMS=… then G96 S… M3).
+    SurfaceSpeed { metres_per_min: f64, max_rpm: f64, direction: SpindleDirection },
+}
+
+/// Cutter radius compensation from a block on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Compensation {
+    /// The programmed path is the cutter's centre (G40, R0).
+    Off,
+    /// Cutter left of the path (G41, RL).
+    Left,
+    /// Cutter right of the path (G42, RR): outside a contour cut counter-clockwise.
+    Right,
+}
+
 /// One line of the program.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Block {
+    /// From here on F is per minute or per revolution.
+    FeedMode(FeedMode),
+    /// Spindle start, speed change or stop.
+    Spindle(Spindle),
+    /// Tool change to tool `number` (its offset of the same number).
+    Tool(u32),
+    /// Coolant on (M8) or off (M9).
+    Coolant(bool),
+    /// Cutter radius compensation for the moves that follow, with the current tool's radius.
+    Compensation(Compensation),
     /// Rapid positioning (G0).
     Rapid(Target),
     /// Straight cut at a feed in mm/min (mill) or mm/rev (lathe) (G1).
@@ -92,11 +140,25 @@ pub struct Program {
     /// Digits after the point, when the machine resolves finer than its dialect's default
     /// (a cam at 0.001 mm tolerance on a 0.1 µm machine).
     pub precision: Option<usize>,
+    /// The safe position the program ends at: the writers move there in rapid, stop the
+    /// spindle and the coolant, and end the program.
+    pub retract: Option<Target>,
+    /// The blank as (lowest corner, highest corner) of a box on a mill, for controls that
+    /// draw it (Heidenhain BLK FORM).
+    pub blank: Option<([f64; 3], [f64; 3])>,
 }
 
 impl Program {
     pub fn new(name: &str, machine: Machine) -> Program {
-        Program { name: name.to_string(), number: None, machine, blocks: Vec::new(), precision: None }
+        Program {
+            name: name.to_string(),
+            number: None,
+            machine,
+            blocks: Vec::new(),
+            precision: None,
+            retract: None,
+            blank: None,
+        }
     }
 
     pub fn push(&mut self, block: Block) -> &mut Program {

@@ -61,7 +61,10 @@
 //! Output: `Debug.Print` lines (VBA's `;` and `,` and number spacing) go to
 //! [`RunOutput::printed`] (the CLI writes them to standard output); `MsgBox` texts to
 //! [`RunOutput::messages`] (standard error); `Nc.*` builds [`RunOutput::program`] (see
-//! `objects.rs` for `Nc.Rapid`, `Nc.Line`, `Nc.ArcCW`, `Nc.Block`, … and `Nc.Feed`).
+//! `objects.rs` for `Nc.Rapid`, `Nc.Line`, `Nc.ArcCW`, `Nc.Block`, … and `Nc.Feed`). The
+//! machine's state is part of the program: `Nc.FeedPerRev 0.1` / `Nc.FeedPerMin 200` (what F
+//! means; a lathe program is refused without it), `Nc.Spindle 800` (M3, `"ccw"` for M4, 0 to
+//! stop; `Vc:=180, Limit:=2500` for constant surface speed), `Nc.Tool 1`, `Nc.Coolant True`.
 //! `InputBox` is refused: pass values with `--arg`.
 //!
 //! Not in the language: `On Error` (a macro stops at its first error), `GoSub`, user types

@@ -9,6 +9,11 @@
 //! (`Nc.Line , -10` keeps X). Properties: `Nc.Feed` (modal, written when it changes),
 //! `Nc.Machine` ("lathe" or "mill"), `Nc.Name`, `Nc.Number`, `Nc.Dialect` (read only),
 //! `Nc.Count` (blocks so far). On a lathe X is a diameter, as everywhere in ncsheet.
+//!
+//! The machine's state: `Nc.FeedPerRev [f]` / `Nc.FeedPerMin [f]` (what F means from here on;
+//! a lathe program must say it before its first cut), `Nc.Spindle 800` (M3), `Nc.Spindle 800,
+//! "ccw"` (M4), `Nc.Spindle 0` (stop), `Nc.Spindle Vc:=180, Limit:=2500` (constant surface
+//! speed on a lathe: m/min, and the spindle limit in 1/min), `Nc.Tool 3`, `Nc.Coolant True`.
 
 use crate::eval::coerce::{to_bool, to_text};
 use crate::eval::functions::vba::vba_text;
@@ -17,7 +22,7 @@ use crate::eval::{Ctx, Operand, Value};
 use crate::formula::address::{column_index, column_name, Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::formula::ast::{Expr, ExprKind, SheetId};
 use crate::formula::print::print_formula;
-use crate::nc::{ArcDirection, Block, Machine, Target, Word};
+use crate::nc::{ArcDirection, Block, FeedMode, Machine, Spindle, SpindleDirection, Target, Word};
 
 use super::ast::{Link, Node, Path, Span};
 use super::interp::{input_text, one_line, print_text, Interp, Obj, Run};
@@ -534,10 +539,75 @@ impl Interp<'_, '_> {
                 Block::Comment(values.iter().map(print_text).collect::<Vec<_>>().join(" "))
             }
             "block" => Block::Words(self.words(ctx, link)?),
+            "feedperrev" | "feedpermin" => {
+                let mode = if name == "feedperrev" { FeedMode::PerRevolution } else { FeedMode::PerMinute };
+                match self.numbers(ctx, link)?.as_slice() {
+                    [] => {}
+                    [f] if *f > 0.0 && f.is_finite() => self.nc.borrow_mut().feed = Some(*f),
+                    _ => return Err(self.fault_at(link.span, format!("Nc.{} takes the feed, above 0", link.name))),
+                }
+                // F means something else now: the next cut writes it again.
+                self.nc.borrow_mut().written = None;
+                Block::FeedMode(mode)
+            }
+            "spindle" => Block::Spindle(self.spindle(ctx, link)?),
+            "tool" => match self.numbers(ctx, link)?.as_slice() {
+                [n] if (1.0..=99.0).contains(n) && n.fract() == 0.0 => Block::Tool(*n as u32),
+                _ => return Err(self.fault_at(link.span, "Nc.Tool takes a tool number from 1 to 99")),
+            },
+            "coolant" => match self.values(ctx, link)?.as_slice() {
+                [v] => {
+                    Block::Coolant(to_bool(v).map_err(|_| self.fault_at(link.span, "Nc.Coolant takes True or False"))?)
+                }
+                _ => return Err(self.fault_at(link.span, "Nc.Coolant takes True or False")),
+            },
             _ => return Err(self.no_member(&Obj::Nc, link)),
         };
         self.out.borrow_mut().program.push(block);
         Ok(Obj::Value(Value::Blank))
+    }
+
+    /// `Nc.Spindle S [, Dir]`, `Nc.Spindle Vc:=…, Limit:=… [, Dir:=…]`; S 0 stops it.
+    fn spindle(&self, ctx: &mut Ctx, link: &Link) -> Run<Spindle> {
+        const NAMES: [&str; 4] = ["s", "dir", "vc", "limit"];
+        let usage = "Nc.Spindle takes S (1/min) and Dir (\"cw\" or \"ccw\"), or Vc:= (m/min) and Limit:= (1/min)";
+        let mut got: Vec<(&str, Value)> = Vec::new();
+        for (i, a) in link.args.as_deref().unwrap_or(&[]).iter().enumerate() {
+            let key = match &a.name {
+                Some(n) => NAMES.iter().find(|k| k.eq_ignore_ascii_case(n)).copied(),
+                None => NAMES.get(i).copied().filter(|_| i < 2),
+            };
+            let Some(key) = key else { return Err(self.fault_at(link.span, usage)) };
+            if a.value.kind == ExprKind::Missing {
+                continue;
+            }
+            let v = ctx.eval(&a.value).unwrap_single();
+            self.take_pending()?;
+            got.push((key, v));
+        }
+        let find = |k: &str| got.iter().find(|(n, _)| *n == k).map(|(_, v)| v);
+        let number = |k: &str| -> Run<Option<f64>> {
+            find(k)
+                .map(|v| self.number_of(v, &format!("Nc.Spindle: {}", k.to_uppercase())))
+                .transpose()
+                .map_err(|m| self.fault_at(link.span, m))
+        };
+        let direction = match find("dir").map(print_text).map(|t| t.to_ascii_lowercase()) {
+            None => SpindleDirection::Clockwise,
+            Some(t) if t == "cw" || t == "m3" => SpindleDirection::Clockwise,
+            Some(t) if t == "ccw" || t == "m4" => SpindleDirection::CounterClockwise,
+            Some(t) => {
+                return Err(self.fault_at(link.span, format!("Nc.Spindle: Dir is \"cw\" or \"ccw\", not \"{t}\"")))
+            }
+        };
+        match (number("s")?, number("vc")?, number("limit")?) {
+            (Some(0.0), None, None) => Ok(Spindle::Stop),
+            (Some(rpm), None, None) if rpm > 0.0 => Ok(Spindle::Rpm { rpm, direction }),
+            (None, Some(v), Some(max)) if v > 0.0 && max > 0.0 => {
+                Ok(Spindle::SurfaceSpeed { metres_per_min: v, max_rpm: max, direction })
+            }
+            _ => Err(self.fault_at(link.span, usage)),
+        }
     }
 
     /// The point parameters of the machine: X Z on a lathe, X Y Z on a mill.

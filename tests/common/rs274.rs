@@ -40,6 +40,28 @@ pub fn available() -> bool {
 
 /// The moves `rs274 -g` reads from `program`, or the interpreter's complaint.
 pub fn moves(program: &Path) -> Result<Vec<Move>, String> {
+    Ok(canon(program)?.lines().filter_map(parse_line).collect())
+}
+
+/// The feed mode in force at the program's first cut (`STRAIGHT_FEED` or `ARC_FEED`), as
+/// rs274 reports it in `SET_FEED_MODE(spindle, mode)`: 0 per minute, 1 per revolution;
+/// `None` when no feed mode was set before it (or the program does not cut).
+pub fn feed_mode_at_first_cut(program: &Path) -> Result<Option<i32>, String> {
+    let text = canon(program)?;
+    let mut mode = None;
+    for line in text.lines() {
+        if let Some((_, rest)) = line.split_once("SET_FEED_MODE(") {
+            mode = rest.trim_end_matches(')').split(',').nth(1).and_then(|m| m.trim().parse().ok());
+        }
+        if line.contains("STRAIGHT_FEED(") || line.contains("ARC_FEED(") {
+            return Ok(mode);
+        }
+    }
+    Ok(None)
+}
+
+/// rs274's canonical commands for `program`, one per line, or its complaint.
+pub fn canon(program: &Path) -> Result<String, String> {
     // rs274 keeps state in the working directory (its parameter file) and maps
     // `$HOME/.tool.mmap`; two runs sharing either crash each other (SIGBUS). Each program's
     // own folder is its working directory and its HOME.
@@ -55,7 +77,7 @@ pub fn moves(program: &Path) -> Result<Vec<Move>, String> {
     if !out.status.success() || text.contains("error") || text.contains("Error") {
         return Err(text);
     }
-    Ok(text.lines().filter_map(parse_line).collect())
+    Ok(text)
 }
 
 fn parse_line(line: &str) -> Option<Move> {

@@ -7,7 +7,7 @@
 use std::fmt;
 
 use super::format::NumberStyle;
-use super::program::{Block, Machine, Program, Target};
+use super::program::{Block, FeedMode, Machine, Program, Spindle, Target};
 
 mod heidenhain;
 mod word_address;
@@ -42,8 +42,17 @@ pub trait Dialect {
     /// The smallest step the control's numbers resolve (mm).
     fn resolution(&self) -> f64;
 
+    /// Whether the control runs programs for this machine (NC31 and plain language here do
+    /// one kind each); the CLI lists a dialect only for commands whose programs it writes.
+    fn writes(&self, machine: Machine) -> bool;
+
     /// The program as the control reads it, one block per line, ending in a newline.
     fn render(&self, program: &Program) -> Result<String, NcError>;
+}
+
+/// The dialects that write programs for `machine`, by name, in `all()`'s order.
+pub fn names_for(machine: Machine) -> Vec<&'static str> {
+    all().iter().filter(|d| d.writes(machine)).map(|d| d.name()).collect()
 }
 
 /// Every dialect, by the name the CLI uses.
@@ -96,17 +105,234 @@ fn centre_offsets(machine: Machine, start: &Position, centre: &Target) -> Option
     }
 }
 
-/// Checks that every number of a block is finite (NaN would be written as text).
-fn finite_block(block: &Block) -> bool {
-    let target_ok = |t: &Target| t.axes().all(|(_, v)| v.is_finite());
-    match block {
-        Block::Rapid(t) => target_ok(t),
-        Block::Line { to, feed } => target_ok(to) && feed.is_none_or(f64::is_finite),
-        Block::Arc { to, centre, feed, .. } => target_ok(to) && target_ok(centre) && feed.is_none_or(f64::is_finite),
-        Block::Dwell(s) => s.is_finite(),
-        Block::Comment(_) => true,
-        Block::Words(w) => w.iter().all(|w| w.value.is_finite()),
+/// How far the end point of an arc may lie off the circle through its start around its
+/// centre, as written (mm). LinuxCNC refuses arcs whose two radii differ by more than
+/// 0.005 mm in mm mode, Fanuc by parameter 3410 (commonly 0.01–0.02 mm); a written arc
+/// within 0.002 mm is cut as meant on either.
+pub const ARC_TOLERANCE: f64 = 0.002;
+
+/// The largest spindle speed word (S, 1/min) and tool number a control here takes.
+const MAX_RPM: f64 = 99_999.0;
+const MAX_TOOL: u32 = 99;
+/// The longest dwell (s) we write: longer waits are a mistake in a program, not a dwell.
+const MAX_DWELL: f64 = 9_999.0;
+
+/// What a dialect can write: its number style at the program's precision and how many
+/// digits a number may have in all (Fanuc: 8, so ±99999.999 at 3 decimals).
+#[derive(Clone, Copy, Debug)]
+struct Format {
+    numbers: NumberStyle,
+    digits: usize,
+}
+
+impl Format {
+    fn largest(&self) -> f64 {
+        10f64.powi(self.digits.saturating_sub(self.numbers.decimals) as i32) - self.numbers.resolution()
     }
+
+    fn printed(&self, v: f64) -> f64 {
+        let step = self.numbers.resolution();
+        (v / step).round() * step
+    }
+
+    /// A coordinate (or any length word) the control can read, else why not.
+    fn length(&self, what: char, v: f64) -> Result<(), String> {
+        if !v.is_finite() {
+            return Err(format!("{what} is not a number ({v})"));
+        }
+        if v.abs() > self.largest() {
+            return Err(format!(
+                "{what}{v} does not fit the control's {} digits (at most {})",
+                self.digits,
+                self.numbers.write(self.largest())
+            ));
+        }
+        Ok(())
+    }
+
+    fn feed(&self, f: f64) -> Result<(), String> {
+        let style = feed_style(self.numbers);
+        if !f.is_finite() || f < style.resolution() {
+            return Err(format!("the feed F must be a number above 0 the control can write, not {f}"));
+        }
+        if f > self.largest() {
+            return Err(format!("the feed F{f} does not fit the control's {} digits", self.digits));
+        }
+        Ok(())
+    }
+}
+
+/// Checks a whole program against what the control reads before a word of it is written:
+/// every number finite and within the format, feeds above 0, spindle speeds and tool numbers
+/// in range, arcs whose end lies on their circle as written (within [`ARC_TOLERANCE`]), and
+/// on a lathe a feed mode before the first feed (F0.1 is 0.1 mm/rev only after G95/G99).
+/// The error is (1-based block, message).
+fn check_program(program: &Program, format: Format) -> Result<(), (Option<usize>, String)> {
+    let mut position = Position::default();
+    let mut feed_mode: Option<FeedMode> = None;
+    let mut turning = false;
+    for (i, block) in program.blocks.iter().enumerate() {
+        let at = |m: String| (Some(i + 1), m);
+        check_block(block, program.machine, format, &position, &mut feed_mode).map_err(at)?;
+        match block {
+            Block::Spindle(s) => turning = *s != Spindle::Stop,
+            Block::Line { .. } | Block::Arc { .. } if feed_mode == Some(FeedMode::PerRevolution) && !turning => {
+                return Err(at(
+                    "a feed per revolution with the spindle stopped does not move (Nc.Spindle first)".into()
+                ));
+            }
+            _ => {}
+        }
+        let printed = |t: &Target| Target {
+            x: t.x.map(|v| format.printed(v)),
+            y: t.y.map(|v| format.printed(v)),
+            z: t.z.map(|v| format.printed(v)),
+            a: t.a.map(|v| format.printed(v)),
+            b: t.b.map(|v| format.printed(v)),
+            c: t.c.map(|v| format.printed(v)),
+        };
+        match block {
+            Block::Rapid(t) | Block::Line { to: t, .. } | Block::Arc { to: t, .. } => position.apply(&printed(t)),
+            _ => {}
+        }
+    }
+    if let Some(t) = &program.retract {
+        let none = Position::default();
+        check_block(&Block::Rapid(*t), program.machine, format, &none, &mut feed_mode)
+            .map_err(|m| (None, format!("the retract position: {m}")))?;
+    }
+    Ok(())
+}
+
+fn check_block(
+    block: &Block,
+    machine: Machine,
+    format: Format,
+    position: &Position,
+    feed_mode: &mut Option<FeedMode>,
+) -> Result<(), String> {
+    let target = |t: &Target| t.axes().try_for_each(|(l, v)| format.length(l, v));
+    let feed = |f: &Option<f64>, mode: &Option<FeedMode>| -> Result<(), String> {
+        if let Some(f) = f {
+            format.feed(*f)?;
+        }
+        if machine == Machine::Lathe && mode.is_none() {
+            return Err("a lathe cut needs a feed mode first (per revolution or per minute: Nc.FeedPerRev)".into());
+        }
+        Ok(())
+    };
+    match block {
+        Block::FeedMode(m) => *feed_mode = Some(*m),
+        Block::Spindle(s) => check_spindle(s, machine)?,
+        Block::Tool(n) if !(1..=MAX_TOOL).contains(n) => {
+            return Err(format!("tool {n} is not a tool number from 1 to {MAX_TOOL}"));
+        }
+        Block::Tool(_) | Block::Coolant(_) | Block::Comment(_) | Block::Compensation(_) => {}
+        Block::Rapid(t) => target(t)?,
+        Block::Line { to, feed: f } => {
+            target(to)?;
+            feed(f, feed_mode)?;
+        }
+        Block::Arc { to, centre, feed: f, .. } => {
+            target(to)?;
+            target(centre)?;
+            feed(f, feed_mode)?;
+            check_arc(machine, format, position, to, centre)?;
+        }
+        Block::Dwell(s) if !(s.is_finite() && *s > 0.0 && *s <= MAX_DWELL) => {
+            return Err(format!("a dwell is a time above 0 and at most {MAX_DWELL} s, not {s}"));
+        }
+        Block::Dwell(_) => {}
+        Block::Words(words) => {
+            for w in words {
+                format.length(w.address.to_ascii_uppercase(), w.value)?;
+            }
+        }
+    }
+    Ok(())
+}
+
+fn check_spindle(s: &Spindle, machine: Machine) -> Result<(), String> {
+    match *s {
+        Spindle::Stop => Ok(()),
+        Spindle::Rpm { rpm, .. } if !(rpm.is_finite() && (1.0..=MAX_RPM).contains(&rpm)) => {
+            Err(format!("a spindle speed is from 1 to {MAX_RPM} 1/min, not {rpm}"))
+        }
+        Spindle::Rpm { .. } => Ok(()),
+        Spindle::SurfaceSpeed { .. } if machine != Machine::Lathe => {
+            Err("constant surface speed (G96) is for lathes".into())
+        }
+        Spindle::SurfaceSpeed { metres_per_min: v, max_rpm, .. } => {
+            if !(v.is_finite() && (1.0..=MAX_RPM).contains(&v)) {
+                return Err(format!("a surface speed is from 1 to {MAX_RPM} m/min, not {v}"));
+            }
+            if !(max_rpm.is_finite() && (1.0..=MAX_RPM).contains(&max_rpm)) {
+                return Err(format!("the spindle limit is from 1 to {MAX_RPM} 1/min, not {max_rpm}"));
+            }
+            Ok(())
+        }
+    }
+}
+
+/// An arc the control cuts as meant: a known start, a radius above the resolution, and its
+/// end on the circle through the start within [`ARC_TOLERANCE`], all as written.
+fn check_arc(machine: Machine, format: Format, start: &Position, to: &Target, centre: &Target) -> Result<(), String> {
+    // The working plane in true lengths: XY on a mill; Z and the radius (X/2) on a lathe.
+    let plane = |x: Option<f64>, y: Option<f64>, z: Option<f64>| match machine {
+        Machine::Mill => Some((x?, y?)),
+        Machine::Lathe => Some((z?, x? / 2.0)),
+    };
+    let Some(s) = plane(start.x(), start.y(), start.z()) else {
+        return Err("an arc needs a known start point (a move before it that sets both plane axes)".into());
+    };
+    let p = |v: Option<f64>| v.map(|v| format.printed(v));
+    let Some(c) = plane(p(centre.x), p(centre.y), p(centre.z)) else {
+        return Err("an arc needs its centre in the working plane".into());
+    };
+    let end =
+        Target { x: p(to.x).or(start.x()), y: p(to.y).or(start.y()), z: p(to.z).or(start.z()), ..Target::default() };
+    let e = plane(end.x, end.y, end.z).expect("the start filled the plane");
+    let r_start = (s.0 - c.0).hypot(s.1 - c.1);
+    let r_end = (e.0 - c.0).hypot(e.1 - c.1);
+    if r_start <= format.numbers.resolution() {
+        return Err("an arc of radius 0: its centre is its start point".into());
+    }
+    if (r_start - r_end).abs() > ARC_TOLERANCE {
+        return Err(format!(
+            "the arc's centre is {r_start:.4} mm from its start but {r_end:.4} mm from its end \
+             (controls accept {ARC_TOLERANCE} mm)"
+        ));
+    }
+    Ok(())
+}
+
+/// Comment text a control reads as a comment and nothing else: one line, no characters that
+/// end the comment or start another, only `allowed` characters (others become spaces),
+/// upper case when `upper`.
+fn sanitise(text: &str, upper: bool, allowed: impl Fn(char) -> bool) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        let c = if upper { c.to_ascii_uppercase() } else { c };
+        let keep = c.is_ascii() && !c.is_ascii_control() && allowed(c);
+        let c = if keep { c } else { ' ' };
+        if c == ' ' && out.ends_with(' ') {
+            continue;
+        }
+        out.push(c);
+    }
+    out.trim().to_string()
+}
+
+/// A program name as a file name the control stores: letters, digits and `_`, starting with
+/// a letter, upper case, at most `max` characters.
+fn program_name(name: &str, max: usize) -> String {
+    let mut out: String =
+        name.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_uppercase() } else { '_' }).take(max).collect();
+    if !out.starts_with(|c: char| c.is_ascii_alphabetic()) {
+        out.insert(0, 'P');
+        out.truncate(max);
+    }
+    out
 }
 
 /// The number style a dialect writes feed rates in (they are not lengths; two decimals do).

@@ -1,17 +1,26 @@
 //! The word-address writer (DIN 66025 / ISO 6983 / RS-274D) shared by ISO/Fanuc, LinuxCNC,
-//! Sinumerik and the old NC31 lathe control; each is one [`WordAddress`] table.
+//! Sinumerik and the old NC31 lathe control; each is one [`WordAddress`] table. What each
+//! writes for feed mode, spindle, tool, numbering and comments is in docs/dialects.md.
 
-use super::{centre_offsets, feed_style, finite_block, Dialect, NcError, Position};
+use super::{centre_offsets, check_program, feed_style, program_name, sanitise, Dialect, Format, NcError, Position};
 use crate::nc::format::NumberStyle;
-use crate::nc::program::{ArcDirection, Block, Machine, Program, Target, Word};
+use crate::nc::program::{
+    ArcDirection, Block, Compensation, FeedMode, Machine, Program, Spindle, SpindleDirection, Target, Word,
+};
 
 /// How one word-address control writes a program.
 pub struct WordAddress {
     pub name: &'static str,
+    /// Whose words the spindle, tool, dwell, feed-mode and comment blocks use.
+    pub family: Family,
     pub numbers: NumberStyle,
-    /// `N10`, `N20`, … (`width` pads with zeros: NC31's `N001`).
+    /// Digits a number may have in all (Fanuc: 8, ±99999.999 at 3 decimals).
+    pub digits: usize,
+    /// `N10`, `N20`, … (`width` pads with zeros: NC31's `N001`); past `block_digits` digits
+    /// the numbers start again at `block_step` (block numbers are labels, not an order).
     pub block_step: u32,
     pub block_width: usize,
+    pub block_digits: u32,
     /// Lines before the first block; `{name}` and `{number}` are replaced.
     pub header: &'static [&'static str],
     /// Modal set-up written as the first numbered block, per machine.
@@ -20,8 +29,6 @@ pub struct WordAddress {
     /// Blocks and lines after the last block.
     pub end_block: &'static str,
     pub footer: &'static [&'static str],
-    /// `(text)` or `; text`; `None` drops comments (the control has no comment syntax).
-    pub comment: Option<CommentStyle>,
     /// NC31 marks a rapid with `E` after the coordinates instead of `G0`.
     pub rapid_suffix: Option<&'static str>,
     pub has_arcs: bool,
@@ -30,10 +37,18 @@ pub struct WordAddress {
     pub legal: &'static str,
 }
 
-#[derive(Clone, Copy)]
-pub enum CommentStyle {
-    Parentheses,
-    Semicolon,
+/// The control family a table belongs to: it decides the words that are not motion.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Family {
+    /// Fanuc (lathes in G-code system A): G98/G99 on a lathe, G94/G95 on a mill, G50 S
+    /// spindle limit, `T0101`, `G4 P` in ms, upper-case `(COMMENTS)`, O0001–O9999.
+    Fanuc,
+    /// LinuxCNC (RS-274/NGC): G94/G95, `G96 D… S…`, `T1 M6 G43`, `G4 P` in s, `(comments)`.
+    LinuxCnc,
+    /// Sinumerik 840D: G94/G95, `LIMS=`, `T1 D1`, `G4 F` in s, `; comments`.
+    Sinumerik,
+    /// Elektronika NC31: feeds per revolution only, no comments, no constant surface speed.
+    Nc31,
 }
 
 const FANUC_NUMBERS: NumberStyle =
@@ -46,15 +61,17 @@ const PLAIN_NUMBERS: NumberStyle =
 /// Z-4.6`, lathe X in diameter.
 pub const ISO: WordAddress = WordAddress {
     name: "iso",
+    family: Family::Fanuc,
     numbers: FANUC_NUMBERS,
+    digits: 8,
     block_step: 10,
     block_width: 0,
+    block_digits: 5,
     header: &["%", "O{number:04} ({name})"],
     setup_lathe: Some("G21 G18 G90 G40"),
     setup_mill: Some("G21 G17 G90 G40"),
     end_block: "M30",
     footer: &["%"],
-    comment: Some(CommentStyle::Parentheses),
     rapid_suffix: None,
     has_arcs: true,
     machines: &[Machine::Lathe, Machine::Mill],
@@ -65,15 +82,17 @@ pub const ISO: WordAddress = WordAddress {
 /// mode `G7` on a lathe.
 pub const LINUXCNC: WordAddress = WordAddress {
     name: "linuxcnc",
+    family: Family::LinuxCnc,
     numbers: PLAIN_NUMBERS,
+    digits: 9,
     block_step: 10,
     block_width: 0,
+    block_digits: 5,
     header: &["%", "({name})"],
     setup_lathe: Some("G21 G18 G7 G90 G40"),
     setup_mill: Some("G21 G17 G90 G40"),
     end_block: "M2",
     footer: &["%"],
-    comment: Some(CommentStyle::Parentheses),
     rapid_suffix: None,
     has_arcs: true,
     machines: &[Machine::Lathe, Machine::Mill],
@@ -83,15 +102,17 @@ pub const LINUXCNC: WordAddress = WordAddress {
 /// Siemens Sinumerik: `%_N_NAME_MPF` archive header, `; comments`, `DIAMON` on a lathe.
 pub const SINUMERIK: WordAddress = WordAddress {
     name: "sinumerik",
+    family: Family::Sinumerik,
     numbers: PLAIN_NUMBERS,
+    digits: 12,
     block_step: 10,
     block_width: 0,
+    block_digits: 7,
     header: &["%_N_{name}_MPF", ";$PATH=/_N_MPF_DIR"],
     setup_lathe: Some("G18 DIAMON G90 G71"),
     setup_mill: Some("G17 G90 G71"),
     end_block: "M30",
     footer: &[],
-    comment: Some(CommentStyle::Semicolon),
     rapid_suffix: None,
     has_arcs: true,
     machines: &[Machine::Lathe, Machine::Mill],
@@ -101,15 +122,17 @@ pub const SINUMERIK: WordAddress = WordAddress {
 /// Elektronika NC31 (DOMAIN.md §2): `N001 X34 Z-60 E`, rapid marked `E`, `M02` at the end.
 pub const NC31: WordAddress = WordAddress {
     name: "nc31",
+    family: Family::Nc31,
     numbers: PLAIN_NUMBERS,
+    digits: 7,
     block_step: 1,
     block_width: 3,
+    block_digits: 3,
     header: &[],
     setup_lathe: None,
     setup_mill: None,
     end_block: "M02",
     footer: &[],
-    comment: None,
     rapid_suffix: Some("E"),
     has_arcs: false,
     machines: &[Machine::Lathe],
@@ -125,20 +148,28 @@ impl Dialect for WordAddress {
         self.numbers.resolution()
     }
 
+    fn writes(&self, machine: Machine) -> bool {
+        self.machines.contains(&machine)
+    }
+
     fn render(&self, program: &Program) -> Result<String, NcError> {
         if !self.machines.contains(&program.machine) {
             return Err(self.error(None, format!("writes no {:?} programs", program.machine).to_lowercase()));
         }
         let numbers = NumberStyle { decimals: program.precision.unwrap_or(self.numbers.decimals), ..self.numbers };
-        let mut w =
-            Writer { d: self, numbers, out: String::new(), next: self.block_step, position: Position::default() };
-        for line in self.header {
-            let line = match program.number {
-                Some(n) => line.replace("{number:04}", &format!("{n:04}")),
-                None => line.replace("O{number:04} ", ""),
-            };
-            w.line(&line.replace("{name}", &program.name));
-        }
+        check_program(program, Format { numbers, digits: self.digits }).map_err(|(b, m)| self.error(b, m))?;
+        let mut w = Writer {
+            d: self,
+            machine: program.machine,
+            numbers,
+            out: String::new(),
+            next: self.block_step,
+            position: Position::default(),
+            spindle_on: false,
+            coolant_on: false,
+            tool: None,
+        };
+        self.header(&mut w, program).map_err(|m| self.error(None, m))?;
         let setup = match program.machine {
             Machine::Lathe => self.setup_lathe,
             Machine::Mill => self.setup_mill,
@@ -147,9 +178,9 @@ impl Dialect for WordAddress {
             w.numbered(s);
         }
         for (i, block) in program.blocks.iter().enumerate() {
-            w.block(program.machine, block).map_err(|m| self.error(Some(i + 1), m))?;
+            w.block(block).map_err(|m| self.error(Some(i + 1), m))?;
         }
-        w.numbered(self.end_block);
+        w.end(program.retract.as_ref());
         for line in self.footer {
             w.line(line);
         }
@@ -161,15 +192,61 @@ impl WordAddress {
     fn error(&self, block: Option<usize>, message: String) -> NcError {
         NcError { dialect: self.name, block, message }
     }
+
+    fn header(&self, w: &mut Writer, program: &Program) -> Result<(), String> {
+        let name = match self.family {
+            Family::Sinumerik => sinumerik_name(&program.name),
+            _ => self.comment_text(&program.name),
+        };
+        for line in self.header {
+            let line = match program.number {
+                Some(n) if n > 9999 && self.family == Family::Fanuc => {
+                    return Err(format!("program number {n} does not fit O0001–O9999"));
+                }
+                Some(n) => line.replace("{number:04}", &format!("{n:04}")),
+                None => line.replace("O{number:04} ", ""),
+            };
+            w.line(&line.replace("{name}", &name));
+        }
+        Ok(())
+    }
+
+    /// Comment text in the control's character set, with nothing that ends the comment.
+    fn comment_text(&self, text: &str) -> String {
+        match self.family {
+            // Old Fanuc tape readers take upper case, digits and a few signs; `(` `)` end or
+            // nest a comment, `%` ends the tape, `,` `;` `:` are refused by some.
+            Family::Fanuc => sanitise(text, true, |c| c.is_ascii_alphanumeric() || " .-+/*=#".contains(c)),
+            // A comment ends at `)`; `;` starts another; `(MSG,` `(DEBUG,` `(LOGOPEN,` … are
+            // commands when a comma follows their word, so commas go too.
+            Family::LinuxCnc => sanitise(text, false, |c| !"();%,".contains(c)),
+            Family::Sinumerik | Family::Nc31 => sanitise(text, false, |_| true),
+        }
+    }
+}
+
+/// A Sinumerik program name: letters, digits and `_`, the first two letters, at most 24.
+fn sinumerik_name(name: &str) -> String {
+    let n = program_name(name, 24);
+    if n.chars().take(2).all(|c| c.is_ascii_alphabetic()) && n.len() >= 2 {
+        n
+    } else {
+        program_name(&format!("NC{n}"), 24)
+    }
 }
 
 struct Writer<'a> {
     d: &'a WordAddress,
+    machine: Machine,
     /// The dialect's number style at the program's precision.
     numbers: NumberStyle,
     out: String,
     next: u32,
     position: Position,
+    spindle_on: bool,
+    coolant_on: bool,
+    /// The tool last called: G41/G42 take its offset.
+    tool: Option<u32>,
 }
 
 impl Writer<'_> {
@@ -181,6 +258,9 @@ impl Writer<'_> {
     fn numbered(&mut self, text: &str) {
         let n = format!("N{:0width$}", self.next, width = self.d.block_width);
         self.next += self.d.block_step;
+        if self.next >= 10u32.pow(self.d.block_digits) {
+            self.next = self.d.block_step;
+        }
         self.line(&format!("{n} {text}"));
     }
 
@@ -211,28 +291,47 @@ impl Writer<'_> {
         feed.map(|f| format!(" F{}", feed_style(self.numbers).write(f))).unwrap_or_default()
     }
 
-    fn block(&mut self, machine: Machine, block: &Block) -> Result<(), String> {
-        if !finite_block(block) {
-            return Err("a number is not finite (NaN or infinity)".into());
-        }
+    fn rapid(&mut self, t: &Target) {
+        let text = match self.d.rapid_suffix {
+            Some(suffix) => format!("{} {suffix}", self.axes(t)),
+            None => format!("G0 {}", self.axes(t)),
+        };
+        self.numbered(&text);
+        self.moved_to(t);
+    }
+
+    fn block(&mut self, block: &Block) -> Result<(), String> {
         match block {
-            Block::Rapid(t) => {
-                let text = match self.d.rapid_suffix {
-                    Some(suffix) => format!("{} {suffix}", self.axes(t)),
-                    None => format!("G0 {}", self.axes(t)),
-                };
-                self.numbered(&text);
-                self.moved_to(t);
+            Block::FeedMode(mode) => {
+                let word = self.feed_mode(*mode)?;
+                if !word.is_empty() {
+                    self.numbered(word);
+                }
             }
+            Block::Spindle(s) => self.spindle(s)?,
+            Block::Tool(n) => self.tool(*n),
+            Block::Compensation(side) => self.compensation(*side)?,
+            Block::Coolant(on) => {
+                self.coolant_on = *on;
+                let m = self.m(if *on { 8 } else { 9 });
+                self.numbered(&m);
+            }
+            Block::Rapid(t) => self.rapid(t),
             Block::Line { to, feed } => {
                 let g = if self.d.rapid_suffix.is_some() { "" } else { "G1 " };
                 let text = format!("{g}{}{}", self.axes(to), self.feed(*feed));
                 self.numbered(&text);
                 self.moved_to(to);
             }
-            Block::Arc { direction, to, centre, feed } => self.arc(machine, *direction, to, centre, *feed)?,
+            Block::Arc { direction, to, centre, feed } => self.arc(*direction, to, centre, *feed)?,
             Block::Dwell(s) => {
-                let text = format!("G4 {}{}", if self.d.name == "nc31" { "D" } else { "P" }, self.number(*s));
+                let text = match self.d.family {
+                    // Fanuc's P takes no decimal point: milliseconds.
+                    Family::Fanuc => format!("G4 P{}", (s * 1000.0).round() as u64),
+                    Family::LinuxCnc => format!("G4 P{}", self.number(*s)),
+                    Family::Sinumerik => format!("G4 F{}", self.number(*s)),
+                    Family::Nc31 => format!("G4 D{}", self.number(*s)),
+                };
                 self.numbered(&text);
             }
             Block::Comment(text) => self.comment(text),
@@ -241,18 +340,120 @@ impl Writer<'_> {
         Ok(())
     }
 
-    fn arc(
-        &mut self,
-        machine: Machine,
-        dir: ArcDirection,
-        to: &Target,
-        centre: &Target,
-        feed: Option<f64>,
-    ) -> Result<(), String> {
+    fn feed_mode(&self, mode: FeedMode) -> Result<&'static str, String> {
+        let lathe = self.machine == Machine::Lathe;
+        Ok(match (self.d.family, mode) {
+            (Family::Fanuc, FeedMode::PerMinute) if lathe => "G98",
+            (Family::Fanuc, FeedMode::PerRevolution) if lathe => "G99",
+            (Family::Nc31, FeedMode::PerRevolution) => "",
+            (Family::Nc31, FeedMode::PerMinute) => return Err("NC31 feeds per revolution only".into()),
+            (_, FeedMode::PerMinute) => "G94",
+            (_, FeedMode::PerRevolution) => "G95",
+        })
+    }
+
+    /// An M word: NC31 writes two digits (`M02`, `M17` in DOMAIN.md §2), the others one.
+    fn m(&self, code: u32) -> String {
+        if self.d.family == Family::Nc31 {
+            format!("M{code:02}")
+        } else {
+            format!("M{code}")
+        }
+    }
+
+    fn spindle(&mut self, s: &Spindle) -> Result<(), String> {
+        let direction = match *s {
+            Spindle::Rpm { direction, .. } | Spindle::SurfaceSpeed { direction, .. } => direction,
+            Spindle::Stop => SpindleDirection::Clockwise,
+        };
+        let md = self.m(if direction == SpindleDirection::Clockwise { 3 } else { 4 });
+        let lathe = self.machine == Machine::Lathe;
+        let whole = |v: f64| format!("{}", v.round() as u64);
+        match *s {
+            Spindle::Stop => {
+                self.spindle_on = false;
+                let m5 = self.m(5);
+                self.numbered(&m5);
+                return Ok(());
+            }
+            Spindle::Rpm { rpm, .. } => {
+                let g97 = if lathe && self.d.family != Family::Nc31 { "G97 " } else { "" };
+                self.numbered(&format!("{g97}S{} {md}", whole(rpm)));
+            }
+            Spindle::SurfaceSpeed { metres_per_min, max_rpm, .. } => {
+                let (v, max) = (whole(metres_per_min), whole(max_rpm));
+                match self.d.family {
+                    Family::Fanuc => {
+                        self.numbered(&format!("G50 S{max}"));
+                        self.numbered(&format!("G96 S{v} {md}"));
+                    }
+                    Family::LinuxCnc => self.numbered(&format!("G96 D{max} S{v} {md}")),
+                    Family::Sinumerik => {
+                        self.numbered(&format!("LIMS={max}"));
+                        self.numbered(&format!("G96 S{v} {md}"));
+                    }
+                    Family::Nc31 => return Err("NC31 has no constant surface speed; give a speed in 1/min".into()),
+                }
+            }
+        }
+        self.spindle_on = true;
+        Ok(())
+    }
+
+    fn compensation(&mut self, side: Compensation) -> Result<(), String> {
+        let g = match side {
+            Compensation::Off => "G40",
+            Compensation::Left => "G41",
+            Compensation::Right => "G42",
+        };
+        let text = match (self.d.family, side, self.tool) {
+            (Family::Nc31, Compensation::Off, _) => g.to_string(),
+            (Family::Nc31, ..) => return Err("NC31 here writes no cutter radius compensation".into()),
+            // Sinumerik takes the radius of the active T/D; the others name the offset.
+            (Family::Sinumerik, ..) | (_, Compensation::Off, _) => g.to_string(),
+            (_, _, Some(t)) => format!("{g} D{t}"),
+            (_, _, None) => return Err("cutter compensation needs a tool called before it (Nc.Tool)".into()),
+        };
+        self.numbered(&text);
+        Ok(())
+    }
+
+    fn tool(&mut self, n: u32) {
+        self.tool = Some(n);
+        let lathe = self.machine == Machine::Lathe;
+        let text = match self.d.family {
+            Family::Fanuc if lathe => format!("T{n:02}{n:02}"),
+            Family::Fanuc => format!("T{n} M6"),
+            Family::LinuxCnc => format!("T{n} M6 G43"),
+            Family::Sinumerik if lathe => format!("T{n} D1"),
+            Family::Sinumerik => format!("T{n} M6 D1"),
+            Family::Nc31 => format!("T{n}"),
+        };
+        self.numbered(&text);
+    }
+
+    /// The program frame's end: to the safe position in rapid, spindle and coolant off, end.
+    fn end(&mut self, retract: Option<&Target>) {
+        if let Some(t) = retract {
+            self.rapid(t);
+        }
+        if self.spindle_on {
+            let m = self.m(5);
+            self.numbered(&m);
+        }
+        if self.coolant_on {
+            let m = self.m(9);
+            self.numbered(&m);
+        }
+        let end = self.d.end_block;
+        self.numbered(end);
+    }
+
+    fn arc(&mut self, dir: ArcDirection, to: &Target, centre: &Target, feed: Option<f64>) -> Result<(), String> {
         if !self.d.has_arcs {
             return Err("this control has no circular interpolation; write the arc as lines".into());
         }
-        let offsets = centre_offsets(machine, &self.position, centre)
+        let offsets = centre_offsets(self.machine, &self.position, centre)
             .ok_or("an arc needs a known start point and a centre in the working plane")?;
         let g = match dir {
             ArcDirection::Clockwise => "G2",
@@ -266,11 +467,12 @@ impl Writer<'_> {
     }
 
     fn comment(&mut self, text: &str) {
-        match self.d.comment {
-            // Fanuc and LinuxCNC end a comment at the first `)`; nested ones would cut it short.
-            Some(CommentStyle::Parentheses) => self.line(&format!("({})", text.replace(['(', ')'], ""))),
-            Some(CommentStyle::Semicolon) => self.line(&format!("; {text}")),
-            None => {}
+        let text = self.d.comment_text(text);
+        match self.d.family {
+            Family::Fanuc | Family::LinuxCnc => self.line(&format!("({text})")),
+            Family::Sinumerik => self.line(&format!("; {text}")),
+            // NC31 has no comment syntax: comments are left out.
+            Family::Nc31 => {}
         }
     }
 
