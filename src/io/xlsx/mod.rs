@@ -35,6 +35,7 @@ use crate::formula::ast::SheetId;
 use crate::workbook::Workbook;
 
 mod check;
+mod patch;
 mod raw;
 mod read;
 mod sheet_xml;
@@ -44,7 +45,8 @@ mod xml;
 
 pub use check::{compare_cached, values_agree, Difference, REL_TOLERANCE};
 pub use read::{load, load_bytes};
-pub use write::{save, save_with_layout, to_bytes};
+pub use patch::{patch, Patched, Unpatchable};
+pub use write::{save, save_with_layout, to_bytes, to_bytes_for};
 
 /// A workbook read from an xlsx file, with what the file said besides the cells.
 pub struct Imported {
