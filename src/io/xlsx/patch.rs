@@ -478,7 +478,7 @@ impl SheetPatch<'_> {
                 }
             }
             Value::Blank | Value::Array(_) => format!("{r} t=\"str\">{f}<v></v></c>"),
-            Value::Number(n) if n.is_finite() => format!("{r}>{f}<v>{n:?}</v></c>"),
+            Value::Number(n) if n.is_finite() => format!("{r}>{f}<v>{}</v></c>", number_text(n)),
             Value::Number(_) => format!("{r} t=\"e\">{f}<v>#NUM!</v></c>"),
             Value::Bool(b) => format!("{r} t=\"b\">{f}<v>{}</v></c>", u8::from(b)),
             Value::Error(e) => format!("{r} t=\"e\">{f}<v>{}</v></c>", error_text(e)),
@@ -522,6 +522,16 @@ fn error_text(e: XlError) -> &'static str {
     match e {
         XlError::Spill | XlError::Calc | XlError::Circ => "#VALUE!",
         e => e.as_str(),
+    }
+}
+
+/// A number as `<v>` holds it: the shortest text that reads back as the same double, with
+/// an exponent only for very large or small magnitudes.
+fn number_text(n: f64) -> String {
+    if n == 0.0 || (1e-5..1e15).contains(&n.abs()) {
+        format!("{n}")
+    } else {
+        format!("{n:e}")
     }
 }
 
