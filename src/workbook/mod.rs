@@ -281,10 +281,8 @@ impl Workbook {
     pub fn changes(&self) -> Option<Changes> {
         let log = self.changes.as_ref()?;
         let cells = |ids: &std::collections::HashSet<u32>| {
-            let mut v: Vec<(SheetId, Pos)> = ids
-                .iter()
-                .map(|&id| (self.cells[id as usize].sheet, self.cells[id as usize].pos))
-                .collect();
+            let mut v: Vec<(SheetId, Pos)> =
+                ids.iter().map(|&id| (self.cells[id as usize].sheet, self.cells[id as usize].pos)).collect();
             v.sort_by_key(|&(s, p)| (s, p.row, p.col));
             v
         };

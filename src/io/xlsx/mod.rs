@@ -44,8 +44,8 @@ mod write;
 mod xml;
 
 pub use check::{compare_cached, values_agree, Difference, REL_TOLERANCE};
-pub use read::{load, load_bytes};
 pub use patch::{patch, Patched, Unpatchable};
+pub use read::{load, load_bytes};
 pub use write::{save, save_with_layout, to_bytes, to_bytes_for};
 
 /// A workbook read from an xlsx file, with what the file said besides the cells.

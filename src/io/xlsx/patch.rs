@@ -59,11 +59,8 @@ pub fn patch(source: &Path, wb: &Workbook, changes: &Changes) -> Result<Result<P
     }
     let mut by_part: BTreeMap<String, (SheetId, BTreeMap<(u32, u32), Change>)> = BTreeMap::new();
     let names = wb.sheet_names();
-    let tagged = changes
-        .values
-        .iter()
-        .map(|&c| (c, Change::Value))
-        .chain(changes.inputs.iter().map(|&c| (c, Change::Input)));
+    let tagged =
+        changes.values.iter().map(|&c| (c, Change::Value)).chain(changes.inputs.iter().map(|&c| (c, Change::Input)));
     for ((sheet, pos), change) in tagged {
         let name = &names[sheet as usize];
         let Some(entry) = package.sheets.iter().find(|s| s.name.eq_ignore_ascii_case(name)) else {
@@ -83,7 +80,8 @@ pub fn patch(source: &Path, wb: &Workbook, changes: &Changes) -> Result<Result<P
         name.eq_ignore_ascii_case("xl/calcChain.xml").then(|| name.to_string())
     });
     let (wb_dir, wb_file) = workbook_part.rsplit_once('/').unwrap_or(("", &workbook_part));
-    let wb_rels = if wb_dir.is_empty() { format!("_rels/{wb_file}.rels") } else { format!("{wb_dir}/_rels/{wb_file}.rels") };
+    let wb_rels =
+        if wb_dir.is_empty() { format!("_rels/{wb_file}.rels") } else { format!("{wb_dir}/_rels/{wb_file}.rels") };
     let mut out = zip::ZipWriter::new(Cursor::new(Vec::with_capacity(bytes.len() + 4096)));
     for i in 0..zip.len() {
         let mut entry = zip.by_index(i).map_err(|e| {
@@ -149,10 +147,12 @@ fn full_calc_on_load(xml: &str) -> String {
         }
         let tag = remove_attr(tag, "fullCalcOnLoad");
         let (body, close) = match tag.strip_suffix('/') {
-            Some(b) => (b.trim_end(), "/"),
-            None => (tag.trim_end(), ""),
+            Some(b) => (b, "/"),
+            None => (tag.as_str(), ""),
         };
-        return format!("{}{body} fullCalcOnLoad=\"1\"{close}{}", &xml[..start], &xml[end..]);
+        // The new attribute goes before any space the tag ends with, which stays as it was.
+        let (attrs, space) = body.split_at(body.trim_end().len());
+        return format!("{}{attrs} fullCalcOnLoad=\"1\"{space}{close}{}", &xml[..start], &xml[end..]);
     }
     for after in ["definedNames", "externalReferences", "functionGroups", "sheets"] {
         let close = format!("</{after}>");
@@ -183,7 +183,8 @@ fn without_elements_naming(xml: &str, what: &str) -> String {
             continue;
         }
         out.push_str(&rest[..start]);
-        rest = &rest[end..];
+        // With the line break or indentation that followed it, as a pretty-printed part has.
+        rest = rest[end..].trim_start_matches([' ', '\t', '\r', '\n']);
     }
     out.push_str(rest);
     out
@@ -448,7 +449,9 @@ impl SheetPatch<'_> {
         let value = self.wb.value(self.sheet, pos);
         let formula = match change {
             Change::Input => self.file_formula(pos).map(|f| format!("<f>{}</f>", escape(&f))),
-            Change::Value => original.and_then(|(e, _)| formula_element(e)).map(|(_, r)| original.unwrap().0[r].to_string()),
+            Change::Value => {
+                original.and_then(|(e, _)| formula_element(e)).map(|(_, r)| original.unwrap().0[r].to_string())
+            }
         };
         if change == Change::Input && formula.is_some() {
             if let Some(r) = Env::spill_rect(self.wb, self.sheet, pos).filter(|r| !r.is_cell()) {
