@@ -339,7 +339,7 @@ fn libreoffice_opens_the_saved_workbooks_and_computes_the_same_values() {
 /// Excel forbids and LibreOffice writes) and an inputs table; a chart comes from converting
 /// a workbook with charts.
 const FODS: &str = r#"<?xml version="1.0" encoding="UTF-8"?>
-<office:document xmlns:office="urn:oasis:names:tc:opendocument:xmlns:office:1.0" xmlns:table="urn:oasis:names:tc:opendocument:xmlns:table:1.0" xmlns:text="urn:oasis:names:tc:opendocument:xmlns:text:1.0" xmlns:dc="http://purl.org/dc/elements/1.1/" office:version="1.3" office:mimetype="application/vnd.oasis.opendocument.spreadsheet">
+<office:document xmlns:office="urn:oasis:names:tc:opendocument:xmlns:office:1.0" xmlns:table="urn:oasis:names:tc:opendocument:xmlns:table:1.0" xmlns:text="urn:oasis:names:tc:opendocument:xmlns:text:1.0" xmlns:dc="http://purl.org/dc/elements/1.1/" xmlns:of="urn:oasis:names:tc:opendocument:xmlns:of:1.2" office:version="1.3" office:mimetype="application/vnd.oasis.opendocument.spreadsheet">
 <office:body><office:spreadsheet>
 <table:named-expressions><table:named-range table:name="r" table:base-cell-address="$Sheet1.$B$2" table:cell-range-address="$Sheet1.$B$2"/></table:named-expressions>
 <table:table table:name="Sheet1">
