@@ -285,7 +285,7 @@ mod tests {
         assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
         let err = put(&fifo, "x").unwrap_err();
         assert!(err.to_string().contains("FIFO"), "{err}");
-        assert!(fs::metadata(&fifo).unwrap().file_type().is_file() == false);
+        assert!(!fs::metadata(&fifo).unwrap().file_type().is_file());
     }
 
     #[test]

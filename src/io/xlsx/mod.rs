@@ -18,9 +18,9 @@
 //!
 //! Export (`write.rs`) writes all sheets, values, formulas with their computed results as
 //! cached values (viewers that do not recalculate show numbers), defined names, and the
-//! number formats and column widths the source file had ([`Layout`]). [`save`] writes a
-//! temporary file beside the target and renames it over, so an interrupted save leaves the
-//! old file intact.
+//! number formats and column widths the source file had ([`Layout`]): a workbook made new.
+//! A workbook read from an xlsx is saved by [`patch`] (`patch.rs`): the original package with
+//! only the changed cells rewritten. Both write through `io::atomic`.
 //!
 //! **Architecture Invariant:** every error names the file and, when known, the part of the
 //! package (`parts.xlsx: xl/worksheets/sheet2.xml: …`); bad input never panics.

@@ -35,6 +35,9 @@ pub struct Patched {
 /// Why the workbook cannot be saved by patching its source; the caller writes a new package.
 pub struct Unpatchable(pub String);
 
+/// The changed cells of one sheet by (row, column).
+type CellChanges = BTreeMap<(u32, u32), Change>;
+
 /// What a changed cell becomes.
 #[derive(Clone, Copy, PartialEq)]
 enum Change {
@@ -57,7 +60,7 @@ pub fn patch(source: &Path, wb: &Workbook, changes: &Changes) -> Result<Result<P
     if changes.names {
         losses.push("defined names changed by this run are not saved; the file keeps its names".to_string());
     }
-    let mut by_part: BTreeMap<String, (SheetId, BTreeMap<(u32, u32), Change>)> = BTreeMap::new();
+    let mut by_part: BTreeMap<String, (SheetId, CellChanges)> = BTreeMap::new();
     let names = wb.sheet_names();
     let tagged =
         changes.values.iter().map(|&c| (c, Change::Value)).chain(changes.inputs.iter().map(|&c| (c, Change::Input)));
