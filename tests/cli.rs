@@ -278,7 +278,8 @@ fn set_in_place_replaces_the_file_and_leaves_nothing_behind() {
     let dir = folder(&[("parts.csv", PARTS)]);
     let run = ncsheet_in(dir.path(), &["set", "parts.csv", "B2=4", "C1=note, with comma", "--in-place"], "");
     assert_eq!((run.code, run.stderr.as_str()), (0, ""));
-    assert_eq!(read(&dir, "parts.csv"), "D,40,\"note, with comma\"\nf,4,\ntotal,=B1+B2*3,\n");
+    // Untouched rows keep their own length (issue 14): no padding to the widest row.
+    assert_eq!(read(&dir, "parts.csv"), "D,40,\"note, with comma\"\nf,4\ntotal,=B1+B2*3\n");
     assert_eq!(names_in(dir.path()), ["parts.csv"]);
     let run = ncsheet_in(dir.path(), &["eval", "parts.csv", "B3"], "");
     assert_eq!(run.stdout, "52\n");

@@ -119,6 +119,9 @@ pub struct ArcfitArgs {
 
 pub fn cam(args: CamArgs) -> Result<()> {
     let file = &args.file;
+    if let Some(out) = &args.out.output {
+        super::refuse_overwriting_inputs(&[file], &[out], "write the result to a new file")?;
+    }
     let text =
         std::fs::read_to_string(file).map_err(|e| Error::User(format!("{}: cannot read: {e}", file.display())))?;
     let segments = parse_sheet(&text).map_err(|e| Error::User(format!("{}: {e}", file.display())))?;

@@ -64,9 +64,9 @@ fn import(file: &Path, modules: &[PathBuf], out: &Path) -> Result<()> {
     if modules.is_empty() {
         return Err(Error::Usage("-o goes with --import FILE.bas".into()));
     }
-    if same_file(file, out) || modules.iter().any(|m| same_file(m, out)) {
-        return Err(Error::Usage(format!("{}: -o names an input file", out.display())));
-    }
+    let mut inputs: Vec<&Path> = vec![file];
+    inputs.extend(modules.iter().map(PathBuf::as_path));
+    super::refuse_overwriting_inputs(&inputs, &[out], "the workbook with macros goes to a new file")?;
     let opened = ncsheet::io::open(file)?;
     let mut layout = opened.layout.unwrap_or_default();
     if layout.vba_project.is_some() {
@@ -113,12 +113,6 @@ fn read_module(path: &Path) -> Result<NewModule> {
     Ok(NewModule { name, kind: ModuleKind::Standard, source })
 }
 
-fn same_file(a: &Path, b: &Path) -> bool {
-    match (a.canonicalize(), b.canonicalize()) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => false,
-    }
-}
 
 /// The VBA project of a workbook file; a workbook without one is an error saying so.
 pub fn open_project(file: &Path) -> Result<VbaProject> {

@@ -96,6 +96,10 @@ pub struct SetArgs {
     /// Replace FILE with the result
     #[arg(long)]
     pub in_place: bool,
+    /// Replace a read-only or hard-linked target, and with --in-place a workbook whose save
+    /// loses something (what is lost is said first)
+    #[arg(long)]
+    pub force: bool,
     /// The sheet of cells named without one (default: the first)
     #[arg(long, value_name = "NAME")]
     pub sheet: Option<String>,
@@ -125,6 +129,9 @@ pub struct ExportArgs {
     /// The sheet to write (default: the first)
     #[arg(long, value_name = "NAME")]
     pub sheet: Option<String>,
+    /// Replace a read-only or hard-linked OUT
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// Edit a workbook interactively: CELL=INPUT, CELL or RANGE, save PATH, quit.
@@ -189,7 +196,8 @@ fn eval(args: EvalArgs) -> Result<()> {
 fn set(args: SetArgs) -> Result<()> {
     let out_path = match (&args.output, args.in_place) {
         (Some(out), false) => {
-            refuse_overwriting_input(&args.file, out, "write elsewhere with -o, or replace it with --in-place")?;
+            let hint = "write elsewhere with -o, or replace it with --in-place";
+            refuse_overwriting_inputs(&[&args.file], &[out], hint)?;
             out.clone()
         }
         (None, true) => args.file.clone(),
@@ -206,8 +214,8 @@ fn set(args: SetArgs) -> Result<()> {
     }
     wb.recalculate();
     report_problems(&args.file, &wb);
-    ncsheet::io::save_with_layout(&wb, opened.layout.as_ref(), &out_path)?;
-    Ok(())
+    let encoded = ncsheet::io::encode_save(&wb, opened.layout.as_ref(), &opened.origin, &out_path)?;
+    write_outputs(&[encoded], args.in_place, args.force)
 }
 
 /// Reads a workbook and tells the user what the import left out.
@@ -263,7 +271,7 @@ fn show(v: &ncsheet::eval::Value) -> String {
 }
 
 fn export(args: ExportArgs) -> Result<()> {
-    refuse_overwriting_input(&args.file, &args.output, "an export cannot replace its input; write elsewhere")?;
+    refuse_overwriting_inputs(&[&args.file], &[&args.output], "an export cannot replace its input; write elsewhere")?;
     let wb = open(&args.file)?.workbook;
     let mut sheet = default_sheet(&wb, &args.file, args.sheet.as_deref())?;
     if let Some(t) = &args.range {
@@ -272,8 +280,8 @@ fn export(args: ExportArgs) -> Result<()> {
     let content = if args.formulas { Content::Formulas } else { Content::Values };
     let what = Export { sheet, range: args.range.as_ref().map(|t| t.rect), content };
     report_problems(&args.file, &wb);
-    ncsheet::io::export(&wb, &args.output, &what)?;
-    Ok(())
+    let encoded = ncsheet::io::encode_export(&wb, &args.output, &what)?;
+    write_outputs(&[encoded], false, args.force)
 }
 
 fn repl(args: ReplArgs) -> Result<()> {
@@ -332,14 +340,59 @@ fn sheet_named(wb: &Workbook, file: &Path, name: &str) -> Result<SheetId> {
     })
 }
 
-/// Refuses an output path that is the input file (however it is spelled).
-pub(crate) fn refuse_overwriting_input(input: &Path, output: &Path, hint: &str) -> Result<()> {
-    let same = match (input.canonicalize(), output.canonicalize()) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => input == output,
-    };
-    if same {
-        return Err(Error::Usage(format!("refusing to overwrite the input file {}: {hint}", input.display())));
+/// Refuses to write over an input: an output that is one of the inputs (the same file
+/// however it is reached: another spelling, a symbolic link, a hard link), or that is
+/// another output of the same command.
+pub(crate) fn refuse_overwriting_inputs(inputs: &[&Path], outputs: &[&Path], hint: &str) -> Result<()> {
+    for (i, out) in outputs.iter().enumerate() {
+        if let Some(input) = inputs.iter().find(|input| same_file(input, out)) {
+            return Err(Error::Usage(format!(
+                "refusing to overwrite the input file {}{}: {hint}",
+                input.display(),
+                if input == out { String::new() } else { format!(" (reached as {})", out.display()) }
+            )));
+        }
+        if let Some(other) = outputs[..i].iter().find(|o| same_file(o, out)) {
+            return Err(Error::Usage(format!("{} and {} are the same file", other.display(), out.display())));
+        }
+    }
+    Ok(())
+}
+
+/// Whether two paths name the same file: by device and inode when both exist (symbolic
+/// links followed), else by their spelling.
+fn same_file(a: &Path, b: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    match (std::fs::metadata(a), std::fs::metadata(b)) {
+        (Ok(x), Ok(y)) => x.dev() == y.dev() && x.ino() == y.ino(),
+        (Err(_), Err(_)) => a == b,
+        _ => false,
+    }
+}
+
+/// Writes each computed output, after checking that every target can be replaced, so that
+/// one refused target leaves all of them as they were. What the outputs cannot keep of the
+/// original is said first; replacing an input with losses needs --force.
+pub(crate) fn write_outputs(files: &[ncsheet::io::Encoded], in_place: bool, force: bool) -> Result<()> {
+    let options = ncsheet::io::atomic::Options { force };
+    for f in files {
+        for loss in &f.losses {
+            eprintln!("ncsheet: {}: not kept: {loss}", f.path.display());
+        }
+    }
+    if in_place && !force && files.iter().any(|f| !f.losses.is_empty()) {
+        return Err(Error::User(
+            "nothing was written: replacing the file would lose what is listed above (--force writes it anyway, \
+             or write elsewhere with -o)"
+                .into(),
+        ));
+    }
+    for f in files {
+        ncsheet::io::atomic::check(&f.path, options)
+            .map_err(|e| Error::User(format!("{}: cannot write: {e}", f.path.display())))?;
+    }
+    for f in files {
+        f.write(options)?;
     }
     Ok(())
 }

@@ -126,6 +126,7 @@ impl Session<'_> {
             ("help", "") => writeln!(out, "{HELP}")?,
             ("save", "") => return Err(Error::User("save needs a file name: save PATH".into())),
             ("save", path) => {
+                super::refuse_overwriting_inputs(&[self.file], &[Path::new(path)], "save the session elsewhere")?;
                 ncsheet::io::save(&self.wb, Path::new(path))?;
                 writeln!(out, "saved {path}")?;
             }

@@ -54,6 +54,9 @@ pub struct RunArgs {
     /// Save the workbook with the macro's changes (.csv or .xlsx; not the input file)
     #[arg(long, value_name = "OUT")]
     pub save: Option<PathBuf>,
+    /// Replace a read-only or hard-linked PROGRAM or --save file
+    #[arg(long)]
+    pub force: bool,
     /// Stop the macro after this many statements (an endless loop, usually)
     #[arg(long, default_value_t = 10_000_000)]
     pub max_statements: u64,
@@ -76,9 +79,11 @@ fn parse_arg(text: &str) -> std::result::Result<(String, String), String> {
 const STACK_BYTES_PER_LEVEL: usize = 64 * 1024;
 
 pub fn run(args: RunArgs) -> Result<()> {
-    if let Some(save) = &args.save {
-        super::refuse_overwriting_input(&args.workbook, save, "save the changed workbook elsewhere")?;
-    }
+    let outputs: Vec<&std::path::Path> = args.output.iter().chain(&args.save).map(PathBuf::as_path).collect();
+    let hint = "the program and the saved workbook go to new files";
+    let mut inputs: Vec<&std::path::Path> = vec![&args.workbook];
+    inputs.extend(args.macro_file.as_deref());
+    super::refuse_overwriting_inputs(&inputs, &outputs, hint)?;
     let d = dialect::by_name(&args.dialect).expect("clap checked the dialect");
     let stack = (8 << 20).max(args.max_depth.saturating_mul(STACK_BYTES_PER_LEVEL));
     // The workbook is not Send, so it is loaded and used on the macro's own thread.
@@ -91,7 +96,8 @@ pub fn run(args: RunArgs) -> Result<()> {
 }
 
 fn run_on_this_thread(args: RunArgs, dialect_name: &'static str) -> Result<()> {
-    let mut wb = ncsheet::io::load(&args.workbook)?;
+    let opened = ncsheet::io::open(&args.workbook)?;
+    let mut wb = opened.workbook;
     let (file, source, sub) = macro_source(&args)?;
     let file = &file;
     let options = RunOptions {
@@ -118,13 +124,24 @@ fn run_on_this_thread(args: RunArgs, dialect_name: &'static str) -> Result<()> {
         }
     };
     print_output(&out)?;
+    // Everything is computed before anything is written: a program that cannot be written
+    // in the dialect, or a workbook that cannot be saved, leaves every file as it was.
+    let mut files = Vec::new();
+    let mut program = None;
     if out.has_program() {
         let d = dialect::by_name(dialect_name).expect("dialect checked before");
         let text = d.render(&out.program).map_err(|e| Error::User(format!("{}: {e}", file.display())))?;
-        emit(&text, args.output.as_deref())?;
+        match &args.output {
+            Some(path) => files.push(ncsheet::io::Encoded::new(path, text.into_bytes())),
+            None => program = Some(text),
+        }
     }
     if let Some(save) = &args.save {
-        ncsheet::io::save(&wb, save)?;
+        files.push(ncsheet::io::encode_save(&wb, opened.layout.as_ref(), &opened.origin, save)?);
+    }
+    super::write_outputs(&files, false, args.force)?;
+    if let Some(text) = program {
+        emit(&text, None)?;
     }
     Ok(())
 }

@@ -1,27 +1,135 @@
-//! Saving without ever leaving a half-written file: write a temporary file in the target's
-//! folder, flush it to disk, then rename it over the target (atomic on one file system).
+//! The one way ncsheet writes a file: a temporary file in the target's folder, filled, flushed
+//! to disk, then renamed over the target (atomic on one file system). A reader, or a crash,
+//! sees either the old file or the whole new one.
+//!
+//! The target is respected:
+//! - a symbolic link is followed to its file, which is replaced (the link stays a link); a
+//!   link to nothing is refused;
+//! - anything but a regular file (a directory, a FIFO, a device) is refused;
+//! - the new file keeps the old one's mode, and its owner and group where the system lets
+//!   us (root can; anyone can keep their own group);
+//! - a read-only file is refused unless [`Options::force`];
+//! - a file with several hard links is refused unless [`Options::force`]: the rename gives
+//!   this name a new file, and the other names would keep the old content.
+//!
+//! Temporary files are named `.NAME.ncsheet-PID-N.tmp`. A save that is killed leaves its
+//! temporary file behind; the next save into that folder removes every such file whose PID
+//! is no longer a running process.
 
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU32, Ordering};
 
+/// What a save may replace besides an ordinary writable file.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Options {
+    /// Replace a read-only file, or one with several hard links (breaking the link).
+    pub force: bool,
+}
+
 /// Writes `path` through `write`: either the whole new content replaces the file, or the old
 /// file is left as it was (and no temporary file stays behind).
 pub fn write_file(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> io::Result<()> {
-    let (tmp_path, file) = create_temp_beside(path)?;
-    let res = fill(file, path, write).and_then(|()| fs::rename(&tmp_path, path));
-    if res.is_err() {
-        let _ = fs::remove_file(&tmp_path);
-    }
-    res
+    write_file_with(path, Options::default(), write)
 }
 
-fn fill(file: File, target: &Path, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> io::Result<()> {
-    // Keep the permissions of the file being replaced (a read-only target is refused by the
-    // rename on some systems, and silently made writable on others: keep it simple and copy).
-    if let Ok(meta) = fs::metadata(target) {
-        file.set_permissions(meta.permissions())?;
+/// [`write_file`] with bytes already computed.
+pub fn write_bytes(path: &Path, options: Options, bytes: &[u8]) -> io::Result<()> {
+    write_file_with(path, options, |w: &mut dyn Write| w.write_all(bytes))
+}
+
+/// [`write_file`] with [`Options`].
+pub fn write_file_with(
+    path: &Path,
+    options: Options,
+    write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+) -> io::Result<()> {
+    let target = resolve(path)?;
+    let old = existing(&target, options)?;
+    let dir = folder_of(&target);
+    remove_stale_temporaries(&dir);
+    let (tmp_path, file) = create_temp_in(&dir, &target)?;
+    let res = fill(file, old.as_ref(), write).and_then(|()| fs::rename(&tmp_path, &target));
+    if res.is_err() {
+        let _ = fs::remove_file(&tmp_path);
+        return res;
+    }
+    // The rename is durable only once the folder is on disk too.
+    if let Ok(d) = File::open(&dir) {
+        let _ = d.sync_all();
+    }
+    Ok(())
+}
+
+/// Whether a save to `path` would be refused (see the module's list), without writing.
+pub fn check(path: &Path, options: Options) -> io::Result<()> {
+    existing(&resolve(path)?, options).map(|_| ())
+}
+
+/// The file a save to `path` replaces: `path` itself, or the file its symbolic link names.
+pub fn resolve(path: &Path) -> io::Result<PathBuf> {
+    match fs::symlink_metadata(path) {
+        Ok(meta) if meta.file_type().is_symlink() => path.canonicalize().map_err(|e| {
+            let to = fs::read_link(path).map(|t| t.display().to_string()).unwrap_or_default();
+            refused(format!("is a symbolic link to {to}, which cannot be reached ({e}); nothing was written"))
+        }),
+        _ => Ok(path.to_path_buf()),
+    }
+}
+
+/// The metadata of the file being replaced (None for a new file), after the checks.
+fn existing(target: &Path, options: Options) -> io::Result<Option<fs::Metadata>> {
+    use std::os::unix::fs::{FileTypeExt, MetadataExt};
+    let meta = match fs::metadata(target) {
+        Ok(m) => m,
+        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => return Err(e),
+    };
+    let t = meta.file_type();
+    let special = if t.is_dir() {
+        Some("a directory")
+    } else if t.is_fifo() {
+        Some("a FIFO (named pipe)")
+    } else if t.is_char_device() || t.is_block_device() {
+        Some("a device")
+    } else if t.is_socket() {
+        Some("a socket")
+    } else if !t.is_file() {
+        Some("not a regular file")
+    } else {
+        None
+    };
+    if let Some(what) = special {
+        return Err(refused(format!("is {what}; ncsheet only replaces regular files")));
+    }
+    if !options.force && meta.permissions().readonly() {
+        return Err(io::Error::new(
+            io::ErrorKind::PermissionDenied,
+            "is read-only; nothing was written (--force replaces it, keeping it read-only)",
+        ));
+    }
+    if !options.force && meta.nlink() > 1 {
+        return Err(refused(format!(
+            "has {} hard links; replacing it would leave the other names with the old content, so nothing \
+             was written (--force replaces this name only)",
+            meta.nlink()
+        )));
+    }
+    Ok(Some(meta))
+}
+
+fn refused(message: String) -> io::Error {
+    io::Error::new(io::ErrorKind::InvalidInput, message)
+}
+
+fn fill(
+    file: File,
+    old: Option<&fs::Metadata>,
+    write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+) -> io::Result<()> {
+    if let Some(meta) = old {
+        keep_owner_and_mode(&file, meta)?;
     }
     let mut out = BufWriter::new(file);
     write(&mut out)?;
@@ -29,17 +137,52 @@ fn fill(file: File, target: &Path, write: impl FnOnce(&mut dyn Write) -> io::Res
     file.sync_all()
 }
 
-/// A new file `.NAME.ncsheet-PID-N.tmp` in the folder of `path`.
-fn create_temp_beside(path: &Path) -> io::Result<(PathBuf, File)> {
-    static COUNTER: AtomicU32 = AtomicU32::new(0);
-    let dir = match path.parent() {
+/// Gives the new file the old one's owner, group and mode. Changing the owner needs root
+/// and changing the group needs membership: each is tried alone and kept if refused.
+fn keep_owner_and_mode(file: &File, meta: &fs::Metadata) -> io::Result<()> {
+    use std::os::unix::fs::{fchown, MetadataExt};
+    let _ = fchown(file, Some(meta.uid()), Some(meta.gid())).or_else(|_| fchown(file, None, Some(meta.gid())));
+    file.set_permissions(meta.permissions())
+}
+
+fn folder_of(path: &Path) -> PathBuf {
+    match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
-    };
-    let name = path.file_name().map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
+    }
+}
+
+const TEMP_MARK: &str = ".ncsheet-";
+
+/// The PID in a temporary file's name `.NAME.ncsheet-PID-N.tmp`, if it is one.
+fn temp_owner(name: &str) -> Option<u32> {
+    let rest = name.strip_prefix('.')?.strip_suffix(".tmp")?;
+    let (_, tail) = rest.rsplit_once(TEMP_MARK)?;
+    let (pid, n) = tail.split_once('-')?;
+    n.parse::<u32>().ok()?;
+    pid.parse().ok()
+}
+
+/// Removes the temporary files of saves whose process is gone (killed mid-save).
+fn remove_stale_temporaries(dir: &Path) {
+    let Ok(entries) = fs::read_dir(dir) else { return };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let Some(pid) = name.to_str().and_then(temp_owner) else { continue };
+        let alive = pid == std::process::id() || Path::new(&format!("/proc/{pid}")).exists();
+        if !alive && entry.file_type().is_ok_and(|t| t.is_file()) {
+            let _ = fs::remove_file(entry.path());
+        }
+    }
+}
+
+/// A new file `.NAME.ncsheet-PID-N.tmp` in `dir`.
+fn create_temp_in(dir: &Path, target: &Path) -> io::Result<(PathBuf, File)> {
+    static COUNTER: AtomicU32 = AtomicU32::new(0);
+    let name = target.file_name().map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
     loop {
         let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-        let tmp = dir.join(format!(".{name}.ncsheet-{}-{n}.tmp", std::process::id()));
+        let tmp = dir.join(format!(".{name}{TEMP_MARK}{}-{n}.tmp", std::process::id()));
         match OpenOptions::new().write(true).create_new(true).open(&tmp) {
             Ok(file) => return Ok((tmp, file)),
             Err(e) if e.kind() == io::ErrorKind::AlreadyExists => continue,
@@ -48,9 +191,36 @@ fn create_temp_beside(path: &Path) -> io::Result<(PathBuf, File)> {
     }
 }
 
+/// A scratch file for a library that only reads from a path (rust_xlsxwriter's VBA
+/// project), named and cleaned up like the save's own temporary files; removed on drop.
+pub struct Scratch(PathBuf);
+
+impl Scratch {
+    /// Writes `bytes` to a new temporary file beside `target`.
+    pub fn beside(target: &Path, bytes: &[u8]) -> io::Result<Scratch> {
+        let dir = folder_of(target);
+        remove_stale_temporaries(&dir);
+        let (path, mut file) = create_temp_in(&dir, target)?;
+        let scratch = Scratch(path);
+        file.write_all(bytes)?;
+        Ok(scratch)
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = fs::remove_file(&self.0);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::os::unix::fs::{symlink, PermissionsExt};
 
     fn leftovers(dir: &Path) -> Vec<String> {
         fs::read_dir(dir)
@@ -60,12 +230,16 @@ mod tests {
             .collect()
     }
 
+    fn put(path: &Path, text: &str) -> io::Result<()> {
+        write_file(path, |w: &mut dyn Write| w.write_all(text.as_bytes()))
+    }
+
     #[test]
     fn replaces_the_file_and_leaves_no_temporary() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("a.csv");
         fs::write(&path, "old").unwrap();
-        write_file(&path, |w: &mut dyn Write| w.write_all(b"new")).unwrap();
+        put(&path, "new").unwrap();
         assert_eq!(fs::read_to_string(&path).unwrap(), "new");
         assert!(leftovers(dir.path()).is_empty());
     }
@@ -82,5 +256,73 @@ mod tests {
         assert!(res.is_err());
         assert_eq!(fs::read_to_string(&path).unwrap(), "old");
         assert!(leftovers(dir.path()).is_empty());
+    }
+
+    #[test]
+    fn a_symlink_is_followed_and_stays_a_link() {
+        let dir = tempfile::tempdir().unwrap();
+        let real = dir.path().join("real.csv");
+        let link = dir.path().join("link.csv");
+        fs::write(&real, "old").unwrap();
+        symlink(&real, &link).unwrap();
+        put(&link, "new").unwrap();
+        assert!(fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+        assert_eq!(fs::read_to_string(&real).unwrap(), "new");
+        let dangling = dir.path().join("dangling.csv");
+        symlink(dir.path().join("nowhere/x.csv"), &dangling).unwrap();
+        let err = put(&dangling, "x").unwrap_err();
+        assert!(err.to_string().contains("symbolic link"), "{err}");
+    }
+
+    #[test]
+    fn special_files_are_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let err = put(dir.path(), "x").unwrap_err();
+        assert!(err.to_string().contains("directory"), "{err}");
+        let err = put(Path::new("/dev/null"), "x").unwrap_err();
+        assert!(err.to_string().contains("device"), "{err}");
+        let fifo = dir.path().join("fifo");
+        assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+        let err = put(&fifo, "x").unwrap_err();
+        assert!(err.to_string().contains("FIFO"), "{err}");
+        assert!(!fs::metadata(&fifo).unwrap().file_type().is_file());
+    }
+
+    #[test]
+    fn read_only_and_hard_linked_files_need_force_and_keep_their_mode() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("ro.csv");
+        fs::write(&path, "old").unwrap();
+        fs::set_permissions(&path, fs::Permissions::from_mode(0o444)).unwrap();
+        assert!(put(&path, "new").unwrap_err().to_string().contains("read-only"));
+        assert_eq!(fs::read_to_string(&path).unwrap(), "old");
+        write_bytes(&path, Options { force: true }, b"new").unwrap();
+        assert_eq!(fs::read_to_string(&path).unwrap(), "new");
+        assert_eq!(fs::metadata(&path).unwrap().permissions().mode() & 0o777, 0o444);
+
+        let a = dir.path().join("a.csv");
+        let b = dir.path().join("b.csv");
+        fs::write(&a, "old").unwrap();
+        fs::hard_link(&a, &b).unwrap();
+        assert!(put(&a, "new").unwrap_err().to_string().contains("hard links"));
+        assert_eq!(fs::read_to_string(&b).unwrap(), "old");
+    }
+
+    #[test]
+    fn temporaries_of_dead_processes_are_removed_by_the_next_save() {
+        let dir = tempfile::tempdir().unwrap();
+        // A process that has exited: its PID is free (until reused, which a test cannot see).
+        let mut child = std::process::Command::new("true").spawn().unwrap();
+        let dead = child.id();
+        child.wait().unwrap();
+        let stale = dir.path().join(format!(".a.csv.ncsheet-{dead}-0.tmp"));
+        let live = dir.path().join(format!(".a.csv.ncsheet-{}-99.tmp", std::process::id()));
+        let other = dir.path().join(".notes.tmp");
+        for p in [&stale, &live, &other] {
+            fs::write(p, "x").unwrap();
+        }
+        put(&dir.path().join("a.csv"), "new").unwrap();
+        assert!(!stale.exists());
+        assert!(live.exists() && other.exists());
     }
 }

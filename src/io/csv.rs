@@ -14,6 +14,11 @@
 //! `'`, the spreadsheet's own mark for "this is text". ncsheet drops the `'` on reading.
 //! With [`Content::Formulas`] each cell is written as typed (`Workbook::input`), which reads
 //! back as the same workbook.
+//!
+//! Saving a csv that was read from a file ([`read_original`], [`write_edited`]) keeps what
+//! was typed: every field whose cell was not edited is written back byte for byte (quotes,
+//! `007`, `2024-01-10`, `"1,234"`, `50%` stay as they were), each row keeps its own number of
+//! fields and its own line ending; only edited cells are written anew.
 
 use std::fmt;
 use std::io::{self, Write};
@@ -42,6 +47,136 @@ pub const SHEET_NAME: &str = "Sheet1";
 
 /// Reads csv text into a new, recalculated workbook with one sheet.
 pub fn read(bytes: &[u8]) -> Result<Workbook, Malformed> {
+    read_original(bytes).map(|(wb, _)| wb)
+}
+
+/// The text of a csv file as read, row by row and field by field, so that a save writes
+/// back untouched fields exactly as they were typed.
+#[derive(Clone, Debug, Default)]
+pub struct Original {
+    bom: bool,
+    rows: Vec<RawRow>,
+}
+
+#[derive(Clone, Debug, Default, PartialEq)]
+struct RawRow {
+    /// Each field as it stands in the file, quotes included.
+    fields: Vec<String>,
+    /// `\n`, `\r\n`, `\r`, or empty for a last line without one.
+    ending: String,
+}
+
+/// [`read`], also returning the file's text by row and field for [`write_edited`].
+pub fn read_original(bytes: &[u8]) -> Result<(Workbook, Original), Malformed> {
+    let bom = bytes.starts_with(b"\xEF\xBB\xBF");
+    let wb = read_text(bytes)?;
+    let text = std::str::from_utf8(&bytes[if bom { 3 } else { 0 }..]).expect("checked by read_text");
+    Ok((wb, Original { bom, rows: raw_rows(text) }))
+}
+
+/// Splits csv text into rows (blank lines included) of raw fields, by the rules of
+/// [`record_starts`]: a `"` opens a quoted field only at a field's start.
+fn raw_rows(text: &str) -> Vec<RawRow> {
+    let bytes = text.as_bytes();
+    let mut rows = Vec::new();
+    let mut row = RawRow::default();
+    let (mut field_start, mut in_quotes, mut at_field_start) = (0, false, true);
+    let mut i = 0;
+    while i < bytes.len() {
+        let b = bytes[i];
+        if in_quotes {
+            if b == b'"' {
+                if bytes.get(i + 1) == Some(&b'"') {
+                    i += 1;
+                } else {
+                    in_quotes = false;
+                }
+            }
+            i += 1;
+            continue;
+        }
+        let terminator_len = match b {
+            b'\r' if bytes.get(i + 1) == Some(&b'\n') => 2,
+            b'\r' | b'\n' => 1,
+            _ => 0,
+        };
+        if terminator_len > 0 {
+            // A blank line is a row without fields.
+            if i > field_start || !row.fields.is_empty() {
+                row.fields.push(text[field_start..i].to_string());
+            }
+            row.ending = text[i..i + terminator_len].to_string();
+            rows.push(std::mem::take(&mut row));
+            i += terminator_len;
+            field_start = i;
+            at_field_start = true;
+            continue;
+        }
+        if b == b',' {
+            row.fields.push(text[field_start..i].to_string());
+            field_start = i + 1;
+            at_field_start = true;
+        } else {
+            in_quotes = at_field_start && b == b'"';
+            at_field_start = false;
+        }
+        i += 1;
+    }
+    if field_start < bytes.len() || !row.fields.is_empty() {
+        row.fields.push(text[field_start..].to_string());
+        rows.push(row);
+    }
+    rows
+}
+
+/// Writes the one sheet of a workbook read by [`read_original`]: the original text with
+/// only the cells listed in `edited` written anew (as typed, quoted where needed).
+pub fn write_edited(wb: &Workbook, original: &Original, edited: &[Pos], out: &mut dyn Write) -> io::Result<()> {
+    let mut rows = original.rows.clone();
+    let ending = rows.first().map_or("\n", |r| if r.ending.is_empty() { "\n" } else { r.ending.as_str() }).to_string();
+    for &pos in edited {
+        let text = wb.input(0, pos).unwrap_or_default();
+        let (r, c) = (pos.row as usize, pos.col as usize);
+        if r >= rows.len() {
+            if text.is_empty() {
+                continue;
+            }
+            if let Some(last) = rows.last_mut().filter(|l| l.ending.is_empty()) {
+                last.ending = ending.clone();
+            }
+            let blank = RawRow { fields: Vec::new(), ending: ending.clone() };
+            rows.resize(r + 1, blank);
+        }
+        let row = &mut rows[r];
+        if c >= row.fields.len() {
+            if text.is_empty() {
+                continue;
+            }
+            row.fields.resize(c + 1, String::new());
+        }
+        row.fields[c] = quoted(&text);
+    }
+    if original.bom {
+        out.write_all(b"\xEF\xBB\xBF")?;
+    }
+    let mut buf = io::BufWriter::new(out);
+    for row in &rows {
+        buf.write_all(row.fields.join(",").as_bytes())?;
+        buf.write_all(row.ending.as_bytes())?;
+    }
+    buf.flush()
+}
+
+/// A field as RFC 4180 writes it: quoted when it holds a comma, a quote or a line break.
+fn quoted(text: &str) -> String {
+    if text.contains([',', '"', '\r', '\n']) || text.starts_with(' ') || text.ends_with(' ') {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_string()
+    }
+}
+
+fn read_text(bytes: &[u8]) -> Result<Workbook, Malformed> {
     let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     let text = std::str::from_utf8(bytes).map_err(|e| {
         let line = 1 + bytes[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count() as u64;
@@ -203,6 +338,19 @@ mod tests {
         assert_eq!(starts("a\r\rb"), [(0, 1), (2, 3)]);
         assert_eq!(starts("a,\"\"\"q\"\"\"\nb"), [(0, 1), (1, 2)]);
         assert_eq!(starts(""), []);
+    }
+
+    #[test]
+    fn raw_rows_keep_fields_quotes_and_endings() {
+        let rows = raw_rows("a,\"1,2\"\r\n\n\"x\ny\",007,\nlast");
+        let f = |r: &RawRow| r.fields.clone();
+        assert_eq!(rows.len(), 4);
+        assert_eq!(f(&rows[0]), ["a", "\"1,2\""]);
+        assert_eq!(rows[0].ending, "\r\n");
+        assert!(rows[1].fields.is_empty());
+        assert_eq!(f(&rows[2]), ["\"x\ny\"", "007", ""]);
+        assert_eq!(f(&rows[3]), ["last"]);
+        assert_eq!(rows[3].ending, "");
     }
 
     #[test]

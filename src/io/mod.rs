@@ -129,6 +129,41 @@ pub struct Opened {
     pub layout: Option<xlsx::Layout>,
     /// What the import left out, one sentence each, for the user to hear.
     pub notes: Vec<String>,
+    /// The file as read, for saving it back without losing what ncsheet does not model.
+    pub origin: Origin,
+}
+
+/// Where a workbook came from. A save to a file of the same kind starts from the original:
+/// a csv keeps every untouched field as typed, an xlsx package every part and cell that did
+/// not change (see `xlsx/patch.rs`).
+#[derive(Clone, Debug, Default)]
+pub enum Origin {
+    /// Made from nothing (or from a file kept no trace of).
+    #[default]
+    New,
+    Csv(csv::Original),
+    /// The xlsx file, read again when saving.
+    Xlsx(PathBuf),
+}
+
+/// A file ready to be written: its bytes computed, and what it cannot keep of the original.
+pub struct Encoded {
+    pub path: PathBuf,
+    bytes: Vec<u8>,
+    /// What the saved file loses, one sentence each: said before anything is written.
+    pub losses: Vec<String>,
+}
+
+impl Encoded {
+    /// Bytes computed elsewhere (an NC program, a drawing), to write with the others.
+    pub fn new(path: &Path, bytes: Vec<u8>) -> Encoded {
+        Encoded { path: path.to_path_buf(), bytes, losses: Vec::new() }
+    }
+
+    /// Writes the file atomically (see [`atomic`]).
+    pub fn write(&self, options: atomic::Options) -> Result<(), Error> {
+        atomic::write_bytes(&self.path, options, &self.bytes).map_err(|e| Error::new(&self.path, ErrorKind::Write(e)))
+    }
 }
 
 /// Reads a workbook and recalculates it, keeping what the file said besides the cells.
@@ -138,16 +173,19 @@ pub fn open(path: &Path) -> Result<Opened, Error> {
     match Format::of(path)? {
         Format::Csv => {
             let bytes = std::fs::read(path).map_err(|e| Error::new(path, ErrorKind::Read(e)))?;
-            let workbook = csv::read(&bytes).map_err(|m| Error::new(path, m.into()))?;
-            Ok(Opened { workbook, cached: Vec::new(), layout: None, notes: Vec::new() })
+            let (mut workbook, original) = csv::read_original(&bytes).map_err(|m| Error::new(path, m.into()))?;
+            workbook.track_changes();
+            Ok(Opened { workbook, cached: Vec::new(), layout: None, notes: Vec::new(), origin: Origin::Csv(original) })
         }
         Format::Xlsx => {
-            let imported = xlsx::load(path)?;
+            let mut imported = xlsx::load(path)?;
+            imported.workbook.track_changes();
             Ok(Opened {
                 workbook: imported.workbook,
                 cached: imported.cached,
                 layout: Some(imported.layout),
                 notes: imported.notes,
+                origin: Origin::Xlsx(path.to_path_buf()),
             })
         }
     }
@@ -165,32 +203,91 @@ pub fn save(wb: &Workbook, path: &Path) -> Result<(), Error> {
 
 /// [`save`], writing back an xlsx source's number formats and column widths.
 pub fn save_with_layout(wb: &Workbook, layout: Option<&xlsx::Layout>, path: &Path) -> Result<(), Error> {
-    match Format::of(path)? {
-        Format::Csv => {
-            if wb.sheet_len() != 1 {
-                return Err(Error::new(path, ErrorKind::OneSheetOnly { sheets: wb.sheet_len() }));
-            }
-            export(wb, path, &Export { sheet: 0, range: None, content: Content::Formulas })
+    encode_save(wb, layout, &Origin::New, path)?.write(atomic::Options::default())
+}
+
+/// What a save of `wb` to `path` writes, computed and not yet written. From an [`Origin`]
+/// of the same kind as `path`, the original is kept (see [`Origin`]); otherwise the file is
+/// written anew (an xlsx through rust_xlsxwriter with `layout`'s formats and widths), and
+/// what an xlsx original held beyond that is named in [`Encoded::losses`].
+pub fn encode_save(
+    wb: &Workbook,
+    layout: Option<&xlsx::Layout>,
+    origin: &Origin,
+    path: &Path,
+) -> Result<Encoded, Error> {
+    let encoded = |bytes, losses| Ok(Encoded { path: path.to_path_buf(), bytes, losses });
+    match (Format::of(path)?, origin) {
+        (Format::Csv, _) if wb.sheet_len() != 1 => {
+            Err(Error::new(path, ErrorKind::OneSheetOnly { sheets: wb.sheet_len() }))
         }
-        Format::Xlsx => {
+        (Format::Csv, Origin::Csv(original)) => {
+            let edited: Vec<_> = wb.changes().unwrap_or_default().inputs.into_iter().map(|(_, p)| p).collect();
+            let mut bytes = Vec::new();
+            csv::write_edited(wb, original, &edited, &mut bytes).map_err(|e| Error::new(path, ErrorKind::Write(e)))?;
+            encoded(bytes, Vec::new())
+        }
+        (Format::Csv, _) => encode_export(wb, path, &Export { sheet: 0, range: None, content: Content::Formulas }),
+        (Format::Xlsx, Origin::Xlsx(source)) if same_macro_kind(source, path) => {
+            let changes = wb.changes().unwrap_or_default();
+            match xlsx::patch(source, wb, &changes)? {
+                Ok(patched) => encoded(patched.bytes, patched.losses),
+                Err(xlsx::Unpatchable(why)) => {
+                    let default = xlsx::Layout::default();
+                    let bytes = xlsx::to_bytes_for(wb, layout.unwrap_or(&default), path)?;
+                    encoded(bytes, vec![rewritten_loss(source, &why)])
+                }
+            }
+        }
+        (Format::Xlsx, origin) => {
             let default = xlsx::Layout::default();
-            Ok(xlsx::save_with_layout(wb, layout.unwrap_or(&default), path)?)
+            let bytes = xlsx::to_bytes_for(wb, layout.unwrap_or(&default), path)?;
+            let losses = match origin {
+                Origin::Xlsx(source) => vec![rewritten_loss(source, "it is saved under another extension")],
+                _ => Vec::new(),
+            };
+            encoded(bytes, losses)
         }
     }
+}
+
+/// Whether two xlsx paths agree on holding macros (.xlsm) or not: a package is kept as it
+/// is only under its own kind of name.
+fn same_macro_kind(a: &Path, b: &Path) -> bool {
+    let xlsm = |p: &Path| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("xlsm"));
+    xlsm(a) == xlsm(b)
+}
+
+fn rewritten_loss(source: &Path, why: &str) -> String {
+    format!(
+        "the workbook is written anew ({why}): of {} only cells, defined names, number formats, column widths \
+         and the VBA project are kept; charts, drawings, comments, other styles, merged cells, validation, \
+         conditional formats and the rest are lost",
+        source.display()
+    )
 }
 
 /// Writes one sheet (or a range of it) as values or as formulas. An xlsx export is a new
 /// one-sheet workbook: the values as constants (a coordinate table to hand on), or, with
 /// formulas, the whole workbook.
 pub fn export(wb: &Workbook, path: &Path, what: &Export) -> Result<(), Error> {
-    match Format::of(path)? {
-        Format::Csv => atomic::write_file(path, |out: &mut dyn Write| csv::write(wb, what, out))
-            .map_err(|e| Error::new(path, ErrorKind::Write(e))),
+    encode_export(wb, path, what)?.write(atomic::Options::default())
+}
+
+/// What [`export`] writes, computed and not yet written.
+pub fn encode_export(wb: &Workbook, path: &Path, what: &Export) -> Result<Encoded, Error> {
+    let bytes = match Format::of(path)? {
+        Format::Csv => {
+            let mut bytes = Vec::new();
+            csv::write(wb, what, &mut bytes as &mut dyn Write).map_err(|e| Error::new(path, ErrorKind::Write(e)))?;
+            bytes
+        }
         Format::Xlsx => match what.content {
-            Content::Formulas => save(wb, path),
-            Content::Values => save(&values_only(wb, what), path),
+            Content::Formulas => return encode_save(wb, None, &Origin::New, path),
+            Content::Values => xlsx::to_bytes_for(&values_only(wb, what), &xlsx::Layout::default(), path)?,
         },
-    }
+    };
+    Ok(Encoded { path: path.to_path_buf(), bytes, losses: Vec::new() })
 }
 
 /// A one-sheet workbook holding the values of `what`'s cells as constants, from A1.

@@ -142,6 +142,30 @@ pub struct Workbook {
     literal_spans: Vec<(usize, usize)>,
     shape_buf: String,
     literals: Vec<f64>,
+    /// What changed since [`Workbook::track_changes`], for a file saved back surgically.
+    changes: Option<Box<ChangeLog>>,
+}
+
+/// Cell ids whose input was set, and whose value changed, since tracking began.
+#[derive(Default)]
+struct ChangeLog {
+    inputs: std::collections::HashSet<u32>,
+    values: std::collections::HashSet<u32>,
+    names: bool,
+    sheets: bool,
+}
+
+/// What changed in a workbook since [`Workbook::track_changes`], in sheet and row order.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Changes {
+    /// Cells whose input (formula or constant) was set, even to the same thing.
+    pub inputs: Vec<(SheetId, Pos)>,
+    /// Cells whose value differs from what it was (recalculation included).
+    pub values: Vec<(SheetId, Pos)>,
+    /// A defined name was defined or redefined.
+    pub names: bool,
+    /// A sheet was added.
+    pub sheets: bool,
 }
 
 impl Workbook {
@@ -161,6 +185,9 @@ impl Workbook {
             return Err(WorkbookError::DuplicateSheet(name.to_string()));
         }
         self.sheets.push(Sheet::new(name));
+        if let Some(log) = &mut self.changes {
+            log.sheets = true;
+        }
         // References to this name parsed before it existed are stale now.
         self.formulas.forget_keys();
         Ok((self.sheets.len() - 1) as SheetId)
@@ -238,13 +265,39 @@ impl Workbook {
             None if value.is_blank() => return,
             None => self.cell_at(sheet, pos),
         };
+        self.note_input(id);
         self.take_spilled_cell(id);
         self.clear_formula(id);
         self.store_value(id, value);
     }
 
+    /// Starts remembering which cells are edited and which change value (forgetting what
+    /// was remembered before): a file reader calls it once the file is loaded.
+    pub fn track_changes(&mut self) {
+        self.changes = Some(Box::default());
+    }
+
+    /// What changed since [`Workbook::track_changes`]; `None` when it was never called.
+    pub fn changes(&self) -> Option<Changes> {
+        let log = self.changes.as_ref()?;
+        let cells = |ids: &std::collections::HashSet<u32>| {
+            let mut v: Vec<(SheetId, Pos)> =
+                ids.iter().map(|&id| (self.cells[id as usize].sheet, self.cells[id as usize].pos)).collect();
+            v.sort_by_key(|&(s, p)| (s, p.row, p.col));
+            v
+        };
+        Some(Changes { inputs: cells(&log.inputs), values: cells(&log.values), names: log.names, sheets: log.sheets })
+    }
+
+    fn note_input(&mut self, id: u32) {
+        if let Some(log) = &mut self.changes {
+            log.inputs.insert(id);
+        }
+    }
+
     fn set_formula(&mut self, sheet: SheetId, pos: Pos, text: &str) -> Result<(), WorkbookError> {
         let id = self.cell_at(sheet, pos);
+        self.note_input(id);
         self.take_spilled_cell(id);
         self.clear_formula(id);
         match self.shared_formula(text, sheet, pos) {
@@ -334,6 +387,9 @@ impl Workbook {
         })?;
         self.names.retain(|n| !(n.name.eq_ignore_ascii_case(name) && n.scope == scope));
         self.names.push(DefinedName { name: name.to_string(), expr: Rc::new(expr), scope });
+        if let Some(log) = &mut self.changes {
+            log.names = true;
+        }
         self.rebuild_graph();
         self.recalculate();
         Ok(())
@@ -464,6 +520,11 @@ impl Workbook {
         let c = &mut self.cells[id as usize];
         if !value.is_blank() {
             self.sheets[c.sheet as usize].grow_extent(c.pos);
+        }
+        if let Some(log) = &mut self.changes {
+            if c.value != value {
+                log.values.insert(id);
+            }
         }
         c.value = value;
     }

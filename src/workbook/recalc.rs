@@ -387,6 +387,11 @@ impl Workbook {
         if let Value::Number(n) = value {
             if self.spill.areas.is_empty() && self.spill.blocked.is_empty() {
                 let c = &mut self.cells[id as usize];
+                if let Some(log) = &mut self.changes {
+                    if c.value != Value::Number(n) {
+                        log.values.insert(id);
+                    }
+                }
                 c.value = Value::Number(n);
                 self.sheets[c.sheet as usize].grow_extent(c.pos);
                 return;
@@ -464,6 +469,9 @@ impl Workbook {
         });
         for cid in freed {
             self.spill.owners.remove(&cid);
+            if let Some(log) = &mut self.changes {
+                log.values.insert(cid);
+            }
             self.cells[cid as usize].value = Value::Blank;
             late.push(cid);
         }

@@ -18,9 +18,9 @@
 //!
 //! Export (`write.rs`) writes all sheets, values, formulas with their computed results as
 //! cached values (viewers that do not recalculate show numbers), defined names, and the
-//! number formats and column widths the source file had ([`Layout`]). [`save`] writes a
-//! temporary file beside the target and renames it over, so an interrupted save leaves the
-//! old file intact.
+//! number formats and column widths the source file had ([`Layout`]): a workbook made new.
+//! A workbook read from an xlsx is saved by [`patch`] (`patch.rs`): the original package with
+//! only the changed cells rewritten. Both write through `io::atomic`.
 //!
 //! **Architecture Invariant:** every error names the file and, when known, the part of the
 //! package (`parts.xlsx: xl/worksheets/sheet2.xml: …`); bad input never panics.
@@ -35,6 +35,7 @@ use crate::formula::ast::SheetId;
 use crate::workbook::Workbook;
 
 mod check;
+mod patch;
 mod raw;
 mod read;
 mod sheet_xml;
@@ -43,8 +44,9 @@ mod write;
 mod xml;
 
 pub use check::{compare_cached, values_agree, Difference, REL_TOLERANCE};
+pub use patch::{patch, Patched, Unpatchable};
 pub use read::{load, load_bytes};
-pub use write::{save, save_with_layout, to_bytes};
+pub use write::{save, save_with_layout, to_bytes, to_bytes_for};
 
 /// A workbook read from an xlsx file, with what the file said besides the cells.
 pub struct Imported {

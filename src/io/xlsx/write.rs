@@ -9,10 +9,10 @@
 //! matters to viewers that do not.
 
 use std::collections::HashMap;
-use std::fs;
 use std::io::Write;
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU32, Ordering};
+use std::path::Path;
+
+use crate::io::atomic::Scratch;
 
 use rust_xlsxwriter::{Format, Formula, Worksheet};
 
@@ -34,13 +34,19 @@ pub fn save(wb: &Workbook, path: &Path) -> Result<(), XlsxError> {
 /// target's folder, then renames it over the target: an interrupted save leaves the old
 /// file as it was.
 pub fn save_with_layout(wb: &Workbook, layout: &Layout, path: &Path) -> Result<(), XlsxError> {
+    let bytes = to_bytes_for(wb, layout, path)?;
+    super::super::atomic::write_bytes(path, Default::default(), &bytes)
+        .map_err(|e| XlsxError::new(path, None, ErrorKind::Io, format!("cannot write: {e}")))
+}
+
+/// The bytes [`save_with_layout`] writes to `path` (xlsm when the name says so).
+pub fn to_bytes_for(wb: &Workbook, layout: &Layout, path: &Path) -> Result<Vec<u8>, XlsxError> {
     let macros = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("xlsm"));
     if macros && layout.vba_project.is_none() {
         let message = "an .xlsm file needs the VBA project of a workbook read from .xlsm; save as .xlsx";
         return Err(XlsxError::new(path, None, ErrorKind::Unwritable, message));
     }
-    let bytes = build(wb, layout, path, macros)?;
-    write_atomically(path, &bytes)
+    build(wb, layout, path, macros)
 }
 
 /// The workbook as xlsx bytes (for benchmarks and tests).
@@ -116,12 +122,13 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
     let mut vba_file = None;
     if macros {
         if let Some(vba) = &layout.vba_project {
-            let tmp = temp_path(file);
-            fs::write(&tmp, vba).map_err(|e| {
-                XlsxError::new(file, None, ErrorKind::Io, format!("cannot write {}: {e}", tmp.display()))
+            // rust_xlsxwriter reads the project from a path: a scratch file named and cleaned
+            // up like every temporary file of a save.
+            let scratch = Scratch::beside(file, vba).map_err(|e| {
+                XlsxError::new(file, None, ErrorKind::Io, format!("cannot write the VBA project's scratch file: {e}"))
             })?;
-            vba_file = Some(TempFile(tmp));
-            let result = book.add_vba_project(&vba_file.as_ref().expect("just set").0).map(|_| ());
+            let result = book.add_vba_project(scratch.path()).map(|_| ());
+            vba_file = Some(scratch);
             result.map_err(|e| fail(Some("xl/vbaProject.bin"), e))?;
             if let Some(code_name) = &layout.workbook_code_name {
                 book.set_vba_name(code_name).map_err(|e| fail(Some("xl/workbook.xml"), e))?;
@@ -307,50 +314,4 @@ fn result_text(value: &Value) -> String {
         Value::Text(s) => s.to_string(),
         Value::Blank | Value::Array(_) => String::new(),
     }
-}
-
-/// A file removed when dropped, unless kept.
-struct TempFile(PathBuf);
-
-impl TempFile {
-    fn keep(mut self) {
-        self.0 = PathBuf::new();
-    }
-}
-
-impl Drop for TempFile {
-    fn drop(&mut self) {
-        if !self.0.as_os_str().is_empty() {
-            let _ = fs::remove_file(&self.0);
-        }
-    }
-}
-
-/// A fresh name beside `target`: `.name.xlsx.<pid>-<n>.tmp`.
-fn temp_path(target: &Path) -> PathBuf {
-    static COUNTER: AtomicU32 = AtomicU32::new(0);
-    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    let dir = target.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    let name = target.file_name().map_or("workbook".into(), |n| n.to_string_lossy());
-    dir.join(format!(".{name}.{}-{n}.tmp", std::process::id()))
-}
-
-fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), XlsxError> {
-    let io = |what: &str, e: std::io::Error| XlsxError::new(path, None, ErrorKind::Io, format!("{what}: {e}"));
-    let tmp = TempFile(temp_path(path));
-    let mut file = fs::OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .open(&tmp.0)
-        .map_err(|e| io(&format!("cannot create the temporary file {}", tmp.0.display()), e))?;
-    if let Ok(meta) = fs::metadata(path) {
-        // Keep the permissions of the file being replaced.
-        let _ = file.set_permissions(meta.permissions());
-    }
-    file.write_all(bytes).map_err(|e| io("cannot write", e))?;
-    file.sync_all().map_err(|e| io("cannot write", e))?;
-    drop(file);
-    fs::rename(&tmp.0, path).map_err(|e| io("cannot replace the file", e))?;
-    tmp.keep();
-    Ok(())
 }

@@ -1,0 +1,592 @@
+//! Saving an edited workbook over the package it was read from, surgically: the new package
+//! is the original with only what changed rewritten. In the worksheet parts of edited
+//! sheets, only the `<c>` elements of changed cells are replaced (edited cells: formula and
+//! cached value; cells whose value changed through recalculation: their cached value);
+//! every other byte of those parts, and every other part (charts, drawings, comments,
+//! styles, validation, conditional formats, merged cells, VBA, custom XML, printer
+//! settings, defined names), is copied as it was. `xl/calcChain.xml` (Excel's record of
+//! the calculation order, stale once cells change) is dropped with its relationship and
+//! content type, and `<calcPr fullCalcOnLoad="1">` asks Excel and LibreOffice to recompute
+//! everything on load.
+//!
+//! What cannot be kept this way is returned as [`Patched::losses`], for the user to hear
+//! before anything is written; a change the patch cannot express at all (a new sheet) is
+//! [`Unpatchable`], and the caller writes a whole new package instead.
+
+use std::collections::{BTreeMap, HashSet};
+use std::io::{Cursor, Read, Write};
+use std::path::Path;
+
+use crate::eval::{Env, Value, XlError};
+use crate::formula::address::{parse_cell, Pos, Rect};
+use crate::formula::ast::SheetId;
+use crate::workbook::{Changes, Workbook};
+
+use super::raw::{zip_error, Package};
+use super::syntax::{self, Storage};
+use super::{ErrorKind, XlsxError};
+
+/// The saved package and what it could not keep.
+pub struct Patched {
+    pub bytes: Vec<u8>,
+    pub losses: Vec<String>,
+}
+
+/// Why the workbook cannot be saved by patching its source; the caller writes a new package.
+pub struct Unpatchable(pub String);
+
+/// The changed cells of one sheet by (row, column).
+type CellChanges = BTreeMap<(u32, u32), Change>;
+
+/// What a changed cell becomes.
+#[derive(Clone, Copy, PartialEq)]
+enum Change {
+    /// Its input was set: a new formula or constant.
+    Input,
+    /// Only its value changed (a dependent of an edited cell): a new cached value.
+    Value,
+}
+
+/// Patches `source` (the file the workbook was read from) with the workbook's changes.
+pub fn patch(source: &Path, wb: &Workbook, changes: &Changes) -> Result<Result<Patched, Unpatchable>, XlsxError> {
+    let fail = |part: Option<&str>, kind, message: String| XlsxError::new(source, part, kind, message);
+    if changes.sheets {
+        return Ok(Err(Unpatchable("sheets were added".into())));
+    }
+    let bytes = std::fs::read(source)
+        .map_err(|e| fail(None, ErrorKind::Io, format!("cannot read the original to save into: {e}")))?;
+    let package = Package::open(&bytes).map_err(|(part, kind, m)| fail(part.as_deref(), kind, m))?;
+    let mut losses = Vec::new();
+    if changes.names {
+        losses.push("defined names changed by this run are not saved; the file keeps its names".to_string());
+    }
+    let mut by_part: BTreeMap<String, (SheetId, CellChanges)> = BTreeMap::new();
+    let names = wb.sheet_names();
+    let tagged =
+        changes.values.iter().map(|&c| (c, Change::Value)).chain(changes.inputs.iter().map(|&c| (c, Change::Input)));
+    for ((sheet, pos), change) in tagged {
+        let name = &names[sheet as usize];
+        let Some(entry) = package.sheets.iter().find(|s| s.name.eq_ignore_ascii_case(name)) else {
+            return Ok(Err(Unpatchable(format!("sheet '{name}' is not in the original package"))));
+        };
+        let cells = &mut by_part.entry(entry.part.clone()).or_insert_with(|| (sheet, BTreeMap::new())).1;
+        cells.insert((pos.row, pos.col), change);
+    }
+    let workbook_part = package.workbook_parts.first().cloned().unwrap_or_else(|| "xl/workbook.xml".into());
+    let changed = !by_part.is_empty();
+    let mut zip = zip::ZipArchive::new(Cursor::new(&bytes[..])).map_err(|e| {
+        let (p, k, m) = zip_error(None, e);
+        fail(p.as_deref(), k, m)
+    })?;
+    let calc_chain = (0..zip.len()).find_map(|i| {
+        let name = zip.name_for_index(i)?.ok()?;
+        name.eq_ignore_ascii_case("xl/calcChain.xml").then(|| name.to_string())
+    });
+    let (wb_dir, wb_file) = workbook_part.rsplit_once('/').unwrap_or(("", &workbook_part));
+    let wb_rels =
+        if wb_dir.is_empty() { format!("_rels/{wb_file}.rels") } else { format!("{wb_dir}/_rels/{wb_file}.rels") };
+    let mut out = zip::ZipWriter::new(Cursor::new(Vec::with_capacity(bytes.len() + 4096)));
+    for i in 0..zip.len() {
+        let mut entry = zip.by_index(i).map_err(|e| {
+            let (p, k, m) = zip_error(None, e);
+            fail(p.as_deref(), k, m)
+        })?;
+        let name = entry.name().map_err(|e| fail(None, ErrorKind::Damaged, e.to_string()))?.to_string();
+        let zerr = |e: zip::result::ZipError| {
+            let (p, k, m) = zip_error(Some(&name), e);
+            fail(p.as_deref(), k, m)
+        };
+        let new_text = if !changed {
+            None
+        } else if Some(&name) == calc_chain.as_ref() {
+            continue;
+        } else if let Some((sheet, cells)) = by_part.get(&name) {
+            let xml = read_text(&mut entry, &name, source)?;
+            let patched = patch_sheet(&xml, wb, *sheet, cells, &mut losses)
+                .map_err(|m| fail(Some(&name), ErrorKind::Unwritable, m))?;
+            Some(patched)
+        } else if name == workbook_part {
+            let xml = read_text(&mut entry, &name, source)?;
+            Some(full_calc_on_load(&xml))
+        } else if calc_chain.is_some() && (name == "[Content_Types].xml" || name == wb_rels) {
+            let xml = read_text(&mut entry, &name, source)?;
+            Some(without_elements_naming(&xml, "calcChain"))
+        } else {
+            None
+        };
+        match new_text {
+            None => out.raw_copy_file(entry).map_err(zerr)?,
+            Some(text) => {
+                let options = zip::write::SimpleFileOptions::default()
+                    .compression_method(entry.compression())
+                    .compression_level(Some(2))
+                    .large_file(text.len() > u32::MAX as usize / 2);
+                drop(entry);
+                out.start_file(name.as_str(), options).map_err(zerr)?;
+                out.write_all(text.as_bytes()).map_err(|e| zerr(e.into()))?;
+            }
+        }
+    }
+    let bytes = out.finish().map_err(|e| fail(None, ErrorKind::Io, e.to_string()))?.into_inner();
+    Ok(Ok(Patched { bytes, losses }))
+}
+
+fn read_text<R: Read>(entry: &mut R, name: &str, source: &Path) -> Result<String, XlsxError> {
+    let mut text = String::new();
+    entry
+        .read_to_string(&mut text)
+        .map_err(|e| XlsxError::new(source, Some(name), ErrorKind::Damaged, format!("cannot read: {e}")))?;
+    Ok(text)
+}
+
+/// The workbook part with `fullCalcOnLoad="1"` on its `<calcPr>` (added if missing, in the
+/// place the schema gives it: after `definedNames`, or what comes before it).
+fn full_calc_on_load(xml: &str) -> String {
+    if let Some(start) = find_tag(xml, "calcPr", 0) {
+        let end = start + xml[start..].find('>').unwrap_or(0);
+        let tag = &xml[start..end];
+        if tag.contains("fullCalcOnLoad=\"1\"") || tag.contains("fullCalcOnLoad=\"true\"") {
+            return xml.to_string();
+        }
+        let tag = remove_attr(tag, "fullCalcOnLoad");
+        let (body, close) = match tag.strip_suffix('/') {
+            Some(b) => (b, "/"),
+            None => (tag.as_str(), ""),
+        };
+        // The new attribute goes before any space the tag ends with, which stays as it was.
+        let (attrs, space) = body.split_at(body.trim_end().len());
+        return format!("{}{attrs} fullCalcOnLoad=\"1\"{space}{close}{}", &xml[..start], &xml[end..]);
+    }
+    for after in ["definedNames", "externalReferences", "functionGroups", "sheets"] {
+        let close = format!("</{after}>");
+        let at = xml.find(&close).map(|i| i + close.len()).or_else(|| {
+            let start = find_tag(xml, after, 0)?;
+            let end = start + xml[start..].find('>')?;
+            xml[..end].ends_with('/').then_some(end + 1)
+        });
+        if let Some(at) = at {
+            return format!("{}<calcPr fullCalcOnLoad=\"1\"/>{}", &xml[..at], &xml[at..]);
+        }
+    }
+    xml.to_string()
+}
+
+/// The text without the empty elements (`<… />`) whose text names `what` (calcChain's
+/// relationship and content-type override).
+fn without_elements_naming(xml: &str, what: &str) -> String {
+    let mut out = String::with_capacity(xml.len());
+    let mut rest = xml;
+    while let Some(at) = rest.find(what) {
+        let start = rest[..at].rfind('<').unwrap_or(0);
+        let Some(end) = rest[at..].find("/>").map(|i| at + i + 2) else { break };
+        if rest[start..end].contains('>') && rest[start..end].find('>') != Some(end - start - 1) {
+            // Not one empty element: keep it.
+            out.push_str(&rest[..at + what.len()]);
+            rest = &rest[at + what.len()..];
+            continue;
+        }
+        out.push_str(&rest[..start]);
+        // With the line break or indentation that followed it, as a pretty-printed part has.
+        rest = rest[end..].trim_start_matches([' ', '\t', '\r', '\n']);
+    }
+    out.push_str(rest);
+    out
+}
+
+/// The start of the next `<name` tag (followed by a space, `>` or `/`) at or after `from`.
+fn find_tag(xml: &str, name: &str, from: usize) -> Option<usize> {
+    let pat = format!("<{name}");
+    let mut at = from;
+    while let Some(i) = xml[at..].find(&pat) {
+        let start = at + i;
+        match xml.as_bytes().get(start + pat.len()) {
+            Some(b' ' | b'>' | b'/' | b'\t' | b'\r' | b'\n') => return Some(start),
+            _ => at = start + pat.len(),
+        }
+    }
+    None
+}
+
+/// An attribute's value in a start tag (double or single quotes).
+fn attr<'a>(tag: &'a str, name: &str) -> Option<&'a str> {
+    let bytes = tag.as_bytes();
+    let mut at = 0;
+    while let Some(i) = tag[at..].find(name) {
+        let start = at + i;
+        at = start + name.len();
+        let before_ok = start > 0 && bytes[start - 1].is_ascii_whitespace();
+        let rest = tag[at..].trim_start();
+        if !before_ok || !rest.starts_with('=') {
+            continue;
+        }
+        let rest = rest[1..].trim_start();
+        let quote = rest.chars().next()?;
+        if quote != '"' && quote != '\'' {
+            continue;
+        }
+        let end = rest[1..].find(quote)?;
+        return Some(&rest[1..1 + end]);
+    }
+    None
+}
+
+/// The start tag without one attribute.
+fn remove_attr(tag: &str, name: &str) -> String {
+    let Some(value) = attr(tag, name) else { return tag.to_string() };
+    let pat_start = tag.find(&format!(" {name}")).or_else(|| tag.find(name)).unwrap_or(0);
+    let value_at = tag[pat_start..].find(value).map(|i| pat_start + i).unwrap_or(pat_start);
+    let end = (value_at + value.len() + 1).min(tag.len());
+    format!("{}{}", &tag[..pat_start], &tag[end..])
+}
+
+/// Rewrites one worksheet part: the changed cells' `<c>` elements replaced or inserted in
+/// row and column order, everything else copied.
+fn patch_sheet(
+    xml: &str,
+    wb: &Workbook,
+    sheet: SheetId,
+    cells: &BTreeMap<(u32, u32), Change>,
+    losses: &mut Vec<String>,
+) -> Result<String, String> {
+    let mut p = SheetPatch {
+        wb,
+        sheet,
+        pending: cells.clone(),
+        out: String::with_capacity(xml.len() + 256 * cells.len()),
+        broken_shared: HashSet::new(),
+        losses,
+    };
+    let start = find_tag(xml, "sheetData", 0).ok_or("no <sheetData> (a prefixed or unusual worksheet)")?;
+    let open_end = start + xml[start..].find('>').ok_or("unterminated <sheetData>")?;
+    p.out.push_str(&with_dimension(&xml[..start], cells.keys()));
+    if xml[..open_end].ends_with('/') {
+        p.out.push_str("<sheetData>");
+        p.flush_rows_before(u32::MAX);
+        p.out.push_str("</sheetData>");
+        p.out.push_str(&xml[open_end + 1..]);
+        return Ok(p.out);
+    }
+    p.out.push_str(&xml[start..=open_end]);
+    let mut i = open_end + 1;
+    let (mut row, mut col): (u32, Option<u32>) = (0, None);
+    let mut in_row = false;
+    loop {
+        let lt = i + xml[i..].find('<').ok_or("unterminated <sheetData>")?;
+        p.out.push_str(&xml[i..lt]);
+        i = lt;
+        let rest = &xml[i..];
+        if rest.starts_with("</sheetData") {
+            p.flush_rows_before(u32::MAX);
+            p.out.push_str(rest);
+            return Ok(p.out);
+        }
+        let tag_end = i + rest.find('>').ok_or("unterminated tag")?;
+        let tag = &xml[i..=tag_end];
+        if find_tag(tag, "row", 0) == Some(0) {
+            row = match attr(tag, "r") {
+                Some(r) => r.parse::<u32>().map_err(|_| format!("row number '{r}'"))?.saturating_sub(1),
+                None if in_row || col.is_some() || row > 0 => row + 1,
+                None => 0,
+            };
+            col = None;
+            p.flush_rows_before(row);
+            if tag.ends_with("/>") && p.has_row(row) {
+                p.out.push_str(tag[..tag.len() - 2].trim_end());
+                p.out.push('>');
+                p.flush_cells(row, u32::MAX);
+                p.out.push_str("</row>");
+            } else {
+                p.out.push_str(tag);
+                in_row = !tag.ends_with("/>");
+            }
+            i = tag_end + 1;
+        } else if rest.starts_with("</row") {
+            p.flush_cells(row, u32::MAX);
+            p.out.push_str(tag);
+            in_row = false;
+            i = tag_end + 1;
+        } else if find_tag(tag, "c", 0) == Some(0) {
+            let end = if tag.ends_with("/>") {
+                tag_end + 1
+            } else {
+                tag_end + xml[tag_end..].find("</c>").ok_or("unterminated <c>")? + 4
+            };
+            let element = &xml[i..end];
+            let pos = match attr(tag, "r") {
+                Some(r) => parse_cell(r).ok_or_else(|| format!("cell reference '{r}'"))?,
+                None => Pos::new(row, col.map_or(0, |c| c + 1)),
+            };
+            col = Some(pos.col);
+            p.flush_cells(pos.row, pos.col);
+            match p.pending.remove(&(pos.row, pos.col)) {
+                Some(change) => p.replace(element, tag, pos, change),
+                None => p.copy(element, pos),
+            }
+            i = end;
+        } else {
+            p.out.push_str(tag);
+            i = tag_end + 1;
+        }
+    }
+}
+
+/// The part before `<sheetData>` with its `<dimension ref>` grown to hold the changed cells.
+fn with_dimension<'a>(head: &str, cells: impl Iterator<Item = &'a (u32, u32)>) -> String {
+    let Some(start) = find_tag(head, "dimension", 0) else { return head.to_string() };
+    let Some(end) = head[start..].find('>').map(|i| start + i) else { return head.to_string() };
+    let tag = &head[start..end];
+    let Some(old) = attr(tag, "ref") else { return head.to_string() };
+    let Some(mut rect) = crate::formula::address::parse_rect(old).or_else(|| parse_cell(old).map(|p| Rect::new(p, p)))
+    else {
+        return head.to_string();
+    };
+    for &(row, col) in cells {
+        rect.first.row = rect.first.row.min(row);
+        rect.first.col = rect.first.col.min(col);
+        rect.last.row = rect.last.row.max(row);
+        rect.last.col = rect.last.col.max(col);
+    }
+    let new = if rect.is_cell() { rect.first.to_string() } else { format!("{}:{}", rect.first, rect.last) };
+    if new == old {
+        return head.to_string();
+    }
+    format!("{}{}", &head[..start], tag.replacen(&format!("\"{old}\""), &format!("\"{new}\""), 1) + &head[end..])
+}
+
+struct SheetPatch<'a> {
+    wb: &'a Workbook,
+    sheet: SheetId,
+    pending: BTreeMap<(u32, u32), Change>,
+    out: String,
+    /// Shared-formula groups whose master cell was replaced: their other cells get their
+    /// own formula text.
+    broken_shared: HashSet<String>,
+    losses: &'a mut Vec<String>,
+}
+
+impl SheetPatch<'_> {
+    fn has_row(&self, row: u32) -> bool {
+        self.pending.range((row, 0)..=(row, u32::MAX)).next().is_some()
+    }
+
+    /// New `<row>` elements for the pending cells of rows before `row`.
+    fn flush_rows_before(&mut self, row: u32) {
+        while let Some((&(r, _), _)) = self.pending.first_key_value() {
+            if r >= row {
+                break;
+            }
+            let mut cells = String::new();
+            for (&(_, c), &change) in self.pending.clone().range((r, 0)..=(r, u32::MAX)) {
+                cells.push_str(&self.new_cell(None, Pos::new(r, c), change));
+            }
+            self.pending.retain(|&(pr, _), _| pr != r);
+            if !cells.is_empty() {
+                self.out.push_str(&format!("<row r=\"{}\">{cells}</row>", r + 1));
+            }
+        }
+    }
+
+    /// New `<c>` elements for the pending cells of `row` left of `col`.
+    fn flush_cells(&mut self, row: u32, col: u32) {
+        let keys: Vec<(u32, u32)> = self.pending.range((row, 0)..(row, col)).map(|(k, _)| *k).collect();
+        for k in keys {
+            let change = self.pending.remove(&k).expect("listed");
+            let cell = self.new_cell(None, Pos::new(k.0, k.1), change);
+            self.out.push_str(&cell);
+        }
+    }
+
+    /// A cell that did not change, unless its shared formula lost its master.
+    fn copy(&mut self, element: &str, pos: Pos) {
+        let shared_follower = formula_element(element)
+            .filter(|(f, _)| attr(f, "t") == Some("shared") && attr(f, "ref").is_none())
+            .and_then(|(f, range)| Some((attr(f, "si")?.to_string(), range)));
+        match shared_follower {
+            Some((si, range)) if self.broken_shared.contains(&si) => {
+                let f = self.file_formula(pos).unwrap_or_default();
+                self.out.push_str(&element[..range.start]);
+                self.out.push_str(&format!("<f>{}</f>", escape(&f)));
+                self.out.push_str(&element[range.end..]);
+            }
+            _ => self.out.push_str(element),
+        }
+    }
+
+    fn replace(&mut self, element: &str, tag: &str, pos: Pos, change: Change) {
+        if change == Change::Input {
+            if let Some((f, _)) = formula_element(element) {
+                let area = attr(f, "ref").filter(|r| r.contains(':'));
+                match (attr(f, "t"), area) {
+                    (Some("shared"), _) => {
+                        if let Some(si) = attr(f, "si") {
+                            self.broken_shared.insert(si.to_string());
+                        }
+                    }
+                    (Some("array"), Some(area)) => self.losses.push(format!(
+                        "{}: the array formula over {area} is replaced by a single-cell formula; the other cells of \
+                         {area} keep their last values as constants",
+                        self.wb.cell_name(self.sheet, pos)
+                    )),
+                    _ => {}
+                }
+            }
+        }
+        let cell = self.new_cell(Some((element, tag)), pos, change);
+        self.out.push_str(&cell);
+    }
+
+    fn file_formula(&self, pos: Pos) -> Option<String> {
+        let text = self.wb.formula(self.sheet, pos)?;
+        let legacy = syntax::to_file(&text, self.wb, self.sheet, pos, Storage::Legacy);
+        Some(if syntax::calls_dynamic_function(&legacy) {
+            syntax::to_file(&text, self.wb, self.sheet, pos, Storage::Dynamic)
+        } else {
+            legacy
+        })
+    }
+
+    /// The `<c>` element of a changed cell, keeping the original's style (and, for a value
+    /// change, its formula element as it was).
+    fn new_cell(&mut self, original: Option<(&str, &str)>, pos: Pos, change: Change) -> String {
+        let style = original.and_then(|(_, tag)| attr(tag, "s")).map(|s| format!(" s=\"{s}\"")).unwrap_or_default();
+        let value = self.wb.value(self.sheet, pos);
+        let formula = match change {
+            Change::Input => self.file_formula(pos).map(|f| format!("<f>{}</f>", escape(&f))),
+            Change::Value => {
+                original.and_then(|(e, _)| formula_element(e)).map(|(_, r)| original.unwrap().0[r].to_string())
+            }
+        };
+        if change == Change::Input && formula.is_some() {
+            if let Some(r) = Env::spill_rect(self.wb, self.sheet, pos).filter(|r| !r.is_cell()) {
+                self.losses.push(format!(
+                    "{}: the formula spills over {}:{}; it is saved as a single-cell formula with its first value \
+                     (the spilled cells get their values)",
+                    self.wb.cell_name(self.sheet, pos),
+                    r.first,
+                    r.last
+                ));
+            }
+        }
+        let keep_attrs = match (change, original) {
+            // A value change keeps the cell's other attributes (cm, vm: dynamic-array marks).
+            (Change::Value, Some((_, tag))) => other_attrs(tag),
+            _ => String::new(),
+        };
+        let r = format!("<c r=\"{pos}\"{style}{keep_attrs}");
+        let f = formula.unwrap_or_default();
+        let is_formula = !f.is_empty();
+        match value {
+            Value::Blank | Value::Array(_) if !is_formula => {
+                if style.is_empty() {
+                    String::new()
+                } else {
+                    format!("{r}/>")
+                }
+            }
+            Value::Blank | Value::Array(_) => format!("{r} t=\"str\">{f}<v></v></c>"),
+            Value::Number(n) if n.is_finite() => format!("{r}>{f}<v>{}</v></c>", number_text(n)),
+            Value::Number(_) => format!("{r} t=\"e\">{f}<v>#NUM!</v></c>"),
+            Value::Bool(b) => format!("{r} t=\"b\">{f}<v>{}</v></c>", u8::from(b)),
+            Value::Error(e) => format!("{r} t=\"e\">{f}<v>{}</v></c>", error_text(e)),
+            Value::Text(t) if is_formula => format!("{r} t=\"str\">{f}<v>{}</v></c>", escape(&t)),
+            Value::Text(t) => format!("{r} t=\"inlineStr\"><is><t xml:space=\"preserve\">{}</t></is></c>", escape(&t)),
+        }
+    }
+}
+
+/// The start-tag attributes of a `<c>` other than `r`, `s` and `t`, each with its space.
+fn other_attrs(tag: &str) -> String {
+    let inner = tag.trim_start_matches("<c").trim_end_matches('>').trim_end_matches('/');
+    let mut out = String::new();
+    let mut rest = inner;
+    while let Some(eq) = rest.find('=') {
+        let name = rest[..eq].trim();
+        let after = rest[eq + 1..].trim_start();
+        let Some(quote) = after.chars().next() else { break };
+        let Some(end) = after[1..].find(quote) else { break };
+        let value = &after[1..1 + end];
+        if !matches!(name, "r" | "s" | "t") {
+            out.push_str(&format!(" {name}={quote}{value}{quote}"));
+        }
+        rest = &after[end + 2..];
+    }
+    out
+}
+
+/// The `<f …>…</f>` (or `<f …/>`) element of a `<c>` element: its start tag and byte range.
+fn formula_element(element: &str) -> Option<(&str, std::ops::Range<usize>)> {
+    let start = find_tag(element, "f", 1)?;
+    let tag_end = start + element[start..].find('>')?;
+    let tag = &element[start..=tag_end];
+    let end = if tag.ends_with("/>") { tag_end + 1 } else { tag_end + element[tag_end..].find("</f>")? + 4 };
+    Some((tag, start..end))
+}
+
+/// An error as Excel stores it; errors newer than the file format are stored as Excel
+/// stores them for older readers.
+fn error_text(e: XlError) -> &'static str {
+    match e {
+        XlError::Spill | XlError::Calc | XlError::Circ => "#VALUE!",
+        e => e.as_str(),
+    }
+}
+
+/// A number as `<v>` holds it: the shortest text that reads back as the same double, with
+/// an exponent only for very large or small magnitudes.
+fn number_text(n: f64) -> String {
+    if n == 0.0 || (1e-5..1e15).contains(&n.abs()) {
+        format!("{n}")
+    } else {
+        format!("{n:e}")
+    }
+}
+
+fn escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for ch in text.chars() {
+        match ch {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            // XML 1.0 cannot hold other control characters; Excel's own escape for them.
+            c if (c as u32) < 0x20 && !matches!(c, '\t' | '\n' | '\r') => out.push_str(&format!("_x{:04X}_", c as u32)),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn attributes_are_read_with_either_quote() {
+        assert_eq!(attr(r#"<c r="B3" s='4' t="str">"#, "s"), Some("4"));
+        assert_eq!(attr(r#"<c r="B3" s='4' t="str">"#, "r"), Some("B3"));
+        assert_eq!(attr(r#"<c r="B3" xs="4">"#, "s"), None);
+        assert_eq!(other_attrs(r#"<c r="A1" s="2" t="e" cm="1">"#), r#" cm="1""#);
+    }
+
+    #[test]
+    fn calc_pr_is_set_or_added_in_its_place() {
+        assert_eq!(
+            full_calc_on_load(r#"<workbook><sheets/><calcPr calcId="1"/></workbook>"#),
+            r#"<workbook><sheets/><calcPr calcId="1" fullCalcOnLoad="1"/></workbook>"#
+        );
+        assert_eq!(
+            full_calc_on_load(r#"<workbook><sheets><sheet/></sheets><definedNames></definedNames><x/></workbook>"#),
+            r#"<workbook><sheets><sheet/></sheets><definedNames></definedNames><calcPr fullCalcOnLoad="1"/><x/></workbook>"#
+        );
+    }
+
+    #[test]
+    fn calc_chain_entries_are_removed() {
+        let xml = r#"<Types><Default Extension="xml"/><Override PartName="/xl/calcChain.xml" ContentType="x"/><Override PartName="/xl/a.xml"/></Types>"#;
+        assert_eq!(
+            without_elements_naming(xml, "calcChain"),
+            r#"<Types><Default Extension="xml"/><Override PartName="/xl/a.xml"/></Types>"#
+        );
+    }
+}
