@@ -8,6 +8,7 @@
 //! sheet function, in that order. File and program access has no name to resolve to: the
 //! parser refuses `Open`, `Kill`, `Shell`, `CreateObject` … with a message that says so.
 
+use crate::formula::limits;
 use std::cell::{Cell, RefCell};
 use std::rc::Rc;
 
@@ -59,6 +60,8 @@ type Res<T> = Result<T, ParseError>;
 
 /// Parses a module. `sheets` resolves sheet names written in `[Sheet2!A1]` brackets.
 pub fn parse_module(src: &str, sheets: &dyn Fn(&str) -> Option<SheetId>) -> Result<Module, SyntaxError> {
+    limits::check_nesting(src, limits::Language::Macro)?;
+    limits::check_block_nesting(src)?;
     let mut pairs = FormulaGrammar::parse(Rule::module, src).map_err(from_pest)?;
     let module = pairs.next().expect("module rule");
     let items: Vec<Pair<Rule>> = module.into_inner().collect();

@@ -228,6 +228,10 @@ fn fixed_text(n: f64, decimals: f64, no_commas: bool) -> XlResult<String> {
     }
     let (n, places) = if decimals < 0.0 {
         let unit = 10f64.powf(-decimals);
+        // Rounding to 10^309 and beyond leaves nothing of any double: "0", as Excel shows.
+        if !unit.is_finite() {
+            return Ok("0".to_string());
+        }
         let (int, _) = fixed_digits((n / unit).abs(), 0);
         let rounded = int.parse::<f64>().unwrap_or(0.0) * unit;
         (rounded.copysign(n), 0)
