@@ -236,3 +236,61 @@ fn number_formats_past_the_largest_double_give_an_error_not_a_panic() {
         Value::Text(format!("0{}", "%".repeat(400)).into())
     );
 }
+
+// ---------------------------------------------------------------------------------------
+// Silently wrong
+
+#[test]
+fn mod_of_large_numbers_is_the_exact_remainder() {
+    // 10^20 = 7 · 14285714285714285714 + 2; 2^53 + 2 = 9007199254740994 = 3 · 3002399751580331 + 1
+    // (both are exact doubles, so the exact remainder is the answer).
+    assert_eq!(eval_a1("=MOD(1E+20,7)").0, Value::Number(2.0));
+    assert_eq!(eval_a1("=MOD(2^53+2,3)").0, Value::Number(1.0));
+    assert_eq!(eval_a1("=MOD(-1E+20,7)").0, Value::Number(5.0));
+    assert_eq!(eval_a1("=MOD(1E+20,-7)").0, Value::Number(-5.0));
+    assert_eq!(eval_a1("=MOD(-3,2)").0, Value::Number(1.0));
+}
+
+#[test]
+fn every_text_result_past_32767_characters_is_value_error() {
+    let over = [
+        "=REPT(\"x\",30000)&REPT(\"y\",3000)",
+        "=CONCAT(REPT(\"x\",20000),REPT(\"x\",20000))",
+        "=SUBSTITUTE(REPT(\"x\",30000),\"x\",REPT(\"y\",30000))",
+        // German ß is SS in capitals: UPPER doubles the length.
+        "=UPPER(REPT(\"ß\",20000))",
+        "=TEXTJOIN(\",\",TRUE,REPT(\"x\",20000),REPT(\"x\",20000))",
+        "=LET(a,REPT(\"x\",20000),LOWER(a&a))",
+    ];
+    for formula in over {
+        assert_eq!(eval_a1(formula).0, Value::Error(XlError::Value), "{formula}");
+    }
+    let (_, problems) = eval_a1(over[0]);
+    assert_eq!(problems, vec!["#VALUE!: longer than the 32767 characters of a text (Excel's limit)"]);
+    // Exactly 32,767 characters is a text.
+    assert_eq!(eval_a1("=LEN(REPT(\"x\",32766)&\"y\")").0, Value::Number(32767.0));
+}
+
+fn macro_fault(src: &str) -> String {
+    run_macro(src).expect_err("the macro stops").to_string()
+}
+
+#[test]
+fn macro_sizes_past_their_limits_are_errors_not_silent_cuts() {
+    // Space(1e9) is not cut to 32,767 spaces: it is refused (ncsheet's macro string limit).
+    let out = run_macro("Sub Main()\nx = Space(1E+9)\nDebug.Print IsError(x)\nEnd Sub\n").unwrap();
+    assert_eq!(out, vec!["True"]);
+    // Doubling a string 40 times stops at the macro string limit, in bounded memory.
+    let out = run_macro("Sub Main()\ns = \"ab\"\nFor i = 1 To 40\ns = s & s\nNext\nDebug.Print IsError(s)\nEnd Sub\n")
+        .unwrap();
+    assert_eq!(out, vec!["True"]);
+    // VBA's bounds are Longs: 1E+300 overflows.
+    let e = macro_fault("Sub Main()\nReDim a(1E+300 To 1E+300)\nEnd Sub\n");
+    assert!(e.contains("deep.bas:2:9:") && e.contains("1E+300 is outside a Long"), "{e}");
+}
+
+#[test]
+fn now_without_parentheses_is_the_call_as_in_vba() {
+    let out = run_macro("Sub Main()\nDebug.Print Now > 45000\nDebug.Print Now() - Now < 1\nEnd Sub\n").unwrap();
+    assert_eq!(out, vec!["True", "True"]);
+}

@@ -999,6 +999,20 @@ impl<'s> Build<'s> {
         Ok(Some(Expr::new(ExprKind::Call(info.id, exprs), span)))
     }
 
+    /// VBA's functions that are called without parentheses (`Debug.Print Now`): the bare
+    /// name, when no variable has it, is the call, as in VBA.
+    fn bare_function(&self, pair: &Pair<Rule>, link: &Link) -> Res<Option<Expr>> {
+        const CALLED_BARE: [&str; 5] = ["now", "date", "time", "timer", "rnd"];
+        let lower = lower_bare(&link.name);
+        if !CALLED_BARE.contains(&lower.as_str()) {
+            return Ok(None);
+        }
+        match self.function_call(pair, &format!("{PREFIX}{lower}"), link)? {
+            Some(call) => Ok(Some(call)),
+            None => self.function_call(pair, &link.name, link),
+        }
+    }
+
     /// A path of one name: a variable, constant, procedure, VBA function, object or sheet function.
     fn single(&self, pair: &Pair<Rule>, link: Link, statement: bool, end: usize) -> Res<Expr> {
         let at = start(pair);
@@ -1027,6 +1041,9 @@ impl<'s> Build<'s> {
             }
             if statement {
                 return Err(self.error_at(pair, format!("no Sub named {}", link.name)));
+            }
+            if let Some(call) = self.bare_function(pair, &link)? {
+                return Ok(call);
             }
             self.implicit(at, &link.name)?;
             return Ok(Expr::new(ExprKind::Name(link.name.clone()), span));

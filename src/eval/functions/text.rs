@@ -376,6 +376,14 @@ fn substitute(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         if old.is_empty() {
             return Ok(Value::Text(text));
         }
+        // Refused before it is built: every replacement may lengthen the text.
+        if instance.is_none() && new.len() > old.len() {
+            let grows = (new.encode_utf16().count()).saturating_sub(old.encode_utf16().count());
+            let longest = text.encode_utf16().count() + text.matches(&*old).count() * grows;
+            if longest > MAX_TEXT {
+                return Err(XlError::Value);
+            }
+        }
         let out = match instance {
             None => text.replace(&*old, &new),
             Some(n) => match text.match_indices(&*old).nth(n - 1) {
