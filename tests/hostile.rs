@@ -294,3 +294,18 @@ fn now_without_parentheses_is_the_call_as_in_vba() {
     let out = run_macro("Sub Main()\nDebug.Print Now > 45000\nDebug.Print Now() - Now < 1\nEnd Sub\n").unwrap();
     assert_eq!(out, vec!["True", "True"]);
 }
+
+#[test]
+fn text_positions_count_utf16_units_as_excel() {
+    // Excel counts in UTF-16 units: U+1F44D (thumbs up) is a surrogate pair, two units.
+    let text = |f: &str| eval_a1(f).0;
+    assert_eq!(text("=LEN(\"👍\")"), Value::Number(2.0));
+    assert_eq!(text("=LEN(\"a👍b\")"), Value::Number(4.0));
+    assert_eq!(text("=LEFT(\"👍a\",2)"), Value::Text("👍".into()));
+    assert_eq!(text("=RIGHT(\"a👍\",2)"), Value::Text("👍".into()));
+    assert_eq!(text("=MID(\"a👍b\",2,2)"), Value::Text("👍".into()));
+    assert_eq!(text("=MID(\"a👍b\",4,1)"), Value::Text("b".into()));
+    assert_eq!(text("=FIND(\"b\",\"👍b\")"), Value::Number(3.0));
+    assert_eq!(text("=SEARCH(\"B\",\"👍b👍b\",4)"), Value::Number(6.0));
+    assert_eq!(text("=LEN(REPT(\"é\",3))"), Value::Number(3.0));
+}
