@@ -309,3 +309,12 @@ fn text_positions_count_utf16_units_as_excel() {
     assert_eq!(text("=SEARCH(\"B\",\"👍b👍b\",4)"), Value::Number(6.0));
     assert_eq!(text("=LEN(REPT(\"é\",3))"), Value::Number(3.0));
 }
+
+#[test]
+fn the_repl_reads_cr_only_line_endings_as_lines() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("w.csv"), "1\n").unwrap();
+    let (code, stdout, stderr) = ncsheet(dir.path(), &["repl", "w.csv"], "A2=5\rA3==A2*2\r\nA3\rquit\r");
+    assert_eq!(code, 0, "{stderr}");
+    assert_eq!(stdout.lines().collect::<Vec<_>>(), vec!["5", "10", "10"]);
+}
