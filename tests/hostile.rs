@@ -318,3 +318,14 @@ fn the_repl_reads_cr_only_line_endings_as_lines() {
     assert_eq!(code, 0, "{stderr}");
     assert_eq!(stdout.lines().collect::<Vec<_>>(), vec!["5", "10", "10"]);
 }
+
+#[test]
+fn an_unsavable_sheet_name_is_named_briefly() {
+    let mut wb = Workbook::with_sheet();
+    if wb.add_sheet(&"x".repeat(5000)).is_err() {
+        return; // refused on the way in: nothing can reach the writer
+    }
+    let e = xlsx::to_bytes(&wb, &xlsx::Layout::default()).expect_err("Excel allows 31 characters").to_string();
+    assert!(e.contains("1 to 31 characters") && e.contains("this one 5000"), "{e}");
+    assert!(e.len() < 200, "{e}");
+}
