@@ -43,13 +43,34 @@ impl Lines {
                     Err(e) => return Err(Error::User(format!("cannot read the terminal: {e}"))),
                 }
             },
-            Lines::Piped(stdin) => {
-                let mut line = String::new();
-                match stdin.read_line(&mut line) {
-                    Ok(0) => Ok(None),
-                    Ok(_) => Ok(Some(line.trim_end_matches(['\n', '\r']).to_string())),
-                    Err(e) => Err(Error::User(format!("cannot read stdin: {e}"))),
+            Lines::Piped(stdin) => read_piped_line(stdin).map_err(|e| Error::User(format!("cannot read stdin: {e}"))),
+        }
+    }
+}
+
+/// One line of piped input, ended by LF, CR LF or a lone CR (old Mac files): each is a
+/// line break, so a CR-only file is many commands, not one.
+fn read_piped_line(input: &mut impl BufRead) -> io::Result<Option<String>> {
+    let mut line = Vec::new();
+    loop {
+        let buf = input.fill_buf()?;
+        if buf.is_empty() {
+            return Ok((!line.is_empty()).then(|| String::from_utf8_lossy(&line).into_owned()));
+        }
+        match buf.iter().position(|&b| b == b'\n' || b == b'\r') {
+            Some(i) => {
+                let cr = buf[i] == b'\r';
+                line.extend_from_slice(&buf[..i]);
+                input.consume(i + 1);
+                if cr && input.fill_buf()?.first() == Some(&b'\n') {
+                    input.consume(1);
                 }
+                return Ok(Some(String::from_utf8_lossy(&line).into_owned()));
+            }
+            None => {
+                let n = buf.len();
+                line.extend_from_slice(buf);
+                input.consume(n);
             }
         }
     }

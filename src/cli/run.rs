@@ -60,12 +60,25 @@ pub struct RunArgs {
     /// Stop the macro after this many statements (an endless loop, usually)
     #[arg(long, default_value_t = 10_000_000)]
     pub max_statements: u64,
-    /// Stop the macro when calls nest deeper than this (endless recursion)
-    #[arg(long, default_value_t = 100)]
+    /// Stop the macro when calls nest deeper than this (endless recursion; at most 10000)
+    #[arg(long, default_value_t = 100, value_parser = parse_max_depth)]
     pub max_depth: usize,
     /// The sheet Range and Cells mean (default: the first)
     #[arg(long, value_name = "NAME")]
     pub sheet: Option<String>,
+}
+
+/// The deepest `--max-depth`: each level reserves [`STACK_BYTES_PER_LEVEL`] of stack, and
+/// 10,000 levels are 640 MiB (docs/limits.md).
+const MAX_DEPTH_LIMIT: usize = 10_000;
+
+fn parse_max_depth(text: &str) -> std::result::Result<usize, String> {
+    match text.parse::<usize>() {
+        Ok(n @ 1..=MAX_DEPTH_LIMIT) => Ok(n),
+        _ => Err(format!(
+            "'{text}' is not a depth from 1 to {MAX_DEPTH_LIMIT} (ncsheet's limit: each level reserves 64 KiB of stack)"
+        )),
+    }
 }
 
 fn parse_arg(text: &str) -> std::result::Result<(String, String), String> {

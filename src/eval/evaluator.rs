@@ -89,6 +89,26 @@ pub struct Ctx<'a> {
     pub dynamic_refs: Vec<(SheetId, Rect)>,
 }
 
+/// Excel's longest text, in UTF-16 units: any longer text result of a cell formula is
+/// `#VALUE!`, whichever function or operator made it.
+pub const MAX_TEXT: usize = 32_767;
+
+/// ncsheet's longest macro string (VBA's own limit is 2^31 characters, more than the memory
+/// ncsheet allows itself); docs/limits.md.
+pub const MAX_MACRO_TEXT: usize = 1 << 24;
+
+/// Whether a value is, or holds, a text longer than `limit` UTF-16 units.
+fn holds_text_over(v: &Value, limit: usize) -> bool {
+    // A UTF-8 text has at least as many bytes as UTF-16 units: most texts are decided by
+    // their length alone.
+    let over = |s: &str| s.len() > limit && s.encode_utf16().count() > limit;
+    match v {
+        Value::Text(s) => over(s),
+        Value::Array(a) => a.data.iter().any(|x| matches!(x, Value::Text(s) if over(s))),
+        _ => false,
+    }
+}
+
 /// Nested name definitions or LET bodies deeper than this are a cycle.
 const MAX_DEPTH: u32 = 200;
 
@@ -111,6 +131,25 @@ impl<'a> Ctx<'a> {
     pub fn with_host(mut self, host: &'a dyn Host) -> Ctx<'a> {
         self.host = Some(host);
         self
+    }
+
+    /// The longest text a result may be: Excel's in cells, ncsheet's own in macros.
+    pub fn text_limit(&self) -> usize {
+        if self.host.is_some() {
+            MAX_MACRO_TEXT
+        } else {
+            MAX_TEXT
+        }
+    }
+
+    /// `v`, or `#VALUE!` (with a note) when it holds a text longer than [`Ctx::text_limit`].
+    fn within_text_limit(&mut self, v: Value) -> Value {
+        let limit = self.text_limit();
+        if holds_text_over(&v, limit) {
+            let what = if self.host.is_some() { "a macro string (ncsheet's limit)" } else { "a text (Excel's limit)" };
+            return Value::Error(self.explain(XlError::Value, format!("longer than the {limit} characters of {what}")));
+        }
+        v
     }
 
     /// Records a reference made at run time, for the dependency graph.
@@ -167,7 +206,12 @@ impl<'a> Ctx<'a> {
                 (x, y) => {
                     let a = x.map_or_else(|| self.eval(a), Value::Number);
                     let b = y.map_or_else(|| self.eval(b), Value::Number);
-                    binary(*op, &a, &b)
+                    let v = binary(*op, &a, &b);
+                    if *op == BinOp::Concat {
+                        self.within_text_limit(v)
+                    } else {
+                        v
+                    }
                 }
             },
             ExprKind::Call(id, args) => self.call(*id, args),
@@ -285,13 +329,14 @@ impl<'a> Ctx<'a> {
 
     /// Calls a registered function by id with unevaluated arguments.
     pub fn call(&mut self, id: FnId, args: &[Expr]) -> Value {
-        match functions::spec(id).kind {
+        let v = match functions::spec(id).kind {
             FnKind::Value(f) => f(self, args).unwrap_or_else(Value::Error),
             FnKind::Ref(f) => {
                 let operand = f(self, args);
                 self.deref(operand)
             }
-        }
+        };
+        self.within_text_limit(v)
     }
 
     fn name_operand(&mut self, name: &str) -> Operand {

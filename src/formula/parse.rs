@@ -37,6 +37,7 @@ use pest_derive::Parser;
 
 use super::address::{column_index, Pos, MAX_COLS, MAX_ROWS};
 use super::ast::*;
+use super::limits::{check_nesting, tree_depth_error, Language, MAX_TREE_DEPTH};
 
 /// The one parser: formulas (`Rule::formula`) and macro modules (`Rule::module`).
 #[derive(Parser)]
@@ -152,6 +153,15 @@ pub struct ParseContext<'a> {
     pub sheet: &'a dyn Fn(&str) -> Option<SheetId>,
 }
 
+/// `depth` when within [`MAX_TREE_DEPTH`], else the error at the operator `op`.
+fn deeper(depth: u32, op: &Pair<Rule>) -> Result<u32, ParseError> {
+    if depth > MAX_TREE_DEPTH {
+        Err(tree_depth_error(op.as_span().start()))
+    } else {
+        Ok(depth)
+    }
+}
+
 /// A formula that does not parse: where (byte offset in the text as typed) and why.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ParseError {
@@ -177,12 +187,24 @@ impl ParseError {
     /// ```
     pub fn render(&self, text: &str) -> String {
         let col = self.column(text);
-        format!("{text}\n{}^ column {col}: {}", " ".repeat(col - 1), self.message)
+        // A long formula shows only the stretch around the place, so that the caret line
+        // stays readable (a refused formula may be 100,000 characters long).
+        const SHOWN: usize = 60;
+        if text.chars().count() <= 2 * SHOWN {
+            return format!("{text}\n{}^ column {col}: {}", " ".repeat(col - 1), self.message);
+        }
+        let from = (col - 1).saturating_sub(SHOWN);
+        let lead = if from > 0 { "…" } else { "" };
+        let shown: String = text.chars().skip(from).take(2 * SHOWN).collect();
+        let tail = if from + 2 * SHOWN < text.chars().count() { "…" } else { "" };
+        let pad = lead.chars().count() + col - 1 - from;
+        format!("{lead}{shown}{tail}\n{}^ column {col}: {}", " ".repeat(pad), self.message)
     }
 }
 
 /// Parses a formula (with or without its leading `=`).
 pub fn parse_formula(text: &str, ctx: &ParseContext) -> Result<Expr, ParseError> {
+    check_nesting(text, Language::Formula)?;
     let mut pairs = FormulaGrammar::parse(Rule::formula, text).map_err(from_pest)?;
     let formula = pairs.next().expect("formula rule");
     let expr = formula.into_inner().find(|p| p.as_rule() == Rule::expr).expect("expr");
@@ -294,32 +316,61 @@ type Built = Result<Expr, ParseError>;
 
 impl Builder<'_, '_> {
     fn expr(&self, pairs: Pairs<Rule>) -> Built {
+        self.expr_depth(pairs).map(|(e, _)| e)
+    }
+
+    /// The tree of an expression and its depth, refused past [`MAX_TREE_DEPTH`] at the
+    /// operator that passes it (`1+1+…` nests as deep as it is long).
+    fn expr_depth(&self, pairs: Pairs<Rule>) -> Result<(Expr, u32), ParseError> {
         PRATT
-            .map_primary(|p| self.primary(p))
+            .map_primary(|p| self.primary_depth(p))
             .map_prefix(|op, rhs| {
-                let rhs = rhs?;
+                let (rhs, d) = rhs?;
+                let depth = deeper(d + 1, &op)?;
                 let kind = unary_op(&PREFIX_RULES, op.as_rule());
                 let span = join(span_of(&op), rhs.span);
-                Ok(Expr::new(ExprKind::Unary(kind, Box::new(rhs)), span))
+                Ok((Expr::new(ExprKind::Unary(kind, Box::new(rhs)), span), depth))
             })
             .map_postfix(|lhs, op| {
-                let lhs = lhs?;
+                let (lhs, d) = lhs?;
+                let depth = deeper(d + 1, &op)?;
                 let kind = unary_op(&POSTFIX_RULES, op.as_rule());
                 let span = join(lhs.span, span_of(&op));
-                Ok(Expr::new(ExprKind::Unary(kind, Box::new(lhs)), span))
+                Ok((Expr::new(ExprKind::Unary(kind, Box::new(lhs)), span), depth))
             })
             .map_infix(|lhs, op, rhs| {
-                let (lhs, rhs) = (lhs?, rhs?);
+                let ((lhs, dl), (rhs, dr)) = (lhs?, rhs?);
+                let depth = deeper(dl.max(dr) + 1, &op)?;
                 let span = join(lhs.span, rhs.span);
                 if op.as_rule() == Rule::range_op {
                     if let Some(r) = cell_range(&lhs, &rhs) {
-                        return Ok(Expr::new(ExprKind::Ref(r), span));
+                        return Ok((Expr::new(ExprKind::Ref(r), span), depth));
                     }
                 }
                 let kind = ExprKind::Binary(binary_op(op.as_rule()), Box::new(lhs), Box::new(rhs));
-                Ok(Expr::new(kind, span))
+                Ok((Expr::new(kind, span), depth))
             })
             .parse(pairs)
+    }
+
+    /// A primary and the depth of the tree inside it: a bracket or a call is one level more
+    /// than its deepest operand.
+    fn primary_depth(&self, pair: Pair<Rule>) -> Result<(Expr, u32), ParseError> {
+        let start = pair.as_span().start();
+        let (expr, depth) = match pair.as_rule() {
+            Rule::paren | Rule::vparen => {
+                let span = span_of(&pair);
+                let inner = pair.into_inner().next().expect("paren holds expr");
+                let (e, d) = self.expr_depth(inner.into_inner())?;
+                (Expr::new(ExprKind::Paren(Box::new(e)), span), d + 1)
+            }
+            Rule::call => self.call_depth(pair)?,
+            _ => (self.primary(pair)?, 1),
+        };
+        if depth > MAX_TREE_DEPTH {
+            return Err(tree_depth_error(start));
+        }
+        Ok((expr, depth))
     }
 
     fn primary(&self, pair: Pair<Rule>) -> Built {
@@ -346,6 +397,11 @@ impl Builder<'_, '_> {
     }
 
     fn call(&self, pair: Pair<Rule>) -> Built {
+        self.call_depth(pair).map(|(e, _)| e)
+    }
+
+    fn call_depth(&self, pair: Pair<Rule>) -> Result<(Expr, u32), ParseError> {
+        let mut depth = 0;
         let span = span_of(&pair);
         let mut inner = pair.into_inner();
         let name_pair = inner.next().expect("func_name");
@@ -354,7 +410,11 @@ impl Builder<'_, '_> {
         for arg in inner {
             let arg_span = span_of(&arg);
             match arg.into_inner().next() {
-                Some(e) => args.push(self.expr(e.into_inner())?),
+                Some(e) => {
+                    let (e, d) = self.expr_depth(e.into_inner())?;
+                    depth = depth.max(d);
+                    args.push(e);
+                }
                 None => args.push(Expr::new(ExprKind::Missing, arg_span)),
             }
         }
@@ -363,13 +423,13 @@ impl Builder<'_, '_> {
             args.clear();
         }
         let Some(info) = self.ctx.functions.lookup(name) else {
-            return Ok(Expr::new(ExprKind::UnknownCall(name.to_ascii_uppercase().into(), args), span));
+            return Ok((Expr::new(ExprKind::UnknownCall(name.to_ascii_uppercase().into(), args), span), depth + 1));
         };
         if args.len() < info.min_args || args.len() > info.max_args {
             let canonical = self.ctx.functions.name(info.id);
             return Err(ParseError::at(name_pair.as_span().start(), arity_message(canonical, info, args.len())));
         }
-        Ok(Expr::new(ExprKind::Call(info.id, args), span))
+        Ok((Expr::new(ExprKind::Call(info.id, args), span), depth + 1))
     }
 
     fn array(&self, pair: Pair<Rule>) -> Result<ArrayLit, ParseError> {

@@ -353,7 +353,14 @@ impl Interp<'_, '_> {
 
     /// Whole-number indexes, rounded as VBA rounds them.
     pub fn index(&self, e: &Expr, what: &str) -> Run<i64> {
-        Ok(self.number(e, what)?.round_ties_even() as i64)
+        let n = self.number(e, what)?.round_ties_even();
+        // VBA's indexes are Longs: 1E+300 is an overflow, not the largest integer.
+        if !(i32::MIN as f64..=i32::MAX as f64).contains(&n) {
+            let n = crate::eval::number_format::general(n);
+            let message = format!("{what} {n} is outside a Long (-2147483648 to 2147483647): overflow");
+            return Err(self.fault_at(self.expr_span(e), message));
+        }
+        Ok(n as i64)
     }
 
     // ---- variables -------------------------------------------------------------------

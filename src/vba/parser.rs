@@ -8,6 +8,7 @@
 //! sheet function, in that order. File and program access has no name to resolve to: the
 //! parser refuses `Open`, `Kill`, `Shell`, `CreateObject` … with a message that says so.
 
+use crate::formula::limits;
 use std::cell::{Cell, RefCell};
 use std::rc::Rc;
 
@@ -59,6 +60,8 @@ type Res<T> = Result<T, ParseError>;
 
 /// Parses a module. `sheets` resolves sheet names written in `[Sheet2!A1]` brackets.
 pub fn parse_module(src: &str, sheets: &dyn Fn(&str) -> Option<SheetId>) -> Result<Module, SyntaxError> {
+    limits::check_nesting(src, limits::Language::Macro)?;
+    limits::check_block_nesting(src)?;
     let mut pairs = FormulaGrammar::parse(Rule::module, src).map_err(from_pest)?;
     let module = pairs.next().expect("module rule");
     let items: Vec<Pair<Rule>> = module.into_inner().collect();
@@ -996,6 +999,20 @@ impl<'s> Build<'s> {
         Ok(Some(Expr::new(ExprKind::Call(info.id, exprs), span)))
     }
 
+    /// VBA's functions that are called without parentheses (`Debug.Print Now`): the bare
+    /// name, when no variable has it, is the call, as in VBA.
+    fn bare_function(&self, pair: &Pair<Rule>, link: &Link) -> Res<Option<Expr>> {
+        const CALLED_BARE: [&str; 5] = ["now", "date", "time", "timer", "rnd"];
+        let lower = lower_bare(&link.name);
+        if !CALLED_BARE.contains(&lower.as_str()) {
+            return Ok(None);
+        }
+        match self.function_call(pair, &format!("{PREFIX}{lower}"), link)? {
+            Some(call) => Ok(Some(call)),
+            None => self.function_call(pair, &link.name, link),
+        }
+    }
+
     /// A path of one name: a variable, constant, procedure, VBA function, object or sheet function.
     fn single(&self, pair: &Pair<Rule>, link: Link, statement: bool, end: usize) -> Res<Expr> {
         let at = start(pair);
@@ -1024,6 +1041,9 @@ impl<'s> Build<'s> {
             }
             if statement {
                 return Err(self.error_at(pair, format!("no Sub named {}", link.name)));
+            }
+            if let Some(call) = self.bare_function(pair, &link)? {
+                return Ok(call);
             }
             self.implicit(at, &link.name)?;
             return Ok(Expr::new(ExprKind::Name(link.name.clone()), span));

@@ -403,9 +403,14 @@ fn modulo(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         if d == 0.0 {
             return Err(XlError::Div0);
         }
-        // n - d*INT(n/d): the remainder takes the divisor's sign (MOD(-3, 2) = 1).
-        let r = n - d * (n / d).floor();
-        // A quotient rounded up to the next integer leaves r = d; that remainder is 0.
+        // n - d*INT(n/d), the remainder taking the divisor's sign (MOD(-3, 2) = 1). The
+        // remainder of the division of two doubles is exact (IEEE fmod), where n - d*INT(n/d)
+        // in doubles loses it for large n (MOD(1E+20, 7) = 2, not 0).
+        let mut r = n % d;
+        if r != 0.0 && (r < 0.0) != (d < 0.0) {
+            r += d;
+        }
+        // A tiny remainder of the other sign rounds up to d; that remainder is 0.
         Ok(if r.abs() >= d.abs() { 0.0 } else { r })
     })
 }

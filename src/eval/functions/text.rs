@@ -228,6 +228,10 @@ fn fixed_text(n: f64, decimals: f64, no_commas: bool) -> XlResult<String> {
     }
     let (n, places) = if decimals < 0.0 {
         let unit = 10f64.powf(-decimals);
+        // Rounding to 10^309 and beyond leaves nothing of any double: "0", as Excel shows.
+        if !unit.is_finite() {
+            return Ok("0".to_string());
+        }
         let (int, _) = fixed_digits((n / unit).abs(), 0);
         let rounded = int.parse::<f64>().unwrap_or(0.0) * unit;
         (rounded.copysign(n), 0)
@@ -249,7 +253,8 @@ fn left(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift(ctx, args, &|v| {
         let text = to_text(&v[0])?;
         let count = count_arg(v.get(1))?;
-        Ok(Value::from(text.chars().take(count).collect::<String>()))
+        let units: Vec<u16> = text.encode_utf16().collect();
+        Ok(Value::from(from_units(&units[..count.min(units.len())])))
     })
 }
 
@@ -257,8 +262,8 @@ fn right(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift(ctx, args, &|v| {
         let text = to_text(&v[0])?;
         let count = count_arg(v.get(1))?;
-        let len = text.chars().count();
-        Ok(Value::from(text.chars().skip(len.saturating_sub(count)).collect::<String>()))
+        let units: Vec<u16> = text.encode_utf16().collect();
+        Ok(Value::from(from_units(&units[units.len().saturating_sub(count)..])))
     })
 }
 
@@ -282,13 +287,22 @@ fn mid(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         if start < 1.0 || count < 0.0 {
             return Err(XlError::Value);
         }
-        let piece: String = text.chars().skip(start as usize - 1).take(count.min(MAX_TEXT as f64) as usize).collect();
-        Ok(Value::from(piece))
+        let units: Vec<u16> = text.encode_utf16().collect();
+        let from = (start.min(units.len() as f64 + 1.0) as usize - 1).min(units.len());
+        let to = from.saturating_add(count.min(MAX_TEXT as f64) as usize).min(units.len());
+        Ok(Value::from(from_units(&units[from..to])))
     })
 }
 
+/// LEN, LEFT, RIGHT, MID, FIND and SEARCH count as Excel does, in UTF-16 units: a character
+/// beyond U+FFFF (an emoji) is two (`LEN("👍")` = 2). A piece that cuts such a character in
+/// half keeps the half as U+FFFD, the one place where Rust text cannot hold what Excel shows.
+fn from_units(units: &[u16]) -> String {
+    String::from_utf16_lossy(units)
+}
+
 fn len(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift(ctx, args, &|v| Ok(Value::Number(to_text(&v[0])?.chars().count() as f64)))
+    lift(ctx, args, &|v| Ok(Value::Number(to_text(&v[0])?.encode_utf16().count() as f64)))
 }
 
 fn upper(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
@@ -372,6 +386,14 @@ fn substitute(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         if old.is_empty() {
             return Ok(Value::Text(text));
         }
+        // Refused before it is built: every replacement may lengthen the text.
+        if instance.is_none() && new.len() > old.len() {
+            let grows = (new.encode_utf16().count()).saturating_sub(old.encode_utf16().count());
+            let longest = text.encode_utf16().count() + text.matches(&*old).count() * grows;
+            if longest > MAX_TEXT {
+                return Err(XlError::Value);
+            }
+        }
         let out = match instance {
             None => text.replace(&*old, &new),
             Some(n) => match text.match_indices(&*old).nth(n - 1) {
@@ -410,7 +432,7 @@ fn find(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         let (needle, haystack, start) = search_args(v)?;
         let needle: Vec<char> = needle.chars().collect();
         let found = (start..=haystack.len().saturating_sub(needle.len())).find(|&i| haystack[i..].starts_with(&needle));
-        position(found)
+        position(&haystack, found)
     })
 }
 
@@ -418,12 +440,13 @@ fn search(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift(ctx, args, &|v| {
         let (needle, haystack, start) = search_args(v)?;
         let found = Wildcard::new(&needle).find_in(&haystack, start);
-        position(found)
+        position(&haystack, found)
     })
 }
 
 /// FIND and SEARCH's arguments: the text sought, the text searched as characters, and
-/// the 0-based start (`#VALUE!` below 1 or past the end).
+/// the 0-based start in characters (`#VALUE!` below 1 or past the end; the start given is
+/// in UTF-16 units, as Excel counts).
 fn search_args(v: &[Value]) -> XlResult<(Rc<str>, Vec<char>, usize)> {
     let needle = to_text(&v[0])?;
     let haystack: Vec<char> = to_text(&v[1])?.chars().collect();
@@ -431,14 +454,25 @@ fn search_args(v: &[Value]) -> XlResult<(Rc<str>, Vec<char>, usize)> {
         Some(s) => to_number(s)?.trunc(),
         None => 1.0,
     };
-    if start < 1.0 || start > haystack.len() as f64 + 1.0 {
+    let units: usize = haystack.iter().map(|c| c.len_utf16()).sum();
+    if start < 1.0 || start > units as f64 + 1.0 {
         return Err(XlError::Value);
     }
-    Ok((needle, haystack, start as usize - 1))
+    // The first character starting at or after the start unit.
+    let mut unit = 0;
+    let first = haystack.iter().position(|c| {
+        let here = unit;
+        unit += c.len_utf16();
+        here + 1 >= start as usize
+    });
+    let first = first.unwrap_or(haystack.len());
+    Ok((needle, haystack, first))
 }
 
-fn position(found: Option<usize>) -> XlResult<Value> {
-    found.map(|i| Value::Number(i as f64 + 1.0)).ok_or(XlError::Value)
+/// The 1-based position in UTF-16 units of the character at index `found`.
+fn position(haystack: &[char], found: Option<usize>) -> XlResult<Value> {
+    let units = |i: usize| haystack[..i].iter().map(|c| c.len_utf16()).sum::<usize>();
+    found.map(|i| Value::Number(units(i) as f64 + 1.0)).ok_or(XlError::Value)
 }
 
 /// An Excel wildcard pattern: `?` any one character, `*` any run, `~` escapes the next

@@ -496,17 +496,21 @@ impl Shown {
     }
 }
 
-fn shown_digits(value: f64, layout: &Layout, scientific: bool) -> Shown {
-    let scaled = value * 100f64.powi(layout.percents) / 1000f64.powi(layout.thousands);
+fn shown_digits(value: f64, layout: &Layout, scientific: bool) -> XlResult<Shown> {
+    let scaled = if value == 0.0 { 0.0 } else { value * 100f64.powi(layout.percents) / 1000f64.powi(layout.thousands) };
+    // `%` signs scale past the largest double (1E+308 as "0%", or hundreds of `%`).
+    if !scaled.is_finite() {
+        return Err(XlError::Num);
+    }
     let decimals = layout.frac_places.len();
     if !scientific {
         let (int, frac) = fixed_digits(scaled, decimals);
-        return Shown { int, frac, exponent: None };
+        return Ok(Shown { int, frac, exponent: None });
     }
     let (digits, exp) = significant_digits(scaled, 15);
     if digits == "0" {
         let (int, frac) = round_digits("0", 0, decimals);
-        return Shown { int, frac, exponent: Some(0) };
+        return Ok(Shown { int, frac, exponent: Some(0) });
     }
     // The exponent steps by the count of integer placeholders (##0.0E+0 is engineering).
     let step = layout.int_places.len().max(1) as i32;
@@ -517,7 +521,7 @@ fn shown_digits(value: f64, layout: &Layout, scientific: bool) -> Shown {
             exponent += step;
             continue;
         }
-        return Shown { int, frac, exponent: Some(exponent) };
+        return Ok(Shown { int, frac, exponent: Some(exponent) });
     }
 }
 
@@ -542,7 +546,7 @@ fn format_in_section(section: &Section, value: f64, signed: bool) -> XlResult<St
     }
     let layout = layout(&section.tokens);
     let scientific = section.tokens.iter().any(|t| matches!(t, Tok::Exp { .. }));
-    let shown = shown_digits(value.abs(), &layout, scientific);
+    let shown = shown_digits(value.abs(), &layout, scientific)?;
     let body = render(section, &layout, &shown);
     Ok(with_sign(body, signed && value < 0.0 && !shown.is_zero()))
 }

@@ -244,12 +244,19 @@ fn rtrim(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn replace(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let limit = ctx.text_limit();
     text_fn(ctx, args, &|s, rest| {
         let find = vba_text(&rest[0])?;
         if find.is_empty() {
             return Ok(Value::text(s));
         }
-        Ok(Value::text(s.replace(&*find, &vba_text(&rest[1])?)))
+        let with = vba_text(&rest[1])?;
+        // Refused before it is built: a doubling Replace in a loop grows without bound.
+        let grows = with.len().saturating_sub(find.len());
+        if grows > 0 && s.len() + s.matches(&*find).count() * grows > limit.saturating_mul(4) {
+            return Err(XlError::Value);
+        }
+        Ok(Value::text(s.replace(&*find, &with)))
     })
 }
 
@@ -283,7 +290,12 @@ fn asc(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn space(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift(ctx, args, &|v| Ok(Value::text(" ".repeat(count(&v[0])?.min(32767)))))
+    // Space(1e9) is refused before it is built, not cut to a shorter string.
+    let limit = ctx.text_limit();
+    lift(ctx, args, &|v| match count(&v[0])? {
+        n if n > limit => Err(XlError::Value),
+        n => Ok(Value::text(" ".repeat(n))),
+    })
 }
 
 fn is_empty(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {

@@ -49,6 +49,30 @@ pub fn to_bytes_for(wb: &Workbook, layout: &Layout, path: &Path) -> Result<Vec<u
     build(wb, layout, path, macros)
 }
 
+/// Why Excel would refuse a sheet name, said briefly (a hostile name may be thousands of
+/// characters long): 1 to 31 characters, none of `[ ] : * ? / \`, no `'` at either end.
+fn unsavable_sheet_name(name: &str) -> Option<String> {
+    let chars = name.chars().count();
+    if chars == 0 || chars > 31 {
+        return Some(format!("an xlsx sheet name has 1 to 31 characters (Excel's limit), this one {chars}"));
+    }
+    if let Some(c) = name.chars().find(|c| "[]:*?/\\".contains(*c)) {
+        return Some(format!("an xlsx sheet name cannot hold '{c}'"));
+    }
+    if name.starts_with('\'') || name.ends_with('\'') {
+        return Some("an xlsx sheet name cannot begin or end with '".to_string());
+    }
+    None
+}
+
+/// A sheet name short enough to show in a message.
+fn clipped_name(name: &str) -> String {
+    match name.char_indices().nth(32) {
+        Some((at, _)) => format!("sheet {}…", &name[..at]),
+        None => format!("sheet {name}"),
+    }
+}
+
 /// The workbook as xlsx bytes (for benchmarks and tests).
 pub fn to_bytes(wb: &Workbook, layout: &Layout) -> Result<Vec<u8>, XlsxError> {
     build(wb, layout, Path::new("(xlsx in memory)"), false)
@@ -70,6 +94,10 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
         let sheet = i as SheetId;
         let sheet_layout = layout.sheets.get(name);
         let ws = book.add_worksheet();
+        if let Some(why) = unsavable_sheet_name(name) {
+            let shown = clipped_name(name);
+            return Err(XlsxError::new(file, Some(&shown), ErrorKind::Unwritable, why));
+        }
         ws.set_name(name).map_err(|e| fail(Some(name), e))?;
         // A formula whose result is "" must cache "", not rust_xlsxwriter's default 0.
         ws.set_formula_result_default("");
