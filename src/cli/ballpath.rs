@@ -88,7 +88,8 @@ pub struct BallpathArgs {
     /// Rapid up to the clearance height between lines (by default the link move cuts)
     #[arg(long)]
     pub retract: bool,
-    /// Clearance height (mm) for approach, retracts and end [default: highest point + 5, whole mm]
+    /// Clearance height (mm) for approach, retracts and end, not below the highest ball position
+    /// [default: highest point + 5, whole mm]
     #[arg(long, value_name = "Z", allow_hyphen_values = true)]
     pub clearance: Option<f64>,
     /// Program name [default: from OUT, else BALLPATH]
