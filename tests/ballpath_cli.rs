@@ -153,13 +153,18 @@ fn a_gouge_fails_with_where_and_how_deep_or_lifts() {
     let args: Vec<&str> = groove.iter().copied().chain(["--stepover", "1", "--step", "1"]).collect();
     let r = ncsheet(dir.path(), &args);
     assert_eq!(r.code, 1);
-    assert!(r.stderr.starts_with("ncsheet: 3 ball positions cut into the surface (up to 0."), "{}", r.stderr);
+    assert!(r.stderr.starts_with("ncsheet: 3 ball positions and "), "{}", r.stderr);
+    assert!(r.stderr.contains(" moves cut into the surface (up to 0."), "{}", r.stderr);
     assert!(r.stderr.contains("the ball touching (0.0000, 0.0000, -1.0000) cuts 0."), "{}", r.stderr);
     assert!(r.stderr.contains("--gouge lift"), "{}", r.stderr);
     let lifted: Vec<&str> = args.iter().copied().chain(["--gouge", "lift"]).collect();
     let r = ncsheet(dir.path(), &lifted);
     assert_eq!(r.code, 0);
-    assert!(r.stderr.starts_with("ncsheet: lifted 3 ball positions clear of the surface"), "{}", r.stderr);
+    assert!(
+        r.stderr.starts_with("ncsheet: lifted 3 ball positions clear of the surface and inserted points in "),
+        "{}",
+        r.stderr
+    );
 }
 
 #[test]
@@ -184,7 +189,7 @@ fn timings_are_split_into_compute_and_format() {
     }
 }
 
-/// The command docs/ballpath.md gives for `sheets/eqcam-bump.h`.
+/// The command docs/ballpath.md gives for `sheets/eqcam-bump.h` (without `--format` and `-o`).
 const EQCAM_BUMP: &[&str] = &[
     "ballpath",
     "--surface",
@@ -197,29 +202,150 @@ const EQCAM_BUMP: &[&str] = &[
     "1",
     "--step",
     "1",
-    "--format",
-    "heidenhain",
-    "-o",
-    "eqcam-bump.h",
+    "--gouge",
+    "lift",
 ];
 
+/// The bump by hand: height and gradient.
+fn bump(x: f64, y: f64) -> (f64, f64, f64) {
+    let e = 15.0 * (-0.0064 * (x * x + y * y)).exp();
+    (e, -0.0128 * x * e, -0.0128 * y * e)
+}
+
+/// The exact drop-cutter height of a 3 mm ball over (cx, cy) on the bump's 50 mm square:
+/// max of f + √(R² − d²) on a 24 × 24 grid under the footprint, the best refined uphill.
+fn bump_drop(cx: f64, cy: f64) -> f64 {
+    let r = 3.0;
+    let g = |u: f64, v: f64| {
+        let d2 = (u - cx).powi(2) + (v - cy).powi(2);
+        if d2 > r * r || u.abs() > 25.0 || v.abs() > 25.0 {
+            return f64::NEG_INFINITY;
+        }
+        bump(u, v).0 + (r * r - d2).sqrt()
+    };
+    let n = 24;
+    let mut best = (f64::NEG_INFINITY, cx, cy);
+    for i in 0..=n {
+        for j in 0..=n {
+            let (u, v) = (cx - r + 2.0 * r * i as f64 / n as f64, cy - r + 2.0 * r * j as f64 / n as f64);
+            let (u, v) = (u.clamp(-25.0, 25.0), v.clamp(-25.0, 25.0));
+            if g(u, v) > best.0 {
+                best = (g(u, v), u, v);
+            }
+        }
+    }
+    let mut step = 2.0 * r / n as f64;
+    while step > 1e-10 {
+        let mut moved = false;
+        for (du, dv) in
+            [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0), (0.6, 0.8), (-0.6, -0.8), (0.8, -0.6), (-0.8, 0.6)]
+        {
+            let (u, v) = (best.1 + du * step, best.2 + dv * step);
+            if g(u, v) > best.0 {
+                (best, moved) = ((g(u, v), u, v), true);
+            }
+        }
+        if !moved {
+            step *= 0.5;
+        }
+    }
+    best.0
+}
+
+/// The bump's program as its command writes it, checked against geometry computed here:
+/// the raster's centres on the analytic normal, every programmed tip and every straight move
+/// between them clear of the surface by the test's own drop-cutter, and the sheet spilling
+/// the same first points.
 #[test]
-fn the_shipped_bump_program_is_what_the_command_writes_and_what_the_sheet_computes() {
+fn the_bump_program_is_exact_and_gouge_free() {
     let dir = tempfile::tempdir().unwrap();
-    let r = ncsheet(dir.path(), EQCAM_BUMP);
+    let with = |extra: &[&str]| EQCAM_BUMP.iter().chain(extra).map(|s| s.to_string()).collect::<Vec<_>>();
+    let r = run(dir.path(), &with(&["--format", "heidenhain", "-o", "eqcam-bump.h"]));
     assert_eq!(r.code, 0, "{}", r.stderr);
-    let written = std::fs::read_to_string(dir.path().join("eqcam-bump.h")).unwrap();
-    let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let shipped = std::fs::read_to_string(repo.join("sheets/eqcam-bump.h")).unwrap();
-    assert!(written == shipped, "sheets/eqcam-bump.h is stale: rerun the command in docs/ballpath.md");
+    let program = std::fs::read_to_string(dir.path().join("eqcam-bump.h")).unwrap();
+    let r = run(dir.path(), &with(&[]));
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    let rows = csv_rows(&r.stdout);
+    // The raster's 51 × 51 contact points are all there, each ball on the analytic normal.
+    let radius = 3.0;
+    let mut on_grid = 0;
+    for row in &rows {
+        let [cx, cy, cz, px, py, pz, tx, ty, tz] = row[..] else { panic!("{row:?}") };
+        let (f, fx, fy) = bump(px, py);
+        assert!((pz - f).abs() < 1e-12, "{row:?}");
+        assert!(tx == cx && ty == cy && (tz - (cz - radius)).abs() < 1e-12, "{row:?}");
+        if px.fract() == 0.0 && py.fract() == 0.0 {
+            on_grid += 1;
+            let n = (1.0 + fx * fx + fy * fy).sqrt();
+            let want = [px - radius * fx / n, py - radius * fy / n, pz + radius / n];
+            for (got, want) in [cx, cy, cz].iter().zip(want) {
+                assert!((got - want).abs() < 1e-12, "{row:?}: centre should be {want}");
+            }
+        }
+    }
+    assert!(on_grid >= 51 * 51, "{on_grid}");
+    // The program's cutting blocks are the csv's tips at four decimals.
+    let tips: Vec<[f64; 3]> = program
+        .lines()
+        .filter(|l| l.ends_with(" F480"))
+        .map(|l| {
+            let words: Vec<&str> = l.split_whitespace().collect();
+            let value = |w: &str| w[1..].parse::<f64>().unwrap();
+            [value(words[2]), value(words[3]), value(words[4])]
+        })
+        .collect();
+    assert_eq!(tips.len(), rows.len());
+    for (tip, row) in tips.iter().zip(&rows) {
+        for (got, want) in tip.iter().zip(&row[6..9]) {
+            assert!((got - want).abs() <= 0.00005 + 1e-12, "{tip:?} vs {row:?}");
+        }
+    }
+    // No programmed tip, and no point a quarter, half or three quarters along a move, more
+    // than 1 µm (plus the program's rounding) below the drop-cutter height.
+    let allowed = 0.001 + 0.0001;
+    for (k, w) in tips.windows(2).enumerate() {
+        for t in [0.0, 0.25, 0.5, 0.75] {
+            let p: Vec<f64> = (0..3).map(|i| w[0][i] + t * (w[1][i] - w[0][i])).collect();
+            let depth = bump_drop(p[0], p[1]) - radius - p[2];
+            assert!(
+                depth <= allowed,
+                "block {k}: {t} of the way from {:?} to {:?} the tip is {depth} mm too low",
+                w[0],
+                w[1]
+            );
+        }
+    }
     // The sheet spills the same tip points from row 13 on.
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
     let sheet = repo.join("sheets/eqcam-bump.csv");
     let r = ncsheet(dir.path(), &["eval", sheet.to_str().unwrap(), "A13:C14", "--format", "csv"]);
     assert_eq!(r.code, 0, "{}", r.stderr);
-    let cuts: Vec<&str> = shipped.lines().filter(|l| l.ends_with("F480")).take(2).collect();
-    for (row, cut) in r.stdout.lines().zip(cuts) {
-        let v: Vec<f64> = row.split(',').map(|x| x.parse().unwrap()).collect();
-        let want = format!("L X{:+.4} Y{:+.4} Z{:+.4} F480", v[0], v[1], v[2]);
-        assert!(cut.ends_with(&want), "{cut} vs sheet {row}");
+    for (line, row) in r.stdout.lines().zip(&rows) {
+        let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        // The sheet prints 15 significant digits.
+        for (got, want) in v.iter().zip(&row[6..9]) {
+            assert!((got - want).abs() <= 1e-13 * (1.0 + want.abs()), "sheet {line} vs {row:?}");
+        }
     }
+}
+
+#[test]
+fn a_clearance_below_the_part_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let bump = ["ballpath", "--surface", "15*EXP(-16*((x/50)^2+(y/50)^2))", "--radius", "3", "--x=-25:25"];
+    let args: Vec<&str> = bump.iter().copied().chain(["--y=-25:25", "--stepover", "25", "--step", "25"]).collect();
+    let refused: Vec<&str> =
+        args.iter().copied().chain(["--gouge", "off", "--format", "iso", "--retract", "--clearance", "-100"]).collect();
+    let r = ncsheet(dir.path(), &refused);
+    assert_eq!(r.code, 1, "{}", r.stdout);
+    // The top of the bump is at z = 15: the ball's tip there is the highest position.
+    assert!(
+        r.stderr.contains("--clearance -100 is below the highest ball position (its tip at z = 15.0000)"),
+        "{}",
+        r.stderr
+    );
+    assert!(r.stdout.is_empty());
+    let fine: Vec<&str> =
+        args.iter().copied().chain(["--gouge", "off", "--format", "iso", "--clearance", "15"]).collect();
+    assert_eq!(ncsheet(dir.path(), &fine).code, 0);
 }

@@ -15,7 +15,7 @@ use ncsheet::eval::surface::{FormulaSurface, Home};
 use ncsheet::eval::Ctx;
 use ncsheet::formula::parse::ParseContext;
 use ncsheet::formula::Pos;
-use ncsheet::geometry::ballpath::{BallPath, BallPathSpec, GougeCheck, Lines, Spacing};
+use ncsheet::geometry::ballpath::{BallPath, BallPathSpec, GougeCheck, GougeKind, Lines, Spacing, GOUGE_TOLERANCE};
 use ncsheet::nc::{dialect, Block, FeedMode, Machine, Program, Spindle, SpindleDirection, Target};
 use ncsheet::workbook::Workbook;
 
@@ -32,9 +32,11 @@ use super::report::{prepend, Error, Result};
 /// outward unit normal, from exact partial derivatives of the formula. The programmed point
 /// is the ball's tip (centre − R in z) unless --program centre.
 ///
-/// Every ball position is checked against the surface within its radius: one that would cut
-/// the surface elsewhere (a hollow tighter than R, a steep wall) fails the command with where
-/// and how deep, unless --gouge lift raises it until it clears.
+/// Every ball position and every straight move between two is checked against the surface by
+/// an exact drop-cutter: one that would cut the surface by more than --gouge-tol (a hollow
+/// tighter than R, a steep wall, a chord across a dome) fails the command with where and how
+/// deep, unless --gouge lift raises the ball to the drop-cutter height and inserts points
+/// where a move dips.
 ///
 /// Example (the paper's Gaussian bump on a 50 × 50 mm part, 3 mm ball):
 /// ncsheet ballpath --surface "15*EXP(-16*((x/50)^2+(y/50)^2))" --radius 3 --x -25:25
@@ -74,6 +76,9 @@ pub struct BallpathArgs {
     /// A ball position that cuts the surface elsewhere: fail, lift it clear, or do not check
     #[arg(long, value_enum, default_value_t)]
     pub gouge: GougeArg,
+    /// Cuts up to this deep (mm) are not gouges [default: 0.001, 1 µm]
+    #[arg(long, value_name = "MM", default_value_t = GOUGE_TOLERANCE)]
+    pub gouge_tol: f64,
     /// Feed rate of the cutting moves (mm/min)
     #[arg(long, value_name = "F", default_value_t = 480.0)]
     pub feed: f64,
@@ -89,7 +94,8 @@ pub struct BallpathArgs {
     /// Rapid up to the clearance height between lines (by default the link move cuts)
     #[arg(long)]
     pub retract: bool,
-    /// Clearance height (mm) for approach, retracts and end [default: highest point + 5, whole mm]
+    /// Clearance height (mm) for approach, retracts and end, not below the highest ball position
+    /// [default: highest point + 5, whole mm]
     #[arg(long, value_name = "Z", allow_hyphen_values = true)]
     pub clearance: Option<f64>,
     /// Program name [default: from OUT, else BALLPATH]
@@ -164,6 +170,7 @@ pub fn run(args: BallpathArgs) -> Result<()> {
     let path = path.map_err(|(_, message)| Error::User(prepend("--surface: ", &message)))?;
     let computed = started.elapsed();
     report_gouges(&path, spec.gouge)?;
+    check_clearance(&path, &args)?;
     let started = Instant::now();
     let text = render(&path, &args)?;
     let formatted = started.elapsed();
@@ -194,6 +201,9 @@ fn spec(args: &BallpathArgs) -> BallPathSpec {
             GougeArg::Lift => GougeCheck::Lift,
             GougeArg::Off => GougeCheck::Off,
         },
+        gouge_tol: args.gouge_tol,
+        // With --retract the link between lines is a rapid over the part, not a cut.
+        check_links: !args.retract,
         max_points: 200_000_000,
     }
 }
@@ -226,22 +236,42 @@ fn report_gouges(path: &BallPath, check: GougeCheck) -> Result<()> {
         list.push(format!("… and {} more", path.gouges.len() - SHOWN));
     }
     let deepest = path.gouges.iter().map(|g| g.depth).fold(0.0, f64::max);
+    let moves = path.gouges.iter().filter(|g| g.kind == GougeKind::Move).count();
+    let positions = path.gouges.len() - moves;
     match check {
         GougeCheck::Lift => {
-            let n = path.gouges.len();
-            eprintln!("ncsheet: lifted {n} ball positions clear of the surface (at most {deepest:.4} mm):");
+            eprintln!(
+                "ncsheet: lifted {positions} ball positions clear of the surface and inserted points in {moves} moves \
+                 (at most {deepest:.4} mm):"
+            );
             for line in list {
                 eprintln!("  {line}");
             }
             Ok(())
         }
         _ => Err(Error::User(format!(
-            "{} ball positions cut into the surface (up to {deepest:.4} mm); --gouge lift raises them until \
-             they clear:\n  {}",
-            path.gouges.len(),
+            "{positions} ball positions and {moves} moves cut into the surface (up to {deepest:.4} mm); --gouge lift \
+             raises them until they clear:\n  {}",
             list.join("\n  ")
         ))),
     }
+}
+
+/// A clearance plane below the highest ball position would take the rapids through the part.
+fn check_clearance(path: &BallPath, args: &BallpathArgs) -> Result<()> {
+    let Some(clearance) = args.clearance else { return Ok(()) };
+    let (highest, what) = match args.program {
+        Programmed::Tip => (path.points.iter().map(|p| p.tip(path.radius).z).fold(f64::NEG_INFINITY, f64::max), "tip"),
+        Programmed::Centre => (path.points.iter().map(|p| p.centre.z).fold(f64::NEG_INFINITY, f64::max), "centre"),
+    };
+    if clearance >= highest {
+        return Ok(());
+    }
+    Err(Error::User(format!(
+        "--clearance {clearance} is below the highest ball position (its {what} at z = {highest:.4}): rapids at \
+         that height would run through the part; give --clearance {} or more",
+        highest.ceil()
+    )))
 }
 
 fn render(path: &BallPath, args: &BallpathArgs) -> Result<String> {

@@ -13,19 +13,18 @@
 //! lowest point of the ball, is C − (0, 0, R).
 //!
 //! Gouge check: a ball placed by its contact point may still cut the surface elsewhere (a
-//! concave region whose curvature radius is below R, a steep wall nearby). The surface inside
-//! the rectangle is sampled once on a grid (spacing R/3, coarser for huge maps); for each
-//! centre the samples within R horizontally are compared with the ball's lower hemisphere, and
-//! where one pokes into it the deepest point is refined against the surface itself. The depth
-//! is vertical: how far the ball must rise to clear the surface (drop-cutter). A gouge is
-//! reported, or the ball is lifted by that depth so it touches the surface at the refined point
-//! instead. Only the surface inside the rectangle is the part; what lies beyond it is not
-//! checked. Moves between programmed points are not checked.
+//! concave region whose curvature radius is below R, a steep wall nearby), and the straight
+//! move between two positions may dip below the surface (a chord across a dome). Every
+//! position and every move is checked by the exact drop-cutter of [`super::dropcutter`] to
+//! within `gouge_tol` (vertical depth: how far the ball must rise to clear the surface). A
+//! gouge is reported, or the ball is lifted to the drop-cutter height and points are inserted
+//! (at that height) where a move dips. Only the surface inside the rectangle is the part.
 //!
 //! This module knows nothing of formulas: it reads the surface through [`Surface`].
 
 use nalgebra::{Point3, Vector3};
 
+use super::dropcutter::{self, Map, Sweep};
 use super::{ensure, GeometryError};
 
 /// A surface z = f(x, y) with its gradient.
@@ -86,6 +85,10 @@ pub struct BallPathSpec {
     pub spacing: Spacing,
     pub lines: Lines,
     pub gouge: GougeCheck,
+    /// Cuts no deeper than this (mm) are not gouges; the check finds every deeper one.
+    pub gouge_tol: f64,
+    /// Whether the moves linking one raster line to the next are cut (and so checked).
+    pub check_links: bool,
     /// Refuse paths longer than this (a sheet holds 1,048,576 rows).
     pub max_points: usize,
 }
@@ -105,17 +108,25 @@ impl PathPoint {
     }
 }
 
-/// A ball position that cuts the surface away from its contact point.
+/// A ball position, or a straight move from one, that cuts the surface.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Gouge {
-    /// Index of the ball position in [`BallPath::points`].
+    /// Index of the ball position in [`BallPath::points`] (of the move's start).
     pub point: usize,
-    /// The contact point the ball was placed by.
+    pub kind: GougeKind,
+    /// The contact point the ball was placed by (the move's start).
     pub contact: Point3<f64>,
-    /// The surface point deepest inside the ball.
+    /// The surface point deepest inside the ball (the swept ball).
     pub at: Point3<f64>,
-    /// How far the ball must rise (mm) to clear the surface.
+    /// How far the ball must rise (mm) to clear the surface, within half the tolerance.
     pub depth: f64,
+}
+
+/// What cuts: the ball where it is placed, or the ball moving straight to the next position.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GougeKind {
+    Position,
+    Move,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -125,7 +136,8 @@ pub struct BallPath {
     pub points: Vec<PathPoint>,
     /// Index of the first point of each raster line.
     pub line_starts: Vec<usize>,
-    /// Gouges found (with [`GougeCheck::Lift`]: the positions that were lifted).
+    /// Gouges found (with [`GougeCheck::Lift`]: the positions lifted and the moves cleared
+    /// by inserting points).
     pub gouges: Vec<Gouge>,
 }
 
@@ -147,8 +159,8 @@ impl<E> From<GeometryError> for PathError<E> {
     }
 }
 
-/// Gouges shallower than this (mm) are rounding, not cutting.
-pub const GOUGE_TOLERANCE: f64 = 1e-7;
+/// The depth (mm) a gouge must exceed to count, unless the spec says otherwise: 1 µm.
+pub const GOUGE_TOLERANCE: f64 = 1e-3;
 
 /// Halving a chord stops at this depth (max_step / 2^20).
 const MAX_HALVINGS: u32 = 20;
@@ -184,8 +196,7 @@ pub fn ball_path<S: Surface>(
         progress(k + 1, total);
     }
     if spec.gouge != GougeCheck::Off {
-        let map = HeightMap::sample(placer.surface, spec)?;
-        check_gouges(placer.surface, &map, spec, &mut path, &mut |k| progress(stations.len() + k, total))?;
+        check_gouges(placer.surface, spec, &mut path, &mut |k| progress(stations.len() + k, total))?;
     }
     Ok(path)
 }
@@ -197,6 +208,9 @@ fn check_spec(spec: &BallPathSpec) -> Result<(), GeometryError> {
     ensure(spec.x[0] <= spec.x[1], || format!("x0 ({}) must not be beyond x1 ({})", spec.x[0], spec.x[1]))?;
     ensure(spec.y[0] <= spec.y[1], || format!("y0 ({}) must not be beyond y1 ({})", spec.y[0], spec.y[1]))?;
     ensure(spec.stepover > 0.0, || format!("stepover must be > 0, not {}", spec.stepover))?;
+    ensure(spec.gouge_tol > 0.0 && spec.gouge_tol.is_finite(), || {
+        format!("the gouge tolerance must be > 0, not {}", spec.gouge_tol)
+    })?;
     match spec.spacing {
         Spacing::Step(s) => ensure(s > 0.0 && s.is_finite(), || format!("step must be > 0, not {s}"))?,
         Spacing::Chord { tolerance, max_step } => {
@@ -323,178 +337,173 @@ fn distance_to_segment(p: &Point3<f64>, a: &Point3<f64>, b: &Point3<f64>) -> f64
 
 // ---- gouge check ---------------------------------------------------------------------------
 
-/// Heights of the surface on a regular grid over the rectangle.
-struct HeightMap {
-    x0: f64,
-    y0: f64,
-    hx: f64,
-    hy: f64,
-    /// 1/hx and 1/hy (0 for a map one sample wide): multiplying is faster than dividing.
-    inv_hx: f64,
-    inv_hy: f64,
-    nx: usize,
-    ny: usize,
-    /// Row-major by y: `z[j * nx + i]` is the height at (x0 + i·hx, y0 + j·hy).
-    z: Vec<f64>,
-}
-
-/// Grids above this many samples get coarser than R/3.
-const MAX_MAP_SAMPLES: f64 = 4.0e6;
-
-impl HeightMap {
-    fn sample<S: Surface>(surface: &mut S, spec: &BallPathSpec) -> Result<HeightMap, PathError<S::Error>> {
-        let (w, h) = (spec.x[1] - spec.x[0], spec.y[1] - spec.y[0]);
-        let spacing = (spec.radius / 3.0).max((w * h / MAX_MAP_SAMPLES).sqrt());
-        let count = |len: f64| (len / spacing).ceil().max(1.0) as usize + 1;
-        let (nx, ny) = (count(w), count(h));
-        let (hx, hy) = (w / (nx - 1) as f64, h / (ny - 1) as f64);
-        let mut z = Vec::with_capacity(nx * ny);
-        for j in 0..ny {
-            for i in 0..nx {
-                let (x, y) = (spec.x[0] + i as f64 * hx, spec.y[0] + j as f64 * hy);
-                z.push(surface.height(x, y).map_err(|error| PathError::Surface { x, y, error })?);
-            }
-        }
-        let inverse = |h: f64| if h > 0.0 { 1.0 / h } else { 0.0 };
-        Ok(HeightMap { x0: spec.x[0], y0: spec.y[0], hx, hy, inv_hx: inverse(hx), inv_hy: inverse(hy), nx, ny, z })
-    }
-
-    /// The sample poking deepest into the ball centred at `c` (vertical depth), if any does
-    /// by more than [`GOUGE_TOLERANCE`].
-    fn deepest(&self, c: &Point3<f64>, r: f64) -> Option<(f64, f64, f64)> {
-        // Indices of the samples within `half` of `c` along one axis.
-        let range = |c: f64, half: f64, origin: f64, inv_h: f64, n: usize| {
-            if inv_h == 0.0 {
-                return 0..1;
-            }
-            // `as` truncates (and saturates at 0): floor for the non-negative, without libm.
-            let (a, b) = ((c - half - origin) * inv_h, (c + half - origin) * inv_h);
-            let lo = a as usize + usize::from(a > 0.0 && a.fract() != 0.0);
-            let hi = if b < 0.0 { 0 } else { (b as usize + 1).min(n) };
-            lo.min(hi)..hi
-        };
-        let mut best: Option<(f64, f64, f64)> = None;
-        let mut best_depth = GOUGE_TOLERANCE;
-        let r2 = r * r;
-        for j in range(c.y, r, self.y0, self.inv_hy, self.ny) {
-            let y = self.y0 + j as f64 * self.hy;
-            let room_row = r2 - (y - c.y) * (y - c.y);
-            // Only the chord of the ball's footprint on this row.
-            let cols = range(c.x, room_row.max(0.0).sqrt(), self.x0, self.inv_hx, self.nx);
-            let first = cols.start;
-            let mut dx = self.x0 + first as f64 * self.hx - c.x;
-            for (k, &z) in self.z[j * self.nx + first..j * self.nx + cols.end].iter().enumerate() {
-                // room = R² − d²; the depth z − c.z + √room beats the best only if
-                // √room > best + c.z − z: squared, no root for the samples that do not.
-                let room = room_row - dx * dx;
-                dx += self.hx;
-                let a = best_depth + c.z - z;
-                if room <= 0.0 || (a >= 0.0 && room <= a * a) {
-                    continue;
-                }
-                let depth = z - c.z + room.sqrt();
-                if depth > best_depth {
-                    best_depth = depth;
-                    best = Some((self.x0 + (first + k) as f64 * self.hx, y, depth));
-                }
-            }
-        }
-        best
-    }
-}
-
+/// Checks every ball position and every straight move between consecutive ones (the links
+/// between lines too, unless `check_links` is off) with the exact drop-cutter of
+/// [`dropcutter`]; reports or lifts what cuts deeper than `spec.gouge_tol`.
 fn check_gouges<S: Surface>(
     surface: &mut S,
-    map: &HeightMap,
     spec: &BallPathSpec,
     path: &mut BallPath,
     lines_checked: &mut dyn FnMut(usize),
 ) -> Result<(), PathError<S::Error>> {
-    for k in 0..path.line_starts.len() {
-        let end = path.line_starts.get(k + 1).copied().unwrap_or(path.points.len());
-        for index in path.line_starts[k]..end {
-            let original = path.points[index];
-            let Some((lifted, depth)) = gouge_at(surface, map, spec, original)? else { continue };
-            path.gouges.push(Gouge { point: index, contact: original.contact, at: lifted.contact, depth });
-            if spec.gouge == GougeCheck::Lift {
-                path.points[index] = lifted;
-            }
-        }
-        lines_checked(k + 1);
-    }
+    let step = match spec.spacing {
+        Spacing::Step(s) | Spacing::Chord { max_step: s, .. } => s,
+    };
+    // The map resolves the surface at least as finely as the path does.
+    let spacing = (spec.radius / 4.0).min(spec.stepover.max(step));
+    let map = Map::sample(surface, spec.x, spec.y, spacing).map_err(surface_error)?;
+    let mut check = Checker { surface, map, spec, gouges: Vec::new() };
+    let below = check.positions(path, lines_checked)?;
+    check.moves(path, &below)?;
+    path.gouges = check.gouges;
     Ok(())
 }
 
-/// Whether the ball `p` cuts the surface: the ball raised clear of it (touching it at the
-/// deepest point) and how far it rose; `None` where it does not cut.
-fn gouge_at<S: Surface>(
-    surface: &mut S,
-    map: &HeightMap,
-    spec: &BallPathSpec,
-    original: PathPoint,
-) -> Result<Option<(PathPoint, f64)>, PathError<S::Error>> {
-    let mut p = original;
-    let mut lift = 0.0;
-    // A lifted ball may still touch another hollow whose samples were shallower: check again
-    // from the new height (twice is plenty in practice; the cap stops a loop). Reporting needs
-    // only the first.
-    let rounds = if spec.gouge == GougeCheck::Lift { 4 } else { 1 };
-    for _ in 0..rounds {
-        let Some((x, y, _)) = map.deepest(&p.centre, spec.radius) else { break };
-        let (at, depth) = refine_gouge(surface, spec, &p.centre, x, y)?;
-        if depth <= GOUGE_TOLERANCE {
-            break;
-        }
-        lift += depth;
-        p = PathPoint { contact: at, centre: p.centre + Vector3::new(0.0, 0.0, depth) };
-    }
-    Ok((lift > 0.0).then_some((p, lift)))
+fn surface_error<E>((x, y, error): (f64, f64, E)) -> PathError<E> {
+    PathError::Surface { x, y, error }
 }
 
-/// Climbs from the sample (x, y) to the deepest point of the surface inside the ball centred
-/// at `c`, by a compass search on the vertical depth `f(u, v) − (c_z − √(R² − d²))` over the
-/// disk of radius R around c (inside the rectangle).
-fn refine_gouge<S: Surface>(
-    surface: &mut S,
-    spec: &BallPathSpec,
-    c: &Point3<f64>,
-    x: f64,
-    y: f64,
-) -> Result<(Point3<f64>, f64), PathError<S::Error>> {
-    let r2 = spec.radius * spec.radius;
-    let mut depth_at = |u: f64, v: f64| -> Result<Option<(f64, f64)>, PathError<S::Error>> {
-        let d2 = (u - c.x).powi(2) + (v - c.y).powi(2);
-        let inside = d2 < r2 && (spec.x[0]..=spec.x[1]).contains(&u) && (spec.y[0]..=spec.y[1]).contains(&v);
-        if !inside {
-            return Ok(None);
-        }
-        let z = surface.height(u, v).map_err(|error| PathError::Surface { x: u, y: v, error })?;
-        Ok(Some((z - (c.z - (r2 - d2).sqrt()), z)))
-    };
-    let (mut u, mut v) = (x, y);
-    let Some((mut best, mut z)) = depth_at(u, v)? else { return Ok((Point3::new(x, y, c.z), 0.0)) };
-    let mut step = spec.radius / 8.0;
-    const D: f64 = std::f64::consts::FRAC_1_SQRT_2;
-    const DIRECTIONS: [(f64, f64); 8] =
-        [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0), (D, D), (-D, -D), (D, -D), (-D, D)];
-    // The depth is smooth where the surface is: at a step of 1e-10·R the position is as good
-    // as the depth needs (the depth's error goes with the square of the step).
-    while step > spec.radius * 1e-10 {
-        let mut moved = false;
-        for (du, dv) in DIRECTIONS {
-            let (nu, nv) = (u + du * step, v + dv * step);
-            if let Some((d, nz)) = depth_at(nu, nv)? {
-                if d > best {
-                    (u, v, best, z) = (nu, nv, d, nz);
-                    moved = true;
+/// How many times a move is halved, at most, to clear it by inserting points.
+const MAX_MOVE_HALVINGS: u32 = 16;
+
+struct Checker<'a, S> {
+    surface: &'a mut S,
+    map: Map,
+    spec: &'a BallPathSpec,
+    gouges: Vec<Gouge>,
+}
+
+impl<S: Surface> Checker<'_, S> {
+    /// The search's own tolerance: half the stated one, so that what it cannot tell apart
+    /// (a cut between its best sample and that plus this) stays within the stated one.
+    fn search_tol(&self) -> f64 {
+        0.5 * self.spec.gouge_tol
+    }
+
+    fn deepest(&mut self, ball: &Sweep, seeds: &[Point3<f64>]) -> Result<dropcutter::Cut, PathError<S::Error>> {
+        let tol = self.search_tol();
+        self.map.deepest(self.surface, ball, seeds, tol).map_err(surface_error)
+    }
+
+    /// Checks (and with Lift, lifts) each position; returns for each a bound on how far it is
+    /// below the drop-cutter height (0 where proved clear).
+    fn positions(
+        &mut self,
+        path: &mut BallPath,
+        lines_checked: &mut dyn FnMut(usize),
+    ) -> Result<Vec<f64>, PathError<S::Error>> {
+        let mut below = Vec::with_capacity(path.points.len());
+        for k in 0..path.line_starts.len() {
+            let end = path.line_starts.get(k + 1).copied().unwrap_or(path.points.len());
+            for i in path.line_starts[k]..end {
+                let (depth, lifted) = self.position(i, path.points[i])?;
+                below.push(depth);
+                if let Some(p) = lifted {
+                    path.points[i] = p;
                 }
             }
+            lines_checked(k + 1);
         }
-        if !moved {
-            step *= 0.5;
-        }
+        Ok(below)
     }
-    Ok((Point3::new(u, v, z), best))
+
+    /// One position: a bound on how far it is below the drop-cutter height, and with Lift
+    /// the position lifted to it where it cuts.
+    fn position(&mut self, i: usize, p: PathPoint) -> Result<(f64, Option<PathPoint>), PathError<S::Error>> {
+        let (r, tol, half) = (self.spec.radius, self.spec.gouge_tol, self.search_tol());
+        let ball = Sweep::at_rest(p.centre, r);
+        if self.map.proves_clear(&ball) {
+            return Ok((0.0, None));
+        }
+        let cut = self.deepest(&ball, &[p.contact])?;
+        if cut.depth <= tol - half {
+            return Ok((cut.depth + half, None));
+        }
+        self.gouges.push(Gouge {
+            point: i,
+            kind: GougeKind::Position,
+            contact: p.contact,
+            at: cut.at,
+            depth: cut.depth,
+        });
+        if self.spec.gouge != GougeCheck::Lift {
+            return Ok((cut.depth + half, None));
+        }
+        let lifted = PathPoint { contact: cut.at, centre: p.centre + Vector3::new(0.0, 0.0, cut.depth) };
+        Ok((half, Some(lifted)))
+    }
+
+    /// Checks each straight move between consecutive positions; with Lift, inserts points at
+    /// the drop-cutter height until every move clears, and renumbers the path.
+    fn moves(&mut self, path: &mut BallPath, below: &[f64]) -> Result<(), PathError<S::Error>> {
+        let n = path.points.len();
+        let mut out = Vec::with_capacity(n);
+        let mut starts = Vec::with_capacity(path.line_starts.len());
+        let mut index = vec![0; n];
+        for k in 0..path.line_starts.len() {
+            starts.push(out.len());
+            let end = path.line_starts.get(k + 1).copied().unwrap_or(n);
+            for i in path.line_starts[k]..end {
+                index[i] = out.len();
+                out.push(path.points[i]);
+                if i + 1 == n || (i + 1 == end && !self.spec.check_links) {
+                    continue;
+                }
+                let (a, b) = (path.points[i], path.points[i + 1]);
+                self.one_move(a, b, [below[i], below[i + 1]], MAX_MOVE_HALVINGS, &mut out)?;
+            }
+        }
+        // Positions were numbered in the old path; moves already in the new one.
+        for g in self.gouges.iter_mut().filter(|g| g.kind == GougeKind::Position) {
+            g.point = index[g.point];
+        }
+        path.points = out;
+        path.line_starts = starts;
+        Ok(())
+    }
+
+    /// The move from `a` to `b` (the last point of `out` is `a`), whose ends are at most
+    /// `ends` below the drop-cutter height.
+    fn one_move(
+        &mut self,
+        a: PathPoint,
+        b: PathPoint,
+        ends: [f64; 2],
+        halvings_left: u32,
+        out: &mut Vec<PathPoint>,
+    ) -> Result<(), PathError<S::Error>> {
+        let (r, tol, half) = (self.spec.radius, self.spec.gouge_tol, self.search_tol());
+        let sweep = Sweep { a: a.centre, b: b.centre, r };
+        if self.map.move_bound(&sweep, ends).is_some_and(|bound| bound <= tol) {
+            return Ok(());
+        }
+        let cut = self.deepest(&sweep, &[a.contact, b.contact])?;
+        if cut.depth <= tol - half {
+            return Ok(());
+        }
+        let top = halvings_left == MAX_MOVE_HALVINGS;
+        if top {
+            let point = out.len() - 1;
+            self.gouges.push(Gouge { point, kind: GougeKind::Move, contact: a.contact, at: cut.at, depth: cut.depth });
+        }
+        if self.spec.gouge != GougeCheck::Lift {
+            return Ok(());
+        }
+        if halvings_left == 0 {
+            return Err(PathError::Spec(GeometryError::OutOfRange(format!(
+                "the move from ({:.4}, {:.4}) to ({:.4}, {:.4}) still cuts {:.4} mm into the surface after \
+                 {MAX_MOVE_HALVINGS} halvings",
+                a.contact.x, a.contact.y, b.contact.x, b.contact.y, cut.depth
+            ))));
+        }
+        // The ball halfway, dropped onto the surface.
+        let mid = Point3::from((a.centre.coords + b.centre.coords) * 0.5);
+        let drop = self.deepest(&Sweep::at_rest(mid, r), &[cut.at, a.contact, b.contact])?;
+        let m = PathPoint { contact: drop.at, centre: mid + Vector3::new(0.0, 0.0, drop.depth) };
+        self.one_move(a, m, [ends[0], half], halvings_left - 1, out)?;
+        out.push(m);
+        self.one_move(m, b, [half, ends[1]], halvings_left - 1, out)
+    }
 }
 
 #[cfg(test)]
@@ -525,6 +534,8 @@ mod tests {
             spacing: Spacing::Step(0.5),
             lines: Lines::ConstantX,
             gouge: GougeCheck::Report,
+            gouge_tol: GOUGE_TOLERANCE,
+            check_links: true,
             max_points: 1000,
         }
     }

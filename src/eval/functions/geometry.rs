@@ -13,7 +13,8 @@ use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::address::Pos;
 use crate::formula::ast::{Expr, ExprKind};
 use crate::geometry::ballpath::{
-    ball_path, BallPath, BallPathSpec, Gouge, GougeCheck, Lines, PathError, Sample, Spacing, Surface,
+    ball_path, BallPath, BallPathSpec, Gouge, GougeCheck, GougeKind, Lines, PathError, Sample, Spacing, Surface,
+    GOUGE_TOLERANCE,
 };
 use crate::geometry::cam::{fit_piece, Piece, PieceKind};
 use crate::geometry::chamfer::{chamfer, ChamferKind, ChamferPoints, ChamferSpec};
@@ -261,8 +262,12 @@ pub fn formula_ball_path(
 /// One gouge, said in a line: where the ball was placed, where it cuts and how deep.
 pub fn describe_gouge(g: &Gouge) -> String {
     let p = |v: f64| format!("{v:.4}");
+    let what = match g.kind {
+        GougeKind::Position => "the ball touching",
+        GougeKind::Move => "the move from the ball touching",
+    };
     format!(
-        "the ball touching ({}, {}, {}) cuts {} mm into the surface at ({}, {}, {})",
+        "{what} ({}, {}, {}) cuts {} mm into the surface at ({}, {}, {})",
         p(g.contact.x),
         p(g.contact.y),
         p(g.contact.z),
@@ -300,6 +305,8 @@ fn ballpath(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         spacing: Spacing::Step(n[6]),
         lines: Lines::ConstantX,
         gouge,
+        gouge_tol: GOUGE_TOLERANCE,
+        check_links: true,
         max_points: SHEET_ROWS,
     };
     let explained = |ctx: &mut Ctx, (e, message): (XlError, String)| ctx.explain(e, message);

@@ -1,0 +1,416 @@
+//! Exact drop-cutter for a ball over a surface z = f(x, y) on a rectangle, for a ball at rest
+//! and for a ball swept along a straight move (docs/ballpath.md, "Gouges", argues why it
+//! cannot miss).
+//!
+//! The ball's lower boundary over a point p of the plane is `z_low(p)`: for a ball centred at
+//! C, C_z − √(R² − |p − C|²); for a ball swept from A to B, the lowest such height over the
+//! move. The ball cuts the surface by `max_p f(p) − z_low(p)` over the part (the rectangle):
+//! how far it must rise to clear it. That maximum is found by branch and bound over squares of
+//! the footprint, with an upper bound for each square from the surface's exact slope at its
+//! centre and a bound Λ on the surface's curvature there, and a lower bound from the samples:
+//! the search stops when no square can beat the best sample by more than the tolerance.
+//!
+//! Λ comes from the map: the surface's height and exact slope on a grid over the rectangle;
+//! each map cell's Hessian is estimated from the slopes at its corners, and Λ (the upper bound
+//! of its eigenvalues) and Γ (the lower, negated) take the extremes over the cell's neighbours
+//! plus their spread. The map also gives two cheap proofs used before any search: a ball
+//! placed by its contact point clears a footprint where Λ ≤ 1/R (the surface bends up less
+//! than the ball), and a move between two clear balls dips at most Γ·L²/8 where RΛ < 1.
+
+use std::collections::BinaryHeap;
+
+use nalgebra::{Point3, Vector2};
+
+use super::ballpath::{Sample, Surface};
+
+/// A ball of radius `r`, at rest (`a == b`) or swept in a straight line from centre `a` to `b`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sweep {
+    pub a: Point3<f64>,
+    pub b: Point3<f64>,
+    pub r: f64,
+}
+
+/// The ball's lowest height over a point of the plane and its slope there.
+struct Low {
+    z: f64,
+    grad: Vector2<f64>,
+    /// √(R² − d²) at the centre that is lowest over the point: 0 on the footprint's rim.
+    root: f64,
+}
+
+impl Sweep {
+    pub fn at_rest(c: Point3<f64>, r: f64) -> Sweep {
+        Sweep { a: c, b: c, r }
+    }
+
+    fn horizontal(&self) -> Vector2<f64> {
+        Vector2::new(self.b.x - self.a.x, self.b.y - self.a.y)
+    }
+
+    /// The horizontal distance from `p` to the path of the centre.
+    fn distance(&self, p: Vector2<f64>) -> f64 {
+        let a = Vector2::new(self.a.x, self.a.y);
+        let e = self.horizontal();
+        let len2 = e.norm_squared();
+        let t = if len2 > 0.0 { ((p - a).dot(&e) / len2).clamp(0.0, 1.0) } else { 0.0 };
+        (p - (a + e * t)).norm()
+    }
+
+    /// The lowest point of the (swept) ball over `p`, if p is under it. The centre lowest
+    /// over p minimises C_z(τ) − √(R² − |p − C(τ)|²), convex in τ: its free minimum is
+    /// τ* = α − m·ρ/√(1 + m²) (α, β: p along and across the move, ρ² = R² − β², m the move's
+    /// slope), clamped to the move and to the chord over p.
+    fn low(&self, p: Vector2<f64>) -> Option<Low> {
+        let r2 = self.r * self.r;
+        let e = self.horizontal();
+        let len = e.norm();
+        let a = Vector2::new(self.a.x, self.a.y);
+        let (c, cz) = if len <= 1e-12 * self.r {
+            // At rest, or straight up and down: the lower end is the lowest.
+            let lower = if self.a.z <= self.b.z { self.a } else { self.b };
+            (Vector2::new(lower.x, lower.y), lower.z)
+        } else {
+            let u = e / len;
+            let w = p - a;
+            let alpha = w.dot(&u);
+            let rho2 = r2 - (w.norm_squared() - alpha * alpha).max(0.0);
+            if rho2 <= 0.0 {
+                return None;
+            }
+            let rho = rho2.sqrt();
+            let m = (self.b.z - self.a.z) / len;
+            let (lo, hi) = ((alpha - rho).max(0.0), (alpha + rho).min(len));
+            if lo > hi {
+                return None;
+            }
+            let tau = (alpha - m * rho / (1.0 + m * m).sqrt()).clamp(lo, hi);
+            (a + u * tau, self.a.z + m * tau)
+        };
+        let d = p - c;
+        let room = r2 - d.norm_squared();
+        if room < 0.0 {
+            return None;
+        }
+        let root = room.sqrt();
+        let grad = if root > 0.0 { d / root } else { Vector2::new(f64::INFINITY, f64::INFINITY) };
+        Some(Low { z: cz - root, grad, root })
+    }
+
+    /// How strongly convex z_low is: 1/R for a ball at rest, 0 once it moves (along the move
+    /// the swept ball's underside is straight).
+    fn convexity(&self) -> f64 {
+        if self.horizontal().norm() <= 1e-12 * self.r {
+            1.0 / self.r
+        } else {
+            0.0
+        }
+    }
+
+    /// The lowest the ball gets over any point of a square of half-diagonal `rho` around `q`.
+    fn low_bound(&self, q: Vector2<f64>, rho: f64) -> f64 {
+        let d = (self.distance(q) - rho).max(0.0);
+        self.a.z.min(self.b.z) - (self.r * self.r - d * d).max(0.0).sqrt()
+    }
+}
+
+/// The deepest cut of a ball found by [`Map::deepest`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cut {
+    /// How far the ball must rise to clear the surface, within the tolerance (negative: it
+    /// clears by that much). The true depth is in [depth, depth + tolerance].
+    pub depth: f64,
+    /// The surface point where it cuts deepest (or comes closest).
+    pub at: Point3<f64>,
+}
+
+/// The surface on a grid over the rectangle, with curvature bounds per cell.
+pub struct Map {
+    x0: f64,
+    y0: f64,
+    hx: f64,
+    hy: f64,
+    /// Cells along x and y (at least 1: a rectangle of zero width is one cell wide).
+    cx: usize,
+    cy: usize,
+    /// Per cell, row-major by y: Λ ≥ the Hessian's eigenvalues, Γ ≥ minus them (Γ ≥ 0).
+    lambda: Vec<f64>,
+    gamma: Vec<f64>,
+}
+
+/// Largest number of map nodes (the map costs one sample each).
+const MAX_NODES: f64 = 250_000.0;
+
+/// A square of the search smaller than this fraction of R is not split further.
+const SMALLEST: f64 = 1e-9;
+
+impl Map {
+    /// The map over [x0, x1] × [y0, y1] at about `spacing` (coarser if that would exceed
+    /// [`MAX_NODES`]).
+    pub fn sample<S: Surface>(
+        surface: &mut S,
+        x: [f64; 2],
+        y: [f64; 2],
+        spacing: f64,
+    ) -> Result<Map, (f64, f64, S::Error)> {
+        let (w, h) = (x[1] - x[0], y[1] - y[0]);
+        let spacing = spacing.max((w.max(spacing) * h.max(spacing) / MAX_NODES).sqrt());
+        let cells = |len: f64| (len / spacing).ceil().max(1.0) as usize;
+        let (cx, cy) = (cells(w), cells(h));
+        let (hx, hy) = (w / cx as f64, h / cy as f64);
+        let (nx, ny) = (if w > 0.0 { cx + 1 } else { 1 }, if h > 0.0 { cy + 1 } else { 1 });
+        let mut nodes = Vec::with_capacity(nx * ny);
+        for j in 0..ny {
+            for i in 0..nx {
+                let (px, py) = (x[0] + i as f64 * hx, y[0] + j as f64 * hy);
+                nodes.push(surface.sample(px, py).map_err(|e| (px, py, e))?);
+            }
+        }
+        let node = |i: usize, j: usize| nodes[j.min(ny - 1) * nx + i.min(nx - 1)];
+        let mut up = Vec::with_capacity(cx * cy);
+        let mut lo = Vec::with_capacity(cx * cy);
+        for j in 0..cy {
+            for i in 0..cx {
+                let (u, l) = cell_curvature([node(i, j), node(i + 1, j), node(i, j + 1), node(i + 1, j + 1)], hx, hy);
+                up.push(u);
+                lo.push(l);
+            }
+        }
+        // Between its corners a cell's curvature may exceed what its corners show: take the
+        // extremes over the cell and its neighbours, widened by their spread.
+        let mut lambda = vec![0.0; cx * cy];
+        let mut gamma = vec![0.0; cx * cy];
+        for j in 0..cy {
+            for i in 0..cx {
+                let (mut umax, mut umin, mut lmax, mut lmin) = (f64::MIN, f64::MAX, f64::MIN, f64::MAX);
+                for jj in j.saturating_sub(1)..(j + 2).min(cy) {
+                    for ii in i.saturating_sub(1)..(i + 2).min(cx) {
+                        let (u, l) = (up[jj * cx + ii], lo[jj * cx + ii]);
+                        (umax, umin, lmax, lmin) = (umax.max(u), umin.min(u), lmax.max(l), lmin.min(l));
+                    }
+                }
+                let widened =
+                    |extreme: f64, spread: f64| if spread.is_finite() { extreme + spread } else { f64::INFINITY };
+                lambda[j * cx + i] = widened(umax, umax - umin);
+                gamma[j * cx + i] = widened(-lmin, lmax - lmin).max(0.0);
+            }
+        }
+        Ok(Map { x0: x[0], y0: y[0], hx, hy, cx, cy, lambda, gamma })
+    }
+
+    /// The cells (i range, j range) meeting the box [x0, x1] × [y0, y1].
+    fn cells_in(&self, bx: [f64; 2], by: [f64; 2]) -> ([usize; 2], [usize; 2]) {
+        let span = |lo: f64, hi: f64, origin: f64, h: f64, n: usize| {
+            if h <= 0.0 {
+                return [0, 1];
+            }
+            let a = ((lo - origin) / h).floor().max(0.0) as usize;
+            let b = (((hi - origin) / h).floor().max(0.0) as usize + 1).min(n);
+            [a.min(b.saturating_sub(1)), b]
+        };
+        (span(bx[0], bx[1], self.x0, self.hx, self.cx), span(by[0], by[1], self.y0, self.hy, self.cy))
+    }
+
+    /// Λ and Γ over the cells meeting the box around the swept ball's footprint.
+    fn curvature(&self, s: &Sweep) -> (f64, f64) {
+        let r = s.r;
+        let bx = [s.a.x.min(s.b.x) - r, s.a.x.max(s.b.x) + r];
+        let by = [s.a.y.min(s.b.y) - r, s.a.y.max(s.b.y) + r];
+        let ([i0, i1], [j0, j1]) = self.cells_in(bx, by);
+        let (mut lambda, mut gamma) = (f64::MIN, 0.0f64);
+        for j in j0..j1 {
+            let row = &self.lambda[j * self.cx + i0..j * self.cx + i1];
+            lambda = row.iter().fold(lambda, |m, &v| m.max(v));
+            gamma = self.gamma[j * self.cx + i0..j * self.cx + i1].iter().fold(gamma, |m, &v| m.max(v));
+        }
+        (lambda, gamma)
+    }
+
+    /// Whether a ball placed by a contact point (tangent to the surface there) is proved
+    /// clear of it: the surface bends up less than the ball over its whole footprint.
+    pub fn proves_clear(&self, ball: &Sweep) -> bool {
+        self.curvature(ball).0 * ball.r < 1.0
+    }
+
+    /// A bound on how far the move `m` dips below the drop-cutter height, given bounds on how
+    /// far its ends are below it; `None` where the curvature gives none (RΛ ≥ 1).
+    pub fn move_bound(&self, m: &Sweep, ends: [f64; 2]) -> Option<f64> {
+        let (lambda, gamma) = self.curvature(m);
+        if lambda.max(0.0) * m.r >= 1.0 {
+            return None;
+        }
+        let len2 = m.horizontal().norm_squared();
+        Some(ends[0].max(ends[1]) + gamma * len2 / 8.0)
+    }
+
+    /// The deepest cut of the ball `ball` into the surface, to within `tol`: the search
+    /// starts from `seeds` (surface points known to be near the answer, such as contact points).
+    pub fn deepest<S: Surface>(
+        &self,
+        surface: &mut S,
+        ball: &Sweep,
+        seeds: &[Point3<f64>],
+        tol: f64,
+    ) -> Result<Cut, (f64, f64, S::Error)> {
+        let mut search = Search { ball, tol, best: None, queue: BinaryHeap::new() };
+        for s in seeds {
+            search.offer(Vector2::new(s.x, s.y), s.z);
+        }
+        let r = ball.r;
+        let bx = [ball.a.x.min(ball.b.x) - r, ball.a.x.max(ball.b.x) + r];
+        let by = [ball.a.y.min(ball.b.y) - r, ball.a.y.max(ball.b.y) + r];
+        let ([i0, i1], [j0, j1]) = self.cells_in(bx, by);
+        for j in j0..j1 {
+            for i in i0..i1 {
+                let (ax, ay) = (0.5 * self.hx, 0.5 * self.hy);
+                let q = Vector2::new(self.x0 + i as f64 * self.hx + ax, self.y0 + j as f64 * self.hy + ay);
+                search.visit(surface, Square { q, ax, ay, lambda: self.lambda[j * self.cx + i] })?;
+            }
+        }
+        while let Some(sq) = search.next() {
+            for child in sq.split() {
+                search.visit(surface, child)?;
+            }
+        }
+        Ok(search.best.map_or(Cut { depth: f64::NEG_INFINITY, at: ball.a }, |(depth, at)| Cut { depth, at }))
+    }
+}
+
+/// The extremes of a cell's Hessian's eigenvalues as its corners' slopes show them: the
+/// Hessian averaged over the cell, and each edge's own second derivative along it. Corners are
+/// (0,0), (1,0), (0,1), (1,1); a cell of zero width shows nothing across it.
+fn cell_curvature(c: [Sample; 4], hx: f64, hy: f64) -> (f64, f64) {
+    let mut along = Vec::with_capacity(4);
+    let (mut a, mut b, mut d) = (0.0, 0.0, 0.0);
+    if hx > 0.0 {
+        let (e1, e2) = ((c[1].dzdx - c[0].dzdx) / hx, (c[3].dzdx - c[2].dzdx) / hx);
+        along.extend([e1, e2]);
+        a = 0.5 * (e1 + e2);
+    }
+    if hy > 0.0 {
+        let (e1, e2) = ((c[2].dzdy - c[0].dzdy) / hy, (c[3].dzdy - c[1].dzdy) / hy);
+        along.extend([e1, e2]);
+        d = 0.5 * (e1 + e2);
+    }
+    if hx > 0.0 && hy > 0.0 {
+        let fxy = 0.5 * ((c[2].dzdx - c[0].dzdx) + (c[3].dzdx - c[1].dzdx)) / hy;
+        let fyx = 0.5 * ((c[1].dzdy - c[0].dzdy) + (c[3].dzdy - c[2].dzdy)) / hx;
+        b = 0.5 * (fxy + fyx);
+    }
+    let mid = 0.5 * (a + d);
+    let half = (0.25 * (a - d) * (a - d) + b * b).sqrt();
+    let up = along.iter().fold(mid + half, |m, &v| m.max(v));
+    let lo = along.iter().fold(mid - half, |m, &v| m.min(v));
+    // A slope that is not a number (a kink's far side) proves nothing: assume the worst.
+    if up.is_nan() || lo.is_nan() {
+        return (f64::INFINITY, f64::NEG_INFINITY);
+    }
+    (up, lo)
+}
+
+/// A rectangle of the search: centre, half sides, and the curvature bound over it.
+#[derive(Clone, Copy, Debug)]
+struct Square {
+    q: Vector2<f64>,
+    ax: f64,
+    ay: f64,
+    lambda: f64,
+}
+
+impl Square {
+    fn split(&self) -> impl Iterator<Item = Square> + '_ {
+        let (ax, ay) = (0.5 * self.ax, 0.5 * self.ay);
+        let xs: &[f64] = if self.ax > 0.0 { &[-1.0, 1.0] } else { &[0.0] };
+        let ys: &[f64] = if self.ay > 0.0 { &[-1.0, 1.0] } else { &[0.0] };
+        xs.iter().flat_map(move |&sx| {
+            ys.iter().map(move |&sy| Square { q: self.q + Vector2::new(sx * ax, sy * ay), ax, ay, lambda: self.lambda })
+        })
+    }
+
+    fn rho(&self) -> f64 {
+        (self.ax * self.ax + self.ay * self.ay).sqrt()
+    }
+}
+
+struct Search<'m> {
+    ball: &'m Sweep,
+    tol: f64,
+    /// The deepest cut sampled so far, and where.
+    best: Option<(f64, Point3<f64>)>,
+    /// Squares still open, highest bound first.
+    queue: BinaryHeap<Open>,
+}
+
+/// An open square and its bound, ordered by the bound.
+struct Open(f64, Square);
+
+impl PartialEq for Open {
+    fn eq(&self, other: &Open) -> bool {
+        self.0.total_cmp(&other.0).is_eq()
+    }
+}
+
+impl Eq for Open {}
+
+impl PartialOrd for Open {
+    fn partial_cmp(&self, other: &Open) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Open {
+    fn cmp(&self, other: &Open) -> std::cmp::Ordering {
+        self.0.total_cmp(&other.0)
+    }
+}
+
+impl Search<'_> {
+    fn offer(&mut self, p: Vector2<f64>, z: f64) -> Option<Low> {
+        let low = self.ball.low(p)?;
+        let depth = z - low.z;
+        if self.best.is_none_or(|(b, _)| depth > b) {
+            self.best = Some((depth, Point3::new(p.x, p.y, z)));
+        }
+        Some(low)
+    }
+
+    fn floor(&self) -> f64 {
+        self.best.map_or(f64::NEG_INFINITY, |(b, _)| b) + self.tol
+    }
+
+    /// Samples the square's centre and keeps the square if the surface in it could cut
+    /// deeper than the best sample by more than the tolerance.
+    fn visit<S: Surface>(&mut self, surface: &mut S, sq: Square) -> Result<(), (f64, f64, S::Error)> {
+        let rho = sq.rho();
+        if self.ball.distance(sq.q) - rho >= self.ball.r {
+            return Ok(());
+        }
+        let s = surface.sample(sq.q.x, sq.q.y).map_err(|e| (sq.q.x, sq.q.y, e))?;
+        let slope = Vector2::new(s.dzdx, s.dzdy);
+        let low = self.offer(sq.q, s.z);
+        let up = sq.lambda.max(0.0);
+        // Anywhere in the square: the surface at most its tangent plane plus the curvature
+        // term, the ball at least its lowest over the square.
+        let mut bound = s.z + slope.norm() * rho + 0.5 * up * rho * rho - self.ball.low_bound(sq.q, rho);
+        if let Some(low) = low.filter(|l| l.root > 1e-9 * self.ball.r) {
+            // Taylor from the centre for both: the gap f − z_low grows at most by its slope
+            // and by the surface's curvature less the ball's convexity.
+            let g = s.z - low.z;
+            let a = (slope - low.grad).norm();
+            let mu = sq.lambda - self.ball.convexity();
+            let t = if mu < 0.0 { (a / -mu).min(rho) } else { rho };
+            bound = bound.min(g + a * t + 0.5 * mu * t * t);
+        }
+        if (bound.is_nan() || bound > self.floor()) && rho > SMALLEST * self.ball.r {
+            self.queue.push(Open(if bound.is_nan() { f64::INFINITY } else { bound }, sq));
+        }
+        Ok(())
+    }
+
+    /// The open square with the highest bound, while it can still beat the best.
+    fn next(&mut self) -> Option<Square> {
+        let Open(bound, sq) = self.queue.pop()?;
+        // The rest are bounded lower still: none can beat the best.
+        (bound > self.floor()).then_some(sq)
+    }
+}
