@@ -1,6 +1,6 @@
-//! `ncsheet run`: a VBA-style macro on a workbook. Standard output carries only what the
-//! macro prints (`Debug.Print`) and, without `-o`, the NC program, so it can be piped into a
-//! control or a checker; every message goes to standard error.
+//! `ncsheet run`: a VBA-style macro on a workbook. Standard output carries only the NC program
+//! (without `-o`), so `> p.ngc` is a program a control reads; what the macro prints
+//! (`Debug.Print`), `MsgBox` and every message go to standard error.
 
 use std::path::PathBuf;
 
@@ -130,13 +130,12 @@ fn run_on_this_thread(args: RunArgs, dialect_name: &'static str) -> Result<()> {
     Ok(())
 }
 
+/// What the macro printed goes to stderr: a line above `%` would stop a control reading a
+/// redirected program.
 fn print_output(out: &RunOutput) -> Result<()> {
-    use std::io::Write;
-    let mut stdout = std::io::stdout().lock();
     for line in &out.printed {
-        writeln!(stdout, "{line}")?;
+        eprintln!("{line}");
     }
-    stdout.flush()?;
     for m in &out.messages {
         eprintln!("{m}");
     }
