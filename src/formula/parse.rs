@@ -176,9 +176,46 @@ impl ParseError {
     ///    ^ column 4: expected a value
     /// ```
     pub fn render(&self, text: &str) -> String {
-        let col = self.column(text);
-        format!("{text}\n{}^ column {col}: {}", " ".repeat(col - 1), self.message)
+        let e = self.explained(text);
+        let col = e.column(text);
+        format!("{text}\n{}^ column {col}: {}", " ".repeat(col - 1), e.message)
     }
+
+    /// The error as a user can act on it: a `(` never closed is shown at the `(` itself, and
+    /// a `;` where an operator was expected is the argument separator of some locales.
+    fn explained(&self, text: &str) -> ParseError {
+        let rest = text.get(self.offset..).unwrap_or("");
+        if rest.starts_with(';') {
+            let message = format!("{}: arguments are separated by , (not ;)", self.message);
+            return ParseError::at(self.offset, message);
+        }
+        if rest.trim().is_empty() {
+            if let Some(open) = unclosed_paren(text) {
+                return ParseError::at(open, "this ( is never closed: a ) is missing");
+            }
+        }
+        self.clone()
+    }
+}
+
+/// The byte offset of the last `(` without its `)`, outside string literals and quoted
+/// sheet names.
+fn unclosed_paren(text: &str) -> Option<usize> {
+    let mut open = Vec::new();
+    let mut quote: Option<char> = None;
+    for (i, c) in text.char_indices() {
+        match (quote, c) {
+            (Some(q), c) if c == q => quote = None,
+            (Some(_), _) => {}
+            (None, '"' | '\'') => quote = Some(c),
+            (None, '(') => open.push(i),
+            (None, ')') => {
+                open.pop();
+            }
+            _ => {}
+        }
+    }
+    open.last().copied()
 }
 
 /// Parses a formula (with or without its leading `=`).
