@@ -263,3 +263,95 @@ fn functions_takes_a_filter() {
     assert!(run.stdout.lines().all(|l| l.split('(').next().unwrap().contains("TAN")), "{}", run.stdout);
     assert!(!run.stdout.contains("ABS("), "{}", run.stdout);
 }
+
+#[test]
+fn a_semicolon_separated_csv_is_read_as_columns_with_decimal_commas() {
+    let dir = tempfile::tempdir().unwrap();
+    let book = write(dir.path(), "eu.csv", "D;40,5\nf;2\ntotal;=B1+B2*3\n");
+    let run = ncsheet(&["eval", &book, "B3"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    // 40.5 + 2·3
+    assert_eq!(run.stdout, "46.5\n");
+    assert!(run.stderr.contains(";-separated"), "{}", run.stderr);
+}
+
+#[test]
+fn a_surface_naming_cells_is_refused() {
+    let run = ncsheet(&[
+        "ballpath",
+        "--surface",
+        "x2+y2",
+        "--radius",
+        "1",
+        "--x=0:1",
+        "--y=0:1",
+        "--stepover",
+        "0.5",
+        "--step",
+        "0.5",
+    ]);
+    assert_eq!(run.code, 1, "{}", run.stdout);
+    assert_eq!(run.stdout, "");
+    assert!(run.stderr.contains("x2 is a cell reference"), "{}", run.stderr);
+}
+
+#[test]
+fn other_spreadsheet_files_get_advice_and_a_missing_folder_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["old.xls", "calc.ods"] {
+        let book = write(dir.path(), name, "");
+        let run = ncsheet(&["eval", &book]);
+        assert_eq!(run.code, 1);
+        assert!(run.stderr.contains("save it as .xlsx"), "{}", run.stderr);
+    }
+    let book = write(dir.path(), "a.csv", "1\n");
+    let out = dir.path().join("missing").join("out.csv");
+    let run = ncsheet(&["set", &book, "A1=2", "-o", out.to_str().unwrap()]);
+    assert_eq!(run.code, 1);
+    assert!(run.stderr.contains("the folder") && run.stderr.contains("missing does not exist"), "{}", run.stderr);
+    assert!(!run.stderr.contains(".ncsheet-"), "{}", run.stderr);
+}
+
+#[test]
+fn nc_feed_as_a_statement_sets_the_feed() {
+    let dir = tempfile::tempdir().unwrap();
+    let book = write(dir.path(), "b.csv", "1\n");
+    let bas = write(dir.path(), "m.bas", "Sub Main()\n  Nc.Feed 0.2\n  Nc.Line 10, 0\nEnd Sub\n");
+    let run = ncsheet(&["run", &book, &bas, "--dialect", "linuxcnc"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(run.stdout.lines().any(|l| l.contains("G1") && l.contains("F0.2")), "{}", run.stdout);
+}
+
+#[test]
+fn saving_a_macro_run_says_which_formulas_became_constants() {
+    let dir = tempfile::tempdir().unwrap();
+    let book = write(dir.path(), "b.csv", "1,=A1*2\n");
+    let bas = write(dir.path(), "m.bas", "Sub Main()\n  Range(\"B1\").Value = 5\nEnd Sub\n");
+    let out = dir.path().join("out.csv");
+    let run = ncsheet(&["run", &book, &bas, "--save", out.to_str().unwrap()]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(run.stderr.contains("Sheet1!B1") && run.stderr.contains("constants"), "{}", run.stderr);
+}
+
+#[test]
+fn a_let_bound_lambda_is_called_by_its_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let book = write(dir.path(), "b.csv", "x\n");
+    let out = dir.path().join("out.csv");
+    // Excel: LET(f, LAMBDA(n, n), f(1)) is 1; LAMBDA(n, n*2) applied to 3 is 6.
+    let run = ncsheet(&[
+        "set",
+        &book,
+        "B1==LET(f,LAMBDA(n,n),f(1))",
+        "B2==LET(g,LAMBDA(n,n*2),g(3))",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(!run.stderr.contains("unknown"), "{}", run.stderr);
+    let run = ncsheet(&["eval", out.to_str().unwrap(), "B1", "B2"]);
+    assert_eq!(run.stdout, "B1  1\nB2  6\n");
+    // An unknown function is echoed as typed, not in upper case.
+    let run = ncsheet(&["set", &book, "B1==foo(1)", "-o", out.to_str().unwrap()]);
+    assert!(run.stderr.contains("=foo(1)") && run.stderr.contains("unknown function foo"), "{}", run.stderr);
+}

@@ -92,6 +92,7 @@ pub fn run(args: RunArgs) -> Result<()> {
 
 fn run_on_this_thread(args: RunArgs, dialect_name: &'static str) -> Result<()> {
     let mut wb = ncsheet::io::load(&args.workbook)?;
+    let formulas_before = if args.save.is_some() { formula_cells(&wb) } else { Vec::new() };
     let file = &args.macro_file;
     let source =
         std::fs::read_to_string(file).map_err(|e| Error::User(format!("{}: cannot read: {e}", file.display())))?;
@@ -126,8 +127,36 @@ fn run_on_this_thread(args: RunArgs, dialect_name: &'static str) -> Result<()> {
     }
     if let Some(save) = &args.save {
         ncsheet::io::save(&wb, save)?;
+        say_replaced_formulas(&wb, &formulas_before, save);
     }
     Ok(())
+}
+
+fn formula_cells(wb: &ncsheet::workbook::Workbook) -> Vec<(u16, ncsheet::formula::address::Pos)> {
+    (0..wb.sheet_len() as u16)
+        .flat_map(|s| wb.values(s).into_iter().filter(move |(p, _)| wb.is_formula(s, *p)).map(move |(p, _)| (s, p)))
+        .collect()
+}
+
+/// A macro writing `Range(…).Value` over a formula cell leaves a constant there: the saved
+/// workbook no longer recomputes that cell, which the user must hear.
+fn say_replaced_formulas(
+    wb: &ncsheet::workbook::Workbook,
+    before: &[(u16, ncsheet::formula::address::Pos)],
+    save: &std::path::Path,
+) {
+    let replaced: Vec<String> =
+        before.iter().filter(|(s, p)| !wb.is_formula(*s, *p)).map(|&(s, p)| wb.cell_name(s, p)).collect();
+    if replaced.is_empty() {
+        return;
+    }
+    let shown = replaced.iter().take(8).cloned().collect::<Vec<_>>().join(", ");
+    let more = if replaced.len() > 8 { format!(" and {} more", replaced.len() - 8) } else { String::new() };
+    eprintln!(
+        "ncsheet: {}: note: the macro wrote values over {} formula cells, saved as constants: {shown}{more}",
+        save.display(),
+        replaced.len()
+    );
 }
 
 /// What the macro printed goes to stderr: a line above `%` would stop a control reading a

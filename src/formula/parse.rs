@@ -400,7 +400,8 @@ impl Builder<'_, '_> {
             args.clear();
         }
         let Some(info) = self.ctx.functions.lookup(name) else {
-            return Ok(Expr::new(ExprKind::UnknownCall(name.to_ascii_uppercase().into(), args), span));
+            // Kept as typed: it may be a LET or defined name's LAMBDA (`f(1)`), shown as written.
+            return Ok(Expr::new(ExprKind::UnknownCall(name.into(), args), span));
         };
         if args.len() < info.min_args || args.len() > info.max_args {
             let canonical = self.ctx.functions.name(info.id);

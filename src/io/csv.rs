@@ -40,18 +40,27 @@ impl fmt::Display for Malformed {
 /// The name of the one sheet of a csv file.
 pub const SHEET_NAME: &str = "Sheet1";
 
-/// Reads csv text into a new, recalculated workbook with one sheet.
+/// Reads csv text into a new, recalculated workbook with one sheet; the delimiter is
+/// detected ([`delimiter_of`]).
 pub fn read(bytes: &[u8]) -> Result<Workbook, Malformed> {
+    read_with(bytes, None)
+}
+
+/// [`read`] with a given delimiter (`None`: detect it). In a `;`-separated file, written by
+/// a spreadsheet whose locale writes decimal commas, `0,8` is the number 0.8.
+pub fn read_with(bytes: &[u8], delimiter: Option<u8>) -> Result<Workbook, Malformed> {
     let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     let text = std::str::from_utf8(bytes).map_err(|e| {
         let line = 1 + bytes[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count() as u64;
         Malformed { line, message: "not UTF-8 text (save the csv as UTF-8)".into() }
     })?;
-    let starts = record_starts(text)?;
+    let delimiter = delimiter.unwrap_or_else(|| delimiter_of(text.as_bytes()));
+    let starts = record_starts(text, delimiter)?;
 
     let mut wb = Workbook::new();
     let sheet = wb.add_sheet(SHEET_NAME).expect("a new workbook has no sheets");
-    let mut reader = ::csv::ReaderBuilder::new().has_headers(false).flexible(true).from_reader(text.as_bytes());
+    let mut reader =
+        ::csv::ReaderBuilder::new().has_headers(false).flexible(true).delimiter(delimiter).from_reader(text.as_bytes());
     let mut record = ::csv::StringRecord::new();
     for start in &starts {
         let more = reader
@@ -70,7 +79,8 @@ pub fn read(bytes: &[u8]) -> Result<Workbook, Malformed> {
             if !field.is_empty() {
                 // A formula that does not parse stays in its cell as `#NAME?` and is listed
                 // by `Workbook::problems`: one bad cell does not stop the file loading.
-                let _ = wb.set_input_deferred(sheet, Pos::new(start.row, col as u32), field);
+                let field = if delimiter == b';' { decimal_point(field) } else { field.into() };
+                let _ = wb.set_input_deferred(sheet, Pos::new(start.row, col as u32), &field);
             }
         }
     }
@@ -91,7 +101,54 @@ struct RecordStart {
 /// running to the end of the file. Follows the reader's rules: a `"` opens a quoted field
 /// only at the start of a field, `""` inside one is a quote, and `\n`, `\r\n` or `\r` ends
 /// a record.
-fn record_starts(text: &str) -> Result<Vec<RecordStart>, Malformed> {
+/// `;` when the file's first lines are `;`-separated (each holds the same number of `;`
+/// outside quotes, and not as many `,`), else `,`.
+pub fn delimiter_of(bytes: &[u8]) -> u8 {
+    let lines: Vec<(usize, usize)> = bytes
+        .split(|&b| b == b'\n')
+        .filter(|l| !l.iter().all(u8::is_ascii_whitespace))
+        .take(20)
+        .map(|line| {
+            let mut quoted = false;
+            let (mut semicolons, mut commas) = (0, 0);
+            for &b in line {
+                match b {
+                    b'"' => quoted = !quoted,
+                    b';' if !quoted => semicolons += 1,
+                    b',' if !quoted => commas += 1,
+                    _ => {}
+                }
+            }
+            (semicolons, commas)
+        })
+        .collect();
+    let Some(&(first, _)) = lines.first() else { return b',' };
+    let consistent = first > 0 && lines.iter().all(|&(s, _)| s == first);
+    let commas_separate = lines.iter().all(|&(_, c)| c > 0 && c == lines[0].1) && lines[0].1 >= first;
+    if consistent && !commas_separate {
+        b';'
+    } else {
+        b','
+    }
+}
+
+/// `0,8` → `0.8`, `-12,5` → `-12.5`; anything else unchanged.
+fn decimal_point(field: &str) -> String {
+    let body = field.strip_prefix('-').unwrap_or(field);
+    match body.split_once(',') {
+        Some((whole, fraction))
+            if !whole.is_empty()
+                && !fraction.is_empty()
+                && whole.bytes().all(|b| b.is_ascii_digit())
+                && fraction.bytes().all(|b| b.is_ascii_digit()) =>
+        {
+            field.replacen(',', ".", 1)
+        }
+        _ => field.to_string(),
+    }
+}
+
+fn record_starts(text: &str, delimiter: u8) -> Result<Vec<RecordStart>, Malformed> {
     let bytes = text.as_bytes();
     let mut starts = Vec::new();
     let (mut row, mut line) = (0u32, 1u64);
@@ -132,7 +189,7 @@ fn record_starts(text: &str) -> Result<Vec<RecordStart>, Malformed> {
             if at_field_start && b == b'"' {
                 quote_opened = Some(line);
             }
-            at_field_start = b == b',';
+            at_field_start = b == delimiter;
         }
         i += 1;
     }
