@@ -66,10 +66,11 @@ impl FormulaSurface {
     /// is allowed). Relative references are read from `ctx.at`.
     pub fn parse(text: &str, ctx: &ParseContext) -> Result<FormulaSurface, SurfaceDefError> {
         let e = parse_formula(text, ctx).map_err(SurfaceDefError::Parse)?;
+        let surface = FormulaSurface::from_expr(&e)?;
         if as_lambda(&e).is_none() {
             refuse_cell_references(&e, text)?;
         }
-        FormulaSurface::from_expr(&e)
+        Ok(surface)
     }
 
     /// A `LAMBDA(x, y, body)`, or any other formula read as a function of `x` and `y`.
