@@ -18,7 +18,8 @@ use super::report::Result;
 /// How `eval` prints values.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
 pub enum OutputFormat {
-    /// Columns aligned under their letters, rows numbered; numbers to 15 significant digits
+    /// Columns aligned under their letters, rows numbered; numbers as their cell's number
+    /// format shows them (15 significant digits without one; --raw: in full)
     #[default]
     Table,
     /// The cells as csv rows (as `ncsheet export` writes them)

@@ -213,7 +213,7 @@ fn axes(svg: &mut String, labels: &mut Labels, r_max: f64, frame: (f64, f64, f64
 fn scale_bar(svg: &mut String, labels: &mut Labels, r_max: f64, corner: (f64, f64), stroke: f64, font: f64) {
     let target = r_max / 5.0;
     let power = 10f64.powf(target.log10().floor());
-    let length = [1.0, 2.0, 5.0, 10.0].into_iter().map(|m| m * power).filter(|&l| l <= target).last().unwrap_or(power);
+    let length = [1.0, 2.0, 5.0, 10.0].into_iter().map(|m| m * power).rfind(|&l| l <= target).unwrap_or(power);
     let (x, y) = (corner.0 + font, corner.1 - font);
     let _ = writeln!(
         svg,

@@ -250,7 +250,7 @@ mod tests {
     use super::*;
 
     fn starts(text: &str) -> Vec<(u32, u64)> {
-        record_starts(text).unwrap().into_iter().map(|s| (s.row, s.line)).collect()
+        record_starts(text, b',').unwrap().into_iter().map(|s| (s.row, s.line)).collect()
     }
 
     #[test]
@@ -264,10 +264,10 @@ mod tests {
 
     #[test]
     fn an_unterminated_quote_names_the_line_it_opened_on() {
-        let err = record_starts("a,b\nc,\"d\ne\n").unwrap_err();
+        let err = record_starts("a,b\nc,\"d\ne\n", b',').unwrap_err();
         assert_eq!(err, Malformed { line: 2, message: err.message.clone() });
         // A quote inside an unquoted field is a literal character, as the reader takes it.
-        assert!(record_starts("ab\"c\n").is_ok());
+        assert!(record_starts("ab\"c\n", b',').is_ok());
     }
 
     #[test]
