@@ -244,7 +244,7 @@ fn usage_errors_exit_with_2() {
     let dir = folder(&[("parts.csv", PARTS)]);
     for args in [
         &["eval"][..],
-        &["eval", "parts.csv", "B"],
+        &["eval", "parts.csv", "B3:"],
         &["eval", "parts.csv", "--format", "xml"],
         &["set", "parts.csv", "B1=1"],
         &["set", "parts.csv", "B1", "-o", "out.csv"],
@@ -264,7 +264,9 @@ fn usage_errors_exit_with_2() {
 fn set_writes_a_recalculated_copy_and_keeps_the_input() {
     let dir = folder(&[("parts.csv", PARTS)]);
     let run = ncsheet_in(dir.path(), &["set", "parts.csv", "B1=45", "B2==B1/10", "-o", "out.csv"], "");
-    assert_eq!((run.code, run.stderr.as_str()), (0, ""));
+    // set says what it did, on stderr (stdout stays empty).
+    assert_eq!((run.code, run.stdout.as_str()), (0, ""));
+    assert_eq!(run.stderr, "Sheet1!B1 = 45\nSheet1!B2 = 4.5\nsaved out.csv\n");
     assert_eq!(read(&dir, "parts.csv"), PARTS);
     assert_eq!(read(&dir, "out.csv"), "D,45\nf,=B1/10\ntotal,=B1+B2*3\n");
     // 45 + (45/10)*3 = 58.5
@@ -277,7 +279,8 @@ fn set_writes_a_recalculated_copy_and_keeps_the_input() {
 fn set_in_place_replaces_the_file_and_leaves_nothing_behind() {
     let dir = folder(&[("parts.csv", PARTS)]);
     let run = ncsheet_in(dir.path(), &["set", "parts.csv", "B2=4", "C1=note, with comma", "--in-place"], "");
-    assert_eq!((run.code, run.stderr.as_str()), (0, ""));
+    assert_eq!((run.code, run.stdout.as_str()), (0, ""));
+    assert_eq!(run.stderr, "Sheet1!B2 = 4\nSheet1!C1 = note, with comma\nsaved parts.csv\n");
     // Untouched rows keep their own length (issue 14): no padding to the widest row.
     assert_eq!(read(&dir, "parts.csv"), "D,40,\"note, with comma\"\nf,4\ntotal,=B1+B2*3\n");
     assert_eq!(names_in(dir.path()), ["parts.csv"]);

@@ -71,14 +71,14 @@ fn chamfer_macro_cuts_from_t1_to_t2_as_domain_md_computes_them() {
 }
 
 #[test]
-fn stdout_carries_only_what_the_macro_prints_and_the_program() {
+fn debug_print_and_msgbox_go_to_stderr() {
     let dir = tempfile::tempdir().unwrap();
     let book = write(dir.path(), "b.csv", "1\n");
     let bas = write(dir.path(), "m.bas", "Sub Main()\n  Debug.Print \"x=\"; [A1] * 2\n  MsgBox \"done\"\nEnd Sub\n");
     let out = ncsheet(&["run", &book, &bas]);
     assert!(out.status.success());
-    assert_eq!(String::from_utf8_lossy(&out.stdout), "x= 2 \n");
-    assert_eq!(String::from_utf8_lossy(&out.stderr).trim(), "done");
+    assert_eq!(String::from_utf8_lossy(&out.stdout), "");
+    assert_eq!(String::from_utf8_lossy(&out.stderr), "x= 2 \ndone\n");
 }
 
 #[test]

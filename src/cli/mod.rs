@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 
 use clap::{ArgGroup, Args, Parser, Subcommand};
 use ncsheet::eval::functions::REGISTRY;
+use ncsheet::formula::address::Pos;
 use ncsheet::formula::ast::SheetId;
 use ncsheet::io::{Content, Export};
 use ncsheet::workbook::Workbook;
@@ -14,13 +15,16 @@ use ncsheet::workbook::Workbook;
 mod ballpath;
 mod cam;
 mod macros;
+mod hints;
+mod info;
 mod output;
 mod repl;
 pub mod report;
 mod run;
+mod show;
 mod target;
 
-use output::{OutputFormat, Selection};
+use output::{OutputFormat, Selection, Shown};
 use report::{prepend, Error, Result};
 use target::{parse_assignment, parse_target, Assignment, Target};
 
@@ -48,6 +52,8 @@ pub enum Command {
     Run(run::RunArgs),
     Ballpath(ballpath::BallpathArgs),
     Macros(macros::MacrosArgs),
+    Show(show::ShowArgs),
+    Info(info::InfoArgs),
 }
 
 /// Compute a sheet and print its values (all of it, or the cells and ranges named).
@@ -60,7 +66,8 @@ pub enum Command {
 pub struct EvalArgs {
     /// The workbook (.csv, .xlsx, .xlsm)
     pub file: PathBuf,
-    /// Cells or ranges to print: B3, A1:D20, Sheet1!B3 (default: the whole sheet)
+    /// Cells, ranges or defined names to print: B3, A1:D20, Sheet1!B3, XA (default: the
+    /// whole sheet)
     #[arg(value_name = "CELL|RANGE", value_parser = parse_target)]
     pub cells: Vec<Target>,
     /// The sheet to print (default: the first)
@@ -73,6 +80,15 @@ pub struct EvalArgs {
     /// Excel stored in the file (.xlsx), with both values; exit code 1 when any differs
     #[arg(long, conflicts_with = "cells")]
     pub check: bool,
+    /// Numbers in full precision instead of as the cell's number format shows them
+    #[arg(long)]
+    pub raw: bool,
+    /// Show formulas (as typed) instead of their values; constants as they are
+    #[arg(long)]
+    pub formulas: bool,
+    /// Fit tables in this many columns (default: the terminal's width, 80 when not a terminal)
+    #[arg(long, value_name = "N")]
+    pub width: Option<usize>,
 }
 
 /// Set cells, recalculate and save the workbook.
@@ -87,7 +103,7 @@ pub struct EvalArgs {
 pub struct SetArgs {
     /// The workbook (.csv, .xlsx, .xlsm)
     pub file: PathBuf,
-    /// What to type into which cell
+    /// What to type into which cell (or defined name: alpha=30)
     #[arg(value_name = "CELL=INPUT", required = true, value_parser = parse_assignment)]
     pub assignments: Vec<Assignment>,
     /// Write the result here (must not be FILE; see --in-place)
@@ -120,7 +136,7 @@ pub struct ExportArgs {
     /// The csv file to write (must not be FILE)
     #[arg(short, long, value_name = "OUT.csv")]
     pub output: PathBuf,
-    /// Only these cells, e.g. A1:D20 or Sheet1!A1:D20
+    /// Only these cells, e.g. A1:D20, Sheet1!A1:D20 or a defined name
     #[arg(long, value_name = "RANGE", value_parser = parse_target)]
     pub range: Option<Target>,
     /// Write formulas as =… text instead of their values
@@ -153,7 +169,11 @@ pub struct ReplArgs {
 
 /// List every sheet function with its signature and a one-line summary.
 #[derive(Debug, Args)]
-pub struct FunctionsArgs {}
+pub struct FunctionsArgs {
+    /// Only functions whose name contains one of these (case-insensitive): `functions TAN`
+    #[arg(value_name = "NAME")]
+    pub filter: Vec<String>,
+}
 
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
@@ -161,12 +181,14 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Set(args) => set(args),
         Command::Export(args) => export(args),
         Command::Repl(args) => repl(args),
-        Command::Functions(_) => functions(),
+        Command::Functions(args) => functions(args),
         Command::Cam(args) => cam::cam(args),
         Command::Arcfit(args) => cam::arcfit(args),
         Command::Run(args) => run::run(args),
         Command::Ballpath(args) => ballpath::run(args),
         Command::Macros(args) => macros::run(args),
+        Command::Show(args) => show::run(args),
+        Command::Info(args) => info::run(args),
     }
 }
 
@@ -175,21 +197,23 @@ fn eval(args: EvalArgs) -> Result<()> {
     if args.check {
         return check(&args.file, &opened);
     }
-    let wb = opened.workbook;
-    let sheet = default_sheet(&wb, &args.file, args.sheet.as_deref())?;
-    let selections = args
-        .cells
-        .iter()
-        .map(|t| Ok(Selection { sheet: target_sheet(&wb, &args.file, t, sheet)?, rect: t.rect }))
-        .collect::<Result<Vec<_>>>()?;
+    let wb = &opened.workbook;
+    let sheet = default_sheet(wb, &args.file, args.sheet.as_deref())?;
+    let selections = args.cells.iter().map(|t| locate(wb, &args.file, t, sheet)).collect::<Result<Vec<_>>>()?;
+    let shown = Shown {
+        layout: opened.layout.as_ref(),
+        raw: args.raw,
+        formulas: args.formulas,
+        width: args.width.unwrap_or_else(output::terminal_width),
+    };
     let mut out = BufWriter::new(io::stdout().lock());
     if selections.is_empty() {
-        output::print_sheet(&mut out, &wb, sheet, args.format)?;
+        output::print_sheet(&mut out, wb, sheet, args.format, &shown)?;
     } else {
-        output::print_selections(&mut out, &wb, sheet, &selections, args.format)?;
+        output::print_selections(&mut out, wb, sheet, &selections, args.format, &shown)?;
     }
     out.flush()?;
-    report_problems(&args.file, &wb);
+    report_problems(&args.file, wb);
     Ok(())
 }
 
@@ -207,15 +231,25 @@ fn set(args: SetArgs) -> Result<()> {
     let opened = open(&args.file)?;
     let mut wb = opened.workbook;
     let sheet = default_sheet(&wb, &args.file, args.sheet.as_deref())?;
+    let mut done = Vec::new();
     for a in &args.assignments {
-        let cell_sheet = target_sheet(&wb, &args.file, &a.target, sheet)?;
-        wb.set_input_deferred(cell_sheet, a.target.rect.first, &a.input)
-            .map_err(|e| in_file(&args.file, repl::refused(e)))?;
+        let (cell_sheet, pos) = locate_cell(&wb, &args.file, &a.target, sheet)?;
+        wb.set_input_deferred(cell_sheet, pos, &a.input).map_err(|e| in_file(&args.file, repl::refused(e)))?;
+        if let Some(doubt) = hints::doubt_about(&wb, cell_sheet, pos, &a.input) {
+            eprintln!("ncsheet: {}: {}: warning: {doubt}", args.file.display(), wb.cell_name(cell_sheet, pos));
+        }
+        done.push((cell_sheet, pos));
     }
     wb.recalculate();
     report_problems(&args.file, &wb);
     let encoded = ncsheet::io::encode_save(&wb, opened.layout.as_ref(), &opened.origin, &out_path)?;
-    write_outputs(&[encoded], args.in_place, args.force)
+    write_outputs(&[encoded], args.in_place, args.force)?;
+    // What was done, on stderr: stdout stays empty for scripts.
+    for (cell_sheet, pos) in done {
+        eprintln!("{} = {}", wb.cell_name(cell_sheet, pos), wb.value(cell_sheet, pos));
+    }
+    eprintln!("saved {}", out_path.display());
+    Ok(())
 }
 
 /// Reads a workbook and tells the user what the import left out.
@@ -274,11 +308,13 @@ fn export(args: ExportArgs) -> Result<()> {
     refuse_overwriting_inputs(&[&args.file], &[&args.output], "an export cannot replace its input; write elsewhere")?;
     let wb = open(&args.file)?.workbook;
     let mut sheet = default_sheet(&wb, &args.file, args.sheet.as_deref())?;
+    let mut range = None;
     if let Some(t) = &args.range {
-        sheet = target_sheet(&wb, &args.file, t, sheet)?;
+        let selection = locate(&wb, &args.file, t, sheet)?;
+        (sheet, range) = (selection.sheet, Some(selection.rect));
     }
     let content = if args.formulas { Content::Formulas } else { Content::Values };
-    let what = Export { sheet, range: args.range.as_ref().map(|t| t.rect), content };
+    let what = Export { sheet, range, content };
     report_problems(&args.file, &wb);
     let encoded = ncsheet::io::encode_export(&wb, &args.output, &what)?;
     write_outputs(&[encoded], false, args.force)
@@ -291,8 +327,15 @@ fn repl(args: ReplArgs) -> Result<()> {
     repl::run(&args.file, wb, sheet, args.timings)
 }
 
-fn functions() -> Result<()> {
-    let mut specs: Vec<_> = REGISTRY.iter().collect();
+fn functions(args: FunctionsArgs) -> Result<()> {
+    let wanted = |name: &str| {
+        args.filter.is_empty()
+            || args.filter.iter().any(|f| name.to_ascii_uppercase().contains(&f.to_ascii_uppercase()))
+    };
+    let mut specs: Vec<_> = REGISTRY.iter().filter(|f| wanted(f.name)).collect();
+    if specs.is_empty() {
+        return Err(Error::User(format!("no function name contains {}", args.filter.join(" or "))));
+    }
     specs.sort_by_key(|f| f.name);
     let width = specs.iter().map(|f| f.signature.chars().count()).max().unwrap_or(0);
     let mut out = BufWriter::new(io::stdout().lock());
@@ -331,6 +374,40 @@ fn target_sheet(wb: &Workbook, file: &Path, target: &Target, default: SheetId) -
         Some(name) => sheet_named(wb, file, name),
         None => Ok(default),
     }
+}
+
+/// Where a cell argument points: its sheet and rectangle, a defined name resolved.
+pub(crate) fn locate(wb: &Workbook, file: &Path, target: &Target, default: SheetId) -> Result<Selection> {
+    let sheet = target_sheet(wb, file, target, default)?;
+    let Some(name) = &target.name else { return Ok(Selection { sheet, rect: target.rect, label: None }) };
+    match wb.name_reference(name, sheet) {
+        Some((sheet, rect)) => Ok(Selection { sheet, rect, label: Some(name.clone()) }),
+        None => {
+            let mut known = wb.names().into_iter().map(|(n, _, _)| n).collect::<Vec<_>>();
+            known.dedup();
+            let known = if known.is_empty() {
+                "it has no defined names".to_string()
+            } else {
+                format!("it has: {}", known.join(", "))
+            };
+            let what = if wb.names().iter().any(|(n, _, _)| n.eq_ignore_ascii_case(name)) {
+                format!("the name {name} is not a cell or range")
+            } else {
+                format!("no cell, range or defined name {name} ({known})")
+            };
+            Err(Error::User(format!("{}: {what}", file.display())))
+        }
+    }
+}
+
+/// Like [`locate`], for one cell: a name must point at a single cell.
+pub(crate) fn locate_cell(wb: &Workbook, file: &Path, target: &Target, default: SheetId) -> Result<(SheetId, Pos)> {
+    let s = locate(wb, file, target, default)?;
+    if !s.rect.is_cell() {
+        let name = s.label.unwrap_or_default();
+        return Err(Error::User(format!("{}: {name} is the range {}, not one cell", file.display(), s.rect)));
+    }
+    Ok((s.sheet, s.rect.first))
 }
 
 fn sheet_named(wb: &Workbook, file: &Path, name: &str) -> Result<SheetId> {

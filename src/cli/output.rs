@@ -4,10 +4,12 @@ use std::collections::HashSet;
 use std::io::Write;
 
 use clap::ValueEnum;
+use ncsheet::eval::functions::NumberFormat;
 use ncsheet::eval::number_format::round15;
 use ncsheet::eval::Value;
 use ncsheet::formula::address::{column_name, Pos, Rect};
 use ncsheet::formula::ast::SheetId;
+use ncsheet::io::xlsx::Layout;
 use ncsheet::io::{csv, Content, Export};
 use ncsheet::workbook::Workbook;
 
@@ -16,7 +18,8 @@ use super::report::Result;
 /// How `eval` prints values.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
 pub enum OutputFormat {
-    /// Columns aligned under their letters, rows numbered; numbers to 15 significant digits
+    /// Columns aligned under their letters, rows numbered; numbers as their cell's number
+    /// format shows them (15 significant digits without one; --raw: in full)
     #[default]
     Table,
     /// The cells as csv rows (as `ncsheet export` writes them)
@@ -26,22 +29,85 @@ pub enum OutputFormat {
     Json,
 }
 
-/// Cells or ranges on a resolved sheet.
+/// Cells or ranges on a resolved sheet; `label` is the defined name the user typed.
 pub struct Selection {
     pub sheet: SheetId,
     pub rect: Rect,
+    pub label: Option<String>,
+}
+
+/// How a table shows values: as the cells' number formats show them (from an .xlsx), or in
+/// full (`--raw`); formulas instead of values; within `width` columns.
+pub struct Shown<'a> {
+    pub layout: Option<&'a Layout>,
+    pub raw: bool,
+    pub formulas: bool,
+    pub width: usize,
+}
+
+impl Default for Shown<'_> {
+    fn default() -> Self {
+        Shown { layout: None, raw: false, formulas: false, width: terminal_width() }
+    }
+}
+
+impl Shown<'_> {
+    /// The text of one cell: its formula, its value under its number format, or the value
+    /// in full.
+    pub fn text(&self, wb: &Workbook, sheet: SheetId, pos: Pos) -> String {
+        if self.formulas {
+            if let Some(f) = wb.formula(sheet, pos) {
+                return f;
+            }
+        }
+        let v = wb.value(sheet, pos);
+        match v {
+            Value::Number(n) if self.raw => format!("{n}"),
+            Value::Number(n) => match self.format_code(wb, sheet, pos) {
+                Some(code) => {
+                    NumberFormat::parse(code).and_then(|f| f.format_number(n)).unwrap_or_else(|_| v.to_string())
+                }
+                None => v.to_string(),
+            },
+            v => v.to_string(),
+        }
+    }
+
+    /// The cell's number format code, when the file gave it one other than General.
+    pub fn format_code<'b>(&'b self, wb: &Workbook, sheet: SheetId, pos: Pos) -> Option<&'b str> {
+        let name = wb.sheet_names().into_iter().nth(sheet as usize)?;
+        self.layout?.sheets.get(&name)?.number_formats.get(&pos).map(String::as_str)
+    }
+}
+
+/// The width of the terminal on stdout; 80 when stdout is not a terminal (a file, a pipe).
+pub fn terminal_width() -> usize {
+    // SAFETY: TIOCGWINSZ fills a winsize for a terminal and fails harmlessly otherwise.
+    let mut size: libc::winsize = unsafe { std::mem::zeroed() };
+    let ok = unsafe { libc::ioctl(libc::STDOUT_FILENO, libc::TIOCGWINSZ, &mut size) } == 0;
+    if ok && size.ws_col > 0 {
+        size.ws_col as usize
+    } else {
+        80
+    }
 }
 
 /// Prints a whole sheet, from A1 to its last used row and column.
-pub fn print_sheet(out: &mut dyn Write, wb: &Workbook, sheet: SheetId, format: OutputFormat) -> Result<()> {
+pub fn print_sheet(
+    out: &mut dyn Write,
+    wb: &Workbook,
+    sheet: SheetId,
+    format: OutputFormat,
+    shown: &Shown,
+) -> Result<()> {
     let Some(used) = wb.used_rect(sheet) else {
         if format == OutputFormat::Json {
             writeln!(out, "{{}}")?;
         }
         return Ok(());
     };
-    let whole = Selection { sheet, rect: Rect::new(Pos::new(0, 0), used.last) };
-    print_selections(out, wb, sheet, &[whole], format)
+    let whole = Selection { sheet, rect: Rect::new(Pos::new(0, 0), used.last), label: None };
+    print_selections(out, wb, sheet, &[whole], format, shown)
 }
 
 /// Prints cells and ranges. In a table, one cell alone prints as its value only; several
@@ -52,25 +118,30 @@ pub fn print_selections(
     default_sheet: SheetId,
     selections: &[Selection],
     format: OutputFormat,
+    shown: &Shown,
 ) -> Result<()> {
     match format {
         OutputFormat::Table => {
             if let [only] = selections {
                 if only.rect.is_cell() {
-                    writeln!(out, "{}", wb.value(only.sheet, only.rect.first))?;
+                    writeln!(out, "{}", shown.text(wb, only.sheet, only.rect.first))?;
                     return Ok(());
                 }
             }
+            let name = |s: &Selection| match &s.label {
+                Some(label) => label.clone(),
+                None if s.sheet == default_sheet => s.rect.first.to_string(),
+                None => wb.cell_name(s.sheet, s.rect.first),
+            };
+            // Names padded to the longest, so that the values line up.
+            let width = selections.iter().filter(|s| s.rect.is_cell()).map(|s| name(s).chars().count()).max();
             for s in selections {
                 if s.rect.is_cell() {
-                    let name = if s.sheet == default_sheet {
-                        s.rect.first.to_string()
-                    } else {
-                        wb.cell_name(s.sheet, s.rect.first)
-                    };
-                    writeln!(out, "{name}  {}", wb.value(s.sheet, s.rect.first))?;
+                    let label = name(s);
+                    let pad = " ".repeat(width.unwrap_or(0) - label.chars().count());
+                    writeln!(out, "{label}{pad}  {}", shown.text(wb, s.sheet, s.rect.first))?;
                 } else {
-                    out.write_all(table(wb, s.sheet, s.rect).as_bytes())?;
+                    out.write_all(table(wb, s.sheet, s.rect, shown).as_bytes())?;
                 }
             }
         }
@@ -86,8 +157,10 @@ pub fn print_selections(
 }
 
 /// A grid with column letters on top and row numbers on the left. Numbers are right-aligned,
-/// everything else left-aligned.
-pub fn table(wb: &Workbook, sheet: SheetId, rect: Rect) -> String {
+/// everything else left-aligned. Columns are narrowed, widest first, until the table fits
+/// `shown.width`; a number that no longer fits is shown with fewer digits, as a spreadsheet
+/// does in a narrow column, and text is cut with `…`.
+pub fn table(wb: &Workbook, sheet: SheetId, rect: Rect, shown: &Shown) -> String {
     let n_cols = rect.cols() as usize;
     let mut rows: Vec<Vec<(String, bool)>> = Vec::with_capacity(rect.rows() as usize + 1);
     let header = std::iter::once((String::new(), true))
@@ -99,7 +172,8 @@ pub fn table(wb: &Workbook, sheet: SheetId, rect: Rect) -> String {
         line.push(((row + 1).to_string(), true));
         for col in rect.first.col..=rect.last.col {
             let v = wb.value(sheet, Pos::new(row, col));
-            line.push((one_line(&v.to_string()), matches!(v, Value::Number(_))));
+            let number = matches!(v, Value::Number(_)) && !(shown.formulas && wb.is_formula(sheet, Pos::new(row, col)));
+            line.push((one_line(&shown.text(wb, sheet, Pos::new(row, col))), number));
         }
         rows.push(line);
     }
@@ -109,14 +183,26 @@ pub fn table(wb: &Workbook, sheet: SheetId, rect: Rect) -> String {
             *w = (*w).max(text.chars().count());
         }
     }
+    fit_widths(&mut widths, shown.width);
     let mut out = String::new();
-    for line in &rows {
+    for (r, line) in rows.iter().enumerate() {
         let mut text = String::new();
         for (i, ((cell, right), w)) in line.iter().zip(&widths).enumerate() {
             if i > 0 {
                 text.push_str("  ");
             }
-            let pad = " ".repeat(w - cell.chars().count());
+            let cell = if r > 0 && i > 0 {
+                fit_cell(
+                    cell,
+                    *right,
+                    *w,
+                    wb.value(sheet, Pos::new(rect.first.row + r as u32 - 1, rect.first.col + i as u32 - 1)),
+                )
+            } else {
+                cell.clone()
+            };
+            let cell = &cell;
+            let pad = " ".repeat(w.saturating_sub(cell.chars().count()));
             if *right {
                 text.push_str(&pad);
                 text.push_str(cell);
@@ -129,6 +215,60 @@ pub fn table(wb: &Workbook, sheet: SheetId, rect: Rect) -> String {
         out.push('\n');
     }
     out
+}
+
+/// Narrows the widest value column by one until the row fits `limit` (columns keep at least
+/// 6 characters: a letter header and a short number).
+fn fit_widths(widths: &mut [usize], limit: usize) {
+    const MIN: usize = 6;
+    let total = |w: &[usize]| w.iter().sum::<usize>() + 2 * w.len().saturating_sub(1);
+    while total(widths) > limit {
+        let Some((i, &w)) = widths.iter().enumerate().skip(1).max_by_key(|&(i, &w)| (w, std::cmp::Reverse(i))) else {
+            return;
+        };
+        if w <= MIN {
+            return;
+        }
+        widths[i] -= 1;
+    }
+}
+
+/// A cell's text within `width` characters: a number with fewer significant digits (or
+/// `#` marks, as a spreadsheet shows a number that cannot fit), text cut with `…`.
+fn fit_cell(text: &str, number: bool, width: usize, value: Value) -> String {
+    if text.chars().count() <= width {
+        return text.to_string();
+    }
+    if let (true, Value::Number(n)) = (number, value) {
+        return (1..15)
+            .rev()
+            .filter_map(|digits| shorter_number(n, digits))
+            .find(|t| t.len() <= width)
+            .unwrap_or_else(|| "#".repeat(width));
+    }
+    let mut cut: String = text.chars().take(width.saturating_sub(1)).collect();
+    cut.push('…');
+    cut
+}
+
+/// `n` to `digits` significant digits, in plain or scientific notation (whichever is
+/// shorter), trailing zeros dropped: 9.56E-15, 44.2627.
+fn shorter_number(n: f64, digits: usize) -> Option<String> {
+    if n == 0.0 || !n.is_finite() {
+        return Some(ncsheet::eval::number_format::general(n));
+    }
+    let exponent = n.abs().log10().floor() as i32;
+    let trim = |s: String| if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s };
+    let decimals = digits as i32 - 1 - exponent;
+    let plain = (decimals >= 0).then(|| trim(format!("{n:.*}", decimals as usize)));
+    let sci = format!("{n:.*e}", digits - 1);
+    let (mantissa, exp) = sci.split_once('e')?;
+    let exp: i32 = exp.parse().ok()?;
+    let sci = format!("{}E{}{:02}", trim(mantissa.to_string()), if exp < 0 { '-' } else { '+' }, exp.abs());
+    Some(match plain {
+        Some(p) if p.len() <= sci.len() && exponent > -5 => p,
+        _ => sci,
+    })
 }
 
 /// Line breaks inside a cell would break the table's rows apart.
@@ -180,7 +320,7 @@ mod tests {
         wb.set_input(0, Pos::new(1, 0), "alpha").unwrap();
         wb.set_input(0, Pos::new(1, 1), "4.5").unwrap();
         let rect = Rect::new(Pos::new(0, 0), Pos::new(1, 1));
-        assert_eq!(table(&wb, 0, rect), "   A      B\n1  D       40\n2  alpha  4.5\n");
+        assert_eq!(table(&wb, 0, rect, &Shown::default()), "   A      B\n1  D       40\n2  alpha  4.5\n");
     }
 
     #[test]
@@ -189,7 +329,7 @@ mod tests {
         wb.set_input(0, Pos::new(0, 0), "x").unwrap();
         wb.set_input(0, Pos::new(2, 0), "=1/0").unwrap();
         wb.set_input(0, Pos::new(2, 1), "TRUE").unwrap();
-        let all = Selection { sheet: 0, rect: Rect::new(Pos::new(0, 0), Pos::new(5, 5)) };
+        let all = Selection { sheet: 0, rect: Rect::new(Pos::new(0, 0), Pos::new(5, 5)), label: None };
         assert_eq!(json(&wb, &[all]), r##"{"Sheet1!A1": "x", "Sheet1!A3": "#DIV/0!", "Sheet1!B3": true}"##);
     }
 }

@@ -17,7 +17,8 @@ use super::target::{parse_assignment, parse_target, Assignment, Target};
 const HELP: &str = "\
 commands:
   CELL=INPUT    set a cell (a value, or a formula starting with =) and recalculate
-  CELL, RANGE   print values (B3, A1:D20, Sheet1!B3)
+  CELL, RANGE   print values (B3, A1:D20, Sheet1!B3, or a defined name: alpha)
+  show CELL     the cell's formula, value, format, the cells it reads and that read it
   save PATH     save the workbook (csv: formulas as =… text)
   help          this list
   quit          leave (also exit, or end of input)";
@@ -151,6 +152,13 @@ impl Session<'_> {
                 ncsheet::io::save(&self.wb, Path::new(path))?;
                 writeln!(out, "saved {path}")?;
             }
+            ("show", "") => return Err(Error::User("show needs a cell: show B3".into())),
+            ("show", what) => {
+                for word in what.split_whitespace() {
+                    let target = parse_target(word).map_err(|e| Error::User(format!("{word}: {e}")))?;
+                    write!(out, "{}", super::show::describe_target(&self.wb, self.file, &target, self.sheet)?)?;
+                }
+            }
             _ if command.contains('=') => {
                 let assignment = parse_assignment(command).map_err(|e| Error::User(format!("{command}: {e}")))?;
                 self.set(assignment, out)?;
@@ -158,8 +166,14 @@ impl Session<'_> {
             _ => {
                 let target = parse_target(command)
                     .map_err(|_| Error::User(format!("unknown command '{command}' (type help for the list)")))?;
-                let selection = self.select(&target)?;
-                output::print_selections(out, &self.wb, self.sheet, &[selection], OutputFormat::Table)?;
+                let selection = self.select(&target).map_err(|e| match target.name {
+                    Some(_) if !command.contains(['!', ' ']) => Error::User(format!(
+                        "unknown command '{command}': not a command, a cell or a defined name (type help for the list)"
+                    )),
+                    _ => e,
+                })?;
+                let shown = output::Shown::default();
+                output::print_selections(out, &self.wb, self.sheet, &[selection], OutputFormat::Table, &shown)?;
             }
         }
         Ok(Flow::Continue)
@@ -168,8 +182,7 @@ impl Session<'_> {
     /// Sets a cell and prints its new value. A formula that does not parse is refused (the
     /// cell keeps what it had); new problems, such as a circular reference, are reported.
     fn set(&mut self, assignment: Assignment, out: &mut dyn Write) -> Result<()> {
-        let Selection { sheet, rect } = self.select(&assignment.target)?;
-        let pos = rect.first;
+        let (sheet, pos) = super::locate_cell(&self.wb, self.file, &assignment.target, self.sheet)?;
         let before = self.problems();
         let old = self.wb.input(sheet, pos);
         if let Err(e) = self.wb.set_input(sheet, pos, &assignment.input) {
@@ -177,6 +190,9 @@ impl Session<'_> {
             return Err(super::in_file(self.file, refused(e)));
         }
         writeln!(out, "{}", self.wb.value(sheet, pos))?;
+        if let Some(doubt) = super::hints::doubt_about(&self.wb, sheet, pos, &assignment.input) {
+            eprintln!("ncsheet: {}: {}: warning: {doubt}", self.file.display(), self.wb.cell_name(sheet, pos));
+        }
         let mut news: Vec<CellProblem> = self.problems().into_iter().filter(|p| !before.contains(p)).collect();
         news.extend(report::unknowns(&self.wb, sheet, pos));
         for p in news {
@@ -194,11 +210,7 @@ impl Session<'_> {
     }
 
     fn select(&self, target: &Target) -> Result<Selection> {
-        let sheet = match &target.sheet {
-            None => self.sheet,
-            Some(name) => super::sheet_named(&self.wb, self.file, name)?,
-        };
-        Ok(Selection { sheet, rect: target.rect })
+        super::locate(&self.wb, self.file, target, self.sheet)
     }
 }
 

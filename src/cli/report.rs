@@ -122,9 +122,13 @@ pub fn unknowns(wb: &Workbook, sheet: SheetId, pos: Pos) -> Vec<CellProblem> {
     }
     let Some(text) = wb.formula(sheet, pos) else { return out };
     let Ok(expr) = wb.parse_at(&text, sheet, pos) else { return out };
+    let local = local_names(&expr);
+    let is_local = |name: &str| local.iter().any(|l| l.eq_ignore_ascii_case(name));
     expr.visit(&mut |e| {
         let message = match &e.kind {
+            ExprKind::UnknownCall(name, _) if is_local(name) => return,
             ExprKind::UnknownCall(name, _) => format!("unknown function {name} (see `ncsheet functions`)"),
+            ExprKind::Name(name) if is_local(name) => return,
             ExprKind::Name(name) if Env::defined_name(wb, name, sheet).is_none() => format!("unknown name {name}"),
             ExprKind::Ref(r) => match &r.sheet {
                 SheetRef::Missing(name) => format!("no sheet named '{name}'"),
@@ -136,6 +140,25 @@ pub fn unknowns(wb: &Workbook, sheet: SheetId, pos: Pos) -> Vec<CellProblem> {
         out.push(CellProblem { sheet, row: pos.row, col: pos.col, message: caret.render(&text) });
     });
     out
+}
+
+/// The names a formula binds itself: LET's names and LAMBDA's parameters. They are not
+/// unknown, whatever the workbook defines.
+fn local_names(expr: &ncsheet::formula::ast::Expr) -> Vec<std::rc::Rc<str>> {
+    let mut names = Vec::new();
+    expr.visit(&mut |e| {
+        let ExprKind::Call(id, args) = &e.kind else { return };
+        let bound: Vec<&ncsheet::formula::ast::Expr> = match ncsheet::eval::functions::spec(*id).name {
+            "LET" => args.iter().step_by(2).take(args.len() / 2).collect(),
+            "LAMBDA" => args.iter().take(args.len().saturating_sub(1)).collect(),
+            _ => return,
+        };
+        names.extend(bound.into_iter().filter_map(|a| match &a.kind {
+            ExprKind::Name(n) => Some(n.clone()),
+            _ => None,
+        }));
+    });
+    names
 }
 
 #[cfg(test)]

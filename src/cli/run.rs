@@ -1,6 +1,6 @@
-//! `ncsheet run`: a VBA-style macro on a workbook. Standard output carries only what the
-//! macro prints (`Debug.Print`) and, without `-o`, the NC program, so it can be piped into a
-//! control or a checker; every message goes to standard error.
+//! `ncsheet run`: a VBA-style macro on a workbook. Standard output carries only the NC program
+//! (without `-o`), so `> p.ngc` is a program a control reads; what the macro prints
+//! (`Debug.Print`), `MsgBox` and every message go to standard error.
 
 use std::path::PathBuf;
 
@@ -111,6 +111,7 @@ pub fn run(args: RunArgs) -> Result<()> {
 fn run_on_this_thread(args: RunArgs, dialect_name: &'static str) -> Result<()> {
     let opened = ncsheet::io::open(&args.workbook)?;
     let mut wb = opened.workbook;
+    let formulas_before = if args.save.is_some() { formula_cells(&wb) } else { Vec::new() };
     let (file, source, sub) = macro_source(&args)?;
     let file = &file;
     let options = RunOptions {
@@ -153,6 +154,9 @@ fn run_on_this_thread(args: RunArgs, dialect_name: &'static str) -> Result<()> {
         files.push(ncsheet::io::encode_save(&wb, opened.layout.as_ref(), &opened.origin, save)?);
     }
     super::write_outputs(&files, false, args.force)?;
+    if let Some(save) = &args.save {
+        say_replaced_formulas(&wb, &formulas_before, save);
+    }
     if let Some(text) = program {
         emit(&text, None)?;
     }
@@ -173,13 +177,39 @@ fn macro_source(args: &RunArgs) -> Result<(PathBuf, String, Option<String>)> {
     Ok((place, module.source.clone(), sub))
 }
 
-fn print_output(out: &RunOutput) -> Result<()> {
-    use std::io::Write;
-    let mut stdout = std::io::stdout().lock();
-    for line in &out.printed {
-        writeln!(stdout, "{line}")?;
+fn formula_cells(wb: &ncsheet::workbook::Workbook) -> Vec<(u16, ncsheet::formula::address::Pos)> {
+    (0..wb.sheet_len() as u16)
+        .flat_map(|s| wb.values(s).into_iter().filter(move |(p, _)| wb.is_formula(s, *p)).map(move |(p, _)| (s, p)))
+        .collect()
+}
+
+/// A macro writing `Range(…).Value` over a formula cell leaves a constant there: the saved
+/// workbook no longer recomputes that cell, which the user must hear.
+fn say_replaced_formulas(
+    wb: &ncsheet::workbook::Workbook,
+    before: &[(u16, ncsheet::formula::address::Pos)],
+    save: &std::path::Path,
+) {
+    let replaced: Vec<String> =
+        before.iter().filter(|(s, p)| !wb.is_formula(*s, *p)).map(|&(s, p)| wb.cell_name(s, p)).collect();
+    if replaced.is_empty() {
+        return;
     }
-    stdout.flush()?;
+    let shown = replaced.iter().take(8).cloned().collect::<Vec<_>>().join(", ");
+    let more = if replaced.len() > 8 { format!(" and {} more", replaced.len() - 8) } else { String::new() };
+    eprintln!(
+        "ncsheet: {}: note: the macro wrote values over {} formula cells, saved as constants: {shown}{more}",
+        save.display(),
+        replaced.len()
+    );
+}
+
+/// What the macro printed goes to stderr: a line above `%` would stop a control reading a
+/// redirected program.
+fn print_output(out: &RunOutput) -> Result<()> {
+    for line in &out.printed {
+        eprintln!("{line}");
+    }
     for m in &out.messages {
         eprintln!("{m}");
     }

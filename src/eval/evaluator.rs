@@ -75,6 +75,8 @@ pub struct Ctx<'a> {
     pub sheet: SheetId,
     pub at: Pos,
     locals: Vec<(Rc<str>, Value)>,
+    /// LET names bound to a LAMBDA (`LET(f, LAMBDA(n, n*2), f(3))`), callable by name.
+    local_lambdas: Vec<(Rc<str>, Rc<Expr>)>,
     host: Option<&'a dyn Host>,
     depth: u32,
     /// Messages explaining error values, for the CLI to show.
@@ -119,6 +121,7 @@ impl<'a> Ctx<'a> {
             sheet,
             at,
             locals: Vec::new(),
+            local_lambdas: Vec::new(),
             host: None,
             depth: 0,
             notes: Vec::new(),
@@ -327,6 +330,14 @@ impl<'a> Ctx<'a> {
         out
     }
 
+    /// Evaluates `body` with `name` callable as the LAMBDA `lambda` (for LET).
+    pub fn with_local_lambda<T>(&mut self, name: Rc<str>, lambda: Rc<Expr>, body: impl FnOnce(&mut Ctx<'a>) -> T) -> T {
+        self.local_lambdas.push((name, lambda));
+        let out = body(self);
+        self.local_lambdas.pop();
+        out
+    }
+
     /// Calls a registered function by id with unevaluated arguments.
     pub fn call(&mut self, id: FnId, args: &[Expr]) -> Value {
         let v = match functions::spec(id).kind {
@@ -368,6 +379,10 @@ impl<'a> Ctx<'a> {
     /// evaluated here, are bound to the parameters and the body runs where the name lives, as a
     /// name's formula does. Any other unknown call is `#NAME?`; a wrong argument count `#VALUE!`.
     fn call_defined_lambda(&mut self, name: &str, args: &[Expr]) -> Value {
+        let local = self.local_lambdas.iter().rev().find(|(n, _)| n.eq_ignore_ascii_case(name));
+        if let Some(expr) = local.map(|(_, e)| e.clone()) {
+            return self.call_local_lambda(&expr, args);
+        }
         let Some((expr, sheet)) = self.env.defined_name(name, self.sheet) else { return Value::Error(XlError::Name) };
         let Some(lambda) = functions::as_lambda(&expr) else { return Value::Error(XlError::Name) };
         if lambda.params.len() != args.len() {
@@ -384,6 +399,25 @@ impl<'a> Ctx<'a> {
         let out = self.eval(lambda.body);
         self.depth -= 1;
         (self.sheet, self.at, self.locals) = saved;
+        out
+    }
+
+    /// A LET-bound LAMBDA called by its name: the body runs here, seeing the LET's names.
+    fn call_local_lambda(&mut self, expr: &Expr, args: &[Expr]) -> Value {
+        let Some(lambda) = functions::as_lambda(expr) else { return Value::Error(XlError::Name) };
+        if lambda.params.len() != args.len() {
+            return Value::Error(XlError::Value);
+        }
+        if self.depth >= MAX_DEPTH {
+            return Value::Error(XlError::Circ);
+        }
+        let values: Vec<Value> = args.iter().map(|a| self.eval(a)).collect();
+        let n = self.locals.len();
+        self.locals.extend(lambda.param_names().cloned().zip(values));
+        self.depth += 1;
+        let out = self.eval(lambda.body);
+        self.depth -= 1;
+        self.locals.truncate(n);
         out
     }
 

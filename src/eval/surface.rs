@@ -66,7 +66,11 @@ impl FormulaSurface {
     /// is allowed). Relative references are read from `ctx.at`.
     pub fn parse(text: &str, ctx: &ParseContext) -> Result<FormulaSurface, SurfaceDefError> {
         let e = parse_formula(text, ctx).map_err(SurfaceDefError::Parse)?;
-        FormulaSurface::from_expr(&e)
+        let surface = FormulaSurface::from_expr(&e)?;
+        if as_lambda(&e).is_none() {
+            refuse_cell_references(&e, text)?;
+        }
+        Ok(surface)
     }
 
     /// A `LAMBDA(x, y, body)`, or any other formula read as a function of `x` and `y`.
@@ -90,6 +94,22 @@ impl FormulaSurface {
     pub fn bind<'s, 'c, 'a>(&'s self, ctx: &'c mut Ctx<'a>) -> BoundSurface<'s, 'c, 'a> {
         BoundSurface { surface: self, ctx }
     }
+}
+
+/// A surface written as text names x, y and defined names, never cells: `x2+y2` (meant as
+/// x²+y²) would read cells X2 and Y2 as blank and give a flat surface without a word.
+fn refuse_cell_references(e: &Expr, text: &str) -> Result<(), SurfaceDefError> {
+    let mut first: Option<Span> = None;
+    e.visit(&mut |node| {
+        if matches!(node.kind, ExprKind::Ref(_)) && first.is_none() {
+            first = Some(node.span);
+        }
+    });
+    let Some(span) = first else { return Ok(()) };
+    let cell = text.get(span.start as usize..span.end as usize).unwrap_or("");
+    let message =
+        format!("{cell} is a cell reference; a surface names only x, y and defined names (x^2 for x squared)");
+    Err(SurfaceDefError::Parse(ParseError { offset: span.start as usize, message }))
 }
 
 /// Which of the three formulas failed.

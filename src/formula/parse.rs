@@ -186,20 +186,57 @@ impl ParseError {
     ///    ^ column 4: expected a value
     /// ```
     pub fn render(&self, text: &str) -> String {
-        let col = self.column(text);
+        let e = self.explained(text);
+        let col = e.column(text);
         // A long formula shows only the stretch around the place, so that the caret line
         // stays readable (a refused formula may be 100,000 characters long).
         const SHOWN: usize = 60;
         if text.chars().count() <= 2 * SHOWN {
-            return format!("{text}\n{}^ column {col}: {}", " ".repeat(col - 1), self.message);
+            return format!("{text}\n{}^ column {col}: {}", " ".repeat(col - 1), e.message);
         }
         let from = (col - 1).saturating_sub(SHOWN);
         let lead = if from > 0 { "…" } else { "" };
         let shown: String = text.chars().skip(from).take(2 * SHOWN).collect();
         let tail = if from + 2 * SHOWN < text.chars().count() { "…" } else { "" };
         let pad = lead.chars().count() + col - 1 - from;
-        format!("{lead}{shown}{tail}\n{}^ column {col}: {}", " ".repeat(pad), self.message)
+        format!("{lead}{shown}{tail}\n{}^ column {col}: {}", " ".repeat(pad), e.message)
     }
+
+    /// The error as a user can act on it: a `(` never closed is shown at the `(` itself, and
+    /// a `;` where an operator was expected is the argument separator of some locales.
+    fn explained(&self, text: &str) -> ParseError {
+        let rest = text.get(self.offset..).unwrap_or("");
+        if rest.starts_with(';') {
+            let message = format!("{}: arguments are separated by , (not ;)", self.message);
+            return ParseError::at(self.offset, message);
+        }
+        if rest.trim().is_empty() {
+            if let Some(open) = unclosed_paren(text) {
+                return ParseError::at(open, "this ( is never closed: a ) is missing");
+            }
+        }
+        self.clone()
+    }
+}
+
+/// The byte offset of the last `(` without its `)`, outside string literals and quoted
+/// sheet names.
+fn unclosed_paren(text: &str) -> Option<usize> {
+    let mut open = Vec::new();
+    let mut quote: Option<char> = None;
+    for (i, c) in text.char_indices() {
+        match (quote, c) {
+            (Some(q), c) if c == q => quote = None,
+            (Some(_), _) => {}
+            (None, '"' | '\'') => quote = Some(c),
+            (None, '(') => open.push(i),
+            (None, ')') => {
+                open.pop();
+            }
+            _ => {}
+        }
+    }
+    open.last().copied()
 }
 
 /// Parses a formula (with or without its leading `=`).
@@ -423,7 +460,8 @@ impl Builder<'_, '_> {
             args.clear();
         }
         let Some(info) = self.ctx.functions.lookup(name) else {
-            return Ok((Expr::new(ExprKind::UnknownCall(name.to_ascii_uppercase().into(), args), span), depth + 1));
+            // Kept as typed: it may be a LET or defined name's LAMBDA (`f(1)`), shown as written.
+            return Ok((Expr::new(ExprKind::UnknownCall(name.into(), args), span), depth + 1));
         };
         if args.len() < info.min_args || args.len() > info.max_args {
             let canonical = self.ctx.functions.name(info.id);

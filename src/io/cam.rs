@@ -102,29 +102,44 @@ const SVG_SAMPLES_PER_DEG: f64 = 4.0;
 /// green, numbered in cutting order), their centres (grey crosses; a centre outside the
 /// drawing is shown as a short tick towards it) and the deviation magnified along the radius
 /// (red): where the red line lies outside the black one, the arcs lie outside the curve.
+/// The frame fits the drawn curve; axes through the cam centre carry angle marks every 30°,
+/// a scale bar gives millimetres, and a legend under the drawing says what each colour is.
+/// Labels are placed so that no two overlap (a label with no free place is left out).
 pub fn svg_drawing(fit: &CamFit, options: &SvgOptions) -> String {
     let r_max = fit.segments.iter().map(|s| s.segment.piece.r0.max(s.segment.piece.r1)).fold(10.0, f64::max);
-    let half = r_max * 1.2;
     let magnify = options.magnify.unwrap_or(4.0 / fit.tolerance);
-    let stroke = half / 500.0;
+    let curves: Vec<Vec<Point2<f64>>> = fit
+        .segments
+        .iter()
+        .map(|s| {
+            let piece = &s.segment.piece;
+            let n = ((piece.phi1_deg - piece.phi0_deg).abs() * SVG_SAMPLES_PER_DEG).ceil().max(8.0) as usize;
+            (0..=n).map(|i| piece.point(i as f64 / n as f64)).collect()
+        })
+        .collect();
+    // The frame: the curve and the cam centre, with room for angle labels around.
+    let (mut lo, mut hi) = (Point2::<f64>::origin(), Point2::<f64>::origin());
+    for q in curves.iter().flatten() {
+        lo = Point2::new(lo.x.min(q.x), lo.y.min(q.y));
+        hi = Point2::new(hi.x.max(q.x), hi.y.max(q.y));
+    }
+    let unit = r_max / 25.0;
+    let margin = 4.5 * unit;
+    let (x0, x1, y0, y1) = (lo.x - margin, hi.x + margin, -hi.y - margin, -lo.y + margin);
+    let font = unit * 0.9;
+    let legend_lines = 5.0;
+    let legend_h = (legend_lines + 1.5) * font * 1.4;
+    let (w, h) = (x1 - x0, y1 - y0 + legend_h);
+    let stroke = r_max / 600.0;
     let mut svg = String::new();
+    let mut labels = Labels { boxes: Vec::new(), bounds: [x0, y0, x0 + w, y0 + h] };
     let _ = writeln!(
         svg,
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{w}\" viewBox=\"{} {} {} {}\">",
-        -half,
-        -half,
-        2.0 * half,
-        2.0 * half,
-        w = options.width
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{:.0}\" height=\"{:.0}\" viewBox=\"{x0:.3} {y0:.3} {w:.3} {h:.3}\" font-family=\"sans-serif\">",
+        options.width,
+        options.width * h / w
     );
-    let _ = writeln!(
-        svg,
-        "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"white\"/>",
-        -half,
-        -half,
-        2.0 * half,
-        2.0 * half
-    );
+    let _ = writeln!(svg, "<rect x=\"{x0:.3}\" y=\"{y0:.3}\" width=\"{w:.3}\" height=\"{h:.3}\" fill=\"white\"/>");
     let title = format!(
         "disc {} | H = {} mm | {} arcs | deviation x{}",
         if fit.disc.is_empty() { "-" } else { &fit.disc },
@@ -132,21 +147,10 @@ pub fn svg_drawing(fit: &CamFit, options: &SvgOptions) -> String {
         fit.n_arcs(),
         fixed(magnify, 0)
     );
-    let _ = writeln!(
-        svg,
-        "<text x=\"{}\" y=\"{}\" font-size=\"{}\">{}</text>",
-        -half * 0.97,
-        -half * 0.92,
-        half / 30.0,
-        xml(&title)
-    );
-    // The cam centre.
-    cross(&mut svg, Point2::origin(), half / 40.0, stroke, "black");
-    for s in &fit.segments {
-        let piece = &s.segment.piece;
-        let n = ((piece.phi1_deg - piece.phi0_deg).abs() * SVG_SAMPLES_PER_DEG).ceil().max(8.0) as usize;
-        let curve: Vec<Point2<f64>> = (0..=n).map(|i| piece.point(i as f64 / n as f64)).collect();
-        polyline(&mut svg, &curve, stroke, "black");
+    labels.place(&mut svg, &[Point2::new(x0 + font, y0 + 1.3 * font)], &title, font, "black", "start");
+    axes(&mut svg, &mut labels, r_max, (x0, x1, y0, y1), stroke, font);
+    for (s, curve) in fit.segments.iter().zip(&curves) {
+        polyline(&mut svg, curve, stroke, "black");
         let magnified: Vec<Point2<f64>> = curve
             .iter()
             .map(|&q| {
@@ -162,24 +166,149 @@ pub fn svg_drawing(fit: &CamFit, options: &SvgOptions) -> String {
         arc_path(&mut svg, a, 3.0 * stroke, colour);
         let mid = a.point_at(0.5);
         let towards_centre = (a.centre - mid).normalize();
-        let label = mid - towards_centre * (half / 25.0);
-        let _ = writeln!(
-            svg,
-            "<text x=\"{:.3}\" y=\"{:.3}\" font-size=\"{:.3}\" fill=\"{colour}\" text-anchor=\"middle\">{}</text>",
-            label.x,
-            -label.y,
-            half / 45.0,
-            i + 1
-        );
-        if a.centre.x.abs() < half && a.centre.y.abs() < half {
-            cross(&mut svg, a.centre, half / 80.0, stroke, "grey");
+        // Outward from the curve, farther and farther until the number finds a free place.
+        let candidates: Vec<Point2<f64>> = (1..=8)
+            .map(|k| mid - towards_centre * (unit * (0.8 + 0.7 * k as f64)))
+            .map(|p| Point2::new(p.x, -p.y + 0.35 * font))
+            .collect();
+        labels.place(&mut svg, &candidates, &(i + 1).to_string(), 0.8 * font, colour, "middle");
+        let inside = (x0..x1).contains(&a.centre.x) && (y0..y1).contains(&-a.centre.y);
+        if inside {
+            cross(&mut svg, a.centre, unit / 3.0, stroke, "grey");
         } else {
-            let tick = mid + towards_centre * (half / 12.0);
+            let tick = mid + towards_centre * (2.0 * unit);
             polyline(&mut svg, &[mid, tick], stroke, "grey");
         }
     }
+    scale_bar(&mut svg, &mut labels, r_max, (x0, y1), stroke, font);
+    legend(&mut svg, &mut labels, magnify, (x0, y1 + 2.2 * font), stroke, font);
     svg.push_str("</svg>\n");
     svg
+}
+
+/// Axes through the cam centre and a mark every 30° on a circle just outside the curve.
+fn axes(svg: &mut String, labels: &mut Labels, r_max: f64, frame: (f64, f64, f64, f64), stroke: f64, font: f64) {
+    let (x0, x1, y0, y1) = frame;
+    let _ = writeln!(
+        svg,
+        "<path d=\"M {x0:.3} 0 H {x1:.3} M 0 {y0:.3} V {y1:.3}\" stroke=\"#999\" stroke-width=\"{stroke:.4}\" stroke-dasharray=\"{:.3} {:.3}\"/>",
+        6.0 * stroke,
+        4.0 * stroke
+    );
+    let r = r_max * 1.04;
+    for k in 0..12 {
+        let deg = k as f64 * 30.0;
+        let (sin, cos) = deg.to_radians().sin_cos();
+        let (a, b) = (Point2::new(r * cos, r * sin), Point2::new((r + font) * cos, (r + font) * sin));
+        if a.x < x0 || a.x > x1 || -a.y < y0 || -a.y > y1 {
+            continue;
+        }
+        polyline(svg, &[a, b], stroke, "#666");
+        let at = Point2::new((r + 2.2 * font) * cos, -(r + 2.2 * font) * sin + 0.35 * font);
+        labels.place(svg, &[at], &format!("{deg:.0}°"), 0.8 * font, "#444", "middle");
+    }
+}
+
+/// A bar of a round length (1, 2 or 5 × 10ⁿ mm, about a fifth of the largest radius).
+fn scale_bar(svg: &mut String, labels: &mut Labels, r_max: f64, corner: (f64, f64), stroke: f64, font: f64) {
+    let target = r_max / 5.0;
+    let power = 10f64.powf(target.log10().floor());
+    let length = [1.0, 2.0, 5.0, 10.0].into_iter().map(|m| m * power).rfind(|&l| l <= target).unwrap_or(power);
+    let (x, y) = (corner.0 + font, corner.1 - font);
+    let _ = writeln!(
+        svg,
+        "<path d=\"M {x:.3} {:.3} V {y:.3} H {:.3} V {:.3}\" fill=\"none\" stroke=\"black\" stroke-width=\"{:.4}\"/>",
+        y - 0.5 * font,
+        x + length,
+        y - 0.5 * font,
+        2.0 * stroke
+    );
+    labels.place(
+        svg,
+        &[Point2::new(x + length + 0.5 * font, y)],
+        &format!("{} mm", fixed(length, 0)),
+        0.8 * font,
+        "black",
+        "start",
+    );
+}
+
+/// What each line of the drawing is, under it.
+fn legend(svg: &mut String, labels: &mut Labels, magnify: f64, corner: (f64, f64), stroke: f64, font: f64) {
+    let m = fixed(magnify, 0);
+    let rows = [
+        ("black", "theoretical cam curve"),
+        ("#1f5fd0", "fitted arcs (blue and green by turns), numbered in cutting order"),
+        ("grey", "arc centres (a tick points to a centre off the drawing)"),
+        ("red", &*format!("deviation of the arcs from the curve, magnified x{m} along the radius")),
+        ("white", "red outside black: the arcs cut outside the curve; inside: into it"),
+    ];
+    let (x, mut y) = corner;
+    for (colour, text) in rows {
+        if colour != "white" {
+            let _ = writeln!(
+                svg,
+                "<path d=\"M {x:.3} {:.3} h {:.3}\" stroke=\"{colour}\" stroke-width=\"{:.4}\"/>",
+                y - 0.3 * font,
+                2.0 * font,
+                3.0 * stroke
+            );
+        }
+        labels.place(svg, &[Point2::new(x + 2.6 * font, y)], text, 0.8 * font, "black", "start");
+        y += 1.4 * font;
+    }
+}
+
+/// Text labels placed so that none overlaps another: each takes the first of its candidate
+/// places whose box (estimated from the font size) is free and inside the drawing.
+struct Labels {
+    boxes: Vec<[f64; 4]>,
+    bounds: [f64; 4],
+}
+
+impl Labels {
+    fn place(
+        &mut self,
+        svg: &mut String,
+        candidates: &[Point2<f64>],
+        text: &str,
+        size: f64,
+        colour: &str,
+        anchor: &str,
+    ) {
+        for at in candidates {
+            let b = text_box(at.x, at.y, size, text, anchor);
+            let inside =
+                b[0] >= self.bounds[0] && b[1] >= self.bounds[1] && b[2] <= self.bounds[2] && b[3] <= self.bounds[3];
+            if inside && self.boxes.iter().all(|o| !boxes_overlap(o, &b)) {
+                self.boxes.push(b);
+                let _ = writeln!(
+                    svg,
+                    "<text x=\"{:.3}\" y=\"{:.3}\" font-size=\"{size:.3}\" fill=\"{colour}\" text-anchor=\"{anchor}\">{}</text>",
+                    at.x,
+                    at.y,
+                    xml(text)
+                );
+                return;
+            }
+        }
+    }
+}
+
+/// The box a text covers (x0, y0, x1, y1), with a sans-serif glyph taken as 0.66 em wide
+/// (DejaVu Sans digits are 0.636 em), from above the cap height to below the baseline.
+fn text_box(x: f64, y: f64, size: f64, text: &str, anchor: &str) -> [f64; 4] {
+    let width = 0.66 * size * text.chars().count() as f64;
+    let left = match anchor {
+        "middle" => x - width / 2.0,
+        "end" => x - width,
+        _ => x,
+    };
+    [left, y - 0.85 * size, left + width, y + 0.25 * size]
+}
+
+fn boxes_overlap(a: &[f64; 4], b: &[f64; 4]) -> bool {
+    a[0] < b[2] && b[0] < a[2] && a[1] < b[3] && b[1] < a[3]
 }
 
 /// Distance from `q` to the nearest arc, positive where that arc passes outside the curve

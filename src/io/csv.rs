@@ -45,7 +45,8 @@ impl fmt::Display for Malformed {
 /// The name of the one sheet of a csv file.
 pub const SHEET_NAME: &str = "Sheet1";
 
-/// Reads csv text into a new, recalculated workbook with one sheet.
+/// Reads csv text into a new, recalculated workbook with one sheet; the delimiter is
+/// detected ([`delimiter_of`]).
 pub fn read(bytes: &[u8]) -> Result<Workbook, Malformed> {
     read_original(bytes).map(|(wb, _)| wb)
 }
@@ -55,6 +56,8 @@ pub fn read(bytes: &[u8]) -> Result<Workbook, Malformed> {
 #[derive(Clone, Debug, Default)]
 pub struct Original {
     bom: bool,
+    /// `,` or `;`, as detected on reading: untouched fields are joined with it again.
+    delimiter: u8,
     rows: Vec<RawRow>,
 }
 
@@ -69,14 +72,15 @@ struct RawRow {
 /// [`read`], also returning the file's text by row and field for [`write_edited`].
 pub fn read_original(bytes: &[u8]) -> Result<(Workbook, Original), Malformed> {
     let bom = bytes.starts_with(b"\xEF\xBB\xBF");
-    let wb = read_text(bytes)?;
+    let wb = read_with(bytes, None)?;
     let text = std::str::from_utf8(&bytes[if bom { 3 } else { 0 }..]).expect("checked by read_text");
-    Ok((wb, Original { bom, rows: raw_rows(text) }))
+    let delimiter = delimiter_of(text.as_bytes());
+    Ok((wb, Original { bom, delimiter, rows: raw_rows(text, delimiter) }))
 }
 
 /// Splits csv text into rows (blank lines included) of raw fields, by the rules of
 /// [`record_starts`]: a `"` opens a quoted field only at a field's start.
-fn raw_rows(text: &str) -> Vec<RawRow> {
+fn raw_rows(text: &str, delimiter: u8) -> Vec<RawRow> {
     let bytes = text.as_bytes();
     let mut rows = Vec::new();
     let mut row = RawRow::default();
@@ -112,7 +116,7 @@ fn raw_rows(text: &str) -> Vec<RawRow> {
             at_field_start = true;
             continue;
         }
-        if b == b',' {
+        if b == delimiter {
             row.fields.push(text[field_start..i].to_string());
             field_start = i + 1;
             at_field_start = true;
@@ -161,7 +165,7 @@ pub fn write_edited(wb: &Workbook, original: &Original, edited: &[Pos], out: &mu
     }
     let mut buf = io::BufWriter::new(out);
     for row in &rows {
-        buf.write_all(row.fields.join(",").as_bytes())?;
+        buf.write_all(row.fields.join(&char::from(original.delimiter).to_string()).as_bytes())?;
         buf.write_all(row.ending.as_bytes())?;
     }
     buf.flush()
@@ -176,17 +180,21 @@ fn quoted(text: &str) -> String {
     }
 }
 
-fn read_text(bytes: &[u8]) -> Result<Workbook, Malformed> {
+/// [`read`] with a given delimiter (`None`: detect it). In a `;`-separated file, written by
+/// a spreadsheet whose locale writes decimal commas, `0,8` is the number 0.8.
+pub fn read_with(bytes: &[u8], delimiter: Option<u8>) -> Result<Workbook, Malformed> {
     let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     let text = std::str::from_utf8(bytes).map_err(|e| {
         let line = 1 + bytes[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count() as u64;
         Malformed { line, message: "not UTF-8 text (save the csv as UTF-8)".into() }
     })?;
-    let starts = record_starts(text)?;
+    let delimiter = delimiter.unwrap_or_else(|| delimiter_of(text.as_bytes()));
+    let starts = record_starts(text, delimiter)?;
 
     let mut wb = Workbook::new();
     let sheet = wb.add_sheet(SHEET_NAME).expect("a new workbook has no sheets");
-    let mut reader = ::csv::ReaderBuilder::new().has_headers(false).flexible(true).from_reader(text.as_bytes());
+    let mut reader =
+        ::csv::ReaderBuilder::new().has_headers(false).flexible(true).delimiter(delimiter).from_reader(text.as_bytes());
     let mut record = ::csv::StringRecord::new();
     for start in &starts {
         let more = reader
@@ -205,7 +213,8 @@ fn read_text(bytes: &[u8]) -> Result<Workbook, Malformed> {
             if !field.is_empty() {
                 // A formula that does not parse stays in its cell as `#NAME?` and is listed
                 // by `Workbook::problems`: one bad cell does not stop the file loading.
-                let _ = wb.set_input_deferred(sheet, Pos::new(start.row, col as u32), field);
+                let field = if delimiter == b';' { decimal_point(field) } else { field.into() };
+                let _ = wb.set_input_deferred(sheet, Pos::new(start.row, col as u32), &field);
             }
         }
     }
@@ -226,7 +235,54 @@ struct RecordStart {
 /// running to the end of the file. Follows the reader's rules: a `"` opens a quoted field
 /// only at the start of a field, `""` inside one is a quote, and `\n`, `\r\n` or `\r` ends
 /// a record.
-fn record_starts(text: &str) -> Result<Vec<RecordStart>, Malformed> {
+/// `;` when the file's first lines are `;`-separated (each holds the same number of `;`
+/// outside quotes, and not as many `,`), else `,`.
+pub fn delimiter_of(bytes: &[u8]) -> u8 {
+    let lines: Vec<(usize, usize)> = bytes
+        .split(|&b| b == b'\n')
+        .filter(|l| !l.iter().all(u8::is_ascii_whitespace))
+        .take(20)
+        .map(|line| {
+            let mut quoted = false;
+            let (mut semicolons, mut commas) = (0, 0);
+            for &b in line {
+                match b {
+                    b'"' => quoted = !quoted,
+                    b';' if !quoted => semicolons += 1,
+                    b',' if !quoted => commas += 1,
+                    _ => {}
+                }
+            }
+            (semicolons, commas)
+        })
+        .collect();
+    let Some(&(first, _)) = lines.first() else { return b',' };
+    let consistent = first > 0 && lines.iter().all(|&(s, _)| s == first);
+    let commas_separate = lines.iter().all(|&(_, c)| c > 0 && c == lines[0].1) && lines[0].1 >= first;
+    if consistent && !commas_separate {
+        b';'
+    } else {
+        b','
+    }
+}
+
+/// `0,8` → `0.8`, `-12,5` → `-12.5`; anything else unchanged.
+fn decimal_point(field: &str) -> String {
+    let body = field.strip_prefix('-').unwrap_or(field);
+    match body.split_once(',') {
+        Some((whole, fraction))
+            if !whole.is_empty()
+                && !fraction.is_empty()
+                && whole.bytes().all(|b| b.is_ascii_digit())
+                && fraction.bytes().all(|b| b.is_ascii_digit()) =>
+        {
+            field.replacen(',', ".", 1)
+        }
+        _ => field.to_string(),
+    }
+}
+
+fn record_starts(text: &str, delimiter: u8) -> Result<Vec<RecordStart>, Malformed> {
     let bytes = text.as_bytes();
     let mut starts = Vec::new();
     let (mut row, mut line) = (0u32, 1u64);
@@ -267,7 +323,7 @@ fn record_starts(text: &str) -> Result<Vec<RecordStart>, Malformed> {
             if at_field_start && b == b'"' {
                 quote_opened = Some(line);
             }
-            at_field_start = b == b',';
+            at_field_start = b == delimiter;
         }
         i += 1;
     }
@@ -328,7 +384,7 @@ mod tests {
     use super::*;
 
     fn starts(text: &str) -> Vec<(u32, u64)> {
-        record_starts(text).unwrap().into_iter().map(|s| (s.row, s.line)).collect()
+        record_starts(text, b',').unwrap().into_iter().map(|s| (s.row, s.line)).collect()
     }
 
     #[test]
@@ -342,7 +398,7 @@ mod tests {
 
     #[test]
     fn raw_rows_keep_fields_quotes_and_endings() {
-        let rows = raw_rows("a,\"1,2\"\r\n\n\"x\ny\",007,\nlast");
+        let rows = raw_rows("a,\"1,2\"\r\n\n\"x\ny\",007,\nlast", b',');
         let f = |r: &RawRow| r.fields.clone();
         assert_eq!(rows.len(), 4);
         assert_eq!(f(&rows[0]), ["a", "\"1,2\""]);
@@ -355,10 +411,10 @@ mod tests {
 
     #[test]
     fn an_unterminated_quote_names_the_line_it_opened_on() {
-        let err = record_starts("a,b\nc,\"d\ne\n").unwrap_err();
+        let err = record_starts("a,b\nc,\"d\ne\n", b',').unwrap_err();
         assert_eq!(err, Malformed { line: 2, message: err.message.clone() });
         // A quote inside an unquoted field is a literal character, as the reader takes it.
-        assert!(record_starts("ab\"c\n").is_ok());
+        assert!(record_starts("ab\"c\n", b',').is_ok());
     }
 
     #[test]

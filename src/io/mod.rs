@@ -99,15 +99,39 @@ impl fmt::Display for Error {
         write!(f, "{}: ", self.path.display())?;
         match &self.kind {
             ErrorKind::Read(e) => write!(f, "cannot read: {e}"),
-            ErrorKind::Write(e) => write!(f, "cannot write: {e}"),
+            ErrorKind::Write(e) => match missing_folder(&self.path, e) {
+                Some(folder) => write!(f, "cannot write: the folder {} does not exist", folder.display()),
+                None => write!(f, "cannot write: {e}"),
+            },
             ErrorKind::Malformed { line, message } => write!(f, "line {line}: {message}"),
-            ErrorKind::UnknownFormat => write!(f, "unknown file type (ncsheet reads and writes .csv, .xlsx and .xlsm)"),
+            ErrorKind::UnknownFormat => {
+                write!(f, "unknown file type (ncsheet reads and writes .csv, .xlsx and .xlsm)")?;
+                f.write_str(conversion_advice(&self.path))
+            }
             ErrorKind::Xlsx { part: Some(part), message } => write!(f, "{part}: {message}"),
             ErrorKind::Xlsx { part: None, message } => f.write_str(message),
             ErrorKind::OneSheetOnly { sheets } => {
                 write!(f, "a csv file holds one sheet and the workbook has {sheets}; export one with --sheet")
             }
         }
+    }
+}
+
+/// The folder of `path` when a write failed because it does not exist.
+fn missing_folder<'a>(path: &'a Path, e: &std::io::Error) -> Option<&'a Path> {
+    let folder = path.parent().filter(|p| !p.as_os_str().is_empty())?;
+    (e.kind() == std::io::ErrorKind::NotFound && !folder.is_dir()).then_some(folder)
+}
+
+/// What to do with a spreadsheet file of another program.
+fn conversion_advice(path: &Path) -> &'static str {
+    let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
+    match ext.as_deref() {
+        Some("xls" | "ods" | "xlsb" | "fods" | "numbers") => {
+            "; save it as .xlsx from Excel or LibreOffice (File > Save As), or convert it: \
+             soffice --headless --convert-to xlsx FILE"
+        }
+        _ => "",
     }
 }
 
@@ -175,7 +199,11 @@ pub fn open(path: &Path) -> Result<Opened, Error> {
             let bytes = std::fs::read(path).map_err(|e| Error::new(path, ErrorKind::Read(e)))?;
             let (mut workbook, original) = csv::read_original(&bytes).map_err(|m| Error::new(path, m.into()))?;
             workbook.track_changes();
-            Ok(Opened { workbook, cached: Vec::new(), layout: None, notes: Vec::new(), origin: Origin::Csv(original) })
+            let mut notes = Vec::new();
+            if csv::delimiter_of(&bytes) == b';' {
+                notes.push("read as ;-separated values (decimal commas as numbers)".to_string());
+            }
+            Ok(Opened { workbook, cached: Vec::new(), layout: None, notes, origin: Origin::Csv(original) })
         }
         Format::Xlsx => {
             let mut imported = xlsx::load(path)?;

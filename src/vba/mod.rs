@@ -126,7 +126,7 @@ impl Default for RunOptions {
 /// What a macro produced. Cell writes are already in the workbook.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RunOutput {
-    /// `Debug.Print` lines, for standard output.
+    /// `Debug.Print` lines, for standard error (stdout carries only the program).
     pub printed: Vec<String>,
     /// `MsgBox` texts, for standard error.
     pub messages: Vec<String>,

@@ -505,6 +505,11 @@ impl Interp<'_, '_> {
 
     fn nc_member(&self, ctx: &mut Ctx, link: &Link) -> Run<Obj> {
         let name = lower(link);
+        // `Nc.Feed 0.1`, a statement as a VBA user writes it, sets the feed as `Nc.Feed = 0.1`.
+        if let (Some([arg]), "feed") = (link.args.as_deref(), name.as_str()) {
+            self.set_nc("feed", &arg.value, link.span)?;
+            return Ok(Obj::Value(Value::Blank));
+        }
         let out = self.out.borrow();
         let property = match name.as_str() {
             "name" => Some(Value::text(out.program.name.clone())),

@@ -16,6 +16,7 @@ use crate::formula::parse::{parse_formula, ParseContext, ParseError};
 use crate::formula::print::{print_formula, quote_sheet_name};
 
 mod graph;
+mod inspect;
 mod recalc;
 mod shared;
 mod sheet;

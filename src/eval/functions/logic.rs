@@ -316,8 +316,14 @@ fn bind_names(ctx: &mut Ctx, args: &[Expr]) -> Value {
     let ExprKind::Name(name) = &name.kind else {
         return Value::Error(XlError::Value);
     };
-    let value = ctx.eval(value);
     let name: Rc<str> = name.clone();
+    if as_lambda(value).is_some() {
+        let lambda = Rc::new(value.clone());
+        let value = ctx.eval(value);
+        return ctx
+            .with_local(name.clone(), value, |ctx| ctx.with_local_lambda(name, lambda, |ctx| bind_names(ctx, rest)));
+    }
+    let value = ctx.eval(value);
     ctx.with_local(name, value, |ctx| bind_names(ctx, rest))
 }
 

@@ -32,6 +32,7 @@ pub mod vba;
 
 pub use geometry::{describe_gouge, formula_ball_path};
 pub use logic::{as_lambda, Lambda};
+pub use text_format::NumberFormat;
 
 /// A function body that returns a value.
 pub type ValueFn = fn(&mut Ctx, &[Expr]) -> XlResult<Value>;

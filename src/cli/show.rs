@@ -1,0 +1,129 @@
+//! `ncsheet show FILE CELL…`: what is inside a cell — its formula as typed, its value in
+//! full and as its number format shows it, the cells it reads and the cells that read it.
+//! The repl's `show CELL` prints the same.
+
+use std::io::{self, BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+use ncsheet::formula::address::{Pos, Rect};
+use ncsheet::formula::ast::SheetId;
+use ncsheet::workbook::Workbook;
+
+use super::output::Shown;
+use super::report::Result;
+use super::target::{parse_target, Target};
+
+/// Show cells inside: formula as typed, value, number format, the cells each reads and the
+/// cells that read it.
+#[derive(Debug, Args)]
+pub struct ShowArgs {
+    /// The workbook (.csv, .xlsx, .xlsm)
+    pub file: PathBuf,
+    /// Cells or defined names: B3, Outer!G6, XA (a range shows each of its cells)
+    #[arg(value_name = "CELL", required = true, value_parser = parse_target)]
+    pub cells: Vec<Target>,
+    /// The sheet of cells named without one (default: the first)
+    #[arg(long, value_name = "NAME")]
+    pub sheet: Option<String>,
+}
+
+pub fn run(args: ShowArgs) -> Result<()> {
+    let opened = super::open(&args.file)?;
+    let wb = &opened.workbook;
+    let sheet = super::default_sheet(wb, &args.file, args.sheet.as_deref())?;
+    let shown = Shown { layout: opened.layout.as_ref(), ..Shown::default() };
+    let mut out = BufWriter::new(io::stdout().lock());
+    for (i, t) in args.cells.iter().enumerate() {
+        let s = super::locate(wb, &args.file, t, sheet)?;
+        if i > 0 {
+            writeln!(out)?;
+        }
+        out.write_all(describe_rect(wb, &shown, s.sheet, s.rect, s.label.as_deref()).as_bytes())?;
+    }
+    out.flush()?;
+    Ok(())
+}
+
+/// Each cell of a rectangle, described; a blank line between cells.
+pub fn describe_rect(wb: &Workbook, shown: &Shown, sheet: SheetId, rect: Rect, label: Option<&str>) -> String {
+    let mut parts = Vec::new();
+    for row in rect.first.row..=rect.last.row {
+        for col in rect.first.col..=rect.last.col {
+            parts.push(describe(wb, shown, sheet, Pos::new(row, col), label.filter(|_| rect.is_cell())));
+        }
+    }
+    parts.join("\n")
+}
+
+/// One cell as lines of `field  text`.
+pub fn describe(wb: &Workbook, shown: &Shown, sheet: SheetId, pos: Pos, label: Option<&str>) -> String {
+    let mut lines: Vec<(&str, String)> = Vec::new();
+    let title = wb.cell_name(sheet, pos);
+    let names = names_of(wb, sheet, Rect::cell(pos));
+    let title = match (label, names.is_empty()) {
+        (Some(l), _) => format!("{title} ({l})"),
+        (None, false) => format!("{title} ({})", names.join(", ")),
+        (None, true) => title,
+    };
+    if let Some(f) = wb.formula(sheet, pos) {
+        lines.push(("formula", f));
+    } else if let Some(input) = wb.input(sheet, pos) {
+        lines.push(("input", input));
+    }
+    let value = wb.value(sheet, pos);
+    let full = Shown { layout: shown.layout, raw: true, formulas: false, width: shown.width };
+    lines.push(("value", if value.is_blank() { "(blank)".into() } else { full.text(wb, sheet, pos) }));
+    if let Some(code) = shown.format_code(wb, sheet, pos) {
+        lines.push(("format", code.to_string()));
+        lines.push(("shown", shown.text(wb, sheet, pos)));
+    }
+    for note in wb.notes(sheet, pos) {
+        lines.push(("note", note));
+    }
+    let reads: Vec<String> = wb.precedents(sheet, pos).into_iter().map(|(s, r)| place(wb, sheet, s, r)).collect();
+    if !reads.is_empty() {
+        lines.push(("reads", reads.join(", ")));
+    }
+    let read_by: Vec<String> =
+        wb.dependents(sheet, pos).into_iter().map(|(s, p)| place(wb, sheet, s, Rect::cell(p))).collect();
+    if !read_by.is_empty() {
+        lines.push(("read by", read_by.join(", ")));
+    }
+    let mut text = format!("{title}\n");
+    for (field, value) in lines {
+        text.push_str(&format!("  {field:<8} {value}\n"));
+    }
+    text
+}
+
+/// `B3`, `Outer!B3 (D)`: the sheet when it is another one, and the names that point there.
+fn place(wb: &Workbook, from: SheetId, sheet: SheetId, rect: Rect) -> String {
+    let mut text = if sheet == from {
+        rect.to_string()
+    } else {
+        let cell = wb.cell_name(sheet, rect.first);
+        let sheet_part = &cell[..cell.rfind('!').unwrap_or(0)];
+        format!("{sheet_part}!{rect}")
+    };
+    let names = names_of(wb, sheet, rect);
+    if !names.is_empty() {
+        text.push_str(&format!(" ({})", names.join(", ")));
+    }
+    text
+}
+
+/// The defined names that point exactly at `rect`.
+fn names_of(wb: &Workbook, sheet: SheetId, rect: Rect) -> Vec<String> {
+    wb.names()
+        .into_iter()
+        .filter(|(name, _, scope)| wb.name_reference(name, scope.unwrap_or(sheet)) == Some((sheet, rect)))
+        .map(|(name, _, _)| name)
+        .collect()
+}
+
+/// For the repl: a file's cells described, as `show` does.
+pub fn describe_target(wb: &Workbook, file: &Path, target: &Target, sheet: SheetId) -> Result<String> {
+    let s = super::locate(wb, file, target, sheet)?;
+    Ok(describe_rect(wb, &Shown::default(), s.sheet, s.rect, s.label.as_deref()))
+}
