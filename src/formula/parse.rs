@@ -285,6 +285,18 @@ pub fn strip_future_prefix(name: &str) -> &str {
     name
 }
 
+/// The `_xlfn.` prefix a file put before a function name, in Excel's case, or "".
+fn file_prefix_of(name: &str) -> &'static str {
+    let starts = |prefix: &str| name.len() > prefix.len() && name[..prefix.len()].eq_ignore_ascii_case(prefix);
+    if starts("_xlfn._xlws.") {
+        "_xlfn._xlws."
+    } else if starts("_xlfn.") {
+        "_xlfn."
+    } else {
+        ""
+    }
+}
+
 struct Builder<'a, 'c> {
     ctx: &'a ParseContext<'c>,
     host: Option<&'a dyn HostPrimaries>,
@@ -363,7 +375,11 @@ impl Builder<'_, '_> {
             args.clear();
         }
         let Some(info) = self.ctx.functions.lookup(name) else {
-            return Ok(Expr::new(ExprKind::UnknownCall(name.to_ascii_uppercase().into(), args), span));
+            // A newer Excel function we lack keeps the prefix it was read with, so that it
+            // goes back to a file as it came.
+            let kept = file_prefix_of(name_pair.as_str());
+            let unknown = format!("{kept}{}", name.to_ascii_uppercase());
+            return Ok(Expr::new(ExprKind::UnknownCall(unknown.into(), args), span));
         };
         if args.len() < info.min_args || args.len() > info.max_args {
             let canonical = self.ctx.functions.name(info.id);
