@@ -18,19 +18,24 @@ use super::evaluator::{Ctx, Operand};
 use super::value::{Value, XlResult};
 
 pub mod args;
+mod combinatorics;
 mod criteria;
 mod date;
 mod dispersion;
 mod dynamic_ref;
+mod engineering;
+mod financial;
 mod geometry;
 mod info;
 mod logic;
 mod lookup;
 mod math;
 mod order;
+mod scalar;
 mod stats;
 mod text;
 mod text_format;
+mod text_more;
 pub mod vba;
 
 pub use geometry::{describe_gouge, formula_ball_path};
@@ -222,6 +227,10 @@ pub static REGISTRY: LazyLock<Vec<FnSpec>> = LazyLock::new(|| {
         lookup::FUNCTIONS,
         dynamic_ref::FUNCTIONS,
         text::FUNCTIONS,
+        text_more::FUNCTIONS,
+        engineering::FUNCTIONS,
+        financial::FUNCTIONS,
+        combinatorics::FUNCTIONS,
         info::FUNCTIONS,
         geometry::FUNCTIONS,
         vba::FUNCTIONS,
