@@ -19,6 +19,7 @@ use super::value::{Value, XlResult};
 
 pub mod args;
 mod combinatorics;
+mod complex;
 mod criteria;
 mod date;
 mod dispersion;
@@ -231,6 +232,7 @@ pub static REGISTRY: LazyLock<Vec<FnSpec>> = LazyLock::new(|| {
         engineering::FUNCTIONS,
         financial::FUNCTIONS,
         combinatorics::FUNCTIONS,
+        complex::FUNCTIONS,
         info::FUNCTIONS,
         geometry::FUNCTIONS,
         vba::FUNCTIONS,
