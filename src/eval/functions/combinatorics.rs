@@ -314,7 +314,7 @@ fn mdeterm(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 fn munit(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     scalar(ctx, args, &|a| {
         let n = a.num(0)?.trunc();
-        check(n >= 1.0 && n <= 1_048_576.0, XlError::Value)?;
+        check((1.0..=1_048_576.0).contains(&n), XlError::Value)?;
         to_value(&DMatrix::identity(n as usize, n as usize))
     })
 }

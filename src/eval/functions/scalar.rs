@@ -3,7 +3,7 @@
 
 use std::rc::Rc;
 
-use crate::eval::coerce::{to_bool, to_number, to_text};
+use crate::eval::coerce::{to_number, to_text};
 use crate::eval::evaluator::Ctx;
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
@@ -39,14 +39,6 @@ impl Scalars<'_> {
 
     pub fn text(&self, i: usize) -> XlResult<Rc<str>> {
         to_text(self.value(i))
-    }
-
-    pub fn bool_or(&self, i: usize, default: bool) -> XlResult<bool> {
-        if self.given(i) {
-            to_bool(self.value(i))
-        } else {
-            Ok(default)
-        }
     }
 }
 
