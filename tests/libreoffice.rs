@@ -705,7 +705,7 @@ fn unknown_functions(formula: &str) -> Vec<String> {
     let mut names = Vec::new();
     expr.visit(&mut |e| {
         if let ExprKind::UnknownCall(name, _) = &e.kind {
-            names.push(name.to_string());
+            names.push(ncsheet::formula::parse::strip_future_prefix(name).to_string());
         }
     });
     names

@@ -344,6 +344,18 @@ pub fn strip_future_prefix(name: &str) -> &str {
     name
 }
 
+/// The `_xlfn.` prefix a file put before a function name, in Excel's case, or "".
+fn file_prefix_of(name: &str) -> &'static str {
+    let starts = |prefix: &str| name.len() > prefix.len() && name[..prefix.len()].eq_ignore_ascii_case(prefix);
+    if starts("_xlfn._xlws.") {
+        "_xlfn._xlws."
+    } else if starts("_xlfn.") {
+        "_xlfn."
+    } else {
+        ""
+    }
+}
+
 struct Builder<'a, 'c> {
     ctx: &'a ParseContext<'c>,
     host: Option<&'a dyn HostPrimaries>,
@@ -460,8 +472,11 @@ impl Builder<'_, '_> {
             args.clear();
         }
         let Some(info) = self.ctx.functions.lookup(name) else {
-            // Kept as typed: it may be a LET or defined name's LAMBDA (`f(1)`), shown as written.
-            return Ok((Expr::new(ExprKind::UnknownCall(name.into(), args), span), depth + 1));
+            // Kept as typed (it may be a LET or defined name's LAMBDA, `f(1)`, shown as
+            // written); a newer Excel function we lack keeps the prefix it was read with, so
+            // that it goes back to a file as it came.
+            let unknown = format!("{}{name}", file_prefix_of(name_pair.as_str()));
+            return Ok((Expr::new(ExprKind::UnknownCall(unknown.into(), args), span), depth + 1));
         };
         if args.len() < info.min_args || args.len() > info.max_args {
             let canonical = self.ctx.functions.name(info.id);

@@ -428,6 +428,14 @@ impl Workbook {
         Some(format!("={text}"))
     }
 
+    /// Whether the cell's formula calls a volatile function (NOW, RAND): its value may
+    /// differ from any stored one with nothing changed.
+    pub fn calls_volatile(&self, sheet: SheetId, pos: Pos) -> bool {
+        let Some(id) = self.sheets.get(sheet as usize).and_then(|s| s.get(pos)) else { return false };
+        let cell = &self.cells[id as usize];
+        cell.formula != NO_FORMULA && self.formulas.get(cell.formula).volatile
+    }
+
     /// What a user would type to recreate the cell: its formula, or its constant.
     pub fn input(&self, sheet: SheetId, pos: Pos) -> Option<String> {
         if let Some(f) = self.formula(sheet, pos) {

@@ -14,7 +14,7 @@ use std::rc::Rc;
 
 use crate::eval::functions;
 use crate::formula::address::{Pos, MAX_COLS, MAX_ROWS};
-use crate::formula::ast::{ArrayLit, Expr, ExprKind, FnId, Reference};
+use crate::formula::ast::{ArrayLit, Expr, ExprKind, Reference};
 
 use super::graph::FxMap;
 
@@ -116,12 +116,11 @@ impl FormulaStore {
     /// order, are the literals of its text (then every text of that shape parses to the
     /// same tree but for those numbers), and when no function reads part of it as a tree.
     pub fn add_shape(&mut self, shape: &str, id: u32, literals: &[f64]) {
-        let as_trees: Vec<FnId> = READ_AS_TREES.iter().filter_map(|name| functions::find(name)).collect();
         let mut numbers = Vec::with_capacity(literals.len());
         let mut read_as_tree = false;
         self.formulas[id as usize].expr.visit(&mut |e| match e.kind {
             ExprKind::Number(n) => numbers.push(n),
-            ExprKind::Call(f, _) if as_trees.contains(&f) => read_as_tree = true,
+            ExprKind::Call(f, _) if functions::spec(f).reads_trees => read_as_tree = true,
             _ => {}
         });
         let same =
@@ -131,11 +130,6 @@ impl FormulaStore {
         }
     }
 }
-
-/// Functions whose arguments are read as trees, not only evaluated: the surface functions
-/// (BALLPATH) differentiate a LAMBDA's body, reading its numbers from the tree, where a
-/// shared tree holds another formula's numbers. Formulas calling them are not shared.
-const READ_AS_TREES: &[&str] = &["LAMBDA"];
 
 /// The shape of a relative key and the values of its number literals, from the literal
 /// spans [`relative_key_into`] recorded; `None` when a literal is not a plain finite number.

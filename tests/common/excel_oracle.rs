@@ -26,6 +26,7 @@ use ncsheet::eval::functions::{spec, Registry};
 use ncsheet::eval::testing::MapEnv;
 use ncsheet::eval::{Ctx, Operand, Value, XlError};
 use ncsheet::formula::ast::{BinOp, Expr, ExprKind, RefShape, SheetRef, UnaryOp};
+use ncsheet::formula::parse::strip_future_prefix;
 use ncsheet::formula::{parse_formula, ParseContext, Pos};
 
 use super::corpus::NOT_FROM_EXCEL;
@@ -385,7 +386,7 @@ fn out_of_scope(expr: &Expr, text: &str) -> Option<String> {
         ExprKind::Call(id, _) if VOLATILE.contains(&spec(*id).name) => {
             why.get_or_insert(format!("volatile: {}", spec(*id).name));
         }
-        ExprKind::UnknownCall(name, _) if VOLATILE.contains(&&**name) => {
+        ExprKind::UnknownCall(name, _) if VOLATILE.contains(&strip_future_prefix(name)) => {
             why.get_or_insert(format!("volatile: {name}"));
         }
         ExprKind::UnknownCall(name, _) => {

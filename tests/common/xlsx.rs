@@ -10,6 +10,7 @@ use ncsheet::eval::functions::spec;
 use ncsheet::eval::{Env, Value};
 use ncsheet::formula::address::{Pos, Rect};
 use ncsheet::formula::ast::{Expr, ExprKind, Reference, SheetId, UnaryOp};
+use ncsheet::formula::parse::strip_future_prefix;
 use ncsheet::io::xlsx::{CachedValue, Imported};
 use ncsheet::workbook::Workbook;
 
@@ -76,7 +77,7 @@ pub fn analyse(wb: &Workbook, sheet: SheetId, anchor: Pos) -> FormulaInfo {
     let mut names = Vec::new();
     expr.visit(&mut |e| match &e.kind {
         ExprKind::Call(id, _) => info.functions.push(spec(*id).name.to_string()),
-        ExprKind::UnknownCall(name, _) => info.unknown.push(name.to_string()),
+        ExprKind::UnknownCall(name, _) => info.unknown.push(strip_future_prefix(name).to_string()),
         ExprKind::Ref(r) => info.reads.extend(resolve(r, sheet, anchor)),
         ExprKind::Name(n) => names.push(n.clone()),
         _ => {}

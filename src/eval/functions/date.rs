@@ -39,7 +39,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "Serial number of a date written as text (2024-01-10, 1/10/2024, 10-Jan-2024)",
     ),
     FnSpec::value("DAY", 1, 1, day, "DAY(serial_number)", "Day of the month, 1 to 31"),
-    FnSpec::value("DAYS", 2, 2, days, "DAYS(end_date, start_date)", "Days from start_date to end_date"),
+    FnSpec::value("DAYS", 2, 2, days, "DAYS(end_date, start_date)", "Days from start_date to end_date").future(),
     FnSpec::value(
         "DAYS360",
         2,
@@ -65,7 +65,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "Last day of the month months after (or before) start_date",
     ),
     FnSpec::value("HOUR", 1, 1, hour, "HOUR(serial_number)", "Hour of the time, 0 to 23"),
-    FnSpec::value("ISOWEEKNUM", 1, 1, isoweeknum, "ISOWEEKNUM(date)", "ISO 8601 week number (weeks start on Monday)"),
+    FnSpec::value("ISOWEEKNUM", 1, 1, isoweeknum, "ISOWEEKNUM(date)", "ISO 8601 week number (weeks start on Monday)").future(),
     FnSpec::value("MINUTE", 1, 1, minute, "MINUTE(serial_number)", "Minute of the time, 0 to 59"),
     FnSpec::value("MONTH", 1, 1, month, "MONTH(serial_number)", "Month of the date, 1 to 12"),
     FnSpec::value(

@@ -8,7 +8,7 @@ use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
 use super::args::{numbers, numbers_a};
-use super::{FnSpec, MANY};
+use super::{ArgSet, FnSpec, MANY};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value(
@@ -18,7 +18,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         avedev,
         "AVEDEV(number1, [number2], ...)",
         "Mean absolute deviation from the mean",
-    ),
+    )
+    .range_args(ArgSet::ALL),
     FnSpec::value(
         "AVERAGEA",
         1,
@@ -26,8 +27,10 @@ pub const FUNCTIONS: &[FnSpec] = &[
         averagea,
         "AVERAGEA(value1, [value2], ...)",
         "Mean counting text in ranges as 0 and booleans as 1 or 0",
-    ),
-    FnSpec::value("DEVSQ", 1, MANY, devsq, "DEVSQ(number1, [number2], ...)", "Sum of squared deviations from the mean"),
+    )
+    .range_args(ArgSet::ALL),
+    FnSpec::value("DEVSQ", 1, MANY, devsq, "DEVSQ(number1, [number2], ...)", "Sum of squared deviations from the mean")
+        .range_args(ArgSet::ALL),
     FnSpec::value(
         "MAXA",
         1,
@@ -35,7 +38,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         maxa,
         "MAXA(value1, [value2], ...)",
         "Largest value counting text in ranges as 0 and booleans as 1 or 0",
-    ),
+    )
+    .range_args(ArgSet::ALL),
     FnSpec::value(
         "MINA",
         1,
@@ -43,8 +47,10 @@ pub const FUNCTIONS: &[FnSpec] = &[
         mina,
         "MINA(value1, [value2], ...)",
         "Smallest value counting text in ranges as 0 and booleans as 1 or 0",
-    ),
-    FnSpec::value("STDEV", 1, MANY, stdev_s, "STDEV(number1, [number2], ...)", "Sample standard deviation (STDEV.S)"),
+    )
+    .range_args(ArgSet::ALL),
+    FnSpec::value("STDEV", 1, MANY, stdev_s, "STDEV(number1, [number2], ...)", "Sample standard deviation (STDEV.S)")
+        .range_args(ArgSet::ALL),
     FnSpec::value(
         "STDEV.P",
         1,
@@ -52,7 +58,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         stdev_p,
         "STDEV.P(number1, [number2], ...)",
         "Standard deviation of a whole population",
-    ),
+    )
+    .future()
+    .range_args(ArgSet::ALL),
     FnSpec::value(
         "STDEV.S",
         1,
@@ -60,7 +68,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         stdev_s,
         "STDEV.S(number1, [number2], ...)",
         "Sample standard deviation; #DIV/0! below two numbers",
-    ),
+    )
+    .future()
+    .range_args(ArgSet::ALL),
     FnSpec::value(
         "STDEVA",
         1,
@@ -68,7 +78,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         stdev_a,
         "STDEVA(value1, [value2], ...)",
         "Sample standard deviation counting text in ranges as 0 and booleans as 1 or 0",
-    ),
+    )
+    .range_args(ArgSet::ALL),
     FnSpec::value(
         "STDEVP",
         1,
@@ -76,7 +87,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         stdev_p,
         "STDEVP(number1, [number2], ...)",
         "Standard deviation of a whole population (STDEV.P)",
-    ),
+    )
+    .range_args(ArgSet::ALL),
     FnSpec::value(
         "STDEVPA",
         1,
@@ -84,9 +96,13 @@ pub const FUNCTIONS: &[FnSpec] = &[
         stdev_pa,
         "STDEVPA(value1, [value2], ...)",
         "Population standard deviation counting text in ranges as 0 and booleans as 1 or 0",
-    ),
-    FnSpec::value("VAR", 1, MANY, var_s, "VAR(number1, [number2], ...)", "Sample variance (VAR.S)"),
-    FnSpec::value("VAR.P", 1, MANY, var_p, "VAR.P(number1, [number2], ...)", "Variance of a whole population"),
+    )
+    .range_args(ArgSet::ALL),
+    FnSpec::value("VAR", 1, MANY, var_s, "VAR(number1, [number2], ...)", "Sample variance (VAR.S)")
+        .range_args(ArgSet::ALL),
+    FnSpec::value("VAR.P", 1, MANY, var_p, "VAR.P(number1, [number2], ...)", "Variance of a whole population")
+        .future()
+        .range_args(ArgSet::ALL),
     FnSpec::value(
         "VAR.S",
         1,
@@ -94,7 +110,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         var_s,
         "VAR.S(number1, [number2], ...)",
         "Sample variance (divided by n - 1); #DIV/0! below two numbers",
-    ),
+    )
+    .future()
+    .range_args(ArgSet::ALL),
     FnSpec::value(
         "VARA",
         1,
@@ -102,8 +120,10 @@ pub const FUNCTIONS: &[FnSpec] = &[
         var_a,
         "VARA(value1, [value2], ...)",
         "Sample variance counting text in ranges as 0 and booleans as 1 or 0",
-    ),
-    FnSpec::value("VARP", 1, MANY, var_p, "VARP(number1, [number2], ...)", "Variance of a whole population (VAR.P)"),
+    )
+    .range_args(ArgSet::ALL),
+    FnSpec::value("VARP", 1, MANY, var_p, "VARP(number1, [number2], ...)", "Variance of a whole population (VAR.P)")
+        .range_args(ArgSet::ALL),
     FnSpec::value(
         "VARPA",
         1,
@@ -111,7 +131,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         var_pa,
         "VARPA(value1, [value2], ...)",
         "Population variance counting text in ranges as 0 and booleans as 1 or 0",
-    ),
+    )
+    .range_args(ArgSet::ALL),
 ];
 
 /// Which values a function reads: numbers only (VAR) or text and booleans too (VARA).

@@ -11,7 +11,7 @@ use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::formula::ast::{BinOp, Expr, ExprKind, SheetId};
 use crate::formula::parse::{parse_formula, ParseContext};
 
-use super::{FnSpec, Registry};
+use super::{ArgSet, FnSpec, Registry};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::reference(
@@ -31,6 +31,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "OFFSET(reference, rows, cols, [height], [width])",
         "The reference moved by rows and cols, with the given height and width (the original's by default)",
     )
+    .range_args(ArgSet::only(0))
     .volatile(),
 ];
 

@@ -6,7 +6,7 @@ use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
 use super::args::lift;
-use super::FnSpec;
+use super::{ArgSet, FnSpec};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("ISNUMBER", 1, 1, isnumber, "ISNUMBER(value)", "TRUE for a number"),
@@ -17,7 +17,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("ISERROR", 1, 1, iserror, "ISERROR(value)", "TRUE for any error"),
     FnSpec::value("ISERR", 1, 1, iserr, "ISERR(value)", "TRUE for any error but #N/A"),
     FnSpec::value("ISNA", 1, 1, isna, "ISNA(value)", "TRUE for #N/A"),
-    FnSpec::value("ISREF", 1, 1, isref, "ISREF(value)", "TRUE when the argument is a reference"),
+    FnSpec::value("ISREF", 1, 1, isref, "ISREF(value)", "TRUE when the argument is a reference")
+        .range_args(ArgSet::only(0)),
     FnSpec::value("NA", 0, 0, na, "NA()", "The #N/A error"),
     FnSpec::value(
         "ERROR.TYPE",

@@ -10,7 +10,7 @@ use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind, FnId};
 
 use super::args::{for_each_value, lift, lift_values, Source};
-use super::{FnSpec, MANY};
+use super::{ArgSet, FnSpec, MANY};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::reference(
@@ -28,7 +28,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         ifs,
         "IFS(condition1, value1, [condition2, value2], …)",
         "The value of the first TRUE condition; #N/A when none is",
-    ),
+    )
+    .future(),
     FnSpec::value(
         "IFERROR",
         2,
@@ -37,7 +38,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "IFERROR(value, value_if_error)",
         "value, or value_if_error when value is any error",
     ),
-    FnSpec::value("IFNA", 2, 2, ifna, "IFNA(value, value_if_na)", "value, or value_if_na when value is #N/A"),
+    FnSpec::value("IFNA", 2, 2, ifna, "IFNA(value, value_if_na)", "value, or value_if_na when value is #N/A").future(),
     FnSpec::value(
         "AND",
         1,
@@ -45,7 +46,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         and,
         "AND(logical1, …)",
         "TRUE when every argument is TRUE; text and blanks in ranges are skipped",
-    ),
+    )
+    .range_args(ArgSet::ALL),
     FnSpec::value(
         "OR",
         1,
@@ -53,8 +55,11 @@ pub const FUNCTIONS: &[FnSpec] = &[
         or,
         "OR(logical1, …)",
         "TRUE when any argument is TRUE; text and blanks in ranges are skipped",
-    ),
-    FnSpec::value("XOR", 1, MANY, xor, "XOR(logical1, …)", "TRUE when an odd number of arguments are TRUE"),
+    )
+    .range_args(ArgSet::ALL),
+    FnSpec::value("XOR", 1, MANY, xor, "XOR(logical1, …)", "TRUE when an odd number of arguments are TRUE")
+        .future()
+        .range_args(ArgSet::ALL),
     FnSpec::value("NOT", 1, 1, not, "NOT(logical)", "Reverses TRUE and FALSE"),
     FnSpec::value(
         "SWITCH",
@@ -63,7 +68,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         switch,
         "SWITCH(expression, value1, result1, …, [default])",
         "The result paired with the first value equal to expression; default or #N/A otherwise",
-    ),
+    )
+    .future()
+    .dynamic(),
     FnSpec::reference(
         "CHOOSE",
         2,
@@ -81,7 +88,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         let_fn,
         "LET(name1, value1, [name2, value2, …], calculation)",
         "calculation with each name bound to its value, in order",
-    ),
+    )
+    .future(),
     FnSpec::value(
         "LAMBDA",
         1,
@@ -89,7 +97,10 @@ pub const FUNCTIONS: &[FnSpec] = &[
         lambda,
         "LAMBDA([parameter1, …], calculation)",
         "A function of its parameters, called through a defined name (bump(1, 2)); alone in a cell #CALC!",
-    ),
+    )
+    .future()
+    .dynamic()
+    .reads_trees(),
 ];
 
 /// IF returns the chosen branch as a reference when it is one (`SUM(A1:IF(x, B5, B9))`).

@@ -12,7 +12,7 @@ use crate::formula::ast::{Expr, ExprKind, SheetId};
 
 use super::args::{lift_values, number_or};
 use super::text::Wildcard;
-use super::FnSpec;
+use super::{ArgSet, FnSpec};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::reference(
@@ -22,7 +22,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         index,
         "INDEX(array, row, [column], [area])",
         "The cell (a reference) or item at row and column; 0 or omitted takes the whole row or column",
-    ),
+    ).array_args(ArgSet::only(0)),
     FnSpec::value(
         "MATCH",
         2,
@@ -30,7 +30,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         match_fn,
         "MATCH(value, lookup_array, [match_type])",
         "Position of value: 1 largest <= (sorted ascending), 0 exact with wildcards, -1 smallest >= (sorted descending)",
-    ),
+    ).array_args(ArgSet::only(1)),
     FnSpec::value(
         "VLOOKUP",
         3,
@@ -38,7 +38,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         vlookup,
         "VLOOKUP(value, table, column, [approximate])",
         "Finds value in the table's first column and returns that row's column-th item",
-    ),
+    ).array_args(ArgSet::only(1)),
     FnSpec::value(
         "HLOOKUP",
         3,
@@ -46,7 +46,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         hlookup,
         "HLOOKUP(value, table, row, [approximate])",
         "Finds value in the table's first row and returns that column's row-th item",
-    ),
+    ).array_args(ArgSet::only(1)),
     FnSpec::reference(
         "XLOOKUP",
         3,
@@ -54,7 +54,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         xlookup,
         "XLOOKUP(value, lookup_array, return_array, [if_not_found], [match_mode], [search_mode])",
         "The return_array row or column at value's position in lookup_array",
-    ),
+    ).future().dynamic(),
     FnSpec::value(
         "XMATCH",
         2,
@@ -62,7 +62,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         xmatch,
         "XMATCH(value, lookup_array, [match_mode], [search_mode])",
         "Position of value, with XLOOKUP's match and search modes",
-    ),
+    ).future().array_args(ArgSet::only(1)),
     FnSpec::value(
         "LOOKUP",
         2,
@@ -70,7 +70,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         lookup_fn,
         "LOOKUP(value, lookup_vector, [result_vector])",
         "Approximate lookup in sorted data: the result at the last position not above value",
-    ),
+    ).array_args(ArgSet::from(1)),
     FnSpec::value(
         "ROW",
         0,
@@ -78,7 +78,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         row,
         "ROW([reference])",
         "Row number of a reference (of the formula's cell when omitted)",
-    ),
+    ).range_args(ArgSet::only(0)),
     FnSpec::value(
         "COLUMN",
         0,
@@ -86,7 +86,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         column,
         "COLUMN([reference])",
         "Column number of a reference (of the formula's cell when omitted)",
-    ),
+    ).range_args(ArgSet::only(0)),
     FnSpec::value(
         "ROWS",
         1,
@@ -94,7 +94,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         rows,
         "ROWS(array)",
         "Number of rows of a reference or array",
-    ),
+    ).range_args(ArgSet::ALL),
     FnSpec::value(
         "COLUMNS",
         1,
@@ -102,7 +102,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         columns,
         "COLUMNS(array)",
         "Number of columns of a reference or array",
-    ),
+    ).range_args(ArgSet::ALL),
 ];
 
 // ---------------------------------------------------------------------------------------

@@ -10,14 +10,14 @@ use crate::formula::address::{MAX_COLS, MAX_ROWS};
 use crate::formula::ast::{Expr, ExprKind};
 
 use super::args::{block, for_each_number, lift, lift_number1, lift_number2, number_or};
-use super::{FnSpec, MANY};
+use super::{ArgSet, FnSpec, MANY};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("ABS", 1, 1, abs, "ABS(number)", "Absolute value"),
     FnSpec::value("ACOS", 1, 1, acos, "ACOS(number)", "Arccosine in radians, 0 to pi; #NUM! outside -1..1"),
     FnSpec::value("ACOSH", 1, 1, acosh, "ACOSH(number)", "Inverse hyperbolic cosine; #NUM! below 1"),
-    FnSpec::value("ACOT", 1, 1, acot, "ACOT(number)", "Arccotangent in radians, 0 to pi"),
-    FnSpec::value("ACOTH", 1, 1, acoth, "ACOTH(number)", "Inverse hyperbolic cotangent; #NUM! for -1..1"),
+    FnSpec::value("ACOT", 1, 1, acot, "ACOT(number)", "Arccotangent in radians, 0 to pi").future(),
+    FnSpec::value("ACOTH", 1, 1, acoth, "ACOTH(number)", "Inverse hyperbolic cotangent; #NUM! for -1..1").future(),
     FnSpec::value("ASIN", 1, 1, asin, "ASIN(number)", "Arcsine in radians, -pi/2 to pi/2; #NUM! outside -1..1"),
     FnSpec::value("ASINH", 1, 1, asinh, "ASINH(number)", "Inverse hyperbolic sine"),
     FnSpec::value("ATAN", 1, 1, atan, "ATAN(number)", "Arctangent in radians, -pi/2 to pi/2"),
@@ -45,7 +45,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         ceiling_math,
         "CEILING.MATH(number, [significance], [mode])",
         "Rounds up to a multiple of |significance|; mode<>0 rounds negatives away from zero",
-    ),
+    )
+    .future(),
     FnSpec::value(
         "CEILING.PRECISE",
         1,
@@ -53,13 +54,14 @@ pub const FUNCTIONS: &[FnSpec] = &[
         ceiling_precise,
         "CEILING.PRECISE(number, [significance])",
         "Rounds up (toward +infinity) to a multiple of |significance|",
-    ),
+    )
+    .future(),
     FnSpec::value("COS", 1, 1, cos, "COS(angle)", "Cosine of an angle in radians"),
     FnSpec::value("COSH", 1, 1, cosh, "COSH(number)", "Hyperbolic cosine"),
-    FnSpec::value("COT", 1, 1, cot, "COT(angle)", "Cotangent of an angle in radians"),
-    FnSpec::value("COTH", 1, 1, coth, "COTH(number)", "Hyperbolic cotangent"),
-    FnSpec::value("CSC", 1, 1, csc, "CSC(angle)", "Cosecant of an angle in radians"),
-    FnSpec::value("CSCH", 1, 1, csch, "CSCH(number)", "Hyperbolic cosecant"),
+    FnSpec::value("COT", 1, 1, cot, "COT(angle)", "Cotangent of an angle in radians").future(),
+    FnSpec::value("COTH", 1, 1, coth, "COTH(number)", "Hyperbolic cotangent").future(),
+    FnSpec::value("CSC", 1, 1, csc, "CSC(angle)", "Cosecant of an angle in radians").future(),
+    FnSpec::value("CSCH", 1, 1, csch, "CSCH(number)", "Hyperbolic cosecant").future(),
     FnSpec::value("DEGREES", 1, 1, degrees, "DEGREES(angle)", "Radians to degrees"),
     FnSpec::value("EXP", 1, 1, exp, "EXP(number)", "e raised to number"),
     FnSpec::value("EVEN", 1, 1, even, "EVEN(number)", "Rounds away from zero to an even integer"),
@@ -79,7 +81,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         floor_math,
         "FLOOR.MATH(number, [significance], [mode])",
         "Rounds down to a multiple of |significance|; mode<>0 rounds negatives toward zero",
-    ),
+    )
+    .future(),
     FnSpec::value(
         "FLOOR.PRECISE",
         1,
@@ -87,7 +90,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         floor_precise,
         "FLOOR.PRECISE(number, [significance])",
         "Rounds down (toward -infinity) to a multiple of |significance|",
-    ),
+    )
+    .future(),
     FnSpec::value("INT", 1, 1, int, "INT(number)", "Rounds down to an integer (INT(-2.5) = -3)"),
     FnSpec::value(
         "ISO.CEILING",
@@ -126,14 +130,15 @@ pub const FUNCTIONS: &[FnSpec] = &[
         product,
         "PRODUCT(number1, [number2], ...)",
         "Multiplies numbers; text and booleans in ranges are skipped",
-    ),
+    )
+    .range_args(ArgSet::ALL),
     FnSpec::value("QUOTIENT", 2, 2, quotient, "QUOTIENT(numerator, denominator)", "Integer part of a division"),
     FnSpec::value("RADIANS", 1, 1, radians, "RADIANS(angle)", "Degrees to radians"),
     FnSpec::value("ROUND", 2, 2, round, "ROUND(number, digits)", "Rounds half away from zero to digits decimals"),
     FnSpec::value("ROUNDDOWN", 2, 2, rounddown, "ROUNDDOWN(number, digits)", "Rounds toward zero to digits decimals"),
     FnSpec::value("ROUNDUP", 2, 2, roundup, "ROUNDUP(number, digits)", "Rounds away from zero to digits decimals"),
-    FnSpec::value("SEC", 1, 1, sec, "SEC(angle)", "Secant of an angle in radians"),
-    FnSpec::value("SECH", 1, 1, sech, "SECH(number)", "Hyperbolic secant"),
+    FnSpec::value("SEC", 1, 1, sec, "SEC(angle)", "Secant of an angle in radians").future(),
+    FnSpec::value("SECH", 1, 1, sech, "SECH(number)", "Hyperbolic secant").future(),
     FnSpec::value(
         "SEQUENCE",
         1,
@@ -141,7 +146,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         sequence,
         "SEQUENCE(rows, [columns], [start], [step])",
         "Array of rows x columns numbers counting from start by step",
-    ),
+    )
+    .future()
+    .dynamic(),
     FnSpec::value("SIGN", 1, 1, sign, "SIGN(number)", "1, 0 or -1 by the sign of number"),
     FnSpec::value("SIN", 1, 1, sin, "SIN(angle)", "Sine of an angle in radians"),
     FnSpec::value("SINH", 1, 1, sinh, "SINH(number)", "Hyperbolic sine"),
@@ -154,7 +161,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         sum,
         "SUM(number1, [number2], ...)",
         "Adds numbers; text and booleans in ranges are skipped",
-    ),
+    )
+    .range_args(ArgSet::ALL),
     FnSpec::value(
         "SUMPRODUCT",
         1,
@@ -162,7 +170,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         sumproduct,
         "SUMPRODUCT(array1, [array2], ...)",
         "Sum of the item-by-item products of same-sized arrays; non-numbers count as 0",
-    ),
+    )
+    .array_args(ArgSet::ALL),
     FnSpec::value(
         "SUMSQ",
         1,
@@ -170,7 +179,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         sumsq,
         "SUMSQ(number1, [number2], ...)",
         "Sum of squares; text and booleans in ranges are skipped",
-    ),
+    )
+    .range_args(ArgSet::ALL),
     FnSpec::value("TAN", 1, 1, tan, "TAN(angle)", "Tangent of an angle in radians"),
     FnSpec::value("TANH", 1, 1, tanh, "TANH(number)", "Hyperbolic tangent"),
     FnSpec::value("TRUNC", 1, 2, trunc, "TRUNC(number, [digits])", "Cuts off decimals beyond digits (0 when omitted)"),

@@ -3,7 +3,10 @@
 //!
 //! To add a function: write its body in the category module and add its row to that
 //! module's `FUNCTIONS`; a new category module is listed once in [`REGISTRY`]. A function
-//! whose result changes by itself (NOW) is marked [`FnSpec::volatile`].
+//! whose result changes by itself (NOW) is marked [`FnSpec::volatile`]; the other facts
+//! about a function (its `_xlfn.` spelling in files, whether it makes a dynamic-array
+//! formula, which arguments take whole ranges) are builder methods on its row too, so that
+//! no list of names elsewhere repeats the registry.
 
 use std::collections::HashMap;
 use std::sync::LazyLock;
@@ -15,19 +18,25 @@ use super::evaluator::{Ctx, Operand};
 use super::value::{Value, XlResult};
 
 pub mod args;
+mod combinatorics;
+mod complex;
 mod criteria;
 mod date;
 mod dispersion;
 mod dynamic_ref;
+mod engineering;
+mod financial;
 mod geometry;
 mod info;
 mod logic;
 mod lookup;
 mod math;
 mod order;
+mod scalar;
 mod stats;
 mod text;
 mod text_format;
+mod text_more;
 pub mod vba;
 
 pub use geometry::{describe_gouge, formula_ball_path};
@@ -60,6 +69,69 @@ pub struct FnSpec {
     /// Its result changes with no change to its arguments (NOW, TODAY): a cell calling it is
     /// recalculated at every recalculation, not only when what it reads changes.
     pub volatile: bool,
+    /// How an xlsx file spells the name: functions newer than Excel 2007 carry `_xlfn.`.
+    pub file_prefix: FilePrefix,
+    /// A file stores a formula calling it as a dynamic-array formula (Excel 365's array
+    /// functions, and rust_xlsxwriter's list of them).
+    pub dynamic: bool,
+    /// Reads its arguments as syntax trees, not only as values (LAMBDA's body is
+    /// differentiated by the surface functions): a formula calling it is never shared.
+    pub reads_trees: bool,
+    /// Arguments evaluated as whole arrays even in a pre-2019 (legacy) formula, where Excel
+    /// otherwise intersects a range with the formula's row or column.
+    pub array_args: ArgSet,
+    /// Arguments that take a whole range as it stands (an aggregate, a lookup table, a
+    /// reference) in a legacy formula.
+    pub range_args: ArgSet,
+}
+
+/// The spelling of a function's name in an xlsx file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FilePrefix {
+    None,
+    /// `_xlfn.`: added after Excel 2007.
+    Future,
+    /// `_xlfn._xlws.`: FILTER, SORT.
+    Worksheet,
+}
+
+impl FilePrefix {
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            FilePrefix::None => "",
+            FilePrefix::Future => "_xlfn.",
+            FilePrefix::Worksheet => "_xlfn._xlws.",
+        }
+    }
+}
+
+/// A set of argument positions (0-based); the last bit stands for every position from 63 on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ArgSet(u64);
+
+impl ArgSet {
+    pub const NONE: ArgSet = ArgSet(0);
+    pub const ALL: ArgSet = ArgSet(!0);
+
+    /// Only argument `i`.
+    pub const fn only(i: u32) -> ArgSet {
+        ArgSet(1 << i)
+    }
+
+    /// Argument `i` and every one after it.
+    pub const fn from(i: u32) -> ArgSet {
+        ArgSet(!0 << i)
+    }
+
+    /// Every argument but `i`.
+    pub const fn except(i: u32) -> ArgSet {
+        ArgSet(!(1 << i))
+    }
+
+    pub const fn contains(self, i: usize) -> bool {
+        let bit = if i < 63 { i } else { 63 };
+        self.0 >> bit & 1 == 1
+    }
 }
 
 impl FnSpec {
@@ -71,7 +143,7 @@ impl FnSpec {
         signature: &'static str,
         summary: &'static str,
     ) -> FnSpec {
-        FnSpec { name, min_args, max_args, kind: FnKind::Value(f), signature, summary, volatile: false }
+        FnSpec::new(name, min_args, max_args, FnKind::Value(f), signature, summary)
     }
 
     pub const fn reference(
@@ -82,12 +154,66 @@ impl FnSpec {
         signature: &'static str,
         summary: &'static str,
     ) -> FnSpec {
-        FnSpec { name, min_args, max_args, kind: FnKind::Ref(f), signature, summary, volatile: false }
+        FnSpec::new(name, min_args, max_args, FnKind::Ref(f), signature, summary)
+    }
+
+    const fn new(
+        name: &'static str,
+        min_args: usize,
+        max_args: usize,
+        kind: FnKind,
+        signature: &'static str,
+        summary: &'static str,
+    ) -> FnSpec {
+        FnSpec {
+            name,
+            min_args,
+            max_args,
+            kind,
+            signature,
+            summary,
+            volatile: false,
+            file_prefix: FilePrefix::None,
+            dynamic: false,
+            reads_trees: false,
+            array_args: ArgSet::NONE,
+            range_args: ArgSet::NONE,
+        }
     }
 
     /// The same function, volatile.
     pub const fn volatile(self) -> FnSpec {
         FnSpec { volatile: true, ..self }
+    }
+
+    /// The same function, spelled `_xlfn.NAME` in a file (added after Excel 2007).
+    pub const fn future(self) -> FnSpec {
+        FnSpec { file_prefix: FilePrefix::Future, ..self }
+    }
+
+    /// The same function, spelled `_xlfn._xlws.NAME` in a file (FILTER, SORT).
+    pub const fn worksheet_future(self) -> FnSpec {
+        FnSpec { file_prefix: FilePrefix::Worksheet, ..self }
+    }
+
+    /// The same function, making a file store the formula calling it as a dynamic array.
+    pub const fn dynamic(self) -> FnSpec {
+        FnSpec { dynamic: true, ..self }
+    }
+
+    /// The same function, reading its arguments as syntax trees (see [`FnSpec::reads_trees`]).
+    pub const fn reads_trees(self) -> FnSpec {
+        FnSpec { reads_trees: true, ..self }
+    }
+
+    /// The same function, evaluating `args` as whole arrays in a legacy formula.
+    pub const fn array_args(self, args: ArgSet) -> FnSpec {
+        FnSpec { array_args: args, ..self }
+    }
+
+    /// The same function, taking `args` as whole ranges in a legacy formula.
+    pub const fn range_args(self, args: ArgSet) -> FnSpec {
+        FnSpec { range_args: args, ..self }
     }
 }
 
@@ -103,6 +229,11 @@ pub static REGISTRY: LazyLock<Vec<FnSpec>> = LazyLock::new(|| {
         lookup::FUNCTIONS,
         dynamic_ref::FUNCTIONS,
         text::FUNCTIONS,
+        text_more::FUNCTIONS,
+        engineering::FUNCTIONS,
+        financial::FUNCTIONS,
+        combinatorics::FUNCTIONS,
+        complex::FUNCTIONS,
         info::FUNCTIONS,
         geometry::FUNCTIONS,
         vba::FUNCTIONS,

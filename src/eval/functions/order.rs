@@ -13,11 +13,12 @@ use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
 use super::args::{lift_values, numbers};
-use super::{FnSpec, MANY};
+use super::{ArgSet, FnSpec, MANY};
 
 pub const FUNCTIONS: &[FnSpec] = &[
-    FnSpec::value("LARGE", 2, 2, large, "LARGE(array, k)", "The k-th largest number"),
-    FnSpec::value("MODE", 1, MANY, mode_sngl, "MODE(number1, [number2], ...)", "Most frequent number (MODE.SNGL)"),
+    FnSpec::value("LARGE", 2, 2, large, "LARGE(array, k)", "The k-th largest number").range_args(ArgSet::only(0)),
+    FnSpec::value("MODE", 1, MANY, mode_sngl, "MODE(number1, [number2], ...)", "Most frequent number (MODE.SNGL)")
+        .range_args(ArgSet::ALL),
     FnSpec::value(
         "MODE.MULT",
         1,
@@ -25,7 +26,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         mode_mult,
         "MODE.MULT(number1, [number2], ...)",
         "Every most frequent number, in order of appearance, as a column",
-    ),
+    )
+    .future()
+    .range_args(ArgSet::ALL),
     FnSpec::value(
         "MODE.SNGL",
         1,
@@ -33,7 +36,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         mode_sngl,
         "MODE.SNGL(number1, [number2], ...)",
         "Most frequent number, the first to appear on a tie; #N/A when none repeats",
-    ),
+    )
+    .future()
+    .range_args(ArgSet::ALL),
     FnSpec::value(
         "PERCENTILE",
         2,
@@ -41,7 +46,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         percentile_inc,
         "PERCENTILE(array, k)",
         "The k-th percentile, 0 <= k <= 1 (PERCENTILE.INC)",
-    ),
+    )
+    .range_args(ArgSet::only(0)),
     FnSpec::value(
         "PERCENTILE.EXC",
         2,
@@ -49,7 +55,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         percentile_exc,
         "PERCENTILE.EXC(array, k)",
         "The k-th percentile interpolated at k*(n+1); #NUM! outside the data",
-    ),
+    )
+    .future()
+    .range_args(ArgSet::only(0)),
     FnSpec::value(
         "PERCENTILE.INC",
         2,
@@ -57,7 +65,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         percentile_inc,
         "PERCENTILE.INC(array, k)",
         "The k-th percentile interpolated at k*(n-1)+1, 0 <= k <= 1",
-    ),
+    )
+    .future()
+    .range_args(ArgSet::only(0)),
     FnSpec::value(
         "PERCENTRANK",
         2,
@@ -65,7 +75,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         percentrank_inc,
         "PERCENTRANK(array, x, [significance])",
         "Rank of x as a fraction 0..1 (PERCENTRANK.INC)",
-    ),
+    )
+    .range_args(ArgSet::only(0)),
     FnSpec::value(
         "PERCENTRANK.EXC",
         2,
@@ -73,7 +84,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         percentrank_exc,
         "PERCENTRANK.EXC(array, x, [significance])",
         "Rank of x as a fraction strictly between 0 and 1, truncated to significance digits",
-    ),
+    )
+    .future()
+    .range_args(ArgSet::only(0)),
     FnSpec::value(
         "PERCENTRANK.INC",
         2,
@@ -81,8 +94,11 @@ pub const FUNCTIONS: &[FnSpec] = &[
         percentrank_inc,
         "PERCENTRANK.INC(array, x, [significance])",
         "Rank of x as a fraction 0..1, truncated to significance digits (3)",
-    ),
-    FnSpec::value("QUARTILE", 2, 2, quartile_inc, "QUARTILE(array, quart)", "Quartile 0 to 4 (QUARTILE.INC)"),
+    )
+    .future()
+    .range_args(ArgSet::only(0)),
+    FnSpec::value("QUARTILE", 2, 2, quartile_inc, "QUARTILE(array, quart)", "Quartile 0 to 4 (QUARTILE.INC)")
+        .range_args(ArgSet::only(0)),
     FnSpec::value(
         "QUARTILE.EXC",
         2,
@@ -90,7 +106,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         quartile_exc,
         "QUARTILE.EXC(array, quart)",
         "Quartile 1 to 3 by PERCENTILE.EXC",
-    ),
+    )
+    .future()
+    .range_args(ArgSet::only(0)),
     FnSpec::value(
         "QUARTILE.INC",
         2,
@@ -98,8 +116,11 @@ pub const FUNCTIONS: &[FnSpec] = &[
         quartile_inc,
         "QUARTILE.INC(array, quart)",
         "Quartile 0 (minimum) to 4 (maximum) by PERCENTILE.INC",
-    ),
-    FnSpec::value("RANK", 2, 3, rank_eq, "RANK(number, ref, [order])", "Rank of number in ref (RANK.EQ)"),
+    )
+    .future()
+    .range_args(ArgSet::only(0)),
+    FnSpec::value("RANK", 2, 3, rank_eq, "RANK(number, ref, [order])", "Rank of number in ref (RANK.EQ)")
+        .range_args(ArgSet::from(1)),
     FnSpec::value(
         "RANK.AVG",
         2,
@@ -107,7 +128,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         rank_avg,
         "RANK.AVG(number, ref, [order])",
         "Rank of number in ref, ties sharing their mean rank; order<>0 ranks ascending",
-    ),
+    )
+    .future()
+    .range_args(ArgSet::from(1)),
     FnSpec::value(
         "RANK.EQ",
         2,
@@ -115,8 +138,10 @@ pub const FUNCTIONS: &[FnSpec] = &[
         rank_eq,
         "RANK.EQ(number, ref, [order])",
         "Rank of number in ref (1 the largest), ties sharing the top rank; order<>0 ranks ascending",
-    ),
-    FnSpec::value("SMALL", 2, 2, small, "SMALL(array, k)", "The k-th smallest number"),
+    )
+    .future()
+    .range_args(ArgSet::from(1)),
+    FnSpec::value("SMALL", 2, 2, small, "SMALL(array, k)", "The k-th smallest number").range_args(ArgSet::only(0)),
 ];
 
 /// The numbers of the data argument, ascending.

@@ -8,7 +8,7 @@ use crate::formula::ast::{Expr, ExprKind};
 
 use super::args::{for_each_number, for_each_value, lift_values, numbers, Source};
 use super::criteria::{matching_cells, CellBlock, Criterion};
-use super::{FnSpec, MANY};
+use super::{ArgSet, FnSpec, MANY};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value(
@@ -18,7 +18,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         average,
         "AVERAGE(number1, [number2], ...)",
         "Arithmetic mean; #DIV/0! when there are no numbers",
-    ),
+    )
+    .range_args(ArgSet::ALL),
     FnSpec::value(
         "AVERAGEIF",
         2,
@@ -26,7 +27,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         averageif,
         "AVERAGEIF(range, criteria, [average_range])",
         "Mean of the cells whose range cell meets the criteria",
-    ),
+    )
+    .range_args(ArgSet::except(1)),
     FnSpec::value(
         "AVERAGEIFS",
         3,
@@ -34,7 +36,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         averageifs,
         "AVERAGEIFS(average_range, criteria_range1, criteria1, ...)",
         "Mean of the cells where every criteria range meets its criteria",
-    ),
+    )
+    .range_args(ArgSet::ALL),
     FnSpec::value(
         "COUNT",
         1,
@@ -42,7 +45,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         count,
         "COUNT(value1, [value2], ...)",
         "How many numbers (typed numeric text and booleans count too)",
-    ),
+    )
+    .range_args(ArgSet::ALL),
     FnSpec::value(
         "COUNTA",
         1,
@@ -50,8 +54,10 @@ pub const FUNCTIONS: &[FnSpec] = &[
         counta,
         "COUNTA(value1, [value2], ...)",
         "How many values are not empty (errors and \"\" count)",
-    ),
-    FnSpec::value("COUNTBLANK", 1, 1, countblank, "COUNTBLANK(range)", "How many cells are empty or hold \"\""),
+    )
+    .range_args(ArgSet::ALL),
+    FnSpec::value("COUNTBLANK", 1, 1, countblank, "COUNTBLANK(range)", "How many cells are empty or hold \"\"")
+        .range_args(ArgSet::ALL),
     FnSpec::value(
         "COUNTIF",
         2,
@@ -59,7 +65,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         countif,
         "COUNTIF(range, criteria)",
         "How many cells meet the criteria (\"<5\", \"<>x\", \"ab*\", 3, …)",
-    ),
+    )
+    .range_args(ArgSet::only(0)),
     FnSpec::value(
         "COUNTIFS",
         2,
@@ -67,8 +74,10 @@ pub const FUNCTIONS: &[FnSpec] = &[
         countifs,
         "COUNTIFS(criteria_range1, criteria1, ...)",
         "How many positions meet every criteria",
-    ),
-    FnSpec::value("MAX", 1, MANY, max, "MAX(number1, [number2], ...)", "Largest number; 0 when there is none"),
+    )
+    .range_args(ArgSet::ALL),
+    FnSpec::value("MAX", 1, MANY, max, "MAX(number1, [number2], ...)", "Largest number; 0 when there is none")
+        .range_args(ArgSet::ALL),
     FnSpec::value(
         "MAXIFS",
         3,
@@ -76,7 +85,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         maxifs,
         "MAXIFS(max_range, criteria_range1, criteria1, ...)",
         "Largest number where every criteria range meets its criteria; 0 when none",
-    ),
+    )
+    .future()
+    .range_args(ArgSet::ALL),
     FnSpec::value(
         "MEDIAN",
         1,
@@ -84,8 +95,10 @@ pub const FUNCTIONS: &[FnSpec] = &[
         median,
         "MEDIAN(number1, [number2], ...)",
         "Middle number (mean of the two middle ones for an even count)",
-    ),
-    FnSpec::value("MIN", 1, MANY, min, "MIN(number1, [number2], ...)", "Smallest number; 0 when there is none"),
+    )
+    .range_args(ArgSet::ALL),
+    FnSpec::value("MIN", 1, MANY, min, "MIN(number1, [number2], ...)", "Smallest number; 0 when there is none")
+        .range_args(ArgSet::ALL),
     FnSpec::value(
         "MINIFS",
         3,
@@ -93,7 +106,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         minifs,
         "MINIFS(min_range, criteria_range1, criteria1, ...)",
         "Smallest number where every criteria range meets its criteria; 0 when none",
-    ),
+    )
+    .future()
+    .range_args(ArgSet::ALL),
     FnSpec::value(
         "SUMIF",
         2,
@@ -101,7 +116,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         sumif,
         "SUMIF(range, criteria, [sum_range])",
         "Sum of the cells whose range cell meets the criteria",
-    ),
+    )
+    .range_args(ArgSet::except(1)),
     FnSpec::value(
         "SUMIFS",
         3,
@@ -109,7 +125,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         sumifs,
         "SUMIFS(sum_range, criteria_range1, criteria1, ...)",
         "Sum of the cells where every criteria range meets its criteria",
-    ),
+    )
+    .range_args(ArgSet::ALL),
 ];
 
 // ---- plain aggregates ---------------------------------------------------------------------

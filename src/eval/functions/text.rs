@@ -10,13 +10,15 @@ use crate::formula::ast::{Expr, ExprKind};
 
 use super::args::{for_each_value, lift, lift_values};
 use super::text_format::{fixed_digits, NumberFormat};
-use super::{FnSpec, MANY};
+use super::{ArgSet, FnSpec, MANY};
 
 /// Excel's longest text; longer results are `#VALUE!`.
 const MAX_TEXT: usize = 32_767;
 
 pub const FUNCTIONS: &[FnSpec] = &[
-    FnSpec::value("CONCAT", 1, MANY, concat, "CONCAT(text1, …)", "Joins texts; ranges are read cell by cell"),
+    FnSpec::value("CONCAT", 1, MANY, concat, "CONCAT(text1, …)", "Joins texts; ranges are read cell by cell")
+        .future()
+        .range_args(ArgSet::ALL),
     FnSpec::value(
         "CONCATENATE",
         1,
@@ -32,7 +34,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         textjoin,
         "TEXTJOIN(delimiter, ignore_empty, text1, …)",
         "Joins texts with a delimiter, optionally skipping empty ones",
-    ),
+    )
+    .future()
+    .range_args(ArgSet::from(2)),
     FnSpec::value(
         "TEXT",
         2,
@@ -72,7 +76,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         valuetotext,
         "VALUETOTEXT(value, [format])",
         "Any value as text, errors included; format 1 puts text in quotes",
-    ),
+    )
+    .future(),
     FnSpec::value(
         "SUBSTITUTE",
         3,
@@ -108,8 +113,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "The character with a code 1-255 (Windows-1252, as Excel on Windows; CHAR(10) is a line feed)",
     ),
     FnSpec::value("CODE", 1, 1, code, "CODE(text)", "The code 1-255 of the first character (Windows-1252)"),
-    FnSpec::value("UNICHAR", 1, 1, unichar, "UNICHAR(code)", "The Unicode character with a code point"),
-    FnSpec::value("UNICODE", 1, 1, unicode, "UNICODE(text)", "The Unicode code point of the first character"),
+    FnSpec::value("UNICHAR", 1, 1, unichar, "UNICHAR(code)", "The Unicode character with a code point").future(),
+    FnSpec::value("UNICODE", 1, 1, unicode, "UNICODE(text)", "The Unicode code point of the first character").future(),
 ];
 
 // ---------------------------------------------------------------------------------------

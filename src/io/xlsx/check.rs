@@ -33,7 +33,7 @@ pub fn compare_cached(wb: &Workbook, cached: &[CachedValue]) -> Vec<Difference> 
             continue;
         }
         let formula = wb.formula(c.sheet, c.anchor);
-        let volatile = formula.as_deref().is_some_and(calls_volatile);
+        let volatile = wb.calls_volatile(c.sheet, c.anchor);
         out.push(Difference { sheet: c.sheet, pos: c.pos, formula, excel: c.value.clone(), ncsheet: ours, volatile });
     }
     out
@@ -50,37 +50,6 @@ pub fn values_agree(excel: &Value, ours: &Value) -> bool {
     }
 }
 
-/// Whether formula text calls a function whose result changes on every recalculation.
-fn calls_volatile(formula: &str) -> bool {
-    const VOLATILE: [&str; 5] = ["NOW", "TODAY", "RAND", "RANDBETWEEN", "RANDARRAY"];
-    let b = formula.as_bytes();
-    let mut i = 0;
-    let mut in_string = false;
-    while i < b.len() {
-        let c = b[i];
-        if c == b'"' {
-            in_string = !in_string;
-        } else if !in_string && (c.is_ascii_alphabetic() || c == b'_') && (i == 0 || !is_name_byte(b[i - 1])) {
-            let start = i;
-            while i < b.len() && is_name_byte(b[i]) {
-                i += 1;
-            }
-            let name = &formula[start..i];
-            let name = name.rsplit('.').next().unwrap_or(name);
-            if b.get(i) == Some(&b'(') && VOLATILE.iter().any(|v| v.eq_ignore_ascii_case(name)) {
-                return true;
-            }
-            continue;
-        }
-        i += 1;
-    }
-    false
-}
-
-fn is_name_byte(c: u8) -> bool {
-    c.is_ascii_alphanumeric() || c == b'_' || c == b'.'
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -94,14 +63,5 @@ mod tests {
         assert!(values_agree(&Value::text("#N/A"), &Value::Error(XlError::NA)));
         assert!(!values_agree(&Value::text("1"), &Value::Number(1.0)));
         assert!(!values_agree(&Value::Bool(true), &Value::Number(1.0)));
-    }
-
-    #[test]
-    fn volatile_calls_are_recognized_outside_strings() {
-        assert!(calls_volatile("=NOW()-A1"));
-        assert!(calls_volatile("=INT(RAND()*6)"));
-        assert!(calls_volatile("=_xlfn.RANDARRAY(3)"));
-        assert!(!calls_volatile("=\"NOW()\"&A1"));
-        assert!(!calls_volatile("=TODAYS(1)+MYRAND(2)"));
     }
 }

@@ -438,11 +438,7 @@ impl SheetPatch<'_> {
     fn file_formula(&self, pos: Pos) -> Option<String> {
         let text = self.wb.formula(self.sheet, pos)?;
         let legacy = syntax::to_file(&text, self.wb, self.sheet, pos, Storage::Legacy);
-        Some(if syntax::calls_dynamic_function(&legacy) {
-            syntax::to_file(&text, self.wb, self.sheet, pos, Storage::Dynamic)
-        } else {
-            legacy
-        })
+        Some(if legacy.dynamic { syntax::to_file(&text, self.wb, self.sheet, pos, Storage::Dynamic).text } else { legacy.text })
     }
 
     /// The `<c>` element of a changed cell, keeping the original's style (and, for a value

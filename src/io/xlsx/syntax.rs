@@ -3,18 +3,21 @@
 //! Excel stores functions newer than Excel 2007 with a `_xlfn.` prefix (`_xlfn._xlws.` for
 //! FILTER and SORT), LET and LAMBDA parameters with `_xlpm.`, the spill operator `A1#` as
 //! `_xlfn.ANCHORARRAY(A1)` and the implicit intersection `@x` as `_xlfn.SINGLE(x)`. Our
-//! parser drops the prefixes by itself; this module turns ANCHORARRAY and SINGLE back into
-//! operators on import, and writes all of it back on export. Export prints through the one
+//! parser drops the prefixes of the functions it knows (a function we lack keeps the prefix
+//! it was read with); this module turns ANCHORARRAY and SINGLE back into operators on
+//! import, and writes all of it back on export, each function's prefix as its registry row
+//! says (`FnSpec::future`). Export prints through the one
 //! printer of `formula::print`: `FileSpelling` only says how names and the two operators
 //! are spelled, so parentheses and every other node are printed as for the formula typed.
 //!
-//! Both directions take a fast path: text that has none of these needs no parse.
+//! Both directions take a fast path: text without a call or these operators needs no parse.
 
 use std::borrow::Cow;
 
-use crate::eval::functions::{spec, Registry};
+use crate::eval::functions::{find, spec, Registry};
 use crate::formula::address::Pos;
 use crate::formula::ast::*;
+use crate::formula::parse::strip_future_prefix;
 use crate::formula::print::{print_spelled, AsTyped, OperatorSpelling, Spelling};
 use crate::workbook::Workbook;
 
@@ -39,96 +42,31 @@ pub enum Storage {
     Dynamic,
 }
 
+/// A formula as a file stores it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FileFormula {
+    /// The text, without the leading `=`.
+    pub text: String,
+    /// It calls a function (or writes an operator, `_xlfn.ANCHORARRAY`, `_xlfn.SINGLE`)
+    /// that makes Excel and rust_xlsxwriter store the formula as a dynamic array.
+    pub dynamic: bool,
+}
+
 /// A cell's formula (`=…`, as [`Workbook::formula`] prints it) → as stored in a file.
-pub fn to_file(formula: &str, wb: &Workbook, sheet: SheetId, pos: Pos, storage: Storage) -> String {
+pub fn to_file(formula: &str, wb: &Workbook, sheet: SheetId, pos: Pos, storage: Storage) -> FileFormula {
     let text = formula.strip_prefix('=').unwrap_or(formula);
-    if !needs_file_spelling(text) {
-        return text.to_string();
+    // Without a call or an operator, the spellings agree: no parse.
+    if !text.bytes().any(|b| matches!(b, b'(' | b'#' | b'@')) {
+        return FileFormula { text: text.to_string(), dynamic: false };
     }
     match wb.parse_at(text, sheet, pos) {
-        Ok(expr) => print(&expr, wb, pos, &FileSpelling { storage }),
-        // Text that does not parse (a table reference, an external link) goes back as it came.
-        Err(_) => text.to_string(),
-    }
-}
-
-/// Whether file-spelled formula text calls a function that makes rust_xlsxwriter (and
-/// Excel) store the formula as a dynamic array.
-pub fn calls_dynamic_function(file_text: &str) -> bool {
-    const DYNAMIC: &[&str] = &[
-        "ANCHORARRAY",
-        "BYCOL",
-        "BYROW",
-        "CHOOSECOLS",
-        "CHOOSEROWS",
-        "DROP",
-        "EXPAND",
-        "FILTER",
-        "HSTACK",
-        "LAMBDA",
-        "MAKEARRAY",
-        "MAP",
-        "PY",
-        "QUERYSTRING",
-        "RANDARRAY",
-        "REDUCE",
-        "SCAN",
-        "SEQUENCE",
-        "SINGLE",
-        "SORT",
-        "SORTBY",
-        "SWITCH",
-        "TAKE",
-        "TEXTSPLIT",
-        "TOCOL",
-        "TOROW",
-        "UNIQUE",
-        "VSTACK",
-        "WRAPCOLS",
-        "WRAPROWS",
-        "XLOOKUP",
-    ];
-    let mut found = false;
-    for_each_call(file_text, &mut |name| {
-        let name = name.rsplit('.').next().unwrap_or(name);
-        found |= DYNAMIC.iter().any(|d| d.eq_ignore_ascii_case(name));
-    });
-    found
-}
-
-/// Calls `f` with each name directly followed by `(` outside string literals and quoted
-/// sheet names.
-fn for_each_call(text: &str, f: &mut dyn FnMut(&str)) {
-    let b = text.as_bytes();
-    let mut i = 0;
-    while i < b.len() {
-        match b[i] {
-            q @ (b'"' | b'\'') => {
-                i += 1;
-                while i < b.len() {
-                    if b[i] == q {
-                        if b.get(i + 1) == Some(&q) {
-                            i += 1;
-                        } else {
-                            break;
-                        }
-                    }
-                    i += 1;
-                }
-            }
-            c if c.is_ascii_alphabetic() || c == b'_' => {
-                let start = i;
-                while i < b.len() && (b[i].is_ascii_alphanumeric() || matches!(b[i], b'_' | b'.')) {
-                    i += 1;
-                }
-                if b.get(i) == Some(&b'(') {
-                    f(&text[start..i]);
-                }
-                continue;
-            }
-            _ => {}
+        Ok(expr) => {
+            let spelling = FileSpelling { storage, dynamic: std::cell::Cell::new(false) };
+            let text = print(&expr, wb, pos, &spelling);
+            FileFormula { text, dynamic: spelling.dynamic.get() }
         }
-        i += 1;
+        // Text that does not parse (a table reference, an external link) goes back as it came.
+        Err(_) => FileFormula { text: text.to_string(), dynamic: false },
     }
 }
 
@@ -147,9 +85,9 @@ fn calls_any(text: &str, names: &[&str]) -> bool {
 /// pre-2019 way: a range where one value is expected is cut to the cell in line with the
 /// formula (implicit intersection); Excel 365 shows that as `@`. Given such a formula that
 /// produced an array here, returns it with `@` where Excel intersected, or `None` when
-/// nothing changes. Which arguments take whole ranges or arrays comes from the small
-/// tables below; the rule runs only on formulas that produced arrays, so a function
-/// missing from them costs at most that one cell.
+/// nothing changes. Which arguments take whole ranges or arrays is the registry's
+/// (`FnSpec::array_args`, `FnSpec::range_args`); the rule runs only on formulas that
+/// produced arrays, so a function marked wrongly costs at most that one cell.
 pub fn legacy_intersection(text: &str, wb: &Workbook, sheet: SheetId, pos: Pos) -> Option<String> {
     let mut expr = wb.parse_at(text, sheet, pos).ok()?;
     let mut changed = false;
@@ -173,20 +111,17 @@ fn intersect(e: &mut Expr, wb: &Workbook, sheet: SheetId, changed: &mut bool) {
             intersect(a, wb, sheet, changed);
             intersect(b, wb, sheet, changed);
         }
-        ExprKind::Call(..) | ExprKind::UnknownCall(..) => {
-            let name = match &e.kind {
-                ExprKind::Call(id, _) => spec(*id).name.to_ascii_uppercase(),
-                ExprKind::UnknownCall(name, _) => name.to_ascii_uppercase(),
-                _ => unreachable!("matched a call"),
-            };
-            let (ExprKind::Call(_, args) | ExprKind::UnknownCall(_, args)) = &mut e.kind else { unreachable!() };
+        ExprKind::Call(id, args) => {
+            let f = spec(*id);
             for (i, arg) in args.iter_mut().enumerate() {
-                if takes_array(&name, i) || (is_bare_range(arg) && takes_range(&name, i)) {
+                if f.array_args.contains(i) || (is_bare_range(arg) && f.range_args.contains(i)) {
                     continue;
                 }
                 intersect(arg, wb, sheet, changed);
             }
         }
+        // What a function we lack takes is unknown; it evaluates to #NAME? anyway.
+        ExprKind::UnknownCall(_, args) => args.iter_mut().for_each(|arg| intersect(arg, wb, sheet, changed)),
         _ => {}
     }
 }
@@ -215,40 +150,6 @@ fn names_a_range(wb: &Workbook, name: &str, sheet: SheetId) -> bool {
     })
 }
 
-/// Arguments evaluated as arrays even in a pre-2019 formula.
-fn takes_array(name: &str, i: usize) -> bool {
-    match name {
-        "SUMPRODUCT" | "MMULT" | "MDETERM" | "MINVERSE" | "TRANSPOSE" | "FREQUENCY" | "LINEST" | "LOGEST" | "TREND"
-        | "GROWTH" | "SUMX2MY2" | "SUMX2PY2" | "SUMXMY2" => true,
-        "INDEX" => i == 0,
-        "MATCH" | "VLOOKUP" | "HLOOKUP" | "XMATCH" => i == 1,
-        "LOOKUP" => i >= 1,
-        _ => false,
-    }
-}
-
-/// Arguments that take a whole range (an aggregate, a lookup table, a reference).
-fn takes_range(name: &str, i: usize) -> bool {
-    match name {
-        "SUM" | "SUMSQ" | "AVERAGE" | "AVERAGEA" | "COUNT" | "COUNTA" | "COUNTBLANK" | "MAX" | "MAXA" | "MIN"
-        | "MINA" | "PRODUCT" | "MEDIAN" | "MODE" | "MODE.SNGL" | "MODE.MULT" | "STDEV" | "STDEV.S" | "STDEV.P"
-        | "STDEVA" | "STDEVP" | "STDEVPA" | "VAR" | "VAR.S" | "VAR.P" | "VARA" | "VARP" | "VARPA" | "AVEDEV"
-        | "DEVSQ" | "GEOMEAN" | "HARMEAN" | "KURT" | "SKEW" | "SKEW.P" | "AND" | "OR" | "XOR" | "CONCAT" | "SUMIFS"
-        | "COUNTIFS" | "AVERAGEIFS" | "MAXIFS" | "MINIFS" | "ROWS" | "COLUMNS" | "AREAS" | "NPV" | "CORREL"
-        | "COVAR" | "COVARIANCE.P" | "COVARIANCE.S" | "PEARSON" | "RSQ" | "SLOPE" | "INTERCEPT" | "STEYX"
-        | "FORECAST" | "FORECAST.LINEAR" | "PROB" | "IRR" | "MIRR" | "XNPV" | "XIRR" | "T.TEST" | "TTEST"
-        | "F.TEST" | "FTEST" | "CHISQ.TEST" | "CHITEST" | "Z.TEST" | "ZTEST" | "DSUM" | "DCOUNT" | "DCOUNTA"
-        | "DAVERAGE" | "DMAX" | "DMIN" | "DGET" | "DPRODUCT" | "DSTDEV" | "DSTDEVP" | "DVAR" | "DVARP" => true,
-        "LARGE" | "SMALL" | "PERCENTILE" | "PERCENTILE.INC" | "PERCENTILE.EXC" | "QUARTILE" | "QUARTILE.INC"
-        | "QUARTILE.EXC" | "PERCENTRANK" | "PERCENTRANK.INC" | "PERCENTRANK.EXC" | "TRIMMEAN" | "OFFSET" | "ROW"
-        | "COLUMN" | "CELL" | "ISREF" | "ISFORMULA" | "FORMULATEXT" | "SHEET" | "COUNTIF" => i == 0,
-        "RANK" | "RANK.EQ" | "RANK.AVG" | "SUBTOTAL" => i >= 1,
-        "SUMIF" | "AVERAGEIF" => i != 1,
-        "TEXTJOIN" | "AGGREGATE" => i >= 2,
-        _ => false,
-    }
-}
-
 /// `ANCHORARRAY(x)` → `x#`, `SINGLE(x)` → `@x`, everywhere in the tree.
 fn operators_from_file(e: &mut Expr) {
     match &mut e.kind {
@@ -262,7 +163,7 @@ fn operators_from_file(e: &mut Expr) {
     }
     let name: &str = match &e.kind {
         ExprKind::Call(id, args) if args.len() == 1 => spec(*id).name,
-        ExprKind::UnknownCall(name, args) if args.len() == 1 => name,
+        ExprKind::UnknownCall(name, args) if args.len() == 1 => strip_future_prefix(name),
         _ => return,
     };
     let op = if name.eq_ignore_ascii_case("ANCHORARRAY") {
@@ -288,217 +189,20 @@ fn operators_from_file(e: &mut Expr) {
     e.kind = ExprKind::Unary(op, Box::new(arg));
 }
 
-/// Whether typed text differs from its file spelling: it has `#` or `@` outside strings, or
-/// calls a function Excel prefixes (LET and LAMBDA included, for their parameters).
-fn needs_file_spelling(text: &str) -> bool {
-    let mut quote = None;
-    for c in text.bytes() {
-        match quote {
-            Some(q) if c == q => quote = None,
-            Some(_) => {}
-            None if c == b'"' || c == b'\'' => quote = Some(c),
-            None if c == b'#' || c == b'@' => return true,
-            None => {}
-        }
-    }
-    let mut found = false;
-    for_each_call(text, &mut |name| found |= future_prefix(name).is_some());
-    found
-}
-
-/// The prefix Excel stores before a function name, if any.
-pub fn future_prefix(name: &str) -> Option<&'static str> {
-    if ["FILTER", "SORT", "PY"].iter().any(|f| f.eq_ignore_ascii_case(name)) {
-        return Some("_xlfn._xlws.");
-    }
-    let upper = name.bytes().map(|b| b.to_ascii_uppercase());
-    FUTURE_FUNCTIONS.binary_search_by(|f| f.bytes().cmp(upper.clone())).is_ok().then_some("_xlfn.")
-}
-
-/// Functions Excel stores with `_xlfn.` (added after Excel 2007), sorted: rust_xlsxwriter's
-/// list and the newer ones the Excel corpus shows (REGEX…, TRIMRANGE). Not ISO.CEILING,
-/// which Excel stores bare.
-static FUTURE_FUNCTIONS: &[&str] = &[
-    "ACOT",
-    "ACOTH",
-    "AGGREGATE",
-    "ANCHORARRAY",
-    "ARABIC",
-    "ARRAYTOTEXT",
-    "BASE",
-    "BETA.DIST",
-    "BETA.INV",
-    "BINOM.DIST",
-    "BINOM.DIST.RANGE",
-    "BINOM.INV",
-    "BITAND",
-    "BITLSHIFT",
-    "BITOR",
-    "BITRSHIFT",
-    "BITXOR",
-    "BYCOL",
-    "BYROW",
-    "CEILING.MATH",
-    "CEILING.PRECISE",
-    "CHISQ.DIST",
-    "CHISQ.DIST.RT",
-    "CHISQ.INV",
-    "CHISQ.INV.RT",
-    "CHISQ.TEST",
-    "CHOOSECOLS",
-    "CHOOSEROWS",
-    "COMBINA",
-    "CONCAT",
-    "CONFIDENCE.NORM",
-    "CONFIDENCE.T",
-    "COT",
-    "COTH",
-    "COVARIANCE.P",
-    "COVARIANCE.S",
-    "CSC",
-    "CSCH",
-    "DAYS",
-    "DECIMAL",
-    "DETECTLANGUAGE",
-    "DROP",
-    "ENCODEURL",
-    "ERF.PRECISE",
-    "ERFC.PRECISE",
-    "EXPAND",
-    "EXPON.DIST",
-    "F.DIST",
-    "F.DIST.RT",
-    "F.INV",
-    "F.INV.RT",
-    "F.TEST",
-    "FIELDVALUE",
-    "FILTERXML",
-    "FLOOR.MATH",
-    "FLOOR.PRECISE",
-    "FORECAST.ETS",
-    "FORECAST.ETS.CONFINT",
-    "FORECAST.ETS.SEASONALITY",
-    "FORECAST.ETS.STAT",
-    "FORECAST.LINEAR",
-    "FORMULATEXT",
-    "GAMMA",
-    "GAMMA.DIST",
-    "GAMMA.INV",
-    "GAMMALN.PRECISE",
-    "GAUSS",
-    "GROUPBY",
-    "HSTACK",
-    "HYPGEOM.DIST",
-    "IFNA",
-    "IFS",
-    "IMAGE",
-    "IMCOSH",
-    "IMCOT",
-    "IMCSC",
-    "IMCSCH",
-    "IMSEC",
-    "IMSECH",
-    "IMSINH",
-    "IMTAN",
-    "ISFORMULA",
-    "ISOMITTED",
-    "ISOWEEKNUM",
-    "LAMBDA",
-    "LET",
-    "LOGNORM.DIST",
-    "LOGNORM.INV",
-    "MAKEARRAY",
-    "MAP",
-    "MAXIFS",
-    "MINIFS",
-    "MODE.MULT",
-    "MODE.SNGL",
-    "MUNIT",
-    "NEGBINOM.DIST",
-    "NORM.DIST",
-    "NORM.INV",
-    "NORM.S.DIST",
-    "NORM.S.INV",
-    "NUMBERVALUE",
-    "PDURATION",
-    "PERCENTILE.EXC",
-    "PERCENTILE.INC",
-    "PERCENTOF",
-    "PERCENTRANK.EXC",
-    "PERCENTRANK.INC",
-    "PERMUTATIONA",
-    "PHI",
-    "PIVOTBY",
-    "POISSON.DIST",
-    "PQSOURCE",
-    "PYTHON_STR",
-    "PYTHON_TYPE",
-    "PYTHON_TYPENAME",
-    "QUARTILE.EXC",
-    "QUARTILE.INC",
-    "QUERYSTRING",
-    "RANDARRAY",
-    "RANK.AVG",
-    "RANK.EQ",
-    "REDUCE",
-    "REGEXEXTRACT",
-    "REGEXREPLACE",
-    "REGEXTEST",
-    "RRI",
-    "SCAN",
-    "SEC",
-    "SECH",
-    "SEQUENCE",
-    "SHEET",
-    "SHEETS",
-    "SINGLE",
-    "SKEW.P",
-    "SORTBY",
-    "STDEV.P",
-    "STDEV.S",
-    "STOCKHISTORY",
-    "SWITCH",
-    "T.DIST",
-    "T.DIST.2T",
-    "T.DIST.RT",
-    "T.INV",
-    "T.INV.2T",
-    "T.TEST",
-    "TAKE",
-    "TEXTAFTER",
-    "TEXTBEFORE",
-    "TEXTJOIN",
-    "TEXTSPLIT",
-    "TOCOL",
-    "TOROW",
-    "TRANSLATE",
-    "TRIMRANGE",
-    "UNICHAR",
-    "UNICODE",
-    "UNIQUE",
-    "VALUETOTEXT",
-    "VAR.P",
-    "VAR.S",
-    "VSTACK",
-    "WEBSERVICE",
-    "WEIBULL.DIST",
-    "WRAPCOLS",
-    "WRAPROWS",
-    "XLOOKUP",
-    "XMATCH",
-    "XOR",
-    "Z.TEST",
-];
-
 /// Excel's spelling of a formula in a file stored as `storage`.
 struct FileSpelling {
     storage: Storage,
+    /// Set when the text written makes the formula a dynamic-array formula.
+    dynamic: std::cell::Cell<bool>,
 }
 
 impl Spelling for FileSpelling {
+    /// A known function is spelled as its registry row says; an unknown one kept the
+    /// prefix it was read with.
     fn function_name(&self, name: &str, out: &mut String) {
-        if let Some(prefix) = future_prefix(name) {
-            out.push_str(prefix);
+        if let Some(f) = find(name).map(spec) {
+            out.push_str(f.file_prefix.as_str());
+            self.dynamic.set(self.dynamic.get() || f.dynamic);
         }
         out.push_str(name);
     }
@@ -512,12 +216,14 @@ impl Spelling for FileSpelling {
         if self.storage == Storage::Legacy && !in_call {
             OperatorSpelling::Omitted
         } else {
-            OperatorSpelling::Function("SINGLE")
+            self.dynamic.set(true);
+            OperatorSpelling::Function("_xlfn.SINGLE")
         }
     }
 
     fn spill(&self) -> OperatorSpelling {
-        OperatorSpelling::Function("ANCHORARRAY")
+        self.dynamic.set(true);
+        OperatorSpelling::Function("_xlfn.ANCHORARRAY")
     }
 }
 
@@ -539,11 +245,6 @@ mod tests {
     }
 
     #[test]
-    fn the_future_function_list_is_sorted() {
-        assert!(FUTURE_FUNCTIONS.windows(2).all(|w| w[0] < w[1]));
-    }
-
-    #[test]
     fn spill_and_implicit_intersection_come_back_as_operators() {
         let wb = book();
         let at = Pos::new(4, 2);
@@ -557,20 +258,28 @@ mod tests {
     fn newer_functions_parameters_and_operators_get_their_file_spelling() {
         let wb = book();
         let at = Pos::new(0, 0);
-        let to_file = |text: &str, wb: &Workbook, sheet, at| to_file(text, wb, sheet, at, Storage::Dynamic);
+        let to_file = |text: &str, wb: &Workbook, sheet, at| to_file(text, wb, sheet, at, Storage::Dynamic).text;
         assert_eq!(to_file("=SUM(A1:A3)+SIN(1)", &wb, 0, at), "SUM(A1:A3)+SIN(1)");
         assert_eq!(to_file("=CONCAT(\"x#\",A1)", &wb, 0, at), "_xlfn.CONCAT(\"x#\",A1)");
         assert_eq!(to_file("=SUM(A1#)", &wb, 0, at), "SUM(_xlfn.ANCHORARRAY(A1))");
         assert_eq!(to_file("=@A1:A3", &wb, 0, at), "_xlfn.SINGLE(A1:A3)");
-        assert_eq!(to_file("=FILTER(A1:A3,A1:A3>1)", &wb, 0, at), "_xlfn._xlws.FILTER(A1:A3,A1:A3>1)");
+        let filter = "_xlfn._xlws.FILTER(A1:A3,A1:A3>1)";
+        assert_eq!(to_file(&format!("={filter}"), &wb, 0, at), filter);
         assert_eq!(
             to_file("=LET(x,2,y,x+1,x*y)+x", &wb, 0, at),
             "_xlfn.LET(_xlpm.x,2,_xlpm.y,_xlpm.x+1,_xlpm.x*_xlpm.y)+x"
         );
         assert_eq!(to_file("='Data sheet'!B2#", &wb, 0, at), "_xlfn.ANCHORARRAY('Data sheet'!B2)");
         assert_eq!(to_file("=IF(A1=#N/A,1,2)", &wb, 0, at), "IF(A1=#N/A,1,2)");
-        assert!(calls_dynamic_function("_xlfn._xlws.SORT(A1:A3)"));
-        assert!(!calls_dynamic_function("SUM(A1:A3)&\"SORT(\""));
+        let dynamic = |text: &str| super::to_file(text, &wb, 0, at, Storage::Legacy).dynamic;
+        assert!(dynamic("=SEQUENCE(3)+1"));
+        assert!(dynamic("=SUM(A1#)"));
+        assert!(!dynamic("=SUM(A1:A3)&\"SEQUENCE(\""));
+        assert!(!dynamic("=@A1:A3"));
+        // Functions we lack keep the prefix they were read with, going back to a file.
+        assert_eq!(to_file("=_xlfn.STOCKHISTORY(\"X\",1)+1", &wb, 0, at), "_xlfn.STOCKHISTORY(\"X\",1)+1");
+        assert_eq!(to_file("=_xlfn._xlws.NOSUCH(A1)", &wb, 0, at), "_xlfn._xlws.NOSUCH(A1)");
+        assert_eq!(to_file("=NOSUCH(A1)", &wb, 0, at), "NOSUCH(A1)");
     }
 
     #[test]
@@ -585,7 +294,7 @@ mod tests {
         assert_eq!(legacy("SUM(E15:E19*2)").as_deref(), Some("SUM(@E15:E19*2)"));
         assert_eq!(legacy("SUMPRODUCT(E15:E19*F15:F19)"), None);
         assert_eq!(legacy("IF(A1,B1:B5,2)").as_deref(), Some("IF(A1,@B1:B5,2)"));
-        let written = |text| to_file(text, &wb, 0, at, Storage::Legacy);
+        let written = |text| to_file(text, &wb, 0, at, Storage::Legacy).text;
         assert_eq!(written("=@E15:E19*2"), "E15:E19*2");
         assert_eq!(written("=SIN(@E15:E19)"), "SIN(_xlfn.SINGLE(E15:E19))");
     }

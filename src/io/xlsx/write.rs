@@ -140,7 +140,7 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
         }
     }
     for (name, formula, scope) in wb.names() {
-        let text = syntax::to_file(&formula, wb, scope.unwrap_or(0), Pos::new(0, 0), Storage::Dynamic);
+        let text = syntax::to_file(&formula, wb, scope.unwrap_or(0), Pos::new(0, 0), Storage::Dynamic).text;
         let full = match scope {
             Some(s) => format!("{}!{name}", quote_sheet_name(&names[s as usize])),
             None => name.clone(),
@@ -265,9 +265,10 @@ fn write_formula(
         || *value == Value::Error(XlError::Spill)
         || kept.is_some_and(|a| a.dynamic)
         || array.is_some_and(|a| a.dynamic);
-    let mut file_text = syntax::to_file(text, wb, sheet, pos, Storage::Legacy);
-    if dynamic || syntax::calls_dynamic_function(&file_text) {
-        file_text = syntax::to_file(text, wb, sheet, pos, Storage::Dynamic);
+    let legacy = syntax::to_file(text, wb, sheet, pos, Storage::Legacy);
+    let mut file_text = legacy.text;
+    if dynamic || legacy.dynamic {
+        file_text = syntax::to_file(text, wb, sheet, pos, Storage::Dynamic).text;
     }
     // rust_xlsxwriter reads a leading `{` or trailing `}` as array-formula braces and drops
     // them; a space around the formula keeps an array constant whole.

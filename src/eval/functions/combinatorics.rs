@@ -1,0 +1,335 @@
+//! Counting and number theory (COMBIN, PERMUT, GCD, LCM, MULTINOMIAL, FACTDOUBLE, ISEVEN,
+//! ISODD), sums over paired arrays (SUMX2MY2 …, SERIESSUM) and the matrix functions
+//! (MMULT, MINVERSE, MDETERM, MUNIT, TRANSPOSE) through nalgebra.
+
+use std::rc::Rc;
+
+use nalgebra::DMatrix;
+
+use crate::eval::coerce::{parse_plain_number, to_number};
+use crate::eval::evaluator::{power, Ctx};
+use crate::eval::value::{Array, Value, XlError, XlResult};
+use crate::formula::ast::{Expr, ExprKind};
+
+use super::args::{block, for_each_value, Source};
+use super::scalar::{check, finite, scalar, Scalars};
+use super::{ArgSet, FnSpec, MANY};
+
+pub const FUNCTIONS: &[FnSpec] = &[
+    FnSpec::value("COMBIN", 2, 2, combin, "COMBIN(number, number_chosen)", "Combinations without repetition"),
+    FnSpec::value("COMBINA", 2, 2, combina, "COMBINA(number, number_chosen)", "Combinations with repetition").future(),
+    FnSpec::value("PERMUT", 2, 2, permut, "PERMUT(number, number_chosen)", "Ordered selections without repetition"),
+    FnSpec::value(
+        "PERMUTATIONA",
+        2,
+        2,
+        permutationa,
+        "PERMUTATIONA(number, number_chosen)",
+        "Ordered selections with repetition: number^number_chosen",
+    )
+    .future(),
+    FnSpec::value("GCD", 1, MANY, gcd, "GCD(number1, …)", "Greatest common divisor of whole numbers")
+        .range_args(ArgSet::ALL),
+    FnSpec::value("LCM", 1, MANY, lcm, "LCM(number1, …)", "Least common multiple of whole numbers")
+        .range_args(ArgSet::ALL),
+    FnSpec::value("MULTINOMIAL", 1, MANY, multinomial, "MULTINOMIAL(number1, …)", "(Σ numbers)! / Π numbers!")
+        .range_args(ArgSet::ALL),
+    FnSpec::value("FACTDOUBLE", 1, 1, factdouble, "FACTDOUBLE(number)", "Double factorial n·(n-2)·(n-4)…"),
+    FnSpec::value("ISEVEN", 1, 1, iseven, "ISEVEN(number)", "TRUE when the integer part is even"),
+    FnSpec::value("ISODD", 1, 1, isodd, "ISODD(number)", "TRUE when the integer part is odd"),
+    FnSpec::value("SERIESSUM", 4, 4, seriessum, "SERIESSUM(x, n, m, coefficients)", "Σ coefficient_i · x^(n + i·m)")
+        .array_args(ArgSet::only(3)),
+    FnSpec::value("SUMX2MY2", 2, 2, sumx2my2, "SUMX2MY2(array_x, array_y)", "Σ (x² - y²) over pairs of numbers")
+        .array_args(ArgSet::ALL),
+    FnSpec::value("SUMX2PY2", 2, 2, sumx2py2, "SUMX2PY2(array_x, array_y)", "Σ (x² + y²) over pairs of numbers")
+        .array_args(ArgSet::ALL),
+    FnSpec::value("SUMXMY2", 2, 2, sumxmy2, "SUMXMY2(array_x, array_y)", "Σ (x - y)² over pairs of numbers")
+        .array_args(ArgSet::ALL),
+    FnSpec::value("MMULT", 2, 2, mmult, "MMULT(array1, array2)", "Matrix product").array_args(ArgSet::ALL),
+    FnSpec::value("MINVERSE", 1, 1, minverse, "MINVERSE(array)", "Inverse of a square matrix; #NUM! when singular")
+        .array_args(ArgSet::ALL),
+    FnSpec::value("MDETERM", 1, 1, mdeterm, "MDETERM(array)", "Determinant of a square matrix").array_args(ArgSet::ALL),
+    FnSpec::value("MUNIT", 1, 1, munit, "MUNIT(dimension)", "The identity matrix of that size").future(),
+    FnSpec::value("TRANSPOSE", 1, 1, transpose, "TRANSPOSE(array)", "Rows become columns").array_args(ArgSet::ALL),
+];
+
+/// A count argument: truncated, at least 0.
+fn count(a: Scalars, i: usize) -> XlResult<f64> {
+    let n = a.num(i)?.trunc();
+    check(n >= 0.0, XlError::Num)?;
+    Ok(n)
+}
+
+/// n! / (n-k)! / k! as a product of ratios, rounded to the whole number it is.
+fn binomial(n: f64, k: f64) -> f64 {
+    let k = k.min(n - k);
+    let mut r = 1.0;
+    let mut i = 0.0;
+    while i < k {
+        r = r * (n - i) / (i + 1.0);
+        i += 1.0;
+    }
+    r.round()
+}
+
+fn combin(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let (n, k) = (count(a, 0)?, count(a, 1)?);
+        check(k <= n, XlError::Num)?;
+        finite(binomial(n, k))
+    })
+}
+
+fn combina(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let (n, k) = (count(a, 0)?, count(a, 1)?);
+        check(n >= k || n > 0.0 || k == 0.0, XlError::Num)?;
+        if n == 0.0 {
+            return Ok(Value::Number(f64::from(k == 0.0)));
+        }
+        finite(binomial(n + k - 1.0, k))
+    })
+}
+
+fn permut(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let (n, k) = (count(a, 0)?, count(a, 1)?);
+        check(k <= n, XlError::Num)?;
+        let mut r = 1.0;
+        let mut i = 0.0;
+        while i < k {
+            r *= n - i;
+            i += 1.0;
+        }
+        finite(r)
+    })
+}
+
+fn permutationa(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| finite(count(a, 0)?.powf(count(a, 1)?)))
+}
+
+/// The arguments' numbers as GCD, LCM and MULTINOMIAL read them: text anywhere is read as
+/// a number (or is #VALUE!), booleans are #VALUE!, blank cells of a range are skipped but a
+/// blank argument is #VALUE!.
+fn strict_numbers(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<f64>> {
+    // An empty argument slot is Excel's #N/A here.
+    check(args.iter().all(|a| a.kind != ExprKind::Missing), XlError::NA)?;
+    let mut out = Vec::new();
+    for_each_value(ctx, args, &mut |v, source| {
+        match (v, source) {
+            (Value::Blank, Source::Collection) => {}
+            (Value::Blank | Value::Bool(_), _) => return Err(XlError::Value),
+            (Value::Text(t), _) => out.push(parse_plain_number(t.trim()).ok_or(XlError::Value)?),
+            (v, _) => out.push(to_number(v)?),
+        }
+        Ok(())
+    })?;
+    Ok(out)
+}
+
+/// The arguments' numbers as whole numbers 0 ≤ n < 2^53.
+fn whole_numbers(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<f64>> {
+    let ns = strict_numbers(ctx, args)?;
+    ns.iter()
+        .map(|&n| {
+            check((0.0..9007199254740992.0).contains(&n), XlError::Num)?;
+            Ok(n.trunc())
+        })
+        .collect()
+}
+
+fn gcd_of(mut a: f64, mut b: f64) -> f64 {
+    while b != 0.0 {
+        (a, b) = (b, a % b);
+    }
+    a
+}
+
+fn gcd(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    Ok(Value::Number(whole_numbers(ctx, args)?.into_iter().fold(0.0, gcd_of)))
+}
+
+fn lcm(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let ns = whole_numbers(ctx, args)?;
+    if ns.is_empty() || ns.contains(&0.0) {
+        return Ok(Value::Number(0.0));
+    }
+    let lcm = ns.into_iter().fold(1.0, |acc, n| acc / gcd_of(acc, n) * n);
+    check(lcm < 9007199254740992.0, XlError::Num)?;
+    Ok(Value::Number(lcm))
+}
+
+fn multinomial(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let ns = strict_numbers(ctx, args)?;
+    let mut total = 0.0;
+    let mut r = 1.0;
+    for n in ns {
+        check(n >= 0.0, XlError::Num)?;
+        let n = n.trunc();
+        // (total + n)! / (total! n!) = C(total + n, n)
+        total += n;
+        r *= binomial(total, n);
+    }
+    finite(r)
+}
+
+fn factdouble(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let n = a.num(0)?.trunc();
+        check(n >= -1.0, XlError::Num)?;
+        let mut r = 1.0;
+        let mut k = n;
+        while k > 1.0 {
+            r *= k;
+            k -= 2.0;
+        }
+        finite(r)
+    })
+}
+
+/// The integer part of a number argument; text and booleans are #VALUE! (Analysis ToolPak).
+fn parity(ctx: &mut Ctx, args: &[Expr], odd: bool) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let n = match a.value(0) {
+            Value::Bool(_) => return Err(XlError::Value),
+            _ => a.num(0)?.trunc(),
+        };
+        Ok(Value::Bool((n % 2.0 != 0.0) == odd))
+    })
+}
+
+fn iseven(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    parity(ctx, args, false)
+}
+
+fn isodd(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    parity(ctx, args, true)
+}
+
+/// A number argument; a boolean is #VALUE! (Analysis ToolPak).
+fn toolpak_number(ctx: &mut Ctx, e: &Expr) -> XlResult<f64> {
+    match ctx.eval(e) {
+        Value::Bool(_) => Err(XlError::Value),
+        v => to_number(&v),
+    }
+}
+
+fn seriessum(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let x = toolpak_number(ctx, &args[0])?;
+    let n = toolpak_number(ctx, &args[1])?;
+    let m = toolpak_number(ctx, &args[2])?;
+    let coefficients = block(ctx, &args[3])?;
+    let mut sum = 0.0;
+    for (i, c) in coefficients.data.iter().enumerate() {
+        let c = match c {
+            Value::Number(c) => *c,
+            Value::Error(e) => return Err(*e),
+            _ => return Err(XlError::Value),
+        };
+        sum += c * power(x, n + i as f64 * m)?;
+    }
+    finite(sum)
+}
+
+/// Σ f(x, y) over the positions where both arrays hold numbers; #N/A when their sizes differ.
+fn sum_pairs(ctx: &mut Ctx, args: &[Expr], f: fn(f64, f64) -> f64) -> XlResult<Value> {
+    let x = block(ctx, &args[0])?;
+    let y = block(ctx, &args[1])?;
+    check(x.data.len() == y.data.len(), XlError::NA)?;
+    let mut sum = 0.0;
+    for (a, b) in x.data.iter().zip(&y.data) {
+        match (a, b) {
+            (Value::Error(e), _) | (_, Value::Error(e)) => return Err(*e),
+            (Value::Number(a), Value::Number(b)) => sum += f(*a, *b),
+            _ => {}
+        }
+    }
+    finite(sum)
+}
+
+fn sumx2my2(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    sum_pairs(ctx, args, |x, y| x * x - y * y)
+}
+
+fn sumx2py2(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    sum_pairs(ctx, args, |x, y| x * x + y * y)
+}
+
+fn sumxmy2(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    sum_pairs(ctx, args, |x, y| (x - y) * (x - y))
+}
+
+/// An argument as a matrix of numbers: any other item is #VALUE!.
+fn matrix(ctx: &mut Ctx, e: &Expr) -> XlResult<DMatrix<f64>> {
+    let a = block(ctx, e)?;
+    let mut items = Vec::with_capacity(a.data.len());
+    for v in &a.data {
+        match v {
+            Value::Number(n) => items.push(*n),
+            Value::Error(e) => return Err(*e),
+            _ => return Err(XlError::Value),
+        }
+    }
+    Ok(DMatrix::from_row_slice(a.rows, a.cols, &items))
+}
+
+fn to_value(m: &DMatrix<f64>) -> XlResult<Value> {
+    let mut data = Vec::with_capacity(m.len());
+    for r in 0..m.nrows() {
+        for c in 0..m.ncols() {
+            let x = m[(r, c)];
+            check(x.is_finite(), XlError::Num)?;
+            data.push(Value::Number(x));
+        }
+    }
+    Ok(Value::Array(Rc::new(Array::new(m.nrows(), m.ncols(), data))))
+}
+
+fn mmult(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let a = matrix(ctx, &args[0])?;
+    let b = matrix(ctx, &args[1])?;
+    check(a.ncols() == b.nrows(), XlError::Value)?;
+    to_value(&(a * b))
+}
+
+fn square(ctx: &mut Ctx, e: &Expr) -> XlResult<DMatrix<f64>> {
+    let m = matrix(ctx, e)?;
+    check(m.is_square(), XlError::Value)?;
+    Ok(m)
+}
+
+fn minverse(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let m = square(ctx, &args[0])?;
+    // A zero determinant (as LU finds it) is a singular matrix: #NUM! as in Excel.
+    let lu = m.lu();
+    check(lu.determinant() != 0.0, XlError::Num)?;
+    to_value(&lu.try_inverse().ok_or(XlError::Num)?)
+}
+
+fn mdeterm(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    finite(square(ctx, &args[0])?.lu().determinant())
+}
+
+fn munit(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let n = a.num(0)?.trunc();
+        check((1.0..=1_048_576.0).contains(&n), XlError::Value)?;
+        to_value(&DMatrix::identity(n as usize, n as usize))
+    })
+}
+
+fn transpose(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let a = block(ctx, &args[0])?;
+    let mut data = Vec::with_capacity(a.data.len());
+    for c in 0..a.cols {
+        for r in 0..a.rows {
+            // A blank cell reads as 0, as in Excel's result.
+            data.push(match a.get(r, c) {
+                Value::Blank => Value::Number(0.0),
+                v => v.clone(),
+            });
+        }
+    }
+    Ok(Value::Array(Rc::new(Array::new(a.cols, a.rows, data))))
+}

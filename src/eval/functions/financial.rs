@@ -1,0 +1,546 @@
+//! Financial functions: annuities (PV FV PMT NPER RATE IPMT PPMT CUMIPMT CUMPRINC ISPMT),
+//! cash flows (NPV IRR MIRR XNPV XIRR FVSCHEDULE), depreciation (SLN SYD DB DDB), rates
+//! (EFFECT NOMINAL PDURATION RRI), dollar fractions and treasury bills. Signs follow
+//! Excel: money paid out is negative. IRR, RATE and XIRR iterate as Excel documents
+//! (Newton's method from the guess, 0.1 by default) and give #NUM! when they do not converge.
+
+use crate::eval::evaluator::Ctx;
+use crate::eval::value::{Value, XlError, XlResult};
+use crate::formula::ast::Expr;
+
+use super::args::{block, numbers};
+use super::scalar::{check, finite, scalar, Scalars};
+use super::{ArgSet, FnSpec, MANY};
+
+pub const FUNCTIONS: &[FnSpec] = &[
+    FnSpec::value("PV", 3, 5, pv, "PV(rate, nper, pmt, [fv], [type])", "Present value of an annuity"),
+    FnSpec::value("FV", 3, 5, fv, "FV(rate, nper, pmt, [pv], [type])", "Future value of an annuity"),
+    FnSpec::value("PMT", 3, 5, pmt, "PMT(rate, nper, pv, [fv], [type])", "Payment per period of an annuity"),
+    FnSpec::value("NPER", 3, 5, nper, "NPER(rate, pmt, pv, [fv], [type])", "Number of periods of an annuity"),
+    FnSpec::value(
+        "RATE",
+        3,
+        6,
+        rate,
+        "RATE(nper, pmt, pv, [fv], [type], [guess])",
+        "Interest rate per period of an annuity (Newton's method from guess, 0.1)",
+    ),
+    FnSpec::value("IPMT", 4, 6, ipmt, "IPMT(rate, per, nper, pv, [fv], [type])", "Interest part of payment per"),
+    FnSpec::value("PPMT", 4, 6, ppmt, "PPMT(rate, per, nper, pv, [fv], [type])", "Principal part of payment per"),
+    FnSpec::value(
+        "CUMIPMT",
+        6,
+        6,
+        cumipmt,
+        "CUMIPMT(rate, nper, pv, start_period, end_period, type)",
+        "Interest paid between two periods",
+    ),
+    FnSpec::value(
+        "CUMPRINC",
+        6,
+        6,
+        cumprinc,
+        "CUMPRINC(rate, nper, pv, start_period, end_period, type)",
+        "Principal paid between two periods",
+    ),
+    FnSpec::value("ISPMT", 4, 4, ispmt, "ISPMT(rate, per, nper, pv)", "Interest of period per with even principal"),
+    FnSpec::value("NPV", 2, MANY, npv, "NPV(rate, value1, …)", "Net present value of payments at period ends")
+        .range_args(ArgSet::from(1)),
+    FnSpec::value("IRR", 1, 2, irr, "IRR(values, [guess])", "Internal rate of return of periodic cash flows")
+        .range_args(ArgSet::only(0)),
+    FnSpec::value("MIRR", 3, 3, mirr, "MIRR(values, finance_rate, reinvest_rate)", "Modified internal rate of return")
+        .range_args(ArgSet::only(0)),
+    FnSpec::value("XNPV", 3, 3, xnpv, "XNPV(rate, values, dates)", "Net present value of dated cash flows")
+        .range_args(ArgSet::from(1)),
+    FnSpec::value("XIRR", 2, 3, xirr, "XIRR(values, dates, [guess])", "Internal rate of return of dated cash flows")
+        .range_args(ArgSet::ALL),
+    FnSpec::value(
+        "FVSCHEDULE",
+        2,
+        2,
+        fvschedule,
+        "FVSCHEDULE(principal, schedule)",
+        "principal compounded by each rate of schedule",
+    )
+    .array_args(ArgSet::only(1)),
+    FnSpec::value("SLN", 3, 3, sln, "SLN(cost, salvage, life)", "Straight-line depreciation per period"),
+    FnSpec::value("SYD", 4, 4, syd, "SYD(cost, salvage, life, per)", "Sum-of-years'-digits depreciation"),
+    FnSpec::value("DB", 4, 5, db, "DB(cost, salvage, life, period, [month])", "Fixed-declining-balance depreciation"),
+    FnSpec::value(
+        "DDB",
+        4,
+        5,
+        ddb,
+        "DDB(cost, salvage, life, period, [factor])",
+        "Double- (or factor-) declining-balance depreciation",
+    ),
+    FnSpec::value("EFFECT", 2, 2, effect, "EFFECT(nominal_rate, npery)", "Effective annual rate"),
+    FnSpec::value("NOMINAL", 2, 2, nominal, "NOMINAL(effect_rate, npery)", "Nominal annual rate"),
+    FnSpec::value("PDURATION", 3, 3, pduration, "PDURATION(rate, pv, fv)", "Periods for pv to grow to fv").future(),
+    FnSpec::value("RRI", 3, 3, rri, "RRI(nper, pv, fv)", "Rate per period for pv to grow to fv").future(),
+    FnSpec::value(
+        "DOLLARDE",
+        2,
+        2,
+        dollarde,
+        "DOLLARDE(fractional_dollar, fraction)",
+        "A price written in fractions (1.02 with fraction 16 = 1 2/16) as a decimal",
+    ),
+    FnSpec::value(
+        "DOLLARFR",
+        2,
+        2,
+        dollarfr,
+        "DOLLARFR(decimal_dollar, fraction)",
+        "A decimal price written in fractions of fraction",
+    ),
+    FnSpec::value(
+        "TBILLPRICE",
+        3,
+        3,
+        tbillprice,
+        "TBILLPRICE(settlement, maturity, discount)",
+        "Price per 100 face value of a treasury bill",
+    ),
+    FnSpec::value("TBILLYIELD", 3, 3, tbillyield, "TBILLYIELD(settlement, maturity, pr)", "Yield of a treasury bill"),
+    FnSpec::value(
+        "TBILLEQ",
+        3,
+        3,
+        tbilleq,
+        "TBILLEQ(settlement, maturity, discount)",
+        "Bond-equivalent yield of a treasury bill",
+    ),
+];
+
+/// The annuity type argument: 0 (payments at period ends) or anything else (beginnings).
+fn payment_type(a: Scalars, i: usize) -> XlResult<f64> {
+    Ok(if a.num_or(i, 0.0)? != 0.0 { 1.0 } else { 0.0 })
+}
+
+fn pv_of(rate: f64, nper: f64, pmt: f64, fv: f64, kind: f64) -> f64 {
+    if rate == 0.0 {
+        return -(fv + pmt * nper);
+    }
+    let growth = (1.0 + rate).powf(nper);
+    -(fv + pmt * (1.0 + rate * kind) * (growth - 1.0) / rate) / growth
+}
+
+fn fv_of(rate: f64, nper: f64, pmt: f64, pv: f64, kind: f64) -> f64 {
+    if rate == 0.0 {
+        return -(pv + pmt * nper);
+    }
+    let growth = (1.0 + rate).powf(nper);
+    -(pv * growth + pmt * (1.0 + rate * kind) * (growth - 1.0) / rate)
+}
+
+fn pmt_of(rate: f64, nper: f64, pv: f64, fv: f64, kind: f64) -> f64 {
+    if rate == 0.0 {
+        return -(pv + fv) / nper;
+    }
+    let growth = (1.0 + rate).powf(nper);
+    -(fv + pv * growth) * rate / ((1.0 + rate * kind) * (growth - 1.0))
+}
+
+fn pv(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| finite(pv_of(a.num(0)?, a.num(1)?, a.num(2)?, a.num_or(3, 0.0)?, payment_type(a, 4)?)))
+}
+
+fn fv(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| finite(fv_of(a.num(0)?, a.num(1)?, a.num(2)?, a.num_or(3, 0.0)?, payment_type(a, 4)?)))
+}
+
+fn pmt(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let nper = a.num(1)?;
+        check(nper != 0.0, XlError::Num)?;
+        finite(pmt_of(a.num(0)?, nper, a.num(2)?, a.num_or(3, 0.0)?, payment_type(a, 4)?))
+    })
+}
+
+fn nper(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let (rate, pmt, pv, fv, kind) = (a.num(0)?, a.num(1)?, a.num(2)?, a.num_or(3, 0.0)?, payment_type(a, 4)?);
+        if rate == 0.0 {
+            check(pmt != 0.0, XlError::Num)?;
+            return finite(-(pv + fv) / pmt);
+        }
+        let ratio = (pmt * (1.0 + rate * kind) - fv * rate) / (pv * rate + pmt * (1.0 + rate * kind));
+        check(ratio > 0.0, XlError::Num)?;
+        finite(ratio.ln() / rate.ln_1p())
+    })
+}
+
+fn rate(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let (nper, pmt, pv, fv, kind) = (a.num(0)?, a.num(1)?, a.num(2)?, a.num_or(3, 0.0)?, payment_type(a, 4)?);
+        let guess = a.num_or(5, 0.1)?;
+        check(nper > 0.0, XlError::Num)?;
+        // The balance after nper periods at rate r: zero at the rate sought.
+        let balance = |r: f64| {
+            if r == 0.0 {
+                pv + pmt * nper + fv
+            } else {
+                let growth = (1.0 + r).powf(nper);
+                pv * growth + pmt * (1.0 + r * kind) * (growth - 1.0) / r + fv
+            }
+        };
+        newton(balance, guess, 50, 1e-10).map(Value::Number)
+    })
+}
+
+/// A root of `f` by Newton's method with a numeric derivative, from `guess`: at most
+/// `iterations` steps, done when a step is below `tolerance`; #NUM! otherwise.
+fn newton(f: impl Fn(f64) -> f64, guess: f64, iterations: usize, tolerance: f64) -> XlResult<f64> {
+    let mut x = guess;
+    for _ in 0..iterations {
+        let y = f(x);
+        let h = 1e-7 * x.abs().max(1e-3);
+        let slope = (f(x + h) - f(x - h)) / (2.0 * h);
+        check(slope != 0.0 && slope.is_finite() && y.is_finite(), XlError::Num)?;
+        let step = y / slope;
+        x -= step;
+        if step.abs() <= tolerance * x.abs().max(1.0) {
+            check(x.is_finite() && x > -1.0, XlError::Num)?;
+            return Ok(x);
+        }
+    }
+    Err(XlError::Num)
+}
+
+/// The interest part of payment `per` (1-based).
+fn ipmt_of(rate: f64, per: f64, nper: f64, pv: f64, fv: f64, kind: f64) -> f64 {
+    let pmt = pmt_of(rate, nper, pv, fv, kind);
+    let balance = if per == 1.0 {
+        if kind == 1.0 {
+            0.0
+        } else {
+            -pv
+        }
+    } else if kind == 1.0 {
+        fv_of(rate, per - 2.0, pmt, pv, 1.0) - pmt
+    } else {
+        fv_of(rate, per - 1.0, pmt, pv, 0.0)
+    };
+    balance * rate
+}
+
+fn ipmt(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let (rate, per, nper, pv) = (a.num(0)?, a.num(1)?, a.num(2)?, a.num(3)?);
+        let (fv, kind) = (a.num_or(4, 0.0)?, payment_type(a, 5)?);
+        check(per >= 1.0 && per <= nper, XlError::Num)?;
+        finite(ipmt_of(rate, per, nper, pv, fv, kind))
+    })
+}
+
+fn ppmt(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let (rate, per, nper, pv) = (a.num(0)?, a.num(1)?, a.num(2)?, a.num(3)?);
+        let (fv, kind) = (a.num_or(4, 0.0)?, payment_type(a, 5)?);
+        check(per >= 1.0 && per <= nper, XlError::Num)?;
+        finite(pmt_of(rate, nper, pv, fv, kind) - ipmt_of(rate, per, nper, pv, fv, kind))
+    })
+}
+
+fn cumulative(ctx: &mut Ctx, args: &[Expr], principal: bool) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let (rate, nper, pv) = (a.num(0)?, a.num(1)?.trunc(), a.num(2)?);
+        let (start, end, kind) = (a.num(3)?.trunc(), a.num(4)?.trunc(), a.num(5)?);
+        check(rate > 0.0 && nper > 0.0 && pv > 0.0, XlError::Num)?;
+        check(start >= 1.0 && end >= start && end <= nper && (kind == 0.0 || kind == 1.0), XlError::Num)?;
+        let pmt = pmt_of(rate, nper, pv, 0.0, kind);
+        let mut sum = 0.0;
+        let mut per = start;
+        while per <= end {
+            let interest = ipmt_of(rate, per, nper, pv, 0.0, kind);
+            sum += if principal { pmt - interest } else { interest };
+            per += 1.0;
+        }
+        finite(sum)
+    })
+}
+
+fn cumipmt(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    cumulative(ctx, args, false)
+}
+
+fn cumprinc(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    cumulative(ctx, args, true)
+}
+
+fn ispmt(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let (rate, per, nper, pv) = (a.num(0)?, a.num(1)?, a.num(2)?, a.num(3)?);
+        check(nper != 0.0, XlError::Div0)?;
+        finite(pv * rate * (per / nper - 1.0))
+    })
+}
+
+fn npv_of(rate: f64, values: &[f64]) -> f64 {
+    values.iter().enumerate().map(|(i, v)| v / (1.0 + rate).powi(i as i32 + 1)).sum()
+}
+
+fn npv(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let rate = numbers(ctx, &args[..1])?.first().copied().unwrap_or(0.0);
+    check(rate != -1.0, XlError::Div0)?;
+    let values = numbers(ctx, &args[1..])?;
+    finite(npv_of(rate, &values))
+}
+
+/// The numbers of a range or array argument, in order; other items skipped, errors kept.
+fn cash_flows(ctx: &mut Ctx, e: &Expr) -> XlResult<Vec<f64>> {
+    numbers(ctx, std::slice::from_ref(e))
+}
+
+fn irr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let values = cash_flows(ctx, &args[0])?;
+    let guess = match args.get(1) {
+        Some(e) => numbers(ctx, std::slice::from_ref(e))?.first().copied().unwrap_or(0.1),
+        None => 0.1,
+    };
+    check(values.iter().any(|v| *v > 0.0) && values.iter().any(|v| *v < 0.0), XlError::Num)?;
+    let f = |r: f64| values.iter().enumerate().map(|(i, v)| v / (1.0 + r).powi(i as i32)).sum::<f64>();
+    newton(f, guess, 50, 1e-12).map(Value::Number)
+}
+
+fn mirr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let values = cash_flows(ctx, &args[0])?;
+    let finance = numbers(ctx, &args[1..2])?.first().copied().unwrap_or(0.0);
+    let reinvest = numbers(ctx, &args[2..3])?.first().copied().unwrap_or(0.0);
+    let n = values.len() as f64;
+    let positive: Vec<f64> = values.iter().map(|v| v.max(0.0)).collect();
+    let negative: Vec<f64> = values.iter().map(|v| v.min(0.0)).collect();
+    let npv_pos = npv_of(reinvest, &positive);
+    let npv_neg = npv_of(finance, &negative);
+    check(npv_neg != 0.0 && npv_pos != 0.0 && n > 1.0, XlError::Div0)?;
+    let ratio = -npv_pos * (1.0 + reinvest).powf(n) / (npv_neg * (1.0 + finance));
+    finite(ratio.powf(1.0 / (n - 1.0)) - 1.0)
+}
+
+/// Dated cash flows: numbers only, as many dates as values, no date before the first.
+fn dated_flows(ctx: &mut Ctx, values: &Expr, dates: &Expr) -> XlResult<(Vec<f64>, Vec<f64>)> {
+    let numbers_of = |ctx: &mut Ctx, e: &Expr| -> XlResult<Vec<f64>> {
+        block(ctx, e)?
+            .data
+            .iter()
+            .map(|v| match v {
+                Value::Number(n) => Ok(*n),
+                Value::Error(e) => Err(*e),
+                _ => Err(XlError::Value),
+            })
+            .collect()
+    };
+    let values = numbers_of(ctx, values)?;
+    let dates: Vec<f64> = numbers_of(ctx, dates)?.into_iter().map(f64::trunc).collect();
+    check(values.len() == dates.len() && !values.is_empty(), XlError::Num)?;
+    check(dates.iter().all(|d| *d >= dates[0] && *d >= 0.0), XlError::Num)?;
+    Ok((values, dates))
+}
+
+fn xnpv_of(rate: f64, values: &[f64], dates: &[f64]) -> f64 {
+    values.iter().zip(dates).map(|(v, d)| v / (1.0 + rate).powf((d - dates[0]) / 365.0)).sum()
+}
+
+fn xnpv(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let rate = numbers(ctx, &args[..1])?.first().copied().unwrap_or(0.0);
+    let (values, dates) = dated_flows(ctx, &args[1], &args[2])?;
+    check(rate > -1.0, XlError::Num)?;
+    finite(xnpv_of(rate, &values, &dates))
+}
+
+fn xirr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let (values, dates) = dated_flows(ctx, &args[0], &args[1])?;
+    let guess = match args.get(2) {
+        Some(e) => numbers(ctx, std::slice::from_ref(e))?.first().copied().unwrap_or(0.1),
+        None => 0.1,
+    };
+    check(values.iter().any(|v| *v > 0.0) && values.iter().any(|v| *v < 0.0), XlError::Num)?;
+    newton(|r| xnpv_of(r, &values, &dates), guess, 100, 1e-12).map(Value::Number)
+}
+
+fn fvschedule(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let principal = numbers(ctx, &args[..1])?.first().copied().unwrap_or(0.0);
+    let schedule = block(ctx, &args[1])?;
+    let mut value = principal;
+    for r in &schedule.data {
+        value *= 1.0
+            + match r {
+                Value::Number(n) => *n,
+                Value::Blank => 0.0,
+                Value::Error(e) => return Err(*e),
+                _ => return Err(XlError::Value),
+            };
+    }
+    finite(value)
+}
+
+fn sln(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let life = a.num(2)?;
+        check(life != 0.0, XlError::Div0)?;
+        finite((a.num(0)? - a.num(1)?) / life)
+    })
+}
+
+fn syd(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let (cost, salvage, life, per) = (a.num(0)?, a.num(1)?, a.num(2)?, a.num(3)?);
+        check(life > 0.0 && per > 0.0 && per <= life, XlError::Num)?;
+        finite((cost - salvage) * (life - per + 1.0) * 2.0 / (life * (life + 1.0)))
+    })
+}
+
+fn db(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let (cost, salvage, life, period) = (a.num(0)?, a.num(1)?, a.num(2)?, a.num(3)?.trunc());
+        let month = a.num_or(4, 12.0)?.trunc();
+        check(cost >= 0.0 && salvage >= 0.0 && life > 0.0 && period > 0.0, XlError::Num)?;
+        check((1.0..=12.0).contains(&month) && period <= life + 1.0, XlError::Num)?;
+        check(month < 12.0 || period <= life, XlError::Num)?;
+        if cost == 0.0 {
+            return Ok(Value::Number(0.0));
+        }
+        // Excel rounds the rate to three decimals.
+        let rate = ((1.0 - (salvage / cost).powf(1.0 / life)) * 1000.0).round() / 1000.0;
+        let mut total = cost * rate * month / 12.0;
+        if period == 1.0 {
+            return finite(total);
+        }
+        let mut depreciation = total;
+        let mut p = 2.0;
+        while p <= period {
+            depreciation =
+                if p == life + 1.0 { (cost - total) * rate * (12.0 - month) / 12.0 } else { (cost - total) * rate };
+            total += depreciation;
+            p += 1.0;
+        }
+        finite(depreciation)
+    })
+}
+
+fn ddb(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let (cost, salvage, life, period) = (a.num(0)?, a.num(1)?, a.num(2)?, a.num(3)?);
+        let factor = a.num_or(4, 2.0)?;
+        check(cost >= 0.0 && salvage >= 0.0 && life > 0.0 && period > 0.0 && factor > 0.0, XlError::Num)?;
+        check(period <= life, XlError::Num)?;
+        let mut rate = factor / life;
+        let before = if rate >= 1.0 {
+            rate = 1.0;
+            if period == 1.0 {
+                cost
+            } else {
+                0.0
+            }
+        } else {
+            cost * (1.0 - rate).powf(period - 1.0)
+        };
+        let after = cost * (1.0 - rate).powf(period);
+        let depreciation = if after < salvage { before - salvage } else { before - after };
+        finite(depreciation.max(0.0))
+    })
+}
+
+fn effect(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let (nominal, npery) = (a.num(0)?, a.num(1)?.trunc());
+        check(nominal > 0.0 && npery >= 1.0, XlError::Num)?;
+        finite((1.0 + nominal / npery).powf(npery) - 1.0)
+    })
+}
+
+fn nominal(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let (effect, npery) = (a.num(0)?, a.num(1)?.trunc());
+        check(effect > 0.0 && npery >= 1.0, XlError::Num)?;
+        finite(((1.0 + effect).powf(1.0 / npery) - 1.0) * npery)
+    })
+}
+
+fn pduration(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let (rate, pv, fv) = (a.num(0)?, a.num(1)?, a.num(2)?);
+        check(rate > 0.0 && pv > 0.0 && fv > 0.0, XlError::Num)?;
+        finite((fv.ln() - pv.ln()) / rate.ln_1p())
+    })
+}
+
+fn rri(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let (nper, pv, fv) = (a.num(0)?, a.num(1)?, a.num(2)?);
+        check(nper > 0.0 && pv != 0.0, XlError::Num)?;
+        finite((fv / pv).powf(1.0 / nper) - 1.0)
+    })
+}
+
+/// The fraction argument of DOLLARDE and DOLLARFR, and the power of ten above it.
+fn fraction(a: Scalars) -> XlResult<(f64, f64)> {
+    let f = a.num(1)?.trunc();
+    check(f >= 0.0, XlError::Num)?;
+    check(f != 0.0, XlError::Div0)?;
+    Ok((f, 10f64.powf(f.log10().ceil())))
+}
+
+fn dollarde(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let x = a.num(0)?;
+        let (f, scale) = fraction(a)?;
+        finite(x.trunc() + x.fract() * scale / f)
+    })
+}
+
+fn dollarfr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let x = a.num(0)?;
+        let (f, scale) = fraction(a)?;
+        finite(x.trunc() + x.fract() * f / scale)
+    })
+}
+
+/// Settlement and maturity of a treasury bill (whole days), the days between them: at
+/// most a year, maturity after settlement.
+fn bill_days(a: Scalars) -> XlResult<f64> {
+    let (settlement, maturity) = (a.num(0)?.trunc(), a.num(1)?.trunc());
+    check(settlement >= 0.0 && maturity > settlement, XlError::Num)?;
+    let (y, m, d) = crate::eval::dates::ymd_from_serial(settlement as i64);
+    let year_later = crate::eval::dates::serial_from_ymd(y + 1, i64::from(m), i64::from(d)) as f64;
+    check(maturity <= year_later, XlError::Num)?;
+    Ok(maturity - settlement)
+}
+
+fn tbillprice(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let days = bill_days(a)?;
+        let discount = a.num(2)?;
+        check(discount > 0.0, XlError::Num)?;
+        let price = 100.0 * (1.0 - discount * days / 360.0);
+        check(price > 0.0, XlError::Num)?;
+        finite(price)
+    })
+}
+
+fn tbillyield(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let days = bill_days(a)?;
+        let price = a.num(2)?;
+        check(price > 0.0, XlError::Num)?;
+        finite((100.0 - price) / price * 360.0 / days)
+    })
+}
+
+fn tbilleq(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let days = bill_days(a)?;
+        let discount = a.num(2)?;
+        check(discount > 0.0, XlError::Num)?;
+        if days <= 182.0 {
+            return finite(365.0 * discount / (360.0 - discount * days));
+        }
+        // Past half a year the bond equivalent compounds once: solve the quadratic.
+        let price = 100.0 * (1.0 - discount * days / 360.0);
+        check(price > 0.0, XlError::Num)?;
+        let t = days / 365.0;
+        finite((-t + (t * t - (2.0 * t - 1.0) * (1.0 - 100.0 / price)).sqrt()) / (t - 0.5))
+    })
+}

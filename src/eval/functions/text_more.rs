@@ -1,0 +1,290 @@
+//! Numbers as text and text as numbers (ROMAN, ARABIC, BASE, DECIMAL), REPLACE, CLEAN and
+//! the regular-expression functions (REGEXTEST, REGEXEXTRACT, REGEXREPLACE, through the
+//! `regex` crate, whose syntax is PCRE2's for what workbooks use).
+
+use std::rc::Rc;
+
+use regex::{Regex, RegexBuilder};
+
+use crate::eval::evaluator::Ctx;
+use crate::eval::value::{Array, Value, XlError, XlResult};
+use crate::formula::ast::Expr;
+
+use super::scalar::{check, scalar, Scalars};
+use super::FnSpec;
+
+pub const FUNCTIONS: &[FnSpec] = &[
+    FnSpec::value(
+        "ROMAN",
+        1,
+        2,
+        roman,
+        "ROMAN(number, [form])",
+        "0..3999 as a Roman numeral; form 0 (classic) to 4 (most concise)",
+    ),
+    FnSpec::value("ARABIC", 1, 1, arabic, "ARABIC(text)", "A Roman numeral as a number").future(),
+    FnSpec::value(
+        "BASE",
+        2,
+        3,
+        base,
+        "BASE(number, radix, [min_length])",
+        "A whole number as text in radix 2..36, padded with zeros to min_length",
+    )
+    .future(),
+    FnSpec::value("DECIMAL", 2, 2, decimal, "DECIMAL(text, radix)", "Text in radix 2..36 as a number").future(),
+    FnSpec::value(
+        "REPLACE",
+        4,
+        4,
+        replace,
+        "REPLACE(old_text, start_num, num_chars, new_text)",
+        "Replaces num_chars characters from position start_num with new_text",
+    ),
+    FnSpec::value("CLEAN", 1, 1, clean, "CLEAN(text)", "Removes the control characters 0..31"),
+    FnSpec::value(
+        "REGEXTEST",
+        2,
+        3,
+        regex_test,
+        "REGEXTEST(text, pattern, [case_sensitivity])",
+        "TRUE when the pattern matches part of text; case_sensitivity 1 ignores case",
+    )
+    .future(),
+    FnSpec::value(
+        "REGEXEXTRACT",
+        2,
+        4,
+        regex_extract,
+        "REGEXEXTRACT(text, pattern, [return_mode], [case_sensitivity])",
+        "The first match (mode 0), all matches (1) or the first match's groups (2)",
+    )
+    .future(),
+    FnSpec::value(
+        "REGEXREPLACE",
+        3,
+        5,
+        regex_replace,
+        "REGEXREPLACE(text, pattern, replacement, [occurrence], [case_sensitivity])",
+        "Replaces every match (or the occurrence-th, negative from the end); $1 names a group",
+    )
+    .future(),
+];
+
+/// Roman digits, largest first: even indexes are the powers of ten.
+const SYMBOLS: [(char, u32); 7] = [('M', 1000), ('D', 500), ('C', 100), ('L', 50), ('X', 10), ('V', 5), ('I', 1)];
+
+fn roman(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let n = a.num(0)?.trunc();
+        check((0.0..=3999.0).contains(&n), XlError::Value)?;
+        let form = match a.value(1) {
+            Value::Bool(true) => 0.0,
+            Value::Bool(false) => 4.0,
+            _ => a.num_or(1, 0.0)?.trunc(),
+        };
+        check((0.0..=4.0).contains(&form), XlError::Value)?;
+        Ok(Value::text(roman_numeral(n as u32, form as u32)))
+    })
+}
+
+/// Excel's Roman numerals: form 0 writes 499 as CDXCIX; each further form lets a 4 or a 9
+/// be written by one more step of a smaller subtracted digit (form 1: LDVLIV, form 4: ID).
+fn roman_numeral(mut n: u32, form: u32) -> String {
+    let mut out = String::new();
+    for ten in (0..SYMBOLS.len()).step_by(2) {
+        let unit = SYMBOLS[ten].1;
+        let digit = n / unit;
+        if digit % 5 == 4 {
+            // 4 → five-symbol minus unit, 9 → ten-symbol minus unit.
+            let big = if digit == 4 { ten - 1 } else { ten - 2 };
+            let mut small = ten;
+            for _ in 0..form {
+                if small + 1 < SYMBOLS.len() && SYMBOLS[big].1 - SYMBOLS[small + 1].1 <= n {
+                    small += 1;
+                } else {
+                    break;
+                }
+            }
+            out.push(SYMBOLS[small].0);
+            out.push(SYMBOLS[big].0);
+            n = n + SYMBOLS[small].1 - SYMBOLS[big].1;
+        } else {
+            if digit >= 5 {
+                out.push(SYMBOLS[ten - 1].0);
+            }
+            out.extend(std::iter::repeat_n(SYMBOLS[ten].0, (digit % 5) as usize));
+            n %= unit;
+        }
+    }
+    out
+}
+
+fn arabic(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let text = a.text(0)?;
+        check(text.chars().count() <= 255, XlError::Value)?;
+        let trimmed = text.trim_matches(' ');
+        let (sign, digits) = match trimmed.strip_prefix('-') {
+            Some(rest) => (-1.0, rest),
+            None => (1.0, trimmed),
+        };
+        let mut total = 0i64;
+        let mut largest = 0;
+        // From the right: a digit smaller than one after it subtracts.
+        for c in digits.chars().rev() {
+            let c = c.to_ascii_uppercase();
+            let Some(&(_, v)) = SYMBOLS.iter().find(|(s, _)| *s == c) else { return Err(XlError::Value) };
+            if v < largest {
+                total -= i64::from(v);
+            } else {
+                total += i64::from(v);
+                largest = v;
+            }
+        }
+        Ok(Value::Number(sign * total as f64))
+    })
+}
+
+const DIGITS: &[u8; 36] = b"0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZ";
+
+fn base(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let n = a.num(0)?.trunc();
+        let radix = a.num(1)?.trunc();
+        let min_len = a.num_or(2, 0.0)?.trunc();
+        check((0.0..9007199254740992.0).contains(&n), XlError::Num)?;
+        check((2.0..=36.0).contains(&radix) && (0.0..=255.0).contains(&min_len), XlError::Num)?;
+        let mut text = to_radix(n as u64, radix as u64);
+        while text.len() < min_len as usize {
+            text.insert(0, '0');
+        }
+        Ok(Value::text(text))
+    })
+}
+
+/// `n` written in `radix` (2..36), upper-case digits.
+pub fn to_radix(mut n: u64, radix: u64) -> String {
+    let mut digits = Vec::new();
+    loop {
+        digits.push(DIGITS[(n % radix) as usize]);
+        n /= radix;
+        if n == 0 {
+            break;
+        }
+    }
+    digits.reverse();
+    String::from_utf8(digits).expect("ASCII digits")
+}
+
+fn decimal(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let text = a.text(0)?;
+        let radix = a.num(1)?.trunc();
+        check((2.0..=36.0).contains(&radix), XlError::Num)?;
+        check(text.chars().count() <= 255, XlError::Value)?;
+        let mut total = 0.0f64;
+        for c in text.chars() {
+            let d = c.to_digit(36).ok_or(XlError::Num)?;
+            check(f64::from(d) < radix, XlError::Num)?;
+            total = total * radix + f64::from(d);
+        }
+        check(total < 9007199254740992.0, XlError::Num)?;
+        Ok(Value::Number(total))
+    })
+}
+
+fn replace(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let old = a.text(0)?;
+        let start = a.num(1)?.trunc();
+        let count = a.num(2)?.trunc();
+        let new = a.text(3)?;
+        check(start >= 1.0 && count >= 0.0, XlError::Value)?;
+        let chars: Vec<char> = old.chars().collect();
+        let from = ((start - 1.0) as usize).min(chars.len());
+        let to = from.saturating_add(count.min(usize::MAX as f64) as usize).min(chars.len());
+        let mut out: String = chars[..from].iter().collect();
+        out.push_str(&new);
+        out.extend(&chars[to..]);
+        Ok(Value::text(out))
+    })
+}
+
+fn clean(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| Ok(Value::text(a.text(0)?.chars().filter(|&c| c as u32 >= 32).collect::<String>())))
+}
+
+/// The pattern of argument `pattern`, case-insensitive when argument `case` is 1.
+fn pattern(a: Scalars, pattern: usize, case: usize) -> XlResult<Regex> {
+    let text = a.text(pattern)?;
+    let case = a.num_or(case, 0.0)?.trunc();
+    check(case == 0.0 || case == 1.0, XlError::Value)?;
+    RegexBuilder::new(&text).case_insensitive(case == 1.0).build().map_err(|_| XlError::Value)
+}
+
+fn regex_test(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let text = a.text(0)?;
+        Ok(Value::Bool(pattern(a, 1, 2)?.is_match(&text)))
+    })
+}
+
+fn regex_extract(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let text = a.text(0)?;
+        let re = pattern(a, 1, 3)?;
+        let mode = a.num_or(2, 0.0)?.trunc();
+        let texts = |items: Vec<Value>| -> XlResult<Value> {
+            check(!items.is_empty(), XlError::NA)?;
+            Ok(Value::Array(Rc::new(Array::column(items))))
+        };
+        match mode {
+            0.0 => re.find(&text).map(|m| Value::text(m.as_str())).ok_or(XlError::NA),
+            1.0 => texts(re.find_iter(&text).map(|m| Value::text(m.as_str())).collect()),
+            2.0 => {
+                let caps = re.captures(&text).ok_or(XlError::NA)?;
+                let groups: Vec<Value> =
+                    caps.iter().skip(1).map(|g| Value::text(g.map_or("", |m| m.as_str()))).collect();
+                check(!groups.is_empty(), XlError::NA)?;
+                Ok(Value::Array(Rc::new(Array::row(groups))))
+            }
+            _ => Err(XlError::Value),
+        }
+    })
+}
+
+fn regex_replace(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let text = a.text(0)?;
+        let re = pattern(a, 1, 4)?;
+        let replacement = a.text(2)?;
+        let occurrence = a.num_or(3, 0.0)?.trunc();
+        if occurrence == 0.0 {
+            return Ok(Value::text(re.replace_all(&text, &*replacement).into_owned()));
+        }
+        let matches: Vec<_> = re.captures_iter(&text).collect();
+        let index =
+            if occurrence > 0.0 { occurrence as usize - 1 } else { matches.len().wrapping_sub((-occurrence) as usize) };
+        let Some(caps) = matches.get(index) else { return Ok(Value::Text(text)) };
+        let whole = caps.get(0).expect("a match has group 0");
+        let mut out = String::from(&text[..whole.start()]);
+        caps.expand(&replacement, &mut out);
+        out.push_str(&text[whole.end()..]);
+        Ok(Value::text(out))
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn roman_forms_follow_excel_help() {
+        // Excel's help for ROMAN: 499 in forms 0..4.
+        let forms: Vec<String> = (0..5).map(|f| roman_numeral(499, f)).collect();
+        assert_eq!(forms, ["CDXCIX", "LDVLIV", "XDIX", "VDIV", "ID"]);
+        assert_eq!(roman_numeral(0, 0), "");
+        assert_eq!(roman_numeral(3999, 0), "MMMCMXCIX");
+    }
+}

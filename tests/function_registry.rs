@@ -1,0 +1,116 @@
+//! The function table is the one place that knows a function: no list of function names
+//! elsewhere in `src/` repeats it (a volatile list, a `_xlfn.` list, a list of functions
+//! taking ranges …). Such facts are builder methods on the function's `FnSpec` row.
+
+use std::collections::HashSet;
+use std::path::Path;
+
+use ncsheet::eval::functions::REGISTRY;
+
+/// A run of this many registered names as string literals, with no `;` between them, is a
+/// list of functions.
+const LIST: usize = 3;
+/// Literals further apart than this many bytes are not one list.
+const GAP: usize = 160;
+
+fn rust_files(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
+    for entry in std::fs::read_dir(dir).expect("src/ is readable") {
+        let path = entry.expect("a directory entry").path();
+        if path.is_dir() {
+            rust_files(&path, out);
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            out.push(path);
+        }
+    }
+}
+
+/// The byte offsets of string literals in `code` whose text is a registered function name.
+fn function_literals(code: &str, names: &HashSet<String>) -> Vec<usize> {
+    let mut hits = Vec::new();
+    let mut rest = code;
+    let mut offset = 0;
+    while let Some(open) = rest.find('"') {
+        let after = &rest[open + 1..];
+        let Some(close) = after.find('"') else { break };
+        let literal = &after[..close];
+        if names.contains(literal) {
+            hits.push(offset + open);
+        }
+        let consumed = open + close + 2;
+        offset += consumed;
+        rest = &rest[consumed..];
+    }
+    hits
+}
+
+/// Runs of at least [`LIST`] function-name literals, as (first offset, names) pairs.
+fn lists(code: &str, names: &HashSet<String>) -> Vec<(usize, usize)> {
+    let hits = function_literals(code, names);
+    let mut found = Vec::new();
+    let mut start = 0;
+    for i in 1..=hits.len() {
+        let joined = i < hits.len() && hits[i] - hits[i - 1] <= GAP && !code[hits[i - 1]..hits[i]].contains(';');
+        if !joined {
+            if i - start >= LIST {
+                found.push((hits[start], i - start));
+            }
+            start = i;
+        }
+    }
+    found
+}
+
+/// Names that are also the language's words: TRUE and FALSE are functions and booleans.
+fn is_also_a_word(name: &str) -> bool {
+    matches!(name, "TRUE" | "FALSE") || name.starts_with("VBA.")
+}
+
+#[test]
+fn no_list_of_function_names_outside_the_registry() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let registry_dir = root.join("src/eval/functions");
+    let names: HashSet<String> = REGISTRY.iter().map(|f| f.name.to_string()).filter(|n| !is_also_a_word(n)).collect();
+    let mut files = Vec::new();
+    rust_files(&root.join("src"), &mut files);
+    let mut offenders = Vec::new();
+    // The symbolic derivative's rules are code per function (d/du SIN(u) = COS(u)), not
+    // facts about a function that another table could repeat.
+    let derivative_rules = root.join("src/eval/diff.rs");
+    for file in files.iter().filter(|f| !f.starts_with(&registry_dir) && **f != derivative_rules) {
+        let text = std::fs::read_to_string(file).expect("a source file is readable");
+        // Unit tests may stand in for the registry (the formula layer cannot see it).
+        let code = text.split("#[cfg(test)]").next().unwrap_or(&text);
+        for (offset, count) in lists(code, &names) {
+            let line = code[..offset].lines().count();
+            offenders.push(format!("{}:{line}: {count} function names", file.strip_prefix(root).unwrap().display()));
+        }
+    }
+    assert!(offenders.is_empty(), "function names listed outside the registry:\n{}", offenders.join("\n"));
+}
+
+#[test]
+fn the_detector_finds_a_list_and_ignores_scattered_names() {
+    let names: HashSet<String> = ["NOW", "TODAY", "RAND", "SUM"].iter().map(|s| s.to_string()).collect();
+    assert_eq!(lists(r#"const V: [&str; 3] = ["NOW", "TODAY", "RAND"];"#, &names).len(), 1);
+    assert_eq!(lists(r#"match n { "NOW" | "TODAY" | "SUM" => 1, _ => 0 }"#, &names).len(), 1);
+    assert!(lists(r#"let a = "NOW"; let b = "TODAY"; let c = "SUM";"#, &names).is_empty());
+    assert!(lists(r#"f("NOW", "Sheet1", "x")"#, &names).is_empty());
+}
+
+#[test]
+fn the_registry_holds_the_facts_the_side_lists_held() {
+    use ncsheet::eval::functions::{find, spec, FilePrefix};
+    let f = |name: &str| spec(find(name).unwrap_or_else(|| panic!("{name} is registered")));
+    // Volatile: Excel recomputes them at every recalculation.
+    assert!(f("NOW").volatile && f("TODAY").volatile && f("OFFSET").volatile && f("INDIRECT").volatile);
+    assert!(!f("SUM").volatile);
+    // Excel's file spelling (MS-XLSX 2.2.2, future functions).
+    assert_eq!(f("XLOOKUP").file_prefix, FilePrefix::Future);
+    assert_eq!(f("CONCAT").file_prefix, FilePrefix::Future);
+    assert_eq!(f("ISO.CEILING").file_prefix, FilePrefix::None);
+    assert_eq!(f("CONCATENATE").file_prefix, FilePrefix::None);
+    assert!(f("SEQUENCE").dynamic && !f("SUM").dynamic);
+    assert!(f("LAMBDA").reads_trees);
+    assert!(f("SUMPRODUCT").array_args.contains(3) && f("INDEX").array_args.contains(0));
+    assert!(f("SUMIF").range_args.contains(0) && !f("SUMIF").range_args.contains(1));
+}
