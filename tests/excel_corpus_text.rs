@@ -16,6 +16,7 @@ const SUITE: Suite = Suite {
         "calc_tests/LOOKUP_AND_REFERENCE",
         "calc_tests/TEXT",
         "calc_tests/INFORMATION",
+        "calc_tests/DATABASE",
         "calc_tests/logical.xlsx",
         "calc_tests/simple_functions.xlsx",
         "templates",
@@ -55,6 +56,19 @@ const ALLOWED: &[Allowed] = &[
         sheet: "Sheet1",
         cells: &["I5", "C15"],
         why: "VALUE of day-first date text",
+    },
+    // An empty result is #CALC!, which the file stores as #VALUE! (as for ERROR.TYPE above).
+    Allowed {
+        file: "calc_tests/LOOKUP_AND_REFERENCE/DROP_TAKE.xlsx",
+        sheet: "Sheet1",
+        cells: &["C2", "E2", "F2", "I2", "L2"],
+        why: "#CALC! (empty array) stored as #VALUE!",
+    },
+    Allowed {
+        file: "calc_tests/LOOKUP_AND_REFERENCE/FILTER_ERRORS.xlsx",
+        sheet: "Sheet1",
+        cells: &["E1"],
+        why: "#CALC! (nothing kept) stored as #VALUE!",
     },
 ];
 

@@ -41,6 +41,17 @@ pub trait Env {
     fn sheet_count(&self) -> usize;
 
     fn sheet_name(&self, sheet: SheetId) -> Option<String>;
+
+    /// The formula of a cell as typed (`=A1+1`), `None` for a constant or an empty cell
+    /// (FORMULATEXT, ISFORMULA).
+    fn formula_text(&self, _sheet: SheetId, _pos: Pos) -> Option<String> {
+        None
+    }
+
+    /// Whether the cell's formula calls SUBTOTAL or AGGREGATE, which skip such cells.
+    fn is_subtotal(&self, _sheet: SheetId, _pos: Pos) -> bool {
+        false
+    }
 }
 
 /// What an embedding language adds to the expressions it hands the evaluator: the macro

@@ -958,6 +958,14 @@ impl Env for Interp<'_, '_> {
     fn sheet_name(&self, sheet: SheetId) -> Option<String> {
         Env::sheet_name(&**self.wb.borrow(), sheet)
     }
+
+    fn formula_text(&self, sheet: SheetId, pos: Pos) -> Option<String> {
+        self.wb.borrow().formula_text(sheet, pos)
+    }
+
+    fn is_subtotal(&self, sheet: SheetId, pos: Pos) -> bool {
+        self.wb.borrow().is_subtotal(sheet, pos)
+    }
 }
 
 impl Host for Interp<'_, '_> {

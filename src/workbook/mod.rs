@@ -748,6 +748,25 @@ impl Env for Workbook {
     fn sheet_name(&self, sheet: SheetId) -> Option<String> {
         self.sheets.get(sheet as usize).map(|s| s.name.clone())
     }
+
+    fn formula_text(&self, sheet: SheetId, pos: Pos) -> Option<String> {
+        self.formula(sheet, pos)
+    }
+
+    fn is_subtotal(&self, sheet: SheetId, pos: Pos) -> bool {
+        let Some(id) = self.sheets.get(sheet as usize).and_then(|s| s.get(pos)) else { return false };
+        let cell = &self.cells[id as usize];
+        if cell.formula == NO_FORMULA {
+            return false;
+        }
+        let mut found = false;
+        self.formulas.get(cell.formula).expr.visit(&mut |e| {
+            if let crate::formula::ast::ExprKind::Call(id, _) = &e.kind {
+                found |= crate::eval::functions::is_subtotal_call(*id);
+            }
+        });
+        found
+    }
 }
 
 /// Cells by position for callers that walk a sheet (printing, export).

@@ -404,6 +404,14 @@ fn out_of_scope(expr: &Expr, text: &str) -> Option<String> {
         ExprKind::Call(id, _) if spec(*id).name == "INDIRECT" => {
             why.get_or_insert("reference from text: INDIRECT".to_string());
         }
+        // They read the cells' formulas, which the cached values here do not hold.
+        ExprKind::Call(id, _) if matches!(spec(*id).name, "FORMULATEXT" | "ISFORMULA" | "SUBTOTAL" | "AGGREGATE") => {
+            why.get_or_insert(format!("reads formulas: {}", spec(*id).name));
+        }
+        // They count the workbook's sheets; the environment here holds one.
+        ExprKind::Call(id, _) if matches!(spec(*id).name, "SHEET" | "SHEETS") => {
+            why.get_or_insert(format!("reads the sheet list: {}", spec(*id).name));
+        }
         ExprKind::Name(_) if !has_let => {
             why.get_or_insert("uses a defined name".to_string());
         }

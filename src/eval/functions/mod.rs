@@ -20,23 +20,32 @@ use super::value::{Value, XlResult};
 pub mod args;
 mod combinatorics;
 mod complex;
+mod arrays;
 mod criteria;
+mod database;
 mod date;
 mod dispersion;
+mod distributions;
 mod dynamic_ref;
 mod engineering;
 mod financial;
 mod geometry;
 mod info;
+mod lambda_arrays;
 mod logic;
 mod lookup;
 mod math;
 mod order;
+mod reference;
+mod regression;
+mod sample_stats;
 mod scalar;
+mod special;
 mod stats;
 mod text;
 mod text_format;
 mod text_more;
+mod text_split;
 pub mod vba;
 
 pub use geometry::{describe_gouge, formula_ball_path};
@@ -121,6 +130,11 @@ impl ArgSet {
     /// Argument `i` and every one after it.
     pub const fn from(i: u32) -> ArgSet {
         ArgSet(!0 << i)
+    }
+
+    /// The arguments of either set.
+    pub const fn and(self, other: ArgSet) -> ArgSet {
+        ArgSet(self.0 | other.0)
     }
 
     /// Every argument but `i`.
@@ -223,10 +237,17 @@ pub static REGISTRY: LazyLock<Vec<FnSpec>> = LazyLock::new(|| {
         math::FUNCTIONS,
         stats::FUNCTIONS,
         dispersion::FUNCTIONS,
+        distributions::FUNCTIONS,
+        sample_stats::FUNCTIONS,
+        regression::FUNCTIONS,
         order::FUNCTIONS,
         date::FUNCTIONS,
         logic::FUNCTIONS,
         lookup::FUNCTIONS,
+        reference::FUNCTIONS,
+        database::FUNCTIONS,
+        arrays::FUNCTIONS,
+        lambda_arrays::FUNCTIONS,
         dynamic_ref::FUNCTIONS,
         text::FUNCTIONS,
         text_more::FUNCTIONS,
@@ -234,6 +255,7 @@ pub static REGISTRY: LazyLock<Vec<FnSpec>> = LazyLock::new(|| {
         financial::FUNCTIONS,
         combinatorics::FUNCTIONS,
         complex::FUNCTIONS,
+        text_split::FUNCTIONS,
         info::FUNCTIONS,
         geometry::FUNCTIONS,
         vba::FUNCTIONS,
@@ -256,6 +278,11 @@ pub fn spec(id: FnId) -> &'static FnSpec {
 
 pub fn find(name: &str) -> Option<FnId> {
     BY_NAME.get(&name.to_ascii_uppercase()).copied()
+}
+
+/// Whether the function `id` is SUBTOTAL or AGGREGATE, whose cells those functions skip.
+pub fn is_subtotal_call(id: FnId) -> bool {
+    matches!(spec(id).name, "SUBTOTAL" | "AGGREGATE")
 }
 
 /// The registry seen by the parser.

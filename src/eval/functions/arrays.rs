@@ -1,0 +1,616 @@
+//! Excel 365's dynamic-array functions that reshape and select: SORT, SORTBY, FILTER,
+//! UNIQUE, TOCOL, TOROW, HSTACK, VSTACK, TAKE, DROP, EXPAND, CHOOSECOLS, CHOOSEROWS,
+//! WRAPCOLS, WRAPROWS and ARRAYTOTEXT. Each reads its array argument as a block (a range's
+//! blanks included) and returns a new array that spills.
+
+use std::cmp::Ordering;
+use std::rc::Rc;
+
+use crate::eval::coerce::{compare_text, to_bool, to_number};
+use crate::eval::evaluator::Ctx;
+use crate::eval::number_format::general;
+use crate::eval::value::{Array, Value, XlError, XlResult};
+use crate::formula::ast::{Expr, ExprKind};
+
+use super::args::{block, bool_or, number, number_or, require};
+use super::{ArgSet, FnSpec, MANY};
+
+pub const FUNCTIONS: &[FnSpec] = &[
+    FnSpec::value(
+        "ARRAYTOTEXT",
+        1,
+        2,
+        arraytotext,
+        "ARRAYTOTEXT(array, [format])",
+        "An array as one text: items joined by \", \" (format 0) or as an array constant (format 1)",
+    )
+    .future()
+    .array_args(ArgSet::only(0)),
+    FnSpec::value(
+        "CHOOSECOLS",
+        2,
+        MANY,
+        choosecols,
+        "CHOOSECOLS(array, col_num1, [col_num2], ...)",
+        "The given columns of an array (negative numbers count from the end)",
+    )
+    .future()
+    .dynamic(),
+    FnSpec::value(
+        "CHOOSEROWS",
+        2,
+        MANY,
+        chooserows,
+        "CHOOSEROWS(array, row_num1, [row_num2], ...)",
+        "The given rows of an array (negative numbers count from the end)",
+    )
+    .future()
+    .dynamic(),
+    FnSpec::value(
+        "DROP",
+        2,
+        3,
+        drop,
+        "DROP(array, rows, [columns])",
+        "The array without its first (or, negative, last) rows and columns",
+    )
+    .future()
+    .dynamic(),
+    FnSpec::value(
+        "EXPAND",
+        2,
+        4,
+        expand,
+        "EXPAND(array, rows, [columns], [pad_with])",
+        "The array grown to the given size, padded with #N/A or pad_with",
+    )
+    .future()
+    .dynamic(),
+    FnSpec::value(
+        "FILTER",
+        2,
+        3,
+        filter,
+        "FILTER(array, include, [if_empty])",
+        "The rows (or columns) of an array where include is TRUE",
+    )
+    .worksheet_future()
+    .dynamic(),
+    FnSpec::value(
+        "HSTACK",
+        1,
+        MANY,
+        hstack,
+        "HSTACK(array1, [array2], ...)",
+        "Arrays side by side, shorter ones padded with #N/A",
+    )
+    .future()
+    .dynamic(),
+    FnSpec::value(
+        "SORT",
+        1,
+        4,
+        sort,
+        "SORT(array, [sort_index], [sort_order], [by_col])",
+        "The array's rows (or columns) sorted by one of its columns (or rows)",
+    )
+    .worksheet_future()
+    .dynamic(),
+    FnSpec::value(
+        "SORTBY",
+        2,
+        MANY,
+        sortby,
+        "SORTBY(array, by_array1, [sort_order1], ...)",
+        "The array's rows (or columns) sorted by other arrays",
+    )
+    .future()
+    .dynamic(),
+    FnSpec::value(
+        "TAKE",
+        2,
+        3,
+        take,
+        "TAKE(array, rows, [columns])",
+        "The first (or, negative, last) rows and columns of an array",
+    )
+    .future()
+    .dynamic(),
+    FnSpec::value(
+        "TOCOL",
+        1,
+        3,
+        tocol,
+        "TOCOL(array, [ignore], [scan_by_column])",
+        "The array as one column (ignore 1 blanks, 2 errors, 3 both)",
+    )
+    .future()
+    .dynamic(),
+    FnSpec::value(
+        "TOROW",
+        1,
+        3,
+        torow,
+        "TOROW(array, [ignore], [scan_by_column])",
+        "The array as one row (ignore 1 blanks, 2 errors, 3 both)",
+    )
+    .future()
+    .dynamic(),
+    FnSpec::value(
+        "UNIQUE",
+        1,
+        3,
+        unique,
+        "UNIQUE(array, [by_col], [exactly_once])",
+        "The distinct rows (or columns) of an array, in order of appearance",
+    )
+    .future()
+    .dynamic(),
+    FnSpec::value(
+        "VSTACK",
+        1,
+        MANY,
+        vstack,
+        "VSTACK(array1, [array2], ...)",
+        "Arrays one above the other, narrower ones padded with #N/A",
+    )
+    .future()
+    .dynamic(),
+    FnSpec::value(
+        "WRAPCOLS",
+        2,
+        3,
+        wrapcols,
+        "WRAPCOLS(vector, wrap_count, [pad_with])",
+        "A row or column wrapped into columns of wrap_count items",
+    )
+    .future()
+    .dynamic(),
+    FnSpec::value(
+        "WRAPROWS",
+        2,
+        3,
+        wraprows,
+        "WRAPROWS(vector, wrap_count, [pad_with])",
+        "A row or column wrapped into rows of wrap_count items",
+    )
+    .future()
+    .dynamic(),
+];
+
+fn array(rows: usize, cols: usize, data: Vec<Value>) -> Value {
+    Value::Array(Rc::new(Array::new(rows, cols, data)))
+}
+
+fn present(args: &[Expr], i: usize) -> bool {
+    args.get(i).is_some_and(|e| e.kind != ExprKind::Missing)
+}
+
+/// The rows of a block as vectors.
+fn rows_of(a: &Array) -> Vec<Vec<Value>> {
+    a.data.chunks(a.cols.max(1)).map(<[Value]>::to_vec).collect()
+}
+
+fn from_rows(rows: Vec<Vec<Value>>) -> XlResult<Value> {
+    let cols = rows.first().map_or(0, Vec::len);
+    if rows.is_empty() || cols == 0 {
+        return Err(XlError::Calc);
+    }
+    let n = rows.len();
+    Ok(array(n, cols, rows.into_iter().flatten().collect()))
+}
+
+fn transpose(a: &Array) -> Array {
+    let data = (0..a.cols).flat_map(|c| (0..a.rows).map(move |r| (r, c))).map(|(r, c)| a.get(r, c).clone()).collect();
+    Array::new(a.cols, a.rows, data)
+}
+
+/// Applies a function of rows to the columns instead, when `by_col`.
+fn by_rows_or_cols(
+    a: &Array,
+    by_col: bool,
+    f: impl FnOnce(Vec<Vec<Value>>) -> XlResult<Vec<Vec<Value>>>,
+) -> XlResult<Value> {
+    if by_col {
+        let t = transpose(a);
+        let out = from_rows(f(rows_of(&t))?)?;
+        match out {
+            Value::Array(o) => Ok(Value::Array(Rc::new(transpose(&o)))),
+            v => Ok(v),
+        }
+    } else {
+        from_rows(f(rows_of(a))?)
+    }
+}
+
+// ---- sorting --------------------------------------------------------------------------------
+
+/// SORT's order across kinds: numbers, text, booleans, errors, then blanks.
+fn sort_cmp(a: &Value, b: &Value) -> Ordering {
+    fn rank(v: &Value) -> u8 {
+        match v {
+            Value::Number(_) => 0,
+            Value::Text(_) => 1,
+            Value::Bool(_) => 2,
+            Value::Error(_) => 3,
+            Value::Blank | Value::Array(_) => 4,
+        }
+    }
+    match (a, b) {
+        (Value::Number(x), Value::Number(y)) => x.total_cmp(y),
+        (Value::Text(x), Value::Text(y)) => compare_text(x, y),
+        (Value::Bool(x), Value::Bool(y)) => x.cmp(y),
+        _ => rank(a).cmp(&rank(b)),
+    }
+}
+
+/// +1 ascending, -1 descending; anything else is `#VALUE!`.
+fn sort_order(x: f64) -> XlResult<bool> {
+    match x.trunc() {
+        1.0 => Ok(false),
+        -1.0 => Ok(true),
+        _ => Err(XlError::Value),
+    }
+}
+
+/// A sorted result with its blank cells shown as 0, as Excel's SORT shows them.
+fn blanks_as_zero(v: Value) -> Value {
+    match v {
+        Value::Array(a) if a.data.iter().any(Value::is_blank) => {
+            let data = a.data.iter().map(|v| v.clone().blank_as_zero()).collect();
+            Value::Array(Rc::new(Array::new(a.rows, a.cols, data)))
+        }
+        v => v,
+    }
+}
+
+/// SORT's comparison in either direction: blanks go last both ways.
+fn directed(a: &Value, b: &Value, descending: bool) -> Ordering {
+    match (a.is_blank(), b.is_blank()) {
+        (true, true) => Ordering::Equal,
+        (true, false) => Ordering::Greater,
+        (false, true) => Ordering::Less,
+        _ if descending => sort_cmp(a, b).reverse(),
+        _ => sort_cmp(a, b),
+    }
+}
+
+fn sort(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let a = block(ctx, &args[0])?;
+    let index = number_or(ctx, args, 1, 1.0)?.trunc();
+    let descending = sort_order(number_or(ctx, args, 2, 1.0)?)?;
+    let by_col = bool_or(ctx, args, 3, false)?;
+    let width = if by_col { a.rows } else { a.cols };
+    require(index >= 1.0 && index <= width as f64)?;
+    let key = index as usize - 1;
+    by_rows_or_cols(&a, by_col, |mut rows| {
+        rows.sort_by(|x, y| directed(&x[key], &y[key], descending));
+        Ok(rows)
+    })
+    .map(blanks_as_zero)
+}
+
+fn sortby(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let a = block(ctx, &args[0])?;
+    let mut keys: Vec<(Rc<Array>, bool)> = Vec::new();
+    let mut by_col = None;
+    for pair in args[1..].chunks(2) {
+        let by = block(ctx, &pair[0])?;
+        let descending = match pair.get(1) {
+            Some(e) if e.kind != ExprKind::Missing => sort_order(number(ctx, e)?)?,
+            _ => false,
+        };
+        // A column of keys sorts rows; a row of keys sorts columns.
+        let this_by_col = if by.cols == 1 && by.rows == a.rows {
+            false
+        } else if by.rows == 1 && by.cols == a.cols {
+            true
+        } else {
+            return Err(XlError::Value);
+        };
+        if *by_col.get_or_insert(this_by_col) != this_by_col {
+            return Err(XlError::Value);
+        }
+        keys.push((by, descending));
+    }
+    let by_col = by_col.unwrap_or(false);
+    let n = if by_col { a.cols } else { a.rows };
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&i, &j| {
+        keys.iter()
+            .map(|(k, desc)| directed(&k.data[i], &k.data[j], *desc))
+            .find(|o| o.is_ne())
+            .unwrap_or(Ordering::Equal)
+    });
+    by_rows_or_cols(&a, by_col, |rows| Ok(order.iter().map(|&i| rows[i].clone()).collect())).map(blanks_as_zero)
+}
+
+// ---- selecting ------------------------------------------------------------------------------
+
+fn filter(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let a = block(ctx, &args[0])?;
+    let include = block(ctx, &args[1])?;
+    let by_col = if include.cols == 1 && include.rows == a.rows {
+        false
+    } else if include.rows == 1 && include.cols == a.cols {
+        true
+    } else {
+        return Err(XlError::Value);
+    };
+    let keep: Vec<bool> = include
+        .data
+        .iter()
+        .map(|v| match v {
+            Value::Error(e) => Err(*e),
+            Value::Text(_) => Err(XlError::Value),
+            v => to_bool(v),
+        })
+        .collect::<XlResult<_>>()?;
+    if !keep.contains(&true) {
+        return match args.get(2) {
+            Some(e) => Ok(ctx.eval(e)),
+            None => Err(XlError::Calc),
+        };
+    }
+    by_rows_or_cols(&a, by_col, |rows| Ok(rows.into_iter().zip(&keep).filter(|(_, k)| **k).map(|(r, _)| r).collect()))
+}
+
+/// Rows equal item by item as `=` compares (text without regard to case).
+fn same_row(a: &[Value], b: &[Value]) -> bool {
+    a.iter().zip(b).all(|(x, y)| match (x, y) {
+        (Value::Text(s), Value::Text(t)) => compare_text(s, t).is_eq(),
+        _ => x == y,
+    })
+}
+
+fn unique(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let a = block(ctx, &args[0])?;
+    let by_col = bool_or(ctx, args, 1, false)?;
+    let exactly_once = bool_or(ctx, args, 2, false)?;
+    by_rows_or_cols(&a, by_col, |rows| {
+        let mut distinct: Vec<(Vec<Value>, usize)> = Vec::new();
+        for row in rows {
+            match distinct.iter_mut().find(|(r, _)| same_row(r, &row)) {
+                Some((_, count)) => *count += 1,
+                None => distinct.push((row, 1)),
+            }
+        }
+        let kept = distinct.into_iter().filter(|(_, count)| !exactly_once || *count == 1).map(|(r, _)| r).collect();
+        Ok(kept)
+    })
+}
+
+/// A 1-based index from either end (-1 is the last) into `n` items.
+fn index_from_ends(i: f64, n: usize) -> XlResult<usize> {
+    let i = i.trunc();
+    if i >= 1.0 && i <= n as f64 {
+        Ok(i as usize - 1)
+    } else if i <= -1.0 && -i <= n as f64 {
+        Ok((n as f64 + i) as usize)
+    } else {
+        Err(XlError::Value)
+    }
+}
+
+/// The indexes the arguments name, each a number or an array of numbers.
+fn chosen(ctx: &mut Ctx, args: &[Expr], n: usize) -> XlResult<Vec<usize>> {
+    let mut out = Vec::new();
+    for e in args {
+        for v in &block(ctx, e)?.data {
+            out.push(index_from_ends(to_number(v)?, n)?);
+        }
+    }
+    Ok(out)
+}
+
+fn chooserows(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let a = block(ctx, &args[0])?;
+    let picks = chosen(ctx, &args[1..], a.rows)?;
+    by_rows_or_cols(&a, false, |rows| Ok(picks.iter().map(|&i| rows[i].clone()).collect()))
+}
+
+fn choosecols(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let a = block(ctx, &args[0])?;
+    let picks = chosen(ctx, &args[1..], a.cols)?;
+    by_rows_or_cols(&a, true, |cols| Ok(picks.iter().map(|&i| cols[i].clone()).collect()))
+}
+
+/// TAKE's and DROP's count for one dimension: `None` when omitted.
+fn count_arg(ctx: &mut Ctx, args: &[Expr], i: usize) -> XlResult<Option<f64>> {
+    if present(args, i) {
+        Ok(Some(number(ctx, &args[i])?.trunc()))
+    } else {
+        Ok(None)
+    }
+}
+
+/// The range of `n` items that TAKE (`take`) or DROP keeps for `count`.
+fn kept_range(count: Option<f64>, n: usize, take: bool) -> std::ops::Range<usize> {
+    let Some(c) = count else { return 0..n };
+    let k = (c.abs() as usize).min(n);
+    match (take, c >= 0.0) {
+        (true, true) => 0..k,
+        (true, false) => n - k..n,
+        (false, true) => k..n,
+        (false, false) => 0..n - k,
+    }
+}
+
+fn take_or_drop(ctx: &mut Ctx, args: &[Expr], take: bool) -> XlResult<Value> {
+    let a = block(ctx, &args[0])?;
+    let rows = count_arg(ctx, args, 1)?;
+    let cols = count_arg(ctx, args, 2)?;
+    if take && (rows == Some(0.0) || cols == Some(0.0)) {
+        return Err(XlError::Calc);
+    }
+    let (rr, cr) = (kept_range(rows, a.rows, take), kept_range(cols, a.cols, take));
+    if rr.is_empty() || cr.is_empty() {
+        return Err(XlError::Calc);
+    }
+    let data = rr.clone().flat_map(|r| cr.clone().map(move |c| (r, c))).map(|(r, c)| a.get(r, c).clone()).collect();
+    Ok(array(rr.len(), cr.len(), data))
+}
+
+fn take(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    take_or_drop(ctx, args, true)
+}
+
+fn drop(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    take_or_drop(ctx, args, false)
+}
+
+/// An optional padding argument: `#N/A` when omitted.
+fn pad_arg(ctx: &mut Ctx, args: &[Expr], i: usize) -> Value {
+    if present(args, i) {
+        ctx.eval(&args[i]).unwrap_single()
+    } else {
+        Value::Error(XlError::NA)
+    }
+}
+
+fn expand(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let a = block(ctx, &args[0])?;
+    let rows = count_arg(ctx, args, 1)?.unwrap_or(a.rows as f64);
+    let cols = count_arg(ctx, args, 2)?.unwrap_or(a.cols as f64);
+    let pad = pad_arg(ctx, args, 3);
+    if rows < a.rows as f64 || cols < a.cols as f64 {
+        return Err(XlError::Value);
+    }
+    let (rows, cols) = (rows as usize, cols as usize);
+    let data = (0..rows * cols)
+        .map(|i| {
+            let (r, c) = (i / cols, i % cols);
+            if r < a.rows && c < a.cols {
+                a.get(r, c).clone()
+            } else {
+                pad.clone()
+            }
+        })
+        .collect();
+    Ok(array(rows, cols, data))
+}
+
+fn stack(ctx: &mut Ctx, args: &[Expr], horizontal: bool) -> XlResult<Value> {
+    let mut parts = Vec::new();
+    for e in args {
+        let b = block(ctx, e)?;
+        parts.push(if horizontal { Rc::new(transpose(&b)) } else { b });
+    }
+    // Stack vertically; horizontal stacking is the transpose of stacking the transposes.
+    let cols = parts.iter().map(|p| p.cols).max().unwrap_or(0);
+    let mut rows = Vec::new();
+    for p in &parts {
+        for r in rows_of(p) {
+            let mut r = r;
+            r.resize(cols, Value::Error(XlError::NA));
+            rows.push(r);
+        }
+    }
+    let out = from_rows(rows)?;
+    match (out, horizontal) {
+        (Value::Array(o), true) => Ok(Value::Array(Rc::new(transpose(&o)))),
+        (v, _) => Ok(v),
+    }
+}
+
+fn hstack(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    stack(ctx, args, true)
+}
+
+fn vstack(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    stack(ctx, args, false)
+}
+
+/// The items of a block, row by row or column by column.
+fn items_in_order(a: &Array, by_column: bool) -> Vec<Value> {
+    if by_column {
+        transpose(a).data
+    } else {
+        a.data.clone()
+    }
+}
+
+fn to_vector(ctx: &mut Ctx, args: &[Expr], as_row: bool) -> XlResult<Value> {
+    let a = block(ctx, &args[0])?;
+    let ignore = number_or(ctx, args, 1, 0.0)?.trunc();
+    let by_column = bool_or(ctx, args, 2, false)?;
+    require((0.0..=3.0).contains(&ignore))?;
+    let (skip_blanks, skip_errors) = (ignore == 1.0 || ignore == 3.0, ignore >= 2.0);
+    let items: Vec<Value> = items_in_order(&a, by_column)
+        .into_iter()
+        .filter(|v| !(skip_blanks && v.is_blank() || skip_errors && matches!(v, Value::Error(_))))
+        .collect();
+    if items.is_empty() {
+        return Err(XlError::Calc);
+    }
+    let n = items.len();
+    Ok(if as_row { array(1, n, items) } else { array(n, 1, items) })
+}
+
+fn tocol(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    to_vector(ctx, args, false)
+}
+
+fn torow(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    to_vector(ctx, args, true)
+}
+
+fn wrap(ctx: &mut Ctx, args: &[Expr], into_rows: bool) -> XlResult<Value> {
+    let a = block(ctx, &args[0])?;
+    let count = number(ctx, &args[1])?.trunc();
+    let pad = pad_arg(ctx, args, 2);
+    require(a.rows == 1 || a.cols == 1)?;
+    if count < 1.0 {
+        return Err(XlError::Num);
+    }
+    let count = count as usize;
+    let items = &a.data;
+    let lines = items.len().div_ceil(count);
+    let item = |line: usize, k: usize| items.get(line * count + k).cloned().unwrap_or_else(|| pad.clone());
+    if into_rows {
+        let data = (0..lines).flat_map(|l| (0..count).map(move |k| (l, k))).map(|(l, k)| item(l, k)).collect();
+        Ok(array(lines, count, data))
+    } else {
+        let data = (0..count).flat_map(|k| (0..lines).map(move |l| (l, k))).map(|(l, k)| item(l, k)).collect();
+        Ok(array(count, lines, data))
+    }
+}
+
+fn wrapcols(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    wrap(ctx, args, false)
+}
+
+fn wraprows(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    wrap(ctx, args, true)
+}
+
+// ---- as text --------------------------------------------------------------------------------
+
+/// One item as ARRAYTOTEXT writes it: concise (format 0) or as in an array constant.
+fn item_text(v: &Value, strict: bool) -> String {
+    match v {
+        Value::Number(n) => general(*n),
+        Value::Text(s) if strict => format!("\"{}\"", s.replace('"', "\"\"")),
+        Value::Text(s) => s.to_string(),
+        Value::Bool(b) => if *b { "TRUE" } else { "FALSE" }.to_string(),
+        Value::Error(e) => e.as_str().to_string(),
+        Value::Blank | Value::Array(_) => String::new(),
+    }
+}
+
+fn arraytotext(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let a = block(ctx, &args[0])?;
+    let format = number_or(ctx, args, 1, 0.0)?.trunc();
+    let text = match format {
+        0.0 => a.data.iter().map(|v| item_text(v, false)).collect::<Vec<_>>().join(", "),
+        1.0 => {
+            let rows: Vec<String> = rows_of(&a)
+                .iter()
+                .map(|r| r.iter().map(|v| item_text(v, true)).collect::<Vec<_>>().join(","))
+                .collect();
+            format!("{{{}}}", rows.join(";"))
+        }
+        _ => return Err(XlError::Value),
+    };
+    Ok(Value::text(text))
+}

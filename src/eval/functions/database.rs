@@ -1,0 +1,287 @@
+//! The database functions: DSUM, DAVERAGE, DCOUNT, DCOUNTA, DGET, DMAX, DMIN, DPRODUCT,
+//! DSTDEV, DSTDEVP, DVAR and DVARP. A database is a range whose first row names its fields;
+//! the criteria range names fields in its first row and lists conditions below: the
+//! conditions of one row must all hold, any row may. Text with no operator matches values
+//! that begin with it, as in Excel's advanced filter.
+
+use crate::eval::coerce::{compare_text, to_number};
+use crate::eval::evaluator::{number_result, Ctx};
+use crate::eval::value::{Array, Value, XlError, XlResult};
+use crate::formula::ast::{Expr, ExprKind};
+
+use super::args::block;
+use super::criteria::Criterion;
+use super::{ArgSet, FnSpec};
+
+pub const FUNCTIONS: &[FnSpec] = &[
+    FnSpec::value(
+        "DAVERAGE",
+        3,
+        3,
+        daverage,
+        "DAVERAGE(database, field, criteria)",
+        "Mean of a field over the records that meet the criteria",
+    )
+    .range_args(ArgSet::ALL),
+    FnSpec::value(
+        "DCOUNT",
+        2,
+        3,
+        dcount,
+        "DCOUNT(database, [field], criteria)",
+        "How many numbers a field holds in the records that meet the criteria",
+    )
+    .range_args(ArgSet::ALL),
+    FnSpec::value(
+        "DCOUNTA",
+        2,
+        3,
+        dcounta,
+        "DCOUNTA(database, [field], criteria)",
+        "How many non-empty cells a field holds in the records that meet the criteria",
+    )
+    .range_args(ArgSet::ALL),
+    FnSpec::value(
+        "DGET",
+        3,
+        3,
+        dget,
+        "DGET(database, field, criteria)",
+        "The field of the one record that meets the criteria",
+    )
+    .range_args(ArgSet::ALL),
+    FnSpec::value(
+        "DMAX",
+        3,
+        3,
+        dmax,
+        "DMAX(database, field, criteria)",
+        "Largest number of a field over the records that meet the criteria",
+    )
+    .range_args(ArgSet::ALL),
+    FnSpec::value(
+        "DMIN",
+        3,
+        3,
+        dmin,
+        "DMIN(database, field, criteria)",
+        "Smallest number of a field over the records that meet the criteria",
+    )
+    .range_args(ArgSet::ALL),
+    FnSpec::value(
+        "DPRODUCT",
+        3,
+        3,
+        dproduct,
+        "DPRODUCT(database, field, criteria)",
+        "Product of a field over the records that meet the criteria",
+    )
+    .range_args(ArgSet::ALL),
+    FnSpec::value(
+        "DSTDEV",
+        3,
+        3,
+        dstdev,
+        "DSTDEV(database, field, criteria)",
+        "Sample standard deviation of a field over the matching records",
+    )
+    .range_args(ArgSet::ALL),
+    FnSpec::value(
+        "DSTDEVP",
+        3,
+        3,
+        dstdevp,
+        "DSTDEVP(database, field, criteria)",
+        "Population standard deviation of a field over the matching records",
+    )
+    .range_args(ArgSet::ALL),
+    FnSpec::value(
+        "DSUM",
+        3,
+        3,
+        dsum,
+        "DSUM(database, field, criteria)",
+        "Sum of a field over the records that meet the criteria",
+    )
+    .range_args(ArgSet::ALL),
+    FnSpec::value(
+        "DVAR",
+        3,
+        3,
+        dvar,
+        "DVAR(database, field, criteria)",
+        "Sample variance of a field over the matching records",
+    )
+    .range_args(ArgSet::ALL),
+    FnSpec::value(
+        "DVARP",
+        3,
+        3,
+        dvarp,
+        "DVARP(database, field, criteria)",
+        "Population variance of a field over the matching records",
+    )
+    .range_args(ArgSet::ALL),
+];
+
+/// One condition of a criteria row: the database column and the criterion.
+type Condition = (usize, Criterion);
+
+/// The header's column for a field name (case-insensitive) or 1-based number.
+fn field_column(db: &Array, field: &Value) -> XlResult<usize> {
+    match field {
+        Value::Text(name) => (0..db.cols)
+            .find(|&c| matches!(db.get(0, c), Value::Text(h) if compare_text(h, name).is_eq()))
+            .ok_or(XlError::Value),
+        Value::Error(e) => Err(*e),
+        v => {
+            let i = to_number(v)?.trunc();
+            if i >= 1.0 && i <= db.cols as f64 {
+                Ok(i as usize - 1)
+            } else {
+                Err(XlError::Value)
+            }
+        }
+    }
+}
+
+/// A criteria cell as a criterion: text with no operator matches as a prefix.
+fn condition(v: &Value) -> Criterion {
+    match v {
+        Value::Text(t) if !t.starts_with(['=', '<', '>']) && !t.is_empty() && !t.ends_with('*') => {
+            Criterion::new(&Value::text(format!("{t}*")))
+        }
+        v => Criterion::new(v),
+    }
+}
+
+/// The criteria rows, each its conditions.
+fn criteria_rows(db: &Array, criteria: &Array) -> XlResult<Vec<Vec<Condition>>> {
+    let mut columns = Vec::with_capacity(criteria.cols);
+    for c in 0..criteria.cols {
+        columns.push(match criteria.get(0, c) {
+            Value::Blank => None,
+            header => Some(field_column(db, header)?),
+        });
+    }
+    let mut rows = Vec::new();
+    for r in 1..criteria.rows {
+        let mut conditions = Vec::new();
+        for (c, column) in columns.iter().enumerate() {
+            let v = criteria.get(r, c);
+            if let (Some(col), false) = (column, v.is_blank()) {
+                conditions.push((*col, condition(v)));
+            }
+        }
+        rows.push(conditions);
+    }
+    Ok(rows)
+}
+
+/// The values of `field` in the records that meet the criteria.
+fn selected(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<Value>> {
+    let db = block(ctx, &args[0])?;
+    let (field, criteria) = match args {
+        [_, criteria] => (None, criteria),
+        [_, field, criteria] if field.kind == ExprKind::Missing => (None, criteria),
+        [_, field, criteria] => (Some(ctx.eval(field).unwrap_single()), criteria),
+        _ => unreachable!("the database functions take two or three arguments"),
+    };
+    let criteria = block(ctx, criteria)?;
+    if db.rows < 1 || criteria.rows < 1 {
+        return Err(XlError::Value);
+    }
+    let column = field.map(|f| field_column(&db, &f)).transpose()?;
+    let rows = criteria_rows(&db, &criteria)?;
+    let mut out = Vec::new();
+    for r in 1..db.rows {
+        let meets = |conditions: &Vec<Condition>| conditions.iter().all(|(c, crit)| crit.matches(db.get(r, *c)));
+        if rows.is_empty() || rows.iter().any(meets) {
+            // DCOUNT with no field counts records: each stands as a number.
+            out.push(column.map_or(Value::Number(1.0), |c| db.get(r, c).clone()));
+        }
+    }
+    Ok(out)
+}
+
+fn numbers_of(values: &[Value]) -> Vec<f64> {
+    values.iter().filter_map(|v| if let Value::Number(n) = v { Some(*n) } else { None }).collect()
+}
+
+fn selected_numbers(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<f64>> {
+    Ok(numbers_of(&selected(ctx, args)?))
+}
+
+fn dsum(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    Ok(number_result(selected_numbers(ctx, args)?.iter().sum()))
+}
+
+fn daverage(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let xs = selected_numbers(ctx, args)?;
+    if xs.is_empty() {
+        return Err(XlError::Div0);
+    }
+    Ok(number_result(xs.iter().sum::<f64>() / xs.len() as f64))
+}
+
+fn dcount(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    Ok(Value::Number(selected_numbers(ctx, args)?.len() as f64))
+}
+
+fn dcounta(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    Ok(Value::Number(selected(ctx, args)?.iter().filter(|v| !v.is_blank()).count() as f64))
+}
+
+fn dget(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    match selected(ctx, args)?.as_slice() {
+        [] => Err(XlError::Value),
+        [one] => Ok(one.clone()),
+        _ => Err(XlError::Num),
+    }
+}
+
+fn dmax(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let xs = selected_numbers(ctx, args)?;
+    Ok(Value::Number(xs.iter().copied().reduce(f64::max).unwrap_or(0.0)))
+}
+
+fn dmin(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let xs = selected_numbers(ctx, args)?;
+    Ok(Value::Number(xs.iter().copied().reduce(f64::min).unwrap_or(0.0)))
+}
+
+fn dproduct(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let xs = selected_numbers(ctx, args)?;
+    if xs.is_empty() {
+        return Ok(Value::Number(0.0));
+    }
+    Ok(number_result(xs.iter().product()))
+}
+
+/// The variance of the selected numbers, over n − 1 (`sample`) or n.
+fn variance(ctx: &mut Ctx, args: &[Expr], sample: bool) -> XlResult<f64> {
+    let xs = selected_numbers(ctx, args)?;
+    let n = xs.len() as f64;
+    let divisor = if sample { n - 1.0 } else { n };
+    if divisor <= 0.0 {
+        return Err(XlError::Div0);
+    }
+    let mean = xs.iter().sum::<f64>() / n;
+    Ok(xs.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / divisor)
+}
+
+fn dvar(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    Ok(number_result(variance(ctx, args, true)?))
+}
+
+fn dvarp(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    Ok(number_result(variance(ctx, args, false)?))
+}
+
+fn dstdev(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    Ok(number_result(variance(ctx, args, true)?.sqrt()))
+}
+
+fn dstdevp(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    Ok(number_result(variance(ctx, args, false)?.sqrt()))
+}

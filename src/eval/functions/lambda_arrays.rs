@@ -1,0 +1,215 @@
+//! The functions that run a LAMBDA over arrays: MAP, REDUCE, SCAN, BYROW, BYCOL and
+//! MAKEARRAY. The LAMBDA is written in the call or is a defined name holding one; its body is
+//! evaluated by the one evaluator with its parameters bound as LET binds names.
+
+use std::rc::Rc;
+
+use crate::eval::evaluator::Ctx;
+use crate::eval::value::{Array, Value, XlError, XlResult};
+use crate::formula::ast::{Expr, ExprKind};
+
+use super::args::{block, number};
+use super::logic::{as_lambda, Lambda};
+use super::{FnSpec, MANY};
+
+pub const FUNCTIONS: &[FnSpec] = &[
+    FnSpec::value(
+        "BYCOL",
+        2,
+        2,
+        bycol,
+        "BYCOL(array, lambda)",
+        "A LAMBDA of one column applied to each column: a row of results",
+    )
+    .future()
+    .dynamic(),
+    FnSpec::value(
+        "BYROW",
+        2,
+        2,
+        byrow,
+        "BYROW(array, lambda)",
+        "A LAMBDA of one row applied to each row: a column of results",
+    )
+    .future()
+    .dynamic(),
+    FnSpec::value(
+        "MAKEARRAY",
+        3,
+        3,
+        makearray,
+        "MAKEARRAY(rows, columns, lambda)",
+        "An array whose items are LAMBDA(row, column)",
+    )
+    .future()
+    .dynamic(),
+    FnSpec::value(
+        "MAP",
+        2,
+        MANY,
+        map,
+        "MAP(array1, [array2], ..., lambda)",
+        "A LAMBDA applied item by item to one or more arrays",
+    )
+    .future()
+    .dynamic(),
+    FnSpec::value(
+        "REDUCE",
+        2,
+        3,
+        reduce,
+        "REDUCE([initial_value], array, lambda)",
+        "An accumulator carried through the array by LAMBDA(accumulator, value)",
+    )
+    .future(),
+    FnSpec::value(
+        "SCAN",
+        2,
+        3,
+        scan,
+        "SCAN([initial_value], array, lambda)",
+        "Every intermediate accumulator of REDUCE, as an array",
+    )
+    .future()
+    .dynamic(),
+];
+
+/// Runs `f` with the LAMBDA that `e` is or names; `#VALUE!` when it is neither.
+fn with_lambda<T>(ctx: &mut Ctx, e: &Expr, f: impl FnOnce(&mut Ctx, &Lambda) -> XlResult<T>) -> XlResult<T> {
+    if let Some(lambda) = as_lambda(e) {
+        return f(ctx, &lambda);
+    }
+    let name = match &e.kind {
+        ExprKind::Name(n) => n.clone(),
+        ExprKind::Paren(inner) => return with_lambda(ctx, inner, f),
+        _ => return Err(XlError::Value),
+    };
+    let (expr, _) = ctx.env.defined_name(&name, ctx.sheet).ok_or(XlError::Name)?;
+    let lambda = as_lambda(&expr).ok_or(XlError::Value)?;
+    f(ctx, &lambda)
+}
+
+/// The LAMBDA's body with its parameters bound to `values`.
+fn apply(ctx: &mut Ctx, lambda: &Lambda, values: &[Value]) -> Value {
+    if lambda.params.len() != values.len() {
+        return Value::Error(XlError::Value);
+    }
+    let names: Vec<Rc<str>> = lambda.param_names().cloned().collect();
+    bind(ctx, &names, values, lambda.body)
+}
+
+fn bind(ctx: &mut Ctx, names: &[Rc<str>], values: &[Value], body: &Expr) -> Value {
+    match names.split_first() {
+        None => ctx.eval(body),
+        Some((name, rest)) => {
+            ctx.with_local(name.clone(), values[0].clone(), |ctx| bind(ctx, rest, &values[1..], body))
+        }
+    }
+}
+
+/// A LAMBDA's result as one item of a result array: an array result is `#CALC!`, as in
+/// Excel, and a blank reads as 0.
+fn as_item(v: Value) -> Value {
+    match v.unwrap_single() {
+        Value::Array(_) => Value::Error(XlError::Calc),
+        Value::Blank => Value::Number(0.0),
+        v => v,
+    }
+}
+
+fn array(rows: usize, cols: usize, data: Vec<Value>) -> Value {
+    Value::Array(Rc::new(Array::new(rows, cols, data)))
+}
+
+fn map(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let (lambda, arrays) = args.split_last().expect("MAP has at least two arguments");
+    let blocks: Vec<Rc<Array>> = arrays.iter().map(|e| block(ctx, e)).collect::<XlResult<_>>()?;
+    let rows = blocks.iter().map(|b| b.rows).max().unwrap_or(1);
+    let cols = blocks.iter().map(|b| b.cols).max().unwrap_or(1);
+    with_lambda(ctx, lambda, |ctx, lambda| {
+        let mut data = Vec::with_capacity(rows * cols);
+        for r in 0..rows {
+            for c in 0..cols {
+                let values: Vec<Value> = blocks.iter().map(|b| b.broadcast_get(r, c)).collect();
+                data.push(as_item(apply(ctx, lambda, &values)));
+            }
+        }
+        Ok(array(rows, cols, data))
+    })
+}
+
+/// REDUCE's and SCAN's arguments: the initial value (blank when omitted) and the items.
+fn accumulation(ctx: &mut Ctx, args: &[Expr]) -> XlResult<(Value, Rc<Array>)> {
+    let (initial, items) = match args {
+        [items, _] => (Value::Blank, items),
+        [init, items, _] => (if init.kind == ExprKind::Missing { Value::Blank } else { ctx.eval(init) }, items),
+        _ => unreachable!("REDUCE and SCAN take two or three arguments"),
+    };
+    Ok((initial.unwrap_single(), block(ctx, items)?))
+}
+
+fn reduce(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let (mut acc, items) = accumulation(ctx, args)?;
+    with_lambda(ctx, &args[args.len() - 1], |ctx, lambda| {
+        for v in &items.data {
+            acc = apply(ctx, lambda, &[acc.clone(), v.clone()]);
+        }
+        Ok(acc)
+    })
+}
+
+fn scan(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let (mut acc, items) = accumulation(ctx, args)?;
+    with_lambda(ctx, &args[args.len() - 1], |ctx, lambda| {
+        let mut data = Vec::with_capacity(items.data.len());
+        for v in &items.data {
+            acc = apply(ctx, lambda, &[acc.clone(), v.clone()]);
+            data.push(as_item(acc.clone()));
+        }
+        Ok(array(items.rows, items.cols, data))
+    })
+}
+
+fn by_line(ctx: &mut Ctx, args: &[Expr], rows: bool) -> XlResult<Value> {
+    let a = block(ctx, &args[0])?;
+    with_lambda(ctx, &args[1], |ctx, lambda| {
+        let lines = if rows { a.rows } else { a.cols };
+        let mut data = Vec::with_capacity(lines);
+        for i in 0..lines {
+            let line = if rows {
+                Array::row((0..a.cols).map(|c| a.get(i, c).clone()).collect())
+            } else {
+                Array::column((0..a.rows).map(|r| a.get(r, i).clone()).collect())
+            };
+            data.push(as_item(apply(ctx, lambda, &[Value::Array(Rc::new(line))])));
+        }
+        Ok(if rows { array(lines, 1, data) } else { array(1, lines, data) })
+    })
+}
+
+fn byrow(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    by_line(ctx, args, true)
+}
+
+fn bycol(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    by_line(ctx, args, false)
+}
+
+fn makearray(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let rows = number(ctx, &args[0])?.trunc();
+    let cols = number(ctx, &args[1])?.trunc();
+    if rows < 1.0 || cols < 1.0 || rows * cols > 16_777_216.0 {
+        return Err(XlError::Value);
+    }
+    let (rows, cols) = (rows as usize, cols as usize);
+    with_lambda(ctx, &args[2], |ctx, lambda| {
+        let mut data = Vec::with_capacity(rows * cols);
+        for r in 0..rows {
+            for c in 0..cols {
+                let at = [Value::Number((r + 1) as f64), Value::Number((c + 1) as f64)];
+                data.push(as_item(apply(ctx, lambda, &at)));
+            }
+        }
+        Ok(array(rows, cols, data))
+    })
+}

@@ -1,0 +1,221 @@
+//! Reference and information functions that need facts about the workbook: ADDRESS, SHEET,
+//! SHEETS, FORMULATEXT, ISFORMULA, and SUBTOTAL and AGGREGATE, which skip cells that are
+//! themselves subtotals (through `Env::is_subtotal`) so that totals of subtotals do not count
+//! twice. No row is ever hidden here, so the 101–111 codes equal 1–11.
+
+use std::sync::LazyLock;
+
+use crate::eval::coerce::to_text;
+use crate::eval::evaluator::{Ctx, Operand};
+use crate::eval::value::{Value, XlError, XlResult};
+use crate::formula::address::{column_name, MAX_COLS, MAX_ROWS};
+use crate::formula::ast::{Expr, ExprKind, FnId};
+use crate::formula::print::quote_sheet_name;
+
+use super::args::{bool_or, number, number_or};
+use super::{find, ArgSet, FnSpec, MANY};
+
+pub const FUNCTIONS: &[FnSpec] = &[
+    FnSpec::value("ADDRESS", 2, 5, address, "ADDRESS(row, column, [abs_num], [a1], [sheet_text])", "A cell address as text (abs_num 1 $A$1, 2 A$1, 3 $A1, 4 A1)"),
+    FnSpec::value("AGGREGATE", 3, MANY, aggregate, "AGGREGATE(function_num, options, ref1, [ref2], ...)", "SUBTOTAL's functions and more (14 LARGE … 19 QUARTILE.EXC), optionally skipping errors").future().range_args(ArgSet::from(2)),
+    FnSpec::value("FORMULATEXT", 1, 1, formulatext, "FORMULATEXT(reference)", "The formula of a cell as text; #N/A when it holds none").future().range_args(ArgSet::only(0)),
+    FnSpec::value("HYPERLINK", 1, 2, hyperlink, "HYPERLINK(link_location, [friendly_name])", "The text a link shows: friendly_name, or the location (ncsheet opens no links)"),
+    FnSpec::value("ISFORMULA", 1, 1, isformula, "ISFORMULA(reference)", "Whether a cell holds a formula").future().range_args(ArgSet::only(0)),
+    FnSpec::value("SHEET", 0, 1, sheet, "SHEET([value])", "The number of a sheet (of a reference or a sheet name; this one by default)").future().range_args(ArgSet::only(0)),
+    FnSpec::value("SHEETS", 0, 1, sheets, "SHEETS([reference])", "How many sheets (in a reference; the workbook's by default)").future().range_args(ArgSet::only(0)),
+    FnSpec::value("SUBTOTAL", 2, MANY, subtotal, "SUBTOTAL(function_num, ref1, [ref2], ...)", "1 AVERAGE 2 COUNT 3 COUNTA 4 MAX 5 MIN 6 PRODUCT 7 STDEV 8 STDEVP 9 SUM 10 VAR 11 VARP, skipping other subtotals").range_args(ArgSet::from(1)),
+];
+
+fn address(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let row = number(ctx, &args[0])?.trunc();
+    let col = number(ctx, &args[1])?.trunc();
+    let abs = number_or(ctx, args, 2, 1.0)?.trunc();
+    let a1 = bool_or(ctx, args, 3, true)?;
+    let sheet = match args.get(4) {
+        Some(e) if e.kind != ExprKind::Missing => Some(to_text(&ctx.eval(e))?),
+        _ => None,
+    };
+    if row < 1.0 || row > f64::from(MAX_ROWS) || col < 1.0 || col > f64::from(MAX_COLS) || !(1.0..=4.0).contains(&abs) {
+        return Err(XlError::Value);
+    }
+    let (row_abs, col_abs) = (abs == 1.0 || abs == 2.0, abs == 1.0 || abs == 3.0);
+    let (row, col) = (row as u32, col as u32);
+    let cell = if a1 {
+        let dollar = |abs: bool| if abs { "$" } else { "" };
+        format!("{}{}{}{row}", dollar(col_abs), column_name(col - 1), dollar(row_abs))
+    } else {
+        let part =
+            |letter: char, n: u32, abs: bool| if abs { format!("{letter}{n}") } else { format!("{letter}[{n}]") };
+        format!("{}{}", part('R', row, row_abs), part('C', col, col_abs))
+    };
+    Ok(Value::text(match sheet {
+        Some(s) if s.is_empty() => format!("!{cell}"),
+        Some(s) => format!("{}!{cell}", quote_sheet_name(&s)),
+        None => cell,
+    }))
+}
+
+/// The one cell a reference argument names (its first cell for a range); `#N/A` for a value.
+fn referenced_cell(ctx: &mut Ctx, e: &Expr) -> XlResult<(crate::formula::ast::SheetId, crate::formula::address::Pos)> {
+    match ctx.reference_only(e) {
+        Operand::Ref(sheet, rect) => Ok((sheet, rect.first)),
+        Operand::Value(Value::Error(err)) => Err(err),
+        Operand::Value(_) => Err(XlError::NA),
+    }
+}
+
+fn formulatext(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let (sheet, pos) = referenced_cell(ctx, &args[0])?;
+    ctx.env.formula_text(sheet, pos).map(Value::text).ok_or(XlError::NA)
+}
+
+fn isformula(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let (sheet, pos) = match ctx.reference_only(&args[0]) {
+        Operand::Ref(sheet, rect) => (sheet, rect.first),
+        Operand::Value(Value::Error(e)) => return Err(e),
+        Operand::Value(_) => return Err(XlError::Value),
+    };
+    Ok(Value::Bool(ctx.env.formula_text(sheet, pos).is_some()))
+}
+
+fn hyperlink(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let shown = match args.get(1) {
+        Some(e) if e.kind != ExprKind::Missing => ctx.eval(e),
+        _ => ctx.eval(&args[0]),
+    };
+    match shown.unwrap_single() {
+        Value::Blank => Ok(Value::Number(0.0)),
+        v => Ok(v),
+    }
+}
+
+fn sheet(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let Some(e) = args.first().filter(|e| e.kind != ExprKind::Missing) else {
+        return Ok(Value::Number(f64::from(ctx.sheet) + 1.0));
+    };
+    match ctx.reference_only(e) {
+        Operand::Ref(sheet, _) => Ok(Value::Number(f64::from(sheet) + 1.0)),
+        Operand::Value(Value::Text(name)) => (0..ctx.env.sheet_count())
+            .find(|&i| ctx.env.sheet_name(i as _).is_some_and(|n| n.eq_ignore_ascii_case(&name)))
+            .map(|i| Value::Number(i as f64 + 1.0))
+            .ok_or(XlError::NA),
+        Operand::Value(Value::Error(e)) => Err(e),
+        Operand::Value(_) => Err(XlError::NA),
+    }
+}
+
+fn sheets(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let Some(e) = args.first().filter(|e| e.kind != ExprKind::Missing) else {
+        return Ok(Value::Number(ctx.env.sheet_count() as f64));
+    };
+    match ctx.reference_only(e) {
+        Operand::Ref(..) => Ok(Value::Number(1.0)),
+        Operand::Value(Value::Error(e)) => Err(e),
+        Operand::Value(_) => Err(XlError::Value),
+    }
+}
+
+// ---- SUBTOTAL and AGGREGATE -----------------------------------------------------------------
+
+/// SUBTOTAL's functions 1 to 11, and AGGREGATE's 12 to 19, by registry name.
+const AGGREGATES: [&str; 19] = [
+    "AVERAGE",
+    "COUNT",
+    "COUNTA",
+    "MAX",
+    "MIN",
+    "PRODUCT",
+    "STDEV.S",
+    "STDEV.P",
+    "SUM",
+    "VAR.S",
+    "VAR.P",
+    "MEDIAN",
+    "MODE.SNGL",
+    "LARGE",
+    "SMALL",
+    "PERCENTILE.INC",
+    "QUARTILE.INC",
+    "PERCENTILE.EXC",
+    "QUARTILE.EXC",
+];
+
+static AGGREGATE_IDS: LazyLock<Vec<FnId>> =
+    LazyLock::new(|| AGGREGATES.iter().map(|n| find(n).expect("aggregate functions are registered")).collect());
+
+/// The references and values of the arguments with every cell holding a SUBTOTAL or
+/// AGGREGATE (and, when `skip_errors`, every error) taken out, as one array argument.
+fn without_subtotals(ctx: &mut Ctx, args: &[Expr], skip_errors: bool) -> Vec<Value> {
+    let mut out = Vec::new();
+    for a in args {
+        match ctx.operand(a) {
+            Operand::Ref(sheet, rect) => {
+                let rect = ctx.clip_to_used(sheet, rect);
+                let env = ctx.env;
+                env.for_each_value(sheet, rect, &mut |pos, v| {
+                    if !(env.is_subtotal(sheet, pos) || skip_errors && matches!(v, Value::Error(_))) {
+                        out.push(v.clone());
+                    }
+                });
+            }
+            Operand::Value(Value::Array(arr)) => {
+                out.extend(arr.data.iter().filter(|v| !(skip_errors && matches!(v, Value::Error(_)))).cloned());
+            }
+            Operand::Value(v) => out.push(v),
+        }
+    }
+    out
+}
+
+/// Calls the aggregate `code` (1-based) on `values` as one array, plus `extra` arguments.
+fn call_on(ctx: &mut Ctx, code: usize, values: Vec<Value>, extra: &[Expr]) -> Value {
+    use crate::eval::value::Array;
+    use std::rc::Rc;
+    let n = values.len();
+    let array = if n == 0 { Value::Blank } else { Value::Array(Rc::new(Array::column(values))) };
+    // The values travel as a LET-bound name, so the function reads them as it reads a range.
+    let name: Rc<str> = Rc::from("_xlagg_values");
+    let span = extra.first().map_or(Default::default(), |e: &Expr| e.span);
+    let mut call_args = vec![Expr { kind: ExprKind::Name(name.clone()), span }];
+    call_args.extend(extra.iter().cloned());
+    let id = AGGREGATE_IDS[code - 1];
+    ctx.with_local(name, array, |ctx| ctx.call(id, &call_args))
+}
+
+fn subtotal(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let code = number(ctx, &args[0])?.trunc();
+    let code = match code {
+        c if (1.0..=11.0).contains(&c) => c as usize,
+        c if (101.0..=111.0).contains(&c) => c as usize - 100,
+        _ => return Err(XlError::Value),
+    };
+    let values = without_subtotals(ctx, &args[1..], false);
+    if let Some(e) = values.iter().find_map(Value::as_error) {
+        return Err(e);
+    }
+    Ok(call_on(ctx, code, values, &[]))
+}
+
+fn aggregate(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let code = number(ctx, &args[0])?.trunc();
+    let options = number(ctx, &args[1])?.trunc();
+    if !(1.0..=19.0).contains(&code) || !(0.0..=7.0).contains(&options) {
+        return Err(XlError::Value);
+    }
+    let code = code as usize;
+    // Options 2, 3, 6 and 7 skip error values; no row is hidden here.
+    let skip_errors = matches!(options as u8, 2 | 3 | 6 | 7);
+    let (refs, extra) = if code >= 14 {
+        if args.len() != 4 {
+            return Err(XlError::Value);
+        }
+        (&args[2..3], &args[3..])
+    } else {
+        (&args[2..], &args[..0])
+    };
+    let values = without_subtotals(ctx, refs, skip_errors);
+    if let Some(e) = values.iter().find_map(Value::as_error) {
+        return Err(e);
+    }
+    Ok(call_on(ctx, code, values, extra))
+}
