@@ -951,6 +951,10 @@ impl Env for Interp<'_, '_> {
     fn sheet_name(&self, sheet: SheetId) -> Option<String> {
         Env::sheet_name(&**self.wb.borrow(), sheet)
     }
+
+    fn date_1904(&self) -> bool {
+        self.wb.borrow().date_1904()
+    }
 }
 
 impl Host for Interp<'_, '_> {

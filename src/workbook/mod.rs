@@ -142,6 +142,8 @@ pub struct Workbook {
     literal_spans: Vec<(usize, usize)>,
     shape_buf: String,
     literals: Vec<f64>,
+    /// The 1904 date system (`dates.rs`): serial 0 is 1904-01-01.
+    date_1904: bool,
 }
 
 impl Workbook {
@@ -164,6 +166,19 @@ impl Workbook {
         // References to this name parsed before it existed are stale now.
         self.formulas.forget_keys();
         Ok((self.sheets.len() - 1) as SheetId)
+    }
+
+    /// Switches the date system (serial 0 is 1904-01-01 when on) and recalculates, since
+    /// every date function's result depends on it.
+    pub fn set_date_1904(&mut self, on: bool) {
+        if self.date_1904 != on {
+            self.date_1904 = on;
+            self.recalculate();
+        }
+    }
+
+    pub fn date_1904(&self) -> bool {
+        self.date_1904
     }
 
     pub fn sheet_id(&self, name: &str) -> Option<SheetId> {
@@ -677,6 +692,10 @@ impl Env for Workbook {
 
     fn sheet_name(&self, sheet: SheetId) -> Option<String> {
         self.sheets.get(sheet as usize).map(|s| s.name.clone())
+    }
+
+    fn date_1904(&self) -> bool {
+        self.date_1904
     }
 }
 

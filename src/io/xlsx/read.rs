@@ -52,7 +52,7 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
     let mut imported =
         Imported { workbook: Workbook::new(), cached: Vec::new(), layout: Layout::default(), notes: Vec::new() };
     if calamine.has_1904_epoch() {
-        imported.notes.push("the workbook uses the 1904 date system; date serials are read as stored".into());
+        imported.workbook.set_date_1904(true);
     }
 
     let sheets = package.sheets.clone();
