@@ -39,6 +39,7 @@ mod raw;
 mod read;
 mod sheet_xml;
 mod syntax;
+mod tables;
 mod write;
 mod xml;
 

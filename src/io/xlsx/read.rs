@@ -11,6 +11,7 @@
 //! constants (they would block our own spill) but kept in [`Imported::cached`] like the
 //! results of formula cells.
 
+use std::borrow::Cow;
 use std::collections::HashMap;
 use std::io::Cursor;
 use std::path::Path;
@@ -25,6 +26,7 @@ use crate::workbook::Workbook;
 
 use super::raw::{Package, SheetEntry};
 use super::sheet_xml::{self, CellXml, FormulaXml, ScanError, SheetScan};
+use super::tables::{self, Table};
 use super::xml::StreamError;
 use super::{syntax, ArrayFormula, CachedValue, ErrorKind, Imported, Layout, SheetLayout, XlsxError};
 
@@ -71,14 +73,15 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
             .map_err(|e| XlsxError::new(file, Some(&sheet.part), ErrorKind::Damaged, e.to_string()))?;
         ids.push(Some(id));
     }
-    define_names(&mut imported, &package, &sheets, &ids);
+    let tables = read_tables(&mut package, &sheets, &ids, &mut imported.notes);
+    define_names(&mut imported, &package, &sheets, &ids, &tables);
 
     let formats = number_formats(&mut calamine, &sheets, file)?;
     let mut grid_slots = 0u64;
     let mut legacy_ranges = Vec::new();
     for (entry, id) in sheets.iter().zip(&ids) {
         let Some(sheet) = *id else { continue };
-        let mut sheet_import = SheetImport::new(sheet, &mut legacy_ranges);
+        let mut sheet_import = SheetImport::new(sheet, &mut legacy_ranges, &tables);
         let part = package.entry(&entry.part).map_err(fail)?;
         let scan = sheet_xml::read_sheet_ahead(part, strings.len(), &mut grid_slots, &mut |cell| {
             sheet_import.cell(&mut imported, &strings, cell);
@@ -162,9 +165,41 @@ fn intersect_legacy_formulas(wb: &mut Workbook, candidates: &[(SheetId, Pos)]) {
     }
 }
 
+/// The tables of every worksheet kept (a table part that cannot be read is left out with a
+/// note: its structured references then show #NAME?).
+fn read_tables(
+    package: &mut Package,
+    sheets: &[SheetEntry],
+    ids: &[Option<SheetId>],
+    notes: &mut Vec<String>,
+) -> Vec<Table> {
+    let mut tables = Vec::new();
+    for (entry, id) in sheets.iter().zip(ids) {
+        let Some(sheet) = *id else { continue };
+        for part in package.table_parts(&entry.part).unwrap_or_default() {
+            match package.read_optional(&part).ok().flatten().and_then(|xml| tables::parse_table(&xml, sheet)) {
+                Some(table) => tables.push(table),
+                None => notes.push(format!("{part}: the table could not be read and was left out")),
+            }
+        }
+    }
+    tables
+}
+
+/// Formula text as stored → as typed: structured references to tables become the ranges
+/// they name, the file's function spellings ours.
+fn typed_formula<'t>(text: &'t str, wb: &Workbook, tables: &[Table], sheet: SheetId, pos: Pos) -> Cow<'t, str> {
+    let name = |s: SheetId| Env::sheet_name(wb, s).unwrap_or_default();
+    match tables::resolve_structured(text, tables, sheet, pos, &name) {
+        Cow::Borrowed(text) => syntax::from_file(text, wb, sheet, pos),
+        Cow::Owned(text) => Cow::Owned(syntax::from_file(&text, wb, sheet, pos).into_owned()),
+    }
+}
+
 /// One worksheet on its way in.
 struct SheetImport<'a> {
     sheet: SheetId,
+    tables: &'a [Table],
     /// Plain (not array) formulas with a range in them: candidates for implicit intersection.
     legacy_ranges: &'a mut Vec<(SheetId, Pos)>,
     /// Cells an array formula filled, with its anchor (anchors come first in the file).
@@ -178,9 +213,10 @@ struct SheetImport<'a> {
 }
 
 impl<'a> SheetImport<'a> {
-    fn new(sheet: SheetId, legacy_ranges: &'a mut Vec<(SheetId, Pos)>) -> SheetImport<'a> {
+    fn new(sheet: SheetId, legacy_ranges: &'a mut Vec<(SheetId, Pos)>, tables: &'a [Table]) -> SheetImport<'a> {
         SheetImport {
             sheet,
+            tables,
             legacy_ranges,
             spilled: HashMap::new(),
             shared: HashMap::new(),
@@ -257,9 +293,9 @@ impl<'a> SheetImport<'a> {
         let (sheet, wb) = (self.sheet, &mut imported.workbook);
         self.typed.clear();
         self.typed.push('=');
-        self.typed.push_str(&syntax::from_file(text, wb, sheet, pos));
+        self.typed.push_str(&typed_formula(text, wb, self.tables, sheet, pos));
         let _ = wb.set_input_deferred(sheet, pos, &self.typed);
-        if plain && (text.contains(':') || makes_references(text)) {
+        if plain && (self.typed.contains(':') || makes_references(text)) {
             self.legacy_ranges.push((sheet, pos));
         }
         if let Some(value) = cached {
@@ -291,7 +327,13 @@ fn shared_text(formula: &str, holder: Pos, pos: Pos) -> String {
         .unwrap_or_else(|_| formula.to_string())
 }
 
-fn define_names(imported: &mut Imported, package: &Package, sheets: &[SheetEntry], ids: &[Option<SheetId>]) {
+fn define_names(
+    imported: &mut Imported,
+    package: &Package,
+    sheets: &[SheetEntry],
+    ids: &[Option<SheetId>],
+    tables: &[Table],
+) {
     for n in &package.names {
         let lower = n.name.to_ascii_lowercase();
         if lower.starts_with("_xlfn.") {
@@ -316,7 +358,7 @@ fn define_names(imported: &mut Imported, package: &Package, sheets: &[SheetEntry
             },
         };
         let wb = &mut imported.workbook;
-        let formula = syntax::from_file(&n.formula, wb, scope.unwrap_or(0), Pos::new(0, 0)).into_owned();
+        let formula = typed_formula(&n.formula, wb, tables, scope.unwrap_or(0), Pos::new(0, 0)).into_owned();
         if let Err(e) = wb.define_name(&n.name, &formula, scope) {
             imported.notes.push(format!("name {} ({}) was left out: {e}", n.name, n.formula));
         }
