@@ -117,7 +117,7 @@ const KNOWN_DISAGREEMENTS: &[(&str, &str, &str)] = &[
 
 /// The public corpus (`../shared/excel-corpus/public`): at least this share of the compared
 /// results must agree (a ratchet: raise it as causes are fixed).
-const PUBLIC_AGREEMENT_FLOOR: f64 = 0.99;
+const PUBLIC_AGREEMENT_FLOOR: f64 = 0.991;
 
 /// Public-corpus packages that Excel itself cannot open: (file, the part the refusal must name).
 const PUBLIC_REFUSED: &[(&str, &str)] = &[];

@@ -37,6 +37,7 @@ use crate::workbook::Workbook;
 mod check;
 mod raw;
 mod read;
+mod sheet_span;
 mod sheet_xml;
 mod syntax;
 mod tables;

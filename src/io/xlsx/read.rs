@@ -25,6 +25,7 @@ use crate::formula::ast::SheetId;
 use crate::workbook::Workbook;
 
 use super::raw::{Package, SheetEntry};
+use super::sheet_span;
 use super::sheet_xml::{self, CellXml, FormulaXml, ScanError, SheetScan};
 use super::tables::{self, Table};
 use super::xml::StreamError;
@@ -74,14 +75,15 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
         ids.push(Some(id));
     }
     let tables = read_tables(&mut package, &sheets, &ids, &mut imported.notes);
-    define_names(&mut imported, &package, &sheets, &ids, &tables);
+    let book = BookParts { tables, sheet_names: imported.workbook.sheet_names() };
+    define_names(&mut imported, &package, &sheets, &ids, &book);
 
     let formats = number_formats(&mut calamine, &sheets, file)?;
     let mut grid_slots = 0u64;
     let mut legacy_ranges = Vec::new();
     for (entry, id) in sheets.iter().zip(&ids) {
         let Some(sheet) = *id else { continue };
-        let mut sheet_import = SheetImport::new(sheet, &mut legacy_ranges, &tables);
+        let mut sheet_import = SheetImport::new(sheet, &mut legacy_ranges, &book);
         let part = package.entry(&entry.part).map_err(fail)?;
         let scan = sheet_xml::read_sheet_ahead(part, strings.len(), &mut grid_slots, &mut |cell| {
             sheet_import.cell(&mut imported, &strings, cell);
@@ -188,18 +190,28 @@ fn read_tables(
 
 /// Formula text as stored → as typed: structured references to tables become the ranges
 /// they name, the file's function spellings ours.
-fn typed_formula<'t>(text: &'t str, wb: &Workbook, tables: &[Table], sheet: SheetId, pos: Pos) -> Cow<'t, str> {
-    let name = |s: SheetId| Env::sheet_name(wb, s).unwrap_or_default();
-    match tables::resolve_structured(text, tables, sheet, pos, &name) {
+fn typed_formula<'t>(text: &'t str, wb: &Workbook, book: &BookParts, sheet: SheetId, pos: Pos) -> Cow<'t, str> {
+    let name = |s: SheetId| book.sheet_names.get(s as usize).cloned().unwrap_or_default();
+    let text = match tables::resolve_structured(text, &book.tables, sheet, pos, &name) {
+        Cow::Borrowed(text) => sheet_span::expand_sheet_spans(text, &book.sheet_names),
+        Cow::Owned(text) => Cow::Owned(sheet_span::expand_sheet_spans(&text, &book.sheet_names).into_owned()),
+    };
+    match text {
         Cow::Borrowed(text) => syntax::from_file(text, wb, sheet, pos),
         Cow::Owned(text) => Cow::Owned(syntax::from_file(&text, wb, sheet, pos).into_owned()),
     }
 }
 
+/// What formulas of the file may name besides cells: tables, and sheets (by tab order).
+struct BookParts {
+    tables: Vec<Table>,
+    sheet_names: Vec<String>,
+}
+
 /// One worksheet on its way in.
 struct SheetImport<'a> {
     sheet: SheetId,
-    tables: &'a [Table],
+    book: &'a BookParts,
     /// Plain (not array) formulas with a range in them: candidates for implicit intersection.
     legacy_ranges: &'a mut Vec<(SheetId, Pos)>,
     /// Cells an array formula filled, with its anchor (anchors come first in the file).
@@ -213,10 +225,10 @@ struct SheetImport<'a> {
 }
 
 impl<'a> SheetImport<'a> {
-    fn new(sheet: SheetId, legacy_ranges: &'a mut Vec<(SheetId, Pos)>, tables: &'a [Table]) -> SheetImport<'a> {
+    fn new(sheet: SheetId, legacy_ranges: &'a mut Vec<(SheetId, Pos)>, book: &'a BookParts) -> SheetImport<'a> {
         SheetImport {
             sheet,
-            tables,
+            book,
             legacy_ranges,
             spilled: HashMap::new(),
             shared: HashMap::new(),
@@ -293,7 +305,7 @@ impl<'a> SheetImport<'a> {
         let (sheet, wb) = (self.sheet, &mut imported.workbook);
         self.typed.clear();
         self.typed.push('=');
-        self.typed.push_str(&typed_formula(text, wb, self.tables, sheet, pos));
+        self.typed.push_str(&typed_formula(text, wb, self.book, sheet, pos));
         let _ = wb.set_input_deferred(sheet, pos, &self.typed);
         if plain && (self.typed.contains(':') || makes_references(text)) {
             self.legacy_ranges.push((sheet, pos));
@@ -332,7 +344,7 @@ fn define_names(
     package: &Package,
     sheets: &[SheetEntry],
     ids: &[Option<SheetId>],
-    tables: &[Table],
+    book: &BookParts,
 ) {
     for n in &package.names {
         let lower = n.name.to_ascii_lowercase();
@@ -358,7 +370,7 @@ fn define_names(
             },
         };
         let wb = &mut imported.workbook;
-        let formula = typed_formula(&n.formula, wb, tables, scope.unwrap_or(0), Pos::new(0, 0)).into_owned();
+        let formula = typed_formula(&n.formula, wb, book, scope.unwrap_or(0), Pos::new(0, 0)).into_owned();
         if let Err(e) = wb.define_name(&n.name, &formula, scope) {
             imported.notes.push(format!("name {} ({}) was left out: {e}", n.name, n.formula));
         }
