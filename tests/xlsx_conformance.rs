@@ -32,24 +32,6 @@ const KNOWN_DISAGREEMENTS: &[(&str, &str, &str)] = &[
     ("calc_tests/MATH_AND_TRIGONOMETRY/trigonometric_functions.xlsx", "Sheet1!C13", "COS near pi/2: residue"),
     ("docs/COS.xlsx", "Sheet1!B2", "COS near pi/2: residue"),
     ("docs/COS.xlsx", "Sheet1!B6", "COS near pi/2: residue"),
-    // FIXME(functions/logic.rs): IF with array arguments maps the condition but not the
-    // branches, so each item holds a whole branch array (a nested array) instead of
-    // broadcasting condition, then and else item by item as Excel does.
-    ("calc_tests/LOGICAL/IF_ARRAY.xlsx", "Sheet1!C1", "IF does not broadcast array branches"),
-    ("calc_tests/LOGICAL/IF_ARRAY.xlsx", "Sheet1!E8", "IF does not broadcast array branches"),
-    ("calc_tests/LOGICAL/IF_ARRAY.xlsx", "Sheet1!E10", "IF does not broadcast array branches"),
-    ("calc_tests/LOGICAL/IF_ARRAY.xlsx", "Sheet1!E12", "IF does not broadcast array branches"),
-    ("calc_tests/LOGICAL/IF_ARRAY.xlsx", "Sheet1!D20", "IF does not broadcast array branches"),
-    ("calc_tests/LOGICAL/IF_ARRAY.xlsx", "Sheet1!A26", "IF does not broadcast array branches"),
-    ("calc_tests/LOGICAL/IF_ARRAY.xlsx", "Sheet1!A28", "IF does not broadcast array branches"),
-    // A legacy Ctrl+Shift+Enter formula over several cells (`<f t="array" ref="C2:C5">123`)
-    // fills its whole area, a scalar repeated; the workbook has no such multi-cell formula,
-    // so ncsheet runs it as a dynamic array from C2 and the scalar stays in C2 (and C2#,
-    // which Excel reads as C2:C5, is #REF!). Arrays the size of the area come out right.
-    ("calc_tests/spill_operator.xlsx", "Sheet1!C3", "scalar in a multi-cell CSE area"),
-    ("calc_tests/spill_operator.xlsx", "Sheet1!C4", "scalar in a multi-cell CSE area"),
-    ("calc_tests/spill_operator.xlsx", "Sheet1!C5", "scalar in a multi-cell CSE area"),
-    ("calc_tests/spill_operator.xlsx", "Sheet1!G2", "C2# of a multi-cell CSE area"),
     // The argument cells hold #CALC! and #SPILL!, which the file stores as #VALUE! with
     // metadata calamine does not read.
     ("calc_tests/INFORMATION/ERROR.TYPE.xlsx", "Sheet1!B8", "#CALC! stored as #VALUE!"),
@@ -111,8 +93,6 @@ const KNOWN_DISAGREEMENTS: &[(&str, &str, &str)] = &[
     // day first; ours read them month first, as in the US.
     ("calc_tests/TEXT/T_VALUE_VALUETOTEXT.xlsx", "Sheet1!I5", "en-GB date text"),
     ("calc_tests/TEXT/T_VALUE_VALUETOTEXT.xlsx", "Sheet1!C15", "en-GB date text"),
-    // The spill K1# is wider here than in Excel's cached result (TEXTSPLIT-like source).
-    ("dynamic_arrays.xlsx", "Sheet1!M1", "spill width of K1#"),
 ];
 
 /// The public corpus (`../shared/excel-corpus/public`): at least this share of the compared
@@ -131,6 +111,8 @@ struct CorpusRun {
     total: Tally,
     /// Cells disagreeing on their own (not on a known list), one line each.
     disagreements: Vec<String>,
+    /// Every (file, cell) that disagrees on its own, known or not.
+    disagreeing: Vec<(String, String)>,
     /// Files that did not load: (file, error).
     refused: Vec<(String, String)>,
 }
@@ -172,6 +154,7 @@ fn compare_corpus(root: &Path, not_from_excel: &[&str], known: &[(&str, &str, &s
             }
             if r.verdict == Verdict::Disagree {
                 let cell = imported.workbook.cell_name(r.sheet, r.pos);
+                run.disagreeing.push((rel.clone(), cell.clone()));
                 if !known.iter().any(|(f, c, _)| *f == rel && *c == cell) {
                     run.disagreements.push(format!(
                         "{rel}: {cell}: {} gives {:?}, Excel cached {:?}",
@@ -207,6 +190,13 @@ fn excel_corpus_agrees_with_excel_for_every_supported_function() {
 
     let mut failures: Vec<String> = ironcalc.refused.iter().map(|(f, e)| format!("{f}: import failed: {e}")).collect();
     failures.extend(ironcalc.disagreements.iter().cloned());
+    for (file, cell, why) in KNOWN_DISAGREEMENTS {
+        if !ironcalc.disagreeing.iter().any(|(f, c)| f == file && c == cell) {
+            failures.push(format!(
+                "{file}: {cell} no longer disagrees on its own ({why}): remove it from KNOWN_DISAGREEMENTS"
+            ));
+        }
+    }
     for (file, error) in &public.refused {
         match PUBLIC_REFUSED.iter().find(|(f, _)| f == file) {
             Some((_, part)) if error.contains(part) => {}

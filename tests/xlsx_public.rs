@@ -100,3 +100,9 @@ fn a_beta_era_shared_string_table_is_read() {
     assert_eq!(wb.value(0, parse_cell("A1").expect("cell")), Value::text("Lorem"));
     assert_eq!(wb.value(0, parse_cell("A10").expect("cell")), Value::text("at"));
 }
+
+#[test]
+fn a_legacy_array_formula_fills_its_whole_area() {
+    // `{=A1}` entered over B1:B2: Excel repeats the scalar in both cells.
+    all_agree(&["poi/test-data_spreadsheet_57798.xlsx"], 2);
+}

@@ -246,6 +246,9 @@ impl<'a> SheetImport<'a> {
             Some(FormulaXml::Array(text, array)) => {
                 self.note_spill(array);
                 self.formula(imported, pos, text, value, false);
+                if !array.dynamic {
+                    imported.workbook.set_array_area_deferred(self.sheet, array.area);
+                }
             }
             Some(FormulaXml::SharedText { index, text }) => {
                 self.shared.insert(index, (pos, text.to_string()));
