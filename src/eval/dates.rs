@@ -7,6 +7,42 @@
 //! 1900-02-29 and the days before it fall on the weekday after their real one. Serial 0 is
 //! shown as 1900-01-00. From 1900-03-01 (serial 61) on the calendar is the real Gregorian one.
 
+/// The 1904 date system (`<workbookPr date1904="1"/>`, old Mac workbooks): serial 0 is
+/// 1904-01-01, which is serial 1462 of the 1900 system. Every conversion below goes through
+/// [`to_1900`] and [`from_1900`], so the date functions, TEXT and date text all follow the
+/// system of the workbook being evaluated (set by the evaluator for each evaluation).
+const OFFSET_1904: i64 = 1462;
+
+thread_local! {
+    static DATE_1904: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// Chooses the date system of what is evaluated next on this thread.
+pub fn set_date_1904(on: bool) {
+    DATE_1904.with(|d| d.set(on));
+}
+
+/// Whether serials currently count from 1904-01-01.
+pub fn date_1904() -> bool {
+    DATE_1904.with(std::cell::Cell::get)
+}
+
+fn to_1900(serial: i64) -> i64 {
+    if date_1904() {
+        serial + OFFSET_1904
+    } else {
+        serial
+    }
+}
+
+fn from_1900(serial: i64) -> i64 {
+    if date_1904() {
+        serial - OFFSET_1904
+    } else {
+        serial
+    }
+}
+
 /// 9999-12-31, the last day Excel has.
 pub const LAST_SERIAL: i64 = 2_958_465;
 
@@ -35,7 +71,7 @@ pub fn days_in_month(year: i64, month: u32) -> u32 {
 pub fn serial_from_ymd(year: i64, month: i64, day: i64) -> i64 {
     let months = year * 12 + (month - 1);
     let (y, m) = (months.div_euclid(12), months.rem_euclid(12) + 1);
-    first_of_month(y, m) + day - 1
+    from_1900(first_of_month(y, m) + day - 1)
 }
 
 /// The serial of the first of a month. Before March 1900 Excel counts from 1899-12-31 (so
@@ -52,6 +88,7 @@ fn first_of_month(year: i64, month: i64) -> i64 {
 /// Year, month and day of a whole serial in Excel's calendar (0 is 1900-01-00, 60 is
 /// 1900-02-29). Negative serials, which Excel refuses, count back from 1899-12-31.
 pub fn ymd_from_serial(serial: i64) -> (i64, u32, u32) {
+    let serial = to_1900(serial);
     match serial {
         ..=-1 => civil_from_days(serial + days_from_civil(1899, 12, 31)),
         0..=31 => (1900, 1, serial as u32),
@@ -63,7 +100,7 @@ pub fn ymd_from_serial(serial: i64) -> (i64, u32, u32) {
 /// Day of the week of a whole serial, 0 for Sunday. Serial 1 is a Sunday in Excel (the real
 /// 1900-01-01 was a Monday): from 1900-03-01 on weekdays are right.
 pub fn weekday(serial: i64) -> u32 {
-    (serial + 6).rem_euclid(7) as u32
+    (to_1900(serial) + 6).rem_euclid(7) as u32
 }
 
 /// Days since 1970-01-01 of a proleptic Gregorian date (Howard Hinnant's algorithm).

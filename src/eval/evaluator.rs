@@ -52,6 +52,11 @@ pub trait Env {
     fn is_subtotal(&self, _sheet: SheetId, _pos: Pos) -> bool {
         false
     }
+
+    /// Whether date serials count from 1904-01-01 (see `dates.rs`) rather than 1900.
+    fn date_1904(&self) -> bool {
+        false
+    }
 }
 
 /// What an embedding language adds to the expressions it hands the evaluator: the macro
@@ -127,6 +132,7 @@ const MAX_DEPTH: u32 = 200;
 
 impl<'a> Ctx<'a> {
     pub fn new(env: &'a dyn Env, sheet: SheetId, at: Pos) -> Ctx<'a> {
+        crate::eval::dates::set_date_1904(env.date_1904());
         Ctx {
             env,
             sheet,

@@ -966,6 +966,10 @@ impl Env for Interp<'_, '_> {
     fn is_subtotal(&self, sheet: SheetId, pos: Pos) -> bool {
         self.wb.borrow().is_subtotal(sheet, pos)
     }
+
+    fn date_1904(&self) -> bool {
+        self.wb.borrow().date_1904()
+    }
 }
 
 impl Host for Interp<'_, '_> {

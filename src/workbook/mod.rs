@@ -143,6 +143,11 @@ pub struct Workbook {
     literal_spans: Vec<(usize, usize)>,
     shape_buf: String,
     literals: Vec<f64>,
+    /// The 1904 date system (`dates.rs`): serial 0 is 1904-01-01.
+    date_1904: bool,
+    /// Legacy (Ctrl+Shift+Enter) array formulas: anchor cell → rows and columns of the area
+    /// their result is fitted to (a spill of fixed size).
+    fixed_arrays: FxMap<u32, (u32, u32)>,
     /// What changed since [`Workbook::track_changes`], for a file saved back surgically.
     changes: Option<Box<ChangeLog>>,
 }
@@ -192,6 +197,37 @@ impl Workbook {
         // References to this name parsed before it existed are stale now.
         self.formulas.forget_keys();
         Ok((self.sheets.len() - 1) as SheetId)
+    }
+
+    /// Switches the date system (serial 0 is 1904-01-01 when on) and recalculates, since
+    /// every date function's result depends on it.
+    pub fn set_date_1904(&mut self, on: bool) {
+        if self.date_1904 != on {
+            self.date_1904 = on;
+            self.recalculate();
+        }
+    }
+
+    pub fn date_1904(&self) -> bool {
+        self.date_1904
+    }
+
+    /// Makes the formula in `area`'s top-left cell a legacy (Ctrl+Shift+Enter) array formula
+    /// over `area`, without recalculating: its result always fills exactly the area, as
+    /// Excel fits it (a scalar or a single row or column repeated, missing items `#N/A`,
+    /// the rest cut off). A one-cell area shows the result's top-left item.
+    pub fn set_array_area_deferred(&mut self, sheet: SheetId, area: Rect) {
+        let Some(id) = self.sheets.get(sheet as usize).and_then(|s| s.get(area.first)) else { return };
+        if self.cells[id as usize].formula != NO_FORMULA {
+            self.fixed_arrays.insert(id, (area.rows(), area.cols()));
+        }
+    }
+
+    /// The area of the legacy array formula anchored at `pos`, if it is one.
+    pub fn array_area(&self, sheet: SheetId, pos: Pos) -> Option<Rect> {
+        let id = self.sheets.get(sheet as usize)?.get(pos)?;
+        let &(rows, cols) = self.fixed_arrays.get(&id)?;
+        Some(Rect::new(pos, Pos::new(pos.row + rows - 1, pos.col + cols - 1)))
     }
 
     pub fn sheet_id(&self, name: &str) -> Option<SheetId> {
@@ -542,6 +578,9 @@ impl Workbook {
         if !self.bad_inputs.is_empty() {
             self.bad_inputs.remove(&id);
         }
+        if !self.fixed_arrays.is_empty() {
+            self.fixed_arrays.remove(&id);
+        }
         let formula = self.cells[id as usize].formula;
         if formula != NO_FORMULA {
             if self.formulas.get(formula).volatile {
@@ -766,6 +805,10 @@ impl Env for Workbook {
             }
         });
         found
+    }
+
+    fn date_1904(&self) -> bool {
+        self.date_1904
     }
 }
 

@@ -383,6 +383,11 @@ impl Workbook {
 
     /// Stores a formula's result: blank reads as 0, an array spills or reports `#SPILL!`.
     fn set_result(&mut self, id: u32, value: Value, late: &mut Vec<u32>) {
+        let fixed = if self.fixed_arrays.is_empty() { None } else { self.fixed_arrays.get(&id).copied() };
+        let value = match fixed {
+            Some((rows, cols)) => fit_to_area(value, rows as usize, cols as usize),
+            None => value,
+        };
         // The usual result, a number in a sheet without spills, stored directly.
         if let Value::Number(n) = value {
             if self.spill.areas.is_empty() && self.spill.blocked.is_empty() {
@@ -505,6 +510,31 @@ impl Workbook {
 }
 
 #[inline]
+/// A legacy array formula's result as its fixed area shows it: a scalar, a single row or
+/// a single column repeats; items beyond the result are `#N/A`; the rest is cut off.
+fn fit_to_area(value: Value, rows: usize, cols: usize) -> Value {
+    if rows == 1 && cols == 1 {
+        return match value {
+            Value::Array(a) => a.data.first().cloned().unwrap_or(Value::Blank),
+            v => v,
+        };
+    }
+    let item = |r: usize, c: usize| match &value {
+        Value::Array(a) => {
+            let r = if a.rows == 1 { 0 } else { r };
+            let c = if a.cols == 1 { 0 } else { c };
+            if r < a.rows && c < a.cols {
+                a.get(r, c).clone()
+            } else {
+                Value::Error(XlError::NA)
+            }
+        }
+        v => v.clone(),
+    };
+    let data = (0..rows).flat_map(|r| (0..cols).map(move |c| (r, c))).map(|(r, c)| item(r, c)).collect();
+    Value::Array(std::rc::Rc::new(crate::eval::Array::new(rows, cols, data)))
+}
+
 fn mark_of(cell_mark: &[u8], range_mark: &[u8], node: u32) -> u8 {
     if node & RANGE_BIT == 0 {
         cell_mark[node as usize]

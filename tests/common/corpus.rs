@@ -22,6 +22,15 @@ pub fn path() -> PathBuf {
         .unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/excel-corpus/ironcalc")))
 }
 
+/// The public corpus (Excel-saved workbooks from public projects' test data):
+/// `../shared/excel-corpus/public` (beside [`path`]'s folder), or `NCSHEET_EXCEL_PUBLIC_CORPUS`.
+pub fn public_path() -> PathBuf {
+    std::env::var_os("NCSHEET_EXCEL_PUBLIC_CORPUS").map(PathBuf::from).unwrap_or_else(|| {
+        let ironcalc = path();
+        ironcalc.parent().map_or_else(|| PathBuf::from("public"), |p| p.join("public"))
+    })
+}
+
 /// Files the corpus README lists as not produced by Excel (relative to [`root`]): their
 /// cached values are no oracle.
 pub const NOT_FROM_EXCEL: &[&str] = &[

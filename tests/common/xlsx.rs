@@ -266,6 +266,14 @@ impl Tally {
         }
     }
 
+    pub fn add_all(&mut self, other: &Tally) {
+        self.agree += other.agree;
+        self.disagree += other.disagree;
+        self.upstream += other.upstream;
+        self.unsupported += other.unsupported;
+        self.volatile += other.volatile;
+    }
+
     pub fn compared(&self) -> usize {
         self.agree + self.disagree + self.upstream
     }

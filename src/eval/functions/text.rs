@@ -200,7 +200,8 @@ fn text_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         let format = NumberFormat::parse(&to_text(&v[1])?)?;
         let shown = match &v[0] {
             Value::Error(e) => return Err(*e),
-            Value::Bool(b) => if *b { "TRUE" } else { "FALSE" }.to_string(),
+            // A boolean is text to TEXT: the text section formats it.
+            Value::Bool(b) => format.format_text(if *b { "TRUE" } else { "FALSE" }),
             // Text that reads as a number is formatted as that number.
             Value::Text(s) => match parse_number(s) {
                 Some(n) => format.format_number(n)?,

@@ -89,6 +89,10 @@ impl NumberFormat {
 
     /// A number as text under this format.
     pub fn format_number(&self, n: f64) -> XlResult<String> {
+        if self.no_condition_holds(n) {
+            // `[<10]0" Wow"` given 10: Excel shows the number in General.
+            return Ok(general_text(n));
+        }
         let (section, value, signed) = self.choose(n);
         if section.tokens.is_empty() {
             return Ok(String::new());
@@ -119,6 +123,13 @@ impl NumberFormat {
             }
         }
         out
+    }
+
+    /// Whether the numeric sections all carry conditions and none holds for `n`.
+    fn no_condition_holds(&self, n: f64) -> bool {
+        let mut numeric = self.sections.iter().take(3).filter(|s| !(self.sections.len() > 1 && is_text_section(s)));
+        numeric.all(|s| s.condition.is_some_and(|(cmp, limit)| !holds(cmp, n, limit)))
+            && self.sections.iter().take(3).any(|s| s.condition.is_some())
     }
 
     /// The section for `n`, the value it shows, and whether that section prints a minus
@@ -802,7 +813,8 @@ fn date_part(part: DatePart, dt: &DateTime, twelve_hour: bool) -> String {
                 (false, false) => "AM",
                 (false, true) => "PM",
             };
-            if lower {
+            // Excel writes AM and PM in capitals however `am/pm` is typed; `a/p` keeps its case.
+            if lower && short {
                 text.to_ascii_lowercase()
             } else {
                 text.to_string()

@@ -38,8 +38,10 @@ mod check;
 mod patch;
 mod raw;
 mod read;
+mod sheet_span;
 mod sheet_xml;
 mod syntax;
+mod tables;
 mod write;
 mod xml;
 

@@ -65,7 +65,7 @@ impl<'a> Package<'a> {
         let workbook = package.main_part()?;
         let rels = package.relationships(&workbook)?;
         let text = package.read_part(&workbook)?;
-        package.read_workbook(&workbook, &text, &rels)?;
+        package.read_workbook(&text, &rels)?;
         package.shared_strings = rels.iter().find(|(_, _, kind)| kind == "sharedStrings").map(|(_, t, _)| t.clone());
         package.workbook_parts = std::iter::once(workbook)
             .chain(rels.iter().filter(|(_, target, _)| target.ends_with(".xml")).map(|(_, target, _)| target.clone()))
@@ -117,6 +117,12 @@ impl<'a> Package<'a> {
         Ok(main.unwrap_or_else(|| "xl/workbook.xml".to_string()))
     }
 
+    /// The table parts a worksheet's relationships name.
+    pub fn table_parts(&mut self, sheet_part: &str) -> Result<Vec<String>, Err> {
+        let rels = self.relationships(sheet_part)?;
+        Ok(rels.into_iter().filter(|(_, _, kind)| kind == "table").map(|(_, target, _)| target).collect())
+    }
+
     /// The relationships of a part: id → (target part, type's last segment).
     fn relationships(&mut self, part: &str) -> Result<Vec<(String, String, String)>, Err> {
         let (dir, file) = part.rsplit_once('/').unwrap_or(("", part));
@@ -135,11 +141,10 @@ impl<'a> Package<'a> {
         Ok(out)
     }
 
-    fn read_workbook(&mut self, part: &str, text: &str, rels: &[(String, String, String)]) -> Result<(), Err> {
+    fn read_workbook(&mut self, text: &str, rels: &[(String, String, String)]) -> Result<(), Err> {
         let bytes = text.as_bytes();
         let mut sheets = Vec::new();
         let mut names = Vec::new();
-        let mut problem = None;
         let mut code_name = None;
         for_each_tag(bytes, &mut |tag, content| match tag.name {
             b"workbookPr" => code_name = tag.attr("codeName").map(unescape),
@@ -150,7 +155,8 @@ impl<'a> Package<'a> {
                     Some((_, target, kind)) => {
                         sheets.push(SheetEntry { name, part: target.clone(), kind: kind.clone() })
                     }
-                    None => problem = Some(format!("sheet '{name}' has no relationship '{id}'")),
+                    // Excel opens such a workbook without the sheet.
+                    None => sheets.push(SheetEntry { name, part: String::new(), kind: "sheet with no part".into() }),
                 }
             }
             b"definedName" => {
@@ -160,9 +166,6 @@ impl<'a> Package<'a> {
             }
             _ => {}
         });
-        if let Some(message) = problem {
-            return Err((Some(part.to_string()), ErrorKind::Damaged, message));
-        }
         self.sheets = sheets;
         self.names = names;
         self.code_name = code_name;

@@ -11,6 +11,7 @@
 //! constants (they would block our own spill) but kept in [`Imported::cached`] like the
 //! results of formula cells.
 
+use std::borrow::Cow;
 use std::collections::HashMap;
 use std::io::Cursor;
 use std::path::Path;
@@ -24,7 +25,9 @@ use crate::formula::ast::SheetId;
 use crate::workbook::Workbook;
 
 use super::raw::{Package, SheetEntry};
+use super::sheet_span;
 use super::sheet_xml::{self, CellXml, FormulaXml, ScanError, SheetScan};
+use super::tables::{self, Table};
 use super::xml::StreamError;
 use super::{syntax, ArrayFormula, CachedValue, ErrorKind, Imported, Layout, SheetLayout, XlsxError};
 
@@ -52,7 +55,7 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
     let mut imported =
         Imported { workbook: Workbook::new(), cached: Vec::new(), layout: Layout::default(), notes: Vec::new() };
     if calamine.has_1904_epoch() {
-        imported.notes.push("the workbook uses the 1904 date system; date serials are read as stored".into());
+        imported.workbook.set_date_1904(true);
     }
 
     let sheets = package.sheets.clone();
@@ -71,14 +74,16 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
             .map_err(|e| XlsxError::new(file, Some(&sheet.part), ErrorKind::Damaged, e.to_string()))?;
         ids.push(Some(id));
     }
-    define_names(&mut imported, &package, &sheets, &ids);
+    let tables = read_tables(&mut package, &sheets, &ids, &mut imported.notes);
+    let book = BookParts { tables, sheet_names: imported.workbook.sheet_names() };
+    define_names(&mut imported, &package, &sheets, &ids, &book);
 
     let formats = number_formats(&mut calamine, &sheets, file)?;
     let mut grid_slots = 0u64;
     let mut legacy_ranges = Vec::new();
     for (entry, id) in sheets.iter().zip(&ids) {
         let Some(sheet) = *id else { continue };
-        let mut sheet_import = SheetImport::new(sheet, &mut legacy_ranges);
+        let mut sheet_import = SheetImport::new(sheet, &mut legacy_ranges, &book);
         let part = package.entry(&entry.part).map_err(fail)?;
         let scan = sheet_xml::read_sheet_ahead(part, strings.len(), &mut grid_slots, &mut |cell| {
             sheet_import.cell(&mut imported, &strings, cell);
@@ -162,9 +167,51 @@ fn intersect_legacy_formulas(wb: &mut Workbook, candidates: &[(SheetId, Pos)]) {
     }
 }
 
+/// The tables of every worksheet kept (a table part that cannot be read is left out with a
+/// note: its structured references then show #NAME?).
+fn read_tables(
+    package: &mut Package,
+    sheets: &[SheetEntry],
+    ids: &[Option<SheetId>],
+    notes: &mut Vec<String>,
+) -> Vec<Table> {
+    let mut tables = Vec::new();
+    for (entry, id) in sheets.iter().zip(ids) {
+        let Some(sheet) = *id else { continue };
+        for part in package.table_parts(&entry.part).unwrap_or_default() {
+            match package.read_optional(&part).ok().flatten().and_then(|xml| tables::parse_table(&xml, sheet)) {
+                Some(table) => tables.push(table),
+                None => notes.push(format!("{part}: the table could not be read and was left out")),
+            }
+        }
+    }
+    tables
+}
+
+/// Formula text as stored → as typed: structured references to tables become the ranges
+/// they name, the file's function spellings ours.
+fn typed_formula<'t>(text: &'t str, wb: &Workbook, book: &BookParts, sheet: SheetId, pos: Pos) -> Cow<'t, str> {
+    let name = |s: SheetId| book.sheet_names.get(s as usize).cloned().unwrap_or_default();
+    let text = match tables::resolve_structured(text, &book.tables, sheet, pos, &name) {
+        Cow::Borrowed(text) => sheet_span::expand_sheet_spans(text, &book.sheet_names),
+        Cow::Owned(text) => Cow::Owned(sheet_span::expand_sheet_spans(&text, &book.sheet_names).into_owned()),
+    };
+    match text {
+        Cow::Borrowed(text) => syntax::from_file(text, wb, sheet, pos),
+        Cow::Owned(text) => Cow::Owned(syntax::from_file(&text, wb, sheet, pos).into_owned()),
+    }
+}
+
+/// What formulas of the file may name besides cells: tables, and sheets (by tab order).
+struct BookParts {
+    tables: Vec<Table>,
+    sheet_names: Vec<String>,
+}
+
 /// One worksheet on its way in.
 struct SheetImport<'a> {
     sheet: SheetId,
+    book: &'a BookParts,
     /// Plain (not array) formulas with a range in them: candidates for implicit intersection.
     legacy_ranges: &'a mut Vec<(SheetId, Pos)>,
     /// Cells an array formula filled, with its anchor (anchors come first in the file).
@@ -178,9 +225,10 @@ struct SheetImport<'a> {
 }
 
 impl<'a> SheetImport<'a> {
-    fn new(sheet: SheetId, legacy_ranges: &'a mut Vec<(SheetId, Pos)>) -> SheetImport<'a> {
+    fn new(sheet: SheetId, legacy_ranges: &'a mut Vec<(SheetId, Pos)>, book: &'a BookParts) -> SheetImport<'a> {
         SheetImport {
             sheet,
+            book,
             legacy_ranges,
             spilled: HashMap::new(),
             shared: HashMap::new(),
@@ -198,6 +246,9 @@ impl<'a> SheetImport<'a> {
             Some(FormulaXml::Array(text, array)) => {
                 self.note_spill(array);
                 self.formula(imported, pos, text, value, false);
+                if !array.dynamic {
+                    imported.workbook.set_array_area_deferred(self.sheet, array.area);
+                }
             }
             Some(FormulaXml::SharedText { index, text }) => {
                 self.shared.insert(index, (pos, text.to_string()));
@@ -257,9 +308,9 @@ impl<'a> SheetImport<'a> {
         let (sheet, wb) = (self.sheet, &mut imported.workbook);
         self.typed.clear();
         self.typed.push('=');
-        self.typed.push_str(&syntax::from_file(text, wb, sheet, pos));
+        self.typed.push_str(&typed_formula(text, wb, self.book, sheet, pos));
         let _ = wb.set_input_deferred(sheet, pos, &self.typed);
-        if plain && (text.contains(':') || makes_references(text)) {
+        if plain && (self.typed.contains(':') || makes_references(text)) {
             self.legacy_ranges.push((sheet, pos));
         }
         if let Some(value) = cached {
@@ -291,7 +342,13 @@ fn shared_text(formula: &str, holder: Pos, pos: Pos) -> String {
         .unwrap_or_else(|_| formula.to_string())
 }
 
-fn define_names(imported: &mut Imported, package: &Package, sheets: &[SheetEntry], ids: &[Option<SheetId>]) {
+fn define_names(
+    imported: &mut Imported,
+    package: &Package,
+    sheets: &[SheetEntry],
+    ids: &[Option<SheetId>],
+    book: &BookParts,
+) {
     for n in &package.names {
         let lower = n.name.to_ascii_lowercase();
         if lower.starts_with("_xlfn.") {
@@ -316,7 +373,7 @@ fn define_names(imported: &mut Imported, package: &Package, sheets: &[SheetEntry
             },
         };
         let wb = &mut imported.workbook;
-        let formula = syntax::from_file(&n.formula, wb, scope.unwrap_or(0), Pos::new(0, 0)).into_owned();
+        let formula = typed_formula(&n.formula, wb, book, scope.unwrap_or(0), Pos::new(0, 0)).into_owned();
         if let Err(e) = wb.define_name(&n.name, &formula, scope) {
             imported.notes.push(format!("name {} ({}) was left out: {e}", n.name, n.formula));
         }

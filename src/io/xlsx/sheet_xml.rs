@@ -493,9 +493,10 @@ pub fn read_shared_strings(part: impl Read) -> Result<Vec<Rc<str>>, xml::StreamE
     xml::stream(part, &mut |event| {
         match event {
             Event::Tag(tag) => match (tag.name, tag.kind) {
-                (b"si", TagKind::Start) => current = Some(String::new()),
-                (b"si", TagKind::Empty) => strings.push(Rc::from("")),
-                (b"si", TagKind::End) => {
+                // `sstItem`: the beta-era (2006) name of `si`, which Excel still opens.
+                (b"si" | b"sstItem", TagKind::Start) => current = Some(String::new()),
+                (b"si" | b"sstItem", TagKind::Empty) => strings.push(Rc::from("")),
+                (b"si" | b"sstItem", TagKind::End) => {
                     let text = current.take().unwrap_or_default();
                     strings.push(Rc::from(&*xml::unescape_excel(&text)));
                 }

@@ -257,7 +257,9 @@ fn write_formula(
     format: Option<&Format>,
 ) -> Result<(), rust_xlsxwriter::XlsxError> {
     let Cell { sheet, pos, array } = cell;
-    let spill = Env::spill_rect(wb, sheet, pos).filter(|r| !r.is_cell());
+    // A legacy array formula goes back as one over its fixed area.
+    let fixed_area = wb.array_area(sheet, pos);
+    let spill = Env::spill_rect(wb, sheet, pos).filter(|r| !r.is_cell() && fixed_area.is_none());
     // An array formula of the source that did not spill here keeps its area, so that Excel
     // (and LibreOffice) fill it as before; unless cells of ours are in the way.
     let kept = array.filter(|a| spill.is_none() && !a.area.is_cell() && area_is_free(wb, sheet, a));
@@ -279,6 +281,11 @@ fn write_formula(
     let (row, col) = (pos.row, pos.col as u16);
     let plain = Format::new();
     let f = format.unwrap_or(&plain);
+    if let Some(area) = fixed_area {
+        return ws
+            .write_array_formula_with_format(row, col, area.last.row, area.last.col as u16, formula, f)
+            .map(|_| ());
+    }
     match (spill, kept) {
         (Some(r), _) => ws.write_dynamic_array_formula_with_format(row, col, r.last.row, r.last.col as u16, formula, f),
         (None, Some(a)) if a.dynamic => {

@@ -1,0 +1,137 @@
+//! 3D references (`Sheet2:Sheet5!A11`, `'Jan 24':'Dec 24'!B2:B9`): the same cells on every
+//! sheet from the first to the last, in tab order. Excel accepts them only as arguments of
+//! the functions that take any number of ranges (SUM, COUNT, AVERAGE, MAX …), where a 3D
+//! reference means exactly the list of its sheets' references; the importer writes it so,
+//! and the graph links each sheet's cells.
+
+use std::borrow::Cow;
+
+/// The formula text with each 3D reference spelled as the list of its sheets' references;
+/// `sheets` are the workbook's sheet names in tab order. A span whose ends are not both
+/// sheets stays as it is.
+pub fn expand_sheet_spans<'t>(text: &'t str, sheets: &[String]) -> Cow<'t, str> {
+    if sheets.len() < 2 || !text.contains(':') || !text.contains('!') {
+        return Cow::Borrowed(text);
+    }
+    let bytes = text.as_bytes();
+    let mut out = String::new();
+    let mut copied = 0;
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i] == b'"' {
+            i = skip_string(bytes, i);
+            continue;
+        }
+        let starts_token = i == 0 || !is_name_byte(bytes[i - 1]) && !matches!(bytes[i - 1], b'!' | b']' | b'\'');
+        if starts_token {
+            if let Some((end, expanded)) = span_at(text, i, sheets) {
+                out.push_str(&text[copied..i]);
+                out.push_str(&expanded);
+                copied = end;
+                i = end;
+                continue;
+            }
+        }
+        i += if bytes[i] == b'\'' { skip_quoted(bytes, i) - i } else { 1 };
+    }
+    if copied == 0 {
+        return Cow::Borrowed(text);
+    }
+    out.push_str(&text[copied..]);
+    Cow::Owned(out)
+}
+
+/// `first:last!ref` starting at `at`: where it ends and its expansion.
+fn span_at(text: &str, at: usize, sheets: &[String]) -> Option<(usize, String)> {
+    let (first, after_first) = sheet_name(text, at)?;
+    text.get(after_first..)?.strip_prefix(':')?;
+    let (last, after_last) = sheet_name(text, after_first + 1)?;
+    let bang = text.get(after_last..)?.strip_prefix('!')?;
+    let ref_len = bang.bytes().take_while(|&b| b.is_ascii_alphanumeric() || b == b'$' || b == b':').count();
+    if ref_len == 0 {
+        return None;
+    }
+    let reference = &bang[..ref_len];
+    let index = |name: &str| sheets.iter().position(|s| s.eq_ignore_ascii_case(name));
+    let (a, b) = (index(&first)?, index(&last)?);
+    let (a, b) = (a.min(b), a.max(b));
+    let list: Vec<String> = sheets[a..=b].iter().map(|s| format!("'{}'!{reference}", s.replace('\'', "''"))).collect();
+    Some((after_last + 1 + ref_len, list.join(",")))
+}
+
+/// A sheet name at `at`, bare (`Sheet2`) or quoted (`'Jan 24'`): the name and where it ends.
+fn sheet_name(text: &str, at: usize) -> Option<(String, usize)> {
+    let bytes = text.as_bytes();
+    if bytes.get(at) == Some(&b'\'') {
+        let end = skip_quoted(bytes, at);
+        if end > bytes.len() || bytes.get(end - 1) != Some(&b'\'') || end - at < 2 {
+            return None;
+        }
+        return Some((text[at + 1..end - 1].replace("''", "'"), end));
+    }
+    let len = bytes[at..].iter().take_while(|&&b| is_name_byte(b)).count();
+    (len > 0).then(|| (text[at..at + len].to_string(), at + len))
+}
+
+fn is_name_byte(b: u8) -> bool {
+    b.is_ascii_alphanumeric() || b == b'_' || b == b'.' || b >= 0x80
+}
+
+fn skip_string(bytes: &[u8], mut i: usize) -> usize {
+    i += 1;
+    while i < bytes.len() {
+        if bytes[i] == b'"' {
+            if bytes.get(i + 1) == Some(&b'"') {
+                i += 2;
+                continue;
+            }
+            return i + 1;
+        }
+        i += 1;
+    }
+    i
+}
+
+/// The end of the quoted name starting at `i` (one past its closing `'`).
+fn skip_quoted(bytes: &[u8], mut i: usize) -> usize {
+    i += 1;
+    while i < bytes.len() {
+        if bytes[i] == b'\'' {
+            if bytes.get(i + 1) == Some(&b'\'') {
+                i += 2;
+                continue;
+            }
+            return i + 1;
+        }
+        i += 1;
+    }
+    i
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sheets() -> Vec<String> {
+        ["Summary", "Jan", "Feb 24", "Mar", "Notes"].iter().map(|s| s.to_string()).collect()
+    }
+
+    #[test]
+    fn a_sheet_span_is_the_list_of_its_sheets_references() {
+        let s = sheets();
+        assert_eq!(expand_sheet_spans("SUM(Jan:Mar!B2)", &s), "SUM('Jan'!B2,'Feb 24'!B2,'Mar'!B2)");
+        assert_eq!(
+            expand_sheet_spans("COUNT('Feb 24':Mar!$A$1:$B$2)", &s),
+            "COUNT('Feb 24'!$A$1:$B$2,'Mar'!$A$1:$B$2)"
+        );
+        assert_eq!(expand_sheet_spans("SUM(Mar:Jan!C1)", &s), "SUM('Jan'!C1,'Feb 24'!C1,'Mar'!C1)");
+    }
+
+    #[test]
+    fn ranges_text_and_unknown_sheets_stay() {
+        let s = sheets();
+        for text in ["SUM(Jan!A1:B2)", "Jan!A1:Mar!B2", "\"Jan:Mar!A1\"", "SUM(Jan:Dec!A1)", "[1]Jan:Mar!A1"] {
+            assert_eq!(expand_sheet_spans(text, &s), text);
+        }
+    }
+}
