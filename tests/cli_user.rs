@@ -317,7 +317,8 @@ fn nc_feed_as_a_statement_sets_the_feed() {
     let dir = tempfile::tempdir().unwrap();
     let book = write(dir.path(), "b.csv", "1\n");
     let bas = write(dir.path(), "m.bas", "Sub Main()\n  Nc.Feed 0.2\n  Nc.Line 10, 0\nEnd Sub\n");
-    let run = ncsheet(&["run", &book, &bas, "--dialect", "linuxcnc"]);
+    // A mill (a lathe program is refused without a feed mode, issue 13).
+    let run = ncsheet(&["run", &book, &bas, "--dialect", "linuxcnc", "--machine", "mill"]);
     assert_eq!(run.code, 0, "{}", run.stderr);
     assert!(run.stdout.lines().any(|l| l.contains("G1") && l.contains("F0.2")), "{}", run.stdout);
 }
