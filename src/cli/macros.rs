@@ -113,7 +113,6 @@ fn read_module(path: &Path) -> Result<NewModule> {
     Ok(NewModule { name, kind: ModuleKind::Standard, source })
 }
 
-
 /// The VBA project of a workbook file; a workbook without one is an error saying so.
 pub fn open_project(file: &Path) -> Result<VbaProject> {
     let opened = ncsheet::io::open(file)?;

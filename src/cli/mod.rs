@@ -14,9 +14,9 @@ use ncsheet::workbook::Workbook;
 
 mod ballpath;
 mod cam;
-mod macros;
 mod hints;
 mod info;
+mod macros;
 mod output;
 mod repl;
 pub mod report;

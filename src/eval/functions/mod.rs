@@ -18,9 +18,9 @@ use super::evaluator::{Ctx, Operand};
 use super::value::{Value, XlResult};
 
 pub mod args;
+mod arrays;
 mod combinatorics;
 mod complex;
-mod arrays;
 mod criteria;
 mod database;
 mod date;

@@ -438,7 +438,11 @@ impl SheetPatch<'_> {
     fn file_formula(&self, pos: Pos) -> Option<String> {
         let text = self.wb.formula(self.sheet, pos)?;
         let legacy = syntax::to_file(&text, self.wb, self.sheet, pos, Storage::Legacy);
-        Some(if legacy.dynamic { syntax::to_file(&text, self.wb, self.sheet, pos, Storage::Dynamic).text } else { legacy.text })
+        Some(if legacy.dynamic {
+            syntax::to_file(&text, self.wb, self.sheet, pos, Storage::Dynamic).text
+        } else {
+            legacy.text
+        })
     }
 
     /// The `<c>` element of a changed cell, keeping the original's style (and, for a value
