@@ -320,17 +320,8 @@ fn mirr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 /// Dated cash flows: numbers only, as many dates as values, no date before the first.
 fn dated_flows(ctx: &mut Ctx, values: &Expr, dates: &Expr) -> XlResult<(Vec<f64>, Vec<f64>)> {
-    let numbers_of = |ctx: &mut Ctx, e: &Expr| -> XlResult<Vec<f64>> {
-        block(ctx, e)?
-            .data
-            .iter()
-            .map(|v| match v {
-                Value::Number(n) => Ok(*n),
-                Value::Error(e) => Err(*e),
-                _ => Err(XlError::Value),
-            })
-            .collect()
-    };
+    let numbers_of =
+        |ctx: &mut Ctx, e: &Expr| -> XlResult<Vec<f64>> { super::regression::all_numbers(&*block(ctx, e)?) };
     let values = numbers_of(ctx, values)?;
     let dates: Vec<f64> = numbers_of(ctx, dates)?.into_iter().map(f64::trunc).collect();
     check(values.len() == dates.len() && !values.is_empty(), XlError::Num)?;

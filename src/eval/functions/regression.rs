@@ -71,7 +71,7 @@ fn present(args: &[Expr], i: usize) -> bool {
 }
 
 /// Every item as a number; anything else is `#VALUE!` (an error is itself).
-fn all_numbers(a: &Array) -> XlResult<Vec<f64>> {
+pub(super) fn all_numbers(a: &Array) -> XlResult<Vec<f64>> {
     a.data
         .iter()
         .map(|v| match v {
