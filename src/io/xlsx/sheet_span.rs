@@ -19,7 +19,7 @@ pub fn expand_sheet_spans<'t>(text: &'t str, sheets: &[String]) -> Cow<'t, str> 
     let mut i = 0;
     while i < bytes.len() {
         if bytes[i] == b'"' {
-            i = skip_string(bytes, i);
+            i = skip_delimited(bytes, i);
             continue;
         }
         let starts_token = i == 0 || !is_name_byte(bytes[i - 1]) && !matches!(bytes[i - 1], b'!' | b']' | b'\'');
@@ -32,7 +32,7 @@ pub fn expand_sheet_spans<'t>(text: &'t str, sheets: &[String]) -> Cow<'t, str> 
                 continue;
             }
         }
-        i += if bytes[i] == b'\'' { skip_quoted(bytes, i) - i } else { 1 };
+        i += if bytes[i] == b'\'' { skip_delimited(bytes, i) - i } else { 1 };
     }
     if copied == 0 {
         return Cow::Borrowed(text);
@@ -63,7 +63,7 @@ fn span_at(text: &str, at: usize, sheets: &[String]) -> Option<(usize, String)> 
 fn sheet_name(text: &str, at: usize) -> Option<(String, usize)> {
     let bytes = text.as_bytes();
     if bytes.get(at) == Some(&b'\'') {
-        let end = skip_quoted(bytes, at);
+        let end = skip_delimited(bytes, at);
         if end > bytes.len() || bytes.get(end - 1) != Some(&b'\'') || end - at < 2 {
             return None;
         }
@@ -77,27 +77,14 @@ fn is_name_byte(b: u8) -> bool {
     b.is_ascii_alphanumeric() || b == b'_' || b == b'.' || b >= 0x80
 }
 
-fn skip_string(bytes: &[u8], mut i: usize) -> usize {
+/// One past the end of the `"string"` or `'quoted sheet name'` that starts at `i` (its
+/// quote, doubled inside, is `bytes[i]`), or the end of the text when it is not closed.
+pub(super) fn skip_delimited(bytes: &[u8], mut i: usize) -> usize {
+    let quote = bytes[i];
     i += 1;
     while i < bytes.len() {
-        if bytes[i] == b'"' {
-            if bytes.get(i + 1) == Some(&b'"') {
-                i += 2;
-                continue;
-            }
-            return i + 1;
-        }
-        i += 1;
-    }
-    i
-}
-
-/// The end of the quoted name starting at `i` (one past its closing `'`).
-fn skip_quoted(bytes: &[u8], mut i: usize) -> usize {
-    i += 1;
-    while i < bytes.len() {
-        if bytes[i] == b'\'' {
-            if bytes.get(i + 1) == Some(&b'\'') {
+        if bytes[i] == quote {
+            if bytes.get(i + 1) == Some(&quote) {
                 i += 2;
                 continue;
             }

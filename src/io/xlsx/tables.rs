@@ -12,6 +12,7 @@ use std::borrow::Cow;
 use crate::formula::address::{column_name, parse_rect, Pos, Rect};
 use crate::formula::ast::SheetId;
 
+use super::sheet_span::skip_delimited;
 use super::xml::{for_each_tag, unescape};
 
 /// A table: a named rectangle of a sheet with named columns.
@@ -69,8 +70,7 @@ pub fn resolve_structured<'t>(
     let mut i = 0;
     while i < bytes.len() {
         match bytes[i] {
-            b'"' => i = skip_string(bytes, i),
-            b'\'' => i = skip_quoted_sheet(bytes, i),
+            b'"' | b'\'' => i = skip_delimited(bytes, i),
             b'[' => {
                 let name_start = table_name_start(bytes, i);
                 let name = &text[name_start..i];
@@ -101,36 +101,6 @@ pub fn resolve_structured<'t>(
     }
     out.push_str(&text[copied..]);
     Cow::Owned(out)
-}
-
-fn skip_string(bytes: &[u8], mut i: usize) -> usize {
-    i += 1;
-    while i < bytes.len() {
-        if bytes[i] == b'"' {
-            if bytes.get(i + 1) == Some(&b'"') {
-                i += 2;
-                continue;
-            }
-            return i + 1;
-        }
-        i += 1;
-    }
-    i
-}
-
-fn skip_quoted_sheet(bytes: &[u8], mut i: usize) -> usize {
-    i += 1;
-    while i < bytes.len() {
-        if bytes[i] == b'\'' {
-            if bytes.get(i + 1) == Some(&b'\'') {
-                i += 2;
-                continue;
-            }
-            return i + 1;
-        }
-        i += 1;
-    }
-    i
 }
 
 /// Where the table name before the `[` at `at` starts (`at` itself when there is none).
