@@ -104,6 +104,9 @@ pub struct BallpathArgs {
     /// Write here instead of to stdout
     #[arg(short, long, value_name = "OUT")]
     pub output: Option<PathBuf>,
+    /// Replace a read-only or hard-linked OUT
+    #[arg(long, requires = "output")]
+    pub force: bool,
     /// Print the time spent computing, formatting and writing to stderr
     #[arg(long)]
     pub timings: bool,
@@ -175,7 +178,7 @@ pub fn run(args: BallpathArgs) -> Result<()> {
     let text = render(&path, &args)?;
     let formatted = started.elapsed();
     let started = Instant::now();
-    write_output(args.output.as_deref(), &text)?;
+    write_output(args.output.as_deref(), &text, args.force)?;
     if args.timings {
         print_timings(path.points.len(), computed, formatted, started.elapsed());
     }
@@ -361,10 +364,9 @@ fn program_name(args: &BallpathArgs) -> String {
     }
 }
 
-fn write_output(path: Option<&Path>, text: &str) -> Result<()> {
+fn write_output(path: Option<&Path>, text: &str, force: bool) -> Result<()> {
     match path {
-        Some(path) => ncsheet::io::atomic::write_file(path, |w| w.write_all(text.as_bytes()))
-            .map_err(|e| Error::User(format!("{}: {e}", path.display()))),
+        Some(path) => super::write_outputs(&[ncsheet::io::Encoded::new(path, text.as_bytes().to_vec())], false, force),
         None => {
             let mut out = io::stdout().lock();
             out.write_all(text.as_bytes())?;

@@ -63,6 +63,9 @@ pub struct CamOutput {
     /// Write here instead of standard output
     #[arg(short, long, value_name = "OUT")]
     pub output: Option<PathBuf>,
+    /// Replace a read-only or hard-linked OUT
+    #[arg(long, requires = "output")]
+    pub force: bool,
 }
 
 /// Fit every segment of a cam design sheet with tangent arcs within --tol.
@@ -210,19 +213,16 @@ fn write_fit(fit: &CamFit, out: &CamOutput) -> Result<()> {
             d.render(&cam_program(fit, &options)).map_err(|e| Error::User(e.to_string()))?
         }
     };
-    emit(&text, out.output.as_deref())
+    match &out.output {
+        Some(path) => super::write_outputs(&[ncsheet::io::Encoded::new(path, text.into_bytes())], false, out.force),
+        None => emit(&text),
+    }
 }
 
-/// Text to a file (through a temporary file renamed over it) or to standard output.
-pub fn emit(text: &str, path: Option<&Path>) -> Result<()> {
-    match path {
-        Some(p) => ncsheet::io::atomic::write_file(p, |w| w.write_all(text.as_bytes()))
-            .map_err(|e| Error::User(format!("{}: cannot write: {e}", p.display()))),
-        None => {
-            let mut stdout = io::stdout().lock();
-            stdout.write_all(text.as_bytes())?;
-            stdout.flush()?;
-            Ok(())
-        }
-    }
+/// Text to standard output.
+pub fn emit(text: &str) -> Result<()> {
+    let mut stdout = io::stdout().lock();
+    stdout.write_all(text.as_bytes())?;
+    stdout.flush()?;
+    Ok(())
 }

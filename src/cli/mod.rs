@@ -321,10 +321,10 @@ fn export(args: ExportArgs) -> Result<()> {
 }
 
 fn repl(args: ReplArgs) -> Result<()> {
-    let wb = open(&args.file)?.workbook;
-    let sheet = default_sheet(&wb, &args.file, args.sheet.as_deref())?;
-    report_problems(&args.file, &wb);
-    repl::run(&args.file, wb, sheet, args.timings)
+    let opened = open(&args.file)?;
+    let sheet = default_sheet(&opened.workbook, &args.file, args.sheet.as_deref())?;
+    report_problems(&args.file, &opened.workbook);
+    repl::run(&args.file, opened, sheet, args.timings)
 }
 
 fn functions(args: FunctionsArgs) -> Result<()> {

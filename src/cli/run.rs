@@ -111,7 +111,6 @@ pub fn run(args: RunArgs) -> Result<()> {
 fn run_on_this_thread(args: RunArgs, dialect_name: &'static str) -> Result<()> {
     let opened = ncsheet::io::open(&args.workbook)?;
     let mut wb = opened.workbook;
-    let formulas_before = if args.save.is_some() { formula_cells(&wb) } else { Vec::new() };
     let (file, source, sub) = macro_source(&args)?;
     let file = &file;
     let options = RunOptions {
@@ -154,11 +153,8 @@ fn run_on_this_thread(args: RunArgs, dialect_name: &'static str) -> Result<()> {
         files.push(ncsheet::io::encode_save(&wb, opened.layout.as_ref(), &opened.origin, save)?);
     }
     super::write_outputs(&files, false, args.force)?;
-    if let Some(save) = &args.save {
-        say_replaced_formulas(&wb, &formulas_before, save);
-    }
     if let Some(text) = program {
-        emit(&text, None)?;
+        emit(&text)?;
     }
     Ok(())
 }
@@ -175,33 +171,6 @@ fn macro_source(args: &RunArgs) -> Result<(PathBuf, String, Option<String>)> {
     let (module, sub) = super::macros::pick_macro(&project, args.sub.as_deref())?;
     let place = args.workbook.join(&module.name);
     Ok((place, module.source.clone(), sub))
-}
-
-fn formula_cells(wb: &ncsheet::workbook::Workbook) -> Vec<(u16, ncsheet::formula::address::Pos)> {
-    (0..wb.sheet_len() as u16)
-        .flat_map(|s| wb.values(s).into_iter().filter(move |(p, _)| wb.is_formula(s, *p)).map(move |(p, _)| (s, p)))
-        .collect()
-}
-
-/// A macro writing `Range(…).Value` over a formula cell leaves a constant there: the saved
-/// workbook no longer recomputes that cell, which the user must hear.
-fn say_replaced_formulas(
-    wb: &ncsheet::workbook::Workbook,
-    before: &[(u16, ncsheet::formula::address::Pos)],
-    save: &std::path::Path,
-) {
-    let replaced: Vec<String> =
-        before.iter().filter(|(s, p)| !wb.is_formula(*s, *p)).map(|&(s, p)| wb.cell_name(s, p)).collect();
-    if replaced.is_empty() {
-        return;
-    }
-    let shown = replaced.iter().take(8).cloned().collect::<Vec<_>>().join(", ");
-    let more = if replaced.len() > 8 { format!(" and {} more", replaced.len() - 8) } else { String::new() };
-    eprintln!(
-        "ncsheet: {}: note: the macro wrote values over {} formula cells, saved as constants: {shown}{more}",
-        save.display(),
-        replaced.len()
-    );
 }
 
 /// What the macro printed goes to stderr: a line above `%` would stop a control reading a

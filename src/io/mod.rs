@@ -244,6 +244,20 @@ pub fn encode_save(
     origin: &Origin,
     path: &Path,
 ) -> Result<Encoded, Error> {
+    let mut encoded = encode_save_keeping(wb, layout, origin, path)?;
+    let replaced = wb.changes().unwrap_or_default().formulas_replaced;
+    let names: Vec<String> = replaced.iter().map(|&(sheet, pos)| wb.cell_name(sheet, pos)).collect();
+    encoded.losses.extend(formulas_replaced(&names));
+    Ok(encoded)
+}
+
+/// [`encode_save`] but for the formulas that edits replaced by constants.
+fn encode_save_keeping(
+    wb: &Workbook,
+    layout: Option<&xlsx::Layout>,
+    origin: &Origin,
+    path: &Path,
+) -> Result<Encoded, Error> {
     let encoded = |bytes, losses| Ok(Encoded { path: path.to_path_buf(), bytes, losses });
     match (Format::of(path)?, origin) {
         (Format::Csv, _) if wb.sheet_len() != 1 => {
@@ -284,6 +298,19 @@ pub fn encode_save(
 fn same_macro_kind(a: &Path, b: &Path) -> bool {
     let xlsm = |p: &Path| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("xlsm"));
     xlsm(a) == xlsm(b)
+}
+
+/// The loss of formulas that edits replaced by constants, naming the cells.
+fn formulas_replaced(cells: &[String]) -> Option<String> {
+    let shown = cells.iter().take(8).cloned().collect::<Vec<_>>().join(", ");
+    let more = if cells.len() > 8 { format!(" and {} more", cells.len() - 8) } else { String::new() };
+    match cells.len() {
+        0 => None,
+        1 => Some(format!("the formula of {shown} is replaced by a constant: the saved file no longer computes it")),
+        n => Some(format!(
+            "{n} formulas are replaced by constants, so the saved file no longer computes them: {shown}{more}"
+        )),
+    }
 }
 
 fn rewritten_loss(source: &Path, why: &str) -> String {

@@ -156,6 +156,8 @@ pub struct Workbook {
 #[derive(Default)]
 struct ChangeLog {
     inputs: std::collections::HashSet<u32>,
+    /// Of `inputs`, those that held a formula when first edited.
+    had_formula: std::collections::HashSet<u32>,
     values: std::collections::HashSet<u32>,
     names: bool,
     sheets: bool,
@@ -172,6 +174,8 @@ pub struct Changes {
     pub names: bool,
     /// A sheet was added.
     pub sheets: bool,
+    /// Cells that held a formula before their edit and now hold a constant.
+    pub formulas_replaced: Vec<(SheetId, Pos)>,
 }
 
 impl Workbook {
@@ -323,12 +327,23 @@ impl Workbook {
             v.sort_by_key(|&(s, p)| (s, p.row, p.col));
             v
         };
-        Some(Changes { inputs: cells(&log.inputs), values: cells(&log.values), names: log.names, sheets: log.sheets })
+        let mut formulas_replaced = cells(&log.had_formula);
+        formulas_replaced.retain(|&(sheet, pos)| !self.is_formula(sheet, pos));
+        Some(Changes {
+            inputs: cells(&log.inputs),
+            values: cells(&log.values),
+            names: log.names,
+            sheets: log.sheets,
+            formulas_replaced,
+        })
     }
 
     fn note_input(&mut self, id: u32) {
+        let had_formula = self.cells[id as usize].formula != NO_FORMULA;
         if let Some(log) = &mut self.changes {
-            log.inputs.insert(id);
+            if log.inputs.insert(id) && had_formula {
+                log.had_formula.insert(id);
+            }
         }
     }
 

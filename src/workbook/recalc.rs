@@ -504,7 +504,21 @@ impl Workbook {
             return;
         }
         if let Some(anchor) = self.spill.owners.remove(&id) {
+            if self.fixed_arrays.contains_key(&anchor) {
+                self.break_fixed_array(anchor);
+            }
             self.spill.pending.push(anchor);
+        }
+    }
+
+    /// An edit inside a legacy array formula's area (which Excel refuses: "You can't change
+    /// part of an array"; a save names it as a loss): the formula is left filling its own
+    /// cell, and the other cells of the area keep their values as constants, rather than
+    /// the array filling the area again over the edit.
+    fn break_fixed_array(&mut self, anchor: u32) {
+        self.fixed_arrays.insert(anchor, (1, 1));
+        if self.spill.areas.remove(&anchor).is_some() {
+            self.spill.owners.retain(|_, owner| *owner != anchor);
         }
     }
 }
