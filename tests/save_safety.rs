@@ -183,7 +183,7 @@ fn every_writing_command_refuses_a_read_only_target_without_force() {
         (vec!["run", "wb.csv", "m.bas", "-o"], "out.nc"),
         (vec!["run", "wb.csv", "m.bas", "--save"], "out.csv"),
         (vec!["cam", "cam.csv", "--partial", "-o"], "out.nc"),
-        (arcfit.to_vec().into_iter().chain(["-o"]).collect(), "out.csv"),
+        (arcfit.iter().copied().chain(["-o"]).collect(), "out.csv"),
         (ballpath.iter().copied().chain(["-o"]).collect(), "out.csv"),
         (vec!["macros", "wb.csv", "--import", "m.bas", "-o"], "out.xlsm"),
     ];
