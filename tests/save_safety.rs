@@ -253,7 +253,7 @@ fn replacing_a_formula_by_a_constant_is_said_and_in_place_needs_force() {
     let before = sums(d, &["wb.csv"]);
     let run = ncsheet(d, &["set", "wb.csv", "A2=5", "--in-place"]);
     assert_eq!(run.code, 1, "{}", run.stderr);
-    assert!(run.stderr.contains("Sheet1!A2") && run.stderr.contains("replaced by a constant"), "{}", run.stderr);
+    assert!(run.stderr.contains("Sheet1!A2") && run.stderr.contains("replaced by constants"), "{}", run.stderr);
     assert!(run.stderr.contains("nothing was written"), "{}", run.stderr);
     assert_eq!(sums(d, &["wb.csv"]), before);
     // To another file it is written, and said.
@@ -272,5 +272,5 @@ fn replacing_a_formula_by_a_constant_is_said_and_in_place_needs_force() {
     fs::write(d.join("over.bas"), "Sub Main()\n  [A2] = 5\nEnd Sub\n").unwrap();
     let run = ncsheet(d, &["run", "book.csv", "over.bas", "--save", "saved.csv"]);
     assert_eq!(run.code, 0, "{}", run.stderr);
-    assert!(run.stderr.contains("Sheet1!A2") && run.stderr.contains("replaced by a constant"), "{}", run.stderr);
+    assert!(run.stderr.contains("Sheet1!A2") && run.stderr.contains("replaced by constants"), "{}", run.stderr);
 }

@@ -304,13 +304,12 @@ fn same_macro_kind(a: &Path, b: &Path) -> bool {
 fn formulas_replaced(cells: &[String]) -> Option<String> {
     let shown = cells.iter().take(8).cloned().collect::<Vec<_>>().join(", ");
     let more = if cells.len() > 8 { format!(" and {} more", cells.len() - 8) } else { String::new() };
-    match cells.len() {
-        0 => None,
-        1 => Some(format!("the formula of {shown} is replaced by a constant: the saved file no longer computes it")),
-        n => Some(format!(
-            "{n} formulas are replaced by constants, so the saved file no longer computes them: {shown}{more}"
-        )),
-    }
+    (!cells.is_empty()).then(|| {
+        format!(
+            "formulas replaced by constants, so the saved file no longer computes these cells ({}): {shown}{more}",
+            cells.len()
+        )
+    })
 }
 
 fn rewritten_loss(source: &Path, why: &str) -> String {
