@@ -16,6 +16,7 @@ mod ballpath;
 mod cam;
 mod hints;
 mod info;
+mod limits;
 mod macros;
 mod output;
 mod repl;
@@ -38,6 +39,8 @@ use target::{parse_assignment, parse_target, Assignment, Target};
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
+    #[command(flatten)]
+    pub limits: limits::LimitArgs,
 }
 
 #[derive(Debug, Subcommand)]
@@ -176,6 +179,7 @@ pub struct FunctionsArgs {
 }
 
 pub fn run(cli: Cli) -> Result<()> {
+    cli.limits.apply();
     match cli.command {
         Command::Eval(args) => eval(args),
         Command::Set(args) => set(args),

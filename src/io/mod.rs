@@ -21,6 +21,7 @@ use crate::workbook::Workbook;
 pub mod atomic;
 pub mod cam;
 pub mod csv;
+pub mod limits;
 pub mod xlsx;
 
 /// The file types ncsheet knows, by extension.

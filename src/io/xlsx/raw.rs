@@ -9,6 +9,7 @@ use zip::ZipArchive;
 
 use super::xml::{for_each_tag, unescape};
 use super::ErrorKind;
+use crate::io::limits::{self, ReadLimits, RATIO_GRACE};
 
 /// The zip package with its workbook-level parts read.
 pub struct Package<'a> {
@@ -43,6 +44,11 @@ pub struct NameEntry {
 pub type Err = (Option<String>, ErrorKind, String);
 
 pub fn zip_error(part: Option<&str>, e: ZipError) -> Err {
+    if let ZipError::Io(io) = &e {
+        if let Some(limit) = past_limit(io) {
+            return (part.map(str::to_string), ErrorKind::TooLarge, limit.to_string());
+        }
+    }
     let kind = match e {
         ZipError::Io(_) => ErrorKind::Io,
         _ => ErrorKind::Damaged,
@@ -75,13 +81,7 @@ impl<'a> Package<'a> {
 
     /// Reads a whole (small) part as text; a missing part is an error.
     pub fn read_part(&mut self, part: &str) -> Result<String, Err> {
-        let mut entry = match self.zip.by_name(part) {
-            Ok(e) => e,
-            Err(ZipError::FileNotFound) => {
-                return Err((Some(part.to_string()), ErrorKind::Damaged, "missing from the package".into()))
-            }
-            Err(e) => return Err(zip_error(Some(part), e)),
-        };
+        let mut entry = self.entry(part)?;
         let mut bytes = Vec::new();
         entry.read_to_end(&mut bytes).map_err(|e| zip_error(Some(part), ZipError::Io(e)))?;
         String::from_utf8(bytes).map_err(|_| (Some(part.to_string()), ErrorKind::Damaged, "not UTF-8 text".into()))
@@ -90,7 +90,7 @@ impl<'a> Package<'a> {
     /// A part's raw bytes if the package has it.
     pub fn read_optional(&mut self, part: &str) -> Result<Option<Vec<u8>>, Err> {
         let mut entry = match self.zip.by_name(part) {
-            Ok(e) => e,
+            Ok(e) => Inflating::new(e, limits::current()),
             Err(ZipError::FileNotFound) => return Ok(None),
             Err(e) => return Err(zip_error(Some(part), e)),
         };
@@ -172,16 +172,115 @@ impl<'a> Package<'a> {
         Ok(())
     }
 
-    /// A part to stream; a missing part is an error.
-    pub fn entry(&mut self, part: &str) -> Result<zip::read::ZipFile<'_, Cursor<&'a [u8]>>, Err> {
+    /// A part to stream, held to the limits while it inflates; a missing part is an error.
+    pub fn entry(&mut self, part: &str) -> Result<Inflating<zip::read::ZipFile<'_, Cursor<&'a [u8]>>>, Err> {
         match self.zip.by_name(part) {
-            Ok(e) => Ok(e),
+            Ok(e) => Ok(Inflating::new(e, limits::current())),
             Err(ZipError::FileNotFound) => {
                 Err((Some(part.to_string()), ErrorKind::Damaged, "missing from the package".into()))
             }
             Err(e) => Err(zip_error(Some(part), e)),
         }
     }
+
+    /// Inflates, within the limits, every part calamine reads when it opens the package
+    /// (`Xlsx::new`: the package and workbook relationships, the workbook, styles, theme and
+    /// shared strings, found by calamine's case-insensitive names), so that a part past a limit
+    /// is refused here, naming itself, before calamine holds it whole. `already` are parts
+    /// read through [`Package::entry`] before.
+    pub fn check_parts_calamine_reads(&mut self, already: &[&str]) -> Result<(), Err> {
+        let (dir, file) =
+            self.workbook_parts.first().and_then(|w| w.rsplit_once('/')).unwrap_or(("xl", "workbook.xml"));
+        let dir = format!("{dir}/").to_ascii_lowercase();
+        let file = file.to_ascii_lowercase();
+        let wanted = [
+            "_rels/.rels".to_string(),
+            format!("{dir}sharedstrings.xml"),
+            format!("{dir}theme/theme1.xml"),
+            format!("{dir}styles.xml"),
+            format!("{dir}_rels/{file}.rels"),
+            format!("{dir}{file}"),
+        ];
+        let names: Vec<String> = self
+            .zip
+            .file_names()
+            .filter_map(|name| Some(name.ok()?.into_owned()))
+            .filter(|name| !already.contains(&name.as_str()))
+            .filter(|name| wanted.contains(&name.replace('\\', "/").to_ascii_lowercase()))
+            .collect();
+        for name in names {
+            let mut entry = self.entry(&name)?;
+            std::io::copy(&mut entry, &mut std::io::sink()).map_err(|e| zip_error(Some(&name), ZipError::Io(e)))?;
+        }
+        Ok(())
+    }
+}
+
+/// A part of the package inflating, stopped with a [`PastLimit`] error as soon as it passes
+/// the bytes or the ratio to its compressed size that [`ReadLimits`] allow: the check runs
+/// on every read, so a zip bomb costs the limit, never the bytes it would inflate to.
+pub struct Inflating<R> {
+    inner: R,
+    inflated: u64,
+    /// The bytes this part may inflate to: the smaller of the two limits.
+    cap: u64,
+    compressed: u64,
+    limits: ReadLimits,
+}
+
+impl<'z, R: Read> Inflating<zip::read::ZipFile<'z, R>> {
+    pub fn new(entry: zip::read::ZipFile<'z, R>, limits: ReadLimits) -> Self {
+        let compressed = entry.compressed_size();
+        let by_ratio = compressed.saturating_mul(limits.zip_ratio).max(RATIO_GRACE);
+        Inflating { inner: entry, inflated: 0, cap: by_ratio.min(limits.part_bytes), compressed, limits }
+    }
+}
+
+impl<R: Read> Read for Inflating<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        self.inflated += n as u64;
+        if self.inflated > self.cap {
+            return Err(std::io::Error::other(self.past_limit()));
+        }
+        Ok(n)
+    }
+}
+
+impl<R> Inflating<R> {
+    fn past_limit(&self) -> PastLimit {
+        let limits = self.limits;
+        if self.inflated > limits.part_bytes {
+            return PastLimit(format!(
+                "the part inflates to more than {}, ncsheet's limit on one part (--max-part-size raises it)",
+                limits::bytes(limits.part_bytes)
+            ));
+        }
+        PastLimit(format!(
+            "the part inflates to more than {} times its compressed size of {}: a zip bomb, or a part \
+             more repetitive than Excel writes (--max-zip-ratio raises the limit of {})",
+            limits.zip_ratio,
+            limits::bytes(self.compressed),
+            limits.zip_ratio
+        ))
+    }
+}
+
+/// A part inflated past a limit: what to say about it.
+#[derive(Debug)]
+pub struct PastLimit(String);
+
+impl std::fmt::Display for PastLimit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for PastLimit {}
+
+/// The limit an IO error of [`Inflating`] reports, if it is one.
+pub fn past_limit(e: &std::io::Error) -> Option<&PastLimit> {
+    e.get_ref()?.downcast_ref::<PastLimit>()
 }
 
 /// Resolves a relationship target against the folder of its source part.

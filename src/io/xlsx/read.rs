@@ -24,7 +24,7 @@ use crate::formula::address::Pos;
 use crate::formula::ast::SheetId;
 use crate::workbook::Workbook;
 
-use super::raw::{Package, SheetEntry};
+use super::raw::{self, Package, SheetEntry};
 use super::sheet_span;
 use super::sheet_xml::{self, CellXml, FormulaXml, ScanError, SheetScan};
 use super::tables::{self, Table};
@@ -46,6 +46,8 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
     sniff(bytes, file)?;
     let mut package = Package::open(bytes).map_err(fail)?;
     let strings = shared_strings(&mut package, file)?;
+    let read_before = package.shared_strings.clone();
+    package.check_parts_calamine_reads(&[read_before.as_deref().unwrap_or_default()]).map_err(fail)?;
     let mut calamine: Xlsx<Cursor<&[u8]>> = match Xlsx::new(Cursor::new(bytes)) {
         Ok(calamine) => calamine,
         Err(e) => {
@@ -78,8 +80,8 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
     let book = BookParts { tables, sheet_names: imported.workbook.sheet_names() };
     define_names(&mut imported, &package, &sheets, &ids, &book);
 
-    let formats = number_formats(&mut calamine, &sheets, file)?;
     let mut grid_slots = 0u64;
+    let mut scans = Vec::new();
     let mut legacy_ranges = Vec::new();
     for (entry, id) in sheets.iter().zip(&ids) {
         let Some(sheet) = *id else { continue };
@@ -90,7 +92,13 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
         })
         .map_err(|e| stream_error(file, &entry.part, e))?;
         sheet_import.finish(&mut imported);
-        imported.layout.sheets.insert(entry.name.clone(), sheet_layout(&scan, &formats));
+        scans.push((entry.name.clone(), scan));
+    }
+    // After the sheets: calamine reads the first one up to its cells, which the pass above
+    // has held to the limits.
+    let formats = number_formats(&mut calamine, &sheets, file)?;
+    for (name, scan) in scans {
+        imported.layout.sheets.insert(name, sheet_layout(&scan, &formats));
     }
     imported.layout.vba_project = package.read_optional("xl/vbaProject.bin").map_err(fail)?;
     imported.layout.workbook_code_name = package.code_name.clone();
@@ -142,7 +150,10 @@ fn damaged_workbook_part(package: &mut Package, file: &Path) -> Option<XlsxError
 
 fn stream_error(file: &Path, part: &str, e: StreamError<ScanError>) -> XlsxError {
     match e {
-        StreamError::Io(e) => XlsxError::new(file, Some(part), ErrorKind::Damaged, format!("damaged zip entry: {e}")),
+        StreamError::Io(e) => match raw::past_limit(&e) {
+            Some(limit) => XlsxError::new(file, Some(part), ErrorKind::TooLarge, limit.to_string()),
+            None => XlsxError::new(file, Some(part), ErrorKind::Damaged, format!("damaged zip entry: {e}")),
+        },
         StreamError::Xml { offset, message } => {
             let message = format!("the XML is not well-formed at byte {offset}: {message}");
             XlsxError::new(file, Some(part), ErrorKind::Damaged, message)

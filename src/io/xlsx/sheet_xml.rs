@@ -278,6 +278,15 @@ impl SheetScanner {
                 _ => {}
             }
         }
+        if pos.row >= MAX_ROWS || pos.col >= MAX_COLS {
+            // Only a cell without `r` gets here: counted on past the sheet's edge.
+            let message = format!(
+                "a cell without a reference would lie past the sheet's edge (row {}, column {})",
+                pos.row as u64 + 1,
+                pos.col as u64 + 1
+            );
+            return Err((ErrorKind::Damaged, message));
+        }
         self.grow_grid(pos)?;
         if style != 0 {
             self.scan.styled.push((pos, style));
