@@ -1,5 +1,5 @@
 //! Financial functions: annuities (PV FV PMT NPER RATE IPMT PPMT CUMIPMT CUMPRINC ISPMT),
-//! cash flows (NPV IRR MIRR XNPV XIRR FVSCHEDULE), depreciation (SLN SYD DB DDB), rates
+//! cash flows (NPV IRR MIRR XNPV XIRR FVSCHEDULE), depreciation (SLN SYD DB DDB VDB), rates
 //! (EFFECT NOMINAL PDURATION RRI), dollar fractions and treasury bills. Signs follow
 //! Excel: money paid out is negative. IRR, RATE and XIRR iterate as Excel documents
 //! (Newton's method from the guess, 0.1 by default) and give #NUM! when they do not converge.
@@ -75,6 +75,14 @@ pub const FUNCTIONS: &[FnSpec] = &[
         ddb,
         "DDB(cost, salvage, life, period, [factor])",
         "Double- (or factor-) declining-balance depreciation",
+    ),
+    FnSpec::value(
+        "VDB",
+        5,
+        7,
+        vdb,
+        "VDB(cost, salvage, life, start_period, end_period, [factor], [no_switch])",
+        "Declining-balance depreciation between two periods, switching to straight line",
     ),
     FnSpec::value("EFFECT", 2, 2, effect, "EFFECT(nominal_rate, npery)", "Effective annual rate"),
     FnSpec::value("NOMINAL", 2, 2, nominal, "NOMINAL(effect_rate, npery)", "Nominal annual rate"),
@@ -566,21 +574,97 @@ fn ddb(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         let factor = a.num_or(4, 2.0)?;
         check(cost >= 0.0 && salvage >= 0.0 && life > 0.0 && period > 0.0 && factor > 0.0, XlError::Num)?;
         check(period <= life, XlError::Num)?;
-        let mut rate = factor / life;
-        let before = if rate >= 1.0 {
-            rate = 1.0;
-            if period == 1.0 {
-                cost
-            } else {
-                0.0
-            }
-        } else {
-            cost * (1.0 - rate).powf(period - 1.0)
-        };
-        let after = cost * (1.0 - rate).powf(period);
-        let depreciation = if after < salvage { before - salvage } else { before - after };
-        finite(depreciation.max(0.0))
+        finite(ddb_of(cost, salvage, life, period, factor))
     })
+}
+
+/// Declining-balance depreciation of `period` (1-based), never below the salvage.
+fn ddb_of(cost: f64, salvage: f64, life: f64, period: f64, factor: f64) -> f64 {
+    let mut rate = factor / life;
+    let before = if rate >= 1.0 {
+        rate = 1.0;
+        if period == 1.0 {
+            cost
+        } else {
+            0.0
+        }
+    } else {
+        cost * (1.0 - rate).powf(period - 1.0)
+    };
+    let after = cost * (1.0 - rate).powf(period);
+    let depreciation = if after < salvage { before - salvage } else { before - after };
+    depreciation.max(0.0)
+}
+
+/// VDB: the declining-balance depreciation from `start` to `end` (fractions of periods
+/// prorated), switching to straight line on what is left once that is larger unless
+/// `no_switch`.
+fn vdb(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    scalar(ctx, args, &|a| {
+        let (cost, salvage, life, start, end) = (a.num(0)?, a.num(1)?, a.num(2)?, a.num(3)?, a.num(4)?);
+        let factor = a.num_or(5, 2.0)?;
+        let no_switch = if a.given(6) { crate::eval::coerce::to_bool(a.value(6))? } else { false };
+        check(start >= 0.0 && end >= start && end <= life && cost >= 0.0 && salvage <= cost, XlError::Num)?;
+        check(factor > 0.0 && life > 0.0, XlError::Num)?;
+        let (first, last) = (start.floor(), end.ceil());
+        if no_switch {
+            let mut total = 0.0;
+            let mut period = first + 1.0;
+            while period <= last {
+                let mut part = ddb_of(cost, salvage, life, period, factor);
+                if period == first + 1.0 {
+                    part *= end.min(first + 1.0) - start;
+                } else if period == last {
+                    part *= end + 1.0 - last;
+                }
+                total += part;
+                period += 1.0;
+            }
+            return finite(total);
+        }
+        // Whole periods from `first` to `last`, less the fractions outside start..end.
+        let mut outside = 0.0;
+        if start > first {
+            let value = cost - switching_ddb(cost, salvage, life, life, first, factor);
+            outside += (start - first) * switching_ddb(value, salvage, life, life - first, 1.0, factor);
+        }
+        if end < last {
+            let value = cost - switching_ddb(cost, salvage, life, life, last - 1.0, factor);
+            outside += (last - end) * switching_ddb(value, salvage, life, life - last + 1.0, 1.0, factor);
+        }
+        let value = cost - switching_ddb(cost, salvage, life, life, first, factor);
+        finite(switching_ddb(value, salvage, life, life - first, last - first, factor) - outside)
+    })
+}
+
+/// The depreciation over the first `periods` periods of an asset worth `cost` with
+/// `remaining` periods of life left: declining balance until straight line over the
+/// remaining life gives more, straight line from then on.
+fn switching_ddb(cost: f64, salvage: f64, life: f64, remaining: f64, periods: f64, factor: f64) -> f64 {
+    let last = periods.ceil();
+    let (mut total, mut left, mut straight, mut switched) = (0.0, cost - salvage, 0.0, false);
+    let mut period = 1.0;
+    while period <= last {
+        let mut part = if switched {
+            straight
+        } else {
+            let declining = ddb_of(cost, salvage, life, period, factor);
+            straight = left / (remaining - (period - 1.0));
+            if straight > declining {
+                switched = true;
+                straight
+            } else {
+                left -= declining;
+                declining
+            }
+        };
+        if period == last {
+            part *= periods + 1.0 - last;
+        }
+        total += part;
+        period += 1.0;
+    }
+    total
 }
 
 fn effect(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
@@ -685,4 +769,38 @@ fn tbilleq(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         let t = days / if days > 365.0 { 366.0 } else { 365.0 };
         finite((-t + (t * t - (2.0 * t - 1.0) * (1.0 - 100.0 / price)).sqrt()) / (t - 0.5))
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::eval::testing::MapEnv;
+    use crate::eval::value::{Value, XlError};
+
+    /// VDB has no cell in Excel's corpus: these are LibreOffice Calc 7's values (and
+    /// Microsoft's documented examples, 480, 315 and 396.306…, among them).
+    #[test]
+    fn vdb_as_libreoffice() {
+        let env = MapEnv::with(&[]);
+        for (formula, want) in [
+            ("=VDB(2400,300,10,0,1)", 480.0),
+            ("=VDB(2400,300,10,0,0.875,1.5)", 315.0),
+            ("=VDB(2400,300,10,6,10,2,TRUE)", 329.1456),
+            ("=VDB(2400,300,10,6,10)", 329.1456),
+            ("=VDB(2400,300,10*12,6,18)", 396.306053264752),
+            ("=VDB(2400,300,10,1.5,3.25)", 560.64),
+            ("=VDB(2400,300,10,0,10,3)", 2100.0),
+            ("=VDB(1000,0,5,0,5,1,FALSE)", 1000.0),
+            ("=VDB(1000,100,5,2.5,4.2,2,TRUE)", 164.32),
+        ] {
+            match env.eval(formula) {
+                Value::Number(got) => {
+                    assert!((got - want).abs() <= 1e-9 * want, "{formula}: {got}, LibreOffice {want}")
+                }
+                other => panic!("{formula}: {other:?}"),
+            }
+        }
+        for formula in ["=VDB(2400,300,10,11,12)", "=VDB(2400,300,10,2,1)", "=VDB(-1,0,5,0,1)"] {
+            assert_eq!(env.eval(formula), Value::Error(XlError::Num), "{formula}");
+        }
+    }
 }
