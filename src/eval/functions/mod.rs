@@ -40,6 +40,7 @@ mod reference;
 mod regression;
 mod sample_stats;
 mod scalar;
+mod securities;
 mod special;
 mod stats;
 mod text;
@@ -253,6 +254,7 @@ pub static REGISTRY: LazyLock<Vec<FnSpec>> = LazyLock::new(|| {
         text_more::FUNCTIONS,
         engineering::FUNCTIONS,
         financial::FUNCTIONS,
+        securities::FUNCTIONS,
         combinatorics::FUNCTIONS,
         complex::FUNCTIONS,
         text_split::FUNCTIONS,
