@@ -7,6 +7,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use ncsheet::formula::ast::SheetId;
+use ncsheet::io::xlsx::Layout;
 use ncsheet::workbook::{Workbook, WorkbookError};
 use rustyline::error::ReadlineError;
 
@@ -85,12 +86,14 @@ enum Flow {
 struct Session<'a> {
     file: &'a Path,
     wb: Workbook,
+    /// The file's number formats, which values are shown with.
+    layout: Option<Layout>,
     sheet: SheetId,
 }
 
 /// Runs commands until `quit` or the end of input. Piped, it fails (exit code 1) when any
 /// command failed, so a script notices; each failure was reported when it happened.
-pub fn run(file: &Path, wb: Workbook, sheet: SheetId, timings: bool) -> Result<()> {
+pub fn run(file: &Path, wb: Workbook, layout: Option<Layout>, sheet: SheetId, timings: bool) -> Result<()> {
     let interactive = io::stdin().is_terminal();
     let mut lines = if interactive {
         let editor =
@@ -106,7 +109,7 @@ pub fn run(file: &Path, wb: Workbook, sheet: SheetId, timings: bool) -> Result<(
     if interactive {
         eprintln!("ncsheet repl on {}: type help for commands", file.display());
     }
-    let mut session = Session { file, wb, sheet };
+    let mut session = Session { file, wb, layout, sheet };
     let mut n_failed = 0;
     let stdout = io::stdout();
     while let Some(line) = lines.next(&prompt)? {
@@ -172,7 +175,7 @@ impl Session<'_> {
                     )),
                     _ => e,
                 })?;
-                let shown = output::Shown::default();
+                let shown = self.shown();
                 output::print_selections(out, &self.wb, self.sheet, &[selection], OutputFormat::Table, &shown)?;
             }
         }
@@ -189,7 +192,7 @@ impl Session<'_> {
             let _ = self.wb.set_input(sheet, pos, old.as_deref().unwrap_or(""));
             return Err(super::in_file(self.file, refused(e)));
         }
-        writeln!(out, "{}", self.wb.value(sheet, pos))?;
+        writeln!(out, "{}", self.shown().text(&self.wb, sheet, pos))?;
         if let Some(doubt) = super::hints::doubt_about(&self.wb, sheet, pos, &assignment.input) {
             eprintln!("ncsheet: {}: {}: warning: {doubt}", self.file.display(), self.wb.cell_name(sheet, pos));
         }
@@ -207,6 +210,10 @@ impl Session<'_> {
             .into_iter()
             .map(|p| CellProblem { sheet: p.sheet, row: p.pos.row, col: p.pos.col, message: p.message })
             .collect()
+    }
+
+    fn shown(&self) -> output::Shown<'_> {
+        output::Shown { layout: self.layout.as_ref(), ..output::Shown::default() }
     }
 
     fn select(&self, target: &Target) -> Result<Selection> {
