@@ -4,12 +4,13 @@
 
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
 use clap::{ArgGroup, Args, Parser, Subcommand};
 use ncsheet::eval::functions::REGISTRY;
 use ncsheet::formula::address::Pos;
 use ncsheet::formula::ast::SheetId;
-use ncsheet::io::{Content, Export};
+use ncsheet::io::{Content, Export, ExportOptions};
 use ncsheet::workbook::Workbook;
 
 mod ballpath;
@@ -41,6 +42,28 @@ pub struct Cli {
     pub command: Command,
     #[command(flatten)]
     pub limits: limits::LimitArgs,
+    /// The field separator of csv files read: `,`, `;` or `tab` (default: detected from the
+    /// first lines). With `;` a decimal comma is read (0,8), as spreadsheets in such
+    /// locales write it
+    #[arg(long, global = true, value_name = "CHAR", value_parser = parse_delimiter)]
+    pub delimiter: Option<u8>,
+}
+
+/// `--delimiter`, set once before any file is read.
+static CSV_DELIMITER: OnceLock<u8> = OnceLock::new();
+
+/// The csv delimiter the user asked for, if any.
+pub(crate) fn csv_delimiter() -> Option<u8> {
+    CSV_DELIMITER.get().copied()
+}
+
+fn parse_delimiter(text: &str) -> std::result::Result<u8, String> {
+    match text {
+        "," => Ok(b','),
+        ";" => Ok(b';'),
+        "tab" | "\\t" | "\t" => Ok(b'\t'),
+        other => Err(format!("'{other}' is not a csv delimiter ncsheet writes: use ',', ';' or tab")),
+    }
 }
 
 #[derive(Debug, Subcommand)]
@@ -127,7 +150,8 @@ pub struct SetArgs {
 /// Write a sheet's values (or formulas) to a csv file.
 ///
 /// The csv is a table of the sheet from A1 (or of --range) to its last used row and column,
-/// quoted per RFC 4180. Values are written as shown (15 significant digits). Text that a
+/// quoted per RFC 4180. Values are written as their cells' number formats show them (15
+/// significant digits without one; --raw: in full). Text that a
 /// spreadsheet could run as a formula (starting with = + - @) or read as something else
 /// (12, TRUE, #N/A) is written with a leading ', which spreadsheets show as text and ncsheet
 /// reads back as the original text. With --formulas, each cell is written as typed: formulas
@@ -145,6 +169,13 @@ pub struct ExportArgs {
     /// Write formulas as =… text instead of their values
     #[arg(long)]
     pub formulas: bool,
+    /// Numbers in full precision instead of as the cell's number format shows them
+    #[arg(long)]
+    pub raw: bool,
+    /// The field separator of the csv written: `,`, `;` (numbers then get a decimal comma)
+    /// or `tab` (default: the input csv's, `,` for a workbook)
+    #[arg(long, value_name = "CHAR", value_parser = parse_delimiter)]
+    pub output_delimiter: Option<u8>,
     /// The sheet to write (default: the first)
     #[arg(long, value_name = "NAME")]
     pub sheet: Option<String>,
@@ -180,6 +211,9 @@ pub struct FunctionsArgs {
 
 pub fn run(cli: Cli) -> Result<()> {
     cli.limits.apply();
+    if let Some(d) = cli.delimiter {
+        let _ = CSV_DELIMITER.set(d);
+    }
     match cli.command {
         Command::Eval(args) => eval(args),
         Command::Set(args) => set(args),
@@ -258,7 +292,7 @@ fn set(args: SetArgs) -> Result<()> {
 
 /// Reads a workbook and tells the user what the import left out.
 fn open(file: &Path) -> Result<ncsheet::io::Opened> {
-    let opened = ncsheet::io::open(file)?;
+    let opened = ncsheet::io::open_with(file, csv_delimiter())?;
     for note in &opened.notes {
         eprintln!("ncsheet: {}: note: {note}", file.display());
     }
@@ -310,17 +344,24 @@ fn show(v: &ncsheet::eval::Value) -> String {
 
 fn export(args: ExportArgs) -> Result<()> {
     refuse_overwriting_inputs(&[&args.file], &[&args.output], "an export cannot replace its input; write elsewhere")?;
-    let wb = open(&args.file)?.workbook;
-    let mut sheet = default_sheet(&wb, &args.file, args.sheet.as_deref())?;
+    let opened = open(&args.file)?;
+    let wb = &opened.workbook;
+    let mut sheet = default_sheet(wb, &args.file, args.sheet.as_deref())?;
     let mut range = None;
     if let Some(t) = &args.range {
-        let selection = locate(&wb, &args.file, t, sheet)?;
+        let selection = locate(wb, &args.file, t, sheet)?;
         (sheet, range) = (selection.sheet, Some(selection.rect));
     }
     let content = if args.formulas { Content::Formulas } else { Content::Values };
     let what = Export { sheet, range, content };
-    report_problems(&args.file, &wb);
-    let encoded = ncsheet::io::encode_export(&wb, &args.output, &what)?;
+    report_problems(&args.file, wb);
+    let read_with = match &opened.origin {
+        ncsheet::io::Origin::Csv(original) => Some(original.delimiter()),
+        _ => None,
+    };
+    let delimiter = args.output_delimiter.or(read_with);
+    let options = ExportOptions { delimiter, layout: opened.layout.as_ref(), raw: args.raw };
+    let encoded = ncsheet::io::encode_export_with(wb, &args.output, &what, &options)?;
     write_outputs(&[encoded], false, args.force)
 }
 

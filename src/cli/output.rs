@@ -1,11 +1,10 @@
 //! Printing values: an aligned table for people, csv and JSON for programs.
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::io::Write;
 
 use clap::ValueEnum;
-use ncsheet::eval::functions::NumberFormat;
-use ncsheet::eval::number_format::round15;
+use ncsheet::eval::number_format::{round15, shown};
 use ncsheet::eval::Value;
 use ncsheet::formula::address::{column_name, Pos, Rect};
 use ncsheet::formula::ast::SheetId;
@@ -60,23 +59,22 @@ impl Shown<'_> {
                 return f;
             }
         }
-        let v = wb.value(sheet, pos);
-        match v {
+        match wb.value(sheet, pos) {
             Value::Number(n) if self.raw => format!("{n}"),
-            Value::Number(n) => match self.format_code(wb, sheet, pos) {
-                Some(code) => {
-                    NumberFormat::parse(code).and_then(|f| f.format_number(n)).unwrap_or_else(|_| v.to_string())
-                }
-                None => v.to_string(),
-            },
+            Value::Number(n) => shown(n, self.format_code(wb, sheet, pos)),
             v => v.to_string(),
         }
     }
 
     /// The cell's number format code, when the file gave it one other than General.
     pub fn format_code<'b>(&'b self, wb: &Workbook, sheet: SheetId, pos: Pos) -> Option<&'b str> {
+        self.formats(wb, sheet)?.get(&pos).map(String::as_str)
+    }
+
+    /// A sheet's number formats by cell, from the file.
+    pub fn formats<'b>(&'b self, wb: &Workbook, sheet: SheetId) -> Option<&'b HashMap<Pos, String>> {
         let name = wb.sheet_names().into_iter().nth(sheet as usize)?;
-        self.layout?.sheets.get(&name)?.number_formats.get(&pos).map(String::as_str)
+        Some(&self.layout?.sheets.get(&name)?.number_formats)
     }
 }
 
@@ -148,7 +146,8 @@ pub fn print_selections(
         OutputFormat::Csv => {
             for s in selections {
                 let what = Export { sheet: s.sheet, range: Some(s.rect), content: Content::Values };
-                csv::write(wb, &what, out)?;
+                let style = csv::Style { delimiter: b',', formats: shown.formats(wb, s.sheet), raw: shown.raw };
+                csv::write_with(wb, &what, &style, out)?;
             }
         }
         OutputFormat::Json => writeln!(out, "{}", json(wb, selections))?,

@@ -89,8 +89,9 @@ struct Session<'a> {
     file: &'a Path,
     wb: Workbook,
     sheet: SheetId,
-    /// The file opened and its layout, which a save starts from (as `set` does).
+    /// The file opened, which a save starts from (as `set` does).
     origin: Origin,
+    /// The file's layout: the number formats values are shown with, and what a save keeps.
     layout: Option<Layout>,
 }
 
@@ -175,7 +176,7 @@ impl Session<'_> {
                     )),
                     _ => e,
                 })?;
-                let shown = output::Shown::default();
+                let shown = self.shown();
                 output::print_selections(out, &self.wb, self.sheet, &[selection], OutputFormat::Table, &shown)?;
             }
         }
@@ -192,7 +193,7 @@ impl Session<'_> {
             let _ = self.wb.set_input(sheet, pos, old.as_deref().unwrap_or(""));
             return Err(super::in_file(self.file, refused(e)));
         }
-        writeln!(out, "{}", self.wb.value(sheet, pos))?;
+        writeln!(out, "{}", self.shown().text(&self.wb, sheet, pos))?;
         if let Some(doubt) = super::hints::doubt_about(&self.wb, sheet, pos, &assignment.input) {
             eprintln!("ncsheet: {}: {}: warning: {doubt}", self.file.display(), self.wb.cell_name(sheet, pos));
         }
@@ -226,6 +227,10 @@ impl Session<'_> {
             .into_iter()
             .map(|p| CellProblem { sheet: p.sheet, row: p.pos.row, col: p.pos.col, message: p.message })
             .collect()
+    }
+
+    fn shown(&self) -> output::Shown<'_> {
+        output::Shown { layout: self.layout.as_ref(), ..output::Shown::default() }
     }
 
     fn select(&self, target: &Target) -> Result<Selection> {

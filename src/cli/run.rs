@@ -109,7 +109,7 @@ pub fn run(args: RunArgs) -> Result<()> {
 }
 
 fn run_on_this_thread(args: RunArgs, dialect_name: &'static str) -> Result<()> {
-    let opened = ncsheet::io::open(&args.workbook)?;
+    let opened = ncsheet::io::open_with(&args.workbook, super::csv_delimiter())?;
     let mut wb = opened.workbook;
     let (file, source, sub) = macro_source(&args)?;
     let file = &file;

@@ -8,7 +8,7 @@ use zip::result::ZipError;
 use zip::ZipArchive;
 
 use super::xml::{for_each_tag, unescape};
-use super::ErrorKind;
+use super::{Calculation, ErrorKind};
 use crate::io::limits::{self, ReadLimits, RATIO_GRACE};
 
 /// The zip package with its workbook-level parts read.
@@ -18,6 +18,8 @@ pub struct Package<'a> {
     pub names: Vec<NameEntry>,
     /// `<workbookPr codeName="…">`: the workbook's VBA name.
     pub code_name: Option<String>,
+    /// `<calcPr>` and the date system of `<workbookPr>`.
+    pub calculation: Calculation,
     /// The shared-string table's part, if the workbook has one.
     pub shared_strings: Option<String>,
     /// The workbook part and the parts its relationships name (styles, theme, strings…).
@@ -65,6 +67,7 @@ impl<'a> Package<'a> {
             sheets: Vec::new(),
             names: Vec::new(),
             code_name: None,
+            calculation: Calculation::default(),
             shared_strings: None,
             workbook_parts: Vec::new(),
         };
@@ -146,8 +149,20 @@ impl<'a> Package<'a> {
         let mut sheets = Vec::new();
         let mut names = Vec::new();
         let mut code_name = None;
+        let mut calculation = Calculation::default();
         for_each_tag(bytes, &mut |tag, content| match tag.name {
-            b"workbookPr" => code_name = tag.attr("codeName").map(unescape),
+            b"workbookPr" => {
+                code_name = tag.attr("codeName").map(unescape);
+                calculation.date_1904 = tag.attr("date1904").is_some_and(xml_true);
+            }
+            b"calcPr" => {
+                let number = |key: &str| tag.attr(key).and_then(|v| unescape(v).parse::<f64>().ok());
+                calculation.mode = tag.attr("calcMode").map_or(calculation.mode.clone(), unescape);
+                calculation.iterate = tag.attr("iterate").is_some_and(xml_true);
+                calculation.iterate_count = number("iterateCount").map_or(calculation.iterate_count, |n| n as u32);
+                calculation.iterate_delta = number("iterateDelta").unwrap_or(calculation.iterate_delta);
+                calculation.full_calc_on_load = tag.attr("fullCalcOnLoad").is_some_and(xml_true);
+            }
             b"sheet" => {
                 let name = tag.attr("name").map(unescape).unwrap_or_default();
                 let id = tag.attr("id").map(unescape).unwrap_or_default();
@@ -169,6 +184,7 @@ impl<'a> Package<'a> {
         self.sheets = sheets;
         self.names = names;
         self.code_name = code_name;
+        self.calculation = calculation;
         Ok(())
     }
 
@@ -284,6 +300,11 @@ pub fn past_limit(e: &std::io::Error) -> Option<&PastLimit> {
 }
 
 /// Resolves a relationship target against the folder of its source part.
+/// An xsd:boolean attribute's value: `1` or `true`.
+fn xml_true(value: &[u8]) -> bool {
+    matches!(value, b"1" | b"true")
+}
+
 fn resolve(dir: &str, target: &str) -> String {
     if let Some(abs) = target.strip_prefix('/') {
         return abs.to_string();

@@ -77,6 +77,8 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
         ids.push(Some(id));
     }
     let tables = read_tables(&mut package, &sheets, &ids, &mut imported.notes);
+    imported.layout.tables = tables.clone();
+    imported.layout.calculation = package.calculation.clone();
     let book = BookParts { tables, sheet_names: imported.workbook.sheet_names() };
     define_names(&mut imported, &package, &sheets, &ids, &book);
 
