@@ -20,6 +20,7 @@ use std::path::Path;
 
 use common::corpus::NOT_FROM_EXCEL;
 use common::{corpus_root, judge, percent, workbooks, Tally, Verdict};
+use ncsheet::eval::dates;
 use ncsheet::eval::value::Value;
 use ncsheet::formula::address::Pos;
 use ncsheet::io::xlsx;
@@ -596,7 +597,7 @@ fn compare_corpus(root: &Path, not_from_excel: &[&str], known: &[(&str, &str, &s
     let mut run = CorpusRun::default();
     for path in &files {
         let rel = path.strip_prefix(root).expect("under root").to_string_lossy().replace('\\', "/");
-        let imported = match std::panic::catch_unwind(|| xlsx::load(path)) {
+        let mut imported = match std::panic::catch_unwind(|| xlsx::load(path)) {
             Ok(Ok(i)) => i,
             Ok(Err(e)) => {
                 run.refused.push((rel, e.to_string()));
@@ -610,6 +611,11 @@ fn compare_corpus(root: &Path, not_from_excel: &[&str], known: &[(&str, &str, &s
         if not_from_excel.contains(&rel.as_str()) {
             // Imported (above), not compared: their cached values are not Excel's.
             continue;
+        }
+        let clock = metadata_clock(&imported);
+        if clock.is_some() {
+            dates::fix_clock(clock);
+            imported.workbook.recalculate();
         }
         let tolerance = metadata_tolerance(&imported.workbook);
         let agree = |excel: &Value, ours: &Value| xlsx::values_agree(excel, ours) || close(excel, ours, tolerance);
@@ -640,6 +646,7 @@ fn compare_corpus(root: &Path, not_from_excel: &[&str], known: &[(&str, &str, &s
                 }
             }
         }
+        dates::fix_clock(None);
         run.total.add_all(&tally);
         run.per_file.push((rel, tally));
     }
@@ -654,6 +661,19 @@ fn metadata_tolerance(wb: &Workbook) -> Option<f64> {
         Value::Number(eps) => Some(eps),
         _ => None,
     }
+}
+
+/// The time Excel saved the file at (its README): the cached value of `=NOW()` beside a
+/// cell "NOW" in column A of the METADATA sheet. NOW and TODAY are fixed to it, so that
+/// the cells reading them are compared instead of counted as volatile.
+fn metadata_clock(imported: &xlsx::Imported) -> Option<f64> {
+    let wb = &imported.workbook;
+    let sheet = wb.sheet_names().iter().position(|n| n.eq_ignore_ascii_case("METADATA"))? as _;
+    let row = (0..100).find(|&r| matches!(wb.value(sheet, Pos::new(r, 0)), Value::Text(t) if &*t == "NOW"))?;
+    imported.cached.iter().find(|c| c.sheet == sheet && c.pos == Pos::new(row, 1)).and_then(|c| match c.value {
+        Value::Number(serial) => Some(serial),
+        _ => None,
+    })
 }
 
 /// The corpus's `numbers_are_close(x, y, eps)`: |x−y| < eps, or relative to √(x²+y²).
