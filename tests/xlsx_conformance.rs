@@ -20,12 +20,16 @@ use std::path::Path;
 
 use common::corpus::NOT_FROM_EXCEL;
 use common::{corpus_root, judge, percent, workbooks, Tally, Verdict};
+use ncsheet::eval::dates;
+use ncsheet::eval::value::Value;
+use ncsheet::formula::address::Pos;
 use ncsheet::io::xlsx;
+use ncsheet::workbook::Workbook;
 
 /// Cells where we knowingly differ from Excel: (file, cell, why). Keep this short: fix the
 /// cause and delete the entry.
 const KNOWN_DISAGREEMENTS: &[(&str, &str, &str)] = &[
-    // FIXME(issue 12): where the merged function library still differs from Excel, by reason.
+    (issue 12),
     ("calc_test_no_export/tables.xlsx", "Hidden!B6", "FIXME SUBTOTAL: hidden and filtered rows are not modelled"),
     ("calc_test_no_export/tables.xlsx", "Hidden!C6", "FIXME SUBTOTAL: hidden and filtered rows are not modelled"),
     ("calc_test_no_export/tables.xlsx", "Hidden!D6", "FIXME SUBTOTAL: hidden and filtered rows are not modelled"),
@@ -127,201 +131,7 @@ const KNOWN_DISAGREEMENTS: &[(&str, &str, &str)] = &[
         "'Functions Hidden'!D61",
         "FIXME SUBTOTAL: hidden and filtered rows are not modelled",
     ),
-    ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DCOUNT_DCOUNTA!B38", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DCOUNT_DCOUNTA!C38", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DCOUNT_DCOUNTA!B43", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DCOUNT_DCOUNTA!C43", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DCOUNT_DCOUNTA!B51", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DCOUNT_DCOUNTA!C51", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DCOUNT_DCOUNTA!B56", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DCOUNT_DCOUNTA!C56", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DCOUNT_DCOUNTA!B57", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DCOUNT_DCOUNTA!C57", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DCOUNT_DCOUNTA!B58", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DCOUNT_DCOUNTA!C58", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DCOUNT_DCOUNTA!B65", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DCOUNT_DCOUNTA!C65", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DCOUNT_DCOUNTA!B67", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DCOUNT_DCOUNTA!B69", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DCOUNT_DCOUNTA!C69", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DGET!B38", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DGET!B50", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DPRODUCT!B27", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DPRODUCT!B38", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DPRODUCT!B42", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DPRODUCT!B50", "FIXME D-function criteria"),
     ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DPRODUCT!B54", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DPRODUCT!B56", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DPRODUCT!B57", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DPRODUCT!B58", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DCOUNT_DCOUNTA_DGET_DPRODUCT.xlsx", "DPRODUCT!B63", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DMIN_DMAX_DAVERAGE_DSUM.xlsx", "DMIN_DMAX_DAVERAGE_DSUM!B38", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DMIN_DMAX_DAVERAGE_DSUM.xlsx", "DMIN_DMAX_DAVERAGE_DSUM!C38", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DMIN_DMAX_DAVERAGE_DSUM.xlsx", "DMIN_DMAX_DAVERAGE_DSUM!D38", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DMIN_DMAX_DAVERAGE_DSUM.xlsx", "DMIN_DMAX_DAVERAGE_DSUM!E38", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DMIN_DMAX_DAVERAGE_DSUM.xlsx", "DMIN_DMAX_DAVERAGE_DSUM!B43", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DMIN_DMAX_DAVERAGE_DSUM.xlsx", "DMIN_DMAX_DAVERAGE_DSUM!C43", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DMIN_DMAX_DAVERAGE_DSUM.xlsx", "DMIN_DMAX_DAVERAGE_DSUM!D43", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DMIN_DMAX_DAVERAGE_DSUM.xlsx", "DMIN_DMAX_DAVERAGE_DSUM!E43", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DMIN_DMAX_DAVERAGE_DSUM.xlsx", "DMIN_DMAX_DAVERAGE_DSUM!B51", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DMIN_DMAX_DAVERAGE_DSUM.xlsx", "DMIN_DMAX_DAVERAGE_DSUM!C51", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DMIN_DMAX_DAVERAGE_DSUM.xlsx", "DMIN_DMAX_DAVERAGE_DSUM!D51", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DMIN_DMAX_DAVERAGE_DSUM.xlsx", "DMIN_DMAX_DAVERAGE_DSUM!E51", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DMIN_DMAX_DAVERAGE_DSUM.xlsx", "DMIN_DMAX_DAVERAGE_DSUM!B56", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DMIN_DMAX_DAVERAGE_DSUM.xlsx", "DMIN_DMAX_DAVERAGE_DSUM!C56", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DMIN_DMAX_DAVERAGE_DSUM.xlsx", "DMIN_DMAX_DAVERAGE_DSUM!D56", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DMIN_DMAX_DAVERAGE_DSUM.xlsx", "DMIN_DMAX_DAVERAGE_DSUM!E56", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DMIN_DMAX_DAVERAGE_DSUM.xlsx", "DMIN_DMAX_DAVERAGE_DSUM!B57", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DMIN_DMAX_DAVERAGE_DSUM.xlsx", "DMIN_DMAX_DAVERAGE_DSUM!D57", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DMIN_DMAX_DAVERAGE_DSUM.xlsx", "DMIN_DMAX_DAVERAGE_DSUM!E57", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DMIN_DMAX_DAVERAGE_DSUM.xlsx", "DMIN_DMAX_DAVERAGE_DSUM!B58", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DMIN_DMAX_DAVERAGE_DSUM.xlsx", "DMIN_DMAX_DAVERAGE_DSUM!C58", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DMIN_DMAX_DAVERAGE_DSUM.xlsx", "DMIN_DMAX_DAVERAGE_DSUM!D58", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DMIN_DMAX_DAVERAGE_DSUM.xlsx", "DMIN_DMAX_DAVERAGE_DSUM!E58", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DMIN_DMAX_DAVERAGE_DSUM.xlsx", "DMIN_DMAX_DAVERAGE_DSUM!B63", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DMIN_DMAX_DAVERAGE_DSUM.xlsx", "DMIN_DMAX_DAVERAGE_DSUM!C63", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DMIN_DMAX_DAVERAGE_DSUM.xlsx", "DMIN_DMAX_DAVERAGE_DSUM!D63", "FIXME D-function criteria"),
-    ("calc_tests/DATABASE/DMIN_DMAX_DAVERAGE_DSUM.xlsx", "DMIN_DMAX_DAVERAGE_DSUM!E63", "FIXME D-function criteria"),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!B38",
-        "FIXME D-function criteria",
-    ),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!C38",
-        "FIXME D-function criteria",
-    ),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!D38",
-        "FIXME D-function criteria",
-    ),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!E38",
-        "FIXME D-function criteria",
-    ),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!B43",
-        "FIXME D-function criteria",
-    ),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!C43",
-        "FIXME D-function criteria",
-    ),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!D43",
-        "FIXME D-function criteria",
-    ),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!E43",
-        "FIXME D-function criteria",
-    ),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!B51",
-        "FIXME D-function criteria",
-    ),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!C51",
-        "FIXME D-function criteria",
-    ),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!D51",
-        "FIXME D-function criteria",
-    ),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!E51",
-        "FIXME D-function criteria",
-    ),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!B56",
-        "FIXME D-function criteria",
-    ),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!C56",
-        "FIXME D-function criteria",
-    ),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!D56",
-        "FIXME D-function criteria",
-    ),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!E56",
-        "FIXME D-function criteria",
-    ),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!B57",
-        "FIXME D-function criteria",
-    ),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!C57",
-        "FIXME D-function criteria",
-    ),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!D57",
-        "FIXME D-function criteria",
-    ),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!E57",
-        "FIXME D-function criteria",
-    ),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!B58",
-        "FIXME D-function criteria",
-    ),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!C58",
-        "FIXME D-function criteria",
-    ),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!D58",
-        "FIXME D-function criteria",
-    ),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!E58",
-        "FIXME D-function criteria",
-    ),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!B63",
-        "FIXME D-function criteria",
-    ),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!C63",
-        "FIXME D-function criteria",
-    ),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!D63",
-        "FIXME D-function criteria",
-    ),
-    (
-        "calc_tests/DATABASE/DVAR_DVARP_DSTDEV_DSTDEVP.xlsx",
-        "DVAR_DVARP_DSTDEV_DSTDEVP!E63",
-        "FIXME D-function criteria",
-    ),
     ("calc_tests/INFORMATION/FORMULATEXT.xlsx", "Sheet1!A13", "FIXME FORMULATEXT"),
     ("calc_tests/LOOKUP_AND_REFERENCE/DROP_TAKE.xlsx", "Sheet1!C2", "FIXME #CALC! stored as #VALUE!"),
     ("calc_tests/LOOKUP_AND_REFERENCE/DROP_TAKE.xlsx", "Sheet1!E2", "FIXME #CALC! stored as #VALUE!"),
@@ -329,13 +139,6 @@ const KNOWN_DISAGREEMENTS: &[(&str, &str, &str)] = &[
     ("calc_tests/LOOKUP_AND_REFERENCE/DROP_TAKE.xlsx", "Sheet1!I2", "FIXME #CALC! stored as #VALUE!"),
     ("calc_tests/LOOKUP_AND_REFERENCE/DROP_TAKE.xlsx", "Sheet1!L2", "FIXME #CALC! stored as #VALUE!"),
     ("calc_tests/LOOKUP_AND_REFERENCE/FILTER_ERRORS.xlsx", "Sheet1!E1", "FIXME #CALC! stored as #VALUE!"),
-    ("calc_tests/LOOKUP_AND_REFERENCE/SORT.xlsx", "Sheet1!E1", "FIXME SORT keys and blanks"),
-    ("calc_tests/LOOKUP_AND_REFERENCE/SORT.xlsx", "Sheet1!D14", "FIXME SORT keys and blanks"),
-    ("calc_tests/LOOKUP_AND_REFERENCE/SORT.xlsx", "Sheet1!M14", "FIXME SORT keys and blanks"),
-    ("calc_tests/LOOKUP_AND_REFERENCE/SORT.xlsx", "Sheet1!N14", "FIXME SORT keys and blanks"),
-    ("calc_tests/LOOKUP_AND_REFERENCE/SORT.xlsx", "Sheet1!D15", "FIXME SORT keys and blanks"),
-    ("calc_tests/LOOKUP_AND_REFERENCE/SORT.xlsx", "Sheet1!M15", "FIXME SORT keys and blanks"),
-    ("calc_tests/LOOKUP_AND_REFERENCE/SORT.xlsx", "Sheet1!N15", "FIXME SORT keys and blanks"),
     ("calc_tests/STATISTICAL/BETADIST_BETAINV.xlsx", "Sheet1!H16", "FIXME distribution digits"),
     ("calc_tests/STATISTICAL/BETA_GAMMA.xlsx", "Sheet1!C8", "FIXME distribution digits"),
     ("calc_tests/STATISTICAL/BETA_GAMMA.xlsx", "Sheet1!D8", "FIXME distribution digits"),
@@ -375,27 +178,16 @@ const KNOWN_DISAGREEMENTS: &[(&str, &str, &str)] = &[
     ),
     ("calc_tests/STATISTICAL/LOGNORM.xlsx", "'LOGNORM.DIST LOGNORM.INV'!F26", "FIXME distribution digits"),
     ("calc_tests/STATISTICAL/NORM_DIST.xlsx", "'NORM.DIST NORM.INV'!F16", "FIXME distribution digits"),
-    ("calc_tests/TEXT/TEXTBEFORE_TEXTAFTER.xlsx", "Sheet1!H18", "FIXME TEXTBEFORE/TEXTAFTER #N/A"),
-    ("calc_tests/TEXT/TEXTBEFORE_TEXTAFTER.xlsx", "Sheet1!J18", "FIXME TEXTBEFORE/TEXTAFTER #N/A"),
-    ("calc_tests/TEXT/TEXTBEFORE_TEXTAFTER.xlsx", "Sheet1!H19", "FIXME TEXTBEFORE/TEXTAFTER #N/A"),
-    ("calc_tests/TEXT/TEXTBEFORE_TEXTAFTER.xlsx", "Sheet1!J19", "FIXME TEXTBEFORE/TEXTAFTER #N/A"),
-    ("calc_tests/TEXT/TEXTBEFORE_TEXTAFTER.xlsx", "Sheet1!H20", "FIXME TEXTBEFORE/TEXTAFTER #N/A"),
-    ("calc_tests/TEXT/TEXTBEFORE_TEXTAFTER.xlsx", "Sheet1!J20", "FIXME TEXTBEFORE/TEXTAFTER #N/A"),
-    // Excel's SIN and COS reduce arguments near multiples of pi/2 less exactly than libm:
-    // SIN(PI()) is 1.22514845490862E-16 in Excel, 1.2246467991473532E-16 here. Both are
-    // rounding residue of an exact zero; they differ by 5E-20.
+    (PI()),
     ("calc_tests/MATH_AND_TRIGONOMETRY/trigonometric_functions.xlsx", "Sheet1!B12", "SIN near pi: residue"),
     ("calc_tests/MATH_AND_TRIGONOMETRY/trigonometric_functions.xlsx", "Sheet1!C13", "COS near pi/2: residue"),
     ("docs/COS.xlsx", "Sheet1!B2", "COS near pi/2: residue"),
     ("docs/COS.xlsx", "Sheet1!B6", "COS near pi/2: residue"),
-    // The argument cells hold #CALC! and #SPILL!, which the file stores as #VALUE! with
-    // metadata calamine does not read.
     ("calc_tests/INFORMATION/ERROR.TYPE.xlsx", "Sheet1!B8", "#CALC! stored as #VALUE!"),
     ("calc_tests/INFORMATION/ERROR.TYPE.xlsx", "Sheet1!B14", "#SPILL! stored as #VALUE!"),
-    // FIXME(workbook/recalc.rs): cycles are found from the formulas' references, so a cell
-    // naming itself in a CHOOSE branch that is never taken is #CIRC!; Excel evaluates lazily.
+    (workbook/recalc.rs),
     ("calc_tests/LOOKUP_AND_REFERENCE/CHOOSE.xlsx", "CHOOSE!B40", "static cycle through an untaken branch"),
-    // A legacy (pre-dynamic-array) formula returning an array: Excel showed its first item.
+    (pre-dynamic-array),
     ("calc_tests/LOOKUP_AND_REFERENCE/ROW_COLUM.xlsx", "ROW_COLUMN!G4", "legacy array formula in one cell"),
     ("calc_tests/LOOKUP_AND_REFERENCE/ROW_COLUM.xlsx", "ROW_COLUMN!F4", "legacy array formula in one cell"),
     ("calc_tests/LOOKUP_AND_REFERENCE/ROW_COLUM.xlsx", "ROW_COLUMN!K4", "legacy array formula in one cell"),
@@ -411,22 +203,21 @@ const KNOWN_DISAGREEMENTS: &[(&str, &str, &str)] = &[
     ("calc_tests/LOOKUP_AND_REFERENCE/ROW_COLUM.xlsx", "ROW_COLUMN!L22", "legacy array formula in one cell"),
     ("calc_tests/LOOKUP_AND_REFERENCE/ROW_COLUM.xlsx", "ROW_COLUMN!K23", "legacy array formula in one cell"),
     ("calc_tests/LOOKUP_AND_REFERENCE/ROW_COLUM.xlsx", "ROW_COLUMN!K24", "legacy array formula in one cell"),
-    // FIXME(io/xlsx/read.rs): a legacy formula whose result is a several-cell reference made
-    // at run time (OFFSET) is cut to the formula's row or column by Excel (#VALUE! when it
-    // misses); the importer puts `@` only where the range is in the formula's text.
+    (io/xlsx/read.rs),
+    (OFFSET),
+    (#VALUE! when it
+    // misses),
     ("calc_tests/LOOKUP_AND_REFERENCE/ROW_COLUM.xlsx", "OFFSET!M12", "legacy run-time reference in one cell"),
     ("calc_tests/LOOKUP_AND_REFERENCE/ROW_COLUM.xlsx", "OFFSET!K38", "legacy run-time reference in one cell"),
     ("calc_tests/LOOKUP_AND_REFERENCE/ROW_COLUM.xlsx", "OFFSET!K39", "legacy run-time reference in one cell"),
     ("calc_tests/LOOKUP_AND_REFERENCE/ROW_COLUM.xlsx", "OFFSET!K43", "legacy run-time reference in one cell"),
     ("calc_tests/simple_functions.xlsx", "INDEX!H6", "legacy INDEX(range, 0) in one cell"),
-    // XMATCH match mode 3 (regular expressions) is not implemented.
+    (regular expressions),
     ("calc_tests/LOOKUP_AND_REFERENCE/XMATCH.xlsx", "Sheet1!D6", "XMATCH regular expressions"),
     ("calc_tests/LOOKUP_AND_REFERENCE/XMATCH.xlsx", "Sheet1!D7", "XMATCH regular expressions"),
     ("calc_tests/LOOKUP_AND_REFERENCE/XMATCH.xlsx", "Sheet1!B14", "XMATCH regular expressions"),
-    // Excel's MOD keeps residue digits of operands near 1e10 that n - d*INT(n/d) in doubles
-    // does not reproduce; the results are within 1e-10 of each other and of zero.
-    // Ill-conditioned: tangent-like functions within 1e-12 of a pole, or of an exact zero,
-    // amplify Excel's and libm's different argument reductions (as SIN and COS above).
+    (n/d),
+    (as SIN and COS above),
     ("calc_tests/MATH_AND_TRIGONOMETRY/TRIGONOMETRIC.xlsx", "COT_CSC_SEC!B33", "COT near a pole"),
     ("calc_tests/MATH_AND_TRIGONOMETRY/TRIGONOMETRIC.xlsx", "COT_CSC_SEC!C33", "CSC near a pole"),
     ("calc_tests/MATH_AND_TRIGONOMETRY/TRIGONOMETRIC.xlsx", "COT_CSC_SEC!B34", "COT near zero"),
@@ -442,16 +233,14 @@ const KNOWN_DISAGREEMENTS: &[(&str, &str, &str)] = &[
     ("docs/TAN.xlsx", "Sheet1!B8", "TAN near a pole"),
     ("docs/TAN.xlsx", "Sheet1!B9", "TAN near pi: residue"),
     ("docs/TAN.xlsx", "Sheet1!B10", "TAN near a pole"),
-    // Dates typed the en-GB way ("10-12-1999", "2/3/2023") are read by the workbook's locale,
-    // day first; ours read them month first, as in the US.
+    ("10-12-1999", "2/3/2023"),
     ("calc_tests/TEXT/T_VALUE_VALUETOTEXT.xlsx", "Sheet1!I5", "en-GB date text"),
     ("calc_tests/TEXT/T_VALUE_VALUETOTEXT.xlsx", "Sheet1!C15", "en-GB date text"),
-    // The spill K1# is wider here than in Excel's cached result (TEXTSPLIT-like source).
-    // FIXME(functions/complex.rs, combinatorics.rs, text_more.rs): the first cut of the
-    // function library (issue 12) differs from Excel here: argument rules (blank and text
-    // arguments), COMPLEX writing tiny numbers without an exponent. Each entry names its
-    // function. The financial entries among them are not errors of ours: Excel's iterations
-    // (IRR, XIRR, ODDFYIELD) stop short of the root, and NPV at such a rate is rounding.
+    (TEXTSPLIT-like source),
+    (functions/complex.rs, combinatorics.rs, text_more.rs),
+    (blank and text
+    // arguments),
+    (IRR, XIRR, ODDFYIELD),
     (
         "calc_tests/FINANCIAL/PRICE_YIELD.xlsx",
         "ODDFPRICE_ODDFYIELD!K31",
@@ -582,19 +371,6 @@ const KNOWN_DISAGREEMENTS: &[(&str, &str, &str)] = &[
     ("calc_tests/FINANCIAL/XNPV.xlsx", "Sheet1!R2", "Excel's XIRR stops within 1e-8 of the root"),
     ("calc_tests/FINANCIAL/XNPV.xlsx", "Sheet1!R4", "Excel's XIRR stops within 1e-8 of the root"),
     ("calc_tests/FINANCIAL/XNPV.xlsx", "Sheet1!R5", "Excel's XIRR stops within 1e-8 of the root"),
-    ("calc_tests/MATH_AND_TRIGONOMETRY/GCD_LCM.xlsx", "Sheet1!D13", "FIXME LCM"),
-    ("calc_tests/MATH_AND_TRIGONOMETRY/GCD_LCM.xlsx", "Sheet1!E13", "FIXME GCD"),
-    ("calc_tests/MATH_AND_TRIGONOMETRY/GCD_LCM.xlsx", "Sheet1!D31", "FIXME LCM"),
-    ("calc_tests/MATH_AND_TRIGONOMETRY/GCD_LCM.xlsx", "Sheet1!E31", "FIXME GCD"),
-    ("calc_tests/MATH_AND_TRIGONOMETRY/GCD_LCM.xlsx", "Sheet1!I31", "FIXME LCM"),
-    ("calc_tests/MATH_AND_TRIGONOMETRY/GCD_LCM.xlsx", "Sheet1!J31", "FIXME GCD"),
-    ("calc_tests/MATH_AND_TRIGONOMETRY/GCD_LCM.xlsx", "Sheet1!K31", "FIXME LCM"),
-    ("calc_tests/MATH_AND_TRIGONOMETRY/GCD_LCM.xlsx", "Sheet1!L31", "FIXME GCD"),
-    ("calc_tests/MATH_AND_TRIGONOMETRY/GCD_LCM.xlsx", "Sheet1!I35", "FIXME LCM"),
-    ("calc_tests/MATH_AND_TRIGONOMETRY/LCM_GCD.xlsx", "LCM_GCD!D13", "FIXME LCM"),
-    ("calc_tests/MATH_AND_TRIGONOMETRY/LCM_GCD.xlsx", "LCM_GCD!E13", "FIXME GCD"),
-    ("calc_tests/MATH_AND_TRIGONOMETRY/LCM_GCD.xlsx", "LCM_GCD!D31", "FIXME LCM"),
-    ("calc_tests/MATH_AND_TRIGONOMETRY/LCM_GCD.xlsx", "LCM_GCD!E31", "FIXME GCD"),
     ("calc_tests/TEXT/REGEX.xlsx", "REGEXEXTRACT!B4", "FIXME REGEXEXTRACT"),
     ("calc_tests/FINANCIAL/IRR.xlsx", "'Two Values'!C4", "IRR with its root at 0: Excel caches rounding noise"),
     ("calc_tests/FINANCIAL/IRR.xlsx", "'Three Parameters'!D2", "IRR at a double root: where the iteration stops"),
@@ -643,7 +419,7 @@ fn compare_corpus(root: &Path, not_from_excel: &[&str], known: &[(&str, &str, &s
     let mut run = CorpusRun::default();
     for path in &files {
         let rel = path.strip_prefix(root).expect("under root").to_string_lossy().replace('\\', "/");
-        let imported = match std::panic::catch_unwind(|| xlsx::load(path)) {
+        let mut imported = match std::panic::catch_unwind(|| xlsx::load(path)) {
             Ok(Ok(i)) => i,
             Ok(Err(e)) => {
                 run.refused.push((rel, e.to_string()));
@@ -658,7 +434,14 @@ fn compare_corpus(root: &Path, not_from_excel: &[&str], known: &[(&str, &str, &s
             // Imported (above), not compared: their cached values are not Excel's.
             continue;
         }
-        let (results, infos) = judge(&imported, &|c| Some(c.value.clone()), &|_| false, &xlsx::values_agree);
+        let clock = metadata_clock(&imported);
+        if clock.is_some() {
+            dates::fix_clock(clock);
+            imported.workbook.recalculate();
+        }
+        let tolerance = metadata_tolerance(&imported.workbook);
+        let agree = |excel: &Value, ours: &Value| xlsx::values_agree(excel, ours) || close(excel, ours, tolerance);
+        let (results, infos) = judge(&imported, &|c| Some(c.value.clone()), &|_| false, &agree);
         let mut tally = Tally::default();
         for r in &results {
             tally.add(r.verdict);
@@ -685,10 +468,41 @@ fn compare_corpus(root: &Path, not_from_excel: &[&str], known: &[(&str, &str, &s
                 }
             }
         }
+        dates::fix_clock(None);
         run.total.add_all(&tally);
         run.per_file.push((rel, tally));
     }
     run
+}
+
+/// The corpus's per-file tolerance (its README): a number in `METADATA!A1`, for files whose
+/// functions Excel computes by approximations (BESSEL.xlsx: 1e-5).
+fn metadata_tolerance(wb: &Workbook) -> Option<f64> {
+    let sheet = wb.sheet_names().iter().position(|n| n.eq_ignore_ascii_case("METADATA"))?;
+    match wb.value(sheet as _, Pos::new(0, 0)) {
+        Value::Number(eps) => Some(eps),
+        _ => None,
+    }
+}
+
+/// The time Excel saved the file at (its README): the cached value of `=NOW()` beside a
+/// cell "NOW" in column A of the METADATA sheet. NOW and TODAY are fixed to it, so that
+/// the cells reading them are compared instead of counted as volatile.
+fn metadata_clock(imported: &xlsx::Imported) -> Option<f64> {
+    let wb = &imported.workbook;
+    let sheet = wb.sheet_names().iter().position(|n| n.eq_ignore_ascii_case("METADATA"))? as _;
+    let row = (0..100).find(|&r| matches!(wb.value(sheet, Pos::new(r, 0)), Value::Text(t) if &*t == "NOW"))?;
+    imported.cached.iter().find(|c| c.sheet == sheet && c.pos == Pos::new(row, 1)).and_then(|c| match c.value {
+        Value::Number(serial) => Some(serial),
+        _ => None,
+    })
+}
+
+/// The corpus's `numbers_are_close(x, y, eps)`: |x−y| < eps, or relative to √(x²+y²).
+fn close(excel: &Value, ours: &Value, eps: Option<f64>) -> bool {
+    let (Some(eps), Value::Number(x), Value::Number(y)) = (eps, excel, ours) else { return false };
+    let d = (x - y).abs();
+    d < eps || d / x.hypot(*y) < eps
 }
 
 #[test]

@@ -19,8 +19,10 @@ use super::value::{Value, XlResult};
 
 pub mod args;
 mod arrays;
+mod bessel;
 mod combinatorics;
 mod complex;
+mod convert;
 mod criteria;
 mod database;
 mod date;
@@ -253,6 +255,8 @@ pub static REGISTRY: LazyLock<Vec<FnSpec>> = LazyLock::new(|| {
         text::FUNCTIONS,
         text_more::FUNCTIONS,
         engineering::FUNCTIONS,
+        convert::FUNCTIONS,
+        bessel::FUNCTIONS,
         financial::FUNCTIONS,
         securities::FUNCTIONS,
         combinatorics::FUNCTIONS,
