@@ -20,6 +20,10 @@ const DEFAULT_SIZES: &[&str] = &[
     "circ-40000",
     "circ-80000",
     "circ-200000",
+    "circ-edits-20000",
+    "circ-edits-40000",
+    "circ-edits-80000",
+    "circ-edits-200000",
     "offset-50000",
     "offset-100000",
     "offset-200000",
@@ -36,6 +40,9 @@ enum Kind {
     /// A column filled down with a formula that reads its own cell: `=Ak+1` in Ak, each
     /// cell a circular reference of its own.
     Circ,
+    /// The same column written one cell at a time, each edit recalculating (as a macro or
+    /// the repl fills it).
+    CircEdits,
     /// A1 = 1, Ak = `OFFSET(A(k-1),0,0)+1`: every reference made at run time.
     Offset,
     /// N sheets added one by one, each with its number in A1, and one formula reading the
@@ -56,10 +63,11 @@ impl Case {
         let (kind, n) = name.rsplit_once('-').ok_or_else(|| format!("bad case name {name:?}"))?;
         let kind = match kind {
             "circ" => Kind::Circ,
+            "circ-edits" => Kind::CircEdits,
             "offset" => Kind::Offset,
             "sheets" => Kind::Sheets,
             "xlsx-sheets" => Kind::XlsxSheets,
-            _ => return Err(format!("unknown case kind in {name:?} (circ, offset, sheets, xlsx-sheets)")),
+            _ => return Err(format!("unknown case kind in {name:?} (circ, circ-edits, offset, sheets, xlsx-sheets)")),
         };
         let n: u32 = n.parse().ok().filter(|&n| n >= 2).ok_or_else(|| format!("bad size in {name:?}"))?;
         Ok(Case { name: name.to_string(), kind, n })
@@ -83,6 +91,13 @@ fn build(case: &Case, xlsx: Option<&std::path::Path>) -> Result<Workbook, String
                 set(&mut wb, 0, at(k - 1, 0), &format!("=A{k}+1"))?;
             }
             wb.recalculate();
+            Ok(wb)
+        }
+        Kind::CircEdits => {
+            let mut wb = Workbook::with_sheet();
+            for k in 1..=case.n {
+                wb.set_input(0, at(k - 1, 0), &format!("=A{k}+1")).map_err(|e| e.to_string())?;
+            }
             Ok(wb)
         }
         Kind::Offset => {
@@ -120,7 +135,7 @@ fn check(case: &Case, wb: &Workbook) -> Result<(), String> {
     let n = case.n;
     let fail = |what: String| Err(format!("{}: {what}", case.name));
     match case.kind {
-        Kind::Circ => {
+        Kind::Circ | Kind::CircEdits => {
             for row in [0, n / 2, n - 1] {
                 if wb.value(0, at(row, 0)) != Value::Error(XlError::Circ) {
                     return fail(format!("A{} is {:?}, not #CIRC!", row + 1, wb.value(0, at(row, 0))));

@@ -133,7 +133,7 @@ pub struct Workbook {
     notes: FxMap<u32, Vec<Note>>,
     spill: recalc::SpillState,
     /// Cells of each circular reference found by the last recalculation.
-    cycles: Vec<Vec<u32>>,
+    cycles: recalc::Cycles,
     /// Formula cells calling a volatile function (NOW, TODAY), recalculated at every edit.
     volatile: Vec<u32>,
     /// References formula cells made at run time (INDIRECT, OFFSET), linked in the graph.
@@ -510,7 +510,7 @@ impl Workbook {
             let c = &self.cells[id as usize];
             out.push(Problem { sheet: c.sheet, pos: c.pos, message: err.render(text) });
         }
-        for cycle in &self.cycles {
+        for cycle in self.cycles.iter() {
             let names: Vec<String> = cycle
                 .iter()
                 .map(|&id| self.cell_name(self.cells[id as usize].sheet, self.cells[id as usize].pos))
@@ -536,8 +536,10 @@ impl Workbook {
 
     /// The cells of each circular reference, as `Sheet1!A1` names.
     pub fn cycles(&self) -> Vec<Vec<String>> {
-        self.cycles
-            .iter()
+        let mut cycles: Vec<&Vec<u32>> = self.cycles.iter().collect();
+        cycles.sort_by_key(|c| (self.cells[c[0] as usize].sheet, self.cells[c[0] as usize].pos));
+        cycles
+            .into_iter()
             .map(|c| {
                 c.iter().map(|&id| self.cell_name(self.cells[id as usize].sheet, self.cells[id as usize].pos)).collect()
             })

@@ -44,6 +44,56 @@ impl SpillState {
     }
 }
 
+/// The circular references the recalculations found, each a list of cells, with the cycle
+/// each cell is in: an edit forgets the cycles through the cells it recomputes in work
+/// proportional to those cells, not to all cycles (80,000 self-references written one by
+/// one, as a macro fills a column, were quadratic).
+#[derive(Default)]
+pub struct Cycles {
+    /// By the cycle's first cell.
+    lists: FxMap<u32, Vec<u32>>,
+    /// Cell → the first cell of its cycle.
+    member: FxMap<u32, u32>,
+}
+
+impl Cycles {
+    pub fn clear(&mut self) {
+        self.lists.clear();
+        self.member.clear();
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.lists.is_empty()
+    }
+
+    /// Records a cycle; its cells are in no recorded cycle (the pass that finds it forgot
+    /// those through its affected cells).
+    fn push(&mut self, cells: Vec<u32>) {
+        let Some(&first) = cells.first() else { return };
+        for &c in &cells {
+            self.member.insert(c, first);
+        }
+        self.lists.insert(first, cells);
+    }
+
+    /// Forgets the cycle through `node`, if any (range nodes are in none).
+    fn forget(&mut self, node: u32) {
+        if node & RANGE_BIT != 0 {
+            return;
+        }
+        if let Some(first) = self.member.remove(&node) {
+            for c in self.lists.remove(&first).unwrap_or_default() {
+                self.member.remove(&c);
+            }
+        }
+    }
+
+    /// The cycles in no particular order.
+    pub fn iter(&self) -> impl Iterator<Item = &Vec<u32>> {
+        self.lists.values()
+    }
+}
+
 /// Reusable per-node slots, so a recalculation allocates nothing proportional to the book.
 #[derive(Default)]
 pub struct Scratch {
@@ -136,8 +186,9 @@ impl Workbook {
             }
         } else {
             // Cycles through affected cells are gone (they would have been met).
-            let marks = &self.scratch.cell_mark;
-            self.cycles.retain(|c| c.iter().all(|&id| marks[id as usize] == UNSEEN));
+            if !self.cycles.is_empty() {
+                order.iter().for_each(|&node| self.cycles.forget(node));
+            }
             for &node in order.iter().rev() {
                 set_mark(&mut self.scratch.cell_mark, &mut self.scratch.range_mark, node, UNSEEN);
                 if node & RANGE_BIT == 0 && self.cells[node as usize].formula != NO_FORMULA {
@@ -224,8 +275,9 @@ impl Workbook {
             indegree[t as usize] += 1;
         }
         // Cycles through affected cells are found again below if they still exist.
-        let slots = &self.scratch.cell_slot;
-        self.cycles.retain(|c| c.iter().all(|&id| slots[id as usize] == NO_SLOT));
+        if !self.cycles.is_empty() {
+            affected.nodes.iter().for_each(|&node| self.cycles.forget(node));
+        }
         let mut late = Vec::new();
         let mut done = vec![false; n];
         let mut queue: Vec<u32> = (0..n as u32).filter(|&s| indegree[s as usize] == 0).collect();
