@@ -60,6 +60,9 @@ pub struct RunArgs {
     /// Stop the macro after this many statements (an endless loop, usually)
     #[arg(long, default_value_t = 10_000_000)]
     pub max_statements: u64,
+    /// Stop the macro at the first statement after it has run this many seconds
+    #[arg(long, default_value_t = vba::DEFAULT_MAX_SECONDS as f64, value_parser = parse_seconds)]
+    pub max_seconds: f64,
     /// Stop the macro when calls nest deeper than this (endless recursion; at most 10000)
     #[arg(long, default_value_t = 100, value_parser = parse_max_depth)]
     pub max_depth: usize,
@@ -78,6 +81,13 @@ fn parse_max_depth(text: &str) -> std::result::Result<usize, String> {
         _ => Err(format!(
             "'{text}' is not a depth from 1 to {MAX_DEPTH_LIMIT} (ncsheet's limit: each level reserves 64 KiB of stack)"
         )),
+    }
+}
+
+fn parse_seconds(text: &str) -> std::result::Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(s) if s > 0.0 && s <= 1e9 => Ok(s),
+        _ => Err(format!("'{text}' is not a number of seconds above 0 (at most 1E+9)")),
     }
 }
 
@@ -118,6 +128,7 @@ fn run_on_this_thread(args: RunArgs, dialect_name: &'static str) -> Result<()> {
         args: args.args.clone(),
         max_statements: args.max_statements,
         max_depth: args.max_depth,
+        max_time: std::time::Duration::from_secs_f64(args.max_seconds),
         sheet: args.sheet.clone(),
         dialect: Some(dialect_name.to_string()),
         machine: match args.machine {

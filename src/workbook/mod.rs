@@ -120,6 +120,9 @@ impl std::error::Error for WorkbookError {}
 #[derive(Default)]
 pub struct Workbook {
     sheets: Vec<Sheet>,
+    /// Sheet ids by ASCII-lowercased name: a workbook of 100,000 sheets finds one by name
+    /// (adding a sheet, `Sheet7!A1`, INDIRECT) without reading every name.
+    sheet_index: FxMap<String, SheetId>,
     cells: Vec<Cell>,
     formulas: FormulaStore,
     ranges: RangeIndex,
@@ -130,7 +133,7 @@ pub struct Workbook {
     notes: FxMap<u32, Vec<Note>>,
     spill: recalc::SpillState,
     /// Cells of each circular reference found by the last recalculation.
-    cycles: Vec<Vec<u32>>,
+    cycles: recalc::Cycles,
     /// Formula cells calling a volatile function (NOW, TODAY), recalculated at every edit.
     volatile: Vec<u32>,
     /// References formula cells made at run time (INDIRECT, OFFSET), linked in the graph.
@@ -195,6 +198,7 @@ impl Workbook {
             return Err(WorkbookError::DuplicateSheet(name.to_string()));
         }
         self.sheets.push(Sheet::new(name));
+        self.sheet_index.insert(name.to_ascii_lowercase(), (self.sheets.len() - 1) as SheetId);
         if let Some(log) = &mut self.changes {
             log.sheets = true;
         }
@@ -235,7 +239,7 @@ impl Workbook {
     }
 
     pub fn sheet_id(&self, name: &str) -> Option<SheetId> {
-        self.sheets.iter().position(|s| s.name.eq_ignore_ascii_case(name)).map(|i| i as SheetId)
+        self.sheet_index.get(&name.to_ascii_lowercase()).copied()
     }
 
     pub fn sheet_names(&self) -> Vec<String> {
@@ -521,7 +525,7 @@ impl Workbook {
             let c = &self.cells[id as usize];
             out.push(Problem { sheet: c.sheet, pos: c.pos, message: err.render(text) });
         }
-        for cycle in &self.cycles {
+        for cycle in self.cycles.iter() {
             let names: Vec<String> = cycle
                 .iter()
                 .map(|&id| self.cell_name(self.cells[id as usize].sheet, self.cells[id as usize].pos))
@@ -547,8 +551,10 @@ impl Workbook {
 
     /// The cells of each circular reference, as `Sheet1!A1` names.
     pub fn cycles(&self) -> Vec<Vec<String>> {
-        self.cycles
-            .iter()
+        let mut cycles: Vec<&Vec<u32>> = self.cycles.iter().collect();
+        cycles.sort_by_key(|c| (self.cells[c[0] as usize].sheet, self.cells[c[0] as usize].pos));
+        cycles
+            .into_iter()
             .map(|c| {
                 c.iter().map(|&id| self.cell_name(self.cells[id as usize].sheet, self.cells[id as usize].pos)).collect()
             })
@@ -801,6 +807,10 @@ impl Env for Workbook {
 
     fn sheet_name(&self, sheet: SheetId) -> Option<String> {
         self.sheets.get(sheet as usize).map(|s| s.name.clone())
+    }
+
+    fn sheet_id(&self, name: &str) -> Option<SheetId> {
+        Workbook::sheet_id(self, name)
     }
 
     fn formula_text(&self, sheet: SheetId, pos: Pos) -> Option<String> {

@@ -9,7 +9,9 @@
 use crate::eval::{Ctx, Value, XlError};
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 
-use super::graph::FxMap;
+use super::graph::{FxHasher, FxMap};
+
+type FxSet<T> = std::collections::HashSet<T, std::hash::BuildHasherDefault<FxHasher>>;
 use super::{Workbook, NO_FORMULA};
 
 /// Node ids with this bit set are range nodes, others are cells.
@@ -39,6 +41,56 @@ impl SpillState {
 
     pub fn rect(&self, anchor: u32) -> Option<Rect> {
         self.areas.get(&anchor).copied()
+    }
+}
+
+/// The circular references the recalculations found, each a list of cells, with the cycle
+/// each cell is in: an edit forgets the cycles through the cells it recomputes in work
+/// proportional to those cells, not to all cycles (80,000 self-references written one by
+/// one, as a macro fills a column, were quadratic).
+#[derive(Default)]
+pub struct Cycles {
+    /// By the cycle's first cell.
+    lists: FxMap<u32, Vec<u32>>,
+    /// Cell → the first cell of its cycle.
+    member: FxMap<u32, u32>,
+}
+
+impl Cycles {
+    pub fn clear(&mut self) {
+        self.lists.clear();
+        self.member.clear();
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.lists.is_empty()
+    }
+
+    /// Records a cycle; its cells are in no recorded cycle (the pass that finds it forgot
+    /// those through its affected cells).
+    fn push(&mut self, cells: Vec<u32>) {
+        let Some(&first) = cells.first() else { return };
+        for &c in &cells {
+            self.member.insert(c, first);
+        }
+        self.lists.insert(first, cells);
+    }
+
+    /// Forgets the cycle through `node`, if any (range nodes are in none).
+    fn forget(&mut self, node: u32) {
+        if node & RANGE_BIT != 0 {
+            return;
+        }
+        if let Some(first) = self.member.remove(&node) {
+            for c in self.lists.remove(&first).unwrap_or_default() {
+                self.member.remove(&c);
+            }
+        }
+    }
+
+    /// The cycles in no particular order.
+    pub fn iter(&self) -> impl Iterator<Item = &Vec<u32>> {
+        self.lists.values()
     }
 }
 
@@ -134,8 +186,9 @@ impl Workbook {
             }
         } else {
             // Cycles through affected cells are gone (they would have been met).
-            let marks = &self.scratch.cell_mark;
-            self.cycles.retain(|c| c.iter().all(|&id| marks[id as usize] == UNSEEN));
+            if !self.cycles.is_empty() {
+                order.iter().for_each(|&node| self.cycles.forget(node));
+            }
             for &node in order.iter().rev() {
                 set_mark(&mut self.scratch.cell_mark, &mut self.scratch.range_mark, node, UNSEEN);
                 if node & RANGE_BIT == 0 && self.cells[node as usize].formula != NO_FORMULA {
@@ -222,8 +275,9 @@ impl Workbook {
             indegree[t as usize] += 1;
         }
         // Cycles through affected cells are found again below if they still exist.
-        let slots = &self.scratch.cell_slot;
-        self.cycles.retain(|c| c.iter().all(|&id| slots[id as usize] == NO_SLOT));
+        if !self.cycles.is_empty() {
+            affected.nodes.iter().for_each(|&node| self.cycles.forget(node));
+        }
         let mut late = Vec::new();
         let mut done = vec![false; n];
         let mut queue: Vec<u32> = (0..n as u32).filter(|&s| indegree[s as usize] == 0).collect();
@@ -281,7 +335,9 @@ impl Workbook {
             for &id in &cells {
                 self.set_result(id, Value::Error(XlError::Circ), late);
             }
-            self.cycles.retain(|c| !c.iter().any(|id| cells.contains(id)));
+            // No recorded cycle holds these cells: `kahn_pass` dropped those through
+            // affected cells, and components are disjoint (searching the list per cycle
+            // made 80,000 self-references quadratic).
             self.cycles.push(cells);
             for &s in &comp {
                 done[s as usize] = true;
@@ -426,6 +482,9 @@ impl Workbook {
             self.store_value(id, Value::Error(XlError::Spill));
             return;
         }
+        if self.reads_own_spill(id, sheet, rect) {
+            return self.refuse_own_spill(id, rect, late);
+        }
         self.spill.blocked.remove(&id);
         if let Some(old) = self.spill.areas.get(&id).copied() {
             self.clear_cells_outside(id, old, rect, late);
@@ -447,6 +506,53 @@ impl Workbook {
             }
         }
         self.spill.areas.insert(id, rect);
+    }
+
+    /// Whether the anchor reads, directly or through other formulas, a cell of `rect` other
+    /// than itself: spilling there would change what it reads, a circular reference (Excel
+    /// says so; iterating would print whatever the last of many passes left). Decided on the
+    /// graph before anything spills, so the answer is the same at every recalculation.
+    fn reads_own_spill(&self, anchor: u32, sheet: u16, rect: Rect) -> bool {
+        let mut stack: Vec<u32> = Vec::new();
+        self.sheets[sheet as usize].for_each_in(rect, &mut |_, cid| {
+            if cid != anchor {
+                stack.extend_from_slice(self.cells[cid as usize].dependents.as_slice());
+            }
+        });
+        let anchor_pos = self.cells[anchor as usize].pos;
+        self.ranges.meeting(sheet, rect, |r| {
+            // A range meeting the spill only at the anchor reads no spilled cell.
+            if self.ranges.nodes[r as usize].rect != Rect::cell(anchor_pos) {
+                stack.extend_from_slice(self.ranges.nodes[r as usize].dependents.as_slice());
+            }
+        });
+        let mut seen: FxSet<u32> = FxSet::default();
+        while let Some(node) = stack.pop() {
+            if node == anchor {
+                return true;
+            }
+            if !seen.insert(node) {
+                continue;
+            }
+            if node & RANGE_BIT != 0 {
+                stack.extend_from_slice(self.ranges.nodes[(node & !RANGE_BIT) as usize].dependents.as_slice());
+            } else {
+                let cell = &self.cells[node as usize];
+                stack.extend_from_slice(cell.dependents.as_slice());
+                self.ranges.containing(cell.sheet, cell.pos, |r| stack.push(r | RANGE_BIT));
+            }
+        }
+        false
+    }
+
+    /// The anchor reads its own spill range: `#CIRC!`, nothing spilled, the reason noted.
+    fn refuse_own_spill(&mut self, id: u32, rect: Rect, late: &mut Vec<u32>) {
+        self.release_spill(id, late);
+        self.spill.blocked.remove(&id);
+        let message = format!("the formula reads its own spill range {rect} (a circular reference)");
+        self.notes.entry(id).or_default().push(crate::eval::Note { error: XlError::Circ, message });
+        self.cycles.push(vec![id]);
+        self.store_value(id, Value::Error(XlError::Circ));
     }
 
     /// Whether any cell of `rect` other than the anchor holds something of its own.

@@ -150,6 +150,12 @@ impl<'a> Package<'a> {
         let mut names = Vec::new();
         let mut code_name = None;
         let mut calculation = Calculation::default();
+        // Relationships by id (the first of an id, as a search would find): a workbook of
+        // 100,000 sheets must not search the list once per sheet.
+        let mut by_id: std::collections::HashMap<&str, usize> = std::collections::HashMap::with_capacity(rels.len());
+        for (i, (rid, ..)) in rels.iter().enumerate() {
+            by_id.entry(rid.as_str()).or_insert(i);
+        }
         for_each_tag(bytes, &mut |tag, content| match tag.name {
             b"workbookPr" => {
                 code_name = tag.attr("codeName").map(unescape);
@@ -166,7 +172,7 @@ impl<'a> Package<'a> {
             b"sheet" => {
                 let name = tag.attr("name").map(unescape).unwrap_or_default();
                 let id = tag.attr("id").map(unescape).unwrap_or_default();
-                match rels.iter().find(|(rid, ..)| *rid == id) {
+                match by_id.get(id.as_str()).map(|&i| &rels[i]) {
                     Some((_, target, kind)) => {
                         sheets.push(SheetEntry { name, part: target.clone(), kind: kind.clone() })
                     }
