@@ -989,6 +989,10 @@ fn amordegrc(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         let mut n = 0.0;
         while n < period {
             depreciation = (rate * cost).round();
+            if depreciation == 0.0 {
+                // Nothing more is ever taken: this and every later period is 0.
+                return Ok(Value::Number(0.0));
+            }
             left -= depreciation;
             if left < 0.0 {
                 return Ok(Value::Number(if period - n <= 1.0 { (cost * 0.5).round() } else { 0.0 }));
