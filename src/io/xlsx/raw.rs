@@ -9,6 +9,7 @@ use zip::ZipArchive;
 
 use super::xml::{for_each_tag, unescape};
 use super::ErrorKind;
+use crate::workbook::Iteration;
 
 /// The zip package with its workbook-level parts read.
 pub struct Package<'a> {
@@ -21,6 +22,10 @@ pub struct Package<'a> {
     pub shared_strings: Option<String>,
     /// The workbook part and the parts its relationships name (styles, theme, strings…).
     pub workbook_parts: Vec<String>,
+    /// `<calcPr iterate="1" iterateCount iterateDelta>`: iterative calculation is on.
+    pub iteration: Option<Iteration>,
+    /// The external-link parts, in the order formulas number them (`[1]` is the first).
+    pub external_links: Vec<Option<String>>,
 }
 
 #[derive(Clone, Debug)]
@@ -61,6 +66,8 @@ impl<'a> Package<'a> {
             code_name: None,
             shared_strings: None,
             workbook_parts: Vec::new(),
+            iteration: None,
+            external_links: Vec::new(),
         };
         let workbook = package.main_part()?;
         let rels = package.relationships(&workbook)?;
@@ -146,8 +153,15 @@ impl<'a> Package<'a> {
         let mut sheets = Vec::new();
         let mut names = Vec::new();
         let mut code_name = None;
+        let mut iteration = None;
+        let mut external_links = Vec::new();
         for_each_tag(bytes, &mut |tag, content| match tag.name {
+            b"externalReference" => {
+                let id = tag.attr("id").map(unescape).unwrap_or_default();
+                external_links.push(rels.iter().find(|(rid, ..)| *rid == id).map(|(_, target, _)| target.clone()));
+            }
             b"workbookPr" => code_name = tag.attr("codeName").map(unescape),
+            b"calcPr" => iteration = calc_iteration(|name| tag.attr(name).map(unescape)),
             b"sheet" => {
                 let name = tag.attr("name").map(unescape).unwrap_or_default();
                 let id = tag.attr("id").map(unescape).unwrap_or_default();
@@ -169,6 +183,8 @@ impl<'a> Package<'a> {
         self.sheets = sheets;
         self.names = names;
         self.code_name = code_name;
+        self.iteration = iteration;
+        self.external_links = external_links;
         Ok(())
     }
 
@@ -182,6 +198,22 @@ impl<'a> Package<'a> {
             Err(e) => Err(zip_error(Some(part), e)),
         }
     }
+}
+
+/// The iteration settings of a `<calcPr>` (attributes read through `attr`), when it turns
+/// iteration on; a missing or unreadable limit takes Excel's default.
+fn calc_iteration(attr: impl Fn(&str) -> Option<String>) -> Option<Iteration> {
+    let on = attr("iterate").is_some_and(|v| v == "1" || v.eq_ignore_ascii_case("true"));
+    if !on {
+        return None;
+    }
+    let default = Iteration::default();
+    let count = attr("iterateCount").and_then(|v| v.trim().parse().ok()).unwrap_or(default.count);
+    let max_change = attr("iterateDelta")
+        .and_then(|v| v.trim().parse::<f64>().ok())
+        .filter(|d| d.is_finite() && *d >= 0.0)
+        .unwrap_or(default.max_change);
+    Some(Iteration { count, max_change })
 }
 
 /// Resolves a relationship target against the folder of its source part.
