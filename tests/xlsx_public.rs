@@ -152,3 +152,9 @@ fn the_1904_date_system_survives_a_workbook_written_new() {
     }
     assert!(compared >= 20, "only {compared} compared");
 }
+
+#[test]
+fn deleted_references_are_ref_whatever_sheet_they_were_on() {
+    // Names and formulas Excel left as `Sheet1!#REF!` or `'1'!#REF!`.
+    all_agree(&["poi/test-data_spreadsheet_49783.xlsx", "poi/test-data_spreadsheet_customIndexedColors.xlsx"], 4);
+}
