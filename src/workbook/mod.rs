@@ -15,12 +15,14 @@ use crate::formula::ast::{Expr, Reference, SheetId};
 use crate::formula::parse::{parse_formula, ParseContext, ParseError};
 use crate::formula::print::{print_formula, quote_sheet_name};
 
+mod cycles;
 mod graph;
 mod inspect;
 mod recalc;
 mod shared;
 mod sheet;
 
+pub use cycles::Iteration;
 use graph::{Deps, FxMap, RangeIndex};
 use shared::{relative_key_into, shape_of, FormulaStore, SharedFormula};
 use sheet::Sheet;
@@ -153,6 +155,8 @@ pub struct Workbook {
     fixed_arrays: FxMap<u32, (u32, u32)>,
     /// What changed since [`Workbook::track_changes`], for a file saved back surgically.
     changes: Option<Box<ChangeLog>>,
+    /// Iterative calculation (`cycles.rs`): cycles iterate instead of showing `#CIRC!`.
+    iteration: Option<Iteration>,
 }
 
 /// Cell ids whose input was set, and whose value changed, since tracking began.
@@ -236,6 +240,15 @@ impl Workbook {
         let id = self.sheets.get(sheet as usize)?.get(pos)?;
         let &(rows, cols) = self.fixed_arrays.get(&id)?;
         Some(Rect::new(pos, Pos::new(pos.row + rows - 1, pos.col + cols - 1)))
+    }
+
+    /// The formula cells whose array result spilled, or shows `#SPILL!`, in sheet and row
+    /// order.
+    pub fn spilling_cells(&self) -> Vec<(SheetId, Pos)> {
+        let mut out: Vec<(SheetId, Pos)> =
+            self.spill.anchors().map(|id| (self.cells[id as usize].sheet, self.cells[id as usize].pos)).collect();
+        out.sort_by_key(|&(s, p)| (s, p.row, p.col));
+        out
     }
 
     pub fn sheet_id(&self, name: &str) -> Option<SheetId> {
@@ -481,6 +494,14 @@ impl Workbook {
             self.print(&formula.own_tree(), pos)
         };
         Some(format!("={text}"))
+    }
+
+    /// The parsed formula of a cell with the id of its shared form: cells whose formulas
+    /// are copies of one another (relative references alike) share the id and the tree.
+    pub fn formula_tree(&self, sheet: SheetId, pos: Pos) -> Option<(u32, &Expr)> {
+        let id = self.sheets.get(sheet as usize)?.get(pos)?;
+        let formula = self.cells[id as usize].formula;
+        (formula != NO_FORMULA).then(|| (formula, &*self.formulas.get(formula).expr))
     }
 
     /// Whether the cell's formula calls a volatile function (NOW, RAND): its value may

@@ -42,6 +42,11 @@ impl SpillState {
     pub fn rect(&self, anchor: u32) -> Option<Rect> {
         self.areas.get(&anchor).copied()
     }
+
+    /// Anchors that spilled and anchors blocked.
+    pub fn anchors(&self) -> impl Iterator<Item = u32> + '_ {
+        self.areas.keys().chain(self.blocked.keys()).copied()
+    }
 }
 
 /// The circular references the recalculations found, each a list of cells, with the cycle
@@ -319,26 +324,40 @@ impl Workbook {
         }
     }
 
-    /// Gives the cells of every cycle among the leftover nodes `#CIRC!`, records the cycle,
-    /// then finishes the nodes downstream of it.
+    /// Settles every cycle among the leftover nodes (`cycles.rs`), in dependency order so
+    /// that a cycle reads what feeds it computed: the cells that truly read each other get
+    /// `#CIRC!` and are recorded. Then finishes the nodes downstream.
     fn break_cycles(&mut self, a: &Affected, indegree: &mut [u32], done: &mut [bool], late: &mut Vec<u32>) {
         let components = strongly_connected(a, done);
         let mut queue = Vec::new();
-        for comp in components {
+        // Tarjan finishes a component after those that read it: reversed, feeders come first.
+        for comp in components.into_iter().rev() {
             let self_loop = comp.len() == 1 && a.successors(comp[0] as usize).contains(&comp[0]);
             if comp.len() == 1 && !self_loop {
+                let node = a.nodes[comp[0] as usize];
+                if node & RANGE_BIT == 0 && self.cells[node as usize].formula != NO_FORMULA {
+                    self.evaluate(node, late);
+                }
+                done[comp[0] as usize] = true;
                 continue;
             }
-            let mut cells: Vec<u32> =
-                comp.iter().map(|&s| a.nodes[s as usize]).filter(|n| n & RANGE_BIT == 0).collect();
+            let mut cells: Vec<u32> = comp
+                .iter()
+                .map(|&s| a.nodes[s as usize])
+                .filter(|&n| n & RANGE_BIT == 0 && self.cells[n as usize].formula != NO_FORMULA)
+                .collect();
             cells.sort_by_key(|&id| (self.cells[id as usize].sheet, self.cells[id as usize].pos));
-            for &id in &cells {
+            let circular = self.settle_component(&cells, late);
+            for &id in &circular {
                 self.set_result(id, Value::Error(XlError::Circ), late);
             }
             // No recorded cycle holds these cells: `kahn_pass` dropped those through
             // affected cells, and components are disjoint (searching the list per cycle
-            // made 80,000 self-references quadratic).
-            self.cycles.push(cells);
+            // made 80,000 self-references quadratic). Only the cells that truly read each
+            // other are circular (`settle_component`).
+            if !circular.is_empty() {
+                self.cycles.push(circular);
+            }
             for &s in &comp {
                 done[s as usize] = true;
             }
@@ -415,7 +434,7 @@ impl Workbook {
         self.ranges.containing(cell.sheet, cell.pos, |r| out.push(r | RANGE_BIT));
     }
 
-    fn evaluate(&mut self, id: u32, late: &mut Vec<u32>) {
+    pub(super) fn evaluate(&mut self, id: u32, late: &mut Vec<u32>) {
         let cell = &self.cells[id as usize];
         let formula = self.formulas.get(cell.formula);
         let mut ctx = Ctx::new(self, cell.sheet, cell.pos);
@@ -438,7 +457,7 @@ impl Workbook {
     }
 
     /// Stores a formula's result: blank reads as 0, an array spills or reports `#SPILL!`.
-    fn set_result(&mut self, id: u32, value: Value, late: &mut Vec<u32>) {
+    pub(super) fn set_result(&mut self, id: u32, value: Value, late: &mut Vec<u32>) {
         let fixed = if self.fixed_arrays.is_empty() { None } else { self.fixed_arrays.get(&id).copied() };
         let value = match fixed {
             Some((rows, cols)) => fit_to_area(value, rows as usize, cols as usize),

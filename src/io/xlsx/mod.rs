@@ -35,6 +35,7 @@ use crate::formula::ast::SheetId;
 use crate::workbook::Workbook;
 
 mod check;
+mod external;
 mod patch;
 mod raw;
 mod read;

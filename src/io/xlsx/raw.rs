@@ -10,6 +10,7 @@ use zip::ZipArchive;
 use super::xml::{for_each_tag, unescape};
 use super::{Calculation, ErrorKind};
 use crate::io::limits::{self, ReadLimits, RATIO_GRACE};
+use crate::workbook::Iteration;
 
 /// The zip package with its workbook-level parts read.
 pub struct Package<'a> {
@@ -24,6 +25,10 @@ pub struct Package<'a> {
     pub shared_strings: Option<String>,
     /// The workbook part and the parts its relationships name (styles, theme, strings…).
     pub workbook_parts: Vec<String>,
+    /// `<calcPr iterate="1" iterateCount iterateDelta>`: iterative calculation is on.
+    pub iteration: Option<Iteration>,
+    /// The external-link parts, in the order formulas number them (`[1]` is the first).
+    pub external_links: Vec<Option<String>>,
 }
 
 #[derive(Clone, Debug)]
@@ -70,6 +75,8 @@ impl<'a> Package<'a> {
             calculation: Calculation::default(),
             shared_strings: None,
             workbook_parts: Vec::new(),
+            iteration: None,
+            external_links: Vec::new(),
         };
         let workbook = package.main_part()?;
         let rels = package.relationships(&workbook)?;
@@ -156,7 +163,12 @@ impl<'a> Package<'a> {
         for (i, (rid, ..)) in rels.iter().enumerate() {
             by_id.entry(rid.as_str()).or_insert(i);
         }
+        let mut external_links = Vec::new();
         for_each_tag(bytes, &mut |tag, content| match tag.name {
+            b"externalReference" => {
+                let id = tag.attr("id").map(unescape).unwrap_or_default();
+                external_links.push(rels.iter().find(|(rid, ..)| *rid == id).map(|(_, target, _)| target.clone()));
+            }
             b"workbookPr" => {
                 code_name = tag.attr("codeName").map(unescape);
                 calculation.date_1904 = tag.attr("date1904").is_some_and(xml_true);
@@ -190,7 +202,9 @@ impl<'a> Package<'a> {
         self.sheets = sheets;
         self.names = names;
         self.code_name = code_name;
+        self.iteration = iteration_of(&calculation);
         self.calculation = calculation;
+        self.external_links = external_links;
         Ok(())
     }
 
@@ -305,11 +319,23 @@ pub fn past_limit(e: &std::io::Error) -> Option<&PastLimit> {
     e.get_ref()?.downcast_ref::<PastLimit>()
 }
 
-/// Resolves a relationship target against the folder of its source part.
+/// The iteration settings of a workbook's `<calcPr>`, when it turns iteration on; a limit
+/// that is not a finite non-negative number takes Excel's default.
+fn iteration_of(calculation: &Calculation) -> Option<Iteration> {
+    if !calculation.iterate {
+        return None;
+    }
+    let default = Iteration::default();
+    let max_change = Some(calculation.iterate_delta).filter(|d| d.is_finite() && *d >= 0.0).unwrap_or(default.max_change);
+    Some(Iteration { count: calculation.iterate_count, max_change })
+}
+
 /// An xsd:boolean attribute's value: `1` or `true`.
 fn xml_true(value: &[u8]) -> bool {
     matches!(value, b"1" | b"true")
 }
+
+/// Resolves a relationship target against the folder of its source part.
 
 fn resolve(dir: &str, target: &str) -> String {
     if let Some(abs) = target.strip_prefix('/') {
