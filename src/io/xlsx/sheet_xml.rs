@@ -258,7 +258,7 @@ impl SheetScanner {
             b"col" if opens => self.column_width(tag),
             b"sheetPr" if opens => self.scan.code_name = tag.attr("codeName").map(xml::unescape),
             b"autoFilter" if opens => {
-                self.scan.auto_filter = tag.attr("ref").and_then(|r| parse_rect(r)).map(|r| (r, false));
+                self.scan.auto_filter = tag.attr("ref").and_then(parse_rect).map(|r| (r, false));
             }
             b"filterColumn" => {
                 if let Some((_, filtering)) = &mut self.scan.auto_filter {
