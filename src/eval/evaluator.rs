@@ -66,6 +66,20 @@ pub trait Env {
     fn date_1904(&self) -> bool {
         false
     }
+
+    /// Whether row `row` of `sheet` is hidden, and how (SUBTOTAL and AGGREGATE skip such rows).
+    fn row_hidden(&self, _sheet: SheetId, _row: u32) -> Option<RowHidden> {
+        None
+    }
+}
+
+/// How a row is hidden: SUBTOTAL 1–11 skips the rows a filter hides, 101–111 every hidden row.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RowHidden {
+    /// Hidden by hand (or by a collapsed outline).
+    Manually,
+    /// Hidden by a filter (an autofilter or a table's).
+    Filtered,
 }
 
 /// What an embedding language adds to the expressions it hands the evaluator: the macro

@@ -9,7 +9,7 @@ use std::rc::Rc;
 
 use crate::eval::coerce::parse_number;
 use crate::eval::functions::Registry;
-use crate::eval::{Env, Note, Value, XlError};
+use crate::eval::{Env, Note, RowHidden, Value, XlError};
 use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::{Expr, Reference, SheetId};
 use crate::formula::parse::{parse_formula, ParseContext, ParseError};
@@ -222,6 +222,14 @@ impl Workbook {
 
     pub fn date_1904(&self) -> bool {
         self.date_1904
+    }
+
+    /// Hides row `row` of `sheet` (`None` shows it), without recalculating: SUBTOTAL and
+    /// AGGREGATE read it at the next recalculation.
+    pub fn set_row_hidden(&mut self, sheet: SheetId, row: u32, hidden: Option<RowHidden>) {
+        if let Some(s) = self.sheets.get_mut(sheet as usize) {
+            s.set_row_hidden(row, hidden);
+        }
     }
 
     /// Makes the formula in `area`'s top-left cell a legacy (Ctrl+Shift+Enter) array formula
@@ -855,6 +863,10 @@ impl Env for Workbook {
 
     fn date_1904(&self) -> bool {
         self.date_1904
+    }
+
+    fn row_hidden(&self, sheet: SheetId, row: u32) -> Option<RowHidden> {
+        self.sheets.get(sheet as usize)?.row_hidden(row)
     }
 }
 

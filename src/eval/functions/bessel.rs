@@ -286,7 +286,8 @@ mod tests {
     #[test]
     fn orders_0_and_1_match_abramowitz_and_stegun_tables() {
         // A&S tables 9.1 (J, Y at x = 1, 5, 15) and 9.8 (I, K at x = 1, 2), 10 digits.
-        let table: [(&str, fn(u32, f64) -> f64, u32, f64, f64); 14] = [
+        type Bessel = fn(u32, f64) -> f64;
+        let table: [(&str, Bessel, u32, f64, f64); 14] = [
             ("J0(1)", bessel_j, 0, 1.0, 0.7651976866),
             ("J1(1)", bessel_j, 1, 1.0, 0.4400505857),
             ("J0(5)", bessel_j, 0, 5.0, -0.1775967713),

@@ -68,7 +68,7 @@ const LIGHT_YEAR: f64 = 9460730472580800.0;
 const PICA_POINT: f64 = INCH / 72.0;
 const POUND: f64 = 453.59237;
 const POUND_FORCE: f64 = 4.4482216152605;
-const HORSEPOWER: f64 = 745.69987158227022;
+const HORSEPOWER: f64 = 745.699_871_582_270_2;
 const US_PINT: f64 = 4.73176473e-4;
 
 /// Excel's units. Sizes are exact definitions where one exists (the inch, the pound, the

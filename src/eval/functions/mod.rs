@@ -38,6 +38,7 @@ mod logic;
 mod lookup;
 mod math;
 mod order;
+mod random;
 mod reference;
 mod regression;
 mod sample_stats;
@@ -53,6 +54,7 @@ pub mod vba;
 
 pub use geometry::{describe_gouge, formula_ball_path};
 pub use logic::{as_lambda, Lambda};
+pub use random::seed_random;
 pub use text_format::NumberFormat;
 
 /// A function body that returns a value.
@@ -257,6 +259,7 @@ pub static REGISTRY: LazyLock<Vec<FnSpec>> = LazyLock::new(|| {
         engineering::FUNCTIONS,
         convert::FUNCTIONS,
         bessel::FUNCTIONS,
+        random::FUNCTIONS,
         financial::FUNCTIONS,
         securities::FUNCTIONS,
         combinatorics::FUNCTIONS,

@@ -19,8 +19,8 @@ use std::rc::Rc;
 
 use calamine::{Reader, Style, Xlsx};
 
-use crate::eval::{Env, Value, XlError};
-use crate::formula::address::Pos;
+use crate::eval::{Env, RowHidden, Value, XlError};
+use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::SheetId;
 use crate::workbook::Workbook;
 
@@ -99,6 +99,7 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
         })
         .map_err(|e| stream_error(file, &entry.part, e))?;
         sheet_import.finish(&mut imported);
+        hide_rows(&mut imported.workbook, &mut package, entry, sheet, &scan);
         scans.push((entry.name.clone(), scan));
     }
     // After the sheets: calamine reads the first one up to its cells, which the pass above
@@ -273,6 +274,26 @@ fn read_links(package: &mut Package, notes: &mut Vec<String>) -> Vec<Option<Exte
         notes.push("references to other workbooks read the values Excel cached for them (not refreshed)".into());
     }
     links
+}
+
+/// Hides the rows the sheet hid: as filtered when a filter (the sheet's or a table's)
+/// covers them, else as hidden by hand (SUBTOTAL 1–11 counts only the latter).
+fn hide_rows(wb: &mut Workbook, package: &mut Package, entry: &SheetEntry, sheet: SheetId, scan: &SheetScan) {
+    if scan.hidden_rows.is_empty() {
+        return;
+    }
+    let mut filters: Vec<Rect> = package
+        .table_parts(&entry.part)
+        .unwrap_or_default()
+        .iter()
+        .filter_map(|part| package.read_optional(part).ok().flatten())
+        .filter_map(|xml| tables::active_filter(&xml))
+        .collect();
+    filters.extend(scan.auto_filter.filter(|(_, filtering)| *filtering).map(|(area, _)| area));
+    for &row in &scan.hidden_rows {
+        let filtered = filters.iter().any(|f| f.first.row < row && row <= f.last.row);
+        wb.set_row_hidden(sheet, row, Some(if filtered { RowHidden::Filtered } else { RowHidden::Manually }));
+    }
 }
 
 /// Formula text as stored → as typed: references into linked workbooks become the values
