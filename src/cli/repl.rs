@@ -8,6 +8,7 @@ use std::time::Instant;
 
 use ncsheet::formula::ast::SheetId;
 use ncsheet::io::xlsx::Layout;
+use ncsheet::io::{Opened, Origin};
 use ncsheet::workbook::{Workbook, WorkbookError};
 use rustyline::error::ReadlineError;
 
@@ -20,7 +21,7 @@ commands:
   CELL=INPUT    set a cell (a value, or a formula starting with =) and recalculate
   CELL, RANGE   print values (B3, A1:D20, Sheet1!B3, or a defined name: alpha)
   show CELL     the cell's formula, value, format, the cells it reads and that read it
-  save PATH     save the workbook (csv: formulas as =… text)
+  save PATH     save the workbook (as set -o does: what a save loses is said)
   help          this list
   quit          leave (also exit, or end of input)";
 
@@ -88,12 +89,14 @@ struct Session<'a> {
     wb: Workbook,
     /// The file's number formats, which values are shown with.
     layout: Option<Layout>,
+    /// The file as read: a save keeps what ncsheet does not model (see `io::Origin`).
+    origin: Origin,
     sheet: SheetId,
 }
 
 /// Runs commands until `quit` or the end of input. Piped, it fails (exit code 1) when any
 /// command failed, so a script notices; each failure was reported when it happened.
-pub fn run(file: &Path, wb: Workbook, layout: Option<Layout>, sheet: SheetId, timings: bool) -> Result<()> {
+pub fn run(file: &Path, opened: Opened, sheet: SheetId, timings: bool) -> Result<()> {
     let interactive = io::stdin().is_terminal();
     let mut lines = if interactive {
         let editor =
@@ -109,7 +112,7 @@ pub fn run(file: &Path, wb: Workbook, layout: Option<Layout>, sheet: SheetId, ti
     if interactive {
         eprintln!("ncsheet repl on {}: type help for commands", file.display());
     }
-    let mut session = Session { file, wb, layout, sheet };
+    let mut session = Session { file, wb: opened.workbook, layout: opened.layout, origin: opened.origin, sheet };
     let mut n_failed = 0;
     let stdout = io::stdout();
     while let Some(line) = lines.next(&prompt)? {
@@ -152,7 +155,8 @@ impl Session<'_> {
             ("save", "") => return Err(Error::User("save needs a file name: save PATH".into())),
             ("save", path) => {
                 super::refuse_overwriting_inputs(&[self.file], &[Path::new(path)], "save the session elsewhere")?;
-                ncsheet::io::save(&self.wb, Path::new(path))?;
+                let encoded = ncsheet::io::encode_save(&self.wb, self.layout.as_ref(), &self.origin, Path::new(path))?;
+                super::write_outputs(&[encoded], false, false)?;
                 writeln!(out, "saved {path}")?;
             }
             ("show", "") => return Err(Error::User("show needs a cell: show B3".into())),
