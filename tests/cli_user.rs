@@ -277,6 +277,12 @@ fn export_writes_values_as_their_cells_show_them_and_raw_in_full() {
     let exact = 40.0 + 2.0 * (0.8 * 2f64.sqrt() + 1.8 - 0.8);
     let text = std::fs::read_to_string(out).unwrap();
     assert!(text.trim().len() > 12 && (number(&text) - exact).abs() < 1e-12, "{text}");
+    // An xlsx export keeps the full value and its format: it shows as the source cell did.
+    let xlsx = dir.path().join("xa.xlsx");
+    let run = ncsheet(&["export", &book, "--range", "Summary!C5:D5", "-o", xlsx.to_str().unwrap()]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let run = ncsheet(&["eval", xlsx.to_str().unwrap(), "A1", "B1"]);
+    assert_eq!(run.stdout, "A1  44.262742\nB1  -4.600000\n", "{}", run.stderr);
 }
 
 #[test]
