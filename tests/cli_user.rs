@@ -142,6 +142,26 @@ fn names_are_cell_arguments_for_eval_and_set() {
 }
 
 #[test]
+fn a_name_one_sheet_defines_is_found_from_any_sheet_and_one_each_defines_asks_which() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut wb = Workbook::with_sheet();
+    let parts = wb.add_sheet("Parts").unwrap();
+    wb.set_input(parts, Pos::new(0, 1), "12.5").unwrap();
+    wb.define_name("depth", "=Parts!$B$1", Some(parts)).unwrap();
+    let book = dir.path().join("scoped.xlsx");
+    ncsheet::io::save(&wb, &book).unwrap();
+    let run = ncsheet(&["eval", book.to_str().unwrap(), "depth"]);
+    assert_eq!((run.code, run.stdout.as_str()), (0, "12.5\n"), "{}", run.stderr);
+    // sheets/chamfer.xlsx: Outer, Pipe and Blind each have their own alpha (45° on Outer).
+    let chamfer = repo("sheets/chamfer.xlsx");
+    let run = ncsheet(&["eval", &chamfer, "alpha"]);
+    assert_eq!(run.code, 1);
+    assert!(run.stderr.contains("Outer, Pipe, Blind") && run.stderr.contains("Outer!alpha"), "{}", run.stderr);
+    let run = ncsheet(&["eval", &chamfer, "Outer!alpha"]);
+    assert_eq!(run.stdout, "45\n", "{}", run.stderr);
+}
+
+#[test]
 fn the_repl_reads_and_sets_names() {
     let dir = tempfile::tempdir().unwrap();
     let book = named_workbook(dir.path());
@@ -257,6 +277,12 @@ fn export_writes_values_as_their_cells_show_them_and_raw_in_full() {
     let exact = 40.0 + 2.0 * (0.8 * 2f64.sqrt() + 1.8 - 0.8);
     let text = std::fs::read_to_string(out).unwrap();
     assert!(text.trim().len() > 12 && (number(&text) - exact).abs() < 1e-12, "{text}");
+    // An xlsx export keeps the full value and its format: it shows as the source cell did.
+    let xlsx = dir.path().join("xa.xlsx");
+    let run = ncsheet(&["export", &book, "--range", "Summary!C5:D5", "-o", xlsx.to_str().unwrap()]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let run = ncsheet(&["eval", xlsx.to_str().unwrap(), "A1", "B1"]);
+    assert_eq!(run.stdout, "A1  44.262742\nB1  -4.600000\n", "{}", run.stderr);
 }
 
 #[test]
@@ -266,6 +292,23 @@ fn the_repl_shows_the_files_number_formats() {
     let lines: Vec<&str> = run.stdout.lines().collect();
     assert_eq!(lines[0], "44.262742", "{}", run.stdout);
     assert!(lines[2].trim_end().ends_with("  44.262742"), "{}", run.stdout);
+}
+
+#[test]
+fn a_repl_save_keeps_the_files_formats_and_delimiter() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.xlsx");
+    let input = format!("alpha=30\nsave {}\nquit\n", out.display());
+    let run = ncsheet_with(&["repl", &repo("sheets/chamfer.xlsx"), "--sheet", "Outer"], &input);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    // XA at α = 30° (DOMAIN.md §1: 42.325982), still formatted 0.000000.
+    let run = ncsheet(&["eval", out.to_str().unwrap(), "Summary!C5"]);
+    assert_eq!(run.stdout, "42.325982\n", "{}", run.stderr);
+    let book = write(dir.path(), "eu.csv", "a;0,5\n");
+    let out = dir.path().join("eu2.csv");
+    let run = ncsheet_with(&["repl", &book], &format!("B2==B1*3\nsave {}\nquit\n", out.display()));
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "a;0,5\n;=B1*3\n");
 }
 
 #[test]

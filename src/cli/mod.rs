@@ -425,7 +425,24 @@ fn target_sheet(wb: &Workbook, file: &Path, target: &Target, default: SheetId) -
 pub(crate) fn locate(wb: &Workbook, file: &Path, target: &Target, default: SheetId) -> Result<Selection> {
     let sheet = target_sheet(wb, file, target, default)?;
     let Some(name) = &target.name else { return Ok(Selection { sheet, rect: target.rect, label: None }) };
-    match wb.name_reference(name, sheet) {
+    let scopes = sheets_scoping(wb, name);
+    let seen_from = match (wb.name_reference(name, sheet), scopes.as_slice()) {
+        (Some(found), _) => Some(found),
+        // A name only one other sheet defines means that sheet's (chamfer.xlsx: alpha of Outer).
+        (None, [only]) if target.sheet.is_none() => wb.name_reference(name, *only),
+        (None, [_, _, ..]) if target.sheet.is_none() => {
+            let names = wb.sheet_names();
+            let listed: Vec<&str> = scopes.iter().map(|s| names[*s as usize].as_str()).collect();
+            let first = listed[0];
+            return Err(Error::User(format!(
+                "{}: {name} is defined for each of the sheets {} apart: say which, as {first}!{name} or --sheet {first}",
+                file.display(),
+                listed.join(", ")
+            )));
+        }
+        _ => None,
+    };
+    match seen_from {
         Some((sheet, rect)) => Ok(Selection { sheet, rect, label: Some(name.clone()) }),
         None => {
             let mut known = wb.names().into_iter().map(|(n, _, _)| n).collect::<Vec<_>>();
@@ -443,6 +460,15 @@ pub(crate) fn locate(wb: &Workbook, file: &Path, target: &Target, default: Sheet
             Err(Error::User(format!("{}: {what}", file.display())))
         }
     }
+}
+
+/// The sheets that define `name` for themselves only, in sheet order.
+fn sheets_scoping(wb: &Workbook, name: &str) -> Vec<SheetId> {
+    let mut scopes: Vec<SheetId> =
+        wb.names().into_iter().filter(|(n, _, _)| n.eq_ignore_ascii_case(name)).filter_map(|(_, _, s)| s).collect();
+    scopes.sort_unstable();
+    scopes.dedup();
+    scopes
 }
 
 /// Like [`locate`], for one cell: a name must point at a single cell.

@@ -21,7 +21,7 @@ pub enum OutputFormat {
     /// format shows them (15 significant digits without one; --raw: in full)
     #[default]
     Table,
-    /// The cells as csv rows (as `ncsheet export` writes them)
+    /// The cells as comma-separated csv rows, values as `ncsheet export` writes them
     Csv,
     /// One object {"Sheet1!A1": value, …}: numbers, strings, booleans, errors as "#…" text;
     /// blank cells left out

@@ -251,29 +251,35 @@ struct RecordStart {
 /// only at the start of a field, `""` inside one is a quote, and `\n`, `\r\n` or `\r` ends
 /// a record.
 /// `;` when the file's first lines are `;`-separated (each holds the same number of `;`
-/// outside quotes, and not as many `,`), else `,`.
+/// outside quotes, and not as many `,` unless every `,` stands between digits, as a decimal
+/// comma does: `a;0,5`), else `,`.
 pub fn delimiter_of(bytes: &[u8]) -> u8 {
-    let lines: Vec<(usize, usize)> = bytes
+    let lines: Vec<(usize, usize, bool)> = bytes
         .split(|&b| b == b'\n')
         .filter(|l| !l.iter().all(u8::is_ascii_whitespace))
         .take(20)
         .map(|line| {
             let mut quoted = false;
-            let (mut semicolons, mut commas) = (0, 0);
-            for &b in line {
+            let (mut semicolons, mut commas, mut decimal_commas) = (0, 0, true);
+            let digit = |i: Option<usize>| i.and_then(|i| line.get(i)).is_some_and(u8::is_ascii_digit);
+            for (i, &b) in line.iter().enumerate() {
                 match b {
                     b'"' => quoted = !quoted,
                     b';' if !quoted => semicolons += 1,
-                    b',' if !quoted => commas += 1,
+                    b',' if !quoted => {
+                        commas += 1;
+                        decimal_commas &= digit(i.checked_sub(1)) && digit(Some(i + 1));
+                    }
                     _ => {}
                 }
             }
-            (semicolons, commas)
+            (semicolons, commas, decimal_commas)
         })
         .collect();
-    let Some(&(first, _)) = lines.first() else { return b',' };
-    let consistent = first > 0 && lines.iter().all(|&(s, _)| s == first);
-    let commas_separate = lines.iter().all(|&(_, c)| c > 0 && c == lines[0].1) && lines[0].1 >= first;
+    let Some(&(first, _, _)) = lines.first() else { return b',' };
+    let consistent = first > 0 && lines.iter().all(|&(s, _, _)| s == first);
+    let decimal = lines.iter().all(|&(_, _, d)| d);
+    let commas_separate = !decimal && lines.iter().all(|&(_, c, _)| c > 0 && c == lines[0].1) && lines[0].1 >= first;
     if consistent && !commas_separate {
         b';'
     } else {
@@ -489,6 +495,15 @@ mod tests {
         assert_eq!(err, Malformed { line: 2, message: err.message.clone() });
         // A quote inside an unquoted field is a literal character, as the reader takes it.
         assert!(record_starts("ab\"c\n", b',').is_ok());
+    }
+
+    #[test]
+    fn decimal_commas_do_not_make_a_file_comma_separated() {
+        assert_eq!(delimiter_of(b"a;0,5\n"), b';');
+        assert_eq!(delimiter_of(b"D;40,5\nf;2,25\n"), b';');
+        assert_eq!(delimiter_of(b"a;b,c\n"), b',');
+        assert_eq!(delimiter_of(b"1,5\n2,6\n"), b',');
+        assert_eq!(delimiter_of(b"x;y,1\n"), b',');
     }
 
     #[test]
