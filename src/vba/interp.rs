@@ -301,7 +301,7 @@ impl Interp<'_, '_> {
         }
         // The clock costs ~25 ns a reading: read it every 16 steps, a statement stopping at
         // most 15 statements late.
-        if n % 16 == 0 && self.started.elapsed() > self.options.max_time {
+        if n.is_multiple_of(16) && self.started.elapsed() > self.options.max_time {
             let limit = self.options.max_time.as_secs_f64();
             let mut f = self.fault_at(
                 span,
