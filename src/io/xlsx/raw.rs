@@ -260,6 +260,12 @@ impl<R> Inflating<R> {
 
     fn past_limit(&self) -> PastLimit {
         let limits = self.limits;
+        if self.inflated > limits.part_bytes && limits.part_bytes == HELD_WHOLE {
+            return PastLimit(format!(
+                "the part inflates to more than {}, ncsheet's limit on a part it holds whole: a zip bomb or a damaged file",
+                limits::bytes(HELD_WHOLE)
+            ));
+        }
         if self.inflated > limits.part_bytes {
             return PastLimit(format!(
                 "the part inflates to more than {}, ncsheet's limit on one part (--max-part-size raises it)",
