@@ -285,8 +285,11 @@ impl<S: Surface> Placer<'_, S> {
         out: &mut Vec<PathPoint>,
         max_points: usize,
     ) -> Result<(), PathError<S::Error>> {
-        let too_many =
-            || PathError::Spec(GeometryError::OutOfRange(format!("the path has more than the {max_points} points allowed")));
+        let too_many = || {
+            PathError::Spec(GeometryError::OutOfRange(format!(
+                "the path has more than the {max_points} points allowed"
+            )))
+        };
         match spacing {
             Spacing::Step(step) => {
                 let vs = stations(along, step);
