@@ -224,6 +224,11 @@ impl Workbook {
         self.date_1904
     }
 
+    /// The hidden rows of `sheet`, in order, and how each is hidden.
+    pub fn hidden_rows(&self, sheet: SheetId) -> Vec<(u32, RowHidden)> {
+        self.sheets.get(sheet as usize).map(|s| s.hidden_rows().collect()).unwrap_or_default()
+    }
+
     /// Hides row `row` of `sheet` (`None` shows it), without recalculating: SUBTOTAL and
     /// AGGREGATE read it at the next recalculation.
     pub fn set_row_hidden(&mut self, sheet: SheetId, row: u32, hidden: Option<RowHidden>) {

@@ -29,6 +29,11 @@ impl Sheet {
         self.hidden_rows.get(&row).copied()
     }
 
+    /// The hidden rows, in order, and how each is hidden.
+    pub fn hidden_rows(&self) -> impl Iterator<Item = (u32, RowHidden)> + '_ {
+        self.hidden_rows.iter().map(|(&row, &how)| (row, how))
+    }
+
     /// Hides row `row` (`None` shows it again).
     pub fn set_row_hidden(&mut self, row: u32, hidden: Option<RowHidden>) {
         match hidden {

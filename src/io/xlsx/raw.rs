@@ -342,7 +342,8 @@ fn iteration_of(calculation: &Calculation) -> Option<Iteration> {
         return None;
     }
     let default = Iteration::default();
-    let max_change = Some(calculation.iterate_delta).filter(|d| d.is_finite() && *d >= 0.0).unwrap_or(default.max_change);
+    let max_change =
+        Some(calculation.iterate_delta).filter(|d| d.is_finite() && *d >= 0.0).unwrap_or(default.max_change);
     Some(Iteration { count: calculation.iterate_count, max_change })
 }
 

@@ -101,6 +101,11 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
         ws.set_name(name).map_err(|e| fail(Some(name), e))?;
         // A formula whose result is "" must cache "", not rust_xlsxwriter's default 0.
         ws.set_formula_result_default("");
+        // Hidden rows stay hidden (SUBTOTAL and AGGREGATE skip them); a row a filter hid is
+        // written hidden too, though the filter itself is not written (a new file).
+        for (row, _) in wb.hidden_rows(sheet) {
+            ws.set_row_hidden(row).map_err(|e| fail(Some(name), e))?;
+        }
         if let Some(l) = sheet_layout {
             for &(col, width) in &l.column_widths {
                 ws.set_column_width_pixels(col, (width * 7.0).round() as u32).map_err(|e| fail(Some(name), e))?;
