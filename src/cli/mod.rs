@@ -17,6 +17,7 @@ mod cam;
 mod hints;
 mod info;
 mod macros;
+mod nc;
 mod output;
 mod repl;
 pub mod report;
@@ -54,6 +55,7 @@ pub enum Command {
     Macros(macros::MacrosArgs),
     Show(show::ShowArgs),
     Info(info::InfoArgs),
+    Nc(nc::NcArgs),
 }
 
 /// Compute a sheet and print its values (all of it, or the cells and ranges named).
@@ -189,6 +191,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Macros(args) => macros::run(args),
         Command::Show(args) => show::run(args),
         Command::Info(args) => info::run(args),
+        Command::Nc(args) => nc::run(args),
     }
 }
 

@@ -2,6 +2,7 @@
 //! dialects ([`dialect`]) that write it for a control. Knows nothing of workbooks or files.
 
 pub mod cam;
+pub mod dda;
 pub mod dialect;
 pub mod format;
 pub mod program;
