@@ -84,3 +84,91 @@ fn nc_dda_takes_millimetres_at_the_machine_increment() {
     assert_eq!(off_grid.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&off_grid.stderr).contains("--dx"));
 }
+
+use ncsheet::nc::motion::{self, Rates};
+use ncsheet::nc::{ArcDirection, Block, FeedMode, Machine, Program, Target};
+
+fn close(a: f64, b: f64, tol: f64) -> bool {
+    (a - b).abs() <= tol
+}
+
+#[test]
+fn a_long_block_is_the_closed_form_trapezoid() {
+    // L = 250 mm at v = 3000 mm/min = 50 mm/s, a = 200 mm/s²: v²/a = 12.5 mm < L.
+    let (l, v, a) = (250.0, 50.0, 200.0);
+    let t = motion::trapezoid(l, v * 60.0, a).unwrap();
+    let t_acc = v / a;
+    let s_acc = 0.5 * a * t_acc * t_acc;
+    let t_cruise = (l - 2.0 * s_acc) / v;
+    assert!(close(t.peak, v, 1e-12));
+    assert!(close(t.t_accel, t_acc, 1e-12));
+    assert!(close(t.t_cruise, t_cruise, 1e-12));
+    assert!(close(t.total, 2.0 * t_acc + t_cruise, 1e-12));
+}
+
+#[test]
+fn a_short_block_is_a_triangle() {
+    // L = 2 mm cannot reach 50 mm/s at 200 mm/s² (that takes 12.5 mm): half the block
+    // accelerating, s = a·t²/2 = L/2.
+    let (l, v, a) = (2.0, 50.0, 200.0);
+    let t = motion::trapezoid(l, v * 60.0, a).unwrap();
+    let t_half = (l / a).sqrt();
+    assert!(close(t.t_cruise, 0.0, 0.0));
+    assert!(close(t.total, 2.0 * t_half, 1e-12));
+    assert!(close(t.peak, a * t_half, 1e-12));
+    assert!(t.peak < v);
+}
+
+#[test]
+fn axis_velocities_are_the_direction_cosines() {
+    // δx = 16, δy = 8 (the paper's move): f_x = 16/√320, f_y = 8/√320.
+    let v = motion::axis_velocities(&[16.0, 8.0], 50.0);
+    assert!(close(v[0], 50.0 * 16.0 / 320f64.sqrt(), 1e-12));
+    assert!(close(v[1], 50.0 * 8.0 / 320f64.sqrt(), 1e-12));
+    assert!(close(v[0].hypot(v[1]), 50.0, 1e-12));
+}
+
+/// Time to run `length` mm from rest to rest, by stepping the motion: speed up at `a` until
+/// the distance left is what braking from the current speed takes, never above `v`.
+fn integrate(length: f64, v: f64, a: f64) -> f64 {
+    let dt = 1e-6;
+    let (mut s, mut speed, mut t) = (0.0, 0.0, 0.0);
+    while s < length {
+        let braking = speed * speed / (2.0 * a);
+        if length - s <= braking {
+            speed = (speed - a * dt).max(1e-9);
+        } else {
+            speed = (speed + a * dt).min(v);
+        }
+        s += speed * dt;
+        t += dt;
+    }
+    t
+}
+
+#[test]
+fn a_programs_time_matches_a_numerical_integration() {
+    let mut p = Program::new("T", Machine::Mill);
+    p.push(Block::FeedMode(FeedMode::PerMinute));
+    p.push(Block::Rapid(Target::xyz(0.0, 0.0, 5.0)));
+    p.push(Block::Line { to: Target::xyz(0.0, 0.0, -1.0), feed: Some(300.0) }); // 6 mm
+    p.push(Block::Line { to: Target::xy(40.0, 30.0), feed: Some(1200.0) }); // 50 mm
+                                                                            // A half circle of radius 20 around (40, 50): π·20 mm.
+    let centre = Target::xy(40.0, 50.0);
+    p.push(Block::Arc { direction: ArcDirection::CounterClockwise, to: Target::xy(40.0, 70.0), centre, feed: None });
+    p.push(Block::Line { to: Target::xy(40.5, 70.0), feed: None }); // 0.5 mm: a triangle
+    p.push(Block::Dwell(1.5));
+    p.push(Block::Rapid(Target::xyz(40.5, 70.0, 25.0))); // 26 mm at the rapid rate
+    let (a, rapid) = (500.0, 12000.0);
+    let times = motion::program_times(&p, Rates { accel: a, rapid }).unwrap();
+    let total: f64 = times.iter().map(|b| b.time).sum();
+    let expected = integrate(6.0, 5.0, a)
+        + integrate(50.0, 20.0, a)
+        + integrate(std::f64::consts::PI * 20.0, 20.0, a)
+        + integrate(0.5, 20.0, a)
+        + 1.5
+        + integrate(26.0, 200.0, a);
+    assert!(close(total, expected, 1e-3), "{total} vs {expected}");
+    let lengths: Vec<f64> = times.iter().map(|b| b.length).collect();
+    assert!(close(lengths[3], std::f64::consts::PI * 20.0, 1e-9), "{lengths:?}");
+}

@@ -5,6 +5,7 @@ pub mod cam;
 pub mod dda;
 pub mod dialect;
 pub mod format;
+pub mod motion;
 pub mod program;
 
 pub use dialect::{by_name, Dialect, NcError};
