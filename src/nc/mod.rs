@@ -7,6 +7,7 @@ pub mod dialect;
 pub mod format;
 pub mod motion;
 pub mod program;
+pub mod read;
 
 pub use dialect::{by_name, Dialect, NcError};
 pub use program::{
