@@ -299,3 +299,130 @@ fn unknown_words_are_errors_naming_line_and_column() {
         assert_eq!((e.line, e.column), (line, column), "{text:?}: {e}");
     }
 }
+
+mod common;
+
+use common::rs274::{self as rs274, Move};
+
+/// The moves our reader makes of a program, as rs274 reports them: absolute mm, X as a radius
+/// on a lathe, axes never set at 0, arcs by their end and centre in the plane.
+fn our_moves(p: &Program) -> Vec<Move> {
+    let lathe = p.machine == Machine::Lathe;
+    let x_true = |x: f64| if lathe { x / 2.0 } else { x };
+    let mut at = [0.0f64; 3];
+    let mut moves = Vec::new();
+    for b in &p.blocks {
+        let (Block::Rapid(t) | Block::Line { to: t, .. } | Block::Arc { to: t, .. }) = b else { continue };
+        at = [t.x.map(x_true).unwrap_or(at[0]), t.y.unwrap_or(at[1]), t.z.unwrap_or(at[2])];
+        moves.push(match b {
+            Block::Rapid(_) => Move::Traverse { x: at[0], y: at[1], z: at[2] },
+            Block::Line { .. } => Move::Feed { x: at[0], y: at[1], z: at[2] },
+            Block::Arc { direction, centre, .. } => {
+                let rotation = if *direction == ArcDirection::CounterClockwise { 1 } else { -1 };
+                if lathe {
+                    let (cz, cx) = (centre.z.unwrap(), x_true(centre.x.unwrap()));
+                    Move::Arc {
+                        first_end: at[2],
+                        second_end: at[0],
+                        first_centre: cz,
+                        second_centre: cx,
+                        rotation,
+                        axis_end: at[1],
+                    }
+                } else {
+                    let (cx, cy) = (centre.x.unwrap(), centre.y.unwrap());
+                    Move::Arc {
+                        first_end: at[0],
+                        second_end: at[1],
+                        first_centre: cx,
+                        second_centre: cy,
+                        rotation,
+                        axis_end: at[2],
+                    }
+                }
+            }
+            _ => unreachable!(),
+        });
+    }
+    moves
+}
+
+fn same_moves(a: &[Move], b: &[Move]) -> bool {
+    let near = |x: &[f64], y: &[f64]| x.iter().zip(y).all(|(p, q)| (p - q).abs() < 1e-4);
+    a.len() == b.len()
+        && a.iter().zip(b).all(|pair| match pair {
+            (Move::Traverse { x, y, z }, Move::Traverse { x: p, y: q, z: r })
+            | (Move::Feed { x, y, z }, Move::Feed { x: p, y: q, z: r }) => near(&[*x, *y, *z], &[*p, *q, *r]),
+            (
+                Move::Arc { first_end, second_end, first_centre, second_centre, rotation, axis_end },
+                Move::Arc {
+                    first_end: a1,
+                    second_end: a2,
+                    first_centre: c1,
+                    second_centre: c2,
+                    rotation: r,
+                    axis_end: e,
+                },
+            ) => {
+                rotation == r
+                    && near(
+                        &[*first_end, *second_end, *first_centre, *second_centre, *axis_end],
+                        &[*a1, *a2, *c1, *c2, *e],
+                    )
+            }
+            _ => false,
+        })
+}
+
+/// LinuxCNC's interpreter and our reader make the same moves of the same programs.
+#[test]
+fn rs274_moves_equal_our_readers_moves() {
+    if !rs274::available() {
+        eprintln!("skipped: LinuxCNC's rs274 is not installed (bash .ci/run installs linuxcnc-uspace)");
+        return;
+    }
+    let hand = "%\n(HAND)\nG21 G17 G90 G94\nG0 X5 Y5 Z2\nG1 Z-1 F200\nG91 G1 X20 Y0\nG90 G3 X25 Y15 R-5\n\
+                G2 X35 Y15 R5\nG1 X35 Y5\nG3 X30 Y0 I-5 J0\nG0 Z10\nM2\n%\n";
+    let mut mill = mill_program();
+    mill.blocks.retain(|b| !matches!(b, Block::Compensation(_)));
+    let generated = [mill, lathe_program()].map(|mut p| {
+        p.number = None;
+        dialect::by_name("linuxcnc").unwrap().render(&p).unwrap()
+    });
+    let lathe_nc = std::fs::read_to_string("tests/nc/linuxcnc/lathe.nc").unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    for (i, text) in [hand.to_string(), lathe_nc, generated[0].clone(), generated[1].clone()].iter().enumerate() {
+        let path = dir.path().join(format!("p{i}.ngc"));
+        std::fs::write(&path, text).unwrap();
+        let theirs = rs274::moves(&path).unwrap_or_else(|e| panic!("rs274 rejected program {i}:\n{e}\n{text}"));
+        let ours = our_moves(&read::read(text, Family::LinuxCnc, None).unwrap());
+        assert!(same_moves(&ours, &theirs), "program {i}:\nours   {ours:?}\nrs274 {theirs:?}\n{text}");
+    }
+}
+
+#[test]
+fn nc_time_prints_the_cycle_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("p.ngc");
+    std::fs::write(&path, "G21 G17 G90 G94\nG0 X0 Y0 Z0\nG1 X100 F3000\nG4 P0.5\nM2\n").unwrap();
+    let run = |file: &std::path::Path| {
+        Command::new(env!("CARGO_BIN_EXE_ncsheet"))
+            .args(["nc", "time", "--accel", "200", "--rapid", "10000", "--dialect", "linuxcnc"])
+            .arg(file)
+            .output()
+            .unwrap()
+    };
+    let out = run(&path);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    // 100 mm at 50 mm/s with 200 mm/s²: L/v + v/a = 2 + 0.25 s; the dwell 0.5 s.
+    assert!(text.contains("cycle time 2.750 s"), "{text}");
+    std::fs::write(&path, "G21 G17 G90 G94\nG0 X0 Y0 Z0\nG1 X100 E5 F3000\n").unwrap();
+    let out = run(&path);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("line 3, column 9"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

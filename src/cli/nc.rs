@@ -1,14 +1,19 @@
 //! `ncsheet nc …`: NC programs as a control runs them (DOMAIN.md §4): the DDA interpolator's
-//! table for one straight move.
+//! table for one straight move, and a program's cycle time block by block.
 
 use std::io::{self, Write};
+use std::path::PathBuf;
 
+use clap::ValueEnum;
 use clap::{Args, Subcommand};
 use ncsheet::nc::dda::{self, DdaRun};
+use ncsheet::nc::motion::{self, BlockTime, Rates};
+use ncsheet::nc::read::{self, Family};
+use ncsheet::nc::Machine;
 
 use super::report::{Error, Result};
 
-/// Run NC moves as a control does: the DDA interpolator's table.
+/// Run NC moves as a control does: the DDA interpolator's table, a program's cycle time.
 #[derive(Debug, Args)]
 pub struct NcArgs {
     #[command(subcommand)]
@@ -18,6 +23,41 @@ pub struct NcArgs {
 #[derive(Debug, Subcommand)]
 pub enum NcCommand {
     Dda(DdaArgs),
+    Time(TimeArgs),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ReadDialect {
+    /// ISO / Fanuc (G98/G99 on a lathe, G4 P in ms)
+    Iso,
+    /// LinuxCNC RS-274/NGC (G7/G8, G4 P in s)
+    Linuxcnc,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum MachineArg {
+    Lathe,
+    Mill,
+}
+
+/// A program's cycle time: every block from rest to rest on a trapezoidal velocity profile
+/// (acceleration A to the programmed feed, a triangle when the block is too short), dwells
+/// added; one row per moving block with its source line.
+#[derive(Debug, Args)]
+pub struct TimeArgs {
+    /// The NC program (text as the dialect writes it)
+    pub program: PathBuf,
+    /// Path acceleration and deceleration, mm/s²
+    #[arg(long)]
+    pub accel: f64,
+    /// Rapid traverse rate, mm/min
+    #[arg(long)]
+    pub rapid: f64,
+    #[arg(long, value_enum, default_value_t = ReadDialect::Iso)]
+    pub dialect: ReadDialect,
+    /// What the program is for; default: a lathe when G18 comes before the first move
+    #[arg(long, value_enum)]
+    pub machine: Option<MachineArg>,
 }
 
 /// Print the DDA linear interpolator's table for one straight move, clock by clock: each
@@ -45,6 +85,7 @@ pub struct DdaArgs {
 pub fn run(args: NcArgs) -> Result<()> {
     match args.command {
         NcCommand::Dda(a) => dda_table(a),
+        NcCommand::Time(a) => cycle_time(a),
     }
 }
 
@@ -103,5 +144,46 @@ fn render(run: &DdaRun, letters: &[char]) -> String {
         text.push_str(cells.join("  ").trim_end());
         text.push('\n');
     }
+    text
+}
+
+fn cycle_time(args: TimeArgs) -> Result<()> {
+    let name = args.program.display().to_string();
+    let text = std::fs::read_to_string(&args.program).map_err(|e| Error::User(format!("{name}: {e}")))?;
+    let family = match args.dialect {
+        ReadDialect::Iso => Family::Fanuc,
+        ReadDialect::Linuxcnc => Family::LinuxCnc,
+    };
+    let machine = args.machine.map(|m| match m {
+        MachineArg::Lathe => Machine::Lathe,
+        MachineArg::Mill => Machine::Mill,
+    });
+    let (program, lines) =
+        read::read_with_lines(&text, family, machine).map_err(|e| Error::User(format!("{name}: {e}")))?;
+    let times = motion::program_times(&program, Rates { accel: args.accel, rapid: args.rapid }).map_err(|e| {
+        let at = e.block.and_then(|b| lines.get(b - 1)).map(|l| format!(", line {l}")).unwrap_or_default();
+        Error::User(format!("{name}{at}: {}", e.message))
+    })?;
+    let mut out = io::BufWriter::new(io::stdout().lock());
+    out.write_all(time_table(&times, &lines).as_bytes())?;
+    out.flush()?;
+    Ok(())
+}
+
+fn time_table(times: &[BlockTime], lines: &[usize]) -> String {
+    let mut text = format!(
+        "{:>6}  {:<5}  {:>10}  {:>10}  {:>9}  {:>9}\n",
+        "line", "move", "length mm", "feed/min", "peak mm/s", "time s"
+    );
+    for t in times {
+        let line = lines.get(t.block - 1).copied().unwrap_or(0);
+        let peak = t.profile.map(|p| format!("{:.3}", p.peak)).unwrap_or_default();
+        text.push_str(&format!(
+            "{line:>6}  {:<5}  {:>10.3}  {:>10.1}  {peak:>9}  {:>9.3}\n",
+            t.kind, t.length, t.feed, t.time
+        ));
+    }
+    let total: f64 = times.iter().map(|t| t.time).sum();
+    text.push_str(&format!("cycle time {total:.3} s ({}:{:06.3})\n", (total / 60.0).floor(), total % 60.0));
     text
 }

@@ -87,6 +87,17 @@ struct State {
 /// Reads `text` as `family` writes it. `machine` says what the program is for; without it a
 /// G18 before the first move means a lathe and anything else a mill.
 pub fn read(text: &str, family: Family, machine: Option<Machine>) -> Result<Program, ReadError> {
+    read_with_lines(text, family, machine).map(|(p, _)| p)
+}
+
+/// [`read`], with the 1-based source line of each block of the model (for messages about a
+/// block found later, e.g. by the motion planner).
+pub fn read_with_lines(
+    text: &str,
+    family: Family,
+    machine: Option<Machine>,
+) -> Result<(Program, Vec<usize>), ReadError> {
+    let mut lines = Vec::new();
     let mut st = State {
         family,
         machine,
@@ -119,6 +130,7 @@ pub fn read(text: &str, family: Family, machine: Option<Machine>) -> Result<Prog
             if let Some(c) = comment {
                 if started {
                     program.blocks.push(Block::Comment(c));
+                    lines.push(line);
                 } else {
                     program.name = c;
                 }
@@ -135,12 +147,13 @@ pub fn read(text: &str, family: Family, machine: Option<Machine>) -> Result<Prog
         }
         started = true;
         ended = block(&mut st, &words, &mut program.blocks).map_err(|(c, m)| at(c, m))?;
+        lines.resize(program.blocks.len(), line);
         if st.machine.is_none() && program.blocks.iter().any(is_move) {
             st.machine = Some(Machine::Mill);
         }
     }
     program.machine = st.machine.unwrap_or(Machine::Mill);
-    Ok(program)
+    Ok((program, lines))
 }
 
 fn is_move(b: &Block) -> bool {
