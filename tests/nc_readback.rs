@@ -293,6 +293,8 @@ fn unknown_words_are_errors_naming_line_and_column() {
         ("G0 X0 Y0\nG1 X1 F10 M47\n", 2, 11),
         ("G0 X0 Y0\nG1 X1 F\n", 2, 7),
         ("G0 X0 Y0\nG2 X10 Y10 R1\n", 2, 12),
+        // A word that means nothing without its code is not dropped: P without G4.
+        ("G0 X0 Y0\nG1 X1 P5 F10\n", 2, 7),
     ];
     for (text, line, column) in cases {
         let e = read::read(text, Family::Fanuc, Some(Machine::Mill)).unwrap_err();

@@ -82,6 +82,8 @@ struct State {
     speed: Option<f64>,
     max_rpm: Option<f64>,
     surface_speed: bool,
+    /// The spindle's direction while it turns: an S alone then changes its speed.
+    running: Option<SpindleDirection>,
 }
 
 /// Reads `text` as `family` writes it. `machine` says what the program is for; without it a
@@ -111,6 +113,7 @@ pub fn read_with_lines(
         speed: None,
         max_rpm: None,
         surface_speed: false,
+        running: None,
     };
     let mut program = Program::new("", machine.unwrap_or(Machine::Mill));
     let mut started = false;
@@ -249,6 +252,7 @@ fn block(st: &mut State, words: &[Word], out: &mut Vec<Block>) -> Result<bool, F
             l => return Err((w.column, format!("{l} is not a word this reader knows"))),
         }
     }
+    unused_words(words, dwell, compensation, spindle_mode, g50, st.family)?;
     if let Some(m) = feed_mode {
         out.push(Block::FeedMode(m));
     }
@@ -263,6 +267,9 @@ fn block(st: &mut State, words: &[Word], out: &mut Vec<Block>) -> Result<bool, F
             st.max_rpm = Some(s.value);
         } else {
             st.speed = Some(s.value);
+            if spindle_m.is_none() {
+                spindle_m = st.running.map(Some);
+            }
         }
     }
     if let Some(d) = find('D').filter(|_| spindle_mode == Some(true) && st.family == Family::LinuxCnc) {
@@ -272,8 +279,12 @@ fn block(st: &mut State, words: &[Word], out: &mut Vec<Block>) -> Result<bool, F
         st.surface_speed = css;
     }
     match spindle_m {
-        Some(None) => out.push(Block::Spindle(Spindle::Stop)),
+        Some(None) => {
+            st.running = None;
+            out.push(Block::Spindle(Spindle::Stop));
+        }
         Some(Some(direction)) => {
+            st.running = Some(direction);
             let column = words.iter().find(|w| w.letter == 'M').map_or(1, |w| w.column);
             let speed = st.speed.ok_or((column, "the spindle starts with no speed S given".to_string()))?;
             out.push(Block::Spindle(if st.surface_speed {
@@ -304,6 +315,34 @@ fn block(st: &mut State, words: &[Word], out: &mut Vec<Block>) -> Result<bool, F
         out.push(m);
     }
     Ok(end)
+}
+
+/// Words that only mean something with a code this block does not have: an error rather
+/// than a word silently dropped.
+fn unused_words(
+    words: &[Word],
+    dwell: bool,
+    compensation: Option<Compensation>,
+    spindle_mode: Option<bool>,
+    g50: bool,
+    family: Family,
+) -> Result<(), Fail> {
+    let g43 = words.iter().any(|w| w.letter == 'G' && w.value == 43.0);
+    let side = matches!(compensation, Some(Compensation::Left | Compensation::Right));
+    let css_limit = spindle_mode == Some(true) && family == Family::LinuxCnc;
+    for w in words {
+        let meaningful = match w.letter {
+            'P' => dwell,
+            'D' => side || css_limit,
+            'H' => g43,
+            'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' => !g50,
+            _ => true,
+        };
+        if !meaningful {
+            return Err((w.column, format!("{} has no meaning in this block (not read)", w.letter)));
+        }
+    }
+    Ok(())
 }
 
 fn code(w: &Word) -> Result<u32, Fail> {
