@@ -26,6 +26,9 @@ impl fmt::Display for ReadError {
 
 impl std::error::Error for ReadError {}
 
+/// Digits after the point the ISO and LinuxCNC writers use unless a program asks for more.
+const DEFAULT_DECIMALS: usize = 3;
+
 /// Which control's reading of the words: they differ in dwell units, lathe feed modes,
 /// O-words and diameter mode.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -51,6 +54,8 @@ struct Word {
     letter: char,
     value: f64,
     column: usize,
+    /// Digits written after the point.
+    decimals: usize,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -117,6 +122,8 @@ pub fn read_with_lines(
     };
     let mut program = Program::new("", machine.unwrap_or(Machine::Mill));
     let mut started = false;
+    // Coordinates written finer than the dialects' 0.001 mm: the machine resolves finer.
+    let mut decimals = DEFAULT_DECIMALS;
     let mut ended = false;
     for (i, raw) in text.lines().enumerate() {
         let line = i + 1;
@@ -149,6 +156,8 @@ pub fn read_with_lines(
             continue;
         }
         started = true;
+        let finest = words.iter().filter(|w| "XYZABCIJKR".contains(w.letter)).map(|w| w.decimals).max();
+        decimals = decimals.max(finest.unwrap_or(0));
         ended = block(&mut st, &words, &mut program.blocks).map_err(|(c, m)| at(c, m))?;
         lines.resize(program.blocks.len(), line);
         if st.machine.is_none() && program.blocks.iter().any(is_move) {
@@ -156,6 +165,7 @@ pub fn read_with_lines(
         }
     }
     program.machine = st.machine.unwrap_or(Machine::Mill);
+    program.precision = (decimals > DEFAULT_DECIMALS).then_some(decimals);
     Ok((program, lines))
 }
 
@@ -201,7 +211,8 @@ fn tokens(raw: &str) -> Result<(Vec<Word>, Option<String>), Fail> {
                 .ok()
                 .filter(|v| v.is_finite())
                 .ok_or((start + 1, format!("the word {c} has no number after it (`{number}`)")))?;
-            words.push(Word { letter: c.to_ascii_uppercase(), value, column: start + 1 });
+            let decimals = number.split_once('.').map_or(0, |(_, f)| f.len());
+            words.push(Word { letter: c.to_ascii_uppercase(), value, column: start + 1, decimals });
         } else {
             return Err((i + 1, format!("`{c}` is not the start of a word")));
         }
