@@ -19,6 +19,7 @@ mod hints;
 mod info;
 mod limits;
 mod macros;
+mod nc;
 mod output;
 mod repl;
 pub mod report;
@@ -80,6 +81,7 @@ pub enum Command {
     Macros(macros::MacrosArgs),
     Show(show::ShowArgs),
     Info(info::InfoArgs),
+    Nc(nc::NcArgs),
 }
 
 /// Compute a sheet and print its values (all of it, or the cells and ranges named).
@@ -227,6 +229,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Macros(args) => macros::run(args),
         Command::Show(args) => show::run(args),
         Command::Info(args) => info::run(args),
+        Command::Nc(args) => nc::run(args),
     }
 }
 

@@ -2,9 +2,12 @@
 //! dialects ([`dialect`]) that write it for a control. Knows nothing of workbooks or files.
 
 pub mod cam;
+pub mod dda;
 pub mod dialect;
 pub mod format;
+pub mod motion;
 pub mod program;
+pub mod read;
 
 pub use dialect::{by_name, Dialect, NcError};
 pub use program::{

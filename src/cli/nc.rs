@@ -1,0 +1,189 @@
+//! `ncsheet nc …`: NC programs as a control runs them (DOMAIN.md §4): the DDA interpolator's
+//! table for one straight move, and a program's cycle time block by block.
+
+use std::io::{self, Write};
+use std::path::PathBuf;
+
+use clap::ValueEnum;
+use clap::{Args, Subcommand};
+use ncsheet::nc::dda::{self, DdaRun};
+use ncsheet::nc::motion::{self, BlockTime, Rates};
+use ncsheet::nc::read::{self, Family};
+use ncsheet::nc::Machine;
+
+use super::report::{Error, Result};
+
+/// Run NC moves as a control does: the DDA interpolator's table, a program's cycle time.
+#[derive(Debug, Args)]
+pub struct NcArgs {
+    #[command(subcommand)]
+    pub command: NcCommand,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum NcCommand {
+    Dda(DdaArgs),
+    Time(TimeArgs),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ReadDialect {
+    /// ISO / Fanuc (G98/G99 on a lathe, G4 P in ms)
+    Iso,
+    /// LinuxCNC RS-274/NGC (G7/G8, G4 P in s)
+    Linuxcnc,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum MachineArg {
+    Lathe,
+    Mill,
+}
+
+/// A program's cycle time: every block from rest to rest on a trapezoidal velocity profile
+/// (acceleration A to the programmed feed, a triangle when the block is too short), dwells
+/// added; one row per moving block with its source line.
+#[derive(Debug, Args)]
+pub struct TimeArgs {
+    /// The NC program (text as the dialect writes it)
+    pub program: PathBuf,
+    /// Path acceleration and deceleration, mm/s²
+    #[arg(long)]
+    pub accel: f64,
+    /// Rapid traverse rate, mm/min
+    #[arg(long)]
+    pub rapid: f64,
+    #[arg(long, value_enum, default_value_t = ReadDialect::Iso)]
+    pub dialect: ReadDialect,
+    /// What the program is for; default: a lathe when G18 comes before the first move
+    #[arg(long, value_enum)]
+    pub machine: Option<MachineArg>,
+}
+
+/// Print the DDA linear interpolator's table for one straight move, clock by clock: each
+/// axis's registers p and q and its pulses (the paper's table T8.1.1:
+/// `nc dda --bits 4 --dx 16 --dy 8`).
+#[derive(Debug, Args)]
+pub struct DdaArgs {
+    /// The move along X: in machine increments, or in mm when --increment is given
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
+    pub dx: f64,
+    /// The move along Y
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
+    pub dy: f64,
+    /// The move along Z (printed only when not 0)
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
+    pub dz: f64,
+    /// The machine increment in mm (e.g. 0.001); then --dx/--dy/--dz are in mm
+    #[arg(long)]
+    pub increment: Option<f64>,
+    /// Bits n of each axis's adder (2ⁿ clocks); default: the smallest with 2ⁿ ≥ the longest move
+    #[arg(long)]
+    pub bits: Option<u32>,
+}
+
+pub fn run(args: NcArgs) -> Result<()> {
+    match args.command {
+        NcCommand::Dda(a) => dda_table(a),
+        NcCommand::Time(a) => cycle_time(a),
+    }
+}
+
+fn dda_table(args: DdaArgs) -> Result<()> {
+    let user = |e: dda::DdaError| Error::User(e.to_string());
+    let increment = args.increment.unwrap_or(1.0);
+    let mut axes = vec![('X', args.dx), ('Y', args.dy)];
+    if args.dz != 0.0 {
+        axes.push(('Z', args.dz));
+    }
+    let mut deltas = Vec::new();
+    for (letter, v) in &axes {
+        let n = dda::increments(*v, increment)
+            .map_err(|e| Error::User(format!("--d{}: {e}", letter.to_ascii_lowercase())))?;
+        deltas.push(n);
+    }
+    let bits = args.bits.unwrap_or_else(|| dda::bits_for(&deltas));
+    let run = dda::linear(bits, &deltas).map_err(user)?;
+    let letters: Vec<char> = axes.iter().map(|a| a.0).collect();
+    let mut out = io::BufWriter::new(io::stdout().lock());
+    out.write_all(render(&run, &letters).as_bytes())?;
+    out.flush()?;
+    Ok(())
+}
+
+/// The table as the paper lays it out: clock, then per axis p, q (`16-16=0` on an overflow)
+/// and the pulse; a last row with each axis's pulse count.
+fn render(run: &DdaRun, letters: &[char]) -> String {
+    let capacity = run.capacity();
+    let mut rows: Vec<Vec<String>> = Vec::new();
+    let mut head = vec!["clock".to_string()];
+    for l in letters {
+        head.extend([format!("{l} p"), format!("{l} q"), format!("{l} pulse")]);
+    }
+    rows.push(head);
+    let mut start = vec!["0".to_string()];
+    start.extend(letters.iter().flat_map(|_| ["0".to_string(), "0".to_string(), "0".to_string()]));
+    rows.push(start);
+    for clock in &run.clocks {
+        let mut row = vec![clock.number.to_string()];
+        for a in &clock.axes {
+            let q = if a.pulse { format!("{}-{capacity}={}", a.sum, a.q) } else { a.q.to_string() };
+            row.extend([a.p.to_string(), q, u8::from(a.pulse).to_string()]);
+        }
+        rows.push(row);
+    }
+    let mut total = vec!["pulses".to_string()];
+    for n in run.pulses() {
+        total.extend([String::new(), String::new(), n.to_string()]);
+    }
+    rows.push(total);
+    let widths: Vec<usize> = (0..rows[0].len()).map(|c| rows.iter().map(|r| r[c].len()).max().unwrap_or(0)).collect();
+    let mut text = format!("DDA: {} bits, 2^{} = {capacity} clocks\n", run.bits, run.bits);
+    for row in rows {
+        let cells: Vec<String> = row.iter().zip(&widths).map(|(s, w)| format!("{s:>w$}")).collect();
+        text.push_str(cells.join("  ").trim_end());
+        text.push('\n');
+    }
+    text
+}
+
+fn cycle_time(args: TimeArgs) -> Result<()> {
+    let name = args.program.display().to_string();
+    let text = std::fs::read_to_string(&args.program).map_err(|e| Error::User(format!("{name}: {e}")))?;
+    let family = match args.dialect {
+        ReadDialect::Iso => Family::Fanuc,
+        ReadDialect::Linuxcnc => Family::LinuxCnc,
+    };
+    let machine = args.machine.map(|m| match m {
+        MachineArg::Lathe => Machine::Lathe,
+        MachineArg::Mill => Machine::Mill,
+    });
+    let (program, lines) =
+        read::read_with_lines(&text, family, machine).map_err(|e| Error::User(format!("{name}: {e}")))?;
+    let times = motion::program_times(&program, Rates { accel: args.accel, rapid: args.rapid }).map_err(|e| {
+        let at = e.block.and_then(|b| lines.get(b - 1)).map(|l| format!(", line {l}")).unwrap_or_default();
+        Error::User(format!("{name}{at}: {}", e.message))
+    })?;
+    let mut out = io::BufWriter::new(io::stdout().lock());
+    out.write_all(time_table(&times, &lines).as_bytes())?;
+    out.flush()?;
+    Ok(())
+}
+
+fn time_table(times: &[BlockTime], lines: &[usize]) -> String {
+    let mut text = format!(
+        "{:>6}  {:<5}  {:>10}  {:>10}  {:>9}  {:>9}\n",
+        "line", "move", "length mm", "feed/min", "peak mm/s", "time s"
+    );
+    for t in times {
+        let line = lines.get(t.block - 1).copied().unwrap_or(0);
+        let peak = t.profile.map(|p| format!("{:.3}", p.peak)).unwrap_or_default();
+        text.push_str(&format!(
+            "{line:>6}  {:<5}  {:>10.3}  {:>10.1}  {peak:>9}  {:>9.3}\n",
+            t.kind, t.length, t.feed, t.time
+        ));
+    }
+    let total: f64 = times.iter().map(|t| t.time).sum();
+    text.push_str(&format!("cycle time {total:.3} s ({}:{:06.3})\n", (total / 60.0).floor(), total % 60.0));
+    text
+}

@@ -1,0 +1,549 @@
+//! Reading word-address programs (ISO/Fanuc and LinuxCNC RS-274/NGC) back into the one
+//! program model: modal motion (G0–G3), plane (G17/18/19), units (G20/21, read into mm),
+//! absolute/incremental (G90/91), feed mode (G94/95, Fanuc lathe G98/99), diameter mode
+//! (LinuxCNC G7/G8; Fanuc lathes are diametral), arcs by I/J/K or R, F, S, T, M. A word the
+//! reader does not know is an error naming its line and column, never skipped.
+
+use std::fmt;
+
+use super::program::{
+    ArcDirection, Block, Compensation, FeedMode, Machine, Program, Spindle, SpindleDirection, Target,
+};
+
+/// Where a program cannot be read, 1-based.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReadError {
+    pub line: usize,
+    pub column: usize,
+    pub message: String,
+}
+
+impl fmt::Display for ReadError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "line {}, column {}: {}", self.line, self.column, self.message)
+    }
+}
+
+impl std::error::Error for ReadError {}
+
+/// Digits after the point the ISO and LinuxCNC writers use unless a program asks for more.
+const DEFAULT_DECIMALS: usize = 3;
+
+/// Which control's reading of the words: they differ in dwell units, lathe feed modes,
+/// O-words and diameter mode.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Family {
+    Fanuc,
+    LinuxCnc,
+}
+
+impl Family {
+    /// The families read here, by the dialect names `--dialect` takes.
+    pub fn by_dialect(name: &str) -> Option<Family> {
+        match name.to_ascii_lowercase().as_str() {
+            "iso" => Some(Family::Fanuc),
+            "linuxcnc" => Some(Family::LinuxCnc),
+            _ => None,
+        }
+    }
+}
+
+/// One word as written: its letter, value and 1-based column.
+#[derive(Clone, Copy, Debug)]
+struct Word {
+    letter: char,
+    value: f64,
+    column: usize,
+    /// Digits written after the point.
+    decimals: usize,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Motion {
+    Rapid,
+    Line,
+    Arc(ArcDirection),
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Plane {
+    Xy,
+    Zx,
+    Yz,
+}
+
+/// The modal state while reading.
+struct State {
+    family: Family,
+    machine: Option<Machine>,
+    motion: Option<Motion>,
+    plane: Plane,
+    inches: bool,
+    incremental: bool,
+    /// X is a diameter (Fanuc lathes always; LinuxCNC after G7).
+    diameter: bool,
+    compensation: Compensation,
+    position: [Option<f64>; 6],
+    speed: Option<f64>,
+    max_rpm: Option<f64>,
+    surface_speed: bool,
+    /// The spindle's direction while it turns: an S alone then changes its speed.
+    running: Option<SpindleDirection>,
+}
+
+/// Reads `text` as `family` writes it. `machine` says what the program is for; without it a
+/// G18 before the first move means a lathe and anything else a mill.
+pub fn read(text: &str, family: Family, machine: Option<Machine>) -> Result<Program, ReadError> {
+    read_with_lines(text, family, machine).map(|(p, _)| p)
+}
+
+/// [`read`], with the 1-based source line of each block of the model (for messages about a
+/// block found later, e.g. by the motion planner).
+pub fn read_with_lines(
+    text: &str,
+    family: Family,
+    machine: Option<Machine>,
+) -> Result<(Program, Vec<usize>), ReadError> {
+    let mut lines = Vec::new();
+    let mut st = State {
+        family,
+        machine,
+        motion: None,
+        plane: Plane::Xy,
+        inches: false,
+        incremental: false,
+        diameter: family == Family::Fanuc,
+        compensation: Compensation::Off,
+        position: [None; 6],
+        speed: None,
+        max_rpm: None,
+        surface_speed: false,
+        running: None,
+    };
+    let mut program = Program::new("", machine.unwrap_or(Machine::Mill));
+    let mut started = false;
+    // Coordinates written finer than the dialects' 0.001 mm: the machine resolves finer.
+    let mut decimals = DEFAULT_DECIMALS;
+    let mut ended = false;
+    for (i, raw) in text.lines().enumerate() {
+        let line = i + 1;
+        let at = |column: usize, message: String| ReadError { line, column, message };
+        let trimmed = raw.trim();
+        if trimmed.is_empty() || trimmed == "%" {
+            continue;
+        }
+        if ended {
+            return Err(at(1, "text after the program's end (M30/M2)".into()));
+        }
+        let (words, comment) = tokens(raw).map_err(|(c, m)| at(c, m))?;
+        if words.is_empty() {
+            if let Some(c) = comment {
+                if started {
+                    program.blocks.push(Block::Comment(c));
+                    lines.push(line);
+                } else {
+                    program.name = c;
+                }
+            }
+            continue;
+        }
+        if let Some(o) = words.iter().find(|w| w.letter == 'O') {
+            if family == Family::LinuxCnc || started || words.len() > 1 {
+                return Err(at(o.column, "an O-word other than the program number at the start is not read".into()));
+            }
+            program.number = Some(o.value as u32);
+            program.name = comment.unwrap_or_default();
+            continue;
+        }
+        started = true;
+        let finest = words.iter().filter(|w| "XYZABCIJKR".contains(w.letter)).map(|w| w.decimals).max();
+        decimals = decimals.max(finest.unwrap_or(0));
+        ended = block(&mut st, &words, &mut program.blocks).map_err(|(c, m)| at(c, m))?;
+        lines.resize(program.blocks.len(), line);
+        if st.machine.is_none() && program.blocks.iter().any(is_move) {
+            st.machine = Some(Machine::Mill);
+        }
+    }
+    program.machine = st.machine.unwrap_or(Machine::Mill);
+    program.precision = (decimals > DEFAULT_DECIMALS).then_some(decimals);
+    Ok((program, lines))
+}
+
+fn is_move(b: &Block) -> bool {
+    matches!(b, Block::Rapid(_) | Block::Line { .. } | Block::Arc { .. })
+}
+
+type Fail = (usize, String);
+
+/// The words of one line and its comment (`( … )`, or `;` to the end on LinuxCNC).
+fn tokens(raw: &str) -> Result<(Vec<Word>, Option<String>), Fail> {
+    let chars: Vec<char> = raw.chars().collect();
+    let mut words = Vec::new();
+    let mut comment = None;
+    let mut i = 0;
+    while i < chars.len() {
+        let c = chars[i];
+        if c.is_whitespace() {
+            i += 1;
+        } else if c == '(' {
+            let close = chars[i..]
+                .iter()
+                .position(|&c| c == ')')
+                .ok_or((i + 1, "a comment that is not closed by `)`".to_string()))?;
+            comment = Some(chars[i + 1..i + close].iter().collect::<String>().trim().to_string());
+            i += close + 1;
+        } else if c == ';' {
+            comment = Some(chars[i + 1..].iter().collect::<String>().trim().to_string());
+            break;
+        } else if c.is_ascii_alphabetic() {
+            let start = i;
+            i += 1;
+            while i < chars.len() && chars[i] == ' ' {
+                i += 1;
+            }
+            let from = i;
+            while i < chars.len() && (chars[i].is_ascii_digit() || "+-.".contains(chars[i])) {
+                i += 1;
+            }
+            let number: String = chars[from..i].iter().collect();
+            let value = number
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or((start + 1, format!("the word {c} has no number after it (`{number}`)")))?;
+            let decimals = number.split_once('.').map_or(0, |(_, f)| f.len());
+            words.push(Word { letter: c.to_ascii_uppercase(), value, column: start + 1, decimals });
+        } else {
+            return Err((i + 1, format!("`{c}` is not the start of a word")));
+        }
+    }
+    Ok((words, comment))
+}
+
+/// Reads one block's words into model blocks; `true` at the program's end (M30/M2).
+fn block(st: &mut State, words: &[Word], out: &mut Vec<Block>) -> Result<bool, Fail> {
+    let find = |l: char| words.iter().find(|w| w.letter == l);
+    let mut motion_word = None;
+    let mut dwell = false;
+    let mut spindle_mode = None;
+    let mut g50 = false;
+    let mut end = false;
+    let mut feed_mode = None;
+    let mut compensation = None;
+    let mut spindle_m = None;
+    let mut coolant = None;
+    let mut seen = std::collections::HashSet::new();
+    for w in words {
+        if !matches!(w.letter, 'G' | 'M') && !seen.insert(w.letter) {
+            return Err((w.column, format!("{} is given twice in one block", w.letter)));
+        }
+        match w.letter {
+            'G' => g_code(
+                st,
+                w,
+                &mut motion_word,
+                &mut dwell,
+                &mut spindle_mode,
+                &mut g50,
+                &mut feed_mode,
+                &mut compensation,
+            )?,
+            'M' => match code(w)? {
+                3 => spindle_m = Some(Some(SpindleDirection::Clockwise)),
+                4 => spindle_m = Some(Some(SpindleDirection::CounterClockwise)),
+                5 => spindle_m = Some(None),
+                // The tool change of `T1 M6`: the T word makes the model's block.
+                6 => {}
+                8 => coolant = Some(true),
+                9 => coolant = Some(false),
+                2 | 30 => end = true,
+                m => return Err((w.column, format!("M{m} is not a code this reader knows"))),
+            },
+            'N' | 'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' | 'I' | 'J' | 'K' | 'R' | 'F' | 'S' | 'T' | 'D' | 'P' | 'H' => {}
+            l => return Err((w.column, format!("{l} is not a word this reader knows"))),
+        }
+    }
+    unused_words(words, dwell, compensation, spindle_mode, g50, st.family)?;
+    if let Some(m) = feed_mode {
+        out.push(Block::FeedMode(m));
+    }
+    if let Some(t) = find('T') {
+        let n = code(t)?;
+        // Fanuc lathes write tool and offset together: T0101.
+        let n = if st.family == Family::Fanuc && st.machine == Some(Machine::Lathe) && n >= 100 { n / 100 } else { n };
+        out.push(Block::Tool(n));
+    }
+    if let Some(s) = find('S') {
+        if g50 {
+            st.max_rpm = Some(s.value);
+        } else {
+            st.speed = Some(s.value);
+            if spindle_m.is_none() {
+                spindle_m = st.running.map(Some);
+            }
+        }
+    }
+    if let Some(d) = find('D').filter(|_| spindle_mode == Some(true) && st.family == Family::LinuxCnc) {
+        st.max_rpm = Some(d.value);
+    }
+    if let Some(css) = spindle_mode {
+        st.surface_speed = css;
+    }
+    match spindle_m {
+        Some(None) => {
+            st.running = None;
+            out.push(Block::Spindle(Spindle::Stop));
+        }
+        Some(Some(direction)) => {
+            st.running = Some(direction);
+            let column = words.iter().find(|w| w.letter == 'M').map_or(1, |w| w.column);
+            let speed = st.speed.ok_or((column, "the spindle starts with no speed S given".to_string()))?;
+            out.push(Block::Spindle(if st.surface_speed {
+                let max_rpm = st
+                    .max_rpm
+                    .ok_or((column, "constant surface speed with no spindle limit (G50 S / D)".to_string()))?;
+                Spindle::SurfaceSpeed { metres_per_min: speed, max_rpm, direction }
+            } else {
+                Spindle::Rpm { rpm: speed, direction }
+            }));
+        }
+        None => {}
+    }
+    if let Some(c) = compensation {
+        if c != st.compensation || c != Compensation::Off {
+            out.push(Block::Compensation(c));
+        }
+        st.compensation = c;
+    }
+    if let Some(on) = coolant {
+        out.push(Block::Coolant(on));
+    }
+    if dwell {
+        let p = find('P').ok_or((1, "a dwell G4 without its time P".to_string()))?;
+        let seconds = if st.family == Family::Fanuc { p.value / 1000.0 } else { p.value };
+        out.push(Block::Dwell(seconds));
+    } else if let Some(m) = motion_block(st, words, motion_word)? {
+        out.push(m);
+    }
+    Ok(end)
+}
+
+/// Words that only mean something with a code this block does not have: an error rather
+/// than a word silently dropped.
+fn unused_words(
+    words: &[Word],
+    dwell: bool,
+    compensation: Option<Compensation>,
+    spindle_mode: Option<bool>,
+    g50: bool,
+    family: Family,
+) -> Result<(), Fail> {
+    let g43 = words.iter().any(|w| w.letter == 'G' && w.value == 43.0);
+    let side = matches!(compensation, Some(Compensation::Left | Compensation::Right));
+    let css_limit = spindle_mode == Some(true) && family == Family::LinuxCnc;
+    for w in words {
+        let meaningful = match w.letter {
+            'P' => dwell,
+            'D' => side || css_limit,
+            'H' => g43,
+            'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' => !g50,
+            _ => true,
+        };
+        if !meaningful {
+            return Err((w.column, format!("{} has no meaning in this block (not read)", w.letter)));
+        }
+    }
+    Ok(())
+}
+
+fn code(w: &Word) -> Result<u32, Fail> {
+    if w.value.fract() != 0.0 || w.value < 0.0 || w.value > 1e6 {
+        return Err((w.column, format!("{}{} is not a whole code", w.letter, w.value)));
+    }
+    Ok(w.value as u32)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn g_code(
+    st: &mut State,
+    w: &Word,
+    motion: &mut Option<usize>,
+    dwell: &mut bool,
+    spindle_mode: &mut Option<bool>,
+    g50: &mut bool,
+    feed_mode: &mut Option<FeedMode>,
+    compensation: &mut Option<Compensation>,
+) -> Result<(), Fail> {
+    let lathe = st.machine == Some(Machine::Lathe);
+    let unsupported = || Err((w.column, format!("G{} is not a code this reader knows", w.value)));
+    if w.value.fract() != 0.0 {
+        return unsupported();
+    }
+    match w.value as i64 {
+        0 => set_motion(st, w, motion, Motion::Rapid),
+        1 => set_motion(st, w, motion, Motion::Line),
+        2 => set_motion(st, w, motion, Motion::Arc(ArcDirection::Clockwise)),
+        3 => set_motion(st, w, motion, Motion::Arc(ArcDirection::CounterClockwise)),
+        4 => *dwell = true,
+        7 if st.family == Family::LinuxCnc => st.diameter = true,
+        8 if st.family == Family::LinuxCnc => st.diameter = false,
+        17 => st.plane = Plane::Xy,
+        18 => {
+            st.plane = Plane::Zx;
+            st.machine.get_or_insert(Machine::Lathe);
+        }
+        19 => st.plane = Plane::Yz,
+        20 => st.inches = true,
+        21 => st.inches = false,
+        40 => *compensation = Some(Compensation::Off),
+        41 => *compensation = Some(Compensation::Left),
+        42 => *compensation = Some(Compensation::Right),
+        // Tool length offset with the tool change (LinuxCNC's `T1 M6 G43`): the model's tool
+        // change implies it.
+        43 => {}
+        50 if st.family == Family::Fanuc => *g50 = true,
+        90 => st.incremental = false,
+        91 => st.incremental = true,
+        94 => *feed_mode = Some(FeedMode::PerMinute),
+        95 => *feed_mode = Some(FeedMode::PerRevolution),
+        98 if st.family == Family::Fanuc && lathe => *feed_mode = Some(FeedMode::PerMinute),
+        99 if st.family == Family::Fanuc && lathe => *feed_mode = Some(FeedMode::PerRevolution),
+        96 => *spindle_mode = Some(true),
+        97 => *spindle_mode = Some(false),
+        _ => return unsupported(),
+    }
+    Ok(())
+}
+
+fn set_motion(st: &mut State, w: &Word, word: &mut Option<usize>, m: Motion) {
+    st.motion = Some(m);
+    *word = Some(w.column);
+}
+
+/// The move a block makes, if it names an axis (or a motion code with axes).
+fn motion_block(st: &mut State, words: &[Word], motion_word: Option<usize>) -> Result<Option<Block>, Fail> {
+    let find = |l: char| words.iter().find(|w| w.letter == l);
+    let scale = if st.inches { 25.4 } else { 1.0 };
+    let axes = ['X', 'Y', 'Z', 'A', 'B', 'C'];
+    let has_axis = words.iter().any(|w| axes.contains(&w.letter));
+    let arc_words = words.iter().find(|w| "IJKR".contains(w.letter));
+    if !has_axis {
+        if let Some(w) = arc_words {
+            return Err((w.column, format!("{} without an end point", w.letter)));
+        }
+        if let Some(f) = find('F') {
+            return Err((f.column, "a feed F alone in a block is not read (give it with the move)".into()));
+        }
+        return Ok(None);
+    }
+    let motion = st.motion.ok_or((words[0].column, "a move with no motion code (G0/G1/G2/G3) in force".to_string()))?;
+    if st.machine.is_none() {
+        st.machine = Some(Machine::Mill);
+    }
+    let lathe = st.machine == Some(Machine::Lathe);
+    let start = st.position;
+    let mut target = Target::default();
+    for (i, letter) in axes.iter().enumerate() {
+        let Some(w) = find(*letter) else { continue };
+        // Lengths in mm; rotary axes in degrees whatever the units. A lathe's X is a diameter
+        // in the model; radius mode (LinuxCNC G8) writes the radius.
+        let mut v = if i < 3 { w.value * scale } else { w.value };
+        if i == 0 && lathe && !st.diameter {
+            v *= 2.0;
+        }
+        if st.incremental {
+            let from = start[i].ok_or((w.column, format!("an incremental {letter} from an unknown position")))?;
+            v += from;
+        }
+        match i {
+            0 => target.x = Some(v),
+            1 => target.y = Some(v),
+            2 => target.z = Some(v),
+            3 => target.a = Some(v),
+            4 => target.b = Some(v),
+            _ => target.c = Some(v),
+        }
+        st.position[i] = Some(v);
+    }
+    let feed = find('F').map(|f| f.value * scale);
+    let column = motion_word.unwrap_or(words[0].column);
+    Ok(Some(match motion {
+        Motion::Rapid => {
+            if let Some(w) = arc_words.or(find('F')) {
+                return Err((w.column, format!("{} in a rapid move", w.letter)));
+            }
+            Block::Rapid(target)
+        }
+        Motion::Line => {
+            if let Some(w) = arc_words {
+                return Err((w.column, format!("{} in a straight move", w.letter)));
+            }
+            Block::Line { to: target, feed }
+        }
+        Motion::Arc(direction) => {
+            let centre = arc_centre(st, lathe, &start, words, direction, column)?;
+            Block::Arc { direction, to: target, centre, feed }
+        }
+    }))
+}
+
+/// The absolute arc centre from I/J/K (offsets from the start, a radius on a lathe's X) or
+/// from R (negative R: the arc over 180°), in the machine's plane only.
+fn arc_centre(
+    st: &State,
+    lathe: bool,
+    start: &[Option<f64>; 6],
+    words: &[Word],
+    direction: ArcDirection,
+    column: usize,
+) -> Result<Target, Fail> {
+    let find = |l: char| words.iter().find(|w| w.letter == l);
+    let scale = if st.inches { 25.4 } else { 1.0 };
+    let wanted = if lathe { Plane::Zx } else { Plane::Xy };
+    if st.plane != wanted {
+        return Err((
+            column,
+            "an arc outside the machine's plane (G17 on a mill, G18 on a lathe) is not in the program model".into(),
+        ));
+    }
+    // Plane coordinates (u, v) in true lengths: (X, Y) on a mill, (Z, X/2) on a lathe.
+    let (ui, vi) = if lathe { (2, 0) } else { (0, 1) };
+    let true_len = |i: usize, v: f64| if lathe && i == 0 { v / 2.0 } else { v };
+    let s = match (start[ui], start[vi]) {
+        (Some(u), Some(v)) => (u, true_len(vi, v)),
+        _ => return Err((column, "an arc from an unknown start point".into())),
+    };
+    let e =
+        (st.position[ui].unwrap_or(s.0), true_len(vi, st.position[vi].unwrap_or(s.1 * if lathe { 2.0 } else { 1.0 })));
+    let c = if let Some(r) = find('R') {
+        centre_from_radius(s, e, r.value * scale, direction)
+            .ok_or((r.column, "the arc's end is farther from its start than 2·R".to_string()))?
+    } else {
+        let (ul, vl) = if lathe { ('K', 'I') } else { ('I', 'J') };
+        let off = |l: char| find(l).map_or(0.0, |w| w.value * scale);
+        if find(ul).is_none() && find(vl).is_none() {
+            return Err((column, format!("an arc needs {ul}/{vl} or R")));
+        }
+        (s.0 + off(ul), s.1 + off(vl))
+    };
+    Ok(if lathe { Target::xz(c.1 * 2.0, c.0) } else { Target::xy(c.0, c.1) })
+}
+
+/// The centre of the arc of radius |r| from `s` to `e` turning `direction`; r < 0 takes the
+/// longer of the two arcs (RS-274 and Fanuc alike).
+fn centre_from_radius(s: (f64, f64), e: (f64, f64), r: f64, direction: ArcDirection) -> Option<(f64, f64)> {
+    let (dx, dy) = (e.0 - s.0, e.1 - s.1);
+    let chord = dx.hypot(dy);
+    let half = chord / 2.0;
+    if chord == 0.0 || half > r.abs() * (1.0 + 1e-9) {
+        return None;
+    }
+    let h = (r * r - half * half).max(0.0).sqrt();
+    let (mx, my) = (s.0 + dx / 2.0, s.1 + dy / 2.0);
+    // Left of the chord for a counter-clockwise short arc; the long arc and clockwise flip it.
+    let mut side = if direction == ArcDirection::CounterClockwise { 1.0 } else { -1.0 };
+    if r < 0.0 {
+        side = -side;
+    }
+    Some((mx - side * h * dy / chord, my + side * h * dx / chord))
+}

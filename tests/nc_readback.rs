@@ -1,0 +1,469 @@
+//! NC programs as a control runs them (issue 15): the DDA interpolator against the paper's
+//! table T8.1.1 (DOMAIN.md §4).
+
+use std::process::Command;
+
+use ncsheet::nc::dda;
+
+/// Table T8.1.1 of Glavonjić (`../shared/seeds/003_01afb1c580101bdc.txt`), typed from the
+/// paper: n = 4, δx = 16, δy = 8; per clock (X p, X q after, X pulse, Y p, Y q after, Y pulse).
+const T8_1_1: [(u64, u64, u64, u64, u64, u64, u64); 16] = [
+    (1, 16, 0, 1, 8, 8, 0),
+    (2, 16, 0, 1, 8, 0, 1),
+    (3, 16, 0, 1, 8, 8, 0),
+    (4, 16, 0, 1, 8, 0, 1),
+    (5, 16, 0, 1, 8, 8, 0),
+    (6, 16, 0, 1, 8, 0, 1),
+    (7, 16, 0, 1, 8, 8, 0),
+    (8, 16, 0, 1, 8, 0, 1),
+    (9, 16, 0, 1, 8, 8, 0),
+    (10, 16, 0, 1, 8, 0, 1),
+    (11, 16, 0, 1, 8, 8, 0),
+    (12, 16, 0, 1, 8, 0, 1),
+    (13, 16, 0, 1, 8, 8, 0),
+    (14, 16, 0, 1, 8, 0, 1),
+    (15, 16, 0, 1, 8, 8, 0),
+    (16, 16, 0, 1, 8, 0, 1),
+];
+
+#[test]
+fn dda_reproduces_table_t8_1_1_every_clock() {
+    let run = dda::linear(4, &[16, 8]).unwrap();
+    assert_eq!(run.clocks.len(), 16);
+    for (clock, row) in run.clocks.iter().zip(T8_1_1) {
+        let (x, y) = (clock.axes[0], clock.axes[1]);
+        let got = (clock.number, x.p, x.q, u64::from(x.pulse), y.p, y.q, u64::from(y.pulse));
+        assert_eq!(got, row, "clock {}", row.0);
+    }
+    // The paper's sums: 16 pulses on X, 8 on Y, both arriving at K after the 16th clock.
+    assert_eq!(run.pulses(), vec![16, 8]);
+}
+
+#[test]
+fn nc_dda_prints_table_t8_1_1() {
+    let out = Command::new(env!("CARGO_BIN_EXE_ncsheet"))
+        .args(["nc", "dda", "--bits", "4", "--dx", "16", "--dy", "8"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    let rows: Vec<Vec<&str>> = text.lines().map(|l| l.split_whitespace().collect()).collect();
+    // The paper writes an overflow as `16-16=0` and a sum below 2ⁿ as the sum kept in q.
+    let q = |q_after: u64, pulse: u64, p: u64| {
+        if pulse == 1 {
+            format!("{}-16={q_after}", q_after + 16)
+        } else {
+            assert!(q_after < 16 && q_after >= p);
+            q_after.to_string()
+        }
+    };
+    for (clock, xp, xq, xd, yp, yq, yd) in T8_1_1 {
+        let row = rows.iter().find(|r| r.first() == Some(&clock.to_string().as_str())).expect("clock row");
+        let want = [
+            clock.to_string(),
+            xp.to_string(),
+            q(xq, xd, xp),
+            xd.to_string(),
+            yp.to_string(),
+            q(yq, yd, yp),
+            yd.to_string(),
+        ];
+        assert_eq!(row.iter().map(|s| s.to_string()).collect::<Vec<_>>(), want, "clock {clock}");
+    }
+    assert_eq!(rows.last().unwrap(), &vec!["pulses", "16", "8"]);
+}
+
+#[test]
+fn nc_dda_takes_millimetres_at_the_machine_increment() {
+    let run = |args: &[&str]| Command::new(env!("CARGO_BIN_EXE_ncsheet")).args(args).output().unwrap();
+    let mm = run(&["nc", "dda", "--increment", "0.001", "--dx", "0.016", "--dy", "0.008"]);
+    let counts = run(&["nc", "dda", "--dx", "16", "--dy", "8"]);
+    assert!(mm.status.success(), "{}", String::from_utf8_lossy(&mm.stderr));
+    assert_eq!(mm.stdout, counts.stdout);
+    let off_grid = run(&["nc", "dda", "--increment", "0.001", "--dx", "0.0165"]);
+    assert_eq!(off_grid.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&off_grid.stderr).contains("--dx"));
+}
+
+use ncsheet::nc::motion::{self, Rates};
+use ncsheet::nc::{ArcDirection, Block, FeedMode, Machine, Program, Target};
+
+fn close(a: f64, b: f64, tol: f64) -> bool {
+    (a - b).abs() <= tol
+}
+
+#[test]
+fn a_long_block_is_the_closed_form_trapezoid() {
+    // L = 250 mm at v = 3000 mm/min = 50 mm/s, a = 200 mm/s²: v²/a = 12.5 mm < L.
+    let (l, v, a) = (250.0, 50.0, 200.0);
+    let t = motion::trapezoid(l, v * 60.0, a).unwrap();
+    let t_acc = v / a;
+    let s_acc = 0.5 * a * t_acc * t_acc;
+    let t_cruise = (l - 2.0 * s_acc) / v;
+    assert!(close(t.peak, v, 1e-12));
+    assert!(close(t.t_accel, t_acc, 1e-12));
+    assert!(close(t.t_cruise, t_cruise, 1e-12));
+    assert!(close(t.total, 2.0 * t_acc + t_cruise, 1e-12));
+}
+
+#[test]
+fn a_short_block_is_a_triangle() {
+    // L = 2 mm cannot reach 50 mm/s at 200 mm/s² (that takes 12.5 mm): half the block
+    // accelerating, s = a·t²/2 = L/2.
+    let (l, v, a) = (2.0, 50.0, 200.0);
+    let t = motion::trapezoid(l, v * 60.0, a).unwrap();
+    let t_half = (l / a).sqrt();
+    assert!(close(t.t_cruise, 0.0, 0.0));
+    assert!(close(t.total, 2.0 * t_half, 1e-12));
+    assert!(close(t.peak, a * t_half, 1e-12));
+    assert!(t.peak < v);
+}
+
+#[test]
+fn axis_velocities_are_the_direction_cosines() {
+    // δx = 16, δy = 8 (the paper's move): f_x = 16/√320, f_y = 8/√320.
+    let v = motion::axis_velocities(&[16.0, 8.0], 50.0);
+    assert!(close(v[0], 50.0 * 16.0 / 320f64.sqrt(), 1e-12));
+    assert!(close(v[1], 50.0 * 8.0 / 320f64.sqrt(), 1e-12));
+    assert!(close(v[0].hypot(v[1]), 50.0, 1e-12));
+}
+
+/// Time to run `length` mm from rest to rest, by stepping the motion: speed up at `a` until
+/// the distance left is what braking from the current speed takes, never above `v`.
+fn integrate(length: f64, v: f64, a: f64) -> f64 {
+    let dt = 1e-6;
+    let (mut s, mut speed, mut t) = (0.0, 0.0, 0.0);
+    while s < length {
+        let braking = speed * speed / (2.0 * a);
+        if length - s <= braking {
+            speed = (speed - a * dt).max(1e-9);
+        } else {
+            speed = (speed + a * dt).min(v);
+        }
+        s += speed * dt;
+        t += dt;
+    }
+    t
+}
+
+#[test]
+fn a_programs_time_matches_a_numerical_integration() {
+    let mut p = Program::new("T", Machine::Mill);
+    p.push(Block::FeedMode(FeedMode::PerMinute));
+    p.push(Block::Rapid(Target::xyz(0.0, 0.0, 5.0)));
+    p.push(Block::Line { to: Target::xyz(0.0, 0.0, -1.0), feed: Some(300.0) }); // 6 mm
+    p.push(Block::Line { to: Target::xy(40.0, 30.0), feed: Some(1200.0) }); // 50 mm
+                                                                            // A half circle of radius 20 around (40, 50): π·20 mm.
+    let centre = Target::xy(40.0, 50.0);
+    p.push(Block::Arc { direction: ArcDirection::CounterClockwise, to: Target::xy(40.0, 70.0), centre, feed: None });
+    p.push(Block::Line { to: Target::xy(40.5, 70.0), feed: None }); // 0.5 mm: a triangle
+    p.push(Block::Dwell(1.5));
+    p.push(Block::Rapid(Target::xyz(40.5, 70.0, 25.0))); // 26 mm at the rapid rate
+    let (a, rapid) = (500.0, 12000.0);
+    let times = motion::program_times(&p, Rates { accel: a, rapid }).unwrap();
+    let total: f64 = times.iter().map(|b| b.time).sum();
+    let expected = integrate(6.0, 5.0, a)
+        + integrate(50.0, 20.0, a)
+        + integrate(std::f64::consts::PI * 20.0, 20.0, a)
+        + integrate(0.5, 20.0, a)
+        + 1.5
+        + integrate(26.0, 200.0, a);
+    assert!(close(total, expected, 1e-3), "{total} vs {expected}");
+    let lengths: Vec<f64> = times.iter().map(|b| b.length).collect();
+    assert!(close(lengths[3], std::f64::consts::PI * 20.0, 1e-9), "{lengths:?}");
+}
+
+use ncsheet::nc::dialect;
+use ncsheet::nc::read::{self, Family};
+use ncsheet::nc::{Compensation, Spindle, SpindleDirection};
+
+fn reread(text: &str, dialect_name: &str) -> String {
+    let family = Family::by_dialect(dialect_name).unwrap();
+    let program = read::read(text, family, None).unwrap_or_else(|e| panic!("{dialect_name}: {e}\n{text}"));
+    dialect::by_name(dialect_name).unwrap().render(&program).unwrap()
+}
+
+/// The programs written by hand from the controls' manuals (tests/nc, the writers' oracle)
+/// read back and are written out again to the same text.
+#[test]
+fn hand_written_programs_read_back_to_the_same_text() {
+    for (dir, name) in [("iso", "iso"), ("linuxcnc", "linuxcnc")] {
+        for entry in std::fs::read_dir(format!("tests/nc/{dir}")).unwrap() {
+            let path = entry.unwrap().path();
+            let text = std::fs::read_to_string(&path).unwrap();
+            assert_eq!(reread(&text, name), text, "{}", path.display());
+        }
+    }
+}
+
+fn mill_program() -> Program {
+    let mut p = Program::new("PLATE", Machine::Mill);
+    p.retract = Some(Target::xyz(0.0, 0.0, 50.0));
+    p.push(Block::Comment("contour".into()));
+    p.push(Block::FeedMode(FeedMode::PerMinute));
+    p.push(Block::Tool(3));
+    p.push(Block::Spindle(Spindle::Rpm { rpm: 2400.0, direction: SpindleDirection::Clockwise }));
+    p.push(Block::Coolant(true));
+    p.push(Block::Rapid(Target::xyz(-5.0, 0.0, 2.0)));
+    p.push(Block::Compensation(Compensation::Right));
+    p.push(Block::Line { to: Target { z: Some(-2.5), ..Target::default() }, feed: Some(120.0) });
+    p.push(Block::Line { to: Target::xy(30.0, 0.0), feed: Some(450.0) });
+    let centre = Target::xy(30.0, 12.3456);
+    p.push(Block::Arc {
+        direction: ArcDirection::CounterClockwise,
+        to: Target::xy(42.3456, 12.3456),
+        centre,
+        feed: None,
+    });
+    let centre = Target::xy(30.0, 12.3456);
+    p.push(Block::Arc {
+        direction: ArcDirection::Clockwise,
+        to: Target::xy(17.6544, 12.3456),
+        centre,
+        feed: Some(300.0),
+    });
+    p.push(Block::Dwell(0.75));
+    p.push(Block::Compensation(Compensation::Off));
+    p
+}
+
+fn lathe_program() -> Program {
+    let mut p = Program::new("SHAFT", Machine::Lathe);
+    p.number = Some(42);
+    p.retract = Some(Target::xz(80.0, 10.0));
+    p.push(Block::Tool(2));
+    p.push(Block::FeedMode(FeedMode::PerRevolution));
+    let direction = SpindleDirection::Clockwise;
+    p.push(Block::Spindle(Spindle::SurfaceSpeed { metres_per_min: 200.0, max_rpm: 3000.0, direction }));
+    p.push(Block::Rapid(Target::xz(30.0, 2.0)));
+    p.push(Block::Line { to: Target::xz(30.0, -20.0), feed: Some(0.15) });
+    let centre = Target::xz(40.0, -20.0);
+    p.push(Block::Arc {
+        direction: ArcDirection::CounterClockwise,
+        to: Target::xz(40.0, -25.0),
+        centre,
+        feed: Some(0.1),
+    });
+    p.push(Block::Line { to: Target::xz(56.0, -25.0), feed: None });
+    p
+}
+
+/// Programs our writers produce read back into the model and are written out again to the
+/// same text, in both dialects read.
+#[test]
+fn generated_programs_read_back_to_the_same_text() {
+    for name in ["iso", "linuxcnc"] {
+        let d = dialect::by_name(name).unwrap();
+        for mut p in [mill_program(), lathe_program()] {
+            if name == "linuxcnc" {
+                p.number = None;
+            }
+            let text = d.render(&p).unwrap();
+            assert_eq!(reread(&text, name), text, "{name}");
+        }
+    }
+}
+
+#[test]
+fn moves_read_as_the_control_means_them() {
+    // Inches, incremental moves and an R-form arc: the quarter circle of radius 10 from (0, 0)
+    // to (10, 10) turning clockwise has its centre at (10, 0): from there the start lies at
+    // 180° and the end at 90°, a clockwise quarter (around (0, 10) it would be 270°).
+    let text = "G20 G17 G90 G94\nG0 X0 Y0 Z0.1\nG91 G1 Z-0.2 F10\nG90\nG2 X0.3937007874 Y0.3937007874 R0.3937007874\n";
+    let p = read::read(text, Family::LinuxCnc, None).unwrap();
+    assert_eq!(p.machine, Machine::Mill);
+    let Block::Line { to, feed } = &p.blocks[2] else { panic!("{:?}", p.blocks) };
+    assert!(close(to.z.unwrap(), -0.1 * 25.4, 1e-9) && close(feed.unwrap(), 254.0, 1e-9));
+    let Block::Arc { centre, to, direction, .. } = &p.blocks[3] else { panic!("{:?}", p.blocks) };
+    assert_eq!(*direction, ArcDirection::Clockwise);
+    assert!(close(centre.x.unwrap(), 10.0, 1e-6) && close(centre.y.unwrap(), 0.0, 1e-6), "{centre:?}");
+    assert!(close(to.x.unwrap(), 10.0, 1e-6));
+    // LinuxCNC's radius mode on a lathe (G8): X10 is a diameter of 20 in the model.
+    let p = read::read("G18 G8 G90\nG0 X10 Z1\n", Family::LinuxCnc, None).unwrap();
+    assert_eq!(p.machine, Machine::Lathe);
+    assert_eq!(p.blocks[0], Block::Rapid(Target::xz(20.0, 1.0)));
+}
+
+#[test]
+fn unknown_words_are_errors_naming_line_and_column() {
+    let cases = [
+        ("G21 G90\nG1 X1 Q5 F100\n", 2, 7),
+        ("G21\nG0 X0 Y0\nG1 X1 F10\nG33 Z-5 K1\n", 4, 1),
+        ("G0 X0 Y0\nG1 X1 $ F10\n", 2, 7),
+        ("G0 X0 Y0\nG1 X1 F10 M47\n", 2, 11),
+        ("G0 X0 Y0\nG1 X1 F\n", 2, 7),
+        ("G0 X0 Y0\nG2 X10 Y10 R1\n", 2, 12),
+        // A word that means nothing without its code is not dropped: P without G4.
+        ("G0 X0 Y0\nG1 X1 P5 F10\n", 2, 7),
+    ];
+    for (text, line, column) in cases {
+        let e = read::read(text, Family::Fanuc, Some(Machine::Mill)).unwrap_err();
+        assert_eq!((e.line, e.column), (line, column), "{text:?}: {e}");
+    }
+}
+
+mod common;
+
+use common::rs274::{self as rs274, Move};
+
+/// The moves our reader makes of a program, as rs274 reports them: absolute mm, X as a radius
+/// on a lathe, axes never set at 0, arcs by their end and centre in the plane.
+fn our_moves(p: &Program) -> Vec<Move> {
+    let lathe = p.machine == Machine::Lathe;
+    let x_true = |x: f64| if lathe { x / 2.0 } else { x };
+    let mut at = [0.0f64; 3];
+    let mut moves = Vec::new();
+    for b in &p.blocks {
+        let (Block::Rapid(t) | Block::Line { to: t, .. } | Block::Arc { to: t, .. }) = b else { continue };
+        at = [t.x.map(x_true).unwrap_or(at[0]), t.y.unwrap_or(at[1]), t.z.unwrap_or(at[2])];
+        moves.push(match b {
+            Block::Rapid(_) => Move::Traverse { x: at[0], y: at[1], z: at[2] },
+            Block::Line { .. } => Move::Feed { x: at[0], y: at[1], z: at[2] },
+            Block::Arc { direction, centre, .. } => {
+                let rotation = if *direction == ArcDirection::CounterClockwise { 1 } else { -1 };
+                if lathe {
+                    let (cz, cx) = (centre.z.unwrap(), x_true(centre.x.unwrap()));
+                    Move::Arc {
+                        first_end: at[2],
+                        second_end: at[0],
+                        first_centre: cz,
+                        second_centre: cx,
+                        rotation,
+                        axis_end: at[1],
+                    }
+                } else {
+                    let (cx, cy) = (centre.x.unwrap(), centre.y.unwrap());
+                    Move::Arc {
+                        first_end: at[0],
+                        second_end: at[1],
+                        first_centre: cx,
+                        second_centre: cy,
+                        rotation,
+                        axis_end: at[2],
+                    }
+                }
+            }
+            _ => unreachable!(),
+        });
+    }
+    moves
+}
+
+fn same_moves(a: &[Move], b: &[Move]) -> bool {
+    let near = |x: &[f64], y: &[f64]| x.iter().zip(y).all(|(p, q)| (p - q).abs() < 1e-4);
+    a.len() == b.len()
+        && a.iter().zip(b).all(|pair| match pair {
+            (Move::Traverse { x, y, z }, Move::Traverse { x: p, y: q, z: r })
+            | (Move::Feed { x, y, z }, Move::Feed { x: p, y: q, z: r }) => near(&[*x, *y, *z], &[*p, *q, *r]),
+            (
+                Move::Arc { first_end, second_end, first_centre, second_centre, rotation, axis_end },
+                Move::Arc {
+                    first_end: a1,
+                    second_end: a2,
+                    first_centre: c1,
+                    second_centre: c2,
+                    rotation: r,
+                    axis_end: e,
+                },
+            ) => {
+                rotation == r
+                    && near(
+                        &[*first_end, *second_end, *first_centre, *second_centre, *axis_end],
+                        &[*a1, *a2, *c1, *c2, *e],
+                    )
+            }
+            _ => false,
+        })
+}
+
+/// LinuxCNC's interpreter and our reader make the same moves of the same programs.
+#[test]
+fn rs274_moves_equal_our_readers_moves() {
+    if !rs274::available() {
+        eprintln!("skipped: LinuxCNC's rs274 is not installed (bash .ci/run installs linuxcnc-uspace)");
+        return;
+    }
+    let hand = "%\n(HAND)\nG21 G17 G90 G94\nG0 X5 Y5 Z2\nG1 Z-1 F200\nG91 G1 X20 Y0\nG90 G3 X25 Y15 R-5\n\
+                G2 X35 Y15 R5\nG1 X35 Y5\nG3 X30 Y0 I-5 J0\nG0 Z10\nM2\n%\n";
+    let mut mill = mill_program();
+    mill.blocks.retain(|b| !matches!(b, Block::Compensation(_)));
+    let generated = [mill, lathe_program()].map(|mut p| {
+        p.number = None;
+        dialect::by_name("linuxcnc").unwrap().render(&p).unwrap()
+    });
+    let lathe_nc = std::fs::read_to_string("tests/nc/linuxcnc/lathe.nc").unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    for (i, text) in [hand.to_string(), lathe_nc, generated[0].clone(), generated[1].clone()].iter().enumerate() {
+        let path = dir.path().join(format!("p{i}.ngc"));
+        std::fs::write(&path, text).unwrap();
+        let theirs = rs274::moves(&path).unwrap_or_else(|e| panic!("rs274 rejected program {i}:\n{e}\n{text}"));
+        let ours = our_moves(&read::read(text, Family::LinuxCnc, None).unwrap());
+        assert!(same_moves(&ours, &theirs), "program {i}:\nours   {ours:?}\nrs274 {theirs:?}\n{text}");
+    }
+}
+
+#[test]
+fn nc_time_prints_the_cycle_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("p.ngc");
+    std::fs::write(&path, "G21 G17 G90 G94\nG0 X0 Y0 Z0\nG1 X100 F3000\nG4 P0.5\nM2\n").unwrap();
+    let run = |file: &std::path::Path| {
+        Command::new(env!("CARGO_BIN_EXE_ncsheet"))
+            .args(["nc", "time", "--accel", "200", "--rapid", "10000", "--dialect", "linuxcnc"])
+            .arg(file)
+            .output()
+            .unwrap()
+    };
+    let out = run(&path);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    // 100 mm at 50 mm/s with 200 mm/s²: L/v + v/a = 2 + 0.25 s; the dwell 0.5 s.
+    assert!(text.contains("cycle time 2.750 s"), "{text}");
+    std::fs::write(&path, "G21 G17 G90 G94\nG0 X0 Y0 Z0\nG1 X100 E5 F3000\n").unwrap();
+    let out = run(&path);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("line 3, column 9"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// The cam programs of the shipped example (sheets/cam-turret.csv, fitted arcs by the
+/// hundred) read back to the same text in both dialects, and rs274 moves as our reader does.
+#[test]
+fn cam_programs_of_the_example_read_back() {
+    use ncsheet::geometry::cam::{by_disc, fit_cam, CamOptions};
+    use ncsheet::io::cam::parse_sheet;
+    use ncsheet::nc::cam::{self as nc_cam, cam_program, CamNcOptions};
+    let segments = parse_sheet(include_str!("../sheets/cam-turret.csv")).unwrap();
+    let options = CamOptions { tolerance: 0.001, allow_partial: true, with_bounds: false };
+    let dir = tempfile::tempdir().unwrap();
+    let rs274_here = rs274::available();
+    for (disc, s) in by_disc(&segments) {
+        let cam = fit_cam(&disc, &s, &options).unwrap();
+        for side in [nc_cam::Compensation::Off, nc_cam::Compensation::Right] {
+            let program = cam_program(&cam, &CamNcOptions { compensation: side, ..CamNcOptions::default() });
+            for name in ["iso", "linuxcnc"] {
+                let mut p = program.clone();
+                if name == "linuxcnc" {
+                    p.number = None;
+                }
+                let text = dialect::by_name(name).unwrap().render(&p).unwrap();
+                assert_eq!(reread(&text, name), text, "disc {disc}, {name}");
+                if name == "linuxcnc" && side == nc_cam::Compensation::Off && rs274_here {
+                    let path = dir.path().join("cam.ngc");
+                    std::fs::write(&path, &text).unwrap();
+                    let theirs = rs274::moves(&path).unwrap();
+                    let ours = our_moves(&read::read(&text, Family::LinuxCnc, None).unwrap());
+                    assert!(
+                        same_moves(&ours, &theirs),
+                        "disc {disc}: {} moves vs rs274's {}",
+                        ours.len(),
+                        theirs.len()
+                    );
+                }
+            }
+        }
+    }
+}
