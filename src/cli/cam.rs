@@ -2,7 +2,6 @@
 //! spirals replaced by tangent arcs within a tolerance, written as a coordinate table, an NC
 //! milling program or a drawing.
 
-use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
 use clap::builder::PossibleValuesParser;
@@ -10,10 +9,11 @@ use clap::{Args, ValueEnum};
 use ncsheet::geometry::cam::{
     by_disc, fit_cam, fit_piece, CamFit, CamOptions, FittedSegment, Piece, PieceKind, Segment,
 };
-use ncsheet::io::cam::{arcs_csv, parse_sheet, svg_drawing, SvgOptions};
 use ncsheet::nc::cam::{cam_program, fit_tolerance, CamNcOptions, Compensation};
+use ncsheet::nc::cam_sheet::{arcs_csv, parse_sheet, svg_drawing, SvgOptions};
 use ncsheet::nc::{dialect, Machine};
 
+use super::output::emit;
 use super::report::{Error, Result};
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
@@ -211,18 +211,4 @@ fn write_fit(fit: &CamFit, out: &CamOutput) -> Result<()> {
         }
     };
     emit(&text, out.output.as_deref())
-}
-
-/// Text to a file (through a temporary file renamed over it) or to standard output.
-pub fn emit(text: &str, path: Option<&Path>) -> Result<()> {
-    match path {
-        Some(p) => ncsheet::io::atomic::write_file(p, |w| w.write_all(text.as_bytes()))
-            .map_err(|e| Error::User(format!("{}: cannot write: {e}", p.display()))),
-        None => {
-            let mut stdout = io::stdout().lock();
-            stdout.write_all(text.as_bytes())?;
-            stdout.flush()?;
-            Ok(())
-        }
-    }
 }

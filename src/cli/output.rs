@@ -1,7 +1,8 @@
 //! Printing values: an aligned table for people, csv and JSON for programs.
 
 use std::collections::HashSet;
-use std::io::Write;
+use std::io::{self, Write};
+use std::path::Path;
 
 use clap::ValueEnum;
 use ncsheet::eval::functions::NumberFormat;
@@ -13,7 +14,7 @@ use ncsheet::io::xlsx::Layout;
 use ncsheet::io::{csv, Content, Export};
 use ncsheet::workbook::Workbook;
 
-use super::report::Result;
+use super::report::{Error, Result};
 
 /// How `eval` prints values.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
@@ -305,6 +306,20 @@ fn json_value(v: &Value) -> serde_json::Value {
         Value::Array(a) => a.data.first().map_or(serde_json::Value::Null, json_value),
         Value::Blank => serde_json::Value::Null,
         Value::Text(_) | Value::Error(_) => serde_json::Value::String(v.to_string()),
+    }
+}
+
+/// A command's text output to a file (through the one atomic write) or to standard output.
+pub fn emit(text: &str, path: Option<&Path>) -> Result<()> {
+    match path {
+        Some(p) => ncsheet::io::atomic::write_file(p, |w| w.write_all(text.as_bytes()))
+            .map_err(|e| Error::User(format!("{}: cannot write: {e}", p.display()))),
+        None => {
+            let mut stdout = io::stdout().lock();
+            stdout.write_all(text.as_bytes())?;
+            stdout.flush()?;
+            Ok(())
+        }
     }
 }
 

@@ -8,7 +8,7 @@ use clap::{Args, ValueEnum};
 use ncsheet::nc::{dialect, Machine};
 use ncsheet::vba::{self, ErrorKind, RunOptions, RunOutput};
 
-use super::cam::emit;
+use super::output::emit;
 use super::report::{Error, Result};
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]

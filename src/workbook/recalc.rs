@@ -98,6 +98,7 @@ impl Workbook {
     }
 
     fn run_passes(&mut self, mut sources: Vec<u32>) {
+        self.fresh_notes.clear();
         for _ in 0..MAX_PASSES {
             sources.append(&mut self.spill.pending);
             if sources.is_empty() {
@@ -371,8 +372,9 @@ impl Workbook {
             if !self.notes.is_empty() {
                 self.notes.remove(&id);
             }
-        } else {
+        } else if self.notes.get(&id) != Some(&notes) {
             self.notes.insert(id, notes);
+            self.fresh_notes.push(id);
         }
         self.set_result(id, value, late);
         if (!dynamic_refs.is_empty() || !self.dynamic_refs.is_empty()) && self.relink_dynamic(id, dynamic_refs) {

@@ -38,6 +38,15 @@ pub fn load(path: &Path) -> Result<Imported, XlsxError> {
     load_bytes(&bytes, path)
 }
 
+/// The program that last saved the package (`docProps/app.xml`'s `Application`), if it says.
+fn application(package: &mut Package) -> Option<String> {
+    let bytes = package.read_optional("docProps/app.xml").ok()??;
+    let text = String::from_utf8(bytes).ok()?;
+    let start = text.find("<Application>")? + "<Application>".len();
+    let end = start + text[start..].find("</Application>")?;
+    Some(text[start..end].trim().to_string())
+}
+
 /// Reads xlsx bytes into a recalculated workbook; `file` names them in errors.
 pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
     let fail = |(part, kind, message): (Option<String>, ErrorKind, String)| {
@@ -52,8 +61,14 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
             return Err(damaged_workbook_part(&mut package, file).unwrap_or_else(|| calamine_error(file, None, e)))
         }
     };
-    let mut imported =
-        Imported { workbook: Workbook::new(), cached: Vec::new(), layout: Layout::default(), notes: Vec::new() };
+    let written_by = application(&mut package);
+    let mut imported = Imported {
+        workbook: Workbook::new(),
+        cached: Vec::new(),
+        layout: Layout::default(),
+        notes: Vec::new(),
+        written_by,
+    };
     if calamine.has_1904_epoch() {
         imported.workbook.set_date_1904(true);
     }
@@ -160,9 +175,9 @@ fn intersect_legacy_formulas(wb: &mut Workbook, candidates: &[(SheetId, Pos)]) {
         if !spilled && wb.value(sheet, pos) != Value::Error(XlError::Spill) {
             continue;
         }
-        let Some(text) = wb.formula(sheet, pos) else { continue };
-        if let Some(fixed) = syntax::legacy_intersection(text.strip_prefix('=').unwrap_or(&text), wb, sheet, pos) {
-            let _ = wb.set_input(sheet, pos, &format!("={fixed}"));
+        let Some(tree) = wb.formula_tree(sheet, pos) else { continue };
+        if let Some(fixed) = syntax::legacy_intersection(&tree, wb, sheet) {
+            wb.set_formula_tree(sheet, pos, fixed);
         }
     }
 }

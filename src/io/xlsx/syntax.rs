@@ -10,7 +10,8 @@
 //! printer of `formula::print`: `FileSpelling` only says how names and the two operators
 //! are spelled, so parentheses and every other node are printed as for the formula typed.
 //!
-//! Both directions take a fast path: text without a call or these operators needs no parse.
+//! Export prints the workbook's trees (`Workbook::formula_tree`), never its text; import
+//! takes a fast path: text without these operators needs no parse.
 
 use std::borrow::Cow;
 
@@ -52,22 +53,31 @@ pub struct FileFormula {
     pub dynamic: bool,
 }
 
-/// A cell's formula (`=…`, as [`Workbook::formula`] prints it) → as stored in a file.
-pub fn to_file(formula: &str, wb: &Workbook, sheet: SheetId, pos: Pos, storage: Storage) -> FileFormula {
-    let text = formula.strip_prefix('=').unwrap_or(formula);
-    // Without a call or an operator, the spellings agree: no parse.
-    if !text.bytes().any(|b| matches!(b, b'(' | b'#' | b'@')) {
-        return FileFormula { text: text.to_string(), dynamic: false };
+/// A formula tree held by the cell `pos` → as stored in a file.
+pub fn to_file(tree: &Expr, wb: &Workbook, pos: Pos, storage: Storage) -> FileFormula {
+    let spelling = FileSpelling { storage, dynamic: std::cell::Cell::new(false) };
+    let text = print(tree, wb, pos, &spelling);
+    FileFormula { text, dynamic: spelling.dynamic.get() }
+}
+
+/// A cell's formula as stored in a file, `None` for a constant. Text that did not parse
+/// (a table reference, an external link) goes back as it came.
+pub fn cell_to_file(wb: &Workbook, sheet: SheetId, pos: Pos, storage: Storage) -> Option<FileFormula> {
+    match wb.formula_tree(sheet, pos) {
+        Some(tree) => Some(to_file(&tree, wb, pos, storage)),
+        None => wb
+            .formula(sheet, pos)
+            .map(|text| FileFormula { text: text.trim_start_matches('=').to_string(), dynamic: false }),
     }
-    match wb.parse_at(text, sheet, pos) {
-        Ok(expr) => {
-            let spelling = FileSpelling { storage, dynamic: std::cell::Cell::new(false) };
-            let text = print(&expr, wb, pos, &spelling);
-            FileFormula { text, dynamic: spelling.dynamic.get() }
-        }
-        // Text that does not parse (a table reference, an external link) goes back as it came.
-        Err(_) => FileFormula { text: text.to_string(), dynamic: false },
-    }
+}
+
+/// A cell's formula as a file stores it: dynamic when it must be, legacy otherwise.
+pub fn cell_to_file_as_needed(wb: &Workbook, sheet: SheetId, pos: Pos) -> Option<String> {
+    let legacy = cell_to_file(wb, sheet, pos, Storage::Legacy)?;
+    Some(match legacy.dynamic {
+        true => cell_to_file(wb, sheet, pos, Storage::Dynamic)?.text,
+        false => legacy.text,
+    })
 }
 
 /// Whether `text` has `NAME(` for one of `names`, in any case. Looks only before each `(`:
@@ -88,14 +98,11 @@ fn calls_any(text: &str, names: &[&str]) -> bool {
 /// nothing changes. Which arguments take whole ranges or arrays is the registry's
 /// (`FnSpec::array_args`, `FnSpec::range_args`); the rule runs only on formulas that
 /// produced arrays, so a function marked wrongly costs at most that one cell.
-pub fn legacy_intersection(text: &str, wb: &Workbook, sheet: SheetId, pos: Pos) -> Option<String> {
-    let mut expr = wb.parse_at(text, sheet, pos).ok()?;
+pub fn legacy_intersection(tree: &Expr, wb: &Workbook, sheet: SheetId) -> Option<Expr> {
+    let mut expr = tree.clone();
     let mut changed = false;
     intersect(&mut expr, wb, sheet, &mut changed);
-    if !changed {
-        return None;
-    }
-    Some(print(&expr, wb, pos, &AsTyped))
+    changed.then_some(expr)
 }
 
 /// Puts `@` on the ranges under `e` that Excel intersects, `e` being where one value is
@@ -238,6 +245,11 @@ fn print(expr: &Expr, wb: &Workbook, pos: Pos, spelling: &dyn Spelling) -> Strin
 mod tests {
     use super::*;
 
+    /// Typed formula text as a file stores it.
+    fn file_text(text: &str, wb: &Workbook, sheet: SheetId, at: Pos, storage: Storage) -> String {
+        to_file(&wb.parse_at(text, sheet, at).unwrap(), wb, at, storage).text
+    }
+
     fn book() -> Workbook {
         let mut wb = Workbook::with_sheet();
         wb.add_sheet("Data sheet").unwrap();
@@ -258,7 +270,7 @@ mod tests {
     fn newer_functions_parameters_and_operators_get_their_file_spelling() {
         let wb = book();
         let at = Pos::new(0, 0);
-        let to_file = |text: &str, wb: &Workbook, sheet, at| to_file(text, wb, sheet, at, Storage::Dynamic).text;
+        let to_file = |text: &str, wb: &Workbook, sheet, at| file_text(text, wb, sheet, at, Storage::Dynamic);
         assert_eq!(to_file("=SUM(A1:A3)+SIN(1)", &wb, 0, at), "SUM(A1:A3)+SIN(1)");
         assert_eq!(to_file("=CONCAT(\"x#\",A1)", &wb, 0, at), "_xlfn.CONCAT(\"x#\",A1)");
         assert_eq!(to_file("=SUM(A1#)", &wb, 0, at), "SUM(_xlfn.ANCHORARRAY(A1))");
@@ -271,7 +283,7 @@ mod tests {
         );
         assert_eq!(to_file("='Data sheet'!B2#", &wb, 0, at), "_xlfn.ANCHORARRAY('Data sheet'!B2)");
         assert_eq!(to_file("=IF(A1=#N/A,1,2)", &wb, 0, at), "IF(A1=#N/A,1,2)");
-        let dynamic = |text: &str| super::to_file(text, &wb, 0, at, Storage::Legacy).dynamic;
+        let dynamic = |text: &str| super::to_file(&wb.parse_at(text, 0, at).unwrap(), &wb, at, Storage::Legacy).dynamic;
         assert!(dynamic("=SEQUENCE(3)+1"));
         assert!(dynamic("=SUM(A1#)"));
         assert!(!dynamic("=SUM(A1:A3)&\"SEQUENCE(\""));
@@ -286,7 +298,10 @@ mod tests {
     fn legacy_formulas_intersect_where_excel_did_and_are_written_back_without_at() {
         let wb = book();
         let at = Pos::new(17, 0);
-        let legacy = |text| legacy_intersection(text, &wb, 0, at);
+        let legacy = |text| {
+            let tree = legacy_intersection(&wb.parse_at(text, 0, at).unwrap(), &wb, 0)?;
+            Some(print(&tree, &wb, at, &AsTyped))
+        };
         assert_eq!(legacy("E15:E19").as_deref(), Some("@E15:E19"));
         assert_eq!(legacy("AM:AM*2").as_deref(), Some("@AM:AM*2"));
         assert_eq!(legacy("SUM(E15:E19)"), None);
@@ -294,7 +309,7 @@ mod tests {
         assert_eq!(legacy("SUM(E15:E19*2)").as_deref(), Some("SUM(@E15:E19*2)"));
         assert_eq!(legacy("SUMPRODUCT(E15:E19*F15:F19)"), None);
         assert_eq!(legacy("IF(A1,B1:B5,2)").as_deref(), Some("IF(A1,@B1:B5,2)"));
-        let written = |text| to_file(text, &wb, 0, at, Storage::Legacy).text;
+        let written = |text| file_text(text, &wb, 0, at, Storage::Legacy);
         assert_eq!(written("=@E15:E19*2"), "E15:E19*2");
         assert_eq!(written("=SIN(@E15:E19)"), "SIN(_xlfn.SINGLE(E15:E19))");
     }
