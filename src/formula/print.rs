@@ -33,6 +33,9 @@ pub fn print_spelled(
     out
 }
 
+/// Told each node printed and the bytes of the text it became.
+pub type Located<'a> = dyn FnMut(&Expr, Span) + 'a;
+
 /// Prints `expr` as typed, calling `found` with each node and the bytes of the text it was
 /// printed as: a message can then point into a formula the workbook holds only as a tree.
 pub fn print_locating(
@@ -40,7 +43,7 @@ pub fn print_locating(
     at: Pos,
     functions: &dyn FunctionTable,
     sheets: SheetNames,
-    found: &mut dyn FnMut(&Expr, Span),
+    found: &mut Located,
 ) -> String {
     let mut out = String::new();
     let spelling = &AsTyped;
@@ -132,7 +135,7 @@ struct Printer<'a> {
     /// How many function calls enclose the current node.
     call_depth: u32,
     /// Told where each node was printed (see [`print_locating`]).
-    found: Option<&'a mut dyn FnMut(&Expr, Span)>,
+    found: Option<&'a mut Located<'a>>,
 }
 
 impl Printer<'_> {

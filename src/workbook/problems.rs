@@ -93,7 +93,7 @@ impl Workbook {
         for cycle in &self.cycles {
             out.push(self.cycle_problem(cycle));
         }
-        for (&id, _) in &self.notes {
+        for &id in self.notes.keys() {
             out.extend(self.note_problems(id));
         }
         for sheet in 0..self.sheets.len() as SheetId {
