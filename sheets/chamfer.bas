@@ -10,7 +10,8 @@ Attribute VB_Name = "Chamfer"
 ' chamfer to T2, retract.
 '
 ' Cells: the workbook's defined names D, f, alpha, r, eA, eB, XA, ZA, XB, ZB when it has them,
-' else the fixed layout below (column B of the active sheet). X is a diameter.
+' else the fixed layout below (column B of the active sheet: inputs B2:B7, results B9:B12).
+' X is a diameter.
 '
 '   ncsheet run chamfer.xlsx chamfer.bas --sheet Outer --dialect linuxcnc -o chamfer.ngc
 '   ncsheet run chamfer.xlsx chamfer.bas --sheet Pipe --arg kind=pipe --arg feed=0.08 --save out.xlsx
@@ -51,10 +52,16 @@ Sub Main(Optional kind As String = "outer", Optional feed As Double = 0.1, Optio
     Check "XB", XB, CHAMFER_XB(kind, D, f, alpha, r, eA, eB)
     Check "ZB", ZB, CHAMFER_ZB(kind, D, f, alpha, r, eA, eB)
 
-    Range(Place("XA", "B9")).Value = XA
-    Range(Place("ZA", "B10")).Value = ZA
-    Range(Place("XB", "B11")).Value = XB
-    Range(Place("ZB", "B12")).Value = ZB
+    ' The results go where the workbook names them; into the fixed layout's B9:B12 only when
+    ' the inputs came from it too. A workbook that names its inputs but not its results (the
+    ' paper's Excel model, sheets/chamfer.xlsx, computes XA … ZB with formulas in G6:G9) is
+    ' left as it is: B9:B12 there hold inputs.
+    Dim fixedLayout As Boolean
+    fixedLayout = Not IsObject(Evaluate("D"))
+    PutResult "XA", "B9", XA, fixedLayout
+    PutResult "ZA", "B10", ZA, fixedLayout
+    PutResult "XB", "B11", XB, fixedLayout
+    PutResult "ZB", "B12", ZB, fixedLayout
     Debug.Print "XA=" & Format(XA, "0.000") & " ZA=" & Format(ZA, "0.000") & _
                 " XB=" & Format(XB, "0.000") & " ZB=" & Format(ZB, "0.000")
 
@@ -133,6 +140,15 @@ Sub Cut(kind As String, alpha As Double, XA As Double, ZA As Double, XB As Doubl
     Nc.Rapid XB, safeZ
     Nc.Rapid PX, safeZ
     Nc.Spindle 0
+End Sub
+
+' Writes a result into the cell the workbook names, else (in the fixed layout) the fixed address.
+Sub PutResult(name As String, fixed As String, v As Double, fixedLayout As Boolean)
+    If IsObject(Evaluate(name)) Then
+        Range(name).Value = v
+    ElseIf fixedLayout Then
+        Range(fixed).Value = v
+    End If
 End Sub
 
 ' A defined name of the workbook if it names cells, else the fixed address.

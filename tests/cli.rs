@@ -1,34 +1,16 @@
 //! The `ncsheet` binary as a user runs it: real files in a temporary folder, real exit codes.
 //! Expected values are worked out by hand or taken from DOMAIN.md, never from our code.
 
-use std::fs;
-use std::io::Write;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+mod common;
 
-struct Run {
-    code: i32,
-    stdout: String,
-    stderr: String,
-}
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use common::cli::{Invocation, Run};
 
 /// Runs `ncsheet ARGS` in `dir`, feeding `stdin` (or nothing).
 fn ncsheet_in(dir: &Path, args: &[&str], stdin: &str) -> Run {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_ncsheet"))
-        .args(args)
-        .current_dir(dir)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the ncsheet binary runs");
-    child.stdin.take().unwrap().write_all(stdin.as_bytes()).unwrap();
-    let out = child.wait_with_output().unwrap();
-    Run {
-        code: out.status.code().expect("exited normally"),
-        stdout: String::from_utf8(out.stdout).unwrap(),
-        stderr: String::from_utf8(out.stderr).unwrap(),
-    }
+    Invocation { dir: Some(dir), stdin, ..Invocation::default() }.run(args)
 }
 
 /// A temporary folder holding `files` (name, content).

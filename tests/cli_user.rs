@@ -5,38 +5,14 @@
 
 mod common;
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
 
+use common::cli::{ncsheet, Invocation, Run};
 use ncsheet::formula::address::Pos;
 use ncsheet::workbook::Workbook;
 
-struct Run {
-    code: i32,
-    stdout: String,
-    stderr: String,
-}
-
 fn ncsheet_with(args: &[&str], stdin: &str) -> Run {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_ncsheet"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the ncsheet binary runs");
-    child.stdin.take().unwrap().write_all(stdin.as_bytes()).unwrap();
-    let out = child.wait_with_output().unwrap();
-    Run {
-        code: out.status.code().expect("exited normally"),
-        stdout: String::from_utf8(out.stdout).unwrap(),
-        stderr: String::from_utf8(out.stderr).unwrap(),
-    }
-}
-
-fn ncsheet(args: &[&str]) -> Run {
-    ncsheet_with(args, "")
+    Invocation { stdin, ..Invocation::default() }.run(args)
 }
 
 fn repo(path: &str) -> String {
@@ -166,6 +142,26 @@ fn names_are_cell_arguments_for_eval_and_set() {
 }
 
 #[test]
+fn a_name_one_sheet_defines_is_found_from_any_sheet_and_one_each_defines_asks_which() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut wb = Workbook::with_sheet();
+    let parts = wb.add_sheet("Parts").unwrap();
+    wb.set_input(parts, Pos::new(0, 1), "12.5").unwrap();
+    wb.define_name("depth", "=Parts!$B$1", Some(parts)).unwrap();
+    let book = dir.path().join("scoped.xlsx");
+    ncsheet::io::save(&wb, &book).unwrap();
+    let run = ncsheet(&["eval", book.to_str().unwrap(), "depth"]);
+    assert_eq!((run.code, run.stdout.as_str()), (0, "12.5\n"), "{}", run.stderr);
+    // sheets/chamfer.xlsx: Outer, Pipe and Blind each have their own alpha (45° on Outer).
+    let chamfer = repo("sheets/chamfer.xlsx");
+    let run = ncsheet(&["eval", &chamfer, "alpha"]);
+    assert_eq!(run.code, 1);
+    assert!(run.stderr.contains("Outer, Pipe, Blind") && run.stderr.contains("Outer!alpha"), "{}", run.stderr);
+    let run = ncsheet(&["eval", &chamfer, "Outer!alpha"]);
+    assert_eq!(run.stdout, "45\n", "{}", run.stderr);
+}
+
+#[test]
 fn the_repl_reads_and_sets_names() {
     let dir = tempfile::tempdir().unwrap();
     let book = named_workbook(dir.path());
@@ -205,6 +201,39 @@ fn eval_formulas_prints_formulas_as_typed() {
     assert!(run.stdout.lines().nth(1).unwrap().ends_with("45"), "{}", run.stdout);
 }
 
+fn corpus(path: &str) -> String {
+    repo(&format!("../shared/excel-corpus/{path}"))
+}
+
+#[test]
+fn info_shows_the_files_own_calculation_settings_and_tables() {
+    // The files' workbook.xml say: <calcPr calcMode="manual"/> with one table Table1 on
+    // F1:F13 whose column is "List Values"; <calcPr iterate="1" iterateCount="10000"
+    // iterateDelta="0.01"/>; <workbookPr date1904="1"/>.
+    let run = ncsheet(&["info", &corpus("public/poi/test-data_spreadsheet_DataValidationEvaluations.xlsx")]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let line = |text: &str, start: &str| {
+        text.lines()
+            .find(|l| l.trim_start().starts_with(start))
+            .unwrap_or_else(|| panic!("{start}: {text}"))
+            .to_string()
+    };
+    assert!(line(&run.stdout, "mode").ends_with("manual"), "{}", run.stdout);
+    assert!(line(&run.stdout, "iterate").ends_with("off"), "{}", run.stdout);
+    assert!(line(&run.stdout, "full calc on load").ends_with("off"), "{}", run.stdout);
+    assert!(line(&run.stdout, "date system").ends_with("1900"), "{}", run.stdout);
+    let table = line(&run.stdout, "Table1");
+    assert!(table.contains("Sheet1!F1:F13") && table.ends_with("columns: List Values"), "{table}");
+    let run = ncsheet(&["info", &corpus("public/pycel/tests_fixtures_circular.xlsx")]);
+    assert!(line(&run.stdout, "mode").ends_with("auto"), "{}", run.stdout);
+    assert!(line(&run.stdout, "iterate").ends_with("on"), "{}", run.stdout);
+    let iterations = line(&run.stdout, "iterations");
+    assert!(iterations.contains("10000") && iterations.contains("0.01"), "{iterations}");
+    assert!(run.stdout.contains("tables: none"), "{}", run.stdout);
+    let run = ncsheet(&["info", &corpus("public/poi/test-data_spreadsheet_GeneralFormatTests.xlsx")]);
+    assert!(line(&run.stdout, "date system").ends_with("1904"), "{}", run.stdout);
+}
+
 #[test]
 fn info_lists_sheets_names_and_macros() {
     let run = ncsheet(&["info", &repo("sheets/chamfer.xlsx")]);
@@ -214,7 +243,7 @@ fn info_lists_sheets_names_and_macros() {
     }
     assert!(run.stdout.contains("=Outer!$B$8"), "{}", run.stdout);
     assert!(run.stdout.contains("macros: none"), "{}", run.stdout);
-    assert!(run.stdout.contains("calculation:"), "{}", run.stdout);
+    assert!(run.stdout.contains("calculation (as the file asks):"), "{}", run.stdout);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -231,6 +260,55 @@ fn eval_prints_with_the_cells_number_format_and_raw_in_full() {
     let exact = 40.0 + 2.0 * (0.8 * 2f64.sqrt() + 1.8 - 0.8);
     assert!(run.stdout.trim().len() > 12, "{}", run.stdout);
     assert!((number(&run.stdout) - exact).abs() < 1e-12, "{}", run.stdout);
+}
+
+#[test]
+fn export_writes_values_as_their_cells_show_them_and_raw_in_full() {
+    let dir = tempfile::tempdir().unwrap();
+    let book = repo("sheets/chamfer.xlsx");
+    let out = dir.path().join("xa.csv");
+    let out = out.to_str().unwrap();
+    // Summary!C5 (XA, 44.2627416997969…) is formatted 0.000000.
+    let run = ncsheet(&["export", &book, "--range", "Summary!C5", "-o", out]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert_eq!(std::fs::read_to_string(out).unwrap(), "44.262742\n");
+    let run = ncsheet(&["export", &book, "--range", "Summary!C5", "-o", out, "--raw"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let exact = 40.0 + 2.0 * (0.8 * 2f64.sqrt() + 1.8 - 0.8);
+    let text = std::fs::read_to_string(out).unwrap();
+    assert!(text.trim().len() > 12 && (number(&text) - exact).abs() < 1e-12, "{text}");
+    // An xlsx export keeps the full value and its format: it shows as the source cell did.
+    let xlsx = dir.path().join("xa.xlsx");
+    let run = ncsheet(&["export", &book, "--range", "Summary!C5:D5", "-o", xlsx.to_str().unwrap()]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let run = ncsheet(&["eval", xlsx.to_str().unwrap(), "A1", "B1"]);
+    assert_eq!(run.stdout, "A1  44.262742\nB1  -4.600000\n", "{}", run.stderr);
+}
+
+#[test]
+fn the_repl_shows_the_files_number_formats() {
+    let run = ncsheet_with(&["repl", &repo("sheets/chamfer.xlsx")], "Summary!C5\nSummary!B5:C5\nquit\n");
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let lines: Vec<&str> = run.stdout.lines().collect();
+    assert_eq!(lines[0], "44.262742", "{}", run.stdout);
+    assert!(lines[2].trim_end().ends_with("  44.262742"), "{}", run.stdout);
+}
+
+#[test]
+fn a_repl_save_keeps_the_files_formats_and_delimiter() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.xlsx");
+    let input = format!("alpha=30\nsave {}\nquit\n", out.display());
+    let run = ncsheet_with(&["repl", &repo("sheets/chamfer.xlsx"), "--sheet", "Outer"], &input);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    // XA at α = 30° (DOMAIN.md §1: 42.325982), still formatted 0.000000.
+    let run = ncsheet(&["eval", out.to_str().unwrap(), "Summary!C5"]);
+    assert_eq!(run.stdout, "42.325982\n", "{}", run.stderr);
+    let book = write(dir.path(), "eu.csv", "a;0,5\n");
+    let out = dir.path().join("eu2.csv");
+    let run = ncsheet_with(&["repl", &book], &format!("B2==B1*3\nsave {}\nquit\n", out.display()));
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "a;0,5\n;=B1*3\n");
 }
 
 #[test]
@@ -273,6 +351,51 @@ fn a_semicolon_separated_csv_is_read_as_columns_with_decimal_commas() {
     // 40.5 + 2·3
     assert_eq!(run.stdout, "46.5\n");
     assert!(run.stderr.contains(";-separated"), "{}", run.stderr);
+}
+
+#[test]
+fn the_delimiter_option_reads_a_one_column_file_of_decimal_commas() {
+    let dir = tempfile::tempdir().unwrap();
+    // One column: no `;` for detection to see, so 0,8 reads as two cells 0 and 8 …
+    let book = write(dir.path(), "one.csv", "0,8\n1,5\n=A1+A2\n");
+    let run = ncsheet(&["eval", &book, "A3"]);
+    assert_eq!(run.stdout, "1\n", "{}", run.stderr);
+    // … unless told: 0.8 + 1.5.
+    let run = ncsheet(&["eval", &book, "A3", "--delimiter", ";"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert_eq!(run.stdout, "2.3\n", "{}", run.stderr);
+    let run = ncsheet(&["eval", &book, "--delimiter", "|"]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+}
+
+#[test]
+fn a_semicolon_file_is_written_back_with_semicolons_quotes_and_decimal_commas() {
+    let dir = tempfile::tempdir().unwrap();
+    let book = write(dir.path(), "eu.csv", "D;40,5\nnote;\"x;y\"\n");
+    let out = dir.path().join("out.csv");
+    let out = out.to_str().unwrap();
+    let run = ncsheet(&["set", &book, "A3=a;b", "B3=0.8", "-o", out]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    // RFC 4180 with `;` between fields: a field holding `;` is quoted; 0.8 as such a file writes it.
+    assert_eq!(std::fs::read_to_string(out).unwrap(), "D;40,5\nnote;\"x;y\"\n\"a;b\";0,8\n");
+    let run = ncsheet(&["export", &book, "-o", out]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert_eq!(std::fs::read_to_string(out).unwrap(), "D;40,5\nnote;\"x;y\"\n");
+    let run = ncsheet(&["export", &book, "-o", out, "--output-delimiter", ","]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert_eq!(std::fs::read_to_string(out).unwrap(), "D,40.5\nnote,x;y\n");
+}
+
+#[test]
+fn a_tool_number_keeps_its_leading_zeros() {
+    let dir = tempfile::tempdir().unwrap();
+    let book = write(dir.path(), "b.csv", "1\n");
+    let bas = write(dir.path(), "t.bas", "Sub Main()\n  Nc.Block \"T0101\"\n  Nc.Block \"T\", \"0202\"\nEnd Sub\n");
+    // A Fanuc lathe's T0101 is tool 01 with offset 01 (docs/dialects.md, tests/nc/iso/lathe.nc).
+    let run = ncsheet(&["run", &book, &bas, "--dialect", "iso", "--machine", "lathe"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let words: Vec<&str> = run.stdout.split_whitespace().collect();
+    assert!(words.contains(&"T0101") && words.contains(&"T0202"), "{}", run.stdout);
 }
 
 #[test]

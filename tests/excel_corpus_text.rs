@@ -27,13 +27,6 @@ const SUITE: Suite = Suite {
 
 /// Cells where we knowingly differ from Excel.
 const ALLOWED: &[Allowed] = &[
-    // FIXME(functions/financial.rs): DOLLARDE/DOLLARFR of a boolean fraction: #VALUE! in Excel.
-    Allowed {
-        file: "calc_tests/TEXT/DOLLARs.xlsx",
-        sheet: "Sheet1",
-        cells: &["C11", "D11", "C12", "D12"],
-        why: "boolean fraction is #VALUE! in Excel",
-    },
     // The argument cells hold #CALC! and #SPILL!, which the file stores as #VALUE! plus
     // rich-value metadata that calamine does not read.
     Allowed {

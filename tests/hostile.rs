@@ -2,10 +2,12 @@
 //! error in its place, never a stack overflow, a panic or a silently wrong value. The
 //! tests run on the harness's 2 MiB threads, the smallest stack the engine runs on.
 
+mod common;
+
 use std::io::{Cursor, Write};
 use std::path::Path;
-use std::process::{Command, Stdio};
 
+use common::cli::Invocation;
 use ncsheet::eval::{Value, XlError};
 use ncsheet::formula::address::parse_cell;
 use ncsheet::formula::limits::{MAX_NESTING, MAX_TREE_DEPTH};
@@ -29,25 +31,8 @@ fn nested(open: &str, inner: &str, close: &str, n: usize) -> String {
 
 /// Runs the ncsheet binary in `dir` with `stdin`, under a 2 GiB address-space cap.
 fn ncsheet(dir: &Path, args: &[&str], stdin: &str) -> (i32, String, String) {
-    let mut command = String::from("ulimit -v 2097152; exec \"$0\"");
-    for i in 1..=args.len() {
-        command.push_str(&format!(" \"${{{i}}}\""));
-    }
-    let mut child = Command::new("sh")
-        .arg("-c")
-        .arg(command)
-        .arg(env!("CARGO_BIN_EXE_ncsheet"))
-        .args(args)
-        .current_dir(dir)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    child.stdin.take().unwrap().write_all(stdin.as_bytes()).unwrap();
-    let out = child.wait_with_output().unwrap();
-    let code = out.status.code().unwrap_or_else(|| panic!("killed by a signal: {:?}", out.status));
-    (code, String::from_utf8_lossy(&out.stdout).into_owned(), String::from_utf8_lossy(&out.stderr).into_owned())
+    let run = Invocation { dir: Some(dir), stdin, memory_kib: Some(2_097_152) }.run(args);
+    (run.code, run.stdout, run.stderr)
 }
 
 // ---------------------------------------------------------------------------------------

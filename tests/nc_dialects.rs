@@ -104,7 +104,7 @@ fn what_a_control_cannot_read_is_an_error_naming_the_block() {
     assert!(dialect::by_name("heidenhain").unwrap().render(&lathe_program(false)).is_err());
     assert!(nc31.render(&mill_program()).is_err());
     let mut p = lathe_program(false);
-    p.push(Block::Words(vec![Word { address: 'Y', value: 1.0 }]));
+    p.push(Block::Words(vec![Word::new('Y', 1.0)]));
     let err = nc31.render(&p).unwrap_err();
     assert!(err.to_string().contains("address Y"), "{err}");
     let mut p = mill_program();
@@ -225,8 +225,8 @@ fn block_numbers_wrap_past_the_controls_digits() {
 #[test]
 fn raw_words_keep_codes_whole() {
     let mut p = Program::new("RAW", Machine::Lathe);
-    p.push(Block::Words(vec![Word { address: 'G', value: 1.0 }, Word { address: 'X', value: 12.5 }]));
-    p.push(Block::Words(vec![Word { address: 'M', value: 3.0 }, Word { address: 'S', value: 700.0 }]));
+    p.push(Block::Words(vec![Word::new('G', 1.0), Word::new('X', 12.5)]));
+    p.push(Block::Words(vec![Word::new('M', 3.0), Word::new('S', 700.0)]));
     let text = render("iso", &p);
     assert!(text.contains("N20 G1 X12.5\n"), "{text}");
     // Spindle speeds are whole numbers on Fanuc (S700), unlike coordinates (X12.5, X40.).

@@ -161,3 +161,116 @@ fn read_only_and_hard_linked_targets_need_force() {
     assert!(run.stderr.contains("hard links"), "{}", run.stderr);
     assert_eq!(fs::read_to_string(d.join("b.csv")).unwrap(), "old\n");
 }
+
+/// Every command that writes a file takes --force for a read-only target and refuses
+/// without it, leaving the target as it was (cam, arcfit and ballpath wrote over it).
+#[test]
+fn every_writing_command_refuses_a_read_only_target_without_force() {
+    let dir = folder();
+    let d = dir.path();
+    fs::write(
+        d.join("m.bas"),
+        "Sub Main()\n  [A1] = 5\n  Nc.FeedPerRev 0.1\n  Nc.Spindle 500\n  Nc.Line 10, 20\nEnd Sub\n",
+    )
+    .unwrap();
+    let ballpath = ["ballpath", "--surface", "0", "--radius", "1", "--x", "0:1", "--y", "0:1", "--stepover", "1"];
+    let ballpath: Vec<&str> = ballpath.iter().copied().chain(["--step", "1"]).collect();
+    let arcfit =
+        ["arcfit", "--kind", "arch", "--r0", "20", "--phi0", "0", "--r1", "25", "--phi1", "90", "--tol", "0.05"];
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["set", "wb.csv", "A1=3", "-o"], "out.csv"),
+        (vec!["export", "wb.csv", "-o"], "out.csv"),
+        (vec!["run", "wb.csv", "m.bas", "-o"], "out.nc"),
+        (vec!["run", "wb.csv", "m.bas", "--save"], "out.csv"),
+        (vec!["cam", "cam.csv", "--partial", "-o"], "out.nc"),
+        (arcfit.iter().copied().chain(["-o"]).collect(), "out.csv"),
+        (ballpath.iter().copied().chain(["-o"]).collect(), "out.csv"),
+        (vec!["macros", "wb.csv", "--import", "m.bas", "-o"], "out.xlsm"),
+    ];
+    for (args, target) in cases {
+        fs::write(d.join(target), "old\n").unwrap();
+        fs::set_permissions(d.join(target), fs::Permissions::from_mode(0o444)).unwrap();
+        let with_target: Vec<&str> = args.iter().copied().chain([target]).collect();
+        let run = ncsheet(d, &with_target);
+        assert_eq!(run.code, 1, "{with_target:?}: {}", run.stderr);
+        assert!(run.stderr.contains("read-only"), "{with_target:?}: {}", run.stderr);
+        assert_eq!(fs::read_to_string(d.join(target)).unwrap(), "old\n", "{with_target:?} wrote");
+        let forced: Vec<&str> = with_target.iter().copied().chain(["--force"]).collect();
+        let run = ncsheet(d, &forced);
+        assert_eq!(run.code, 0, "{forced:?}: {}", run.stderr);
+        assert_ne!(fs::read_to_string(d.join(target)).unwrap_or_default(), "old\n", "{forced:?} did not write");
+        fs::set_permissions(d.join(target), fs::Permissions::from_mode(0o644)).unwrap();
+        fs::remove_file(d.join(target)).unwrap();
+    }
+    // A session's save too.
+    fs::write(d.join("ro.csv"), "old\n").unwrap();
+    fs::set_permissions(d.join("ro.csv"), fs::Permissions::from_mode(0o444)).unwrap();
+    let run = repl(d, "wb.csv", "A1=9\nsave ro.csv\n");
+    assert!(run.stderr.contains("read-only"), "{}", run.stderr);
+    assert_eq!(fs::read_to_string(d.join("ro.csv")).unwrap(), "old\n");
+    let run = repl(d, "wb.csv", "A1=9\nsave ro.csv --force\n");
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert_eq!(fs::read_to_string(d.join("ro.csv")).unwrap(), "9,2\n=A1+B1,x\n");
+}
+
+/// `cam` never writes over its design sheet, however the output is spelled, --force or not
+/// (`ballpath` reads no file).
+#[test]
+fn cam_and_arcfit_refuse_their_input_as_output() {
+    let dir = folder();
+    let d = dir.path();
+    symlink(d.join("cam.csv"), d.join("cam-link.csv")).unwrap();
+    let before = sums(d, &["cam.csv"]);
+    for out in ["cam.csv", "./cam.csv", "cam-link.csv"] {
+        let run = ncsheet(d, &["cam", "cam.csv", "--partial", "-o", out, "--force"]);
+        assert_eq!(run.code, 2, "{out}: {}", run.stderr);
+        assert!(run.stderr.contains("refusing to overwrite"), "{}", run.stderr);
+    }
+    assert_eq!(sums(d, &["cam.csv"]), before);
+}
+
+fn repl(dir: &Path, book: &str, script: &str) -> Run {
+    use std::io::Write;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_ncsheet"))
+        .args(["repl", book])
+        .current_dir(dir)
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    child.stdin.take().unwrap().write_all(script.as_bytes()).unwrap();
+    let out = child.wait_with_output().unwrap();
+    Run { code: out.status.code().expect("exited"), stderr: String::from_utf8_lossy(&out.stderr).into_owned() }
+}
+
+/// A csv edit that replaces a formula by a constant names the cell before writing, and
+/// --in-place then needs --force.
+#[test]
+fn replacing_a_formula_by_a_constant_is_said_and_in_place_needs_force() {
+    let dir = folder();
+    let d = dir.path();
+    let before = sums(d, &["wb.csv"]);
+    let run = ncsheet(d, &["set", "wb.csv", "A2=5", "--in-place"]);
+    assert_eq!(run.code, 1, "{}", run.stderr);
+    assert!(run.stderr.contains("Sheet1!A2") && run.stderr.contains("replaced by constants"), "{}", run.stderr);
+    assert!(run.stderr.contains("nothing was written"), "{}", run.stderr);
+    assert_eq!(sums(d, &["wb.csv"]), before);
+    // To another file it is written, and said.
+    let run = ncsheet(d, &["set", "wb.csv", "A2=5", "-o", "out.csv"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(run.stderr.contains("Sheet1!A2"), "{}", run.stderr);
+    // A formula replaced by another formula, or a constant by a constant, is no loss.
+    let run = ncsheet(d, &["set", "wb.csv", "A2==A1*2", "B1=4", "--in-place"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(!run.stderr.contains("not kept"), "{}", run.stderr);
+    let run = ncsheet(d, &["set", "wb.csv", "A2=5", "--in-place", "--force"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert_eq!(fs::read_to_string(d.join("wb.csv")).unwrap(), "1,4\n5,x\n");
+    // A macro writing over a formula: said before the save is written.
+    fs::write(d.join("book.csv"), BOOK).unwrap();
+    fs::write(d.join("over.bas"), "Sub Main()\n  [A2] = 5\nEnd Sub\n").unwrap();
+    let run = ncsheet(d, &["run", "book.csv", "over.bas", "--save", "saved.csv"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(run.stderr.contains("Sheet1!A2") && run.stderr.contains("replaced by constants"), "{}", run.stderr);
+}

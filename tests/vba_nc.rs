@@ -510,7 +510,7 @@ fn nc_builds_blocks_from_positional_named_and_modal_arguments() {
             Block::Line { to: Target::xy(5.0, 20.0), feed: None },
             Block::Dwell(0.5),
             Block::Comment("done 1".into()),
-            Block::Words(vec![Word { address: 'M', value: 5.0 }, Word { address: 'S', value: 0.0 }]),
+            Block::Words(vec![Word::typed('M', 5.0, "5"), Word::new('S', 0.0)]),
         ]
     );
     assert_eq!(out.printed, ["8mill200"]);

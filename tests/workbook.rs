@@ -351,3 +351,55 @@ fn run_time_references_computed_in_a_full_recalculation() {
     wb.recalculate();
     assert_eq!(get(&wb, "E1"), n(9.0));
 }
+
+#[test]
+fn a_reference_only_located_is_no_cycle() {
+    // Excel finds cycles from what evaluation reads: INDEX in row 2 reads only B2, a
+    // condition that stays false never reads its own cell.
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, "B2", "7");
+    set(&mut wb, "A2", "=INDEX(2:2,1,2)");
+    set(&mut wb, "C3", "0");
+    set(&mut wb, "C4", "=IF(C3=0,0,C4+1)");
+    set(&mut wb, "D1", "=ROWS(D:D)+COLUMNS(1:1)");
+    assert_eq!(get(&wb, "A2"), n(7.0));
+    assert_eq!(get(&wb, "C4"), n(0.0));
+    assert_eq!(get(&wb, "D1"), n(1_048_576.0 + 16_384.0));
+    assert!(wb.cycles().is_empty());
+    set(&mut wb, "B2", "8");
+    assert_eq!(get(&wb, "A2"), n(8.0));
+    // Once the condition holds, the cell reads itself: a cycle.
+    set(&mut wb, "C3", "1");
+    assert_eq!(get(&wb, "C4"), Value::Error(XlError::Circ));
+    assert_eq!(wb.cycles(), vec![vec!["Sheet1!C4".to_string()]]);
+    // A range built from INDEX results names the row it sits in, reads what it sums.
+    set(&mut wb, "E5", "=SUM(INDEX(5:5,1,1):INDEX(5:5,1,3))");
+    set(&mut wb, "A5", "1");
+    set(&mut wb, "C5", "2");
+    assert_eq!(get(&wb, "E5"), n(3.0));
+}
+
+#[test]
+fn iterative_calculation_runs_a_cycle_to_its_limits() {
+    use ncsheet::workbook::Iteration;
+    // Excel's own illustration: A1 = 1+A2, A2 = 1+A1 with 10 iterations shows 19 and 20
+    // (each cell reads the other's latest value, in cell order).
+    let mut wb = Workbook::with_sheet();
+    wb.set_iteration(Some(Iteration { count: 10, max_change: 0.001 }));
+    set(&mut wb, "A1", "=1+A2");
+    set(&mut wb, "A2", "=1+A1");
+    assert_eq!(get(&wb, "A1"), n(19.0));
+    assert_eq!(get(&wb, "A2"), n(20.0));
+    assert!(wb.cycles().is_empty());
+    // A converging cycle stops once no value moves by more than the maximum change.
+    set(&mut wb, "B1", "=B2/2+1");
+    set(&mut wb, "B2", "=B1");
+    let b1 = match get(&wb, "B1") {
+        Value::Number(x) => x,
+        v => panic!("{v:?}"),
+    };
+    assert!((b1 - 2.0).abs() < 0.002, "{b1}");
+    // Without iteration the cycle is an error again.
+    wb.set_iteration(None);
+    assert_eq!(get(&wb, "A1"), Value::Error(XlError::Circ));
+}

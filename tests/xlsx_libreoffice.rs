@@ -204,3 +204,47 @@ fn libreoffice_computes_what_ncsheet_computes() {
     assert!(compared > 1000, "too few cells compared: {compared}");
     assert!(failures.is_empty(), "{} differences:\n{}", failures.len(), failures.join("\n"));
 }
+
+/// Implicit intersection of a legacy formula, with names: `Liste` = A1:A5 and `=Liste+Liste2*2`
+/// in row 3 (the example). The workbook is written as an old Excel would store it (a
+/// plain formula), LibreOffice computes it with intersection, and ncsheet reading
+/// LibreOffice's file must show LibreOffice's results.
+#[test]
+fn a_legacy_formula_intersects_named_ranges_and_results_as_libreoffice_does() {
+    use ncsheet::workbook::Workbook;
+    let Some(soffice) = soffice() else {
+        println!("skipped: LibreOffice (soffice) is not installed");
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let mut wb = Workbook::with_sheet();
+    for r in 0..5u32 {
+        wb.set_input_deferred(0, Pos::new(r, 0), &format!("{}", r + 1)).unwrap();
+        wb.set_input_deferred(0, Pos::new(r, 2), &format!("{}", 10 * (r + 1))).unwrap();
+    }
+    wb.define_name("Liste", "Sheet1!$A$1:$A$5", None).unwrap();
+    wb.define_name("Liste2", "Sheet1!$C$1:$C$5", None).unwrap();
+    // Typed with `@`, they are written as plain formulas (`Liste+Liste2*2`), as old Excel
+    // stores them.
+    let formulas = [(2, "=@Liste+@Liste2*2"), (3, "=@Liste*2"), (4, "=@ROW(C2:C5)")];
+    for (row, text) in formulas {
+        wb.set_input_deferred(0, Pos::new(row, 4), text).unwrap();
+    }
+    wb.recalculate();
+    let ours = dir.path().join("names.xlsx");
+    xlsx::save(&wb, &ours).unwrap();
+    let profile = recalculating_profile(&dir.path().join("profile"));
+    libreoffice_convert(&soffice, &profile, &[ours], &out);
+    let converted = xlsx::load(&out.join("names.xlsx")).expect("LibreOffice wrote the workbook");
+    let theirs = results_of(&converted);
+    for (row, text) in formulas {
+        let pos = Pos::new(row, 4);
+        let expected = theirs.get(&("Sheet1".to_string(), pos)).unwrap_or_else(|| panic!("{text}: no result"));
+        let got = converted.workbook.value(0, pos);
+        assert!(libreoffice_agrees(expected, &got), "{text}: ncsheet {got:?}, LibreOffice {expected:?}");
+    }
+    // It came as a plain formula and was intersected on import.
+    assert_eq!(converted.workbook.formula(0, Pos::new(2, 4)).as_deref(), Some("=@Liste+@Liste2*2"));
+}

@@ -106,3 +106,55 @@ fn a_legacy_array_formula_fills_its_whole_area() {
     // `{=A1}` entered over B1:B2: Excel repeats the scalar in both cells.
     all_agree(&["poi/test-data_spreadsheet_57798.xlsx"], 2);
 }
+
+#[test]
+fn iterative_calculation_and_conditional_self_reference_compute_as_excel() {
+    // `<calcPr iterate="1">`: cycles iterate; `=IF(B3=0,0,B10+0.001)` in B10 reads itself
+    // only when B3 is not 0.
+    all_agree(&["pycel/tests_fixtures_circular.xlsx", "poi/test-data_spreadsheet_57535.xlsx"], 6);
+}
+
+#[test]
+fn links_to_other_workbooks_read_the_values_excel_cached() {
+    // `[1]Uses!$A$1`, `[1]Defines!NR_To_A1` (a sheet's name), `[1]!NR_Global_B2`, and a
+    // name defined as `[1]!B2range`.
+    all_agree(
+        &[
+            "poi/test-data_spreadsheet_ref-56737.xlsx",
+            "poi/test-data_spreadsheet_ref2-56737.xlsx",
+            "openpyxl/openpyxl_workbook_names_tests_data_book1.xlsx",
+        ],
+        15,
+    );
+}
+
+#[test]
+fn the_1904_date_system_survives_a_workbook_written_new() {
+    // Saved through rust_xlsxwriter (not over its source package), read back: the same
+    // dates Excel cached in the original.
+    let root = common::corpus::public_path();
+    if !root.is_dir() {
+        assert!(std::env::var_os("CI").is_none(), "public Excel corpus not found at {}", root.display());
+        return;
+    }
+    let original = xlsx::load(&root.join("poi/test-data_spreadsheet_DateFormatTests.xlsx")).expect("loads");
+    assert!(original.workbook.date_1904());
+    let bytes = xlsx::to_bytes(&original.workbook, &original.layout).expect("writes");
+    let again = xlsx::load_bytes(&bytes, std::path::Path::new("again.xlsx")).expect("reads back");
+    assert!(again.workbook.date_1904(), "the 1904 flag was lost");
+    let mut compared = 0;
+    for c in &original.cached {
+        if original.workbook.is_formula(c.sheet, c.anchor) {
+            let got = again.workbook.value(c.sheet, c.pos);
+            assert!(xlsx::values_agree(&c.value, &got), "{:?}: {got:?}, Excel {:?}", c.pos, c.value);
+            compared += 1;
+        }
+    }
+    assert!(compared >= 20, "only {compared} compared");
+}
+
+#[test]
+fn deleted_references_are_ref_whatever_sheet_they_were_on() {
+    // Names and formulas Excel left as `Sheet1!#REF!` or `'1'!#REF!`.
+    all_agree(&["poi/test-data_spreadsheet_49783.xlsx", "poi/test-data_spreadsheet_customIndexedColors.xlsx"], 4);
+}

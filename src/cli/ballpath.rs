@@ -101,9 +101,15 @@ pub struct BallpathArgs {
     /// Write here instead of to stdout
     #[arg(short, long, value_name = "OUT")]
     pub output: Option<PathBuf>,
+    /// Replace a read-only or hard-linked OUT
+    #[arg(long, requires = "output")]
+    pub force: bool,
     /// Print the time spent computing, formatting and writing to stderr
     #[arg(long)]
     pub timings: bool,
+    /// Refuse a path of more points than this (each costs memory and a line of output)
+    #[arg(long, value_name = "N", default_value_t = 4_000_000)]
+    pub max_points: usize,
 }
 
 #[derive(Clone, Copy, Debug, Default, ValueEnum)]
@@ -160,7 +166,7 @@ pub fn run(args: BallpathArgs) -> Result<()> {
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
-    let path = path.map_err(|(_, message)| Error::User(prepend("--surface: ", &message)))?;
+    let path = path.map_err(|(_, message)| Error::User(prepend("--surface: ", &point_limit_hint(message))))?;
     let computed = started.elapsed();
     report_gouges(&path, spec.gouge)?;
     check_clearance(&path, &args)?;
@@ -168,7 +174,7 @@ pub fn run(args: BallpathArgs) -> Result<()> {
     let text = render(&path, &args)?;
     let formatted = started.elapsed();
     let started = Instant::now();
-    emit(&text, args.output.as_deref())?;
+    emit(&text, args.output.as_deref(), args.force)?;
     if args.timings {
         print_timings(path.points.len(), computed, formatted, started.elapsed());
     }
@@ -197,7 +203,16 @@ fn spec(args: &BallpathArgs) -> BallPathSpec {
         gouge_tol: args.gouge_tol,
         // With --retract the link between lines is a rapid over the part, not a cut.
         check_links: !args.retract,
-        max_points: 200_000_000,
+        max_points: args.max_points,
+    }
+}
+
+/// The option that raises the point limit, after the message of a path past it.
+fn point_limit_hint(message: String) -> String {
+    if message.contains(" points allowed") {
+        format!("{message} (--max-points raises the limit; a larger --step, --stepover or --tolerance needs fewer)")
+    } else {
+        message
     }
 }
 

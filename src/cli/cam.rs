@@ -63,6 +63,9 @@ pub struct CamOutput {
     /// Write here instead of standard output
     #[arg(short, long, value_name = "OUT")]
     pub output: Option<PathBuf>,
+    /// Replace a read-only or hard-linked OUT
+    #[arg(long, requires = "output")]
+    pub force: bool,
 }
 
 /// Fit every segment of a cam design sheet with tangent arcs within --tol.
@@ -210,5 +213,5 @@ fn write_fit(fit: &CamFit, out: &CamOutput) -> Result<()> {
             d.render(&cam_program(fit, &options)).map_err(|e| Error::User(e.to_string()))?
         }
     };
-    emit(&text, out.output.as_deref())
+    emit(&text, out.output.as_deref(), out.force)
 }

@@ -1,16 +1,18 @@
 //! `ncsheet info FILE`: what a workbook holds, before looking at any cell — its sheets with
-//! their used ranges and formula counts, its defined names, whether it carries macros, and
-//! how ncsheet calculates it.
+//! their used ranges and formula counts, its defined names and tables, whether it carries
+//! macros, and the file's calculation settings (with where ncsheet calculates otherwise).
 
 use std::io::{self, BufWriter, Write};
 use std::path::PathBuf;
 
 use clap::Args;
 use ncsheet::formula::address::{Pos, Rect};
+use ncsheet::io::xlsx::{Calculation, Table};
 
 use super::report::Result;
 
-/// List a workbook's sheets (used range, formulas), defined names, macros and calculation.
+/// List a workbook's sheets (used range, formulas), defined names, tables, macros and its
+/// calculation settings.
 #[derive(Debug, Args)]
 pub struct InfoArgs {
     /// The workbook (.csv, .xlsx, .xlsm)
@@ -51,10 +53,47 @@ pub fn run(args: InfoArgs) -> Result<()> {
         "none"
     };
     writeln!(out, "macros: {macros}")?;
-    writeln!(
-        out,
-        "calculation: automatic, all formulas recomputed on load; circular references are #CIRC! (no iteration)"
-    )?;
+    match &opened.layout {
+        Some(layout) => {
+            write_tables(&mut out, &layout.tables, &names)?;
+            write_calculation(&mut out, &layout.calculation)?;
+        }
+        None => writeln!(out, "tables: none (a csv file)\ncalculation: none stored (a csv file)")?,
+    }
     out.flush()?;
+    Ok(())
+}
+
+/// Each table: its name, where it stands and its column names.
+fn write_tables(out: &mut dyn Write, tables: &[Table], sheets: &[String]) -> io::Result<()> {
+    if tables.is_empty() {
+        return writeln!(out, "tables: none");
+    }
+    writeln!(out, "tables:")?;
+    let width = tables.iter().map(|t| t.name.chars().count()).max().unwrap_or(0);
+    for t in tables {
+        let place = format!("{}!{}", sheets.get(t.sheet as usize).map_or("?", String::as_str), t.rect);
+        writeln!(out, "  {:<width$}  {place}  columns: {}", t.name, t.columns.join(", "))?;
+    }
+    Ok(())
+}
+
+/// The file's calculation settings, and a word where ncsheet does otherwise.
+fn write_calculation(out: &mut dyn Write, c: &Calculation) -> io::Result<()> {
+    let on = |b: bool| if b { "on" } else { "off" };
+    writeln!(out, "calculation (as the file asks):")?;
+    writeln!(out, "  mode              {}", c.mode)?;
+    writeln!(out, "  iterate           {}", on(c.iterate))?;
+    if c.iterate {
+        writeln!(out, "  iterations        at most {}, until no change exceeds {}", c.iterate_count, c.iterate_delta)?;
+    }
+    writeln!(out, "  full calc on load {}", on(c.full_calc_on_load))?;
+    writeln!(out, "  date system       {}", if c.date_1904 { "1904" } else { "1900" })?;
+    if c.mode == "manual" {
+        writeln!(out, "  note: ncsheet recalculates every formula anyway; `eval --check` lists what differs")?;
+    }
+    if c.iterate {
+        writeln!(out, "  note: ncsheet does not iterate: circular references are #CIRC! here")?;
+    }
     Ok(())
 }

@@ -29,15 +29,18 @@ pub struct MacrosArgs {
     /// The workbook to write with --import (.xlsm; never the input)
     #[arg(short, long, value_name = "OUT.xlsm")]
     pub output: Option<PathBuf>,
+    /// Replace read-only or hard-linked files among those written
+    #[arg(long)]
+    pub force: bool,
 }
 
 pub fn run(args: MacrosArgs) -> Result<()> {
     if let Some(out) = &args.output {
-        return import(&args.file, &args.import, out);
+        return import(&args.file, &args.import, out, args.force);
     }
     let project = open_project(&args.file)?;
     match &args.export {
-        Some(dir) => export(&project, dir),
+        Some(dir) => export(&project, &args.file, dir, args.force),
         None => list(&project),
     }
 }
@@ -57,7 +60,7 @@ fn document_module(name: &str, base: &str) -> NewModule {
 const WORKBOOK_CLASS: &str = "00020819-0000-0000-C000-000000000046";
 const WORKSHEET_CLASS: &str = "00020820-0000-0000-C000-000000000046";
 
-fn import(file: &Path, modules: &[PathBuf], out: &Path) -> Result<()> {
+fn import(file: &Path, modules: &[PathBuf], out: &Path, force: bool) -> Result<()> {
     if !out.extension().is_some_and(|e| e.eq_ignore_ascii_case("xlsm")) {
         return Err(Error::Usage(format!("{}: a workbook with macros is saved as .xlsm", out.display())));
     }
@@ -88,7 +91,8 @@ fn import(file: &Path, modules: &[PathBuf], out: &Path) -> Result<()> {
     }
     let bytes = build_project(&project, 0x4E).map_err(|e| Error::User(format!("{}: {e}", out.display())))?;
     layout.vba_project = Some(bytes);
-    ncsheet::io::save_with_layout(&opened.workbook, Some(&layout), out)?;
+    let encoded = ncsheet::io::encode_save(&opened.workbook, Some(&layout), &ncsheet::io::Origin::New, out)?;
+    super::write_outputs(&[encoded], false, force)?;
     eprintln!("ncsheet: wrote {} with {} module(s) imported", out.display(), modules.len());
     Ok(())
 }
@@ -169,13 +173,19 @@ fn list(project: &VbaProject) -> Result<()> {
     Ok(())
 }
 
-fn export(project: &VbaProject, dir: &Path) -> Result<()> {
+/// Writes every module into `dir`: all of them, or (one refused) none.
+fn export(project: &VbaProject, workbook: &Path, dir: &Path, force: bool) -> Result<()> {
     std::fs::create_dir_all(dir).map_err(|e| Error::User(format!("{}: cannot make the folder: {e}", dir.display())))?;
-    for m in &project.modules {
-        let path = dir.join(file_name(m));
-        ncsheet::io::atomic::write_file(&path, |w| w.write_all(m.source.as_bytes()))
-            .map_err(|e| Error::User(format!("{}: {e}", path.display())))?;
-        eprintln!("ncsheet: wrote {}", path.display());
+    let files: Vec<_> = project
+        .modules
+        .iter()
+        .map(|m| ncsheet::io::Encoded::new(&dir.join(file_name(m)), m.source.as_bytes().to_vec()))
+        .collect();
+    let paths: Vec<&Path> = files.iter().map(|f| f.path.as_path()).collect();
+    super::refuse_overwriting_inputs(&[workbook], &paths, "export the modules into another folder")?;
+    super::write_outputs(&files, false, force)?;
+    for f in &files {
+        eprintln!("ncsheet: wrote {}", f.path.display());
     }
     Ok(())
 }

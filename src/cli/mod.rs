@@ -4,18 +4,20 @@
 
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
 use clap::{ArgGroup, Args, Parser, Subcommand};
 use ncsheet::eval::functions::REGISTRY;
 use ncsheet::formula::address::Pos;
 use ncsheet::formula::ast::SheetId;
-use ncsheet::io::{Content, Export};
+use ncsheet::io::{Content, Export, ExportOptions};
 use ncsheet::workbook::Workbook;
 
 mod ballpath;
 mod cam;
 mod hints;
 mod info;
+mod limits;
 mod macros;
 mod output;
 mod repl;
@@ -38,6 +40,30 @@ use target::{parse_assignment, parse_target, Assignment, Target};
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
+    #[command(flatten)]
+    pub limits: limits::LimitArgs,
+    /// The field separator of csv files read: `,`, `;` or `tab` (default: detected from the
+    /// first lines). With `;` a decimal comma is read (0,8), as spreadsheets in such
+    /// locales write it
+    #[arg(long, global = true, value_name = "CHAR", value_parser = parse_delimiter)]
+    pub delimiter: Option<u8>,
+}
+
+/// `--delimiter`, set once before any file is read.
+static CSV_DELIMITER: OnceLock<u8> = OnceLock::new();
+
+/// The csv delimiter the user asked for, if any.
+pub(crate) fn csv_delimiter() -> Option<u8> {
+    CSV_DELIMITER.get().copied()
+}
+
+fn parse_delimiter(text: &str) -> std::result::Result<u8, String> {
+    match text {
+        "," => Ok(b','),
+        ";" => Ok(b';'),
+        "tab" | "\\t" | "\t" => Ok(b'\t'),
+        other => Err(format!("'{other}' is not a csv delimiter ncsheet writes: use ',', ';' or tab")),
+    }
 }
 
 #[derive(Debug, Subcommand)]
@@ -124,7 +150,8 @@ pub struct SetArgs {
 /// Write a sheet's values (or formulas) to a csv file.
 ///
 /// The csv is a table of the sheet from A1 (or of --range) to its last used row and column,
-/// quoted per RFC 4180. Values are written as shown (15 significant digits). Text that a
+/// quoted per RFC 4180. Values are written as their cells' number formats show them (15
+/// significant digits without one; --raw: in full). Text that a
 /// spreadsheet could run as a formula (starting with = + - @) or read as something else
 /// (12, TRUE, #N/A) is written with a leading ', which spreadsheets show as text and ncsheet
 /// reads back as the original text. With --formulas, each cell is written as typed: formulas
@@ -142,6 +169,13 @@ pub struct ExportArgs {
     /// Write formulas as =… text instead of their values
     #[arg(long)]
     pub formulas: bool,
+    /// Numbers in full precision instead of as the cell's number format shows them
+    #[arg(long)]
+    pub raw: bool,
+    /// The field separator of the csv written: `,`, `;` (numbers then get a decimal comma)
+    /// or `tab` (default: the input csv's, `,` for a workbook)
+    #[arg(long, value_name = "CHAR", value_parser = parse_delimiter)]
+    pub output_delimiter: Option<u8>,
     /// The sheet to write (default: the first)
     #[arg(long, value_name = "NAME")]
     pub sheet: Option<String>,
@@ -176,6 +210,10 @@ pub struct FunctionsArgs {
 }
 
 pub fn run(cli: Cli) -> Result<()> {
+    cli.limits.apply();
+    if let Some(d) = cli.delimiter {
+        let _ = CSV_DELIMITER.set(d);
+    }
     match cli.command {
         Command::Eval(args) => eval(args),
         Command::Set(args) => set(args),
@@ -254,7 +292,7 @@ fn set(args: SetArgs) -> Result<()> {
 
 /// Reads a workbook and tells the user what the import left out.
 fn open(file: &Path) -> Result<ncsheet::io::Opened> {
-    let opened = ncsheet::io::open(file)?;
+    let opened = ncsheet::io::open_with(file, csv_delimiter())?;
     for note in &opened.notes {
         eprintln!("ncsheet: {}: note: {note}", file.display());
     }
@@ -309,25 +347,32 @@ fn show(v: &ncsheet::eval::Value) -> String {
 
 fn export(args: ExportArgs) -> Result<()> {
     refuse_overwriting_inputs(&[&args.file], &[&args.output], "an export cannot replace its input; write elsewhere")?;
-    let wb = open(&args.file)?.workbook;
-    let mut sheet = default_sheet(&wb, &args.file, args.sheet.as_deref())?;
+    let opened = open(&args.file)?;
+    let wb = &opened.workbook;
+    let mut sheet = default_sheet(wb, &args.file, args.sheet.as_deref())?;
     let mut range = None;
     if let Some(t) = &args.range {
-        let selection = locate(&wb, &args.file, t, sheet)?;
+        let selection = locate(wb, &args.file, t, sheet)?;
         (sheet, range) = (selection.sheet, Some(selection.rect));
     }
     let content = if args.formulas { Content::Formulas } else { Content::Values };
     let what = Export { sheet, range, content };
-    report_problems(&args.file, &wb);
-    let encoded = ncsheet::io::encode_export(&wb, &args.output, &what)?;
+    report_problems(&args.file, wb);
+    let read_with = match &opened.origin {
+        ncsheet::io::Origin::Csv(original) => Some(original.delimiter()),
+        _ => None,
+    };
+    let delimiter = args.output_delimiter.or(read_with);
+    let options = ExportOptions { delimiter, layout: opened.layout.as_ref(), raw: args.raw };
+    let encoded = ncsheet::io::encode_export_with(wb, &args.output, &what, &options)?;
     write_outputs(&[encoded], false, args.force)
 }
 
 fn repl(args: ReplArgs) -> Result<()> {
-    let wb = open(&args.file)?.workbook;
-    let sheet = default_sheet(&wb, &args.file, args.sheet.as_deref())?;
-    report_problems(&args.file, &wb);
-    repl::run(&args.file, wb, sheet, args.timings)
+    let opened = open(&args.file)?;
+    let sheet = default_sheet(&opened.workbook, &args.file, args.sheet.as_deref())?;
+    report_problems(&args.file, &opened.workbook);
+    repl::run(&args.file, opened, sheet, args.timings)
 }
 
 fn functions(args: FunctionsArgs) -> Result<()> {
@@ -383,7 +428,24 @@ fn target_sheet(wb: &Workbook, file: &Path, target: &Target, default: SheetId) -
 pub(crate) fn locate(wb: &Workbook, file: &Path, target: &Target, default: SheetId) -> Result<Selection> {
     let sheet = target_sheet(wb, file, target, default)?;
     let Some(name) = &target.name else { return Ok(Selection { sheet, rect: target.rect, label: None }) };
-    match wb.name_reference(name, sheet) {
+    let scopes = sheets_scoping(wb, name);
+    let seen_from = match (wb.name_reference(name, sheet), scopes.as_slice()) {
+        (Some(found), _) => Some(found),
+        // A name only one other sheet defines means that sheet's (chamfer.xlsx: alpha of Outer).
+        (None, [only]) if target.sheet.is_none() => wb.name_reference(name, *only),
+        (None, [_, _, ..]) if target.sheet.is_none() => {
+            let names = wb.sheet_names();
+            let listed: Vec<&str> = scopes.iter().map(|s| names[*s as usize].as_str()).collect();
+            let first = listed[0];
+            return Err(Error::User(format!(
+                "{}: {name} is defined for each of the sheets {} apart: say which, as {first}!{name} or --sheet {first}",
+                file.display(),
+                listed.join(", ")
+            )));
+        }
+        _ => None,
+    };
+    match seen_from {
         Some((sheet, rect)) => Ok(Selection { sheet, rect, label: Some(name.clone()) }),
         None => {
             let mut known = wb.names().into_iter().map(|(n, _, _)| n).collect::<Vec<_>>();
@@ -401,6 +463,15 @@ pub(crate) fn locate(wb: &Workbook, file: &Path, target: &Target, default: Sheet
             Err(Error::User(format!("{}: {what}", file.display())))
         }
     }
+}
+
+/// The sheets that define `name` for themselves only, in sheet order.
+fn sheets_scoping(wb: &Workbook, name: &str) -> Vec<SheetId> {
+    let mut scopes: Vec<SheetId> =
+        wb.names().into_iter().filter(|(n, _, _)| n.eq_ignore_ascii_case(name)).filter_map(|(_, _, s)| s).collect();
+    scopes.sort_unstable();
+    scopes.dedup();
+    scopes
 }
 
 /// Like [`locate`], for one cell: a name must point at a single cell.

@@ -1,12 +1,11 @@
 //! Printing values: an aligned table for people, csv and JSON for programs.
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::io::{self, Write};
 use std::path::Path;
 
 use clap::ValueEnum;
-use ncsheet::eval::functions::NumberFormat;
-use ncsheet::eval::number_format::round15;
+use ncsheet::eval::number_format::{round15, shown};
 use ncsheet::eval::Value;
 use ncsheet::formula::address::{column_name, Pos, Rect};
 use ncsheet::formula::ast::SheetId;
@@ -14,7 +13,7 @@ use ncsheet::io::xlsx::Layout;
 use ncsheet::io::{csv, Content, Export};
 use ncsheet::workbook::Workbook;
 
-use super::report::{Error, Result};
+use super::report::Result;
 
 /// How `eval` prints values.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
@@ -23,7 +22,7 @@ pub enum OutputFormat {
     /// format shows them (15 significant digits without one; --raw: in full)
     #[default]
     Table,
-    /// The cells as csv rows (as `ncsheet export` writes them)
+    /// The cells as comma-separated csv rows, values as `ncsheet export` writes them
     Csv,
     /// One object {"Sheet1!A1": value, …}: numbers, strings, booleans, errors as "#…" text;
     /// blank cells left out
@@ -61,23 +60,22 @@ impl Shown<'_> {
                 return f;
             }
         }
-        let v = wb.value(sheet, pos);
-        match v {
+        match wb.value(sheet, pos) {
             Value::Number(n) if self.raw => format!("{n}"),
-            Value::Number(n) => match self.format_code(wb, sheet, pos) {
-                Some(code) => {
-                    NumberFormat::parse(code).and_then(|f| f.format_number(n)).unwrap_or_else(|_| v.to_string())
-                }
-                None => v.to_string(),
-            },
+            Value::Number(n) => shown(n, self.format_code(wb, sheet, pos)),
             v => v.to_string(),
         }
     }
 
     /// The cell's number format code, when the file gave it one other than General.
     pub fn format_code<'b>(&'b self, wb: &Workbook, sheet: SheetId, pos: Pos) -> Option<&'b str> {
+        self.formats(wb, sheet)?.get(&pos).map(String::as_str)
+    }
+
+    /// A sheet's number formats by cell, from the file.
+    pub fn formats<'b>(&'b self, wb: &Workbook, sheet: SheetId) -> Option<&'b HashMap<Pos, String>> {
         let name = wb.sheet_names().into_iter().nth(sheet as usize)?;
-        self.layout?.sheets.get(&name)?.number_formats.get(&pos).map(String::as_str)
+        Some(&self.layout?.sheets.get(&name)?.number_formats)
     }
 }
 
@@ -149,7 +147,8 @@ pub fn print_selections(
         OutputFormat::Csv => {
             for s in selections {
                 let what = Export { sheet: s.sheet, range: Some(s.rect), content: Content::Values };
-                csv::write(wb, &what, out)?;
+                let style = csv::Style { delimiter: b',', formats: shown.formats(wb, s.sheet), raw: shown.raw };
+                csv::write_with(wb, &what, &style, out)?;
             }
         }
         OutputFormat::Json => writeln!(out, "{}", json(wb, selections))?,
@@ -309,11 +308,11 @@ fn json_value(v: &Value) -> serde_json::Value {
     }
 }
 
-/// A command's text output to a file (through the one atomic write) or to standard output.
-pub fn emit(text: &str, path: Option<&Path>) -> Result<()> {
+/// A command's text output to a file (through `write_outputs`, so `--force` decides whether
+/// an existing file is replaced) or to standard output.
+pub fn emit(text: &str, path: Option<&Path>, force: bool) -> Result<()> {
     match path {
-        Some(p) => ncsheet::io::atomic::write_file(p, |w| w.write_all(text.as_bytes()))
-            .map_err(|e| Error::User(format!("{}: cannot write: {e}", p.display()))),
+        Some(p) => super::write_outputs(&[ncsheet::io::Encoded::new(p, text.as_bytes().to_vec())], false, force),
         None => {
             let mut stdout = io::stdout().lock();
             stdout.write_all(text.as_bytes())?;

@@ -7,6 +7,8 @@ use std::path::Path;
 use std::time::Instant;
 
 use ncsheet::formula::ast::SheetId;
+use ncsheet::io::xlsx::Layout;
+use ncsheet::io::{Opened, Origin};
 use ncsheet::workbook::{Workbook, WorkbookError};
 use rustyline::error::ReadlineError;
 
@@ -19,7 +21,8 @@ commands:
   CELL=INPUT    set a cell (a value, or a formula starting with =) and recalculate
   CELL, RANGE   print values (B3, A1:D20, Sheet1!B3, or a defined name: alpha)
   show CELL     the cell's formula, value, format, the cells it reads and that read it
-  save PATH     save the workbook (csv: formulas as =… text)
+  save PATH     save the workbook as `set -o PATH` does: from the file opened, only the
+                changed cells rewritten (save PATH --force: over a read-only file)
   help          this list
   quit          leave (also exit, or end of input)";
 
@@ -86,11 +89,15 @@ struct Session<'a> {
     file: &'a Path,
     wb: Workbook,
     sheet: SheetId,
+    /// The file opened, which a save starts from (as `set` does).
+    origin: Origin,
+    /// The file's layout: the number formats values are shown with, and what a save keeps.
+    layout: Option<Layout>,
 }
 
 /// Runs commands until `quit` or the end of input. Piped, it fails (exit code 1) when any
 /// command failed, so a script notices; each failure was reported when it happened.
-pub fn run(file: &Path, wb: Workbook, sheet: SheetId, timings: bool) -> Result<()> {
+pub fn run(file: &Path, opened: Opened, sheet: SheetId, timings: bool) -> Result<()> {
     let interactive = io::stdin().is_terminal();
     let mut lines = if interactive {
         let editor =
@@ -106,7 +113,8 @@ pub fn run(file: &Path, wb: Workbook, sheet: SheetId, timings: bool) -> Result<(
     if interactive {
         eprintln!("ncsheet repl on {}: type help for commands", file.display());
     }
-    let mut session = Session { file, wb, sheet };
+    let Opened { workbook: wb, origin, layout, .. } = opened;
+    let mut session = Session { file, wb, sheet, origin, layout };
     let mut n_failed = 0;
     let stdout = io::stdout();
     while let Some(line) = lines.next(&prompt)? {
@@ -147,11 +155,7 @@ impl Session<'_> {
             ("quit" | "exit", "") => return Ok(Flow::Quit),
             ("help", "") => writeln!(out, "{HELP}")?,
             ("save", "") => return Err(Error::User("save needs a file name: save PATH".into())),
-            ("save", path) => {
-                super::refuse_overwriting_inputs(&[self.file], &[Path::new(path)], "save the session elsewhere")?;
-                ncsheet::io::save(&self.wb, Path::new(path))?;
-                writeln!(out, "saved {path}")?;
-            }
+            ("save", rest) => self.save(rest, out)?,
             ("show", "") => return Err(Error::User("show needs a cell: show B3".into())),
             ("show", what) => {
                 for word in what.split_whitespace() {
@@ -172,7 +176,7 @@ impl Session<'_> {
                     )),
                     _ => e,
                 })?;
-                let shown = output::Shown::default();
+                let shown = self.shown();
                 output::print_selections(out, &self.wb, self.sheet, &[selection], OutputFormat::Table, &shown)?;
             }
         }
@@ -187,7 +191,7 @@ impl Session<'_> {
             Ok(news) => news,
             Err(p) => return Err(super::in_file(self.file, Error::User(report::render(&self.wb, &p)))),
         };
-        writeln!(out, "{}", self.wb.value(sheet, pos))?;
+        writeln!(out, "{}", self.shown().text(&self.wb, sheet, pos))?;
         if let Some(doubt) = super::hints::doubt_about(&self.wb, sheet, pos, &assignment.input) {
             eprintln!("ncsheet: {}: {}: warning: {doubt}", self.file.display(), self.wb.cell_name(sheet, pos));
         }
@@ -195,6 +199,26 @@ impl Session<'_> {
             eprintln!("{}", prepend(&format!("ncsheet: {}: ", self.file.display()), &report::render(&self.wb, &p)));
         }
         Ok(())
+    }
+
+    /// `save PATH [--force]`: the one save of `set -o`, starting from the file opened so
+    /// that what ncsheet does not model is kept; never over the file opened.
+    fn save(&self, args: &str, out: &mut dyn Write) -> Result<()> {
+        let words: Vec<&str> = args.split_whitespace().collect();
+        let force = words.contains(&"--force");
+        let path = match words.iter().filter(|w| **w != "--force").collect::<Vec<_>>()[..] {
+            [path] => Path::new(path),
+            _ => return Err(Error::User("save needs one file name: save PATH (or save PATH --force)".into())),
+        };
+        super::refuse_overwriting_inputs(&[self.file], &[path], "save the session elsewhere")?;
+        let encoded = ncsheet::io::encode_save(&self.wb, self.layout.as_ref(), &self.origin, path)?;
+        super::write_outputs(&[encoded], false, force)?;
+        writeln!(out, "saved {}", path.display())?;
+        Ok(())
+    }
+
+    fn shown(&self) -> output::Shown<'_> {
+        output::Shown { layout: self.layout.as_ref(), ..output::Shown::default() }
     }
 
     fn select(&self, target: &Target) -> Result<Selection> {

@@ -60,6 +60,9 @@ pub struct RunArgs {
     /// Stop the macro after this many statements (an endless loop, usually)
     #[arg(long, default_value_t = 10_000_000)]
     pub max_statements: u64,
+    /// Stop the macro at the first statement after it has run this many seconds
+    #[arg(long, default_value_t = vba::DEFAULT_MAX_SECONDS as f64, value_parser = parse_seconds)]
+    pub max_seconds: f64,
     /// Stop the macro when calls nest deeper than this (endless recursion; at most 10000)
     #[arg(long, default_value_t = 100, value_parser = parse_max_depth)]
     pub max_depth: usize,
@@ -78,6 +81,13 @@ fn parse_max_depth(text: &str) -> std::result::Result<usize, String> {
         _ => Err(format!(
             "'{text}' is not a depth from 1 to {MAX_DEPTH_LIMIT} (ncsheet's limit: each level reserves 64 KiB of stack)"
         )),
+    }
+}
+
+fn parse_seconds(text: &str) -> std::result::Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(s) if s > 0.0 && s <= 1e9 => Ok(s),
+        _ => Err(format!("'{text}' is not a number of seconds above 0 (at most 1E+9)")),
     }
 }
 
@@ -109,9 +119,8 @@ pub fn run(args: RunArgs) -> Result<()> {
 }
 
 fn run_on_this_thread(args: RunArgs, dialect_name: &'static str) -> Result<()> {
-    let opened = ncsheet::io::open(&args.workbook)?;
+    let opened = ncsheet::io::open_with(&args.workbook, super::csv_delimiter())?;
     let mut wb = opened.workbook;
-    let formulas_before = if args.save.is_some() { formula_cells(&wb) } else { Vec::new() };
     let (file, source, sub) = macro_source(&args)?;
     let file = &file;
     let options = RunOptions {
@@ -119,6 +128,7 @@ fn run_on_this_thread(args: RunArgs, dialect_name: &'static str) -> Result<()> {
         args: args.args.clone(),
         max_statements: args.max_statements,
         max_depth: args.max_depth,
+        max_time: std::time::Duration::from_secs_f64(args.max_seconds),
         sheet: args.sheet.clone(),
         dialect: Some(dialect_name.to_string()),
         machine: match args.machine {
@@ -154,11 +164,8 @@ fn run_on_this_thread(args: RunArgs, dialect_name: &'static str) -> Result<()> {
         files.push(ncsheet::io::encode_save(&wb, opened.layout.as_ref(), &opened.origin, save)?);
     }
     super::write_outputs(&files, false, args.force)?;
-    if let Some(save) = &args.save {
-        say_replaced_formulas(&wb, &formulas_before, save);
-    }
     if let Some(text) = program {
-        emit(&text, None)?;
+        emit(&text, None, false)?;
     }
     Ok(())
 }
@@ -175,33 +182,6 @@ fn macro_source(args: &RunArgs) -> Result<(PathBuf, String, Option<String>)> {
     let (module, sub) = super::macros::pick_macro(&project, args.sub.as_deref())?;
     let place = args.workbook.join(&module.name);
     Ok((place, module.source.clone(), sub))
-}
-
-fn formula_cells(wb: &ncsheet::workbook::Workbook) -> Vec<(u16, ncsheet::formula::address::Pos)> {
-    (0..wb.sheet_len() as u16)
-        .flat_map(|s| wb.values(s).into_iter().filter(move |(p, _)| wb.is_formula(s, *p)).map(move |(p, _)| (s, p)))
-        .collect()
-}
-
-/// A macro writing `Range(…).Value` over a formula cell leaves a constant there: the saved
-/// workbook no longer recomputes that cell, which the user must hear.
-fn say_replaced_formulas(
-    wb: &ncsheet::workbook::Workbook,
-    before: &[(u16, ncsheet::formula::address::Pos)],
-    save: &std::path::Path,
-) {
-    let replaced: Vec<String> =
-        before.iter().filter(|(s, p)| !wb.is_formula(*s, *p)).map(|&(s, p)| wb.cell_name(s, p)).collect();
-    if replaced.is_empty() {
-        return;
-    }
-    let shown = replaced.iter().take(8).cloned().collect::<Vec<_>>().join(", ");
-    let more = if replaced.len() > 8 { format!(" and {} more", replaced.len() - 8) } else { String::new() };
-    eprintln!(
-        "ncsheet: {}: note: the macro wrote values over {} formula cells, saved as constants: {shown}{more}",
-        save.display(),
-        replaced.len()
-    );
 }
 
 /// What the macro printed goes to stderr: a line above `%` would stop a control reading a

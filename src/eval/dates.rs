@@ -15,6 +15,18 @@ const OFFSET_1904: i64 = 1462;
 
 thread_local! {
     static DATE_1904: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+    static FIXED_CLOCK: std::cell::Cell<Option<f64>> = const { std::cell::Cell::new(None) };
+}
+
+/// Makes NOW and TODAY read `serial` on this thread instead of the system clock (`None`: the
+/// system clock again), so that a recalculation can reproduce results saved at a known time.
+pub fn fix_clock(serial: Option<f64>) {
+    FIXED_CLOCK.with(|c| c.set(serial));
+}
+
+/// The serial NOW reads on this thread, when [`fix_clock`] fixed one.
+pub fn fixed_clock() -> Option<f64> {
+    FIXED_CLOCK.with(std::cell::Cell::get)
 }
 
 /// Chooses the date system of what is evaluated next on this thread.
@@ -176,6 +188,9 @@ impl DateTime {
 /// The local date and time now, as a serial (what NOW returns).
 pub fn now() -> f64 {
     use chrono::{Datelike, Timelike};
+    if let Some(serial) = fixed_clock() {
+        return serial;
+    }
     let t = chrono::Local::now().naive_local();
     let day = serial_from_ymd(i64::from(t.year()), i64::from(t.month()), i64::from(t.day()));
     let seconds = f64::from(t.num_seconds_from_midnight()) + f64::from(t.nanosecond() % 1_000_000_000) * 1e-9;

@@ -42,6 +42,15 @@ pub trait Env {
 
     fn sheet_name(&self, sheet: SheetId) -> Option<String>;
 
+    /// The sheet of this name, ignoring ASCII case (INDIRECT's `Sheet2!A1`). The default
+    /// reads every name; an environment of many sheets answers from an index.
+    fn sheet_id(&self, name: &str) -> Option<SheetId> {
+        (0..self.sheet_count()).find_map(|i| {
+            let id = i as SheetId;
+            self.sheet_name(id).filter(|n| n.eq_ignore_ascii_case(name)).map(|_| id)
+        })
+    }
+
     /// The formula of a cell as typed (`=A1+1`), `None` for a constant or an empty cell
     /// (FORMULATEXT, ISFORMULA).
     fn formula_text(&self, _sheet: SheetId, _pos: Pos) -> Option<String> {
@@ -57,6 +66,20 @@ pub trait Env {
     fn date_1904(&self) -> bool {
         false
     }
+
+    /// Whether row `row` of `sheet` is hidden, and how (SUBTOTAL and AGGREGATE skip such rows).
+    fn row_hidden(&self, _sheet: SheetId, _row: u32) -> Option<RowHidden> {
+        None
+    }
+}
+
+/// How a row is hidden: SUBTOTAL 1–11 skips the rows a filter hides, 101–111 every hidden row.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RowHidden {
+    /// Hidden by hand (or by a collapsed outline).
+    Manually,
+    /// Hidden by a filter (an autofilter or a table's).
+    Filtered,
 }
 
 /// What an embedding language adds to the expressions it hands the evaluator: the macro
@@ -95,6 +118,8 @@ pub struct Ctx<'a> {
     local_lambdas: Vec<(Rc<str>, Rc<Expr>)>,
     host: Option<&'a dyn Host>,
     depth: u32,
+    /// Calls of named LAMBDAs (LET-bound or defined names) so far, against [`MAX_LAMBDA_CALLS`].
+    lambda_calls: u32,
     /// Messages explaining error values, for the CLI to show.
     pub notes: Vec<Note>,
     /// Numbers to read in place of number literals of the tree being evaluated, each with
@@ -130,6 +155,11 @@ fn holds_text_over(v: &Value, limit: usize) -> bool {
 /// Nested name definitions or LET bodies deeper than this are a cycle.
 const MAX_DEPTH: u32 = 200;
 
+/// ncsheet's limit on the calls of named LAMBDAs (recursion) while one formula evaluates
+/// (docs/limits.md): about a second of work. Excel sets none, but a doubly recursive
+/// Fibonacci of 45 would run for hours.
+pub const MAX_LAMBDA_CALLS: u32 = 2_000_000;
+
 impl<'a> Ctx<'a> {
     pub fn new(env: &'a dyn Env, sheet: SheetId, at: Pos) -> Ctx<'a> {
         crate::eval::dates::set_date_1904(env.date_1904());
@@ -141,6 +171,7 @@ impl<'a> Ctx<'a> {
             local_lambdas: Vec::new(),
             host: None,
             depth: 0,
+            lambda_calls: 0,
             notes: Vec::new(),
             numbers: &[],
             dynamic_refs: Vec::new(),
@@ -378,7 +409,11 @@ impl<'a> Ctx<'a> {
             return Operand::Value(Value::Error(XlError::Name));
         };
         if self.depth >= MAX_DEPTH {
-            return Operand::Value(Value::Error(XlError::Circ));
+            let why = format!(
+                "defined names nest deeper than {MAX_DEPTH} levels evaluating {name}: a name that refers to itself, \
+                 or a chain longer than ncsheet's limit"
+            );
+            return Operand::Value(Value::Error(self.explain_once(XlError::Circ, why)));
         }
         // A defined name is evaluated as if it sat in A1 of its sheet (its references are absolute
         // as Excel stores them) and without the caller's LET or macro variables.
@@ -398,15 +433,15 @@ impl<'a> Ctx<'a> {
     fn call_defined_lambda(&mut self, name: &str, args: &[Expr]) -> Value {
         let local = self.local_lambdas.iter().rev().find(|(n, _)| n.eq_ignore_ascii_case(name));
         if let Some(expr) = local.map(|(_, e)| e.clone()) {
-            return self.call_local_lambda(&expr, args);
+            return self.call_local_lambda(name, &expr, args);
         }
         let Some((expr, sheet)) = self.env.defined_name(name, self.sheet) else { return Value::Error(XlError::Name) };
         let Some(lambda) = functions::as_lambda(&expr) else { return Value::Error(XlError::Name) };
         if lambda.params.len() != args.len() {
             return Value::Error(XlError::Value);
         }
-        if self.depth >= MAX_DEPTH {
-            return Value::Error(XlError::Circ);
+        if let Err(e) = self.enter_lambda(name) {
+            return Value::Error(e);
         }
         let values: Vec<Value> = args.iter().map(|a| self.eval(a)).collect();
         let saved = (self.sheet, self.at, std::mem::take(&mut self.locals));
@@ -420,13 +455,13 @@ impl<'a> Ctx<'a> {
     }
 
     /// A LET-bound LAMBDA called by its name: the body runs here, seeing the LET's names.
-    fn call_local_lambda(&mut self, expr: &Expr, args: &[Expr]) -> Value {
+    fn call_local_lambda(&mut self, name: &str, expr: &Expr, args: &[Expr]) -> Value {
         let Some(lambda) = functions::as_lambda(expr) else { return Value::Error(XlError::Name) };
         if lambda.params.len() != args.len() {
             return Value::Error(XlError::Value);
         }
-        if self.depth >= MAX_DEPTH {
-            return Value::Error(XlError::Circ);
+        if let Err(e) = self.enter_lambda(name) {
+            return Value::Error(e);
         }
         let values: Vec<Value> = args.iter().map(|a| self.eval(a)).collect();
         let n = self.locals.len();
@@ -436,6 +471,37 @@ impl<'a> Ctx<'a> {
         self.depth -= 1;
         self.locals.truncate(n);
         out
+    }
+
+    /// Counts a call of the named LAMBDA `name` against ncsheet's limits: nesting deeper
+    /// than [`MAX_DEPTH`] or more than [`MAX_LAMBDA_CALLS`] calls is `#NUM!` (Excel's error
+    /// for a LAMBDA calling itself without end), with a note saying which limit.
+    fn enter_lambda(&mut self, name: &str) -> XlResult<()> {
+        if self.depth >= MAX_DEPTH {
+            let why = format!(
+                "LAMBDA calls nest deeper than {MAX_DEPTH} levels calling {name}: recursion without end, \
+                 or deeper than ncsheet's limit"
+            );
+            return Err(self.explain_once(XlError::Num, why));
+        }
+        self.lambda_calls += 1;
+        if self.lambda_calls > MAX_LAMBDA_CALLS {
+            let why = format!(
+                "more than {MAX_LAMBDA_CALLS} LAMBDA calls in one formula (ncsheet's limit) calling {name}: \
+                 recursion that branches too often"
+            );
+            return Err(self.explain_once(XlError::Num, why));
+        }
+        Ok(())
+    }
+
+    /// [`Ctx::explain`], but a message already noted is not noted again (a recursion past
+    /// a limit fails once per branch).
+    fn explain_once(&mut self, error: XlError, message: String) -> XlError {
+        if !self.notes.iter().any(|n| n.error == error && n.message == message) {
+            self.notes.push(Note { error, message });
+        }
+        error
     }
 
     fn range_operand(&mut self, a: &Expr, b: &Expr) -> Operand {

@@ -11,5 +11,5 @@ pub mod surface;
 pub mod testing;
 pub mod value;
 
-pub use evaluator::{Ctx, Env, Note, Operand};
+pub use evaluator::{Ctx, Env, Note, Operand, RowHidden};
 pub use value::{Array, Value, XlError, XlResult};

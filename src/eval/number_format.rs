@@ -18,6 +18,13 @@ pub fn general(n: f64) -> String {
     }
 }
 
+/// A number as a cell with the number format `code` shows it: General (15 significant
+/// digits) without one, or when the code is one ncsheet cannot apply.
+pub fn shown(n: f64, code: Option<&str>) -> String {
+    code.and_then(|c| crate::eval::functions::NumberFormat::parse(c).and_then(|f| f.format_number(n)).ok())
+        .unwrap_or_else(|| general(n))
+}
+
 /// The decimal digits of |n| rounded to `precision` significant digits, trailing zeros
 /// removed, and the decimal exponent of the first digit.
 pub fn significant_digits(n: f64, precision: usize) -> (String, i32) {

@@ -162,6 +162,9 @@ impl<E> From<GeometryError> for PathError<E> {
 /// The depth (mm) a gouge must exceed to count, unless the spec says otherwise: 1 µm.
 pub const GOUGE_TOLERANCE: f64 = 1e-3;
 
+/// The finest chord tolerance (mm): a nanometre, a thousandth of what a control resolves.
+pub const MIN_CHORD_TOLERANCE: f64 = 1e-6;
+
 /// Halving a chord stops at this depth (max_step / 2^20).
 const MAX_HALVINGS: u32 = 20;
 
@@ -217,6 +220,11 @@ fn check_spec(spec: &BallPathSpec) -> Result<(), GeometryError> {
             ensure(tolerance > 0.0 && tolerance.is_finite(), || {
                 format!("chord tolerance must be > 0, not {tolerance}")
             })?;
+            // Finer than any machine moves, and each tenfold finer asks for ~3 times the
+            // points: a nanometre would take hours to reach the point limit.
+            ensure(tolerance >= MIN_CHORD_TOLERANCE, || {
+                format!("chord tolerance must be at least {MIN_CHORD_TOLERANCE} mm (a nanometre), not {tolerance}")
+            })?;
             ensure(max_step > 0.0 && max_step.is_finite(), || format!("step must be > 0, not {max_step}"))?;
         }
     }
@@ -224,9 +232,20 @@ fn check_spec(spec: &BallPathSpec) -> Result<(), GeometryError> {
         Lines::ConstantX => spec.x,
         Lines::ConstantY => spec.y,
     };
+    let along = match spec.lines {
+        Lines::ConstantX => spec.y,
+        Lines::ConstantY => spec.x,
+    };
     let n_lines = ((across[1] - across[0]) / spec.stepover).ceil() + 1.0;
-    ensure(n_lines <= spec.max_points as f64, || {
-        format!("the path would have {n_lines} lines, more than the {} points allowed", spec.max_points)
+    let step = match spec.spacing {
+        Spacing::Step(s) | Spacing::Chord { max_step: s, .. } => s,
+    };
+    // The fewest points the path can have, counted before any is placed: a step of 1e-9
+    // must not ask for the memory of 1e10 stations.
+    let per_line = ((along[1] - along[0]) / step).ceil() + 1.0;
+    let least = n_lines * per_line;
+    ensure(least <= spec.max_points as f64, || {
+        format!("the path would have {least} points, more than the {} points allowed", spec.max_points)
     })
 }
 
@@ -266,8 +285,11 @@ impl<S: Surface> Placer<'_, S> {
         out: &mut Vec<PathPoint>,
         max_points: usize,
     ) -> Result<(), PathError<S::Error>> {
-        let too_many =
-            || PathError::Spec(GeometryError::OutOfRange(format!("the path has more than {max_points} points")));
+        let too_many = || {
+            PathError::Spec(GeometryError::OutOfRange(format!(
+                "the path has more than the {max_points} points allowed"
+            )))
+        };
         match spacing {
             Spacing::Step(step) => {
                 let vs = stations(along, step);

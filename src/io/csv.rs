@@ -20,9 +20,11 @@
 //! `007`, `2024-01-10`, `"1,234"`, `50%` stay as they were), each row keeps its own number of
 //! fields and its own line ending; only edited cells are written anew.
 
+use std::collections::HashMap;
 use std::fmt;
 use std::io::{self, Write};
 
+use crate::eval::number_format;
 use crate::eval::Value;
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::workbook::{Input, Workbook};
@@ -61,6 +63,13 @@ pub struct Original {
     rows: Vec<RawRow>,
 }
 
+impl Original {
+    /// The delimiter the file was read with.
+    pub fn delimiter(&self) -> u8 {
+        self.delimiter
+    }
+}
+
 #[derive(Clone, Debug, Default, PartialEq)]
 struct RawRow {
     /// Each field as it stands in the file, quotes included.
@@ -71,10 +80,15 @@ struct RawRow {
 
 /// [`read`], also returning the file's text by row and field for [`write_edited`].
 pub fn read_original(bytes: &[u8]) -> Result<(Workbook, Original), Malformed> {
+    read_original_with(bytes, None)
+}
+
+/// [`read_original`] with a given delimiter (`None`: detect it); a save writes it again.
+pub fn read_original_with(bytes: &[u8], delimiter: Option<u8>) -> Result<(Workbook, Original), Malformed> {
     let bom = bytes.starts_with(b"\xEF\xBB\xBF");
-    let wb = read_with(bytes, None)?;
+    let wb = read_with(bytes, delimiter)?;
     let text = std::str::from_utf8(&bytes[if bom { 3 } else { 0 }..]).expect("checked by read_text");
-    let delimiter = delimiter_of(text.as_bytes());
+    let delimiter = delimiter.unwrap_or_else(|| delimiter_of(text.as_bytes()));
     Ok((wb, Original { bom, delimiter, rows: raw_rows(text, delimiter) }))
 }
 
@@ -158,7 +172,8 @@ pub fn write_edited(wb: &Workbook, original: &Original, edited: &[Pos], out: &mu
             }
             row.fields.resize(c + 1, String::new());
         }
-        row.fields[c] = quoted(&text);
+        let text = if original.delimiter == b';' { decimal_comma_input(&text) } else { text };
+        row.fields[c] = quoted(&text, original.delimiter);
     }
     if original.bom {
         out.write_all(b"\xEF\xBB\xBF")?;
@@ -171,9 +186,9 @@ pub fn write_edited(wb: &Workbook, original: &Original, edited: &[Pos], out: &mu
     buf.flush()
 }
 
-/// A field as RFC 4180 writes it: quoted when it holds a comma, a quote or a line break.
-fn quoted(text: &str) -> String {
-    if text.contains([',', '"', '\r', '\n']) || text.starts_with(' ') || text.ends_with(' ') {
+/// A field as RFC 4180 writes it: quoted when it holds the delimiter, a quote or a line break.
+fn quoted(text: &str, delimiter: u8) -> String {
+    if text.contains([char::from(delimiter), '"', '\r', '\n']) || text.starts_with(' ') || text.ends_with(' ') {
         format!("\"{}\"", text.replace('"', "\"\""))
     } else {
         text.to_string()
@@ -236,33 +251,50 @@ struct RecordStart {
 /// only at the start of a field, `""` inside one is a quote, and `\n`, `\r\n` or `\r` ends
 /// a record.
 /// `;` when the file's first lines are `;`-separated (each holds the same number of `;`
-/// outside quotes, and not as many `,`), else `,`.
+/// outside quotes, and not as many `,` unless every `,` stands between digits, as a decimal
+/// comma does: `a;0,5`), else `,`.
 pub fn delimiter_of(bytes: &[u8]) -> u8 {
-    let lines: Vec<(usize, usize)> = bytes
+    let lines: Vec<(usize, usize, bool)> = bytes
         .split(|&b| b == b'\n')
         .filter(|l| !l.iter().all(u8::is_ascii_whitespace))
         .take(20)
         .map(|line| {
             let mut quoted = false;
-            let (mut semicolons, mut commas) = (0, 0);
-            for &b in line {
+            let (mut semicolons, mut commas, mut decimal_commas) = (0, 0, true);
+            let digit = |i: Option<usize>| i.and_then(|i| line.get(i)).is_some_and(u8::is_ascii_digit);
+            for (i, &b) in line.iter().enumerate() {
                 match b {
                     b'"' => quoted = !quoted,
                     b';' if !quoted => semicolons += 1,
-                    b',' if !quoted => commas += 1,
+                    b',' if !quoted => {
+                        commas += 1;
+                        decimal_commas &= digit(i.checked_sub(1)) && digit(Some(i + 1));
+                    }
                     _ => {}
                 }
             }
-            (semicolons, commas)
+            (semicolons, commas, decimal_commas)
         })
         .collect();
-    let Some(&(first, _)) = lines.first() else { return b',' };
-    let consistent = first > 0 && lines.iter().all(|&(s, _)| s == first);
-    let commas_separate = lines.iter().all(|&(_, c)| c > 0 && c == lines[0].1) && lines[0].1 >= first;
+    let Some(&(first, _, _)) = lines.first() else { return b',' };
+    let consistent = first > 0 && lines.iter().all(|&(s, _, _)| s == first);
+    let decimal = lines.iter().all(|&(_, _, d)| d);
+    let commas_separate = !decimal && lines.iter().all(|&(_, c, _)| c > 0 && c == lines[0].1) && lines[0].1 >= first;
     if consistent && !commas_separate {
         b';'
     } else {
         b','
+    }
+}
+
+/// A number typed as `0.8` written into a `;`-separated file as `0,8`, as that file's
+/// spreadsheet reads it (and [`decimal_point`] reads it back); anything else unchanged.
+fn decimal_comma_input(text: &str) -> String {
+    let is_number = matches!(Input::parse(text), Input::Value(Value::Number(_)));
+    if is_number && decimal_point(&text.replacen('.', ",", 1)) == text {
+        text.replacen('.', ",", 1)
+    } else {
+        text.to_string()
     }
 }
 
@@ -336,8 +368,31 @@ fn record_starts(text: &str, delimiter: u8) -> Result<Vec<RecordStart>, Malforme
     Ok(starts)
 }
 
+/// How a csv is written: its delimiter and how values are shown.
+#[derive(Clone, Copy, Debug)]
+pub struct Style<'a> {
+    /// `,`, or `;` for a spreadsheet whose locale writes decimal commas: numbers are then
+    /// written with a decimal comma (`0,8`), as such a spreadsheet reads them.
+    pub delimiter: u8,
+    /// The sheet's number formats by cell: values are written as the cells show them.
+    pub formats: Option<&'a HashMap<Pos, String>>,
+    /// Numbers in full precision (the shortest text that reads back as the same number).
+    pub raw: bool,
+}
+
+impl Default for Style<'_> {
+    fn default() -> Self {
+        Style { delimiter: b',', formats: None, raw: false }
+    }
+}
+
 /// Writes a sheet, or a range of it, as csv.
 pub fn write(wb: &Workbook, what: &Export, out: &mut dyn Write) -> io::Result<()> {
+    write_with(wb, what, &Style::default(), out)
+}
+
+/// [`write`] in a given [`Style`].
+pub fn write_with(wb: &Workbook, what: &Export, style: &Style, out: &mut dyn Write) -> io::Result<()> {
     let rect = match what.range {
         Some(r) => r,
         None => match wb.used_rect(what.sheet) {
@@ -345,20 +400,45 @@ pub fn write(wb: &Workbook, what: &Export, out: &mut dyn Write) -> io::Result<()
             None => return Ok(()),
         },
     };
-    let mut writer = ::csv::WriterBuilder::new().from_writer(out);
+    let mut writer = ::csv::WriterBuilder::new().delimiter(style.delimiter).from_writer(out);
     let mut fields: Vec<String> = Vec::with_capacity(rect.cols() as usize);
     for row in rect.first.row..=rect.last.row {
         fields.clear();
         for col in rect.first.col..=rect.last.col {
             let pos = Pos::new(row, col);
             fields.push(match what.content {
-                Content::Values => value_field(&wb.value(what.sheet, pos)),
+                Content::Values => style.field(&wb.value(what.sheet, pos), pos),
                 Content::Formulas => wb.input(what.sheet, pos).unwrap_or_default(),
             });
         }
         writer.write_record(&fields)?;
     }
     writer.flush()
+}
+
+impl Style<'_> {
+    /// The csv text of a value in this style: a number as its cell's format shows it (or
+    /// in full), with a decimal comma in a `;` file; anything else as [`value_field`].
+    fn field(&self, v: &Value, pos: Pos) -> String {
+        let Value::Number(n) = v else { return value_field(v) };
+        let text = if self.raw {
+            format!("{n}")
+        } else {
+            number_format::shown(*n, self.formats.and_then(|f| f.get(&pos)).map(String::as_str))
+        };
+        if self.delimiter == b';' {
+            // Swapped both ways: 1,234.5 is 1.234,5 where the comma is the decimal mark.
+            text.chars()
+                .map(|c| match c {
+                    '.' => ',',
+                    ',' => '.',
+                    c => c,
+                })
+                .collect()
+        } else {
+            text
+        }
+    }
 }
 
 /// The csv text of a value: what the sheet shows, text guarded so it reads back as text.
@@ -415,6 +495,15 @@ mod tests {
         assert_eq!(err, Malformed { line: 2, message: err.message.clone() });
         // A quote inside an unquoted field is a literal character, as the reader takes it.
         assert!(record_starts("ab\"c\n", b',').is_ok());
+    }
+
+    #[test]
+    fn decimal_commas_do_not_make_a_file_comma_separated() {
+        assert_eq!(delimiter_of(b"a;0,5\n"), b';');
+        assert_eq!(delimiter_of(b"D;40,5\nf;2,25\n"), b';');
+        assert_eq!(delimiter_of(b"a;b,c\n"), b',');
+        assert_eq!(delimiter_of(b"1,5\n2,6\n"), b',');
+        assert_eq!(delimiter_of(b"x;y,1\n"), b',');
     }
 
     #[test]

@@ -20,6 +20,7 @@ use crate::workbook::Workbook;
 
 pub mod atomic;
 pub mod csv;
+pub mod limits;
 pub mod xlsx;
 
 /// The file types ncsheet knows, by extension.
@@ -195,13 +196,19 @@ impl Encoded {
 /// Cells that hold bad input (a formula that does not parse) are not an error here: they
 /// load as error values, listed by `Workbook::problems`.
 pub fn open(path: &Path) -> Result<Opened, Error> {
+    open_with(path, None)
+}
+
+/// [`open`], a csv file read with the given delimiter (`None`: detected).
+pub fn open_with(path: &Path, csv_delimiter: Option<u8>) -> Result<Opened, Error> {
     match Format::of(path)? {
         Format::Csv => {
             let bytes = std::fs::read(path).map_err(|e| Error::new(path, ErrorKind::Read(e)))?;
-            let (mut workbook, original) = csv::read_original(&bytes).map_err(|m| Error::new(path, m.into()))?;
+            let (mut workbook, original) =
+                csv::read_original_with(&bytes, csv_delimiter).map_err(|m| Error::new(path, m.into()))?;
             workbook.track_changes();
             let mut notes = Vec::new();
-            if csv::delimiter_of(&bytes) == b';' {
+            if csv_delimiter.is_none() && csv::delimiter_of(&bytes) == b';' {
                 notes.push("read as ;-separated values (decimal commas as numbers)".to_string());
             }
             let origin = Origin::Csv(original);
@@ -242,6 +249,20 @@ pub fn save_with_layout(wb: &Workbook, layout: Option<&xlsx::Layout>, path: &Pat
 /// written anew (an xlsx through rust_xlsxwriter with `layout`'s formats and widths), and
 /// what an xlsx original held beyond that is named in [`Encoded::losses`].
 pub fn encode_save(
+    wb: &Workbook,
+    layout: Option<&xlsx::Layout>,
+    origin: &Origin,
+    path: &Path,
+) -> Result<Encoded, Error> {
+    let mut encoded = encode_save_keeping(wb, layout, origin, path)?;
+    let replaced = wb.changes().unwrap_or_default().formulas_replaced;
+    let names: Vec<String> = replaced.iter().map(|&(sheet, pos)| wb.cell_name(sheet, pos)).collect();
+    encoded.losses.extend(formulas_replaced(&names));
+    Ok(encoded)
+}
+
+/// [`encode_save`] but for the formulas that edits replaced by constants.
+fn encode_save_keeping(
     wb: &Workbook,
     layout: Option<&xlsx::Layout>,
     origin: &Origin,
@@ -289,6 +310,18 @@ fn same_macro_kind(a: &Path, b: &Path) -> bool {
     xlsm(a) == xlsm(b)
 }
 
+/// The loss of formulas that edits replaced by constants, naming the cells.
+fn formulas_replaced(cells: &[String]) -> Option<String> {
+    let shown = cells.iter().take(8).cloned().collect::<Vec<_>>().join(", ");
+    let more = if cells.len() > 8 { format!(" and {} more", cells.len() - 8) } else { String::new() };
+    (!cells.is_empty()).then(|| {
+        format!(
+            "formulas replaced by constants, so the saved file no longer computes these cells ({}): {shown}{more}",
+            cells.len()
+        )
+    })
+}
+
 fn rewritten_loss(source: &Path, why: &str) -> String {
     format!(
         "the workbook is written anew ({why}): of {} only cells, defined names, number formats, column widths \
@@ -307,18 +340,66 @@ pub fn export(wb: &Workbook, path: &Path, what: &Export) -> Result<(), Error> {
 
 /// What [`export`] writes, computed and not yet written.
 pub fn encode_export(wb: &Workbook, path: &Path, what: &Export) -> Result<Encoded, Error> {
+    encode_export_with(wb, path, what, &ExportOptions::default())
+}
+
+/// How an export writes values besides [`Export`]'s choice of cells.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ExportOptions<'a> {
+    /// The csv delimiter (`None`: `,`).
+    pub delimiter: Option<u8>,
+    /// The source's number formats: a csv shows values as their cells do, an xlsx keeps
+    /// the formats on the values. `None`: General.
+    pub layout: Option<&'a xlsx::Layout>,
+    /// Numbers in full precision in a csv, whatever their format.
+    pub raw: bool,
+}
+
+/// [`encode_export`] with [`ExportOptions`].
+pub fn encode_export_with(
+    wb: &Workbook,
+    path: &Path,
+    what: &Export,
+    options: &ExportOptions,
+) -> Result<Encoded, Error> {
+    let sheet_name = wb.sheet_names().into_iter().nth(what.sheet as usize).unwrap_or_default();
+    let sheet_layout = options.layout.and_then(|l| l.sheets.get(&sheet_name));
     let bytes = match Format::of(path)? {
         Format::Csv => {
+            let style = csv::Style {
+                delimiter: options.delimiter.unwrap_or(b','),
+                formats: sheet_layout.map(|l| &l.number_formats),
+                raw: options.raw,
+            };
             let mut bytes = Vec::new();
-            csv::write(wb, what, &mut bytes as &mut dyn Write).map_err(|e| Error::new(path, ErrorKind::Write(e)))?;
+            csv::write_with(wb, what, &style, &mut bytes as &mut dyn Write)
+                .map_err(|e| Error::new(path, ErrorKind::Write(e)))?;
             bytes
         }
         Format::Xlsx => match what.content {
-            Content::Formulas => return encode_save(wb, None, &Origin::New, path),
-            Content::Values => xlsx::to_bytes_for(&values_only(wb, what), &xlsx::Layout::default(), path)?,
+            Content::Formulas => return encode_save(wb, options.layout, &Origin::New, path),
+            Content::Values => {
+                let layout = values_layout(wb, what, &sheet_name, sheet_layout);
+                xlsx::to_bytes_for(&values_only(wb, what), &layout, path)?
+            }
         },
     };
     Ok(Encoded { path: path.to_path_buf(), bytes, losses: Vec::new() })
+}
+
+/// The number formats of `what`'s cells moved as [`values_only`] moves the cells.
+fn values_layout(wb: &Workbook, what: &Export, name: &str, source: Option<&xlsx::SheetLayout>) -> xlsx::Layout {
+    let mut layout = xlsx::Layout::default();
+    let (Some(source), Some(rect)) = (source, what.range.or_else(|| wb.used_rect(what.sheet))) else { return layout };
+    let formats = source
+        .number_formats
+        .iter()
+        .filter(|(pos, _)| rect.contains(**pos))
+        .map(|(pos, code)| (crate::formula::Pos::new(pos.row - rect.first.row, pos.col - rect.first.col), code.clone()))
+        .collect();
+    let sheet = xlsx::SheetLayout { number_formats: formats, ..xlsx::SheetLayout::default() };
+    layout.sheets.insert(name.to_string(), sheet);
+    layout
 }
 
 /// A one-sheet workbook holding the values of `what`'s cells as constants, from A1.

@@ -48,11 +48,27 @@ pub enum ArcDirection {
     CounterClockwise,
 }
 
-/// One word of a raw block: `G1`, `X12.5`, `M30`.
+/// One word of a raw block: `G1`, `X12.5`, `M30`, `T0101`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Word {
     pub address: char,
     pub value: f64,
+    /// The number as the user typed it in text (`0101` of `T0101`): a code word (tool,
+    /// offset, G and M codes) is written with these digits, so that `T0101` (tool 1,
+    /// offset 1 on a lathe) does not become `T101`. `None` for a number computed.
+    pub typed: Option<String>,
+}
+
+impl Word {
+    /// A word of a computed number.
+    pub fn new(address: char, value: f64) -> Word {
+        Word { address, value, typed: None }
+    }
+
+    /// A word read from text, keeping the digits as typed.
+    pub fn typed(address: char, value: f64, typed: &str) -> Word {
+        Word { address, value, typed: Some(typed.to_string()) }
+    }
 }
 
 /// What an F word means: mm per minute (milling, G94) or mm per spindle revolution

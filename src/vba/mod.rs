@@ -99,6 +99,10 @@ pub struct RunOptions {
     pub max_statements: u64,
     /// Stops the macro when procedure calls nest deeper than this (endless recursion).
     pub max_depth: usize,
+    /// Stops the macro at the first statement or loop turn after it has run this long: a
+    /// loop of few statements that are each expensive (`Evaluate` of a large array) is
+    /// stopped though it stays far below `max_statements`.
+    pub max_time: std::time::Duration,
     /// The sheet `Range`, `Cells` and `[B3]` mean before a macro activates another; `None`
     /// is the first sheet.
     pub sheet: Option<String>,
@@ -109,6 +113,9 @@ pub struct RunOptions {
     pub machine: Machine,
 }
 
+/// The default of [`RunOptions::max_time`], in seconds (`run --max-seconds`).
+pub const DEFAULT_MAX_SECONDS: u64 = 60;
+
 impl Default for RunOptions {
     fn default() -> RunOptions {
         RunOptions {
@@ -116,6 +123,7 @@ impl Default for RunOptions {
             args: Vec::new(),
             max_statements: 10_000_000,
             max_depth: 100,
+            max_time: std::time::Duration::from_secs(DEFAULT_MAX_SECONDS),
             sheet: None,
             dialect: None,
             machine: Machine::Lathe,
@@ -151,7 +159,7 @@ pub enum ErrorKind {
     Syntax,
     /// A statement failed while running.
     Runtime,
-    /// The statement or recursion limit stopped the macro.
+    /// The statement, time or recursion limit stopped the macro.
     Limit,
     /// The run was asked for something the module does not have (`--sub`, `--arg`).
     Usage,

@@ -729,11 +729,14 @@ impl Interp<'_, '_> {
         for v in &values {
             if let Value::Text(t) = v {
                 for token in t.split_whitespace() {
+                    // `Nc.Block "T", "0101"`: the number of a letter given before, as typed.
+                    if let Some(l) = letter.take() {
+                        let n = typed_number(token).ok_or_else(|| bad(format!("{l} needs a number after it")))?;
+                        words.push(Word::typed(l, n, token));
+                        continue;
+                    }
                     let mut chars = token.chars();
                     let first = chars.next().expect("a token").to_ascii_uppercase();
-                    if let Some(l) = letter.take() {
-                        return Err(bad(format!("{l} needs a number after it")));
-                    }
                     if !first.is_ascii_alphabetic() {
                         return Err(bad(format!("\"{token}\" does not start with an address letter")));
                     }
@@ -742,8 +745,9 @@ impl Interp<'_, '_> {
                         letter = Some(first);
                         continue;
                     }
-                    let n: f64 = rest.parse().map_err(|_| bad(format!("\"{token}\" is not a letter and a number")))?;
-                    words.push(Word { address: first, value: n });
+                    let n =
+                        typed_number(rest).ok_or_else(|| bad(format!("\"{token}\" is not a letter and a number")))?;
+                    words.push(Word::typed(first, n, rest));
                 }
                 continue;
             }
@@ -751,7 +755,7 @@ impl Interp<'_, '_> {
                 return Err(bad(format!("{} has no address letter before it", print_text(v))));
             };
             let n = self.number_of(v, &format!("Nc.Block: {l}")).map_err(|m| self.fault_at(link.span, m))?;
-            words.push(Word { address: l, value: n });
+            words.push(Word::new(l, n));
         }
         if let Some(l) = letter {
             return Err(bad(format!("{l} needs a number after it")));
@@ -795,6 +799,11 @@ impl Interp<'_, '_> {
         }
         Ok(())
     }
+}
+
+/// The number of a word's text (`0101`, `-2.5`), finite.
+fn typed_number(text: &str) -> Option<f64> {
+    text.parse::<f64>().ok().filter(|n| n.is_finite())
 }
 
 fn get(args: &[(String, f64)], key: &str) -> Option<f64> {

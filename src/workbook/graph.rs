@@ -196,6 +196,35 @@ impl RangeIndex {
         }
     }
 
+    /// Calls `f` with every range node with dependents that shares a cell with `rect` (a
+    /// node may come more than once). Reads one bucket per column and 16 rows of `rect`.
+    pub fn meeting(&self, sheet: SheetId, rect: Rect, mut f: impl FnMut(u32)) {
+        let meets = |n: &RangeNode| {
+            n.sheet == sheet
+                && n.rect.first.row <= rect.last.row
+                && rect.first.row <= n.rect.last.row
+                && n.rect.first.col <= rect.last.col
+                && rect.first.col <= n.rect.last.col
+                && !n.dependents.is_empty()
+        };
+        if !self.buckets.is_empty() {
+            for col in rect.first.col..=rect.last.col {
+                for block in rect.first.row / BLOCK..=rect.last.row / BLOCK {
+                    for &id in self.buckets.get(&(sheet, col, block)).map_or(&[][..], |v| v.as_slice()) {
+                        if meets(&self.nodes[id as usize]) {
+                            f(id);
+                        }
+                    }
+                }
+            }
+        }
+        for &id in &self.big {
+            if meets(&self.nodes[id as usize]) {
+                f(id);
+            }
+        }
+    }
+
     pub fn clear(&mut self) {
         *self = RangeIndex::default();
     }

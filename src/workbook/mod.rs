@@ -10,12 +10,13 @@ use std::rc::Rc;
 
 use crate::eval::coerce::parse_number;
 use crate::eval::functions::Registry;
-use crate::eval::{Env, Note, Value, XlError};
+use crate::eval::{Env, Note, RowHidden, Value, XlError};
 use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::{Expr, Reference, SheetId};
 use crate::formula::parse::{parse_formula, ParseContext, ParseError};
 use crate::formula::print::{print_formula, quote_sheet_name};
 
+mod cycles;
 mod graph;
 mod inspect;
 mod problems;
@@ -23,6 +24,7 @@ mod recalc;
 mod shared;
 mod sheet;
 
+pub use cycles::Iteration;
 use graph::{Deps, FxMap, RangeIndex};
 pub use problems::{Problem, ProblemKind};
 use shared::{relative_key_into, shape_of, FormulaStore, SharedFormula};
@@ -115,6 +117,9 @@ impl std::error::Error for WorkbookError {}
 #[derive(Default)]
 pub struct Workbook {
     sheets: Vec<Sheet>,
+    /// Sheet ids by ASCII-lowercased name: a workbook of 100,000 sheets finds one by name
+    /// (adding a sheet, `Sheet7!A1`, INDIRECT) without reading every name.
+    sheet_index: FxMap<String, SheetId>,
     cells: Vec<Cell>,
     formulas: FormulaStore,
     ranges: RangeIndex,
@@ -127,7 +132,7 @@ pub struct Workbook {
     fresh_notes: Vec<u32>,
     spill: recalc::SpillState,
     /// Cells of each circular reference found by the last recalculation.
-    cycles: Vec<Vec<u32>>,
+    cycles: recalc::Cycles,
     /// Formula cells calling a volatile function (NOW, TODAY), recalculated at every edit.
     volatile: Vec<u32>,
     /// References formula cells made at run time (INDIRECT, OFFSET), linked in the graph.
@@ -147,12 +152,16 @@ pub struct Workbook {
     fixed_arrays: FxMap<u32, (u32, u32)>,
     /// What changed since [`Workbook::track_changes`], for a file saved back surgically.
     changes: Option<Box<ChangeLog>>,
+    /// Iterative calculation (`cycles.rs`): cycles iterate instead of showing `#CIRC!`.
+    iteration: Option<Iteration>,
 }
 
 /// Cell ids whose input was set, and whose value changed, since tracking began.
 #[derive(Default)]
 struct ChangeLog {
     inputs: std::collections::HashSet<u32>,
+    /// Of `inputs`, those that held a formula when first edited.
+    had_formula: std::collections::HashSet<u32>,
     values: std::collections::HashSet<u32>,
     names: bool,
     sheets: bool,
@@ -169,6 +178,8 @@ pub struct Changes {
     pub names: bool,
     /// A sheet was added.
     pub sheets: bool,
+    /// Cells that held a formula before their edit and now hold a constant.
+    pub formulas_replaced: Vec<(SheetId, Pos)>,
 }
 
 impl Workbook {
@@ -188,6 +199,7 @@ impl Workbook {
             return Err(WorkbookError::DuplicateSheet(name.to_string()));
         }
         self.sheets.push(Sheet::new(name));
+        self.sheet_index.insert(name.to_ascii_lowercase(), (self.sheets.len() - 1) as SheetId);
         if let Some(log) = &mut self.changes {
             log.sheets = true;
         }
@@ -209,6 +221,14 @@ impl Workbook {
         self.date_1904
     }
 
+    /// Hides row `row` of `sheet` (`None` shows it), without recalculating: SUBTOTAL and
+    /// AGGREGATE read it at the next recalculation.
+    pub fn set_row_hidden(&mut self, sheet: SheetId, row: u32, hidden: Option<RowHidden>) {
+        if let Some(s) = self.sheets.get_mut(sheet as usize) {
+            s.set_row_hidden(row, hidden);
+        }
+    }
+
     /// Makes the formula in `area`'s top-left cell a legacy (Ctrl+Shift+Enter) array formula
     /// over `area`, without recalculating: its result always fills exactly the area, as
     /// Excel fits it (a scalar or a single row or column repeated, missing items `#N/A`,
@@ -227,8 +247,17 @@ impl Workbook {
         Some(Rect::new(pos, Pos::new(pos.row + rows - 1, pos.col + cols - 1)))
     }
 
+    /// The formula cells whose array result spilled, or shows `#SPILL!`, in sheet and row
+    /// order.
+    pub fn spilling_cells(&self) -> Vec<(SheetId, Pos)> {
+        let mut out: Vec<(SheetId, Pos)> =
+            self.spill.anchors().map(|id| (self.cells[id as usize].sheet, self.cells[id as usize].pos)).collect();
+        out.sort_by_key(|&(s, p)| (s, p.row, p.col));
+        out
+    }
+
     pub fn sheet_id(&self, name: &str) -> Option<SheetId> {
-        self.sheets.iter().position(|s| s.name.eq_ignore_ascii_case(name)).map(|i| i as SheetId)
+        self.sheet_index.get(&name.to_ascii_lowercase()).copied()
     }
 
     pub fn sheet_names(&self) -> Vec<String> {
@@ -270,11 +299,10 @@ impl Workbook {
 
     /// Recalculates after an edit of one cell and lists the problems it brought.
     fn recalculate_edit(&mut self, sheet: SheetId, pos: Pos) -> Vec<Problem> {
-        let cycles_before = self.cycles.clone();
         let id = self.sheets[sheet as usize].get(pos);
         self.recalculate_from(id.into_iter().collect());
         let mut news = self.unknowns(sheet, pos);
-        for cycle in self.cycles.iter().filter(|c| !cycles_before.contains(c)) {
+        for cycle in self.cycles.new_since_begin() {
             news.push(self.cycle_problem(cycle));
         }
         for &noted in &self.fresh_notes {
@@ -351,12 +379,23 @@ impl Workbook {
             v.sort_by_key(|&(s, p)| (s, p.row, p.col));
             v
         };
-        Some(Changes { inputs: cells(&log.inputs), values: cells(&log.values), names: log.names, sheets: log.sheets })
+        let mut formulas_replaced = cells(&log.had_formula);
+        formulas_replaced.retain(|&(sheet, pos)| !self.is_formula(sheet, pos));
+        Some(Changes {
+            inputs: cells(&log.inputs),
+            values: cells(&log.values),
+            names: log.names,
+            sheets: log.sheets,
+            formulas_replaced,
+        })
     }
 
     fn note_input(&mut self, id: u32) {
+        let had_formula = self.cells[id as usize].formula != NO_FORMULA;
         if let Some(log) = &mut self.changes {
-            log.inputs.insert(id);
+            if log.inputs.insert(id) && had_formula {
+                log.had_formula.insert(id);
+            }
         }
     }
 
@@ -515,6 +554,15 @@ impl Workbook {
         (cell.formula != NO_FORMULA).then(|| self.formulas.get(cell.formula))
     }
 
+    /// The id of the cell's formula form: cells whose formulas are copies of one another
+    /// (relative references alike) share it, so what depends only on the form of
+    /// [`Workbook::formula_tree`] is decided once per id. `None` for a constant.
+    pub fn formula_id(&self, sheet: SheetId, pos: Pos) -> Option<u32> {
+        let id = self.sheets.get(sheet as usize)?.get(pos)?;
+        let formula = self.cells[id as usize].formula;
+        (formula != NO_FORMULA).then_some(formula)
+    }
+
     /// Whether the cell's formula calls a volatile function (NOW, RAND): its value may
     /// differ from any stored one with nothing changed.
     pub fn calls_volatile(&self, sheet: SheetId, pos: Pos) -> bool {
@@ -551,8 +599,10 @@ impl Workbook {
 
     /// The cells of each circular reference, as `Sheet1!A1` names.
     pub fn cycles(&self) -> Vec<Vec<String>> {
-        self.cycles
-            .iter()
+        let mut cycles: Vec<&Vec<u32>> = self.cycles.iter().collect();
+        cycles.sort_by_key(|c| (self.cells[c[0] as usize].sheet, self.cells[c[0] as usize].pos));
+        cycles
+            .into_iter()
             .map(|c| {
                 c.iter().map(|&id| self.cell_name(self.cells[id as usize].sheet, self.cells[id as usize].pos)).collect()
             })
@@ -812,6 +862,10 @@ impl Env for Workbook {
         self.sheets.get(sheet as usize).map(|s| s.name.clone())
     }
 
+    fn sheet_id(&self, name: &str) -> Option<SheetId> {
+        Workbook::sheet_id(self, name)
+    }
+
     fn formula_text(&self, sheet: SheetId, pos: Pos) -> Option<String> {
         self.formula(sheet, pos)
     }
@@ -833,6 +887,10 @@ impl Env for Workbook {
 
     fn date_1904(&self) -> bool {
         self.date_1904
+    }
+
+    fn row_hidden(&self, sheet: SheetId, row: u32) -> Option<RowHidden> {
+        self.sheets.get(sheet as usize)?.row_hidden(row)
     }
 }
 

@@ -90,7 +90,7 @@ impl Workbook {
             let c = &self.cells[id as usize];
             out.push(Problem::parse(c.sheet, c.pos, text, err));
         }
-        for cycle in &self.cycles {
+        for cycle in self.cycles.iter() {
             out.push(self.cycle_problem(cycle));
         }
         for &id in self.notes.keys() {

@@ -9,7 +9,9 @@
 use crate::eval::{Ctx, Value, XlError};
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 
-use super::graph::FxMap;
+use super::graph::{FxHasher, FxMap};
+
+type FxSet<T> = std::collections::HashSet<T, std::hash::BuildHasherDefault<FxHasher>>;
 use super::{Workbook, NO_FORMULA};
 
 /// Node ids with this bit set are range nodes, others are cells.
@@ -39,6 +41,83 @@ impl SpillState {
 
     pub fn rect(&self, anchor: u32) -> Option<Rect> {
         self.areas.get(&anchor).copied()
+    }
+
+    /// Anchors that spilled and anchors blocked.
+    pub fn anchors(&self) -> impl Iterator<Item = u32> + '_ {
+        self.areas.keys().chain(self.blocked.keys()).copied()
+    }
+}
+
+/// The circular references the recalculations found, each a list of cells, with the cycle
+/// each cell is in: an edit forgets the cycles through the cells it recomputes in work
+/// proportional to those cells, not to all cycles (80,000 self-references written one by
+/// one, as a macro fills a column, were quadratic).
+#[derive(Default)]
+pub struct Cycles {
+    /// By the cycle's first cell.
+    lists: FxMap<u32, Vec<u32>>,
+    /// Cell → the first cell of its cycle.
+    member: FxMap<u32, u32>,
+    /// The first cells of the cycles recorded, and the cycles forgotten, since the
+    /// recalculation began: what an edit reports as new without copying every cycle.
+    recorded: Vec<u32>,
+    forgotten: Vec<Vec<u32>>,
+}
+
+impl Cycles {
+    pub fn clear(&mut self) {
+        self.lists.clear();
+        self.member.clear();
+        self.begin();
+    }
+
+    /// Starts a recalculation: what it records is new from here.
+    fn begin(&mut self) {
+        self.recorded.clear();
+        self.forgotten.clear();
+    }
+
+    /// The cycles the recalculation recorded that were not there before it.
+    pub fn new_since_begin(&self) -> Vec<&Vec<u32>> {
+        let mut firsts = self.recorded.clone();
+        firsts.sort_unstable();
+        firsts.dedup();
+        firsts.iter().filter_map(|f| self.lists.get(f)).filter(|c| !self.forgotten.contains(c)).collect()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.lists.is_empty()
+    }
+
+    /// Records a cycle; its cells are in no recorded cycle (the pass that finds it forgot
+    /// those through its affected cells).
+    fn push(&mut self, cells: Vec<u32>) {
+        let Some(&first) = cells.first() else { return };
+        for &c in &cells {
+            self.member.insert(c, first);
+        }
+        self.lists.insert(first, cells);
+        self.recorded.push(first);
+    }
+
+    /// Forgets the cycle through `node`, if any (range nodes are in none).
+    fn forget(&mut self, node: u32) {
+        if node & RANGE_BIT != 0 {
+            return;
+        }
+        if let Some(first) = self.member.remove(&node) {
+            let cells = self.lists.remove(&first).unwrap_or_default();
+            for c in &cells {
+                self.member.remove(c);
+            }
+            self.forgotten.push(cells);
+        }
+    }
+
+    /// The cycles in no particular order.
+    pub fn iter(&self) -> impl Iterator<Item = &Vec<u32>> {
+        self.lists.values()
     }
 }
 
@@ -99,6 +178,7 @@ impl Workbook {
 
     fn run_passes(&mut self, mut sources: Vec<u32>) {
         self.fresh_notes.clear();
+        self.cycles.begin();
         for _ in 0..MAX_PASSES {
             sources.append(&mut self.spill.pending);
             if sources.is_empty() {
@@ -135,8 +215,9 @@ impl Workbook {
             }
         } else {
             // Cycles through affected cells are gone (they would have been met).
-            let marks = &self.scratch.cell_mark;
-            self.cycles.retain(|c| c.iter().all(|&id| marks[id as usize] == UNSEEN));
+            if !self.cycles.is_empty() {
+                order.iter().for_each(|&node| self.cycles.forget(node));
+            }
             for &node in order.iter().rev() {
                 set_mark(&mut self.scratch.cell_mark, &mut self.scratch.range_mark, node, UNSEEN);
                 if node & RANGE_BIT == 0 && self.cells[node as usize].formula != NO_FORMULA {
@@ -223,8 +304,9 @@ impl Workbook {
             indegree[t as usize] += 1;
         }
         // Cycles through affected cells are found again below if they still exist.
-        let slots = &self.scratch.cell_slot;
-        self.cycles.retain(|c| c.iter().all(|&id| slots[id as usize] == NO_SLOT));
+        if !self.cycles.is_empty() {
+            affected.nodes.iter().for_each(|&node| self.cycles.forget(node));
+        }
         let mut late = Vec::new();
         let mut done = vec![false; n];
         let mut queue: Vec<u32> = (0..n as u32).filter(|&s| indegree[s as usize] == 0).collect();
@@ -266,24 +348,40 @@ impl Workbook {
         }
     }
 
-    /// Gives the cells of every cycle among the leftover nodes `#CIRC!`, records the cycle,
-    /// then finishes the nodes downstream of it.
+    /// Settles every cycle among the leftover nodes (`cycles.rs`), in dependency order so
+    /// that a cycle reads what feeds it computed: the cells that truly read each other get
+    /// `#CIRC!` and are recorded. Then finishes the nodes downstream.
     fn break_cycles(&mut self, a: &Affected, indegree: &mut [u32], done: &mut [bool], late: &mut Vec<u32>) {
         let components = strongly_connected(a, done);
         let mut queue = Vec::new();
-        for comp in components {
+        // Tarjan finishes a component after those that read it: reversed, feeders come first.
+        for comp in components.into_iter().rev() {
             let self_loop = comp.len() == 1 && a.successors(comp[0] as usize).contains(&comp[0]);
             if comp.len() == 1 && !self_loop {
+                let node = a.nodes[comp[0] as usize];
+                if node & RANGE_BIT == 0 && self.cells[node as usize].formula != NO_FORMULA {
+                    self.evaluate(node, late);
+                }
+                done[comp[0] as usize] = true;
                 continue;
             }
-            let mut cells: Vec<u32> =
-                comp.iter().map(|&s| a.nodes[s as usize]).filter(|n| n & RANGE_BIT == 0).collect();
+            let mut cells: Vec<u32> = comp
+                .iter()
+                .map(|&s| a.nodes[s as usize])
+                .filter(|&n| n & RANGE_BIT == 0 && self.cells[n as usize].formula != NO_FORMULA)
+                .collect();
             cells.sort_by_key(|&id| (self.cells[id as usize].sheet, self.cells[id as usize].pos));
-            for &id in &cells {
+            let circular = self.settle_component(&cells, late);
+            for &id in &circular {
                 self.set_result(id, Value::Error(XlError::Circ), late);
             }
-            self.cycles.retain(|c| !c.iter().any(|id| cells.contains(id)));
-            self.cycles.push(cells);
+            // No recorded cycle holds these cells: `kahn_pass` dropped those through
+            // affected cells, and components are disjoint (searching the list per cycle
+            // made 80,000 self-references quadratic). Only the cells that truly read each
+            // other are circular (`settle_component`).
+            if !circular.is_empty() {
+                self.cycles.push(circular);
+            }
             for &s in &comp {
                 done[s as usize] = true;
             }
@@ -360,7 +458,7 @@ impl Workbook {
         self.ranges.containing(cell.sheet, cell.pos, |r| out.push(r | RANGE_BIT));
     }
 
-    fn evaluate(&mut self, id: u32, late: &mut Vec<u32>) {
+    pub(super) fn evaluate(&mut self, id: u32, late: &mut Vec<u32>) {
         let cell = &self.cells[id as usize];
         let formula = self.formulas.get(cell.formula);
         let mut ctx = Ctx::new(self, cell.sheet, cell.pos);
@@ -384,7 +482,7 @@ impl Workbook {
     }
 
     /// Stores a formula's result: blank reads as 0, an array spills or reports `#SPILL!`.
-    fn set_result(&mut self, id: u32, value: Value, late: &mut Vec<u32>) {
+    pub(super) fn set_result(&mut self, id: u32, value: Value, late: &mut Vec<u32>) {
         let fixed = if self.fixed_arrays.is_empty() { None } else { self.fixed_arrays.get(&id).copied() };
         let value = match fixed {
             Some((rows, cols)) => fit_to_area(value, rows as usize, cols as usize),
@@ -428,6 +526,9 @@ impl Workbook {
             self.store_value(id, Value::Error(XlError::Spill));
             return;
         }
+        if self.reads_own_spill(id, sheet, rect) {
+            return self.refuse_own_spill(id, rect, late);
+        }
         self.spill.blocked.remove(&id);
         if let Some(old) = self.spill.areas.get(&id).copied() {
             self.clear_cells_outside(id, old, rect, late);
@@ -449,6 +550,53 @@ impl Workbook {
             }
         }
         self.spill.areas.insert(id, rect);
+    }
+
+    /// Whether the anchor reads, directly or through other formulas, a cell of `rect` other
+    /// than itself: spilling there would change what it reads, a circular reference (Excel
+    /// says so; iterating would print whatever the last of many passes left). Decided on the
+    /// graph before anything spills, so the answer is the same at every recalculation.
+    fn reads_own_spill(&self, anchor: u32, sheet: u16, rect: Rect) -> bool {
+        let mut stack: Vec<u32> = Vec::new();
+        self.sheets[sheet as usize].for_each_in(rect, &mut |_, cid| {
+            if cid != anchor {
+                stack.extend_from_slice(self.cells[cid as usize].dependents.as_slice());
+            }
+        });
+        let anchor_pos = self.cells[anchor as usize].pos;
+        self.ranges.meeting(sheet, rect, |r| {
+            // A range meeting the spill only at the anchor reads no spilled cell.
+            if self.ranges.nodes[r as usize].rect != Rect::cell(anchor_pos) {
+                stack.extend_from_slice(self.ranges.nodes[r as usize].dependents.as_slice());
+            }
+        });
+        let mut seen: FxSet<u32> = FxSet::default();
+        while let Some(node) = stack.pop() {
+            if node == anchor {
+                return true;
+            }
+            if !seen.insert(node) {
+                continue;
+            }
+            if node & RANGE_BIT != 0 {
+                stack.extend_from_slice(self.ranges.nodes[(node & !RANGE_BIT) as usize].dependents.as_slice());
+            } else {
+                let cell = &self.cells[node as usize];
+                stack.extend_from_slice(cell.dependents.as_slice());
+                self.ranges.containing(cell.sheet, cell.pos, |r| stack.push(r | RANGE_BIT));
+            }
+        }
+        false
+    }
+
+    /// The anchor reads its own spill range: `#CIRC!`, nothing spilled, the reason noted.
+    fn refuse_own_spill(&mut self, id: u32, rect: Rect, late: &mut Vec<u32>) {
+        self.release_spill(id, late);
+        self.spill.blocked.remove(&id);
+        let message = format!("the formula reads its own spill range {rect} (a circular reference)");
+        self.notes.entry(id).or_default().push(crate::eval::Note { error: XlError::Circ, message });
+        self.cycles.push(vec![id]);
+        self.store_value(id, Value::Error(XlError::Circ));
     }
 
     /// Whether any cell of `rect` other than the anchor holds something of its own.
@@ -506,7 +654,21 @@ impl Workbook {
             return;
         }
         if let Some(anchor) = self.spill.owners.remove(&id) {
+            if self.fixed_arrays.contains_key(&anchor) {
+                self.break_fixed_array(anchor);
+            }
             self.spill.pending.push(anchor);
+        }
+    }
+
+    /// An edit inside a legacy array formula's area (which Excel refuses: "You can't change
+    /// part of an array"; a save names it as a loss): the formula is left filling its own
+    /// cell, and the other cells of the area keep their values as constants, rather than
+    /// the array filling the area again over the edit.
+    fn break_fixed_array(&mut self, anchor: u32) {
+        self.fixed_arrays.insert(anchor, (1, 1));
+        if self.spill.areas.remove(&anchor).is_some() {
+            self.spill.owners.retain(|_, owner| *owner != anchor);
         }
     }
 }

@@ -103,8 +103,14 @@ impl FormulaStore {
 
     /// Forgets the keys (after a sheet is added, `Missing` sheet references may resolve now).
     pub fn forget_keys(&mut self) {
-        self.by_key.clear();
-        self.by_shape.clear();
+        // Clearing costs the maps' capacity even when empty: sheets added one after another
+        // (100,000 of them in a file) must not pay it each time.
+        if !self.by_key.is_empty() {
+            self.by_key.clear();
+        }
+        if !self.by_shape.is_empty() {
+            self.by_shape.clear();
+        }
     }
 
     /// A formula with this shape, to copy with other numbers.

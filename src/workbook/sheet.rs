@@ -1,6 +1,9 @@
 //! One sheet's grid: which cell id sits at each position. Columns are dense vectors,
 //! which suits spreadsheets (data runs down columns) and makes range scans cheap.
 
+use std::collections::BTreeMap;
+
+use crate::eval::RowHidden;
 use crate::formula::address::{Pos, Rect};
 
 /// Marks an empty slot.
@@ -12,11 +15,26 @@ pub struct Sheet {
     /// The last row and column that ever held a value (grows only; blank cells that exist
     /// because a formula points at them do not count).
     extent: Option<Pos>,
+    /// Hidden rows (0-based), as the file hid them.
+    hidden_rows: BTreeMap<u32, RowHidden>,
 }
 
 impl Sheet {
     pub fn new(name: &str) -> Sheet {
-        Sheet { name: name.to_string(), columns: Vec::new(), extent: None }
+        Sheet { name: name.to_string(), columns: Vec::new(), extent: None, hidden_rows: BTreeMap::new() }
+    }
+
+    /// Whether row `row` is hidden, and how.
+    pub fn row_hidden(&self, row: u32) -> Option<RowHidden> {
+        self.hidden_rows.get(&row).copied()
+    }
+
+    /// Hides row `row` (`None` shows it again).
+    pub fn set_row_hidden(&mut self, row: u32, hidden: Option<RowHidden>) {
+        match hidden {
+            Some(h) => self.hidden_rows.insert(row, h),
+            None => self.hidden_rows.remove(&row),
+        };
     }
 
     pub fn grow_extent(&mut self, p: Pos) {

@@ -2,6 +2,7 @@
 
 #![allow(dead_code)]
 
+pub mod cli;
 pub mod corpus;
 pub mod excel_oracle;
 pub mod rs274;

@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
+use ncsheet::eval::functions::as_lambda;
 use ncsheet::eval::functions::spec;
 use ncsheet::eval::{Env, Value};
 use ncsheet::formula::address::{Pos, Rect};
@@ -15,6 +16,8 @@ use ncsheet::io::xlsx::{CachedValue, Imported};
 use ncsheet::workbook::Workbook;
 
 const VOLATILE: &[&str] = &["NOW", "TODAY", "RAND", "RANDBETWEEN", "RANDARRAY"];
+/// The volatile functions that read the clock.
+const CLOCK: &[&str] = &["NOW", "TODAY"];
 
 /// The corpus, which these tests always need (see `corpus::root` for the tests that may
 /// skip without it).
@@ -74,13 +77,33 @@ pub fn analyse(wb: &Workbook, sheet: SheetId, anchor: Pos) -> FormulaInfo {
     let Some(expr) = wb.formula_tree(sheet, anchor) else { return info };
     info.parses = true;
     let mut names = Vec::new();
+    let mut called = Vec::new();
     expr.visit(&mut |e| match &e.kind {
         ExprKind::Call(id, _) => info.functions.push(spec(*id).name.to_string()),
-        ExprKind::UnknownCall(name, _) => info.unknown.push(strip_future_prefix(name).to_string()),
+        ExprKind::UnknownCall(name, _) => called.push(name.clone()),
         ExprKind::Ref(r) => info.reads.extend(resolve(r, sheet, anchor)),
         ExprKind::Name(n) => names.push(n.clone()),
         _ => {}
     });
+    // A call of a LAMBDA the formula binds (LET) or a defined name holds is no unknown
+    // function: the defined LAMBDA's body counts as part of the formula.
+    let bound = bound_names(&expr);
+    for name in called {
+        if bound.iter().any(|b| b.eq_ignore_ascii_case(&name)) {
+            continue;
+        }
+        match Env::defined_name(wb, &name, sheet) {
+            Some((body, _)) if as_lambda(&body).is_some() => body.visit(&mut |e| match &e.kind {
+                ExprKind::Call(id, _) => info.functions.push(spec(*id).name.to_string()),
+                ExprKind::UnknownCall(inner, _) if !bound_names(&body).contains(inner) => {
+                    info.unknown.push(strip_future_prefix(inner).to_string())
+                }
+                ExprKind::Name(n) => names.push(n.clone()),
+                _ => {}
+            }),
+            _ => info.unknown.push(strip_future_prefix(&name).to_string()),
+        }
+    }
     spill_reads(wb, &expr, sheet, anchor, &mut info.reads);
     expr.visit(&mut |e| match &e.kind {
         ExprKind::Unary(UnaryOp::Spill, _) => info.spill_ref = true,
@@ -94,13 +117,37 @@ pub fn analyse(wb: &Workbook, sheet: SheetId, anchor: Pos) -> FormulaInfo {
             name_expr.visit_refs(&mut |r| info.reads.extend(resolve(r, name_sheet, Pos::new(0, 0))));
         }
     }
-    info.volatile = info.functions.iter().chain(&info.unknown).any(|f| VOLATILE.contains(&f.as_str()));
+    // With the clock fixed (`dates::fix_clock`), NOW and TODAY give the saved time again.
+    let fixed_clock = ncsheet::eval::dates::fixed_clock().is_some();
+    info.volatile = info
+        .functions
+        .iter()
+        .chain(&info.unknown)
+        .any(|f| VOLATILE.contains(&f.as_str()) && !(fixed_clock && CLOCK.contains(&f.as_str())));
     info.functions.sort();
     info.functions.dedup();
     if info.functions.is_empty() {
         info.functions.push("(operators only)".into());
     }
     info
+}
+
+/// The names LET and LAMBDA bind anywhere in `expr`.
+fn bound_names(expr: &Expr) -> Vec<std::rc::Rc<str>> {
+    let mut bound = Vec::new();
+    expr.visit(&mut |e| {
+        let ExprKind::Call(id, args) = &e.kind else { return };
+        let params: Vec<&Expr> = match spec(*id).name {
+            "LET" => args.iter().step_by(2).take(args.len() / 2).collect(),
+            "LAMBDA" => args.iter().take(args.len().saturating_sub(1)).collect(),
+            _ => return,
+        };
+        bound.extend(params.into_iter().filter_map(|p| match &p.kind {
+            ExprKind::Name(n) => Some(n.clone()),
+            _ => None,
+        }));
+    });
+    bound
 }
 
 /// `A1#` reads the whole area the anchor spilled into.

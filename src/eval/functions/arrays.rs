@@ -240,6 +240,8 @@ fn sort_cmp(a: &Value, b: &Value) -> Ordering {
         (Value::Number(x), Value::Number(y)) => x.total_cmp(y),
         (Value::Text(x), Value::Text(y)) => compare_text(x, y),
         (Value::Bool(x), Value::Bool(y)) => x.cmp(y),
+        // Errors in the order of their ERROR.TYPE numbers (#DIV/0! before #NAME? before #N/A).
+        (Value::Error(x), Value::Error(y)) => x.type_number().cmp(&y.type_number()),
         _ => rank(a).cmp(&rank(b)),
     }
 }

@@ -6,8 +6,8 @@ use std::rc::Rc;
 
 use nalgebra::DMatrix;
 
-use crate::eval::coerce::{parse_plain_number, to_number};
-use crate::eval::evaluator::{power, Ctx};
+use crate::eval::coerce::{parse_number, parse_plain_number, to_number};
+use crate::eval::evaluator::{power, Ctx, Operand};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
 
@@ -128,9 +128,56 @@ fn strict_numbers(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<f64>> {
     Ok(out)
 }
 
+/// A text GCD or LCM reads as a number: a number, or date text ("2024-01-10").
+fn text_number(t: &str) -> XlResult<f64> {
+    parse_plain_number(t.trim()).or_else(|| parse_number(t)).ok_or(XlError::Value)
+}
+
+/// The arguments' numbers as GCD and LCM read them (Excel's stored results): text anywhere
+/// is read as a number or date; booleans are #VALUE!; a blank single cell is skipped but a
+/// range of several cells with a blank among them counts a 0; no number at all is #VALUE!.
+fn divisor_numbers(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<f64>> {
+    // An empty argument slot is Excel's #N/A here.
+    check(args.iter().all(|a| a.kind != ExprKind::Missing), XlError::NA)?;
+    let read = |v: &Value| match v {
+        Value::Bool(_) => Err(XlError::Value),
+        Value::Text(t) => text_number(t),
+        v => to_number(v),
+    };
+    let mut out = Vec::new();
+    for a in args {
+        match ctx.operand(a) {
+            Operand::Ref(sheet, rect) => {
+                let mut seen = 0u64;
+                let mut outcome = Ok(());
+                ctx.env.for_each_value(sheet, rect, &mut |_, v| {
+                    if v.is_blank() || outcome.is_err() {
+                        return;
+                    }
+                    seen += 1;
+                    outcome = read(v).map(|n| out.push(n));
+                });
+                outcome?;
+                if !rect.is_cell() && seen < u64::from(rect.rows()) * u64::from(rect.cols()) {
+                    out.push(0.0);
+                }
+            }
+            Operand::Value(Value::Array(arr)) => {
+                for v in &arr.data {
+                    out.push(read(v)?);
+                }
+            }
+            Operand::Value(Value::Blank) => return Err(XlError::Value),
+            Operand::Value(v) => out.push(read(&v)?),
+        }
+    }
+    check(!out.is_empty(), XlError::Value)?;
+    Ok(out)
+}
+
 /// The arguments' numbers as whole numbers 0 ≤ n < 2^53.
 fn whole_numbers(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<f64>> {
-    let ns = strict_numbers(ctx, args)?;
+    let ns = divisor_numbers(ctx, args)?;
     ns.iter()
         .map(|&n| {
             check((0.0..9007199254740992.0).contains(&n), XlError::Num)?;

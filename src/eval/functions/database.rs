@@ -4,7 +4,7 @@
 //! conditions of one row must all hold, any row may. Text with no operator matches values
 //! that begin with it, as in Excel's advanced filter.
 
-use crate::eval::coerce::{compare_text, to_number};
+use crate::eval::coerce::{compare_text, to_number, to_text};
 use crate::eval::evaluator::{number_result, Ctx};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
@@ -124,15 +124,14 @@ pub const FUNCTIONS: &[FnSpec] = &[
     .range_args(ArgSet::ALL),
 ];
 
-/// One condition of a criteria row: the database column and the criterion.
-type Condition = (usize, Criterion);
+/// One condition of a criteria row: the database column (`None` when the criteria header
+/// names no field of the database: no record meets it) and the criterion.
+type Condition = (Option<usize>, Criterion);
 
-/// The header's column for a field name (case-insensitive) or 1-based number.
+/// The header's column for a field name (as text, ignoring case) or 1-based number.
 fn field_column(db: &Array, field: &Value) -> XlResult<usize> {
     match field {
-        Value::Text(name) => (0..db.cols)
-            .find(|&c| matches!(db.get(0, c), Value::Text(h) if compare_text(h, name).is_eq()))
-            .ok_or(XlError::Value),
+        Value::Text(_) => criteria_column(db, field)?.ok_or(XlError::Value),
         Value::Error(e) => Err(*e),
         v => {
             let i = to_number(v)?.trunc();
@@ -155,22 +154,32 @@ fn condition(v: &Value) -> Criterion {
     }
 }
 
-/// The criteria rows, each its conditions.
+/// The database column a criteria header names: the first header that reads the same as
+/// text, ignoring case (so a header TRUE is named by "true" and 1 by 1).
+fn criteria_column(db: &Array, header: &Value) -> XlResult<Option<usize>> {
+    if let Value::Error(e) = header {
+        return Err(*e);
+    }
+    if header.is_blank() {
+        return Ok(None);
+    }
+    let name = to_text(header)?;
+    Ok((0..db.cols).find(|&c| to_text(db.get(0, c)).is_ok_and(|h| compare_text(&h, &name).is_eq())))
+}
+
+/// The criteria rows, each its conditions (a blank criteria cell sets none).
 fn criteria_rows(db: &Array, criteria: &Array) -> XlResult<Vec<Vec<Condition>>> {
     let mut columns = Vec::with_capacity(criteria.cols);
     for c in 0..criteria.cols {
-        columns.push(match criteria.get(0, c) {
-            Value::Blank => None,
-            header => Some(field_column(db, header)?),
-        });
+        columns.push(criteria_column(db, criteria.get(0, c))?);
     }
     let mut rows = Vec::new();
     for r in 1..criteria.rows {
         let mut conditions = Vec::new();
         for (c, column) in columns.iter().enumerate() {
             let v = criteria.get(r, c);
-            if let (Some(col), false) = (column, v.is_blank()) {
-                conditions.push((*col, condition(v)));
+            if !v.is_blank() {
+                conditions.push((*column, condition(v)));
             }
         }
         rows.push(conditions);
@@ -188,14 +197,17 @@ fn selected(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<Value>> {
         _ => unreachable!("the database functions take two or three arguments"),
     };
     let criteria = block(ctx, criteria)?;
-    if db.rows < 1 || criteria.rows < 1 {
+    // A database is a header and at least one record.
+    if db.rows < 2 || criteria.rows < 1 {
         return Err(XlError::Value);
     }
     let column = field.map(|f| field_column(&db, &f)).transpose()?;
     let rows = criteria_rows(&db, &criteria)?;
     let mut out = Vec::new();
     for r in 1..db.rows {
-        let meets = |conditions: &Vec<Condition>| conditions.iter().all(|(c, crit)| crit.matches(db.get(r, *c)));
+        let meets = |conditions: &Vec<Condition>| {
+            conditions.iter().all(|(c, crit)| c.is_some_and(|c| crit.matches(db.get(r, c))))
+        };
         if rows.is_empty() || rows.iter().any(meets) {
             // DCOUNT with no field counts records: each stands as a number.
             out.push(column.map_or(Value::Number(1.0), |c| db.get(r, c).clone()));

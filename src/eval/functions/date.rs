@@ -437,7 +437,7 @@ fn us_30_360(a: &DateTime, b: &DateTime) -> i64 {
 /// Basis 1's year length: within a year (up to the same day a year on), 366 when the span
 /// touches a February 29 and 365 otherwise; over longer spans the mean length of the years
 /// from the first to the last.
-fn actual_year_length(a: &DateTime, b: &DateTime) -> f64 {
+pub(super) fn actual_year_length(a: &DateTime, b: &DateTime) -> f64 {
     let within_a_year = a.year == b.year || (a.year + 1 == b.year && (a.month, a.day) >= (b.month, b.day));
     if within_a_year {
         let leap_day_inside = [a.year, b.year]

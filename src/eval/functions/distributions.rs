@@ -501,7 +501,9 @@ numeric_fns! {
     };
     fisher => |a| {
         domain(a[0].abs() < 1.0)?;
-        Ok(a[0].atanh())
+        // Excel's formula, ½ ln((1+x)/(1−x)), whose rounding near 0 its stored values show
+        // (FISHER(1E-10) is 1.00000008264037E-10 there, not atanh's 1E-10).
+        Ok(0.5 * ((1.0 + a[0]) / (1.0 - a[0])).ln())
     };
     fisher_inv => |a| Ok(a[0].tanh());
     gamma_fn => |a| {

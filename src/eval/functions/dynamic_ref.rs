@@ -106,10 +106,7 @@ fn is_reference(e: &Expr) -> bool {
 }
 
 fn sheet_id(env: &dyn crate::eval::Env, name: &str) -> Option<SheetId> {
-    (0..env.sheet_count()).find_map(|i| {
-        let id = i as SheetId;
-        env.sheet_name(id).filter(|n| n.eq_ignore_ascii_case(name)).map(|_| id)
-    })
+    env.sheet_id(name)
 }
 
 /// `R2C3`, `R[-1]C`, `R1C1:R4C2`, `Sheet2!R1C1`: rows and columns absolute, or in brackets

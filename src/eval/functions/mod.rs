@@ -19,8 +19,10 @@ use super::value::{Value, XlResult};
 
 pub mod args;
 mod arrays;
+mod bessel;
 mod combinatorics;
 mod complex;
+mod convert;
 mod criteria;
 mod database;
 mod date;
@@ -36,10 +38,12 @@ mod logic;
 mod lookup;
 mod math;
 mod order;
+mod random;
 mod reference;
 mod regression;
 mod sample_stats;
 mod scalar;
+mod securities;
 mod special;
 mod stats;
 mod text;
@@ -50,6 +54,7 @@ pub mod vba;
 
 pub use geometry::{describe_gouge, formula_ball_path, standalone_ball_path};
 pub use logic::{as_lambda, Lambda};
+pub use random::seed_random;
 pub use text_format::NumberFormat;
 
 /// A function body that returns a value.
@@ -252,7 +257,11 @@ pub static REGISTRY: LazyLock<Vec<FnSpec>> = LazyLock::new(|| {
         text::FUNCTIONS,
         text_more::FUNCTIONS,
         engineering::FUNCTIONS,
+        convert::FUNCTIONS,
+        bessel::FUNCTIONS,
+        random::FUNCTIONS,
         financial::FUNCTIONS,
+        securities::FUNCTIONS,
         combinatorics::FUNCTIONS,
         complex::FUNCTIONS,
         text_split::FUNCTIONS,

@@ -1,14 +1,15 @@
 //! Reference and information functions that need facts about the workbook: ADDRESS, SHEET,
 //! SHEETS, FORMULATEXT, ISFORMULA, and SUBTOTAL and AGGREGATE, which skip cells that are
 //! themselves subtotals (through `Env::is_subtotal`) so that totals of subtotals do not count
-//! twice. No row is ever hidden here, so the 101–111 codes equal 1–11.
+//! twice. Rows a filter hid are left out by every code, rows hidden by hand by 101–111
+//! (`Env::row_hidden`, from the file's `<row hidden="1">`).
 
 use std::sync::LazyLock;
 
 use crate::eval::coerce::to_text;
-use crate::eval::evaluator::{Ctx, Operand};
+use crate::eval::evaluator::{Ctx, Operand, RowHidden};
 use crate::eval::value::{Value, XlError, XlResult};
-use crate::formula::address::{column_name, MAX_COLS, MAX_ROWS};
+use crate::formula::address::{column_name, Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::formula::ast::{Expr, ExprKind, FnId};
 use crate::formula::print::quote_sheet_name;
 
@@ -18,6 +19,9 @@ use super::{find, ArgSet, FnSpec, MANY};
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("ADDRESS", 2, 5, address, "ADDRESS(row, column, [abs_num], [a1], [sheet_text])", "A cell address as text (abs_num 1 $A$1, 2 A$1, 3 $A1, 4 A1)"),
     FnSpec::value("AGGREGATE", 3, MANY, aggregate, "AGGREGATE(function_num, options, ref1, [ref2], ...)", "SUBTOTAL's functions and more (14 LARGE … 19 QUARTILE.EXC), optionally skipping errors").future().range_args(ArgSet::from(2)),
+    FnSpec::value("CELL", 1, 2, cell, "CELL(info_type, [reference])", "Facts about a cell: \"address\", \"col\", \"row\", \"contents\", \"type\" (b blank, l text, v value)").range_args(ArgSet::only(1)),
+    FnSpec::reference("TRIMRANGE", 1, 3, trimrange, "TRIMRANGE(range, [trim_rows], [trim_cols])", "The range without its blank outer rows and columns (0 none, 1 leading, 2 trailing, 3 both: the default)").future().dynamic().range_args(ArgSet::only(0)),
+    FnSpec::value("INFO", 1, 1, info, "INFO(type_text)", "About the workbook: \"numfile\" (its sheets), \"recalc\" (Automatic)"),
     FnSpec::value("FORMULATEXT", 1, 1, formulatext, "FORMULATEXT(reference)", "The formula of a cell as text; #N/A when it holds none").future().range_args(ArgSet::only(0)),
     FnSpec::value("HYPERLINK", 1, 2, hyperlink, "HYPERLINK(link_location, [friendly_name])", "The text a link shows: friendly_name, or the location (ncsheet opens no links)"),
     FnSpec::value("ISFORMULA", 1, 1, isformula, "ISFORMULA(reference)", "Whether a cell holds a formula").future().range_args(ArgSet::only(0)),
@@ -61,6 +65,113 @@ fn referenced_cell(ctx: &mut Ctx, e: &Expr) -> XlResult<(crate::formula::ast::Sh
         Operand::Ref(sheet, rect) => Ok((sheet, rect.first)),
         Operand::Value(Value::Error(err)) => Err(err),
         Operand::Value(_) => Err(XlError::NA),
+    }
+}
+
+/// CELL: what a cell's reference and value say. The formatting types (format, color,
+/// parentheses, prefix, protect, width) and filename are not modelled: `#N/A` with a note.
+fn cell(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let info = match ctx.eval(&args[0]).unwrap_single() {
+        Value::Text(t) => t.to_ascii_lowercase(),
+        Value::Error(e) => return Err(e),
+        _ => return Err(XlError::Value),
+    };
+    let (sheet, pos) = match args.get(1) {
+        Some(e) if e.kind != ExprKind::Missing => match ctx.reference_only(e) {
+            Operand::Ref(sheet, rect) => (sheet, rect.first),
+            Operand::Value(Value::Error(err)) => return Err(err),
+            Operand::Value(_) => return Err(XlError::Value),
+        },
+        _ => (ctx.sheet, ctx.at),
+    };
+    match info.as_str() {
+        "address" => {
+            let address = format!("${}${}", column_name(pos.col), pos.row + 1);
+            Ok(Value::text(match ctx.env.sheet_name(sheet) {
+                Some(name) if sheet != ctx.sheet => format!("{}!{address}", quote_sheet_name(&name)),
+                _ => address,
+            }))
+        }
+        "col" => Ok(Value::Number(f64::from(pos.col) + 1.0)),
+        "row" => Ok(Value::Number(f64::from(pos.row) + 1.0)),
+        "contents" => match ctx.env.value(sheet, pos) {
+            Value::Blank => Ok(Value::Number(0.0)),
+            Value::Error(e) => Err(e),
+            v => Ok(v),
+        },
+        "type" => Ok(Value::text(match ctx.env.value(sheet, pos) {
+            Value::Blank => "b",
+            Value::Text(_) => "l",
+            _ => "v",
+        })),
+        "color" | "filename" | "format" | "parentheses" | "prefix" | "protect" | "width" => {
+            Err(ctx.explain(XlError::NA, format!("CELL(\"{info}\") reads formatting ncsheet does not keep")))
+        }
+        _ => Err(XlError::Value),
+    }
+}
+
+fn trimrange(ctx: &mut Ctx, args: &[Expr]) -> Operand {
+    match trimmed(ctx, args) {
+        Ok((sheet, rect)) => Operand::Ref(sheet, rect),
+        Err(e) => Operand::Value(Value::Error(e)),
+    }
+}
+
+/// TRIMRANGE's reference: the bounding box of the non-blank cells, cut on the sides the
+/// trim arguments name.
+fn trimmed(ctx: &mut Ctx, args: &[Expr]) -> XlResult<(crate::formula::ast::SheetId, Rect)> {
+    let (sheet, rect) = match ctx.reference_only(&args[0]) {
+        Operand::Ref(sheet, rect) => (sheet, rect),
+        Operand::Value(Value::Error(e)) => return Err(e),
+        Operand::Value(_) => return Err(XlError::Value),
+    };
+    let rows = number_or(ctx, args, 1, 3.0)?.trunc();
+    let cols = number_or(ctx, args, 2, 3.0)?.trunc();
+    if !(0.0..=3.0).contains(&rows) || !(0.0..=3.0).contains(&cols) {
+        return Err(XlError::Value);
+    }
+    let mut used: Option<Rect> = None;
+    let clipped = ctx.clip_to_used(sheet, rect);
+    ctx.env.for_each_value(sheet, clipped, &mut |pos, v| {
+        if !v.is_blank() {
+            used = Some(used.map_or(Rect::cell(pos), |u| {
+                Rect::new(
+                    Pos::new(u.first.row.min(pos.row), u.first.col.min(pos.col)),
+                    Pos::new(u.last.row.max(pos.row), u.last.col.max(pos.col)),
+                )
+            }));
+        }
+    });
+    // An empty range trims to its first cell.
+    let used = used.unwrap_or(Rect::cell(rect.first));
+    let (rows, cols) = (rows as u8, cols as u8);
+    let first = Pos::new(
+        if rows & 1 == 1 { used.first.row } else { rect.first.row },
+        if cols & 1 == 1 { used.first.col } else { rect.first.col },
+    );
+    let last = Pos::new(
+        if rows & 2 == 2 { used.last.row } else { rect.last.row },
+        if cols & 2 == 2 { used.last.col } else { rect.last.col },
+    );
+    Ok((sheet, Rect::new(first, last)))
+}
+
+/// INFO: the facts about the environment that a workbook (not Excel's host) holds; the
+/// host's (directory, osversion, release, system) are `#N/A` with a note.
+fn info(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let kind = match ctx.eval(&args[0]).unwrap_single() {
+        Value::Text(t) => t.to_ascii_lowercase(),
+        Value::Error(e) => return Err(e),
+        _ => return Err(XlError::Value),
+    };
+    match kind.as_str() {
+        "numfile" => Ok(Value::Number(ctx.env.sheet_count() as f64)),
+        "recalc" => Ok(Value::text("Automatic")),
+        "directory" | "origin" | "osversion" | "release" | "system" => {
+            Err(ctx.explain(XlError::NA, format!("INFO(\"{kind}\") describes Excel's host, which ncsheet is not")))
+        }
+        _ => Err(XlError::Value),
     }
 }
 
@@ -143,9 +254,29 @@ const AGGREGATES: [&str; 19] = [
 static AGGREGATE_IDS: LazyLock<Vec<FnId>> =
     LazyLock::new(|| AGGREGATES.iter().map(|n| find(n).expect("aggregate functions are registered")).collect());
 
-/// The references and values of the arguments with every cell holding a SUBTOTAL or
-/// AGGREGATE (and, when `skip_errors`, every error) taken out, as one array argument.
-fn without_subtotals(ctx: &mut Ctx, args: &[Expr], skip_errors: bool) -> Vec<Value> {
+/// Which cells of its ranges an aggregate leaves out.
+#[derive(Clone, Copy)]
+struct Skip {
+    /// Cells holding a SUBTOTAL or AGGREGATE.
+    subtotals: bool,
+    /// Rows hidden by hand (rows a filter hides are always left out).
+    hidden: bool,
+    errors: bool,
+}
+
+impl Skip {
+    fn row(self, hidden: Option<RowHidden>) -> bool {
+        match hidden {
+            Some(RowHidden::Filtered) => true,
+            Some(RowHidden::Manually) => self.hidden,
+            None => false,
+        }
+    }
+}
+
+/// The references and values of the arguments with the cells `skip` names taken out, as
+/// one array argument.
+fn without_subtotals(ctx: &mut Ctx, args: &[Expr], skip: Skip) -> Vec<Value> {
     let mut out = Vec::new();
     for a in args {
         match ctx.operand(a) {
@@ -153,13 +284,16 @@ fn without_subtotals(ctx: &mut Ctx, args: &[Expr], skip_errors: bool) -> Vec<Val
                 let rect = ctx.clip_to_used(sheet, rect);
                 let env = ctx.env;
                 env.for_each_value(sheet, rect, &mut |pos, v| {
-                    if !(env.is_subtotal(sheet, pos) || skip_errors && matches!(v, Value::Error(_))) {
+                    let left_out = skip.subtotals && env.is_subtotal(sheet, pos)
+                        || skip.errors && matches!(v, Value::Error(_))
+                        || skip.row(env.row_hidden(sheet, pos.row));
+                    if !left_out {
                         out.push(v.clone());
                     }
                 });
             }
             Operand::Value(Value::Array(arr)) => {
-                out.extend(arr.data.iter().filter(|v| !(skip_errors && matches!(v, Value::Error(_)))).cloned());
+                out.extend(arr.data.iter().filter(|v| !(skip.errors && matches!(v, Value::Error(_)))).cloned());
             }
             Operand::Value(v) => out.push(v),
         }
@@ -184,12 +318,12 @@ fn call_on(ctx: &mut Ctx, code: usize, values: Vec<Value>, extra: &[Expr]) -> Va
 
 fn subtotal(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let code = number(ctx, &args[0])?.trunc();
-    let code = match code {
-        c if (1.0..=11.0).contains(&c) => c as usize,
-        c if (101.0..=111.0).contains(&c) => c as usize - 100,
+    let (code, hidden) = match code {
+        c if (1.0..=11.0).contains(&c) => (c as usize, false),
+        c if (101.0..=111.0).contains(&c) => (c as usize - 100, true),
         _ => return Err(XlError::Value),
     };
-    let values = without_subtotals(ctx, &args[1..], false);
+    let values = without_subtotals(ctx, &args[1..], Skip { subtotals: true, hidden, errors: false });
     if let Some(e) = values.iter().find_map(Value::as_error) {
         return Err(e);
     }
@@ -203,8 +337,9 @@ fn aggregate(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         return Err(XlError::Value);
     }
     let code = code as usize;
-    // Options 2, 3, 6 and 7 skip error values; no row is hidden here.
-    let skip_errors = matches!(options as u8, 2 | 3 | 6 | 7);
+    // Options 0–3 leave out nested subtotals, 1, 3, 5 and 7 hidden rows, 2, 3, 6 and 7 errors.
+    let options = options as u8;
+    let skip = Skip { subtotals: options <= 3, hidden: options % 2 == 1, errors: matches!(options, 2 | 3 | 6 | 7) };
     let (refs, extra) = if code >= 14 {
         if args.len() != 4 {
             return Err(XlError::Value);
@@ -213,7 +348,7 @@ fn aggregate(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     } else {
         (&args[2..], &args[..0])
     };
-    let values = without_subtotals(ctx, refs, skip_errors);
+    let values = without_subtotals(ctx, refs, skip);
     if let Some(e) = values.iter().find_map(Value::as_error) {
         return Err(e);
     }

@@ -46,6 +46,14 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "A number as text in an Excel number format: \"0.000\", \"#,##0.00\", \"0.0%\", \"0.00E+00\"",
     ),
     FnSpec::value(
+        "DOLLAR",
+        1,
+        2,
+        dollar,
+        "DOLLAR(number, [decimals])",
+        "A number rounded to decimals (2 by default) as currency text: $1,234.57, ($1,234.57)",
+    ),
+    FnSpec::value(
         "FIXED",
         1,
         3,
@@ -224,6 +232,21 @@ fn fixed(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
             None => false,
         };
         Ok(Value::from(fixed_text(n, decimals, no_commas)?))
+    })
+}
+
+/// DOLLAR: FIXED with a currency sign, negative amounts in parentheses (`($1,234.57)`), as
+/// Excel's en-US currency format shows them.
+fn dollar(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    let decimals_given = args.get(1).is_some_and(|e| e.kind != ExprKind::Missing);
+    lift_values(&values, &|v| {
+        let n = to_number(&v[0])?;
+        let decimals = if decimals_given { to_number(&v[1])?.trunc() } else { 2.0 };
+        let digits = fixed_text(n.abs(), decimals, false)?;
+        // A negative amount that rounds to nothing shows no parentheses.
+        let negative = n < 0.0 && digits.chars().any(|c| c.is_ascii_digit() && c != '0');
+        Ok(Value::from(if negative { format!("(${digits})") } else { format!("${digits}") }))
     })
 }
 
@@ -629,6 +652,18 @@ mod tests {
         assert_eq!(env.eval("=TEXT(A3,\"\"\"X\"\"0.000\")"), t("X12.500"));
         assert_eq!(env.eval("=\"X\"&TEXT(-0.0004,\"0.000\")"), t("X0.000"));
         assert_eq!(env.eval("=1&TRUE"), t("1TRUE"));
+    }
+
+    #[test]
+    fn dollar_shows_currency_as_excel() {
+        // Microsoft's DOLLAR examples: 1234.567 → "$1,234.57", with -2 → "$1,200",
+        // -1234.567 with -2 → "($1,200)", -0.123 with 4 → "($0.1230)", 99.888 → "$99.89".
+        let env = env();
+        assert_eq!(env.eval("=DOLLAR(1234.567,2)"), t("$1,234.57"));
+        assert_eq!(env.eval("=DOLLAR(1234.567,-2)"), t("$1,200"));
+        assert_eq!(env.eval("=DOLLAR(-1234.567,-2)"), t("($1,200)"));
+        assert_eq!(env.eval("=DOLLAR(-0.123,4)"), t("($0.1230)"));
+        assert_eq!(env.eval("=DOLLAR(99.888)"), t("$99.89"));
     }
 
     #[test]

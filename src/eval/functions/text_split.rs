@@ -128,11 +128,17 @@ fn before_or_after(ctx: &mut Ctx, args: &[Expr], before: bool) -> XlResult<Value
     let (ignore_case, match_end) = (mode == 1.0, end == 1.0);
     // A blank if_not_found is empty text.
     let not_found = if present(args, 5) { Some(ctx.eval(&args[5]).blank_as_text()) } else { None };
+    let instance_given = present(args, 2);
     lift_values(&[text], &|v| {
         let text: Vec<char> = to_text(&v[0])?.chars().collect();
         let too_long = delims.iter().any(|d| !d.is_empty()) && delims.iter().all(|d| d.len() > text.len());
-        if instance == 0.0 || instance.abs() > text.len().max(1) as f64 || too_long {
+        if instance == 0.0 || instance.abs() > text.len().max(1) as f64 || too_long && instance_given {
             return Err(XlError::Value);
+        }
+        // Excel's stored results: a delimiter longer than the text is not found (#N/A) when
+        // no instance is given, #VALUE! when one is.
+        if too_long {
+            return not_found.clone().ok_or(XlError::NA);
         }
         match cut(&text, &delims, instance as i64, ignore_case, match_end) {
             Some((start, end)) => {

@@ -35,6 +35,7 @@ use crate::formula::ast::SheetId;
 use crate::workbook::Workbook;
 
 mod check;
+mod external;
 mod patch;
 mod raw;
 mod read;
@@ -48,6 +49,7 @@ mod xml;
 pub use check::{compare_cached, values_agree, Difference, REL_TOLERANCE};
 pub use patch::{patch, Patched, Unpatchable};
 pub use read::{load, load_bytes};
+pub use tables::Table;
 pub use write::{save, save_with_layout, to_bytes, to_bytes_for};
 
 /// A workbook read from an xlsx file, with what the file said besides the cells.
@@ -89,6 +91,40 @@ pub struct Layout {
     pub vba_project: Option<Vec<u8>>,
     /// The workbook's VBA code name (`ThisWorkbook`), if the file gave one.
     pub workbook_code_name: Option<String>,
+    /// How the file asks to be calculated (for `info`; ncsheet always recalculates).
+    pub calculation: Calculation,
+    /// The file's tables (`xl/tables/`), in sheet order (for `info`).
+    pub tables: Vec<Table>,
+}
+
+/// The file's calculation settings: `<calcPr>` and `date1904` of `<workbookPr>`, with
+/// ECMA-376's defaults for what the file leaves out.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Calculation {
+    /// `auto`, `autoNoTable` (all but data tables) or `manual`.
+    pub mode: String,
+    /// Circular references iterate instead of being errors.
+    pub iterate: bool,
+    pub iterate_count: u32,
+    /// Iteration stops when no value changes by more than this.
+    pub iterate_delta: f64,
+    /// Excel recomputes every formula when it opens the file.
+    pub full_calc_on_load: bool,
+    /// Date serials count from 1904-01-01.
+    pub date_1904: bool,
+}
+
+impl Default for Calculation {
+    fn default() -> Self {
+        Calculation {
+            mode: "auto".into(),
+            iterate: false,
+            iterate_count: 100,
+            iterate_delta: 0.001,
+            full_calc_on_load: false,
+            date_1904: false,
+        }
+    }
 }
 
 #[derive(Clone, Debug, Default)]

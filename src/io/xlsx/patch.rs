@@ -18,7 +18,7 @@ use std::io::{Cursor, Read, Write};
 use std::path::Path;
 
 use crate::eval::{Env, Value, XlError};
-use crate::formula::address::{parse_cell, Pos, Rect};
+use crate::formula::address::{parse_cell, parse_rect, Pos, Rect};
 use crate::formula::ast::SheetId;
 use crate::workbook::{Changes, Workbook};
 
@@ -142,7 +142,9 @@ fn read_text<R: Read>(entry: &mut R, name: &str, source: &Path) -> Result<String
 /// The workbook part with `fullCalcOnLoad="1"` on its `<calcPr>` (added if missing, in the
 /// place the schema gives it: after `definedNames`, or what comes before it).
 fn full_calc_on_load(xml: &str) -> String {
-    if let Some(start) = find_tag(xml, "calcPr", 0) {
+    let ns = root_prefix(xml);
+    let calc_pr = format!("{ns}calcPr");
+    if let Some(start) = find_tag(xml, &calc_pr, 0) {
         let end = start + xml[start..].find('>').unwrap_or(0);
         let tag = &xml[start..end];
         if tag.contains("fullCalcOnLoad=\"1\"") || tag.contains("fullCalcOnLoad=\"true\"") {
@@ -158,14 +160,15 @@ fn full_calc_on_load(xml: &str) -> String {
         return format!("{}{attrs} fullCalcOnLoad=\"1\"{space}{close}{}", &xml[..start], &xml[end..]);
     }
     for after in ["definedNames", "externalReferences", "functionGroups", "sheets"] {
+        let after = format!("{ns}{after}");
         let close = format!("</{after}>");
         let at = xml.find(&close).map(|i| i + close.len()).or_else(|| {
-            let start = find_tag(xml, after, 0)?;
+            let start = find_tag(xml, &after, 0)?;
             let end = start + xml[start..].find('>')?;
             xml[..end].ends_with('/').then_some(end + 1)
         });
         if let Some(at) = at {
-            return format!("{}<calcPr fullCalcOnLoad=\"1\"/>{}", &xml[..at], &xml[at..]);
+            return format!("{}<{calc_pr} fullCalcOnLoad=\"1\"/>{}", &xml[..at], &xml[at..]);
         }
     }
     xml.to_string()
@@ -207,6 +210,22 @@ fn find_tag(xml: &str, name: &str, from: usize) -> Option<usize> {
     None
 }
 
+/// The prefix (with its colon, or "") of the part's root element. Some generators write
+/// `<x:worksheet xmlns:x="…main">` and every element of the part with that prefix; the
+/// elements the patch looks for and writes take the same one.
+fn root_prefix(xml: &str) -> &str {
+    let mut rest = xml;
+    while let Some(at) = rest.find('<') {
+        rest = &rest[at + 1..];
+        if rest.starts_with(['?', '!']) {
+            continue;
+        }
+        let end = rest.find(|c: char| c.is_whitespace() || c == '>' || c == '/').unwrap_or(rest.len());
+        return rest[..end].rfind(':').map_or("", |i| &rest[..=i]);
+    }
+    ""
+}
+
 /// An attribute's value in a start tag (double or single quotes).
 fn attr<'a>(tag: &'a str, name: &str) -> Option<&'a str> {
     let bytes = tag.as_bytes();
@@ -240,7 +259,8 @@ fn remove_attr(tag: &str, name: &str) -> String {
 }
 
 /// Rewrites one worksheet part: the changed cells' `<c>` elements replaced or inserted in
-/// row and column order, everything else copied.
+/// row and column order, everything else copied. The part's elements may carry a namespace
+/// prefix (`<x:c>`); new ones are written with the same.
 fn patch_sheet(
     xml: &str,
     wb: &Workbook,
@@ -248,21 +268,35 @@ fn patch_sheet(
     cells: &BTreeMap<(u32, u32), Change>,
     losses: &mut Vec<String>,
 ) -> Result<String, String> {
+    let ns = root_prefix(xml);
+    let q = |name: &str| format!("{ns}{name}");
+    let (sheet_data, row_tag, c_tag) = (q("sheetData"), q("row"), q("c"));
+    let arrays = broken_arrays(xml, ns, cells)?;
     let mut p = SheetPatch {
         wb,
         sheet,
+        ns,
         pending: cells.clone(),
         out: String::with_capacity(xml.len() + 256 * cells.len()),
         broken_shared: HashSet::new(),
+        broken_arrays: arrays.iter().map(|(anchor, _, _)| (anchor.row, anchor.col)).collect(),
         losses,
     };
-    let start = find_tag(xml, "sheetData", 0).ok_or("no <sheetData> (a prefixed or unusual worksheet)")?;
+    for (anchor, area, edited) in &arrays {
+        p.losses.push(format!(
+            "{}: inside the array formula of {anchor} over {area}, which Excel changes only as a whole (\"You \
+             can't change part of an array\"); the array formula is saved over {anchor} alone and the other cells \
+             of {area} keep their last values as constants",
+            wb.cell_name(sheet, *edited)
+        ));
+    }
+    let start = find_tag(xml, &sheet_data, 0).ok_or_else(|| format!("no <{sheet_data}> element"))?;
     let open_end = start + xml[start..].find('>').ok_or("unterminated <sheetData>")?;
-    p.out.push_str(&with_dimension(&xml[..start], cells.keys()));
+    p.out.push_str(&with_dimension(&xml[..start], ns, cells.keys()));
     if xml[..open_end].ends_with('/') {
-        p.out.push_str("<sheetData>");
+        p.out.push_str(&format!("<{sheet_data}>"));
         p.flush_rows_before(u32::MAX);
-        p.out.push_str("</sheetData>");
+        p.out.push_str(&format!("</{sheet_data}>"));
         p.out.push_str(&xml[open_end + 1..]);
         return Ok(p.out);
     }
@@ -270,19 +304,21 @@ fn patch_sheet(
     let mut i = open_end + 1;
     let (mut row, mut col): (u32, Option<u32>) = (0, None);
     let mut in_row = false;
+    let (close_sheet_data, close_row, close_c) =
+        (format!("</{sheet_data}"), format!("</{row_tag}"), format!("</{c_tag}>"));
     loop {
         let lt = i + xml[i..].find('<').ok_or("unterminated <sheetData>")?;
         p.out.push_str(&xml[i..lt]);
         i = lt;
         let rest = &xml[i..];
-        if rest.starts_with("</sheetData") {
+        if rest.starts_with(&close_sheet_data) {
             p.flush_rows_before(u32::MAX);
             p.out.push_str(rest);
             return Ok(p.out);
         }
         let tag_end = i + rest.find('>').ok_or("unterminated tag")?;
         let tag = &xml[i..=tag_end];
-        if find_tag(tag, "row", 0) == Some(0) {
+        if find_tag(tag, &row_tag, 0) == Some(0) {
             row = match attr(tag, "r") {
                 Some(r) => r.parse::<u32>().map_err(|_| format!("row number '{r}'"))?.saturating_sub(1),
                 None if in_row || col.is_some() || row > 0 => row + 1,
@@ -294,22 +330,22 @@ fn patch_sheet(
                 p.out.push_str(tag[..tag.len() - 2].trim_end());
                 p.out.push('>');
                 p.flush_cells(row, u32::MAX);
-                p.out.push_str("</row>");
+                p.out.push_str(&format!("</{row_tag}>"));
             } else {
                 p.out.push_str(tag);
                 in_row = !tag.ends_with("/>");
             }
             i = tag_end + 1;
-        } else if rest.starts_with("</row") {
+        } else if rest.starts_with(&close_row) {
             p.flush_cells(row, u32::MAX);
             p.out.push_str(tag);
             in_row = false;
             i = tag_end + 1;
-        } else if find_tag(tag, "c", 0) == Some(0) {
+        } else if find_tag(tag, &c_tag, 0) == Some(0) {
             let end = if tag.ends_with("/>") {
                 tag_end + 1
             } else {
-                tag_end + xml[tag_end..].find("</c>").ok_or("unterminated <c>")? + 4
+                tag_end + xml[tag_end..].find(&close_c).ok_or("unterminated <c>")? + close_c.len()
             };
             let element = &xml[i..end];
             let pos = match attr(tag, "r") {
@@ -330,14 +366,46 @@ fn patch_sheet(
     }
 }
 
+/// The legacy array formulas (`<f t="array" ref="A1:B3">` on a cell without the `cm` mark
+/// of a dynamic array) that an edited cell other than their anchor falls inside: each
+/// anchor, area and the first such edited cell. Excel refuses such an edit; the file can
+/// keep it only by making the array formula a single-cell one.
+fn broken_arrays(xml: &str, ns: &str, cells: &BTreeMap<(u32, u32), Change>) -> Result<Vec<(Pos, Rect, Pos)>, String> {
+    let edited: Vec<Pos> =
+        cells.iter().filter(|(_, &c)| c == Change::Input).map(|(&(r, c), _)| Pos::new(r, c)).collect();
+    let mut out = Vec::new();
+    if edited.is_empty() {
+        return Ok(out);
+    }
+    let (f_tag, c_tag) = (format!("{ns}f"), format!("<{ns}c"));
+    let mut from = 0;
+    while let Some(start) = find_tag(xml, &f_tag, from) {
+        let end = start + xml[start..].find('>').ok_or("unterminated <f>")?;
+        from = end;
+        let f = &xml[start..end];
+        let Some(area) = attr(f, "ref").filter(|_| attr(f, "t") == Some("array")).and_then(parse_rect) else {
+            continue;
+        };
+        let Some(c_start) = xml[..start].rfind(&c_tag) else { continue };
+        let c = &xml[c_start..start];
+        if attr(c, "cm").is_some() {
+            continue; // a dynamic array: an edit inside it makes #SPILL!, as Excel allows
+        }
+        let Some(anchor) = attr(c, "r").and_then(parse_cell) else { continue };
+        if let Some(&inside) = edited.iter().find(|&&p| p != anchor && area.contains(p)) {
+            out.push((anchor, area, inside));
+        }
+    }
+    Ok(out)
+}
+
 /// The part before `<sheetData>` with its `<dimension ref>` grown to hold the changed cells.
-fn with_dimension<'a>(head: &str, cells: impl Iterator<Item = &'a (u32, u32)>) -> String {
-    let Some(start) = find_tag(head, "dimension", 0) else { return head.to_string() };
+fn with_dimension<'a>(head: &str, ns: &str, cells: impl Iterator<Item = &'a (u32, u32)>) -> String {
+    let Some(start) = find_tag(head, &format!("{ns}dimension"), 0) else { return head.to_string() };
     let Some(end) = head[start..].find('>').map(|i| start + i) else { return head.to_string() };
     let tag = &head[start..end];
     let Some(old) = attr(tag, "ref") else { return head.to_string() };
-    let Some(mut rect) = crate::formula::address::parse_rect(old).or_else(|| parse_cell(old).map(|p| Rect::new(p, p)))
-    else {
+    let Some(mut rect) = parse_rect(old).or_else(|| parse_cell(old).map(|p| Rect::new(p, p))) else {
         return head.to_string();
     };
     for &(row, col) in cells {
@@ -356,11 +424,15 @@ fn with_dimension<'a>(head: &str, cells: impl Iterator<Item = &'a (u32, u32)>) -
 struct SheetPatch<'a> {
     wb: &'a Workbook,
     sheet: SheetId,
+    /// The part's namespace prefix with its colon, or "".
+    ns: &'a str,
     pending: BTreeMap<(u32, u32), Change>,
     out: String,
     /// Shared-formula groups whose master cell was replaced: their other cells get their
     /// own formula text.
     broken_shared: HashSet<String>,
+    /// Anchors of legacy array formulas an edit fell inside: saved as single-cell formulas.
+    broken_arrays: HashSet<(u32, u32)>,
     losses: &'a mut Vec<String>,
 }
 
@@ -381,7 +453,7 @@ impl SheetPatch<'_> {
             }
             self.pending.retain(|&(pr, _), _| pr != r);
             if !cells.is_empty() {
-                self.out.push_str(&format!("<row r=\"{}\">{cells}</row>", r + 1));
+                self.out.push_str(&format!("<{ns}row r=\"{}\">{cells}</{ns}row>", r + 1, ns = self.ns));
             }
         }
     }
@@ -396,25 +468,27 @@ impl SheetPatch<'_> {
         }
     }
 
-    /// A cell that did not change, unless its shared formula lost its master.
+    /// A cell that did not change, unless its shared formula lost its master or its array
+    /// formula was broken by an edit inside it.
     fn copy(&mut self, element: &str, pos: Pos) {
-        let shared_follower = formula_element(element)
-            .filter(|(f, _)| attr(f, "t") == Some("shared") && attr(f, "ref").is_none())
-            .and_then(|(f, range)| Some((attr(f, "si")?.to_string(), range)));
-        match shared_follower {
-            Some((si, range)) if self.broken_shared.contains(&si) => {
-                let f = self.file_formula(pos).unwrap_or_default();
-                self.out.push_str(&element[..range.start]);
-                self.out.push_str(&format!("<f>{}</f>", escape(&f)));
-                self.out.push_str(&element[range.end..]);
-            }
-            _ => self.out.push_str(element),
+        let Some((f, range)) = formula_element(element, self.ns) else { return self.out.push_str(element) };
+        let shared_follower = (attr(f, "t") == Some("shared") && attr(f, "ref").is_none())
+            .then(|| attr(f, "si"))
+            .flatten()
+            .is_some_and(|si| self.broken_shared.contains(si));
+        if shared_follower || self.broken_arrays.contains(&(pos.row, pos.col)) {
+            let f = self.own_formula(pos).unwrap_or_default();
+            self.out.push_str(&element[..range.start]);
+            self.out.push_str(&f);
+            self.out.push_str(&element[range.end..]);
+        } else {
+            self.out.push_str(element);
         }
     }
 
     fn replace(&mut self, element: &str, tag: &str, pos: Pos, change: Change) {
         if change == Change::Input {
-            if let Some((f, _)) = formula_element(element) {
+            if let Some((f, _)) = formula_element(element, self.ns) {
                 let area = attr(f, "ref").filter(|r| r.contains(':'));
                 match (attr(f, "t"), area) {
                     (Some("shared"), _) => {
@@ -435,6 +509,17 @@ impl SheetPatch<'_> {
         self.out.push_str(&cell);
     }
 
+    /// The `<f>` element of a cell's own formula; an array formula an edit fell inside is
+    /// kept as an array formula over its own cell (see `break_fixed_array` in workbook).
+    fn own_formula(&self, pos: Pos) -> Option<String> {
+        let f = escape(&self.file_formula(pos)?);
+        let ns = self.ns;
+        Some(match self.broken_arrays.contains(&(pos.row, pos.col)) {
+            true => format!("<{ns}f t=\"array\" ref=\"{pos}\">{f}</{ns}f>"),
+            false => format!("<{ns}f>{f}</{ns}f>"),
+        })
+    }
+
     fn file_formula(&self, pos: Pos) -> Option<String> {
         syntax::cell_to_file_as_needed(self.wb, self.sheet, pos)
     }
@@ -442,12 +527,14 @@ impl SheetPatch<'_> {
     /// The `<c>` element of a changed cell, keeping the original's style (and, for a value
     /// change, its formula element as it was).
     fn new_cell(&mut self, original: Option<(&str, &str)>, pos: Pos, change: Change) -> String {
+        let ns = self.ns;
         let style = original.and_then(|(_, tag)| attr(tag, "s")).map(|s| format!(" s=\"{s}\"")).unwrap_or_default();
         let value = self.wb.value(self.sheet, pos);
         let formula = match change {
-            Change::Input => self.file_formula(pos).map(|f| format!("<f>{}</f>", escape(&f))),
+            Change::Input => self.own_formula(pos),
+            Change::Value if self.broken_arrays.contains(&(pos.row, pos.col)) => self.own_formula(pos),
             Change::Value => {
-                original.and_then(|(e, _)| formula_element(e)).map(|(_, r)| original.unwrap().0[r].to_string())
+                original.and_then(|(e, _)| formula_element(e, ns)).map(|(_, r)| original.unwrap().0[r].to_string())
             }
         };
         if change == Change::Input && formula.is_some() {
@@ -466,9 +553,11 @@ impl SheetPatch<'_> {
             (Change::Value, Some((_, tag))) => other_attrs(tag),
             _ => String::new(),
         };
-        let r = format!("<c r=\"{pos}\"{style}{keep_attrs}");
+        let r = format!("<{ns}c r=\"{pos}\"{style}{keep_attrs}");
+        let end = format!("</{ns}c>");
         let f = formula.unwrap_or_default();
         let is_formula = !f.is_empty();
+        let v = |text: &str| format!("<{ns}v>{text}</{ns}v>");
         match value {
             Value::Blank | Value::Array(_) if !is_formula => {
                 if style.is_empty() {
@@ -477,20 +566,25 @@ impl SheetPatch<'_> {
                     format!("{r}/>")
                 }
             }
-            Value::Blank | Value::Array(_) => format!("{r} t=\"str\">{f}<v></v></c>"),
-            Value::Number(n) if n.is_finite() => format!("{r}>{f}<v>{}</v></c>", number_text(n)),
-            Value::Number(_) => format!("{r} t=\"e\">{f}<v>#NUM!</v></c>"),
-            Value::Bool(b) => format!("{r} t=\"b\">{f}<v>{}</v></c>", u8::from(b)),
-            Value::Error(e) => format!("{r} t=\"e\">{f}<v>{}</v></c>", error_text(e)),
-            Value::Text(t) if is_formula => format!("{r} t=\"str\">{f}<v>{}</v></c>", escape(&t)),
-            Value::Text(t) => format!("{r} t=\"inlineStr\"><is><t xml:space=\"preserve\">{}</t></is></c>", escape(&t)),
+            Value::Blank | Value::Array(_) => format!("{r} t=\"str\">{f}{}{end}", v("")),
+            Value::Number(n) if n.is_finite() => format!("{r}>{f}{}{end}", v(&number_text(n))),
+            Value::Number(_) => format!("{r} t=\"e\">{f}{}{end}", v("#NUM!")),
+            Value::Bool(b) => format!("{r} t=\"b\">{f}{}{end}", v(&u8::from(b).to_string())),
+            Value::Error(e) => format!("{r} t=\"e\">{f}{}{end}", v(error_text(e))),
+            Value::Text(t) if is_formula => format!("{r} t=\"str\">{f}{}{end}", v(&escape(&t))),
+            Value::Text(t) => format!(
+                "{r} t=\"inlineStr\"><{ns}is><{ns}t xml:space=\"preserve\">{}</{ns}t></{ns}is>{end}",
+                escape(&t)
+            ),
         }
     }
 }
 
 /// The start-tag attributes of a `<c>` other than `r`, `s` and `t`, each with its space.
 fn other_attrs(tag: &str) -> String {
-    let inner = tag.trim_start_matches("<c").trim_end_matches('>').trim_end_matches('/');
+    let inner = tag.trim_start_matches('<');
+    let inner = inner.find(char::is_whitespace).map_or("", |i| &inner[i..]);
+    let inner = inner.trim_end_matches('>').trim_end_matches('/');
     let mut out = String::new();
     let mut rest = inner;
     while let Some(eq) = rest.find('=') {
@@ -508,11 +602,13 @@ fn other_attrs(tag: &str) -> String {
 }
 
 /// The `<f …>…</f>` (or `<f …/>`) element of a `<c>` element: its start tag and byte range.
-fn formula_element(element: &str) -> Option<(&str, std::ops::Range<usize>)> {
-    let start = find_tag(element, "f", 1)?;
+fn formula_element<'e>(element: &'e str, ns: &str) -> Option<(&'e str, std::ops::Range<usize>)> {
+    let name = format!("{ns}f");
+    let start = find_tag(element, &name, 1)?;
     let tag_end = start + element[start..].find('>')?;
     let tag = &element[start..=tag_end];
-    let end = if tag.ends_with("/>") { tag_end + 1 } else { tag_end + element[tag_end..].find("</f>")? + 4 };
+    let close = format!("</{name}>");
+    let end = if tag.ends_with("/>") { tag_end + 1 } else { tag_end + element[tag_end..].find(&close)? + close.len() };
     Some((tag, start..end))
 }
 

@@ -8,7 +8,9 @@ use zip::result::ZipError;
 use zip::ZipArchive;
 
 use super::xml::{for_each_tag, unescape};
-use super::ErrorKind;
+use super::{Calculation, ErrorKind};
+use crate::io::limits::{self, ReadLimits, RATIO_GRACE};
+use crate::workbook::Iteration;
 
 /// The zip package with its workbook-level parts read.
 pub struct Package<'a> {
@@ -17,10 +19,16 @@ pub struct Package<'a> {
     pub names: Vec<NameEntry>,
     /// `<workbookPr codeName="…">`: the workbook's VBA name.
     pub code_name: Option<String>,
+    /// `<calcPr>` and the date system of `<workbookPr>`.
+    pub calculation: Calculation,
     /// The shared-string table's part, if the workbook has one.
     pub shared_strings: Option<String>,
     /// The workbook part and the parts its relationships name (styles, theme, strings…).
     pub workbook_parts: Vec<String>,
+    /// `<calcPr iterate="1" iterateCount iterateDelta>`: iterative calculation is on.
+    pub iteration: Option<Iteration>,
+    /// The external-link parts, in the order formulas number them (`[1]` is the first).
+    pub external_links: Vec<Option<String>>,
 }
 
 #[derive(Clone, Debug)]
@@ -43,6 +51,11 @@ pub struct NameEntry {
 pub type Err = (Option<String>, ErrorKind, String);
 
 pub fn zip_error(part: Option<&str>, e: ZipError) -> Err {
+    if let ZipError::Io(io) = &e {
+        if let Some(limit) = past_limit(io) {
+            return (part.map(str::to_string), ErrorKind::TooLarge, limit.to_string());
+        }
+    }
     let kind = match e {
         ZipError::Io(_) => ErrorKind::Io,
         _ => ErrorKind::Damaged,
@@ -59,8 +72,11 @@ impl<'a> Package<'a> {
             sheets: Vec::new(),
             names: Vec::new(),
             code_name: None,
+            calculation: Calculation::default(),
             shared_strings: None,
             workbook_parts: Vec::new(),
+            iteration: None,
+            external_links: Vec::new(),
         };
         let workbook = package.main_part()?;
         let rels = package.relationships(&workbook)?;
@@ -75,13 +91,7 @@ impl<'a> Package<'a> {
 
     /// Reads a whole (small) part as text; a missing part is an error.
     pub fn read_part(&mut self, part: &str) -> Result<String, Err> {
-        let mut entry = match self.zip.by_name(part) {
-            Ok(e) => e,
-            Err(ZipError::FileNotFound) => {
-                return Err((Some(part.to_string()), ErrorKind::Damaged, "missing from the package".into()))
-            }
-            Err(e) => return Err(zip_error(Some(part), e)),
-        };
+        let mut entry = self.entry(part)?;
         let mut bytes = Vec::new();
         entry.read_to_end(&mut bytes).map_err(|e| zip_error(Some(part), ZipError::Io(e)))?;
         String::from_utf8(bytes).map_err(|_| (Some(part.to_string()), ErrorKind::Damaged, "not UTF-8 text".into()))
@@ -90,7 +100,7 @@ impl<'a> Package<'a> {
     /// A part's raw bytes if the package has it.
     pub fn read_optional(&mut self, part: &str) -> Result<Option<Vec<u8>>, Err> {
         let mut entry = match self.zip.by_name(part) {
-            Ok(e) => e,
+            Ok(e) => Inflating::new(e, limits::current()),
             Err(ZipError::FileNotFound) => return Ok(None),
             Err(e) => return Err(zip_error(Some(part), e)),
         };
@@ -146,12 +156,35 @@ impl<'a> Package<'a> {
         let mut sheets = Vec::new();
         let mut names = Vec::new();
         let mut code_name = None;
+        let mut calculation = Calculation::default();
+        // Relationships by id (the first of an id, as a search would find): a workbook of
+        // 100,000 sheets must not search the list once per sheet.
+        let mut by_id: std::collections::HashMap<&str, usize> = std::collections::HashMap::with_capacity(rels.len());
+        for (i, (rid, ..)) in rels.iter().enumerate() {
+            by_id.entry(rid.as_str()).or_insert(i);
+        }
+        let mut external_links = Vec::new();
         for_each_tag(bytes, &mut |tag, content| match tag.name {
-            b"workbookPr" => code_name = tag.attr("codeName").map(unescape),
+            b"externalReference" => {
+                let id = tag.attr("id").map(unescape).unwrap_or_default();
+                external_links.push(rels.iter().find(|(rid, ..)| *rid == id).map(|(_, target, _)| target.clone()));
+            }
+            b"workbookPr" => {
+                code_name = tag.attr("codeName").map(unescape);
+                calculation.date_1904 = tag.attr("date1904").is_some_and(xml_true);
+            }
+            b"calcPr" => {
+                let number = |key: &str| tag.attr(key).and_then(|v| unescape(v).parse::<f64>().ok());
+                calculation.mode = tag.attr("calcMode").map_or(calculation.mode.clone(), unescape);
+                calculation.iterate = tag.attr("iterate").is_some_and(xml_true);
+                calculation.iterate_count = number("iterateCount").map_or(calculation.iterate_count, |n| n as u32);
+                calculation.iterate_delta = number("iterateDelta").unwrap_or(calculation.iterate_delta);
+                calculation.full_calc_on_load = tag.attr("fullCalcOnLoad").is_some_and(xml_true);
+            }
             b"sheet" => {
                 let name = tag.attr("name").map(unescape).unwrap_or_default();
                 let id = tag.attr("id").map(unescape).unwrap_or_default();
-                match rels.iter().find(|(rid, ..)| *rid == id) {
+                match by_id.get(id.as_str()).map(|&i| &rels[i]) {
                     Some((_, target, kind)) => {
                         sheets.push(SheetEntry { name, part: target.clone(), kind: kind.clone() })
                     }
@@ -169,22 +202,142 @@ impl<'a> Package<'a> {
         self.sheets = sheets;
         self.names = names;
         self.code_name = code_name;
+        self.iteration = iteration_of(&calculation);
+        self.calculation = calculation;
+        self.external_links = external_links;
         Ok(())
     }
 
-    /// A part to stream; a missing part is an error.
-    pub fn entry(&mut self, part: &str) -> Result<zip::read::ZipFile<'_, Cursor<&'a [u8]>>, Err> {
+    /// A part to stream, held to the limits while it inflates; a missing part is an error.
+    pub fn entry(&mut self, part: &str) -> Result<Inflating<zip::read::ZipFile<'_, Cursor<&'a [u8]>>>, Err> {
         match self.zip.by_name(part) {
-            Ok(e) => Ok(e),
+            Ok(e) => Ok(Inflating::new(e, limits::current())),
             Err(ZipError::FileNotFound) => {
                 Err((Some(part.to_string()), ErrorKind::Damaged, "missing from the package".into()))
             }
             Err(e) => Err(zip_error(Some(part), e)),
         }
     }
+
+    /// Inflates, within the limits, every part calamine reads when it opens the package
+    /// (`Xlsx::new`: the package and workbook relationships, the workbook, styles, theme and
+    /// shared strings, found by calamine's case-insensitive names), so that a part past a limit
+    /// is refused here, naming itself, before calamine holds it whole. `already` are parts
+    /// read through [`Package::entry`] before.
+    pub fn check_parts_calamine_reads(&mut self, already: &[&str]) -> Result<(), Err> {
+        let (dir, file) =
+            self.workbook_parts.first().and_then(|w| w.rsplit_once('/')).unwrap_or(("xl", "workbook.xml"));
+        let dir = format!("{dir}/").to_ascii_lowercase();
+        let file = file.to_ascii_lowercase();
+        let wanted = [
+            "_rels/.rels".to_string(),
+            format!("{dir}sharedstrings.xml"),
+            format!("{dir}theme/theme1.xml"),
+            format!("{dir}styles.xml"),
+            format!("{dir}_rels/{file}.rels"),
+            format!("{dir}{file}"),
+        ];
+        let names: Vec<String> = self
+            .zip
+            .file_names()
+            .filter_map(|name| Some(name.ok()?.into_owned()))
+            .filter(|name| !already.contains(&name.as_str()))
+            .filter(|name| wanted.contains(&name.replace('\\', "/").to_ascii_lowercase()))
+            .collect();
+        for name in names {
+            let mut entry = self.entry(&name)?;
+            std::io::copy(&mut entry, &mut std::io::sink()).map_err(|e| zip_error(Some(&name), ZipError::Io(e)))?;
+        }
+        Ok(())
+    }
+}
+
+/// A part of the package inflating, stopped with a [`PastLimit`] error as soon as it passes
+/// the bytes or the ratio to its compressed size that [`ReadLimits`] allow: the check runs
+/// on every read, so a zip bomb costs the limit, never the bytes it would inflate to.
+pub struct Inflating<R> {
+    inner: R,
+    inflated: u64,
+    /// The bytes this part may inflate to: the smaller of the two limits.
+    cap: u64,
+    compressed: u64,
+    limits: ReadLimits,
+}
+
+impl<'z, R: Read> Inflating<zip::read::ZipFile<'z, R>> {
+    pub fn new(entry: zip::read::ZipFile<'z, R>, limits: ReadLimits) -> Self {
+        let compressed = entry.compressed_size();
+        let by_ratio = compressed.saturating_mul(limits.zip_ratio).max(RATIO_GRACE);
+        Inflating { inner: entry, inflated: 0, cap: by_ratio.min(limits.part_bytes), compressed, limits }
+    }
+}
+
+impl<R: Read> Read for Inflating<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        self.inflated += n as u64;
+        if self.inflated > self.cap {
+            return Err(std::io::Error::other(self.past_limit()));
+        }
+        Ok(n)
+    }
+}
+
+impl<R> Inflating<R> {
+    fn past_limit(&self) -> PastLimit {
+        let limits = self.limits;
+        if self.inflated > limits.part_bytes {
+            return PastLimit(format!(
+                "the part inflates to more than {}, ncsheet's limit on one part (--max-part-size raises it)",
+                limits::bytes(limits.part_bytes)
+            ));
+        }
+        PastLimit(format!(
+            "the part inflates to more than {} times its compressed size of {}: a zip bomb, or a part \
+             more repetitive than Excel writes (--max-zip-ratio raises the limit of {})",
+            limits.zip_ratio,
+            limits::bytes(self.compressed),
+            limits.zip_ratio
+        ))
+    }
+}
+
+/// A part inflated past a limit: what to say about it.
+#[derive(Debug)]
+pub struct PastLimit(String);
+
+impl std::fmt::Display for PastLimit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for PastLimit {}
+
+/// The limit an IO error of [`Inflating`] reports, if it is one.
+pub fn past_limit(e: &std::io::Error) -> Option<&PastLimit> {
+    e.get_ref()?.downcast_ref::<PastLimit>()
+}
+
+/// The iteration settings of a workbook's `<calcPr>`, when it turns iteration on; a limit
+/// that is not a finite non-negative number takes Excel's default.
+fn iteration_of(calculation: &Calculation) -> Option<Iteration> {
+    if !calculation.iterate {
+        return None;
+    }
+    let default = Iteration::default();
+    let max_change =
+        Some(calculation.iterate_delta).filter(|d| d.is_finite() && *d >= 0.0).unwrap_or(default.max_change);
+    Some(Iteration { count: calculation.iterate_count, max_change })
+}
+
+/// An xsd:boolean attribute's value: `1` or `true`.
+fn xml_true(value: &[u8]) -> bool {
+    matches!(value, b"1" | b"true")
 }
 
 /// Resolves a relationship target against the folder of its source part.
+
 fn resolve(dir: &str, target: &str) -> String {
     if let Some(abs) = target.strip_prefix('/') {
         return abs.to_string();

@@ -12,19 +12,20 @@
 //! results of formula cells.
 
 use std::borrow::Cow;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::io::Cursor;
 use std::path::Path;
 use std::rc::Rc;
 
 use calamine::{Reader, Style, Xlsx};
 
-use crate::eval::{Env, Value, XlError};
-use crate::formula::address::Pos;
+use crate::eval::{Env, RowHidden, Value, XlError};
+use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::SheetId;
 use crate::workbook::Workbook;
 
-use super::raw::{Package, SheetEntry};
+use super::external::{self, ExternalBook};
+use super::raw::{self, Package, SheetEntry};
 use super::sheet_span;
 use super::sheet_xml::{self, CellXml, FormulaXml, ScanError, SheetScan};
 use super::tables::{self, Table};
@@ -55,6 +56,8 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
     sniff(bytes, file)?;
     let mut package = Package::open(bytes).map_err(fail)?;
     let strings = shared_strings(&mut package, file)?;
+    let read_before = package.shared_strings.clone();
+    package.check_parts_calamine_reads(&[read_before.as_deref().unwrap_or_default()]).map_err(fail)?;
     let mut calamine: Xlsx<Cursor<&[u8]>> = match Xlsx::new(Cursor::new(bytes)) {
         Ok(calamine) => calamine,
         Err(e) => {
@@ -72,6 +75,7 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
     if calamine.has_1904_epoch() {
         imported.workbook.set_date_1904(true);
     }
+    imported.workbook.set_iteration(package.iteration);
 
     let sheets = package.sheets.clone();
     let mut ids: Vec<Option<SheetId>> = Vec::with_capacity(sheets.len());
@@ -90,11 +94,16 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
         ids.push(Some(id));
     }
     let tables = read_tables(&mut package, &sheets, &ids, &mut imported.notes);
-    let book = BookParts { tables, sheet_names: imported.workbook.sheet_names() };
+    imported.layout.tables = tables.clone();
+    imported.layout.calculation = package.calculation.clone();
+    let links = read_links(&mut package, &mut imported.notes);
+    let mut book =
+        BookParts { tables, sheet_names: imported.workbook.sheet_names(), links, range_names: HashSet::new() };
     define_names(&mut imported, &package, &sheets, &ids, &book);
+    book.range_names = range_names(&imported.workbook);
 
-    let formats = number_formats(&mut calamine, &sheets, file)?;
     let mut grid_slots = 0u64;
+    let mut scans = Vec::new();
     let mut legacy_ranges = Vec::new();
     for (entry, id) in sheets.iter().zip(&ids) {
         let Some(sheet) = *id else { continue };
@@ -105,15 +114,28 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
         })
         .map_err(|e| stream_error(file, &entry.part, e))?;
         sheet_import.finish(&mut imported);
-        imported.layout.sheets.insert(entry.name.clone(), sheet_layout(&scan, &formats));
+        hide_rows(&mut imported.workbook, &mut package, entry, sheet, &scan);
+        scans.push((entry.name.clone(), scan));
+    }
+    // After the sheets: calamine reads the first one up to its cells, which the pass above
+    // has held to the limits.
+    let formats = number_formats(&mut calamine, &sheets, file)?;
+    for (name, scan) in scans {
+        imported.layout.sheets.insert(name, sheet_layout(&scan, &formats));
     }
     imported.layout.vba_project = package.read_optional("xl/vbaProject.bin").map_err(fail)?;
     imported.layout.workbook_code_name = package.code_name.clone();
     if imported.layout.vba_project.is_some() {
         imported.notes.push("the VBA project is kept for saving as .xlsm; its macros are not run".into());
     }
+    if imported.workbook.iteration().is_some() {
+        for c in &imported.cached {
+            imported.workbook.set_starting_value_deferred(c.sheet, c.pos, c.value.clone());
+        }
+    }
     imported.workbook.recalculate();
-    intersect_legacy_formulas(&mut imported.workbook, &legacy_ranges);
+    let arrays = array_anchors(&imported.layout, &imported.workbook);
+    intersect_legacy_formulas(&mut imported.workbook, &legacy_ranges, &arrays);
     Ok(imported)
 }
 
@@ -157,7 +179,10 @@ fn damaged_workbook_part(package: &mut Package, file: &Path) -> Option<XlsxError
 
 fn stream_error(file: &Path, part: &str, e: StreamError<ScanError>) -> XlsxError {
     match e {
-        StreamError::Io(e) => XlsxError::new(file, Some(part), ErrorKind::Damaged, format!("damaged zip entry: {e}")),
+        StreamError::Io(e) => match raw::past_limit(&e) {
+            Some(limit) => XlsxError::new(file, Some(part), ErrorKind::TooLarge, limit.to_string()),
+            None => XlsxError::new(file, Some(part), ErrorKind::Damaged, format!("damaged zip entry: {e}")),
+        },
         StreamError::Xml { offset, message } => {
             let message = format!("the XML is not well-formed at byte {offset}: {message}");
             XlsxError::new(file, Some(part), ErrorKind::Damaged, message)
@@ -166,19 +191,66 @@ fn stream_error(file: &Path, part: &str, e: StreamError<ScanError>) -> XlsxError
     }
 }
 
+/// The anchors of the file's array formulas (legacy and dynamic), by sheet.
+fn array_anchors(layout: &Layout, wb: &Workbook) -> HashMap<(SheetId, Pos), ()> {
+    let mut anchors = HashMap::new();
+    for (name, sheet_layout) in &layout.sheets {
+        let Some(sheet) = wb.sheet_id(name) else { continue };
+        anchors.extend(sheet_layout.array_formulas.keys().map(|&pos| ((sheet, pos), ())));
+    }
+    anchors
+}
+
 /// A formula Excel stored as a plain `<f>` never spills: Excel evaluated it with implicit
-/// intersection. Those of them that produced an array here get `@` where Excel intersected
-/// (see [`syntax::legacy_intersection`]) and are recalculated.
-fn intersect_legacy_formulas(wb: &mut Workbook, candidates: &[(SheetId, Pos)]) {
+/// intersection. Those of them that produced an array here, or that consume a range where
+/// Excel intersected it (`SUM(A1:A9*2)`, decided once per shared formula, among the
+/// `candidates` that name ranges), get `@` where Excel intersected (see
+/// [`syntax::legacy_intersection`]) and are recalculated. A result that is still an array
+/// is intersected as a whole, as Excel shows a legacy formula's result: a reference in line
+/// with the cell, or an array's first item (`=ROW(A3:A8)` shows 3).
+fn intersect_legacy_formulas(wb: &mut Workbook, candidates: &[(SheetId, Pos)], arrays: &HashMap<(SheetId, Pos), ()>) {
+    let mut decided: HashMap<(u32, SheetId), bool> = HashMap::new();
     for &(sheet, pos) in candidates {
-        let spilled = Env::spill_rect(wb, sheet, pos).is_some_and(|r| !r.is_cell());
-        if !spilled && wb.value(sheet, pos) != Value::Error(XlError::Spill) {
-            continue;
+        let Some(id) = wb.formula_id(sheet, pos) else { continue };
+        let intersects = match decided.get(&(id, sheet)) {
+            Some(&known) => known,
+            None => {
+                let Some(tree) = wb.formula_tree(sheet, pos) else { continue };
+                let found = syntax::intersects_in_scalar_formula(&tree, wb, sheet);
+                decided.insert((id, sheet), found);
+                found
+            }
+        };
+        if intersects && !spills(wb, sheet, pos) {
+            let Some(tree) = wb.formula_tree(sheet, pos) else { continue };
+            if let Some(fixed) = syntax::legacy_operand_intersection(&tree, wb, sheet) {
+                wb.set_formula_tree(sheet, pos, fixed);
+            }
         }
-        let Some(tree) = wb.formula_tree(sheet, pos) else { continue };
-        if let Some(fixed) = syntax::legacy_intersection(&tree, wb, sheet) {
-            wb.set_formula_tree(sheet, pos, fixed);
+    }
+    for (sheet, pos) in wb.spilling_cells() {
+        if !arrays.contains_key(&(sheet, pos)) {
+            intersect_legacy_formula(wb, sheet, pos);
+            if spills(wb, sheet, pos) {
+                let Some(tree) = wb.formula_tree(sheet, pos) else { continue };
+                if let Some(whole) = syntax::whole_intersection(&tree) {
+                    wb.set_formula_tree(sheet, pos, whole);
+                }
+            }
         }
+    }
+}
+
+fn spills(wb: &Workbook, sheet: SheetId, pos: Pos) -> bool {
+    Env::spill_rect(wb, sheet, pos).is_some_and(|r| !r.is_cell())
+        || wb.value(sheet, pos) == Value::Error(XlError::Spill)
+}
+
+/// Puts `@` where Excel intersected in the legacy formula of `pos`, and recalculates.
+fn intersect_legacy_formula(wb: &mut Workbook, sheet: SheetId, pos: Pos) {
+    let Some(tree) = wb.formula_tree(sheet, pos) else { return };
+    if let Some(fixed) = syntax::legacy_intersection(&tree, wb, sheet) {
+        wb.set_formula_tree(sheet, pos, fixed);
     }
 }
 
@@ -203,9 +275,57 @@ fn read_tables(
     tables
 }
 
-/// Formula text as stored → as typed: structured references to tables become the ranges
-/// they name, the file's function spellings ours.
+/// The workbooks the file links to, numbered as its formulas number them (a part that
+/// cannot be read is `None`: references into it show #NAME?).
+fn read_links(package: &mut Package, notes: &mut Vec<String>) -> Vec<Option<ExternalBook>> {
+    let links: Vec<Option<ExternalBook>> = package
+        .external_links
+        .clone()
+        .iter()
+        .map(|part| package.read_optional(part.as_deref()?).ok().flatten().and_then(|xml| external::parse_link(&xml)))
+        .collect();
+    if links.iter().any(Option::is_some) {
+        notes.push("references to other workbooks read the values Excel cached for them (not refreshed)".into());
+    }
+    links
+}
+
+/// Hides the rows the sheet hid: as filtered when a filter (the sheet's or a table's)
+/// covers them, else as hidden by hand (SUBTOTAL 1–11 counts only the latter).
+fn hide_rows(wb: &mut Workbook, package: &mut Package, entry: &SheetEntry, sheet: SheetId, scan: &SheetScan) {
+    if scan.hidden_rows.is_empty() {
+        return;
+    }
+    let mut filters: Vec<Rect> = package
+        .table_parts(&entry.part)
+        .unwrap_or_default()
+        .iter()
+        .filter_map(|part| package.read_optional(part).ok().flatten())
+        .filter_map(|xml| tables::active_filter(&xml))
+        .collect();
+    filters.extend(scan.auto_filter.filter(|(_, filtering)| *filtering).map(|(area, _)| area));
+    for &row in &scan.hidden_rows {
+        let filtered = filters.iter().any(|f| f.first.row < row && row <= f.last.row);
+        wb.set_row_hidden(sheet, row, Some(if filtered { RowHidden::Filtered } else { RowHidden::Manually }));
+    }
+}
+
+/// Formula text as stored → as typed: references into linked workbooks become the values
+/// Excel cached, structured references to tables the ranges they name, the file's function
+/// spellings ours.
 fn typed_formula<'t>(text: &'t str, wb: &Workbook, book: &BookParts, sheet: SheetId, pos: Pos) -> Cow<'t, str> {
+    let text = match sheet_span::ref_errors_without_sheet(text) {
+        Cow::Borrowed(text) => external::resolve_links(text, &book.links),
+        Cow::Owned(text) => Cow::Owned(external::resolve_links(&text, &book.links).into_owned()),
+    };
+    match text {
+        Cow::Borrowed(text) => local_formula(text, wb, book, sheet, pos),
+        Cow::Owned(text) => Cow::Owned(local_formula(&text, wb, book, sheet, pos).into_owned()),
+    }
+}
+
+/// [`typed_formula`] of a formula that reads only this workbook.
+fn local_formula<'t>(text: &'t str, wb: &Workbook, book: &BookParts, sheet: SheetId, pos: Pos) -> Cow<'t, str> {
     let name = |s: SheetId| book.sheet_names.get(s as usize).cloned().unwrap_or_default();
     let text = match tables::resolve_structured(text, &book.tables, sheet, pos, &name) {
         Cow::Borrowed(text) => sheet_span::expand_sheet_spans(text, &book.sheet_names),
@@ -217,10 +337,15 @@ fn typed_formula<'t>(text: &'t str, wb: &Workbook, book: &BookParts, sheet: Shee
     }
 }
 
-/// What formulas of the file may name besides cells: tables, and sheets (by tab order).
+/// What formulas of the file may name besides cells: tables, sheets (by tab order), and
+/// linked workbooks.
 struct BookParts {
     tables: Vec<Table>,
     sheet_names: Vec<String>,
+    links: Vec<Option<ExternalBook>>,
+    /// Defined names (lowercase) that name ranges: formulas using them are candidates for
+    /// implicit intersection like those with a range in their text.
+    range_names: HashSet<String>,
 }
 
 /// One worksheet on its way in.
@@ -325,7 +450,7 @@ impl<'a> SheetImport<'a> {
         self.typed.push('=');
         self.typed.push_str(&typed_formula(text, wb, self.book, sheet, pos));
         let _ = wb.set_input_deferred(sheet, pos, &self.typed);
-        if plain && (self.typed.contains(':') || makes_references(text)) {
+        if plain && (self.typed.contains(':') || makes_references(text) || self.uses_range_name()) {
             self.legacy_ranges.push((sheet, pos));
         }
         if let Some(value) = cached {
@@ -342,6 +467,46 @@ impl<'a> SheetImport<'a> {
             (_, None) => {}
         }
     }
+}
+
+impl SheetImport<'_> {
+    /// Whether the formula being stored names a defined name that names a range.
+    fn uses_range_name(&self) -> bool {
+        if self.book.range_names.is_empty() {
+            return false;
+        }
+        let bytes = self.typed.as_bytes();
+        let mut i = 0;
+        while i < bytes.len() {
+            let b = bytes[i];
+            if b == b'"' {
+                i = sheet_span::skip_delimited(bytes, i);
+                continue;
+            }
+            if b.is_ascii_alphabetic() || b == b'_' || b == b'\\' || b >= 0x80 {
+                let len = bytes[i..]
+                    .iter()
+                    .take_while(|&&c| c.is_ascii_alphanumeric() || matches!(c, b'_' | b'.' | b'\\') || c >= 0x80)
+                    .count();
+                if self.book.range_names.contains(&self.typed[i..i + len].to_lowercase()) {
+                    return true;
+                }
+                i += len;
+                continue;
+            }
+            i += 1;
+        }
+        false
+    }
+}
+
+/// Defined names whose formula holds a range (lowercase).
+fn range_names(wb: &Workbook) -> HashSet<String> {
+    wb.names()
+        .into_iter()
+        .filter(|(_, formula, _)| formula.contains(':'))
+        .map(|(name, ..)| name.to_lowercase())
+        .collect()
 }
 
 /// Whether a formula may make a multi-cell reference at run time (a candidate for implicit

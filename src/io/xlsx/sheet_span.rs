@@ -41,6 +41,55 @@ pub fn expand_sheet_spans<'t>(text: &'t str, sheets: &[String]) -> Cow<'t, str> 
     Cow::Owned(out)
 }
 
+/// The formula text with the sheet dropped from each `Sheet1!#REF!` (`'My data'!#REF!`,
+/// `[1]Data!#REF!`): Excel writes a reference whose cells were deleted so, and it means
+/// `#REF!`, in a cell as in a defined name.
+pub fn ref_errors_without_sheet(text: &str) -> Cow<'_, str> {
+    if !text.contains("!#REF!") {
+        return Cow::Borrowed(text);
+    }
+    let bytes = text.as_bytes();
+    let mut out = String::new();
+    let mut copied = 0;
+    let mut i = 0;
+    while i < bytes.len() {
+        let end = match bytes[i] {
+            b'"' => {
+                i = skip_delimited(bytes, i);
+                continue;
+            }
+            b'\'' => skip_delimited(bytes, i),
+            // `[1]Data`: a linked workbook's sheet.
+            b'[' => {
+                let digits = bytes[i + 1..].iter().take_while(|b| b.is_ascii_digit()).count();
+                if digits == 0 || bytes.get(i + 1 + digits) != Some(&b']') {
+                    i += 1;
+                    continue;
+                }
+                let at = i + 2 + digits;
+                at + bytes[at..].iter().take_while(|&&b| is_name_byte(b)).count()
+            }
+            b if is_name_byte(b) => {
+                i + bytes[i..].iter().take_while(|&&b| is_name_byte(b) || b == b'[' || b == b']').count()
+            }
+            _ => {
+                i += 1;
+                continue;
+            }
+        };
+        if text.get(end..).is_some_and(|rest| rest.starts_with("!#REF!")) {
+            out.push_str(&text[copied..i]);
+            copied = end + 1;
+        }
+        i = end.max(i + 1);
+    }
+    if copied == 0 {
+        return Cow::Borrowed(text);
+    }
+    out.push_str(&text[copied..]);
+    Cow::Owned(out)
+}
+
 /// `first:last!ref` starting at `at`: where it ends and its expansion.
 fn span_at(text: &str, at: usize, sheets: &[String]) -> Option<(usize, String)> {
     let (first, after_first) = sheet_name(text, at)?;
@@ -112,6 +161,15 @@ mod tests {
             "COUNT('Feb 24'!$A$1:$B$2,'Mar'!$A$1:$B$2)"
         );
         assert_eq!(expand_sheet_spans("SUM(Mar:Jan!C1)", &s), "SUM('Jan'!C1,'Feb 24'!C1,'Mar'!C1)");
+    }
+
+    #[test]
+    fn a_deleted_reference_is_ref_whatever_sheet_it_was_on() {
+        assert_eq!(ref_errors_without_sheet("Sheet1!#REF!"), "#REF!");
+        assert_eq!(ref_errors_without_sheet("SUM('My data'!#REF!,A1)*[1]Jan!#REF!"), "SUM(#REF!,A1)*#REF!");
+        for text in ["#REF!*2", "\"Sheet1!#REF!\"&A1", "Sheet1!A1", "[@x]+#REF!"] {
+            assert_eq!(ref_errors_without_sheet(text), text);
+        }
     }
 
     #[test]

@@ -29,6 +29,10 @@ pub struct SheetScan {
     pub widths: Vec<(u32, u32, f64)>,
     /// `<sheetPr codeName="…">`: the sheet's VBA name.
     pub code_name: Option<String>,
+    /// Rows `<row hidden="1">` (0-based).
+    pub hidden_rows: Vec<u32>,
+    /// The sheet's `<autoFilter ref>`, and whether it filters on a column.
+    pub auto_filter: Option<(Rect, bool)>,
 }
 
 /// One cell as the file holds it.
@@ -242,6 +246,9 @@ impl SheetScanner {
                     let number = parse_u32(r).filter(|n| (1..=MAX_ROWS).contains(n));
                     self.row = number.ok_or_else(|| bad_row(r))? - 1;
                 }
+                if tag.attr("hidden").is_some_and(|h| h == b"1" || h == b"true") {
+                    self.scan.hidden_rows.push(self.row);
+                }
                 self.col = 0;
             }
             b"row" => {
@@ -250,6 +257,14 @@ impl SheetScanner {
             }
             b"col" if opens => self.column_width(tag),
             b"sheetPr" if opens => self.scan.code_name = tag.attr("codeName").map(xml::unescape),
+            b"autoFilter" if opens => {
+                self.scan.auto_filter = tag.attr("ref").and_then(parse_rect).map(|r| (r, false));
+            }
+            b"filterColumn" => {
+                if let Some((_, filtering)) = &mut self.scan.auto_filter {
+                    *filtering = true;
+                }
+            }
             _ => {}
         }
         if tag.kind == TagKind::Empty {
@@ -277,6 +292,15 @@ impl SheetScanner {
                 b"cm" => self.cell.metadata = true,
                 _ => {}
             }
+        }
+        if pos.row >= MAX_ROWS || pos.col >= MAX_COLS {
+            // Only a cell without `r` gets here: counted on past the sheet's edge.
+            let message = format!(
+                "a cell without a reference would lie past the sheet's edge (row {}, column {})",
+                pos.row as u64 + 1,
+                pos.col as u64 + 1
+            );
+            return Err((ErrorKind::Damaged, message));
         }
         self.grow_grid(pos)?;
         if style != 0 {

@@ -105,6 +105,84 @@ pub fn legacy_intersection(tree: &Expr, wb: &Workbook, sheet: SheetId) -> Option
     changed.then_some(expr)
 }
 
+/// A legacy formula whose result is still an array, intersected as a whole (`@ROW(A3:A8)`,
+/// `@(x+{1,2})`): as Excel shows such a result, a reference in line with the cell or an
+/// array's first item. Written back to a file, the `@` is left out again.
+pub fn whole_intersection(tree: &Expr) -> Option<Expr> {
+    if matches!(tree.kind, ExprKind::Unary(UnaryOp::Implicit, _)) {
+        return None;
+    }
+    let mut expr = tree.clone();
+    if !matches!(expr.kind, ExprKind::Ref(_) | ExprKind::Name(_) | ExprKind::Call(..) | ExprKind::Paren(_)) {
+        let span = expr.span;
+        expr = Expr::new(ExprKind::Paren(Box::new(expr)), span);
+    }
+    wrap_implicit(&mut expr, &mut false);
+    Some(expr)
+}
+
+/// Whether a legacy formula with a single value for a result still has a range that Excel
+/// intersects (`SUM(A1:A9*2)`, `MAX(IF(B1:B9>0,1))` outside an array formula): its value
+/// differs from ours unless rewritten by [`legacy_intersection`]. A formula calling a
+/// function newer than Excel 2010 or one we lack is left alone: which of their arguments
+/// take arrays is less certain than the legacy ones'.
+pub fn intersects_in_scalar_formula(expr: &Expr, wb: &Workbook, sheet: SheetId) -> bool {
+    let mut newer = false;
+    expr.visit(&mut |e| match &e.kind {
+        ExprKind::Call(id, _) => newer |= spec(*id).file_prefix.as_str() != "",
+        ExprKind::UnknownCall(..) => newer = true,
+        _ => {}
+    });
+    if newer {
+        return false;
+    }
+    let mut copy = expr.clone();
+    let mut changed = false;
+    intersect_operands(&mut copy, wb, sheet, false, &mut changed);
+    changed
+}
+
+/// [`intersects_in_scalar_formula`]'s rewrite: `@` on the ranges that are operands of an
+/// operator, or `None` when there are none.
+pub fn legacy_operand_intersection(tree: &Expr, wb: &Workbook, sheet: SheetId) -> Option<Expr> {
+    let mut expr = tree.clone();
+    let mut changed = false;
+    intersect_operands(&mut expr, wb, sheet, false, &mut changed);
+    changed.then_some(expr)
+}
+
+/// Puts `@` on the ranges under `e` that are operands of an arithmetic, comparison or
+/// text operator (`operand`: `e` is one), where Excel always intersects outside an array
+/// formula; nothing under an argument that takes arrays. A range handed to a function as it
+/// stands is left alone: whether the function takes it whole is the registry's.
+fn intersect_operands(e: &mut Expr, wb: &Workbook, sheet: SheetId, operand: bool, changed: &mut bool) {
+    match &mut e.kind {
+        ExprKind::Ref(r) if operand && !matches!(r.shape, RefShape::Cell(_)) => wrap_implicit(e, changed),
+        ExprKind::Binary(BinOp::Range, ..) if operand => wrap_implicit(e, changed),
+        ExprKind::Name(n) if operand && names_a_range(wb, n, sheet) => wrap_implicit(e, changed),
+        ExprKind::Paren(x) => intersect_operands(x, wb, sheet, operand, changed),
+        ExprKind::Unary(UnaryOp::Neg | UnaryOp::Plus | UnaryOp::Percent, x) => {
+            intersect_operands(x, wb, sheet, true, changed)
+        }
+        ExprKind::Binary(op, a, b) if *op != BinOp::Range => {
+            intersect_operands(a, wb, sheet, true, changed);
+            intersect_operands(b, wb, sheet, true, changed);
+        }
+        ExprKind::Call(id, args) => {
+            let f = spec(*id);
+            for (i, arg) in args.iter_mut().enumerate() {
+                if !f.array_args.contains(i) {
+                    intersect_operands(arg, wb, sheet, false, changed);
+                }
+            }
+        }
+        ExprKind::UnknownCall(_, args) => {
+            args.iter_mut().for_each(|arg| intersect_operands(arg, wb, sheet, false, changed))
+        }
+        _ => {}
+    }
+}
+
 /// Puts `@` on the ranges under `e` that Excel intersects, `e` being where one value is
 /// expected. Nothing under an argument that takes arrays is intersected.
 fn intersect(e: &mut Expr, wb: &Workbook, sheet: SheetId, changed: &mut bool) {
@@ -309,7 +387,27 @@ mod tests {
         assert_eq!(legacy("SUM(E15:E19*2)").as_deref(), Some("SUM(@E15:E19*2)"));
         assert_eq!(legacy("SUMPRODUCT(E15:E19*F15:F19)"), None);
         assert_eq!(legacy("IF(A1,B1:B5,2)").as_deref(), Some("IF(A1,@B1:B5,2)"));
+        // Formulas with one value for a result: Excel intersects a range under an operator
+        // whose result a function takes as one value.
+        let parsed = |text| wb.parse_at(text, 0, at).unwrap();
+        let scalar = |text| intersects_in_scalar_formula(&parsed(text), &wb, 0);
+        assert!(scalar("SUM(E15:E19*2)"));
+        assert!(scalar("MAX(IF(E15:E19>0,1,0))"));
+        assert!(!scalar("SUM(E15:E19)+COUNTIF(E:E,\">1\")"));
+        assert!(!scalar("SUM(CHOOSE(2,E1:E2,E1:E3))+WORKDAY(E1,6,F2:F5)"));
+        let typed = |tree: Expr| print(&tree, &wb, at, &AsTyped);
+        let operands = |text| legacy_operand_intersection(&parsed(text), &wb, 0).map(typed);
+        assert_eq!(operands("SUM(E15:E19*2)").as_deref(), Some("SUM(@E15:E19*2)"));
+        assert!(!scalar("SUMPRODUCT(E15:E19*F15:F19)+VLOOKUP(1,E1:F9,2,0)+INDEX(E1:E9*2,2)"));
+        assert!(!scalar("_xlfn.XLOOKUP(1,E1:E9*2,F1:F9)"));
+        // A result still an array is intersected whole; the file gets the formula back.
+        let whole = |text| typed(whole_intersection(&parsed(text)).unwrap());
+        assert_eq!(whole("ROW(A3:A8)"), "@ROW(A3:A8)");
+        assert_eq!(whole("{1,2}+1"), "@({1,2}+1)");
+        assert_eq!(whole("({1,2}+1)"), "@({1,2}+1)");
+        assert!(whole_intersection(&parsed("@ROW(A3:A8)")).is_none());
         let written = |text| file_text(text, &wb, 0, at, Storage::Legacy);
+        assert_eq!(written("=@ROW(A3:A8)"), "ROW(A3:A8)");
         assert_eq!(written("=@E15:E19*2"), "E15:E19*2");
         assert_eq!(written("=SIN(@E15:E19)"), "SIN(_xlfn.SINGLE(E15:E19))");
     }

@@ -13,7 +13,7 @@ use crate::formula::address::{column_name, parse_rect, Pos, Rect};
 use crate::formula::ast::SheetId;
 
 use super::sheet_span::skip_delimited;
-use super::xml::{for_each_tag, unescape};
+use super::xml::{for_each_tag, unescape, TagKind};
 
 /// A table: a named rectangle of a sheet with named columns.
 #[derive(Clone, Debug, PartialEq)]
@@ -49,6 +49,17 @@ pub fn parse_table(xml: &[u8], sheet: SheetId) -> Option<Table> {
     let mut table = table?;
     table.columns = columns;
     (!table.name.is_empty()).then_some(table)
+}
+
+/// The range of a table part's `<autoFilter>` when it filters on a column: the rows it hides are filtered rows, which every SUBTOTAL skips.
+pub fn active_filter(xml: &[u8]) -> Option<Rect> {
+    let (mut area, mut filtering) = (None, false);
+    for_each_tag(xml, &mut |tag, _| match tag.name {
+        b"autoFilter" if tag.kind != TagKind::End => area = tag.attr("ref").and_then(|r| parse_rect(&unescape(r))),
+        b"filterColumn" => filtering = true,
+        _ => {}
+    });
+    area.filter(|_| filtering)
 }
 
 /// The formula text with every structured reference replaced by the range it names (or

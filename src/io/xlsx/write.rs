@@ -166,7 +166,9 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
     let bytes = book.save_to_buffer().map_err(|e| fail(None, e));
     drop(vba_file);
     let bytes = bytes?;
-    rewrite_constants(&bytes, &patches).map_err(|e| {
+    // Always rewritten: app.xml names ncsheet as the application that saved the package.
+    let settings = book_settings(wb);
+    rewrite_constants(&bytes, &patches, &settings).map_err(|e| {
         XlsxError::new(file, None, ErrorKind::Unwritable, format!("writing error and empty-text cells: {e}"))
     })
 }
@@ -188,16 +190,57 @@ fn error_cell(e: XlError) -> &'static str {
     }
 }
 
+/// Workbook settings rust_xlsxwriter does not write, as (element of `xl/workbook.xml`,
+/// attributes to add to it): the 1904 date system, iterative calculation.
+fn book_settings(wb: &Workbook) -> Vec<(&'static str, String)> {
+    let mut settings = Vec::new();
+    if wb.date_1904() {
+        settings.push(("<workbookPr", r#" date1904="1""#.to_string()));
+    }
+    if let Some(it) = wb.iteration() {
+        let attrs = format!(r#" iterate="1" iterateCount="{}" iterateDelta="{}""#, it.count, it.max_change);
+        settings.push(("<calcPr", attrs));
+    }
+    settings
+}
+
+/// Adds each setting's attributes to the first element it names (both are empty elements
+/// rust_xlsxwriter always writes).
+fn rewrite_settings(xml: &str, settings: &[(&str, String)]) -> String {
+    let mut xml = xml.to_string();
+    for (element, attrs) in settings {
+        let Some(start) = xml.find(&format!("{element} ")).or_else(|| xml.find(&format!("{element}/"))) else {
+            continue;
+        };
+        let Some(end) = xml[start..].find("/>").map(|i| start + i) else { continue };
+        xml.insert_str(end, attrs);
+    }
+    xml
+}
+
 /// Replaces the placeholder cells of each sheet part (`xl/worksheets/sheetN.xml`, as
-/// rust_xlsxwriter names them), names ncsheet as the application that saved the package (so
-/// that its cached values are not taken for Excel's) and copies every other part as it is.
-fn rewrite_constants(package: &[u8], patches: &[Vec<(Pos, &str)>]) -> zip::result::ZipResult<Vec<u8>> {
+/// rust_xlsxwriter names them), adds the workbook settings to `xl/workbook.xml`, names
+/// ncsheet as the application that saved the package (so that its cached values are not
+/// taken for Excel's) and copies every other part as it is.
+fn rewrite_constants(
+    package: &[u8],
+    patches: &[Vec<(Pos, &str)>],
+    settings: &[(&str, String)],
+) -> zip::result::ZipResult<Vec<u8>> {
     use std::io::{Cursor, Read};
     let mut zip = zip::ZipArchive::new(Cursor::new(package))?;
     let mut out = zip::ZipWriter::new(Cursor::new(Vec::with_capacity(package.len())));
     for i in 0..zip.len() {
         let mut entry = zip.by_index(i)?;
         let name = entry.name()?.to_string();
+        if name == "xl/workbook.xml" && !settings.is_empty() {
+            let mut xml = String::new();
+            entry.read_to_string(&mut xml)?;
+            let options = zip::write::SimpleFileOptions::default().compression_method(entry.compression());
+            out.start_file(name.as_str(), options)?;
+            out.write_all(rewrite_settings(&xml, settings).as_bytes())?;
+            continue;
+        }
         let cells = name
             .strip_prefix("xl/worksheets/sheet")
             .and_then(|rest| rest.strip_suffix(".xml"))

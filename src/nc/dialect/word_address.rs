@@ -485,7 +485,12 @@ impl Writer<'_> {
             }
             // Codes, tool and offset numbers and speeds are whole numbers on every control.
             let is_code = matches!(letter, 'G' | 'M' | 'T' | 'L' | 'D' | 'H' | 'S' | 'O') && w.value.fract() == 0.0;
-            let value = if is_code { format!("{}", w.value as i64) } else { self.number(w.value) };
+            let value = match &w.typed {
+                // Digits as typed keep a tool number's leading zeros (T0101: tool 1, offset 1).
+                Some(t) if is_code && t.bytes().all(|b| b.is_ascii_digit()) => t.clone(),
+                _ if is_code => format!("{}", w.value as i64),
+                _ => self.number(w.value),
+            };
             text.push(format!("{letter}{value}"));
         }
         self.numbered(&text.join(" "));

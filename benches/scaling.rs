@@ -1,0 +1,228 @@
+//! ncsheet's scaling benchmark: workbooks whose work used to grow with the square of their
+//! size (issue 19), built in memory at several sizes and timed, so that a curve shows the
+//! growth. See benches/README.md.
+//!
+//!     cargo run --release --bin ncsheet-bench-scaling -- [--sizes circ-80000,offset-200000,...]
+//!         [--runs N]
+//!
+//! Each case is checked: a wrong value stops the bench.
+
+use std::process::ExitCode;
+use std::time::Instant;
+
+use ncsheet::eval::{Value, XlError};
+use ncsheet::formula::Pos;
+use ncsheet::workbook::Workbook;
+
+/// Each kind at a quarter, a half and the full size of the issue's case.
+const DEFAULT_SIZES: &[&str] = &[
+    "circ-20000",
+    "circ-40000",
+    "circ-80000",
+    "circ-200000",
+    "circ-edits-20000",
+    "circ-edits-40000",
+    "circ-edits-80000",
+    "circ-edits-200000",
+    "offset-50000",
+    "offset-100000",
+    "offset-200000",
+    "sheets-25000",
+    "sheets-50000",
+    "sheets-100000",
+    "xlsx-sheets-25000",
+    "xlsx-sheets-50000",
+    "xlsx-sheets-100000",
+];
+
+#[derive(Clone, Copy, PartialEq)]
+enum Kind {
+    /// A column filled down with a formula that reads its own cell: `=Ak+1` in Ak, each
+    /// cell a circular reference of its own.
+    Circ,
+    /// The same column written one cell at a time, each edit recalculating (as a macro or
+    /// the repl fills it).
+    CircEdits,
+    /// A1 = 1, Ak = `OFFSET(A(k-1),0,0)+1`: every reference made at run time.
+    Offset,
+    /// N sheets added one by one, each with its number in A1, and one formula reading the
+    /// last by name and through INDIRECT.
+    Sheets,
+    /// The same workbook saved as .xlsx and loaded.
+    XlsxSheets,
+}
+
+struct Case {
+    name: String,
+    kind: Kind,
+    n: u32,
+}
+
+impl Case {
+    fn parse(name: &str) -> Result<Case, String> {
+        let (kind, n) = name.rsplit_once('-').ok_or_else(|| format!("bad case name {name:?}"))?;
+        let kind = match kind {
+            "circ" => Kind::Circ,
+            "circ-edits" => Kind::CircEdits,
+            "offset" => Kind::Offset,
+            "sheets" => Kind::Sheets,
+            "xlsx-sheets" => Kind::XlsxSheets,
+            _ => return Err(format!("unknown case kind in {name:?} (circ, circ-edits, offset, sheets, xlsx-sheets)")),
+        };
+        let n: u32 = n.parse().ok().filter(|&n| n >= 2).ok_or_else(|| format!("bad size in {name:?}"))?;
+        Ok(Case { name: name.to_string(), kind, n })
+    }
+}
+
+fn at(row: u32, col: u32) -> Pos {
+    Pos::new(row, col)
+}
+
+fn set(wb: &mut Workbook, sheet: u16, pos: Pos, text: &str) -> Result<(), String> {
+    wb.set_input_deferred(sheet, pos, text).map_err(|e| e.to_string())
+}
+
+/// Builds and computes the case's workbook; returns it for checking.
+fn build(case: &Case, xlsx: Option<&std::path::Path>) -> Result<Workbook, String> {
+    match case.kind {
+        Kind::Circ => {
+            let mut wb = Workbook::with_sheet();
+            for k in 1..=case.n {
+                set(&mut wb, 0, at(k - 1, 0), &format!("=A{k}+1"))?;
+            }
+            wb.recalculate();
+            Ok(wb)
+        }
+        Kind::CircEdits => {
+            let mut wb = Workbook::with_sheet();
+            for k in 1..=case.n {
+                wb.set_input(0, at(k - 1, 0), &format!("=A{k}+1")).map_err(|e| e.to_string())?;
+            }
+            Ok(wb)
+        }
+        Kind::Offset => {
+            let mut wb = Workbook::with_sheet();
+            set(&mut wb, 0, at(0, 0), "1")?;
+            for k in 2..=case.n {
+                set(&mut wb, 0, at(k - 1, 0), &format!("=OFFSET(A{},0,0)+1", k - 1))?;
+            }
+            wb.recalculate();
+            Ok(wb)
+        }
+        Kind::Sheets => {
+            let wb = sheets_book(case.n)?;
+            Ok(wb)
+        }
+        Kind::XlsxSheets => {
+            let path = xlsx.expect("the xlsx file is written before timing");
+            ncsheet::io::load(path).map_err(|e| e.to_string())
+        }
+    }
+}
+
+fn sheets_book(n: u32) -> Result<Workbook, String> {
+    let mut wb = Workbook::new();
+    for k in 1..=n {
+        let id = wb.add_sheet(&format!("S{k}")).map_err(|e| e.to_string())?;
+        set(&mut wb, id, at(0, 0), &k.to_string())?;
+    }
+    set(&mut wb, 0, at(0, 1), &format!("=S{n}!A1+INDIRECT(\"s{n}!A1\")"))?;
+    wb.recalculate();
+    Ok(wb)
+}
+
+fn check(case: &Case, wb: &Workbook) -> Result<(), String> {
+    let n = case.n;
+    let fail = |what: String| Err(format!("{}: {what}", case.name));
+    match case.kind {
+        Kind::Circ | Kind::CircEdits => {
+            for row in [0, n / 2, n - 1] {
+                if wb.value(0, at(row, 0)) != Value::Error(XlError::Circ) {
+                    return fail(format!("A{} is {:?}, not #CIRC!", row + 1, wb.value(0, at(row, 0))));
+                }
+            }
+            if wb.cycles().len() != n as usize {
+                return fail(format!("{} circular references reported, not {n}", wb.cycles().len()));
+            }
+        }
+        Kind::Offset => {
+            let last = wb.value(0, at(n - 1, 0));
+            if last != Value::Number(n as f64) {
+                return fail(format!("A{n} is {last:?}, not {n}"));
+            }
+        }
+        Kind::Sheets | Kind::XlsxSheets => {
+            if wb.sheet_len() != n as usize {
+                return fail(format!("{} sheets, not {n}", wb.sheet_len()));
+            }
+            let got = wb.value(0, at(0, 1));
+            if got != Value::Number(2.0 * n as f64) {
+                return fail(format!("S1!B1 is {got:?}, not {}", 2 * n));
+            }
+        }
+    }
+    Ok(())
+}
+
+struct Args {
+    sizes: Vec<String>,
+    runs: usize,
+}
+
+fn parse_args() -> Result<Args, String> {
+    let mut args = Args { sizes: DEFAULT_SIZES.iter().map(|s| s.to_string()).collect(), runs: 3 };
+    let mut it = std::env::args().skip(1);
+    while let Some(a) = it.next() {
+        match a.as_str() {
+            "--sizes" => {
+                let list = it.next().ok_or("--sizes needs a list")?;
+                args.sizes = list.split(',').map(str::to_string).collect();
+            }
+            "--runs" => {
+                args.runs = it.next().and_then(|v| v.parse().ok()).filter(|&r| r >= 1).ok_or("--runs needs N >= 1")?;
+            }
+            _ => return Err(format!("unknown argument {a:?} (--sizes LIST, --runs N)")),
+        }
+    }
+    Ok(args)
+}
+
+fn main() -> ExitCode {
+    match run() {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("ncsheet-bench-scaling: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run() -> Result<(), String> {
+    let args = parse_args()?;
+    let cases: Vec<Case> = args.sizes.iter().map(|s| Case::parse(s)).collect::<Result<_, _>>()?;
+    println!("| case | size | best of {} | per item |", args.runs);
+    println!("|---|---|---|---|");
+    for case in &cases {
+        let xlsx = match case.kind {
+            Kind::XlsxSheets => {
+                let path = std::env::temp_dir().join(format!("ncsheet-bench-scaling-{}.xlsx", std::process::id()));
+                ncsheet::io::save(&sheets_book(case.n)?, &path).map_err(|e| e.to_string())?;
+                Some(path)
+            }
+            _ => None,
+        };
+        let mut best = f64::MAX;
+        for _ in 0..args.runs {
+            let start = Instant::now();
+            let wb = build(case, xlsx.as_deref())?;
+            best = best.min(start.elapsed().as_secs_f64());
+            check(case, &wb)?;
+        }
+        if let Some(path) = &xlsx {
+            let _ = std::fs::remove_file(path);
+        }
+        let kind = case.name.rsplit_once('-').map_or("", |(k, _)| k);
+        println!("| {kind} | {} | {:.3} s | {:.2} µs |", case.n, best, best * 1e6 / case.n as f64);
+    }
+    Ok(())
+}

@@ -1,0 +1,241 @@
+//! What a cycle of the dependency graph computes. The graph links a formula to every cell
+//! it names, but Excel finds circular references from what evaluation reads:
+//! `=INDEX(2:2,1,2)` in A2 names row 2 and reads only B2, `=IF(B3=0,0,B10+1)` in B10 reads
+//! B10 only while B3 is not 0. So the cells of a strongly connected component are
+//! evaluated on demand: a cell whose evaluation reads no cell still waiting is computed,
+//! which may free others; those left waiting read each other and are circular (`#CIRC!`).
+//!
+//! With iterative calculation on (`<calcPr iterate="1">`, [`Iteration`]) a cycle is not an
+//! error: its cells are recalculated in sheet, row, column order, each reading the others'
+//! latest values, until no value moves by more than the maximum change or the count runs
+//! out, as Excel does. Excel starts from the values the cells show; so does a file reader
+//! here (`set_starting_value_deferred`), and a first round that moves nothing by more than
+//! the maximum change keeps them.
+
+use std::cell::Cell;
+use std::rc::Rc;
+
+use crate::eval::{Ctx, Env, Value};
+use crate::formula::address::{Pos, Rect};
+use crate::formula::ast::{Expr, SheetId};
+
+use super::graph::FxMap;
+use super::Workbook;
+
+/// Excel's iterative calculation: at most `count` rounds, stopping once no value of the
+/// cycle changes by more than `max_change`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Iteration {
+    pub count: u32,
+    pub max_change: f64,
+}
+
+impl Default for Iteration {
+    /// Excel's defaults (File > Options > Formulas).
+    fn default() -> Iteration {
+        Iteration { count: 100, max_change: 0.001 }
+    }
+}
+
+/// A component larger than this is not probed cell by cell (each probe of a range looks
+/// through the waiting cells): all its cells are circular, as the graph says.
+const PROBED_COMPONENT: usize = 4096;
+
+/// Evaluations spent resolving one component on demand before the rest is called circular
+/// (each round evaluates every waiting cell; a chain computes one cell per round at worst).
+const DEMAND_BUDGET: usize = 1 << 20;
+
+impl Workbook {
+    /// Computes the formula cells of one strongly connected component (in sheet, row,
+    /// column order) and returns those that are circular, which the caller marks.
+    pub(super) fn settle_component(&mut self, cells: &[u32], late: &mut Vec<u32>) -> Vec<u32> {
+        if let Some(iteration) = self.iteration {
+            self.iterate_component(cells, iteration, late);
+            return Vec::new();
+        }
+        if cells.len() > PROBED_COMPONENT {
+            return cells.to_vec();
+        }
+        self.settle_on_demand(cells, late)
+    }
+
+    /// Evaluates, round after round, each waiting cell whose evaluation reads no waiting
+    /// cell; the cells still waiting when a round frees none are circular.
+    fn settle_on_demand(&mut self, cells: &[u32], late: &mut Vec<u32>) -> Vec<u32> {
+        let mut waiting: Vec<u32> = cells.to_vec();
+        let mut places: FxMap<(SheetId, Pos), ()> = FxMap::default();
+        for &id in cells {
+            places.insert(self.place(id), ());
+        }
+        let mut budget = DEMAND_BUDGET;
+        loop {
+            let before = waiting.len();
+            let mut i = 0;
+            while i < waiting.len() && budget > 0 {
+                budget -= 1;
+                let id = waiting[i];
+                if self.reads_any(id, &places) {
+                    i += 1;
+                } else {
+                    waiting.remove(i);
+                    places.remove(&self.place(id));
+                    self.evaluate(id, late);
+                }
+            }
+            if waiting.len() == before || waiting.is_empty() || budget == 0 {
+                return waiting;
+            }
+        }
+    }
+
+    fn place(&self, id: u32) -> (SheetId, Pos) {
+        let c = &self.cells[id as usize];
+        (c.sheet, c.pos)
+    }
+
+    /// Whether evaluating formula cell `id` reads the value of a cell at one of `waiting`
+    /// (its own included). The result is thrown away.
+    fn reads_any(&self, id: u32, waiting: &FxMap<(SheetId, Pos), ()>) -> bool {
+        let probe = Probe { wb: self, waiting, hit: Cell::new(false) };
+        let cell = &self.cells[id as usize];
+        let formula = self.formulas.get(cell.formula);
+        let mut ctx = Ctx::new(&probe, cell.sheet, cell.pos);
+        ctx.numbers = &formula.numbers;
+        let _ = ctx.eval(&formula.expr);
+        probe.hit.get()
+    }
+
+    /// Excel's iteration over a cycle: rounds in cell order, each cell reading the latest
+    /// values, until the largest change of a round is within the limit.
+    /// Values that a first round moves by no more than the maximum change had converged
+    /// already and stay as they were: a workbook Excel saved shows its iterated values.
+    fn iterate_component(&mut self, cells: &[u32], iteration: Iteration, late: &mut Vec<u32>) {
+        let start: Vec<Value> = cells.iter().map(|&id| self.cells[id as usize].value.clone()).collect();
+        for round in 0..iteration.count.max(1) {
+            let mut largest = 0.0f64;
+            for &id in cells {
+                let before = self.cells[id as usize].value.clone();
+                self.evaluate(id, late);
+                largest = largest.max(change(&before, &self.cells[id as usize].value));
+            }
+            if largest <= iteration.max_change {
+                if round == 0 {
+                    for (&id, value) in cells.iter().zip(start) {
+                        self.set_result(id, value, late);
+                    }
+                }
+                return;
+            }
+        }
+    }
+
+    /// The value a formula cell holds before the next recalculation: where an iterating
+    /// cycle starts from (a file reader gives it the value the file cached, as Excel
+    /// continues from the values it shows). No effect on other cells.
+    pub fn set_starting_value_deferred(&mut self, sheet: SheetId, pos: Pos, value: Value) {
+        let Some(id) = self.sheets.get(sheet as usize).and_then(|s| s.get(pos)) else { return };
+        if self.cells[id as usize].formula != super::NO_FORMULA && !matches!(value, Value::Array(_)) {
+            self.cells[id as usize].value = value;
+        }
+    }
+
+    /// Turns iterative calculation on (with its limits) or off, and recalculates.
+    pub fn set_iteration(&mut self, iteration: Option<Iteration>) {
+        if self.iteration != iteration {
+            self.iteration = iteration;
+            self.recalculate();
+        }
+    }
+
+    /// The iterative-calculation setting (`None`: a cycle is an error).
+    pub fn iteration(&self) -> Option<Iteration> {
+        self.iteration
+    }
+}
+
+/// How far a value moved in one round: numbers by their difference, anything else by
+/// whether it changed.
+fn change(before: &Value, after: &Value) -> f64 {
+    let number = |v: &Value| match v {
+        Value::Number(n) => Some(*n),
+        Value::Blank => Some(0.0),
+        _ => None,
+    };
+    match (number(before), number(after)) {
+        (Some(a), Some(b)) => (a - b).abs(),
+        _ if before == after => 0.0,
+        _ => f64::INFINITY,
+    }
+}
+
+/// The workbook as a formula reads it, noting whether it reads a cell still waiting.
+struct Probe<'a> {
+    wb: &'a Workbook,
+    waiting: &'a FxMap<(SheetId, Pos), ()>,
+    hit: Cell<bool>,
+}
+
+impl Probe<'_> {
+    fn note(&self, sheet: SheetId, rect: Rect) {
+        if self.hit.get() {
+            return;
+        }
+        let found = if rect.is_cell() {
+            self.waiting.contains_key(&(sheet, rect.first))
+        } else {
+            self.waiting.keys().any(|&(s, p)| s == sheet && rect.contains(p))
+        };
+        self.hit.set(found);
+    }
+}
+
+impl Env for Probe<'_> {
+    fn value(&self, sheet: SheetId, pos: Pos) -> Value {
+        self.note(sheet, Rect::cell(pos));
+        self.wb.value(sheet, pos)
+    }
+
+    fn number(&self, sheet: SheetId, pos: Pos) -> Option<f64> {
+        self.note(sheet, Rect::cell(pos));
+        Env::number(self.wb, sheet, pos)
+    }
+
+    fn for_each_value(&self, sheet: SheetId, rect: Rect, f: &mut dyn FnMut(Pos, &Value)) {
+        self.note(sheet, rect);
+        self.wb.for_each_value(sheet, rect, f)
+    }
+
+    fn used_rect(&self, sheet: SheetId) -> Option<Rect> {
+        Env::used_rect(self.wb, sheet)
+    }
+
+    fn defined_name(&self, name: &str, sheet: SheetId) -> Option<(Rc<Expr>, SheetId)> {
+        self.wb.defined_name(name, sheet)
+    }
+
+    /// A waiting anchor's spill area is not known yet: asking for it is reading it.
+    fn spill_rect(&self, sheet: SheetId, pos: Pos) -> Option<Rect> {
+        self.note(sheet, Rect::cell(pos));
+        self.wb.spill_rect(sheet, pos)
+    }
+
+    fn sheet_count(&self) -> usize {
+        self.wb.sheet_count()
+    }
+
+    fn sheet_name(&self, sheet: SheetId) -> Option<String> {
+        self.wb.sheet_name(sheet)
+    }
+
+    fn formula_text(&self, sheet: SheetId, pos: Pos) -> Option<String> {
+        self.wb.formula_text(sheet, pos)
+    }
+
+    fn is_subtotal(&self, sheet: SheetId, pos: Pos) -> bool {
+        self.wb.is_subtotal(sheet, pos)
+    }
+
+    fn date_1904(&self) -> bool {
+        self.wb.date_1904
+    }
+}

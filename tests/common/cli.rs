@@ -1,0 +1,57 @@
+//! The built `ncsheet` binary run as a user runs it: arguments, a folder, standard input,
+//! and what it answered (exit code, stdout, stderr).
+
+use std::io::Write;
+use std::path::Path;
+use std::process::{Command, Stdio};
+
+/// What one run of `ncsheet` gave back.
+pub struct Run {
+    pub code: i32,
+    pub stdout: String,
+    pub stderr: String,
+}
+
+/// How to run it: where, with what on stdin, and under which memory cap.
+#[derive(Clone, Copy, Default)]
+pub struct Invocation<'a> {
+    /// The working folder (default: the test's).
+    pub dir: Option<&'a Path>,
+    pub stdin: &'a str,
+    /// An address-space cap in KiB (`ulimit -v`), for input built to exhaust memory.
+    pub memory_kib: Option<u64>,
+}
+
+/// `ncsheet ARGS` in the test's folder with nothing on stdin.
+pub fn ncsheet(args: &[&str]) -> Run {
+    Invocation::default().run(args)
+}
+
+impl Invocation<'_> {
+    /// Runs `ncsheet ARGS`; a run killed by a signal (a crash) fails the test.
+    pub fn run(&self, args: &[&str]) -> Run {
+        let binary = env!("CARGO_BIN_EXE_ncsheet");
+        let mut command = match self.memory_kib {
+            Some(kib) => {
+                // `sh -c 'ulimit -v N; exec "$0" "$@"' ncsheet ARGS`: the arguments pass untouched.
+                let mut sh = Command::new("sh");
+                sh.arg("-c").arg(format!("ulimit -v {kib}; exec \"$0\" \"$@\"")).arg(binary);
+                sh
+            }
+            None => Command::new(binary),
+        };
+        command.args(args).stdin(Stdio::piped()).stdout(Stdio::piped()).stderr(Stdio::piped());
+        if let Some(dir) = self.dir {
+            command.current_dir(dir);
+        }
+        let mut child = command.spawn().expect("the ncsheet binary runs");
+        // A command that exits before reading its input closes the pipe: not a failure here.
+        let _ = child.stdin.take().expect("piped stdin").write_all(self.stdin.as_bytes());
+        let out = child.wait_with_output().expect("ncsheet finishes");
+        Run {
+            code: out.status.code().unwrap_or_else(|| panic!("ncsheet was killed by a signal: {:?}", out.status)),
+            stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+            stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+        }
+    }
+}

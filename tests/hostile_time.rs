@@ -1,0 +1,214 @@
+//! Hostile input that costs time (issue 19): a formula reading its own spill range, LAMBDA
+//! recursion without end or branching past ncsheet's limit, deep name chains, macros whose
+//! statements are each expensive, and the workbook shapes whose work used to grow with the
+//! square of their size (their timing is benches/scaling.rs; here, that the answers hold).
+//! Expected values are Excel's documented behaviour and hand arithmetic.
+
+use std::time::{Duration, Instant};
+
+use ncsheet::eval::{Value, XlError};
+use ncsheet::formula::address::parse_cell;
+use ncsheet::vba::{self, ErrorKind, RunOptions};
+use ncsheet::workbook::Workbook;
+
+fn set(wb: &mut Workbook, cell: &str, input: &str) {
+    let _ = wb.set_input(0, parse_cell(cell).unwrap(), input);
+}
+
+fn get(wb: &Workbook, cell: &str) -> Value {
+    wb.value(0, parse_cell(cell).unwrap())
+}
+
+fn n(v: f64) -> Value {
+    Value::Number(v)
+}
+
+/// The messages listed for one cell (what the CLI prints after `Sheet1!A1: `).
+fn problems_at(wb: &Workbook, cell: &str) -> Vec<String> {
+    let pos = parse_cell(cell).unwrap();
+    wb.problems().into_iter().filter(|p| p.sheet == 0 && p.pos == pos).map(|p| p.message()).collect()
+}
+
+fn mentions(problems: &[String], words: &[&str]) -> bool {
+    problems.iter().any(|m| words.iter().all(|w| m.contains(w)))
+}
+
+// ---- a formula reading its own spill range ------------------------------------------------
+
+#[test]
+fn a_formula_reading_its_own_spill_range_is_a_circular_reference() {
+    // Excel: "=SUM(A2:A3)+SEQUENCE(3)" in A1 is a circular reference (its spill would change
+    // what it sums); before, the passes left 10737418236 in A1.
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, "A1", "=SUM(A2:A3)+SEQUENCE(3)");
+    assert_eq!(get(&wb, "A1"), Value::Error(XlError::Circ));
+    assert_eq!(get(&wb, "A2"), Value::Blank, "nothing spills");
+    assert_eq!(get(&wb, "A3"), Value::Blank);
+    let problems = problems_at(&wb, "A1");
+    assert!(mentions(&problems, &["circular reference", "A1"]), "{problems:?}");
+    assert!(mentions(&problems, &["own spill range A1:A3"]), "{problems:?}");
+    assert_eq!(wb.cycles(), vec![vec!["Sheet1!A1".to_string()]]);
+
+    // Through another cell, and through a range read as a range node (more than 16 cells).
+    set(&mut wb, "B1", "=A3*2");
+    set(&mut wb, "A1", "=B1+SEQUENCE(3)");
+    assert_eq!(get(&wb, "A1"), Value::Error(XlError::Circ));
+    set(&mut wb, "A1", "=SUM(A2:A40)+SEQUENCE(3)");
+    assert_eq!(get(&wb, "A1"), Value::Error(XlError::Circ));
+
+    // Reading beside the spill is no cycle: 0 + {1;2;3}, then 10 + {1;2;3}.
+    set(&mut wb, "A1", "=SUM(C1:C40)+SEQUENCE(3)");
+    assert_eq!((get(&wb, "A1"), get(&wb, "A2"), get(&wb, "A3")), (n(1.0), n(2.0), n(3.0)));
+    assert!(wb.cycles().is_empty(), "{:?}", wb.cycles());
+    assert!(problems_at(&wb, "A1").is_empty());
+    set(&mut wb, "C7", "10");
+    assert_eq!((get(&wb, "A1"), get(&wb, "A3")), (n(11.0), n(13.0)));
+    // The anchor's own cell is no part of its spill: reading it is a plain cycle of A1.
+    set(&mut wb, "B5", "=A1#");
+    assert_eq!(get(&wb, "B7"), n(13.0));
+}
+
+#[test]
+fn a_spill_that_would_reach_its_reader_later_becomes_a_cycle_then_recovers() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, "A1", "=SEQUENCE(3)*B1");
+    set(&mut wb, "B1", "2");
+    assert_eq!(get(&wb, "A3"), n(6.0));
+    // B1 now reads A2, which A1 spills into: a cycle A1 → A2 → B1 → A1.
+    set(&mut wb, "B1", "=A2+1");
+    assert_eq!(get(&wb, "A1"), Value::Error(XlError::Circ));
+    assert_eq!(get(&wb, "A2"), Value::Blank);
+    // B1 reads nothing of the spill again: A1 spills 5, 10, 15.
+    set(&mut wb, "B1", "5");
+    assert_eq!((get(&wb, "A1"), get(&wb, "A2"), get(&wb, "A3")), (n(5.0), n(10.0), n(15.0)));
+    assert!(wb.cycles().is_empty());
+}
+
+// ---- LAMBDA recursion and name chains -----------------------------------------------------
+
+#[test]
+fn recursive_lambdas_compute_within_the_limits() {
+    let mut wb = Workbook::with_sheet();
+    wb.define_name("FIB", "=LAMBDA(n, IF(n<2, n, FIB(n-1)+FIB(n-2)))", None).unwrap();
+    wb.define_name("FACT", "=LAMBDA(n, IF(n<=1, 1, n*FACT(n-1)))", None).unwrap();
+    // F(20) = 6765 (21,891 calls); 20! = 2432902008176640000; 150 levels deep.
+    set(&mut wb, "A1", "=FIB(20)");
+    set(&mut wb, "A2", "=FACT(20)");
+    set(&mut wb, "A3", "=LET(f, LAMBDA(n, IF(n=0, 0, 1+f(n-1))), f(150))");
+    assert_eq!(get(&wb, "A1"), n(6765.0));
+    assert_eq!(get(&wb, "A2"), n(2432902008176640000.0));
+    assert_eq!(get(&wb, "A3"), n(150.0));
+    assert!(wb.problems().is_empty(), "{:?}", wb.problems());
+}
+
+#[test]
+fn branching_recursion_past_the_call_limit_is_num_with_the_limit_named() {
+    // fib(45) is 2.3 billion calls: hours. It stops at ncsheet's limit, in about a second.
+    let mut wb = Workbook::with_sheet();
+    let start = Instant::now();
+    set(&mut wb, "A1", "=LET(fib, LAMBDA(n, IF(n<2, n, fib(n-1)+fib(n-2))), fib(45))");
+    assert!(start.elapsed() < Duration::from_secs(60), "took {:?}", start.elapsed());
+    // Excel's error for a LAMBDA that calls itself without end is #NUM!.
+    assert_eq!(get(&wb, "A1"), Value::Error(XlError::Num));
+    let problems = problems_at(&wb, "A1");
+    assert!(mentions(&problems, &["#NUM!", "LAMBDA calls in one formula", "ncsheet's limit", "fib"]), "{problems:?}");
+    assert_eq!(problems.len(), 1, "one note, not one per failed call: {problems:?}");
+}
+
+#[test]
+fn endless_lambda_recursion_is_num_with_the_depth_named() {
+    let mut wb = Workbook::with_sheet();
+    wb.define_name("DOWN", "=LAMBDA(n, DOWN(n+1))", None).unwrap();
+    set(&mut wb, "A1", "=DOWN(1)");
+    set(&mut wb, "A2", "=LET(g, LAMBDA(x, g(x)+1), g(0))");
+    for cell in ["A1", "A2"] {
+        assert_eq!(get(&wb, cell), Value::Error(XlError::Num), "{cell}");
+        let problems = problems_at(&wb, cell);
+        assert!(mentions(&problems, &["#NUM!", "LAMBDA calls nest deeper than", "levels"]), "{cell}: {problems:?}");
+    }
+}
+
+#[test]
+fn names_that_refer_to_themselves_or_chain_too_deep_say_so() {
+    let mut wb = Workbook::with_sheet();
+    // N1 = N2 + 1, …, N300 = 1: 300 levels of names, past ncsheet's 200.
+    for i in 1..300 {
+        wb.define_name(&format!("N{i}x"), &format!("=N{}x+1", i + 1), None).unwrap();
+    }
+    wb.define_name("N300x", "=1", None).unwrap();
+    wb.define_name("LOOPY", "=LOOPY+1", None).unwrap();
+    set(&mut wb, "A1", "=N1x");
+    set(&mut wb, "A2", "=LOOPY");
+    // A chain within the limit computes: N150 = 151 - 1 + … = 151.
+    set(&mut wb, "A3", "=N150x");
+    assert_eq!(get(&wb, "A3"), n(151.0));
+    for cell in ["A1", "A2"] {
+        assert_eq!(get(&wb, cell), Value::Error(XlError::Circ), "{cell}");
+        let problems = problems_at(&wb, cell);
+        assert!(
+            mentions(&problems, &["#CIRC!", "defined names nest deeper than", "refers to itself"]),
+            "{cell}: {problems:?}"
+        );
+    }
+}
+
+// ---- macros whose statements are each expensive --------------------------------------------
+
+#[test]
+fn a_macro_of_expensive_statements_stops_at_its_time_limit() {
+    let source = "Sub Main()\n    Dim i, s\n    For i = 1 To 100000\n        s = Evaluate(\"SUM(SEQUENCE(100000))\")\n    Next\nEnd Sub\n";
+    let mut wb = Workbook::with_sheet();
+    let options = RunOptions { max_time: Duration::from_millis(500), ..RunOptions::default() };
+    let start = Instant::now();
+    let err = vba::run(&mut wb, source, "loop.bas", &options).expect_err("stopped by the time limit");
+    assert!(start.elapsed() < Duration::from_secs(30), "took {:?}", start.elapsed());
+    assert_eq!(err.kind, ErrorKind::Limit);
+    assert!(err.message.contains("time limit (0.5 s)") && err.message.contains("--max-seconds"), "{}", err.message);
+    // The statement it stopped at is named.
+    assert!(err.span.is_some_and(|s| (3..=5).contains(&s.line)), "{:?}", err.span);
+}
+
+// ---- shapes that were quadratic: the answers (benches/scaling.rs times them) ---------------
+
+#[test]
+fn every_self_reference_of_a_filled_column_is_its_own_cycle() {
+    let mut wb = Workbook::with_sheet();
+    for k in 1..=2000u32 {
+        wb.set_input_deferred(0, parse_cell(&format!("A{k}")).unwrap(), &format!("=A{k}+1")).unwrap();
+    }
+    wb.recalculate();
+    assert_eq!(wb.cycles().len(), 2000);
+    assert_eq!(get(&wb, "A1777"), Value::Error(XlError::Circ));
+    // Breaking one cycle leaves the others.
+    set(&mut wb, "A5", "7");
+    assert_eq!(wb.cycles().len(), 1999);
+    assert_eq!(get(&wb, "A5"), n(7.0));
+    assert_eq!(get(&wb, "A6"), Value::Error(XlError::Circ));
+}
+
+#[test]
+fn sheets_are_found_by_name_in_any_ascii_case_among_many() {
+    let mut wb = Workbook::new();
+    for k in 1..=3000u32 {
+        let id = wb.add_sheet(&format!("Part {k}")).unwrap();
+        wb.set_input_deferred(id, parse_cell("A1").unwrap(), &k.to_string()).unwrap();
+    }
+    assert!(wb.add_sheet("PART 17").is_err(), "names differ from others beyond ASCII case");
+    assert_eq!(wb.sheet_id("pArT 2999"), Some(2998));
+    assert_eq!(wb.sheet_id("Part 3001"), None);
+    wb.set_input(0, parse_cell("B1").unwrap(), "='part 3000'!A1+INDIRECT(\"'PART 2500'!A1\")").unwrap();
+    assert_eq!(wb.value(0, parse_cell("B1").unwrap()), n(5500.0));
+}
+
+#[test]
+fn offset_chains_settle_in_order() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, "A1", "1");
+    for k in 2..=3000u32 {
+        wb.set_input_deferred(0, parse_cell(&format!("A{k}")).unwrap(), &format!("=OFFSET(A{},0,0)+1", k - 1)).unwrap();
+    }
+    wb.recalculate();
+    assert_eq!(get(&wb, "A3000"), n(3000.0));
+    set(&mut wb, "A1", "101");
+    assert_eq!(get(&wb, "A3000"), n(3100.0));
+}
