@@ -244,6 +244,7 @@ fn eval(args: EvalArgs) -> Result<()> {
         formulas: args.formulas,
         width: args.width.unwrap_or_else(output::terminal_width),
     };
+    refuse_huge_prints(wb, sheet, &selections)?;
     let mut out = BufWriter::new(io::stdout().lock());
     if selections.is_empty() {
         output::print_sheet(&mut out, wb, sheet, args.format, &shown)?;
@@ -253,6 +254,27 @@ fn eval(args: EvalArgs) -> Result<()> {
     out.flush()?;
     report_problems(&args.file, wb);
     Ok(())
+}
+
+/// The most cells `eval` prints at once: a printed range is held whole before it is laid
+/// out, blanks included, so `A1:XFD1048576` (17 billion cells) must be refused, not tried.
+const MAX_PRINTED_CELLS: u64 = 10_000_000;
+
+fn refuse_huge_prints(wb: &Workbook, sheet: SheetId, selections: &[Selection]) -> Result<()> {
+    let whole = wb.used_rect(sheet).map(|used| ncsheet::formula::address::Rect::new(Pos::new(0, 0), used.last));
+    let rects: Vec<_> =
+        if selections.is_empty() { whole.into_iter().collect() } else { selections.iter().map(|s| s.rect).collect() };
+    let cells: u64 = rects.iter().map(|r| r.rows() as u64 * r.cols() as u64).sum();
+    if cells <= MAX_PRINTED_CELLS {
+        return Ok(());
+    }
+    let what = match rects.as_slice() {
+        [one] => format!("{one} is {cells} cells"),
+        _ => format!("the ranges are {cells} cells"),
+    };
+    Err(Error::User(format!(
+        "{what}, more than the {MAX_PRINTED_CELLS} ncsheet prints at once; name a smaller range (blank cells print too)"
+    )))
 }
 
 fn set(args: SetArgs) -> Result<()> {

@@ -321,6 +321,7 @@ fn record_starts(text: &str, delimiter: u8) -> Result<Vec<RecordStart>, Malforme
     let mut at_record_start = true;
     let mut at_field_start = true;
     let mut quote_opened: Option<u64> = None;
+    let mut sizes = Sizes { limits: crate::io::limits::current(), record: 0, field: 0, record_line: 1 };
     let mut i = 0;
     while i < bytes.len() {
         let b = bytes[i];
@@ -329,6 +330,14 @@ fn record_starts(text: &str, delimiter: u8) -> Result<Vec<RecordStart>, Malforme
             b'\r' | b'\n' => 1,
             _ => 0,
         };
+        if quote_opened.is_none() && (terminator_len > 0 || b == delimiter) {
+            sizes.check(i)?;
+            sizes.field = i + 1;
+            if terminator_len > 0 {
+                sizes.record = i + terminator_len;
+                sizes.record_line = line + 1;
+            }
+        }
         if quote_opened.is_some() {
             if b == b'"' {
                 if bytes.get(i + 1) == Some(&b'"') {
@@ -365,6 +374,7 @@ fn record_starts(text: &str, delimiter: u8) -> Result<Vec<RecordStart>, Malforme
             message: "unterminated quoted field (a '\"' opened here is never closed)".into(),
         });
     }
+    sizes.check(bytes.len())?;
     Ok(starts)
 }
 
@@ -383,6 +393,35 @@ pub struct Style<'a> {
 impl Default for Style<'_> {
     fn default() -> Self {
         Style { delimiter: b',', formats: None, raw: false }
+    }
+}
+
+/// Where the current record and field began, to hold them to ncsheet's limits
+/// (docs/limits.md) before the csv reader buffers them.
+struct Sizes {
+    limits: crate::io::limits::ReadLimits,
+    record: usize,
+    field: usize,
+    /// The line the record began on.
+    record_line: u64,
+}
+
+impl Sizes {
+    /// The field and record ending at byte `end`, against the limits.
+    fn check(&self, end: usize) -> Result<(), Malformed> {
+        use crate::io::limits::bytes;
+        let past = |what: &str, limit: u64, option: &str| Malformed {
+            line: self.record_line,
+            message: format!("a {what} longer than ncsheet's limit of {} ({option} raises it)", bytes(limit)),
+        };
+        let (field, record) = (end - self.field.min(end), end - self.record.min(end));
+        if field as u64 > self.limits.csv_field_bytes {
+            return Err(past("field", self.limits.csv_field_bytes, "--max-csv-field"));
+        }
+        if record as u64 > self.limits.csv_line_bytes {
+            return Err(past("line", self.limits.csv_line_bytes, "--max-csv-line"));
+        }
+        Ok(())
     }
 }
 

@@ -83,6 +83,22 @@ impl Sheet {
             }
             return;
         }
+        let area = (last_row.saturating_sub(rect.first.row as usize)) as u64 * cols.len() as u64;
+        let stored: u64 = cols.iter().map(|c| c.len() as u64).sum();
+        if area > 4 * stored.max(1024) {
+            // Few cells far apart (one in XFD1048576): walk the cells there are, not the
+            // rows times the columns between them.
+            let mut found: Vec<(u32, u32, u32)> = Vec::new();
+            for (i, column) in cols.iter().enumerate() {
+                let rows = column.iter().enumerate().take(last_row).skip(rect.first.row as usize);
+                found.extend(rows.filter(|(_, &id)| id != NO_CELL).map(|(row, &id)| (row as u32, i as u32, id)));
+            }
+            found.sort_unstable();
+            for (row, i, id) in found {
+                f(Pos::new(row, rect.first.col + i), id);
+            }
+            return;
+        }
         for row in rect.first.row as usize..last_row {
             for (i, column) in cols.iter().enumerate() {
                 if let Some(&id) = column.get(row) {

@@ -91,7 +91,7 @@ impl<'a> Package<'a> {
 
     /// Reads a whole (small) part as text; a missing part is an error.
     pub fn read_part(&mut self, part: &str) -> Result<String, Err> {
-        let mut entry = self.entry(part)?;
+        let mut entry = self.entry(part)?.held_whole();
         let mut bytes = Vec::new();
         entry.read_to_end(&mut bytes).map_err(|e| zip_error(Some(part), ZipError::Io(e)))?;
         String::from_utf8(bytes).map_err(|_| (Some(part.to_string()), ErrorKind::Damaged, "not UTF-8 text".into()))
@@ -100,7 +100,7 @@ impl<'a> Package<'a> {
     /// A part's raw bytes if the package has it.
     pub fn read_optional(&mut self, part: &str) -> Result<Option<Vec<u8>>, Err> {
         let mut entry = match self.zip.by_name(part) {
-            Ok(e) => Inflating::new(e, limits::current()),
+            Ok(e) => Inflating::new(e, limits::current()).held_whole(),
             Err(ZipError::FileNotFound) => return Ok(None),
             Err(e) => return Err(zip_error(Some(part), e)),
         };
@@ -283,9 +283,25 @@ impl<R: Read> Read for Inflating<R> {
     }
 }
 
+/// The most a part read into one buffer may inflate to: the buffer may double past it.
+const HELD_WHOLE: u64 = 256 << 20;
+
 impl<R> Inflating<R> {
+    /// For a part read into memory whole: at most [`HELD_WHOLE`].
+    pub fn held_whole(mut self) -> Self {
+        self.cap = self.cap.min(HELD_WHOLE);
+        self.limits.part_bytes = self.limits.part_bytes.min(HELD_WHOLE);
+        self
+    }
+
     fn past_limit(&self) -> PastLimit {
         let limits = self.limits;
+        if self.inflated > limits.part_bytes && limits.part_bytes == HELD_WHOLE {
+            return PastLimit(format!(
+                "the part inflates to more than {}, ncsheet's limit on a part it holds whole: a zip bomb or a damaged file",
+                limits::bytes(HELD_WHOLE)
+            ));
+        }
         if self.inflated > limits.part_bytes {
             return PastLimit(format!(
                 "the part inflates to more than {}, ncsheet's limit on one part (--max-part-size raises it)",

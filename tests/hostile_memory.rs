@@ -1,0 +1,313 @@
+//! Hostile input, the memory and time rows of issue 19: each runs the binary under a 2 GiB
+//! address-space cap (`ulimit -v`) and must end with a clear error naming the limit and the
+//! option that raises it, never an abort. The zip bombs are built here, a few MiB each that
+//! inflate to gigabytes: a deflated chunk flushed to a byte boundary is repeated, so they
+//! cost no time to make.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// Runs the ncsheet binary in `dir` under a 2 GiB address-space cap.
+fn ncsheet(dir: &Path, args: &[&str]) -> (i32, String, String, Duration) {
+    let mut command = String::from("ulimit -v 2097152; exec \"$0\"");
+    for i in 1..=args.len() {
+        command.push_str(&format!(" \"${{{i}}}\""));
+    }
+    let started = Instant::now();
+    let out = Command::new("sh")
+        .arg("-c")
+        .arg(command)
+        .arg(env!("CARGO_BIN_EXE_ncsheet"))
+        .args(args)
+        .current_dir(dir)
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    let code = out.status.code().unwrap_or_else(|| panic!("killed by a signal: {:?}", out.status));
+    let text = |b: &[u8]| String::from_utf8_lossy(b).into_owned();
+    (code, text(&out.stdout), text(&out.stderr), started.elapsed())
+}
+
+/// Asserts a clear error (exit 1) whose message holds every one of `words`.
+fn refused(dir: &Path, args: &[&str], words: &[&str]) {
+    let (code, _, err, _) = ncsheet(dir, args);
+    assert_eq!(code, 1, "{args:?}: {err}");
+    for word in words {
+        assert!(err.contains(word), "{args:?}: '{word}' missing from: {err}");
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Packages by hand
+
+/// A part: its name and its bytes as stored (deflated), its inflated size and checksum.
+struct Part {
+    name: String,
+    data: Vec<u8>,
+    size: u32,
+    crc: u32,
+}
+
+fn deflate(bytes: &[u8], finish: bool) -> Vec<u8> {
+    let mut encoder = flate2::write::DeflateEncoder::new(Vec::new(), flate2::Compression::best());
+    encoder.write_all(bytes).unwrap();
+    if finish {
+        encoder.finish().unwrap()
+    } else {
+        // A sync flush ends on a byte boundary with the block open: pieces concatenate.
+        encoder.flush().unwrap();
+        encoder.get_ref().clone()
+    }
+}
+
+fn small(name: &str, text: &str) -> Part {
+    let mut crc = flate2::Crc::new();
+    crc.update(text.as_bytes());
+    Part { name: name.into(), data: deflate(text.as_bytes(), true), size: text.len() as u32, crc: crc.sum() }
+}
+
+/// `head`, then `unit` repeated to about `total` bytes, then `tail`. Its checksum is left
+/// wrong: a reader must stop long before the end, where it would be checked.
+fn bomb(name: &str, head: &str, unit: &str, total: u64, tail: &str) -> Part {
+    let chunk = unit.repeat((1 << 20) / unit.len());
+    let piece = deflate(chunk.as_bytes(), false);
+    let copies = total / chunk.len() as u64;
+    let mut data = deflate(head.as_bytes(), false);
+    for _ in 0..copies {
+        data.extend_from_slice(&piece);
+    }
+    data.extend(deflate(tail.as_bytes(), true));
+    Part { name: name.into(), data, size: u32::MAX, crc: 0 }
+}
+
+/// A zip file of the parts (deflated, no zip64: every size fits 32 bits).
+fn package(parts: &[Part]) -> Vec<u8> {
+    let mut out = Vec::new();
+    let mut central = Vec::new();
+    let le16 = |v: &mut Vec<u8>, n: u16| v.extend_from_slice(&n.to_le_bytes());
+    let le32 = |v: &mut Vec<u8>, n: u32| v.extend_from_slice(&n.to_le_bytes());
+    for part in parts {
+        let offset = out.len() as u32;
+        le32(&mut out, 0x0403_4b50);
+        for n in [20, 0, 8, 0, 0] {
+            le16(&mut out, n);
+        }
+        for n in [part.crc, part.data.len() as u32, part.size] {
+            le32(&mut out, n);
+        }
+        le16(&mut out, part.name.len() as u16);
+        le16(&mut out, 0);
+        out.extend_from_slice(part.name.as_bytes());
+        out.extend_from_slice(&part.data);
+
+        le32(&mut central, 0x0201_4b50);
+        for n in [20, 20, 0, 8, 0, 0] {
+            le16(&mut central, n);
+        }
+        for n in [part.crc, part.data.len() as u32, part.size] {
+            le32(&mut central, n);
+        }
+        for n in [part.name.len() as u16, 0, 0, 0, 0] {
+            le16(&mut central, n);
+        }
+        le32(&mut central, 0);
+        le32(&mut central, offset);
+        central.extend_from_slice(part.name.as_bytes());
+    }
+    let central_at = out.len() as u32;
+    out.extend_from_slice(&central);
+    le32(&mut out, 0x0605_4b50);
+    for n in [0, 0, parts.len() as u16, parts.len() as u16] {
+        le16(&mut out, n);
+    }
+    le32(&mut out, central.len() as u32);
+    le32(&mut out, central_at);
+    le16(&mut out, 0);
+    out
+}
+
+const WORKBOOK: &str = r#"<workbook xmlns:r="http://schemas.openxmlformats.org/officeDocument/2006/relationships"><sheets><sheet name="Sheet1" sheetId="1" r:id="rId1"/></sheets></workbook>"#;
+const WORKBOOK_RELS: &str = r#"<Relationships><Relationship Id="rId1" Type="http://schemas.openxmlformats.org/officeDocument/2006/relationships/worksheet" Target="worksheets/sheet1.xml"/><Relationship Id="rId2" Type="http://schemas.openxmlformats.org/officeDocument/2006/relationships/styles" Target="styles.xml"/><Relationship Id="rId3" Type="http://schemas.openxmlformats.org/officeDocument/2006/relationships/sharedStrings" Target="sharedStrings.xml"/></Relationships>"#;
+const SHEET: &str = r#"<worksheet><sheetData><row r="1"><c r="A1"><v>1</v></c></row></sheetData></worksheet>"#;
+
+/// A one-sheet workbook whose part `bomb.name` is the bomb.
+fn workbook_with(dir: &Path, file: &str, bomb: Part) -> PathBuf {
+    let mut parts = vec![
+        small("[Content_Types].xml", "<Types/>"),
+        small(
+            "_rels/.rels",
+            r#"<Relationships><Relationship Id="rId1" Type="http://schemas.openxmlformats.org/officeDocument/2006/relationships/officeDocument" Target="xl/workbook.xml"/></Relationships>"#,
+        ),
+        small("xl/workbook.xml", WORKBOOK),
+        small("xl/_rels/workbook.xml.rels", WORKBOOK_RELS),
+        small("xl/worksheets/sheet1.xml", SHEET),
+        small("xl/styles.xml", r#"<styleSheet><cellXfs count="1"><xf numFmtId="0"/></cellXfs></styleSheet>"#),
+        small("xl/sharedStrings.xml", "<sst><si><t>x</t></si></sst>"),
+    ];
+    parts.retain(|p| p.name != bomb.name);
+    parts.push(bomb);
+    let path = dir.join(file);
+    std::fs::write(&path, package(&parts)).unwrap();
+    path
+}
+
+const GIB: u64 = 1 << 30;
+
+#[test]
+fn the_package_builder_makes_a_workbook_ncsheet_reads() {
+    let dir = tempfile::tempdir().unwrap();
+    workbook_with(dir.path(), "fine.xlsx", small("xl/worksheets/sheet1.xml", SHEET));
+    let (code, out, err, _) = ncsheet(dir.path(), &["eval", "fine.xlsx", "A1"]);
+    assert_eq!((code, out.trim()), (0, "1"), "{err}");
+}
+
+// ---------------------------------------------------------------------------------------
+// xlsx: every part is held to a size and a ratio while it inflates
+
+#[test]
+fn zip_bombs_in_every_part_are_refused_naming_the_part_and_the_option() {
+    let dir = tempfile::tempdir().unwrap();
+    let ws = r#"<worksheet><sheetData><row r="1"><c r="A1"><v>1</v></c>"#;
+    let cases = [
+        bomb("xl/styles.xml", "<styleSheet><cellXfs>", r#"<xf numFmtId="0"/>"#, 3 * GIB, "</cellXfs></styleSheet>"),
+        bomb("xl/sharedStrings.xml", "<sst>", &format!("<si><t>{}</t></si>", "a".repeat(4000)), 3 * GIB, "</sst>"),
+        bomb("xl/workbook.xml", &WORKBOOK[..WORKBOOK.len() - 11], "        ", 3 * GIB, "</workbook>"),
+        bomb(
+            "xl/_rels/workbook.xml.rels",
+            &WORKBOOK_RELS[..WORKBOOK_RELS.len() - 16],
+            "        ",
+            3 * GIB,
+            "</Relationships>",
+        ),
+        bomb("xl/vbaProject.bin", "", "\0\0\0\0\0\0\0\0", 3 * GIB, ""),
+        // 150 million cells, each with a value (the same cell: a sheet's size is no bound).
+        bomb("xl/worksheets/sheet1.xml", ws, r#"<c r="B1"><v>1</v></c>"#, 3 * GIB, "</row></sheetData></worksheet>"),
+        bomb("xl/theme/theme1.xml", "<theme>", "        ", 3 * GIB, "</theme>"),
+    ];
+    for (i, part) in cases.into_iter().enumerate() {
+        let name = part.name.clone();
+        let file = format!("bomb{i}.xlsm");
+        workbook_with(dir.path(), &file, part);
+        refused(dir.path(), &["eval", &file, "A1"], &[&name, "the part inflates to more than", "limit"]);
+        // Past the ratio, the size: still refused, before the cap on memory.
+        let raised = ["eval", &file, "A1", "--max-zip-ratio", "100000"];
+        refused(dir.path(), &raised, &[&name, "the part inflates to more than", "limit"]);
+    }
+}
+
+#[test]
+fn cells_without_references_stop_at_the_sheets_edge() {
+    let dir = tempfile::tempdir().unwrap();
+    let ws = "<worksheet><sheetData><row>";
+    let part = bomb("xl/worksheets/sheet1.xml", ws, "<c><v>1</v></c>", GIB / 4, "</row></sheetData></worksheet>");
+    workbook_with(dir.path(), "wide.xlsx", part);
+    let (code, _, err, took) = ncsheet(dir.path(), &["eval", "wide.xlsx", "A1", "--max-zip-ratio", "100000"]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("xl/worksheets/sheet1.xml") && err.contains("column 16385"), "{err}");
+    assert!(took < Duration::from_secs(30), "{took:?}");
+}
+
+// ---------------------------------------------------------------------------------------
+// csv
+
+#[test]
+fn one_far_cell_costs_the_cells_that_exist_not_the_address_space() {
+    let dir = tempfile::tempdir().unwrap();
+    // A1 and XFD1048576: a 1 MB file.
+    let text = format!("1{}{}2\n", "\n".repeat(1_048_575), ",".repeat(16_383));
+    std::fs::write(dir.path().join("far.csv"), text).unwrap();
+    let (code, out, err, took) = ncsheet(dir.path(), &["eval", "far.csv", "A1", "XFD1048576"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out.split_whitespace().collect::<Vec<_>>(), ["A1", "1", "XFD1048576", "2"]);
+    assert!(took < Duration::from_secs(20), "{took:?}");
+    refused(dir.path(), &["eval", "far.csv", "A1:XFD1048576"], &["A1:XFD1048576", "17179869184 cells"]);
+    refused(dir.path(), &["eval", "far.csv"], &["17179869184 cells"]);
+}
+
+#[test]
+fn csv_fields_and_lines_past_their_limits_are_refused_with_the_line() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("field.csv"), format!("1\n2,\"{}\"\n", "x".repeat(2 << 20))).unwrap();
+    refused(dir.path(), &["eval", "field.csv", "A1"], &["line 2", "1 MiB", "--max-csv-field"]);
+    let (code, out, err, _) = ncsheet(dir.path(), &["eval", "field.csv", "A1", "--max-csv-field", "4M"]);
+    assert_eq!((code, out.trim()), (0, "1"), "{err}");
+    // A 1 GiB line: refused before the reader buffers it (it took 8.4 GB).
+    let line = format!("1\n{}\n", "y,".repeat(1 << 29));
+    std::fs::write(dir.path().join("line.csv"), line).unwrap();
+    refused(dir.path(), &["eval", "line.csv", "A1"], &["line 2", "64 MiB", "--max-csv-line"]);
+}
+
+// ---------------------------------------------------------------------------------------
+// ballpath and --timeout
+
+const BUMP: [&str; 10] = [
+    "ballpath",
+    "--surface",
+    "15*EXP(-16*((x/50)^2+(y/50)^2))",
+    "--radius",
+    "3",
+    "--x",
+    "-25:25",
+    "--y",
+    "-25:25",
+    "--retract",
+];
+
+#[test]
+fn ball_paths_past_the_point_limit_are_refused_before_they_are_built() {
+    let dir = tempfile::tempdir().unwrap();
+    let with = |more: &[&'static str]| -> Vec<&'static str> { BUMP.iter().chain(more).copied().collect() };
+    refused(dir.path(), &with(&["--stepover", "1", "--step", "1e-9"]), &["--max-points", "4000000"]);
+    refused(dir.path(), &with(&["--stepover", "0.005", "--step", "0.005"]), &["100020001 points", "--max-points"]);
+    refused(dir.path(), &with(&["--stepover", "1", "--step", "1", "--tolerance", "1e-12"]), &["tolerance", "0.000001"]);
+}
+
+#[test]
+fn every_command_stops_at_its_timeout() {
+    let dir = tempfile::tempdir().unwrap();
+    // About 20 s of drop-cutter work in a test build.
+    let args: Vec<&str> =
+        BUMP.iter().copied().chain(["--stepover", "0.2", "--step", "0.01", "--timeout", "1"]).collect();
+    let (code, _, err, took) = ncsheet(dir.path(), &args);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("--timeout of 1 s"), "{err}");
+    assert!(took < Duration::from_secs(10), "{took:?}");
+}
+
+// ---------------------------------------------------------------------------------------
+// Real workbooks stay inside every limit
+
+#[test]
+fn every_corpus_workbook_loads_under_the_memory_cap() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/excel-corpus");
+    let mut files = Vec::new();
+    for corpus in ["ironcalc", "public"] {
+        collect_workbooks(&root.join(corpus), &mut files);
+    }
+    if files.is_empty() {
+        assert!(std::env::var("CI").as_deref() != Ok("true"), "the corpora are missing under {}", root.display());
+        return;
+    }
+    let mut failed = Vec::new();
+    for file in &files {
+        let (code, _, err, _) = ncsheet(file.parent().unwrap(), &["info", file.to_str().unwrap()]);
+        if code != 0 {
+            failed.push(format!("{}: {err}", file.display()));
+        }
+    }
+    assert!(failed.is_empty(), "{} of {} failed:\n{}", failed.len(), files.len(), failed.join("\n"));
+}
+
+fn collect_workbooks(dir: &Path, out: &mut Vec<PathBuf>) {
+    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    for entry in entries.flatten() {
+        let path = entry.path();
+        if path.is_dir() {
+            collect_workbooks(&path, out);
+        } else if path.extension().is_some_and(|e| e == "xlsx" || e == "xlsm") {
+            out.push(path);
+        }
+    }
+}
