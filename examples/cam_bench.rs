@@ -5,7 +5,7 @@
 use std::time::Instant;
 
 use ncsheet::geometry::cam::CamOptions;
-use ncsheet::io::cam::fit_design_sheet;
+use ncsheet::nc::cam_sheet::fit_design_sheet;
 
 const SHEET: &str = include_str!("../sheets/cam-turret.csv");
 

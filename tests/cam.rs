@@ -10,8 +10,8 @@ use ncsheet::geometry::cam::{
     PieceKind, Segment,
 };
 use ncsheet::geometry::GeometryError;
-use ncsheet::io::cam::{arcs_csv, fit_design_sheet, parse_sheet, svg_drawing, SvgOptions, CSV_HEADER};
 use ncsheet::nc::cam::{cam_program, CamNcOptions};
+use ncsheet::nc::cam_sheet::{arcs_csv, fit_design_sheet, parse_sheet, svg_drawing, SvgOptions, CSV_HEADER};
 use ncsheet::nc::dialect;
 
 const SHEET: &str = include_str!("../sheets/cam-turret.csv");

@@ -7,8 +7,8 @@ mod common;
 use std::process::Command;
 
 use ncsheet::geometry::cam::{by_disc, fit_cam, CamFit, CamOptions};
-use ncsheet::io::cam::parse_sheet;
 use ncsheet::nc::cam::{cam_program, CamNcOptions, Compensation};
+use ncsheet::nc::cam_sheet::parse_sheet;
 use ncsheet::nc::dialect;
 
 /// The program as LinuxCNC reads it (the `iso` dialect writes a Fanuc O-number it rejects).

@@ -479,3 +479,19 @@ fn a_let_bound_lambda_is_called_by_its_name() {
     let run = ncsheet(&["set", &book, "B1==foo(1)", "-o", out.to_str().unwrap()]);
     assert!(run.stderr.contains("=foo(1)") && run.stderr.contains("unknown function foo"), "{}", run.stderr);
 }
+
+#[test]
+fn check_on_a_file_ncsheet_wrote_does_not_claim_agreement_with_excel() {
+    let dir = tempfile::tempdir().unwrap();
+    let ours = named_workbook(dir.path());
+    let run = ncsheet(&["eval", &ours, "--check"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(!run.stderr.contains("Excel,") && !run.stderr.contains("agree with Excel"), "{}", run.stderr);
+    assert!(run.stderr.contains("agree with the values ncsheet stored in it"), "{}", run.stderr);
+    assert!(run.stderr.contains("its stored values are not Excel's"), "{}", run.stderr);
+    // A file Excel saved (its docProps/app.xml names Excel) is still compared with Excel.
+    let Some(corpus) = common::corpus::root() else { return };
+    let excel = corpus.join("DynamicArrays.xlsx");
+    let run = ncsheet(&["eval", excel.to_str().unwrap(), "--check"]);
+    assert!(run.stderr.contains("stored values agree with Excel"), "{}", run.stderr);
+}

@@ -15,11 +15,13 @@ use ncsheet::io::xlsx;
 use ncsheet::vba::{self, ErrorKind, RunOptions};
 use ncsheet::workbook::Workbook;
 
-/// The value of `formula` typed into A1 of an empty sheet, and the problems listed for it.
+/// The value of `formula` stored in A1 of an empty sheet (as a file loads it: a formula that
+/// does not parse holds `#NAME?`), and the problems listed for it.
 fn eval_a1(formula: &str) -> (Value, Vec<String>) {
     let mut wb = Workbook::with_sheet();
-    let _ = wb.set_input(0, parse_cell("A1").unwrap(), formula);
-    let problems = wb.problems().into_iter().map(|p| p.message).collect();
+    let _ = wb.set_input_deferred(0, parse_cell("A1").unwrap(), formula);
+    wb.recalculate();
+    let problems = wb.problems().into_iter().map(|p| p.render()).collect();
     (wb.value(0, parse_cell("A1").unwrap()), problems)
 }
 
@@ -117,7 +119,7 @@ fn a_deep_xlsx_formula_is_refused_in_its_cell_and_the_rest_loads() {
     assert_eq!(wb.value(0, parse_cell("A1").unwrap()), Value::Error(XlError::Name));
     assert_eq!(wb.value(0, parse_cell("B1").unwrap()), Value::Error(XlError::Name));
     assert_eq!(wb.value(0, parse_cell("C1").unwrap()), Value::Number(6.0));
-    let problems: Vec<String> = wb.problems().into_iter().map(|p| p.message).collect();
+    let problems: Vec<String> = wb.problems().into_iter().map(|p| p.render()).collect();
     assert!(problems[0].contains("more than 1500 operators"), "{problems:?}");
     assert!(problems[1].contains("nested more than 255 levels"), "{problems:?}");
 }

@@ -26,7 +26,7 @@ fn n(v: f64) -> Value {
 /// The messages listed for one cell (what the CLI prints after `Sheet1!A1: `).
 fn problems_at(wb: &Workbook, cell: &str) -> Vec<String> {
     let pos = parse_cell(cell).unwrap();
-    wb.problems().into_iter().filter(|p| p.sheet == 0 && p.pos == pos).map(|p| p.message).collect()
+    wb.problems().into_iter().filter(|p| p.sheet == 0 && p.pos == pos).map(|p| p.message()).collect()
 }
 
 fn mentions(problems: &[String], words: &[&str]) -> bool {

@@ -2,7 +2,7 @@
 
 use ncsheet::eval::{Value, XlError};
 use ncsheet::formula::address::parse_cell;
-use ncsheet::workbook::Workbook;
+use ncsheet::workbook::{ProblemKind, Workbook};
 
 fn set(wb: &mut Workbook, cell: &str, input: &str) {
     let _ = wb.set_input(0, parse_cell(cell).unwrap(), input);
@@ -122,7 +122,7 @@ fn defined_names_and_other_sheets() {
 fn a_bad_formula_is_reported_with_a_caret_and_the_rest_computes() {
     let mut wb = Workbook::with_sheet();
     set(&mut wb, "A1", "1");
-    let err = wb.set_input(0, parse_cell("B2").unwrap(), "=1+*2").unwrap_err();
+    let err = wb.set_input_deferred(0, parse_cell("B2").unwrap(), "=1+*2").unwrap_err();
     set(&mut wb, "C1", "=A1+1");
     assert_eq!(get(&wb, "B2"), Value::Error(XlError::Name));
     assert_eq!(get(&wb, "C1"), n(2.0));
@@ -130,6 +130,48 @@ fn a_bad_formula_is_reported_with_a_caret_and_the_rest_computes() {
     assert!(text.starts_with("Sheet1!B2: =1+*2\n   ^ column 4"), "{text}");
     assert_eq!(wb.problems().len(), 1);
     assert_eq!(wb.formula(0, parse_cell("B2").unwrap()).as_deref(), Some("=1+*2"));
+}
+
+#[test]
+fn an_edit_that_does_not_parse_is_refused_and_leaves_the_cell_as_it_was() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, "B2", "=2*3");
+    let refused = wb.set_input(0, parse_cell("B2").unwrap(), "=1+*2").unwrap_err();
+    assert_eq!(refused.kind, ProblemKind::Parse("expected a value".into()), "{refused}");
+    // The caret stands under the `*`, the fourth character.
+    assert_eq!(refused.span.map(|s| s.start), Some(3));
+    assert_eq!(get(&wb, "B2"), n(6.0));
+    assert_eq!(wb.formula(0, parse_cell("B2").unwrap()).as_deref(), Some("=2*3"));
+    assert!(wb.problems().is_empty(), "{:?}", wb.problems());
+    let refused = wb.set_input(0, parse_cell("D4").unwrap(), "=SUM(").unwrap_err();
+    assert_eq!((refused.sheet, refused.pos), (0, parse_cell("D4").unwrap()));
+    assert_eq!(wb.input(0, parse_cell("D4").unwrap()), None);
+}
+
+#[test]
+fn an_edit_returns_the_problems_it_brought_as_data() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, "A1", "=B1");
+    let at = |cell: &str| parse_cell(cell).unwrap();
+    let news = wb.set_input(0, at("B1"), "=A1+NOSUCH(1)+nothing+Gone!A1").unwrap();
+    let kinds: Vec<&ProblemKind> = news.iter().map(|p| &p.kind).collect();
+    assert!(kinds.contains(&&ProblemKind::UnknownFunction("NOSUCH".into())), "{news:?}");
+    assert!(kinds.contains(&&ProblemKind::UnknownName("nothing".into())), "{news:?}");
+    assert!(kinds.contains(&&ProblemKind::MissingSheet("Gone".into())), "{news:?}");
+    assert!(kinds.iter().any(|k| matches!(k, ProblemKind::Cycle(_))), "{news:?}");
+    // Each unknown points at its own words in the formula as printed.
+    for p in news.iter().filter(|p| p.span.is_some_and(|s| s.end > s.start)) {
+        let word = &p.text[p.span.unwrap().start as usize..p.span.unwrap().end as usize];
+        let expected = match &p.kind {
+            ProblemKind::UnknownFunction(_) => "NOSUCH(1)",
+            ProblemKind::UnknownName(_) => "nothing",
+            ProblemKind::MissingSheet(_) => "Gone!A1",
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(word, expected, "{}", p.text);
+    }
+    // Nothing new: an edit that brings no problem returns none, even with old ones around.
+    assert_eq!(wb.set_input(0, at("C1"), "=1+1").unwrap(), vec![]);
 }
 
 #[test]

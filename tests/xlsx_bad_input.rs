@@ -14,7 +14,7 @@ fn good_workbook() -> Vec<u8> {
     let mut wb = Workbook::with_sheet();
     wb.add_sheet("Second").unwrap();
     for (cell, input) in [("A1", "2"), ("A2", "=A1*3"), ("B1", "text"), ("B2", "=CONCAT(B1,\"!\")")] {
-        wb.set_input(0, parse_cell(cell).unwrap(), input).unwrap_or(());
+        wb.set_input(0, parse_cell(cell).unwrap(), input).unwrap();
     }
     wb.set_input(1, parse_cell("C3").unwrap(), "=Sheet1!A2+1").unwrap();
     xlsx::to_bytes(&wb, &Layout::default()).unwrap()

@@ -39,9 +39,11 @@ fn sample() -> (Workbook, Layout) {
         ("B10", "=1+*2"),
         ("B11", "=IF(A3,\"\",1)"),
     ];
+    // As a file loads them: B10, which does not parse, holds #NAME? and keeps its text.
     for (cell, input) in parts {
-        let _ = wb.set_input(0, at(cell), input);
+        let _ = wb.set_input_deferred(0, at(cell), input);
     }
+    wb.recalculate();
     wb.set_input(1, at("A1"), "7").unwrap();
     wb.set_input(1, at("A2"), "=local+Parts!B1").unwrap();
     let mut layout = Layout::default();

@@ -3,22 +3,19 @@
 //! formula by `eval::functions::formula_ball_path`; this is flags, output and timing.
 
 use std::fmt::Write as _;
-use std::io::{self, IsTerminal, Write};
+use std::io::{self, IsTerminal};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
-use nalgebra::Point3;
-use ncsheet::eval::functions::{describe_gouge, formula_ball_path, Registry};
-use ncsheet::eval::surface::{FormulaSurface, Home};
-use ncsheet::eval::Ctx;
-use ncsheet::formula::parse::ParseContext;
-use ncsheet::formula::Pos;
+use ncsheet::eval::functions::{describe_gouge, standalone_ball_path};
+use ncsheet::eval::surface::parse_standalone;
 use ncsheet::geometry::ballpath::{BallPath, BallPathSpec, GougeCheck, GougeKind, Lines, Spacing, GOUGE_TOLERANCE};
-use ncsheet::nc::{dialect, Block, FeedMode, Machine, Program, Spindle, SpindleDirection, Target};
-use ncsheet::workbook::Workbook;
+use ncsheet::nc::ballpath::{ball_path_program, BallPathNcOptions, ProgrammedPoint};
+use ncsheet::nc::{dialect, Machine};
 
+use super::output::emit;
 use super::report::{prepend, Error, Result};
 
 /// Compute a ball-end mill's finishing path over a surface z = f(x, y) and write it as csv or
@@ -153,13 +150,9 @@ fn parse_range(text: &str) -> std::result::Result<[f64; 2], String> {
 }
 
 pub fn run(args: BallpathArgs) -> Result<()> {
-    let parse_ctx = ParseContext { at: Pos::new(0, 0), functions: &Registry, sheet: &|_| None };
-    let surface = FormulaSurface::parse(&args.surface, &parse_ctx)
-        .map_err(|e| Error::User(prepend("--surface: ", &e.render(&args.surface))))?;
+    let surface =
+        parse_standalone(&args.surface).map_err(|e| Error::User(prepend("--surface: ", &e.render(&args.surface))))?;
     let spec = spec(&args);
-    // An empty sheet: references in the surface read as blank cells (0).
-    let wb = Workbook::with_sheet();
-    let mut ctx = Ctx::new(&wb, 0, Pos::new(0, 0));
     let started = Instant::now();
     let bar = progress_bar(&spec);
     let mut progress = |done: usize, total: usize| {
@@ -168,7 +161,7 @@ pub fn run(args: BallpathArgs) -> Result<()> {
             bar.set_position(done as u64);
         }
     };
-    let path = formula_ball_path(&mut ctx, &surface, Home::Here, &spec, &mut progress);
+    let path = standalone_ball_path(&surface, &spec, &mut progress);
     // Cleared before any message, so an error does not land on the bar's line.
     if let Some(bar) = bar {
         bar.finish_and_clear();
@@ -181,7 +174,7 @@ pub fn run(args: BallpathArgs) -> Result<()> {
     let text = render(&path, &args)?;
     let formatted = started.elapsed();
     let started = Instant::now();
-    write_output(args.output.as_deref(), &text, args.force)?;
+    emit(&text, args.output.as_deref(), args.force)?;
     if args.timings {
         print_timings(path.points.len(), computed, formatted, started.elapsed());
     }
@@ -275,9 +268,10 @@ fn report_gouges(path: &BallPath, check: GougeCheck) -> Result<()> {
 /// A clearance plane below the highest ball position would take the rapids through the part.
 fn check_clearance(path: &BallPath, args: &BallpathArgs) -> Result<()> {
     let Some(clearance) = args.clearance else { return Ok(()) };
-    let (highest, what) = match args.program {
-        Programmed::Tip => (path.points.iter().map(|p| p.tip(path.radius).z).fold(f64::NEG_INFINITY, f64::max), "tip"),
-        Programmed::Centre => (path.points.iter().map(|p| p.centre.z).fold(f64::NEG_INFINITY, f64::max), "centre"),
+    let highest = programmed_point(args).highest(path);
+    let what = match args.program {
+        Programmed::Tip => "tip",
+        Programmed::Centre => "centre",
     };
     if clearance >= highest {
         return Ok(());
@@ -295,7 +289,7 @@ fn render(path: &BallPath, args: &BallpathArgs) -> Result<String> {
     }
     let name = program_name(args);
     let dialect = dialect::by_name(&args.format).expect("every program format is a dialect");
-    dialect.render(&program(path, args, &name)).map_err(|e| Error::User(e.to_string()))
+    dialect.render(&ball_path_program(path, &name, &nc_options(args))).map_err(|e| Error::User(e.to_string()))
 }
 
 /// `cx,cy,cz,px,py,pz,tx,ty,tz`: ball centre, contact point, tip; numbers as short as read
@@ -314,52 +308,24 @@ fn csv(path: &BallPath) -> String {
     out
 }
 
-/// The paper's program: to the clearance height, above the first point, down at the feed,
-/// along each line; the link to the next line cuts unless --retract.
-fn program(path: &BallPath, args: &BallpathArgs, name: &str) -> Program {
-    let at = |i: usize| -> Point3<f64> {
-        let p = &path.points[i];
-        if args.program == Programmed::Centre {
-            p.centre
-        } else {
-            p.tip(path.radius)
-        }
-    };
-    let highest = (0..path.points.len()).map(|i| at(i).z).fold(f64::NEG_INFINITY, f64::max);
-    let clearance = args.clearance.unwrap_or((highest + 5.0).ceil());
-    let mut p = Program::new(name, Machine::Mill);
-    p.blocks.reserve(path.points.len() + 4 * path.line_starts.len() + 8);
-    let (low, high) = path
-        .points
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), q| (lo.min(q.contact.z), hi.max(q.contact.z)));
-    p.blank = Some(([args.x[0], args.y[0], low], [args.x[1], args.y[1], high]));
-    let what = match args.program {
-        Programmed::Tip => "ball tip (centre - R in Z)",
-        Programmed::Centre => "ball centre",
-    };
-    p.push(Block::Comment(format!("ball-end mill R{}: programmed point is the {what}", path.radius)));
-    let up = Target { z: Some(clearance), ..Target::default() };
-    p.retract = Some(up);
-    p.push(Block::FeedMode(FeedMode::PerMinute));
-    p.push(Block::Tool(args.tool));
-    p.push(Block::Spindle(Spindle::Rpm { rpm: args.spindle, direction: SpindleDirection::Clockwise }));
-    p.push(Block::Rapid(up));
-    for (k, &start) in path.line_starts.iter().enumerate() {
-        let end = path.line_starts.get(k + 1).copied().unwrap_or(path.points.len());
-        if k == 0 || args.retract {
-            if k > 0 {
-                p.push(Block::Rapid(up));
-            }
-            let first = at(start);
-            p.push(Block::Rapid(Target::xy(first.x, first.y)));
-        }
-        p.blocks.extend((start..end).map(|i| {
-            let q = at(i);
-            Block::Line { to: Target::xyz(q.x, q.y, q.z), feed: Some(args.feed) }
-        }));
+fn nc_options(args: &BallpathArgs) -> BallPathNcOptions {
+    BallPathNcOptions {
+        point: programmed_point(args),
+        feed: args.feed,
+        tool: args.tool,
+        spindle: args.spindle,
+        retract: args.retract,
+        clearance: args.clearance,
+        x: args.x,
+        y: args.y,
     }
-    p
+}
+
+fn programmed_point(args: &BallpathArgs) -> ProgrammedPoint {
+    match args.program {
+        Programmed::Tip => ProgrammedPoint::Tip,
+        Programmed::Centre => ProgrammedPoint::Centre,
+    }
 }
 
 /// `--name`, or OUT's file stem in capitals (`eqcam-bump.h` → `EQCAM_BUMP`), or BALLPATH.
@@ -373,17 +339,6 @@ fn program_name(args: &BallpathArgs) -> String {
             s.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_uppercase() } else { '_' }).collect()
         }
         _ => "BALLPATH".to_string(),
-    }
-}
-
-fn write_output(path: Option<&Path>, text: &str, force: bool) -> Result<()> {
-    match path {
-        Some(path) => super::write_outputs(&[ncsheet::io::Encoded::new(path, text.as_bytes().to_vec())], false, force),
-        None => {
-            let mut out = io::stdout().lock();
-            out.write_all(text.as_bytes())?;
-            Ok(out.flush()?)
-        }
     }
 }
 

@@ -2,7 +2,6 @@
 //! spirals replaced by tangent arcs within a tolerance, written as a coordinate table, an NC
 //! milling program or a drawing.
 
-use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
 use clap::builder::PossibleValuesParser;
@@ -10,10 +9,11 @@ use clap::{Args, ValueEnum};
 use ncsheet::geometry::cam::{
     by_disc, fit_cam, fit_piece, CamFit, CamOptions, FittedSegment, Piece, PieceKind, Segment,
 };
-use ncsheet::io::cam::{arcs_csv, parse_sheet, svg_drawing, SvgOptions};
 use ncsheet::nc::cam::{cam_program, fit_tolerance, CamNcOptions, Compensation};
+use ncsheet::nc::cam_sheet::{arcs_csv, parse_sheet, svg_drawing, SvgOptions};
 use ncsheet::nc::{dialect, Machine};
 
+use super::output::emit;
 use super::report::{Error, Result};
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
@@ -213,16 +213,5 @@ fn write_fit(fit: &CamFit, out: &CamOutput) -> Result<()> {
             d.render(&cam_program(fit, &options)).map_err(|e| Error::User(e.to_string()))?
         }
     };
-    match &out.output {
-        Some(path) => super::write_outputs(&[ncsheet::io::Encoded::new(path, text.into_bytes())], false, out.force),
-        None => emit(&text),
-    }
-}
-
-/// Text to standard output.
-pub fn emit(text: &str) -> Result<()> {
-    let mut stdout = io::stdout().lock();
-    stdout.write_all(text.as_bytes())?;
-    stdout.flush()?;
-    Ok(())
+    emit(&text, out.output.as_deref(), out.force)
 }

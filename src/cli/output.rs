@@ -1,7 +1,8 @@
 //! Printing values: an aligned table for people, csv and JSON for programs.
 
 use std::collections::{HashMap, HashSet};
-use std::io::Write;
+use std::io::{self, Write};
+use std::path::Path;
 
 use clap::ValueEnum;
 use ncsheet::eval::number_format::{round15, shown};
@@ -304,6 +305,20 @@ fn json_value(v: &Value) -> serde_json::Value {
         Value::Array(a) => a.data.first().map_or(serde_json::Value::Null, json_value),
         Value::Blank => serde_json::Value::Null,
         Value::Text(_) | Value::Error(_) => serde_json::Value::String(v.to_string()),
+    }
+}
+
+/// A command's text output to a file (through `write_outputs`, so `--force` decides whether
+/// an existing file is replaced) or to standard output.
+pub fn emit(text: &str, path: Option<&Path>, force: bool) -> Result<()> {
+    match path {
+        Some(p) => super::write_outputs(&[ncsheet::io::Encoded::new(p, text.as_bytes().to_vec())], false, force),
+        None => {
+            let mut stdout = io::stdout().lock();
+            stdout.write_all(text.as_bytes())?;
+            stdout.flush()?;
+            Ok(())
+        }
     }
 }
 

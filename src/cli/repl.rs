@@ -13,7 +13,7 @@ use ncsheet::workbook::{Workbook, WorkbookError};
 use rustyline::error::ReadlineError;
 
 use super::output::{self, OutputFormat, Selection};
-use super::report::{self, prepend, CellProblem, Error, Result};
+use super::report::{self, prepend, Error, Result};
 use super::target::{parse_assignment, parse_target, Assignment, Target};
 
 const HELP: &str = "\
@@ -187,20 +187,16 @@ impl Session<'_> {
     /// cell keeps what it had); new problems, such as a circular reference, are reported.
     fn set(&mut self, assignment: Assignment, out: &mut dyn Write) -> Result<()> {
         let (sheet, pos) = super::locate_cell(&self.wb, self.file, &assignment.target, self.sheet)?;
-        let before = self.problems();
-        let old = self.wb.input(sheet, pos);
-        if let Err(e) = self.wb.set_input(sheet, pos, &assignment.input) {
-            let _ = self.wb.set_input(sheet, pos, old.as_deref().unwrap_or(""));
-            return Err(super::in_file(self.file, refused(e)));
-        }
+        let news = match self.wb.set_input(sheet, pos, &assignment.input) {
+            Ok(news) => news,
+            Err(p) => return Err(super::in_file(self.file, Error::User(report::render(&self.wb, &p)))),
+        };
         writeln!(out, "{}", self.shown().text(&self.wb, sheet, pos))?;
         if let Some(doubt) = super::hints::doubt_about(&self.wb, sheet, pos, &assignment.input) {
             eprintln!("ncsheet: {}: {}: warning: {doubt}", self.file.display(), self.wb.cell_name(sheet, pos));
         }
-        let mut news: Vec<CellProblem> = self.problems().into_iter().filter(|p| !before.contains(p)).collect();
-        news.extend(report::unknowns(&self.wb, sheet, pos));
         for p in news {
-            eprintln!("{}", prepend(&format!("ncsheet: {}: ", self.file.display()), &p.render(&self.wb)));
+            eprintln!("{}", prepend(&format!("ncsheet: {}: ", self.file.display()), &report::render(&self.wb, &p)));
         }
         Ok(())
     }
@@ -219,14 +215,6 @@ impl Session<'_> {
         super::write_outputs(&[encoded], false, force)?;
         writeln!(out, "saved {}", path.display())?;
         Ok(())
-    }
-
-    fn problems(&self) -> Vec<CellProblem> {
-        self.wb
-            .problems()
-            .into_iter()
-            .map(|p| CellProblem { sheet: p.sheet, row: p.pos.row, col: p.pos.col, message: p.message })
-            .collect()
     }
 
     fn shown(&self) -> output::Shown<'_> {

@@ -8,7 +8,7 @@ use clap::{Args, ValueEnum};
 use ncsheet::nc::{dialect, Machine};
 use ncsheet::vba::{self, ErrorKind, RunOptions, RunOutput};
 
-use super::cam::emit;
+use super::output::emit;
 use super::report::{Error, Result};
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
@@ -165,7 +165,7 @@ fn run_on_this_thread(args: RunArgs, dialect_name: &'static str) -> Result<()> {
     }
     super::write_outputs(&files, false, args.force)?;
     if let Some(text) = program {
-        emit(&text)?;
+        emit(&text, None, false)?;
     }
     Ok(())
 }

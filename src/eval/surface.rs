@@ -13,9 +13,11 @@ use std::rc::Rc;
 use crate::formula::ast::{BinOp, Expr, ExprKind, SheetId, Span, UnaryOp};
 use crate::formula::parse::{parse_formula, ParseContext, ParseError};
 
+use crate::formula::address::{Pos, Rect};
+
 use super::coerce::{to_number, to_text};
 use super::diff::{derivative, is_pure_numeric, DiffError};
-use super::evaluator::Ctx;
+use super::evaluator::{Ctx, Env};
 use super::functions::{self, as_lambda, FnKind, Registry};
 use super::value::{Value, XlError};
 
@@ -380,4 +382,41 @@ pub fn surface_argument(ctx: &mut Ctx, e: &Expr) -> Result<(FormulaSurface, Home
     };
     let parse_ctx = ParseContext { at: ctx.at, functions: &Registry, sheet: &sheet };
     Ok((definition(FormulaSurface::parse(&text, &parse_ctx))?, Home::Here))
+}
+
+/// An empty workbook of one sheet, `Sheet1`, as an [`Env`]: where a surface formula typed on
+/// its own (`ncsheet ballpath --surface`) is evaluated, a reference reading a blank cell (0).
+pub struct EmptyEnv;
+
+impl Env for EmptyEnv {
+    fn value(&self, _: SheetId, _: Pos) -> Value {
+        Value::Blank
+    }
+
+    fn for_each_value(&self, _: SheetId, _: Rect, _: &mut dyn FnMut(Pos, &Value)) {}
+
+    fn used_rect(&self, _: SheetId) -> Option<Rect> {
+        None
+    }
+
+    fn defined_name(&self, _: &str, _: SheetId) -> Option<(Rc<Expr>, SheetId)> {
+        None
+    }
+
+    fn spill_rect(&self, _: SheetId, _: Pos) -> Option<Rect> {
+        None
+    }
+
+    fn sheet_count(&self) -> usize {
+        1
+    }
+
+    fn sheet_name(&self, sheet: SheetId) -> Option<String> {
+        (sheet == 0).then(|| "Sheet1".to_string())
+    }
+}
+
+/// Parses a surface formula typed on its own: it has no sheet to refer to.
+pub fn parse_standalone(text: &str) -> Result<FormulaSurface, SurfaceDefError> {
+    FormulaSurface::parse(text, &ParseContext { at: Pos::new(0, 0), functions: &Registry, sheet: &|_| None })
 }

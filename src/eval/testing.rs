@@ -10,6 +10,7 @@ use crate::formula::parse::{parse_formula, ParseContext, ParseError};
 
 use super::evaluator::{Ctx, Env};
 use super::functions::Registry;
+use super::surface::EmptyEnv;
 use super::value::Value;
 
 /// A number value (shorthand for tests).
@@ -73,20 +74,21 @@ impl Env for MapEnv {
         Some(Rect::new(Pos::new(0, 0), Pos::new(last_row, last_col)))
     }
 
-    fn defined_name(&self, _: &str, _: SheetId) -> Option<(Rc<Expr>, SheetId)> {
-        None
+    // Otherwise the one empty sheet of a surface typed on its own.
+    fn defined_name(&self, name: &str, sheet: SheetId) -> Option<(Rc<Expr>, SheetId)> {
+        EmptyEnv.defined_name(name, sheet)
     }
 
-    fn spill_rect(&self, _: SheetId, _: Pos) -> Option<Rect> {
-        None
+    fn spill_rect(&self, sheet: SheetId, pos: Pos) -> Option<Rect> {
+        EmptyEnv.spill_rect(sheet, pos)
     }
 
     fn sheet_count(&self) -> usize {
-        1
+        EmptyEnv.sheet_count()
     }
 
     fn sheet_name(&self, sheet: SheetId) -> Option<String> {
-        (sheet == 0).then(|| "Sheet1".to_string())
+        EmptyEnv.sheet_name(sheet)
     }
 }
 

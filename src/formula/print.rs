@@ -28,7 +28,28 @@ pub fn print_spelled(
     spelling: &dyn Spelling,
 ) -> String {
     let mut out = String::new();
-    Printer { at, functions, sheets, spelling, out: &mut out, parameters: Vec::new(), call_depth: 0 }.expr(expr);
+    Printer { at, functions, sheets, spelling, out: &mut out, parameters: Vec::new(), call_depth: 0, found: None }
+        .expr(expr);
+    out
+}
+
+/// Told each node printed and the bytes of the text it became.
+pub type Located<'a> = dyn FnMut(&Expr, Span) + 'a;
+
+/// Prints `expr` as typed, calling `found` with each node and the bytes of the text it was
+/// printed as: a message can then point into a formula the workbook holds only as a tree.
+pub fn print_locating(
+    expr: &Expr,
+    at: Pos,
+    functions: &dyn FunctionTable,
+    sheets: SheetNames,
+    found: &mut Located,
+) -> String {
+    let mut out = String::new();
+    let spelling = &AsTyped;
+    let parameters = Vec::new();
+    Printer { at, functions, sheets, spelling, out: &mut out, parameters, call_depth: 0, found: Some(found) }
+        .expr(expr);
     out
 }
 
@@ -113,10 +134,20 @@ struct Printer<'a> {
     parameters: Vec<Rc<str>>,
     /// How many function calls enclose the current node.
     call_depth: u32,
+    /// Told where each node was printed (see [`print_locating`]).
+    found: Option<&'a mut Located<'a>>,
 }
 
 impl Printer<'_> {
     fn expr(&mut self, e: &Expr) {
+        let start = self.out.len() as u32;
+        self.node(e);
+        if let Some(found) = self.found.as_mut() {
+            found(e, Span { start, end: self.out.len() as u32 });
+        }
+    }
+
+    fn node(&mut self, e: &Expr) {
         match &e.kind {
             ExprKind::Number(v) => self.out.push_str(&number_literal(*v)),
             ExprKind::Text(s) => {

@@ -7,7 +7,7 @@
 //! - [`fit`]: the arc-spline fitter, its lower bound and an independent deviation check.
 //! - [`profile`]: whole cams: coverage check (gaps, overlaps, steps) and every segment's arcs.
 //!
-//! The design sheet, the coordinate table and the drawing are in `io::cam`; the milling
+//! The design sheet, the coordinate table and the drawing are in `nc::cam_sheet`; the milling
 //! program is built on the NC model in `nc::cam`.
 //!
 //! **Architecture Invariant:** nothing here reads or writes files or prints.

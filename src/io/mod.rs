@@ -19,7 +19,6 @@ use crate::formula::ast::SheetId;
 use crate::workbook::Workbook;
 
 pub mod atomic;
-pub mod cam;
 pub mod csv;
 pub mod limits;
 pub mod xlsx;
@@ -152,6 +151,8 @@ pub struct Opened {
     pub cached: Vec<xlsx::CachedValue>,
     /// Number formats and column widths to write back (xlsx only).
     pub layout: Option<xlsx::Layout>,
+    /// The program that last saved the file, whose results `cached` holds (xlsx only).
+    pub written_by: Option<String>,
     /// What the import left out, one sentence each, for the user to hear.
     pub notes: Vec<String>,
     /// The file as read, for saving it back without losing what ncsheet does not model.
@@ -210,7 +211,8 @@ pub fn open_with(path: &Path, csv_delimiter: Option<u8>) -> Result<Opened, Error
             if csv_delimiter.is_none() && csv::delimiter_of(&bytes) == b';' {
                 notes.push("read as ;-separated values (decimal commas as numbers)".to_string());
             }
-            Ok(Opened { workbook, cached: Vec::new(), layout: None, notes, origin: Origin::Csv(original) })
+            let origin = Origin::Csv(original);
+            Ok(Opened { workbook, cached: Vec::new(), layout: None, written_by: None, notes, origin })
         }
         Format::Xlsx => {
             let mut imported = xlsx::load(path)?;
@@ -219,6 +221,7 @@ pub fn open_with(path: &Path, csv_delimiter: Option<u8>) -> Result<Opened, Error
                 workbook: imported.workbook,
                 cached: imported.cached,
                 layout: Some(imported.layout),
+                written_by: imported.written_by,
                 notes: imported.notes,
                 origin: Origin::Xlsx(path.to_path_buf()),
             })

@@ -1,7 +1,10 @@
 //! NC programs: the model ([`program`]) that macros and geometry commands fill, and the
-//! dialects ([`dialect`]) that write it for a control. Knows nothing of workbooks or files.
+//! dialects ([`dialect`]) that write it for a control; beside them what a fitted cam is
+//! designed from and checked by ([`cam_sheet`]). Knows nothing of workbooks or files.
 
+pub mod ballpath;
 pub mod cam;
+pub mod cam_sheet;
 pub mod dda;
 pub mod dialect;
 pub mod format;

@@ -4,6 +4,7 @@
 //! (see `recalc.rs`). Bad input never stops the rest: a formula that does not parse holds
 //! `#NAME?` and is listed by [`Workbook::problems`]; a cycle's cells hold `#CIRC!`.
 
+use std::borrow::Cow;
 use std::fmt;
 use std::rc::Rc;
 
@@ -18,12 +19,14 @@ use crate::formula::print::{print_formula, quote_sheet_name};
 mod cycles;
 mod graph;
 mod inspect;
+mod problems;
 mod recalc;
 mod shared;
 mod sheet;
 
 pub use cycles::Iteration;
 use graph::{Deps, FxMap, RangeIndex};
+pub use problems::{Problem, ProblemKind};
 use shared::{relative_key_into, shape_of, FormulaStore, SharedFormula};
 use sheet::Sheet;
 
@@ -84,14 +87,6 @@ struct DefinedName {
     scope: Option<SheetId>,
 }
 
-/// Something wrong with a cell that a user should be told about.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Problem {
-    pub sheet: SheetId,
-    pub pos: Pos,
-    pub message: String,
-}
-
 /// Errors from workbook operations (not cell errors, which are values).
 #[derive(Clone, Debug, PartialEq)]
 pub enum WorkbookError {
@@ -133,6 +128,8 @@ pub struct Workbook {
     bad_inputs: FxMap<u32, (String, ParseError)>,
     /// Messages functions left explaining a cell's error value.
     notes: FxMap<u32, Vec<Note>>,
+    /// Cells whose notes the last recalculation changed (what an edit has to report).
+    fresh_notes: Vec<u32>,
     spill: recalc::SpillState,
     /// Cells of each circular reference found by the last recalculation.
     cycles: recalc::Cycles,
@@ -281,19 +278,49 @@ impl Workbook {
         format!("{}!{pos}", quote_sheet_name(&self.sheets[sheet as usize].name))
     }
 
-    /// Sets a cell from what a user typed and recalculates what depends on it. A formula
-    /// that does not parse is stored anyway (as `#NAME?`) and its error returned.
-    pub fn set_input(&mut self, sheet: SheetId, pos: Pos, text: &str) -> Result<(), WorkbookError> {
-        let result = self.set_input_deferred(sheet, pos, text);
+    /// Sets a cell from what a user typed and recalculates what depends on it; returns the
+    /// problems the edit brought (the cell's unknown functions, names and sheets, new circular
+    /// references, new notes). A formula that does not parse is refused and the cell left as
+    /// it was.
+    pub fn set_input(&mut self, sheet: SheetId, pos: Pos, text: &str) -> Result<Vec<Problem>, Problem> {
+        if is_formula_text(text) {
+            let fid = self.shared_formula(text, sheet, pos).map_err(|e| Problem::parse(sheet, pos, text, &e))?;
+            let id = self.cleared_cell(sheet, pos);
+            self.install_formula(id, fid);
+        } else {
+            let stored = self.set_input_deferred(sheet, pos, text);
+            debug_assert!(stored.is_ok(), "only a formula can fail");
+        }
+        Ok(self.recalculate_edit(sheet, pos))
+    }
+
+    /// Sets a cell to a formula given as a tree (as if typed at `pos`) and recalculates.
+    pub fn set_formula_tree(&mut self, sheet: SheetId, pos: Pos, tree: Expr) -> Vec<Problem> {
+        let fid = self.formulas.add(None, SharedFormula::new(tree));
+        let id = self.cleared_cell(sheet, pos);
+        self.install_formula(id, fid);
+        self.recalculate_edit(sheet, pos)
+    }
+
+    /// Recalculates after an edit of one cell and lists the problems it brought.
+    fn recalculate_edit(&mut self, sheet: SheetId, pos: Pos) -> Vec<Problem> {
         let id = self.sheets[sheet as usize].get(pos);
         self.recalculate_from(id.into_iter().collect());
-        result
+        let mut news = self.unknowns(sheet, pos);
+        for cycle in self.cycles.new_since_begin() {
+            news.push(self.cycle_problem(cycle));
+        }
+        for &noted in &self.fresh_notes {
+            news.extend(self.note_problems(noted));
+        }
+        problems::sort_by_place(&mut news);
+        news
     }
 
     /// Sets a cell without recalculating; call [`Workbook::recalculate`] after a batch.
     pub fn set_input_deferred(&mut self, sheet: SheetId, pos: Pos, text: &str) -> Result<(), WorkbookError> {
         // A formula (what `Input::parse` reads as one) without copying its text.
-        if text.len() > 1 && text.starts_with('=') {
+        if is_formula_text(text) {
             return self.set_formula(sheet, pos, text);
         }
         // A plain decimal number (`12`, `-0.5`), read as `Input::parse` reads it but sooner.
@@ -377,18 +404,13 @@ impl Workbook {
         }
     }
 
+    /// Stores a formula; one that does not parse is stored as `#NAME?` with its text.
     fn set_formula(&mut self, sheet: SheetId, pos: Pos, text: &str) -> Result<(), WorkbookError> {
-        let id = self.cell_at(sheet, pos);
-        self.note_input(id);
-        self.take_spilled_cell(id);
-        self.clear_formula(id);
-        match self.shared_formula(text, sheet, pos) {
+        let parsed = self.shared_formula(text, sheet, pos);
+        let id = self.cleared_cell(sheet, pos);
+        match parsed {
             Ok(fid) => {
-                self.cells[id as usize].formula = fid;
-                self.link(id);
-                if self.formulas.get(fid).volatile {
-                    self.volatile.push(id);
-                }
+                self.install_formula(id, fid);
                 Ok(())
             }
             Err(error) => {
@@ -396,6 +418,24 @@ impl Workbook {
                 self.bad_inputs.insert(id, (text.to_string(), error.clone()));
                 Err(WorkbookError::Parse { place: self.cell_name(sheet, pos), text: text.to_string(), error })
             }
+        }
+    }
+
+    /// The cell at `pos`, noted as edited, with no formula, spill or value of its own left.
+    fn cleared_cell(&mut self, sheet: SheetId, pos: Pos) -> u32 {
+        let id = self.cell_at(sheet, pos);
+        self.note_input(id);
+        self.take_spilled_cell(id);
+        self.clear_formula(id);
+        id
+    }
+
+    /// Makes cell `id` (cleared) run formula `fid`.
+    fn install_formula(&mut self, id: u32, fid: u32) {
+        self.cells[id as usize].formula = fid;
+        self.link(id);
+        if self.formulas.get(fid).volatile {
+            self.volatile.push(id);
         }
     }
 
@@ -477,6 +517,11 @@ impl Workbook {
         Ok(())
     }
 
+    /// Defined names as trees (read as from A1 of their sheet): (name, formula, scope sheet).
+    pub fn name_trees(&self) -> Vec<(String, Rc<Expr>, Option<SheetId>)> {
+        self.names.iter().map(|n| (n.name.clone(), n.expr.clone(), n.scope)).collect()
+    }
+
     /// Defined names: (name, formula text, scope sheet).
     pub fn names(&self) -> Vec<(String, String, Option<SheetId>)> {
         self.names
@@ -496,25 +541,31 @@ impl Workbook {
         if let Some((text, _)) = self.bad_inputs.get(&id) {
             return Some(text.clone());
         }
-        let cell = &self.cells[id as usize];
-        if cell.formula == NO_FORMULA {
-            return None;
-        }
-        let formula = self.formulas.get(cell.formula);
-        let text = if formula.numbers.is_empty() {
-            self.print(&formula.expr, pos)
-        } else {
-            self.print(&formula.own_tree(), pos)
-        };
-        Some(format!("={text}"))
+        let tree = self.formula_tree(sheet, pos)?;
+        Some(format!("={}", self.print(&tree, pos)))
     }
 
-    /// The parsed formula of a cell with the id of its shared form: cells whose formulas
-    /// are copies of one another (relative references alike) share the id and the tree.
-    pub fn formula_tree(&self, sheet: SheetId, pos: Pos) -> Option<(u32, &Expr)> {
+    /// The cell's formula as a tree (its references relative to `pos`, as parsed there);
+    /// `None` for a constant and for formula text that did not parse.
+    pub fn formula_tree(&self, sheet: SheetId, pos: Pos) -> Option<Cow<'_, Expr>> {
+        let formula = self.shared_formula_at(sheet, pos)?;
+        Some(if formula.numbers.is_empty() { Cow::Borrowed(&*formula.expr) } else { Cow::Owned(formula.own_tree()) })
+    }
+
+    /// The shared formula the cell runs (its tree may hold another copy's numbers).
+    fn shared_formula_at(&self, sheet: SheetId, pos: Pos) -> Option<&SharedFormula> {
+        let id = self.sheets.get(sheet as usize)?.get(pos)?;
+        let cell = &self.cells[id as usize];
+        (cell.formula != NO_FORMULA).then(|| self.formulas.get(cell.formula))
+    }
+
+    /// The id of the cell's formula form: cells whose formulas are copies of one another
+    /// (relative references alike) share it, so what depends only on the form of
+    /// [`Workbook::formula_tree`] is decided once per id. `None` for a constant.
+    pub fn formula_id(&self, sheet: SheetId, pos: Pos) -> Option<u32> {
         let id = self.sheets.get(sheet as usize)?.get(pos)?;
         let formula = self.cells[id as usize].formula;
-        (formula != NO_FORMULA).then(|| (formula, &*self.formulas.get(formula).expr))
+        (formula != NO_FORMULA).then_some(formula)
     }
 
     /// Whether the cell's formula calls a volatile function (NOW, RAND): its value may
@@ -549,38 +600,6 @@ impl Workbook {
     /// A1 to the last row and column holding a value (`None` for an empty sheet).
     pub fn used_rect(&self, sheet: SheetId) -> Option<Rect> {
         Env::used_rect(self, sheet)
-    }
-
-    /// Everything a user should hear about: formulas that do not parse, circular
-    /// references, and explanations functions gave for error values. Sorted by place.
-    pub fn problems(&self) -> Vec<Problem> {
-        let mut out = Vec::new();
-        for (&id, (text, err)) in &self.bad_inputs {
-            let c = &self.cells[id as usize];
-            out.push(Problem { sheet: c.sheet, pos: c.pos, message: err.render(text) });
-        }
-        for cycle in self.cycles.iter() {
-            let names: Vec<String> = cycle
-                .iter()
-                .map(|&id| self.cell_name(self.cells[id as usize].sheet, self.cells[id as usize].pos))
-                .collect();
-            let c = &self.cells[cycle[0] as usize];
-            out.push(Problem {
-                sheet: c.sheet,
-                pos: c.pos,
-                message: format!("circular reference: {}", names.join(" -> ")),
-            });
-        }
-        for (&id, notes) in &self.notes {
-            let c = &self.cells[id as usize];
-            for n in notes {
-                out.push(Problem { sheet: c.sheet, pos: c.pos, message: format!("{}: {}", n.error, n.message) });
-            }
-        }
-        out.sort_by(|a, b| {
-            (a.sheet, a.pos.row, a.pos.col, &a.message).cmp(&(b.sheet, b.pos.row, b.pos.col, &b.message))
-        });
-        out
     }
 
     /// The cells of each circular reference, as `Sheet1!A1` names.
@@ -767,6 +786,11 @@ impl Workbook {
             }
         }
     }
+}
+
+/// Whether typed text is a formula (as `Input::parse` reads it).
+fn is_formula_text(text: &str) -> bool {
+    text.len() > 1 && text.starts_with('=')
 }
 
 fn is_small(rect: Rect) -> bool {

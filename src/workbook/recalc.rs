@@ -59,12 +59,31 @@ pub struct Cycles {
     lists: FxMap<u32, Vec<u32>>,
     /// Cell → the first cell of its cycle.
     member: FxMap<u32, u32>,
+    /// The first cells of the cycles recorded, and the cycles forgotten, since the
+    /// recalculation began: what an edit reports as new without copying every cycle.
+    recorded: Vec<u32>,
+    forgotten: Vec<Vec<u32>>,
 }
 
 impl Cycles {
     pub fn clear(&mut self) {
         self.lists.clear();
         self.member.clear();
+        self.begin();
+    }
+
+    /// Starts a recalculation: what it records is new from here.
+    fn begin(&mut self) {
+        self.recorded.clear();
+        self.forgotten.clear();
+    }
+
+    /// The cycles the recalculation recorded that were not there before it.
+    pub fn new_since_begin(&self) -> Vec<&Vec<u32>> {
+        let mut firsts = self.recorded.clone();
+        firsts.sort_unstable();
+        firsts.dedup();
+        firsts.iter().filter_map(|f| self.lists.get(f)).filter(|c| !self.forgotten.contains(c)).collect()
     }
 
     pub fn is_empty(&self) -> bool {
@@ -79,6 +98,7 @@ impl Cycles {
             self.member.insert(c, first);
         }
         self.lists.insert(first, cells);
+        self.recorded.push(first);
     }
 
     /// Forgets the cycle through `node`, if any (range nodes are in none).
@@ -87,9 +107,11 @@ impl Cycles {
             return;
         }
         if let Some(first) = self.member.remove(&node) {
-            for c in self.lists.remove(&first).unwrap_or_default() {
-                self.member.remove(&c);
+            let cells = self.lists.remove(&first).unwrap_or_default();
+            for c in &cells {
+                self.member.remove(c);
             }
+            self.forgotten.push(cells);
         }
     }
 
@@ -155,6 +177,8 @@ impl Workbook {
     }
 
     fn run_passes(&mut self, mut sources: Vec<u32>) {
+        self.fresh_notes.clear();
+        self.cycles.begin();
         for _ in 0..MAX_PASSES {
             sources.append(&mut self.spill.pending);
             if sources.is_empty() {
@@ -446,8 +470,9 @@ impl Workbook {
             if !self.notes.is_empty() {
                 self.notes.remove(&id);
             }
-        } else {
+        } else if self.notes.get(&id) != Some(&notes) {
             self.notes.insert(id, notes);
+            self.fresh_notes.push(id);
         }
         self.set_result(id, value, late);
         if (!dynamic_refs.is_empty() || !self.dynamic_refs.is_empty()) && self.relink_dynamic(id, dynamic_refs) {

@@ -74,8 +74,7 @@ pub fn analyse(wb: &Workbook, sheet: SheetId, anchor: Pos) -> FormulaInfo {
         spill_ref: false,
         at_in_call: false,
     };
-    let Some(text) = wb.formula(sheet, anchor) else { return info };
-    let Ok(expr) = wb.parse_at(&text, sheet, anchor) else { return info };
+    let Some(expr) = wb.formula_tree(sheet, anchor) else { return info };
     info.parses = true;
     let mut names = Vec::new();
     let mut called = Vec::new();

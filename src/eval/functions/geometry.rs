@@ -8,7 +8,7 @@ use nalgebra::{Point3, Vector3};
 
 use crate::eval::coerce::{to_number, to_text};
 use crate::eval::evaluator::Ctx;
-use crate::eval::surface::{surface_argument, BoundSurface, FormulaSurface, Home, SurfaceFault};
+use crate::eval::surface::{surface_argument, BoundSurface, EmptyEnv, FormulaSurface, Home, SurfaceFault};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::address::Pos;
 use crate::formula::ast::{Expr, ExprKind};
@@ -257,6 +257,16 @@ pub fn formula_ball_path(
             (error.error, format!("the surface's {} is {} at x={x}, y={y}", error.part.describe(), error.error))
         }
     })
+}
+
+/// The ball path over a surface formula typed on its own (`ncsheet ballpath`), evaluated on
+/// an [`EmptyEnv`]: a reference in it reads a blank cell (0).
+pub fn standalone_ball_path(
+    surface: &FormulaSurface,
+    spec: &BallPathSpec,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<BallPath, (XlError, String)> {
+    formula_ball_path(&mut Ctx::new(&EmptyEnv, 0, Pos::new(0, 0)), surface, Home::Here, spec, progress)
 }
 
 /// One gouge, said in a line: where the ball was placed, where it cuts and how deep.

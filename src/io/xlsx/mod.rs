@@ -62,7 +62,14 @@ pub struct Imported {
     pub layout: Layout,
     /// What the import left out or could not take, one sentence each.
     pub notes: Vec<String>,
+    /// The program that last saved the file, whose results `cached` holds (`docProps/app.xml`;
+    /// [`WRITTEN_BY`] for a file ncsheet wrote).
+    pub written_by: Option<String>,
 }
+
+/// What ncsheet writes as the application that saved a file (Excel and LibreOffice write their
+/// own name when they save it again).
+pub const WRITTEN_BY: &str = "ncsheet";
 
 /// A value Excel computed and stored in the file.
 #[derive(Clone, Debug, PartialEq)]

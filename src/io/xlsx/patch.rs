@@ -23,7 +23,7 @@ use crate::formula::ast::SheetId;
 use crate::workbook::{Changes, Workbook};
 
 use super::raw::{zip_error, Package};
-use super::syntax::{self, Storage};
+use super::syntax;
 use super::{ErrorKind, XlsxError};
 
 /// The saved package and what it could not keep.
@@ -521,13 +521,7 @@ impl SheetPatch<'_> {
     }
 
     fn file_formula(&self, pos: Pos) -> Option<String> {
-        let text = self.wb.formula(self.sheet, pos)?;
-        let legacy = syntax::to_file(&text, self.wb, self.sheet, pos, Storage::Legacy);
-        Some(if legacy.dynamic {
-            syntax::to_file(&text, self.wb, self.sheet, pos, Storage::Dynamic).text
-        } else {
-            legacy.text
-        })
+        syntax::cell_to_file_as_needed(self.wb, self.sheet, pos)
     }
 
     /// The `<c>` element of a changed cell, keeping the original's style (and, for a value

@@ -353,7 +353,6 @@ fn xml_true(value: &[u8]) -> bool {
 }
 
 /// Resolves a relationship target against the folder of its source part.
-
 fn resolve(dir: &str, target: &str) -> String {
     if let Some(abs) = target.strip_prefix('/') {
         return abs.to_string();

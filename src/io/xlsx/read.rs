@@ -39,6 +39,15 @@ pub fn load(path: &Path) -> Result<Imported, XlsxError> {
     load_bytes(&bytes, path)
 }
 
+/// The program that last saved the package (`docProps/app.xml`'s `Application`), if it says.
+fn application(package: &mut Package) -> Option<String> {
+    let bytes = package.read_optional("docProps/app.xml").ok()??;
+    let text = String::from_utf8(bytes).ok()?;
+    let start = text.find("<Application>")? + "<Application>".len();
+    let end = start + text[start..].find("</Application>")?;
+    Some(text[start..end].trim().to_string())
+}
+
 /// Reads xlsx bytes into a recalculated workbook; `file` names them in errors.
 pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
     let fail = |(part, kind, message): (Option<String>, ErrorKind, String)| {
@@ -55,8 +64,14 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
             return Err(damaged_workbook_part(&mut package, file).unwrap_or_else(|| calamine_error(file, None, e)))
         }
     };
-    let mut imported =
-        Imported { workbook: Workbook::new(), cached: Vec::new(), layout: Layout::default(), notes: Vec::new() };
+    let written_by = application(&mut package);
+    let mut imported = Imported {
+        workbook: Workbook::new(),
+        cached: Vec::new(),
+        layout: Layout::default(),
+        notes: Vec::new(),
+        written_by,
+    };
     if calamine.has_1904_epoch() {
         imported.workbook.set_date_1904(true);
     }
@@ -196,20 +211,20 @@ fn array_anchors(layout: &Layout, wb: &Workbook) -> HashMap<(SheetId, Pos), ()> 
 fn intersect_legacy_formulas(wb: &mut Workbook, candidates: &[(SheetId, Pos)], arrays: &HashMap<(SheetId, Pos), ()>) {
     let mut decided: HashMap<(u32, SheetId), bool> = HashMap::new();
     for &(sheet, pos) in candidates {
-        let Some((id, expr)) = wb.formula_tree(sheet, pos) else { continue };
+        let Some(id) = wb.formula_id(sheet, pos) else { continue };
         let intersects = match decided.get(&(id, sheet)) {
             Some(&known) => known,
             None => {
-                let found = syntax::intersects_in_scalar_formula(expr, wb, sheet);
+                let Some(tree) = wb.formula_tree(sheet, pos) else { continue };
+                let found = syntax::intersects_in_scalar_formula(&tree, wb, sheet);
                 decided.insert((id, sheet), found);
                 found
             }
         };
         if intersects && !spills(wb, sheet, pos) {
-            let Some(text) = wb.formula(sheet, pos) else { continue };
-            let text = text.strip_prefix('=').unwrap_or(&text);
-            if let Some(fixed) = syntax::legacy_operand_intersection(text, wb, sheet, pos) {
-                let _ = wb.set_input(sheet, pos, &format!("={fixed}"));
+            let Some(tree) = wb.formula_tree(sheet, pos) else { continue };
+            if let Some(fixed) = syntax::legacy_operand_intersection(&tree, wb, sheet) {
+                wb.set_formula_tree(sheet, pos, fixed);
             }
         }
     }
@@ -217,10 +232,9 @@ fn intersect_legacy_formulas(wb: &mut Workbook, candidates: &[(SheetId, Pos)], a
         if !arrays.contains_key(&(sheet, pos)) {
             intersect_legacy_formula(wb, sheet, pos);
             if spills(wb, sheet, pos) {
-                let Some(text) = wb.formula(sheet, pos) else { continue };
-                if let Some(whole) = syntax::whole_intersection(text.strip_prefix('=').unwrap_or(&text), wb, sheet, pos)
-                {
-                    let _ = wb.set_input(sheet, pos, &format!("={whole}"));
+                let Some(tree) = wb.formula_tree(sheet, pos) else { continue };
+                if let Some(whole) = syntax::whole_intersection(&tree) {
+                    wb.set_formula_tree(sheet, pos, whole);
                 }
             }
         }
@@ -234,9 +248,9 @@ fn spills(wb: &Workbook, sheet: SheetId, pos: Pos) -> bool {
 
 /// Puts `@` where Excel intersected in the legacy formula of `pos`, and recalculates.
 fn intersect_legacy_formula(wb: &mut Workbook, sheet: SheetId, pos: Pos) {
-    let Some(text) = wb.formula(sheet, pos) else { return };
-    if let Some(fixed) = syntax::legacy_intersection(text.strip_prefix('=').unwrap_or(&text), wb, sheet, pos) {
-        let _ = wb.set_input(sheet, pos, &format!("={fixed}"));
+    let Some(tree) = wb.formula_tree(sheet, pos) else { return };
+    if let Some(fixed) = syntax::legacy_intersection(&tree, wb, sheet) {
+        wb.set_formula_tree(sheet, pos, fixed);
     }
 }
 

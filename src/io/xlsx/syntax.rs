@@ -10,7 +10,8 @@
 //! printer of `formula::print`: `FileSpelling` only says how names and the two operators
 //! are spelled, so parentheses and every other node are printed as for the formula typed.
 //!
-//! Both directions take a fast path: text without a call or these operators needs no parse.
+//! Export prints the workbook's trees (`Workbook::formula_tree`), never its text; import
+//! takes a fast path: text without these operators needs no parse.
 
 use std::borrow::Cow;
 
@@ -52,22 +53,31 @@ pub struct FileFormula {
     pub dynamic: bool,
 }
 
-/// A cell's formula (`=…`, as [`Workbook::formula`] prints it) → as stored in a file.
-pub fn to_file(formula: &str, wb: &Workbook, sheet: SheetId, pos: Pos, storage: Storage) -> FileFormula {
-    let text = formula.strip_prefix('=').unwrap_or(formula);
-    // Without a call or an operator, the spellings agree: no parse.
-    if !text.bytes().any(|b| matches!(b, b'(' | b'#' | b'@')) {
-        return FileFormula { text: text.to_string(), dynamic: false };
+/// A formula tree held by the cell `pos` → as stored in a file.
+pub fn to_file(tree: &Expr, wb: &Workbook, pos: Pos, storage: Storage) -> FileFormula {
+    let spelling = FileSpelling { storage, dynamic: std::cell::Cell::new(false) };
+    let text = print(tree, wb, pos, &spelling);
+    FileFormula { text, dynamic: spelling.dynamic.get() }
+}
+
+/// A cell's formula as stored in a file, `None` for a constant. Text that did not parse
+/// (a table reference, an external link) goes back as it came.
+pub fn cell_to_file(wb: &Workbook, sheet: SheetId, pos: Pos, storage: Storage) -> Option<FileFormula> {
+    match wb.formula_tree(sheet, pos) {
+        Some(tree) => Some(to_file(&tree, wb, pos, storage)),
+        None => wb
+            .formula(sheet, pos)
+            .map(|text| FileFormula { text: text.trim_start_matches('=').to_string(), dynamic: false }),
     }
-    match wb.parse_at(text, sheet, pos) {
-        Ok(expr) => {
-            let spelling = FileSpelling { storage, dynamic: std::cell::Cell::new(false) };
-            let text = print(&expr, wb, pos, &spelling);
-            FileFormula { text, dynamic: spelling.dynamic.get() }
-        }
-        // Text that does not parse (a table reference, an external link) goes back as it came.
-        Err(_) => FileFormula { text: text.to_string(), dynamic: false },
-    }
+}
+
+/// A cell's formula as a file stores it: dynamic when it must be, legacy otherwise.
+pub fn cell_to_file_as_needed(wb: &Workbook, sheet: SheetId, pos: Pos) -> Option<String> {
+    let legacy = cell_to_file(wb, sheet, pos, Storage::Legacy)?;
+    Some(match legacy.dynamic {
+        true => cell_to_file(wb, sheet, pos, Storage::Dynamic)?.text,
+        false => legacy.text,
+    })
 }
 
 /// Whether `text` has `NAME(` for one of `names`, in any case. Looks only before each `(`:
@@ -88,30 +98,27 @@ fn calls_any(text: &str, names: &[&str]) -> bool {
 /// nothing changes. Which arguments take whole ranges or arrays is the registry's
 /// (`FnSpec::array_args`, `FnSpec::range_args`); the rule runs only on formulas that
 /// produced arrays, so a function marked wrongly costs at most that one cell.
-pub fn legacy_intersection(text: &str, wb: &Workbook, sheet: SheetId, pos: Pos) -> Option<String> {
-    let mut expr = wb.parse_at(text, sheet, pos).ok()?;
+pub fn legacy_intersection(tree: &Expr, wb: &Workbook, sheet: SheetId) -> Option<Expr> {
+    let mut expr = tree.clone();
     let mut changed = false;
     intersect(&mut expr, wb, sheet, &mut changed);
-    if !changed {
-        return None;
-    }
-    Some(print(&expr, wb, pos, &AsTyped))
+    changed.then_some(expr)
 }
 
 /// A legacy formula whose result is still an array, intersected as a whole (`@ROW(A3:A8)`,
 /// `@(x+{1,2})`): as Excel shows such a result, a reference in line with the cell or an
 /// array's first item. Written back to a file, the `@` is left out again.
-pub fn whole_intersection(text: &str, wb: &Workbook, sheet: SheetId, pos: Pos) -> Option<String> {
-    let mut expr = wb.parse_at(text, sheet, pos).ok()?;
-    if matches!(expr.kind, ExprKind::Unary(UnaryOp::Implicit, _)) {
+pub fn whole_intersection(tree: &Expr) -> Option<Expr> {
+    if matches!(tree.kind, ExprKind::Unary(UnaryOp::Implicit, _)) {
         return None;
     }
+    let mut expr = tree.clone();
     if !matches!(expr.kind, ExprKind::Ref(_) | ExprKind::Name(_) | ExprKind::Call(..) | ExprKind::Paren(_)) {
         let span = expr.span;
         expr = Expr::new(ExprKind::Paren(Box::new(expr)), span);
     }
     wrap_implicit(&mut expr, &mut false);
-    Some(print(&expr, wb, pos, &AsTyped))
+    Some(expr)
 }
 
 /// Whether a legacy formula with a single value for a result still has a range that Excel
@@ -137,11 +144,11 @@ pub fn intersects_in_scalar_formula(expr: &Expr, wb: &Workbook, sheet: SheetId) 
 
 /// [`intersects_in_scalar_formula`]'s rewrite: `@` on the ranges that are operands of an
 /// operator, or `None` when there are none.
-pub fn legacy_operand_intersection(text: &str, wb: &Workbook, sheet: SheetId, pos: Pos) -> Option<String> {
-    let mut expr = wb.parse_at(text, sheet, pos).ok()?;
+pub fn legacy_operand_intersection(tree: &Expr, wb: &Workbook, sheet: SheetId) -> Option<Expr> {
+    let mut expr = tree.clone();
     let mut changed = false;
     intersect_operands(&mut expr, wb, sheet, false, &mut changed);
-    changed.then(|| print(&expr, wb, pos, &AsTyped))
+    changed.then_some(expr)
 }
 
 /// Puts `@` on the ranges under `e` that are operands of an arithmetic, comparison or
@@ -316,6 +323,11 @@ fn print(expr: &Expr, wb: &Workbook, pos: Pos, spelling: &dyn Spelling) -> Strin
 mod tests {
     use super::*;
 
+    /// Typed formula text as a file stores it.
+    fn file_text(text: &str, wb: &Workbook, sheet: SheetId, at: Pos, storage: Storage) -> String {
+        to_file(&wb.parse_at(text, sheet, at).unwrap(), wb, at, storage).text
+    }
+
     fn book() -> Workbook {
         let mut wb = Workbook::with_sheet();
         wb.add_sheet("Data sheet").unwrap();
@@ -336,7 +348,7 @@ mod tests {
     fn newer_functions_parameters_and_operators_get_their_file_spelling() {
         let wb = book();
         let at = Pos::new(0, 0);
-        let to_file = |text: &str, wb: &Workbook, sheet, at| to_file(text, wb, sheet, at, Storage::Dynamic).text;
+        let to_file = |text: &str, wb: &Workbook, sheet, at| file_text(text, wb, sheet, at, Storage::Dynamic);
         assert_eq!(to_file("=SUM(A1:A3)+SIN(1)", &wb, 0, at), "SUM(A1:A3)+SIN(1)");
         assert_eq!(to_file("=CONCAT(\"x#\",A1)", &wb, 0, at), "_xlfn.CONCAT(\"x#\",A1)");
         assert_eq!(to_file("=SUM(A1#)", &wb, 0, at), "SUM(_xlfn.ANCHORARRAY(A1))");
@@ -349,7 +361,7 @@ mod tests {
         );
         assert_eq!(to_file("='Data sheet'!B2#", &wb, 0, at), "_xlfn.ANCHORARRAY('Data sheet'!B2)");
         assert_eq!(to_file("=IF(A1=#N/A,1,2)", &wb, 0, at), "IF(A1=#N/A,1,2)");
-        let dynamic = |text: &str| super::to_file(text, &wb, 0, at, Storage::Legacy).dynamic;
+        let dynamic = |text: &str| super::to_file(&wb.parse_at(text, 0, at).unwrap(), &wb, at, Storage::Legacy).dynamic;
         assert!(dynamic("=SEQUENCE(3)+1"));
         assert!(dynamic("=SUM(A1#)"));
         assert!(!dynamic("=SUM(A1:A3)&\"SEQUENCE(\""));
@@ -364,7 +376,10 @@ mod tests {
     fn legacy_formulas_intersect_where_excel_did_and_are_written_back_without_at() {
         let wb = book();
         let at = Pos::new(17, 0);
-        let legacy = |text| legacy_intersection(text, &wb, 0, at);
+        let legacy = |text| {
+            let tree = legacy_intersection(&wb.parse_at(text, 0, at).unwrap(), &wb, 0)?;
+            Some(print(&tree, &wb, at, &AsTyped))
+        };
         assert_eq!(legacy("E15:E19").as_deref(), Some("@E15:E19"));
         assert_eq!(legacy("AM:AM*2").as_deref(), Some("@AM:AM*2"));
         assert_eq!(legacy("SUM(E15:E19)"), None);
@@ -374,22 +389,25 @@ mod tests {
         assert_eq!(legacy("IF(A1,B1:B5,2)").as_deref(), Some("IF(A1,@B1:B5,2)"));
         // Formulas with one value for a result: Excel intersects a range under an operator
         // whose result a function takes as one value.
-        let scalar = |text| intersects_in_scalar_formula(&wb.parse_at(text, 0, at).unwrap(), &wb, 0);
+        let parsed = |text| wb.parse_at(text, 0, at).unwrap();
+        let scalar = |text| intersects_in_scalar_formula(&parsed(text), &wb, 0);
         assert!(scalar("SUM(E15:E19*2)"));
         assert!(scalar("MAX(IF(E15:E19>0,1,0))"));
         assert!(!scalar("SUM(E15:E19)+COUNTIF(E:E,\">1\")"));
         assert!(!scalar("SUM(CHOOSE(2,E1:E2,E1:E3))+WORKDAY(E1,6,F2:F5)"));
-        let operands = |text| legacy_operand_intersection(text, &wb, 0, at);
+        let typed = |tree: Expr| print(&tree, &wb, at, &AsTyped);
+        let operands = |text| legacy_operand_intersection(&parsed(text), &wb, 0).map(typed);
         assert_eq!(operands("SUM(E15:E19*2)").as_deref(), Some("SUM(@E15:E19*2)"));
         assert!(!scalar("SUMPRODUCT(E15:E19*F15:F19)+VLOOKUP(1,E1:F9,2,0)+INDEX(E1:E9*2,2)"));
         assert!(!scalar("_xlfn.XLOOKUP(1,E1:E9*2,F1:F9)"));
         // A result still an array is intersected whole; the file gets the formula back.
-        let whole = |text| whole_intersection(text, &wb, 0, at).unwrap();
+        let whole = |text| typed(whole_intersection(&parsed(text)).unwrap());
         assert_eq!(whole("ROW(A3:A8)"), "@ROW(A3:A8)");
         assert_eq!(whole("{1,2}+1"), "@({1,2}+1)");
         assert_eq!(whole("({1,2}+1)"), "@({1,2}+1)");
-        assert_eq!(to_file("=@ROW(A3:A8)", &wb, 0, at, Storage::Legacy).text, "ROW(A3:A8)");
-        let written = |text| to_file(text, &wb, 0, at, Storage::Legacy).text;
+        assert!(whole_intersection(&parsed("@ROW(A3:A8)")).is_none());
+        let written = |text| file_text(text, &wb, 0, at, Storage::Legacy);
+        assert_eq!(written("=@ROW(A3:A8)"), "ROW(A3:A8)");
         assert_eq!(written("=@E15:E19*2"), "E15:E19*2");
         assert_eq!(written("=SIN(@E15:E19)"), "SIN(_xlfn.SINGLE(E15:E19))");
     }

@@ -22,7 +22,7 @@ use crate::formula::ast::SheetId;
 use crate::formula::print::{number_literal, quote_sheet_name};
 use crate::workbook::Workbook;
 
-use super::syntax::{self, Storage};
+use super::syntax::{self, FileFormula, Storage};
 use super::{ArrayFormula, ErrorKind, Layout, XlsxError};
 
 /// Writes the workbook to `path` (xlsx, or xlsm when the name says so), atomically.
@@ -121,10 +121,10 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
                 &*formats.entry(code.as_str()).or_insert_with(|| Format::new().set_num_format(code.as_str()))
             });
             let place = || wb.cell_name(sheet, pos);
-            match wb.formula(sheet, pos) {
-                Some(text) => {
+            match syntax::cell_to_file(wb, sheet, pos, Storage::Legacy) {
+                Some(legacy) => {
                     let array = sheet_layout.and_then(|l| l.array_formulas.get(&pos));
-                    write_formula(ws, wb, Cell { sheet, pos, array }, &text, &value, format)
+                    write_formula(ws, wb, Cell { sheet, pos, array }, legacy, &value, format)
                 }
                 None => {
                     let patch = match &value {
@@ -144,8 +144,8 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
             .map_err(|e| fail(Some(&place()), e))?;
         }
     }
-    for (name, formula, scope) in wb.names() {
-        let text = syntax::to_file(&formula, wb, scope.unwrap_or(0), Pos::new(0, 0), Storage::Dynamic).text;
+    for (name, tree, scope) in wb.name_trees() {
+        let text = syntax::to_file(&tree, wb, Pos::new(0, 0), Storage::Dynamic).text;
         let full = match scope {
             Some(s) => format!("{}!{name}", quote_sheet_name(&names[s as usize])),
             None => name.clone(),
@@ -171,10 +171,8 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
     let bytes = book.save_to_buffer().map_err(|e| fail(None, e));
     drop(vba_file);
     let bytes = bytes?;
+    // Always rewritten: app.xml names ncsheet as the application that saved the package.
     let settings = book_settings(wb);
-    if patches.iter().all(Vec::is_empty) && settings.is_empty() {
-        return Ok(bytes);
-    }
     rewrite_constants(&bytes, &patches, &settings).map_err(|e| {
         XlsxError::new(file, None, ErrorKind::Unwritable, format!("writing error and empty-text cells: {e}"))
     })
@@ -226,8 +224,9 @@ fn rewrite_settings(xml: &str, settings: &[(&str, String)]) -> String {
 }
 
 /// Replaces the placeholder cells of each sheet part (`xl/worksheets/sheetN.xml`, as
-/// rust_xlsxwriter names them), adds the workbook settings to `xl/workbook.xml` and copies
-/// every other part as it is.
+/// rust_xlsxwriter names them), adds the workbook settings to `xl/workbook.xml`, names
+/// ncsheet as the application that saved the package (so that its cached values are not
+/// taken for Excel's) and copies every other part as it is.
 fn rewrite_constants(
     package: &[u8],
     patches: &[Vec<(Pos, &str)>],
@@ -253,6 +252,15 @@ fn rewrite_constants(
             .and_then(|n| n.parse::<usize>().ok())
             .and_then(|n| patches.get(n.wrapping_sub(1)))
             .filter(|cells| !cells.is_empty());
+        if name == "docProps/app.xml" {
+            let mut xml = String::new();
+            entry.read_to_string(&mut xml)?;
+            let options = zip::write::SimpleFileOptions::default().compression_method(entry.compression());
+            out.start_file(name.as_str(), options)?;
+            let ours = format!("<Application>{}</Application>", super::WRITTEN_BY);
+            out.write_all(xml.replacen("<Application>Microsoft Excel</Application>", &ours, 1).as_bytes())?;
+            continue;
+        }
         let Some(cells) = cells else {
             out.raw_copy_file(entry)?;
             continue;
@@ -299,7 +307,7 @@ fn write_formula(
     ws: &mut Worksheet,
     wb: &Workbook,
     cell: Cell,
-    text: &str,
+    legacy: FileFormula,
     value: &Value,
     format: Option<&Format>,
 ) -> Result<(), rust_xlsxwriter::XlsxError> {
@@ -314,10 +322,9 @@ fn write_formula(
         || *value == Value::Error(XlError::Spill)
         || kept.is_some_and(|a| a.dynamic)
         || array.is_some_and(|a| a.dynamic);
-    let legacy = syntax::to_file(text, wb, sheet, pos, Storage::Legacy);
     let mut file_text = legacy.text;
     if dynamic || legacy.dynamic {
-        file_text = syntax::to_file(text, wb, sheet, pos, Storage::Dynamic).text;
+        file_text = syntax::cell_to_file(wb, sheet, pos, Storage::Dynamic).map_or(file_text, |f| f.text);
     }
     // rust_xlsxwriter reads a leading `{` or trailing `}` as array-formula braces and drops
     // them; a space around the formula keeps an array constant whole.

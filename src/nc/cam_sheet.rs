@@ -1,6 +1,7 @@
 //! Cam design sheets and what a fitted cam is written as: the design sheet read from csv
 //! text, the arcs as a coordinate table, and the SVG drawing a designer checks by eye (the
-//! paper's plotter check). The NC program is built on the NC model in `nc::cam`.
+//! paper's plotter check). The NC program is built on the NC model in `nc::cam`. Text in and
+//! out, no files: the command line reads and writes them.
 //!
 //! A design sheet has one segment per row, columns named in a header
 //! `row,operation,disc,type,from_deg,to_deg,r_start,r_end` (any order; `row`, `operation` and

@@ -1,0 +1,92 @@
+//! The milling program of a ball-end mill's finishing path (DOMAIN.md §3), built on the NC
+//! model so that any milling dialect writes it: to the clearance height, above the first
+//! point, down at the feed, along each raster line; the link to the next line cuts unless
+//! the options ask for a retract.
+
+use nalgebra::Point3;
+
+use super::program::{Block, FeedMode, Machine, Program, Spindle, SpindleDirection, Target};
+use crate::geometry::ballpath::BallPath;
+
+/// Which point of the ball the program moves.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ProgrammedPoint {
+    /// The ball's lowest point (centre − R in z), what a tool length set to the tip follows.
+    #[default]
+    Tip,
+    Centre,
+}
+
+impl ProgrammedPoint {
+    /// The programmed point of ball position `i`.
+    pub fn of(self, path: &BallPath, i: usize) -> Point3<f64> {
+        let p = &path.points[i];
+        match self {
+            ProgrammedPoint::Tip => p.tip(path.radius),
+            ProgrammedPoint::Centre => p.centre,
+        }
+    }
+
+    /// The highest programmed point of the path (−∞ for an empty one).
+    pub fn highest(self, path: &BallPath) -> f64 {
+        (0..path.points.len()).map(|i| self.of(path, i).z).fold(f64::NEG_INFINITY, f64::max)
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BallPathNcOptions {
+    pub point: ProgrammedPoint,
+    /// Cutting feed, mm/min.
+    pub feed: f64,
+    /// The tool called at the start.
+    pub tool: u32,
+    /// Spindle speed, 1/min (M3).
+    pub spindle: f64,
+    /// Rapid up to the clearance height between lines instead of cutting across.
+    pub retract: bool,
+    /// Clearance height for approach, retracts and end; by default 5 mm over the highest
+    /// programmed point, rounded up to a whole mm.
+    pub clearance: Option<f64>,
+    /// The rectangle the path covers (x and y ranges), for the program's blank.
+    pub x: [f64; 2],
+    pub y: [f64; 2],
+}
+
+/// The paper's program for `path`, named `name`.
+pub fn ball_path_program(path: &BallPath, name: &str, o: &BallPathNcOptions) -> Program {
+    let at = |i: usize| o.point.of(path, i);
+    let clearance = o.clearance.unwrap_or((o.point.highest(path) + 5.0).ceil());
+    let mut p = Program::new(name, Machine::Mill);
+    p.blocks.reserve(path.points.len() + 4 * path.line_starts.len() + 8);
+    let (low, high) = path
+        .points
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), q| (lo.min(q.contact.z), hi.max(q.contact.z)));
+    p.blank = Some(([o.x[0], o.y[0], low], [o.x[1], o.y[1], high]));
+    let what = match o.point {
+        ProgrammedPoint::Tip => "ball tip (centre - R in Z)",
+        ProgrammedPoint::Centre => "ball centre",
+    };
+    p.push(Block::Comment(format!("ball-end mill R{}: programmed point is the {what}", path.radius)));
+    let up = Target { z: Some(clearance), ..Target::default() };
+    p.retract = Some(up);
+    p.push(Block::FeedMode(FeedMode::PerMinute));
+    p.push(Block::Tool(o.tool));
+    p.push(Block::Spindle(Spindle::Rpm { rpm: o.spindle, direction: SpindleDirection::Clockwise }));
+    p.push(Block::Rapid(up));
+    for (k, &start) in path.line_starts.iter().enumerate() {
+        let end = path.line_starts.get(k + 1).copied().unwrap_or(path.points.len());
+        if k == 0 || o.retract {
+            if k > 0 {
+                p.push(Block::Rapid(up));
+            }
+            let first = at(start);
+            p.push(Block::Rapid(Target::xy(first.x, first.y)));
+        }
+        p.blocks.extend((start..end).map(|i| {
+            let q = at(i);
+            Block::Line { to: Target::xyz(q.x, q.y, q.z), feed: Some(o.feed) }
+        }));
+    }
+    p
+}
