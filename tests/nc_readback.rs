@@ -434,7 +434,7 @@ fn nc_time_prints_the_cycle_time() {
 #[test]
 fn cam_programs_of_the_example_read_back() {
     use ncsheet::geometry::cam::{by_disc, fit_cam, CamOptions};
-    use ncsheet::io::cam::parse_sheet;
+    use ncsheet::nc::cam_sheet::parse_sheet;
     use ncsheet::nc::cam::{self as nc_cam, cam_program, CamNcOptions};
     let segments = parse_sheet(include_str!("../sheets/cam-turret.csv")).unwrap();
     let options = CamOptions { tolerance: 0.001, allow_partial: true, with_bounds: false };
