@@ -434,8 +434,8 @@ fn nc_time_prints_the_cycle_time() {
 #[test]
 fn cam_programs_of_the_example_read_back() {
     use ncsheet::geometry::cam::{by_disc, fit_cam, CamOptions};
-    use ncsheet::nc::cam_sheet::parse_sheet;
     use ncsheet::nc::cam::{self as nc_cam, cam_program, CamNcOptions};
+    use ncsheet::nc::cam_sheet::parse_sheet;
     let segments = parse_sheet(include_str!("../sheets/cam-turret.csv")).unwrap();
     let options = CamOptions { tolerance: 0.001, allow_partial: true, with_bounds: false };
     let dir = tempfile::tempdir().unwrap();
