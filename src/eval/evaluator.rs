@@ -108,12 +108,28 @@ pub struct Note {
     pub message: String,
 }
 
+/// A LET name or a LAMBDA parameter bound to its value.
+struct Local {
+    name: Rc<str>,
+    value: Value,
+    /// A parameter whose argument the call left out (`f(1,)`): ISOMITTED is TRUE for it.
+    omitted: bool,
+}
+
+/// A called LAMBDA's parameters bound to the values of `args`, evaluated by the caller.
+fn parameters(lambda: &functions::Lambda, args: &[Expr], values: Vec<Value>) -> Vec<Local> {
+    let bound = lambda.param_names().zip(args).zip(values);
+    bound
+        .map(|((name, arg), value)| Local { name: name.clone(), value, omitted: arg.kind == ExprKind::Missing })
+        .collect()
+}
+
 /// The evaluation of one formula: where it is, what it reads, its local names.
 pub struct Ctx<'a> {
     pub env: &'a dyn Env,
     pub sheet: SheetId,
     pub at: Pos,
-    locals: Vec<(Rc<str>, Value)>,
+    locals: Vec<Local>,
     /// LET names bound to a LAMBDA (`LET(f, LAMBDA(n, n*2), f(3))`), callable by name.
     local_lambdas: Vec<(Rc<str>, Rc<Expr>)>,
     host: Option<&'a dyn Host>,
@@ -372,10 +388,21 @@ impl<'a> Ctx<'a> {
 
     /// Evaluates `body` with `name` bound to `value` (for LET and LAMBDA).
     pub fn with_local<T>(&mut self, name: Rc<str>, value: Value, body: impl FnOnce(&mut Ctx<'a>) -> T) -> T {
-        self.locals.push((name, value));
+        self.locals.push(Local { name, value, omitted: false });
         let out = body(self);
         self.locals.pop();
         out
+    }
+
+    /// The innermost LET name or LAMBDA parameter called `name`.
+    fn local(&self, name: &str) -> Option<&Local> {
+        self.locals.iter().rev().find(|l| l.name.eq_ignore_ascii_case(name))
+    }
+
+    /// Whether `name` is a parameter of the LAMBDA being evaluated whose argument the call
+    /// left out (ISOMITTED).
+    pub fn is_omitted(&self, name: &str) -> bool {
+        self.local(name).is_some_and(|l| l.omitted)
     }
 
     /// Evaluates `body` with `name` callable as the LAMBDA `lambda` (for LET).
@@ -399,8 +426,8 @@ impl<'a> Ctx<'a> {
     }
 
     fn name_operand(&mut self, name: &str) -> Operand {
-        if let Some((_, v)) = self.locals.iter().rev().find(|(n, _)| n.eq_ignore_ascii_case(name)) {
-            return Operand::Value(v.clone());
+        if let Some(local) = self.local(name) {
+            return Operand::Value(local.value.clone());
         }
         if let Some(operand) = self.host.and_then(|h| h.variable(name)) {
             return operand;
@@ -446,7 +473,7 @@ impl<'a> Ctx<'a> {
         let values: Vec<Value> = args.iter().map(|a| self.eval(a)).collect();
         let saved = (self.sheet, self.at, std::mem::take(&mut self.locals));
         (self.sheet, self.at) = (sheet, Pos::new(0, 0));
-        self.locals.extend(lambda.param_names().cloned().zip(values));
+        self.locals.extend(parameters(&lambda, args, values));
         self.depth += 1;
         let out = self.eval(lambda.body);
         self.depth -= 1;
@@ -465,7 +492,7 @@ impl<'a> Ctx<'a> {
         }
         let values: Vec<Value> = args.iter().map(|a| self.eval(a)).collect();
         let n = self.locals.len();
-        self.locals.extend(lambda.param_names().cloned().zip(values));
+        self.locals.extend(parameters(&lambda, args, values));
         self.depth += 1;
         let out = self.eval(lambda.body);
         self.depth -= 1;

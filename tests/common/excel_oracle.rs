@@ -22,11 +22,10 @@ use std::io::BufReader;
 use std::path::{Path, PathBuf};
 
 use calamine::{open_workbook, CellErrorType, DataRef, Reader, Xlsx, XlsxFormulaMetadata};
-use ncsheet::eval::functions::{spec, Registry};
+use ncsheet::eval::functions::{spec, Outside, Registry};
 use ncsheet::eval::testing::MapEnv;
 use ncsheet::eval::{Ctx, Operand, Value, XlError};
 use ncsheet::formula::ast::{BinOp, Expr, ExprKind, RefShape, SheetRef, UnaryOp};
-use ncsheet::formula::parse::strip_future_prefix;
 use ncsheet::formula::{parse_formula, ParseContext, Pos};
 
 use super::corpus::NOT_FROM_EXCEL;
@@ -53,9 +52,6 @@ pub struct Allowed {
     pub cells: &'static [&'static str],
     pub why: &'static str,
 }
-
-/// Their cached values depend on when or where Excel computed them.
-const VOLATILE: &[&str] = &["NOW", "TODAY", "RAND", "RANDBETWEEN", "RANDARRAY", "INFO"];
 
 /// Checks every formula cell of the suite's workbooks against Excel, prints the tallies and
 /// fails on any difference not allowed. Without the corpus it returns (failing on CI, see
@@ -383,11 +379,9 @@ fn out_of_scope(expr: &Expr, text: &str) -> Option<String> {
     let has_let = text.to_ascii_uppercase().contains("LET(");
     let mut why = None;
     expr.visit(&mut |e| match &e.kind {
-        ExprKind::Call(id, _) if VOLATILE.contains(&spec(*id).name) => {
+        // Its cached value depends on when or where Excel computed it.
+        ExprKind::Call(id, _) if spec(*id).reads != Outside::Nothing => {
             why.get_or_insert(format!("volatile: {}", spec(*id).name));
-        }
-        ExprKind::UnknownCall(name, _) if VOLATILE.contains(&strip_future_prefix(name)) => {
-            why.get_or_insert(format!("volatile: {name}"));
         }
         ExprKind::UnknownCall(name, _) => {
             why.get_or_insert(format!("function not implemented: {name}"));

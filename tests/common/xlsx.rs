@@ -7,17 +7,13 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use ncsheet::eval::functions::as_lambda;
-use ncsheet::eval::functions::spec;
+use ncsheet::eval::functions::{find, spec, Outside};
 use ncsheet::eval::{Env, Value};
 use ncsheet::formula::address::{Pos, Rect};
 use ncsheet::formula::ast::{Expr, ExprKind, Reference, SheetId, UnaryOp};
 use ncsheet::formula::parse::strip_future_prefix;
 use ncsheet::io::xlsx::{CachedValue, Imported};
 use ncsheet::workbook::Workbook;
-
-const VOLATILE: &[&str] = &["NOW", "TODAY", "RAND", "RANDBETWEEN", "RANDARRAY"];
-/// The volatile functions that read the clock.
-const CLOCK: &[&str] = &["NOW", "TODAY"];
 
 /// The corpus, which these tests always need (see `corpus::root` for the tests that may
 /// skip without it).
@@ -119,11 +115,11 @@ pub fn analyse(wb: &Workbook, sheet: SheetId, anchor: Pos) -> FormulaInfo {
     }
     // With the clock fixed (`dates::fix_clock`), NOW and TODAY give the saved time again.
     let fixed_clock = ncsheet::eval::dates::fixed_clock().is_some();
-    info.volatile = info
-        .functions
-        .iter()
-        .chain(&info.unknown)
-        .any(|f| VOLATILE.contains(&f.as_str()) && !(fixed_clock && CLOCK.contains(&f.as_str())));
+    info.volatile = info.functions.iter().filter_map(|f| find(f)).any(|id| match spec(id).reads {
+        Outside::Nothing => false,
+        Outside::Clock => !fixed_clock,
+        Outside::Chance | Outside::Host => true,
+    });
     info.functions.sort();
     info.functions.dedup();
     if info.functions.is_empty() {

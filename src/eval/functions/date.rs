@@ -11,7 +11,7 @@ use crate::formula::ast::{Expr, ExprKind};
 
 use super::args::{for_each_value, lift, lift_values, Source};
 use super::math::toolpak_number;
-use super::FnSpec;
+use super::{FnSpec, Outside};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value(
@@ -84,7 +84,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "NETWORKDAYS.INTL(start_date, end_date, [weekend], [holidays])",
         "NETWORKDAYS with the weekend days chosen (1-7, 11-17 or a mask like \"0000011\")",
     ),
-    FnSpec::value("NOW", 0, 0, now, "NOW()", "The current date and time (volatile)").volatile(),
+    FnSpec::value("NOW", 0, 0, now, "NOW()", "The current date and time (volatile)").volatile().reads(Outside::Clock),
     FnSpec::value("SECOND", 1, 1, second, "SECOND(serial_number)", "Second of the time, 0 to 59"),
     FnSpec::value(
         "TIME",
@@ -102,7 +102,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "TIMEVALUE(time_text)",
         "Time of day of a time written as text (13:30, 1:30 PM), as a fraction of a day",
     ),
-    FnSpec::value("TODAY", 0, 0, today, "TODAY()", "The current date (volatile)").volatile(),
+    FnSpec::value("TODAY", 0, 0, today, "TODAY()", "The current date (volatile)").volatile().reads(Outside::Clock),
     FnSpec::value(
         "WEEKDAY",
         1,

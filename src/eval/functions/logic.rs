@@ -101,6 +101,15 @@ pub const FUNCTIONS: &[FnSpec] = &[
     .future()
     .dynamic()
     .reads_trees(),
+    FnSpec::value(
+        "ISOMITTED",
+        1,
+        1,
+        isomitted,
+        "ISOMITTED(argument)",
+        "TRUE for a LAMBDA parameter whose argument the call left out (f(1,))",
+    )
+    .future(),
 ];
 
 /// IF returns the chosen branch as a reference when it is one (`SUM(A1:IF(x, B5, B9))`).
@@ -343,6 +352,15 @@ fn lambda(_: &mut Ctx, _: &[Expr]) -> XlResult<Value> {
     Err(XlError::Calc)
 }
 
+/// ISOMITTED: only a parameter can be omitted; any other argument is FALSE.
+fn isomitted(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let omitted = match &args[0].kind {
+        ExprKind::Name(name) => ctx.is_omitted(name),
+        _ => false,
+    };
+    Ok(Value::Bool(omitted))
+}
+
 /// `LAMBDA(p1, …, body)` taken apart.
 pub struct Lambda<'e> {
     /// The parameters, each an `ExprKind::Name`.
@@ -468,5 +486,20 @@ mod tests {
         // Excel 365: =LAMBDA(x,x+1) in a cell shows #CALC!.
         assert_eq!(env.eval("=LAMBDA(x,x+1)"), Value::Error(XlError::Calc));
         assert_eq!(env.eval("=ISERROR(LAMBDA(1))"), Value::Bool(true));
+    }
+
+    #[test]
+    fn isomitted_tells_a_left_out_argument() {
+        let env = env();
+        // Microsoft's ISOMITTED page: LAMBDA(x,y, IF(ISOMITTED(y),"Missing second argument",x+y))(1,).
+        let docs = "LAMBDA(x,y,IF(ISOMITTED(y),\"Missing second argument\",x+y))";
+        assert_eq!(env.eval(&format!("=LET(f,{docs},f(1,))")), Value::text("Missing second argument"));
+        assert_eq!(env.eval(&format!("=LET(f,{docs},f(1,2))")), n(3.0));
+        // calc_tests/INFORMATION/ISOMITTED.xlsx: A6 = 6 (b left out), A7 = 36, with A5 = 12, B5 = 3.
+        let corpus = "LAMBDA(a,b,IF(ISOMITTED(b),a/2,a*b))";
+        assert_eq!(env.eval(&format!("=LET(f,{corpus},f(12,))")), n(6.0));
+        assert_eq!(env.eval(&format!("=LET(f,{corpus},f(12,3))")), n(36.0));
+        // A name bound again inside the body is no longer the omitted parameter.
+        assert_eq!(env.eval("=LET(f,LAMBDA(a,b,LET(b,1,ISOMITTED(b))),f(12,))"), Value::Bool(false));
     }
 }

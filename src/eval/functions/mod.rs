@@ -97,6 +97,22 @@ pub struct FnSpec {
     /// Arguments that take a whole range as it stands (an aggregate, a lookup table, a
     /// reference) in a legacy formula.
     pub range_args: ArgSet,
+    /// What its result depends on besides its arguments and the cells it reads: a value
+    /// Excel cached for it was computed at another moment, by chance, or on another machine.
+    pub reads: Outside,
+}
+
+/// What a function's result may depend on besides its arguments and the cells it reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Outside {
+    /// Nothing: the same arguments give the same result anywhere, at any time.
+    Nothing,
+    /// The clock (NOW, TODAY).
+    Clock,
+    /// Chance (RAND, RANDBETWEEN, RANDARRAY).
+    Chance,
+    /// The host: the computer and program that compute it (INFO).
+    Host,
 }
 
 /// The spelling of a function's name in an xlsx file.
@@ -197,12 +213,18 @@ impl FnSpec {
             reads_trees: false,
             array_args: ArgSet::NONE,
             range_args: ArgSet::NONE,
+            reads: Outside::Nothing,
         }
     }
 
     /// The same function, volatile.
     pub const fn volatile(self) -> FnSpec {
         FnSpec { volatile: true, ..self }
+    }
+
+    /// The same function, reading `what` besides its arguments (see [`FnSpec::reads`]).
+    pub const fn reads(self, what: Outside) -> FnSpec {
+        FnSpec { reads: what, ..self }
     }
 
     /// The same function, spelled `_xlfn.NAME` in a file (added after Excel 2007).

@@ -11,10 +11,12 @@ use crate::formula::ast::{Expr, ExprKind};
 
 use super::args::number_or;
 use super::scalar::{check, scalar};
-use super::FnSpec;
+use super::{FnSpec, Outside};
 
 pub const FUNCTIONS: &[FnSpec] = &[
-    FnSpec::value("RAND", 0, 0, rand, "RAND()", "A random number 0 <= x < 1 (volatile)").volatile(),
+    FnSpec::value("RAND", 0, 0, rand, "RAND()", "A random number 0 <= x < 1 (volatile)")
+        .volatile()
+        .reads(Outside::Chance),
     FnSpec::value(
         "RANDBETWEEN",
         2,
@@ -23,7 +25,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "RANDBETWEEN(bottom, top)",
         "A random whole number from bottom to top (volatile)",
     )
-    .volatile(),
+    .volatile()
+    .reads(Outside::Chance),
     FnSpec::value(
         "RANDARRAY",
         0,
@@ -33,6 +36,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "An array of random numbers from min (0) to max (1), whole when asked (volatile)",
     )
     .volatile()
+    .reads(Outside::Chance)
     .future()
     .dynamic(),
 ];

@@ -14,14 +14,14 @@ use crate::formula::ast::{Expr, ExprKind, FnId};
 use crate::formula::print::quote_sheet_name;
 
 use super::args::{bool_or, number, number_or};
-use super::{find, ArgSet, FnSpec, MANY};
+use super::{find, ArgSet, FnSpec, Outside, MANY};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("ADDRESS", 2, 5, address, "ADDRESS(row, column, [abs_num], [a1], [sheet_text])", "A cell address as text (abs_num 1 $A$1, 2 A$1, 3 $A1, 4 A1)"),
     FnSpec::value("AGGREGATE", 3, MANY, aggregate, "AGGREGATE(function_num, options, ref1, [ref2], ...)", "SUBTOTAL's functions and more (14 LARGE … 19 QUARTILE.EXC), optionally skipping errors").future().range_args(ArgSet::from(2)),
     FnSpec::value("CELL", 1, 2, cell, "CELL(info_type, [reference])", "Facts about a cell: \"address\", \"col\", \"row\", \"contents\", \"type\" (b blank, l text, v value)").range_args(ArgSet::only(1)),
     FnSpec::reference("TRIMRANGE", 1, 3, trimrange, "TRIMRANGE(range, [trim_rows], [trim_cols])", "The range without its blank outer rows and columns (0 none, 1 leading, 2 trailing, 3 both: the default)").future().dynamic().range_args(ArgSet::only(0)),
-    FnSpec::value("INFO", 1, 1, info, "INFO(type_text)", "About the workbook: \"numfile\" (its sheets), \"recalc\" (Automatic)"),
+    FnSpec::value("INFO", 1, 1, info, "INFO(type_text)", "About the environment: \"numfile\", \"recalc\", \"system\" … as Excel 365 on Windows").reads(Outside::Host),
     FnSpec::value("FORMULATEXT", 1, 1, formulatext, "FORMULATEXT(reference)", "The formula of a cell as text; #N/A when it holds none").future().range_args(ArgSet::only(0)),
     FnSpec::value("HYPERLINK", 1, 2, hyperlink, "HYPERLINK(link_location, [friendly_name])", "The text a link shows: friendly_name, or the location (ncsheet opens no links)"),
     FnSpec::value("ISFORMULA", 1, 1, isformula, "ISFORMULA(reference)", "Whether a cell holds a formula").future().range_args(ArgSet::only(0)),
@@ -157,8 +157,10 @@ fn trimmed(ctx: &mut Ctx, args: &[Expr]) -> XlResult<(crate::formula::ast::Sheet
     Ok((sheet, Rect::new(first, last)))
 }
 
-/// INFO: the facts about the environment that a workbook (not Excel's host) holds; the
-/// host's (directory, osversion, release, system) are `#N/A` with a note.
+/// INFO: the workbook's facts as they are (numfile, recalc) and the host's as Excel 365 on
+/// Windows gives them with a window at rest (docs/functions.md), so that a workbook computes
+/// the same on every machine. "directory" is a folder of the user's machine, which a value
+/// must not depend on: `#N/A` with a note, as the memory queries Excel dropped.
 fn info(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let kind = match ctx.eval(&args[0]).unwrap_single() {
         Value::Text(t) => t.to_ascii_lowercase(),
@@ -168,10 +170,44 @@ fn info(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     match kind.as_str() {
         "numfile" => Ok(Value::Number(ctx.env.sheet_count() as f64)),
         "recalc" => Ok(Value::text("Automatic")),
-        "directory" | "origin" | "osversion" | "release" | "system" => {
-            Err(ctx.explain(XlError::NA, format!("INFO(\"{kind}\") describes Excel's host, which ncsheet is not")))
+        // The top-left cell of a window not scrolled, in Lotus 1-2-3's "$A:" form.
+        "origin" => Ok(Value::text("$A:$A$1")),
+        "osversion" => Ok(Value::text("Windows (64-bit) NT 10.00")),
+        // Application.Version of Excel 2016 to 365.
+        "release" => Ok(Value::text("16.0")),
+        "system" => Ok(Value::text("pcdos")),
+        "directory" => {
+            Err(ctx
+                .explain(XlError::NA, "INFO(\"directory\") is a folder of Excel's host, which ncsheet does not give"))
         }
+        "memavail" | "memused" | "totmem" => Err(XlError::NA),
         _ => Err(XlError::Value),
+    }
+}
+
+#[cfg(test)]
+mod info_tests {
+    use crate::eval::testing::MapEnv;
+    use crate::eval::{Value, XlError};
+
+    /// Microsoft's INFO page: "system" is "pcdos" on Windows; "origin" is the top-left visible
+    /// cell as "$A:" and its absolute reference; "memavail", "memused" and "totmem" are no
+    /// longer supported and give #N/A. Excel 2016 to 365 report release "16.0" and, on
+    /// Windows 10 and 11, osversion "Windows (64-bit) NT 10.00".
+    #[test]
+    fn info_answers_as_excel_365_on_windows() {
+        let env = MapEnv::with(&[]);
+        assert_eq!(env.eval("=INFO(\"system\")"), Value::text("pcdos"));
+        assert_eq!(env.eval("=INFO(\"SYSTEM\")"), Value::text("pcdos"));
+        assert_eq!(env.eval("=INFO(\"origin\")"), Value::text("$A:$A$1"));
+        assert_eq!(env.eval("=INFO(\"release\")"), Value::text("16.0"));
+        assert_eq!(env.eval("=INFO(\"osversion\")"), Value::text("Windows (64-bit) NT 10.00"));
+        assert_eq!(env.eval("=INFO(\"recalc\")"), Value::text("Automatic"));
+        assert_eq!(env.eval("=INFO(\"numfile\")"), Value::Number(1.0));
+        for dropped in ["memavail", "memused", "totmem", "directory"] {
+            assert_eq!(env.eval(&format!("=INFO(\"{dropped}\")")), Value::Error(XlError::NA), "{dropped}");
+        }
+        assert_eq!(env.eval("=INFO(\"colour\")"), Value::Error(XlError::Value));
     }
 }
 
