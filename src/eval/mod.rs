@@ -5,11 +5,13 @@ pub mod coerce;
 pub mod dates;
 pub mod diff;
 pub mod evaluator;
+pub mod format;
 pub mod functions;
-pub mod number_format;
 pub mod surface;
 pub mod testing;
 pub mod value;
 
 pub use evaluator::{Ctx, Env, Note, Operand, RowHidden};
+/// The old path of `format::number_format`, kept while branches that use it are merged.
+pub use format::number_format;
 pub use value::{Array, Value, XlError, XlResult};

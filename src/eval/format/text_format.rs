@@ -6,8 +6,8 @@
 //! decimal, half away from zero, as Excel displays them (2.675 shows as 2.68 although the
 //! binary double is a little below).
 
+use super::number_format::significant_digits;
 use crate::eval::dates::{DateTime, LAST_SERIAL};
-use crate::eval::number_format::significant_digits;
 use crate::eval::value::{XlError, XlResult};
 
 /// One piece of a format section.

@@ -6,7 +6,7 @@ use std::rc::Rc;
 use crate::formula::ast::{Expr, ExprKind};
 
 use crate::eval::coerce::{to_bool, to_number, to_text};
-use crate::eval::evaluator::{number_result, Ctx, Operand};
+use crate::eval::functions::api::{number_result, Ctx, Operand};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 
 /// Where a value came from, which decides how aggregates treat text and booleans.

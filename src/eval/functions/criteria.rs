@@ -5,7 +5,7 @@ use std::cmp::Ordering;
 use std::rc::Rc;
 
 use crate::eval::coerce::{compare_text, parse_number};
-use crate::eval::evaluator::{Ctx, Operand};
+use crate::eval::functions::api::{Ctx, Operand};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::formula::ast::{Expr, SheetId};

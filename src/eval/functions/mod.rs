@@ -1,8 +1,11 @@
 //! The one function table. Every sheet function — Excel's and ncsheet's geometry built-ins —
 //! is a row here: name, argument bounds, body, signature and a one-line summary.
 //!
-//! To add a function: write its body in the category module and add its row to that
-//! module's `FUNCTIONS`; a new category module is listed once in [`REGISTRY`]. A function
+//! The library is a folder per family (math, statistics, text …), each file a table of rows
+//! (`FUNCTIONS`) beside their bodies, written against the small API of `api.rs`. To add a
+//! function: write its body in its family's file and add its row to that file's
+//! `FUNCTIONS`; a new file is listed once in its family's `TABLES`, a new family once in
+//! [`REGISTRY`]. A function
 //! whose result changes by itself (NOW) is marked [`FnSpec::volatile`]; the other facts
 //! about a function (its `_xlfn.` spelling in files, whether it makes a dynamic-array
 //! formula, which arguments take whole ranges) are builder methods on its row too, so that
@@ -17,45 +20,29 @@ use crate::formula::parse::{FnInfo, FunctionTable};
 use super::evaluator::{Ctx, Operand};
 use super::value::{Value, XlResult};
 
+pub(crate) mod api;
 pub mod args;
 mod arrays;
-mod bessel;
-mod combinatorics;
-mod complex;
-mod convert;
 mod criteria;
 mod database;
 mod date;
-mod dispersion;
-mod distributions;
-mod dynamic_ref;
 mod engineering;
 mod financial;
 mod geometry;
-mod info;
-mod lambda_arrays;
+mod information;
+mod lambda;
 mod logic;
 mod lookup;
 mod math;
-mod order;
-mod random;
-mod reference;
-mod regression;
-mod sample_stats;
 mod scalar;
-mod securities;
-mod special;
-mod stats;
+mod statistics;
 mod text;
-mod text_format;
-mod text_more;
-mod text_split;
 pub mod vba;
 
+pub use crate::eval::format::text_format::NumberFormat;
 pub use geometry::{describe_gouge, formula_ball_path, standalone_ball_path};
-pub use logic::{as_lambda, Lambda};
-pub use random::seed_random;
-pub use text_format::NumberFormat;
+pub use lambda::{as_lambda, Lambda};
+pub use math::random::seed_random;
 
 /// A function body that returns a value.
 pub type ValueFn = fn(&mut Ctx, &[Expr]) -> XlResult<Value>;
@@ -260,38 +247,23 @@ impl FnSpec {
 
 /// Every function, in one list. Ids are indexes into it.
 pub static REGISTRY: LazyLock<Vec<FnSpec>> = LazyLock::new(|| {
-    [
-        math::FUNCTIONS,
-        stats::FUNCTIONS,
-        dispersion::FUNCTIONS,
-        distributions::FUNCTIONS,
-        sample_stats::FUNCTIONS,
-        regression::FUNCTIONS,
-        order::FUNCTIONS,
-        date::FUNCTIONS,
-        logic::FUNCTIONS,
-        lookup::FUNCTIONS,
-        reference::FUNCTIONS,
-        database::FUNCTIONS,
-        arrays::FUNCTIONS,
-        lambda_arrays::FUNCTIONS,
-        dynamic_ref::FUNCTIONS,
-        text::FUNCTIONS,
-        text_more::FUNCTIONS,
-        engineering::FUNCTIONS,
-        convert::FUNCTIONS,
-        bessel::FUNCTIONS,
-        random::FUNCTIONS,
-        financial::FUNCTIONS,
-        securities::FUNCTIONS,
-        combinatorics::FUNCTIONS,
-        complex::FUNCTIONS,
-        text_split::FUNCTIONS,
-        info::FUNCTIONS,
-        geometry::FUNCTIONS,
-        vba::FUNCTIONS,
-    ]
-    .concat()
+    let families: &[&[&[FnSpec]]] = &[
+        math::TABLES,
+        statistics::TABLES,
+        &[date::FUNCTIONS],
+        &[logic::FUNCTIONS],
+        lambda::TABLES,
+        lookup::TABLES,
+        &[database::FUNCTIONS],
+        arrays::TABLES,
+        text::TABLES,
+        engineering::TABLES,
+        financial::TABLES,
+        &[information::FUNCTIONS],
+        &[geometry::FUNCTIONS],
+        &[vba::FUNCTIONS],
+    ];
+    families.concat().concat()
 });
 
 static BY_NAME: LazyLock<HashMap<String, FnId>> = LazyLock::new(|| {

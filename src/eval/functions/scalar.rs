@@ -4,11 +4,9 @@
 use std::rc::Rc;
 
 use crate::eval::coerce::{to_number, to_text};
-use crate::eval::evaluator::Ctx;
+use crate::eval::functions::api::{lift, Ctx};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
-
-use super::args::lift;
 
 /// One call's scalar arguments.
 #[derive(Clone, Copy)]

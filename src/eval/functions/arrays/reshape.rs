@@ -7,13 +7,10 @@ use std::cmp::Ordering;
 use std::rc::Rc;
 
 use crate::eval::coerce::{compare_text, to_bool, to_number};
-use crate::eval::evaluator::Ctx;
-use crate::eval::number_format::general;
+use crate::eval::format::number_format::general;
+use crate::eval::functions::api::{block, bool_or, number, number_or, require, ArgSet, Ctx, FnSpec, MANY};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
-
-use super::args::{block, bool_or, number, number_or, require};
-use super::{ArgSet, FnSpec, MANY};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value(

@@ -5,13 +5,11 @@
 //! that begin with it, as in Excel's advanced filter.
 
 use crate::eval::coerce::{compare_text, to_number, to_text};
-use crate::eval::evaluator::{number_result, Ctx};
+use crate::eval::functions::api::{block, number_result, ArgSet, Ctx, FnSpec};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
 
-use super::args::block;
-use super::criteria::Criterion;
-use super::{ArgSet, FnSpec};
+use crate::eval::functions::criteria::Criterion;
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value(

@@ -5,13 +5,11 @@
 
 use crate::eval::coerce::{to_bool, to_number, to_text};
 use crate::eval::dates::{self, days_in_month, is_leap_year, serial_from_ymd, DateTime, LAST_SERIAL};
-use crate::eval::evaluator::Ctx;
+use crate::eval::functions::api::{for_each_value, lift, lift_values, Ctx, FnSpec, Outside, Source};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
 
-use super::args::{for_each_value, lift, lift_values, Source};
-use super::math::toolpak_number;
-use super::{FnSpec, Outside};
+use crate::eval::functions::math::basic::toolpak_number;
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value(
@@ -437,7 +435,7 @@ fn us_30_360(a: &DateTime, b: &DateTime) -> i64 {
 /// Basis 1's year length: within a year (up to the same day a year on), 366 when the span
 /// touches a February 29 and 365 otherwise; over longer spans the mean length of the years
 /// from the first to the last.
-pub(super) fn actual_year_length(a: &DateTime, b: &DateTime) -> f64 {
+pub(crate) fn actual_year_length(a: &DateTime, b: &DateTime) -> f64 {
     let within_a_year = a.year == b.year || (a.year + 1 == b.year && (a.month, a.day) >= (b.month, b.day));
     if within_a_year {
         let leap_day_inside = [a.year, b.year]

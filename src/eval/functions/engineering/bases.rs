@@ -3,13 +3,11 @@
 //! error function.
 
 use crate::eval::coerce::to_text;
-use crate::eval::evaluator::Ctx;
+use crate::eval::functions::api::{check, finite, scalar, Ctx, FnSpec, Scalars};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
-use super::scalar::{check, finite, scalar, Scalars};
-use super::text_more::to_radix;
-use super::FnSpec;
+use crate::eval::functions::text::more::to_radix;
 
 macro_rules! conversion {
     ($name:literal, $f:ident, $from:expr, $to:expr, $sig:literal, $summary:literal) => {

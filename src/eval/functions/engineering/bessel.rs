@@ -8,13 +8,11 @@
 
 use std::f64::consts::PI;
 
-use crate::eval::evaluator::Ctx;
+use crate::eval::functions::api::{check, finite, scalar, Ctx, FnSpec, Scalars};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
-use super::scalar::{check, finite, scalar, Scalars};
-use super::special::ln_gamma;
-use super::FnSpec;
+use crate::eval::functions::statistics::special::ln_gamma;
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("BESSELI", 2, 2, besseli, "BESSELI(x, n)", "Modified Bessel function In(x)"),

@@ -5,13 +5,10 @@
 use nalgebra::Complex;
 
 use crate::eval::coerce::{parse_plain_number, to_text};
-use crate::eval::evaluator::Ctx;
-use crate::eval::number_format::general;
+use crate::eval::format::number_format::general;
+use crate::eval::functions::api::{check, scalar, ArgSet, Ctx, FnSpec, Scalars, MANY};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
-
-use super::scalar::{check, scalar, Scalars};
-use super::{ArgSet, FnSpec, MANY};
 
 type C = Complex<f64>;
 

@@ -3,12 +3,9 @@
 //! prefixes. A value goes through the class's base unit (gram, metre, second, …; kelvin for
 //! temperature, whose scales have offsets).
 
-use crate::eval::evaluator::Ctx;
+use crate::eval::functions::api::{check, finite, scalar, Ctx, FnSpec};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
-
-use super::scalar::{check, finite, scalar};
-use super::FnSpec;
 
 pub const FUNCTIONS: &[FnSpec] = &[FnSpec::value(
     "CONVERT",

@@ -4,15 +4,14 @@
 //! Excel: money paid out is negative. IRR, RATE and XIRR iterate as Excel documents
 //! (Newton's method from the guess, 0.1 by default) and give #NUM! when they do not converge.
 
-use crate::eval::evaluator::Ctx;
+use crate::eval::functions::api::{
+    block, check, finite, number, number_or, numbers, scalar, ArgSet, Ctx, FnSpec, Scalars, MANY,
+};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
-use super::args::{block, number, number_or, numbers};
-use super::math::toolpak_number;
-use super::scalar::{check, finite, scalar, Scalars};
-use super::{ArgSet, FnSpec, MANY};
 use crate::eval::coerce::to_number;
+use crate::eval::functions::math::basic::toolpak_number;
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("PV", 3, 5, pv, "PV(rate, nper, pmt, [fv], [type])", "Present value of an annuity"),

@@ -11,13 +11,11 @@
 
 use crate::eval::coerce::to_bool;
 use crate::eval::dates::{days_in_month, serial_from_ymd, ymd_from_serial, DateTime, LAST_SERIAL};
-use crate::eval::evaluator::Ctx;
+use crate::eval::functions::api::{check, finite, scalar, Ctx, FnSpec, Scalars};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
-use super::math::toolpak_number;
-use super::scalar::{check, finite, scalar, Scalars};
-use super::FnSpec;
+use crate::eval::functions::math::basic::toolpak_number;
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value(
@@ -226,7 +224,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
 
 /// A day of Excel's calendar: its serial and its parts (ordered by serial).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-pub(super) struct Day {
+pub(crate) struct Day {
     serial: i64,
     year: i64,
     month: u32,
@@ -316,7 +314,7 @@ impl Basis {
     /// The year's length for a span from `a` to `b`.
     fn year_days(self, a: Day, b: Day) -> f64 {
         match self {
-            Basis::Actual => super::date::actual_year_length(&date_time(a), &date_time(b)),
+            Basis::Actual => crate::eval::functions::date::actual_year_length(&date_time(a), &date_time(b)),
             Basis::Actual365 => 365.0,
             _ => 360.0,
         }

@@ -7,7 +7,7 @@ use std::cell::Cell;
 use nalgebra::{Point3, Vector3};
 
 use crate::eval::coerce::{to_number, to_text};
-use crate::eval::evaluator::Ctx;
+use crate::eval::functions::api::{lift, Ctx, FnSpec};
 use crate::eval::surface::{surface_argument, BoundSurface, EmptyEnv, FormulaSurface, Home, SurfaceFault};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::address::Pos;
@@ -20,9 +20,6 @@ use crate::geometry::cam::{fit_piece, Piece, PieceKind};
 use crate::geometry::chamfer::{chamfer, ChamferKind, ChamferPoints, ChamferSpec};
 use crate::geometry::head::head_ab;
 use crate::geometry::GeometryError;
-
-use super::args::lift;
-use super::FnSpec;
 
 const CHAMFER_ARGS: &str = "(kind, D, f, alpha, r, eA, eB)";
 

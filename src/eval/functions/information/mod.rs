@@ -1,12 +1,9 @@
 //! Information functions: what kind of value an argument is. They never coerce, so a
 //! reference to an empty cell is blank while the text "" is not.
 
-use crate::eval::evaluator::{Ctx, Operand};
+use crate::eval::functions::api::{lift, ArgSet, Ctx, FnSpec, Operand};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
-
-use super::args::lift;
-use super::{ArgSet, FnSpec};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("ISNUMBER", 1, 1, isnumber, "ISNUMBER(value)", "TRUE for a number"),

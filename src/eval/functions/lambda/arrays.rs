@@ -4,13 +4,11 @@
 
 use std::rc::Rc;
 
-use crate::eval::evaluator::Ctx;
+use crate::eval::functions::api::{block, number, Ctx, FnSpec, MANY};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
 
-use super::args::{block, number};
-use super::logic::{as_lambda, Lambda};
-use super::{FnSpec, MANY};
+use crate::eval::functions::lambda::{as_lambda, Lambda};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value(

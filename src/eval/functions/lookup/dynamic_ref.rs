@@ -5,13 +5,11 @@
 //! both at every edit (they are volatile), which is kept.
 
 use crate::eval::coerce::{to_bool, to_number, to_text};
-use crate::eval::evaluator::{Ctx, Operand};
+use crate::eval::functions::api::{ArgSet, Ctx, FnSpec, Operand, Registry};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::formula::ast::{BinOp, Expr, ExprKind, SheetId};
 use crate::formula::parse::{parse_formula, ParseContext};
-
-use super::{ArgSet, FnSpec, Registry};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::reference(

@@ -7,14 +7,13 @@
 use std::sync::LazyLock;
 
 use crate::eval::coerce::to_text;
-use crate::eval::evaluator::{Ctx, Operand, RowHidden};
+use crate::eval::functions::api::{
+    bool_or, find, number, number_or, ArgSet, Ctx, FnSpec, Operand, Outside, RowHidden, MANY,
+};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::address::{column_name, Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::formula::ast::{Expr, ExprKind, FnId};
 use crate::formula::print::quote_sheet_name;
-
-use super::args::{bool_or, number, number_or};
-use super::{find, ArgSet, FnSpec, Outside, MANY};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("ADDRESS", 2, 5, address, "ADDRESS(row, column, [abs_num], [a1], [sheet_text])", "A cell address as text (abs_num 1 $A$1, 2 A$1, 3 $A1, 4 A1)"),

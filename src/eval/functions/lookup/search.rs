@@ -5,14 +5,12 @@ use std::cmp::Ordering;
 use std::rc::Rc;
 
 use crate::eval::coerce::{compare, compare_text, to_bool, to_number};
-use crate::eval::evaluator::{Ctx, Operand};
+use crate::eval::functions::api::{lift_values, number_or, ArgSet, Ctx, FnSpec, Operand};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::{Expr, ExprKind, SheetId};
 
-use super::args::{lift_values, number_or};
-use super::text::Wildcard;
-use super::{ArgSet, FnSpec};
+use crate::eval::functions::text::strings::Wildcard;
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::reference(

@@ -3,14 +3,14 @@
 use std::rc::Rc;
 
 use crate::eval::coerce::to_number;
-use crate::eval::evaluator::{number_result, power, Ctx};
-use crate::eval::number_format::round15;
+use crate::eval::format::number_format::round15;
+use crate::eval::functions::api::{
+    block, for_each_number, lift, lift_number1, lift_number2, number_or, number_result, power, ArgSet, Ctx, FnSpec,
+    MANY,
+};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::address::{MAX_COLS, MAX_ROWS};
 use crate::formula::ast::{Expr, ExprKind};
-
-use super::args::{block, for_each_number, lift, lift_number1, lift_number2, number_or};
-use super::{ArgSet, FnSpec, MANY};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("ABS", 1, 1, abs, "ABS(number)", "Absolute value"),
@@ -207,15 +207,15 @@ fn unit_interval(x: f64) -> XlResult<f64> {
     }
 }
 
-pub(super) fn sin(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+pub(crate) fn sin(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number1(ctx, args, |x| Ok(trig_angle(x)?.sin()))
 }
 
-pub(super) fn cos(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+pub(crate) fn cos(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number1(ctx, args, |x| Ok(trig_angle(x)?.cos()))
 }
 
-pub(super) fn tan(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+pub(crate) fn tan(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number1(ctx, args, |x| Ok(trig_angle(x)?.tan()))
 }
 
@@ -227,7 +227,7 @@ fn acos(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number1(ctx, args, |x| Ok(unit_interval(x)?.acos()))
 }
 
-pub(super) fn atan(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+pub(crate) fn atan(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number1(ctx, args, |x| Ok(x.atan()))
 }
 
@@ -314,7 +314,7 @@ fn pi(_: &mut Ctx, _: &[Expr]) -> XlResult<Value> {
 
 // ---- powers and logarithms ----------------------------------------------------------------
 
-pub(super) fn sqrt(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+pub(crate) fn sqrt(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number1(ctx, args, |x| if x < 0.0 { Err(XlError::Num) } else { Ok(x.sqrt()) })
 }
 
@@ -326,7 +326,7 @@ fn power_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number2(ctx, args, 0.0, power)
 }
 
-pub(super) fn exp(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+pub(crate) fn exp(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number1(ctx, args, |x| Ok(x.exp()))
 }
 
@@ -339,7 +339,7 @@ fn positive(x: f64) -> XlResult<f64> {
     }
 }
 
-pub(super) fn ln(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+pub(crate) fn ln(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number1(ctx, args, |x| Ok(positive(x)?.ln()))
 }
 
@@ -375,11 +375,11 @@ fn fact(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 // ---- signs, integers and division ----------------------------------------------------------
 
-pub(super) fn abs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+pub(crate) fn abs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number1(ctx, args, |x| Ok(x.abs()))
 }
 
-pub(super) fn sign(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+pub(crate) fn sign(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number1(ctx, args, |x| {
         Ok(if x > 0.0 {
             1.0
@@ -404,7 +404,7 @@ fn odd(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     })
 }
 
-pub(super) fn int(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+pub(crate) fn int(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_number1(ctx, args, |x| Ok(x.floor()))
 }
 
@@ -431,7 +431,7 @@ fn quotient(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 /// A number argument of a function from Excel's old Analysis ToolPak (QUOTIENT, MROUND):
 /// these refuse booleans (`QUOTIENT(TRUE, 1)` is #VALUE!) where built-ins read TRUE as 1.
-pub(super) fn toolpak_number(v: &Value) -> XlResult<f64> {
+pub(crate) fn toolpak_number(v: &Value) -> XlResult<f64> {
     match v {
         Value::Bool(_) => Err(XlError::Value),
         v => to_number(v),

@@ -7,13 +7,11 @@ use std::rc::Rc;
 use nalgebra::DMatrix;
 
 use crate::eval::coerce::{parse_number, parse_plain_number, to_number};
-use crate::eval::evaluator::{power, Ctx, Operand};
+use crate::eval::functions::api::{
+    block, check, finite, for_each_value, power, scalar, ArgSet, Ctx, FnSpec, Operand, Scalars, Source, MANY,
+};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
-
-use super::args::{block, for_each_value, Source};
-use super::scalar::{check, finite, scalar, Scalars};
-use super::{ArgSet, FnSpec, MANY};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("COMBIN", 2, 2, combin, "COMBIN(number, number_chosen)", "Combinations without repetition"),

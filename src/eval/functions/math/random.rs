@@ -5,13 +5,9 @@
 use std::cell::Cell;
 use std::rc::Rc;
 
-use crate::eval::evaluator::Ctx;
+use crate::eval::functions::api::{check, number_or, scalar, Ctx, FnSpec, Outside};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
-
-use super::args::number_or;
-use super::scalar::{check, scalar};
-use super::{FnSpec, Outside};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("RAND", 0, 0, rand, "RAND()", "A random number 0 <= x < 1 (volatile)")

@@ -2,13 +2,13 @@
 //! conditional forms (COUNTIF, SUMIF, AVERAGEIF, COUNTIFS, SUMIFS, AVERAGEIFS, MINIFS, MAXIFS).
 
 use crate::eval::coerce::parse_number;
-use crate::eval::evaluator::{number_result, Ctx};
+use crate::eval::functions::api::{
+    for_each_number, for_each_value, lift_values, number_result, numbers, ArgSet, Ctx, FnSpec, Source, MANY,
+};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
 
-use super::args::{for_each_number, for_each_value, lift_values, numbers, Source};
-use super::criteria::{matching_cells, CellBlock, Criterion};
-use super::{ArgSet, FnSpec, MANY};
+use crate::eval::functions::criteria::{matching_cells, CellBlock, Criterion};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value(

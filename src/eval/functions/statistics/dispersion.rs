@@ -3,12 +3,9 @@
 //! A forms of the plain aggregates (AVERAGEA, MINA, MAXA), which count text and booleans in
 //! ranges.
 
-use crate::eval::evaluator::{number_result, Ctx};
+use crate::eval::functions::api::{number_result, numbers, numbers_a, ArgSet, Ctx, FnSpec, MANY};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
-
-use super::args::{numbers, numbers_a};
-use super::{ArgSet, FnSpec, MANY};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value(

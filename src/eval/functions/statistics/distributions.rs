@@ -5,15 +5,13 @@
 //! its domain. The numerics are in `special.rs`.
 
 use crate::eval::coerce::{to_bool, to_number};
-use crate::eval::evaluator::{number_result, Ctx};
+use crate::eval::functions::api::{lift, number_result, Ctx, FnSpec};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
-use super::args::lift;
-use super::special::{
+use crate::eval::functions::statistics::special::{
     beta_i, gamma, gamma_p, gamma_q, invert_increasing, ln_beta, ln_gamma, norm_cdf, norm_inv, norm_pdf,
 };
-use super::FnSpec;
 
 type Body = fn(&[f64]) -> XlResult<f64>;
 

@@ -7,13 +7,10 @@ use std::collections::HashMap;
 use std::rc::Rc;
 
 use crate::eval::coerce::to_number;
-use crate::eval::evaluator::{number_result, Ctx};
-use crate::eval::number_format::round15;
+use crate::eval::format::number_format::round15;
+use crate::eval::functions::api::{lift_values, number_result, numbers, ArgSet, Ctx, FnSpec, MANY};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::ast::Expr;
-
-use super::args::{lift_values, numbers};
-use super::{ArgSet, FnSpec, MANY};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("LARGE", 2, 2, large, "LARGE(array, k)", "The k-th largest number").range_args(ArgSet::only(0)),

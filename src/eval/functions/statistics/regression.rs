@@ -6,12 +6,9 @@ use std::rc::Rc;
 
 use nalgebra::{DMatrix, DVector};
 
-use crate::eval::evaluator::Ctx;
+use crate::eval::functions::api::{block, bool_or, ArgSet, Ctx, FnSpec};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
-
-use super::args::{block, bool_or};
-use super::{ArgSet, FnSpec};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value(
@@ -71,7 +68,7 @@ fn present(args: &[Expr], i: usize) -> bool {
 }
 
 /// Every item as a number; anything else is `#VALUE!` (an error is itself).
-pub(super) fn all_numbers(a: &Array) -> XlResult<Vec<f64>> {
+pub(crate) fn all_numbers(a: &Array) -> XlResult<Vec<f64>> {
     a.data
         .iter()
         .map(|v| match v {

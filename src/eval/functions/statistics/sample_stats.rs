@@ -6,13 +6,13 @@
 use std::rc::Rc;
 
 use crate::eval::coerce::to_number;
-use crate::eval::evaluator::{number_result, Ctx};
+use crate::eval::functions::api::{
+    block, lift_values, number, number_or, number_result, numbers, ArgSet, Ctx, FnSpec, MANY,
+};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
-use super::args::{block, lift_values, number, number_or, numbers};
-use super::special::{beta_i, gamma_q, norm_cdf};
-use super::{ArgSet, FnSpec, MANY};
+use crate::eval::functions::statistics::special::{beta_i, gamma_q, norm_cdf};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value(

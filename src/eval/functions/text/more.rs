@@ -6,12 +6,9 @@ use std::rc::Rc;
 
 use regex::{Regex, RegexBuilder};
 
-use crate::eval::evaluator::Ctx;
+use crate::eval::functions::api::{check, scalar, Ctx, FnSpec, Scalars};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::ast::Expr;
-
-use super::scalar::{check, scalar, Scalars};
-use super::FnSpec;
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value(

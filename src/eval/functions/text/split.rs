@@ -4,12 +4,9 @@
 use std::rc::Rc;
 
 use crate::eval::coerce::{to_bool, to_number, to_text};
-use crate::eval::evaluator::Ctx;
+use crate::eval::functions::api::{lift_values, number_or, Ctx, FnSpec};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
-
-use super::args::{lift_values, number_or};
-use super::FnSpec;
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value(

@@ -4,13 +4,11 @@
 use std::rc::Rc;
 
 use crate::eval::coerce::{parse_number, to_bool, to_number, to_text};
-use crate::eval::evaluator::Ctx;
+use crate::eval::functions::api::{for_each_value, lift, lift_values, ArgSet, Ctx, FnSpec, MANY};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
 
-use super::args::{for_each_value, lift, lift_values};
-use super::text_format::{fixed_digits, NumberFormat};
-use super::{ArgSet, FnSpec, MANY};
+use crate::eval::format::text_format::{fixed_digits, NumberFormat};
 
 /// Excel's longest text; longer results are `#VALUE!`.
 const MAX_TEXT: usize = 32_767;

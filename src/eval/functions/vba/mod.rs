@@ -10,15 +10,13 @@
 use std::rc::Rc;
 
 use crate::eval::coerce::{parse_plain_number, to_bool, to_number, to_text};
-use crate::eval::evaluator::{number_result, Ctx, Operand};
-use crate::eval::number_format::general;
+use crate::eval::format::number_format::general;
+use crate::eval::functions::api::{lift, lift_number1, lift_number2, number_result, Ctx, FnSpec, Operand, MANY};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
 
-use super::args::{lift, lift_number1, lift_number2};
-use super::math;
-use super::text_format::NumberFormat;
-use super::{FnSpec, MANY};
+use crate::eval::format::text_format::NumberFormat;
+use crate::eval::functions::math::basic as math;
 
 /// The prefix of this module's names in the function table.
 pub const PREFIX: &str = "VBA.";

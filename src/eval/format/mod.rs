@@ -1,0 +1,6 @@
+//! How values are shown as text: a number as a cell shows it in General (`number_format.rs`:
+//! 15 significant digits) and Excel's number-format language as TEXT, FIXED and VBA's Format
+//! apply it (`text_format.rs`).
+
+pub mod number_format;
+pub mod text_format;
