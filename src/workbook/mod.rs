@@ -19,6 +19,7 @@ use crate::formula::print::{print_formula, quote_sheet_name};
 mod cycles;
 mod graph;
 mod inspect;
+mod links;
 mod problems;
 mod recalc;
 mod shared;
@@ -31,10 +32,6 @@ use shared::{relative_key_into, shape_of, FormulaStore, SharedFormula};
 use sheet::Sheet;
 
 const NO_FORMULA: u32 = u32::MAX;
-
-/// A range of at most this many cells is linked cell by cell rather than through a range
-/// node: cheaper to build, to walk and to store (`MAX(B3:G3)` is six edges).
-const SMALL_RANGE: u64 = 16;
 
 /// One cell: its current value and, for a formula cell, which shared formula it runs.
 struct Cell {
@@ -666,143 +663,11 @@ impl Workbook {
             self.clear_spill(id);
         }
     }
-
-    /// Calls `f` with each cell or range a formula cell reads (names expanded).
-    fn for_each_precedent(&self, id: u32, f: &mut dyn FnMut(SheetId, Rect)) {
-        let cell = &self.cells[id as usize];
-        let formula = self.formulas.get(cell.formula);
-        for r in formula.refs.iter() {
-            if let Some((sheet, rect)) = resolve_static(r, cell.sheet, cell.pos) {
-                f(sheet, rect);
-            }
-        }
-        for name in formula.names.iter() {
-            self.name_precedents(name, cell.sheet, 0, f);
-        }
-    }
-
-    fn name_precedents(&self, name: &str, sheet: SheetId, depth: u32, f: &mut dyn FnMut(SheetId, Rect)) {
-        let Some((expr, name_sheet)) = Env::defined_name(self, name, sheet) else { return };
-        if depth > 32 {
-            return;
-        }
-        expr.visit(&mut |e| match &e.kind {
-            crate::formula::ast::ExprKind::Ref(r) => {
-                if let Some((s, rect)) = resolve_static(r, name_sheet, Pos::new(0, 0)) {
-                    f(s, rect);
-                }
-            }
-            crate::formula::ast::ExprKind::Name(inner) => self.name_precedents(inner, name_sheet, depth + 1, f),
-            _ => {}
-        });
-    }
-
-    /// Adds the graph edges of a formula cell.
-    fn link(&mut self, id: u32) {
-        let mut precedents = std::mem::take(&mut self.precedents_buf);
-        precedents.clear();
-        self.for_each_precedent(id, &mut |s, r| precedents.push((s, r)));
-        for &(sheet, rect) in &precedents {
-            self.add_edge(id, sheet, rect);
-        }
-        self.precedents_buf = precedents;
-    }
-
-    /// Removes the graph edges of a formula cell.
-    fn unlink(&mut self, id: u32) {
-        let mut precedents = std::mem::take(&mut self.precedents_buf);
-        precedents.clear();
-        self.for_each_precedent(id, &mut |s, r| precedents.push((s, r)));
-        for &(sheet, rect) in &precedents {
-            self.remove_edge(id, sheet, rect);
-        }
-        self.precedents_buf = precedents;
-        if let Some(dynamic) = self.dynamic_refs.remove(&id) {
-            for (sheet, rect) in dynamic {
-                self.remove_edge(id, sheet, rect);
-            }
-        }
-    }
-
-    /// Makes formula cell `id` a dependent of `rect`: of each cell of a small one, of a range
-    /// node for a large one.
-    fn add_edge(&mut self, id: u32, sheet: SheetId, rect: Rect) {
-        if is_small(rect) {
-            for_each_pos(rect, |pos| {
-                let p = self.cell_at(sheet, pos);
-                self.cells[p as usize].dependents.push(id);
-            });
-        } else {
-            let r = self.ranges.intern(sheet, rect);
-            self.ranges.nodes[r as usize].dependents.push(id);
-        }
-    }
-
-    fn remove_edge(&mut self, id: u32, sheet: SheetId, rect: Rect) {
-        if is_small(rect) {
-            for_each_pos(rect, |pos| {
-                if let Some(p) = self.sheets[sheet as usize].get(pos) {
-                    self.cells[p as usize].dependents.remove(id);
-                }
-            });
-        } else if let Some(r) = self.ranges.find(sheet, rect) {
-            self.ranges.nodes[r as usize].dependents.remove(id);
-        }
-    }
-
-    /// Gives formula cell `id` edges from the references it made at run time (INDIRECT,
-    /// OFFSET), in place of those of its last evaluation. `true` when it reached somewhere
-    /// new: what it read there may not have been computed yet in this pass.
-    fn relink_dynamic(&mut self, id: u32, refs: Vec<(SheetId, Rect)>) -> bool {
-        if self.dynamic_refs.get(&id).map_or(refs.is_empty(), |old| *old == refs) {
-            return false;
-        }
-        if let Some(old) = self.dynamic_refs.remove(&id) {
-            for (sheet, rect) in old {
-                self.remove_edge(id, sheet, rect);
-            }
-        }
-        if refs.is_empty() {
-            return false;
-        }
-        for &(sheet, rect) in &refs {
-            self.add_edge(id, sheet, rect);
-        }
-        self.dynamic_refs.insert(id, refs);
-        true
-    }
-
-    /// Rebuilds every edge (after a name changes meaning).
-    fn rebuild_graph(&mut self) {
-        self.ranges.clear();
-        // The recalculation that follows links run-time references again.
-        self.dynamic_refs.clear();
-        for c in &mut self.cells {
-            c.dependents = Deps::None;
-        }
-        for id in 0..self.cells.len() as u32 {
-            if self.cells[id as usize].formula != NO_FORMULA {
-                self.link(id);
-            }
-        }
-    }
 }
 
 /// Whether typed text is a formula (as `Input::parse` reads it).
 fn is_formula_text(text: &str) -> bool {
     text.len() > 1 && text.starts_with('=')
-}
-
-fn is_small(rect: Rect) -> bool {
-    rect.rows() as u64 * rect.cols() as u64 <= SMALL_RANGE
-}
-
-fn for_each_pos(rect: Rect, mut f: impl FnMut(Pos)) {
-    for row in rect.first.row..=rect.last.row {
-        for col in rect.first.col..=rect.last.col {
-            f(Pos::new(row, col));
-        }
-    }
 }
 
 /// The sheet and rectangle a reference in a formula at `pos` points at, if on the sheet.
