@@ -214,6 +214,17 @@ fn dialect_lists_outside_nc(files: &[Source]) -> Vec<String> {
     out
 }
 
+/// The function library is written against `functions/api.rs`, never against the evaluator
+/// itself: only the registry (`functions/mod.rs`) and the API name it.
+fn functions_past_the_api(files: &[Source]) -> Vec<String> {
+    let library = files.iter().filter(|f| f.rel.starts_with("eval/functions/"));
+    library
+        .filter(|f| f.rel != "eval/functions/mod.rs" && f.rel != "eval/functions/api.rs")
+        .filter(|f| f.code.contains("eval::evaluator") || f.code.contains("super::evaluator"))
+        .map(|f| format!("{}: imports the evaluator (use functions::api)", f.rel))
+        .collect()
+}
+
 fn check(src: &Path, map: &str) -> Vec<String> {
     let files = read_tree(src);
     let mut found = Vec::new();
@@ -223,6 +234,7 @@ fn check(src: &Path, map: &str) -> Vec<String> {
     found.extend(upward_imports(&files));
     found.extend(unmapped_files(&files, map));
     found.extend(dialect_lists_outside_nc(&files));
+    found.extend(functions_past_the_api(&files));
     found
 }
 
@@ -252,7 +264,8 @@ fn the_checker_finds_each_broken_rule() {
     write("geometry/head.rs", "use crate::{eval::Value, formula};\n");
     write("cli/ballpath.rs", "/// Dialect: iso, linuxcnc, sinumerik or heidenhain\nconst D: u8 = 1;\n");
     write("cli/mod.rs", "fn main() { println!(\"cli may print\"); }\n");
-    let map = "# Map\n`src/lib.rs`, `eval/`, `value.rs`, `csv.rs`, `head.rs`, `cli/`\n";
+    write("eval/functions/math/basic.rs", "use crate::eval::evaluator::Ctx;\n");
+    let map = "# Map\n`src/lib.rs`, `eval/`, `value.rs`, `csv.rs`, `head.rs`, `cli/`, `basic.rs`\n";
     let found = check(src, map);
     let expect = [
         "eval/mod.rs: prints",
@@ -263,6 +276,7 @@ fn the_checker_finds_each_broken_rule() {
         "geometry/head.rs: imports crate::formula",
         "src/cli/ballpath.rs: not named",
         "cli/ballpath.rs: spells a list of dialects",
+        "eval/functions/math/basic.rs: imports the evaluator",
     ];
     for e in expect {
         assert!(found.iter().any(|v| v.starts_with(e)), "not found: {e}\nfound:\n{}", found.join("\n"));
