@@ -41,29 +41,29 @@ impl Workbook {
 
     /// Adds the graph edges of a formula cell.
     pub(super) fn link(&mut self, id: u32) {
-        let mut precedents = std::mem::take(&mut self.precedents_buf);
-        precedents.clear();
-        self.for_each_precedent(id, &mut |s, r| precedents.push((s, r)));
-        for &(sheet, rect) in &precedents {
-            self.add_edge(id, sheet, rect);
-        }
-        self.precedents_buf = precedents;
+        self.for_each_edge(id, Workbook::add_edge);
     }
 
     /// Removes the graph edges of a formula cell.
     pub(super) fn unlink(&mut self, id: u32) {
-        let mut precedents = std::mem::take(&mut self.precedents_buf);
-        precedents.clear();
-        self.for_each_precedent(id, &mut |s, r| precedents.push((s, r)));
-        for &(sheet, rect) in &precedents {
-            self.remove_edge(id, sheet, rect);
-        }
-        self.precedents_buf = precedents;
+        self.for_each_edge(id, Workbook::remove_edge);
         if let Some(dynamic) = self.dynamic_refs.remove(&id) {
             for (sheet, rect) in dynamic {
                 self.remove_edge(id, sheet, rect);
             }
         }
+    }
+
+    /// Calls `edge` (add or remove) for each cell or range formula cell `id` reads, through
+    /// a buffer kept between calls: linking a whole sheet allocates once.
+    fn for_each_edge(&mut self, id: u32, edge: fn(&mut Workbook, u32, SheetId, Rect)) {
+        let mut precedents = std::mem::take(&mut self.precedents_buf);
+        precedents.clear();
+        self.for_each_precedent(id, &mut |s, r| precedents.push((s, r)));
+        for &(sheet, rect) in &precedents {
+            edge(self, id, sheet, rect);
+        }
+        self.precedents_buf = precedents;
     }
 
     /// Makes formula cell `id` a dependent of `rect`: of each cell of a small one, of a range
