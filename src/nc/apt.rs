@@ -303,14 +303,14 @@ fn unknown(head: &Piece) -> AptError {
 fn major(head: &Piece, args: &[Piece]) -> Result<ClKind, AptError> {
     let word = head.text.as_str();
     Ok(match word {
-        "GOTO" => goto(head, args)?,
+        "GOTO" => goto(args)?,
         "FROM" => ClKind::From(point(head, args, 3)?),
-        "FEDRAT" => ClKind::Feedrate(feedrate(head, args)?),
+        "FEDRAT" => ClKind::Feedrate(feedrate(args)?),
         "SPINDL" => ClKind::Spindle(spindle(head, args)?),
         "COOLNT" => ClKind::Coolant(coolant(head, args)?),
-        "LOADTL" => ClKind::LoadTool(tool(head, args)?),
+        "LOADTL" => ClKind::LoadTool(tool(args)?),
         "CIRCLE" => circle(head, args)?,
-        "CUTTER" => cutter(head, args)?,
+        "CUTTER" => cutter(args)?,
         "MULTAX" => match single_word(head, args)?.as_str() {
             "ON" => ClKind::MultiAxis(true),
             "OFF" => ClKind::MultiAxis(false),
@@ -352,7 +352,7 @@ fn single_word(head: &Piece, args: &[Piece]) -> Result<String, AptError> {
     Ok(args[0].upper())
 }
 
-fn goto(head: &Piece, args: &[Piece]) -> Result<ClKind, AptError> {
+fn goto(args: &[Piece]) -> Result<ClKind, AptError> {
     if args.len() != 3 && args.len() != 6 {
         let at = args.get(6).unwrap_or(&args[args.len() - 1]);
         return Err(at.error(format!(
@@ -377,7 +377,7 @@ fn goto(head: &Piece, args: &[Piece]) -> Result<ClKind, AptError> {
     Ok(ClKind::Goto { tip, axis: Some(axis) })
 }
 
-fn feedrate(_head: &Piece, args: &[Piece]) -> Result<f64, AptError> {
+fn feedrate(args: &[Piece]) -> Result<f64, AptError> {
     let (value, unit) = match args {
         [v] => (v, None),
         [v, u] if u.upper() != "MMPM" && u.number("").is_err() => (v, Some(u)),
@@ -430,7 +430,7 @@ fn coolant(head: &Piece, args: &[Piece]) -> Result<bool, AptError> {
     }
 }
 
-fn tool(_head: &Piece, args: &[Piece]) -> Result<u32, AptError> {
+fn tool(args: &[Piece]) -> Result<u32, AptError> {
     if args.len() != 1 {
         return Err(args[args.len() - 1].error("LOADTL takes the tool number only".into()));
     }
@@ -463,7 +463,7 @@ fn circle(head: &Piece, args: &[Piece]) -> Result<ClKind, AptError> {
     Ok(ClKind::Circle { centre: [v[0], v[1], v[2]], axis, radius: v[6] })
 }
 
-fn cutter(_head: &Piece, args: &[Piece]) -> Result<ClKind, AptError> {
+fn cutter(args: &[Piece]) -> Result<ClKind, AptError> {
     let v: Vec<f64> = args.iter().map(|a| a.number("CUTTER")).collect::<Result<_, _>>()?;
     if v[0] <= 0.0 {
         return Err(args[0].error(format!("a cutter diameter is above 0, not {}", v[0])));
