@@ -23,12 +23,8 @@ const T8_1_4: [[f64; 11]; 3] = [
 /// a_y and A; mirroring x negates x, a_x and B.
 fn parallel() -> Vec<[f64; 11]> {
     let [r0, r45, r90] = T8_1_4;
-    let mirror_x = |r: [f64; 11], phi: f64| {
-        [phi, -r[1], r[2], -r[3], r[4], r[5], -r[6], r[7], r[8], r[9], -r[10]]
-    };
-    let mirror_y = |r: [f64; 11], phi: f64| {
-        [phi, r[1], -r[2], r[3], -r[4], r[5], r[6], -r[7], r[8], -r[9], r[10]]
-    };
+    let mirror_x = |r: [f64; 11], phi: f64| [phi, -r[1], r[2], -r[3], r[4], r[5], -r[6], r[7], r[8], r[9], -r[10]];
+    let mirror_y = |r: [f64; 11], phi: f64| [phi, r[1], -r[2], r[3], -r[4], r[5], r[6], -r[7], r[8], -r[9], r[10]];
     let r135 = mirror_x(r45, 135.0);
     let r180 = mirror_x(r0, 180.0);
     vec![
@@ -288,4 +284,81 @@ fn an_opencamlib_tool_path_posts_onto_its_normals() {
             assert!((m[k] - pivot[k]).abs() < 0.0006, "{m:?}: pivot {pivot:?}");
         }
     }
+}
+
+// ---- a ball-end path of ncsheet's own, through its CL file ---------------------------------
+
+/// The bowl z = (x² + y²)/100 and its outward unit normal, here by hand: (−z_x, −z_y, 1)
+/// normalised, z_x = x/50, z_y = y/50.
+fn bowl(x: f64, y: f64) -> (f64, [f64; 3]) {
+    let (zx, zy) = (x / 50.0, y / 50.0);
+    let length = (zx * zx + zy * zy + 1.0).sqrt();
+    ((x * x + y * y) / 100.0, [-zx / length, -zy / length, 1.0 / length])
+}
+
+#[test]
+fn ballpath_cl_posts_with_the_tool_along_the_surface_normal() {
+    if !rs274::available() {
+        eprintln!("skipped: LinuxCNC's rs274 is not installed (bash .ci/run installs linuxcnc-uspace)");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let cl = dir.path().join("bowl.cl");
+    let run = ncsheet(&[
+        "ballpath",
+        "--surface",
+        "(x^2+y^2)/100",
+        "--radius",
+        "3",
+        "--x",
+        "-20:20",
+        "--y",
+        "-15:15",
+        "--stepover",
+        "5",
+        "--step",
+        "4",
+        "--cl",
+        cl.to_str().unwrap(),
+    ]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(run.stdout.is_empty(), "with --cl and no -o only the CL file is written");
+    let text = std::fs::read_to_string(&cl).unwrap();
+    // The contact points, where the tip stands on the surface; the others are the rapids above.
+    let contacts: Vec<([f64; 3], [f64; 3])> =
+        gotos(&text).into_iter().filter(|(t, _)| (t[2] - bowl(t[0], t[1]).0).abs() < 1e-9).collect();
+    // 9 lines of constant x, 5 apart; along each y = −15, −11, … 13 and the edge 15.
+    assert_eq!(contacts.len(), 9 * 9, "{text}");
+    let out = dir.path().join("bowl.ngc");
+    let h = 320.0;
+    let run = ncsheet(&[
+        "post",
+        cl.to_str().unwrap(),
+        "--machine",
+        "ab-head",
+        "--pivot",
+        "320",
+        "--dialect",
+        "linuxcnc",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let feeds: Vec<[f64; 5]> = canonical_moves(&out).into_iter().filter(|m| m.0).map(|m| m.1).collect();
+    assert_eq!(feeds.len(), contacts.len());
+    let mut steepest: f64 = 0.0;
+    for (m, (tip, _)) in feeds.iter().zip(&contacts) {
+        let (_, n) = bowl(tip[0], tip[1]);
+        let (a, b) = (m[3].to_radians(), m[4].to_radians());
+        let axis = [a.cos() * b.sin(), -a.sin(), a.cos() * b.cos()];
+        for k in 0..3 {
+            assert!((axis[k] - n[k]).abs() < 2e-5, "at {tip:?}: head axis {axis:?}, normal {n:?}");
+        }
+        let pivot = [tip[0] + h * n[0], tip[1] + h * n[1], tip[2] + h * (n[2] - 1.0)];
+        for k in 0..3 {
+            assert!((m[k] - pivot[k]).abs() < 0.0006, "at {tip:?}: {m:?}, pivot {pivot:?}");
+        }
+        steepest = steepest.max(m[3].abs()).max(m[4].abs());
+    }
+    assert!(steepest > 15.0, "the path tilts the head: {steepest}");
 }

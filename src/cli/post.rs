@@ -4,9 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
-use ncsheet::nc::post::{
-    part_name, post_ab_head, AbHead, PostOptions, DEFAULT_MAX_SWING, DEFAULT_SINGULAR_MARGIN,
-};
+use ncsheet::nc::post::{part_name, post_ab_head, AbHead, PostOptions, DEFAULT_MAX_SWING, DEFAULT_SINGULAR_MARGIN};
 use ncsheet::nc::{apt, dialect, Machine};
 
 use super::output::emit;

@@ -24,7 +24,10 @@ use std::fmt::{self, Write as _};
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ClSpindle {
     /// Speed in 1/min, clockwise (`CLW`) or not (`CCLW`).
-    Rpm { rpm: f64, clockwise: bool },
+    Rpm {
+        rpm: f64,
+        clockwise: bool,
+    },
     /// `SPINDL/ON`: the last speed again.
     On,
     Off,
@@ -36,7 +39,10 @@ pub enum ClKind {
     PartNo(String),
     /// `PPRINT` text or a `$$` comment line.
     Comment(String),
-    Goto { tip: [f64; 3], axis: Option<[f64; 3]> },
+    Goto {
+        tip: [f64; 3],
+        axis: Option<[f64; 3]>,
+    },
     From([f64; 3]),
     Rapid,
     /// mm/min.
@@ -44,9 +50,16 @@ pub enum ClKind {
     Spindle(ClSpindle),
     Coolant(bool),
     LoadTool(u32),
-    Circle { centre: [f64; 3], axis: [f64; 3], radius: f64 },
+    Circle {
+        centre: [f64; 3],
+        axis: [f64; 3],
+        radius: f64,
+    },
     /// Diameter and, when given, corner radius.
-    Cutter { diameter: f64, corner_radius: Option<f64> },
+    Cutter {
+        diameter: f64,
+        corner_radius: Option<f64>,
+    },
     MultiAxis(bool),
     /// `INTOL`, `OUTTOL` or `TOLER` (the word) and its value.
     Tolerance(&'static str, f64),
@@ -273,11 +286,9 @@ fn slash_arguments(head: &Piece, rest: &[(char, usize, usize)]) -> Result<Vec<Pi
     let slash = rest.iter().position(|c| !c.0.is_whitespace());
     match slash.map(|k| (k, rest[k])) {
         Some((k, ('/', line, column))) => Ok(arguments(&rest[k + 1..], (line, column + 1))),
-        Some((_, (c, line, column))) => Err(AptError {
-            line,
-            column,
-            message: format!("'{c}' after {}: a record is WORD/arguments", head.text),
-        }),
+        Some((_, (c, line, column))) => {
+            Err(AptError { line, column, message: format!("'{c}' after {}: a record is WORD/arguments", head.text) })
+        }
         None if is_known(&head.text) => Err(head.error(format!("{} needs arguments after '/'", head.text))),
         None => Err(unknown(head)),
     }
@@ -319,9 +330,8 @@ fn major(head: &Piece, args: &[Piece]) -> Result<ClKind, AptError> {
         "UNITS" => match single_word(head, args)?.as_str() {
             "MM" => ClKind::UnitsMm,
             other => {
-                return Err(args[0].error(format!(
-                    "UNITS/{other}: only millimetre CL files are read (write the CL file in mm)"
-                )))
+                return Err(args[0]
+                    .error(format!("UNITS/{other}: only millimetre CL files are read (write the CL file in mm)")))
             }
         },
         "INTOL" => ClKind::Tolerance("INTOL", numbers(head, args, 1)?[0]),
@@ -443,10 +453,8 @@ fn tool(args: &[Piece]) -> Result<u32, AptError> {
 
 fn circle(head: &Piece, args: &[Piece]) -> Result<ClKind, AptError> {
     if args.len() < 7 {
-        return Err(args[args.len() - 1].error(format!(
-            "CIRCLE takes xc,yc,zc,i,j,k,r (centre, axis, radius), found {} arguments",
-            args.len()
-        )));
+        return Err(args[args.len() - 1]
+            .error(format!("CIRCLE takes xc,yc,zc,i,j,k,r (centre, axis, radius), found {} arguments", args.len())));
     }
     let v = numbers(head, &args[..7], 7)?;
     for a in &args[7..] {
@@ -537,7 +545,10 @@ mod tests {
         let text = "$$ from the CAM\nGOTO/1,2,3,$\n 0,0,1 $$ tilted\nFINI\nGOTO/9,9,9\n";
         let records = read(text).unwrap();
         assert_eq!(records[0].kind, ClKind::Comment("from the CAM".into()));
-        assert_eq!(records[1], ClRecord { line: 2, kind: ClKind::Goto { tip: [1.0, 2.0, 3.0], axis: Some([0.0, 0.0, 1.0]) } });
+        assert_eq!(
+            records[1],
+            ClRecord { line: 2, kind: ClKind::Goto { tip: [1.0, 2.0, 3.0], axis: Some([0.0, 0.0, 1.0]) } }
+        );
         assert_eq!(records[2].kind, ClKind::End);
         assert_eq!(records.len(), 3, "nothing after FINI is read");
     }
