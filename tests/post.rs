@@ -362,3 +362,39 @@ fn ballpath_cl_posts_with_the_tool_along_the_surface_normal() {
     }
     assert!(steepest > 15.0, "the path tilts the head: {steepest}");
 }
+
+#[test]
+fn a_circle_with_the_tool_tilted_is_the_pivot_s_arc() {
+    if !rs274::available() {
+        eprintln!("skipped: LinuxCNC's rs274 is not installed (bash .ci/run installs linuxcnc-uspace)");
+        return;
+    }
+    // A quarter circle of radius 10 about (0, 0), clockwise seen from +Z (axis −Z), the tool
+    // tilted 30° towards +X all the way: the pivot runs the same circle about
+    // (0 + H·sin 30°, 0) = (50, 0), at z = −H·(1 − cos 30°).
+    let (s, c) = (0.5, 0.75f64.sqrt());
+    let cl = format!(
+        "LOADTL/1\nSPINDL/1000\nFEDRAT/200\nGOTO/10,0,0,{s},0,{c}\nCIRCLE/0,0,0,0,0,-1,10\nGOTO/0,-10,0,{s},0,{c}\n"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("arc.ngc");
+    let run = post(dir.path(), &cl, &["--pivot", "100", "--dialect", "linuxcnc", "-o", out.to_str().unwrap()]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let moves = rs274::moves(&out).unwrap();
+    let z = -100.0 * (1.0 - c);
+    let arc = moves.iter().find_map(|m| match m {
+        rs274::Move::Arc { first_end, second_end, first_centre, second_centre, rotation, axis_end } => {
+            Some((*first_end, *second_end, *first_centre, *second_centre, *rotation, *axis_end))
+        }
+        _ => None,
+    });
+    let (x, y, cx, cy, rotation, arc_z) = arc.unwrap_or_else(|| panic!("no arc: {moves:?}"));
+    for (got, want) in [(x, 50.0), (y, -10.0), (cx, 50.0), (cy, 0.0), (arc_z, z)] {
+        assert!((got - want).abs() < 0.0006, "{moves:?}");
+    }
+    assert_eq!(rotation, -1, "clockwise");
+    // A CIRCLE whose end is off the circle is refused with the GOTO's line.
+    let bad = cl.replace("GOTO/0,-10,0", "GOTO/0,-10.5,0");
+    let run = post(dir.path(), &bad, &["--pivot", "100", "--dialect", "iso"]);
+    assert!(run.code == 1 && run.stderr.contains("line 6 (GOTO)"), "{}", run.stderr);
+}

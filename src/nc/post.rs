@@ -194,7 +194,7 @@ impl<'a> Post<'a> {
         let mut program = Program::new(name, Machine::Mill);
         program.retract = Some(Target { z: Some(clearance), ..Target::default() });
         program.push(Block::Comment(format!(
-            "(A,B) head, pivot H = {} mm: X Y Z are the pivot, A B the head angles",
+            "(A,B) head, pivot H = {} mm: X Y Z are the pivot, A B the head angles; tool length offset 0",
             o.head.pivot
         )));
         program.push(Block::FeedMode(FeedMode::PerMinute));
