@@ -271,9 +271,12 @@ fn parse_record(s: &Statement) -> Result<ClRecord, AptError> {
     Ok(ClRecord { line, kind })
 }
 
-/// A record without arguments: nothing may follow its word.
+/// A record without arguments: nothing may follow its word but an empty `/` (`RAPID/`, as
+/// some CAM systems write it).
 fn bare(head: &Piece, rest: &[(char, usize, usize)]) -> Result<(), AptError> {
-    match rest.iter().find(|c| !c.0.is_whitespace()) {
+    let mut rest = rest.iter().filter(|c| !c.0.is_whitespace()).peekable();
+    rest.next_if(|c| c.0 == '/');
+    match rest.next() {
         None => Ok(()),
         Some(&(c, line, column)) => {
             Err(AptError { line, column, message: format!("{} takes no arguments, found '{c}'", head.text) })
@@ -593,6 +596,8 @@ mod tests {
         let e = read("GOTO/1,2,3,$\n").unwrap_err();
         assert!(e.message.contains("no line follows"), "{e}");
         assert!(read("RAPID 5\n").is_err());
+        assert!(read("RAPID/5\n").is_err());
+        assert_eq!(kinds("RAPID/\nFINI\n"), vec![ClKind::Rapid, ClKind::End]);
     }
 
     #[test]
