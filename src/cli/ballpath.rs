@@ -7,13 +7,14 @@ use std::io::{self, IsTerminal};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use clap::{Args, ValueEnum};
+use clap::{ArgGroup, Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use ncsheet::eval::functions::{describe_gouge, standalone_ball_path};
 use ncsheet::eval::surface::parse_standalone;
 use ncsheet::geometry::ballpath::{BallPath, BallPathSpec, GougeCheck, GougeKind, Lines, Spacing, GOUGE_TOLERANCE};
-use ncsheet::nc::ballpath::{ball_path_program, BallPathNcOptions, ProgrammedPoint};
-use ncsheet::nc::{dialect, Machine};
+use ncsheet::io::Encoded;
+use ncsheet::nc::ballpath::{ball_path_cl, ball_path_program, BallPathNcOptions, ProgrammedPoint};
+use ncsheet::nc::{apt, dialect, Machine};
 
 use super::output::emit;
 use super::report::{prepend, Error, Result};
@@ -42,6 +43,7 @@ use super::report::{prepend, Error, Result};
 /// Excel's precedence applies: -x^2 is (-x)^2; write -(x^2). docs/ballpath.md has the rules
 /// for differentiating the formula and the gouge check.
 #[derive(Debug, Args)]
+#[command(group(ArgGroup::new("written").args(["output", "cl"]).multiple(true)))]
 pub struct BallpathArgs {
     /// The surface: a formula in x and y such as "0.3*EXP(-16*(x^2+y^2))", or LAMBDA(x, y, …)
     #[arg(long, value_name = "EXPR", allow_hyphen_values = true)]
@@ -101,8 +103,13 @@ pub struct BallpathArgs {
     /// Write here instead of to stdout
     #[arg(short, long, value_name = "OUT")]
     pub output: Option<PathBuf>,
+    /// Also write the path as an APT cutter-location file for `ncsheet post`: GOTO/tip,axis with
+    /// the tool axis along the surface normal (the tip along the axis is the contact point);
+    /// with --cl and no -o, only this file is written
+    #[arg(long, value_name = "OUT.cl")]
+    pub cl: Option<PathBuf>,
     /// Replace a read-only or hard-linked OUT
-    #[arg(long, requires = "output")]
+    #[arg(long, requires = "written")]
     pub force: bool,
     /// Print the time spent computing, formatting and writing to stderr
     #[arg(long)]
@@ -174,7 +181,10 @@ pub fn run(args: BallpathArgs) -> Result<()> {
     let text = render(&path, &args)?;
     let formatted = started.elapsed();
     let started = Instant::now();
-    emit(&text, args.output.as_deref(), args.force)?;
+    match &args.cl {
+        Some(cl) => write_with_cl(&path, &args, cl, text)?,
+        None => emit(&text, args.output.as_deref(), args.force)?,
+    }
     if args.timings {
         print_timings(path.points.len(), computed, formatted, started.elapsed());
     }
@@ -292,6 +302,20 @@ fn render(path: &BallPath, args: &BallpathArgs) -> Result<String> {
     dialect.render(&ball_path_program(path, &name, &nc_options(args))).map_err(|e| Error::User(e.to_string()))
 }
 
+/// The CL file and, with -o, the usual output: both written or neither.
+fn write_with_cl(path: &BallPath, args: &BallpathArgs, cl: &Path, text: String) -> Result<()> {
+    if args.output.as_deref() == Some(cl) {
+        return Err(Error::Usage(format!("--cl {} is also -o: give the CL file a name of its own", cl.display())));
+    }
+    let name = args.name.clone().unwrap_or_else(|| stem_name(Some(cl)).unwrap_or_else(|| "BALLPATH".into()));
+    let records = ball_path_cl(path, &name, &nc_options(args));
+    let mut files = vec![Encoded::new(cl, apt::write(&records).into_bytes())];
+    if let Some(out) = &args.output {
+        files.push(Encoded::new(out, text.into_bytes()));
+    }
+    super::write_outputs(&files, false, args.force)
+}
+
 /// `cx,cy,cz,px,py,pz,tx,ty,tz`: ball centre, contact point, tip; numbers as short as read
 /// back exactly.
 fn csv(path: &BallPath) -> String {
@@ -333,13 +357,14 @@ fn program_name(args: &BallpathArgs) -> String {
     if let Some(name) = &args.name {
         return name.clone();
     }
-    let stem = args.output.as_deref().and_then(Path::file_stem).map(|s| s.to_string_lossy().to_string());
-    match stem {
-        Some(s) if !s.is_empty() => {
-            s.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_uppercase() } else { '_' }).collect()
-        }
-        _ => "BALLPATH".to_string(),
-    }
+    stem_name(args.output.as_deref()).unwrap_or_else(|| "BALLPATH".to_string())
+}
+
+/// A file's stem in capitals, `_` for anything not a letter or digit.
+fn stem_name(file: Option<&Path>) -> Option<String> {
+    let stem = file.and_then(Path::file_stem).map(|s| s.to_string_lossy().to_string())?;
+    let name = stem.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_uppercase() } else { '_' }).collect();
+    Some(name).filter(|n: &String| !n.is_empty())
 }
 
 fn print_timings(points: usize, compute: Duration, format: Duration, write: Duration) {

@@ -21,6 +21,7 @@ mod limits;
 mod macros;
 mod nc;
 mod output;
+mod post;
 mod repl;
 pub mod report;
 mod run;
@@ -82,6 +83,7 @@ pub enum Command {
     Show(show::ShowArgs),
     Info(info::InfoArgs),
     Nc(nc::NcArgs),
+    Post(post::PostArgs),
 }
 
 /// Compute a sheet and print its values (all of it, or the cells and ranges named).
@@ -230,6 +232,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Show(args) => show::run(args),
         Command::Info(args) => info::run(args),
         Command::Nc(args) => nc::run(args),
+        Command::Post(args) => post::run(args),
     }
 }
 

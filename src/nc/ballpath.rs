@@ -3,10 +3,11 @@
 //! point, down at the feed, along each raster line; the link to the next line cuts unless
 //! the options ask for a retract.
 
-use nalgebra::Point3;
+use nalgebra::{Point3, Vector3};
 
+use super::apt::{ClKind, ClRecord, ClSpindle};
 use super::program::{Block, FeedMode, Machine, Program, Spindle, SpindleDirection, Target};
-use crate::geometry::ballpath::BallPath;
+use crate::geometry::ballpath::{BallPath, PathPoint};
 
 /// Which point of the ball the program moves.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -89,4 +90,57 @@ pub fn ball_path_program(path: &BallPath, name: &str, o: &BallPathNcOptions) -> 
         }));
     }
     p
+}
+
+/// The tool axis of a ball position for a 5-axis cut: from the contact point to the ball's
+/// centre, the outward surface normal there (a lifted ball touches where it was lifted to).
+pub fn tool_axis(p: &PathPoint) -> Vector3<f64> {
+    (p.centre - p.contact).normalize()
+}
+
+/// The tool tip of a ball-end mill standing along [`tool_axis`]: R from the centre back
+/// along the axis, which is the contact point itself.
+pub fn axial_tip(p: &PathPoint, radius: f64) -> Point3<f64> {
+    p.centre - tool_axis(p) * radius
+}
+
+/// The same finishing path as an APT cutter-location file for a 5-axis post (`ncsheet
+/// post`): each ball position a `GOTO` of the tool tip with the tool axis along the surface
+/// normal, lines linked as in [`ball_path_program`] (`o.point` does not apply: a CL point is
+/// the tip along the axis).
+pub fn ball_path_cl(path: &BallPath, name: &str, o: &BallPathNcOptions) -> Vec<ClRecord> {
+    let r = path.radius;
+    let goto = |tip: Point3<f64>, axis: Vector3<f64>| ClKind::Goto { tip: tip.into(), axis: Some(axis.into()) };
+    let highest = path.points.iter().map(|p| axial_tip(p, r).z).fold(f64::NEG_INFINITY, f64::max);
+    let clearance = o.clearance.unwrap_or((highest + 5.0).ceil());
+    let above = |p: &PathPoint| {
+        let t = axial_tip(p, r);
+        goto(Point3::new(t.x, t.y, clearance), tool_axis(p))
+    };
+    let mut kinds = vec![
+        ClKind::PartNo(name.to_string()),
+        ClKind::Comment(format!("ball-end mill R{r}: GOTO is the tool tip, the tool axis the surface normal")),
+        ClKind::UnitsMm,
+        ClKind::Cutter { diameter: 2.0 * r, corner_radius: Some(r) },
+        ClKind::MultiAxis(true),
+        ClKind::LoadTool(o.tool),
+        ClKind::Spindle(ClSpindle::Rpm { rpm: o.spindle, clockwise: true }),
+        ClKind::Feedrate(o.feed),
+    ];
+    kinds.reserve(path.points.len() + 4 * path.line_starts.len() + 2);
+    for (k, &start) in path.line_starts.iter().enumerate() {
+        let end = path.line_starts.get(k + 1).copied().unwrap_or(path.points.len());
+        if k == 0 || o.retract {
+            if k > 0 {
+                kinds.extend([ClKind::Rapid, above(&path.points[start - 1])]);
+            }
+            kinds.extend([ClKind::Rapid, above(&path.points[start])]);
+        }
+        kinds.extend(path.points[start..end].iter().map(|p| goto(axial_tip(p, r), tool_axis(p))));
+    }
+    if let Some(last) = path.points.last() {
+        kinds.extend([ClKind::Rapid, above(last)]);
+    }
+    kinds.push(ClKind::End);
+    kinds.into_iter().enumerate().map(|(i, kind)| ClRecord { line: i + 1, kind }).collect()
 }

@@ -2,6 +2,7 @@
 //! dialects ([`dialect`]) that write it for a control; beside them what a fitted cam is
 //! designed from and checked by ([`cam_sheet`]). Knows nothing of workbooks or files.
 
+pub mod apt;
 pub mod ballpath;
 pub mod cam;
 pub mod cam_sheet;
@@ -9,6 +10,7 @@ pub mod dda;
 pub mod dialect;
 pub mod format;
 pub mod motion;
+pub mod post;
 pub mod program;
 pub mod read;
 
