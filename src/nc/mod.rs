@@ -11,6 +11,7 @@ pub mod format;
 pub mod motion;
 pub mod program;
 pub mod read;
+pub mod svg;
 
 pub use dialect::{by_name, Dialect, NcError};
 pub use program::{
