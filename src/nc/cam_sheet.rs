@@ -177,7 +177,7 @@ pub fn svg_drawing(fit: &CamFit, options: &SvgOptions) -> String {
         }
     }
     // A bar about a fifth of the largest radius.
-    scale_bar(&mut svg, &mut labels, r_max / 5.0, (x0, y1), stroke, font);
+    scale_bar(&mut svg, &mut labels, r_max / 5.0, 1.0, (x0, y1), stroke, font);
     legend(&mut svg, &mut labels, magnify, (x0, y1 + 2.2 * font), stroke, font);
     svg.push_str("</svg>\n");
     svg

@@ -2,9 +2,11 @@
 //! dialects ([`dialect`]) that write it for a control; beside them what a fitted cam is
 //! designed from and checked by ([`cam_sheet`]). Knows nothing of workbooks or files.
 
+pub mod backplot;
 pub mod ballpath;
 pub mod cam;
 pub mod cam_sheet;
+pub mod check;
 pub mod dda;
 pub mod dialect;
 pub mod format;

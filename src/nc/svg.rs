@@ -19,9 +19,18 @@ pub fn begin(svg: &mut String, width: f64, view: [f64; 4]) {
     let _ = writeln!(svg, "<rect x=\"{x0:.3}\" y=\"{y0:.3}\" width=\"{w:.3}\" height=\"{h:.3}\" fill=\"white\"/>");
 }
 
-/// A bar of a round length (1, 2 or 5 × 10ⁿ mm, the longest not above `target`), its left end
-/// one font size right of `corner` and above it, labelled in mm.
-pub fn scale_bar(svg: &mut String, labels: &mut Labels, target: f64, corner: (f64, f64), stroke: f64, font: f64) {
+/// A bar of a round length (1, 2 or 5 × 10ⁿ mm, the longest not above `target` mm), drawn at
+/// `per_mm` drawing units a millimetre, its left end one font size right of `corner` and
+/// above it, labelled in mm.
+pub fn scale_bar(
+    svg: &mut String,
+    labels: &mut Labels,
+    target: f64,
+    per_mm: f64,
+    corner: (f64, f64),
+    stroke: f64,
+    font: f64,
+) {
     let power = 10f64.powf(target.log10().floor());
     let length = [1.0, 2.0, 5.0, 10.0].into_iter().map(|m| m * power).rfind(|&l| l <= target).unwrap_or(power);
     let (x, y) = (corner.0 + font, corner.1 - font);
@@ -29,7 +38,7 @@ pub fn scale_bar(svg: &mut String, labels: &mut Labels, target: f64, corner: (f6
         svg,
         "<path d=\"M {x:.3} {:.3} V {y:.3} H {:.3} V {:.3}\" fill=\"none\" stroke=\"black\" stroke-width=\"{:.4}\"/>",
         y - 0.5 * font,
-        x + length,
+        x + length * per_mm,
         y - 0.5 * font,
         2.0 * stroke
     );
@@ -37,7 +46,7 @@ pub fn scale_bar(svg: &mut String, labels: &mut Labels, target: f64, corner: (f6
     let decimals = (-power.log10().round()).max(0.0) as usize;
     labels.place(
         svg,
-        &[Point2::new(x + length + 0.5 * font, y)],
+        &[Point2::new(x + length * per_mm + 0.5 * font, y)],
         &format!("{} mm", fixed(length, decimals)),
         0.8 * font,
         "black",
