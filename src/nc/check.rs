@@ -1,7 +1,7 @@
 //! What a programmer checks before a program runs: arcs whose end is off the circle through
 //! their start, cuts with no feed mode, feed, turning spindle or tool before them, cuts from an
-//! unknown position, moves below a stated Z, rapids through the stock and cuts below its
-//! bottom. Each finding names the block of the program model; the command line turns it into
+//! unknown position, moves below a stated Z, rapids through the stock (other than straight
+//! out of a cut) and cuts below its bottom. Each finding names the block of the program model; the command line turns it into
 //! a line. Pure: the geometry is the backplot's.
 
 use super::backplot::{toolpath, Move, MoveKind, PlotError};
@@ -58,7 +58,8 @@ pub fn check(program: &Program, options: &CheckOptions) -> Result<Vec<Finding>, 
             say(format!("the move goes down to Z{}, below --min-z {}", mm(lo[2]), mm(z)));
         }
         if let Some((s_lo, s_hi)) = stock {
-            if m.kind == MoveKind::Rapid && crosses_inside(m.from, m.to, s_lo, s_hi) {
+            if m.kind == MoveKind::Rapid && crosses_inside(m.from, m.to, s_lo, s_hi) && !is_retract(m, program.machine)
+            {
                 say("a rapid move through the stock (G0 in material)".into());
             }
             if m.kind == MoveKind::Feed && lo[2] < s_lo[2] {
@@ -93,7 +94,8 @@ fn state_findings(program: &Program, moves: &[Move]) -> Vec<Finding> {
             Block::Tool(_) => tool = true,
             Block::Spindle(s) => {
                 turning = !matches!(s, Spindle::Stop);
-                said_spindle &= !turning;
+                // After a stop, the next cut without a start is said again.
+                said_spindle &= turning;
             }
             Block::Line { feed: f, .. } | Block::Arc { feed: f, .. } => {
                 feed |= f.is_some();
@@ -148,6 +150,14 @@ fn true_box(machine: Machine, (lo, hi): ([f64; 3], [f64; 3])) -> ([f64; 3], [f64
         Machine::Lathe => ([lo[0] / 2.0, f64::NEG_INFINITY, lo[2]], [hi[0] / 2.0, f64::INFINITY, hi[2]]),
         Machine::Mill => (lo, hi),
     }
+}
+
+/// A rapid straight out of a cut: only along the axis the tool leaves the part by (+Z on a
+/// mill, +X on a lathe). Where a cut left the tool inside the stated stock, the material
+/// above it is gone, so this is not a rapid through the stock.
+fn is_retract(m: &Move, machine: Machine) -> bool {
+    let axis = if machine == Machine::Lathe { 0 } else { 2 };
+    (0..3).all(|i| if i == axis { m.to[i] >= m.from[i] } else { m.to[i] == m.from[i] })
 }
 
 /// Whether the straight move from `a` to `b` passes through the box's inside (touching a face
