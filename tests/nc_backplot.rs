@@ -357,3 +357,15 @@ fn nc_plot_names_the_line_it_cannot_read() {
     assert!(run.stderr.contains("line 3, column 8"), "{}", run.stderr);
     assert!(!out.exists(), "no drawing of a program that does not read");
 }
+
+#[test]
+fn a_program_without_moves_has_nothing_to_plot() {
+    let dir = tempfile::tempdir().unwrap();
+    let program = dir.path().join("p.nc");
+    std::fs::write(&program, "G21 G17 G90\nT1 M6\nS1000 M3\nM30\n").unwrap();
+    let out = dir.path().join("p.svg");
+    let run = ncsheet(&["nc", "plot", program.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_eq!(run.code, 1);
+    assert!(run.stderr.contains("nothing to plot"), "{}", run.stderr);
+    assert!(!out.exists());
+}

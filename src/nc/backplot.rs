@@ -353,7 +353,7 @@ pub fn svg_drawing(path: &Toolpath, plane: Plane, title: &str) -> Result<String,
     }
     let _ = writeln!(out, "</g>");
     let _ = writeln!(out, "<g id=\"marks\" transform=\"scale({k})\">");
-    let start = plane.project(path.moves[0].from);
+    let start = plane.project(path.start().unwrap_or(lo));
     let _ = writeln!(
         out,
         "<circle cx=\"{:.4}\" cy=\"{:.4}\" r=\"{:.5}\" fill=\"none\" stroke=\"{MARK_COLOUR}\" stroke-width=\"{:.5}\"/>",
