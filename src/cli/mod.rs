@@ -20,6 +20,8 @@ mod info;
 mod limits;
 mod macros;
 mod nc;
+mod nc_check;
+mod nc_plot;
 mod output;
 mod post;
 mod repl;

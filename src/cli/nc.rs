@@ -1,19 +1,21 @@
 //! `ncsheet nc …`: NC programs as a control runs them (DOMAIN.md §4): the DDA interpolator's
-//! table for one straight move, and a program's cycle time block by block.
+//! table for one straight move, and a program's cycle time block by block (`nc plot` and
+//! `nc check` are in `nc_plot.rs` and `nc_check.rs`).
 
 use std::io::{self, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::ValueEnum;
 use clap::{Args, Subcommand};
 use ncsheet::nc::dda::{self, DdaRun};
 use ncsheet::nc::motion::{self, BlockTime, Rates};
 use ncsheet::nc::read::{self, Family};
-use ncsheet::nc::Machine;
+use ncsheet::nc::{Machine, Program};
 
 use super::report::{Error, Result};
 
-/// Run NC moves as a control does: the DDA interpolator's table, a program's cycle time.
+/// Run NC moves as a control does: the DDA interpolator's table, a program's cycle time,
+/// its backplot and its check.
 #[derive(Debug, Args)]
 pub struct NcArgs {
     #[command(subcommand)]
@@ -24,6 +26,8 @@ pub struct NcArgs {
 pub enum NcCommand {
     Dda(DdaArgs),
     Time(TimeArgs),
+    Plot(super::nc_plot::PlotArgs),
+    Check(super::nc_check::CheckArgs),
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -86,6 +90,8 @@ pub fn run(args: NcArgs) -> Result<()> {
     match args.command {
         NcCommand::Dda(a) => dda_table(a),
         NcCommand::Time(a) => cycle_time(a),
+        NcCommand::Plot(a) => super::nc_plot::run(a),
+        NcCommand::Check(a) => super::nc_check::run(a),
     }
 }
 
@@ -147,19 +153,30 @@ fn render(run: &DdaRun, letters: &[char]) -> String {
     text
 }
 
-fn cycle_time(args: TimeArgs) -> Result<()> {
-    let name = args.program.display().to_string();
-    let text = std::fs::read_to_string(&args.program).map_err(|e| Error::User(format!("{name}: {e}")))?;
-    let family = match args.dialect {
+/// Reads the program at `path` in `dialect`: the model, each block's source line, and the
+/// file's name for messages.
+pub(super) fn read_program(
+    path: &Path,
+    dialect: ReadDialect,
+    machine: Option<MachineArg>,
+) -> Result<(Program, Vec<usize>, String)> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| Error::User(format!("{name}: {e}")))?;
+    let family = match dialect {
         ReadDialect::Iso => Family::Fanuc,
         ReadDialect::Linuxcnc => Family::LinuxCnc,
     };
-    let machine = args.machine.map(|m| match m {
+    let machine = machine.map(|m| match m {
         MachineArg::Lathe => Machine::Lathe,
         MachineArg::Mill => Machine::Mill,
     });
     let (program, lines) =
         read::read_with_lines(&text, family, machine).map_err(|e| Error::User(format!("{name}: {e}")))?;
+    Ok((program, lines, name))
+}
+
+fn cycle_time(args: TimeArgs) -> Result<()> {
+    let (program, lines, name) = read_program(&args.program, args.dialect, args.machine)?;
     let times = motion::program_times(&program, Rates { accel: args.accel, rapid: args.rapid }).map_err(|e| {
         let at = e.block.and_then(|b| lines.get(b - 1)).map(|l| format!(", line {l}")).unwrap_or_default();
         Error::User(format!("{name}{at}: {}", e.message))

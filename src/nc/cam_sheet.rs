@@ -12,6 +12,7 @@ use std::fmt::Write;
 
 use nalgebra::{Point2, Vector2};
 
+use super::svg::{self, cross, fixed, polyline, scale_bar, Labels};
 use crate::geometry::cam::{by_disc, fit_cam, Arc, CamError, CamFit, CamOptions, Piece, PieceKind, Segment, Turn};
 
 const REQUIRED: [&str; 5] = ["type", "from_deg", "to_deg", "r_start", "r_end"];
@@ -133,14 +134,8 @@ pub fn svg_drawing(fit: &CamFit, options: &SvgOptions) -> String {
     let (w, h) = (x1 - x0, y1 - y0 + legend_h);
     let stroke = r_max / 600.0;
     let mut svg = String::new();
-    let mut labels = Labels { boxes: Vec::new(), bounds: [x0, y0, x0 + w, y0 + h] };
-    let _ = writeln!(
-        svg,
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{:.0}\" height=\"{:.0}\" viewBox=\"{x0:.3} {y0:.3} {w:.3} {h:.3}\" font-family=\"sans-serif\">",
-        options.width,
-        options.width * h / w
-    );
-    let _ = writeln!(svg, "<rect x=\"{x0:.3}\" y=\"{y0:.3}\" width=\"{w:.3}\" height=\"{h:.3}\" fill=\"white\"/>");
+    let mut labels = Labels::new([x0, y0, x0 + w, y0 + h]);
+    svg::begin(&mut svg, options.width, [x0, y0, w, h]);
     let title = format!(
         "disc {} | H = {} mm | {} arcs | deviation x{}",
         if fit.disc.is_empty() { "-" } else { &fit.disc },
@@ -181,7 +176,8 @@ pub fn svg_drawing(fit: &CamFit, options: &SvgOptions) -> String {
             polyline(&mut svg, &[mid, tick], stroke, "grey");
         }
     }
-    scale_bar(&mut svg, &mut labels, r_max, (x0, y1), stroke, font);
+    // A bar about a fifth of the largest radius.
+    scale_bar(&mut svg, &mut labels, r_max / 5.0, 1.0, (x0, y1), stroke, font);
     legend(&mut svg, &mut labels, magnify, (x0, y1 + 2.2 * font), stroke, font);
     svg.push_str("</svg>\n");
     svg
@@ -210,30 +206,6 @@ fn axes(svg: &mut String, labels: &mut Labels, r_max: f64, frame: (f64, f64, f64
     }
 }
 
-/// A bar of a round length (1, 2 or 5 × 10ⁿ mm, about a fifth of the largest radius).
-fn scale_bar(svg: &mut String, labels: &mut Labels, r_max: f64, corner: (f64, f64), stroke: f64, font: f64) {
-    let target = r_max / 5.0;
-    let power = 10f64.powf(target.log10().floor());
-    let length = [1.0, 2.0, 5.0, 10.0].into_iter().map(|m| m * power).rfind(|&l| l <= target).unwrap_or(power);
-    let (x, y) = (corner.0 + font, corner.1 - font);
-    let _ = writeln!(
-        svg,
-        "<path d=\"M {x:.3} {:.3} V {y:.3} H {:.3} V {:.3}\" fill=\"none\" stroke=\"black\" stroke-width=\"{:.4}\"/>",
-        y - 0.5 * font,
-        x + length,
-        y - 0.5 * font,
-        2.0 * stroke
-    );
-    labels.place(
-        svg,
-        &[Point2::new(x + length + 0.5 * font, y)],
-        &format!("{} mm", fixed(length, 0)),
-        0.8 * font,
-        "black",
-        "start",
-    );
-}
-
 /// What each line of the drawing is, under it.
 fn legend(svg: &mut String, labels: &mut Labels, magnify: f64, corner: (f64, f64), stroke: f64, font: f64) {
     let m = fixed(magnify, 0);
@@ -260,58 +232,6 @@ fn legend(svg: &mut String, labels: &mut Labels, magnify: f64, corner: (f64, f64
     }
 }
 
-/// Text labels placed so that none overlaps another: each takes the first of its candidate
-/// places whose box (estimated from the font size) is free and inside the drawing.
-struct Labels {
-    boxes: Vec<[f64; 4]>,
-    bounds: [f64; 4],
-}
-
-impl Labels {
-    fn place(
-        &mut self,
-        svg: &mut String,
-        candidates: &[Point2<f64>],
-        text: &str,
-        size: f64,
-        colour: &str,
-        anchor: &str,
-    ) {
-        for at in candidates {
-            let b = text_box(at.x, at.y, size, text, anchor);
-            let inside =
-                b[0] >= self.bounds[0] && b[1] >= self.bounds[1] && b[2] <= self.bounds[2] && b[3] <= self.bounds[3];
-            if inside && self.boxes.iter().all(|o| !boxes_overlap(o, &b)) {
-                self.boxes.push(b);
-                let _ = writeln!(
-                    svg,
-                    "<text x=\"{:.3}\" y=\"{:.3}\" font-size=\"{size:.3}\" fill=\"{colour}\" text-anchor=\"{anchor}\">{}</text>",
-                    at.x,
-                    at.y,
-                    xml(text)
-                );
-                return;
-            }
-        }
-    }
-}
-
-/// The box a text covers (x0, y0, x1, y1), with a sans-serif glyph taken as 0.66 em wide
-/// (DejaVu Sans digits are 0.636 em), from above the cap height to below the baseline.
-fn text_box(x: f64, y: f64, size: f64, text: &str, anchor: &str) -> [f64; 4] {
-    let width = 0.66 * size * text.chars().count() as f64;
-    let left = match anchor {
-        "middle" => x - width / 2.0,
-        "end" => x - width,
-        _ => x,
-    };
-    [left, y - 0.85 * size, left + width, y + 0.25 * size]
-}
-
-fn boxes_overlap(a: &[f64; 4], b: &[f64; 4]) -> bool {
-    a[0] < b[2] && b[0] < a[2] && a[1] < b[3] && b[1] < a[3]
-}
-
 /// Distance from `q` to the nearest arc, positive where that arc passes outside the curve
 /// (farther from its own centre side than q for a counter-clockwise arc).
 fn signed_deviation(arcs: &[Arc], q: Point2<f64>) -> f64 {
@@ -335,42 +255,4 @@ fn arc_path(svg: &mut String, a: &Arc, width: f64, colour: &str) {
         svg,
         "<path d=\"{d}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"{width:.4}\" stroke-opacity=\"0.6\"/>"
     );
-}
-
-fn polyline(svg: &mut String, points: &[Point2<f64>], width: f64, colour: &str) {
-    let mut pts = String::new();
-    for p in points {
-        let _ = write!(pts, "{:.4},{:.4} ", p.x, -p.y);
-    }
-    let _ = writeln!(
-        svg,
-        "<polyline points=\"{}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"{width:.4}\"/>",
-        pts.trim_end()
-    );
-}
-
-fn cross(svg: &mut String, c: Point2<f64>, size: f64, width: f64, colour: &str) {
-    let (x, y) = (c.x, -c.y);
-    let _ = writeln!(
-        svg,
-        "<path d=\"M {:.4} {y:.4} H {:.4} M {x:.4} {:.4} V {:.4}\" stroke=\"{colour}\" stroke-width=\"{width:.4}\"/>",
-        x - size,
-        x + size,
-        y - size,
-        y + size
-    );
-}
-
-fn xml(text: &str) -> String {
-    text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
-}
-
-/// `v` with `decimals` digits, never "-0".
-fn fixed(v: f64, decimals: usize) -> String {
-    let s = format!("{v:.decimals$}");
-    if s.trim_start_matches('-').chars().all(|c| c == '0' || c == '.') {
-        s.trim_start_matches('-').to_string()
-    } else {
-        s
-    }
 }

@@ -3,9 +3,11 @@
 //! designed from and checked by ([`cam_sheet`]). Knows nothing of workbooks or files.
 
 pub mod apt;
+pub mod backplot;
 pub mod ballpath;
 pub mod cam;
 pub mod cam_sheet;
+pub mod check;
 pub mod dda;
 pub mod dialect;
 pub mod format;
@@ -13,6 +15,7 @@ pub mod motion;
 pub mod post;
 pub mod program;
 pub mod read;
+pub mod svg;
 
 pub use dialect::{by_name, Dialect, NcError};
 pub use program::{
