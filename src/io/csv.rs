@@ -228,7 +228,7 @@ pub fn read_with(bytes: &[u8], delimiter: Option<u8>) -> Result<Workbook, Malfor
             if !field.is_empty() {
                 // A formula that does not parse stays in its cell as `#NAME?` and is listed
                 // by `Workbook::problems`: one bad cell does not stop the file loading.
-                let field = if delimiter == b';' { decimal_point(field) } else { field.into() };
+                let field = if delimiter == b';' { decimal_point_input(field) } else { field.into() };
                 let _ = wb.set_input_deferred(sheet, Pos::new(start.row, col as u32), &field);
             }
         }
@@ -287,14 +287,29 @@ pub fn delimiter_of(bytes: &[u8]) -> u8 {
     }
 }
 
-/// A number typed as `0.8` written into a `;`-separated file as `0,8`, as that file's
-/// spreadsheet reads it (and [`decimal_point`] reads it back); anything else unchanged.
+/// A number typed as `0.8` written into a `;`-separated file as `0,8`, and a formula with
+/// `;` between arguments (`=ROUND(A1*0,5;2)`), as that file's spreadsheet reads them (and
+/// [`decimal_point_input`] reads them back); anything else unchanged.
 fn decimal_comma_input(text: &str) -> String {
+    if text.starts_with('=') {
+        return super::csv_locale::to_semicolon_locale(text);
+    }
     let is_number = matches!(Input::parse(text), Input::Value(Value::Number(_)));
     if is_number && decimal_point(&text.replacen('.', ",", 1)) == text {
         text.replacen('.', ",", 1)
     } else {
         text.to_string()
+    }
+}
+
+/// A field of a `;`-separated file as ncsheet reads it: a number with a decimal comma as
+/// [`decimal_point`], a formula in the Excel syntax (`=ROUND(A1*0,5;2)` →
+/// `=ROUND(A1*0.5,2)`).
+fn decimal_point_input(field: &str) -> String {
+    if field.starts_with('=') {
+        super::csv_locale::from_semicolon_locale(field)
+    } else {
+        decimal_point(field)
     }
 }
 
@@ -447,7 +462,7 @@ pub fn write_with(wb: &Workbook, what: &Export, style: &Style, out: &mut dyn Wri
             let pos = Pos::new(row, col);
             fields.push(match what.content {
                 Content::Values => style.field(&wb.value(what.sheet, pos), pos),
-                Content::Formulas => wb.input(what.sheet, pos).unwrap_or_default(),
+                Content::Formulas => style.typed(&wb.input(what.sheet, pos).unwrap_or_default()),
             });
         }
         writer.write_record(&fields)?;
@@ -456,6 +471,15 @@ pub fn write_with(wb: &Workbook, what: &Export, style: &Style, out: &mut dyn Wri
 }
 
 impl Style<'_> {
+    /// A cell's input as this style's spreadsheet types it (see [`decimal_comma_input`]).
+    fn typed(&self, input: &str) -> String {
+        if self.delimiter == b';' {
+            decimal_comma_input(input)
+        } else {
+            input.to_string()
+        }
+    }
+
     /// The csv text of a value in this style: a number as its cell's format shows it (or
     /// in full), with a decimal comma in a `;` file; anything else as [`value_field`].
     fn field(&self, v: &Value, pos: Pos) -> String {
