@@ -267,23 +267,8 @@ pub fn encode_save_with(
     path: &Path,
     delimiter: Option<u8>,
 ) -> Result<Encoded, Error> {
-    let mut encoded = encode_save_keeping(wb, layout, origin, path, delimiter)?;
-    let replaced = wb.changes().unwrap_or_default().formulas_replaced;
-    let names: Vec<String> = replaced.iter().map(|&(sheet, pos)| wb.cell_name(sheet, pos)).collect();
-    encoded.losses.extend(formulas_replaced(&names));
-    Ok(encoded)
-}
-
-/// [`encode_save`] but for the formulas that edits replaced by constants.
-fn encode_save_keeping(
-    wb: &Workbook,
-    layout: Option<&xlsx::Layout>,
-    origin: &Origin,
-    path: &Path,
-    delimiter: Option<u8>,
-) -> Result<Encoded, Error> {
     let encoded = |bytes, losses| Ok(Encoded { path: path.to_path_buf(), bytes, losses });
-    match (Format::of(path)?, origin) {
+    let kept: Result<Encoded, Error> = match (Format::of(path)?, origin) {
         (Format::Csv, _) if wb.sheet_len() != 1 => {
             Err(Error::new(path, ErrorKind::OneSheetOnly { sheets: wb.sheet_len() }))
         }
@@ -317,7 +302,12 @@ fn encode_save_keeping(
             };
             encoded(bytes, losses)
         }
-    }
+    };
+    let mut encoded = kept?;
+    let replaced = wb.changes().unwrap_or_default().formulas_replaced;
+    let names: Vec<String> = replaced.iter().map(|&(sheet, pos)| wb.cell_name(sheet, pos)).collect();
+    encoded.losses.extend(formulas_replaced(&names));
+    Ok(encoded)
 }
 
 /// Whether two xlsx paths agree on holding macros (.xlsm) or not: a package is kept as it
