@@ -474,6 +474,11 @@ fn a_csv_saved_from_a_workbook_takes_the_delimiter_and_the_locales_formula_synta
     let run = ncsheet(&["eval", &path("semi2.csv"), "B2", "B1", "A2"]);
     assert_eq!(run.code, 0, "{}", run.stderr);
     assert!(["21.25", "22.3", "10.5"].iter().all(|v| run.stdout.contains(v)), "{}", run.stdout);
+    // A field added to one row leaves the rows of unequal length, still read as `;`: 22.3 · 2.
+    let run = ncsheet(&["set", &path("semi.csv"), "D1==B1*2", "-o", &path("semi3.csv")]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let run = ncsheet(&["eval", &path("semi3.csv"), "D1"]);
+    assert_eq!(number(&run.stdout), 44.6, "{}", run.stderr);
     // LibreOffice in a German locale reads the file so: the same formulas, the same values.
     if let Some(soffice) = common::soffice() {
         let fods = german_libreoffice_reads(&soffice, dir.path(), &path("semi2.csv"));

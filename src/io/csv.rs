@@ -252,7 +252,8 @@ struct RecordStart {
 /// a record.
 /// `;` when the file's first lines are `;`-separated (each holds the same number of `;`
 /// outside quotes, and not as many `,` unless every `,` stands between digits, as a decimal
-/// comma does: `a;0,5`), else `,`.
+/// comma does: `a;0,5`; or each holds a `;` and every `,` is such a decimal comma, as rows
+/// of their own length do once a save added a field to some), else `,`.
 pub fn delimiter_of(bytes: &[u8]) -> u8 {
     let lines: Vec<(usize, usize, bool)> = bytes
         .split(|&b| b == b'\n')
@@ -280,7 +281,8 @@ pub fn delimiter_of(bytes: &[u8]) -> u8 {
     let consistent = first > 0 && lines.iter().all(|&(s, _, _)| s == first);
     let decimal = lines.iter().all(|&(_, _, d)| d);
     let commas_separate = !decimal && lines.iter().all(|&(_, c, _)| c > 0 && c == lines[0].1) && lines[0].1 >= first;
-    if consistent && !commas_separate {
+    let ragged = decimal && lines.iter().all(|&(s, _, _)| s > 0);
+    if (consistent && !commas_separate) || ragged {
         b';'
     } else {
         b','
@@ -567,6 +569,9 @@ mod tests {
         assert_eq!(delimiter_of(b"a;b,c\n"), b',');
         assert_eq!(delimiter_of(b"1,5\n2,6\n"), b',');
         assert_eq!(delimiter_of(b"x;y,1\n"), b',');
+        // Rows of their own length, as a save that added a field to one leaves them.
+        assert_eq!(delimiter_of(b"D;40,5;\"=SUM(A1;B1)\"\nf;2,25\n"), b';');
+        assert_eq!(delimiter_of(b"a;b,c\nd;e;f\n"), b',');
     }
 
     #[test]
