@@ -4,24 +4,15 @@
 //! square of their size (their timing is benches/scaling.rs; here, that the answers hold).
 //! Expected values are Excel's documented behaviour and hand arithmetic.
 
+mod common;
+
 use std::time::{Duration, Instant};
 
+use common::sheet::{get, n, set};
 use ncsheet::eval::{Value, XlError};
 use ncsheet::formula::address::parse_cell;
 use ncsheet::vba::{self, ErrorKind, RunOptions};
 use ncsheet::workbook::Workbook;
-
-fn set(wb: &mut Workbook, cell: &str, input: &str) {
-    let _ = wb.set_input(0, parse_cell(cell).unwrap(), input);
-}
-
-fn get(wb: &Workbook, cell: &str) -> Value {
-    wb.value(0, parse_cell(cell).unwrap())
-}
-
-fn n(v: f64) -> Value {
-    Value::Number(v)
-}
 
 /// The messages listed for one cell (what the CLI prints after `Sheet1!A1: `).
 fn problems_at(wb: &Workbook, cell: &str) -> Vec<String> {

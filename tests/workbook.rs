@@ -1,20 +1,11 @@
 //! Recalculation behaviour of the workbook: dependencies, cycles, spills, names.
 
+mod common;
+
+use common::sheet::{get, n, set};
 use ncsheet::eval::{Value, XlError};
 use ncsheet::formula::address::parse_cell;
 use ncsheet::workbook::{ProblemKind, Workbook};
-
-fn set(wb: &mut Workbook, cell: &str, input: &str) {
-    let _ = wb.set_input(0, parse_cell(cell).unwrap(), input);
-}
-
-fn get(wb: &Workbook, cell: &str) -> Value {
-    wb.value(0, parse_cell(cell).unwrap())
-}
-
-fn n(v: f64) -> Value {
-    Value::Number(v)
-}
 
 #[test]
 fn editing_a_cell_updates_its_dependents() {

@@ -269,6 +269,35 @@ fn excel_corpus_agrees_with_excel_for_every_supported_function() {
     assert!(failures.is_empty(), "{} failures:\n{}", failures.len(), failures.join("\n"));
 }
 
+/// The header of a report's summary table.
+const SUMMARY_HEADER: &str =
+    "| formula results | compared | agree | disagree | upstream | unsupported | volatile |\n|---:|---:|---:|---:|---:|---:|---:|";
+
+/// A tally as the cells of a report's row: results, compared, agree (rate), disagree,
+/// upstream, unsupported, volatile.
+fn tally_cells(t: &Tally) -> String {
+    format!(
+        "{} | {} | {} ({}) | {} | {} | {} | {}",
+        t.all(),
+        t.compared(),
+        t.agree,
+        percent(t.agree, t.compared()),
+        t.disagree,
+        t.upstream,
+        t.unsupported,
+        t.volatile
+    )
+}
+
+/// A report's table of workbooks, one row a file.
+fn write_by_file(out: &mut String, per_file: &[(String, Tally)]) {
+    let _ = writeln!(out, "| file | results | compared | agree | disagree | upstream | unsupported | volatile |");
+    let _ = writeln!(out, "|---|---:|---:|---:|---:|---:|---:|---:|");
+    for (file, t) in per_file {
+        let _ = writeln!(out, "| `{file}` | {} |", tally_cells(t));
+    }
+}
+
 /// The public corpus's section of the report.
 fn render_public(run: &CorpusRun) -> String {
     let mut out = String::new();
@@ -282,20 +311,8 @@ fn render_public(run: &CorpusRun) -> String {
         run.per_file.len(),
         run.refused.len()
     );
-    let _ = writeln!(out, "| formula results | compared | agree | disagree | upstream | unsupported | volatile |");
-    let _ = writeln!(out, "|---:|---:|---:|---:|---:|---:|---:|");
-    let _ = writeln!(
-        out,
-        "| {} | {} | {} ({}) | {} | {} | {} | {} |\n",
-        t.all(),
-        t.compared(),
-        t.agree,
-        percent(t.agree, t.compared()),
-        t.disagree,
-        t.upstream,
-        t.unsupported,
-        t.volatile
-    );
+    let _ = writeln!(out, "{SUMMARY_HEADER}");
+    let _ = writeln!(out, "| {} |\n", tally_cells(&t));
     if !run.refused.is_empty() {
         let _ = writeln!(out, "## Refused packages\n");
         for (file, error) in &run.refused {
@@ -308,22 +325,7 @@ fn render_public(run: &CorpusRun) -> String {
         let _ = writeln!(out, "- {}", line.replace('|', "\\|"));
     }
     let _ = writeln!(out, "\n## Public workbooks by file\n");
-    let _ = writeln!(out, "| file | results | compared | agree | disagree | upstream | unsupported | volatile |");
-    let _ = writeln!(out, "|---|---:|---:|---:|---:|---:|---:|---:|");
-    for (file, t) in &run.per_file {
-        let _ = writeln!(
-            out,
-            "| `{file}` | {} | {} | {} ({}) | {} | {} | {} | {} |",
-            t.all(),
-            t.compared(),
-            t.agree,
-            percent(t.agree, t.compared()),
-            t.disagree,
-            t.upstream,
-            t.unsupported,
-            t.volatile
-        );
-    }
+    write_by_file(&mut out, &run.per_file);
     out
 }
 
@@ -349,20 +351,8 @@ fn render(
          *upstream* when it disagrees because a cell it reads disagrees.\n"
     );
     let _ = writeln!(out, "## Summary\n");
-    let _ = writeln!(out, "| formula results | compared | agree | disagree | upstream | unsupported | volatile |");
-    let _ = writeln!(out, "|---:|---:|---:|---:|---:|---:|---:|");
-    let _ = writeln!(
-        out,
-        "| {} | {} | {} ({}) | {} | {} | {} | {} |\n",
-        total.all(),
-        total.compared(),
-        total.agree,
-        percent(total.agree, total.compared()),
-        total.disagree,
-        total.upstream,
-        total.unsupported,
-        total.volatile
-    );
+    let _ = writeln!(out, "{SUMMARY_HEADER}");
+    let _ = writeln!(out, "| {} |\n", tally_cells(&total));
     let _ = writeln!(
         out,
         "Of all formula results in the corpus, {} are computed and agree with Excel.\n",
@@ -388,21 +378,6 @@ fn render(
     let list: Vec<String> = calls.iter().map(|(n, c)| format!("{n} {c}")).collect();
     let _ = writeln!(out, "{}\n", list.join(", "));
     let _ = writeln!(out, "## By file\n");
-    let _ = writeln!(out, "| file | results | compared | agree | disagree | upstream | unsupported | volatile |");
-    let _ = writeln!(out, "|---|---:|---:|---:|---:|---:|---:|---:|");
-    for (file, t) in per_file {
-        let _ = writeln!(
-            out,
-            "| `{file}` | {} | {} | {} ({}) | {} | {} | {} | {} |",
-            t.all(),
-            t.compared(),
-            t.agree,
-            percent(t.agree, t.compared()),
-            t.disagree,
-            t.upstream,
-            t.unsupported,
-            t.volatile
-        );
-    }
+    write_by_file(&mut out, per_file);
     out
 }

@@ -19,8 +19,8 @@ pub struct InfoArgs {
     pub file: PathBuf,
 }
 
-pub fn run(args: InfoArgs) -> Result<()> {
-    let opened = super::open(&args.file)?;
+pub fn run(args: InfoArgs, delimiter: Option<u8>) -> Result<()> {
+    let opened = super::open(&args.file, delimiter)?;
     let wb = &opened.workbook;
     let mut out = BufWriter::new(io::stdout().lock());
     writeln!(out, "{}", args.file.display())?;

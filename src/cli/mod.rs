@@ -4,7 +4,6 @@
 
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
-use std::sync::OnceLock;
 
 use clap::{ArgGroup, Args, Parser, Subcommand};
 use ncsheet::eval::functions::REGISTRY;
@@ -46,19 +45,12 @@ pub struct Cli {
     pub command: Command,
     #[command(flatten)]
     pub limits: limits::LimitArgs,
-    /// The field separator of csv files read: `,`, `;` or `tab` (default: detected from the
-    /// first lines). With `;` a decimal comma is read (0,8), as spreadsheets in such
-    /// locales write it
+    /// The field separator of csv files read, and of a csv saved from a workbook: `,`, `;` or
+    /// `tab` (default: detected from the first lines; a csv keeps its own). With `;` numbers
+    /// have a decimal comma (0,8) and formulas `;` between arguments (=ROUND(A1*0,5;2)), as
+    /// spreadsheets in such locales write them
     #[arg(long, global = true, value_name = "CHAR", value_parser = parse_delimiter)]
     pub delimiter: Option<u8>,
-}
-
-/// `--delimiter`, set once before any file is read.
-static CSV_DELIMITER: OnceLock<u8> = OnceLock::new();
-
-/// The csv delimiter the user asked for, if any.
-pub(crate) fn csv_delimiter() -> Option<u8> {
-    CSV_DELIMITER.get().copied()
 }
 
 fn parse_delimiter(text: &str) -> std::result::Result<u8, String> {
@@ -179,7 +171,7 @@ pub struct ExportArgs {
     #[arg(long)]
     pub raw: bool,
     /// The field separator of the csv written: `,`, `;` (numbers then get a decimal comma)
-    /// or `tab` (default: the input csv's, `,` for a workbook)
+    /// or `tab` (default: the input csv's, else --delimiter's, else `,`)
     #[arg(long, value_name = "CHAR", value_parser = parse_delimiter)]
     pub output_delimiter: Option<u8>,
     /// The sheet to write (default: the first)
@@ -217,29 +209,27 @@ pub struct FunctionsArgs {
 
 pub fn run(cli: Cli) -> Result<()> {
     cli.limits.apply();
-    if let Some(d) = cli.delimiter {
-        let _ = CSV_DELIMITER.set(d);
-    }
+    let delimiter = cli.delimiter;
     match cli.command {
-        Command::Eval(args) => eval(args),
-        Command::Set(args) => set(args),
-        Command::Export(args) => export(args),
-        Command::Repl(args) => repl(args),
+        Command::Eval(args) => eval(args, delimiter),
+        Command::Set(args) => set(args, delimiter),
+        Command::Export(args) => export(args, delimiter),
+        Command::Repl(args) => repl(args, delimiter),
         Command::Functions(args) => functions(args),
         Command::Cam(args) => cam::cam(args),
         Command::Arcfit(args) => cam::arcfit(args),
-        Command::Run(args) => run::run(args),
+        Command::Run(args) => run::run(args, delimiter),
         Command::Ballpath(args) => ballpath::run(args),
         Command::Macros(args) => macros::run(args),
-        Command::Show(args) => show::run(args),
-        Command::Info(args) => info::run(args),
+        Command::Show(args) => show::run(args, delimiter),
+        Command::Info(args) => info::run(args, delimiter),
         Command::Nc(args) => nc::run(args),
         Command::Post(args) => post::run(args),
     }
 }
 
-fn eval(args: EvalArgs) -> Result<()> {
-    let opened = open(&args.file)?;
+fn eval(args: EvalArgs, delimiter: Option<u8>) -> Result<()> {
+    let opened = open(&args.file, delimiter)?;
     if args.check {
         return check(&args.file, &opened);
     }
@@ -285,7 +275,7 @@ fn refuse_huge_prints(wb: &Workbook, sheet: SheetId, selections: &[Selection]) -
     )))
 }
 
-fn set(args: SetArgs) -> Result<()> {
+fn set(args: SetArgs, delimiter: Option<u8>) -> Result<()> {
     let out_path = match (&args.output, args.in_place) {
         (Some(out), false) => {
             let hint = "write elsewhere with -o, or replace it with --in-place";
@@ -296,7 +286,7 @@ fn set(args: SetArgs) -> Result<()> {
         // clap's argument group makes exactly one of them required.
         _ => return Err(Error::Usage("give either -o OUT or --in-place".into())),
     };
-    let opened = open(&args.file)?;
+    let opened = open(&args.file, delimiter)?;
     let mut wb = opened.workbook;
     let sheet = default_sheet(&wb, &args.file, args.sheet.as_deref())?;
     let mut done = Vec::new();
@@ -310,7 +300,7 @@ fn set(args: SetArgs) -> Result<()> {
     }
     wb.recalculate();
     report_problems(&args.file, &wb);
-    let encoded = ncsheet::io::encode_save(&wb, opened.layout.as_ref(), &opened.origin, &out_path)?;
+    let encoded = ncsheet::io::encode_save_with(&wb, opened.layout.as_ref(), &opened.origin, &out_path, delimiter)?;
     write_outputs(&[encoded], args.in_place, args.force)?;
     // What was done, on stderr: stdout stays empty for scripts.
     for (cell_sheet, pos) in done {
@@ -320,22 +310,55 @@ fn set(args: SetArgs) -> Result<()> {
     Ok(())
 }
 
-/// Reads a workbook and tells the user what the import left out.
-fn open(file: &Path) -> Result<ncsheet::io::Opened> {
-    let opened = ncsheet::io::open_with(file, csv_delimiter())?;
+/// Reads a workbook (a csv with `--delimiter`'s separator, if given) and tells the user
+/// what the import left out.
+fn open(file: &Path, delimiter: Option<u8>) -> Result<ncsheet::io::Opened> {
+    let opened = ncsheet::io::open_with(file, delimiter)?;
     for note in &opened.notes {
         eprintln!("ncsheet: {}: note: {note}", file.display());
     }
     Ok(opened)
 }
 
+/// Whose values a workbook stores, as `eval --check` names them, and, when they are not
+/// Excel's, why.
+fn stored_by(opened: &ncsheet::io::Opened) -> (String, Option<String>) {
+    let full_calc = opened.layout.as_ref().is_some_and(|l| l.calculation.full_calc_on_load);
+    match opened.written_by.as_deref() {
+        Some(ncsheet::io::xlsx::WRITTEN_BY) => (
+            "the values ncsheet stored in it".into(),
+            Some("ncsheet wrote this file, so its stored values are not Excel's".into()),
+        ),
+        _ if full_calc => (
+            "the values stored in it".into(),
+            Some(
+                "the file asks to be recalculated when opened (fullCalcOnLoad, as ncsheet's save of an edited \
+                 workbook does), so its stored values are not Excel's results"
+                    .into(),
+            ),
+        ),
+        Some(app) if app.contains("Excel") && !app.contains("Compatible") => ("Excel".into(), None),
+        Some(app) => {
+            let name = app.split('/').next().unwrap_or(app).trim();
+            (
+                format!("the values {name} stored in it"),
+                Some(format!("{name} saved this file, so its stored values are not Excel's")),
+            )
+        }
+        None => {
+            ("the values stored in it".into(), Some("the file does not name the program that stored its values".into()))
+        }
+    }
+}
+
 /// `eval --check`: every cell where ncsheet and Excel's stored value disagree.
 fn check(file: &Path, opened: &ncsheet::io::Opened) -> Result<()> {
     let wb = &opened.workbook;
     let differences = ncsheet::io::xlsx::compare_cached(wb, &opened.cached);
-    // A file ncsheet wrote caches ncsheet's own results: agreeing with them says nothing of Excel.
-    let ours = opened.written_by.as_deref() == Some(ncsheet::io::xlsx::WRITTEN_BY);
-    let (stored, whose) = if ours { ("stored", "the values ncsheet stored in it") } else { ("Excel", "Excel") };
+    // A file another program saved caches that program's results: agreeing with them says
+    // nothing of Excel.
+    let (whose, not_excel) = stored_by(opened);
+    let stored = if not_excel.is_some() { "stored" } else { "Excel" };
     let mut out = BufWriter::new(io::stdout().lock());
     for d in &differences {
         let formula = d.formula.as_deref().unwrap_or("");
@@ -357,8 +380,8 @@ fn check(file: &Path, opened: &ncsheet::io::Opened) -> Result<()> {
     let real = differences.iter().filter(|d| !d.volatile).count();
     let agree = compared - differences.len();
     eprintln!("ncsheet: {}: {agree} of {compared} stored values agree with {whose}", file.display());
-    if ours {
-        eprintln!("ncsheet: {}: note: ncsheet wrote this file, so its stored values are not Excel's", file.display());
+    if let Some(why) = not_excel {
+        eprintln!("ncsheet: {}: note: {why}", file.display());
     }
     if real > 0 {
         return Err(Error::User(format!("{}: {real} cells differ from {whose}", file.display())));
@@ -375,9 +398,9 @@ fn show(v: &ncsheet::eval::Value) -> String {
     }
 }
 
-fn export(args: ExportArgs) -> Result<()> {
+fn export(args: ExportArgs, delimiter: Option<u8>) -> Result<()> {
     refuse_overwriting_inputs(&[&args.file], &[&args.output], "an export cannot replace its input; write elsewhere")?;
-    let opened = open(&args.file)?;
+    let opened = open(&args.file, delimiter)?;
     let wb = &opened.workbook;
     let mut sheet = default_sheet(wb, &args.file, args.sheet.as_deref())?;
     let mut range = None;
@@ -392,17 +415,17 @@ fn export(args: ExportArgs) -> Result<()> {
         ncsheet::io::Origin::Csv(original) => Some(original.delimiter()),
         _ => None,
     };
-    let delimiter = args.output_delimiter.or(read_with);
+    let delimiter = args.output_delimiter.or(read_with).or(delimiter);
     let options = ExportOptions { delimiter, layout: opened.layout.as_ref(), raw: args.raw };
     let encoded = ncsheet::io::encode_export_with(wb, &args.output, &what, &options)?;
     write_outputs(&[encoded], false, args.force)
 }
 
-fn repl(args: ReplArgs) -> Result<()> {
-    let opened = open(&args.file)?;
+fn repl(args: ReplArgs, delimiter: Option<u8>) -> Result<()> {
+    let opened = open(&args.file, delimiter)?;
     let sheet = default_sheet(&opened.workbook, &args.file, args.sheet.as_deref())?;
     report_problems(&args.file, &opened.workbook);
-    repl::run(&args.file, opened, sheet, args.timings)
+    repl::run(&args.file, opened, sheet, args.timings, delimiter)
 }
 
 fn functions(args: FunctionsArgs) -> Result<()> {

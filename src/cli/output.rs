@@ -184,37 +184,59 @@ pub fn table(wb: &Workbook, sheet: SheetId, rect: Rect, shown: &Shown) -> String
         }
     }
     fit_widths(&mut widths, shown.width);
+    // Columns that cannot fit even narrowed come in blocks, each as wide as the terminal.
     let mut out = String::new();
-    for (r, line) in rows.iter().enumerate() {
-        let mut text = String::new();
-        for (i, ((cell, right), w)) in line.iter().zip(&widths).enumerate() {
-            if i > 0 {
-                text.push_str("  ");
-            }
-            let cell = if r > 0 && i > 0 {
-                fit_cell(
-                    cell,
-                    *right,
-                    *w,
-                    wb.value(sheet, Pos::new(rect.first.row + r as u32 - 1, rect.first.col + i as u32 - 1)),
-                )
-            } else {
-                cell.clone()
-            };
-            let cell = &cell;
-            let pad = " ".repeat(w.saturating_sub(cell.chars().count()));
-            if *right {
-                text.push_str(&pad);
-                text.push_str(cell);
-            } else {
-                text.push_str(cell);
-                text.push_str(&pad);
-            }
+    for (k, block) in column_blocks(&widths, shown.width).iter().enumerate() {
+        if k > 0 {
+            out.push('\n');
         }
-        out.push_str(text.trim_end());
-        out.push('\n');
+        for (r, line) in rows.iter().enumerate() {
+            let mut text = String::new();
+            for &i in std::iter::once(&0).chain(block) {
+                let ((cell, right), w) = (&line[i], widths[i]);
+                if i > 0 {
+                    text.push_str("  ");
+                }
+                let cell = if r > 0 && i > 0 {
+                    let pos = Pos::new(rect.first.row + r as u32 - 1, rect.first.col + i as u32 - 1);
+                    fit_cell(cell, *right, w, wb.value(sheet, pos))
+                } else {
+                    cell.clone()
+                };
+                let pad = " ".repeat(w.saturating_sub(cell.chars().count()));
+                if *right {
+                    text.push_str(&pad);
+                    text.push_str(&cell);
+                } else {
+                    text.push_str(&cell);
+                    text.push_str(&pad);
+                }
+            }
+            out.push_str(text.trim_end());
+            out.push('\n');
+        }
     }
     out
+}
+
+/// The value columns (1…) in blocks that fit `limit` beside the row labels (column 0): one
+/// block when they all fit, and at least one column a block.
+fn column_blocks(widths: &[usize], limit: usize) -> Vec<Vec<usize>> {
+    let mut blocks: Vec<Vec<usize>> = Vec::new();
+    let mut used = 0;
+    for (i, &w) in widths.iter().enumerate().skip(1) {
+        match blocks.last_mut() {
+            Some(block) if used + 2 + w <= limit => {
+                block.push(i);
+                used += 2 + w;
+            }
+            _ => {
+                blocks.push(vec![i]);
+                used = widths[0] + 2 + w;
+            }
+        }
+    }
+    blocks
 }
 
 /// Narrows the widest value column by one until the row fits `limit` (columns keep at least

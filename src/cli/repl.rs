@@ -93,11 +93,13 @@ struct Session<'a> {
     origin: Origin,
     /// The file's layout: the number formats values are shown with, and what a save keeps.
     layout: Option<Layout>,
+    /// `--delimiter`: the separator of a csv saved from a workbook that was not one.
+    delimiter: Option<u8>,
 }
 
 /// Runs commands until `quit` or the end of input. Piped, it fails (exit code 1) when any
 /// command failed, so a script notices; each failure was reported when it happened.
-pub fn run(file: &Path, opened: Opened, sheet: SheetId, timings: bool) -> Result<()> {
+pub fn run(file: &Path, opened: Opened, sheet: SheetId, timings: bool, delimiter: Option<u8>) -> Result<()> {
     let interactive = io::stdin().is_terminal();
     let mut lines = if interactive {
         let editor =
@@ -114,7 +116,7 @@ pub fn run(file: &Path, opened: Opened, sheet: SheetId, timings: bool) -> Result
         eprintln!("ncsheet repl on {}: type help for commands", file.display());
     }
     let Opened { workbook: wb, origin, layout, .. } = opened;
-    let mut session = Session { file, wb, sheet, origin, layout };
+    let mut session = Session { file, wb, sheet, origin, layout, delimiter };
     let mut n_failed = 0;
     let stdout = io::stdout();
     while let Some(line) = lines.next(&prompt)? {
@@ -211,7 +213,8 @@ impl Session<'_> {
             _ => return Err(Error::User("save needs one file name: save PATH (or save PATH --force)".into())),
         };
         super::refuse_overwriting_inputs(&[self.file], &[path], "save the session elsewhere")?;
-        let encoded = ncsheet::io::encode_save(&self.wb, self.layout.as_ref(), &self.origin, path)?;
+        let encoded =
+            ncsheet::io::encode_save_with(&self.wb, self.layout.as_ref(), &self.origin, path, self.delimiter)?;
         super::write_outputs(&[encoded], false, force)?;
         writeln!(out, "saved {}", path.display())?;
         Ok(())

@@ -101,7 +101,7 @@ fn parse_arg(text: &str) -> std::result::Result<(String, String), String> {
 /// Deep recursion needs a deep stack: each nested macro call costs a few evaluator frames.
 const STACK_BYTES_PER_LEVEL: usize = 64 * 1024;
 
-pub fn run(args: RunArgs) -> Result<()> {
+pub fn run(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
     let outputs: Vec<&std::path::Path> = args.output.iter().chain(&args.save).map(PathBuf::as_path).collect();
     let hint = "the program and the saved workbook go to new files";
     let mut inputs: Vec<&std::path::Path> = vec![&args.workbook];
@@ -111,15 +111,16 @@ pub fn run(args: RunArgs) -> Result<()> {
     let stack = (8 << 20).max(args.max_depth.saturating_mul(STACK_BYTES_PER_LEVEL));
     // The workbook is not Send, so it is loaded and used on the macro's own thread.
     let dialect_name = d.name();
-    let worker = std::thread::Builder::new().stack_size(stack).spawn(move || run_on_this_thread(args, dialect_name));
+    let worker =
+        std::thread::Builder::new().stack_size(stack).spawn(move || run_on_this_thread(args, dialect_name, delimiter));
     match worker {
         Ok(handle) => handle.join().unwrap_or_else(|_| Err(Error::User("the macro crashed".into()))),
         Err(e) => Err(Error::User(format!("cannot start the macro: {e}"))),
     }
 }
 
-fn run_on_this_thread(args: RunArgs, dialect_name: &'static str) -> Result<()> {
-    let opened = ncsheet::io::open_with(&args.workbook, super::csv_delimiter())?;
+fn run_on_this_thread(args: RunArgs, dialect_name: &'static str, delimiter: Option<u8>) -> Result<()> {
+    let opened = ncsheet::io::open_with(&args.workbook, delimiter)?;
     let mut wb = opened.workbook;
     let (file, source, sub) = macro_source(&args)?;
     let file = &file;
@@ -161,7 +162,7 @@ fn run_on_this_thread(args: RunArgs, dialect_name: &'static str) -> Result<()> {
         }
     }
     if let Some(save) = &args.save {
-        files.push(ncsheet::io::encode_save(&wb, opened.layout.as_ref(), &opened.origin, save)?);
+        files.push(ncsheet::io::encode_save_with(&wb, opened.layout.as_ref(), &opened.origin, save, delimiter)?);
     }
     super::write_outputs(&files, false, args.force)?;
     if let Some(text) = program {

@@ -28,8 +28,8 @@ pub struct ShowArgs {
     pub sheet: Option<String>,
 }
 
-pub fn run(args: ShowArgs) -> Result<()> {
-    let opened = super::open(&args.file)?;
+pub fn run(args: ShowArgs, delimiter: Option<u8>) -> Result<()> {
+    let opened = super::open(&args.file, delimiter)?;
     let wb = &opened.workbook;
     let sheet = super::default_sheet(wb, &args.file, args.sheet.as_deref())?;
     let shown = Shown { layout: opened.layout.as_ref(), ..Shown::default() };

@@ -228,7 +228,7 @@ pub fn read_with(bytes: &[u8], delimiter: Option<u8>) -> Result<Workbook, Malfor
             if !field.is_empty() {
                 // A formula that does not parse stays in its cell as `#NAME?` and is listed
                 // by `Workbook::problems`: one bad cell does not stop the file loading.
-                let field = if delimiter == b';' { decimal_point(field) } else { field.into() };
+                let field = if delimiter == b';' { decimal_point_input(field) } else { field.into() };
                 let _ = wb.set_input_deferred(sheet, Pos::new(start.row, col as u32), &field);
             }
         }
@@ -252,7 +252,8 @@ struct RecordStart {
 /// a record.
 /// `;` when the file's first lines are `;`-separated (each holds the same number of `;`
 /// outside quotes, and not as many `,` unless every `,` stands between digits, as a decimal
-/// comma does: `a;0,5`), else `,`.
+/// comma does: `a;0,5`; or each holds a `;` and every `,` is such a decimal comma, as rows
+/// of their own length do once a save added a field to some), else `,`.
 pub fn delimiter_of(bytes: &[u8]) -> u8 {
     let lines: Vec<(usize, usize, bool)> = bytes
         .split(|&b| b == b'\n')
@@ -280,21 +281,37 @@ pub fn delimiter_of(bytes: &[u8]) -> u8 {
     let consistent = first > 0 && lines.iter().all(|&(s, _, _)| s == first);
     let decimal = lines.iter().all(|&(_, _, d)| d);
     let commas_separate = !decimal && lines.iter().all(|&(_, c, _)| c > 0 && c == lines[0].1) && lines[0].1 >= first;
-    if consistent && !commas_separate {
+    let ragged = decimal && lines.iter().all(|&(s, _, _)| s > 0);
+    if (consistent && !commas_separate) || ragged {
         b';'
     } else {
         b','
     }
 }
 
-/// A number typed as `0.8` written into a `;`-separated file as `0,8`, as that file's
-/// spreadsheet reads it (and [`decimal_point`] reads it back); anything else unchanged.
+/// A number typed as `0.8` written into a `;`-separated file as `0,8`, and a formula with
+/// `;` between arguments (`=ROUND(A1*0,5;2)`), as that file's spreadsheet reads them (and
+/// [`decimal_point_input`] reads them back); anything else unchanged.
 fn decimal_comma_input(text: &str) -> String {
+    if text.starts_with('=') {
+        return super::csv_locale::to_semicolon_locale(text);
+    }
     let is_number = matches!(Input::parse(text), Input::Value(Value::Number(_)));
     if is_number && decimal_point(&text.replacen('.', ",", 1)) == text {
         text.replacen('.', ",", 1)
     } else {
         text.to_string()
+    }
+}
+
+/// A field of a `;`-separated file as ncsheet reads it: a number with a decimal comma as
+/// [`decimal_point`], a formula in the Excel syntax (`=ROUND(A1*0,5;2)` →
+/// `=ROUND(A1*0.5,2)`).
+fn decimal_point_input(field: &str) -> String {
+    if field.starts_with('=') {
+        super::csv_locale::from_semicolon_locale(field)
+    } else {
+        decimal_point(field)
     }
 }
 
@@ -447,7 +464,7 @@ pub fn write_with(wb: &Workbook, what: &Export, style: &Style, out: &mut dyn Wri
             let pos = Pos::new(row, col);
             fields.push(match what.content {
                 Content::Values => style.field(&wb.value(what.sheet, pos), pos),
-                Content::Formulas => wb.input(what.sheet, pos).unwrap_or_default(),
+                Content::Formulas => style.typed(&wb.input(what.sheet, pos).unwrap_or_default()),
             });
         }
         writer.write_record(&fields)?;
@@ -456,6 +473,15 @@ pub fn write_with(wb: &Workbook, what: &Export, style: &Style, out: &mut dyn Wri
 }
 
 impl Style<'_> {
+    /// A cell's input as this style's spreadsheet types it (see [`decimal_comma_input`]).
+    fn typed(&self, input: &str) -> String {
+        if self.delimiter == b';' {
+            decimal_comma_input(input)
+        } else {
+            input.to_string()
+        }
+    }
+
     /// The csv text of a value in this style: a number as its cell's format shows it (or
     /// in full), with a decimal comma in a `;` file; anything else as [`value_field`].
     fn field(&self, v: &Value, pos: Pos) -> String {
@@ -543,6 +569,9 @@ mod tests {
         assert_eq!(delimiter_of(b"a;b,c\n"), b',');
         assert_eq!(delimiter_of(b"1,5\n2,6\n"), b',');
         assert_eq!(delimiter_of(b"x;y,1\n"), b',');
+        // Rows of their own length, as a save that added a field to one leaves them.
+        assert_eq!(delimiter_of(b"D;40,5;\"=SUM(A1;B1)\"\nf;2,25\n"), b';');
+        assert_eq!(delimiter_of(b"a;b,c\nd;e;f\n"), b',');
     }
 
     #[test]

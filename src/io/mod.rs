@@ -20,6 +20,7 @@ use crate::workbook::Workbook;
 
 pub mod atomic;
 pub mod csv;
+pub mod csv_locale;
 pub mod limits;
 pub mod xlsx;
 
@@ -254,22 +255,20 @@ pub fn encode_save(
     origin: &Origin,
     path: &Path,
 ) -> Result<Encoded, Error> {
-    let mut encoded = encode_save_keeping(wb, layout, origin, path)?;
-    let replaced = wb.changes().unwrap_or_default().formulas_replaced;
-    let names: Vec<String> = replaced.iter().map(|&(sheet, pos)| wb.cell_name(sheet, pos)).collect();
-    encoded.losses.extend(formulas_replaced(&names));
-    Ok(encoded)
+    encode_save_with(wb, layout, origin, path, None)
 }
 
-/// [`encode_save`] but for the formulas that edits replaced by constants.
-fn encode_save_keeping(
+/// [`encode_save`] with the delimiter of a csv written anew (`None`: `,`); a csv read from a
+/// file keeps its own.
+pub fn encode_save_with(
     wb: &Workbook,
     layout: Option<&xlsx::Layout>,
     origin: &Origin,
     path: &Path,
+    delimiter: Option<u8>,
 ) -> Result<Encoded, Error> {
     let encoded = |bytes, losses| Ok(Encoded { path: path.to_path_buf(), bytes, losses });
-    match (Format::of(path)?, origin) {
+    let kept: Result<Encoded, Error> = match (Format::of(path)?, origin) {
         (Format::Csv, _) if wb.sheet_len() != 1 => {
             Err(Error::new(path, ErrorKind::OneSheetOnly { sheets: wb.sheet_len() }))
         }
@@ -279,7 +278,10 @@ fn encode_save_keeping(
             csv::write_edited(wb, original, &edited, &mut bytes).map_err(|e| Error::new(path, ErrorKind::Write(e)))?;
             encoded(bytes, Vec::new())
         }
-        (Format::Csv, _) => encode_export(wb, path, &Export { sheet: 0, range: None, content: Content::Formulas }),
+        (Format::Csv, _) => {
+            let whole = Export { sheet: 0, range: None, content: Content::Formulas };
+            encode_export_with(wb, path, &whole, &ExportOptions { delimiter, ..ExportOptions::default() })
+        }
         (Format::Xlsx, Origin::Xlsx(source)) if same_macro_kind(source, path) => {
             let changes = wb.changes().unwrap_or_default();
             match xlsx::patch(source, wb, &changes)? {
@@ -300,7 +302,12 @@ fn encode_save_keeping(
             };
             encoded(bytes, losses)
         }
-    }
+    };
+    let mut encoded = kept?;
+    let replaced = wb.changes().unwrap_or_default().formulas_replaced;
+    let names: Vec<String> = replaced.iter().map(|&(sheet, pos)| wb.cell_name(sheet, pos)).collect();
+    encoded.losses.extend(formulas_replaced(&names));
+    Ok(encoded)
 }
 
 /// Whether two xlsx paths agree on holding macros (.xlsm) or not: a package is kept as it

@@ -6,6 +6,7 @@ pub mod cli;
 pub mod corpus;
 pub mod excel_oracle;
 pub mod rs274;
+pub mod sheet;
 pub mod xlsx;
 
 #[allow(unused_imports)]

@@ -368,8 +368,11 @@ pub fn libreoffice_convert(soffice: &Path, profile: &str, inputs: &[PathBuf], ou
     for batch in inputs.chunks(40) {
         run_soffice(soffice, profile, batch, out);
     }
-    let missing: Vec<PathBuf> =
-        inputs.iter().filter(|p| !out.join(p.file_name().expect("file name")).exists()).cloned().collect();
+    let missing: Vec<PathBuf> = inputs
+        .iter()
+        .filter(|p| !out.join(p.file_name().expect("file name")).with_extension("xlsx").exists())
+        .cloned()
+        .collect();
     for batch in missing.chunks(10) {
         run_soffice(soffice, profile, batch, out);
     }

@@ -13,7 +13,7 @@ use crate::eval::Value;
 use crate::formula::address::{parse_cell, Pos, Rect};
 use crate::formula::print::number_literal;
 
-use super::sheet_span::skip_delimited;
+use super::sheet_span::{self, is_name_byte, skip_delimited};
 use super::xml::{for_each_tag, unescape};
 
 /// A linked range larger than this stays as written (and shows `#NAME?`): an array constant
@@ -75,31 +75,7 @@ pub fn resolve_links<'t>(text: &'t str, books: &[Option<ExternalBook>]) -> Cow<'
         return Cow::Borrowed(text);
     }
     let bytes = text.as_bytes();
-    let mut out = String::new();
-    let mut copied = 0;
-    let mut i = 0;
-    while i < bytes.len() {
-        if bytes[i] == b'"' {
-            i = skip_delimited(bytes, i);
-            continue;
-        }
-        let starts_token = i == 0 || !is_name_byte(bytes[i - 1]) && !matches!(bytes[i - 1], b']' | b'!');
-        if starts_token && matches!(bytes[i], b'[' | b'\'') {
-            if let Some((end, literal)) = link_at(text, i, books) {
-                out.push_str(&text[copied..i]);
-                out.push_str(&literal);
-                copied = end;
-                i = end;
-                continue;
-            }
-        }
-        i += if bytes[i] == b'\'' { skip_delimited(bytes, i) - i } else { 1 };
-    }
-    if copied == 0 {
-        return Cow::Borrowed(text);
-    }
-    out.push_str(&text[copied..]);
-    Cow::Owned(out)
+    sheet_span::replace_tokens(text, |at| matches!(bytes[at], b'[' | b'\'').then(|| link_at(text, at, books))?)
 }
 
 /// `[n]Sheet!ref`, `'[n]Sheet'!ref`, `[n]!Name` or `[n]Sheet!Name` at `at`: where it ends
@@ -205,10 +181,6 @@ fn literal(v: &Value) -> String {
         Value::Error(e) => e.to_string(),
         _ => "0".to_string(),
     }
-}
-
-fn is_name_byte(b: u8) -> bool {
-    b.is_ascii_alphanumeric() || b == b'_' || b == b'.' || b >= 0x80
 }
 
 #[cfg(test)]

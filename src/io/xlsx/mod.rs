@@ -67,9 +67,14 @@ pub struct Imported {
     pub written_by: Option<String>,
 }
 
-/// What ncsheet writes as the application that saved a file (Excel and LibreOffice write their
-/// own name when they save it again).
+/// How ncsheet names itself as the last author (`docProps/core.xml`'s `lastModifiedBy`) of
+/// a workbook it writes new; Excel and LibreOffice write their user's name when they save it
+/// again.
 pub const WRITTEN_BY: &str = "ncsheet";
+
+/// The `Application` of a workbook ncsheet writes new (rust_xlsxwriter's): LibreOffice reads
+/// the references of a package named otherwise in its own syntax.
+pub const NEW_WORKBOOK_APPLICATION: &str = "Microsoft Excel";
 
 /// A value Excel computed and stored in the file.
 #[derive(Clone, Debug, PartialEq)]

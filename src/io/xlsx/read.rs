@@ -31,6 +31,7 @@ use super::sheet_xml::{self, CellXml, FormulaXml, ScanError, SheetScan};
 use super::tables::{self, Table};
 use super::xml::StreamError;
 use super::{syntax, ArrayFormula, CachedValue, ErrorKind, Imported, Layout, SheetLayout, XlsxError};
+use super::{NEW_WORKBOOK_APPLICATION, WRITTEN_BY};
 
 /// Reads an .xlsx or .xlsm file into a recalculated workbook.
 pub fn load(path: &Path) -> Result<Imported, XlsxError> {
@@ -39,13 +40,37 @@ pub fn load(path: &Path) -> Result<Imported, XlsxError> {
     load_bytes(&bytes, path)
 }
 
-/// The program that last saved the package (`docProps/app.xml`'s `Application`), if it says.
-fn application(package: &mut Package) -> Option<String> {
-    let bytes = package.read_optional("docProps/app.xml").ok()??;
+/// The program that last saved the package, if it says: [`WRITTEN_BY`] for a workbook
+/// ncsheet wrote new, else `docProps/app.xml`'s `Application`. ncsheet cannot name itself in
+/// app.xml (LibreOffice reads a package whose Application is not Excel's with its own
+/// reference syntax), so it names itself as core.xml's last author, which Excel and
+/// LibreOffice replace when they save the file again.
+fn written_by(package: &mut Package) -> Option<String> {
+    let application = element_text(package, "docProps/app.xml", "Application");
+    let last_author = element_text(package, "docProps/core.xml", "lastModifiedBy");
+    match (application, last_author) {
+        (Some(app), Some(author)) if app == NEW_WORKBOOK_APPLICATION && author == WRITTEN_BY => {
+            Some(WRITTEN_BY.to_string())
+        }
+        (application, _) => application,
+    }
+}
+
+/// The text of the first element named `local` (with any namespace prefix) of a part.
+fn element_text(package: &mut Package, part: &str, local: &str) -> Option<String> {
+    let bytes = package.read_optional(part).ok()??;
     let text = String::from_utf8(bytes).ok()?;
-    let start = text.find("<Application>")? + "<Application>".len();
-    let end = start + text[start..].find("</Application>")?;
-    Some(text[start..end].trim().to_string())
+    let mut rest = text.as_str();
+    while let Some(at) = rest.find('<') {
+        rest = &rest[at + 1..];
+        let tag = &rest[..rest.find('>')?];
+        let name = tag.split_whitespace().next().unwrap_or("");
+        if name.rsplit(':').next() == Some(local) && !name.starts_with('/') && !tag.ends_with('/') {
+            let body = &rest[tag.len() + 1..];
+            return Some(body[..body.find('<')?].trim().to_string());
+        }
+    }
+    None
 }
 
 /// Reads xlsx bytes into a recalculated workbook; `file` names them in errors.
@@ -64,7 +89,7 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
             return Err(damaged_workbook_part(&mut package, file).unwrap_or_else(|| calamine_error(file, None, e)))
         }
     };
-    let written_by = application(&mut package);
+    let written_by = written_by(&mut package);
     let mut imported = Imported {
         workbook: Workbook::new(),
         cached: Vec::new(),

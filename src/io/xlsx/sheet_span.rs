@@ -13,6 +13,12 @@ pub fn expand_sheet_spans<'t>(text: &'t str, sheets: &[String]) -> Cow<'t, str> 
     if sheets.len() < 2 || !text.contains(':') || !text.contains('!') {
         return Cow::Borrowed(text);
     }
+    replace_tokens(text, |at| span_at(text, at, sheets))
+}
+
+/// The formula text with each token `replace` knows (given where it starts, outside text
+/// and quoted names, not within a name or reference: `Some((end, replacement))`) replaced.
+pub(super) fn replace_tokens(text: &str, mut replace: impl FnMut(usize) -> Option<(usize, String)>) -> Cow<'_, str> {
     let bytes = text.as_bytes();
     let mut out = String::new();
     let mut copied = 0;
@@ -24,9 +30,9 @@ pub fn expand_sheet_spans<'t>(text: &'t str, sheets: &[String]) -> Cow<'t, str> 
         }
         let starts_token = i == 0 || !is_name_byte(bytes[i - 1]) && !matches!(bytes[i - 1], b'!' | b']' | b'\'');
         if starts_token {
-            if let Some((end, expanded)) = span_at(text, i, sheets) {
+            if let Some((end, replacement)) = replace(i) {
                 out.push_str(&text[copied..i]);
-                out.push_str(&expanded);
+                out.push_str(&replacement);
                 copied = end;
                 i = end;
                 continue;
@@ -122,7 +128,7 @@ fn sheet_name(text: &str, at: usize) -> Option<(String, usize)> {
     (len > 0).then(|| (text[at..at + len].to_string(), at + len))
 }
 
-fn is_name_byte(b: u8) -> bool {
+pub(super) fn is_name_byte(b: u8) -> bool {
     b.is_ascii_alphanumeric() || b == b'_' || b == b'.' || b >= 0x80
 }
 

@@ -86,6 +86,8 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
     // Level 6 (the default) spends most of an export compressing; level 2 is several times
     // faster for files a tenth larger.
     book.set_zip_compression_level(2);
+    // Says that the values stored are ncsheet's, not Excel's (see `WRITTEN_BY`).
+    book.set_properties(&rust_xlsxwriter::DocProperties::new().set_author(super::WRITTEN_BY));
     let mut formats: HashMap<&str, Format> = HashMap::new();
     let names = wb.sheet_names();
     // Per sheet, constants rust_xlsxwriter cannot write, as written over their placeholders.
@@ -254,7 +256,7 @@ fn rewrite_constants(
             .filter(|cells| !cells.is_empty());
         // docProps/app.xml keeps rust_xlsxwriter's `Microsoft Excel`: LibreOffice reads a
         // package whose Application is not Excel's with its own reference syntax (ADDRESS then
-        // writes `Sheet2.$C$2`), so ncsheet cannot name itself there (FIXME #17: another mark).
+        // writes `Sheet2.$C$2`); ncsheet names itself in core.xml instead (`WRITTEN_BY`).
         let Some(cells) = cells else {
             out.raw_copy_file(entry)?;
             continue;
