@@ -52,7 +52,7 @@ mod text_more;
 mod text_split;
 pub mod vba;
 
-pub use geometry::{describe_gouge, formula_ball_path, standalone_ball_path};
+pub use geometry::{describe_gouge, formula_ball_path, standalone_ball_path, PathFailure};
 pub use logic::{as_lambda, Lambda};
 pub use random::seed_random;
 pub use text_format::NumberFormat;
