@@ -428,3 +428,29 @@ fn a_macro_stops_at_the_timeout_with_its_line_and_max_seconds_is_the_same_option
         assert!(took < Duration::from_secs(10), "{option}: {took:?}");
     }
 }
+
+#[test]
+fn csv_export_of_one_far_cell_costs_the_cells_that_exist() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("far.csv"), "1,2\n3,4\n").unwrap();
+    let (code, _, err, _) = ncsheet(dir.path(), &["set", "far.csv", "XFD1048576=7", "-o", "far.xlsx"]);
+    assert_eq!(code, 0, "{err}");
+    for (from, to) in [("far.xlsx", "out.csv"), ("far.csv", "copy.csv")] {
+        if from == "far.csv" {
+            let (code, _, err, _) = ncsheet(dir.path(), &["set", "far.csv", "XFD1048576=7", "--in-place"]);
+            assert_eq!(code, 0, "{err}");
+        }
+        let (code, _, err, took) = ncsheet(dir.path(), &["export", from, "-o", to]);
+        assert_eq!(code, 0, "{from}: {err}");
+        assert!(took < Duration::from_secs(20), "{from}: {took:?}");
+        // A line per row and a field per column up to the one far cell: about a MiB, not the
+        // 17 billion fields of the full table.
+        let size = std::fs::metadata(dir.path().join(to)).unwrap().len();
+        assert!(size < 2 << 20, "{from}: {size} bytes");
+        // It reads back as the same sheet.
+        let (code, out, err, _) = ncsheet(dir.path(), &["eval", to, "A1", "B2", "XFD1048576", "XFC1048576"]);
+        assert_eq!(code, 0, "{err}");
+        let values: Vec<&str> = out.lines().map(|l| l.rsplit(' ').next().unwrap()).collect();
+        assert_eq!(values, ["1", "4", "7", ""], "{out}");
+    }
+}

@@ -972,7 +972,7 @@ impl Interp<'_, '_> {
                 wb.set_input_deferred(sheet, pos, &input_text(&item)).map_err(|e| self.fault(one_line(&e)))?;
             }
         }
-        wb.recalculate();
+        wb.recalculate_rect(sheet, rect);
         Ok(())
     }
 }
