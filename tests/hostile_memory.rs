@@ -454,3 +454,13 @@ fn csv_export_of_one_far_cell_costs_the_cells_that_exist() {
         assert_eq!(values, ["1", "4", "7", ""], "{out}");
     }
 }
+
+#[test]
+fn a_max_depth_past_ncsheets_limit_is_a_usage_error_naming_the_range() {
+    let dir = tempfile::tempdir().unwrap();
+    macro_files(dir.path(), "    Debug.Print 1");
+    let (code, _, err, _) = ncsheet(dir.path(), &["run", "m.csv", "m.bas", "--max-depth", "1000000"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--max-depth") && err.contains("1 to 10000"), "{err}");
+    assert!(!err.contains("os error"), "{err}");
+}
