@@ -27,6 +27,15 @@ const DEFAULT_SIZES: &[&str] = &[
     "offset-50000",
     "offset-100000",
     "offset-200000",
+    "offset-edits-50000",
+    "offset-edits-100000",
+    "offset-edits-200000",
+    "self-offset-50000",
+    "self-offset-100000",
+    "self-offset-200000",
+    "far-csv-50000",
+    "far-csv-100000",
+    "far-csv-200000",
     "sheets-25000",
     "sheets-50000",
     "sheets-100000",
@@ -45,6 +54,12 @@ enum Kind {
     CircEdits,
     /// A1 = 1, Ak = `OFFSET(A(k-1),0,0)+1`: every reference made at run time.
     Offset,
+    /// The same column written one cell at a time, each edit recalculating.
+    OffsetEdits,
+    /// A1 = 1, Ak = `OFFSET(Ak,-1,0)+1`: each cell moves its own reference to the cell above.
+    SelfOffset,
+    /// N numbers in column A and one cell at XFD1048576, exported as csv.
+    FarCsv,
     /// N sheets added one by one, each with its number in A1, and one formula reading the
     /// last by name and through INDIRECT.
     Sheets,
@@ -65,9 +80,12 @@ impl Case {
             "circ" => Kind::Circ,
             "circ-edits" => Kind::CircEdits,
             "offset" => Kind::Offset,
+            "offset-edits" => Kind::OffsetEdits,
+            "self-offset" => Kind::SelfOffset,
+            "far-csv" => Kind::FarCsv,
             "sheets" => Kind::Sheets,
             "xlsx-sheets" => Kind::XlsxSheets,
-            _ => return Err(format!("unknown case kind in {name:?} (circ, circ-edits, offset, sheets, xlsx-sheets)")),
+            _ => return Err(format!("unknown case kind in {name:?} (circ, circ-edits, offset, offset-edits, self-offset, far-csv, sheets, xlsx-sheets)")),
         };
         let n: u32 = n.parse().ok().filter(|&n| n >= 2).ok_or_else(|| format!("bad size in {name:?}"))?;
         Ok(Case { name: name.to_string(), kind, n })
@@ -109,6 +127,40 @@ fn build(case: &Case, xlsx: Option<&std::path::Path>) -> Result<Workbook, String
             wb.recalculate();
             Ok(wb)
         }
+        Kind::OffsetEdits => {
+            let mut wb = Workbook::with_sheet();
+            wb.set_input(0, at(0, 0), "1").map_err(|e| e.to_string())?;
+            for k in 2..=case.n {
+                let formula = format!("=OFFSET(A{},0,0)+1", k - 1);
+                wb.set_input(0, at(k - 1, 0), &formula).map_err(|e| e.to_string())?;
+            }
+            Ok(wb)
+        }
+        Kind::SelfOffset => {
+            let mut wb = Workbook::with_sheet();
+            set(&mut wb, 0, at(0, 0), "1")?;
+            for k in 2..=case.n {
+                set(&mut wb, 0, at(k - 1, 0), &format!("=OFFSET(A{k},-1,0)+1"))?;
+            }
+            wb.recalculate();
+            Ok(wb)
+        }
+        Kind::FarCsv => {
+            let mut wb = Workbook::with_sheet();
+            for k in 1..=case.n {
+                set(&mut wb, 0, at(k - 1, 0), &k.to_string())?;
+            }
+            set(&mut wb, 0, at(1_048_575, 16_383), "7")?;
+            wb.recalculate();
+            let what = ncsheet::io::Export { sheet: 0, range: None, content: ncsheet::io::Content::Values };
+            let mut bytes = Vec::new();
+            ncsheet::io::csv::write(&wb, &what, &mut bytes).map_err(|e| e.to_string())?;
+            // About a MiB of line ends and commas, and the numbers: not 17 billion fields.
+            if bytes.len() > 4 << 20 {
+                return Err(format!("{}: the csv has {} bytes", case.name, bytes.len()));
+            }
+            Ok(wb)
+        }
         Kind::Sheets => {
             let wb = sheets_book(case.n)?;
             Ok(wb)
@@ -145,7 +197,7 @@ fn check(case: &Case, wb: &Workbook) -> Result<(), String> {
                 return fail(format!("{} circular references reported, not {n}", wb.cycles().len()));
             }
         }
-        Kind::Offset => {
+        Kind::Offset | Kind::OffsetEdits | Kind::SelfOffset | Kind::FarCsv => {
             let last = wb.value(0, at(n - 1, 0));
             if last != Value::Number(n as f64) {
                 return fail(format!("A{n} is {last:?}, not {n}"));

@@ -311,3 +311,156 @@ fn collect_workbooks(dir: &Path, out: &mut Vec<PathBuf>) {
         }
     }
 }
+
+// ---------------------------------------------------------------------------------------
+// Macros: strings, arrays and output past ncsheet's limits
+
+/// Writes `body` as the Sub Main of `m.bas` beside a one-cell workbook `m.csv`.
+fn macro_files(dir: &Path, body: &str) {
+    std::fs::write(dir.join("m.csv"), "1\n").unwrap();
+    std::fs::write(dir.join("m.bas"), format!("Sub Main()\n{body}\nEnd Sub\n")).unwrap();
+}
+
+#[test]
+fn macro_strings_past_their_limit_stop_the_macro_naming_the_limit_and_the_option() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = [
+        ("doubling", "    Dim s\n    s = \"x\"\n    Do\n        s = s & s\n    Loop", 5),
+        ("replace", "    Dim s\n    s = \"ab\"\n    Do\n        s = Replace(s, \"a\", \"aa\")\n    Loop", 5),
+        ("space", "    Dim s\n    s = Space(1E+9)", 3),
+        ("space-in-call", "    Debug.Print Len(Space(2E+9))", 2),
+    ];
+    for (name, body, line) in cases {
+        macro_files(dir.path(), body);
+        let (code, _, err, _) = ncsheet(dir.path(), &["run", "m.csv", "m.bas"]);
+        assert_eq!(code, 1, "{name}: {err}");
+        for word in ["16777216 characters", "--max-string", &format!("m.bas:{line}:")] {
+            assert!(err.contains(word), "{name}: '{word}' missing from: {err}");
+        }
+    }
+}
+
+#[test]
+fn max_string_raises_and_lowers_the_macro_string_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    // 20 million characters: past the default, within a raised limit.
+    macro_files(dir.path(), "    Debug.Print Len(Space(20000000) & \"ab\")");
+    refused(dir.path(), &["run", "m.csv", "m.bas"], &["--max-string"]);
+    let (code, _, err, _) = ncsheet(dir.path(), &["run", "m.csv", "m.bas", "--max-string", "33554432"]);
+    assert_eq!((code, err.trim()), (0, "20000002"));
+    refused(dir.path(), &["run", "m.csv", "m.bas", "--max-string", "100"], &["100 characters", "--max-string"]);
+    let (code, _, err, _) = ncsheet(dir.path(), &["run", "m.csv", "m.bas", "--max-string", "4294967296"]);
+    assert!(code == 2 && err.contains("--max-string") && err.contains("1073741824"), "{err}");
+}
+
+#[test]
+fn macro_arrays_past_their_limit_stop_the_macro_naming_the_limit_and_the_option() {
+    let dir = tempfile::tempdir().unwrap();
+    for (body, items) in [
+        ("    Dim a(1 To 2000000000)", "2000000000 items"),
+        ("    Dim a(1 To 100000, 1 To 100000)", "10000000000 items"),
+        ("    Dim a()\n    ReDim a(0 To 20000000)", "20000001 items"),
+    ] {
+        macro_files(dir.path(), body);
+        refused(dir.path(), &["run", "m.csv", "m.bas"], &[items, "10000000", "--max-array-items"]);
+    }
+    macro_files(dir.path(), "    Dim a(1 To 20)\n    a(20) = 5\n    Debug.Print UBound(a) + a(20)");
+    refused(dir.path(), &["run", "m.csv", "m.bas", "--max-array-items", "19"], &["20 items", "--max-array-items"]);
+    let (code, _, err, _) = ncsheet(dir.path(), &["run", "m.csv", "m.bas", "--max-array-items", "20"]);
+    assert_eq!((code, err.trim()), (0, "25"));
+}
+
+#[test]
+fn print_and_msgbox_floods_stop_at_the_output_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let megabyte = "    Dim s\n    s = Space(1048575) & \"|\"\n    Do\n";
+    // Everything up to the limit is written: 63 lines of a MiB and their line ends, or 64 MiB
+    // on one line left open.
+    for (name, statement, lines) in [
+        ("print", "        Debug.Print s", 63),
+        ("msgbox", "        MsgBox s", 63),
+        ("open line", "        Debug.Print s;", 64),
+    ] {
+        macro_files(dir.path(), &format!("{megabyte}{statement}\n    Loop"));
+        let (code, _, err, _) = ncsheet(dir.path(), &["run", "m.csv", "m.bas"]);
+        assert_eq!(code, 1, "{name}");
+        assert!(err.contains("67108864 bytes") && err.contains("--max-output"), "{name}: {}", &err[err.len() - 400..]);
+        assert!(err.contains("m.bas:5:"), "{name}: {}", &err[err.len() - 400..]);
+        // (The message's caret line has a `|` after a few spaces only.)
+        let written = err.matches(&format!("{}|", " ".repeat(100))).count();
+        assert_eq!(written, lines, "{name}");
+    }
+    macro_files(dir.path(), &format!("{megabyte}        Debug.Print s\n    Loop"));
+    refused(dir.path(), &["run", "m.csv", "m.bas", "--max-output", "3M"], &["3145728 bytes", "--max-output"]);
+}
+
+#[test]
+fn macro_output_is_written_as_it_happens() {
+    let dir = tempfile::tempdir().unwrap();
+    macro_files(dir.path(), "    Dim i\n    Debug.Print \"started\"\n    Do\n        i = i + 1\n    Loop");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_ncsheet"))
+        .args(["run", "m.csv", "m.bas", "--max-statements", "100000000000", "--timeout", "60"])
+        .current_dir(dir.path())
+        .stdin(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stderr = std::io::BufReader::new(child.stderr.take().unwrap());
+    let mut first = String::new();
+    std::io::BufRead::read_line(&mut stderr, &mut first).unwrap();
+    // The macro is still looping: the line came before the run ended.
+    let running = child.try_wait().unwrap().is_none();
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert_eq!(first, "started\n");
+    assert!(running, "the line came only when the macro had ended");
+}
+
+#[test]
+fn a_macro_stops_at_the_timeout_with_its_line_and_max_seconds_is_the_same_option() {
+    let dir = tempfile::tempdir().unwrap();
+    let body = "    Dim i, s\n    For i = 1 To 100000\n        s = Evaluate(\"SUM(SEQUENCE(100000))\")\n    Next";
+    macro_files(dir.path(), body);
+    for option in ["--timeout", "--max-seconds"] {
+        let (code, _, err, took) = ncsheet(dir.path(), &["run", "m.csv", "m.bas", option, "1"]);
+        assert_eq!(code, 1, "{option}: {err}");
+        assert!(err.contains("--timeout of 1 s") && err.contains("m.bas:"), "{option}: {err}");
+        assert!(took < Duration::from_secs(10), "{option}: {took:?}");
+    }
+}
+
+#[test]
+fn csv_export_of_one_far_cell_costs_the_cells_that_exist() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("far.csv"), "1,2\n3,4\n").unwrap();
+    let (code, _, err, _) = ncsheet(dir.path(), &["set", "far.csv", "XFD1048576=7", "-o", "far.xlsx"]);
+    assert_eq!(code, 0, "{err}");
+    for (from, to) in [("far.xlsx", "out.csv"), ("far.csv", "copy.csv")] {
+        if from == "far.csv" {
+            let (code, _, err, _) = ncsheet(dir.path(), &["set", "far.csv", "XFD1048576=7", "--in-place"]);
+            assert_eq!(code, 0, "{err}");
+        }
+        let (code, _, err, took) = ncsheet(dir.path(), &["export", from, "-o", to]);
+        assert_eq!(code, 0, "{from}: {err}");
+        assert!(took < Duration::from_secs(20), "{from}: {took:?}");
+        // A line per row and a field per column up to the one far cell: about a MiB, not the
+        // 17 billion fields of the full table.
+        let size = std::fs::metadata(dir.path().join(to)).unwrap().len();
+        assert!(size < 2 << 20, "{from}: {size} bytes");
+        // It reads back as the same sheet.
+        let (code, out, err, _) = ncsheet(dir.path(), &["eval", to, "A1", "B2", "XFD1048576", "XFC1048576"]);
+        assert_eq!(code, 0, "{err}");
+        let values: Vec<&str> = out.lines().map(|l| l.rsplit(' ').next().unwrap()).collect();
+        assert_eq!(values, ["1", "4", "7", ""], "{out}");
+    }
+}
+
+#[test]
+fn a_max_depth_past_ncsheets_limit_is_a_usage_error_naming_the_range() {
+    let dir = tempfile::tempdir().unwrap();
+    macro_files(dir.path(), "    Debug.Print 1");
+    let (code, _, err, _) = ncsheet(dir.path(), &["run", "m.csv", "m.bas", "--max-depth", "1000000"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--max-depth") && err.contains("1 to 10000"), "{err}");
+    assert!(!err.contains("os error"), "{err}");
+}

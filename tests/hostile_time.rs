@@ -149,12 +149,12 @@ fn names_that_refer_to_themselves_or_chain_too_deep_say_so() {
 fn a_macro_of_expensive_statements_stops_at_its_time_limit() {
     let source = "Sub Main()\n    Dim i, s\n    For i = 1 To 100000\n        s = Evaluate(\"SUM(SEQUENCE(100000))\")\n    Next\nEnd Sub\n";
     let mut wb = Workbook::with_sheet();
-    let options = RunOptions { max_time: Duration::from_millis(500), ..RunOptions::default() };
+    let options = RunOptions { deadline: Some(vba::Deadline::after(0.5)), ..RunOptions::default() };
     let start = Instant::now();
     let err = vba::run(&mut wb, source, "loop.bas", &options).expect_err("stopped by the time limit");
     assert!(start.elapsed() < Duration::from_secs(30), "took {:?}", start.elapsed());
     assert_eq!(err.kind, ErrorKind::Limit);
-    assert!(err.message.contains("time limit (0.5 s)") && err.message.contains("--max-seconds"), "{}", err.message);
+    assert!(err.message.contains("--timeout of 0.5 s"), "{}", err.message);
     // The statement it stopped at is named.
     assert!(err.span.is_some_and(|s| (3..=5).contains(&s.line)), "{:?}", err.span);
 }
@@ -202,4 +202,44 @@ fn offset_chains_settle_in_order() {
     assert_eq!(get(&wb, "A3000"), n(3000.0));
     set(&mut wb, "A1", "101");
     assert_eq!(get(&wb, "A3000"), n(3100.0));
+}
+
+// ---- OFFSET chains filled one edit at a time (issue 19's "200k OFFSET chains") -------------
+
+#[test]
+fn an_offset_chain_filled_one_edit_at_a_time_is_linear_and_right() {
+    // Ak = OFFSET(A(k-1),0,0)+1 with A1 = 1: Ak is k. 20,000 edits, each recalculating: when
+    // every edit recomputed every OFFSET (Excel's volatility) this took minutes.
+    let size = 20_000;
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, "A1", "1");
+    let start = Instant::now();
+    for k in 2..=size {
+        set(&mut wb, &format!("A{k}"), &format!("=OFFSET(A{},0,0)+1", k - 1));
+    }
+    assert!(start.elapsed() < Duration::from_secs(60), "took {:?}", start.elapsed());
+    assert_eq!(get(&wb, &format!("A{size}")), n(size as f64));
+    // Still recomputed when what it reads changes: through the chain, and where a moved
+    // reference lands (B1 reads A(1+C1)).
+    set(&mut wb, "A1", "5");
+    assert_eq!(get(&wb, &format!("A{size}")), n(size as f64 + 4.0));
+    set(&mut wb, "B1", "=OFFSET(A1,C1,0)");
+    assert_eq!(get(&wb, "B1"), n(5.0));
+    set(&mut wb, "C1", "2");
+    assert_eq!(get(&wb, "B1"), n(7.0));
+    set(&mut wb, "A2", "100");
+    assert_eq!(get(&wb, "B1"), n(101.0));
+}
+
+#[test]
+fn a_macro_filling_an_offset_chain_cell_by_cell_is_linear() {
+    let size = 20_000;
+    let source = format!(
+        "Sub Main()\n    Dim i\n    Range(\"A1\").Value = 1\n    For i = 2 To {size}\n        Cells(i, 1).Formula = \"=OFFSET(A\" & (i - 1) & \",0,0)+1\"\n    Next\n    Debug.Print Cells({size}, 1).Value\nEnd Sub\n"
+    );
+    let mut wb = Workbook::with_sheet();
+    let start = Instant::now();
+    let out = vba::run(&mut wb, &source, "fill.bas", &RunOptions::default()).unwrap();
+    assert!(start.elapsed() < Duration::from_secs(60), "took {:?}", start.elapsed());
+    assert_eq!(out.printed, vec![format!(" {size} ")]);
 }

@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 
 use clap::{ArgGroup, Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
-use ncsheet::eval::functions::{describe_gouge, standalone_ball_path};
+use ncsheet::eval::functions::{describe_gouge, standalone_ball_path, PathFailure};
 use ncsheet::eval::surface::parse_standalone;
 use ncsheet::geometry::ballpath::{BallPath, BallPathSpec, GougeCheck, GougeKind, Lines, Spacing, GOUGE_TOLERANCE};
 use ncsheet::io::Encoded;
@@ -173,7 +173,7 @@ pub fn run(args: BallpathArgs) -> Result<()> {
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
-    let path = path.map_err(|(_, message)| Error::User(prepend("--surface: ", &point_limit_hint(message))))?;
+    let path = path.map_err(|failure| Error::User(prepend("--surface: ", &failure_message(failure))))?;
     let computed = started.elapsed();
     report_gouges(&path, spec.gouge)?;
     check_clearance(&path, &args)?;
@@ -217,12 +217,13 @@ fn spec(args: &BallpathArgs) -> BallPathSpec {
     }
 }
 
-/// The option that raises the point limit, after the message of a path past it.
-fn point_limit_hint(message: String) -> String {
-    if message.contains(" points allowed") {
-        format!("{message} (--max-points raises the limit; a larger --step, --stepover or --tolerance needs fewer)")
-    } else {
-        message
+/// Why there is no path; past the point limit, with the option that raises it.
+fn failure_message(failure: PathFailure) -> String {
+    match failure {
+        PathFailure::TooManyPoints { message, .. } => {
+            format!("{message} (--max-points raises the limit; a larger --step, --stepover or --tolerance needs fewer)")
+        }
+        PathFailure::Other(_, message) => message,
     }
 }
 

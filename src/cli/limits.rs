@@ -1,6 +1,7 @@
 //! The options every command takes that bound what it may spend (docs/limits.md): a
 //! wall-clock `--timeout`, and the limits on reading files (`ncsheet::io::limits`).
 
+use std::sync::OnceLock;
 use std::time::Duration;
 
 use clap::Args;
@@ -9,9 +10,10 @@ use ncsheet::io::limits::{self, ReadLimits};
 /// Limits on time and on what a file may make ncsheet hold (see docs/limits.md).
 #[derive(Debug, Args)]
 pub struct LimitArgs {
-    /// Stop the command after this many seconds of wall-clock time, with an error
-    /// (default: no limit)
-    #[arg(long, global = true, value_name = "SECONDS", value_parser = parse_seconds)]
+    /// Stop the command after this many seconds of wall-clock time, with an error; a macro
+    /// stops at the statement it was running (default: no limit; `--max-seconds` is the
+    /// same option)
+    #[arg(long, global = true, alias = "max-seconds", value_name = "SECONDS", value_parser = parse_seconds)]
     pub timeout: Option<f64>,
     /// The most one part of an xlsx package may inflate to: 1G, 512M, 4096K or bytes
     /// (default 1G)
@@ -40,9 +42,22 @@ impl LimitArgs {
             csv_line_bytes: self.max_csv_line.unwrap_or(default.csv_line_bytes),
         });
         if let Some(seconds) = self.timeout {
+            let _ = DEADLINE.set(ncsheet::vba::Deadline::after(seconds));
             start_clock(seconds);
         }
     }
+}
+
+/// How long after `--timeout` the clock ends the process.
+const GRACE: Duration = Duration::from_millis(100);
+
+/// When `--timeout` runs out, once [`LimitArgs::apply`] has started the clock.
+static DEADLINE: OnceLock<ncsheet::vba::Deadline> = OnceLock::new();
+
+/// The `--timeout` of this command, for work that can stop itself at a clear place first
+/// (a macro, at its statement); the clock thread ends everything else.
+pub fn deadline() -> Option<ncsheet::vba::Deadline> {
+    DEADLINE.get().copied()
 }
 
 /// A thread that ends the process when `--timeout` runs out, whatever the command is doing
@@ -51,7 +66,8 @@ impl LimitArgs {
 /// was (`io::atomic`).
 fn start_clock(seconds: f64) {
     std::thread::spawn(move || {
-        std::thread::sleep(Duration::from_secs_f64(seconds));
+        // A moment's grace, so that a macro stopping itself at the deadline says where.
+        std::thread::sleep(Duration::from_secs_f64(seconds) + GRACE);
         eprintln!("ncsheet: stopped: the command ran past its --timeout of {seconds} s");
         std::process::exit(1);
     });
@@ -65,7 +81,7 @@ fn parse_seconds(text: &str) -> Result<f64, String> {
 }
 
 /// `1G`, `512M`, `64K` (binary units, case-insensitive, an optional `B` or `iB`) or bytes.
-fn parse_size(text: &str) -> Result<u64, String> {
+pub fn parse_size(text: &str) -> Result<u64, String> {
     let lower = text.trim().to_ascii_lowercase();
     let body = lower.strip_suffix("ib").or_else(|| lower.strip_suffix('b')).unwrap_or(&lower);
     let (digits, shift) = match body.char_indices().last() {

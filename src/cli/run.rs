@@ -26,7 +26,8 @@ pub enum MachineKind {
 /// GoTo labels, Range("B3").Value, Cells(r, c), [B3], every sheet function) plus an `Nc`
 /// object for the program: Nc.Rapid, Nc.Line, Nc.ArcCW/ArcCCW, Nc.Dwell, Nc.Comment,
 /// Nc.Block, Nc.FeedPerRev/FeedPerMin, Nc.Spindle, Nc.Tool, Nc.Coolant. A macro can touch no file and run no program; it stops with its line and a
-/// caret after --max-statements statements or --max-depth nested calls.
+/// caret after --max-statements statements, --max-depth nested calls or the --timeout, or
+/// at a string, array or output past --max-string, --max-array-items or --max-output.
 #[derive(Debug, Args)]
 pub struct RunArgs {
     /// The workbook the macro works on (.csv or .xlsx)
@@ -60,9 +61,15 @@ pub struct RunArgs {
     /// Stop the macro after this many statements (an endless loop, usually)
     #[arg(long, default_value_t = 10_000_000)]
     pub max_statements: u64,
-    /// Stop the macro at the first statement after it has run this many seconds
-    #[arg(long, default_value_t = vba::DEFAULT_MAX_SECONDS as f64, value_parser = parse_seconds)]
-    pub max_seconds: f64,
+    /// The longest string the macro may make, in characters (VBA's "Out of string space")
+    #[arg(long, value_name = "CHARS", default_value_t = vba::DEFAULT_MAX_STRING, value_parser = parse_max_string)]
+    pub max_string: usize,
+    /// The most items of one array (Dim, ReDim)
+    #[arg(long, value_name = "N", default_value_t = vba::DEFAULT_MAX_ARRAY_ITEMS, value_parser = parse_max_array_items)]
+    pub max_array_items: usize,
+    /// The most Debug.Print and MsgBox output: 64M, 1G or bytes (default 64M)
+    #[arg(long, value_name = "SIZE", value_parser = super::limits::parse_size)]
+    pub max_output: Option<u64>,
     /// Stop the macro when calls nest deeper than this (endless recursion; at most 10000)
     #[arg(long, default_value_t = 100, value_parser = parse_max_depth)]
     pub max_depth: usize,
@@ -84,10 +91,24 @@ fn parse_max_depth(text: &str) -> std::result::Result<usize, String> {
     }
 }
 
-fn parse_seconds(text: &str) -> std::result::Result<f64, String> {
-    match text.parse::<f64>() {
-        Ok(s) if s > 0.0 && s <= 1e9 => Ok(s),
-        _ => Err(format!("'{text}' is not a number of seconds above 0 (at most 1E+9)")),
+/// The longest `--max-string`: 1 Gi characters (VBA's own limit is 2 Gi, more memory than
+/// ncsheet allows itself).
+const MAX_STRING_LIMIT: usize = 1 << 30;
+
+fn parse_max_string(text: &str) -> std::result::Result<usize, String> {
+    match text.parse::<usize>() {
+        Ok(n @ 1..=MAX_STRING_LIMIT) => Ok(n),
+        _ => Err(format!("'{text}' is not a number of characters from 1 to {MAX_STRING_LIMIT}")),
+    }
+}
+
+/// The largest `--max-array-items`: 2^28 items (8 GiB of values at the least).
+const MAX_ARRAY_ITEMS_LIMIT: usize = 1 << 28;
+
+fn parse_max_array_items(text: &str) -> std::result::Result<usize, String> {
+    match text.parse::<usize>() {
+        Ok(n @ 1..=MAX_ARRAY_ITEMS_LIMIT) => Ok(n),
+        _ => Err(format!("'{text}' is not a number of items from 1 to {MAX_ARRAY_ITEMS_LIMIT}")),
     }
 }
 
@@ -129,7 +150,11 @@ fn run_on_this_thread(args: RunArgs, dialect_name: &'static str, delimiter: Opti
         args: args.args.clone(),
         max_statements: args.max_statements,
         max_depth: args.max_depth,
-        max_time: std::time::Duration::from_secs_f64(args.max_seconds),
+        deadline: super::limits::deadline(),
+        max_string: args.max_string,
+        max_array_items: args.max_array_items,
+        max_output: args.max_output.unwrap_or(vba::DEFAULT_MAX_OUTPUT),
+        sink: Some(vba::Sink(std::rc::Rc::new(write_printed))),
         sheet: args.sheet.clone(),
         dialect: Some(dialect_name.to_string()),
         machine: match args.machine {
@@ -185,8 +210,15 @@ fn macro_source(args: &RunArgs) -> Result<(PathBuf, String, Option<String>)> {
     Ok((place, module.source.clone(), sub))
 }
 
-/// What the macro printed goes to stderr: a line above `%` would stop a control reading a
-/// redirected program.
+/// What the macro prints goes to stderr as it happens (a line above `%` would stop a control
+/// reading a redirected program); a closed stderr loses it, as `eprintln!` would not.
+fn write_printed(printed: vba::Printed) {
+    use std::io::Write;
+    let (vba::Printed::Line(text) | vba::Printed::Message(text)) = printed;
+    let _ = writeln!(std::io::stderr().lock(), "{text}");
+}
+
+/// What the macro printed and the sink did not take.
 fn print_output(out: &RunOutput) -> Result<()> {
     for line in &out.printed {
         eprintln!("{line}");

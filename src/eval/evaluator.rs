@@ -92,6 +92,15 @@ pub trait Host {
 
     /// Evaluates the host's node `id`, reading its argument expressions through `ctx`.
     fn node(&self, ctx: &mut Ctx, id: u32) -> Operand;
+
+    /// The longest text a macro string may be (`run --max-string`).
+    fn text_limit(&self) -> usize {
+        MAX_MACRO_TEXT
+    }
+
+    /// Told when a result passes [`Host::text_limit`], before it becomes `#VALUE!`: a macro
+    /// stops there, with the limit named (VBA's "Out of string space").
+    fn text_too_long(&self, _limit: usize) {}
 }
 
 /// The result of evaluating an expression that may be a reference.
@@ -202,19 +211,27 @@ impl<'a> Ctx<'a> {
 
     /// The longest text a result may be: Excel's in cells, ncsheet's own in macros.
     pub fn text_limit(&self) -> usize {
-        if self.host.is_some() {
-            MAX_MACRO_TEXT
-        } else {
-            MAX_TEXT
+        match self.host {
+            Some(host) => host.text_limit(),
+            None => MAX_TEXT,
         }
+    }
+
+    /// `#VALUE!` for a text longer than [`Ctx::text_limit`], with a note naming the limit;
+    /// a macro's host is told (and stops the macro).
+    pub fn text_over_limit(&mut self) -> XlError {
+        let limit = self.text_limit();
+        if let Some(host) = self.host {
+            host.text_too_long(limit);
+        }
+        let what = if self.host.is_some() { "a macro string (ncsheet's limit)" } else { "a text (Excel's limit)" };
+        self.explain(XlError::Value, format!("longer than the {limit} characters of {what}"))
     }
 
     /// `v`, or `#VALUE!` (with a note) when it holds a text longer than [`Ctx::text_limit`].
     fn within_text_limit(&mut self, v: Value) -> Value {
-        let limit = self.text_limit();
-        if holds_text_over(&v, limit) {
-            let what = if self.host.is_some() { "a macro string (ncsheet's limit)" } else { "a text (Excel's limit)" };
-            return Value::Error(self.explain(XlError::Value, format!("longer than the {limit} characters of {what}")));
+        if holds_text_over(&v, self.text_limit()) {
+            return Value::Error(self.text_over_limit());
         }
         v
     }

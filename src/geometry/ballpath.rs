@@ -151,6 +151,22 @@ pub enum PathError<E> {
         y: f64,
         error: E,
     },
+    /// The path would pass `BallPathSpec::max_points`: counted before any point is placed
+    /// (`at_least` of them), or while the chord tolerance inserts points.
+    TooManyPoints {
+        at_least: Option<f64>,
+        limit: usize,
+    },
+}
+
+impl<E> PathError<E> {
+    /// The message of [`PathError::TooManyPoints`].
+    pub fn point_limit_message(at_least: Option<f64>, limit: usize) -> String {
+        match at_least {
+            Some(n) => format!("the path would have {n} points, more than the {limit} points allowed"),
+            None => format!("the path has more than the {limit} points allowed"),
+        }
+    }
 }
 
 impl<E> From<GeometryError> for PathError<E> {
@@ -175,6 +191,7 @@ pub fn ball_path<S: Surface>(
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<BallPath, PathError<S::Error>> {
     check_spec(spec)?;
+    check_point_count(spec)?;
     let (across, along) = match spec.lines {
         Lines::ConstantX => (spec.x, spec.y),
         Lines::ConstantY => (spec.y, spec.x),
@@ -228,6 +245,12 @@ fn check_spec(spec: &BallPathSpec) -> Result<(), GeometryError> {
             ensure(max_step > 0.0 && max_step.is_finite(), || format!("step must be > 0, not {max_step}"))?;
         }
     }
+    Ok(())
+}
+
+/// The fewest points the path can have, counted before any is placed: a step of 1e-9 must
+/// not ask for the memory of 1e10 stations.
+fn check_point_count<E>(spec: &BallPathSpec) -> Result<(), PathError<E>> {
     let across = match spec.lines {
         Lines::ConstantX => spec.x,
         Lines::ConstantY => spec.y,
@@ -240,13 +263,12 @@ fn check_spec(spec: &BallPathSpec) -> Result<(), GeometryError> {
     let step = match spec.spacing {
         Spacing::Step(s) | Spacing::Chord { max_step: s, .. } => s,
     };
-    // The fewest points the path can have, counted before any is placed: a step of 1e-9
-    // must not ask for the memory of 1e10 stations.
     let per_line = ((along[1] - along[0]) / step).ceil() + 1.0;
     let least = n_lines * per_line;
-    ensure(least <= spec.max_points as f64, || {
-        format!("the path would have {least} points, more than the {} points allowed", spec.max_points)
-    })
+    if least > spec.max_points as f64 {
+        return Err(PathError::TooManyPoints { at_least: Some(least), limit: spec.max_points });
+    }
+    Ok(())
 }
 
 /// `a, a + s, a + 2s, …` up to `b`, with `b` itself last (both edges included). A count within
@@ -285,11 +307,7 @@ impl<S: Surface> Placer<'_, S> {
         out: &mut Vec<PathPoint>,
         max_points: usize,
     ) -> Result<(), PathError<S::Error>> {
-        let too_many = || {
-            PathError::Spec(GeometryError::OutOfRange(format!(
-                "the path has more than the {max_points} points allowed"
-            )))
-        };
+        let too_many = || PathError::TooManyPoints { at_least: None, limit: max_points };
         match spacing {
             Spacing::Step(step) => {
                 let vs = stations(along, step);
@@ -593,6 +611,34 @@ mod tests {
         let p = ball_at(Point3::new(1.0, 0.0, 1.0), 1.0, 0.0, 2.0);
         let s = std::f64::consts::SQRT_2;
         assert!((p.centre - Point3::new(1.0 - s, 0.0, 1.0 + s)).norm() < 1e-15);
+    }
+
+    #[test]
+    fn paths_past_the_point_limit_are_a_typed_error() {
+        // 4 lines of 3 stations: 12 points, counted before any is placed.
+        let few = BallPathSpec { max_points: 11, ..spec() };
+        let err = ball_path(&mut Plane(0.0, 0.0, 0.0), &few, &mut |_, _| {}).unwrap_err();
+        assert_eq!(err, PathError::TooManyPoints { at_least: Some(12.0), limit: 11 });
+        // A chord tolerance inserts points on a sphere-like bump while the lines are placed.
+        let chords =
+            BallPathSpec { spacing: Spacing::Chord { tolerance: 1e-6, max_step: 0.5 }, max_points: 12, ..spec() };
+        let err = ball_path(&mut Bowl, &chords, &mut |_, _| {}).unwrap_err();
+        assert_eq!(err, PathError::TooManyPoints { at_least: None, limit: 12 });
+    }
+
+    /// z = x² + y²: curved, so chords need points between the stations.
+    struct Bowl;
+
+    impl Surface for Bowl {
+        type Error = ();
+
+        fn height(&mut self, x: f64, y: f64) -> Result<f64, ()> {
+            Ok(x * x + y * y)
+        }
+
+        fn sample(&mut self, x: f64, y: f64) -> Result<Sample, ()> {
+            Ok(Sample { z: x * x + y * y, dzdx: 2.0 * x, dzdy: 2.0 * y })
+        }
     }
 
     #[test]

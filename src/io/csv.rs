@@ -456,6 +456,9 @@ pub fn write_with(wb: &Workbook, what: &Export, style: &Style, out: &mut dyn Wri
             None => return Ok(()),
         },
     };
+    if rect.rows() as u64 * rect.cols() as u64 > MAX_TABLE_FIELDS {
+        return write_sparse(wb, what, style, rect, out);
+    }
     let mut writer = ::csv::WriterBuilder::new().delimiter(style.delimiter).from_writer(out);
     let mut fields: Vec<String> = Vec::with_capacity(rect.cols() as usize);
     for row in rect.first.row..=rect.last.row {
@@ -470,6 +473,47 @@ pub fn write_with(wb: &Workbook, what: &Export, style: &Style, out: &mut dyn Wri
         writer.write_record(&fields)?;
     }
     writer.flush()
+}
+
+/// The most fields written as a full table; past it (one far cell, XFD1048576, makes a table
+/// of 17 billion) each row ends at its last cell, so that the work and the file are
+/// proportional to the cells that exist (an empty row is an empty line), and the file reads
+/// back as the same sheet.
+const MAX_TABLE_FIELDS: u64 = 10_000_000;
+
+fn write_sparse(wb: &Workbook, what: &Export, style: &Style, rect: Rect, out: &mut dyn Write) -> io::Result<()> {
+    let mut cells: Vec<Pos> = Vec::new();
+    crate::eval::Env::for_each_value(wb, what.sheet, rect, &mut |pos, _| cells.push(pos));
+    cells.sort_unstable_by_key(|p| (p.row, p.col));
+    let mut out = io::BufWriter::new(out);
+    let mut fields: Vec<String> = Vec::new();
+    let mut next = cells.iter().peekable();
+    let mut row = rect.first.row;
+    while let Some(&&first) = next.peek() {
+        // Rows without cells: an empty line each.
+        for _ in row..first.row {
+            out.write_all(b"\n")?;
+        }
+        row = first.row;
+        fields.clear();
+        while let Some(&&pos) = next.peek().filter(|p| p.row == row) {
+            fields.resize((pos.col - rect.first.col) as usize, String::new());
+            fields.push(match what.content {
+                Content::Values => style.field(&wb.value(what.sheet, pos), pos),
+                Content::Formulas => wb.input(what.sheet, pos).unwrap_or_default(),
+            });
+            next.next();
+        }
+        let mut writer = ::csv::WriterBuilder::new().delimiter(style.delimiter).from_writer(&mut out);
+        writer.write_record(&fields)?;
+        writer.flush()?;
+        drop(writer);
+        row += 1;
+    }
+    for _ in row..=rect.last.row {
+        out.write_all(b"\n")?;
+    }
+    out.flush()
 }
 
 impl Style<'_> {

@@ -23,13 +23,20 @@ impl Interp<'_, '_> {
                 None => self.module.base,
             };
             let hi = self.index(upper, "the upper bound")?;
-            if hi < lo || hi - lo >= 10_000_000 {
+            if hi < lo {
                 return Err(self.fault_at(span, format!("array bounds {lo} To {hi} are not a size")));
             }
-            dims.push((lo, (hi - lo + 1) as usize));
+            dims.push((lo, (hi - lo).saturating_add(1) as usize));
         }
-        if dims.iter().map(|d| d.1).product::<usize>() > 10_000_000 {
-            return Err(self.fault_at(span, "an array of more than 10 million items"));
+        let items = dims.iter().fold(1usize, |n, d| n.saturating_mul(d.1));
+        let limit = self.options.max_array_items;
+        if items > limit {
+            let mut f = self.fault_at(
+                span,
+                format!("an array of {items} items passes the limit of {limit} (ncsheet's limit; raise it with --max-array-items)"),
+            );
+            f.kind = super::ErrorKind::Limit;
+            return Err(f);
         }
         let (rows, lower_row) = if dims.len() == 2 { (dims[0].1, dims[0].0) } else { (1, 1) };
         let (lower_col, cols) = *dims.last().expect("one dimension at least");

@@ -21,7 +21,7 @@ use crate::workbook::{Input, Workbook, WorkbookError};
 
 use super::ast::*;
 use super::parser::Lines;
-use super::{ErrorKind, MacroError, RunOptions, RunOutput};
+use super::{ErrorKind, MacroError, Printed, RunOptions, RunOutput};
 
 /// Runs the entry procedure that `options` chooses.
 pub fn run(
@@ -55,12 +55,12 @@ pub fn run(
         line: RefCell::new(None),
         nc: RefCell::new(super::objects::NcState::default()),
         steps: Cell::new(0),
-        started: std::time::Instant::now(),
         kept: RefCell::new(Vec::new()),
         pending: RefCell::new(None),
         ended: Cell::new(false),
         active: Cell::new(active),
         notes: RefCell::new(Vec::new()),
+        output_bytes: Cell::new(0),
     };
     let result = it.start(entry);
     it.flush_line();
@@ -209,8 +209,6 @@ pub struct Interp<'m, 'w> {
     line: RefCell<Option<String>>,
     pub nc: RefCell<super::objects::NcState>,
     steps: Cell<u64>,
-    /// When the macro started, for [`RunOptions::max_time`].
-    started: std::time::Instant,
     /// Static variables between calls: (procedure, variable).
     kept: RefCell<Vec<(usize, Slot)>>,
     pending: RefCell<Option<Fault>>,
@@ -219,6 +217,8 @@ pub struct Interp<'m, 'w> {
     pub active: Cell<SheetId>,
     /// Explanations the last evaluation left (why a value is an error).
     notes: RefCell<Vec<String>>,
+    /// Bytes of `Debug.Print` and `MsgBox` output so far, against [`RunOptions::max_output`].
+    output_bytes: Cell<u64>,
 }
 
 impl Interp<'_, '_> {
@@ -301,11 +301,12 @@ impl Interp<'_, '_> {
         }
         // The clock costs ~25 ns a reading: read it every 16 steps, a statement stopping at
         // most 15 statements late.
-        if n.is_multiple_of(16) && self.started.elapsed() > self.options.max_time {
-            let limit = self.options.max_time.as_secs_f64();
+        let Some(deadline) = self.options.deadline else { return Ok(()) };
+        if n.is_multiple_of(16) && std::time::Instant::now() > deadline.at {
+            let limit = deadline.seconds;
             let mut f = self.fault_at(
                 span,
-                format!("the time limit ({limit} s) is reached after {n} statements: statements too costly, or too many? (raise the limit with --max-seconds)"),
+                format!("the command ran past its --timeout of {limit} s after {n} statements: statements too costly, or too many?"),
             );
             f.kind = ErrorKind::Limit;
             return Err(f);
@@ -724,7 +725,21 @@ impl Interp<'_, '_> {
     }
 
     fn print(&self, items: &[PrintItem]) -> Run<()> {
-        let mut line = self.line.borrow_mut().take().unwrap_or_default();
+        let left_open = self.line.borrow_mut().take();
+        let was_open = left_open.is_some();
+        let mut line = left_open.unwrap_or_default();
+        let kept = line.len();
+        let printed = self.print_items(items, &mut line);
+        if printed.is_err() && was_open {
+            // What an earlier `Debug.Print …;` left open is still written at the end.
+            line.truncate(kept);
+            *self.line.borrow_mut() = Some(line);
+        }
+        printed
+    }
+
+    /// Appends `items` to `line`, and writes it unless a `;` or `,` leaves it open.
+    fn print_items(&self, items: &[PrintItem], line: &mut String) -> Run<()> {
         let mut open = false;
         for item in items {
             open = false;
@@ -749,17 +764,43 @@ impl Interp<'_, '_> {
                 }
             }
         }
+        // A line left open by `;` counts too: `Debug.Print s;` in a loop grows one line.
+        self.within_output_limit(line.len())?;
         if open {
-            *self.line.borrow_mut() = Some(line);
+            *self.line.borrow_mut() = Some(std::mem::take(line));
         } else {
-            self.out.borrow_mut().printed.push(line);
+            self.emit(Printed::Line(line));
         }
         Ok(())
     }
 
     fn flush_line(&self) {
         if let Some(line) = self.line.borrow_mut().take() {
-            self.out.borrow_mut().printed.push(line);
+            self.emit(Printed::Line(&line));
+        }
+    }
+
+    /// Refuses output that would take the run past [`RunOptions::max_output`].
+    pub fn within_output_limit(&self, more: usize) -> Run<()> {
+        let limit = self.options.max_output;
+        if self.output_bytes.get().saturating_add(more as u64) > limit {
+            let mut f = self.fault(format!(
+                "the macro's output (Debug.Print and MsgBox) passes the limit of {limit} bytes (raise it with --max-output)"
+            ));
+            f.kind = ErrorKind::Limit;
+            return Err(f);
+        }
+        Ok(())
+    }
+
+    /// Hands a finished line to the sink as it happens, or keeps it in the run's output.
+    pub fn emit(&self, printed: Printed) {
+        let (Printed::Line(text) | Printed::Message(text)) = printed;
+        self.output_bytes.set(self.output_bytes.get() + text.len() as u64 + 1);
+        match (&self.options.sink, printed) {
+            (Some(sink), _) => (sink.0)(printed),
+            (None, Printed::Line(t)) => self.out.borrow_mut().printed.push(t.to_string()),
+            (None, Printed::Message(t)) => self.out.borrow_mut().messages.push(t.to_string()),
         }
     }
 
@@ -931,7 +972,7 @@ impl Interp<'_, '_> {
                 wb.set_input_deferred(sheet, pos, &input_text(&item)).map_err(|e| self.fault(one_line(&e)))?;
             }
         }
-        wb.recalculate();
+        wb.recalculate_rect(sheet, rect);
         Ok(())
     }
 }
@@ -1016,6 +1057,18 @@ impl Host for Interp<'_, '_> {
                 Operand::Value(Value::Error(XlError::Value))
             }
         }
+    }
+
+    fn text_limit(&self) -> usize {
+        self.options.max_string
+    }
+
+    fn text_too_long(&self, limit: usize) {
+        let mut f = self.fault(format!(
+            "a string longer than {limit} characters (ncsheet's limit for macro strings; raise it with --max-string)"
+        ));
+        f.kind = ErrorKind::Limit;
+        self.park(f);
     }
 }
 

@@ -11,8 +11,9 @@
 //! language has no such statement or object (`Open`, `Kill`, `Shell`, `CreateObject`,
 //! `Declare`, `Workbooks.Open`, `SaveAs` … are refused by the parser, by name), and this
 //! module touches neither files nor stdout: [`run`] returns what the macro printed and
-//! emitted, and the CLI decides where it goes. A statement limit and a call-depth limit
-//! ([`RunOptions`]) stop endless loops and recursion with the line that was running.
+//! emitted, and the CLI decides where it goes. A statement limit, a call-depth limit, a
+//! deadline and limits on strings, arrays and output ([`RunOptions`]) stop endless loops,
+//! recursion and floods with the line that was running.
 //!
 //! # The language, for a VBA user
 //!
@@ -58,9 +59,9 @@
 //! A write is typed into the cell (text starting with `=` is a formula, as in VBA) and
 //! recalculates what depends on it before the next statement.
 //!
-//! Output: `Debug.Print` lines (VBA's `;` and `,` and number spacing) go to
-//! [`RunOutput::printed`] (the CLI writes them to standard output); `MsgBox` texts to
-//! [`RunOutput::messages`] (standard error); `Nc.*` builds [`RunOutput::program`] (see
+//! Output: `Debug.Print` lines (VBA's `;` and `,` and number spacing) and `MsgBox` texts go
+//! to [`RunOptions::sink`] as they happen (the CLI writes them to standard error), or
+//! without one to [`RunOutput::printed`] and [`RunOutput::messages`]; `Nc.*` builds [`RunOutput::program`] (see
 //! `objects.rs` for `Nc.Rapid`, `Nc.Line`, `Nc.ArcCW`, `Nc.Block`, … and `Nc.Feed`). The
 //! machine's state is part of the program: `Nc.FeedPerRev 0.1` / `Nc.FeedPerMin 200` (what F
 //! means; a lathe program is refused without it), `Nc.Spindle 800` (M3, `"ccw"` for M4, 0 to
@@ -99,10 +100,10 @@ pub struct RunOptions {
     pub max_statements: u64,
     /// Stops the macro when procedure calls nest deeper than this (endless recursion).
     pub max_depth: usize,
-    /// Stops the macro at the first statement or loop turn after it has run this long: a
-    /// loop of few statements that are each expensive (`Evaluate` of a large array) is
-    /// stopped though it stays far below `max_statements`.
-    pub max_time: std::time::Duration,
+    /// Stops the macro at the first statement or loop turn past this instant (the command's
+    /// `--timeout`): a loop of few statements that are each expensive (`Evaluate` of a large
+    /// array) is stopped though it stays far below `max_statements`.
+    pub deadline: Option<Deadline>,
     /// The sheet `Range`, `Cells` and `[B3]` mean before a macro activates another; `None`
     /// is the first sheet.
     pub sheet: Option<String>,
@@ -111,10 +112,60 @@ pub struct RunOptions {
     pub dialect: Option<String>,
     /// The machine of the program until the macro sets `Nc.Machine`.
     pub machine: Machine,
+    /// The longest string, in characters (UTF-16 units), a macro may make (`run --max-string`).
+    pub max_string: usize,
+    /// The most items of one array (`run --max-array-items`).
+    pub max_array_items: usize,
+    /// The most bytes `Debug.Print` and `MsgBox` may write in one run (`run --max-output`).
+    pub max_output: u64,
+    /// Where `Debug.Print` lines and `MsgBox` texts go as they happen; `None` keeps them in
+    /// [`RunOutput::printed`] and [`RunOutput::messages`].
+    pub sink: Option<Sink>,
 }
 
-/// The default of [`RunOptions::max_time`], in seconds (`run --max-seconds`).
-pub const DEFAULT_MAX_SECONDS: u64 = 60;
+/// A line a macro printed, handed to [`RunOptions::sink`] as soon as it is complete.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Printed<'a> {
+    /// A `Debug.Print` line.
+    Line(&'a str),
+    /// A `MsgBox` prompt.
+    Message(&'a str),
+}
+
+/// The receiver of a macro's output while it runs: a flood of `Debug.Print` is written as it
+/// comes, never held whole (the CLI writes it to standard error).
+#[derive(Clone)]
+pub struct Sink(pub std::rc::Rc<dyn Fn(Printed)>);
+
+impl fmt::Debug for Sink {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("Sink")
+    }
+}
+
+/// The default of [`RunOptions::max_string`]: 16 Mi characters. VBA's strings reach 2^31
+/// characters, more than the memory ncsheet allows itself; docs/limits.md.
+pub const DEFAULT_MAX_STRING: usize = crate::eval::evaluator::MAX_MACRO_TEXT;
+
+/// The default of [`RunOptions::max_array_items`].
+pub const DEFAULT_MAX_ARRAY_ITEMS: usize = 10_000_000;
+
+/// The default of [`RunOptions::max_output`]: 64 MiB of `Debug.Print` and `MsgBox` text.
+pub const DEFAULT_MAX_OUTPUT: u64 = 64 << 20;
+
+/// When a run must stop, and the `--timeout` it came from (for the message).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Deadline {
+    pub at: std::time::Instant,
+    pub seconds: f64,
+}
+
+impl Deadline {
+    /// `seconds` from now.
+    pub fn after(seconds: f64) -> Deadline {
+        Deadline { at: std::time::Instant::now() + std::time::Duration::from_secs_f64(seconds), seconds }
+    }
+}
 
 impl Default for RunOptions {
     fn default() -> RunOptions {
@@ -123,10 +174,14 @@ impl Default for RunOptions {
             args: Vec::new(),
             max_statements: 10_000_000,
             max_depth: 100,
-            max_time: std::time::Duration::from_secs(DEFAULT_MAX_SECONDS),
+            deadline: None,
             sheet: None,
             dialect: None,
             machine: Machine::Lathe,
+            max_string: DEFAULT_MAX_STRING,
+            max_array_items: DEFAULT_MAX_ARRAY_ITEMS,
+            max_output: DEFAULT_MAX_OUTPUT,
+            sink: None,
         }
     }
 }
@@ -134,9 +189,10 @@ impl Default for RunOptions {
 /// What a macro produced. Cell writes are already in the workbook.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RunOutput {
-    /// `Debug.Print` lines, for standard error (stdout carries only the program).
+    /// `Debug.Print` lines, for standard error (stdout carries only the program); empty when
+    /// [`RunOptions::sink`] took them.
     pub printed: Vec<String>,
-    /// `MsgBox` texts, for standard error.
+    /// `MsgBox` texts, for standard error; empty when [`RunOptions::sink`] took them.
     pub messages: Vec<String>,
     /// The NC program the macro emitted with `Nc.*` (empty when it emitted none); write it
     /// with `nc::by_name(dialect)?.render(&program)`.

@@ -376,7 +376,8 @@ impl Interp<'_, '_> {
     fn msgbox(&self, ctx: &mut Ctx, link: &Link) -> Run<Obj> {
         let values = self.values(ctx, link)?;
         let prompt = values.first().map(print_text).unwrap_or_default();
-        self.out.borrow_mut().messages.push(prompt);
+        self.within_output_limit(prompt.len())?;
+        self.emit(super::Printed::Message(&prompt));
         // vbOK: nobody is there to press another button.
         Ok(Obj::Value(Value::Number(1.0)))
     }

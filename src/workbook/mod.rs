@@ -314,6 +314,22 @@ impl Workbook {
         news
     }
 
+    /// Recalculates after [`Workbook::set_input_deferred`] of the cells of `rect` only: what
+    /// depends on them (and the volatile cells), not every formula, so that a macro filling
+    /// a column one cell at a time stays linear.
+    pub fn recalculate_rect(&mut self, sheet: SheetId, rect: Rect) {
+        let mut changed = Vec::new();
+        if rect.rows() as u64 * rect.cols() as u64 <= self.cells.len() as u64 {
+            for_each_pos(rect, |pos| changed.extend(self.sheets[sheet as usize].get(pos)));
+        } else {
+            changed.extend((0..self.cells.len() as u32).filter(|&id| {
+                let c = &self.cells[id as usize];
+                c.sheet == sheet && rect.contains(c.pos)
+            }));
+        }
+        self.recalculate_from(changed);
+    }
+
     /// Sets a cell without recalculating; call [`Workbook::recalculate`] after a batch.
     pub fn set_input_deferred(&mut self, sheet: SheetId, pos: Pos, text: &str) -> Result<(), WorkbookError> {
         // A formula (what `Input::parse` reads as one) without copying its text.

@@ -32,6 +32,18 @@ pub struct SharedFormula {
     pub volatile: bool,
 }
 
+/// Whether a cell calling `f` is recomputed at every edit. Excel does so for every volatile
+/// function; a reference function that moves a reference it is given (OFFSET) is volatile
+/// there only because Excel cannot know where the result points. Here the given reference
+/// is an edge and the reference made is linked after each evaluation (`relink_dynamic`), so
+/// such a cell is recomputed when what it reads changes, as any formula: filling a column
+/// with them one edit at a time stays linear. A reference made from text (INDIRECT) may name
+/// a sheet or a name that does not exist yet, and stays volatile.
+fn recalculated_at_every_edit(f: &functions::FnSpec) -> bool {
+    let moves_a_given_reference = matches!(f.kind, functions::FnKind::Ref(_)) && f.range_args.contains(0);
+    f.volatile && !moves_a_given_reference
+}
+
 impl SharedFormula {
     pub fn new(expr: Expr) -> SharedFormula {
         let mut refs = Vec::new();
@@ -41,7 +53,7 @@ impl SharedFormula {
             // A reference read twice (`IF(C1>1,C1-1,C1+1)`) is one edge of the graph.
             crate::formula::ast::ExprKind::Ref(r) if !refs.contains(r) => refs.push(r.clone()),
             crate::formula::ast::ExprKind::Name(n) => names.push(n.clone()),
-            ExprKind::Call(id, _) => volatile |= functions::spec(*id).volatile,
+            ExprKind::Call(id, _) => volatile |= recalculated_at_every_edit(functions::spec(*id)),
             _ => {}
         });
         SharedFormula { expr: Rc::new(expr), refs: refs.into(), names: names.into(), numbers: Box::new([]), volatile }

@@ -40,7 +40,7 @@ mod text;
 pub mod vba;
 
 pub use crate::eval::format::text_format::NumberFormat;
-pub use geometry::{describe_gouge, formula_ball_path, standalone_ball_path};
+pub use geometry::{describe_gouge, formula_ball_path, standalone_ball_path, PathFailure};
 pub use lambda::{as_lambda, Lambda};
 pub use math::random::seed_random;
 

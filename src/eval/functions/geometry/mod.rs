@@ -229,7 +229,7 @@ thread_local! {
 }
 
 /// The ball path over a formula surface, evaluated where `home` says; a failure as an error
-/// value with its message. The CLI's `ballpath` command runs this too.
+/// value with its message.
 pub fn formula_ball_path(
     ctx: &mut Ctx,
     surface: &FormulaSurface,
@@ -237,8 +237,30 @@ pub fn formula_ball_path(
     spec: &BallPathSpec,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<BallPath, (XlError, String)> {
+    typed_ball_path(ctx, surface, home, spec, progress).map_err(|e| match e {
+        PathFailure::TooManyPoints { message, .. } => (XlError::Num, message),
+        PathFailure::Other(error, message) => (error, message),
+    })
+}
+
+/// Why there is no ball path over a formula surface.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PathFailure {
+    /// Past `BallPathSpec::max_points` (the CLI names the option that raises it).
+    TooManyPoints { at_least: Option<f64>, limit: usize, message: String },
+    /// An error value, with its message.
+    Other(XlError, String),
+}
+
+fn typed_ball_path(
+    ctx: &mut Ctx,
+    surface: &FormulaSurface,
+    home: Home,
+    spec: &BallPathSpec,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<BallPath, PathFailure> {
     if IN_SURFACE.get() {
-        return Err((XlError::Calc, "a surface formula cannot itself compute a BALLPATH".into()));
+        return Err(PathFailure::Other(XlError::Calc, "a surface formula cannot itself compute a BALLPATH".into()));
     }
     IN_SURFACE.set(true);
     let result = match home {
@@ -249,10 +271,19 @@ pub fn formula_ball_path(
     };
     IN_SURFACE.set(false);
     result.map_err(|e| match e {
-        PathError::Spec(g) => geometry_error(g),
-        PathError::Surface { x, y, error } => {
-            (error.error, format!("the surface's {} is {} at x={x}, y={y}", error.part.describe(), error.error))
+        PathError::Spec(g) => {
+            let (error, message) = geometry_error(g);
+            PathFailure::Other(error, message)
         }
+        PathError::Surface { x, y, error } => PathFailure::Other(
+            error.error,
+            format!("the surface's {} is {} at x={x}, y={y}", error.part.describe(), error.error),
+        ),
+        PathError::TooManyPoints { at_least, limit } => PathFailure::TooManyPoints {
+            at_least,
+            limit,
+            message: PathError::<SurfaceFault>::point_limit_message(at_least, limit),
+        },
     })
 }
 
@@ -262,8 +293,8 @@ pub fn standalone_ball_path(
     surface: &FormulaSurface,
     spec: &BallPathSpec,
     progress: &mut dyn FnMut(usize, usize),
-) -> Result<BallPath, (XlError, String)> {
-    formula_ball_path(&mut Ctx::new(&EmptyEnv, 0, Pos::new(0, 0)), surface, Home::Here, spec, progress)
+) -> Result<BallPath, PathFailure> {
+    typed_ball_path(&mut Ctx::new(&EmptyEnv, 0, Pos::new(0, 0)), surface, Home::Here, spec, progress)
 }
 
 /// One gouge, said in a line: where the ball was placed, where it cuts and how deep.

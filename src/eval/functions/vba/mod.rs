@@ -243,7 +243,8 @@ fn rtrim(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 fn replace(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let limit = ctx.text_limit();
-    text_fn(ctx, args, &|s, rest| {
+    let over = std::cell::Cell::new(false);
+    let result = text_fn(ctx, args, &|s, rest| {
         let find = vba_text(&rest[0])?;
         if find.is_empty() {
             return Ok(Value::text(s));
@@ -252,10 +253,15 @@ fn replace(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         // Refused before it is built: a doubling Replace in a loop grows without bound.
         let grows = with.len().saturating_sub(find.len());
         if grows > 0 && s.len() + s.matches(&*find).count() * grows > limit.saturating_mul(4) {
+            over.set(true);
             return Err(XlError::Value);
         }
         Ok(Value::text(s.replace(&*find, &with)))
-    })
+    });
+    if over.get() {
+        return Err(ctx.text_over_limit());
+    }
+    result
 }
 
 fn instr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
@@ -290,10 +296,18 @@ fn asc(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 fn space(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     // Space(1e9) is refused before it is built, not cut to a shorter string.
     let limit = ctx.text_limit();
-    lift(ctx, args, &|v| match count(&v[0])? {
-        n if n > limit => Err(XlError::Value),
+    let over = std::cell::Cell::new(false);
+    let result = lift(ctx, args, &|v| match count(&v[0])? {
+        n if n > limit => {
+            over.set(true);
+            Err(XlError::Value)
+        }
         n => Ok(Value::text(" ".repeat(n))),
-    })
+    });
+    if over.get() {
+        return Err(ctx.text_over_limit());
+    }
+    result
 }
 
 fn is_empty(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
