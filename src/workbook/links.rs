@@ -134,7 +134,7 @@ fn is_small(rect: Rect) -> bool {
     rect.rows() as u64 * rect.cols() as u64 <= SMALL_RANGE
 }
 
-fn for_each_pos(rect: Rect, mut f: impl FnMut(Pos)) {
+pub(super) fn for_each_pos(rect: Rect, mut f: impl FnMut(Pos)) {
     for row in rect.first.row..=rect.last.row {
         for col in rect.first.col..=rect.last.col {
             f(Pos::new(row, col));

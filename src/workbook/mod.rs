@@ -27,6 +27,7 @@ mod sheet;
 
 pub use cycles::Iteration;
 use graph::{Deps, FxMap, RangeIndex};
+use links::for_each_pos;
 pub use problems::{Problem, ProblemKind};
 use shared::{relative_key_into, shape_of, FormulaStore, SharedFormula};
 use sheet::Sheet;
