@@ -329,3 +329,17 @@ fn cells_keep_the_formula_language() {
     wb.set_input(0, at("A4"), "=VBA.SQR(16)+VBA.ROUND(2.5)").unwrap();
     assert_eq!(wb.value(0, at("A4")), n(6.0), "VBA's functions are rows of the one table");
 }
+
+/// A Date is days since 1899-12-30 with the time of day as the fraction ([MS-VBAL] 2.1, Date):
+/// 6 PM is 0.75, 2 January 2026 is day 46024 (LibreOffice agrees: tests/vba_libreoffice.rs).
+#[test]
+fn date_literals_with_a_time_of_day() {
+    assert_eq!(value("#1/2/2026 6:00:00 PM#"), n(46024.75));
+    assert_eq!(value("#2026-01-02 18:00#"), n(46024.75));
+    assert_eq!(value("#12:00 AM#"), n(0.0));
+    assert_eq!(value("#12:00 PM#"), n(0.5));
+    assert_eq!(value("#6:00:00 AM#"), n(0.25));
+    // Two-digit years are 1930-2029.
+    assert_eq!(value("#1/2/26#"), n(46024.0));
+    assert_eq!(value("#1/1/30#"), n(10959.0));
+}

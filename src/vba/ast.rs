@@ -162,8 +162,37 @@ pub enum StmtKind {
     },
     Exit(ExitKind),
     GoTo(Rc<str>),
+    /// `GoSub label`: runs from the label up to `Return`, then goes on after the GoSub.
+    GoSub(Rc<str>),
+    Return,
+    OnError(OnError),
+    Resume(Resume),
     /// `End`: stops the macro.
     End,
+}
+
+/// What a runtime error does in the procedure from an `On Error` statement on.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum OnError {
+    /// `On Error GoTo label`: run the handler at the label (a label of the procedure's body).
+    GoTo(Rc<str>),
+    /// `On Error Resume Next`: go on with the next statement.
+    ResumeNext,
+    /// `On Error GoTo 0`: errors stop the procedure again.
+    Off,
+    /// `On Error GoTo -1`: the running handler is done; the next error may be handled again.
+    Reset,
+}
+
+/// Where a handler goes back to.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Resume {
+    /// `Resume`: the statement that failed, again.
+    Retry,
+    /// `Resume Next`: the statement after it.
+    Next,
+    /// `Resume label`.
+    Label(Rc<str>),
 }
 
 #[derive(Debug)]

@@ -61,6 +61,7 @@ pub fn run(
         ended: Cell::new(false),
         active: Cell::new(active),
         notes: RefCell::new(Vec::new()),
+        err: RefCell::new(ErrState::default()),
     };
     let result = it.start(entry);
     it.flush_line();
@@ -117,6 +118,8 @@ fn entry(module: &Module, options: &RunOptions) -> Result<usize, String> {
 #[derive(Debug)]
 pub struct Fault {
     pub kind: ErrorKind,
+    /// VBA's error number, for `Err.Number` (0: the one its message implies).
+    pub code: u32,
     pub message: String,
     pub span: Option<Span>,
     pub trace: Vec<String>,
@@ -131,6 +134,28 @@ enum Flow {
     Exit(ExitKind),
     GoTo(Rc<str>),
     End,
+    /// `Return` of a GoSub.
+    Return,
+    /// A `Resume` of the running error handler.
+    Resume(Resume),
+    /// Out of the procedure: a handler or GoSub ran to its end.
+    Leave,
+}
+
+/// What a trapped error makes the failing block do.
+enum Trap {
+    /// Go on after the failing statement.
+    Next,
+    /// Run the failing statement again.
+    Retry,
+    Flow(Flow),
+}
+
+/// `Err`: the last trapped error.
+#[derive(Clone, Debug, Default)]
+pub struct ErrState {
+    pub number: u32,
+    pub description: String,
 }
 
 /// What a variable holds.
@@ -163,6 +188,8 @@ pub enum Obj {
     App,
     Nc,
     Debug,
+    /// `Err`: the last trapped error.
+    Err,
 }
 
 impl Obj {
@@ -177,6 +204,7 @@ impl Obj {
             Obj::App => "Application",
             Obj::Nc => "Nc",
             Obj::Debug => "Debug",
+            Obj::Err => "Err",
         }
     }
 }
@@ -194,6 +222,9 @@ struct Frame {
     vars: Vec<Slot>,
     with: Vec<Obj>,
     call_site: Option<Span>,
+    on_error: OnError,
+    /// The `On Error GoTo` handler is running: an error now goes to the caller.
+    handling: bool,
 }
 
 pub struct Interp<'m, 'w> {
@@ -219,6 +250,7 @@ pub struct Interp<'m, 'w> {
     pub active: Cell<SheetId>,
     /// Explanations the last evaluation left (why a value is an error).
     notes: RefCell<Vec<String>>,
+    pub err: RefCell<ErrState>,
 }
 
 impl Interp<'_, '_> {
@@ -257,7 +289,7 @@ impl Interp<'_, '_> {
     // ---- faults ----------------------------------------------------------------------
 
     fn plain_fault(&self, kind: ErrorKind, message: String) -> Fault {
-        Fault { kind, message, span: None, trace: Vec::new() }
+        Fault { kind, code: 0, message, span: None, trace: Vec::new() }
     }
 
     /// A runtime failure here, with the procedures now running.
@@ -274,7 +306,7 @@ impl Interp<'_, '_> {
                 }
             })
             .collect();
-        Fault { kind: ErrorKind::Runtime, message: message.into(), span: None, trace }
+        Fault { kind: ErrorKind::Runtime, code: 0, message: message.into(), span: None, trace }
     }
 
     pub fn fault_at(&self, span: Span, message: impl Into<String>) -> Fault {
@@ -529,7 +561,14 @@ impl Interp<'_, '_> {
             f.kind = ErrorKind::Limit;
             return Err(f);
         }
-        self.frames.borrow_mut().push(Frame { proc, vars: Vec::new(), with: Vec::new(), call_site });
+        self.frames.borrow_mut().push(Frame {
+            proc,
+            vars: Vec::new(),
+            with: Vec::new(),
+            call_site,
+            on_error: OnError::Off,
+            handling: false,
+        });
         let result = self.bind_and_run(p, bound);
         let frame = self.frames.borrow_mut().pop().expect("the frame pushed above");
         self.keep_statics(&frame);
@@ -567,6 +606,8 @@ impl Interp<'_, '_> {
         }
         match self.block(&p.body)? {
             Flow::GoTo(label) => Err(self.fault(format!("GoTo {label}: no such label"))),
+            Flow::Return => Err(self.fault("Return without GoSub")),
+            Flow::Resume(_) => Err(self.fault("Resume without an error")),
             Flow::End => {
                 self.ended.set(true);
                 Ok(())
@@ -578,9 +619,24 @@ impl Interp<'_, '_> {
     // ---- statements ------------------------------------------------------------------
 
     fn block(&self, block: &Block) -> Run<Flow> {
-        let mut i = 0;
+        self.block_from(block, 0)
+    }
+
+    fn block_from(&self, block: &Block, start: usize) -> Run<Flow> {
+        let mut i = start;
         while i < block.stmts.len() {
-            match self.exec(&block.stmts[i])? {
+            let flow = match self.exec(&block.stmts[i]) {
+                Ok(flow) => flow,
+                Err(fault) => match self.trap(fault)? {
+                    Trap::Next => {
+                        i += 1;
+                        continue;
+                    }
+                    Trap::Retry => continue,
+                    Trap::Flow(flow) => flow,
+                },
+            };
+            match flow {
                 Flow::Next => i += 1,
                 Flow::GoTo(label) => match block.label(&label) {
                     Some(target) => i = target,
@@ -640,9 +696,91 @@ impl Interp<'_, '_> {
             }
             StmtKind::Exit(kind) => return Ok(Flow::Exit(*kind)),
             StmtKind::GoTo(label) => return Ok(Flow::GoTo(label.clone())),
+            StmtKind::GoSub(label) => {
+                return Ok(match self.run_from_label(label)? {
+                    Flow::Return => Flow::Next,
+                    other => other,
+                })
+            }
+            StmtKind::Return => return Ok(Flow::Return),
+            StmtKind::OnError(mode) => self.on_error(mode),
+            StmtKind::Resume(kind) => {
+                if !self.frame_flag(|f| f.handling) {
+                    return Err(self.fault("Resume without an error: Resume belongs in an On Error GoTo handler"));
+                }
+                return Ok(Flow::Resume(kind.clone()));
+            }
             StmtKind::End => return Ok(Flow::End),
         }
         Ok(Flow::Next)
+    }
+
+    // ---- errors and GoSub ---------------------------------------------------------------
+
+    fn frame_flag(&self, f: impl FnOnce(&Frame) -> bool) -> bool {
+        self.frames.borrow().last().is_some_and(f)
+    }
+
+    fn on_error(&self, mode: &OnError) {
+        let mut frames = self.frames.borrow_mut();
+        let frame = frames.last_mut().expect("a running procedure");
+        match mode {
+            OnError::Reset => frame.handling = false,
+            other => frame.on_error = other.clone(),
+        }
+        *self.err.borrow_mut() = ErrState::default();
+    }
+
+    /// Runs the procedure's body from a label: a GoSub's subroutine or an error handler.
+    /// Running off the end of the body leaves the procedure.
+    fn run_from_label(&self, label: &str) -> Run<Flow> {
+        let proc = self.frames.borrow().last().expect("a running procedure").proc;
+        let body = &self.module.procs[proc].body;
+        let start = body.label(label).expect("the parser checked the label");
+        Ok(match self.block_from(body, start)? {
+            Flow::Next => Flow::Leave,
+            other => other,
+        })
+    }
+
+    /// An error under `On Error`: what the failing block does next; the fault itself when
+    /// nothing traps it (no handler, the handler already running, or a limit that stops the
+    /// macro whatever it says).
+    fn trap(&self, fault: Fault) -> Run<Trap> {
+        let (mode, handling) = match self.frames.borrow().last() {
+            Some(f) => (f.on_error.clone(), f.handling),
+            None => return Err(fault),
+        };
+        if fault.kind != ErrorKind::Runtime || self.ended.get() {
+            return Err(fault);
+        }
+        let label = match mode {
+            OnError::ResumeNext => {
+                *self.err.borrow_mut() = err_state(&fault);
+                return Ok(Trap::Next);
+            }
+            OnError::GoTo(label) if !handling => label,
+            _ => return Err(fault),
+        };
+        *self.err.borrow_mut() = err_state(&fault);
+        self.set_handling(true);
+        let flow = self.run_from_label(&label)?;
+        if let Flow::Resume(_) = flow {
+            self.set_handling(false);
+            *self.err.borrow_mut() = ErrState::default();
+        }
+        Ok(match flow {
+            Flow::Resume(Resume::Retry) => Trap::Retry,
+            Flow::Resume(Resume::Next) => Trap::Next,
+            Flow::Resume(Resume::Label(l)) => Trap::Flow(Flow::GoTo(l)),
+            other => Trap::Flow(other),
+        })
+    }
+
+    fn set_handling(&self, on: bool) {
+        if let Some(f) = self.frames.borrow_mut().last_mut() {
+            f.handling = on;
+        }
     }
 
     fn dim(&self, vars: &[VarDecl], redim: bool, preserve: bool) -> Run<()> {
@@ -1046,6 +1184,8 @@ impl Interp<'_, '_> {
         match obj {
             Obj::Value(v) => Ok(Operand::Value(v)),
             Obj::Range(sheet, rect) => Ok(Operand::Ref(sheet, rect)),
+            // `If Err Then`: Err's default member is its Number.
+            Obj::Err => Ok(Operand::Value(Value::Number(self.err.borrow().number as f64))),
             other => Err(self.fault_at(span, format!("{} is not a value", other.describe()))),
         }
     }
@@ -1132,4 +1272,19 @@ pub fn input_text(v: &Value) -> String {
         Value::Error(e) => e.as_str().to_string(),
         Value::Array(a) => a.data.first().map(input_text).unwrap_or_default(),
     }
+}
+
+/// `Err` after a trapped failure: its VBA number, given or read from the kind of failure the
+/// message names, and the message as the description.
+fn err_state(fault: &Fault) -> ErrState {
+    let m = fault.message.as_str();
+    let number = match fault.code {
+        0 if m.contains("#DIV/0!") => 11,
+        0 if m.contains("overflow") => 6,
+        0 if m.contains("type mismatch") || m.contains("not a number") => 13,
+        0 if m.contains("out of range") || m.contains("subscript") => 9,
+        0 => 5,
+        n => n,
+    };
+    ErrState { number, description: fault.message.clone() }
 }

@@ -137,6 +137,7 @@ impl Interp<'_, '_> {
             "range" => self.range(ctx, active, link),
             "cells" => self.cells(ctx, active, Rect::cell(Pos::new(0, 0)), link),
             "nc" => Ok(Obj::Nc),
+            "err" => Ok(Obj::Err),
             "debug" => Ok(Obj::Debug),
             "msgbox" => self.msgbox(ctx, link),
             "evaluate" => self.evaluate(ctx, active, link),
@@ -186,10 +187,41 @@ impl Interp<'_, '_> {
                 }
                 _ => Err(self.no_member(&Obj::Debug, link)),
             },
+            Obj::Err => self.err_member(ctx, link),
             Obj::Value(v) => {
                 let shown = print_text(&v);
                 Err(self.fault_at(link.span, format!("{}: {shown} is a value, not an object", link.name)))
             }
+        }
+    }
+
+    /// `Err.Number`, `Err.Description`, `Err.Source`, `Err.Clear`, `Err.Raise n [, source [, description]]`.
+    fn err_member(&self, ctx: &mut Ctx, link: &Link) -> Run<Obj> {
+        let err = self.err.borrow().clone();
+        match lower(link).as_str() {
+            "number" => Ok(Obj::Value(Value::Number(err.number as f64))),
+            "description" => Ok(Obj::Value(Value::text(err.description))),
+            "source" => Ok(Obj::Value(Value::text("ncsheet"))),
+            "clear" => {
+                *self.err.borrow_mut() = Default::default();
+                Ok(Obj::Value(Value::Blank))
+            }
+            "raise" => {
+                let values = self.values(ctx, link)?;
+                let number = values.first().map(|v| self.number_of(v, "Err.Raise's number")).transpose();
+                let number = number.map_err(|m| self.fault_at(link.span, m))?.unwrap_or(0.0);
+                if !(1.0..=65535.0).contains(&number) {
+                    return Err(self.fault_at(link.span, "Err.Raise takes an error number from 1 to 65535"));
+                }
+                let description = match values.get(2) {
+                    Some(v) if !v.is_blank() => print_text(v),
+                    _ => format!("error {number}"),
+                };
+                let mut fault = self.fault_at(link.span, description);
+                fault.code = number as u32;
+                Err(fault)
+            }
+            _ => Err(self.no_member(&Obj::Err, link)),
         }
     }
 

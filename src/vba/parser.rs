@@ -149,6 +149,7 @@ fn describe(rule: Rule) -> &'static str {
         | Rule::boolean
         | Rule::path
         | Rule::bracket
+        | Rule::date_lit
         | Rule::neg
         | Rule::plus
         | Rule::not_op => "a value",
@@ -216,6 +217,7 @@ const OBJECTS: &[&str] = &[
     "application",
     "cells",
     "debug",
+    "err",
     "evaluate",
     "inputbox",
     "msgbox",
@@ -447,6 +449,7 @@ impl<'s> Build<'s> {
         let ty = find(&k, Rule::as_clause).map(|a| ty_of(&a));
         let body = self.block(find(&k, Rule::block).expect("procedure body"))?;
         self.check_gotos(&body, &mut Vec::new())?;
+        self.check_body_labels(&body, &body)?;
         Ok(Proc { name, kind, params, ty, body, span: self.span(start(&pair)) })
     }
 
@@ -484,6 +487,31 @@ impl<'s> Build<'s> {
             }
         }
         outer.pop();
+        Ok(())
+    }
+
+    /// `On Error GoTo`, `GoSub` and `Resume` name a label of the procedure's body itself:
+    /// the handler or subroutine runs from there, outside any loop or If.
+    fn check_body_labels(&self, body: &Block, block: &Block) -> Res<()> {
+        for s in &block.stmts {
+            let label = match &s.kind {
+                StmtKind::OnError(OnError::GoTo(l)) | StmtKind::GoSub(l) | StmtKind::Resume(Resume::Label(l)) => {
+                    Some(l)
+                }
+                _ => None,
+            };
+            if let Some(label) = label.filter(|l| body.label(l).is_none()) {
+                return Err(ParseError {
+                    offset: self.offset_of(s.span),
+                    message: format!(
+                        "no label {label} in the procedure's body (outside its loops and Ifs), where it must be"
+                    ),
+                });
+            }
+            for inner in inner_blocks(&s.kind) {
+                self.check_body_labels(body, inner)?;
+            }
+        }
         Ok(())
     }
 
@@ -559,12 +587,14 @@ impl<'s> Build<'s> {
             }
             Rule::line_number => StmtKind::GoTo(name_of(&pair)),
             Rule::end_stmt => StmtKind::End,
-            Rule::on_error_stmt => {
-                return Err(self.error_at(
-                    &pair,
-                    "On Error is not supported: a macro stops at its first error and shows the line and a caret",
-                ))
-            }
+            Rule::gosub_stmt => StmtKind::GoSub(label_of(&pair)),
+            Rule::return_stmt => StmtKind::Return,
+            Rule::on_error_stmt => StmtKind::OnError(on_error(&pair)),
+            Rule::resume_stmt => StmtKind::Resume(match find(&kids(&pair), Rule::k_next) {
+                Some(_) => Resume::Next,
+                None if kids(&pair).len() > 1 => Resume::Label(label_of(&pair)),
+                None => Resume::Retry,
+            }),
             Rule::file_stmt => {
                 let word = pair.as_str().split(|c: char| !c.is_alphabetic()).next().unwrap_or("");
                 return Err(self.error_at(&pair, refusal(word)));
@@ -1117,8 +1147,40 @@ impl HostPrimaries for Build<'_> {
         match pair.as_rule() {
             Rule::bracket => self.bracket(pair),
             Rule::path => self.path_expr(pair, false),
+            Rule::date_lit => {
+                let text = pair.as_str().trim_matches('#');
+                let serial = date_literal(text).ok_or_else(|| {
+                    self.error_at(
+                        &pair,
+                        format!("#{text}# is not a date: write #month/day/year#, #year-month-day# or #h:mm:ss#"),
+                    )
+                })?;
+                Ok(Expr::new(
+                    ExprKind::Number(serial),
+                    ByteSpan { start: start(&pair) as u32, end: pair.as_span().end() as u32 },
+                ))
+            }
             rule => unreachable!("macro primary {rule:?}"),
         }
+    }
+}
+
+/// The label a `GoSub`, `Resume` or `On Error GoTo` names (its last name or number).
+fn label_of(pair: &Pair<Rule>) -> Rc<str> {
+    let k = kids(pair);
+    let label = k.iter().rev().find(|p| matches!(p.as_rule(), Rule::ident | Rule::line_number)).expect("a label");
+    name_of(label)
+}
+
+fn on_error(pair: &Pair<Rule>) -> OnError {
+    let k = kids(pair);
+    if find(&k, Rule::k_resume).is_some() {
+        return OnError::ResumeNext;
+    }
+    match find(&k, Rule::error_off).map(|p| p.as_str().to_string()).as_deref() {
+        Some("0") => OnError::Off,
+        Some(_) => OnError::Reset,
+        None => OnError::GoTo(label_of(pair)),
     }
 }
 
@@ -1166,4 +1228,73 @@ pub fn inner_blocks(kind: &StmtKind) -> Vec<&Block> {
         | StmtKind::With { body, .. } => vec![body],
         _ => Vec::new(),
     }
+}
+
+/// A date literal's serial number, as VBA stores a Date: days since 1899-12-30 and the time
+/// of day as a fraction ([MS-VBAL] 3.3.3). The date is month/day/year, or year-month-day when
+/// the first number has more than two digits; a two-digit year is 1930–2029; the time is
+/// `h[:mm[:ss]]` with an optional AM or PM.
+fn date_literal(text: &str) -> Option<f64> {
+    let words: Vec<&str> = text.split_whitespace().collect();
+    let (date_words, time_words): (Vec<&str>, Vec<&str>) =
+        words.iter().partition(|w| !w.contains(':') && !is_meridiem(w) && w.contains(['/', '-']));
+    let date = match date_words.as_slice() {
+        [] => 0.0,
+        [d] => date_part(d)?,
+        _ => return None,
+    };
+    let time = match time_words.as_slice() {
+        [] => 0.0,
+        words => time_part(words)?,
+    };
+    (!words.is_empty()).then_some(date + time)
+}
+
+fn is_meridiem(word: &str) -> bool {
+    word.eq_ignore_ascii_case("AM") || word.eq_ignore_ascii_case("PM")
+}
+
+fn date_part(word: &str) -> Option<f64> {
+    let parts: Vec<&str> = word.split(['/', '-']).collect();
+    let [a, _, c] = parts.as_slice() else { return None };
+    let numbers: Vec<i64> = parts.iter().map(|p| p.parse().ok()).collect::<Option<_>>()?;
+    let (year, month, day) =
+        if a.len() > 2 { (numbers[0], numbers[1], numbers[2]) } else { (numbers[2], numbers[0], numbers[1]) };
+    let year = match year {
+        0..=29 if c.len() <= 2 || a.len() > 2 => year + 2000,
+        30..=99 if c.len() <= 2 || a.len() > 2 => year + 1900,
+        _ => year,
+    };
+    let valid_day = (1..=crate::eval::dates::days_in_month(year, month as u32) as i64).contains(&day);
+    if !(100..=9999).contains(&year) || !(1..=12).contains(&month) || !valid_day {
+        return None;
+    }
+    let serial = crate::eval::dates::serial_from_ymd(year, month, day);
+    // Excel counts a 29 February 1900 that VBA does not: before March 1900 VBA is one more.
+    Some(if (year, month) < (1900, 3) { serial + 1 } else { serial } as f64)
+}
+
+fn time_part(words: &[&str]) -> Option<f64> {
+    let (clock, meridiem) = match words {
+        [clock] => (*clock, None),
+        [clock, m] if is_meridiem(m) => (*clock, Some(m.to_ascii_uppercase())),
+        _ => return None,
+    };
+    let numbers: Vec<u32> = clock.split(':').map(|p| p.parse().ok()).collect::<Option<_>>()?;
+    let (mut h, m, s) = match numbers.as_slice() {
+        [h] if meridiem.is_some() => (*h, 0, 0),
+        [h, m] => (*h, *m, 0),
+        [h, m, s] => (*h, *m, *s),
+        _ => return None,
+    };
+    match meridiem.as_deref() {
+        Some(_) if !(1..=12).contains(&h) => return None,
+        Some("AM") if h == 12 => h = 0,
+        Some("PM") if h != 12 => h += 12,
+        _ => {}
+    }
+    if h > 23 || m > 59 || s > 59 {
+        return None;
+    }
+    Some(f64::from(h * 3600 + m * 60 + s) / 86_400.0)
 }
