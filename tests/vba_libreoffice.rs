@@ -170,6 +170,67 @@ Twice:
     Return
 "#,
     },
+    Case {
+        name: "type_fields_with_and_byref",
+        module: r#"
+Type Pt
+    X As Double
+    Y As Double
+    Label As String
+End Type
+Type Seg
+    A As Pt
+    N As Integer
+End Type
+Sub Shift(p As Pt, ByVal dx As Double)
+    p.X = p.X + dx
+End Sub
+"#,
+        body: r#"
+    Dim p As Pt, s As Seg
+    p.X = 3: p.Y = 4
+    p.Label = "A"
+    Shift p, 1.5
+    Out p.X & " " & p.Y & " " & p.Label
+    With p
+        .Y = .Y * 2
+        Out (.Y + .X)
+    End With
+    Out p.Y
+    s.A.X = 100
+    s.N = 2.4
+    Out s.A.X & " " & p.X & " " & s.N & " [" & s.A.Label & "]"
+"#,
+    },
+    Case {
+        name: "byref_byval_const_redim_preserve",
+        module: r#"
+Sub Bump(ByRef a, ByVal b)
+    a = a + 1
+    b = b + 1
+End Sub
+Sub BumpDefault(a)
+    a = a * 10
+End Sub
+"#,
+        body: r#"
+    Dim x, y
+    x = 1: y = 1
+    Bump x, y
+    Out x & " " & y
+    BumpDefault x
+    Out x
+    Const Pi2 = 6.28
+    Dim a() As Double
+    ReDim a(1 To 3)
+    a(1) = 1: a(2) = 2: a(3) = 3
+    ReDim Preserve a(1 To 5)
+    a(5) = Pi2
+    Out UBound(a) & " " & a(2) & " " & a(4) & " " & a(5)
+    ReDim a(1 To 2)
+    Out a(1)
+"#,
+    },
 ];
 
 /// ncsheet's lines for one case.

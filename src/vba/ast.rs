@@ -31,6 +31,8 @@ pub struct Module {
     /// Module-level `Dim`/`Private`/`Public` variables and `Const`s, in order.
     pub globals: Vec<Stmt>,
     pub procs: Vec<Proc>,
+    /// The module's `Type`s; `Ty::Record(i)` is `types[i]`.
+    pub types: Vec<TypeDef>,
     /// The macro-only expression nodes; `ExprKind::Host(i)` is `nodes[i]`.
     pub nodes: Vec<Node>,
 }
@@ -89,6 +91,21 @@ pub enum Ty {
     Boolean,
     /// Variant, or an object type (Range, Worksheet, Object, …): holds anything.
     Variant,
+    /// A `Type` of the module, by index.
+    Record(usize),
+}
+
+/// `Type Name … End Type`: its fields in order, with their types.
+#[derive(Debug)]
+pub struct TypeDef {
+    pub name: Rc<str>,
+    pub fields: Vec<(Rc<str>, Ty)>,
+}
+
+impl TypeDef {
+    pub fn field(&self, name: &str) -> Option<usize> {
+        self.fields.iter().position(|(f, _)| f.eq_ignore_ascii_case(name))
+    }
 }
 
 /// Statements in order, and where each label points (the index of the next statement).

@@ -164,6 +164,8 @@ pub enum Var {
     Value(Value),
     Obj(Obj),
     Array(VArray),
+    /// A variable of a `Type`: its fields in the Type's order (copied on assignment, as VBA does).
+    Record(usize, Vec<Var>),
 }
 
 /// An array variable: its items (row-major) and the lower bound of each dimension.
@@ -190,6 +192,9 @@ pub enum Obj {
     Debug,
     /// `Err`: the last trapped error.
     Err,
+    /// A field of a `Type` variable, by the variable's name and the fields leading to it:
+    /// reads and writes reach the variable itself (so `With p` … `.X = 1` changes `p`).
+    Record(Rc<str>, Vec<usize>),
 }
 
 impl Obj {
@@ -205,6 +210,7 @@ impl Obj {
             Obj::Nc => "Nc",
             Obj::Debug => "Debug",
             Obj::Err => "Err",
+            Obj::Record(..) => "a Type value",
         }
     }
 }
@@ -522,6 +528,12 @@ impl Interp<'_, '_> {
             if let (true, ExprKind::Name(caller_var)) = (p.params[index].by_ref, &a.value.kind) {
                 back.push((index, caller_var.clone()));
             }
+            if let ExprKind::Name(n) = &a.value.kind {
+                if let Some(record @ Var::Record(..)) = self.lookup(n) {
+                    bound.push((index, record));
+                    continue;
+                }
+            }
             let var = match ctx.operand(&a.value) {
                 Operand::Ref(sheet, rect) => Var::Obj(Obj::Range(sheet, rect)),
                 Operand::Value(v) => match &a.value.kind {
@@ -580,6 +592,10 @@ impl Interp<'_, '_> {
                     Some(Var::Array(a)) => Value::Array(a.data.clone()),
                     Some(Var::Obj(Obj::Value(v))) => v.clone(),
                     Some(Var::Obj(Obj::Range(s, r))) => self.ctx().rect_value(*s, *r).unwrap_single(),
+                    Some(Var::Record(..)) => {
+                        let why = "returns a Type value, which is not supported: fill a Type parameter (ByRef) instead";
+                        return Err(self.fault(format!("Function {} {why}", p.name)));
+                    }
                     _ => Value::Blank,
                 }
             }
@@ -594,14 +610,14 @@ impl Interp<'_, '_> {
                 Some(k) => bound.swap_remove(k).1,
                 None => match &param.default {
                     Some(d) => Var::Value(self.eval(d)?),
-                    None => Var::Value(default_value(param.ty.as_ref())),
+                    None => self.default_var(param.ty.as_ref()),
                 },
             };
             let var = convert(var, param.ty.as_ref(), &param.name).map_err(|m| self.fault(m))?;
             self.declare(Slot { name: param.name.clone(), var, ty: param.ty.clone(), constant: false });
         }
         if p.kind == ProcKind::Function {
-            let var = Var::Value(default_value(p.ty.as_ref()));
+            let var = self.default_var(p.ty.as_ref());
             self.declare(Slot { name: p.name.clone(), var, ty: p.ty.clone(), constant: false });
         }
         match self.block(&p.body)? {
@@ -688,6 +704,10 @@ impl Interp<'_, '_> {
                     Var::Obj(o) => o,
                     Var::Value(v) => Obj::Value(v),
                     Var::Array(a) => Obj::Value(Value::Array(a.data)),
+                    Var::Record(..) => match &object.kind {
+                        ExprKind::Name(n) => Obj::Record(n.clone(), Vec::new()),
+                        _ => return Err(self.fault_at(self.expr_span(object), "With needs the Type variable itself")),
+                    },
                 };
                 self.frames.borrow_mut().last_mut().expect("a running procedure").with.push(obj);
                 let flow = self.block(body);
@@ -713,6 +733,47 @@ impl Interp<'_, '_> {
             StmtKind::End => return Ok(Flow::End),
         }
         Ok(Flow::Next)
+    }
+
+    /// A new variable of a type: a Type's fields each at their own default.
+    fn default_var(&self, ty: Option<&Ty>) -> Var {
+        match ty {
+            Some(Ty::Record(i)) => {
+                let fields = self.module.types[*i].fields.iter().map(|(_, t)| self.default_var(Some(t))).collect();
+                Var::Record(*i, fields)
+            }
+            other => Var::Value(default_value(other)),
+        }
+    }
+
+    /// The field a record path names, from the variable it starts at.
+    pub fn record_field(&self, name: &str, path: &[usize]) -> Option<Var> {
+        let mut var = self.lookup(name)?;
+        for &i in path {
+            var = match var {
+                Var::Record(_, mut fields) => fields.swap_remove(i),
+                _ => return None,
+            };
+        }
+        Some(var)
+    }
+
+    /// Writes a field of a Type variable, converted to the field's type.
+    pub fn set_record_field(&self, name: &str, path: &[usize], value: Var, span: Span) -> Run<()> {
+        let module = self.module;
+        let result = self.with_slot(name, |slot| {
+            let mut var = &mut slot.var;
+            let mut ty = None;
+            for &i in path {
+                let Var::Record(t, fields) = var else { return Err("not a Type value".to_string()) };
+                ty = Some(&module.types[*t].fields[i]);
+                var = &mut fields[i];
+            }
+            let (field, field_ty) = ty.expect("a field");
+            *var = convert(value, Some(field_ty), field)?;
+            Ok(())
+        });
+        result.expect("a record variable").map_err(|m| self.fault_at(span, m))
     }
 
     // ---- errors and GoSub ---------------------------------------------------------------
@@ -791,7 +852,10 @@ impl Interp<'_, '_> {
             }
             let var = match &d.bounds {
                 Some(bounds) if !bounds.is_empty() => {
-                    let mut array = self.new_array(bounds, d.ty.as_ref(), d.span)?;
+                    // `Dim a() As Double` … `ReDim a(3)`: the items keep the declared type.
+                    let declared = || self.with_slot(&d.name, |s| s.ty.clone()).flatten();
+                    let ty = d.ty.clone().or_else(|| redim.then(declared).flatten());
+                    let mut array = self.new_array(bounds, ty.as_ref(), d.span)?;
                     if preserve {
                         if let Some(Var::Array(old)) = self.lookup(&d.name) {
                             super::arrays::preserve_items(&old, &mut array);
@@ -799,7 +863,7 @@ impl Interp<'_, '_> {
                     }
                     Var::Array(array)
                 }
-                _ => Var::Value(default_value(d.ty.as_ref())),
+                _ => self.default_var(d.ty.as_ref()),
             };
             if redim && self.with_slot(&d.name, |s| s.var = var.clone()).is_some() {
                 continue;
@@ -986,33 +1050,37 @@ impl Interp<'_, '_> {
     }
 
     fn for_each(&self, var: &Rc<str>, group: &Expr, body: &Block, span: Span) -> Run<Flow> {
-        let items: Vec<Var> =
-            match self.var_of(group, true)? {
-                Var::Obj(Obj::Range(sheet, rect)) => {
-                    let rect = self.ctx().clip_to_used(sheet, rect);
-                    let mut cells = Vec::new();
-                    for row in rect.first.row..=rect.last.row {
-                        for col in rect.first.col..=rect.last.col {
-                            cells.push(Var::Obj(Obj::Range(sheet, Rect::cell(Pos::new(row, col)))));
-                        }
+        let items: Vec<Var> = match self.var_of(group, true)? {
+            Var::Obj(Obj::Range(sheet, rect)) => {
+                let rect = self.ctx().clip_to_used(sheet, rect);
+                let mut cells = Vec::new();
+                for row in rect.first.row..=rect.last.row {
+                    for col in rect.first.col..=rect.last.col {
+                        cells.push(Var::Obj(Obj::Range(sheet, Rect::cell(Pos::new(row, col)))));
                     }
-                    cells
                 }
-                Var::Obj(Obj::Sheets) => {
-                    (0..self.wb.borrow().sheet_len()).map(|i| Var::Obj(Obj::Sheet(i as SheetId))).collect()
-                }
-                Var::Array(a) => a.data.data.iter().cloned().map(Var::Value).collect(),
-                Var::Obj(Obj::Value(Value::Array(a))) => a.data.iter().cloned().map(Var::Value).collect(),
-                Var::Obj(other) => {
-                    return Err(self
-                        .fault_at(self.expr_span(group), format!("For Each cannot go through {}", other.describe())))
-                }
-                Var::Value(v) => {
-                    let shown = print_text(&v);
-                    return Err(self
-                        .fault_at(self.expr_span(group), format!("For Each needs a range or an array, not {shown}")));
-                }
-            };
+                cells
+            }
+            Var::Obj(Obj::Sheets) => {
+                (0..self.wb.borrow().sheet_len()).map(|i| Var::Obj(Obj::Sheet(i as SheetId))).collect()
+            }
+            Var::Array(a) => a.data.data.iter().cloned().map(Var::Value).collect(),
+            Var::Obj(Obj::Value(Value::Array(a))) => a.data.iter().cloned().map(Var::Value).collect(),
+            Var::Obj(other) => {
+                return Err(
+                    self.fault_at(self.expr_span(group), format!("For Each cannot go through {}", other.describe()))
+                )
+            }
+            Var::Value(v) => {
+                let shown = print_text(&v);
+                return Err(
+                    self.fault_at(self.expr_span(group), format!("For Each needs a range or an array, not {shown}"))
+                );
+            }
+            Var::Record(..) => {
+                return Err(self.fault_at(self.expr_span(group), "For Each needs a range or an array, not a Type value"))
+            }
+        };
         for item in items {
             self.tick(span)?;
             self.set_var(var, item, span)?;
@@ -1136,6 +1204,10 @@ impl Host for Interp<'_, '_> {
             Some(Var::Array(a)) => Operand::Value(Value::Array(a.data)),
             Some(Var::Obj(Obj::Range(sheet, rect))) => Operand::Ref(sheet, rect),
             Some(Var::Obj(Obj::Value(v))) => Operand::Value(v),
+            Some(Var::Record(..)) => {
+                self.park(self.fault(format!("{name} is a Type value: use its fields ({name}.Field)")));
+                Operand::Value(Value::Error(XlError::Value))
+            }
             Some(Var::Obj(other)) => {
                 self.park(self.fault(format!("{name} is {}, not a value", other.describe())));
                 Operand::Value(Value::Error(XlError::Value))
@@ -1222,6 +1294,15 @@ pub(super) fn default_value(ty: Option<&Ty>) -> Value {
 /// What a typed variable makes of an assigned value (VBA's implicit conversions).
 pub(super) fn convert(var: Var, ty: Option<&Ty>, name: &str) -> Result<Var, String> {
     let Some(ty) = ty.filter(|t| **t != Ty::Variant) else { return Ok(var) };
+    if let Ty::Record(i) = ty {
+        return match var {
+            Var::Record(j, fields) if j == *i => Ok(Var::Record(j, fields)),
+            _ => Err(format!("{name} holds a Type value; only a value of the same Type can be assigned to it")),
+        };
+    }
+    if let Var::Record(..) = var {
+        return Err(format!("{name} cannot hold a Type value (type mismatch)"));
+    }
     let Var::Value(v) = var else {
         return Err(format!("{name} is declared with a type and cannot hold an object or an array"));
     };
@@ -1240,7 +1321,7 @@ pub(super) fn convert(var: Var, ty: Option<&Ty>, name: &str) -> Result<Var, Stri
         },
         Ty::String => Value::Text(vba_text(&v).map_err(mismatch)?),
         Ty::Boolean => Value::Bool(to_bool(&v).map_err(mismatch)?),
-        Ty::Variant => v,
+        Ty::Variant | Ty::Record(_) => v,
     }))
 }
 

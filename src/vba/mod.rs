@@ -78,6 +78,10 @@
 //! Binary). Date literals `#1/2/2026#`, `#2026-01-02 18:30#`, `#6:00 PM#` are the Date's
 //! serial number (days since 1899-12-30, the time as a fraction).
 //!
+//! `Type … End Type` (fields of plain types or earlier Types; a Type value is copied on
+//! assignment, passed ByRef, reached with `With`); not arrays of a Type, array fields, or a
+//! Function returning one. `Foo (y)` without `Call` passes `y` by value, as in VBA.
+//!
 //! Not in the language: classes, `Is`, `Static Sub`, `ParamArray`, arrays of more than two
 //! dimensions, events and forms.
 

@@ -123,6 +123,7 @@ impl Interp<'_, '_> {
                 super::interp::Var::Obj(o) => o,
                 super::interp::Var::Value(v) => Obj::Value(v),
                 super::interp::Var::Array(a) => Obj::Value(Value::Array(a.data)),
+                super::interp::Var::Record(..) => Obj::Record(link.name.clone(), Vec::new()),
             });
         }
         let active = self.active.get();
@@ -188,6 +189,16 @@ impl Interp<'_, '_> {
                 _ => Err(self.no_member(&Obj::Debug, link)),
             },
             Obj::Err => self.err_member(ctx, link),
+            Obj::Record(var, path) => {
+                let i = self.field_index(&var, &path, link)?;
+                let mut path = path.clone();
+                path.push(i);
+                match self.record_field(&var, &path) {
+                    Some(super::interp::Var::Value(v)) => Ok(Obj::Value(v)),
+                    Some(super::interp::Var::Record(..)) => Ok(Obj::Record(var, path)),
+                    _ => Err(self.no_member(&Obj::Record(var, path), link)),
+                }
+            }
             Obj::Value(v) => {
                 let shown = print_text(&v);
                 Err(self.fault_at(link.span, format!("{}: {shown} is a value, not an object", link.name)))
@@ -223,6 +234,19 @@ impl Interp<'_, '_> {
             }
             _ => Err(self.no_member(&Obj::Err, link)),
         }
+    }
+
+    /// The index of a field `link` names in the Type of the record at `path`.
+    fn field_index(&self, var: &str, path: &[usize], link: &Link) -> Run<usize> {
+        let ty = match self.record_field(var, path) {
+            Some(super::interp::Var::Record(t, _)) => &self.module.types[t],
+            _ => return Err(self.fault_at(link.span, format!("{var} no longer holds a Type value"))),
+        };
+        if link.args.is_some() {
+            return Err(self.fault_at(link.span, format!("{}.{} is a field, not an array", ty.name, link.name)));
+        }
+        ty.field(&link.name)
+            .ok_or_else(|| self.fault_at(link.span, format!("Type {} has no field {}", ty.name, link.name)))
     }
 
     fn sheet_by(&self, ctx: &mut Ctx, link: &Link) -> Run<SheetId> {
@@ -485,6 +509,12 @@ impl Interp<'_, '_> {
                 self.write_formula(*sheet, *rect, &text, link.span)
             }
             (Obj::Nc, _) => self.set_nc(&name, value, link.span),
+            (Obj::Record(var, path), _) => {
+                let mut path = path.clone();
+                path.push(self.field_index(var, &path, link)?);
+                let v = self.var_of(value, false)?;
+                self.set_record_field(var, &path, v, link.span)
+            }
             (Obj::App, "screenupdating" | "displayalerts" | "enableevents" | "calculation" | "statusbar") => {
                 // Settings of Excel's window: nothing to do without one.
                 self.eval(value).map(|_| ())

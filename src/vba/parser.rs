@@ -66,9 +66,15 @@ pub fn parse_module(src: &str, sheets: &dyn Fn(&str) -> Option<SheetId>) -> Resu
     let module = pairs.next().expect("module rule");
     let items: Vec<Pair<Rule>> = module.into_inner().collect();
     let b = Build::new(src, sheets, &items)?;
+    let type_names = items.iter().filter(|i| i.as_rule() == Rule::type_def);
+    *b.types.borrow_mut() = type_names.map(|i| name_of(&find(&kids(i), Rule::ident).expect("type name"))).collect();
     let mut out = Module { base: 0, ..Module::default() };
     for item in items {
         match item.as_rule() {
+            Rule::type_def => {
+                let t = b.type_def(item)?;
+                out.types.push(t);
+            }
             Rule::option_stmt => b.option(item)?,
             Rule::declare_stmt => {
                 return Err(b.error_at(&item, "Declare calls into a DLL: a macro cannot run other programs"))
@@ -291,6 +297,8 @@ struct Build<'s> {
     nodes: RefCell<Vec<Node>>,
     explicit: Cell<bool>,
     base: Cell<i64>,
+    /// The names of the module's Types, by index.
+    types: RefCell<Vec<Rc<str>>>,
     /// Module-level declarations are being built: they declare globals.
     building_globals: Cell<bool>,
     lines: Lines,
@@ -328,6 +336,7 @@ impl<'s> Build<'s> {
             explicit: Cell::new(false),
             base: Cell::new(0),
             building_globals: Cell::new(false),
+            types: RefCell::new(Vec::new()),
             lines: Lines::new(src),
         };
         let mut procs = Vec::new();
@@ -446,7 +455,7 @@ impl<'s> Build<'s> {
             Some(list) => all(&kids(&list), Rule::param).into_iter().map(|p| self.param(p)).collect::<Res<Vec<_>>>()?,
             None => Vec::new(),
         };
-        let ty = find(&k, Rule::as_clause).map(|a| ty_of(&a));
+        let ty = find(&k, Rule::as_clause).map(|a| self.ty_of(&a));
         let body = self.block(find(&k, Rule::block).expect("procedure body"))?;
         self.check_gotos(&body, &mut Vec::new())?;
         self.check_body_labels(&body, &body)?;
@@ -464,7 +473,7 @@ impl<'s> Build<'s> {
             by_ref,
             optional: find(&k, Rule::k_optional).is_some(),
             default,
-            ty: find(&k, Rule::as_clause).map(|a| ty_of(&a)),
+            ty: find(&k, Rule::as_clause).map(|a| self.ty_of(&a)),
         })
     }
 
@@ -619,7 +628,10 @@ impl<'s> Build<'s> {
             } else {
                 self.declare(&name);
             }
-            let ty = find(&k, Rule::as_clause).map(|a| ty_of(&a));
+            let ty = find(&k, Rule::as_clause).map(|a| self.ty_of(&a));
+            if let (Some(Ty::Record(_)), Some(_)) = (&ty, &bounds) {
+                return Err(self.error_at(&var, "arrays of a Type are not supported: use one array per field"));
+            }
             out.push(VarDecl { name, ty, bounds, span: self.span(start(&var)) });
         }
         Ok(out)
@@ -712,6 +724,9 @@ impl<'s> Build<'s> {
     fn call_stmt(&self, pair: &Pair<Rule>) -> Res<Expr> {
         let k = kids(pair);
         if let Some(path) = find(&k, Rule::path) {
+            if find(&k, Rule::k_call).is_none() {
+                return self.spaced_call(path);
+            }
             return self.path_expr(path, true);
         }
         // `Nc.Line x, z`: the callee's last name takes the arguments.
@@ -730,6 +745,21 @@ impl<'s> Build<'s> {
         }
         path.links.last_mut().expect("a name").args = Some(args);
         self.resolve(&callee, path, true, pair.as_span().end())
+    }
+
+    /// `Foo (y)` without Call: the parentheses belong to the argument, an expression, so `y`
+    /// is passed by value ([MS-VBAL] 5.4.2.2); `Foo(y)` and `Call Foo(y)` pass it by reference.
+    fn spaced_call(&self, pair: Pair<Rule>) -> Res<Expr> {
+        let mut path = self.path_syntax(&pair)?;
+        let spaced = pair.as_str().split_once('(').is_some_and(|(name, _)| name.ends_with([' ', '\t']));
+        if let ([link], true) = (path.links.as_mut_slice(), spaced) {
+            for arg in link.args.iter_mut().flatten().filter(|a| a.value.kind != ExprKind::Missing) {
+                let value = std::mem::replace(&mut arg.value, Expr::new(ExprKind::Missing, ByteSpan::default()));
+                let span = value.span;
+                arg.value = Expr::new(ExprKind::Paren(Box::new(value)), span);
+            }
+        }
+        self.resolve(&pair, path, true, pair.as_span().end())
     }
 
     fn print(&self, pair: &Pair<Rule>) -> Res<StmtKind> {
@@ -1206,9 +1236,41 @@ fn comparison(rule: Rule) -> Option<BinOp> {
     })
 }
 
-fn ty_of(as_clause: &Pair<Rule>) -> Ty {
-    let name = find(&kids(as_clause), Rule::type_name).map(|t| t.as_str().to_ascii_lowercase()).unwrap_or_default();
-    match name.as_str() {
+impl Build<'_> {
+    fn ty_of(&self, as_clause: &Pair<Rule>) -> Ty {
+        let name = find(&kids(as_clause), Rule::type_name).map(|t| t.as_str().to_string()).unwrap_or_default();
+        match self.types.borrow().iter().position(|t| t.eq_ignore_ascii_case(&name)) {
+            Some(i) => Ty::Record(i),
+            None => ty_named(&name.to_ascii_lowercase()),
+        }
+    }
+
+    fn type_def(&self, pair: Pair<Rule>) -> Res<TypeDef> {
+        let k = kids(&pair);
+        let name = name_of(&find(&k, Rule::ident).expect("type name"));
+        let mut fields: Vec<(Rc<str>, Ty)> = Vec::new();
+        for f in all(&k, Rule::type_field) {
+            let fk = kids(&f);
+            let field = name_of(&find(&fk, Rule::ident).expect("field name"));
+            if find(&fk, Rule::dim_bounds).is_some() {
+                return Err(self.error_at(&f, "array fields in a Type are not supported"));
+            }
+            if fields.iter().any(|(n, _)| n.eq_ignore_ascii_case(&field)) {
+                return Err(self.error_at(&f, format!("{field} is a field of {name} twice")));
+            }
+            let ty = self.ty_of(&find(&fk, Rule::as_clause).expect("field type"));
+            let index = self.types.borrow().iter().position(|t| t.eq_ignore_ascii_case(&name));
+            if matches!((&ty, index), (Ty::Record(i), Some(j)) if *i >= j) {
+                return Err(self.error_at(&f, format!("{field}: a field's Type must be declared before {name}")));
+            }
+            fields.push((field, ty));
+        }
+        Ok(TypeDef { name, fields })
+    }
+}
+
+fn ty_named(name: &str) -> Ty {
+    match name {
         "integer" | "long" | "longlong" | "longptr" | "byte" => Ty::Whole,
         "double" | "single" | "currency" | "decimal" => Ty::Number,
         "string" => Ty::String,
