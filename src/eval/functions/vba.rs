@@ -387,41 +387,6 @@ pub fn format_number(n: f64, pattern: &str) -> XlResult<String> {
     NumberFormat::parse(named)?.format_number(n)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn formats_as_excel_and_vba_show_numbers() {
-        // Expected texts as Excel's TEXT and VBA's Format produce them.
-        assert_eq!(format_number(44.262741699797, "0.000").unwrap(), "44.263");
-        assert_eq!(format_number(-4.6, "0.000").unwrap(), "-4.600");
-        assert_eq!(format_number(2.675, "0.00").unwrap(), "2.68");
-        assert_eq!(format_number(1234567.891, "#,##0.00").unwrap(), "1,234,567.89");
-        assert_eq!(format_number(0.5, "0%").unwrap(), "50%");
-        assert_eq!(format_number(12345.0, "0.00E+00").unwrap(), "1.23E+04");
-        assert_eq!(format_number(0.00012, "0.0E-00").unwrap(), "1.2E-04");
-        assert_eq!(format_number(3.0, "0.###").unwrap(), "3.");
-        assert_eq!(format_number(3.25, "0.0##").unwrap(), "3.25");
-        assert_eq!(format_number(-2.0, "+0.0;-0.0").unwrap(), "-2.0");
-        assert_eq!(format_number(2.0, "+0.0;-0.0").unwrap(), "+2.0");
-        assert_eq!(format_number(0.0, "0.0;-0.0;\"zero\"").unwrap(), "zero");
-        assert_eq!(format_number(7.0, "\"X\"0.000").unwrap(), "X7.000");
-        assert_eq!(format_number(0.25, "#.00").unwrap(), ".25");
-        assert_eq!(format_number(99.996, "0.00").unwrap(), "100.00");
-        assert_eq!(format_number(1.5, "Fixed").unwrap(), "1.50");
-    }
-
-    #[test]
-    fn val_reads_the_leading_number() {
-        assert_eq!(vba_val(" 1 2.5mm"), 12.5);
-        assert_eq!(vba_val("-3e2x"), -300.0);
-        assert_eq!(vba_val("abc"), 0.0);
-        assert_eq!(vba_val(".5"), 0.5);
-        assert_eq!(vba_val("2e"), 2.0);
-    }
-}
-
 /// `text Like pattern` ([MS-VBAL] 5.6.9.5.7, Option Compare Binary): `?` one character, `*`
 /// any run, `#` one digit, `[a-z]` / `[!a-z]` one character in / not in the list. An
 /// unclosed `[` is `#VALUE!` (VBA's error 93, invalid pattern string).
@@ -513,4 +478,39 @@ fn like_matches(tokens: &[LikeToken], text: &[char]) -> bool {
         reach = next;
     }
     reach[text.len()]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn formats_as_excel_and_vba_show_numbers() {
+        // Expected texts as Excel's TEXT and VBA's Format produce them.
+        assert_eq!(format_number(44.262741699797, "0.000").unwrap(), "44.263");
+        assert_eq!(format_number(-4.6, "0.000").unwrap(), "-4.600");
+        assert_eq!(format_number(2.675, "0.00").unwrap(), "2.68");
+        assert_eq!(format_number(1234567.891, "#,##0.00").unwrap(), "1,234,567.89");
+        assert_eq!(format_number(0.5, "0%").unwrap(), "50%");
+        assert_eq!(format_number(12345.0, "0.00E+00").unwrap(), "1.23E+04");
+        assert_eq!(format_number(0.00012, "0.0E-00").unwrap(), "1.2E-04");
+        assert_eq!(format_number(3.0, "0.###").unwrap(), "3.");
+        assert_eq!(format_number(3.25, "0.0##").unwrap(), "3.25");
+        assert_eq!(format_number(-2.0, "+0.0;-0.0").unwrap(), "-2.0");
+        assert_eq!(format_number(2.0, "+0.0;-0.0").unwrap(), "+2.0");
+        assert_eq!(format_number(0.0, "0.0;-0.0;\"zero\"").unwrap(), "zero");
+        assert_eq!(format_number(7.0, "\"X\"0.000").unwrap(), "X7.000");
+        assert_eq!(format_number(0.25, "#.00").unwrap(), ".25");
+        assert_eq!(format_number(99.996, "0.00").unwrap(), "100.00");
+        assert_eq!(format_number(1.5, "Fixed").unwrap(), "1.50");
+    }
+
+    #[test]
+    fn val_reads_the_leading_number() {
+        assert_eq!(vba_val(" 1 2.5mm"), 12.5);
+        assert_eq!(vba_val("-3e2x"), -300.0);
+        assert_eq!(vba_val("abc"), 0.0);
+        assert_eq!(vba_val(".5"), 0.5);
+        assert_eq!(vba_val("2e"), 2.0);
+    }
 }
