@@ -44,7 +44,9 @@ fn names_are_checked_before_the_macro_runs() {
         ("    GoTo Nowhere", "GoTo Nowhere: no label Nowhere in this block or a block around it"),
         ("    If 1 Then\nInside:\n    End If\n    GoTo Inside", "GoTo Inside: no label Inside"),
         ("    Exit Function", "Exit function outside a function"),
-        ("    On Error Resume Next", "On Error is not supported"),
+        ("    On Error GoTo Nowhere", "no label Nowhere in the procedure's body"),
+        ("    If 1 Then\nInside:\n    End If\n    GoSub Inside", "no label Inside in the procedure's body"),
+        ("    x = #13/45/2026#", "#13/45/2026# is not a date"),
     ];
     for (body, message) in cases {
         let e = fail(&main_body(body));

@@ -329,3 +329,42 @@ fn cells_keep_the_formula_language() {
     wb.set_input(0, at("A4"), "=VBA.SQR(16)+VBA.ROUND(2.5)").unwrap();
     assert_eq!(wb.value(0, at("A4")), n(6.0), "VBA's functions are rows of the one table");
 }
+
+/// A Date is days since 1899-12-30 with the time of day as the fraction ([MS-VBAL] 2.1, Date):
+/// 6 PM is 0.75, 2 January 2026 is day 46024 (LibreOffice agrees: tests/vba_libreoffice.rs).
+#[test]
+fn date_literals_with_a_time_of_day() {
+    assert_eq!(value("#1/2/2026 6:00:00 PM#"), n(46024.75));
+    assert_eq!(value("#2026-01-02 18:00#"), n(46024.75));
+    assert_eq!(value("#12:00 AM#"), n(0.0));
+    assert_eq!(value("#12:00 PM#"), n(0.5));
+    assert_eq!(value("#6:00:00 AM#"), n(0.25));
+    // Two-digit years are 1930-2029.
+    assert_eq!(value("#1/2/26#"), n(46024.0));
+    assert_eq!(value("#1/1/30#"), n(10959.0));
+}
+
+/// Where LibreOffice's VBA mode is no oracle (it shares a Type value between variables, passes
+/// `(y)` by reference, and rounds 2.5 up into an Integer), [MS-VBAL] decides: assigning a
+/// Type value copies each field (5.4.3.8 Let of a UDT), an argument in parentheses is an
+/// expression and so passed by value (5.3.1.11), and an Integer rounds halves to even (5.5.1.2.1).
+#[test]
+fn type_values_copy_and_parenthesised_arguments_pass_by_value() {
+    let out = run("Type Pt\n    X As Double\n    N As Integer\nEnd Type\n\
+                   Sub Times10(a)\n    a = a * 10\nEnd Sub\n\
+                   Sub Main()\n    Dim p As Pt, q As Pt, y\n    p.X = 3\n    q = p\n    q.X = 10\n\
+                   \x20   p.N = 2.5\n    y = 1\n    Times10 (y)\n\
+                   \x20   Debug.Print p.X & \" \" & q.X & \" \" & p.N & \" \" & y\nEnd Sub\n");
+    assert_eq!(out.printed, ["3 10 2 1"]);
+}
+
+#[test]
+fn type_misuse_is_named() {
+    let mut wb = Workbook::with_sheet();
+    let src = "Type Pt\n    X As Double\nEnd Type\nSub Main()\n    Dim p As Pt\n    p.Z = 1\nEnd Sub\n";
+    let e = vba::run(&mut wb, src, "t.bas", &RunOptions::default()).unwrap_err();
+    assert!(e.message.contains("Type Pt has no field Z"), "{e}");
+    let src = "Type Pt\n    X As Double\nEnd Type\nSub Main()\n    Dim p As Pt\n    Debug.Print p\nEnd Sub\n";
+    let e = vba::run(&mut wb, src, "t.bas", &RunOptions::default()).unwrap_err();
+    assert!(e.message.contains("p is a Type value"), "{e}");
+}

@@ -695,6 +695,7 @@ fn scalar_binary(op: BinOp, a: &Value, b: &Value) -> Value {
             Err(e) => Value::Error(e),
         },
         BinOp::And | BinOp::Or | BinOp::Xor | BinOp::Eqv | BinOp::Imp => vba_logic(op, a, b),
+        BinOp::Like => functions::vba::like(a, b),
         _ => match (to_number(a), to_number(b)) {
             (Ok(x), Ok(y)) => scalar_binary_numbers(op, x, y),
             (Err(e), _) | (_, Err(e)) => Value::Error(e),

@@ -127,6 +127,8 @@ pub enum BinOp {
     Xor,
     Eqv,
     Imp,
+    /// `text Like pattern`: VBA's wildcard match (`?`, `*`, `#`, `[a-z]`, `[!…]`).
+    Like,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -56,7 +56,7 @@ pub fn binary_precedence(op: BinOp) -> u8 {
         BinOp::Xor => 3,
         BinOp::Or => 4,
         BinOp::And => 5,
-        BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge => 7,
+        BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge | BinOp::Like => 7,
         BinOp::Concat => 8,
         BinOp::Add | BinOp::Sub => 9,
         BinOp::Mod => 10,
@@ -78,7 +78,7 @@ pub fn unary_precedence(op: UnaryOp) -> u8 {
     }
 }
 
-const INFIX_RULES: [(Rule, BinOp); 20] = [
+const INFIX_RULES: [(Rule, BinOp); 21] = [
     (Rule::range_op, BinOp::Range),
     (Rule::pow, BinOp::Pow),
     (Rule::mul, BinOp::Mul),
@@ -99,6 +99,7 @@ const INFIX_RULES: [(Rule, BinOp); 20] = [
     (Rule::xor_op, BinOp::Xor),
     (Rule::eqv_op, BinOp::Eqv),
     (Rule::imp_op, BinOp::Imp),
+    (Rule::like_op, BinOp::Like),
 ];
 
 const PREFIX_RULES: [(Rule, UnaryOp); 4] = [
@@ -322,6 +323,7 @@ pub(crate) fn is_operator(rule: Rule) -> bool {
             | Rule::xor_op
             | Rule::eqv_op
             | Rule::imp_op
+            | Rule::like_op
     )
 }
 

@@ -360,6 +360,7 @@ pub fn binary_symbol(op: BinOp) -> &'static str {
         BinOp::Xor => " Xor ",
         BinOp::Eqv => " Eqv ",
         BinOp::Imp => " Imp ",
+        BinOp::Like => " Like ",
     }
 }
 

@@ -31,6 +31,8 @@ pub struct Module {
     /// Module-level `Dim`/`Private`/`Public` variables and `Const`s, in order.
     pub globals: Vec<Stmt>,
     pub procs: Vec<Proc>,
+    /// The module's `Type`s; `Ty::Record(i)` is `types[i]`.
+    pub types: Vec<TypeDef>,
     /// The macro-only expression nodes; `ExprKind::Host(i)` is `nodes[i]`.
     pub nodes: Vec<Node>,
 }
@@ -89,6 +91,21 @@ pub enum Ty {
     Boolean,
     /// Variant, or an object type (Range, Worksheet, Object, …): holds anything.
     Variant,
+    /// A `Type` of the module, by index.
+    Record(usize),
+}
+
+/// `Type Name … End Type`: its fields in order, with their types.
+#[derive(Debug)]
+pub struct TypeDef {
+    pub name: Rc<str>,
+    pub fields: Vec<(Rc<str>, Ty)>,
+}
+
+impl TypeDef {
+    pub fn field(&self, name: &str) -> Option<usize> {
+        self.fields.iter().position(|(f, _)| f.eq_ignore_ascii_case(name))
+    }
 }
 
 /// Statements in order, and where each label points (the index of the next statement).
@@ -162,8 +179,37 @@ pub enum StmtKind {
     },
     Exit(ExitKind),
     GoTo(Rc<str>),
+    /// `GoSub label`: runs from the label up to `Return`, then goes on after the GoSub.
+    GoSub(Rc<str>),
+    Return,
+    OnError(OnError),
+    Resume(Resume),
     /// `End`: stops the macro.
     End,
+}
+
+/// What a runtime error does in the procedure from an `On Error` statement on.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum OnError {
+    /// `On Error GoTo label`: run the handler at the label (a label of the procedure's body).
+    GoTo(Rc<str>),
+    /// `On Error Resume Next`: go on with the next statement.
+    ResumeNext,
+    /// `On Error GoTo 0`: errors stop the procedure again.
+    Off,
+    /// `On Error GoTo -1`: the running handler is done; the next error may be handled again.
+    Reset,
+}
+
+/// Where a handler goes back to.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Resume {
+    /// `Resume`: the statement that failed, again.
+    Retry,
+    /// `Resume Next`: the statement after it.
+    Next,
+    /// `Resume label`.
+    Label(Rc<str>),
 }
 
 #[derive(Debug)]

@@ -61,6 +61,7 @@ pub fn run(
         active: Cell::new(active),
         notes: RefCell::new(Vec::new()),
         output_bytes: Cell::new(0),
+        err: RefCell::new(ErrState::default()),
     };
     let result = it.start(entry);
     it.flush_line();
@@ -117,6 +118,8 @@ fn entry(module: &Module, options: &RunOptions) -> Result<usize, String> {
 #[derive(Debug)]
 pub struct Fault {
     pub kind: ErrorKind,
+    /// VBA's error number, for `Err.Number` (0: the one its message implies).
+    pub code: u32,
     pub message: String,
     pub span: Option<Span>,
     pub trace: Vec<String>,
@@ -131,6 +134,28 @@ enum Flow {
     Exit(ExitKind),
     GoTo(Rc<str>),
     End,
+    /// `Return` of a GoSub.
+    Return,
+    /// A `Resume` of the running error handler.
+    Resume(Resume),
+    /// Out of the procedure: a handler or GoSub ran to its end.
+    Leave,
+}
+
+/// What a trapped error makes the failing block do.
+enum Trap {
+    /// Go on after the failing statement.
+    Next,
+    /// Run the failing statement again.
+    Retry,
+    Flow(Flow),
+}
+
+/// `Err`: the last trapped error.
+#[derive(Clone, Debug, Default)]
+pub struct ErrState {
+    pub number: u32,
+    pub description: String,
 }
 
 /// What a variable holds.
@@ -139,6 +164,8 @@ pub enum Var {
     Value(Value),
     Obj(Obj),
     Array(VArray),
+    /// A variable of a `Type`: its fields in the Type's order (copied on assignment, as VBA does).
+    Record(usize, Vec<Var>),
 }
 
 /// An array variable: its items (row-major) and the lower bound of each dimension.
@@ -163,6 +190,11 @@ pub enum Obj {
     App,
     Nc,
     Debug,
+    /// `Err`: the last trapped error.
+    Err,
+    /// A field of a `Type` variable, by the variable's name and the fields leading to it:
+    /// reads and writes reach the variable itself (so `With p` … `.X = 1` changes `p`).
+    Record(Rc<str>, Vec<usize>),
 }
 
 impl Obj {
@@ -177,6 +209,8 @@ impl Obj {
             Obj::App => "Application",
             Obj::Nc => "Nc",
             Obj::Debug => "Debug",
+            Obj::Err => "Err",
+            Obj::Record(..) => "a Type value",
         }
     }
 }
@@ -194,6 +228,9 @@ struct Frame {
     vars: Vec<Slot>,
     with: Vec<Obj>,
     call_site: Option<Span>,
+    on_error: OnError,
+    /// The `On Error GoTo` handler is running: an error now goes to the caller.
+    handling: bool,
 }
 
 pub struct Interp<'m, 'w> {
@@ -219,6 +256,7 @@ pub struct Interp<'m, 'w> {
     notes: RefCell<Vec<String>>,
     /// Bytes of `Debug.Print` and `MsgBox` output so far, against [`RunOptions::max_output`].
     output_bytes: Cell<u64>,
+    pub err: RefCell<ErrState>,
 }
 
 impl Interp<'_, '_> {
@@ -257,7 +295,7 @@ impl Interp<'_, '_> {
     // ---- faults ----------------------------------------------------------------------
 
     fn plain_fault(&self, kind: ErrorKind, message: String) -> Fault {
-        Fault { kind, message, span: None, trace: Vec::new() }
+        Fault { kind, code: 0, message, span: None, trace: Vec::new() }
     }
 
     /// A runtime failure here, with the procedures now running.
@@ -274,7 +312,7 @@ impl Interp<'_, '_> {
                 }
             })
             .collect();
-        Fault { kind: ErrorKind::Runtime, message: message.into(), span: None, trace }
+        Fault { kind: ErrorKind::Runtime, code: 0, message: message.into(), span: None, trace }
     }
 
     pub fn fault_at(&self, span: Span, message: impl Into<String>) -> Fault {
@@ -491,6 +529,12 @@ impl Interp<'_, '_> {
             if let (true, ExprKind::Name(caller_var)) = (p.params[index].by_ref, &a.value.kind) {
                 back.push((index, caller_var.clone()));
             }
+            if let ExprKind::Name(n) = &a.value.kind {
+                if let Some(record @ Var::Record(..)) = self.lookup(n) {
+                    bound.push((index, record));
+                    continue;
+                }
+            }
             let var = match ctx.operand(&a.value) {
                 Operand::Ref(sheet, rect) => Var::Obj(Obj::Range(sheet, rect)),
                 Operand::Value(v) => match &a.value.kind {
@@ -530,7 +574,14 @@ impl Interp<'_, '_> {
             f.kind = ErrorKind::Limit;
             return Err(f);
         }
-        self.frames.borrow_mut().push(Frame { proc, vars: Vec::new(), with: Vec::new(), call_site });
+        self.frames.borrow_mut().push(Frame {
+            proc,
+            vars: Vec::new(),
+            with: Vec::new(),
+            call_site,
+            on_error: OnError::Off,
+            handling: false,
+        });
         let result = self.bind_and_run(p, bound);
         let frame = self.frames.borrow_mut().pop().expect("the frame pushed above");
         self.keep_statics(&frame);
@@ -542,6 +593,10 @@ impl Interp<'_, '_> {
                     Some(Var::Array(a)) => Value::Array(a.data.clone()),
                     Some(Var::Obj(Obj::Value(v))) => v.clone(),
                     Some(Var::Obj(Obj::Range(s, r))) => self.ctx().rect_value(*s, *r).unwrap_single(),
+                    Some(Var::Record(..)) => {
+                        let why = "returns a Type value, which is not supported: fill a Type parameter (ByRef) instead";
+                        return Err(self.fault(format!("Function {} {why}", p.name)));
+                    }
                     _ => Value::Blank,
                 }
             }
@@ -556,18 +611,20 @@ impl Interp<'_, '_> {
                 Some(k) => bound.swap_remove(k).1,
                 None => match &param.default {
                     Some(d) => Var::Value(self.eval(d)?),
-                    None => Var::Value(default_value(param.ty.as_ref())),
+                    None => self.default_var(param.ty.as_ref()),
                 },
             };
             let var = convert(var, param.ty.as_ref(), &param.name).map_err(|m| self.fault(m))?;
             self.declare(Slot { name: param.name.clone(), var, ty: param.ty.clone(), constant: false });
         }
         if p.kind == ProcKind::Function {
-            let var = Var::Value(default_value(p.ty.as_ref()));
+            let var = self.default_var(p.ty.as_ref());
             self.declare(Slot { name: p.name.clone(), var, ty: p.ty.clone(), constant: false });
         }
         match self.block(&p.body)? {
             Flow::GoTo(label) => Err(self.fault(format!("GoTo {label}: no such label"))),
+            Flow::Return => Err(self.fault("Return without GoSub")),
+            Flow::Resume(_) => Err(self.fault("Resume without an error")),
             Flow::End => {
                 self.ended.set(true);
                 Ok(())
@@ -579,9 +636,24 @@ impl Interp<'_, '_> {
     // ---- statements ------------------------------------------------------------------
 
     fn block(&self, block: &Block) -> Run<Flow> {
-        let mut i = 0;
+        self.block_from(block, 0)
+    }
+
+    fn block_from(&self, block: &Block, start: usize) -> Run<Flow> {
+        let mut i = start;
         while i < block.stmts.len() {
-            match self.exec(&block.stmts[i])? {
+            let flow = match self.exec(&block.stmts[i]) {
+                Ok(flow) => flow,
+                Err(fault) => match self.trap(fault)? {
+                    Trap::Next => {
+                        i += 1;
+                        continue;
+                    }
+                    Trap::Retry => continue,
+                    Trap::Flow(flow) => flow,
+                },
+            };
+            match flow {
                 Flow::Next => i += 1,
                 Flow::GoTo(label) => match block.label(&label) {
                     Some(target) => i = target,
@@ -633,6 +705,10 @@ impl Interp<'_, '_> {
                     Var::Obj(o) => o,
                     Var::Value(v) => Obj::Value(v),
                     Var::Array(a) => Obj::Value(Value::Array(a.data)),
+                    Var::Record(..) => match &object.kind {
+                        ExprKind::Name(n) => Obj::Record(n.clone(), Vec::new()),
+                        _ => return Err(self.fault_at(self.expr_span(object), "With needs the Type variable itself")),
+                    },
                 };
                 self.frames.borrow_mut().last_mut().expect("a running procedure").with.push(obj);
                 let flow = self.block(body);
@@ -641,9 +717,132 @@ impl Interp<'_, '_> {
             }
             StmtKind::Exit(kind) => return Ok(Flow::Exit(*kind)),
             StmtKind::GoTo(label) => return Ok(Flow::GoTo(label.clone())),
+            StmtKind::GoSub(label) => {
+                return Ok(match self.run_from_label(label)? {
+                    Flow::Return => Flow::Next,
+                    other => other,
+                })
+            }
+            StmtKind::Return => return Ok(Flow::Return),
+            StmtKind::OnError(mode) => self.on_error(mode),
+            StmtKind::Resume(kind) => {
+                if !self.frame_flag(|f| f.handling) {
+                    return Err(self.fault("Resume without an error: Resume belongs in an On Error GoTo handler"));
+                }
+                return Ok(Flow::Resume(kind.clone()));
+            }
             StmtKind::End => return Ok(Flow::End),
         }
         Ok(Flow::Next)
+    }
+
+    /// A new variable of a type: a Type's fields each at their own default.
+    fn default_var(&self, ty: Option<&Ty>) -> Var {
+        match ty {
+            Some(Ty::Record(i)) => {
+                let fields = self.module.types[*i].fields.iter().map(|(_, t)| self.default_var(Some(t))).collect();
+                Var::Record(*i, fields)
+            }
+            other => Var::Value(default_value(other)),
+        }
+    }
+
+    /// The field a record path names, from the variable it starts at.
+    pub fn record_field(&self, name: &str, path: &[usize]) -> Option<Var> {
+        let mut var = self.lookup(name)?;
+        for &i in path {
+            var = match var {
+                Var::Record(_, mut fields) => fields.swap_remove(i),
+                _ => return None,
+            };
+        }
+        Some(var)
+    }
+
+    /// Writes a field of a Type variable, converted to the field's type.
+    pub fn set_record_field(&self, name: &str, path: &[usize], value: Var, span: Span) -> Run<()> {
+        let module = self.module;
+        let result = self.with_slot(name, |slot| {
+            let mut var = &mut slot.var;
+            let mut ty = None;
+            for &i in path {
+                let Var::Record(t, fields) = var else { return Err("not a Type value".to_string()) };
+                ty = Some(&module.types[*t].fields[i]);
+                var = &mut fields[i];
+            }
+            let (field, field_ty) = ty.expect("a field");
+            *var = convert(value, Some(field_ty), field)?;
+            Ok(())
+        });
+        result.expect("a record variable").map_err(|m| self.fault_at(span, m))
+    }
+
+    // ---- errors and GoSub ---------------------------------------------------------------
+
+    fn frame_flag(&self, f: impl FnOnce(&Frame) -> bool) -> bool {
+        self.frames.borrow().last().is_some_and(f)
+    }
+
+    fn on_error(&self, mode: &OnError) {
+        let mut frames = self.frames.borrow_mut();
+        let frame = frames.last_mut().expect("a running procedure");
+        match mode {
+            OnError::Reset => frame.handling = false,
+            other => frame.on_error = other.clone(),
+        }
+        *self.err.borrow_mut() = ErrState::default();
+    }
+
+    /// Runs the procedure's body from a label: a GoSub's subroutine or an error handler.
+    /// Running off the end of the body leaves the procedure.
+    fn run_from_label(&self, label: &str) -> Run<Flow> {
+        let proc = self.frames.borrow().last().expect("a running procedure").proc;
+        let body = &self.module.procs[proc].body;
+        let start = body.label(label).expect("the parser checked the label");
+        Ok(match self.block_from(body, start)? {
+            Flow::Next => Flow::Leave,
+            other => other,
+        })
+    }
+
+    /// An error under `On Error`: what the failing block does next; the fault itself when
+    /// nothing traps it (no handler, the handler already running, or a limit that stops the
+    /// macro whatever it says).
+    fn trap(&self, fault: Fault) -> Run<Trap> {
+        let (mode, handling) = match self.frames.borrow().last() {
+            Some(f) => (f.on_error.clone(), f.handling),
+            None => return Err(fault),
+        };
+        if fault.kind != ErrorKind::Runtime || self.ended.get() {
+            return Err(fault);
+        }
+        let label = match mode {
+            OnError::ResumeNext => {
+                *self.err.borrow_mut() = err_state(&fault);
+                return Ok(Trap::Next);
+            }
+            OnError::GoTo(label) if !handling => label,
+            _ => return Err(fault),
+        };
+        *self.err.borrow_mut() = err_state(&fault);
+        self.set_handling(true);
+        let flow = self.run_from_label(&label)?;
+        if let Flow::Resume(_) = flow {
+            self.set_handling(false);
+            *self.err.borrow_mut() = ErrState::default();
+        }
+        Ok(match flow {
+            Flow::Resume(Resume::Retry) => Trap::Retry,
+            Flow::Resume(Resume::Next) => Trap::Next,
+            Flow::Resume(Resume::Label(l)) => Trap::Flow(Flow::GoTo(l)),
+            other => Trap::Flow(other),
+        })
+    }
+
+    fn set_handling(&self, on: bool) {
+        if let Some(f) = self.frames.borrow_mut().last_mut() {
+            f.handling = on;
+        }
     }
 
     fn dim(&self, vars: &[VarDecl], redim: bool, preserve: bool) -> Run<()> {
@@ -654,7 +853,10 @@ impl Interp<'_, '_> {
             }
             let var = match &d.bounds {
                 Some(bounds) if !bounds.is_empty() => {
-                    let mut array = self.new_array(bounds, d.ty.as_ref(), d.span)?;
+                    // `Dim a() As Double` … `ReDim a(3)`: the items keep the declared type.
+                    let declared = || self.with_slot(&d.name, |s| s.ty.clone()).flatten();
+                    let ty = d.ty.clone().or_else(|| redim.then(declared).flatten());
+                    let mut array = self.new_array(bounds, ty.as_ref(), d.span)?;
                     if preserve {
                         if let Some(Var::Array(old)) = self.lookup(&d.name) {
                             super::arrays::preserve_items(&old, &mut array);
@@ -662,7 +864,7 @@ impl Interp<'_, '_> {
                     }
                     Var::Array(array)
                 }
-                _ => Var::Value(default_value(d.ty.as_ref())),
+                _ => self.default_var(d.ty.as_ref()),
             };
             if redim && self.with_slot(&d.name, |s| s.var = var.clone()).is_some() {
                 continue;
@@ -889,33 +1091,37 @@ impl Interp<'_, '_> {
     }
 
     fn for_each(&self, var: &Rc<str>, group: &Expr, body: &Block, span: Span) -> Run<Flow> {
-        let items: Vec<Var> =
-            match self.var_of(group, true)? {
-                Var::Obj(Obj::Range(sheet, rect)) => {
-                    let rect = self.ctx().clip_to_used(sheet, rect);
-                    let mut cells = Vec::new();
-                    for row in rect.first.row..=rect.last.row {
-                        for col in rect.first.col..=rect.last.col {
-                            cells.push(Var::Obj(Obj::Range(sheet, Rect::cell(Pos::new(row, col)))));
-                        }
+        let items: Vec<Var> = match self.var_of(group, true)? {
+            Var::Obj(Obj::Range(sheet, rect)) => {
+                let rect = self.ctx().clip_to_used(sheet, rect);
+                let mut cells = Vec::new();
+                for row in rect.first.row..=rect.last.row {
+                    for col in rect.first.col..=rect.last.col {
+                        cells.push(Var::Obj(Obj::Range(sheet, Rect::cell(Pos::new(row, col)))));
                     }
-                    cells
                 }
-                Var::Obj(Obj::Sheets) => {
-                    (0..self.wb.borrow().sheet_len()).map(|i| Var::Obj(Obj::Sheet(i as SheetId))).collect()
-                }
-                Var::Array(a) => a.data.data.iter().cloned().map(Var::Value).collect(),
-                Var::Obj(Obj::Value(Value::Array(a))) => a.data.iter().cloned().map(Var::Value).collect(),
-                Var::Obj(other) => {
-                    return Err(self
-                        .fault_at(self.expr_span(group), format!("For Each cannot go through {}", other.describe())))
-                }
-                Var::Value(v) => {
-                    let shown = print_text(&v);
-                    return Err(self
-                        .fault_at(self.expr_span(group), format!("For Each needs a range or an array, not {shown}")));
-                }
-            };
+                cells
+            }
+            Var::Obj(Obj::Sheets) => {
+                (0..self.wb.borrow().sheet_len()).map(|i| Var::Obj(Obj::Sheet(i as SheetId))).collect()
+            }
+            Var::Array(a) => a.data.data.iter().cloned().map(Var::Value).collect(),
+            Var::Obj(Obj::Value(Value::Array(a))) => a.data.iter().cloned().map(Var::Value).collect(),
+            Var::Obj(other) => {
+                return Err(
+                    self.fault_at(self.expr_span(group), format!("For Each cannot go through {}", other.describe()))
+                )
+            }
+            Var::Value(v) => {
+                let shown = print_text(&v);
+                return Err(
+                    self.fault_at(self.expr_span(group), format!("For Each needs a range or an array, not {shown}"))
+                );
+            }
+            Var::Record(..) => {
+                return Err(self.fault_at(self.expr_span(group), "For Each needs a range or an array, not a Type value"))
+            }
+        };
         for item in items {
             self.tick(span)?;
             self.set_var(var, item, span)?;
@@ -1039,6 +1245,10 @@ impl Host for Interp<'_, '_> {
             Some(Var::Array(a)) => Operand::Value(Value::Array(a.data)),
             Some(Var::Obj(Obj::Range(sheet, rect))) => Operand::Ref(sheet, rect),
             Some(Var::Obj(Obj::Value(v))) => Operand::Value(v),
+            Some(Var::Record(..)) => {
+                self.park(self.fault(format!("{name} is a Type value: use its fields ({name}.Field)")));
+                Operand::Value(Value::Error(XlError::Value))
+            }
             Some(Var::Obj(other)) => {
                 self.park(self.fault(format!("{name} is {}, not a value", other.describe())));
                 Operand::Value(Value::Error(XlError::Value))
@@ -1099,6 +1309,8 @@ impl Interp<'_, '_> {
         match obj {
             Obj::Value(v) => Ok(Operand::Value(v)),
             Obj::Range(sheet, rect) => Ok(Operand::Ref(sheet, rect)),
+            // `If Err Then`: Err's default member is its Number.
+            Obj::Err => Ok(Operand::Value(Value::Number(self.err.borrow().number as f64))),
             other => Err(self.fault_at(span, format!("{} is not a value", other.describe()))),
         }
     }
@@ -1135,6 +1347,15 @@ pub(super) fn default_value(ty: Option<&Ty>) -> Value {
 /// What a typed variable makes of an assigned value (VBA's implicit conversions).
 pub(super) fn convert(var: Var, ty: Option<&Ty>, name: &str) -> Result<Var, String> {
     let Some(ty) = ty.filter(|t| **t != Ty::Variant) else { return Ok(var) };
+    if let Ty::Record(i) = ty {
+        return match var {
+            Var::Record(j, fields) if j == *i => Ok(Var::Record(j, fields)),
+            _ => Err(format!("{name} holds a Type value; only a value of the same Type can be assigned to it")),
+        };
+    }
+    if let Var::Record(..) = var {
+        return Err(format!("{name} cannot hold a Type value (type mismatch)"));
+    }
     let Var::Value(v) = var else {
         return Err(format!("{name} is declared with a type and cannot hold an object or an array"));
     };
@@ -1153,7 +1374,7 @@ pub(super) fn convert(var: Var, ty: Option<&Ty>, name: &str) -> Result<Var, Stri
         },
         Ty::String => Value::Text(vba_text(&v).map_err(mismatch)?),
         Ty::Boolean => Value::Bool(to_bool(&v).map_err(mismatch)?),
-        Ty::Variant => v,
+        Ty::Variant | Ty::Record(_) => v,
     }))
 }
 
@@ -1185,4 +1406,19 @@ pub fn input_text(v: &Value) -> String {
         Value::Error(e) => e.as_str().to_string(),
         Value::Array(a) => a.data.first().map(input_text).unwrap_or_default(),
     }
+}
+
+/// `Err` after a trapped failure: its VBA number, given or read from the kind of failure the
+/// message names, and the message as the description.
+fn err_state(fault: &Fault) -> ErrState {
+    let m = fault.message.as_str();
+    let number = match fault.code {
+        0 if m.contains("#DIV/0!") => 11,
+        0 if m.contains("overflow") => 6,
+        0 if m.contains("type mismatch") || m.contains("not a number") => 13,
+        0 if m.contains("out of range") || m.contains("subscript") => 9,
+        0 => 5,
+        n => n,
+    };
+    ErrState { number, description: fault.message.clone() }
 }

@@ -68,9 +68,23 @@
 //! stop; `Vc:=180, Limit:=2500` for constant surface speed), `Nc.Tool 1`, `Nc.Coolant True`.
 //! `InputBox` is refused: pass values with `--arg`.
 //!
-//! Not in the language: `On Error` (a macro stops at its first error), `GoSub`, user types
-//! and classes, `Like`, `Is`, date literals, `Static Sub`, `ParamArray`, arrays of more than
-//! two dimensions, events and forms.
+//! Errors: `On Error GoTo label` (the label in the procedure's body, outside loops and Ifs),
+//! `On Error Resume Next`, `On Error GoTo 0` / `-1`, `Resume`, `Resume Next`, `Resume label`,
+//! and `Err` (`Number`, `Description`, `Clear`, `Raise n, , text`). Only statements trap: an
+//! expression that fails gives an error value (`1/0` is `#DIV/0!`), and the statement that
+//! needs a number from it (a typed variable, `For`, `Cells`) is the one that fails, with VBA's
+//! number (11 for a division by zero, 13 for a type mismatch, 6 for an overflow, else 5). The
+//! statement, time and depth limits are not errors a macro can trap. `GoSub label` / `Return`.
+//! `text Like pattern` (`?`, `*`, `#`, `[a-z]`, `[!…]`; case counts, as Option Compare
+//! Binary). Date literals `#1/2/2026#`, `#2026-01-02 18:30#`, `#6:00 PM#` are the Date's
+//! serial number (days since 1899-12-30, the time as a fraction).
+//!
+//! `Type … End Type` (fields of plain types or earlier Types; a Type value is copied on
+//! assignment, passed ByRef, reached with `With`); not arrays of a Type, array fields, or a
+//! Function returning one. `Foo (y)` without `Call` passes `y` by value, as in VBA.
+//!
+//! Not in the language: classes, `Is`, `Static Sub`, `ParamArray`, arrays of more than two
+//! dimensions, events and forms.
 
 mod arrays;
 pub mod ast;

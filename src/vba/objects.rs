@@ -123,6 +123,7 @@ impl Interp<'_, '_> {
                 super::interp::Var::Obj(o) => o,
                 super::interp::Var::Value(v) => Obj::Value(v),
                 super::interp::Var::Array(a) => Obj::Value(Value::Array(a.data)),
+                super::interp::Var::Record(..) => Obj::Record(link.name.clone(), Vec::new()),
             });
         }
         let active = self.active.get();
@@ -137,6 +138,7 @@ impl Interp<'_, '_> {
             "range" => self.range(ctx, active, link),
             "cells" => self.cells(ctx, active, Rect::cell(Pos::new(0, 0)), link),
             "nc" => Ok(Obj::Nc),
+            "err" => Ok(Obj::Err),
             "debug" => Ok(Obj::Debug),
             "msgbox" => self.msgbox(ctx, link),
             "evaluate" => self.evaluate(ctx, active, link),
@@ -186,11 +188,65 @@ impl Interp<'_, '_> {
                 }
                 _ => Err(self.no_member(&Obj::Debug, link)),
             },
+            Obj::Err => self.err_member(ctx, link),
+            Obj::Record(var, path) => {
+                let i = self.field_index(&var, &path, link)?;
+                let mut path = path.clone();
+                path.push(i);
+                match self.record_field(&var, &path) {
+                    Some(super::interp::Var::Value(v)) => Ok(Obj::Value(v)),
+                    Some(super::interp::Var::Record(..)) => Ok(Obj::Record(var, path)),
+                    _ => Err(self.no_member(&Obj::Record(var, path), link)),
+                }
+            }
             Obj::Value(v) => {
                 let shown = print_text(&v);
                 Err(self.fault_at(link.span, format!("{}: {shown} is a value, not an object", link.name)))
             }
         }
+    }
+
+    /// `Err.Number`, `Err.Description`, `Err.Source`, `Err.Clear`, `Err.Raise n [, source [, description]]`.
+    fn err_member(&self, ctx: &mut Ctx, link: &Link) -> Run<Obj> {
+        let err = self.err.borrow().clone();
+        match lower(link).as_str() {
+            "number" => Ok(Obj::Value(Value::Number(err.number as f64))),
+            "description" => Ok(Obj::Value(Value::text(err.description))),
+            "source" => Ok(Obj::Value(Value::text("ncsheet"))),
+            "clear" => {
+                *self.err.borrow_mut() = Default::default();
+                Ok(Obj::Value(Value::Blank))
+            }
+            "raise" => {
+                let values = self.values(ctx, link)?;
+                let number = values.first().map(|v| self.number_of(v, "Err.Raise's number")).transpose();
+                let number = number.map_err(|m| self.fault_at(link.span, m))?.unwrap_or(0.0);
+                if !(1.0..=65535.0).contains(&number) {
+                    return Err(self.fault_at(link.span, "Err.Raise takes an error number from 1 to 65535"));
+                }
+                let description = match values.get(2) {
+                    Some(v) if !v.is_blank() => print_text(v),
+                    _ => format!("error {number}"),
+                };
+                let mut fault = self.fault_at(link.span, description);
+                fault.code = number as u32;
+                Err(fault)
+            }
+            _ => Err(self.no_member(&Obj::Err, link)),
+        }
+    }
+
+    /// The index of a field `link` names in the Type of the record at `path`.
+    fn field_index(&self, var: &str, path: &[usize], link: &Link) -> Run<usize> {
+        let ty = match self.record_field(var, path) {
+            Some(super::interp::Var::Record(t, _)) => &self.module.types[t],
+            _ => return Err(self.fault_at(link.span, format!("{var} no longer holds a Type value"))),
+        };
+        if link.args.is_some() {
+            return Err(self.fault_at(link.span, format!("{}.{} is a field, not an array", ty.name, link.name)));
+        }
+        ty.field(&link.name)
+            .ok_or_else(|| self.fault_at(link.span, format!("Type {} has no field {}", ty.name, link.name)))
     }
 
     fn sheet_by(&self, ctx: &mut Ctx, link: &Link) -> Run<SheetId> {
@@ -454,6 +510,12 @@ impl Interp<'_, '_> {
                 self.write_formula(*sheet, *rect, &text, link.span)
             }
             (Obj::Nc, _) => self.set_nc(&name, value, link.span),
+            (Obj::Record(var, path), _) => {
+                let mut path = path.clone();
+                path.push(self.field_index(var, &path, link)?);
+                let v = self.var_of(value, false)?;
+                self.set_record_field(var, &path, v, link.span)
+            }
             (Obj::App, "screenupdating" | "displayalerts" | "enableevents" | "calculation" | "statusbar") => {
                 // Settings of Excel's window: nothing to do without one.
                 self.eval(value).map(|_| ())

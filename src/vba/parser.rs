@@ -66,9 +66,15 @@ pub fn parse_module(src: &str, sheets: &dyn Fn(&str) -> Option<SheetId>) -> Resu
     let module = pairs.next().expect("module rule");
     let items: Vec<Pair<Rule>> = module.into_inner().collect();
     let b = Build::new(src, sheets, &items)?;
+    let type_names = items.iter().filter(|i| i.as_rule() == Rule::type_def);
+    *b.types.borrow_mut() = type_names.map(|i| name_of(&find(&kids(i), Rule::ident).expect("type name"))).collect();
     let mut out = Module { base: 0, ..Module::default() };
     for item in items {
         match item.as_rule() {
+            Rule::type_def => {
+                let t = b.type_def(item)?;
+                out.types.push(t);
+            }
             Rule::option_stmt => b.option(item)?,
             Rule::declare_stmt => {
                 return Err(b.error_at(&item, "Declare calls into a DLL: a macro cannot run other programs"))
@@ -149,6 +155,7 @@ fn describe(rule: Rule) -> &'static str {
         | Rule::boolean
         | Rule::path
         | Rule::bracket
+        | Rule::date_lit
         | Rule::neg
         | Rule::plus
         | Rule::not_op => "a value",
@@ -216,6 +223,7 @@ const OBJECTS: &[&str] = &[
     "application",
     "cells",
     "debug",
+    "err",
     "evaluate",
     "inputbox",
     "msgbox",
@@ -289,6 +297,8 @@ struct Build<'s> {
     nodes: RefCell<Vec<Node>>,
     explicit: Cell<bool>,
     base: Cell<i64>,
+    /// The names of the module's Types, by index.
+    types: RefCell<Vec<Rc<str>>>,
     /// Module-level declarations are being built: they declare globals.
     building_globals: Cell<bool>,
     lines: Lines,
@@ -326,6 +336,7 @@ impl<'s> Build<'s> {
             explicit: Cell::new(false),
             base: Cell::new(0),
             building_globals: Cell::new(false),
+            types: RefCell::new(Vec::new()),
             lines: Lines::new(src),
         };
         let mut procs = Vec::new();
@@ -444,9 +455,10 @@ impl<'s> Build<'s> {
             Some(list) => all(&kids(&list), Rule::param).into_iter().map(|p| self.param(p)).collect::<Res<Vec<_>>>()?,
             None => Vec::new(),
         };
-        let ty = find(&k, Rule::as_clause).map(|a| ty_of(&a));
+        let ty = find(&k, Rule::as_clause).map(|a| self.ty_of(&a));
         let body = self.block(find(&k, Rule::block).expect("procedure body"))?;
         self.check_gotos(&body, &mut Vec::new())?;
+        self.check_body_labels(&body, &body)?;
         Ok(Proc { name, kind, params, ty, body, span: self.span(start(&pair)) })
     }
 
@@ -461,7 +473,7 @@ impl<'s> Build<'s> {
             by_ref,
             optional: find(&k, Rule::k_optional).is_some(),
             default,
-            ty: find(&k, Rule::as_clause).map(|a| ty_of(&a)),
+            ty: find(&k, Rule::as_clause).map(|a| self.ty_of(&a)),
         })
     }
 
@@ -484,6 +496,31 @@ impl<'s> Build<'s> {
             }
         }
         outer.pop();
+        Ok(())
+    }
+
+    /// `On Error GoTo`, `GoSub` and `Resume` name a label of the procedure's body itself:
+    /// the handler or subroutine runs from there, outside any loop or If.
+    fn check_body_labels(&self, body: &Block, block: &Block) -> Res<()> {
+        for s in &block.stmts {
+            let label = match &s.kind {
+                StmtKind::OnError(OnError::GoTo(l)) | StmtKind::GoSub(l) | StmtKind::Resume(Resume::Label(l)) => {
+                    Some(l)
+                }
+                _ => None,
+            };
+            if let Some(label) = label.filter(|l| body.label(l).is_none()) {
+                return Err(ParseError {
+                    offset: self.offset_of(s.span),
+                    message: format!(
+                        "no label {label} in the procedure's body (outside its loops and Ifs), where it must be"
+                    ),
+                });
+            }
+            for inner in inner_blocks(&s.kind) {
+                self.check_body_labels(body, inner)?;
+            }
+        }
         Ok(())
     }
 
@@ -559,12 +596,14 @@ impl<'s> Build<'s> {
             }
             Rule::line_number => StmtKind::GoTo(name_of(&pair)),
             Rule::end_stmt => StmtKind::End,
-            Rule::on_error_stmt => {
-                return Err(self.error_at(
-                    &pair,
-                    "On Error is not supported: a macro stops at its first error and shows the line and a caret",
-                ))
-            }
+            Rule::gosub_stmt => StmtKind::GoSub(label_of(&pair)),
+            Rule::return_stmt => StmtKind::Return,
+            Rule::on_error_stmt => StmtKind::OnError(on_error(&pair)),
+            Rule::resume_stmt => StmtKind::Resume(match find(&kids(&pair), Rule::k_next) {
+                Some(_) => Resume::Next,
+                None if kids(&pair).len() > 1 => Resume::Label(label_of(&pair)),
+                None => Resume::Retry,
+            }),
             Rule::file_stmt => {
                 let word = pair.as_str().split(|c: char| !c.is_alphabetic()).next().unwrap_or("");
                 return Err(self.error_at(&pair, refusal(word)));
@@ -589,7 +628,10 @@ impl<'s> Build<'s> {
             } else {
                 self.declare(&name);
             }
-            let ty = find(&k, Rule::as_clause).map(|a| ty_of(&a));
+            let ty = find(&k, Rule::as_clause).map(|a| self.ty_of(&a));
+            if let (Some(Ty::Record(_)), Some(_)) = (&ty, &bounds) {
+                return Err(self.error_at(&var, "arrays of a Type are not supported: use one array per field"));
+            }
             out.push(VarDecl { name, ty, bounds, span: self.span(start(&var)) });
         }
         Ok(out)
@@ -682,6 +724,9 @@ impl<'s> Build<'s> {
     fn call_stmt(&self, pair: &Pair<Rule>) -> Res<Expr> {
         let k = kids(pair);
         if let Some(path) = find(&k, Rule::path) {
+            if find(&k, Rule::k_call).is_none() {
+                return self.spaced_call(path);
+            }
             return self.path_expr(path, true);
         }
         // `Nc.Line x, z`: the callee's last name takes the arguments.
@@ -700,6 +745,21 @@ impl<'s> Build<'s> {
         }
         path.links.last_mut().expect("a name").args = Some(args);
         self.resolve(&callee, path, true, pair.as_span().end())
+    }
+
+    /// `Foo (y)` without Call: the parentheses belong to the argument, an expression, so `y`
+    /// is passed by value ([MS-VBAL] 5.4.2.2); `Foo(y)` and `Call Foo(y)` pass it by reference.
+    fn spaced_call(&self, pair: Pair<Rule>) -> Res<Expr> {
+        let mut path = self.path_syntax(&pair)?;
+        let spaced = pair.as_str().split_once('(').is_some_and(|(name, _)| name.ends_with([' ', '\t']));
+        if let ([link], true) = (path.links.as_mut_slice(), spaced) {
+            for arg in link.args.iter_mut().flatten().filter(|a| a.value.kind != ExprKind::Missing) {
+                let value = std::mem::replace(&mut arg.value, Expr::new(ExprKind::Missing, ByteSpan::default()));
+                let span = value.span;
+                arg.value = Expr::new(ExprKind::Paren(Box::new(value)), span);
+            }
+        }
+        self.resolve(&pair, path, true, pair.as_span().end())
     }
 
     fn print(&self, pair: &Pair<Rule>) -> Res<StmtKind> {
@@ -1117,8 +1177,40 @@ impl HostPrimaries for Build<'_> {
         match pair.as_rule() {
             Rule::bracket => self.bracket(pair),
             Rule::path => self.path_expr(pair, false),
+            Rule::date_lit => {
+                let text = pair.as_str().trim_matches('#');
+                let serial = date_literal(text).ok_or_else(|| {
+                    self.error_at(
+                        &pair,
+                        format!("#{text}# is not a date: write #month/day/year#, #year-month-day# or #h:mm:ss#"),
+                    )
+                })?;
+                Ok(Expr::new(
+                    ExprKind::Number(serial),
+                    ByteSpan { start: start(&pair) as u32, end: pair.as_span().end() as u32 },
+                ))
+            }
             rule => unreachable!("macro primary {rule:?}"),
         }
+    }
+}
+
+/// The label a `GoSub`, `Resume` or `On Error GoTo` names (its last name or number).
+fn label_of(pair: &Pair<Rule>) -> Rc<str> {
+    let k = kids(pair);
+    let label = k.iter().rev().find(|p| matches!(p.as_rule(), Rule::ident | Rule::line_number)).expect("a label");
+    name_of(label)
+}
+
+fn on_error(pair: &Pair<Rule>) -> OnError {
+    let k = kids(pair);
+    if find(&k, Rule::k_resume).is_some() {
+        return OnError::ResumeNext;
+    }
+    match find(&k, Rule::error_off).map(|p| p.as_str().to_string()).as_deref() {
+        Some("0") => OnError::Off,
+        Some(_) => OnError::Reset,
+        None => OnError::GoTo(label_of(pair)),
     }
 }
 
@@ -1144,9 +1236,41 @@ fn comparison(rule: Rule) -> Option<BinOp> {
     })
 }
 
-fn ty_of(as_clause: &Pair<Rule>) -> Ty {
-    let name = find(&kids(as_clause), Rule::type_name).map(|t| t.as_str().to_ascii_lowercase()).unwrap_or_default();
-    match name.as_str() {
+impl Build<'_> {
+    fn ty_of(&self, as_clause: &Pair<Rule>) -> Ty {
+        let name = find(&kids(as_clause), Rule::type_name).map(|t| t.as_str().to_string()).unwrap_or_default();
+        match self.types.borrow().iter().position(|t| t.eq_ignore_ascii_case(&name)) {
+            Some(i) => Ty::Record(i),
+            None => ty_named(&name.to_ascii_lowercase()),
+        }
+    }
+
+    fn type_def(&self, pair: Pair<Rule>) -> Res<TypeDef> {
+        let k = kids(&pair);
+        let name = name_of(&find(&k, Rule::ident).expect("type name"));
+        let mut fields: Vec<(Rc<str>, Ty)> = Vec::new();
+        for f in all(&k, Rule::type_field) {
+            let fk = kids(&f);
+            let field = name_of(&find(&fk, Rule::ident).expect("field name"));
+            if find(&fk, Rule::dim_bounds).is_some() {
+                return Err(self.error_at(&f, "array fields in a Type are not supported"));
+            }
+            if fields.iter().any(|(n, _)| n.eq_ignore_ascii_case(&field)) {
+                return Err(self.error_at(&f, format!("{field} is a field of {name} twice")));
+            }
+            let ty = self.ty_of(&find(&fk, Rule::as_clause).expect("field type"));
+            let index = self.types.borrow().iter().position(|t| t.eq_ignore_ascii_case(&name));
+            if matches!((&ty, index), (Ty::Record(i), Some(j)) if *i >= j) {
+                return Err(self.error_at(&f, format!("{field}: a field's Type must be declared before {name}")));
+            }
+            fields.push((field, ty));
+        }
+        Ok(TypeDef { name, fields })
+    }
+}
+
+fn ty_named(name: &str) -> Ty {
+    match name {
         "integer" | "long" | "longlong" | "longptr" | "byte" => Ty::Whole,
         "double" | "single" | "currency" | "decimal" => Ty::Number,
         "string" => Ty::String,
@@ -1166,4 +1290,73 @@ pub fn inner_blocks(kind: &StmtKind) -> Vec<&Block> {
         | StmtKind::With { body, .. } => vec![body],
         _ => Vec::new(),
     }
+}
+
+/// A date literal's serial number, as VBA stores a Date: days since 1899-12-30 and the time
+/// of day as a fraction ([MS-VBAL] 3.3.3). The date is month/day/year, or year-month-day when
+/// the first number has more than two digits; a two-digit year is 1930–2029; the time is
+/// `h[:mm[:ss]]` with an optional AM or PM.
+fn date_literal(text: &str) -> Option<f64> {
+    let words: Vec<&str> = text.split_whitespace().collect();
+    let (date_words, time_words): (Vec<&str>, Vec<&str>) =
+        words.iter().partition(|w| !w.contains(':') && !is_meridiem(w) && w.contains(['/', '-']));
+    let date = match date_words.as_slice() {
+        [] => 0.0,
+        [d] => date_part(d)?,
+        _ => return None,
+    };
+    let time = match time_words.as_slice() {
+        [] => 0.0,
+        words => time_part(words)?,
+    };
+    (!words.is_empty()).then_some(date + time)
+}
+
+fn is_meridiem(word: &str) -> bool {
+    word.eq_ignore_ascii_case("AM") || word.eq_ignore_ascii_case("PM")
+}
+
+fn date_part(word: &str) -> Option<f64> {
+    let parts: Vec<&str> = word.split(['/', '-']).collect();
+    let [a, _, c] = parts.as_slice() else { return None };
+    let numbers: Vec<i64> = parts.iter().map(|p| p.parse().ok()).collect::<Option<_>>()?;
+    let (year, month, day) =
+        if a.len() > 2 { (numbers[0], numbers[1], numbers[2]) } else { (numbers[2], numbers[0], numbers[1]) };
+    let year = match year {
+        0..=29 if c.len() <= 2 || a.len() > 2 => year + 2000,
+        30..=99 if c.len() <= 2 || a.len() > 2 => year + 1900,
+        _ => year,
+    };
+    let valid_day = (1..=crate::eval::dates::days_in_month(year, month as u32) as i64).contains(&day);
+    if !(100..=9999).contains(&year) || !(1..=12).contains(&month) || !valid_day {
+        return None;
+    }
+    let serial = crate::eval::dates::serial_from_ymd(year, month, day);
+    // Excel counts a 29 February 1900 that VBA does not: before March 1900 VBA is one more.
+    Some(if (year, month) < (1900, 3) { serial + 1 } else { serial } as f64)
+}
+
+fn time_part(words: &[&str]) -> Option<f64> {
+    let (clock, meridiem) = match words {
+        [clock] => (*clock, None),
+        [clock, m] if is_meridiem(m) => (*clock, Some(m.to_ascii_uppercase())),
+        _ => return None,
+    };
+    let numbers: Vec<u32> = clock.split(':').map(|p| p.parse().ok()).collect::<Option<_>>()?;
+    let (mut h, m, s) = match numbers.as_slice() {
+        [h] if meridiem.is_some() => (*h, 0, 0),
+        [h, m] => (*h, *m, 0),
+        [h, m, s] => (*h, *m, *s),
+        _ => return None,
+    };
+    match meridiem.as_deref() {
+        Some(_) if !(1..=12).contains(&h) => return None,
+        Some("AM") if h == 12 => h = 0,
+        Some("PM") if h != 12 => h += 12,
+        _ => {}
+    }
+    if h > 23 || m > 59 || s > 59 {
+        return None;
+    }
+    Some(f64::from(h * 3600 + m * 60 + s) / 86_400.0)
 }

@@ -399,6 +399,99 @@ pub fn format_number(n: f64, pattern: &str) -> XlResult<String> {
     NumberFormat::parse(named)?.format_number(n)
 }
 
+/// `text Like pattern` ([MS-VBAL] 5.6.9.5.7, Option Compare Binary): `?` one character, `*`
+/// any run, `#` one digit, `[a-z]` / `[!a-z]` one character in / not in the list. An
+/// unclosed `[` is `#VALUE!` (VBA's error 93, invalid pattern string).
+pub fn like(text: &Value, pattern: &Value) -> Value {
+    let (text, pattern) = match (vba_text(text), vba_text(pattern)) {
+        (Ok(t), Ok(p)) => (t, p),
+        (Err(e), _) | (_, Err(e)) => return Value::Error(e),
+    };
+    match like_tokens(&pattern) {
+        Some(tokens) => Value::Bool(like_matches(&tokens, &text.chars().collect::<Vec<_>>())),
+        None => Value::Error(XlError::Value),
+    }
+}
+
+enum LikeToken {
+    One,
+    Any,
+    Digit,
+    Char(char),
+    /// `[…]`: (ranges, negated).
+    List(Vec<(char, char)>, bool),
+}
+
+fn like_tokens(pattern: &str) -> Option<Vec<LikeToken>> {
+    let mut out = Vec::new();
+    let mut chars = pattern.chars().peekable();
+    while let Some(c) = chars.next() {
+        out.push(match c {
+            '?' => LikeToken::One,
+            '*' => LikeToken::Any,
+            '#' => LikeToken::Digit,
+            '[' => {
+                let negated = chars.next_if_eq(&'!').is_some();
+                let mut items: Vec<char> = Vec::new();
+                loop {
+                    match chars.next()? {
+                        ']' => break,
+                        c => items.push(c),
+                    }
+                }
+                LikeToken::List(char_ranges(&items), negated)
+            }
+            c => LikeToken::Char(c),
+        });
+    }
+    Some(out)
+}
+
+/// `a-z0-9_` into ranges; a `-` first or last is itself.
+fn char_ranges(items: &[char]) -> Vec<(char, char)> {
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < items.len() {
+        if i + 2 < items.len() && items[i + 1] == '-' {
+            out.push((items[i], items[i + 2]));
+            i += 3;
+        } else {
+            out.push((items[i], items[i]));
+            i += 1;
+        }
+    }
+    out
+}
+
+/// Dynamic programming over (pattern token, text position): no exponential backtracking on
+/// patterns with many `*`.
+fn like_matches(tokens: &[LikeToken], text: &[char]) -> bool {
+    // reach[j]: the tokens so far can match text[..j].
+    let mut reach = vec![false; text.len() + 1];
+    reach[0] = true;
+    for token in tokens {
+        let mut next = vec![false; text.len() + 1];
+        for j in 0..=text.len() {
+            if !reach[j] {
+                continue;
+            }
+            match token {
+                LikeToken::Any => next[j..].iter_mut().for_each(|r| *r = true),
+                _ if j == text.len() => {}
+                LikeToken::One => next[j + 1] = true,
+                LikeToken::Digit => next[j + 1] |= text[j].is_ascii_digit(),
+                LikeToken::Char(c) => next[j + 1] |= text[j] == *c,
+                LikeToken::List(ranges, negated) => {
+                    let inside = ranges.iter().any(|(lo, hi)| (*lo..=*hi).contains(&text[j]));
+                    next[j + 1] |= inside != *negated;
+                }
+            }
+        }
+        reach = next;
+    }
+    reach[text.len()]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,0 +1,333 @@
+//! The macro language's constructs against LibreOffice Basic in VBA-compatibility mode
+//! (`Option VBASupport 1`), run headless: each case is a Sub body that reports values with
+//! `Out x`; ncsheet runs it with `Out` printing `CStr(x)`, LibreOffice with `Out` writing
+//! `CStr(x)` to a file, and the two lists of lines must be equal.
+//!
+//! Cases stay inside what VBA and this language agree on (the module doc of `src/vba` lists
+//! where they differ on purpose: `-2^2`, text comparison, errors as values). A case's
+//! module-level part (`Type`, helper procedures) goes first in both modules.
+//!
+//! Skips (with a message) when `soffice` is missing; fails under `CI=true` then.
+
+mod common;
+
+use std::path::Path;
+use std::process::Command;
+
+use ncsheet::vba::{self, RunOptions};
+use ncsheet::workbook::Workbook;
+
+struct Case {
+    name: &'static str,
+    /// Module-level declarations and helper procedures (names unique across cases).
+    module: &'static str,
+    body: &'static str,
+}
+
+const CASES: &[Case] = &[
+    Case {
+        name: "like",
+        module: "",
+        body: r#"
+    Out "abc" Like "a?c"
+    Out "abc" Like "a*"
+    Out "abc" Like "*c*"
+    Out "ab" Like "a?c"
+    Out "a1c" Like "a#c"
+    Out "abc" Like "a#c"
+    Out "F" Like "[A-F]"
+    Out "G" Like "[A-F]"
+    Out "G" Like "[!A-F]"
+    Out "ABC" Like "abc"
+    Out "a-b" Like "a[-x]b"
+    Out "" Like "*"
+    Out "x*y" Like "x[*]y"
+    Out "N10 G01 X5" Like "N## G0# *"
+    Out 123 Like "1*3"
+    Dim part As String
+    part = "P-2026"
+    If part Like "P-####" Then Out "part number"
+"#,
+    },
+    Case {
+        name: "date_literals",
+        module: "",
+        body: r#"
+    Out CDbl(#1/2/2026#)
+    Out CDbl(#2026-01-02#)
+    Out CDbl(#12/31/1999#)
+    Out CDbl(#3/1/1900#)
+    Out #1/2/2026# - #12/25/2025#
+    Out #1/2/2026# > #12/25/2025#
+"#,
+    },
+    Case {
+        name: "on_error_resume_next",
+        module: "",
+        body: r#"
+    Dim d As Double, x As Double
+    On Error Resume Next
+    x = 1 / d
+    Out Err.Number
+    Err.Clear
+    Out Err.Number
+    x = 5
+    Out x
+"#,
+    },
+    Case {
+        name: "on_error_goto_in_a_function",
+        module: r#"
+Function SafeDiv(a, b)
+    On Error GoTo Fail
+    Dim r As Double
+    r = a / b
+    SafeDiv = r
+    Exit Function
+Fail:
+    SafeDiv = -1
+End Function
+"#,
+        body: r#"
+    Out SafeDiv(6, 3)
+    Out SafeDiv(1, 0)
+    Out SafeDiv(4, 2)
+"#,
+    },
+    Case {
+        name: "resume_next_inside_a_loop",
+        module: "",
+        body: r#"
+    Dim i As Integer, total As Double, v As Double
+    On Error GoTo Skip
+    For i = -2 To 2
+        v = 10 / i
+        total = total + v
+    Next i
+    Out total
+    Exit Sub
+Skip:
+    Out "skip " & i & " err " & Err.Number
+    Resume Next
+"#,
+    },
+    Case {
+        name: "resume_runs_the_statement_again",
+        module: "",
+        body: r#"
+    Dim tries As Integer, d As Double, x As Double
+    On Error GoTo TryAgain
+    x = 12 / d
+    Out "x=" & x & " tries=" & tries
+    Exit Sub
+TryAgain:
+    tries = tries + 1
+    d = 4
+    Resume
+"#,
+    },
+    Case {
+        name: "err_raise_and_resume_label",
+        module: "",
+        body: r#"
+    On Error GoTo H
+    Err.Raise 1234, , "custom"
+    Out "not here"
+Done:
+    Out "done " & Err.Number
+    Exit Sub
+H:
+    Out Err.Number & " " & Err.Description
+    Resume Done
+"#,
+    },
+    Case {
+        name: "an_error_in_a_callee_goes_to_the_caller",
+        module: r#"
+Sub RaiseInner()
+    Err.Raise 5000, , "deep"
+    Out "not here"
+End Sub
+"#,
+        body: r#"
+    On Error Resume Next
+    RaiseInner
+    Out "after " & Err.Number
+"#,
+    },
+    Case {
+        name: "gosub_and_return",
+        module: "",
+        body: r#"
+    Dim n As Integer
+    n = 2
+    GoSub Twice
+    GoSub Twice
+    Out n
+    Exit Sub
+Twice:
+    n = n * 2
+    Return
+"#,
+    },
+    Case {
+        name: "type_fields_with_and_byref",
+        module: r#"
+Type Pt
+    X As Double
+    Y As Double
+    Label As String
+End Type
+Type Seg
+    A As Pt
+    N As Integer
+End Type
+Sub Shift(p As Pt, ByVal dx As Double)
+    p.X = p.X + dx
+End Sub
+"#,
+        body: r#"
+    Dim p As Pt, s As Seg
+    p.X = 3: p.Y = 4
+    p.Label = "A"
+    Shift p, 1.5
+    Out p.X & " " & p.Y & " " & p.Label
+    With p
+        .Y = .Y * 2
+        Out (.Y + .X)
+    End With
+    Out p.Y
+    s.A.X = 100
+    s.N = 2.4
+    Out s.A.X & " " & p.X & " " & s.N & " [" & s.A.Label & "]"
+"#,
+    },
+    Case {
+        name: "byref_byval_const_redim_preserve",
+        module: r#"
+Sub Bump(ByRef a, ByVal b)
+    a = a + 1
+    b = b + 1
+End Sub
+Sub BumpDefault(a)
+    a = a * 10
+End Sub
+"#,
+        body: r#"
+    Dim x, y
+    x = 1: y = 1
+    Bump x, y
+    Out x & " " & y
+    BumpDefault x
+    Out x
+    Const Pi2 = 6.28
+    Dim a() As Double
+    ReDim a(1 To 3)
+    a(1) = 1: a(2) = 2: a(3) = 3
+    ReDim Preserve a(1 To 5)
+    a(5) = Pi2
+    Out UBound(a) & " " & a(2) & " " & a(4) & " " & a(5)
+    ReDim a(1 To 2)
+    Out a(1)
+"#,
+    },
+];
+
+/// ncsheet's lines for one case.
+fn ours(case: &Case) -> Vec<String> {
+    let src = format!(
+        "{}\nSub Out(ByVal v)\n    Debug.Print CStr(v)\nEnd Sub\n\nSub Main()\n{}\nEnd Sub\n",
+        case.module, case.body
+    );
+    let mut wb = Workbook::with_sheet();
+    let name = format!("{}.bas", case.name);
+    match vba::run(&mut wb, &src, &name, &RunOptions::default()) {
+        Ok(out) => out.printed,
+        Err(e) => panic!("{e}"),
+    }
+}
+
+/// LibreOffice's lines for every case, by case name (one soffice run for all of them).
+fn theirs(soffice: &Path, dir: &Path) -> Vec<(String, Vec<String>)> {
+    let profile = dir.join("profile");
+    let out = dir.join("out.txt");
+    let bin = std::fs::canonicalize(soffice).unwrap().with_file_name("soffice.bin");
+    let profile_arg = format!("-env:UserInstallation=file://{}", profile.display());
+    // The first start makes the profile, with its Standard library to put the module into.
+    let status = soffice_run(&bin, &profile_arg, &["--terminate_after_init"]);
+    assert!(status, "soffice did not make its profile in {}", profile.display());
+    let mut module = String::from("Option VBASupport 1\n");
+    for case in CASES {
+        module.push_str(case.module);
+        module.push('\n');
+    }
+    module.push_str("Sub Out(ByVal v)\n    Print #1, CStr(v)\nEnd Sub\n\n");
+    for (i, case) in CASES.iter().enumerate() {
+        module.push_str(&format!("Sub Case{i}()\n{}\nEnd Sub\n\n", case.body));
+    }
+    module.push_str(&format!("Sub Main\n    Open \"{}\" For Output As #1\n", out.display()));
+    for (i, case) in CASES.iter().enumerate() {
+        module.push_str(&format!("    Print #1, \"== {}\"\n    Case{i}\n", case.name));
+    }
+    module.push_str("    Close #1\n    StarDesktop.terminate\nEnd Sub\n");
+    let xba = format!(
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<!DOCTYPE script:module PUBLIC \"-//OpenOffice.org//DTD \
+         OfficeDocument 1.0//EN\" \"module.dtd\">\n<script:module xmlns:script=\"http://openoffice.org/2000/script\" \
+         script:name=\"Module1\" script:language=\"StarBasic\">{}</script:module>",
+        xml_escape(&module)
+    );
+    std::fs::write(profile.join("user/basic/Standard/Module1.xba"), xba).unwrap();
+    let ran = soffice_run(&bin, &profile_arg, &["macro:///Standard.Module1.Main"]);
+    let text = std::fs::read_to_string(&out).unwrap_or_default();
+    assert!(
+        ran && text.lines().last().is_some_and(|_| text.matches("== ").count() == CASES.len()),
+        "LibreOffice did not run every case (a Basic error stops it at a dialog); it wrote:\n{text}\n\
+         module:\n{module}"
+    );
+    let mut cases: Vec<(String, Vec<String>)> = Vec::new();
+    for line in text.lines() {
+        match line.strip_prefix("== ") {
+            Some(name) => cases.push((name.to_string(), Vec::new())),
+            None => cases.last_mut().expect("a case marker first").1.push(line.to_string()),
+        }
+    }
+    cases
+}
+
+/// Runs soffice.bin itself (the `soffice` script would leave it behind when killed), for at
+/// most two minutes: a Basic error waits at a dialog nobody sees.
+fn soffice_run(bin: &Path, profile: &str, args: &[&str]) -> bool {
+    Command::new("timeout")
+        .args(["-s", "KILL", "120"])
+        .arg(bin)
+        .args(["--headless", "--norestore", profile])
+        .args(args)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success())
+}
+
+fn xml_escape(s: &str) -> String {
+    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+}
+
+#[test]
+fn constructs_behave_as_libreoffice_vba_mode_runs_them() {
+    let Some(soffice) = common::soffice() else {
+        eprintln!("skipped: LibreOffice (soffice) is not installed; the macro oracle did not run");
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let expected = theirs(&soffice, dir.path());
+    let mut failures = Vec::new();
+    for (case, (name, lines)) in CASES.iter().zip(&expected) {
+        assert_eq!(case.name, name);
+        assert!(!lines.is_empty(), "{name}: LibreOffice wrote nothing");
+        let got = ours(case);
+        if got != *lines {
+            failures.push(format!("{name}:\n  ncsheet:     {got:?}\n  LibreOffice: {lines:?}"));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
