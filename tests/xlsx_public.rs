@@ -88,6 +88,13 @@ fn three_d_references_take_every_sheet_between_the_two() {
 }
 
 #[test]
+fn unions_and_intersections_of_references_compute_as_excel() {
+    // `(C2:D3 D3:E4)`, `Tabelle2!E:E Tabelle2!11:11`, `Tabelle2!E:F Tabelle2!11:12` (several
+    // cells where one value is wanted: #VALUE!), `RANK(A1,(B1,B2,B3),1)`.
+    all_agree(&["poi/test-data_spreadsheet_Intersection-52111-xssf.xlsx", "poi/test-data_spreadsheet_61063.xlsx"], 4);
+}
+
+#[test]
 fn a_beta_era_shared_string_table_is_read() {
     let root = common::corpus::public_path();
     if !root.is_dir() {

@@ -104,6 +104,10 @@ impl Reference {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum BinOp {
     Range,
+    /// `A1:C3 B2:D4`: the cells both references cover (a space in the text).
+    Intersect,
+    /// `(A1:A3,C1)`: a reference of several areas (a comma, only inside parentheses).
+    Union,
     Pow,
     Mul,
     Div,

@@ -341,6 +341,8 @@ fn write_row(out: &mut String, c: Coord, at: Pos) {
 pub fn binary_symbol(op: BinOp) -> &'static str {
     match op {
         BinOp::Range => ":",
+        BinOp::Intersect => " ",
+        BinOp::Union => ",",
         BinOp::Pow => "^",
         BinOp::Mul => "*",
         BinOp::Div => "/",

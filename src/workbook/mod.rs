@@ -13,7 +13,7 @@ use crate::eval::functions::Registry;
 use crate::eval::{Env, Note, RowHidden, Value, XlError};
 use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::{Expr, Reference, SheetId};
-use crate::formula::parse::{parse_formula, ParseContext, ParseError};
+use crate::formula::parse::{parse_formula, parse_name_formula, ParseContext, ParseError};
 use crate::formula::print::{print_formula, quote_sheet_name};
 
 mod cycles;
@@ -504,8 +504,12 @@ impl Workbook {
         if !valid {
             return Err(WorkbookError::BadName(name.to_string()));
         }
-        let expr = self.parse_at(formula, scope.unwrap_or(0), Pos::new(0, 0)).map_err(|error| {
-            WorkbookError::Parse { place: format!("name {name}"), text: formula.to_string(), error }
+        let sheets = |name: &str| self.sheet_id(name);
+        let ctx = ParseContext { at: Pos::new(0, 0), functions: &Registry, sheet: &sheets };
+        let expr = parse_name_formula(formula, &ctx).map_err(|error| WorkbookError::Parse {
+            place: format!("name {name}"),
+            text: formula.to_string(),
+            error,
         })?;
         self.names.retain(|n| !(n.name.eq_ignore_ascii_case(name) && n.scope == scope));
         self.names.push(DefinedName { name: name.to_string(), expr: Rc::new(expr), scope });
