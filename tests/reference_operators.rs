@@ -164,3 +164,21 @@ fn a_union_of_values_does_not_parse() {
         assert!(wb.set_input(0, parse_cell("H2").expect("cell"), formula).is_err(), "{formula}");
     }
 }
+
+#[test]
+fn a_sheet_scoped_name_is_read_from_another_sheet_through_its_sheet() {
+    let mut wb = Workbook::with_sheet();
+    let data = wb.add_sheet("Data Sheet").expect("sheet");
+    wb.set_input(data, parse_cell("B2").expect("cell"), "7").expect("input");
+    wb.define_name("Rate", "'Data Sheet'!$B$2", Some(data)).expect("scoped name");
+    let at = parse_cell("A1").expect("cell");
+    wb.set_input(0, at, "='Data Sheet'!Rate*2").expect("formula");
+    assert_eq!(wb.value(0, at), n(14.0));
+    assert_eq!(wb.formula(0, at).as_deref(), Some("='Data Sheet'!Rate*2"));
+    // The name is not visible from Sheet1 without its sheet.
+    wb.set_input(0, parse_cell("A2").expect("cell"), "=Rate").expect("formula");
+    assert_eq!(wb.value(0, parse_cell("A2").expect("cell")), Value::Error(XlError::Name));
+    // An edit of the cell the name points at recomputes the formula.
+    wb.set_input(data, parse_cell("B2").expect("cell"), "8").expect("input");
+    assert_eq!(wb.value(0, at), n(16.0));
+}

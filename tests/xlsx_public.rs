@@ -95,6 +95,12 @@ fn unions_and_intersections_of_references_compute_as_excel() {
 }
 
 #[test]
+fn a_sheet_scoped_name_is_read_from_another_sheet() {
+    // `Defines!NR_To_A1` in sheet Uses, the name scoped to sheet Defines.
+    all_agree(&["poi/test-data_spreadsheet_56737.xlsx"], 8);
+}
+
+#[test]
 fn a_beta_era_shared_string_table_is_read() {
     let root = common::corpus::public_path();
     if !root.is_dir() {

@@ -76,6 +76,8 @@ impl Differ<'_> {
             | ExprKind::Missing
             | ExprKind::Ref(_)
             | ExprKind::Array(_) => num(0.0),
+            // `Sheet2!Rate` reads the workbook, not the surface's x and y.
+            ExprKind::SheetName(..) => num(0.0),
             // Macro-only nodes never reach a surface formula.
             ExprKind::Host(_) => return Err(unsupported(e, "a macro expression")),
         })

@@ -254,6 +254,7 @@ impl<'a> Ctx<'a> {
             ExprKind::Unary(op, inner) => self.unary(*op, inner),
             ExprKind::Binary(BinOp::Range | BinOp::Intersect | BinOp::Union, ..)
             | ExprKind::Name(_)
+            | ExprKind::SheetName(..)
             | ExprKind::Host(_) => {
                 let operand = self.operand(e);
                 self.deref(operand)
@@ -316,6 +317,11 @@ impl<'a> Ctx<'a> {
             },
             ExprKind::Paren(inner) => self.operand(inner),
             ExprKind::Name(name) => self.name_operand(name),
+            ExprKind::SheetName(sheet, name) => match sheet {
+                SheetRef::Id(id) => self.defined_name_operand(name, *id),
+                SheetRef::Current => self.defined_name_operand(name, self.sheet),
+                SheetRef::Missing(_) => Operand::Value(Value::Error(XlError::Ref)),
+            },
             ExprKind::Host(id) => match self.host {
                 Some(host) => host.node(self, *id),
                 None => Operand::Value(Value::Error(XlError::Name)),
@@ -415,7 +421,12 @@ impl<'a> Ctx<'a> {
         if let Some(operand) = self.host.and_then(|h| h.variable(name)) {
             return operand;
         }
-        let Some((expr, sheet)) = self.env.defined_name(name, self.sheet) else {
+        self.defined_name_operand(name, self.sheet)
+    }
+
+    /// The defined name `name` as seen from sheet `from` (its own name, else the workbook's).
+    fn defined_name_operand(&mut self, name: &str, from: SheetId) -> Operand {
+        let Some((expr, sheet)) = self.env.defined_name(name, from) else {
             return Operand::Value(Value::Error(XlError::Name));
         };
         if self.depth >= MAX_DEPTH {

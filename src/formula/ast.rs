@@ -166,6 +166,9 @@ pub enum ExprKind {
     Ref(Reference),
     /// A defined name or a `LET`/`LAMBDA` variable.
     Name(Rc<str>),
+    /// A defined name as seen from a given sheet (`Sheet2!Rate`: the name scoped to Sheet2,
+    /// else the workbook's).
+    SheetName(SheetRef, Rc<str>),
     Array(Rc<ArrayLit>),
     /// Parentheses as typed, kept so that a formula prints back as it was written.
     Paren(Box<Expr>),

@@ -467,6 +467,11 @@ impl Builder<'_, '_> {
             Rule::boolean => ExprKind::Bool(pair.as_str().eq_ignore_ascii_case("TRUE")),
             Rule::reference => ExprKind::Ref(self.reference(pair)?),
             Rule::name => ExprKind::Name(strip_future_prefix(pair.as_str()).into()),
+            Rule::sheet_name => {
+                let mut parts = pair.into_inner();
+                let sheet = self.sheet(parts.next().expect("sheet prefix"));
+                ExprKind::SheetName(sheet, parts.next().expect("name").as_str().into())
+            }
             rule => match self.host {
                 Some(host) => return host.primary(pair),
                 None => unreachable!("primary {rule:?}"),
