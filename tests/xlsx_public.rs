@@ -101,6 +101,13 @@ fn a_sheet_scoped_name_is_read_from_another_sheet() {
 }
 
 #[test]
+fn cell_width_reads_the_column_widths_of_the_sheet() {
+    // `CELL("width",B:B)`: `<col width="12">` is 11 characters, the other columns the
+    // sheet's `baseColWidth="10"`.
+    all_agree(&["poi/test-data_spreadsheet_47804.xlsx"], 9);
+}
+
+#[test]
 fn a_beta_era_shared_string_table_is_read() {
     let root = common::corpus::public_path();
     if !root.is_dir() {

@@ -67,6 +67,12 @@ pub trait Env {
         false
     }
 
+    /// The width of column `col` in characters as Excel shows it (CELL("width")); `None`
+    /// when the workbook says nothing of it (Excel's default, 8.43).
+    fn column_width(&self, _sheet: SheetId, _col: u32) -> Option<f64> {
+        None
+    }
+
     /// Whether row `row` of `sheet` is hidden, and how (SUBTOTAL and AGGREGATE skip such rows).
     fn row_hidden(&self, _sheet: SheetId, _row: u32) -> Option<RowHidden> {
         None

@@ -226,6 +226,15 @@ impl Workbook {
         self.sheets.get(sheet as usize).map(|s| s.hidden_rows().collect()).unwrap_or_default()
     }
 
+    /// Sets the width in characters (as Excel shows it) of columns `first..=last` of `sheet`,
+    /// or with `span` `None` of its other columns; CELL("width") reads it at the next
+    /// recalculation.
+    pub fn set_column_width(&mut self, sheet: SheetId, span: Option<(u32, u32)>, width: f64) {
+        if let Some(s) = self.sheets.get_mut(sheet as usize) {
+            s.set_column_width(span, width);
+        }
+    }
+
     /// Hides row `row` of `sheet` (`None` shows it), without recalculating: SUBTOTAL and
     /// AGGREGATE read it at the next recalculation.
     pub fn set_row_hidden(&mut self, sheet: SheetId, row: u32, hidden: Option<RowHidden>) {
@@ -903,6 +912,10 @@ impl Env for Workbook {
 
     fn row_hidden(&self, sheet: SheetId, row: u32) -> Option<RowHidden> {
         self.sheets.get(sheet as usize)?.row_hidden(row)
+    }
+
+    fn column_width(&self, sheet: SheetId, col: u32) -> Option<f64> {
+        self.sheets.get(sheet as usize)?.column_width(col)
     }
 }
 

@@ -105,7 +105,9 @@ fn cell(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
             Value::Text(_) => "l",
             _ => "v",
         })),
-        "color" | "filename" | "format" | "parentheses" | "prefix" | "protect" | "width" => {
+        // Excel: "Column width of the cell, rounded off to an integer"; 8.43 when not set.
+        "width" => Ok(Value::Number(ctx.env.column_width(sheet, pos.col).unwrap_or(8.43).round())),
+        "color" | "filename" | "format" | "parentheses" | "prefix" | "protect" => {
             Err(ctx.explain(XlError::NA, format!("CELL(\"{info}\") reads formatting ncsheet does not keep")))
         }
         _ => Err(XlError::Value),
