@@ -178,3 +178,26 @@ fn deleted_references_are_ref_whatever_sheet_they_were_on() {
     // Names and formulas Excel left as `Sheet1!#REF!` or `'1'!#REF!`.
     all_agree(&["poi/test-data_spreadsheet_49783.xlsx", "poi/test-data_spreadsheet_customIndexedColors.xlsx"], 4);
 }
+
+#[test]
+fn a_workbook_written_anew_says_it_loses_its_links_to_other_workbooks() {
+    // ref-56737 links to one other workbook (`[1]Uses!$A$1`); written as a new package (a
+    // sheet was added), the links become Excel's cached values: said before anything is written.
+    let root = common::corpus::public_path();
+    if !root.is_dir() {
+        assert!(std::env::var_os("CI").is_none(), "public Excel corpus not found at {}", root.display());
+        return;
+    }
+    let source = root.join("poi/test-data_spreadsheet_ref-56737.xlsx");
+    let imported = xlsx::load(&source).expect("loads");
+    assert_eq!(imported.layout.external_links, 1);
+    let origin = ncsheet::io::Origin::Xlsx(source.clone());
+    let target = std::env::temp_dir().join("ncsheet-links-never-written.xlsx");
+    let mut workbook = imported.workbook;
+    workbook.track_changes();
+    workbook.set_input(0, ncsheet::formula::address::Pos::new(30, 0), "1").expect("edit");
+    // A sheet added makes the package unpatchable: it is written anew.
+    workbook.add_sheet("Added").expect("sheet");
+    let encoded = ncsheet::io::encode_save(&workbook, Some(&imported.layout), &origin, &target).expect("encodes");
+    assert!(encoded.losses.iter().any(|l| l.contains("links to 1 other workbook")), "losses: {:?}", encoded.losses);
+}

@@ -97,6 +97,7 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
     imported.layout.tables = tables.clone();
     imported.layout.calculation = package.calculation.clone();
     let links = read_links(&mut package, &mut imported.notes);
+    imported.layout.external_links = links.iter().flatten().count();
     let mut book =
         BookParts { tables, sheet_names: imported.workbook.sheet_names(), links, range_names: HashSet::new() };
     define_names(&mut imported, &package, &sheets, &ids, &book);
