@@ -88,6 +88,26 @@ fn three_d_references_take_every_sheet_between_the_two() {
 }
 
 #[test]
+fn unions_and_intersections_of_references_compute_as_excel() {
+    // `(C2:D3 D3:E4)`, `Tabelle2!E:E Tabelle2!11:11`, `Tabelle2!E:F Tabelle2!11:12` (several
+    // cells where one value is wanted: #VALUE!), `RANK(A1,(B1,B2,B3),1)`.
+    all_agree(&["poi/test-data_spreadsheet_Intersection-52111-xssf.xlsx", "poi/test-data_spreadsheet_61063.xlsx"], 4);
+}
+
+#[test]
+fn a_sheet_scoped_name_is_read_from_another_sheet() {
+    // `Defines!NR_To_A1` in sheet Uses, the name scoped to sheet Defines.
+    all_agree(&["poi/test-data_spreadsheet_56737.xlsx"], 8);
+}
+
+#[test]
+fn cell_width_reads_the_column_widths_of_the_sheet() {
+    // `CELL("width",B:B)`: `<col width="12">` is 11 characters, the other columns the
+    // sheet's `baseColWidth="10"`.
+    all_agree(&["poi/test-data_spreadsheet_47804.xlsx"], 9);
+}
+
+#[test]
 fn a_beta_era_shared_string_table_is_read() {
     let root = common::corpus::public_path();
     if !root.is_dir() {
@@ -157,4 +177,27 @@ fn the_1904_date_system_survives_a_workbook_written_new() {
 fn deleted_references_are_ref_whatever_sheet_they_were_on() {
     // Names and formulas Excel left as `Sheet1!#REF!` or `'1'!#REF!`.
     all_agree(&["poi/test-data_spreadsheet_49783.xlsx", "poi/test-data_spreadsheet_customIndexedColors.xlsx"], 4);
+}
+
+#[test]
+fn a_workbook_written_anew_says_it_loses_its_links_to_other_workbooks() {
+    // ref-56737 links to one other workbook (`[1]Uses!$A$1`); written as a new package (a
+    // sheet was added), the links become Excel's cached values: said before anything is written.
+    let root = common::corpus::public_path();
+    if !root.is_dir() {
+        assert!(std::env::var_os("CI").is_none(), "public Excel corpus not found at {}", root.display());
+        return;
+    }
+    let source = root.join("poi/test-data_spreadsheet_ref-56737.xlsx");
+    let imported = xlsx::load(&source).expect("loads");
+    assert_eq!(imported.layout.external_links, 1);
+    let origin = ncsheet::io::Origin::Xlsx(source.clone());
+    let target = std::env::temp_dir().join("ncsheet-links-never-written.xlsx");
+    let mut workbook = imported.workbook;
+    workbook.track_changes();
+    workbook.set_input(0, ncsheet::formula::address::Pos::new(30, 0), "1").expect("edit");
+    // A sheet added makes the package unpatchable: it is written anew.
+    workbook.add_sheet("Added").expect("sheet");
+    let encoded = ncsheet::io::encode_save(&workbook, Some(&imported.layout), &origin, &target).expect("encodes");
+    assert!(encoded.losses.iter().any(|l| l.contains("links to 1 other workbook")), "losses: {:?}", encoded.losses);
 }

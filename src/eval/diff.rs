@@ -76,6 +76,8 @@ impl Differ<'_> {
             | ExprKind::Missing
             | ExprKind::Ref(_)
             | ExprKind::Array(_) => num(0.0),
+            // `Sheet2!Rate` reads the workbook, not the surface's x and y.
+            ExprKind::SheetName(..) => num(0.0),
             // Macro-only nodes never reach a surface formula.
             ExprKind::Host(_) => return Err(unsupported(e, "a macro expression")),
         })
@@ -102,9 +104,9 @@ impl Differ<'_> {
             BinOp::Div => sub(div(da, b.clone()), div(mul(a.clone(), db), pow(b.clone(), num(2.0)))),
             BinOp::Pow => d_power(a, b, da, db),
             // A comparison is TRUE or FALSE on either side of its switch: slope 0.
-            BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge | BinOp::Like | BinOp::Range => {
-                num(0.0)
-            }
+            BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge | BinOp::Like => num(0.0),
+            // A reference operator is no number: its derivative is that of a constant.
+            BinOp::Range | BinOp::Intersect | BinOp::Union => num(0.0),
             BinOp::Concat if is_zero(&da) && is_zero(&db) => num(0.0),
             BinOp::Concat => return Err(unsupported(e, "&")),
             // The macro language's logical operators are piecewise constant too.

@@ -67,6 +67,12 @@ pub trait Env {
         false
     }
 
+    /// The width of column `col` in characters as Excel shows it (CELL("width")); `None`
+    /// when the workbook says nothing of it (Excel's default, 8.43).
+    fn column_width(&self, _sheet: SheetId, _col: u32) -> Option<f64> {
+        None
+    }
+
     /// Whether row `row` of `sheet` is hidden, and how (SUBTOTAL and AGGREGATE skip such rows).
     fn row_hidden(&self, _sheet: SheetId, _row: u32) -> Option<RowHidden> {
         None
@@ -108,6 +114,10 @@ pub trait Host {
 pub enum Operand {
     Value(Value),
     Ref(SheetId, Rect),
+    /// A reference of several areas (`(A1:A3,C1)`, a name defined as a union), in the order
+    /// written. Functions that take references (SUM, COUNT, INDEX, AREAS…) read each area;
+    /// anywhere a value is wanted it is `#VALUE!`, as in Excel.
+    Areas(Rc<[(SheetId, Rect)]>),
 }
 
 /// A diagnostic a function leaves for the cell it evaluates (e.g. why a geometry is invalid).
@@ -281,7 +291,10 @@ impl<'a> Ctx<'a> {
             ExprKind::Paren(inner) => self.eval(inner),
             ExprKind::Array(lit) => self.array_literal(lit),
             ExprKind::Unary(op, inner) => self.unary(*op, inner),
-            ExprKind::Binary(BinOp::Range, ..) | ExprKind::Name(_) | ExprKind::Host(_) => {
+            ExprKind::Binary(BinOp::Range | BinOp::Intersect | BinOp::Union, ..)
+            | ExprKind::Name(_)
+            | ExprKind::SheetName(..)
+            | ExprKind::Host(_) => {
                 let operand = self.operand(e);
                 self.deref(operand)
             }
@@ -343,11 +356,18 @@ impl<'a> Ctx<'a> {
             },
             ExprKind::Paren(inner) => self.operand(inner),
             ExprKind::Name(name) => self.name_operand(name),
+            ExprKind::SheetName(sheet, name) => match sheet {
+                SheetRef::Id(id) => self.defined_name_operand(name, *id),
+                SheetRef::Current => self.defined_name_operand(name, self.sheet),
+                SheetRef::Missing(_) => Operand::Value(Value::Error(XlError::Ref)),
+            },
             ExprKind::Host(id) => match self.host {
                 Some(host) => host.node(self, *id),
                 None => Operand::Value(Value::Error(XlError::Name)),
             },
             ExprKind::Binary(BinOp::Range, a, b) => self.range_operand(a, b),
+            ExprKind::Binary(BinOp::Intersect, a, b) => self.intersect_operand(a, b),
+            ExprKind::Binary(BinOp::Union, a, b) => self.union_operand(a, b),
             ExprKind::Unary(UnaryOp::Spill, inner) => self.spill_operand(inner),
             ExprKind::Call(id, args) => match functions::spec(*id).kind {
                 FnKind::Ref(f) => f(self, args),
@@ -362,6 +382,8 @@ impl<'a> Ctx<'a> {
         match operand {
             Operand::Value(v) => v,
             Operand::Ref(sheet, rect) => self.rect_value(sheet, rect),
+            // `=(A1,B1)`: several areas are no one value (Excel's #VALUE!).
+            Operand::Areas(_) => Value::Error(XlError::Value),
         }
     }
 
@@ -449,7 +471,12 @@ impl<'a> Ctx<'a> {
         if let Some(operand) = self.host.and_then(|h| h.variable(name)) {
             return operand;
         }
-        let Some((expr, sheet)) = self.env.defined_name(name, self.sheet) else {
+        self.defined_name_operand(name, self.sheet)
+    }
+
+    /// The defined name `name` as seen from sheet `from` (its own name, else the workbook's).
+    fn defined_name_operand(&mut self, name: &str, from: SheetId) -> Operand {
+        let Some((expr, sheet)) = self.env.defined_name(name, from) else {
             return Operand::Value(Value::Error(XlError::Name));
         };
         if self.depth >= MAX_DEPTH {
@@ -548,18 +575,60 @@ impl<'a> Ctx<'a> {
         error
     }
 
+    /// `a:b`: the smallest rectangle holding both (every area of a multi-area operand).
     fn range_operand(&mut self, a: &Expr, b: &Expr) -> Operand {
-        match (self.operand(a), self.operand(b)) {
-            (Operand::Ref(s1, r1), Operand::Ref(s2, r2)) if s1 == s2 => {
-                let first = Pos::new(r1.first.row.min(r2.first.row), r1.first.col.min(r2.first.col));
-                let last = Pos::new(r1.last.row.max(r2.last.row), r1.last.col.max(r2.last.col));
-                Operand::Ref(s1, Rect { first, last })
-            }
-            (Operand::Value(Value::Error(e)), _) | (_, Operand::Value(Value::Error(e))) => {
-                Operand::Value(Value::Error(e))
-            }
-            _ => Operand::Value(Value::Error(XlError::Value)),
+        let (a, b) = (self.operand(a), self.operand(b));
+        let (a, b) = match (areas_of(&a), areas_of(&b)) {
+            (Ok(a), Ok(b)) => (a, b),
+            (Err(e), _) | (_, Err(e)) => return Operand::Value(Value::Error(e)),
+        };
+        let sheet = a[0].0;
+        if a.iter().chain(&b).any(|(s, _)| *s != sheet) {
+            return Operand::Value(Value::Error(XlError::Value));
         }
+        let rects = a.iter().chain(&b).map(|(_, r)| *r);
+        let bounds = rects.reduce(|r1, r2| Rect {
+            first: Pos::new(r1.first.row.min(r2.first.row), r1.first.col.min(r2.first.col)),
+            last: Pos::new(r1.last.row.max(r2.last.row), r1.last.col.max(r2.last.col)),
+        });
+        Operand::Ref(sheet, bounds.expect("an operand has an area"))
+    }
+
+    /// `a b`: the cells both cover; `#NULL!` when they share none (Excel's rule).
+    fn intersect_operand(&mut self, a: &Expr, b: &Expr) -> Operand {
+        let (a, b) = (self.operand(a), self.operand(b));
+        let (a, b) = match (areas_of(&a), areas_of(&b)) {
+            (Ok(a), Ok(b)) => (a, b),
+            (Err(e), _) | (_, Err(e)) => return Operand::Value(Value::Error(e)),
+        };
+        let mut common = Vec::new();
+        for (s1, r1) in &a {
+            for (s2, r2) in &b {
+                if s1 != s2 {
+                    return Operand::Value(Value::Error(XlError::Value));
+                }
+                if let Some(r) = rect_intersection(*r1, *r2) {
+                    common.push((*s1, r));
+                }
+            }
+        }
+        areas_operand(common).unwrap_or(Operand::Value(Value::Error(XlError::Null)))
+    }
+
+    /// `(a,b)`: the areas of both, in order, on one sheet.
+    fn union_operand(&mut self, a: &Expr, b: &Expr) -> Operand {
+        let (a, b) = (self.operand(a), self.operand(b));
+        let all = match (areas_of(&a), areas_of(&b)) {
+            (Ok(mut a), Ok(b)) => {
+                a.extend(b);
+                a
+            }
+            (Err(e), _) | (_, Err(e)) => return Operand::Value(Value::Error(e)),
+        };
+        if all.iter().any(|(s, _)| *s != all[0].0) {
+            return Operand::Value(Value::Error(XlError::Value));
+        }
+        areas_operand(all).expect("a union has areas")
     }
 
     fn spill_operand(&mut self, inner: &Expr) -> Operand {
@@ -569,7 +638,7 @@ impl<'a> Ctx<'a> {
                 None => Operand::Value(Value::Error(XlError::Ref)),
             },
             Operand::Value(Value::Error(e)) => Operand::Value(Value::Error(e)),
-            Operand::Value(_) => Operand::Value(Value::Error(XlError::Ref)),
+            Operand::Value(_) | Operand::Areas(_) => Operand::Value(Value::Error(XlError::Ref)),
         }
     }
 
@@ -600,6 +669,7 @@ impl<'a> Ctx<'a> {
         match operand {
             Operand::Value(Value::Array(a)) => a.data.first().cloned().unwrap_or(Value::Blank),
             Operand::Value(v) => v,
+            Operand::Areas(_) => Value::Error(XlError::Value),
             Operand::Ref(sheet, rect) if rect.is_cell() => self.env.value(sheet, rect.first),
             Operand::Ref(sheet, rect) => {
                 let row = if rect.rows() == 1 {
@@ -619,6 +689,33 @@ impl<'a> Ctx<'a> {
             }
         }
     }
+}
+
+/// The areas of a reference operand (one for a rectangle); an error value's error, and
+/// `#VALUE!` for any other value (`(1,2)` is no reference).
+pub fn areas_of(operand: &Operand) -> XlResult<Vec<(SheetId, Rect)>> {
+    match operand {
+        Operand::Ref(sheet, rect) => Ok(vec![(*sheet, *rect)]),
+        Operand::Areas(areas) => Ok(areas.to_vec()),
+        Operand::Value(Value::Error(e)) => Err(*e),
+        Operand::Value(_) => Err(XlError::Value),
+    }
+}
+
+/// One area as a plain reference, several as [`Operand::Areas`], none as `None`.
+fn areas_operand(mut areas: Vec<(SheetId, Rect)>) -> Option<Operand> {
+    match areas.len() {
+        0 => None,
+        1 => areas.pop().map(|(s, r)| Operand::Ref(s, r)),
+        _ => Some(Operand::Areas(areas.into())),
+    }
+}
+
+/// The cells two rectangles share, if any.
+fn rect_intersection(a: Rect, b: Rect) -> Option<Rect> {
+    let first = Pos::new(a.first.row.max(b.first.row), a.first.col.max(b.first.col));
+    let last = Pos::new(a.last.row.min(b.last.row), a.last.col.min(b.last.col));
+    (first.row <= last.row && first.col <= last.col).then_some(Rect { first, last })
 }
 
 /// Applies a numeric function to a scalar or element-wise to an array.

@@ -104,6 +104,10 @@ impl Reference {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum BinOp {
     Range,
+    /// `A1:C3 B2:D4`: the cells both references cover (a space in the text).
+    Intersect,
+    /// `(A1:A3,C1)`: a reference of several areas (a comma, only inside parentheses).
+    Union,
     Pow,
     Mul,
     Div,
@@ -164,6 +168,9 @@ pub enum ExprKind {
     Ref(Reference),
     /// A defined name or a `LET`/`LAMBDA` variable.
     Name(Rc<str>),
+    /// A defined name as seen from a given sheet (`Sheet2!Rate`: the name scoped to Sheet2,
+    /// else the workbook's).
+    SheetName(SheetRef, Rc<str>),
     Array(Rc<ArrayLit>),
     /// Parentheses as typed, kept so that a formula prints back as it was written.
     Paren(Box<Expr>),

@@ -11,6 +11,8 @@
 //! %                   percent      (postfix)
 //! - +                 negation     (prefix: -2^2 = 4)
 //! @                   implicit intersection
+//! ,                   union        (only inside parentheses: `(A1:A3,C1)`)
+//! (space)             intersection (`A1:C3 B2:D4`)
 //! #                   spill range  (postfix)
 //! :                   range
 //! ```
@@ -63,7 +65,10 @@ pub fn binary_precedence(op: BinOp) -> u8 {
         BinOp::IntDiv => 11,
         BinOp::Mul | BinOp::Div => 12,
         BinOp::Pow => 13,
-        BinOp::Range => 18,
+        // Excel's reference operators bind tighter than negation: `:` > space > `,`.
+        BinOp::Union => 17,
+        BinOp::Intersect => 18,
+        BinOp::Range => 20,
     }
 }
 
@@ -74,12 +79,14 @@ pub fn unary_precedence(op: UnaryOp) -> u8 {
         UnaryOp::Percent => 14,
         UnaryOp::Neg | UnaryOp::Plus => 15,
         UnaryOp::Implicit => 16,
-        UnaryOp::Spill => 17,
+        UnaryOp::Spill => 19,
     }
 }
 
-const INFIX_RULES: [(Rule, BinOp); 21] = [
+const INFIX_RULES: [(Rule, BinOp); 23] = [
     (Rule::range_op, BinOp::Range),
+    (Rule::isect_op, BinOp::Intersect),
+    (Rule::union_op, BinOp::Union),
     (Rule::pow, BinOp::Pow),
     (Rule::mul, BinOp::Mul),
     (Rule::div, BinOp::Div),
@@ -115,7 +122,7 @@ const POSTFIX_RULES: [(Rule, UnaryOp); 2] = [(Rule::percent, UnaryOp::Percent), 
 /// binary operator is left-associative (`2^3^2` is 64).
 static PRATT: LazyLock<PrattParser<Rule>> = LazyLock::new(|| {
     let mut pratt = PrattParser::new();
-    for level in 1..=18 {
+    for level in 1..=binary_precedence(BinOp::Range) {
         let infix = INFIX_RULES
             .iter()
             .filter(|(_, op)| binary_precedence(*op) == level)
@@ -249,6 +256,16 @@ pub fn parse_formula(text: &str, ctx: &ParseContext) -> Result<Expr, ParseError>
     Builder { ctx, host: None }.expr(expr.into_inner())
 }
 
+/// Parses a defined name's formula, where a union of references may stand without
+/// parentheses as Excel stores it (`Sheet1!$A$1:$A$3,Sheet1!$C$1`).
+pub fn parse_name_formula(text: &str, ctx: &ParseContext) -> Result<Expr, ParseError> {
+    check_nesting(text, Language::Formula)?;
+    let mut pairs = FormulaGrammar::parse(Rule::name_formula, text).map_err(from_pest)?;
+    let formula = pairs.next().expect("name_formula rule");
+    let expr = formula.into_inner().find(|p| p.as_rule() == Rule::paren_expr).expect("paren_expr");
+    Builder { ctx, host: None }.expr(expr.into_inner())
+}
+
 /// The primaries of the macro language that formulas do not have (variables, member paths,
 /// `[B3]`): the macro parser builds them, calling [`build_expr`] for their inner expressions.
 pub trait HostPrimaries {
@@ -302,6 +319,8 @@ pub(crate) fn is_operator(rule: Rule) -> bool {
     matches!(
         rule,
         Rule::range_op
+            | Rule::isect_op
+            | Rule::union_op
             | Rule::le
             | Rule::ge
             | Rule::ne
@@ -393,6 +412,17 @@ impl Builder<'_, '_> {
                 let ((lhs, dl), (rhs, dr)) = (lhs?, rhs?);
                 let depth = deeper(dl.max(dr) + 1, &op)?;
                 let span = join(lhs.span, rhs.span);
+                if op.as_rule() == Rule::isect_op && lhs.span.end >= rhs.span.start {
+                    // `(A1)(B1)`: two operands with nothing between them.
+                    return Err(ParseError::at(rhs.span.start as usize, "expected an operator"));
+                }
+                if matches!(op.as_rule(), Rule::isect_op | Rule::union_op) {
+                    if let Some(value) = [&lhs, &rhs].into_iter().find(|e| !may_be_reference(e)) {
+                        let symbol = if op.as_rule() == Rule::union_op { "," } else { "a space" };
+                        let message = format!("{symbol} joins references: this is a value");
+                        return Err(ParseError::at(value.span.start as usize, message));
+                    }
+                }
                 if op.as_rule() == Rule::range_op {
                     if let Some(r) = cell_range(&lhs, &rhs) {
                         return Ok((Expr::new(ExprKind::Ref(r), span), depth));
@@ -439,6 +469,11 @@ impl Builder<'_, '_> {
             Rule::boolean => ExprKind::Bool(pair.as_str().eq_ignore_ascii_case("TRUE")),
             Rule::reference => ExprKind::Ref(self.reference(pair)?),
             Rule::name => ExprKind::Name(strip_future_prefix(pair.as_str()).into()),
+            Rule::sheet_name => {
+                let mut parts = pair.into_inner();
+                let sheet = self.sheet(parts.next().expect("sheet prefix"));
+                ExprKind::SheetName(sheet, parts.next().expect("name").as_str().into())
+            }
             rule => match self.host {
                 Some(host) => return host.primary(pair),
                 None => unreachable!("primary {rule:?}"),
@@ -650,6 +685,20 @@ fn number(pair: &Pair<Rule>) -> Result<f64, ParseError> {
 fn unescape(pair: &Pair<Rule>) -> String {
     let inner = pair.clone().into_inner().next().map_or("", |p| p.as_str());
     inner.replace("\"\"", "\"")
+}
+
+/// Whether `e` may evaluate to a reference: the operands of the union and intersection
+/// operators must (MS-XLSX's `ref-expression`), so Excel refuses `(-4,3)`, a decimal comma
+/// that some applications wrote into files.
+fn may_be_reference(e: &Expr) -> bool {
+    match &e.kind {
+        ExprKind::Ref(_) | ExprKind::Name(_) | ExprKind::Call(..) | ExprKind::UnknownCall(..) => true,
+        ExprKind::Error(err) => *err == XlError::Ref,
+        ExprKind::Paren(inner) => may_be_reference(inner),
+        ExprKind::Unary(op, _) => matches!(op, UnaryOp::Spill | UnaryOp::Implicit),
+        ExprKind::Binary(op, ..) => matches!(op, BinOp::Range | BinOp::Intersect | BinOp::Union),
+        _ => false,
+    }
 }
 
 /// `A1 : B2` (spaces around the colon) is the range `A1:B2`, as Excel reads it: one

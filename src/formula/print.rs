@@ -158,6 +158,10 @@ impl Printer<'_> {
             ExprKind::Missing => {}
             ExprKind::Ref(r) => write_reference(self.out, r, self.at, self.sheets),
             ExprKind::Name(n) => self.name(n),
+            ExprKind::SheetName(sheet, n) => {
+                write_sheet_prefix(self.out, sheet, self.sheets);
+                self.out.push_str(n);
+            }
             ExprKind::Array(lit) => self.array(lit),
             ExprKind::Paren(inner) => {
                 self.out.push('(');
@@ -287,15 +291,7 @@ fn bound_names(function: &str, args: &[Expr]) -> Vec<Rc<str>> {
 /// Writes a reference as held by the cell `at` (`Sheet2!$A$1:B3`; `#REF!` off the sheet):
 /// the one spelling of references, for formulas as typed and as files store them.
 pub fn write_reference(out: &mut String, r: &Reference, at: Pos, sheets: SheetNames) {
-    match &r.sheet {
-        SheetRef::Current => {}
-        SheetRef::Id(id) => {
-            let _ = write!(out, "{}!", quote_sheet_name(&sheets(*id)));
-        }
-        SheetRef::Missing(name) => {
-            let _ = write!(out, "{}!", quote_sheet_name(name));
-        }
-    }
+    write_sheet_prefix(out, &r.sheet, sheets);
     let cell = |out: &mut String, c: CellCoord| {
         write_col(out, c.col, at);
         write_row(out, c.row, at);
@@ -329,6 +325,19 @@ fn write_col(out: &mut String, c: Coord, at: Pos) {
     }
 }
 
+/// `Sheet2!` or `'Chamfer data'!` before a reference or name; nothing for the current sheet.
+fn write_sheet_prefix(out: &mut String, sheet: &SheetRef, sheets: SheetNames) {
+    match sheet {
+        SheetRef::Current => {}
+        SheetRef::Id(id) => {
+            let _ = write!(out, "{}!", quote_sheet_name(&sheets(*id)));
+        }
+        SheetRef::Missing(name) => {
+            let _ = write!(out, "{}!", quote_sheet_name(name));
+        }
+    }
+}
+
 fn write_row(out: &mut String, c: Coord, at: Pos) {
     match c.resolve(at.row, MAX_ROWS) {
         Some(i) => {
@@ -341,6 +350,8 @@ fn write_row(out: &mut String, c: Coord, at: Pos) {
 pub fn binary_symbol(op: BinOp) -> &'static str {
     match op {
         BinOp::Range => ":",
+        BinOp::Intersect => " ",
+        BinOp::Union => ",",
         BinOp::Pow => "^",
         BinOp::Mul => "*",
         BinOp::Div => "/",

@@ -289,7 +289,8 @@ pub fn encode_save_with(
                 Err(xlsx::Unpatchable(why)) => {
                     let default = xlsx::Layout::default();
                     let bytes = xlsx::to_bytes_for(wb, layout.unwrap_or(&default), path)?;
-                    encoded(bytes, vec![rewritten_loss(source, &why)])
+                    let losses = [Some(rewritten_loss(source, &why)), links_loss(layout)];
+                    encoded(bytes, losses.into_iter().flatten().collect())
                 }
             }
         }
@@ -297,7 +298,12 @@ pub fn encode_save_with(
             let default = xlsx::Layout::default();
             let bytes = xlsx::to_bytes_for(wb, layout.unwrap_or(&default), path)?;
             let losses = match origin {
-                Origin::Xlsx(source) => vec![rewritten_loss(source, "it is saved under another extension")],
+                Origin::Xlsx(source) => {
+                    [Some(rewritten_loss(source, "it is saved under another extension")), links_loss(layout)]
+                        .into_iter()
+                        .flatten()
+                        .collect()
+                }
                 _ => Vec::new(),
             };
             encoded(bytes, losses)
@@ -325,6 +331,19 @@ fn formulas_replaced(cells: &[String]) -> Option<String> {
         format!(
             "formulas replaced by constants, so the saved file no longer computes these cells ({}): {shown}{more}",
             cells.len()
+        )
+    })
+}
+
+/// The loss of the links to other workbooks when a package is written anew: their
+/// references were read as the values Excel cached and are written so, as constants.
+fn links_loss(layout: Option<&xlsx::Layout>) -> Option<String> {
+    let n = layout.map_or(0, |l| l.external_links);
+    (n > 0).then(|| {
+        format!(
+            "the links to {n} other workbook{} are written as the values Excel last cached for them: the \
+             formulas that read them keep those values as constants, and the link parts are not kept",
+            if n == 1 { "" } else { "s" }
         )
     })
 }

@@ -507,6 +507,8 @@ impl Interp<'_, '_> {
             Operand::Ref(sheet, rect) if as_object => Var::Obj(Obj::Range(sheet, rect)),
             Operand::Ref(sheet, rect) => array_var(ctx.rect_value(sheet, rect), self.module.base),
             Operand::Value(v) => array_var(v, self.module.base),
+            // Several areas are no one range: the #VALUE! a cell shows.
+            areas @ Operand::Areas(_) => array_var(ctx.deref(areas), self.module.base),
         })
     }
 
@@ -541,6 +543,7 @@ impl Interp<'_, '_> {
                     ExprKind::Name(n) => self.lookup(n).unwrap_or(Var::Value(v)),
                     _ => array_var(v, self.module.base),
                 },
+                areas @ Operand::Areas(_) => array_var(ctx.deref(areas), self.module.base),
             };
             self.take_pending()?;
             bound.push((index, var));

@@ -293,6 +293,9 @@ impl Interp<'_, '_> {
                     let shown = print_text(&v);
                     return Err(self.fault_at(link.span, format!("Range needs an address or a name, not {shown}")));
                 }
+                Operand::Areas(_) => {
+                    return Err(self.fault_at(link.span, "Range of several areas is not supported"));
+                }
             });
         }
         match corners.as_slice() {
@@ -313,7 +316,7 @@ impl Interp<'_, '_> {
         let expr = parsed.map_err(|_| bad())?;
         match Ctx::new(self, sheet, Pos::new(0, 0)).operand(&expr) {
             Operand::Ref(s, r) => Ok((s, r)),
-            Operand::Value(_) => Err(bad()),
+            Operand::Value(_) | Operand::Areas(_) => Err(bad()),
         }
     }
 
@@ -452,6 +455,7 @@ impl Interp<'_, '_> {
         Ok(match Ctx::new(self, sheet, Pos::new(0, 0)).operand(&expr) {
             Operand::Ref(s, r) => Obj::Range(s, r),
             Operand::Value(v) => Obj::Value(v),
+            Operand::Areas(_) => Obj::Value(Value::Error(crate::eval::XlError::Value)),
         })
     }
 
@@ -483,7 +487,9 @@ impl Interp<'_, '_> {
                     let v = self.eval(value)?;
                     self.write_range(sheet, rect, &v)
                 }
-                Operand::Value(_) => Err(self.fault_at(*span, "only a bracket naming cells can be assigned")),
+                Operand::Value(_) | Operand::Areas(_) => {
+                    Err(self.fault_at(*span, "only a bracket naming cells can be assigned"))
+                }
             },
             _ => unreachable!("assignment targets are paths and brackets"),
         }

@@ -238,4 +238,8 @@ impl Env for Probe<'_> {
     fn date_1904(&self) -> bool {
         self.wb.date_1904
     }
+
+    fn column_width(&self, sheet: SheetId, col: u32) -> Option<f64> {
+        Env::column_width(self.wb, sheet, col)
+    }
 }

@@ -18,8 +18,8 @@ impl Workbook {
                 f(sheet, rect);
             }
         }
-        for name in formula.names.iter() {
-            self.name_precedents(name, cell.sheet, 0, f);
+        for (name, seen_from) in formula.names.iter() {
+            self.name_precedents(name, seen_from.unwrap_or(cell.sheet), 0, f);
         }
     }
 
@@ -35,6 +35,9 @@ impl Workbook {
                 }
             }
             crate::formula::ast::ExprKind::Name(inner) => self.name_precedents(inner, name_sheet, depth + 1, f),
+            crate::formula::ast::ExprKind::SheetName(crate::formula::ast::SheetRef::Id(seen_from), inner) => {
+                self.name_precedents(inner, *seen_from, depth + 1, f)
+            }
             _ => {}
         });
     }

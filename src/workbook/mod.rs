@@ -13,7 +13,7 @@ use crate::eval::functions::Registry;
 use crate::eval::{Env, Note, RowHidden, Value, XlError};
 use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::{Expr, Reference, SheetId};
-use crate::formula::parse::{parse_formula, ParseContext, ParseError};
+use crate::formula::parse::{parse_formula, parse_name_formula, ParseContext, ParseError};
 use crate::formula::print::{print_formula, quote_sheet_name};
 
 mod cycles;
@@ -222,6 +222,15 @@ impl Workbook {
     /// The hidden rows of `sheet`, in order, and how each is hidden.
     pub fn hidden_rows(&self, sheet: SheetId) -> Vec<(u32, RowHidden)> {
         self.sheets.get(sheet as usize).map(|s| s.hidden_rows().collect()).unwrap_or_default()
+    }
+
+    /// Sets the width in characters (as Excel shows it) of columns `first..=last` of `sheet`,
+    /// or with `span` `None` of its other columns; CELL("width") reads it at the next
+    /// recalculation.
+    pub fn set_column_width(&mut self, sheet: SheetId, span: Option<(u32, u32)>, width: f64) {
+        if let Some(s) = self.sheets.get_mut(sheet as usize) {
+            s.set_column_width(span, width);
+        }
     }
 
     /// Hides row `row` of `sheet` (`None` shows it), without recalculating: SUBTOTAL and
@@ -518,8 +527,12 @@ impl Workbook {
         if !valid {
             return Err(WorkbookError::BadName(name.to_string()));
         }
-        let expr = self.parse_at(formula, scope.unwrap_or(0), Pos::new(0, 0)).map_err(|error| {
-            WorkbookError::Parse { place: format!("name {name}"), text: formula.to_string(), error }
+        let sheets = |name: &str| self.sheet_id(name);
+        let ctx = ParseContext { at: Pos::new(0, 0), functions: &Registry, sheet: &sheets };
+        let expr = parse_name_formula(formula, &ctx).map_err(|error| WorkbookError::Parse {
+            place: format!("name {name}"),
+            text: formula.to_string(),
+            error,
         })?;
         self.names.retain(|n| !(n.name.eq_ignore_ascii_case(name) && n.scope == scope));
         self.names.push(DefinedName { name: name.to_string(), expr: Rc::new(expr), scope });
@@ -778,6 +791,10 @@ impl Env for Workbook {
 
     fn row_hidden(&self, sheet: SheetId, row: u32) -> Option<RowHidden> {
         self.sheets.get(sheet as usize)?.row_hidden(row)
+    }
+
+    fn column_width(&self, sheet: SheetId, col: u32) -> Option<f64> {
+        self.sheets.get(sheet as usize)?.column_width(col)
     }
 }
 

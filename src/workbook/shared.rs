@@ -14,7 +14,7 @@ use std::rc::Rc;
 
 use crate::eval::functions;
 use crate::formula::address::{Pos, MAX_COLS, MAX_ROWS};
-use crate::formula::ast::{ArrayLit, Expr, ExprKind, Reference};
+use crate::formula::ast::{ArrayLit, Expr, ExprKind, Reference, SheetId, SheetRef};
 
 use super::graph::FxMap;
 
@@ -23,8 +23,9 @@ pub struct SharedFormula {
     pub expr: Rc<Expr>,
     /// The references in the tree, so edges are found without walking it again.
     pub refs: Rc<[Reference]>,
-    /// Uses a defined name (its references are looked up when edges are built).
-    pub names: Rc<[Rc<str>]>,
+    /// Uses a defined name (its references are looked up when edges are built), as seen from
+    /// the given sheet (`None`: the formula's own).
+    pub names: Rc<[(Rc<str>, Option<SheetId>)]>,
     /// This formula's numbers where they differ from the shared tree's: each number literal
     /// of `expr` (by address) with the value to read instead (see `Ctx::numbers`).
     pub numbers: Box<[(*const Expr, f64)]>,
@@ -52,7 +53,9 @@ impl SharedFormula {
         expr.visit(&mut |e| match &e.kind {
             // A reference read twice (`IF(C1>1,C1-1,C1+1)`) is one edge of the graph.
             crate::formula::ast::ExprKind::Ref(r) if !refs.contains(r) => refs.push(r.clone()),
-            crate::formula::ast::ExprKind::Name(n) => names.push(n.clone()),
+            crate::formula::ast::ExprKind::Name(n) => names.push((n.clone(), None)),
+            // `Sheet2!Rate`: the name as Sheet2 sees it (a missing sheet reads nothing).
+            ExprKind::SheetName(SheetRef::Id(sheet), n) => names.push((n.clone(), Some(*sheet))),
             ExprKind::Call(id, _) => volatile |= recalculated_at_every_edit(functions::spec(*id)),
             _ => {}
         });

@@ -17,11 +17,36 @@ pub struct Sheet {
     extent: Option<Pos>,
     /// Hidden rows (0-based), as the file hid them.
     hidden_rows: BTreeMap<u32, RowHidden>,
+    /// Column widths in characters as Excel shows them: spans (first, last column, width),
+    /// later spans over earlier ones, and the width of the other columns.
+    widths: Vec<(u32, u32, f64)>,
+    default_width: Option<f64>,
 }
 
 impl Sheet {
     pub fn new(name: &str) -> Sheet {
-        Sheet { name: name.to_string(), columns: Vec::new(), extent: None, hidden_rows: BTreeMap::new() }
+        Sheet {
+            name: name.to_string(),
+            columns: Vec::new(),
+            extent: None,
+            hidden_rows: BTreeMap::new(),
+            widths: Vec::new(),
+            default_width: None,
+        }
+    }
+
+    /// The width of column `col` in characters, `None` when the sheet says nothing of it.
+    pub fn column_width(&self, col: u32) -> Option<f64> {
+        let own = self.widths.iter().rev().find(|(first, last, _)| (*first..=*last).contains(&col));
+        own.map(|&(_, _, w)| w).or(self.default_width)
+    }
+
+    /// Sets the width of columns `first..=last` (`None`: of every other column).
+    pub fn set_column_width(&mut self, span: Option<(u32, u32)>, width: f64) {
+        match span {
+            Some((first, last)) => self.widths.push((first, last, width)),
+            None => self.default_width = Some(width),
+        }
     }
 
     /// Whether row `row` is hidden, and how.

@@ -3,7 +3,8 @@
 
 use std::rc::Rc;
 
-use crate::formula::ast::{Expr, ExprKind};
+use crate::formula::address::Rect;
+use crate::formula::ast::{Expr, ExprKind, SheetId};
 
 use crate::eval::coerce::{to_bool, to_number, to_text};
 use crate::eval::functions::api::{number_result, Ctx, Operand};
@@ -125,15 +126,12 @@ pub fn for_each_value(ctx: &mut Ctx, args: &[Expr], f: &mut dyn FnMut(&Value, So
             continue;
         }
         match ctx.operand(a) {
-            Operand::Ref(sheet, rect) => {
-                let rect = ctx.clip_to_used(sheet, rect);
-                let mut outcome = Ok(());
-                ctx.env.for_each_value(sheet, rect, &mut |_, v| {
-                    if outcome.is_ok() {
-                        outcome = f(v, Source::Collection);
-                    }
-                });
-                outcome?;
+            Operand::Ref(sheet, rect) => for_each_cell_value(ctx, sheet, rect, f)?,
+            // `SUM((A1:A3,C1))`: each area in turn, as Excel reads a multi-area reference.
+            Operand::Areas(areas) => {
+                for &(sheet, rect) in areas.iter() {
+                    for_each_cell_value(ctx, sheet, rect, f)?;
+                }
             }
             Operand::Value(Value::Array(arr)) => {
                 for v in &arr.data {
@@ -144,6 +142,23 @@ pub fn for_each_value(ctx: &mut Ctx, args: &[Expr], f: &mut dyn FnMut(&Value, So
         }
     }
     Ok(())
+}
+
+/// [`for_each_value`] over one range's non-blank cells.
+fn for_each_cell_value(
+    ctx: &mut Ctx,
+    sheet: SheetId,
+    rect: Rect,
+    f: &mut dyn FnMut(&Value, Source) -> XlResult<()>,
+) -> XlResult<()> {
+    let rect = ctx.clip_to_used(sheet, rect);
+    let mut outcome = Ok(());
+    ctx.env.for_each_value(sheet, rect, &mut |_, v| {
+        if outcome.is_ok() {
+            outcome = f(v, Source::Collection);
+        }
+    });
+    outcome
 }
 
 /// Visits the numbers of the arguments as SUM, AVERAGE, MIN, MAX read them: numbers

@@ -218,6 +218,7 @@ impl CellBlock {
         match ctx.operand(e) {
             Operand::Ref(sheet, rect) => Ok(CellBlock::of_rect(ctx, sheet, rect)),
             Operand::Value(v) => CellBlock::from_value(v),
+            Operand::Areas(_) => Err(XlError::Value),
         }
     }
 
@@ -237,6 +238,7 @@ impl CellBlock {
                 let block = CellBlock::from_value(v)?;
                 Ok(CellBlock { rows, cols, ..block })
             }
+            Operand::Areas(_) => Err(XlError::Value),
         }
     }
 

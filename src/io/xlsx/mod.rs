@@ -100,6 +100,9 @@ pub struct Layout {
     pub calculation: Calculation,
     /// The file's tables (`xl/tables/`), in sheet order (for `info`).
     pub tables: Vec<Table>,
+    /// How many other workbooks the file links to (`xl/externalLinks/`): their references
+    /// were read as the values Excel cached, so a package written anew loses the links.
+    pub external_links: usize,
 }
 
 /// The file's calculation settings: `<calcPr>` and `date1904` of `<workbookPr>`, with

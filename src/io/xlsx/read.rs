@@ -122,6 +122,7 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
     imported.layout.tables = tables.clone();
     imported.layout.calculation = package.calculation.clone();
     let links = read_links(&mut package, &mut imported.notes);
+    imported.layout.external_links = links.iter().flatten().count();
     let mut book =
         BookParts { tables, sheet_names: imported.workbook.sheet_names(), links, range_names: HashSet::new() };
     define_names(&mut imported, &package, &sheets, &ids, &book);
@@ -140,6 +141,7 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
         .map_err(|e| stream_error(file, &entry.part, e))?;
         sheet_import.finish(&mut imported);
         hide_rows(&mut imported.workbook, &mut package, entry, sheet, &scan);
+        set_widths(&mut imported.workbook, sheet, &scan);
         scans.push((entry.name.clone(), scan));
     }
     // After the sheets: calamine reads the first one up to its cells, which the pass above
@@ -313,6 +315,16 @@ fn read_links(package: &mut Package, notes: &mut Vec<String>) -> Vec<Option<Exte
         notes.push("references to other workbooks read the values Excel cached for them (not refreshed)".into());
     }
     links
+}
+
+/// The sheet's column widths, for CELL("width").
+fn set_widths(wb: &mut Workbook, sheet: SheetId, scan: &SheetScan) {
+    if let Some(w) = scan.default_width {
+        wb.set_column_width(sheet, None, w);
+    }
+    for &(first, last, width) in &scan.widths {
+        wb.set_column_width(sheet, Some((first, last)), sheet_xml::shown_width(width));
+    }
 }
 
 /// Hides the rows the sheet hid: as filtered when a filter (the sheet's or a table's)

@@ -18,6 +18,13 @@ use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 use super::xml::{self, Event, Tag, TagKind};
 use super::{ArrayFormula, ErrorKind};
 
+/// A `<col width>` in the characters Excel shows: the file's width holds 5 pixels of
+/// padding (ECMA-376 §18.3.1.13), counted here in digits of Calibri 11, Excel's default font
+/// (7 pixels wide).
+pub fn shown_width(file_width: f64) -> f64 {
+    (file_width - 5.0 / 7.0).max(0.0)
+}
+
 /// What the worksheet pass found besides the cells.
 #[derive(Default, Debug)]
 pub struct SheetScan {
@@ -27,6 +34,9 @@ pub struct SheetScan {
     pub styled: Vec<(Pos, u32)>,
     /// `<col>` widths: first and last column (0-based) and the width.
     pub widths: Vec<(u32, u32, f64)>,
+    /// `<sheetFormatPr>`: the width of the other columns, in characters as Excel shows it
+    /// (`baseColWidth`, or `defaultColWidth` less its padding); `None` when not given.
+    pub default_width: Option<f64>,
     /// `<sheetPr codeName="…">`: the sheet's VBA name.
     pub code_name: Option<String>,
     /// Rows `<row hidden="1">` (0-based).
@@ -256,6 +266,7 @@ impl SheetScanner {
                 self.col = 0;
             }
             b"col" if opens => self.column_width(tag),
+            b"sheetFormatPr" if opens => self.default_width(tag),
             b"sheetPr" if opens => self.scan.code_name = tag.attr("codeName").map(xml::unescape),
             b"autoFilter" if opens => {
                 self.scan.auto_filter = tag.attr("ref").and_then(parse_rect).map(|r| (r, false));
@@ -411,6 +422,13 @@ impl SheetScanner {
             CellType::IsoDate => Stored::Text(raw.to_string()),
             CellType::InlineString => unreachable!("handled above"),
         }))
+    }
+
+    fn default_width(&mut self, tag: &Tag) {
+        let number = |name: &str| tag.attr(name).and_then(|w| std::str::from_utf8(w).ok()?.parse::<f64>().ok());
+        let base = number("baseColWidth").filter(|w| w.is_finite() && *w >= 0.0);
+        let default = number("defaultColWidth").filter(|w| w.is_finite() && *w >= 0.0);
+        self.scan.default_width = base.or(default.map(shown_width));
     }
 
     fn column_width(&mut self, tag: &Tag) {

@@ -158,13 +158,13 @@ pub fn legacy_operand_intersection(tree: &Expr, wb: &Workbook, sheet: SheetId) -
 fn intersect_operands(e: &mut Expr, wb: &Workbook, sheet: SheetId, operand: bool, changed: &mut bool) {
     match &mut e.kind {
         ExprKind::Ref(r) if operand && !matches!(r.shape, RefShape::Cell(_)) => wrap_implicit(e, changed),
-        ExprKind::Binary(BinOp::Range, ..) if operand => wrap_implicit(e, changed),
+        ExprKind::Binary(op, ..) if operand && is_reference_op(*op) => wrap_implicit(e, changed),
         ExprKind::Name(n) if operand && names_a_range(wb, n, sheet) => wrap_implicit(e, changed),
         ExprKind::Paren(x) => intersect_operands(x, wb, sheet, operand, changed),
         ExprKind::Unary(UnaryOp::Neg | UnaryOp::Plus | UnaryOp::Percent, x) => {
             intersect_operands(x, wb, sheet, true, changed)
         }
-        ExprKind::Binary(op, a, b) if *op != BinOp::Range => {
+        ExprKind::Binary(op, a, b) if !is_reference_op(*op) => {
             intersect_operands(a, wb, sheet, true, changed);
             intersect_operands(b, wb, sheet, true, changed);
         }
@@ -188,7 +188,7 @@ fn intersect_operands(e: &mut Expr, wb: &Workbook, sheet: SheetId, operand: bool
 fn intersect(e: &mut Expr, wb: &Workbook, sheet: SheetId, changed: &mut bool) {
     match &mut e.kind {
         ExprKind::Ref(r) if !matches!(r.shape, RefShape::Cell(_)) => wrap_implicit(e, changed),
-        ExprKind::Binary(BinOp::Range, ..) => wrap_implicit(e, changed),
+        ExprKind::Binary(op, ..) if is_reference_op(*op) => wrap_implicit(e, changed),
         ExprKind::Name(n) if names_a_range(wb, n, sheet) => wrap_implicit(e, changed),
         ExprKind::Paren(x) => intersect(x, wb, sheet, changed),
         ExprKind::Unary(UnaryOp::Neg | UnaryOp::Plus | UnaryOp::Percent, x) => intersect(x, wb, sheet, changed),
@@ -218,9 +218,15 @@ fn wrap_implicit(e: &mut Expr, changed: &mut bool) {
     *changed = true;
 }
 
+/// `:`, space and `,`: operators on references whose result is a reference.
+fn is_reference_op(op: BinOp) -> bool {
+    matches!(op, BinOp::Range | BinOp::Intersect | BinOp::Union)
+}
+
 fn is_bare_range(e: &Expr) -> bool {
     match &e.kind {
-        ExprKind::Ref(_) | ExprKind::Name(_) | ExprKind::Binary(BinOp::Range, ..) => true,
+        ExprKind::Ref(_) | ExprKind::Name(_) => true,
+        ExprKind::Binary(op, ..) if is_reference_op(*op) => true,
         ExprKind::Paren(x) => is_bare_range(x),
         _ => false,
     }
@@ -230,7 +236,7 @@ fn names_a_range(wb: &Workbook, name: &str, sheet: SheetId) -> bool {
     use crate::eval::Env;
     Env::defined_name(wb, name, sheet).is_some_and(|(expr, _)| match &expr.kind {
         ExprKind::Ref(r) => !matches!(r.shape, RefShape::Cell(_)),
-        ExprKind::Binary(BinOp::Range, ..) => true,
+        ExprKind::Binary(op, ..) => is_reference_op(*op),
         _ => false,
     })
 }

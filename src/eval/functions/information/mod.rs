@@ -68,7 +68,7 @@ fn isna(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn isref(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Ok(Value::Bool(matches!(ctx.reference_only(&args[0]), Operand::Ref(..))))
+    Ok(Value::Bool(matches!(ctx.reference_only(&args[0]), Operand::Ref(..) | Operand::Areas(_))))
 }
 
 fn na(_: &mut Ctx, _: &[Expr]) -> XlResult<Value> {

@@ -91,7 +91,7 @@ fn a1_reference(ctx: &mut Ctx, text: &str) -> XlResult<(SheetId, Rect)> {
         // Text that reads as an unknown name names no cell.
         Operand::Value(Value::Error(XlError::Name)) => Err(XlError::Ref),
         Operand::Value(Value::Error(e)) => Err(e),
-        Operand::Value(_) => Err(XlError::Ref),
+        Operand::Value(_) | Operand::Areas(_) => Err(XlError::Ref),
     }
 }
 
@@ -177,7 +177,7 @@ fn offset_ref(ctx: &mut Ctx, args: &[Expr]) -> XlResult<(SheetId, Rect)> {
     let (sheet, base) = match ctx.operand(&args[0]) {
         Operand::Ref(sheet, rect) => (sheet, rect),
         Operand::Value(Value::Error(e)) => return Err(e),
-        Operand::Value(_) => return Err(XlError::Value),
+        Operand::Value(_) | Operand::Areas(_) => return Err(XlError::Value),
     };
     let mut whole = |i: usize, default: f64| -> XlResult<i64> {
         match args.get(i).filter(|e| e.kind != ExprKind::Missing) {

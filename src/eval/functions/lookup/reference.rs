@@ -64,6 +64,7 @@ fn referenced_cell(ctx: &mut Ctx, e: &Expr) -> XlResult<(crate::formula::ast::Sh
         Operand::Ref(sheet, rect) => Ok((sheet, rect.first)),
         Operand::Value(Value::Error(err)) => Err(err),
         Operand::Value(_) => Err(XlError::NA),
+        Operand::Areas(_) => Err(XlError::Value),
     }
 }
 
@@ -79,7 +80,7 @@ fn cell(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         Some(e) if e.kind != ExprKind::Missing => match ctx.reference_only(e) {
             Operand::Ref(sheet, rect) => (sheet, rect.first),
             Operand::Value(Value::Error(err)) => return Err(err),
-            Operand::Value(_) => return Err(XlError::Value),
+            Operand::Value(_) | Operand::Areas(_) => return Err(XlError::Value),
         },
         _ => (ctx.sheet, ctx.at),
     };
@@ -103,7 +104,9 @@ fn cell(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
             Value::Text(_) => "l",
             _ => "v",
         })),
-        "color" | "filename" | "format" | "parentheses" | "prefix" | "protect" | "width" => {
+        // Excel: "Column width of the cell, rounded off to an integer"; 8.43 when not set.
+        "width" => Ok(Value::Number(ctx.env.column_width(sheet, pos.col).unwrap_or(8.43).round())),
+        "color" | "filename" | "format" | "parentheses" | "prefix" | "protect" => {
             Err(ctx.explain(XlError::NA, format!("CELL(\"{info}\") reads formatting ncsheet does not keep")))
         }
         _ => Err(XlError::Value),
@@ -123,7 +126,7 @@ fn trimmed(ctx: &mut Ctx, args: &[Expr]) -> XlResult<(crate::formula::ast::Sheet
     let (sheet, rect) = match ctx.reference_only(&args[0]) {
         Operand::Ref(sheet, rect) => (sheet, rect),
         Operand::Value(Value::Error(e)) => return Err(e),
-        Operand::Value(_) => return Err(XlError::Value),
+        Operand::Value(_) | Operand::Areas(_) => return Err(XlError::Value),
     };
     let rows = number_or(ctx, args, 1, 3.0)?.trunc();
     let cols = number_or(ctx, args, 2, 3.0)?.trunc();
@@ -219,7 +222,7 @@ fn isformula(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let (sheet, pos) = match ctx.reference_only(&args[0]) {
         Operand::Ref(sheet, rect) => (sheet, rect.first),
         Operand::Value(Value::Error(e)) => return Err(e),
-        Operand::Value(_) => return Err(XlError::Value),
+        Operand::Value(_) | Operand::Areas(_) => return Err(XlError::Value),
     };
     Ok(Value::Bool(ctx.env.formula_text(sheet, pos).is_some()))
 }
@@ -247,6 +250,7 @@ fn sheet(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
             .ok_or(XlError::NA),
         Operand::Value(Value::Error(e)) => Err(e),
         Operand::Value(_) => Err(XlError::NA),
+        Operand::Areas(areas) => Ok(Value::Number(f64::from(areas[0].0) + 1.0)),
     }
 }
 
@@ -255,7 +259,7 @@ fn sheets(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         return Ok(Value::Number(ctx.env.sheet_count() as f64));
     };
     match ctx.reference_only(e) {
-        Operand::Ref(..) => Ok(Value::Number(1.0)),
+        Operand::Ref(..) | Operand::Areas(_) => Ok(Value::Number(1.0)),
         Operand::Value(Value::Error(e)) => Err(e),
         Operand::Value(_) => Err(XlError::Value),
     }
@@ -315,17 +319,11 @@ fn without_subtotals(ctx: &mut Ctx, args: &[Expr], skip: Skip) -> Vec<Value> {
     let mut out = Vec::new();
     for a in args {
         match ctx.operand(a) {
-            Operand::Ref(sheet, rect) => {
-                let rect = ctx.clip_to_used(sheet, rect);
-                let env = ctx.env;
-                env.for_each_value(sheet, rect, &mut |pos, v| {
-                    let left_out = skip.subtotals && env.is_subtotal(sheet, pos)
-                        || skip.errors && matches!(v, Value::Error(_))
-                        || skip.row(env.row_hidden(sheet, pos.row));
-                    if !left_out {
-                        out.push(v.clone());
-                    }
-                });
+            Operand::Ref(sheet, rect) => kept_values(ctx, sheet, rect, skip, &mut out),
+            Operand::Areas(areas) => {
+                for &(sheet, rect) in areas.iter() {
+                    kept_values(ctx, sheet, rect, skip, &mut out);
+                }
             }
             Operand::Value(Value::Array(arr)) => {
                 out.extend(arr.data.iter().filter(|v| !(skip.errors && matches!(v, Value::Error(_)))).cloned());
@@ -334,6 +332,20 @@ fn without_subtotals(ctx: &mut Ctx, args: &[Expr], skip: Skip) -> Vec<Value> {
         }
     }
     out
+}
+
+/// The values of one range that `skip` keeps, pushed onto `out`.
+fn kept_values(ctx: &Ctx, sheet: crate::formula::ast::SheetId, rect: Rect, skip: Skip, out: &mut Vec<Value>) {
+    let rect = ctx.clip_to_used(sheet, rect);
+    let env = ctx.env;
+    env.for_each_value(sheet, rect, &mut |pos, v| {
+        let left_out = skip.subtotals && env.is_subtotal(sheet, pos)
+            || skip.errors && matches!(v, Value::Error(_))
+            || skip.row(env.row_hidden(sheet, pos.row));
+        if !left_out {
+            out.push(v.clone());
+        }
+    });
 }
 
 /// Calls the aggregate `code` (1-based) on `values` as one array, plus `extra` arguments.

@@ -22,6 +22,14 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "The cell (a reference) or item at row and column; 0 or omitted takes the whole row or column",
     ).array_args(ArgSet::only(0)),
     FnSpec::value(
+        "AREAS",
+        1,
+        1,
+        areas,
+        "AREAS(reference)",
+        "Number of areas of a reference: (A1:B2,D4) has 2",
+    ).range_args(ArgSet::ALL),
+    FnSpec::value(
         "MATCH",
         2,
         3,
@@ -115,10 +123,7 @@ fn index_operand(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Operand> {
     let row_arg = optional_value(ctx, args, 1);
     let col_arg = optional_value(ctx, args, 2);
     let col_given = args.len() > 2;
-    if number_or(ctx, args, 3, 1.0)?.trunc() != 1.0 {
-        // Multi-area references do not exist here: only area 1 is valid.
-        return Err(XlError::Ref);
-    }
+    let source = pick_area(source, number_or(ctx, args, 3, 1.0)?)?;
     if let Operand::Value(Value::Error(e)) = source {
         return Err(e);
     }
@@ -141,6 +146,33 @@ fn index_operand(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Operand> {
             let (rows, cols) = pick(grid.rows, grid.cols, &row_arg, &col_arg, col_given)?;
             Ok(Operand::Value(sub_array(&grid, rows, cols)))
         }
+        // `pick_area` chose one area above.
+        Operand::Areas(_) => Err(XlError::Ref),
+    }
+}
+
+/// INDEX's `area`: which area of a multi-area reference (1 for anything else); past the
+/// areas there are is `#REF!`.
+fn pick_area(source: Operand, area: f64) -> XlResult<Operand> {
+    let area = area.trunc();
+    match source {
+        Operand::Areas(areas) if area >= 1.0 && area <= areas.len() as f64 => {
+            let (sheet, rect) = areas[area as usize - 1];
+            Ok(Operand::Ref(sheet, rect))
+        }
+        Operand::Areas(_) => Err(XlError::Ref),
+        _ if area != 1.0 => Err(XlError::Ref),
+        other => Ok(other),
+    }
+}
+
+/// How many areas a reference has; a value is no reference (`#VALUE!`).
+fn areas(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    match ctx.reference_only(&args[0]) {
+        Operand::Ref(..) => Ok(Value::Number(1.0)),
+        Operand::Areas(areas) => Ok(Value::Number(areas.len() as f64)),
+        Operand::Value(Value::Error(err)) => Err(err),
+        Operand::Value(_) => Err(XlError::Value),
     }
 }
 
@@ -695,6 +727,7 @@ fn reference_or_here(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Rect> {
             Operand::Ref(_, rect) => Ok(rect),
             Operand::Value(Value::Error(err)) => Err(err),
             Operand::Value(_) => Err(XlError::Value),
+            Operand::Areas(_) => Err(XlError::Ref),
         },
     }
 }
@@ -714,6 +747,8 @@ fn dimensions(ctx: &mut Ctx, e: &Expr) -> XlResult<(usize, usize)> {
         Operand::Value(Value::Array(a)) => Ok((a.rows, a.cols)),
         Operand::Value(Value::Error(err)) => Err(err),
         Operand::Value(_) => Ok((1, 1)),
+        // A reference of several areas has no one shape.
+        Operand::Areas(_) => Err(XlError::Ref),
     }
 }
 

@@ -165,7 +165,7 @@ fn divisor_numbers(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<f64>> {
                     out.push(read(v)?);
                 }
             }
-            Operand::Value(Value::Blank) => return Err(XlError::Value),
+            Operand::Value(Value::Blank) | Operand::Areas(_) => return Err(XlError::Value),
             Operand::Value(v) => out.push(read(&v)?),
         }
     }
