@@ -2,14 +2,17 @@
 //! table for one straight move, and a program's cycle time block by block.
 
 use std::io::{self, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
+use clap::builder::PossibleValue;
 use clap::ValueEnum;
 use clap::{Args, Subcommand};
 use ncsheet::nc::dda::{self, DdaRun};
+use ncsheet::nc::dialect;
 use ncsheet::nc::motion::{self, BlockTime, Rates};
-use ncsheet::nc::read::{self, Family};
-use ncsheet::nc::Machine;
+use ncsheet::nc::read;
+use ncsheet::nc::{Machine, Program};
 
 use super::report::{Error, Result};
 
@@ -26,12 +29,31 @@ pub enum NcCommand {
     Time(TimeArgs),
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum ReadDialect {
-    /// ISO / Fanuc (G98/G99 on a lathe, G4 P in ms)
-    Iso,
-    /// LinuxCNC RS-274/NGC (G7/G8, G4 P in s)
-    Linuxcnc,
+/// A dialect to read a program in: every name of `dialect::all()`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ReadDialect(pub &'static str);
+
+impl ValueEnum for ReadDialect {
+    fn value_variants<'a>() -> &'a [Self] {
+        static ALL: OnceLock<Vec<ReadDialect>> = OnceLock::new();
+        ALL.get_or_init(|| dialect::names().into_iter().map(ReadDialect).collect())
+    }
+
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        Some(PossibleValue::new(self.0))
+    }
+}
+
+/// Reads the program at `path` in `dialect`, with each model block's source line; errors
+/// name the file, line and column.
+pub fn read_program(path: &Path, dialect: ReadDialect, machine: Option<MachineArg>) -> Result<(Program, Vec<usize>)> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| Error::User(format!("{name}: {e}")))?;
+    let machine = machine.map(|m| match m {
+        MachineArg::Lathe => Machine::Lathe,
+        MachineArg::Mill => Machine::Mill,
+    });
+    read::read_dialect(&text, dialect.0, machine).map_err(|e| Error::User(format!("{name}: {e}")))
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -53,7 +75,7 @@ pub struct TimeArgs {
     /// Rapid traverse rate, mm/min
     #[arg(long)]
     pub rapid: f64,
-    #[arg(long, value_enum, default_value_t = ReadDialect::Iso)]
+    #[arg(long, value_enum, default_value = "iso")]
     pub dialect: ReadDialect,
     /// What the program is for; default: a lathe when G18 comes before the first move
     #[arg(long, value_enum)]
@@ -149,17 +171,7 @@ fn render(run: &DdaRun, letters: &[char]) -> String {
 
 fn cycle_time(args: TimeArgs) -> Result<()> {
     let name = args.program.display().to_string();
-    let text = std::fs::read_to_string(&args.program).map_err(|e| Error::User(format!("{name}: {e}")))?;
-    let family = match args.dialect {
-        ReadDialect::Iso => Family::Fanuc,
-        ReadDialect::Linuxcnc => Family::LinuxCnc,
-    };
-    let machine = args.machine.map(|m| match m {
-        MachineArg::Lathe => Machine::Lathe,
-        MachineArg::Mill => Machine::Mill,
-    });
-    let (program, lines) =
-        read::read_with_lines(&text, family, machine).map_err(|e| Error::User(format!("{name}: {e}")))?;
+    let (program, lines) = read_program(&args.program, args.dialect, args.machine)?;
     let times = motion::program_times(&program, Rates { accel: args.accel, rapid: args.rapid }).map_err(|e| {
         let at = e.block.and_then(|b| lines.get(b - 1)).map(|l| format!(", line {l}")).unwrap_or_default();
         Error::User(format!("{name}{at}: {}", e.message))

@@ -25,6 +25,7 @@ use crate::nc::format::NumberStyle;
 use crate::nc::program::{
     ArcDirection, Block, Compensation, FeedMode, Machine, Program, Spindle, SpindleDirection, Target,
 };
+use crate::nc::read::{self, ReadError};
 
 pub struct Heidenhain;
 
@@ -49,6 +50,10 @@ impl Dialect for Heidenhain {
 
     fn writes(&self, machine: Machine) -> bool {
         machine == Machine::Mill
+    }
+
+    fn read(&self, text: &str, machine: Option<Machine>) -> Result<(Program, Vec<usize>), ReadError> {
+        read::heidenhain::read(text, machine)
     }
 
     fn render(&self, program: &Program) -> Result<String, NcError> {

@@ -7,6 +7,7 @@ use crate::nc::format::NumberStyle;
 use crate::nc::program::{
     ArcDirection, Block, Compensation, FeedMode, Machine, Program, Spindle, SpindleDirection, Target, Word,
 };
+use crate::nc::read::{self, ReadError};
 
 /// How one word-address control writes a program.
 pub struct WordAddress {
@@ -150,6 +151,16 @@ impl Dialect for WordAddress {
 
     fn writes(&self, machine: Machine) -> bool {
         self.machines.contains(&machine)
+    }
+
+    fn read(&self, text: &str, machine: Option<Machine>) -> Result<(Program, Vec<usize>), ReadError> {
+        let family = match self.family {
+            Family::Fanuc => read::Family::Fanuc,
+            Family::LinuxCnc => read::Family::LinuxCnc,
+            Family::Sinumerik => read::Family::Sinumerik,
+            Family::Nc31 => read::Family::Nc31,
+        };
+        read::read_with_lines(text, family, machine)
     }
 
     fn render(&self, program: &Program) -> Result<String, NcError> {
