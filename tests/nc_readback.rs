@@ -252,16 +252,19 @@ fn lathe_program() -> Program {
 }
 
 /// Programs our writers produce read back into the model and are written out again to the
-/// same text, in both dialects read.
+/// same text, in every dialect that writes them (NC31 has neither arcs nor G96).
 #[test]
 fn generated_programs_read_back_to_the_same_text() {
-    for name in ["iso", "linuxcnc"] {
-        let d = dialect::by_name(name).unwrap();
+    for d in dialect::all() {
+        let name = d.name();
         for mut p in [mill_program(), lathe_program()] {
             if name == "linuxcnc" {
                 p.number = None;
             }
-            let text = d.render(&p).unwrap();
+            if !d.writes(p.machine) || name == "nc31" {
+                continue;
+            }
+            let text = d.render(&p).unwrap_or_else(|e| panic!("{name}: {e}"));
             assert_eq!(reread(&text, name), text, "{name}");
         }
     }

@@ -501,7 +501,10 @@ fn block(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: &mut Ve
         None => {}
     }
     if let Some(c) = compensation {
-        if c != st.compensation || c != Compensation::Off {
+        // The G40 of the set-up block before anything happened says what is so already (the
+        // writers put it there); any later G40 is the program's own block.
+        let setup = c == Compensation::Off && out.iter().all(|b| matches!(b, Block::FeedMode(_)));
+        if !setup {
             out.push(Block::Compensation(c));
         }
         st.compensation = c;

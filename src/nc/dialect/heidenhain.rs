@@ -82,10 +82,15 @@ impl Dialect for Heidenhain {
         let blocks = &program.blocks;
         let mut i = 0;
         while i < blocks.len() {
-            // A tool call takes the spindle speed that follows it.
-            if let (Block::Tool(n), Some(Block::Spindle(s))) = (&blocks[i], blocks.get(i + 1)) {
-                w.tool_call(Some(*n), Some(s)).map_err(|m| error(Some(i + 2), m))?;
-                i += 2;
+            // A tool call takes the spindle speed that follows it, past feed-mode blocks (they
+            // write nothing): one TOOL CALL, as the reader makes of it.
+            let speed_at = i + 1 + blocks[i + 1..].iter().take_while(|b| matches!(b, Block::FeedMode(_))).count();
+            if let (Block::Tool(n), Some(Block::Spindle(s))) = (&blocks[i], blocks.get(speed_at)) {
+                for (k, b) in blocks.iter().enumerate().take(speed_at).skip(i + 1) {
+                    w.write(b, &numbers).map_err(|m| error(Some(k + 1), m))?;
+                }
+                w.tool_call(Some(*n), Some(s)).map_err(|m| error(Some(speed_at + 1), m))?;
+                i = speed_at + 1;
                 continue;
             }
             w.write(&blocks[i], &numbers).map_err(|m| error(Some(i + 1), m))?;
