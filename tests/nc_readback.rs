@@ -665,3 +665,75 @@ fn nc_time_reads_every_dialect() {
         assert!(err.contains(name), "{name} not offered: {err}");
     }
 }
+
+/// The time of a block at one speed v (mm/s) from rest to rest: the closed-form trapezoid,
+/// or the triangle when the block is too short to reach v.
+fn closed_form(length: f64, v: f64, a: f64) -> f64 {
+    if length * a >= v * v {
+        length / v + v / a
+    } else {
+        2.0 * (length / a).sqrt()
+    }
+}
+
+/// Constant surface speed with feed per revolution: turning along Z at one diameter runs the
+/// spindle at 1000·v/(π·D), capped by G50 S; the feed is F·rpm.
+#[test]
+fn g96_with_g95_times_a_cut_at_the_diameter_it_turns() {
+    let text = "%\nO0001 (CSS)\nN10 G21 G18 G90 G40\nN20 G99\nN30 G50 S2000\nN40 G96 S150 M3\n\
+                N50 G0 X40. Z2.\nN60 G1 Z-98. F0.2\nN70 G0 X10. Z2.\nN80 G1 Z-48. F0.1\nN90 M30\n%\n";
+    let (p, _) = read::read_dialect(text, "iso", None).unwrap();
+    let a = 100.0;
+    let times = motion::program_times(&p, Rates { accel: a, rapid: 10000.0 }).unwrap();
+    let got: Vec<f64> = times.iter().map(|t| t.time).collect();
+    // At ⌀40: 150 000/(π·40) = 1193.7 1/min, under the limit; at ⌀10 it would be 4774.6:
+    // the spindle turns at its limit 2000.
+    let rpm40 = 150_000.0 / (std::f64::consts::PI * 40.0);
+    let rapid = 10000.0 / 60.0;
+    let want = [
+        0.0,
+        closed_form(100.0, 0.2 * rpm40 / 60.0, a),
+        closed_form(15f64.hypot(100.0), rapid, a),
+        closed_form(50.0, 0.1 * 2000.0 / 60.0, a),
+    ];
+    assert_eq!(got.len(), want.len(), "{times:?}");
+    for (g, w) in got.iter().zip(want) {
+        assert!(close(*g, w, 1e-9), "{got:?} vs {want:?}");
+    }
+}
+
+/// Facing under constant surface speed: the spindle speeds up as the diameter shrinks, until
+/// the limit (LIMS=). With an acceleration too large to matter, the time is the integral of
+/// ds/(F·n(D)/60) over the radial path, ds = dD/2.
+#[test]
+fn g96_facing_speeds_up_to_the_limit_as_the_diameter_shrinks() {
+    let text = "%_N_FACE_MPF\nN10 G18 DIAMON G90 G71\nN20 G95\nN30 LIMS=3000\nN40 G96 S200 M3\n\
+                N50 G0 X80 Z0\nN60 G1 X20 F0.1\nN70 M30\n";
+    let (p, _) = read::read_dialect(text, "sinumerik", None).unwrap();
+    let times = motion::program_times(&p, Rates { accel: 1e7, rapid: 10000.0 }).unwrap();
+    let (v, f, max) = (200.0, 0.1, 3000.0);
+    let pi = std::f64::consts::PI;
+    // The diameter below which 1000·v/(π·D) exceeds the limit.
+    let dc = 1000.0 * v / (pi * max);
+    let uncapped = 60.0 * pi / (1000.0 * v * f) * (80.0 * 80.0 - dc * dc) / 4.0;
+    let capped = (dc - 20.0) / 2.0 / (f * max / 60.0);
+    let cut = times.last().unwrap();
+    assert_eq!(cut.kind, "line");
+    assert!(close(cut.length, 30.0, 1e-12));
+    assert!(close(cut.time, uncapped + capped, 1e-4), "{} vs {}", cut.time, uncapped + capped);
+}
+
+/// `G1 F100` alone sets the feed for the cuts after it, and is written back as it was.
+#[test]
+fn a_lone_feed_block_sets_the_feed() {
+    let text = "%\n(FEED)\nN10 G21 G17 G90 G40\nN20 G94\nN30 G0 X0 Y0 Z0\nN40 G1 F100\nN50 G1 X50\nN60 M2\n%\n";
+    let (p, _) = read::read_dialect(text, "linuxcnc", None).unwrap();
+    assert_eq!(reread(text, "linuxcnc"), text);
+    let a = 50.0;
+    let times = motion::program_times(&p, Rates { accel: a, rapid: 10000.0 }).unwrap();
+    let total: f64 = times.iter().map(|t| t.time).sum();
+    assert!(close(total, closed_form(50.0, 100.0 / 60.0, a), 1e-9), "{times:?}");
+    let plain =
+        "0 BEGIN PGM FEED MM\n1 L X+0.0000 Y+0.0000 Z+0.0000 FMAX\n2 L F100\n3 L X+50.0000\n4 END PGM FEED MM\n";
+    assert_eq!(reread(plain, "heidenhain"), plain);
+}

@@ -646,10 +646,8 @@ fn motion_block(
         if let Some(column) = rapid_mark {
             return Err((column, "a rapid mark E without an end point".into()));
         }
-        if let Some(f) = find('F') {
-            return Err((f.column, "a feed F alone in a block is not read (give it with the move)".into()));
-        }
-        return Ok(None);
+        // `G1 F100`: the feed for the cuts that follow, a line that goes nowhere in the model.
+        return Ok(find('F').map(|f| Block::Line { to: Target::default(), feed: Some(f.value * scale) }));
     }
     let modal = st.motion.ok_or((words[0].column, "a move with no motion code (G0/G1/G2/G3) in force".to_string()))?;
     // NC31's `E` makes this block's move a rapid; the next block without it cuts again.

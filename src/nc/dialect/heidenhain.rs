@@ -248,7 +248,8 @@ impl Numbered {
         let compensation = if frame { Some("R0") } else { self.compensation.take() };
         let pending = std::mem::take(&mut self.pending);
         let o = self.block();
-        o.push_str("L ");
+        // `L F100` (no axes) only sets the feed.
+        o.push_str(if *t == Target::default() { "L" } else { "L " });
         axes(o, t, numbers);
         if let Some(r) = compensation {
             o.push(' ');

@@ -329,8 +329,11 @@ impl Writer<'_> {
             }
             Block::Rapid(t) => self.rapid(t),
             Block::Line { to, feed } => {
-                let g = if self.d.rapid_suffix.is_some() { "" } else { "G1 " };
-                let text = format!("{g}{}{}", self.axes(to), self.feed(*feed));
+                // NC31 cuts without a G word; a line with no axes only sets the feed (`G1 F100`).
+                let g = if self.d.rapid_suffix.is_some() { "" } else { "G1" };
+                let (axes, feed) = (self.axes(to), self.feed(*feed));
+                let words = [g, &axes, feed.trim_start()];
+                let text = words.iter().filter(|w| !w.is_empty()).copied().collect::<Vec<_>>().join(" ");
                 self.numbered(&text);
                 self.moved_to(to);
             }
