@@ -815,3 +815,19 @@ fn dda_circles_stay_within_one_increment() {
         }
     }
 }
+
+/// `nc dda --arc`: a quarter circle of radius 10 increments from (10, 0) counter-clockwise
+/// around the origin ends at (0, 10) after 10 pulses on each axis.
+#[test]
+fn nc_dda_takes_an_arc() {
+    let out = Command::new(env!("CARGO_BIN_EXE_ncsheet"))
+        .args(["nc", "dda", "--arc", "ccw", "--dx=-10", "--dy", "10", "--i=-10", "--j", "0"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    let last_clock = text.lines().rev().nth(1).unwrap();
+    let fields: Vec<&str> = last_clock.split_whitespace().collect();
+    assert_eq!(&fields[fields.len() - 2..], ["0", "10"], "{text}");
+    assert!(text.ends_with("pulses  X 10  Y 10\n"), "{text}");
+}

@@ -12,7 +12,7 @@ use ncsheet::nc::dda::{self, DdaRun};
 use ncsheet::nc::dialect;
 use ncsheet::nc::motion::{self, BlockTime, Rates};
 use ncsheet::nc::read;
-use ncsheet::nc::{Machine, Program};
+use ncsheet::nc::{ArcDirection, Machine, Program};
 
 use super::report::{Error, Result};
 
@@ -102,6 +102,22 @@ pub struct DdaArgs {
     /// Bits n of each axis's adder (2ⁿ clocks); default: the smallest with 2ⁿ ≥ the longest move
     #[arg(long)]
     pub bits: Option<u32>,
+    /// Interpolate an arc (cw or ccw) from the start to --dx/--dy around the centre --i/--j
+    /// (both from the start, as G2/G3 X Y I J)
+    #[arg(long)]
+    pub arc: Option<ArcArg>,
+    /// The arc's centre along X from the start
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
+    pub i: f64,
+    /// The arc's centre along Y from the start
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
+    pub j: f64,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ArcArg {
+    Cw,
+    Ccw,
 }
 
 pub fn run(args: NcArgs) -> Result<()> {
@@ -114,6 +130,9 @@ pub fn run(args: NcArgs) -> Result<()> {
 fn dda_table(args: DdaArgs) -> Result<()> {
     let user = |e: dda::DdaError| Error::User(e.to_string());
     let increment = args.increment.unwrap_or(1.0);
+    if let Some(arc) = args.arc {
+        return dda_arc(&args, arc, increment);
+    }
     let mut axes = vec![('X', args.dx), ('Y', args.dy)];
     if args.dz != 0.0 {
         axes.push(('Z', args.dz));
@@ -129,6 +148,32 @@ fn dda_table(args: DdaArgs) -> Result<()> {
     let letters: Vec<char> = axes.iter().map(|a| a.0).collect();
     let mut out = io::BufWriter::new(io::stdout().lock());
     out.write_all(render(&run, &letters).as_bytes())?;
+    out.flush()?;
+    Ok(())
+}
+
+/// The circular interpolator's table: clock, per axis p, q and the step (±1), the position
+/// from the centre.
+fn dda_arc(args: &DdaArgs, arc: ArcArg, increment: f64) -> Result<()> {
+    let count = |v: f64, what: &str| dda::increments(v, increment).map_err(|e| Error::User(format!("--{what}: {e}")));
+    let (dx, dy, i, j) = (count(args.dx, "dx")?, count(args.dy, "dy")?, count(args.i, "i")?, count(args.j, "j")?);
+    let (start, end) = ((-i, -j), (dx - i, dy - j));
+    let direction = if arc == ArcArg::Cw { ArcDirection::Clockwise } else { ArcDirection::CounterClockwise };
+    let bits = args.bits.unwrap_or_else(|| dda::bits_for_circle(start, end));
+    let run = dda::circular(bits, start, end, direction).map_err(|e| Error::User(e.to_string()))?;
+    let mut text = format!("DDA arc: {} bits, from {start:?} to {end:?} around the centre\n", run.bits);
+    text.push_str("clock  X p  X q  X step  Y p  Y q  Y step  x  y\n");
+    for c in &run.clocks {
+        let [x, y] = c.axes;
+        text.push_str(&format!(
+            "{}  {}  {}  {}  {}  {}  {}  {}  {}\n",
+            c.number, x.p, x.q, c.steps[0], y.p, y.q, c.steps[1], c.position.0, c.position.1
+        ));
+    }
+    let [px, py] = run.pulses();
+    text.push_str(&format!("pulses  X {px}  Y {py}\n"));
+    let mut out = io::BufWriter::new(io::stdout().lock());
+    out.write_all(text.as_bytes())?;
     out.flush()?;
     Ok(())
 }
