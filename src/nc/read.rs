@@ -1,5 +1,5 @@
-//! Reading programs back into the one program model. Word-address programs (ISO/Fanuc,
-//! LinuxCNC RS-274/NGC, Sinumerik, NC31) here: modal motion (G0–G3; NC31's rapid `E`), plane
+//! Reading programs back into the one program model. Word-address programs (every family
+//! of `dialect::Family`) here: modal motion (G0–G3; the NC31 rapid `E`), plane
 //! (G17/18/19), units (G20/21, Sinumerik G70/71, read into mm), absolute/incremental
 //! (G90/91), feed mode (G94/95, Fanuc lathe G98/99), diameter mode (LinuxCNC G7/G8,
 //! Sinumerik DIAMON/DIAMOF; Fanuc and NC31 lathes are diametral), arcs by I/J/K, R or
@@ -34,36 +34,17 @@ impl std::error::Error for ReadError {}
 /// Digits after the point the ISO and LinuxCNC writers use unless a program asks for more.
 const DEFAULT_DECIMALS: usize = 3;
 
-/// Which control's reading of the words: they differ in dwell words and units, lathe feed
-/// modes, O-words, diameter mode, comments and Sinumerik's named words.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Family {
-    Fanuc,
-    LinuxCnc,
-    Sinumerik,
-    Nc31,
-}
+/// Which control's reading of the words (the writers' families): they differ in dwell words
+/// and units, lathe feed modes, O-words, diameter mode, comments and Sinumerik's named words.
+pub use super::dialect::Family;
 
-impl Family {
-    /// The word-address families read here, by the dialect names `--dialect` takes.
-    pub fn by_dialect(name: &str) -> Option<Family> {
-        match name.to_ascii_lowercase().as_str() {
-            "iso" => Some(Family::Fanuc),
-            "linuxcnc" => Some(Family::LinuxCnc),
-            "sinumerik" => Some(Family::Sinumerik),
-            "nc31" => Some(Family::Nc31),
-            _ => None,
-        }
-    }
-
-    /// The word a dwell's time is given in: Fanuc P (ms), LinuxCNC P (s), Sinumerik F (s),
-    /// NC31 D (s).
-    fn dwell_word(self) -> char {
-        match self {
-            Family::Fanuc | Family::LinuxCnc => 'P',
-            Family::Sinumerik => 'F',
-            Family::Nc31 => 'D',
-        }
+/// The word a dwell's time is given in: Fanuc P (ms), LinuxCNC P (s), Sinumerik F (s),
+/// NC31 D (s).
+fn dwell_word(family: Family) -> char {
+    match family {
+        Family::Fanuc | Family::LinuxCnc => 'P',
+        Family::Sinumerik => 'F',
+        Family::Nc31 => 'D',
     }
 }
 
@@ -513,7 +494,7 @@ fn block(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: &mut Ve
         out.push(Block::Coolant(on));
     }
     if dwell {
-        let letter = st.family.dwell_word();
+        let letter = dwell_word(st.family);
         let column = words.iter().find(|w| w.letter == 'G' && w.value == 4.0).map_or(1, |w| w.column);
         let p = find(letter).ok_or((column, format!("a dwell G4 without its time {letter}")))?;
         let seconds = if st.family == Family::Fanuc { p.value / 1000.0 } else { p.value };
@@ -538,7 +519,7 @@ fn unused_words(
     let side = matches!(compensation, Some(Compensation::Left | Compensation::Right));
     let css_limit = spindle_mode == Some(true) && family == Family::LinuxCnc;
     let edge = family == Family::Sinumerik && words.iter().any(|w| w.letter == 'T');
-    let dwell_word = family.dwell_word();
+    let dwell_word = dwell_word(family);
     for w in words {
         let meaningful = match w.letter {
             // The dwell's time, and nothing else with a dwell: G4 is a block of its own.

@@ -14,7 +14,7 @@ mod heidenhain;
 mod word_address;
 
 pub use heidenhain::Heidenhain;
-pub use word_address::{WordAddress, ISO, LINUXCNC, NC31, SINUMERIK};
+pub use word_address::{Family, WordAddress, ISO, LINUXCNC, NC31, SINUMERIK};
 
 /// Something a dialect cannot write.
 #[derive(Clone, Debug, PartialEq)]

@@ -154,13 +154,7 @@ impl Dialect for WordAddress {
     }
 
     fn read(&self, text: &str, machine: Option<Machine>) -> Result<(Program, Vec<usize>), ReadError> {
-        let family = match self.family {
-            Family::Fanuc => read::Family::Fanuc,
-            Family::LinuxCnc => read::Family::LinuxCnc,
-            Family::Sinumerik => read::Family::Sinumerik,
-            Family::Nc31 => read::Family::Nc31,
-        };
-        read::read_with_lines(text, family, machine)
+        read::read_with_lines(text, self.family, machine)
     }
 
     fn render(&self, program: &Program) -> Result<String, NcError> {
