@@ -4,13 +4,16 @@
 
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
+use clap::builder::PossibleValue;
 use clap::ValueEnum;
 use clap::{Args, Subcommand};
 use ncsheet::nc::dda::{self, DdaRun};
+use ncsheet::nc::dialect;
 use ncsheet::nc::motion::{self, BlockTime, Rates};
-use ncsheet::nc::read::{self, Family};
-use ncsheet::nc::{Machine, Program};
+use ncsheet::nc::read;
+use ncsheet::nc::{ArcDirection, Machine, Program};
 
 use super::report::{Error, Result};
 
@@ -30,12 +33,37 @@ pub enum NcCommand {
     Check(super::nc_check::CheckArgs),
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum ReadDialect {
-    /// ISO / Fanuc (G98/G99 on a lathe, G4 P in ms)
-    Iso,
-    /// LinuxCNC RS-274/NGC (G7/G8, G4 P in s)
-    Linuxcnc,
+/// A dialect to read a program in: every name of `dialect::all()`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ReadDialect(pub &'static str);
+
+impl ValueEnum for ReadDialect {
+    fn value_variants<'a>() -> &'a [Self] {
+        static ALL: OnceLock<Vec<ReadDialect>> = OnceLock::new();
+        ALL.get_or_init(|| dialect::names().into_iter().map(ReadDialect).collect())
+    }
+
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        Some(PossibleValue::new(self.0))
+    }
+}
+
+/// Reads the program at `path` in `dialect`: the model, each block's source line, and the
+/// file's name for messages (errors name the file, line and column).
+pub(super) fn read_program(
+    path: &Path,
+    dialect: ReadDialect,
+    machine: Option<MachineArg>,
+) -> Result<(Program, Vec<usize>, String)> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| Error::User(format!("{name}: {e}")))?;
+    let machine = machine.map(|m| match m {
+        MachineArg::Lathe => Machine::Lathe,
+        MachineArg::Mill => Machine::Mill,
+    });
+    let (program, lines) =
+        read::read_dialect(&text, dialect.0, machine).map_err(|e| Error::User(format!("{name}: {e}")))?;
+    Ok((program, lines, name))
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -57,7 +85,7 @@ pub struct TimeArgs {
     /// Rapid traverse rate, mm/min
     #[arg(long)]
     pub rapid: f64,
-    #[arg(long, value_enum, default_value_t = ReadDialect::Iso)]
+    #[arg(long, value_enum, default_value = "iso")]
     pub dialect: ReadDialect,
     /// What the program is for; default: a lathe when G18 comes before the first move
     #[arg(long, value_enum)]
@@ -84,6 +112,22 @@ pub struct DdaArgs {
     /// Bits n of each axis's adder (2ⁿ clocks); default: the smallest with 2ⁿ ≥ the longest move
     #[arg(long)]
     pub bits: Option<u32>,
+    /// Interpolate an arc (cw or ccw) from the start to --dx/--dy around the centre --i/--j
+    /// (both from the start, as G2/G3 X Y I J)
+    #[arg(long)]
+    pub arc: Option<ArcArg>,
+    /// The arc's centre along X from the start
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
+    pub i: f64,
+    /// The arc's centre along Y from the start
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
+    pub j: f64,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ArcArg {
+    Cw,
+    Ccw,
 }
 
 pub fn run(args: NcArgs) -> Result<()> {
@@ -98,6 +142,9 @@ pub fn run(args: NcArgs) -> Result<()> {
 fn dda_table(args: DdaArgs) -> Result<()> {
     let user = |e: dda::DdaError| Error::User(e.to_string());
     let increment = args.increment.unwrap_or(1.0);
+    if let Some(arc) = args.arc {
+        return dda_arc(&args, arc, increment);
+    }
     let mut axes = vec![('X', args.dx), ('Y', args.dy)];
     if args.dz != 0.0 {
         axes.push(('Z', args.dz));
@@ -113,6 +160,32 @@ fn dda_table(args: DdaArgs) -> Result<()> {
     let letters: Vec<char> = axes.iter().map(|a| a.0).collect();
     let mut out = io::BufWriter::new(io::stdout().lock());
     out.write_all(render(&run, &letters).as_bytes())?;
+    out.flush()?;
+    Ok(())
+}
+
+/// The circular interpolator's table: clock, per axis p, q and the step (±1), the position
+/// from the centre.
+fn dda_arc(args: &DdaArgs, arc: ArcArg, increment: f64) -> Result<()> {
+    let count = |v: f64, what: &str| dda::increments(v, increment).map_err(|e| Error::User(format!("--{what}: {e}")));
+    let (dx, dy, i, j) = (count(args.dx, "dx")?, count(args.dy, "dy")?, count(args.i, "i")?, count(args.j, "j")?);
+    let (start, end) = ((-i, -j), (dx - i, dy - j));
+    let direction = if arc == ArcArg::Cw { ArcDirection::Clockwise } else { ArcDirection::CounterClockwise };
+    let bits = args.bits.unwrap_or_else(|| dda::bits_for_circle(start, end));
+    let run = dda::circular(bits, start, end, direction).map_err(|e| Error::User(e.to_string()))?;
+    let mut text = format!("DDA arc: {} bits, from {start:?} to {end:?} around the centre\n", run.bits);
+    text.push_str("clock  X p  X q  X step  Y p  Y q  Y step  x  y\n");
+    for c in &run.clocks {
+        let [x, y] = c.axes;
+        text.push_str(&format!(
+            "{}  {}  {}  {}  {}  {}  {}  {}  {}\n",
+            c.number, x.p, x.q, c.steps[0], y.p, y.q, c.steps[1], c.position.0, c.position.1
+        ));
+    }
+    let [px, py] = run.pulses();
+    text.push_str(&format!("pulses  X {px}  Y {py}\n"));
+    let mut out = io::BufWriter::new(io::stdout().lock());
+    out.write_all(text.as_bytes())?;
     out.flush()?;
     Ok(())
 }
@@ -151,28 +224,6 @@ fn render(run: &DdaRun, letters: &[char]) -> String {
         text.push('\n');
     }
     text
-}
-
-/// Reads the program at `path` in `dialect`: the model, each block's source line, and the
-/// file's name for messages.
-pub(super) fn read_program(
-    path: &Path,
-    dialect: ReadDialect,
-    machine: Option<MachineArg>,
-) -> Result<(Program, Vec<usize>, String)> {
-    let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| Error::User(format!("{name}: {e}")))?;
-    let family = match dialect {
-        ReadDialect::Iso => Family::Fanuc,
-        ReadDialect::Linuxcnc => Family::LinuxCnc,
-    };
-    let machine = machine.map(|m| match m {
-        MachineArg::Lathe => Machine::Lathe,
-        MachineArg::Mill => Machine::Mill,
-    });
-    let (program, lines) =
-        read::read_with_lines(&text, family, machine).map_err(|e| Error::User(format!("{name}: {e}")))?;
-    Ok((program, lines, name))
 }
 
 fn cycle_time(args: TimeArgs) -> Result<()> {

@@ -18,7 +18,7 @@ use super::report::{Error, Result};
 pub struct CheckArgs {
     /// The NC program (text as the dialect writes it)
     pub program: PathBuf,
-    #[arg(long, value_enum, default_value_t = ReadDialect::Iso)]
+    #[arg(long, value_enum, default_value = "iso")]
     pub dialect: ReadDialect,
     /// What the program is for; default: a lathe when G18 comes before the first move
     #[arg(long, value_enum)]

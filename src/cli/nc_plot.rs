@@ -31,7 +31,7 @@ pub struct PlotArgs {
     /// The SVG file to write (never the program itself)
     #[arg(short, long, value_name = "OUT.svg")]
     pub output: PathBuf,
-    #[arg(long, value_enum, default_value_t = ReadDialect::Iso)]
+    #[arg(long, value_enum, default_value = "iso")]
     pub dialect: ReadDialect,
     /// What the program is for; default: a lathe when G18 comes before the first move
     #[arg(long, value_enum)]

@@ -86,8 +86,10 @@ pub struct Rates {
 }
 
 /// Times of every moving block and dwell, block by block from rest to rest. Feeds per
-/// revolution are turned into mm/min with the spindle's fixed speed; under constant surface
-/// speed the speed varies along the cut, which this does not model (an error names the block).
+/// revolution are turned into mm/min with the spindle's speed: fixed (G97), or under constant
+/// surface speed (G96) 1000·v/(π·D) at the diameter D the tool is at, never above the
+/// spindle limit (G50 S / LIMS=), so that it varies along a cut across the diameter. A block
+/// that only sets the feed (`G1 F100`) takes no time.
 pub fn program_times(program: &Program, m: Rates) -> Result<Vec<BlockTime>, MotionError> {
     let mut at = [None::<f64>; 3];
     let mut feed: Option<f64> = None;
@@ -102,31 +104,34 @@ pub fn program_times(program: &Program, m: Rates) -> Result<Vec<BlockTime>, Moti
             Block::Dwell(s) => {
                 out.push(BlockTime { block: i + 1, kind: "dwell", length: 0.0, feed: 0.0, profile: None, time: *s })
             }
+            Block::Line { to, feed: Some(f) } if *to == Target::default() => feed = Some(*f),
             Block::Rapid(t) | Block::Line { to: t, .. } | Block::Arc { to: t, .. } => {
                 let end = moved(&at, t);
-                let (kind, length, speed) = match block {
-                    Block::Rapid(_) => ("rapid", line_length(program.machine, &at, &end).map_err(fail)?, m.rapid),
+                let (kind, path) = match block {
+                    Block::Rapid(_) => ("rapid", Path::Line),
                     Block::Line { feed: f, .. } => {
                         feed = f.or(feed);
-                        let v = path_feed(feed, mode, &spindle).map_err(fail)?;
-                        ("line", line_length(program.machine, &at, &end).map_err(fail)?, v)
+                        ("line", Path::Line)
                     }
                     Block::Arc { direction, centre, feed: f, .. } => {
                         feed = f.or(feed);
-                        let v = path_feed(feed, mode, &spindle).map_err(fail)?;
-                        ("arc", arc_length(program.machine, &at, &end, centre, *direction).map_err(fail)?, v)
+                        ("arc", Path::Arc { centre, direction: *direction })
                     }
                     _ => unreachable!("only moves reach here"),
                 };
-                let profile = trapezoid(length, speed, m.accel).map_err(fail)?;
-                out.push(BlockTime {
-                    block: i + 1,
-                    kind,
-                    length,
-                    feed: speed,
-                    profile: Some(profile),
-                    time: profile.total,
-                });
+                let length = match path {
+                    Path::Line => line_length(program.machine, &at, &end),
+                    Path::Arc { centre, direction } => arc_length(program.machine, &at, &end, centre, direction),
+                }
+                .map_err(fail)?;
+                let time = if kind == "rapid" {
+                    constant_time(length, m.rapid, m.accel)
+                } else {
+                    let rate = FeedRate::new(feed, mode, &spindle, program.machine).map_err(fail)?;
+                    cut_time(program.machine, &at, &end, path, length, rate, m.accel)
+                }
+                .map_err(fail)?;
+                out.push(BlockTime { block: i + 1, kind, length, ..time });
                 at = end;
             }
             _ => {}
@@ -139,18 +144,150 @@ fn moved(at: &[Option<f64>; 3], t: &Target) -> [Option<f64>; 3] {
     [t.x.or(at[0]), t.y.or(at[1]), t.z.or(at[2])]
 }
 
-/// The feed along the path in mm/min.
-fn path_feed(feed: Option<f64>, mode: FeedMode, spindle: &Spindle) -> Result<f64, String> {
-    let f = feed.ok_or("a cut with no feed programmed (F) before it")?;
-    match (mode, spindle) {
-        (FeedMode::PerMinute, _) => Ok(f),
-        (FeedMode::PerRevolution, Spindle::Rpm { rpm, .. }) => Ok(f * rpm),
-        (FeedMode::PerRevolution, Spindle::SurfaceSpeed { .. }) => {
-            Err("a feed per revolution under constant surface speed: the time depends on the diameter, not modelled"
-                .into())
+/// The shape of a cutting block, for the diameter along it.
+#[derive(Clone, Copy)]
+enum Path<'a> {
+    Line,
+    Arc { centre: &'a Target, direction: ArcDirection },
+}
+
+/// The feed along the path in mm/min: fixed, or per revolution at a spindle speed that
+/// depends on the diameter (constant surface speed).
+#[derive(Clone, Copy, Debug)]
+enum FeedRate {
+    Fixed(f64),
+    /// F mm/rev at 1000·v/(π·D) 1/min (v in m/min), at most `max_rpm`.
+    SurfaceSpeed {
+        per_rev: f64,
+        metres_per_min: f64,
+        max_rpm: f64,
+    },
+}
+
+impl FeedRate {
+    fn new(feed: Option<f64>, mode: FeedMode, spindle: &Spindle, machine: Machine) -> Result<FeedRate, String> {
+        let f = feed.ok_or("a cut with no feed programmed (F) before it")?;
+        match (mode, *spindle) {
+            (FeedMode::PerMinute, _) => Ok(FeedRate::Fixed(f)),
+            (FeedMode::PerRevolution, Spindle::Rpm { rpm, .. }) => Ok(FeedRate::Fixed(f * rpm)),
+            (FeedMode::PerRevolution, Spindle::SurfaceSpeed { .. }) if machine != Machine::Lathe => {
+                Err("constant surface speed on a mill: no diameter to turn it into a spindle speed".into())
+            }
+            (FeedMode::PerRevolution, Spindle::SurfaceSpeed { metres_per_min, max_rpm, .. }) => {
+                Ok(FeedRate::SurfaceSpeed { per_rev: f, metres_per_min, max_rpm })
+            }
+            (FeedMode::PerRevolution, Spindle::Stop) => Err("a feed per revolution with the spindle stopped".into()),
         }
-        (FeedMode::PerRevolution, Spindle::Stop) => Err("a feed per revolution with the spindle stopped".into()),
     }
+
+    /// mm/min with the tool at `diameter` (mm).
+    fn at(&self, diameter: f64) -> f64 {
+        match *self {
+            FeedRate::Fixed(f) => f,
+            FeedRate::SurfaceSpeed { per_rev, metres_per_min, max_rpm } => {
+                let rpm = 1000.0 * metres_per_min / (std::f64::consts::PI * diameter.abs());
+                per_rev * rpm.min(max_rpm)
+            }
+        }
+    }
+}
+
+/// A block at one speed: the closed-form trapezoid (or triangle).
+fn constant_time(length: f64, feed: f64, accel: f64) -> Result<BlockTime, String> {
+    let profile = trapezoid(length, feed, accel)?;
+    Ok(BlockTime { block: 0, kind: "", length, feed, profile: Some(profile), time: profile.total })
+}
+
+/// Segments a cut is divided into when its feed varies along it.
+const SEGMENTS: usize = 4096;
+
+/// A cutting block's time. At a feed that varies along the path (constant surface speed
+/// across the diameter) the path is cut into [`SEGMENTS`] pieces, each with the feed at its
+/// middle as its limit; the tool then accelerates and brakes at `accel` from rest to rest
+/// under that limit, exactly per piece. The feed reported is the one at the block's start.
+fn cut_time(
+    machine: Machine,
+    from: &[Option<f64>; 3],
+    to: &[Option<f64>; 3],
+    path: Path,
+    length: f64,
+    rate: FeedRate,
+    accel: f64,
+) -> Result<BlockTime, String> {
+    let diameter_at = |fraction: f64| diameter_along(from, to, path, fraction);
+    let surface_speed = matches!(rate, FeedRate::SurfaceSpeed { .. }) && machine == Machine::Lathe;
+    let varies = surface_speed && (from[0] != to[0] || matches!(path, Path::Arc { .. }));
+    let start_feed = match rate {
+        FeedRate::Fixed(f) => f,
+        FeedRate::SurfaceSpeed { .. } => rate.at(diameter_at(0.0).ok_or(NO_DIAMETER)?),
+    };
+    if !varies {
+        return constant_time(length, start_feed, accel);
+    }
+    if !(accel.is_finite() && accel > 0.0) {
+        return Err(format!("the acceleration must be above 0 mm/s², not {accel}"));
+    }
+    let ds = length / SEGMENTS as f64;
+    let mut limits = Vec::with_capacity(SEGMENTS);
+    for k in 0..SEGMENTS {
+        let d = diameter_at((k as f64 + 0.5) / SEGMENTS as f64).ok_or(NO_DIAMETER)?;
+        limits.push(rate.at(d) / 60.0);
+    }
+    let time = limited_profile(&limits, ds, accel);
+    Ok(BlockTime { block: 0, kind: "", length, feed: start_feed, profile: None, time })
+}
+
+const NO_DIAMETER: &str = "constant surface speed needs the diameter: a move that sets X before the cut";
+
+/// The diameter (model X) a `fraction` of the way along a block.
+fn diameter_along(from: &[Option<f64>; 3], to: &[Option<f64>; 3], path: Path, fraction: f64) -> Option<f64> {
+    let (x0, x1) = (from[0]?, to[0]?);
+    match path {
+        Path::Line => Some(x0 + (x1 - x0) * fraction),
+        Path::Arc { centre, direction } => {
+            // In the lathe's plane (Z, X/2): the angle turns evenly along the arc.
+            let (z0, z1) = (from[2]?, to[2]?);
+            let (cz, cr) = (centre.z?, centre.x? / 2.0);
+            let a0 = (x0 / 2.0 - cr).atan2(z0 - cz);
+            let a1 = (x1 / 2.0 - cr).atan2(z1 - cz);
+            let r = (z0 - cz).hypot(x0 / 2.0 - cr);
+            let mut sweep = match direction {
+                ArcDirection::CounterClockwise => (a1 - a0).rem_euclid(TAU),
+                ArcDirection::Clockwise => -(a0 - a1).rem_euclid(TAU),
+            };
+            if sweep.abs() < 1e-12 {
+                sweep = if direction == ArcDirection::CounterClockwise { TAU } else { -TAU };
+            }
+            Some(2.0 * (cr + r * (a0 + sweep * fraction).sin()))
+        }
+    }
+}
+
+/// Time (s) of a move from rest to rest over pieces of length `ds` with
+/// speed limits `limits` (mm/s), at acceleration `a`: the speeds at the pieces' ends by a
+/// forward (accelerating) and a backward (braking) pass, then each piece exactly: speed up
+/// to its peak, cruise, brake to its end speed.
+fn limited_profile(limits: &[f64], ds: f64, a: f64) -> f64 {
+    let n = limits.len();
+    let mut ends = vec![0.0f64; n + 1];
+    for k in 1..n {
+        ends[k] = limits[k - 1].min(limits[k]);
+    }
+    for k in 1..=n {
+        ends[k] = ends[k].min((ends[k - 1] * ends[k - 1] + 2.0 * a * ds).sqrt());
+    }
+    for k in (0..n).rev() {
+        ends[k] = ends[k].min((ends[k + 1] * ends[k + 1] + 2.0 * a * ds).sqrt());
+    }
+    let mut time = 0.0;
+    for k in 0..n {
+        let (u0, u1) = (ends[k], ends[k + 1]);
+        let peak = limits[k].min(((u0 * u0 + u1 * u1) / 2.0 + a * ds).sqrt());
+        let ramps = (2.0 * peak * peak - u0 * u0 - u1 * u1) / (2.0 * a);
+        let cruise = if peak > 0.0 { (ds - ramps).max(0.0) / peak } else { 0.0 };
+        time += (2.0 * peak - u0 - u1) / a + cruise;
+    }
+    time
 }
 
 /// True lengths per axis between two positions: a lathe's X is a diameter, so its radial

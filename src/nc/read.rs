@@ -1,14 +1,19 @@
-//! Reading word-address programs (ISO/Fanuc and LinuxCNC RS-274/NGC) back into the one
-//! program model: modal motion (G0–G3), plane (G17/18/19), units (G20/21, read into mm),
-//! absolute/incremental (G90/91), feed mode (G94/95, Fanuc lathe G98/99), diameter mode
-//! (LinuxCNC G7/G8; Fanuc lathes are diametral), arcs by I/J/K or R, F, S, T, M. A word the
-//! reader does not know is an error naming its line and column, never skipped.
+//! Reading programs back into the one program model. Word-address programs (every family
+//! of `dialect::Family`) here: modal motion (G0–G3; the NC31 rapid `E`), plane
+//! (G17/18/19), units (G20/21, Sinumerik G70/71, read into mm), absolute/incremental
+//! (G90/91), feed mode (G94/95, Fanuc lathe G98/99), diameter mode (LinuxCNC G7/G8,
+//! Sinumerik DIAMON/DIAMOF; Fanuc and NC31 lathes are diametral), arcs by I/J/K, R or
+//! Sinumerik CR=, F, S, T, M, Sinumerik LIMS= and MSG. Heidenhain plain language is read in
+//! [`heidenhain`]. A word the reader does not know is an error naming its line and column,
+//! never skipped.
 
 use std::fmt;
 
 use super::program::{
     ArcDirection, Block, Compensation, FeedMode, Machine, Program, Spindle, SpindleDirection, Target,
 };
+
+pub mod heidenhain;
 
 /// Where a program cannot be read, 1-based.
 #[derive(Clone, Debug, PartialEq)]
@@ -29,22 +34,26 @@ impl std::error::Error for ReadError {}
 /// Digits after the point the ISO and LinuxCNC writers use unless a program asks for more.
 const DEFAULT_DECIMALS: usize = 3;
 
-/// Which control's reading of the words: they differ in dwell units, lathe feed modes,
-/// O-words and diameter mode.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Family {
-    Fanuc,
-    LinuxCnc,
+/// Which control's reading of the words (the writers' families): they differ in dwell words
+/// and units, lathe feed modes, O-words, diameter mode, comments and Sinumerik's named words.
+pub use super::dialect::Family;
+
+/// The word a dwell's time is given in: Fanuc P (ms), LinuxCNC P (s), Sinumerik F (s),
+/// NC31 D (s).
+fn dwell_word(family: Family) -> char {
+    match family {
+        Family::Fanuc | Family::LinuxCnc => 'P',
+        Family::Sinumerik => 'F',
+        Family::Nc31 => 'D',
+    }
 }
 
-impl Family {
-    /// The families read here, by the dialect names `--dialect` takes.
-    pub fn by_dialect(name: &str) -> Option<Family> {
-        match name.to_ascii_lowercase().as_str() {
-            "iso" => Some(Family::Fanuc),
-            "linuxcnc" => Some(Family::LinuxCnc),
-            _ => None,
-        }
+/// Reads `text` as the dialect named `dialect` (any name of `dialect::all()`) writes it,
+/// with the 1-based source line of each block of the model.
+pub fn read_dialect(text: &str, dialect: &str, machine: Option<Machine>) -> Result<(Program, Vec<usize>), ReadError> {
+    match super::dialect::by_name(dialect) {
+        Some(d) => d.read(text, machine),
+        None => Err(ReadError { line: 1, column: 1, message: format!("no dialect named {dialect}") }),
     }
 }
 
@@ -104,15 +113,21 @@ pub fn read_with_lines(
     family: Family,
     machine: Option<Machine>,
 ) -> Result<(Program, Vec<usize>), ReadError> {
+    if family == Family::Nc31 && machine == Some(Machine::Mill) {
+        return Err(ReadError { line: 1, column: 1, message: "NC31 programs are for lathes".into() });
+    }
+    let machine = if family == Family::Nc31 { Some(Machine::Lathe) } else { machine };
     let mut lines = Vec::new();
     let mut st = State {
         family,
         machine,
-        motion: None,
-        plane: Plane::Xy,
+        // NC31 has no G1: a block without `E` is a cut.
+        motion: (family == Family::Nc31).then_some(Motion::Line),
+        plane: if family == Family::Nc31 { Plane::Zx } else { Plane::Xy },
         inches: false,
         incremental: false,
-        diameter: family == Family::Fanuc,
+        // Fanuc and NC31 lathes are diametral; Sinumerik turning machines power on in DIAMON.
+        diameter: family != Family::LinuxCnc,
         compensation: Compensation::Off,
         position: [None; 6],
         speed: None,
@@ -121,6 +136,11 @@ pub fn read_with_lines(
         running: None,
     };
     let mut program = Program::new("", machine.unwrap_or(Machine::Mill));
+    if family == Family::Nc31 {
+        // NC31 feeds per revolution only, with no word for it.
+        program.blocks.push(Block::FeedMode(FeedMode::PerRevolution));
+        lines.push(1);
+    }
     let mut started = false;
     // Coordinates written finer than the dialects' 0.001 mm: the machine resolves finer.
     let mut decimals = DEFAULT_DECIMALS;
@@ -135,20 +155,42 @@ pub fn read_with_lines(
         if ended {
             return Err(at(1, "text after the program's end (M30/M2)".into()));
         }
-        let (words, comment) = tokens(raw).map_err(|(c, m)| at(c, m))?;
+        if family == Family::Sinumerik && !started {
+            // The archive's directory: where the control files the program, not part of it.
+            if trimmed.starts_with(";$PATH=") {
+                continue;
+            }
+            if let Some(name) = sinumerik_header(trimmed).map_err(|m| at(1, m))? {
+                program.name = name;
+                continue;
+            }
+        }
+        let Line { words, comment, diameter, spindle_limit, rapid_mark } =
+            tokens(raw, family).map_err(|(c, m)| at(c, m))?;
+        if let Some(d) = diameter {
+            st.diameter = d;
+        }
+        if let Some(limit) = spindle_limit {
+            st.max_rpm = Some(limit);
+        }
         if words.is_empty() {
+            if let Some(w) = rapid_mark {
+                return Err(at(w, "a rapid mark E without an end point".into()));
+            }
             if let Some(c) = comment {
-                if started {
+                // Fanuc and LinuxCNC name a program in the comment before its first block.
+                let names = matches!(family, Family::Fanuc | Family::LinuxCnc);
+                if !started && names && program.name.is_empty() {
+                    program.name = c;
+                } else {
                     program.blocks.push(Block::Comment(c));
                     lines.push(line);
-                } else {
-                    program.name = c;
                 }
             }
             continue;
         }
         if let Some(o) = words.iter().find(|w| w.letter == 'O') {
-            if family == Family::LinuxCnc || started || words.len() > 1 {
+            if family != Family::Fanuc || started || words.len() > 1 {
                 return Err(at(o.column, "an O-word other than the program number at the start is not read".into()));
             }
             program.number = Some(o.value as u32);
@@ -158,7 +200,11 @@ pub fn read_with_lines(
         started = true;
         let finest = words.iter().filter(|w| "XYZABCIJKR".contains(w.letter)).map(|w| w.decimals).max();
         decimals = decimals.max(finest.unwrap_or(0));
-        ended = block(&mut st, &words, &mut program.blocks).map_err(|(c, m)| at(c, m))?;
+        ended = block(&mut st, &words, rapid_mark, &mut program.blocks).map_err(|(c, m)| at(c, m))?;
+        // A comment after a block's words (`N20 T1 D1 ; roughing`) follows the block.
+        if let Some(c) = comment.filter(|c| !c.is_empty()) {
+            program.blocks.push(Block::Comment(c));
+        }
         lines.resize(program.blocks.len(), line);
         if st.machine.is_none() && program.blocks.iter().any(is_move) {
             st.machine = Some(Machine::Mill);
@@ -169,59 +215,178 @@ pub fn read_with_lines(
     Ok((program, lines))
 }
 
+/// A Sinumerik archive header line `%_N_NAME_MPF`: the program's name; `None` for any
+/// other line.
+fn sinumerik_header(line: &str) -> Result<Option<String>, String> {
+    let Some(rest) = line.strip_prefix('%') else { return Ok(None) };
+    let name = rest.strip_prefix("_N_").and_then(|n| n.strip_suffix("_MPF").or_else(|| n.strip_suffix("_SPF")));
+    match name {
+        Some(n) if !n.is_empty() => Ok(Some(n.to_string())),
+        _ => Err(format!("`{line}` is not a Sinumerik program header (%_N_NAME_MPF)")),
+    }
+}
+
 fn is_move(b: &Block) -> bool {
     matches!(b, Block::Rapid(_) | Block::Line { .. } | Block::Arc { .. })
 }
 
 type Fail = (usize, String);
 
-/// The words of one line and its comment (`( … )`, or `;` to the end on LinuxCNC).
-fn tokens(raw: &str) -> Result<(Vec<Word>, Option<String>), Fail> {
+/// What one line holds: its address words, its comment, and the words that are not
+/// addresses (Sinumerik's DIAMON/DIAMOF and LIMS=, NC31's rapid mark `E`).
+#[derive(Default)]
+struct Line {
+    words: Vec<Word>,
+    comment: Option<String>,
+    diameter: Option<bool>,
+    spindle_limit: Option<f64>,
+    /// The column of NC31's `E`.
+    rapid_mark: Option<usize>,
+}
+
+/// The words of one line and its comment: `( … )` on Fanuc and LinuxCNC, `;` to the end of
+/// the line on all but NC31 (which has no comments), Sinumerik's `MSG("…")`.
+fn tokens(raw: &str, family: Family) -> Result<Line, Fail> {
     let chars: Vec<char> = raw.chars().collect();
-    let mut words = Vec::new();
-    let mut comment = None;
+    let mut line = Line::default();
     let mut i = 0;
     while i < chars.len() {
         let c = chars[i];
         if c.is_whitespace() {
             i += 1;
-        } else if c == '(' {
+        } else if c == '(' && matches!(family, Family::Fanuc | Family::LinuxCnc) {
             let close = chars[i..]
                 .iter()
                 .position(|&c| c == ')')
                 .ok_or((i + 1, "a comment that is not closed by `)`".to_string()))?;
-            comment = Some(chars[i + 1..i + close].iter().collect::<String>().trim().to_string());
+            line.comment = Some(chars[i + 1..i + close].iter().collect::<String>().trim().to_string());
             i += close + 1;
-        } else if c == ';' {
-            comment = Some(chars[i + 1..].iter().collect::<String>().trim().to_string());
+        } else if c == ';' && family != Family::Nc31 {
+            line.comment = Some(chars[i + 1..].iter().collect::<String>().trim().to_string());
             break;
         } else if c.is_ascii_alphabetic() {
+            let name_end = i + chars[i..].iter().take_while(|c| c.is_ascii_alphabetic() || **c == '_').count();
+            if family == Family::Sinumerik && (name_end - i > 1 || chars.get(name_end) == Some(&'=')) {
+                i = sinumerik_word(&chars, i, name_end, &mut line)?;
+                continue;
+            }
             let start = i;
+            let letter = c.to_ascii_uppercase();
             i += 1;
             while i < chars.len() && chars[i] == ' ' {
                 i += 1;
             }
-            let from = i;
-            while i < chars.len() && (chars[i].is_ascii_digit() || "+-.".contains(chars[i])) {
-                i += 1;
+            let (value, decimals, next) = number(&chars, i);
+            if family == Family::Nc31 && letter == 'E' && value.is_none() {
+                line.rapid_mark = Some(start + 1);
+                continue;
             }
-            let number: String = chars[from..i].iter().collect();
-            let value = number
-                .parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .ok_or((start + 1, format!("the word {c} has no number after it (`{number}`)")))?;
-            let decimals = number.split_once('.').map_or(0, |(_, f)| f.len());
-            words.push(Word { letter: c.to_ascii_uppercase(), value, column: start + 1, decimals });
+            if family == Family::Sinumerik && letter == 'R' {
+                return Err((start + 1, "R is an arithmetic parameter on Sinumerik (an arc's radius is CR=)".into()));
+            }
+            let number: String = chars[i..next].iter().collect();
+            let value = value.ok_or((start + 1, format!("the word {letter} has no number after it (`{number}`)")))?;
+            line.words.push(Word { letter, value, column: start + 1, decimals });
+            i = next;
         } else {
             return Err((i + 1, format!("`{c}` is not the start of a word")));
         }
     }
-    Ok((words, comment))
+    Ok(line)
+}
+
+/// The number starting at `from`: its value (if it is one), digits after the point, and
+/// where it ends.
+fn number(chars: &[char], from: usize) -> (Option<f64>, usize, usize) {
+    let mut end = from;
+    while end < chars.len() && (chars[end].is_ascii_digit() || "+-.".contains(chars[end])) {
+        end += 1;
+    }
+    let text: String = chars[from..end].iter().collect();
+    let value = text.parse::<f64>().ok().filter(|v| v.is_finite());
+    let decimals = text.split_once('.').map_or(0, |(_, f)| f.len());
+    (value, decimals, end)
+}
+
+/// A Sinumerik word with a name (`DIAMON`, `LIMS=3000`, `CR=5`, `MSG("…")`) or an address
+/// with `=` (`X=12.5`); returns where it ends.
+fn sinumerik_word(chars: &[char], start: usize, name_end: usize, line: &mut Line) -> Result<usize, Fail> {
+    let name: String = chars[start..name_end].iter().collect::<String>().to_ascii_uppercase();
+    let column = start + 1;
+    let assigned = |what: &str| -> Result<(f64, usize, usize), Fail> {
+        let mut i = name_end;
+        while chars.get(i) == Some(&' ') {
+            i += 1;
+        }
+        if chars.get(i) != Some(&'=') {
+            return Err((column, format!("{what} takes `=` and a number")));
+        }
+        i += 1;
+        while chars.get(i) == Some(&' ') {
+            i += 1;
+        }
+        let (value, decimals, end) = number(chars, i);
+        let value = value.ok_or((
+            i + 1,
+            format!("{what}= is read with a number only (not an expression, AC(…), IC(…) or a parameter)"),
+        ))?;
+        Ok((value, decimals, end))
+    };
+    match name.as_str() {
+        "DIAMON" => line.diameter = Some(true),
+        "DIAMOF" => line.diameter = Some(false),
+        "LIMS" => {
+            let (v, _, end) = assigned("LIMS")?;
+            line.spindle_limit = Some(v);
+            return Ok(end);
+        }
+        "CR" => {
+            let (value, decimals, end) = assigned("CR")?;
+            line.words.push(Word { letter: 'R', value, column, decimals });
+            return Ok(end);
+        }
+        "MSG" => return message(chars, name_end, column, line),
+        "T" if chars.get(name_end + 1) == Some(&'"') => {
+            return Err((
+                column,
+                "a tool called by name (T=\"…\") is not read: the program model numbers its tools".into(),
+            ));
+        }
+        "R" => return Err((column, "R parameters are not read (the program model has no variables)".into())),
+        _ if name.len() == 1 => {
+            let (value, decimals, end) = assigned(&name)?;
+            let letter = name.chars().next().expect("one letter");
+            line.words.push(Word { letter, value, column, decimals });
+            return Ok(end);
+        }
+        _ => return Err((column, format!("`{name}` is not a word this reader knows"))),
+    }
+    Ok(name_end)
+}
+
+/// `MSG("text")`: the operator's message, read as the block's comment.
+fn message(chars: &[char], from: usize, column: usize, line: &mut Line) -> Result<usize, Fail> {
+    let rest: String = chars[from..].iter().collect();
+    let inner = rest.trim_start().strip_prefix('(').map(str::trim_start);
+    let Some(inner) = inner.and_then(|t| t.strip_prefix('"')) else {
+        return Err((column, "MSG is read as MSG(\"text\")".into()));
+    };
+    let Some(close) = inner.find('"') else {
+        return Err((column, "MSG(\" is not closed by `\")`".into()));
+    };
+    let after = inner[close + 1..].trim_start();
+    let Some(after) = after.strip_prefix(')') else {
+        return Err((column, "MSG(\"…\" is not closed by `)`".into()));
+    };
+    let text = inner[..close].trim();
+    if !text.is_empty() {
+        line.comment = Some(text.to_string());
+    }
+    Ok(chars.len() - after.chars().count())
 }
 
 /// Reads one block's words into model blocks; `true` at the program's end (M30/M2).
-fn block(st: &mut State, words: &[Word], out: &mut Vec<Block>) -> Result<bool, Fail> {
+fn block(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: &mut Vec<Block>) -> Result<bool, Fail> {
     let find = |l: char| words.iter().find(|w| w.letter == l);
     let mut motion_word = None;
     let mut dwell = false;
@@ -264,6 +429,9 @@ fn block(st: &mut State, words: &[Word], out: &mut Vec<Block>) -> Result<bool, F
         }
     }
     unused_words(words, dwell, compensation, spindle_mode, g50, st.family)?;
+    if let Some(w) = rapid_mark.filter(|_| dwell) {
+        return Err((w, "a rapid mark E in a dwell block".into()));
+    }
     if let Some(m) = feed_mode {
         out.push(Block::FeedMode(m));
     }
@@ -272,6 +440,10 @@ fn block(st: &mut State, words: &[Word], out: &mut Vec<Block>) -> Result<bool, F
         // Fanuc lathes write tool and offset together: T0101.
         let n = if st.family == Family::Fanuc && st.machine == Some(Machine::Lathe) && n >= 100 { n / 100 } else { n };
         out.push(Block::Tool(n));
+        // Sinumerik's `T1 D1`: the model's tool has its first cutting edge.
+        if let Some(d) = find('D').filter(|d| st.family == Family::Sinumerik && d.value != 1.0) {
+            return Err((d.column, format!("cutting edge D{}: the program model has each tool's edge D1", d.value)));
+        }
     }
     if let Some(s) = find('S') {
         if g50 {
@@ -301,7 +473,7 @@ fn block(st: &mut State, words: &[Word], out: &mut Vec<Block>) -> Result<bool, F
             out.push(Block::Spindle(if st.surface_speed {
                 let max_rpm = st
                     .max_rpm
-                    .ok_or((column, "constant surface speed with no spindle limit (G50 S / D)".to_string()))?;
+                    .ok_or((column, "constant surface speed with no spindle limit (G50 S, D or LIMS=)".to_string()))?;
                 Spindle::SurfaceSpeed { metres_per_min: speed, max_rpm, direction }
             } else {
                 Spindle::Rpm { rpm: speed, direction }
@@ -310,7 +482,10 @@ fn block(st: &mut State, words: &[Word], out: &mut Vec<Block>) -> Result<bool, F
         None => {}
     }
     if let Some(c) = compensation {
-        if c != st.compensation || c != Compensation::Off {
+        // The G40 of the set-up block before anything happened says what is so already (the
+        // writers put it there); any later G40 is the program's own block.
+        let setup = c == Compensation::Off && out.iter().all(|b| matches!(b, Block::FeedMode(_)));
+        if !setup {
             out.push(Block::Compensation(c));
         }
         st.compensation = c;
@@ -319,10 +494,12 @@ fn block(st: &mut State, words: &[Word], out: &mut Vec<Block>) -> Result<bool, F
         out.push(Block::Coolant(on));
     }
     if dwell {
-        let p = find('P').ok_or((1, "a dwell G4 without its time P".to_string()))?;
+        let letter = dwell_word(st.family);
+        let column = words.iter().find(|w| w.letter == 'G' && w.value == 4.0).map_or(1, |w| w.column);
+        let p = find(letter).ok_or((column, format!("a dwell G4 without its time {letter}")))?;
         let seconds = if st.family == Family::Fanuc { p.value / 1000.0 } else { p.value };
         out.push(Block::Dwell(seconds));
-    } else if let Some(m) = motion_block(st, words, motion_word)? {
+    } else if let Some(m) = motion_block(st, words, motion_word, rapid_mark)? {
         out.push(m);
     }
     Ok(end)
@@ -341,10 +518,14 @@ fn unused_words(
     let g43 = words.iter().any(|w| w.letter == 'G' && w.value == 43.0);
     let side = matches!(compensation, Some(Compensation::Left | Compensation::Right));
     let css_limit = spindle_mode == Some(true) && family == Family::LinuxCnc;
+    let edge = family == Family::Sinumerik && words.iter().any(|w| w.letter == 'T');
+    let dwell_word = dwell_word(family);
     for w in words {
         let meaningful = match w.letter {
-            'P' => dwell,
-            'D' => side || css_limit,
+            // The dwell's time, and nothing else with a dwell: G4 is a block of its own.
+            l if dwell => l == dwell_word || matches!(l, 'G' | 'N'),
+            'P' => false,
+            'D' => side || css_limit || edge,
             'H' => g43,
             'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' => !g50,
             _ => true,
@@ -379,6 +560,11 @@ fn g_code(
     if w.value.fract() != 0.0 {
         return unsupported();
     }
+    let sinumerik = st.family == Family::Sinumerik;
+    // NC31's blocks are cuts unless marked E: its G words are the dwell and G40.
+    if st.family == Family::Nc31 && !matches!(w.value as i64, 4 | 40) {
+        return Err((w.column, format!("G{} is not an NC31 code this reader knows (rapids are marked E)", w.value)));
+    }
     match w.value as i64 {
         0 => set_motion(st, w, motion, Motion::Rapid),
         1 => set_motion(st, w, motion, Motion::Line),
@@ -393,14 +579,16 @@ fn g_code(
             st.machine.get_or_insert(Machine::Lathe);
         }
         19 => st.plane = Plane::Yz,
-        20 => st.inches = true,
-        21 => st.inches = false,
+        20 if !sinumerik => st.inches = true,
+        21 if !sinumerik => st.inches = false,
+        70 | 700 if sinumerik => st.inches = true,
+        71 | 710 if sinumerik => st.inches = false,
         40 => *compensation = Some(Compensation::Off),
         41 => *compensation = Some(Compensation::Left),
         42 => *compensation = Some(Compensation::Right),
         // Tool length offset with the tool change (LinuxCNC's `T1 M6 G43`): the model's tool
         // change implies it.
-        43 => {}
+        43 if !sinumerik => {}
         50 if st.family == Family::Fanuc => *g50 = true,
         90 => st.incremental = false,
         91 => st.incremental = true,
@@ -421,7 +609,12 @@ fn set_motion(st: &mut State, w: &Word, word: &mut Option<usize>, m: Motion) {
 }
 
 /// The move a block makes, if it names an axis (or a motion code with axes).
-fn motion_block(st: &mut State, words: &[Word], motion_word: Option<usize>) -> Result<Option<Block>, Fail> {
+fn motion_block(
+    st: &mut State,
+    words: &[Word],
+    motion_word: Option<usize>,
+    rapid_mark: Option<usize>,
+) -> Result<Option<Block>, Fail> {
     let find = |l: char| words.iter().find(|w| w.letter == l);
     let scale = if st.inches { 25.4 } else { 1.0 };
     let axes = ['X', 'Y', 'Z', 'A', 'B', 'C'];
@@ -431,12 +624,15 @@ fn motion_block(st: &mut State, words: &[Word], motion_word: Option<usize>) -> R
         if let Some(w) = arc_words {
             return Err((w.column, format!("{} without an end point", w.letter)));
         }
-        if let Some(f) = find('F') {
-            return Err((f.column, "a feed F alone in a block is not read (give it with the move)".into()));
+        if let Some(column) = rapid_mark {
+            return Err((column, "a rapid mark E without an end point".into()));
         }
-        return Ok(None);
+        // `G1 F100`: the feed for the cuts that follow, a line that goes nowhere in the model.
+        return Ok(find('F').map(|f| Block::Line { to: Target::default(), feed: Some(f.value * scale) }));
     }
-    let motion = st.motion.ok_or((words[0].column, "a move with no motion code (G0/G1/G2/G3) in force".to_string()))?;
+    let modal = st.motion.ok_or((words[0].column, "a move with no motion code (G0/G1/G2/G3) in force".to_string()))?;
+    // NC31's `E` makes this block's move a rapid; the next block without it cuts again.
+    let motion = if rapid_mark.is_some() { Motion::Rapid } else { modal };
     if st.machine.is_none() {
         st.machine = Some(Machine::Mill);
     }

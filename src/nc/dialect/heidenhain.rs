@@ -25,6 +25,7 @@ use crate::nc::format::NumberStyle;
 use crate::nc::program::{
     ArcDirection, Block, Compensation, FeedMode, Machine, Program, Spindle, SpindleDirection, Target,
 };
+use crate::nc::read::{self, ReadError};
 
 pub struct Heidenhain;
 
@@ -49,6 +50,10 @@ impl Dialect for Heidenhain {
 
     fn writes(&self, machine: Machine) -> bool {
         machine == Machine::Mill
+    }
+
+    fn read(&self, text: &str, machine: Option<Machine>) -> Result<(Program, Vec<usize>), ReadError> {
+        read::heidenhain::read(text, machine)
     }
 
     fn render(&self, program: &Program) -> Result<String, NcError> {
@@ -77,10 +82,15 @@ impl Dialect for Heidenhain {
         let blocks = &program.blocks;
         let mut i = 0;
         while i < blocks.len() {
-            // A tool call takes the spindle speed that follows it.
-            if let (Block::Tool(n), Some(Block::Spindle(s))) = (&blocks[i], blocks.get(i + 1)) {
-                w.tool_call(Some(*n), Some(s)).map_err(|m| error(Some(i + 2), m))?;
-                i += 2;
+            // A tool call takes the spindle speed that follows it, past feed-mode blocks (they
+            // write nothing): one TOOL CALL, as the reader makes of it.
+            let speed_at = i + 1 + blocks[i + 1..].iter().take_while(|b| matches!(b, Block::FeedMode(_))).count();
+            if let (Block::Tool(n), Some(Block::Spindle(s))) = (&blocks[i], blocks.get(speed_at)) {
+                for (k, b) in blocks.iter().enumerate().take(speed_at).skip(i + 1) {
+                    w.write(b, &numbers).map_err(|m| error(Some(k + 1), m))?;
+                }
+                w.tool_call(Some(*n), Some(s)).map_err(|m| error(Some(speed_at + 1), m))?;
+                i = speed_at + 1;
                 continue;
             }
             w.write(&blocks[i], &numbers).map_err(|m| error(Some(i + 1), m))?;
@@ -238,7 +248,8 @@ impl Numbered {
         let compensation = if frame { Some("R0") } else { self.compensation.take() };
         let pending = std::mem::take(&mut self.pending);
         let o = self.block();
-        o.push_str("L ");
+        // `L F100` (no axes) only sets the feed.
+        o.push_str(if *t == Target::default() { "L" } else { "L " });
         axes(o, t, numbers);
         if let Some(r) = compensation {
             o.push(' ');

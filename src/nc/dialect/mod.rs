@@ -8,12 +8,13 @@ use std::fmt;
 
 use super::format::NumberStyle;
 use super::program::{Block, FeedMode, Machine, Program, Spindle, Target};
+use super::read::ReadError;
 
 mod heidenhain;
 mod word_address;
 
 pub use heidenhain::Heidenhain;
-pub use word_address::{WordAddress, ISO, LINUXCNC, NC31, SINUMERIK};
+pub use word_address::{Family, WordAddress, ISO, LINUXCNC, NC31, SINUMERIK};
 
 /// Something a dialect cannot write.
 #[derive(Clone, Debug, PartialEq)]
@@ -48,6 +49,10 @@ pub trait Dialect {
 
     /// The program as the control reads it, one block per line, ending in a newline.
     fn render(&self, program: &Program) -> Result<String, NcError>;
+
+    /// Reads a program as this control does (`src/nc/read.rs`), with the 1-based source line
+    /// of each block; `machine` when known, else the reader decides from the program.
+    fn read(&self, text: &str, machine: Option<Machine>) -> Result<(Program, Vec<usize>), ReadError>;
 }
 
 /// The dialects that write programs for `machine`, by name, in `all()`'s order.

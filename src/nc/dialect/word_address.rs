@@ -7,6 +7,7 @@ use crate::nc::format::NumberStyle;
 use crate::nc::program::{
     ArcDirection, Block, Compensation, FeedMode, Machine, Program, Spindle, SpindleDirection, Target, Word,
 };
+use crate::nc::read::{self, ReadError};
 
 /// How one word-address control writes a program.
 pub struct WordAddress {
@@ -150,6 +151,10 @@ impl Dialect for WordAddress {
 
     fn writes(&self, machine: Machine) -> bool {
         self.machines.contains(&machine)
+    }
+
+    fn read(&self, text: &str, machine: Option<Machine>) -> Result<(Program, Vec<usize>), ReadError> {
+        read::read_with_lines(text, self.family, machine)
     }
 
     fn render(&self, program: &Program) -> Result<String, NcError> {
@@ -318,8 +323,11 @@ impl Writer<'_> {
             }
             Block::Rapid(t) => self.rapid(t),
             Block::Line { to, feed } => {
-                let g = if self.d.rapid_suffix.is_some() { "" } else { "G1 " };
-                let text = format!("{g}{}{}", self.axes(to), self.feed(*feed));
+                // NC31 cuts without a G word; a line with no axes only sets the feed (`G1 F100`).
+                let g = if self.d.rapid_suffix.is_some() { "" } else { "G1" };
+                let (axes, feed) = (self.axes(to), self.feed(*feed));
+                let words = [g, &axes, feed.trim_start()];
+                let text = words.iter().filter(|w| !w.is_empty()).copied().collect::<Vec<_>>().join(" ");
                 self.numbered(&text);
                 self.moved_to(to);
             }
