@@ -53,7 +53,7 @@ pub fn run(
         frames: RefCell::new(Vec::new()),
         out: RefCell::new(RunOutput::new(&stem.to_ascii_uppercase(), options.machine)),
         line: RefCell::new(None),
-        nc: RefCell::new(super::objects::NcState::default()),
+        nc: RefCell::new(super::nc::NcState::default()),
         steps: Cell::new(0),
         kept: RefCell::new(Vec::new()),
         pending: RefCell::new(None),
@@ -244,7 +244,7 @@ pub struct Interp<'m, 'w> {
     pub out: RefCell<RunOutput>,
     /// A `Debug.Print` line left open by a trailing `;` or `,`.
     line: RefCell<Option<String>>,
-    pub nc: RefCell<super::objects::NcState>,
+    pub nc: RefCell<super::nc::NcState>,
     steps: Cell<u64>,
     /// Static variables between calls: (procedure, variable).
     kept: RefCell<Vec<(usize, Slot)>>,
