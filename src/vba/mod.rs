@@ -89,12 +89,14 @@
 
 mod arrays;
 pub mod ast;
+mod host;
 mod interp;
 mod nc;
 mod objects;
 pub mod ovba;
 pub mod parser;
 pub mod project;
+mod value;
 
 use std::fmt;
 

@@ -19,8 +19,9 @@ use crate::formula::ast::{Expr, ExprKind};
 use crate::nc::{ArcDirection, Block, FeedMode, Machine, Spindle, SpindleDirection, Target, Word};
 
 use super::ast::{Link, Span};
-use super::interp::{input_text, print_text, Interp, Obj, Run};
+use super::interp::{Interp, Run};
 use super::objects::lower;
+use super::value::{input_text, print_text, Obj};
 
 /// The modal state of the program being emitted.
 #[derive(Debug, Default)]

@@ -10,7 +10,8 @@ use crate::formula::ast::{Expr, SheetId};
 use crate::formula::print::print_formula;
 
 use super::ast::{Link, Node, Path, Span};
-use super::interp::{one_line, print_text, Interp, Obj, Run};
+use super::interp::{one_line, Interp, Run};
+use super::value::{print_text, Obj, Var};
 
 /// The cell `index` picks in `rect` (1-based): `(i)` counts row by row, `(i, j)` is row and
 /// column; both may run past the range, as in VBA, but not off the sheet.
@@ -96,10 +97,10 @@ impl Interp<'_, '_> {
                 return Err(self.fault_at(link.span, format!("{} is a variable, not an array of objects", link.name)));
             }
             return Ok(match var {
-                super::interp::Var::Obj(o) => o,
-                super::interp::Var::Value(v) => Obj::Value(v),
-                super::interp::Var::Array(a) => Obj::Value(Value::Array(a.data)),
-                super::interp::Var::Record(..) => Obj::Record(link.name.clone(), Vec::new()),
+                Var::Obj(o) => o,
+                Var::Value(v) => Obj::Value(v),
+                Var::Array(a) => Obj::Value(Value::Array(a.data)),
+                Var::Record(..) => Obj::Record(link.name.clone(), Vec::new()),
             });
         }
         let active = self.active.get();
@@ -170,8 +171,8 @@ impl Interp<'_, '_> {
                 let mut path = path.clone();
                 path.push(i);
                 match self.record_field(&var, &path) {
-                    Some(super::interp::Var::Value(v)) => Ok(Obj::Value(v)),
-                    Some(super::interp::Var::Record(..)) => Ok(Obj::Record(var, path)),
+                    Some(Var::Value(v)) => Ok(Obj::Value(v)),
+                    Some(Var::Record(..)) => Ok(Obj::Record(var, path)),
                     _ => Err(self.no_member(&Obj::Record(var, path), link)),
                 }
             }
@@ -215,7 +216,7 @@ impl Interp<'_, '_> {
     /// The index of a field `link` names in the Type of the record at `path`.
     fn field_index(&self, var: &str, path: &[usize], link: &Link) -> Run<usize> {
         let ty = match self.record_field(var, path) {
-            Some(super::interp::Var::Record(t, _)) => &self.module.types[t],
+            Some(Var::Record(t, _)) => &self.module.types[t],
             _ => return Err(self.fault_at(link.span, format!("{var} no longer holds a Type value"))),
         };
         if link.args.is_some() {
