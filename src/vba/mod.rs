@@ -96,6 +96,7 @@ mod objects;
 pub mod ovba;
 pub mod parser;
 pub mod project;
+mod resolve;
 mod value;
 
 use std::fmt;
