@@ -9,7 +9,8 @@ use crate::formula::address::Rect;
 use crate::formula::ast::Expr;
 
 use super::ast::{Span, Ty};
-use super::interp::{convert, default_value, Interp, Obj, Run, VArray, Var};
+use super::interp::{Interp, Run};
+use super::value::{convert, default_value, Obj, VArray, Var};
 
 impl Interp<'_, '_> {
     pub(super) fn new_array(&self, bounds: &[(Option<Expr>, Expr)], ty: Option<&Ty>, span: Span) -> Run<VArray> {

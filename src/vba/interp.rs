@@ -1,6 +1,7 @@
 //! The interpreter: walks statements, keeps variables in call frames, and evaluates every
-//! expression with the one evaluator ([`Ctx`]), to which it is both the [`Env`] (cells,
-//! through the workbook) and the [`Host`] (variables and macro-only nodes).
+//! expression with the one evaluator ([`Ctx`]), to which it is both the `Env` (cells, through
+//! the workbook) and the `Host` (variables and macro-only nodes); that bridge is `host.rs`,
+//! and what variables hold is `value.rs`.
 //!
 //! It is reentrant through the evaluator — a Function called inside an expression runs its
 //! statements while that expression is being evaluated — so its state sits in cells
@@ -12,15 +13,15 @@ use std::cell::{Cell, RefCell};
 use std::rc::Rc;
 
 use crate::eval::coerce::{compare, to_bool, to_number};
-use crate::eval::evaluator::{binary, Host};
-use crate::eval::functions::vba::vba_text;
-use crate::eval::{Array, Ctx, Env, Operand, Value, XlError};
+use crate::eval::evaluator::binary;
+use crate::eval::{Ctx, Operand, Value, XlError};
 use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::{Expr, ExprKind, SheetId};
 use crate::workbook::{Input, Workbook, WorkbookError};
 
 use super::ast::*;
 use super::parser::Lines;
+use super::value::{array_var, convert, default_value, input_text, print_text, Obj, Slot, Var};
 use super::{ErrorKind, MacroError, Printed, RunOptions, RunOutput};
 
 /// Runs the entry procedure that `options` chooses.
@@ -53,7 +54,7 @@ pub fn run(
         frames: RefCell::new(Vec::new()),
         out: RefCell::new(RunOutput::new(&stem.to_ascii_uppercase(), options.machine)),
         line: RefCell::new(None),
-        nc: RefCell::new(super::objects::NcState::default()),
+        nc: RefCell::new(super::nc::NcState::default()),
         steps: Cell::new(0),
         kept: RefCell::new(Vec::new()),
         pending: RefCell::new(None),
@@ -158,71 +159,6 @@ pub struct ErrState {
     pub description: String,
 }
 
-/// What a variable holds.
-#[derive(Clone, Debug)]
-pub enum Var {
-    Value(Value),
-    Obj(Obj),
-    Array(VArray),
-    /// A variable of a `Type`: its fields in the Type's order (copied on assignment, as VBA does).
-    Record(usize, Vec<Var>),
-}
-
-/// An array variable: its items (row-major) and the lower bound of each dimension.
-#[derive(Clone, Debug)]
-pub struct VArray {
-    pub data: Rc<Array>,
-    /// (first row, first column) indexes; a one-dimensional array uses only the column.
-    pub lower: (i64, i64),
-    pub dims: u8,
-}
-
-/// The objects a macro reaches through member paths.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Obj {
-    Value(Value),
-    Range(SheetId, Rect),
-    /// `r.Rows` / `r.Columns` without an index: for `.Count` and `(i)`.
-    Lines(SheetId, Rect, bool),
-    Sheet(SheetId),
-    Sheets,
-    Workbook,
-    App,
-    Nc,
-    Debug,
-    /// `Err`: the last trapped error.
-    Err,
-    /// A field of a `Type` variable, by the variable's name and the fields leading to it:
-    /// reads and writes reach the variable itself (so `With p` … `.X = 1` changes `p`).
-    Record(Rc<str>, Vec<usize>),
-}
-
-impl Obj {
-    pub fn describe(&self) -> &'static str {
-        match self {
-            Obj::Value(_) => "a value",
-            Obj::Range(..) => "a Range",
-            Obj::Lines(..) => "a Rows or Columns collection",
-            Obj::Sheet(_) => "a Worksheet",
-            Obj::Sheets => "the Worksheets collection",
-            Obj::Workbook => "the Workbook",
-            Obj::App => "Application",
-            Obj::Nc => "Nc",
-            Obj::Debug => "Debug",
-            Obj::Err => "Err",
-            Obj::Record(..) => "a Type value",
-        }
-    }
-}
-
-#[derive(Clone, Debug)]
-pub struct Slot {
-    pub name: Rc<str>,
-    pub var: Var,
-    pub ty: Option<Ty>,
-    pub constant: bool,
-}
-
 struct Frame {
     proc: usize,
     vars: Vec<Slot>,
@@ -244,13 +180,13 @@ pub struct Interp<'m, 'w> {
     pub out: RefCell<RunOutput>,
     /// A `Debug.Print` line left open by a trailing `;` or `,`.
     line: RefCell<Option<String>>,
-    pub nc: RefCell<super::objects::NcState>,
+    pub nc: RefCell<super::nc::NcState>,
     steps: Cell<u64>,
     /// Static variables between calls: (procedure, variable).
     kept: RefCell<Vec<(usize, Slot)>>,
-    pending: RefCell<Option<Fault>>,
+    pub(super) pending: RefCell<Option<Fault>>,
     /// An `End` statement ran: every procedure stops.
-    ended: Cell<bool>,
+    pub(super) ended: Cell<bool>,
     pub active: Cell<SheetId>,
     /// Explanations the last evaluation left (why a value is an error).
     notes: RefCell<Vec<String>>,
@@ -417,6 +353,14 @@ impl Interp<'_, '_> {
     }
 
     // ---- variables -------------------------------------------------------------------
+
+    pub fn with_object(&self, span: Span) -> Run<Obj> {
+        let frames = self.frames.borrow();
+        frames
+            .last()
+            .and_then(|f| f.with.last().cloned())
+            .ok_or_else(|| self.fault_at(span, "a name starting with . needs a With block around it"))
+    }
 
     /// A copy of what the variable `name` holds (current procedure first, then module).
     pub fn lookup(&self, name: &str) -> Option<Var> {
@@ -1189,206 +1133,6 @@ impl Interp<'_, '_> {
 /// The most cells one assignment writes (a whole sheet is 17 billion).
 const MAX_WRITE: u64 = 10_000_000;
 
-impl Env for Interp<'_, '_> {
-    fn value(&self, sheet: SheetId, pos: Pos) -> Value {
-        self.wb.borrow().value(sheet, pos)
-    }
-
-    fn for_each_value(&self, sheet: SheetId, rect: Rect, f: &mut dyn FnMut(Pos, &Value)) {
-        // Collected first: `f` may run macro code that writes cells.
-        let mut items = Vec::new();
-        self.wb.borrow().for_each_value(sheet, rect, &mut |p, v| items.push((p, v.clone())));
-        for (p, v) in items {
-            f(p, &v);
-        }
-    }
-
-    fn used_rect(&self, sheet: SheetId) -> Option<Rect> {
-        Env::used_rect(&**self.wb.borrow(), sheet)
-    }
-
-    fn defined_name(&self, name: &str, sheet: SheetId) -> Option<(Rc<Expr>, SheetId)> {
-        self.wb.borrow().defined_name(name, sheet)
-    }
-
-    fn spill_rect(&self, sheet: SheetId, pos: Pos) -> Option<Rect> {
-        self.wb.borrow().spill_rect(sheet, pos)
-    }
-
-    fn sheet_count(&self) -> usize {
-        self.wb.borrow().sheet_count()
-    }
-
-    fn sheet_name(&self, sheet: SheetId) -> Option<String> {
-        Env::sheet_name(&**self.wb.borrow(), sheet)
-    }
-
-    fn sheet_id(&self, name: &str) -> Option<SheetId> {
-        self.wb.borrow().sheet_id(name)
-    }
-
-    fn formula_text(&self, sheet: SheetId, pos: Pos) -> Option<String> {
-        self.wb.borrow().formula_text(sheet, pos)
-    }
-
-    fn is_subtotal(&self, sheet: SheetId, pos: Pos) -> bool {
-        self.wb.borrow().is_subtotal(sheet, pos)
-    }
-
-    fn date_1904(&self) -> bool {
-        self.wb.borrow().date_1904()
-    }
-}
-
-impl Host for Interp<'_, '_> {
-    fn variable(&self, name: &str) -> Option<Operand> {
-        Some(match self.lookup(name) {
-            None => Operand::Value(Value::Blank),
-            Some(Var::Value(v)) => Operand::Value(v),
-            Some(Var::Array(a)) => Operand::Value(Value::Array(a.data)),
-            Some(Var::Obj(Obj::Range(sheet, rect))) => Operand::Ref(sheet, rect),
-            Some(Var::Obj(Obj::Value(v))) => Operand::Value(v),
-            Some(Var::Record(..)) => {
-                self.park(self.fault(format!("{name} is a Type value: use its fields ({name}.Field)")));
-                Operand::Value(Value::Error(XlError::Value))
-            }
-            Some(Var::Obj(other)) => {
-                self.park(self.fault(format!("{name} is {}, not a value", other.describe())));
-                Operand::Value(Value::Error(XlError::Value))
-            }
-        })
-    }
-
-    fn node(&self, ctx: &mut Ctx, id: u32) -> Operand {
-        if self.pending.borrow().is_some() || self.ended.get() {
-            return Operand::Value(Value::Error(XlError::Value));
-        }
-        match self.node_operand(ctx, id) {
-            Ok(operand) => operand,
-            Err(fault) => {
-                self.park(fault);
-                Operand::Value(Value::Error(XlError::Value))
-            }
-        }
-    }
-
-    fn text_limit(&self) -> usize {
-        self.options.max_string
-    }
-
-    fn text_too_long(&self, limit: usize) {
-        let mut f = self.fault(format!(
-            "a string longer than {limit} characters (ncsheet's limit for macro strings; raise it with --max-string)"
-        ));
-        f.kind = ErrorKind::Limit;
-        self.park(f);
-    }
-}
-
-impl Interp<'_, '_> {
-    fn park(&self, fault: Fault) {
-        let mut pending = self.pending.borrow_mut();
-        if pending.is_none() {
-            *pending = Some(fault);
-        }
-    }
-
-    fn node_operand(&self, ctx: &mut Ctx, id: u32) -> Run<Operand> {
-        match &self.module.nodes[id as usize] {
-            Node::Call { proc, args, span } => self.call(ctx, *proc, args, *span).map(Operand::Value),
-            Node::Path(path) => {
-                let obj = self.path(ctx, path)?;
-                self.operand_of(obj, path.span)
-            }
-            Node::Element { var, index, span } => self.element(ctx, var, index, *span),
-            Node::Bound { upper, var, dim, span } => {
-                self.bound(ctx, *upper, var, dim.as_ref(), *span).map(Operand::Value)
-            }
-            Node::Evaluate { expr, .. } => Ok(Ctx::new(self, self.active.get(), Pos::new(0, 0)).operand(expr)),
-        }
-    }
-
-    pub fn operand_of(&self, obj: Obj, span: Span) -> Run<Operand> {
-        match obj {
-            Obj::Value(v) => Ok(Operand::Value(v)),
-            Obj::Range(sheet, rect) => Ok(Operand::Ref(sheet, rect)),
-            // `If Err Then`: Err's default member is its Number.
-            Obj::Err => Ok(Operand::Value(Value::Number(self.err.borrow().number as f64))),
-            other => Err(self.fault_at(span, format!("{} is not a value", other.describe()))),
-        }
-    }
-
-    pub fn with_object(&self, span: Span) -> Run<Obj> {
-        let frames = self.frames.borrow();
-        frames
-            .last()
-            .and_then(|f| f.with.last().cloned())
-            .ok_or_else(|| self.fault_at(span, "a name starting with . needs a With block around it"))
-    }
-}
-
-/// A value as a variable holds it: arrays become array variables (one row: one dimension
-/// from Option Base; more rows: two dimensions from 1, as VBA reads a Range's values).
-pub fn array_var(v: Value, base: i64) -> Var {
-    match v {
-        Value::Array(a) if a.rows == 1 && a.cols == 1 => Var::Value(a.data[0].clone()),
-        Value::Array(a) if a.rows == 1 => Var::Array(VArray { data: a, lower: (1, base), dims: 1 }),
-        Value::Array(a) => Var::Array(VArray { data: a, lower: (1, 1), dims: 2 }),
-        other => Var::Value(other),
-    }
-}
-
-pub(super) fn default_value(ty: Option<&Ty>) -> Value {
-    match ty {
-        Some(Ty::Whole | Ty::Number) => Value::Number(0.0),
-        Some(Ty::String) => Value::text(""),
-        Some(Ty::Boolean) => Value::Bool(false),
-        _ => Value::Blank,
-    }
-}
-
-/// What a typed variable makes of an assigned value (VBA's implicit conversions).
-pub(super) fn convert(var: Var, ty: Option<&Ty>, name: &str) -> Result<Var, String> {
-    let Some(ty) = ty.filter(|t| **t != Ty::Variant) else { return Ok(var) };
-    if let Ty::Record(i) = ty {
-        return match var {
-            Var::Record(j, fields) if j == *i => Ok(Var::Record(j, fields)),
-            _ => Err(format!("{name} holds a Type value; only a value of the same Type can be assigned to it")),
-        };
-    }
-    if let Var::Record(..) = var {
-        return Err(format!("{name} cannot hold a Type value (type mismatch)"));
-    }
-    let Var::Value(v) = var else {
-        return Err(format!("{name} is declared with a type and cannot hold an object or an array"));
-    };
-    let mismatch = |e: XlError| format!("{name} cannot hold {e} (type mismatch)");
-    let text_mismatch = |v: &Value| format!("{name} cannot hold \"{}\" (type mismatch)", print_text(v));
-    Ok(Var::Value(match ty {
-        Ty::Whole => match (&v, to_number(&v)) {
-            (_, Ok(n)) => Value::Number(n.round_ties_even()),
-            (Value::Text(_), Err(_)) => return Err(text_mismatch(&v)),
-            (_, Err(e)) => return Err(mismatch(e)),
-        },
-        Ty::Number => match (&v, to_number(&v)) {
-            (_, Ok(n)) => Value::Number(n),
-            (Value::Text(_), Err(_)) => return Err(text_mismatch(&v)),
-            (_, Err(e)) => return Err(mismatch(e)),
-        },
-        Ty::String => Value::Text(vba_text(&v).map_err(mismatch)?),
-        Ty::Boolean => Value::Bool(to_bool(&v).map_err(mismatch)?),
-        Ty::Variant | Ty::Record(_) => v,
-    }))
-}
-
-/// How `Debug.Print` shows a value: as a cell shows it, booleans in VBA's spelling.
-pub fn print_text(v: &Value) -> String {
-    match v {
-        Value::Bool(b) => if *b { "True" } else { "False" }.to_string(),
-        other => other.to_string(),
-    }
-}
-
 /// A workbook error on one line (a formula's parse error with its column, not a caret).
 pub fn one_line(e: &WorkbookError) -> String {
     match e {
@@ -1396,18 +1140,6 @@ pub fn one_line(e: &WorkbookError) -> String {
             format!("{place}: {text}: column {}: {}", error.column(text), error.message)
         }
         other => other.to_string(),
-    }
-}
-
-/// What to type into a cell for a value (VBA's Range.Value = v).
-pub fn input_text(v: &Value) -> String {
-    match v {
-        Value::Blank => String::new(),
-        Value::Number(n) => crate::formula::print::number_literal(*n),
-        Value::Bool(b) => if *b { "TRUE" } else { "FALSE" }.to_string(),
-        Value::Text(t) => t.to_string(),
-        Value::Error(e) => e.as_str().to_string(),
-        Value::Array(a) => a.data.first().map(input_text).unwrap_or_default(),
     }
 }
 

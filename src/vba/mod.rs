@@ -5,7 +5,8 @@
 //! (grammar/formula.pest + grammar/macro.pest); `interp.rs` walks the statements and hands
 //! every expression to the one evaluator, which reads macro variables and macro-only nodes
 //! (`Range("B3").Value`, calls of the module's Functions) through its `Host` hook;
-//! `objects.rs` holds the objects (`Range`, `Cells`, `Worksheets`, `Application`, `Nc`, …).
+//! `objects.rs` holds the objects (`Range`, `Cells`, `Worksheets`, `Application`, …), `nc.rs`
+//! the `Nc` object.
 //!
 //! **Architecture Invariant:** a macro cannot reach files, programs or the system: the
 //! language has no such statement or object (`Open`, `Kill`, `Shell`, `CreateObject`,
@@ -88,11 +89,15 @@
 
 mod arrays;
 pub mod ast;
+mod host;
 mod interp;
+mod nc;
 mod objects;
 pub mod ovba;
 pub mod parser;
 pub mod project;
+mod resolve;
+mod value;
 
 use std::fmt;
 

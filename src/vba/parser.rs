@@ -3,10 +3,7 @@
 //! ([`build_expr`]), which hands back the primaries only macros have (variables, member
 //! paths, `[B3]`) through [`HostPrimaries`].
 //!
-//! Names are resolved here, once: a variable, a procedure of the module, one of VBA's
-//! functions (`VBA.*` rows of the function table), an object (`Range`, `Cells`, `Nc`, …) or a
-//! sheet function, in that order. File and program access has no name to resolve to: the
-//! parser refuses `Open`, `Kill`, `Shell`, `CreateObject` … with a message that says so.
+//! Names are resolved while building, once, by `resolve.rs`.
 
 use crate::formula::limits;
 use std::cell::{Cell, RefCell};
@@ -16,15 +13,13 @@ use pest::error::{ErrorVariant, InputLocation};
 use pest::iterators::Pair;
 use pest::Parser;
 
-use crate::eval::functions::{vba::PREFIX, Registry};
+use crate::eval::functions::Registry;
 use crate::formula::address::Pos;
 use crate::formula::ast::{BinOp, Expr, ExprKind, SheetId, Span as ByteSpan};
-use crate::formula::parse::{
-    build_expr, is_operator, strip_future_prefix, FormulaGrammar, FunctionTable, HostPrimaries, ParseContext,
-    ParseError, Rule,
-};
+use crate::formula::parse::{build_expr, is_operator, FormulaGrammar, HostPrimaries, ParseContext, ParseError, Rule};
 
 use super::ast::*;
+use super::resolve::{is_object, lower_bare, refusal, FORBIDDEN};
 
 /// Where byte offsets of the source fall in lines and columns.
 pub struct Lines {
@@ -56,7 +51,7 @@ impl Lines {
 /// A syntax error: where (byte offset) and why.
 pub type SyntaxError = ParseError;
 
-type Res<T> = Result<T, ParseError>;
+pub(super) type Res<T> = Result<T, ParseError>;
 
 /// Parses a module. `sheets` resolves sheet names written in `[Sheet2!A1]` brackets.
 pub fn parse_module(src: &str, sheets: &dyn Fn(&str) -> Option<SheetId>) -> Result<Module, SyntaxError> {
@@ -168,134 +163,33 @@ fn describe(rule: Rule) -> &'static str {
     }
 }
 
-/// Names that would reach files, other programs or the system. The language has none of
-/// them; the parser says so instead of "not defined".
-const FORBIDDEN: &[&str] = &[
-    "appactivate",
-    "callbyname",
-    "chdir",
-    "chdrive",
-    "close",
-    "createobject",
-    "curdir",
-    "deletesetting",
-    "dir",
-    "environ",
-    "eof",
-    "exportasfixedformat",
-    "filecopy",
-    "filedatetime",
-    "filelen",
-    "followhyperlink",
-    "freefile",
-    "getallsettings",
-    "getattr",
-    "getobject",
-    "getsetting",
-    "kill",
-    "loc",
-    "lof",
-    "mkdir",
-    "open",
-    "printout",
-    "rmdir",
-    "save",
-    "saveas",
-    "savecopyas",
-    "savesetting",
-    "sendkeys",
-    "setattr",
-    "shell",
-    "workbooks",
-];
-
-fn refusal(name: &str) -> String {
-    format!(
-        "{name}: a macro cannot touch files or run programs (the language has no Open, Kill, Shell, \
-         CreateObject, …); read and write cells, and let `ncsheet run -o FILE` write the program"
-    )
-}
-
-/// Objects a path can start from (lower case).
-const OBJECTS: &[&str] = &[
-    "activesheet",
-    "activeworkbook",
-    "application",
-    "cells",
-    "debug",
-    "err",
-    "evaluate",
-    "inputbox",
-    "msgbox",
-    "nc",
-    "range",
-    "sheets",
-    "thisworkbook",
-    "worksheetfunction",
-    "worksheets",
-];
-
-/// Objects that are called like procedures: `MsgBox "done"` as a statement.
-fn is_object(lower: &str) -> bool {
-    OBJECTS.contains(&lower)
-}
-
-/// VBA's constants, as literals.
-fn constant(lower: &str) -> Option<ExprKind> {
-    let text = |s: &str| Some(ExprKind::Text(s.into()));
-    let number = |n: f64| Some(ExprKind::Number(n));
-    match lower {
-        "vbcrlf" => text("\r\n"),
-        "vbnewline" | "vblf" => text("\n"),
-        "vbcr" => text("\r"),
-        "vbtab" => text("\t"),
-        "vbnullstring" => text(""),
-        "empty" | "nothing" => Some(ExprKind::Missing),
-        "vbokonly" => number(0.0),
-        "vbok" => number(1.0),
-        "vbcancel" => number(2.0),
-        "vbyesno" => number(4.0),
-        "vbyes" => number(6.0),
-        "vbno" => number(7.0),
-        "vbcritical" => number(16.0),
-        "vbquestion" => number(32.0),
-        "vbexclamation" => number(48.0),
-        "vbinformation" => number(64.0),
-        _ => None,
-    }
-}
-
-fn lower_bare(name: &str) -> String {
-    name.trim_end_matches('$').to_ascii_lowercase()
-}
-
 /// What a call of a procedure is checked against.
-struct Signature {
-    name: Rc<str>,
-    kind: ProcKind,
-    params: Vec<Rc<str>>,
+pub(super) struct Signature {
+    pub(super) name: Rc<str>,
+    pub(super) kind: ProcKind,
+    pub(super) params: Vec<Rc<str>>,
     /// How many parameters come before the first Optional one.
-    required: usize,
+    pub(super) required: usize,
 }
 
 /// What the parser knows while it builds one procedure.
 #[derive(Default)]
-struct Scope {
+pub(super) struct Scope {
     /// The Function being built: its name is its result variable.
-    function: Option<Rc<str>>,
+    pub(super) function: Option<Rc<str>>,
     /// Declared or assigned names, lower case.
-    vars: Vec<String>,
+    pub(super) vars: Vec<String>,
 }
 
-struct Build<'s> {
+pub(super) struct Build<'s> {
     src: &'s str,
     sheets: &'s dyn Fn(&str) -> Option<SheetId>,
     /// Every procedure's signature, by index.
-    procs: Vec<Signature>,
-    globals: RefCell<Vec<String>>,
-    scope: RefCell<Scope>,
+    pub(super) procs: Vec<Signature>,
+    pub(super) globals: RefCell<Vec<String>>,
+    pub(super) scope: RefCell<Scope>,
     nodes: RefCell<Vec<Node>>,
-    explicit: Cell<bool>,
+    pub(super) explicit: Cell<bool>,
     base: Cell<i64>,
     /// The names of the module's Types, by index.
     types: RefCell<Vec<Rc<str>>>,
@@ -304,7 +198,7 @@ struct Build<'s> {
     lines: Lines,
 }
 
-fn start(pair: &Pair<Rule>) -> usize {
+pub(super) fn start(pair: &Pair<Rule>) -> usize {
     pair.as_span().start()
 }
 
@@ -363,11 +257,11 @@ impl<'s> Build<'s> {
         Ok(Build { procs, ..b })
     }
 
-    fn error_at(&self, pair: &Pair<Rule>, message: impl Into<String>) -> ParseError {
+    pub(super) fn error_at(&self, pair: &Pair<Rule>, message: impl Into<String>) -> ParseError {
         ParseError { offset: start(pair), message: message.into() }
     }
 
-    fn span(&self, offset: usize) -> Span {
+    pub(super) fn span(&self, offset: usize) -> Span {
         self.lines.span(self.src, offset)
     }
 
@@ -379,44 +273,10 @@ impl<'s> Build<'s> {
         build_expr(pair, &self.ctx(), Some(self))
     }
 
-    fn node(&self, node: Node, at: usize, end: usize) -> Expr {
+    pub(super) fn node(&self, node: Node, at: usize, end: usize) -> Expr {
         let mut nodes = self.nodes.borrow_mut();
         nodes.push(node);
         Expr::new(ExprKind::Host(nodes.len() as u32 - 1), ByteSpan { start: at as u32, end: end as u32 })
-    }
-
-    // ---- names -----------------------------------------------------------------------
-
-    fn is_var(&self, name: &str) -> bool {
-        let lower = name.to_ascii_lowercase();
-        self.scope.borrow().vars.contains(&lower) || self.globals.borrow().contains(&lower)
-    }
-
-    fn declare(&self, name: &str) {
-        let lower = name.to_ascii_lowercase();
-        let mut scope = self.scope.borrow_mut();
-        if !scope.vars.contains(&lower) {
-            scope.vars.push(lower);
-        }
-    }
-
-    fn proc_index(&self, name: &str) -> Option<usize> {
-        self.procs.iter().position(|p| p.name.eq_ignore_ascii_case(name))
-    }
-
-    /// A variable used where none is declared: an error under Option Explicit, else declared.
-    fn implicit(&self, pair_offset: usize, name: &str) -> Res<()> {
-        if self.is_var(name) {
-            return Ok(());
-        }
-        if self.explicit.get() {
-            return Err(ParseError {
-                offset: pair_offset,
-                message: format!("variable {name} is not declared (Option Explicit): add Dim {name}"),
-            });
-        }
-        self.declare(name);
-        Ok(())
     }
 
     // ---- module ----------------------------------------------------------------------
@@ -717,10 +577,6 @@ impl<'s> Build<'s> {
         }
     }
 
-    fn is_own_function(&self, name: &str) -> bool {
-        self.scope.borrow().function.as_deref().is_some_and(|f| f.eq_ignore_ascii_case(name))
-    }
-
     fn call_stmt(&self, pair: &Pair<Rule>) -> Res<Expr> {
         let k = kids(pair);
         if let Some(path) = find(&k, Rule::path) {
@@ -964,7 +820,7 @@ impl<'s> Build<'s> {
         Ok(Link { name: name_of(name), args, span })
     }
 
-    fn path_syntax(&self, pair: &Pair<Rule>) -> Res<Path> {
+    pub(super) fn path_syntax(&self, pair: &Pair<Rule>) -> Res<Path> {
         let mut path = Path { with: false, links: Vec::new(), span: self.span(start(pair)) };
         for part in pair.clone().into_inner() {
             match part.as_rule() {
@@ -973,202 +829,6 @@ impl<'s> Build<'s> {
             }
         }
         Ok(path)
-    }
-
-    fn path_expr(&self, pair: Pair<Rule>, statement: bool) -> Res<Expr> {
-        let path = self.path_syntax(&pair)?;
-        self.resolve(&pair, path, statement, pair.as_span().end())
-    }
-
-    /// Decides what a path names (see the module doc for the order).
-    fn resolve(&self, pair: &Pair<Rule>, mut path: Path, statement: bool, end: usize) -> Res<Expr> {
-        let at = start(pair);
-        if path.with {
-            self.check_path(pair, &path)?;
-            return Ok(self.node(Node::Path(path), at, end));
-        }
-        if path.links.len() == 1 {
-            let link = path.links.pop().expect("one link");
-            return self.single(pair, link, statement, end);
-        }
-        if let Some(call) = self.qualified_call(pair, &mut path)? {
-            return Ok(call);
-        }
-        self.check_path(pair, &path)?;
-        let root = &path.links[0];
-        if !self.is_var(&root.name) && !is_object(&lower_bare(&root.name)) {
-            return Err(self.error_at(pair, format!("{} is not an object or a variable", root.name)));
-        }
-        Ok(self.node(Node::Path(path), at, end))
-    }
-
-    /// Refuses paths that reach files (`Workbooks.Open`, `ThisWorkbook.SaveAs`).
-    fn check_path(&self, pair: &Pair<Rule>, path: &Path) -> Res<()> {
-        for (i, link) in path.links.iter().enumerate() {
-            let lower = lower_bare(&link.name);
-            let is_var = i == 0 && !path.with && self.is_var(&link.name);
-            if FORBIDDEN.contains(&lower.as_str()) && !is_var {
-                return Err(self.error_at(pair, refusal(&link.name)));
-            }
-        }
-        Ok(())
-    }
-
-    /// `VBA.Sqr(x)`, `WorksheetFunction.Sum(…)`, `Application.WorksheetFunction.Sum(…)`:
-    /// rows of the function table, checked here like any call.
-    fn qualified_call(&self, pair: &Pair<Rule>, path: &mut Path) -> Res<Option<Expr>> {
-        let names: Vec<String> = path.links.iter().map(|l| lower_bare(&l.name)).collect();
-        let qualifier_len = match names.iter().map(String::as_str).collect::<Vec<_>>().as_slice() {
-            ["vba", _] => 1,
-            ["worksheetfunction", _] => 1,
-            ["application", "worksheetfunction", _] => 2,
-            _ => return Ok(None),
-        };
-        if path.links[..qualifier_len].iter().any(|l| l.args.is_some()) {
-            return Ok(None);
-        }
-        let link = path.links.pop().expect("function link");
-        let name =
-            if names[0] == "vba" { format!("{PREFIX}{}", lower_bare(&link.name)) } else { link.name.to_string() };
-        if FORBIDDEN.contains(&lower_bare(&link.name).as_str()) {
-            return Err(self.error_at(pair, refusal(&link.name)));
-        }
-        if names[0] != "vba" && name.to_ascii_uppercase().starts_with(PREFIX) {
-            return Err(self.error_at(pair, format!("{name} is one of VBA's functions, not a worksheet function")));
-        }
-        match self.function_call(pair, &name, &link)? {
-            Some(e) => Ok(Some(e)),
-            None => Err(self.error_at(pair, format!("{} is not a function of {}", link.name, path.links[0].name))),
-        }
-    }
-
-    /// A call of a row of the function table by `name`, with `link`'s arguments.
-    fn function_call(&self, pair: &Pair<Rule>, name: &str, link: &Link) -> Res<Option<Expr>> {
-        let Some(info) = Registry.lookup(strip_future_prefix(name)) else { return Ok(None) };
-        let args = link.args.as_deref().unwrap_or(&[]);
-        if args.iter().any(|a| a.name.is_some()) {
-            return Err(
-                self.error_at(pair, format!("{}: named arguments (x:=) are for the macro's own procedures", link.name))
-            );
-        }
-        if args.len() < info.min_args || args.len() > info.max_args {
-            return Err(self.error_at(pair, arity_message(&link.name, info.min_args, info.max_args, args.len())));
-        }
-        let exprs = args.iter().map(|a| a.value.clone()).collect();
-        let span = ByteSpan { start: start(pair) as u32, end: pair.as_span().end() as u32 };
-        Ok(Some(Expr::new(ExprKind::Call(info.id, exprs), span)))
-    }
-
-    /// VBA's functions that are called without parentheses (`Debug.Print Now`): the bare
-    /// name, when no variable has it, is the call, as in VBA.
-    fn bare_function(&self, pair: &Pair<Rule>, link: &Link) -> Res<Option<Expr>> {
-        const CALLED_BARE: [&str; 5] = ["now", "date", "time", "timer", "rnd"];
-        let lower = lower_bare(&link.name);
-        if !CALLED_BARE.contains(&lower.as_str()) {
-            return Ok(None);
-        }
-        match self.function_call(pair, &format!("{PREFIX}{lower}"), link)? {
-            Some(call) => Ok(Some(call)),
-            None => self.function_call(pair, &link.name, link),
-        }
-    }
-
-    /// A path of one name: a variable, constant, procedure, VBA function, object or sheet function.
-    fn single(&self, pair: &Pair<Rule>, link: Link, statement: bool, end: usize) -> Res<Expr> {
-        let at = start(pair);
-        let span = ByteSpan { start: at as u32, end: end as u32 };
-        let lower = lower_bare(&link.name);
-        let is_var = self.is_var(&link.name);
-        if FORBIDDEN.contains(&lower.as_str()) && !is_var {
-            return Err(self.error_at(pair, refusal(&link.name)));
-        }
-        let Some(args) = &link.args else {
-            if let Some(kind) = constant(&lower) {
-                return Ok(Expr::new(kind, span));
-            }
-            if is_var {
-                if statement {
-                    return Err(self.error_at(pair, format!("{}: a statement cannot be just a value", link.name)));
-                }
-                return Ok(Expr::new(ExprKind::Name(link.name.clone()), span));
-            }
-            if let Some(proc) = self.proc_index(&link.name) {
-                return self.proc_call(pair, proc, Vec::new(), statement, end);
-            }
-            if is_object(&lower) {
-                let path = Path { with: false, links: vec![link], span: self.span(at) };
-                return Ok(self.node(Node::Path(path), at, end));
-            }
-            if statement {
-                return Err(self.error_at(pair, format!("no Sub named {}", link.name)));
-            }
-            if let Some(call) = self.bare_function(pair, &link)? {
-                return Ok(call);
-            }
-            self.implicit(at, &link.name)?;
-            return Ok(Expr::new(ExprKind::Name(link.name.clone()), span));
-        };
-        if let Some(proc) = self.proc_index(&link.name).filter(|_| !is_var || self.is_own_function(&link.name)) {
-            let args = link.args.expect("arguments");
-            return self.proc_call(pair, proc, args, statement, end);
-        }
-        if is_var {
-            let index = args.iter().map(|a| a.value.clone()).collect();
-            return Ok(self.node(Node::Element { var: link.name.clone(), index, span: self.span(at) }, at, end));
-        }
-        if lower == "ubound" || lower == "lbound" {
-            return self.bound(pair, &link, lower == "ubound", end);
-        }
-        if let Some(call) = self.function_call(pair, &format!("{PREFIX}{lower}"), &link)? {
-            return Ok(call);
-        }
-        if is_object(&lower) {
-            let path = Path { with: false, links: vec![link], span: self.span(at) };
-            return Ok(self.node(Node::Path(path), at, end));
-        }
-        match self.function_call(pair, &link.name, &link)? {
-            Some(call) => Ok(call),
-            None => Err(self.error_at(pair, format!("no Function, Sub or sheet function named {}", link.name))),
-        }
-    }
-
-    fn proc_call(&self, pair: &Pair<Rule>, proc: usize, args: Vec<Arg>, statement: bool, end: usize) -> Res<Expr> {
-        let Signature { name, kind, params, required } = &self.procs[proc];
-        if *kind == ProcKind::Sub && !statement {
-            return Err(self.error_at(pair, format!("Sub {name} has no value; call it as a statement")));
-        }
-        let positional = args.iter().take_while(|a| a.name.is_none()).count();
-        if args.len() > params.len() {
-            return Err(self.error_at(pair, arity_message(name, *required, params.len(), args.len())));
-        }
-        for a in &args[positional..] {
-            let Some(arg_name) = &a.name else {
-                return Err(self.error_at(pair, "a positional argument cannot follow a named one"));
-            };
-            if !params.iter().any(|p| p.eq_ignore_ascii_case(arg_name)) {
-                return Err(self.error_at(pair, format!("{name} has no parameter {arg_name}")));
-            }
-        }
-        let given = |i: usize, p: &str| {
-            args.get(i).is_some_and(|a| a.name.is_none() && a.value.kind != ExprKind::Missing)
-                || args.iter().any(|a| a.name.as_deref().is_some_and(|n| n.eq_ignore_ascii_case(p)))
-        };
-        if let Some(missing) = params.iter().take(*required).enumerate().find(|(i, p)| !given(*i, p)) {
-            return Err(self.error_at(pair, format!("{name}: argument {} is not optional", missing.1)));
-        }
-        let at = start(pair);
-        Ok(self.node(Node::Call { proc, args, span: self.span(at) }, at, end))
-    }
-
-    fn bound(&self, pair: &Pair<Rule>, link: &Link, upper: bool, end: usize) -> Res<Expr> {
-        let args = link.args.as_deref().unwrap_or(&[]);
-        let var = match args.first().map(|a| &a.value.kind) {
-            Some(ExprKind::Name(n)) if args.len() <= 2 => n.clone(),
-            _ => return Err(self.error_at(pair, format!("{}(array, [dimension]) needs an array variable", link.name))),
-        };
-        let dim = args.get(1).map(|a| a.value.clone());
-        let at = start(pair);
-        Ok(self.node(Node::Bound { upper, var, dim, span: self.span(at) }, at, end))
     }
 }
 
@@ -1214,7 +874,7 @@ fn on_error(pair: &Pair<Rule>) -> OnError {
     }
 }
 
-fn arity_message(name: &str, min: usize, max: usize, got: usize) -> String {
+pub(super) fn arity_message(name: &str, min: usize, max: usize, got: usize) -> String {
     let wanted = match (min, max) {
         (a, b) if a == b => format!("{a}"),
         (a, b) if b >= 255 => format!("at least {a}"),

@@ -303,9 +303,7 @@ impl Workbook {
 
     /// Sets a cell to a formula given as a tree (as if typed at `pos`) and recalculates.
     pub fn set_formula_tree(&mut self, sheet: SheetId, pos: Pos, tree: Expr) -> Vec<Problem> {
-        let fid = self.formulas.add(None, SharedFormula::new(tree));
-        let id = self.cleared_cell(sheet, pos);
-        self.install_formula(id, fid);
+        self.set_formula_tree_deferred(sheet, pos, tree);
         self.recalculate_edit(sheet, pos)
     }
 
@@ -367,6 +365,15 @@ impl Workbook {
             }
             Input::Formula(f) => self.set_formula(sheet, pos, &f),
         }
+    }
+
+    /// Sets a cell to a formula given as a tree (as if typed at `pos`) without recalculating
+    /// (a file reader's path for a formula it rewrote as a tree); call
+    /// [`Workbook::recalculate`] after a batch.
+    pub fn set_formula_tree_deferred(&mut self, sheet: SheetId, pos: Pos, tree: Expr) {
+        let fid = self.formulas.add(None, SharedFormula::new(tree));
+        let id = self.cleared_cell(sheet, pos);
+        self.install_formula(id, fid);
     }
 
     /// Sets a constant value without recalculating (a file reader's path: no text round trip,
@@ -519,14 +526,7 @@ impl Workbook {
     /// Defines (or redefines) a name, workbook-wide or for one sheet. References in it are
     /// read as from cell A1 of its sheet, so write them absolute (`$B$3`) as Excel stores them.
     pub fn define_name(&mut self, name: &str, formula: &str, scope: Option<SheetId>) -> Result<(), WorkbookError> {
-        let valid = name.chars().next().is_some_and(|c| c.is_alphabetic() || c == '_' || c == '\\')
-            && name.chars().all(|c| c.is_alphanumeric() || matches!(c, '_' | '.' | '\\'))
-            && crate::formula::address::parse_cell(name).is_none()
-            && !name.eq_ignore_ascii_case("TRUE")
-            && !name.eq_ignore_ascii_case("FALSE");
-        if !valid {
-            return Err(WorkbookError::BadName(name.to_string()));
-        }
+        check_name(name)?;
         let sheets = |name: &str| self.sheet_id(name);
         let ctx = ParseContext { at: Pos::new(0, 0), functions: &Registry, sheet: &sheets };
         let expr = parse_name_formula(formula, &ctx).map_err(|error| WorkbookError::Parse {
@@ -534,6 +534,12 @@ impl Workbook {
             text: formula.to_string(),
             error,
         })?;
+        self.define_name_tree(name, expr, scope)
+    }
+
+    /// [`Workbook::define_name`] of a formula given as a tree (read as from A1 of its sheet).
+    pub fn define_name_tree(&mut self, name: &str, expr: Expr, scope: Option<SheetId>) -> Result<(), WorkbookError> {
+        check_name(name)?;
         self.names.retain(|n| !(n.name.eq_ignore_ascii_case(name) && n.scope == scope));
         self.names.push(DefinedName { name: name.to_string(), expr: Rc::new(expr), scope });
         if let Some(log) = &mut self.changes {
@@ -813,5 +819,19 @@ impl Workbook {
     pub fn notes(&self, sheet: SheetId, pos: Pos) -> Vec<String> {
         let Some(id) = self.sheets.get(sheet as usize).and_then(|s| s.get(pos)) else { return Vec::new() };
         self.notes.get(&id).map(|ns| ns.iter().map(|n| n.message.clone()).collect()).unwrap_or_default()
+    }
+}
+
+/// A name Excel accepts for a defined name: not a cell address, not TRUE or FALSE.
+fn check_name(name: &str) -> Result<(), WorkbookError> {
+    let valid = name.chars().next().is_some_and(|c| c.is_alphabetic() || c == '_' || c == '\\')
+        && name.chars().all(|c| c.is_alphanumeric() || matches!(c, '_' | '.' | '\\'))
+        && crate::formula::address::parse_cell(name).is_none()
+        && !name.eq_ignore_ascii_case("TRUE")
+        && !name.eq_ignore_ascii_case("FALSE");
+    if valid {
+        Ok(())
+    } else {
+        Err(WorkbookError::BadName(name.to_string()))
     }
 }

@@ -350,27 +350,23 @@ fn hide_rows(wb: &mut Workbook, package: &mut Package, entry: &SheetEntry, sheet
 /// Formula text as stored → as typed: references into linked workbooks become the values
 /// Excel cached, structured references to tables the ranges they name, the file's function
 /// spellings ours.
-fn typed_formula<'t>(text: &'t str, wb: &Workbook, book: &BookParts, sheet: SheetId, pos: Pos) -> Cow<'t, str> {
+fn typed_formula<'t>(text: &'t str, book: &BookParts, sheet: SheetId, pos: Pos) -> Cow<'t, str> {
     let text = match sheet_span::ref_errors_without_sheet(text) {
         Cow::Borrowed(text) => external::resolve_links(text, &book.links),
         Cow::Owned(text) => Cow::Owned(external::resolve_links(&text, &book.links).into_owned()),
     };
     match text {
-        Cow::Borrowed(text) => local_formula(text, wb, book, sheet, pos),
-        Cow::Owned(text) => Cow::Owned(local_formula(&text, wb, book, sheet, pos).into_owned()),
+        Cow::Borrowed(text) => local_formula(text, book, sheet, pos),
+        Cow::Owned(text) => Cow::Owned(local_formula(&text, book, sheet, pos).into_owned()),
     }
 }
 
 /// [`typed_formula`] of a formula that reads only this workbook.
-fn local_formula<'t>(text: &'t str, wb: &Workbook, book: &BookParts, sheet: SheetId, pos: Pos) -> Cow<'t, str> {
+fn local_formula<'t>(text: &'t str, book: &BookParts, sheet: SheetId, pos: Pos) -> Cow<'t, str> {
     let name = |s: SheetId| book.sheet_names.get(s as usize).cloned().unwrap_or_default();
-    let text = match tables::resolve_structured(text, &book.tables, sheet, pos, &name) {
+    match tables::resolve_structured(text, &book.tables, sheet, pos, &name) {
         Cow::Borrowed(text) => sheet_span::expand_sheet_spans(text, &book.sheet_names),
         Cow::Owned(text) => Cow::Owned(sheet_span::expand_sheet_spans(&text, &book.sheet_names).into_owned()),
-    };
-    match text {
-        Cow::Borrowed(text) => syntax::from_file(text, wb, sheet, pos),
-        Cow::Owned(text) => Cow::Owned(syntax::from_file(&text, wb, sheet, pos).into_owned()),
     }
 }
 
@@ -485,8 +481,13 @@ impl<'a> SheetImport<'a> {
         let (sheet, wb) = (self.sheet, &mut imported.workbook);
         self.typed.clear();
         self.typed.push('=');
-        self.typed.push_str(&typed_formula(text, wb, self.book, sheet, pos));
-        let _ = wb.set_input_deferred(sheet, pos, &self.typed);
+        self.typed.push_str(&typed_formula(text, self.book, sheet, pos));
+        match syntax::tree_from_file(&self.typed[1..], wb, sheet, pos) {
+            Some(tree) => wb.set_formula_tree_deferred(sheet, pos, tree),
+            None => {
+                let _ = wb.set_input_deferred(sheet, pos, &self.typed);
+            }
+        }
         if plain && (self.typed.contains(':') || makes_references(text) || self.uses_range_name()) {
             self.legacy_ranges.push((sheet, pos));
         }
@@ -590,8 +591,12 @@ fn define_names(
             },
         };
         let wb = &mut imported.workbook;
-        let formula = typed_formula(&n.formula, wb, book, scope.unwrap_or(0), Pos::new(0, 0)).into_owned();
-        if let Err(e) = wb.define_name(&n.name, &formula, scope) {
+        let formula = typed_formula(&n.formula, book, scope.unwrap_or(0), Pos::new(0, 0));
+        let defined = match syntax::tree_from_file(&formula, wb, scope.unwrap_or(0), Pos::new(0, 0)) {
+            Some(tree) => wb.define_name_tree(&n.name, tree, scope),
+            None => wb.define_name(&n.name, &formula, scope),
+        };
+        if let Err(e) = defined {
             imported.notes.push(format!("name {} ({}) was left out: {e}", n.name, n.formula));
         }
     }

@@ -13,23 +13,23 @@
 //! Export prints the workbook's trees (`Workbook::formula_tree`), never its text; import
 //! takes a fast path: text without these operators needs no parse.
 
-use std::borrow::Cow;
-
 use crate::eval::functions::{find, spec, Registry};
 use crate::formula::address::Pos;
 use crate::formula::ast::*;
 use crate::formula::parse::strip_future_prefix;
-use crate::formula::print::{print_spelled, AsTyped, OperatorSpelling, Spelling};
+use crate::formula::print::{print_spelled, OperatorSpelling, Spelling};
 use crate::workbook::Workbook;
 
-/// A formula as stored in a file (no leading `=`) → as typed (no leading `=`).
-pub fn from_file<'t>(text: &'t str, wb: &Workbook, sheet: SheetId, pos: Pos) -> Cow<'t, str> {
+/// A formula as stored in a file (no leading `=`) that writes the spill or the intersection
+/// operator as a function: its tree with the operators back. `None` when the text has
+/// neither (it is read as typed) or does not parse (it is stored as typed, as `#NAME?`).
+pub fn tree_from_file(text: &str, wb: &Workbook, sheet: SheetId, pos: Pos) -> Option<Expr> {
     if !calls_any(text, &["ANCHORARRAY", "SINGLE"]) {
-        return Cow::Borrowed(text);
+        return None;
     }
-    let Ok(mut expr) = wb.parse_at(text, sheet, pos) else { return Cow::Borrowed(text) };
+    let mut expr = wb.parse_at(text, sheet, pos).ok()?;
     operators_from_file(&mut expr);
-    Cow::Owned(print(&expr, wb, pos, &AsTyped))
+    Some(expr)
 }
 
 /// How a formula is stored: which decides how `@` is written.
@@ -328,6 +328,7 @@ fn print(expr: &Expr, wb: &Workbook, pos: Pos, spelling: &dyn Spelling) -> Strin
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::formula::print::AsTyped;
 
     /// Typed formula text as a file stores it.
     fn file_text(text: &str, wb: &Workbook, sheet: SheetId, at: Pos, storage: Storage) -> String {
@@ -344,10 +345,11 @@ mod tests {
     fn spill_and_implicit_intersection_come_back_as_operators() {
         let wb = book();
         let at = Pos::new(4, 2);
-        assert_eq!(from_file("SUM(_xlfn.ANCHORARRAY(A1))", &wb, 0, at), "SUM(A1#)");
-        assert_eq!(from_file("_xlfn.SINGLE(A1:A9)*2", &wb, 0, at), "@A1:A9*2");
-        assert_eq!(from_file("_xlfn.SINGLE(A1+1)", &wb, 0, at), "@(A1+1)");
-        assert_eq!(from_file("SUM('Data sheet'!A1:B2)", &wb, 0, at), "SUM('Data sheet'!A1:B2)");
+        let typed = |text: &str| tree_from_file(text, &wb, 0, at).map(|e| print(&e, &wb, at, &AsTyped));
+        assert_eq!(typed("SUM(_xlfn.ANCHORARRAY(A1))").as_deref(), Some("SUM(A1#)"));
+        assert_eq!(typed("_xlfn.SINGLE(A1:A9)*2").as_deref(), Some("@A1:A9*2"));
+        assert_eq!(typed("_xlfn.SINGLE(A1+1)").as_deref(), Some("@(A1+1)"));
+        assert_eq!(typed("SUM('Data sheet'!A1:B2)"), None);
     }
 
     #[test]

@@ -1,0 +1,144 @@
+//! The bridge to the one evaluator: the interpreter is its [`Env`] (cells, read through the
+//! macro's workbook) and its [`Host`] (macro variables and the nodes only macros have).
+
+use std::rc::Rc;
+
+use crate::eval::evaluator::Host;
+use crate::eval::{Ctx, Env, Operand, Value, XlError};
+use crate::formula::address::{Pos, Rect};
+use crate::formula::ast::{Expr, SheetId};
+
+use super::ast::{Node, Span};
+use super::interp::{Fault, Interp, Run};
+use super::value::{Obj, Var};
+use super::ErrorKind;
+
+impl Env for Interp<'_, '_> {
+    fn value(&self, sheet: SheetId, pos: Pos) -> Value {
+        self.wb.borrow().value(sheet, pos)
+    }
+
+    fn for_each_value(&self, sheet: SheetId, rect: Rect, f: &mut dyn FnMut(Pos, &Value)) {
+        // Collected first: `f` may run macro code that writes cells.
+        let mut items = Vec::new();
+        self.wb.borrow().for_each_value(sheet, rect, &mut |p, v| items.push((p, v.clone())));
+        for (p, v) in items {
+            f(p, &v);
+        }
+    }
+
+    fn used_rect(&self, sheet: SheetId) -> Option<Rect> {
+        Env::used_rect(&**self.wb.borrow(), sheet)
+    }
+
+    fn defined_name(&self, name: &str, sheet: SheetId) -> Option<(Rc<Expr>, SheetId)> {
+        self.wb.borrow().defined_name(name, sheet)
+    }
+
+    fn spill_rect(&self, sheet: SheetId, pos: Pos) -> Option<Rect> {
+        self.wb.borrow().spill_rect(sheet, pos)
+    }
+
+    fn sheet_count(&self) -> usize {
+        self.wb.borrow().sheet_count()
+    }
+
+    fn sheet_name(&self, sheet: SheetId) -> Option<String> {
+        Env::sheet_name(&**self.wb.borrow(), sheet)
+    }
+
+    fn sheet_id(&self, name: &str) -> Option<SheetId> {
+        self.wb.borrow().sheet_id(name)
+    }
+
+    fn formula_text(&self, sheet: SheetId, pos: Pos) -> Option<String> {
+        self.wb.borrow().formula_text(sheet, pos)
+    }
+
+    fn is_subtotal(&self, sheet: SheetId, pos: Pos) -> bool {
+        self.wb.borrow().is_subtotal(sheet, pos)
+    }
+
+    fn date_1904(&self) -> bool {
+        self.wb.borrow().date_1904()
+    }
+}
+
+impl Host for Interp<'_, '_> {
+    fn variable(&self, name: &str) -> Option<Operand> {
+        Some(match self.lookup(name) {
+            None => Operand::Value(Value::Blank),
+            Some(Var::Value(v)) => Operand::Value(v),
+            Some(Var::Array(a)) => Operand::Value(Value::Array(a.data)),
+            Some(Var::Obj(Obj::Range(sheet, rect))) => Operand::Ref(sheet, rect),
+            Some(Var::Obj(Obj::Value(v))) => Operand::Value(v),
+            Some(Var::Record(..)) => {
+                self.park(self.fault(format!("{name} is a Type value: use its fields ({name}.Field)")));
+                Operand::Value(Value::Error(XlError::Value))
+            }
+            Some(Var::Obj(other)) => {
+                self.park(self.fault(format!("{name} is {}, not a value", other.describe())));
+                Operand::Value(Value::Error(XlError::Value))
+            }
+        })
+    }
+
+    fn node(&self, ctx: &mut Ctx, id: u32) -> Operand {
+        if self.pending.borrow().is_some() || self.ended.get() {
+            return Operand::Value(Value::Error(XlError::Value));
+        }
+        match self.node_operand(ctx, id) {
+            Ok(operand) => operand,
+            Err(fault) => {
+                self.park(fault);
+                Operand::Value(Value::Error(XlError::Value))
+            }
+        }
+    }
+
+    fn text_limit(&self) -> usize {
+        self.options.max_string
+    }
+
+    fn text_too_long(&self, limit: usize) {
+        let mut f = self.fault(format!(
+            "a string longer than {limit} characters (ncsheet's limit for macro strings; raise it with --max-string)"
+        ));
+        f.kind = ErrorKind::Limit;
+        self.park(f);
+    }
+}
+
+impl Interp<'_, '_> {
+    fn park(&self, fault: Fault) {
+        let mut pending = self.pending.borrow_mut();
+        if pending.is_none() {
+            *pending = Some(fault);
+        }
+    }
+
+    fn node_operand(&self, ctx: &mut Ctx, id: u32) -> Run<Operand> {
+        match &self.module.nodes[id as usize] {
+            Node::Call { proc, args, span } => self.call(ctx, *proc, args, *span).map(Operand::Value),
+            Node::Path(path) => {
+                let obj = self.path(ctx, path)?;
+                self.operand_of(obj, path.span)
+            }
+            Node::Element { var, index, span } => self.element(ctx, var, index, *span),
+            Node::Bound { upper, var, dim, span } => {
+                self.bound(ctx, *upper, var, dim.as_ref(), *span).map(Operand::Value)
+            }
+            Node::Evaluate { expr, .. } => Ok(Ctx::new(self, self.active.get(), Pos::new(0, 0)).operand(expr)),
+        }
+    }
+
+    pub fn operand_of(&self, obj: Obj, span: Span) -> Run<Operand> {
+        match obj {
+            Obj::Value(v) => Ok(Operand::Value(v)),
+            Obj::Range(sheet, rect) => Ok(Operand::Ref(sheet, rect)),
+            // `If Err Then`: Err's default member is its Number.
+            Obj::Err => Ok(Operand::Value(Value::Number(self.err.borrow().number as f64))),
+            other => Err(self.fault_at(span, format!("{} is not a value", other.describe()))),
+        }
+    }
+}

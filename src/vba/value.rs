@@ -1,0 +1,151 @@
+//! What a macro variable holds (values, arrays, objects, `Type` records) and VBA's
+//! conversions between them and the sheet's values.
+
+use std::rc::Rc;
+
+use crate::eval::coerce::{to_bool, to_number};
+use crate::eval::functions::vba::vba_text;
+use crate::eval::{Array, Value, XlError};
+use crate::formula::address::Rect;
+use crate::formula::ast::SheetId;
+
+use super::ast::Ty;
+
+/// What a variable holds.
+#[derive(Clone, Debug)]
+pub enum Var {
+    Value(Value),
+    Obj(Obj),
+    Array(VArray),
+    /// A variable of a `Type`: its fields in the Type's order (copied on assignment, as VBA does).
+    Record(usize, Vec<Var>),
+}
+
+/// An array variable: its items (row-major) and the lower bound of each dimension.
+#[derive(Clone, Debug)]
+pub struct VArray {
+    pub data: Rc<Array>,
+    /// (first row, first column) indexes; a one-dimensional array uses only the column.
+    pub lower: (i64, i64),
+    pub dims: u8,
+}
+
+/// The objects a macro reaches through member paths.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Obj {
+    Value(Value),
+    Range(SheetId, Rect),
+    /// `r.Rows` / `r.Columns` without an index: for `.Count` and `(i)`.
+    Lines(SheetId, Rect, bool),
+    Sheet(SheetId),
+    Sheets,
+    Workbook,
+    App,
+    Nc,
+    Debug,
+    /// `Err`: the last trapped error.
+    Err,
+    /// A field of a `Type` variable, by the variable's name and the fields leading to it:
+    /// reads and writes reach the variable itself (so `With p` … `.X = 1` changes `p`).
+    Record(Rc<str>, Vec<usize>),
+}
+
+impl Obj {
+    pub fn describe(&self) -> &'static str {
+        match self {
+            Obj::Value(_) => "a value",
+            Obj::Range(..) => "a Range",
+            Obj::Lines(..) => "a Rows or Columns collection",
+            Obj::Sheet(_) => "a Worksheet",
+            Obj::Sheets => "the Worksheets collection",
+            Obj::Workbook => "the Workbook",
+            Obj::App => "Application",
+            Obj::Nc => "Nc",
+            Obj::Debug => "Debug",
+            Obj::Err => "Err",
+            Obj::Record(..) => "a Type value",
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct Slot {
+    pub name: Rc<str>,
+    pub var: Var,
+    pub ty: Option<Ty>,
+    pub constant: bool,
+}
+
+/// A value as a variable holds it: arrays become array variables (one row: one dimension
+/// from Option Base; more rows: two dimensions from 1, as VBA reads a Range's values).
+pub fn array_var(v: Value, base: i64) -> Var {
+    match v {
+        Value::Array(a) if a.rows == 1 && a.cols == 1 => Var::Value(a.data[0].clone()),
+        Value::Array(a) if a.rows == 1 => Var::Array(VArray { data: a, lower: (1, base), dims: 1 }),
+        Value::Array(a) => Var::Array(VArray { data: a, lower: (1, 1), dims: 2 }),
+        other => Var::Value(other),
+    }
+}
+
+pub(super) fn default_value(ty: Option<&Ty>) -> Value {
+    match ty {
+        Some(Ty::Whole | Ty::Number) => Value::Number(0.0),
+        Some(Ty::String) => Value::text(""),
+        Some(Ty::Boolean) => Value::Bool(false),
+        _ => Value::Blank,
+    }
+}
+
+/// What a typed variable makes of an assigned value (VBA's implicit conversions).
+pub(super) fn convert(var: Var, ty: Option<&Ty>, name: &str) -> Result<Var, String> {
+    let Some(ty) = ty.filter(|t| **t != Ty::Variant) else { return Ok(var) };
+    if let Ty::Record(i) = ty {
+        return match var {
+            Var::Record(j, fields) if j == *i => Ok(Var::Record(j, fields)),
+            _ => Err(format!("{name} holds a Type value; only a value of the same Type can be assigned to it")),
+        };
+    }
+    if let Var::Record(..) = var {
+        return Err(format!("{name} cannot hold a Type value (type mismatch)"));
+    }
+    let Var::Value(v) = var else {
+        return Err(format!("{name} is declared with a type and cannot hold an object or an array"));
+    };
+    let mismatch = |e: XlError| format!("{name} cannot hold {e} (type mismatch)");
+    let text_mismatch = |v: &Value| format!("{name} cannot hold \"{}\" (type mismatch)", print_text(v));
+    Ok(Var::Value(match ty {
+        Ty::Whole => match (&v, to_number(&v)) {
+            (_, Ok(n)) => Value::Number(n.round_ties_even()),
+            (Value::Text(_), Err(_)) => return Err(text_mismatch(&v)),
+            (_, Err(e)) => return Err(mismatch(e)),
+        },
+        Ty::Number => match (&v, to_number(&v)) {
+            (_, Ok(n)) => Value::Number(n),
+            (Value::Text(_), Err(_)) => return Err(text_mismatch(&v)),
+            (_, Err(e)) => return Err(mismatch(e)),
+        },
+        Ty::String => Value::Text(vba_text(&v).map_err(mismatch)?),
+        Ty::Boolean => Value::Bool(to_bool(&v).map_err(mismatch)?),
+        Ty::Variant | Ty::Record(_) => v,
+    }))
+}
+
+/// How `Debug.Print` shows a value: as a cell shows it, booleans in VBA's spelling.
+pub fn print_text(v: &Value) -> String {
+    match v {
+        Value::Bool(b) => if *b { "True" } else { "False" }.to_string(),
+        other => other.to_string(),
+    }
+}
+
+/// What to type into a cell for a value (VBA's Range.Value = v).
+pub fn input_text(v: &Value) -> String {
+    match v {
+        Value::Blank => String::new(),
+        Value::Number(n) => crate::formula::print::number_literal(*n),
+        Value::Bool(b) => if *b { "TRUE" } else { "FALSE" }.to_string(),
+        Value::Text(t) => t.to_string(),
+        Value::Error(e) => e.as_str().to_string(),
+        Value::Array(a) => a.data.first().map(input_text).unwrap_or_default(),
+    }
+}
