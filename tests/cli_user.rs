@@ -342,6 +342,71 @@ fn several_cells_print_aligned() {
 }
 
 // ---------------------------------------------------------------------------------------
+// 6. setup: the README's quick start, command for command
+
+/// A shell line of the README split as `sh` would: words, single quotes, a `# comment`, and
+/// a `> FILE` redirection.
+fn shell_words(line: &str) -> (Vec<String>, Option<String>) {
+    let (mut words, mut word, mut quoted, mut started) = (Vec::new(), String::new(), false, false);
+    for c in line.chars() {
+        match c {
+            '\'' => (quoted, started) = (!quoted, true),
+            '#' if !quoted && !started => break,
+            c if c.is_whitespace() && !quoted => {
+                if started {
+                    words.push(std::mem::take(&mut word));
+                }
+                started = false;
+            }
+            c => (word, started) = (word + &c.to_string(), true),
+        }
+    }
+    if started {
+        words.push(word);
+    }
+    match words.iter().position(|w| w == ">") {
+        Some(at) => {
+            let target = words.get(at + 1).cloned();
+            words.truncate(at);
+            (words, target)
+        }
+        None => (words, None),
+    }
+}
+
+#[test]
+fn the_readme_quick_start_says_how_to_install_and_its_five_commands_make_a_program() {
+    let readme = std::fs::read_to_string(repo("README.md")).unwrap();
+    let start = readme.split("## Quick start").nth(1).expect("README has a Quick start");
+    let start = start.split("\n## ").next().unwrap();
+    let blocks: Vec<&str> = start.split("```sh\n").skip(1).map(|b| b.split("```").next().unwrap()).collect();
+    assert_eq!(blocks.first().map(|b| b.trim()), Some("cargo install --path ."), "the install step");
+    let commands: Vec<&str> = blocks[1].lines().filter(|l| !l.trim().is_empty()).collect();
+    assert_eq!(commands.len(), 5, "the chamfer job in five commands: {commands:?}");
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("sheets")).unwrap();
+    for file in ["chamfer.xlsx", "chamfer.bas"] {
+        std::fs::copy(repo(&format!("sheets/{file}")), dir.path().join("sheets").join(file)).unwrap();
+    }
+    let before = std::fs::read(dir.path().join("sheets/chamfer.xlsx")).unwrap();
+    for line in commands {
+        let (words, redirect) = shell_words(line);
+        assert_eq!(words.first().map(String::as_str), Some("ncsheet"), "{line}");
+        let args: Vec<&str> = words[1..].iter().map(String::as_str).collect();
+        let run = Invocation { dir: Some(dir.path()), ..Default::default() }.run(&args);
+        assert_eq!(run.code, 0, "{line}\n{}", run.stderr);
+        if let Some(file) = redirect {
+            std::fs::write(dir.path().join(file), &run.stdout).unwrap();
+        }
+    }
+    assert_eq!(std::fs::read(dir.path().join("sheets/chamfer.xlsx")).unwrap(), before, "the input is untouched");
+    assert!(dir.path().join("my-chamfer.xlsx").exists());
+    let text = std::fs::read_to_string(dir.path().join("chamfer.nc")).unwrap();
+    assert!(text.starts_with('%'), "the program alone: {text}");
+    assert!(text.contains("G1") || text.contains("G01"), "a cut: {text}");
+}
+
+// ---------------------------------------------------------------------------------------
 // 8. smaller things
 
 #[test]

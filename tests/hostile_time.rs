@@ -243,3 +243,22 @@ fn a_macro_filling_an_offset_chain_cell_by_cell_is_linear() {
     assert!(start.elapsed() < Duration::from_secs(60), "took {:?}", start.elapsed());
     assert_eq!(out.printed, vec![format!(" {size} ")]);
 }
+
+/// Unclosed calls and references spaced before a parenthesis, 60 levels deep: the parser
+/// once tried each level both as a call and as an intersection with a parenthesis, 2^60
+/// attempts. Each gives its error (or value) at once.
+#[test]
+fn nested_unclosed_calls_and_spaced_parentheses_parse_in_linear_time() {
+    let start = Instant::now();
+    let mut wb = Workbook::with_sheet();
+    let deep = [
+        format!("={}1", "ABS(".repeat(60)),
+        format!("={}1", "(A1 ".repeat(60)),
+        format!("={}B2{}", "(A1 ".repeat(60), ")".repeat(60)),
+        format!("={}1", "IF(A1,".repeat(60)),
+    ];
+    for (row, text) in deep.iter().enumerate() {
+        let _ = wb.set_input(0, parse_cell(&format!("D{}", 10 + row)).unwrap(), text);
+    }
+    assert!(start.elapsed() < Duration::from_secs(30), "took {:?}", start.elapsed());
+}

@@ -16,9 +16,10 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::Instant;
 
+use ncsheet::eval::functions::{self, Outside};
 use ncsheet::eval::Value;
 use ncsheet::formula::address::Pos;
-use ncsheet::formula::ast::SheetId;
+use ncsheet::formula::ast::{ExprKind, SheetId};
 use ncsheet::io::{self, atomic, Origin};
 use ncsheet::workbook::Workbook;
 
@@ -400,6 +401,21 @@ fn lo_agrees(theirs: &Value, ours: &Value) -> bool {
         || (theirs.is_blank() && *ours == Value::Number(0.0))
 }
 
+/// A cell whose value depends on when and where it is computed (the registry's `reads`: the
+/// clock, chance, the host), or on CELL's view of the file and its layout, which LibreOffice
+/// gives in its own terms.
+fn depends_on_the_moment_or_the_program(wb: &Workbook, sheet: SheetId, pos: Pos) -> bool {
+    let Some(tree) = wb.formula_tree(sheet, pos) else { return false };
+    let mut found = false;
+    tree.visit(&mut |e| {
+        if let ExprKind::Call(id, _) = &e.kind {
+            let spec = functions::spec(*id);
+            found |= spec.reads != Outside::Nothing || spec.name == "CELL";
+        }
+    });
+    found
+}
+
 /// Compares the changed cells of one saved workbook with LibreOffice's reading of it, leaving
 /// out a cell where LibreOffice's reading of the original departs from the stored value.
 fn compare_with_libreoffice(s: &Saved, lo: &Workbook, lo_original: Option<&Workbook>, tally: &mut Tally) {
@@ -409,7 +425,7 @@ fn compare_with_libreoffice(s: &Saved, lo: &Workbook, lo_original: Option<&Workb
         let name = &names[sheet as usize];
         let Some(lo_at) = lo_sheet(lo, name) else { continue };
         let formula = s.wb.formula(sheet, pos).unwrap_or_default();
-        if ["RAND", "NOW", "TODAY", "INFO", "CELL"].iter().any(|f| formula.to_uppercase().contains(f)) {
+        if depends_on_the_moment_or_the_program(&s.wb, sheet, pos) {
             continue;
         }
         let place = format!("{}: {}: {formula}", s.source.display(), s.wb.cell_name(sheet, pos));
