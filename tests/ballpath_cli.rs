@@ -190,21 +190,9 @@ fn timings_are_split_into_compute_and_format() {
 }
 
 /// The command docs/ballpath.md gives for `sheets/eqcam-bump.h` (without `--format` and `-o`).
-const EQCAM_BUMP: &[&str] = &[
-    "ballpath",
-    "--surface",
-    "15*EXP(-16*((x/50)^2+(y/50)^2))",
-    "--radius",
-    "3",
-    "--x=-25:25",
-    "--y=-25:25",
-    "--stepover",
-    "1",
-    "--step",
-    "1",
-    "--gouge",
-    "lift",
-];
+fn eqcam_bump() -> Vec<String> {
+    common::cli::bump_ballpath("1", "1", "lift")
+}
 
 /// The bump by hand: height and gradient.
 fn bump(x: f64, y: f64) -> (f64, f64, f64) {
@@ -259,7 +247,7 @@ fn bump_drop(cx: f64, cy: f64) -> f64 {
 #[test]
 fn the_bump_program_is_exact_and_gouge_free() {
     let dir = tempfile::tempdir().unwrap();
-    let with = |extra: &[&str]| EQCAM_BUMP.iter().chain(extra).map(|s| s.to_string()).collect::<Vec<_>>();
+    let with = |extra: &[&str]| eqcam_bump().into_iter().chain(extra.iter().map(|s| s.to_string())).collect::<Vec<_>>();
     let r = run(dir.path(), &with(&["--format", "heidenhain", "-o", "eqcam-bump.h"]));
     assert_eq!(r.code, 0, "{}", r.stderr);
     let program = std::fs::read_to_string(dir.path().join("eqcam-bump.h")).unwrap();

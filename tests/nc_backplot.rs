@@ -307,25 +307,9 @@ fn backplots_of_the_shipped_examples_span_their_paths() {
     assert!(arcs > 10);
     assert_eq!(svg.matches(" A ").count(), arcs, "arcs drawn as SVG arcs");
 
-    let run = at.run(&[
-        "ballpath",
-        "--surface",
-        "15*EXP(-16*((x/50)^2+(y/50)^2))",
-        "--radius",
-        "3",
-        "--x=-25:25",
-        "--y=-25:25",
-        "--stepover",
-        "1",
-        "--step",
-        "1",
-        "--gouge",
-        "off",
-        "--format",
-        "iso",
-        "-o",
-        "ball.nc",
-    ]);
+    let mut args = common::cli::bump_ballpath("1", "1", "off");
+    args.extend(["--format", "iso", "-o", "ball.nc"].map(String::from));
+    let run = at.run(&args.iter().map(String::as_str).collect::<Vec<_>>());
     // (The README's path lifts the ball by at most 0.04 mm where a move dips: the drop-cutter
     // takes a minute in a test build and is not what is drawn here.)
     assert_eq!(run.code, 0, "{}", run.stderr);

@@ -172,25 +172,9 @@ fn the_shipped_examples_are_clean() {
     let run =
         at.run(&["cam", &sheet("cam-turret.csv"), "--tol", "0.01", "--partial", "--format", "nc", "-o", "cam.nc"]);
     assert_eq!(run.code, 0, "{}", run.stderr);
-    let run = at.run(&[
-        "ballpath",
-        "--surface",
-        "15*EXP(-16*((x/50)^2+(y/50)^2))",
-        "--radius",
-        "3",
-        "--x=-25:25",
-        "--y=-25:25",
-        "--stepover",
-        "1",
-        "--step",
-        "1",
-        "--gouge",
-        "off",
-        "--format",
-        "linuxcnc",
-        "-o",
-        "ball.ngc",
-    ]);
+    let mut args = common::cli::bump_ballpath("1", "1", "off");
+    args.extend(["--format", "linuxcnc", "-o", "ball.ngc"].map(String::from));
+    let run = at.run(&args.iter().map(String::as_str).collect::<Vec<_>>());
     assert_eq!(run.code, 0, "{}", run.stderr);
     for (file, dialect, extra) in [
         // DOMAIN.md §1's shaft: Ø40, its end face at Z0 (Y is not used on a lathe).

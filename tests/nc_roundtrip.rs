@@ -4,6 +4,8 @@
 //! of block in every dialect. The hand-written golden programs (tests/nc) are read back in
 //! tests/nc_readback.rs.
 
+mod common;
+
 use std::process::Command;
 
 use ncsheet::nc::dialect::{self, Dialect};
@@ -67,24 +69,9 @@ fn shipped_examples_read_back_in_every_dialect() {
             ];
             runs.push((format!("cam-turret --cutter {cutter}"), args.iter().map(|s| s.to_string()).collect()));
         }
-        let args = [
-            "ballpath",
-            "--surface",
-            "15*EXP(-16*((x/50)^2+(y/50)^2))",
-            "--radius",
-            "3",
-            "--x=-25:25",
-            "--y=-25:25",
-            "--stepover",
-            "5",
-            "--step",
-            "2",
-            "--gouge",
-            "off",
-            "--format",
-            name,
-        ];
-        runs.push(("ballpath".into(), args.iter().map(|s| s.to_string()).collect()));
+        let mut args = common::cli::bump_ballpath("5", "2", "off");
+        args.extend(["--format".to_string(), name.to_string()]);
+        runs.push(("ballpath".into(), args));
         for (what, args) in runs {
             let args: Vec<&str> = args.iter().map(String::as_str).collect();
             match ncsheet(&args) {

@@ -55,3 +55,25 @@ impl Invocation<'_> {
         }
     }
 }
+
+/// `ncsheet ballpath` over the bump of docs/ballpath.md (`sheets/eqcam-bump.h`): the
+/// surface, ball and area the tests share, with the sampling and gouge handling each needs.
+pub fn bump_ballpath(stepover: &str, step: &str, gouge: &str) -> Vec<String> {
+    [
+        "ballpath",
+        "--surface",
+        "15*EXP(-16*((x/50)^2+(y/50)^2))",
+        "--radius",
+        "3",
+        "--x=-25:25",
+        "--y=-25:25",
+        "--stepover",
+        stepover,
+        "--step",
+        step,
+        "--gouge",
+        gouge,
+    ]
+    .map(String::from)
+    .to_vec()
+}
