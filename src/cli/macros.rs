@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use ncsheet::vba::project::{build_project, read_project, ModuleKind, NewModule, ProjectModule, VbaProject};
+use ncsheet::vba::project_edit::{add_modules, OnExisting};
 
 use super::report::{Error, Result};
 
@@ -13,8 +14,8 @@ use super::report::{Error, Result};
 ///
 /// With --export DIR, write every module into DIR as the VBA editor exports it (Module1.bas,
 /// Sheet1.cls, …), ready for `ncsheet run WORKBOOK FILE.bas`. With --import FILE.bas -o
-/// OUT.xlsm, put macros into a workbook that has none: the modules are stored as source,
-/// which Excel compiles when it opens the file.
+/// OUT.xlsm, add modules to the workbook's VBA project (made if it has none; every existing
+/// module kept): modules are stored as source, which Excel compiles when it opens the file.
 #[derive(Debug, Args)]
 pub struct MacrosArgs {
     /// The workbook (.xlsm; with --import also .xlsx or .csv)
@@ -26,6 +27,9 @@ pub struct MacrosArgs {
     /// file name); give it once per module
     #[arg(long, value_name = "FILE.bas", requires = "output")]
     pub import: Vec<PathBuf>,
+    /// With --import, replace a standard module of the same name instead of refusing it
+    #[arg(long, requires = "import")]
+    pub replace: bool,
     /// The workbook to write with --import (.xlsm; never the input)
     #[arg(short, long, value_name = "OUT.xlsm")]
     pub output: Option<PathBuf>,
@@ -36,7 +40,8 @@ pub struct MacrosArgs {
 
 pub fn run(args: MacrosArgs) -> Result<()> {
     if let Some(out) = &args.output {
-        return import(&args.file, &args.import, out, args.force);
+        let on_existing = if args.replace { OnExisting::Replace } else { OnExisting::Refuse };
+        return import(&args.file, &args.import, out, on_existing, args.force);
     }
     let project = open_project(&args.file)?;
     match &args.export {
@@ -60,7 +65,7 @@ fn document_module(name: &str, base: &str) -> NewModule {
 const WORKBOOK_CLASS: &str = "00020819-0000-0000-C000-000000000046";
 const WORKSHEET_CLASS: &str = "00020820-0000-0000-C000-000000000046";
 
-fn import(file: &Path, modules: &[PathBuf], out: &Path, force: bool) -> Result<()> {
+fn import(file: &Path, modules: &[PathBuf], out: &Path, on_existing: OnExisting, force: bool) -> Result<()> {
     if !out.extension().is_some_and(|e| e.eq_ignore_ascii_case("xlsm")) {
         return Err(Error::Usage(format!("{}: a workbook with macros is saved as .xlsm", out.display())));
     }
@@ -72,12 +77,14 @@ fn import(file: &Path, modules: &[PathBuf], out: &Path, force: bool) -> Result<(
     super::refuse_overwriting_inputs(&inputs, &[out], "the workbook with macros goes to a new file")?;
     let opened = ncsheet::io::open(file)?;
     let mut layout = opened.layout.unwrap_or_default();
-    if layout.vba_project.is_some() {
-        return Err(Error::User(format!(
-            "{}: the workbook already has a VBA project; importing into it is not supported yet \
-             (export its modules with --export, add yours, and import them all into the .xlsx)",
-            file.display()
-        )));
+    if let Some(old) = &layout.vba_project {
+        let new = modules.iter().map(|m| read_module(m)).collect::<Result<Vec<_>>>()?;
+        let bytes = add_modules(old, &new, on_existing)
+            .map_err(|e| Error::User(format!("{}: xl/vbaProject.bin: {e}", file.display())))?;
+        let encoded = ncsheet::io::encode_with_vba_project(file, &bytes, out)?;
+        super::write_outputs(&[encoded], false, force)?;
+        eprintln!("ncsheet: wrote {} with {} module(s) imported", out.display(), modules.len());
+        return Ok(());
     }
     let mut project = vec![document_module("ThisWorkbook", WORKBOOK_CLASS)];
     layout.workbook_code_name = Some("ThisWorkbook".into());

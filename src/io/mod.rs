@@ -316,6 +316,13 @@ pub fn encode_save_with(
     Ok(encoded)
 }
 
+/// The .xlsm `source` to be saved as `path` with a new VBA project (`xl/vbaProject.bin`),
+/// every other part as it was.
+pub fn encode_with_vba_project(source: &Path, project: &[u8], path: &Path) -> Result<Encoded, Error> {
+    let bytes = xlsx::replace_part(source, "xl/vbaProject.bin", project)?;
+    Ok(Encoded::new(path, bytes))
+}
+
 /// Whether two xlsx paths agree on holding macros (.xlsm) or not: a package is kept as it
 /// is only under its own kind of name.
 fn same_macro_kind(a: &Path, b: &Path) -> bool {

@@ -96,6 +96,7 @@ mod objects;
 pub mod ovba;
 pub mod parser;
 pub mod project;
+pub mod project_edit;
 mod resolve;
 mod value;
 

@@ -47,7 +47,10 @@ fn decompress_chunk(data: &[u8], at: usize, out: &mut Vec<u8>) -> Result<usize, 
         return fail(at, "chunk header has a wrong signature");
     }
     let compressed = header & 0x8000 != 0;
-    let end = (at + size).min(data.len());
+    if at + size > data.len() {
+        return fail(at, format!("chunk of {size} bytes cut short ({} bytes left)", data.len() - at));
+    }
+    let end = at + size;
     let body = at + 2;
     if !compressed {
         let Some(raw) = data.get(body..body + CHUNK) else {

@@ -61,6 +61,32 @@ fn error(stream: &str, message: impl std::fmt::Display) -> ProjectError {
 
 /// Reads the project from the bytes of `vbaProject.bin`.
 pub fn read_project(bytes: &[u8]) -> Result<VbaProject, ProjectError> {
+    let mut parts = open_parts(bytes)?;
+    let encoding = parts.encoding()?;
+    let mut modules = Vec::with_capacity(parts.listing.modules.len());
+    for m in std::mem::take(&mut parts.listing.modules) {
+        let text = parts.module_text(&m)?;
+        let (source, _, _) = encoding.decode(&text);
+        modules.push(ProjectModule { name: m.name, stream: m.stream, kind: m.kind, source: source.into_owned() });
+    }
+    Ok(VbaProject { code_page: parts.listing.code_page, modules })
+}
+
+/// A project opened and checked as far as its listing: the dir stream read, and the PROJECT
+/// stream found to list the same modules.
+pub(super) struct Parts<'a> {
+    pub cfb: cfb::CompoundFile<Cursor<&'a [u8]>>,
+    /// The storage holding `dir` and the module streams (`/VBA`).
+    pub storage: String,
+    pub listing: Listing,
+    /// The dir stream, decompressed.
+    pub dir: Vec<u8>,
+    /// The PROJECT stream's path and bytes.
+    pub project_path: String,
+    pub project_text: Vec<u8>,
+}
+
+pub(super) fn open_parts(bytes: &[u8]) -> Result<Parts<'_>, ProjectError> {
     let mut cfb = cfb::CompoundFile::open(Cursor::new(bytes))
         .map_err(|e| error("vbaProject.bin", format!("not an OLE compound file: {e}")))?;
     let storage = vba_storage(&cfb).ok_or_else(|| error("vbaProject.bin", "no VBA storage with a dir stream"))?;
@@ -68,34 +94,100 @@ pub fn read_project(bytes: &[u8]) -> Result<VbaProject, ProjectError> {
     let dir = read_stream(&mut cfb, &dir_name)?;
     let dir = ovba::decompress(&dir).map_err(|e| error(&dir_name, e))?;
     let listing = parse_dir(&dir).map_err(|m| error(&dir_name, m))?;
-    let encoding = encoding_for(listing.code_page)
-        .ok_or_else(|| error(&dir_name, format!("code page {} is not one ncsheet can read", listing.code_page)))?;
-    let mut modules = Vec::with_capacity(listing.modules.len());
-    for m in listing.modules {
-        let path = format!("{storage}/{}", m.stream);
-        let data = read_stream(&mut cfb, &path)?;
+    let parent = storage.rsplit_once('/').map_or("", |(p, _)| p);
+    let project_path = format!("{parent}/PROJECT");
+    let project_text = read_stream(&mut cfb, &project_path)?;
+    check_project_text(&project_text, &listing.modules, encoding_for(listing.code_page))
+        .map_err(|m| error(&project_path, m))?;
+    Ok(Parts { cfb, storage, listing, dir, project_path, project_text })
+}
+
+impl Parts<'_> {
+    /// The text encoding of the project's code page.
+    pub fn encoding(&self) -> Result<&'static encoding_rs::Encoding, ProjectError> {
+        let code_page = self.listing.code_page;
+        encoding_for(code_page).ok_or_else(|| {
+            error(&format!("{}/dir", self.storage), format!("code page {code_page} is not one ncsheet can read"))
+        })
+    }
+
+    pub fn stream_path(&self, m: &DirModule) -> String {
+        format!("{}/{}", self.storage, m.stream)
+    }
+
+    /// A module's source as stored (in the code page), without its compiled part.
+    pub fn module_text(&mut self, m: &DirModule) -> Result<Vec<u8>, ProjectError> {
+        let path = self.stream_path(m);
+        let data = read_stream(&mut self.cfb, &path)?;
         let Some(compressed) = data.get(m.offset as usize..) else {
             return Err(error(
                 &path,
                 format!("source offset {} is past the stream's end ({} bytes)", m.offset, data.len()),
             ));
         };
-        let text = ovba::decompress(compressed).map_err(|e| error(&path, e))?;
-        let (source, _, _) = encoding.decode(&text);
-        modules.push(ProjectModule { name: m.name, stream: m.stream, kind: m.kind, source: source.into_owned() });
+        ovba::decompress(compressed).map_err(|e| error(&path, e))
     }
-    Ok(VbaProject { code_page: listing.code_page, modules })
+}
+
+/// Checks the PROJECT stream ([MS-OVBA] 2.3.1) as far as a cut or damaged one shows: text
+/// lines of `key=value` from the `ID=` line on, the properties the grammar requires, the
+/// `[Host Extender Info]` section, and a line for every module the dir stream lists.
+fn check_project_text(
+    text: &[u8],
+    modules: &[DirModule],
+    encoding: Option<&'static encoding_rs::Encoding>,
+) -> Result<(), String> {
+    let decode = |bytes: &[u8]| encoding.map_or_else(|| latin(bytes), |e| e.decode(bytes).0.into_owned());
+    let lines: Vec<&[u8]> = text.split(|&b| b == b'\n').map(|l| l.strip_suffix(b"\r").unwrap_or(l)).collect();
+    if !lines.first().is_some_and(|l| l.starts_with(b"ID=\"")) {
+        return Err("does not start with the project's ID= line".into());
+    }
+    let mut keys = Vec::new();
+    let mut items = Vec::new();
+    for (n, line) in lines.iter().enumerate() {
+        if line.is_empty() || line.starts_with(b"[") {
+            break;
+        }
+        let Some(eq) = line.iter().position(|&b| b == b'=') else {
+            return Err(format!("line {} is not key=value", n + 1));
+        };
+        let key = &line[..eq];
+        if key.is_empty() || !key.iter().all(u8::is_ascii_alphanumeric) {
+            return Err(format!("line {} is not key=value", n + 1));
+        }
+        let value = &line[eq + 1..];
+        if [&b"Module"[..], b"Class", b"BaseClass", b"Document"].contains(&key) {
+            let name = value.split(|&b| b == b'/').next().unwrap_or(value);
+            items.push(decode(name).to_lowercase());
+        }
+        keys.push(key);
+    }
+    for required in [&b"Name"[..], b"HelpContextID", b"CMG", b"DPB", b"GC"] {
+        if !keys.contains(&required) {
+            return Err(format!("the {} line is missing (cut short?)", latin(required)));
+        }
+    }
+    if !lines.contains(&&b"[Host Extender Info]"[..]) {
+        return Err("the [Host Extender Info] section is missing (cut short?)".into());
+    }
+    if let Some(m) = modules.iter().find(|m| !items.contains(&m.name.to_lowercase())) {
+        return Err(format!("module {} of the dir stream is not listed", m.name));
+    }
+    Ok(())
 }
 
 /// The storage that holds the `dir` stream: `/VBA` in an .xlsm, deeper in other containers.
-fn vba_storage<F: Read + std::io::Seek>(cfb: &cfb::CompoundFile<F>) -> Option<String> {
+pub(super) fn vba_storage<F: Read + std::io::Seek>(cfb: &cfb::CompoundFile<F>) -> Option<String> {
     cfb.walk()
         .filter(|e| e.is_stream() && e.name().eq_ignore_ascii_case("dir"))
         .filter_map(|e| e.path().parent().map(|p| p.to_string_lossy().replace('\\', "/")))
         .find(|p| p.rsplit('/').next().is_some_and(|n| n.eq_ignore_ascii_case("VBA")))
 }
 
-fn read_stream<F: Read + std::io::Seek>(cfb: &mut cfb::CompoundFile<F>, path: &str) -> Result<Vec<u8>, ProjectError> {
+pub(super) fn read_stream<F: Read + std::io::Seek>(
+    cfb: &mut cfb::CompoundFile<F>,
+    path: &str,
+) -> Result<Vec<u8>, ProjectError> {
     let mut stream = cfb.open_stream(path).map_err(|e| error(path, format!("cannot open the stream: {e}")))?;
     let mut data = Vec::new();
     stream.read_to_end(&mut data).map_err(|e| error(path, format!("cannot read the stream: {e}")))?;
@@ -103,21 +195,21 @@ fn read_stream<F: Read + std::io::Seek>(cfb: &mut cfb::CompoundFile<F>, path: &s
 }
 
 #[derive(Debug)]
-struct DirModule {
-    name: String,
-    stream: String,
-    offset: u32,
-    kind: ModuleKind,
+pub(super) struct DirModule {
+    pub name: String,
+    pub stream: String,
+    pub offset: u32,
+    pub kind: ModuleKind,
 }
 
 #[derive(Debug)]
-struct Listing {
-    code_page: u16,
-    modules: Vec<DirModule>,
+pub(super) struct Listing {
+    pub code_page: u16,
+    pub modules: Vec<DirModule>,
 }
 
 /// Record ids of the dir stream ([MS-OVBA] 2.3.4.2) that ncsheet reads.
-mod id {
+pub(super) mod id {
     pub const PROJECT_CODE_PAGE: u16 = 0x0003;
     /// PROJECTVERSION: its size field says 4, but 6 bytes follow.
     pub const PROJECT_VERSION: u16 = 0x0009;
@@ -125,6 +217,9 @@ mod id {
     pub const MODULE_NAME_UNICODE: u16 = 0x0047;
     pub const MODULE_STREAM_NAME: u16 = 0x001A;
     pub const MODULE_OFFSET: u16 = 0x0031;
+    pub const MODULE_COOKIE: u16 = 0x002C;
+    pub const PROJECT_MODULES: u16 = 0x000F;
+    pub const PROJECT_COOKIE: u16 = 0x0013;
     pub const MODULE_TYPE_PROCEDURAL: u16 = 0x0021;
     pub const MODULE_TYPE_OTHER: u16 = 0x0022;
     pub const MODULE_TERMINATOR: u16 = 0x002B;
@@ -178,7 +273,7 @@ fn with_module(current: &mut Option<DirModule>, at: usize, f: impl FnOnce(&mut D
 }
 
 /// Stream names are MBCS; ASCII in practice (the unicode forms are read where they matter).
-fn latin(data: &[u8]) -> String {
+pub(super) fn latin(data: &[u8]) -> String {
     data.iter().map(|&b| b as char).collect()
 }
 
@@ -249,7 +344,7 @@ pub fn build_project(modules: &[NewModule], seed: u8) -> Result<Vec<u8>, Project
     Ok(cfb.into_inner().into_inner())
 }
 
-fn with_name_attribute(source: &str, name: &str) -> String {
+pub(super) fn with_name_attribute(source: &str, name: &str) -> String {
     let source = source.replace("\r\n", "\n").replace('\n', "\r\n");
     if source.trim_start().to_ascii_lowercase().starts_with("attribute vb_name") {
         return source;
@@ -311,15 +406,38 @@ fn name_map(modules: &[NewModule]) -> Vec<u8> {
     out
 }
 
+/// Appends one dir-stream record: its id, size and data.
+pub(super) fn push_record(d: &mut Vec<u8>, id: u16, data: &[u8]) {
+    d.extend(id.to_le_bytes());
+    d.extend((data.len() as u32).to_le_bytes());
+    d.extend_from_slice(data);
+}
+
+/// The records of one source-only module (2.3.4.2.3.2): named `name` (`mbcs`: the name in
+/// the project's code page), in a stream of that name, its source from offset 0.
+pub(super) fn push_module_records(d: &mut Vec<u8>, name: &str, mbcs: &[u8], kind: ModuleKind) {
+    let utf16: Vec<u8> = name.encode_utf16().flat_map(u16::to_le_bytes).collect();
+    push_record(d, id::MODULE_NAME, mbcs);
+    push_record(d, id::MODULE_NAME_UNICODE, &utf16);
+    push_record(d, id::MODULE_STREAM_NAME, mbcs);
+    push_record(d, 0x0032, &utf16);
+    push_record(d, 0x001C, b""); // MODULEDOCSTRING
+    push_record(d, 0x0048, b"");
+    push_record(d, id::MODULE_OFFSET, &0u32.to_le_bytes());
+    push_record(d, 0x001E, &0u32.to_le_bytes()); // MODULEHELPCONTEXT
+    push_record(d, id::MODULE_COOKIE, &0xFFFFu16.to_le_bytes());
+    let kind = match kind {
+        ModuleKind::Standard => id::MODULE_TYPE_PROCEDURAL,
+        ModuleKind::DocumentOrClass => id::MODULE_TYPE_OTHER,
+    };
+    push_record(d, kind, b"");
+    push_record(d, id::MODULE_TERMINATOR, b"");
+}
+
 /// The dir stream (2.3.4.2), uncompressed.
 fn dir_stream(modules: &[NewModule]) -> Vec<u8> {
     let mut d = Vec::new();
-    let rec = |id: u16, data: &[u8], d: &mut Vec<u8>| {
-        d.extend(id.to_le_bytes());
-        d.extend((data.len() as u32).to_le_bytes());
-        d.extend_from_slice(data);
-    };
-    let utf16 = |s: &str| -> Vec<u8> { s.encode_utf16().flat_map(u16::to_le_bytes).collect() };
+    let rec = |id: u16, data: &[u8], d: &mut Vec<u8>| push_record(d, id, data);
     rec(0x0001, &1u32.to_le_bytes(), &mut d); // PROJECTSYSKIND: 32-bit Windows
     rec(0x0002, &0x0409u32.to_le_bytes(), &mut d); // PROJECTLCID
     rec(0x0014, &0x0409u32.to_le_bytes(), &mut d); // PROJECTLCIDINVOKE
@@ -338,24 +456,10 @@ fn dir_stream(modules: &[NewModule]) -> Vec<u8> {
     d.extend(0u16.to_le_bytes());
     rec(0x000C, b"", &mut d); // PROJECTCONSTANTS
     rec(0x003C, b"", &mut d);
-    rec(0x000F, &(modules.len() as u16).to_le_bytes(), &mut d); // PROJECTMODULES
-    rec(0x0013, &0xFFFFu16.to_le_bytes(), &mut d); // PROJECTCOOKIE
+    rec(id::PROJECT_MODULES, &(modules.len() as u16).to_le_bytes(), &mut d); // PROJECTMODULES
+    rec(id::PROJECT_COOKIE, &0xFFFFu16.to_le_bytes(), &mut d); // PROJECTCOOKIE
     for m in modules {
-        rec(id::MODULE_NAME, m.name.as_bytes(), &mut d);
-        rec(id::MODULE_NAME_UNICODE, &utf16(&m.name), &mut d);
-        rec(id::MODULE_STREAM_NAME, m.name.as_bytes(), &mut d);
-        rec(0x0032, &utf16(&m.name), &mut d);
-        rec(0x001C, b"", &mut d); // MODULEDOCSTRING
-        rec(0x0048, b"", &mut d);
-        rec(id::MODULE_OFFSET, &0u32.to_le_bytes(), &mut d);
-        rec(0x001E, &0u32.to_le_bytes(), &mut d); // MODULEHELPCONTEXT
-        rec(0x002C, &0xFFFFu16.to_le_bytes(), &mut d); // MODULECOOKIE
-        let kind = match m.kind {
-            ModuleKind::Standard => id::MODULE_TYPE_PROCEDURAL,
-            ModuleKind::DocumentOrClass => id::MODULE_TYPE_OTHER,
-        };
-        rec(kind, b"", &mut d);
-        rec(id::MODULE_TERMINATOR, b"", &mut d);
+        push_module_records(&mut d, &m.name, m.name.as_bytes(), m.kind);
     }
     rec(id::DIR_TERMINATOR, b"", &mut d);
     d

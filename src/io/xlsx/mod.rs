@@ -47,7 +47,7 @@ mod write;
 mod xml;
 
 pub use check::{compare_cached, values_agree, Difference, REL_TOLERANCE};
-pub use patch::{patch, Patched, Unpatchable};
+pub use patch::{patch, replace_part, Patched, Unpatchable};
 pub use read::{load, load_bytes};
 pub use tables::Table;
 pub use write::{save, save_with_layout, to_bytes, to_bytes_for};

@@ -647,6 +647,41 @@ fn escape(text: &str) -> String {
     out
 }
 
+/// The package `source` with the bytes of one existing part replaced by `data` and every
+/// other part copied as it was (a new VBA project into an .xlsm).
+pub fn replace_part(source: &Path, part: &str, data: &[u8]) -> Result<Vec<u8>, XlsxError> {
+    let fail = |part: Option<&str>, kind, message: String| XlsxError::new(source, part, kind, message);
+    let bytes =
+        std::fs::read(source).map_err(|e| fail(None, ErrorKind::Io, format!("cannot read the original: {e}")))?;
+    let zerr = |name: Option<&str>, e: zip::result::ZipError| {
+        let (p, k, m) = zip_error(name, e);
+        fail(p.as_deref(), k, m)
+    };
+    let mut zip = zip::ZipArchive::new(Cursor::new(&bytes[..])).map_err(|e| zerr(None, e))?;
+    let mut out = zip::ZipWriter::new(Cursor::new(Vec::with_capacity(bytes.len() + data.len())));
+    let mut found = false;
+    for i in 0..zip.len() {
+        let entry = zip.by_index(i).map_err(|e| zerr(None, e))?;
+        let name = entry.name().map_err(|e| fail(None, ErrorKind::Damaged, e.to_string()))?.to_string();
+        if name != part {
+            out.raw_copy_file(entry).map_err(|e| zerr(Some(&name), e))?;
+            continue;
+        }
+        found = true;
+        let options = zip::write::SimpleFileOptions::default()
+            .compression_method(entry.compression())
+            .compression_level(Some(2))
+            .large_file(data.len() > u32::MAX as usize / 2);
+        drop(entry);
+        out.start_file(name.as_str(), options).map_err(|e| zerr(Some(&name), e))?;
+        out.write_all(data).map_err(|e| zerr(Some(&name), e.into()))?;
+    }
+    if !found {
+        return Err(fail(Some(part), ErrorKind::Damaged, "the package has no such part to replace".into()));
+    }
+    Ok(out.finish().map_err(|e| fail(None, ErrorKind::Io, e.to_string()))?.into_inner())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
