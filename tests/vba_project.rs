@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use ncsheet::vba::project::read_project;
+use ncsheet::vba::project::{read_project, ModuleKind};
 
 /// olevba's reading of `file`: module stream path (`VBA/Module1`) → source. `None` where
 /// oletools is not installed (an error on CI, where `.ci/run` installs it).
@@ -142,10 +142,16 @@ fn the_workbooks_own_chamfer_macro_runs_from_the_file() {
         .output()
         .unwrap();
     assert!(ran.status.success(), "{}", String::from_utf8_lossy(&ran.stderr));
+    assert_cuts_the_first_chamfer(&program);
+}
+
+/// rs274 reads `program` as the cut of DOMAIN.md §1's first row (outer, D 40, f 2, α 45°,
+/// r 0.8, eA = eB = 1): a feed to T1, then along the chamfer to T2.
+fn assert_cuts_the_first_chamfer(program: &Path) {
     if !common::rs274::available() {
         return;
     }
-    let moves = common::rs274::moves(&program).unwrap();
+    let moves = common::rs274::moves(program).unwrap_or_else(|e| panic!("{}: {e}", program.display()));
     let feeds: Vec<(f64, f64)> = moves
         .iter()
         .filter_map(|m| match m {
@@ -158,5 +164,286 @@ fn the_workbooks_own_chamfer_macro_runs_from_the_file() {
     let near = |(x, z): (f64, f64), (dx, dz): (f64, f64)| (x - dx / 2.0).abs() < 0.001 && (z - dz).abs() < 0.001;
     let t1 = feeds.iter().position(|&p| near(p, (44.262742, -4.6)));
     let t2 = feeds.iter().position(|&p| near(p, (33.062742, 1.0)));
-    assert!(matches!((t1, t2), (Some(a), Some(b)) if b == a + 1), "{feeds:?}");
+    assert!(matches!((t1, t2), (Some(a), Some(b)) if b == a + 1), "{}: {feeds:?}", program.display());
+}
+
+fn chamfer_bas() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("sheets/chamfer.bas")
+}
+
+/// The .bas file's text as VBA stores it (CRLF line ends).
+fn chamfer_text() -> String {
+    std::fs::read_to_string(chamfer_bas()).unwrap().replace("\r\n", "\n").replace('\n', "\r\n")
+}
+
+/// The Excel-saved workbooks of the public corpus that have a VBA project.
+fn xlsm_with_projects() -> Vec<PathBuf> {
+    let files: Vec<PathBuf> = xlsm_files()
+        .into_iter()
+        .filter(|f| ncsheet::io::open(f).unwrap_or_else(|e| panic!("{e}")).layout.unwrap().vba_project.is_some())
+        .collect();
+    assert!(files.len() >= 10, "only {} .xlsm files with a VBA project", files.len());
+    files
+}
+
+/// `ncsheet macros FILE --import chamfer.bas -o OUT`, which must succeed.
+fn import_chamfer(file: &Path, out: &Path) {
+    let run = common::cli::ncsheet(&[
+        "macros",
+        file.to_str().unwrap(),
+        "--import",
+        chamfer_bas().to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(run.code, 0, "{}: {}", file.display(), run.stderr);
+}
+
+/// Every part of an xlsx package by name, decompressed.
+fn parts(file: &Path) -> BTreeMap<String, Vec<u8>> {
+    let mut zip = zip::ZipArchive::new(std::fs::File::open(file).unwrap()).unwrap();
+    (0..zip.len())
+        .map(|i| {
+            let mut entry = zip.by_index(i).unwrap();
+            let mut data = Vec::new();
+            std::io::Read::read_to_end(&mut entry, &mut data).unwrap();
+            (entry.name().unwrap().to_string(), data)
+        })
+        .collect()
+}
+
+fn vba_project_of(file: &Path) -> ncsheet::vba::project::VbaProject {
+    let bytes = ncsheet::io::open(file).unwrap().layout.unwrap().vba_project.unwrap();
+    read_project(&bytes).unwrap_or_else(|e| panic!("{}: {e}", file.display()))
+}
+
+/// The chamfer macro imported into each Excel-saved project: olevba reads every old module
+/// with the same text as in the original and the new one with the .bas file's; ncsheet reads
+/// the same; every other part of the package is the original's; the original is untouched;
+/// and the macro runs from the new file (its inputs typed into B2:B7 of the first sheet, the
+/// fixed layout chamfer.bas reads) to the program rs274 reads as DOMAIN.md §1's first cut.
+#[test]
+fn chamfer_imports_into_every_excel_project_keeping_its_modules() {
+    let dir = tempfile::tempdir().unwrap();
+    let want = chamfer_text();
+    for (i, file) in xlsm_with_projects().iter().enumerate() {
+        let before = std::fs::read(file).unwrap();
+        let out = dir.path().join(format!("out{i}.xlsm"));
+        import_chamfer(file, &out);
+        assert!(std::fs::read(file).unwrap() == before, "{}: the input changed", file.display());
+
+        let (old, new) = (vba_project_of(file), vba_project_of(&out));
+        assert_eq!(new.modules.len(), old.modules.len() + 1, "{}", file.display());
+        for (a, b) in old.modules.iter().zip(&new.modules) {
+            assert_eq!((&a.name, a.kind), (&b.name, b.kind), "{}", file.display());
+            assert!(a.source == b.source, "{}: {} reads back another text", file.display(), a.name);
+        }
+        let chamfer = new.modules.last().unwrap();
+        assert_eq!((chamfer.name.as_str(), chamfer.kind), ("Chamfer", ModuleKind::Standard));
+        assert!(chamfer.source == want, "{}: Chamfer reads back another text", file.display());
+
+        let (mut old_parts, mut new_parts) = (parts(file), parts(&out));
+        assert!(old_parts.remove("xl/vbaProject.bin").is_some() && new_parts.remove("xl/vbaProject.bin").is_some());
+        assert!(old_parts == new_parts, "{}: other parts of the package changed", file.display());
+
+        if let (Some(mut theirs), Some(original)) = (olevba(&out), olevba(file)) {
+            assert!(
+                theirs.remove("VBA/Chamfer").is_some_and(|t| t == want),
+                "{}: olevba reads Chamfer",
+                file.display()
+            );
+            assert!(theirs == original, "{}: olevba reads the old modules differently", file.display());
+        }
+
+        let ready = dir.path().join(format!("ready{i}.xlsm"));
+        let typed = common::cli::ncsheet(&[
+            "set",
+            out.to_str().unwrap(),
+            "B2=40",
+            "B3=2",
+            "B4=45",
+            "B5=0.8",
+            "B6=1",
+            "B7=1",
+            "-o",
+            ready.to_str().unwrap(),
+        ]);
+        assert_eq!(typed.code, 0, "{}: {}", file.display(), typed.stderr);
+        let program = dir.path().join(format!("chamfer{i}.ngc"));
+        let ran = common::cli::ncsheet(&[
+            "run",
+            ready.to_str().unwrap(),
+            "--sub",
+            "Chamfer.Main",
+            "--dialect",
+            "linuxcnc",
+            "-o",
+            program.to_str().unwrap(),
+        ]);
+        assert_eq!(ran.code, 0, "{}: {}", file.display(), ran.stderr);
+        // DOMAIN.md §1's first row, as the macro prints it.
+        assert!(ran.stderr.contains("XA=44.263 ZA=-4.600 XB=33.063 ZB=1.000"), "{}: {}", file.display(), ran.stderr);
+        assert_cuts_the_first_chamfer(&program);
+    }
+}
+
+/// LibreOffice opens each workbook with the imported macro and finds its modules: the old
+/// ones with their kinds and the new one a normal module holding the macro's procedures (its
+/// VBA import, kept as Basic modules in an .ods).
+#[test]
+fn libreoffice_lists_the_imported_module() {
+    let Some(soffice) = common::soffice() else {
+        eprintln!("skipped: LibreOffice (soffice) is not installed");
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let files = xlsm_with_projects();
+    let outs: Vec<PathBuf> = (0..files.len()).map(|i| dir.path().join(format!("out{i}.xlsm"))).collect();
+    for (file, out) in files.iter().zip(&outs) {
+        import_chamfer(file, out);
+    }
+    let converted = dir.path().join("ods");
+    let profile = format!("-env:UserInstallation=file://{}", dir.path().join("profile").display());
+    common::libreoffice_convert_to(&soffice, &profile, &outs, &converted, "ods");
+    for (file, out) in files.iter().zip(&outs) {
+        let ods = converted.join(out.file_name().unwrap()).with_extension("ods");
+        assert!(ods.exists(), "LibreOffice did not open {} (from {})", out.display(), file.display());
+        let basic: BTreeMap<String, Vec<u8>> =
+            parts(&ods).into_iter().filter(|(name, _)| name.starts_with("Basic/VBAProject/")).collect();
+        let module_type = |name: &str| -> Option<String> {
+            let xml = String::from_utf8_lossy(basic.get(&format!("Basic/VBAProject/{name}.xml"))?).into_owned();
+            let at = xml.find("script:moduleType=\"")? + "script:moduleType=\"".len();
+            Some(xml[at..].split('"').next()?.to_string())
+        };
+        let listed = String::from_utf8_lossy(basic.get("Basic/VBAProject/script-lb.xml").map_or(&[][..], |b| b));
+        let project = vba_project_of(file);
+        for m in project.modules.iter().map(|m| (m.name.as_str(), m.kind)).chain([("Chamfer", ModuleKind::Standard)]) {
+            let (name, kind) = m;
+            assert!(
+                listed.contains(&format!("library:name=\"{name}\"")),
+                "{}: {name} not listed: {listed}",
+                file.display()
+            );
+            let lo = module_type(name);
+            let normal = lo.as_deref() == Some("normal");
+            assert_eq!(normal, kind == ModuleKind::Standard, "{}: {name} is {lo:?} in LibreOffice", file.display());
+        }
+        let chamfer = String::from_utf8_lossy(&basic["Basic/VBAProject/Chamfer.xml"]).into_owned();
+        assert!(chamfer.contains("Sub OuterChamfer(") && chamfer.contains("Function Place("), "{}", file.display());
+    }
+}
+
+/// `bytes` (a compound file) with the stream at `path` given new contents.
+fn with_stream(bytes: &[u8], path: &str, change: impl Fn(&[u8]) -> Vec<u8>) -> Vec<u8> {
+    let mut cfb = cfb::CompoundFile::open(std::io::Cursor::new(bytes.to_vec())).unwrap();
+    let mut old = Vec::new();
+    std::io::Read::read_to_end(&mut cfb.open_stream(path).unwrap(), &mut old).unwrap();
+    let mut stream = cfb.create_stream(path).unwrap();
+    std::io::Write::write_all(&mut stream, &change(&old)).unwrap();
+    drop(stream);
+    cfb.flush().unwrap();
+    cfb.into_inner().into_inner()
+}
+
+/// `source` (an .xlsm) written to `out` with another `xl/vbaProject.bin`.
+fn xlsm_with_project(source: &Path, project: &[u8], out: &Path) {
+    let mut zip = zip::ZipArchive::new(std::fs::File::open(source).unwrap()).unwrap();
+    let mut writer = zip::ZipWriter::new(std::fs::File::create(out).unwrap());
+    for i in 0..zip.len() {
+        let entry = zip.by_index(i).unwrap();
+        if entry.name().unwrap() == "xl/vbaProject.bin" {
+            drop(entry);
+            writer.start_file("xl/vbaProject.bin", zip::write::SimpleFileOptions::default()).unwrap();
+            std::io::Write::write_all(&mut writer, project).unwrap();
+        } else {
+            writer.raw_copy_file(entry).unwrap();
+        }
+    }
+    writer.finish().unwrap();
+}
+
+/// Each stream that holds the project (dir, PROJECT, a module) cut to half its length or
+/// overwritten: reading the project, listing its macros and importing into it are errors
+/// that name the stream, and the import writes nothing.
+#[test]
+fn a_cut_or_damaged_stream_is_an_error_naming_it_for_reading_and_import() {
+    let file = xlsm_files().into_iter().find(|f| f.to_string_lossy().contains("SimpleMacro")).unwrap();
+    let bytes = ncsheet::io::open(&file).unwrap().layout.unwrap().vba_project.unwrap();
+    let cut = |s: &[u8]| s[..s.len() / 2].to_vec();
+    let garbage = |s: &[u8]| vec![0xFF; s.len()];
+    let without_module_line = |s: &[u8]| String::from_utf8_lossy(s).replace("Module=Module1\r\n", "").into_bytes();
+    let cases: [(&str, &dyn Fn(&[u8]) -> Vec<u8>); 7] = [
+        ("/VBA/dir", &cut),
+        ("/VBA/dir", &garbage),
+        ("/PROJECT", &cut),
+        ("/PROJECT", &garbage),
+        ("/PROJECT", &without_module_line),
+        ("/VBA/Module1", &cut),
+        ("/VBA/Module1", &garbage),
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    for (n, (stream, change)) in cases.iter().enumerate() {
+        let broken = with_stream(&bytes, stream, change);
+        let e = read_project(&broken).unwrap_err();
+        assert_eq!(e.stream, *stream, "case {n}: {e}");
+
+        let book = dir.path().join(format!("broken{n}.xlsm"));
+        xlsm_with_project(&file, &broken, &book);
+        let listed = common::cli::ncsheet(&["macros", book.to_str().unwrap()]);
+        assert!(listed.code != 0 && listed.stderr.contains(&format!("{stream}: ")), "case {n}: {}", listed.stderr);
+        let out = dir.path().join(format!("out{n}.xlsm"));
+        let import = common::cli::ncsheet(&[
+            "macros",
+            book.to_str().unwrap(),
+            "--import",
+            chamfer_bas().to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(import.code != 0 && import.stderr.contains(&format!("{stream}: ")), "case {n}: {}", import.stderr);
+        assert!(!out.exists(), "case {n}: the import wrote {}", out.display());
+    }
+}
+
+/// A module name the project has is refused, and replaced only with --replace; a document
+/// module is never replaced by a .bas.
+#[test]
+fn an_existing_module_name_is_refused_unless_replaced() {
+    let file = xlsm_files().into_iter().find(|f| f.to_string_lossy().contains("SimpleMacro")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let bas = dir.path().join("Module1.bas");
+    std::fs::write(
+        &bas,
+        "Attribute VB_Name = \"Module1\"\r\nSub Hello()\r\n    Range(\"A1\").Value = 1\r\nEnd Sub\r\n",
+    )
+    .unwrap();
+    let out = dir.path().join("out.xlsm");
+    let args = ["macros", file.to_str().unwrap(), "--import", bas.to_str().unwrap(), "-o", out.to_str().unwrap()];
+    let refused = common::cli::ncsheet(&args);
+    assert!(refused.code != 0 && refused.stderr.contains("already has a module Module1"), "{}", refused.stderr);
+    assert!(!out.exists());
+    let replaced = common::cli::ncsheet(&[&args[..], &["--replace"]].concat());
+    assert_eq!(replaced.code, 0, "{}", replaced.stderr);
+    let (old, new) = (vba_project_of(&file), vba_project_of(&out));
+    let names = |p: &ncsheet::vba::project::VbaProject| p.modules.iter().map(|m| m.name.clone()).collect::<Vec<_>>();
+    assert_eq!(names(&old), names(&new));
+    let module1 = new.modules.iter().find(|m| m.name == "Module1").unwrap();
+    assert_eq!(module1.source, std::fs::read_to_string(&bas).unwrap());
+    if let Some(theirs) = olevba(&out) {
+        assert_eq!(theirs["VBA/Module1"], module1.source);
+    }
+    let document = dir.path().join("ThisWorkbook.bas");
+    std::fs::write(&document, "Sub Hello()\r\nEnd Sub\r\n").unwrap();
+    let doc_args = [
+        "macros",
+        file.to_str().unwrap(),
+        "--import",
+        document.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--replace",
+        "--force",
+    ];
+    let refused = common::cli::ncsheet(&doc_args);
+    assert!(refused.code != 0 && refused.stderr.contains("document or class"), "{}", refused.stderr);
 }

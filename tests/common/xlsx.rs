@@ -365,23 +365,29 @@ pub fn recalculating_profile(dir: &Path) -> String {
 /// Converts `inputs` to xlsx in `out` with LibreOffice: in batches (one process each), and
 /// once more for the files a batch left out (LibreOffice sometimes dies under load).
 pub fn libreoffice_convert(soffice: &Path, profile: &str, inputs: &[PathBuf], out: &Path) {
+    libreoffice_convert_to(soffice, profile, inputs, out, "xlsx");
+}
+
+/// [`libreoffice_convert`] to another format (`ods`: the VBA modules LibreOffice imported
+/// are kept as Basic modules).
+pub fn libreoffice_convert_to(soffice: &Path, profile: &str, inputs: &[PathBuf], out: &Path, format: &str) {
     for batch in inputs.chunks(40) {
-        run_soffice(soffice, profile, batch, out);
+        run_soffice(soffice, profile, batch, out, format);
     }
     let missing: Vec<PathBuf> = inputs
         .iter()
-        .filter(|p| !out.join(p.file_name().expect("file name")).with_extension("xlsx").exists())
+        .filter(|p| !out.join(p.file_name().expect("file name")).with_extension(format).exists())
         .cloned()
         .collect();
     for batch in missing.chunks(10) {
-        run_soffice(soffice, profile, batch, out);
+        run_soffice(soffice, profile, batch, out, format);
     }
 }
 
-fn run_soffice(soffice: &Path, profile: &str, inputs: &[PathBuf], out: &Path) {
+fn run_soffice(soffice: &Path, profile: &str, inputs: &[PathBuf], out: &Path, format: &str) {
     let mut child = Command::new(soffice)
         .arg(profile)
-        .args(["--headless", "--norestore", "--convert-to", "xlsx", "--outdir"])
+        .args(["--headless", "--norestore", "--convert-to", format, "--outdir"])
         .arg(out)
         .args(inputs)
         .stdout(Stdio::null())
