@@ -362,6 +362,9 @@ fn xlsm_with_project(source: &Path, project: &[u8], out: &Path) {
     writer.finish().unwrap();
 }
 
+/// What a test does to a stream's bytes.
+type Damage = dyn Fn(&[u8]) -> Vec<u8>;
+
 /// Each stream that holds the project (dir, PROJECT, a module) cut to half its length or
 /// overwritten: reading the project, listing its macros and importing into it are errors
 /// that name the stream, and the import writes nothing.
@@ -372,7 +375,7 @@ fn a_cut_or_damaged_stream_is_an_error_naming_it_for_reading_and_import() {
     let cut = |s: &[u8]| s[..s.len() / 2].to_vec();
     let garbage = |s: &[u8]| vec![0xFF; s.len()];
     let without_module_line = |s: &[u8]| String::from_utf8_lossy(s).replace("Module=Module1\r\n", "").into_bytes();
-    let cases: [(&str, &dyn Fn(&[u8]) -> Vec<u8>); 7] = [
+    let cases: [(&str, &Damage); 7] = [
         ("/VBA/dir", &cut),
         ("/VBA/dir", &garbage),
         ("/PROJECT", &cut),
