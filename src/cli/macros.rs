@@ -107,6 +107,8 @@ fn import(file: &Path, modules: &[PathBuf], out: &Path, on_existing: OnExisting,
 /// A .bas file as a module: named by its `Attribute VB_Name` line, else by the file name.
 fn read_module(path: &Path) -> Result<NewModule> {
     let source = std::fs::read_to_string(path).map_err(|e| Error::User(format!("{}: {e}", path.display())))?;
+    // An editor's byte-order mark is not part of the module's text.
+    let source = source.strip_prefix('\u{feff}').map(str::to_string).unwrap_or(source);
     let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     let name = source
         .lines()

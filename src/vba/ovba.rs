@@ -115,25 +115,36 @@ fn pack_copy_token(offset: usize, length: usize, decompressed: usize) -> u16 {
 
 /// Compresses `data` into a CompressedContainer (2.4.1.3.6), finding the longest earlier
 /// match for each position as the specification's compressor does.
-pub fn compress(data: &[u8]) -> Vec<u8> {
+///
+/// A whole 4096-byte chunk that does not shrink is stored raw; a shorter last chunk has no raw
+/// form (a raw chunk holds 4096 bytes), so one that does not fit its size field (some 3640
+/// bytes with hardly a repeat: no source text) is an error, not a corrupt header.
+pub fn compress(data: &[u8]) -> Result<Vec<u8>, OvbaError> {
     let mut out = vec![1u8];
-    for chunk in data.chunks(CHUNK) {
-        compress_chunk(chunk, &mut out);
+    for (n, chunk) in data.chunks(CHUNK).enumerate() {
+        compress_chunk(chunk, &mut out).map_err(|()| OvbaError {
+            offset: n * CHUNK,
+            message: format!("the last {} bytes do not compress into one chunk", chunk.len()),
+        })?;
     }
-    out
+    Ok(out)
 }
 
-fn compress_chunk(chunk: &[u8], out: &mut Vec<u8>) {
+fn compress_chunk(chunk: &[u8], out: &mut Vec<u8>) -> Result<(), ()> {
     let tokens = tokens_of(chunk);
-    if tokens.len() > CHUNK + 2 - 2 && chunk.len() == CHUNK {
+    if tokens.len() > CHUNK && chunk.len() == CHUNK {
         // No gain: a raw chunk (only possible for a whole 4096-byte chunk).
         out.extend_from_slice(&(0x3FFFu16).to_le_bytes());
         out.extend_from_slice(chunk);
-        return;
+        return Ok(());
+    }
+    if tokens.len() > CHUNK {
+        return Err(());
     }
     let size = (tokens.len() + 2 - 3) as u16;
     out.extend_from_slice(&(0xB000 | size).to_le_bytes());
     out.extend_from_slice(&tokens);
+    Ok(())
 }
 
 /// The token sequences of one chunk (flag bytes included).
@@ -206,11 +217,23 @@ mod tests {
         let text: Vec<u8> =
             (0..20_000u32).map(|i| b"Sub Main()\r\n  x = 1\r\nEnd Sub\r\n"[(i % 29) as usize]).collect();
         for len in [0, 1, 3, 100, 4095, 4096, 4097, 9000, 20_000] {
-            let packed = compress(&text[..len]);
+            let packed = compress(&text[..len]).unwrap();
             assert_eq!(decompress(&packed).unwrap(), &text[..len], "length {len}");
         }
         let noise: Vec<u8> = (0..9000u32).map(|i| (i.wrapping_mul(2_654_435_761) >> 13) as u8).collect();
-        assert_eq!(decompress(&compress(&noise)).unwrap(), noise);
+        assert_eq!(decompress(&compress(&noise).unwrap()).unwrap(), noise);
+        // 4000 bytes without a repeat fit no chunk: 4000 literals and 500 flag bytes.
+        let mut state = 0x1234_5678u32;
+        let last: Vec<u8> = (0..4000)
+            .map(|_| {
+                state ^= state << 13;
+                state ^= state >> 17;
+                state ^= state << 5;
+                (state >> 24) as u8
+            })
+            .collect();
+        assert!(tokens_of(&last).len() > CHUNK);
+        assert!(compress(&last).unwrap_err().message.contains("do not compress"));
     }
 
     #[test]

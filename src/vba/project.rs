@@ -336,9 +336,10 @@ pub fn build_project(modules: &[NewModule], seed: u8) -> Result<Vec<u8>, Project
     put("/PROJECTwm", &name_map(modules))?;
     // Reserved1 0x61CC, Version 0xFFFF (no compiled cache), Reserved2, Reserved3.
     put("/VBA/_VBA_PROJECT", &[0xCC, 0x61, 0xFF, 0xFF, 0x00, 0x00, 0x00])?;
-    put("/VBA/dir", &ovba::compress(&dir_stream(modules)))?;
+    put("/VBA/dir", &ovba::compress(&dir_stream(modules)).map_err(|e| error("VBA/dir", e))?)?;
     for (m, source) in modules.iter().zip(&encoded) {
-        put(&format!("/VBA/{}", m.name), &ovba::compress(source))?;
+        let path = format!("/VBA/{}", m.name);
+        put(&path, &ovba::compress(source).map_err(|e| error(&path, e))?)?;
     }
     cfb.flush().map_err(|e| error("vbaProject.bin", e))?;
     Ok(cfb.into_inner().into_inner())

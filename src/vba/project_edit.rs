@@ -43,7 +43,8 @@ pub fn add_modules(bytes: &[u8], modules: &[NewModule], on_existing: OnExisting)
     let listed = std::mem::take(&mut parts.listing.modules);
     for m in &listed {
         let text = parts.module_text(m)?;
-        replaced.insert(parts.stream_path(m).to_ascii_lowercase(), ovba::compress(&text));
+        let path = parts.stream_path(m);
+        replaced.insert(path.to_ascii_lowercase(), compress(&path, &text)?);
     }
     parts.listing.modules = listed;
     let mut added: Vec<Added> = Vec::new();
@@ -55,10 +56,13 @@ pub fn add_modules(bytes: &[u8], modules: &[NewModule], on_existing: OnExisting)
         })?;
         match existing(&parts.listing.modules, &new.name) {
             Some(old) => {
-                replaced.insert(parts.stream_path(old).to_ascii_lowercase(), ovba::compress(&text));
+                let path = parts.stream_path(old);
+                replaced.insert(path.to_ascii_lowercase(), compress(&path, &text)?);
             }
             None => {
-                created.push((format!("{}/{}", parts.storage, new.name), ovba::compress(&text)));
+                let path = format!("{}/{}", parts.storage, new.name);
+                let packed = compress(&path, &text)?;
+                created.push((path, packed));
                 let mbcs = encode(&new.name, encoding).expect("an ASCII name");
                 added.push(Added { module: new, mbcs });
             }
@@ -66,7 +70,7 @@ pub fn add_modules(bytes: &[u8], modules: &[NewModule], on_existing: OnExisting)
     }
     let dir_path = format!("{}/dir", parts.storage);
     let dir = rebuild_dir(&parts.dir, parts.listing.modules.len(), &added).map_err(|m| error(&dir_path, m))?;
-    replaced.insert(dir_path.to_ascii_lowercase(), ovba::compress(&dir));
+    replaced.insert(dir_path.to_ascii_lowercase(), compress(&dir_path, &dir)?);
     // Reserved1 0x61CC, Version 0xFFFF (no compiled cache), Reserved2 0, Reserved3.
     replaced
         .insert(format!("{}/_vba_project", parts.storage).to_ascii_lowercase(), vec![0xCC, 0x61, 0xFF, 0xFF, 0, 1, 0]);
@@ -77,6 +81,10 @@ pub fn add_modules(bytes: &[u8], modules: &[NewModule], on_existing: OnExisting)
         replaced.insert(wm_path.to_ascii_lowercase(), with_names(&wm, &added).map_err(|m| error(&wm_path, m))?);
     }
     write_project(&mut parts, &replaced, &created)
+}
+
+fn compress(path: &str, data: &[u8]) -> Result<Vec<u8>, ProjectError> {
+    ovba::compress(data).map_err(|e| error(path, e))
 }
 
 fn encode(text: &str, encoding: &'static encoding_rs::Encoding) -> Option<Vec<u8>> {
