@@ -305,4 +305,22 @@ mod tests {
         let twice = [module("X", ModuleKind::Standard, ""), module("x", ModuleKind::Standard, "")];
         assert!(add_modules(&base(), &twice, OnExisting::Refuse).unwrap_err().message.contains("twice"));
     }
+
+    /// [MS-OVBA] 3.1.6's PROJECT stream: the new module's line goes after the module and
+    /// package lines (2.3.1's grammar: ProjectId *ProjectItem, then the properties).
+    #[test]
+    fn the_module_line_follows_the_project_items() {
+        let text = "ID=\"{917DED54-440B-4FD1-A5C1-74ACF261E600}\"\r\nDocument=ThisWorkbook/&H00000000\r\n\
+                    Document=Sheet1/&H00000000\r\nPackage={AC9F2F90-E877-11CE-9F68-00AA00574A4F}\r\n\
+                    BaseClass=UserForm1\r\nHelpFile=\"c:\\example path\\example.hlp\"\r\nName=\"VBAProject\"\r\n";
+        let new = module("Chamfer", ModuleKind::Standard, "");
+        let added = [Added { module: &new, mbcs: b"Chamfer".to_vec() }];
+        let out = String::from_utf8(with_module_lines(text.as_bytes(), &added)).unwrap();
+        let lines: Vec<&str> = out.split("\r\n").collect();
+        assert_eq!(
+            lines[4..7],
+            ["BaseClass=UserForm1", "Module=Chamfer", "HelpFile=\"c:\\example path\\example.hlp\""]
+        );
+        assert_eq!(out.len(), text.len() + "Module=Chamfer\r\n".len());
+    }
 }
