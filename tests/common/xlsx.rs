@@ -401,3 +401,25 @@ fn run_soffice(soffice: &Path, profile: &str, inputs: &[PathBuf], out: &Path) {
         std::thread::sleep(Duration::from_millis(100));
     }
 }
+
+/// An xlsx package rewritten part by part: `change(name, bytes)` gives each part's new bytes,
+/// stored with `options` (uncompressed, so that byte mutations reach the XML, or deflated).
+/// The writer is returned open, for parts to add.
+pub fn rewrite_package(
+    package: &[u8],
+    options: zip::write::SimpleFileOptions,
+    change: &mut dyn FnMut(&str, Vec<u8>) -> Vec<u8>,
+) -> zip::ZipWriter<std::io::Cursor<Vec<u8>>> {
+    use std::io::{Read, Write};
+    let mut zip = zip::ZipArchive::new(std::io::Cursor::new(package)).unwrap();
+    let mut out = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
+    for i in 0..zip.len() {
+        let mut entry = zip.by_index(i).unwrap();
+        let name = entry.name().unwrap().to_string();
+        let mut data = Vec::new();
+        entry.read_to_end(&mut data).unwrap();
+        out.start_file(name.as_str(), options).unwrap();
+        out.write_all(&change(&name, data)).unwrap();
+    }
+    out
+}
