@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use ncsheet::eval::functions::as_lambda;
+use ncsheet::eval::functions::{as_lambda, bound_names};
 use ncsheet::eval::functions::{find, spec, Outside};
 use ncsheet::eval::{Env, Value};
 use ncsheet::formula::address::{Pos, Rect};
@@ -126,24 +126,6 @@ pub fn analyse(wb: &Workbook, sheet: SheetId, anchor: Pos) -> FormulaInfo {
         info.functions.push("(operators only)".into());
     }
     info
-}
-
-/// The names LET and LAMBDA bind anywhere in `expr`.
-fn bound_names(expr: &Expr) -> Vec<std::rc::Rc<str>> {
-    let mut bound = Vec::new();
-    expr.visit(&mut |e| {
-        let ExprKind::Call(id, args) = &e.kind else { return };
-        let params: Vec<&Expr> = match spec(*id).name {
-            "LET" => args.iter().step_by(2).take(args.len() / 2).collect(),
-            "LAMBDA" => args.iter().take(args.len().saturating_sub(1)).collect(),
-            _ => return,
-        };
-        bound.extend(params.into_iter().filter_map(|p| match &p.kind {
-            ExprKind::Name(n) => Some(n.clone()),
-            _ => None,
-        }));
-    });
-    bound
 }
 
 /// `A1#` reads the whole area the anchor spilled into.
