@@ -118,6 +118,18 @@ fn the_registry_holds_the_facts_the_side_lists_held() {
     // Volatile: Excel recomputes them at every recalculation.
     assert!(f("NOW").volatile && f("TODAY").volatile && f("OFFSET").volatile && f("INDIRECT").volatile);
     assert!(!f("SUM").volatile);
+    // Recomputed at every edit: Excel's volatile functions (Microsoft's "Recalculation"
+    // page: NOW, TODAY, RAND, RANDBETWEEN, OFFSET, INDIRECT, INFO, CELL), but OFFSET, whose
+    // reach is a graph edge here; INFO and CELL are not volatile here (they read nothing that
+    // changes within a session but the cells they are given).
+    let mut every_edit: Vec<&str> =
+        ncsheet::eval::functions::REGISTRY.iter().filter(|s| s.every_edit).map(|s| s.name).collect();
+    every_edit.sort_unstable();
+    assert_eq!(every_edit, ["INDIRECT", "NOW", "RAND", "RANDARRAY", "RANDBETWEEN", "TODAY"]);
+    assert!(f("OFFSET").volatile && !f("OFFSET").every_edit);
+    for s in ncsheet::eval::functions::REGISTRY.iter() {
+        assert!(!s.every_edit || s.volatile, "{} is recomputed at every edit but not volatile", s.name);
+    }
     // Excel's cached values of NOW and TODAY depend on the moment, of RAND on chance, of INFO
     // on the computer (Microsoft's pages of each).
     assert_eq!((f("NOW").reads, f("TODAY").reads), (Outside::Clock, Outside::Clock));

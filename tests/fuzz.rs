@@ -4,7 +4,8 @@
 //! a failed case; a stack overflow would abort the run). Inputs mix random characters with
 //! the pieces hostile text is made of: deep brackets, long operator chains, huge numbers.
 
-use std::io::{Cursor, Read, Write};
+mod common;
+
 use std::path::Path;
 
 use proptest::prelude::*;
@@ -121,18 +122,8 @@ fn good_package() -> Vec<u8> {
 
 /// The package with every part stored uncompressed, so that byte mutations reach the XML.
 fn stored(package: &[u8]) -> Vec<u8> {
-    let mut zip = zip::ZipArchive::new(Cursor::new(package)).unwrap();
-    let mut out = zip::ZipWriter::new(Cursor::new(Vec::new()));
     let options = zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Stored);
-    for i in 0..zip.len() {
-        let mut entry = zip.by_index(i).unwrap();
-        let name = entry.name().unwrap().to_string();
-        let mut data = Vec::new();
-        entry.read_to_end(&mut data).unwrap();
-        out.start_file(name.as_str(), options).unwrap();
-        out.write_all(&data).unwrap();
-    }
-    out.finish().unwrap().into_inner()
+    common::rewrite_package(package, options, &mut |_, data| data).finish().unwrap().into_inner()
 }
 
 proptest! {

@@ -281,17 +281,8 @@ fn backplots_of_the_shipped_examples_span_their_paths() {
     let at = Invocation { dir: Some(d), ..Invocation::default() };
 
     // The paper's macro on the paper's workbook: DOMAIN.md §1's outer chamfer.
-    let run = at.run(&[
-        "run",
-        &sheet("chamfer.xlsx"),
-        &sheet("chamfer.bas"),
-        "--sheet",
-        "Outer",
-        "--dialect",
-        "iso",
-        "-o",
-        "chamfer.nc",
-    ]);
+    let args = common::cli::outer_chamfer("iso", "chamfer.nc");
+    let run = at.run(&args.iter().map(String::as_str).collect::<Vec<_>>());
     assert_eq!(run.code, 0, "{}", run.stderr);
     let text = std::fs::read_to_string(d.join("chamfer.nc")).unwrap();
     assert!(text.contains("X44.263 Z-4.6") && text.contains("X33.063 Z1."), "the chamfer cut of DOMAIN.md §1:\n{text}");

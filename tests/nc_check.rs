@@ -154,17 +154,8 @@ fn the_shipped_examples_are_clean() {
     let d = dir.path();
     let at = Invocation { dir: Some(d), ..Invocation::default() };
     let chamfer = |dialect: &str, out: &str| {
-        let run = at.run(&[
-            "run",
-            &sheet("chamfer.xlsx"),
-            &sheet("chamfer.bas"),
-            "--sheet",
-            "Outer",
-            "--dialect",
-            dialect,
-            "-o",
-            out,
-        ]);
+        let args = common::cli::outer_chamfer(dialect, out);
+        let run = at.run(&args.iter().map(String::as_str).collect::<Vec<_>>());
         assert_eq!(run.code, 0, "{}", run.stderr);
     };
     chamfer("iso", "chamfer.nc");

@@ -55,12 +55,17 @@ fn formula_property_reads_and_writes_formula_text() {
     let printed = run(
         &mut wb,
         "    Range(\"B1\").Formula = \"=A1+1\"\n    Debug.Print Range(\"B1\").Formula & \" \" & Range(\"B1\").Value\n\
-         \x20   Range(\"C1:C2\").Formula = \"=A1*2\"",
+         \x20   Range(\"C1:C2\").Formula = \"=A1*2\"\n    Range(\"D1:E2\").Formula = \"=$A$1+A1\"",
     );
     assert_eq!(printed, ["=A1+1 5"]);
     // Filling a range moves relative references along, as VBA's Range.Formula does.
     assert_eq!(wb.formula(0, parse_cell("C2").unwrap()).as_deref(), Some("=A2*2"));
     assert_eq!(get(&wb, 0, "C2"), n(10.0));
+    // Across columns too, absolute references staying: E1 is $A$1 + B1 = 4 + 5, D2 $A$1 + A2.
+    assert_eq!(wb.formula(0, parse_cell("E1").unwrap()).as_deref(), Some("=$A$1+B1"));
+    assert_eq!(get(&wb, 0, "E1"), n(9.0));
+    assert_eq!(wb.formula(0, parse_cell("D2").unwrap()).as_deref(), Some("=$A$1+A2"));
+    assert_eq!(get(&wb, 0, "D2"), n(9.0));
 }
 
 #[test]

@@ -109,6 +109,24 @@ fn defined_names_and_other_sheets() {
     assert_eq!(get(&wb, "A4"), Value::Error(XlError::Name));
 }
 
+/// Names defined in bulk (a file's defined names) recalculate nothing until the one
+/// recalculation after them, which also links the cells that already read them.
+#[test]
+fn names_defined_in_bulk_are_linked_at_the_one_recalculation_after_them() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, "A1", "2");
+    set(&mut wb, "B1", "=Rate*Count");
+    assert_eq!(get(&wb, "B1"), Value::Error(XlError::Name));
+    wb.define_name_deferred("Rate", "=Sheet1!$A$1", None).unwrap();
+    wb.define_name_deferred("Count", "=3", None).unwrap();
+    assert_eq!(get(&wb, "B1"), Value::Error(XlError::Name), "nothing is recalculated yet");
+    wb.recalculate();
+    assert_eq!(get(&wb, "B1"), n(6.0));
+    // B1 now reads A1 through Rate: an edit of A1 reaches it.
+    set(&mut wb, "A1", "5");
+    assert_eq!(get(&wb, "B1"), n(15.0));
+}
+
 #[test]
 fn a_bad_formula_is_reported_with_a_caret_and_the_rest_computes() {
     let mut wb = Workbook::with_sheet();

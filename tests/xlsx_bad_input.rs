@@ -1,6 +1,8 @@
 //! Bad xlsx input gives a clear error naming the file and the part, never a panic. The
 //! fixtures are made here: a good workbook from our writer, then broken on purpose.
 
+mod common;
+
 use std::io::{Cursor, Read, Write};
 use std::path::Path;
 
@@ -22,23 +24,15 @@ fn good_workbook() -> Vec<u8> {
 
 /// The package with `part` replaced (or added).
 fn with_part(package: &[u8], part: &str, content: &[u8]) -> Vec<u8> {
-    let mut zip = zip::ZipArchive::new(Cursor::new(package)).unwrap();
-    let mut out = zip::ZipWriter::new(Cursor::new(Vec::new()));
     let options = zip::write::SimpleFileOptions::default();
     let mut replaced = false;
-    for i in 0..zip.len() {
-        let mut entry = zip.by_index(i).unwrap();
-        let name = entry.name().unwrap().to_string();
-        let mut data = Vec::new();
-        entry.read_to_end(&mut data).unwrap();
-        out.start_file(name.as_str(), options).unwrap();
-        if name == part {
-            out.write_all(content).unwrap();
-            replaced = true;
-        } else {
-            out.write_all(&data).unwrap();
+    let mut out = common::rewrite_package(package, options, &mut |name, data| {
+        if name != part {
+            return data;
         }
-    }
+        replaced = true;
+        content.to_vec()
+    });
     if !replaced {
         out.start_file(part, options).unwrap();
         out.write_all(content).unwrap();

@@ -17,6 +17,9 @@ use ncsheet::formula::address::{parse_cell, Pos};
 use ncsheet::io::xlsx::{self, Layout, SheetLayout};
 use ncsheet::workbook::Workbook;
 
+/// (formula number, quantity, formula with `{quantity}` for earlier rows, as printed)
+type Step = (&'static str, &'static str, &'static str, &'static str);
+
 struct Kind {
     sheet: &'static str,
     title: &'static str,
@@ -24,22 +27,30 @@ struct Kind {
     d: f64,
     e_a: f64,
     note: &'static str,
-    /// (formula number, quantity, formula with `{quantity}` for earlier rows, as printed)
-    steps: &'static [(&'static str, &'static str, &'static str, &'static str)],
+    /// The formula rows, in runs shared between the kinds where the paper's formulas are.
+    steps: &'static [&'static [Step]],
 }
 
-const TAN: (&str, &str, &str, &str) =
-    ("", "tan α", "=SIN(alpha*PI()/180)/COS(alpha*PI()/180)", "tan α, used by the formulas below");
-const BETA: (&str, &str, &str, &str) = ("1", "β", "=PI()/2-alpha*PI()/180", "β = π/2 − α·π/180");
-const T2_INNER: [(&str, &str, &str, &str); 7] = [
+const TAN: Step = ("", "tan α", "=SIN(alpha*PI()/180)/COS(alpha*PI()/180)", "tan α, used by the formulas below");
+const BETA: Step = ("1", "β", "=PI()/2-alpha*PI()/180", "β = π/2 − α·π/180");
+/// The start of both inner chamfers' end A (formulas 16–18).
+const INNER_A: [Step; 5] = [
+    TAN,
+    BETA,
+    ("16", "A'D", "=r_/SIN({β})", "A'D = r / sin β"),
+    ("17", "DC", "=r_*{tan α}", "DC = AC·tan α, AC = r"),
+    ("18", "A'C", "={A'D}-{DC}", "A'C = A'D − DC"),
+];
+const F_PRIME: Step = ("12", "f'", "=f*{tan α}", "f' = f·tan α");
+/// End B, outer and inner alike up to XB (formulas 8–11).
+const END_B: [Step; 4] = [
     ("8", "BE", "=eB+r_", "BE = eB + r"),
     ("9", "EF", "={BE}*{tan α}", "EF = BE·tan α"),
     ("10", "B'F", "=r_/SIN({β})", "B'F = r / sin β"),
     ("11", "B'E", "={EF}-{B'F}", "B'E = EF − B'F"),
-    ("12", "f'", "=f*{tan α}", "f' = f·tan α"),
-    ("15", "XB", "=D+({f'}+{B'E}+r_)*2", "XB = Ds + (f' + B'E + r)·2"),
-    ("14", "ZB", "=eB", "ZB = eB"),
 ];
+const ZB: Step = ("14", "ZB", "=eB", "ZB = eB");
+const INNER_XB_ZB: [Step; 2] = [("15", "XB", "=D+({f'}+{B'E}+r_)*2", "XB = Ds + (f' + B'E + r)·2"), ZB];
 
 const KINDS: [Kind; 3] = [
     Kind {
@@ -50,21 +61,18 @@ const KINDS: [Kind; 3] = [
         e_a: 1.0,
         note: "Exact for every angle α.",
         steps: &[
-            TAN,
-            BETA,
-            ("2", "A'C", "=r_/SIN({β})", "A'C = r / sin β"),
-            ("3", "AD", "=eA+r_", "AD = eA + r"),
-            ("4", "CD", "={AD}*{tan α}", "CD = AD·tan α"),
-            ("5", "A'D", "={CD}+{A'C}", "A'D = CD + A'C"),
-            ("6", "XA", "=D+({A'D}-r_)*2", "XA = Dv + (A'D − r)·2"),
-            ("7", "ZA", "=-(f+{AD}+r_)", "ZA = −(f + AD + r)"),
-            ("8", "BE", "=eB+r_", "BE = eB + r"),
-            ("9", "EF", "={BE}*{tan α}", "EF = BE·tan α"),
-            ("10", "B'F", "=r_/SIN({β})", "B'F = r / sin β"),
-            ("11", "B'E", "={EF}-{B'F}", "B'E = EF − B'F"),
-            ("12", "f'", "=f*{tan α}", "f' = f·tan α"),
-            ("13", "XB", "=D-({f'}+{B'E}+r_)*2", "XB = Dv − (f' + B'E + r)·2"),
-            ("14", "ZB", "=eB", "ZB = eB"),
+            &[
+                TAN,
+                BETA,
+                ("2", "A'C", "=r_/SIN({β})", "A'C = r / sin β"),
+                ("3", "AD", "=eA+r_", "AD = eA + r"),
+                ("4", "CD", "={AD}*{tan α}", "CD = AD·tan α"),
+                ("5", "A'D", "={CD}+{A'C}", "A'D = CD + A'C"),
+                ("6", "XA", "=D+({A'D}-r_)*2", "XA = Dv + (A'D − r)·2"),
+                ("7", "ZA", "=-(f+{AD}+r_)", "ZA = −(f + AD + r)"),
+            ],
+            &END_B,
+            &[F_PRIME, ("13", "XB", "=D-({f'}+{B'E}+r_)*2", "XB = Dv − (f' + B'E + r)·2"), ZB],
         ],
     },
     Kind {
@@ -75,21 +83,15 @@ const KINDS: [Kind; 3] = [
         e_a: 1.0,
         note: "The paper's inner-chamfer formulas hold at α = 45° (DOMAIN.md §1).",
         steps: &[
-            TAN,
-            BETA,
-            ("16", "A'D", "=r_/SIN({β})", "A'D = r / sin β"),
-            ("17", "DC", "=r_*{tan α}", "DC = AC·tan α, AC = r"),
-            ("18", "A'C", "={A'D}-{DC}", "A'C = A'D − DC"),
-            ("21", "DF", "=(eA-r_)*{tan α}", "DF = (eA − r)·tan α"),
-            ("22", "XA", "=(D-({DF}+{DC}+{A'C})*2)+2*r_", "XA = [Ds − (DF + DC + A'C)·2] + 2r"),
-            T2_INNER[4],
-            ("23", "ZA", "=-({f'}+eA)", "ZA = −(f' + eA)"),
-            T2_INNER[0],
-            T2_INNER[1],
-            T2_INNER[2],
-            T2_INNER[3],
-            T2_INNER[5],
-            T2_INNER[6],
+            &INNER_A,
+            &[
+                ("21", "DF", "=(eA-r_)*{tan α}", "DF = (eA − r)·tan α"),
+                ("22", "XA", "=(D-({DF}+{DC}+{A'C})*2)+2*r_", "XA = [Ds − (DF + DC + A'C)·2] + 2r"),
+                F_PRIME,
+                ("23", "ZA", "=-({f'}+eA)", "ZA = −(f' + eA)"),
+            ],
+            &END_B,
+            &INNER_XB_ZB,
         ],
     },
     Kind {
@@ -100,20 +102,10 @@ const KINDS: [Kind; 3] = [
         e_a: 0.0,
         note: "The paper's inner-chamfer formulas hold at α = 45° (DOMAIN.md §1); eA = 0 here.",
         steps: &[
-            TAN,
-            BETA,
-            ("16", "A'D", "=r_/SIN({β})", "A'D = r / sin β"),
-            ("17", "DC", "=r_*{tan α}", "DC = AC·tan α, AC = r"),
-            ("18", "A'C", "={A'D}-{DC}", "A'C = A'D − DC"),
-            ("19", "XA", "=(D-2*{A'C})+2*r_", "XA = (Ds − 2·A'C) + 2r"),
-            T2_INNER[4],
-            ("20", "ZA", "=-{f'}", "ZA = −f'"),
-            T2_INNER[0],
-            T2_INNER[1],
-            T2_INNER[2],
-            T2_INNER[3],
-            T2_INNER[5],
-            T2_INNER[6],
+            &INNER_A,
+            &[("19", "XA", "=(D-2*{A'C})+2*r_", "XA = (Ds − 2·A'C) + 2r"), F_PRIME, ("20", "ZA", "=-{f'}", "ZA = −f'")],
+            &END_B,
+            &INNER_XB_ZB,
         ],
     },
 ];
@@ -173,7 +165,7 @@ fn chamfer_workbook() -> (Workbook, Layout) {
             set(&mut wb, s, cell, text);
         }
         let mut rows: Vec<(&str, usize)> = Vec::new();
-        for (i, (no, quantity, formula, printed)) in kind.steps.iter().enumerate() {
+        for (i, (no, quantity, formula, printed)) in kind.steps.iter().copied().flatten().enumerate() {
             let row = 15 + i;
             let mut text = formula.to_string();
             for (q, r) in &rows {

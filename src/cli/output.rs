@@ -5,7 +5,7 @@ use std::io::{self, Write};
 use std::path::Path;
 
 use clap::ValueEnum;
-use ncsheet::eval::number_format::{round15, shown};
+use ncsheet::eval::format::number_format::{round15, shown};
 use ncsheet::eval::Value;
 use ncsheet::formula::address::{column_name, Pos, Rect};
 use ncsheet::formula::ast::SheetId;
@@ -277,7 +277,7 @@ fn fit_cell(text: &str, number: bool, width: usize, value: Value) -> String {
 /// shorter), trailing zeros dropped: 9.56E-15, 44.2627.
 fn shorter_number(n: f64, digits: usize) -> Option<String> {
     if n == 0.0 || !n.is_finite() {
-        return Some(ncsheet::eval::number_format::general(n));
+        return Some(ncsheet::eval::format::number_format::general(n));
     }
     let exponent = n.abs().log10().floor() as i32;
     let trim = |s: String| if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s };

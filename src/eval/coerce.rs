@@ -4,7 +4,7 @@ use std::cmp::Ordering;
 use std::rc::Rc;
 
 use super::dates::{self, DateText};
-use super::number_format::general;
+use super::format::number_format::general;
 use super::value::{Value, XlError, XlResult};
 
 /// A value as a number for arithmetic: `"2"` is 2, `TRUE` is 1, blank is 0, other text `#VALUE!`.

@@ -800,7 +800,7 @@ fn scalar_binary(op: BinOp, a: &Value, b: &Value) -> Value {
     }
 }
 
-fn comparison_holds(op: BinOp, ord: std::cmp::Ordering) -> bool {
+pub fn comparison_holds(op: BinOp, ord: std::cmp::Ordering) -> bool {
     use std::cmp::Ordering::*;
     match op {
         BinOp::Eq => ord == Equal,

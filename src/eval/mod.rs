@@ -12,6 +12,4 @@ pub mod testing;
 pub mod value;
 
 pub use evaluator::{Ctx, Env, Note, Operand, RowHidden};
-/// The old path of `format::number_format`, kept while branches that use it are merged.
-pub use format::number_format;
 pub use value::{Array, Value, XlError, XlResult};

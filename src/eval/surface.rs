@@ -4,7 +4,7 @@
 //! are formulas too ([`super::diff`]), and all three are run by the one evaluator with the
 //! variables bound as local names, so slopes are exact to rounding.
 //!
-//! Nothing here knows about tool paths: `eval/functions/geometry.rs` adapts a
+//! Nothing here knows about tool paths: `eval/functions/geometry/` adapts a
 //! [`BoundSurface`] to `geometry::ballpath::Surface`.
 
 use std::collections::{HashMap, HashSet};

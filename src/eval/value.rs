@@ -143,7 +143,7 @@ impl fmt::Display for Value {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Value::Blank => Ok(()),
-            Value::Number(n) => f.write_str(&super::number_format::general(*n)),
+            Value::Number(n) => f.write_str(&super::format::number_format::general(*n)),
             Value::Bool(b) => f.write_str(if *b { "TRUE" } else { "FALSE" }),
             Value::Text(s) => f.write_str(s),
             Value::Error(e) => f.write_str(e.as_str()),

@@ -249,20 +249,21 @@ fn unclosed_paren(text: &str) -> Option<usize> {
 
 /// Parses a formula (with or without its leading `=`).
 pub fn parse_formula(text: &str, ctx: &ParseContext) -> Result<Expr, ParseError> {
-    check_nesting(text, Language::Formula)?;
-    let mut pairs = FormulaGrammar::parse(Rule::formula, text).map_err(from_pest)?;
-    let formula = pairs.next().expect("formula rule");
-    let expr = formula.into_inner().find(|p| p.as_rule() == Rule::expr).expect("expr");
-    Builder { ctx, host: None }.expr(expr.into_inner())
+    parse_as(text, ctx, Rule::formula, Rule::expr)
 }
 
 /// Parses a defined name's formula, where a union of references may stand without
 /// parentheses as Excel stores it (`Sheet1!$A$1:$A$3,Sheet1!$C$1`).
 pub fn parse_name_formula(text: &str, ctx: &ParseContext) -> Result<Expr, ParseError> {
+    parse_as(text, ctx, Rule::name_formula, Rule::paren_expr)
+}
+
+/// The tree of `text` read as the grammar's `top` rule, whose `inner` pair is the expression.
+fn parse_as(text: &str, ctx: &ParseContext, top: Rule, inner: Rule) -> Result<Expr, ParseError> {
     check_nesting(text, Language::Formula)?;
-    let mut pairs = FormulaGrammar::parse(Rule::name_formula, text).map_err(from_pest)?;
-    let formula = pairs.next().expect("name_formula rule");
-    let expr = formula.into_inner().find(|p| p.as_rule() == Rule::paren_expr).expect("paren_expr");
+    let mut pairs = FormulaGrammar::parse(top, text).map_err(from_pest)?;
+    let formula = pairs.next().expect("the top rule matched");
+    let expr = formula.into_inner().find(|p| p.as_rule() == inner).expect("its expression");
     Builder { ctx, host: None }.expr(expr.into_inner())
 }
 
@@ -279,25 +280,38 @@ pub fn build_expr(pair: Pair<Rule>, ctx: &ParseContext, host: Option<&dyn HostPr
 }
 
 fn from_pest(err: pest::error::Error<Rule>) -> ParseError {
+    from_pest_with(err, |positives| expected_kinds(positives, describe, "unexpected character", "one of: "))
+}
+
+/// A pest error at its offset, what was wanted said by `expected` (formulas and macros each
+/// word it in their own language; the grammar is one).
+pub(crate) fn from_pest_with(err: pest::error::Error<Rule>, expected: impl Fn(&[Rule]) -> String) -> ParseError {
     let offset = match err.location {
         InputLocation::Pos(p) => p,
         InputLocation::Span((s, _)) => s,
     };
     let message = match &err.variant {
         ErrorVariant::CustomError { message } => message.clone(),
-        ErrorVariant::ParsingError { positives, .. } => expected_message(positives),
+        ErrorVariant::ParsingError { positives, .. } => expected(positives),
     };
     ParseError::at(offset, message)
 }
 
-fn expected_message(positives: &[Rule]) -> String {
+/// "expected X" for the kinds of thing the wanted rules are (`describe`d, each once), "expected
+/// `several`X, Y" for more than one kind, `nothing` when none is known.
+pub(crate) fn expected_kinds(
+    positives: &[Rule],
+    describe: fn(Rule) -> &'static str,
+    nothing: &str,
+    several: &str,
+) -> String {
     let mut wanted: Vec<&str> = positives.iter().map(|r| describe(*r)).collect();
     wanted.sort_unstable();
     wanted.dedup();
     match wanted.as_slice() {
-        [] => "unexpected character".to_string(),
+        [] => nothing.to_string(),
         [one] => format!("expected {one}"),
-        many => format!("expected one of: {}", many.join(", ")),
+        many => format!("expected {several}{}", many.join(", ")),
     }
 }
 

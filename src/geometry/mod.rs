@@ -1,5 +1,5 @@
 //! Pure geometry over nalgebra types: no workbook, no values, no files. The sheet functions
-//! that expose it are registered in `eval/functions/geometry.rs`, and nowhere else.
+//! that expose it are registered in `eval/functions/geometry/`, and nowhere else.
 //!
 //! Units at every interface: millimetres and degrees; radians only inside.
 

@@ -24,7 +24,7 @@ use std::collections::HashMap;
 use std::fmt;
 use std::io::{self, Write};
 
-use crate::eval::number_format;
+use crate::eval::format::number_format;
 use crate::eval::Value;
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::workbook::{Input, Workbook};

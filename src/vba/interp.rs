@@ -345,7 +345,7 @@ impl Interp<'_, '_> {
         let n = self.number(e, what)?.round_ties_even();
         // VBA's indexes are Longs: 1E+300 is an overflow, not the largest integer.
         if !(i32::MIN as f64..=i32::MAX as f64).contains(&n) {
-            let n = crate::eval::number_format::general(n);
+            let n = crate::eval::format::number_format::general(n);
             let message = format!("{what} {n} is outside a Long (-2147483648 to 2147483647): overflow");
             return Err(self.fault_at(self.expr_span(e), message));
         }

@@ -3,14 +3,12 @@
 
 use crate::eval::coerce::{to_bool, to_text};
 use crate::eval::functions::vba::vba_text;
-use crate::eval::functions::Registry;
 use crate::eval::{Ctx, Operand, Value};
 use crate::formula::address::{column_index, column_name, Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::formula::ast::{Expr, SheetId};
-use crate::formula::print::print_formula;
 
 use super::ast::{Link, Node, Path, Span};
-use super::interp::{one_line, Interp, Run};
+use super::interp::{Interp, Run};
 use super::value::{print_text, Obj, Var};
 
 /// The cell `index` picks in `rect` (1-based): `(i)` counts row by row, `(i, j)` is row and
@@ -515,33 +513,17 @@ impl Interp<'_, '_> {
     }
 
     /// `.Formula = "=A1*2"` into every cell of `rect`, relative references moving along as a
-    /// fill moves them (VBA does the same).
+    /// fill moves them (VBA does the same): the tree is parsed once, at the first cell.
     fn write_formula(&self, sheet: SheetId, rect: Rect, text: &str, span: Span) -> Run<()> {
         if rect.is_cell() || !text.starts_with('=') {
             return self.write_range(sheet, rect, &Value::text(text));
         }
-        let texts = {
-            let wb = self.wb.borrow();
-            let expr = wb
-                .parse_at(text, sheet, rect.first)
-                .map_err(|e| self.fault_at(span, format!("{text}: column {}: {}", e.column(text), e.message)))?;
-            let names = |id: SheetId| Env::sheet_name(&**wb, id).unwrap_or_default();
-            let mut texts = Vec::new();
-            for row in rect.first.row..=rect.last.row {
-                for col in rect.first.col..=rect.last.col {
-                    let pos = Pos::new(row, col);
-                    texts.push((pos, format!("={}", print_formula(&expr, pos, &Registry, &names))));
-                }
-            }
-            texts
-        };
         let mut wb = self.wb.borrow_mut();
-        for (pos, t) in texts {
-            wb.set_input_deferred(sheet, pos, &t).map_err(|e| self.fault_at(span, one_line(&e)))?;
-        }
+        let expr = wb
+            .parse_at(text, sheet, rect.first)
+            .map_err(|e| self.fault_at(span, format!("{text}: column {}: {}", e.column(text), e.message)))?;
+        wb.fill_formula_tree_deferred(sheet, rect, expr);
         wb.recalculate();
         Ok(())
     }
 }
-
-use crate::eval::Env;

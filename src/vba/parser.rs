@@ -9,14 +9,16 @@ use crate::formula::limits;
 use std::cell::{Cell, RefCell};
 use std::rc::Rc;
 
-use pest::error::{ErrorVariant, InputLocation};
 use pest::iterators::Pair;
 use pest::Parser;
 
 use crate::eval::functions::Registry;
 use crate::formula::address::Pos;
 use crate::formula::ast::{BinOp, Expr, ExprKind, SheetId, Span as ByteSpan};
-use crate::formula::parse::{build_expr, is_operator, FormulaGrammar, HostPrimaries, ParseContext, ParseError, Rule};
+use crate::formula::parse::{
+    build_expr, expected_kinds, from_pest_with, is_operator, FormulaGrammar, HostPrimaries, ParseContext, ParseError,
+    Rule,
+};
 
 use super::ast::*;
 use super::resolve::{is_object, lower_bare, refusal, FORBIDDEN};
@@ -94,15 +96,7 @@ pub fn parse_module(src: &str, sheets: &dyn Fn(&str) -> Option<SheetId>) -> Resu
 }
 
 fn from_pest(err: pest::error::Error<Rule>) -> ParseError {
-    let offset = match err.location {
-        InputLocation::Pos(p) => p,
-        InputLocation::Span((s, _)) => s,
-    };
-    let message = match &err.variant {
-        ErrorVariant::CustomError { message } => message.clone(),
-        ErrorVariant::ParsingError { positives, .. } => expected(positives),
-    };
-    ParseError { offset, message }
+    from_pest_with(err, expected)
 }
 
 /// What the parser wanted, in the words of the language: the closing keyword when one is
@@ -114,14 +108,7 @@ fn expected(positives: &[Rule]) -> String {
         all.dedup();
         return if all.len() == 1 { format!("expected {first}") } else { format!("expected {}", all.join(" or ")) };
     }
-    let mut kinds: Vec<&str> = positives.iter().map(|r| describe(*r)).collect();
-    kinds.sort_unstable();
-    kinds.dedup();
-    match kinds.as_slice() {
-        [] => "this is not a statement or expression the macro language knows".into(),
-        [one] => format!("expected {one}"),
-        many => format!("expected {}", many.join(", ")),
-    }
+    expected_kinds(positives, describe, "this is not a statement or expression the macro language knows", "")
 }
 
 fn closer(rule: Rule) -> Option<&'static str> {

@@ -152,6 +152,8 @@ pub struct Workbook {
     changes: Option<Box<ChangeLog>>,
     /// Iterative calculation (`cycles.rs`): cycles iterate instead of showing `#CIRC!`.
     iteration: Option<Iteration>,
+    /// Names were (re)defined without relinking the graph: the next full recalculation does.
+    names_unlinked: bool,
 }
 
 /// Cell ids whose input was set, and whose value changed, since tracking began.
@@ -376,6 +378,18 @@ impl Workbook {
         self.install_formula(id, fid);
     }
 
+    /// Fills every cell of `rect` with one formula tree (its relative references move along,
+    /// as Excel's fill moves them), the cells sharing the tree, without recalculating.
+    pub fn fill_formula_tree_deferred(&mut self, sheet: SheetId, rect: Rect, tree: Expr) {
+        let fid = self.formulas.add(None, SharedFormula::new(tree));
+        for row in rect.first.row..=rect.last.row {
+            for col in rect.first.col..=rect.last.col {
+                let id = self.cleared_cell(sheet, Pos::new(row, col));
+                self.install_formula(id, fid);
+            }
+        }
+    }
+
     /// Sets a constant value without recalculating (a file reader's path: no text round trip,
     /// so text that looks like a number or a formula stays text). Arrays are not cell values
     /// and are stored as their first item.
@@ -526,6 +540,26 @@ impl Workbook {
     /// Defines (or redefines) a name, workbook-wide or for one sheet. References in it are
     /// read as from cell A1 of its sheet, so write them absolute (`$B$3`) as Excel stores them.
     pub fn define_name(&mut self, name: &str, formula: &str, scope: Option<SheetId>) -> Result<(), WorkbookError> {
+        self.define_name_deferred(name, formula, scope)?;
+        self.recalculate();
+        Ok(())
+    }
+
+    /// [`Workbook::define_name`] of a formula given as a tree (read as from A1 of its sheet).
+    pub fn define_name_tree(&mut self, name: &str, expr: Expr, scope: Option<SheetId>) -> Result<(), WorkbookError> {
+        self.define_name_tree_deferred(name, expr, scope)?;
+        self.recalculate();
+        Ok(())
+    }
+
+    /// [`Workbook::define_name`] without recalculating (a file reader defining names in bulk);
+    /// call [`Workbook::recalculate`] after the batch, which relinks the cells reading names.
+    pub fn define_name_deferred(
+        &mut self,
+        name: &str,
+        formula: &str,
+        scope: Option<SheetId>,
+    ) -> Result<(), WorkbookError> {
         check_name(name)?;
         let sheets = |name: &str| self.sheet_id(name);
         let ctx = ParseContext { at: Pos::new(0, 0), functions: &Registry, sheet: &sheets };
@@ -534,19 +568,26 @@ impl Workbook {
             text: formula.to_string(),
             error,
         })?;
-        self.define_name_tree(name, expr, scope)
+        self.define_name_tree_deferred(name, expr, scope)
     }
 
-    /// [`Workbook::define_name`] of a formula given as a tree (read as from A1 of its sheet).
-    pub fn define_name_tree(&mut self, name: &str, expr: Expr, scope: Option<SheetId>) -> Result<(), WorkbookError> {
+    /// [`Workbook::define_name_tree`] without recalculating; call [`Workbook::recalculate`]
+    /// after the batch.
+    pub fn define_name_tree_deferred(
+        &mut self,
+        name: &str,
+        expr: Expr,
+        scope: Option<SheetId>,
+    ) -> Result<(), WorkbookError> {
         check_name(name)?;
         self.names.retain(|n| !(n.name.eq_ignore_ascii_case(name) && n.scope == scope));
         self.names.push(DefinedName { name: name.to_string(), expr: Rc::new(expr), scope });
         if let Some(log) = &mut self.changes {
             log.names = true;
         }
-        self.rebuild_graph();
-        self.recalculate();
+        // Cells linked before this name need linking again; a reader defining names before
+        // any cell (the xlsx importer) has none.
+        self.names_unlinked |= !self.cells.is_empty();
         Ok(())
     }
 

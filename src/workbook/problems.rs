@@ -3,9 +3,7 @@
 //! for their error values. Each [`Problem`] says its kind and, where it is in a formula, the
 //! formula's text and the span in it, so that a front end renders it without parsing again.
 
-use std::rc::Rc;
-
-use crate::eval::functions::{spec, Registry};
+use crate::eval::functions::{bound_names, Registry};
 use crate::eval::{Env, Value, XlError};
 use crate::formula::address::Pos;
 use crate::formula::ast::{Expr, ExprKind, SheetId, SheetRef, Span};
@@ -134,7 +132,7 @@ impl Workbook {
     pub(super) fn unknowns(&self, sheet: SheetId, pos: Pos) -> Vec<Problem> {
         // Which names are unknown does not depend on the numbers: the shared tree tells.
         let Some(shared) = self.shared_formula_at(sheet, pos) else { return Vec::new() };
-        let local = local_names(&shared.expr);
+        let local = bound_names(&shared.expr);
         let unknown = |e: &Expr| -> Option<ProblemKind> {
             let is_local = |name: &str| local.iter().any(|l| l.eq_ignore_ascii_case(name));
             match &e.kind {
@@ -174,23 +172,4 @@ impl Workbook {
 pub(super) fn sort_by_place(problems: &mut Vec<Problem>) {
     problems.sort_by_cached_key(|p| (p.sheet, p.pos.row, p.pos.col, p.render()));
     problems.dedup();
-}
-
-/// The names a formula binds itself: LET's names and LAMBDA's parameters. They are not
-/// unknown, whatever the workbook defines.
-fn local_names(expr: &Expr) -> Vec<Rc<str>> {
-    let mut names = Vec::new();
-    expr.visit(&mut |e| {
-        let ExprKind::Call(id, args) = &e.kind else { return };
-        let bound: Vec<&Expr> = match spec(*id).name {
-            "LET" => args.iter().step_by(2).take(args.len() / 2).collect(),
-            "LAMBDA" => args.iter().take(args.len().saturating_sub(1)).collect(),
-            _ => return,
-        };
-        names.extend(bound.into_iter().filter_map(|a| match &a.kind {
-            ExprKind::Name(n) => Some(n.clone()),
-            _ => None,
-        }));
-    });
-    names
 }

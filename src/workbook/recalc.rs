@@ -156,6 +156,9 @@ impl Affected {
 impl Workbook {
     /// Recomputes every formula (after loading a file or redefining names).
     pub fn recalculate(&mut self) {
+        if std::mem::take(&mut self.names_unlinked) {
+            self.rebuild_graph();
+        }
         self.cycles.clear();
         let sources: Vec<u32> =
             (0..self.cells.len() as u32).filter(|&id| self.cells[id as usize].formula != NO_FORMULA).collect();

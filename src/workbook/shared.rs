@@ -29,20 +29,8 @@ pub struct SharedFormula {
     /// This formula's numbers where they differ from the shared tree's: each number literal
     /// of `expr` (by address) with the value to read instead (see `Ctx::numbers`).
     pub numbers: Box<[(*const Expr, f64)]>,
-    /// Calls a volatile function (NOW, TODAY): recalculated whatever changed.
+    /// Calls a function recomputed at every edit (`FnSpec::every_edit`: NOW, INDIRECT).
     pub volatile: bool,
-}
-
-/// Whether a cell calling `f` is recomputed at every edit. Excel does so for every volatile
-/// function; a reference function that moves a reference it is given (OFFSET) is volatile
-/// there only because Excel cannot know where the result points. Here the given reference
-/// is an edge and the reference made is linked after each evaluation (`relink_dynamic`), so
-/// such a cell is recomputed when what it reads changes, as any formula: filling a column
-/// with them one edit at a time stays linear. A reference made from text (INDIRECT) may name
-/// a sheet or a name that does not exist yet, and stays volatile.
-fn recalculated_at_every_edit(f: &functions::FnSpec) -> bool {
-    let moves_a_given_reference = matches!(f.kind, functions::FnKind::Ref(_)) && f.range_args.contains(0);
-    f.volatile && !moves_a_given_reference
 }
 
 impl SharedFormula {
@@ -56,7 +44,7 @@ impl SharedFormula {
             crate::formula::ast::ExprKind::Name(n) => names.push((n.clone(), None)),
             // `Sheet2!Rate`: the name as Sheet2 sees it (a missing sheet reads nothing).
             ExprKind::SheetName(SheetRef::Id(sheet), n) => names.push((n.clone(), Some(*sheet))),
-            ExprKind::Call(id, _) => volatile |= recalculated_at_every_edit(functions::spec(*id)),
+            ExprKind::Call(id, _) => volatile |= functions::spec(*id).every_edit,
             _ => {}
         });
         SharedFormula { expr: Rc::new(expr), refs: refs.into(), names: names.into(), numbers: Box::new([]), volatile }

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use ncsheet::eval::functions::as_lambda;
+use ncsheet::eval::functions::{as_lambda, bound_names};
 use ncsheet::eval::functions::{find, spec, Outside};
 use ncsheet::eval::{Env, Value};
 use ncsheet::formula::address::{Pos, Rect};
@@ -126,24 +126,6 @@ pub fn analyse(wb: &Workbook, sheet: SheetId, anchor: Pos) -> FormulaInfo {
         info.functions.push("(operators only)".into());
     }
     info
-}
-
-/// The names LET and LAMBDA bind anywhere in `expr`.
-fn bound_names(expr: &Expr) -> Vec<std::rc::Rc<str>> {
-    let mut bound = Vec::new();
-    expr.visit(&mut |e| {
-        let ExprKind::Call(id, args) = &e.kind else { return };
-        let params: Vec<&Expr> = match spec(*id).name {
-            "LET" => args.iter().step_by(2).take(args.len() / 2).collect(),
-            "LAMBDA" => args.iter().take(args.len().saturating_sub(1)).collect(),
-            _ => return,
-        };
-        bound.extend(params.into_iter().filter_map(|p| match &p.kind {
-            ExprKind::Name(n) => Some(n.clone()),
-            _ => None,
-        }));
-    });
-    bound
 }
 
 /// `A1#` reads the whole area the anchor spilled into.
@@ -406,4 +388,26 @@ fn run_soffice(soffice: &Path, profile: &str, inputs: &[PathBuf], out: &Path, fo
         }
         std::thread::sleep(Duration::from_millis(100));
     }
+}
+
+/// An xlsx package rewritten part by part: `change(name, bytes)` gives each part's new bytes,
+/// stored with `options` (uncompressed, so that byte mutations reach the XML, or deflated).
+/// The writer is returned open, for parts to add.
+pub fn rewrite_package(
+    package: &[u8],
+    options: zip::write::SimpleFileOptions,
+    change: &mut dyn FnMut(&str, Vec<u8>) -> Vec<u8>,
+) -> zip::ZipWriter<std::io::Cursor<Vec<u8>>> {
+    use std::io::{Read, Write};
+    let mut zip = zip::ZipArchive::new(std::io::Cursor::new(package)).unwrap();
+    let mut out = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
+    for i in 0..zip.len() {
+        let mut entry = zip.by_index(i).unwrap();
+        let name = entry.name().unwrap().to_string();
+        let mut data = Vec::new();
+        entry.read_to_end(&mut data).unwrap();
+        out.start_file(name.as_str(), options).unwrap();
+        out.write_all(&change(&name, data)).unwrap();
+    }
+    out
 }

@@ -548,7 +548,7 @@ fn format_in_section(section: &Section, value: f64, signed: bool) -> XlResult<St
         for t in &section.tokens {
             match t {
                 Tok::Lit(s) => out.push_str(s),
-                Tok::TextAt => out.push_str(&crate::eval::number_format::general(value.abs())),
+                Tok::TextAt => out.push_str(&crate::eval::format::number_format::general(value.abs())),
                 Tok::Percent => out.push('%'),
                 _ => {}
             }

@@ -24,13 +24,14 @@ pub fn number(ctx: &mut Ctx, e: &Expr) -> XlResult<f64> {
     to_number(&ctx.eval(e))
 }
 
+/// Argument `i` when given: `None` when it is omitted or left empty (`ROUND(2.5,)`).
+pub fn given(args: &[Expr], i: usize) -> Option<&Expr> {
+    args.get(i).filter(|e| e.kind != ExprKind::Missing)
+}
+
 /// An optional number argument: `default` when omitted or left empty.
 pub fn number_or(ctx: &mut Ctx, args: &[Expr], i: usize, default: f64) -> XlResult<f64> {
-    match args.get(i) {
-        None => Ok(default),
-        Some(e) if e.kind == ExprKind::Missing => Ok(default),
-        Some(e) => number(ctx, e),
-    }
+    given(args, i).map_or(Ok(default), |e| number(ctx, e))
 }
 
 pub fn text(ctx: &mut Ctx, e: &Expr) -> XlResult<Rc<str>> {
@@ -43,11 +44,7 @@ pub fn boolean(ctx: &mut Ctx, e: &Expr) -> XlResult<bool> {
 
 /// An optional boolean argument.
 pub fn bool_or(ctx: &mut Ctx, args: &[Expr], i: usize, default: bool) -> XlResult<bool> {
-    match args.get(i) {
-        None => Ok(default),
-        Some(e) if e.kind == ExprKind::Missing => Ok(default),
-        Some(e) => boolean(ctx, e),
-    }
+    given(args, i).map_or(Ok(default), |e| boolean(ctx, e))
 }
 
 /// Evaluates every argument and calls `f` on the scalars; when any argument is an array

@@ -5,33 +5,10 @@ use std::cmp::Ordering;
 use std::rc::Rc;
 
 use crate::eval::coerce::{compare_text, parse_number};
-use crate::eval::functions::api::{Ctx, Operand};
+use crate::eval::functions::api::{comparison_holds, Ctx, Operand};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
-use crate::formula::ast::{Expr, SheetId};
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Op {
-    Eq,
-    Ne,
-    Lt,
-    Le,
-    Gt,
-    Ge,
-}
-
-impl Op {
-    fn holds(self, ord: Ordering) -> bool {
-        match self {
-            Op::Eq => ord == Ordering::Equal,
-            Op::Ne => ord != Ordering::Equal,
-            Op::Lt => ord == Ordering::Less,
-            Op::Le => ord != Ordering::Greater,
-            Op::Gt => ord == Ordering::Greater,
-            Op::Ge => ord != Ordering::Less,
-        }
-    }
-}
+use crate::formula::ast::{BinOp, Expr, SheetId};
 
 /// What a criterion compares cells with.
 #[derive(Clone, Debug, PartialEq)]
@@ -54,14 +31,15 @@ enum Target {
 /// One parsed criterion.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Criterion {
-    op: Op,
+    /// A comparison: `BinOp::Eq` to `BinOp::Ge`.
+    op: BinOp,
     target: Target,
 }
 
 impl Criterion {
     /// Reads a criterion argument (one item of it when it is an array).
     pub fn new(v: &Value) -> Criterion {
-        let eq = |target| Criterion { op: Op::Eq, target };
+        let eq = |target| Criterion { op: BinOp::Eq, target };
         match v {
             Value::Number(n) => eq(Target::Number(*n)),
             Value::Bool(b) => eq(Target::Bool(*b)),
@@ -93,11 +71,11 @@ impl Criterion {
     /// other here: they never match a number and always match `"<>5"`.
     pub fn matches(&self, v: &Value) -> bool {
         match self.op {
-            Op::Eq => self.equals(v, true),
+            BinOp::Eq => self.equals(v, true),
             // Excel counts the text "23" as different from 23 for "<>23" although "=23"
             // matches it (COUNTIF.xlsx in the corpus).
-            Op::Ne => !self.equals(v, false),
-            op => self.order(v).is_some_and(|ord| op.holds(ord)),
+            BinOp::Ne => !self.equals(v, false),
+            op => self.order(v).is_some_and(|ord| comparison_holds(op, ord)),
         }
     }
 
@@ -131,10 +109,10 @@ impl Criterion {
     }
 }
 
-fn split_operator(s: &str) -> (Op, &str) {
-    const OPERATORS: [(&str, Op); 6] =
-        [("<=", Op::Le), (">=", Op::Ge), ("<>", Op::Ne), ("<", Op::Lt), (">", Op::Gt), ("=", Op::Eq)];
-    OPERATORS.iter().find_map(|(prefix, op)| s.strip_prefix(prefix).map(|rest| (*op, rest))).unwrap_or((Op::Eq, s))
+fn split_operator(s: &str) -> (BinOp, &str) {
+    const OPERATORS: [(&str, BinOp); 6] =
+        [("<=", BinOp::Le), (">=", BinOp::Ge), ("<>", BinOp::Ne), ("<", BinOp::Lt), (">", BinOp::Gt), ("=", BinOp::Eq)];
+    OPERATORS.iter().find_map(|(prefix, op)| s.strip_prefix(prefix).map(|rest| (*op, rest))).unwrap_or((BinOp::Eq, s))
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -41,7 +41,7 @@ pub mod vba;
 
 pub use crate::eval::format::text_format::NumberFormat;
 pub use geometry::{describe_gouge, formula_ball_path, standalone_ball_path, PathFailure};
-pub use lambda::{as_lambda, Lambda};
+pub use lambda::{as_lambda, bound_names, Lambda};
 pub use math::random::seed_random;
 
 /// A function body that returns a value.
@@ -70,6 +70,12 @@ pub struct FnSpec {
     /// Its result changes with no change to its arguments (NOW, TODAY): a cell calling it is
     /// recalculated at every recalculation, not only when what it reads changes.
     pub volatile: bool,
+    /// A cell calling it is recomputed at every edit, not only when what it reads changes.
+    /// Every volatile function is, but one whose reach is linked in the graph after each
+    /// evaluation (OFFSET: the reference it is given is an edge, the one it makes is linked by
+    /// `relink_dynamic`), so filling a column with it one edit at a time stays linear.
+    /// INDIRECT's text may name a sheet or a name not there yet: it stays.
+    pub every_edit: bool,
     /// How an xlsx file spells the name: functions newer than Excel 2007 carry `_xlfn.`.
     pub file_prefix: FilePrefix,
     /// A file stores a formula calling it as a dynamic-array formula (Excel 365's array
@@ -195,6 +201,7 @@ impl FnSpec {
             signature,
             summary,
             volatile: false,
+            every_edit: false,
             file_prefix: FilePrefix::None,
             dynamic: false,
             reads_trees: false,
@@ -204,9 +211,15 @@ impl FnSpec {
         }
     }
 
-    /// The same function, volatile.
+    /// The same function, volatile (and so recomputed at every edit).
     pub const fn volatile(self) -> FnSpec {
-        FnSpec { volatile: true, ..self }
+        FnSpec { volatile: true, every_edit: true, ..self }
+    }
+
+    /// The same function, recomputed only when what it reads changes although Excel makes it
+    /// volatile: the reference it makes is linked in the graph (see [`FnSpec::every_edit`]).
+    pub const fn reach_linked(self) -> FnSpec {
+        FnSpec { every_edit: false, ..self }
     }
 
     /// The same function, reading `what` besides its arguments (see [`FnSpec::reads`]).

@@ -4,8 +4,8 @@
 //! (`sheet_xml.rs`); the sheet list and the scope of names from `raw.rs`.
 //!
 //! Order matters: every sheet is added before any formula is parsed (so `Sheet3!A1` typed in
-//! Sheet1 resolves), names are defined before cells (each definition recalculates, which is
-//! free on an empty book), and the whole book is recalculated once at the end.
+//! Sheet1 resolves), names are defined before cells (none recalculates), and the whole book
+//! is recalculated once at the end.
 //!
 //! The cells an array formula filled hold only Excel's cached values. They are not stored as
 //! constants (they would block our own spill) but kept in [`Imported::cached`] like the
@@ -593,8 +593,8 @@ fn define_names(
         let wb = &mut imported.workbook;
         let formula = typed_formula(&n.formula, book, scope.unwrap_or(0), Pos::new(0, 0));
         let defined = match syntax::tree_from_file(&formula, wb, scope.unwrap_or(0), Pos::new(0, 0)) {
-            Some(tree) => wb.define_name_tree(&n.name, tree, scope),
-            None => wb.define_name(&n.name, &formula, scope),
+            Some(tree) => wb.define_name_tree_deferred(&n.name, tree, scope),
+            None => wb.define_name_deferred(&n.name, &formula, scope),
         };
         if let Err(e) = defined {
             imported.notes.push(format!("name {} ({}) was left out: {e}", n.name, n.formula));

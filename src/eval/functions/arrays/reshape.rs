@@ -8,7 +8,7 @@ use std::rc::Rc;
 
 use crate::eval::coerce::{compare_text, to_bool, to_number};
 use crate::eval::format::number_format::general;
-use crate::eval::functions::api::{block, bool_or, number, number_or, require, ArgSet, Ctx, FnSpec, MANY};
+use crate::eval::functions::api::{block, bool_or, given, number, number_or, require, ArgSet, Ctx, FnSpec, MANY};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
 
@@ -177,10 +177,6 @@ pub const FUNCTIONS: &[FnSpec] = &[
 
 fn array(rows: usize, cols: usize, data: Vec<Value>) -> Value {
     Value::Array(Rc::new(Array::new(rows, cols, data)))
-}
-
-fn present(args: &[Expr], i: usize) -> bool {
-    args.get(i).is_some_and(|e| e.kind != ExprKind::Missing)
 }
 
 /// The rows of a block as vectors.
@@ -416,7 +412,7 @@ fn choosecols(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 /// TAKE's and DROP's count for one dimension: `None` when omitted.
 fn count_arg(ctx: &mut Ctx, args: &[Expr], i: usize) -> XlResult<Option<f64>> {
-    if present(args, i) {
+    if given(args, i).is_some() {
         Ok(Some(number(ctx, &args[i])?.trunc()))
     } else {
         Ok(None)
@@ -460,7 +456,7 @@ fn drop(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 /// An optional padding argument: `#N/A` when omitted.
 fn pad_arg(ctx: &mut Ctx, args: &[Expr], i: usize) -> Value {
-    if present(args, i) {
+    if given(args, i).is_some() {
         ctx.eval(&args[i]).unwrap_single()
     } else {
         Value::Error(XlError::NA)

@@ -107,6 +107,25 @@ impl<'e> Lambda<'e> {
 static LAMBDA_ID: LazyLock<FnId> =
     LazyLock::new(|| crate::eval::functions::find("LAMBDA").expect("LAMBDA is registered"));
 
+/// The names LET and LAMBDA bind anywhere in `expr` (parameters and LET's names): they are
+/// not unknown, whatever the workbook defines.
+pub fn bound_names(expr: &Expr) -> Vec<Rc<str>> {
+    let mut names = Vec::new();
+    expr.visit(&mut |e| {
+        let ExprKind::Call(id, args) = &e.kind else { return };
+        let bound: Vec<&Expr> = match crate::eval::functions::spec(*id).name {
+            "LET" => args.iter().step_by(2).take(args.len() / 2).collect(),
+            "LAMBDA" => args.iter().take(args.len().saturating_sub(1)).collect(),
+            _ => return,
+        };
+        names.extend(bound.into_iter().filter_map(|a| match &a.kind {
+            ExprKind::Name(n) => Some(n.clone()),
+            _ => None,
+        }));
+    });
+    names
+}
+
 /// `e` as a LAMBDA (parentheses around it allowed); `None` for anything else, and for a
 /// LAMBDA whose parameters are not all names.
 pub fn as_lambda(e: &Expr) -> Option<Lambda<'_>> {

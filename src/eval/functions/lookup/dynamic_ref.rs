@@ -1,8 +1,9 @@
 //! References made at run time: INDIRECT (from text) and OFFSET (moved from another
 //! reference). Their cells are not in the formula's text, so the dependency graph cannot
 //! know them in advance: each is reported through [`Ctx::note_dynamic_ref`], and the workbook
-//! links the cell to it after evaluation (src/workbook/recalc.rs). Excel also recalculates
-//! both at every edit (they are volatile), which is kept.
+//! links the cell to it after evaluation (src/workbook/recalc.rs). Excel recalculates both at
+//! every edit (they are volatile); here OFFSET is recomputed only when what it reads changes
+//! (`FnSpec::every_edit`).
 
 use crate::eval::coerce::{to_bool, to_number, to_text};
 use crate::eval::functions::api::{ArgSet, Ctx, FnSpec, Operand, Registry};
@@ -30,7 +31,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "The reference moved by rows and cols, with the given height and width (the original's by default)",
     )
     .range_args(ArgSet::only(0))
-    .volatile(),
+    .volatile()
+    .reach_linked(),
 ];
 
 fn indirect(ctx: &mut Ctx, args: &[Expr]) -> Operand {

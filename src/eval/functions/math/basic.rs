@@ -5,8 +5,8 @@ use std::rc::Rc;
 use crate::eval::coerce::to_number;
 use crate::eval::format::number_format::round15;
 use crate::eval::functions::api::{
-    block, for_each_number, lift, lift_number1, lift_number2, number_or, number_result, power, ArgSet, Ctx, FnSpec,
-    MANY,
+    block, for_each_number, given, lift, lift_number1, lift_number2, number_or, number_result, power, ArgSet, Ctx,
+    FnSpec, MANY,
 };
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::address::{MAX_COLS, MAX_ROWS};
@@ -555,8 +555,7 @@ fn floor(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// non-zero mode flips the direction for negative numbers.
 fn math_rounding(ctx: &mut Ctx, args: &[Expr], up: bool) -> XlResult<Value> {
     // Only an omitted significance is 1; an empty cell reads as 0 like any other number.
-    let omitted = |i: usize| args.get(i).is_none_or(|e| e.kind == ExprKind::Missing);
-    let default_significance = omitted(1);
+    let default_significance = given(args, 1).is_none();
     lift(ctx, args, &|v| {
         let x = to_number(&v[0])?;
         let s = if default_significance { 1.0 } else { to_number(&v[1])?.abs() };

@@ -5,9 +5,9 @@
 use std::cell::Cell;
 use std::rc::Rc;
 
-use crate::eval::functions::api::{check, number_or, scalar, Ctx, FnSpec, Outside};
+use crate::eval::functions::api::{check, given, number_or, scalar, Ctx, FnSpec, Outside};
 use crate::eval::value::{Array, Value, XlError, XlResult};
-use crate::formula::ast::{Expr, ExprKind};
+use crate::formula::ast::Expr;
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("RAND", 0, 0, rand, "RAND()", "A random number 0 <= x < 1 (volatile)")
@@ -89,9 +89,9 @@ fn randarray(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let cols = number_or(ctx, args, 1, 1.0)?.trunc();
     let min = number_or(ctx, args, 2, 0.0)?;
     let max = number_or(ctx, args, 3, 1.0)?;
-    let whole = match args.get(4) {
-        Some(e) if e.kind != ExprKind::Missing => crate::eval::coerce::to_bool(&ctx.eval(e).unwrap_single())?,
-        _ => false,
+    let whole = match given(args, 4) {
+        Some(e) => crate::eval::coerce::to_bool(&ctx.eval(e).unwrap_single())?,
+        None => false,
     };
     check(rows >= 1.0 && cols >= 1.0 && min <= max, XlError::Value)?;
     check(!whole || min.fract() == 0.0 && max.fract() == 0.0, XlError::Value)?;

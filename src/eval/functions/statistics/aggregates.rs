@@ -3,10 +3,10 @@
 
 use crate::eval::coerce::parse_number;
 use crate::eval::functions::api::{
-    for_each_number, for_each_value, lift_values, number_result, numbers, ArgSet, Ctx, FnSpec, Source, MANY,
+    for_each_number, for_each_value, given, lift_values, number_result, numbers, ArgSet, Ctx, FnSpec, Source, MANY,
 };
 use crate::eval::value::{Value, XlError, XlResult};
-use crate::formula::ast::{Expr, ExprKind};
+use crate::formula::ast::Expr;
 
 use crate::eval::functions::criteria::{matching_cells, CellBlock, Criterion};
 
@@ -225,9 +225,9 @@ impl Conditions {
     fn single(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Conditions> {
         let range = CellBlock::read(ctx, &args[0])?;
         let criteria = vec![ctx.eval(&args[1])];
-        let target = match args.get(2) {
-            Some(e) if e.kind != ExprKind::Missing => CellBlock::read_sized(ctx, e, range.rows, range.cols)?,
-            _ => range.clone(),
+        let target = match given(args, 2) {
+            Some(e) => CellBlock::read_sized(ctx, e, range.rows, range.cols)?,
+            None => range.clone(),
         };
         Ok(Conditions { target: Some(target), ranges: vec![range], criteria })
     }

@@ -6,9 +6,9 @@ use std::rc::Rc;
 
 use nalgebra::{DMatrix, DVector};
 
-use crate::eval::functions::api::{block, bool_or, ArgSet, Ctx, FnSpec};
+use crate::eval::functions::api::{block, bool_or, given, ArgSet, Ctx, FnSpec};
 use crate::eval::value::{Array, Value, XlError, XlResult};
-use crate::formula::ast::{Expr, ExprKind};
+use crate::formula::ast::Expr;
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value(
@@ -63,10 +63,6 @@ struct Fit {
     constant: f64,
 }
 
-fn present(args: &[Expr], i: usize) -> bool {
-    args.get(i).is_some_and(|e| e.kind != ExprKind::Missing)
-}
-
 /// Every item as a number; anything else is `#VALUE!` (an error is itself).
 pub(crate) fn all_numbers(a: &Array) -> XlResult<Vec<f64>> {
     a.data
@@ -83,7 +79,7 @@ fn read_data(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Data> {
     let ys = block(ctx, &args[0])?;
     let y = all_numbers(&ys)?;
     let n = y.len();
-    if !present(args, 1) {
+    if given(args, 1).is_none() {
         let x = DMatrix::from_fn(n, 1, |i, _| (i + 1) as f64);
         return Ok(Data { y, x, by_columns: true });
     }
@@ -220,9 +216,9 @@ fn project(ctx: &mut Ctx, args: &[Expr], data: Data, exponential: bool) -> XlRes
     let f = fit(&data, with_constant)?;
     let k = data.x.ncols();
     let shown = |v: f64| Value::Number(if exponential { v.exp() } else { v });
-    let new = if present(args, 2) {
+    let new = if given(args, 2).is_some() {
         block(ctx, &args[2])?
-    } else if present(args, 1) {
+    } else if given(args, 1).is_some() {
         block(ctx, &args[1])?
     } else {
         let ys = block(ctx, &args[0])?;
