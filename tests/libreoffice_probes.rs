@@ -89,6 +89,21 @@ const EXCEL_NOT_LIBREOFFICE: &[(&str, &str, Excel, &str)] = &[
     ("text_formats", "T!E32", Text("0.333333333"), "General in 11 characters"),
     ("text_formats", "T!D27", Unknown, "minus sign with a [<0] condition: no Excel source"),
     ("text_formats", "T!G27", Unknown, "minus sign with a [<0] condition: no Excel source"),
+    // LibreOffice 7.4 misreads structured references to whole-table areas (`Parts[#All]` is
+    // #NAME?, `ROW(Parts[#Headers])` #VALUE!); Excel's values follow from the table
+    // `Parts` = 'Parts Data'!A1:F6 (header row 1, data rows 2–5, totals row 6).
+    ("tables", "Use!A5", Num(6.0), "ROWS(Parts[#All]): header, 4 data rows, totals"),
+    ("tables", "Use!A6", Num(4.0), "ROWS(Parts[#Data])"),
+    ("tables", "Use!A7", Num(4.0), "ROWS(Parts): a table's name alone is its data"),
+    ("tables", "Use!A8", Num(6.0), "COLUMNS(Parts[#All])"),
+    ("tables", "Use!A9", Num(6.0), "COUNTA(Parts[#Headers]): six headers"),
+    ("tables", "Use!A12", Num(0.5), "INDEX(Parts[#All],MATCH(\"c\",…),3): row 4 of #All is c"),
+    ("tables", "Use!A22", Num(1.0), "ROW(Parts[#Headers])"),
+    ("tables", "Use!A23", Num(6.0), "ROW(Parts[#Totals])"),
+    ("tables", "Use!A24", Num(2.0), "MATCH(\"Qty\",Parts[#Headers],0)"),
+    ("tables", "Use!A28", Num(400.0), "MAX(Parts[#Data])"),
+    // COUNTBLANK counts the empty cells of its range: D1 and D2 of Feb are both empty.
+    ("three_d", "Summary!A14", Num(2.0), "LibreOffice counts one of two empty cells"),
 ];
 
 fn data() -> PathBuf {
@@ -138,4 +153,19 @@ fn check(probe: &str) {
 #[test]
 fn text_number_formats_fractions_scaling_and_sections() {
     check("text_formats");
+}
+
+#[test]
+fn structured_references_with_spaces_quotes_this_row_and_totals() {
+    check("tables");
+}
+
+#[test]
+fn three_d_references_with_quoted_and_reversed_sheet_names() {
+    check("three_d");
+}
+
+#[test]
+fn legacy_array_formulas_of_every_size_fill_their_area() {
+    check("cse");
 }

@@ -822,10 +822,11 @@ impl Workbook {
     }
 }
 
-/// A name Excel accepts for a defined name: not a cell address, not TRUE or FALSE.
+/// A name Excel accepts for a defined name: not a cell address, not TRUE or FALSE; `?`
+/// after the first character (`Gasket?`).
 fn check_name(name: &str) -> Result<(), WorkbookError> {
     let valid = name.chars().next().is_some_and(|c| c.is_alphabetic() || c == '_' || c == '\\')
-        && name.chars().all(|c| c.is_alphanumeric() || matches!(c, '_' | '.' | '\\'))
+        && name.chars().all(|c| c.is_alphanumeric() || matches!(c, '_' | '.' | '\\' | '?'))
         && crate::formula::address::parse_cell(name).is_none()
         && !name.eq_ignore_ascii_case("TRUE")
         && !name.eq_ignore_ascii_case("FALSE");

@@ -91,38 +91,72 @@ def tables():
 
 
 # ---------------------------------------------------------------- 3D references
+# LibreOffice reads no 3D reference of Excel's spelling with a quoted sheet (`'Jan 1:Mar''s'!B2`
+# is #NAME? there), so its oracle is three_d.fods: the same sheets and cells, each formula in
+# ODF's spelling, which make.sh converts to three_d.lo.xlsx.
+THREE_D = [
+    ("SUM('Jan 1:Mar''s'!B2)", "SUM([$'Jan 1'.B2:$'Mar''s'.B2])"),
+    ("SUM('Mar''s:Jan 1'!B2)", "SUM([$'Jan 1'.B2:$'Mar''s'.B2])"),
+    ("SUM(Feb:'Apr-x'!A1:B3)", "SUM([$Feb.A1:$'Apr-x'.B3])"),
+    ("SUM('Apr-x:Feb'!A1:B3)", "SUM([$Feb.A1:$'Apr-x'.B3])"),
+    ("COUNT('Jan 1:Apr-x'!A1:C3)", "COUNT([$'Jan 1'.A1:$'Apr-x'.C3])"),
+    ("COUNTA('Jan 1:Apr-x'!C1)", "COUNTA([$'Jan 1'.C1:$'Apr-x'.C1])"),
+    ("AVERAGE('Jan 1:Feb'!A1)", "AVERAGE([$'Jan 1'.A1:$Feb.A1])"),
+    ("MAX('Jan 1:Apr-x'!A1:B3)", "MAX([$'Jan 1'.A1:$'Apr-x'.B3])"),
+    ("MIN('Jan 1:Apr-x'!A1:B3)", "MIN([$'Jan 1'.A1:$'Apr-x'.B3])"),
+    ("SUM('Feb:Feb'!A1)", "SUM([$Feb.A1])"),
+    ("SUM('Jan 1:Mar''s'!B2,1)", "SUM([$'Jan 1'.B2:$'Mar''s'.B2];1)"),
+    ("PRODUCT('Jan 1:Feb'!A1)", "PRODUCT([$'Jan 1'.A1:$Feb.A1])"),
+    ("SUMSQ('Jan 1:Feb'!A1)", "SUMSQ([$'Jan 1'.A1:$Feb.A1])"),
+    ("COUNTBLANK(Feb!D1:D2)", "COUNTBLANK([$Feb.D1:.D2])"),
+    ("STDEV('Jan 1:Apr-x'!A1)", "STDEV([$'Jan 1'.A1:$'Apr-x'.A1])"),
+    ("'Jan 1'!A1+Feb!A1", "[$'Jan 1'.A1]+[$Feb.A1]"),
+]
+THREE_D_SHEETS = ["Jan 1", "Feb", "Mar's", "Apr-x"]
+
+
+def three_d_value(k, r, c):
+    return (k + 1) * 10 + r * c
+
+
 def three_d():
     wb = Workbook()
     s = wb.active
     s.title = "Summary"
-    names = ["Jan 1", "Feb", "Mar's", "Apr-x"]
-    for k, n in enumerate(names):
+    for k, n in enumerate(THREE_D_SHEETS):
         ws = wb.create_sheet(n)
         for r in range(1, 4):
             for c in range(1, 3):
-                ws.cell(row=r, column=c, value=(k + 1) * 10 + r * c)
+                ws.cell(row=r, column=c, value=three_d_value(k, r, c))
         ws["C1"] = "text"
-    forms = [
-        "=SUM('Jan 1:Mar''s'!B2)",
-        "=SUM('Mar''s:Jan 1'!B2)",
-        "=SUM(Feb:'Apr-x'!A1:B3)",
-        "=SUM('Apr-x:Feb'!A1:B3)",
-        "=COUNT('Jan 1:Apr-x'!A1:C3)",
-        "=COUNTA('Jan 1:Apr-x'!C1)",
-        "=AVERAGE('Jan 1:Feb'!A1)",
-        "=MAX('Jan 1:Apr-x'!A1:B3)",
-        "=MIN('Jan 1:Apr-x'!A1:B3)",
-        "=SUM('Feb:Feb'!A1)",
-        "=SUM('Jan 1:Mar''s'!B2,1)",
-        "=PRODUCT('Jan 1:Feb'!A1)",
-        "=SUMSQ('Jan 1:Feb'!A1)",
-        "=COUNTBLANK(Feb!D1:D2)",
-        "=STDEV('Jan 1:Apr-x'!A1)",
-    ]
-    for i, fo in enumerate(forms, start=1):
-        s.cell(row=i, column=1, value=fo)
-        s.cell(row=i, column=2, value=fo[1:])
+    for i, (fo, _) in enumerate(THREE_D, start=1):
+        s.cell(row=i, column=1, value="=" + fo)
     save(wb, "three_d")
+    from xml.sax.saxutils import escape, quoteattr
+
+    def cell(v):
+        if isinstance(v, str) and v.startswith("of:"):
+            return f"<table:table-cell table:formula={quoteattr(v)}/>"
+        if isinstance(v, str):
+            return f'<table:table-cell office:value-type="string"><text:p>{escape(v)}</text:p></table:table-cell>'
+        return f'<table:table-cell office:value-type="float" office:value="{v}"/>'
+
+    def table(name, rows):
+        body = "".join("<table:table-row>" + "".join(cell(v) for v in r) + "</table:table-row>" for r in rows)
+        return f"<table:table table:name={quoteattr(name)}>{body}</table:table>"
+
+    tables = [table("Summary", [["of:=" + odf] for _, odf in THREE_D])]
+    for k, n in enumerate(THREE_D_SHEETS):
+        rows = [[three_d_value(k, r, c) for c in (1, 2)] + (["text"] if r == 1 else []) for r in (1, 2, 3)]
+        tables.append(table(n, rows))
+    ns = ('xmlns:office="urn:oasis:names:tc:opendocument:xmlns:office:1.0" '
+          'xmlns:table="urn:oasis:names:tc:opendocument:xmlns:table:1.0" '
+          'xmlns:text="urn:oasis:names:tc:opendocument:xmlns:text:1.0" '
+          'xmlns:of="urn:oasis:names:tc:opendocument:xmlns:of:1.2"')
+    with open(f"{out}/three_d.fods", "w") as f:
+        f.write(f'<?xml version="1.0" encoding="UTF-8"?>\n<office:document {ns} office:version="1.2" '
+                f'office:mimetype="application/vnd.oasis.opendocument.spreadsheet"><office:body>'
+                f'<office:spreadsheet>{"".join(tables)}</office:spreadsheet></office:body></office:document>\n')
 
 
 # ---------------------------------------------------------------- legacy CSE arrays

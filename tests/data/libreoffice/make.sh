@@ -15,7 +15,10 @@ cat > "$tmp/user/registrymodifications.xcu" <<'XCU'
 XCU
 python3 make.py "$here"
 for f in $(python3 make.py --list); do
-    soffice "-env:UserInstallation=file://$tmp" --headless --norestore --convert-to xlsx --outdir "$tmp/out" "$here/$f.xlsx" >/dev/null
+    # A probe with a .fods beside it takes its values from that (the same cells in ODF's spelling).
+    src="$here/$f.xlsx"
+    [ -f "$here/$f.fods" ] && src="$here/$f.fods"
+    soffice "-env:UserInstallation=file://$tmp" --headless --norestore --convert-to xlsx --outdir "$tmp/out" "$src" >/dev/null 2>&1
     mv "$tmp/out/$f.xlsx" "$here/$f.lo.xlsx"
 done
 rm -rf "$tmp"
