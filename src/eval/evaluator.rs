@@ -825,7 +825,9 @@ fn scalar_binary(op: BinOp, a: &Value, b: &Value) -> Value {
 /// digits for them (`=0.1+0.2=0.3` is TRUE, `=0.1=(1.2-1.1)` FALSE: 0.0999999999999999).
 fn compare_operands(a: &Value, b: &Value) -> XlResult<std::cmp::Ordering> {
     match (a, b) {
-        (Value::Number(x), Value::Number(y)) => compare(&Value::Number(fifteen_digits(*x)), &Value::Number(fifteen_digits(*y))),
+        (Value::Number(x), Value::Number(y)) => {
+            compare(&Value::Number(fifteen_digits(*x)), &Value::Number(fifteen_digits(*y)))
+        }
         _ => compare(a, b),
     }
 }

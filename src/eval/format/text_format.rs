@@ -452,7 +452,8 @@ fn closest_fraction(x: f64, max_denominator: u64) -> (u64, u64) {
 
 /// Digits right-aligned under placeholders: `?` pads with a space, `0` with a zero.
 fn padded_left(digits: &str, places: &[char]) -> String {
-    let pad: String = places.iter().take(places.len().saturating_sub(digits.len())).filter_map(|&p| pad_of(p)).collect();
+    let pad: String =
+        places.iter().take(places.len().saturating_sub(digits.len())).filter_map(|&p| pad_of(p)).collect();
     format!("{pad}{digits}")
 }
 
@@ -643,7 +644,11 @@ fn layout(tokens: &[Tok]) -> Layout {
     // placeholder is an integer or a decimal one (`#,##0,` and `0.0,,"M"`).
     let last_digit = tokens[..exp_at].iter().rposition(|t| matches!(t, Tok::Digit(_)));
     let thousands = last_digit.map_or(0, |last| {
-        tokens[last + 1..exp_at].iter().take_while(|t| !matches!(t, Tok::Digit(_))).filter(|t| **t == Tok::Comma).count()
+        tokens[last + 1..exp_at]
+            .iter()
+            .take_while(|t| !matches!(t, Tok::Digit(_)))
+            .filter(|t| **t == Tok::Comma)
+            .count()
     }) as i32;
     Layout {
         int_places: digits(int),

@@ -365,7 +365,10 @@ mod tests {
         assert_eq!(resolve("[@Qty]*[@[Unit Price]]", "D4"), "'Data'!$C$4*'Data'!$D$4");
         assert_eq!(resolve("Sales[[#This Row],[Qty]]", "F5"), "'Data'!$C$5");
         assert_eq!(resolve("Sales[@Qty]", "F9"), "#REF!");
-        assert_eq!(resolve("ROWS(Sales)+VLOOKUP(1,sales,2)", "A1"), "ROWS('Data'!$B$3:$D$5)+VLOOKUP(1,'Data'!$B$3:$D$5,2)");
+        assert_eq!(
+            resolve("ROWS(Sales)+VLOOKUP(1,sales,2)", "A1"),
+            "ROWS('Data'!$B$3:$D$5)+VLOOKUP(1,'Data'!$B$3:$D$5,2)"
+        );
         assert_eq!(resolve("Sales!A1+SalesTax+\"Sales\"", "A1"), "Sales!A1+SalesTax+\"Sales\"");
     }
 

@@ -195,9 +195,8 @@ fn text_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
     if let Value::Text(format) = &values[1] {
         if NumberFormat::parse(format).is_err() {
-            let why = format!(
-                "TEXT cannot use the format \"{format}\" (digit placeholders in dates are not supported)"
-            );
+            let why =
+                format!("TEXT cannot use the format \"{format}\" (digit placeholders in dates are not supported)");
             return Err(ctx.explain(XlError::Value, why));
         }
     }
