@@ -298,3 +298,21 @@ fn excel_zeroes_only_a_formulas_last_cancelling_operation_and_compares_fifteen_d
     assert_eq!(get(&wb, "A5"), n(1.0));
     assert_eq!(get(&wb, "A6"), Value::Bool(false));
 }
+
+/// Excel's rules for names ("Define and use names in formulas"): letters of any script,
+/// `?` after the first character, and "Excel does not distinguish between uppercase and
+/// lowercase characters in names".
+#[test]
+fn names_of_any_script_and_with_question_marks_ignore_case() {
+    let mut wb = Workbook::new();
+    wb.add_sheet("Maße").unwrap();
+    set(&mut wb, "A1", "7");
+    wb.define_name("Länge", "='Maße'!$A$1", None).unwrap();
+    wb.define_name("Gasket?", "=2", None).unwrap();
+    set(&mut wb, "B1", "=Länge*2");
+    set(&mut wb, "B2", "=LÄNGE*GASKET?");
+    set(&mut wb, "B3", "=Maße!A1+1");
+    assert_eq!(get(&wb, "B1"), n(14.0));
+    assert_eq!(get(&wb, "B2"), n(14.0));
+    assert_eq!(get(&wb, "B3"), n(8.0));
+}

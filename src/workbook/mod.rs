@@ -540,7 +540,7 @@ impl Workbook {
     /// [`Workbook::define_name`] of a formula given as a tree (read as from A1 of its sheet).
     pub fn define_name_tree(&mut self, name: &str, expr: Expr, scope: Option<SheetId>) -> Result<(), WorkbookError> {
         check_name(name)?;
-        self.names.retain(|n| !(n.name.eq_ignore_ascii_case(name) && n.scope == scope));
+        self.names.retain(|n| !(same_name(&n.name, name) && n.scope == scope));
         self.names.push(DefinedName { name: name.to_string(), expr: Rc::new(expr), scope });
         if let Some(log) = &mut self.changes {
             log.names = true;
@@ -750,7 +750,7 @@ impl Env for Workbook {
 
     fn defined_name(&self, name: &str, sheet: SheetId) -> Option<(Rc<Expr>, SheetId)> {
         let matching =
-            |scope: Option<SheetId>| self.names.iter().find(|n| n.scope == scope && n.name.eq_ignore_ascii_case(name));
+            |scope: Option<SheetId>| self.names.iter().find(|n| n.scope == scope && same_name(&n.name, name));
         let n = matching(Some(sheet)).or_else(|| matching(None))?;
         Some((n.expr.clone(), n.scope.unwrap_or(sheet)))
     }
@@ -819,6 +819,16 @@ impl Workbook {
     pub fn notes(&self, sheet: SheetId, pos: Pos) -> Vec<String> {
         let Some(id) = self.sheets.get(sheet as usize).and_then(|s| s.get(pos)) else { return Vec::new() };
         self.notes.get(&id).map(|ns| ns.iter().map(|n| n.message.clone()).collect()).unwrap_or_default()
+    }
+}
+
+/// Whether two defined names are the same name: Excel ignores case, in every script
+/// (`Länge` is `LÄNGE`).
+fn same_name(a: &str, b: &str) -> bool {
+    if a.is_ascii() && b.is_ascii() {
+        a.eq_ignore_ascii_case(b)
+    } else {
+        a.to_lowercase() == b.to_lowercase()
     }
 }
 
