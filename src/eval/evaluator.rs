@@ -269,6 +269,20 @@ impl<'a> Ctx<'a> {
         error
     }
 
+    /// A cell formula's result. Excel zeroes the result of a formula whose last operation
+    /// is an addition or subtraction that cancels to within the operands' last binary
+    /// digits (`=0.1+0.2-0.3` and `=A1-B1` are 0); within parentheses or under another
+    /// operation it does not (`=(0.5-0.4-0.1)` and `=1*(0.5-0.4-0.1)` are -2.78E-17).
+    pub fn eval_formula(&mut self, e: &Expr) -> Value {
+        let ExprKind::Binary(op @ (BinOp::Add | BinOp::Sub), a, b) = &e.kind else { return self.eval(e) };
+        let (x, y) = (self.eval(a), self.eval(b));
+        let result = binary(*op, &x, &y);
+        match (x, y, &result) {
+            (Value::Number(x), Value::Number(y), Value::Number(r)) if cancels(*r, x, y) => Value::Number(0.0),
+            _ => result,
+        }
+    }
+
     /// Evaluates to a value: a multi-cell reference becomes an array, a single cell its value.
     pub fn eval(&mut self, e: &Expr) -> Value {
         match &e.kind {
@@ -486,11 +500,11 @@ impl<'a> Ctx<'a> {
             );
             return Operand::Value(Value::Error(self.explain_once(XlError::Circ, why)));
         }
-        // A defined name is evaluated as if it sat in A1 of its sheet (its references are absolute
-        // as Excel stores them) and without the caller's LET or macro variables.
+        // A defined name is evaluated on its sheet, without the caller's LET or macro
+        // variables, and at the caller's cell: Excel stores a name's relative references
+        // (`Sheet1!$A1`) as seen from A1, so they move with the cell that uses the name.
         let saved = (self.sheet, self.at, std::mem::take(&mut self.locals), self.host.take());
         self.sheet = sheet;
-        self.at = Pos::new(0, 0);
         self.depth += 1;
         let out = self.operand(&expr);
         self.depth -= 1;
@@ -773,6 +787,13 @@ pub fn number_result(n: f64) -> Value {
     }
 }
 
+/// Whether `r`, the sum or difference of `x` and `y`, is only the binary rounding of their
+/// decimal values: within 2^-50 of the larger (`0.1+0.2-0.3` is 1.9e-16 of 0.3 and zeroed;
+/// `40026.44000000006-40026.44`, 1.5e-15, is kept, as Excel keeps it).
+fn cancels(r: f64, x: f64, y: f64) -> bool {
+    r != 0.0 && r.abs() <= x.abs().max(y.abs()) * f64::powi(2.0, -50)
+}
+
 /// A binary operator applied with broadcasting.
 pub fn binary(op: BinOp, a: &Value, b: &Value) -> Value {
     if let (Value::Number(x), Value::Number(y)) = (a, b) {
@@ -787,7 +808,7 @@ fn scalar_binary(op: BinOp, a: &Value, b: &Value) -> Value {
             (Ok(x), Ok(y)) => Value::Text(format!("{x}{y}").into()),
             (Err(e), _) | (_, Err(e)) => Value::Error(e),
         },
-        BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge => match compare(a, b) {
+        BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge => match compare_operands(a, b) {
             Ok(ord) => Value::Bool(comparison_holds(op, ord)),
             Err(e) => Value::Error(e),
         },
@@ -797,6 +818,31 @@ fn scalar_binary(op: BinOp, a: &Value, b: &Value) -> Value {
             (Ok(x), Ok(y)) => scalar_binary_numbers(op, x, y),
             (Err(e), _) | (_, Err(e)) => Value::Error(e),
         },
+    }
+}
+
+/// How the comparison operators order two values: Excel rounds numbers to 15 significant
+/// digits for them (`=0.1+0.2=0.3` is TRUE, `=0.1=(1.2-1.1)` FALSE: 0.0999999999999999).
+fn compare_operands(a: &Value, b: &Value) -> XlResult<std::cmp::Ordering> {
+    match (a, b) {
+        (Value::Number(x), Value::Number(y)) => {
+            compare(&Value::Number(fifteen_digits(*x)), &Value::Number(fifteen_digits(*y)))
+        }
+        _ => compare(a, b),
+    }
+}
+
+/// `x` rounded to 15 significant digits (unchanged where the scale leaves the doubles).
+fn fifteen_digits(x: f64) -> f64 {
+    if x == 0.0 || !x.is_finite() {
+        return x;
+    }
+    let scale = 10f64.powi(14 - x.abs().log10().floor() as i32);
+    let rounded = (x * scale).round() / scale;
+    if scale.is_finite() && rounded.is_finite() {
+        rounded
+    } else {
+        x
     }
 }
 

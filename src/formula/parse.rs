@@ -372,7 +372,7 @@ fn join(a: Span, b: Span) -> Span {
 /// Prefixes Excel writes into stored formulas for functions newer than Excel 2007.
 pub fn strip_future_prefix(name: &str) -> &str {
     for prefix in ["_xlfn._xlws.", "_xlfn.", "_xlws.", "_xlpm."] {
-        if name.len() > prefix.len() && name[..prefix.len()].eq_ignore_ascii_case(prefix) {
+        if name.len() > prefix.len() && name.get(..prefix.len()).is_some_and(|p| p.eq_ignore_ascii_case(prefix)) {
             return &name[prefix.len()..];
         }
     }
@@ -381,7 +381,9 @@ pub fn strip_future_prefix(name: &str) -> &str {
 
 /// The `_xlfn.` prefix a file put before a function name, in Excel's case, or "".
 fn file_prefix_of(name: &str) -> &'static str {
-    let starts = |prefix: &str| name.len() > prefix.len() && name[..prefix.len()].eq_ignore_ascii_case(prefix);
+    let starts = |prefix: &str| {
+        name.len() > prefix.len() && name.get(..prefix.len()).is_some_and(|p| p.eq_ignore_ascii_case(prefix))
+    };
     if starts("_xlfn._xlws.") {
         "_xlfn._xlws."
     } else if starts("_xlfn.") {

@@ -19,24 +19,26 @@ impl Workbook {
             }
         }
         for (name, seen_from) in formula.names.iter() {
-            self.name_precedents(name, seen_from.unwrap_or(cell.sheet), 0, f);
+            self.name_precedents(name, seen_from.unwrap_or(cell.sheet), cell.pos, 0, f);
         }
     }
 
-    fn name_precedents(&self, name: &str, sheet: SheetId, depth: u32, f: &mut dyn FnMut(SheetId, Rect)) {
+    /// The cells name `name` reads when cell `at` uses it (its relative references move
+    /// with the cell, as the evaluator reads them).
+    fn name_precedents(&self, name: &str, sheet: SheetId, at: Pos, depth: u32, f: &mut dyn FnMut(SheetId, Rect)) {
         let Some((expr, name_sheet)) = Env::defined_name(self, name, sheet) else { return };
         if depth > 32 {
             return;
         }
         expr.visit(&mut |e| match &e.kind {
             crate::formula::ast::ExprKind::Ref(r) => {
-                if let Some((s, rect)) = resolve_static(r, name_sheet, Pos::new(0, 0)) {
+                if let Some((s, rect)) = resolve_static(r, name_sheet, at) {
                     f(s, rect);
                 }
             }
-            crate::formula::ast::ExprKind::Name(inner) => self.name_precedents(inner, name_sheet, depth + 1, f),
+            crate::formula::ast::ExprKind::Name(inner) => self.name_precedents(inner, name_sheet, at, depth + 1, f),
             crate::formula::ast::ExprKind::SheetName(crate::formula::ast::SheetRef::Id(seen_from), inner) => {
-                self.name_precedents(inner, *seen_from, depth + 1, f)
+                self.name_precedents(inner, *seen_from, at, depth + 1, f)
             }
             _ => {}
         });

@@ -580,7 +580,7 @@ impl Workbook {
         scope: Option<SheetId>,
     ) -> Result<(), WorkbookError> {
         check_name(name)?;
-        self.names.retain(|n| !(n.name.eq_ignore_ascii_case(name) && n.scope == scope));
+        self.names.retain(|n| !(same_name(&n.name, name) && n.scope == scope));
         self.names.push(DefinedName { name: name.to_string(), expr: Rc::new(expr), scope });
         if let Some(log) = &mut self.changes {
             log.names = true;
@@ -791,7 +791,7 @@ impl Env for Workbook {
 
     fn defined_name(&self, name: &str, sheet: SheetId) -> Option<(Rc<Expr>, SheetId)> {
         let matching =
-            |scope: Option<SheetId>| self.names.iter().find(|n| n.scope == scope && n.name.eq_ignore_ascii_case(name));
+            |scope: Option<SheetId>| self.names.iter().find(|n| n.scope == scope && same_name(&n.name, name));
         let n = matching(Some(sheet)).or_else(|| matching(None))?;
         Some((n.expr.clone(), n.scope.unwrap_or(sheet)))
     }
@@ -863,10 +863,21 @@ impl Workbook {
     }
 }
 
-/// A name Excel accepts for a defined name: not a cell address, not TRUE or FALSE.
+/// Whether two defined names are the same name: Excel ignores case, in every script
+/// (`Länge` is `LÄNGE`).
+fn same_name(a: &str, b: &str) -> bool {
+    if a.is_ascii() && b.is_ascii() {
+        a.eq_ignore_ascii_case(b)
+    } else {
+        a.to_lowercase() == b.to_lowercase()
+    }
+}
+
+/// A name Excel accepts for a defined name: not a cell address, not TRUE or FALSE; `?`
+/// after the first character (`Gasket?`).
 fn check_name(name: &str) -> Result<(), WorkbookError> {
     let valid = name.chars().next().is_some_and(|c| c.is_alphabetic() || c == '_' || c == '\\')
-        && name.chars().all(|c| c.is_alphanumeric() || matches!(c, '_' | '.' | '\\'))
+        && name.chars().all(|c| c.is_alphanumeric() || matches!(c, '_' | '.' | '\\' | '?'))
         && crate::formula::address::parse_cell(name).is_none()
         && !name.eq_ignore_ascii_case("TRUE")
         && !name.eq_ignore_ascii_case("FALSE");

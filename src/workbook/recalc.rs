@@ -466,7 +466,7 @@ impl Workbook {
         let formula = self.formulas.get(cell.formula);
         let mut ctx = Ctx::new(self, cell.sheet, cell.pos);
         ctx.numbers = &formula.numbers;
-        let value = ctx.eval(&formula.expr);
+        let value = ctx.eval_formula(&formula.expr);
         let notes = ctx.notes;
         let dynamic_refs = ctx.dynamic_refs;
         if notes.is_empty() {

@@ -288,24 +288,187 @@ fn parse_section(text: &str) -> XlResult<Section> {
     }
     if section.is_date() {
         settle_date_tokens(&mut section)?;
-    } else if is_fraction(&section.tokens) {
-        // Fractions (`# ?/?`, `# ??/16`) are not implemented: an error, not wrong digits.
-        return Err(XlError::Value);
     }
     Ok(section)
 }
 
-/// A `/` between digit placeholders, or between a placeholder and a fixed denominator.
-fn is_fraction(tokens: &[Tok]) -> bool {
-    tokens.windows(3).any(|w| {
-        matches!(w[0], Tok::Digit(_))
-            && w[1] == Tok::Lit("/".to_string())
-            && match &w[2] {
-                Tok::Digit(_) => true,
-                Tok::Lit(s) => s.starts_with(|c: char| c.is_ascii_digit()),
-                _ => false,
+/// A fraction section (`# ?/?`, `# ??/??`, `?/8`, `0 ??/16`): where its parts are among
+/// the tokens. Without integer placeholders before the numerator the fraction is improper
+/// (`?/?` shows 1.25 as 5/4).
+struct FractionLayout {
+    /// The integer part's placeholders, in order (empty: an improper fraction).
+    int_places: Vec<char>,
+    /// Tokens `[numerator_at, slash)` are the numerator's placeholders.
+    numerator_at: usize,
+    slash: usize,
+    /// Tokens `(slash, denominator_end)` are the denominator: placeholders or a number.
+    denominator_end: usize,
+    numerator_places: Vec<char>,
+    denominator: Denominator,
+}
+
+enum Denominator {
+    /// At most this many digits (`??`: up to 99), the closest fraction chosen.
+    Digits(Vec<char>),
+    /// A fixed denominator (`/16`), never reduced.
+    Fixed(u64),
+}
+
+impl FractionLayout {
+    fn of(tokens: &[Tok]) -> Option<FractionLayout> {
+        let slash = tokens.iter().position(|t| *t == Tok::Lit("/".to_string()))?;
+        let numerator_at = tokens[..slash].iter().rposition(|t| !matches!(t, Tok::Digit(_))).map_or(0, |p| p + 1);
+        if numerator_at == slash {
+            return None;
+        }
+        let after = &tokens[slash + 1..];
+        let placeholders = after.iter().take_while(|t| matches!(t, Tok::Digit(_))).count();
+        let (denominator, len) = if placeholders > 0 {
+            (Denominator::Digits(digit_places(&after[..placeholders])), placeholders)
+        } else {
+            let len = after.iter().take_while(|t| matches!(t, Tok::Digit('0')) || is_digit_literal(t)).count();
+            let text: String = after[..len]
+                .iter()
+                .map(|t| match t {
+                    Tok::Lit(s) => s.clone(),
+                    _ => "0".to_string(),
+                })
+                .collect();
+            match text.parse::<u64>() {
+                Ok(d) if d > 0 => (Denominator::Fixed(d), len),
+                _ => return None,
             }
-    })
+        };
+        Some(FractionLayout {
+            int_places: digit_places(&tokens[..numerator_at]),
+            numerator_at,
+            slash,
+            denominator_end: slash + 1 + len,
+            numerator_places: digit_places(&tokens[numerator_at..slash]),
+            denominator,
+        })
+    }
+
+    /// Integer part, numerator and denominator shown for `x` (not negative).
+    fn parts(&self, x: f64) -> (f64, u64, u64) {
+        let mixed = !self.int_places.is_empty();
+        let (mut whole, frac) = if mixed { (x.floor(), x - x.floor()) } else { (0.0, x) };
+        let (mut numerator, denominator) = match &self.denominator {
+            Denominator::Fixed(d) => ((frac * *d as f64).round_ties_even() as u64, *d),
+            Denominator::Digits(places) => closest_fraction(frac, 10u64.pow(places.len().min(6) as u32) - 1),
+        };
+        if mixed && numerator == denominator {
+            whole += 1.0;
+            numerator = 0;
+        }
+        (whole, numerator, denominator)
+    }
+
+    fn render(&self, tokens: &[Tok], x: f64) -> String {
+        let (whole, numerator, denominator) = self.parts(x);
+        let mixed = !self.int_places.is_empty();
+        let int_text = match (whole, numerator) {
+            (w, _) if w > 0.0 => format!("{w:.0}"),
+            (_, 0) => "0".to_string(),
+            _ => String::new(),
+        };
+        // Excel blanks a zero fraction of a mixed number, and the space before an empty
+        // integer part: as spaces when the numerator pads with `?`, else not at all.
+        let pads = self.numerator_places.contains(&'?');
+        let blank_fraction = mixed && numerator == 0;
+        let blank_gap = mixed && int_text.is_empty();
+        let int_texts = integer_texts(&int_text, &self.int_places);
+        let numerator_text = padded_left(&numerator.to_string(), &self.numerator_places);
+        let mut out = String::new();
+        let mut int_i = 0;
+        let last_int = tokens[..self.numerator_at].iter().rposition(|t| matches!(t, Tok::Digit(_)));
+        for (i, t) in tokens.iter().enumerate() {
+            let in_gap = last_int.is_some_and(|l| i > l) && i < self.numerator_at;
+            let in_fraction = (self.numerator_at..self.denominator_end).contains(&i);
+            if (in_gap || in_fraction) && blank_fraction || in_gap && blank_gap {
+                if pads && !(in_fraction && i > self.slash && matches!(self.denominator, Denominator::Fixed(_))) {
+                    out.push_str(&" ".repeat(token_width(t)));
+                }
+                continue;
+            }
+            match t {
+                Tok::Digit(_) if i < self.numerator_at => {
+                    out.push_str(&int_texts[int_i]);
+                    int_i += 1;
+                }
+                _ if i == self.numerator_at => out.push_str(&numerator_text),
+                _ if i > self.numerator_at && i < self.slash => {}
+                _ if i == self.slash => {
+                    out.push('/');
+                    out.push_str(&match &self.denominator {
+                        Denominator::Digits(places) => padded_right(&denominator.to_string(), places),
+                        Denominator::Fixed(d) => d.to_string(),
+                    });
+                }
+                _ if i > self.slash && i < self.denominator_end => {}
+                Tok::Lit(s) => out.push_str(s),
+                Tok::Percent => out.push('%'),
+                _ => {}
+            }
+        }
+        out
+    }
+}
+
+fn digit_places(tokens: &[Tok]) -> Vec<char> {
+    tokens
+        .iter()
+        .filter_map(|t| match t {
+            Tok::Digit(c) => Some(*c),
+            _ => None,
+        })
+        .collect()
+}
+
+fn is_digit_literal(t: &Tok) -> bool {
+    matches!(t, Tok::Lit(s) if s.len() == 1 && s.as_bytes()[0].is_ascii_digit())
+}
+
+fn token_width(t: &Tok) -> usize {
+    match t {
+        Tok::Lit(s) => s.chars().count(),
+        _ => 1,
+    }
+}
+
+/// The fraction n/d closest to `x` with d at most `max_denominator` (the smallest such d
+/// on a tie).
+fn closest_fraction(x: f64, max_denominator: u64) -> (u64, u64) {
+    let mut best = ((x.round()) as u64, 1, (x - x.round()).abs());
+    for d in 2..=max_denominator {
+        let n = (x * d as f64).round();
+        let error = (x - n / d as f64).abs();
+        if error < best.2 {
+            best = (n as u64, d, error);
+        }
+    }
+    (best.0, best.1)
+}
+
+/// Digits right-aligned under placeholders: `?` pads with a space, `0` with a zero.
+fn padded_left(digits: &str, places: &[char]) -> String {
+    let pad: String =
+        places.iter().take(places.len().saturating_sub(digits.len())).filter_map(|&p| pad_of(p)).collect();
+    format!("{pad}{digits}")
+}
+
+/// Digits left-aligned under placeholders (a denominator).
+fn padded_right(digits: &str, places: &[char]) -> String {
+    let pad: String = places.iter().skip(digits.len()).filter_map(|&p| pad_of(p)).collect();
+    format!("{digits}{pad}")
+}
+
+fn pad_of(place: char) -> Option<char> {
+    match place {
+        '?' => Some(' '),
+        '0' => Some('0'),
+        _ => None,
+    }
 }
 
 fn starts_with_ignore_case(chars: &[char], word: &str) -> bool {
@@ -472,17 +635,21 @@ fn layout(tokens: &[Tok]) -> Layout {
     let last_int_digit = int.iter().rposition(|t| matches!(t, Tok::Digit(_)));
     let first_int_digit = int.iter().position(|t| matches!(t, Tok::Digit(_)));
     let mut grouping = false;
-    let mut thousands = 0;
     for (i, t) in int.iter().enumerate() {
-        if *t != Tok::Comma {
-            continue;
-        }
-        match (first_int_digit, last_int_digit) {
-            (Some(first), Some(last)) if i > first && i < last => grouping = true,
-            (_, Some(last)) if i > last => thousands += 1,
-            _ => {}
+        if let (Tok::Comma, Some(first), Some(last)) = (t, first_int_digit, last_int_digit) {
+            grouping |= i > first && i < last;
         }
     }
+    // Commas right after the last digit placeholder scale by 1000 each, whether that
+    // placeholder is an integer or a decimal one (`#,##0,` and `0.0,,"M"`).
+    let last_digit = tokens[..exp_at].iter().rposition(|t| matches!(t, Tok::Digit(_)));
+    let thousands = last_digit.map_or(0, |last| {
+        tokens[last + 1..exp_at]
+            .iter()
+            .take_while(|t| !matches!(t, Tok::Digit(_)))
+            .filter(|t| **t == Tok::Comma)
+            .count()
+    }) as i32;
     Layout {
         int_places: digits(int),
         frac_places: digits(&tokens[point_at.min(exp_at)..exp_at]),
@@ -555,6 +722,10 @@ fn format_in_section(section: &Section, value: f64, signed: bool) -> XlResult<St
         }
         return Ok(with_sign(out, signed && value < 0.0));
     }
+    if let Some(fraction) = FractionLayout::of(&section.tokens) {
+        let body = fraction.render(&section.tokens, value.abs());
+        return Ok(with_sign(body, signed && value < 0.0));
+    }
     let layout = layout(&section.tokens);
     let scientific = section.tokens.iter().any(|t| matches!(t, Tok::Exp { .. }));
     let shown = shown_digits(value.abs(), &layout, scientific)?;
@@ -610,6 +781,10 @@ fn render(section: &Section, layout: &Layout, shown: &Shown) -> String {
                 exp_i += 1;
             }
             Tok::Point if region == 0 => {
+                if layout.int_places.is_empty() {
+                    // `.#` shows 1.25 as "1.3": the integer digits need no placeholder.
+                    out.push_str(&shown.int);
+                }
                 out.push('.');
                 region = 1;
             }
@@ -873,7 +1048,6 @@ mod tests {
         assert_eq!(fmt(1234567.0, "#,##0,"), "1,235");
         assert_eq!(fmt(150.0, "[>=100]\"big\";0"), "big");
         assert_eq!(fmt(-3.0, "[Red]0.0;[Blue]-0.0"), "-3.0");
-        assert!(NumberFormat::parse("# ?/?").is_err());
         assert!(NumberFormat::parse("0.0\"/min\"").is_ok());
     }
 

@@ -99,8 +99,15 @@ pub fn ref_errors_without_sheet(text: &str) -> Cow<'_, str> {
 /// `first:last!ref` starting at `at`: where it ends and its expansion.
 fn span_at(text: &str, at: usize, sheets: &[String]) -> Option<(usize, String)> {
     let (first, after_first) = sheet_name(text, at)?;
-    text.get(after_first..)?.strip_prefix(':')?;
-    let (last, after_last) = sheet_name(text, after_first + 1)?;
+    let (first, last, after_last) = match first.split_once(':') {
+        // Excel quotes the pair as one: `'Jan 1:Mar''s'!B2` (a sheet name has no `:`).
+        Some((a, b)) => (a.to_string(), b.to_string(), after_first),
+        None => {
+            text.get(after_first..)?.strip_prefix(':')?;
+            let (last, after_last) = sheet_name(text, after_first + 1)?;
+            (first, last, after_last)
+        }
+    };
     let bang = text.get(after_last..)?.strip_prefix('!')?;
     let ref_len = bang.bytes().take_while(|&b| b.is_ascii_alphanumeric() || b == b'$' || b == b':').count();
     if ref_len == 0 {
@@ -167,6 +174,8 @@ mod tests {
             "COUNT('Feb 24'!$A$1:$B$2,'Mar'!$A$1:$B$2)"
         );
         assert_eq!(expand_sheet_spans("SUM(Mar:Jan!C1)", &s), "SUM('Jan'!C1,'Feb 24'!C1,'Mar'!C1)");
+        assert_eq!(expand_sheet_spans("SUM('Jan:Feb 24'!C1)", &s), "SUM('Jan'!C1,'Feb 24'!C1)");
+        assert_eq!(expand_sheet_spans("SUM('Feb 24:Jan'!C1)", &s), "SUM('Jan'!C1,'Feb 24'!C1)");
     }
 
     #[test]

@@ -72,7 +72,11 @@ pub fn resolve_structured<'t>(
     pos: Pos,
     sheet_name: &dyn Fn(SheetId) -> String,
 ) -> Cow<'t, str> {
-    if tables.is_empty() || !text.contains('[') {
+    let names_a_table = || {
+        let upper = text.to_ascii_uppercase();
+        tables.iter().any(|t| upper.contains(&t.name.to_ascii_uppercase()))
+    };
+    if tables.is_empty() || !text.contains('[') && !names_a_table() {
         return Cow::Borrowed(text);
     }
     let bytes = text.as_bytes();
@@ -104,6 +108,20 @@ pub fn resolve_structured<'t>(
                 }
                 i = end + 1;
             }
+            c if is_name_char(c) => {
+                let end = name_end(bytes, i);
+                // A table's name alone (`ROWS(Parts)`, `VLOOKUP(x,Parts,2)`) is its data.
+                let alone = !matches!(bytes.get(end), Some(b'[' | b'(' | b'!'))
+                    && (i == 0 || !matches!(bytes[i - 1], b'!' | b'.' | b'\\'));
+                let table = alone.then(|| tables.iter().find(|t| t.name.eq_ignore_ascii_case(&text[i..end]))).flatten();
+                if let Some(table) = table {
+                    let data = Specifier { rows: Rows { data: true, ..Rows::default() }, columns: None };
+                    out.push_str(&text[copied..i]);
+                    out.push_str(&data.render(table, pos, sheet_name));
+                    copied = end;
+                }
+                i = end;
+            }
             _ => i += 1,
         }
     }
@@ -114,16 +132,21 @@ pub fn resolve_structured<'t>(
     Cow::Owned(out)
 }
 
+/// A character of a name (a table's, a function's, a cell's).
+fn is_name_char(c: u8) -> bool {
+    c.is_ascii_alphanumeric() || c == b'_' || c == b'.' || c == b'\\' || c >= 0x80
+}
+
+/// Where the name (or number, or cell address) starting at `at` ends.
+fn name_end(bytes: &[u8], at: usize) -> usize {
+    at + bytes[at..].iter().take_while(|&&c| is_name_char(c)).count()
+}
+
 /// Where the table name before the `[` at `at` starts (`at` itself when there is none).
 fn table_name_start(bytes: &[u8], at: usize) -> usize {
     let mut start = at;
-    while start > 0 {
-        let c = bytes[start - 1];
-        if c.is_ascii_alphanumeric() || c == b'_' || c == b'.' || c == b'\\' || c >= 0x80 {
-            start -= 1;
-        } else {
-            break;
-        }
+    while start > 0 && is_name_char(bytes[start - 1]) {
+        start -= 1;
     }
     // A name starts with a letter, `_` or `\`; digits before `[` belong to something else.
     while start < at && (bytes[start].is_ascii_digit() || bytes[start] == b'.') {
@@ -342,6 +365,11 @@ mod tests {
         assert_eq!(resolve("[@Qty]*[@[Unit Price]]", "D4"), "'Data'!$C$4*'Data'!$D$4");
         assert_eq!(resolve("Sales[[#This Row],[Qty]]", "F5"), "'Data'!$C$5");
         assert_eq!(resolve("Sales[@Qty]", "F9"), "#REF!");
+        assert_eq!(
+            resolve("ROWS(Sales)+VLOOKUP(1,sales,2)", "A1"),
+            "ROWS('Data'!$B$3:$D$5)+VLOOKUP(1,'Data'!$B$3:$D$5,2)"
+        );
+        assert_eq!(resolve("Sales!A1+SalesTax+\"Sales\"", "A1"), "Sales!A1+SalesTax+\"Sales\"");
     }
 
     #[test]

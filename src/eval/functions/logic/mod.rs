@@ -190,25 +190,26 @@ fn xor(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 /// The truth values AND, OR and XOR combine. Ranges and arrays give their numbers and
-/// booleans (text and blanks skipped); typed text counts only as "TRUE" or "FALSE"
-/// (Excel: `OR("", TRUE)` is TRUE). No value at all is `#VALUE!`; any error wins.
+/// booleans (text and blanks skipped); typed text counts as "TRUE" or "FALSE", the empty
+/// text is skipped (Excel: `OR("", TRUE)` is TRUE) and any other is `#VALUE!` (`AND("1",1)`).
+/// No value at all is `#VALUE!`; any error wins, over bad text too (`AND("x",NA())` is #N/A).
 fn logicals(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<bool>> {
     let mut flags = Vec::new();
+    let mut bad_text = false;
     for_each_value(ctx, args, &mut |v, source| {
         match (v, source) {
             (Value::Error(e), _) => return Err(*e),
             (Value::Bool(b), _) => flags.push(*b),
             (Value::Number(n), _) => flags.push(*n != 0.0),
-            (Value::Text(s), Source::Direct) => {
-                if let Ok(b) = to_bool(&Value::Text(s.clone())) {
-                    flags.push(b);
-                }
-            }
+            (Value::Text(s), Source::Direct) if !s.is_empty() => match to_bool(&Value::Text(s.clone())) {
+                Ok(b) => flags.push(b),
+                Err(_) => bad_text = true,
+            },
             _ => {}
         }
         Ok(())
     })?;
-    if flags.is_empty() {
+    if bad_text || flags.is_empty() {
         Err(XlError::Value)
     } else {
         Ok(flags)

@@ -195,17 +195,18 @@ fn text_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
     if let Value::Text(format) = &values[1] {
         if NumberFormat::parse(format).is_err() {
-            let why = format!(
-                "TEXT cannot use the format \"{format}\" (fractions and digit placeholders \
-                 in dates are not supported)"
-            );
+            let why =
+                format!("TEXT cannot use the format \"{format}\" (digit placeholders in dates are not supported)");
             return Err(ctx.explain(XlError::Value, why));
         }
     }
     lift_values(&values, &|v| {
+        // The value's error wins over the format's (`TEXT(NA(),1/0)` is #N/A).
+        if let Value::Error(e) = &v[0] {
+            return Err(*e);
+        }
         let format = NumberFormat::parse(&to_text(&v[1])?)?;
         let shown = match &v[0] {
-            Value::Error(e) => return Err(*e),
             // A boolean is text to TEXT: the text section formats it.
             Value::Bool(b) => format.format_text(if *b { "TRUE" } else { "FALSE" }),
             // Text that reads as a number is formatted as that number.
