@@ -2,7 +2,9 @@
 //! (tests/nc/<dialect>/*.nc), plus a round-trip property of the number formatter.
 
 use ncsheet::nc::dialect::{self, Dialect};
-use ncsheet::nc::{ArcDirection, Block, FeedMode, Machine, Program, Spindle, SpindleDirection, Target, Word};
+use ncsheet::nc::{
+    ArcDirection, Block, FeedMode, Machine, Program, Spindle, SpindleDirection, Target, ToolChange, Word,
+};
 use proptest::prelude::*;
 
 fn lathe_program(with_arc: bool) -> Program {
@@ -10,7 +12,7 @@ fn lathe_program(with_arc: bool) -> Program {
     p.number = Some(1);
     p.retract = Some(Target::xz(60.0, 5.0));
     p.push(Block::Comment("outer chamfer".into()));
-    p.push(Block::Tool(1));
+    p.push(Block::Tool(ToolChange::new(1)));
     p.push(Block::FeedMode(FeedMode::PerRevolution));
     let direction = SpindleDirection::Clockwise;
     // NC31 has no constant surface speed: its program turns at a fixed speed.
@@ -41,7 +43,7 @@ fn mill_program() -> Program {
     p.blank = Some(([0.0, 0.0, -5.0], [10.0, 10.0, 0.0]));
     p.push(Block::Comment("square with a round corner".into()));
     p.push(Block::FeedMode(FeedMode::PerMinute));
-    p.push(Block::Tool(1));
+    p.push(Block::Tool(ToolChange::new(1)));
     p.push(Block::Spindle(Spindle::Rpm { rpm: 3000.0, direction: SpindleDirection::Clockwise }));
     p.push(Block::Rapid(Target::xyz(0.0, 0.0, 5.0)));
     p.push(Block::Line { to: Target { z: Some(-1.0), ..Target::default() }, feed: Some(100.0) });
@@ -147,7 +149,7 @@ fn numbers_no_control_should_get_are_refused() {
         assert!(one(d, Block::Dwell(0.0)).is_err() && one(d, Block::Dwell(f64::NAN)).is_err());
         let spindle = |rpm: f64| Block::Spindle(Spindle::Rpm { rpm, direction: SpindleDirection::Clockwise });
         assert!(one(d, spindle(1e300)).is_err() && one(d, spindle(0.0)).is_err() && one(d, spindle(800.0)).is_ok());
-        assert!(one(d, Block::Tool(0)).is_err());
+        assert!(one(d, Block::Tool(ToolChange::new(0))).is_err());
     }
     // ±99999.999 fits Fanuc's 8 digits, 100000 does not.
     let iso = dialect::by_name("iso").unwrap();

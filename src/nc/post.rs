@@ -21,7 +21,9 @@ use nalgebra::{Point3, Vector3};
 
 use super::apt::{ClKind, ClRecord, ClSpindle};
 use super::dialect::ARC_TOLERANCE;
-use super::program::{ArcDirection, Block, FeedMode, Machine, Program, Spindle, SpindleDirection, Target};
+use super::program::{
+    ArcDirection, Block, FeedMode, Machine, Program, Spindle, SpindleDirection, Target, ToolChange, ToolOffset,
+};
 use crate::geometry::head::head_ab;
 
 /// The head's kinematics and what the machine allows.
@@ -194,7 +196,8 @@ impl<'a> Post<'a> {
         let mut program = Program::new(name, Machine::Mill);
         program.retract = Some(Target { z: Some(clearance), ..Target::default() });
         program.push(Block::Comment(format!(
-            "(A,B) head, pivot H = {} mm: X Y Z are the pivot, A B the head angles; tool length offset 0",
+            "(A,B) head, pivot H = {} mm. X Y Z: the pivot. A B: the head angles. Tool length offset cancelled \
+             at the tool change",
             o.head.pivot
         )));
         program.push(Block::FeedMode(FeedMode::PerMinute));
@@ -220,7 +223,7 @@ impl<'a> Post<'a> {
             let Some(tool) = self.o.tool else {
                 return Err(at(&records[first], "no LOADTL before the first move: give the tool (--tool)".into()));
             };
-            self.program.push(Block::Tool(tool));
+            self.tool(tool);
         }
         if !before.iter().any(|r| matches!(r.kind, ClKind::Spindle(ClSpindle::Rpm { .. }))) {
             let Some(rpm) = self.o.spindle else {
@@ -232,6 +235,13 @@ impl<'a> Post<'a> {
             self.spindle(ClSpindle::Rpm { rpm, clockwise: true });
         }
         Ok(())
+    }
+
+    /// The tool change, with the tool length offset cancelled: X Y Z are the pivot, whose
+    /// length H the post has compensated already, so the table's length must not be added
+    /// (a dialect that cannot cancel it refuses the program).
+    fn tool(&mut self, number: u32) {
+        self.program.push(Block::Tool(ToolChange { number, offset: ToolOffset::Cancelled }));
     }
 
     fn spindle(&mut self, s: ClSpindle) -> Option<()> {
@@ -260,9 +270,7 @@ impl<'a> Post<'a> {
         match &r.kind {
             ClKind::PartNo(t) => self.comment(format!("PARTNO {t}")),
             ClKind::Comment(t) => self.comment(t.clone()),
-            ClKind::LoadTool(n) => {
-                self.program.push(Block::Tool(*n));
-            }
+            ClKind::LoadTool(n) => self.tool(*n),
             ClKind::Spindle(s) => {
                 self.spindle(*s).ok_or_else(|| at(r, "SPINDL/ON with no speed given before".into()))?;
             }

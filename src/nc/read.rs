@@ -10,7 +10,8 @@
 use std::fmt;
 
 use super::program::{
-    ArcDirection, Block, Compensation, FeedMode, Machine, Program, Spindle, SpindleDirection, Target,
+    ArcDirection, Block, Compensation, FeedMode, Machine, Program, Spindle, SpindleDirection, Target, ToolChange,
+    ToolOffset,
 };
 
 pub mod heidenhain;
@@ -397,6 +398,8 @@ fn block(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: &mut Ve
     let mut compensation = None;
     let mut spindle_m = None;
     let mut coolant = None;
+    // G43 (true) or G49 (false), and its column.
+    let mut length = None;
     let mut seen = std::collections::HashSet::new();
     for w in words {
         if !matches!(w.letter, 'G' | 'M') && !seen.insert(w.letter) {
@@ -412,6 +415,7 @@ fn block(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: &mut Ve
                 &mut g50,
                 &mut feed_mode,
                 &mut compensation,
+                &mut length,
             )?,
             'M' => match code(w)? {
                 3 => spindle_m = Some(Some(SpindleDirection::Clockwise)),
@@ -436,14 +440,9 @@ fn block(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: &mut Ve
         out.push(Block::FeedMode(m));
     }
     if let Some(t) = find('T') {
-        let n = code(t)?;
-        // Fanuc lathes write tool and offset together: T0101.
-        let n = if st.family == Family::Fanuc && st.machine == Some(Machine::Lathe) && n >= 100 { n / 100 } else { n };
-        out.push(Block::Tool(n));
-        // Sinumerik's `T1 D1`: the model's tool has its first cutting edge.
-        if let Some(d) = find('D').filter(|d| st.family == Family::Sinumerik && d.value != 1.0) {
-            return Err((d.column, format!("cutting edge D{}: the program model has each tool's edge D1", d.value)));
-        }
+        out.push(Block::Tool(tool_change(st, words, t, length)?));
+    } else if let Some((column, _)) = length {
+        return Err((column, "G43/G49 are read in the tool change's block (`T1 M6 G43`, `T1 M6 G49`)".into()));
     }
     if let Some(s) = find('S') {
         if g50 {
@@ -505,6 +504,36 @@ fn block(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: &mut Ve
     Ok(end)
 }
 
+/// The tool change of a block with T, and the offset it applies: a Fanuc lathe's `T0102`
+/// (tool 01, offset 02; 00 none), Sinumerik's cutting edge `D2` (D0 none, D1 if not given),
+/// `G43 [H2]` or `G49` with the change on a mill and on LinuxCNC. Without G43/G49 the model
+/// takes the tool's own offset, as the writers write it.
+fn tool_change(st: &State, words: &[Word], t: &Word, length: Option<(usize, bool)>) -> Result<ToolChange, Fail> {
+    let find = |l: char| words.iter().find(|w| w.letter == l);
+    let n = code(t)?;
+    let offset = |o: u32, tool: u32| match o {
+        0 => ToolOffset::Cancelled,
+        o if o == tool => ToolOffset::Own,
+        o => ToolOffset::Number(o),
+    };
+    let lathe = st.machine == Some(Machine::Lathe);
+    Ok(match st.family {
+        Family::Fanuc if lathe && n >= 100 => ToolChange { number: n / 100, offset: offset(n % 100, n / 100) },
+        Family::Sinumerik => {
+            let d = find('D').map(code).transpose()?.unwrap_or(1);
+            ToolChange { number: n, offset: if d == 1 { ToolOffset::Own } else { offset(d, 0) } }
+        }
+        _ => match length {
+            Some((_, false)) => ToolChange { number: n, offset: ToolOffset::Cancelled },
+            Some((_, true)) => {
+                let h = find('H').map(code).transpose()?.unwrap_or(n);
+                ToolChange { number: n, offset: offset(h, n) }
+            }
+            None => ToolChange::new(n),
+        },
+    })
+}
+
 /// Words that only mean something with a code this block does not have: an error rather
 /// than a word silently dropped.
 fn unused_words(
@@ -554,6 +583,7 @@ fn g_code(
     g50: &mut bool,
     feed_mode: &mut Option<FeedMode>,
     compensation: &mut Option<Compensation>,
+    length: &mut Option<(usize, bool)>,
 ) -> Result<(), Fail> {
     let lathe = st.machine == Some(Machine::Lathe);
     let unsupported = || Err((w.column, format!("G{} is not a code this reader knows", w.value)));
@@ -586,9 +616,9 @@ fn g_code(
         40 => *compensation = Some(Compensation::Off),
         41 => *compensation = Some(Compensation::Left),
         42 => *compensation = Some(Compensation::Right),
-        // Tool length offset with the tool change (LinuxCNC's `T1 M6 G43`): the model's tool
-        // change implies it.
-        43 if !sinumerik => {}
+        // Tool length offset from the table, or none, with the tool change (`T1 M6 G43`).
+        43 if !sinumerik => *length = Some((w.column, true)),
+        49 if !sinumerik => *length = Some((w.column, false)),
         50 if st.family == Family::Fanuc => *g50 = true,
         90 => st.incremental = false,
         91 => st.incremental = true,
