@@ -35,6 +35,8 @@ pub struct WordAddress {
     pub rapid_suffix: Option<&'static str>,
     pub has_arcs: bool,
     pub machines: &'static [Machine],
+    /// The axes the control moves; a move of another axis is refused, never left out.
+    pub axes: &'static str,
     /// Addresses a raw block may use.
     pub legal: &'static str,
 }
@@ -77,6 +79,7 @@ pub const ISO: WordAddress = WordAddress {
     rapid_suffix: None,
     has_arcs: true,
     machines: &[Machine::Lathe, Machine::Mill],
+    axes: "XYZABC",
     legal: "NGMXYZABCIJKRFSTDHPQUVWLO",
 };
 
@@ -98,6 +101,7 @@ pub const LINUXCNC: WordAddress = WordAddress {
     rapid_suffix: None,
     has_arcs: true,
     machines: &[Machine::Lathe, Machine::Mill],
+    axes: "XYZABC",
     legal: "NGMXYZABCIJKRFSTDHPQUVWL",
 };
 
@@ -118,6 +122,7 @@ pub const SINUMERIK: WordAddress = WordAddress {
     rapid_suffix: None,
     has_arcs: true,
     machines: &[Machine::Lathe, Machine::Mill],
+    axes: "XYZABC",
     legal: "NGMXYZABCIJKFSTDHPQUVWL",
 };
 
@@ -138,6 +143,7 @@ pub const NC31: WordAddress = WordAddress {
     rapid_suffix: Some("E"),
     has_arcs: false,
     machines: &[Machine::Lathe],
+    axes: "XZ",
     legal: "NGMXZUWFSTLDPARQ",
 };
 
@@ -164,6 +170,7 @@ impl Dialect for WordAddress {
         }
         let numbers = NumberStyle { decimals: program.precision.unwrap_or(self.numbers.decimals), ..self.numbers };
         check_program(program, Format { numbers, digits: self.digits }).map_err(|(b, m)| self.error(b, m))?;
+        self.check_axes(program)?;
         let mut w = Writer {
             d: self,
             machine: program.machine,
@@ -197,6 +204,32 @@ impl Dialect for WordAddress {
 impl WordAddress {
     fn error(&self, block: Option<usize>, message: String) -> NcError {
         NcError { dialect: self.name, block, message }
+    }
+
+    /// Every axis a move or the retract names is one the control has (NC31: X and Z).
+    fn check_axes(&self, program: &Program) -> Result<(), NcError> {
+        let foreign = |t: &Target| t.axes().map(|(l, _)| l).find(|l| !self.axes.contains(*l));
+        let refuse = |block: Option<usize>, what: &str, axis: char| {
+            let axes: Vec<String> = self.axes.chars().map(String::from).collect();
+            self.error(
+                block,
+                format!("{what}names the {axis} axis, which the control does not have (its axes: {})", axes.join(" ")),
+            )
+        };
+        for (i, b) in program.blocks.iter().enumerate() {
+            let axis = match b {
+                Block::Rapid(t) | Block::Line { to: t, .. } => foreign(t),
+                Block::Arc { to, centre, .. } => foreign(to).or(foreign(centre)),
+                _ => None,
+            };
+            if let Some(axis) = axis {
+                return Err(refuse(Some(i + 1), "the move ", axis));
+            }
+        }
+        match program.retract.as_ref().and_then(foreign) {
+            Some(axis) => Err(refuse(None, "the retract position ", axis)),
+            None => Ok(()),
+        }
     }
 
     fn header(&self, w: &mut Writer, program: &Program) -> Result<(), String> {
