@@ -481,3 +481,45 @@ fn each_control_cancels_the_length_or_refuses_the_post() {
     assert!(run.stderr.contains("block") && run.stderr.contains("TCPM"), "{}", run.stderr);
     assert!(run.stdout.is_empty());
 }
+
+/// A CL file written as a CAM system's APT output writes it (the records and their syntax of
+/// aamorim1913/AptPostProcessor, parts-tools/boss.apt: `PARTNO/1`, `UNIT/MM`, the
+/// 7-parameter `CUTTER`, `LOAD/TOOL,1`, `SELECT/TOOL,5`, `SPINDL/12000,RPM,CLW`, `RAPID/`,
+/// `FEDRAT/…,MMPM`, and a pocket corner `CIRCLE/95.,44.249705,-3.,0,0,-1.` given by centre
+/// and axis only). The corner is the circle through the arc's start about that centre, run
+/// counter-clockwise about the axis −Z (APT): clockwise seen from above.
+#[test]
+fn a_cam_systems_cl_file_posts() {
+    if !rs274::available() {
+        eprintln!("skipped: LinuxCNC's rs274 is not installed (bash .ci/run installs linuxcnc-uspace)");
+        return;
+    }
+    let cl = "PARTNO/1\nUNIT/MM\nCUTTER/6.,0,3.,0,0,0,51.\nLOAD/TOOL,1\nSELECT/TOOL,5\nCOOLNT/FLOOD\n\
+              SPINDL/12000,RPM,CLW\nRAPID/\nGOTO/96.4375,-1.4375,2.5\nFEDRAT/411.48,MMPM\n\
+              GOTO/96.4375,-1.4375,-3.\nFEDRAT/1645.92,MMPM\nGOTO/96.4375,41.334899,-3.\n\
+              CIRCLE/95.,44.249705,-3.,0,0,-1.\nGOTO/95.,40.999705,-3.\nGOTO/78.25,40.999705,-3.\nFINI\n";
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("boss.ngc");
+    let run = post(dir.path(), cl, &["--pivot", "0", "--dialect", "linuxcnc", "-o", out.to_str().unwrap()]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.contains("T1 M6 G49") && text.contains("S12000 M3") && text.contains("(next tool 5"), "{text}");
+    // The radius the record leaves out: the start's distance from the centre, as the end's.
+    let radius = (96.4375f64 - 95.0).hypot(41.334899 - 44.249705);
+    assert!((radius - (44.249705 - 40.999705)).abs() < 1e-5, "{radius}");
+    let moves = rs274::moves(&out).unwrap();
+    let arc = moves.iter().find_map(|m| match m {
+        rs274::Move::Arc { first_end, second_end, first_centre, second_centre, rotation, axis_end } => {
+            Some((*first_end, *second_end, *first_centre, *second_centre, *rotation, *axis_end))
+        }
+        _ => None,
+    });
+    let (x, y, cx, cy, rotation, z) = arc.unwrap_or_else(|| panic!("no arc: {moves:?}"));
+    for (got, want) in [(x, 95.0), (y, 40.999705), (cx, 95.0), (cy, 44.249705), (z, -3.0)] {
+        assert!((got - want).abs() < 0.0006, "{moves:?}");
+    }
+    assert_eq!(rotation, -1, "clockwise seen from +Z");
+    // An inch file is refused, not converted.
+    let run = post(dir.path(), &cl.replace("UNIT/MM", "UNIT/INCHES"), &["--pivot", "0", "--dialect", "iso"]);
+    assert!(run.code == 1 && run.stderr.contains("line 2, column 6"), "{}", run.stderr);
+}

@@ -177,6 +177,9 @@ struct Pose {
     b: f64,
 }
 
+/// A CIRCLE record's line, centre, axis and radius (if given), until its GOTO.
+type PendingCircle = (usize, [f64; 3], [f64; 3], Option<f64>);
+
 struct Post<'a> {
     o: &'a PostOptions,
     program: Program,
@@ -185,8 +188,8 @@ struct Post<'a> {
     spindle_on: bool,
     last_rpm: Option<(f64, SpindleDirection)>,
     rapid_next: bool,
-    /// A CIRCLE waiting for its GOTO: (line, centre, axis, radius).
-    circle: Option<(usize, [f64; 3], [f64; 3], f64)>,
+    /// A CIRCLE waiting for its GOTO: (line, centre, axis, radius if given).
+    circle: Option<PendingCircle>,
     pose: Option<Pose>,
     ended: bool,
 }
@@ -271,6 +274,7 @@ impl<'a> Post<'a> {
             ClKind::PartNo(t) => self.comment(format!("PARTNO {t}")),
             ClKind::Comment(t) => self.comment(t.clone()),
             ClKind::LoadTool(n) => self.tool(*n),
+            ClKind::SelectTool(n) => self.comment(format!("next tool {n} (SELECT/TOOL)")),
             ClKind::Spindle(s) => {
                 self.spindle(*s).ok_or_else(|| at(r, "SPINDL/ON with no speed given before".into()))?;
             }
@@ -399,7 +403,7 @@ impl<'a> Post<'a> {
         to: Target,
         centre: [f64; 3],
         axis: [f64; 3],
-        radius: f64,
+        radius: Option<f64>,
         feed: f64,
     ) -> Result<Block, String> {
         if axis[0].abs() > 1e-6 || axis[1].abs() > 1e-6 {
@@ -414,6 +418,8 @@ impl<'a> Post<'a> {
         if (from.tip.z - to_pose.tip.z).abs() > 1e-6 {
             return Err("the CIRCLE's end is at another height than its start: helices are not written".into());
         }
+        // A CIRCLE without its radius runs through its start point.
+        let radius = radius.unwrap_or_else(|| (from.tip.x - centre[0]).hypot(from.tip.y - centre[1]));
         for (what, p) in [("start", from.tip), ("end", to_pose.tip)] {
             let r = (p.x - centre[0]).hypot(p.y - centre[1]);
             if (r - radius).abs() > ARC_TOLERANCE {
