@@ -115,7 +115,8 @@ pub enum Compensation {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ToolOffset {
     /// The tool's own offset from the control's tool table: Fanuc lathe `T0101`, mill
-    /// `T1 M6 G43 H1`, LinuxCNC `T1 M6 G43`, Sinumerik `T1 D1`, Heidenhain `TOOL CALL 1`.
+    /// `T1 M6 G43 H1`, LinuxCNC `T1 M6 G43`, Sinumerik `T1 D1`,
+    /// plain language `TOOL CALL 1` (docs/dialects.md).
     /// The coordinates are the tool tip's.
     Own,
     /// Offset register `n` (1 or more) of the tool table: Fanuc lathe `T0102`, mill and

@@ -284,8 +284,8 @@ struct Line {
 }
 
 /// The words of one line and its comment: `( … )` on Fanuc and LinuxCNC, `;` to the end of
-/// the line on LinuxCNC and Sinumerik (Fanuc's `;` ends the block: [`blocks_of_line`]; NC31
-/// has no comments), Sinumerik's `MSG("…")`.
+/// the line on LinuxCNC and Sinumerik (Fanuc's `;` ends the block: [`blocks_of_line`];
+/// the NC31 has no comments), Sinumerik's `MSG("…")`.
 fn tokens(raw: &str, family: Family) -> Result<Line, Fail> {
     let chars: Vec<char> = raw.chars().collect();
     let mut line = Line::default();
