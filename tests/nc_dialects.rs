@@ -2,7 +2,10 @@
 //! (tests/nc/<dialect>/*.nc), plus a round-trip property of the number formatter.
 
 use ncsheet::nc::dialect::{self, Dialect};
-use ncsheet::nc::{ArcDirection, Block, FeedMode, Machine, Program, Spindle, SpindleDirection, Target, Word};
+use ncsheet::nc::{
+    ArcDirection, Block, Compensation, FeedMode, Machine, Program, Spindle, SpindleDirection, Target, ToolChange,
+    ToolOffset, Word,
+};
 use proptest::prelude::*;
 
 fn lathe_program(with_arc: bool) -> Program {
@@ -10,7 +13,7 @@ fn lathe_program(with_arc: bool) -> Program {
     p.number = Some(1);
     p.retract = Some(Target::xz(60.0, 5.0));
     p.push(Block::Comment("outer chamfer".into()));
-    p.push(Block::Tool(1));
+    p.push(Block::Tool(ToolChange::new(1)));
     p.push(Block::FeedMode(FeedMode::PerRevolution));
     let direction = SpindleDirection::Clockwise;
     // NC31 has no constant surface speed: its program turns at a fixed speed.
@@ -41,7 +44,7 @@ fn mill_program() -> Program {
     p.blank = Some(([0.0, 0.0, -5.0], [10.0, 10.0, 0.0]));
     p.push(Block::Comment("square with a round corner".into()));
     p.push(Block::FeedMode(FeedMode::PerMinute));
-    p.push(Block::Tool(1));
+    p.push(Block::Tool(ToolChange::new(1)));
     p.push(Block::Spindle(Spindle::Rpm { rpm: 3000.0, direction: SpindleDirection::Clockwise }));
     p.push(Block::Rapid(Target::xyz(0.0, 0.0, 5.0)));
     p.push(Block::Line { to: Target { z: Some(-1.0), ..Target::default() }, feed: Some(100.0) });
@@ -130,7 +133,8 @@ fn one(d: &dyn Dialect, block: Block) -> Result<String, dialect::NcError> {
     let mut p = Program::new("P", machine);
     p.push(Block::FeedMode(FeedMode::PerRevolution));
     p.push(Block::Spindle(Spindle::Rpm { rpm: 800.0, direction: SpindleDirection::Clockwise }));
-    p.push(Block::Rapid(Target::xyz(10.0, 0.0, 0.0)));
+    // A lathe has no Y (NC31 refuses one).
+    p.push(Block::Rapid(if machine == Machine::Mill { Target::xyz(10.0, 0.0, 0.0) } else { Target::xz(10.0, 0.0) }));
     p.push(block);
     d.render(&p)
 }
@@ -147,7 +151,7 @@ fn numbers_no_control_should_get_are_refused() {
         assert!(one(d, Block::Dwell(0.0)).is_err() && one(d, Block::Dwell(f64::NAN)).is_err());
         let spindle = |rpm: f64| Block::Spindle(Spindle::Rpm { rpm, direction: SpindleDirection::Clockwise });
         assert!(one(d, spindle(1e300)).is_err() && one(d, spindle(0.0)).is_err() && one(d, spindle(800.0)).is_ok());
-        assert!(one(d, Block::Tool(0)).is_err());
+        assert!(one(d, Block::Tool(ToolChange::new(0))).is_err());
     }
     // ±99999.999 fits Fanuc's 8 digits, 100000 does not.
     let iso = dialect::by_name("iso").unwrap();
@@ -249,4 +253,34 @@ proptest! {
         let back = first_x(&d.render(&p).unwrap());
         prop_assert!((back - v).abs() <= d.resolution() / 2.0 + 1e-9, "{} wrote {} for {}", d.name(), back, v);
     }
+}
+
+/// NC31 (DOMAIN.md §2: `N002 X34 Z-60 E`) moves X and Z only, and writes no cutter
+/// compensation, constant surface speed, feed per minute or offset other than the tool's own:
+/// each is refused naming the block, never written as words it does not read nor left out.
+#[test]
+fn nc31_refuses_what_it_cannot_carry_naming_the_block() {
+    let nc31 = dialect::by_name("nc31").unwrap();
+    let direction = SpindleDirection::Clockwise;
+    let line = |t: Target| Block::Line { to: t, feed: Some(0.1) };
+    let cases = [
+        (line(Target { y: Some(5.0), ..Target::xz(40.0, -2.0) }), "Y axis"),
+        (Block::Rapid(Target { c: Some(90.0), ..Target::xz(50.0, 2.0) }), "C axis"),
+        (line(Target { a: Some(1.0), ..Target::default() }), "A axis"),
+        (Block::Compensation(Compensation::Left), "compensation"),
+        (Block::Spindle(Spindle::SurfaceSpeed { metres_per_min: 180.0, max_rpm: 2500.0, direction }), "surface speed"),
+        (Block::FeedMode(FeedMode::PerMinute), "per revolution only"),
+        (Block::Tool(ToolChange { number: 1, offset: ToolOffset::Number(2) }), "offset"),
+    ];
+    for (block, says) in cases {
+        let mut p = lathe_program(false);
+        p.blocks.insert(5, block.clone());
+        let e = nc31.render(&p).unwrap_err();
+        assert_eq!(e.block, Some(6), "{block:?}: {e}");
+        assert!(e.message.contains(says), "{block:?}: {e}");
+    }
+    let mut p = lathe_program(false);
+    p.retract = Some(Target { y: Some(0.0), ..Target::xz(60.0, 5.0) });
+    let e = nc31.render(&p).unwrap_err();
+    assert!(e.block.is_none() && e.message.contains("retract") && e.message.contains("Y axis"), "{e}");
 }

@@ -175,7 +175,7 @@ fn a_programs_time_matches_a_numerical_integration() {
 
 use ncsheet::nc::dialect;
 use ncsheet::nc::read::{self, Family};
-use ncsheet::nc::{Compensation, Spindle, SpindleDirection};
+use ncsheet::nc::{Compensation, Spindle, SpindleDirection, ToolChange, ToolOffset};
 
 fn reread(text: &str, dialect_name: &str) -> String {
     let d = dialect::by_name(dialect_name).unwrap();
@@ -204,7 +204,7 @@ fn mill_program() -> Program {
     p.retract = Some(Target::xyz(0.0, 0.0, 50.0));
     p.push(Block::Comment("contour".into()));
     p.push(Block::FeedMode(FeedMode::PerMinute));
-    p.push(Block::Tool(3));
+    p.push(Block::Tool(ToolChange::new(3)));
     p.push(Block::Spindle(Spindle::Rpm { rpm: 2400.0, direction: SpindleDirection::Clockwise }));
     p.push(Block::Coolant(true));
     p.push(Block::Rapid(Target::xyz(-5.0, 0.0, 2.0)));
@@ -234,7 +234,7 @@ fn lathe_program() -> Program {
     let mut p = Program::new("SHAFT", Machine::Lathe);
     p.number = Some(42);
     p.retract = Some(Target::xz(80.0, 10.0));
-    p.push(Block::Tool(2));
+    p.push(Block::Tool(ToolChange::new(2)));
     p.push(Block::FeedMode(FeedMode::PerRevolution));
     let direction = SpindleDirection::Clockwise;
     p.push(Block::Spindle(Spindle::SurfaceSpeed { metres_per_min: 200.0, max_rpm: 3000.0, direction }));
@@ -491,7 +491,7 @@ fn sinumerik_words_read_as_the_control_means_them() {
     // start lies straight below and the end straight left (around (Z-15, R20) it would turn
     // counter-clockwise).
     let want = vec![
-        Block::Tool(1),
+        Block::Tool(ToolChange::new(1)),
         Block::Comment("roughing tool".into()),
         Block::FeedMode(FeedMode::PerRevolution),
         Block::Spindle(Spindle::SurfaceSpeed { metres_per_min: 200.0, max_rpm: 3000.0, direction }),
@@ -539,7 +539,7 @@ fn heidenhain_blocks_read_as_the_control_means_them() {
     // X axis at (10, 0) through (20, 10) has its centre at (10, 10), counter-clockwise. CR from
     // (20, 10) to (30, 0), R 10, clockwise, the shorter arc: around (20, 0).
     let want = vec![
-        Block::Tool(2),
+        Block::Tool(ToolChange::new(2)),
         Block::Spindle(Spindle::Rpm { rpm: 2000.0, direction }),
         Block::Compensation(Compensation::Off),
         Block::Rapid(Target::xyz(0.0, 0.0, 2.0)),
@@ -587,7 +587,7 @@ fn nc31_rapids_are_marked_e_and_every_other_move_cuts_per_revolution() {
         p.blocks,
         vec![
             Block::FeedMode(FeedMode::PerRevolution),
-            Block::Tool(1),
+            Block::Tool(ToolChange::new(1)),
             Block::Spindle(Spindle::Rpm { rpm: 800.0, direction }),
             Block::Rapid(Target::xz(50.0, 2.0)),
             Block::Line { to: Target::xz(40.0, 0.0), feed: Some(0.1) },
@@ -604,7 +604,6 @@ fn unknown_words_of_every_dialect_are_errors_naming_line_and_column() {
         ("sinumerik", "N10 G17 G90\nN20 T=\"DRILL\"\n", 2, 5),
         ("sinumerik", "N10 G17 G90\nN20 G0 X0 Y0\nN30 G2 X10 Y10 CR=AC(5)\n", 3, 19),
         ("sinumerik", "N10 G17 G90\nN20 G0 X0 Y0\nN30 G2 X10 Y10 R5\n", 3, 16),
-        ("sinumerik", "N10 G17 G90\nN20 T1 D2\n", 2, 8),
         ("sinumerik", "N10 G17 G90 (no comment)\n", 1, 13),
         ("heidenhain", "0 BEGIN PGM A MM\n1 L X+0 Y+0 FMAX\n2 L X+5 Q5 F100\n3 END PGM A MM\n", 3, 9),
         ("heidenhain", "0 BEGIN PGM A MM\n1 L X+0 Y+0 FMAX\n2 RND R2\n3 END PGM A MM\n", 3, 3),
@@ -810,4 +809,50 @@ fn nc_dda_takes_an_arc() {
     let fields: Vec<&str> = last_clock.split_whitespace().collect();
     assert_eq!(&fields[fields.len() - 2..], ["0", "10"], "{text}");
     assert!(text.ends_with("pulses  X 10  Y 10\n"), "{text}");
+}
+
+/// The semicolon is each control's own: on a Fanuc it is the end of block (the manuals print
+/// every block ending in `;`, the code LF shows as `;`; a Mazak/Fanuc-style lathe manual's
+/// T function example: `T0101 ;` … `G01 X20. F0.3 ;` … `T0100 ; Cancels the tool offset
+/// function`), so text after it is the next block, never a comment; LinuxCNC ("; comment to
+/// the end of the line", G-code overview) and Sinumerik (`; comment`) take it as a comment.
+#[test]
+fn a_semicolon_is_read_as_each_control_reads_it() {
+    let manual = "O0010 ;\nN1 G99 ;\nN2 T0101 ;\nN3 G97 S800 M03 ;\nN4 G00 X100. Z1. ;\nN5 G01 X20. F0.3 ;\n\
+                  N6 G00 X200. Z180. ;\nN7 T0100 ;\nN8 M02 ;\n";
+    let (p, lines) = read::read_with_lines(manual, Family::Fanuc, Some(Machine::Lathe)).unwrap();
+    let direction = SpindleDirection::Clockwise;
+    let want = vec![
+        Block::FeedMode(FeedMode::PerRevolution),
+        Block::Tool(ToolChange::new(1)),
+        Block::Spindle(Spindle::Rpm { rpm: 800.0, direction }),
+        Block::Rapid(Target::xz(100.0, 1.0)),
+        Block::Line { to: Target { x: Some(20.0), ..Target::default() }, feed: Some(0.3) },
+        Block::Rapid(Target::xz(200.0, 180.0)),
+        Block::Tool(ToolChange { number: 1, offset: ToolOffset::Cancelled }),
+    ];
+    assert_eq!(p.number, Some(10));
+    assert_eq!(p.blocks, want);
+    assert_eq!(lines, [2, 3, 4, 5, 6, 7, 8]);
+    // The same blocks punched as one line of tape, separated by their EOB only.
+    let tape = manual.replace('\n', " ");
+    let (q, lines) = read::read_with_lines(&tape, Family::Fanuc, Some(Machine::Lathe)).unwrap();
+    assert_eq!(q.blocks, want);
+    assert_eq!(lines, [1; 7]);
+    // An error after an EOB names its own column in the line.
+    let bad = tape.replace("F0.3", "F0.3 Q1");
+    let e = read::read(&bad, Family::Fanuc, Some(Machine::Lathe)).unwrap_err();
+    assert_eq!((e.line, e.column), (1, bad.find("Q1").unwrap() + 1), "{e}");
+    // LinuxCNC and Sinumerik: the rest of the line is a comment, not a block.
+    for (family, text) in [
+        (Family::LinuxCnc, "G18 G7\nG0 X100 Z1 ; G1 X20 F0.3\n"),
+        (Family::Sinumerik, "N10 G18\nN20 G0 X100 Z1 ; G1 X20 F0.3\n"),
+    ] {
+        let p = read::read(text, family, Some(Machine::Lathe)).unwrap();
+        assert_eq!(
+            p.blocks,
+            [Block::Rapid(Target::xz(100.0, 1.0)), Block::Comment("G1 X20 F0.3".into())],
+            "{family:?}"
+        );
+    }
 }

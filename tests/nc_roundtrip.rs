@@ -9,7 +9,10 @@ mod common;
 use std::process::Command;
 
 use ncsheet::nc::dialect::{self, Dialect};
-use ncsheet::nc::{ArcDirection, Block, Compensation, FeedMode, Machine, Program, Spindle, SpindleDirection, Target};
+use ncsheet::nc::{
+    ArcDirection, Block, Compensation, FeedMode, Machine, Program, Spindle, SpindleDirection, Target, ToolChange,
+    ToolOffset,
+};
 use proptest::prelude::*;
 
 /// The program `text` in `d` is read back and written again to the same text.
@@ -122,7 +125,7 @@ fn program(machine: Machine, steps: &[(u8, f64, f64, f64, bool)], comment: &str,
     p.number = Some(7);
     p.precision = precision;
     p.retract = Some(if lathe { Target::xz(200.0, 50.0) } else { Target::xyz(0.0, 0.0, 60.0) });
-    p.push(Block::Tool(3));
+    p.push(Block::Tool(ToolChange::new(3)));
     p.push(Block::FeedMode(if lathe { FeedMode::PerRevolution } else { FeedMode::PerMinute }));
     p.push(Block::Spindle(Spindle::Rpm { rpm: 1200.0, direction: SpindleDirection::Clockwise }));
     // Plane coordinates (u, v) and the target they make: (X, Y) on a mill, (Z, X/2) on a lathe.
@@ -187,6 +190,57 @@ proptest! {
                 let Ok(text) = d.render(&p) else { continue };
                 assert_reads_back(d, &text, &format!("{machine:?} program"));
             }
+        }
+    }
+}
+
+/// The tool changes of `text` as `dialect` reads them.
+fn tools_read(dialect: &str, text: &str, machine: Machine) -> Vec<ToolChange> {
+    let (p, _) = dialect::by_name(dialect).unwrap().read(text, Some(machine)).unwrap_or_else(|e| panic!("{e}\n{text}"));
+    p.blocks.iter().filter_map(|b| if let Block::Tool(t) = b { Some(*t) } else { None }).collect()
+}
+
+/// A tool change's offset, as each control's manual writes it, is read into the model and
+/// written again with the same digits: Fanuc lathe T code (four digits: "the first 2 digits
+/// designate the tool number (turret number) and the last 2 digits the tool offset number
+/// … T□□00 cancellation of tool offset", Mazak/Fanuc-style lathe manual, T function), G43 H /
+/// G49 (LinuxCNC G-code reference), Sinumerik's cutting edge D and "D0 compensation
+/// deselection" (Function Manual, Tool offset W1).
+#[test]
+fn tool_offsets_read_and_write_with_their_digits() {
+    let tool = |number, offset| ToolChange { number, offset };
+    let cases = [
+        ("iso", Machine::Lathe, "T0102", tool(1, ToolOffset::Number(2))),
+        ("iso", Machine::Lathe, "T0101", tool(1, ToolOffset::Own)),
+        ("iso", Machine::Lathe, "T0100", tool(1, ToolOffset::Cancelled)),
+        ("iso", Machine::Lathe, "T1221", tool(12, ToolOffset::Number(21))),
+        ("iso", Machine::Mill, "T1 M6 G43 H1", tool(1, ToolOffset::Own)),
+        ("iso", Machine::Mill, "T1 M6 G43 H11", tool(1, ToolOffset::Number(11))),
+        ("iso", Machine::Mill, "T1 M6 G49", tool(1, ToolOffset::Cancelled)),
+        ("linuxcnc", Machine::Mill, "T1 M6 G43", tool(1, ToolOffset::Own)),
+        ("linuxcnc", Machine::Mill, "T1 M6 G43 H2", tool(1, ToolOffset::Number(2))),
+        ("linuxcnc", Machine::Mill, "T1 M6 G49", tool(1, ToolOffset::Cancelled)),
+        ("sinumerik", Machine::Lathe, "T1 D2", tool(1, ToolOffset::Number(2))),
+        ("sinumerik", Machine::Lathe, "T1 D0", tool(1, ToolOffset::Cancelled)),
+        ("sinumerik", Machine::Mill, "T4 M6 D1", tool(4, ToolOffset::Own)),
+    ];
+    for (name, machine, words, expected) in cases {
+        let setup = if machine == Machine::Lathe { "G18" } else { "G17" };
+        let text = format!("N10 {setup}\nN20 {words}\nN30 M30\n");
+        assert_eq!(tools_read(name, &text, machine), [expected], "{name}: {words}");
+        let mut p = Program::new("T", machine);
+        p.push(Block::Tool(expected));
+        let written = dialect::by_name(name).unwrap().render(&p).unwrap();
+        assert!(written.lines().any(|l| l.ends_with(&format!(" {words}"))), "{name}: {words} written as\n{written}");
+        assert_reads_back(dialect::by_name(name).unwrap(), &written, words);
+    }
+    // A control with no such words refuses rather than drop the offset.
+    for (name, machine) in [("heidenhain", Machine::Mill), ("nc31", Machine::Lathe)] {
+        for offset in [ToolOffset::Number(2), ToolOffset::Cancelled] {
+            let mut p = Program::new("T", machine);
+            p.push(Block::Tool(tool(1, offset)));
+            let e = dialect::by_name(name).unwrap().render(&p).unwrap_err();
+            assert_eq!(e.block, Some(1), "{name}: {e}");
         }
     }
 }

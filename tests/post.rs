@@ -398,3 +398,128 @@ fn a_circle_with_the_tool_tilted_is_the_pivot_s_arc() {
     let run = post(dir.path(), &bad, &["--pivot", "100", "--dialect", "iso"]);
     assert!(run.code == 1 && run.stderr.contains("line 6 (GOTO)"), "{}", run.stderr);
 }
+
+// ---- the tool length in the control's table (the pivot is compensated already) ------------
+
+/// The spindle's point (programmed + the tool length offset in force) of each cut, when
+/// `program` runs under rs274 with tool 1 of length 50 mm in its table.
+fn cuts_with_a_50_mm_tool(dir: &Path, program: &Path) -> Vec<([f64; 3], f64)> {
+    let table = rs274::tool_table(dir, 1, 50.0);
+    let canon = rs274::canon_with_tools(program, Some(&table)).unwrap_or_else(|e| panic!("rs274:\n{e}"));
+    assert!(canon.contains("USE_TOOL_LENGTH_OFFSET"), "{canon}");
+    let feeds: Vec<&str> = canon.lines().filter(|l| l.contains("STRAIGHT_")).collect();
+    let moves = rs274::moves_with_length_offset(&canon);
+    assert_eq!(feeds.len(), moves.len());
+    moves.into_iter().zip(feeds).filter(|(_, l)| l.contains("STRAIGHT_FEED")).map(|(m, _)| m).collect()
+}
+
+#[test]
+fn a_tool_length_in_the_table_does_not_move_the_posted_pivot() {
+    if !rs274::available() {
+        eprintln!("skipped: LinuxCNC's rs274 is not installed (bash .ci/run installs linuxcnc-uspace)");
+        return;
+    }
+    let h = 400.0;
+    for dialect in ["linuxcnc", "iso"] {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("sphere.ngc");
+        let run =
+            post(dir.path(), &sphere_cl(), &["--pivot", "400", "--dialect", dialect, "-o", out.to_str().unwrap()]);
+        assert_eq!(run.code, 0, "{}", run.stderr);
+        let cuts = cuts_with_a_50_mm_tool(dir.path(), &out);
+        let rows = parallel();
+        assert_eq!(cuts.len(), rows.len(), "{dialect}: {cuts:?}");
+        for (([x, y, z], offset), r) in cuts.iter().zip(&rows) {
+            // DOMAIN.md §4: the pivot X = x_T + H·a_x, Y = y_T + H·a_y, Z = z_T + H·(a_z − 1).
+            let pivot = [r[1] + h * r[3], r[2] + h * r[4], 95.0 + h * (r[5] - 1.0)];
+            let spindle = [*x, *y, z + offset];
+            assert_eq!(*offset, 0.0, "{dialect}: the table's 50 mm is applied at φ = {}", r[0]);
+            for k in 0..3 {
+                assert!(
+                    (spindle[k] - pivot[k]).abs() < 0.0015,
+                    "{dialect} φ = {}: {spindle:?} against {pivot:?}",
+                    r[0]
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn a_tool_tip_program_keeps_the_table_length() {
+    if !rs274::available() {
+        eprintln!("skipped: LinuxCNC's rs274 is not installed (bash .ci/run installs linuxcnc-uspace)");
+        return;
+    }
+    for dialect in ["linuxcnc", "iso"] {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("ball.ngc");
+        let mut args = common::cli::bump_ballpath("5", "5", "off");
+        args.extend(["--format", dialect, "-o", out.to_str().unwrap()].map(String::from));
+        let run = ncsheet(&args.iter().map(String::as_str).collect::<Vec<_>>());
+        assert_eq!(run.code, 0, "{}", run.stderr);
+        let cuts = cuts_with_a_50_mm_tool(dir.path(), &out);
+        assert!(cuts.len() > 10, "{cuts:?}");
+        // The ball path's coordinates are the tool tip's: the spindle runs 50 mm above them.
+        assert!(cuts.iter().all(|(_, offset)| (offset - 50.0).abs() < 1e-4), "{dialect}: {cuts:?}");
+    }
+}
+
+#[test]
+fn each_control_cancels_the_length_or_refuses_the_post() {
+    let dir = tempfile::tempdir().unwrap();
+    // Siemens, Function Manual Basic Functions, Tool offset (W1): "D0 ; Compensation
+    // deselection" (the tool's length and radius are not applied).
+    let run = post(dir.path(), &sphere_cl(), &["--pivot", "400", "--dialect", "sinumerik"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let tool_line = run.stdout.lines().find(|l| l.contains(" T1")).unwrap();
+    assert!(tool_line.ends_with("T1 M6 D0"), "{}", run.stdout);
+    // Heidenhain's TOOL CALL always applies the table's length (TNC user's manual, "Tool length
+    // compensation": cancelled only by TOOL CALL 0): the post is refused, naming the block.
+    let run = post(dir.path(), &sphere_cl(), &["--pivot", "400", "--dialect", "heidenhain"]);
+    assert_eq!(run.code, 1, "{}", run.stdout);
+    assert!(run.stderr.contains("block") && run.stderr.contains("TCPM"), "{}", run.stderr);
+    assert!(run.stdout.is_empty());
+}
+
+/// A CL file written as a CAM system's APT output writes it (the records and their syntax of
+/// aamorim1913/AptPostProcessor, parts-tools/boss.apt: `PARTNO/1`, `UNIT/MM`, the
+/// 7-parameter `CUTTER`, `LOAD/TOOL,1`, `SELECT/TOOL,5`, `SPINDL/12000,RPM,CLW`, `RAPID/`,
+/// `FEDRAT/…,MMPM`, and a pocket corner `CIRCLE/95.,44.249705,-3.,0,0,-1.` given by centre
+/// and axis only). The corner is the circle through the arc's start about that centre, run
+/// counter-clockwise about the axis −Z (APT): clockwise seen from above.
+#[test]
+fn a_cam_systems_cl_file_posts() {
+    if !rs274::available() {
+        eprintln!("skipped: LinuxCNC's rs274 is not installed (bash .ci/run installs linuxcnc-uspace)");
+        return;
+    }
+    let cl = "PARTNO/1\nUNIT/MM\nCUTTER/6.,0,3.,0,0,0,51.\nLOAD/TOOL,1\nSELECT/TOOL,5\nCOOLNT/FLOOD\n\
+              SPINDL/12000,RPM,CLW\nRAPID/\nGOTO/96.4375,-1.4375,2.5\nFEDRAT/411.48,MMPM\n\
+              GOTO/96.4375,-1.4375,-3.\nFEDRAT/1645.92,MMPM\nGOTO/96.4375,41.334899,-3.\n\
+              CIRCLE/95.,44.249705,-3.,0,0,-1.\nGOTO/95.,40.999705,-3.\nGOTO/78.25,40.999705,-3.\nFINI\n";
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("boss.ngc");
+    let run = post(dir.path(), cl, &["--pivot", "0", "--dialect", "linuxcnc", "-o", out.to_str().unwrap()]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.contains("T1 M6 G49") && text.contains("S12000 M3") && text.contains("(next tool 5"), "{text}");
+    // The radius the record leaves out: the start's distance from the centre, as the end's.
+    let radius = (96.4375f64 - 95.0).hypot(41.334899 - 44.249705);
+    assert!((radius - (44.249705 - 40.999705)).abs() < 1e-5, "{radius}");
+    let moves = rs274::moves(&out).unwrap();
+    let arc = moves.iter().find_map(|m| match m {
+        rs274::Move::Arc { first_end, second_end, first_centre, second_centre, rotation, axis_end } => {
+            Some((*first_end, *second_end, *first_centre, *second_centre, *rotation, *axis_end))
+        }
+        _ => None,
+    });
+    let (x, y, cx, cy, rotation, z) = arc.unwrap_or_else(|| panic!("no arc: {moves:?}"));
+    for (got, want) in [(x, 95.0), (y, 40.999705), (cx, 95.0), (cy, 44.249705), (z, -3.0)] {
+        assert!((got - want).abs() < 0.0006, "{moves:?}");
+    }
+    assert_eq!(rotation, -1, "clockwise seen from +Z");
+    // An inch file is refused, not converted.
+    let run = post(dir.path(), &cl.replace("UNIT/MM", "UNIT/INCHES"), &["--pivot", "0", "--dialect", "iso"]);
+    assert!(run.code == 1 && run.stderr.contains("line 2, column 6"), "{}", run.stderr);
+}

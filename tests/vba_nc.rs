@@ -7,7 +7,7 @@ mod common;
 use common::rs274::{self, Move};
 use ncsheet::eval::Value;
 use ncsheet::formula::address::parse_cell;
-use ncsheet::nc::{dialect, Block, Program};
+use ncsheet::nc::{dialect, Block, Program, ToolChange};
 use ncsheet::vba::{self, RunOptions, RunOutput};
 use ncsheet::workbook::Workbook;
 
@@ -558,7 +558,7 @@ fn nc_sets_feed_mode_spindle_tool_and_coolant() {
     assert_eq!(
         out.program.blocks,
         [
-            Block::Tool(3),
+            Block::Tool(ToolChange::new(3)),
             Block::FeedMode(FeedMode::PerRevolution),
             Block::Spindle(Spindle::SurfaceSpeed { metres_per_min: 180.0, max_rpm: 2500.0, direction: cw }),
             Block::Coolant(true),

@@ -17,8 +17,9 @@ use super::report::{Error, Result};
 /// tip along the axis, with H already held along Z by the machine zero (pivot = tip + H·axis −
 /// H·k). Of the angle pairs that give the axis, the one inside the limits with B nearest the
 /// previous block's is written, so B does not jump. RAPID, FEDRAT (mm/min), SPINDL, COOLNT,
-/// LOADTL, CIRCLE (about Z), PARTNO, PPRINT, `$$` comments and `$` continuations are read; any
-/// other record is an error naming its line and column.
+/// LOADTL or LOAD/TOOL, SELECT/TOOL, CIRCLE (about Z; without its radius it runs through its
+/// start), UNITS/MM or UNIT/MM, PARTNO, PPRINT, `$$` comments and `$` continuations are read;
+/// any other record is an error naming its line and column.
 ///
 /// Refused with the record named: a tool axis within --singular degrees of the singular
 /// position A = ±90°, angles outside --a-limits/--b-limits, a cutting move turning the head

@@ -9,11 +9,16 @@
 //! - `GOTO/x,y,z[,i,j,k]`: the tool tip at (x, y, z), the tool axis along (i, j, k), a unit
 //!   vector; without it the axis is +Z (the paper: a 3-axis CLF leaves it out).
 //! - `RAPID` (the next GOTO is a rapid), `FEDRAT/f[,MMPM]`, `SPINDL/[RPM,]n[,CLW|CCLW]`,
-//!   `SPINDL/ON|OFF`, `COOLNT/ON|FLOOD|MIST|THRU|OFF`, `LOADTL/n`.
-//! - `CIRCLE/xc,yc,zc,i,j,k,r[,…]`: the next GOTO runs along this circle, counter-clockwise
-//!   about the axis (i, j, k); values after the radius (tolerances, cutter) are not used.
+//!   `SPINDL/ON|OFF`, `COOLNT/ON|FLOOD|MIST|THRU|OFF`, `LOADTL/n` and the CAM systems'
+//!   `LOAD/TOOL,n` (a tool change; `ADJUST,m`, another length register, is refused: the
+//!   post's pivot has the length in it), `SELECT/TOOL,n` (the next tool made ready: no
+//!   change, kept as a comment).
+//! - `CIRCLE/xc,yc,zc,i,j,k,r[,…]` (the APT canonical circle): the next GOTO runs along this
+//!   circle, counter-clockwise about the axis (i, j, k); values after the radius (tolerances,
+//!   cutter) are not used. `CIRCLE/xc,yc,zc,i,j,k` without the radius, as some CAM systems
+//!   write it: the radius is the start point's distance from the centre.
 //! - `PARTNO text`, `PPRINT text`, `$$ text`: kept as comments; `CUTTER/d[,r,…]`,
-//!   `MULTAX[/ON|OFF]`, `UNITS/MM`, `INTOL/t`, `OUTTOL/t`, `TOLER/t`, `FROM/x,y,z`: read and
+//!   `MULTAX[/ON|OFF]`, `UNITS/MM` (or `UNIT/MM`; `INCHES` is refused, not converted), `INTOL/t`, `OUTTOL/t`, `TOLER/t`, `FROM/x,y,z`: read and
 //!   kept; `FINI` and `END` end the file.
 //!
 //! Anything else is an [`AptError`] naming the line and column, never skipped.
@@ -50,10 +55,13 @@ pub enum ClKind {
     Spindle(ClSpindle),
     Coolant(bool),
     LoadTool(u32),
+    /// `SELECT/TOOL,n`: tool n made ready for the next change.
+    SelectTool(u32),
     Circle {
         centre: [f64; 3],
         axis: [f64; 3],
-        radius: f64,
+        /// `None` when the record leaves it out: the start point's distance from the centre.
+        radius: Option<f64>,
     },
     /// Diameter and, when given, corner radius.
     Cutter {
@@ -88,6 +96,7 @@ impl ClRecord {
             ClKind::Spindle(_) => "SPINDL",
             ClKind::Coolant(_) => "COOLNT",
             ClKind::LoadTool(_) => "LOADTL",
+            ClKind::SelectTool(_) => "SELECT",
             ClKind::Circle { .. } => "CIRCLE",
             ClKind::Cutter { .. } => "CUTTER",
             ClKind::MultiAxis(_) => "MULTAX",
@@ -298,8 +307,8 @@ fn slash_arguments(head: &Piece, rest: &[(char, usize, usize)]) -> Result<Vec<Pi
 }
 
 const KNOWN: &[&str] = &[
-    "GOTO", "FROM", "FEDRAT", "SPINDL", "COOLNT", "LOADTL", "CIRCLE", "CUTTER", "MULTAX", "UNITS", "INTOL", "OUTTOL",
-    "TOLER",
+    "GOTO", "FROM", "FEDRAT", "SPINDL", "COOLNT", "LOADTL", "LOAD", "SELECT", "CIRCLE", "CUTTER", "MULTAX", "UNITS",
+    "UNIT", "INTOL", "OUTTOL", "TOLER",
 ];
 
 fn is_known(word: &str) -> bool {
@@ -309,8 +318,8 @@ fn is_known(word: &str) -> bool {
 fn unknown(head: &Piece) -> AptError {
     let word = if head.text.is_empty() { "(nothing)".to_string() } else { head.text.clone() };
     head.error(format!(
-        "unknown record {word}: the post reads GOTO, RAPID, FEDRAT, SPINDL, COOLNT, LOADTL, CIRCLE, PARTNO, \
-         PPRINT, CUTTER, MULTAX, UNITS/MM, INTOL, OUTTOL, TOLER, FROM, FINI and END"
+        "unknown record {word}: the post reads GOTO, RAPID, FEDRAT, SPINDL, COOLNT, LOADTL, LOAD/TOOL, \
+         SELECT/TOOL, CIRCLE, PARTNO, PPRINT, CUTTER, MULTAX, UNITS/MM, INTOL, OUTTOL, TOLER, FROM, FINI and END"
     ))
 }
 
@@ -323,6 +332,8 @@ fn major(head: &Piece, args: &[Piece]) -> Result<ClKind, AptError> {
         "SPINDL" => ClKind::Spindle(spindle(head, args)?),
         "COOLNT" => ClKind::Coolant(coolant(head, args)?),
         "LOADTL" => ClKind::LoadTool(tool(args)?),
+        "LOAD" => ClKind::LoadTool(tool_word(head, args)?),
+        "SELECT" => ClKind::SelectTool(tool_word(head, args)?),
         "CIRCLE" => circle(head, args)?,
         "CUTTER" => cutter(args)?,
         "MULTAX" => match single_word(head, args)?.as_str() {
@@ -330,7 +341,7 @@ fn major(head: &Piece, args: &[Piece]) -> Result<ClKind, AptError> {
             "OFF" => ClKind::MultiAxis(false),
             _ => return Err(args[0].error("MULTAX is ON or OFF".into())),
         },
-        "UNITS" => match single_word(head, args)?.as_str() {
+        "UNITS" | "UNIT" => match single_word(head, args)?.as_str() {
             "MM" => ClKind::UnitsMm,
             other => {
                 return Err(args[0]
@@ -447,20 +458,41 @@ fn tool(args: &[Piece]) -> Result<u32, AptError> {
     if args.len() != 1 {
         return Err(args[args.len() - 1].error("LOADTL takes the tool number only".into()));
     }
-    let n = args[0].number("LOADTL")?;
+    tool_number("LOADTL", &args[0])
+}
+
+fn tool_number(what: &str, arg: &Piece) -> Result<u32, AptError> {
+    let n = arg.number(what)?;
     if n.fract() != 0.0 || !(1.0..=u32::MAX as f64).contains(&n) {
-        return Err(args[0].error(format!("LOADTL: {n} is not a tool number")));
+        return Err(arg.error(format!("{what}: {n} is not a tool number")));
     }
     Ok(n as u32)
 }
 
-fn circle(head: &Piece, args: &[Piece]) -> Result<ClKind, AptError> {
-    if args.len() < 7 {
-        return Err(args[args.len() - 1]
-            .error(format!("CIRCLE takes xc,yc,zc,i,j,k,r (centre, axis, radius), found {} arguments", args.len())));
+/// `LOAD/TOOL,n` or `SELECT/TOOL,n`: the tool number.
+fn tool_word(head: &Piece, args: &[Piece]) -> Result<u32, AptError> {
+    let what = format!("{}/TOOL", head.text);
+    if args[0].upper() != "TOOL" {
+        return Err(args[0].error(format!("{}/{} is not read ({what},n is)", head.text, args[0].text)));
     }
-    let v = numbers(head, &args[..7], 7)?;
-    for a in &args[7..] {
+    match args {
+        [_, n] => tool_number(&what, n),
+        [_, _, adjust, ..] if adjust.upper() == "ADJUST" => Err(adjust.error(format!(
+            "{what},n,ADJUST: a length register is not read, the post writes the pivot with the tool length in it"
+        ))),
+        [_] => Err(args[0].error(format!("{what} needs the tool number"))),
+        _ => Err(args[2].error(format!("{what} takes the tool number only"))),
+    }
+}
+
+fn circle(head: &Piece, args: &[Piece]) -> Result<ClKind, AptError> {
+    if args.len() < 6 {
+        return Err(args[args.len() - 1]
+            .error(format!("CIRCLE takes xc,yc,zc,i,j,k[,r] (centre, axis, radius), found {} arguments", args.len())));
+    }
+    let n = args.len().min(7);
+    let v = numbers(head, &args[..n], n)?;
+    for a in &args[n..] {
         a.number("CIRCLE")?;
     }
     let axis = [v[3], v[4], v[5]];
@@ -468,10 +500,11 @@ fn circle(head: &Piece, args: &[Piece]) -> Result<ClKind, AptError> {
     if (length - 1.0).abs() > UNIT_TOLERANCE {
         return Err(args[3].error(format!("the circle's axis (i, j, k) has length {length:.6}, not 1")));
     }
-    if v[6] <= 0.0 {
-        return Err(args[6].error(format!("a circle's radius is above 0, not {}", v[6])));
+    let radius = v.get(6).copied();
+    if let Some(r) = radius.filter(|r| *r <= 0.0) {
+        return Err(args[6].error(format!("a circle's radius is above 0, not {r}")));
     }
-    Ok(ClKind::Circle { centre: [v[0], v[1], v[2]], axis, radius: v[6] })
+    Ok(ClKind::Circle { centre: [v[0], v[1], v[2]], axis, radius })
 }
 
 fn cutter(args: &[Piece]) -> Result<ClKind, AptError> {
@@ -509,7 +542,9 @@ fn write_record(out: &mut String, kind: &ClKind) {
         ClKind::Spindle(ClSpindle::Off) => write!(out, "SPINDL/OFF"),
         ClKind::Coolant(on) => write!(out, "COOLNT/{}", if *on { "ON" } else { "OFF" }),
         ClKind::LoadTool(n) => write!(out, "LOADTL/{n}"),
-        ClKind::Circle { centre, axis, radius } => write!(out, "CIRCLE/{},{},{radius}", list(centre), list(axis)),
+        ClKind::SelectTool(n) => write!(out, "SELECT/TOOL,{n}"),
+        ClKind::Circle { centre, axis, radius: Some(r) } => write!(out, "CIRCLE/{},{},{r}", list(centre), list(axis)),
+        ClKind::Circle { centre, axis, radius: None } => write!(out, "CIRCLE/{},{}", list(centre), list(axis)),
         ClKind::Cutter { diameter, corner_radius: None } => write!(out, "CUTTER/{diameter}"),
         ClKind::Cutter { diameter, corner_radius: Some(r) } => write!(out, "CUTTER/{diameter},{r}"),
         ClKind::MultiAxis(on) => write!(out, "MULTAX/{}", if *on { "ON" } else { "OFF" }),
@@ -570,12 +605,45 @@ mod tests {
                 ClKind::Feedrate(200.0),
                 ClKind::Coolant(true),
                 ClKind::Rapid,
-                ClKind::Circle { centre: [0.0, 0.0, 5.0], axis: [0.0, 0.0, -1.0], radius: 10.0 },
+                ClKind::Circle { centre: [0.0, 0.0, 5.0], axis: [0.0, 0.0, -1.0], radius: Some(10.0) },
                 ClKind::Cutter { diameter: 6.0, corner_radius: Some(3.0) },
                 ClKind::MultiAxis(true),
                 ClKind::Spindle(ClSpindle::Off),
             ]
         );
+    }
+
+    /// The records as a CAM system's APT output writes them (aamorim1913/AptPostProcessor,
+    /// parts-tools/boss.apt): `PARTNO/1`, `UNIT/MM`, the 7-parameter `CUTTER`, `LOAD/TOOL,1`,
+    /// `SELECT/TOOL,5`, `SPINDL/12000,RPM,CLW`, and `CIRCLE` with centre and axis only.
+    #[test]
+    fn a_cam_systems_records_read() {
+        let text = "PARTNO/1\nUNIT/MM\nCUTTER/6.,0,3.,0,0,0,51.\nLOAD/TOOL,1\nSELECT/TOOL,5\n\
+                    SPINDL/12000,RPM,CLW\nCIRCLE/95.,44.249705,-3.,0,0,-1.\n";
+        assert_eq!(
+            kinds(text),
+            vec![
+                ClKind::PartNo("1".into()),
+                ClKind::UnitsMm,
+                ClKind::Cutter { diameter: 6.0, corner_radius: Some(0.0) },
+                ClKind::LoadTool(1),
+                ClKind::SelectTool(5),
+                ClKind::Spindle(ClSpindle::Rpm { rpm: 12000.0, clockwise: true }),
+                ClKind::Circle { centre: [95.0, 44.249705, -3.0], axis: [0.0, 0.0, -1.0], radius: None },
+            ]
+        );
+        for (bad, column, says) in [
+            ("UNIT/INCHES\n", 6, "millimetre"),
+            ("LOAD/TOOL,4,ADJUST,1\n", 13, "ADJUST"),
+            ("LOAD/TURRET,1\n", 6, "LOAD/TOOL,n"),
+            ("SELECT/TOOL\n", 8, "tool number"),
+            ("CSYS/1.,0,0,0,0,1.,0,0,0,0,1.,0\n", 1, "unknown record CSYS"),
+            ("INSERT/Stock Size X95.\n", 1, "unknown record INSERT"),
+        ] {
+            let e = read(bad).unwrap_err();
+            assert_eq!((e.line, e.column), (1, column), "{bad}: {e}");
+            assert!(e.message.contains(says), "{bad}: {e}");
+        }
     }
 
     #[test]

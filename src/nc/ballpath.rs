@@ -6,7 +6,7 @@
 use nalgebra::{Point3, Vector3};
 
 use super::apt::{ClKind, ClRecord, ClSpindle};
-use super::program::{Block, FeedMode, Machine, Program, Spindle, SpindleDirection, Target};
+use super::program::{Block, FeedMode, Machine, Program, Spindle, SpindleDirection, Target, ToolChange};
 use crate::geometry::ballpath::{BallPath, PathPoint};
 
 /// Which point of the ball the program moves.
@@ -72,7 +72,7 @@ pub fn ball_path_program(path: &BallPath, name: &str, o: &BallPathNcOptions) -> 
     let up = Target { z: Some(clearance), ..Target::default() };
     p.retract = Some(up);
     p.push(Block::FeedMode(FeedMode::PerMinute));
-    p.push(Block::Tool(o.tool));
+    p.push(Block::Tool(ToolChange::new(o.tool)));
     p.push(Block::Spindle(Spindle::Rpm { rpm: o.spindle, direction: SpindleDirection::Clockwise }));
     p.push(Block::Rapid(up));
     for (k, &start) in path.line_starts.iter().enumerate() {

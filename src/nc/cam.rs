@@ -6,7 +6,7 @@
 use nalgebra::{Point2, Vector2};
 
 pub use super::program::Compensation;
-use super::program::{ArcDirection, Block, FeedMode, Machine, Program, Spindle, SpindleDirection, Target};
+use super::program::{ArcDirection, Block, FeedMode, Machine, Program, Spindle, SpindleDirection, Target, ToolChange};
 use crate::geometry::cam::{Arc, CamFit, Turn};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -86,7 +86,7 @@ pub fn cam_program(fit: &CamFit, options: &CamNcOptions) -> Program {
     let safe = Target { z: Some(options.z_safe), ..Target::default() };
     p.retract = Some(safe);
     p.push(Block::FeedMode(FeedMode::PerMinute));
-    p.push(Block::Tool(options.tool));
+    p.push(Block::Tool(ToolChange::new(options.tool)));
     p.push(Block::Spindle(Spindle::Rpm { rpm: options.spindle, direction: SpindleDirection::Clockwise }));
     p.push(Block::Rapid(safe));
     p.push(Block::Rapid(Target::xy(entry.x, entry.y)));

@@ -19,5 +19,6 @@ pub mod svg;
 
 pub use dialect::{by_name, Dialect, NcError};
 pub use program::{
-    ArcDirection, Block, Compensation, FeedMode, Machine, Program, Spindle, SpindleDirection, Target, Word,
+    ArcDirection, Block, Compensation, FeedMode, Machine, Program, Spindle, SpindleDirection, Target, ToolChange,
+    ToolOffset, Word,
 };

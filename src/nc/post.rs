@@ -21,7 +21,9 @@ use nalgebra::{Point3, Vector3};
 
 use super::apt::{ClKind, ClRecord, ClSpindle};
 use super::dialect::ARC_TOLERANCE;
-use super::program::{ArcDirection, Block, FeedMode, Machine, Program, Spindle, SpindleDirection, Target};
+use super::program::{
+    ArcDirection, Block, FeedMode, Machine, Program, Spindle, SpindleDirection, Target, ToolChange, ToolOffset,
+};
 use crate::geometry::head::head_ab;
 
 /// The head's kinematics and what the machine allows.
@@ -175,6 +177,9 @@ struct Pose {
     b: f64,
 }
 
+/// A CIRCLE record's line, centre, axis and radius (if given), until its GOTO.
+type PendingCircle = (usize, [f64; 3], [f64; 3], Option<f64>);
+
 struct Post<'a> {
     o: &'a PostOptions,
     program: Program,
@@ -183,8 +188,8 @@ struct Post<'a> {
     spindle_on: bool,
     last_rpm: Option<(f64, SpindleDirection)>,
     rapid_next: bool,
-    /// A CIRCLE waiting for its GOTO: (line, centre, axis, radius).
-    circle: Option<(usize, [f64; 3], [f64; 3], f64)>,
+    /// A CIRCLE waiting for its GOTO: (line, centre, axis, radius if given).
+    circle: Option<PendingCircle>,
     pose: Option<Pose>,
     ended: bool,
 }
@@ -194,7 +199,8 @@ impl<'a> Post<'a> {
         let mut program = Program::new(name, Machine::Mill);
         program.retract = Some(Target { z: Some(clearance), ..Target::default() });
         program.push(Block::Comment(format!(
-            "(A,B) head, pivot H = {} mm: X Y Z are the pivot, A B the head angles; tool length offset 0",
+            "(A,B) head, pivot H = {} mm. X Y Z: the pivot. A B: the head angles. Tool length offset cancelled \
+             at the tool change",
             o.head.pivot
         )));
         program.push(Block::FeedMode(FeedMode::PerMinute));
@@ -220,7 +226,7 @@ impl<'a> Post<'a> {
             let Some(tool) = self.o.tool else {
                 return Err(at(&records[first], "no LOADTL before the first move: give the tool (--tool)".into()));
             };
-            self.program.push(Block::Tool(tool));
+            self.tool(tool);
         }
         if !before.iter().any(|r| matches!(r.kind, ClKind::Spindle(ClSpindle::Rpm { .. }))) {
             let Some(rpm) = self.o.spindle else {
@@ -232,6 +238,13 @@ impl<'a> Post<'a> {
             self.spindle(ClSpindle::Rpm { rpm, clockwise: true });
         }
         Ok(())
+    }
+
+    /// The tool change, with the tool length offset cancelled: X Y Z are the pivot, whose
+    /// length H the post has compensated already, so the table's length must not be added
+    /// (a dialect that cannot cancel it refuses the program).
+    fn tool(&mut self, number: u32) {
+        self.program.push(Block::Tool(ToolChange { number, offset: ToolOffset::Cancelled }));
     }
 
     fn spindle(&mut self, s: ClSpindle) -> Option<()> {
@@ -260,9 +273,8 @@ impl<'a> Post<'a> {
         match &r.kind {
             ClKind::PartNo(t) => self.comment(format!("PARTNO {t}")),
             ClKind::Comment(t) => self.comment(t.clone()),
-            ClKind::LoadTool(n) => {
-                self.program.push(Block::Tool(*n));
-            }
+            ClKind::LoadTool(n) => self.tool(*n),
+            ClKind::SelectTool(n) => self.comment(format!("next tool {n} (SELECT/TOOL)")),
             ClKind::Spindle(s) => {
                 self.spindle(*s).ok_or_else(|| at(r, "SPINDL/ON with no speed given before".into()))?;
             }
@@ -391,7 +403,7 @@ impl<'a> Post<'a> {
         to: Target,
         centre: [f64; 3],
         axis: [f64; 3],
-        radius: f64,
+        radius: Option<f64>,
         feed: f64,
     ) -> Result<Block, String> {
         if axis[0].abs() > 1e-6 || axis[1].abs() > 1e-6 {
@@ -406,6 +418,8 @@ impl<'a> Post<'a> {
         if (from.tip.z - to_pose.tip.z).abs() > 1e-6 {
             return Err("the CIRCLE's end is at another height than its start: helices are not written".into());
         }
+        // A CIRCLE without its radius runs through its start point.
+        let radius = radius.unwrap_or_else(|| (from.tip.x - centre[0]).hypot(from.tip.y - centre[1]));
         for (what, p) in [("start", from.tip), ("end", to_pose.tip)] {
             let r = (p.x - centre[0]).hypot(p.y - centre[1]);
             if (r - radius).abs() > ARC_TOLERANCE {

@@ -109,6 +109,39 @@ pub enum Compensation {
     Right,
 }
 
+/// Which tool offset (length, and on a lathe the X/Z geometry) the control applies from a
+/// tool change on: whether the program's coordinates are the tool's tip or the spindle's
+/// own point (the post's pivot), and from which offset register.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ToolOffset {
+    /// The tool's own offset from the control's tool table: Fanuc lathe `T0101`, mill
+    /// `T1 M6 G43 H1`, LinuxCNC `T1 M6 G43`, Sinumerik `T1 D1`,
+    /// plain language `TOOL CALL 1` (docs/dialects.md).
+    /// The coordinates are the tool tip's.
+    Own,
+    /// Offset register `n` (1 or more) of the tool table: Fanuc lathe `T0102`, mill and
+    /// LinuxCNC `G43 H2`, Sinumerik `D2` (its cutting edge 2).
+    Number(u32),
+    /// No offset: the coordinates are the spindle's point the machine zero is set for, the
+    /// tool table's length left out (LinuxCNC and Fanuc mill `G49`, Fanuc lathe `T0100`,
+    /// Sinumerik `D0`). The (A,B) post writes the pivot with its length compensated.
+    Cancelled,
+}
+
+/// A tool change: the tool and the offset applied with it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ToolChange {
+    pub number: u32,
+    pub offset: ToolOffset,
+}
+
+impl ToolChange {
+    /// Tool `number` with its own offset: coordinates of the tool tip.
+    pub fn new(number: u32) -> ToolChange {
+        ToolChange { number, offset: ToolOffset::Own }
+    }
+}
+
 /// One line of the program.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Block {
@@ -116,8 +149,8 @@ pub enum Block {
     FeedMode(FeedMode),
     /// Spindle start, speed change or stop.
     Spindle(Spindle),
-    /// Tool change to tool `number` (its offset of the same number).
-    Tool(u32),
+    /// Tool change, with the offset the control applies from it on.
+    Tool(ToolChange),
     /// Coolant on (M8) or off (M9).
     Coolant(bool),
     /// Cutter radius compensation for the moves that follow, with the current tool's radius.

@@ -10,7 +10,8 @@
 use std::fmt;
 
 use super::program::{
-    ArcDirection, Block, Compensation, FeedMode, Machine, Program, Spindle, SpindleDirection, Target,
+    ArcDirection, Block, Compensation, FeedMode, Machine, Program, Spindle, SpindleDirection, Target, ToolChange,
+    ToolOffset,
 };
 
 pub mod heidenhain;
@@ -145,74 +146,112 @@ pub fn read_with_lines(
     // Coordinates written finer than the dialects' 0.001 mm: the machine resolves finer.
     let mut decimals = DEFAULT_DECIMALS;
     let mut ended = false;
-    for (i, raw) in text.lines().enumerate() {
+    for (i, full) in text.lines().enumerate() {
         let line = i + 1;
-        let at = |column: usize, message: String| ReadError { line, column, message };
-        let trimmed = raw.trim();
-        if trimmed.is_empty() || trimmed == "%" {
-            continue;
-        }
-        if ended {
-            return Err(at(1, "text after the program's end (M30/M2)".into()));
-        }
-        if family == Family::Sinumerik && !started {
-            // The archive's directory: where the control files the program, not part of it.
-            if trimmed.starts_with(";$PATH=") {
+        for raw in blocks_of_line(full, family) {
+            let raw = raw.as_str();
+            let at = |column: usize, message: String| ReadError { line, column, message };
+            let trimmed = raw.trim();
+            if trimmed.is_empty() || trimmed == "%" {
                 continue;
             }
-            if let Some(name) = sinumerik_header(trimmed).map_err(|m| at(1, m))? {
-                program.name = name;
-                continue;
+            if ended {
+                return Err(at(1, "text after the program's end (M30/M2)".into()));
             }
-        }
-        let Line { words, comment, diameter, spindle_limit, rapid_mark } =
-            tokens(raw, family).map_err(|(c, m)| at(c, m))?;
-        if let Some(d) = diameter {
-            st.diameter = d;
-        }
-        if let Some(limit) = spindle_limit {
-            st.max_rpm = Some(limit);
-        }
-        if words.is_empty() {
-            if let Some(w) = rapid_mark {
-                return Err(at(w, "a rapid mark E without an end point".into()));
-            }
-            if let Some(c) = comment {
-                // Fanuc and LinuxCNC name a program in the comment before its first block.
-                let names = matches!(family, Family::Fanuc | Family::LinuxCnc);
-                if !started && names && program.name.is_empty() {
-                    program.name = c;
-                } else {
-                    program.blocks.push(Block::Comment(c));
-                    lines.push(line);
+            if family == Family::Sinumerik && !started {
+                // The archive's directory: where the control files the program, not part of it.
+                if trimmed.starts_with(";$PATH=") {
+                    continue;
+                }
+                if let Some(name) = sinumerik_header(trimmed).map_err(|m| at(1, m))? {
+                    program.name = name;
+                    continue;
                 }
             }
-            continue;
-        }
-        if let Some(o) = words.iter().find(|w| w.letter == 'O') {
-            if family != Family::Fanuc || started || words.len() > 1 {
-                return Err(at(o.column, "an O-word other than the program number at the start is not read".into()));
+            let Line { words, comment, diameter, spindle_limit, rapid_mark } =
+                tokens(raw, family).map_err(|(c, m)| at(c, m))?;
+            if let Some(d) = diameter {
+                st.diameter = d;
             }
-            program.number = Some(o.value as u32);
-            program.name = comment.unwrap_or_default();
-            continue;
-        }
-        started = true;
-        let finest = words.iter().filter(|w| "XYZABCIJKR".contains(w.letter)).map(|w| w.decimals).max();
-        decimals = decimals.max(finest.unwrap_or(0));
-        ended = block(&mut st, &words, rapid_mark, &mut program.blocks).map_err(|(c, m)| at(c, m))?;
-        // A comment after a block's words (`N20 T1 D1 ; roughing`) follows the block.
-        if let Some(c) = comment.filter(|c| !c.is_empty()) {
-            program.blocks.push(Block::Comment(c));
-        }
-        lines.resize(program.blocks.len(), line);
-        if st.machine.is_none() && program.blocks.iter().any(is_move) {
-            st.machine = Some(Machine::Mill);
+            if let Some(limit) = spindle_limit {
+                st.max_rpm = Some(limit);
+            }
+            if words.is_empty() {
+                if let Some(w) = rapid_mark {
+                    return Err(at(w, "a rapid mark E without an end point".into()));
+                }
+                if let Some(c) = comment {
+                    // Fanuc and LinuxCNC name a program in the comment before its first block.
+                    let names = matches!(family, Family::Fanuc | Family::LinuxCnc);
+                    if !started && names && program.name.is_empty() {
+                        program.name = c;
+                    } else {
+                        program.blocks.push(Block::Comment(c));
+                        lines.push(line);
+                    }
+                }
+                continue;
+            }
+            if let Some(o) = words.iter().find(|w| w.letter == 'O') {
+                if family != Family::Fanuc || started || words.len() > 1 {
+                    return Err(at(
+                        o.column,
+                        "an O-word other than the program number at the start is not read".into(),
+                    ));
+                }
+                program.number = Some(o.value as u32);
+                program.name = comment.unwrap_or_default();
+                continue;
+            }
+            started = true;
+            let finest = words.iter().filter(|w| "XYZABCIJKR".contains(w.letter)).map(|w| w.decimals).max();
+            decimals = decimals.max(finest.unwrap_or(0));
+            ended = block(&mut st, &words, rapid_mark, &mut program.blocks).map_err(|(c, m)| at(c, m))?;
+            // A comment after a block's words (`N20 T1 D1 ; roughing`) follows the block.
+            if let Some(c) = comment.filter(|c| !c.is_empty()) {
+                program.blocks.push(Block::Comment(c));
+            }
+            lines.resize(program.blocks.len(), line);
+            if st.machine.is_none() && program.blocks.iter().any(is_move) {
+                st.machine = Some(Machine::Mill);
+            }
         }
     }
     program.machine = st.machine.unwrap_or(Machine::Mill);
     program.precision = (decimals > DEFAULT_DECIMALS).then_some(decimals);
     Ok((program, lines))
+}
+
+/// The blocks of one line of text. On a Fanuc control `;` is the end of block (EOB: the
+/// manuals print every block as `N10 G00 X100. Z180. ;`, the control shows LF as `;`), so
+/// a line holds as many blocks as it has `;` outside a `( … )` comment; elsewhere `;` starts
+/// a comment (LinuxCNC, Sinumerik) and a line is one block. Each block is the line with the
+/// other blocks blanked out, so that columns stay the line's.
+fn blocks_of_line(line: &str, family: Family) -> Vec<String> {
+    if family != Family::Fanuc {
+        return vec![line.to_string()];
+    }
+    let chars: Vec<char> = line.chars().collect();
+    let mut ends = Vec::new();
+    let mut in_comment = false;
+    for (i, c) in chars.iter().enumerate() {
+        match c {
+            '(' => in_comment = true,
+            ')' => in_comment = false,
+            ';' if !in_comment => ends.push(i),
+            _ => {}
+        }
+    }
+    ends.push(chars.len());
+    let mut start = 0;
+    let mut out = Vec::with_capacity(ends.len());
+    for end in ends {
+        let block: String =
+            chars.iter().enumerate().map(|(i, c)| if (start..end).contains(&i) { *c } else { ' ' }).collect();
+        out.push(block);
+        start = end + 1;
+    }
+    out
 }
 
 /// A Sinumerik archive header line `%_N_NAME_MPF`: the program's name; `None` for any
@@ -245,7 +284,8 @@ struct Line {
 }
 
 /// The words of one line and its comment: `( … )` on Fanuc and LinuxCNC, `;` to the end of
-/// the line on all but NC31 (which has no comments), Sinumerik's `MSG("…")`.
+/// the line on LinuxCNC and Sinumerik (Fanuc's `;` ends the block: [`blocks_of_line`];
+/// the NC31 has no comments), Sinumerik's `MSG("…")`.
 fn tokens(raw: &str, family: Family) -> Result<Line, Fail> {
     let chars: Vec<char> = raw.chars().collect();
     let mut line = Line::default();
@@ -261,7 +301,7 @@ fn tokens(raw: &str, family: Family) -> Result<Line, Fail> {
                 .ok_or((i + 1, "a comment that is not closed by `)`".to_string()))?;
             line.comment = Some(chars[i + 1..i + close].iter().collect::<String>().trim().to_string());
             i += close + 1;
-        } else if c == ';' && family != Family::Nc31 {
+        } else if c == ';' && matches!(family, Family::LinuxCnc | Family::Sinumerik) {
             line.comment = Some(chars[i + 1..].iter().collect::<String>().trim().to_string());
             break;
         } else if c.is_ascii_alphabetic() {
@@ -397,6 +437,8 @@ fn block(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: &mut Ve
     let mut compensation = None;
     let mut spindle_m = None;
     let mut coolant = None;
+    // G43 (true) or G49 (false), and its column.
+    let mut length = None;
     let mut seen = std::collections::HashSet::new();
     for w in words {
         if !matches!(w.letter, 'G' | 'M') && !seen.insert(w.letter) {
@@ -412,6 +454,7 @@ fn block(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: &mut Ve
                 &mut g50,
                 &mut feed_mode,
                 &mut compensation,
+                &mut length,
             )?,
             'M' => match code(w)? {
                 3 => spindle_m = Some(Some(SpindleDirection::Clockwise)),
@@ -436,14 +479,9 @@ fn block(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: &mut Ve
         out.push(Block::FeedMode(m));
     }
     if let Some(t) = find('T') {
-        let n = code(t)?;
-        // Fanuc lathes write tool and offset together: T0101.
-        let n = if st.family == Family::Fanuc && st.machine == Some(Machine::Lathe) && n >= 100 { n / 100 } else { n };
-        out.push(Block::Tool(n));
-        // Sinumerik's `T1 D1`: the model's tool has its first cutting edge.
-        if let Some(d) = find('D').filter(|d| st.family == Family::Sinumerik && d.value != 1.0) {
-            return Err((d.column, format!("cutting edge D{}: the program model has each tool's edge D1", d.value)));
-        }
+        out.push(Block::Tool(tool_change(st, words, t, length)?));
+    } else if let Some((column, _)) = length {
+        return Err((column, "G43/G49 are read in the tool change's block (`T1 M6 G43`, `T1 M6 G49`)".into()));
     }
     if let Some(s) = find('S') {
         if g50 {
@@ -505,6 +543,36 @@ fn block(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: &mut Ve
     Ok(end)
 }
 
+/// The tool change of a block with T, and the offset it applies: a Fanuc lathe's `T0102`
+/// (tool 01, offset 02; 00 none), Sinumerik's cutting edge `D2` (D0 none, D1 if not given),
+/// `G43 [H2]` or `G49` with the change on a mill and on LinuxCNC. Without G43/G49 the model
+/// takes the tool's own offset, as the writers write it.
+fn tool_change(st: &State, words: &[Word], t: &Word, length: Option<(usize, bool)>) -> Result<ToolChange, Fail> {
+    let find = |l: char| words.iter().find(|w| w.letter == l);
+    let n = code(t)?;
+    let offset = |o: u32, tool: u32| match o {
+        0 => ToolOffset::Cancelled,
+        o if o == tool => ToolOffset::Own,
+        o => ToolOffset::Number(o),
+    };
+    let lathe = st.machine == Some(Machine::Lathe);
+    Ok(match st.family {
+        Family::Fanuc if lathe && n >= 100 => ToolChange { number: n / 100, offset: offset(n % 100, n / 100) },
+        Family::Sinumerik => {
+            let d = find('D').map(code).transpose()?.unwrap_or(1);
+            ToolChange { number: n, offset: if d == 1 { ToolOffset::Own } else { offset(d, 0) } }
+        }
+        _ => match length {
+            Some((_, false)) => ToolChange { number: n, offset: ToolOffset::Cancelled },
+            Some((_, true)) => {
+                let h = find('H').map(code).transpose()?.unwrap_or(n);
+                ToolChange { number: n, offset: offset(h, n) }
+            }
+            None => ToolChange::new(n),
+        },
+    })
+}
+
 /// Words that only mean something with a code this block does not have: an error rather
 /// than a word silently dropped.
 fn unused_words(
@@ -554,6 +622,7 @@ fn g_code(
     g50: &mut bool,
     feed_mode: &mut Option<FeedMode>,
     compensation: &mut Option<Compensation>,
+    length: &mut Option<(usize, bool)>,
 ) -> Result<(), Fail> {
     let lathe = st.machine == Some(Machine::Lathe);
     let unsupported = || Err((w.column, format!("G{} is not a code this reader knows", w.value)));
@@ -586,9 +655,9 @@ fn g_code(
         40 => *compensation = Some(Compensation::Off),
         41 => *compensation = Some(Compensation::Left),
         42 => *compensation = Some(Compensation::Right),
-        // Tool length offset with the tool change (LinuxCNC's `T1 M6 G43`): the model's tool
-        // change implies it.
-        43 if !sinumerik => {}
+        // Tool length offset from the table, or none, with the tool change (`T1 M6 G43`).
+        43 if !sinumerik => *length = Some((w.column, true)),
+        49 if !sinumerik => *length = Some((w.column, false)),
         50 if st.family == Family::Fanuc => *g50 = true,
         90 => st.incremental = false,
         91 => st.incremental = true,

@@ -16,7 +16,7 @@
 use crate::eval::coerce::to_bool;
 use crate::eval::{Ctx, Value};
 use crate::formula::ast::{Expr, ExprKind};
-use crate::nc::{ArcDirection, Block, FeedMode, Machine, Spindle, SpindleDirection, Target, Word};
+use crate::nc::{ArcDirection, Block, FeedMode, Machine, Spindle, SpindleDirection, Target, ToolChange, Word};
 
 use super::ast::{Link, Span};
 use super::interp::{Interp, Run};
@@ -91,7 +91,7 @@ impl Interp<'_, '_> {
             }
             "spindle" => Block::Spindle(self.spindle(ctx, link)?),
             "tool" => match self.numbers(ctx, link)?.as_slice() {
-                [n] if (1.0..=99.0).contains(n) && n.fract() == 0.0 => Block::Tool(*n as u32),
+                [n] if (1.0..=99.0).contains(n) && n.fract() == 0.0 => Block::Tool(ToolChange::new(*n as u32)),
                 _ => return Err(self.fault_at(link.span, "Nc.Tool takes a tool number from 1 to 99")),
             },
             "coolant" => match self.values(ctx, link)?.as_slice() {

@@ -62,6 +62,20 @@ pub fn feed_mode_at_first_cut(program: &Path) -> Result<Option<i32>, String> {
 
 /// rs274's canonical commands for `program`, one per line, or its complaint.
 pub fn canon(program: &Path) -> Result<String, String> {
+    canon_with_tools(program, None)
+}
+
+/// A tool table for `rs274 -t` with one tool of the given length (mm) in pocket 1. The
+/// stand-alone interpreter reads a table's lengths in inches (its default machine units:
+/// a table `Z50` becomes a 1270 mm offset), so the length is written in inches.
+pub fn tool_table(dir: &Path, tool: u32, length_mm: f64) -> std::path::PathBuf {
+    let path = dir.join("tool.tbl");
+    std::fs::write(&path, format!("T{tool} P1 Z{:.9} D0.25 ;length {length_mm} mm\n", length_mm / 25.4)).unwrap();
+    path
+}
+
+/// [`canon`] with the tool table `tools` (`rs274 -t`).
+pub fn canon_with_tools(program: &Path, tools: Option<&Path>) -> Result<String, String> {
     // rs274 keeps state in the working directory (its parameter file) and maps
     // `$HOME/.tool.mmap`; two runs sharing either crash each other (SIGBUS). Each program's
     // own folder is its working directory and its HOME.
@@ -69,6 +83,7 @@ pub fn canon(program: &Path) -> Result<String, String> {
     let out = Command::new("rs274")
         .current_dir(dir)
         .env("HOME", dir)
+        .args(tools.map(|t| vec![std::ffi::OsStr::new("-t"), t.as_os_str()]).unwrap_or_default())
         .arg("-g")
         .arg(program)
         .output()
@@ -78,6 +93,25 @@ pub fn canon(program: &Path) -> Result<String, String> {
         return Err(text);
     }
     Ok(text)
+}
+
+/// The Z of the tool length offset in force at each `STRAIGHT_FEED`/`STRAIGHT_TRAVERSE`,
+/// with the move's programmed (x, y, z): rs274 reports positions in program coordinates and
+/// the offset apart (`USE_TOOL_LENGTH_OFFSET(x y z, …)`), so the spindle's point the machine
+/// drives is the move's z plus the offset.
+pub fn moves_with_length_offset(canon: &str) -> Vec<([f64; 3], f64)> {
+    let mut offset = 0.0;
+    let mut out = Vec::new();
+    for line in canon.lines() {
+        if let Some((_, rest)) = line.split_once("USE_TOOL_LENGTH_OFFSET(") {
+            let first = rest.split(',').next().unwrap_or("");
+            offset = first.split_whitespace().nth(2).and_then(|z| z.parse().ok()).expect("an offset's z");
+        }
+        if let Some(Move::Traverse { x, y, z } | Move::Feed { x, y, z }) = parse_line(line) {
+            out.push(([x, y, z], offset));
+        }
+    }
+    out
 }
 
 fn parse_line(line: &str) -> Option<Move> {

@@ -23,11 +23,49 @@ use std::fmt::Write;
 use super::{check_program, feed_style, program_name, sanitise, Dialect, Format, NcError};
 use crate::nc::format::NumberStyle;
 use crate::nc::program::{
-    ArcDirection, Block, Compensation, FeedMode, Machine, Program, Spindle, SpindleDirection, Target,
+    ArcDirection, Block, Compensation, FeedMode, Machine, Program, Spindle, SpindleDirection, Target, ToolOffset,
 };
 use crate::nc::read::{self, ReadError};
 
 pub struct Heidenhain;
+
+/// `TOOL CALL n` always applies tool n's length from the tool table (L + DL): the TNC's
+/// user's manual ("Tool length compensation") cancels it only by calling a tool of length 0
+/// (`TOOL CALL 0`, the zero tool, which a tool changer takes as "empty spindle"), and a
+/// program for a swivel head gives tool-tip coordinates under M128 / FUNCTION TCPM so that
+/// the control's kinematics do the pivot. So a tool change with another offset register or
+/// none is refused, naming the block, rather than cut with the table's length added.
+fn own_offsets_only(program: &Program) -> Result<(), (usize, String)> {
+    for (i, b) in program.blocks.iter().enumerate() {
+        if let Block::Tool(t) = b {
+            match t.offset {
+                ToolOffset::Own => {}
+                ToolOffset::Number(n) => {
+                    return Err((
+                        i + 1,
+                        format!(
+                            "TOOL CALL {} has no offset register {n}: it takes tool {}'s own data",
+                            t.number, t.number
+                        ),
+                    ));
+                }
+                ToolOffset::Cancelled => {
+                    return Err((
+                        i + 1,
+                        format!(
+                            "this program's coordinates leave the tool length out, but TOOL CALL {} applies tool {}'s \
+                             length from the tool table (only TOOL CALL 0, the empty spindle, has none); on a \
+                             Heidenhain swivel head give tool-tip coordinates with M128/FUNCTION TCPM instead, or \
+                             use a dialect that cancels the length (iso, linuxcnc, sinumerik)",
+                            t.number, t.number
+                        ),
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
 
 const NUMBERS: NumberStyle = NumberStyle { decimals: 4, plus_sign: true, trailing_zeros: true, always_point: false };
 const FEEDS: NumberStyle = NumberStyle { decimals: 0, plus_sign: false, trailing_zeros: false, always_point: false };
@@ -68,6 +106,7 @@ impl Dialect for Heidenhain {
         let numbers = NumberStyle { decimals: program.precision.unwrap_or(0).max(NUMBERS.decimals), ..NUMBERS };
         check_program(program, Format { numbers, digits: DIGITS.max(numbers.decimals + 5) })
             .map_err(|(b, m)| error(b, m))?;
+        own_offsets_only(program).map_err(|(b, m)| error(Some(b), m))?;
         let name = program_name(&program.name, 24);
         let mut w = Numbered { out: String::with_capacity(48 * (program.blocks.len() + 2)), ..Numbered::default() };
         let _ = write!(w.block(), "BEGIN PGM {name} MM");
@@ -85,11 +124,11 @@ impl Dialect for Heidenhain {
             // A tool call takes the spindle speed that follows it, past feed-mode blocks (they
             // write nothing): one TOOL CALL, as the reader makes of it.
             let speed_at = i + 1 + blocks[i + 1..].iter().take_while(|b| matches!(b, Block::FeedMode(_))).count();
-            if let (Block::Tool(n), Some(Block::Spindle(s))) = (&blocks[i], blocks.get(speed_at)) {
+            if let (Block::Tool(t), Some(Block::Spindle(s))) = (&blocks[i], blocks.get(speed_at)) {
                 for (k, b) in blocks.iter().enumerate().take(speed_at).skip(i + 1) {
                     w.write(b, &numbers).map_err(|m| error(Some(k + 1), m))?;
                 }
-                w.tool_call(Some(*n), Some(s)).map_err(|m| error(Some(speed_at + 1), m))?;
+                w.tool_call(Some(t.number), Some(s)).map_err(|m| error(Some(speed_at + 1), m))?;
                 i = speed_at + 1;
                 continue;
             }
@@ -147,7 +186,7 @@ impl Numbered {
     fn write(&mut self, block: &Block, numbers: &NumberStyle) -> Result<(), String> {
         match block {
             Block::FeedMode(mode) => self.per_revolution = *mode == FeedMode::PerRevolution,
-            Block::Tool(n) => self.tool_call(Some(*n), None)?,
+            Block::Tool(t) => self.tool_call(Some(t.number), None)?,
             Block::Spindle(s) => self.tool_call(None, Some(s))?,
             Block::Coolant(on) => {
                 self.coolant_on = *on;

@@ -7,7 +7,7 @@
 use std::fmt;
 
 use super::format::NumberStyle;
-use super::program::{Block, FeedMode, Machine, Program, Spindle, Target};
+use super::program::{Block, FeedMode, Machine, Program, Spindle, Target, ToolChange, ToolOffset};
 use super::read::ReadError;
 
 mod heidenhain;
@@ -229,8 +229,11 @@ fn check_block(
     match block {
         Block::FeedMode(m) => *feed_mode = Some(*m),
         Block::Spindle(s) => check_spindle(s, machine)?,
-        Block::Tool(n) if !(1..=MAX_TOOL).contains(n) => {
-            return Err(format!("tool {n} is not a tool number from 1 to {MAX_TOOL}"));
+        Block::Tool(t) if !(1..=MAX_TOOL).contains(&t.number) => {
+            return Err(format!("tool {} is not a tool number from 1 to {MAX_TOOL}", t.number));
+        }
+        Block::Tool(ToolChange { offset: ToolOffset::Number(n), .. }) if !(1..=MAX_TOOL).contains(n) => {
+            return Err(format!("offset {n} is not an offset number from 1 to {MAX_TOOL} (no offset: Cancelled)"));
         }
         Block::Tool(_) | Block::Coolant(_) | Block::Comment(_) | Block::Compensation(_) => {}
         Block::Rapid(t) => target(t)?,

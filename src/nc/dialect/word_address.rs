@@ -5,7 +5,8 @@
 use super::{centre_offsets, check_program, feed_style, program_name, sanitise, Dialect, Format, NcError, Position};
 use crate::nc::format::NumberStyle;
 use crate::nc::program::{
-    ArcDirection, Block, Compensation, FeedMode, Machine, Program, Spindle, SpindleDirection, Target, Word,
+    ArcDirection, Block, Compensation, FeedMode, Machine, Program, Spindle, SpindleDirection, Target, ToolChange,
+    ToolOffset, Word,
 };
 use crate::nc::read::{self, ReadError};
 
@@ -34,6 +35,8 @@ pub struct WordAddress {
     pub rapid_suffix: Option<&'static str>,
     pub has_arcs: bool,
     pub machines: &'static [Machine],
+    /// The axes the control moves; a move of another axis is refused, never left out.
+    pub axes: &'static str,
     /// Addresses a raw block may use.
     pub legal: &'static str,
 }
@@ -76,6 +79,7 @@ pub const ISO: WordAddress = WordAddress {
     rapid_suffix: None,
     has_arcs: true,
     machines: &[Machine::Lathe, Machine::Mill],
+    axes: "XYZABC",
     legal: "NGMXYZABCIJKRFSTDHPQUVWLO",
 };
 
@@ -97,6 +101,7 @@ pub const LINUXCNC: WordAddress = WordAddress {
     rapid_suffix: None,
     has_arcs: true,
     machines: &[Machine::Lathe, Machine::Mill],
+    axes: "XYZABC",
     legal: "NGMXYZABCIJKRFSTDHPQUVWL",
 };
 
@@ -117,6 +122,7 @@ pub const SINUMERIK: WordAddress = WordAddress {
     rapid_suffix: None,
     has_arcs: true,
     machines: &[Machine::Lathe, Machine::Mill],
+    axes: "XYZABC",
     legal: "NGMXYZABCIJKFSTDHPQUVWL",
 };
 
@@ -137,6 +143,7 @@ pub const NC31: WordAddress = WordAddress {
     rapid_suffix: Some("E"),
     has_arcs: false,
     machines: &[Machine::Lathe],
+    axes: "XZ",
     legal: "NGMXZUWFSTLDPARQ",
 };
 
@@ -163,6 +170,7 @@ impl Dialect for WordAddress {
         }
         let numbers = NumberStyle { decimals: program.precision.unwrap_or(self.numbers.decimals), ..self.numbers };
         check_program(program, Format { numbers, digits: self.digits }).map_err(|(b, m)| self.error(b, m))?;
+        self.check_axes(program)?;
         let mut w = Writer {
             d: self,
             machine: program.machine,
@@ -196,6 +204,32 @@ impl Dialect for WordAddress {
 impl WordAddress {
     fn error(&self, block: Option<usize>, message: String) -> NcError {
         NcError { dialect: self.name, block, message }
+    }
+
+    /// Every axis a move or the retract names is one the control has (NC31: X and Z).
+    fn check_axes(&self, program: &Program) -> Result<(), NcError> {
+        let foreign = |t: &Target| t.axes().map(|(l, _)| l).find(|l| !self.axes.contains(*l));
+        let refuse = |block: Option<usize>, what: &str, axis: char| {
+            let axes: Vec<String> = self.axes.chars().map(String::from).collect();
+            self.error(
+                block,
+                format!("{what}names the {axis} axis, which the control does not have (its axes: {})", axes.join(" ")),
+            )
+        };
+        for (i, b) in program.blocks.iter().enumerate() {
+            let axis = match b {
+                Block::Rapid(t) | Block::Line { to: t, .. } => foreign(t),
+                Block::Arc { to, centre, .. } => foreign(to).or(foreign(centre)),
+                _ => None,
+            };
+            if let Some(axis) = axis {
+                return Err(refuse(Some(i + 1), "the move ", axis));
+            }
+        }
+        match program.retract.as_ref().and_then(foreign) {
+            Some(axis) => Err(refuse(None, "the retract position ", axis)),
+            None => Ok(()),
+        }
     }
 
     fn header(&self, w: &mut Writer, program: &Program) -> Result<(), String> {
@@ -251,7 +285,7 @@ struct Writer<'a> {
     spindle_on: bool,
     coolant_on: bool,
     /// The tool last called: G41/G42 take its offset.
-    tool: Option<u32>,
+    tool: Option<ToolChange>,
 }
 
 impl Writer<'_> {
@@ -314,7 +348,7 @@ impl Writer<'_> {
                 }
             }
             Block::Spindle(s) => self.spindle(s)?,
-            Block::Tool(n) => self.tool(*n),
+            Block::Tool(t) => self.tool(*t)?,
             Block::Compensation(side) => self.compensation(*side)?,
             Block::Coolant(on) => {
                 self.coolant_on = *on;
@@ -414,7 +448,11 @@ impl Writer<'_> {
             Compensation::Left => "G41",
             Compensation::Right => "G42",
         };
-        let text = match (self.d.family, side, self.tool) {
+        let cancelled = self.tool.is_some_and(|t| t.offset == ToolOffset::Cancelled);
+        if self.d.family == Family::Sinumerik && side != Compensation::Off && cancelled {
+            return Err("cutter compensation after D0: Sinumerik's D0 cancels the radius too".into());
+        }
+        let text = match (self.d.family, side, self.tool.map(|t| t.number)) {
             (Family::Nc31, Compensation::Off, _) => g.to_string(),
             (Family::Nc31, ..) => return Err("NC31 here writes no cutter radius compensation".into()),
             // Sinumerik takes the radius of the active T/D; the others name the offset.
@@ -426,18 +464,45 @@ impl Writer<'_> {
         Ok(())
     }
 
-    fn tool(&mut self, n: u32) {
-        self.tool = Some(n);
+    /// The tool change and the offset it applies (docs/dialects.md): a Fanuc lathe's offset
+    /// is the T word's last two digits (00 none), a Fanuc mill's and LinuxCNC's length is
+    /// G43 [H] or cancelled by G49, Sinumerik's is the cutting edge D (D0 none).
+    fn tool(&mut self, t: ToolChange) -> Result<(), String> {
+        let n = t.number;
+        self.tool = Some(t);
         let lathe = self.machine == Machine::Lathe;
-        let text = match self.d.family {
-            Family::Fanuc if lathe => format!("T{n:02}{n:02}"),
-            Family::Fanuc => format!("T{n} M6"),
-            Family::LinuxCnc => format!("T{n} M6 G43"),
-            Family::Sinumerik if lathe => format!("T{n} D1"),
-            Family::Sinumerik => format!("T{n} M6 D1"),
-            Family::Nc31 => format!("T{n}"),
+        let text = match (self.d.family, t.offset) {
+            (Family::Fanuc, offset) if lathe => {
+                let o = match offset {
+                    ToolOffset::Own => n,
+                    ToolOffset::Number(o) => o,
+                    ToolOffset::Cancelled => 0,
+                };
+                format!("T{n:02}{o:02}")
+            }
+            (Family::Fanuc, ToolOffset::Own) => format!("T{n} M6 G43 H{n}"),
+            (Family::LinuxCnc, ToolOffset::Own) => format!("T{n} M6 G43"),
+            (Family::Fanuc | Family::LinuxCnc, ToolOffset::Number(o)) => format!("T{n} M6 G43 H{o}"),
+            (Family::Fanuc | Family::LinuxCnc, ToolOffset::Cancelled) => format!("T{n} M6 G49"),
+            (Family::Sinumerik, offset) => {
+                let d = match offset {
+                    ToolOffset::Own => 1,
+                    ToolOffset::Number(o) => o,
+                    ToolOffset::Cancelled => 0,
+                };
+                let m6 = if lathe { "" } else { " M6" };
+                format!("T{n}{m6} D{d}")
+            }
+            (Family::Nc31, ToolOffset::Own) => format!("T{n}"),
+            (Family::Nc31, offset) => {
+                return Err(format!(
+                    "NC31 here writes T{n} with the tool's own offset only, not {offset:?}: the control's offset words \
+                     are not documented to us"
+                ));
+            }
         };
         self.numbered(&text);
+        Ok(())
     }
 
     /// The program frame's end: to the safe position in rapid, spindle and coolant off, end.

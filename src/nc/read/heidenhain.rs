@@ -7,7 +7,7 @@
 
 use super::{centre_from_radius, ReadError};
 use crate::nc::program::{
-    ArcDirection, Block, Compensation, FeedMode, Machine, Program, Spindle, SpindleDirection, Target,
+    ArcDirection, Block, Compensation, FeedMode, Machine, Program, Spindle, SpindleDirection, Target, ToolChange,
 };
 
 /// Digits after the point the plain-language writer uses unless a program asks for more.
@@ -242,7 +242,7 @@ impl State {
         let mut i = 2;
         if let Some(n) = t.get(i).filter(|t| t.text.bytes().all(|b| b.is_ascii_digit())) {
             let number = n.text.parse::<u32>().map_err(|_| (n.column, format!("tool {} is too large", n.text)))?;
-            self.push(Block::Tool(number), line);
+            self.push(Block::Tool(ToolChange::new(number)), line);
             i += 1;
         }
         match t.get(i) {
