@@ -140,6 +140,25 @@ pub struct RunOptions {
     /// Where `Debug.Print` lines and `MsgBox` texts go as they happen; `None` keeps them in
     /// [`RunOutput::printed`] and [`RunOutput::messages`].
     pub sink: Option<Sink>,
+    /// The sheets' VBA code names with the sheet each names (`("Sheet1", "Data")`), as the
+    /// workbook file gives them: `Sheet1.Range("A1")` reaches that sheet.
+    pub code_names: Vec<(String, String)>,
+    /// The document module the code is in; `None` for a standard module (or a .bas file).
+    pub document: Option<Document>,
+    /// The active cell of each sheet when the macro starts, by sheet name, as the file saved
+    /// it (`ActiveCell`, `Selection`); a sheet not listed starts at A1.
+    pub active_cells: Vec<(String, crate::formula::address::Pos)>,
+}
+
+/// A document module: the code behind a sheet or the workbook (a worksheet button's macro
+/// lives there).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Document {
+    /// A sheet's module (`Sheet1`), by sheet name: unqualified `Range`, `Cells` and `[B3]`
+    /// mean this sheet whichever is active, and `Me` is the sheet.
+    Sheet(String),
+    /// `ThisWorkbook`: `Me` is the workbook; `Range` and `Cells` mean the active sheet.
+    Workbook,
 }
 
 /// A line a macro printed, handed to [`RunOptions::sink`] as soon as it is complete.
@@ -201,6 +220,9 @@ impl Default for RunOptions {
             max_array_items: DEFAULT_MAX_ARRAY_ITEMS,
             max_output: DEFAULT_MAX_OUTPUT,
             sink: None,
+            code_names: Vec::new(),
+            document: None,
+            active_cells: Vec::new(),
         }
     }
 }
@@ -294,7 +316,17 @@ impl std::error::Error for MacroError {}
 /// Parses a module without running it (for listing its Subs, or checking it). `workbook`
 /// resolves sheet names in `[Sheet2!A1]` brackets.
 pub fn parse(source: &str, file_name: &str, workbook: &Workbook) -> Result<Module, MacroError> {
-    parser::parse_module(source, &|n| workbook.sheet_id(n)).map_err(|e| {
+    parse_with(source, file_name, workbook, &RunOptions::default())
+}
+
+/// [`parse`] knowing what `options` adds to the names: the sheets' code names, and `Me` in
+/// a document module.
+fn parse_with(source: &str, file_name: &str, workbook: &Workbook, options: &RunOptions) -> Result<Module, MacroError> {
+    let mut objects: Vec<String> = options.code_names.iter().map(|(code, _)| code.to_ascii_lowercase()).collect();
+    if options.document.is_some() {
+        objects.push("me".into());
+    }
+    parser::parse_module(source, &|n| workbook.sheet_id(n), &objects).map_err(|e| {
         let lines = parser::Lines::new(source);
         let span = lines.span(source, e.offset);
         MacroError {
@@ -318,6 +350,6 @@ pub fn run(
     file_name: &str,
     options: &RunOptions,
 ) -> Result<RunOutput, MacroError> {
-    let module = parse(source, file_name, workbook)?;
+    let module = parse_with(source, file_name, workbook, options)?;
     interp::run(&module, workbook, source, file_name, options)
 }

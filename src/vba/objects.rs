@@ -104,21 +104,29 @@ impl Interp<'_, '_> {
             });
         }
         let active = self.active.get();
-        match lower(link).as_str() {
+        let here = self.unqualified_sheet();
+        let name = lower(link);
+        if let Some((_, sheet)) = self.code_sheets.iter().find(|(code, _)| *code == name) {
+            return Ok(Obj::Sheet(*sheet));
+        }
+        match name.as_str() {
             "application" => Ok(Obj::App),
             "thisworkbook" | "activeworkbook" => Ok(Obj::Workbook),
+            "me" => Ok(self.home.map_or(Obj::Workbook, Obj::Sheet)),
             "activesheet" => Ok(Obj::Sheet(active)),
+            "activecell" => Ok(Obj::Range(active, Rect::cell(self.cursor(active).1))),
+            "selection" => Ok(Obj::Range(active, self.cursor(active).0)),
             "worksheets" | "sheets" => match link.args {
                 None => Ok(Obj::Sheets),
                 Some(_) => self.sheet_by(ctx, link).map(Obj::Sheet),
             },
-            "range" => self.range(ctx, active, link),
-            "cells" => self.cells(ctx, active, Rect::cell(Pos::new(0, 0)), link),
+            "range" => self.range(ctx, here, link),
+            "cells" => self.cells(ctx, here, Rect::cell(Pos::new(0, 0)), link),
             "nc" => Ok(Obj::Nc),
             "err" => Ok(Obj::Err),
             "debug" => Ok(Obj::Debug),
             "msgbox" => self.msgbox(ctx, link),
-            "evaluate" => self.evaluate(ctx, active, link),
+            "evaluate" => self.evaluate(ctx, here, link),
             "inputbox" => Err(self.fault_at(
                 link.span,
                 "InputBox: a macro runs without a user; pass values with --arg NAME=VALUE or read them from cells",
@@ -132,7 +140,7 @@ impl Interp<'_, '_> {
         match obj {
             Obj::App => match name.as_str() {
                 "worksheets" | "sheets" | "range" | "cells" | "activesheet" | "activeworkbook" | "thisworkbook"
-                | "evaluate" | "inputbox" | "msgbox" => self.root(ctx, link),
+                | "activecell" | "selection" | "evaluate" | "inputbox" | "msgbox" => self.root(ctx, link),
                 "screenupdating" | "displayalerts" | "enableevents" => Ok(Obj::Value(Value::Bool(true))),
                 "calculate" => Ok(Obj::Value(Value::Blank)),
                 "name" => Ok(Obj::Value(Value::text("ncsheet"))),
@@ -339,7 +347,8 @@ impl Interp<'_, '_> {
 
     fn range_member(&self, ctx: &mut Ctx, sheet: SheetId, rect: Rect, link: &Link) -> Run<Obj> {
         let value = |v: Value| Ok(Obj::Value(v));
-        match lower(link).as_str() {
+        let name = lower(link);
+        match name.as_str() {
             "value" | "value2" => value(ctx.rect_value(sheet, rect).unwrap_single()),
             "formula" | "formulalocal" => value(self.formulas(sheet, rect)),
             "text" => value(Value::text(print_text(&ctx.rect_value(sheet, Rect::cell(rect.first))))),
@@ -386,11 +395,22 @@ impl Interp<'_, '_> {
             }
             "worksheet" | "parent" => Ok(Obj::Sheet(sheet)),
             "select" | "activate" => {
-                self.active.set(sheet);
+                self.select_range(sheet, rect, name == "activate");
                 value(Value::Blank)
             }
             _ => Err(self.no_member(&Obj::Range(sheet, rect), link)),
         }
+    }
+
+    /// `r.Select` (and `r.Activate` outside the selection): the range's sheet becomes the
+    /// active one, the range its selection and its first cell the active cell. Activating a
+    /// cell inside the selection moves only the active cell, as in Excel.
+    fn select_range(&self, sheet: SheetId, rect: Rect, activate: bool) {
+        self.active.set(sheet);
+        let (selection, _) = self.cursor(sheet);
+        let inside = activate && selection.contains(rect.first) && rect.is_cell();
+        let selection = if inside { selection } else { rect };
+        self.cursors.borrow_mut().insert(sheet, (selection, rect.first));
     }
 
     /// `.Formula`: what was typed into each cell (its formula, or its constant).
@@ -459,15 +479,17 @@ impl Interp<'_, '_> {
                 }
                 self.set_member(&mut ctx, obj, last, value)
             }
-            Node::Evaluate { expr, span } => match Ctx::new(self, self.active.get(), Pos::new(0, 0)).operand(expr) {
-                Operand::Ref(sheet, rect) => {
-                    let v = self.eval(value)?;
-                    self.write_range(sheet, rect, &v)
+            Node::Evaluate { expr, span } => {
+                match Ctx::new(self, self.unqualified_sheet(), Pos::new(0, 0)).operand(expr) {
+                    Operand::Ref(sheet, rect) => {
+                        let v = self.eval(value)?;
+                        self.write_range(sheet, rect, &v)
+                    }
+                    Operand::Value(_) | Operand::Areas(_) => {
+                        Err(self.fault_at(*span, "only a bracket naming cells can be assigned"))
+                    }
                 }
-                Operand::Value(_) | Operand::Areas(_) => {
-                    Err(self.fault_at(*span, "only a bracket naming cells can be assigned"))
-                }
-            },
+            }
             _ => unreachable!("assignment targets are paths and brackets"),
         }
     }
