@@ -162,7 +162,7 @@ fn run_on_this_thread(args: RunArgs, dialect_name: &'static str, delimiter: Opti
         sink: Some(vba::Sink(std::rc::Rc::new(write_printed))),
         code_names,
         document,
-        active_cells: Vec::new(),
+        active_cells: sheets.filter_map(|(name, s)| Some((name.clone(), s.active_cell?))).collect(),
         sheet: args.sheet.clone(),
         dialect: Some(dialect_name.to_string()),
         machine: match args.machine {

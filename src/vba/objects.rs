@@ -7,10 +7,11 @@ use crate::eval::functions::Registry;
 use crate::eval::{Ctx, Operand, Value};
 use crate::formula::address::{column_index, column_name, Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::formula::ast::{Expr, SheetId};
-use crate::formula::print::print_formula;
+use crate::formula::parse::{parse_formula, parse_formula_r1c1, ParseContext};
+use crate::formula::print::{print_spelled, R1C1};
 
 use super::ast::{Link, Node, Path, Span};
-use super::interp::{one_line, Interp, Run};
+use super::interp::{Interp, Run};
 use super::value::{print_text, Obj, Var};
 
 /// The cell `index` picks in `rect` (1-based): `(i)` counts row by row, `(i, j)` is row and
@@ -261,6 +262,15 @@ impl Interp<'_, '_> {
                 Ok(Obj::Range(id, used))
             }
             "evaluate" => self.evaluate(ctx, id, link),
+            "checkboxes" | "optionbuttons" | "dropdowns" | "listboxes" | "buttons" | "shapes" | "oleobjects"
+            | "chartobjects" => Err(self.fault_at(
+                link.span,
+                format!(
+                    "{}: a sheet's form controls and shapes are not in ncsheet's workbook (a macro runs \
+                     without a window); keep the choice in a cell and read it with Range",
+                    link.name
+                ),
+            )),
             _ => Err(self.no_member(&Obj::Sheet(id), link)),
         }
     }
@@ -350,7 +360,8 @@ impl Interp<'_, '_> {
         let name = lower(link);
         match name.as_str() {
             "value" | "value2" => value(ctx.rect_value(sheet, rect).unwrap_single()),
-            "formula" | "formulalocal" => value(self.formulas(sheet, rect)),
+            "formula" | "formulalocal" => value(self.formulas(sheet, rect, false)),
+            "formular1c1" | "formular1c1local" => value(self.formulas(sheet, rect, true)),
             "text" => value(Value::text(print_text(&ctx.rect_value(sheet, Rect::cell(rect.first))))),
             "row" => value(Value::Number(rect.first.row as f64 + 1.0)),
             "column" => value(Value::Number(rect.first.col as f64 + 1.0)),
@@ -413,10 +424,19 @@ impl Interp<'_, '_> {
         self.cursors.borrow_mut().insert(sheet, (selection, rect.first));
     }
 
-    /// `.Formula`: what was typed into each cell (its formula, or its constant).
-    fn formulas(&self, sheet: SheetId, rect: Rect) -> Value {
+    /// `.Formula`: what was typed into each cell (its formula, or its constant);
+    /// `.FormulaR1C1` (`r1c1`) with the formulas' references in R1C1 style.
+    fn formulas(&self, sheet: SheetId, rect: Rect, r1c1: bool) -> Value {
         let wb = self.wb.borrow();
-        let text = |p: Pos| Value::text(wb.input(sheet, p).unwrap_or_default());
+        let names = |id: SheetId| Env::sheet_name(&**wb, id).unwrap_or_default();
+        let text = |p: Pos| {
+            let tree = wb.formula_tree(sheet, p).filter(|_| r1c1);
+            let text = match tree {
+                Some(t) => format!("={}", print_spelled(&t, p, &Registry, &names, &R1C1)),
+                None => wb.input(sheet, p).unwrap_or_default(),
+            };
+            Value::text(text)
+        };
         if rect.is_cell() {
             return text(rect.first);
         }
@@ -508,11 +528,11 @@ impl Interp<'_, '_> {
                 let v = self.eval(value)?;
                 self.write_range(*sheet, *rect, &v)
             }
-            (Obj::Range(sheet, rect), "formula" | "formulalocal") => {
+            (Obj::Range(sheet, rect), "formula" | "formulalocal" | "formular1c1" | "formular1c1local") => {
                 let v = self.eval(value)?;
                 let text =
                     vba_text(&v).map_err(|e| self.fault_at(self.expr_span(value), format!("the formula is {e}")))?;
-                self.write_formula(*sheet, *rect, &text, link.span)
+                self.write_formula(*sheet, *rect, &text, name.starts_with("formular1c1"), link.span)
             }
             (Obj::Nc, _) => self.set_nc(&name, value, link.span),
             (Obj::Record(var, path), _) => {
@@ -536,34 +556,42 @@ impl Interp<'_, '_> {
         }
     }
 
-    /// `.Formula = "=A1*2"` into every cell of `rect`, relative references moving along as a
-    /// fill moves them (VBA does the same).
-    fn write_formula(&self, sheet: SheetId, rect: Rect, text: &str, span: Span) -> Run<()> {
-        if rect.is_cell() || !text.starts_with('=') {
+    /// `.Formula = "=A1*2"` (A1 style, read at the range's first cell) or `.FormulaR1C1 =
+    /// "=R[-1]C*2"` into every cell of `rect`: the one tree in each, its relative references
+    /// moving along as a fill moves them (VBA does the same). Text not starting with `=` is
+    /// typed as a constant.
+    fn write_formula(&self, sheet: SheetId, rect: Rect, text: &str, r1c1: bool, span: Span) -> Run<()> {
+        if !text.starts_with('=') {
             return self.write_range(sheet, rect, &Value::text(text));
         }
-        let texts = {
-            let wb = self.wb.borrow();
-            let expr = wb
-                .parse_at(text, sheet, rect.first)
-                .map_err(|e| self.fault_at(span, format!("{text}: column {}: {}", e.column(text), e.message)))?;
-            let names = |id: SheetId| Env::sheet_name(&**wb, id).unwrap_or_default();
-            let mut texts = Vec::new();
-            for row in rect.first.row..=rect.last.row {
-                for col in rect.first.col..=rect.last.col {
-                    let pos = Pos::new(row, col);
-                    texts.push((pos, format!("={}", print_formula(&expr, pos, &Registry, &names))));
-                }
-            }
-            texts
-        };
-        let mut wb = self.wb.borrow_mut();
-        for (pos, t) in texts {
-            wb.set_input_deferred(sheet, pos, &t).map_err(|e| self.fault_at(span, one_line(&e)))?;
+        let cells = rect.rows() as u64 * rect.cols() as u64;
+        if cells > MAX_FORMULA_WRITE {
+            return Err(self.fault(format!("writing {cells} formulas at once is more than a macro may")));
         }
-        wb.recalculate();
+        let mut wb = self.wb.borrow_mut();
+        let parsed = {
+            let sheets = |name: &str| wb.sheet_id(name);
+            let ctx = ParseContext { at: rect.first, functions: &Registry, sheet: &sheets };
+            if r1c1 {
+                parse_formula_r1c1(text, &ctx)
+            } else {
+                parse_formula(text, &ctx)
+            }
+        };
+        let style = if r1c1 { "R1C1" } else { "A1" };
+        let tree = parsed
+            .map_err(|e| self.fault_at(span, format!("{text} ({style}): column {}: {}", e.column(text), e.message)))?;
+        for row in rect.first.row..=rect.last.row {
+            for col in rect.first.col..=rect.last.col {
+                wb.set_formula_tree_deferred(sheet, Pos::new(row, col), tree.clone());
+            }
+        }
+        wb.recalculate_rect(sheet, rect);
         Ok(())
     }
 }
+
+/// The most cells one `.Formula =` fills.
+const MAX_FORMULA_WRITE: u64 = 10_000_000;
 
 use crate::eval::Env;

@@ -426,7 +426,7 @@ impl<'s> Build<'s> {
     fn statement(&self, pair: Pair<Rule>) -> Res<Option<Stmt>> {
         let span = self.span(start(&pair));
         let kind = match pair.as_rule() {
-            Rule::rem_stmt | Rule::comment_text => return Ok(None),
+            Rule::rem_stmt | Rule::attribute_stmt | Rule::comment_text => return Ok(None),
             Rule::dim_stmt if find(&kids(&pair), Rule::k_static).is_some() => {
                 if self.in_module_level() {
                     return Err(self.error_at(&pair, "Static declares a procedure's variable; use Dim here"));
