@@ -56,7 +56,11 @@
 //! `Worksheets("Name")` / `Worksheets(1)` / `Sheets` / `ActiveSheet`, `[B3]` and `[SUM(A1:A3)]`
 //! (formula text evaluated as in a cell), `Evaluate("…")`. Range members: `Value` (the
 //! default), `Value2`, `Formula`, `Text`, `Row`, `Column`, `Count`, `Rows`, `Columns`,
-//! `Address`, `Offset`, `Resize`, `Cells`, `Item`, `ClearContents`, `Worksheet`, `Activate`.
+//! `Address`, `Offset`, `Resize`, `Cells`, `Item`, `ClearContents`, `Worksheet`, `Activate`,
+//! `Select`, `FormulaR1C1` (read and written in R1C1 notation: `=R[-1]C*2`). `ActiveCell` and
+//! `Selection` start at the sheet's active cell as the file saved it ([`RunOptions::active_cells`])
+//! and follow `Select`/`Activate`. In a sheet's module ([`Document::Sheet`]) `Range`, `Cells`
+//! and `[B3]` mean that sheet and `Me` is it; sheets' code names (`Sheet1`) are objects.
 //! A write is typed into the cell (text starting with `=` is a formula, as in VBA) and
 //! recalculates what depends on it before the next statement.
 //!
@@ -71,7 +75,10 @@
 //!
 //! Errors: `On Error GoTo label` (the label in the procedure's body, outside loops and Ifs),
 //! `On Error Resume Next`, `On Error GoTo 0` / `-1`, `Resume`, `Resume Next`, `Resume label`,
-//! and `Err` (`Number`, `Description`, `Clear`, `Raise n, , text`). Only statements trap: an
+//! and `Err` (`Number`, `Description`, `Clear`, `Raise n, , text`). `Resume Next` after a
+//! failing If, ElseIf or `Do While` condition goes on with the block's first statement (VBA's
+//! "next statement"; LibreOffice's VBA mode agrees), after a failing `Loop While` past the
+//! loop; a failing For bound or Select Case subject skips the statement. Only statements trap: an
 //! expression that fails gives an error value (`1/0` is `#DIV/0!`), and the statement that
 //! needs a number from it (a typed variable, `For`, `Cells`) is the one that fails, with VBA's
 //! number (11 for a division by zero, 13 for a type mismatch, 6 for an overflow, else 5). The
@@ -85,7 +92,8 @@
 //! Function returning one. `Foo (y)` without `Call` passes `y` by value, as in VBA.
 //!
 //! Not in the language: classes, `Is`, `Static Sub`, `ParamArray`, arrays of more than two
-//! dimensions, events and forms.
+//! dimensions, events and forms. A member's dot touches what it follows ([MS-VBAL] 5.6.12):
+//! `Out .Y + .X` in a With block calls `Out` with `.Y + .X`.
 
 mod arrays;
 pub mod ast;
