@@ -48,8 +48,7 @@ fn workbook_with_modules(dir: &Path) -> std::path::PathBuf {
     let mut wb = Workbook::new();
     wb.add_sheet("Data").unwrap();
     wb.add_sheet("Setup").unwrap();
-    let mut layout = Layout::default();
-    layout.workbook_code_name = Some("ThisWorkbook".into());
+    let mut layout = Layout { workbook_code_name: Some("ThisWorkbook".into()), ..Layout::default() };
     for (sheet, code) in [("Data", "Sheet1"), ("Setup", "Sheet2")] {
         layout.sheets.entry(sheet.into()).or_default().code_name = Some(code.into());
     }
