@@ -231,6 +231,80 @@ End Sub
     Out a(1)
 "#,
     },
+    Case {
+        // [MS-VBAL] 5.6.12: a member's dot touches what it follows, so `Out .Y + .X` calls
+        // `Out` with the With object's `.Y + .X`, not a member `Y` of `Out`.
+        name: "spaced_dot_starts_an_argument_inside_with",
+        module: r#"
+Type PtW
+    X As Double
+    Y As Double
+End Type
+Sub Out2(ByVal a, ByVal b)
+    Out a & "|" & b
+End Sub
+"#,
+        body: r#"
+    Dim q As PtW
+    q.X = 2: q.Y = 5
+    With q
+        Out .Y + .X
+        Out .Y - .X
+        Out .X * 3
+        Out2 .X, .Y
+        Out (.Y) * 2
+    End With
+"#,
+    },
+    Case {
+        // A failing condition that Resume Next traps goes on with the next statement: for
+        // If, ElseIf and Do While that is the first statement of the block, which runs; for
+        // `Loop While` at the end it is the statement after the loop. (For bounds and a
+        // Select Case subject are left out: LibreOffice hangs on them.)
+        name: "resume_next_after_an_error_in_an_if_condition",
+        module: "",
+        body: r#"
+    Dim d As Double, r As String, n As Integer
+    On Error Resume Next
+    r = "a"
+    If 1 / d > 0 Then
+        r = r & " then"
+    Else
+        r = r & " else"
+    End If
+    Out r & " " & Err.Number
+    Err.Clear
+    r = "b"
+    If 1 / d < 0 Then r = r & " then" Else r = r & " else"
+    r = r & " after"
+    Out r & " " & Err.Number
+    Err.Clear
+    r = "c"
+    If d > 1 Then
+        r = r & " first"
+    ElseIf 1 / d > 0 Then
+        r = r & " second"
+    Else
+        r = r & " else"
+    End If
+    Out r & " " & Err.Number
+    Err.Clear
+    r = "e"
+    Do While 1 / d > 0
+        r = r & " body"
+        Exit Do
+    Loop
+    Out r & " " & Err.Number
+    Err.Clear
+    r = "h"
+    Do
+        n = n + 1
+        r = r & " " & n
+        If n > 3 Then Exit Do
+    Loop While 1 / d > 0
+    Out r & " " & Err.Number
+"#,
+    },
 ];
 
 /// ncsheet's lines for one case.

@@ -174,3 +174,64 @@ fn the_active_sheet_comes_from_the_options_and_activate() {
     assert_eq!(get(&wb, data, "A1"), n(1.0));
     assert_eq!(get(&wb, 0, "A1"), n(2.0));
 }
+
+/// `FormulaR1C1` (Excel's R1C1 notation: `R[n]`/`C[n]` offsets from the formula's cell, `Rn`/
+/// `Cn` absolute rows and columns, a bare `R`/`C` the cell's own): written into a range, each
+/// cell gets the same R1C1 formula, which is a relative fill in A1 terms; read back in either
+/// notation. Expected A1 texts and values are worked out by hand.
+#[test]
+fn formula_r1c1_writes_and_reads_the_same_tree_as_a1() {
+    let mut wb = Workbook::with_sheet();
+    let printed = run(
+        &mut wb,
+        "    Range(\"A1:A3\").Value = 5\n\
+         \x20   Range(\"A2\").Value = 7\n\
+         \x20   Range(\"B2:B3\").FormulaR1C1 = \"=R[-1]C[-1]*2+R1C1\"\n\
+         \x20   Range(\"C1:C3\").Formula = \"=A1+B$2\"\n\
+         \x20   Range(\"E1\").FormulaR1C1 = \"=SUM(R1C1:R3C1)+SUM(C1)+COUNT(R2)\"\n\
+         \x20   Debug.Print Range(\"B2\").Formula; \" \"; Range(\"B3\").Formula\n\
+         \x20   Debug.Print Range(\"C3\").FormulaR1C1; \" \"; Range(\"E1\").Formula\n\
+         \x20   Debug.Print Range(\"A1\").FormulaR1C1; \" \"; Range(\"D9\").FormulaR1C1; \"|\"",
+    );
+    assert_eq!(printed, ["=A1*2+$A$1 =A2*2+$A$1", "=RC[-2]+R2C[-1] =SUM($A$1:$A$3)+SUM($A:$A)+COUNT($2:$2)", "5 |"]);
+    // B2 = A1*2 + A1 = 15, B3 = A2*2 + A1 = 19, C3 = A3 + B2 = 20; E1 = 17 + 17 + 3 (row 2:
+    // A2, B2, C2 are numbers).
+    assert_eq!(get(&wb, 0, "B2"), n(15.0));
+    assert_eq!(get(&wb, 0, "B3"), n(19.0));
+    assert_eq!(get(&wb, 0, "C3"), n(20.0));
+    assert_eq!(get(&wb, 0, "E1"), n(37.0));
+}
+
+#[test]
+fn a_bad_r1c1_formula_is_an_error_naming_the_notation() {
+    let mut wb = Workbook::with_sheet();
+    let src = "Sub Main()\n    Range(\"A1\").FormulaR1C1 = \"=R0C1\"\nEnd Sub\n";
+    let err = vba::run(&mut wb, src, "r1c1.bas", &RunOptions::default()).unwrap_err().to_string();
+    assert!(err.contains("r1c1.bas:2:") && err.contains("(R1C1)") && err.contains("R0 is off the sheet"), "{err}");
+}
+
+/// `ActiveCell` starts at A1 (a new workbook); `Range.Select` makes the range the selection
+/// and its first cell the active cell; `Activate` of a cell inside the selection moves only
+/// the active cell (Excel's behaviour); `Offset` goes from the active cell.
+#[test]
+fn active_cell_and_selection_follow_select_and_activate() {
+    let mut wb = Workbook::with_sheet();
+    wb.add_sheet("Two").unwrap();
+    let printed = run(
+        &mut wb,
+        "    Debug.Print ActiveCell.Address & \" \" & ActiveCell.Row & \" \" & ActiveCell.Column\n\
+         \x20   Range(\"B2\").Select\n\
+         \x20   ActiveCell.Offset(1, 1).Value = \"off\"\n\
+         \x20   ActiveCell.Value = 3\n\
+         \x20   Range(\"B2:C3\").Select\n\
+         \x20   Range(\"C3\").Activate\n\
+         \x20   Debug.Print Selection.Address; \" \"; ActiveCell.Address; \" \"; ActiveCell.Value\n\
+         \x20   Range(\"E5\").Activate\n\
+         \x20   Debug.Print Selection.Address; \" \"; ActiveCell.Address\n\
+         \x20   Worksheets(\"Two\").Range(\"D4\").Select\n\
+         \x20   ActiveCell.Value = ActiveSheet.Name",
+    );
+    assert_eq!(printed, ["$A$1 1 1", "$B$2:$C$3 $C$3 off", "$E$5 $E$5"]);
+    assert_eq!(get(&wb, 0, "B2"), n(3.0));
+    assert_eq!(get(&wb, 1, "D4"), Value::text("Two"));
+}

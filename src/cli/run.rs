@@ -5,8 +5,10 @@
 use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
+use ncsheet::io::xlsx::Layout;
 use ncsheet::nc::{dialect, Machine};
-use ncsheet::vba::{self, ErrorKind, RunOptions, RunOutput};
+use ncsheet::vba::project::{ModuleKind, ProjectModule};
+use ncsheet::vba::{self, Document, ErrorKind, RunOptions, RunOutput};
 
 use super::output::emit;
 use super::report::{Error, Result};
@@ -143,8 +145,11 @@ pub fn run(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
 fn run_on_this_thread(args: RunArgs, dialect_name: &'static str, delimiter: Option<u8>) -> Result<()> {
     let opened = ncsheet::io::open_with(&args.workbook, delimiter)?;
     let mut wb = opened.workbook;
-    let (file, source, sub) = macro_source(&args)?;
+    let (file, source, sub, document) = macro_source(&args, opened.layout.as_ref())?;
     let file = &file;
+    let layout = opened.layout.as_ref();
+    let sheets = layout.into_iter().flat_map(|l| &l.sheets);
+    let code_names = sheets.clone().filter_map(|(name, s)| Some((s.code_name.clone()?, name.clone()))).collect();
     let options = RunOptions {
         sub,
         args: args.args.clone(),
@@ -155,6 +160,9 @@ fn run_on_this_thread(args: RunArgs, dialect_name: &'static str, delimiter: Opti
         max_array_items: args.max_array_items,
         max_output: args.max_output.unwrap_or(vba::DEFAULT_MAX_OUTPUT),
         sink: Some(vba::Sink(std::rc::Rc::new(write_printed))),
+        code_names,
+        document,
+        active_cells: sheets.filter_map(|(name, s)| Some((name.clone(), s.active_cell?))).collect(),
         sheet: args.sheet.clone(),
         dialect: Some(dialect_name.to_string()),
         machine: match args.machine {
@@ -196,18 +204,45 @@ fn run_on_this_thread(args: RunArgs, dialect_name: &'static str, delimiter: Opti
     Ok(())
 }
 
-/// The macro's place (for messages), its source and the Sub to call: the .bas file given,
-/// or a module of the workbook's own VBA project.
-fn macro_source(args: &RunArgs) -> Result<(PathBuf, String, Option<String>)> {
+/// The macro's place (for messages), its source, the Sub to call and the document its module
+/// belongs to: the .bas file given, or a module of the workbook's own VBA project.
+fn macro_source(
+    args: &RunArgs,
+    layout: Option<&Layout>,
+) -> Result<(PathBuf, String, Option<String>, Option<Document>)> {
     if let Some(file) = &args.macro_file {
         let source =
             std::fs::read_to_string(file).map_err(|e| Error::User(format!("{}: cannot read: {e}", file.display())))?;
-        return Ok((file.clone(), source, args.sub.clone()));
+        return Ok((file.clone(), source, args.sub.clone(), None));
     }
     let project = super::macros::open_project(&args.workbook)?;
     let (module, sub) = super::macros::pick_macro(&project, args.sub.as_deref())?;
     let place = args.workbook.join(&module.name);
-    Ok((place, module.source.clone(), sub))
+    let document = document_of(module, layout).map_err(|m| Error::User(format!("{}: {m}", place.display())))?;
+    Ok((place, module.source.clone(), sub, document))
+}
+
+/// What a module of the project belongs to: nothing (a standard module), a sheet (its code
+/// name is the module's name) or the workbook (`ThisWorkbook`). Class and UserForm modules
+/// need an object or a form, which a run has not.
+fn document_of(module: &ProjectModule, layout: Option<&Layout>) -> std::result::Result<Option<Document>, String> {
+    if module.kind == ModuleKind::Standard {
+        return Ok(None);
+    }
+    let named = |code: Option<&String>| code.is_some_and(|c| c.eq_ignore_ascii_case(&module.name));
+    let workbook_code = layout.and_then(|l| l.workbook_code_name.as_ref());
+    if named(workbook_code) || (workbook_code.is_none() && module.name.eq_ignore_ascii_case("ThisWorkbook")) {
+        return Ok(Some(Document::Workbook));
+    }
+    let sheet = layout.into_iter().flat_map(|l| &l.sheets).find(|(_, s)| named(s.code_name.as_ref()));
+    match sheet {
+        Some((name, _)) => Ok(Some(Document::Sheet(name.clone()))),
+        None => Err(format!(
+            "{} is a class or UserForm module, not the module of a sheet or of the workbook: its code needs \
+             an object or a form (a window), which a run has not; run a standard or a sheet module's macro",
+            module.name
+        )),
+    }
 }
 
 /// What the macro prints goes to stderr as it happens (a line above `%` would stop a control

@@ -252,6 +252,16 @@ pub fn parse_formula(text: &str, ctx: &ParseContext) -> Result<Expr, ParseError>
     parse_as(text, ctx, Rule::formula, Rule::expr)
 }
 
+/// Parses a formula written in R1C1 style (VBA's `FormulaR1C1`), with or without its `=`:
+/// the same grammar, references read as R1C1 ones, into the same tree.
+pub fn parse_formula_r1c1(text: &str, ctx: &ParseContext) -> Result<Expr, ParseError> {
+    check_nesting(text, Language::Formula)?;
+    let mut pairs = FormulaGrammar::parse(Rule::r1c1_formula, text).map_err(from_pest)?;
+    let formula = pairs.next().expect("r1c1_formula rule");
+    let expr = formula.into_inner().find(|p| p.as_rule() == Rule::expr).expect("expr");
+    Builder { ctx, host: None }.expr(expr.into_inner())
+}
+
 /// Parses a defined name's formula, where a union of references may stand without
 /// parentheses as Excel stores it (`Sheet1!$A$1:$A$3,Sheet1!$C$1`).
 pub fn parse_name_formula(text: &str, ctx: &ParseContext) -> Result<Expr, ParseError> {
@@ -599,10 +609,40 @@ impl Builder<'_, '_> {
                     let b = self.row(&rows.next().expect("second row"))?;
                     shape = Some(RefShape::Rows(a, b));
                 }
+                Rule::r1c1_area => shape = Some(self.r1c1_area(part)?),
                 rule => unreachable!("reference part {rule:?}"),
             }
         }
         Ok(Reference { sheet, shape: shape.expect("reference has a shape") })
+    }
+
+    /// `R2C3`, `R[-1]C:RC[2]`, `R3:R5`, `C[1]`.
+    fn r1c1_area(&self, pair: Pair<Rule>) -> Result<RefShape, ParseError> {
+        let inner: Vec<Pair<Rule>> = pair.into_inner().collect();
+        let cell = |p: &Pair<Rule>| -> Result<CellCoord, ParseError> {
+            let mut parts = p.clone().into_inner();
+            let row = r1c1_coord(&parts.next().expect("R"), MAX_ROWS)?;
+            let col = r1c1_coord(&parts.next().expect("C"), MAX_COLS)?;
+            Ok(CellCoord { row, col })
+        };
+        let line = |p: &Pair<Rule>, count: u32| -> Result<(Coord, Coord), ParseError> {
+            let ends: Vec<Pair<Rule>> = p.clone().into_inner().collect();
+            let first = r1c1_coord(&ends[0], count)?;
+            Ok((first, ends.get(1).map(|e| r1c1_coord(e, count)).transpose()?.unwrap_or(first)))
+        };
+        Ok(match inner.as_slice() {
+            [a] if a.as_rule() == Rule::r1c1_cell => RefShape::Cell(cell(a)?),
+            [a, b] => RefShape::Cells(cell(a)?, cell(b)?),
+            [rows] if rows.as_rule() == Rule::r1c1_rows => {
+                let (a, b) = line(rows, MAX_ROWS)?;
+                RefShape::Rows(a, b)
+            }
+            [cols] => {
+                let (a, b) = line(cols, MAX_COLS)?;
+                RefShape::Cols(a, b)
+            }
+            _ => unreachable!("an R1C1 area has one or two parts"),
+        })
     }
 
     fn sheet(&self, pair: Pair<Rule>) -> SheetRef {
@@ -663,6 +703,23 @@ impl Builder<'_, '_> {
             return None;
         }
         Some(coord(absolute, row - 1, self.ctx.at.row))
+    }
+}
+
+/// One `R…` or `C…` of an R1C1 reference: `R3` row 3, `R[-1]` one up, `R` this row.
+fn r1c1_coord(pair: &Pair<Rule>, count: u32) -> Result<Coord, ParseError> {
+    let text = &pair.as_str()[1..];
+    let bad = || ParseError::at(pair.as_span().start(), format!("{} is off the sheet", pair.as_str()));
+    if let Some(offset) = text.strip_prefix('[').and_then(|t| t.strip_suffix(']')) {
+        let offset: i32 = offset.parse().map_err(|_| bad())?;
+        return if offset.unsigned_abs() < count { Ok(Coord::relative(offset)) } else { Err(bad()) };
+    }
+    if text.is_empty() {
+        return Ok(Coord::relative(0));
+    }
+    match text.parse::<u32>() {
+        Ok(n) if (1..=count).contains(&n) => Ok(Coord::absolute(n - 1)),
+        _ => Err(bad()),
     }
 }
 

@@ -79,6 +79,20 @@ pub trait Spelling {
     fn spill(&self) -> OperatorSpelling {
         OperatorSpelling::Symbol
     }
+
+    /// References in R1C1 style (`R[-1]C2`) instead of A1 style.
+    fn r1c1(&self) -> bool {
+        false
+    }
+}
+
+/// The R1C1 spelling (VBA's `FormulaR1C1`), which `parse_formula_r1c1` reads.
+pub struct R1C1;
+
+impl Spelling for R1C1 {
+    fn r1c1(&self) -> bool {
+        true
+    }
 }
 
 /// The spelling a user types, which the parser reads and the workbook shows.
@@ -156,6 +170,7 @@ impl Printer<'_> {
             ExprKind::Bool(b) => self.out.push_str(if *b { "TRUE" } else { "FALSE" }),
             ExprKind::Error(err) => self.out.push_str(err.as_str()),
             ExprKind::Missing => {}
+            ExprKind::Ref(r) if self.spelling.r1c1() => write_reference_r1c1(self.out, r, self.sheets),
             ExprKind::Ref(r) => write_reference(self.out, r, self.at, self.sheets),
             ExprKind::Name(n) => self.name(n),
             ExprKind::SheetName(sheet, n) => {
@@ -313,6 +328,40 @@ pub fn write_reference(out: &mut String, r: &Reference, at: Pos, sheets: SheetNa
             out.push(':');
             write_row(out, b, at);
         }
+    }
+}
+
+/// Writes a reference in R1C1 style: `R2C3`, `R[-1]C`, `R1C1:R[2]C[2]`, `R3:R5`, `C[1]`.
+fn write_reference_r1c1(out: &mut String, r: &Reference, sheets: SheetNames) {
+    write_sheet_prefix(out, &r.sheet, sheets);
+    let part = |out: &mut String, letter: char, c: Coord| {
+        out.push(letter);
+        let _ = match (c.absolute, c.value) {
+            (true, v) => write!(out, "{}", v + 1),
+            (false, 0) => Ok(()),
+            (false, v) => write!(out, "[{v}]"),
+        };
+    };
+    let cell = |out: &mut String, c: CellCoord| {
+        part(out, 'R', c.row);
+        part(out, 'C', c.col);
+    };
+    let line = |out: &mut String, letter: char, a: Coord, b: Coord| {
+        part(out, letter, a);
+        if a != b {
+            out.push(':');
+            part(out, letter, b);
+        }
+    };
+    match r.shape {
+        RefShape::Cell(c) => cell(out, c),
+        RefShape::Cells(a, b) => {
+            cell(out, a);
+            out.push(':');
+            cell(out, b);
+        }
+        RefShape::Cols(a, b) => line(out, 'C', a, b),
+        RefShape::Rows(a, b) => line(out, 'R', a, b),
     }
 }
 

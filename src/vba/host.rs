@@ -128,7 +128,7 @@ impl Interp<'_, '_> {
             Node::Bound { upper, var, dim, span } => {
                 self.bound(ctx, *upper, var, dim.as_ref(), *span).map(Operand::Value)
             }
-            Node::Evaluate { expr, .. } => Ok(Ctx::new(self, self.active.get(), Pos::new(0, 0)).operand(expr)),
+            Node::Evaluate { expr, .. } => Ok(Ctx::new(self, self.unqualified_sheet(), Pos::new(0, 0)).operand(expr)),
         }
     }
 

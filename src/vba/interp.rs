@@ -36,12 +36,26 @@ pub fn run(
         // A workbook always has a sheet for Range and Cells to mean, as in Excel.
         wb.add_sheet("Sheet1").expect("the first sheet");
     }
-    let active = match &options.sheet {
-        Some(name) => {
-            wb.sheet_id(name).ok_or_else(|| usage(file, format!("the workbook has no sheet named {name}")))?
-        }
-        None => 0,
+    let sheet_named = |name: &str| wb.sheet_id(name).ok_or_else(|| format!("the workbook has no sheet named {name}"));
+    let home = match &options.document {
+        Some(super::Document::Sheet(name)) => Some(sheet_named(name).map_err(|m| usage(file, m))?),
+        _ => None,
     };
+    // A sheet's button is clicked on that sheet: it is the active one, unless --sheet says.
+    let active = match &options.sheet {
+        Some(name) => sheet_named(name).map_err(|m| usage(file, m))?,
+        None => home.unwrap_or(0),
+    };
+    let code_sheets = options
+        .code_names
+        .iter()
+        .filter_map(|(code, sheet)| Some((code.to_ascii_lowercase(), wb.sheet_id(sheet)?)))
+        .collect();
+    let cursors = options
+        .active_cells
+        .iter()
+        .filter_map(|(sheet, pos)| Some((wb.sheet_id(sheet)?, (Rect::cell(*pos), *pos))))
+        .collect();
     let entry = entry(module, options).map_err(|m| usage(file, m))?;
     let stem = std::path::Path::new(file).file_stem().and_then(|s| s.to_str()).unwrap_or("MACRO");
     let it = Interp {
@@ -60,6 +74,9 @@ pub fn run(
         pending: RefCell::new(None),
         ended: Cell::new(false),
         active: Cell::new(active),
+        home,
+        code_sheets,
+        cursors: RefCell::new(cursors),
         notes: RefCell::new(Vec::new()),
         output_bytes: Cell::new(0),
         err: RefCell::new(ErrState::default()),
@@ -188,6 +205,13 @@ pub struct Interp<'m, 'w> {
     /// An `End` statement ran: every procedure stops.
     pub(super) ended: Cell<bool>,
     pub active: Cell<SheetId>,
+    /// The sheet of the document module the code is in: what unqualified `Range`, `Cells`
+    /// and `[B3]` mean there, and `Me`.
+    pub home: Option<SheetId>,
+    /// The sheets' code names (lower case): `Sheet1.Range("A1")`.
+    pub code_sheets: Vec<(String, SheetId)>,
+    /// Each sheet's selection and active cell, once the file or the macro set one (else A1).
+    pub cursors: RefCell<std::collections::HashMap<SheetId, (Rect, Pos)>>,
     /// Explanations the last evaluation left (why a value is an error).
     notes: RefCell<Vec<String>>,
     /// Bytes of `Debug.Print` and `MsgBox` output so far, against [`RunOptions::max_output`].
@@ -291,7 +315,19 @@ impl Interp<'_, '_> {
     // ---- evaluation ------------------------------------------------------------------
 
     pub fn ctx(&self) -> Ctx<'_> {
-        Ctx::new(self, self.active.get(), Pos::new(0, 0)).with_host(self)
+        Ctx::new(self, self.unqualified_sheet(), Pos::new(0, 0)).with_host(self)
+    }
+
+    /// The sheet `Range`, `Cells` and `[B3]` mean without a sheet before them: the document
+    /// module's own sheet, else the active one.
+    pub fn unqualified_sheet(&self) -> SheetId {
+        self.home.unwrap_or(self.active.get())
+    }
+
+    /// A sheet's selection and active cell (A1 until something selects).
+    pub fn cursor(&self, sheet: SheetId) -> (Rect, Pos) {
+        let origin = Pos::new(0, 0);
+        self.cursors.borrow().get(&sheet).copied().unwrap_or((Rect::cell(origin), origin))
     }
 
     /// Takes the failure a host node parked during an evaluation.
@@ -955,8 +991,10 @@ impl Interp<'_, '_> {
 
     fn if_stmt(&self, arms: &[(Expr, Block)], otherwise: Option<&Block>) -> Run<Flow> {
         for (cond, body) in arms {
-            if self.truth(cond, "the If condition")? {
-                return self.block(body);
+            match self.opening_condition(cond, "the If condition")? {
+                Ok(Some(true) | None) => return self.block(body),
+                Ok(Some(false)) => {}
+                Err(flow) => return Ok(flow),
             }
         }
         match otherwise {
@@ -1081,13 +1119,34 @@ impl Interp<'_, '_> {
         Ok(Flow::Next)
     }
 
+    /// The condition of an If, ElseIf, `Do While|Until` or `While`: `Ok(None)` when it failed
+    /// and `Resume Next` trapped it, `Err(flow)` when the handler left elsewhere. Resume Next
+    /// goes on with the next statement, which is the first of the block: the block runs, as in
+    /// VBA and in LibreOffice's VBA mode (tests/vba_libreoffice.rs).
+    fn opening_condition(&self, cond: &Expr, what: &str) -> Run<Result<Option<bool>, Flow>> {
+        loop {
+            match self.truth(cond, what) {
+                Ok(holds) => return Ok(Ok(Some(holds))),
+                Err(fault) => match self.trap(fault)? {
+                    Trap::Next => return Ok(Ok(None)),
+                    Trap::Retry => continue,
+                    Trap::Flow(flow) => return Ok(Err(flow)),
+                },
+            }
+        }
+    }
+
     fn do_loop(&self, test: Option<&LoopTest>, at_end: bool, body: &Block, span: Span) -> Run<Flow> {
+        // At the end the statement after `Loop While c` is the one after the loop: a failing
+        // condition that the handler resumes leaves the loop, as the trapping block does.
         let holds = |t: &LoopTest| -> Run<bool> { Ok(self.truth(&t.cond, "the loop condition")? != t.until) };
         loop {
             self.tick(span)?;
             if let Some(t) = test.filter(|_| !at_end) {
-                if !holds(t)? {
-                    return Ok(Flow::Next);
+                match self.opening_condition(&t.cond, "the loop condition")? {
+                    Ok(Some(holds)) if holds == t.until => return Ok(Flow::Next),
+                    Ok(_) => {}
+                    Err(flow) => return Ok(flow),
                 }
             }
             match self.block(body)? {

@@ -56,7 +56,11 @@
 //! `Worksheets("Name")` / `Worksheets(1)` / `Sheets` / `ActiveSheet`, `[B3]` and `[SUM(A1:A3)]`
 //! (formula text evaluated as in a cell), `Evaluate("…")`. Range members: `Value` (the
 //! default), `Value2`, `Formula`, `Text`, `Row`, `Column`, `Count`, `Rows`, `Columns`,
-//! `Address`, `Offset`, `Resize`, `Cells`, `Item`, `ClearContents`, `Worksheet`, `Activate`.
+//! `Address`, `Offset`, `Resize`, `Cells`, `Item`, `ClearContents`, `Worksheet`, `Activate`,
+//! `Select`, `FormulaR1C1` (read and written in R1C1 notation: `=R[-1]C*2`). `ActiveCell` and
+//! `Selection` start at the sheet's active cell as the file saved it ([`RunOptions::active_cells`])
+//! and follow `Select`/`Activate`. In a sheet's module ([`Document::Sheet`]) `Range`, `Cells`
+//! and `[B3]` mean that sheet and `Me` is it; sheets' code names (`Sheet1`) are objects.
 //! A write is typed into the cell (text starting with `=` is a formula, as in VBA) and
 //! recalculates what depends on it before the next statement.
 //!
@@ -71,7 +75,10 @@
 //!
 //! Errors: `On Error GoTo label` (the label in the procedure's body, outside loops and Ifs),
 //! `On Error Resume Next`, `On Error GoTo 0` / `-1`, `Resume`, `Resume Next`, `Resume label`,
-//! and `Err` (`Number`, `Description`, `Clear`, `Raise n, , text`). Only statements trap: an
+//! and `Err` (`Number`, `Description`, `Clear`, `Raise n, , text`). `Resume Next` after a
+//! failing If, ElseIf or `Do While` condition goes on with the block's first statement (VBA's
+//! "next statement"; LibreOffice's VBA mode agrees), after a failing `Loop While` past the
+//! loop; a failing For bound or Select Case subject skips the statement. Only statements trap: an
 //! expression that fails gives an error value (`1/0` is `#DIV/0!`), and the statement that
 //! needs a number from it (a typed variable, `For`, `Cells`) is the one that fails, with VBA's
 //! number (11 for a division by zero, 13 for a type mismatch, 6 for an overflow, else 5). The
@@ -85,7 +92,8 @@
 //! Function returning one. `Foo (y)` without `Call` passes `y` by value, as in VBA.
 //!
 //! Not in the language: classes, `Is`, `Static Sub`, `ParamArray`, arrays of more than two
-//! dimensions, events and forms.
+//! dimensions, events and forms. A member's dot touches what it follows ([MS-VBAL] 5.6.12):
+//! `Out .Y + .X` in a With block calls `Out` with `.Y + .X`.
 
 mod arrays;
 pub mod ast;
@@ -141,6 +149,25 @@ pub struct RunOptions {
     /// Where `Debug.Print` lines and `MsgBox` texts go as they happen; `None` keeps them in
     /// [`RunOutput::printed`] and [`RunOutput::messages`].
     pub sink: Option<Sink>,
+    /// The sheets' VBA code names with the sheet each names (`("Sheet1", "Data")`), as the
+    /// workbook file gives them: `Sheet1.Range("A1")` reaches that sheet.
+    pub code_names: Vec<(String, String)>,
+    /// The document module the code is in; `None` for a standard module (or a .bas file).
+    pub document: Option<Document>,
+    /// The active cell of each sheet when the macro starts, by sheet name, as the file saved
+    /// it (`ActiveCell`, `Selection`); a sheet not listed starts at A1.
+    pub active_cells: Vec<(String, crate::formula::address::Pos)>,
+}
+
+/// A document module: the code behind a sheet or the workbook (a worksheet button's macro
+/// lives there).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Document {
+    /// A sheet's module (`Sheet1`), by sheet name: unqualified `Range`, `Cells` and `[B3]`
+    /// mean this sheet whichever is active, and `Me` is the sheet.
+    Sheet(String),
+    /// `ThisWorkbook`: `Me` is the workbook; `Range` and `Cells` mean the active sheet.
+    Workbook,
 }
 
 /// A line a macro printed, handed to [`RunOptions::sink`] as soon as it is complete.
@@ -202,6 +229,9 @@ impl Default for RunOptions {
             max_array_items: DEFAULT_MAX_ARRAY_ITEMS,
             max_output: DEFAULT_MAX_OUTPUT,
             sink: None,
+            code_names: Vec::new(),
+            document: None,
+            active_cells: Vec::new(),
         }
     }
 }
@@ -295,7 +325,17 @@ impl std::error::Error for MacroError {}
 /// Parses a module without running it (for listing its Subs, or checking it). `workbook`
 /// resolves sheet names in `[Sheet2!A1]` brackets.
 pub fn parse(source: &str, file_name: &str, workbook: &Workbook) -> Result<Module, MacroError> {
-    parser::parse_module(source, &|n| workbook.sheet_id(n)).map_err(|e| {
+    parse_with(source, file_name, workbook, &RunOptions::default())
+}
+
+/// [`parse`] knowing what `options` adds to the names: the sheets' code names, and `Me` in
+/// a document module.
+fn parse_with(source: &str, file_name: &str, workbook: &Workbook, options: &RunOptions) -> Result<Module, MacroError> {
+    let mut objects: Vec<String> = options.code_names.iter().map(|(code, _)| code.to_ascii_lowercase()).collect();
+    if options.document.is_some() {
+        objects.push("me".into());
+    }
+    parser::parse_module(source, &|n| workbook.sheet_id(n), &objects).map_err(|e| {
         let lines = parser::Lines::new(source);
         let span = lines.span(source, e.offset);
         MacroError {
@@ -319,6 +359,6 @@ pub fn run(
     file_name: &str,
     options: &RunOptions,
 ) -> Result<RunOutput, MacroError> {
-    let module = parse(source, file_name, workbook)?;
+    let module = parse_with(source, file_name, workbook, options)?;
     interp::run(&module, workbook, source, file_name, options)
 }

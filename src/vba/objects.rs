@@ -3,9 +3,12 @@
 
 use crate::eval::coerce::{to_bool, to_text};
 use crate::eval::functions::vba::vba_text;
+use crate::eval::functions::Registry;
 use crate::eval::{Ctx, Operand, Value};
 use crate::formula::address::{column_index, column_name, Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::formula::ast::{Expr, SheetId};
+use crate::formula::parse::{parse_formula, parse_formula_r1c1, ParseContext};
+use crate::formula::print::{print_spelled, R1C1};
 
 use super::ast::{Link, Node, Path, Span};
 use super::interp::{Interp, Run};
@@ -102,21 +105,29 @@ impl Interp<'_, '_> {
             });
         }
         let active = self.active.get();
-        match lower(link).as_str() {
+        let here = self.unqualified_sheet();
+        let name = lower(link);
+        if let Some((_, sheet)) = self.code_sheets.iter().find(|(code, _)| *code == name) {
+            return Ok(Obj::Sheet(*sheet));
+        }
+        match name.as_str() {
             "application" => Ok(Obj::App),
             "thisworkbook" | "activeworkbook" => Ok(Obj::Workbook),
+            "me" => Ok(self.home.map_or(Obj::Workbook, Obj::Sheet)),
             "activesheet" => Ok(Obj::Sheet(active)),
+            "activecell" => Ok(Obj::Range(active, Rect::cell(self.cursor(active).1))),
+            "selection" => Ok(Obj::Range(active, self.cursor(active).0)),
             "worksheets" | "sheets" => match link.args {
                 None => Ok(Obj::Sheets),
                 Some(_) => self.sheet_by(ctx, link).map(Obj::Sheet),
             },
-            "range" => self.range(ctx, active, link),
-            "cells" => self.cells(ctx, active, Rect::cell(Pos::new(0, 0)), link),
+            "range" => self.range(ctx, here, link),
+            "cells" => self.cells(ctx, here, Rect::cell(Pos::new(0, 0)), link),
             "nc" => Ok(Obj::Nc),
             "err" => Ok(Obj::Err),
             "debug" => Ok(Obj::Debug),
             "msgbox" => self.msgbox(ctx, link),
-            "evaluate" => self.evaluate(ctx, active, link),
+            "evaluate" => self.evaluate(ctx, here, link),
             "inputbox" => Err(self.fault_at(
                 link.span,
                 "InputBox: a macro runs without a user; pass values with --arg NAME=VALUE or read them from cells",
@@ -130,7 +141,7 @@ impl Interp<'_, '_> {
         match obj {
             Obj::App => match name.as_str() {
                 "worksheets" | "sheets" | "range" | "cells" | "activesheet" | "activeworkbook" | "thisworkbook"
-                | "evaluate" | "inputbox" | "msgbox" => self.root(ctx, link),
+                | "activecell" | "selection" | "evaluate" | "inputbox" | "msgbox" => self.root(ctx, link),
                 "screenupdating" | "displayalerts" | "enableevents" => Ok(Obj::Value(Value::Bool(true))),
                 "calculate" => Ok(Obj::Value(Value::Blank)),
                 "name" => Ok(Obj::Value(Value::text("ncsheet"))),
@@ -251,6 +262,15 @@ impl Interp<'_, '_> {
                 Ok(Obj::Range(id, used))
             }
             "evaluate" => self.evaluate(ctx, id, link),
+            "checkboxes" | "optionbuttons" | "dropdowns" | "listboxes" | "buttons" | "shapes" | "oleobjects"
+            | "chartobjects" => Err(self.fault_at(
+                link.span,
+                format!(
+                    "{}: a sheet's form controls and shapes are not in ncsheet's workbook (a macro runs \
+                     without a window); keep the choice in a cell and read it with Range",
+                    link.name
+                ),
+            )),
             _ => Err(self.no_member(&Obj::Sheet(id), link)),
         }
     }
@@ -337,9 +357,11 @@ impl Interp<'_, '_> {
 
     fn range_member(&self, ctx: &mut Ctx, sheet: SheetId, rect: Rect, link: &Link) -> Run<Obj> {
         let value = |v: Value| Ok(Obj::Value(v));
-        match lower(link).as_str() {
+        let name = lower(link);
+        match name.as_str() {
             "value" | "value2" => value(ctx.rect_value(sheet, rect).unwrap_single()),
-            "formula" | "formulalocal" => value(self.formulas(sheet, rect)),
+            "formula" | "formulalocal" => value(self.formulas(sheet, rect, false)),
+            "formular1c1" | "formular1c1local" => value(self.formulas(sheet, rect, true)),
             "text" => value(Value::text(print_text(&ctx.rect_value(sheet, Rect::cell(rect.first))))),
             "row" => value(Value::Number(rect.first.row as f64 + 1.0)),
             "column" => value(Value::Number(rect.first.col as f64 + 1.0)),
@@ -384,17 +406,37 @@ impl Interp<'_, '_> {
             }
             "worksheet" | "parent" => Ok(Obj::Sheet(sheet)),
             "select" | "activate" => {
-                self.active.set(sheet);
+                self.select_range(sheet, rect, name == "activate");
                 value(Value::Blank)
             }
             _ => Err(self.no_member(&Obj::Range(sheet, rect), link)),
         }
     }
 
-    /// `.Formula`: what was typed into each cell (its formula, or its constant).
-    fn formulas(&self, sheet: SheetId, rect: Rect) -> Value {
+    /// `r.Select` (and `r.Activate` outside the selection): the range's sheet becomes the
+    /// active one, the range its selection and its first cell the active cell. Activating a
+    /// cell inside the selection moves only the active cell, as in Excel.
+    fn select_range(&self, sheet: SheetId, rect: Rect, activate: bool) {
+        self.active.set(sheet);
+        let (selection, _) = self.cursor(sheet);
+        let inside = activate && selection.contains(rect.first) && rect.is_cell();
+        let selection = if inside { selection } else { rect };
+        self.cursors.borrow_mut().insert(sheet, (selection, rect.first));
+    }
+
+    /// `.Formula`: what was typed into each cell (its formula, or its constant);
+    /// `.FormulaR1C1` (`r1c1`) with the formulas' references in R1C1 style.
+    fn formulas(&self, sheet: SheetId, rect: Rect, r1c1: bool) -> Value {
         let wb = self.wb.borrow();
-        let text = |p: Pos| Value::text(wb.input(sheet, p).unwrap_or_default());
+        let names = |id: SheetId| Env::sheet_name(&**wb, id).unwrap_or_default();
+        let text = |p: Pos| {
+            let tree = wb.formula_tree(sheet, p).filter(|_| r1c1);
+            let text = match tree {
+                Some(t) => format!("={}", print_spelled(&t, p, &Registry, &names, &R1C1)),
+                None => wb.input(sheet, p).unwrap_or_default(),
+            };
+            Value::text(text)
+        };
         if rect.is_cell() {
             return text(rect.first);
         }
@@ -457,15 +499,17 @@ impl Interp<'_, '_> {
                 }
                 self.set_member(&mut ctx, obj, last, value)
             }
-            Node::Evaluate { expr, span } => match Ctx::new(self, self.active.get(), Pos::new(0, 0)).operand(expr) {
-                Operand::Ref(sheet, rect) => {
-                    let v = self.eval(value)?;
-                    self.write_range(sheet, rect, &v)
+            Node::Evaluate { expr, span } => {
+                match Ctx::new(self, self.unqualified_sheet(), Pos::new(0, 0)).operand(expr) {
+                    Operand::Ref(sheet, rect) => {
+                        let v = self.eval(value)?;
+                        self.write_range(sheet, rect, &v)
+                    }
+                    Operand::Value(_) | Operand::Areas(_) => {
+                        Err(self.fault_at(*span, "only a bracket naming cells can be assigned"))
+                    }
                 }
-                Operand::Value(_) | Operand::Areas(_) => {
-                    Err(self.fault_at(*span, "only a bracket naming cells can be assigned"))
-                }
-            },
+            }
             _ => unreachable!("assignment targets are paths and brackets"),
         }
     }
@@ -484,11 +528,11 @@ impl Interp<'_, '_> {
                 let v = self.eval(value)?;
                 self.write_range(*sheet, *rect, &v)
             }
-            (Obj::Range(sheet, rect), "formula" | "formulalocal") => {
+            (Obj::Range(sheet, rect), "formula" | "formulalocal" | "formular1c1" | "formular1c1local") => {
                 let v = self.eval(value)?;
                 let text =
                     vba_text(&v).map_err(|e| self.fault_at(self.expr_span(value), format!("the formula is {e}")))?;
-                self.write_formula(*sheet, *rect, &text, link.span)
+                self.write_formula(*sheet, *rect, &text, name.starts_with("formular1c1"), link.span)
             }
             (Obj::Nc, _) => self.set_nc(&name, value, link.span),
             (Obj::Record(var, path), _) => {
@@ -512,18 +556,38 @@ impl Interp<'_, '_> {
         }
     }
 
-    /// `.Formula = "=A1*2"` into every cell of `rect`, relative references moving along as a
-    /// fill moves them (VBA does the same): the tree is parsed once, at the first cell.
-    fn write_formula(&self, sheet: SheetId, rect: Rect, text: &str, span: Span) -> Run<()> {
-        if rect.is_cell() || !text.starts_with('=') {
+    /// `.Formula = "=A1*2"` (A1 style, read at the range's first cell) or `.FormulaR1C1 =
+    /// "=R[-1]C*2"` into every cell of `rect`: the one tree in each, its relative references
+    /// moving along as a fill moves them (VBA does the same). Text not starting with `=` is
+    /// typed as a constant.
+    fn write_formula(&self, sheet: SheetId, rect: Rect, text: &str, r1c1: bool, span: Span) -> Run<()> {
+        if !text.starts_with('=') {
             return self.write_range(sheet, rect, &Value::text(text));
         }
+        let cells = rect.rows() as u64 * rect.cols() as u64;
+        if cells > MAX_FORMULA_WRITE {
+            return Err(self.fault(format!("writing {cells} formulas at once is more than a macro may")));
+        }
         let mut wb = self.wb.borrow_mut();
-        let expr = wb
-            .parse_at(text, sheet, rect.first)
-            .map_err(|e| self.fault_at(span, format!("{text}: column {}: {}", e.column(text), e.message)))?;
-        wb.fill_formula_tree_deferred(sheet, rect, expr);
-        wb.recalculate();
+        let parsed = {
+            let sheets = |name: &str| wb.sheet_id(name);
+            let ctx = ParseContext { at: rect.first, functions: &Registry, sheet: &sheets };
+            if r1c1 {
+                parse_formula_r1c1(text, &ctx)
+            } else {
+                parse_formula(text, &ctx)
+            }
+        };
+        let style = if r1c1 { "R1C1" } else { "A1" };
+        let tree = parsed
+            .map_err(|e| self.fault_at(span, format!("{text} ({style}): column {}: {}", e.column(text), e.message)))?;
+        wb.fill_formula_tree_deferred(sheet, rect, tree);
+        wb.recalculate_rect(sheet, rect);
         Ok(())
     }
 }
+
+/// The most cells one `.Formula =` fills.
+const MAX_FORMULA_WRITE: u64 = 10_000_000;
+
+use crate::eval::Env;

@@ -21,7 +21,7 @@ use crate::formula::parse::{
 };
 
 use super::ast::*;
-use super::resolve::{is_object, lower_bare, refusal, FORBIDDEN};
+use super::resolve::{lower_bare, refusal, FORBIDDEN};
 
 /// Where byte offsets of the source fall in lines and columns.
 pub struct Lines {
@@ -56,13 +56,20 @@ pub type SyntaxError = ParseError;
 pub(super) type Res<T> = Result<T, ParseError>;
 
 /// Parses a module. `sheets` resolves sheet names written in `[Sheet2!A1]` brackets.
-pub fn parse_module(src: &str, sheets: &dyn Fn(&str) -> Option<SheetId>) -> Result<Module, SyntaxError> {
+/// `objects`: names (lower case) that are objects besides the language's own: the sheets'
+/// code names, `me` in a document module.
+pub fn parse_module(
+    src: &str,
+    sheets: &dyn Fn(&str) -> Option<SheetId>,
+    objects: &[String],
+) -> Result<Module, SyntaxError> {
     limits::check_nesting(src, limits::Language::Macro)?;
     limits::check_block_nesting(src)?;
     let mut pairs = FormulaGrammar::parse(Rule::module, src).map_err(from_pest)?;
     let module = pairs.next().expect("module rule");
     let items: Vec<Pair<Rule>> = module.into_inner().collect();
-    let b = Build::new(src, sheets, &items)?;
+    let mut b = Build::new(src, sheets, &items)?;
+    b.objects = objects;
     let type_names = items.iter().filter(|i| i.as_rule() == Rule::type_def);
     *b.types.borrow_mut() = type_names.map(|i| name_of(&find(&kids(i), Rule::ident).expect("type name"))).collect();
     let mut out = Module { base: 0, ..Module::default() };
@@ -171,6 +178,8 @@ pub(super) struct Scope {
 pub(super) struct Build<'s> {
     src: &'s str,
     sheets: &'s dyn Fn(&str) -> Option<SheetId>,
+    /// Objects of this run besides the language's own (code names, `me`), lower case.
+    pub(super) objects: &'s [String],
     /// Every procedure's signature, by index.
     pub(super) procs: Vec<Signature>,
     pub(super) globals: RefCell<Vec<String>>,
@@ -210,6 +219,7 @@ impl<'s> Build<'s> {
         let b = Build {
             src,
             sheets,
+            objects: &[],
             procs: Vec::new(),
             globals: RefCell::new(Vec::new()),
             scope: RefCell::new(Scope::default()),
@@ -403,7 +413,7 @@ impl<'s> Build<'s> {
     fn statement(&self, pair: Pair<Rule>) -> Res<Option<Stmt>> {
         let span = self.span(start(&pair));
         let kind = match pair.as_rule() {
-            Rule::rem_stmt | Rule::comment_text => return Ok(None),
+            Rule::rem_stmt | Rule::attribute_stmt | Rule::comment_text => return Ok(None),
             Rule::dim_stmt if find(&kids(&pair), Rule::k_static).is_some() => {
                 if self.in_module_level() {
                     return Err(self.error_at(&pair, "Static declares a procedure's variable; use Dim here"));
@@ -541,7 +551,7 @@ impl<'s> Build<'s> {
                 return Err(self.error_at(&pair, refusal(&link.name)));
             }
             match &link.args {
-                None if is_object(&lower) => {}
+                None if self.is_object(&lower) => {}
                 None if self.proc_index(&link.name).is_some() && !self.is_own_function(&link.name) => {
                     return Err(self.error_at(&pair, format!("{} is a procedure, not a variable", link.name)))
                 }

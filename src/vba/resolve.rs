@@ -63,6 +63,7 @@ pub(super) fn refusal(name: &str) -> String {
 
 /// Objects a path can start from (lower case).
 const OBJECTS: &[&str] = &[
+    "activecell",
     "activesheet",
     "activeworkbook",
     "application",
@@ -74,6 +75,7 @@ const OBJECTS: &[&str] = &[
     "msgbox",
     "nc",
     "range",
+    "selection",
     "sheets",
     "thisworkbook",
     "worksheetfunction",
@@ -115,6 +117,11 @@ pub(super) fn lower_bare(name: &str) -> String {
 }
 
 impl Build<'_> {
+    /// An object of the language or of this run (a sheet's code name, `Me`).
+    pub(super) fn is_object(&self, lower: &str) -> bool {
+        is_object(lower) || self.objects.iter().any(|o| o == lower)
+    }
+
     pub(super) fn is_var(&self, name: &str) -> bool {
         let lower = name.to_ascii_lowercase();
         self.scope.borrow().vars.contains(&lower) || self.globals.borrow().contains(&lower)
@@ -172,7 +179,7 @@ impl Build<'_> {
         }
         self.check_path(pair, &path)?;
         let root = &path.links[0];
-        if !self.is_var(&root.name) && !is_object(&lower_bare(&root.name)) {
+        if !self.is_var(&root.name) && !self.is_object(&lower_bare(&root.name)) {
             return Err(self.error_at(pair, format!("{} is not an object or a variable", root.name)));
         }
         Ok(self.node(Node::Path(path), at, end))
@@ -271,7 +278,7 @@ impl Build<'_> {
             if let Some(proc) = self.proc_index(&link.name) {
                 return self.proc_call(pair, proc, Vec::new(), statement, end);
             }
-            if is_object(&lower) {
+            if self.is_object(&lower) {
                 let path = Path { with: false, links: vec![link], span: self.span(at) };
                 return Ok(self.node(Node::Path(path), at, end));
             }
@@ -298,7 +305,7 @@ impl Build<'_> {
         if let Some(call) = self.function_call(pair, &format!("{PREFIX}{lower}"), &link)? {
             return Ok(call);
         }
-        if is_object(&lower) {
+        if self.is_object(&lower) {
             let path = Path { with: false, links: vec![link], span: self.span(at) };
             return Ok(self.node(Node::Path(path), at, end));
         }

@@ -143,6 +143,8 @@ pub struct SheetLayout {
     pub number_formats: HashMap<Pos, String>,
     /// The sheet's VBA code name (`Sheet1`), if the file gave one.
     pub code_name: Option<String>,
+    /// The sheet's active cell as the file saved it (for a macro's `ActiveCell`).
+    pub active_cell: Option<Pos>,
     /// Array formulas of the file by anchor: written back over the same area when ncsheet
     /// does not spill them itself (it may lack a function, or the formula is a legacy
     /// Ctrl+Shift+Enter one filling its area with a scalar).

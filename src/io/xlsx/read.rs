@@ -616,6 +616,7 @@ fn style_formats(styles: &[Style]) -> Vec<Option<String>> {
 fn sheet_layout(scan: &SheetScan, formats: &[Option<String>]) -> SheetLayout {
     let mut layout = SheetLayout {
         code_name: scan.code_name.clone(),
+        active_cell: scan.active_cell,
         array_formulas: scan.arrays.iter().map(|a| (a.anchor, *a)).collect(),
         ..SheetLayout::default()
     };

@@ -39,6 +39,8 @@ pub struct SheetScan {
     pub default_width: Option<f64>,
     /// `<sheetPr codeName="…">`: the sheet's VBA name.
     pub code_name: Option<String>,
+    /// The first `<selection activeCell="…">`: where a macro's `ActiveCell` starts.
+    pub active_cell: Option<Pos>,
     /// Rows `<row hidden="1">` (0-based).
     pub hidden_rows: Vec<u32>,
     /// The sheet's `<autoFilter ref>`, and whether it filters on a column.
@@ -268,6 +270,9 @@ impl SheetScanner {
             b"col" if opens => self.column_width(tag),
             b"sheetFormatPr" if opens => self.default_width(tag),
             b"sheetPr" if opens => self.scan.code_name = tag.attr("codeName").map(xml::unescape),
+            b"selection" if opens && self.scan.active_cell.is_none() => {
+                self.scan.active_cell = tag.attr("activeCell").and_then(parse_pos);
+            }
             b"autoFilter" if opens => {
                 self.scan.auto_filter = tag.attr("ref").and_then(parse_rect).map(|r| (r, false));
             }
