@@ -42,7 +42,27 @@ const DEFAULT_SIZES: &[&str] = &[
     "xlsx-sheets-25000",
     "xlsx-sheets-50000",
     "xlsx-sheets-100000",
+    "indirect-50000",
+    "indirect-100000",
+    "indirect-200000",
+    "indirect-edit-50000",
+    "indirect-edit-100000",
+    "indirect-edit-200000",
+    "indirect-rewrite-50000",
+    "indirect-rewrite-100000",
+    "indirect-rewrite-200000",
+    "far-csv-load-262144",
+    "far-csv-load-524288",
+    "far-csv-load-1048576",
+    "macro-timeout-250000",
+    "macro-timeout-500000",
+    "macro-timeout-1000000",
 ];
+
+/// Edits timed in each `indirect-edit` case.
+const EDITS: u32 = 10;
+/// The `--timeout` of the `macro-timeout` cases.
+const MACRO_SECONDS: f64 = 1.0;
 
 #[derive(Clone, Copy, PartialEq)]
 enum Kind {
@@ -65,6 +85,20 @@ enum Kind {
     Sheets,
     /// The same workbook saved as .xlsx and loaded.
     XlsxSheets,
+    /// A1 = 1, Ak = `INDIRECT("A"&(ROW()-1))+1`: a chain of volatile run-time references.
+    Indirect,
+    /// That chain built, then 10 edits of a cell it does not read, each recomputing every
+    /// volatile cell (as Excel does): the time is of the edits, proportional to N.
+    IndirectEdit,
+    /// That chain built, then each of its formulas replaced by another INDIRECT one without
+    /// recalculating, then computed once (a file reread, a pasted column).
+    IndirectRewrite,
+    /// A csv file whose one cell is at row N, column XFD (N-1 empty lines, then 16,383
+    /// commas and a number; a MiB at N = 1,048,576), loaded and A1 read (`ncsheet eval FILE A1`).
+    FarCsvLoad,
+    /// A macro evaluating `SUM(SEQUENCE(N))` in an endless loop under a 1 s `--timeout`:
+    /// the time is when it stopped.
+    MacroTimeout,
 }
 
 struct Case {
@@ -85,7 +119,12 @@ impl Case {
             "far-csv" => Kind::FarCsv,
             "sheets" => Kind::Sheets,
             "xlsx-sheets" => Kind::XlsxSheets,
-            _ => return Err(format!("unknown case kind in {name:?} (circ, circ-edits, offset, offset-edits, self-offset, far-csv, sheets, xlsx-sheets)")),
+            "indirect" => Kind::Indirect,
+            "indirect-edit" => Kind::IndirectEdit,
+            "indirect-rewrite" => Kind::IndirectRewrite,
+            "far-csv-load" => Kind::FarCsvLoad,
+            "macro-timeout" => Kind::MacroTimeout,
+            _ => return Err(format!("unknown case kind in {name:?} (circ, circ-edits, offset, offset-edits, self-offset, far-csv, sheets, xlsx-sheets, indirect, indirect-edit, indirect-rewrite, far-csv-load, macro-timeout)")),
         };
         let n: u32 = n.parse().ok().filter(|&n| n >= 2).ok_or_else(|| format!("bad size in {name:?}"))?;
         Ok(Case { name: name.to_string(), kind, n })
@@ -100,8 +139,9 @@ fn set(wb: &mut Workbook, sheet: u16, pos: Pos, text: &str) -> Result<(), String
     wb.set_input_deferred(sheet, pos, text).map_err(|e| e.to_string())
 }
 
-/// Builds and computes the case's workbook; returns it for checking.
-fn build(case: &Case, xlsx: Option<&std::path::Path>) -> Result<Workbook, String> {
+/// Builds and computes the case's workbook; returns it for checking. `file` is the case's
+/// input file, written before timing (xlsx-sheets, far-csv-load).
+fn build(case: &Case, file: Option<&std::path::Path>) -> Result<Workbook, String> {
     match case.kind {
         Kind::Circ => {
             let mut wb = Workbook::with_sheet();
@@ -165,11 +205,81 @@ fn build(case: &Case, xlsx: Option<&std::path::Path>) -> Result<Workbook, String
             let wb = sheets_book(case.n)?;
             Ok(wb)
         }
-        Kind::XlsxSheets => {
-            let path = xlsx.expect("the xlsx file is written before timing");
+        Kind::XlsxSheets | Kind::FarCsvLoad => {
+            let path = file.expect("the input file is written before timing");
             ncsheet::io::load(path).map_err(|e| e.to_string())
         }
+        Kind::Indirect => {
+            let mut wb = indirect_chain(case.n)?;
+            wb.recalculate();
+            Ok(wb)
+        }
+        Kind::IndirectEdit | Kind::IndirectRewrite => Err("timed in parts (timed_part)".to_string()),
+        Kind::MacroTimeout => {
+            let source = format!(
+                "Sub Main()\n    Dim s\n    Do\n        s = Evaluate(\"SUM(SEQUENCE({}))\")\n    Loop\nEnd Sub\n",
+                case.n
+            );
+            let mut wb = Workbook::with_sheet();
+            let options = ncsheet::vba::RunOptions {
+                deadline: Some(ncsheet::vba::Deadline::after(MACRO_SECONDS)),
+                ..ncsheet::vba::RunOptions::default()
+            };
+            match ncsheet::vba::run(&mut wb, &source, "loop.bas", &options) {
+                Err(e) if e.message.contains("--timeout") => Ok(wb),
+                Err(e) => Err(format!("{}: stopped by {e:?}, not the time limit", case.name)),
+                Ok(_) => Err(format!("{}: an endless loop ended", case.name)),
+            }
+        }
     }
+}
+
+/// A1 = 1 and Ak = `INDIRECT("A"&(ROW()-1))+1` for k up to n, not computed.
+fn indirect_chain(n: u32) -> Result<Workbook, String> {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, 0, at(0, 0), "1")?;
+    for k in 2..=n {
+        set(&mut wb, 0, at(k - 1, 0), "=INDIRECT(\"A\"&(ROW()-1))+1")?;
+    }
+    Ok(wb)
+}
+
+/// The cases whose timed part follows an untimed setup: the setup's workbook, then the
+/// timed work on it.
+fn timed_part(case: &Case) -> Result<Option<(Workbook, f64)>, String> {
+    if !matches!(case.kind, Kind::IndirectEdit | Kind::IndirectRewrite) {
+        return Ok(None);
+    }
+    let n = case.n;
+    let mut wb = indirect_chain(n)?;
+    wb.recalculate();
+    let start = Instant::now();
+    match case.kind {
+        Kind::IndirectEdit => {
+            for k in 1..=EDITS {
+                wb.set_input(0, at(0, 1), &k.to_string()).map_err(|e| e.to_string())?;
+            }
+        }
+        Kind::IndirectRewrite => {
+            // The same chain, written as a reference to the column and the row above.
+            for k in 2..=n {
+                set(&mut wb, 0, at(k - 1, 0), "=INDIRECT(\"R[-1]C\",FALSE)+1")?;
+            }
+            wb.recalculate();
+        }
+        _ => unreachable!("checked above"),
+    }
+    Ok(Some((wb, start.elapsed().as_secs_f64())))
+}
+
+/// A csv file whose only cell is a number at row `rows`, column XFD.
+fn far_csv_file(rows: u32) -> Result<std::path::PathBuf, String> {
+    let path = std::env::temp_dir().join(format!("ncsheet-bench-scaling-{}.csv", std::process::id()));
+    let mut text = "\n".repeat(rows as usize - 1);
+    text.push_str(&",".repeat(16_383));
+    text.push_str("7\n");
+    std::fs::write(&path, text).map_err(|e| e.to_string())?;
+    Ok(path)
 }
 
 fn sheets_book(n: u32) -> Result<Workbook, String> {
@@ -197,7 +307,7 @@ fn check(case: &Case, wb: &Workbook) -> Result<(), String> {
                 return fail(format!("{} circular references reported, not {n}", wb.cycles().len()));
             }
         }
-        Kind::Offset | Kind::OffsetEdits | Kind::SelfOffset | Kind::FarCsv => {
+        Kind::Offset | Kind::OffsetEdits | Kind::SelfOffset | Kind::FarCsv | Kind::Indirect => {
             let last = wb.value(0, at(n - 1, 0));
             if last != Value::Number(n as f64) {
                 return fail(format!("A{n} is {last:?}, not {n}"));
@@ -212,6 +322,22 @@ fn check(case: &Case, wb: &Workbook) -> Result<(), String> {
                 return fail(format!("S1!B1 is {got:?}, not {}", 2 * n));
             }
         }
+        Kind::IndirectEdit | Kind::IndirectRewrite => {
+            let last = wb.value(0, at(n - 1, 0));
+            if last != Value::Number(n as f64) {
+                return fail(format!("A{n} is {last:?}, not {n}"));
+            }
+            if case.kind == Kind::IndirectEdit && wb.value(0, at(0, 1)) != Value::Number(EDITS as f64) {
+                return fail(format!("B1 is {:?}, not {EDITS}", wb.value(0, at(0, 1))));
+            }
+        }
+        Kind::FarCsvLoad => {
+            let far = wb.value(0, at(n - 1, 16_383));
+            if far != Value::Number(7.0) || !wb.value(0, at(0, 0)).is_blank() {
+                return fail(format!("XFD{n} is {far:?}, A1 {:?}", wb.value(0, at(0, 0))));
+            }
+        }
+        Kind::MacroTimeout => {}
     }
     Ok(())
 }
@@ -255,22 +381,29 @@ fn run() -> Result<(), String> {
     println!("| case | size | best of {} | per item |", args.runs);
     println!("|---|---|---|---|");
     for case in &cases {
-        let xlsx = match case.kind {
+        let file = match case.kind {
             Kind::XlsxSheets => {
                 let path = std::env::temp_dir().join(format!("ncsheet-bench-scaling-{}.xlsx", std::process::id()));
                 ncsheet::io::save(&sheets_book(case.n)?, &path).map_err(|e| e.to_string())?;
                 Some(path)
             }
+            Kind::FarCsvLoad => Some(far_csv_file(case.n)?),
             _ => None,
         };
         let mut best = f64::MAX;
         for _ in 0..args.runs {
-            let start = Instant::now();
-            let wb = build(case, xlsx.as_deref())?;
-            best = best.min(start.elapsed().as_secs_f64());
+            let (wb, seconds) = match timed_part(case)? {
+                Some(timed) => timed,
+                None => {
+                    let start = Instant::now();
+                    let wb = build(case, file.as_deref())?;
+                    (wb, start.elapsed().as_secs_f64())
+                }
+            };
+            best = best.min(seconds);
             check(case, &wb)?;
         }
-        if let Some(path) = &xlsx {
+        if let Some(path) = &file {
             let _ = std::fs::remove_file(path);
         }
         let kind = case.name.rsplit_once('-').map_or("", |(k, _)| k);

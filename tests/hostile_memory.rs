@@ -290,6 +290,8 @@ fn every_corpus_workbook_loads_under_the_memory_cap() {
         assert!(std::env::var("CI").as_deref() != Ok("true"), "the corpora are missing under {}", root.display());
         return;
     }
+    // The example sheets shipped with ncsheet, csv and xlsx.
+    collect_workbooks(&Path::new(env!("CARGO_MANIFEST_DIR")).join("sheets"), &mut files);
     let mut failed = Vec::new();
     for file in &files {
         let (code, _, err, _) = ncsheet(file.parent().unwrap(), &["info", file.to_str().unwrap()]);
@@ -306,7 +308,7 @@ fn collect_workbooks(dir: &Path, out: &mut Vec<PathBuf>) {
         let path = entry.path();
         if path.is_dir() {
             collect_workbooks(&path, out);
-        } else if path.extension().is_some_and(|e| e == "xlsx" || e == "xlsm") {
+        } else if path.extension().is_some_and(|e| e == "xlsx" || e == "xlsm" || e == "csv") {
             out.push(path);
         }
     }
@@ -368,6 +370,49 @@ fn macro_arrays_past_their_limit_stop_the_macro_naming_the_limit_and_the_option(
     refused(dir.path(), &["run", "m.csv", "m.bas", "--max-array-items", "19"], &["20 items", "--max-array-items"]);
     let (code, _, err, _) = ncsheet(dir.path(), &["run", "m.csv", "m.bas", "--max-array-items", "20"]);
     assert_eq!((code, err.trim()), (0, "25"));
+}
+
+#[test]
+fn a_macro_holding_too_much_in_all_its_strings_and_arrays_stops_naming_the_limit_and_the_option() {
+    let dir = tempfile::tempdir().unwrap();
+    // Each string and each array is within its own limit; together they pass 2 GiB.
+    let cases = [
+        (
+            "array of long strings",
+            "    Dim a(1 To 1000), i\n    For i = 1 To 1000\n        a(i) = Space(10000000) & i\n    Next",
+            4,
+        ),
+        (
+            "a long string in each call",
+            "    Debug.Print F(200)\nEnd Sub\nFunction F(n)\n    Dim s\n    s = Space(15000000) & n\n    If n > 0 Then F = F(n - 1)\nEnd Function\nSub Unused()",
+            6,
+        ),
+        (
+            "an array in each call",
+            "    Debug.Print G(200)\nEnd Sub\nFunction G(n)\n    Dim a\n    a = Evaluate(\"SEQUENCE(1000000)\")\n    If n > 0 Then G = G(n - 1)\nEnd Function\nSub Unused()",
+            6,
+        ),
+    ];
+    for (name, body, line) in cases {
+        macro_files(dir.path(), body);
+        let (code, _, err, _) = ncsheet(dir.path(), &["run", "m.csv", "m.bas", "--max-depth", "300"]);
+        assert_eq!(code, 1, "{name}: {err}");
+        for word in ["1024.0 MiB allowed", "--max-memory", &format!("m.bas:{line}:")] {
+            assert!(err.contains(word), "{name}: '{word}' missing from: {err}");
+        }
+    }
+    // 30 strings of 10 MB: within the default, past a lowered limit.
+    macro_files(dir.path(), "    Dim a(1 To 30), i\n    For i = 1 To 30\n        a(i) = Space(10000000) & i\n    Next\n    Debug.Print Len(a(30))");
+    let (code, _, err, _) = ncsheet(dir.path(), &["run", "m.csv", "m.bas"]);
+    assert_eq!((code, err.trim()), (0, "10000002"));
+    refused(dir.path(), &["run", "m.csv", "m.bas", "--max-memory", "100M"], &["100.0 MiB allowed", "--max-memory"]);
+    // One string shared by a thousand items is held once.
+    macro_files(
+        dir.path(),
+        "    Dim a(1 To 1000), i, s\n    s = Space(10000000)\n    For i = 1 To 1000\n        a(i) = s\n    Next\n    Debug.Print Len(a(1000))",
+    );
+    let (code, _, err, _) = ncsheet(dir.path(), &["run", "m.csv", "m.bas"]);
+    assert_eq!((code, err.trim()), (0, "10000000"));
 }
 
 #[test]

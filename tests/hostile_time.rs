@@ -244,6 +244,47 @@ fn a_macro_filling_an_offset_chain_cell_by_cell_is_linear() {
     assert_eq!(out.printed, vec![format!(" {size} ")]);
 }
 
+// ---- INDIRECT columns: volatile, recomputed at every edit, in work proportional to them ----
+
+#[test]
+fn an_indirect_column_rewritten_and_edited_is_linear_and_right() {
+    // Ak = INDIRECT("A"&(ROW()-1))+1 with A1 = 1: Ak is k. Rewriting the column (each
+    // volatile formula replaced) scanned the list of volatile cells once per cell.
+    let size = 20_000u32;
+    let at = |cell: &str| parse_cell(cell).unwrap();
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, "A1", "1");
+    let start = Instant::now();
+    for k in 2..=size {
+        wb.set_input_deferred(0, at(&format!("A{k}")), "=INDIRECT(\"A\"&(ROW()-1))+1").unwrap();
+    }
+    wb.recalculate();
+    assert_eq!(get(&wb, &format!("A{size}")), n(size as f64));
+    for k in 2..=size {
+        wb.set_input_deferred(0, at(&format!("A{k}")), "=INDIRECT(\"R[-1]C\",FALSE)+2").unwrap();
+    }
+    wb.recalculate();
+    assert!(start.elapsed() < Duration::from_secs(60), "took {:?}", start.elapsed());
+    assert_eq!(get(&wb, &format!("A{size}")), n(2.0 * size as f64 - 1.0));
+    // Still volatile: recomputed through the chain, and where the text now points.
+    set(&mut wb, "A1", "11");
+    assert_eq!(get(&wb, &format!("A{size}")), n(2.0 * size as f64 + 9.0));
+    set(&mut wb, "C1", "=INDIRECT(\"'Sheet1'!$A$\"&D1)");
+    assert_eq!(get(&wb, "C1"), Value::Error(XlError::Ref), "row 0 is no row");
+    set(&mut wb, "D1", "3");
+    assert_eq!(get(&wb, "C1"), n(15.0));
+    set(&mut wb, "C2", "=SUM(INDIRECT(\"a3:$A$1\"))");
+    assert_eq!(get(&wb, "C2"), n(11.0 + 13.0 + 15.0));
+    // Replaced by constants, the cells are no longer recomputed at every edit.
+    for k in 2..=size {
+        wb.set_input_deferred(0, at(&format!("A{k}")), "0").unwrap();
+    }
+    wb.recalculate();
+    assert!(!wb.calls_volatile(0, at("A7")));
+    set(&mut wb, "A1", "0");
+    assert_eq!(get(&wb, "C2"), n(0.0));
+}
+
 /// Unclosed calls and references spaced before a parenthesis, 60 levels deep: the parser
 /// once tried each level both as a call and as an intersection with a parenthesis, 2^60
 /// attempts. Each gives its error (or value) at once.

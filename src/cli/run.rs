@@ -72,6 +72,10 @@ pub struct RunArgs {
     /// The most Debug.Print and MsgBox output: 64M, 1G or bytes (default 64M)
     #[arg(long, value_name = "SIZE", value_parser = super::limits::parse_size)]
     pub max_output: Option<u64>,
+    /// The most memory all the macro's strings and arrays may hold together: 1G, 512M or
+    /// bytes (default 1G)
+    #[arg(long, value_name = "SIZE", value_parser = super::limits::parse_size)]
+    pub max_memory: Option<u64>,
     /// Stop the macro when calls nest deeper than this (endless recursion; at most 10000)
     #[arg(long, default_value_t = 100, value_parser = parse_max_depth)]
     pub max_depth: usize,
@@ -159,6 +163,7 @@ fn run_on_this_thread(args: RunArgs, dialect_name: &'static str, delimiter: Opti
         max_string: args.max_string,
         max_array_items: args.max_array_items,
         max_output: args.max_output.unwrap_or(vba::DEFAULT_MAX_OUTPUT),
+        max_memory: args.max_memory.unwrap_or(vba::DEFAULT_MAX_MEMORY),
         sink: Some(vba::Sink(std::rc::Rc::new(write_printed))),
         code_names,
         document,

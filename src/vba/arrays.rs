@@ -92,6 +92,12 @@ impl Interp<'_, '_> {
             let cell = super::objects::item(rect, &at).map_err(|m| self.fault_at(span, format!("{name}: {m}")))?;
             return self.write_range(sheet, Rect::cell(cell), &v);
         }
+        // The item's text, and the whole array when it is shared and so copied first.
+        let shared = match self.lookup(name) {
+            Some(Var::Array(a)) if Rc::strong_count(&a.data) > 2 => super::budget::value_bytes(&Value::Array(a.data)),
+            _ => 0,
+        };
+        self.charge(shared + super::budget::value_bytes(&v), span)?;
         let result = self.with_slot(name, |slot| {
             let ty = slot.ty.clone();
             let Var::Array(a) = &mut slot.var else { return Err(format!("{} is not an array", slot.name)) };

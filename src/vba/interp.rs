@@ -79,6 +79,7 @@ pub fn run(
         cursors: RefCell::new(cursors),
         notes: RefCell::new(Vec::new()),
         output_bytes: Cell::new(0),
+        charged: Cell::new(0),
         err: RefCell::new(ErrState::default()),
     };
     let result = it.start(entry);
@@ -176,9 +177,9 @@ pub struct ErrState {
     pub description: String,
 }
 
-struct Frame {
+pub(super) struct Frame {
     proc: usize,
-    vars: Vec<Slot>,
+    pub(super) vars: Vec<Slot>,
     with: Vec<Obj>,
     call_site: Option<Span>,
     on_error: OnError,
@@ -192,15 +193,15 @@ pub struct Interp<'m, 'w> {
     source: &'m str,
     lines: Lines,
     pub wb: RefCell<&'w mut Workbook>,
-    globals: RefCell<Vec<Slot>>,
-    frames: RefCell<Vec<Frame>>,
+    pub(super) globals: RefCell<Vec<Slot>>,
+    pub(super) frames: RefCell<Vec<Frame>>,
     pub out: RefCell<RunOutput>,
     /// A `Debug.Print` line left open by a trailing `;` or `,`.
     line: RefCell<Option<String>>,
     pub nc: RefCell<super::nc::NcState>,
     steps: Cell<u64>,
     /// Static variables between calls: (procedure, variable).
-    kept: RefCell<Vec<(usize, Slot)>>,
+    pub(super) kept: RefCell<Vec<(usize, Slot)>>,
     pub(super) pending: RefCell<Option<Fault>>,
     /// An `End` statement ran: every procedure stops.
     pub(super) ended: Cell<bool>,
@@ -216,6 +217,8 @@ pub struct Interp<'m, 'w> {
     notes: RefCell<Vec<String>>,
     /// Bytes of `Debug.Print` and `MsgBox` output so far, against [`RunOptions::max_output`].
     output_bytes: Cell<u64>,
+    /// Bytes stores brought since the variables were last measured (`budget.rs`).
+    pub(super) charged: Cell<u64>,
     pub err: RefCell<ErrState>,
 }
 
@@ -438,6 +441,7 @@ impl Interp<'_, '_> {
 
     /// Assigns a variable, converting to its declared type; an undeclared one is created.
     pub fn set_var(&self, name: &Rc<str>, var: Var, span: Span) -> Run<()> {
+        self.charge(super::budget::brought(&var), span)?;
         let result = self.with_slot(name, |slot| {
             if slot.constant {
                 return Err(format!("{} is a constant", slot.name));
@@ -849,6 +853,7 @@ impl Interp<'_, '_> {
                 }
                 _ => self.default_var(d.ty.as_ref()),
             };
+            self.charge(super::budget::brought(&var), d.span)?;
             if redim && self.with_slot(&d.name, |s| s.var = var.clone()).is_some() {
                 continue;
             }

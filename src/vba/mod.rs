@@ -97,6 +97,7 @@
 
 mod arrays;
 pub mod ast;
+mod budget;
 mod host;
 mod interp;
 mod nc;
@@ -146,6 +147,8 @@ pub struct RunOptions {
     pub max_array_items: usize,
     /// The most bytes `Debug.Print` and `MsgBox` may write in one run (`run --max-output`).
     pub max_output: u64,
+    /// The most bytes all the run's strings and arrays may hold together (`run --max-memory`).
+    pub max_memory: u64,
     /// Where `Debug.Print` lines and `MsgBox` texts go as they happen; `None` keeps them in
     /// [`RunOutput::printed`] and [`RunOutput::messages`].
     pub sink: Option<Sink>,
@@ -200,6 +203,10 @@ pub const DEFAULT_MAX_ARRAY_ITEMS: usize = 10_000_000;
 /// The default of [`RunOptions::max_output`]: 64 MiB of `Debug.Print` and `MsgBox` text.
 pub const DEFAULT_MAX_OUTPUT: u64 = 64 << 20;
 
+/// The default of [`RunOptions::max_memory`]: 1 GiB of strings and arrays, half of what
+/// ncsheet is tested to run in (docs/limits.md).
+pub const DEFAULT_MAX_MEMORY: u64 = 1 << 30;
+
 /// When a run must stop, and the `--timeout` it came from (for the message).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Deadline {
@@ -228,6 +235,7 @@ impl Default for RunOptions {
             max_string: DEFAULT_MAX_STRING,
             max_array_items: DEFAULT_MAX_ARRAY_ITEMS,
             max_output: DEFAULT_MAX_OUTPUT,
+            max_memory: DEFAULT_MAX_MEMORY,
             sink: None,
             code_names: Vec::new(),
             document: None,

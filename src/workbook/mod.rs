@@ -132,7 +132,7 @@ pub struct Workbook {
     /// Cells of each circular reference found by the last recalculation.
     cycles: recalc::Cycles,
     /// Formula cells calling a volatile function (NOW, TODAY), recalculated at every edit.
-    volatile: Vec<u32>,
+    volatile: recalc::VolatileCells,
     /// References formula cells made at run time (INDIRECT, OFFSET), linked in the graph.
     dynamic_refs: FxMap<u32, Vec<(SheetId, Rect)>>,
     scratch: recalc::Scratch,
@@ -479,7 +479,7 @@ impl Workbook {
         self.cells[id as usize].formula = fid;
         self.link(id);
         if self.formulas.get(fid).volatile {
-            self.volatile.push(id);
+            self.volatile.insert(id);
         }
     }
 
@@ -732,7 +732,7 @@ impl Workbook {
         let formula = self.cells[id as usize].formula;
         if formula != NO_FORMULA {
             if self.formulas.get(formula).volatile {
-                self.volatile.retain(|&v| v != id);
+                self.volatile.remove(id);
             }
             self.unlink(id);
             self.cells[id as usize].formula = NO_FORMULA;

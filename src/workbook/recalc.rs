@@ -121,6 +121,45 @@ impl Cycles {
     }
 }
 
+/// The formula cells recomputed at every edit (they call a volatile function), in the order
+/// they were stored. Removing one leaves a gap, closed up when half are gaps, so rewriting a
+/// column of 200,000 INDIRECT formulas costs each removal O(1), not a scan of the list.
+#[derive(Default)]
+pub struct VolatileCells {
+    cells: Vec<u32>,
+    /// Cell → its index in `cells`.
+    at: FxMap<u32, u32>,
+    gaps: usize,
+}
+
+const GAP: u32 = u32::MAX;
+
+impl VolatileCells {
+    pub fn insert(&mut self, id: u32) {
+        if let std::collections::hash_map::Entry::Vacant(e) = self.at.entry(id) {
+            e.insert(self.cells.len() as u32);
+            self.cells.push(id);
+        }
+    }
+
+    pub fn remove(&mut self, id: u32) {
+        let Some(i) = self.at.remove(&id) else { return };
+        self.cells[i as usize] = GAP;
+        self.gaps += 1;
+        if self.gaps * 2 > self.cells.len() {
+            self.cells.retain(|&c| c != GAP);
+            self.gaps = 0;
+            for (i, &c) in self.cells.iter().enumerate() {
+                self.at.insert(c, i as u32);
+            }
+        }
+    }
+
+    fn append_to(&self, out: &mut Vec<u32>) {
+        out.extend(self.cells.iter().copied().filter(|&c| c != GAP));
+    }
+}
+
 /// Reusable per-node slots, so a recalculation allocates nothing proportional to the book.
 #[derive(Default)]
 pub struct Scratch {
@@ -168,14 +207,18 @@ impl Workbook {
     /// Recomputes what depends on `changed` (cells whose input was just set), and the volatile
     /// cells, which Excel recalculates at every edit.
     pub(super) fn recalculate_from(&mut self, mut changed: Vec<u32>) {
-        changed.extend_from_slice(&self.volatile);
-        for &id in &changed.clone() {
-            let c = &self.cells[id as usize];
-            let (sheet, pos) = (c.sheet, c.pos);
-            let blocked: Vec<u32> =
-                self.spill.blocked.iter().filter(|(_, r)| r.contains(pos)).map(|(&a, _)| a).collect();
-            changed.extend(blocked.into_iter().filter(|&a| self.cells[a as usize].sheet == sheet));
+        // A blocked spill may be freed by an edited cell; a volatile cell is still a formula
+        // where it was, blocking what it blocked, so only the edited cells are looked up.
+        if !self.spill.blocked.is_empty() {
+            for &id in &changed.clone() {
+                let c = &self.cells[id as usize];
+                let (sheet, pos) = (c.sheet, c.pos);
+                let blocked: Vec<u32> =
+                    self.spill.blocked.iter().filter(|(_, r)| r.contains(pos)).map(|(&a, _)| a).collect();
+                changed.extend(blocked.into_iter().filter(|&a| self.cells[a as usize].sheet == sheet));
+            }
         }
+        self.volatile.append_to(&mut changed);
         self.run_passes(changed);
     }
 

@@ -81,6 +81,9 @@ fn indirect_ref(ctx: &mut Ctx, args: &[Expr]) -> XlResult<(SheetId, Rect)> {
 /// `B3`, `$B$3:C4`, `Sheet2!A1`, `'My sheet'!A:A` or a defined name, read with the formula
 /// parser. Anything else (a formula, a number) is `#REF!`, as in Excel.
 fn a1_reference(ctx: &mut Ctx, text: &str) -> XlResult<(SheetId, Rect)> {
+    if let Some(made) = plain_a1_reference(ctx, text) {
+        return made;
+    }
     let env = ctx.env;
     let sheet_named = |name: &str| sheet_id(env, name);
     let parse = ParseContext { at: ctx.at, functions: &Registry, sheet: &sheet_named };
@@ -95,6 +98,47 @@ fn a1_reference(ctx: &mut Ctx, text: &str) -> XlResult<(SheetId, Rect)> {
         Operand::Value(Value::Error(e)) => Err(e),
         Operand::Value(_) | Operand::Areas(_) => Err(XlError::Ref),
     }
+}
+
+/// The usual text, `B3`, `$B$3:C4` or `'Sheet 2'!A1`, read without the formula parser: a
+/// column of INDIRECT cells is recomputed at every edit, and the parser was nearly all of
+/// the cost. `None` for anything else (names, whole rows or columns, unquoted sheet names),
+/// which the parser reads.
+fn plain_a1_reference(ctx: &Ctx, text: &str) -> Option<XlResult<(SheetId, Rect)>> {
+    let (sheet, cells) = match text.strip_prefix('\'') {
+        Some(quoted) => {
+            let (name, cells) = quoted.rsplit_once("'!")?;
+            (name, cells)
+        }
+        None if text.contains('!') => return None,
+        None => ("", text),
+    };
+    let rect = match cells.split_once(':') {
+        Some((a, b)) => Rect::new(plain_a1_cell(a)?, plain_a1_cell(b)?),
+        None => Rect::cell(plain_a1_cell(cells)?),
+    };
+    if sheet.is_empty() {
+        return (!text.starts_with('\'')).then_some(Ok((ctx.sheet, rect)));
+    }
+    if sheet.replace("''", "").contains('\'') {
+        return None;
+    }
+    Some(sheet_id(ctx.env, &sheet.replace("''", "'")).map(|id| (id, rect)).ok_or(XlError::Ref))
+}
+
+/// `B3` or `$B$3` (a column of one to three letters up to XFD, a row from 1 without leading
+/// zeros up to the last), or `None`.
+fn plain_a1_cell(text: &str) -> Option<Pos> {
+    let text = text.strip_prefix('$').unwrap_or(text);
+    let letters = text.bytes().take_while(u8::is_ascii_alphabetic).count();
+    let (column, rest) = text.split_at(letters);
+    let digits = rest.strip_prefix('$').unwrap_or(rest);
+    if digits.is_empty() || digits.starts_with('0') || digits.len() > 7 || !digits.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    let col = crate::formula::address::column_index(column)?;
+    let row: u32 = digits.parse().ok()?;
+    (row <= MAX_ROWS).then(|| Pos::new(row - 1, col))
 }
 
 fn is_reference(e: &Expr) -> bool {

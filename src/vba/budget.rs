@@ -1,0 +1,137 @@
+//! The memory budget of a macro run (`run --max-memory`): all its strings and arrays
+//! together, not only each one (`--max-string`, `--max-array-items` bound those), so that a
+//! loop filling an array with long strings ends with a clear error instead of an abort.
+//!
+//! Stores charge what they bring (a string's bytes, an array's items); once the charges pass
+//! a sixteenth of the budget (at most 64 MiB), every variable is measured, values shared
+//! between variables once, and the run stops if they hold more than the budget. The
+//! measurement costs what the variables hold, and comes at most once per sixteenth of the
+//! budget stored, so the memory held stays under the budget plus one sixteenth plus one
+//! statement's values.
+
+use std::collections::HashSet;
+use std::rc::Rc;
+
+use crate::eval::{Array, Value};
+
+use super::ast::Span;
+use super::interp::{Interp, Run};
+use super::value::{Slot, Var};
+use super::ErrorKind;
+
+/// What storing `var` may add: its text's bytes, its array's items.
+pub(super) fn brought(var: &Var) -> u64 {
+    match var {
+        Var::Value(v) => value_bytes(v),
+        Var::Array(a) => array_bytes(&a.data),
+        Var::Record(_, fields) => fields.iter().map(brought).sum(),
+        Var::Obj(_) => 0,
+    }
+}
+
+/// The heap bytes of a value's own text or array (not counting strings in the array).
+pub(super) fn value_bytes(v: &Value) -> u64 {
+    match v {
+        Value::Text(t) => t.len() as u64,
+        Value::Array(a) => array_bytes(a),
+        _ => 0,
+    }
+}
+
+fn array_bytes(a: &Array) -> u64 {
+    (a.data.len() * std::mem::size_of::<Value>()) as u64
+}
+
+/// Measures what variables hold, each shared text or array once.
+#[derive(Default)]
+struct Measure {
+    seen: HashSet<usize>,
+    bytes: u64,
+}
+
+impl Measure {
+    fn first_time<T: ?Sized>(&mut self, rc: &Rc<T>) -> bool {
+        self.seen.insert(Rc::as_ptr(rc) as *const u8 as usize)
+    }
+
+    fn value(&mut self, v: &Value) {
+        match v {
+            Value::Text(t) if self.first_time(t) => self.bytes += t.len() as u64,
+            Value::Array(a) if self.first_time(a) => self.array(a),
+            _ => {}
+        }
+    }
+
+    fn array(&mut self, a: &Array) {
+        self.bytes += array_bytes(a);
+        for item in &a.data {
+            if let Value::Text(t) = item {
+                if self.first_time(t) {
+                    self.bytes += t.len() as u64;
+                }
+            }
+        }
+    }
+
+    fn var(&mut self, var: &Var) {
+        match var {
+            Var::Value(v) => self.value(v),
+            Var::Array(a) if self.first_time(&a.data) => self.array(&a.data),
+            Var::Array(_) | Var::Obj(_) => {}
+            Var::Record(_, fields) => fields.iter().for_each(|f| self.var(f)),
+        }
+    }
+
+    fn slots<'a>(&mut self, slots: impl IntoIterator<Item = &'a Slot>) {
+        for s in slots {
+            self.var(&s.var);
+        }
+    }
+}
+
+/// Charges between measurements: a sixteenth of the budget, at most 64 MiB.
+fn measure_every(budget: u64) -> u64 {
+    (budget / 16).clamp(1, 64 << 20)
+}
+
+impl Interp<'_, '_> {
+    /// Counts what a store at `span` brought; past the charges allowed between measurements,
+    /// measures every variable and stops the run when they hold more than the budget.
+    pub(super) fn charge(&self, bytes: u64, span: Span) -> Run<()> {
+        let charged = self.charged.get().saturating_add(bytes);
+        let budget = self.options.max_memory;
+        if charged < measure_every(budget) {
+            self.charged.set(charged);
+            return Ok(());
+        }
+        self.charged.set(0);
+        let held = self.held_bytes();
+        if held <= budget {
+            return Ok(());
+        }
+        let mib = |b: u64| b as f64 / (1u64 << 20) as f64;
+        let mut f = self.fault_at(
+            span,
+            format!(
+                "the macro's strings and arrays hold {:.1} MiB, more than the {:.1} MiB allowed \
+                 (ncsheet's memory limit for a macro run; raise it with --max-memory)",
+                mib(held),
+                mib(budget)
+            ),
+        );
+        f.kind = ErrorKind::Limit;
+        Err(f)
+    }
+
+    /// The bytes the variables of every running procedure, the module and the Static
+    /// variables hold.
+    fn held_bytes(&self) -> u64 {
+        let mut m = Measure::default();
+        m.slots(self.globals.borrow().iter());
+        for frame in self.frames.borrow().iter() {
+            m.slots(frame.vars.iter());
+        }
+        m.slots(self.kept.borrow().iter().map(|(_, s)| s));
+        m.bytes
+    }
+}
