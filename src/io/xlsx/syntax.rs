@@ -303,6 +303,11 @@ impl Spelling for FileSpelling {
         out.push_str(name);
     }
 
+    fn optional_parameter(&self, name: &str, out: &mut String) {
+        out.push_str("_xlop.");
+        out.push_str(name);
+    }
+
     fn implicit_intersection(&self, in_call: bool) -> OperatorSpelling {
         if self.storage == Storage::Legacy && !in_call {
             OperatorSpelling::Omitted
@@ -378,6 +383,13 @@ mod tests {
         assert_eq!(to_file("=_xlfn.STOCKHISTORY(\"X\",1)+1", &wb, 0, at), "_xlfn.STOCKHISTORY(\"X\",1)+1");
         assert_eq!(to_file("=_xlfn._xlws.NOSUCH(A1)", &wb, 0, at), "_xlfn._xlws.NOSUCH(A1)");
         assert_eq!(to_file("=NOSUCH(A1)", &wb, 0, at), "NOSUCH(A1)");
+        // calc_tests/INFORMATION/ISOMITTED.xlsx's A6 as Excel stored it: an optional
+        // parameter (`[b]` as typed) and a LAMBDA called in place.
+        let stored = "_xlfn.LAMBDA(_xlpm.a,_xlop.b,IF(_xlfn.ISOMITTED(_xlpm.b),_xlpm.a/2,_xlpm.a*_xlpm.b))(A5)";
+        let typed = "LAMBDA(a,[b],IF(ISOMITTED(b),a/2,a*b))(A5)";
+        assert_eq!(print(&wb.parse_at(stored, 0, at).unwrap(), &wb, at, &AsTyped), typed);
+        assert_eq!(to_file(&format!("={typed}"), &wb, 0, at), stored);
+        assert!(super::to_file(&wb.parse_at(typed, 0, at).unwrap(), &wb, at, Storage::Legacy).dynamic);
     }
 
     #[test]
