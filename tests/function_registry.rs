@@ -228,6 +228,9 @@ fn the_registry_holds_the_facts_the_side_lists_held() {
     // Volatile: Excel recomputes them at every recalculation.
     assert!(f("NOW").volatile && f("TODAY").volatile && f("OFFSET").volatile && f("INDIRECT").volatile);
     assert!(!f("SUM").volatile);
+    // Microsoft's "Excel Recalculation" lists INFO among the volatile functions (its
+    // answers, "numfile", "recalc", "memavail" …, change with no cell changing).
+    assert!(f("INFO").volatile);
     // Excel's cached values of NOW and TODAY depend on the moment, of RAND on chance, of INFO
     // on the computer (Microsoft's pages of each).
     assert_eq!((f("NOW").reads, f("TODAY").reads), (Outside::Clock, Outside::Clock));
