@@ -132,8 +132,9 @@ fn lists(source: &str, names: &HashSet<String>) -> Vec<(usize, usize)> {
     let mut found = Vec::new();
     let mut start = 0;
     for i in 1..=hits.len() {
-        let near = i < hits.len() && hits[i] - hits[i - 1] <= GAP;
-        if !(near && !scanned.code[hits[i - 1]..hits[i]].contains(&b';')) {
+        let joined =
+            i < hits.len() && hits[i] - hits[i - 1] <= GAP && !scanned.code[hits[i - 1]..hits[i]].contains(&b';');
+        if !joined {
             if i - start >= LIST {
                 found.push((hits[start], i - start));
             }
