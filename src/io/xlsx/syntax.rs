@@ -250,6 +250,10 @@ fn operators_from_file(e: &mut Expr) {
             operators_from_file(b);
         }
         ExprKind::Call(_, args) | ExprKind::UnknownCall(_, args) => args.iter_mut().for_each(operators_from_file),
+        ExprKind::Invoke(callee, args) => {
+            operators_from_file(callee);
+            args.iter_mut().for_each(operators_from_file);
+        }
         _ => {}
     }
     let name: &str = match &e.kind {
@@ -355,6 +359,8 @@ mod tests {
         assert_eq!(typed("_xlfn.SINGLE(A1:A9)*2").as_deref(), Some("@A1:A9*2"));
         assert_eq!(typed("_xlfn.SINGLE(A1+1)").as_deref(), Some("@(A1+1)"));
         assert_eq!(typed("SUM('Data sheet'!A1:B2)"), None);
+        let in_place = "_xlfn.LAMBDA(_xlpm.x,SUM(_xlpm.x))(_xlfn.ANCHORARRAY(A1))";
+        assert_eq!(typed(in_place).as_deref(), Some("LAMBDA(x,SUM(x))(A1#)"));
     }
 
     #[test]
