@@ -24,32 +24,116 @@ fn rust_files(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
     }
 }
 
-/// The byte offsets of string literals in `code` whose text is a registered function name.
-fn function_literals(code: &str, names: &HashSet<String>) -> Vec<usize> {
-    let mut hits = Vec::new();
-    let mut rest = code;
-    let mut offset = 0;
-    while let Some(open) = rest.find('"') {
-        let after = &rest[open + 1..];
-        let Some(close) = after.find('"') else { break };
-        let literal = &after[..close];
-        if names.contains(literal) {
-            hits.push(offset + open);
-        }
-        let consumed = open + close + 2;
-        offset += consumed;
-        rest = &rest[consumed..];
-    }
-    hits
+/// Rust source with its string literals read as Rust reads them: each literal's offset and
+/// text, and the source with every literal's text and every comment blanked (offsets stay
+/// the source's), where a `;` is code.
+struct Scanned<'a> {
+    literals: Vec<(usize, &'a str)>,
+    code: Vec<u8>,
 }
 
-/// Runs of at least [`LIST`] function-name literals, as (first offset, names) pairs.
-fn lists(code: &str, names: &HashSet<String>) -> Vec<(usize, usize)> {
-    let hits = function_literals(code, names);
+/// Scans `source` for string literals: plain (`"…"` with `\"` escapes), raw (`r#"…"#`, any
+/// number of `#`), byte and C strings (`b"…"`, `br"…"`, `c"…"`). A `"` inside a char literal
+/// (`'"'`) or a comment (`//`, `/* */` nested) starts none; a lifetime (`'a`) is no char.
+fn scan(source: &str) -> Scanned<'_> {
+    let bytes = source.as_bytes();
+    let mut scanned = Scanned { literals: Vec::new(), code: bytes.to_vec() };
+    let blank = |code: &mut Vec<u8>, from: usize, to: usize| code[from..to].iter_mut().for_each(|b| *b = b' ');
+    let mut i = 0;
+    while i < bytes.len() {
+        let rest = &bytes[i..];
+        let in_ident = i > 0 && (bytes[i - 1].is_ascii_alphanumeric() || bytes[i - 1] == b'_');
+        if rest.starts_with(b"//") {
+            let end = rest.iter().position(|&b| b == b'\n').map_or(bytes.len(), |n| i + n);
+            blank(&mut scanned.code, i, end);
+            i = end;
+        } else if rest.starts_with(b"/*") {
+            let end = block_comment_end(bytes, i);
+            blank(&mut scanned.code, i, end);
+            i = end;
+        } else if let Some((open, hashes)) = raw_string_start(bytes, i, in_ident) {
+            let close = format!("\"{}", "#".repeat(hashes));
+            let end = source[open..].find(&close).map_or(bytes.len(), |n| open + n);
+            scanned.literals.push((i, &source[open..end]));
+            blank(&mut scanned.code, open, end);
+            i = (end + close.len()).min(bytes.len());
+        } else if bytes[i] == b'"' {
+            let mut end = i + 1;
+            while end < bytes.len() && bytes[end] != b'"' {
+                end += if bytes[end] == b'\\' { 2 } else { 1 };
+            }
+            let end = end.min(bytes.len());
+            scanned.literals.push((i, &source[i + 1..end]));
+            blank(&mut scanned.code, i + 1, end);
+            i = end + 1;
+        } else if bytes[i] == b'\'' {
+            i = after_char_literal(source, i);
+        } else {
+            i += 1;
+        }
+    }
+    scanned
+}
+
+/// The end of the (nested) block comment opening at `i`.
+fn block_comment_end(bytes: &[u8], i: usize) -> usize {
+    let (mut depth, mut j) = (0, i);
+    while j < bytes.len() {
+        if bytes[j..].starts_with(b"/*") {
+            depth += 1;
+            j += 2;
+        } else if bytes[j..].starts_with(b"*/") {
+            depth -= 1;
+            j += 2;
+            if depth == 0 {
+                return j;
+            }
+        } else {
+            j += 1;
+        }
+    }
+    bytes.len()
+}
+
+/// Where the text of a raw string starting at `i` (`r"`, `r#"`, `br##"` …) begins, and its
+/// number of `#`; `None` when none starts there. `in_ident`: `i` continues an identifier
+/// (`for"` is no raw string).
+fn raw_string_start(bytes: &[u8], i: usize, in_ident: bool) -> Option<(usize, usize)> {
+    let prefixed = matches!(bytes[i], b'b' | b'c') && bytes.get(i + 1) == Some(&b'r');
+    if in_ident || !(bytes[i] == b'r' || prefixed) {
+        return None;
+    }
+    let r = if prefixed { i + 1 } else { i };
+    let hashes = bytes[r + 1..].iter().take_while(|&&b| b == b'#').count();
+    (bytes.get(r + 1 + hashes) == Some(&b'"')).then_some((r + 2 + hashes, hashes))
+}
+
+/// Past the char literal opening at `i` (`'x'`, `'"'`, `'\''`, `'\u{1F600}'`), or just past
+/// the `'` of a lifetime or a label (`'a`).
+fn after_char_literal(source: &str, i: usize) -> usize {
+    let rest = &source[i + 1..];
+    if let Some(escaped) = rest.strip_prefix('\\') {
+        // The escaped character, then on to the closing quote (`\u{…}` holds none).
+        let skip = escaped.chars().next().map_or(0, char::len_utf8);
+        return escaped[skip..].find('\'').map_or(source.len(), |n| i + 2 + skip + n + 1);
+    }
+    match rest.chars().next() {
+        Some(c) if rest[c.len_utf8()..].starts_with('\'') => i + 1 + c.len_utf8() + 1,
+        _ => i + 1,
+    }
+}
+
+/// Runs of at least [`LIST`] function-name literals, as (first offset, names) pairs: near
+/// each other, with no `;` in the code between them (one inside a literal ends nothing).
+fn lists(source: &str, names: &HashSet<String>) -> Vec<(usize, usize)> {
+    let scanned = scan(source);
+    let hits: Vec<usize> =
+        scanned.literals.iter().filter(|(_, text)| names.contains(*text)).map(|(offset, _)| *offset).collect();
     let mut found = Vec::new();
     let mut start = 0;
     for i in 1..=hits.len() {
-        let joined = i < hits.len() && hits[i] - hits[i - 1] <= GAP && !code[hits[i - 1]..hits[i]].contains(';');
+        let joined =
+            i < hits.len() && hits[i] - hits[i - 1] <= GAP && !scanned.code[hits[i - 1]..hits[i]].contains(&b';');
         if !joined {
             if i - start >= LIST {
                 found.push((hits[start], i - start));
@@ -65,6 +149,7 @@ fn lists(code: &str, names: &HashSet<String>) -> Vec<(usize, usize)> {
 const ALLOWED: &[(&str, &str)] = &[
     ("tests/xlsx_libreoffice.rs", "the functions LibreOffice lacks: a fact about another program"),
     ("tests/proptest_parser.rs", "a sample of names to build random formulas from"),
+    ("tests/function_registry.rs", "the registry's facts asserted one by one, and this detector's fixtures"),
     ("tests/geometry_chamfer_head.rs", "the functions under test, each checked against DOMAIN.md's table"),
     (
         "tests/common/excel_oracle.rs",
@@ -112,6 +197,32 @@ fn the_detector_finds_a_list_and_ignores_scattered_names() {
 }
 
 #[test]
+fn the_detector_reads_rust_strings_as_rust_does() {
+    let names: HashSet<String> = ["NOW", "TODAY", "RAND", "SUM"].iter().map(|s| s.to_string()).collect();
+    let list = r#"const V: [&str; 3] = ["NOW", "TODAY", "RAND"];"#;
+    // Whatever stands before the list, its three names are found: an escaped quote, a raw
+    // string holding quotes, a quote as a char, a lifetime, a comment with a lone quote.
+    for before in [
+        r#"let s = "say \"hi\" \\"; "#,
+        r##"let r = r#"a "quoted" b"#; "##,
+        r###"let r = br##"a "# b"##; "###,
+        r#"let r = r"a \"; "#,
+        r#"let q = '"'; let e = '\''; "#,
+        r#"fn f<'a>(x: &'a str) -> char { '\u{22}' } "#,
+        "// a \"quote\" and a lone \" here\n",
+        "/* \" /* nested \" */ \" */ ",
+    ] {
+        assert_eq!(lists(&format!("{before}{list}"), &names).len(), 1, "after {before:?}");
+    }
+    // Names inside one literal (a formula's text) or in a comment are no list.
+    assert!(lists(r##"let f = r#"=SUM("NOW", "TODAY", "RAND")"#;"##, &names).is_empty());
+    assert!(lists(r#"let f = "\"NOW\", \"TODAY\", \"RAND\"";"#, &names).is_empty());
+    assert!(lists("// \"NOW\", \"TODAY\", \"RAND\"\nlet x = 1;", &names).is_empty());
+    // A `;` inside a literal between the names does not cut the list.
+    assert_eq!(lists(r#"["NOW", ";", "TODAY", "RAND"]"#, &names).len(), 1);
+}
+
+#[test]
 fn the_registry_holds_the_facts_the_side_lists_held() {
     use ncsheet::eval::functions::{find, spec, FilePrefix, Outside};
     let f = |name: &str| spec(find(name).unwrap_or_else(|| panic!("{name} is registered")));
@@ -120,16 +231,19 @@ fn the_registry_holds_the_facts_the_side_lists_held() {
     assert!(!f("SUM").volatile);
     // Recomputed at every edit: Excel's volatile functions (Microsoft's "Recalculation"
     // page: NOW, TODAY, RAND, RANDBETWEEN, OFFSET, INDIRECT, INFO, CELL), but OFFSET, whose
-    // reach is a graph edge here; INFO and CELL are not volatile here (they read nothing that
-    // changes within a session but the cells they are given).
+    // reach is a graph edge here, and CELL, which reads nothing that changes within a session
+    // but the cells it is given.
     let mut every_edit: Vec<&str> =
         ncsheet::eval::functions::REGISTRY.iter().filter(|s| s.every_edit).map(|s| s.name).collect();
     every_edit.sort_unstable();
-    assert_eq!(every_edit, ["INDIRECT", "NOW", "RAND", "RANDARRAY", "RANDBETWEEN", "TODAY"]);
+    assert_eq!(every_edit, ["INDIRECT", "INFO", "NOW", "RAND", "RANDARRAY", "RANDBETWEEN", "TODAY"]);
     assert!(f("OFFSET").volatile && !f("OFFSET").every_edit);
     for s in ncsheet::eval::functions::REGISTRY.iter() {
         assert!(!s.every_edit || s.volatile, "{} is recomputed at every edit but not volatile", s.name);
     }
+    // Microsoft's "Excel Recalculation" lists INFO among the volatile functions (its
+    // answers, "numfile", "recalc", "memavail" …, change with no cell changing).
+    assert!(f("INFO").volatile);
     // Excel's cached values of NOW and TODAY depend on the moment, of RAND on chance, of INFO
     // on the computer (Microsoft's pages of each).
     assert_eq!((f("NOW").reads, f("TODAY").reads), (Outside::Clock, Outside::Clock));

@@ -285,9 +285,9 @@ fn an_indirect_column_rewritten_and_edited_is_linear_and_right() {
     assert_eq!(get(&wb, "C2"), n(0.0));
 }
 
-/// Unclosed calls and references spaced before a parenthesis, 60 levels deep: the parser
-/// once tried each level both as a call and as an intersection with a parenthesis, 2^60
-/// attempts. Each gives its error (or value) at once.
+/// Unclosed calls (in-place LAMBDA calls too) and references spaced before a parenthesis,
+/// 60 levels deep: the parser once tried each level both as a call and as an intersection
+/// with a parenthesis, 2^60 attempts. Each gives its error (or value) at once.
 #[test]
 fn nested_unclosed_calls_and_spaced_parentheses_parse_in_linear_time() {
     let start = Instant::now();
@@ -297,6 +297,8 @@ fn nested_unclosed_calls_and_spaced_parentheses_parse_in_linear_time() {
         format!("={}1", "(A1 ".repeat(60)),
         format!("={}B2{}", "(A1 ".repeat(60), ")".repeat(60)),
         format!("={}1", "IF(A1,".repeat(60)),
+        format!("={}1", "LAMBDA(x,x)(".repeat(60)),
+        format!("={}1", "LAMBDA(x,x)(1)(".repeat(60)),
     ];
     for (row, text) in deep.iter().enumerate() {
         let _ = wb.set_input(0, parse_cell(&format!("D{}", 10 + row)).unwrap(), text);

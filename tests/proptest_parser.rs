@@ -47,6 +47,9 @@ fn without_spans(e: &Expr) -> Expr {
         ExprKind::UnknownCall(name, args) => {
             ExprKind::UnknownCall(name.clone(), args.iter().map(without_spans).collect())
         }
+        ExprKind::Invoke(callee, args) => {
+            ExprKind::Invoke(Box::new(without_spans(callee)), args.iter().map(without_spans).collect())
+        }
         ExprKind::Array(lit) => ExprKind::Array(std::rc::Rc::new(ArrayLit {
             rows: lit.rows,
             cols: lit.cols,
@@ -183,6 +186,10 @@ fn token() -> impl Strategy<Value = String> {
         "POWER(",
         "NOSUCH(",
         "_xlfn.SIN(",
+        "LAMBDA(",
+        ")(",
+        "[b]",
+        "_xlop.b",
         "sum(",
         "\"text\"",
         "\"a\"\"b\"",
@@ -235,6 +242,7 @@ fn valid_formula() -> impl Strategy<Value = String> {
             "{1,2;3,4}",
             "{-1,\"a\";TRUE,#N/A}",
             "PI()",
+            "LAMBDA(x,[y],x)(2)",
             "0.5",
             "1e300",
             "7",
@@ -318,6 +326,12 @@ fn known_tricky_texts() {
         "=\u{a0}1",
         "=SIN(1,2)",
         "=_xlfn._xlws.SUM(1)",
+        "=LAMBDA(x,[y],x+y)(1)",
+        "=LAMBDA(x,x)(1)(2)",
+        "=LAMBDA(x,x) (1)",
+        "=LAMBDA([x])",
+        "=SUM([x])",
+        "=LAMBDA(x,x)(",
     ] {
         exercise(text, Pos::new(4, 4)).unwrap_or_else(|e| panic!("{text:?}: {e}"));
     }

@@ -78,6 +78,8 @@ impl Differ<'_> {
             | ExprKind::Array(_) => num(0.0),
             // `Sheet2!Rate` reads the workbook, not the surface's x and y.
             ExprKind::SheetName(..) => num(0.0),
+            ExprKind::Invoke(..) => return Err(unsupported(e, "a LAMBDA called in place")),
+            ExprKind::OptionalParam(name) => return Err(unsupported(e, name)),
             // Macro-only nodes never reach a surface formula.
             ExprKind::Host(_) => return Err(unsupported(e, "a macro expression")),
         })

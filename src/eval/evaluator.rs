@@ -135,12 +135,16 @@ struct Local {
     omitted: bool,
 }
 
-/// A called LAMBDA's parameters bound to the values of `args`, evaluated by the caller.
+/// A called LAMBDA's parameters bound to the values of `args`, evaluated by the caller; the
+/// optional parameters after the last argument are omitted, as an empty argument is.
 fn parameters(lambda: &functions::Lambda, args: &[Expr], values: Vec<Value>) -> Vec<Local> {
-    let bound = lambda.param_names().zip(args).zip(values);
-    bound
-        .map(|((name, arg), value)| Local { name: name.clone(), value, omitted: arg.kind == ExprKind::Missing })
-        .collect()
+    let mut values = values.into_iter();
+    let mut args = args.iter();
+    let bind = |name: &Rc<str>| match (args.next(), values.next()) {
+        (Some(arg), Some(value)) => Local { name: name.clone(), value, omitted: arg.kind == ExprKind::Missing },
+        _ => Local { name: name.clone(), value: Value::Blank, omitted: true },
+    };
+    lambda.param_names().map(bind).collect()
 }
 
 /// The evaluation of one formula: where it is, what it reads, its local names.
@@ -327,6 +331,9 @@ impl<'a> Ctx<'a> {
             },
             ExprKind::Call(id, args) => self.call(*id, args),
             ExprKind::UnknownCall(name, args) => self.call_defined_lambda(name, args),
+            ExprKind::Invoke(callee, args) => self.invoke(callee, args),
+            // A parameter list's, never evaluated (LAMBDA alone is #CALC!).
+            ExprKind::OptionalParam(_) => Value::Error(XlError::Value),
         }
     }
 
@@ -522,7 +529,7 @@ impl<'a> Ctx<'a> {
         }
         let Some((expr, sheet)) = self.env.defined_name(name, self.sheet) else { return Value::Error(XlError::Name) };
         let Some(lambda) = functions::as_lambda(&expr) else { return Value::Error(XlError::Name) };
-        if lambda.params.len() != args.len() {
+        if !lambda.accepts(args.len()) {
             return Value::Error(XlError::Value);
         }
         if let Err(e) = self.enter_lambda(name) {
@@ -542,7 +549,7 @@ impl<'a> Ctx<'a> {
     /// A LET-bound LAMBDA called by its name: the body runs here, seeing the LET's names.
     fn call_local_lambda(&mut self, name: &str, expr: &Expr, args: &[Expr]) -> Value {
         let Some(lambda) = functions::as_lambda(expr) else { return Value::Error(XlError::Name) };
-        if lambda.params.len() != args.len() {
+        if !lambda.accepts(args.len()) {
             return Value::Error(XlError::Value);
         }
         if let Err(e) = self.enter_lambda(name) {
@@ -556,6 +563,19 @@ impl<'a> Ctx<'a> {
         self.depth -= 1;
         self.locals.truncate(n);
         out
+    }
+
+    /// `LAMBDA(x, y, x+y)(1, 2)`: a LAMBDA written in place and called there; the body runs
+    /// here, seeing the LET names around it. Any other callee (a LAMBDA that a function
+    /// returns) is `#VALUE!`: LAMBDA values do not flow through functions here.
+    fn invoke(&mut self, callee: &Expr, args: &[Expr]) -> Value {
+        match functions::as_lambda(callee) {
+            Some(_) => self.call_local_lambda("LAMBDA", callee, args),
+            None => {
+                let why = "only a LAMBDA written in place can be called so: LAMBDA(x, x+1)(2)".to_string();
+                Value::Error(self.explain_once(XlError::Value, why))
+            }
+        }
     }
 
     /// Counts a call of the named LAMBDA `name` against ncsheet's limits: nesting deeper

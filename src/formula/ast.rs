@@ -179,6 +179,11 @@ pub enum ExprKind {
     Call(FnId, Vec<Expr>),
     /// A function the registry does not know: evaluates to `#NAME?`.
     UnknownCall(Rc<str>, Vec<Expr>),
+    /// A call of what the first expression gives, written right after it: `LAMBDA(x,x+1)(2)`.
+    Invoke(Box<Expr>, Vec<Expr>),
+    /// A LAMBDA parameter its callers may leave out: `[b]` as typed, `_xlop.b` in a file.
+    /// Only a LAMBDA's parameter list holds one (the parser sees to it).
+    OptionalParam(Rc<str>),
     /// A node of the macro language that only its interpreter can evaluate (`Range("B3").Value`,
     /// a call of the macro's own Function): an index into the macro's node table, evaluated
     /// through the evaluator's `Host`. Formula text never produces it.
@@ -217,6 +222,10 @@ impl Expr {
                 b.visit(f);
             }
             ExprKind::Call(_, args) | ExprKind::UnknownCall(_, args) => args.iter().for_each(|a| a.visit(f)),
+            ExprKind::Invoke(callee, args) => {
+                callee.visit(f);
+                args.iter().for_each(|a| a.visit(f));
+            }
             ExprKind::Array(lit) => lit.items.iter().for_each(|a| a.visit(f)),
             _ => {}
         }

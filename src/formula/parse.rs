@@ -389,6 +389,16 @@ pub fn strip_future_prefix(name: &str) -> &str {
     name
 }
 
+/// The name of an optional LAMBDA parameter as a file writes it (`_xlop.b`): an argument
+/// that is that name alone.
+fn file_optional_parameter(expr: &Pair<Rule>) -> Option<String> {
+    let mut parts = expr.clone().into_inner();
+    let (Some(only), None) = (parts.next(), parts.next()) else { return None };
+    let text = only.as_str();
+    let prefixed = only.as_rule() == Rule::name && text.len() > 6 && text[..6].eq_ignore_ascii_case("_xlop.");
+    prefixed.then(|| text[6..].to_string())
+}
+
 /// The `_xlfn.` prefix a file put before a function name, in Excel's case, or "".
 fn file_prefix_of(name: &str) -> &'static str {
     let starts = |prefix: &str| {
@@ -512,28 +522,39 @@ impl Builder<'_, '_> {
         self.call_depth(pair).map(|(e, _)| e)
     }
 
+    /// A call, and the in-place calls of its result that follow it (`LAMBDA(x,x+1)(2)`).
     fn call_depth(&self, pair: Pair<Rule>) -> Result<(Expr, u32), ParseError> {
-        let mut depth = 0;
-        let span = span_of(&pair);
+        let start = pair.as_span().start() as u32;
         let mut inner = pair.into_inner();
         let name_pair = inner.next().expect("func_name");
         let name = strip_future_prefix(name_pair.as_str());
-        let mut args = Vec::new();
-        for arg in inner {
-            let arg_span = span_of(&arg);
-            match arg.into_inner().next() {
-                Some(e) => {
-                    let (e, d) = self.expr_depth(e.into_inner())?;
-                    depth = depth.max(d);
-                    args.push(e);
-                }
-                None => args.push(Expr::new(ExprKind::Missing, arg_span)),
+        let declares_parameters = name.eq_ignore_ascii_case("LAMBDA");
+        let first = inner.next().expect("arguments");
+        let call_span = join(span_of(&name_pair), span_of(&first));
+        let (args, depth) = self.arguments(first, declares_parameters)?;
+        let (mut expr, mut depth) = self.function_call(&name_pair, name, args, (call_span, depth))?;
+        for list in inner {
+            let list_span = span_of(&list);
+            let (args, d) = self.arguments(list, false)?;
+            depth = depth.max(d) + 1;
+            if depth > MAX_TREE_DEPTH {
+                return Err(tree_depth_error(list_span.start as usize));
             }
+            let span = Span { start, end: list_span.end };
+            expr = Expr::new(ExprKind::Invoke(Box::new(expr), args), span);
         }
-        // `PI()` has one empty argument slot in the grammar, and no argument.
-        if args.len() == 1 && args[0].kind == ExprKind::Missing {
-            args.clear();
-        }
+        Ok((expr, depth))
+    }
+
+    /// The call of the function `name` on `args`, whose deepest tree is `depth`: a registered
+    /// function checked for its argument count, or an unknown one kept as typed.
+    fn function_call(
+        &self,
+        name_pair: &Pair<Rule>,
+        name: &str,
+        args: Vec<Expr>,
+        (span, depth): (Span, u32),
+    ) -> Result<(Expr, u32), ParseError> {
         let Some(info) = self.ctx.functions.lookup(name) else {
             // Kept as typed (it may be a LET or defined name's LAMBDA, `f(1)`, shown as
             // written); a newer Excel function we lack keeps the prefix it was read with, so
@@ -546,6 +567,47 @@ impl Builder<'_, '_> {
             return Err(ParseError::at(name_pair.as_span().start(), arity_message(canonical, info, args.len())));
         }
         Ok((Expr::new(ExprKind::Call(info.id, args), span), depth + 1))
+    }
+
+    /// One parenthesised argument list and the depth of its deepest argument. Where it is a
+    /// LAMBDA's (`parameters`), every argument but the last (the calculation) may be an
+    /// optional parameter: `[b]` as typed, `_xlop.b` as a file writes it.
+    fn arguments(&self, list: Pair<Rule>, parameters: bool) -> Result<(Vec<Expr>, u32), ParseError> {
+        let pairs: Vec<Pair<Rule>> = list.into_inner().collect();
+        let calculation = pairs.len() - 1;
+        let mut depth = 0;
+        let mut args = Vec::with_capacity(pairs.len());
+        for (i, arg) in pairs.into_iter().enumerate() {
+            let arg_span = span_of(&arg);
+            let may_be_optional = parameters && i < calculation;
+            let Some(inner) = arg.into_inner().next() else {
+                args.push(Expr::new(ExprKind::Missing, arg_span));
+                continue;
+            };
+            let optional = match inner.as_rule() {
+                Rule::optional_param if !may_be_optional => {
+                    let message = "[…] marks an optional parameter, only in a LAMBDA's parameter list";
+                    return Err(ParseError::at(arg_span.start as usize, message));
+                }
+                Rule::optional_param => {
+                    inner.clone().into_inner().next().map(|n| strip_future_prefix(n.as_str()).to_string())
+                }
+                _ if may_be_optional => file_optional_parameter(&inner),
+                _ => None,
+            };
+            if let Some(name) = optional {
+                args.push(Expr::new(ExprKind::OptionalParam(name.into()), arg_span));
+                continue;
+            }
+            let (e, d) = self.expr_depth(inner.into_inner())?;
+            depth = depth.max(d);
+            args.push(e);
+        }
+        // `PI()` has one empty argument slot in the grammar, and no argument.
+        if args.len() == 1 && args[0].kind == ExprKind::Missing {
+            args.clear();
+        }
+        Ok((args, depth))
     }
 
     fn array(&self, pair: Pair<Rule>) -> Result<ArrayLit, ParseError> {
@@ -823,5 +885,32 @@ mod tests {
         assert_eq!(cell("$A3"), (Coord::absolute(0), Coord::relative(0)));
         assert_eq!(cell("$B$1"), (Coord::absolute(1), Coord::absolute(0)));
         assert_eq!(cell("D4"), (Coord::relative(1), Coord::relative(1)));
+    }
+
+    #[test]
+    fn a_lambda_declares_optional_parameters_and_is_called_in_place() {
+        let ctx = ParseContext { at: Pos::new(0, 0), functions: &NoFunctions, sheet: &|_| None };
+        let parse = |text: &str| parse_formula(text, &ctx);
+        let ExprKind::Invoke(callee, args) = parse("=LAMBDA(a,[b],a)(A5)").expect("parses").kind else {
+            panic!("an in-place call")
+        };
+        assert_eq!(args.len(), 1);
+        let ExprKind::UnknownCall(_, params) = &callee.kind else { panic!("the LAMBDA") };
+        assert_eq!(params[1].kind, ExprKind::OptionalParam("b".into()));
+        // As a file writes it (ISOMITTED.xlsx): `_xlop.`, and `_xlpm.` for the required ones.
+        let file = parse("=_xlfn.LAMBDA(_xlpm.a,_xlop.b,_xlpm.a)(A5, B5)").expect("parses");
+        let ExprKind::Invoke(callee, args) = file.kind else { panic!("an in-place call") };
+        assert_eq!(args.len(), 2);
+        let ExprKind::UnknownCall(_, params) = &callee.kind else { panic!("the LAMBDA") };
+        assert_eq!(params[0].kind, ExprKind::Name("a".into()));
+        assert_eq!(params[1].kind, ExprKind::OptionalParam("b".into()));
+        // `[…]` only in a LAMBDA's parameter list; the calculation is no parameter.
+        for wrong in ["=SUM([b])", "=LAMBDA([b])", "=LAMBDA(a,[b],a)([c])"] {
+            let err = parse(wrong).expect_err(wrong);
+            assert!(err.message.contains("optional parameter"), "{wrong}: {err:?}");
+        }
+        // A space before the second list is the intersection operator, as in Excel.
+        assert!(matches!(parse("=F(A1) (A2)").expect("parses").kind, ExprKind::Binary(BinOp::Intersect, ..)));
+        assert!(parse("=LAMBDA(x,x)(1").is_err());
     }
 }

@@ -69,6 +69,13 @@ pub trait Spelling {
         out.push_str(name);
     }
 
+    /// Writes a LAMBDA parameter its callers may leave out, where it is declared.
+    fn optional_parameter(&self, name: &str, out: &mut String) {
+        out.push('[');
+        out.push_str(name);
+        out.push(']');
+    }
+
     /// How the implicit intersection `@x` is written; `in_call` says whether it sits inside
     /// a function call's arguments.
     fn implicit_intersection(&self, _in_call: bool) -> OperatorSpelling {
@@ -194,6 +201,11 @@ impl Printer<'_> {
                 self.call(functions.name(*id), args)
             }
             ExprKind::UnknownCall(name, args) => self.call(name, args),
+            ExprKind::Invoke(callee, args) => {
+                self.expr(callee);
+                self.arguments("", args);
+            }
+            ExprKind::OptionalParam(name) => self.spelling.optional_parameter(name, self.out),
             // Only macros hold host nodes, and macros are not printed back; say what it is.
             ExprKind::Host(id) => {
                 let _ = write!(self.out, "MACRO_NODE({id})");
@@ -260,6 +272,12 @@ impl Printer<'_> {
         } else {
             self.spelling.function_name(name, self.out);
         }
+        self.arguments(name, args);
+    }
+
+    /// `(a,b,…)` after the function `name` (empty for an in-place call), with the names it
+    /// declares in scope.
+    fn arguments(&mut self, name: &str, args: &[Expr]) {
         self.out.push('(');
         let outer_parameters = self.parameters.len();
         self.parameters.extend(bound_names(name, args));
@@ -297,7 +315,7 @@ fn bound_names(function: &str, args: &[Expr]) -> Vec<Rc<str>> {
     }
     let declares = |i: usize| i + 1 < args.len() && (is_lambda || i.is_multiple_of(2));
     let name = |e: &Expr| match &e.kind {
-        ExprKind::Name(n) => Some(n.clone()),
+        ExprKind::Name(n) | ExprKind::OptionalParam(n) => Some(n.clone()),
         _ => None,
     };
     args.iter().enumerate().filter(|(i, _)| declares(*i)).filter_map(|(_, e)| name(e)).collect()
@@ -466,6 +484,11 @@ mod tests {
             out.push_str(name);
         }
 
+        fn optional_parameter(&self, name: &str, out: &mut String) {
+            out.push_str("_xlop.");
+            out.push_str(name);
+        }
+
         fn implicit_intersection(&self, in_call: bool) -> OperatorSpelling {
             if self.legacy && !in_call {
                 OperatorSpelling::Omitted
@@ -498,6 +521,16 @@ mod tests {
         for text in ["XLOOKUP(1,A:A,B:B)", "LET(x,1,x+1)", "A1#", "@A1:A3", "-(@A1:A3+B1#)%*2"] {
             assert_eq!(printed(text, &AsTyped), text);
         }
+    }
+
+    #[test]
+    fn an_in_place_lambda_with_an_optional_parameter_prints_as_typed_and_in_a_file() {
+        let file = "_xlfn.LAMBDA(_xlpm.a,_xlop.b,_xlpm.a*_xlpm.b)(A5)";
+        let typed = "LAMBDA(a,[b],a*b)(A5)";
+        assert_eq!(printed(file, &AsTyped), typed);
+        assert_eq!(printed(typed, &AsTyped), typed);
+        assert_eq!(dynamic(&format!("={typed}")), file);
+        assert_eq!(printed("LAMBDA(x,x)(1)(2)+1", &AsTyped), "LAMBDA(x,x)(1)(2)+1");
     }
 
     #[test]

@@ -173,6 +173,10 @@ fn with_numbers(e: &Expr, numbers: &mut dyn Iterator<Item = f64>) -> Expr {
         ExprKind::UnknownCall(name, args) => {
             ExprKind::UnknownCall(name.clone(), args.iter().map(|a| with_numbers(a, numbers)).collect())
         }
+        ExprKind::Invoke(callee, args) => {
+            let callee = Box::new(with_numbers(callee, numbers));
+            ExprKind::Invoke(callee, args.iter().map(|a| with_numbers(a, numbers)).collect())
+        }
         ExprKind::Array(lit) => ExprKind::Array(Rc::new(ArrayLit {
             rows: lit.rows,
             cols: lit.cols,

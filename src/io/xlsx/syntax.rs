@@ -250,6 +250,10 @@ fn operators_from_file(e: &mut Expr) {
             operators_from_file(b);
         }
         ExprKind::Call(_, args) | ExprKind::UnknownCall(_, args) => args.iter_mut().for_each(operators_from_file),
+        ExprKind::Invoke(callee, args) => {
+            operators_from_file(callee);
+            args.iter_mut().for_each(operators_from_file);
+        }
         _ => {}
     }
     let name: &str = match &e.kind {
@@ -303,6 +307,11 @@ impl Spelling for FileSpelling {
         out.push_str(name);
     }
 
+    fn optional_parameter(&self, name: &str, out: &mut String) {
+        out.push_str("_xlop.");
+        out.push_str(name);
+    }
+
     fn implicit_intersection(&self, in_call: bool) -> OperatorSpelling {
         if self.storage == Storage::Legacy && !in_call {
             OperatorSpelling::Omitted
@@ -350,6 +359,8 @@ mod tests {
         assert_eq!(typed("_xlfn.SINGLE(A1:A9)*2").as_deref(), Some("@A1:A9*2"));
         assert_eq!(typed("_xlfn.SINGLE(A1+1)").as_deref(), Some("@(A1+1)"));
         assert_eq!(typed("SUM('Data sheet'!A1:B2)"), None);
+        let in_place = "_xlfn.LAMBDA(_xlpm.x,SUM(_xlpm.x))(_xlfn.ANCHORARRAY(A1))";
+        assert_eq!(typed(in_place).as_deref(), Some("LAMBDA(x,SUM(x))(A1#)"));
     }
 
     #[test]
@@ -378,6 +389,13 @@ mod tests {
         assert_eq!(to_file("=_xlfn.STOCKHISTORY(\"X\",1)+1", &wb, 0, at), "_xlfn.STOCKHISTORY(\"X\",1)+1");
         assert_eq!(to_file("=_xlfn._xlws.NOSUCH(A1)", &wb, 0, at), "_xlfn._xlws.NOSUCH(A1)");
         assert_eq!(to_file("=NOSUCH(A1)", &wb, 0, at), "NOSUCH(A1)");
+        // calc_tests/INFORMATION/ISOMITTED.xlsx's A6 as Excel stored it: an optional
+        // parameter (`[b]` as typed) and a LAMBDA called in place.
+        let stored = "_xlfn.LAMBDA(_xlpm.a,_xlop.b,IF(_xlfn.ISOMITTED(_xlpm.b),_xlpm.a/2,_xlpm.a*_xlpm.b))(A5)";
+        let typed = "LAMBDA(a,[b],IF(ISOMITTED(b),a/2,a*b))(A5)";
+        assert_eq!(print(&wb.parse_at(stored, 0, at).unwrap(), &wb, at, &AsTyped), typed);
+        assert_eq!(to_file(&format!("={typed}"), &wb, 0, at), stored);
+        assert!(super::to_file(&wb.parse_at(typed, 0, at).unwrap(), &wb, at, Storage::Legacy).dynamic);
     }
 
     #[test]

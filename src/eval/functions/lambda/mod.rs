@@ -90,7 +90,7 @@ fn isomitted(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 /// `LAMBDA(p1, …, body)` taken apart.
 pub struct Lambda<'e> {
-    /// The parameters, each an `ExprKind::Name`.
+    /// The parameters, each an `ExprKind::Name` or an `ExprKind::OptionalParam` (`[b]`).
     pub params: &'e [Expr],
     pub body: &'e Expr,
 }
@@ -98,9 +98,16 @@ pub struct Lambda<'e> {
 impl<'e> Lambda<'e> {
     pub fn param_names(&self) -> impl Iterator<Item = &'e Rc<str>> {
         self.params.iter().map(|p| match &p.kind {
-            ExprKind::Name(n) => n,
+            ExprKind::Name(n) | ExprKind::OptionalParam(n) => n,
             _ => unreachable!("as_lambda checked the parameters"),
         })
+    }
+
+    /// Whether a call may pass `n` arguments: every parameter up to the last required one,
+    /// and at most all of them (the optional ones after it may be left out).
+    pub fn accepts(&self, n: usize) -> bool {
+        let required = self.params.iter().rposition(|p| matches!(p.kind, ExprKind::Name(_))).map_or(0, |i| i + 1);
+        (required..=self.params.len()).contains(&n)
     }
 }
 
@@ -133,7 +140,8 @@ pub fn as_lambda(e: &Expr) -> Option<Lambda<'_>> {
         ExprKind::Paren(inner) => as_lambda(inner),
         ExprKind::Call(id, args) if *id == *LAMBDA_ID => {
             let (body, params) = args.split_last()?;
-            params.iter().all(|p| matches!(p.kind, ExprKind::Name(_))).then_some(Lambda { params, body })
+            let is_param = |p: &Expr| matches!(p.kind, ExprKind::Name(_) | ExprKind::OptionalParam(_));
+            params.iter().all(is_param).then_some(Lambda { params, body })
         }
         _ => None,
     }
@@ -182,5 +190,23 @@ mod tests {
         assert_eq!(env.eval(&format!("=LET(f,{corpus},f(12,3))")), n(36.0));
         // A name bound again inside the body is no longer the omitted parameter.
         assert_eq!(env.eval("=LET(f,LAMBDA(a,b,LET(b,1,ISOMITTED(b))),f(12,))"), Value::Bool(false));
+    }
+
+    #[test]
+    fn a_lambda_called_in_place_binds_its_arguments_and_leaves_out_optional_ones() {
+        let env = MapEnv::with(&[("A5", n(12.0)), ("B5", n(3.0))]);
+        // Microsoft's ISOMITTED page, and ISOMITTED.xlsx's cached values: A1, A6 = 6, A7 = 36.
+        let docs = "=LAMBDA(x,y, IF(ISOMITTED(y),\"Missing second argument\",x+y))(1,)";
+        assert_eq!(env.eval(docs), Value::text("Missing second argument"));
+        let corpus = "LAMBDA(a,[b],IF(ISOMITTED(b),a/2,a*b))";
+        assert_eq!(env.eval(&format!("={corpus}(A5)")), n(6.0));
+        assert_eq!(env.eval(&format!("={corpus}(A5, B5)")), n(36.0));
+        // The same through a LET name: an optional parameter may be left out there too.
+        assert_eq!(env.eval(&format!("=LET(f,{corpus},f(A5))")), n(6.0));
+        // Too few (a required one left out) or too many arguments: #VALUE!.
+        assert_eq!(env.eval(&format!("={corpus}()")), Value::Error(XlError::Value));
+        assert_eq!(env.eval(&format!("={corpus}(1,2,3)")), Value::Error(XlError::Value));
+        // The body sees the LET names around the call.
+        assert_eq!(env.eval("=LET(k,10,LAMBDA(x,x+k)(5))"), n(15.0));
     }
 }

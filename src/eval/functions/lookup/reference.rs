@@ -20,7 +20,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("AGGREGATE", 3, MANY, aggregate, "AGGREGATE(function_num, options, ref1, [ref2], ...)", "SUBTOTAL's functions and more (14 LARGE … 19 QUARTILE.EXC), optionally skipping errors").future().range_args(ArgSet::from(2)),
     FnSpec::value("CELL", 1, 2, cell, "CELL(info_type, [reference])", "Facts about a cell: \"address\", \"col\", \"row\", \"contents\", \"type\" (b blank, l text, v value)").range_args(ArgSet::only(1)),
     FnSpec::reference("TRIMRANGE", 1, 3, trimrange, "TRIMRANGE(range, [trim_rows], [trim_cols])", "The range without its blank outer rows and columns (0 none, 1 leading, 2 trailing, 3 both: the default)").future().dynamic().range_args(ArgSet::only(0)),
-    FnSpec::value("INFO", 1, 1, info, "INFO(type_text)", "About the environment: \"numfile\", \"recalc\", \"system\" … as Excel 365 on Windows").reads(Outside::Host),
+    FnSpec::value("INFO", 1, 1, info, "INFO(type_text)", "About the environment: \"numfile\", \"recalc\", \"system\" … as Excel 365 on Windows").reads(Outside::Host).volatile(),
     FnSpec::value("FORMULATEXT", 1, 1, formulatext, "FORMULATEXT(reference)", "The formula of a cell as text; #N/A when it holds none").future().range_args(ArgSet::only(0)),
     FnSpec::value("HYPERLINK", 1, 2, hyperlink, "HYPERLINK(link_location, [friendly_name])", "The text a link shows: friendly_name, or the location (ncsheet opens no links)"),
     FnSpec::value("ISFORMULA", 1, 1, isformula, "ISFORMULA(reference)", "Whether a cell holds a formula").future().range_args(ArgSet::only(0)),
