@@ -7,4 +7,4 @@
 pub use super::args::*;
 pub use super::scalar::*;
 pub use super::{find, ArgSet, FnSpec, Outside, Registry, MANY};
-pub use crate::eval::evaluator::{broadcast2, number_result, power, Ctx, Operand, RowHidden};
+pub use crate::eval::evaluator::{broadcast2, broadcast_whole, number_result, power, Ctx, Operand, RowHidden};
