@@ -465,6 +465,8 @@ fn a_whole_column_spills_down_to_the_last_row_and_not_past_it() {
     assert_eq!(get(&wb, "E3"), n(0.0));
     assert_eq!(get(&wb, "E4"), Value::Error(XlError::NA));
     assert_eq!(get(&wb, "E1048576"), Value::Error(XlError::NA));
+    set(&mut wb, "H1", "=ROWS(A:A+1)*10+COLUMNS(5:5*2)");
+    assert_eq!(get(&wb, "H1"), n(1_048_576.0 * 10.0 + 16_384.0));
     set(&mut wb, "F1", "=SUM(C:C)+COUNT(C:C)");
     assert_eq!(get(&wb, "F1"), n(3.0 + 4.0 + 1_048_574.0 + 1_048_576.0));
     // An edit above the tail moves it; a cell read inside the tail follows.
