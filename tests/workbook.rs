@@ -165,6 +165,34 @@ fn an_edit_returns_the_problems_it_brought_as_data() {
     assert_eq!(wb.set_input(0, at("C1"), "=1+1").unwrap(), vec![]);
 }
 
+/// Where `word` is in `text` (for sorting problems by their place in one formula).
+fn p_start(text: &str, word: &str) -> usize {
+    text.find(word).unwrap_or(usize::MAX)
+}
+
+#[test]
+fn an_unknown_name_of_a_sheet_is_reported_with_its_place() {
+    let mut wb = Workbook::with_sheet();
+    let data = wb.add_sheet("Tool data").unwrap();
+    wb.set_input(data, parse_cell("A1").unwrap(), "4").unwrap();
+    wb.define_name("Known", "='Tool data'!$A$1", Some(data)).unwrap();
+    let at = parse_cell("B2").unwrap();
+    let news = wb.set_input(0, at, "='Tool data'!Known+'Tool data'!Nothing+Gone!Thing").unwrap();
+    let mut found: Vec<(&ProblemKind, &str)> =
+        news.iter().map(|p| (&p.kind, &p.text[p.span.unwrap().start as usize..p.span.unwrap().end as usize])).collect();
+    found.sort_by_key(|(_, word)| p_start(&news[0].text, word));
+    assert_eq!(
+        found,
+        [
+            (&ProblemKind::UnknownName("'Tool data'!Nothing".into()), "'Tool data'!Nothing"),
+            (&ProblemKind::MissingSheet("Gone".into()), "Gone!Thing"),
+        ],
+        "{news:?}"
+    );
+    assert!(news.iter().all(|p| (p.sheet, p.pos) == (0, at)));
+    assert_eq!(wb.problems().len(), 2, "{:?}", wb.problems());
+}
+
 #[test]
 fn copied_formulas_share_one_parsed_form() {
     let mut wb = Workbook::with_sheet();
