@@ -6,7 +6,7 @@
 //! recalculated once holds — errors and `#CIRC!` included.
 
 use ncsheet::eval::Value;
-use ncsheet::formula::address::column_name;
+use ncsheet::formula::address::{column_name, MAX_COLS, MAX_ROWS};
 use ncsheet::formula::Pos;
 use ncsheet::workbook::Workbook;
 use proptest::prelude::*;
@@ -52,6 +52,12 @@ fn input() -> impl Strategy<Value = String> {
         1 => (cell(), cell()).prop_map(|(a, b)| format!("=({a}={b})+1")),
         1 => cell().prop_map(|a| format!("=ROUND(SQRT(ABS({a})),2)")),
         1 => Just("=1+".to_string()),
+        // Whole rows and columns: spills to the sheet's edge, and what reads their tails.
+        1 => (0..SIZE).prop_map(|r| format!("={0}:{0}*2", r + 1)),
+        1 => (0..SIZE).prop_map(|c| format!("={0}:{0}", column_name(c))),
+        1 => (0..SIZE).prop_map(|r| format!("=COUNT({0}:{0})", r + 1)),
+        1 => (0..SIZE).prop_map(|c| format!("=SUM({0}:{0})+COUNT({0}:{0})", column_name(c))),
+        1 => (0..SIZE).prop_map(|r| format!("=XFD{}+1", r + 1)),
     ]
 }
 
@@ -72,7 +78,10 @@ fn fresh(inputs: &[Vec<String>]) -> Workbook {
 
 fn values(wb: &Workbook) -> Vec<Value> {
     // One row and column beyond the inputs: cells formulas point at without content.
-    (0..=SIZE).flat_map(|r| (0..=SIZE).map(move |c| wb.value(0, Pos::new(r, c)))).collect()
+    let grid = (0..=SIZE).flat_map(|r| (0..=SIZE).map(move |c| Pos::new(r, c)));
+    // The sheet's last column and row, where whole-row and whole-column spills end.
+    let edges = (0..=SIZE).flat_map(|i| [Pos::new(i, MAX_COLS - 1), Pos::new(MAX_ROWS - 1, i)]);
+    grid.chain(edges).map(|p| wb.value(0, p)).collect()
 }
 
 fn describe(inputs: &[Vec<String>]) -> String {
@@ -91,14 +100,13 @@ fn check(wb: &Workbook, inputs: &[Vec<String>]) -> Result<(), TestCaseError> {
     let expected = fresh(inputs);
     let (got, want) = (values(wb), values(&expected));
     for (i, (g, w)) in got.iter().zip(&want).enumerate() {
-        let (r, c) = (i as u32 / (SIZE + 1), i as u32 % (SIZE + 1));
-        prop_assert_eq!(
-            g,
-            w,
-            "{} differs from a fresh recalculation\ninputs:\n{}",
-            cell_name(r, c, false),
-            describe(inputs)
-        );
+        let grid = ((SIZE + 1) * (SIZE + 1)) as usize;
+        let name = if i < grid {
+            cell_name(i as u32 / (SIZE + 1), i as u32 % (SIZE + 1), false)
+        } else {
+            format!("edge cell {}", i - grid)
+        };
+        prop_assert_eq!(g, w, "{} differs from a fresh recalculation\ninputs:\n{}", name, describe(inputs));
     }
     let sorted = |wb: &Workbook| {
         let mut c = wb.cycles();

@@ -102,10 +102,26 @@ fn a_space_intersects_references() {
 #[test]
 fn a_reference_of_several_areas_has_no_one_shape_or_value() {
     let mut wb = grid();
-    // LibreOffice answers #VALUE! for ROWS and COLUMNS; Excel #REF!.
+    // LibreOffice answers Err:504 (a bad parameter) for ROW, COLUMN, ROWS and COLUMNS of
+    // several areas. Excel: "Office returns #REF!, if array refers to the union of
+    // discontiguous ranges" ([MS-OI29500] 2.1.1035 on ROWS, against the standard's #NULL!),
+    // and ECMA-376 Part 1 §18.17.7 ROW and COLUMN: "if the range of cells referred to by
+    // reference is not contiguous, #REF! is returned".
     assert_eq!(eval(&mut wb, "=ROWS((A1:A3,C1))"), Value::Error(XlError::Ref));
     assert_eq!(eval(&mut wb, "=COLUMNS((A1,B1))"), Value::Error(XlError::Ref));
+    assert_eq!(eval(&mut wb, "=ROW((A1:A2,C3))"), Value::Error(XlError::Ref));
+    assert_eq!(eval(&mut wb, "=COLUMN((A1:A2,C3))"), Value::Error(XlError::Ref));
+    // The same area twice is still two areas.
+    assert_eq!(eval(&mut wb, "=ROW((C3,C3))"), Value::Error(XlError::Ref));
     assert_eq!(eval(&mut wb, "=(A1:A3,C1)"), Value::Error(XlError::Value));
+    // One area of them, as INDEX or an intersection gives it, has its shape (LibreOffice
+    // 7.4 agrees: 3, 2, 2, and #REF! past the last area).
+    assert_eq!(eval(&mut wb, "=ROW(INDEX((A1:B2,C3:D4),1,1,2))"), n(3.0));
+    assert_eq!(eval(&mut wb, "=COLUMNS(INDEX((A1:B2,C3:D4),0,0,2))"), n(2.0));
+    assert_eq!(eval(&mut wb, "=ROWS((A1:B2 B1:B3))"), n(2.0));
+    assert_eq!(eval(&mut wb, "=INDEX((A1:B2,C3:D4),1,1,3)"), Value::Error(XlError::Ref));
+    // INDEX without an area number reads the first area (LibreOffice: B2 of A1:B2).
+    assert_eq!(eval(&mut wb, "=INDEX((A1:B2,C3:D4),2,2)"), n(200.0));
 }
 
 #[test]

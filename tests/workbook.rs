@@ -183,6 +183,34 @@ fn an_edit_returns_the_problems_it_brought_as_data() {
     assert_eq!(wb.set_input(0, at("C1"), "=1+1").unwrap(), vec![]);
 }
 
+/// Where `word` is in `text` (for sorting problems by their place in one formula).
+fn p_start(text: &str, word: &str) -> usize {
+    text.find(word).unwrap_or(usize::MAX)
+}
+
+#[test]
+fn an_unknown_name_of_a_sheet_is_reported_with_its_place() {
+    let mut wb = Workbook::with_sheet();
+    let data = wb.add_sheet("Tool data").unwrap();
+    wb.set_input(data, parse_cell("A1").unwrap(), "4").unwrap();
+    wb.define_name("Known", "='Tool data'!$A$1", Some(data)).unwrap();
+    let at = parse_cell("B2").unwrap();
+    let news = wb.set_input(0, at, "='Tool data'!Known+'Tool data'!Nothing+Gone!Thing").unwrap();
+    let mut found: Vec<(&ProblemKind, &str)> =
+        news.iter().map(|p| (&p.kind, &p.text[p.span.unwrap().start as usize..p.span.unwrap().end as usize])).collect();
+    found.sort_by_key(|(_, word)| p_start(&news[0].text, word));
+    assert_eq!(
+        found,
+        [
+            (&ProblemKind::UnknownName("'Tool data'!Nothing".into()), "'Tool data'!Nothing"),
+            (&ProblemKind::MissingSheet("Gone".into()), "Gone!Thing"),
+        ],
+        "{news:?}"
+    );
+    assert!(news.iter().all(|p| (p.sheet, p.pos) == (0, at)));
+    assert_eq!(wb.problems().len(), 2, "{:?}", wb.problems());
+}
+
 #[test]
 fn copied_formulas_share_one_parsed_form() {
     let mut wb = Workbook::with_sheet();
@@ -411,4 +439,85 @@ fn iterative_calculation_runs_a_cycle_to_its_limits() {
     // Without iteration the cycle is an error again.
     wb.set_iteration(None);
     assert_eq!(get(&wb, "A1"), Value::Error(XlError::Circ));
+}
+
+// Excel 365 spills a whole row or column over the whole row or column, blanks read as 0,
+// and refuses (#SPILL!) one that would pass the sheet's edge ("Spill range extends beyond
+// the worksheet's edge", Microsoft's #SPILL! page). The cells beyond the used area are
+// not stored: reading them, and editing into them, still sees the spill.
+#[test]
+fn a_whole_row_from_another_sheet_spills_to_the_last_column_blanks_as_zero() {
+    let mut wb = Workbook::with_sheet();
+    let first = wb.add_sheet("First").unwrap();
+    wb.set_input(first, parse_cell("A1").unwrap(), "1").unwrap();
+    wb.set_input(first, parse_cell("C1").unwrap(), "x").unwrap();
+    set(&mut wb, "A3", "=XFD1+5");
+    set(&mut wb, "A4", "=COUNT(1:1)");
+    set(&mut wb, "A5", "=SUM(B1:XFD1)+COUNTA(D1:XFD1)");
+    set(&mut wb, "A1", "=First!1:1");
+    assert_eq!(get(&wb, "A1"), n(1.0));
+    assert_eq!(get(&wb, "B1"), n(0.0));
+    assert_eq!(get(&wb, "C1"), Value::text("x"));
+    assert_eq!(get(&wb, "XFD1"), n(0.0));
+    assert_eq!(get(&wb, "A3"), n(5.0));
+    // Every cell of row 1 but the text is a number.
+    assert_eq!(get(&wb, "A4"), n(16383.0));
+    assert_eq!(get(&wb, "A5"), n(16381.0));
+    wb.set_input(first, parse_cell("XFD1").unwrap(), "7").unwrap();
+    assert_eq!(get(&wb, "XFD1"), n(7.0));
+    assert_eq!(get(&wb, "A3"), n(12.0));
+    wb.set_input(first, parse_cell("XFD1").unwrap(), "").unwrap();
+    assert_eq!(get(&wb, "A3"), n(5.0));
+    // A value typed into the tail blocks the spill; taking it away lets it spill again.
+    set(&mut wb, "Z1", "y");
+    assert_eq!(get(&wb, "A1"), Value::Error(XlError::Spill));
+    assert_eq!(get(&wb, "XFD1"), Value::Blank);
+    assert_eq!(get(&wb, "A3"), n(5.0));
+    assert_eq!(get(&wb, "A4"), n(0.0));
+    set(&mut wb, "Z1", "");
+    assert_eq!(get(&wb, "A4"), n(16383.0));
+    assert_eq!(get(&wb, "Z1"), n(0.0));
+}
+
+#[test]
+fn arithmetic_on_whole_rows_and_columns_spills_over_them() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, "A1", "2");
+    set(&mut wb, "B1", "3");
+    set(&mut wb, "A2", "=1:1*2");
+    assert_eq!(get(&wb, "B2"), n(6.0));
+    assert_eq!(get(&wb, "XFD2"), n(0.0));
+    // A blank compared is a blank compared, in every one of the 16,384 columns.
+    set(&mut wb, "A3", "=IF(1:1=\"\",\"-\",1:1)");
+    assert_eq!(get(&wb, "B3"), n(3.0));
+    assert_eq!(get(&wb, "XFD3"), Value::text("-"));
+    set(&mut wb, "A4", "=COUNTIF(3:3,\"-\")");
+    assert_eq!(get(&wb, "A4"), n(16382.0));
+}
+
+#[test]
+fn a_whole_column_spills_down_to_the_last_row_and_not_past_it() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, "A1", "2");
+    set(&mut wb, "A2", "3");
+    set(&mut wb, "C1", "=A:A+1");
+    assert_eq!(get(&wb, "C2"), n(4.0));
+    assert_eq!(get(&wb, "C1048576"), n(1.0));
+    set(&mut wb, "D2", "=A:A");
+    assert_eq!(get(&wb, "D2"), Value::Error(XlError::Spill));
+    // Beyond a shorter operand the items are #N/A, to the sheet's edge.
+    set(&mut wb, "E1", "=A:A+A1:A3");
+    assert_eq!(get(&wb, "E2"), n(6.0));
+    assert_eq!(get(&wb, "E3"), n(0.0));
+    assert_eq!(get(&wb, "E4"), Value::Error(XlError::NA));
+    assert_eq!(get(&wb, "E1048576"), Value::Error(XlError::NA));
+    set(&mut wb, "H1", "=ROWS(A:A+1)*10+COLUMNS(5:5*2)");
+    assert_eq!(get(&wb, "H1"), n(1_048_576.0 * 10.0 + 16_384.0));
+    set(&mut wb, "F1", "=SUM(C:C)+COUNT(C:C)");
+    assert_eq!(get(&wb, "F1"), n(3.0 + 4.0 + 1_048_574.0 + 1_048_576.0));
+    // An edit above the tail moves it; a cell read inside the tail follows.
+    set(&mut wb, "G1", "=C900000*10");
+    assert_eq!(get(&wb, "G1"), n(10.0));
+    set(&mut wb, "A900000", "4");
+    assert_eq!(get(&wb, "G1"), n(50.0));
 }

@@ -32,6 +32,12 @@ pub trait Env {
     /// The rectangle from A1 to the last used row and column (`None` for an empty sheet).
     fn used_rect(&self, sheet: SheetId) -> Option<Rect>;
 
+    /// The used rectangle as a read of `rect` must see it: also covering cells in `rect`
+    /// that hold a value without being stored (a whole-row spill's tail).
+    fn used_rect_for(&self, sheet: SheetId, _rect: Rect) -> Option<Rect> {
+        self.used_rect(sheet)
+    }
+
     /// A defined name visible from `sheet`: its formula and the sheet it is evaluated on.
     fn defined_name(&self, name: &str, sheet: SheetId) -> Option<(Rc<Expr>, SheetId)>;
 
@@ -413,29 +419,34 @@ impl<'a> Ctx<'a> {
         r.resolve(self.sheet, self.at).ok_or(XlError::Ref)
     }
 
-    /// A rectangle's values: one cell's value, or an array clipped to the used area
-    /// (a whole column reads as far down as the sheet has data).
+    /// A rectangle's values: one cell's value, or an array whose items are stored as far
+    /// as the used area (a whole column reads as far down as the sheet has data) and whose
+    /// tail, the rest of the rectangle, is blank.
     pub fn rect_value(&self, sheet: SheetId, rect: Rect) -> Value {
         if rect.is_cell() {
             return self.env.value(sheet, rect.first);
         }
+        let whole = rect;
         let rect = self.clip_to_used(sheet, rect);
         let (rows, cols) = (rect.rows() as usize, rect.cols() as usize);
         let mut data = vec![Value::Blank; rows * cols];
         self.env.for_each_value(sheet, rect, &mut |p, v| {
             data[(p.row - rect.first.row) as usize * cols + (p.col - rect.first.col) as usize] = v.clone();
         });
-        Value::Array(Rc::new(Array::new(rows, cols, data)))
+        let array = Array::new(rows, cols, data).with_tail(whole.rows() as usize, whole.cols() as usize, Value::Blank);
+        Value::Array(Rc::new(array))
     }
 
-    /// Whole rows and columns shrink to the used area; ordinary ranges stay as written.
+    /// Whole rows and columns (ranges to the sheet's last row or column) shrink to the used
+    /// area; ordinary ranges stay as written.
     pub fn clip_to_used(&self, sheet: SheetId, rect: Rect) -> Rect {
-        let whole_cols = rect.first.row == 0 && rect.last.row == MAX_ROWS - 1;
-        let whole_rows = rect.first.col == 0 && rect.last.col == MAX_COLS - 1;
+        // Reaching the sheet's edge, as whole rows and columns and spills of them do.
+        let whole_cols = rect.last.row == MAX_ROWS - 1;
+        let whole_rows = rect.last.col == MAX_COLS - 1;
         if !whole_cols && !whole_rows {
             return rect;
         }
-        let used = self.env.used_rect(sheet).unwrap_or(Rect::cell(Pos::new(0, 0)));
+        let used = self.env.used_rect_for(sheet, rect).unwrap_or(Rect::cell(Pos::new(0, 0)));
         let mut r = rect;
         if whole_cols {
             r.last.row = used.last.row.max(r.first.row);
@@ -763,7 +774,13 @@ pub fn map_number(v: &Value, f: impl Fn(f64) -> XlResult<f64>) -> Value {
 /// Applies `f` to a scalar, or to each item of an array.
 pub fn map_value(v: &Value, f: &dyn Fn(&Value) -> Value) -> Value {
     match v {
-        Value::Array(a) => Value::Array(Rc::new(Array::new(a.rows, a.cols, a.data.iter().map(f).collect()))),
+        Value::Array(a) => {
+            let mapped = Array::new(a.rows, a.cols, a.data.iter().map(f).collect());
+            Value::Array(Rc::new(match &a.tail {
+                Some(t) => mapped.with_tail(t.rows, t.cols, f(&t.fill)),
+                None => mapped,
+            }))
+        }
         other => f(other),
     }
 }
@@ -771,6 +788,9 @@ pub fn map_value(v: &Value, f: &dyn Fn(&Value) -> Value) -> Value {
 /// Combines two operands item by item with Excel's broadcasting (a single row or
 /// column repeats; beyond the smaller array's edge the item is `#N/A`).
 pub fn broadcast2(a: &Value, b: &Value, f: &dyn Fn(&Value, &Value) -> Value) -> Value {
+    if has_tail(a) || has_tail(b) {
+        return broadcast_whole(&[a, b], &|v| f(&v[0], &v[1]));
+    }
     match (a, b) {
         (Value::Array(x), Value::Array(y)) => {
             let rows = x.rows.max(y.rows);
@@ -791,6 +811,65 @@ pub fn broadcast2(a: &Value, b: &Value, f: &dyn Fn(&Value, &Value) -> Value) -> 
         }
         (x, y) => f(x, y),
     }
+}
+
+fn has_tail(v: &Value) -> bool {
+    matches!(v, Value::Array(a) if a.tail.is_some())
+}
+
+/// Item-by-item application over operands of which some have a tail (whole rows or
+/// columns): broadcasting follows the whole sizes, `f` runs on the items stored in any
+/// operand, and once more for each distinct place beyond them. The result keeps a tail
+/// when that is one value (`=1:1*2`: 0); otherwise only the stored part is kept, as a
+/// whole row read without a tail would be.
+pub fn broadcast_whole(values: &[&Value], f: &dyn Fn(&[Value]) -> Value) -> Value {
+    let sizes = |v: &Value| match v {
+        Value::Array(a) => ((a.rows, a.cols), a.whole_size()),
+        _ => ((1, 1), (1, 1)),
+    };
+    let (mut stored, mut whole) = ((1, 1), (1, 1));
+    for v in values {
+        let (s, w) = sizes(v);
+        stored = (stored.0.max(s.0), stored.1.max(s.1));
+        whole = (whole.0.max(w.0), whole.1.max(w.1));
+    }
+    let item = |v: &Value, r: usize, c: usize| match v {
+        Value::Array(a) => {
+            let (rows, cols) = a.whole_size();
+            let (r, c) = (if rows == 1 { 0 } else { r }, if cols == 1 { 0 } else { c });
+            a.whole_get(r, c).cloned().unwrap_or(Value::Error(XlError::NA))
+        }
+        other => other.clone(),
+    };
+    let at = |r: usize, c: usize| f(&values.iter().map(|v| item(v, r, c)).collect::<Vec<_>>());
+    let mut data = Vec::with_capacity(stored.0 * stored.1);
+    for r in 0..stored.0 {
+        for c in 0..stored.1 {
+            data.push(at(r, c));
+        }
+    }
+    let array = Array::new(stored.0, stored.1, data);
+    // Beyond the stored items each operand is constant along a dimension when its whole
+    // size there is 1, within the stored part, or the whole result's: then one place per
+    // row (or column) of the stored part, plus the corner, shows every value of the tail.
+    let even = values.iter().all(|v| {
+        let (_, w) = sizes(v);
+        let fits = |w: usize, s: usize, all: usize| w <= s || w == all;
+        fits(w.0, stored.0, whole.0) && fits(w.1, stored.1, whole.1)
+    });
+    let mut places = Vec::new();
+    if whole.1 > stored.1 {
+        places.extend((0..whole.0.min(stored.0 + 1)).map(|r| (r, stored.1)));
+    }
+    if whole.0 > stored.0 {
+        places.extend((0..whole.1.min(stored.1 + 1)).map(|c| (stored.0, c)));
+    }
+    let Some(&(r0, c0)) = places.first() else { return Value::Array(Rc::new(array)) };
+    let fill = at(r0, c0);
+    if !even || places.iter().any(|&(r, c)| at(r, c) != fill) {
+        return Value::Array(Rc::new(array));
+    }
+    Value::Array(Rc::new(array.with_tail(whole.0, whole.1, fill)))
 }
 
 /// A computed number as a value: NaN and infinities are `#NUM!`, as Excel reports overflow;

@@ -25,26 +25,61 @@ pub struct Array {
     pub rows: usize,
     pub cols: usize,
     pub data: Vec<Value>,
+    /// The array is larger than `rows` × `cols`: a whole row or column read as far as the
+    /// sheet has data, the rest one known value. Code that ignores it sees the part stored.
+    pub tail: Option<Box<Tail>>,
+}
+
+/// The part of an array beyond the items stored: all of `rows` × `cols` (the whole size)
+/// outside the stored block holds `fill`. So `=1:1*2` is 16,384 items in memory
+/// proportional to the used columns.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tail {
+    pub rows: usize,
+    pub cols: usize,
+    pub fill: Value,
 }
 
 impl Array {
     pub fn new(rows: usize, cols: usize, data: Vec<Value>) -> Array {
         debug_assert_eq!(rows * cols, data.len());
-        Array { rows, cols, data }
+        Array { rows, cols, data, tail: None }
     }
 
     pub fn filled(rows: usize, cols: usize, v: Value) -> Array {
-        Array { rows, cols, data: vec![v; rows * cols] }
+        Array { rows, cols, data: vec![v; rows * cols], tail: None }
     }
 
     /// A one-row array.
     pub fn row(data: Vec<Value>) -> Array {
-        Array { rows: 1, cols: data.len(), data }
+        Array { rows: 1, cols: data.len(), data, tail: None }
     }
 
     /// A one-column array.
     pub fn column(data: Vec<Value>) -> Array {
-        Array { rows: data.len(), cols: 1, data }
+        Array { rows: data.len(), cols: 1, data, tail: None }
+    }
+
+    /// This array as `whole_rows` × `whole_cols` (not smaller than stored), the items
+    /// beyond the stored ones `fill`.
+    pub fn with_tail(mut self, whole_rows: usize, whole_cols: usize, fill: Value) -> Array {
+        let (rows, cols) = (whole_rows.max(self.rows), whole_cols.max(self.cols));
+        self.tail = (rows > self.rows || cols > self.cols).then(|| Box::new(Tail { rows, cols, fill }));
+        self
+    }
+
+    /// The whole size, tail included.
+    pub fn whole_size(&self) -> (usize, usize) {
+        self.tail.as_ref().map_or((self.rows, self.cols), |t| (t.rows, t.cols))
+    }
+
+    /// An item of the whole array: stored, the tail's fill, or `None` beyond the whole size.
+    pub fn whole_get(&self, row: usize, col: usize) -> Option<&Value> {
+        if row < self.rows && col < self.cols {
+            return Some(self.get(row, col));
+        }
+        let (rows, cols) = self.whole_size();
+        (row < rows && col < cols).then(|| &self.tail.as_ref().expect("beyond the stored items is the tail").fill)
     }
 
     pub fn get(&self, row: usize, col: usize) -> &Value {

@@ -209,6 +209,13 @@ impl Env for Probe<'_> {
         Env::used_rect(self.wb, sheet)
     }
 
+    /// A whole row or column is read whole, beyond the used area too: a waiting cell there
+    /// (blank until computed) is read.
+    fn used_rect_for(&self, sheet: SheetId, rect: Rect) -> Option<Rect> {
+        self.note(sheet, rect);
+        Env::used_rect_for(self.wb, sheet, rect)
+    }
+
     fn defined_name(&self, name: &str, sheet: SheetId) -> Option<(Rc<Expr>, SheetId)> {
         self.wb.defined_name(name, sheet)
     }

@@ -704,8 +704,16 @@ impl Workbook {
             return id;
         }
         let id = self.cells.len() as u32;
-        self.cells.push(Cell { value: Value::Blank, formula: NO_FORMULA, sheet, pos, dependents: Deps::None });
+        // A cell made inside a spill's tail holds the tail's value, as the spill's own.
+        let (value, owner) = match self.spill.tail_at(sheet, pos) {
+            Some((anchor, tail)) => (tail.fill.clone(), Some(anchor)),
+            None => (Value::Blank, None),
+        };
+        self.cells.push(Cell { value, formula: NO_FORMULA, sheet, pos, dependents: Deps::None });
         self.sheets[sheet as usize].set(pos, id);
+        if let Some(anchor) = owner {
+            self.spill.own(id, anchor);
+        }
         id
     }
 
@@ -761,13 +769,18 @@ impl Env for Workbook {
                 Value::Number(n) => Value::Number(*n),
                 v => v.clone(),
             },
-            None => Value::Blank,
+            None => self.spill.tail_value(sheet, pos),
         }
     }
 
     #[inline]
     fn number(&self, sheet: SheetId, pos: Pos) -> Option<f64> {
-        let id = self.sheets.get(sheet as usize)?.get(pos)?;
+        let Some(id) = self.sheets.get(sheet as usize)?.get(pos) else {
+            return match self.spill.tail_value(sheet, pos) {
+                Value::Number(n) => Some(n),
+                _ => None,
+            };
+        };
         match self.cells[id as usize].value {
             Value::Number(n) => Some(n),
             _ => None,
@@ -775,6 +788,19 @@ impl Env for Workbook {
     }
 
     fn for_each_value(&self, sheet: SheetId, rect: Rect, f: &mut dyn FnMut(Pos, &Value)) {
+        if self.spill.tails_meeting(sheet, rect).next().is_some() {
+            // Cells of a spill's tail that do not exist hold a value too: every place in
+            // `rect` is read, in order (the caller cut `rect` to what is used).
+            for row in rect.first.row..=rect.last.row {
+                for col in rect.first.col..=rect.last.col {
+                    let v = Env::value(self, sheet, Pos::new(row, col));
+                    if !v.is_blank() {
+                        f(Pos::new(row, col), &v);
+                    }
+                }
+            }
+            return;
+        }
         if let Some(s) = self.sheets.get(sheet as usize) {
             s.for_each_in(rect, &mut |p, id| {
                 let v = &self.cells[id as usize].value;
@@ -787,6 +813,16 @@ impl Env for Workbook {
 
     fn used_rect(&self, sheet: SheetId) -> Option<Rect> {
         self.sheets.get(sheet as usize)?.extent()
+    }
+
+    fn used_rect_for(&self, sheet: SheetId, rect: Rect) -> Option<Rect> {
+        let mut used = self.sheets.get(sheet as usize)?.extent();
+        for t in self.spill.tails_meeting(sheet, rect) {
+            let last = Pos::new(t.rect.last.row.min(rect.last.row), t.rect.last.col.min(rect.last.col));
+            let u = used.get_or_insert(Rect::new(Pos::new(0, 0), last));
+            u.last = Pos::new(u.last.row.max(last.row), u.last.col.max(last.col));
+        }
+        used
     }
 
     fn defined_name(&self, name: &str, sheet: SheetId) -> Option<(Rc<Expr>, SheetId)> {

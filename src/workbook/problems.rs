@@ -8,7 +8,7 @@ use crate::eval::{Env, Value, XlError};
 use crate::formula::address::Pos;
 use crate::formula::ast::{Expr, ExprKind, SheetId, SheetRef, Span};
 use crate::formula::parse::ParseError;
-use crate::formula::print::print_locating;
+use crate::formula::print::{print_locating, quote_sheet_name};
 
 use super::Workbook;
 
@@ -146,6 +146,17 @@ impl Workbook {
                     SheetRef::Missing(name) => Some(ProblemKind::MissingSheet(name.to_string())),
                     _ => None,
                 },
+                // `Data!Length`: a name of that sheet (or a workbook name) that is not defined.
+                ExprKind::SheetName(SheetRef::Id(id), name) if Env::defined_name(self, name, *id).is_none() => {
+                    let sheet_name = self.sheets.get(*id as usize).map_or("#REF", |s| s.name.as_str());
+                    Some(ProblemKind::UnknownName(format!("{}!{name}", quote_sheet_name(sheet_name))))
+                }
+                ExprKind::SheetName(SheetRef::Current, name) if Env::defined_name(self, name, sheet).is_none() => {
+                    Some(ProblemKind::UnknownName(name.to_string()))
+                }
+                ExprKind::SheetName(SheetRef::Missing(sheet_name), _) => {
+                    Some(ProblemKind::MissingSheet(sheet_name.to_string()))
+                }
                 _ => None,
             }
         };

@@ -32,6 +32,29 @@ pub struct SpillState {
     blocked: FxMap<u32, Rect>,
     /// Anchors and freed cells to recompute at the next recalculation.
     pending: Vec<u32>,
+    /// Anchor → the part of its spill that is one value and stored only in the cells that
+    /// exist there (a whole row or column spilled: `=1:1*2`).
+    tails: FxMap<u32, SpillTail>,
+}
+
+/// A spill's cells beyond its stored items: `rect` less `stored`, each holding `fill`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpillTail {
+    pub sheet: u16,
+    pub rect: Rect,
+    pub stored: Rect,
+    pub fill: Value,
+}
+
+impl SpillTail {
+    fn holds(&self, sheet: u16, pos: Pos) -> bool {
+        self.sheet == sheet && self.rect.contains(pos) && !self.stored.contains(pos)
+    }
+}
+
+/// Whether two rectangles share a cell.
+pub(super) fn meets(a: Rect, b: Rect) -> bool {
+    a.first.row <= b.last.row && b.first.row <= a.last.row && a.first.col <= b.last.col && b.first.col <= a.last.col
 }
 
 impl SpillState {
@@ -41,6 +64,30 @@ impl SpillState {
 
     pub fn rect(&self, anchor: u32) -> Option<Rect> {
         self.areas.get(&anchor).copied()
+    }
+
+    /// The value of a position no cell is stored at: a spill tail's fill, or blank.
+    #[inline]
+    pub fn tail_value(&self, sheet: u16, pos: Pos) -> Value {
+        if self.tails.is_empty() {
+            return Value::Blank;
+        }
+        self.tail_at(sheet, pos).map_or(Value::Blank, |(_, t)| t.fill.clone())
+    }
+
+    /// Notes a cell made inside a spill as the anchor's.
+    pub(super) fn own(&mut self, cell: u32, anchor: u32) {
+        self.owners.insert(cell, anchor);
+    }
+
+    /// The anchor and tail holding `pos`, if any.
+    pub fn tail_at(&self, sheet: u16, pos: Pos) -> Option<(u32, &SpillTail)> {
+        self.tails.iter().find(|(_, t)| t.holds(sheet, pos)).map(|(&a, t)| (a, t))
+    }
+
+    /// The tails on `sheet` meeting `rect`.
+    pub fn tails_meeting(&self, sheet: u16, rect: Rect) -> impl Iterator<Item = &SpillTail> + '_ {
+        self.tails.values().filter(move |t| t.sheet == sheet && meets(t.rect, rect))
     }
 
     /// Anchors that spilled and anchors blocked.
@@ -563,7 +610,8 @@ impl Workbook {
 
     fn spill_array(&mut self, id: u32, a: &crate::eval::Array, late: &mut Vec<u32>) {
         let (sheet, anchor) = (self.cells[id as usize].sheet, self.cells[id as usize].pos);
-        let last = Pos::new(anchor.row + a.rows as u32 - 1, anchor.col + a.cols as u32 - 1);
+        let (rows, cols) = a.whole_size();
+        let last = Pos::new(anchor.row.saturating_add(rows as u32 - 1), anchor.col.saturating_add(cols as u32 - 1));
         let fits = last.row < MAX_ROWS && last.col < MAX_COLS;
         let rect = Rect::new(anchor, Pos::new(last.row.min(MAX_ROWS - 1), last.col.min(MAX_COLS - 1)));
         if !fits || self.spill_blocked(id, sheet, rect) {
@@ -596,6 +644,44 @@ impl Workbook {
             }
         }
         self.spill.areas.insert(id, rect);
+        let tail = a.tail.as_ref().map(|t| SpillTail {
+            sheet,
+            rect,
+            stored: Rect::new(anchor, Pos::new(anchor.row + a.rows as u32 - 1, anchor.col + a.cols as u32 - 1)),
+            fill: t.fill.clone().blank_as_zero(),
+        });
+        self.set_tail(id, tail, late);
+    }
+
+    /// Records an anchor's spill tail (or its absence): the cells that exist there take its
+    /// value, and the ranges meeting the old or new tail are read again, since the cells
+    /// that do not exist changed with them.
+    fn set_tail(&mut self, anchor: u32, tail: Option<SpillTail>, late: &mut Vec<u32>) {
+        let old = if self.spill.tails.is_empty() { None } else { self.spill.tails.remove(&anchor) };
+        if old == tail {
+            if let Some(t) = old {
+                self.spill.tails.insert(anchor, t);
+            }
+            return;
+        }
+        for t in old.iter().chain(tail.iter()) {
+            self.ranges.meeting(t.sheet, t.rect, |r| late.push(r | RANGE_BIT));
+        }
+        let Some(t) = tail else { return };
+        let mut existing = Vec::new();
+        self.sheets[t.sheet as usize].for_each_in(t.rect, &mut |p, cid| {
+            if !t.stored.contains(p) {
+                existing.push(cid);
+            }
+        });
+        for cid in existing {
+            self.spill.owners.insert(cid, anchor);
+            if self.cells[cid as usize].value != t.fill {
+                self.store_value(cid, t.fill.clone());
+                late.push(cid);
+            }
+        }
+        self.spill.tails.insert(anchor, t);
     }
 
     /// Whether the anchor reads, directly or through other formulas, a cell of `rect` other
@@ -657,14 +743,17 @@ impl Workbook {
             let own_content = !self.spill.owners.contains_key(&cid) && !c.value.is_blank();
             blocked = c.formula != NO_FORMULA || owned_elsewhere || own_content || self.bad_inputs.contains_key(&cid);
         });
-        blocked
+        // Another spill's tail holds cells that do not exist.
+        blocked || self.spill.tails.iter().any(|(&a, t)| a != anchor && t.sheet == sheet && meets(t.rect, rect))
     }
 
     fn clear_cells_outside(&mut self, anchor: u32, old: Rect, new: Rect, late: &mut Vec<u32>) {
         let sheet = self.cells[anchor as usize].sheet;
         let mut freed = Vec::new();
+        let owners = &self.spill.owners;
         self.sheets[sheet as usize].for_each_in(old, &mut |p, cid| {
-            if cid != anchor && !new.contains(p) {
+            // A cell typed into the spill is no longer the anchor's: it keeps its value.
+            if cid != anchor && !new.contains(p) && owners.get(&cid) == Some(&anchor) {
                 freed.push(cid);
             }
         });
@@ -680,6 +769,9 @@ impl Workbook {
 
     /// Empties the cells an anchor spilled into.
     fn release_spill(&mut self, anchor: u32, late: &mut Vec<u32>) {
+        if !self.spill.tails.is_empty() {
+            self.set_tail(anchor, None, late);
+        }
         if let Some(old) = self.spill.areas.remove(&anchor) {
             let empty = Rect::cell(self.cells[anchor as usize].pos);
             self.clear_cells_outside(anchor, old, empty, late);
@@ -713,6 +805,7 @@ impl Workbook {
     /// the array filling the area again over the edit.
     fn break_fixed_array(&mut self, anchor: u32) {
         self.fixed_arrays.insert(anchor, (1, 1));
+        self.spill.tails.remove(&anchor);
         if self.spill.areas.remove(&anchor).is_some() {
             self.spill.owners.retain(|_, owner| *owner != anchor);
         }
@@ -731,13 +824,10 @@ fn fit_to_area(value: Value, rows: usize, cols: usize) -> Value {
     }
     let item = |r: usize, c: usize| match &value {
         Value::Array(a) => {
-            let r = if a.rows == 1 { 0 } else { r };
-            let c = if a.cols == 1 { 0 } else { c };
-            if r < a.rows && c < a.cols {
-                a.get(r, c).clone()
-            } else {
-                Value::Error(XlError::NA)
-            }
+            let (whole_rows, whole_cols) = a.whole_size();
+            let r = if whole_rows == 1 { 0 } else { r };
+            let c = if whole_cols == 1 { 0 } else { c };
+            a.whole_get(r, c).cloned().unwrap_or(Value::Error(XlError::NA))
         }
         v => v.clone(),
     };

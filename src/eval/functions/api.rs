@@ -7,4 +7,6 @@
 pub use super::args::*;
 pub use super::scalar::*;
 pub use super::{find, ArgSet, FnSpec, Outside, Registry, MANY};
-pub use crate::eval::evaluator::{broadcast2, comparison_holds, number_result, power, Ctx, Operand, RowHidden};
+pub use crate::eval::evaluator::{
+    broadcast2, broadcast_whole, comparison_holds, number_result, power, Ctx, Operand, RowHidden,
+};

@@ -7,7 +7,7 @@ use crate::formula::address::Rect;
 use crate::formula::ast::{Expr, ExprKind, SheetId};
 
 use crate::eval::coerce::{to_bool, to_number, to_text};
-use crate::eval::functions::api::{number_result, Ctx, Operand};
+use crate::eval::functions::api::{broadcast_whole, number_result, Ctx, Operand};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 
 /// Where a value came from, which decides how aggregates treat text and booleans.
@@ -64,6 +64,10 @@ pub fn lift_values(values: &[Value], f: &dyn Fn(&[Value]) -> XlResult<Value>) ->
     let Some((rows, cols)) = dims else {
         return f(values);
     };
+    if values.iter().any(|v| matches!(v, Value::Array(a) if a.tail.is_some())) {
+        let refs: Vec<&Value> = values.iter().collect();
+        return Ok(broadcast_whole(&refs, &|v| f(v).unwrap_or_else(Value::Error)));
+    }
     let mut data = Vec::with_capacity(rows * cols);
     let mut scalars = Vec::with_capacity(values.len());
     for r in 0..rows {
@@ -133,6 +137,12 @@ pub fn for_each_value(ctx: &mut Ctx, args: &[Expr], f: &mut dyn FnMut(&Value, So
             Operand::Value(Value::Array(arr)) => {
                 for v in &arr.data {
                     f(v, Source::Collection)?;
+                }
+                // The items of a whole row or column beyond those stored (`COUNT(1:1*2)`).
+                if let Some(tail) = &arr.tail {
+                    for _ in 0..tail.rows * tail.cols - arr.rows * arr.cols {
+                        f(&tail.fill, Source::Collection)?;
+                    }
                 }
             }
             Operand::Value(v) => f(&v, Source::Direct)?,

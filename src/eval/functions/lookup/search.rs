@@ -744,7 +744,8 @@ fn columns(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 fn dimensions(ctx: &mut Ctx, e: &Expr) -> XlResult<(usize, usize)> {
     match ctx.reference_only(e) {
         Operand::Ref(_, rect) => Ok((rect.rows() as usize, rect.cols() as usize)),
-        Operand::Value(Value::Array(a)) => Ok((a.rows, a.cols)),
+        // `ROWS(A:A+1)` is 1048576: the whole array, its tail included.
+        Operand::Value(Value::Array(a)) => Ok(a.whole_size()),
         Operand::Value(Value::Error(err)) => Err(err),
         Operand::Value(_) => Ok((1, 1)),
         // A reference of several areas has no one shape.
