@@ -275,3 +275,46 @@ fn a_workbook_written_anew_keeps_its_links_to_other_workbooks() {
         assert_eq!(c.value, Value::text("Hello!"), "{cell}: Excel's cached value");
     }
 }
+
+/// The defined names of a workbook part that read other workbooks, as `name=text`.
+fn link_names(workbook_xml: &str) -> Vec<String> {
+    let mut names: Vec<String> = workbook_xml
+        .split("<definedName ")
+        .skip(1)
+        .filter_map(|d| {
+            let name = d.split("name=\"").nth(1)?.split('"').next()?;
+            let text = &d[d.find('>')? + 1..d.find("</definedName>")?];
+            text.contains('[').then(|| format!("{name}={text}"))
+        })
+        .collect();
+    names.sort();
+    names
+}
+
+#[test]
+fn names_that_read_other_workbooks_are_kept_in_a_workbook_written_anew() {
+    // openpyxl's book1 names `[1]Sheet1!$A$1` and `[1]!B2range` (a name of the linked workbook).
+    let root = common::corpus::public_path();
+    if !root.is_dir() {
+        assert!(std::env::var_os("CI").is_none(), "public Excel corpus not found at {}", root.display());
+        return;
+    }
+    let source = root.join("openpyxl/openpyxl_workbook_names_tests_data_book1.xlsx");
+    let imported = xlsx::load(&source).expect("loads");
+    let dir = tempfile::tempdir().unwrap();
+    let target = dir.path().join("names-written-anew.xlsx");
+    let mut workbook = imported.workbook;
+    workbook.track_changes();
+    workbook.add_sheet("Added").expect("sheet");
+    let origin = ncsheet::io::Origin::Xlsx(source.clone());
+    let encoded = ncsheet::io::encode_save(&workbook, Some(&imported.layout), &origin, &target).expect("encodes");
+    encoded.write(Default::default()).expect("writes");
+    let theirs = link_names(&package_part(&source, "xl/workbook.xml").unwrap());
+    assert!(theirs.len() >= 2, "{theirs:?}");
+    assert_eq!(link_names(&package_part(&target, "xl/workbook.xml").unwrap()), theirs);
+    let back = xlsx::load(&target).expect("reloads");
+    for c in &imported.cached {
+        let value = back.workbook.value(c.sheet, c.pos);
+        assert!(xlsx::values_agree(&c.value, &value), "{}: ncsheet {value:?}, Excel {:?}", c.pos, c.value);
+    }
+}
