@@ -212,7 +212,7 @@ fn note_resolved_links(imported: &mut Imported) {
 
 /// Whether the formula text reads a linked workbook the importer resolved.
 fn reads_links(text: &str, book: &BookParts) -> bool {
-    text.contains('[') && matches!(external::resolve_links(text, &book.links), Cow::Owned(_))
+    !book.links.is_empty() && text.contains('[') && matches!(external::resolve_links(text, &book.links), Cow::Owned(_))
 }
 
 /// The number format code of each style index (`None` for General), as calamine read the
