@@ -179,25 +179,142 @@ fn deleted_references_are_ref_whatever_sheet_they_were_on() {
     all_agree(&["poi/test-data_spreadsheet_49783.xlsx", "poi/test-data_spreadsheet_customIndexedColors.xlsx"], 4);
 }
 
+/// The text of one part of an xlsx package.
+fn package_part(path: &std::path::Path, part: &str) -> Option<String> {
+    let mut zip = zip::ZipArchive::new(std::fs::File::open(path).expect("open package")).expect("zip");
+    let mut text = String::new();
+    std::io::Read::read_to_string(&mut zip.by_name(part).ok()?, &mut text).expect("read part");
+    Some(text)
+}
+
+/// The formulas (`<f>` elements) of a sheet part that read other workbooks (`[1]`, `[2]`…).
+fn link_formulas(sheet_xml: &str) -> Vec<String> {
+    sheet_xml
+        .split("<f")
+        .skip(1)
+        .filter_map(|f| Some(f[f.find('>')? + 1..f.find("</f>")?].to_string()))
+        .filter(|f| f.contains("]"))
+        .collect()
+}
+
 #[test]
-fn a_workbook_written_anew_says_it_loses_its_links_to_other_workbooks() {
-    // ref-56737 links to one other workbook (`[1]Uses!$A$1`); written as a new package (a
-    // sheet was added), the links become Excel's cached values: said before anything is written.
+fn a_workbook_written_anew_keeps_its_links_to_other_workbooks() {
+    // ref2-56737 links to two other workbooks (`[1]Uses!$A$1`, `[2]!NR_Global_B2`, their
+    // sheet and workbook names); written as a new package (a sheet was added), its formulas
+    // still read them, the link parts come along, and Excel's cached values come back.
     let root = common::corpus::public_path();
     if !root.is_dir() {
         assert!(std::env::var_os("CI").is_none(), "public Excel corpus not found at {}", root.display());
         return;
     }
-    let source = root.join("poi/test-data_spreadsheet_ref-56737.xlsx");
+    let source = root.join("poi/test-data_spreadsheet_ref2-56737.xlsx");
     let imported = xlsx::load(&source).expect("loads");
-    assert_eq!(imported.layout.external_links, 1);
-    let origin = ncsheet::io::Origin::Xlsx(source.clone());
-    let target = std::env::temp_dir().join("ncsheet-links-never-written.xlsx");
+    assert_eq!(imported.layout.external_links, 2);
+    let dir = tempfile::tempdir().unwrap();
+    let target = dir.path().join("links-written-anew.xlsx");
     let mut workbook = imported.workbook;
     workbook.track_changes();
-    workbook.set_input(0, ncsheet::formula::address::Pos::new(30, 0), "1").expect("edit");
     // A sheet added makes the package unpatchable: it is written anew.
     workbook.add_sheet("Added").expect("sheet");
+    let origin = ncsheet::io::Origin::Xlsx(source.clone());
     let encoded = ncsheet::io::encode_save(&workbook, Some(&imported.layout), &origin, &target).expect("encodes");
-    assert!(encoded.losses.iter().any(|l| l.contains("links to 1 other workbook")), "losses: {:?}", encoded.losses);
+    assert!(!encoded.losses.iter().any(|l| l.contains("other workbook")), "losses: {:?}", encoded.losses);
+    encoded.write(Default::default()).expect("writes");
+
+    // The formulas as Excel wrote them, and the link parts with the files they name.
+    let theirs = link_formulas(&package_part(&source, "xl/worksheets/sheet1.xml").unwrap());
+    assert_eq!(theirs.len(), 6, "{theirs:?}");
+    let ours = link_formulas(&package_part(&target, "xl/worksheets/sheet1.xml").unwrap());
+    assert_eq!(ours, theirs);
+    for n in 1..=2 {
+        let part = format!("xl/externalLinks/externalLink{n}.xml");
+        assert_eq!(package_part(&target, &part), package_part(&source, &part), "{part}");
+        let rels = format!("xl/externalLinks/_rels/externalLink{n}.xml.rels");
+        assert_eq!(package_part(&target, &rels), package_part(&source, &rels), "{rels}");
+    }
+
+    // ncsheet reads the new package as Excel computed the original.
+    let back = xlsx::load(&target).expect("reloads");
+    assert_eq!(back.layout.external_links, 2);
+    assert!(!imported.cached.is_empty());
+    for c in &imported.cached {
+        let value = back.workbook.value(c.sheet, c.pos);
+        assert!(xlsx::values_agree(&c.value, &value), "{}: ncsheet {value:?}, Excel {:?}", c.pos, c.value);
+    }
+
+    // LibreOffice, recalculating, reads the new package as it reads Excel's: the same value
+    // in every formula cell (it knows no names of linked workbooks, `#NAME?` in both), and
+    // Excel's value where a formula reads a linked workbook's cells.
+    let Some(soffice) = common::soffice() else {
+        println!("skipped: LibreOffice (soffice) is not installed");
+        return;
+    };
+    let profile = common::recalculating_profile(&dir.path().join("profile"));
+    let original = dir.path().join("links-original.xlsx");
+    std::fs::copy(&source, &original).unwrap();
+    let out = dir.path().join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    common::libreoffice_convert(&soffice, &profile, &[target.clone(), original], &out);
+    let libre_ours = xlsx::load(&out.join("links-written-anew.xlsx")).expect("LibreOffice's file loads");
+    let libre_theirs = xlsx::load(&out.join("links-original.xlsx")).expect("LibreOffice's file loads");
+    let libre = |read: &xlsx::Imported, c: &xlsx::CachedValue| {
+        let found = read.cached.iter().find(|l| l.sheet == c.sheet && l.pos == c.pos);
+        found.map(|l| l.value.clone()).unwrap_or_else(|| panic!("{}: LibreOffice stored no formula result", c.pos))
+    };
+    for c in &imported.cached {
+        let (ours, theirs) = (libre(&libre_ours, c), libre(&libre_theirs, c));
+        assert!(
+            xlsx::values_agree(&theirs, &ours),
+            "{}: LibreOffice {ours:?} from ours, {theirs:?} from Excel's",
+            c.pos
+        );
+    }
+    for cell in ["E3", "E5"] {
+        let c = imported.cached.iter().find(|c| c.sheet == 0 && c.pos == parse_cell(cell).unwrap()).unwrap();
+        assert_eq!(libre(&libre_ours, c), Value::text("Hello!"), "{cell}");
+        assert_eq!(c.value, Value::text("Hello!"), "{cell}: Excel's cached value");
+    }
+}
+
+/// The defined names of a workbook part that read other workbooks, as `name=text`.
+fn link_names(workbook_xml: &str) -> Vec<String> {
+    let mut names: Vec<String> = workbook_xml
+        .split("<definedName ")
+        .skip(1)
+        .filter_map(|d| {
+            let name = d.split("name=\"").nth(1)?.split('"').next()?;
+            let text = &d[d.find('>')? + 1..d.find("</definedName>")?];
+            text.contains('[').then(|| format!("{name}={text}"))
+        })
+        .collect();
+    names.sort();
+    names
+}
+
+#[test]
+fn names_that_read_other_workbooks_are_kept_in_a_workbook_written_anew() {
+    // openpyxl's book1 names `[1]Sheet1!$A$1` and `[1]!B2range` (a name of the linked workbook).
+    let root = common::corpus::public_path();
+    if !root.is_dir() {
+        assert!(std::env::var_os("CI").is_none(), "public Excel corpus not found at {}", root.display());
+        return;
+    }
+    let source = root.join("openpyxl/openpyxl_workbook_names_tests_data_book1.xlsx");
+    let imported = xlsx::load(&source).expect("loads");
+    let dir = tempfile::tempdir().unwrap();
+    let target = dir.path().join("names-written-anew.xlsx");
+    let mut workbook = imported.workbook;
+    workbook.track_changes();
+    workbook.add_sheet("Added").expect("sheet");
+    let origin = ncsheet::io::Origin::Xlsx(source.clone());
+    let encoded = ncsheet::io::encode_save(&workbook, Some(&imported.layout), &origin, &target).expect("encodes");
+    encoded.write(Default::default()).expect("writes");
+    let theirs = link_names(&package_part(&source, "xl/workbook.xml").unwrap());
+    assert!(theirs.len() >= 2, "{theirs:?}");
+    assert_eq!(link_names(&package_part(&target, "xl/workbook.xml").unwrap()), theirs);
+    let back = xlsx::load(&target).expect("reloads");
+    for c in &imported.cached {
+        let value = back.workbook.value(c.sheet, c.pos);
+        assert!(xlsx::values_agree(&c.value, &value), "{}: ncsheet {value:?}, Excel {:?}", c.pos, c.value);
+    }
 }

@@ -342,10 +342,11 @@ fn formulas_replaced(cells: &[String]) -> Option<String> {
     })
 }
 
-/// The loss of the links to other workbooks when a package is written anew: their
-/// references were read as the values Excel cached and are written so, as constants.
+/// The loss of the links to other workbooks when a package is written anew without their
+/// parts (one was missing): their references were read as the values Excel cached and are
+/// written so, as constants.
 fn links_loss(layout: Option<&xlsx::Layout>) -> Option<String> {
-    let n = layout.map_or(0, |l| l.external_links);
+    let n = layout.filter(|l| l.links.parts.is_empty()).map_or(0, |l| l.external_links);
     (n > 0).then(|| {
         format!(
             "the links to {n} other workbook{} are written as the values Excel last cached for them: the \

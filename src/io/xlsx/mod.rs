@@ -101,8 +101,31 @@ pub struct Layout {
     /// The file's tables (`xl/tables/`), in sheet order (for `info`).
     pub tables: Vec<Table>,
     /// How many other workbooks the file links to (`xl/externalLinks/`): their references
-    /// were read as the values Excel cached, so a package written anew loses the links.
+    /// were read as the values Excel cached (`links` writes them back).
     pub external_links: usize,
+    /// The link parts and the formulas that read them, to write back in a package made new.
+    pub links: KeptLinks,
+}
+
+/// Links to other workbooks as the file had them: a package written anew keeps the parts,
+/// and the formulas and names still as read keep their references to the linked workbooks.
+#[derive(Clone, Debug, Default)]
+pub struct KeptLinks {
+    /// Each external-link part with its relationships part, in the file's numbering (`[1]`
+    /// first); empty when a numbered part is missing (the numbering could not be kept).
+    pub parts: Vec<(Vec<u8>, Option<Vec<u8>>)>,
+    /// By cell: the formula as the file spelled it, and as ncsheet writes the formula it read.
+    pub cells: HashMap<(SheetId, Pos), LinkedFormula>,
+    /// By name (lowercase) and scope, likewise.
+    pub names: HashMap<(String, Option<SheetId>), LinkedFormula>,
+}
+
+/// A formula that reads linked workbooks: written back as the file had it while ncsheet
+/// would still write it as `resolved` (no one edited it).
+#[derive(Clone, Debug, Default)]
+pub struct LinkedFormula {
+    pub original: String,
+    pub resolved: String,
 }
 
 /// The file's calculation settings: `<calcPr>` and `date1904` of `<workbookPr>`, with

@@ -28,9 +28,10 @@ use super::external::{self, ExternalBook};
 use super::raw::{self, Package, SheetEntry};
 use super::sheet_span;
 use super::sheet_xml::{self, CellXml, FormulaXml, ScanError, SheetScan};
+use super::syntax::{self, Storage};
 use super::tables::{self, Table};
 use super::xml::StreamError;
-use super::{syntax, ArrayFormula, CachedValue, ErrorKind, Imported, Layout, SheetLayout, XlsxError};
+use super::{ArrayFormula, CachedValue, ErrorKind, Imported, Layout, LinkedFormula, SheetLayout, XlsxError};
 use super::{NEW_WORKBOOK_APPLICATION, WRITTEN_BY};
 
 /// Reads an .xlsx or .xlsm file into a recalculated workbook.
@@ -123,6 +124,9 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
     imported.layout.calculation = package.calculation.clone();
     let links = read_links(&mut package, &mut imported.notes);
     imported.layout.external_links = links.iter().flatten().count();
+    if imported.layout.external_links > 0 {
+        imported.layout.links.parts = link_parts(&mut package);
+    }
     let mut book =
         BookParts { tables, sheet_names: imported.workbook.sheet_names(), links, range_names: HashSet::new() };
     define_names(&mut imported, &package, &sheets, &ids, &book);
@@ -163,7 +167,52 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
     imported.workbook.recalculate();
     let arrays = array_anchors(&imported.layout, &imported.workbook);
     intersect_legacy_formulas(&mut imported.workbook, &legacy_ranges, &arrays);
+    note_resolved_links(&mut imported);
     Ok(imported)
+}
+
+/// Each external-link part with its relationships part (which names the linked file), in
+/// the file's numbering; none when one is missing, as `[n]` could then not keep its number.
+fn link_parts(package: &mut Package) -> Vec<(Vec<u8>, Option<Vec<u8>>)> {
+    let mut parts = Vec::new();
+    for part in package.external_links.clone() {
+        let Some(part) = part else { return Vec::new() };
+        let Ok(Some(xml)) = package.read_optional(&part) else { return Vec::new() };
+        let (dir, file) = part.rsplit_once('/').unwrap_or(("", part.as_str()));
+        let rels = format!("{dir}/_rels/{file}.rels");
+        parts.push((xml, package.read_optional(rels.trim_start_matches('/')).ok().flatten()));
+    }
+    parts
+}
+
+/// Notes, for each formula and name that read linked workbooks, how ncsheet writes what it
+/// read: a save writes the file's own text back while that is unchanged.
+fn note_resolved_links(imported: &mut Imported) {
+    let links = &mut imported.layout.links;
+    if links.parts.is_empty() {
+        links.cells.clear();
+        links.names.clear();
+        return;
+    }
+    let wb = &imported.workbook;
+    links.cells.retain(|&(sheet, pos), formula| match syntax::cell_to_file(wb, sheet, pos, Storage::Legacy) {
+        Some(file) => {
+            formula.resolved = file.text;
+            true
+        }
+        None => false,
+    });
+    for (name, tree, scope) in wb.name_trees() {
+        if let Some(formula) = links.names.get_mut(&(name.to_ascii_lowercase(), scope)) {
+            formula.resolved = syntax::to_file(&tree, wb, Pos::new(0, 0), Storage::Dynamic).text;
+        }
+    }
+    links.names.retain(|_, formula| !formula.resolved.is_empty());
+}
+
+/// Whether the formula text reads a linked workbook the importer resolved.
+fn reads_links(text: &str, book: &BookParts) -> bool {
+    !book.links.is_empty() && text.contains('[') && matches!(external::resolve_links(text, &book.links), Cow::Owned(_))
 }
 
 /// The number format code of each style index (`None` for General), as calamine read the
@@ -482,6 +531,10 @@ impl<'a> SheetImport<'a> {
         self.typed.clear();
         self.typed.push('=');
         self.typed.push_str(&typed_formula(text, self.book, sheet, pos));
+        if reads_links(text, self.book) {
+            let original = LinkedFormula { original: text.to_string(), ..Default::default() };
+            imported.layout.links.cells.insert((sheet, pos), original);
+        }
         match syntax::tree_from_file(&self.typed[1..], wb, sheet, pos) {
             Some(tree) => wb.set_formula_tree_deferred(sheet, pos, tree),
             None => {
@@ -592,6 +645,11 @@ fn define_names(
         };
         let wb = &mut imported.workbook;
         let formula = typed_formula(&n.formula, book, scope.unwrap_or(0), Pos::new(0, 0));
+        if reads_links(&n.formula, book) {
+            let original =
+                LinkedFormula { original: n.formula.trim_start_matches('=').to_string(), ..Default::default() };
+            imported.layout.links.names.insert((n.name.to_ascii_lowercase(), scope), original);
+        }
         let defined = match syntax::tree_from_file(&formula, wb, scope.unwrap_or(0), Pos::new(0, 0)) {
             Some(tree) => wb.define_name_tree_deferred(&n.name, tree, scope),
             None => wb.define_name_deferred(&n.name, &formula, scope),

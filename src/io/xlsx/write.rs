@@ -1,6 +1,7 @@
 //! Export with rust_xlsxwriter: every sheet, constants, formulas in file spelling with their
 //! computed results as cached values, dynamic arrays with their spill area, defined names,
-//! and the number formats and column widths of a [`Layout`].
+//! and the number formats and column widths of a [`Layout`]; links to other workbooks as the
+//! source file had them (its external-link parts, and the formulas and names still unedited).
 //!
 //! rust_xlsxwriter writes no error cells and no empty-text cells: those constants are
 //! written as placeholder numbers and put right in the finished package
@@ -126,7 +127,9 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
             match syntax::cell_to_file(wb, sheet, pos, Storage::Legacy) {
                 Some(legacy) => {
                     let array = sheet_layout.and_then(|l| l.array_formulas.get(&pos));
-                    write_formula(ws, wb, Cell { sheet, pos, array }, legacy, &value, format)
+                    let linked = layout.links.cells.get(&(sheet, pos)).filter(|l| l.resolved == legacy.text);
+                    let original = linked.map(|l| l.original.as_str());
+                    write_formula(ws, wb, Cell { sheet, pos, array, original }, legacy, &value, format)
                 }
                 None => {
                     let patch = match &value {
@@ -147,7 +150,12 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
         }
     }
     for (name, tree, scope) in wb.name_trees() {
-        let text = syntax::to_file(&tree, wb, Pos::new(0, 0), Storage::Dynamic).text;
+        let mut text = syntax::to_file(&tree, wb, Pos::new(0, 0), Storage::Dynamic).text;
+        if let Some(linked) = layout.links.names.get(&(name.to_ascii_lowercase(), scope)) {
+            if linked.resolved == text {
+                text = linked.original.clone();
+            }
+        }
         let full = match scope {
             Some(s) => format!("{}!{name}", quote_sheet_name(&names[s as usize])),
             None => name.clone(),
@@ -175,7 +183,7 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
     let bytes = bytes?;
     // Always rewritten: app.xml names ncsheet as the application that saved the package.
     let settings = book_settings(wb);
-    rewrite_constants(&bytes, &patches, &settings).map_err(|e| {
+    rewrite_constants(&bytes, &patches, &settings, &layout.links.parts).map_err(|e| {
         XlsxError::new(file, None, ErrorKind::Unwritable, format!("writing error and empty-text cells: {e}"))
     })
 }
@@ -233,6 +241,7 @@ fn rewrite_constants(
     package: &[u8],
     patches: &[Vec<(Pos, &str)>],
     settings: &[(&str, String)],
+    links: &[(Vec<u8>, Option<Vec<u8>>)],
 ) -> zip::result::ZipResult<Vec<u8>> {
     use std::io::{Cursor, Read};
     let mut zip = zip::ZipArchive::new(Cursor::new(package))?;
@@ -240,12 +249,17 @@ fn rewrite_constants(
     for i in 0..zip.len() {
         let mut entry = zip.by_index(i)?;
         let name = entry.name()?.to_string();
-        if name == "xl/workbook.xml" && !settings.is_empty() {
+        let linking = !links.is_empty() && LINK_PARENTS.contains(&name.as_str());
+        if (name == "xl/workbook.xml" && !settings.is_empty()) || linking {
             let mut xml = String::new();
             entry.read_to_string(&mut xml)?;
             let options = zip::write::SimpleFileOptions::default().compression_method(entry.compression());
             out.start_file(name.as_str(), options)?;
-            out.write_all(rewrite_settings(&xml, settings).as_bytes())?;
+            let mut xml = if name == "xl/workbook.xml" { rewrite_settings(&xml, settings) } else { xml };
+            if linking {
+                xml = add_link_references(&name, &xml, links.len());
+            }
+            out.write_all(xml.as_bytes())?;
             continue;
         }
         let cells = name
@@ -267,7 +281,55 @@ fn rewrite_constants(
         out.start_file(name.as_str(), options)?;
         out.write_all(rewrite_cells(&xml, cells).as_bytes())?;
     }
+    add_link_parts(&mut out, links)?;
     Ok(out.finish()?.into_inner())
+}
+
+/// The parts that name the external-link parts of a package.
+const LINK_PARENTS: [&str; 3] = ["xl/workbook.xml", "xl/_rels/workbook.xml.rels", "[Content_Types].xml"];
+
+/// Adds `count` external links to one of [`LINK_PARENTS`]: the `<externalReferences>` of the
+/// workbook (after `<sheets>`, where the schema puts them), their relationships, their
+/// content types. Relationship ids `rIdLinkN` stay clear of rust_xlsxwriter's `rIdN`.
+fn add_link_references(part: &str, xml: &str, count: usize) -> String {
+    let numbers = 1..=count;
+    let (before, added): (&str, String) = match part {
+        "xl/workbook.xml" => {
+            let refs: String = numbers.map(|n| format!(r#"<externalReference r:id="rIdLink{n}"/>"#)).collect();
+            ("<definedNames>", format!("<externalReferences>{refs}</externalReferences>"))
+        }
+        "xl/_rels/workbook.xml.rels" => ("</Relationships>", numbers.map(|n| format!(
+            r#"<Relationship Id="rIdLink{n}" Type="http://schemas.openxmlformats.org/officeDocument/2006/relationships/externalLink" Target="externalLinks/externalLink{n}.xml"/>"#
+        )).collect()),
+        _ => ("</Types>", numbers.map(|n| format!(
+            r#"<Override PartName="/xl/externalLinks/externalLink{n}.xml" ContentType="application/vnd.openxmlformats-officedocument.spreadsheetml.externalLink+xml"/>"#
+        )).collect()),
+    };
+    let mut xml = xml.to_string();
+    // A workbook without defined names: the references go after `</sheets>`.
+    let at = xml.find(before).or_else(|| xml.find("</sheets>").map(|i| i + "</sheets>".len()));
+    if let Some(at) = at {
+        xml.insert_str(at, &added);
+    }
+    xml
+}
+
+/// Writes the external-link parts, with their relationships (the linked files), as the
+/// source package had them.
+fn add_link_parts(
+    out: &mut zip::ZipWriter<std::io::Cursor<Vec<u8>>>,
+    links: &[(Vec<u8>, Option<Vec<u8>>)],
+) -> zip::result::ZipResult<()> {
+    let options = zip::write::SimpleFileOptions::default();
+    for (n, (part, rels)) in links.iter().enumerate() {
+        out.start_file(format!("xl/externalLinks/externalLink{}.xml", n + 1), options)?;
+        out.write_all(part)?;
+        if let Some(rels) = rels {
+            out.start_file(format!("xl/externalLinks/_rels/externalLink{}.xml.rels", n + 1), options)?;
+            out.write_all(rels)?;
+        }
+    }
+    Ok(())
 }
 
 /// Rewrites the given cells (listed in row order, as the part is written), keeping their
@@ -297,6 +359,8 @@ struct Cell<'a> {
     sheet: SheetId,
     pos: Pos,
     array: Option<&'a ArrayFormula>,
+    /// The file's own text of an unedited formula that reads linked workbooks.
+    original: Option<&'a str>,
 }
 
 fn write_formula(
@@ -307,7 +371,7 @@ fn write_formula(
     value: &Value,
     format: Option<&Format>,
 ) -> Result<(), rust_xlsxwriter::XlsxError> {
-    let Cell { sheet, pos, array } = cell;
+    let Cell { sheet, pos, array, original } = cell;
     // A legacy array formula goes back as one over its fixed area.
     let fixed_area = wb.array_area(sheet, pos);
     let spill = Env::spill_rect(wb, sheet, pos).filter(|r| !r.is_cell() && fixed_area.is_none());
@@ -321,6 +385,9 @@ fn write_formula(
     let mut file_text = legacy.text;
     if dynamic || legacy.dynamic {
         file_text = syntax::cell_to_file(wb, sheet, pos, Storage::Dynamic).map_or(file_text, |f| f.text);
+    }
+    if let Some(text) = original {
+        file_text = text.to_string();
     }
     // rust_xlsxwriter reads a leading `{` or trailing `}` as array-formula braces and drops
     // them; a space around the formula keeps an array constant whole.
