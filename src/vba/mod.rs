@@ -107,6 +107,7 @@ pub mod parser;
 pub mod project;
 pub mod project_edit;
 mod resolve;
+mod sheet_ops;
 mod value;
 
 use std::fmt;

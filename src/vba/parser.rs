@@ -551,7 +551,8 @@ impl<'s> Build<'s> {
                 return Err(self.error_at(&pair, refusal(&link.name)));
             }
             match &link.args {
-                None if self.is_object(&lower) => {}
+                // `rows = 3` without a Dim is a variable: the sheet's Rows cannot be assigned.
+                None if self.is_object(&lower) && !matches!(lower.as_str(), "rows" | "columns") => {}
                 None if self.proc_index(&link.name).is_some() && !self.is_own_function(&link.name) => {
                     return Err(self.error_at(&pair, format!("{} is a procedure, not a variable", link.name)))
                 }
