@@ -76,7 +76,8 @@ impl Interp<'_, '_> {
         let wb = self.wb.borrow();
         let Some(used) = wb.used_rect(sheet) else { return direction.edge(from) };
         let filled = |p: Pos| {
-            used.contains(p) && (wb.formula_id(sheet, p).is_some() || !matches!(wb.value(sheet, p), crate::eval::Value::Blank))
+            used.contains(p)
+                && (wb.formula_id(sheet, p).is_some() || !matches!(wb.value(sheet, p), crate::eval::Value::Blank))
         };
         if filled(from) && filled(next) {
             let mut last = next;
@@ -124,14 +125,13 @@ impl Interp<'_, '_> {
     /// `ws.Visible = v`. As in Excel, the last visible sheet cannot be hidden.
     pub(super) fn set_visible(&self, sheet: SheetId, v: &Value, span: Span) -> Run<()> {
         let Some(visibility) = visibility_of(v) else {
-            return Err(self.fault_at(
-                span,
-                "Visible takes True, False, xlSheetVisible, xlSheetHidden or xlSheetVeryHidden",
-            ));
+            return Err(
+                self.fault_at(span, "Visible takes True, False, xlSheetVisible, xlSheetHidden or xlSheetVeryHidden")
+            );
         };
         let mut wb = self.wb.borrow_mut();
-        let others_shown = (0..wb.sheet_len() as SheetId)
-            .any(|s| s != sheet && wb.sheet_visibility(s) == Visibility::Visible);
+        let others_shown =
+            (0..wb.sheet_len() as SheetId).any(|s| s != sheet && wb.sheet_visibility(s) == Visibility::Visible);
         if visibility != Visibility::Visible && !others_shown {
             return Err(self.fault_at(span, "Visible: a workbook keeps at least one sheet visible"));
         }
@@ -214,13 +214,11 @@ impl Interp<'_, '_> {
         let how = match code as i64 {
             -4163 => Paste::Values,
             -4104 | -4123 => Paste::Inputs,
-            _ => {
-                return Err(self.fault_at(
-                    link.span,
-                    "PasteSpecial: only xlPasteValues, xlPasteFormulas and xlPasteAll (a workbook here holds no formats, \
+            _ => return Err(self.fault_at(
+                link.span,
+                "PasteSpecial: only xlPasteValues, xlPasteFormulas and xlPasteAll (a workbook here holds no formats, \
                      comments or validation)",
-                ))
-            }
+            )),
         };
         self.paste(source, sheet, rect, how, link.span)
     }

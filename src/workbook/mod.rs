@@ -30,8 +30,8 @@ use graph::{Deps, FxMap, RangeIndex};
 use links::for_each_pos;
 pub use problems::{Problem, ProblemKind};
 use shared::{relative_key_into, shape_of, FormulaStore, SharedFormula};
-pub use sheet::Visibility;
 use sheet::Sheet;
+pub use sheet::Visibility;
 
 const NO_FORMULA: u32 = u32::MAX;
 
