@@ -248,3 +248,23 @@ fn crossref_create_doi_without_a_prefix_says_so_and_changes_nothing() {
     assert!(stderr(&out).lines().any(|l| l == "You must enter a prefix into the box"), "{}", stderr(&out));
     assert_eq!(changes(&original(CROSSREF), &after), []);
 }
+
+/// `UnhideAll`: `For Each WS In Worksheets: WS.Visible = True`. The file hides Sheet2,
+/// "Enrollment Restrictions" and "Variation Results" (`state="hidden"` in its workbook.xml);
+/// after the macro every sheet is visible, in the file saved over the original package
+/// (.xlsm) and in one written anew (.xlsx), and no cell changed.
+#[test]
+fn mv_calculator_unhide_all_shows_every_sheet() {
+    let file = "poi/test-data_spreadsheet_mv-calculator-final-2-20-2013.xlsm";
+    let before = original(file);
+    let hidden_before: Vec<String> = before.sheet_names().into_iter().filter(|name| hidden(&before, name)).collect();
+    assert_eq!(hidden_before, ["Sheet2", "Enrollment Restrictions", "Variation Results"]);
+    for saved in ["after.xlsm", "after.xlsx"] {
+        let dir = tempfile::tempdir().unwrap();
+        let (out, after) = run_path(&corpus(file), "Module4.UnhideAll", &[], &dir.path().join(saved));
+        let after = after.unwrap_or_else(|| panic!("{saved}: {}", stderr(&out)));
+        let still: Vec<String> = after.sheet_names().into_iter().filter(|name| hidden(&after, name)).collect();
+        assert_eq!(still, Vec::<String>::new(), "{saved}");
+        assert_eq!(changes(&before, &after), [], "{saved}");
+    }
+}
