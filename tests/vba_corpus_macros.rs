@@ -193,6 +193,7 @@ fn hidden(wb: &Workbook, sheet: &str) -> bool {
 ///   workings the last row of column A is again 4, so C2:C4 get `=A2 & $D$2 & B2` (D2 holds
 ///   "/"); C2:C2000's values are pasted at Form!B8: B8:B10 read "10.5555/" and each suffix.
 /// - Both helper sheets end hidden again (as the file saved them).
+///
 /// The suffixes are random, so each is checked by its form and followed from sheet to sheet
 /// (Data_sheet's RANDBETWEEN draws anew when the saved file is opened; the pasted values stay).
 #[test]

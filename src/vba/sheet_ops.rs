@@ -165,7 +165,7 @@ const MAX_PASTE: u64 = 10_000_000;
 /// size is not a multiple of the source's) takes the source's size from its top-left cell,
 /// as Excel pastes; a multiple repeats the source over it.
 fn paste_area(source: Rect, dest: Rect) -> Option<Rect> {
-    let tiles = dest.rows() % source.rows() == 0 && dest.cols() % source.cols() == 0;
+    let tiles = dest.rows().is_multiple_of(source.rows()) && dest.cols().is_multiple_of(source.cols());
     if tiles && !dest.is_cell() {
         return Some(dest);
     }
