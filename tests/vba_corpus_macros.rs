@@ -16,17 +16,21 @@ fn corpus(file: &str) -> PathBuf {
 /// Runs a macro of `file`, saving the workbook after it into `dir`: what it printed and
 /// the workbook saved.
 fn run(file: &str, sub: &str, args: &[&str], dir: &Path) -> (Output, Option<Workbook>) {
-    let saved = dir.join("after.xlsx");
+    run_path(&corpus(file), sub, args, &dir.join("after.xlsx"))
+}
+
+/// Runs a macro of the workbook at `path`, saving the workbook after it as `saved`.
+fn run_path(path: &Path, sub: &str, args: &[&str], saved: &Path) -> (Output, Option<Workbook>) {
     let out = Command::new(env!("CARGO_BIN_EXE_ncsheet"))
         .arg("run")
-        .arg(corpus(file))
+        .arg(path)
         .args(["--sub", sub])
         .args(args)
         .arg("--save")
-        .arg(&saved)
+        .arg(saved)
         .output()
         .unwrap();
-    let wb = out.status.success().then(|| ncsheet::io::open(&saved).unwrap().workbook);
+    let wb = out.status.success().then(|| ncsheet::io::open(saved).unwrap().workbook);
     (out, wb)
 }
 
@@ -145,5 +149,123 @@ fn macros_needing_forms_controls_or_files_are_refused_by_name() {
         assert!(after.is_none(), "{file} {sub} ran");
         assert!(stderr(&out).contains(said), "{file} {sub}: {}", stderr(&out));
         assert!(!dir.path().join("after.xlsx").exists());
+    }
+}
+
+const CROSSREF: &str =
+    "poi/test-data_spreadsheet_0-www-crossref-org.lib.rivier.edu_education-files_suffix-generator.xlsm";
+
+/// The crossref workbook with a prefix typed into Form!B4 (the name `prefix`, as text) and
+/// the number of DOIs into B5 (`noofdois`), saved as .xlsm (its macros kept) in `dir`.
+fn crossref_with_prefix(dir: &Path, prefix: &str, count: u32) -> PathBuf {
+    let path = dir.join("in.xlsm");
+    let out = Command::new(env!("CARGO_BIN_EXE_ncsheet"))
+        .arg("set")
+        .arg(corpus(CROSSREF))
+        .arg(format!("Form!B4='{prefix}"))
+        .arg(format!("Form!B5={count}"))
+        .arg("-o")
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", stderr(&out));
+    path
+}
+
+fn text_at(wb: &Workbook, sheet: &str, a1: &str) -> String {
+    let id = wb.sheet_id(sheet).unwrap();
+    match wb.value(id, parse_cell(a1).unwrap()) {
+        ncsheet::eval::Value::Text(t) => t.to_string(),
+        other => panic!("{sheet}!{a1} is {other:?}, not text"),
+    }
+}
+
+fn hidden(wb: &Workbook, sheet: &str) -> bool {
+    wb.sheet_visibility(wb.sheet_id(sheet).unwrap()) != ncsheet::workbook::Visibility::Visible
+}
+
+/// `CreateDOI` with prefix "10.5555" and 3 DOIs, read step by step:
+/// - `Range("prefix").Copy Worksheets("Data_sheet").Range("a2").Resize(1 * Range("noofdois"))`:
+///   Data_sheet!A2:A4 get the prefix.
+/// - `LastRowColumnA = Cells(Rows.Count, 1).End(xlUp).Row` on Data_sheet (selected): 4, so
+///   B2:B4 get the RANDBETWEEN formula: four capitals and four digits.
+/// - A2:A1000 and B2:B1000 are copied and pasted as values at workings!A2 and B2; on
+///   workings the last row of column A is again 4, so C2:C4 get `=A2 & $D$2 & B2` (D2 holds
+///   "/"); C2:C2000's values are pasted at Form!B8: B8:B10 read "10.5555/" and each suffix.
+/// - Both helper sheets end hidden again (as the file saved them).
+///
+/// The suffixes are random, so each is checked by its form and followed from sheet to sheet
+/// (Data_sheet's RANDBETWEEN draws anew when the saved file is opened; the pasted values stay).
+#[test]
+fn crossref_create_doi_fills_the_form_with_prefix_slash_random_suffix() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = crossref_with_prefix(dir.path(), "10.5555", 3);
+    let (out, after) = run_path(&input, "Module1.CreateDOI", &[], &dir.path().join("doi.xlsm"));
+    let after = after.unwrap_or_else(|| panic!("{}", stderr(&out)));
+    let data = after.sheet_id("Data_sheet").unwrap();
+    for row in 2..=4 {
+        assert_eq!(text_at(&after, "Data_sheet", &format!("A{row}")), "10.5555");
+        let formula = after.input(data, parse_cell(&format!("B{row}")).unwrap()).unwrap();
+        assert!(formula.starts_with("=CHAR(RANDBETWEEN(65,90))"), "{formula}");
+        let suffix = text_at(&after, "workings", &format!("B{row}"));
+        let (letters, digits) = suffix.split_at(4);
+        assert!(letters.chars().all(|c| c.is_ascii_uppercase()), "{suffix}");
+        assert!(digits.len() == 4 && (1000..=9999).contains(&digits.parse::<u32>().unwrap()), "{suffix}");
+        assert_eq!(text_at(&after, "workings", &format!("A{row}")), "10.5555");
+        assert_eq!(text_at(&after, "Form", &format!("B{}", row + 6)), format!("10.5555/{suffix}"));
+    }
+    let form = after.sheet_id("Form").unwrap();
+    assert_eq!(after.input(data, parse_cell("A5").unwrap()), None, "only noofdois rows get the prefix");
+    assert_eq!(after.input(form, parse_cell("B11").unwrap()), None, "blank rows paste as blanks");
+    assert!(hidden(&after, "Data_sheet") && hidden(&after, "workings") && !hidden(&after, "Form"));
+}
+
+/// `Reset` after `CreateDOI`: it clears Form!C4 and C5 (blank here: the prefix is in B4, B5),
+/// then `Range(Selection, Selection.End(xlDown))` from B8:B10 twice, which reaches B10 (the
+/// last filled cell below B8) and clears the DOIs; on Data_sheet from A2:B2 down to A4 (the
+/// prefixes and the suffix formulas), on workings from A2:C2 down to row 4. Data_sheet's
+/// other columns (C12's DOI formulas, F and G) and workings!D2 stay; both end hidden.
+#[test]
+fn crossref_reset_clears_what_create_doi_wrote() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = crossref_with_prefix(dir.path(), "10.5555", 3);
+    let doi = dir.path().join("doi.xlsm");
+    let (out, _) = run_path(&input, "Module1.CreateDOI", &[], &doi);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let (out, after) = run_path(&doi, "Module1.Reset", &[], &dir.path().join("reset.xlsm"));
+    let after = after.unwrap_or_else(|| panic!("{}", stderr(&out)));
+    let before = ncsheet::io::open(&input).unwrap().workbook;
+    assert_eq!(changes(&before, &after), []);
+    assert!(hidden(&after, "Data_sheet") && hidden(&after, "workings") && !hidden(&after, "Form"));
+}
+
+/// `CreateDOI` with the prefix left empty: `If Range("prefix") = "" Then MsgBox "You must
+/// enter a prefix into the box"` and `Exit Sub`: the message and no cell changed.
+#[test]
+fn crossref_create_doi_without_a_prefix_says_so_and_changes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let (out, after) = run(CROSSREF, "Module1.CreateDOI", &[], dir.path());
+    let after = after.unwrap_or_else(|| panic!("{}", stderr(&out)));
+    assert!(stderr(&out).lines().any(|l| l == "You must enter a prefix into the box"), "{}", stderr(&out));
+    assert_eq!(changes(&original(CROSSREF), &after), []);
+}
+
+/// `UnhideAll`: `For Each WS In Worksheets: WS.Visible = True`. The file hides Sheet2,
+/// "Enrollment Restrictions" and "Variation Results" (`state="hidden"` in its workbook.xml);
+/// after the macro every sheet is visible, in the file saved over the original package
+/// (.xlsm) and in one written anew (.xlsx), and no cell changed.
+#[test]
+fn mv_calculator_unhide_all_shows_every_sheet() {
+    let file = "poi/test-data_spreadsheet_mv-calculator-final-2-20-2013.xlsm";
+    let before = original(file);
+    let hidden_before: Vec<String> = before.sheet_names().into_iter().filter(|name| hidden(&before, name)).collect();
+    assert_eq!(hidden_before, ["Sheet2", "Enrollment Restrictions", "Variation Results"]);
+    for saved in ["after.xlsm", "after.xlsx"] {
+        let dir = tempfile::tempdir().unwrap();
+        let (out, after) = run_path(&corpus(file), "Module4.UnhideAll", &[], &dir.path().join(saved));
+        let after = after.unwrap_or_else(|| panic!("{saved}: {}", stderr(&out)));
+        let still: Vec<String> = after.sheet_names().into_iter().filter(|name| hidden(&after, name)).collect();
+        assert_eq!(still, Vec::<String>::new(), "{saved}");
+        assert_eq!(changes(&before, &after), [], "{saved}");
     }
 }

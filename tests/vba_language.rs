@@ -368,3 +368,25 @@ fn type_misuse_is_named() {
     let e = vba::run(&mut wb, src, "t.bas", &RunOptions::default()).unwrap_err();
     assert!(e.message.contains("p is a Type value"), "{e}");
 }
+
+/// [MS-VBAL] 3.3.2: `&H` hex and `&O` (or bare `&`) octal literals are Integers when the
+/// digits fit 16 bits, two's complement (`&HFFFF` = -1, `&H8000` = -32768), else Longs
+/// (`&H10000` = 65536, `&HFFFFFFFF` = -1); a `&` suffix makes a Long (`&HFFFF&` = 65535).
+#[test]
+fn hex_and_octal_literals_are_typed_as_vba_types_them() {
+    let cases = [
+        ("&H1F", 31.0),
+        ("&hff", 255.0),
+        ("&HFFFF", -1.0),
+        ("&H8000", -32768.0),
+        ("&HFFFF&", 65535.0),
+        ("&H10000", 65536.0),
+        ("&HFFFFFFFF", -1.0),
+        ("&O17", 15.0),
+        ("&17", 15.0),
+        ("&H10 + 1", 17.0),
+    ];
+    for (expr, want) in cases {
+        assert_eq!(value(expr), n(want), "{expr}");
+    }
+}

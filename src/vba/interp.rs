@@ -77,6 +77,7 @@ pub fn run(
         home,
         code_sheets,
         cursors: RefCell::new(cursors),
+        clipboard: RefCell::new(None),
         notes: RefCell::new(Vec::new()),
         output_bytes: Cell::new(0),
         charged: Cell::new(0),
@@ -213,6 +214,8 @@ pub struct Interp<'m, 'w> {
     pub code_sheets: Vec<(String, SheetId)>,
     /// Each sheet's selection and active cell, once the file or the macro set one (else A1).
     pub cursors: RefCell<std::collections::HashMap<SheetId, (Rect, Pos)>>,
+    /// The range the last `Copy` without a destination took, for `PasteSpecial`.
+    pub(super) clipboard: RefCell<Option<(SheetId, Rect)>>,
     /// Explanations the last evaluation left (why a value is an error).
     notes: RefCell<Vec<String>>,
     /// Bytes of `Debug.Print` and `MsgBox` output so far, against [`RunOptions::max_output`].

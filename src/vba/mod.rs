@@ -57,7 +57,11 @@
 //! (formula text evaluated as in a cell), `Evaluate("…")`. Range members: `Value` (the
 //! default), `Value2`, `Formula`, `Text`, `Row`, `Column`, `Count`, `Rows`, `Columns`,
 //! `Address`, `Offset`, `Resize`, `Cells`, `Item`, `ClearContents`, `Worksheet`, `Activate`,
-//! `Select`, `FormulaR1C1` (read and written in R1C1 notation: `=R[-1]C*2`). `ActiveCell` and
+//! `Select`, `FormulaR1C1` (read and written in R1C1 notation: `=R[-1]C*2`), `End(xlUp)`
+//! (and `xlDown`, `xlToLeft`, `xlToRight`: Ctrl+arrow), `Copy` (with a destination: pasted at
+//! once; without: for `PasteSpecial Paste:=xlPasteValues`, `xlPasteFormulas`, `xlPasteAll`);
+//! bare `Rows`/`Columns` are the sheet's. A sheet's `Visible` (True, False,
+//! `xlSheetVeryHidden`) is read from and saved to the file. `ActiveCell` and
 //! `Selection` start at the sheet's active cell as the file saved it ([`RunOptions::active_cells`])
 //! and follow `Select`/`Activate`. In a sheet's module ([`Document::Sheet`]) `Range`, `Cells`
 //! and `[B3]` mean that sheet and `Me` is it; sheets' code names (`Sheet1`) are objects.
@@ -107,6 +111,7 @@ pub mod parser;
 pub mod project;
 pub mod project_edit;
 mod resolve;
+mod sheet_ops;
 mod value;
 
 use std::fmt;

@@ -12,6 +12,7 @@ use crate::formula::print::{print_spelled, R1C1};
 
 use super::ast::{Link, Node, Path, Span};
 use super::interp::{Interp, Run};
+use super::sheet_ops::{visibility_value, Direction};
 use super::value::{print_text, Obj, Var};
 
 /// The cell `index` picks in `rect` (1-based): `(i)` counts row by row, `(i, j)` is row and
@@ -33,6 +34,11 @@ pub fn item(rect: Rect, index: &[i64]) -> Result<Pos, String> {
 
 pub(super) fn lower(link: &Link) -> String {
     link.name.trim_end_matches('$').to_ascii_lowercase()
+}
+
+/// Every cell of a sheet: `Cells`, and what `Rows` and `Columns` count.
+fn whole_sheet() -> Rect {
+    Rect::new(Pos::new(0, 0), Pos::new(MAX_ROWS - 1, MAX_COLS - 1))
 }
 
 /// `$B$3` or `$A$1:$C$4`, as VBA's Address.
@@ -123,6 +129,7 @@ impl Interp<'_, '_> {
             },
             "range" => self.range(ctx, here, link),
             "cells" => self.cells(ctx, here, Rect::cell(Pos::new(0, 0)), link),
+            "rows" | "columns" => self.range_member(ctx, here, whole_sheet(), link),
             "nc" => Ok(Obj::Nc),
             "err" => Ok(Obj::Err),
             "debug" => Ok(Obj::Debug),
@@ -251,12 +258,14 @@ impl Interp<'_, '_> {
         match lower(link).as_str() {
             "range" => self.range(ctx, id, link),
             "cells" => self.cells(ctx, id, Rect::cell(Pos::new(0, 0)), link),
+            "rows" | "columns" => self.range_member(ctx, id, whole_sheet(), link),
             "name" => Ok(Obj::Value(Value::text(self.wb.borrow().sheet_names()[id as usize].clone()))),
             "index" => Ok(Obj::Value(Value::Number(id as f64 + 1.0))),
             "activate" | "select" => {
-                self.active.set(id);
+                self.select_sheet(id, link.span)?;
                 Ok(Obj::Value(Value::Blank))
             }
+            "visible" => Ok(Obj::Value(visibility_value(self.wb.borrow().sheet_visibility(id)))),
             "usedrange" => {
                 let used = self.wb.borrow().used_rect(id).unwrap_or(Rect::cell(Pos::new(0, 0)));
                 Ok(Obj::Range(id, used))
@@ -319,8 +328,7 @@ impl Interp<'_, '_> {
     fn cells(&self, ctx: &mut Ctx, sheet: SheetId, origin: Rect, link: &Link) -> Run<Obj> {
         let values = self.values(ctx, link)?;
         if values.is_empty() {
-            let whole = Rect::new(Pos::new(0, 0), Pos::new(MAX_ROWS - 1, MAX_COLS - 1));
-            return Ok(Obj::Range(sheet, if origin.is_cell() { whole } else { origin }));
+            return Ok(Obj::Range(sheet, if origin.is_cell() { whole_sheet() } else { origin }));
         }
         let mut index = Vec::new();
         for (i, v) in values.iter().enumerate() {
@@ -392,6 +400,16 @@ impl Interp<'_, '_> {
                 }
             }
             "cells" | "item" => self.cells(ctx, sheet, rect, link),
+            "end" => {
+                let direction = match self.indexes(ctx, link)?.as_slice() {
+                    [d] => Direction::of(*d),
+                    _ => None,
+                };
+                let Some(direction) = direction else {
+                    return Err(self.fault_at(link.span, "End takes one of xlUp, xlDown, xlToLeft, xlToRight"));
+                };
+                Ok(Obj::Range(sheet, Rect::cell(self.end(sheet, rect.first, direction))))
+            }
             "rows" | "columns" => {
                 let rows = lower(link) == "rows";
                 match link.args {
@@ -402,6 +420,14 @@ impl Interp<'_, '_> {
             "clearcontents" | "clear" => {
                 let used = ctx.clip_to_used(sheet, rect);
                 self.write_range(sheet, used, &Value::Blank)?;
+                value(Value::Blank)
+            }
+            "copy" => {
+                self.copy(ctx, sheet, rect, link)?;
+                value(Value::Blank)
+            }
+            "pastespecial" => {
+                self.paste_special(ctx, sheet, rect, link)?;
                 value(Value::Blank)
             }
             "worksheet" | "parent" => Ok(Obj::Sheet(sheet)),
@@ -535,11 +561,21 @@ impl Interp<'_, '_> {
                 self.write_formula(*sheet, *rect, &text, name.starts_with("formular1c1"), link.span)
             }
             (Obj::Nc, _) => self.set_nc(&name, value, link.span),
+            (Obj::Sheet(sheet), "visible") => {
+                let v = self.eval(value)?;
+                self.set_visible(*sheet, &v, link.span)
+            }
             (Obj::Record(var, path), _) => {
                 let mut path = path.clone();
                 path.push(self.field_index(var, &path, link)?);
                 let v = self.var_of(value, false)?;
                 self.set_record_field(var, &path, v, link.span)
+            }
+            (Obj::App, "cutcopymode") => {
+                // False (or any value) ends the copy: the clipboard's range is forgotten.
+                self.eval(value)?;
+                *self.clipboard.borrow_mut() = None;
+                Ok(())
             }
             (Obj::App, "screenupdating" | "displayalerts" | "enableevents" | "calculation" | "statusbar") => {
                 // Settings of Excel's window: nothing to do without one.

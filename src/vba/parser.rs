@@ -145,6 +145,7 @@ fn describe(rule: Rule) -> &'static str {
         | Rule::path
         | Rule::bracket
         | Rule::date_lit
+        | Rule::radix_lit
         | Rule::neg
         | Rule::plus
         | Rule::not_op => "a value",
@@ -551,7 +552,8 @@ impl<'s> Build<'s> {
                 return Err(self.error_at(&pair, refusal(&link.name)));
             }
             match &link.args {
-                None if self.is_object(&lower) => {}
+                // `rows = 3` without a Dim is a variable: the sheet's Rows cannot be assigned.
+                None if self.is_object(&lower) && !matches!(lower.as_str(), "rows" | "columns") => {}
                 None if self.proc_index(&link.name).is_some() && !self.is_own_function(&link.name) => {
                     return Err(self.error_at(&pair, format!("{} is a procedure, not a variable", link.name)))
                 }
@@ -847,6 +849,15 @@ impl HostPrimaries for Build<'_> {
                     ByteSpan { start: start(&pair) as u32, end: pair.as_span().end() as u32 },
                 ))
             }
+            Rule::radix_lit => {
+                let value = radix_literal(pair.as_str()).ok_or_else(|| {
+                    self.error_at(&pair, format!("{}: overflow (more than a Long holds)", pair.as_str()))
+                })?;
+                Ok(Expr::new(
+                    ExprKind::Number(value),
+                    ByteSpan { start: start(&pair) as u32, end: pair.as_span().end() as u32 },
+                ))
+            }
             rule => unreachable!("macro primary {rule:?}"),
         }
     }
@@ -953,6 +964,33 @@ pub fn inner_blocks(kind: &StmtKind) -> Vec<&Block> {
 /// of day as a fraction ([MS-VBAL] 3.3.3). The date is month/day/year, or year-month-day when
 /// the first number has more than two digits; a two-digit year is 1930–2029; the time is
 /// `h[:mm[:ss]]` with an optional AM or PM.
+/// `&HFFFF`, `&O777`, `&777`, `&H8000&` as [MS-VBAL] 3.3.2 types them: an Integer when the
+/// digits fit 16 bits (so `&HFFFF` is -1), else a Long when they fit 32 (`&HFFFFFFFF` is -1);
+/// a `&` suffix makes a Long (`&HFFFF&` is 65535), `%` an Integer.
+fn radix_literal(text: &str) -> Option<f64> {
+    let body = &text[1..];
+    let (body, suffix) = match body.strip_suffix(['%', '&']) {
+        Some(b) => (b, body.chars().last()),
+        None => (body, None),
+    };
+    let (digits, radix) = match body.as_bytes().first() {
+        Some(b'h' | b'H') => (&body[1..], 16),
+        Some(b'o' | b'O') => (&body[1..], 8),
+        _ => (body, 8),
+    };
+    let n = u64::from_str_radix(digits, radix).ok()?;
+    let integer = match suffix {
+        Some('%') => true,
+        Some(_) => false,
+        None => n <= 0xFFFF,
+    };
+    if integer {
+        (n <= 0xFFFF).then_some(n as u16 as i16 as f64)
+    } else {
+        (n <= 0xFFFF_FFFF).then_some(n as u32 as i32 as f64)
+    }
+}
+
 fn date_literal(text: &str) -> Option<f64> {
     let words: Vec<&str> = text.split_whitespace().collect();
     let (date_words, time_words): (Vec<&str>, Vec<&str>) =

@@ -68,6 +68,7 @@ const OBJECTS: &[&str] = &[
     "activeworkbook",
     "application",
     "cells",
+    "columns",
     "debug",
     "err",
     "evaluate",
@@ -75,6 +76,7 @@ const OBJECTS: &[&str] = &[
     "msgbox",
     "nc",
     "range",
+    "rows",
     "selection",
     "sheets",
     "thisworkbook",
@@ -108,6 +110,17 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "vbquestion" => number(32.0),
         "vbexclamation" => number(48.0),
         "vbinformation" => number(64.0),
+        // Excel's XlDirection, XlPasteType and XlSheetVisibility values.
+        "xlup" => number(-4162.0),
+        "xldown" => number(-4121.0),
+        "xltoleft" => number(-4159.0),
+        "xltoright" => number(-4161.0),
+        "xlpasteall" => number(-4104.0),
+        "xlpasteformulas" => number(-4123.0),
+        "xlpastevalues" => number(-4163.0),
+        "xlsheetvisible" => number(-1.0),
+        "xlsheethidden" => number(0.0),
+        "xlsheetveryhidden" => number(2.0),
         _ => None,
     }
 }

@@ -31,6 +31,7 @@ use links::for_each_pos;
 pub use problems::{Problem, ProblemKind};
 use shared::{relative_key_into, shape_of, FormulaStore, SharedFormula};
 use sheet::Sheet;
+pub use sheet::Visibility;
 
 const NO_FORMULA: u32 = u32::MAX;
 
@@ -219,6 +220,18 @@ impl Workbook {
 
     pub fn date_1904(&self) -> bool {
         self.date_1904
+    }
+
+    /// Whether `sheet`'s tab shows.
+    pub fn sheet_visibility(&self, sheet: SheetId) -> Visibility {
+        self.sheets.get(sheet as usize).map_or(Visibility::Visible, |s| s.visibility)
+    }
+
+    /// Shows or hides `sheet`'s tab (no value depends on it).
+    pub fn set_sheet_visibility(&mut self, sheet: SheetId, visibility: Visibility) {
+        if let Some(s) = self.sheets.get_mut(sheet as usize) {
+            s.visibility = visibility;
+        }
     }
 
     /// The hidden rows of `sheet`, in order, and how each is hidden.

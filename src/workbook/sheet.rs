@@ -21,6 +21,18 @@ pub struct Sheet {
     /// later spans over earlier ones, and the width of the other columns.
     widths: Vec<(u32, u32, f64)>,
     default_width: Option<f64>,
+    /// Whether the sheet's tab shows (`<sheet state=…>`; a macro's `Visible`).
+    pub visibility: Visibility,
+}
+
+/// Excel's `XlSheetVisibility`: a sheet shown, hidden, or hidden so that only a macro can
+/// show it again.
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
+pub enum Visibility {
+    #[default]
+    Visible,
+    Hidden,
+    VeryHidden,
 }
 
 impl Sheet {
@@ -32,6 +44,7 @@ impl Sheet {
             hidden_rows: BTreeMap::new(),
             widths: Vec::new(),
             default_width: None,
+            visibility: Visibility::Visible,
         }
     }
 

@@ -73,7 +73,9 @@ pub fn patch(source: &Path, wb: &Workbook, changes: &Changes) -> Result<Result<P
         cells.insert((pos.row, pos.col), change);
     }
     let workbook_part = package.workbook_parts.first().cloned().unwrap_or_else(|| "xl/workbook.xml".into());
-    let changed = !by_part.is_empty();
+    let states_changed =
+        package.sheets.iter().any(|e| wb.sheet_id(&e.name).is_some_and(|id| wb.sheet_visibility(id) != e.visibility));
+    let changed = !by_part.is_empty() || states_changed;
     let mut zip = zip::ZipArchive::new(Cursor::new(&bytes[..])).map_err(|e| {
         let (p, k, m) = zip_error(None, e);
         fail(p.as_deref(), k, m)
@@ -107,7 +109,7 @@ pub fn patch(source: &Path, wb: &Workbook, changes: &Changes) -> Result<Result<P
             Some(patched)
         } else if name == workbook_part {
             let xml = read_text(&mut entry, &name, source)?;
-            Some(full_calc_on_load(&xml))
+            Some(with_sheet_states(&full_calc_on_load(&xml), &package, wb))
         } else if calc_chain.is_some() && (name == "[Content_Types].xml" || name == wb_rels) {
             let xml = read_text(&mut entry, &name, source)?;
             Some(without_elements_naming(&xml, "calcChain"))
@@ -197,6 +199,39 @@ fn without_elements_naming(xml: &str, what: &str) -> String {
 }
 
 /// The start of the next `<name` tag (followed by a space, `>` or `/`) at or after `from`.
+/// The workbook part with each `<sheet>`'s `state` as the workbook now has it (a macro's
+/// `Visible`); the tags are the package's sheet entries, in order.
+fn with_sheet_states(xml: &str, package: &Package, wb: &Workbook) -> String {
+    use crate::workbook::Visibility;
+    let tag_name = format!("{}sheet", root_prefix(xml));
+    let mut out = String::with_capacity(xml.len() + 64);
+    let mut at = 0;
+    for entry in &package.sheets {
+        let Some(start) = find_tag(xml, &tag_name, at) else { break };
+        let Some(end) = xml[start..].find('>').map(|i| start + i) else { break };
+        out.push_str(&xml[at..start]);
+        let tag = &xml[start..end];
+        let now = wb.sheet_id(&entry.name).map(|id| wb.sheet_visibility(id));
+        match now.filter(|v| *v != entry.visibility) {
+            None => out.push_str(tag),
+            Some(v) => {
+                let kept = remove_attr(tag, "state");
+                let (head, close) = kept.strip_suffix('/').map_or((kept.as_str(), ""), |h| (h, "/"));
+                out.push_str(head.trim_end());
+                match v {
+                    Visibility::Visible => {}
+                    Visibility::Hidden => out.push_str(r#" state="hidden""#),
+                    Visibility::VeryHidden => out.push_str(r#" state="veryHidden""#),
+                }
+                out.push_str(close);
+            }
+        }
+        at = end;
+    }
+    out.push_str(&xml[at..]);
+    out
+}
+
 fn find_tag(xml: &str, name: &str, from: usize) -> Option<usize> {
     let pat = format!("<{name}");
     let mut at = from;

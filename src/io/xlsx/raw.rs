@@ -38,6 +38,8 @@ pub struct SheetEntry {
     pub part: String,
     /// Last segment of the relationship type: `worksheet`, `chartsheet`, `dialogsheet`, …
     pub kind: String,
+    /// `state="hidden"` or `"veryHidden"`.
+    pub visibility: crate::workbook::Visibility,
 }
 
 #[derive(Clone, Debug)]
@@ -184,13 +186,17 @@ impl<'a> Package<'a> {
             b"sheet" => {
                 let name = tag.attr("name").map(unescape).unwrap_or_default();
                 let id = tag.attr("id").map(unescape).unwrap_or_default();
-                match by_id.get(id.as_str()).map(|&i| &rels[i]) {
-                    Some((_, target, kind)) => {
-                        sheets.push(SheetEntry { name, part: target.clone(), kind: kind.clone() })
-                    }
+                let visibility = match tag.attr("state").map(unescape).as_deref() {
+                    Some("hidden") => crate::workbook::Visibility::Hidden,
+                    Some("veryHidden") => crate::workbook::Visibility::VeryHidden,
+                    _ => crate::workbook::Visibility::Visible,
+                };
+                let (part, kind) = match by_id.get(id.as_str()).map(|&i| &rels[i]) {
+                    Some((_, target, kind)) => (target.clone(), kind.clone()),
                     // Excel opens such a workbook without the sheet.
-                    None => sheets.push(SheetEntry { name, part: String::new(), kind: "sheet with no part".into() }),
-                }
+                    None => (String::new(), "sheet with no part".into()),
+                };
+                sheets.push(SheetEntry { name, part, kind, visibility });
             }
             b"definedName" => {
                 let name = tag.attr("name").map(unescape).unwrap_or_default();

@@ -117,6 +117,7 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
             .workbook
             .add_sheet(&sheet.name)
             .map_err(|e| XlsxError::new(file, Some(&sheet.part), ErrorKind::Damaged, e.to_string()))?;
+        imported.workbook.set_sheet_visibility(id, sheet.visibility);
         ids.push(Some(id));
     }
     let tables = read_tables(&mut package, &sheets, &ids, &mut imported.notes);

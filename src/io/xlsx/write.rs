@@ -109,6 +109,11 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
         for (row, _) in wb.hidden_rows(sheet) {
             ws.set_row_hidden(row).map_err(|e| fail(Some(name), e))?;
         }
+        match wb.sheet_visibility(sheet) {
+            crate::workbook::Visibility::Visible => {}
+            crate::workbook::Visibility::Hidden => _ = ws.set_hidden(true),
+            crate::workbook::Visibility::VeryHidden => _ = ws.set_very_hidden(true),
+        }
         if let Some(l) = sheet_layout {
             for &(col, width) in &l.column_widths {
                 ws.set_column_width_pixels(col, (width * 7.0).round() as u32).map_err(|e| fail(Some(name), e))?;

@@ -1,0 +1,264 @@
+//! What a recorded macro does with the keyboard and the clipboard: `Range.End` (Ctrl+arrow),
+//! `Range.Copy` and `PasteSpecial`, and a sheet's `Visible`.
+
+use crate::eval::{Ctx, Operand, Value};
+use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
+use crate::formula::ast::SheetId;
+use crate::workbook::Visibility;
+
+use super::ast::{Link, Span};
+use super::interp::{Interp, Run};
+
+/// Excel's `XlDirection`: where `Range.End` moves.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Direction {
+    Up,
+    Down,
+    Left,
+    Right,
+}
+
+impl Direction {
+    /// `xlUp` (-4162), `xlDown` (-4121), `xlToLeft` (-4159), `xlToRight` (-4161).
+    pub fn of(code: i64) -> Option<Direction> {
+        match code {
+            -4162 => Some(Direction::Up),
+            -4121 => Some(Direction::Down),
+            -4159 => Some(Direction::Left),
+            -4161 => Some(Direction::Right),
+            _ => None,
+        }
+    }
+
+    /// The next cell from `p` this way, `None` at the sheet's edge.
+    fn step(self, p: Pos) -> Option<Pos> {
+        match self {
+            Direction::Up => p.row.checked_sub(1).map(|r| Pos::new(r, p.col)),
+            Direction::Down => (p.row + 1 < MAX_ROWS).then(|| Pos::new(p.row + 1, p.col)),
+            Direction::Left => p.col.checked_sub(1).map(|c| Pos::new(p.row, c)),
+            Direction::Right => (p.col + 1 < MAX_COLS).then(|| Pos::new(p.row, p.col + 1)),
+        }
+    }
+
+    /// The last cell of the sheet this way from `p`.
+    fn edge(self, p: Pos) -> Pos {
+        match self {
+            Direction::Up => Pos::new(0, p.col),
+            Direction::Down => Pos::new(MAX_ROWS - 1, p.col),
+            Direction::Left => Pos::new(p.row, 0),
+            Direction::Right => Pos::new(p.row, MAX_COLS - 1),
+        }
+    }
+
+    /// From `p`, outside the used area `used`, the first cell that may be filled this way
+    /// (on the used area's border), or `None` when every cell left this way is empty.
+    fn into_used(self, p: Pos, used: Rect) -> Option<Pos> {
+        let (rows, cols) = (used.first.row..=used.last.row, used.first.col..=used.last.col);
+        match self {
+            Direction::Up | Direction::Down if !cols.contains(&p.col) => None,
+            Direction::Left | Direction::Right if !rows.contains(&p.row) => None,
+            Direction::Up if p.row > used.last.row => Some(Pos::new(used.last.row, p.col)),
+            Direction::Down if p.row < used.first.row => Some(Pos::new(used.first.row, p.col)),
+            Direction::Left if p.col > used.last.col => Some(Pos::new(p.row, used.last.col)),
+            Direction::Right if p.col < used.first.col => Some(Pos::new(p.row, used.first.col)),
+            _ if used.contains(p) => Some(p),
+            _ => None,
+        }
+    }
+}
+
+impl Interp<'_, '_> {
+    /// `Range.End(direction)` from `from`, as Ctrl+arrow moves: from a filled cell whose
+    /// neighbour is filled, to the last filled cell of that run; otherwise to the next
+    /// filled cell, or the sheet's edge when there is none. A formula showing "" is filled.
+    pub(super) fn end(&self, sheet: SheetId, from: Pos, direction: Direction) -> Pos {
+        let Some(next) = direction.step(from) else { return from };
+        let wb = self.wb.borrow();
+        let Some(used) = wb.used_rect(sheet) else { return direction.edge(from) };
+        let filled = |p: Pos| {
+            used.contains(p)
+                && (wb.formula_id(sheet, p).is_some() || !matches!(wb.value(sheet, p), crate::eval::Value::Blank))
+        };
+        if filled(from) && filled(next) {
+            let mut last = next;
+            while let Some(p) = direction.step(last).filter(|&p| filled(p)) {
+                last = p;
+            }
+            return last;
+        }
+        let mut p = next;
+        loop {
+            match direction.into_used(p, used) {
+                None => return direction.edge(from),
+                Some(q) if filled(q) => return q,
+                Some(q) => match direction.step(q) {
+                    Some(n) => p = n,
+                    None => return q,
+                },
+            }
+        }
+    }
+}
+
+/// `ws.Visible` as VBA reads it: `xlSheetVisible` (-1, which is True), `xlSheetHidden` (0,
+/// False) or `xlSheetVeryHidden` (2).
+pub fn visibility_value(v: Visibility) -> Value {
+    Value::Number(match v {
+        Visibility::Visible => -1.0,
+        Visibility::Hidden => 0.0,
+        Visibility::VeryHidden => 2.0,
+    })
+}
+
+fn visibility_of(v: &Value) -> Option<Visibility> {
+    match v {
+        Value::Bool(true) => Some(Visibility::Visible),
+        Value::Bool(false) => Some(Visibility::Hidden),
+        Value::Number(n) if *n == -1.0 => Some(Visibility::Visible),
+        Value::Number(n) if *n == 0.0 => Some(Visibility::Hidden),
+        Value::Number(n) if *n == 2.0 => Some(Visibility::VeryHidden),
+        _ => None,
+    }
+}
+
+impl Interp<'_, '_> {
+    /// `ws.Visible = v`. As in Excel, the last visible sheet cannot be hidden.
+    pub(super) fn set_visible(&self, sheet: SheetId, v: &Value, span: Span) -> Run<()> {
+        let Some(visibility) = visibility_of(v) else {
+            return Err(
+                self.fault_at(span, "Visible takes True, False, xlSheetVisible, xlSheetHidden or xlSheetVeryHidden")
+            );
+        };
+        let mut wb = self.wb.borrow_mut();
+        let others_shown =
+            (0..wb.sheet_len() as SheetId).any(|s| s != sheet && wb.sheet_visibility(s) == Visibility::Visible);
+        if visibility != Visibility::Visible && !others_shown {
+            return Err(self.fault_at(span, "Visible: a workbook keeps at least one sheet visible"));
+        }
+        wb.set_sheet_visibility(sheet, visibility);
+        Ok(())
+    }
+
+    /// `ws.Select`: Excel refuses to select a hidden sheet.
+    pub(super) fn select_sheet(&self, sheet: SheetId, span: Span) -> Run<()> {
+        if self.wb.borrow().sheet_visibility(sheet) != Visibility::Visible {
+            let name = self.wb.borrow().sheet_names()[sheet as usize].clone();
+            return Err(self.fault_at(span, format!("{name} is hidden: set its Visible to True before selecting it")));
+        }
+        self.active.set(sheet);
+        Ok(())
+    }
+}
+
+/// What `PasteSpecial` pastes: everything a cell holds (its formula or constant), or only
+/// the values the cells show.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Paste {
+    Inputs,
+    Values,
+}
+
+/// The most cells one Copy or PasteSpecial writes.
+const MAX_PASTE: u64 = 10_000_000;
+
+/// Where a copy of `source`'s size lands at `dest`: a one-cell destination (or one whose
+/// size is not a multiple of the source's) takes the source's size from its top-left cell,
+/// as Excel pastes; a multiple repeats the source over it.
+fn paste_area(source: Rect, dest: Rect) -> Option<Rect> {
+    let tiles = dest.rows().is_multiple_of(source.rows()) && dest.cols().is_multiple_of(source.cols());
+    if tiles && !dest.is_cell() {
+        return Some(dest);
+    }
+    let last = Pos::new(dest.first.row + source.rows() - 1, dest.first.col + source.cols() - 1);
+    (last.row < MAX_ROWS && last.col < MAX_COLS).then(|| Rect::new(dest.first, last))
+}
+
+/// The argument named `name` (`Paste:=…`), or else the one at `position`.
+fn argument<'l>(link: &'l Link, position: usize, name: &str) -> Option<&'l crate::formula::ast::Expr> {
+    let args = link.args.as_deref()?;
+    let named = args.iter().find(|a| a.name.as_deref().is_some_and(|n| n.eq_ignore_ascii_case(name)));
+    let arg = named.or_else(|| args.get(position).filter(|a| a.name.is_none()))?;
+    (!matches!(arg.value.kind, crate::formula::ast::ExprKind::Missing)).then_some(&arg.value)
+}
+
+impl Interp<'_, '_> {
+    /// `r.Copy` (onto the clipboard, for a later `PasteSpecial`) or `r.Copy Destination`
+    /// (pasted at once, formulas and constants).
+    pub(super) fn copy(&self, ctx: &mut Ctx, sheet: SheetId, rect: Rect, link: &Link) -> Run<()> {
+        let Some(expr) = argument(link, 0, "destination") else {
+            *self.clipboard.borrow_mut() = Some((sheet, rect));
+            return Ok(());
+        };
+        let dest = ctx.operand(expr);
+        self.take_pending()?;
+        match dest {
+            Operand::Ref(to, area) => self.paste((sheet, rect), to, area, Paste::Inputs, link.span),
+            _ => Err(self.fault_at(link.span, "Copy: the destination is not a range")),
+        }
+    }
+
+    /// `r.PasteSpecial Paste:=xlPasteValues` (or `xlPasteAll`, `xlPasteFormulas`): what the
+    /// last `Copy` put on the clipboard, pasted at `r`.
+    pub(super) fn paste_special(&self, ctx: &mut Ctx, sheet: SheetId, rect: Rect, link: &Link) -> Run<()> {
+        let Some(source) = *self.clipboard.borrow() else {
+            return Err(self.fault_at(link.span, "PasteSpecial: nothing was copied (Copy a range first)"));
+        };
+        let code = match argument(link, 0, "paste") {
+            None => -4104.0,
+            Some(expr) => {
+                let v = ctx.eval(expr).unwrap_single();
+                self.take_pending()?;
+                self.number_of(&v, "PasteSpecial's Paste").map_err(|m| self.fault_at(link.span, m))?
+            }
+        };
+        let how = match code as i64 {
+            -4163 => Paste::Values,
+            -4104 | -4123 => Paste::Inputs,
+            _ => return Err(self.fault_at(
+                link.span,
+                "PasteSpecial: only xlPasteValues, xlPasteFormulas and xlPasteAll (a workbook here holds no formats, \
+                     comments or validation)",
+            )),
+        };
+        self.paste(source, sheet, rect, how, link.span)
+    }
+
+    fn paste(&self, (from, source): (SheetId, Rect), to: SheetId, dest: Rect, how: Paste, span: Span) -> Run<()> {
+        let Some(area) = paste_area(source, dest) else {
+            return Err(self.fault_at(span, "the pasted range would be off the sheet"));
+        };
+        let cells = area.rows() as u64 * area.cols() as u64;
+        if cells > MAX_PASTE {
+            return Err(self.fault_at(span, format!("pasting {cells} cells at once is more than a macro may")));
+        }
+        // Everything is read before anything is written: the areas may overlap.
+        let mut items = Vec::with_capacity(cells as usize);
+        {
+            let wb = self.wb.borrow();
+            for row in 0..area.rows() {
+                for col in 0..area.cols() {
+                    let p = Pos::new(source.first.row + row % source.rows(), source.first.col + col % source.cols());
+                    let tree = (how == Paste::Inputs).then(|| wb.formula_tree(from, p)).flatten();
+                    items.push(match tree {
+                        Some(t) => Err(t.into_owned()),
+                        None => Ok(wb.value(from, p)),
+                    });
+                }
+            }
+        }
+        let mut wb = self.wb.borrow_mut();
+        let width = area.cols() as usize;
+        for (i, item) in items.into_iter().enumerate() {
+            let p = Pos::new(area.first.row + (i / width) as u32, area.first.col + (i % width) as u32);
+            match item {
+                Err(tree) => wb.fill_formula_tree_deferred(to, Rect::cell(p), tree),
+                Ok(Value::Blank) => {
+                    wb.set_input_deferred(to, p, "").map_err(|e| self.fault_at(span, super::interp::one_line(&e)))?
+                }
+                Ok(v) => wb.set_value_deferred(to, p, v),
+            }
+        }
+        wb.recalculate_rect(to, area);
+        Ok(())
+    }
+}
