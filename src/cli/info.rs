@@ -48,7 +48,7 @@ pub fn run(args: InfoArgs, delimiter: Option<u8>) -> Result<()> {
     }
     let macros = opened.layout.as_ref().is_some_and(|l| l.vba_project.is_some());
     let macros = if macros {
-        "a VBA project (kept when saved as .xlsm; ncsheet runs macros from .bas files: ncsheet run)"
+        "a VBA project (kept when saved as .xlsm; `ncsheet macros FILE` lists its macros, `ncsheet run FILE --sub MODULE.SUB` runs one)"
     } else {
         "none"
     };

@@ -285,7 +285,9 @@ impl<'a> Ctx<'a> {
     /// operation it does not (`=(0.5-0.4-0.1)` and `=1*(0.5-0.4-0.1)` are -2.78E-17).
     pub fn eval_formula(&mut self, e: &Expr) -> Value {
         let ExprKind::Binary(op @ (BinOp::Add | BinOp::Sub), a, b) = &e.kind else { return self.eval(e) };
-        let (x, y) = (self.eval(a), self.eval(b));
+        // Operands that are numbers or cells are read without building values, as `eval` does.
+        let x = self.leaf_number(a).map_or_else(|| self.eval(a), Value::Number);
+        let y = self.leaf_number(b).map_or_else(|| self.eval(b), Value::Number);
         let result = binary(*op, &x, &y);
         match (x, y, &result) {
             (Value::Number(x), Value::Number(y), Value::Number(r)) if cancels(*r, x, y) => Value::Number(0.0),
@@ -924,6 +926,9 @@ fn scalar_binary(op: BinOp, a: &Value, b: &Value) -> Value {
 /// digits for them (`=0.1+0.2=0.3` is TRUE, `=0.1=(1.2-1.1)` FALSE: 0.0999999999999999).
 fn compare_operands(a: &Value, b: &Value) -> XlResult<std::cmp::Ordering> {
     match (a, b) {
+        // Rounding is monotonic and moves a number by under 1e-14 of itself, so numbers
+        // further apart keep their order and the rounding (a log and a power) is skipped.
+        (Value::Number(x), Value::Number(y)) if (x - y).abs() > 1e-13 * x.abs().max(y.abs()) => compare(a, b),
         (Value::Number(x), Value::Number(y)) => {
             compare(&Value::Number(fifteen_digits(*x)), &Value::Number(fifteen_digits(*y)))
         }
