@@ -182,6 +182,8 @@ struct Saved {
     /// The values the original file stored (Excel's, in Excel's files) for the changed cells:
     /// the edited cell's constant, the results cached for the others.
     stored: BTreeMap<(SheetId, Pos), Value>,
+    /// The formula cell filling each cell of an array result in the original, by cell.
+    anchors: BTreeMap<(SheetId, Pos), Pos>,
 }
 
 /// Opens, edits one cell, saves beside in `dir`; None when the workbook does not load
@@ -197,8 +199,9 @@ fn edit_and_save(source: &Path, dir: &Path, n: usize) -> Option<Saved> {
     let mut wb = opened.workbook;
     // Cells an array fills (spilled into, or in a legacy array formula's area), whose
     // formula would fill them again over an edit.
-    let mut spilled: BTreeSet<_> =
-        opened.cached.iter().filter(|c| c.anchor != c.pos).map(|c| (c.sheet, c.pos)).collect();
+    let anchors: BTreeMap<_, _> =
+        opened.cached.iter().filter(|c| c.anchor != c.pos).map(|c| ((c.sheet, c.pos), c.anchor)).collect();
+    let mut spilled: BTreeSet<_> = anchors.keys().copied().collect();
     let names = wb.sheet_names();
     for (name, l) in opened.layout.iter().flat_map(|l| &l.sheets) {
         let Some(sheet) = names.iter().position(|n| n == name) else { continue };
@@ -239,6 +242,7 @@ fn edit_and_save(source: &Path, dir: &Path, n: usize) -> Option<Saved> {
         changed: changed.into_iter().collect(),
         edited: (sheet, pos),
         stored,
+        anchors,
     })
 }
 
@@ -369,7 +373,12 @@ fn libreoffice_opens_the_saved_workbooks_and_computes_the_same_values() {
         let lo_original = converted(&original_outs, s).ok();
         compare_with_libreoffice(s, &lo.workbook, lo_original.as_ref().map(|o| &o.workbook), &mut tally);
     }
-    let Tally { compared, agreed, excluded, differences } = &tally;
+    let Tally { compared, agreed, excluded, momentary, differences } = &tally;
+    println!(
+        "{} cells left out that read the clock, chance, the host or CELL:\n{}",
+        momentary.len(),
+        momentary.join("\n")
+    );
     println!(
         "LibreOffice opened all {} saved workbooks; {agreed} of {compared} changed cells agree; {} cells left out \
          where LibreOffice departs on the original from the value stored there:",
@@ -391,6 +400,8 @@ struct Tally {
     agreed: usize,
     /// Cells LibreOffice cannot compute (it departs from the stored value on the original).
     excluded: Vec<String>,
+    /// Cells whose value depends on the moment or the program computing it.
+    momentary: Vec<String>,
     differences: Vec<String>,
 }
 
@@ -401,10 +412,39 @@ fn lo_agrees(theirs: &Value, ours: &Value) -> bool {
         || (theirs.is_blank() && *ours == Value::Number(0.0))
 }
 
-/// A cell whose value depends on when and where it is computed (the registry's `reads`: the
-/// clock, chance, the host), or on CELL's view of the file and its layout, which LibreOffice
-/// gives in its own terms.
-fn depends_on_the_moment_or_the_program(wb: &Workbook, sheet: SheetId, pos: Pos) -> bool {
+/// A cell whose value depends, itself or through any cell it reads, on when and where it is
+/// computed (the registry's `reads`: the clock, chance, the host), or on CELL's view of the
+/// file and its layout, which LibreOffice gives in its own terms: LibreOffice computes later
+/// than ncsheet did, with other random numbers.
+fn depends_on_the_moment_or_the_program(s: &Saved, sheet: SheetId, pos: Pos) -> bool {
+    let wb = &s.wb;
+    let pos = s.anchors.get(&(sheet, pos)).copied().unwrap_or(pos);
+    let mut seen = BTreeSet::from([(sheet, pos)]);
+    let mut todo = vec![(sheet, pos)];
+    while let Some((sheet, pos)) = todo.pop() {
+        if calls_the_moment_or_the_program(wb, sheet, pos) {
+            return true;
+        }
+        for (sheet, area) in wb.precedents(sheet, pos) {
+            let Some(used) = wb.used_rect(sheet) else { continue };
+            let (first_row, last_row) = (area.first.row.max(used.first.row), area.last.row.min(used.last.row));
+            let (first_col, last_col) = (area.first.col.max(used.first.col), area.last.col.min(used.last.col));
+            for row in first_row..=last_row {
+                for col in first_col..=last_col {
+                    let cell = (sheet, Pos::new(row, col));
+                    let at = (sheet, s.anchors.get(&cell).copied().unwrap_or(cell.1));
+                    if wb.is_formula(sheet, at.1) && seen.insert(at) {
+                        todo.push(at);
+                    }
+                }
+            }
+        }
+    }
+    false
+}
+
+/// A formula that calls the clock, chance, the host or CELL itself.
+fn calls_the_moment_or_the_program(wb: &Workbook, sheet: SheetId, pos: Pos) -> bool {
     let Some(tree) = wb.formula_tree(sheet, pos) else { return false };
     let mut found = false;
     tree.visit(&mut |e| {
@@ -425,10 +465,11 @@ fn compare_with_libreoffice(s: &Saved, lo: &Workbook, lo_original: Option<&Workb
         let name = &names[sheet as usize];
         let Some(lo_at) = lo_sheet(lo, name) else { continue };
         let formula = s.wb.formula(sheet, pos).unwrap_or_default();
-        if depends_on_the_moment_or_the_program(&s.wb, sheet, pos) {
+        let place = format!("{}: {}: {formula}", s.source.display(), s.wb.cell_name(sheet, pos));
+        if depends_on_the_moment_or_the_program(s, sheet, pos) {
+            tally.momentary.push(place);
             continue;
         }
-        let place = format!("{}: {}: {formula}", s.source.display(), s.wb.cell_name(sheet, pos));
         let stored = s.stored.get(&(sheet, pos));
         let on_original = lo_original.and_then(|o| Some(o.value(lo_sheet(o, name)?, pos)));
         if let (Some(stored), Some(on_original)) = (stored, &on_original) {
@@ -971,6 +1012,7 @@ fn the_repl_saves_surgically_as_set_does() {
         changed: changed.into_iter().collect(),
         edited,
         stored: BTreeMap::new(),
+        anchors: BTreeMap::new(),
     };
     let failures = compare_packages(&saved);
     assert!(failures.is_empty(), "{}", failures.join("\n"));
