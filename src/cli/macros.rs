@@ -126,6 +126,23 @@ fn read_module(path: &Path) -> Result<NewModule> {
     Ok(NewModule { name, kind: ModuleKind::Standard, source })
 }
 
+/// Makes the public Functions of the workbook's VBA project callable from its cells, each
+/// call under the command's `--timeout`; a project that cannot be read, or a module that does
+/// not parse, becomes a note (the cells calling its functions stay `#NAME?`).
+pub fn install_functions(opened: &mut ncsheet::io::Opened) {
+    let Some(bytes) = opened.layout.as_ref().and_then(|l| l.vba_project.as_ref()) else { return };
+    let project = match read_project(bytes) {
+        Ok(p) => p,
+        Err(e) => return opened.notes.push(format!("xl/vbaProject.bin: {e}: its functions are not callable")),
+    };
+    let options = ncsheet::vba::RunOptions { deadline: super::limits::deadline(), ..Default::default() };
+    for e in ncsheet::vba::install_functions(&mut opened.workbook, &project, options) {
+        opened
+            .notes
+            .push(format!("{}: the functions of this module are not callable", e.to_string().replace('\n', " ")));
+    }
+}
+
 /// The VBA project of a workbook file; a workbook without one is an error saying so.
 pub fn open_project(file: &Path) -> Result<VbaProject> {
     let opened = ncsheet::io::open(file)?;

@@ -150,7 +150,9 @@ impl Interp<'_, '_> {
                 "worksheets" | "sheets" | "range" | "cells" | "activesheet" | "activeworkbook" | "thisworkbook"
                 | "activecell" | "selection" | "evaluate" | "inputbox" | "msgbox" => self.root(ctx, link),
                 "screenupdating" | "displayalerts" | "enableevents" => Ok(Obj::Value(Value::Bool(true))),
-                "calculate" => Ok(Obj::Value(Value::Blank)),
+                // Read when the workbook's functions are installed (`udf.rs`): a call marks
+                // nothing at run time.
+                "calculate" | "volatile" => Ok(Obj::Value(Value::Blank)),
                 "name" => Ok(Obj::Value(Value::text("ncsheet"))),
                 _ => Err(self.no_member(&Obj::App, link)),
             },
@@ -604,7 +606,7 @@ impl Interp<'_, '_> {
         if cells > MAX_FORMULA_WRITE {
             return Err(self.fault(format!("writing {cells} formulas at once is more than a macro may")));
         }
-        let mut wb = self.wb.borrow_mut();
+        let mut wb = self.book_mut()?;
         let parsed = {
             let sheets = |name: &str| wb.sheet_id(name);
             let ctx = ParseContext { at: rect.first, functions: &Registry, sheet: &sheets };
