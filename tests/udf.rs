@@ -262,3 +262,42 @@ fn an_imported_function_computes_in_a_cell_recomputes_on_edit_and_saves_unchange
     // LibreOffice writes the name in lower case (function names are case-blind in both).
     assert!(theirs.to_ascii_lowercase().contains(">nose_offset(b2,b3)</f>"), "LibreOffice lost the formula: {theirs}");
 }
+
+/// What engineering workbooks' functions do: call a helper of another module, read a range's
+/// values as an array (`r.Value`, `UBound`), use a sheet function (`WorksheetFunction.Max`),
+/// take an optional argument, and ask which cell called them (`Application.Caller`).
+/// B1:B3 hold 2, 7, 4: their squares sum to 4 + 49 + 16 = 69; the largest is 7; the
+/// default scale is 10, so Spread is 69 + 7·10 = 139, and 69 + 7·1 = 76 with scale 1.
+#[test]
+fn functions_call_other_modules_read_range_arrays_and_know_their_caller() {
+    let helpers = "Attribute VB_Name = \"Helpers\"\r\nOption Explicit\r\n\
+        Public Function Square(x As Double) As Double\r\n    Square = x * x\r\nEnd Function\r\n";
+    let main = "Attribute VB_Name = \"Design\"\r\nOption Explicit\r\n\
+        Public Function Spread(r As Range, Optional scale As Double = 10) As Double\r\n\
+            Dim v As Variant, i As Long, total As Double\r\n\
+            v = r.Value\r\n\
+            For i = 1 To UBound(v, 1)\r\n\
+                total = total + Square(v(i, 1))\r\n\
+            Next i\r\n\
+            Spread = total + WorksheetFunction.Max(r) * scale\r\n\
+        End Function\r\n\
+        Public Function WhereAmI() As String\r\n\
+            WhereAmI = Application.Caller.Address\r\n\
+        End Function\r\n";
+    let wb = book(
+        &[("Helpers", STANDARD, helpers), ("Design", STANDARD, main)],
+        &[
+            ("B1", "2"),
+            ("B2", "7"),
+            ("B3", "4"),
+            ("C1", "=Spread(B1:B3)"),
+            ("C2", "=Spread(B1:B3, 1)"),
+            ("D4", "=WhereAmI()"),
+            ("C3", "=Square(3)"),
+        ],
+    );
+    assert_eq!(number(&wb, "C1"), 139.0);
+    assert_eq!(number(&wb, "C2"), 76.0);
+    assert_eq!(number(&wb, "C3"), 9.0);
+    assert_eq!(wb.value(0, at("D4")), Value::text("$D$4"));
+}

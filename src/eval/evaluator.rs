@@ -86,9 +86,16 @@ pub trait Env {
 
     /// Calls the workbook's own function `name` (a VBA Function of its macros) on `args`,
     /// evaluated by the caller (a reference stays a reference); the function reads cells
-    /// through `cells`, the environment the formula is evaluated in. `None` when the workbook
+    /// through `cells`, the environment the formula is evaluated in; `caller` is the cell whose formula
+    /// calls it (`Application.Caller`). `None` when the workbook
     /// has no such function: the call is then `#NAME?`.
-    fn call_user_function(&self, _cells: &dyn Env, _name: &str, _args: &[Operand], _sheet: SheetId) -> Option<Value> {
+    fn call_user_function(
+        &self,
+        _cells: &dyn Env,
+        _name: &str,
+        _args: &[Operand],
+        _caller: (SheetId, Pos),
+    ) -> Option<Value> {
         None
     }
 }
@@ -576,7 +583,9 @@ impl<'a> Ctx<'a> {
                 _ => self.operand(a),
             })
             .collect();
-        self.env.call_user_function(self.env, name, &operands, self.sheet).unwrap_or(Value::Error(XlError::Name))
+        self.env
+            .call_user_function(self.env, name, &operands, (self.sheet, self.at))
+            .unwrap_or(Value::Error(XlError::Name))
     }
 
     /// A LET-bound LAMBDA called by its name: the body runs here, seeing the LET's names.

@@ -83,11 +83,12 @@ pub fn call_function(
     source: &str,
     file: &str,
     options: &RunOptions,
-    (proc, sheet): (usize, SheetId),
+    (proc, caller): (usize, (SheetId, Pos)),
     args: Vec<Var>,
 ) -> Result<Value, MacroError> {
-    let it = Interp::new(module, options, source, Book::Read(wb), Some(cells));
-    it.active.set(sheet);
+    let mut it = Interp::new(module, options, source, Book::Read(wb), Some(cells));
+    it.active.set(caller.0);
+    it.caller = Some(caller);
     let result = it.start_function(proc, args);
     let output = it.out.into_inner();
     result.map_err(|fault| it_error(source, file, fault, output))
@@ -215,6 +216,8 @@ pub struct Interp<'m, 'w> {
     /// Where cells are read when a cell's formula called the function: the workbook, or the
     /// recalculation's probe, which notes what is read (cycles are found through it).
     pub cells: Option<&'w dyn crate::eval::Env>,
+    /// The cell whose formula called the function (`Application.Caller`).
+    pub caller: Option<(SheetId, Pos)>,
     pub(super) globals: RefCell<Vec<Slot>>,
     pub(super) frames: RefCell<Vec<Frame>>,
     pub out: RefCell<RunOutput>,
@@ -261,6 +264,7 @@ impl<'m, 'w> Interp<'m, 'w> {
             lines: Lines::new(source),
             wb: RefCell::new(wb),
             cells,
+            caller: None,
             globals: RefCell::new(Vec::new()),
             frames: RefCell::new(Vec::new()),
             out: RefCell::new(RunOutput::new("MACRO", options.machine)),

@@ -154,6 +154,10 @@ impl Interp<'_, '_> {
                 // nothing at run time.
                 "calculate" | "volatile" => Ok(Obj::Value(Value::Blank)),
                 "name" => Ok(Obj::Value(Value::text("ncsheet"))),
+                "caller" => match self.caller {
+                    Some((sheet, pos)) => Ok(Obj::Range(sheet, Rect::cell(pos))),
+                    None => Err(self.fault_at(link.span, "Application.Caller: the macro was not called from a cell")),
+                },
                 _ => Err(self.no_member(&Obj::App, link)),
             },
             Obj::Workbook => match name.as_str() {

@@ -7,6 +7,7 @@
 use std::rc::Rc;
 
 use crate::eval::{Env, Operand, Value, XlError};
+use crate::formula::address::Pos;
 use crate::formula::ast::SheetId;
 use crate::workbook::{UserFunctions, Workbook};
 
@@ -45,11 +46,18 @@ impl WorkbookFunctions {
     pub fn new(project: &VbaProject, wb: &Workbook, options: RunOptions) -> (WorkbookFunctions, Vec<MacroError>) {
         let mut modules = Vec::new();
         let mut errors = Vec::new();
-        for m in project.modules.iter().filter(|m| m.kind == ModuleKind::Standard) {
-            match parse_with(&m.source, &m.name, wb, &options) {
-                Ok(module) => {
-                    let callable = callable(&module, &m.source);
-                    modules.push(Parsed { name: m.name.clone(), source: m.source.clone(), module, callable });
+        let standard: Vec<_> = project.modules.iter().filter(|m| m.kind == ModuleKind::Standard).collect();
+        for m in &standard {
+            // The module with the others' procedures after it, so that it calls them as VBA
+            // does; alone when together they do not parse (a name declared twice).
+            let together = with_others(&m.source, standard.iter().filter(|o| o.name != m.name).map(|o| &*o.source));
+            let parsed = parse_with(&together, &m.name, wb, &options)
+                .map(|module| (module, together))
+                .or_else(|_| parse_with(&m.source, &m.name, wb, &options).map(|module| (module, m.source.clone())));
+            match parsed {
+                Ok((module, source)) => {
+                    let callable = callable(&module, &source, m.source.lines().count());
+                    modules.push(Parsed { name: m.name.clone(), source, module, callable });
                 }
                 Err(e) => errors.push(e),
             }
@@ -76,7 +84,7 @@ impl UserFunctions for WorkbookFunctions {
         self.find(name).map(|(_, _, v)| v)
     }
 
-    fn call(&self, wb: &Workbook, cells: &dyn Env, name: &str, args: &[Operand], sheet: SheetId) -> Value {
+    fn call(&self, wb: &Workbook, cells: &dyn Env, name: &str, args: &[Operand], caller: (SheetId, Pos)) -> Value {
         let Some((m, proc, _)) = self.find(name) else { return Value::Error(XlError::Name) };
         let args = args
             .iter()
@@ -88,7 +96,7 @@ impl UserFunctions for WorkbookFunctions {
             })
             .collect();
         let result =
-            interp::call_function(&m.module, wb, cells, &m.source, &m.name, &self.options, (proc, sheet), args);
+            interp::call_function(&m.module, wb, cells, &m.source, &m.name, &self.options, (proc, caller), args);
         match result {
             Ok(Value::Blank) => Value::Number(0.0),
             Ok(v) => v,
@@ -97,9 +105,27 @@ impl UserFunctions for WorkbookFunctions {
     }
 }
 
-/// For each procedure of `module`: `Some(volatile)` for a public Function, else `None`.
-/// Volatile: its body calls `Application.Volatile` (without `False`).
-fn callable(module: &Module, source: &str) -> Vec<Option<bool>> {
+/// `source` followed by the code of `others`, their `Attribute` and `Option` lines left
+/// blank (the first module's options hold).
+fn with_others<'a>(source: &str, others: impl Iterator<Item = &'a str>) -> String {
+    let mut out = source.to_string();
+    for other in others {
+        out.push_str("\r\n");
+        for line in other.lines() {
+            let word = line.trim_start().split_whitespace().next().unwrap_or("").to_ascii_lowercase();
+            if word != "attribute" && word != "option" {
+                out.push_str(line);
+            }
+            out.push_str("\r\n");
+        }
+    }
+    out
+}
+
+/// For each procedure of `module`: `Some(volatile)` for a public Function of the module's
+/// own first `own_lines` lines, else `None`. Volatile: its body calls `Application.Volatile`
+/// (without `False`).
+fn callable(module: &Module, source: &str, own_lines: usize) -> Vec<Option<bool>> {
     let lines: Vec<&str> = source.lines().collect();
     let mut starts: Vec<usize> = module.procs.iter().map(|p| p.span.line as usize).collect();
     starts.sort_unstable();
@@ -107,7 +133,7 @@ fn callable(module: &Module, source: &str) -> Vec<Option<bool>> {
         .procs
         .iter()
         .map(|p| {
-            if p.kind != ProcKind::Function || !p.public {
+            if p.kind != ProcKind::Function || !p.public || p.span.line as usize > own_lines {
                 return None;
             }
             let first = p.span.line as usize;

@@ -251,7 +251,13 @@ impl Env for Probe<'_> {
     }
 
     /// The function reads cells through the probe: what it reads is what the cell reads.
-    fn call_user_function(&self, cells: &dyn Env, name: &str, args: &[Operand], sheet: SheetId) -> Option<Value> {
-        self.wb.call_user_function(cells, name, args, sheet)
+    fn call_user_function(
+        &self,
+        cells: &dyn Env,
+        name: &str,
+        args: &[Operand],
+        caller: (SheetId, Pos),
+    ) -> Option<Value> {
+        self.wb.call_user_function(cells, name, args, caller)
     }
 }

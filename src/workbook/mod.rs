@@ -899,8 +899,14 @@ impl Env for Workbook {
         self.sheets.get(sheet as usize)?.column_width(col)
     }
 
-    fn call_user_function(&self, cells: &dyn Env, name: &str, args: &[Operand], sheet: SheetId) -> Option<Value> {
-        self.call_user(cells, name, args, sheet)
+    fn call_user_function(
+        &self,
+        cells: &dyn Env,
+        name: &str,
+        args: &[Operand],
+        caller: (SheetId, Pos),
+    ) -> Option<Value> {
+        self.call_user(cells, name, args, caller)
     }
 }
 

@@ -8,6 +8,7 @@
 use std::rc::Rc;
 
 use crate::eval::{Env, Operand, Value};
+use crate::formula::address::Pos;
 use crate::formula::ast::{Expr, ExprKind, SheetId};
 
 use super::{Workbook, NO_FORMULA};
@@ -18,9 +19,9 @@ pub trait UserFunctions {
     /// so whether it is volatile; `None` for no such function.
     fn volatile(&self, name: &str) -> Option<bool>;
 
-    /// Calls `name` on `args`, reading cells through `cells`; `sheet` is the calling cell's.
+    /// Calls `name` on `args`, reading cells through `cells`; `caller` is the calling cell.
     /// A failure inside the function is its value (`#VALUE!`), never a change to `wb`.
-    fn call(&self, wb: &Workbook, cells: &dyn Env, name: &str, args: &[Operand], sheet: SheetId) -> Value;
+    fn call(&self, wb: &Workbook, cells: &dyn Env, name: &str, args: &[Operand], caller: (SheetId, Pos)) -> Value;
 }
 
 impl Workbook {
@@ -63,9 +64,15 @@ impl Workbook {
         found
     }
 
-    pub(super) fn call_user(&self, cells: &dyn Env, name: &str, args: &[Operand], sheet: SheetId) -> Option<Value> {
+    pub(super) fn call_user(
+        &self,
+        cells: &dyn Env,
+        name: &str,
+        args: &[Operand],
+        caller: (SheetId, Pos),
+    ) -> Option<Value> {
         let functions = self.user_functions.as_ref()?;
         functions.volatile(name)?;
-        Some(functions.call(self, cells, name, args, sheet))
+        Some(functions.call(self, cells, name, args, caller))
     }
 }
