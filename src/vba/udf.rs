@@ -112,7 +112,7 @@ fn with_others<'a>(source: &str, others: impl Iterator<Item = &'a str>) -> Strin
     for other in others {
         out.push_str("\r\n");
         for line in other.lines() {
-            let word = line.trim_start().split_whitespace().next().unwrap_or("").to_ascii_lowercase();
+            let word = line.split_whitespace().next().unwrap_or("").to_ascii_lowercase();
             if word != "attribute" && word != "option" {
                 out.push_str(line);
             }
