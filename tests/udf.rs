@@ -83,6 +83,15 @@ fn test_names_functions_compute_what_excel_cached() {
     assert_eq!(wb.value(0, at("A6")), Value::Error(XlError::Name));
 }
 
+/// The command line installs the functions when it opens the file: `eval --check` finds
+/// every value Excel stored, the function cells' among them.
+#[test]
+fn eval_check_of_test_names_agrees_with_excel_everywhere() {
+    let path = common::corpus::public_path().join("poi/test-data_spreadsheet_testNames.xlsm");
+    let run = common::cli::ncsheet(&["eval", &path.to_string_lossy(), "--check"]);
+    assert!(run.stderr.contains("7 of 7 stored values agree with Excel"), "{}", run.stderr);
+}
+
 /// Excel's rules for the name: any case, and qualified by the module.
 #[test]
 fn a_public_function_is_called_by_name_in_any_case_or_qualified_by_its_module() {
@@ -185,6 +194,7 @@ fn arguments_are_its_dependencies_and_application_volatile_recomputes_at_every_e
     assert_eq!((number(&wb, "B1"), number(&wb, "B2")), (12.0, 12.0));
     wb.set_input(0, at("D1"), "20").unwrap();
     assert_eq!((number(&wb, "B1"), number(&wb, "B2")), (12.0, 22.0));
+    assert!(wb.calls_volatile(0, at("B2")) && !wb.calls_volatile(0, at("B1")));
 }
 
 /// A cell whose function reads the cell itself through its argument is a cycle, not a
@@ -300,4 +310,15 @@ fn functions_call_other_modules_read_range_arrays_and_know_their_caller() {
     assert_eq!(number(&wb, "C2"), 76.0);
     assert_eq!(number(&wb, "C3"), 9.0);
     assert_eq!(wb.value(0, at("D4")), Value::text("$D$4"));
+}
+
+/// Endless recursion inside a function stops at the call-depth limit: #VALUE!, no crash
+/// (on a test thread's small stack too).
+#[test]
+fn endless_recursion_in_a_function_is_a_value_error() {
+    let wb = book(
+        &[("Module1", STANDARD, "Function Deeper(n)\r\n    Deeper = Deeper(n + 1)\r\nEnd Function\r\n")],
+        &[("A1", "=Deeper(1)")],
+    );
+    assert_eq!(wb.value(0, at("A1")), Value::Error(XlError::Value));
 }

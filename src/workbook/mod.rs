@@ -661,12 +661,15 @@ impl Workbook {
         (formula != NO_FORMULA).then_some(formula)
     }
 
-    /// Whether the cell's formula calls a volatile function (NOW, RAND): its value may
+    /// Whether the cell's formula calls a volatile function (NOW, RAND, a workbook function
+    /// that calls `Application.Volatile`): its value may
     /// differ from any stored one with nothing changed.
     pub fn calls_volatile(&self, sheet: SheetId, pos: Pos) -> bool {
         let Some(id) = self.sheets.get(sheet as usize).and_then(|s| s.get(pos)) else { return false };
         let cell = &self.cells[id as usize];
-        cell.formula != NO_FORMULA && self.formulas.get(cell.formula).volatile
+        cell.formula != NO_FORMULA
+            && (self.formulas.get(cell.formula).volatile
+                || self.calls_user_function(&self.formulas.get(cell.formula).expr) == Some(true))
     }
 
     /// What a user would type to recreate the cell: its formula, or its constant.

@@ -97,7 +97,9 @@ pub fn analyse(wb: &Workbook, sheet: SheetId, anchor: Pos) -> FormulaInfo {
             continue;
         }
         if wb.has_user_function(&name) {
-            // The workbook's own (VBA) function: it runs, so its value is compared.
+            // The workbook's own (VBA) function: it runs, so its value is compared, unless
+            // it is volatile (`Application.Volatile`).
+            info.volatile |= wb.calls_volatile(sheet, anchor);
             continue;
         }
         match Env::defined_name(wb, &name, sheet) {
