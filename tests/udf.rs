@@ -322,3 +322,21 @@ fn endless_recursion_in_a_function_is_a_value_error() {
     );
     assert_eq!(wb.value(0, at("A1")), Value::Error(XlError::Value));
 }
+
+/// A module the interpreter cannot read (here `New Collection`) leaves its functions
+/// `#NAME?`, and a note names the module, the place and the function a cell calls.
+#[test]
+fn a_module_that_does_not_parse_is_named_when_a_cell_calls_its_function() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = |name: &str| dir.path().join(name).to_string_lossy().into_owned();
+    let bas = "Attribute VB_Name = \"Broken\"\r\nFunction Bad()\r\n    Dim h\r\n    Set h = New Collection\r\n    Bad = 1\r\nEnd Function\r\n";
+    std::fs::write(d("broken.bas"), bas).unwrap();
+    std::fs::write(d("b.csv"), "x,=Bad()\n").unwrap();
+    assert_eq!(common::cli::ncsheet(&["set", &d("b.csv"), "A2=1", "-o", &d("b.xlsx")]).code, 0);
+    let made = common::cli::ncsheet(&["macros", &d("b.xlsx"), "--import", &d("broken.bas"), "-o", &d("b.xlsm")]);
+    assert_eq!(made.code, 0, "{}", made.stderr);
+    let run = common::cli::ncsheet(&["eval", &d("b.xlsm"), "B1", "--format", "csv"]);
+    assert_eq!(run.stdout.trim(), "#NAME?");
+    assert!(run.stderr.contains("note: module Broken: 4:13: "), "{}", run.stderr);
+    assert!(run.stderr.contains("(Bad …) are #NAME?"), "{}", run.stderr);
+}
