@@ -16,6 +16,9 @@ use super::project::{ModuleKind, VbaProject};
 use super::value::{array_var, Obj, Var};
 use super::{interp, parse_with, MacroError, RunOptions};
 
+/// The most source, in bytes, of a project whose modules are parsed with one another's code.
+const MAX_JOINED: usize = 1 << 20;
+
 /// One standard module, parsed once.
 struct Parsed {
     name: String,
@@ -47,13 +50,19 @@ impl WorkbookFunctions {
         let mut modules = Vec::new();
         let mut errors = Vec::new();
         let standard: Vec<_> = project.modules.iter().filter(|m| m.kind == ModuleKind::Standard).collect();
+        let total: usize = standard.iter().map(|m| m.source.len()).sum();
         for m in &standard {
-            // The module with the others' procedures after it, so that it calls them as VBA
-            // does; alone when together they do not parse (a name declared twice).
-            let together = with_others(&m.source, standard.iter().filter(|o| o.name != m.name).map(|o| &*o.source));
-            let parsed = parse_with(&together, &m.name, wb, &options)
-                .map(|module| (module, together))
-                .or_else(|_| parse_with(&m.source, &m.name, wb, &options).map(|module| (module, m.source.clone())));
+            // Alone, or, when it calls another module's procedures, with the others' code
+            // after it, as VBA sees them (not for a project so large that parsing it once per
+            // module would be slow: its error stands).
+            let alone = parse_with(&m.source, &m.name, wb, &options).map(|module| (module, m.source.clone()));
+            let parsed = alone.or_else(|e| {
+                if total > MAX_JOINED || standard.len() == 1 {
+                    return Err(e);
+                }
+                let together = with_others(&m.source, standard.iter().filter(|o| o.name != m.name).map(|o| &*o.source));
+                parse_with(&together, &m.name, wb, &options).map(|module| (module, together)).map_err(|_| e)
+            });
             match parsed {
                 Ok((module, source)) => {
                     let callable = callable(&module, &source, m.source.lines().count());
