@@ -181,7 +181,10 @@ fn compare_corpus(root: &Path, not_from_excel: &[&str], known: &[(&str, &str, &s
     for path in &files {
         let rel = path.strip_prefix(root).expect("under root").to_string_lossy().replace('\\', "/");
         let mut imported = match std::panic::catch_unwind(|| xlsx::load(path)) {
-            Ok(Ok(i)) => i,
+            Ok(Ok(mut i)) => {
+                common::install_workbook_functions(&mut i);
+                i
+            }
             Ok(Err(e)) => {
                 run.refused.push((rel, e.to_string()));
                 continue;

@@ -126,6 +126,56 @@ fn read_module(path: &Path) -> Result<NewModule> {
     Ok(NewModule { name, kind: ModuleKind::Standard, source })
 }
 
+/// Makes the public Functions of the workbook's VBA project callable from its cells, each
+/// call under the command's `--timeout`; a project that cannot be read, or a module that does
+/// not parse whose functions a cell calls, becomes a note (those cells stay `#NAME?`).
+pub fn install_functions(opened: &mut ncsheet::io::Opened) {
+    let Some(layout) = opened.layout.as_ref() else { return };
+    let Some(bytes) = layout.vba_project.as_ref() else { return };
+    let project = match read_project(bytes) {
+        Ok(p) => p,
+        Err(e) => return opened.notes.push(format!("xl/vbaProject.bin: {e}: its functions are not callable")),
+    };
+    let code_names = layout.sheets.iter().filter_map(|(name, s)| Some((s.code_name.clone()?, name.clone()))).collect();
+    let options = ncsheet::vba::RunOptions { deadline: super::limits::deadline(), code_names, ..Default::default() };
+    let errors = ncsheet::vba::install_functions(&mut opened.workbook, &project, options);
+    if errors.is_empty() {
+        return;
+    }
+    let called: Vec<String> = opened
+        .workbook
+        .problems()
+        .into_iter()
+        .filter_map(|p| match p.kind {
+            ncsheet::workbook::ProblemKind::UnknownFunction(name) => Some(name),
+            _ => None,
+        })
+        .collect();
+    for e in errors {
+        let Some(module) = project.modules.iter().find(|m| m.name == e.file) else { continue };
+        let functions: Vec<String> = procedures(&module.source).iter().filter_map(|d| function_name(d)).collect();
+        let is_called = |f: &String| {
+            called.iter().any(|c| {
+                c.eq_ignore_ascii_case(f) || c.to_ascii_lowercase().ends_with(&format!(".{}", f.to_ascii_lowercase()))
+            })
+        };
+        if let Some(f) = functions.iter().find(|f| is_called(f)) {
+            let place = e.span.map_or(String::new(), |s| format!("{}:{}: ", s.line, s.col));
+            opened.notes.push(format!(
+                "module {}: {place}{}: its functions ({f} …) are #NAME? in the cells that call them",
+                e.file, e.message
+            ));
+        }
+    }
+}
+
+/// The name a `Function` declaration line declares (`Public Function Tip(d) As Double`: `Tip`).
+fn function_name(declaration: &str) -> Option<String> {
+    let mut words = declaration.split(|c: char| c.is_whitespace() || c == '(');
+    words.find(|w| w.eq_ignore_ascii_case("function"))?;
+    words.find(|w| !w.is_empty()).map(str::to_string)
+}
+
 /// The VBA project of a workbook file; a workbook without one is an error saying so.
 pub fn open_project(file: &Path) -> Result<VbaProject> {
     let opened = ncsheet::io::open(file)?;

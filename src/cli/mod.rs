@@ -313,7 +313,8 @@ fn set(args: SetArgs, delimiter: Option<u8>) -> Result<()> {
 /// Reads a workbook (a csv with `--delimiter`'s separator, if given) and tells the user
 /// what the import left out.
 fn open(file: &Path, delimiter: Option<u8>) -> Result<ncsheet::io::Opened> {
-    let opened = ncsheet::io::open_with(file, delimiter)?;
+    let mut opened = ncsheet::io::open_with(file, delimiter)?;
+    macros::install_functions(&mut opened);
     for note in &opened.notes {
         eprintln!("ncsheet: {}: note: {note}", file.display());
     }

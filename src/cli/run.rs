@@ -147,7 +147,8 @@ pub fn run(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
 }
 
 fn run_on_this_thread(args: RunArgs, dialect_name: &'static str, delimiter: Option<u8>) -> Result<()> {
-    let opened = ncsheet::io::open_with(&args.workbook, delimiter)?;
+    let mut opened = ncsheet::io::open_with(&args.workbook, delimiter)?;
+    super::macros::install_functions(&mut opened);
     let mut wb = opened.workbook;
     let (file, source, sub, document) = macro_source(&args, opened.layout.as_ref())?;
     let file = &file;

@@ -83,6 +83,21 @@ pub trait Env {
     fn row_hidden(&self, _sheet: SheetId, _row: u32) -> Option<RowHidden> {
         None
     }
+
+    /// Calls the workbook's own function `name` (a VBA Function of its macros) on `args`,
+    /// evaluated by the caller (a reference stays a reference); the function reads cells
+    /// through `cells`, the environment the formula is evaluated in; `caller` is the cell whose formula
+    /// calls it (`Application.Caller`). `None` when the workbook
+    /// has no such function: the call is then `#NAME?`.
+    fn call_user_function(
+        &self,
+        _cells: &dyn Env,
+        _name: &str,
+        _args: &[Operand],
+        _caller: (SheetId, Pos),
+    ) -> Option<Value> {
+        None
+    }
 }
 
 /// How a row is hidden: SUBTOTAL 1–11 skips the rows a filter hides, 101–111 every hidden row.
@@ -540,8 +555,8 @@ impl<'a> Ctx<'a> {
         if let Some(expr) = local.map(|(_, e)| e.clone()) {
             return self.call_local_lambda(name, &expr, args);
         }
-        let Some((expr, sheet)) = self.env.defined_name(name, self.sheet) else { return Value::Error(XlError::Name) };
-        let Some(lambda) = functions::as_lambda(&expr) else { return Value::Error(XlError::Name) };
+        let Some((expr, sheet)) = self.env.defined_name(name, self.sheet) else { return self.call_user(name, args) };
+        let Some(lambda) = functions::as_lambda(&expr) else { return self.call_user(name, args) };
         if !lambda.accepts(args.len()) {
             return Value::Error(XlError::Value);
         }
@@ -557,6 +572,20 @@ impl<'a> Ctx<'a> {
         self.depth -= 1;
         (self.sheet, self.at, self.locals) = saved;
         out
+    }
+
+    /// A function of the workbook's own (a VBA Function), or `#NAME?` when there is none.
+    fn call_user(&mut self, name: &str, args: &[Expr]) -> Value {
+        let operands: Vec<Operand> = args
+            .iter()
+            .map(|a| match a.kind {
+                ExprKind::Missing => Operand::Value(Value::Blank),
+                _ => self.operand(a),
+            })
+            .collect();
+        self.env
+            .call_user_function(self.env, name, &operands, (self.sheet, self.at))
+            .unwrap_or(Value::Error(XlError::Name))
     }
 
     /// A LET-bound LAMBDA called by its name: the body runs here, seeing the LET's names.

@@ -68,6 +68,8 @@ pub struct Proc {
     pub ty: Option<Ty>,
     pub body: Block,
     pub span: Span,
+    /// Not declared `Private`: a cell may call a public Function of a standard module.
+    pub public: bool,
 }
 
 #[derive(Debug)]

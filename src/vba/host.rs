@@ -15,20 +15,37 @@ use super::ErrorKind;
 
 impl Env for Interp<'_, '_> {
     fn value(&self, sheet: SheetId, pos: Pos) -> Value {
-        self.wb.borrow().value(sheet, pos)
+        match self.cells {
+            Some(cells) => cells.value(sheet, pos),
+            None => self.wb.borrow().value(sheet, pos),
+        }
     }
 
     fn for_each_value(&self, sheet: SheetId, rect: Rect, f: &mut dyn FnMut(Pos, &Value)) {
         // Collected first: `f` may run macro code that writes cells.
         let mut items = Vec::new();
-        self.wb.borrow().for_each_value(sheet, rect, &mut |p, v| items.push((p, v.clone())));
+        let mut keep = |p: Pos, v: &Value| items.push((p, v.clone()));
+        match self.cells {
+            Some(cells) => cells.for_each_value(sheet, rect, &mut keep),
+            None => self.wb.borrow().for_each_value(sheet, rect, &mut keep),
+        }
         for (p, v) in items {
             f(p, &v);
         }
     }
 
     fn used_rect(&self, sheet: SheetId) -> Option<Rect> {
-        Env::used_rect(&**self.wb.borrow(), sheet)
+        match self.cells {
+            Some(cells) => cells.used_rect(sheet),
+            None => Env::used_rect(&**self.wb.borrow(), sheet),
+        }
+    }
+
+    fn used_rect_for(&self, sheet: SheetId, rect: Rect) -> Option<Rect> {
+        match self.cells {
+            Some(cells) => cells.used_rect_for(sheet, rect),
+            None => Env::used_rect_for(&**self.wb.borrow(), sheet, rect),
+        }
     }
 
     fn defined_name(&self, name: &str, sheet: SheetId) -> Option<(Rc<Expr>, SheetId)> {
@@ -36,7 +53,10 @@ impl Env for Interp<'_, '_> {
     }
 
     fn spill_rect(&self, sheet: SheetId, pos: Pos) -> Option<Rect> {
-        self.wb.borrow().spill_rect(sheet, pos)
+        match self.cells {
+            Some(cells) => cells.spill_rect(sheet, pos),
+            None => self.wb.borrow().spill_rect(sheet, pos),
+        }
     }
 
     fn sheet_count(&self) -> usize {

@@ -58,37 +58,56 @@ pub fn run(
         .collect();
     let entry = entry(module, options).map_err(|m| usage(file, m))?;
     let stem = std::path::Path::new(file).file_stem().and_then(|s| s.to_str()).unwrap_or("MACRO");
-    let it = Interp {
-        module,
-        options,
-        source,
-        lines: Lines::new(source),
-        wb: RefCell::new(wb),
-        globals: RefCell::new(Vec::new()),
-        frames: RefCell::new(Vec::new()),
-        out: RefCell::new(RunOutput::new(&stem.to_ascii_uppercase(), options.machine)),
-        line: RefCell::new(None),
-        nc: RefCell::new(super::nc::NcState::default()),
-        steps: Cell::new(0),
-        kept: RefCell::new(Vec::new()),
-        pending: RefCell::new(None),
-        ended: Cell::new(false),
-        active: Cell::new(active),
-        home,
-        code_sheets,
-        cursors: RefCell::new(cursors),
-        clipboard: RefCell::new(None),
-        notes: RefCell::new(Vec::new()),
-        output_bytes: Cell::new(0),
-        charged: Cell::new(0),
-        err: RefCell::new(ErrState::default()),
-    };
+    let mut it = Interp::new(module, options, source, Book::Mut(wb), None);
+    it.active.set(active);
+    it.home = home;
+    it.code_sheets = code_sheets;
+    *it.cursors.get_mut() = cursors;
+    *it.out.get_mut() = RunOutput::new(&stem.to_ascii_uppercase(), options.machine);
     let result = it.start(entry);
     it.flush_line();
     let output = it.out.into_inner();
     match result {
         Ok(()) => Ok(output),
         Err(fault) => Err(it_error(source, file, fault, output)),
+    }
+}
+
+/// Calls Function `proc` of `module` from a cell of `wb` on `args` (a workbook's own function,
+/// `udf.rs`): cells are read through `cells`, and any write to the workbook is an error.
+#[allow(clippy::too_many_arguments)]
+pub fn call_function(
+    module: &Module,
+    wb: &Workbook,
+    cells: &dyn crate::eval::Env,
+    source: &str,
+    file: &str,
+    options: &RunOptions,
+    (proc, caller): (usize, (SheetId, Pos)),
+    args: Vec<Var>,
+) -> Result<Value, MacroError> {
+    let mut it = Interp::new(module, options, source, Book::Read(wb), Some(cells));
+    it.active.set(caller.0);
+    it.caller = Some(caller);
+    let result = it.start_function(proc, args);
+    let output = it.out.into_inner();
+    result.map_err(|fault| it_error(source, file, fault, output))
+}
+
+/// The workbook a run sees: its own to change (a macro), or only to read (a function called
+/// from a cell, which Excel does not let change any cell).
+pub enum Book<'w> {
+    Mut(&'w mut Workbook),
+    Read(&'w Workbook),
+}
+
+impl std::ops::Deref for Book<'_> {
+    type Target = Workbook;
+    fn deref(&self) -> &Workbook {
+        match self {
+            Book::Mut(wb) => wb,
+            Book::Read(wb) => wb,
+        }
     }
 }
 
@@ -193,7 +212,12 @@ pub struct Interp<'m, 'w> {
     pub options: &'m RunOptions,
     source: &'m str,
     lines: Lines,
-    pub wb: RefCell<&'w mut Workbook>,
+    pub wb: RefCell<Book<'w>>,
+    /// Where cells are read when a cell's formula called the function: the workbook, or the
+    /// recalculation's probe, which notes what is read (cycles are found through it).
+    pub cells: Option<&'w dyn crate::eval::Env>,
+    /// The cell whose formula called the function (`Application.Caller`).
+    pub caller: Option<(SheetId, Pos)>,
     pub(super) globals: RefCell<Vec<Slot>>,
     pub(super) frames: RefCell<Vec<Frame>>,
     pub out: RefCell<RunOutput>,
@@ -225,7 +249,89 @@ pub struct Interp<'m, 'w> {
     pub err: RefCell<ErrState>,
 }
 
+impl<'m, 'w> Interp<'m, 'w> {
+    fn new(
+        module: &'m Module,
+        options: &'m RunOptions,
+        source: &'m str,
+        wb: Book<'w>,
+        cells: Option<&'w dyn crate::eval::Env>,
+    ) -> Interp<'m, 'w> {
+        Interp {
+            module,
+            options,
+            source,
+            lines: Lines::new(source),
+            wb: RefCell::new(wb),
+            cells,
+            caller: None,
+            globals: RefCell::new(Vec::new()),
+            frames: RefCell::new(Vec::new()),
+            out: RefCell::new(RunOutput::new("MACRO", options.machine)),
+            line: RefCell::new(None),
+            nc: RefCell::new(super::nc::NcState::default()),
+            steps: Cell::new(0),
+            kept: RefCell::new(Vec::new()),
+            pending: RefCell::new(None),
+            ended: Cell::new(false),
+            active: Cell::new(0),
+            home: None,
+            code_sheets: Vec::new(),
+            cursors: RefCell::new(std::collections::HashMap::new()),
+            clipboard: RefCell::new(None),
+            notes: RefCell::new(Vec::new()),
+            output_bytes: Cell::new(0),
+            charged: Cell::new(0),
+            err: RefCell::new(ErrState::default()),
+        }
+    }
+}
+
 impl Interp<'_, '_> {
+    /// The workbook, to change: refused inside a function a cell called.
+    pub fn book_mut(&self) -> Run<std::cell::RefMut<'_, Workbook>> {
+        std::cell::RefMut::filter_map(self.wb.borrow_mut(), |book| match book {
+            Book::Mut(wb) => Some(&mut **wb),
+            Book::Read(_) => None,
+        })
+        .map_err(|_| self.fault("a function called from a cell cannot change cells (Excel does not let it)"))
+    }
+
+    /// A Function called from a cell with its arguments: the module's declarations first.
+    fn start_function(&self, proc: usize, args: Vec<Var>) -> Run<Value> {
+        for g in &self.module.globals {
+            self.exec(g)?;
+        }
+        let p = &self.module.procs[proc];
+        if args.len() > p.params.len() {
+            return Err(self.fault(format!("Function {} takes at most {} arguments", p.name, p.params.len())));
+        }
+        if let Some(missing) = p.params.iter().skip(args.len()).find(|q| !q.optional) {
+            return Err(self.fault(format!("Function {} needs {}", p.name, missing.name)));
+        }
+        let mut bound = Vec::with_capacity(args.len());
+        for (i, arg) in args.into_iter().enumerate() {
+            bound.push((i, self.range_as_declared(arg, p.params[i].ty.as_ref())?));
+        }
+        self.invoke(proc, bound, None)
+    }
+
+    /// A cell's range given to a parameter declared as a number, text or boolean is the
+    /// range's value (VBA reads its default member); a range of several cells does not fit.
+    fn range_as_declared(&self, arg: Var, ty: Option<&Ty>) -> Run<Var> {
+        match (arg, ty) {
+            (Var::Obj(Obj::Range(sheet, rect)), Some(Ty::Whole | Ty::Number | Ty::String | Ty::Boolean)) => {
+                if rect.rows() != 1 || rect.cols() != 1 {
+                    return Err(
+                        self.fault("a range of several cells given where one value is declared (type mismatch)")
+                    );
+                }
+                Ok(Var::Value(self.ctx().rect_value(sheet, rect).unwrap_single()))
+            }
+            (arg, _) => Ok(arg),
+        }
+    }
+
     fn start(&self, entry: usize) -> Run<()> {
         for g in &self.module.globals {
             self.exec(g)?;
@@ -1179,7 +1285,7 @@ impl Interp<'_, '_> {
         if cells > MAX_WRITE {
             return Err(self.fault(format!("writing {cells} cells at once is more than a macro may ({MAX_WRITE})")));
         }
-        let mut wb = self.wb.borrow_mut();
+        let mut wb = self.book_mut()?;
         for row in rect.first.row..=rect.last.row {
             for col in rect.first.col..=rect.last.col {
                 let item = match v {

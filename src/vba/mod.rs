@@ -112,6 +112,7 @@ pub mod project;
 pub mod project_edit;
 mod resolve;
 mod sheet_ops;
+mod udf;
 mod value;
 
 use std::fmt;
@@ -120,6 +121,7 @@ use crate::nc::{Machine, Program};
 use crate::workbook::Workbook;
 
 pub use ast::{Module, Span};
+pub use udf::{install_functions, WorkbookFunctions};
 
 /// How to run a macro.
 #[derive(Clone, Debug)]

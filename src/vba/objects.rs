@@ -150,8 +150,14 @@ impl Interp<'_, '_> {
                 "worksheets" | "sheets" | "range" | "cells" | "activesheet" | "activeworkbook" | "thisworkbook"
                 | "activecell" | "selection" | "evaluate" | "inputbox" | "msgbox" => self.root(ctx, link),
                 "screenupdating" | "displayalerts" | "enableevents" => Ok(Obj::Value(Value::Bool(true))),
-                "calculate" => Ok(Obj::Value(Value::Blank)),
+                // Read when the workbook's functions are installed (`udf.rs`): a call marks
+                // nothing at run time.
+                "calculate" | "volatile" => Ok(Obj::Value(Value::Blank)),
                 "name" => Ok(Obj::Value(Value::text("ncsheet"))),
+                "caller" => match self.caller {
+                    Some((sheet, pos)) => Ok(Obj::Range(sheet, Rect::cell(pos))),
+                    None => Err(self.fault_at(link.span, "Application.Caller: the macro was not called from a cell")),
+                },
                 _ => Err(self.no_member(&Obj::App, link)),
             },
             Obj::Workbook => match name.as_str() {
@@ -604,7 +610,7 @@ impl Interp<'_, '_> {
         if cells > MAX_FORMULA_WRITE {
             return Err(self.fault(format!("writing {cells} formulas at once is more than a macro may")));
         }
-        let mut wb = self.wb.borrow_mut();
+        let mut wb = self.book_mut()?;
         let parsed = {
             let sheets = |name: &str| wb.sheet_id(name);
             let ctx = ParseContext { at: rect.first, functions: &Registry, sheet: &sheets };

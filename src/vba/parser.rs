@@ -317,7 +317,8 @@ impl<'s> Build<'s> {
         let body = self.block(find(&k, Rule::block).expect("procedure body"))?;
         self.check_gotos(&body, &mut Vec::new())?;
         self.check_body_labels(&body, &body)?;
-        Ok(Proc { name, kind, params, ty, body, span: self.span(start(&pair)) })
+        let public = find(&k, Rule::scope).is_none_or(|s| !s.as_str().eq_ignore_ascii_case("Private"));
+        Ok(Proc { name, kind, params, ty, body, span: self.span(start(&pair)), public })
     }
 
     fn param(&self, pair: Pair<Rule>) -> Res<Param> {

@@ -129,7 +129,7 @@ impl Interp<'_, '_> {
                 self.fault_at(span, "Visible takes True, False, xlSheetVisible, xlSheetHidden or xlSheetVeryHidden")
             );
         };
-        let mut wb = self.wb.borrow_mut();
+        let mut wb = self.book_mut()?;
         let others_shown =
             (0..wb.sheet_len() as SheetId).any(|s| s != sheet && wb.sheet_visibility(s) == Visibility::Visible);
         if visibility != Visibility::Visible && !others_shown {
@@ -246,7 +246,7 @@ impl Interp<'_, '_> {
                 }
             }
         }
-        let mut wb = self.wb.borrow_mut();
+        let mut wb = self.book_mut()?;
         let width = area.cols() as usize;
         for (i, item) in items.into_iter().enumerate() {
             let p = Pos::new(area.first.row + (i / width) as u32, area.first.col + (i % width) as u32);

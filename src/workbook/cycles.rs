@@ -15,7 +15,7 @@
 use std::cell::Cell;
 use std::rc::Rc;
 
-use crate::eval::{Ctx, Env, Value};
+use crate::eval::{Ctx, Env, Operand, Value};
 use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::{Expr, SheetId};
 
@@ -248,5 +248,16 @@ impl Env for Probe<'_> {
 
     fn column_width(&self, sheet: SheetId, col: u32) -> Option<f64> {
         Env::column_width(self.wb, sheet, col)
+    }
+
+    /// The function reads cells through the probe: what it reads is what the cell reads.
+    fn call_user_function(
+        &self,
+        cells: &dyn Env,
+        name: &str,
+        args: &[Operand],
+        caller: (SheetId, Pos),
+    ) -> Option<Value> {
+        self.wb.call_user_function(cells, name, args, caller)
     }
 }

@@ -10,7 +10,7 @@ use std::rc::Rc;
 
 use crate::eval::coerce::parse_number;
 use crate::eval::functions::Registry;
-use crate::eval::{Env, Note, RowHidden, Value, XlError};
+use crate::eval::{Env, Note, Operand, RowHidden, Value, XlError};
 use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::{Expr, Reference, SheetId};
 use crate::formula::parse::{parse_formula, parse_name_formula, ParseContext, ParseError};
@@ -24,6 +24,7 @@ mod problems;
 mod recalc;
 mod shared;
 mod sheet;
+mod udf;
 
 pub use cycles::Iteration;
 use graph::{Deps, FxMap, RangeIndex};
@@ -32,6 +33,7 @@ pub use problems::{Problem, ProblemKind};
 use shared::{relative_key_into, shape_of, FormulaStore, SharedFormula};
 use sheet::Sheet;
 pub use sheet::Visibility;
+pub use udf::UserFunctions;
 
 const NO_FORMULA: u32 = u32::MAX;
 
@@ -155,6 +157,8 @@ pub struct Workbook {
     iteration: Option<Iteration>,
     /// Names were (re)defined without relinking the graph: the next full recalculation does.
     names_unlinked: bool,
+    /// The workbook's own functions (its VBA Functions), once installed (`udf.rs`).
+    user_functions: Option<Rc<dyn UserFunctions>>,
 }
 
 /// Cell ids whose input was set, and whose value changed, since tracking began.
@@ -491,7 +495,9 @@ impl Workbook {
     fn install_formula(&mut self, id: u32, fid: u32) {
         self.cells[id as usize].formula = fid;
         self.link(id);
-        if self.formulas.get(fid).volatile {
+        if self.formulas.get(fid).volatile
+            || (self.user_functions.is_some() && self.calls_user_function(&self.formulas.get(fid).expr) == Some(true))
+        {
             self.volatile.insert(id);
         }
     }
@@ -655,12 +661,15 @@ impl Workbook {
         (formula != NO_FORMULA).then_some(formula)
     }
 
-    /// Whether the cell's formula calls a volatile function (NOW, RAND): its value may
+    /// Whether the cell's formula calls a volatile function (NOW, RAND, a workbook function
+    /// that calls `Application.Volatile`): its value may
     /// differ from any stored one with nothing changed.
     pub fn calls_volatile(&self, sheet: SheetId, pos: Pos) -> bool {
         let Some(id) = self.sheets.get(sheet as usize).and_then(|s| s.get(pos)) else { return false };
         let cell = &self.cells[id as usize];
-        cell.formula != NO_FORMULA && self.formulas.get(cell.formula).volatile
+        cell.formula != NO_FORMULA
+            && (self.formulas.get(cell.formula).volatile
+                || self.calls_user_function(&self.formulas.get(cell.formula).expr) == Some(true))
     }
 
     /// What a user would type to recreate the cell: its formula, or its constant.
@@ -752,7 +761,7 @@ impl Workbook {
         }
         let formula = self.cells[id as usize].formula;
         if formula != NO_FORMULA {
-            if self.formulas.get(formula).volatile {
+            if self.formulas.get(formula).volatile || self.user_functions.is_some() {
                 self.volatile.remove(id);
             }
             self.unlink(id);
@@ -891,6 +900,16 @@ impl Env for Workbook {
 
     fn column_width(&self, sheet: SheetId, col: u32) -> Option<f64> {
         self.sheets.get(sheet as usize)?.column_width(col)
+    }
+
+    fn call_user_function(
+        &self,
+        cells: &dyn Env,
+        name: &str,
+        args: &[Operand],
+        caller: (SheetId, Pos),
+    ) -> Option<Value> {
+        self.call_user(cells, name, args, caller)
     }
 }
 

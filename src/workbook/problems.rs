@@ -136,7 +136,7 @@ impl Workbook {
         let unknown = |e: &Expr| -> Option<ProblemKind> {
             let is_local = |name: &str| local.iter().any(|l| l.eq_ignore_ascii_case(name));
             match &e.kind {
-                ExprKind::UnknownCall(name, _) if !is_local(name) => {
+                ExprKind::UnknownCall(name, _) if !is_local(name) && !self.has_user_function(name) => {
                     Some(ProblemKind::UnknownFunction(name.to_string()))
                 }
                 ExprKind::Name(name) if !is_local(name) && Env::defined_name(self, name, sheet).is_none() => {

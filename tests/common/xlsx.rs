@@ -60,6 +60,14 @@ pub struct FormulaInfo {
     pub at_in_call: bool,
 }
 
+/// Makes the public Functions of the workbook's VBA project callable from its cells, as the
+/// command line does when it opens an .xlsm (`cli/macros.rs`).
+pub fn install_workbook_functions(imported: &mut Imported) {
+    let Some(bytes) = imported.layout.vba_project.as_ref() else { return };
+    let project = ncsheet::vba::project::read_project(bytes).expect("the VBA project reads");
+    ncsheet::vba::install_functions(&mut imported.workbook, &project, ncsheet::vba::RunOptions::default());
+}
+
 pub fn analyse(wb: &Workbook, sheet: SheetId, anchor: Pos) -> FormulaInfo {
     let mut info = FormulaInfo {
         functions: Vec::new(),
@@ -86,6 +94,12 @@ pub fn analyse(wb: &Workbook, sheet: SheetId, anchor: Pos) -> FormulaInfo {
     let bound = bound_names(&expr);
     for name in called {
         if bound.iter().any(|b| b.eq_ignore_ascii_case(&name)) {
+            continue;
+        }
+        if wb.has_user_function(&name) {
+            // The workbook's own (VBA) function: it runs, so its value is compared, unless
+            // it is volatile (`Application.Volatile`).
+            info.volatile |= wb.calls_volatile(sheet, anchor);
             continue;
         }
         match Env::defined_name(wb, &name, sheet) {

@@ -159,7 +159,7 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
     imported.layout.workbook_code_name = package.code_name.clone();
     if imported.layout.vba_project.is_some() {
         imported.notes.push(
-            "the VBA project is kept for saving as .xlsm; its macros run only when asked (run --sub MODULE.SUB)".into(),
+            "the VBA project is kept for saving as .xlsm; its Subs run only when asked (run --sub MODULE.SUB)".into(),
         );
     }
     if imported.workbook.iteration().is_some() {

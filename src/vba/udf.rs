@@ -1,0 +1,182 @@
+//! The workbook's own functions: the public Functions of an .xlsm's standard modules, callable
+//! from its cells as Excel calls them (`=myFunc(A1)`, `=Module1.myFunc(A1)`, any case). Each
+//! call runs in a fresh interpreter under the run limits, reading cells and never writing
+//! them; a failure is the cell's `#VALUE!`. Private Functions, Subs and the code of sheet,
+//! workbook and class modules are not callable (`#NAME?`), as in Excel.
+
+use std::rc::Rc;
+
+use crate::eval::{Env, Operand, Value, XlError};
+use crate::formula::address::Pos;
+use crate::formula::ast::SheetId;
+use crate::workbook::{UserFunctions, Workbook};
+
+use super::ast::{Module, ProcKind};
+use super::project::{ModuleKind, VbaProject};
+use super::value::{array_var, Obj, Var};
+use super::{interp, parse_with, MacroError, RunOptions};
+
+/// The most source, in bytes, of a project whose modules are parsed with one another's code.
+const MAX_JOINED: usize = 1 << 20;
+
+/// One standard module, parsed once.
+struct Parsed {
+    name: String,
+    source: String,
+    module: Module,
+    /// For each procedure: callable from a cell (a public Function), and volatile.
+    callable: Vec<Option<bool>>,
+}
+
+/// The public Functions of a VBA project's standard modules, as a workbook's own functions.
+pub struct WorkbookFunctions {
+    modules: Vec<Parsed>,
+    options: RunOptions,
+}
+
+/// Installs the functions of `project` into `wb` (recomputing the cells that call them), each
+/// call under the limits of `options`. Returns the modules that do not parse: their functions
+/// stay `#NAME?`.
+pub fn install_functions(wb: &mut Workbook, project: &VbaProject, options: RunOptions) -> Vec<MacroError> {
+    let (functions, errors) = WorkbookFunctions::new(project, wb, options);
+    if !functions.modules.is_empty() {
+        wb.set_user_functions(Rc::new(functions));
+    }
+    errors
+}
+
+impl WorkbookFunctions {
+    pub fn new(project: &VbaProject, wb: &Workbook, options: RunOptions) -> (WorkbookFunctions, Vec<MacroError>) {
+        let mut modules = Vec::new();
+        let mut errors = Vec::new();
+        let standard: Vec<_> = project.modules.iter().filter(|m| m.kind == ModuleKind::Standard).collect();
+        let total: usize = standard.iter().map(|m| m.source.len()).sum();
+        for m in &standard {
+            // Alone, or, when it calls another module's procedures, with the others' code
+            // after it, as VBA sees them (not for a project so large that parsing it once per
+            // module would be slow: its error stands).
+            let alone = parse_with(&m.source, &m.name, wb, &options).map(|module| (module, m.source.clone()));
+            let parsed = alone.or_else(|e| {
+                if total > MAX_JOINED || standard.len() == 1 {
+                    return Err(e);
+                }
+                let together = with_others(&m.source, standard.iter().filter(|o| o.name != m.name).map(|o| &*o.source));
+                parse_with(&together, &m.name, wb, &options).map(|module| (module, together)).map_err(|_| e)
+            });
+            match parsed {
+                Ok((module, source)) => {
+                    let callable = callable(&module, &source, m.source.lines().count());
+                    modules.push(Parsed { name: m.name.clone(), source, module, callable });
+                }
+                Err(e) => errors.push(e),
+            }
+        }
+        (WorkbookFunctions { modules, options }, errors)
+    }
+
+    /// The module and procedure a cell's call of `name` means, with its volatility.
+    fn find(&self, name: &str) -> Option<(&Parsed, usize, bool)> {
+        let name = strip_prefix(name, "_xludf.");
+        let (module, function) = match name.rsplit_once('.') {
+            Some((m, f)) => (Some(m), f),
+            None => (None, name),
+        };
+        self.modules.iter().filter(|m| module.is_none_or(|n| n.eq_ignore_ascii_case(&m.name))).find_map(|m| {
+            let i = m.module.proc(function)?;
+            m.callable[i].map(|volatile| (m, i, volatile))
+        })
+    }
+}
+
+impl UserFunctions for WorkbookFunctions {
+    fn volatile(&self, name: &str) -> Option<bool> {
+        self.find(name).map(|(_, _, v)| v)
+    }
+
+    fn call(&self, wb: &Workbook, cells: &dyn Env, name: &str, args: &[Operand], caller: (SheetId, Pos)) -> Value {
+        let Some((m, proc, _)) = self.find(name) else { return Value::Error(XlError::Name) };
+        let args = args
+            .iter()
+            .map(|a| match a {
+                Operand::Ref(s, r) => Var::Obj(Obj::Range(*s, *r)),
+                Operand::Value(v) => array_var(v.clone(), m.module.base),
+                // A union of areas has no Range here: its first area stands for it.
+                Operand::Areas(areas) => Var::Obj(Obj::Range(areas[0].0, areas[0].1)),
+            })
+            .collect();
+        let result =
+            interp::call_function(&m.module, wb, cells, &m.source, &m.name, &self.options, (proc, caller), args);
+        match result {
+            Ok(Value::Blank) => Value::Number(0.0),
+            Ok(v) => v,
+            Err(_) => Value::Error(XlError::Value),
+        }
+    }
+}
+
+/// `source` followed by the code of `others`, their `Attribute` and `Option` lines left
+/// blank (the first module's options hold).
+fn with_others<'a>(source: &str, others: impl Iterator<Item = &'a str>) -> String {
+    let mut out = source.to_string();
+    for other in others {
+        out.push_str("\r\n");
+        for line in other.lines() {
+            let word = line.split_whitespace().next().unwrap_or("").to_ascii_lowercase();
+            if word != "attribute" && word != "option" {
+                out.push_str(line);
+            }
+            out.push_str("\r\n");
+        }
+    }
+    out
+}
+
+/// For each procedure of `module`: `Some(volatile)` for a public Function of the module's
+/// own first `own_lines` lines, else `None`. Volatile: its body calls `Application.Volatile`
+/// (without `False`).
+fn callable(module: &Module, source: &str, own_lines: usize) -> Vec<Option<bool>> {
+    let lines: Vec<&str> = source.lines().collect();
+    let mut starts: Vec<usize> = module.procs.iter().map(|p| p.span.line as usize).collect();
+    starts.sort_unstable();
+    module
+        .procs
+        .iter()
+        .map(|p| {
+            if p.kind != ProcKind::Function || !p.public || p.span.line as usize > own_lines {
+                return None;
+            }
+            let first = p.span.line as usize;
+            let end = starts.iter().copied().find(|&s| s > first).unwrap_or(lines.len() + 1);
+            let body = lines.get(first.saturating_sub(1)..(end - 1).min(lines.len())).unwrap_or(&[]);
+            Some(body.iter().any(|l| marks_volatile(l)))
+        })
+        .collect()
+}
+
+/// Whether a line of code says `Application.Volatile` (or `Application.Volatile True`).
+fn marks_volatile(line: &str) -> bool {
+    let code = line.split('\'').next().unwrap_or("").to_ascii_lowercase();
+    let Some(at) = code.find("application.volatile") else { return false };
+    !code[at + "application.volatile".len()..].trim_start().starts_with("false")
+}
+
+fn strip_prefix<'a>(name: &'a str, prefix: &str) -> &'a str {
+    match name.get(..prefix.len()) {
+        Some(p) if p.eq_ignore_ascii_case(prefix) => &name[prefix.len()..],
+        _ => name,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn application_volatile_marks_a_function_volatile_unless_false() {
+        assert!(marks_volatile("    Application.Volatile"));
+        assert!(marks_volatile("application.volatile True"));
+        assert!(!marks_volatile("    Application.Volatile False"));
+        assert!(!marks_volatile("    ' Application.Volatile"));
+        assert!(!marks_volatile("    x = 1"));
+    }
+}

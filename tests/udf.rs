@@ -1,0 +1,342 @@
+//! The workbook's own functions (issue #16, #11): a public VBA Function of the workbook's
+//! project, called from a cell, computes as Excel does. Expected values are Excel's cached
+//! results (testNames.xlsm) or worked out by hand here from what the code says.
+
+mod common;
+
+use std::path::Path;
+
+use ncsheet::eval::{Value, XlError};
+use ncsheet::formula::address::{parse_cell, Pos};
+use ncsheet::io::xlsx;
+use ncsheet::vba::project::{ModuleKind, ProjectModule, VbaProject};
+use ncsheet::vba::RunOptions;
+use ncsheet::workbook::Workbook;
+
+fn at(a1: &str) -> Pos {
+    parse_cell(a1).unwrap()
+}
+
+/// A workbook of one sheet with `cells` typed in, and a VBA project of `modules` (name, kind,
+/// source) installed as its functions.
+fn book(modules: &[(&str, ModuleKind, &str)], cells: &[(&str, &str)]) -> Workbook {
+    let mut wb = Workbook::with_sheet();
+    for (cell, text) in cells {
+        wb.set_input(0, at(cell), text).unwrap();
+    }
+    let project = VbaProject {
+        code_page: 1252,
+        modules: modules
+            .iter()
+            .map(|(name, kind, source)| ProjectModule {
+                name: name.to_string(),
+                stream: name.to_string(),
+                kind: *kind,
+                source: source.to_string(),
+            })
+            .collect(),
+    };
+    let errors = ncsheet::vba::install_functions(&mut wb, &project, RunOptions::default());
+    assert!(errors.is_empty(), "{errors:?}");
+    wb
+}
+
+fn number(wb: &Workbook, cell: &str) -> f64 {
+    match wb.value(0, at(cell)) {
+        Value::Number(n) => n,
+        other => panic!("{cell}: {other:?}"),
+    }
+}
+
+const STANDARD: ModuleKind = ModuleKind::Standard;
+
+/// DOMAIN.md §1, formula 2: A'C = r / sin β with β = π/2 − α·π/180, the distance from the
+/// nose centre's corner to the chamfer line along X for nose radius r at chamfer angle α.
+const NOSE_BAS: &str = "Attribute VB_Name = \"Nose\"\r\n\
+Option Explicit\r\n\
+\r\n\
+' DOMAIN.md section 1, formula 2: A'C = r / sin(beta), beta = pi/2 - alpha*pi/180\r\n\
+Public Function NOSE_OFFSET(r As Double, alpha As Double) As Double\r\n\
+    Dim beta As Double\r\n\
+    beta = 3.14159265358979 / 2 - alpha * 3.14159265358979 / 180\r\n\
+    NOSE_OFFSET = r / Sin(beta)\r\n\
+End Function\r\n";
+
+/// testNames.xlsm (Apache POI's test data, saved by Excel): `myFunc = a & "abc"` and
+/// `myFunc2 = a & "abc2"` in Module1; B1, C1 and A5 call them and Excel cached "_abc",
+/// "_abc2" and "defabc". `crapName` is no function anywhere: #NAME?, as Excel cached.
+#[test]
+fn test_names_functions_compute_what_excel_cached() {
+    let path = common::corpus::public_path().join("poi/test-data_spreadsheet_testNames.xlsm");
+    let mut imported = xlsx::load(&path).unwrap();
+    common::install_workbook_functions(&mut imported);
+    let wb = &imported.workbook;
+    let mut compared = 0;
+    for c in &imported.cached {
+        assert_eq!(wb.value(c.sheet, c.pos), c.value, "{}", wb.cell_name(c.sheet, c.pos));
+        compared += 1;
+    }
+    assert_eq!(compared, 7);
+    assert_eq!(wb.value(0, at("B1")), Value::text("_abc"));
+    assert_eq!(wb.value(0, at("C1")), Value::text("_abc2"));
+    assert_eq!(wb.value(0, at("A5")), Value::text("defabc"));
+    assert_eq!(wb.value(0, at("A6")), Value::Error(XlError::Name));
+}
+
+/// The command line installs the functions when it opens the file: `eval --check` finds
+/// every value Excel stored, the function cells' among them.
+#[test]
+fn eval_check_of_test_names_agrees_with_excel_everywhere() {
+    let path = common::corpus::public_path().join("poi/test-data_spreadsheet_testNames.xlsm");
+    let run = common::cli::ncsheet(&["eval", &path.to_string_lossy(), "--check"]);
+    assert!(run.stderr.contains("7 of 7 stored values agree with Excel"), "{}", run.stderr);
+}
+
+/// Excel's rules for the name: any case, and qualified by the module.
+#[test]
+fn a_public_function_is_called_by_name_in_any_case_or_qualified_by_its_module() {
+    let wb = book(
+        &[("Module1", STANDARD, "Function Twice(x)\r\n    Twice = x * 2\r\nEnd Function\r\n")],
+        &[("A1", "21"), ("B1", "=Twice(A1)"), ("B2", "=TWICE(A1)+1"), ("B3", "=Module1.twice(4)")],
+    );
+    assert_eq!(number(&wb, "B1"), 42.0);
+    assert_eq!(number(&wb, "B2"), 43.0);
+    assert_eq!(number(&wb, "B3"), 8.0);
+}
+
+/// A Range argument is a Range: `.Rows.Count`, `.Cells(i, j)` and `For Each`. A1:A3 hold 1,
+/// 2, 3: the sum is 6, times 3 rows is 18, plus Cells(2, 1) = 2 is 20.
+#[test]
+fn a_reference_argument_arrives_as_a_range() {
+    let source = "Function Weigh(r As Range)\r\n\
+        Dim c, total\r\n\
+        For Each c In r\r\n\
+            total = total + c.Value\r\n\
+        Next\r\n\
+        Weigh = total * r.Rows.Count + r.Cells(2, 1).Value\r\n\
+    End Function\r\n";
+    let mut wb =
+        book(&[("Module1", STANDARD, source)], &[("A1", "1"), ("A2", "2"), ("A3", "3"), ("B1", "=Weigh(A1:A3)")]);
+    assert_eq!(number(&wb, "B1"), 20.0);
+    // An edited cell of the range recomputes it: 1 + 5 + 3 = 9, times 3 is 27, plus 5 is 32.
+    wb.set_input(0, at("A2"), "5").unwrap();
+    assert_eq!(number(&wb, "B1"), 32.0);
+}
+
+/// Private Functions, Subs, and Functions of sheet or class modules are not callable from a
+/// cell: #NAME?, as in Excel.
+#[test]
+fn private_functions_subs_and_document_modules_are_name_errors() {
+    let wb = book(
+        &[
+            (
+                "Module1",
+                STANDARD,
+                "Private Function Hidden()\r\n    Hidden = 1\r\nEnd Function\r\nSub Act()\r\nEnd Sub\r\n",
+            ),
+            ("Sheet1", ModuleKind::DocumentOrClass, "Public Function OnSheet()\r\n    OnSheet = 1\r\nEnd Function\r\n"),
+        ],
+        &[("A1", "=Hidden()"), ("A2", "=Act()"), ("A3", "=OnSheet()"), ("A4", "=Sheet1.OnSheet()")],
+    );
+    for cell in ["A1", "A2", "A3", "A4"] {
+        assert_eq!(wb.value(0, at(cell)), Value::Error(XlError::Name), "{cell}");
+    }
+}
+
+/// A runtime error inside the function, a wrong number of arguments, and an attempt to
+/// write a cell are each the cell's #VALUE!; the cell written is left as it was.
+#[test]
+fn an_error_inside_the_function_is_a_value_error_and_changes_no_cell() {
+    // `n = x` with x = "abc" and n a Long: VBA's type mismatch (run-time error 13).
+    let source = "Function Fails(x)\r\n    Dim n As Long\r\n    n = x\r\n    Fails = n\r\nEnd Function\r\n\
+        Function Writes(x)\r\n    Range(\"C1\").Value = 99\r\n    Writes = x\r\nEnd Function\r\n\
+        Function Raises()\r\n    Err.Raise 1000\r\nEnd Function\r\n";
+    let wb = book(
+        &[("Module1", STANDARD, source)],
+        &[
+            ("A1", "abc"),
+            ("B1", "=Fails(A1)"),
+            ("B2", "=Writes(1)"),
+            ("B3", "=Fails(1,2)"),
+            ("B4", "=Raises()"),
+            ("C1", "7"),
+        ],
+    );
+    for cell in ["B1", "B2", "B3", "B4"] {
+        assert_eq!(wb.value(0, at(cell)), Value::Error(XlError::Value), "{cell}");
+    }
+    assert_eq!(number(&wb, "C1"), 7.0);
+}
+
+/// An array result spills, as Excel's dynamic arrays do: `Array(1, 2, 3)` over three columns.
+#[test]
+fn an_array_result_spills() {
+    let wb = book(
+        &[("Module1", STANDARD, "Function Three()\r\n    Three = Array(1, 2, 3)\r\nEnd Function\r\n")],
+        &[("A1", "=Three()")],
+    );
+    assert_eq!([number(&wb, "A1"), number(&wb, "B1"), number(&wb, "C1")], [1.0, 2.0, 3.0]);
+}
+
+/// Its dependencies are its arguments' references: an edited argument recomputes the cell.
+/// A non-volatile function reading a cell it is not given is not recomputed when that cell
+/// changes (Excel's rule); `Application.Volatile` makes it recompute at every edit.
+#[test]
+fn arguments_are_its_dependencies_and_application_volatile_recomputes_at_every_edit() {
+    let source = "Function Plain(x)\r\n    Plain = x + Range(\"D1\").Value\r\nEnd Function\r\n\
+        Function Lively(x)\r\n    Application.Volatile\r\n    Lively = x + Range(\"D1\").Value\r\nEnd Function\r\n";
+    let mut wb = book(
+        &[("Module1", STANDARD, source)],
+        &[("A1", "1"), ("D1", "10"), ("B1", "=Plain(A1)"), ("B2", "=Lively(A1)")],
+    );
+    assert_eq!((number(&wb, "B1"), number(&wb, "B2")), (11.0, 11.0));
+    wb.set_input(0, at("A1"), "2").unwrap();
+    assert_eq!((number(&wb, "B1"), number(&wb, "B2")), (12.0, 12.0));
+    wb.set_input(0, at("D1"), "20").unwrap();
+    assert_eq!((number(&wb, "B1"), number(&wb, "B2")), (12.0, 22.0));
+    assert!(wb.calls_volatile(0, at("B2")) && !wb.calls_volatile(0, at("B1")));
+}
+
+/// A cell whose function reads the cell itself through its argument is a cycle, not a
+/// recursion: #CIRC! (the function never runs away).
+#[test]
+fn a_function_reading_its_own_cell_through_its_argument_is_a_cycle() {
+    let wb =
+        book(&[("Module1", STANDARD, "Function Echo(x)\r\n    Echo = x\r\nEnd Function\r\n")], &[("A1", "=Echo(A1)")]);
+    assert_eq!(wb.value(0, at("A1")), Value::Error(XlError::Circ));
+}
+
+/// The statement limit applies to each call: an endless loop is stopped, the cell #VALUE!.
+#[test]
+fn an_endless_function_is_stopped_by_the_statement_limit() {
+    let mut wb = Workbook::with_sheet();
+    wb.set_input(0, at("A1"), "=Forever()").unwrap();
+    let project = VbaProject {
+        code_page: 1252,
+        modules: vec![ProjectModule {
+            name: "Module1".into(),
+            stream: "Module1".into(),
+            kind: STANDARD,
+            source: "Function Forever()\r\n    Do\r\n    Loop\r\nEnd Function\r\n".into(),
+        }],
+    };
+    let options = RunOptions { max_statements: 10_000, ..Default::default() };
+    assert!(ncsheet::vba::install_functions(&mut wb, &project, options).is_empty());
+    assert_eq!(wb.value(0, at("A1")), Value::Error(XlError::Value));
+}
+
+/// The sheet XML of `path`'s first worksheet.
+fn sheet_xml(path: &Path) -> String {
+    let mut zip = zip::ZipArchive::new(std::fs::File::open(path).unwrap()).unwrap();
+    let mut part = zip.by_name("xl/worksheets/sheet1.xml").unwrap();
+    let mut text = String::new();
+    std::io::Read::read_to_string(&mut part, &mut text).unwrap();
+    text
+}
+
+/// A hand-written .bas imported with `ncsheet macros --import` into a workbook whose C2 is
+/// `=NOSE_OFFSET(B2,B3)`: r = 0.8, α = 45° gives 0.8 / sin 45° = 0.8·√2; α edited to 60°
+/// gives 0.8 / sin 30° = 1.6. The saved file keeps the formula as typed (no `_xludf.`:
+/// Excel itself writes `myFunc("_")` so in testNames.xlsm), and LibreOffice, opening it and
+/// saving it again, keeps the formula.
+#[test]
+fn an_imported_function_computes_in_a_cell_recomputes_on_edit_and_saves_unchanged() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = |name: &str| dir.path().join(name).to_string_lossy().into_owned();
+    std::fs::write(d("nose.bas"), NOSE_BAS).unwrap();
+    std::fs::write(d("base.csv"), "r,\nr,0.8\nalpha,45\n").unwrap();
+    let made = common::cli::ncsheet(&["set", &d("base.csv"), "C2==NOSE_OFFSET(B2,B3)", "-o", &d("base.xlsx")]);
+    assert_eq!(made.code, 0, "{}", made.stderr);
+    let imported =
+        common::cli::ncsheet(&["macros", &d("base.xlsx"), "--import", &d("nose.bas"), "-o", &d("book.xlsm")]);
+    assert_eq!(imported.code, 0, "{}", imported.stderr);
+
+    let first = common::cli::ncsheet(&["eval", &d("book.xlsm"), "C2", "--format", "csv"]);
+    assert_eq!(first.code, 0, "{}", first.stderr);
+    let value: f64 = first.stdout.trim().parse().unwrap_or_else(|_| panic!("{}", first.stdout));
+    assert!((value - 0.8 * 2f64.sqrt()).abs() < 1e-12, "{value}");
+
+    let edited = common::cli::ncsheet(&["set", &d("book.xlsm"), "B3=60", "-o", &d("edited.xlsm")]);
+    assert_eq!(edited.code, 0, "{}", edited.stderr);
+    let second = common::cli::ncsheet(&["eval", &d("edited.xlsm"), "C2", "--format", "csv"]);
+    let value: f64 = second.stdout.trim().parse().unwrap_or_else(|_| panic!("{}", second.stdout));
+    assert!((value - 1.6).abs() < 1e-12, "{value}");
+
+    let xml = sheet_xml(&dir.path().join("edited.xlsm"));
+    assert!(xml.contains("<f>NOSE_OFFSET(B2,B3)</f>"), "{xml}");
+    let Some(soffice) = common::soffice() else { return };
+    let profile = common::recalculating_profile(&dir.path().join("lo"));
+    let out = dir.path().join("lo-out");
+    common::libreoffice_convert_to(&soffice, &profile, &[dir.path().join("edited.xlsm")], &out, "xlsx");
+    let theirs = sheet_xml(&out.join("edited.xlsx"));
+    // LibreOffice writes the name in lower case (function names are case-blind in both).
+    assert!(theirs.to_ascii_lowercase().contains(">nose_offset(b2,b3)</f>"), "LibreOffice lost the formula: {theirs}");
+}
+
+/// What engineering workbooks' functions do: call a helper of another module, read a range's
+/// values as an array (`r.Value`, `UBound`), use a sheet function (`WorksheetFunction.Max`),
+/// take an optional argument, and ask which cell called them (`Application.Caller`).
+/// B1:B3 hold 2, 7, 4: their squares sum to 4 + 49 + 16 = 69; the largest is 7; the
+/// default scale is 10, so Spread is 69 + 7·10 = 139, and 69 + 7·1 = 76 with scale 1.
+#[test]
+fn functions_call_other_modules_read_range_arrays_and_know_their_caller() {
+    let helpers = "Attribute VB_Name = \"Helpers\"\r\nOption Explicit\r\n\
+        Public Function Square(x As Double) As Double\r\n    Square = x * x\r\nEnd Function\r\n";
+    let main = "Attribute VB_Name = \"Design\"\r\nOption Explicit\r\n\
+        Public Function Spread(r As Range, Optional scale As Double = 10) As Double\r\n\
+            Dim v As Variant, i As Long, total As Double\r\n\
+            v = r.Value\r\n\
+            For i = 1 To UBound(v, 1)\r\n\
+                total = total + Square(v(i, 1))\r\n\
+            Next i\r\n\
+            Spread = total + WorksheetFunction.Max(r) * scale\r\n\
+        End Function\r\n\
+        Public Function WhereAmI() As String\r\n\
+            WhereAmI = Application.Caller.Address\r\n\
+        End Function\r\n";
+    let wb = book(
+        &[("Helpers", STANDARD, helpers), ("Design", STANDARD, main)],
+        &[
+            ("B1", "2"),
+            ("B2", "7"),
+            ("B3", "4"),
+            ("C1", "=Spread(B1:B3)"),
+            ("C2", "=Spread(B1:B3, 1)"),
+            ("D4", "=WhereAmI()"),
+            ("C3", "=Square(3)"),
+        ],
+    );
+    assert_eq!(number(&wb, "C1"), 139.0);
+    assert_eq!(number(&wb, "C2"), 76.0);
+    assert_eq!(number(&wb, "C3"), 9.0);
+    assert_eq!(wb.value(0, at("D4")), Value::text("$D$4"));
+}
+
+/// Endless recursion inside a function stops at the call-depth limit: #VALUE!, no crash
+/// (on a test thread's small stack too).
+#[test]
+fn endless_recursion_in_a_function_is_a_value_error() {
+    let wb = book(
+        &[("Module1", STANDARD, "Function Deeper(n)\r\n    Deeper = Deeper(n + 1)\r\nEnd Function\r\n")],
+        &[("A1", "=Deeper(1)")],
+    );
+    assert_eq!(wb.value(0, at("A1")), Value::Error(XlError::Value));
+}
+
+/// A module the interpreter cannot read (here `New Collection`) leaves its functions
+/// `#NAME?`, and a note names the module, the place and the function a cell calls.
+#[test]
+fn a_module_that_does_not_parse_is_named_when_a_cell_calls_its_function() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = |name: &str| dir.path().join(name).to_string_lossy().into_owned();
+    let bas = "Attribute VB_Name = \"Broken\"\r\nFunction Bad()\r\n    Dim h\r\n    Set h = New Collection\r\n    Bad = 1\r\nEnd Function\r\n";
+    std::fs::write(d("broken.bas"), bas).unwrap();
+    std::fs::write(d("b.csv"), "x,=Bad()\n").unwrap();
+    assert_eq!(common::cli::ncsheet(&["set", &d("b.csv"), "A2=1", "-o", &d("b.xlsx")]).code, 0);
+    let made = common::cli::ncsheet(&["macros", &d("b.xlsx"), "--import", &d("broken.bas"), "-o", &d("b.xlsm")]);
+    assert_eq!(made.code, 0, "{}", made.stderr);
+    let run = common::cli::ncsheet(&["eval", &d("b.xlsm"), "B1", "--format", "csv"]);
+    assert_eq!(run.stdout.trim(), "#NAME?");
+    assert!(run.stderr.contains("note: module Broken: 4:13: "), "{}", run.stderr);
+    assert!(run.stderr.contains("(Bad …) are #NAME?"), "{}", run.stderr);
+}
