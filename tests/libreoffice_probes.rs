@@ -27,9 +27,13 @@ use ncsheet::io::xlsx;
 enum Excel {
     Num(f64),
     Text(&'static str),
+    Bool(bool),
     Err(&'static str),
     /// Excel's value is not settled by any source at hand: the cell is not compared.
     Unknown,
+    /// MOD(n, d) as Excel 2010 and later compute it: the exact remainder of the binary
+    /// operands, with d's sign (computed here with Rust's `%`).
+    Rem(f64, f64),
 }
 
 use Excel::*;
@@ -182,6 +186,194 @@ const EXCEL_NOT_LIBREOFFICE: &[(&str, &str, Excel, &str)] = &[
     ("iterate_capped", "It!B2", Num(9.990234375), "=B2/2+5 ten times from 0: 10-10*2^-10"),
     ("iterate_capped", "It!D1", Unknown, "a pair: Excel's order"),
     ("iterate_capped", "It!D2", Unknown, "a pair: Excel's order"),
+    // Second round (design-table forms). Where LibreOffice departs from Excel's documented
+    // semantics; the reason names the source.
+    ("lookups", "L!A7", Err("#N/A"), "an exact lookup: the text \"5\" is not the number 5"),
+    ("lookups", "L!A10", Err("#REF!"), "VLOOKUP: col_index_num past the table is #REF! (Excel's VLOOKUP page)"),
+    ("lookups", "L!A41", Err("#REF!"), "HLOOKUP: row_index_num past the table is #REF! (Excel's HLOOKUP page)"),
+    ("lookups", "L!A50", Err("#REF!"), "INDEX: a row outside the array is #REF! (Excel's INDEX page)"),
+    ("lookups", "L!A30", Num(5.0), "LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers: TRUE matches the TRUE in row 5"),
+    ("lookups", "L!A78", Bool(true), "LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers: VLOOKUP returns the boolean"),
+    ("lookups", "L!A80", Unknown, "approximate MATCH over unsorted mixed types: Excel's binary search, no source"),
+    ("lookups", "L!A81", Unknown, "approximate MATCH over unsorted mixed types: Excel's binary search, no source"),
+    ("lookups", "L!A66", Text("five"), "LibreOffice 7.4 has no XLOOKUP/XMATCH (#NAME?); Excel's XLOOKUP/XMATCH pages: XLOOKUP exact"),
+    ("lookups", "L!A67", Text("none"), "LibreOffice 7.4 has no XLOOKUP/XMATCH (#NAME?); Excel's XLOOKUP/XMATCH pages: XLOOKUP: if_not_found"),
+    ("lookups", "L!A68", Text("three"), "LibreOffice 7.4 has no XLOOKUP/XMATCH (#NAME?); Excel's XLOOKUP/XMATCH pages: XLOOKUP match_mode -1: the next smaller item, 3"),
+    ("lookups", "L!A69", Text("five"), "LibreOffice 7.4 has no XLOOKUP/XMATCH (#NAME?); Excel's XLOOKUP/XMATCH pages: XLOOKUP match_mode 1: the next larger item, 5"),
+    ("lookups", "L!A70", Num(3.0), "LibreOffice 7.4 has no XLOOKUP/XMATCH (#NAME?); Excel's XLOOKUP/XMATCH pages: XLOOKUP match_mode 2: c* is cherry, row 3"),
+    ("lookups", "L!A71", Num(4.5), "LibreOffice 7.4 has no XLOOKUP/XMATCH (#NAME?); Excel's XLOOKUP/XMATCH pages: XLOOKUP search_mode -1: the last 3 is in row 6"),
+    ("lookups", "L!A72", Num(1.0), "LibreOffice 7.4 has no XLOOKUP/XMATCH (#NAME?); Excel's XLOOKUP/XMATCH pages: XLOOKUP ignores case: ABC is row 1"),
+    ("lookups", "L!A73", Num(5.0), "LibreOffice 7.4 has no XLOOKUP/XMATCH (#NAME?); Excel's XLOOKUP/XMATCH pages: XMATCH exact: 8 is 5th"),
+    ("lookups", "L!A74", Num(6.0), "LibreOffice 7.4 has no XLOOKUP/XMATCH (#NAME?); Excel's XLOOKUP/XMATCH pages: XMATCH 1: next larger than 9 is 13, 6th"),
+    ("lookups", "L!A75", Num(5.0), "LibreOffice 7.4 has no XLOOKUP/XMATCH (#NAME?); Excel's XLOOKUP/XMATCH pages: XMATCH -1: next smaller than 9 is 8, 5th"),
+    ("lookups", "L!A76", Num(7.0), "LibreOffice 7.4 has no XLOOKUP/XMATCH (#NAME?); Excel's XLOOKUP/XMATCH pages: XMATCH binary search: 21 is 7th"),
+    ("lookups", "L!A77", Err("#N/A"), "LibreOffice 7.4 has no XLOOKUP/XMATCH (#NAME?); Excel's XLOOKUP/XMATCH pages: XLOOKUP: no 4 and no if_not_found"),
+    ("rounding", "R!B7", Err("#NUM!"), "MROUND: number and multiple of different signs are #NUM!"),
+    ("rounding", "R!D7", Err("#NUM!"), "MROUND: number and multiple of different signs are #NUM!"),
+    ("rounding", "R!F7", Err("#NUM!"), "MROUND: number and multiple of different signs are #NUM!"),
+    ("rounding", "R!H7", Err("#NUM!"), "MROUND: number and multiple of different signs are #NUM!"),
+    ("rounding", "R!J7", Err("#NUM!"), "MROUND: number and multiple of different signs are #NUM!"),
+    ("rounding", "R!L7", Err("#NUM!"), "MROUND: number and multiple of different signs are #NUM!"),
+    ("rounding", "R!R7", Err("#NUM!"), "MROUND: number and multiple of different signs are #NUM!"),
+    ("rounding", "R!B41", Err("#NUM!"), "MROUND: number and multiple of different signs are #NUM!"),
+    ("rounding", "R!D41", Err("#NUM!"), "MROUND: number and multiple of different signs are #NUM!"),
+    ("rounding", "R!F41", Err("#NUM!"), "MROUND: number and multiple of different signs are #NUM!"),
+    ("rounding", "R!H41", Err("#NUM!"), "MROUND: number and multiple of different signs are #NUM!"),
+    ("rounding", "R!J41", Err("#NUM!"), "MROUND: number and multiple of different signs are #NUM!"),
+    ("rounding", "R!L41", Err("#NUM!"), "MROUND: number and multiple of different signs are #NUM!"),
+    ("rounding", "R!R41", Err("#NUM!"), "MROUND: number and multiple of different signs are #NUM!"),
+    ("rounding", "R!Q41", Unknown, "MROUND(4.35,0.1): Excel rounds halves of decimal multiples inconsistently (MROUND(4.05,0.1)=4.0 but MROUND(2.05,0.1)=2.1, bettersolutions.com MROUND page): no rule settles it"),
+    ("rounding", "R!A11", Rem(2.5, 0.1), "MOD: Excel 2010+ returns the exact binary remainder (MOD(10,0.1) is 0.1, TechNet \"Excel 2010 MOD bug\"; MOD(0.9,0.3) is 5.55E-17, Super User 617791); LibreOffice snaps to 0"),
+    ("rounding", "R!B11", Rem(-2.5, 0.1), "MOD: Excel 2010+ returns the exact binary remainder (MOD(10,0.1) is 0.1, TechNet \"Excel 2010 MOD bug\"; MOD(0.9,0.3) is 5.55E-17, Super User 617791); LibreOffice snaps to 0"),
+    ("rounding", "R!C11", Rem(0.5, 0.1), "MOD: Excel 2010+ returns the exact binary remainder (MOD(10,0.1) is 0.1, TechNet \"Excel 2010 MOD bug\"; MOD(0.9,0.3) is 5.55E-17, Super User 617791); LibreOffice snaps to 0"),
+    ("rounding", "R!D11", Rem(-0.5, 0.1), "MOD: Excel 2010+ returns the exact binary remainder (MOD(10,0.1) is 0.1, TechNet \"Excel 2010 MOD bug\"; MOD(0.9,0.3) is 5.55E-17, Super User 617791); LibreOffice snaps to 0"),
+    ("rounding", "R!E11", Rem(1.5, 0.1), "MOD: Excel 2010+ returns the exact binary remainder (MOD(10,0.1) is 0.1, TechNet \"Excel 2010 MOD bug\"; MOD(0.9,0.3) is 5.55E-17, Super User 617791); LibreOffice snaps to 0"),
+    ("rounding", "R!F11", Rem(-1.5, 0.1), "MOD: Excel 2010+ returns the exact binary remainder (MOD(10,0.1) is 0.1, TechNet \"Excel 2010 MOD bug\"; MOD(0.9,0.3) is 5.55E-17, Super User 617791); LibreOffice snaps to 0"),
+    ("rounding", "R!I11", Rem(5.1, 0.1), "MOD: Excel 2010+ returns the exact binary remainder (MOD(10,0.1) is 0.1, TechNet \"Excel 2010 MOD bug\"; MOD(0.9,0.3) is 5.55E-17, Super User 617791); LibreOffice snaps to 0"),
+    ("rounding", "R!J11", Rem(-5.1, 0.1), "MOD: Excel 2010+ returns the exact binary remainder (MOD(10,0.1) is 0.1, TechNet \"Excel 2010 MOD bug\"; MOD(0.9,0.3) is 5.55E-17, Super User 617791); LibreOffice snaps to 0"),
+    ("rounding", "R!K11", Rem(7.0, 0.1), "MOD: Excel 2010+ returns the exact binary remainder (MOD(10,0.1) is 0.1, TechNet \"Excel 2010 MOD bug\"; MOD(0.9,0.3) is 5.55E-17, Super User 617791); LibreOffice snaps to 0"),
+    ("rounding", "R!L11", Rem(-7.0, 0.1), "MOD: Excel 2010+ returns the exact binary remainder (MOD(10,0.1) is 0.1, TechNet \"Excel 2010 MOD bug\"; MOD(0.9,0.3) is 5.55E-17, Super User 617791); LibreOffice snaps to 0"),
+    ("rounding", "X!A14", Rem(10.0, 0.2), "MOD: Excel 2010+ returns the exact binary remainder (MOD(10,0.1) is 0.1, TechNet \"Excel 2010 MOD bug\"; MOD(0.9,0.3) is 5.55E-17, Super User 617791); LibreOffice snaps to 0"),
+    ("rounding", "X!A15", Rem(0.3, 0.1), "MOD: Excel 2010+ returns the exact binary remainder (MOD(10,0.1) is 0.1, TechNet \"Excel 2010 MOD bug\"; MOD(0.9,0.3) is 5.55E-17, Super User 617791); LibreOffice snaps to 0"),
+    ("rounding", "X!A16", Rem(-0.3, 0.1), "MOD: Excel 2010+ returns the exact binary remainder (MOD(10,0.1) is 0.1, TechNet \"Excel 2010 MOD bug\"; MOD(0.9,0.3) is 5.55E-17, Super User 617791); LibreOffice snaps to 0"),
+    ("rounding", "R!O8", Unknown, "MOD with a quotient near or past 2^50: Excel's limit is not documented"),
+    ("rounding", "R!O9", Unknown, "MOD with a quotient near or past 2^50: Excel's limit is not documented"),
+    ("rounding", "R!O10", Unknown, "MOD with a quotient near or past 2^50: Excel's limit is not documented"),
+    ("rounding", "R!O11", Unknown, "MOD with a quotient near or past 2^50: Excel's limit is not documented"),
+    ("rounding", "R!O12", Unknown, "MOD with a quotient near or past 2^50: Excel's limit is not documented"),
+    ("rounding", "X!A69", Unknown, "MOD with a quotient near or past 2^50: Excel's limit is not documented"),
+    ("rounding", "R!A43", Err("#DIV/0!"), "FLOOR with significance 0 of a nonzero number is #DIV/0! in Excel"),
+    ("rounding", "R!B43", Err("#DIV/0!"), "FLOOR with significance 0 of a nonzero number is #DIV/0! in Excel"),
+    ("rounding", "R!C43", Err("#DIV/0!"), "FLOOR with significance 0 of a nonzero number is #DIV/0! in Excel"),
+    ("rounding", "R!D43", Err("#DIV/0!"), "FLOOR with significance 0 of a nonzero number is #DIV/0! in Excel"),
+    ("rounding", "R!E43", Err("#DIV/0!"), "FLOOR with significance 0 of a nonzero number is #DIV/0! in Excel"),
+    ("rounding", "R!F43", Err("#DIV/0!"), "FLOOR with significance 0 of a nonzero number is #DIV/0! in Excel"),
+    ("rounding", "R!G43", Err("#DIV/0!"), "FLOOR with significance 0 of a nonzero number is #DIV/0! in Excel"),
+    ("rounding", "R!H43", Err("#DIV/0!"), "FLOOR with significance 0 of a nonzero number is #DIV/0! in Excel"),
+    ("rounding", "R!I43", Err("#DIV/0!"), "FLOOR with significance 0 of a nonzero number is #DIV/0! in Excel"),
+    ("rounding", "R!J43", Err("#DIV/0!"), "FLOOR with significance 0 of a nonzero number is #DIV/0! in Excel"),
+    ("rounding", "R!K43", Err("#DIV/0!"), "FLOOR with significance 0 of a nonzero number is #DIV/0! in Excel"),
+    ("rounding", "R!L43", Err("#DIV/0!"), "FLOOR with significance 0 of a nonzero number is #DIV/0! in Excel"),
+    ("rounding", "R!N43", Err("#DIV/0!"), "FLOOR with significance 0 of a nonzero number is #DIV/0! in Excel"),
+    ("rounding", "R!O43", Err("#DIV/0!"), "FLOOR with significance 0 of a nonzero number is #DIV/0! in Excel"),
+    ("rounding", "R!P43", Err("#DIV/0!"), "FLOOR with significance 0 of a nonzero number is #DIV/0! in Excel"),
+    ("rounding", "R!Q43", Err("#DIV/0!"), "FLOOR with significance 0 of a nonzero number is #DIV/0! in Excel"),
+    ("rounding", "R!R43", Err("#DIV/0!"), "FLOOR with significance 0 of a nonzero number is #DIV/0! in Excel"),
+    ("rounding", "R!A45", Err("#DIV/0!"), "QUOTIENT by 0 is #DIV/0! (Excel's QUOTIENT page)"),
+    ("rounding", "R!B45", Err("#DIV/0!"), "QUOTIENT by 0 is #DIV/0! (Excel's QUOTIENT page)"),
+    ("rounding", "R!C45", Err("#DIV/0!"), "QUOTIENT by 0 is #DIV/0! (Excel's QUOTIENT page)"),
+    ("rounding", "R!D45", Err("#DIV/0!"), "QUOTIENT by 0 is #DIV/0! (Excel's QUOTIENT page)"),
+    ("rounding", "R!E45", Err("#DIV/0!"), "QUOTIENT by 0 is #DIV/0! (Excel's QUOTIENT page)"),
+    ("rounding", "R!F45", Err("#DIV/0!"), "QUOTIENT by 0 is #DIV/0! (Excel's QUOTIENT page)"),
+    ("rounding", "R!G45", Err("#DIV/0!"), "QUOTIENT by 0 is #DIV/0! (Excel's QUOTIENT page)"),
+    ("rounding", "R!H45", Err("#DIV/0!"), "QUOTIENT by 0 is #DIV/0! (Excel's QUOTIENT page)"),
+    ("rounding", "R!I45", Err("#DIV/0!"), "QUOTIENT by 0 is #DIV/0! (Excel's QUOTIENT page)"),
+    ("rounding", "R!J45", Err("#DIV/0!"), "QUOTIENT by 0 is #DIV/0! (Excel's QUOTIENT page)"),
+    ("rounding", "R!K45", Err("#DIV/0!"), "QUOTIENT by 0 is #DIV/0! (Excel's QUOTIENT page)"),
+    ("rounding", "R!L45", Err("#DIV/0!"), "QUOTIENT by 0 is #DIV/0! (Excel's QUOTIENT page)"),
+    ("rounding", "R!M45", Err("#DIV/0!"), "QUOTIENT by 0 is #DIV/0! (Excel's QUOTIENT page)"),
+    ("rounding", "R!N45", Err("#DIV/0!"), "QUOTIENT by 0 is #DIV/0! (Excel's QUOTIENT page)"),
+    ("rounding", "R!O45", Err("#DIV/0!"), "QUOTIENT by 0 is #DIV/0! (Excel's QUOTIENT page)"),
+    ("rounding", "R!P45", Err("#DIV/0!"), "QUOTIENT by 0 is #DIV/0! (Excel's QUOTIENT page)"),
+    ("rounding", "R!Q45", Err("#DIV/0!"), "QUOTIENT by 0 is #DIV/0! (Excel's QUOTIENT page)"),
+    ("rounding", "R!R45", Err("#DIV/0!"), "QUOTIENT by 0 is #DIV/0! (Excel's QUOTIENT page)"),
+    ("rounding", "X!A29", Err("#NUM!"), "GCD: an argument below zero is #NUM! (Excel's GCD page)"),
+    ("rounding", "X!A42", Unknown, "INT of 86.99999999999999: LibreOffice snaps to 15 digits first; no Excel source settles INT"),
+    ("rounding", "X!A44", Unknown, "INT of 86.99999999999999: LibreOffice snaps to 15 digits first; no Excel source settles INT"),
+    ("rounding", "X!A65", Unknown, "a subnormal literal: LibreOffice refuses it; no Excel source"),
+    ("rounding", "X!A72", Unknown, "ROUND with one argument: Excel refuses the formula"),
+    ("trig_criteria", "G!A16", Err("#NUM!"), "SQRT of a negative number is #NUM! (Excel's SQRT page)"),
+    ("trig_criteria", "G!A19", Err("#NUM!"), "0^0 is #NUM! in Excel"),
+    ("trig_criteria", "G!A20", Err("#NUM!"), "0^0 is #NUM! in Excel"),
+    ("trig_criteria", "G!A21", Err("#NUM!"), "a negative base to a fractional power is #NUM!"),
+    ("trig_criteria", "G!A22", Err("#NUM!"), "a negative base to a fractional power is #NUM!"),
+    ("trig_criteria", "G!A31", Err("#DIV/0!"), "0 to a negative power is #DIV/0!"),
+    ("trig_criteria", "G!A32", Err("#DIV/0!"), "0 to a negative power is #DIV/0!"),
+    ("trig_criteria", "G!A35", Unknown, "10^-400 underflows: no Excel source"),
+    ("trig_criteria", "G!A40", Err("#NUM!"), "Excel refuses sine, cosine and tangent of 2^27 and beyond"),
+    ("trig_criteria", "G!A45", Err("#NUM!"), "Excel refuses sine, cosine and tangent of 2^27 and beyond"),
+    ("trig_criteria", "G!A48", Num(6.0), "SUMSQ counts numbers, booleans and number texts typed as arguments (Excel's SUMSQ page)"),
+    ("trig_criteria", "G!A49", Num(1.0), "SUMSQ counts only the numbers of a reference or array (Excel's SUMSQ page); LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("trig_criteria", "G!A52", Num(1.0), "SUMSQ counts only the numbers of a reference or array (Excel's SUMSQ page); LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("trig_criteria", "G!A53", Num(1.0), "SUMPRODUCT treats non-numeric entries as 0 (Excel's SUMPRODUCT page): booleans too"),
+    ("trig_criteria", "G!A59", Num(0.0), "SUMPRODUCT treats the booleans of (B>25) as 0: the reason for --"),
+    ("trig_criteria", "G!A75", Num(2.0), "COUNTIF reads number-like text cells as numbers: 1 matches the text \"1\" (Exceljet, Count numbers with leading zeros: COUNTIF(range,\"01\") counts 1, 01 and 001)"),
+    ("trig_criteria", "G!A78", Num(2.0), "LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers: two TRUE cells"),
+    ("trig_criteria", "G!A79", Num(2.0), "LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers: two TRUE cells"),
+    ("trig_criteria", "G!A80", Num(1.0), "LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers: one cell holds 1"),
+    ("text_numbers", "N!A2", Text("1E+20"), "a number as text: Excel writes the exponent with two digits at least"),
+    ("text_numbers", "N!A14", Text("1E+20"), "a number as text: Excel writes the exponent with two digits at least"),
+    ("text_numbers", "N!A3", Text("1E+21"), "a number as text: Excel writes the exponent with two digits at least"),
+    ("text_numbers", "N!A140", Text("1E+21"), "a number as text: Excel writes the exponent with two digits at least"),
+    ("text_numbers", "N!A11", Text("9.00719925474099E+15"), "15 significant digits, exponent with two digits"),
+    ("text_numbers", "N!A7", Text("1.23456789012346E+15"), "a number as text keeps 15 significant digits"),
+    ("text_numbers", "N!A18", Text("1E+15"), "999999999999999.9 to 15 significant digits is 1E+15"),
+    ("text_numbers", "N!A19", Unknown, "General of 1.2E-7 in a text: no Excel source for where it switches to E-notation"),
+    ("text_numbers", "N!A13", Text("TRUE"), "LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("text_numbers", "N!A52", Text("TRUE"), "TEXT of a boolean is the boolean's text; LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("text_numbers", "N!A97", Text("34TRUE 5 abc1.5"), "LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("text_numbers", "N!A98", Text("1.5-TRUE"), "LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("text_numbers", "N!A99", Text("3, 4, TRUE,  5 , abc, 1.5"), "LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("text_numbers", "N!A100", Text("3-4-TRUE- 5 --abc-1.5"), "LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("text_numbers", "N!A61", Text("1.01"), "FIXED rounds as ROUND does: ROUND(1.005,2) is 1.01 in both"),
+    ("text_numbers", "N!A79", Unknown, "VALUE with a trailing minus: no Excel source"),
+    ("text_numbers", "N!A93", Num(0.0), "NUMBERVALUE of an empty text is 0 (Excel's NUMBERVALUE page)"),
+    ("text_numbers", "N!A95", Num(15.0), "NUMBERVALUE: a group separator before the decimal one is ignored (Excel's NUMBERVALUE page)"),
+    ("text_numbers", "N!A105", Num(5.0), "SUM counts number texts typed as arguments (Excel's SUM page)"),
+    ("text_numbers", "N!A117", Num(4.0), "AVERAGE counts number texts typed as arguments (Excel's AVERAGE page)"),
+    ("text_numbers", "N!A128", Num(7.0), "MAX counts number texts typed as arguments (Excel's MAX page)"),
+    ("text_numbers", "N!A129", Num(0.5), "MIN counts number texts typed as arguments (Excel's MIN page)"),
+    ("text_numbers", "N!A106", Num(5.5), "SUM skips booleans and texts of a range: 4+1.5; LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("text_numbers", "N!A124", Num(2.0), "COUNT counts the numbers of a range only; LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("text_numbers", "N!A126", Num(2.75), "AVERAGE of a range skips booleans and texts: (4+1.5)/2; LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("text_numbers", "N!A131", Unknown, "\"1/2\" is 2 January of the year it is computed in: no fixed value"),
+    ("schedule", "S!A10", Err("#VALUE!"), "NETWORKDAYS.INTL: \"1111111\" is an invalid weekend string (Excel's page)"),
+    ("schedule", "S!A12", Err("#NUM!"), "NETWORKDAYS.INTL: weekend 8 is no weekend number: #NUM!"),
+    ("schedule", "S!A35", Err("#NUM!"), "EOMONTH before 1900-01-01 is #NUM!"),
+    ("schedule", "S!A53", Num(53.0), "WEEKNUM(2024-12-31,1): week 1 holds 1 January, weeks start on Sunday: 29 December starts week 53"),
+    ("schedule", "S!A62", Err("#NUM!"), "WEEKNUM: return_type 3 is not one of Excel's: #NUM!"),
+    ("schedule", "S!A70", Err("#NUM!"), "WEEKDAY: return_type 4 is not one of Excel's: #NUM!"),
+    ("schedule", "S!A72", Err("#NUM!"), "TIME of a negative time is #NUM! (Excel's TIME page)"),
+    ("schedule", "S!A75", Err("#NUM!"), "TIME of a negative time is #NUM! (Excel's TIME page)"),
+    ("schedule", "S!A77", Err("#NUM!"), "TIME: an hour past 32767 is #NUM! (Excel's TIME page)"),
+    ("schedule", "S!A78", Unknown, "TIME with fractional arguments: Excel's page does not say whether it truncates"),
+    ("schedule", "S!A79", Err("#NUM!"), "HOUR of a negative serial is #NUM!"),
+    ("schedule", "S!A81", Unknown, "HOUR/MINUTE of 23:59:59.9999: whether Excel rounds to the second first, no source"),
+    ("schedule", "S!A83", Unknown, "HOUR/MINUTE of 23:59:59.9999: whether Excel rounds to the second first, no source"),
+    ("schedule", "S!A106", Num(60.0), "DATE(1900,2,29) is serial 60: Excel keeps Lotus's leap day"),
+    ("schedule", "S!A109", Num(29.0), "serial 60 is 1900-02-29 in Excel"),
+    ("schedule", "S!A111", Num(0.0), "serial 0 is 1900-01-00 in Excel"),
+    ("schedule", "S!A115", Num(45356.0), "DATEVALUE reads year/month/day: 2024-03-05"),
+    ("error_ranges", "E!A1", Num(22.0), "SUM of an array skips its booleans: 4+7+2+9; LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("error_ranges", "E!A16", Num(4.0), "ISNUMBER(TRUE) is FALSE; LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("error_ranges", "E!A17", Num(22.0), "AGGREGATE over 4, 7, 2, 9 (errors skipped; row 3's 7 hidden for options 3 and 7): LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("error_ranges", "E!A20", Num(2.0), "AGGREGATE over 4, 7, 2, 9 (errors skipped; row 3's 7 hidden for options 3 and 7): LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("error_ranges", "E!A21", Num(5.5), "AGGREGATE over 4, 7, 2, 9 (errors skipped; row 3's 7 hidden for options 3 and 7): LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("error_ranges", "E!A22", Num(4.0), "AGGREGATE over 4, 7, 2, 9 (errors skipped; row 3's 7 hidden for options 3 and 7): LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("error_ranges", "E!A24", Num(5.5), "AGGREGATE over 4, 7, 2, 9 (errors skipped; row 3's 7 hidden for options 3 and 7): LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("error_ranges", "E!A25", Num(5.5), "AGGREGATE over 4, 7, 2, 9 (errors skipped; row 3's 7 hidden for options 3 and 7): LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("error_ranges", "E!A28", Num(15.0), "AGGREGATE over 4, 7, 2, 9 (errors skipped; row 3's 7 hidden for options 3 and 7): LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("error_ranges", "E!A30", Num(15.0), "AGGREGATE over 4, 7, 2, 9 (errors skipped; row 3's 7 hidden for options 3 and 7): LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("error_ranges", "E!A35", Num(2.0), "AGGREGATE over 4, 7, 2, 9 (errors skipped; row 3's 7 hidden for options 3 and 7): LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("error_ranges", "E!A39", Num(9.666666666666666), "AGGREGATE over 4, 7, 2, 9 (errors skipped; row 3's 7 hidden for options 3 and 7): LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("error_ranges", "E!A40", Num(7.25), "AGGREGATE over 4, 7, 2, 9 (errors skipped; row 3's 7 hidden for options 3 and 7): LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("error_ranges", "E!A42", Num(3.5), "AGGREGATE over 4, 7, 2, 9 (errors skipped; row 3's 7 hidden for options 3 and 7): LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("error_ranges", "E!A43", Num(2.5), "AGGREGATE over 4, 7, 2, 9 (errors skipped; row 3's 7 hidden for options 3 and 7): LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("error_ranges", "E!A37", Num(3.1091263510296048), "AGGREGATE 7 (STDEV.S) of 4, 7, 2, 9: sqrt(29/3); LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("error_ranges", "E!A38", Num(2.692582403567252), "AGGREGATE 8 (STDEV.P) of 4, 7, 2, 9: sqrt(29/4); LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("error_ranges", "E!A41", Err("#N/A"), "MODE.SNGL of numbers without a repeat is #N/A"),
+    ("error_ranges", "E!A44", Err("#NUM!"), "QUARTILE.EXC with quart 0.25 (truncated to 0) is #NUM!"),
+    ("error_ranges", "E!A45", Err("#NUM!"), "LARGE with k past the count is #NUM!"),
+    ("error_ranges", "E!A49", Num(4.0), "SUBTOTAL 2 counts as COUNT does: numbers only, errors skipped; LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("error_ranges", "E!A51", Err("#DIV/0!"), "SUM returns the range's first error, #DIV/0! in A2"),
+    ("error_ranges", "E!A53", Num(4.0), "COUNT counts numbers only; LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("error_ranges", "E!A57", Num(2.0), "error literals in an array constant: two of three are errors"),
+    ("error_ranges", "E!A59", Bool(true), "INDEX({1,#N/A},2) is #N/A"),
+    ("error_ranges", "E!A63", Num(6.0), "ERROR.TYPE(#NUM!) is 6; SQRT(-1) is #NUM! in Excel"),
+    ("error_ranges", "E!A65", Num(1.0), "ERROR.TYPE(#NULL!) is 1 (Excel's ERROR.TYPE page)"),
+    ("error_ranges", "E!A76", Unknown, "approximate VLOOKUP over unsorted data with errors: Excel's binary search, no source"),
+    ("error_ranges", "E!A80", Err("#NUM!"), "SUMIF adds D!A8's #NUM! (SQRT(-1) is #NUM! in Excel)"),
+    ("error_ranges", "D!A8", Err("#NUM!"), "SQRT of a negative number is #NUM! (Excel's SQRT page)"),
 ];
 
 fn data() -> PathBuf {
@@ -192,8 +384,13 @@ fn excel_value(expected: &Excel) -> Option<Value> {
     match expected {
         Num(n) => Some(Value::Number(*n)),
         Text(t) => Some(Value::text(*t)),
+        Bool(b) => Some(Value::Bool(*b)),
         Err(e) => Some(Value::Error(e.parse().expect("an error literal"))),
         Unknown => None,
+        Rem(n, d) => {
+            let r = n % d;
+            Some(Value::Number(if r != 0.0 && (r < 0.0) != (*d < 0.0) { r + d } else { r }))
+        }
     }
 }
 
@@ -266,6 +463,36 @@ fn engineering_design_rounding_trigonometry_lookups_and_display_digits() {
 #[test]
 fn the_1904_date_system_in_text_datedif_and_workdays() {
     check("dates1904");
+}
+
+#[test]
+fn lookup_tables_approximate_exact_wildcards_case_and_mixed_types() {
+    check("lookups");
+}
+
+#[test]
+fn rounding_and_number_theory_on_negatives_halves_and_binary_fractions() {
+    check("rounding");
+}
+
+#[test]
+fn trigonometry_powers_sumproduct_and_conditional_criteria() {
+    check("trig_criteria");
+}
+
+#[test]
+fn text_built_from_numbers_and_numbers_read_from_text() {
+    check("text_numbers");
+}
+
+#[test]
+fn shop_schedule_workdays_months_datedif_weeks_and_times() {
+    check("schedule");
+}
+
+#[test]
+fn errors_inside_ranges_and_arrays_iferror_aggregate_subtotal() {
+    check("error_ranges");
 }
 
 #[test]

@@ -10,13 +10,18 @@ from openpyxl.workbook.defined_name import DefinedName
 
 out = sys.argv[1]
 PROBES = ["tables", "three_d", "cse", "dates1904", "names", "iterate_converge", "iterate_capped", "text_formats",
-          "errors", "engineering"]
+          "errors", "engineering", "lookups", "rounding", "trig_criteria", "text_numbers", "schedule",
+          "error_ranges"]
 if out == "--list":
     print(" ".join(PROBES))
     sys.exit(0)
+# `make.py DIR NAME...` writes only the probes named (the others keep their committed bytes).
+ONLY = set(sys.argv[2:])
 
 
 def save(wb, name):
+    if ONLY and name not in ONLY:
+        return
     wb.save(f"{out}/{name}.xlsx")
 
 
@@ -396,6 +401,301 @@ def engineering():
     save(wb, "engineering")
 
 
+# ---------------------------------------------------------------- second round: design-table forms
+def listed(ws, forms, col=1):
+    """Each formula in column `col`, its text beside it (the test names a cell by its row)."""
+    for i, fo in enumerate(forms, start=1):
+        if isinstance(fo, tuple):  # a one-cell legacy array formula
+            at = ws.cell(row=i, column=col).coordinate
+            ws.cell(row=i, column=col, value=ArrayFormula(at, fo[1]))
+            ws.cell(row=i, column=col + 1, value="{" + fo[1] + "}")
+        else:
+            ws.cell(row=i, column=col, value=fo)
+            ws.cell(row=i, column=col + 1, value=fo[1:])
+
+
+def cse1(fo):
+    return ("cse", fo)
+
+
+def lookups():
+    wb = Workbook()
+    s = wb.active
+    s.title = "L"
+    t = wb.create_sheet("T")
+    for i, (a, b) in enumerate(zip([1, 2, 3, 5, 8, 13, 21, 34], ["one", "two", "three", "five", "eight", "thirteen",
+                                                                  "twenty-one", "thirty-four"]), start=1):
+        t.cell(row=i, column=1, value=a)
+        t.cell(row=i, column=2, value=b)
+    for i, v in enumerate([5, 3, 9, 1, 7, 3], start=1):
+        t.cell(row=i, column=3, value=v)
+    for i, v in enumerate([1, "2", 3, "abc", True, 4.5], start=1):
+        t.cell(row=i, column=4, value=v)
+    for i, v in enumerate(["apple", "Banana", "cherry", "date", "Elder"], start=1):
+        t.cell(row=i, column=5, value=v)
+    for i, v in enumerate(["ABC", "abc", "Abc", "a*c", "a?c"], start=1):
+        t.cell(row=i, column=6, value=v)
+    for c, (a, b) in enumerate(zip([0, 10, 20, 30, 40], ["a", "b", "c", "d", "e"]), start=8):
+        t.cell(row=10, column=c, value=a)
+        t.cell(row=11, column=c, value=b)
+    for i, v in enumerate([0.1, 0.2, 0.30000000000000004, 0.4], start=1):
+        t.cell(row=i, column=7, value=v)
+    forms = [
+        "=VLOOKUP(4,T!A1:B8,2)", "=VLOOKUP(0,T!A1:B8,2)", "=VLOOKUP(34,T!A1:B8,2)", "=VLOOKUP(100,T!A1:B8,2)",
+        "=VLOOKUP(5,T!A1:B8,2,FALSE)", "=VLOOKUP(4,T!A1:B8,2,0)", "=VLOOKUP(\"5\",T!A1:B8,2,FALSE)",
+        "=VLOOKUP(3,T!C1:C6,1,FALSE)", "=VLOOKUP(4,T!A1:B8,0)", "=VLOOKUP(4,T!A1:B8,3)", "=VLOOKUP(4.9999,T!A1:B8,2)",
+        "=VLOOKUP(4,T!E1:E5,1)", "=VLOOKUP(\"c\",T!E1:E5,1)", "=VLOOKUP(\"BANANA\",T!E1:E5,1,FALSE)",
+        "=VLOOKUP(\"b*\",T!E1:E5,1,FALSE)", "=VLOOKUP(\"?a*\",T!E1:E5,1,FALSE)", "=VLOOKUP(\"a~*c\",T!F1:F5,1,FALSE)",
+        "=MATCH(3,T!C1:C6,0)", "=MATCH(7,T!C1:C6,0)", "=MATCH(\"abc\",T!F1:F5,0)", "=MATCH(\"a~*c\",T!F1:F5,0)",
+        "=MATCH(\"a~?c\",T!F1:F5,0)", "=MATCH(\"a?c\",T!F1:F5,0)", "=MATCH(\"B*\",T!E1:E5,0)", "=MATCH(\"c\",T!E1:E5)",
+        "=MATCH(\"zzz\",T!E1:E5)", "=MATCH(\"a\",T!E1:E5)", "=MATCH(2,T!D1:D6,0)", "=MATCH(\"2\",T!D1:D6,0)",
+        "=MATCH(TRUE,T!D1:D6,0)", "=MATCH(4.5,T!D1:D6,0)", "=MATCH(4,{8,5,3,1},-1)", "=MATCH(9,{8,5,3,1},-1)",
+        "=MATCH(0,{8,5,3,1},-1)", "=MATCH(0.3,T!G1:G4,0)", "=MATCH(0.3,T!G1:G4)", "=MATCH(\"\",T!E1:E5,0)",
+        "=HLOOKUP(25,T!H10:L11,2)", "=HLOOKUP(40,T!H10:L11,2)", "=HLOOKUP(-1,T!H10:L11,2)", "=HLOOKUP(20,T!H10:L11,3)",
+        "=HLOOKUP(20,T!H10:L11,2,FALSE)", "=HLOOKUP(\"*\",T!H11:L11,1,FALSE)",
+        "=SUM(INDEX(T!A1:B8,0,1))", "=ROWS(INDEX(T!A1:B8,0,2))", "=COLUMNS(INDEX(T!A1:B8,3,0))", "=INDEX(T!A1:A8,4)",
+        "=INDEX(T!A1:B8,4,2)", "=INDEX(T!H10:L10,3)", "=INDEX(T!A1:B8,9,1)", "=INDEX({1,2;3,4},2,2)", "=INDEX({1,2,3},2)",
+        "=SUM(INDEX(T!A1:B8,0,0))", "=INDEX(T!A1:B8,2.9,1.9)", "=INDEX(T!A1:A8,-1)",
+        "=LOOKUP(4,T!A1:A8,T!B1:B8)", "=LOOKUP(4,T!A1:B8)", "=LOOKUP(25,T!H10:L11)", "=LOOKUP(\"c\",T!E1:E5)",
+        "=LOOKUP(2,{1,2,3},{\"a\",\"b\",\"c\"})", "=LOOKUP(0,T!A1:A8,T!B1:B8)", "=LOOKUP(100,T!A1:A8,T!B1:B8)",
+        "=LOOKUP(2.5,{1,2,3;10,20,30})", "=LOOKUP(15,T!H10:L10,T!H11:L11)", "=LOOKUP(\"zz\",T!E1:E5,T!A1:A5)",
+        "=_xlfn.XLOOKUP(5,T!A1:A8,T!B1:B8)", "=_xlfn.XLOOKUP(4,T!A1:A8,T!B1:B8,\"none\")",
+        "=_xlfn.XLOOKUP(4,T!A1:A8,T!B1:B8,,-1)", "=_xlfn.XLOOKUP(4,T!A1:A8,T!B1:B8,,1)",
+        "=_xlfn.XLOOKUP(\"c*\",T!E1:E5,T!A1:A5,,2)", "=_xlfn.XLOOKUP(3,T!C1:C6,T!D1:D6,,0,-1)",
+        "=_xlfn.XLOOKUP(\"ABC\",T!F1:F5,T!A1:A5)", "=_xlfn.XMATCH(8,T!A1:A8)", "=_xlfn.XMATCH(9,T!A1:A8,1)",
+        "=_xlfn.XMATCH(9,T!A1:A8,-1)", "=_xlfn.XMATCH(21,T!A1:A8,0,2)", "=_xlfn.XLOOKUP(4,T!A1:A8,T!B1:B8)",
+        "=VLOOKUP(TRUE,T!D1:D6,1,FALSE)", "=VLOOKUP(2,T!D1:D6,1)", "=MATCH(4,T!D1:D6)", "=MATCH(\"b\",T!D1:D6)",
+        "=COUNTIF(T!F1:F5,\"abc\")", "=COUNTIF(T!F1:F5,\"a~*c\")", "=COUNTIF(T!F1:F5,\"a*\")", "=SUMPRODUCT(--EXACT(T!F1:F5,\"abc\"))",
+        "=VLOOKUP(8,T!A1:B8,2,TRUE)&\"/\"&VLOOKUP(9,T!A1:B8,2,TRUE)", "=INDEX(T!B1:B8,MATCH(MAX(T!A1:A8),T!A1:A8,0))",
+    ]
+    listed(s, forms)
+    save(wb, "lookups")
+
+
+ROUND_VALUES = [2.5, -2.5, 0.5, -0.5, 1.5, -1.5, 2.675, -2.675, 5.1, -5.1, 7, -7, 0, 0.1, 1e15 + 0.5, 123456.785,
+                4.35, -0.05]
+
+
+def rounding():
+    wb = Workbook()
+    s = wb.active
+    s.title = "R"
+    forms = [
+        "=ROUND({v},2)", "=ROUND({v},0)", "=ROUND({v},-1)", "=ROUNDUP({v},0)", "=ROUNDDOWN({v},0)", "=ROUNDUP({v},-1)",
+        "=MROUND({v},3)", "=MOD({v},3)", "=MOD({v},-3)", "=MOD({v},1)", "=MOD({v},0.1)", "=MOD({v},2.5)",
+        "=QUOTIENT({v},3)", "=QUOTIENT({v},-3)", "=QUOTIENT({v},0.5)", "=INT({v})", "=TRUNC({v})", "=TRUNC({v},-1)",
+        "=EVEN({v})", "=ODD({v})", "=_xlfn.CEILING.MATH({v})", "=_xlfn.CEILING.MATH({v},2)", "=_xlfn.CEILING.MATH({v},-2)",
+        "=_xlfn.CEILING.MATH({v},2,-1)", "=_xlfn.FLOOR.MATH({v})", "=_xlfn.FLOOR.MATH({v},-2,1)",
+        "=_xlfn.FLOOR.MATH({v},2,0)", "=_xlfn.CEILING.PRECISE({v},-2)", "=_xlfn.FLOOR.PRECISE({v},2)",
+        "=ISO.CEILING({v},2)", "=CEILING({v},1)", "=FLOOR({v},1)", "=CEILING({v},0.5)", "=FLOOR({v},0.5)",
+        "=SIGN({v})", "=ROUND({v}*100,0)/100", "=ROUND({v},15)", "=ROUND({v},-16)", "=ROUNDUP({v},2)", "=ROUNDDOWN({v},2)",
+        "=MROUND({v},0.1)", "=CEILING({v},0)", "=FLOOR({v},0)", "=MOD({v},0)", "=QUOTIENT({v},0)",
+    ]
+    for r, fo in enumerate(forms, start=1):
+        for c, v in enumerate(ROUND_VALUES, start=1):
+            s.cell(row=r, column=c, value=fo.format(v=repr(v)))
+    x = wb.create_sheet("X")
+    listed(x, [
+        "=ROUND(2.675,2)", "=ROUND(1.005,2)", "=ROUND(-1.005,2)", "=ROUND(0.285,2)", "=ROUND(1.0049999999999999,2)",
+        "=ROUND(8.345,2)", "=ROUND(1234.5675,3)", "=ROUND(0.1+0.2,15)", "=MOD(-1,3)", "=MOD(5.1,1)", "=MOD(-5.1,1)",
+        "=MOD(1E10,3)", "=MOD(2^40,7)", "=MOD(10,0.2)", "=MOD(0.3,0.1)", "=MOD(-0.3,0.1)", "=QUOTIENT(-7,2)",
+        "=QUOTIENT(7.9,2.1)", "=INT(-0.0000001)", "=TRUNC(-0.0000001)", "=EVEN(-0.1)", "=ODD(-0.1)", "=ODD(0)",
+        "=EVEN(0)", "=ODD(2)", "=EVEN(-3)", "=GCD(12.7,18.2)", "=LCM(4.5,6)", "=GCD(-4,6)", "=FACT(4.9)", "=COMBIN(5.9,2.1)",
+        "=ROUNDUP(3.0000000000000004,0)", "=ROUNDUP(0.1*3,1)", "=ROUNDDOWN(0.7*3,1)", "=CEILING(0.1*3,0.1)",
+        "=FLOOR(0.7*3,0.1)", "=MROUND(0.1*3,0.1)", "=MROUND(1.3,0.2)", "=MROUND(-1.3,-0.2)", "=CEILING(4.35,0.05)",
+        "=FLOOR(4.35,0.05)", "=INT(4.35/0.05)", "=TRUNC(4.35*100)", "=INT(0.29*100)", "=ROUND(-2.5,0)", "=ROUNDUP(-2.5,0)",
+        "=ROUNDDOWN(-2.5,0)", "=_xlfn.CEILING.MATH(-2.5)", "=_xlfn.CEILING.MATH(-2.5,1,1)", "=_xlfn.FLOOR.MATH(-2.5)",
+        "=_xlfn.FLOOR.MATH(-2.5,1,1)", "=CEILING(-2.5,-2)", "=FLOOR(-2.5,-2)", "=CEILING(2.5,0.3)", "=FLOOR(2.5,0.3)",
+        "=MOD(-7,-3)", "=MOD(7,-3)", "=MOD(-7,3)", "=MOD(7.5,-2)", "=SIGN(-0)", "=ABS(-0)", "=1-1E-16=1",
+        "=ROUND(45.3499999999999,1)", "=ROUND(1E300*10,0)", "=ROUND(5E-324,0)", "=ROUND(123,-3)", "=ROUND(-501,-3)",
+        "=INT(1E20)", "=MOD(3,1E-300)", "=EVEN(1E300)", "=ROUND(2.5,)", "=ROUND(2.5)",
+    ])
+    save(wb, "rounding")
+
+
+def trig_criteria():
+    wb = Workbook()
+    s = wb.active
+    s.title = "G"
+    d = wb.create_sheet("D")
+    rows = [("2024-01-05", 10, "bolt M6", True, "3"), ("2024-01-15", 20, "nut M6", False, 4),
+            ("2024-02-01", 30, "bolt M8", True, "x"), ("2024-02-20", 40, "washer", None, 5),
+            ("2023-12-31", 50, "", 1, "1"), ("2024-03-01", 60, "Bolt m10", "yes", 1)]
+    import datetime
+    for i, (dt, q, name, b, t) in enumerate(rows, start=1):
+        d.cell(row=i, column=1, value=datetime.date.fromisoformat(dt))
+        d.cell(row=i, column=2, value=q)
+        if name != "":
+            d.cell(row=i, column=3, value=name)
+        if b is not None:
+            d.cell(row=i, column=4, value=b)
+        d.cell(row=i, column=5, value=t)
+    d["C5"] = '=""'  # empty text from a formula
+    listed(s, [
+        "=RADIANS(-90)", "=DEGREES(-PI()/2)", "=RADIANS(720)", "=DEGREES(ATAN2(1,2))", "=DEGREES(ATAN2(2,1))",
+        "=DEGREES(ATAN2(-1,0))", "=DEGREES(ATAN2(0,-1))", "=DEGREES(ATAN2(-1,-1))", "=DEGREES(ATAN2(1,-0.0000001))",
+        "=ASIN(1.1)", "=ACOS(-1.0000001)", "=ASIN(-1)", "=ACOS(-1)", "=DEGREES(ACOS(0.5))", "=ATAN(1E300)",
+        "=SQRT(-4)", "=SQRT(0)", "=SQRT(\"4\")", "=POWER(0,0)", "=0^0", "=POWER(-8,1/3)", "=(-8)^(1/3)",
+        "=POWER(-2,3)", "=POWER(-2,0.5)", "=POWER(2,-1)", "=POWER(-2,-2)", "=2^1024", "=-2^2", "=-2^0.5", "=2^-1",
+        "=POWER(0,-1)", "=0^-0.5", "=POWER(-1,1E10)", "=POWER(4,0.5)", "=10^-400", "=(-0.5)^2.5",
+        "=SIN(PI())", "=COS(PI()/2)", "=TAN(PI()/4)", "=SIN(PI()*1E10)", "=COS(2*PI())", "=SIN(RADIANS(180))",
+        "=COS(RADIANS(90))", "=TAN(RADIANS(270))", "=SIN(1E20)", "=PI()*2", "=PI()/180*57.29577951308232",
+        "=SUMSQ(1,\"2\",TRUE)", "=SUMSQ(D!D1:D6)", "=SUMSQ(D!E1:E6)", "=SUMSQ(D!B1:B3,-2)", "=SUMSQ({1,\"2\",TRUE})",
+        "=SUMPRODUCT(D!D1:D6)", "=SUMPRODUCT(--D!D1:D6)", "=SUMPRODUCT(D!D1:D6*1)", "=SUMPRODUCT(D!E1:E6)",
+        "=SUMPRODUCT(D!E1:E6,D!B1:B6)", "=SUMPRODUCT((D!B1:B6>25)*D!B1:B6)", "=SUMPRODUCT((D!B1:B6>25),D!B1:B6)",
+        "=SUMPRODUCT(--(D!E1:E6>2))", "=SUMPRODUCT(D!B1:B6,D!B1:B6)", "=SUMPRODUCT(D!B1:B3*D!E1:E3)",
+        "=SUMIFS(D!B1:B6,D!A1:A6,\">=\"&DATE(2024,1,1))", "=SUMIFS(D!B1:B6,D!A1:A6,\">=\"&DATE(2024,1,1),D!A1:A6,\"<\"&DATE(2024,2,1))",
+        "=SUMIFS(D!B1:B6,D!A1:A6,\">=2024-02-01\")", "=SUMIFS(D!B1:B6,D!A1:A6,\">1/15/2024\")", "=COUNTIFS(D!C1:C6,\"<>\")",
+        "=COUNTIFS(D!C1:C6,\"\")", "=COUNTIFS(D!C1:C6,\"=\")", "=COUNTIF(D!C1:C6,\"<>bolt*\")", "=COUNTIF(D!C1:C6,\"bolt*\")",
+        "=COUNTIF(D!C1:C6,\"*m?\")", "=COUNTIF(D!C1:C6,\"*M6\")", "=COUNTIF(D!E1:E6,\"1\")", "=COUNTIF(D!E1:E6,1)",
+        "=COUNTIF(D!E1:E6,\">2\")", "=COUNTIF(D!E1:E6,\"3\")", "=COUNTIF(D!D1:D6,TRUE)", "=COUNTIF(D!D1:D6,\"TRUE\")",
+        "=COUNTIF(D!D1:D6,1)", "=COUNTIF(D!B1:B6,\">=\"&\"30\")", "=COUNTIF(D!B1:B6,\"<>20\")", "=COUNTIF(D!B1:B6,\">2E1\")",
+        "=AVERAGEIFS(D!B1:B6,D!C1:C6,\"bolt*\")", "=AVERAGEIFS(D!B1:B6,D!C1:C6,\"nothing\")",
+        "=AVERAGEIFS(D!B1:B6,D!A1:A6,\"<\"&DATE(2024,2,1),D!C1:C6,\"<>\")", "=AVERAGEIF(D!B1:B6,\">25\")",
+        "=SUMIF(D!C1:C6,\"<>\",D!B1:B6)", "=SUMIF(D!C1:C6,\"\",D!B1:B6)", "=SUMIF(D!E1:E6,\"<>x\",D!B1:B6)",
+        "=SUMIF(D!C1:C6,\"*~?*\",D!B1:B6)", "=SUMIF(D!B1:B6,\">\"&25)", "=SUMIF(D!B1:B6,\"25<\")", "=SUMIF(D!B1:B6,\"=\"&\"\")",
+        "=COUNTIFS(D!A1:A6,\">=\"&DATE(2024,1,1),D!B1:B6,\"<=40\")", "=COUNTIF(D!A1:A6,DATE(2024,1,15))",
+        "=COUNTIF(D!A1:A6,\"1/15/2024\")", "=SUMIF(D!A1:A6,\"<=\"&D!A2,D!B1:B6)", "=SUMIFS(D!B1:B6,D!C1:C6,\"BOLT*\")",
+    ])
+    save(wb, "trig_criteria")
+
+
+def text_numbers():
+    wb = Workbook()
+    s = wb.active
+    s.title = "N"
+    d = wb.create_sheet("D")
+    for i, v in enumerate(["3", 4, True, " 5 ", None, "abc", 1.5], start=1):
+        if v is not None:
+            d.cell(row=i, column=1, value=v)
+    listed(s, [
+        "=1/3&\"\"", "=1E+20&\"\"", "=1E21&\"\"", "=-0&\"\"", "=0.1+0.2&\"\"", "=123456789012345&\"\"",
+        "=1234567890123456&\"\"", "=1E-5&\"\"", "=0.0001&\"\"", "=-1.5E-10&\"\"", "=2^53&\"\"", "=1E100&\"\"",
+        "=TRUE&\"\"", "=100000000000000000000&\"\"", "=123456789012345.6&\"\"", "=0.1234567890123456&\"\"",
+        "=99999999999999.99&\"\"", "=999999999999999.9&\"\"", "=1.23456789012345E-7&\"\"", "=-1/3&\" mm\"",
+        "=25.4*3&\"\"", "=2/3*3&\"\"", "=\"Ø\"&10&\" H7\"", "=\"R\"&0.5*3", "=12.5&\"x\"&45&\"°\"",
+        "=TEXT(12.3456,\"0.000\")", "=TEXT(-12.3456,\"0.000\")", "=TEXT(1234567.891,\"#,##0.00\")", "=TEXT(-0.004,\"#,##0.00\")",
+        "=TEXT(0.000123,\"0.00E+00\")", "=TEXT(-123456,\"0.00E+00\")", "=TEXT(45,\"0°\")", "=TEXT(12.25,\"0.0\"\" mm\"\"\")",
+        "=TEXT(2.5,\"0\")", "=TEXT(-2.5,\"0\")", "=TEXT(0.5,\"0\")", "=TEXT(2.675,\"0.00\")", "=TEXT(1.005,\"0.00\")",
+        "=TEXT(-0.0001,\"0.000\")", "=TEXT(12,\"+0.000;-0.000;0.000\")", "=TEXT(-12,\"+0.000;-0.000;0.000\")",
+        "=TEXT(0,\"+0.000;-0.000;0.000\")", "=TEXT(3.14159,\"0.0000\")", "=TEXT(1E20,\"0\")", "=TEXT(1E-20,\"0.00E+0\")",
+        "=TEXT(12.5,\"00.000\")", "=TEXT(0.5,\"#.000\")", "=TEXT(1234.5,\"#,##0\")", "=TEXT(-1234.5,\"#,##0\")",
+        "=TEXT(0.125,\"0.00%\")", "=TEXT(\"12.5\",\"0.0\")", "=TEXT(TRUE,\"0.0\")", "=TEXT(12.5,\"\")", "=TEXT(1/3,\"0.0##\")",
+        "=FIXED(1234.567,1)", "=FIXED(-1234.567,-2)", "=FIXED(1234.5,0,TRUE)", "=FIXED(0.5,0)", "=FIXED(2.5,0)",
+        "=FIXED(-0.5,0)", "=FIXED(1.005,2)", "=FIXED(2.675,2)", "=FIXED(1E15,2)", "=FIXED(-0.001,2)", "=FIXED(\"3.14159\")",
+        "=FIXED(12345.678)", "=FIXED(12345.678,,TRUE)", "=FIXED(0.000001,8)",
+        "=VALUE(\"1,5\")", "=VALUE(\" 3 \")", "=VALUE(\"1e3\")", "=VALUE(\"$1\")", "=VALUE(\"50%\")", "=VALUE(\"1,000\")",
+        "=VALUE(\"1,000.5\")", "=VALUE(\"(5)\")", "=VALUE(\"-$1.50\")", "=VALUE(\"+3\")", "=VALUE(\"3-\")", "=VALUE(\".5\")",
+        "=VALUE(\"5.\")", "=VALUE(\"1E+3\")", "=VALUE(\"\")", "=VALUE(\"abc\")", "=VALUE(\"12:30\")", "=VALUE(\"1 1/2\")",
+        "=_xlfn.NUMBERVALUE(\"1,5\",\",\",\".\")", "=_xlfn.NUMBERVALUE(\"1.234,5\",\",\",\".\")",
+        "=_xlfn.NUMBERVALUE(\"50%\")", "=_xlfn.NUMBERVALUE(\"50%%\")", "=_xlfn.NUMBERVALUE(\" 3 \")",
+        "=_xlfn.NUMBERVALUE(\"1 000,5\",\",\",\" \")", "=_xlfn.NUMBERVALUE(\"\")", "=_xlfn.NUMBERVALUE(\"1e3\")",
+        "=_xlfn.NUMBERVALUE(\"1,5\")", "=_xlfn.NUMBERVALUE(\"3,5\",\",\",\",\")",
+        "=_xlfn.CONCAT(D!A1:A7)", "=_xlfn.CONCAT(1.5,\"-\",TRUE)", "=_xlfn.TEXTJOIN(\", \",TRUE,D!A1:A7)",
+        "=_xlfn.TEXTJOIN(\"-\",FALSE,D!A1:A7)", "=_xlfn.TEXTJOIN(\"\",TRUE,1/4,\"a\",\"\",2)", "=CONCATENATE(1/3,\"|\",-0)",
+        "=\"3\"+2", "=\"3\"*\"2\"", "=SUM(\"3\",2)", "=SUM(D!A1:A7)", "=\"1e3\"+0", "=\" 3 \"+0", "=\"1,000\"+0",
+        "=\"$5\"+0", "=\"50%\"+0", "=\"abc\"+0", "=--\"-0\"", "=\"3\"=3", "=TRUE+1", "=SUM(TRUE,1)", "=AVERAGE(\"3\",5)",
+        "=D!A1+D!A2", "=D!A1*2", "=D!A3+1", "=D!A4*2", "=D!A5+1", "=PRODUCT(D!A1:A7)", "=COUNT(D!A1:A7)",
+        "=COUNTA(D!A1:A7)", "=AVERAGE(D!A1:A7)", "=MAX(D!A1:A7)", "=MAX(\"7\",2)", "=MIN(D!A1:A7,\"0.5\")",
+        "=\"(5)\"+0", "=\"1/2\"*1", "=\"12:30\"*24", "=\"1 1/2\"+0", "=N(\"3\")", "=T(3)", "=LEN(1/3)", "=LEN(-0)",
+        "=LEFT(1234.5,3)", "=MID(1/7,3,4)", "=UPPER(1E21)", "=LEN(2^0.5)", "=REPT(1.5,2)",
+    ])
+    save(wb, "text_numbers")
+
+
+def schedule():
+    wb = Workbook()
+    s = wb.active
+    s.title = "S"
+    h = wb.create_sheet("H")
+    import datetime
+    for i, dt in enumerate(["2024-01-01", "2024-01-15", "2024-02-19", "2024-01-13", "2024-01-15", "2024-05-27"], start=1):
+        h.cell(row=i, column=1, value=datetime.date.fromisoformat(dt))
+    listed(s, [
+        "=NETWORKDAYS(DATE(2024,1,1),DATE(2024,3,1),H!A1:A6)", "=NETWORKDAYS(DATE(2024,3,1),DATE(2024,1,1),H!A1:A6)",
+        "=NETWORKDAYS(DATE(2024,1,13),DATE(2024,1,14))", "=NETWORKDAYS(DATE(2024,1,15),DATE(2024,1,15),H!A1:A6)",
+        "=NETWORKDAYS(DATE(2024,1,1)+0.9,DATE(2024,1,31)+0.1)", "=NETWORKDAYS(DATE(2024,1,1),DATE(2024,1,31),DATE(2024,1,2))",
+        "=NETWORKDAYS.INTL(DATE(2024,1,1),DATE(2024,1,31),\"0000011\")", "=NETWORKDAYS.INTL(DATE(2024,1,1),DATE(2024,1,31),7)",
+        "=NETWORKDAYS.INTL(DATE(2024,1,1),DATE(2024,1,31),17,H!A1:A6)", "=NETWORKDAYS.INTL(DATE(2024,1,1),DATE(2024,1,31),\"1111111\")",
+        "=NETWORKDAYS.INTL(DATE(2024,1,1),DATE(2024,1,31),\"0000000\")", "=NETWORKDAYS.INTL(DATE(2024,1,1),DATE(2024,1,31),8)",
+        "=NETWORKDAYS.INTL(DATE(2024,1,1),DATE(2024,1,31),\"000001\")", "=NETWORKDAYS.INTL(DATE(2024,1,31),DATE(2024,1,1),1,H!A1:A6)",
+        "=WORKDAY(DATE(2024,1,5),5,H!A1:A6)", "=WORKDAY(DATE(2024,1,20),-5,H!A1:A6)", "=WORKDAY(DATE(2024,1,6),0)",
+        "=WORKDAY(DATE(2024,1,5),2.9)", "=WORKDAY(DATE(2024,1,5),-2.9)", "=WORKDAY(DATE(2024,1,13),1,H!A1:A6)",
+        "=WORKDAY.INTL(DATE(2024,1,5),10,\"0010001\",H!A1:A6)", "=WORKDAY.INTL(DATE(2024,1,5),-10,11)",
+        "=WORKDAY.INTL(DATE(2024,1,5),3,\"1111111\")", "=WORKDAY.INTL(DATE(2024,1,5),3,16)", "=WORKDAY(DATE(2024,1,5)+0.75,1)",
+        "=EDATE(DATE(2024,3,31),-1)", "=EDATE(DATE(2024,3,31),-13)", "=EDATE(DATE(2024,1,31),1.9)", "=EDATE(DATE(2024,1,31),-1.9)",
+        "=EDATE(DATE(2024,5,15)+0.5,0)", "=EOMONTH(DATE(2024,1,15),-1)", "=EOMONTH(DATE(2024,1,15),-12.7)",
+        "=EOMONTH(DATE(2024,3,31),-1)", "=EOMONTH(DATE(2024,1,15),0.9)", "=EOMONTH(DATE(1900,1,15),-1)",
+        "=DATEDIF(DATE(2024,1,31),DATE(2024,3,1),\"m\")", "=DATEDIF(DATE(2024,1,31),DATE(2024,3,1),\"md\")",
+        "=DATEDIF(DATE(2024,1,31),DATE(2024,3,1),\"yd\")", "=DATEDIF(DATE(2023,3,1),DATE(2024,2,29),\"yd\")",
+        "=DATEDIF(DATE(2023,3,1),DATE(2024,2,29),\"y\")", "=DATEDIF(DATE(2023,3,1),DATE(2024,2,29),\"ym\")",
+        "=DATEDIF(DATE(2020,2,29),DATE(2021,2,28),\"y\")", "=DATEDIF(DATE(2020,2,29),DATE(2021,2,28),\"yd\")",
+        "=DATEDIF(DATE(2020,2,29),DATE(2021,3,1),\"yd\")", "=DATEDIF(DATE(2023,5,31),DATE(2023,6,30),\"md\")",
+        "=DATEDIF(DATE(2023,1,15),DATE(2023,1,15),\"d\")", "=DATEDIF(DATE(2023,1,15),DATE(2024,1,14),\"y\")",
+        "=DATEDIF(DATE(2023,12,25),DATE(2024,1,5),\"yd\")", "=DATEDIF(DATE(2023,12,25),DATE(2024,1,5),\"YM\")",
+        "=DATEDIF(DATE(2023,1,1)+0.9,DATE(2023,1,2)+0.1,\"d\")",
+        "=WEEKNUM(DATE(2024,1,1))", "=WEEKNUM(DATE(2024,1,7),2)", "=WEEKNUM(DATE(2024,12,31),1)", "=WEEKNUM(DATE(2023,1,1),21)",
+        "=WEEKNUM(DATE(2024,1,6),11)", "=WEEKNUM(DATE(2024,1,6),12)", "=WEEKNUM(DATE(2024,1,6),13)", "=WEEKNUM(DATE(2024,1,6),14)",
+        "=WEEKNUM(DATE(2024,1,6),15)", "=WEEKNUM(DATE(2024,1,6),16)", "=WEEKNUM(DATE(2024,1,6),17)", "=WEEKNUM(DATE(2024,1,6),3)",
+        "=_xlfn.ISOWEEKNUM(DATE(2021,1,1))", "=_xlfn.ISOWEEKNUM(DATE(2020,12,31))", "=_xlfn.ISOWEEKNUM(DATE(2024,12,30))",
+        "=_xlfn.ISOWEEKNUM(DATE(2027,1,3))", "=WEEKDAY(DATE(2024,1,7),3)", "=WEEKDAY(DATE(2024,1,7),11)", "=WEEKDAY(DATE(2024,1,7),17)",
+        "=WEEKDAY(DATE(2024,1,7),4)", "=TIME(25,0,0)", "=TIME(0,-1,0)", "=TIME(0,90,0)", "=TIME(23,59,60)", "=TIME(0,0,-1)",
+        "=TIME(1,-30,0)", "=TIME(32768,0,0)", "=TIME(1.9,30.9,0.9)", "=HOUR(-0.5)", "=HOUR(1.75)", "=MINUTE(0.999999999)",
+        "=SECOND(0.999999999)", "=HOUR(0.999999999)", "=SECOND(TIME(1,2,3)+0.4/86400)", "=SECOND(TIME(1,2,3)+0.6/86400)",
+        "=HOUR(\"12:30\")", "=MINUTE(\"12:30:45\")", "=HOUR(\"25:00\")", "=HOUR(\"2:30 PM\")", "=TIMEVALUE(\"2:30 PM\")",
+        "=TIMEVALUE(\"25:00\")", "=TIMEVALUE(\"2024-01-05 06:00\")", "=DAYS360(DATE(2024,1,31),DATE(2024,2,29))",
+        "=DAYS360(DATE(2024,2,29),DATE(2024,3,31))", "=DAYS360(DATE(2024,2,29),DATE(2024,3,31),TRUE)",
+        "=DAYS360(DATE(2023,2,28),DATE(2023,3,31))", "=YEARFRAC(DATE(2024,1,1),DATE(2024,7,1),0)",
+        "=YEARFRAC(DATE(2024,1,1),DATE(2024,7,1),1)", "=YEARFRAC(DATE(2023,6,1),DATE(2024,7,1),1)",
+        "=YEARFRAC(DATE(2024,1,1),DATE(2024,7,1),2)", "=YEARFRAC(DATE(2024,1,1),DATE(2024,7,1),3)",
+        "=YEARFRAC(DATE(2024,1,31),DATE(2024,2,29),4)", "=YEARFRAC(DATE(2024,2,29),DATE(2024,1,31),0)",
+        "=DATE(2024,-1,1)", "=DATE(99,1,1)", "=DATE(1900,2,29)", "=DATE(2024,1,-30)", "=DATE(2024.9,2.9,3.9)",
+        "=DAY(60)", "=MONTH(60)", "=DAY(0)", "=WEEKDAY(60)", "=YEAR(2958465)", "=DATEVALUE(\"29-Feb-2024\")",
+        "=DATEVALUE(\"2024/3/5\")", "=DATEVALUE(\"Mar 5, 2024\")", "=_xlfn.DAYS(DATE(2024,3,1),DATE(2024,2,1))",
+    ])
+    save(wb, "schedule")
+
+
+def error_ranges():
+    wb = Workbook()
+    s = wb.active
+    s.title = "E"
+    d = wb.create_sheet("D")
+    for i, v in enumerate([4, "=1/0", 7, "=NA()", "x", 2, None, "=SQRT(-1)", 9, True], start=1):
+        if v is not None:
+            d.cell(row=i, column=1, value=v)
+    for i, v in enumerate([1, 2, 3, 4, 5, 6, 7, 8, 9, 10], start=1):
+        d.cell(row=i, column=2, value=v)
+    d.row_dimensions[3].hidden = True
+    listed(s, [
+        cse1("=SUM(IFERROR(D!A1:A10,0))"), cse1("=SUM(--ISERROR(D!A1:A10))"), cse1("=SUM(_xlfn.IFNA(D!A1:A10,100))"),
+        "=SUMPRODUCT(--ISERROR(D!A1:A10))", "=SUMPRODUCT(ISNA(D!A1:A10)*1)", "=SUMPRODUCT(--ISERR(D!A1:A10))",
+        "=COUNTIF(D!A1:A10,\"#N/A\")", "=COUNTIF(D!A1:A10,\"#DIV/0!\")", "=COUNTIF(D!A1:A10,\"<>#N/A\")",
+        "=_xlfn.IFNA(VLOOKUP(99,D!B1:B10,1,FALSE),\"none\")", "=_xlfn.IFNA(1/0,1)", "=IFERROR(\"\",1)", "=IFERROR(D!A7,1)",
+        "=IFERROR(D!A7,1)&\"\"", "=ISERROR(D!A1:A10)", "=SUMPRODUCT(--ISNUMBER(D!A1:A10))",
+        "=_xlfn.AGGREGATE(9,6,D!A1:A10)", "=_xlfn.AGGREGATE(4,6,D!A1:A10)", "=_xlfn.AGGREGATE(14,6,D!A1:A10,2)", "=_xlfn.AGGREGATE(15,6,D!A1:A10,1)",
+        "=_xlfn.AGGREGATE(1,6,D!A1:A10)", "=_xlfn.AGGREGATE(2,6,D!A1:A10)", "=_xlfn.AGGREGATE(3,6,D!A1:A10)", "=_xlfn.AGGREGATE(12,6,D!A1:A10)",
+        "=_xlfn.AGGREGATE(16,6,D!A1:A10,0.5)", "=_xlfn.AGGREGATE(9,0,D!A1:A10)", "=_xlfn.AGGREGATE(9,5,D!B1:B10)", "=_xlfn.AGGREGATE(9,7,D!A1:A10)",
+        "=_xlfn.AGGREGATE(9,1,D!B1:B10)", "=_xlfn.AGGREGATE(9,3,D!A1:A10)", "=_xlfn.AGGREGATE(19,6,D!A1:A10)", "=_xlfn.AGGREGATE(9,8,D!B1:B10)",
+        "=_xlfn.AGGREGATE(14,6,D!B1:B10/(D!B1:B10>4),1)", "=_xlfn.AGGREGATE(15,6,D!B1:B10/(MOD(D!B1:B10,3)=0),2)",
+        "=_xlfn.AGGREGATE(5,6,D!A1:A10)", "=_xlfn.AGGREGATE(6,6,D!A1:A10)", "=_xlfn.AGGREGATE(7,6,D!A1:A10)", "=_xlfn.AGGREGATE(8,6,D!A1:A10)",
+        "=_xlfn.AGGREGATE(10,6,D!A1:A10)", "=_xlfn.AGGREGATE(11,6,D!A1:A10)", "=_xlfn.AGGREGATE(13,6,D!B1:B10)", "=_xlfn.AGGREGATE(17,6,D!A1:A10,1)",
+        "=_xlfn.AGGREGATE(18,6,D!A1:A10,0.25)", "=_xlfn.AGGREGATE(19,6,D!A1:A10,0.25)", "=_xlfn.AGGREGATE(14,6,D!A1:A10,10)",
+        "=SUBTOTAL(9,D!A1:A10)", "=SUBTOTAL(109,D!B1:B10)", "=SUBTOTAL(9,D!B1:B10)", "=SUBTOTAL(2,D!A1:A10)",
+        "=SUBTOTAL(3,D!A1:A10)", "=SUM(D!A1:A10)", "=MAX(D!A1:A10)", "=COUNT(D!A1:A10)", "=COUNTA(D!A1:A10)",
+        "=COUNTBLANK(D!A1:A10)", "=SUM({1,#N/A})", "=SUMPRODUCT(--ISERROR({1,#N/A,#DIV/0!}))", "=INDEX({1,#N/A},2)",
+        "=ISNA(INDEX({1,#N/A},2))", "=ERROR.TYPE(NA())", "=ERROR.TYPE(1/0)", "=ERROR.TYPE(1)", "=ERROR.TYPE(D!A8)",
+        "=ERROR.TYPE(#REF!)", "=ERROR.TYPE(#NULL!)", "=ERROR.TYPE(#NAME?)", "=ERROR.TYPE(#NUM!)", "=ERROR.TYPE(#VALUE!)",
+        "=ISERR(NA())", "=ISERR(1/0)", "=ISERROR(\"#N/A\")", "=IFERROR(1/0,1/0)", "=IFERROR(NA(),\"\")",
+        "=MATCH(7,D!A1:A10,0)", "=VLOOKUP(7,D!A1:A10,1,FALSE)", "=VLOOKUP(9,D!A1:A10,1)", "=SUMIF(D!A1:A10,\">3\")",
+        "=COUNTIF(D!A1:A10,\">3\")", "=AVERAGEIF(D!A1:A10,\"<>x\",D!B1:B10)", "=SUMIF(D!B1:B10,\">5\",D!A1:A10)",
+        "=_xlfn.MAXIFS(D!B1:B10,D!A1:A10,\"<>#N/A\")", "=LARGE(D!A1:A10,1)", "=RANK(7,D!A1:A10)", "=PRODUCT(IFERROR(1/0,2),3)",
+        cse1("=MAX(IF(ISNUMBER(D!A1:A10),D!A1:A10))"), cse1("=SUM(IF(ISERROR(D!A1:A10),1,0))"),
+        cse1("=COUNT(IFERROR(1/D!A1:A10,\"\"))"), cse1("=INDEX(IFERROR(D!A1:A10,-1),2)"),
+    ])
+    save(wb, "error_ranges")
+
+
 tables()
 three_d()
 cse()
@@ -406,3 +706,9 @@ iteration("iterate_capped", 10, 0.000001)
 text_formats()
 errors()
 engineering()
+lookups()
+rounding()
+trig_criteria()
+text_numbers()
+schedule()
+error_ranges()
