@@ -374,6 +374,33 @@ const EXCEL_NOT_LIBREOFFICE: &[(&str, &str, Excel, &str)] = &[
     ("error_ranges", "E!A76", Unknown, "approximate VLOOKUP over unsorted data with errors: Excel's binary search, no source"),
     ("error_ranges", "E!A80", Err("#NUM!"), "SUMIF adds D!A8's #NUM! (SQRT(-1) is #NUM! in Excel)"),
     ("error_ranges", "D!A8", Err("#NUM!"), "SQRT of a negative number is #NUM! (Excel's SQRT page)"),
+    ("design_more", "M!A5", Num(0.45359237), "CONVERT: Excel's pound is the international 0.45359237 kg (CONVERT page: 0.4535924); LibreOffice keeps an older constant"),
+    ("design_more", "M!A7", Num(4.4482216152605), "CONVERT: lbf is 0.45359237 kg times 9.80665 m/s²"),
+    ("design_more", "M!A10", Num(6894.757293168361), "CONVERT: psi is lbf per square inch, 4.4482216152605 N / 0.00064516 m²"),
+    ("design_more", "M!A12", Num(760.0021001785152), "CONVERT: Excel's mmHg is 133.322 Pa, its atm 101325 Pa"),
+    ("design_more", "M!A14", Num(28.349523125), "CONVERT: ozm is 1/16 of 0.45359237 kg"),
+    ("design_more", "M!A24", Num(4186.8), "CONVERT: Excel's cal is the IT calorie, 4.1868 J"),
+    ("design_more", "M!A8", Err("#N/A"), "CONVERT: a unit not in Excel's table (hp, bar, Nm, rpm, Btu, deg; names are case-sensitive) is #N/A (CONVERT page)"),
+    ("design_more", "M!A11", Err("#N/A"), "CONVERT: a unit not in Excel's table (hp, bar, Nm, rpm, Btu, deg; names are case-sensitive) is #N/A (CONVERT page)"),
+    ("design_more", "M!A17", Err("#N/A"), "CONVERT: a unit not in Excel's table (hp, bar, Nm, rpm, Btu, deg; names are case-sensitive) is #N/A (CONVERT page)"),
+    ("design_more", "M!A18", Err("#N/A"), "CONVERT: a unit not in Excel's table (hp, bar, Nm, rpm, Btu, deg; names are case-sensitive) is #N/A (CONVERT page)"),
+    ("design_more", "M!A19", Err("#N/A"), "CONVERT: a unit not in Excel's table (hp, bar, Nm, rpm, Btu, deg; names are case-sensitive) is #N/A (CONVERT page)"),
+    ("design_more", "M!A25", Err("#N/A"), "CONVERT: a unit not in Excel's table (hp, bar, Nm, rpm, Btu, deg; names are case-sensitive) is #N/A (CONVERT page)"),
+    ("design_more", "M!A28", Err("#N/A"), "CONVERT: a unit not in Excel's table (hp, bar, Nm, rpm, Btu, deg; names are case-sensitive) is #N/A (CONVERT page)"),
+    ("design_more", "M!A20", Err("#N/A"), "CONVERT: units of different groups are #N/A (CONVERT page)"),
+    ("design_more", "M!A56", Err("#NUM!"), "ACOSH below 1 and ATANH of 1 are #NUM! (Excel's pages)"),
+    ("design_more", "M!A57", Err("#NUM!"), "ACOSH below 1 and ATANH of 1 are #NUM! (Excel's pages)"),
+    ("design_more", "M!A58", Err("#DIV/0!"), "COT(0) is #DIV/0! (Excel's COT page)"),
+    ("design_more", "M!A62", Err("#NUM!"), "LOG and LN of a number not above 0 are #NUM!"),
+    ("design_more", "M!A63", Err("#NUM!"), "LOG and LN of a number not above 0 are #NUM!"),
+    ("design_more", "M!A67", Err("#DIV/0!"), "LOG to base 1 divides by LN(1)=0: #DIV/0!"),
+    ("design_more", "M!A74", Err("#NUM!"), "DEC2BIN of a number above 511 is #NUM! (DEC2BIN page)"),
+    ("design_more", "M!A108", Num(8.0), "COUNTIF with \"*\" counts the text cells only: 8 of them (the number 12 is not text)"),
+    ("design_more", "M!A109", Num(2.0), "COUNTIF with \"<>*\": the cells that are not text, the blank C5 and the number 12"),
+    ("design_more", "M!A139", Text("($0.50)"), "DOLLAR uses the currency format $#,##0.00_);($#,##0.00): negatives in parentheses (DOLLAR page: ($1,200))"),
+    ("design_more", "M!A142", Text("°"), "CHAR uses the Windows-1252 character set in Excel for Windows: 176 is the degree sign"),
+    ("design_more", "M!A150", Unknown, "AND with the text \"TRUE\" as an argument: no Excel source"),
+    ("design_more", "M!A163", Num(4.0), "TYPE of a boolean is 4 (TYPE page); LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
 ];
 
 fn data() -> PathBuf {
@@ -493,6 +520,11 @@ fn shop_schedule_workdays_months_datedif_weeks_and_times() {
 #[test]
 fn errors_inside_ranges_and_arrays_iferror_aggregate_subtotal() {
     check("error_ranges");
+}
+
+#[test]
+fn design_units_regression_bases_references_text_and_logic() {
+    check("design_more");
 }
 
 #[test]

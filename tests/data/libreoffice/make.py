@@ -11,7 +11,7 @@ from openpyxl.workbook.defined_name import DefinedName
 out = sys.argv[1]
 PROBES = ["tables", "three_d", "cse", "dates1904", "names", "iterate_converge", "iterate_capped", "text_formats",
           "errors", "engineering", "lookups", "rounding", "trig_criteria", "text_numbers", "schedule",
-          "error_ranges"]
+          "error_ranges", "design_more"]
 if out == "--list":
     print(" ".join(PROBES))
     sys.exit(0)
@@ -696,6 +696,69 @@ def error_ranges():
     save(wb, "error_ranges")
 
 
+def design_more():
+    wb = Workbook()
+    s = wb.active
+    s.title = "M"
+    d = wb.create_sheet("Data Sheet")
+    xs = [10, 20, 30, 40, 50, 60]
+    ys = [2.1, 3.9, 6.2, 7.8, 10.1, 12.2]
+    for i, (x, y) in enumerate(zip(xs, ys), start=1):
+        d.cell(row=i, column=1, value=x)
+        d.cell(row=i, column=2, value=y)
+    for i, v in enumerate(["M6", "m8", "bolt", "Bolt M10", None, "b", "c*d", 12, "12", "apple pie"], start=1):
+        if v is not None:
+            d.cell(row=i, column=3, value=v)
+    for r, row in enumerate([[2, 1, 0], [1, 3, 1], [0, 1, 4]], start=1):
+        for c, v in enumerate(row, start=5):
+            d.cell(row=r, column=c, value=v)
+    listed(s, [
+        "=CONVERT(1,\"in\",\"mm\")", "=CONVERT(25.4,\"mm\",\"in\")", "=CONVERT(100,\"F\",\"C\")", "=CONVERT(0,\"C\",\"K\")",
+        "=CONVERT(1,\"lbm\",\"kg\")", "=CONVERT(1,\"ft\",\"m\")", "=CONVERT(1,\"lbf\",\"N\")", "=CONVERT(1,\"hp\",\"W\")",
+        "=CONVERT(1,\"mi\",\"km\")", "=CONVERT(1,\"psi\",\"Pa\")", "=CONVERT(1,\"bar\",\"Pa\")", "=CONVERT(1,\"atm\",\"mmHg\")",
+        "=CONVERT(1,\"gal\",\"l\")", "=CONVERT(1,\"ozm\",\"g\")", "=CONVERT(1,\"yd\",\"ft\")", "=CONVERT(1,\"um\",\"mm\")",
+        "=CONVERT(1,\"kW\",\"hp\")", "=CONVERT(1,\"Nm\",\"J\")", "=CONVERT(1,\"rpm\",\"Hz\")", "=CONVERT(1,\"in\",\"kg\")",
+        "=CONVERT(1,\"ang\",\"m\")", "=CONVERT(1,\"cm2\",\"m2\")", "=CONVERT(1,\"in3\",\"cm3\")", "=CONVERT(1,\"kcal\",\"J\")",
+        "=CONVERT(1,\"Btu\",\"J\")", "=CONVERT(1,\"mph\",\"m/s\")", "=CONVERT(1,\"m/h\",\"m/s\")", "=CONVERT(1,\"deg\",\"rad\")",
+        "=SLOPE('Data Sheet'!B1:B6,'Data Sheet'!A1:A6)", "=INTERCEPT('Data Sheet'!B1:B6,'Data Sheet'!A1:A6)",
+        "=FORECAST(35,'Data Sheet'!B1:B6,'Data Sheet'!A1:A6)", "=RSQ('Data Sheet'!B1:B6,'Data Sheet'!A1:A6)",
+        "=CORREL('Data Sheet'!B1:B6,'Data Sheet'!A1:A6)", "=STEYX('Data Sheet'!B1:B6,'Data Sheet'!A1:A6)",
+        "=INDEX(LINEST('Data Sheet'!B1:B6,'Data Sheet'!A1:A6),1)", "=INDEX(LINEST('Data Sheet'!B1:B6,'Data Sheet'!A1:A6),2)",
+        "=INDEX(LINEST('Data Sheet'!B1:B6,'Data Sheet'!A1:A6^{1,2}),1,1)", "=TREND('Data Sheet'!B1:B6,'Data Sheet'!A1:A6,45)",
+        "=GROWTH('Data Sheet'!B1:B6,'Data Sheet'!A1:A6,45)", "=STDEV('Data Sheet'!B1:B6)", "=STDEVP('Data Sheet'!B1:B6)",
+        "=PERCENTILE('Data Sheet'!B1:B6,0.9)", "=QUARTILE('Data Sheet'!B1:B6,3)", "=MEDIAN('Data Sheet'!B1:B6)",
+        "=RANK(7.8,'Data Sheet'!B1:B6)", "=RANK(7.8,'Data Sheet'!B1:B6,1)", "=LARGE('Data Sheet'!C1:C10,1)",
+        "=SMALL('Data Sheet'!A1:B6,3)", "=PERCENTRANK('Data Sheet'!B1:B6,7)", "=AVEDEV('Data Sheet'!B1:B6)", "=DEVSQ('Data Sheet'!B1:B6)",
+        "=SINH(1)", "=COSH(-1)", "=TANH(0.5)", "=ASINH(1)", "=ACOSH(0.5)", "=ATANH(1)", "=_xlfn.COT(0)", "=_xlfn.SEC(PI())",
+        "=_xlfn.CSC(PI()/2)", "=LOG(8,2)", "=LOG(-1)", "=LN(0)", "=LOG10(0.001)", "=EXP(710)", "=SQRTPI(2)", "=LOG(10,1)",
+        "=DEC2HEX(255)", "=DEC2HEX(-1)", "=DEC2HEX(255,4)", "=HEX2DEC(\"FFFFFFFFFF\")", "=BIN2DEC(\"1111111111\")",
+        "=DEC2BIN(-1)", "=DEC2BIN(512)", "=DEC2OCT(-8)", "=HEX2BIN(\"F\",8)", "=_xlfn.BITAND(12,10)", "=_xlfn.BITLSHIFT(1,4)",
+        "=ROMAN(1999)", "=_xlfn.ARABIC(\"MCMXCIX\")", "=_xlfn.BASE(255,16,4)", "=_xlfn.DECIMAL(\"FF\",16)", "=MDETERM('Data Sheet'!E1:G3)",
+        "=INDEX(MINVERSE('Data Sheet'!E1:G3),2,2)", "=INDEX(MMULT('Data Sheet'!E1:G3,'Data Sheet'!E1:G3),3,3)",
+        "=SUMPRODUCT(MMULT('Data Sheet'!E1:G3,{1;1;1}))", "=SUMX2MY2('Data Sheet'!A1:A3,'Data Sheet'!B1:B3)",
+        "=SUMXMY2('Data Sheet'!A1:A3,'Data Sheet'!B1:B3)", "=SERIESSUM(0.5,0,1,{1,1,1,1})", "=MULTINOMIAL(2,3)",
+        "=FACTDOUBLE(7)", "=PERMUT(5,2)", "=COMBIN(10,3)", "=_xlfn.COMBINA(4,3)",
+        "=INDIRECT(\"'Data Sheet'!B\"&3)", "=INDIRECT(\"'Data Sheet'!R2C1\",FALSE)", "=SUM(INDIRECT(\"'Data Sheet'!A1:A\"&4))",
+        "=OFFSET('Data Sheet'!A1,2,1)", "=SUM(OFFSET('Data Sheet'!A1,1,0,3,2))", "=ROWS(OFFSET('Data Sheet'!A1,0,0,5))",
+        "=ADDRESS(2,3)", "=ADDRESS(2,3,4)", "=ADDRESS(2,3,1,FALSE)", "=ADDRESS(2,3,1,TRUE,\"Data Sheet\")", "=ADDRESS(2,28,2)",
+        "=COUNTIF('Data Sheet'!C1:C10,\">b\")", "=COUNTIF('Data Sheet'!C1:C10,\"<=M6\")", "=COUNTIF('Data Sheet'!C1:C10,\"*\")",
+        "=COUNTIF('Data Sheet'!C1:C10,\"<>*\")", "=COUNTIF('Data Sheet'!C1:C10,\"c~*d\")", "=COUNTIF('Data Sheet'!C1:C10,\"12\")",
+        "=COUNTIF('Data Sheet'!C1:C10,\">10\")", "=COUNTIF('Data Sheet'!C1:C10,\"?\")", "=COUNTIF('Data Sheet'!C1:C10,\"*M*\")",
+        "=COUNTIF('Data Sheet'!C1:C10,'Data Sheet'!C5)", "=COUNTIF('Data Sheet'!C1:C10,\"=\"&'Data Sheet'!C5)",
+        "=SEARCH(\"m?\",\"Bolt M10\")", "=SEARCH(\"*10\",\"Bolt M10\")", "=FIND(\"M\",\"Bolt M10\")", "=SEARCH(\"~*\",\"c*d\")",
+        "=SUBSTITUTE(\"a-b-c\",\"-\",\"+\",2)", "=REPLACE(\"M10x1.5\",1,3,\"M12\")", "=TRIM(\"  a   b  \")", "=PROPER(\"bolt m10-x\")",
+        "=MID(\"Bolt\",0,2)", "=MID(\"Bolt\",10,2)", "=LEFT(\"Bolt\",10)", "=RIGHT(123.45,3)", "=TEXT(DATE(2024,3,5),\"mmm d, yyyy\")",
+        "=TEXT(0.75,\"h:mm AM/PM\")", "=TEXT(1.5,\"[h]\"\"h\"\" mm\"\"m\"\"\")", "=TEXT(-0.25,\"0.00;(0.00)\")", "=TEXT(1234.5,\"0.0,\")",
+        "=TEXT(0.000125,\"0.0E+0\")", "=TEXT(125000,\"0.0E+00\")", "=TEXT(3.5,\"# ?/?\")", "=TEXT(30,\"0\"\"°\"\"\")",
+        "=DOLLAR(1234.567,2)", "=DOLLAR(-0.5)", "=EXACT(\"a\",\"A\")", "=CODE(\"A\")", "=CHAR(176)", "=CLEAN(\"a\"&CHAR(7)&\"b\")",
+        "=_xlfn.SWITCH(2,1,\"a\",2,\"b\",\"c\")", "=_xlfn.IFS(1>2,\"a\",TRUE,\"b\")", "=CHOOSE(1.9,\"a\",\"b\")", "=IF(\"\",1,2)", "=IF(\"TRUE\",1,2)",
+        "=IF(0.0000001,1,2)", "=AND(\"TRUE\",1)", "=OR('Data Sheet'!C1:C3)", "=_xlfn.XOR(TRUE,1,0)", "=NOT(\"FALSE\")", "=N(TRUE)",
+        "=ISNUMBER(\"1\")", "=ISTEXT(1)", "=ISBLANK('Data Sheet'!C5)", "=ISEVEN(2.9)", "=ISODD(-3)", "=ISLOGICAL(\"TRUE\")",
+        "=TYPE({1,2})", "=TYPE(\"a\")", "=TYPE(TRUE)", "=TYPE(1/0)",
+    ])
+    save(wb, "design_more")
+
+
 tables()
 three_d()
 cse()
@@ -712,3 +775,4 @@ trig_criteria()
 text_numbers()
 schedule()
 error_ranges()
+design_more()
