@@ -401,6 +401,11 @@ const EXCEL_NOT_LIBREOFFICE: &[(&str, &str, Excel, &str)] = &[
     ("design_more", "M!A142", Text("°"), "CHAR uses the Windows-1252 character set in Excel for Windows: 176 is the degree sign"),
     ("design_more", "M!A150", Unknown, "AND with the text \"TRUE\" as an argument: no Excel source"),
     ("design_more", "M!A163", Num(4.0), "TYPE of a boolean is 4 (TYPE page); LibreOffice has no boolean type (TRUE is 1); Excel keeps booleans apart from numbers"),
+    ("implicit", "I!AR3", Unknown, "ROWS of an expression over a range in a legacy formula: whether Excel takes the array, no source"),
+    ("implicit", "I!AX3", Num(5.0), "INDEX takes an array in a legacy formula (the INDEX(…,0) trick of non-array INDEX/MATCH relies on it): B2*C2"),
+    ("implicit", "I!AX9", Num(5.0), "INDEX takes an array in a legacy formula, on any row: B2*C2"),
+    ("implicit", "I!AL9", Unknown, "SUMIF with a criterion that failed to intersect (#VALUE!): no Excel source"),
+    ("implicit", "I!BB9", Unknown, "COUNTIF with a criterion that failed to intersect (#VALUE!): no Excel source"),
 ];
 
 fn data() -> PathBuf {
@@ -525,6 +530,11 @@ fn errors_inside_ranges_and_arrays_iferror_aggregate_subtotal() {
 #[test]
 fn design_units_regression_bases_references_text_and_logic() {
     check("design_more");
+}
+
+#[test]
+fn legacy_formulas_cut_ranges_to_their_row_except_where_arrays_are_taken() {
+    check("implicit");
 }
 
 #[test]

@@ -11,7 +11,7 @@ from openpyxl.workbook.defined_name import DefinedName
 out = sys.argv[1]
 PROBES = ["tables", "three_d", "cse", "dates1904", "names", "iterate_converge", "iterate_capped", "text_formats",
           "errors", "engineering", "lookups", "rounding", "trig_criteria", "text_numbers", "schedule",
-          "error_ranges", "design_more"]
+          "error_ranges", "design_more", "implicit"]
 if out == "--list":
     print(" ".join(PROBES))
     sys.exit(0)
@@ -759,6 +759,39 @@ def design_more():
     save(wb, "design_more")
 
 
+# Legacy (pre-dynamic-array) formulas: a range where a function wants one value is cut to the
+# formula's row, except in parameters that take arrays (SUMPRODUCT, LOOKUP's vectors, INDEX's
+# array…). Each formula is written in rows 3 (inside the data's rows) and 9 (outside).
+IMPLICIT = [
+    "=MATCH(1,(A1:A6=\"b\")*(B1:B6=2),0)", "=MATCH(1,INDEX((A1:A6=\"b\")*(B1:B6=2),0),0)", "=SUM(B1:B6*C1:C6)",
+    "=SUM((B1:B6>1)*1)", "=MAX(IF(B1:B6>1,C1:C6))", "=LOOKUP(2,1/(A1:A6=\"b\"),C1:C6)", "=COUNT(1/(B1:B6>1))",
+    "=SUMPRODUCT((B1:B6>1)*C1:C6)", "=AND(B1:B6>0)", "=B1:B6*2", "=ABS(B1:B6)", "=B1:B6", "=A1:A6&\"x\"",
+    "=INDEX(C1:C6,MATCH(\"b\",A1:A6,0))", "=VLOOKUP(A1:A6,A1:C6,3,FALSE)", "=IF(B1:B6>1,\"big\",\"small\")",
+    "=SUMIF(A1:A6,A1:A6,C1:C6)", "=ROUND(C1:C6,0)", "=N(B1:B6)", "=ROWS(B1:B6*2)", "=SUM(B1:B6)", "=MIN(B1:B6*C1:C6)",
+    "=INDEX(B1:B6*C1:C6,2)", "=SUMPRODUCT(B1:B6,C1:C6)", "=COUNTIF(B1:B6,B1:B6)", "=ISNUMBER(B1:B6)", "=LEN(A1:A6)",
+    "=SUM(IF(A1:A6=\"b\",C1:C6,0))", "=AVERAGE(IF(B1:B6>1,C1:C6))", "=TEXT(C1:C6,\"0.0\")", "=B:B", "=SUM(B:B*1)",
+    "=MMULT(TRANSPOSE(B1:B6),C1:C6)", "=SUMPRODUCT(--(A1:A6=\"b\"),C1:C6)", "=MATCH(MAX(C1:C6*(A1:A6=\"b\")),C1:C6,0)",
+    "=B2:D2", "=SUM(B2:D2*2)", "=2:2", "=OR(A1:A6=\"c\")", "=CONCATENATE(A1:A6)",
+]
+
+
+def implicit():
+    wb = Workbook()
+    s = wb.active
+    s.title = "I"
+    for r, (a, b, c) in enumerate([("a", 1, 1.5), ("b", 2, 2.5), ("c", 3, 3.5), ("b", 4, 4.5), ("a", 0, 5.5), ("d", -1, 6.5)],
+                                  start=1):
+        s.cell(row=r, column=1, value=a)
+        s.cell(row=r, column=2, value=b)
+        s.cell(row=r, column=3, value=c)
+    for k, fo in enumerate(IMPLICIT):
+        col = 6 + 2 * k
+        s.cell(row=3, column=col, value=fo)
+        s.cell(row=9, column=col, value=fo)
+        s.cell(row=12, column=col, value=fo[1:])
+    save(wb, "implicit")
+
+
 tables()
 three_d()
 cse()
@@ -776,3 +809,4 @@ text_numbers()
 schedule()
 error_ranges()
 design_more()
+implicit()
