@@ -406,6 +406,17 @@ const EXCEL_NOT_LIBREOFFICE: &[(&str, &str, Excel, &str)] = &[
     ("implicit", "I!AX9", Num(5.0), "INDEX takes an array in a legacy formula, on any row: B2*C2"),
     ("implicit", "I!AL9", Unknown, "SUMIF with a criterion that failed to intersect (#VALUE!): no Excel source"),
     ("implicit", "I!BB9", Unknown, "COUNTIF with a criterion that failed to intersect (#VALUE!): no Excel source"),
+    ("compare_criteria", "C!A15", Unknown, "COUNTIF with a bare \">\": no Excel source"),
+    ("compare_criteria", "C!A22", Unknown, "COUNTIF with \">=\" and a blank cell: no Excel source"),
+    ("compare_criteria", "C!A20", Unknown, "COUNTIF(range,8) over the text \" 8\": whether Excel trims before reading it as 8, no source"),
+    ("compare_criteria", "C!A37", Bool(true), "a boolean is greater than any number in Excel (sort order: numbers, text, logical values)"),
+    ("compare_criteria", "C!A48", Bool(false), "(0.1+0.2)-0.3 is 5.55E-17, not 0, when compared (KB 78113; see the test below)"),
+    ("compare_criteria", "C!A68", Num(10.0), "MIN counts the number text typed as an argument, not the one in a cell (MIN page)"),
+    ("compare_criteria", "C!A76", Err("#REF!"), "OFFSET with height 0 is #REF!"),
+    ("compare_criteria", "C!A77", Err("#REF!"), "OFFSET above the sheet's edge is #REF! (OFFSET page)"),
+    ("compare_criteria", "C!A78", Unknown, "OFFSET with a negative height: Excel's page says height must be positive; no source for what it does"),
+    ("compare_criteria", "C!A81", Err("#REF!"), "INDEX: a row outside the range is #REF! (INDEX page)"),
+    ("compare_criteria", "C!A82", Err("#REF!"), "INDEX: a column outside the range is #REF! (INDEX page)"),
 ];
 
 fn data() -> PathBuf {
@@ -535,6 +546,11 @@ fn design_units_regression_bases_references_text_and_logic() {
 #[test]
 fn legacy_formulas_cut_ranges_to_their_row_except_where_arrays_are_taken() {
     check("implicit");
+}
+
+#[test]
+fn comparisons_operators_duplicate_keys_criteria_shapes_and_reference_functions() {
+    check("compare_criteria");
 }
 
 #[test]

@@ -11,7 +11,7 @@ from openpyxl.workbook.defined_name import DefinedName
 out = sys.argv[1]
 PROBES = ["tables", "three_d", "cse", "dates1904", "names", "iterate_converge", "iterate_capped", "text_formats",
           "errors", "engineering", "lookups", "rounding", "trig_criteria", "text_numbers", "schedule",
-          "error_ranges", "design_more", "implicit"]
+          "error_ranges", "design_more", "implicit", "compare_criteria"]
 if out == "--list":
     print(" ".join(PROBES))
     sys.exit(0)
@@ -792,6 +792,43 @@ def implicit():
     save(wb, "implicit")
 
 
+def compare_criteria():
+    wb = Workbook()
+    s = wb.active
+    s.title = "C"
+    d = wb.create_sheet("D")
+    for i, (a, b) in enumerate([(1, "a"), (2, "b"), (2, "c"), (2, "d"), (3, "e"), (None, "f"), (5, "g"), ("x", "h"),
+                                (7, "i"), (" 8", "j")], start=1):
+        if a is not None:
+            d.cell(row=i, column=1, value=a)
+        d.cell(row=i, column=2, value=b)
+    for i, v in enumerate([10, 20, 30, 40, 50, 60, 70, 80, 90, 100], start=1):
+        d.cell(row=i, column=3, value=v)
+    for i, v in enumerate(["a-b", "ab", "a b", "A", "a", "B", "_x", "10", "9", ""], start=1):
+        if v != "":
+            d.cell(row=i, column=4, value=v)
+    listed(s, [
+        "=VLOOKUP(2,D!A1:B5,2,TRUE)", "=MATCH(2,D!A1:A5,1)", "=MATCH(2,D!A1:A5,0)", "=VLOOKUP(4,D!A1:B7,2)",
+        "=VLOOKUP(6,D!A1:B9,2)", "=LOOKUP(2,D!A1:A5,D!B1:B5)", "=MATCH(2.5,{1,2,2,2,3})", "=HLOOKUP(2,{1,2,2,3;\"a\",\"b\",\"c\",\"d\"},2)",
+        "=SUMIF(D!A1:A10,\">1\",D!C1)", "=SUMIF(D!A1:A10,2,D!C1:C2)", "=SUMIF(D!A1:A5,2,D!C3:C3)", "=AVERAGEIF(D!A1:A10,2,D!C1)",
+        "=COUNTIFS(D!A1:A10,\">1\",D!C1:C5,\">0\")", "=SUMIFS(D!C1:C10,D!A1:A5,2)", "=COUNTIF(D!A1:A10,\">\")",
+        "=COUNTIF(D!A1:A10,\"<\")", "=COUNTIF(D!A1:A10,\"=\")", "=COUNTIF(D!A1:A10,\"<>\")", "=COUNTIF(D!A1:A10,\" 8\")",
+        "=COUNTIF(D!A1:A10,8)", "=COUNTIF(D!A1:A10,\">=2\")", "=COUNTIF(D!A1:A10,\">=\"&D!A6)", "=COUNTIF(D!A1:A10,D!A6)",
+        "=COUNTIF(D!D1:D10,\"a*\")", "=COUNTIF(D!D1:D10,\">a\")", "=COUNTIF(D!D1:D10,\"<b\")", "=COUNTIF(D!D1:D10,\">9\")",
+        "=COUNTIF(D!D1:D10,\"<>a\")", "=COUNTIF(D!D1:D10,\"a?b\")", "=COUNTIF(D!D1:D10,\"<=\"&\"ab\")",
+        "=\"a\"<\"B\"", "=\"a\"=\"A\"", "=\"10\">\"9\"", "=\"a-b\"<\"ab\"", "=\"a b\"<\"ab\"", "=\"_x\"<\"a\"", "=TRUE>1", "=\"a\">1",
+        "=FALSE<TRUE", "=\"\"<\"a\"", "=D!A6=0", "=D!A6=\"\"", "=D!A6<1", "=D!A6>\"\"", "=\"1\"=1", "=1=1.0000000000000002",
+        "=0.1+0.2=0.3", "=(0.1+0.2)-0.3=0", "=1E-16=0", "=10%^2", "=-D!A7^2", "=2^-2", "=-2^-2", "=5%%", "=2*-3^2",
+        "=\"a\"&1=\"a1\"", "=1&2+3", "=1+2&3", "=\"x\"&-1", "=10-5-2", "=2^3^2", "=-(-2)^2", "=1/3*3=1", "=ROUND(1/3,15)*3",
+        "=D!A1:A3=2", "=SUM((D!A1:A5=2)*1)", "=MAX(D!D1:D10)", "=MIN(\"10\",D!D8)", "=CODE(D!D7)", "=MATCH(\"b\",D!D1:D10,0)",
+        "=MATCH(\"B\",D!D1:D10,0)", "=MATCH(\"a b\",D!D1:D10,0)", "=MATCH(\"10\",D!D1:D10,0)", "=MATCH(10,D!D1:D10,0)",
+        "=VLOOKUP(\"ab\",D!D1:D6,1,FALSE)", "=OFFSET(D!A1,0,0,0,1)", "=OFFSET(D!A1,-1,0)", "=SUM(OFFSET(D!C1,2,0,-2,1))",
+        "=INDEX(D!A1:C10,0,3)", "=SUM(INDEX(D!A1:C10,2,0))", "=INDEX(D!A1:C10,11,1)", "=INDEX(D!A1:C10,1,4)",
+        "=INDEX((D!A1:A3,D!C1:C3),2,1,2)", "=AREAS((D!A1:A3,D!C1:C3))", "=ROW(INDEX(D!A1:A10,4))", "=SUM(D!A1:INDEX(D!A1:A10,4))",
+    ])
+    save(wb, "compare_criteria")
+
+
 tables()
 three_d()
 cse()
@@ -810,3 +847,4 @@ schedule()
 error_ranges()
 design_more()
 implicit()
+compare_criteria()
