@@ -222,7 +222,6 @@ const EXCEL_NOT_LIBREOFFICE: &[(&str, &str, Excel, &str)] = &[
     ("rounding", "R!J41", Err("#NUM!"), "MROUND: number and multiple of different signs are #NUM!"),
     ("rounding", "R!L41", Err("#NUM!"), "MROUND: number and multiple of different signs are #NUM!"),
     ("rounding", "R!R41", Err("#NUM!"), "MROUND: number and multiple of different signs are #NUM!"),
-    ("rounding", "R!Q41", Unknown, "MROUND(4.35,0.1): Excel rounds halves of decimal multiples inconsistently (MROUND(4.05,0.1)=4.0 but MROUND(2.05,0.1)=2.1, bettersolutions.com MROUND page): no rule settles it"),
     ("rounding", "R!A11", Rem(2.5, 0.1), "MOD: Excel 2010+ returns the exact binary remainder (MOD(10,0.1) is 0.1, TechNet \"Excel 2010 MOD bug\"; MOD(0.9,0.3) is 5.55E-17, Super User 617791); LibreOffice snaps to 0"),
     ("rounding", "R!B11", Rem(-2.5, 0.1), "MOD: Excel 2010+ returns the exact binary remainder (MOD(10,0.1) is 0.1, TechNet \"Excel 2010 MOD bug\"; MOD(0.9,0.3) is 5.55E-17, Super User 617791); LibreOffice snaps to 0"),
     ("rounding", "R!C11", Rem(0.5, 0.1), "MOD: Excel 2010+ returns the exact binary remainder (MOD(10,0.1) is 0.1, TechNet \"Excel 2010 MOD bug\"; MOD(0.9,0.3) is 5.55E-17, Super User 617791); LibreOffice snaps to 0"),
