@@ -553,6 +553,11 @@ fn comparisons_operators_duplicate_keys_criteria_shapes_and_reference_functions(
 }
 
 #[test]
+fn formulas_with_spaces_and_line_breaks_between_tokens() {
+    check("spacing");
+}
+
+#[test]
 fn iterative_calculation_converging_and_capped() {
     check("iterate_converge");
     check("iterate_capped");

@@ -11,7 +11,7 @@ from openpyxl.workbook.defined_name import DefinedName
 out = sys.argv[1]
 PROBES = ["tables", "three_d", "cse", "dates1904", "names", "iterate_converge", "iterate_capped", "text_formats",
           "errors", "engineering", "lookups", "rounding", "trig_criteria", "text_numbers", "schedule",
-          "error_ranges", "design_more", "implicit", "compare_criteria"]
+          "error_ranges", "design_more", "implicit", "compare_criteria", "spacing"]
 if out == "--list":
     print(" ".join(PROBES))
     sys.exit(0)
@@ -829,6 +829,30 @@ def compare_criteria():
     save(wb, "compare_criteria")
 
 
+# Formulas as engineers type them: spaces and line breaks (Alt+Enter) between tokens, which
+# Excel keeps in the file; a space between two references is the intersection operator.
+SPACING = [
+    "=SUM( A1 , B1 )", "= A1+B1", "=A1 +\nB1", "=IF(A1>0 ,\n  \"pos\" ,\n  \"neg\" )", "=A1 * 2", "= - 2", "=A1 - -B1",
+    "=SUM(A1:B2 B1:C3)", "=SUM(A1:A3 )", "=SUM( A1:A3)", "=(A1:C1 B1:B3)", "=ROUND( PI( ) , 3 )", "=\tA1+1",
+    "=A1\r\n+1", "=SUM(A1:A3,\n B1:B3)", "=IF( A1 = 1 , \"one\" , \"other\" )", "={1 , 2 , 3}", "=SUM({1 ,2; 3, 4})",
+    "=MAX( (A1:A3) )", "=\"a \" & \" b\"", "=A1 %", "=2 ^ 3", "=INDEX( A1:C3 , 2 , 3 )", "=A1:A3 A2:C2",
+    "=SUM((A1:A3 A2:C2))", "=ISREF(A1 B1)", "=ISERROR(A1 B2)", "=A1  +  B1", "=COUNT(A1:C3 )",
+]
+
+
+def spacing():
+    wb = Workbook()
+    s = wb.active
+    s.title = "S"
+    for r in range(1, 4):
+        for c in range(1, 4):
+            s.cell(row=r, column=c, value=r * 10 + c)
+    for i, fo in enumerate(SPACING, start=1):
+        s.cell(row=i, column=5, value=fo)
+        s.cell(row=i, column=6, value=repr(fo))
+    save(wb, "spacing")
+
+
 tables()
 three_d()
 cse()
@@ -848,3 +872,4 @@ error_ranges()
 design_more()
 implicit()
 compare_criteria()
+spacing()
