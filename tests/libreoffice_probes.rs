@@ -416,6 +416,37 @@ const EXCEL_NOT_LIBREOFFICE: &[(&str, &str, Excel, &str)] = &[
     ("compare_criteria", "C!A78", Unknown, "OFFSET with a negative height: Excel's page says height must be positive; no source for what it does"),
     ("compare_criteria", "C!A81", Err("#REF!"), "INDEX: a row outside the range is #REF! (INDEX page)"),
     ("compare_criteria", "C!A82", Err("#REF!"), "INDEX: a column outside the range is #REF! (INDEX page)"),
+    ("stats_edges", "St!A1", Unknown, "LARGE with a fractional k: no Excel source for how k is rounded"),
+    ("stats_edges", "St!A3", Err("#NUM!"), "LARGE with k <= 0 is #NUM! (LARGE page)"),
+    ("stats_edges", "St!A4", Num(9.0), "SMALL: the 9th of the nine numbers; LibreOffice has no boolean type (TRUE is 1); Excel skips the TRUE of a range"),
+    ("stats_edges", "St!A8", Err("#NUM!"), "PERCENTILE with k > 1 is #NUM! (PERCENTILE page)"),
+    ("stats_edges", "St!A10", Num(4.0), "PERCENTILE.EXC(…,0.5) of 1,1,2,3,4,5,5,6,9 is 4; LibreOffice has no boolean type (TRUE is 1); Excel skips the TRUE of a range"),
+    ("stats_edges", "St!A12", Err("#NUM!"), "QUARTILE with quart > 4 is #NUM! (QUARTILE page)"),
+    ("stats_edges", "St!A13", Num(4.0), "QUARTILE truncates quart: the median 4; LibreOffice has no boolean type (TRUE is 1); Excel skips the TRUE of a range"),
+    ("stats_edges", "St!A14", Num(1.5), "QUARTILE.EXC(…,1): position 2.5 of 1,1,2,…: 1.5; LibreOffice has no boolean type (TRUE is 1); Excel skips the TRUE of a range"),
+    ("stats_edges", "St!A15", Num(4.0), "MEDIAN of the nine numbers; LibreOffice has no boolean type (TRUE is 1); Excel skips the TRUE of a range"),
+    ("stats_edges", "St!A17", Err("#N/A"), "MODE.SNGL without a repeated number is #N/A"),
+    ("stats_edges", "St!A20", Num(8.5), "RANK.AVG: 1 is 8th and 9th of nine descending; LibreOffice has no boolean type (TRUE is 1); Excel skips the TRUE of a range"),
+    ("stats_edges", "St!A21", Num(6.5), "RANK.AVG ascending: 5 is 6th and 7th; LibreOffice has no boolean type (TRUE is 1); Excel skips the TRUE of a range"),
+    ("stats_edges", "St!A22", Err("#N/A"), "RANK of a number not in the list is #N/A"),
+    ("stats_edges", "St!A24", Num(2.598076211353316), "STDEV of 3,1,4,1,5,9,2,6,5: sqrt(54/8); LibreOffice has no boolean type (TRUE is 1); Excel skips the TRUE of a range"),
+    ("stats_edges", "St!A25", Num(1.5), "STDEV counts logical values and number texts typed as arguments (STDEV page): 3,1,4,1"),
+    ("stats_edges", "St!A35", Num(4.0), "TRIMMEAN(…,0.2) of nine: 1.8 rounds down to 0 excluded points (TRIMMEAN page); LibreOffice has no boolean type (TRUE is 1); Excel skips the TRUE of a range"),
+    ("stats_edges", "St!A36", Num(26.0/7.0), "TRIMMEAN(…,0.25) of nine: 2 points excluded; LibreOffice has no boolean type (TRUE is 1); Excel skips the TRUE of a range"),
+    ("stats_edges", "St!A37", Unknown, "GEOMEAN of the nine numbers (LibreOffice has no boolean type (TRUE is 1); Excel skips the TRUE of a range): checked by the ones above"),
+    ("stats_edges", "St!A38", Unknown, "HARMEAN of the nine numbers (LibreOffice has no boolean type (TRUE is 1); Excel skips the TRUE of a range): checked by the ones above"),
+    ("stats_edges", "St!A39", Unknown, "KURT of the nine numbers (LibreOffice has no boolean type (TRUE is 1); Excel skips the TRUE of a range): checked by the ones above"),
+    ("stats_edges", "St!A40", Unknown, "SKEW of the nine numbers (LibreOffice has no boolean type (TRUE is 1); Excel skips the TRUE of a range): checked by the ones above"),
+    ("stats_edges", "St!A41", Num(0.5), "PERCENTRANK(…,4): 4 numbers below of 9, 4/8; LibreOffice has no boolean type (TRUE is 1); Excel skips the TRUE of a range"),
+    ("stats_edges", "St!A42", Num(0.56), "PERCENTRANK(…,4.5,2): 0.5625 truncated to 2 digits; LibreOffice has no boolean type (TRUE is 1); Excel skips the TRUE of a range"),
+    ("stats_edges", "St!A43", Num(0.5), "PERCENTRANK.EXC(…,4): (4+1)/(9+1); LibreOffice has no boolean type (TRUE is 1); Excel skips the TRUE of a range"),
+    ("stats_edges", "St!A66", Num(9.0), "FREQUENCY counts the nine numbers; LibreOffice has no boolean type (TRUE is 1); Excel skips the TRUE of a range"),
+    ("stats_edges", "St!A68", Num(10.0), "MAX counts the number text typed as an argument (MAX page)"),
+    ("stats_edges", "St!A69", Num(0.0), "SUM skips text and TRUE in a range; LibreOffice has no boolean type (TRUE is 1); Excel skips the TRUE of a range"),
+    ("stats_edges", "St!A70", Num(0.0), "PRODUCT of a range without numbers is 0; LibreOffice has no boolean type (TRUE is 1); Excel skips the TRUE of a range"),
+    ("stats_edges", "St!A71", Err("#DIV/0!"), "AVERAGE of a range without numbers is #DIV/0!; LibreOffice has no boolean type (TRUE is 1); Excel skips the TRUE of a range"),
+    ("stats_edges", "St!A76", Err("#NUM!"), "FACT past 170 overflows: #NUM!"),
+    ("stats_edges", "St!A78", Num(54.0), "DEVSQ of the nine numbers; LibreOffice has no boolean type (TRUE is 1); Excel skips the TRUE of a range"),
 ];
 
 fn data() -> PathBuf {
@@ -555,6 +586,11 @@ fn comparisons_operators_duplicate_keys_criteria_shapes_and_reference_functions(
 #[test]
 fn formulas_with_spaces_and_line_breaks_between_tokens() {
     check("spacing");
+}
+
+#[test]
+fn statistics_at_their_edges_fractional_k_ties_text_and_booleans() {
+    check("stats_edges");
 }
 
 #[test]

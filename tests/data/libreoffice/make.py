@@ -11,7 +11,7 @@ from openpyxl.workbook.defined_name import DefinedName
 out = sys.argv[1]
 PROBES = ["tables", "three_d", "cse", "dates1904", "names", "iterate_converge", "iterate_capped", "text_formats",
           "errors", "engineering", "lookups", "rounding", "trig_criteria", "text_numbers", "schedule",
-          "error_ranges", "design_more", "implicit", "compare_criteria", "spacing"]
+          "error_ranges", "design_more", "implicit", "compare_criteria", "spacing", "stats_edges"]
 if out == "--list":
     print(" ".join(PROBES))
     sys.exit(0)
@@ -853,6 +853,37 @@ def spacing():
     save(wb, "spacing")
 
 
+def stats_edges():
+    wb = Workbook()
+    s = wb.active
+    s.title = "St"
+    d = wb.create_sheet("D")
+    for i, v in enumerate([3, 1, 4, 1, 5, 9, 2, 6, "x", True, None, 5], start=1):
+        if v is not None:
+            d.cell(row=i, column=1, value=v)
+    for i, v in enumerate([2.5, 3.5, 1.5, 4.5], start=1):
+        d.cell(row=i, column=2, value=v)
+    listed(s, [
+        "=LARGE(D!A1:A12,1.5)", "=SMALL(D!A1:A12,2.1)", "=LARGE(D!A1:A12,0)", "=SMALL(D!A1:A12,9)", "=LARGE(D!A1:A12,9)",
+        "=PERCENTILE(D!A1:A12,0)", "=PERCENTILE(D!A1:A12,1)", "=PERCENTILE(D!A1:A12,1.1)", "=_xlfn.PERCENTILE.EXC(D!A1:A12,0.1)",
+        "=_xlfn.PERCENTILE.EXC(D!A1:A12,0.5)", "=QUARTILE(D!A1:A12,4)", "=QUARTILE(D!A1:A12,5)", "=QUARTILE(D!A1:A12,2.7)",
+        "=_xlfn.QUARTILE.EXC(D!A1:A12,1)", "=MEDIAN(D!A1:A12)", "=MODE(D!A1:A12)", "=_xlfn.MODE.SNGL(D!B1:B4)", "=RANK(1,D!A1:A12)",
+        "=RANK(5,D!A1:A12)", "=_xlfn.RANK.AVG(1,D!A1:A12)", "=_xlfn.RANK.AVG(5,D!A1:A12,1)", "=RANK(7,D!A1:A12)", "=_xlfn.RANK.EQ(9,D!A1:A12)",
+        "=STDEV(D!A1:A12)", "=STDEV(3,1,\"4\",TRUE)", "=STDEVA(D!A1:A12)", "=VAR(D!A1:A1)", "=VARA(D!A1:A12)", "=STDEVPA(D!A1:A12)",
+        "=AVERAGEA(D!A1:A12)", "=MAXA(D!A1:A12)", "=MINA(D!A1:A12)", "=COUNTA(D!A1:A12)", "=COUNTBLANK(D!A1:A12)",
+        "=TRIMMEAN(D!A1:A12,0.2)", "=TRIMMEAN(D!A1:A12,0.25)", "=GEOMEAN(D!A1:A12)", "=HARMEAN(D!A1:A12)", "=KURT(D!A1:A12)",
+        "=SKEW(D!A1:A12)", "=PERCENTRANK(D!A1:A12,4)", "=PERCENTRANK(D!A1:A12,4.5,2)", "=_xlfn.PERCENTRANK.EXC(D!A1:A12,4)",
+        "=STANDARDIZE(5,4,2)", "=NORMDIST(1,0,1,TRUE)", "=NORMSINV(0.975)", "=_xlfn.NORM.INV(0.9,10,2)", "=TDIST(2,10,2)", "=TINV(0.05,10)",
+        "=CONFIDENCE(0.05,2,50)", "=CHIDIST(3,2)", "=FDIST(2,3,10)", "=BINOMDIST(3,10,0.5,FALSE)", "=POISSON(2,3,TRUE)",
+        "=EXPONDIST(1,2,TRUE)", "=WEIBULL(1,2,3,TRUE)", "=GAMMADIST(2,3,1,TRUE)", "=LOGNORMDIST(2,0,1)", "=CORREL(D!A1:A4,D!B1:B4)",
+        "=COVAR(D!A1:A4,D!B1:B4)", "=_xlfn.COVARIANCE.S(D!A1:A4,D!B1:B4)", "=PEARSON(D!A1:A4,D!B1:B4)", "=SUMPRODUCT(LARGE(D!A1:A12,{1,2,3}))",
+        "=SUM(SMALL(D!A1:A12,{1,2}))", "=INDEX(FREQUENCY(D!A1:A12,{2,4}),3)", "=SUM(FREQUENCY(D!A1:A12,{2,4}))",
+        "=ROWS(FREQUENCY(D!A1:A12,{2,4}))", "=MAX(D!A1:A12,\"10\")", "=SUM(D!A9:A10)", "=PRODUCT(D!A9:A11)", "=AVERAGE(D!A9:A11)",
+        "=FISHER(0.5)", "=FISHERINV(0.5)", "=GAMMALN(4)", "=FACT(170)", "=FACT(171)", "=COMBIN(1030,515)", "=DEVSQ(D!A1:A12)",
+    ])
+    save(wb, "stats_edges")
+
+
 tables()
 three_d()
 cse()
@@ -873,3 +904,4 @@ design_more()
 implicit()
 compare_criteria()
 spacing()
+stats_edges()
