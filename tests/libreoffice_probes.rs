@@ -447,6 +447,54 @@ const EXCEL_NOT_LIBREOFFICE: &[(&str, &str, Excel, &str)] = &[
     ("stats_edges", "St!A71", Err("#DIV/0!"), "AVERAGE of a range without numbers is #DIV/0!; LibreOffice has no boolean type (TRUE is 1); Excel skips the TRUE of a range"),
     ("stats_edges", "St!A76", Err("#NUM!"), "FACT past 170 overflows: #NUM!"),
     ("stats_edges", "St!A78", Num(54.0), "DEVSQ of the nine numbers; LibreOffice has no boolean type (TRUE is 1); Excel skips the TRUE of a range"),
+    ("date_formats", "F!E2", Text("Sat 00-Jan"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!F2", Text("Sun 01-Jan"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!I2", Text("Mon 02-Jan"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!E3", Text("1900-01-00 12:00:00"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!F3", Text("1900-01-01 06:00:00"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!G3", Text("2023-03-15 00:00:09"), "0.0001 day is 8.64 s: Excel rounds to the whole second shown, LibreOffice truncates"),
+    ("date_formats", "F!I3", Text("1900-01-02 18:00:00"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!E4", Text("January 0, 1900"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!F4", Text("January 1, 1900"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!I4", Text("January 2, 1900"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!E5", Text("1/0/1900 12:00 PM"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!F5", Text("1/1/1900 6:00 AM"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!I5", Text("1/2/1900 6:00 PM"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!E8", Text("0-Jan"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!F8", Text("1-Jan"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!I8", Text("2-Jan"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!E9", Text("J"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!F9", Text("J"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!E11", Text("00"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!F11", Text("00"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!G13", Text("12:00:09 AM"), "0.0001 day is 8.64 s: Excel rounds to the whole second shown, LibreOffice truncates"),
+    ("date_formats", "F!E16", Text("01/00"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!F16", Text("01/01"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!I16", Text("01/02"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!E17", Text("0.1.1900"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!F17", Text("1.1.1900"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!I17", Text("2.1.1900"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!E19", Text("00/01/1900 12:00"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!F19", Text("01/01/1900 06:00"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!I19", Text("02/01/1900 18:00"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!E20", Text("Jan-00"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!F20", Text("Jan-00"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!E23", Text("1900-W"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!F23", Text("1900-W"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!E24", Text("Sat, Jan 0"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!F24", Text("Sun, Jan 1"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!I24", Text("Mon, Jan 2"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!E26", Text("1"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!F26", Text("1"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!G27", Text("00:09"), "0.0001 day is 8.64 s: Excel rounds to the whole second shown, LibreOffice truncates"),
+    ("date_formats", "F!B28", Text("P 6"), "A/P shows A or P in the case the code is written (Excel's number format codes page: AM, am, A or a)"),
+    ("date_formats", "F!C28", Text("A 12"), "A/P shows A or P in the case the code is written (Excel's number format codes page: AM, am, A or a)"),
+    ("date_formats", "F!D28", Text("P 11"), "A/P shows A or P in the case the code is written (Excel's number format codes page: AM, am, A or a)"),
+    ("date_formats", "F!E28", Text("P 12"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!F28", Text("A 6"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
+    ("date_formats", "F!G28", Text("A 12"), "A/P shows A or P in the case the code is written (Excel's number format codes page: AM, am, A or a)"),
+    ("date_formats", "F!H28", Text("P 12"), "A/P shows A or P in the case the code is written (Excel's number format codes page: AM, am, A or a)"),
+    ("date_formats", "F!I28", Text("P 6"), "serials 0.5, 1.25, 2.75 are 1900-01-00, -01 and -02 in Excel's 1900 system (LibreOffice counts from 1899-12-30)"),
 ];
 
 fn data() -> PathBuf {
@@ -591,6 +639,11 @@ fn formulas_with_spaces_and_line_breaks_between_tokens() {
 #[test]
 fn statistics_at_their_edges_fractional_k_ties_text_and_booleans() {
     check("stats_edges");
+}
+
+#[test]
+fn text_of_dates_and_times_in_schedule_formats() {
+    check("date_formats");
 }
 
 #[test]

@@ -11,7 +11,7 @@ from openpyxl.workbook.defined_name import DefinedName
 out = sys.argv[1]
 PROBES = ["tables", "three_d", "cse", "dates1904", "names", "iterate_converge", "iterate_capped", "text_formats",
           "errors", "engineering", "lookups", "rounding", "trig_criteria", "text_numbers", "schedule",
-          "error_ranges", "design_more", "implicit", "compare_criteria", "spacing", "stats_edges"]
+          "error_ranges", "design_more", "implicit", "compare_criteria", "spacing", "stats_edges", "date_formats"]
 if out == "--list":
     print(" ".join(PROBES))
     sys.exit(0)
@@ -884,6 +884,24 @@ def stats_edges():
     save(wb, "stats_edges")
 
 
+def date_formats():
+    wb = Workbook()
+    s = wb.active
+    s.title = "F"
+    values = [45292.75, 45351.0, 45658.999994, 0.5, 1.25, 45000.0001, 45382.5208333333, 2.75]
+    fmts = ["ddd dd-mmm", "yyyy-mm-dd hh:mm:ss", "[$-409]mmmm d, yyyy;@", "m/d/yyyy h:mm AM/PM", "hh:mm:ss.000", "[mm]",
+            "d-mmm", "mmmmm", "dddd", "yy", "h:mm", "h:mm:ss AM/PM", "[h]:mm", "[ss]", "mm/dd", "d.m.yyyy", "hh\"h\"mm",
+            "dd/mm/yyyy hh:mm", "mmm-yy", "h AM/PM", "s.00", "yyyy\"-W\"", "ddd, mmm d", "[h]:mm:ss.0", "m", "mm:ss", "A/P h"]
+    for c, v in enumerate(values, start=2):
+        s.cell(row=1, column=c, value=v)
+    for r, fm in enumerate(fmts, start=2):
+        s.cell(row=r, column=1, value=fm)
+        for c in range(2, 2 + len(values)):
+            col = s.cell(row=1, column=c).column_letter
+            s.cell(row=r, column=c, value=f"=TEXT({col}$1,$A{r})")
+    save(wb, "date_formats")
+
+
 tables()
 three_d()
 cse()
@@ -905,3 +923,4 @@ implicit()
 compare_criteria()
 spacing()
 stats_edges()
+date_formats()
