@@ -52,7 +52,31 @@ pub fn to_bool(v: &Value) -> XlResult<bool> {
 pub fn parse_number(text: &str) -> Option<f64> {
     // Excel reads " 2024-01-10 " as text although it reads " 100 " as a number: date text is
     // read untrimmed.
-    parse_plain_number(text).or_else(|| dates::parse_date_text(text).map(DateText::serial))
+    parse_plain_number(text)
+        .or_else(|| parse_mixed_fraction(text))
+        .or_else(|| dates::parse_date_text(text).map(DateText::serial))
+}
+
+/// `1 1/2` → 1.5 and `-2 3/4` → -2.75: a whole number, a space and a proper fraction, as Excel
+/// reads a fraction typed into a cell (VALUE("1 1/2") is 1.5). A bare `1/2` is a date there,
+/// so it is left to the date reading.
+fn parse_mixed_fraction(text: &str) -> Option<f64> {
+    let t = text.trim();
+    let (negative, t) = match t.strip_prefix('-') {
+        Some(rest) => (true, rest),
+        None => (false, t.strip_prefix('+').unwrap_or(t)),
+    };
+    let (whole, fraction) = t.split_once(' ')?;
+    let (numerator, denominator) = fraction.trim_start().split_once('/')?;
+    let digits = |s: &str| -> Option<f64> {
+        (!s.is_empty() && s.len() <= 15 && s.bytes().all(|b| b.is_ascii_digit())).then(|| s.parse().ok()).flatten()
+    };
+    let (w, n, d) = (digits(whole)?, digits(numerator)?, digits(denominator)?);
+    if d == 0.0 || n >= d {
+        return None;
+    }
+    let v = w + n / d;
+    Some(if negative { -v } else { v })
 }
 
 /// [`parse_number`] without dates and times: what VBA's `IsNumeric` accepts.

@@ -13,8 +13,8 @@ cat > "$tmp/user/registrymodifications.xcu" <<'XCU'
 <item oor:path="/org.openoffice.Office.Calc/Formula/Load"><prop oor:name="OOXMLRecalcMode" oor:op="fuse"><value>0</value></prop></item>
 </oor:items>
 XCU
-python3 make.py "$here"
-for f in $(python3 make.py --list); do
+python3 make.py "$here" "$@"
+for f in ${*:-$(python3 make.py --list)}; do
     # A probe with a .fods beside it takes its values from that (the same cells in ODF's spelling).
     src="$here/$f.xlsx"
     [ -f "$here/$f.fods" ] && src="$here/$f.fods"

@@ -223,7 +223,8 @@ fn selected_numbers(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<f64>> {
 }
 
 fn dsum(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Ok(number_result(selected_numbers(ctx, args)?.iter().sum()))
+    Ok(number_result(selected_numbers(ctx, args)?.iter().fold(0.0, |a, x| a + x)))
+    // not -0 for none
 }
 
 fn daverage(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {

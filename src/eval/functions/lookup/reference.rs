@@ -371,9 +371,7 @@ fn subtotal(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         _ => return Err(XlError::Value),
     };
     let values = without_subtotals(ctx, &args[1..], Skip { subtotals: true, hidden, errors: false });
-    if let Some(e) = values.iter().find_map(Value::as_error) {
-        return Err(e);
-    }
+    first_error_unless_counting(code, &values)?;
     Ok(call_on(ctx, code, values, &[]))
 }
 
@@ -396,8 +394,16 @@ fn aggregate(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         (&args[2..], &args[..0])
     };
     let values = without_subtotals(ctx, refs, skip);
-    if let Some(e) = values.iter().find_map(Value::as_error) {
-        return Err(e);
-    }
+    first_error_unless_counting(code, &values)?;
     Ok(call_on(ctx, code, values, extra))
+}
+
+/// An error in the range is the result, except for COUNT (2), which skips errors as COUNT
+/// does, and COUNTA (3), which counts them: Excel's SUBTOTAL(2,…) and SUBTOTAL(3,…) over a
+/// range holding #DIV/0! are numbers.
+fn first_error_unless_counting(code: usize, values: &[Value]) -> XlResult<()> {
+    match values.iter().find_map(Value::as_error) {
+        Some(e) if !matches!(code, 2 | 3) => Err(e),
+        _ => Ok(()),
+    }
 }

@@ -398,7 +398,9 @@ fn hlookup(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     table_lookup(ctx, args, true)
 }
 
-/// VLOOKUP, and HLOOKUP as VLOOKUP on the transposed table.
+/// VLOOKUP, and HLOOKUP as VLOOKUP on the transposed table. A range or array of values
+/// looks each one up, as Excel 365 does (`VLOOKUP(A1:A6,T,2,0)` spills six results; the
+/// xlsx reader intersects it in a legacy formula, as Excel did when it saved the value).
 fn table_lookup(ctx: &mut Ctx, args: &[Expr], by_row: bool) -> XlResult<Value> {
     let key = ctx.eval(&args[0]);
     // A one-cell reference is a 1×1 table; typed text is no table at all.
@@ -408,31 +410,54 @@ fn table_lookup(ctx: &mut Ctx, args: &[Expr], by_row: bool) -> XlResult<Value> {
     };
     let offset = ctx.eval(&args[2]);
     let approximate = approximate_flag(ctx, args.get(3))?;
-    let key = lookup_key(&key)?;
-    let table = table?;
-    let offset = to_number(&offset)?.trunc();
-    let (length, width) = if by_row { (table.cols, table.rows) } else { (table.rows, table.cols) };
-    if offset < 1.0 {
-        return Err(XlError::Value);
+    let table = table.map(|t| TableLookup::new(t, by_row));
+    lift_values(&[key], &|v| {
+        let key = lookup_key(&v[0])?;
+        let table = table.as_ref().map_err(|e| *e)?;
+        table.find(&key, &offset, approximate)
+    })
+}
+
+/// A VLOOKUP or HLOOKUP table with its first column (row) read once for every key.
+struct TableLookup {
+    table: Rc<Array>,
+    by_row: bool,
+    keys: Vec<Value>,
+}
+
+impl TableLookup {
+    fn new(table: Rc<Array>, by_row: bool) -> Self {
+        let length = if by_row { table.cols } else { table.rows };
+        let mut lookup = TableLookup { table, by_row, keys: Vec::new() };
+        lookup.keys = (0..length).map(|i| lookup.at(i, 0).clone()).collect();
+        lookup
     }
-    if offset > width as f64 {
-        return Err(XlError::Ref);
-    }
-    let at = |i: usize, j: usize| {
-        if by_row {
-            table.get(j, i)
+
+    fn at(&self, i: usize, j: usize) -> &Value {
+        if self.by_row {
+            self.table.get(j, i)
         } else {
-            table.get(i, j)
+            self.table.get(i, j)
         }
-    };
-    let keys: Vec<Value> = (0..length).map(|i| at(i, 0).clone()).collect();
-    let found = if approximate {
-        binary_search_last_not_after(&key, &keys, ascending)
-    } else {
-        find_exact(&key, &keys, true, false)
-    };
-    let i = found.ok_or(XlError::NA)?;
-    Ok(at(i, offset as usize - 1).clone())
+    }
+
+    fn find(&self, key: &Value, offset: &Value, approximate: bool) -> XlResult<Value> {
+        let offset = to_number(offset)?.trunc();
+        let width = if self.by_row { self.table.rows } else { self.table.cols };
+        if offset < 1.0 {
+            return Err(XlError::Value);
+        }
+        if offset > width as f64 {
+            return Err(XlError::Ref);
+        }
+        let found = if approximate {
+            binary_search_last_not_after(key, &self.keys, ascending)
+        } else {
+            find_exact(key, &self.keys, true, false)
+        };
+        let i = found.ok_or(XlError::NA)?;
+        Ok(self.at(i, offset as usize - 1).clone())
+    }
 }
 
 /// VLOOKUP's fourth argument: TRUE when omitted, FALSE when left empty (`VLOOKUP(a,b,2,)`).

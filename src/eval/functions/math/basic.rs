@@ -599,8 +599,25 @@ fn mround(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         if x * m < 0.0 {
             return Err(XlError::Num);
         }
-        Ok(round_to(multiples(x, m), 0.0, Rounding::HalfUp) * m)
+        if x == 0.0 {
+            return Ok(0.0);
+        }
+        let q = mround_quotient(x / m);
+        if q >= 2f64.powi(52) {
+            // Every digit is a whole multiple already (and q + 0.5 would round to even).
+            return Ok(x);
+        }
+        Ok((q + 0.5).floor() * m)
     })
+}
+
+/// MROUND's quotient rounded as Excel rounds it, to 14 decimal places, before its halves go
+/// up. Excel's own results fit this and neither binary nor 15-digit rounding
+/// (bettersolutions.com's MROUND page: MROUND(2.05,0.1) is 2.1 and MROUND(7.05,0.1) 7.1,
+/// but MROUND(4.05,0.1) is 4.0 and MROUND(32.05,0.1) 32.0): the quotient
+/// 20.4999999999999964 counts as a half, 40.4999999999999929 does not.
+fn mround_quotient(q: f64) -> f64 {
+    format!("{q:.14}").parse().unwrap_or(q)
 }
 
 // ---- aggregates ---------------------------------------------------------------------------
@@ -784,6 +801,19 @@ mod tests {
             ("=MROUND(10,3)", n(9.0)),
             ("=MROUND(-10,-3)", n(-9.0)),
             ("=MROUND(1.3,0.2)", n(1.4)),
+            // Excel's results as bettersolutions.com's MROUND page lists them.
+            ("=MROUND(1.05,0.1)", n(1.1)),
+            ("=MROUND(2.05,0.1)", n(2.1)),
+            ("=MROUND(3.05,0.1)", n(3.1)),
+            ("=MROUND(4.05,0.1)", n(4.0)),
+            ("=MROUND(5.05,0.1)", n(5.0)),
+            ("=MROUND(6.05,0.1)", n(6.0)),
+            ("=MROUND(7.05,0.1)", n(7.1)),
+            ("=MROUND(8.05,0.1)", n(8.1)),
+            ("=MROUND(31.05,0.1)", n(31.1)),
+            ("=MROUND(32.05,0.1)", n(32.0)),
+            ("=MROUND(1.05,0.2)", n(1.0)),
+            ("=MROUND(0,-3)", n(0.0)),
             ("=MROUND(5,-2)", err(XlError::Num)),
             ("=MROUND(,5)", err(XlError::NA)),
             ("=QUOTIENT(TRUE,1)", err(XlError::Value)),

@@ -282,7 +282,8 @@ impl Conditions {
 }
 
 fn total(xs: &[f64]) -> XlResult<f64> {
-    Ok(xs.iter().sum())
+    // From 0, not Rust's `sum()`, whose sum of no numbers is -0: SUMIF matching nothing is 0.
+    Ok(xs.iter().fold(0.0, |a, x| a + x))
 }
 
 fn arithmetic_mean(xs: &[f64]) -> XlResult<f64> {
@@ -354,6 +355,19 @@ mod tests {
             ("C3", Value::text("")),
             ("D1", err(XlError::Div0)),
         ])
+    }
+
+    /// Excel has no negative zero: a conditional sum that matches nothing is 0, whose sign a
+    /// later ATAN2 or 1/x would otherwise see.
+    #[test]
+    fn a_conditional_sum_of_nothing_is_positive_zero() {
+        let env = env();
+        for f in ["=SUMIF(B1:B6,\">100\")", "=SUMIFS(B1:B6,B1:B6,\">100\")", "=SUMIF(C1:C3,\"zzz\",B1:B3)"] {
+            match env.eval(f) {
+                Value::Number(x) => assert!(x == 0.0 && x.is_sign_positive(), "{f}: {x:?}"),
+                other => panic!("{f}: {other:?}"),
+            }
+        }
     }
 
     #[test]

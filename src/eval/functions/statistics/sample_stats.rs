@@ -408,7 +408,8 @@ fn prob(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     if ps.iter().any(|p| !(0.0..=1.0).contains(p)) || (ps.iter().sum::<f64>() - 1.0).abs() > 1e-7 {
         return Err(XlError::Num);
     }
-    let total = xs.iter().zip(&ps).filter(|(x, _)| (lower..=upper).contains(*x)).map(|(_, p)| p).sum();
+    let total =
+        xs.iter().zip(&ps).filter(|(x, _)| (lower..=upper).contains(*x)).map(|(_, p)| p).fold(0.0, |a, p| a + p); // not -0 for none
     Ok(number_result(total))
 }
 

@@ -76,6 +76,15 @@ pub const FUNCTIONS: &[FnSpec] = &[
     ),
     FnSpec::value("VALUE", 1, 1, value, "VALUE(text)", "The number a text represents (\"1,234.5\", \"50%\", \"1e-3\")"),
     FnSpec::value(
+        "NUMBERVALUE",
+        1,
+        3,
+        numbervalue,
+        "NUMBERVALUE(text, [decimal_separator], [group_separator])",
+        "The number a text represents with the separators given (\"1.234,5\" with \",\" and \".\"); spaces are ignored, trailing % divide by 100 each",
+    )
+    .future(),
+    FnSpec::value(
         "VALUETOTEXT",
         1,
         2,
@@ -375,6 +384,54 @@ fn value(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         Value::Error(e) => Err(*e),
         _ => Err(XlError::Value),
     })
+}
+
+fn numbervalue(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift(ctx, args, &|v| {
+        let text = match &v[0] {
+            Value::Error(e) => return Err(*e),
+            other => to_text(other)?,
+        };
+        let decimal = separator(v.get(1), '.')?;
+        let group = separator(v.get(2), ',')?;
+        if decimal == group {
+            return Err(XlError::Value);
+        }
+        number_with_separators(&text, decimal, group).map(Value::Number).ok_or(XlError::Value)
+    })
+}
+
+/// The first character of a separator argument, `default` when it is left out.
+fn separator(arg: Option<&Value>, default: char) -> XlResult<char> {
+    match arg {
+        None | Some(Value::Blank) => Ok(default),
+        Some(Value::Error(e)) => Err(*e),
+        Some(v) => to_text(v)?.chars().next().ok_or(XlError::Value),
+    }
+}
+
+/// NUMBERVALUE's reading, as Excel's page documents it: spaces anywhere are ignored, an empty
+/// text is 0, one decimal separator at most, group separators only before it (and then
+/// ignored), and each trailing `%` divides by 100.
+fn number_with_separators(text: &str, decimal: char, group: char) -> Option<f64> {
+    let compact: String = text.chars().filter(|c| !c.is_whitespace()).collect();
+    let body = compact.trim_end_matches('%');
+    let percents = compact.len() - body.len();
+    if compact.is_empty() {
+        return Some(0.0);
+    }
+    let decimal_at = body.find(decimal);
+    if decimal_at.is_some_and(|at| body[at + decimal.len_utf8()..].contains([decimal, group])) {
+        return None;
+    }
+    let plain: String = body.chars().filter(|&c| c != group).map(|c| if c == decimal { '.' } else { c }).collect();
+    let digits_only = plain.bytes().all(|b| b.is_ascii_digit() || matches!(b, b'.' | b'e' | b'E' | b'+' | b'-'));
+    if !digits_only || !plain.bytes().any(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    let v: f64 = plain.parse().ok()?;
+    let v = v / 100f64.powi(percents as i32);
+    v.is_finite().then_some(v)
 }
 
 fn valuetotext(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
