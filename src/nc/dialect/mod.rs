@@ -235,7 +235,10 @@ fn check_block(
         Block::Tool(ToolChange { offset: ToolOffset::Number(n), .. }) if !(1..=MAX_TOOL).contains(n) => {
             return Err(format!("offset {n} is not an offset number from 1 to {MAX_TOOL} (no offset: Cancelled)"));
         }
-        Block::Tool(_) | Block::Coolant(_) | Block::Comment(_) | Block::Compensation(_) => {}
+        Block::LengthOffset(ToolOffset::Number(n)) if !(1..=MAX_TOOL).contains(n) => {
+            return Err(format!("offset {n} is not an offset number from 1 to {MAX_TOOL} (no offset: Cancelled)"));
+        }
+        Block::Tool(_) | Block::LengthOffset(_) | Block::Coolant(_) | Block::Comment(_) | Block::Compensation(_) => {}
         Block::Rapid(t) => target(t)?,
         Block::Line { to, feed: f } => {
             target(to)?;
