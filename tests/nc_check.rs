@@ -189,7 +189,7 @@ fn the_shipped_examples_are_clean() {
 }
 
 /// `T1 M6` without G43 on LinuxCNC applies no length (rs274 with a tool table reports no
-/// `USE_TOOL_LENGTH_OFFSET` until a G43: tests/nc_tool_offset.rs), so the cuts' Z is the
+/// `USE_TOOL_LENGTH_OFFSET` until a G43: tests/nc_read_control.rs), so the cuts' Z is the
 /// spindle's point, not the tip: said once at the first cut after each such change.
 #[test]
 fn cuts_with_no_length_offset_are_found() {

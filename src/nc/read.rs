@@ -208,6 +208,9 @@ pub fn read_with_lines(
                         "an O-word other than the program number at the start is not read".into(),
                     ));
                 }
+                if !(1.0..=9999.0).contains(&o.value) || o.value.fract() != 0.0 {
+                    return Err(at(o.column, format!("O{} is not a program number O0001–O9999", o.value)));
+                }
                 program.number = Some(o.value as u32);
                 program.name = comment.unwrap_or_default();
                 continue;
@@ -436,6 +439,43 @@ fn message(chars: &[char], from: usize, column: usize, line: &mut Line) -> Resul
 
 /// Reads one block's words into model blocks; `true` at the program's end (M30/M2).
 fn block(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: &mut Vec<Block>) -> Result<bool, Fail> {
+    let before = out.len();
+    let end = block_blocks(st, words, rapid_mark, out)?;
+    writers_refusals(st, words, &out[before.min(out.len())..])?;
+    Ok(end)
+}
+
+/// A hand-written block is refused where the writers would refuse its model block, at the
+/// word that carries the value (`dialect::check_values`: numbers past the control's digits,
+/// feeds not above 0, spindle speeds, tool and offset numbers, dwells out of range, constant
+/// surface speed on a mill), so that what is read can be written again and nothing the
+/// control would not run is taken as meant. (Arc ends off their circle and a lathe's feed
+/// mode are left to `nc check`: the controls' own tolerance and power-on state decide.)
+fn writers_refusals(st: &State, words: &[Word], blocks: &[Block]) -> Result<(), Fail> {
+    let format = super::dialect::read_limits(st.family);
+    for w in words.iter().filter(|w| "XYZABCIJKR".contains(w.letter)) {
+        format.length(w.letter, w.value).map_err(|m| (w.column, m))?;
+    }
+    // The first of `letters`, in their order, that the block has.
+    let column = |letters: &str| {
+        letters.chars().find_map(|l| words.iter().find(|w| w.letter == l)).map_or(words[0].column, |w| w.column)
+    };
+    let machine = st.machine.unwrap_or(Machine::Mill);
+    for b in blocks {
+        let at = match b {
+            Block::Spindle(_) => column("SM"),
+            Block::Tool(_) => column("T"),
+            Block::LengthOffset(_) => column("HDG"),
+            Block::Dwell(_) => column(&dwell_word(st.family).to_string()),
+            _ => column("F"),
+        };
+        super::dialect::check_values(b, machine, format).map_err(|m| (at, m))?;
+    }
+    Ok(())
+}
+
+/// [`block`]'s reading, before the refusals.
+fn block_blocks(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: &mut Vec<Block>) -> Result<bool, Fail> {
     let find = |l: char| words.iter().find(|w| w.letter == l);
     let mut motion_word = None;
     let mut dwell = false;
@@ -476,6 +516,9 @@ fn block(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: &mut Ve
                 2 | 30 => end = true,
                 m => return Err((w.column, format!("M{m} is not a code this reader knows"))),
             },
+            'Y' | 'A' | 'B' | 'C' if st.family == Family::Nc31 => {
+                return Err((w.column, format!("NC31 has no {} axis (its axes: X Z)", w.letter)));
+            }
             'N' | 'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' | 'I' | 'J' | 'K' | 'R' | 'F' | 'S' | 'T' | 'D' | 'P' | 'H' => {}
             l => return Err((w.column, format!("{l} is not a word this reader knows"))),
         }
@@ -649,19 +692,37 @@ fn apply_length_offset(offset: ToolOffset, out: &mut Vec<Block>) {
     }
 }
 
-/// Cutter compensation on a side needs a radius: on Sinumerik the active cutting edge's,
-/// and D0 (or no tool called) has none ("D0 compensation deselection", length and radius),
-/// so the control refuses G41/G42 there, as the writer does.
+/// Cutter compensation on a side needs a radius, and the model's is the current tool's. On
+/// Sinumerik it is the active cutting edge's, and D0 (or no tool called) has none ("D0
+/// compensation deselection", length and radius), so the control refuses G41/G42 there, as
+/// the writer does. On Fanuc and LinuxCNC the D word names the radius register: one other
+/// than the tool's own (`T1 M6` … `G41 D2`) is not in the model, and is refused rather than
+/// read as tool 1's radius; with no tool called the writers refuse it too.
 fn radius_known(st: &State, words: &[Word], c: Compensation) -> Result<(), Fail> {
-    if c == Compensation::Off || st.family != Family::Sinumerik {
+    if c == Compensation::Off {
         return Ok(());
     }
     let column = words.iter().find(|w| w.letter == 'G' && matches!(w.value as i64, 41 | 42)).map_or(1, |w| w.column);
-    match (st.tool, offset_of(st.register, 1)) {
-        (None, _) => Err((column, "cutter compensation with no tool called before it (T… D…)".into())),
-        (Some(_), ToolOffset::Cancelled) => {
-            Err((column, "cutter compensation after D0: Sinumerik's D0 cancels the radius too".into()))
-        }
+    if st.family == Family::Sinumerik {
+        return match (st.tool, offset_of(st.register, 1)) {
+            (None, _) => Err((column, "cutter compensation with no tool called before it (T… D…)".into())),
+            (Some(_), ToolOffset::Cancelled) => {
+                Err((column, "cutter compensation after D0: Sinumerik's D0 cancels the radius too".into()))
+            }
+            _ => Ok(()),
+        };
+    }
+    let Some(tool) = st.tool else {
+        return Err((column, "cutter compensation with no tool called before it (T… M6)".into()));
+    };
+    match words.iter().find(|w| w.letter == 'D') {
+        Some(d) if code(d)? != tool => Err((
+            d.column,
+            format!(
+                "D{} with tool {tool}: the program model compensates with the current tool's radius (D{tool})",
+                d.value
+            ),
+        )),
         _ => Ok(()),
     }
 }
@@ -885,6 +946,10 @@ fn arc_centre(
         }
         (s.0 + off(ul), s.1 + off(vl))
     };
+    // Controls refuse an arc of no radius (rs274: "Zero-radius arc"); so do the writers.
+    if (c.0 - s.0).hypot(c.1 - s.1) <= super::dialect::read_limits(st.family).resolution() {
+        return Err((column, "an arc of radius 0: its centre is its start point".into()));
+    }
     Ok(if lathe { Target::xz(c.1 * 2.0, c.0) } else { Target::xy(c.0, c.1) })
 }
 

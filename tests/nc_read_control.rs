@@ -1,5 +1,5 @@
-//! The tool length offset a read program has in force at each move, as the control applies
-//! it. LinuxCNC programs are asked of LinuxCNC's own interpreter, rs274, with a tool table
+//! What a hand-written program does on its control, as the readers take it: the tool length
+//! offset in force at each move, and what the control (or the writers) refuse. LinuxCNC programs are asked of LinuxCNC's own interpreter, rs274, with a tool table
 //! (tool 1: 50 mm, tool 2: 30 mm): it reports the offset it applies (`USE_TOOL_LENGTH_OFFSET`)
 //! apart from the programmed positions. The other controls from their manuals: Fanuc mill
 //! (G43 H / G49, as LinuxCNC), Sinumerik (Function Manual Tool offset: "D0 compensation
@@ -151,4 +151,67 @@ fn sinumerik_radius_compensation_after_d0_is_refused_at_its_column() {
     let at = bad.blocks.iter().position(|b| *b == Block::LengthOffset(ToolOffset::Number(2))).unwrap();
     bad.blocks.remove(at);
     assert!(ncsheet::nc::by_name("sinumerik").unwrap().render(&bad).is_err());
+}
+
+/// Every refusal the writers make on one block's values, the readers make on a hand-written
+/// program, at its line and word: rs274 refuses the first ones too (its messages quoted);
+/// the rest are the model's and the writers' limits (tool 0, speeds, dwell 0, G96 on a mill,
+/// the control's digits), refused so that what is read can be written again.
+#[test]
+fn what_the_writers_refuse_is_refused_when_read() {
+    let head = "G21 G17 G90\nT1 M6 G43\nS1000 M3\nG94\nG0 X0 Y0 Z5\n";
+    let rs274_refuses = [
+        ("G1 X1 F0", 7, "zero feed rate"),
+        ("G1 X1 F-5", 7, "Negative f word"),
+        ("S-5 M3", 1, "Negative spindle speed"),
+        ("G4 P-1", 4, "Dwell time"),
+        ("G2 X0 Y0 I0 J0 F100", 1, "Zero-radius arc"),
+    ];
+    let check_rs274 = common::rs274::available();
+    for (body, column, theirs) in rs274_refuses {
+        let text = format!("{head}{body}\nM2\n");
+        let e = read::read(&text, Family::LinuxCnc, Some(Machine::Mill)).unwrap_err();
+        assert_eq!((e.line, e.column), (6, column), "{body}: {e}");
+        if check_rs274 {
+            let dir = tempfile::tempdir().unwrap();
+            let path = dir.path().join("p.ngc");
+            std::fs::write(&path, &text).unwrap();
+            let complaint = common::rs274::canon(&path).unwrap_err();
+            assert!(complaint.contains(theirs), "{body}: {complaint}");
+        }
+    }
+    for (body, column) in [
+        ("S0 M3", 1),
+        ("S200000 M3", 1),
+        ("T0 M6", 1),
+        ("T100 M6 G43", 1),
+        ("G43 H100", 5),
+        ("G4 P0", 4),
+        ("G96 D2000 S100 M3", 11),
+        ("G1 X1234567.5 F100", 4),
+    ] {
+        let text = format!("{head}{body}\nM2\n");
+        let e = read::read(&text, Family::LinuxCnc, Some(Machine::Mill)).unwrap_err();
+        assert_eq!((e.line, e.column), (6, column), "{body}: {e}");
+    }
+    // NC31 has the axes X and Z only; a Fanuc program number is O0001–O9999.
+    let e = read::read("N001 X10 Y5 Z1 E\nN002 M02\n", Family::Nc31, None).unwrap_err();
+    assert_eq!((e.line, e.column), (1, 10), "{e}");
+    let e = read::read("%\nO12345 (X)\nG21 G17 G90\nM30\n%\n", Family::Fanuc, None).unwrap_err();
+    assert_eq!((e.line, e.column), (2, 1), "{e}");
+}
+
+/// Fanuc's and LinuxCNC's D with G41/G42 names the radius register (on LinuxCNC a tool
+/// number of the table; without D the loaded tool's): the model compensates with the current
+/// tool's radius, so another register is refused, not read as the tool's.
+#[test]
+fn a_radius_register_other_than_the_tools_is_refused() {
+    let head = "G21 G17 G90\nT1 M6 G43\nS1000 M3\nG94\nG0 X0 Y0 Z5\n";
+    for family in [Family::LinuxCnc, Family::Fanuc] {
+        let e = read::read(&format!("{head}G41 D2 G1 X5 F100\nM2\n"), family, Some(Machine::Mill)).unwrap_err();
+        assert_eq!((e.line, e.column), (6, 5), "{e}");
+        assert!(read::read(&format!("{head}G41 D1 G1 X5 F100\nM2\n"), family, Some(Machine::Mill)).is_ok());
+        let e = read::read("G21 G17 G90\nG0 X0 Y0 Z5\nG42 G1 X5 F100\n", family, Some(Machine::Mill)).unwrap_err();
+        assert_eq!((e.line, e.column), (3, 1), "{e}");
+    }
 }
