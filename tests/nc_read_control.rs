@@ -215,3 +215,36 @@ fn a_radius_register_other_than_the_tools_is_refused() {
         assert_eq!((e.line, e.column), (3, 1), "{e}");
     }
 }
+
+/// `Nc.Tool N, Offset:=` gives the length offset register (0: none), written for LinuxCNC
+/// and read by rs274 with the tool table: tool 1 with its own 50 mm, with tool 2's 30 mm,
+/// with none.
+#[test]
+fn a_macro_tool_change_gives_its_length_offset() {
+    use ncsheet::vba::{self, RunOptions};
+    let cases = [("Nc.Tool 1", ToolOffset::Own, 50.0), ("Nc.Tool 1, 2", ToolOffset::Number(2), 30.0)];
+    let cases = cases.into_iter().chain([("Nc.Tool 1, Offset:=0", ToolOffset::Cancelled, 0.0)]);
+    for (call, offset, length) in cases {
+        let src = format!(
+            "Sub Main()\n    Nc.Machine = \"mill\"\n    {call}\n    Nc.FeedPerMin\n    Nc.Spindle 1000\n    Nc.Rapid 0, 0, 50\n    \
+             Nc.Line 0, 0, -1, 100\nEnd Sub\n"
+        );
+        let mut wb = ncsheet::workbook::Workbook::with_sheet();
+        let out = vba::run(&mut wb, &src, "tool.bas", &RunOptions::default()).unwrap();
+        assert_eq!(out.program.blocks[0], Block::Tool(ToolChange { number: 1, offset }), "{call}");
+        if !common::rs274::available() {
+            continue;
+        }
+        let text = ncsheet::nc::by_name("linuxcnc").unwrap().render(&out.program).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("p.ngc");
+        std::fs::write(&path, &text).unwrap();
+        let canon = common::rs274::canon_with_tools(&path, Some(&rs274_table(dir.path()))).unwrap();
+        let moves = common::rs274::moves_with_length_offset(&canon);
+        assert!(!moves.is_empty() && moves.iter().all(|(_, o)| (o - length).abs() < 1e-3), "{call}: {text}\n{canon}");
+    }
+    let mut wb = ncsheet::workbook::Workbook::with_sheet();
+    let e =
+        vba::run(&mut wb, "Sub Main()\n    Nc.Tool 1, 100\nEnd Sub\n", "t.bas", &RunOptions::default()).unwrap_err();
+    assert_eq!(e.message, "Nc.Tool: Offset is an offset number from 1 to 99, or 0 for none");
+}
