@@ -1,6 +1,27 @@
 //! The NC program model: what a macro or a geometry command emits, before any dialect
 //! decides how it is written. Units are millimetres and degrees; on a lathe X is a diameter.
 
+use std::fmt;
+
+/// Why a program cannot be plotted, timed or checked: the 1-based block of the model at
+/// fault, when one is (the backplot's `PlotError` and the planner's `MotionError`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct BlockError {
+    pub block: Option<usize>,
+    pub message: String,
+}
+
+impl fmt::Display for BlockError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.block {
+            Some(b) => write!(f, "block {b}: {}", self.message),
+            None => f.write_str(&self.message),
+        }
+    }
+}
+
+impl std::error::Error for BlockError {}
+
 /// Which machine the program is for; it decides the plane and how X is read.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Machine {
