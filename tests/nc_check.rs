@@ -32,7 +32,8 @@ fn has(found: &[(usize, String)], line: usize, words: &str) -> bool {
     found.iter().any(|(l, m)| *l == line && m.contains(words))
 }
 
-const HEADER: &str = "G21 G17 G90 G40\nT1 M6\nS1000 M3\nG94\n";
+/// A tool change with its length offset (G43): without it the coordinates are the spindle's.
+const HEADER: &str = "G21 G17 G90 G40\nT1 M6 G43\nS1000 M3\nG94\n";
 
 #[test]
 fn a_clean_program_exits_0_and_says_nothing() {
@@ -185,4 +186,19 @@ fn the_shipped_examples_are_clean() {
     let path = d.join("cam.nc");
     let run = ncsheet(&["nc", "check", path.to_str().unwrap(), "--min-z", "-10"]);
     assert_eq!(run.code, 1, "{}", run.stdout);
+}
+
+/// `T1 M6` without G43 on LinuxCNC applies no length (rs274 with a tool table reports no
+/// `USE_TOOL_LENGTH_OFFSET` until a G43: tests/nc_read_control.rs), so the cuts' Z is the
+/// spindle's point, not the tip: said once at the first cut after each such change.
+#[test]
+fn cuts_with_no_length_offset_are_found() {
+    let dir = tempfile::tempdir().unwrap();
+    let program = "G21 G17 G90 G40\nT1 M6\nS1000 M3\nG94\nG0 X0 Y0 Z5\nG1 Z-1 F100\nG1 X10\nG43\nG1 X0\nG49\n\
+                   G1 X5\nM30\n";
+    let run = check(dir.path(), "nolength.nc", program, &[]);
+    let found = findings(&run);
+    assert!(has(&found, 6, "no tool offset in force"), "{found:?}");
+    assert!(has(&found, 11, "no tool offset in force"), "{found:?}");
+    assert_eq!(found.len(), 2, "{found:?}");
 }

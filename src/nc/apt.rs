@@ -23,7 +23,7 @@
 //!
 //! Anything else is an [`AptError`] naming the line and column, never skipped.
 
-use std::fmt::{self, Write as _};
+use std::fmt::Write as _;
 
 /// A spindle record.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -107,21 +107,9 @@ impl ClRecord {
     }
 }
 
-/// A record that cannot be read: where (1-based line and column) and why.
-#[derive(Clone, Debug, PartialEq)]
-pub struct AptError {
-    pub line: usize,
-    pub column: usize,
-    pub message: String,
-}
-
-impl fmt::Display for AptError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "line {}, column {}: {}", self.line, self.column, self.message)
-    }
-}
-
-impl std::error::Error for AptError {}
+/// A record that cannot be read: where (1-based line and column) and why, as for an NC
+/// program.
+pub type AptError = super::read::ReadError;
 
 /// How far a GOTO's tool axis may be from unit length: CAM systems print 6 or more digits.
 const UNIT_TOLERANCE: f64 = 1e-3;

@@ -5,31 +5,15 @@
 //! command line reads the program and writes the drawing.
 
 use std::f64::consts::{FRAC_PI_2, TAU};
-use std::fmt::{self, Write};
+use std::fmt::Write;
 
 use nalgebra::Point2;
 
 use super::program::{ArcDirection, Block, Machine, Program, Target};
 use super::svg::{self, fixed, Labels};
 
-/// Why a program cannot be plotted.
-#[derive(Clone, Debug, PartialEq)]
-pub struct PlotError {
-    /// 1-based block of the program model, when one block is at fault.
-    pub block: Option<usize>,
-    pub message: String,
-}
-
-impl fmt::Display for PlotError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.block {
-            Some(b) => write!(f, "block {b}: {}", self.message),
-            None => f.write_str(&self.message),
-        }
-    }
-}
-
-impl std::error::Error for PlotError {}
+/// Why a program cannot be plotted: the block at fault.
+pub type PlotError = super::program::BlockError;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MoveKind {

@@ -1,11 +1,12 @@
 //! What a programmer checks before a program runs: arcs whose end is off the circle through
-//! their start, cuts with no feed mode, feed, turning spindle or tool before them, cuts from an
+//! their start, cuts with no feed mode, feed, turning spindle or tool before them, cuts with no
+//! tool offset in force (coordinates of the spindle, not the tip), cuts from an
 //! unknown position, moves below a stated Z, rapids through the stock (other than straight
 //! out of a cut) and cuts below its bottom. Each finding names the block of the program model; the command line turns it into
 //! a line. Pure: the geometry is the backplot's.
 
 use super::backplot::{toolpath, Move, MoveKind, PlotError};
-use super::program::{Block, Machine, Program, Spindle};
+use super::program::{Block, Machine, Program, Spindle, ToolOffset};
 
 /// How far an arc's end may lie off the circle through its start and around its centre, in mm,
 /// unless asked otherwise: ncsheet's own writers refuse more (docs/dialects.md). It is
@@ -79,6 +80,9 @@ fn state_findings(program: &Program, moves: &[Move]) -> Vec<Finding> {
     let mut feed_mode = false;
     let mut feed = false;
     let mut tool = false;
+    // Whether the tool's offset is in force; said once after each change that cancels it.
+    let mut offset = true;
+    let mut said_offset = false;
     let mut turning = false;
     let mut said = [false; 4];
     let mut said_spindle = false;
@@ -91,7 +95,15 @@ fn state_findings(program: &Program, moves: &[Move]) -> Vec<Finding> {
         let mut say = |message: &str| out.push(Finding { block, message: message.to_string() });
         match b {
             Block::FeedMode(_) => feed_mode = true,
-            Block::Tool(_) => tool = true,
+            Block::Tool(t) => {
+                tool = true;
+                offset = t.offset != ToolOffset::Cancelled;
+                said_offset = false;
+            }
+            Block::LengthOffset(o) => {
+                offset = *o != ToolOffset::Cancelled;
+                said_offset = false;
+            }
             Block::Spindle(s) => {
                 turning = !matches!(s, Spindle::Stop);
                 // After a stop, the next cut without a start is said again.
@@ -110,6 +122,11 @@ fn state_findings(program: &Program, moves: &[Move]) -> Vec<Finding> {
                         said[k] = true;
                         say(message);
                     }
+                }
+                if tool && !offset && !said_offset {
+                    said_offset = true;
+                    say("a cut with no tool offset in force (a tool change without G43, or G49, D0, T0100): the \
+                         coordinates are the spindle's point, the tool tip is its length below them");
                 }
                 if !turning && !said_spindle {
                     said_spindle = true;

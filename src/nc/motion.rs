@@ -4,28 +4,11 @@
 //! direction cosines δᵢ/√(Σδ²), without trigonometry.
 
 use std::f64::consts::TAU;
-use std::fmt;
 
 use super::program::{ArcDirection, Block, FeedMode, Machine, Program, Spindle, Target};
 
-/// Why a time cannot be given.
-#[derive(Clone, Debug, PartialEq)]
-pub struct MotionError {
-    /// 1-based block of the program model, when one block is at fault.
-    pub block: Option<usize>,
-    pub message: String,
-}
-
-impl fmt::Display for MotionError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.block {
-            Some(b) => write!(f, "block {b}: {}", self.message),
-            None => f.write_str(&self.message),
-        }
-    }
-}
-
-impl std::error::Error for MotionError {}
+/// Why a time cannot be given: the block at fault.
+pub type MotionError = super::program::BlockError;
 
 /// One block's velocity profile (lengths in mm, speeds in mm/s, times in s).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -1,6 +1,27 @@
 //! The NC program model: what a macro or a geometry command emits, before any dialect
 //! decides how it is written. Units are millimetres and degrees; on a lathe X is a diameter.
 
+use std::fmt;
+
+/// Why a program cannot be plotted, timed or checked: the 1-based block of the model at
+/// fault, when one is (the backplot's `PlotError` and the planner's `MotionError`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct BlockError {
+    pub block: Option<usize>,
+    pub message: String,
+}
+
+impl fmt::Display for BlockError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.block {
+            Some(b) => write!(f, "block {b}: {}", self.message),
+            None => f.write_str(&self.message),
+        }
+    }
+}
+
+impl std::error::Error for BlockError {}
+
 /// Which machine the program is for; it decides the plane and how X is read.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Machine {
@@ -124,7 +145,9 @@ pub enum ToolOffset {
     Number(u32),
     /// No offset: the coordinates are the spindle's point the machine zero is set for, the
     /// tool table's length left out (LinuxCNC and Fanuc mill `G49`, Fanuc lathe `T0100`,
-    /// Sinumerik `D0`). The (A,B) post writes the pivot with its length compensated.
+    /// Sinumerik `D0`). The (A,B) post writes the pivot with its length compensated. A
+    /// hand-written `T1 M6` without G43 reads so on LinuxCNC and a Fanuc mill while no G43
+    /// is in force (they power on in G49; M6 changes no offset).
     Cancelled,
 }
 
@@ -151,6 +174,10 @@ pub enum Block {
     Spindle(Spindle),
     /// Tool change, with the offset the control applies from it on.
     Tool(ToolChange),
+    /// Another length offset for the tool in the spindle, without a tool change: `G43 H2`
+    /// or `G49` between moves (Fanuc mill, LinuxCNC), Sinumerik `D2`/`D0`, a Fanuc lathe's
+    /// `T0102` for the tool already indexed. `Own` is the current tool's own offset.
+    LengthOffset(ToolOffset),
     /// Coolant on (M8) or off (M9).
     Coolant(bool),
     /// Cutter radius compensation for the moves that follow, with the current tool's radius.

@@ -99,6 +99,13 @@ struct State {
     surface_speed: bool,
     /// The spindle's direction while it turns: an S alone then changes its speed.
     running: Option<SpindleDirection>,
+    /// The tool in the spindle (or the turret's tool), once a T has been read.
+    tool: Option<u32>,
+    /// The offset register in force: the H of G43 (LinuxCNC, Fanuc mill), the cutting edge
+    /// D (Sinumerik), a Fanuc lathe's T word's last two digits; `None` when none is (power
+    /// on in G49, after G49, D0, T0100). A tool change alone keeps it on LinuxCNC and a
+    /// Fanuc mill: only G43/G49 change it.
+    register: Option<u32>,
 }
 
 /// Reads `text` as `family` writes it. `machine` says what the program is for; without it a
@@ -135,6 +142,8 @@ pub fn read_with_lines(
         max_rpm: None,
         surface_speed: false,
         running: None,
+        tool: None,
+        register: None,
     };
     let mut program = Program::new("", machine.unwrap_or(Machine::Mill));
     if family == Family::Nc31 {
@@ -198,6 +207,9 @@ pub fn read_with_lines(
                         o.column,
                         "an O-word other than the program number at the start is not read".into(),
                     ));
+                }
+                if !(1.0..=9999.0).contains(&o.value) || o.value.fract() != 0.0 {
+                    return Err(at(o.column, format!("O{} is not a program number O0001–O9999", o.value)));
                 }
                 program.number = Some(o.value as u32);
                 program.name = comment.unwrap_or_default();
@@ -427,6 +439,43 @@ fn message(chars: &[char], from: usize, column: usize, line: &mut Line) -> Resul
 
 /// Reads one block's words into model blocks; `true` at the program's end (M30/M2).
 fn block(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: &mut Vec<Block>) -> Result<bool, Fail> {
+    let before = out.len();
+    let end = block_blocks(st, words, rapid_mark, out)?;
+    writers_refusals(st, words, &out[before.min(out.len())..])?;
+    Ok(end)
+}
+
+/// A hand-written block is refused where the writers would refuse its model block, at the
+/// word that carries the value (`dialect::check_values`: numbers past the control's digits,
+/// feeds not above 0, spindle speeds, tool and offset numbers, dwells out of range, constant
+/// surface speed on a mill), so that what is read can be written again and nothing the
+/// control would not run is taken as meant. (Arc ends off their circle and a lathe's feed
+/// mode are left to `nc check`: the controls' own tolerance and power-on state decide.)
+fn writers_refusals(st: &State, words: &[Word], blocks: &[Block]) -> Result<(), Fail> {
+    let format = super::dialect::read_limits(st.family);
+    for w in words.iter().filter(|w| "XYZABCIJKR".contains(w.letter)) {
+        format.length(w.letter, w.value).map_err(|m| (w.column, m))?;
+    }
+    // The first of `letters`, in their order, that the block has.
+    let column = |letters: &str| {
+        letters.chars().find_map(|l| words.iter().find(|w| w.letter == l)).map_or(words[0].column, |w| w.column)
+    };
+    let machine = st.machine.unwrap_or(Machine::Mill);
+    for b in blocks {
+        let at = match b {
+            Block::Spindle(_) => column("SM"),
+            Block::Tool(_) => column("T"),
+            Block::LengthOffset(_) => column("HDG"),
+            Block::Dwell(_) => column(&dwell_word(st.family).to_string()),
+            _ => column("F"),
+        };
+        super::dialect::check_values(b, machine, format).map_err(|m| (at, m))?;
+    }
+    Ok(())
+}
+
+/// [`block`]'s reading, before the refusals.
+fn block_blocks(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: &mut Vec<Block>) -> Result<bool, Fail> {
     let find = |l: char| words.iter().find(|w| w.letter == l);
     let mut motion_word = None;
     let mut dwell = false;
@@ -467,6 +516,9 @@ fn block(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: &mut Ve
                 2 | 30 => end = true,
                 m => return Err((w.column, format!("M{m} is not a code this reader knows"))),
             },
+            'Y' | 'A' | 'B' | 'C' if st.family == Family::Nc31 => {
+                return Err((w.column, format!("NC31 has no {} axis (its axes: X Z)", w.letter)));
+            }
             'N' | 'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' | 'I' | 'J' | 'K' | 'R' | 'F' | 'S' | 'T' | 'D' | 'P' | 'H' => {}
             l => return Err((w.column, format!("{l} is not a word this reader knows"))),
         }
@@ -480,8 +532,8 @@ fn block(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: &mut Ve
     }
     if let Some(t) = find('T') {
         out.push(Block::Tool(tool_change(st, words, t, length)?));
-    } else if let Some((column, _)) = length {
-        return Err((column, "G43/G49 are read in the tool change's block (`T1 M6 G43`, `T1 M6 G49`)".into()));
+    } else if let Some(offset) = length_offset(st, words, length)? {
+        apply_length_offset(offset, out);
     }
     if let Some(s) = find('S') {
         if g50 {
@@ -520,6 +572,7 @@ fn block(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: &mut Ve
         None => {}
     }
     if let Some(c) = compensation {
+        radius_known(st, words, c)?;
         // The G40 of the set-up block before anything happened says what is so already (the
         // writers put it there); any later G40 is the program's own block.
         let setup = c == Compensation::Off && out.iter().all(|b| matches!(b, Block::FeedMode(_)));
@@ -543,34 +596,135 @@ fn block(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: &mut Ve
     Ok(end)
 }
 
-/// The tool change of a block with T, and the offset it applies: a Fanuc lathe's `T0102`
-/// (tool 01, offset 02; 00 none), Sinumerik's cutting edge `D2` (D0 none, D1 if not given),
-/// `G43 [H2]` or `G49` with the change on a mill and on LinuxCNC. Without G43/G49 the model
-/// takes the tool's own offset, as the writers write it.
-fn tool_change(st: &State, words: &[Word], t: &Word, length: Option<(usize, bool)>) -> Result<ToolChange, Fail> {
+/// The offset register `register` (none: cancelled) as the model names it, where `own` is
+/// the register that is the tool's own offset (its number; Sinumerik's cutting edge D1).
+fn offset_of(register: Option<u32>, own: u32) -> ToolOffset {
+    match register {
+        None | Some(0) => ToolOffset::Cancelled,
+        Some(r) if r == own => ToolOffset::Own,
+        Some(r) => ToolOffset::Number(r),
+    }
+}
+
+/// The tool change of a block with T, and the offset in force after it, as the control
+/// applies it: a Fanuc lathe's `T0102` (tool 01, offset 02; 00 none); Sinumerik's cutting
+/// edge `D2` (D0 none; D1 when the block gives none, the control's default edge); on
+/// LinuxCNC and a Fanuc mill `G43 [H2]` or `G49` in the block, and without them the length
+/// offset already in force: none from power on (G49) until a G43, and M6 changes no offset
+/// (rs274 with a tool table: `T1 M6` alone moves the spindle's point, not the tip).
+fn tool_change(st: &mut State, words: &[Word], t: &Word, length: Option<(usize, bool)>) -> Result<ToolChange, Fail> {
     let find = |l: char| words.iter().find(|w| w.letter == l);
     let n = code(t)?;
-    let offset = |o: u32, tool: u32| match o {
-        0 => ToolOffset::Cancelled,
-        o if o == tool => ToolOffset::Own,
-        o => ToolOffset::Number(o),
-    };
     let lathe = st.machine == Some(Machine::Lathe);
-    Ok(match st.family {
-        Family::Fanuc if lathe && n >= 100 => ToolChange { number: n / 100, offset: offset(n % 100, n / 100) },
-        Family::Sinumerik => {
-            let d = find('D').map(code).transpose()?.unwrap_or(1);
-            ToolChange { number: n, offset: if d == 1 { ToolOffset::Own } else { offset(d, 0) } }
-        }
-        _ => match length {
-            Some((_, false)) => ToolChange { number: n, offset: ToolOffset::Cancelled },
-            Some((_, true)) => {
-                let h = find('H').map(code).transpose()?.unwrap_or(n);
-                ToolChange { number: n, offset: offset(h, n) }
+    let change = match st.family {
+        Family::Fanuc if lathe => {
+            if n < 100 {
+                return Err((
+                    t.column,
+                    format!("a Fanuc lathe's T word is the tool and its offset (T0101); T{n} names no tool"),
+                ));
             }
-            None => ToolChange::new(n),
+            if let Some((column, _)) = length {
+                return Err((column, "a Fanuc lathe's offset is the T word's last two digits, not G43/G49".into()));
+            }
+            st.register = Some(n % 100);
+            ToolChange { number: n / 100, offset: offset_of(st.register, n / 100) }
+        }
+        Family::Sinumerik => {
+            st.register = Some(find('D').map(code).transpose()?.unwrap_or(1));
+            ToolChange { number: n, offset: offset_of(st.register, 1) }
+        }
+        Family::Nc31 => ToolChange::new(n),
+        Family::Fanuc | Family::LinuxCnc => {
+            match length {
+                Some((_, false)) => st.register = None,
+                Some((_, true)) => st.register = Some(find('H').map(code).transpose()?.unwrap_or(n)),
+                None => {}
+            }
+            ToolChange { number: n, offset: offset_of(st.register, n) }
+        }
+    };
+    st.tool = Some(change.number);
+    Ok(change)
+}
+
+/// The length offset a block without T changes to, if it does: `G43 [H2]` or `G49` on
+/// LinuxCNC and a Fanuc mill, a cutting edge `D2`/`D0` on Sinumerik. `None` also for a
+/// G49 before any tool: the control is so from power on (the set-up block `G40 G49`).
+fn length_offset(st: &mut State, words: &[Word], length: Option<(usize, bool)>) -> Result<Option<ToolOffset>, Fail> {
+    let find = |l: char| words.iter().find(|w| w.letter == l);
+    let (column, register) = match (st.family, length) {
+        (Family::Sinumerik, _) => match find('D') {
+            Some(d) => (d.column, Some(code(d)?)),
+            None => return Ok(None),
         },
-    })
+        (_, None) => return Ok(None),
+        (Family::Fanuc, Some((column, _))) if st.machine == Some(Machine::Lathe) => {
+            return Err((column, "a Fanuc lathe's offset is the T word's last two digits (T0102), not G43/G49".into()));
+        }
+        (_, Some((_, false))) if st.tool.is_none() => {
+            st.register = None;
+            return Ok(None);
+        }
+        (_, Some((column, false))) => (column, None),
+        // LinuxCNC: G43 without H "uses the currently loaded tool".
+        (_, Some((column, true))) => (column, find('H').map(code).transpose()?.or(st.tool)),
+    };
+    let Some(tool) = st.tool else {
+        return Err((column, "a length offset with no tool called before it (T…)".into()));
+    };
+    st.register = register;
+    let own = if st.family == Family::Sinumerik { 1 } else { tool };
+    Ok(Some(offset_of(register, own)))
+}
+
+/// A length offset changed after a tool change: part of that change when no move came
+/// between (`T1 M6` then `G43 H1 Z50`, the usual hand-written order), else a block of its own.
+fn apply_length_offset(offset: ToolOffset, out: &mut Vec<Block>) {
+    let last_tool = out.iter().rposition(|b| matches!(b, Block::Tool(_)));
+    match last_tool {
+        Some(i) if !out[i + 1..].iter().any(is_move) => {
+            if let Block::Tool(t) = &mut out[i] {
+                t.offset = offset;
+            }
+        }
+        _ => out.push(Block::LengthOffset(offset)),
+    }
+}
+
+/// Cutter compensation on a side needs a radius, and the model's is the current tool's. On
+/// Sinumerik it is the active cutting edge's, and D0 (or no tool called) has none ("D0
+/// compensation deselection", length and radius), so the control refuses G41/G42 there, as
+/// the writer does. On Fanuc and LinuxCNC the D word names the radius register: one other
+/// than the tool's own (`T1 M6` … `G41 D2`) is not in the model, and is refused rather than
+/// read as tool 1's radius; with no tool called the writers refuse it too.
+fn radius_known(st: &State, words: &[Word], c: Compensation) -> Result<(), Fail> {
+    if c == Compensation::Off {
+        return Ok(());
+    }
+    let column = words.iter().find(|w| w.letter == 'G' && matches!(w.value as i64, 41 | 42)).map_or(1, |w| w.column);
+    if st.family == Family::Sinumerik {
+        return match (st.tool, offset_of(st.register, 1)) {
+            (None, _) => Err((column, "cutter compensation with no tool called before it (T… D…)".into())),
+            (Some(_), ToolOffset::Cancelled) => {
+                Err((column, "cutter compensation after D0: Sinumerik's D0 cancels the radius too".into()))
+            }
+            _ => Ok(()),
+        };
+    }
+    let Some(tool) = st.tool else {
+        return Err((column, "cutter compensation with no tool called before it (T… M6)".into()));
+    };
+    match words.iter().find(|w| w.letter == 'D') {
+        Some(d) if code(d)? != tool => Err((
+            d.column,
+            format!(
+                "D{} with tool {tool}: the program model compensates with the current tool's radius (D{tool})",
+                d.value
+            ),
+        )),
+        _ => Ok(()),
+    }
 }
 
 /// Words that only mean something with a code this block does not have: an error rather
@@ -586,7 +740,8 @@ fn unused_words(
     let g43 = words.iter().any(|w| w.letter == 'G' && w.value == 43.0);
     let side = matches!(compensation, Some(Compensation::Left | Compensation::Right));
     let css_limit = spindle_mode == Some(true) && family == Family::LinuxCnc;
-    let edge = family == Family::Sinumerik && words.iter().any(|w| w.letter == 'T');
+    // Sinumerik's D is the cutting edge, with a tool change or alone.
+    let edge = family == Family::Sinumerik;
     let dwell_word = dwell_word(family);
     for w in words {
         let meaningful = match w.letter {
@@ -791,6 +946,10 @@ fn arc_centre(
         }
         (s.0 + off(ul), s.1 + off(vl))
     };
+    // Controls refuse an arc of no radius (rs274: "Zero-radius arc"); so do the writers.
+    if (c.0 - s.0).hypot(c.1 - s.1) <= super::dialect::read_limits(st.family).resolution() {
+        return Err((column, "an arc of radius 0: its centre is its start point".into()));
+    }
     Ok(if lathe { Target::xz(c.1 * 2.0, c.0) } else { Target::xy(c.0, c.1) })
 }
 

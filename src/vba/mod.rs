@@ -74,7 +74,8 @@
 //! `objects.rs` for `Nc.Rapid`, `Nc.Line`, `Nc.ArcCW`, `Nc.Block`, … and `Nc.Feed`). The
 //! machine's state is part of the program: `Nc.FeedPerRev 0.1` / `Nc.FeedPerMin 200` (what F
 //! means; a lathe program is refused without it), `Nc.Spindle 800` (M3, `"ccw"` for M4, 0 to
-//! stop; `Vc:=180, Limit:=2500` for constant surface speed), `Nc.Tool 1`, `Nc.Coolant True`.
+//! stop; `Vc:=180, Limit:=2500` for constant surface speed), `Nc.Tool 1` (`Offset:=2`: another
+//! offset register, 0: none), `Nc.Coolant True`.
 //! `InputBox` is refused: pass values with `--arg`.
 //!
 //! Errors: `On Error GoTo label` (the label in the procedure's body, outside loops and Ifs),

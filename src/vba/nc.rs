@@ -16,7 +16,9 @@
 use crate::eval::coerce::to_bool;
 use crate::eval::{Ctx, Value};
 use crate::formula::ast::{Expr, ExprKind};
-use crate::nc::{ArcDirection, Block, FeedMode, Machine, Spindle, SpindleDirection, Target, ToolChange, Word};
+use crate::nc::{
+    ArcDirection, Block, FeedMode, Machine, Spindle, SpindleDirection, Target, ToolChange, ToolOffset, Word,
+};
 
 use super::ast::{Link, Span};
 use super::interp::{Interp, Run};
@@ -90,10 +92,7 @@ impl Interp<'_, '_> {
                 Block::FeedMode(mode)
             }
             "spindle" => Block::Spindle(self.spindle(ctx, link)?),
-            "tool" => match self.numbers(ctx, link)?.as_slice() {
-                [n] if (1.0..=99.0).contains(n) && n.fract() == 0.0 => Block::Tool(ToolChange::new(*n as u32)),
-                _ => return Err(self.fault_at(link.span, "Nc.Tool takes a tool number from 1 to 99")),
-            },
+            "tool" => Block::Tool(self.tool(ctx, link)?),
             "coolant" => match self.values(ctx, link)?.as_slice() {
                 [v] => {
                     Block::Coolant(to_bool(v).map_err(|_| self.fault_at(link.span, "Nc.Coolant takes True or False"))?)
@@ -147,6 +146,29 @@ impl Interp<'_, '_> {
             }
             _ => Err(self.fault_at(link.span, usage)),
         }
+    }
+
+    /// `Nc.Tool N [, Offset]`: tool N with its own offset, or `Offset:=` another register
+    /// (1–99: G43 H, Sinumerik D, a Fanuc lathe's T0102), or 0 for none (G49, D0, T0100).
+    fn tool(&self, ctx: &mut Ctx, link: &Link) -> Run<ToolChange> {
+        let usage = "Nc.Tool takes a tool number from 1 to 99";
+        let bad_offset = "Nc.Tool: Offset is an offset number from 1 to 99, or 0 for none";
+        let a = self.nc_args(ctx, link, &["tool", "offset"])?;
+        let whole = |v: f64, from: f64| (from..=99.0).contains(&v) && v.fract() == 0.0;
+        if a.iter().any(|(k, _)| k != "tool" && k != "offset") {
+            return Err(self.fault_at(link.span, usage));
+        }
+        let number = match get(&a, "tool") {
+            Some(n) if whole(n, 1.0) => n as u32,
+            _ => return Err(self.fault_at(link.span, usage)),
+        };
+        let offset = match get(&a, "offset") {
+            None => ToolOffset::Own,
+            Some(0.0) => ToolOffset::Cancelled,
+            Some(o) if whole(o, 1.0) => ToolOffset::Number(o as u32),
+            Some(_) => return Err(self.fault_at(link.span, bad_offset)),
+        };
+        Ok(ToolChange { number, offset })
     }
 
     /// The point parameters of the machine: X Z on a lathe, X Y Z on a mill.

@@ -187,6 +187,13 @@ impl Numbered {
         match block {
             Block::FeedMode(mode) => self.per_revolution = *mode == FeedMode::PerRevolution,
             Block::Tool(t) => self.tool_call(Some(t.number), None)?,
+            // TOOL CALL applied the tool's own length already; there is no other.
+            Block::LengthOffset(ToolOffset::Own) => {}
+            Block::LengthOffset(o) => {
+                return Err(format!(
+                    "plain language has no length offset {o:?}: TOOL CALL always applies the tool's own length"
+                ))
+            }
             Block::Spindle(s) => self.tool_call(None, Some(s))?,
             Block::Coolant(on) => {
                 self.coolant_on = *on;

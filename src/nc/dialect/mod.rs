@@ -125,7 +125,7 @@ const MAX_DWELL: f64 = 9_999.0;
 /// What a dialect can write: its number style at the program's precision and how many
 /// digits a number may have in all (Fanuc: 8, so ±99999.999 at 3 decimals).
 #[derive(Clone, Copy, Debug)]
-struct Format {
+pub(crate) struct Format {
     numbers: NumberStyle,
     digits: usize,
 }
@@ -141,7 +141,12 @@ impl Format {
     }
 
     /// A coordinate (or any length word) the control can read, else why not.
-    fn length(&self, what: char, v: f64) -> Result<(), String> {
+    /// The smallest step the control's numbers resolve (mm).
+    pub(crate) fn resolution(&self) -> f64 {
+        self.numbers.resolution()
+    }
+
+    pub(crate) fn length(&self, what: char, v: f64) -> Result<(), String> {
         if !v.is_finite() {
             return Err(format!("{what} is not a number ({v})"));
         }
@@ -155,7 +160,7 @@ impl Format {
         Ok(())
     }
 
-    fn feed(&self, f: f64) -> Result<(), String> {
+    pub(crate) fn feed(&self, f: f64) -> Result<(), String> {
         let style = feed_style(self.numbers);
         if !f.is_finite() || f < style.resolution() {
             return Err(format!("the feed F must be a number above 0 the control can write, not {f}"));
@@ -216,48 +221,79 @@ fn check_block(
     position: &Position,
     feed_mode: &mut Option<FeedMode>,
 ) -> Result<(), String> {
-    let target = |t: &Target| t.axes().try_for_each(|(l, v)| format.length(l, v));
-    let feed = |f: &Option<f64>, mode: &Option<FeedMode>| -> Result<(), String> {
-        if let Some(f) = f {
-            format.feed(*f)?;
-        }
+    check_values(block, machine, format)?;
+    let needs_mode = |mode: &Option<FeedMode>| {
         if machine == Machine::Lathe && mode.is_none() {
-            return Err("a lathe cut needs a feed mode first (per revolution or per minute: Nc.FeedPerRev)".into());
+            return Err("a lathe cut needs a feed mode first (per revolution or per minute: Nc.FeedPerRev)".to_string());
         }
         Ok(())
     };
     match block {
         Block::FeedMode(m) => *feed_mode = Some(*m),
+        Block::Line { .. } => needs_mode(feed_mode)?,
+        Block::Arc { to, centre, .. } => {
+            needs_mode(feed_mode)?;
+            check_arc(machine, format, position, to, centre)?;
+        }
+        _ => {}
+    }
+    Ok(())
+}
+
+/// What no control here takes in one block, whatever came before it: numbers past the
+/// format, feeds, spindle speeds, tool and offset numbers and dwells out of range, constant
+/// surface speed on a mill. The readers refuse the same in a hand-written program, at its
+/// line and word ([`read_limits`]).
+pub(crate) fn check_values(block: &Block, machine: Machine, format: Format) -> Result<(), String> {
+    let target = |t: &Target| t.axes().try_for_each(|(l, v)| format.length(l, v));
+    let feed = |f: &Option<f64>| f.map_or(Ok(()), |f| format.feed(f));
+    let offset = |n: u32| -> Result<(), String> {
+        if !(1..=MAX_TOOL).contains(&n) {
+            return Err(format!("offset {n} is not an offset number from 1 to {MAX_TOOL} (no offset: Cancelled)"));
+        }
+        Ok(())
+    };
+    match block {
         Block::Spindle(s) => check_spindle(s, machine)?,
         Block::Tool(t) if !(1..=MAX_TOOL).contains(&t.number) => {
             return Err(format!("tool {} is not a tool number from 1 to {MAX_TOOL}", t.number));
         }
-        Block::Tool(ToolChange { offset: ToolOffset::Number(n), .. }) if !(1..=MAX_TOOL).contains(n) => {
-            return Err(format!("offset {n} is not an offset number from 1 to {MAX_TOOL} (no offset: Cancelled)"));
+        Block::Tool(ToolChange { offset: ToolOffset::Number(n), .. }) | Block::LengthOffset(ToolOffset::Number(n)) => {
+            offset(*n)?
         }
-        Block::Tool(_) | Block::Coolant(_) | Block::Comment(_) | Block::Compensation(_) => {}
         Block::Rapid(t) => target(t)?,
         Block::Line { to, feed: f } => {
             target(to)?;
-            feed(f, feed_mode)?;
+            feed(f)?;
         }
         Block::Arc { to, centre, feed: f, .. } => {
             target(to)?;
             target(centre)?;
-            feed(f, feed_mode)?;
-            check_arc(machine, format, position, to, centre)?;
+            feed(f)?;
         }
         Block::Dwell(s) if !(s.is_finite() && *s > 0.0 && *s <= MAX_DWELL) => {
             return Err(format!("a dwell is a time above 0 and at most {MAX_DWELL} s, not {s}"));
         }
-        Block::Dwell(_) => {}
         Block::Words(words) => {
             for w in words {
                 format.length(w.address.to_ascii_uppercase(), w.value)?;
             }
         }
+        _ => {}
     }
     Ok(())
+}
+
+/// The format a word-address control of `family` reads (its writer's table at its own
+/// precision), for [`check_values`] and [`Format::length`]/[`Format::feed`] in the reader.
+pub(crate) fn read_limits(family: Family) -> Format {
+    let table = match family {
+        Family::Fanuc => &ISO,
+        Family::LinuxCnc => &LINUXCNC,
+        Family::Sinumerik => &SINUMERIK,
+        Family::Nc31 => &NC31,
+    };
+    Format { numbers: table.numbers, digits: table.digits }
 }
 
 fn check_spindle(s: &Spindle, machine: Machine) -> Result<(), String> {

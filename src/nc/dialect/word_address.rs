@@ -349,6 +349,7 @@ impl Writer<'_> {
             }
             Block::Spindle(s) => self.spindle(s)?,
             Block::Tool(t) => self.tool(*t)?,
+            Block::LengthOffset(o) => self.length_offset(*o)?,
             Block::Compensation(side) => self.compensation(*side)?,
             Block::Coolant(on) => {
                 self.coolant_on = *on;
@@ -499,6 +500,36 @@ impl Writer<'_> {
                     "NC31 here writes T{n} with the tool's own offset only, not {offset:?}: the control's offset words \
                      are not documented to us"
                 ));
+            }
+        };
+        self.numbered(&text);
+        Ok(())
+    }
+
+    /// Another length offset for the tool in the spindle, without changing it (the words of
+    /// [`Writer::tool`] without the change).
+    fn length_offset(&mut self, offset: ToolOffset) -> Result<(), String> {
+        let Some(t) = self.tool.as_mut() else {
+            return Err("a length offset with no tool called before it (Nc.Tool)".into());
+        };
+        t.offset = offset;
+        let n = t.number;
+        let register = match offset {
+            ToolOffset::Own => n,
+            ToolOffset::Number(o) => o,
+            ToolOffset::Cancelled => 0,
+        };
+        let lathe = self.machine == Machine::Lathe;
+        let text = match (self.d.family, offset) {
+            // The turret's tool called again with the other offset: it does not index.
+            (Family::Fanuc, _) if lathe => format!("T{n:02}{register:02}"),
+            (Family::Fanuc | Family::LinuxCnc, ToolOffset::Cancelled) => "G49".into(),
+            (Family::LinuxCnc, ToolOffset::Own) => "G43".into(),
+            (Family::Fanuc | Family::LinuxCnc, _) => format!("G43 H{register}"),
+            (Family::Sinumerik, ToolOffset::Own) => "D1".into(),
+            (Family::Sinumerik, _) => format!("D{register}"),
+            (Family::Nc31, _) => {
+                return Err("NC31 here writes the tool's own offset with its T only (no offset words)".into())
             }
         };
         self.numbered(&text);

@@ -1,0 +1,250 @@
+//! What a hand-written program does on its control, as the readers take it: the tool length
+//! offset in force at each move, and what the control (or the writers) refuse. LinuxCNC programs are asked of LinuxCNC's own interpreter, rs274, with a tool table
+//! (tool 1: 50 mm, tool 2: 30 mm): it reports the offset it applies (`USE_TOOL_LENGTH_OFFSET`)
+//! apart from the programmed positions. The other controls from their manuals: Fanuc mill
+//! (G43 H / G49, as LinuxCNC), Sinumerik (Function Manual Tool offset: "D0 compensation
+//! deselection", D1 the default edge after T), Heidenhain (TOOL CALL always applies the
+//! table's length).
+
+mod common;
+
+use std::collections::HashMap;
+
+use ncsheet::nc::program::{Block, Machine, Program, ToolChange, ToolOffset};
+use ncsheet::nc::read::{self, Family};
+
+/// The tool table of these tests: tool number → length (mm).
+fn lengths() -> HashMap<u32, f64> {
+    HashMap::from([(1, 50.0), (2, 30.0)])
+}
+
+/// rs274's table: lengths in inches (its default machine units, see `common::rs274`).
+fn rs274_table(dir: &std::path::Path) -> std::path::PathBuf {
+    let path = dir.join("tools.tbl");
+    let rows: String = lengths().iter().map(|(t, l)| format!("T{t} P{t} Z{:.9} D0.25\n", l / 25.4)).collect();
+    std::fs::write(&path, rows).unwrap();
+    path
+}
+
+/// The length (mm) the model says is in force at each straight move with an axis, in order.
+fn model_offsets(p: &Program) -> Vec<f64> {
+    let table = lengths();
+    let (mut tool, mut offset) = (None::<u32>, ToolOffset::Cancelled);
+    let mut out = Vec::new();
+    for b in &p.blocks {
+        match b {
+            Block::Tool(ToolChange { number, offset: o }) => (tool, offset) = (Some(*number), *o),
+            Block::LengthOffset(o) => offset = *o,
+            Block::Rapid(t) | Block::Line { to: t, .. } if t.axes().next().is_some() => out.push(match offset {
+                ToolOffset::Cancelled => 0.0,
+                ToolOffset::Own => table[&tool.unwrap()],
+                ToolOffset::Number(n) => table[&n],
+            }),
+            _ => {}
+        }
+    }
+    out
+}
+
+/// Hand-written LinuxCNC programs: `T1 M6` alone, G43 on a later line (after a move and
+/// before one), G43 H of another tool, a tool change while G43 is in force, G49.
+const PROGRAMS: &[&str] = &[
+    // The usual hand-written order: the change, then G43 with the first Z.
+    "G21 G17 G90 G40 G49\nT1 M6\nG0 G43 H1 Z50\nG0 X0 Y0\nG1 Z-1 F100\nG0 Z50\nM2\n",
+    // No G43 at all: the coordinates stay the spindle's.
+    "G21 G17 G90 G40\nT1 M6\nG0 X0 Y0 Z100\nG1 Z20 F100\nM2\n",
+    // A move before G43, G43 without H (the loaded tool), G49, then a change with none.
+    "G21 G17 G90\nT1 M6\nG0 X0 Y0 Z100\nG43\nG0 Z50\nG1 Z-1 F100\nG49\nG0 Z120\nT2 M6\nG0 Z110\nM2\n",
+    // A change while G43 is in force keeps the first tool's length; G43 H2 then takes tool 2's.
+    "G21 G17 G90\nT1 M6 G43\nG0 X0 Y0 Z50\nT2 M6\nG0 Z40\nG43 H2 Z30\nG1 Z-1 F100\nG49 G0 Z100\nM2\n",
+    // Another tool's register with the change.
+    "G21 G17 G90\nT2 M6 G43 H1\nG0 X0 Y0 Z50\nM2\n",
+];
+
+#[test]
+fn linuxcnc_length_offsets_are_what_rs274_applies() {
+    if !common::rs274::available() {
+        eprintln!("rs274 not installed: skipped");
+        return;
+    }
+    for (k, text) in PROGRAMS.iter().enumerate() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("p.ngc");
+        std::fs::write(&path, text).unwrap();
+        let canon = common::rs274::canon_with_tools(&path, Some(&rs274_table(dir.path()))).unwrap();
+        let theirs: Vec<f64> =
+            common::rs274::moves_with_length_offset(&canon).into_iter().map(|(_, offset)| offset).collect();
+        let p = read::read(text, Family::LinuxCnc, Some(Machine::Mill)).unwrap();
+        let ours = model_offsets(&p);
+        assert_eq!(ours.len(), theirs.len(), "program {k}: {p:?}\n{canon}");
+        for (i, (a, b)) in ours.iter().zip(&theirs).enumerate() {
+            assert!((a - b).abs() < 1e-3, "program {k}, move {i}: ours {a} mm, rs274 {b} mm\n{text}\n{canon}");
+        }
+    }
+}
+
+#[test]
+fn a_tool_change_alone_applies_no_length_on_linuxcnc_and_a_fanuc_mill() {
+    for family in [Family::LinuxCnc, Family::Fanuc] {
+        let p = read::read("G21 G17 G90\nT1 M6\nG0 X0 Y0 Z100\nM30\n", family, Some(Machine::Mill)).unwrap();
+        assert_eq!(p.blocks[0], Block::Tool(ToolChange { number: 1, offset: ToolOffset::Cancelled }), "{family:?}");
+    }
+    // Fanuc: G43 H1 on the line after the change, before any move, is that change's offset.
+    let p = read::read("G21 G17 G90\nT1 M6\nG0 G43 H1 Z50.\nM30\n", Family::Fanuc, Some(Machine::Mill)).unwrap();
+    assert_eq!(p.blocks[0], Block::Tool(ToolChange::new(1)));
+    // After a move, G49 is a block of its own, and the written program says so again.
+    let text = "G21 G17 G90\nT1 M6 G43 H1\nG0 X0 Y0 Z50.\nG49\nG0 Z100.\nM30\n";
+    let p = read::read(text, Family::Fanuc, Some(Machine::Mill)).unwrap();
+    assert_eq!(p.blocks[2], Block::LengthOffset(ToolOffset::Cancelled));
+    let written = ncsheet::nc::by_name("iso").unwrap().render(&p).unwrap();
+    assert!(written.lines().any(|l| l.ends_with(" G49")), "{written}");
+    assert_eq!(read::read(&written, Family::Fanuc, Some(Machine::Mill)).unwrap().blocks, p.blocks);
+}
+
+#[test]
+fn sinumerik_takes_the_cutting_edge_d_and_d1_by_default() {
+    let read = |t: &str| read::read(t, Family::Sinumerik, Some(Machine::Mill)).unwrap().blocks;
+    assert_eq!(read("N10 T1 M6\nN20 G0 X0 Y0 Z5\n")[0], Block::Tool(ToolChange::new(1)));
+    let b = read("N10 T1 M6 D2\nN20 G0 X0 Y0 Z5\nN30 D0\nN40 G0 Z50\n");
+    assert_eq!(b[0], Block::Tool(ToolChange { number: 1, offset: ToolOffset::Number(2) }));
+    assert_eq!(b[2], Block::LengthOffset(ToolOffset::Cancelled));
+}
+
+#[test]
+fn heidenhain_tool_call_always_applies_the_table_length() {
+    let text = "0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S1000\n2 L X+0 Y+0 Z+5 R0 FMAX M3\n3 END PGM T MM\n";
+    let p = ncsheet::nc::by_name("heidenhain").unwrap().read(text, None).unwrap().0;
+    assert_eq!(p.blocks.iter().find(|b| matches!(b, Block::Tool(_))), Some(&Block::Tool(ToolChange::new(1))));
+}
+
+#[test]
+fn a_length_offset_without_a_tool_or_on_a_fanuc_lathe_is_refused_at_its_column() {
+    let e = read::read("G21 G17\nG43 H1\n", Family::LinuxCnc, Some(Machine::Mill)).unwrap_err();
+    assert_eq!((e.line, e.column), (2, 1), "{e}");
+    let e = read::read("G21 G18\nT0101\nG43 H1\n", Family::Fanuc, Some(Machine::Lathe)).unwrap_err();
+    assert_eq!((e.line, e.column), (3, 1), "{e}");
+    // A Fanuc lathe's T word is tool and offset: T1 names no tool.
+    let e = read::read("G21 G18\nG99\nT1\n", Family::Fanuc, Some(Machine::Lathe)).unwrap_err();
+    assert_eq!((e.line, e.column), (3, 1), "{e}");
+}
+
+/// Sinumerik's D0 deselects length and radius (Function Manual Tool offset: "D0
+/// compensation deselection"), so G41/G42 after it has no radius: the writer refuses it and
+/// so does the reader, at the G41/G42 (and with no tool called at all).
+#[test]
+fn sinumerik_radius_compensation_after_d0_is_refused_at_its_column() {
+    for (text, line, column) in [
+        ("N10 T1 M6 D0\nN20 G0 X0 Y0 Z5\nN30 G41 G1 X10 F100\n", 3, 5),
+        ("N10 T1 M6\nN20 G0 X0 Y0 Z5\nN30 D0\nN40 G1 G42 X10 F100\n", 4, 8),
+        ("N10 T1 M6 D0 G41\nN20 G1 X10 F100\n", 1, 14),
+        ("N10 G0 X0 Y0 Z5\nN20 G41 G1 X10 F100\n", 2, 5),
+    ] {
+        let e = read::read(text, Family::Sinumerik, Some(Machine::Mill)).unwrap_err();
+        assert_eq!((e.line, e.column), (line, column), "{text}: {e}");
+    }
+    // With an edge (D1 by default, or D2 again after D0) it is read.
+    let ok = "N10 T1 M6 D0\nN20 G0 X0 Y0 Z5\nN30 D2\nN40 G41 G1 X10 F100\nN50 G40 G0 Z50\n";
+    let p = read::read(ok, Family::Sinumerik, Some(Machine::Mill)).unwrap();
+    assert!(p.blocks.contains(&Block::LengthOffset(ToolOffset::Number(2))), "{:?}", p.blocks);
+    // The writer's refusal of the same program, for the record.
+    let mut bad = p.clone();
+    let at = bad.blocks.iter().position(|b| *b == Block::LengthOffset(ToolOffset::Number(2))).unwrap();
+    bad.blocks.remove(at);
+    assert!(ncsheet::nc::by_name("sinumerik").unwrap().render(&bad).is_err());
+}
+
+/// Every refusal the writers make on one block's values, the readers make on a hand-written
+/// program, at its line and word: rs274 refuses the first ones too (its messages quoted);
+/// the rest are the model's and the writers' limits (tool 0, speeds, dwell 0, G96 on a mill,
+/// the control's digits), refused so that what is read can be written again.
+#[test]
+fn what_the_writers_refuse_is_refused_when_read() {
+    let head = "G21 G17 G90\nT1 M6 G43\nS1000 M3\nG94\nG0 X0 Y0 Z5\n";
+    let rs274_refuses = [
+        ("G1 X1 F0", 7, "zero feed rate"),
+        ("G1 X1 F-5", 7, "Negative f word"),
+        ("S-5 M3", 1, "Negative spindle speed"),
+        ("G4 P-1", 4, "Dwell time"),
+        ("G2 X0 Y0 I0 J0 F100", 1, "Zero-radius arc"),
+    ];
+    let check_rs274 = common::rs274::available();
+    for (body, column, theirs) in rs274_refuses {
+        let text = format!("{head}{body}\nM2\n");
+        let e = read::read(&text, Family::LinuxCnc, Some(Machine::Mill)).unwrap_err();
+        assert_eq!((e.line, e.column), (6, column), "{body}: {e}");
+        if check_rs274 {
+            let dir = tempfile::tempdir().unwrap();
+            let path = dir.path().join("p.ngc");
+            std::fs::write(&path, &text).unwrap();
+            let complaint = common::rs274::canon(&path).unwrap_err();
+            assert!(complaint.contains(theirs), "{body}: {complaint}");
+        }
+    }
+    for (body, column) in [
+        ("S0 M3", 1),
+        ("S200000 M3", 1),
+        ("T0 M6", 1),
+        ("T100 M6 G43", 1),
+        ("G43 H100", 5),
+        ("G4 P0", 4),
+        ("G96 D2000 S100 M3", 11),
+        ("G1 X1234567.5 F100", 4),
+    ] {
+        let text = format!("{head}{body}\nM2\n");
+        let e = read::read(&text, Family::LinuxCnc, Some(Machine::Mill)).unwrap_err();
+        assert_eq!((e.line, e.column), (6, column), "{body}: {e}");
+    }
+    // NC31 has the axes X and Z only; a Fanuc program number is O0001–O9999.
+    let e = read::read("N001 X10 Y5 Z1 E\nN002 M02\n", Family::Nc31, None).unwrap_err();
+    assert_eq!((e.line, e.column), (1, 10), "{e}");
+    let e = read::read("%\nO12345 (X)\nG21 G17 G90\nM30\n%\n", Family::Fanuc, None).unwrap_err();
+    assert_eq!((e.line, e.column), (2, 1), "{e}");
+}
+
+/// Fanuc's and LinuxCNC's D with G41/G42 names the radius register (on LinuxCNC a tool
+/// number of the table; without D the loaded tool's): the model compensates with the current
+/// tool's radius, so another register is refused, not read as the tool's.
+#[test]
+fn a_radius_register_other_than_the_tools_is_refused() {
+    let head = "G21 G17 G90\nT1 M6 G43\nS1000 M3\nG94\nG0 X0 Y0 Z5\n";
+    for family in [Family::LinuxCnc, Family::Fanuc] {
+        let e = read::read(&format!("{head}G41 D2 G1 X5 F100\nM2\n"), family, Some(Machine::Mill)).unwrap_err();
+        assert_eq!((e.line, e.column), (6, 5), "{e}");
+        assert!(read::read(&format!("{head}G41 D1 G1 X5 F100\nM2\n"), family, Some(Machine::Mill)).is_ok());
+        let e = read::read("G21 G17 G90\nG0 X0 Y0 Z5\nG42 G1 X5 F100\n", family, Some(Machine::Mill)).unwrap_err();
+        assert_eq!((e.line, e.column), (3, 1), "{e}");
+    }
+}
+
+/// `Nc.Tool N, Offset:=` gives the length offset register (0: none), written for LinuxCNC
+/// and read by rs274 with the tool table: tool 1 with its own 50 mm, with tool 2's 30 mm,
+/// with none.
+#[test]
+fn a_macro_tool_change_gives_its_length_offset() {
+    use ncsheet::vba::{self, RunOptions};
+    let cases = [("Nc.Tool 1", ToolOffset::Own, 50.0), ("Nc.Tool 1, 2", ToolOffset::Number(2), 30.0)];
+    let cases = cases.into_iter().chain([("Nc.Tool 1, Offset:=0", ToolOffset::Cancelled, 0.0)]);
+    for (call, offset, length) in cases {
+        let src = format!(
+            "Sub Main()\n    Nc.Machine = \"mill\"\n    {call}\n    Nc.FeedPerMin\n    Nc.Spindle 1000\n    Nc.Rapid 0, 0, 50\n    \
+             Nc.Line 0, 0, -1, 100\nEnd Sub\n"
+        );
+        let mut wb = ncsheet::workbook::Workbook::with_sheet();
+        let out = vba::run(&mut wb, &src, "tool.bas", &RunOptions::default()).unwrap();
+        assert_eq!(out.program.blocks[0], Block::Tool(ToolChange { number: 1, offset }), "{call}");
+        if !common::rs274::available() {
+            continue;
+        }
+        let text = ncsheet::nc::by_name("linuxcnc").unwrap().render(&out.program).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("p.ngc");
+        std::fs::write(&path, &text).unwrap();
+        let canon = common::rs274::canon_with_tools(&path, Some(&rs274_table(dir.path()))).unwrap();
+        let moves = common::rs274::moves_with_length_offset(&canon);
+        assert!(!moves.is_empty() && moves.iter().all(|(_, o)| (o - length).abs() < 1e-3), "{call}: {text}\n{canon}");
+    }
+    let mut wb = ncsheet::workbook::Workbook::with_sheet();
+    let e =
+        vba::run(&mut wb, "Sub Main()\n    Nc.Tool 1, 100\nEnd Sub\n", "t.bas", &RunOptions::default()).unwrap_err();
+    assert_eq!(e.message, "Nc.Tool: Offset is an offset number from 1 to 99, or 0 for none");
+}
