@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use ncsheet::vba::project::{build_project, read_project, ModuleKind, NewModule, ProjectModule, VbaProject};
-use ncsheet::vba::project_edit::{add_modules, OnExisting};
+use ncsheet::vba::project_edit::{add_modules, OnExisting, OnProtected};
 
 use super::report::{Error, Result};
 
@@ -30,6 +30,10 @@ pub struct MacrosArgs {
     /// With --import, replace a standard module of the same name instead of refusing it
     #[arg(long, requires = "import")]
     pub replace: bool,
+    /// With --import into a protected project (a password, locked for viewing), write it
+    /// without the protection instead of refusing it
+    #[arg(long, requires = "import")]
+    pub unprotect: bool,
     /// The workbook to write with --import (.xlsm; never the input)
     #[arg(short, long, value_name = "OUT.xlsm")]
     pub output: Option<PathBuf>,
@@ -41,7 +45,8 @@ pub struct MacrosArgs {
 pub fn run(args: MacrosArgs) -> Result<()> {
     if let Some(out) = &args.output {
         let on_existing = if args.replace { OnExisting::Replace } else { OnExisting::Refuse };
-        return import(&args.file, &args.import, out, on_existing, args.force);
+        let on_protected = if args.unprotect { OnProtected::Unprotect } else { OnProtected::Refuse };
+        return import(&args.file, &args.import, out, (on_existing, on_protected), args.force);
     }
     let project = open_project(&args.file)?;
     match &args.export {
@@ -65,7 +70,13 @@ fn document_module(name: &str, base: &str) -> NewModule {
 const WORKBOOK_CLASS: &str = "00020819-0000-0000-C000-000000000046";
 const WORKSHEET_CLASS: &str = "00020820-0000-0000-C000-000000000046";
 
-fn import(file: &Path, modules: &[PathBuf], out: &Path, on_existing: OnExisting, force: bool) -> Result<()> {
+fn import(
+    file: &Path,
+    modules: &[PathBuf],
+    out: &Path,
+    (on_existing, on_protected): (OnExisting, OnProtected),
+    force: bool,
+) -> Result<()> {
     if !out.extension().is_some_and(|e| e.eq_ignore_ascii_case("xlsm")) {
         return Err(Error::Usage(format!("{}: a workbook with macros is saved as .xlsm", out.display())));
     }
@@ -79,7 +90,7 @@ fn import(file: &Path, modules: &[PathBuf], out: &Path, on_existing: OnExisting,
     let mut layout = opened.layout.unwrap_or_default();
     if let Some(old) = &layout.vba_project {
         let new = modules.iter().map(|m| read_module(m)).collect::<Result<Vec<_>>>()?;
-        let bytes = add_modules(old, &new, on_existing)
+        let bytes = add_modules(old, &new, on_existing, on_protected)
             .map_err(|e| Error::User(format!("{}: xl/vbaProject.bin: {e}", file.display())))?;
         let encoded = ncsheet::io::encode_with_vba_project(file, &bytes, out)?;
         super::write_outputs(&[encoded], false, force)?;
@@ -171,6 +182,9 @@ fn declares(source: &str, name: &str) -> bool {
 }
 
 fn list(project: &VbaProject) -> Result<()> {
+    if let Some(p) = project.protection.filter(|p| p.is_protected()) {
+        eprintln!("ncsheet: the VBA project {} (its source is read all the same)", p.describe());
+    }
     let mut out = BufWriter::new(io::stdout().lock());
     for m in &project.modules {
         writeln!(out, "{} ({})", m.name, m.kind.extension())?;

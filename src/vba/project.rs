@@ -40,6 +40,100 @@ impl ModuleKind {
 pub struct VbaProject {
     pub code_page: u16,
     pub modules: Vec<ProjectModule>,
+    /// The protection the PROJECT stream records; `None` where its fields do not decode.
+    pub protection: Option<Protection>,
+}
+
+/// A project's protection ([MS-OVBA] 2.3.1.15-17): the VBA editor's password and its "lock
+/// project for viewing". A locked project still stores its modules' source.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Protection {
+    /// ProjectProtectionState (CMG): fUserProtected, fHostProtected, fVBEProtected bits.
+    pub state: u32,
+    /// ProjectPassword (DPB) holds a password or its hash, not the single 0x00 of "none".
+    pub password: bool,
+    /// ProjectVisibilityState (GC) is not 0xFF: the editor shows no module without the password.
+    pub locked_for_viewing: bool,
+}
+
+impl Protection {
+    pub fn is_protected(&self) -> bool {
+        self.state != 0 || self.password || self.locked_for_viewing
+    }
+
+    /// What protects the project, as a user would say it.
+    pub fn describe(&self) -> String {
+        let mut parts = Vec::new();
+        if self.password {
+            parts.push("has a password".to_string());
+        }
+        if self.locked_for_viewing {
+            parts.push("is locked for viewing".to_string());
+        }
+        let by = [(1, "the user"), (2, "the host application"), (4, "the VBA editor")];
+        let who: Vec<&str> = by.iter().filter(|(bit, _)| self.state & bit != 0).map(|(_, w)| *w).collect();
+        if !who.is_empty() {
+            parts.push(format!("is marked protected by {}", who.join(" and ")));
+        }
+        if self.state & !7 != 0 {
+            parts.push(format!("has protection state {:#010x}", self.state));
+        }
+        parts.join(", ")
+    }
+}
+
+/// The protection recorded in a PROJECT stream's CMG, DPB and GC lines (Data Decryption,
+/// [MS-OVBA] 2.4.3.3); an error says which line does not decode.
+pub(super) fn read_protection(project_text: &[u8]) -> Result<Protection, String> {
+    let field = |key: &str| -> Result<Vec<u8>, String> {
+        let hex = property(project_text, key).ok_or_else(|| format!("the {key} line is missing"))?;
+        let hex = hex.strip_prefix(b"\"").and_then(|h| h.strip_suffix(b"\"")).unwrap_or(hex);
+        decrypt(hex).ok_or_else(|| format!("the {key} line does not decode ([MS-OVBA] 2.4.3.3)"))
+    };
+    let state = field("CMG")?;
+    let password = field("DPB")?;
+    let visibility = field("GC")?;
+    let state = match state[..] {
+        [a, b, c, d] => u32::from_le_bytes([a, b, c, d]),
+        _ => return Err("the CMG line does not hold 4 bytes".into()),
+    };
+    Ok(Protection { state, password: password != [0], locked_for_viewing: visibility != [0xFF] })
+}
+
+/// The value of the PROJECT stream's `key=` line, as stored.
+pub(super) fn property<'t>(text: &'t [u8], key: &str) -> Option<&'t [u8]> {
+    text.split(|&b| b == b'\n')
+        .map(|l| l.strip_suffix(b"\r").unwrap_or(l))
+        .take_while(|l| !l.starts_with(b"["))
+        .find_map(|l| l.strip_prefix(key.as_bytes()).and_then(|rest| rest.strip_prefix(b"=")))
+}
+
+/// Data Decryption ([MS-OVBA] 2.4.3.3) of hex text: the data, or `None` where the text is not
+/// hex, is cut short or names another length than it holds.
+fn decrypt(hex: &[u8]) -> Option<Vec<u8>> {
+    if !hex.len().is_multiple_of(2) {
+        return None;
+    }
+    let digit = |c: u8| (c as char).to_digit(16);
+    let bytes: Vec<u8> =
+        hex.chunks(2).map(|p| Some((digit(p[0])? * 16 + digit(p[1])?) as u8)).collect::<Option<_>>()?;
+    let (&seed, rest) = bytes.split_first()?;
+    let (&version_enc, rest) = rest.split_first()?;
+    let (&proj_key_enc, rest) = rest.split_first()?;
+    let (mut plain1, mut enc1, mut enc2) = (seed ^ proj_key_enc, proj_key_enc, version_enc);
+    let plain: Vec<u8> = rest
+        .iter()
+        .map(|&enc| {
+            let byte = enc ^ enc2.wrapping_add(plain1);
+            (enc2, enc1, plain1) = (enc1, enc, byte);
+            byte
+        })
+        .collect();
+    let ignored = usize::from((seed & 6) / 2);
+    let length = plain.get(ignored..ignored + 4)?;
+    let length = u32::from_le_bytes([length[0], length[1], length[2], length[3]]) as usize;
+    let data = &plain[ignored + 4..];
+    (data.len() == length).then(|| data.to_vec())
 }
 
 /// What is wrong with a VBA project, and in which stream.
@@ -69,7 +163,8 @@ pub fn read_project(bytes: &[u8]) -> Result<VbaProject, ProjectError> {
         let (source, _, _) = encoding.decode(&text);
         modules.push(ProjectModule { name: m.name, stream: m.stream, kind: m.kind, source: source.into_owned() });
     }
-    Ok(VbaProject { code_page: parts.listing.code_page, modules })
+    let protection = read_protection(&parts.project_text).ok();
+    Ok(VbaProject { code_page: parts.listing.code_page, modules, protection })
 }
 
 /// A project opened and checked as far as its listing: the dir stream read, and the PROJECT
@@ -364,17 +459,28 @@ fn project_stream(modules: &[NewModule], seed: u8) -> String {
     }
     text += "Name=\"VBAProject\"\r\nHelpContextID=\"0\"\r\nVersionCompatible32=\"393222000\"\r\n";
     // Not protected, no password, visible (2.3.1.15-17), obfuscated as 2.4.3.2 says.
-    text += &format!("CMG=\"{}\"\r\n", encrypt(&[0, 0, 0, 0], seed));
-    text += &format!("DPB=\"{}\"\r\n", encrypt(&[0], seed.wrapping_add(1)));
-    text += &format!("GC=\"{}\"\r\n\r\n", encrypt(&[0xFF], seed.wrapping_add(2)));
+    text += &unprotected_lines(PROJECT_ID.as_bytes(), seed);
+    text += "\r\n";
     text += "[Host Extender Info]\r\n&H00000001={3832D640-CF90-11CF-8E43-00A0C911005A};VBE;&H00000000\r\n";
     text
 }
 
-/// Data Encryption ([MS-OVBA] 2.4.3.2), as upper-case hex.
-fn encrypt(data: &[u8], seed: u8) -> String {
+/// The CMG, DPB and GC lines of a project with no protection: not protected, no password,
+/// visible (2.3.1.15-17), for the project whose ID line holds `project_id`.
+pub(super) fn unprotected_lines(project_id: &[u8], seed: u8) -> String {
+    format!(
+        "CMG=\"{}\"\r\nDPB=\"{}\"\r\nGC=\"{}\"\r\n",
+        encrypt(&[0, 0, 0, 0], seed, project_id),
+        encrypt(&[0], seed.wrapping_add(1), project_id),
+        encrypt(&[0xFF], seed.wrapping_add(2), project_id)
+    )
+}
+
+/// Data Encryption ([MS-OVBA] 2.4.3.2), as upper-case hex; the key is the sum of the bytes of
+/// the project's identifier (its ID line's value, braces included).
+fn encrypt(data: &[u8], seed: u8, project_id: &[u8]) -> String {
     let version = 2u8;
-    let proj_key = PROJECT_ID.bytes().fold(0u8, u8::wrapping_add);
+    let proj_key = project_id.iter().copied().fold(0u8, u8::wrapping_add);
     let mut out = vec![seed, seed ^ version, seed ^ proj_key];
     let (mut plain1, mut enc1, mut enc2) = (proj_key, seed ^ proj_key, seed ^ version);
     let mut push = |byte: u8, out: &mut Vec<u8>| {
@@ -486,6 +592,26 @@ mod tests {
         dir.extend_from_slice(&id::MODULE_NAME.to_le_bytes());
         dir.extend_from_slice(&99u32.to_le_bytes());
         assert!(parse_dir(&dir).unwrap_err().contains("cut short"));
+    }
+
+    /// [MS-OVBA] 3.1.6's PROJECT stream: an unprotected project, whose CMG the encryption
+    /// of 2.4.3.2 gives again from the same seed.
+    #[test]
+    fn the_specs_example_project_is_unprotected() {
+        let text = b"ID=\"{917DED54-440B-4FD1-A5C1-74ACF261E600}\"\r\nName=\"VBAProject\"\r\n\
+                     CMG=\"0705D8E3D8EDDBF1DBF1DBF1DBF1\"\r\nDPB=\"0E0CD1ECDFF4E7F5E7F5E7\"\r\n\
+                     GC=\"1517CAF1D6F9D7F9D706\"\r\n\r\n[Host Extender Info]\r\n";
+        assert_eq!(read_protection(text), Ok(Protection::default()));
+        let id = b"{917DED54-440B-4FD1-A5C1-74ACF261E600}";
+        assert_eq!(encrypt(&[0, 0, 0, 0], 0x07, id), "0705D8E3D8EDDBF1DBF1DBF1DBF1");
+        assert_eq!(encrypt(&[0], 0x0E, id), "0E0CD1ECDFF4E7F5E7F5E7");
+        assert_eq!(encrypt(&[0xFF], 0x15, id), "1517CAF1D6F9D7F9D706");
+    }
+
+    #[test]
+    fn protection_fields_that_do_not_decode_are_named() {
+        let text = b"ID=\"{917DED54-440B-4FD1-A5C1-74ACF261E600}\"\r\nCMG=\"0705D8\"\r\nDPB=\"XY\"\r\nGC=\"15\"\r\n";
+        assert!(read_protection(text).unwrap_err().contains("CMG"));
     }
 
     #[test]

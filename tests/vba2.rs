@@ -1,0 +1,234 @@
+//! VBA projects and macros nobody here wrote: protected projects ([MS-OVBA] 2.3.1.15-17),
+//! modules exported by the VBA editor in its ANSI code page, class modules, and the errors of
+//! Excel's object model. Oracles: [MS-OVBA] and [MS-VBAL], olevba's reading of the files.
+
+mod common;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use ncsheet::vba::project::read_project;
+
+fn corpus(file: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/excel-corpus/public").join(file)
+}
+
+const SIMPLE: &str = "poi/test-data_spreadsheet_SimpleMacro.xlsm";
+/// Saved by Excel with a VBA project password (its DPB line holds a password hash).
+const WITH_PASSWORD: &str = "poi/test-data_spreadsheet_mv-calculator-final-2-20-2013.xlsm";
+
+fn chamfer_bas() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("sheets/chamfer.bas")
+}
+
+fn ncsheet(args: &[&str]) -> common::cli::Run {
+    common::cli::ncsheet(args)
+}
+
+fn path(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// olevba's reading of `file`: module stream path (`VBA/Module1`) → source. `None` where
+/// oletools is not installed (an error on CI, where `.ci/run` installs it).
+fn olevba(file: &Path) -> Option<BTreeMap<String, String>> {
+    let script = r#"
+import json, sys
+from oletools.olevba import VBA_Parser
+p = VBA_Parser(sys.argv[1])
+out = {}
+if p.detect_vba_macros():
+    for (_, stream, _, code) in p.extract_macros():
+        out[stream] = code
+print(json.dumps(out))
+"#;
+    let run = Command::new("python3").arg("-c").arg(script).arg(file).output();
+    let ok = run.as_ref().is_ok_and(|o| o.status.success());
+    if !ok {
+        let why = run.map(|o| String::from_utf8_lossy(&o.stderr).into_owned()).unwrap_or_else(|e| e.to_string());
+        assert!(std::env::var_os("CI").is_none(), "olevba (pip oletools) is missing on CI: {why}");
+        eprintln!("skipped: olevba (pip install oletools) does not run here: {why}");
+        return None;
+    }
+    let map: serde_json::Value = serde_json::from_slice(&run.unwrap().stdout).unwrap();
+    Some(map.as_object().unwrap().iter().map(|(k, v)| (k.clone(), v.as_str().unwrap().to_string())).collect())
+}
+
+fn vba_bytes(file: &Path) -> Vec<u8> {
+    ncsheet::io::open(file).unwrap().layout.unwrap().vba_project.unwrap()
+}
+
+/// `bytes` (a compound file) with the stream at `path` given new contents.
+fn with_stream(bytes: &[u8], path: &str, change: impl Fn(&[u8]) -> Vec<u8>) -> Vec<u8> {
+    let mut cfb = cfb::CompoundFile::open(std::io::Cursor::new(bytes.to_vec())).unwrap();
+    let mut old = Vec::new();
+    std::io::Read::read_to_end(&mut cfb.open_stream(path).unwrap(), &mut old).unwrap();
+    let mut stream = cfb.create_stream(path).unwrap();
+    std::io::Write::write_all(&mut stream, &change(&old)).unwrap();
+    drop(stream);
+    cfb.flush().unwrap();
+    cfb.into_inner().into_inner()
+}
+
+fn stream_of(bytes: &[u8], path: &str) -> Vec<u8> {
+    let mut cfb = cfb::CompoundFile::open(std::io::Cursor::new(bytes.to_vec())).unwrap();
+    let mut data = Vec::new();
+    std::io::Read::read_to_end(&mut cfb.open_stream(path).unwrap(), &mut data).unwrap();
+    data
+}
+
+/// `source` (an .xlsm) written to `out` with another `xl/vbaProject.bin`.
+fn xlsm_with_project(source: &Path, project: &[u8], out: &Path) {
+    let mut zip = zip::ZipArchive::new(std::fs::File::open(source).unwrap()).unwrap();
+    let mut writer = zip::ZipWriter::new(std::fs::File::create(out).unwrap());
+    for i in 0..zip.len() {
+        let entry = zip.by_index(i).unwrap();
+        if entry.name().unwrap() == "xl/vbaProject.bin" {
+            drop(entry);
+            writer.start_file("xl/vbaProject.bin", zip::write::SimpleFileOptions::default()).unwrap();
+            std::io::Write::write_all(&mut writer, project).unwrap();
+        } else {
+            writer.raw_copy_file(entry).unwrap();
+        }
+    }
+    writer.finish().unwrap();
+}
+
+/// Data Encryption of [MS-OVBA] 2.4.3.2, written here from the specification: the seed,
+/// the encrypted version (2) and project key (the sum of the bytes of the project's ID),
+/// `(seed & 6) / 2` ignored bytes of value 7, the length (4 bytes) and the data.
+fn spec_encrypt(data: &[u8], seed: u8, project_id: &str) -> String {
+    let key = project_id.bytes().fold(0u8, |a, b| a.wrapping_add(b));
+    let (version_enc, key_enc) = (seed ^ 2, seed ^ key);
+    let mut out = vec![seed, version_enc, key_enc];
+    let (mut unencrypted1, mut encrypted1, mut encrypted2) = (key, key_enc, version_enc);
+    let ignored = std::iter::repeat_n(7u8, usize::from((seed & 6) / 2));
+    let length = (data.len() as u32).to_le_bytes();
+    for byte in ignored.chain(length).chain(data.iter().copied()) {
+        let enc = byte ^ encrypted2.wrapping_add(unencrypted1);
+        out.push(enc);
+        (encrypted2, encrypted1, unencrypted1) = (encrypted1, enc, byte);
+    }
+    out.iter().map(|b| format!("{b:02X}")).collect()
+}
+
+/// Data Decryption of [MS-OVBA] 2.4.3.3, written here from the specification.
+fn spec_decrypt(hex: &str) -> Vec<u8> {
+    let bytes: Vec<u8> = (0..hex.len()).step_by(2).map(|i| u8::from_str_radix(&hex[i..i + 2], 16).unwrap()).collect();
+    let (seed, version_enc, key_enc) = (bytes[0], bytes[1], bytes[2]);
+    let (mut unencrypted1, mut encrypted1, mut encrypted2) = (seed ^ key_enc, key_enc, version_enc);
+    let mut plain = Vec::new();
+    for &enc in &bytes[3..] {
+        let byte = enc ^ encrypted2.wrapping_add(unencrypted1);
+        plain.push(byte);
+        (encrypted2, encrypted1, unencrypted1) = (encrypted1, enc, byte);
+    }
+    let ignored = usize::from((seed & 6) / 2);
+    let length = u32::from_le_bytes(plain[ignored..ignored + 4].try_into().unwrap()) as usize;
+    assert_eq!(plain.len(), ignored + 4 + length, "{hex}");
+    plain[ignored + 4..].to_vec()
+}
+
+/// The PROJECT stream's `key="value"` value.
+fn project_value(text: &str, key: &str) -> String {
+    let line = text.lines().find(|l| l.starts_with(&format!("{key}="))).unwrap();
+    line[key.len() + 1..].trim_matches('"').to_string()
+}
+
+/// (CMG, DPB, GC) of a vbaProject.bin, decrypted.
+fn protection_fields(bytes: &[u8]) -> (Vec<u8>, Vec<u8>, Vec<u8>) {
+    let text = String::from_utf8_lossy(&stream_of(bytes, "/PROJECT")).into_owned();
+    let field = |k| spec_decrypt(&project_value(&text, k));
+    (field("CMG"), field("DPB"), field("GC"))
+}
+
+/// SimpleMacro's project locked for viewing with a password, as the VBA editor's "Lock project
+/// for viewing" stores it: protected by the user (CMG bit fUserProtected), a password (a
+/// 29-byte PasswordHash, 2.3.1.16, in DPB) and not visible (GC 0x00).
+fn locked_simple_macro(out: &Path) {
+    let file = corpus(SIMPLE);
+    let bytes = with_stream(&vba_bytes(&file), "/PROJECT", |old| {
+        let text = String::from_utf8_lossy(old).into_owned();
+        let id = project_value(&text, "ID");
+        let mut hash = vec![0xFF, 0x20, 0x00, 0x00];
+        hash.extend((1..=24).map(|i| i * 7));
+        hash.push(0);
+        let fields = [
+            ("CMG", spec_encrypt(&[1, 0, 0, 0], 0x31, &id)),
+            ("DPB", spec_encrypt(&hash, 0x42, &id)),
+            ("GC", spec_encrypt(&[0], 0x53, &id)),
+        ];
+        let mut new = String::new();
+        for line in text.split_inclusive("\r\n") {
+            match fields.iter().find(|(k, _)| line.starts_with(&format!("{k}="))) {
+                Some((k, v)) => new += &format!("{k}=\"{v}\"\r\n"),
+                None => new += line,
+            }
+        }
+        new.into_bytes()
+    });
+    xlsm_with_project(&file, &bytes, out);
+}
+
+/// Importing a module into a project with a password, or one locked for viewing, is refused
+/// naming the protection, and writes nothing; with --unprotect the project is written with
+/// CMG 0, no password (DPB 0x00) and visible (GC 0xFF), its modules as olevba read them.
+#[test]
+fn importing_into_a_protected_project_is_refused_unless_unprotected() {
+    let dir = tempfile::tempdir().unwrap();
+    let locked = dir.path().join("locked.xlsm");
+    locked_simple_macro(&locked);
+    let bas = chamfer_bas();
+    for (book, says) in [(corpus(WITH_PASSWORD), "has a password"), (locked.clone(), "is locked for viewing")] {
+        let out = dir.path().join("out.xlsm");
+        let args = ["macros", path(&book), "--import", path(&bas), "-o", path(&out)];
+        let refused = ncsheet(&args);
+        assert!(refused.code != 0, "{}", book.display());
+        assert!(refused.stderr.contains(says) && refused.stderr.contains("PROJECT"), "{}", refused.stderr);
+        assert!(refused.stderr.contains("--unprotect"), "{}", refused.stderr);
+        assert!(!out.exists(), "{}: written", book.display());
+
+        let done = ncsheet(&[&args[..], &["--unprotect"]].concat());
+        assert_eq!(done.code, 0, "{}: {}", book.display(), done.stderr);
+        let (cmg, dpb, gc) = protection_fields(&vba_bytes(&out));
+        assert_eq!((cmg, dpb, gc), (vec![0, 0, 0, 0], vec![0], vec![0xFF]), "{}", book.display());
+        if let (Some(mut after), Some(before)) = (olevba(&out), olevba(&book)) {
+            assert!(after.remove("VBA/Chamfer").is_some(), "{}", book.display());
+            assert!(after == before, "{}: olevba reads the old modules differently", book.display());
+        }
+        std::fs::remove_file(&out).unwrap();
+    }
+}
+
+/// A locked project still stores its source: it is listed, exported as olevba reads it, and
+/// its macro runs (SimpleMacro's TestMacro writes its text into the saved active cell, C4).
+#[test]
+fn a_locked_project_is_still_listed_exported_and_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let locked = dir.path().join("locked.xlsm");
+    locked_simple_macro(&locked);
+    let (cmg, dpb, gc) = protection_fields(&vba_bytes(&locked));
+    assert_eq!((cmg[0], dpb.len(), gc), (1, 29, vec![0]), "the test's project is locked");
+
+    let listed = ncsheet(&["macros", path(&locked)]);
+    assert_eq!(listed.code, 0, "{}", listed.stderr);
+    assert!(listed.stdout.contains("Sub TestMacro()"), "{}", listed.stdout);
+    assert!(listed.stderr.contains("locked for viewing"), "{}", listed.stderr);
+
+    let export = dir.path().join("export");
+    let exported = ncsheet(&["macros", path(&locked), "--export", path(&export)]);
+    assert_eq!(exported.code, 0, "{}", exported.stderr);
+    if let Some(theirs) = olevba(&locked) {
+        let module1 = std::fs::read_to_string(export.join("Module1.bas")).unwrap();
+        assert!(theirs["VBA/Module1"] == module1, "the export differs from olevba's reading");
+    }
+
+    let saved = dir.path().join("after.xlsx");
+    let ran = ncsheet(&["run", path(&locked), "--sub", "Module1.TestMacro", "--save", path(&saved)]);
+    assert_eq!(ran.code, 0, "{}", ran.stderr);
+    let after = ncsheet::io::open(&saved).unwrap().workbook;
+    let c4 = ncsheet::formula::address::parse_cell("C4").unwrap();
+    assert_eq!(after.input(0, c4).as_deref(), Some("This is a macro workbook"));
+    assert!(read_project(&vba_bytes(&locked)).unwrap().protection.unwrap().locked_for_viewing);
+}
