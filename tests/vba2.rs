@@ -232,3 +232,67 @@ fn a_locked_project_is_still_listed_exported_and_run() {
     assert_eq!(after.input(0, c4).as_deref(), Some("This is a macro workbook"));
     assert!(read_project(&vba_bytes(&locked)).unwrap().protection.unwrap().locked_for_viewing);
 }
+
+/// A module the VBA editor exported in Windows-1252: "Ø" 0xD8, "é" 0xE9, "–" 0x96, "°" 0xB0
+/// (the code page's chart). The bytes are written here, not typed, so that no editor recodes them.
+fn ansi_module(name: &str) -> Vec<u8> {
+    let mut bas = format!("Attribute VB_Name = \"{name}\"\r\nSub Label()\r\n    ' Fase 45").into_bytes();
+    bas.extend(b"\xB0 \x96 caf\xE9\r\n    Range(\"A1\").Value = \"\xD8 40 \x96 caf\xE9\"\r\nEnd Sub\r\n");
+    bas
+}
+
+const ANSI_TEXT: &str =
+    "Sub Label()\r\n    ' Fase 45° – café\r\n    Range(\"A1\").Value = \"Ø 40 – café\"\r\nEnd Sub\r\n";
+
+/// An ANSI .bas is imported into an Excel project (code page 1252) and into a new one, and
+/// olevba reads the module back as the characters the bytes stand for; `run` reads the same
+/// file and writes its text into A1.
+#[test]
+fn a_module_exported_in_the_ansi_code_page_is_imported_and_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let bas = dir.path().join("Label.bas");
+    std::fs::write(&bas, ansi_module("Label")).unwrap();
+    let want = format!("Attribute VB_Name = \"Label\"\r\n{ANSI_TEXT}");
+    let chamfer_xlsx = Path::new(env!("CARGO_MANIFEST_DIR")).join("sheets/chamfer.xlsx");
+    for (n, book) in [corpus(SIMPLE), chamfer_xlsx].iter().enumerate() {
+        let out = dir.path().join(format!("out{n}.xlsm"));
+        let done = ncsheet(&["macros", path(book), "--import", path(&bas), "-o", path(&out)]);
+        assert_eq!(done.code, 0, "{}: {}", book.display(), done.stderr);
+        let project = read_project(&vba_bytes(&out)).unwrap();
+        assert_eq!(project.code_page, 1252);
+        let label = project.modules.iter().find(|m| m.name == "Label").unwrap();
+        assert!(label.source == want, "{}: {:?}", book.display(), label.source);
+        if let Some(theirs) = olevba(&out) {
+            assert!(theirs["VBA/Label"] == want, "{}: olevba reads {:?}", book.display(), theirs["VBA/Label"]);
+        }
+    }
+    let csv = dir.path().join("book.csv");
+    std::fs::write(&csv, "x\n").unwrap();
+    let saved = dir.path().join("after.csv");
+    let ran = ncsheet(&["run", path(&csv), path(&bas), "--sub", "Label", "--save", path(&saved)]);
+    assert_eq!(ran.code, 0, "{}", ran.stderr);
+    assert_eq!(std::fs::read_to_string(&saved).unwrap().lines().next(), Some("Ø 40 – café"));
+}
+
+/// A .bas with a byte Windows-1252 leaves undefined (0x81), or a UTF-8 file (byte-order mark)
+/// with a stray ANSI byte, is refused at its line and column, by import and by run.
+#[test]
+fn undecodable_module_bytes_are_refused_at_their_place() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases: [(&[u8], &str); 2] = [
+        (b"Sub A()\r\n    x = \"a\x81b\"\r\nEnd Sub\r\n", ":2:11: "),
+        (b"\xEF\xBB\xBFSub A()\r\n' caf\xE9\r\nEnd Sub\r\n", ":2:6: "),
+    ];
+    for (n, (bytes, place)) in cases.iter().enumerate() {
+        let bas = dir.path().join(format!("M{n}.bas"));
+        std::fs::write(&bas, bytes).unwrap();
+        let out = dir.path().join("out.xlsm");
+        let import = ncsheet(&["macros", path(&corpus(SIMPLE)), "--import", path(&bas), "-o", path(&out)]);
+        assert!(import.code != 0 && import.stderr.contains(&format!("M{n}.bas{place}")), "{}", import.stderr);
+        assert!(!out.exists());
+        let csv = dir.path().join("book.csv");
+        std::fs::write(&csv, "x\n").unwrap();
+        let ran = ncsheet(&["run", path(&csv), path(&bas)]);
+        assert!(ran.code != 0 && ran.stderr.contains(&format!("M{n}.bas{place}")), "{}", ran.stderr);
+    }
+}

@@ -5,7 +5,9 @@ use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use ncsheet::vba::project::{build_project, read_project, ModuleKind, NewModule, ProjectModule, VbaProject};
+use ncsheet::vba::project::{
+    build_project, decode_module_file, read_project, ModuleKind, NewModule, ProjectModule, VbaProject,
+};
 use ncsheet::vba::project_edit::{add_modules, OnExisting, OnProtected};
 
 use super::report::{Error, Result};
@@ -89,7 +91,9 @@ fn import(
     let opened = ncsheet::io::open(file)?;
     let mut layout = opened.layout.unwrap_or_default();
     if let Some(old) = &layout.vba_project {
-        let new = modules.iter().map(|m| read_module(m)).collect::<Result<Vec<_>>>()?;
+        // A project that does not read is refused below, naming its stream.
+        let code_page = read_project(old).map_or(NEW_PROJECT_CODE_PAGE, |p| p.code_page);
+        let new = modules.iter().map(|m| read_module(m, code_page)).collect::<Result<Vec<_>>>()?;
         let bytes = add_modules(old, &new, on_existing, on_protected)
             .map_err(|e| Error::User(format!("{}: xl/vbaProject.bin: {e}", file.display())))?;
         let encoded = ncsheet::io::encode_with_vba_project(file, &bytes, out)?;
@@ -105,7 +109,7 @@ fn import(
         project.push(document_module(&code_name, WORKSHEET_CLASS));
     }
     for path in modules {
-        project.push(read_module(path)?);
+        project.push(read_module(path, NEW_PROJECT_CODE_PAGE)?);
     }
     let bytes = build_project(&project, 0x4E).map_err(|e| Error::User(format!("{}: {e}", out.display())))?;
     layout.vba_project = Some(bytes);
@@ -115,11 +119,20 @@ fn import(
     Ok(())
 }
 
+/// The code page of the projects ncsheet makes (`build_project` writes Windows-1252).
+pub const NEW_PROJECT_CODE_PAGE: u16 = 1252;
+
+/// A module file's text: in the ANSI code page `code_page`, as the VBA editor exports it, or
+/// Unicode (a byte-order mark, or valid UTF-8); bytes of neither are an error at their place.
+pub fn read_module_text(path: &Path, code_page: u16) -> Result<String> {
+    let bytes = std::fs::read(path).map_err(|e| Error::User(format!("{}: cannot read: {e}", path.display())))?;
+    decode_module_file(&bytes, code_page)
+        .map_err(|e| Error::User(format!("{}:{}:{}: {}", path.display(), e.line, e.column, e.message)))
+}
+
 /// A .bas file as a module: named by its `Attribute VB_Name` line, else by the file name.
-fn read_module(path: &Path) -> Result<NewModule> {
-    let source = std::fs::read_to_string(path).map_err(|e| Error::User(format!("{}: {e}", path.display())))?;
-    // An editor's byte-order mark is not part of the module's text.
-    let source = source.strip_prefix('\u{feff}').map(str::to_string).unwrap_or(source);
+fn read_module(path: &Path, code_page: u16) -> Result<NewModule> {
+    let source = read_module_text(path, code_page)?;
     let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     let name = source
         .lines()

@@ -394,6 +394,63 @@ fn encoding_for(code_page: u16) -> Option<&'static encoding_rs::Encoding> {
     encoding_rs::Encoding::for_label(label.as_bytes())
 }
 
+/// Where a module file's bytes are no text of the encoding they are read in.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SourceTextError {
+    pub line: usize,
+    pub column: usize,
+    pub message: String,
+}
+
+/// The text of a module file (.bas, .cls) as the VBA editor exports it, in the ANSI code page
+/// `code_page` (the project's PROJECTCODEPAGE; 1252 for a new one). A UTF-8 or UTF-16 byte-order
+/// mark, or bytes that are all valid UTF-8, say the file was saved as Unicode by another
+/// editor. Bytes the code page has no character for are an error at their line and column.
+pub fn decode_module_file(bytes: &[u8], code_page: u16) -> Result<String, SourceTextError> {
+    if let Some((encoding, bom)) = encoding_rs::Encoding::for_bom(bytes) {
+        return decode_strictly(&bytes[bom..], encoding, &format!("{} (its byte-order mark)", encoding.name()));
+    }
+    if let Ok(text) = std::str::from_utf8(bytes) {
+        return Ok(text.to_string());
+    }
+    let Some(encoding) = encoding_for(code_page) else {
+        return Err(SourceTextError {
+            line: 1,
+            column: 1,
+            message: format!("code page {code_page} is not one ncsheet can read"),
+        });
+    };
+    decode_strictly(bytes, encoding, &format!("code page {code_page}"))
+}
+
+/// Decodes line by line (no code page VBA uses has a newline byte inside a character), so a
+/// malformed byte is found at its line; in a single-byte code page, the bytes it leaves
+/// undefined (0x81, 0x8D … in 1252, decoded as C1 controls) are malformed too.
+fn decode_strictly(
+    bytes: &[u8],
+    encoding: &'static encoding_rs::Encoding,
+    what: &str,
+) -> Result<String, SourceTextError> {
+    let mut text = String::with_capacity(bytes.len());
+    let lines = bytes.split_inclusive(|&b| b == b'\n');
+    for (n, line) in lines.enumerate() {
+        let (decoded, malformed) = encoding.decode_without_bom_handling(line);
+        let is_utf =
+            encoding == encoding_rs::UTF_8 || encoding == encoding_rs::UTF_16LE || encoding == encoding_rs::UTF_16BE;
+        let bad = |c: char| c == '\u{FFFD}' || (!is_utf && ('\u{80}'..='\u{9F}').contains(&c));
+        if malformed || decoded.chars().any(bad) {
+            let column = decoded.chars().position(bad).unwrap_or(0) + 1;
+            return Err(SourceTextError {
+                line: n + 1,
+                column,
+                message: format!("bytes that are no character of {what}"),
+            });
+        }
+        text.push_str(&decoded);
+    }
+    Ok(text)
+}
+
 /// A module to put into a new project: its name, kind and source (as exported: CRLF line
 /// ends; a first `Attribute VB_Name` line is added where the source has none).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -612,6 +669,21 @@ mod tests {
     fn protection_fields_that_do_not_decode_are_named() {
         let text = b"ID=\"{917DED54-440B-4FD1-A5C1-74ACF261E600}\"\r\nCMG=\"0705D8\"\r\nDPB=\"XY\"\r\nGC=\"15\"\r\n";
         assert!(read_protection(text).unwrap_err().contains("CMG"));
+    }
+
+    /// Windows-1252 as its code chart gives it: 0xE9 é, 0x80 €, 0x96 en dash; 0x81 undefined.
+    #[test]
+    fn module_files_decode_by_the_code_page() {
+        assert_eq!(decode_module_file(b"' caf\xE9 \x80 \x96\r\n", 1252).unwrap(), "' café € –\r\n");
+        assert_eq!(decode_module_file("' café\r\n".as_bytes(), 1252).unwrap(), "' café\r\n");
+        assert_eq!(decode_module_file(b"\xEF\xBB\xBF' x\r\n", 1252).unwrap(), "' x\r\n");
+        let e = decode_module_file(b"Sub A()\r\n  x = \"a\x81\"\r\n", 1252).unwrap_err();
+        assert_eq!((e.line, e.column), (2, 9));
+        let e = decode_module_file(b"\xEF\xBB\xBF' \xE9\r\n", 1252).unwrap_err();
+        assert_eq!((e.line, e.column), (1, 3));
+        // Shift_JIS: 0x93 0xFA is 日; 0x93 alone before a newline is cut short.
+        assert_eq!(decode_module_file(b"' \x93\xFA\r\n", 932).unwrap(), "' 日\r\n");
+        assert_eq!(decode_module_file(b"'\r\n' \x93\r\n", 932).unwrap_err().line, 2);
     }
 
     #[test]
