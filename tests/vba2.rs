@@ -296,3 +296,70 @@ fn undecodable_module_bytes_are_refused_at_their_place() {
         assert!(ran.code != 0 && ran.stderr.contains(&format!("M{n}.bas{place}")), "{}", ran.stderr);
     }
 }
+
+/// A class module as the VBA editor exports it (File > Export): the VERSION header and its
+/// BEGIN … END block, then the Attribute lines the editor stores with the source.
+const TOOL_CLS: &str = "VERSION 1.0 CLASS\r\nBEGIN\r\n  MultiUse = -1  'True\r\nEND\r\n";
+const TOOL_SOURCE: &str = "Attribute VB_Name = \"Tool\"\r\nAttribute VB_GlobalNameSpace = False\r\n\
+    Attribute VB_Creatable = False\r\nAttribute VB_PredeclaredId = False\r\nAttribute VB_Exposed = False\r\n\
+    Private mD As Double\r\nPublic Property Get Diameter() As Double\r\n    Diameter = mD\r\nEnd Property\r\n\
+    Public Property Let Diameter(v As Double)\r\n    mD = v\r\nEnd Property\r\n";
+
+/// A .cls imports as a class module: the PROJECT stream lists it as `Class=Tool` ([MS-OVBA]
+/// 2.3.1.6), olevba reads its source without the export header, and `macros` lists it as a
+/// .cls. Code that makes an object of it is refused by name at its line and column, and so is
+/// a Sub of the class run on its own.
+#[test]
+fn a_class_module_imports_and_its_use_is_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let cls = dir.path().join("Tool.cls");
+    std::fs::write(&cls, format!("{TOOL_CLS}{TOOL_SOURCE}")).unwrap();
+    let bas = dir.path().join("UseTool.bas");
+    let use_tool = "Attribute VB_Name = \"UseTool\"\r\nSub Main()\r\n    Dim t As New Tool\r\n    t.Diameter = 40\r\n    Range(\"A1\").Value = t.Diameter\r\nEnd Sub\r\n";
+    std::fs::write(&bas, use_tool).unwrap();
+    let out = dir.path().join("out.xlsm");
+    let done =
+        ncsheet(&["macros", path(&corpus(SIMPLE)), "--import", path(&cls), "--import", path(&bas), "-o", path(&out)]);
+    assert_eq!(done.code, 0, "{}", done.stderr);
+
+    let bytes = vba_bytes(&out);
+    let project_text = String::from_utf8_lossy(&stream_of(&bytes, "/PROJECT")).into_owned();
+    assert!(project_text.lines().any(|l| l == "Class=Tool"), "{project_text}");
+    assert!(project_text.lines().any(|l| l == "Module=UseTool"), "{project_text}");
+    let project = read_project(&bytes).unwrap();
+    let tool = project.modules.iter().find(|m| m.name == "Tool").unwrap();
+    assert_eq!(tool.kind, ncsheet::vba::project::ModuleKind::Class);
+    assert!(tool.source == TOOL_SOURCE, "{:?}", tool.source);
+    if let Some(theirs) = olevba(&out) {
+        assert!(theirs["VBA/Tool"] == TOOL_SOURCE, "olevba reads {:?}", theirs["VBA/Tool"]);
+        assert!(theirs["VBA/UseTool"] == use_tool);
+    }
+    let listed = ncsheet(&["macros", path(&out)]);
+    assert!(listed.stdout.contains("Tool (cls)\n  Public Property Get Diameter() As Double"), "{}", listed.stdout);
+
+    let ran = ncsheet(&["run", path(&out), "--sub", "UseTool.Main"]);
+    assert!(ran.code != 0, "{}", ran.stderr);
+    assert!(ran.stderr.contains("UseTool:3:14") && ran.stderr.contains("New Tool"), "{}", ran.stderr);
+    let ran = ncsheet(&["run", path(&out), "--sub", "Tool.Diameter"]);
+    assert!(ran.code != 0 && ran.stderr.contains("Tool is a class"), "{}", ran.stderr);
+}
+
+/// A UserForm (.frm) and a sheet's document module (.cls with VB_Base) are refused by name.
+#[test]
+fn forms_and_document_modules_are_not_imported() {
+    let dir = tempfile::tempdir().unwrap();
+    let frm = dir.path().join("UserForm1.frm");
+    std::fs::write(&frm, "VERSION 5.00\r\nBegin {C62A69F0-16DC-11CE-9E98-00AA00574A4F} UserForm1\r\nEnd\r\n").unwrap();
+    let sheet = dir.path().join("Sheet9.cls");
+    std::fs::write(
+        &sheet,
+        format!("{TOOL_CLS}Attribute VB_Name = \"Sheet9\"\r\nAttribute VB_Base = \"0{{00020820-0000-0000-C000-000000000046}}\"\r\n"),
+    )
+    .unwrap();
+    for (file, says) in [(frm, "UserForm"), (sheet, "document module")] {
+        let out = dir.path().join("out.xlsm");
+        let refused = ncsheet(&["macros", path(&corpus(SIMPLE)), "--import", path(&file), "-o", path(&out)]);
+        assert!(refused.code != 0 && refused.stderr.contains(says), "{}", refused.stderr);
+        assert!(!out.exists());
+    }
+}

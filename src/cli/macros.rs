@@ -6,7 +6,8 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use ncsheet::vba::project::{
-    build_project, decode_module_file, read_project, ModuleKind, NewModule, ProjectModule, VbaProject,
+    build_project, decode_module_file, module_from_export, read_project, ModuleKind, NewModule, ProjectModule,
+    VbaProject,
 };
 use ncsheet::vba::project_edit::{add_modules, OnExisting, OnProtected};
 
@@ -25,7 +26,7 @@ pub struct MacrosArgs {
     /// Write the modules into this folder (made if missing) instead of listing them
     #[arg(long, value_name = "DIR", conflicts_with = "import")]
     pub export: Option<PathBuf>,
-    /// A module to put into the workbook (.bas, named by its Attribute VB_Name line or its
+    /// A module to put into the workbook (.bas, or a class .cls; named by its Attribute VB_Name line or its
     /// file name); give it once per module
     #[arg(long, value_name = "FILE.bas", requires = "output")]
     pub import: Vec<PathBuf>,
@@ -130,9 +131,12 @@ pub fn read_module_text(path: &Path, code_page: u16) -> Result<String> {
         .map_err(|e| Error::User(format!("{}:{}:{}: {}", path.display(), e.line, e.column, e.message)))
 }
 
-/// A .bas file as a module: named by its `Attribute VB_Name` line, else by the file name.
+/// A .bas or .cls file as a module: named by its `Attribute VB_Name` line, else by the file name.
 fn read_module(path: &Path, code_page: u16) -> Result<NewModule> {
-    let source = read_module_text(path, code_page)?;
+    let text = read_module_text(path, code_page)?;
+    let is_cls = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("cls"));
+    let (kind, source) =
+        module_from_export(&text, is_cls).map_err(|m| Error::User(format!("{}: {m}", path.display())))?;
     let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     let name = source
         .lines()
@@ -147,7 +151,7 @@ fn read_module(path: &Path, code_page: u16) -> Result<NewModule> {
             path.display()
         )));
     }
-    Ok(NewModule { name, kind: ModuleKind::Standard, source })
+    Ok(NewModule { name, kind, source })
 }
 
 /// The VBA project of a workbook file; a workbook without one is an error saying so.

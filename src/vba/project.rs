@@ -25,13 +25,16 @@ pub enum ModuleKind {
     Standard,
     /// A document module (`ThisWorkbook`, `Sheet1`) or a class: exported as .cls.
     DocumentOrClass,
+    /// A class module: the dir stream's MODULETYPE of a document module, and a `Class=` line in
+    /// the PROJECT stream ([MS-OVBA] 2.3.1.6); exported as .cls.
+    Class,
 }
 
 impl ModuleKind {
     pub fn extension(self) -> &'static str {
         match self {
             ModuleKind::Standard => "bas",
-            ModuleKind::DocumentOrClass => "cls",
+            ModuleKind::DocumentOrClass | ModuleKind::Class => "cls",
         }
     }
 }
@@ -100,6 +103,16 @@ pub(super) fn read_protection(project_text: &[u8]) -> Result<Protection, String>
     Ok(Protection { state, password: password != [0], locked_for_viewing: visibility != [0xFF] })
 }
 
+/// The names of the PROJECT stream's `Class=` lines (2.3.1.6), as stored.
+fn class_names(text: &[u8]) -> Vec<Vec<u8>> {
+    text.split(|&b| b == b'\n')
+        .map(|l| l.strip_suffix(b"\r").unwrap_or(l))
+        .take_while(|l| !l.starts_with(b"["))
+        .filter_map(|l| l.strip_prefix(b"Class="))
+        .map(<[u8]>::to_vec)
+        .collect()
+}
+
 /// The value of the PROJECT stream's `key=` line, as stored.
 pub(super) fn property<'t>(text: &'t [u8], key: &str) -> Option<&'t [u8]> {
     text.split(|&b| b == b'\n')
@@ -158,7 +171,11 @@ pub fn read_project(bytes: &[u8]) -> Result<VbaProject, ProjectError> {
     let mut parts = open_parts(bytes)?;
     let encoding = parts.encoding()?;
     let mut modules = Vec::with_capacity(parts.listing.modules.len());
-    for m in std::mem::take(&mut parts.listing.modules) {
+    let classes = class_names(&parts.project_text);
+    for mut m in std::mem::take(&mut parts.listing.modules) {
+        if m.kind == ModuleKind::DocumentOrClass && classes.iter().any(|c| c.eq_ignore_ascii_case(m.name.as_bytes())) {
+            m.kind = ModuleKind::Class;
+        }
         let text = parts.module_text(&m)?;
         let (source, _, _) = encoding.decode(&text);
         modules.push(ProjectModule { name: m.name, stream: m.stream, kind: m.kind, source: source.into_owned() });
@@ -451,6 +468,52 @@ fn decode_strictly(
     Ok(text)
 }
 
+/// A module file as the VBA editor exports it: a .bas is a standard module; a .cls (`is_cls`,
+/// or a first line `VERSION 1.0 CLASS`) is a class module, whose `BEGIN … END` block of
+/// properties the editor keeps as the `Attribute VB_…` lines after it, so the block is no part
+/// of the stored source. A UserForm (.frm, `VERSION 5.00`) needs its designer storage and a
+/// document module (`Attribute VB_Base`) its sheet: both are refused by name.
+pub fn module_from_export(text: &str, is_cls: bool) -> Result<(ModuleKind, String), String> {
+    let first = text.lines().find(|l| !l.trim().is_empty()).unwrap_or_default().trim();
+    let has_header = first.len() >= 8 && first[..8].eq_ignore_ascii_case("VERSION ");
+    if has_header && !first.to_ascii_uppercase().ends_with(" CLASS") {
+        return Err(format!(
+            "'{first}' starts a UserForm (.frm), which needs its designer (.frx): ncsheet imports .bas and .cls modules"
+        ));
+    }
+    let attribute = |name: &str| {
+        text.lines().any(|l| {
+            let l = l.trim_start().to_ascii_lowercase();
+            l.starts_with("attribute ") && l["attribute ".len()..].trim_start().starts_with(name)
+        })
+    };
+    if attribute("vb_base") {
+        return Err("a document module (its Attribute VB_Base binds it to a sheet or the workbook) is not imported: \
+                    put its code into a .bas module"
+            .into());
+    }
+    if !has_header {
+        let kind = if is_cls { ModuleKind::Class } else { ModuleKind::Standard };
+        return Ok((kind, text.to_string()));
+    }
+    let mut rest = text;
+    let mut ended = false;
+    let mut begun = false;
+    while let Some(line) = rest.split_inclusive('\n').next() {
+        rest = &rest[line.len()..];
+        let word = line.trim();
+        begun |= word.eq_ignore_ascii_case("BEGIN");
+        if begun && word.eq_ignore_ascii_case("END") {
+            ended = true;
+            break;
+        }
+    }
+    if !ended {
+        return Err("the VERSION 1.0 CLASS header has no BEGIN … END block".into());
+    }
+    Ok((ModuleKind::Class, rest.to_string()))
+}
+
 /// A module to put into a new project: its name, kind and source (as exported: CRLF line
 /// ends; a first `Attribute VB_Name` line is added where the source has none).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -512,6 +575,7 @@ fn project_stream(modules: &[NewModule], seed: u8) -> String {
         match m.kind {
             ModuleKind::Standard => text += &format!("Module={}\r\n", m.name),
             ModuleKind::DocumentOrClass => text += &format!("Document={}/&H00000000\r\n", m.name),
+            ModuleKind::Class => text += &format!("Class={}\r\n", m.name),
         }
     }
     text += "Name=\"VBAProject\"\r\nHelpContextID=\"0\"\r\nVersionCompatible32=\"393222000\"\r\n";
@@ -592,7 +656,7 @@ pub(super) fn push_module_records(d: &mut Vec<u8>, name: &str, mbcs: &[u8], kind
     push_record(d, id::MODULE_COOKIE, &0xFFFFu16.to_le_bytes());
     let kind = match kind {
         ModuleKind::Standard => id::MODULE_TYPE_PROCEDURAL,
-        ModuleKind::DocumentOrClass => id::MODULE_TYPE_OTHER,
+        ModuleKind::DocumentOrClass | ModuleKind::Class => id::MODULE_TYPE_OTHER,
     };
     push_record(d, kind, b"");
     push_record(d, id::MODULE_TERMINATOR, b"");
@@ -684,6 +748,21 @@ mod tests {
         // Shift_JIS: 0x93 0xFA is 日; 0x93 alone before a newline is cut short.
         assert_eq!(decode_module_file(b"' \x93\xFA\r\n", 932).unwrap(), "' 日\r\n");
         assert_eq!(decode_module_file(b"'\r\n' \x93\r\n", 932).unwrap_err().line, 2);
+    }
+
+    #[test]
+    fn a_class_files_header_is_no_part_of_its_source() {
+        let cls = "VERSION 1.0 CLASS\r\nBEGIN\r\n  MultiUse = -1  'True\r\nEND\r\nAttribute VB_Name = \"Tool\"\r\nPublic D\r\n";
+        let (kind, source) = module_from_export(cls, true).unwrap();
+        assert_eq!((kind, source.as_str()), (ModuleKind::Class, "Attribute VB_Name = \"Tool\"\r\nPublic D\r\n"));
+        assert_eq!(module_from_export("Sub A()\nEnd Sub\n", false).unwrap().0, ModuleKind::Standard);
+        assert!(module_from_export("VERSION 5.00\r\nBegin {C62A69F0-16DC-11CE-9E98-00AA00574A4F} F\r\n", false)
+            .unwrap_err()
+            .contains("UserForm"));
+        let doc =
+            "VERSION 1.0 CLASS\r\nBEGIN\r\nEND\r\nAttribute VB_Base = \"0{00020820-0000-0000-C000-000000000046}\"\r\n";
+        assert!(module_from_export(doc, true).unwrap_err().contains("document module"));
+        assert!(module_from_export("VERSION 1.0 CLASS\r\nBEGIN\r\n", true).unwrap_err().contains("END"));
     }
 
     #[test]

@@ -229,7 +229,7 @@ fn rebuild_dir(dir: &[u8], modules: usize, added: &[Added]) -> Result<Vec<u8>, S
     Err("the dir stream ends without its terminator record".into())
 }
 
-/// The PROJECT stream with a `Module=` line for each new module after the module lines
+/// The PROJECT stream with a `Module=` (`Class=`) line for each new module after the module lines
 /// (2.3.1: they follow the ID line), every other byte as it was.
 fn with_module_lines(text: &[u8], added: &[Added]) -> Vec<u8> {
     let lines: Vec<&[u8]> = text.split_inclusive(|&b| b == b'\n').collect();
@@ -238,7 +238,8 @@ fn with_module_lines(text: &[u8], added: &[Added]) -> Vec<u8> {
     let mut out = Vec::with_capacity(text.len() + 32 * added.len());
     lines[..after].iter().for_each(|l| out.extend_from_slice(l));
     for a in added {
-        out.extend_from_slice(b"Module=");
+        let key: &[u8] = if a.module.kind == ModuleKind::Class { b"Class=" } else { b"Module=" };
+        out.extend_from_slice(key);
         out.extend_from_slice(&a.mbcs);
         out.extend_from_slice(b"\r\n");
     }
