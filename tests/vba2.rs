@@ -363,3 +363,55 @@ fn forms_and_document_modules_are_not_imported() {
         assert!(!out.exists());
     }
 }
+
+/// Runs `source` (a .bas) on `book`, saving the workbook as `saved`.
+fn run_bas(dir: &Path, book: &Path, source: &str, saved: &Path) -> common::cli::Run {
+    let bas = dir.join("m.bas");
+    std::fs::write(&bas, source).unwrap();
+    ncsheet(&["run", path(book), path(&bas), "--save", path(saved)])
+}
+
+/// Excel's object-model errors, numbered as VBA numbers them ("Subscript out of range
+/// (Error 9)" in the VBA reference; 1004 for a method that fails, as selecting on a hidden
+/// sheet does): untrapped, an error at the module's line and column; trapped, `Err.Number`
+/// and `Err.Description` as VBA gives them.
+#[test]
+fn excel_object_model_errors_carry_vbas_numbers() {
+    let dir = tempfile::tempdir().unwrap();
+    let book = Path::new(env!("CARGO_MANIFEST_DIR")).join("sheets/chamfer.xlsx");
+    let saved = dir.path().join("after.xlsx");
+    let untrapped = [
+        (
+            "Sub Main()\r\n    Worksheets(\"NoSuch\").Range(\"A1\").Value = 1\r\nEnd Sub\r\n",
+            "m.bas:2:5: ",
+            "run-time error 9",
+        ),
+        ("Sub Main()\r\n    x = Worksheets(99).Name\r\nEnd Sub\r\n", "m.bas:2:9: ", "run-time error 9"),
+        (
+            "Sub Main()\r\n    Worksheets(2).Visible = False\r\n    Worksheets(2).Range(\"A1\").Select\r\nEnd Sub\r\n",
+            "m.bas:3:31: ",
+            "Select method of Range class failed (run-time error 1004)",
+        ),
+        (
+            "Sub Main()\r\n    Worksheets(2).Visible = False\r\n    Worksheets(2).Select\r\nEnd Sub\r\n",
+            "m.bas:3:19: ",
+            "Select method of Worksheet class failed (run-time error 1004)",
+        ),
+    ];
+    for (source, place, says) in untrapped {
+        let ran = run_bas(dir.path(), &book, source, &saved);
+        assert!(ran.code != 0 && ran.stderr.contains(place) && ran.stderr.contains(says), "{source}\n{}", ran.stderr);
+    }
+    let trapped = "Sub Main()\r\n    On Error Resume Next\r\n    Worksheets(\"NoSuch\").Range(\"A1\").Value = 1\r\n\
+                   Worksheets(1).Range(\"H1\").Value = Err.Number\r\n    Worksheets(1).Range(\"H2\").Value = Err.Description\r\n\
+                   Err.Clear\r\n    Worksheets(2).Visible = False\r\n    Worksheets(2).Range(\"A1\").Select\r\n\
+                   Worksheets(1).Range(\"H3\").Value = Err.Number\r\nEnd Sub\r\n";
+    let ran = run_bas(dir.path(), &book, trapped, &saved);
+    assert_eq!(ran.code, 0, "{}", ran.stderr);
+    let after = ncsheet::io::open(&saved).unwrap().workbook;
+    let at = |a1| after.input(0, ncsheet::formula::address::parse_cell(a1).unwrap());
+    assert_eq!(
+        (at("H1"), at("H2"), at("H3")),
+        (Some("9".into()), Some("Subscript out of range".into()), Some("1004".into()))
+    );
+}
