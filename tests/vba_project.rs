@@ -186,7 +186,8 @@ fn xlsm_with_projects() -> Vec<PathBuf> {
     files
 }
 
-/// `ncsheet macros FILE --import chamfer.bas -o OUT`, which must succeed.
+/// `ncsheet macros FILE --import chamfer.bas -o OUT`, which must succeed (--unprotect: one
+/// of the projects has a password; tests/vba2.rs checks the refusal without it).
 fn import_chamfer(file: &Path, out: &Path) {
     let run = common::cli::ncsheet(&[
         "macros",
@@ -195,6 +196,7 @@ fn import_chamfer(file: &Path, out: &Path) {
         chamfer_bas().to_str().unwrap(),
         "-o",
         out.to_str().unwrap(),
+        "--unprotect",
     ]);
     assert_eq!(run.code, 0, "{}: {}", file.display(), run.stderr);
 }

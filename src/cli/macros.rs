@@ -5,8 +5,11 @@ use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use ncsheet::vba::project::{build_project, read_project, ModuleKind, NewModule, ProjectModule, VbaProject};
-use ncsheet::vba::project_edit::{add_modules, OnExisting};
+use ncsheet::vba::project::{
+    build_project, decode_module_file, module_from_export, read_project, ModuleKind, NewModule, ProjectModule,
+    VbaProject,
+};
+use ncsheet::vba::project_edit::{add_modules, OnExisting, OnProtected};
 
 use super::report::{Error, Result};
 
@@ -23,13 +26,17 @@ pub struct MacrosArgs {
     /// Write the modules into this folder (made if missing) instead of listing them
     #[arg(long, value_name = "DIR", conflicts_with = "import")]
     pub export: Option<PathBuf>,
-    /// A module to put into the workbook (.bas, named by its Attribute VB_Name line or its
+    /// A module to put into the workbook (.bas, or a class .cls; named by its Attribute VB_Name line or its
     /// file name); give it once per module
     #[arg(long, value_name = "FILE.bas", requires = "output")]
     pub import: Vec<PathBuf>,
     /// With --import, replace a standard module of the same name instead of refusing it
     #[arg(long, requires = "import")]
     pub replace: bool,
+    /// With --import into a protected project (a password, locked for viewing), write it
+    /// without the protection instead of refusing it
+    #[arg(long, requires = "import")]
+    pub unprotect: bool,
     /// The workbook to write with --import (.xlsm; never the input)
     #[arg(short, long, value_name = "OUT.xlsm")]
     pub output: Option<PathBuf>,
@@ -41,7 +48,8 @@ pub struct MacrosArgs {
 pub fn run(args: MacrosArgs) -> Result<()> {
     if let Some(out) = &args.output {
         let on_existing = if args.replace { OnExisting::Replace } else { OnExisting::Refuse };
-        return import(&args.file, &args.import, out, on_existing, args.force);
+        let on_protected = if args.unprotect { OnProtected::Unprotect } else { OnProtected::Refuse };
+        return import(&args.file, &args.import, out, (on_existing, on_protected), args.force);
     }
     let project = open_project(&args.file)?;
     match &args.export {
@@ -65,7 +73,13 @@ fn document_module(name: &str, base: &str) -> NewModule {
 const WORKBOOK_CLASS: &str = "00020819-0000-0000-C000-000000000046";
 const WORKSHEET_CLASS: &str = "00020820-0000-0000-C000-000000000046";
 
-fn import(file: &Path, modules: &[PathBuf], out: &Path, on_existing: OnExisting, force: bool) -> Result<()> {
+fn import(
+    file: &Path,
+    modules: &[PathBuf],
+    out: &Path,
+    (on_existing, on_protected): (OnExisting, OnProtected),
+    force: bool,
+) -> Result<()> {
     if !out.extension().is_some_and(|e| e.eq_ignore_ascii_case("xlsm")) {
         return Err(Error::Usage(format!("{}: a workbook with macros is saved as .xlsm", out.display())));
     }
@@ -78,8 +92,10 @@ fn import(file: &Path, modules: &[PathBuf], out: &Path, on_existing: OnExisting,
     let opened = ncsheet::io::open(file)?;
     let mut layout = opened.layout.unwrap_or_default();
     if let Some(old) = &layout.vba_project {
-        let new = modules.iter().map(|m| read_module(m)).collect::<Result<Vec<_>>>()?;
-        let bytes = add_modules(old, &new, on_existing)
+        // A project that does not read is refused below, naming its stream.
+        let code_page = read_project(old).map_or(NEW_PROJECT_CODE_PAGE, |p| p.code_page);
+        let new = modules.iter().map(|m| read_module(m, code_page)).collect::<Result<Vec<_>>>()?;
+        let bytes = add_modules(old, &new, on_existing, on_protected)
             .map_err(|e| Error::User(format!("{}: xl/vbaProject.bin: {e}", file.display())))?;
         let encoded = ncsheet::io::encode_with_vba_project(file, &bytes, out)?;
         super::write_outputs(&[encoded], false, force)?;
@@ -94,7 +110,7 @@ fn import(file: &Path, modules: &[PathBuf], out: &Path, on_existing: OnExisting,
         project.push(document_module(&code_name, WORKSHEET_CLASS));
     }
     for path in modules {
-        project.push(read_module(path)?);
+        project.push(read_module(path, NEW_PROJECT_CODE_PAGE)?);
     }
     let bytes = build_project(&project, 0x4E).map_err(|e| Error::User(format!("{}: {e}", out.display())))?;
     layout.vba_project = Some(bytes);
@@ -104,11 +120,23 @@ fn import(file: &Path, modules: &[PathBuf], out: &Path, on_existing: OnExisting,
     Ok(())
 }
 
-/// A .bas file as a module: named by its `Attribute VB_Name` line, else by the file name.
-fn read_module(path: &Path) -> Result<NewModule> {
-    let source = std::fs::read_to_string(path).map_err(|e| Error::User(format!("{}: {e}", path.display())))?;
-    // An editor's byte-order mark is not part of the module's text.
-    let source = source.strip_prefix('\u{feff}').map(str::to_string).unwrap_or(source);
+/// The code page of the projects ncsheet makes (`build_project` writes Windows-1252).
+pub const NEW_PROJECT_CODE_PAGE: u16 = 1252;
+
+/// A module file's text: in the ANSI code page `code_page`, as the VBA editor exports it, or
+/// Unicode (a byte-order mark, or valid UTF-8); bytes of neither are an error at their place.
+pub fn read_module_text(path: &Path, code_page: u16) -> Result<String> {
+    let bytes = std::fs::read(path).map_err(|e| Error::User(format!("{}: cannot read: {e}", path.display())))?;
+    decode_module_file(&bytes, code_page)
+        .map_err(|e| Error::User(format!("{}:{}:{}: {}", path.display(), e.line, e.column, e.message)))
+}
+
+/// A .bas or .cls file as a module: named by its `Attribute VB_Name` line, else by the file name.
+fn read_module(path: &Path, code_page: u16) -> Result<NewModule> {
+    let text = read_module_text(path, code_page)?;
+    let is_cls = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("cls"));
+    let (kind, source) =
+        module_from_export(&text, is_cls).map_err(|m| Error::User(format!("{}: {m}", path.display())))?;
     let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     let name = source
         .lines()
@@ -123,7 +151,7 @@ fn read_module(path: &Path) -> Result<NewModule> {
             path.display()
         )));
     }
-    Ok(NewModule { name, kind: ModuleKind::Standard, source })
+    Ok(NewModule { name, kind, source })
 }
 
 /// Makes the public Functions of the workbook's VBA project callable from its cells, each
@@ -221,6 +249,9 @@ fn declares(source: &str, name: &str) -> bool {
 }
 
 fn list(project: &VbaProject) -> Result<()> {
+    if let Some(p) = project.protection.filter(|p| p.is_protected()) {
+        eprintln!("ncsheet: the VBA project {} (its source is read all the same)", p.describe());
+    }
     let mut out = BufWriter::new(io::stdout().lock());
     for m in &project.modules {
         writeln!(out, "{} ({})", m.name, m.kind.extension())?;

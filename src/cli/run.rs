@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 use ncsheet::io::xlsx::Layout;
 use ncsheet::nc::{dialect, Machine};
-use ncsheet::vba::project::{ModuleKind, ProjectModule};
+use ncsheet::vba::project::{read_project, ModuleKind, ProjectModule};
 use ncsheet::vba::{self, Document, ErrorKind, RunOptions, RunOutput};
 
 use super::output::emit;
@@ -217,8 +217,10 @@ fn macro_source(
     layout: Option<&Layout>,
 ) -> Result<(PathBuf, String, Option<String>, Option<Document>)> {
     if let Some(file) = &args.macro_file {
-        let source =
-            std::fs::read_to_string(file).map_err(|e| Error::User(format!("{}: cannot read: {e}", file.display())))?;
+        // The code page of the workbook's own project, if it has one that reads.
+        let project = layout.and_then(|l| l.vba_project.as_deref()).and_then(|b| read_project(b).ok());
+        let code_page = project.map_or(super::macros::NEW_PROJECT_CODE_PAGE, |p| p.code_page);
+        let source = super::macros::read_module_text(file, code_page)?;
         return Ok((file.clone(), source, args.sub.clone(), None));
     }
     let project = super::macros::open_project(&args.workbook)?;

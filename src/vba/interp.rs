@@ -1328,5 +1328,11 @@ fn err_state(fault: &Fault) -> ErrState {
         0 => 5,
         n => n,
     };
-    ErrState { number, description: fault.message.clone() }
+    // Excel's own errors carry VBA's description before our explanation.
+    let marker = format!(" (run-time error {number}): ");
+    let description = match m.split_once(&marker) {
+        Some((vba, _)) if fault.code != 0 => vba.to_string(),
+        _ => fault.message.clone(),
+    };
+    ErrState { number, description }
 }

@@ -251,11 +251,20 @@ impl Interp<'_, '_> {
     fn sheet_by(&self, ctx: &mut Ctx, link: &Link) -> Run<SheetId> {
         let values = self.values(ctx, link)?;
         let wb = self.wb.borrow();
+        // Excel's run-time error 9 for a sheet the workbook has not.
+        let missing = |what: String| {
+            let mut fault = self.fault_at(link.span, format!("{SUBSCRIPT_OUT_OF_RANGE} (run-time error 9): {what}"));
+            fault.code = 9;
+            fault
+        };
         match values.as_slice() {
             [Value::Number(n)] if *n >= 1.0 && (*n as usize) <= wb.sheet_len() => Ok(*n as SheetId - 1),
-            [Value::Text(name)] => wb
-                .sheet_id(name)
-                .ok_or_else(|| self.fault_at(link.span, format!("the workbook has no sheet named {name}"))),
+            [Value::Number(n)] => {
+                Err(missing(format!("the workbook has {} sheet(s), not a sheet {n}", wb.sheet_len())))
+            }
+            [Value::Text(name)] => {
+                wb.sheet_id(name).ok_or_else(|| missing(format!("the workbook has no sheet named {name}")))
+            }
             _ => Err(self.fault_at(link.span, format!("{}(name or number) picks a sheet", link.name))),
         }
     }
@@ -438,6 +447,7 @@ impl Interp<'_, '_> {
             }
             "worksheet" | "parent" => Ok(Obj::Sheet(sheet)),
             "select" | "activate" => {
+                self.refuse_hidden(sheet, if name == "select" { "Select" } else { "Activate" }, "Range", link.span)?;
                 self.select_range(sheet, rect, name == "activate");
                 value(Value::Blank)
             }
@@ -633,3 +643,6 @@ impl Interp<'_, '_> {
 const MAX_FORMULA_WRITE: u64 = 10_000_000;
 
 use crate::eval::Env;
+
+/// VBA's description of run-time error 9.
+const SUBSCRIPT_OUT_OF_RANGE: &str = "Subscript out of range";

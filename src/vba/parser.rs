@@ -487,7 +487,13 @@ impl<'s> Build<'s> {
             } else {
                 self.declare(&name);
             }
-            let ty = find(&k, Rule::as_clause).map(|a| self.ty_of(&a));
+            let as_clause = find(&k, Rule::as_clause);
+            if let Some(a) = &as_clause {
+                if let Some(new) = find(&kids(a), Rule::k_new) {
+                    return Err(self.refuse_new(&new, a.as_str()));
+                }
+            }
+            let ty = as_clause.map(|a| self.ty_of(&a));
             if let (Some(Ty::Record(_)), Some(_)) = (&ty, &bounds) {
                 return Err(self.error_at(&var, "arrays of a Type are not supported: use one array per field"));
             }
@@ -533,6 +539,9 @@ impl<'s> Build<'s> {
     fn assign(&self, pair: &Pair<Rule>) -> Res<StmtKind> {
         let k = kids(pair);
         let set = pair.as_rule() == Rule::set_stmt;
+        if let Some(new) = find(&k, Rule::new_object) {
+            return Err(self.refuse_new(&new, new.as_str()));
+        }
         let value = self.expr(find(&k, Rule::vexpr).expect("assigned value"))?;
         let target = match find(&k, Rule::bracket) {
             Some(b) => match self.bracket(b)?.kind {
@@ -906,6 +915,18 @@ fn comparison(rule: Rule) -> Option<BinOp> {
 }
 
 impl Build<'_> {
+    /// `Dim c As New Class1`, `Set c = New Class1`: the class named, refused.
+    fn refuse_new(&self, pair: &Pair<Rule>, text: &str) -> ParseError {
+        let class = text.split_whitespace().last().unwrap_or_default();
+        self.error_at(
+            pair,
+            format!(
+                "New {class}: objects of a class (a class module's, Collection, …) are not supported by \
+                 ncsheet's macros; keep the values in variables, arrays or cells"
+            ),
+        )
+    }
+
     fn ty_of(&self, as_clause: &Pair<Rule>) -> Ty {
         let name = find(&kids(as_clause), Rule::type_name).map(|t| t.as_str().to_string()).unwrap_or_default();
         match self.types.borrow().iter().position(|t| t.eq_ignore_ascii_case(&name)) {

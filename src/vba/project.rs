@@ -25,13 +25,16 @@ pub enum ModuleKind {
     Standard,
     /// A document module (`ThisWorkbook`, `Sheet1`) or a class: exported as .cls.
     DocumentOrClass,
+    /// A class module: the dir stream's MODULETYPE of a document module, and a `Class=` line in
+    /// the PROJECT stream ([MS-OVBA] 2.3.1.6); exported as .cls.
+    Class,
 }
 
 impl ModuleKind {
     pub fn extension(self) -> &'static str {
         match self {
             ModuleKind::Standard => "bas",
-            ModuleKind::DocumentOrClass => "cls",
+            ModuleKind::DocumentOrClass | ModuleKind::Class => "cls",
         }
     }
 }
@@ -40,6 +43,110 @@ impl ModuleKind {
 pub struct VbaProject {
     pub code_page: u16,
     pub modules: Vec<ProjectModule>,
+    /// The protection the PROJECT stream records; `None` where its fields do not decode.
+    pub protection: Option<Protection>,
+}
+
+/// A project's protection ([MS-OVBA] 2.3.1.15-17): the VBA editor's password and its "lock
+/// project for viewing". A locked project still stores its modules' source.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Protection {
+    /// ProjectProtectionState (CMG): fUserProtected, fHostProtected, fVBEProtected bits.
+    pub state: u32,
+    /// ProjectPassword (DPB) holds a password or its hash, not the single 0x00 of "none".
+    pub password: bool,
+    /// ProjectVisibilityState (GC) is not 0xFF: the editor shows no module without the password.
+    pub locked_for_viewing: bool,
+}
+
+impl Protection {
+    pub fn is_protected(&self) -> bool {
+        self.state != 0 || self.password || self.locked_for_viewing
+    }
+
+    /// What protects the project, as a user would say it.
+    pub fn describe(&self) -> String {
+        let mut parts = Vec::new();
+        if self.password {
+            parts.push("has a password".to_string());
+        }
+        if self.locked_for_viewing {
+            parts.push("is locked for viewing".to_string());
+        }
+        let by = [(1, "the user"), (2, "the host application"), (4, "the VBA editor")];
+        let who: Vec<&str> = by.iter().filter(|(bit, _)| self.state & bit != 0).map(|(_, w)| *w).collect();
+        if !who.is_empty() {
+            parts.push(format!("is marked protected by {}", who.join(" and ")));
+        }
+        if self.state & !7 != 0 {
+            parts.push(format!("has protection state {:#010x}", self.state));
+        }
+        parts.join(", ")
+    }
+}
+
+/// The protection recorded in a PROJECT stream's CMG, DPB and GC lines (Data Decryption,
+/// [MS-OVBA] 2.4.3.3); an error says which line does not decode.
+pub(super) fn read_protection(project_text: &[u8]) -> Result<Protection, String> {
+    let field = |key: &str| -> Result<Vec<u8>, String> {
+        let hex = property(project_text, key).ok_or_else(|| format!("the {key} line is missing"))?;
+        let hex = hex.strip_prefix(b"\"").and_then(|h| h.strip_suffix(b"\"")).unwrap_or(hex);
+        decrypt(hex).ok_or_else(|| format!("the {key} line does not decode ([MS-OVBA] 2.4.3.3)"))
+    };
+    let state = field("CMG")?;
+    let password = field("DPB")?;
+    let visibility = field("GC")?;
+    let state = match state[..] {
+        [a, b, c, d] => u32::from_le_bytes([a, b, c, d]),
+        _ => return Err("the CMG line does not hold 4 bytes".into()),
+    };
+    Ok(Protection { state, password: password != [0], locked_for_viewing: visibility != [0xFF] })
+}
+
+/// The names of the PROJECT stream's `Class=` lines (2.3.1.6), as stored.
+fn class_names(text: &[u8]) -> Vec<Vec<u8>> {
+    text.split(|&b| b == b'\n')
+        .map(|l| l.strip_suffix(b"\r").unwrap_or(l))
+        .take_while(|l| !l.starts_with(b"["))
+        .filter_map(|l| l.strip_prefix(b"Class="))
+        .map(<[u8]>::to_vec)
+        .collect()
+}
+
+/// The value of the PROJECT stream's `key=` line, as stored.
+pub(super) fn property<'t>(text: &'t [u8], key: &str) -> Option<&'t [u8]> {
+    text.split(|&b| b == b'\n')
+        .map(|l| l.strip_suffix(b"\r").unwrap_or(l))
+        .take_while(|l| !l.starts_with(b"["))
+        .find_map(|l| l.strip_prefix(key.as_bytes()).and_then(|rest| rest.strip_prefix(b"=")))
+}
+
+/// Data Decryption ([MS-OVBA] 2.4.3.3) of hex text: the data, or `None` where the text is not
+/// hex, is cut short or names another length than it holds.
+fn decrypt(hex: &[u8]) -> Option<Vec<u8>> {
+    if !hex.len().is_multiple_of(2) {
+        return None;
+    }
+    let digit = |c: u8| (c as char).to_digit(16);
+    let bytes: Vec<u8> =
+        hex.chunks(2).map(|p| Some((digit(p[0])? * 16 + digit(p[1])?) as u8)).collect::<Option<_>>()?;
+    let (&seed, rest) = bytes.split_first()?;
+    let (&version_enc, rest) = rest.split_first()?;
+    let (&proj_key_enc, rest) = rest.split_first()?;
+    let (mut plain1, mut enc1, mut enc2) = (seed ^ proj_key_enc, proj_key_enc, version_enc);
+    let plain: Vec<u8> = rest
+        .iter()
+        .map(|&enc| {
+            let byte = enc ^ enc2.wrapping_add(plain1);
+            (enc2, enc1, plain1) = (enc1, enc, byte);
+            byte
+        })
+        .collect();
+    let ignored = usize::from((seed & 6) / 2);
+    let length = plain.get(ignored..ignored + 4)?;
+    let length = u32::from_le_bytes([length[0], length[1], length[2], length[3]]) as usize;
+    let data = &plain[ignored + 4..];
+    (data.len() == length).then(|| data.to_vec())
 }
 
 /// What is wrong with a VBA project, and in which stream.
@@ -64,12 +171,17 @@ pub fn read_project(bytes: &[u8]) -> Result<VbaProject, ProjectError> {
     let mut parts = open_parts(bytes)?;
     let encoding = parts.encoding()?;
     let mut modules = Vec::with_capacity(parts.listing.modules.len());
-    for m in std::mem::take(&mut parts.listing.modules) {
+    let classes = class_names(&parts.project_text);
+    for mut m in std::mem::take(&mut parts.listing.modules) {
+        if m.kind == ModuleKind::DocumentOrClass && classes.iter().any(|c| c.eq_ignore_ascii_case(m.name.as_bytes())) {
+            m.kind = ModuleKind::Class;
+        }
         let text = parts.module_text(&m)?;
         let (source, _, _) = encoding.decode(&text);
         modules.push(ProjectModule { name: m.name, stream: m.stream, kind: m.kind, source: source.into_owned() });
     }
-    Ok(VbaProject { code_page: parts.listing.code_page, modules })
+    let protection = read_protection(&parts.project_text).ok();
+    Ok(VbaProject { code_page: parts.listing.code_page, modules, protection })
 }
 
 /// A project opened and checked as far as its listing: the dir stream read, and the PROJECT
@@ -299,6 +411,109 @@ fn encoding_for(code_page: u16) -> Option<&'static encoding_rs::Encoding> {
     encoding_rs::Encoding::for_label(label.as_bytes())
 }
 
+/// Where a module file's bytes are no text of the encoding they are read in.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SourceTextError {
+    pub line: usize,
+    pub column: usize,
+    pub message: String,
+}
+
+/// The text of a module file (.bas, .cls) as the VBA editor exports it, in the ANSI code page
+/// `code_page` (the project's PROJECTCODEPAGE; 1252 for a new one). A UTF-8 or UTF-16 byte-order
+/// mark, or bytes that are all valid UTF-8, say the file was saved as Unicode by another
+/// editor. Bytes the code page has no character for are an error at their line and column.
+pub fn decode_module_file(bytes: &[u8], code_page: u16) -> Result<String, SourceTextError> {
+    if let Some((encoding, bom)) = encoding_rs::Encoding::for_bom(bytes) {
+        return decode_strictly(&bytes[bom..], encoding, &format!("{} (its byte-order mark)", encoding.name()));
+    }
+    if let Ok(text) = std::str::from_utf8(bytes) {
+        return Ok(text.to_string());
+    }
+    let Some(encoding) = encoding_for(code_page) else {
+        return Err(SourceTextError {
+            line: 1,
+            column: 1,
+            message: format!("code page {code_page} is not one ncsheet can read"),
+        });
+    };
+    decode_strictly(bytes, encoding, &format!("code page {code_page}"))
+}
+
+/// Decodes line by line (no code page VBA uses has a newline byte inside a character), so a
+/// malformed byte is found at its line; in a single-byte code page, the bytes it leaves
+/// undefined (0x81, 0x8D … in 1252, decoded as C1 controls) are malformed too.
+fn decode_strictly(
+    bytes: &[u8],
+    encoding: &'static encoding_rs::Encoding,
+    what: &str,
+) -> Result<String, SourceTextError> {
+    let mut text = String::with_capacity(bytes.len());
+    let lines = bytes.split_inclusive(|&b| b == b'\n');
+    for (n, line) in lines.enumerate() {
+        let (decoded, malformed) = encoding.decode_without_bom_handling(line);
+        let is_utf =
+            encoding == encoding_rs::UTF_8 || encoding == encoding_rs::UTF_16LE || encoding == encoding_rs::UTF_16BE;
+        let bad = |c: char| c == '\u{FFFD}' || (!is_utf && ('\u{80}'..='\u{9F}').contains(&c));
+        if malformed || decoded.chars().any(bad) {
+            let column = decoded.chars().position(bad).unwrap_or(0) + 1;
+            return Err(SourceTextError {
+                line: n + 1,
+                column,
+                message: format!("bytes that are no character of {what}"),
+            });
+        }
+        text.push_str(&decoded);
+    }
+    Ok(text)
+}
+
+/// A module file as the VBA editor exports it: a .bas is a standard module; a .cls (`is_cls`,
+/// or a first line `VERSION 1.0 CLASS`) is a class module, whose `BEGIN … END` block of
+/// properties the editor keeps as the `Attribute VB_…` lines after it, so the block is no part
+/// of the stored source. A UserForm (.frm, `VERSION 5.00`) needs its designer storage and a
+/// document module (`Attribute VB_Base`) its sheet: both are refused by name.
+pub fn module_from_export(text: &str, is_cls: bool) -> Result<(ModuleKind, String), String> {
+    let first = text.lines().find(|l| !l.trim().is_empty()).unwrap_or_default().trim();
+    let has_header = first.len() >= 8 && first[..8].eq_ignore_ascii_case("VERSION ");
+    if has_header && !first.to_ascii_uppercase().ends_with(" CLASS") {
+        return Err(format!(
+            "'{first}' starts a UserForm (.frm), which needs its designer (.frx): ncsheet imports .bas and .cls modules"
+        ));
+    }
+    let attribute = |name: &str| {
+        text.lines().any(|l| {
+            let l = l.trim_start().to_ascii_lowercase();
+            l.starts_with("attribute ") && l["attribute ".len()..].trim_start().starts_with(name)
+        })
+    };
+    if attribute("vb_base") {
+        return Err("a document module (its Attribute VB_Base binds it to a sheet or the workbook) is not imported: \
+                    put its code into a .bas module"
+            .into());
+    }
+    if !has_header {
+        let kind = if is_cls { ModuleKind::Class } else { ModuleKind::Standard };
+        return Ok((kind, text.to_string()));
+    }
+    let mut rest = text;
+    let mut ended = false;
+    let mut begun = false;
+    while let Some(line) = rest.split_inclusive('\n').next() {
+        rest = &rest[line.len()..];
+        let word = line.trim();
+        begun |= word.eq_ignore_ascii_case("BEGIN");
+        if begun && word.eq_ignore_ascii_case("END") {
+            ended = true;
+            break;
+        }
+    }
+    if !ended {
+        return Err("the VERSION 1.0 CLASS header has no BEGIN … END block".into());
+    }
+    Ok((ModuleKind::Class, rest.to_string()))
+}
+
 /// A module to put into a new project: its name, kind and source (as exported: CRLF line
 /// ends; a first `Attribute VB_Name` line is added where the source has none).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -360,21 +575,33 @@ fn project_stream(modules: &[NewModule], seed: u8) -> String {
         match m.kind {
             ModuleKind::Standard => text += &format!("Module={}\r\n", m.name),
             ModuleKind::DocumentOrClass => text += &format!("Document={}/&H00000000\r\n", m.name),
+            ModuleKind::Class => text += &format!("Class={}\r\n", m.name),
         }
     }
     text += "Name=\"VBAProject\"\r\nHelpContextID=\"0\"\r\nVersionCompatible32=\"393222000\"\r\n";
     // Not protected, no password, visible (2.3.1.15-17), obfuscated as 2.4.3.2 says.
-    text += &format!("CMG=\"{}\"\r\n", encrypt(&[0, 0, 0, 0], seed));
-    text += &format!("DPB=\"{}\"\r\n", encrypt(&[0], seed.wrapping_add(1)));
-    text += &format!("GC=\"{}\"\r\n\r\n", encrypt(&[0xFF], seed.wrapping_add(2)));
+    text += &unprotected_lines(PROJECT_ID.as_bytes(), seed);
+    text += "\r\n";
     text += "[Host Extender Info]\r\n&H00000001={3832D640-CF90-11CF-8E43-00A0C911005A};VBE;&H00000000\r\n";
     text
 }
 
-/// Data Encryption ([MS-OVBA] 2.4.3.2), as upper-case hex.
-fn encrypt(data: &[u8], seed: u8) -> String {
+/// The CMG, DPB and GC lines of a project with no protection: not protected, no password,
+/// visible (2.3.1.15-17), for the project whose ID line holds `project_id`.
+pub(super) fn unprotected_lines(project_id: &[u8], seed: u8) -> String {
+    format!(
+        "CMG=\"{}\"\r\nDPB=\"{}\"\r\nGC=\"{}\"\r\n",
+        encrypt(&[0, 0, 0, 0], seed, project_id),
+        encrypt(&[0], seed.wrapping_add(1), project_id),
+        encrypt(&[0xFF], seed.wrapping_add(2), project_id)
+    )
+}
+
+/// Data Encryption ([MS-OVBA] 2.4.3.2), as upper-case hex; the key is the sum of the bytes of
+/// the project's identifier (its ID line's value, braces included).
+fn encrypt(data: &[u8], seed: u8, project_id: &[u8]) -> String {
     let version = 2u8;
-    let proj_key = PROJECT_ID.bytes().fold(0u8, u8::wrapping_add);
+    let proj_key = project_id.iter().copied().fold(0u8, u8::wrapping_add);
     let mut out = vec![seed, seed ^ version, seed ^ proj_key];
     let (mut plain1, mut enc1, mut enc2) = (proj_key, seed ^ proj_key, seed ^ version);
     let mut push = |byte: u8, out: &mut Vec<u8>| {
@@ -429,7 +656,7 @@ pub(super) fn push_module_records(d: &mut Vec<u8>, name: &str, mbcs: &[u8], kind
     push_record(d, id::MODULE_COOKIE, &0xFFFFu16.to_le_bytes());
     let kind = match kind {
         ModuleKind::Standard => id::MODULE_TYPE_PROCEDURAL,
-        ModuleKind::DocumentOrClass => id::MODULE_TYPE_OTHER,
+        ModuleKind::DocumentOrClass | ModuleKind::Class => id::MODULE_TYPE_OTHER,
     };
     push_record(d, kind, b"");
     push_record(d, id::MODULE_TERMINATOR, b"");
@@ -486,6 +713,56 @@ mod tests {
         dir.extend_from_slice(&id::MODULE_NAME.to_le_bytes());
         dir.extend_from_slice(&99u32.to_le_bytes());
         assert!(parse_dir(&dir).unwrap_err().contains("cut short"));
+    }
+
+    /// [MS-OVBA] 3.1.6's PROJECT stream: an unprotected project, whose CMG the encryption
+    /// of 2.4.3.2 gives again from the same seed.
+    #[test]
+    fn the_specs_example_project_is_unprotected() {
+        let text = b"ID=\"{917DED54-440B-4FD1-A5C1-74ACF261E600}\"\r\nName=\"VBAProject\"\r\n\
+                     CMG=\"0705D8E3D8EDDBF1DBF1DBF1DBF1\"\r\nDPB=\"0E0CD1ECDFF4E7F5E7F5E7\"\r\n\
+                     GC=\"1517CAF1D6F9D7F9D706\"\r\n\r\n[Host Extender Info]\r\n";
+        assert_eq!(read_protection(text), Ok(Protection::default()));
+        let id = b"{917DED54-440B-4FD1-A5C1-74ACF261E600}";
+        assert_eq!(encrypt(&[0, 0, 0, 0], 0x07, id), "0705D8E3D8EDDBF1DBF1DBF1DBF1");
+        assert_eq!(encrypt(&[0], 0x0E, id), "0E0CD1ECDFF4E7F5E7F5E7");
+        assert_eq!(encrypt(&[0xFF], 0x15, id), "1517CAF1D6F9D7F9D706");
+    }
+
+    #[test]
+    fn protection_fields_that_do_not_decode_are_named() {
+        let text = b"ID=\"{917DED54-440B-4FD1-A5C1-74ACF261E600}\"\r\nCMG=\"0705D8\"\r\nDPB=\"XY\"\r\nGC=\"15\"\r\n";
+        assert!(read_protection(text).unwrap_err().contains("CMG"));
+    }
+
+    /// Windows-1252 as its code chart gives it: 0xE9 é, 0x80 €, 0x96 en dash; 0x81 undefined.
+    #[test]
+    fn module_files_decode_by_the_code_page() {
+        assert_eq!(decode_module_file(b"' caf\xE9 \x80 \x96\r\n", 1252).unwrap(), "' café € –\r\n");
+        assert_eq!(decode_module_file("' café\r\n".as_bytes(), 1252).unwrap(), "' café\r\n");
+        assert_eq!(decode_module_file(b"\xEF\xBB\xBF' x\r\n", 1252).unwrap(), "' x\r\n");
+        let e = decode_module_file(b"Sub A()\r\n  x = \"a\x81\"\r\n", 1252).unwrap_err();
+        assert_eq!((e.line, e.column), (2, 9));
+        let e = decode_module_file(b"\xEF\xBB\xBF' \xE9\r\n", 1252).unwrap_err();
+        assert_eq!((e.line, e.column), (1, 3));
+        // Shift_JIS: 0x93 0xFA is 日; 0x93 alone before a newline is cut short.
+        assert_eq!(decode_module_file(b"' \x93\xFA\r\n", 932).unwrap(), "' 日\r\n");
+        assert_eq!(decode_module_file(b"'\r\n' \x93\r\n", 932).unwrap_err().line, 2);
+    }
+
+    #[test]
+    fn a_class_files_header_is_no_part_of_its_source() {
+        let cls = "VERSION 1.0 CLASS\r\nBEGIN\r\n  MultiUse = -1  'True\r\nEND\r\nAttribute VB_Name = \"Tool\"\r\nPublic D\r\n";
+        let (kind, source) = module_from_export(cls, true).unwrap();
+        assert_eq!((kind, source.as_str()), (ModuleKind::Class, "Attribute VB_Name = \"Tool\"\r\nPublic D\r\n"));
+        assert_eq!(module_from_export("Sub A()\nEnd Sub\n", false).unwrap().0, ModuleKind::Standard);
+        assert!(module_from_export("VERSION 5.00\r\nBegin {C62A69F0-16DC-11CE-9E98-00AA00574A4F} F\r\n", false)
+            .unwrap_err()
+            .contains("UserForm"));
+        let doc =
+            "VERSION 1.0 CLASS\r\nBEGIN\r\nEND\r\nAttribute VB_Base = \"0{00020820-0000-0000-C000-000000000046}\"\r\n";
+        assert!(module_from_export(doc, true).unwrap_err().contains("document module"));
+        assert!(module_from_export("VERSION 1.0 CLASS\r\nBEGIN\r\n", true).unwrap_err().contains("END"));
     }
 
     #[test]

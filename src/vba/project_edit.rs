@@ -11,8 +11,8 @@ use std::io::{Cursor, Write};
 
 use super::ovba;
 use super::project::{
-    id, open_parts, push_module_records, push_record, read_stream, with_name_attribute, DirModule, ModuleKind,
-    NewModule, Parts, ProjectError,
+    id, open_parts, property, push_module_records, push_record, read_protection, read_stream, unprotected_lines,
+    with_name_attribute, DirModule, ModuleKind, NewModule, Parts, ProjectError,
 };
 
 /// What to do with a new module whose name the project already has.
@@ -21,6 +21,15 @@ pub enum OnExisting {
     Refuse,
     /// Replace the standard module of that name (a document module or class is never replaced).
     Replace,
+}
+
+/// What to do with a project its owner protected (a password, locked for viewing).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OnProtected {
+    /// Refuse: the VBA editor would not let a user without the password edit it either.
+    Refuse,
+    /// Write the project without its protection (no password, not locked).
+    Unprotect,
 }
 
 fn error(stream: &str, message: impl std::fmt::Display) -> ProjectError {
@@ -34,9 +43,22 @@ struct Added<'m> {
 }
 
 /// The bytes of a new `vbaProject.bin`: the project in `bytes` with `modules` added (or,
-/// with [`OnExisting::Replace`], put in place of standard modules of the same name).
-pub fn add_modules(bytes: &[u8], modules: &[NewModule], on_existing: OnExisting) -> Result<Vec<u8>, ProjectError> {
+/// with [`OnExisting::Replace`], put in place of standard modules of the same name). A
+/// protected project is refused, or with [`OnProtected::Unprotect`] written unprotected.
+pub fn add_modules(
+    bytes: &[u8],
+    modules: &[NewModule],
+    on_existing: OnExisting,
+    on_protected: OnProtected,
+) -> Result<Vec<u8>, ProjectError> {
     let mut parts = open_parts(bytes)?;
+    let project_text = match on_protected {
+        OnProtected::Refuse => {
+            refuse_protected(&parts)?;
+            parts.project_text.clone()
+        }
+        OnProtected::Unprotect => unprotected(&parts.project_text).map_err(|m| error(&parts.project_path, m))?,
+    };
     let encoding = parts.encoding()?;
     // Streams of the old file written with new contents, by lower-case path.
     let mut replaced: BTreeMap<String, Vec<u8>> = BTreeMap::new();
@@ -74,13 +96,48 @@ pub fn add_modules(bytes: &[u8], modules: &[NewModule], on_existing: OnExisting)
     // Reserved1 0x61CC, Version 0xFFFF (no compiled cache), Reserved2 0, Reserved3.
     replaced
         .insert(format!("{}/_vba_project", parts.storage).to_ascii_lowercase(), vec![0xCC, 0x61, 0xFF, 0xFF, 0, 1, 0]);
-    replaced.insert(parts.project_path.to_ascii_lowercase(), with_module_lines(&parts.project_text, &added));
+    replaced.insert(parts.project_path.to_ascii_lowercase(), with_module_lines(&project_text, &added));
     let wm_path = sibling(&parts, "PROJECTwm");
     if parts.cfb.is_stream(&wm_path) {
         let wm = read_stream(&mut parts.cfb, &wm_path)?;
         replaced.insert(wm_path.to_ascii_lowercase(), with_names(&wm, &added).map_err(|m| error(&wm_path, m))?);
     }
     write_project(&mut parts, &replaced, &created)
+}
+
+/// An error naming the project's protection, if it has one; fields that do not decode are
+/// taken for protection too, since nothing says the owner did not lock the project.
+fn refuse_protected(parts: &Parts) -> Result<(), ProjectError> {
+    let what = match read_protection(&parts.project_text) {
+        Ok(p) if !p.is_protected() => return Ok(()),
+        Ok(p) => format!("the VBA project {}", p.describe()),
+        Err(m) => format!("the VBA project's protection cannot be read ({m})"),
+    };
+    Err(error(
+        &parts.project_path,
+        format!(
+            "{what}: ncsheet does not edit a protected project, which Excel would refuse or open unprotected \
+             (--unprotect writes it without the protection)"
+        ),
+    ))
+}
+
+/// The PROJECT stream with its CMG, DPB and GC lines saying "no protection" (2.3.1.15-17),
+/// encrypted with the project's own identifier; every other line as it was.
+fn unprotected(text: &[u8]) -> Result<Vec<u8>, String> {
+    let id = property(text, "ID").ok_or("does not start with the project's ID= line")?;
+    let id = id.strip_prefix(b"\"").and_then(|i| i.strip_suffix(b"\"")).unwrap_or(id);
+    let mut lines = unprotected_lines(id, 0x2A).into_bytes();
+    let mut out = Vec::with_capacity(text.len());
+    for line in text.split_inclusive(|&b| b == b'\n') {
+        if [&b"CMG="[..], b"DPB=", b"GC="].iter().any(|k| line.starts_with(k)) {
+            // The three lines go where the first of them was.
+            out.append(&mut lines);
+        } else {
+            out.extend_from_slice(line);
+        }
+    }
+    Ok(out)
 }
 
 fn compress(path: &str, data: &[u8]) -> Result<Vec<u8>, ProjectError> {
@@ -172,7 +229,7 @@ fn rebuild_dir(dir: &[u8], modules: usize, added: &[Added]) -> Result<Vec<u8>, S
     Err("the dir stream ends without its terminator record".into())
 }
 
-/// The PROJECT stream with a `Module=` line for each new module after the module lines
+/// The PROJECT stream with a `Module=` (`Class=`) line for each new module after the module lines
 /// (2.3.1: they follow the ID line), every other byte as it was.
 fn with_module_lines(text: &[u8], added: &[Added]) -> Vec<u8> {
     let lines: Vec<&[u8]> = text.split_inclusive(|&b| b == b'\n').collect();
@@ -181,7 +238,8 @@ fn with_module_lines(text: &[u8], added: &[Added]) -> Vec<u8> {
     let mut out = Vec::with_capacity(text.len() + 32 * added.len());
     lines[..after].iter().for_each(|l| out.extend_from_slice(l));
     for a in added {
-        out.extend_from_slice(b"Module=");
+        let key: &[u8] = if a.module.kind == ModuleKind::Class { b"Class=" } else { b"Module=" };
+        out.extend_from_slice(key);
         out.extend_from_slice(&a.mbcs);
         out.extend_from_slice(b"\r\n");
     }
@@ -276,7 +334,8 @@ mod tests {
     #[test]
     fn an_added_module_follows_the_kept_ones() {
         let new = [module("Chamfer", ModuleKind::Standard, "Sub Main()\r\nEnd Sub\r\n")];
-        let project = read_project(&add_modules(&base(), &new, OnExisting::Refuse).unwrap()).unwrap();
+        let project =
+            read_project(&add_modules(&base(), &new, OnExisting::Refuse, OnProtected::Refuse).unwrap()).unwrap();
         let names: Vec<_> = project.modules.iter().map(|m| (m.name.as_str(), m.kind)).collect();
         assert_eq!(
             names,
@@ -293,17 +352,27 @@ mod tests {
     #[test]
     fn a_module_name_the_project_has_is_refused_or_replaced() {
         let new = [module("module1", ModuleKind::Standard, "Sub B()\nEnd Sub\n")];
-        let e = add_modules(&base(), &new, OnExisting::Refuse).unwrap_err();
+        let e = add_modules(&base(), &new, OnExisting::Refuse, OnProtected::Refuse).unwrap_err();
         assert!(e.message.contains("already has a module Module1"), "{e}");
-        let project = read_project(&add_modules(&base(), &new, OnExisting::Replace).unwrap()).unwrap();
+        let project =
+            read_project(&add_modules(&base(), &new, OnExisting::Replace, OnProtected::Refuse).unwrap()).unwrap();
         assert_eq!(project.modules.len(), 2);
         assert!(project.modules[1].source.ends_with("Sub B()\r\nEnd Sub\r\n"));
         let doc = [module("ThisWorkbook", ModuleKind::Standard, "")];
-        assert!(add_modules(&base(), &doc, OnExisting::Replace).unwrap_err().message.contains("document"));
+        assert!(add_modules(&base(), &doc, OnExisting::Replace, OnProtected::Refuse)
+            .unwrap_err()
+            .message
+            .contains("document"));
         let dir = [module("dir", ModuleKind::Standard, "")];
-        assert!(add_modules(&base(), &dir, OnExisting::Refuse).unwrap_err().message.contains("stream"));
+        assert!(add_modules(&base(), &dir, OnExisting::Refuse, OnProtected::Refuse)
+            .unwrap_err()
+            .message
+            .contains("stream"));
         let twice = [module("X", ModuleKind::Standard, ""), module("x", ModuleKind::Standard, "")];
-        assert!(add_modules(&base(), &twice, OnExisting::Refuse).unwrap_err().message.contains("twice"));
+        assert!(add_modules(&base(), &twice, OnExisting::Refuse, OnProtected::Refuse)
+            .unwrap_err()
+            .message
+            .contains("twice"));
     }
 
     /// [MS-OVBA] 3.1.6's PROJECT stream: the new module's line goes after the module and

@@ -139,12 +139,27 @@ impl Interp<'_, '_> {
         Ok(())
     }
 
-    /// `ws.Select`: Excel refuses to select a hidden sheet.
-    pub(super) fn select_sheet(&self, sheet: SheetId, span: Span) -> Run<()> {
-        if self.wb.borrow().sheet_visibility(sheet) != Visibility::Visible {
-            let name = self.wb.borrow().sheet_names()[sheet as usize].clone();
-            return Err(self.fault_at(span, format!("{name} is hidden: set its Visible to True before selecting it")));
+    /// Excel's run-time error 1004 for selecting on a hidden sheet: "`Select` method of
+    /// `Range` class failed".
+    pub(super) fn refuse_hidden(&self, sheet: SheetId, method: &str, class: &str, span: Span) -> Run<()> {
+        if self.wb.borrow().sheet_visibility(sheet) == Visibility::Visible {
+            return Ok(());
         }
+        let name = self.wb.borrow().sheet_names()[sheet as usize].clone();
+        let mut fault = self.fault_at(
+            span,
+            format!(
+                "{method} method of {class} class failed (run-time error 1004): {name} is hidden; set its Visible \
+                 to True first"
+            ),
+        );
+        fault.code = 1004;
+        Err(fault)
+    }
+
+    /// `ws.Select`: Excel refuses to select a hidden sheet (run-time error 1004).
+    pub(super) fn select_sheet(&self, sheet: SheetId, span: Span) -> Run<()> {
+        self.refuse_hidden(sheet, "Select", "Worksheet", span)?;
         self.active.set(sheet);
         Ok(())
     }
