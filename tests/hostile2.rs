@@ -9,7 +9,9 @@ use std::time::{Duration, Instant};
 
 use ncsheet::eval::{Value, XlError, MAX_ARRAY_ITEMS};
 use ncsheet::formula::address::parse_cell;
+use ncsheet::formula::limits::MAX_NESTING;
 use ncsheet::io::xlsx;
+use ncsheet::vba::{self, ErrorKind, RunOptions};
 use ncsheet::workbook::Workbook;
 
 /// The value of `formula` in A1 of an empty sheet, the notes of that cell, and how long the
@@ -277,4 +279,30 @@ fn an_array_formula_over_the_whole_sheet_costs_the_cells_that_exist() {
     let imported =
         xlsx::load_bytes(&package(data, &[], false), Path::new("whole.xlsx")).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(imported.workbook.value(0, parse_cell("A1").unwrap()), NUM);
+}
+
+// ---------------------------------------------------------------------------------------
+// Macros: one-line Ifs nest too
+
+fn run_macro(src: &str) -> Result<Vec<String>, vba::MacroError> {
+    let mut wb = Workbook::with_sheet();
+    Ok(vba::run(&mut wb, src, "deep.bas", &RunOptions::default())?.printed)
+}
+
+#[test]
+fn one_line_ifs_nested_past_the_limit_are_syntax_errors_not_a_stack_overflow() {
+    // 5,000 `If … Then` on one line (or over continued lines) overflowed the stack.
+    let one_line = format!("Sub Main()\n{}Debug.Print 1\nEnd Sub\n", "If 1 > 0 Then ".repeat(5000));
+    let continued = format!("Sub Main()\n{}Debug.Print 1\nEnd Sub\n", "If 1 > 0 Then _\n".repeat(5000));
+    let column = MAX_NESTING * "If 1 > 0 Then ".len() + "If 1 > 0 ".len() + 1;
+    for (src, place) in
+        [(one_line, format!("deep.bas:2:{column}:")), (continued, format!("deep.bas:{}:", 2 + MAX_NESTING))]
+    {
+        let e = run_macro(&src).expect_err("refused");
+        assert_eq!(e.kind, ErrorKind::Syntax, "{e}");
+        assert!(e.to_string().starts_with(&place), "{e}");
+        assert!(e.message.contains("blocks nested more than 255 levels"), "{e}");
+    }
+    let at_limit = format!("Sub Main()\n{}Debug.Print \"deep\"\nEnd Sub\n", "If 1 > 0 Then ".repeat(MAX_NESTING));
+    assert_eq!(run_macro(&at_limit).unwrap(), vec!["deep"]);
 }
