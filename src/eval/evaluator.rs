@@ -8,7 +8,7 @@ use crate::formula::ast::*;
 
 use super::coerce::{compare, to_number, to_text};
 use super::functions::{self, FnKind};
-use super::value::{Array, Value, XlError, XlResult};
+use super::value::{too_many_items, too_many_items_note, Array, Value, XlError, XlResult};
 
 /// What the evaluator reads: cell values, defined names and sheet facts. The workbook
 /// implements it; tests and macro code may implement it over anything.
@@ -345,6 +345,9 @@ impl<'a> Ctx<'a> {
                     let a = x.map_or_else(|| self.eval(a), Value::Number);
                     let b = y.map_or_else(|| self.eval(b), Value::Number);
                     let v = binary(*op, &a, &b);
+                    if matches!(v, Value::Error(XlError::Num)) {
+                        self.explain_array_size(&a, &b);
+                    }
                     if *op == BinOp::Concat {
                         self.within_text_limit(v)
                     } else {
@@ -644,6 +647,21 @@ impl<'a> Ctx<'a> {
 
     /// [`Ctx::explain`], but a message already noted is not noted again (a recursion past
     /// a limit fails once per branch).
+    /// Names the limit when two arrays broadcast past [`MAX_ARRAY_ITEMS`] (`#NUM!`).
+    fn explain_array_size(&mut self, a: &Value, b: &Value) {
+        let size = |v: &Value| match v {
+            Value::Array(a) => (a.rows, a.cols),
+            _ => (1, 1),
+        };
+        if matches!(a, Value::Array(_)) || matches!(b, Value::Array(_)) {
+            let ((ra, ca), (rb, cb)) = (size(a), size(b));
+            let (rows, cols) = (ra.max(rb), ca.max(cb));
+            if too_many_items(rows, cols) {
+                self.explain_once(XlError::Num, too_many_items_note(rows, cols));
+            }
+        }
+    }
+
     fn explain_once(&mut self, error: XlError, message: String) -> XlError {
         if !self.notes.iter().any(|n| n.error == error && n.message == message) {
             self.notes.push(Note { error, message });
@@ -826,6 +844,9 @@ pub fn broadcast2(a: &Value, b: &Value, f: &dyn Fn(&Value, &Value) -> Value) -> 
         (Value::Array(x), Value::Array(y)) => {
             let rows = x.rows.max(y.rows);
             let cols = x.cols.max(y.cols);
+            if too_many_items(rows, cols) {
+                return Value::Error(XlError::Num);
+            }
             let mut data = Vec::with_capacity(rows * cols);
             for r in 0..rows {
                 for c in 0..cols {
@@ -873,6 +894,9 @@ pub fn broadcast_whole(values: &[&Value], f: &dyn Fn(&[Value]) -> Value) -> Valu
         other => other.clone(),
     };
     let at = |r: usize, c: usize| f(&values.iter().map(|v| item(v, r, c)).collect::<Vec<_>>());
+    if too_many_items(stored.0, stored.1) {
+        return Value::Error(XlError::Num);
+    }
     let mut data = Vec::with_capacity(stored.0 * stored.1);
     for r in 0..stored.0 {
         for c in 0..stored.1 {

@@ -12,4 +12,4 @@ pub mod testing;
 pub mod value;
 
 pub use evaluator::{Ctx, Env, Note, Operand, RowHidden};
-pub use value::{Array, Value, XlError, XlResult};
+pub use value::{too_many_items, too_many_items_note, Array, Value, XlError, XlResult, MAX_ARRAY_ITEMS};

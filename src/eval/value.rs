@@ -19,6 +19,21 @@ pub enum Value {
 
 pub type XlResult<T> = Result<T, XlError>;
 
+/// The most items one array a formula makes may hold (2^24, as SEQUENCE and RANDARRAY
+/// allow): ncsheet's limit, since a sheet-sized array would be 17 billion items. Past it
+/// the formula is `#NUM!` (docs/limits.md), never an allocation of gigabytes.
+pub const MAX_ARRAY_ITEMS: usize = 1 << 24;
+
+/// Whether an array of `rows` × `cols` items is past [`MAX_ARRAY_ITEMS`].
+pub fn too_many_items(rows: usize, cols: usize) -> bool {
+    rows.checked_mul(cols).is_none_or(|n| n > MAX_ARRAY_ITEMS)
+}
+
+/// The note of a formula whose array would pass [`MAX_ARRAY_ITEMS`].
+pub fn too_many_items_note(rows: usize, cols: usize) -> String {
+    format!("an array of {rows} × {cols} items, more than ncsheet's limit of {MAX_ARRAY_ITEMS}")
+}
+
 /// A rectangular block of values, row-major. Never holds a nested array.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Array {

@@ -176,8 +176,24 @@ fn continued(bytes: &[u8], i: usize) -> bool {
 pub fn check_block_nesting(src: &str) -> Result<(), ParseError> {
     let mut depth = 0usize;
     let mut offset = 0;
+    let mut thens = 0usize;
     for line in src.split_inclusive('\n') {
         let code = strip_comment(line);
+        // One-line Ifs nest inside one another (`If a Then If b Then …`, over continued
+        // lines too): the parser recurses into each, so they count as blocks of their line.
+        for at in then_words(code) {
+            thens += 1;
+            if thens > MAX_NESTING {
+                return Err(ParseError {
+                    offset: offset + at,
+                    message: format!("blocks nested more than {MAX_NESTING} levels deep (ncsheet's limit)"),
+                });
+            }
+        }
+        let trimmed = code.trim_end();
+        if !(trimmed.ends_with(" _") || trimmed.ends_with("\t_")) {
+            thens = 0;
+        }
         let mut start = offset;
         for stmt in split_statements(code) {
             let lead = stmt.len() - stmt.trim_start().len();
@@ -199,6 +215,22 @@ pub fn check_block_nesting(src: &str) -> Result<(), ParseError> {
         offset += line.len();
     }
     Ok(())
+}
+
+/// The bytes where the `Then` words of a line (outside strings) begin.
+fn then_words(code: &str) -> impl Iterator<Item = usize> + '_ {
+    let bytes = code.as_bytes();
+    let word_byte = |c: u8| c.is_ascii_alphanumeric() || c == b'_';
+    let mut in_string = false;
+    (0..bytes.len()).filter(move |&k| {
+        if bytes[k] == b'"' {
+            in_string = !in_string;
+        }
+        !in_string
+            && (k == 0 || !word_byte(bytes[k - 1]))
+            && bytes[k..].get(..4).is_some_and(|w| w.eq_ignore_ascii_case(b"then"))
+            && !bytes.get(k + 4).is_some_and(|&c| word_byte(c))
+    })
 }
 
 /// The line without its `'` comment (a `'` inside a string is text).
@@ -286,5 +318,12 @@ mod tests {
         assert!(check_block_nesting(&flat).is_ok());
         let deep = format!("Sub m()\n{}{}End Sub\n", "If x Then\n".repeat(5000), "End If\n".repeat(5000));
         assert!(check_block_nesting(&deep).is_err());
+        let one_line = format!("Sub m()\n{}x = 1\nEnd Sub\n", "If x Then ".repeat(5000));
+        let err = check_block_nesting(&one_line).unwrap_err();
+        assert_eq!(err.offset, "Sub m()\n".len() + MAX_NESTING * "If x Then ".len() + "If x ".len());
+        let continued = format!("Sub m()\n{}x = 1\nEnd Sub\n", "If x Then _\n".repeat(5000));
+        assert!(check_block_nesting(&continued).is_err());
+        let fine = format!("Sub m()\n{}x = \"Then Then\"\nEnd Sub\n", "If Thenx Then ".repeat(MAX_NESTING));
+        assert!(check_block_nesting(&fine).is_ok());
     }
 }

@@ -6,7 +6,7 @@
 //! Dynamic arrays spill into the cells below/right of their formula. Cells whose value
 //! changed by a spill are recalculated in a following pass.
 
-use crate::eval::{Ctx, Value, XlError};
+use crate::eval::{too_many_items, Array, Ctx, Value, XlError};
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 
 use super::graph::{FxHasher, FxMap};
@@ -816,6 +816,9 @@ impl Workbook {
 /// A legacy array formula's result as its fixed area shows it: a scalar, a single row or
 /// a single column repeats; items beyond the result are `#N/A`; the rest is cut off.
 fn fit_to_area(value: Value, rows: usize, cols: usize) -> Value {
+    if too_many_items(rows, cols) {
+        return fit_to_large_area(value, rows, cols);
+    }
     if rows == 1 && cols == 1 {
         return match value {
             Value::Array(a) => a.data.first().cloned().unwrap_or(Value::Blank),
@@ -833,6 +836,31 @@ fn fit_to_area(value: Value, rows: usize, cols: usize) -> Value {
     };
     let data = (0..rows).flat_map(|r| (0..cols).map(move |c| (r, c))).map(|(r, c)| item(r, c)).collect();
     Value::Array(std::rc::Rc::new(crate::eval::Array::new(rows, cols, data)))
+}
+
+/// [`fit_to_area`] for an area past the array limit (a file's array formula over a whole
+/// sheet): the items the result has, and beyond them one value kept once (the spill's tail,
+/// held only by the cells that exist). A scalar fills the area; a result broadcast along a
+/// dimension would need every item stored, and is `#NUM!` as an array past the limit is.
+fn fit_to_large_area(value: Value, rows: usize, cols: usize) -> Value {
+    let tailed = |a: Array, fill: Value| Value::Array(std::rc::Rc::new(a.with_tail(rows, cols, fill)));
+    let a = match value {
+        Value::Array(a) => a,
+        v => return tailed(Array::new(1, 1, vec![v.clone()]), v),
+    };
+    let (whole_rows, whole_cols) = a.whole_size();
+    if whole_rows == 1 && whole_cols == 1 {
+        let v = a.whole_get(0, 0).cloned().unwrap_or(Value::Blank);
+        return tailed(Array::new(1, 1, vec![v.clone()]), v);
+    }
+    let (r, c) = (whole_rows.min(rows), whole_cols.min(cols));
+    if whole_rows == 1 || whole_cols == 1 || too_many_items(r, c) {
+        return Value::Error(XlError::Num);
+    }
+    let data = (0..r)
+        .flat_map(|i| (0..c).map(move |j| (i, j)))
+        .map(|(i, j)| a.whole_get(i, j).cloned().unwrap_or(Value::Blank));
+    tailed(Array::new(r, c, data.collect()), Value::Error(XlError::NA))
 }
 
 fn mark_of(cell_mark: &[u8], range_mark: &[u8], node: u32) -> u8 {

@@ -8,7 +8,7 @@ use crate::formula::ast::{Expr, ExprKind, SheetId};
 
 use crate::eval::coerce::{to_bool, to_number, to_text};
 use crate::eval::functions::api::{broadcast_whole, number_result, Ctx, Operand};
-use crate::eval::value::{Array, Value, XlError, XlResult};
+use crate::eval::value::{too_many_items, too_many_items_note, Array, Value, XlError, XlResult};
 
 /// Where a value came from, which decides how aggregates treat text and booleans.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -52,21 +52,39 @@ pub fn bool_or(ctx: &mut Ctx, args: &[Expr], i: usize, default: bool) -> XlResul
 /// array — how `SIN(A1:A5)` spills in Excel 365.
 pub fn lift(ctx: &mut Ctx, args: &[Expr], f: &dyn Fn(&[Value]) -> XlResult<Value>) -> XlResult<Value> {
     let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
-    lift_values(&values, f)
+    let lifted = lift_values(&values, f);
+    explain_lifted_size(ctx, &values, &lifted);
+    lifted
+}
+
+/// Names the array limit when a lifted call's result would pass it.
+fn explain_lifted_size(ctx: &mut Ctx, values: &[Value], lifted: &XlResult<Value>) {
+    if *lifted == Err(XlError::Num) {
+        if let Some((rows, cols)) = lifted_size(values).filter(|&(r, c)| too_many_items(r, c)) {
+            ctx.explain(XlError::Num, too_many_items_note(rows, cols));
+        }
+    }
+}
+
+/// The size of the array a lifted call makes: the largest of its array arguments'.
+fn lifted_size(values: &[Value]) -> Option<(usize, usize)> {
+    values.iter().fold(None, |acc: Option<(usize, usize)>, v| match v {
+        Value::Array(a) => Some(acc.map_or((a.rows, a.cols), |(r, c)| (r.max(a.rows), c.max(a.cols)))),
+        _ => acc,
+    })
 }
 
 /// [`lift`] over values already evaluated.
 pub fn lift_values(values: &[Value], f: &dyn Fn(&[Value]) -> XlResult<Value>) -> XlResult<Value> {
-    let dims = values.iter().fold(None, |acc: Option<(usize, usize)>, v| match v {
-        Value::Array(a) => Some(acc.map_or((a.rows, a.cols), |(r, c)| (r.max(a.rows), c.max(a.cols)))),
-        _ => acc,
-    });
-    let Some((rows, cols)) = dims else {
+    let Some((rows, cols)) = lifted_size(values) else {
         return f(values);
     };
     if values.iter().any(|v| matches!(v, Value::Array(a) if a.tail.is_some())) {
         let refs: Vec<&Value> = values.iter().collect();
         return Ok(broadcast_whole(&refs, &|v| f(v).unwrap_or_else(Value::Error)));
+    }
+    if too_many_items(rows, cols) {
+        return Err(XlError::Num);
     }
     let mut data = Vec::with_capacity(rows * cols);
     let mut scalars = Vec::with_capacity(values.len());
@@ -112,11 +130,13 @@ pub fn lift_number2(ctx: &mut Ctx, args: &[Expr], default: f64, f: fn(f64, f64) 
         _ => {}
     }
     let values = &values[..args.len().min(2)];
-    lift_values(values, &|v| {
+    let lifted = lift_values(values, &|v| {
         let x = to_number(&v[0])?;
         let y = if missing_second { default } else { to_number(&v[1])? };
         Ok(number_result(f(x, y)?))
-    })
+    });
+    explain_lifted_size(ctx, values, &lifted);
+    lifted
 }
 
 /// Visits every value the arguments hold, in order: a range's non-blank cells, an array's
@@ -138,8 +158,12 @@ pub fn for_each_value(ctx: &mut Ctx, args: &[Expr], f: &mut dyn FnMut(&Value, So
                 for v in &arr.data {
                     f(v, Source::Collection)?;
                 }
-                // The items of a whole row or column beyond those stored (`COUNT(1:1*2)`).
+                // The items of a whole row or column beyond those stored (`COUNT(1:1*2)`):
+                // one by one, so past the array limit (`SUM(B:XFD*1)`, 17 billion) #NUM!.
                 if let Some(tail) = &arr.tail {
+                    if too_many_items(tail.rows, tail.cols) {
+                        return Err(ctx.explain(XlError::Num, too_many_items_note(tail.rows, tail.cols)));
+                    }
                     for _ in 0..tail.rows * tail.cols - arr.rows * arr.cols {
                         f(&tail.fill, Source::Collection)?;
                     }

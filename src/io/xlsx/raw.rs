@@ -7,7 +7,7 @@ use std::io::{Cursor, Read};
 use zip::result::ZipError;
 use zip::ZipArchive;
 
-use super::xml::{for_each_tag, unescape};
+use super::xml::{for_each_tag, unescape, StreamError};
 use super::{Calculation, ErrorKind};
 use crate::io::limits::{self, ReadLimits, RATIO_GRACE};
 use crate::workbook::Iteration;
@@ -252,9 +252,29 @@ impl<'a> Package<'a> {
             .collect();
         for name in names {
             let mut entry = self.entry(&name)?;
+            if name.replace('\\', "/").to_ascii_lowercase() == wanted[1] {
+                // A table no relationship names is still opened by calamine, which trusts
+                // its uniqueCount: it is read here as the workbook's own would be.
+                check_shared_strings(&name, entry)?;
+                continue;
+            }
             std::io::copy(&mut entry, &mut std::io::sink()).map_err(|e| zip_error(Some(&name), ZipError::Io(e)))?;
         }
         Ok(())
+    }
+}
+
+/// Reads a shared-strings table through the checks of the one the workbook names.
+fn check_shared_strings(name: &str, entry: impl Read) -> Result<(), Err> {
+    match super::sheet_xml::read_shared_strings(entry) {
+        Ok(_) => Ok(()),
+        Err(StreamError::Io(e)) => Err(zip_error(Some(name), ZipError::Io(e))),
+        Err(StreamError::Xml { offset, message }) => Err((
+            Some(name.to_string()),
+            ErrorKind::Damaged,
+            format!("the XML is not well-formed at byte {offset}: {message}"),
+        )),
+        Err(StreamError::Handler((kind, message))) => Err((Some(name.to_string()), kind, message)),
     }
 }
 

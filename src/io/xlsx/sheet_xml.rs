@@ -537,9 +537,14 @@ pub fn read_shared_strings(part: impl Read) -> Result<Vec<Rc<str>>, xml::StreamE
     let mut current: Option<String> = None;
     let mut in_text = false;
     let mut phonetic = false;
+    let mut declared: Option<u64> = None;
     xml::stream(part, &mut |event| {
         match event {
             Event::Tag(tag) => match (tag.name, tag.kind) {
+                (b"sst", TagKind::Start) => {
+                    declared = tag.attr("uniqueCount").and_then(|v| std::str::from_utf8(v).ok()?.trim().parse().ok());
+                }
+                (b"sst", TagKind::End) => check_unique_count(declared, strings.len())?,
                 // `sstItem`: the beta-era (2006) name of `si`, which Excel still opens.
                 (b"si" | b"sstItem", TagKind::Start) => current = Some(String::new()),
                 (b"si" | b"sstItem", TagKind::Empty) => strings.push(Rc::from("")),
@@ -565,6 +570,21 @@ pub fn read_shared_strings(part: impl Read) -> Result<Vec<Rc<str>>, xml::StreamE
         Ok(())
     })?;
     Ok(strings)
+}
+
+/// How far a table's `uniqueCount` may claim more strings than it holds. Writers get the
+/// count slightly wrong; a claim of a trillion is a hostile file, for which calamine (which
+/// opens the package) would reserve memory before reading a string.
+const UNIQUE_COUNT_SLACK: u64 = 1 << 20;
+
+fn check_unique_count(declared: Option<u64>, held: usize) -> Result<(), ScanError> {
+    match declared {
+        Some(n) if n > held as u64 + UNIQUE_COUNT_SLACK => Err((
+            ErrorKind::Damaged,
+            format!("its uniqueCount says {n} strings but it holds {held} (a damaged or hostile file)"),
+        )),
+        _ => Ok(()),
+    }
 }
 
 /// Cells the scanning thread hands to the importing one, a few thousand at a time.

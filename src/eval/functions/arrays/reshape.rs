@@ -9,7 +9,7 @@ use std::rc::Rc;
 use crate::eval::coerce::{compare_text, to_bool, to_number};
 use crate::eval::format::number_format::general;
 use crate::eval::functions::api::{block, bool_or, given, number, number_or, require, ArgSet, Ctx, FnSpec, MANY};
-use crate::eval::value::{Array, Value, XlError, XlResult};
+use crate::eval::value::{too_many_items_note, Array, Value, XlError, XlResult, MAX_ARRAY_ITEMS};
 use crate::formula::ast::{Expr, ExprKind};
 
 pub const FUNCTIONS: &[FnSpec] = &[
@@ -470,6 +470,11 @@ fn expand(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let pad = pad_arg(ctx, args, 3);
     if rows < a.rows as f64 || cols < a.cols as f64 {
         return Err(XlError::Value);
+    }
+    // Excel: "If an array is too large, Excel returns a #NUM error".
+    if rows * cols > MAX_ARRAY_ITEMS as f64 {
+        let (rows, cols) = (rows.min(1e15) as usize, cols.min(1e15) as usize);
+        return Err(ctx.explain(XlError::Num, too_many_items_note(rows, cols)));
     }
     let (rows, cols) = (rows as usize, cols as usize);
     let data = (0..rows * cols)

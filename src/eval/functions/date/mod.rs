@@ -289,7 +289,9 @@ fn timevalue(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// The day of the month `months` after `start`'s, clamped to that month's length (`last_day`:
 /// the month's last day instead).
 fn add_months(start: &DateTime, months: i64, last_day: bool) -> XlResult<Value> {
-    let total = start.year * 12 + i64::from(start.month) - 1 + months;
+    // A month count past the calendar's ten thousand years (EDATE(1,1E+300)) is #NUM!, never
+    // an overflow.
+    let total = (start.year * 12 + i64::from(start.month) - 1).checked_add(months).ok_or(XlError::Num)?;
     let (y, m) = (total.div_euclid(12), (total.rem_euclid(12) + 1) as u32);
     if !(1900..10_000).contains(&y) {
         return Err(XlError::Num);

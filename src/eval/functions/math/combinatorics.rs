@@ -10,7 +10,7 @@ use crate::eval::coerce::{parse_number, parse_plain_number, to_number};
 use crate::eval::functions::api::{
     block, check, finite, for_each_value, power, scalar, ArgSet, Ctx, FnSpec, Operand, Scalars, Source, MANY,
 };
-use crate::eval::value::{Array, Value, XlError, XlResult};
+use crate::eval::value::{Array, Value, XlError, XlResult, MAX_ARRAY_ITEMS};
 use crate::formula::ast::{Expr, ExprKind};
 
 pub const FUNCTIONS: &[FnSpec] = &[
@@ -61,9 +61,11 @@ fn count(a: Scalars, i: usize) -> XlResult<f64> {
 /// n! / (n-k)! / k! as a product of ratios, rounded to the whole number it is.
 fn binomial(n: f64, k: f64) -> f64 {
     let k = k.min(n - k);
-    let mut r = 1.0;
+    let mut r: f64 = 1.0;
     let mut i = 0.0;
-    while i < k {
+    // The product only grows (k ≤ n/2): once infinite it stays so, and stopping there keeps
+    // COMBIN(1E+15,5E+14) from counting to 5E+14.
+    while i < k && r.is_finite() {
         r = r * (n - i) / (i + 1.0);
         i += 1.0;
     }
@@ -93,9 +95,10 @@ fn permut(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     scalar(ctx, args, &|a| {
         let (n, k) = (count(a, 0)?, count(a, 1)?);
         check(k <= n, XlError::Num)?;
-        let mut r = 1.0;
+        let mut r: f64 = 1.0;
         let mut i = 0.0;
-        while i < k {
+        // Every factor is at least 1: once infinite the product stays so.
+        while i < k && r.is_finite() {
             r *= n - i;
             i += 1.0;
         }
@@ -185,7 +188,7 @@ fn whole_numbers(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<f64>> {
 }
 
 fn gcd_of(mut a: f64, mut b: f64) -> f64 {
-    while b != 0.0 {
+    while b != 0.0 && b.is_finite() {
         (a, b) = (b, a % b);
     }
     a
@@ -200,8 +203,13 @@ fn lcm(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     if ns.is_empty() || ns.contains(&0.0) {
         return Ok(Value::Number(0.0));
     }
-    let lcm = ns.into_iter().fold(1.0, |acc, n| acc / gcd_of(acc, n) * n);
-    check(lcm < 9007199254740992.0, XlError::Num)?;
+    // Past 2^53 the result is #NUM!: stop there, before an infinite one makes Euclid's loop
+    // endless.
+    let mut lcm = 1.0;
+    for n in ns {
+        lcm = lcm / gcd_of(lcm, n) * n;
+        check(lcm < 9007199254740992.0, XlError::Num)?;
+    }
     Ok(Value::Number(lcm))
 }
 
@@ -223,9 +231,9 @@ fn factdouble(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     scalar(ctx, args, &|a| {
         let n = a.num(0)?.trunc();
         check(n >= -1.0, XlError::Num)?;
-        let mut r = 1.0;
+        let mut r: f64 = 1.0;
         let mut k = n;
-        while k > 1.0 {
+        while k > 1.0 && r.is_finite() {
             r *= k;
             k -= 2.0;
         }
@@ -360,6 +368,7 @@ fn munit(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     scalar(ctx, args, &|a| {
         let n = a.num(0)?.trunc();
         check((1.0..=1_048_576.0).contains(&n), XlError::Value)?;
+        check(n * n <= MAX_ARRAY_ITEMS as f64, XlError::Num)?;
         to_value(&DMatrix::identity(n as usize, n as usize))
     })
 }

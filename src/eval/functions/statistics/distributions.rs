@@ -750,7 +750,21 @@ fn binomial_range(a: &[f64]) -> XlResult<f64> {
 
 fn binomial_inverse(a: &[f64]) -> XlResult<f64> {
     let (n, p, alpha) = (a[0].trunc(), a[1], a[2]);
-    domain(n >= 0.0 && p > 0.0 && p < 1.0 && alpha > 0.0 && alpha < 1.0)?;
+    domain(n >= 0.0 && n < 2f64.powi(53) && p > 0.0 && p < 1.0 && alpha > 0.0 && alpha < 1.0)?;
+    if n > 10_000.0 {
+        // Summing term by term would take n steps (BINOM.INV(1E+15,…)): bisect the
+        // cumulative probability instead, which only grows with k.
+        let (mut lo, mut hi) = (0.0, n);
+        while lo < hi {
+            let mid = ((lo + hi) / 2.0).floor();
+            if binomial_sum(0.0, mid, n, p) >= alpha {
+                hi = mid;
+            } else {
+                lo = mid + 1.0;
+            }
+        }
+        return Ok(lo);
+    }
     let mut sum = 0.0;
     let mut k = 0.0;
     while k < n {

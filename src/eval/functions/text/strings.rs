@@ -603,25 +603,58 @@ impl Wildcard {
     /// Whether the whole of `text` matches.
     pub fn matches(&self, text: &str) -> bool {
         let text: Vec<char> = text.chars().map(fold).collect();
-        self.match_at(&self.tokens, &text, true)
+        Self::match_at(&self.tokens, &text, true)
     }
 
-    /// The first position from `start` where a match begins.
+    /// The first position from `start` where a match begins. The tokens before the first
+    /// `*` match a fixed length at that position; whether the rest (`*…`) matches after it
+    /// only gets harder further right, so it is tried once, at the first place the head fits:
+    /// time proportional to the text times the pattern, never exponential.
     pub fn find_in(&self, text: &[char], start: usize) -> Option<usize> {
         let text: Vec<char> = text.iter().map(|&c| fold(c)).collect();
-        (start..=text.len()).find(|&i| self.match_at(&self.tokens, &text[i..], false))
+        let split = self.tokens.iter().position(|t| *t == WildTok::Any).unwrap_or(self.tokens.len());
+        let (head, rest) = self.tokens.split_at(split);
+        let fits = |i: usize| {
+            text.len() - i >= head.len()
+                && head.iter().zip(&text[i..]).all(|(t, c)| matches!(t, WildTok::One) || *t == WildTok::Char(*c))
+        };
+        let i = (start..=text.len()).find(|&i| fits(i))?;
+        Self::match_at(rest, &text[i + head.len()..], false).then_some(i)
     }
 
-    /// Matches `tokens` against the start of `text` (all of it when `whole`), with
-    /// backtracking over `*`.
-    fn match_at(&self, tokens: &[WildTok], text: &[char], whole: bool) -> bool {
-        let Some((first, rest)) = tokens.split_first() else {
-            return !whole || text.is_empty();
-        };
-        match first {
-            WildTok::Any => (0..=text.len()).any(|k| self.match_at(rest, &text[k..], whole)),
-            WildTok::One => !text.is_empty() && self.match_at(rest, &text[1..], whole),
-            WildTok::Char(c) => text.first() == Some(c) && self.match_at(rest, &text[1..], whole),
+    /// Matches `tokens` against the start of `text` (all of it when `whole`): the greedy
+    /// match that returns only to the last `*` seen, correct for `*` and `?` and linear in
+    /// practice (at most text × pattern steps), with no recursion.
+    fn match_at(tokens: &[WildTok], text: &[char], whole: bool) -> bool {
+        let (mut t, mut s) = (0, 0);
+        let mut star: Option<(usize, usize)> = None;
+        loop {
+            if t == tokens.len() && (!whole || s == text.len()) {
+                return true;
+            }
+            match (tokens.get(t), text.get(s)) {
+                (Some(WildTok::Any), _) => {
+                    star = Some((t, s));
+                    t += 1;
+                    continue;
+                }
+                (Some(WildTok::One), Some(_)) => {
+                    (t, s) = (t + 1, s + 1);
+                    continue;
+                }
+                (Some(WildTok::Char(c)), Some(x)) if c == x => {
+                    (t, s) = (t + 1, s + 1);
+                    continue;
+                }
+                _ => {}
+            }
+            match star {
+                Some((st, ss)) if ss < text.len() => {
+                    star = Some((st, ss + 1));
+                    (t, s) = (st + 1, ss + 1);
+                }
+                _ => return false,
+            }
         }
     }
 }
