@@ -44,7 +44,7 @@ pub fn run(
     // A sheet's button is clicked on that sheet: it is the active one, unless --sheet says.
     let active = match &options.sheet {
         Some(name) => sheet_named(name).map_err(|m| usage(file, m))?,
-        None => home.unwrap_or(0),
+        None => home.unwrap_or(wb.active_sheet()),
     };
     let code_sheets = options
         .code_names
@@ -74,6 +74,7 @@ pub fn run(
         pending: RefCell::new(None),
         ended: Cell::new(false),
         active: Cell::new(active),
+        reference_style: Cell::new(XL_A1),
         home,
         code_sheets,
         cursors: RefCell::new(cursors),
@@ -207,6 +208,9 @@ pub struct Interp<'m, 'w> {
     /// An `End` statement ran: every procedure stops.
     pub(super) ended: Cell<bool>,
     pub active: Cell<SheetId>,
+    /// `Application.ReferenceStyle` (`xlA1` 1, `xlR1C1` -4150): how Excel's window shows
+    /// formulas. `.Formula` stays A1 and `.FormulaR1C1` R1C1 whatever it is, as in Excel.
+    pub(super) reference_style: Cell<i32>,
     /// The sheet of the document module the code is in: what unqualified `Range`, `Cells`
     /// and `[B3]` mean there, and `Me`.
     pub home: Option<SheetId>,
@@ -224,6 +228,10 @@ pub struct Interp<'m, 'w> {
     pub(super) charged: Cell<u64>,
     pub err: RefCell<ErrState>,
 }
+
+/// XlReferenceStyle's values.
+pub(super) const XL_A1: i32 = 1;
+pub(super) const XL_R1C1: i32 = -4150;
 
 impl Interp<'_, '_> {
     fn start(&self, entry: usize) -> Run<()> {
@@ -347,7 +355,7 @@ impl Interp<'_, '_> {
     /// Evaluates an expression to a value (a 1×1 array is its item).
     pub fn eval(&self, e: &Expr) -> Run<Value> {
         let mut ctx = self.ctx();
-        let v = ctx.eval(e).unwrap_single();
+        let v = crate::eval::evaluator::no_lambda(ctx.eval(e)).unwrap_single();
         self.take_pending()?;
         *self.notes.borrow_mut() = ctx.notes.into_iter().map(|n| n.message).collect();
         Ok(v)

@@ -155,6 +155,9 @@ pub struct Workbook {
     iteration: Option<Iteration>,
     /// Names were (re)defined without relinking the graph: the next full recalculation does.
     names_unlinked: bool,
+    /// The sheet shown when the workbook opens (`<workbookView activeTab>`): VBA's
+    /// ActiveSheet and the sheet commands read when none is named.
+    active_sheet: SheetId,
 }
 
 /// Cell ids whose input was set, and whose value changed, since tracking began.
@@ -220,6 +223,22 @@ impl Workbook {
 
     pub fn date_1904(&self) -> bool {
         self.date_1904
+    }
+
+    /// The active sheet, the one a file opens on (the first unless the file says another).
+    pub fn active_sheet(&self) -> SheetId {
+        if (self.active_sheet as usize) < self.sheets.len() {
+            self.active_sheet
+        } else {
+            0
+        }
+    }
+
+    /// Makes `sheet` the active one; a sheet the workbook does not have is ignored.
+    pub fn set_active_sheet(&mut self, sheet: SheetId) {
+        if (sheet as usize) < self.sheets.len() {
+            self.active_sheet = sheet;
+        }
     }
 
     /// Whether `sheet`'s tab shows.
