@@ -94,7 +94,7 @@ pub struct EvalArgs {
     /// whole sheet)
     #[arg(value_name = "CELL|RANGE", value_parser = parse_target)]
     pub cells: Vec<Target>,
-    /// The sheet to print (default: the first)
+    /// The sheet to print (default: the active one, where the file opens)
     #[arg(long, value_name = "NAME")]
     pub sheet: Option<String>,
     /// How to print the values
@@ -140,7 +140,7 @@ pub struct SetArgs {
     /// loses something (what is lost is said first)
     #[arg(long)]
     pub force: bool,
-    /// The sheet of cells named without one (default: the first)
+    /// The sheet of cells named without one (default: the active one, where the file opens)
     #[arg(long, value_name = "NAME")]
     pub sheet: Option<String>,
 }
@@ -174,7 +174,7 @@ pub struct ExportArgs {
     /// or `tab` (default: the input csv's, else --delimiter's, else `,`)
     #[arg(long, value_name = "CHAR", value_parser = parse_delimiter)]
     pub output_delimiter: Option<u8>,
-    /// The sheet to write (default: the first)
+    /// The sheet to write (default: the active one, where the file opens)
     #[arg(long, value_name = "NAME")]
     pub sheet: Option<String>,
     /// Replace a read-only or hard-linked OUT
@@ -194,7 +194,7 @@ pub struct ReplArgs {
     /// Print time_s=<seconds> to stderr after each command
     #[arg(long)]
     pub timings: bool,
-    /// The sheet of cells named without one (default: the first)
+    /// The sheet of cells named without one (default: the active one, where the file opens)
     #[arg(long, value_name = "NAME")]
     pub sheet: Option<String>,
 }
@@ -463,11 +463,11 @@ fn in_file(file: &Path, e: Error) -> Error {
     }
 }
 
-/// `--sheet NAME`, or the first sheet.
+/// `--sheet NAME`, or the active sheet (the one the file opens on, as in Excel).
 fn default_sheet(wb: &Workbook, file: &Path, name: Option<&str>) -> Result<SheetId> {
     match name {
         Some(name) => sheet_named(wb, file, name),
-        None => Ok(0),
+        None => Ok(wb.active_sheet()),
     }
 }
 

@@ -326,7 +326,7 @@ fn json_value(v: &Value) -> serde_json::Value {
         Value::Bool(b) => serde_json::Value::Bool(*b),
         Value::Array(a) => a.data.first().map_or(serde_json::Value::Null, json_value),
         Value::Blank => serde_json::Value::Null,
-        Value::Text(_) | Value::Error(_) => serde_json::Value::String(v.to_string()),
+        Value::Text(_) | Value::Error(_) | Value::Lambda(_) => serde_json::Value::String(v.to_string()),
     }
 }
 

@@ -79,7 +79,7 @@ pub struct RunArgs {
     /// Stop the macro when calls nest deeper than this (endless recursion; at most 10000)
     #[arg(long, default_value_t = 100, value_parser = parse_max_depth)]
     pub max_depth: usize,
-    /// The sheet Range and Cells mean (default: the first)
+    /// The sheet Range and Cells mean (default: the active one, where the file opens)
     #[arg(long, value_name = "NAME")]
     pub sheet: Option<String>,
 }

@@ -23,7 +23,7 @@ pub struct ShowArgs {
     /// Cells or defined names: B3, Outer!G6, XA (a range shows each of its cells)
     #[arg(value_name = "CELL", required = true, value_parser = parse_target)]
     pub cells: Vec<Target>,
-    /// The sheet of cells named without one (default: the first)
+    /// The sheet of cells named without one (default: the active one, where the file opens)
     #[arg(long, value_name = "NAME")]
     pub sheet: Option<String>,
 }

@@ -16,6 +16,7 @@ pub fn to_number(v: &Value) -> XlResult<f64> {
         Value::Text(s) => parse_number(s).ok_or(XlError::Value),
         Value::Error(e) => Err(*e),
         Value::Array(a) => to_number(a.data.first().unwrap_or(&Value::Blank)),
+        Value::Lambda(_) => Err(XlError::Calc),
     }
 }
 
@@ -28,6 +29,7 @@ pub fn to_text(v: &Value) -> XlResult<Rc<str>> {
         Value::Blank => Ok("".into()),
         Value::Error(e) => Err(*e),
         Value::Array(a) => to_text(a.data.first().unwrap_or(&Value::Blank)),
+        Value::Lambda(_) => Err(XlError::Calc),
     }
 }
 
@@ -42,6 +44,7 @@ pub fn to_bool(v: &Value) -> XlResult<bool> {
         Value::Text(_) => Err(XlError::Value),
         Value::Error(e) => Err(*e),
         Value::Array(a) => to_bool(a.data.first().unwrap_or(&Value::Blank)),
+        Value::Lambda(_) => Err(XlError::Calc),
     }
 }
 
@@ -144,6 +147,7 @@ pub fn compare(a: &Value, b: &Value) -> XlResult<Ordering> {
     use Value::*;
     Ok(match (a, b) {
         (Error(e), _) | (_, Error(e)) => return Err(*e),
+        (Lambda(_), _) | (_, Lambda(_)) => return Err(XlError::Calc),
         (Array(x), _) => return compare(x.data.first().unwrap_or(&Blank), b),
         (_, Array(y)) => return compare(a, y.data.first().unwrap_or(&Blank)),
         (Number(x), Number(y)) => x.partial_cmp(y).unwrap_or(Ordering::Equal),

@@ -149,11 +149,56 @@ pub struct Note {
 }
 
 /// A LET name or a LAMBDA parameter bound to its value.
+#[derive(Clone, Debug)]
 struct Local {
     name: Rc<str>,
     value: Value,
     /// A parameter whose argument the call left out (`f(1,)`): ISOMITTED is TRUE for it.
     omitted: bool,
+}
+
+/// A LAMBDA made into a value (`Value::Lambda`): the `LAMBDA(…)` call and what its body
+/// sees where it was written, the LET names and parameters around it and the cell it is
+/// evaluated for, so that `LET(f, LAMBDA(x, LAMBDA(y, x+y)), f(3)(4))` is 7 wherever the inner
+/// LAMBDA is finally called (Excel's names are lexical).
+#[derive(Debug)]
+pub struct Closure {
+    lambda: Expr,
+    locals: Vec<Local>,
+    sheet: SheetId,
+    at: Pos,
+    in_name: bool,
+    /// The LET name it was bound to, which its body may call: a LET-bound LAMBDA can recurse.
+    own_name: Option<Rc<str>>,
+}
+
+/// Two LAMBDA values are equal when they are the same one.
+impl PartialEq for Closure {
+    fn eq(&self, other: &Closure) -> bool {
+        std::ptr::eq(self, other)
+    }
+}
+
+impl Closure {
+    /// The `LAMBDA(…)` call it holds.
+    pub fn expr(&self) -> &Expr {
+        &self.lambda
+    }
+
+    /// Its parameters and body.
+    pub fn lambda(&self) -> functions::Lambda<'_> {
+        functions::as_lambda(&self.lambda).expect("a closure holds a LAMBDA")
+    }
+}
+
+/// Lets the LAMBDA that LET binds to `name` call itself by that name (a LAMBDA made for the
+/// binding; one that another name already holds is left as it is).
+pub fn bind_own_name(value: &mut Value, name: &Rc<str>) {
+    if let Value::Lambda(closure) = value {
+        if let Some(c) = Rc::get_mut(closure) {
+            c.own_name.get_or_insert_with(|| name.clone());
+        }
+    }
 }
 
 /// A called LAMBDA's parameters bound to the values of `args`, evaluated by the caller; the
@@ -174,8 +219,10 @@ pub struct Ctx<'a> {
     pub sheet: SheetId,
     pub at: Pos,
     locals: Vec<Local>,
-    /// LET names bound to a LAMBDA (`LET(f, LAMBDA(n, n*2), f(3))`), callable by name.
-    local_lambdas: Vec<(Rc<str>, Rc<Expr>)>,
+    /// Evaluating a defined name's formula: its relative references wrap at the sheet's
+    /// edges, as Excel's do (`prev` = `A1048576` defined from A1 is the row above, and in
+    /// row 1 the last row).
+    in_name: bool,
     host: Option<&'a dyn Host>,
     depth: u32,
     /// Calls of named LAMBDAs (LET-bound or defined names) so far, against [`MAX_LAMBDA_CALLS`].
@@ -228,7 +275,7 @@ impl<'a> Ctx<'a> {
             sheet,
             at,
             locals: Vec::new(),
-            local_lambdas: Vec::new(),
+            in_name: false,
             host: None,
             depth: 0,
             lambda_calls: 0,
@@ -299,7 +346,7 @@ impl<'a> Ctx<'a> {
     /// digits (`=0.1+0.2-0.3` and `=A1-B1` are 0); within parentheses or under another
     /// operation it does not (`=(0.5-0.4-0.1)` and `=1*(0.5-0.4-0.1)` are -2.78E-17).
     pub fn eval_formula(&mut self, e: &Expr) -> Value {
-        let ExprKind::Binary(op @ (BinOp::Add | BinOp::Sub), a, b) = &e.kind else { return self.eval(e) };
+        let ExprKind::Binary(op @ (BinOp::Add | BinOp::Sub), a, b) = &e.kind else { return no_lambda(self.eval(e)) };
         // Operands that are numbers or cells are read without building values, as `eval` does.
         let x = self.leaf_number(a).map_or_else(|| self.eval(a), Value::Number);
         let y = self.leaf_number(b).map_or_else(|| self.eval(b), Value::Number);
@@ -376,6 +423,12 @@ impl<'a> Ctx<'a> {
     /// Where a one-cell reference relative to this formula's cell points, if on the sheet.
     #[inline]
     fn cell_here(&self, c: &CellCoord) -> Option<Pos> {
+        if self.in_name {
+            return Some(Pos::new(
+                c.row.resolve_wrapping(self.at.row, MAX_ROWS)?,
+                c.col.resolve_wrapping(self.at.col, MAX_COLS)?,
+            ));
+        }
         Some(Pos::new(c.row.resolve(self.at.row, MAX_ROWS)?, c.col.resolve(self.at.col, MAX_COLS)?))
     }
 
@@ -436,6 +489,9 @@ impl<'a> Ctx<'a> {
 
     /// The absolute sheet and rectangle a reference points at from this cell.
     pub fn resolve(&self, r: &Reference) -> XlResult<(SheetId, Rect)> {
+        if self.in_name {
+            return r.resolve_wrapping(self.sheet, self.at).ok_or(XlError::Ref);
+        }
         r.resolve(self.sheet, self.at).ok_or(XlError::Ref)
     }
 
@@ -496,11 +552,53 @@ impl<'a> Ctx<'a> {
         self.local(name).is_some_and(|l| l.omitted)
     }
 
-    /// Evaluates `body` with `name` callable as the LAMBDA `lambda` (for LET).
-    pub fn with_local_lambda<T>(&mut self, name: Rc<str>, lambda: Rc<Expr>, body: impl FnOnce(&mut Ctx<'a>) -> T) -> T {
-        self.local_lambdas.push((name, lambda));
-        let out = body(self);
-        self.local_lambdas.pop();
+    /// `lambda`, a `LAMBDA(…)` call, as a value that remembers the names around it here.
+    pub fn closure(&self, lambda: Expr) -> Value {
+        let (locals, sheet, at, in_name) = (self.locals.clone(), self.sheet, self.at, self.in_name);
+        Value::Lambda(Rc::new(Closure { lambda, locals, sheet, at, in_name, own_name: None }))
+    }
+
+    /// The LAMBDA value `closure` called with `values` (MAP, REDUCE… call it so), every
+    /// parameter given. These calls are not counted against [`MAX_LAMBDA_CALLS`]: there are
+    /// as many as the array has items, and no recursion.
+    pub fn apply_closure(&mut self, closure: &Rc<Closure>, values: &[Value]) -> Value {
+        let lambda = closure.lambda();
+        if lambda.params.len() != values.len() {
+            return Value::Error(XlError::Value);
+        }
+        let bound = lambda.param_names().zip(values);
+        let bound = bound.map(|(name, value)| Local { name: name.clone(), value: value.clone(), omitted: false });
+        let bound: Vec<Local> = bound.collect();
+        self.run_closure(closure, bound)
+    }
+
+    /// The LAMBDA value `closure` called with `args`, evaluated here.
+    fn call_closure(&mut self, name: &str, closure: &Rc<Closure>, args: &[Expr]) -> Value {
+        let lambda = closure.lambda();
+        if !lambda.accepts(args.len()) {
+            return Value::Error(XlError::Value);
+        }
+        if let Err(e) = self.enter_lambda(name) {
+            return Value::Error(e);
+        }
+        let values: Vec<Value> = args.iter().map(|a| self.eval(a)).collect();
+        let bound = parameters(&lambda, args, values);
+        self.run_closure(closure, bound)
+    }
+
+    /// A closure's body with `bound` parameters, among the names it was made with.
+    fn run_closure(&mut self, closure: &Rc<Closure>, bound: Vec<Local>) -> Value {
+        let mut locals = closure.locals.clone();
+        if let Some(name) = &closure.own_name {
+            locals.push(Local { name: name.clone(), value: Value::Lambda(closure.clone()), omitted: false });
+        }
+        locals.extend(bound);
+        let saved = (self.sheet, self.at, self.in_name, std::mem::replace(&mut self.locals, locals));
+        (self.sheet, self.at, self.in_name) = (closure.sheet, closure.at, closure.in_name);
+        self.depth += 1;
+        let out = self.eval(closure.lambda().body);
+        self.depth -= 1;
+        (self.sheet, self.at, self.in_name, self.locals) = saved;
         out
     }
 
@@ -541,25 +639,37 @@ impl<'a> Ctx<'a> {
         // A defined name is evaluated on its sheet, without the caller's LET or macro
         // variables, and at the caller's cell: Excel stores a name's relative references
         // (`Sheet1!$A1`) as seen from A1, so they move with the cell that uses the name.
-        let saved = (self.sheet, self.at, std::mem::take(&mut self.locals), self.host.take());
-        self.sheet = sheet;
+        let saved = (self.sheet, self.in_name, std::mem::take(&mut self.locals), self.host.take());
+        (self.sheet, self.in_name) = (sheet, true);
         self.depth += 1;
         let out = self.operand(&expr);
         self.depth -= 1;
-        (self.sheet, self.at, self.locals, self.host) = saved;
+        (self.sheet, self.in_name, self.locals, self.host) = saved;
         out
     }
 
-    /// `=bump(0.1, 0.2)` where the defined name `bump` is `=LAMBDA(x, y, …)`: the arguments,
-    /// evaluated here, are bound to the parameters and the body runs where the name lives, as a
-    /// name's formula does. Any other unknown call is `#NAME?`; a wrong argument count `#VALUE!`.
+    /// `=bump(0.1, 0.2)`: a call of a LET name or parameter holding a LAMBDA, else of the
+    /// defined name `bump`. A name defined as `=LAMBDA(x, y, …)` runs its body where the name
+    /// lives, at the caller's cell as every defined name's formula does (its relative
+    /// references move with the calling cell); a name whose formula gives a LAMBDA otherwise
+    /// (`=LET(k, 2, LAMBDA(x, x*k))`) is evaluated first. Any other call goes to the workbook's
+    /// own functions (VBA), else is `#NAME?`;
+    /// a wrong argument count `#VALUE!`.
     fn call_defined_lambda(&mut self, name: &str, args: &[Expr]) -> Value {
-        let local = self.local_lambdas.iter().rev().find(|(n, _)| n.eq_ignore_ascii_case(name));
-        if let Some(expr) = local.map(|(_, e)| e.clone()) {
-            return self.call_local_lambda(name, &expr, args);
+        if let Some(local) = self.local(name) {
+            return match local.value.clone() {
+                Value::Lambda(closure) => self.call_closure(name, &closure, args),
+                _ => Value::Error(XlError::Name),
+            };
         }
         let Some((expr, sheet)) = self.env.defined_name(name, self.sheet) else { return self.call_user(name, args) };
-        let Some(lambda) = functions::as_lambda(&expr) else { return self.call_user(name, args) };
+        let Some(lambda) = functions::as_lambda(&expr) else {
+            return match self.name_operand(name) {
+                Operand::Value(Value::Lambda(closure)) => self.call_closure(name, &closure, args),
+                _ => self.call_user(name, args),
+            };
+        };
+        // The common case, read from the name's own tree: no closure is built per call.
         if !lambda.accepts(args.len()) {
             return Value::Error(XlError::Value);
         }
@@ -567,13 +677,13 @@ impl<'a> Ctx<'a> {
             return Value::Error(e);
         }
         let values: Vec<Value> = args.iter().map(|a| self.eval(a)).collect();
-        let saved = (self.sheet, self.at, std::mem::take(&mut self.locals));
-        (self.sheet, self.at) = (sheet, Pos::new(0, 0));
+        let saved = (self.sheet, self.in_name, std::mem::take(&mut self.locals));
+        (self.sheet, self.in_name) = (sheet, true);
         self.locals.extend(parameters(&lambda, args, values));
         self.depth += 1;
         let out = self.eval(lambda.body);
         self.depth -= 1;
-        (self.sheet, self.at, self.locals) = saved;
+        (self.sheet, self.in_name, self.locals) = saved;
         out
     }
 
@@ -591,33 +701,15 @@ impl<'a> Ctx<'a> {
             .unwrap_or(Value::Error(XlError::Name))
     }
 
-    /// A LET-bound LAMBDA called by its name: the body runs here, seeing the LET's names.
-    fn call_local_lambda(&mut self, name: &str, expr: &Expr, args: &[Expr]) -> Value {
-        let Some(lambda) = functions::as_lambda(expr) else { return Value::Error(XlError::Name) };
-        if !lambda.accepts(args.len()) {
-            return Value::Error(XlError::Value);
-        }
-        if let Err(e) = self.enter_lambda(name) {
-            return Value::Error(e);
-        }
-        let values: Vec<Value> = args.iter().map(|a| self.eval(a)).collect();
-        let n = self.locals.len();
-        self.locals.extend(parameters(&lambda, args, values));
-        self.depth += 1;
-        let out = self.eval(lambda.body);
-        self.depth -= 1;
-        self.locals.truncate(n);
-        out
-    }
-
-    /// `LAMBDA(x, y, x+y)(1, 2)`: a LAMBDA written in place and called there; the body runs
-    /// here, seeing the LET names around it. Any other callee (a LAMBDA that a function
-    /// returns) is `#VALUE!`: LAMBDA values do not flow through functions here.
+    /// `LAMBDA(x, y, x+y)(1, 2)`, `f(3)(4)`, `IF(c, LAMBDA(…), LAMBDA(…))(5)`: whatever the
+    /// callee gives is called, when it is a LAMBDA; an error passes on; anything else is
+    /// `#VALUE!`.
     fn invoke(&mut self, callee: &Expr, args: &[Expr]) -> Value {
-        match functions::as_lambda(callee) {
-            Some(_) => self.call_local_lambda("LAMBDA", callee, args),
-            None => {
-                let why = "only a LAMBDA written in place can be called so: LAMBDA(x, x+1)(2)".to_string();
+        match self.eval(callee) {
+            Value::Lambda(closure) => self.call_closure("LAMBDA", &closure, args),
+            Value::Error(e) => Value::Error(e),
+            _ => {
+                let why = "only a LAMBDA can be called so: LAMBDA(x, x+1)(2)".to_string();
                 Value::Error(self.explain_once(XlError::Value, why))
             }
         }
@@ -787,6 +879,18 @@ impl<'a> Ctx<'a> {
 
 /// The areas of a reference operand (one for a rectangle); an error value's error, and
 /// `#VALUE!` for any other value (`(1,2)` is no reference).
+/// A formula's result as a cell or a macro variable holds it: a LAMBDA left uncalled is
+/// `#CALC!` (Excel's error for `=LAMBDA(x, x+1)` alone), in an array too.
+pub fn no_lambda(v: Value) -> Value {
+    match v {
+        Value::Lambda(_) => Value::Error(XlError::Calc),
+        Value::Array(a) if a.data.iter().any(|x| matches!(x, Value::Lambda(_))) => {
+            map_value(&Value::Array(a), &|x| no_lambda(x.clone()))
+        }
+        v => v,
+    }
+}
+
 pub fn areas_of(operand: &Operand) -> XlResult<Vec<(SheetId, Rect)>> {
     match operand {
         Operand::Ref(sheet, rect) => Ok(vec![(*sheet, *rect)]),

@@ -352,7 +352,8 @@ fn replace_children(e: &Expr, chosen: &HashMap<String, Rc<str>>) -> Expr {
 pub enum Home {
     /// In the calling formula's cell (LET names in scope, as a LAMBDA typed there sees them).
     Here,
-    /// In cell A1 of this sheet: a defined name's LAMBDA, evaluated as names are.
+    /// On this sheet, at the calling cell, without the caller's LET names: a defined name's
+    /// LAMBDA, evaluated as names are (relative references follow the cell using the name).
     Name(SheetId),
 }
 
@@ -366,11 +367,15 @@ pub fn surface_argument(ctx: &mut Ctx, e: &Expr) -> Result<(FormulaSurface, Home
         return Ok((definition(FormulaSurface::from_expr(e))?, Home::Here));
     }
     let value = ctx.eval(e);
-    if let (Value::Error(XlError::Calc), ExprKind::Name(name)) = (&value, &e.kind) {
-        // A name evaluating to #CALC! is a LAMBDA left uncalled: the surface itself.
-        if let Some((expr, sheet)) = ctx.env.defined_name(name, ctx.sheet) {
+    if let (Value::Lambda(_), ExprKind::Name(name)) = (&value, &e.kind) {
+        // A defined name holding a LAMBDA: the surface, evaluated as names are.
+        if let Some((expr, sheet)) = ctx.env.defined_name(name, ctx.sheet).filter(|(x, _)| as_lambda(x).is_some()) {
             return Ok((definition(FormulaSurface::from_expr(&expr))?, Home::Name(sheet)));
         }
+    }
+    // A LAMBDA that a LET name holds or an expression gives, evaluated here.
+    if let Value::Lambda(closure) = &value {
+        return Ok((definition(FormulaSurface::from_expr(closure.expr()))?, Home::Here));
     }
     let text = to_text(&value.unwrap_single()).map_err(|err| match err {
         XlError::Calc => (err, "the surface is #CALC!: a LAMBDA in a cell has no value; define it as a name".into()),

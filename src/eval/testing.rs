@@ -46,7 +46,7 @@ impl MapEnv {
             formula,
             &ParseContext { at, functions: &Registry, sheet: &|n| (n.eq_ignore_ascii_case("Sheet1")).then_some(0) },
         )?;
-        Ok(Ctx::new(self, 0, at).eval(&expr).unwrap_single())
+        Ok(crate::eval::evaluator::no_lambda(Ctx::new(self, 0, at).eval(&expr)).unwrap_single())
     }
 
     /// Evaluates `formula` in cell Z100 (away from the usual test data).

@@ -15,7 +15,14 @@ pub enum Value {
     Text(Rc<str>),
     Error(XlError),
     Array(Rc<Array>),
+    /// A LAMBDA as a value (`LAMBDA(x, x+1)`, a LET name or parameter bound to one, what
+    /// `IF(c, LAMBDA(…), LAMBDA(…))` chooses), to be called (`…(5)`) or handed to MAP,
+    /// REDUCE…. Read where a number, text or condition is wanted it is `#CALC!`, and a
+    /// formula whose result is one shows `#CALC!`, as in Excel.
+    Lambda(Rc<Closure>),
 }
+
+pub use super::evaluator::Closure;
 
 pub type XlResult<T> = Result<T, XlError>;
 
@@ -122,9 +129,11 @@ impl Value {
         matches!(self, Value::Blank)
     }
 
+    /// The error this value is, or reads as (a LAMBDA read as a value is `#CALC!`).
     pub fn as_error(&self) -> Option<XlError> {
         match self {
             Value::Error(e) => Some(*e),
+            Value::Lambda(_) => Some(XlError::Calc),
             _ => None,
         }
     }
@@ -201,6 +210,7 @@ impl fmt::Display for Value {
                 Some(v) => v.fmt(f),
                 None => Ok(()),
             },
+            Value::Lambda(_) => f.write_str(XlError::Calc.as_str()),
         }
     }
 }

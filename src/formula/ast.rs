@@ -42,6 +42,16 @@ impl Coord {
         let v = if self.absolute { self.value as i64 } else { base as i64 + self.value as i64 };
         (0..limit as i64).contains(&v).then_some(v as u32)
     }
+
+    /// [`Coord::resolve`] as a defined name's coordinate reads: a relative one that runs off
+    /// the sheet wraps around to the other edge, as Excel's do.
+    #[inline]
+    pub fn resolve_wrapping(self, base: u32, limit: u32) -> Option<u32> {
+        if self.absolute {
+            return self.resolve(base, limit);
+        }
+        Some((base as i64 + self.value as i64).rem_euclid(limit as i64) as u32)
+    }
 }
 
 /// A cell address inside a reference.
@@ -84,13 +94,29 @@ impl Reference {
     /// The sheet and rectangle this reference points at from cell `at` of `sheet`; `None`
     /// when it names a missing sheet or lands off the sheet (Excel's `#REF!`).
     pub fn resolve(&self, sheet: SheetId, at: Pos) -> Option<(SheetId, Rect)> {
+        self.resolve_with(sheet, at, Coord::resolve)
+    }
+
+    /// [`Reference::resolve`] as a defined name's reference reads: relative coordinates wrap
+    /// at the sheet's edges ([`Coord::resolve_wrapping`]).
+    pub fn resolve_wrapping(&self, sheet: SheetId, at: Pos) -> Option<(SheetId, Rect)> {
+        self.resolve_with(sheet, at, Coord::resolve_wrapping)
+    }
+
+    #[inline]
+    fn resolve_with(
+        &self,
+        sheet: SheetId,
+        at: Pos,
+        coord: fn(Coord, u32, u32) -> Option<u32>,
+    ) -> Option<(SheetId, Rect)> {
         let sheet = match &self.sheet {
             SheetRef::Current => sheet,
             SheetRef::Id(id) => *id,
             SheetRef::Missing(_) => return None,
         };
-        let row = |c: Coord| c.resolve(at.row, MAX_ROWS);
-        let col = |c: Coord| c.resolve(at.col, MAX_COLS);
+        let row = |c: Coord| coord(c, at.row, MAX_ROWS);
+        let col = |c: Coord| coord(c, at.col, MAX_COLS);
         let rect = match self.shape {
             RefShape::Cell(c) => Rect::cell(Pos::new(row(c.row)?, col(c.col)?)),
             RefShape::Cells(a, b) => Rect::new(Pos::new(row(a.row)?, col(a.col)?), Pos::new(row(b.row)?, col(b.col)?)),

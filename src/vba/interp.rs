@@ -44,7 +44,7 @@ pub fn run(
     // A sheet's button is clicked on that sheet: it is the active one, unless --sheet says.
     let active = match &options.sheet {
         Some(name) => sheet_named(name).map_err(|m| usage(file, m))?,
-        None => home.unwrap_or(0),
+        None => home.unwrap_or(wb.active_sheet()),
     };
     let code_sheets = options
         .code_names
@@ -231,6 +231,9 @@ pub struct Interp<'m, 'w> {
     /// An `End` statement ran: every procedure stops.
     pub(super) ended: Cell<bool>,
     pub active: Cell<SheetId>,
+    /// `Application.ReferenceStyle` (`xlA1` 1, `xlR1C1` -4150): how Excel's window shows
+    /// formulas. `.Formula` stays A1 and `.FormulaR1C1` R1C1 whatever it is, as in Excel.
+    pub(super) reference_style: Cell<i32>,
     /// The sheet of the document module the code is in: what unqualified `Range`, `Cells`
     /// and `[B3]` mean there, and `Me`.
     pub home: Option<SheetId>,
@@ -275,6 +278,7 @@ impl<'m, 'w> Interp<'m, 'w> {
             pending: RefCell::new(None),
             ended: Cell::new(false),
             active: Cell::new(0),
+            reference_style: Cell::new(XL_A1),
             home: None,
             code_sheets: Vec::new(),
             cursors: RefCell::new(std::collections::HashMap::new()),
@@ -286,6 +290,10 @@ impl<'m, 'w> Interp<'m, 'w> {
         }
     }
 }
+
+/// XlReferenceStyle's values.
+pub(super) const XL_A1: i32 = 1;
+pub(super) const XL_R1C1: i32 = -4150;
 
 impl Interp<'_, '_> {
     /// The workbook, to change: refused inside a function a cell called.
@@ -453,7 +461,7 @@ impl Interp<'_, '_> {
     /// Evaluates an expression to a value (a 1×1 array is its item).
     pub fn eval(&self, e: &Expr) -> Run<Value> {
         let mut ctx = self.ctx();
-        let v = ctx.eval(e).unwrap_single();
+        let v = crate::eval::evaluator::no_lambda(ctx.eval(e)).unwrap_single();
         self.take_pending()?;
         *self.notes.borrow_mut() = ctx.notes.into_iter().map(|n| n.message).collect();
         Ok(v)

@@ -1,7 +1,7 @@
 //! The objects a macro reaches through member paths, as a VBA user knows them: `Range`,
 //! `Cells`, `Worksheets`, `Application`, `Evaluate`, `MsgBox`; the `Nc` object is in `nc.rs`.
 
-use crate::eval::coerce::{to_bool, to_text};
+use crate::eval::coerce::{to_bool, to_number, to_text};
 use crate::eval::functions::vba::vba_text;
 use crate::eval::functions::Registry;
 use crate::eval::{Ctx, Operand, Value};
@@ -11,7 +11,7 @@ use crate::formula::parse::{parse_formula, parse_formula_r1c1, ParseContext};
 use crate::formula::print::{print_spelled, R1C1};
 
 use super::ast::{Link, Node, Path, Span};
-use super::interp::{Interp, Run};
+use super::interp::{Interp, Run, XL_A1, XL_R1C1};
 use super::sheet_ops::{visibility_value, Direction};
 use super::value::{print_text, Obj, Var};
 
@@ -158,6 +158,7 @@ impl Interp<'_, '_> {
                     Some((sheet, pos)) => Ok(Obj::Range(sheet, Rect::cell(pos))),
                     None => Err(self.fault_at(link.span, "Application.Caller: the macro was not called from a cell")),
                 },
+                "referencestyle" => Ok(Obj::Value(Value::Number(f64::from(self.reference_style.get())))),
                 _ => Err(self.no_member(&Obj::App, link)),
             },
             Obj::Workbook => match name.as_str() {
@@ -591,6 +592,13 @@ impl Interp<'_, '_> {
                 // False (or any value) ends the copy: the clipboard's range is forgotten.
                 self.eval(value)?;
                 *self.clipboard.borrow_mut() = None;
+                Ok(())
+            }
+            (Obj::App, "referencestyle") => {
+                let style = to_number(&self.eval(value)?).ok().filter(|s| [XL_A1, XL_R1C1].contains(&(*s as i32)));
+                let why = "ReferenceStyle is xlA1 or xlR1C1";
+                let style = style.ok_or_else(|| self.fault_at(link.span, why))?;
+                self.reference_style.set(style as i32);
                 Ok(())
             }
             (Obj::App, "screenupdating" | "displayalerts" | "enableevents" | "calculation" | "statusbar") => {

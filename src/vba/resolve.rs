@@ -110,7 +110,7 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "vbquestion" => number(32.0),
         "vbexclamation" => number(48.0),
         "vbinformation" => number(64.0),
-        // Excel's XlDirection, XlPasteType and XlSheetVisibility values.
+        // Excel's XlDirection, XlPasteType, XlSheetVisibility and XlReferenceStyle values.
         "xlup" => number(-4162.0),
         "xldown" => number(-4121.0),
         "xltoleft" => number(-4159.0),
@@ -121,6 +121,8 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "xlsheetvisible" => number(-1.0),
         "xlsheethidden" => number(0.0),
         "xlsheetveryhidden" => number(2.0),
+        "xla1" => number(1.0),
+        "xlr1c1" => number(-4150.0),
         _ => None,
     }
 }

@@ -146,6 +146,7 @@ pub fn input_text(v: &Value) -> String {
         Value::Bool(b) => if *b { "TRUE" } else { "FALSE" }.to_string(),
         Value::Text(t) => t.to_string(),
         Value::Error(e) => e.as_str().to_string(),
+        Value::Lambda(_) => XlError::Calc.as_str().to_string(),
         Value::Array(a) => a.data.first().map(input_text).unwrap_or_default(),
     }
 }

@@ -32,11 +32,14 @@ impl Workbook {
         }
         expr.visit(&mut |e| match &e.kind {
             crate::formula::ast::ExprKind::Ref(r) => {
-                if let Some((s, rect)) = resolve_static(r, name_sheet, at) {
+                // A name's relative references wrap at the sheet's edges, as the evaluator reads them.
+                if let Some((s, rect)) = r.resolve_wrapping(name_sheet, at) {
                     f(s, rect);
                 }
             }
-            crate::formula::ast::ExprKind::Name(inner) => self.name_precedents(inner, name_sheet, at, depth + 1, f),
+            crate::formula::ast::ExprKind::Name(inner) | crate::formula::ast::ExprKind::UnknownCall(inner, _) => {
+                self.name_precedents(inner, name_sheet, at, depth + 1, f)
+            }
             crate::formula::ast::ExprKind::SheetName(crate::formula::ast::SheetRef::Id(seen_from), inner) => {
                 self.name_precedents(inner, *seen_from, at, depth + 1, f)
             }

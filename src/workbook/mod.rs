@@ -159,6 +159,9 @@ pub struct Workbook {
     names_unlinked: bool,
     /// The workbook's own functions (its VBA Functions), once installed (`udf.rs`).
     user_functions: Option<Rc<dyn UserFunctions>>,
+    /// The sheet shown when the workbook opens (`<workbookView activeTab>`): VBA's
+    /// ActiveSheet and the sheet commands read when none is named.
+    active_sheet: SheetId,
 }
 
 /// Cell ids whose input was set, and whose value changed, since tracking began.
@@ -224,6 +227,22 @@ impl Workbook {
 
     pub fn date_1904(&self) -> bool {
         self.date_1904
+    }
+
+    /// The active sheet, the one a file opens on (the first unless the file says another).
+    pub fn active_sheet(&self) -> SheetId {
+        if (self.active_sheet as usize) < self.sheets.len() {
+            self.active_sheet
+        } else {
+            0
+        }
+    }
+
+    /// Makes `sheet` the active one; a sheet the workbook does not have is ignored.
+    pub fn set_active_sheet(&mut self, sheet: SheetId) {
+        if (sheet as usize) < self.sheets.len() {
+            self.active_sheet = sheet;
+        }
     }
 
     /// Whether `sheet`'s tab shows.

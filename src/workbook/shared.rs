@@ -42,6 +42,8 @@ impl SharedFormula {
             // A reference read twice (`IF(C1>1,C1-1,C1+1)`) is one edge of the graph.
             crate::formula::ast::ExprKind::Ref(r) if !refs.contains(r) => refs.push(r.clone()),
             crate::formula::ast::ExprKind::Name(n) => names.push((n.clone(), None)),
+            // `bump(1, 2)`: a named LAMBDA, whose cells are read as a name's are.
+            ExprKind::UnknownCall(n, _) => names.push((n.clone(), None)),
             // `Sheet2!Rate`: the name as Sheet2 sees it (a missing sheet reads nothing).
             ExprKind::SheetName(SheetRef::Id(sheet), n) => names.push((n.clone(), Some(*sheet))),
             ExprKind::Call(id, _) => volatile |= functions::spec(*id).every_edit,

@@ -29,6 +29,9 @@ pub struct Package<'a> {
     pub iteration: Option<Iteration>,
     /// The external-link parts, in the order formulas number them (`[1]` is the first).
     pub external_links: Vec<Option<String>>,
+    /// `<workbookView activeTab="n">`: the index in `sheets` of the sheet the file opens on
+    /// (0 when absent, ECMA-376's default).
+    pub active_tab: usize,
 }
 
 #[derive(Clone, Debug)]
@@ -79,6 +82,7 @@ impl<'a> Package<'a> {
             workbook_parts: Vec::new(),
             iteration: None,
             external_links: Vec::new(),
+            active_tab: 0,
         };
         let workbook = package.main_part()?;
         let rels = package.relationships(&workbook)?;
@@ -166,7 +170,12 @@ impl<'a> Package<'a> {
             by_id.entry(rid.as_str()).or_insert(i);
         }
         let mut external_links = Vec::new();
+        let mut active_tab = None;
         for_each_tag(bytes, &mut |tag, content| match tag.name {
+            // The first view is the one Excel opens with.
+            b"workbookView" if active_tab.is_none() => {
+                active_tab = Some(tag.attr("activeTab").and_then(|v| unescape(v).parse().ok()).unwrap_or(0));
+            }
             b"externalReference" => {
                 let id = tag.attr("id").map(unescape).unwrap_or_default();
                 external_links.push(rels.iter().find(|(rid, ..)| *rid == id).map(|(_, target, _)| target.clone()));
@@ -211,6 +220,7 @@ impl<'a> Package<'a> {
         self.iteration = iteration_of(&calculation);
         self.calculation = calculation;
         self.external_links = external_links;
+        self.active_tab = active_tab.unwrap_or(0);
         Ok(())
     }
 

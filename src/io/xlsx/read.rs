@@ -120,6 +120,10 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
         imported.workbook.set_sheet_visibility(id, sheet.visibility);
         ids.push(Some(id));
     }
+    // A chart or dialog sheet left out cannot be active: the first sheet is then.
+    if let Some(&Some(active)) = ids.get(package.active_tab) {
+        imported.workbook.set_active_sheet(active);
+    }
     let tables = read_tables(&mut package, &sheets, &ids, &mut imported.notes);
     imported.layout.tables = tables.clone();
     imported.layout.calculation = package.calculation.clone();

@@ -109,6 +109,12 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
         for (row, _) in wb.hidden_rows(sheet) {
             ws.set_row_hidden(row).map_err(|e| fail(Some(name), e))?;
         }
+        // The file opens where it was opened (`<workbookView activeTab>`); a hidden sheet
+        // cannot be the active one.
+        let visible = wb.sheet_visibility(sheet) == crate::workbook::Visibility::Visible;
+        if sheet == wb.active_sheet() && sheet != 0 && visible {
+            ws.set_active(true);
+        }
         match wb.sheet_visibility(sheet) {
             crate::workbook::Visibility::Visible => {}
             crate::workbook::Visibility::Hidden => _ = ws.set_hidden(true),
@@ -450,7 +456,8 @@ fn write_value(
 ) -> Result<(), rust_xlsxwriter::XlsxError> {
     let (row, col) = (pos.row, pos.col as u16);
     match (value, format) {
-        (Value::Blank | Value::Array(_), _) => Ok(()),
+        // A cell never holds a LAMBDA (its formula shows #CALC!).
+        (Value::Blank | Value::Array(_) | Value::Lambda(_), _) => Ok(()),
         (Value::Number(n), Some(f)) => ws.write_number_with_format(row, col, *n, f).map(|_| ()),
         (Value::Number(n), None) => ws.write_number(row, col, *n).map(|_| ()),
         (Value::Text(s), Some(f)) => ws.write_string_with_format(row, col, s.as_ref(), f).map(|_| ()),
@@ -470,6 +477,6 @@ fn result_text(value: &Value) -> String {
         // "inf" and "nan" would be written as numbers XML cannot hold.
         Value::Text(s) if s.parse::<f64>().is_ok_and(|n| !n.is_finite()) => String::new(),
         Value::Text(s) => s.to_string(),
-        Value::Blank | Value::Array(_) => String::new(),
+        Value::Blank | Value::Array(_) | Value::Lambda(_) => String::new(),
     }
 }

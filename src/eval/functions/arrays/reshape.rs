@@ -225,7 +225,7 @@ fn sort_cmp(a: &Value, b: &Value) -> Ordering {
             Value::Number(_) => 0,
             Value::Text(_) => 1,
             Value::Bool(_) => 2,
-            Value::Error(_) => 3,
+            Value::Error(_) | Value::Lambda(_) => 3,
             Value::Blank | Value::Array(_) => 4,
         }
     }
@@ -594,6 +594,7 @@ fn item_text(v: &Value, strict: bool) -> String {
         Value::Text(s) => s.to_string(),
         Value::Bool(b) => if *b { "TRUE" } else { "FALSE" }.to_string(),
         Value::Error(e) => e.as_str().to_string(),
+        Value::Lambda(_) => XlError::Calc.as_str().to_string(),
         Value::Blank | Value::Array(_) => String::new(),
     }
 }

@@ -265,9 +265,7 @@ fn typed_ball_path(
     IN_SURFACE.set(true);
     let result = match home {
         Home::Here => ball_path(&mut surface.bind(ctx), spec, progress),
-        Home::Name(sheet) => {
-            ball_path(&mut surface.bind(&mut Ctx::new(ctx.env, sheet, Pos::new(0, 0))), spec, progress)
-        }
+        Home::Name(sheet) => ball_path(&mut surface.bind(&mut Ctx::new(ctx.env, sheet, ctx.at)), spec, progress),
     };
     IN_SURFACE.set(false);
     result.map_err(|e| match e {

@@ -105,7 +105,8 @@ fn type_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         Value::Number(_) | Value::Blank => 1.0,
         Value::Text(_) => 2.0,
         Value::Bool(_) => 4.0,
-        Value::Error(_) => 16.0,
+        // A LAMBDA read as a value is #CALC!.
+        Value::Error(_) | Value::Lambda(_) => 16.0,
         Value::Array(_) => 64.0,
     };
     Ok(Value::Number(code))

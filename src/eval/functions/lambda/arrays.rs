@@ -5,10 +5,8 @@
 use std::rc::Rc;
 
 use crate::eval::functions::api::{block, number, Ctx, FnSpec, MANY};
-use crate::eval::value::{Array, Value, XlError, XlResult};
+use crate::eval::value::{Array, Closure, Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
-
-use crate::eval::functions::lambda::{as_lambda, Lambda};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value(
@@ -72,37 +70,19 @@ pub const FUNCTIONS: &[FnSpec] = &[
     .dynamic(),
 ];
 
-/// Runs `f` with the LAMBDA that `e` is or names; `#VALUE!` when it is neither.
-fn with_lambda<T>(ctx: &mut Ctx, e: &Expr, f: impl FnOnce(&mut Ctx, &Lambda) -> XlResult<T>) -> XlResult<T> {
-    if let Some(lambda) = as_lambda(e) {
-        return f(ctx, &lambda);
+/// Runs `f` with the LAMBDA that `e` gives (written in place, a LET name or parameter, a
+/// defined name, a function choosing one); `#VALUE!` when it gives anything else.
+fn with_lambda<T>(ctx: &mut Ctx, e: &Expr, f: impl FnOnce(&mut Ctx, &Rc<Closure>) -> XlResult<T>) -> XlResult<T> {
+    match ctx.eval(e) {
+        Value::Lambda(closure) => f(ctx, &closure),
+        Value::Error(XlError::Name) => Err(XlError::Name),
+        _ => Err(XlError::Value),
     }
-    let name = match &e.kind {
-        ExprKind::Name(n) => n.clone(),
-        ExprKind::Paren(inner) => return with_lambda(ctx, inner, f),
-        _ => return Err(XlError::Value),
-    };
-    let (expr, _) = ctx.env.defined_name(&name, ctx.sheet).ok_or(XlError::Name)?;
-    let lambda = as_lambda(&expr).ok_or(XlError::Value)?;
-    f(ctx, &lambda)
 }
 
 /// The LAMBDA's body with its parameters bound to `values`.
-fn apply(ctx: &mut Ctx, lambda: &Lambda, values: &[Value]) -> Value {
-    if lambda.params.len() != values.len() {
-        return Value::Error(XlError::Value);
-    }
-    let names: Vec<Rc<str>> = lambda.param_names().cloned().collect();
-    bind(ctx, &names, values, lambda.body)
-}
-
-fn bind(ctx: &mut Ctx, names: &[Rc<str>], values: &[Value], body: &Expr) -> Value {
-    match names.split_first() {
-        None => ctx.eval(body),
-        Some((name, rest)) => {
-            ctx.with_local(name.clone(), values[0].clone(), |ctx| bind(ctx, rest, &values[1..], body))
-        }
-    }
+fn apply(ctx: &mut Ctx, lambda: &Rc<Closure>, values: &[Value]) -> Value {
+    ctx.apply_closure(lambda, values)
 }
 
 /// A LAMBDA's result as one item of a result array: an array result is `#CALC!`, as in

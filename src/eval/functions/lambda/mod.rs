@@ -1,7 +1,8 @@
 //! LET and LAMBDA, the language's own names and functions, and ISOMITTED: LET binds names
-//! for its calculation; a LAMBDA is called through a LET name or a defined name (the evaluator
-//! binds its parameters, `Ctx::call_defined_lambda`), or by the functions of `arrays.rs` that
-//! run one over arrays (MAP, REDUCE …). [`as_lambda`] is how the rest of the engine reads one.
+//! for its calculation; a LAMBDA is a value (`Value::Lambda`, a closure) called through a LET
+//! name, a parameter or a defined name (the evaluator binds its parameters,
+//! `Ctx::call_defined_lambda`), where an expression gives it (`f(3)(4)`), or by the functions
+//! of `arrays.rs` that run one over arrays (MAP, REDUCE …). [`as_lambda`] is how the rest of the engine reads one.
 
 pub(crate) mod arrays;
 
@@ -64,19 +65,20 @@ fn bind_names(ctx: &mut Ctx, args: &[Expr]) -> Value {
         return Value::Error(XlError::Value);
     };
     let name: Rc<str> = name.clone();
-    if as_lambda(value).is_some() {
-        let lambda = Rc::new(value.clone());
-        let value = ctx.eval(value);
-        return ctx
-            .with_local(name.clone(), value, |ctx| ctx.with_local_lambda(name, lambda, |ctx| bind_names(ctx, rest)));
-    }
-    let value = ctx.eval(value);
+    // A LAMBDA (or what gives one) is bound as a value: `f(3)` calls it, its own body too.
+    let mut value = ctx.eval(value);
+    crate::eval::evaluator::bind_own_name(&mut value, &name);
     ctx.with_local(name, value, |ctx| bind_names(ctx, rest))
 }
 
-/// A LAMBDA that is not called has no value: Excel shows `#CALC!` for one left alone in a cell.
-fn lambda(_: &mut Ctx, _: &[Expr]) -> XlResult<Value> {
-    Err(XlError::Calc)
+/// A LAMBDA is a value to call, remembering the names around it; left alone in a cell it
+/// shows `#CALC!` (`Ctx::eval_formula`). Parameters that are not names are `#VALUE!`.
+fn lambda(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let call = Expr { kind: ExprKind::Call(*LAMBDA_ID, args.to_vec()), span: Default::default() };
+    if as_lambda(&call).is_none() {
+        return Err(XlError::Value);
+    }
+    Ok(ctx.closure(call))
 }
 
 /// ISOMITTED: only a parameter can be omitted; any other argument is FALSE.

@@ -641,26 +641,43 @@ fn product(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     Ok(number_result(total.unwrap_or(0.0)))
 }
 
+/// SUMPRODUCT over the arrays' whole sizes: a whole row or column (`1:1+1`, a spill of one)
+/// is its stored items and a tail of one value, and every item counts. The items beyond
+/// those any array stores are the same term, counted once and multiplied by how often it
+/// repeats, so the work follows the used area.
 fn sumproduct(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let blocks = args.iter().map(|a| block(ctx, a)).collect::<XlResult<Vec<_>>>()?;
-    let (rows, cols) = (blocks[0].rows, blocks[0].cols);
-    if blocks.iter().any(|b| b.rows != rows || b.cols != cols) {
+    let (rows, cols) = blocks[0].whole_size();
+    if blocks.iter().any(|b| b.whole_size() != (rows, cols)) {
         return Err(XlError::Value);
     }
+    let stored = blocks.iter().fold((0, 0), |(r, c), b| (r.max(b.rows), c.max(b.cols)));
     let mut total = 0.0;
-    for i in 0..rows * cols {
-        let mut term = 1.0;
-        for b in &blocks {
-            match &b.data[i] {
-                Value::Number(n) => term *= n,
-                Value::Error(e) => return Err(*e),
-                // Text, booleans and blanks are zeros in SUMPRODUCT.
-                _ => term = 0.0,
-            }
+    for r in 0..stored.0 {
+        for c in 0..stored.1 {
+            total += sumproduct_term(blocks.iter().map(|b| b.whole_get(r, c).expect("within the whole size")))?;
         }
-        total += term;
+    }
+    let repeats = rows * cols - stored.0 * stored.1;
+    if repeats > 0 {
+        // Every array is shorter than the whole size here: each has a tail.
+        let fills = blocks.iter().map(|b| &b.tail.as_ref().expect("a tail beyond the stored items").fill);
+        total += sumproduct_term(fills)? * repeats as f64;
     }
     Ok(number_result(total))
+}
+
+/// One product of SUMPRODUCT: text, booleans and blanks are zeros; an error is the result.
+fn sumproduct_term<'v>(items: impl Iterator<Item = &'v Value>) -> XlResult<f64> {
+    let mut term = 1.0;
+    for v in items {
+        match v {
+            Value::Number(n) => term *= n,
+            Value::Error(e) => return Err(*e),
+            _ => term = 0.0,
+        }
+    }
+    Ok(term)
 }
 
 // ---- arrays -------------------------------------------------------------------------------

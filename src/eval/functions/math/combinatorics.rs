@@ -314,17 +314,30 @@ fn sumxmy2(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 /// An argument as a matrix of numbers: any other item is #VALUE!.
+/// More items than this in a matrix argument or result is refused (#NUM!) rather than
+/// allocated, as SEQUENCE refuses a larger array: a whole column times a whole row would be
+/// seventeen billion.
+const MAX_MATRIX_ITEMS: usize = 16_777_216;
+
+/// A matrix argument, whole: a whole row or column (`1:1+1`, a spill of one) counts every
+/// item of its tail as Excel reads every cell.
 fn matrix(ctx: &mut Ctx, e: &Expr) -> XlResult<DMatrix<f64>> {
     let a = block(ctx, e)?;
-    let mut items = Vec::with_capacity(a.data.len());
-    for v in &a.data {
-        match v {
-            Value::Number(n) => items.push(*n),
-            Value::Error(e) => return Err(*e),
-            _ => return Err(XlError::Value),
+    let (rows, cols) = a.whole_size();
+    if rows * cols > MAX_MATRIX_ITEMS {
+        return Err(ctx.explain(XlError::Num, format!("a matrix of {rows} × {cols} items is too large")));
+    }
+    let mut items = Vec::with_capacity(rows * cols);
+    for r in 0..rows {
+        for c in 0..cols {
+            match a.whole_get(r, c).expect("within the whole size") {
+                Value::Number(n) => items.push(*n),
+                Value::Error(e) => return Err(*e),
+                _ => return Err(XlError::Value),
+            }
         }
     }
-    Ok(DMatrix::from_row_slice(a.rows, a.cols, &items))
+    Ok(DMatrix::from_row_slice(rows, cols, &items))
 }
 
 fn to_value(m: &DMatrix<f64>) -> XlResult<Value> {
@@ -343,6 +356,9 @@ fn mmult(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let a = matrix(ctx, &args[0])?;
     let b = matrix(ctx, &args[1])?;
     check(a.ncols() == b.nrows(), XlError::Value)?;
+    if a.nrows() * b.ncols() > MAX_MATRIX_ITEMS {
+        return Err(ctx.explain(XlError::Num, format!("a product of {} × {} items is too large", a.nrows(), b.ncols())));
+    }
     to_value(&(a * b))
 }
 
@@ -373,17 +389,25 @@ fn munit(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     })
 }
 
+/// Rows become columns; a tail (the rest of a whole row or column, one value) turns with
+/// them, so `TRANSPOSE(1:1+1)` is a whole column held in memory as the row was.
 fn transpose(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let a = block(ctx, &args[0])?;
+    // A blank cell reads as 0, as in Excel's result.
+    let item = |v: &Value| match v {
+        Value::Blank => Value::Number(0.0),
+        v => v.clone(),
+    };
     let mut data = Vec::with_capacity(a.data.len());
     for c in 0..a.cols {
         for r in 0..a.rows {
-            // A blank cell reads as 0, as in Excel's result.
-            data.push(match a.get(r, c) {
-                Value::Blank => Value::Number(0.0),
-                v => v.clone(),
-            });
+            data.push(item(a.get(r, c)));
         }
     }
-    Ok(Value::Array(Rc::new(Array::new(a.cols, a.rows, data))))
+    let turned = Array::new(a.cols, a.rows, data);
+    let turned = match &a.tail {
+        Some(t) => turned.with_tail(t.cols, t.rows, item(&t.fill)),
+        None => turned,
+    };
+    Ok(Value::Array(Rc::new(turned)))
 }
