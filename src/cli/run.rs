@@ -135,7 +135,9 @@ pub fn run(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
     inputs.extend(args.macro_file.as_deref());
     super::refuse_overwriting_inputs(&inputs, &outputs, hint)?;
     let d = dialect::by_name(&args.dialect).expect("clap checked the dialect");
-    let stack = (8 << 20).max(args.max_depth.saturating_mul(STACK_BYTES_PER_LEVEL));
+    // The workbook's functions, recomputed by the macro's writes, nest on top of it.
+    let levels = args.max_depth.saturating_add(ncsheet::vba::FUNCTION_MAX_DEPTH);
+    let stack = (8 << 20).max(levels.saturating_mul(STACK_BYTES_PER_LEVEL));
     // The workbook is not Send, so it is loaded and used on the macro's own thread.
     let dialect_name = d.name();
     let worker =

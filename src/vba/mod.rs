@@ -122,7 +122,7 @@ use crate::nc::{Machine, Program};
 use crate::workbook::Workbook;
 
 pub use ast::{Module, Span};
-pub use udf::{install_functions, WorkbookFunctions};
+pub use udf::{install_functions, WorkbookFunctions, FUNCTION_MAX_DEPTH};
 
 /// How to run a macro.
 #[derive(Clone, Debug)]

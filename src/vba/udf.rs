@@ -16,6 +16,10 @@ use super::project::{ModuleKind, VbaProject};
 use super::value::{array_var, Obj, Var};
 use super::{interp, parse_with, MacroError, RunOptions};
 
+/// The deepest a function called from a cell nests its calls: it may run inside a macro
+/// already deep (a macro's write recalculates the cells), whose stack must hold both.
+pub const FUNCTION_MAX_DEPTH: usize = 32;
+
 /// The most source, in bytes, of a project whose modules are parsed with one another's code.
 const MAX_JOINED: usize = 1 << 20;
 
@@ -36,8 +40,9 @@ pub struct WorkbookFunctions {
 
 /// Installs the functions of `project` into `wb` (recomputing the cells that call them), each
 /// call under the limits of `options`. Returns the modules that do not parse: their functions
-/// stay `#NAME?`.
-pub fn install_functions(wb: &mut Workbook, project: &VbaProject, options: RunOptions) -> Vec<MacroError> {
+/// stay `#NAME?`. Calls nest at most [`FUNCTION_MAX_DEPTH`] deep.
+pub fn install_functions(wb: &mut Workbook, project: &VbaProject, mut options: RunOptions) -> Vec<MacroError> {
+    options.max_depth = options.max_depth.min(FUNCTION_MAX_DEPTH);
     let (functions, errors) = WorkbookFunctions::new(project, wb, options);
     if !functions.modules.is_empty() {
         wb.set_user_functions(Rc::new(functions));
