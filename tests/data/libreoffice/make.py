@@ -467,6 +467,8 @@ def lookups():
         "=VLOOKUP(TRUE,T!D1:D6,1,FALSE)", "=VLOOKUP(2,T!D1:D6,1)", "=MATCH(4,T!D1:D6)", "=MATCH(\"b\",T!D1:D6)",
         "=COUNTIF(T!F1:F5,\"abc\")", "=COUNTIF(T!F1:F5,\"a~*c\")", "=COUNTIF(T!F1:F5,\"a*\")", "=SUMPRODUCT(--EXACT(T!F1:F5,\"abc\"))",
         "=VLOOKUP(8,T!A1:B8,2,TRUE)&\"/\"&VLOOKUP(9,T!A1:B8,2,TRUE)", "=INDEX(T!B1:B8,MATCH(MAX(T!A1:A8),T!A1:A8,0))",
+        "=SUMPRODUCT(VLOOKUP(5,T!A1:C8,{1,3},FALSE))", "=SUMPRODUCT(VLOOKUP({3,5},T!A1:B8,1,FALSE))",
+        "=SUMPRODUCT(HLOOKUP({10,30},T!H10:L11,1,FALSE))", "=SUMPRODUCT(--(VLOOKUP(T!A1:A3,T!A1:B8,2,FALSE)=\"two\"))",
     ]
     listed(s, forms)
     save(wb, "lookups")

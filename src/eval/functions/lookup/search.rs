@@ -411,10 +411,11 @@ fn table_lookup(ctx: &mut Ctx, args: &[Expr], by_row: bool) -> XlResult<Value> {
     let offset = ctx.eval(&args[2]);
     let approximate = approximate_flag(ctx, args.get(3))?;
     let table = table.map(|t| TableLookup::new(t, by_row));
-    lift_values(&[key], &|v| {
+    // An array of columns returns each (`SUM(VLOOKUP(x,T,{2,3},0))`), as in Excel.
+    lift_values(&[key, offset], &|v| {
         let key = lookup_key(&v[0])?;
         let table = table.as_ref().map_err(|e| *e)?;
-        table.find(&key, &offset, approximate)
+        table.find(&key, &v[1], approximate)
     })
 }
 
