@@ -826,7 +826,8 @@ fn agrees(ours: &Value, general: &str, precise: &str) -> bool {
         Value::Text(t) => general == &**t,
         Value::Error(e) => general == e.as_str(),
         Value::Blank => general.is_empty(),
-        Value::Array(_) => false,
+        // A cell never holds a LAMBDA.
+        Value::Array(_) | Value::Lambda(_) => false,
     }
 }
 
