@@ -325,3 +325,16 @@ fn a_workbook_saved_in_r1c1_mode_computes_its_a1_formulas() {
         assert!(imported.workbook.problems().is_empty(), "{rel}: {:?}", imported.workbook.problems());
     }
 }
+
+#[test]
+fn a_named_lambda_calling_itself_twice_links_its_cells_once() {
+    // Linking follows the names a formula calls; a LAMBDA that branches into itself must be
+    // expanded once, not 2^n times.
+    let mut wb = Workbook::with_sheet();
+    wb.define_name("TREE", "=LAMBDA(n, IF(n=0, Sheet1!$A$1, TREE(n-1)+TREE(n-1)))", None).unwrap();
+    set(&mut wb, "A1", "1");
+    set(&mut wb, "B1", "=TREE(3)");
+    assert_eq!(get(&wb, "B1"), n(8.0));
+    set(&mut wb, "A1", "2");
+    assert_eq!(get(&wb, "B1"), n(16.0));
+}

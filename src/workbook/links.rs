@@ -18,18 +18,29 @@ impl Workbook {
                 f(sheet, rect);
             }
         }
+        let mut seen = Vec::new();
         for (name, seen_from) in formula.names.iter() {
-            self.name_precedents(name, seen_from.unwrap_or(cell.sheet), cell.pos, 0, f);
+            self.name_precedents(name, seen_from.unwrap_or(cell.sheet), cell.pos, (0, &mut seen), f);
         }
     }
 
     /// The cells name `name` reads when cell `at` uses it (its relative references move
-    /// with the cell, as the evaluator reads them).
-    fn name_precedents(&self, name: &str, sheet: SheetId, at: Pos, depth: u32, f: &mut dyn FnMut(SheetId, Rect)) {
+    /// with the cell, as the evaluator reads them). Each name is expanded once (`seen`): a
+    /// LAMBDA calling itself twice (`FIB(n-1)+FIB(n-2)`) must not branch without end; and at
+    /// most 33 names deep (`depth`).
+    fn name_precedents(
+        &self,
+        name: &str,
+        sheet: SheetId,
+        at: Pos,
+        (depth, seen): (u32, &mut Vec<(String, SheetId)>),
+        f: &mut dyn FnMut(SheetId, Rect),
+    ) {
         let Some((expr, name_sheet)) = Env::defined_name(self, name, sheet) else { return };
-        if depth > 32 {
+        if depth > 32 || seen.iter().any(|(n, s)| *s == sheet && n.eq_ignore_ascii_case(name)) {
             return;
         }
+        seen.push((name.to_string(), sheet));
         expr.visit(&mut |e| match &e.kind {
             crate::formula::ast::ExprKind::Ref(r) => {
                 // A name's relative references wrap at the sheet's edges, as the evaluator reads them.
@@ -38,10 +49,10 @@ impl Workbook {
                 }
             }
             crate::formula::ast::ExprKind::Name(inner) | crate::formula::ast::ExprKind::UnknownCall(inner, _) => {
-                self.name_precedents(inner, name_sheet, at, depth + 1, f)
+                self.name_precedents(inner, name_sheet, at, (depth + 1, seen), f)
             }
             crate::formula::ast::ExprKind::SheetName(crate::formula::ast::SheetRef::Id(seen_from), inner) => {
-                self.name_precedents(inner, *seen_from, at, depth + 1, f)
+                self.name_precedents(inner, *seen_from, at, (depth + 1, seen), f)
             }
             _ => {}
         });
