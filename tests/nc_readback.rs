@@ -788,11 +788,11 @@ fn dda_circles_stay_near_the_circle_and_end_exactly() {
         }
     }
     assert!(checked > 500, "{checked}");
-    // Radially the path keeps within 1.1 increments of the circle (where both axes are off by
-    // their half increment of rounding at once).
-    // FIXME (issue 15, item 4): the path should keep within one increment of the circle;
-    // it strays up to about 2.1 increments on some of these arcs. Until then this bounds it.
-    assert!(worst < 2.5, "{worst} {boxed_out}");
+    // Every position within one increment on each axis of the circle (330 of them strayed up
+    // to 2.1 increments radially when the Y adder started again one clock late past X = 0);
+    // radially that is at most √2, where both axes are off by a whole increment at once.
+    assert_eq!(boxed_out, 0, "worst {worst}");
+    assert!(worst < std::f64::consts::SQRT_2, "{worst}");
 }
 
 /// `nc dda --arc`: a quarter circle of radius 10 increments from (10, 0) counter-clockwise

@@ -169,8 +169,8 @@ pub fn bits_for_circle(start: (i64, i64), end: (i64, i64)) -> u32 {
 }
 
 /// Bits beyond the radius's: with 2ⁿ ≥ 4R each clock turns the arc by at most a quarter
-/// increment. FIXME: the path still strays up to about 2 increments off the circle on some
-/// arcs (tests/nc_readback.rs, the ignored test), more than the one increment asked.
+/// increment, and the path keeps within one increment on each axis of the circle
+/// (tests/nc_readback.rs).
 const EXTRA: u32 = 2;
 
 fn radius(p: (i64, i64)) -> f64 {
@@ -251,21 +251,16 @@ fn counter_clockwise(capacity: u64, start: (i64, i64), end: (i64, i64)) -> Resul
         let mut steps = [0i8; 2];
         // q holds how far the integral is past the position in the axis's direction of
         // travel; where that direction turns (the other axis crossed 0) it starts again
-        // from half, the rounding point.
-        let dir = [-y.signum(), x.signum()];
-        for k in 0..2 {
-            if dir[k] != 0 && last_dir[k] != 0 && dir[k] != last_dir[k] {
-                q[k] = capacity / 2;
-            }
-            if dir[k] != 0 {
-                last_dir[k] = dir[k];
-            }
-        }
+        // from half, the rounding point. Each axis's direction is the one its own step
+        // takes: Y's from the X this clock's X pulse left (the value its adder is fed), or
+        // Y would take one more step the old way with the other's sum, just past X = 0.
+        turn(&mut q[0], &mut last_dir[0], -y.signum(), capacity);
         let ax = add(y.unsigned_abs(), &mut q[0], capacity);
         if ax.pulse && !(last_quadrant && x == end.0) {
             steps[0] = -y.signum() as i8;
         }
         let nx = x + i64::from(steps[0]);
+        turn(&mut q[1], &mut last_dir[1], nx.signum(), capacity);
         let ay = add(nx.unsigned_abs(), &mut q[1], capacity);
         if ay.pulse && !(last_quadrant && y == end.1) {
             steps[1] = nx.signum() as i8;
@@ -277,6 +272,17 @@ fn counter_clockwise(capacity: u64, start: (i64, i64), end: (i64, i64)) -> Resul
         clocks.push(CircleClock { number: clocks.len() as u64 + 1, axes: [ax, ay], steps, position: (x, y) });
     }
     Ok(clocks)
+}
+
+/// An adder whose axis now steps the other way (`dir`, 0 at the turning point itself) starts
+/// again from half, the rounding point.
+fn turn(q: &mut u64, last_dir: &mut i64, dir: i64, capacity: u64) {
+    if dir != 0 && *last_dir != 0 && dir != *last_dir {
+        *q = capacity / 2;
+    }
+    if dir != 0 {
+        *last_dir = dir;
+    }
 }
 
 /// How often the arc from `start` to `end` crosses an axis between them (its ends not
