@@ -415,3 +415,28 @@ fn excel_object_model_errors_carry_vbas_numbers() {
         (Some("9".into()), Some("Subscript out of range".into()), Some("1004".into()))
     );
 }
+
+/// `Columns("A:C").Copy Range("E1")` pastes whole columns as Excel does: every cell of E:G
+/// becomes its source's (formulas moved by 4 columns, =A3+B3 becoming =E3+F3), so a cell of
+/// G far below the data is blanked; `Rows("2:3").Copy Range("A6")` likewise for rows. Only
+/// the used area is visited: the three million cells of three columns take no time.
+#[test]
+fn whole_columns_and_rows_copy_through_the_used_area() {
+    let dir = tempfile::tempdir().unwrap();
+    let book = dir.path().join("book.csv");
+    let mut csv = String::from("a,b,c\n1,2,3\n4,5,=A3+B3\n");
+    csv += &",\n".repeat(6);
+    csv += ",,,,,,old\n";
+    std::fs::write(&book, csv).unwrap();
+    let saved = dir.path().join("after.csv");
+    let source =
+        "Sub Main()\r\n    Columns(\"A:C\").Copy Range(\"E1\")\r\n    Rows(\"2:3\").Copy Range(\"A12\")\r\nEnd Sub\r\n";
+    let started = std::time::Instant::now();
+    let ran = run_bas(dir.path(), &book, source, &saved);
+    assert_eq!(ran.code, 0, "{}", ran.stderr);
+    assert!(started.elapsed().as_secs() < 20, "took {:?}", started.elapsed());
+    let after = ncsheet::io::open(&saved).unwrap().workbook;
+    let at = |a1| after.input(0, ncsheet::formula::address::parse_cell(a1).unwrap()).unwrap_or_default();
+    assert_eq!([at("E1"), at("F2"), at("G3"), at("G10")], ["a", "2", "=E3+F3", ""]);
+    assert_eq!([at("A12"), at("C13"), at("G13"), at("A14")], ["1", "=A13+B13", "=E13+F13", ""]);
+}

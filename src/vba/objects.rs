@@ -364,14 +364,28 @@ impl Interp<'_, '_> {
     }
 
     fn line(&self, ctx: &mut Ctx, sheet: SheetId, rect: Rect, rows: bool, link: &Link) -> Run<Obj> {
-        let i = match self.indexes(ctx, link)?.as_slice() {
-            [i] if *i >= 1 => *i as u32 - 1,
+        let values = self.values(ctx, link)?;
+        let (i, j) = match values.as_slice() {
+            // `Columns("A:C")`, `Rows("2:5")`, `Columns("B")`: letters or numbers, from 1.
+            [Value::Text(t)] => lines_named(t, rows).ok_or_else(|| {
+                let example = if rows { "\"2\" or \"2:5\"" } else { "\"B\" or \"A:C\"" };
+                self.fault_at(link.span, format!("{}(\"{t}\"): name them as {example}", link.name))
+            })?,
+            [v] => match self.number_of(v, &format!("an argument of {}", link.name)) {
+                Ok(n) if n.round_ties_even() >= 1.0 => {
+                    let i = n.round_ties_even().min(f64::from(u32::MAX)) as u32 - 1;
+                    (i, i)
+                }
+                Ok(_) => return Err(self.fault_at(link.span, format!("{}(i) takes one index from 1", link.name))),
+                Err(m) => return Err(self.fault_at(link.span, m)),
+            },
             _ => return Err(self.fault_at(link.span, format!("{}(i) takes one index from 1", link.name))),
         };
+        let off = |base: u32, k: u32| base.saturating_add(k);
         let r = if rows {
-            Rect::new(Pos::new(rect.first.row + i, rect.first.col), Pos::new(rect.first.row + i, rect.last.col))
+            Rect::new(Pos::new(off(rect.first.row, i), rect.first.col), Pos::new(off(rect.first.row, j), rect.last.col))
         } else {
-            Rect::new(Pos::new(rect.first.row, rect.first.col + i), Pos::new(rect.last.row, rect.first.col + i))
+            Rect::new(Pos::new(rect.first.row, off(rect.first.col, i)), Pos::new(rect.last.row, off(rect.first.col, j)))
         };
         if r.last.row >= MAX_ROWS || r.last.col >= MAX_COLS {
             return Err(self.fault_at(link.span, "the row or column would be off the sheet"));
@@ -654,3 +668,21 @@ use crate::eval::Env;
 
 /// VBA's description of run-time error 9.
 const SUBSCRIPT_OUT_OF_RANGE: &str = "Subscript out of range";
+
+/// `"A:C"` (columns) or `"2:5"` (rows), one or two ends in either order, as 0-based indexes
+/// (first, last).
+fn lines_named(text: &str, rows: bool) -> Option<(u32, u32)> {
+    let one = |t: &str| -> Option<u32> {
+        let t = t.trim().trim_start_matches('$');
+        if rows {
+            t.parse::<u32>().ok().filter(|&n| n >= 1).map(|n| n - 1)
+        } else {
+            column_index(&t.to_ascii_uppercase())
+        }
+    };
+    let (a, b) = match text.split_once(':') {
+        Some((a, b)) => (one(a)?, one(b)?),
+        None => (one(text)?, one(text)?),
+    };
+    Some((a.min(b), a.max(b)))
+}

@@ -238,9 +238,38 @@ impl Interp<'_, '_> {
         self.paste(source, sheet, rect, how, link.span)
     }
 
+    /// The part of a paste that changes anything: where the source has cells, or the
+    /// destination has cells to blank. Whole columns or rows (`Columns("A:C").Copy`) hold a
+    /// million cells each, nearly all empty on both sides. A source pasted several times over
+    /// is kept whole.
+    fn within_used(&self, (from, source): (SheetId, Rect), (to, area): (SheetId, Rect)) -> Option<(Rect, Rect)> {
+        if (area.rows(), area.cols()) != (source.rows(), source.cols()) {
+            return Some((source, area));
+        }
+        let wb = self.wb.borrow();
+        let (dr, dc) =
+            (area.first.row as i64 - source.first.row as i64, area.first.col as i64 - source.first.col as i64);
+        let shift = |r: Rect| {
+            let at = |p: Pos| Pos::new((p.row as i64 + dr) as u32, (p.col as i64 + dc) as u32);
+            Rect::new(at(r.first), at(r.last))
+        };
+        let copied = wb.used_rect(from).and_then(|u| intersect(u, source)).map(shift);
+        let blanked = wb.used_rect(to).and_then(|u| intersect(u, area));
+        let work = match (copied, blanked) {
+            (Some(a), Some(b)) => bounding(a, b),
+            (Some(a), None) | (None, Some(a)) => a,
+            (None, None) => return None,
+        };
+        let back = |p: Pos| Pos::new((p.row as i64 - dr) as u32, (p.col as i64 - dc) as u32);
+        Some((Rect::new(back(work.first), back(work.last)), work))
+    }
+
     fn paste(&self, (from, source): (SheetId, Rect), to: SheetId, dest: Rect, how: Paste, span: Span) -> Run<()> {
         let Some(area) = paste_area(source, dest) else {
             return Err(self.fault_at(span, "the pasted range would be off the sheet"));
+        };
+        let Some((source, area)) = self.within_used((from, source), (to, area)) else {
+            return Ok(());
         };
         let cells = area.rows() as u64 * area.cols() as u64;
         if cells > MAX_PASTE {
@@ -276,4 +305,17 @@ impl Interp<'_, '_> {
         wb.recalculate_rect(to, area);
         Ok(())
     }
+}
+
+fn intersect(a: Rect, b: Rect) -> Option<Rect> {
+    let first = Pos::new(a.first.row.max(b.first.row), a.first.col.max(b.first.col));
+    let last = Pos::new(a.last.row.min(b.last.row), a.last.col.min(b.last.col));
+    (first.row <= last.row && first.col <= last.col).then(|| Rect::new(first, last))
+}
+
+fn bounding(a: Rect, b: Rect) -> Rect {
+    Rect::new(
+        Pos::new(a.first.row.min(b.first.row), a.first.col.min(b.first.col)),
+        Pos::new(a.last.row.max(b.last.row), a.last.col.max(b.last.col)),
+    )
 }
