@@ -114,12 +114,26 @@ impl TypeDef {
 #[derive(Debug, Default)]
 pub struct Block {
     pub stmts: Vec<Stmt>,
-    pub labels: Vec<(Rc<str>, usize)>,
+    /// Label names in ASCII lower case: found in one step, so that neither a module of many
+    /// labels nor a loop of `GoTo`s costs time in proportion to their number.
+    labels: std::collections::HashMap<Box<str>, usize>,
 }
 
 impl Block {
     pub fn label(&self, name: &str) -> Option<usize> {
-        self.labels.iter().find(|(l, _)| l.eq_ignore_ascii_case(name)).map(|(_, i)| *i)
+        self.labels.get(name.to_ascii_lowercase().as_str()).copied()
+    }
+
+    /// Adds a label pointing at the next statement; false when the block has it already.
+    pub fn add_label(&mut self, name: &str) -> bool {
+        let at = self.stmts.len();
+        match self.labels.entry(name.to_ascii_lowercase().into()) {
+            std::collections::hash_map::Entry::Occupied(_) => false,
+            std::collections::hash_map::Entry::Vacant(v) => {
+                v.insert(at);
+                true
+            }
+        }
     }
 }
 

@@ -183,6 +183,9 @@ pub(super) struct Build<'s> {
     pub(super) objects: &'s [String],
     /// Every procedure's signature, by index.
     pub(super) procs: Vec<Signature>,
+    /// Each procedure's index by its name in ASCII lower case: a module of many procedures
+    /// is read in time proportional to its size.
+    pub(super) proc_names: std::collections::HashMap<String, usize>,
     pub(super) globals: RefCell<Vec<String>>,
     pub(super) scope: RefCell<Scope>,
     nodes: RefCell<Vec<Node>>,
@@ -222,6 +225,7 @@ impl<'s> Build<'s> {
             sheets,
             objects: &[],
             procs: Vec::new(),
+            proc_names: std::collections::HashMap::new(),
             globals: RefCell::new(Vec::new()),
             scope: RefCell::new(Scope::default()),
             nodes: RefCell::new(Vec::new()),
@@ -232,6 +236,7 @@ impl<'s> Build<'s> {
             lines: Lines::new(src),
         };
         let mut procs = Vec::new();
+        let mut proc_names = std::collections::HashMap::new();
         for item in items {
             if !matches!(item.as_rule(), Rule::sub_def | Rule::function_def) {
                 continue;
@@ -239,7 +244,7 @@ impl<'s> Build<'s> {
             let k = kids(item);
             let name_pair = find(&k, Rule::ident).expect("procedure name");
             let name = name_of(&name_pair);
-            if procs.iter().any(|p: &Signature| p.name.eq_ignore_ascii_case(&name)) {
+            if proc_names.insert(name.to_ascii_lowercase(), procs.len()).is_some() {
                 return Err(b.error_at(&name_pair, format!("{name} is defined twice")));
             }
             let kind = if item.as_rule() == Rule::sub_def { ProcKind::Sub } else { ProcKind::Function };
@@ -252,7 +257,7 @@ impl<'s> Build<'s> {
                 .count();
             procs.push(Signature { name, kind, params: names, required });
         }
-        Ok(Build { procs, ..b })
+        Ok(Build { procs, proc_names, ..b })
     }
 
     pub(super) fn error_at(&self, pair: &Pair<Rule>, message: impl Into<String>) -> ParseError {
@@ -396,10 +401,9 @@ impl<'s> Build<'s> {
             match item.as_rule() {
                 Rule::label => {
                     let text = item.as_str().trim_end_matches(':');
-                    if out.label(text).is_some() {
+                    if !out.add_label(text) {
                         return Err(self.error_at(&item, format!("label {text} is defined twice")));
                     }
-                    out.labels.push((text.into(), out.stmts.len()));
                 }
                 _ => {
                     if let Some(s) = self.statement(item)? {

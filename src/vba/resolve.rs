@@ -151,7 +151,7 @@ impl Build<'_> {
     }
 
     pub(super) fn proc_index(&self, name: &str) -> Option<usize> {
-        self.procs.iter().position(|p| p.name.eq_ignore_ascii_case(name))
+        self.proc_names.get(&name.to_ascii_lowercase()).copied()
     }
 
     /// A variable used where none is declared: an error under Option Explicit, else declared.
