@@ -187,6 +187,31 @@ fn a_deep_surface_is_refused_with_a_caret() {
     assert!(stderr.contains("^ column 256: nested more than 255 levels"), "{stderr}");
 }
 
+/// Extents near f64::MAX overflowed the curvature map's cell count (a panic in debug builds,
+/// a wrapped count in release): the map is clamped to its node limit.
+#[test]
+fn a_ball_path_over_a_range_near_the_largest_number_does_not_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = [
+        "ballpath",
+        "--surface",
+        "0",
+        "--radius",
+        "3",
+        "--x",
+        "0:1E308",
+        "--y",
+        "0:10",
+        "--stepover",
+        "1E307",
+        "--step",
+        "1E307",
+    ];
+    let (code, _, stderr) = ncsheet(dir.path(), &args, "");
+    assert!(code == 0 || code == 1, "exit {code}: {stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
 #[test]
 fn the_repl_keeps_its_session_after_a_deep_line() {
     let dir = tempfile::tempdir().unwrap();

@@ -35,6 +35,7 @@ fn book(modules: &[(&str, ModuleKind, &str)], cells: &[(&str, &str)]) -> Workboo
                 source: source.to_string(),
             })
             .collect(),
+        protection: None,
     };
     let errors = ncsheet::vba::install_functions(&mut wb, &project, RunOptions::default());
     assert!(errors.is_empty(), "{errors:?}");
@@ -219,6 +220,7 @@ fn an_endless_function_is_stopped_by_the_statement_limit() {
             kind: STANDARD,
             source: "Function Forever()\r\n    Do\r\n    Loop\r\nEnd Function\r\n".into(),
         }],
+        protection: None,
     };
     let options = RunOptions { max_statements: 10_000, ..Default::default() };
     assert!(ncsheet::vba::install_functions(&mut wb, &project, options).is_empty());
