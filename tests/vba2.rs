@@ -4,9 +4,9 @@
 
 mod common;
 
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::Command;
+
+use common::olevba::olevba;
 
 use ncsheet::vba::project::read_project;
 
@@ -28,31 +28,6 @@ fn ncsheet(args: &[&str]) -> common::cli::Run {
 
 fn path(p: &Path) -> &str {
     p.to_str().unwrap()
-}
-
-/// olevba's reading of `file`: module stream path (`VBA/Module1`) → source. `None` where
-/// oletools is not installed (an error on CI, where `.ci/run` installs it).
-fn olevba(file: &Path) -> Option<BTreeMap<String, String>> {
-    let script = r#"
-import json, sys
-from oletools.olevba import VBA_Parser
-p = VBA_Parser(sys.argv[1])
-out = {}
-if p.detect_vba_macros():
-    for (_, stream, _, code) in p.extract_macros():
-        out[stream] = code
-print(json.dumps(out))
-"#;
-    let run = Command::new("python3").arg("-c").arg(script).arg(file).output();
-    let ok = run.as_ref().is_ok_and(|o| o.status.success());
-    if !ok {
-        let why = run.map(|o| String::from_utf8_lossy(&o.stderr).into_owned()).unwrap_or_else(|e| e.to_string());
-        assert!(std::env::var_os("CI").is_none(), "olevba (pip oletools) is missing on CI: {why}");
-        eprintln!("skipped: olevba (pip install oletools) does not run here: {why}");
-        return None;
-    }
-    let map: serde_json::Value = serde_json::from_slice(&run.unwrap().stdout).unwrap();
-    Some(map.as_object().unwrap().iter().map(|(k, v)| (k.clone(), v.as_str().unwrap().to_string())).collect())
 }
 
 fn vba_bytes(file: &Path) -> Vec<u8> {

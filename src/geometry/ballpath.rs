@@ -221,9 +221,22 @@ pub fn ball_path<S: Surface>(
     Ok(path)
 }
 
+/// The largest coordinate or length of a ball path, in mm: a kilometre, past any machine.
+pub const MAX_LENGTH: f64 = 1.0e6;
+
 fn check_spec(spec: &BallPathSpec) -> Result<(), GeometryError> {
     let finite = [spec.radius, spec.x[0], spec.x[1], spec.y[0], spec.y[1], spec.stepover].iter().all(|v| v.is_finite());
     ensure(finite, || "every number of a ball path must be finite".into())?;
+    // Past any machine's travel the search for gouges splits squares of a sweep longer than
+    // f64 can resolve against the ball: it would not end.
+    let lengths = [spec.radius, spec.x[0], spec.x[1], spec.y[0], spec.y[1], spec.stepover];
+    let steps = match spec.spacing {
+        Spacing::Step(s) => [s, 0.0],
+        Spacing::Chord { tolerance, max_step } => [tolerance, max_step],
+    };
+    ensure(lengths.iter().chain(&steps).all(|v| v.abs() <= MAX_LENGTH), || {
+        format!("a ball path's lengths are millimetres within ±{MAX_LENGTH} (a kilometre)")
+    })?;
     ensure(spec.radius > 0.0, || format!("ball radius R must be > 0, not {}", spec.radius))?;
     ensure(spec.x[0] <= spec.x[1], || format!("x0 ({}) must not be beyond x1 ({})", spec.x[0], spec.x[1]))?;
     ensure(spec.y[0] <= spec.y[1], || format!("y0 ({}) must not be beyond y1 ({})", spec.y[0], spec.y[1]))?;

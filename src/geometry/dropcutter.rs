@@ -169,7 +169,14 @@ impl Map {
         let (w, h) = (x[1] - x[0], y[1] - y[0]);
         let spacing = spacing.max((w.max(spacing) * h.max(spacing) / MAX_NODES).sqrt());
         // Clamped: with extents near f64::MAX the product above overflows and the count with it.
-        let cells = |len: f64| (len / spacing).ceil().max(1.0).min(MAX_NODES) as usize;
+        let cells = |len: f64| {
+            let n = (len / spacing).ceil();
+            if n.is_nan() {
+                1
+            } else {
+                n.clamp(1.0, MAX_NODES) as usize
+            }
+        };
         let (cx, cy) = (cells(w), cells(h));
         let (hx, hy) = (w / cx as f64, h / cy as f64);
         let (nx, ny) = (if w > 0.0 { cx + 1 } else { 1 }, if h > 0.0 { cy + 1 } else { 1 });

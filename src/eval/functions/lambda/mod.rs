@@ -9,7 +9,7 @@ pub(crate) mod arrays;
 use std::rc::Rc;
 use std::sync::LazyLock;
 
-use crate::eval::functions::api::{Ctx, FnSpec, MANY};
+use crate::eval::functions::api::{bind_own_name, Ctx, FnSpec, MANY};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind, FnId};
 
@@ -67,7 +67,7 @@ fn bind_names(ctx: &mut Ctx, args: &[Expr]) -> Value {
     let name: Rc<str> = name.clone();
     // A LAMBDA (or what gives one) is bound as a value: `f(3)` calls it, its own body too.
     let mut value = ctx.eval(value);
-    crate::eval::evaluator::bind_own_name(&mut value, &name);
+    bind_own_name(&mut value, &name);
     ctx.with_local(name, value, |ctx| bind_names(ctx, rest))
 }
 
