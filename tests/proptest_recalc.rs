@@ -253,3 +253,29 @@ fn inline_lambdas_that_differ_in_a_number_keep_their_own() {
     }
     assert_ne!(block(&both, 0), block(&both, 12));
 }
+
+/// Found by the proptest (session 7): typed row by row, A6 `=2:2*2` first reads its own
+/// spill range (B2 reads row 3, F3 reads B6) and is `#CIRC!`; then D6 and E6 are typed into
+/// that range. A fresh recalculation finds the range blocked: `#SPILL!`. The anchor must be
+/// computed again when a cell of the range it refused changes, as a blocked one is.
+#[test]
+fn a_formula_refused_for_reading_its_spill_range_is_computed_again_when_the_range_fills() {
+    let rows: [[&str; 6]; 6] = [
+        ["", "=A1*2-0", "", "", "", ""],
+        ["", "=3:3*2", "=SUM(A1:A1,0)", "", "=MAX(A1:A1)+A1", ""],
+        ["", "=-A1^2", "", "", "", "=B6/A1"],
+        ["", "", "", "", "", ""],
+        ["", "", "=IF(A1>0,$F$1,$B$4)", "TRUE", "1e3", "=B:B"],
+        ["=2:2*2", "", "", "=C6*2-0.5", "=SUM(D5:B2)", ""],
+    ];
+    let inputs: Vec<Vec<String>> = rows.iter().map(|r| r.iter().map(|s| s.to_string()).collect()).collect();
+    let mut wb = Workbook::with_sheet();
+    for (r, row) in rows.iter().enumerate() {
+        for (c, text) in row.iter().enumerate() {
+            wb.set_input(0, Pos::new(r as u32, c as u32), text).unwrap();
+        }
+    }
+    let want = fresh(&inputs);
+    assert_eq!(want.value(0, Pos::new(5, 0)), Value::Error(ncsheet::eval::XlError::Spill));
+    assert_eq!(values(&wb), values(&want));
+}

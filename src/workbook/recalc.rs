@@ -724,7 +724,9 @@ impl Workbook {
     /// The anchor reads its own spill range: `#CIRC!`, nothing spilled, the reason noted.
     fn refuse_own_spill(&mut self, id: u32, rect: Rect, late: &mut Vec<u32>) {
         self.release_spill(id, late);
-        self.spill.blocked.remove(&id);
+        // Kept as a blocked spill is, so that a cell typed into the range computes the anchor
+        // again: the range may now be blocked (`#SPILL!`), as a fresh recalculation finds.
+        self.spill.blocked.insert(id, rect);
         let message = format!("the formula reads its own spill range {rect} (a circular reference)");
         self.notes.entry(id).or_default().push(crate::eval::Note { error: XlError::Circ, message });
         self.cycles.push(vec![id]);
