@@ -6,7 +6,7 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::olevba::olevba;
+use common::vba::{olevba, with_stream, xlsm_with_project};
 
 use ncsheet::vba::project::read_project;
 
@@ -34,40 +34,11 @@ fn vba_bytes(file: &Path) -> Vec<u8> {
     ncsheet::io::open(file).unwrap().layout.unwrap().vba_project.unwrap()
 }
 
-/// `bytes` (a compound file) with the stream at `path` given new contents.
-fn with_stream(bytes: &[u8], path: &str, change: impl Fn(&[u8]) -> Vec<u8>) -> Vec<u8> {
-    let mut cfb = cfb::CompoundFile::open(std::io::Cursor::new(bytes.to_vec())).unwrap();
-    let mut old = Vec::new();
-    std::io::Read::read_to_end(&mut cfb.open_stream(path).unwrap(), &mut old).unwrap();
-    let mut stream = cfb.create_stream(path).unwrap();
-    std::io::Write::write_all(&mut stream, &change(&old)).unwrap();
-    drop(stream);
-    cfb.flush().unwrap();
-    cfb.into_inner().into_inner()
-}
-
 fn stream_of(bytes: &[u8], path: &str) -> Vec<u8> {
     let mut cfb = cfb::CompoundFile::open(std::io::Cursor::new(bytes.to_vec())).unwrap();
     let mut data = Vec::new();
     std::io::Read::read_to_end(&mut cfb.open_stream(path).unwrap(), &mut data).unwrap();
     data
-}
-
-/// `source` (an .xlsm) written to `out` with another `xl/vbaProject.bin`.
-fn xlsm_with_project(source: &Path, project: &[u8], out: &Path) {
-    let mut zip = zip::ZipArchive::new(std::fs::File::open(source).unwrap()).unwrap();
-    let mut writer = zip::ZipWriter::new(std::fs::File::create(out).unwrap());
-    for i in 0..zip.len() {
-        let entry = zip.by_index(i).unwrap();
-        if entry.name().unwrap() == "xl/vbaProject.bin" {
-            drop(entry);
-            writer.start_file("xl/vbaProject.bin", zip::write::SimpleFileOptions::default()).unwrap();
-            std::io::Write::write_all(&mut writer, project).unwrap();
-        } else {
-            writer.raw_copy_file(entry).unwrap();
-        }
-    }
-    writer.finish().unwrap();
 }
 
 /// Data Encryption of [MS-OVBA] 2.4.3.2, written here from the specification: the seed,

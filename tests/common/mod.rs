@@ -5,9 +5,9 @@
 pub mod cli;
 pub mod corpus;
 pub mod excel_oracle;
-pub mod olevba;
 pub mod rs274;
 pub mod sheet;
+pub mod vba;
 pub mod xlsx;
 
 #[allow(unused_imports)]
