@@ -877,8 +877,6 @@ impl<'a> Ctx<'a> {
     }
 }
 
-/// The areas of a reference operand (one for a rectangle); an error value's error, and
-/// `#VALUE!` for any other value (`(1,2)` is no reference).
 /// A formula's result as a cell or a macro variable holds it: a LAMBDA left uncalled is
 /// `#CALC!` (Excel's error for `=LAMBDA(x, x+1)` alone), in an array too.
 pub fn no_lambda(v: Value) -> Value {
@@ -891,6 +889,8 @@ pub fn no_lambda(v: Value) -> Value {
     }
 }
 
+/// The areas of a reference operand (one for a rectangle); an error value's error, and
+/// `#VALUE!` for any other value (`(1,2)` is no reference).
 pub fn areas_of(operand: &Operand) -> XlResult<Vec<(SheetId, Rect)>> {
     match operand {
         Operand::Ref(sheet, rect) => Ok(vec![(*sheet, *rect)]),
