@@ -84,18 +84,10 @@ pub trait Env {
         None
     }
 
-    /// Calls the workbook's own function `name` (a VBA Function of its macros) on `args`,
-    /// evaluated by the caller (a reference stays a reference); the function reads cells
-    /// through `cells`, the environment the formula is evaluated in; `caller` is the cell whose formula
-    /// calls it (`Application.Caller`). `None` when the workbook
-    /// has no such function: the call is then `#NAME?`.
-    fn call_user_function(
-        &self,
-        _cells: &dyn Env,
-        _name: &str,
-        _args: &[Operand],
-        _caller: (SheetId, Pos),
-    ) -> Option<Value> {
+    /// Calls the workbook's own function (a VBA Function of its macros); the function reads
+    /// cells through `cells`, the environment the formula is evaluated in. `None` when the
+    /// workbook has no such function: the call is then `#NAME?`.
+    fn call_user_function(&self, _cells: &dyn Env, _call: &UserCall) -> Option<Value> {
         None
     }
 }
@@ -213,6 +205,16 @@ fn parameters(lambda: &functions::Lambda, args: &[Expr], values: Vec<Value>) -> 
     lambda.param_names().map(bind).collect()
 }
 
+/// A cell's call of a function of the workbook's own (`=myFunc(A1:B2, 3)`).
+pub struct UserCall<'a> {
+    /// As the formula spells it (`Module1.F` too).
+    pub name: &'a str,
+    /// Evaluated by the caller: a reference stays a reference.
+    pub args: &'a [Operand],
+    /// The calling cell (`Application.Caller`).
+    pub caller: (SheetId, Pos),
+}
+
 /// The evaluation of one formula: where it is, what it reads, its local names.
 pub struct Ctx<'a> {
     pub env: &'a dyn Env,
@@ -270,6 +272,13 @@ pub const MAX_LAMBDA_CALLS: u32 = 2_000_000;
 impl<'a> Ctx<'a> {
     pub fn new(env: &'a dyn Env, sheet: SheetId, at: Pos) -> Ctx<'a> {
         crate::eval::dates::set_date_1904(env.date_1904());
+        Ctx::for_cell(env, sheet, at)
+    }
+
+    /// [`Ctx::new`] for a recalculation, which has set the date system once for all its
+    /// cells ([`crate::eval::dates::set_date_1904`]): a cell's evaluation is short enough
+    /// for the setting to show.
+    pub fn for_cell(env: &'a dyn Env, sheet: SheetId, at: Pos) -> Ctx<'a> {
         Ctx {
             env,
             sheet,
@@ -311,8 +320,10 @@ impl<'a> Ctx<'a> {
     }
 
     /// `v`, or `#VALUE!` (with a note) when it holds a text longer than [`Ctx::text_limit`].
+    #[inline]
     fn within_text_limit(&mut self, v: Value) -> Value {
-        if holds_text_over(&v, self.text_limit()) {
+        // Numbers, the usual results, pass without a call.
+        if matches!(v, Value::Text(_) | Value::Array(_)) && holds_text_over(&v, self.text_limit()) {
             return Value::Error(self.text_over_limit());
         }
         v
@@ -348,12 +359,16 @@ impl<'a> Ctx<'a> {
     pub fn eval_formula(&mut self, e: &Expr) -> Value {
         let ExprKind::Binary(op @ (BinOp::Add | BinOp::Sub), a, b) = &e.kind else { return no_lambda(self.eval(e)) };
         // Operands that are numbers or cells are read without building values, as `eval` does.
-        let x = self.leaf_number(a).map_or_else(|| self.eval(a), Value::Number);
-        let y = self.leaf_number(b).map_or_else(|| self.eval(b), Value::Number);
-        let result = binary(*op, &x, &y);
-        match (x, y, &result) {
-            (Value::Number(x), Value::Number(y), Value::Number(r)) if cancels(*r, x, y) => Value::Number(0.0),
-            _ => result,
+        let (x, y) = (self.leaf_number(a), self.leaf_number(b));
+        if let (Some(x), Some(y)) = (x, y) {
+            // `A1+1`, most of what a long chain of formulas evaluates, kept in registers.
+            return sum_or_difference(*op, x, y);
+        }
+        let x = x.map_or_else(|| self.eval(a), Value::Number);
+        let y = y.map_or_else(|| self.eval(b), Value::Number);
+        match (&x, &y) {
+            (Value::Number(x), Value::Number(y)) => sum_or_difference(*op, *x, *y),
+            _ => binary(*op, &x, &y),
         }
     }
 
@@ -696,9 +711,8 @@ impl<'a> Ctx<'a> {
                 _ => self.operand(a),
             })
             .collect();
-        self.env
-            .call_user_function(self.env, name, &operands, (self.sheet, self.at))
-            .unwrap_or(Value::Error(XlError::Name))
+        let call = UserCall { name, args: &operands, caller: (self.sheet, self.at) };
+        self.env.call_user_function(self.env, &call).unwrap_or(Value::Error(XlError::Name))
     }
 
     /// `LAMBDA(x, y, x+y)(1, 2)`, `f(3)(4)`, `IF(c, LAMBDA(…), LAMBDA(…))(5)`: whatever the
@@ -1050,6 +1064,16 @@ pub fn number_result(n: f64) -> Value {
 /// `40026.44000000006-40026.44`, 1.5e-15, is kept, as Excel keeps it).
 fn cancels(r: f64, x: f64, y: f64) -> bool {
     r != 0.0 && r.abs() <= x.abs().max(y.abs()) * f64::powi(2.0, -50)
+}
+
+/// A formula's last addition or subtraction of two numbers, zeroed where it [`cancels`].
+fn sum_or_difference(op: BinOp, x: f64, y: f64) -> Value {
+    let r = if op == BinOp::Add { x + y } else { x - y };
+    if cancels(r, x, y) {
+        Value::Number(0.0)
+    } else {
+        number_result(r)
+    }
 }
 
 /// A binary operator applied with broadcasting.

@@ -270,6 +270,8 @@ impl Workbook {
     }
 
     fn run_passes(&mut self, mut sources: Vec<u32>) {
+        // Every cell evaluated below reads dates in this workbook's system (`Ctx::for_cell`).
+        crate::eval::dates::set_date_1904(self.date_1904);
         self.fresh_notes.clear();
         self.cycles.begin();
         for _ in 0..MAX_PASSES {
@@ -554,7 +556,7 @@ impl Workbook {
     pub(super) fn evaluate(&mut self, id: u32, late: &mut Vec<u32>) {
         let cell = &self.cells[id as usize];
         let formula = self.formulas.get(cell.formula);
-        let mut ctx = Ctx::new(self, cell.sheet, cell.pos);
+        let mut ctx = Ctx::for_cell(self, cell.sheet, cell.pos);
         ctx.numbers = &formula.numbers;
         let value = ctx.eval_formula(&formula.expr);
         let notes = ctx.notes;
