@@ -11,5 +11,5 @@ pub mod surface;
 pub mod testing;
 pub mod value;
 
-pub use evaluator::{Ctx, Env, Note, Operand, RowHidden};
+pub use evaluator::{Ctx, Env, Note, Operand, RowHidden, UserCall};
 pub use value::{too_many_items, too_many_items_note, Array, Value, XlError, XlResult, MAX_ARRAY_ITEMS};

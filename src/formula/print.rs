@@ -329,24 +329,13 @@ pub fn write_reference(out: &mut String, r: &Reference, at: Pos, sheets: SheetNa
         write_col(out, c.col, at);
         write_row(out, c.row, at);
     };
-    match r.shape {
-        RefShape::Cell(c) => cell(out, c),
-        RefShape::Cells(a, b) => {
-            cell(out, a);
-            out.push(':');
-            cell(out, b);
-        }
-        RefShape::Cols(a, b) => {
-            write_col(out, a, at);
-            out.push(':');
-            write_col(out, b, at);
-        }
-        RefShape::Rows(a, b) => {
-            write_row(out, a, at);
-            out.push(':');
-            write_row(out, b, at);
-        }
-    }
+    let line = |out: &mut String, rows: bool, a: Coord, b: Coord| {
+        let part = if rows { write_row } else { write_col };
+        part(out, a, at);
+        out.push(':');
+        part(out, b, at);
+    };
+    write_shape(out, r.shape, cell, line);
 }
 
 /// Writes a reference in R1C1 style: `R2C3`, `R[-1]C`, `R1C1:R[2]C[2]`, `R3:R5`, `C[1]`.
@@ -364,22 +353,34 @@ fn write_reference_r1c1(out: &mut String, r: &Reference, sheets: SheetNames) {
         part(out, 'R', c.row);
         part(out, 'C', c.col);
     };
-    let line = |out: &mut String, letter: char, a: Coord, b: Coord| {
+    let line = |out: &mut String, rows: bool, a: Coord, b: Coord| {
+        let letter = if rows { 'R' } else { 'C' };
         part(out, letter, a);
         if a != b {
             out.push(':');
             part(out, letter, b);
         }
     };
-    match r.shape {
+    write_shape(out, r.shape, cell, line);
+}
+
+/// A reference's shape in either style: `cell` writes one cell, `line` whole columns or
+/// (`true`) whole rows.
+fn write_shape(
+    out: &mut String,
+    shape: RefShape,
+    cell: impl Fn(&mut String, CellCoord),
+    line: impl Fn(&mut String, bool, Coord, Coord),
+) {
+    match shape {
         RefShape::Cell(c) => cell(out, c),
         RefShape::Cells(a, b) => {
             cell(out, a);
             out.push(':');
             cell(out, b);
         }
-        RefShape::Cols(a, b) => line(out, 'C', a, b),
-        RefShape::Rows(a, b) => line(out, 'R', a, b),
+        RefShape::Cols(a, b) => line(out, false, a, b),
+        RefShape::Rows(a, b) => line(out, true, a, b),
     }
 }
 
@@ -464,56 +465,10 @@ mod tests {
         }
     }
 
-    /// Excel's xlsx spelling (MS-XLSX §2.2.2 formulas; its future-function list) cut down to
-    /// the functions these tests call; `legacy` is a plain `<f>` rather than a dynamic-array
-    /// formula, where Excel intersects by itself.
-    struct ExcelFile {
-        legacy: bool,
-    }
-
-    impl Spelling for ExcelFile {
-        fn function_name(&self, name: &str, out: &mut String) {
-            if ["XLOOKUP", "LET", "LAMBDA", "SINGLE", "ANCHORARRAY"].contains(&name) {
-                out.push_str("_xlfn.");
-            }
-            out.push_str(name);
-        }
-
-        fn parameter_name(&self, name: &str, out: &mut String) {
-            out.push_str("_xlpm.");
-            out.push_str(name);
-        }
-
-        fn optional_parameter(&self, name: &str, out: &mut String) {
-            out.push_str("_xlop.");
-            out.push_str(name);
-        }
-
-        fn implicit_intersection(&self, in_call: bool) -> OperatorSpelling {
-            if self.legacy && !in_call {
-                OperatorSpelling::Omitted
-            } else {
-                OperatorSpelling::Function("SINGLE")
-            }
-        }
-
-        fn spill(&self) -> OperatorSpelling {
-            OperatorSpelling::Function("ANCHORARRAY")
-        }
-    }
-
     fn printed(text: &str, spelling: &dyn Spelling) -> String {
         let ctx = ParseContext { at: Pos::new(0, 0), functions: &Functions, sheet: &|_| None };
         let expr = parse_formula(text, &ctx).expect("parses");
         print_spelled(&expr, Pos::new(0, 0), &Functions, &|_| String::new(), spelling)
-    }
-
-    fn dynamic(text: &str) -> String {
-        printed(text, &ExcelFile { legacy: false })
-    }
-
-    fn legacy(text: &str) -> String {
-        printed(text, &ExcelFile { legacy: true })
     }
 
     #[test]
@@ -524,50 +479,12 @@ mod tests {
     }
 
     #[test]
-    fn an_in_place_lambda_with_an_optional_parameter_prints_as_typed_and_in_a_file() {
+    fn an_in_place_lambda_with_an_optional_parameter_prints_as_typed() {
+        // A file's spelling (src/io/xlsx/syntax.rs tests the way back) reads as typed.
         let file = "_xlfn.LAMBDA(_xlpm.a,_xlop.b,_xlpm.a*_xlpm.b)(A5)";
         let typed = "LAMBDA(a,[b],a*b)(A5)";
         assert_eq!(printed(file, &AsTyped), typed);
         assert_eq!(printed(typed, &AsTyped), typed);
-        assert_eq!(dynamic(&format!("={typed}")), file);
         assert_eq!(printed("LAMBDA(x,x)(1)(2)+1", &AsTyped), "LAMBDA(x,x)(1)(2)+1");
-    }
-
-    #[test]
-    fn newer_functions_carry_the_future_prefix_in_a_file() {
-        assert_eq!(dynamic("=XLOOKUP(1,A:A,B:B)"), "_xlfn.XLOOKUP(1,A:A,B:B)");
-        assert_eq!(dynamic("=SUM(A1:A3)+SIN(1)"), "SUM(A1:A3)+SIN(1)");
-    }
-
-    #[test]
-    fn let_and_lambda_parameters_carry_the_parameter_prefix_inside_their_call() {
-        assert_eq!(dynamic("=LET(x,1,x+1)"), "_xlfn.LET(_xlpm.x,1,_xlpm.x+1)");
-        assert_eq!(dynamic("=LET(x,2,y,x+1,x*y)+x"), "_xlfn.LET(_xlpm.x,2,_xlpm.y,_xlpm.x+1,_xlpm.x*_xlpm.y)+x");
-        assert_eq!(dynamic("=LAMBDA(temp,(5/9)*(temp-32))"), "_xlfn.LAMBDA(_xlpm.temp,(5/9)*(_xlpm.temp-32))");
-        // A LAMBDA bound by LET is called by its parameter name. (The parser upper-cases the
-        // name of a call it does not know, hence F.)
-        assert_eq!(
-            dynamic("=LET(F,LAMBDA(t,t+1),F(2))"),
-            "_xlfn.LET(_xlpm.F,_xlfn.LAMBDA(_xlpm.t,_xlpm.t+1),_xlpm.F(2))"
-        );
-    }
-
-    #[test]
-    fn the_spill_operator_is_stored_as_anchorarray() {
-        assert_eq!(dynamic("=A1#"), "_xlfn.ANCHORARRAY(A1)");
-        assert_eq!(dynamic("=SUM(A1#)"), "SUM(_xlfn.ANCHORARRAY(A1))");
-        assert_eq!(dynamic("=(A1#+1)*2"), "(_xlfn.ANCHORARRAY(A1)+1)*2");
-    }
-
-    #[test]
-    fn implicit_intersection_is_single_in_a_dynamic_formula() {
-        assert_eq!(dynamic("=@A1:A3"), "_xlfn.SINGLE(A1:A3)");
-        assert_eq!(dynamic("=@(A1:A3+1)*2"), "_xlfn.SINGLE(A1:A3+1)*2");
-    }
-
-    #[test]
-    fn implicit_intersection_is_left_out_of_a_legacy_formula_outside_calls() {
-        assert_eq!(legacy("=@A1:A3*2"), "A1:A3*2");
-        assert_eq!(legacy("=SIN(@A1:A3)"), "SIN(_xlfn.SINGLE(A1:A3))");
     }
 }

@@ -6,9 +6,7 @@
 
 use std::rc::Rc;
 
-use crate::eval::{Env, Operand, Value, XlError};
-use crate::formula::address::Pos;
-use crate::formula::ast::SheetId;
+use crate::eval::{Env, Operand, UserCall, Value, XlError};
 use crate::workbook::{UserFunctions, Workbook};
 
 use super::ast::{Module, ProcKind};
@@ -98,9 +96,11 @@ impl UserFunctions for WorkbookFunctions {
         self.find(name).map(|(_, _, v)| v)
     }
 
-    fn call(&self, wb: &Workbook, cells: &dyn Env, name: &str, args: &[Operand], caller: (SheetId, Pos)) -> Value {
-        let Some((m, proc, _)) = self.find(name) else { return Value::Error(XlError::Name) };
-        let args = args
+    fn call(&self, wb: &Workbook, cells: &dyn Env, call: &UserCall) -> Value {
+        let Some((m, proc, _)) = self.find(call.name) else { return Value::Error(XlError::Name) };
+        let caller = call.caller;
+        let args = call
+            .args
             .iter()
             .map(|a| match a {
                 Operand::Ref(s, r) => Var::Obj(Obj::Range(*s, *r)),

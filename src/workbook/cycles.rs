@@ -15,7 +15,7 @@
 use std::cell::Cell;
 use std::rc::Rc;
 
-use crate::eval::{Ctx, Env, Operand, Value};
+use crate::eval::{Ctx, Env, UserCall, Value};
 use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::{Expr, SheetId};
 
@@ -251,13 +251,7 @@ impl Env for Probe<'_> {
     }
 
     /// The function reads cells through the probe: what it reads is what the cell reads.
-    fn call_user_function(
-        &self,
-        cells: &dyn Env,
-        name: &str,
-        args: &[Operand],
-        caller: (SheetId, Pos),
-    ) -> Option<Value> {
-        self.wb.call_user_function(cells, name, args, caller)
+    fn call_user_function(&self, cells: &dyn Env, call: &UserCall) -> Option<Value> {
+        self.wb.call_user_function(cells, call)
     }
 }

@@ -10,7 +10,7 @@ use std::rc::Rc;
 
 use crate::eval::coerce::parse_number;
 use crate::eval::functions::Registry;
-use crate::eval::{Env, Note, Operand, RowHidden, Value, XlError};
+use crate::eval::{Env, Note, RowHidden, UserCall, Value, XlError};
 use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::{Expr, Reference, SheetId};
 use crate::formula::parse::{parse_formula, parse_name_formula, ParseContext, ParseError};
@@ -921,14 +921,8 @@ impl Env for Workbook {
         self.sheets.get(sheet as usize)?.column_width(col)
     }
 
-    fn call_user_function(
-        &self,
-        cells: &dyn Env,
-        name: &str,
-        args: &[Operand],
-        caller: (SheetId, Pos),
-    ) -> Option<Value> {
-        self.call_user(cells, name, args, caller)
+    fn call_user_function(&self, cells: &dyn Env, call: &UserCall) -> Option<Value> {
+        self.call_user(cells, call)
     }
 }
 

@@ -7,9 +7,8 @@
 
 use std::rc::Rc;
 
-use crate::eval::{Env, Operand, Value};
-use crate::formula::address::Pos;
-use crate::formula::ast::{Expr, ExprKind, SheetId};
+use crate::eval::{Env, UserCall, Value};
+use crate::formula::ast::{Expr, ExprKind};
 
 use super::{Workbook, NO_FORMULA};
 
@@ -19,9 +18,9 @@ pub trait UserFunctions {
     /// so whether it is volatile; `None` for no such function.
     fn volatile(&self, name: &str) -> Option<bool>;
 
-    /// Calls `name` on `args`, reading cells through `cells`; `caller` is the calling cell.
-    /// A failure inside the function is its value (`#VALUE!`), never a change to `wb`.
-    fn call(&self, wb: &Workbook, cells: &dyn Env, name: &str, args: &[Operand], caller: (SheetId, Pos)) -> Value;
+    /// Makes the call, reading cells through `cells`. A failure inside the function is its
+    /// value (`#VALUE!`), never a change to `wb`.
+    fn call(&self, wb: &Workbook, cells: &dyn Env, call: &UserCall) -> Value;
 }
 
 impl Workbook {
@@ -64,15 +63,9 @@ impl Workbook {
         found
     }
 
-    pub(super) fn call_user(
-        &self,
-        cells: &dyn Env,
-        name: &str,
-        args: &[Operand],
-        caller: (SheetId, Pos),
-    ) -> Option<Value> {
+    pub(super) fn call_user(&self, cells: &dyn Env, call: &UserCall) -> Option<Value> {
         let functions = self.user_functions.as_ref()?;
-        functions.volatile(name)?;
-        Some(functions.call(self, cells, name, args, caller))
+        functions.volatile(call.name)?;
+        Some(functions.call(self, cells, call))
     }
 }

@@ -399,6 +399,22 @@ mod tests {
     }
 
     #[test]
+    fn operators_spelled_as_functions_keep_their_operands_grouped() {
+        let wb = book();
+        let at = Pos::new(0, 0);
+        let dynamic = |text| file_text(text, &wb, 0, at, Storage::Dynamic);
+        assert_eq!(dynamic("=(A1#+1)*2"), "(_xlfn.ANCHORARRAY(A1)+1)*2");
+        assert_eq!(dynamic("=@(A1:A3+1)*2"), "_xlfn.SINGLE(A1:A3+1)*2");
+        assert_eq!(dynamic("=LAMBDA(temp,(5/9)*(temp-32))"), "_xlfn.LAMBDA(_xlpm.temp,(5/9)*(_xlpm.temp-32))");
+        // A LAMBDA bound by LET is called by its parameter name.
+        assert_eq!(
+            dynamic("=LET(F,LAMBDA(t,t+1),F(2))"),
+            "_xlfn.LET(_xlpm.F,_xlfn.LAMBDA(_xlpm.t,_xlpm.t+1),_xlpm.F(2))"
+        );
+        assert_eq!(file_text("=@A1:A3*2", &wb, 0, at, Storage::Legacy), "A1:A3*2");
+    }
+
+    #[test]
     fn legacy_formulas_intersect_where_excel_did_and_are_written_back_without_at() {
         let wb = book();
         let at = Pos::new(17, 0);

@@ -25,11 +25,29 @@ def save(wb, name):
     wb.save(f"{out}/{name}.xlsx")
 
 
+def book(*titles):
+    """A workbook with sheets of these titles, in order, and the sheets."""
+    wb = Workbook()
+    sheets = [wb.active]
+    sheets[0].title = titles[0]
+    sheets += [wb.create_sheet(t) for t in titles[1:]]
+    return wb, sheets
+
+
+def text_table(s, values, fmts):
+    """Values across row 1, formats down column A, and TEXT of each value in each format."""
+    for c, v in enumerate(values, start=2):
+        s.cell(row=1, column=c, value=v)
+    for r, fm in enumerate(fmts, start=2):
+        s.cell(row=r, column=1, value=fm)
+        for c in range(2, 2 + len(values)):
+            col = s.cell(row=1, column=c).column_letter
+            s.cell(row=r, column=c, value=f"=TEXT({col}$1,$A{r})")
+
+
 # ---------------------------------------------------------------- tables
 def tables():
-    wb = Workbook()
-    d = wb.active
-    d.title = "Parts Data"
+    wb, (d,) = book("Parts Data")
     head = ["Part No", "Qty", "Unit Price", "Col'#", "[x]", "Line Total"]
     d.append(head)
     rows = [("a", 2, 1.5, 10, 100), ("b", 3, 2.25, 20, 200), ("c", 5, 0.5, 30, 300), ("d", 7, 4, 40, 400)]
@@ -86,9 +104,7 @@ def tables():
         "=Parts[[#Headers],[Col'#]]",
         "=Parts[[#Headers],['[x']]]",
     ]
-    for i, fo in enumerate(forms, start=1):
-        f.cell(row=i, column=1, value=fo[1:] if False else fo)
-        f.cell(row=i, column=2, value=fo[1:])
+    listed(f, forms)
     # this row from a formula beside the table on the Use sheet: implicit intersection of a column
     f["D2"] = "=Parts[Qty]*10"
     f["D3"] = "=Parts[Qty]*10"
@@ -125,9 +141,7 @@ def three_d_value(k, r, c):
 
 
 def three_d():
-    wb = Workbook()
-    s = wb.active
-    s.title = "Summary"
+    wb, (s,) = book("Summary")
     for k, n in enumerate(THREE_D_SHEETS):
         ws = wb.create_sheet(n)
         for r in range(1, 4):
@@ -166,9 +180,7 @@ def three_d():
 
 # ---------------------------------------------------------------- legacy CSE arrays
 def cse():
-    wb = Workbook()
-    s = wb.active
-    s.title = "Arr"
+    wb, (s,) = book("Arr")
     for r in range(1, 5):
         s.cell(row=r, column=1, value=r)
         s.cell(row=r, column=2, value=r * 10)
@@ -242,18 +254,13 @@ def d1904():
         '=TEXT(-1,"yyyy-mm-dd")',
         "=YEAR(-1)",
     ]
-    for i, fo in enumerate(forms, start=1):
-        s.cell(row=i, column=3, value=fo)
-        s.cell(row=i, column=4, value=fo[1:])
+    listed(s, forms, col=3)
     save(wb, "dates1904")
 
 
 # ---------------------------------------------------------------- defined names
 def names():
-    wb = Workbook()
-    s = wb.active
-    s.title = "One"
-    t = wb.create_sheet("Two Sheet")
+    wb, (s, t) = book("One", "Two Sheet")
     s["A1"] = 10
     s["A2"] = 20
     t["A1"] = 1000
@@ -269,13 +276,9 @@ def names():
     t.defined_names["Local"] = DefinedName("Local", attr_text="'Two Sheet'!$A$1")
     f1 = ["=Gasket?", "=a\\b", "=SUM(x.y)", "=_under*2", "=Rate", "=Twice", "=Rel", "='Two Sheet'!Local",
           "='Two Sheet'!Rate", "=Gasket?+a\\b"]
-    for i, fo in enumerate(f1, start=1):
-        s.cell(row=i, column=3, value=fo)
-        s.cell(row=i, column=4, value=fo[1:])
+    listed(s, f1, col=3)
     f2 = ["=Rate", "=Local", "=One!Rate+0", "=Gasket?", "=SUM(x.y)", "=Rate*2"]
-    for i, fo in enumerate(f2, start=1):
-        t.cell(row=i, column=3, value=fo)
-        t.cell(row=i, column=4, value=fo[1:])
+    listed(t, f2, col=3)
     save(wb, "names")
 
 
@@ -299,9 +302,7 @@ def iteration(name, count, delta):
 
 # ---------------------------------------------------------------- TEXT formats
 def text_formats():
-    wb = Workbook()
-    s = wb.active
-    s.title = "T"
+    wb, (s,) = book("T")
     values = [0, 1.25, -1.25, 0.3333333333, 1234567.891, -0.5, 3.14159, 12, 0.03125, 100000000, 45292.75, "abc"]
     fmts = [
         "# ??/??", "# #/##", "?/?", "# ?/8", "0 ??/16", "#,##0.00", "0,,", "0.0,,\"M\"", "#,##0,", "[h]:mm:ss",
@@ -310,21 +311,13 @@ def text_formats():
         "$#,##0.00", "0 \"deg\"", "[mm]:ss", "mm:ss.00", "General", "0.###", "000-000", "\\A0",
         "#,###", "0.00;-0.00;\"-\"", "# ?/?", "[$€-407] #,##0.00", "yyyy-mm-dd hh:mm", "d \"days\"",
     ]
-    for c, v in enumerate(values, start=2):
-        s.cell(row=1, column=c, value=v)
-    for r, fm in enumerate(fmts, start=2):
-        s.cell(row=r, column=1, value=fm)
-        for c in range(2, 2 + len(values)):
-            col = s.cell(row=1, column=c).column_letter
-            s.cell(row=r, column=c, value=f"=TEXT({col}$1,$A{r})")
+    text_table(s, values, fmts)
     save(wb, "text_formats")
 
 
 # ---------------------------------------------------------------- which error wins
 def errors():
-    wb = Workbook()
-    s = wb.active
-    s.title = "E"
+    wb, (s,) = book("E")
     forms = [
         "=1/0+NA()", "=NA()+1/0", "=SUM(1/0,NA())", "=SUM(NA(),1/0)", "=IF(NA(),1/0)", "=ROUND(1/0,NA())",
         "=ROUND(NA(),1/0)", "=MID(NA(),1/0,1)", "=DATE(1/0,NA(),1)", "=VLOOKUP(NA(),1/0,1)", "=MAX(1/0,NA())",
@@ -339,18 +332,13 @@ def errors():
         "=NA()+\"x\"", "=1/0&\"x\"", "=DATEDIF(2,1,\"d\")", "=DATEDIF(1,2,\"q\")", "=NETWORKDAYS(1/0,NA())",
         "=EDATE(NA(),1/0)", "=FLOOR(5,-1)", "=CEILING(-5,2)", "=CEILING(5,-2)", "=MROUND(5,-2)",
     ]
-    for i, fo in enumerate(forms, start=1):
-        s.cell(row=i, column=1, value=fo)
-        s.cell(row=i, column=2, value=fo[1:])
+    listed(s, forms)
     save(wb, "errors")
 
 
 # ---------------------------------------------------------------- engineering design table
 def engineering():
-    wb = Workbook()
-    s = wb.active
-    s.title = "Design"
-    lk = wb.create_sheet("Threads")
+    wb, (s, lk) = book("Design", "Threads")
     lk.append(["Size", "Pitch", "Minor", "Name"])
     for row in [(3, 0.5, 2.459, "M3"), (4, 0.7, 3.242, "M4"), (5, 0.8, 4.134, "M5"), (6, 1.0, 4.917, "M6"),
                 (8, 1.25, 6.647, "M8"), (10, 1.5, 8.376, "M10"), (12, 1.75, 10.106, "M12"), (16, 2, 13.835, "M16")]:
@@ -395,16 +383,15 @@ def engineering():
         "=ATAN(1)*4", "=SQRT(2)^2", "=SQRT(2)^2=2", "=0.1+0.2=0.3", "=ROUNDUP(-2.1,0)", "=ROUNDDOWN(-2.9,0)",
         "=CEILING(-2.5,1)", "=FLOOR(-2.5,1)", "=CEILING(-2.5,-1)", "=FLOOR(-2.5,-1)", "=MROUND(-7.5,-5)",
     ]
-    for i, fo in enumerate(extra, start=r + 1):
-        s.cell(row=i, column=1, value=fo)
-        s.cell(row=i, column=2, value=fo[1:])
+    listed(s, extra, start=r + 1)
     save(wb, "engineering")
 
 
 # ---------------------------------------------------------------- second round: design-table forms
-def listed(ws, forms, col=1):
-    """Each formula in column `col`, its text beside it (the test names a cell by its row)."""
-    for i, fo in enumerate(forms, start=1):
+def listed(ws, forms, col=1, start=1):
+    """Each formula in column `col` from row `start` on, its text beside it (the test names a
+    cell by its row)."""
+    for i, fo in enumerate(forms, start=start):
         if isinstance(fo, tuple):  # a one-cell legacy array formula
             at = ws.cell(row=i, column=col).coordinate
             ws.cell(row=i, column=col, value=ArrayFormula(at, fo[1]))
@@ -419,10 +406,7 @@ def cse1(fo):
 
 
 def lookups():
-    wb = Workbook()
-    s = wb.active
-    s.title = "L"
-    t = wb.create_sheet("T")
+    wb, (s, t) = book("L", "T")
     for i, (a, b) in enumerate(zip([1, 2, 3, 5, 8, 13, 21, 34], ["one", "two", "three", "five", "eight", "thirteen",
                                                                   "twenty-one", "thirty-four"]), start=1):
         t.cell(row=i, column=1, value=a)
@@ -479,9 +463,7 @@ ROUND_VALUES = [2.5, -2.5, 0.5, -0.5, 1.5, -1.5, 2.675, -2.675, 5.1, -5.1, 7, -7
 
 
 def rounding():
-    wb = Workbook()
-    s = wb.active
-    s.title = "R"
+    wb, (s,) = book("R")
     forms = [
         "=ROUND({v},2)", "=ROUND({v},0)", "=ROUND({v},-1)", "=ROUNDUP({v},0)", "=ROUNDDOWN({v},0)", "=ROUNDUP({v},-1)",
         "=MROUND({v},3)", "=MOD({v},3)", "=MOD({v},-3)", "=MOD({v},1)", "=MOD({v},0.1)", "=MOD({v},2.5)",
@@ -516,10 +498,7 @@ def rounding():
 
 
 def trig_criteria():
-    wb = Workbook()
-    s = wb.active
-    s.title = "G"
-    d = wb.create_sheet("D")
+    wb, (s, d) = book("G", "D")
     rows = [("2024-01-05", 10, "bolt M6", True, "3"), ("2024-01-15", 20, "nut M6", False, 4),
             ("2024-02-01", 30, "bolt M8", True, "x"), ("2024-02-20", 40, "washer", None, 5),
             ("2023-12-31", 50, "", 1, "1"), ("2024-03-01", 60, "Bolt m10", "yes", 1)]
@@ -563,10 +542,7 @@ def trig_criteria():
 
 
 def text_numbers():
-    wb = Workbook()
-    s = wb.active
-    s.title = "N"
-    d = wb.create_sheet("D")
+    wb, (s, d) = book("N", "D")
     for i, v in enumerate(["3", 4, True, " 5 ", None, "abc", 1.5], start=1):
         if v is not None:
             d.cell(row=i, column=1, value=v)
@@ -606,10 +582,7 @@ def text_numbers():
 
 
 def schedule():
-    wb = Workbook()
-    s = wb.active
-    s.title = "S"
-    h = wb.create_sheet("H")
+    wb, (s, h) = book("S", "H")
     import datetime
     for i, dt in enumerate(["2024-01-01", "2024-01-15", "2024-02-19", "2024-01-13", "2024-01-15", "2024-05-27"], start=1):
         h.cell(row=i, column=1, value=datetime.date.fromisoformat(dt))
@@ -659,10 +632,7 @@ def schedule():
 
 
 def error_ranges():
-    wb = Workbook()
-    s = wb.active
-    s.title = "E"
-    d = wb.create_sheet("D")
+    wb, (s, d) = book("E", "D")
     for i, v in enumerate([4, "=1/0", 7, "=NA()", "x", 2, None, "=SQRT(-1)", 9, True], start=1):
         if v is not None:
             d.cell(row=i, column=1, value=v)
@@ -699,10 +669,7 @@ def error_ranges():
 
 
 def design_more():
-    wb = Workbook()
-    s = wb.active
-    s.title = "M"
-    d = wb.create_sheet("Data Sheet")
+    wb, (s, d) = book("M", "Data Sheet")
     xs = [10, 20, 30, 40, 50, 60]
     ys = [2.1, 3.9, 6.2, 7.8, 10.1, 12.2]
     for i, (x, y) in enumerate(zip(xs, ys), start=1):
@@ -778,9 +745,7 @@ IMPLICIT = [
 
 
 def implicit():
-    wb = Workbook()
-    s = wb.active
-    s.title = "I"
+    wb, (s,) = book("I")
     for r, (a, b, c) in enumerate([("a", 1, 1.5), ("b", 2, 2.5), ("c", 3, 3.5), ("b", 4, 4.5), ("a", 0, 5.5), ("d", -1, 6.5)],
                                   start=1):
         s.cell(row=r, column=1, value=a)
@@ -795,10 +760,7 @@ def implicit():
 
 
 def compare_criteria():
-    wb = Workbook()
-    s = wb.active
-    s.title = "C"
-    d = wb.create_sheet("D")
+    wb, (s, d) = book("C", "D")
     for i, (a, b) in enumerate([(1, "a"), (2, "b"), (2, "c"), (2, "d"), (3, "e"), (None, "f"), (5, "g"), ("x", "h"),
                                 (7, "i"), (" 8", "j")], start=1):
         if a is not None:
@@ -843,9 +805,7 @@ SPACING = [
 
 
 def spacing():
-    wb = Workbook()
-    s = wb.active
-    s.title = "S"
+    wb, (s,) = book("S")
     for r in range(1, 4):
         for c in range(1, 4):
             s.cell(row=r, column=c, value=r * 10 + c)
@@ -856,10 +816,7 @@ def spacing():
 
 
 def stats_edges():
-    wb = Workbook()
-    s = wb.active
-    s.title = "St"
-    d = wb.create_sheet("D")
+    wb, (s, d) = book("St", "D")
     for i, v in enumerate([3, 1, 4, 1, 5, 9, 2, 6, "x", True, None, 5], start=1):
         if v is not None:
             d.cell(row=i, column=1, value=v)
@@ -887,20 +844,12 @@ def stats_edges():
 
 
 def date_formats():
-    wb = Workbook()
-    s = wb.active
-    s.title = "F"
+    wb, (s,) = book("F")
     values = [45292.75, 45351.0, 45658.999994, 0.5, 1.25, 45000.0001, 45382.5208333333, 2.75]
     fmts = ["ddd dd-mmm", "yyyy-mm-dd hh:mm:ss", "[$-409]mmmm d, yyyy;@", "m/d/yyyy h:mm AM/PM", "hh:mm:ss.000", "[mm]",
             "d-mmm", "mmmmm", "dddd", "yy", "h:mm", "h:mm:ss AM/PM", "[h]:mm", "[ss]", "mm/dd", "d.m.yyyy", "hh\"h\"mm",
             "dd/mm/yyyy hh:mm", "mmm-yy", "h AM/PM", "s.00", "yyyy\"-W\"", "ddd, mmm d", "[h]:mm:ss.0", "m", "mm:ss", "A/P h"]
-    for c, v in enumerate(values, start=2):
-        s.cell(row=1, column=c, value=v)
-    for r, fm in enumerate(fmts, start=2):
-        s.cell(row=r, column=1, value=fm)
-        for c in range(2, 2 + len(values)):
-            col = s.cell(row=1, column=c).column_letter
-            s.cell(row=r, column=c, value=f"=TEXT({col}$1,$A{r})")
+    text_table(s, values, fmts)
     save(wb, "date_formats")
 
 
