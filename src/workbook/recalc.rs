@@ -58,6 +58,11 @@ pub(super) fn meets(a: Rect, b: Rect) -> bool {
 }
 
 impl SpillState {
+    /// No anchor spills or is blocked: a result needs no spill bookkeeping.
+    fn is_empty(&self) -> bool {
+        self.areas.is_empty() && self.blocked.is_empty()
+    }
+
     pub fn owner(&self, id: u32) -> Option<u32> {
         self.owners.get(&id).copied()
     }
@@ -578,23 +583,35 @@ impl Workbook {
 
     /// Stores a formula's result: blank reads as 0, an array spills or reports `#SPILL!`.
     pub(super) fn set_result(&mut self, id: u32, value: Value, late: &mut Vec<u32>) {
+        // The usual result, a number in a workbook without spills or array formulas, stored
+        // here; the rest is kept out of line, so that this path saves no registers for it.
+        match value {
+            Value::Number(n) if self.fixed_arrays.is_empty() && self.spill.is_empty() => self.store_number(id, n),
+            value => self.set_any_result(id, value, late),
+        }
+    }
+
+    fn store_number(&mut self, id: u32, n: f64) {
+        let c = &mut self.cells[id as usize];
+        if let Some(log) = &mut self.changes {
+            if c.value != Value::Number(n) {
+                log.values.insert(id);
+            }
+        }
+        c.value = Value::Number(n);
+        self.sheets[c.sheet as usize].grow_extent(c.pos);
+    }
+
+    #[inline(never)]
+    fn set_any_result(&mut self, id: u32, value: Value, late: &mut Vec<u32>) {
         let fixed = if self.fixed_arrays.is_empty() { None } else { self.fixed_arrays.get(&id).copied() };
         let value = match fixed {
             Some((rows, cols)) => fit_to_area(value, rows as usize, cols as usize),
             None => value,
         };
-        // The usual result, a number in a sheet without spills, stored directly.
         if let Value::Number(n) = value {
-            if self.spill.areas.is_empty() && self.spill.blocked.is_empty() {
-                let c = &mut self.cells[id as usize];
-                if let Some(log) = &mut self.changes {
-                    if c.value != Value::Number(n) {
-                        log.values.insert(id);
-                    }
-                }
-                c.value = Value::Number(n);
-                self.sheets[c.sheet as usize].grow_extent(c.pos);
-                return;
+            if self.spill.is_empty() {
+                return self.store_number(id, n);
             }
         }
         let value = match value {
