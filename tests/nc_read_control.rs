@@ -59,6 +59,9 @@ const PROGRAMS: &[&str] = &[
     "G21 G17 G90\nT1 M6 G43\nG0 X0 Y0 Z50\nT2 M6\nG0 Z40\nG43 H2 Z30\nG1 Z-1 F100\nG49 G0 Z100\nM2\n",
     // Another tool's register with the change.
     "G21 G17 G90\nT2 M6 G43 H1\nG0 X0 Y0 Z50\nM2\n",
+    // T2 while tool 1 cuts only selects the next tool: G43 still takes the loaded tool 1,
+    // and M6 alone changes to tool 2.
+    "G21 G17 G90\nT1 M6\nG43\nG0 X0 Y0 Z50\nT2\nG43\nG0 Z40\nG1 Z-1 F100\nM6\nG0 Z60\nG43\nG0 Z30\nM2\n",
 ];
 
 #[test]
@@ -99,6 +102,28 @@ fn a_tool_change_alone_applies_no_length_on_linuxcnc_and_a_fanuc_mill() {
     let written = ncsheet::nc::by_name("iso").unwrap().render(&p).unwrap();
     assert!(written.lines().any(|l| l.ends_with(" G49")), "{written}");
     assert_eq!(read::read(&written, Family::Fanuc, Some(Machine::Mill)).unwrap().blocks, p.blocks);
+}
+
+#[test]
+fn a_t_word_without_m6_selects_the_next_tool_on_linuxcnc_and_a_fanuc_mill() {
+    let text = "G21 G17 G90\nT1 M6 G43 H1\nG0 X0 Y0 Z50\nT2\nG1 Z-1 F100\nG0 Z50\nM6\nG0 Z40\nM30\n";
+    for family in [Family::LinuxCnc, Family::Fanuc] {
+        let p = read::read(text, family, Some(Machine::Mill)).unwrap();
+        let tools: Vec<u32> =
+            p.blocks.iter().filter_map(|b| if let Block::Tool(t) = b { Some(t.number) } else { None }).collect();
+        assert_eq!(tools, [1, 2], "{family:?}: {:?}", p.blocks);
+        // The change comes after the cut, where M6 stands: after the move to Z50.
+        let change = p.blocks.iter().rposition(|b| matches!(b, Block::Tool(_))).unwrap();
+        assert!(matches!(p.blocks[change - 1], Block::Rapid(_)), "{family:?}: {:?}", p.blocks);
+        // M6 with no tool selected names its place.
+        let e = read::read("G21 G17 G90\nG0 X0 Y0 Z50\nM6\n", family, Some(Machine::Mill)).unwrap_err();
+        assert_eq!((e.line, e.column), (3, 1), "{family:?}: {e}");
+    }
+    // A lathe's turret and Sinumerik change with T itself.
+    let lathe = read::read("G18 G21\nT0202\nG0 X50 Z2\nM30\n", Family::Fanuc, Some(Machine::Lathe)).unwrap();
+    assert!(lathe.blocks.iter().any(|b| matches!(b, Block::Tool(ToolChange { number: 2, .. }))));
+    let sinumerik = read::read("N10 T1 D1\nN20 G0 X0 Y0 Z5\n", Family::Sinumerik, Some(Machine::Mill)).unwrap();
+    assert_eq!(sinumerik.blocks[0], Block::Tool(ToolChange::new(1)));
 }
 
 #[test]

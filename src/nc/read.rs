@@ -101,6 +101,8 @@ struct State {
     running: Option<SpindleDirection>,
     /// The tool in the spindle (or the turret's tool), once a T has been read.
     tool: Option<u32>,
+    /// The tool a T word without M6 selected, for the next M6 (LinuxCNC, a Fanuc mill).
+    selected: Option<u32>,
     /// The offset register in force: the H of G43 (LinuxCNC, Fanuc mill), the cutting edge
     /// D (Sinumerik), a Fanuc lathe's T word's last two digits; `None` when none is (power
     /// on in G49, after G49, D0, T0100). A tool change alone keeps it on LinuxCNC and a
@@ -143,6 +145,7 @@ pub fn read_with_lines(
         surface_speed: false,
         running: None,
         tool: None,
+        selected: None,
         register: None,
     };
     let mut program = Program::new("", machine.unwrap_or(Machine::Mill));
@@ -486,6 +489,7 @@ fn block_blocks(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: 
     let mut compensation = None;
     let mut spindle_m = None;
     let mut coolant = None;
+    let mut m6 = None;
     // G43 (true) or G49 (false), and its column.
     let mut length = None;
     let mut seen = std::collections::HashSet::new();
@@ -509,8 +513,8 @@ fn block_blocks(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: 
                 3 => spindle_m = Some(Some(SpindleDirection::Clockwise)),
                 4 => spindle_m = Some(Some(SpindleDirection::CounterClockwise)),
                 5 => spindle_m = Some(None),
-                // The tool change of `T1 M6`: the T word makes the model's block.
-                6 => {}
+                // The tool change of `T1 M6` (see `changes_tool`).
+                6 => m6 = Some(w.column),
                 8 => coolant = Some(true),
                 9 => coolant = Some(false),
                 2 | 30 => end = true,
@@ -530,8 +534,8 @@ fn block_blocks(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: 
     if let Some(m) = feed_mode {
         out.push(Block::FeedMode(m));
     }
-    if let Some(t) = find('T') {
-        out.push(Block::Tool(tool_change(st, words, t, length)?));
+    if let Some((n, column)) = changes_tool(st, find('T'), m6)? {
+        out.push(Block::Tool(tool_change(st, words, n, column, length)?));
     } else if let Some(offset) = length_offset(st, words, length)? {
         apply_length_offset(offset, out);
     }
@@ -606,21 +610,54 @@ fn offset_of(register: Option<u32>, own: u32) -> ToolOffset {
     }
 }
 
+/// The tool a block changes to, and the column of the word that says so. On LinuxCNC and
+/// a Fanuc mill T only selects the next tool and M6 changes to it (`T2` while tool 1 cuts,
+/// the usual way to have the magazine ready; rs274 reads it as SELECT_TOOL, not a change);
+/// `T1 M6` is both. A Fanuc lathe's turret, Sinumerik (as its writer's `T1 D1` and the
+/// default tool-change mode) and NC31 change with T.
+fn changes_tool(st: &mut State, t: Option<&Word>, m6: Option<usize>) -> Result<Option<(u32, usize)>, Fail> {
+    let selects = match st.family {
+        Family::LinuxCnc => true,
+        Family::Fanuc => st.machine == Some(Machine::Mill),
+        _ => false,
+    };
+    let Some(t) = t else {
+        return match m6.filter(|_| selects) {
+            Some(column) => match st.selected {
+                Some(n) => Ok(Some((n, column))),
+                None => Err((column, "M6 changes to the tool selected before it, and no T selected one".into())),
+            },
+            None => Ok(None),
+        };
+    };
+    let n = code(t)?;
+    if selects && m6.is_none() {
+        st.selected = Some(n);
+        return Ok(None);
+    }
+    Ok(Some((n, t.column)))
+}
+
 /// The tool change of a block with T, and the offset in force after it, as the control
 /// applies it: a Fanuc lathe's `T0102` (tool 01, offset 02; 00 none); Sinumerik's cutting
 /// edge `D2` (D0 none; D1 when the block gives none, the control's default edge); on
 /// LinuxCNC and a Fanuc mill `G43 [H2]` or `G49` in the block, and without them the length
 /// offset already in force: none from power on (G49) until a G43, and M6 changes no offset
 /// (rs274 with a tool table: `T1 M6` alone moves the spindle's point, not the tip).
-fn tool_change(st: &mut State, words: &[Word], t: &Word, length: Option<(usize, bool)>) -> Result<ToolChange, Fail> {
+fn tool_change(
+    st: &mut State,
+    words: &[Word],
+    n: u32,
+    column: usize,
+    length: Option<(usize, bool)>,
+) -> Result<ToolChange, Fail> {
     let find = |l: char| words.iter().find(|w| w.letter == l);
-    let n = code(t)?;
     let lathe = st.machine == Some(Machine::Lathe);
     let change = match st.family {
         Family::Fanuc if lathe => {
             if n < 100 {
                 return Err((
-                    t.column,
+                    column,
                     format!("a Fanuc lathe's T word is the tool and its offset (T0101); T{n} names no tool"),
                 ));
             }
