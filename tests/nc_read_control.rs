@@ -219,6 +219,21 @@ fn what_the_writers_refuse_is_refused_when_read() {
         let e = read::read(&text, Family::LinuxCnc, Some(Machine::Mill)).unwrap_err();
         assert_eq!((e.line, e.column), (6, column), "{body}: {e}");
     }
+    // Plain language: the same refusals, at the line and word.
+    let plain = |body: &str| {
+        let text =
+            format!("0 BEGIN PGM A MM\n1 TOOL CALL 1 Z S1000\n2 L X+0 Y+0 Z+5 R0 FMAX M3\n{body}\n9 END PGM A MM\n");
+        ncsheet::nc::by_name("heidenhain").unwrap().read(&text, None).unwrap_err()
+    };
+    for (body, line, column) in [
+        ("3 L X+5 F0", 4, 9),
+        ("3 TOOL CALL 100 Z", 4, 13),
+        ("3 L X+123456789 F100", 4, 3),
+        ("3 CYCL DEF 9.0 DWELL TIME\n4 CYCL DEF 9.1 DWELL 0", 5, 22),
+    ] {
+        let e = plain(body);
+        assert_eq!((e.line, e.column), (line, column), "{body}: {e}");
+    }
     // NC31 has the axes X and Z only; a Fanuc program number is O0001–O9999.
     let e = read::read("N001 X10 Y5 Z1 E\nN002 M02\n", Family::Nc31, None).unwrap_err();
     assert_eq!((e.line, e.column), (1, 10), "{e}");

@@ -29,6 +29,13 @@ use crate::nc::read::{self, ReadError};
 
 pub struct Heidenhain;
 
+/// The numbers the control reads (and the writer writes) of a program written to `precision`
+/// decimals: a machine finer than the dialect's 0.1 µm default keeps its digits (never fewer).
+pub(crate) fn format_for(precision: Option<usize>) -> Format {
+    let numbers = NumberStyle { decimals: precision.unwrap_or(0).max(NUMBERS.decimals), ..NUMBERS };
+    Format { numbers, digits: DIGITS.max(numbers.decimals + 5) }
+}
+
 /// `TOOL CALL n` always applies tool n's length from the tool table (L + DL): the TNC's
 /// user's manual ("Tool length compensation") cancels it only by calling a tool of length 0
 /// (`TOOL CALL 0`, the zero tool, which a tool changer takes as "empty spindle"), and a
@@ -102,10 +109,9 @@ impl Dialect for Heidenhain {
                 "plain language here is for milling programs; use iso or sinumerik for a lathe".into(),
             ));
         }
-        // A machine finer than the dialect's 0.1 µm default keeps its digits (never fewer).
-        let numbers = NumberStyle { decimals: program.precision.unwrap_or(0).max(NUMBERS.decimals), ..NUMBERS };
-        check_program(program, Format { numbers, digits: DIGITS.max(numbers.decimals + 5) })
-            .map_err(|(b, m)| error(b, m))?;
+        let format = format_for(program.precision);
+        let numbers = format.numbers;
+        check_program(program, format).map_err(|(b, m)| error(b, m))?;
         own_offsets_only(program).map_err(|(b, m)| error(Some(b), m))?;
         let name = program_name(&program.name, 24);
         let mut w = Numbered { out: String::with_capacity(48 * (program.blocks.len() + 2)), ..Numbered::default() };

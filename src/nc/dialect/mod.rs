@@ -11,6 +11,9 @@ use super::program::{Block, FeedMode, Machine, Program, Spindle, Target, ToolCha
 use super::read::ReadError;
 
 mod heidenhain;
+
+/// The numbers a Heidenhain control reads, for its reader's refusals ([`check_values`]).
+pub(crate) use heidenhain::format_for as plain_language_limits;
 mod word_address;
 
 pub use heidenhain::Heidenhain;

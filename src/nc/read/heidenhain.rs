@@ -81,7 +81,45 @@ pub fn read(text: &str, machine: Option<Machine>) -> Result<(Program, Vec<usize>
     }
     let mut program = st.program.expect("BEGIN PGM came first");
     program.precision = (st.decimals > DEFAULT_DECIMALS).then_some(st.decimals);
+    writers_refusals(text, &program, &st.lines)?;
     Ok((program, st.lines))
+}
+
+/// A hand-written program is refused where the writer would refuse a block of it
+/// (`dialect::check_values`: numbers past the control's digits, feeds not above 0, spindle
+/// speeds, tool numbers, dwells out of range), at the block's line and the word that carries
+/// the value, as the word-address readers do.
+fn writers_refusals(text: &str, program: &Program, lines: &[usize]) -> Result<(), ReadError> {
+    let format = crate::nc::dialect::plain_language_limits(program.precision);
+    for (block, &line) in program.blocks.iter().zip(lines) {
+        if let Err(message) = crate::nc::dialect::check_values(block, program.machine, format) {
+            let raw = text.lines().nth(line - 1).unwrap_or_default();
+            let feed_refused = match block {
+                Block::Line { feed: Some(f), .. } | Block::Arc { feed: Some(f), .. } => format.feed(*f).is_err(),
+                _ => false,
+            };
+            return Err(ReadError { line, column: word_column(raw, block, feed_refused), message });
+        }
+    }
+    Ok(())
+}
+
+/// Where on its line stands the word a refusal of `block` is about: S of a speed, the tool
+/// number of TOOL CALL, F of a refused feed, else the block's first word after its number.
+fn word_column(raw: &str, block: &Block, feed_refused: bool) -> usize {
+    let (tokens, _) = tokens(raw);
+    let starting = |p: char| tokens.iter().find(|t| t.text.starts_with(p)).map(|t| t.column);
+    let word = match block {
+        Block::Spindle(_) => starting('S'),
+        Block::Tool(_) => {
+            tokens.iter().position(|t| t.text == "CALL").and_then(|i| tokens.get(i + 1)).map(|t| t.column)
+        }
+        Block::Dwell(_) => tokens.last().map(|t| t.column),
+        Block::Line { .. } | Block::Arc { .. } if feed_refused => starting('F'),
+        _ => None,
+    };
+    let head = tokens.iter().find(|t| !t.text.bytes().all(|b| b.is_ascii_digit())).map(|t| t.column);
+    word.or(head).unwrap_or(1)
 }
 
 /// Splits a line into tokens and its `;` comment.
