@@ -166,6 +166,8 @@ struct CorpusRun {
     total: Tally,
     /// Cells disagreeing on their own (not on a known list), one line each.
     disagreements: Vec<String>,
+    /// Cells on the known list that disagree, one line each with the list's reason.
+    known_disagreements: Vec<String>,
     /// Every (file, cell) that disagrees, on its own or upstream, known or not.
     disagreeing: Vec<(String, String)>,
     /// Every cell not compared (unsupported or volatile): (file, cell, verdict, formula).
@@ -225,14 +227,16 @@ fn compare_corpus(root: &Path, not_from_excel: &[&str], known: &[(&str, &str, &s
             if matches!(r.verdict, Verdict::Disagree | Verdict::Upstream) {
                 let cell = imported.workbook.cell_name(r.sheet, r.pos);
                 run.disagreeing.push((rel.clone(), cell.clone()));
-                if !known.iter().any(|(f, c, _)| *f == rel && *c == cell) {
-                    let upstream = if r.verdict == Verdict::Upstream { " (reading a cell that disagrees)" } else { "" };
-                    run.disagreements.push(format!(
-                        "{rel}: {cell}: {}{upstream} gives {:?}, Excel cached {:?}",
-                        imported.workbook.formula(r.sheet, r.anchor).unwrap_or_default(),
-                        imported.workbook.value(r.sheet, r.pos),
-                        r.expected.as_ref().expect("compared"),
-                    ));
+                let upstream = if r.verdict == Verdict::Upstream { " (reading a cell that disagrees)" } else { "" };
+                let line = format!(
+                    "{rel}: {cell}: {}{upstream} gives {:?}, Excel cached {:?}",
+                    imported.workbook.formula(r.sheet, r.anchor).unwrap_or_default(),
+                    imported.workbook.value(r.sheet, r.pos),
+                    r.expected.as_ref().expect("compared"),
+                );
+                match known.iter().find(|(f, c, _)| *f == rel && *c == cell) {
+                    Some((_, _, why)) => run.known_disagreements.push(format!("{line}: {why}")),
+                    None => run.disagreements.push(line),
                 }
             }
         }
@@ -312,7 +316,7 @@ fn excel_corpus_agrees_with_excel_for_every_supported_function() {
     assert!(public_root.is_dir(), "the public Excel corpus is missing: {}", public_root.display());
     let public = compare_corpus(&public_root, &[], PUBLIC_KNOWN_DISAGREEMENTS);
 
-    let mut report = render(&ironcalc.per_file, &ironcalc.per_function, &ironcalc.unsupported_calls, ironcalc.total);
+    let mut report = render(&ironcalc);
     report.push_str(&render_public(&public));
     println!("{report}");
     let doc = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/excel-conformance.md");
@@ -416,21 +420,25 @@ fn render_public(run: &CorpusRun) -> String {
         }
         let _ = writeln!(out);
     }
-    let _ = writeln!(out, "## Cells that disagree\n");
-    for line in &run.disagreements {
-        let _ = writeln!(out, "- {}", line.replace('|', "\\|"));
-    }
-    let _ = writeln!(out, "\n## Public workbooks by file\n");
+    write_disagreements(&mut out, run);
+    let _ = writeln!(out, "## Public workbooks by file\n");
     write_by_file(&mut out, &run.per_file);
     out
 }
 
-fn render(
-    per_file: &[(String, Tally)],
-    per_function: &BTreeMap<String, Tally>,
-    unsupported_calls: &BTreeMap<String, usize>,
-    total: Tally,
-) -> String {
+/// Every cell that disagrees, with the known list's reason where it has one (a cell without
+/// one fails the test).
+fn write_disagreements(out: &mut String, run: &CorpusRun) {
+    let _ = writeln!(out, "## Cells that disagree\n");
+    for line in run.disagreements.iter().chain(&run.known_disagreements) {
+        let _ = writeln!(out, "- {}", line.replace('|', "\\|"));
+    }
+    let _ = writeln!(out);
+}
+
+fn render(run: &CorpusRun) -> String {
+    let (per_file, per_function, unsupported_calls, total) =
+        (&run.per_file, &run.per_function, &run.unsupported_calls, run.total);
     let mut out = String::new();
     let _ = writeln!(out, "# Excel conformance\n");
     let _ = writeln!(
@@ -473,6 +481,7 @@ fn render(
     calls.sort_by(|a, b| b.1.cmp(a.1).then(a.0.cmp(b.0)));
     let list: Vec<String> = calls.iter().map(|(n, c)| format!("{n} {c}")).collect();
     let _ = writeln!(out, "{}\n", list.join(", "));
+    write_disagreements(&mut out, run);
     let _ = writeln!(out, "## By file\n");
     write_by_file(&mut out, per_file);
     out
