@@ -71,11 +71,6 @@ const KNOWN_DISAGREEMENTS: &[(&str, &str, &str)] = &[
     ("docs/COS.xlsx", "Sheet1!B6", "COS near pi/2: residue"),
     ("calc_tests/INFORMATION/ERROR.TYPE.xlsx", "Sheet1!B8", "#CALC! stored as #VALUE!"),
     ("calc_tests/INFORMATION/ERROR.TYPE.xlsx", "Sheet1!B14", "#SPILL! stored as #VALUE!"),
-    ("calc_tests/LOOKUP_AND_REFERENCE/XMATCH.xlsx", "Sheet1!D6", "XMATCH regular expressions"),
-    ("calc_tests/LOOKUP_AND_REFERENCE/XMATCH.xlsx", "Sheet1!D7", "XMATCH regular expressions"),
-    ("calc_tests/LOOKUP_AND_REFERENCE/XMATCH.xlsx", "Sheet1!B14", "XMATCH regular expressions"),
-    ("calc_tests/LOOKUP_AND_REFERENCE/XMATCH.xlsx", "Sheet1!E6", "upstream: reads D6 (XMATCH regular expressions)"),
-    ("calc_tests/LOOKUP_AND_REFERENCE/XMATCH.xlsx", "Sheet1!E7", "upstream: reads D7 (XMATCH regular expressions)"),
     ("calc_tests/MATH_AND_TRIGONOMETRY/TRIGONOMETRIC.xlsx", "COT_CSC_SEC!B33", "COT near a pole"),
     ("calc_tests/MATH_AND_TRIGONOMETRY/TRIGONOMETRIC.xlsx", "COT_CSC_SEC!C33", "CSC near a pole"),
     ("calc_tests/MATH_AND_TRIGONOMETRY/TRIGONOMETRIC.xlsx", "COT_CSC_SEC!B34", "COT near zero"),
@@ -113,7 +108,6 @@ const KNOWN_DISAGREEMENTS: &[(&str, &str, &str)] = &[
     ("calc_tests/FINANCIAL/XNPV.xlsx", "Sheet1!R2", "Excel's XIRR stops within 1e-8 of the root"),
     ("calc_tests/FINANCIAL/XNPV.xlsx", "Sheet1!R4", "Excel's XIRR stops within 1e-8 of the root"),
     ("calc_tests/FINANCIAL/XNPV.xlsx", "Sheet1!R5", "Excel's XIRR stops within 1e-8 of the root"),
-    ("calc_tests/TEXT/REGEX.xlsx", "REGEXEXTRACT!B4", "FIXME REGEXEXTRACT"),
 ];
 
 /// Cells of the IronCalc corpus that are not compared (unsupported or volatile), one by one:

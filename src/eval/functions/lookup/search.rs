@@ -4,7 +4,7 @@
 use std::cmp::Ordering;
 use std::rc::Rc;
 
-use crate::eval::coerce::{compare, compare_text, to_bool, to_number};
+use crate::eval::coerce::{compare, compare_text, to_bool, to_number, to_text};
 use crate::eval::functions::api::{lift_values, number_or, ArgSet, Ctx, FnSpec, Operand};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::address::{Pos, Rect};
@@ -541,11 +541,12 @@ fn xlookup_operand(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Operand> {
 }
 
 /// XLOOKUP and XMATCH's match mode (0 exact, -1 or next smaller, 1 or next larger,
-/// 2 wildcards) and search mode (1 first to last, -1 last to first, 2 and -2 binary on
-/// data sorted ascending or descending).
+/// 2 wildcards, 3 a regular expression) and search mode (1 first to last, -1 last to first,
+/// 2 and -2 binary on data sorted ascending or descending).
 struct XMode {
     fallback: Fallback,
     wildcards: bool,
+    regex: bool,
     search: i64,
 }
 
@@ -555,16 +556,16 @@ impl XMode {
         let match_mode = number_or(ctx, args, at, 0.0)?.trunc();
         let search = number_or(ctx, args, at + 1, 1.0)?.trunc() as i64;
         let fallback = match match_mode as i64 {
-            0 | 2 => Fallback::None,
+            0 | 2 | 3 => Fallback::None,
             -1 => Fallback::NextSmaller,
             1 => Fallback::NextLarger,
             _ => return Err(XlError::Value),
         };
-        let wildcards = match_mode == 2.0;
-        if !matches!(search, 1 | -1 | 2 | -2) || (wildcards && search.abs() == 2) {
+        let (wildcards, regex) = (match_mode == 2.0, match_mode == 3.0);
+        if !matches!(search, 1 | -1 | 2 | -2) || ((wildcards || regex) && search.abs() == 2) {
             return Err(XlError::Value);
         }
-        Ok(XMode { fallback, wildcards, search })
+        Ok(XMode { fallback, wildcards, regex, search })
     }
 
     /// The position of `key` in `items`.
@@ -579,12 +580,25 @@ impl XMode {
                 return Ok(blank);
             }
         }
+        if self.regex {
+            return regex_position(key, items, reverse);
+        }
         let key = lookup_key(key)?;
         Ok(match self.search {
             2 | -2 => xlookup_binary(&key, items, self.fallback, reverse),
             _ => xlookup_linear(&key, items, self.fallback, self.wildcards, reverse),
         })
     }
+}
+
+/// Match mode 3: the first (or last) item whose text the lookup value, read as a regular
+/// expression as REGEXTEST reads it (case counts, a match anywhere), matches; blanks and
+/// errors take no part. A pattern that does not compile is `#VALUE!`.
+fn regex_position(key: &Value, items: &[Value], reverse: bool) -> XlResult<Option<usize>> {
+    let pattern = regex::Regex::new(&to_text(key)?).map_err(|_| XlError::Value)?;
+    let matches =
+        |v: &Value| !matches!(v, Value::Blank | Value::Error(_)) && to_text(v).is_ok_and(|t| pattern.is_match(&t));
+    Ok(if reverse { items.iter().rposition(matches) } else { items.iter().position(matches) })
 }
 
 fn xmatch(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
@@ -865,7 +879,12 @@ mod tests {
         assert_eq!(env.eval("=XLOOKUP(6,A1:A4,B1:C4)"), Value::from(Array::row(vec![t("end mill 6"), n(300.0)])));
         assert_eq!(env.eval("=SUM(XLOOKUP(6,A1:A4,C1:C4):C4)"), n(1550.0));
         assert_eq!(env.eval("=XLOOKUP(6,A1:A4,C1:C3)"), Value::Error(XlError::Value));
-        assert_eq!(env.eval("=XLOOKUP(6,A1:A4,C1:C4,,3)"), Value::Error(XlError::Value));
+        // Match mode 3: a regular expression, matched anywhere in an item's text.
+        assert_eq!(env.eval("=XLOOKUP(\"^end mill 1[0-9]$\",B1:B4,A1:A4,,3)"), n(10.0));
+        assert_eq!(env.eval("=XLOOKUP(\"mill\",B1:B4,A1:A4,,3,-1)"), n(16.0));
+        assert_eq!(env.eval("=XLOOKUP(\"END\",B1:B4,A1:A4,,3)"), Value::Error(XlError::NA));
+        assert_eq!(env.eval("=XLOOKUP(\"(\",B1:B4,A1:A4,,3)"), Value::Error(XlError::Value));
+        assert_eq!(env.eval("=XLOOKUP(6,A1:A4,C1:C4,,4)"), Value::Error(XlError::Value));
     }
 
     #[test]

@@ -232,9 +232,10 @@ fn regex_extract(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         let text = a.text(0)?;
         let re = pattern(a, 1, 3)?;
         let mode = a.num_or(2, 0.0)?.trunc();
+        // Every match, across a row: Excel spills them to the right (calc_tests/TEXT/REGEX.xlsx).
         let texts = |items: Vec<Value>| -> XlResult<Value> {
             check(!items.is_empty(), XlError::NA)?;
-            Ok(Value::Array(Rc::new(Array::column(items))))
+            Ok(Value::Array(Rc::new(Array::row(items))))
         };
         match mode {
             0.0 => re.find(&text).map(|m| Value::text(m.as_str())).ok_or(XlError::NA),
