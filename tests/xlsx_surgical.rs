@@ -1019,3 +1019,25 @@ fn the_repl_saves_surgically_as_set_does() {
     assert!(parts(&fs::read(d.join("out.xlsx")).unwrap()).keys().any(|k| k.starts_with("xl/charts/")));
     assert_eq!(io::load(&d.join("out.xlsx")).unwrap().value(0, edited.1), Value::Number(7.0));
 }
+
+/// Excel 365 stores a `#CALC!` (FILTER that finds nothing) as `#VALUE!` with value metadata
+/// (`vm`) naming the real error (FILTER_ERRORS.xlsx of the Excel corpus, E1). It is read as
+/// `#CALC!`; when an edit makes the cell a number, the saved cell keeps its dynamic-array
+/// mark (`cm`) but no longer its error metadata, which would misname the new value.
+#[test]
+fn a_newer_error_kept_as_value_metadata_is_read_and_dropped_when_the_value_changes() {
+    let Some(root) = common::corpus::root() else { return };
+    let source = root.join("calc_tests/LOOKUP_AND_REFERENCE/FILTER_ERRORS.xlsx");
+    let original = io::xlsx::load(&source).unwrap();
+    let cached = |pos: Pos| original.cached.iter().find(|c| c.pos == pos).map(|c| c.value.clone());
+    assert_eq!(cached(Pos::new(0, 4)), Some(Value::Error(ncsheet::eval::XlError::Calc)), "E1 as Excel computed it");
+    // J1's #VALUE! is a plain one (no metadata): FILTER's include argument is text there.
+    assert_eq!(cached(Pos::new(0, 9)), Some(Value::Error(ncsheet::eval::XlError::Value)));
+    let dir = tempfile::tempdir().unwrap();
+    fs::copy(&source, dir.path().join("f.xlsx")).unwrap();
+    let run = ncsheet_in(dir.path(), &["set", "f.xlsx", "A1=20", "-o", "out.xlsx"], "");
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let sheet = text(&parts(&fs::read(dir.path().join("out.xlsx")).unwrap())["xl/worksheets/sheet1.xml"]);
+    let e1 = sheet.split("<c ").find(|c| c.starts_with("r=\"E1\"")).expect("E1 saved");
+    assert!(e1.contains("cm=\"1\"") && !e1.contains("vm=") && e1.contains("<v>20</v>"), "{e1}");
+}

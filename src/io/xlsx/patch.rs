@@ -584,8 +584,13 @@ impl SheetPatch<'_> {
             }
         }
         let keep_attrs = match (change, original) {
-            // A value change keeps the cell's other attributes (cm, vm: dynamic-array marks).
-            (Change::Value, Some((_, tag))) => other_attrs(tag),
+            // A value change keeps the cell's other attributes (cm: the dynamic-array mark),
+            // but its value metadata (vm: the #CALC! or #SPILL! a stored #VALUE! stands for)
+            // only while the value is such an error still: on a number it would misname it.
+            (Change::Value, Some((_, tag))) => {
+                let newer_error = matches!(value, Value::Error(XlError::Spill | XlError::Calc));
+                other_attrs(tag, if newer_error { &[] } else { &["vm"] })
+            }
             _ => String::new(),
         };
         let r = format!("<{ns}c r=\"{pos}\"{style}{keep_attrs}");
@@ -616,8 +621,9 @@ impl SheetPatch<'_> {
     }
 }
 
-/// The start-tag attributes of a `<c>` other than `r`, `s` and `t`, each with its space.
-fn other_attrs(tag: &str) -> String {
+/// The start-tag attributes of a `<c>` other than `r`, `s`, `t` and `leave_out`, each with
+/// its space.
+fn other_attrs(tag: &str, leave_out: &[&str]) -> String {
     let inner = tag.trim_start_matches('<');
     let inner = inner.find(char::is_whitespace).map_or("", |i| &inner[i..]);
     let inner = inner.trim_end_matches('>').trim_end_matches('/');
@@ -629,7 +635,7 @@ fn other_attrs(tag: &str) -> String {
         let Some(quote) = after.chars().next() else { break };
         let Some(end) = after[1..].find(quote) else { break };
         let value = &after[1..1 + end];
-        if !matches!(name, "r" | "s" | "t") {
+        if !matches!(name, "r" | "s" | "t") && !leave_out.contains(&name) {
             out.push_str(&format!(" {name}={quote}{value}{quote}"));
         }
         rest = &after[end + 2..];
@@ -727,7 +733,8 @@ mod tests {
         assert_eq!(attr(r#"<c r="B3" s='4' t="str">"#, "s"), Some("4"));
         assert_eq!(attr(r#"<c r="B3" s='4' t="str">"#, "r"), Some("B3"));
         assert_eq!(attr(r#"<c r="B3" xs="4">"#, "s"), None);
-        assert_eq!(other_attrs(r#"<c r="A1" s="2" t="e" cm="1">"#), r#" cm="1""#);
+        assert_eq!(other_attrs(r#"<c r="A1" s="2" t="e" cm="1">"#, &[]), r#" cm="1""#);
+        assert_eq!(other_attrs(r#"<c r="A1" t="e" cm="1" vm="3">"#, &["vm"]), r#" cm="1""#);
     }
 
     #[test]

@@ -9,6 +9,7 @@ use zip::ZipArchive;
 
 use super::xml::{for_each_tag, unescape, StreamError};
 use super::{Calculation, ErrorKind};
+use crate::eval::XlError;
 use crate::io::limits::{self, ReadLimits, RATIO_GRACE};
 use crate::workbook::Iteration;
 
@@ -113,6 +114,19 @@ impl<'a> Package<'a> {
         let mut bytes = Vec::new();
         entry.read_to_end(&mut bytes).map_err(|e| zip_error(Some(part), ZipError::Io(e)))?;
         Ok(Some(bytes))
+    }
+
+    /// The errors that cells' value metadata (`vm="n"`, entry n-1) stand for: Excel stores a
+    /// `#SPILL!` or `#CALC!` (errors older readers lack) as `#VALUE!` in the cell and the real
+    /// one as a rich value of structure `_error` (`xl/metadata.xml`, `xl/richData/`). `None`
+    /// where an entry is no such error; empty when the package has no metadata.
+    pub fn rich_errors(&mut self) -> Result<Vec<Option<XlError>>, Err> {
+        let Some(metadata) = self.read_optional("xl/metadata.xml")? else { return Ok(Vec::new()) };
+        let values = self.read_optional("xl/richData/rdrichvalue.xml")?.unwrap_or_default();
+        let structures = self.read_optional("xl/richData/rdrichvaluestructure.xml")?.unwrap_or_default();
+        let rich = rich_values(&values, &structures);
+        let error_of = |i: u32| rich.get(i as usize).copied().flatten();
+        Ok(value_metadata_rich_values(&metadata).into_iter().map(|i| i.and_then(error_of)).collect())
     }
 
     /// The workbook part named by the package relationships (`xl/workbook.xml` as a rule).
@@ -406,6 +420,70 @@ fn resolve(dir: &str, target: &str) -> String {
     parts.join("/")
 }
 
+/// For each `<bk>` of `<valueMetadata>`, the rich value it points at (through the
+/// `XLRICHVALUE` future metadata's `<rvb i>`), if it does.
+fn value_metadata_rich_values(metadata: &[u8]) -> Vec<Option<u32>> {
+    let number = |v: Option<&[u8]>| std::str::from_utf8(v?).ok()?.parse::<u32>().ok();
+    let (mut types, mut rich_blocks, mut out) = (Vec::new(), Vec::new(), Vec::new());
+    let mut section = "";
+    let mut future_is_rich = false;
+    for_each_tag(metadata, &mut |tag, _| match tag.name {
+        b"metadataType" => types.push(tag.attr("name").unwrap_or_default().to_vec()),
+        b"futureMetadata" => {
+            section = "future";
+            future_is_rich = tag.attr("name") == Some(b"XLRICHVALUE".as_slice());
+        }
+        b"cellMetadata" => section = "cell",
+        b"valueMetadata" => section = "value",
+        b"rvb" if section == "future" && future_is_rich => rich_blocks.push(number(tag.attr("i"))),
+        // One `<rc>` a block in files Excel writes: the block's record.
+        b"rc" if section == "value" => {
+            let kind = number(tag.attr("t")).and_then(|t| types.get((t as usize).checked_sub(1)?));
+            let rich = kind.filter(|k| k.as_slice() == b"XLRICHVALUE").and_then(|_| number(tag.attr("v")));
+            out.push(rich.and_then(|v| rich_blocks.get(v as usize).copied().flatten()));
+        }
+        _ => {}
+    });
+    out
+}
+
+/// For each rich value (`<rv>` of rdrichvalue.xml), the error it is when its structure is
+/// `_error`: its `errorType` key is ERROR.TYPE's number less one (8 `#SPILL!`, 13 `#CALC!`).
+fn rich_values(values: &[u8], structures: &[u8]) -> Vec<Option<XlError>> {
+    let mut shapes: Vec<(bool, Vec<Vec<u8>>)> = Vec::new();
+    for_each_tag(structures, &mut |tag, _| match tag.name {
+        b"s" => shapes.push((tag.attr("t") == Some(b"_error".as_slice()), Vec::new())),
+        b"k" => {
+            if let Some((_, keys)) = shapes.last_mut() {
+                keys.push(tag.attr("n").unwrap_or_default().to_vec());
+            }
+        }
+        _ => {}
+    });
+    let mut rows: Vec<(Option<usize>, Vec<String>)> = Vec::new();
+    for_each_tag(values, &mut |tag, text| match tag.name {
+        b"rv" => rows.push((
+            std::str::from_utf8(tag.attr("s").unwrap_or_default()).ok().and_then(|s| s.parse().ok()),
+            Vec::new(),
+        )),
+        b"v" => {
+            if let Some((_, vs)) = rows.last_mut() {
+                vs.push(unescape(text));
+            }
+        }
+        _ => {}
+    });
+    rows.into_iter()
+        .map(|(shape, vs)| {
+            let (is_error, keys) = shapes.get(shape?)?;
+            let at = keys.iter().position(|k| k.as_slice() == b"errorType").filter(|_| *is_error)?;
+            let kind: u32 = vs.get(at)?.trim().parse().ok()?;
+            let number = kind.checked_add(1)?;
+            XlError::ALL.iter().copied().find(|e| u32::from(e.type_number()) == number)
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -415,5 +493,19 @@ mod tests {
         assert_eq!(resolve("xl", "worksheets/sheet1.xml"), "xl/worksheets/sheet1.xml");
         assert_eq!(resolve("xl", "/xl/worksheets/sheet1.xml"), "xl/worksheets/sheet1.xml");
         assert_eq!(resolve("xl/worksheets", "../drawings/d.xml"), "xl/drawings/d.xml");
+    }
+
+    /// The parts as Excel 365 writes them for a `#CALC!` and a `#SPILL!` kept as values
+    /// (calc_tests/INFORMATION/ERROR.TYPE.xlsx of the Excel corpus).
+    #[test]
+    fn value_metadata_names_the_errors_rich_values_hold() {
+        let metadata = br#"<metadata><metadataTypes count="1"><metadataType name="XLRICHVALUE" minSupportedVersion="120000"/></metadataTypes><futureMetadata name="XLRICHVALUE" count="2"><bk><extLst><ext uri="{3e2802c4-a4d2-4d8b-9148-e3be6c30e623}"><xlrd:rvb i="0"/></ext></extLst></bk><bk><extLst><ext uri="{3e2802c4-a4d2-4d8b-9148-e3be6c30e623}"><xlrd:rvb i="1"/></ext></extLst></bk></futureMetadata><valueMetadata count="2"><bk><rc t="1" v="0"/></bk><bk><rc t="1" v="1"/></bk></valueMetadata></metadata>"#;
+        let values = br#"<rvData count="2"><rv s="0"><v>13</v><v>0</v></rv><rv s="0"><v>8</v><v>0</v></rv></rvData>"#;
+        let structures = br#"<rvStructures count="1"><s t="_error"><k n="errorType" t="i"/><k n="subType" t="i"/></s></rvStructures>"#;
+        assert_eq!(rich_values(values, structures), [Some(XlError::Calc), Some(XlError::Spill)]);
+        assert_eq!(value_metadata_rich_values(metadata), [Some(0), Some(1)]);
+        // A rich value of another structure (a linked data type) is no error.
+        let other = br#"<rvStructures count="1"><s t="_linkedentity"><k n="errorType"/></s></rvStructures>"#;
+        assert_eq!(rich_values(values, other), [None, None]);
     }
 }

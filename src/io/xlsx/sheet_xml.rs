@@ -104,16 +104,31 @@ pub type ScanError = (ErrorKind, String);
 /// arrive, before they are stored: a few cells far apart must not exhaust memory.
 pub const MAX_GRID_SLOTS: u64 = 1 << 27;
 
+/// What the workbook's parts say that a sheet's cells refer to.
+#[derive(Clone, Copy, Default)]
+pub struct Tables<'t> {
+    /// The shared-string table's length, to check each index against.
+    pub string_count: usize,
+    /// The error each value-metadata entry stands for (`vm="n"`: entry n-1), see
+    /// [`super::raw::Package::rich_errors`].
+    pub rich_errors: &'t [Option<XlError>],
+}
+
 /// Streams a worksheet part: calls `on_cell` for each cell in file order and returns what
 /// else the sheet holds. `grid_slots` counts the grid of the sheets read before; this
 /// sheet's columns are added to it.
 pub fn read_sheet(
     part: impl Read,
-    string_count: usize,
+    tables: Tables,
     grid_slots: &mut u64,
     on_cell: &mut dyn FnMut(CellXml) -> Result<(), ScanError>,
 ) -> Result<SheetScan, xml::StreamError<ScanError>> {
-    let mut scanner = SheetScanner { string_count, grid_slots: *grid_slots, ..SheetScanner::default() };
+    let mut scanner = SheetScanner {
+        string_count: tables.string_count,
+        rich_errors: tables.rich_errors,
+        grid_slots: *grid_slots,
+        ..SheetScanner::default()
+    };
     xml::stream(part, &mut |event| scanner.event(event, on_cell))?;
     *grid_slots = scanner.grid_slots;
     Ok(scanner.scan)
@@ -137,6 +152,8 @@ struct OpenCell {
     pos: Option<Pos>,
     kind: CellType,
     metadata: bool,
+    /// `vm="n"`, the cell's value metadata (0: none).
+    value_metadata: u32,
     formula: Option<FormulaAttrs>,
     formula_text: String,
     has_value: bool,
@@ -151,6 +168,7 @@ impl OpenCell {
         self.pos = None;
         self.kind = CellType::Untyped;
         self.metadata = false;
+        self.value_metadata = 0;
         self.formula = None;
         self.formula_text.clear();
         self.has_value = false;
@@ -201,8 +219,9 @@ enum FormulaAttrs {
 }
 
 #[derive(Default)]
-struct SheetScanner {
+struct SheetScanner<'t> {
     string_count: usize,
+    rich_errors: &'t [Option<XlError>],
     scan: SheetScan,
     /// Next row and column for markup that leaves `r` out.
     row: u32,
@@ -216,7 +235,13 @@ struct SheetScanner {
     grid_slots: u64,
 }
 
-impl SheetScanner {
+impl SheetScanner<'_> {
+    /// The error value metadata `vm` (1-based) stands for, if any.
+    fn rich_error(&self, vm: u32) -> Option<XlError> {
+        let i = (vm as usize).checked_sub(1)?;
+        self.rich_errors.get(i).copied().flatten()
+    }
+
     fn event(
         &mut self,
         event: Event,
@@ -306,6 +331,7 @@ impl SheetScanner {
                 b"t" => self.cell.kind = cell_type(value)?,
                 b"s" => style = parse_u32(value).unwrap_or(0),
                 b"cm" => self.cell.metadata = true,
+                b"vm" => self.cell.value_metadata = parse_u32(value).unwrap_or(0),
                 _ => {}
             }
         }
@@ -420,7 +446,8 @@ impl SheetScanner {
                 _ => return Err(format!("'{raw}' is not a boolean")),
             },
             CellType::Error => match trimmed.parse::<XlError>() {
-                Ok(e) => Stored::Error(e),
+                // `#VALUE!` standing for a newer error its value metadata names.
+                Ok(e) => Stored::Error(self.rich_error(cell.value_metadata).unwrap_or(e)),
                 Err(()) => return Err(format!("'{raw}' is not an Excel error value")),
             },
             CellType::Str => Stored::Text(xml::unescape_excel(raw).into_owned()),
@@ -652,7 +679,7 @@ impl Batch {
 /// the longer of the two instead of their sum.
 pub fn read_sheet_ahead(
     part: impl Read + Send,
-    string_count: usize,
+    tables: Tables,
     grid_slots: &mut u64,
     on_cell: &mut dyn FnMut(CellXml),
 ) -> Result<SheetScan, xml::StreamError<ScanError>> {
@@ -661,7 +688,7 @@ pub fn read_sheet_ahead(
     let scan = std::thread::scope(|scope| {
         let scanner = scope.spawn(move || {
             let mut batch = Batch::default();
-            let scan = read_sheet(part, string_count, &mut slots, &mut |cell| {
+            let scan = read_sheet(part, tables, &mut slots, &mut |cell| {
                 batch.push(cell);
                 if batch.cells.len() >= BATCH_CELLS {
                     // Sending fails only when this thread's receiver is gone, after a panic
@@ -697,7 +724,8 @@ mod tests {
         let strings = strings();
         let mut out = Vec::new();
         let mut slots = 0;
-        let scan = read_sheet_ahead(xml.as_bytes(), strings.len(), &mut slots, &mut |c| {
+        let tables = Tables { string_count: strings.len(), rich_errors: &[Some(XlError::Calc)] };
+        let scan = read_sheet_ahead(xml.as_bytes(), tables, &mut slots, &mut |c| {
             out.push((cell_name(c.pos), c.value.map(|v| v.into_value(&strings)), format!("{:?}", c.formula)));
         });
         match scan {
@@ -735,6 +763,16 @@ mod tests {
                 Some(Value::text("2024-01-02T00:00:00")),
             ]
         );
+    }
+
+    #[test]
+    fn an_error_stored_as_value_with_value_metadata_reads_as_the_error_it_stands_for() {
+        // The table of `cells` says value metadata 1 is #CALC!; 2 is past it.
+        let xml = r#"<worksheet><sheetData><row r="1"><c r="A1" t="e" vm="1"><v>#VALUE!</v></c><c r="B1" t="e"><v>#VALUE!</v></c><c r="C1" t="e" vm="2"><v>#VALUE!</v></c><c r="D1" t="e" cm="1" vm="1"><f t="array" ref="D1">FILTER(A2:A3,A2:A3&gt;9)</f><v>#VALUE!</v></c></row></sheetData></worksheet>"#;
+        let (cells, _) = cells(xml).unwrap();
+        let values: Vec<Option<Value>> = cells.into_iter().map(|c| c.1).collect();
+        let error = |e| Some(Value::Error(e));
+        assert_eq!(values, [error(XlError::Calc), error(XlError::Value), error(XlError::Value), error(XlError::Calc)]);
     }
 
     #[test]

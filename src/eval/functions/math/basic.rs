@@ -691,8 +691,12 @@ fn sequence(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let cols = number_or(ctx, args, 1, 1.0)?.trunc();
     let start = number_or(ctx, args, 2, 1.0)?;
     let step = number_or(ctx, args, 3, 1.0)?;
-    if rows < 1.0 || cols < 1.0 || rows > f64::from(MAX_ROWS) || cols > f64::from(MAX_COLS) {
+    if rows < 0.0 || cols < 0.0 || rows > f64::from(MAX_ROWS) || cols > f64::from(MAX_COLS) {
         return Err(XlError::Value);
+    }
+    // No row or no column (`SEQUENCE(0.3)`) is an empty array: #CALC!, as Excel 365 stores it.
+    if rows == 0.0 || cols == 0.0 {
+        return Err(XlError::Calc);
     }
     if rows * cols > MAX_SEQUENCE_ITEMS {
         return Err(ctx.explain(XlError::Num, "SEQUENCE is too large"));
@@ -910,8 +914,11 @@ mod tests {
         assert_eq!((a.rows, a.cols), (2, 3));
         assert_eq!(a.data[5], n(35.0));
         assert_eq!(env.eval("=SUM(SEQUENCE(10))"), n(55.0));
+        // calc_tests/MATH_AND_TRIGONOMETRY/SEQUENCE.xlsx: nothing is #CALC!, less than nothing #VALUE!.
+        assert_eq!(env.eval("=SEQUENCE(0,0)"), Value::Error(XlError::Calc));
+        assert_eq!(env.eval("=SEQUENCE(0.3)"), Value::Error(XlError::Calc));
+        assert_eq!(env.eval("=SEQUENCE(-1)"), Value::Error(XlError::Value));
         assert_eq!(env.eval("=SUM(SEQUENCE(,3))"), n(6.0));
-        assert_eq!(env.eval("=SEQUENCE(0)"), err(XlError::Value));
-        assert_eq!(env.eval("=SEQUENCE(-1)"), err(XlError::Value));
+        assert_eq!(env.eval("=SEQUENCE(0)"), err(XlError::Calc));
     }
 }
