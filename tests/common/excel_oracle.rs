@@ -90,14 +90,41 @@ fn check_workbook(root: &Path, path: &Path, suite: &Suite, report: &mut Report) 
     let mut workbook: Xlsx<BufReader<File>> = open_workbook(path).unwrap_or_else(|e| panic!("{file}: {e}"));
     // Listed even when none of its formulas is in scope, so the table shows what was read.
     report.per_file.entry(file.clone()).or_default();
+    let ours = ncsheet::io::xlsx::load(path).ok();
     for name in workbook.sheet_names() {
-        let Some(sheet) = read_sheet(&mut workbook, &name) else {
+        let Some(mut sheet) = read_sheet(&mut workbook, &name) else {
             report.skip("sheet we cannot read");
             continue;
         };
+        if let Some(imported) = &ours {
+            name_newer_errors(imported, &name, &mut sheet.values);
+        }
         let env = MapEnv { cells: sheet.values };
         let check = SheetCheck { file: &file, sheet: &name, suite, env, formulas: &sheet.formulas };
         check.run(report);
+    }
+}
+
+/// Excel 365 stores a `#CALC!` or `#SPILL!` as `#VALUE!` for older readers, the real error
+/// kept as value metadata, which calamine does not read: such cells get the error ncsheet's
+/// reader finds there. (That reading is checked against Excel itself in
+/// tests/xlsx_conformance.rs: ERROR.TYPE of such cells, as Excel cached it, is 14 and 9.)
+fn name_newer_errors(
+    imported: &ncsheet::io::xlsx::Imported,
+    sheet_name: &str,
+    values: &mut BTreeMap<(u32, u32), Value>,
+) {
+    let Some(sheet) = imported.workbook.sheet_id(sheet_name) else { return };
+    for (&(row, col), value) in values.iter_mut().filter(|(_, v)| **v == Value::Error(XlError::Value)) {
+        let pos = Pos::new(row, col);
+        let stored = match imported.cached.iter().find(|c| c.sheet == sheet && c.pos == pos) {
+            Some(c) => c.value.clone(),
+            None if imported.workbook.formula(sheet, pos).is_none() => imported.workbook.value(sheet, pos),
+            None => continue,
+        };
+        if matches!(stored, Value::Error(XlError::Calc | XlError::Spill)) {
+            *value = stored;
+        }
     }
 }
 
