@@ -119,6 +119,17 @@ fn a_t_word_without_m6_selects_the_next_tool_on_linuxcnc_and_a_fanuc_mill() {
         let e = read::read("G21 G17 G90\nG0 X0 Y0 Z50\nM6\n", family, Some(Machine::Mill)).unwrap_err();
         assert_eq!((e.line, e.column), (3, 1), "{family:?}: {e}");
     }
+    // Read with no machine given: a Fanuc program is a mill's until a G18 says otherwise, so
+    // a T right after the change, before any move (CAM's usual preselect), only selects.
+    let text = "G21 G17 G90\nT1 M6 G43 H1\nT2\nG0 X0 Y0 Z50\nG0 Z100\nM6\nM30\n";
+    let p = read::read(text, Family::Fanuc, None).unwrap();
+    let tools: Vec<u32> =
+        p.blocks.iter().filter_map(|b| if let Block::Tool(t) = b { Some(t.number) } else { None }).collect();
+    assert_eq!(tools, [1, 2], "{:?}", p.blocks);
+    let change = p.blocks.iter().position(|b| matches!(b, Block::Tool(ToolChange { number: 2, .. }))).unwrap();
+    assert_eq!(p.blocks[..change].iter().filter(|b| matches!(b, Block::Rapid(_))).count(), 2, "{:?}", p.blocks);
+    let unknown_lathe = read::read("G21 G18 G90\nT0101\nG0 X50 Z2\nM30\n", Family::Fanuc, None).unwrap();
+    assert!(unknown_lathe.blocks.iter().any(|b| matches!(b, Block::Tool(ToolChange { number: 1, .. }))));
     // A lathe's turret and Sinumerik change with T itself.
     let lathe = read::read("G18 G21\nT0202\nG0 X50 Z2\nM30\n", Family::Fanuc, Some(Machine::Lathe)).unwrap();
     assert!(lathe.blocks.iter().any(|b| matches!(b, Block::Tool(ToolChange { number: 2, .. }))));

@@ -618,7 +618,8 @@ fn offset_of(register: Option<u32>, own: u32) -> ToolOffset {
 fn changes_tool(st: &mut State, t: Option<&Word>, m6: Option<usize>) -> Result<Option<(u32, usize)>, Fail> {
     let selects = match st.family {
         Family::LinuxCnc => true,
-        Family::Fanuc => st.machine == Some(Machine::Mill),
+        // Until a G18 or the first move says, a Fanuc program is a mill's (as `read` decides).
+        Family::Fanuc => st.machine != Some(Machine::Lathe),
         _ => false,
     };
     let Some(t) = t else {

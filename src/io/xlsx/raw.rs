@@ -223,7 +223,7 @@ impl<'a> Package<'a> {
             }
             b"definedName" => {
                 let name = tag.attr("name").map(unescape).unwrap_or_default();
-                let local_sheet = tag.attr("localSheetId").and_then(|v| std::str::from_utf8(v).ok()?.parse().ok());
+                let local_sheet = tag.parsed("localSheetId");
                 names.push(NameEntry { name, formula: unescape(content), local_sheet });
             }
             _ => {}
@@ -423,7 +423,6 @@ fn resolve(dir: &str, target: &str) -> String {
 /// For each `<bk>` of `<valueMetadata>`, the rich value it points at (through the
 /// `XLRICHVALUE` future metadata's `<rvb i>`), if it does.
 fn value_metadata_rich_values(metadata: &[u8]) -> Vec<Option<u32>> {
-    let number = |v: Option<&[u8]>| std::str::from_utf8(v?).ok()?.parse::<u32>().ok();
     let (mut types, mut rich_blocks, mut out) = (Vec::new(), Vec::new(), Vec::new());
     let mut section = "";
     let mut future_is_rich = false;
@@ -435,12 +434,12 @@ fn value_metadata_rich_values(metadata: &[u8]) -> Vec<Option<u32>> {
         }
         b"cellMetadata" => section = "cell",
         b"valueMetadata" => section = "value",
-        b"rvb" if section == "future" && future_is_rich => rich_blocks.push(number(tag.attr("i"))),
+        b"rvb" if section == "future" && future_is_rich => rich_blocks.push(tag.parsed::<u32>("i")),
         // One `<rc>` a block in files Excel writes: the block's record.
         b"rc" if section == "value" => {
-            let kind = number(tag.attr("t")).and_then(|t| types.get((t as usize).checked_sub(1)?));
-            let rich = kind.filter(|k| k.as_slice() == b"XLRICHVALUE").and_then(|_| number(tag.attr("v")));
-            out.push(rich.and_then(|v| rich_blocks.get(v as usize).copied().flatten()));
+            let kind = tag.parsed::<usize>("t").and_then(|t| types.get(t.checked_sub(1)?));
+            let rich = kind.filter(|k| k.as_slice() == b"XLRICHVALUE").and_then(|_| tag.parsed::<usize>("v"));
+            out.push(rich.and_then(|v| rich_blocks.get(v).copied().flatten()));
         }
         _ => {}
     });
@@ -462,10 +461,7 @@ fn rich_values(values: &[u8], structures: &[u8]) -> Vec<Option<XlError>> {
     });
     let mut rows: Vec<(Option<usize>, Vec<String>)> = Vec::new();
     for_each_tag(values, &mut |tag, text| match tag.name {
-        b"rv" => rows.push((
-            std::str::from_utf8(tag.attr("s").unwrap_or_default()).ok().and_then(|s| s.parse().ok()),
-            Vec::new(),
-        )),
+        b"rv" => rows.push((tag.parsed("s"), Vec::new())),
         b"v" => {
             if let Some((_, vs)) = rows.last_mut() {
                 vs.push(unescape(text));

@@ -138,7 +138,7 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
     book.range_names = range_names(&imported.workbook);
 
     let rich_errors = package.rich_errors().map_err(fail)?;
-    let cell_tables = sheet_xml::Tables { string_count: strings.len(), rich_errors: &rich_errors };
+    let lookups = sheet_xml::CellLookups { string_count: strings.len(), rich_errors: &rich_errors };
     let mut grid_slots = 0u64;
     let mut scans = Vec::new();
     let mut legacy_ranges = Vec::new();
@@ -146,7 +146,7 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
         let Some(sheet) = *id else { continue };
         let mut sheet_import = SheetImport::new(sheet, &mut legacy_ranges, &book);
         let part = package.entry(&entry.part).map_err(fail)?;
-        let scan = sheet_xml::read_sheet_ahead(part, cell_tables, &mut grid_slots, &mut |cell| {
+        let scan = sheet_xml::read_sheet_ahead(part, lookups, &mut grid_slots, &mut |cell| {
             sheet_import.cell(&mut imported, &strings, cell);
         })
         .map_err(|e| stream_error(file, &entry.part, e))?;

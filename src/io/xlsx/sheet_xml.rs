@@ -106,7 +106,7 @@ pub const MAX_GRID_SLOTS: u64 = 1 << 27;
 
 /// What the workbook's parts say that a sheet's cells refer to.
 #[derive(Clone, Copy, Default)]
-pub struct Tables<'t> {
+pub struct CellLookups<'t> {
     /// The shared-string table's length, to check each index against.
     pub string_count: usize,
     /// The error each value-metadata entry stands for (`vm="n"`: entry n-1), see
@@ -119,16 +119,11 @@ pub struct Tables<'t> {
 /// sheet's columns are added to it.
 pub fn read_sheet(
     part: impl Read,
-    tables: Tables,
+    lookups: CellLookups,
     grid_slots: &mut u64,
     on_cell: &mut dyn FnMut(CellXml) -> Result<(), ScanError>,
 ) -> Result<SheetScan, xml::StreamError<ScanError>> {
-    let mut scanner = SheetScanner {
-        string_count: tables.string_count,
-        rich_errors: tables.rich_errors,
-        grid_slots: *grid_slots,
-        ..SheetScanner::default()
-    };
+    let mut scanner = SheetScanner { lookups, grid_slots: *grid_slots, ..SheetScanner::default() };
     xml::stream(part, &mut |event| scanner.event(event, on_cell))?;
     *grid_slots = scanner.grid_slots;
     Ok(scanner.scan)
@@ -220,8 +215,7 @@ enum FormulaAttrs {
 
 #[derive(Default)]
 struct SheetScanner<'t> {
-    string_count: usize,
-    rich_errors: &'t [Option<XlError>],
+    lookups: CellLookups<'t>,
     scan: SheetScan,
     /// Next row and column for markup that leaves `r` out.
     row: u32,
@@ -239,7 +233,7 @@ impl SheetScanner<'_> {
     /// The error value metadata `vm` (1-based) stands for, if any.
     fn rich_error(&self, vm: u32) -> Option<XlError> {
         let i = (vm as usize).checked_sub(1)?;
-        self.rich_errors.get(i).copied().flatten()
+        self.lookups.rich_errors.get(i).copied().flatten()
     }
 
     fn event(
@@ -431,9 +425,9 @@ impl SheetScanner<'_> {
             },
             CellType::SharedString if trimmed.is_empty() => return Ok(None),
             CellType::SharedString => match trimmed.parse::<u32>() {
-                Ok(i) if (i as usize) < self.string_count => Stored::SharedString(i),
+                Ok(i) if (i as usize) < self.lookups.string_count => Stored::SharedString(i),
                 _ => {
-                    let count = self.string_count;
+                    let count = self.lookups.string_count;
                     return Err(format!("shared string '{raw}' is not in the table ({count} strings)"));
                 }
             },
@@ -679,7 +673,7 @@ impl Batch {
 /// the longer of the two instead of their sum.
 pub fn read_sheet_ahead(
     part: impl Read + Send,
-    tables: Tables,
+    lookups: CellLookups,
     grid_slots: &mut u64,
     on_cell: &mut dyn FnMut(CellXml),
 ) -> Result<SheetScan, xml::StreamError<ScanError>> {
@@ -688,7 +682,7 @@ pub fn read_sheet_ahead(
     let scan = std::thread::scope(|scope| {
         let scanner = scope.spawn(move || {
             let mut batch = Batch::default();
-            let scan = read_sheet(part, tables, &mut slots, &mut |cell| {
+            let scan = read_sheet(part, lookups, &mut slots, &mut |cell| {
                 batch.push(cell);
                 if batch.cells.len() >= BATCH_CELLS {
                     // Sending fails only when this thread's receiver is gone, after a panic
@@ -724,8 +718,8 @@ mod tests {
         let strings = strings();
         let mut out = Vec::new();
         let mut slots = 0;
-        let tables = Tables { string_count: strings.len(), rich_errors: &[Some(XlError::Calc)] };
-        let scan = read_sheet_ahead(xml.as_bytes(), tables, &mut slots, &mut |c| {
+        let lookups = CellLookups { string_count: strings.len(), rich_errors: &[Some(XlError::Calc)] };
+        let scan = read_sheet_ahead(xml.as_bytes(), lookups, &mut slots, &mut |c| {
             out.push((cell_name(c.pos), c.value.map(|v| v.into_value(&strings)), format!("{:?}", c.formula)));
         });
         match scan {

@@ -33,9 +33,7 @@ pub fn parse_table(xml: &[u8], sheet: SheetId) -> Option<Table> {
     let mut columns = Vec::new();
     for_each_tag(xml, &mut |tag, _| match tag.name {
         b"table" => {
-            let number = |key: &str, default: u32| {
-                tag.attr(key).and_then(|v| std::str::from_utf8(v).ok()?.parse().ok()).unwrap_or(default)
-            };
+            let number = |key: &str, default: u32| tag.parsed(key).unwrap_or(default);
             let name = tag.attr("displayName").or_else(|| tag.attr("name")).map(unescape).unwrap_or_default();
             let rect = tag.attr("ref").and_then(|r| parse_rect(&unescape(r)));
             if let Some(rect) = rect {

@@ -29,6 +29,11 @@ impl<'a> Tag<'a> {
         self.attrs().find(|(name, _)| *name == key.as_bytes()).map(|(_, value)| value)
     }
 
+    /// An attribute read as a number (or anything parsed from text), if it is one.
+    pub fn parsed<T: std::str::FromStr>(&self, key: &str) -> Option<T> {
+        std::str::from_utf8(self.attr(key)?).ok()?.trim().parse().ok()
+    }
+
     /// Each attribute's local name and raw value, in order; stops at malformed text.
     pub fn attrs(&self) -> Attrs<'a> {
         Attrs { rest: self.attrs }
