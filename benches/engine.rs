@@ -1,4 +1,4 @@
-//! ncsheet's engine benchmark: builds the workbooks of `shared/bench/gen_workbooks.py` in
+//! ncsheet's engine benchmark: builds the workbooks of `benches/gen_workbooks.py` in
 //! memory from formula text, computes them, edits one input and checks the results against
 //! the script's expectations. See benches/README.md.
 //!
@@ -18,7 +18,7 @@ use ncsheet::workbook::Workbook;
 const DEFAULT_SIZES: &[&str] = &["chain-100000", "chain-1000000", "grid-100000", "fan-100000"];
 /// gen_workbooks.py, in `shared/` beside the repository.
 fn default_spec() -> String {
-    format!("{}/../shared/bench/gen_workbooks.py", env!("CARGO_MANIFEST_DIR"))
+    format!("{}/benches/gen_workbooks.py", env!("CARGO_MANIFEST_DIR"))
 }
 
 /// The formulas of each grid row, column B to K, as in gen_workbooks.py (`{r}` = row number).

@@ -1,8 +1,8 @@
 //! xlsx import and export benchmark (binary `ncsheet-bench-xlsx`): grid-100000.xlsx as
-//! `../shared/bench/gen_workbooks.py` writes it (openpyxl, formulas only, no cached values).
+//! `benches/gen_workbooks.py` writes it (openpyxl, formulas only, no cached values).
 //!
 //!     pip install openpyxl
-//!     python3 ../shared/bench/gen_workbooks.py --out /tmp/wb grid-100000
+//!     python3 benches/gen_workbooks.py --out /tmp/wb grid-100000
 //!     cargo run --release --bin ncsheet-bench-xlsx -- /tmp/wb/grid-100000.xlsx
 //!
 //! Each figure runs in a child process of its own, so that its peak memory (VmHWM) is its own:

@@ -202,7 +202,7 @@ fn eval_formulas_prints_formulas_as_typed() {
 }
 
 fn corpus(path: &str) -> String {
-    repo(&format!("../shared/excel-corpus/{path}"))
+    repo(&format!("tests/data/excel-corpus/{path}"))
 }
 
 #[test]

@@ -281,7 +281,7 @@ fn every_command_stops_at_its_timeout() {
 
 #[test]
 fn every_corpus_workbook_loads_under_the_memory_cap() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/excel-corpus");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/excel-corpus");
     let mut files = Vec::new();
     for corpus in ["ironcalc", "public"] {
         collect_workbooks(&root.join(corpus), &mut files);

@@ -11,7 +11,7 @@ use common::vba::{olevba, with_stream, xlsm_with_project};
 use ncsheet::vba::project::read_project;
 
 fn corpus(file: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/excel-corpus/public").join(file)
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/excel-corpus/public").join(file)
 }
 
 const SIMPLE: &str = "poi/test-data_spreadsheet_SimpleMacro.xlsm";

@@ -10,7 +10,7 @@ use ncsheet::formula::address::{parse_cell, Pos};
 use ncsheet::workbook::Workbook;
 
 fn corpus(file: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/excel-corpus/public").join(file)
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/excel-corpus/public").join(file)
 }
 
 /// Runs a macro of `file`, saving the workbook after it into `dir`: what it printed and

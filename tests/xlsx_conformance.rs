@@ -1,4 +1,4 @@
-//! Excel conformance: every workbook of the Excel oracle corpus (`../shared/excel-corpus`,
+//! Excel conformance: every workbook of the Excel oracle corpus (`tests/data/excel-corpus`,
 //! see its README) goes through import and recalculation, and each formula result is
 //! compared with the value Excel cached in the file.
 //!
@@ -126,7 +126,7 @@ const KNOWN_UNCOMPARED: &[(&str, &str, &str)] = &[
     ("calc_tests/LOGICAL/IFERROR.xlsx", "Sheet1!E20", "XYZ is no Excel function: #NAME?"),
 ];
 
-/// The public corpus (`../shared/excel-corpus/public`): at least this share of the compared
+/// The public corpus (`tests/data/excel-corpus/public`): at least this share of the compared
 /// results must agree (a ratchet: raise it as causes are fixed).
 const PUBLIC_AGREEMENT_FLOOR: f64 = 0.995;
 
@@ -391,7 +391,7 @@ fn render_public(run: &CorpusRun) -> String {
     let _ = writeln!(out, "\n# Public workbooks\n");
     let _ = writeln!(
         out,
-        "`../shared/excel-corpus/public`: {} Excel-saved workbooks from the test data of public projects, \
+        "`tests/data/excel-corpus/public`: {} Excel-saved workbooks from the test data of public projects, \
          {} loaded and compared ({} refused). Same rules as above.\n",
         run.per_file.len() + run.refused.len(),
         run.per_file.len(),
@@ -430,7 +430,7 @@ fn render(run: &CorpusRun) -> String {
     let _ = writeln!(
         out,
         "Written by `tests/xlsx_conformance.rs` (do not edit): every workbook of the Excel oracle corpus \
-         (`../shared/excel-corpus`, {} files compared) imported, recalculated and compared with the values \
+         (`tests/data/excel-corpus`, {} files compared) imported, recalculated and compared with the values \
          Excel cached. Numbers agree to a relative 1e-9; text, booleans and errors exactly.\n",
         per_file.len()
     );

@@ -1,4 +1,4 @@
-//! Workbooks of the public Excel corpus (`../shared/excel-corpus/public`, saved by Excel)
+//! Workbooks of the public Excel corpus (`tests/data/excel-corpus/public`, saved by Excel)
 //! that exercise one feature each: every formula result must be the value Excel cached.
 //! The whole corpus is compared in `xlsx_conformance.rs`; these name the feature that fails.
 

@@ -1,5 +1,5 @@
-//! Where the Excel oracle corpus is: `../shared/excel-corpus/ironcalc` beside the repository
-//! (as on CI), or `NCSHEET_EXCEL_CORPUS`.
+//! Where the Excel oracle corpora are: vendored under `tests/data/excel-corpus` (README.md there
+//! lists their sources and licences), or `NCSHEET_EXCEL_CORPUS`.
 
 use std::path::PathBuf;
 
@@ -19,11 +19,11 @@ pub fn root() -> Option<PathBuf> {
 pub fn path() -> PathBuf {
     std::env::var_os("NCSHEET_EXCEL_CORPUS")
         .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/excel-corpus/ironcalc")))
+        .unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/excel-corpus/ironcalc")))
 }
 
 /// The public corpus (Excel-saved workbooks from public projects' test data):
-/// `../shared/excel-corpus/public` (beside [`path`]'s folder), or `NCSHEET_EXCEL_PUBLIC_CORPUS`.
+/// `tests/data/excel-corpus/public` (beside [`path`]'s folder), or `NCSHEET_EXCEL_PUBLIC_CORPUS`.
 pub fn public_path() -> PathBuf {
     std::env::var_os("NCSHEET_EXCEL_PUBLIC_CORPUS").map(PathBuf::from).unwrap_or_else(|| {
         let ironcalc = path();
@@ -43,3 +43,12 @@ pub const NOT_FROM_EXCEL: &[&str] = &[
     "openpyxl_example.xlsx",
     "shared_formula_volatile.xlsx",
 ];
+
+/// The Excel 97–2003 corpus (real .xls files Excel saved, with Excel's values in their FORMULA
+/// records): `tests/data/excel-corpus/xls` (beside [`path`]'s folder), or `NCSHEET_EXCEL_XLS_CORPUS`.
+pub fn xls_path() -> PathBuf {
+    std::env::var_os("NCSHEET_EXCEL_XLS_CORPUS").map(PathBuf::from).unwrap_or_else(|| {
+        let ironcalc = path();
+        ironcalc.parent().map_or_else(|| PathBuf::from("xls"), |p| p.join("xls"))
+    })
+}

@@ -1,7 +1,7 @@
 //! Excel itself as the oracle, one formula cell at a time: the harness of the
 //! `tests/excel_corpus_*.rs` tests, which differ only in the [`Suite`] they check.
 //!
-//! The corpus workbooks (see /work/shared/excel-corpus/README.md) were saved by Excel, so
+//! The corpus workbooks (see tests/data/excel-corpus/README.md) were saved by Excel, so
 //! every formula cell caches the value Excel computed. A sheet's cached values are loaded
 //! as constants into a [`MapEnv`]; every formula cell that calls only functions we have and
 //! reads only its own sheet is evaluated on them and compared with its own cached value. A
