@@ -1,5 +1,5 @@
 Attribute VB_Name = "Chamfer"
-' Chamfer coordinates on an NC lathe — the macro Tamul & Olt proposed (DOMAIN.md §1): the
+' Chamfer coordinates on an NC lathe — the macro Tamul & Olt proposed (docs/domain.md §1): the
 ' sheet holds only the inputs and the results, and this macro does the arithmetic.
 '
 ' It reads D, f, alpha, r, eA, eB (shaft diameter, chamfer length along Z, chamfer angle to

@@ -1,5 +1,5 @@
 Attribute VB_Name = "Cycles"
-' Multi-pass turning cycles for old NC lathes (Bondar; DOMAIN.md §2), as macros that emit
+' Multi-pass turning cycles for old NC lathes (Bondar; docs/domain.md §2), as macros that emit
 ' the blocks. Written as the paper writes them: R-parameters, numbered labels, and
 ' "If … Then GoTo Nn". X is a diameter, Z runs along the spindle with the face at Z0.
 '

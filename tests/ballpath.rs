@@ -1,4 +1,4 @@
-//! Ball-end mill paths over surface formulas (DOMAIN.md §3), checked against geometry written
+//! Ball-end mill paths over surface formulas (docs/domain.md §3), checked against geometry written
 //! by hand here: each surface's height and gradient are typed out below, and the distance
 //! from a ball centre to the surface is found by a minimisation of this file's own.
 
@@ -103,7 +103,7 @@ fn surfaces() -> Vec<(Hand, BallPathSpec)> {
             spec(3.0, [-6.0, 6.0], [-6.0, 6.0], 1.5, 0.5),
         ),
         (
-            // The paper's bump 0.3·e^(−16x²−16y²) on the unit square, scaled 50× (DOMAIN.md §3, with
+            // The paper's bump 0.3·e^(−16x²−16y²) on the unit square, scaled 50× (docs/domain.md §3, with
             // the [fix]ed derivative): f = 15·e^(−0.0064(x²+y²)), ∂f/∂x = −0.192·x·e^(…).
             Hand {
                 formula: "15*EXP(-16*((x/50)^2+(y/50)^2))",

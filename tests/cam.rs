@@ -1,4 +1,4 @@
-//! Cam pieces replaced by tangent arcs (DOMAIN.md §5): every requirement of the issue checked
+//! Cam pieces replaced by tangent arcs (docs/domain.md §5): every requirement of the issue checked
 //! on every spiral piece of the paper's design sheet, plus the sheet function, whole cams and
 //! the writers.
 

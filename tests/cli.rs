@@ -1,5 +1,5 @@
 //! The `ncsheet` binary as a user runs it: real files in a temporary folder, real exit codes.
-//! Expected values are worked out by hand or taken from DOMAIN.md, never from our code.
+//! Expected values are worked out by hand or taken from docs/domain.md, never from our code.
 
 mod common;
 
@@ -51,7 +51,7 @@ fn the_chamfer_sheet_reproduces_the_domain_table() {
     let json: serde_json::Map<String, serde_json::Value> = serde_json::from_str(&run.stdout).unwrap();
     let number = |cell: &str| json[&format!("Sheet1!{cell}")].as_f64().unwrap();
     let label = |cell: &str| json[&format!("Sheet1!{cell}")].as_str().unwrap().to_string();
-    // DOMAIN.md §1, outer chamfer, D=40 f=2 r=0.8 eA=eB=1: α=45° in column C, α=30° in D.
+    // docs/domain.md §1, outer chamfer, D=40 f=2 r=0.8 eA=eB=1: α=45° in column C, α=30° in D.
     let expected = [
         ("XA", 28, 44.262742, 42.325982),
         ("ZA", 29, -4.6, -4.6),
@@ -61,8 +61,8 @@ fn the_chamfer_sheet_reproduces_the_domain_table() {
     for (name, row, at45, at30) in expected {
         assert_eq!(label(&format!("B{row}")), name);
         let (c, d) = (number(&format!("C{row}")), number(&format!("D{row}")));
-        assert!((c - at45).abs() < 5e-7, "{name} at 45°: {c}, DOMAIN.md says {at45}");
-        assert!((d - at30).abs() < 5e-7, "{name} at 30°: {d}, DOMAIN.md says {at30}");
+        assert!((c - at45).abs() < 5e-7, "{name} at 45°: {c}, docs/domain.md says {at45}");
+        assert!((d - at30).abs() < 5e-7, "{name} at 30°: {d}, docs/domain.md says {at30}");
     }
 }
 

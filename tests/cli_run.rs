@@ -43,7 +43,7 @@ fn chamfer_macro_cuts_from_t1_to_t2_as_domain_md_computes_them() {
         saved.to_str().unwrap(),
     ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    // The results were written into the workbook (DOMAIN.md §1, outer, α = 45°).
+    // The results were written into the workbook (docs/domain.md §1, outer, α = 45°).
     let wb = ncsheet(&["eval", saved.to_str().unwrap(), "B9:B12", "--format", "csv"]);
     let values: Vec<f64> = String::from_utf8(wb.stdout).unwrap().lines().map(|l| l.parse().unwrap()).collect();
     for (got, want) in values.iter().zip([44.262742, -4.6, 33.062742, 1.0]) {

@@ -252,7 +252,7 @@ fn info_lists_sheets_names_and_macros() {
 #[test]
 fn eval_prints_with_the_cells_number_format_and_raw_in_full() {
     let book = repo("sheets/chamfer.xlsx");
-    // Summary!C5 is XA of the outer chamfer (DOMAIN.md §1: 44.262742), formatted 0.000000.
+    // Summary!C5 is XA of the outer chamfer (docs/domain.md §1: 44.262742), formatted 0.000000.
     let run = ncsheet(&["eval", &book, "Summary!C5"]);
     assert_eq!(run.stdout, "44.262742\n", "{}", run.stderr);
     let run = ncsheet(&["eval", &book, "Summary!C5", "--raw"]);
@@ -301,7 +301,7 @@ fn a_repl_save_keeps_the_files_formats_and_delimiter() {
     let input = format!("alpha=30\nsave {}\nquit\n", out.display());
     let run = ncsheet_with(&["repl", &repo("sheets/chamfer.xlsx"), "--sheet", "Outer"], &input);
     assert_eq!(run.code, 0, "{}", run.stderr);
-    // XA at α = 30° (DOMAIN.md §1: 42.325982), still formatted 0.000000.
+    // XA at α = 30° (docs/domain.md §1: 42.325982), still formatted 0.000000.
     let run = ncsheet(&["eval", out.to_str().unwrap(), "Summary!C5"]);
     assert_eq!(run.stdout, "42.325982\n", "{}", run.stderr);
     let book = write(dir.path(), "eu.csv", "a;0,5\n");

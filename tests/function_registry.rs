@@ -150,7 +150,7 @@ const ALLOWED: &[(&str, &str)] = &[
     ("tests/xlsx_libreoffice.rs", "the functions LibreOffice lacks: a fact about another program"),
     ("tests/proptest_parser.rs", "a sample of names to build random formulas from"),
     ("tests/function_registry.rs", "the registry's facts asserted one by one, and this detector's fixtures"),
-    ("tests/geometry_chamfer_head.rs", "the functions under test, each checked against DOMAIN.md's table"),
+    ("tests/geometry_chamfer_head.rs", "the functions under test, each checked against docs/domain.md's table"),
     (
         "tests/common/excel_oracle.rs",
         "what the harness's one-sheet environment cannot answer (other cells' formulas, the sheet list)",

@@ -1,4 +1,4 @@
-//! Chamfer and 5-axis head built-ins checked against DOMAIN.md's tables and exact geometry.
+//! Chamfer and 5-axis head built-ins checked against docs/domain.md's tables and exact geometry.
 
 use nalgebra::{Point3, Vector3};
 use ncsheet::eval::testing::MapEnv;
@@ -11,7 +11,7 @@ fn spec(kind: ChamferKind, d: f64, f: f64, alpha: f64, r: f64, ea: f64, eb: f64)
     ChamferSpec { kind, diameter: d, length: f, angle_deg: alpha, nose_radius: r, clearance_a: ea, clearance_b: eb }
 }
 
-/// DOMAIN.md §1, "Worked values from these formulas".
+/// docs/domain.md §1, "Worked values from these formulas".
 const DOMAIN_TABLE: [(&str, [f64; 6], [f64; 4]); 4] = [
     ("outer", [40.0, 2.0, 45.0, 0.8, 1.0, 1.0], [44.262742, -4.6, 33.062742, 1.0]),
     ("outer", [40.0, 2.0, 30.0, 0.8, 1.0, 1.0], [42.325982, -4.6, 35.859659, 1.0]),
@@ -153,7 +153,7 @@ proptest! {
     }
 }
 
-/// DOMAIN.md §4, table T8.1.4: sphere R = 100, parallel z_T = 95, H = 400.
+/// docs/domain.md §4, table T8.1.4: sphere R = 100, parallel z_T = 95, H = 400.
 #[test]
 fn head_reproduces_table_t8_1_4() {
     let rows = [
@@ -184,7 +184,7 @@ fn invalid_geometry_is_an_error_value_with_a_message() {
         ("=CHAMFER_XA(\"outer\",40,0,45,0.8,1,1)", XlError::Num),
         ("=CHAMFER_ZB(\"blind\",20,-2,45,0.8,0,1)", XlError::Num),
         ("=CHAMFER_XA(\"outer\",4,3,45,0.8,1,1)", XlError::Num),
-        // DOMAIN.md's formula 13 gives XB = 12 − 2(3·tan 60° + (3.4·tan 60° − 2.4/sin 30°) + 2.4)
+        // docs/domain.md's formula 13 gives XB = 12 − 2(3·tan 60° + (3.4·tan 60° − 2.4/sin 30°) + 2.4)
         // = −5.370: a tip past the spindle axis, which no program may get.
         ("=CHAMFER_XB(\"outer\",12,3,60,2.4,1,1)", XlError::Num),
         ("=CHAMFER(\"outer\",12,3,60,2.4,1,1)", XlError::Num),

@@ -1,9 +1,9 @@
 //! Backplots of the shipped examples (issue 15): the chamfer program of sheets/chamfer.bas,
-//! the cam program of sheets/cam-turret.csv and the ball path over DOMAIN.md §3's bump, each
+//! the cam program of sheets/cam-turret.csv and the ball path over docs/domain.md §3's bump, each
 //! drawn by `ncsheet nc plot` and rendered to PNG by rsvg-convert (librsvg). The drawn pixels
 //! of the feed (solid blue) and rapid (dashed red) lines must span the box of the path computed
 //! here from the program text by a separate reading (arcs sampled every 0.01°), and the chamfer
-//! program's cut must be DOMAIN.md §1's table row.
+//! program's cut must be docs/domain.md §1's table row.
 
 mod common;
 
@@ -280,12 +280,15 @@ fn backplots_of_the_shipped_examples_span_their_paths() {
     let d = dir.path();
     let at = Invocation { dir: Some(d), ..Invocation::default() };
 
-    // The paper's macro on the paper's workbook: DOMAIN.md §1's outer chamfer.
+    // The paper's macro on the paper's workbook: docs/domain.md §1's outer chamfer.
     let args = common::cli::outer_chamfer("iso", "chamfer.nc");
     let run = at.run(&args.iter().map(String::as_str).collect::<Vec<_>>());
     assert_eq!(run.code, 0, "{}", run.stderr);
     let text = std::fs::read_to_string(d.join("chamfer.nc")).unwrap();
-    assert!(text.contains("X44.263 Z-4.6") && text.contains("X33.063 Z1."), "the chamfer cut of DOMAIN.md §1:\n{text}");
+    assert!(
+        text.contains("X44.263 Z-4.6") && text.contains("X33.063 Z1."),
+        "the chamfer cut of docs/domain.md §1:\n{text}"
+    );
     check_backplot(d, "chamfer", true, None);
 
     let run =

@@ -169,7 +169,7 @@ fn the_shipped_examples_are_clean() {
     let run = at.run(&args.iter().map(String::as_str).collect::<Vec<_>>());
     assert_eq!(run.code, 0, "{}", run.stderr);
     for (file, dialect, extra) in [
-        // DOMAIN.md §1's shaft: Ø40, its end face at Z0 (Y is not used on a lathe).
+        // docs/domain.md §1's shaft: Ø40, its end face at Z0 (Y is not used on a lathe).
         ("chamfer.nc", "iso", vec!["--stock", "0,0,-60,40,1,0"]),
         ("chamfer.ngc", "linuxcnc", vec!["--stock", "0,0,-60,40,1,0"]),
         // The disc (radius up to 114 mm), 12 mm thick under Z0.

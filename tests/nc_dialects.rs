@@ -255,7 +255,7 @@ proptest! {
     }
 }
 
-/// NC31 (DOMAIN.md §2: `N002 X34 Z-60 E`) moves X and Z only, and writes no cutter
+/// NC31 (docs/domain.md §2: `N002 X34 Z-60 E`) moves X and Z only, and writes no cutter
 /// compensation, constant surface speed, feed per minute or offset other than the tool's own:
 /// each is refused naming the block, never written as words it does not read nor left out.
 #[test]

@@ -1,12 +1,13 @@
 //! NC programs as a control runs them (issue 15): the DDA interpolator against the paper's
-//! table T8.1.1 (DOMAIN.md §4).
+//! table T8.1.1 (docs/domain.md §4).
 
 use std::process::Command;
 
 use ncsheet::nc::dda;
 
-/// Table T8.1.1 of Glavonjić (`../shared/seeds/003_01afb1c580101bdc.txt`), typed from the
-/// paper: n = 4, δx = 16, δy = 8; per clock (X p, X q after, X pulse, Y p, Y q after, Y pulse).
+/// Table T8.1.1 of Glavonjić's course notes *Upravljanje i programiranje mašina alatki*
+/// (University of Belgrade; docs/domain.md §4), typed from the paper: n = 4, δx = 16, δy = 8;
+/// per clock (X p, X q after, X pulse, Y p, Y q after, Y pulse).
 const T8_1_1: [(u64, u64, u64, u64, u64, u64, u64); 16] = [
     (1, 16, 0, 1, 8, 8, 0),
     (2, 16, 0, 1, 8, 0, 1),

@@ -1,4 +1,4 @@
-//! `ncsheet post`: APT cutter-location files posted for an (A,B) head (DOMAIN.md §4), checked
+//! `ncsheet post`: APT cutter-location files posted for an (A,B) head (docs/domain.md §4), checked
 //! against the paper's table T8.1.4, against tool paths OpenCAMLib computes, and read back by
 //! LinuxCNC's rs274.
 
@@ -10,7 +10,7 @@ use std::process::Command;
 use common::cli::{ncsheet, Run};
 use common::rs274;
 
-/// Table T8.1.4 (DOMAIN.md §4): sphere R = 100 at the origin, parallel z_T = 95, H = 400.
+/// Table T8.1.4 (docs/domain.md §4): sphere R = 100 at the origin, parallel z_T = 95, H = 400.
 /// (φ, x_T, y_T, a_x, a_y, a_z, X, Y, Z, A, B) as printed there.
 const T8_1_4: [[f64; 11]; 3] = [
     [0.0, 31.224989992, 0.0, 0.31224989992, 0.0, 0.95, 156.125, 0.0, 75.0, 0.0, 18.195],
@@ -19,7 +19,7 @@ const T8_1_4: [[f64; 11]; 3] = [
 ];
 
 /// The whole parallel at 45° steps: the table's three rows, the others by the sphere's
-/// symmetry (DOMAIN.md: "the other angles follow from these three"): mirroring y negates y,
+/// symmetry (docs/domain.md: "the other angles follow from these three"): mirroring y negates y,
 /// a_y and A; mirroring x negates x, a_x and B.
 fn parallel() -> Vec<[f64; 11]> {
     let [r0, r45, r90] = T8_1_4;
@@ -41,7 +41,8 @@ fn parallel() -> Vec<[f64; 11]> {
 }
 
 fn sphere_cl() -> String {
-    let mut cl = String::from("PARTNO SPHERE PARALLEL\n$$ DOMAIN.md table T8.1.4\nLOADTL/1\nSPINDL/RPM,2000,CLW\n");
+    let mut cl =
+        String::from("PARTNO SPHERE PARALLEL\n$$ docs/domain.md table T8.1.4\nLOADTL/1\nSPINDL/RPM,2000,CLW\n");
     cl.push_str("FEDRAT/300,MMPM\n");
     for r in parallel() {
         cl.push_str(&format!("GOTO/{},{},95.0,$\n     {},{},{}\n", r[1], r[2], r[3], r[4], r[5]));
@@ -430,7 +431,7 @@ fn a_tool_length_in_the_table_does_not_move_the_posted_pivot() {
         let rows = parallel();
         assert_eq!(cuts.len(), rows.len(), "{dialect}: {cuts:?}");
         for (([x, y, z], offset), r) in cuts.iter().zip(&rows) {
-            // DOMAIN.md §4: the pivot X = x_T + H·a_x, Y = y_T + H·a_y, Z = z_T + H·(a_z − 1).
+            // docs/domain.md §4: the pivot X = x_T + H·a_x, Y = y_T + H·a_y, Z = z_T + H·(a_z − 1).
             let pivot = [r[1] + h * r[3], r[2] + h * r[4], 95.0 + h * (r[5] - 1.0)];
             let spindle = [*x, *y, z + offset];
             assert_eq!(*offset, 0.0, "{dialect}: the table's 50 mm is applied at φ = {}", r[0]);

@@ -1,5 +1,5 @@
 //! The example sheets a user runs first, computed by the real binary and checked against
-//! DOMAIN.md's tables.
+//! docs/domain.md's tables.
 
 use std::process::Command;
 
@@ -19,7 +19,7 @@ fn number(m: &serde_json::Map<String, serde_json::Value>, cell: &str) -> f64 {
     m.get(&format!("Sheet1!{cell}")).and_then(|v| v.as_f64()).unwrap_or_else(|| panic!("{cell} is not a number"))
 }
 
-/// Table T8.1.4 (DOMAIN.md §4), printed to 3 decimals: rows φ = 0°, 45°, 90°.
+/// Table T8.1.4 (docs/domain.md §4), printed to 3 decimals: rows φ = 0°, 45°, 90°.
 #[test]
 fn sphere_5axis_reproduces_table_t8_1_4() {
     let m = eval_json("sphere-5axis.csv");
@@ -39,7 +39,7 @@ fn sphere_5axis_reproduces_table_t8_1_4() {
     assert_eq!(number(&m, "A30"), 360.0);
 }
 
-/// DOMAIN.md §1's worked values, to 1e-6 mm.
+/// docs/domain.md §1's worked values, to 1e-6 mm.
 #[test]
 fn chamfer_builtin_reproduces_the_domain_table() {
     let m = eval_json("chamfer-builtin.csv");

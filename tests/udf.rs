@@ -51,12 +51,12 @@ fn number(wb: &Workbook, cell: &str) -> f64 {
 
 const STANDARD: ModuleKind = ModuleKind::Standard;
 
-/// DOMAIN.md §1, formula 2: A'C = r / sin β with β = π/2 − α·π/180, the distance from the
+/// docs/domain.md §1, formula 2: A'C = r / sin β with β = π/2 − α·π/180, the distance from the
 /// nose centre's corner to the chamfer line along X for nose radius r at chamfer angle α.
 const NOSE_BAS: &str = "Attribute VB_Name = \"Nose\"\r\n\
 Option Explicit\r\n\
 \r\n\
-' DOMAIN.md section 1, formula 2: A'C = r / sin(beta), beta = pi/2 - alpha*pi/180\r\n\
+' docs/domain.md section 1, formula 2: A'C = r / sin(beta), beta = pi/2 - alpha*pi/180\r\n\
 Public Function NOSE_OFFSET(r As Double, alpha As Double) As Double\r\n\
     Dim beta As Double\r\n\
     beta = 3.14159265358979 / 2 - alpha * 3.14159265358979 / 180\r\n\

@@ -138,7 +138,7 @@ fn exit_sub_and_exit_function() {
 
 #[test]
 fn goto_and_labels_as_the_papers_cycles_are_written() {
-    // DOMAIN.md §2: numbered blocks with IF … THEN GOTO Nn.
+    // docs/domain.md §2: numbered blocks with IF … THEN GOTO Nn.
     let body = "    Dim x\n    x = 0\nN10:\n    x = x + 1\n    If x < 5 Then GoTo N10\n    Debug.Print \"\" & x\n\
                 \x20   GoTo 100\n    Debug.Print \"skipped\"\n100 Debug.Print \"line 100\"\n\
                 \x20   For x = 1 To 10\n        If x = 3 Then GoTo Done\n    Next\nDone:\n    Debug.Print \"left at \" & x";
@@ -236,7 +236,7 @@ fn sheet_functions_are_callable_with_or_without_worksheetfunction() {
     assert_eq!(value("Application.WorksheetFunction.Sum(1, 2, 3)"), n(6.0));
     assert_eq!(value("WorksheetFunction.Max(4, 9, 2)"), n(9.0));
     assert_eq!(value("SUM(1, 2) + Atan2(1, 1) * 0"), n(3.0));
-    // DOMAIN.md §1, outer chamfer D=40 f=2 α=45 r=0.8 eA=eB=1: XA = 44.262742.
+    // docs/domain.md §1, outer chamfer D=40 f=2 α=45 r=0.8 eA=eB=1: XA = 44.262742.
     assert_eq!(value("Round(CHAMFER_XA(\"outer\", 40, 2, 45, 0.8, 1, 1), 6)"), n(44.262742));
     // Excel's ROUND rounds halves away from zero, VBA's Round to even.
     assert_eq!(value("WorksheetFunction.Round(2.5, 0)"), n(3.0));

@@ -1,5 +1,5 @@
-//! The example macros in sheets/: chamfer.bas against DOMAIN.md §1's table, and the cycles of
-//! DOMAIN.md §2 checked from the moves LinuxCNC's rs274 interpreter reads in their programs,
+//! The example macros in sheets/: chamfer.bas against docs/domain.md §1's table, and the cycles of
+//! docs/domain.md §2 checked from the moves LinuxCNC's rs274 interpreter reads in their programs,
 //! not from our own text.
 
 mod common;
@@ -49,13 +49,13 @@ fn results(wb: &Workbook) -> [f64; 4] {
 
 fn assert_close(got: [f64; 4], want: [f64; 4], what: &str) {
     for (g, w) in got.iter().zip(want) {
-        assert!((g - w).abs() < 5e-7, "{what}: got {got:?}, DOMAIN.md says {want:?}");
+        assert!((g - w).abs() < 5e-7, "{what}: got {got:?}, docs/domain.md says {want:?}");
     }
 }
 
 #[test]
 fn chamfer_macro_writes_the_domain_values_into_the_named_cells() {
-    // DOMAIN.md §1, worked values (XA, ZA, XB, ZB) for the outer chamfer.
+    // docs/domain.md §1, worked values (XA, ZA, XB, ZB) for the outer chamfer.
     let table = [
         ([40.0, 2.0, 45.0, 0.8, 1.0, 1.0], [44.262742, -4.6, 33.062742, 1.0]),
         ([40.0, 2.0, 30.0, 0.8, 1.0, 1.0], [42.325982, -4.6, 35.859659, 1.0]),
@@ -130,7 +130,7 @@ fn chamfer_program_read_by_rs274_cuts_from_t1_to_t2() {
     let feeds: Vec<usize> = (0..moves.len()).filter(|&i| matches!(moves[i], Move::Feed { .. })).collect();
     assert_eq!(feeds.len(), 2, "in to T1 and along the chamfer: {moves:?}");
     let cut = feeds[1];
-    // T1: XA 44.262742 is radius 22.131371, ZA -4.6; T2: XB 33.062742, ZB 1 (DOMAIN.md §1).
+    // T1: XA 44.262742 is radius 22.131371, ZA -4.6; T2: XB 33.062742, ZB 1 (docs/domain.md §1).
     assert!(matches!(moves[cut - 2], Move::Traverse { .. }), "approach by rapid: {moves:?}");
     assert!(near(end(&moves[cut - 1]), (-4.6, 22.131371)), "T1: {:?}", moves[cut - 1]);
     assert!(near(end(&moves[cut]), (1.0, 16.531371)), "T2: {:?}", moves[cut]);
@@ -138,7 +138,7 @@ fn chamfer_program_read_by_rs274_cuts_from_t1_to_t2() {
 }
 
 /// The finished part near a chamfer as segments ((z, r), (z, r)) with r a radius, drawn from
-/// the inputs alone: the chamfer runs f along Z and f·tan α in radius (DOMAIN.md §1's
+/// the inputs alone: the chamfer runs f along Z and f·tan α in radius (docs/domain.md §1's
 /// corrected model); an outer chamfer joins the shaft and the face, a pipe chamfer the bore
 /// and the face, a blind one the bore's flat bottom at Z −f and the face.
 fn chamfer_contour(kind: &str, [d, f, alpha, ..]: [f64; 6]) -> Vec<((f64, f64), (f64, f64))> {
@@ -158,7 +158,7 @@ fn distance_to_segment(p: (f64, f64), (a, b): ((f64, f64), (f64, f64))) -> f64 {
 
 /// How far the insert's nose is from the part when the theoretical tip is at (z, radius):
 /// the nose centre is r above the tip in Z, and r outward (outer tool) or inward (boring
-/// tool) in radius (DOMAIN.md §1).
+/// tool) in radius (docs/domain.md §1).
 fn nose_clearance(kind: &str, inputs: [f64; 6], (z, x): (f64, f64)) -> f64 {
     let r = inputs[3];
     let centre = if kind == "outer" { (z + r, x + r) } else { (z + r, x - r) };
@@ -167,7 +167,7 @@ fn nose_clearance(kind: &str, inputs: [f64; 6], (z, x): (f64, f64)) -> f64 {
 
 #[test]
 fn chamfer_rapids_never_end_within_the_clearance_of_the_part() {
-    // DOMAIN.md §1's four worked cases and a few more angles and clearances; the macro's
+    // docs/domain.md §1's four worked cases and a few more angles and clearances; the macro's
     // default clearance is 1 mm.
     let cases = [
         ("outer", [40.0, 2.0, 45.0, 0.8, 1.0, 1.0]),
@@ -357,7 +357,7 @@ fn l16_zigzag_alternates_and_stops_at_the_allowance() {
     assert!((cuts.last().unwrap().0 - floor).abs() < TOL, "the last pass is at X + A: {cuts:?}");
 }
 
-/// The L17/L03 finish contour, as a radius at z (DOMAIN.md §2's L03 for the example part).
+/// The L17/L03 finish contour, as a radius at z (docs/domain.md §2's L03 for the example part).
 fn contour(z: f64) -> f64 {
     if z >= -10.0 {
         10.0

@@ -92,7 +92,7 @@ fn an_imported_macro_reads_back_as_its_bas_file() {
 }
 
 /// The imported macro runs from the workbook itself: LinuxCNC's rs274 reads the program it
-/// writes, and the chamfer cut goes from T1 to T2 of DOMAIN.md §1's table (outer, α = 45°).
+/// writes, and the chamfer cut goes from T1 to T2 of docs/domain.md §1's table (outer, α = 45°).
 #[test]
 fn the_workbooks_own_chamfer_macro_runs_from_the_file() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -121,7 +121,7 @@ fn the_workbooks_own_chamfer_macro_runs_from_the_file() {
     assert_cuts_the_first_chamfer(&program);
 }
 
-/// rs274 reads `program` as the cut of DOMAIN.md §1's first row (outer, D 40, f 2, α 45°,
+/// rs274 reads `program` as the cut of docs/domain.md §1's first row (outer, D 40, f 2, α 45°,
 /// r 0.8, eA = eB = 1): a feed to T1, then along the chamfer to T2.
 fn assert_cuts_the_first_chamfer(program: &Path) {
     if !common::rs274::available() {
@@ -199,7 +199,7 @@ fn vba_project_of(file: &Path) -> ncsheet::vba::project::VbaProject {
 /// with the same text as in the original and the new one with the .bas file's; ncsheet reads
 /// the same; every other part of the package is the original's; the original is untouched;
 /// and the macro runs from the new file (its inputs typed into B2:B7 of the first sheet, the
-/// fixed layout chamfer.bas reads) to the program rs274 reads as DOMAIN.md §1's first cut.
+/// fixed layout chamfer.bas reads) to the program rs274 reads as docs/domain.md §1's first cut.
 #[test]
 fn chamfer_imports_into_every_excel_project_keeping_its_modules() {
     let dir = tempfile::tempdir().unwrap();
@@ -259,7 +259,7 @@ fn chamfer_imports_into_every_excel_project_keeping_its_modules() {
             program.to_str().unwrap(),
         ]);
         assert_eq!(ran.code, 0, "{}: {}", file.display(), ran.stderr);
-        // DOMAIN.md §1's first row, as the macro prints it.
+        // docs/domain.md §1's first row, as the macro prints it.
         assert!(ran.stderr.contains("XA=44.263 ZA=-4.600 XB=33.063 ZB=1.000"), "{}: {}", file.display(), ran.stderr);
         assert_cuts_the_first_chamfer(&program);
     }

@@ -1,4 +1,4 @@
-//! `sheets/chamfer.xlsx`: the chamfer model of DOMAIN.md §1 as its authors would have built
+//! `sheets/chamfer.xlsx`: the chamfer model of docs/domain.md §1 as its authors would have built
 //! it in Excel. One sheet per chamfer kind with named inputs (sheet-scoped `D`, `f`,
 //! `alpha`, `r_`, `eA`, `eB`: Excel reserves the name `r`), one cell per formula of the
 //! paper with its number beside it, the results XA ZA XB ZB, and a summary sheet. Standard
@@ -6,7 +6,7 @@
 //!
 //! The builder here makes the workbook with ncsheet and writes it with our xlsx writer when
 //! asked (`NCSHEET_WRITE_SHEETS=1`). The committed file is checked against the paper's
-//! formulas and DOMAIN.md's values, and by LibreOffice.
+//! formulas and docs/domain.md's values, and by LibreOffice.
 
 mod common;
 
@@ -81,7 +81,7 @@ const KINDS: [Kind; 3] = [
         diameter: "bore diameter Ds",
         d: 30.0,
         e_a: 1.0,
-        note: "The paper's inner-chamfer formulas hold at α = 45° (DOMAIN.md §1).",
+        note: "The paper's inner-chamfer formulas hold at α = 45° (docs/domain.md §1).",
         steps: &[
             &INNER_A,
             &[
@@ -100,7 +100,7 @@ const KINDS: [Kind; 3] = [
         diameter: "bore diameter Ds",
         d: 20.0,
         e_a: 0.0,
-        note: "The paper's inner-chamfer formulas hold at α = 45° (DOMAIN.md §1); eA = 0 here.",
+        note: "The paper's inner-chamfer formulas hold at α = 45° (docs/domain.md §1); eA = 0 here.",
         steps: &[
             &INNER_A,
             &[("19", "XA", "=(D-2*{A'C})+2*r_", "XA = (Ds − 2·A'C) + 2r"), F_PRIME, ("20", "ZA", "=-{f'}", "ZA = −f'")],
@@ -110,7 +110,7 @@ const KINDS: [Kind; 3] = [
     },
 ];
 
-/// DOMAIN.md §1 worked values: (sheet, XA, ZA, XB, ZB).
+/// docs/domain.md §1 worked values: (sheet, XA, ZA, XB, ZB).
 const DOMAIN_TABLE: [(&str, f64, f64, f64, f64); 3] = [
     ("Outer", 44.262742, -4.6, 33.062742, 1.0),
     ("Pipe", 28.937258, -3.0, 36.937258, 1.0),
@@ -228,12 +228,12 @@ fn number(v: &Value) -> f64 {
     }
 }
 
-/// Asserts the results of each kind's sheet, read by `value(sheet, cell)`, match DOMAIN.md.
+/// Asserts the results of each kind's sheet, read by `value(sheet, cell)`, match docs/domain.md.
 fn assert_domain_table(who: &str, value: &dyn Fn(&str, &str) -> Value) {
     for (sheet, xa, za, xb, zb) in DOMAIN_TABLE {
         for ((name, cell), want) in RESULTS.iter().zip([xa, za, xb, zb]) {
             let got = number(&value(sheet, cell));
-            assert!((got - want).abs() < 5e-7, "{who}: {sheet} {name} is {got}, DOMAIN.md says {want}");
+            assert!((got - want).abs() < 5e-7, "{who}: {sheet} {name} is {got}, docs/domain.md says {want}");
         }
     }
 }
@@ -248,7 +248,7 @@ fn ncsheet_computes_the_domain_table() {
 }
 
 /// The shipped file holds the paper's formulas (as the builder above spells them) and, both
-/// cached in the file and recomputed from it, DOMAIN.md's values. The file is written only
+/// cached in the file and recomputed from it, docs/domain.md's values. The file is written only
 /// when asked (`NCSHEET_WRITE_SHEETS=1`): a missing file fails, it is never made to pass.
 #[test]
 fn the_committed_sheet_holds_the_papers_formulas_and_domain_values() {

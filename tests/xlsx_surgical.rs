@@ -885,7 +885,7 @@ fn the_chamfer_macro_writes_over_no_input_and_no_formula_of_the_papers_workbook(
     assert_eq!((sha256(&xlsx), sha256(&bas)), before);
     let saved = io::load(&d.join("s.xlsx")).unwrap();
     let outer = saved.sheet_id("Outer").unwrap();
-    // DOMAIN.md §1's outer row: D 40, f 2, α 45, r 0.8, eA 1, eB 1 → XA … ZB.
+    // docs/domain.md §1's outer row: D 40, f 2, α 45, r 0.8, eA 1, eB 1 → XA … ZB.
     for (cell, want) in [("B6", 40.0), ("B9", 0.8), ("B10", 1.0), ("B11", 1.0)] {
         let pos = ncsheet::formula::address::parse_cell(cell).unwrap();
         assert_eq!(saved.value(outer, pos), Value::Number(want), "Outer!{cell}");
@@ -923,7 +923,7 @@ fn prefixed(xml: &str) -> String {
 
 /// A workbook whose workbook and worksheet parts use a namespace prefix saves surgically:
 /// the edited cell is written with the part's prefix, every other part is kept byte for
-/// byte, and the dependents compute DOMAIN.md §1's values (LibreOffice too, when present).
+/// byte, and the dependents compute docs/domain.md §1's values (LibreOffice too, when present).
 #[test]
 fn a_workbook_with_prefixed_parts_saves_surgically() {
     let dir = tempfile::tempdir().unwrap();

@@ -1,5 +1,5 @@
 //! `ncsheet ballpath`: a ball-end mill's finishing path over a surface formula, written as csv
-//! or as an NC program (DOMAIN.md §3). The path itself is `geometry::ballpath`, run on the
+//! or as an NC program (docs/domain.md §3). The path itself is `geometry::ballpath`, run on the
 //! formula by `eval::functions::formula_ball_path`; this is flags, output and timing.
 
 use std::fmt::Write as _;

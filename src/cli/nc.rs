@@ -1,4 +1,4 @@
-//! `ncsheet nc …`: NC programs as a control runs them (DOMAIN.md §4): the DDA interpolator's
+//! `ncsheet nc …`: NC programs as a control runs them (docs/domain.md §4): the DDA interpolator's
 //! table for one straight move, and a program's cycle time block by block (`nc plot` and
 //! `nc check` are in `nc_plot.rs` and `nc_check.rs`).
 

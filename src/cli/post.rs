@@ -1,5 +1,5 @@
 //! `ncsheet post`: an APT cutter-location file posted for a 5-axis mill with an (A,B) head
-//! (DOMAIN.md §4). Reading is `nc::apt`, the kinematics `nc::post`; this is flags and files.
+//! (docs/domain.md §4). Reading is `nc::apt`, the kinematics `nc::post`; this is flags and files.
 
 use std::path::{Path, PathBuf};
 
@@ -75,7 +75,7 @@ pub struct PostArgs {
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum MachineKind {
-    /// A 5-axis mill whose head tilts by A about X, then by B about Y (DOMAIN.md §4)
+    /// A 5-axis mill whose head tilts by A about X, then by B about Y (docs/domain.md §4)
     AbHead,
 }
 

@@ -1,4 +1,4 @@
-//! Ball-end mill finishing path over a surface z = f(x, y) (DOMAIN.md §3, Král's EqCAM).
+//! Ball-end mill finishing path over a surface z = f(x, y) (docs/domain.md §3, Král's EqCAM).
 //!
 //! Zig-zag raster over a rectangle: lines of constant x (or y) at x0 + k·stepover, the last one
 //! on x1 (so the last stepover may be shorter), each running the full width with both edges
@@ -9,7 +9,7 @@
 //!
 //! At each contact point T = (x, y, f) the ball touches the surface; its centre is
 //! C = T + R·n̂ with the *outward* normal n̂ = (−f_x, −f_y, 1)/√(1 + f_x² + f_y²) (the paper
-//! prints the inward gradient and wrong partial derivatives: DOMAIN.md [fix]). The tip, the
+//! prints the inward gradient and wrong partial derivatives: docs/domain.md [fix]). The tip, the
 //! lowest point of the ball, is C − (0, 0, R).
 //!
 //! Gouge check: a ball placed by its contact point may still cut the surface elsewhere (a

@@ -1,4 +1,4 @@
-//! Cam discs for automatic lathes (DOMAIN.md §5, Gulyás & Nyitrai): spiral pieces, their
+//! Cam discs for automatic lathes (docs/domain.md §5, Gulyás & Nyitrai): spiral pieces, their
 //! replacement by tangent arcs within a tolerance, whole cams from a design sheet, and the
 //! texts a mill and a designer need (coordinate table, NC program, drawing).
 //!

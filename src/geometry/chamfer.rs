@@ -1,5 +1,5 @@
 //! Start and end points of a chamfer cut on a lathe, with the insert's nose radius
-//! compensated (DOMAIN.md §1, Tamul & Olt).
+//! compensated (docs/domain.md §1, Tamul & Olt).
 //!
 //! Coordinates in the lathe's (Z, X) plane: Z along the spindle axis with the part's face
 //! at Z = 0 and material at Z < 0; X radial. Results give X as a diameter.
@@ -30,7 +30,7 @@
 //! This equals the paper's formulas 1–14 for the outer chamfer at every α, and formulas
 //! 15–23 for inner chamfers at 45°. At other angles the paper's inner T1 uses f·tan α as
 //! the axial depth (ZA = −f′), which contradicts its own T2; here the chamfer is defined
-//! once, so ZA = −(f + eA) for a pipe and −f for a blind bore (DOMAIN.md [fix]).
+//! once, so ZA = −(f + eA) for a pipe and −f for a blind bore (docs/domain.md [fix]).
 
 use nalgebra::{Point2, Vector2};
 

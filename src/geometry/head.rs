@@ -1,4 +1,4 @@
-//! The (A, B) swivel head of a 5-axis mill (DOMAIN.md §4, Glavonjić, table T8.1.4).
+//! The (A, B) swivel head of a 5-axis mill (docs/domain.md §4, Glavonjić, table T8.1.4).
 //!
 //! The head tilts by A about X, then by B about Y, so the tool axis is
 //! a = R_Y(B)·R_X(A)·k = (cos A·sin B, −sin A, cos A·cos B). Given a tool axis the angles are

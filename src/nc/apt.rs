@@ -1,4 +1,4 @@
-//! APT cutter-location files (CLF, DOMAIN.md §4): what a CAM system writes for a
+//! APT cutter-location files (CLF, docs/domain.md §4): what a CAM system writes for a
 //! post-processor. Read from text into [`ClRecord`]s and written back, no file IO.
 //!
 //! A record is `WORD/arg,arg,…` (or a bare `WORD`); a line ending in `$` continues on the

@@ -1,4 +1,4 @@
-//! The milling program of a ball-end mill's finishing path (DOMAIN.md §3), built on the NC
+//! The milling program of a ball-end mill's finishing path (docs/domain.md §3), built on the NC
 //! model so that any milling dialect writes it: to the clearance height, above the first
 //! point, down at the feed, along each raster line; the link to the next line cuts unless
 //! the options ask for a retract.

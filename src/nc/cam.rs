@@ -1,4 +1,4 @@
-//! The milling program of a fitted cam (DOMAIN.md §5), built on the NC model so that any
+//! The milling program of a fitted cam (docs/domain.md §5), built on the NC model so that any
 //! milling dialect writes it: a radial lead-in from outside the profile, every arc as a
 //! circular move, straight moves across the gaps and steps of a partial cam, a radial
 //! lead-out.

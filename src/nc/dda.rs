@@ -1,4 +1,4 @@
-//! The DDA linear interpolator of DOMAIN.md §4 (Glavonjić, table T8.1.1), exactly as the
+//! The DDA linear interpolator of docs/domain.md §4 (Glavonjić, table T8.1.1), exactly as the
 //! control runs it: integer registers, one n-bit adder per axis, a pulse of one machine
 //! increment whenever the adder overflows. Every clock each axis adds its register p (the
 //! move's length in increments) to its register q; when the sum reaches 2ⁿ, 2ⁿ is taken off
@@ -177,7 +177,7 @@ fn radius(p: (i64, i64)) -> f64 {
     (p.0 as f64).hypot(p.1 as f64)
 }
 
-/// Circular interpolation by the same adders (DOMAIN.md §4): the circle x = R·cos θ,
+/// Circular interpolation by the same adders (docs/domain.md §4): the circle x = R·cos θ,
 /// y = R·sin θ moves as dx = −y·dθ, dy = x·dθ (counter-clockwise), so the X adder's register
 /// p holds |y| and the Y adder's |x|, each taken again from the position after every pulse:
 /// two integrators feeding each other. The step's sign is the derivative's (−sign y and

@@ -1,4 +1,4 @@
-//! The APT post-processor for a 5-axis mill with an (A,B) swivel head (DOMAIN.md §4,
+//! The APT post-processor for a 5-axis mill with an (A,B) swivel head (docs/domain.md §4,
 //! Glavonjić): each cutter-location record becomes a block of the one program model.
 //!
 //! A GOTO's tool axis gives the head angles and the pivot through `geometry::head::head_ab`
@@ -381,7 +381,7 @@ impl<'a> Post<'a> {
         Ok(Pose { tip, axis: axis.normalize(), a, b })
     }
 
-    /// The programmed pivot and angles: pivot = tip + H·a − H·k (DOMAIN.md §4).
+    /// The programmed pivot and angles: pivot = tip + H·a − H·k (docs/domain.md §4).
     fn target(&self, pose: &Pose) -> Target {
         let p = pivot(pose.tip, pose.axis, self.o.head.pivot);
         Target { x: Some(p.x), y: Some(p.y), z: Some(p.z), a: Some(pose.a), b: Some(pose.b), c: None }

@@ -79,7 +79,7 @@ pub fn bump_ballpath(stepover: &str, step: &str, gouge: &str) -> Vec<String> {
 }
 
 /// `ncsheet run` of the paper's macro on the paper's workbook (`sheets/chamfer.bas` on
-/// `sheets/chamfer.xlsx`, sheet Outer: DOMAIN.md §1's outer chamfer) in `dialect` to `out`.
+/// `sheets/chamfer.xlsx`, sheet Outer: docs/domain.md §1's outer chamfer) in `dialect` to `out`.
 pub fn outer_chamfer(dialect: &str, out: &str) -> Vec<String> {
     let sheet = |name: &str| format!("{}/sheets/{name}", env!("CARGO_MANIFEST_DIR"));
     let words = ["--sheet", "Outer", "--dialect", dialect, "-o", out].map(String::from);

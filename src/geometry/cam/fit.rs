@@ -1,5 +1,5 @@
 //! Replaces a spiral piece by a tangent-continuous chain of circular arcs that stays within a
-//! tolerance H of the curve on both sides (DOMAIN.md §5). See docs/cam.md for why this is near
+//! tolerance H of the curve on both sides (docs/domain.md §5). See docs/cam.md for why this is near
 //! the fewest arcs possible.
 //!
 //! The fitter keeps every joint (knot) of the chain on the curve. An arc that leaves a knot

@@ -6,7 +6,7 @@
 //! - circle: r(t) = r0;
 //! - Archimedean: r(t) = r0 + t·(r1 − r0), i.e. r = r0 + a·(φ − φ0) with a = Δr/Δφ;
 //! - logarithmic: r(t) = r0·(r1/r0)^t, i.e. r = r0·e^(a(φ − φ0)) with a = ln(r1/r0)/Δφ
-//!   (DOMAIN.md §5 [fix]: the paper prints a = ln ΔR/Δφ).
+//!   (docs/domain.md §5 [fix]: the paper prints a = ln ΔR/Δφ).
 //!
 //! Parametrising by t rather than by φ keeps one code path for every kind and for pieces that
 //! run clockwise (φ1 < φ0).

@@ -126,7 +126,7 @@ pub const SINUMERIK: WordAddress = WordAddress {
     legal: "NGMXYZABCIJKFSTDHPQUVWL",
 };
 
-/// Elektronika NC31 (DOMAIN.md §2): `N001 X34 Z-60 E`, rapid marked `E`, `M02` at the end.
+/// Elektronika NC31 (docs/domain.md §2): `N001 X34 Z-60 E`, rapid marked `E`, `M02` at the end.
 pub const NC31: WordAddress = WordAddress {
     name: "nc31",
     family: Family::Nc31,
@@ -395,7 +395,7 @@ impl Writer<'_> {
         })
     }
 
-    /// An M word: NC31 writes two digits (`M02`, `M17` in DOMAIN.md §2), the others one.
+    /// An M word: NC31 writes two digits (`M02`, `M17` in docs/domain.md §2), the others one.
     fn m(&self, code: u32) -> String {
         if self.d.family == Family::Nc31 {
             format!("M{code:02}")
