@@ -6,6 +6,7 @@
 //! [`vba`] (macros) runs on a workbook and fills an [`nc`] program. [`geometry`] is pure and
 //! stands apart; the evaluator registers it as sheet functions. See ARCHITECTURE.md.
 
+pub mod document;
 pub mod eval;
 pub mod formula;
 pub mod geometry;

@@ -20,8 +20,8 @@ pub struct InfoArgs {
 }
 
 pub fn run(args: InfoArgs, delimiter: Option<u8>) -> Result<()> {
-    let opened = super::open(&args.file, delimiter)?;
-    let wb = &opened.workbook;
+    let doc = super::open(&args.file, delimiter)?;
+    let wb = doc.workbook();
     let mut out = BufWriter::new(io::stdout().lock());
     writeln!(out, "{}", args.file.display())?;
     writeln!(out, "sheets:")?;
@@ -33,7 +33,7 @@ pub fn run(args: InfoArgs, delimiter: Option<u8>) -> Result<()> {
             wb.used_rect(id).map_or_else(|| "empty".to_string(), |r| Rect::new(Pos::new(0, 0), r.last).to_string());
         let cells = wb.values(id);
         let formulas = cells.iter().filter(|(p, _)| wb.is_formula(id, *p)).count();
-        writeln!(out, "  {name:<width$}  {used:<10} {} cells, {formulas} formulas", cells.len())?;
+        writeln!(out, "  {}  {used:<10} {} cells, {formulas} formulas", padded(name, width), cells.len())?;
     }
     let defined = wb.names();
     if defined.is_empty() {
@@ -43,17 +43,17 @@ pub fn run(args: InfoArgs, delimiter: Option<u8>) -> Result<()> {
         let width = defined.iter().map(|(n, _, _)| n.chars().count()).max().unwrap_or(0);
         for (name, formula, scope) in &defined {
             let scope = scope.map_or(String::new(), |s| format!("  (sheet {} only)", names[s as usize]));
-            writeln!(out, "  {name:<width$}  {formula}{scope}")?;
+            writeln!(out, "  {}  {formula}{scope}", padded(name, width))?;
         }
     }
-    let macros = opened.layout.as_ref().is_some_and(|l| l.vba_project.is_some());
+    let macros = doc.layout().is_some_and(|l| l.vba_project.is_some());
     let macros = if macros {
         "a VBA project (kept when saved as .xlsm; `ncsheet macros FILE` lists its macros, `ncsheet run FILE --sub MODULE.SUB` runs one)"
     } else {
         "none"
     };
     writeln!(out, "macros: {macros}")?;
-    match &opened.layout {
+    match doc.layout() {
         Some(layout) => {
             write_tables(&mut out, &layout.tables, &names)?;
             write_calculation(&mut out, &layout.calculation)?;
@@ -62,6 +62,18 @@ pub fn run(args: InfoArgs, delimiter: Option<u8>) -> Result<()> {
     }
     out.flush()?;
     Ok(())
+}
+
+/// Names are aligned in a column no wider than this: a longer one (a name may be 65,535
+/// characters and more) is written whole and pushes only its own line.
+const MAX_NAME_COLUMN: usize = 40;
+
+/// `name` followed by spaces up to `width` characters (at most [`MAX_NAME_COLUMN`]); padded
+/// by hand because `format!`'s width is a u16 and panics past 65,535.
+fn padded(name: &str, width: usize) -> String {
+    let width = width.min(MAX_NAME_COLUMN);
+    let len = name.chars().count();
+    format!("{name}{}", " ".repeat(width.saturating_sub(len)))
 }
 
 /// Each table: its name, where it stands and its column names.
@@ -73,7 +85,7 @@ fn write_tables(out: &mut dyn Write, tables: &[Table], sheets: &[String]) -> io:
     let width = tables.iter().map(|t| t.name.chars().count()).max().unwrap_or(0);
     for t in tables {
         let place = format!("{}!{}", sheets.get(t.sheet as usize).map_or("?", String::as_str), t.rect);
-        writeln!(out, "  {:<width$}  {place}  columns: {}", t.name, t.columns.join(", "))?;
+        writeln!(out, "  {}  {place}  columns: {}", padded(&t.name, width), t.columns.join(", "))?;
     }
     Ok(())
 }
@@ -93,7 +105,7 @@ fn write_calculation(out: &mut dyn Write, c: &Calculation) -> io::Result<()> {
         writeln!(out, "  note: ncsheet recalculates every formula anyway; `eval --check` lists what differs")?;
     }
     if c.iterate {
-        writeln!(out, "  note: ncsheet does not iterate: circular references are #CIRC! here")?;
+        writeln!(out, "  note: ncsheet iterates circular references as the file asks (Excel's order may differ)")?;
     }
     Ok(())
 }

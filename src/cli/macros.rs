@@ -97,7 +97,10 @@ fn import(
         let new = modules.iter().map(|m| read_module(m, code_page)).collect::<Result<Vec<_>>>()?;
         let bytes = add_modules(old, &new, on_existing, on_protected)
             .map_err(|e| Error::User(format!("{}: xl/vbaProject.bin: {e}", file.display())))?;
-        let encoded = ncsheet::io::encode_with_vba_project(file, &bytes, out)?;
+        let ncsheet::io::Origin::Xlsx(source) = &opened.origin else {
+            unreachable!("only an xlsx package holds a VBA project")
+        };
+        let encoded = ncsheet::io::encode_with_vba_project(source, &bytes, out)?;
         super::write_outputs(&[encoded], false, force)?;
         eprintln!("ncsheet: wrote {} with {} module(s) imported", out.display(), modules.len());
         return Ok(());
@@ -154,56 +157,6 @@ fn read_module(path: &Path, code_page: u16) -> Result<NewModule> {
     Ok(NewModule { name, kind, source })
 }
 
-/// Makes the public Functions of the workbook's VBA project callable from its cells, each
-/// call under the command's `--timeout`; a project that cannot be read, or a module that does
-/// not parse whose functions a cell calls, becomes a note (those cells stay `#NAME?`).
-pub fn install_functions(opened: &mut ncsheet::io::Opened) {
-    let Some(layout) = opened.layout.as_ref() else { return };
-    let Some(bytes) = layout.vba_project.as_ref() else { return };
-    let project = match read_project(bytes) {
-        Ok(p) => p,
-        Err(e) => return opened.notes.push(format!("xl/vbaProject.bin: {e}: its functions are not callable")),
-    };
-    let code_names = layout.sheets.iter().filter_map(|(name, s)| Some((s.code_name.clone()?, name.clone()))).collect();
-    let options = ncsheet::vba::RunOptions { deadline: super::limits::deadline(), code_names, ..Default::default() };
-    let errors = ncsheet::vba::install_functions(&mut opened.workbook, &project, options);
-    if errors.is_empty() {
-        return;
-    }
-    let called: Vec<String> = opened
-        .workbook
-        .problems()
-        .into_iter()
-        .filter_map(|p| match p.kind {
-            ncsheet::workbook::ProblemKind::UnknownFunction(name) => Some(name),
-            _ => None,
-        })
-        .collect();
-    for e in errors {
-        let Some(module) = project.modules.iter().find(|m| m.name == e.file) else { continue };
-        let functions: Vec<String> = procedures(&module.source).iter().filter_map(|d| function_name(d)).collect();
-        let is_called = |f: &String| {
-            called.iter().any(|c| {
-                c.eq_ignore_ascii_case(f) || c.to_ascii_lowercase().ends_with(&format!(".{}", f.to_ascii_lowercase()))
-            })
-        };
-        if let Some(f) = functions.iter().find(|f| is_called(f)) {
-            let place = e.span.map_or(String::new(), |s| format!("{}:{}: ", s.line, s.col));
-            opened.notes.push(format!(
-                "module {}: {place}{}: its functions ({f} …) are #NAME? in the cells that call them",
-                e.file, e.message
-            ));
-        }
-    }
-}
-
-/// The name a `Function` declaration line declares (`Public Function Tip(d) As Double`: `Tip`).
-fn function_name(declaration: &str) -> Option<String> {
-    let mut words = declaration.split(|c: char| c.is_whitespace() || c == '(');
-    words.find(|w| w.eq_ignore_ascii_case("function"))?;
-    words.find(|w| !w.is_empty()).map(str::to_string)
-}
-
 /// The VBA project of a workbook file; a workbook without one is an error saying so.
 pub fn open_project(file: &Path) -> Result<VbaProject> {
     let opened = ncsheet::io::open(file)?;
@@ -224,7 +177,7 @@ pub fn pick_macro<'p>(project: &'p VbaProject, sub: Option<&str>) -> Result<(&'p
         return Ok((m, Some(name.to_string())));
     }
     let candidates: Vec<&ProjectModule> = match sub {
-        Some(name) => project.modules.iter().filter(|m| declares(&m.source, name)).collect(),
+        Some(name) => project.modules.iter().filter(|m| m.declares(name)).collect(),
         None => project.modules.iter().filter(|m| m.kind == ModuleKind::Standard).collect(),
     };
     match (candidates.as_slice(), sub) {
@@ -240,14 +193,6 @@ pub fn pick_macro<'p>(project: &'p VbaProject, sub: Option<&str>) -> Result<(&'p
     }
 }
 
-/// Whether `source` declares a procedure called `name`.
-fn declares(source: &str, name: &str) -> bool {
-    procedures(source).iter().any(|line| {
-        let words = line.split(|c: char| c.is_whitespace() || c == '(');
-        words.filter(|w| !w.is_empty()).any(|w| w.eq_ignore_ascii_case(name))
-    })
-}
-
 fn list(project: &VbaProject) -> Result<()> {
     if let Some(p) = project.protection.filter(|p| p.is_protected()) {
         eprintln!("ncsheet: the VBA project {} (its source is read all the same)", p.describe());
@@ -255,7 +200,7 @@ fn list(project: &VbaProject) -> Result<()> {
     let mut out = BufWriter::new(io::stdout().lock());
     for m in &project.modules {
         writeln!(out, "{} ({})", m.name, m.kind.extension())?;
-        for p in procedures(&m.source) {
+        for p in m.procedures() {
             writeln!(out, "  {p}")?;
         }
     }
@@ -284,41 +229,4 @@ fn export(project: &VbaProject, workbook: &Path, dir: &Path, force: bool) -> Res
 fn file_name(m: &ProjectModule) -> String {
     let safe: String = m.name.chars().map(|c| if c.is_alphanumeric() || c == '_' { c } else { '_' }).collect();
     format!("{safe}.{}", m.kind.extension())
-}
-
-/// The procedures a module declares, as their declaration lines read (`Sub Chamfer()`,
-/// `Function Tip(d As Double) As Double`): the VBA editor's procedure list.
-pub fn procedures(source: &str) -> Vec<String> {
-    source.lines().map(str::trim).filter(|l| declares_procedure(l)).map(|l| l.to_string()).collect()
-}
-
-fn declares_procedure(line: &str) -> bool {
-    let mut words = line.split_whitespace().peekable();
-    while let Some(w) = words.peek() {
-        if ["public", "private", "friend", "static"].iter().any(|m| w.eq_ignore_ascii_case(m)) {
-            words.next();
-        } else {
-            break;
-        }
-    }
-    match words.next() {
-        Some(w) if w.eq_ignore_ascii_case("sub") || w.eq_ignore_ascii_case("function") => words.next().is_some(),
-        Some(w) if w.eq_ignore_ascii_case("property") => words.nth(1).is_some(),
-        _ => false,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn procedures_are_the_declaration_lines() {
-        let src = "Attribute VB_Name = \"M\"\r\nPublic Sub A(x As Double)\r\n  Dim s\r\nEnd Sub\r\n\
-                   Private Function B() As Long\r\nEnd Function\r\nProperty Get C() As Long\r\nEnd Property\r\n' Sub D()\r\n";
-        assert_eq!(
-            procedures(src),
-            ["Public Sub A(x As Double)", "Private Function B() As Long", "Property Get C() As Long"]
-        );
-    }
 }

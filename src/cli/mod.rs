@@ -6,6 +6,7 @@ use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use clap::{ArgGroup, Args, Parser, Subcommand};
+use ncsheet::document::{Document, OpenOptions};
 use ncsheet::eval::functions::REGISTRY;
 use ncsheet::formula::address::Pos;
 use ncsheet::formula::ast::SheetId;
@@ -229,15 +230,15 @@ pub fn run(cli: Cli) -> Result<()> {
 }
 
 fn eval(args: EvalArgs, delimiter: Option<u8>) -> Result<()> {
-    let opened = open(&args.file, delimiter)?;
+    let doc = open(&args.file, delimiter)?;
     if args.check {
-        return check(&args.file, &opened);
+        return check(&args.file, &doc);
     }
-    let wb = &opened.workbook;
+    let wb = doc.workbook();
     let sheet = default_sheet(wb, &args.file, args.sheet.as_deref())?;
     let selections = args.cells.iter().map(|t| locate(wb, &args.file, t, sheet)).collect::<Result<Vec<_>>>()?;
     let shown = Shown {
-        layout: opened.layout.as_ref(),
+        layout: doc.layout(),
         raw: args.raw,
         formulas: args.formulas,
         width: args.width.unwrap_or_else(output::terminal_width),
@@ -286,22 +287,28 @@ fn set(args: SetArgs, delimiter: Option<u8>) -> Result<()> {
         // clap's argument group makes exactly one of them required.
         _ => return Err(Error::Usage("give either -o OUT or --in-place".into())),
     };
-    let opened = open(&args.file, delimiter)?;
-    let mut wb = opened.workbook;
-    let sheet = default_sheet(&wb, &args.file, args.sheet.as_deref())?;
+    let lock = if args.in_place { lock_for_edit(&args.file)? } else { None };
+    let mut doc = open(&args.file, delimiter)?;
+    let wb = doc.workbook_mut();
+    let sheet = default_sheet(wb, &args.file, args.sheet.as_deref())?;
     let mut done = Vec::new();
     for a in &args.assignments {
-        let (cell_sheet, pos) = locate_cell(&wb, &args.file, &a.target, sheet)?;
+        let (cell_sheet, pos) = locate_cell(wb, &args.file, &a.target, sheet)?;
         wb.set_input_deferred(cell_sheet, pos, &a.input).map_err(|e| in_file(&args.file, repl::refused(e)))?;
-        if let Some(doubt) = hints::doubt_about(&wb, cell_sheet, pos, &a.input) {
+        if let Some(doubt) = hints::doubt_about(wb, cell_sheet, pos, &a.input) {
             eprintln!("ncsheet: {}: {}: warning: {doubt}", args.file.display(), wb.cell_name(cell_sheet, pos));
         }
         done.push((cell_sheet, pos));
     }
-    wb.recalculate();
-    report_problems(&args.file, &wb);
-    let encoded = ncsheet::io::encode_save_with(&wb, opened.layout.as_ref(), &opened.origin, &out_path, delimiter)?;
+    doc.recalculate();
+    report_problems(&args.file, doc.workbook());
+    let encoded = doc.encode(&out_path)?;
+    if let Some(lock) = &lock {
+        lock.unchanged().map_err(|e| Error::User(format!("{}: {e}", args.file.display())))?;
+    }
     write_outputs(&[encoded], args.in_place, args.force)?;
+    drop(lock);
+    let wb = doc.workbook();
     // What was done, on stderr: stdout stays empty for scripts.
     for (cell_sheet, pos) in done {
         eprintln!("{} = {}", wb.cell_name(cell_sheet, pos), wb.value(cell_sheet, pos));
@@ -310,22 +317,38 @@ fn set(args: SetArgs, delimiter: Option<u8>) -> Result<()> {
     Ok(())
 }
 
+/// Holds `file` for an in-place edit until it is saved (see `EditLock`): other edits of it
+/// wait, and a change by a program that does not lock is refused at the save. A file that
+/// cannot be opened is left for the reading to report.
+fn lock_for_edit(file: &Path) -> Result<Option<ncsheet::io::atomic::EditLock>> {
+    match ncsheet::io::atomic::EditLock::acquire(file) {
+        Ok(lock) => Ok(Some(lock)),
+        Err(e) if e.kind() == io::ErrorKind::NotFound || e.kind() == io::ErrorKind::PermissionDenied => Ok(None),
+        Err(e) => Err(Error::User(format!("{}: cannot lock it for --in-place: {e}", file.display()))),
+    }
+}
+
 /// Reads a workbook (a csv with `--delimiter`'s separator, if given) and tells the user
 /// what the import left out.
-fn open(file: &Path, delimiter: Option<u8>) -> Result<ncsheet::io::Opened> {
-    let mut opened = ncsheet::io::open_with(file, delimiter)?;
-    macros::install_functions(&mut opened);
-    for note in &opened.notes {
+fn open(file: &Path, delimiter: Option<u8>) -> Result<Document> {
+    let doc = Document::open_file(file, &open_options(delimiter))?;
+    for note in doc.notes() {
         eprintln!("ncsheet: {}: note: {note}", file.display());
     }
-    Ok(opened)
+    Ok(doc)
+}
+
+/// How every command opens a workbook: the workbook's own functions run under `--timeout`.
+pub(crate) fn open_options(delimiter: Option<u8>) -> OpenOptions {
+    let functions = ncsheet::vba::RunOptions { deadline: limits::deadline(), ..Default::default() };
+    OpenOptions { csv_delimiter: delimiter, functions, ..OpenOptions::default() }
 }
 
 /// Whose values a workbook stores, as `eval --check` names them, and, when they are not
 /// Excel's, why.
-fn stored_by(opened: &ncsheet::io::Opened) -> (String, Option<String>) {
-    let full_calc = opened.layout.as_ref().is_some_and(|l| l.calculation.full_calc_on_load);
-    match opened.written_by.as_deref() {
+fn stored_by(doc: &Document) -> (String, Option<String>) {
+    let full_calc = doc.layout().is_some_and(|l| l.calculation.full_calc_on_load);
+    match doc.written_by() {
         Some(ncsheet::io::xlsx::WRITTEN_BY) => (
             "the values ncsheet stored in it".into(),
             Some("ncsheet wrote this file, so its stored values are not Excel's".into()),
@@ -353,12 +376,12 @@ fn stored_by(opened: &ncsheet::io::Opened) -> (String, Option<String>) {
 }
 
 /// `eval --check`: every cell where ncsheet and Excel's stored value disagree.
-fn check(file: &Path, opened: &ncsheet::io::Opened) -> Result<()> {
-    let wb = &opened.workbook;
-    let differences = ncsheet::io::xlsx::compare_cached(wb, &opened.cached);
+fn check(file: &Path, doc: &Document) -> Result<()> {
+    let wb = doc.workbook();
+    let differences = ncsheet::io::xlsx::compare_cached(wb, doc.cached());
     // A file another program saved caches that program's results: agreeing with them says
     // nothing of Excel.
-    let (whose, not_excel) = stored_by(opened);
+    let (whose, not_excel) = stored_by(doc);
     let stored = if not_excel.is_some() { "stored" } else { "Excel" };
     let mut out = BufWriter::new(io::stdout().lock());
     for d in &differences {
@@ -373,8 +396,8 @@ fn check(file: &Path, opened: &ncsheet::io::Opened) -> Result<()> {
         )?;
     }
     out.flush()?;
-    let compared = opened.cached.len();
-    if opened.layout.is_none() {
+    let compared = doc.cached().len();
+    if doc.layout().is_none() {
         eprintln!("ncsheet: {}: a csv file stores no computed values to check against", file.display());
         return Ok(());
     }
@@ -401,8 +424,8 @@ fn show(v: &ncsheet::eval::Value) -> String {
 
 fn export(args: ExportArgs, delimiter: Option<u8>) -> Result<()> {
     refuse_overwriting_inputs(&[&args.file], &[&args.output], "an export cannot replace its input; write elsewhere")?;
-    let opened = open(&args.file, delimiter)?;
-    let wb = &opened.workbook;
+    let doc = open(&args.file, delimiter)?;
+    let wb = doc.workbook();
     let mut sheet = default_sheet(wb, &args.file, args.sheet.as_deref())?;
     let mut range = None;
     if let Some(t) = &args.range {
@@ -412,18 +435,18 @@ fn export(args: ExportArgs, delimiter: Option<u8>) -> Result<()> {
     let content = if args.formulas { Content::Formulas } else { Content::Values };
     let what = Export { sheet, range, content };
     report_problems(&args.file, wb);
-    let read_with = match &opened.origin {
+    let read_with = match doc.origin() {
         ncsheet::io::Origin::Csv(original) => Some(original.delimiter()),
         _ => None,
     };
     let delimiter = args.output_delimiter.or(read_with).or(delimiter);
-    let options = ExportOptions { delimiter, layout: opened.layout.as_ref(), raw: args.raw };
+    let options = ExportOptions { delimiter, layout: doc.layout(), raw: args.raw };
     let encoded = ncsheet::io::encode_export_with(wb, &args.output, &what, &options)?;
     write_outputs(&[encoded], false, args.force)
 }
 
 fn repl(args: ReplArgs, delimiter: Option<u8>) -> Result<()> {
-    let opened = open(&args.file, delimiter)?;
+    let opened = open(&args.file, delimiter)?.into_opened();
     let sheet = default_sheet(&opened.workbook, &args.file, args.sheet.as_deref())?;
     report_problems(&args.file, &opened.workbook);
     repl::run(&args.file, opened, sheet, args.timings, delimiter)

@@ -6,7 +6,8 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 use ncsheet::io::xlsx::Layout;
-use ncsheet::nc::{dialect, Machine};
+use ncsheet::nc::motion::{self, Rates};
+use ncsheet::nc::{dialect, Block, Machine, Program};
 use ncsheet::vba::project::{read_project, ModuleKind, ProjectModule};
 use ncsheet::vba::{self, Document, ErrorKind, RunOptions, RunOutput};
 
@@ -149,8 +150,8 @@ pub fn run(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
 }
 
 fn run_on_this_thread(args: RunArgs, dialect_name: &'static str, delimiter: Option<u8>) -> Result<()> {
-    let mut opened = ncsheet::io::open_with(&args.workbook, delimiter)?;
-    super::macros::install_functions(&mut opened);
+    let doc = ncsheet::document::Document::open_file(&args.workbook, &super::open_options(delimiter))?;
+    let opened = doc.into_opened();
     let mut wb = opened.workbook;
     let (file, source, sub, document) = macro_source(&args, opened.layout.as_ref())?;
     let file = &file;
@@ -194,13 +195,23 @@ fn run_on_this_thread(args: RunArgs, dialect_name: &'static str, delimiter: Opti
     // in the dialect, or a workbook that cannot be saved, leaves every file as it was.
     let mut files = Vec::new();
     let mut program = None;
-    if out.has_program() {
+    let mut summary = None;
+    if emits_program(&out.program) {
         let d = dialect::by_name(dialect_name).expect("dialect checked before");
         let text = d.render(&out.program).map_err(|e| Error::User(format!("{}: {e}", file.display())))?;
+        let written_to = args.output.as_ref().map_or("standard output".to_string(), |p| p.display().to_string());
+        summary = Some(program_summary(&out.program, &text, dialect_name, &written_to));
         match &args.output {
             Some(path) => files.push(ncsheet::io::Encoded::new(path, text.into_bytes())),
             None => program = Some(text),
         }
+    } else if let Some(path) = &args.output {
+        // A program file left from an earlier run would be taken for this run's program.
+        let kept = if path.exists() { format!("{} is left as it was", path.display()) } else { "none written".into() };
+        return Err(Error::User(format!(
+            "{}: the macro emitted no NC block (no move), so there is no program: {kept}; nothing was saved",
+            file.display()
+        )));
     }
     if let Some(save) = &args.save {
         files.push(ncsheet::io::encode_save_with(&wb, opened.layout.as_ref(), &opened.origin, save, delimiter)?);
@@ -209,7 +220,50 @@ fn run_on_this_thread(args: RunArgs, dialect_name: &'static str, delimiter: Opti
     if let Some(text) = program {
         emit(&text, None, false)?;
     }
+    match summary {
+        Some(s) => eprintln!("{s}"),
+        None => eprintln!("no NC program: the macro emitted no NC block (no move)"),
+    }
     Ok(())
+}
+
+/// Whether the macro emitted a program: at least one block a control acts on. Comments
+/// alone (a macro that stopped after naming its program) are no program.
+fn emits_program(program: &Program) -> bool {
+    program.blocks.iter().any(|b| !matches!(b, Block::Comment(_)))
+}
+
+/// The machine the cycle-time estimate of [`program_summary`] assumes; `nc time` takes the
+/// user's own.
+pub(super) const SUMMARY_RATES: Rates = Rates { accel: 500.0, rapid: 5000.0 };
+
+/// What a command wrote, for stderr: where, the dialect, the blocks, the tools and a cycle
+/// time estimate at [`SUMMARY_RATES`] (or why there is none).
+pub(super) fn program_summary(program: &Program, text: &str, dialect: &str, written_to: &str) -> String {
+    let lines = text.lines().filter(|l| !l.trim().is_empty()).count();
+    let moves =
+        program.blocks.iter().filter(|b| matches!(b, Block::Rapid(_) | Block::Line { .. } | Block::Arc { .. })).count();
+    let mut tools: Vec<String> = Vec::new();
+    for b in &program.blocks {
+        if let Block::Tool(t) = b {
+            let t = format!("T{}", t.number);
+            if !tools.contains(&t) {
+                tools.push(t);
+            }
+        }
+    }
+    let tools = if tools.is_empty() { "no tool change".to_string() } else { format!("tool {}", tools.join(", ")) };
+    let time = match motion::program_times(program, SUMMARY_RATES) {
+        Ok(times) => {
+            let total: f64 = times.iter().map(|t| t.time).sum();
+            format!(
+                "about {total:.1} s at {} mm/min rapid and {} mm/s² (nc time for your machine's)",
+                SUMMARY_RATES.rapid, SUMMARY_RATES.accel
+            )
+        }
+        Err(e) => format!("no time estimate ({})", e.message),
+    };
+    format!("wrote {written_to}: {dialect}, {lines} lines, {moves} moves, {tools}, {time}")
 }
 
 /// The macro's place (for messages), its source, the Sub to call and the document its module

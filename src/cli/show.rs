@@ -29,10 +29,10 @@ pub struct ShowArgs {
 }
 
 pub fn run(args: ShowArgs, delimiter: Option<u8>) -> Result<()> {
-    let opened = super::open(&args.file, delimiter)?;
-    let wb = &opened.workbook;
+    let doc = super::open(&args.file, delimiter)?;
+    let wb = doc.workbook();
     let sheet = super::default_sheet(wb, &args.file, args.sheet.as_deref())?;
-    let shown = Shown { layout: opened.layout.as_ref(), ..Shown::default() };
+    let shown = Shown { layout: doc.layout(), ..Shown::default() };
     let mut out = BufWriter::new(io::stdout().lock());
     for (i, t) in args.cells.iter().enumerate() {
         let s = super::locate(wb, &args.file, t, sheet)?;

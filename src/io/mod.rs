@@ -13,6 +13,7 @@
 use std::fmt;
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use crate::formula::address::Rect;
 use crate::formula::ast::SheetId;
@@ -40,6 +41,15 @@ impl Format {
             Some("xlsx" | "xlsm") => Ok(Format::Xlsx),
             _ => Err(Error::new(path, ErrorKind::UnknownFormat)),
         }
+    }
+
+    /// The format of a file's bytes: a package (zip) is an xlsx workbook whatever it is
+    /// called; otherwise the name's extension says (a csv has no signature).
+    pub fn detect(bytes: &[u8], name: &Path) -> Result<Format, Error> {
+        if bytes.starts_with(b"PK\x03\x04") {
+            return Ok(Format::Xlsx);
+        }
+        Format::of(name)
     }
 }
 
@@ -169,8 +179,22 @@ pub enum Origin {
     #[default]
     New,
     Csv(csv::Original),
-    /// The xlsx file, read again when saving.
-    Xlsx(PathBuf),
+    /// The xlsx package as read.
+    Xlsx(Source),
+}
+
+/// The bytes of a file as read, which a save starts from, and the name its messages use.
+#[derive(Clone, Debug)]
+pub struct Source {
+    pub file: PathBuf,
+    pub bytes: Arc<[u8]>,
+}
+
+impl Source {
+    /// Whether the package holds macros (.xlsm) by its name.
+    fn holds_macros(&self) -> bool {
+        is_xlsm(&self.file)
+    }
 }
 
 /// A file ready to be written: its bytes computed, and what it cannot keep of the original.
@@ -185,6 +209,16 @@ impl Encoded {
     /// Bytes computed elsewhere (an NC program, a drawing), to write with the others.
     pub fn new(path: &Path, bytes: Vec<u8>) -> Encoded {
         Encoded { path: path.to_path_buf(), bytes, losses: Vec::new() }
+    }
+
+    /// The file's bytes, as they would be written.
+    pub fn bytes(&self) -> &[u8] {
+        &self.bytes
+    }
+
+    /// The file's bytes, taken.
+    pub fn into_bytes(self) -> Vec<u8> {
+        self.bytes
     }
 
     /// Writes the file atomically (see [`atomic`]).
@@ -202,9 +236,20 @@ pub fn open(path: &Path) -> Result<Opened, Error> {
 
 /// [`open`], a csv file read with the given delimiter (`None`: detected).
 pub fn open_with(path: &Path, csv_delimiter: Option<u8>) -> Result<Opened, Error> {
-    match Format::of(path)? {
+    let bytes = read_file(path)?;
+    let format = Format::detect(&bytes, path)?;
+    open_bytes(bytes, path, format, csv_delimiter)
+}
+
+/// The bytes of a file, or an error naming it.
+pub fn read_file(path: &Path) -> Result<Vec<u8>, Error> {
+    std::fs::read(path).map_err(|e| Error::new(path, ErrorKind::Read(e)))
+}
+
+/// [`open`] of bytes in a known format; `path` names them in messages (and is not read).
+pub fn open_bytes(bytes: Vec<u8>, path: &Path, format: Format, csv_delimiter: Option<u8>) -> Result<Opened, Error> {
+    match format {
         Format::Csv => {
-            let bytes = std::fs::read(path).map_err(|e| Error::new(path, ErrorKind::Read(e)))?;
             let (mut workbook, original) =
                 csv::read_original_with(&bytes, csv_delimiter).map_err(|m| Error::new(path, m.into()))?;
             workbook.track_changes();
@@ -216,7 +261,7 @@ pub fn open_with(path: &Path, csv_delimiter: Option<u8>) -> Result<Opened, Error
             Ok(Opened { workbook, cached: Vec::new(), layout: None, written_by: None, notes, origin })
         }
         Format::Xlsx => {
-            let mut imported = xlsx::load(path)?;
+            let mut imported = xlsx::load_bytes(&bytes, path)?;
             imported.workbook.track_changes();
             Ok(Opened {
                 workbook: imported.workbook,
@@ -224,7 +269,7 @@ pub fn open_with(path: &Path, csv_delimiter: Option<u8>) -> Result<Opened, Error
                 layout: Some(imported.layout),
                 written_by: imported.written_by,
                 notes: imported.notes,
-                origin: Origin::Xlsx(path.to_path_buf()),
+                origin: Origin::Xlsx(Source { file: path.to_path_buf(), bytes: bytes.into() }),
             })
         }
     }
@@ -282,14 +327,14 @@ pub fn encode_save_with(
             let whole = Export { sheet: 0, range: None, content: Content::Formulas };
             encode_export_with(wb, path, &whole, &ExportOptions { delimiter, ..ExportOptions::default() })
         }
-        (Format::Xlsx, Origin::Xlsx(source)) if same_macro_kind(source, path) => {
+        (Format::Xlsx, Origin::Xlsx(source)) if source.holds_macros() == is_xlsm(path) => {
             let changes = wb.changes().unwrap_or_default();
             match xlsx::patch(source, wb, &changes)? {
                 Ok(patched) => encoded(patched.bytes, patched.losses),
                 Err(xlsx::Unpatchable(why)) => {
                     let default = xlsx::Layout::default();
                     let bytes = xlsx::to_bytes_for(wb, layout.unwrap_or(&default), path)?;
-                    let losses = [Some(rewritten_loss(source, &why)), links_loss(layout)];
+                    let losses = [Some(rewritten_loss(&source.file, &why)), links_loss(layout)];
                     encoded(bytes, losses.into_iter().flatten().collect())
                 }
             }
@@ -299,7 +344,7 @@ pub fn encode_save_with(
             let bytes = xlsx::to_bytes_for(wb, layout.unwrap_or(&default), path)?;
             let losses = match origin {
                 Origin::Xlsx(source) => {
-                    [Some(rewritten_loss(source, "it is saved under another extension")), links_loss(layout)]
+                    [Some(rewritten_loss(&source.file, "it is saved under another extension")), links_loss(layout)]
                         .into_iter()
                         .flatten()
                         .collect()
@@ -318,16 +363,15 @@ pub fn encode_save_with(
 
 /// The .xlsm `source` to be saved as `path` with a new VBA project (`xl/vbaProject.bin`),
 /// every other part as it was.
-pub fn encode_with_vba_project(source: &Path, project: &[u8], path: &Path) -> Result<Encoded, Error> {
+pub fn encode_with_vba_project(source: &Source, project: &[u8], path: &Path) -> Result<Encoded, Error> {
     let bytes = xlsx::replace_part(source, "xl/vbaProject.bin", project)?;
     Ok(Encoded::new(path, bytes))
 }
 
-/// Whether two xlsx paths agree on holding macros (.xlsm) or not: a package is kept as it
-/// is only under its own kind of name.
-fn same_macro_kind(a: &Path, b: &Path) -> bool {
-    let xlsm = |p: &Path| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("xlsm"));
-    xlsm(a) == xlsm(b)
+/// Whether a package is named as one holding macros (.xlsm): a package is kept as it is only
+/// under its own kind of name.
+fn is_xlsm(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("xlsm"))
 }
 
 /// The loss of formulas that edits replaced by constants, naming the cells.

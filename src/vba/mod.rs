@@ -123,6 +123,7 @@ use crate::workbook::Workbook;
 
 pub use ast::{Module, Span};
 pub use udf::{install_functions, WorkbookFunctions, FUNCTION_MAX_DEPTH};
+pub use project::{read_project, ModuleKind, ProjectError, ProjectModule, VbaProject};
 
 /// How to run a macro.
 #[derive(Clone, Debug)]

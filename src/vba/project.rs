@@ -19,6 +19,56 @@ pub struct ProjectModule {
     pub source: String,
 }
 
+impl ProjectModule {
+    /// The procedures the module declares, as their declaration lines read (`Sub Chamfer()`,
+    /// `Function Tip(d As Double) As Double`): the VBA editor's procedure list. A scan of the
+    /// lines, not a parse, so that a module that does not compile still lists them.
+    pub fn procedures(&self) -> Vec<String> {
+        procedures(&self.source)
+    }
+
+    /// The names of the Functions the module declares.
+    pub fn function_names(&self) -> Vec<String> {
+        self.procedures().iter().filter_map(|d| function_name(d)).collect()
+    }
+
+    /// Whether the module declares a procedure called `name` (case aside).
+    pub fn declares(&self, name: &str) -> bool {
+        self.procedures().iter().any(|line| {
+            let words = line.split(|c: char| c.is_whitespace() || c == '(');
+            words.filter(|w| !w.is_empty()).any(|w| w.eq_ignore_ascii_case(name))
+        })
+    }
+}
+
+/// The declaration lines of `source` (see [`ProjectModule::procedures`]).
+pub fn procedures(source: &str) -> Vec<String> {
+    source.lines().map(str::trim).filter(|l| declares_procedure(l)).map(|l| l.to_string()).collect()
+}
+
+fn declares_procedure(line: &str) -> bool {
+    let mut words = line.split_whitespace().peekable();
+    while let Some(w) = words.peek() {
+        if ["public", "private", "friend", "static"].iter().any(|m| w.eq_ignore_ascii_case(m)) {
+            words.next();
+        } else {
+            break;
+        }
+    }
+    match words.next() {
+        Some(w) if w.eq_ignore_ascii_case("sub") || w.eq_ignore_ascii_case("function") => words.next().is_some(),
+        Some(w) if w.eq_ignore_ascii_case("property") => words.nth(1).is_some(),
+        _ => false,
+    }
+}
+
+/// The name a `Function` declaration line declares (`Public Function Tip(d) As Double`: `Tip`).
+fn function_name(declaration: &str) -> Option<String> {
+    let mut words = declaration.split(|c: char| c.is_whitespace() || c == '(');
+    words.find(|w| w.eq_ignore_ascii_case("function"))?;
+    words.find(|w| !w.is_empty()).map(str::to_string)
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ModuleKind {
     /// A standard module (`Module1`): exported as .bas.
@@ -695,6 +745,17 @@ fn dir_stream(modules: &[NewModule]) -> Vec<u8> {
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn procedures_are_the_declaration_lines() {
+        let src = "Attribute VB_Name = \"M\"\r\nPublic Sub A(x As Double)\r\n  Dim s\r\nEnd Sub\r\n\
+                   Private Function B() As Long\r\nEnd Function\r\nProperty Get C() As Long\r\nEnd Property\r\n' Sub D()\r\n";
+        assert_eq!(
+            procedures(src),
+            ["Public Sub A(x As Double)", "Private Function B() As Long", "Property Get C() As Long"]
+        );
+    }
+
     use super::*;
 
     #[test]

@@ -25,6 +25,7 @@ use crate::workbook::{Changes, Workbook};
 use super::raw::{zip_error, Package};
 use super::syntax;
 use super::{ErrorKind, XlsxError};
+use crate::io::Source;
 
 /// The saved package and what it could not keep.
 pub struct Patched {
@@ -48,14 +49,13 @@ enum Change {
 }
 
 /// Patches `source` (the file the workbook was read from) with the workbook's changes.
-pub fn patch(source: &Path, wb: &Workbook, changes: &Changes) -> Result<Result<Patched, Unpatchable>, XlsxError> {
-    let fail = |part: Option<&str>, kind, message: String| XlsxError::new(source, part, kind, message);
+pub fn patch(source: &Source, wb: &Workbook, changes: &Changes) -> Result<Result<Patched, Unpatchable>, XlsxError> {
+    let fail = |part: Option<&str>, kind, message: String| XlsxError::new(&source.file, part, kind, message);
     if changes.sheets {
         return Ok(Err(Unpatchable("sheets were added".into())));
     }
-    let bytes = std::fs::read(source)
-        .map_err(|e| fail(None, ErrorKind::Io, format!("cannot read the original to save into: {e}")))?;
-    let package = Package::open(&bytes).map_err(|(part, kind, m)| fail(part.as_deref(), kind, m))?;
+    let bytes = &source.bytes[..];
+    let package = Package::open(bytes).map_err(|(part, kind, m)| fail(part.as_deref(), kind, m))?;
     let mut losses = Vec::new();
     if changes.names {
         losses.push("defined names changed by this run are not saved; the file keeps its names".to_string());
@@ -103,15 +103,15 @@ pub fn patch(source: &Path, wb: &Workbook, changes: &Changes) -> Result<Result<P
         } else if Some(&name) == calc_chain.as_ref() {
             continue;
         } else if let Some((sheet, cells)) = by_part.get(&name) {
-            let xml = read_text(&mut entry, &name, source)?;
+            let xml = read_text(&mut entry, &name, &source.file)?;
             let patched = patch_sheet(&xml, wb, *sheet, cells, &mut losses)
                 .map_err(|m| fail(Some(&name), ErrorKind::Unwritable, m))?;
             Some(patched)
         } else if name == workbook_part {
-            let xml = read_text(&mut entry, &name, source)?;
+            let xml = read_text(&mut entry, &name, &source.file)?;
             Some(with_sheet_states(&full_calc_on_load(&xml), &package, wb))
         } else if calc_chain.is_some() && (name == "[Content_Types].xml" || name == wb_rels) {
-            let xml = read_text(&mut entry, &name, source)?;
+            let xml = read_text(&mut entry, &name, &source.file)?;
             Some(without_elements_naming(&xml, "calcChain"))
         } else {
             None
@@ -691,10 +691,9 @@ fn escape(text: &str) -> String {
 
 /// The package `source` with the bytes of one existing part replaced by `data` and every
 /// other part copied as it was (a new VBA project into an .xlsm).
-pub fn replace_part(source: &Path, part: &str, data: &[u8]) -> Result<Vec<u8>, XlsxError> {
-    let fail = |part: Option<&str>, kind, message: String| XlsxError::new(source, part, kind, message);
-    let bytes =
-        std::fs::read(source).map_err(|e| fail(None, ErrorKind::Io, format!("cannot read the original: {e}")))?;
+pub fn replace_part(source: &Source, part: &str, data: &[u8]) -> Result<Vec<u8>, XlsxError> {
+    let fail = |part: Option<&str>, kind, message: String| XlsxError::new(&source.file, part, kind, message);
+    let bytes = &source.bytes[..];
     let zerr = |name: Option<&str>, e: zip::result::ZipError| {
         let (p, k, m) = zip_error(name, e);
         fail(p.as_deref(), k, m)

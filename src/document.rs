@@ -1,0 +1,244 @@
+//! One workbook as every front end sees it: the command line, a server, a test. A [`Document`]
+//! is opened from bytes (the format detected from them, a file name only a hint), holds the
+//! workbook with its VBA project's functions installed and what the import left out, takes
+//! edits, recalculates, reports problems as data, and saves to bytes with the list of what the
+//! saved file loses. It touches no file: paths and atomic writes are the caller's
+//! ([`crate::io::Encoded::write`]).
+//!
+//! ```
+//! use ncsheet::document::{Document, OpenOptions, SaveFormat};
+//! let csv = b"1,2\n=A1+B1,\n".to_vec();
+//! let mut doc = Document::open(csv, &OpenOptions::named("parts.csv")).unwrap();
+//! let (sheet, b1) = doc.cell("B1").unwrap();
+//! doc.set(sheet, b1, "40").unwrap();
+//! let (_, a2) = doc.cell("A2").unwrap();
+//! assert_eq!(doc.workbook().value(sheet, a2).to_string(), "41");
+//! let saved = doc.save_as(SaveFormat::Csv).unwrap();
+//! assert_eq!(saved.bytes(), b"1,40\n=A1+B1,\n");
+//! ```
+
+use std::path::{Path, PathBuf};
+
+use crate::formula::address::Pos;
+use crate::formula::ast::SheetId;
+use crate::io::{self, xlsx, Encoded, Format, Opened, Origin};
+use crate::vba::{self, ModuleKind, RunOptions, VbaProject};
+use crate::workbook::{Problem, ProblemKind, Workbook};
+
+/// How to read a document's bytes.
+#[derive(Clone, Debug, Default)]
+pub struct OpenOptions {
+    /// The file's name: said in every message about it, and a hint to the format when the
+    /// bytes do not tell (a csv has no signature).
+    pub name: PathBuf,
+    /// The format, when the caller knows it better than the bytes and the name.
+    pub format: Option<Format>,
+    /// A csv's separator (`None`: detected from the text).
+    pub csv_delimiter: Option<u8>,
+    /// The limits the workbook's own VBA functions run under when cells call them.
+    pub functions: RunOptions,
+}
+
+impl OpenOptions {
+    /// Options for bytes that came from (or stand for) the file `name`.
+    pub fn named(name: impl Into<PathBuf>) -> OpenOptions {
+        OpenOptions { name: name.into(), ..OpenOptions::default() }
+    }
+}
+
+/// The formats a document saves to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SaveFormat {
+    Xlsx,
+    /// An xlsx package with its VBA project (only for a document read from an .xlsm).
+    Xlsm,
+    /// The first sheet, as comma-separated values (a csv read from a file keeps its own
+    /// separator and every untouched field as typed).
+    Csv,
+}
+
+impl SaveFormat {
+    fn extension(self) -> &'static str {
+        match self {
+            SaveFormat::Xlsx => "xlsx",
+            SaveFormat::Xlsm => "xlsm",
+            SaveFormat::Csv => "csv",
+        }
+    }
+}
+
+/// A workbook opened from bytes, with what the file held besides its cells.
+pub struct Document {
+    opened: Opened,
+    name: PathBuf,
+    csv_delimiter: Option<u8>,
+}
+
+/// A document could not be opened or saved: the error names the file and the part of it.
+pub type Error = io::Error;
+
+impl Document {
+    /// Reads `bytes` into a recalculated workbook with the VBA project's public Functions
+    /// callable from its cells. Cells that hold bad input are not an error: they are error
+    /// values, listed by [`Document::problems`]; what the import left out is in
+    /// [`Document::notes`].
+    pub fn open(bytes: Vec<u8>, options: &OpenOptions) -> Result<Document, Error> {
+        let format = match options.format {
+            Some(format) => format,
+            None => Format::detect(&bytes, &options.name)?,
+        };
+        let mut opened = io::open_bytes(bytes, &options.name, format, options.csv_delimiter)?;
+        install_functions(&mut opened, options.functions.clone());
+        Ok(Document { opened, name: options.name.clone(), csv_delimiter: options.csv_delimiter })
+    }
+
+    /// Reads the file at `path` (see [`Document::open`]); its format comes from its bytes.
+    pub fn open_file(path: &Path, options: &OpenOptions) -> Result<Document, Error> {
+        let bytes = io::read_file(path)?;
+        Document::open(bytes, &OpenOptions { name: path.to_path_buf(), ..options.clone() })
+    }
+
+    /// The name the document was opened under.
+    pub fn name(&self) -> &Path {
+        &self.name
+    }
+
+    pub fn workbook(&self) -> &Workbook {
+        &self.opened.workbook
+    }
+
+    pub fn workbook_mut(&mut self) -> &mut Workbook {
+        &mut self.opened.workbook
+    }
+
+    /// What the import left out, one sentence each, for the user to hear.
+    pub fn notes(&self) -> &[String] {
+        &self.opened.notes
+    }
+
+    /// The cells' problems (formulas that do not parse, unknown names, cycles …) as data.
+    pub fn problems(&self) -> Vec<Problem> {
+        self.opened.workbook.problems()
+    }
+
+    /// The values the file stored for its formula cells (empty for a csv).
+    pub fn cached(&self) -> &[xlsx::CachedValue] {
+        &self.opened.cached
+    }
+
+    /// The file's number formats, widths, calculation settings and VBA project (xlsx only).
+    pub fn layout(&self) -> Option<&xlsx::Layout> {
+        self.opened.layout.as_ref()
+    }
+
+    /// The program that last saved the file, whose results [`Document::cached`] holds.
+    pub fn written_by(&self) -> Option<&str> {
+        self.opened.written_by.as_deref()
+    }
+
+    /// The file as read, which a save starts from.
+    pub fn origin(&self) -> &Origin {
+        &self.opened.origin
+    }
+
+    /// The workbook's VBA project, read from its bytes (`None`: the file holds none).
+    pub fn vba_project(&self) -> Option<Result<VbaProject, vba::ProjectError>> {
+        let bytes = self.layout()?.vba_project.as_ref()?;
+        Some(vba::read_project(bytes))
+    }
+
+    /// A cell by its name as a user types it (`B8`, `Outer!B8`, a defined name), on the first
+    /// sheet unless the name says otherwise.
+    pub fn cell(&self, name: &str) -> Option<(SheetId, Pos)> {
+        let wb = &self.opened.workbook;
+        let (sheet, local) = match name.rsplit_once('!') {
+            Some((sheet, local)) => (wb.sheet_id(sheet.trim_matches('\''))?, local),
+            None => (0, name),
+        };
+        if let Some(pos) = crate::formula::address::parse_cell(local) {
+            return Some((sheet, pos));
+        }
+        let (sheet, rect) = wb.name_reference(local, sheet)?;
+        rect.is_cell().then_some((sheet, rect.first))
+    }
+
+    /// Types `input` into a cell, as a user types it (`30`, `=B5*2`, `'text`), and
+    /// recalculates what depends on it. Returns the problems the edit brought; a formula that
+    /// does not parse is refused and the cell left as it was.
+    pub fn set(&mut self, sheet: SheetId, pos: Pos, input: &str) -> Result<Vec<Problem>, Problem> {
+        self.opened.workbook.set_input(sheet, pos, input)
+    }
+
+    /// Recomputes every cell that an edit made stale.
+    pub fn recalculate(&mut self) {
+        self.opened.workbook.recalculate();
+    }
+
+    /// The document as a file named `target` would hold it (the format by its extension),
+    /// computed and not written: its bytes and what it loses of the original.
+    pub fn encode(&self, target: &Path) -> Result<Encoded, Error> {
+        let layout = self.opened.layout.as_ref();
+        io::encode_save_with(&self.opened.workbook, layout, &self.opened.origin, target, self.csv_delimiter)
+    }
+
+    /// The document saved in `format`, under its own name with that format's extension.
+    pub fn save_as(&self, format: SaveFormat) -> Result<Encoded, Error> {
+        let name = match self.name.file_stem() {
+            Some(stem) => self.name.with_file_name(stem).with_extension(format.extension()),
+            None => PathBuf::from("workbook").with_extension(format.extension()),
+        };
+        self.encode(&name)
+    }
+
+    /// The parts as [`io::open_bytes`] read them, for a caller that takes the workbook away.
+    pub fn into_opened(self) -> Opened {
+        self.opened
+    }
+}
+
+/// Makes the public Functions of the workbook's VBA project callable from its cells; a
+/// project that cannot be read, or a module that does not parse whose functions a cell
+/// calls, becomes a note (those cells stay `#NAME?`).
+fn install_functions(opened: &mut Opened, options: RunOptions) {
+    let Some(layout) = opened.layout.as_ref() else { return };
+    let Some(bytes) = layout.vba_project.as_ref() else { return };
+    let project = match vba::read_project(bytes) {
+        Ok(p) => p,
+        Err(e) => return opened.notes.push(format!("xl/vbaProject.bin: {e}: its functions are not callable")),
+    };
+    let code_names = layout.sheets.iter().filter_map(|(name, s)| Some((s.code_name.clone()?, name.clone()))).collect();
+    let errors = vba::install_functions(&mut opened.workbook, &project, RunOptions { code_names, ..options });
+    if errors.is_empty() {
+        return;
+    }
+    let called = unknown_functions(&opened.workbook);
+    for e in errors {
+        let Some(module) = project.modules.iter().find(|m| m.name == e.file && m.kind == ModuleKind::Standard) else {
+            continue;
+        };
+        let is_called = |f: &String| called.iter().any(|c| names_function(c, f));
+        if let Some(f) = module.function_names().into_iter().find(is_called) {
+            let place = e.span.map_or(String::new(), |s| format!("{}:{}: ", s.line, s.col));
+            opened.notes.push(format!(
+                "module {}: {place}{}: its functions ({f} …) are #NAME? in the cells that call them",
+                e.file, e.message
+            ));
+        }
+    }
+}
+
+/// The names cells call that are no function the workbook knows.
+fn unknown_functions(wb: &Workbook) -> Vec<String> {
+    let unknown = |p: Problem| match p.kind {
+        ProblemKind::UnknownFunction(name) => Some(name),
+        _ => None,
+    };
+    wb.problems().into_iter().filter_map(unknown).collect()
+}
+
+/// Whether a call of `called` (`tip`, `Module1.Tip`) names the function `f`, as VBA matches
+/// names: case aside, bare or qualified by its module.
+fn names_function(called: &str, f: &str) -> bool {
+    let bare = called.rsplit('.').next().unwrap_or(called);
+    bare.eq_ignore_ascii_case(f)
+}
