@@ -109,12 +109,21 @@ const INFIX_RULES: [(Rule, BinOp); 23] = [
     (Rule::like_op, BinOp::Like),
 ];
 
-const PREFIX_RULES: [(Rule, UnaryOp); 4] = [
+const PREFIX_RULES: [(Rule, UnaryOp); 6] = [
     (Rule::neg, UnaryOp::Neg),
     (Rule::plus, UnaryOp::Plus),
     (Rule::not_op, UnaryOp::Not),
     (Rule::implicit, UnaryOp::Implicit),
+    (Rule::vneg, UnaryOp::Neg),
+    (Rule::vplus, UnaryOp::Plus),
 ];
+
+/// A macro's sign (`vneg`, `vplus`): VBA ranks it below `^` and above `* /` ([MS-VBAL]
+/// 5.6.9.3), where Excel ranks it above `^` (`-2^2` is -4 in VBA, 4 in a cell). The Pratt
+/// table has a level between `* /` and `^` for it alone; cells never reach it.
+fn is_macro_sign(rule: Rule) -> bool {
+    matches!(rule, Rule::vneg | Rule::vplus)
+}
 
 const POSTFIX_RULES: [(Rule, UnaryOp); 2] = [(Rule::percent, UnaryOp::Percent), (Rule::spill_ref, UnaryOp::Spill)];
 
@@ -123,11 +132,17 @@ const POSTFIX_RULES: [(Rule, UnaryOp); 2] = [(Rule::percent, UnaryOp::Percent), 
 static PRATT: LazyLock<PrattParser<Rule>> = LazyLock::new(|| {
     let mut pratt = PrattParser::new();
     for level in 1..=binary_precedence(BinOp::Range) {
+        if level == binary_precedence(BinOp::Pow) {
+            pratt = pratt.op(Op::prefix(Rule::vneg) | Op::prefix(Rule::vplus));
+        }
         let infix = INFIX_RULES
             .iter()
             .filter(|(_, op)| binary_precedence(*op) == level)
             .map(|(r, _)| Op::infix(*r, Assoc::Left));
-        let prefix = PREFIX_RULES.iter().filter(|(_, op)| unary_precedence(*op) == level).map(|(r, _)| Op::prefix(*r));
+        let prefix = PREFIX_RULES
+            .iter()
+            .filter(|(r, op)| !is_macro_sign(*r) && unary_precedence(*op) == level)
+            .map(|(r, _)| Op::prefix(*r));
         let postfix =
             POSTFIX_RULES.iter().filter(|(_, op)| unary_precedence(*op) == level).map(|(r, _)| Op::postfix(*r));
         if let Some(ops) = infix.chain(prefix).chain(postfix).reduce(|a, b| a | b) {

@@ -298,6 +298,8 @@ pub enum Node {
     Bound { upper: bool, var: Rc<str>, dim: Option<Expr>, span: Span },
     /// `[B3]`, `[Sheet2!A1:C4]`, `[D]`: formula text evaluated as in a cell (no macro variables).
     Evaluate { expr: Expr, span: Span },
+    /// `object Is Nothing` (`other` is `None`) or `object Is other`: the same object or not.
+    Is { object: Expr, other: Option<Expr>, span: Span },
 }
 
 #[derive(Debug)]

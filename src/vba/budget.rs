@@ -23,19 +23,18 @@ use super::ErrorKind;
 pub(super) fn brought(var: &Var) -> u64 {
     match var {
         Var::Value(v) => value_bytes(v),
-        Var::Array(a) => array_bytes(&a.data),
+        Var::Array(a) => value_bytes(&Value::Array(a.data.clone())),
         Var::Record(_, fields) => fields.iter().map(brought).sum(),
         Var::Obj(_) => 0,
     }
 }
 
-/// The heap bytes of a value's own text or array (not counting strings in the array).
+/// The heap bytes of a value's text or array, with the texts and arrays its array holds,
+/// however deep (an array stored into each item of another is counted), each shared one once.
 pub(super) fn value_bytes(v: &Value) -> u64 {
-    match v {
-        Value::Text(t) => t.len() as u64,
-        Value::Array(a) => array_bytes(a),
-        _ => 0,
-    }
+    let mut m = Measure::default();
+    m.value(v);
+    m.bytes
 }
 
 fn array_bytes(a: &Array) -> u64 {
@@ -54,22 +53,27 @@ impl Measure {
         self.seen.insert(Rc::as_ptr(rc) as *const u8 as usize)
     }
 
+    /// A value's texts and arrays, and those its arrays hold however deep (an explicit
+    /// stack: arrays nested a million deep do not take the native stack with them).
     fn value(&mut self, v: &Value) {
-        match v {
-            Value::Text(t) if self.first_time(t) => self.bytes += t.len() as u64,
-            Value::Array(a) if self.first_time(a) => self.array(a),
-            _ => {}
+        let mut pending = vec![v];
+        while let Some(v) = pending.pop() {
+            match v {
+                Value::Text(t) if self.first_time(t) => self.bytes = self.bytes.saturating_add(t.len() as u64),
+                Value::Array(a) if self.first_time(a) => {
+                    self.bytes = self.bytes.saturating_add(array_bytes(a));
+                    pending.extend(a.data.iter().filter(|i| matches!(i, Value::Text(_) | Value::Array(_))));
+                }
+                _ => {}
+            }
         }
     }
 
+    /// An array variable's items (the array itself already counted once).
     fn array(&mut self, a: &Array) {
-        self.bytes += array_bytes(a);
+        self.bytes = self.bytes.saturating_add(array_bytes(a));
         for item in &a.data {
-            if let Value::Text(t) = item {
-                if self.first_time(t) {
-                    self.bytes += t.len() as u64;
-                }
-            }
+            self.value(item);
         }
     }
 
@@ -131,7 +135,7 @@ impl Interp<'_, '_> {
         for frame in self.frames.borrow().iter() {
             m.slots(frame.vars.iter());
         }
-        m.slots(self.kept.borrow().iter().map(|(_, s)| s));
+        m.slots(self.kept.borrow().values());
         m.bytes
     }
 }

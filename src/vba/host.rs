@@ -82,6 +82,21 @@ impl Env for Interp<'_, '_> {
     fn date_1904(&self) -> bool {
         self.wb.borrow().date_1904()
     }
+
+    // A function called from a cell reads the calling workbook's clock and sequence.
+    fn now(&self) -> f64 {
+        match self.cells {
+            Some(cells) => cells.now(),
+            None => self.wb.borrow().settings().now(),
+        }
+    }
+
+    fn next_random(&self) -> f64 {
+        match self.cells {
+            Some(cells) => cells.next_random(),
+            None => self.wb.borrow().settings().next_random(),
+        }
+    }
 }
 
 impl Host for Interp<'_, '_> {
@@ -129,6 +144,11 @@ impl Host for Interp<'_, '_> {
     }
 }
 
+/// What an object variable holds before `Set` or after `Set x = Nothing`: no object.
+fn is_nothing(var: &Var) -> bool {
+    matches!(var, Var::Value(Value::Blank) | Var::Obj(Obj::Value(Value::Blank)))
+}
+
 impl Interp<'_, '_> {
     fn park(&self, fault: Fault) {
         let mut pending = self.pending.borrow_mut();
@@ -149,6 +169,20 @@ impl Interp<'_, '_> {
                 self.bound(ctx, *upper, var, dim.as_ref(), *span).map(Operand::Value)
             }
             Node::Evaluate { expr, .. } => Ok(Ctx::new(self, self.unqualified_sheet(), Pos::new(0, 0)).operand(expr)),
+            Node::Is { object, other, .. } => {
+                let object = self.var_of(object, true)?;
+                let same = match other {
+                    None => is_nothing(&object),
+                    Some(other) => {
+                        let other = self.var_of(other, true)?;
+                        match (&object, &other) {
+                            (Var::Obj(a), Var::Obj(b)) => a == b,
+                            (a, b) => is_nothing(a) && is_nothing(b),
+                        }
+                    }
+                };
+                Ok(Operand::Value(Value::Bool(same)))
+            }
         }
     }
 

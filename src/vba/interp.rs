@@ -21,7 +21,7 @@ use crate::workbook::{Input, Workbook, WorkbookError};
 
 use super::ast::*;
 use super::parser::Lines;
-use super::value::{array_var, convert, default_value, input_text, print_text, Obj, Slot, Var};
+use super::value::{array_var, convert, default_value, input_text, print_text, Obj, Slot, Slots, Var};
 use super::{ErrorKind, MacroError, Printed, RunOptions, RunOutput};
 
 /// Runs the entry procedure that `options` chooses.
@@ -199,7 +199,7 @@ pub struct ErrState {
 
 pub(super) struct Frame {
     proc: usize,
-    pub(super) vars: Vec<Slot>,
+    pub(super) vars: Slots,
     with: Vec<Obj>,
     call_site: Option<Span>,
     on_error: OnError,
@@ -218,15 +218,15 @@ pub struct Interp<'m, 'w> {
     pub cells: Option<&'w dyn crate::eval::Env>,
     /// The cell whose formula called the function (`Application.Caller`).
     pub caller: Option<(SheetId, Pos)>,
-    pub(super) globals: RefCell<Vec<Slot>>,
+    pub(super) globals: RefCell<Slots>,
     pub(super) frames: RefCell<Vec<Frame>>,
     pub out: RefCell<RunOutput>,
     /// A `Debug.Print` line left open by a trailing `;` or `,`.
     line: RefCell<Option<String>>,
     pub nc: RefCell<super::nc::NcState>,
     steps: Cell<u64>,
-    /// Static variables between calls: (procedure, variable).
-    pub(super) kept: RefCell<Vec<(usize, Slot)>>,
+    /// Static variables between calls, by procedure and name in ASCII lower case.
+    pub(super) kept: RefCell<std::collections::HashMap<(usize, String), Slot>>,
     pub(super) pending: RefCell<Option<Fault>>,
     /// An `End` statement ran: every procedure stops.
     pub(super) ended: Cell<bool>,
@@ -250,6 +250,8 @@ pub struct Interp<'m, 'w> {
     /// Bytes stores brought since the variables were last measured (`budget.rs`).
     pub(super) charged: Cell<u64>,
     pub err: RefCell<ErrState>,
+    /// GoSubs now running without their Return, across the running procedures.
+    gosubs: Cell<usize>,
 }
 
 impl<'m, 'w> Interp<'m, 'w> {
@@ -268,13 +270,13 @@ impl<'m, 'w> Interp<'m, 'w> {
             wb: RefCell::new(wb),
             cells,
             caller: None,
-            globals: RefCell::new(Vec::new()),
+            globals: RefCell::new(Slots::default()),
             frames: RefCell::new(Vec::new()),
             out: RefCell::new(RunOutput::new("MACRO", options.machine)),
             line: RefCell::new(None),
             nc: RefCell::new(super::nc::NcState::default()),
             steps: Cell::new(0),
-            kept: RefCell::new(Vec::new()),
+            kept: RefCell::new(std::collections::HashMap::new()),
             pending: RefCell::new(None),
             ended: Cell::new(false),
             active: Cell::new(0),
@@ -287,6 +289,7 @@ impl<'m, 'w> Interp<'m, 'w> {
             output_bytes: Cell::new(0),
             charged: Cell::new(0),
             err: RefCell::new(ErrState::default()),
+            gosubs: Cell::new(0),
         }
     }
 }
@@ -521,22 +524,21 @@ impl Interp<'_, '_> {
     /// A copy of what the variable `name` holds (current procedure first, then module).
     pub fn lookup(&self, name: &str) -> Option<Var> {
         let frames = self.frames.borrow();
-        let local = frames.last().and_then(|f| f.vars.iter().find(|s| s.name.eq_ignore_ascii_case(name)));
+        let local = frames.last().and_then(|f| f.vars.get(name));
         if let Some(s) = local {
             return Some(s.var.clone());
         }
-        self.globals.borrow().iter().find(|s| s.name.eq_ignore_ascii_case(name)).map(|s| s.var.clone())
+        self.globals.borrow().get(name).map(|s| s.var.clone())
     }
 
     /// Changes a variable in place; `None` when there is no such variable.
     pub(super) fn with_slot<T>(&self, name: &str, f: impl FnOnce(&mut Slot) -> T) -> Option<T> {
         let mut frames = self.frames.borrow_mut();
-        if let Some(s) = frames.last_mut().and_then(|fr| fr.vars.iter_mut().find(|s| s.name.eq_ignore_ascii_case(name)))
-        {
+        if let Some(s) = frames.last_mut().and_then(|fr| fr.vars.get_mut(name)) {
             return Some(f(s));
         }
         drop(frames);
-        self.globals.borrow_mut().iter_mut().find(|s| s.name.eq_ignore_ascii_case(name)).map(f)
+        self.globals.borrow_mut().get_mut(name).map(f)
     }
 
     /// Declares a variable in the running procedure (or the module, before any runs).
@@ -551,8 +553,8 @@ impl Interp<'_, '_> {
     fn has_local(&self, name: &str) -> bool {
         let frames = self.frames.borrow();
         match frames.last() {
-            Some(f) => f.vars.iter().any(|s| s.name.eq_ignore_ascii_case(name)),
-            None => self.globals.borrow().iter().any(|s| s.name.eq_ignore_ascii_case(name)),
+            Some(f) => f.vars.get(name).is_some(),
+            None => self.globals.borrow().get(name).is_some(),
         }
     }
 
@@ -656,7 +658,7 @@ impl Interp<'_, '_> {
                 continue;
             }
             let name = &p.params[index].name;
-            if let Some(slot) = frame.vars.iter().find(|s| s.name.eq_ignore_ascii_case(name)) {
+            if let Some(slot) = frame.vars.get(name) {
                 self.set_var(&caller_var, slot.var.clone(), span)?;
             }
         }
@@ -680,7 +682,7 @@ impl Interp<'_, '_> {
         }
         self.frames.borrow_mut().push(Frame {
             proc,
-            vars: Vec::new(),
+            vars: Slots::default(),
             with: Vec::new(),
             call_site,
             on_error: OnError::Off,
@@ -691,19 +693,17 @@ impl Interp<'_, '_> {
         self.keep_statics(&frame);
         result?;
         let value = match p.kind {
-            ProcKind::Function => {
-                match frame.vars.iter().find(|s| s.name.eq_ignore_ascii_case(&p.name)).map(|s| &s.var) {
-                    Some(Var::Value(v)) => v.clone(),
-                    Some(Var::Array(a)) => Value::Array(a.data.clone()),
-                    Some(Var::Obj(Obj::Value(v))) => v.clone(),
-                    Some(Var::Obj(Obj::Range(s, r))) => self.ctx().rect_value(*s, *r).unwrap_single(),
-                    Some(Var::Record(..)) => {
-                        let why = "returns a Type value, which is not supported: fill a Type parameter (ByRef) instead";
-                        return Err(self.fault(format!("Function {} {why}", p.name)));
-                    }
-                    _ => Value::Blank,
+            ProcKind::Function => match frame.vars.get(&p.name).map(|s| &s.var) {
+                Some(Var::Value(v)) => v.clone(),
+                Some(Var::Array(a)) => Value::Array(a.data.clone()),
+                Some(Var::Obj(Obj::Value(v))) => v.clone(),
+                Some(Var::Obj(Obj::Range(s, r))) => self.ctx().rect_value(*s, *r).unwrap_single(),
+                Some(Var::Record(..)) => {
+                    let why = "returns a Type value, which is not supported: fill a Type parameter (ByRef) instead";
+                    return Err(self.fault(format!("Function {} {why}", p.name)));
                 }
-            }
+                _ => Value::Blank,
+            },
             ProcKind::Sub => Value::Blank,
         };
         Ok((value, frame))
@@ -821,12 +821,7 @@ impl Interp<'_, '_> {
             }
             StmtKind::Exit(kind) => return Ok(Flow::Exit(*kind)),
             StmtKind::GoTo(label) => return Ok(Flow::GoTo(label.clone())),
-            StmtKind::GoSub(label) => {
-                return Ok(match self.run_from_label(label)? {
-                    Flow::Return => Flow::Next,
-                    other => other,
-                })
-            }
+            StmtKind::GoSub(label) => return self.gosub(label),
             StmtKind::Return => return Ok(Flow::Return),
             StmtKind::OnError(mode) => self.on_error(mode),
             StmtKind::Resume(kind) => {
@@ -895,6 +890,28 @@ impl Interp<'_, '_> {
             other => frame.on_error = other.clone(),
         }
         *self.err.borrow_mut() = ErrState::default();
+    }
+
+    /// `GoSub label`: the subroutine runs nested in this statement until its `Return`. A
+    /// GoSub that never returns nests deeper at each call; past [`GOSUB_MAX_DEPTH`] it is
+    /// VBA's error 28, "Out of stack space" (VBA's reference, "Out of stack space (Error
+    /// 28)"), before the native stack runs out.
+    fn gosub(&self, label: &str) -> Run<Flow> {
+        let depth = self.gosubs.get();
+        if depth >= GOSUB_MAX_DEPTH {
+            let mut f = self.fault(format!(
+                "Out of stack space (run-time error 28): GoSubs nest {GOSUB_MAX_DEPTH} deep without a Return"
+            ));
+            f.code = 28;
+            return Err(f);
+        }
+        self.gosubs.set(depth + 1);
+        let flow = self.run_from_label(label);
+        self.gosubs.set(depth);
+        Ok(match flow? {
+            Flow::Return => Flow::Next,
+            other => other,
+        })
     }
 
     /// Runs the procedure's body from a label: a GoSub's subroutine or an error handler.
@@ -986,29 +1003,29 @@ impl Interp<'_, '_> {
             if self.has_local(&d.name) {
                 continue;
             }
-            let kept =
-                self.kept.borrow().iter().find(|(p, s)| *p == proc && s.name.eq_ignore_ascii_case(&d.name)).cloned();
-            let slot = match kept {
-                Some((_, slot)) => slot,
+            let key = (proc, d.name.to_ascii_lowercase());
+            let kept = self.kept.borrow().get(&key).cloned();
+            match kept {
+                Some(slot) => self.declare(slot),
                 None => {
                     self.dim(std::slice::from_ref(d), false, false)?;
-                    let slot = self.frames.borrow().last().and_then(|f| f.vars.last().cloned()).expect("declared");
-                    self.kept.borrow_mut().push((proc, slot));
-                    continue;
+                    let slot =
+                        self.frames.borrow().last().and_then(|f| f.vars.get(&d.name).cloned()).expect("declared");
+                    self.kept.borrow_mut().insert(key, slot);
                 }
-            };
-            self.declare(slot);
+            }
         }
         Ok(())
     }
 
     /// Keeps the Static variables of a frame that is being left.
     fn keep_statics(&self, frame: &Frame) {
-        for (proc, slot) in self.kept.borrow_mut().iter_mut() {
-            if *proc != frame.proc {
-                continue;
-            }
-            if let Some(s) = frame.vars.iter().find(|v| v.name.eq_ignore_ascii_case(&slot.name)) {
+        let mut kept = self.kept.borrow_mut();
+        if kept.is_empty() {
+            return;
+        }
+        for s in frame.vars.iter() {
+            if let Some(slot) = kept.get_mut(&(frame.proc, s.name.to_ascii_lowercase())) {
                 slot.var = s.var.clone();
             }
         }
@@ -1310,6 +1327,10 @@ impl Interp<'_, '_> {
         Ok(())
     }
 }
+
+/// The deepest GoSubs nest without a Return (each level is a few native stack frames: the
+/// limit leaves room for them on a 2 MiB thread with procedures and expressions running).
+pub const GOSUB_MAX_DEPTH: usize = 1000;
 
 /// The most cells one assignment writes (a whole sheet is 17 billion).
 const MAX_WRITE: u64 = 10_000_000;

@@ -122,8 +122,8 @@ use crate::nc::{Machine, Program};
 use crate::workbook::Workbook;
 
 pub use ast::{Module, Span};
-pub use udf::{install_functions, WorkbookFunctions, FUNCTION_MAX_DEPTH};
 pub use project::{read_project, ModuleKind, ProjectError, ProjectModule, VbaProject};
+pub use udf::{install_functions, WorkbookFunctions, FUNCTION_MAX_DEPTH};
 
 /// How to run a macro.
 #[derive(Clone, Debug)]

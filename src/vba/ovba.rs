@@ -21,17 +21,33 @@ fn fail<T>(offset: usize, message: impl Into<String>) -> Result<T, OvbaError> {
     Err(OvbaError { offset, message: message.into() })
 }
 
-/// Decompresses a CompressedContainer (2.4.1.3.1).
+/// The most bytes one stream decompresses to: the VBA editor holds at most 65,535 lines of
+/// 1,023 characters in a module, under 64 MiB, so a container that inflates past that (a
+/// chunk's 4,096 bytes from 3 compressed ones, about 1,365 times) is hostile or corrupt.
+pub const MAX_DECOMPRESSED: usize = 64 << 20;
+
+/// Decompresses a CompressedContainer (2.4.1.3.1), refusing one that inflates past
+/// [`MAX_DECOMPRESSED`].
 pub fn decompress(data: &[u8]) -> Result<Vec<u8>, OvbaError> {
+    decompress_at_most(data, MAX_DECOMPRESSED)
+}
+
+/// [`decompress`] with the bound given: checked after each chunk, which adds at most 4,096.
+pub fn decompress_at_most(data: &[u8], limit: usize) -> Result<Vec<u8>, OvbaError> {
     match data.first() {
         Some(1) => {}
         Some(b) => return fail(0, format!("compressed container starts with {b:#04x}, not 0x01")),
         None => return fail(0, "compressed container is empty"),
     }
-    let mut out = Vec::with_capacity(data.len() * 2);
+    let mut out = Vec::with_capacity(data.len().min(limit) * 2);
     let mut at = 1;
     while at < data.len() {
+        let chunk = at;
         at = decompress_chunk(data, at, &mut out)?;
+        if out.len() > limit {
+            let mib = limit >> 20;
+            return fail(chunk, format!("decompresses to more than {mib} MiB (a VBA module holds less)"));
+        }
     }
     Ok(out)
 }
@@ -80,6 +96,9 @@ fn decompress_chunk(data: &[u8], at: usize, out: &mut Vec<u8>) -> Result<usize, 
             let (offset, length) = unpack_copy_token(token, out.len() - start);
             if offset > out.len() - start {
                 return fail(pos, format!("copy token reaches {offset} bytes back, before the chunk"));
+            }
+            if out.len() - start + length > CHUNK {
+                return fail(at, "chunk decompresses to more than 4096 bytes");
             }
             for _ in 0..length {
                 out.push(out[out.len() - offset]);
@@ -234,6 +253,20 @@ mod tests {
             .collect();
         assert!(tokens_of(&last).len() > CHUNK);
         assert!(compress(&last).unwrap_err().message.contains("do not compress"));
+    }
+
+    #[test]
+    fn a_container_inflating_past_the_bound_is_refused_after_the_chunk_that_passed_it() {
+        // Raw chunks of 4,096 bytes each: 3 of them pass a bound of 10,000.
+        let mut data = vec![1u8];
+        for _ in 0..3 {
+            data.extend_from_slice(&0x3FFFu16.to_le_bytes());
+            data.extend(std::iter::repeat_n(b'x', CHUNK));
+        }
+        assert_eq!(decompress_at_most(&data, 3 * CHUNK).unwrap().len(), 3 * CHUNK);
+        let e = decompress_at_most(&data, 10_000).unwrap_err();
+        assert_eq!(e.offset, 1 + 2 * (CHUNK + 2));
+        assert!(e.message.contains("decompresses to more than"), "{e}");
     }
 
     #[test]

@@ -26,20 +26,28 @@ use super::resolve::{lower_bare, refusal, FORBIDDEN};
 /// Where byte offsets of the source fall in lines and columns.
 pub struct Lines {
     starts: Vec<usize>,
+    /// The last place asked for (offset, its span): the next place on the same line is
+    /// counted on from there, so 100,000 statements on one line cost time in proportion.
+    last: Cell<(usize, Span)>,
 }
 
 impl Lines {
     pub fn new(src: &str) -> Lines {
         let mut starts = vec![0];
         starts.extend(src.match_indices('\n').map(|(i, _)| i + 1));
-        Lines { starts }
+        Lines { starts, last: Cell::new((0, Span { line: 1, col: 1 })) }
     }
 
     pub fn span(&self, src: &str, offset: usize) -> Span {
         let offset = offset.min(src.len());
         let line = self.starts.partition_point(|&s| s <= offset) - 1;
-        let col = src.get(self.starts[line]..offset).map_or(0, |s| s.chars().count());
-        Span { line: line as u32 + 1, col: col as u32 + 1 }
+        let (last_offset, last) = self.last.get();
+        let from_last = last.line as usize == line + 1 && last_offset <= offset && src.is_char_boundary(last_offset);
+        let (from, col_from) = if from_last { (last_offset, last.col - 1) } else { (self.starts[line], 0) };
+        let col = src.get(from..offset).map_or(0, |s| s.chars().count()) as u32 + col_from;
+        let span = Span { line: line as u32 + 1, col: col + 1 };
+        self.last.set((offset, span));
+        span
     }
 
     /// The text of a 1-based line, without its line break.
@@ -146,8 +154,10 @@ fn describe(rule: Rule) -> &'static str {
         | Rule::bracket
         | Rule::date_lit
         | Rule::radix_lit
-        | Rule::neg
-        | Rule::plus
+        | Rule::typed_number
+        | Rule::path_is
+        | Rule::vneg
+        | Rule::vplus
         | Rule::not_op => "a value",
         Rule::ident | Rule::member_name | Rule::link | Rule::member => "a name",
         Rule::EOI | Rule::eol => "the end of the line",
@@ -173,7 +183,9 @@ pub(super) struct Scope {
     /// The Function being built: its name is its result variable.
     pub(super) function: Option<Rc<str>>,
     /// Declared or assigned names, lower case.
-    pub(super) vars: Vec<String>,
+    pub(super) vars: std::collections::HashSet<String>,
+    /// `Static Function`, `Static Sub`: every `Dim` of the body is `Static` ([MS-VBAL] 5.3.1.2).
+    pub(super) all_static: bool,
 }
 
 pub(super) struct Build<'s> {
@@ -186,7 +198,7 @@ pub(super) struct Build<'s> {
     /// Each procedure's index by its name in ASCII lower case: a module of many procedures
     /// is read in time proportional to its size.
     pub(super) proc_names: std::collections::HashMap<String, usize>,
-    pub(super) globals: RefCell<Vec<String>>,
+    pub(super) globals: RefCell<std::collections::HashSet<String>>,
     pub(super) scope: RefCell<Scope>,
     nodes: RefCell<Vec<Node>>,
     pub(super) explicit: Cell<bool>,
@@ -226,7 +238,7 @@ impl<'s> Build<'s> {
             objects: &[],
             procs: Vec::new(),
             proc_names: std::collections::HashMap::new(),
-            globals: RefCell::new(Vec::new()),
+            globals: RefCell::new(Default::default()),
             scope: RefCell::new(Scope::default()),
             nodes: RefCell::new(Vec::new()),
             explicit: Cell::new(false),
@@ -305,14 +317,12 @@ impl<'s> Build<'s> {
 
     fn proc(&self, pair: Pair<Rule>) -> Res<Proc> {
         let k = kids(&pair);
-        if let Some(s) = find(&k, Rule::k_static) {
-            return Err(self.error_at(&s, "Static Sub/Function is not supported: declare each variable with Static"));
-        }
         let kind = if pair.as_rule() == Rule::sub_def { ProcKind::Sub } else { ProcKind::Function };
         let name = name_of(&find(&k, Rule::ident).expect("procedure name"));
         *self.scope.borrow_mut() = Scope {
+            all_static: find(&k, Rule::k_static).is_some(),
             function: (kind == ProcKind::Function).then(|| name.clone()),
-            vars: if kind == ProcKind::Function { vec![name.to_ascii_lowercase()] } else { Vec::new() },
+            vars: if kind == ProcKind::Function { [name.to_ascii_lowercase()].into() } else { Default::default() },
         };
         let params = match find(&k, Rule::param_list) {
             Some(list) => all(&kids(&list), Rule::param).into_iter().map(|p| self.param(p)).collect::<Res<Vec<_>>>()?,
@@ -426,6 +436,9 @@ impl<'s> Build<'s> {
                 }
                 StmtKind::Static(self.dims(&pair)?)
             }
+            Rule::dim_stmt if self.scope.borrow().all_static && !self.in_module_level() => {
+                StmtKind::Static(self.dims(&pair)?)
+            }
             Rule::dim_stmt => StmtKind::Dim(self.dims(&pair)?),
             Rule::redim_stmt => {
                 StmtKind::ReDim { preserve: find(&kids(&pair), Rule::k_preserve).is_some(), vars: self.dims(&pair)? }
@@ -487,7 +500,7 @@ impl<'s> Build<'s> {
                 None => None,
             };
             if at_module {
-                self.globals.borrow_mut().push(name.to_ascii_lowercase());
+                self.globals.borrow_mut().insert(name.to_ascii_lowercase());
             } else {
                 self.declare(&name);
             }
@@ -531,7 +544,7 @@ impl<'s> Build<'s> {
             let name = name_of(&find(&k, Rule::ident).expect("constant name"));
             let value = self.expr(find(&k, Rule::vexpr).expect("constant value"))?;
             if at_module {
-                self.globals.borrow_mut().push(name.to_ascii_lowercase());
+                self.globals.borrow_mut().insert(name.to_ascii_lowercase());
             } else {
                 self.declare(&name);
             }
@@ -850,6 +863,8 @@ impl HostPrimaries for Build<'_> {
         match pair.as_rule() {
             Rule::bracket => self.bracket(pair),
             Rule::path => self.path_expr(pair, false),
+            Rule::path_is => self.path_is(pair),
+            Rule::typed_number => self.typed_number(pair),
             Rule::date_lit => {
                 let text = pair.as_str().trim_matches('#');
                 let serial = date_literal(text).ok_or_else(|| {
@@ -874,6 +889,43 @@ impl HostPrimaries for Build<'_> {
             }
             rule => unreachable!("macro primary {rule:?}"),
         }
+    }
+}
+
+impl Build<'_> {
+    /// A path, or `a Is Nothing` / `a Is b`: a node the interpreter answers True or False.
+    fn path_is(&self, pair: Pair<Rule>) -> Res<Expr> {
+        let (at, end) = (start(&pair), pair.as_span().end());
+        let mut paths = all(&kids(&pair), Rule::path).into_iter();
+        let first = paths.next().expect("a path");
+        if find(&kids(&pair), Rule::k_is).is_none() {
+            return self.path_expr(first, false);
+        }
+        let object = self.path_expr(first, false)?;
+        let other = paths.next().map(|p| self.path_expr(p, false)).transpose()?;
+        Ok(self.node(Node::Is { object, other, span: self.span(at) }, at, end))
+    }
+
+    /// `10#`, `1E10#`, `1!`, `1@`, `32767%`, `100000&`: the number; an Integer or Long
+    /// literal must fit its type ([MS-VBAL] 3.3.2, "Overflow" otherwise).
+    fn typed_number(&self, pair: Pair<Rule>) -> Res<Expr> {
+        let text = pair.as_str();
+        let (digits, suffix) = text.split_at(text.len() - 1);
+        let value: f64 = digits.parse().map_err(|_| self.error_at(&pair, format!("{text} is not a number")))?;
+        let (fits, kind) = match suffix {
+            "%" => (value <= f64::from(i16::MAX) && value.fract() == 0.0, "an Integer (% : up to 32767)"),
+            "&" => (value <= f64::from(i32::MAX) && value.fract() == 0.0, "a Long (& : up to 2147483647)"),
+            "@" => (value.abs() < 922_337_203_685_477.580_8, "a Currency (@)"),
+            "!" => (value <= f64::from(f32::MAX), "a Single (!)"),
+            _ => (value.is_finite(), "a Double (#)"),
+        };
+        if !fits {
+            return Err(self.error_at(&pair, format!("{text}: overflow, not {kind}")));
+        }
+        Ok(Expr::new(
+            ExprKind::Number(value),
+            ByteSpan { start: start(&pair) as u32, end: pair.as_span().end() as u32 },
+        ))
     }
 }
 

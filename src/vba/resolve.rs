@@ -145,9 +145,7 @@ impl Build<'_> {
     pub(super) fn declare(&self, name: &str) {
         let lower = name.to_ascii_lowercase();
         let mut scope = self.scope.borrow_mut();
-        if !scope.vars.contains(&lower) {
-            scope.vars.push(lower);
-        }
+        scope.vars.insert(lower);
     }
 
     pub(super) fn proc_index(&self, name: &str) -> Option<usize> {

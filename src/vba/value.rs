@@ -76,6 +76,47 @@ pub struct Slot {
     pub constant: bool,
 }
 
+/// The variables of a procedure's call or of the module, in the order declared, each found
+/// by name in one step: 50,000 `Dim`s in one Sub declare in time proportional to their number.
+#[derive(Clone, Debug, Default)]
+pub struct Slots {
+    slots: Vec<Slot>,
+    /// Each slot's index by its name in ASCII lower case.
+    index: std::collections::HashMap<Box<str>, usize>,
+}
+
+impl Slots {
+    pub fn get(&self, name: &str) -> Option<&Slot> {
+        self.position(name).map(|i| &self.slots[i])
+    }
+
+    pub fn get_mut(&mut self, name: &str) -> Option<&mut Slot> {
+        self.position(name).map(|i| &mut self.slots[i])
+    }
+
+    fn position(&self, name: &str) -> Option<usize> {
+        if let Some(&i) = self.index.get(name) {
+            return Some(i);
+        }
+        self.index.get(name.to_ascii_lowercase().as_str()).copied()
+    }
+
+    /// Adds a variable; one already of that name keeps its place and takes the new slot.
+    pub fn push(&mut self, slot: Slot) {
+        match self.position(&slot.name) {
+            Some(i) => self.slots[i] = slot,
+            None => {
+                self.index.insert(slot.name.to_ascii_lowercase().into(), self.slots.len());
+                self.slots.push(slot);
+            }
+        }
+    }
+
+    pub fn iter(&self) -> std::slice::Iter<'_, Slot> {
+        self.slots.iter()
+    }
+}
+
 /// A value as a variable holds it: arrays become array variables (one row: one dimension
 /// from Option Base; more rows: two dimensions from 1, as VBA reads a Range's values).
 pub fn array_var(v: Value, base: i64) -> Var {

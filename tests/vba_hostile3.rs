@@ -1,0 +1,112 @@
+//! Issue 30's macro cases (the third hostile round): each a class of input that crashed, ran
+//! away or answered wrongly, with the answer VBA gives (its reference cited at each test).
+
+use std::time::{Duration, Instant};
+
+use ncsheet::vba::{self, ErrorKind, MacroError, RunOptions, RunOutput};
+use ncsheet::workbook::Workbook;
+
+fn run_with(src: &str, options: &RunOptions) -> Result<RunOutput, MacroError> {
+    let mut wb = Workbook::with_sheet();
+    vba::run(&mut wb, src, "hostile.bas", options)
+}
+
+fn printed(src: &str) -> Vec<String> {
+    run_with(src, &RunOptions::default()).unwrap_or_else(|e| panic!("{e}")).printed
+}
+
+/// Runs on a thread with the 2 MiB stack Rust gives a test thread by default, so that a
+/// limit set too high shows as an overflow here and not only in the CLI's larger thread.
+fn on_small_stack<T: Send + 'static>(f: impl FnOnce() -> T + Send + 'static) -> T {
+    std::thread::Builder::new().stack_size(2 << 20).spawn(f).expect("thread").join().expect("no overflow")
+}
+
+// VBA's reference, "Out of stack space (Error 28)": a GoSub that never returns nests until
+// the stack is used up, and VBA stops with error 28 (before: ~5,000 GoSubs aborted the process).
+#[test]
+fn gosub_without_return_is_error_28_not_a_stack_overflow() {
+    let src = "Sub Main()\nAgain:\n    GoSub Again\nEnd Sub\n";
+    let e = on_small_stack(move || run_with(src, &RunOptions::default()).unwrap_err());
+    assert_eq!(e.kind, ErrorKind::Runtime, "{e}");
+    assert!(e.message.contains("Out of stack space") && e.message.contains("28"), "{e}");
+}
+
+#[test]
+fn error_28_is_trapped_like_any_runtime_error() {
+    let src = "Sub Main()\n    On Error GoTo Handler\n    GoSub Again\n    Exit Sub\nAgain:\n    GoSub Again\n\
+               Handler:\n    Debug.Print Err.Number\nEnd Sub\n";
+    let out = on_small_stack(move || printed(src));
+    assert_eq!(out, [" 28 "]);
+}
+
+#[test]
+fn gosubs_that_return_nest_and_unwind() {
+    // Ten nested GoSubs with their Returns run to the end (the limit counts only the open ones).
+    let src = "Sub Main()\n    Dim n\n    GoSub Down\n    Debug.Print n\n    Exit Sub\nDown:\n    n = n + 1\n\
+               \x20   If n < 10 Then GoSub Down\n    Return\nEnd Sub\n";
+    assert_eq!(printed(src), [" 10 "]);
+}
+
+// The memory budget counts what arrays held in another array's items hold: storing a large
+// array into each element is stopped at the budget with the limit's message (before: it grew
+// until the process aborted at its memory cap).
+#[test]
+fn arrays_inside_array_items_count_against_the_memory_budget() {
+    let src = "Sub Main()\n    Dim outer(1 To 1000), i\n    For i = 1 To 1000\n\
+               \x20       outer(i) = Array(Space(1000000), Space(1000000))\n    Next\nEnd Sub\n";
+    let options = RunOptions { max_memory: 64 << 20, ..RunOptions::default() };
+    let e = run_with(src, &options).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::Limit, "{e}");
+    assert!(e.message.contains("--max-memory"), "{e}");
+}
+
+#[test]
+fn nested_arrays_each_made_anew_are_counted() {
+    // Each item a new array of 100,000 items (ReDim inside a loop): 1,000 of them are 100
+    // million items, far past a 64 MiB budget.
+    let src = "Sub Main()\n    Dim outer(1 To 1000), inner(), i\n    For i = 1 To 1000\n\
+               \x20       ReDim inner(1 To 100000)\n        outer(i) = inner\n    Next\nEnd Sub\n";
+    let options = RunOptions { max_memory: 64 << 20, ..RunOptions::default() };
+    let e = run_with(src, &options).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::Limit, "{e}");
+}
+
+fn quick(src: String, limit: Duration) {
+    let started = Instant::now();
+    let out = run_with(&src, &RunOptions::default());
+    let took = started.elapsed();
+    assert!(out.is_ok(), "{}", out.unwrap_err());
+    assert!(took < limit, "took {took:?}");
+}
+
+// Declarations in time proportional to their number (before: 11–30 s and more). The bounds
+// are generous for a debug build on a loaded machine; quadratic work is minutes here.
+#[test]
+fn a_hundred_thousand_module_constants_parse_and_run_fast() {
+    let mut src = String::new();
+    for i in 0..100_000 {
+        src.push_str(&format!("Const C{i} = {i}\n"));
+    }
+    src.push_str("Sub Main()\n    [A1] = C99999\nEnd Sub\n");
+    quick(src, Duration::from_secs(20));
+}
+
+#[test]
+fn fifty_thousand_dims_in_one_sub_run_fast() {
+    let mut src = String::from("Sub Main()\n");
+    for i in 0..50_000 {
+        src.push_str(&format!("    Dim v{i} As Long\n"));
+    }
+    src.push_str("    v49999 = 1\nEnd Sub\n");
+    quick(src, Duration::from_secs(20));
+}
+
+#[test]
+fn a_hundred_thousand_statements_on_one_line_run_fast() {
+    let mut src = String::from("Sub Main()\n    Dim x: ");
+    for _ in 0..100_000 {
+        src.push_str("x = x + 1: ");
+    }
+    src.push_str("[A1] = x\nEnd Sub\n");
+    quick(src, Duration::from_secs(20));
+}
