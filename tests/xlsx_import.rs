@@ -175,3 +175,32 @@ fn cached_values_keep_their_types() {
     assert_eq!(differences.len(), 1);
     assert!(differences[0].volatile);
 }
+
+#[test]
+fn a_sheet_whose_relationship_names_no_part_is_left_out_with_a_note() {
+    // Excel saves a very hidden Excel 4 macro sheet with an empty r:id; Excel and
+    // LibreOffice open the workbook without it (ECMA-376 §18.2.19 makes r:id required, and
+    // an id no relationship has names no part).
+    let data = r#"<row r="1"><c r="A1"><v>2</v></c><c r="B1"><f>A1*3</f><v>6</v></c></row>"#;
+    let plain = package(&[("Sheet1", data), ("Data", data)], "");
+    let mut zip = zip::ZipArchive::new(Cursor::new(&plain[..])).unwrap();
+    let mut out = zip::ZipWriter::new(Cursor::new(Vec::new()));
+    for i in 0..zip.len() {
+        let mut entry = zip.by_index(i).unwrap();
+        let name = entry.name().unwrap().to_string();
+        let mut text = String::new();
+        std::io::Read::read_to_string(&mut entry, &mut text).unwrap();
+        if name == "xl/workbook.xml" {
+            let macro_sheet = r#"<sheet name="Macro1" sheetId="9" state="veryHidden" r:id=""/>"#;
+            text = text.replacen(r#"<sheet name="Data""#, &format!(r#"{macro_sheet}<sheet name="Data""#), 1);
+        }
+        out.start_file(name.as_str(), zip::write::SimpleFileOptions::default()).unwrap();
+        out.write_all(text.as_bytes()).unwrap();
+    }
+    let bytes = out.finish().unwrap().into_inner();
+    let imported = xlsx::load_bytes(&bytes, Path::new("macro.xlsx")).unwrap_or_else(|e| panic!("{e}"));
+    let wb = &imported.workbook;
+    assert_eq!(wb.sheet_names(), ["Sheet1", "Data"]);
+    assert_eq!(wb.value(1, at("B1")), num(6.0));
+    assert!(imported.notes.iter().any(|n| n.contains("'Macro1'") && n.contains("left out")), "{:?}", imported.notes);
+}

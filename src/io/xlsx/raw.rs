@@ -96,6 +96,21 @@ impl<'a> Package<'a> {
         Ok(package)
     }
 
+    /// The workbook part and its text without the `<sheet>` elements whose relationship id
+    /// names no part (Excel saves a very hidden Excel 4 macro sheet so, with `r:id=""`), or
+    /// `None` when every sheet has its part. Excel and LibreOffice open such a workbook
+    /// without those sheets; calamine refuses it, so it is given this text instead.
+    pub fn workbook_without_partless_sheets(&mut self) -> Result<Option<(String, String)>, Err> {
+        if self.sheets.iter().all(|s| !s.part.is_empty()) {
+            return Ok(None);
+        }
+        let Some(workbook) = self.workbook_parts.first().cloned() else { return Ok(None) };
+        let rels = self.relationships(&workbook)?;
+        let text = self.read_part(&workbook)?;
+        let known = |id: &str| rels.iter().any(|(rid, ..)| rid == id);
+        Ok(Some((workbook, without_sheets_where(&text, |id| !known(id)))))
+    }
+
     /// Reads a whole (small) part as text; a missing part is an error.
     pub fn read_part(&mut self, part: &str) -> Result<String, Err> {
         let mut entry = self.entry(part)?.held_whole();
@@ -217,7 +232,10 @@ impl<'a> Package<'a> {
                 let (part, kind) = match by_id.get(id.as_str()).map(|&i| &rels[i]) {
                     Some((_, target, kind)) => (target.clone(), kind.clone()),
                     // Excel opens such a workbook without the sheet.
-                    None => (String::new(), "sheet with no part".into()),
+                    None => (
+                        String::new(),
+                        "sheet naming no part in the package (as Excel saves a very hidden macro sheet)".into(),
+                    ),
                 };
                 sheets.push(SheetEntry { name, part, kind, visibility });
             }
@@ -286,6 +304,48 @@ impl<'a> Package<'a> {
         }
         Ok(())
     }
+}
+
+/// `xml` without the `<sheet …/>` (or `<sheet …>…</sheet>`) elements, of any namespace
+/// prefix, whose relationship id (`r:id`, unescaped) `drop` picks.
+fn without_sheets_where(xml: &str, drop: impl Fn(&str) -> bool) -> String {
+    let mut out = String::with_capacity(xml.len());
+    let mut rest = xml;
+    while let Some(open) = rest.find('<') {
+        let Some(close) = rest[open..].find('>').map(|c| open + c) else { break };
+        let tag = &rest[open..=close];
+        let name = tag[1..].split(|c: char| c.is_whitespace() || c == '/' || c == '>').next().unwrap_or("");
+        if !(name.rsplit(':').next() == Some("sheet") && drop(&relationship_id(tag))) {
+            out.push_str(&rest[..=close]);
+            rest = &rest[close + 1..];
+            continue;
+        }
+        out.push_str(&rest[..open]);
+        rest = &rest[close + 1..];
+        if !tag.ends_with("/>") {
+            let end = format!("</{name}>");
+            rest = rest.find(&end).map_or("", |at| &rest[at + end.len()..]);
+        }
+    }
+    out.push_str(rest);
+    out
+}
+
+/// The value of a tag's relationship id attribute (`id` with a namespace prefix), empty
+/// when it has none.
+fn relationship_id(tag: &str) -> String {
+    let mut rest = tag;
+    while let Some(at) = rest.find("id=") {
+        let prefixed = rest[..at].ends_with(':');
+        let value = &rest[at + 3..];
+        if prefixed {
+            let quote = value.chars().next().unwrap_or('"');
+            let inner = &value[quote.len_utf8()..];
+            return unescape(inner[..inner.find(quote).unwrap_or(inner.len())].as_bytes());
+        }
+        rest = value;
+    }
+    String::new()
 }
 
 /// Reads a shared-strings table through the checks of the one the workbook names.
@@ -483,6 +543,15 @@ fn rich_values(values: &[u8], structures: &[u8]) -> Vec<Option<XlError>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn sheets_naming_no_part_are_left_out_of_calamines_view() {
+        let xml = r#"<workbook><sheets><sheet name="A" sheetId="1" r:id="rId1"/><sheet name="M" sheetId="2" state="veryHidden" r:id=""/><x:sheet name="N" r:id="rId9"></x:sheet></sheets></workbook>"#;
+        let kept = without_sheets_where(xml, |id| id != "rId1");
+        assert_eq!(kept, r#"<workbook><sheets><sheet name="A" sheetId="1" r:id="rId1"/></sheets></workbook>"#);
+        assert_eq!(relationship_id(r#"<sheet sheetId="2" r:id="">"#), "");
+        assert_eq!(relationship_id(r#"<sheet sheetId="2" r:id='rId&amp;3'/>"#), "rId&3");
+    }
 
     #[test]
     fn relationship_targets_resolve_against_their_folder() {

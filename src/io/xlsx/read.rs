@@ -84,7 +84,8 @@ pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
     let strings = shared_strings(&mut package, file)?;
     let read_before = package.shared_strings.clone();
     package.check_parts_calamine_reads(&[read_before.as_deref().unwrap_or_default()]).map_err(fail)?;
-    let mut calamine: Xlsx<Cursor<&[u8]>> = match Xlsx::new(Cursor::new(bytes)) {
+    let calamine_view = calamine_view(&mut package, bytes, file)?;
+    let mut calamine: Xlsx<Cursor<&[u8]>> = match Xlsx::new(Cursor::new(&calamine_view[..])) {
         Ok(calamine) => calamine,
         Err(e) => {
             return Err(damaged_workbook_part(&mut package, file).unwrap_or_else(|| calamine_error(file, None, e)))
@@ -700,6 +701,21 @@ fn sheet_layout(scan: &SheetScan, formats: &[Option<String>]) -> SheetLayout {
         }
     }
     layout
+}
+
+/// The package as calamine is given it: as read, or, when the workbook lists a sheet whose
+/// relationship names no part (which calamine refuses), with that sheet left out of the
+/// workbook part. The sheet is left out of the workbook as well, with a note (its kind says
+/// it has no part).
+fn calamine_view<'b>(package: &mut Package, bytes: &'b [u8], file: &Path) -> Result<Cow<'b, [u8]>, XlsxError> {
+    let fail = |(part, kind, message): (Option<String>, ErrorKind, String)| {
+        XlsxError::new(file, part.as_deref(), kind, message)
+    };
+    let Some((part, text)) = package.workbook_without_partless_sheets().map_err(fail)? else {
+        return Ok(Cow::Borrowed(bytes));
+    };
+    let source = crate::io::Source { file: file.to_path_buf(), bytes: bytes.into() };
+    Ok(Cow::Owned(super::replace_part(&source, &part, text.as_bytes())?))
 }
 
 /// Recognizes what is not an xlsx package before a zip reader says something obscure.
