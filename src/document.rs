@@ -19,6 +19,7 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::eval::Settings;
 use crate::formula::address::Pos;
 use crate::formula::ast::SheetId;
 use crate::io::{self, xlsx, Encoded, Format, Opened, Origin};
@@ -37,6 +38,9 @@ pub struct OpenOptions {
     pub csv_delimiter: Option<u8>,
     /// The limits the workbook's own VBA functions run under when cells call them.
     pub functions: RunOptions,
+    /// The clock and random sequence the workbook's formulas read (`None`: the system clock
+    /// and a sequence seeded from it).
+    pub settings: Option<Settings>,
 }
 
 impl OpenOptions {
@@ -89,7 +93,11 @@ impl Document {
         };
         let mut opened = io::open_bytes(bytes, &options.name, format, options.csv_delimiter)?;
         install_functions(&mut opened, options.functions.clone());
-        Ok(Document { opened, name: options.name.clone(), csv_delimiter: options.csv_delimiter })
+        let mut doc = Document { opened, name: options.name.clone(), csv_delimiter: options.csv_delimiter };
+        if let Some(settings) = &options.settings {
+            doc.set_settings(settings.clone());
+        }
+        Ok(doc)
     }
 
     /// Reads the file at `path` (see [`Document::open`]); its format comes from its bytes.
@@ -167,6 +175,29 @@ impl Document {
     /// does not parse is refused and the cell left as it was.
     pub fn set(&mut self, sheet: SheetId, pos: Pos, input: &str) -> Result<Vec<Problem>, Problem> {
         self.opened.workbook.set_input(sheet, pos, input)
+    }
+
+    /// The clock and random sequence the formulas read.
+    pub fn settings(&self) -> &Settings {
+        self.opened.workbook.settings()
+    }
+
+    /// Changes the clock or the random sequence, and recomputes the cells that read them.
+    pub fn set_settings(&mut self, settings: Settings) {
+        *self.opened.workbook.settings_mut() = settings;
+        self.opened.workbook.recalculate();
+    }
+
+    /// A cell's value as the cell's number format shows it (General without one), in the
+    /// workbook's own date system.
+    pub fn shown(&self, sheet: SheetId, pos: Pos) -> String {
+        let wb = &self.opened.workbook;
+        let value = wb.value(sheet, pos);
+        let crate::eval::Value::Number(n) = value else { return value.to_string() };
+        let sheet_name = wb.sheet_names().into_iter().nth(sheet as usize).unwrap_or_default();
+        let layout = self.layout().and_then(|l| l.sheets.get(&sheet_name));
+        let code = layout.and_then(|l| l.number_formats.get(&pos)).map(String::as_str);
+        crate::eval::dates::in_date_system(wb.date_1904(), || crate::eval::format::number_format::shown(n, code))
     }
 
     /// Recomputes every cell that an edit made stale.

@@ -88,3 +88,61 @@ fn a_save_to_bytes_is_read_back_alike_by_libreoffice() {
     assert!((at("G6") - XA_30).abs() < 1e-9, "LibreOffice's XA {}", at("G6"));
     assert!((at("G8") - XB_30).abs() < 1e-9, "LibreOffice's XB {}", at("G8"));
 }
+
+/// A one-sheet workbook in the 1900 or the 1904 date system, as a document opened from the
+/// bytes of its saved file; its cells read the date 2024-01-01 and the serial 45000.
+fn dated(date_1904: bool) -> Document {
+    let mut wb = ncsheet::workbook::Workbook::with_sheet();
+    wb.set_date_1904(date_1904);
+    let at = |c: &str| ncsheet::formula::address::parse_cell(c).unwrap();
+    for (cell, input) in [("A1", "=DATE(2024,1,1)"), ("A2", "=TEXT(A1,\"yyyy-mm-dd\")"), ("A3", "=YEAR(45000)")] {
+        wb.set_input(0, at(cell), input).unwrap();
+    }
+    let mut layout = ncsheet::io::xlsx::Layout::default();
+    layout.sheets.entry("Sheet1".into()).or_default().number_formats.insert(at("A1"), "yyyy-mm-dd".into());
+    let name = Path::new("dated.xlsx");
+    let origin = ncsheet::io::Origin::New;
+    let bytes = ncsheet::io::encode_save(&wb, Some(&layout), &origin, name).unwrap().into_bytes();
+    Document::open(bytes, &OpenOptions::named(name)).unwrap()
+}
+
+fn text(doc: &Document, cell: &str) -> String {
+    let (sheet, pos) = doc.cell(cell).unwrap();
+    doc.workbook().value(sheet, pos).to_string()
+}
+
+#[test]
+fn a_1900_and_a_1904_workbook_interleaved_on_one_thread_keep_their_own_dates() {
+    // Excel: 2024-01-01 is serial 45292 in the 1900 system and 1,462 days less in the 1904
+    // one; serial 45000 is 2023-03-15 (1900) or 2027-03-16 (1904).
+    let (mut old, mut new) = (dated(true), dated(false));
+    for round in 0..3 {
+        let (sheet, b1) = old.cell("B1").unwrap();
+        old.set(sheet, b1, &format!("=A1+{round}")).unwrap();
+        let (sheet, b1) = new.cell("B1").unwrap();
+        new.set(sheet, b1, &format!("=A1+{round}")).unwrap();
+        assert_eq!((number(&old, "A1"), number(&new, "A1")), (43830.0, 45292.0));
+        assert_eq!((text(&old, "A2"), text(&new, "A2")), ("2024-01-01".to_string(), "2024-01-01".to_string()));
+        assert_eq!((number(&old, "A3"), number(&new, "A3")), (2027.0, 2023.0));
+        // Shown as a date, each in its own system, whichever was evaluated last.
+        let (sheet, a1) = old.cell("A1").unwrap();
+        assert_eq!((old.shown(sheet, a1), new.shown(sheet, a1)), ("2024-01-01".into(), "2024-01-01".into()));
+        assert_eq!(number(&old, "B1"), 43830.0 + f64::from(round));
+    }
+}
+
+#[test]
+fn two_documents_keep_their_own_fixed_clocks() {
+    let clocked = |serial: f64| {
+        let mut settings = ncsheet::eval::Settings::seeded(1);
+        settings.clock = Some(serial);
+        let options = OpenOptions { settings: Some(settings), ..OpenOptions::named("clock.csv") };
+        Document::open(b"=NOW(),=TODAY(),=RAND()\n".to_vec(), &options).unwrap()
+    };
+    // 2024-01-01 12:00 and 2027-03-16 06:00.
+    let (a, b) = (clocked(45292.5), clocked(46462.25));
+    assert_eq!((number(&a, "A1"), number(&a, "B1")), (45292.5, 45292.0));
+    assert_eq!((number(&b, "A1"), number(&b, "B1")), (46462.25, 46462.0));
+    // The same seed draws the same number in each document, whatever the other drew.
+    assert_eq!(number(&a, "C1"), number(&b, "C1"));
+}

@@ -188,7 +188,7 @@ fn compare_corpus(root: &Path, not_from_excel: &[&str], known: &[(&str, &str, &s
         }
         let clock = metadata_clock(&imported).or_else(|| save_date(path, &imported));
         if clock.is_some() {
-            dates::fix_clock(clock);
+            imported.workbook.settings_mut().clock = clock;
             imported.workbook.recalculate();
         }
         let tolerance = metadata_tolerance(&imported.workbook);
@@ -226,7 +226,6 @@ fn compare_corpus(root: &Path, not_from_excel: &[&str], known: &[(&str, &str, &s
                 }
             }
         }
-        dates::fix_clock(None);
         run.total.add_all(&tally);
         run.per_file.push((rel, tally));
     }

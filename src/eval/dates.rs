@@ -15,23 +15,21 @@ const OFFSET_1904: i64 = 1462;
 
 thread_local! {
     static DATE_1904: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
-    static FIXED_CLOCK: std::cell::Cell<Option<f64>> = const { std::cell::Cell::new(None) };
-}
-
-/// Makes NOW and TODAY read `serial` on this thread instead of the system clock (`None`: the
-/// system clock again), so that a recalculation can reproduce results saved at a known time.
-pub fn fix_clock(serial: Option<f64>) {
-    FIXED_CLOCK.with(|c| c.set(serial));
-}
-
-/// The serial NOW reads on this thread, when [`fix_clock`] fixed one.
-pub fn fixed_clock() -> Option<f64> {
-    FIXED_CLOCK.with(std::cell::Cell::get)
 }
 
 /// Chooses the date system of what is evaluated next on this thread.
 pub fn set_date_1904(on: bool) {
     DATE_1904.with(|d| d.set(on));
+}
+
+/// Runs `f` with serials counting from 1904-01-01 when `on`, and restores the date system of
+/// whatever was being evaluated before: for showing one workbook's dates between another's
+/// evaluations.
+pub fn in_date_system<R>(on: bool, f: impl FnOnce() -> R) -> R {
+    let before = DATE_1904.with(|d| d.replace(on));
+    let result = f();
+    DATE_1904.with(|d| d.set(before));
+    result
 }
 
 /// Whether serials currently count from 1904-01-01.
@@ -185,12 +183,10 @@ impl DateTime {
     }
 }
 
-/// The local date and time now, as a serial (what NOW returns).
-pub fn now() -> f64 {
+/// The system's local date and time now, as a serial (what NOW returns unless the workbook's
+/// settings fix the clock: `Settings::now`).
+pub fn system_now() -> f64 {
     use chrono::{Datelike, Timelike};
-    if let Some(serial) = fixed_clock() {
-        return serial;
-    }
     let t = chrono::Local::now().naive_local();
     let day = serial_from_ymd(i64::from(t.year()), i64::from(t.month()), i64::from(t.day()));
     let seconds = f64::from(t.num_seconds_from_midnight()) + f64::from(t.nanosecond() % 1_000_000_000) * 1e-9;

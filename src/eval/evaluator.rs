@@ -73,6 +73,12 @@ pub trait Env {
         false
     }
 
+    /// The serial NOW reads: the workbook's fixed clock, or the system's (its `Settings`).
+    fn now(&self) -> f64;
+
+    /// The next number 0 ≤ x < 1 of the workbook's random sequence (its `Settings`).
+    fn next_random(&self) -> f64;
+
     /// The width of column `col` in characters as Excel shows it (CELL("width")); `None`
     /// when the workbook says nothing of it (Excel's default, 8.43).
     fn column_width(&self, _sheet: SheetId, _col: u32) -> Option<f64> {

@@ -391,9 +391,21 @@ pub fn surface_argument(ctx: &mut Ctx, e: &Expr) -> Result<(FormulaSurface, Home
 
 /// An empty workbook of one sheet, `Sheet1`, as an [`Env`]: where a surface formula typed on
 /// its own (`ncsheet ballpath --surface`) is evaluated, a reference reading a blank cell (0).
-pub struct EmptyEnv;
+#[derive(Default)]
+pub struct EmptyEnv {
+    /// The clock and random sequence of a formula evaluated on its own.
+    settings: super::Settings,
+}
 
 impl Env for EmptyEnv {
+    fn now(&self) -> f64 {
+        self.settings.now()
+    }
+
+    fn next_random(&self) -> f64 {
+        self.settings.next_random()
+    }
+
     fn value(&self, _: SheetId, _: Pos) -> Value {
         Value::Blank
     }

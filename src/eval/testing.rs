@@ -26,6 +26,8 @@ pub fn err(e: super::value::XlError) -> Value {
 #[derive(Default)]
 pub struct MapEnv {
     pub cells: BTreeMap<(u32, u32), Value>,
+    /// The clock and random sequence (RAND's tests start from a fixed seed).
+    pub settings: super::Settings,
 }
 
 impl MapEnv {
@@ -56,6 +58,14 @@ impl MapEnv {
 }
 
 impl Env for MapEnv {
+    fn now(&self) -> f64 {
+        self.settings.now()
+    }
+
+    fn next_random(&self) -> f64 {
+        self.settings.next_random()
+    }
+
     fn value(&self, _: SheetId, pos: Pos) -> Value {
         self.cells.get(&(pos.row, pos.col)).cloned().unwrap_or_default()
     }
@@ -76,19 +86,19 @@ impl Env for MapEnv {
 
     // Otherwise the one empty sheet of a surface typed on its own.
     fn defined_name(&self, name: &str, sheet: SheetId) -> Option<(Rc<Expr>, SheetId)> {
-        EmptyEnv.defined_name(name, sheet)
+        EmptyEnv::default().defined_name(name, sheet)
     }
 
     fn spill_rect(&self, sheet: SheetId, pos: Pos) -> Option<Rect> {
-        EmptyEnv.spill_rect(sheet, pos)
+        EmptyEnv::default().spill_rect(sheet, pos)
     }
 
     fn sheet_count(&self) -> usize {
-        EmptyEnv.sheet_count()
+        EmptyEnv::default().sheet_count()
     }
 
     fn sheet_name(&self, sheet: SheetId) -> Option<String> {
-        EmptyEnv.sheet_name(sheet)
+        EmptyEnv::default().sheet_name(sheet)
     }
 }
 

@@ -246,6 +246,14 @@ impl Env for Probe<'_> {
         self.wb.date_1904
     }
 
+    fn now(&self) -> f64 {
+        self.wb.settings.now()
+    }
+
+    fn next_random(&self) -> f64 {
+        self.wb.settings.next_random()
+    }
+
     fn column_width(&self, sheet: SheetId, col: u32) -> Option<f64> {
         Env::column_width(self.wb, sheet, col)
     }

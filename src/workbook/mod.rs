@@ -159,6 +159,8 @@ pub struct Workbook {
     names_unlinked: bool,
     /// The workbook's own functions (its VBA Functions), once installed (`udf.rs`).
     user_functions: Option<Rc<dyn UserFunctions>>,
+    /// The clock and random sequence this workbook's formulas read (its own, never a thread's).
+    settings: crate::eval::Settings,
     /// The sheet shown when the workbook opens (`<workbookView activeTab>`): VBA's
     /// ActiveSheet and the sheet commands read when none is named.
     active_sheet: SheetId,
@@ -227,6 +229,17 @@ impl Workbook {
 
     pub fn date_1904(&self) -> bool {
         self.date_1904
+    }
+
+    /// The clock and random sequence the formulas read.
+    pub fn settings(&self) -> &crate::eval::Settings {
+        &self.settings
+    }
+
+    /// Changes the clock or the random sequence; the cells that read them are recomputed at
+    /// the next recalculation (they are volatile).
+    pub fn settings_mut(&mut self) -> &mut crate::eval::Settings {
+        &mut self.settings
     }
 
     /// The active sheet, the one a file opens on (the first unless the file says another).
@@ -911,6 +924,14 @@ impl Env for Workbook {
 
     fn date_1904(&self) -> bool {
         self.date_1904
+    }
+
+    fn now(&self) -> f64 {
+        self.settings.now()
+    }
+
+    fn next_random(&self) -> f64 {
+        self.settings.next_random()
     }
 
     fn row_hidden(&self, sheet: SheetId, row: u32) -> Option<RowHidden> {

@@ -99,7 +99,7 @@ fn check_workbook(root: &Path, path: &Path, suite: &Suite, report: &mut Report) 
         if let Some(imported) = &ours {
             name_newer_errors(imported, &name, &mut sheet.values);
         }
-        let env = MapEnv { cells: sheet.values };
+        let env = MapEnv { cells: sheet.values, ..MapEnv::default() };
         let check = SheetCheck { file: &file, sheet: &name, suite, env, formulas: &sheet.formulas };
         check.run(report);
     }

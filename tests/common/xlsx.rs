@@ -127,8 +127,8 @@ pub fn analyse(wb: &Workbook, sheet: SheetId, anchor: Pos) -> FormulaInfo {
             name_expr.visit_refs(&mut |r| info.reads.extend(resolve(r, name_sheet, Pos::new(0, 0))));
         }
     }
-    // With the clock fixed (`dates::fix_clock`), NOW and TODAY give the saved time again.
-    let fixed_clock = ncsheet::eval::dates::fixed_clock().is_some();
+    // With the clock fixed (the workbook's settings), NOW and TODAY give the saved time again.
+    let fixed_clock = wb.settings().clock.is_some();
     info.volatile = info.functions.iter().filter_map(|f| find(f)).any(|id| match spec(id).reads {
         Outside::Nothing => false,
         Outside::Clock => !fixed_clock,

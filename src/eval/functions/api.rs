@@ -8,5 +8,5 @@ pub use super::args::*;
 pub use super::scalar::*;
 pub use super::{find, ArgSet, FnSpec, Outside, Registry, MANY};
 pub use crate::eval::evaluator::{
-    bind_own_name, broadcast2, broadcast_whole, comparison_holds, number_result, power, Ctx, Operand, RowHidden,
+    bind_own_name, broadcast2, broadcast_whole, comparison_holds, number_result, power, Ctx, Env, Operand, RowHidden,
 };

@@ -42,7 +42,6 @@ pub mod vba;
 pub use crate::eval::format::text_format::NumberFormat;
 pub use geometry::{describe_gouge, formula_ball_path, standalone_ball_path, PathFailure};
 pub use lambda::{as_lambda, bound_names, Lambda};
-pub use math::random::seed_random;
 
 /// A function body that returns a value.
 pub type ValueFn = fn(&mut Ctx, &[Expr]) -> XlResult<Value>;

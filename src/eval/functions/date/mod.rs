@@ -251,12 +251,12 @@ fn time(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     })
 }
 
-fn now(_: &mut Ctx, _: &[Expr]) -> XlResult<Value> {
-    Ok(Value::Number(dates::now()))
+fn now(ctx: &mut Ctx, _: &[Expr]) -> XlResult<Value> {
+    Ok(Value::Number(ctx.env.now()))
 }
 
-fn today(_: &mut Ctx, _: &[Expr]) -> XlResult<Value> {
-    Ok(Value::Number(dates::now().floor()))
+fn today(ctx: &mut Ctx, _: &[Expr]) -> XlResult<Value> {
+    Ok(Value::Number(ctx.env.now().floor()))
 }
 
 /// The date and time written in a text argument (numbers are `#VALUE!`: these read text).

@@ -292,7 +292,7 @@ pub fn standalone_ball_path(
     spec: &BallPathSpec,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<BallPath, PathFailure> {
-    typed_ball_path(&mut Ctx::new(&EmptyEnv, 0, Pos::new(0, 0)), surface, Home::Here, spec, progress)
+    typed_ball_path(&mut Ctx::new(&EmptyEnv::default(), 0, Pos::new(0, 0)), surface, Home::Here, spec, progress)
 }
 
 /// One gouge, said in a line: where the ball was placed, where it cuts and how deep.

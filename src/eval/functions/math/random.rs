@@ -1,11 +1,11 @@
 //! Random numbers: RAND, RANDBETWEEN and RANDARRAY, volatile like NOW (a cell calling one is
-//! recalculated at every recalculation). The generator is xorshift64* on this thread, seeded
-//! from the clock; [`seed_random`] fixes the sequence for reproducible runs and tests.
+//! recalculated at every recalculation). They draw from the sequence of the workbook being
+//! evaluated (`Env::next_random`, the workbook's `Settings`), which a seed fixes for
+//! reproducible runs and tests.
 
-use std::cell::Cell;
 use std::rc::Rc;
 
-use crate::eval::functions::api::{check, given, number_or, scalar, Ctx, FnSpec, Outside};
+use crate::eval::functions::api::{check, given, number_or, scalar, Ctx, Env, FnSpec, Outside};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
@@ -40,47 +40,21 @@ pub const FUNCTIONS: &[FnSpec] = &[
 /// The most items RANDARRAY makes (as SEQUENCE).
 const MAX_ITEMS: f64 = 16_777_216.0;
 
-thread_local! {
-    static STATE: Cell<u64> = const { Cell::new(0) };
-}
-
-/// Fixes the random sequence of this thread (0 reseeds from the clock at the next draw).
-pub fn seed_random(seed: u64) {
-    STATE.with(|s| s.set(seed));
-}
-
-/// The next number 0 ≤ x < 1, with 53 random bits.
-fn next_unit() -> f64 {
-    STATE.with(|s| {
-        let mut x = s.get();
-        if x == 0 {
-            let nanos = std::time::SystemTime::now()
-                .duration_since(std::time::UNIX_EPOCH)
-                .map_or(0x9E37_79B9_7F4A_7C15, |d| d.as_nanos() as u64);
-            x = nanos | 1;
-        }
-        x ^= x >> 12;
-        x ^= x << 25;
-        x ^= x >> 27;
-        s.set(x);
-        (x.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-    })
-}
-
 /// A whole number from `low` to `high` (both whole, low ≤ high), each equally likely.
-fn whole_between(low: f64, high: f64) -> f64 {
-    (low + (next_unit() * (high - low + 1.0)).floor()).min(high)
+fn whole_between(env: &dyn Env, low: f64, high: f64) -> f64 {
+    (low + (env.next_random() * (high - low + 1.0)).floor()).min(high)
 }
 
-fn rand(_: &mut Ctx, _: &[Expr]) -> XlResult<Value> {
-    Ok(Value::Number(next_unit()))
+fn rand(ctx: &mut Ctx, _: &[Expr]) -> XlResult<Value> {
+    Ok(Value::Number(ctx.env.next_random()))
 }
 
 fn randbetween(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let env = ctx.env;
     scalar(ctx, args, &|a| {
         let (low, high) = (a.num(0)?.ceil(), a.num(1)?.floor());
         check(low <= high, XlError::Num)?;
-        Ok(Value::Number(whole_between(low, high)))
+        Ok(Value::Number(whole_between(env, low, high)))
     })
 }
 
@@ -98,7 +72,8 @@ fn randarray(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     if rows * cols > MAX_ITEMS {
         return Err(ctx.explain(XlError::Num, "RANDARRAY is too large"));
     }
-    let draw = || if whole { whole_between(min, max) } else { min + next_unit() * (max - min) };
+    let env = ctx.env;
+    let draw = || if whole { whole_between(env, min, max) } else { min + env.next_random() * (max - min) };
     let data = (0..(rows * cols) as usize).map(|_| Value::Number(draw())).collect();
     Ok(Value::Array(Rc::new(Array::new(rows as usize, cols as usize, data))))
 }
@@ -118,7 +93,6 @@ mod tests {
 
     #[test]
     fn random_functions_stay_in_their_ranges_and_shapes() {
-        seed_random(12345);
         let env = MapEnv::default();
         for _ in 0..200 {
             let x = numbers(&env.eval("=RAND()"))[0];

@@ -1,0 +1,66 @@
+//! What a workbook decides for its own evaluation besides its cells: the clock NOW and TODAY
+//! read, and the random sequence RAND, RANDBETWEEN and RANDARRAY draw from. Each workbook
+//! owns its settings (the evaluator asks for them through `Env`), so two workbooks evaluated
+//! on one thread, or a server holding many, never see each other's clock or sequence.
+
+use std::cell::Cell;
+
+use super::dates;
+
+#[derive(Clone, Debug, Default)]
+pub struct Settings {
+    /// The date and time NOW reads, as a serial; `None`: the system clock. Fixing it
+    /// reproduces results saved at a known time.
+    pub clock: Option<f64>,
+    /// The state of the random sequence: 0 seeds it from the system clock at the next draw.
+    random: Cell<u64>,
+}
+
+impl Settings {
+    /// Settings whose random sequence starts from `seed` (0: from the clock), for
+    /// reproducible runs and tests.
+    pub fn seeded(seed: u64) -> Settings {
+        Settings { random: Cell::new(seed), ..Settings::default() }
+    }
+
+    /// Restarts the random sequence from `seed` (0: from the clock at the next draw).
+    pub fn seed_random(&self, seed: u64) {
+        self.random.set(seed);
+    }
+
+    /// The serial NOW returns.
+    pub fn now(&self) -> f64 {
+        self.clock.unwrap_or_else(dates::system_now)
+    }
+
+    /// The next number 0 ≤ x < 1 of the sequence, with 53 random bits (xorshift64*).
+    pub fn next_random(&self) -> f64 {
+        let mut x = self.random.get();
+        if x == 0 {
+            let nanos = std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map_or(0x9E37_79B9_7F4A_7C15, |d| d.as_nanos() as u64);
+            x = nanos | 1;
+        }
+        x ^= x >> 12;
+        x ^= x << 25;
+        x ^= x >> 27;
+        self.random.set(x);
+        (x.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_seeded_sequence_repeats_and_stays_in_range() {
+        let (a, b) = (Settings::seeded(7), Settings::seeded(7));
+        for _ in 0..1000 {
+            let x = a.next_random();
+            assert!((0.0..1.0).contains(&x));
+            assert_eq!(x, b.next_random());
+        }
+    }
+}
