@@ -191,6 +191,93 @@ fn create_temp_in(dir: &Path, target: &Path) -> io::Result<(PathBuf, File)> {
     }
 }
 
+/// An in-place edit's hold on its file, from before it is read until its save is renamed
+/// over it: an exclusive advisory lock (`flock`) that other ncsheet edits of the file wait
+/// for, and the file's identity, size, modification time and content hash as read, so that a
+/// program that does not lock (an editor, a sync tool) changing it meanwhile is noticed before
+/// the save replaces its work. Without it, concurrent edits each report "saved" and all but
+/// the last rename are lost. Dropping it releases the lock.
+pub struct EditLock {
+    _file: File,
+    target: PathBuf,
+    stamp: Stamp,
+}
+
+/// What identifies one state of a file: which file (device, inode) and its content.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Stamp {
+    dev: u64,
+    ino: u64,
+    len: u64,
+    modified_ns: i128,
+    hash: u64,
+}
+
+impl EditLock {
+    /// Locks the file `path` names (a symbolic link's file), waiting for another edit of it
+    /// to finish. A save renames a new file over the old one, so a lock won on a file the
+    /// name no longer points to is dropped and taken again on the current one.
+    pub fn acquire(path: &Path) -> io::Result<EditLock> {
+        use std::os::unix::fs::MetadataExt;
+        use std::os::unix::io::AsRawFd;
+        let target = resolve(path)?;
+        loop {
+            let file = File::open(&target)?;
+            // SAFETY: flock on a descriptor this function owns; it blocks until granted.
+            while unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX) } != 0 {
+                let e = io::Error::last_os_error();
+                if e.kind() != io::ErrorKind::Interrupted {
+                    return Err(e);
+                }
+            }
+            let held = file.metadata()?;
+            let named = fs::metadata(&target)?;
+            if held.dev() == named.dev() && held.ino() == named.ino() {
+                let stamp = stamp_of(&target)?;
+                return Ok(EditLock { _file: file, target, stamp });
+            }
+        }
+    }
+
+    /// Whether the file is still as it was when the lock was taken; an error saying so if not.
+    pub fn unchanged(&self) -> io::Result<()> {
+        match stamp_of(&self.target) {
+            Ok(now) if now == self.stamp => Ok(()),
+            _ => Err(io::Error::other(
+                "changed since ncsheet read it (another program saved it meanwhile); nothing was written, \
+                 so that program's work is kept: run the edit again",
+            )),
+        }
+    }
+}
+
+/// The file's identity and a hash of its bytes, read in blocks.
+fn stamp_of(path: &Path) -> io::Result<Stamp> {
+    use std::hash::Hasher;
+    use std::io::Read;
+    use std::os::unix::fs::MetadataExt;
+    let mut file = File::open(path)?;
+    let meta = file.metadata()?;
+    let mut hasher = std::hash::DefaultHasher::new();
+    let mut block = vec![0u8; 1 << 16];
+    loop {
+        let n = match file.read(&mut block) {
+            Ok(0) => break,
+            Ok(n) => n,
+            Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
+            Err(e) => return Err(e),
+        };
+        hasher.write(&block[..n]);
+    }
+    Ok(Stamp {
+        dev: meta.dev(),
+        ino: meta.ino(),
+        len: meta.len(),
+        modified_ns: i128::from(meta.mtime()) * 1_000_000_000 + i128::from(meta.mtime_nsec()),
+        hash: hasher.finish(),
+    })
+}
+
 /// A scratch file for a library that only reads from a path (rust_xlsxwriter's VBA
 /// project), named and cleaned up like the save's own temporary files; removed on drop.
 pub struct Scratch(PathBuf);
@@ -306,6 +393,24 @@ mod tests {
         fs::hard_link(&a, &b).unwrap();
         assert!(put(&a, "new").unwrap_err().to_string().contains("hard links"));
         assert_eq!(fs::read_to_string(&b).unwrap(), "old");
+    }
+
+    #[test]
+    fn an_edit_lock_notices_a_file_changed_since_it_was_read() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("book.csv");
+        put(&path, "1,2\n").unwrap();
+        let lock = EditLock::acquire(&path).unwrap();
+        assert!(lock.unchanged().is_ok());
+        // Another program rewrites it in place, same size: the content hash tells.
+        fs::write(&path, "3,4\n").unwrap();
+        let e = lock.unchanged().unwrap_err();
+        assert!(e.to_string().contains("changed since ncsheet read it"), "{e}");
+        drop(lock);
+        // Or renames a new file over it (an editor's save): another file now.
+        let lock = EditLock::acquire(&path).unwrap();
+        write_bytes(&path, Options::default(), b"3,4\n").unwrap();
+        assert!(lock.unchanged().is_err());
     }
 
     #[test]

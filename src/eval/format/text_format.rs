@@ -860,7 +860,21 @@ fn group_thousands(digits: &str) -> String {
 
 fn exponent_text(exponent: i32, places: &[char]) -> String {
     let min = places.iter().filter(|&&c| c == '0').count();
-    format!("{:0min$}", exponent.abs())
+    zero_padded(i64::from(exponent.abs()), min)
+}
+
+/// `v` with zeros before its digits up to `width` characters, the sign counted, as
+/// `format!("{v:0width$}")` writes it; by hand because that width is a u16 and a format code
+/// may hold more than 65,535 zeros (`0E+000…`, `[sss…]`).
+fn zero_padded(v: i64, width: usize) -> String {
+    let digits = v.unsigned_abs().to_string();
+    let sign = if v < 0 { "-" } else { "" };
+    let zeros = width.saturating_sub(digits.len() + sign.len());
+    let mut out = String::with_capacity(sign.len() + zeros + digits.len());
+    out.push_str(sign);
+    out.extend(std::iter::repeat_n('0', zeros));
+    out.push_str(&digits);
+    out
 }
 
 /// Excel's "General" in TEXT: at most 11 characters (sign aside), positional unless
@@ -978,7 +992,7 @@ fn date_part(part: DatePart, dt: &DateTime, twelve_hour: bool) -> String {
                 'm' => 60.0,
                 _ => 1.0,
             };
-            format!("{:0n$}", (dt.total_seconds / per).floor() as i64)
+            zero_padded((dt.total_seconds / per).floor() as i64, n)
         }
         DatePart::AmPm { short, lower } => {
             let pm = dt.hour >= 12;

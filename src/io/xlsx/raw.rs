@@ -217,7 +217,8 @@ impl<'a> Package<'a> {
                 let number = |key: &str| tag.attr(key).and_then(|v| unescape(v).parse::<f64>().ok());
                 calculation.mode = tag.attr("calcMode").map_or(calculation.mode.clone(), unescape);
                 calculation.iterate = tag.attr("iterate").is_some_and(xml_true);
-                calculation.iterate_count = number("iterateCount").map_or(calculation.iterate_count, |n| n as u32);
+                calculation.iterate_count =
+                    number("iterateCount").map_or(calculation.iterate_count, excel_iteration_count);
                 calculation.iterate_delta = number("iterateDelta").unwrap_or(calculation.iterate_delta);
                 calculation.full_calc_on_load = tag.attr("fullCalcOnLoad").is_some_and(xml_true);
             }
@@ -455,6 +456,19 @@ fn iteration_of(calculation: &Calculation) -> Option<Iteration> {
     let max_change =
         Some(calculation.iterate_delta).filter(|d| d.is_finite() && *d >= 0.0).unwrap_or(default.max_change);
     Some(Iteration { count: calculation.iterate_count, max_change })
+}
+
+/// Excel's most iterations (File > Options > Formulas, "Maximum Iterations" 1 to 32,767): a
+/// file asking for more (2,147,483,647 ran for minutes on a two-cell cycle) gets Excel's
+/// bound, as Excel itself reads it.
+pub const MAX_ITERATIONS: u32 = 32_767;
+
+/// A stored `iterateCount` within Excel's range 1 to [`MAX_ITERATIONS`].
+fn excel_iteration_count(n: f64) -> u32 {
+    if n.is_nan() {
+        return 100;
+    }
+    n.clamp(1.0, f64::from(MAX_ITERATIONS)) as u32
 }
 
 /// An xsd:boolean attribute's value: `1` or `true`.
