@@ -172,9 +172,31 @@ struct ChangeLog {
     inputs: std::collections::HashSet<u32>,
     /// Of `inputs`, those that held a formula when first edited.
     had_formula: std::collections::HashSet<u32>,
-    values: std::collections::HashSet<u32>,
+    /// Cells whose value changed: every cell an edit recomputes is noted here, a million in
+    /// a long chain, so a bit per cell id rather than a hash set.
+    values: CellBits,
     names: bool,
     sheets: bool,
+}
+
+/// A set of cell ids, a bit each.
+#[derive(Default)]
+struct CellBits(Vec<u64>);
+
+impl CellBits {
+    fn insert(&mut self, id: u32) {
+        let (word, bit) = (id as usize / 64, id % 64);
+        if word >= self.0.len() {
+            self.0.resize(word + 1, 0);
+        }
+        self.0[word] |= 1 << bit;
+    }
+
+    fn ids(&self) -> impl Iterator<Item = u32> + '_ {
+        self.0.iter().enumerate().flat_map(|(w, &bits)| {
+            (0..64).filter(move |b| bits & (1 << b) != 0).map(move |b| (w * 64 + b) as u32)
+        })
+    }
 }
 
 /// What changed in a workbook since [`Workbook::track_changes`], in sheet and row order.
@@ -471,17 +493,17 @@ impl Workbook {
     /// What changed since [`Workbook::track_changes`]; `None` when it was never called.
     pub fn changes(&self) -> Option<Changes> {
         let log = self.changes.as_ref()?;
-        let cells = |ids: &std::collections::HashSet<u32>| {
+        let cells = |ids: &mut dyn Iterator<Item = u32>| {
             let mut v: Vec<(SheetId, Pos)> =
-                ids.iter().map(|&id| (self.cells[id as usize].sheet, self.cells[id as usize].pos)).collect();
+                ids.map(|id| (self.cells[id as usize].sheet, self.cells[id as usize].pos)).collect();
             v.sort_by_key(|&(s, p)| (s, p.row, p.col));
             v
         };
-        let mut formulas_replaced = cells(&log.had_formula);
+        let mut formulas_replaced = cells(&mut log.had_formula.iter().copied());
         formulas_replaced.retain(|&(sheet, pos)| !self.is_formula(sheet, pos));
         Some(Changes {
-            inputs: cells(&log.inputs),
-            values: cells(&log.values),
+            inputs: cells(&mut log.inputs.iter().copied()),
+            values: cells(&mut log.values.ids()),
             names: log.names,
             sheets: log.sheets,
             formulas_replaced,

@@ -1,0 +1,93 @@
+//! The edit path a user (or a browser) takes: open a generated .xlsx through the library's
+//! `Document`, then edit its input cell, as `ncsheet set`, the repl and the workbench do.
+//! Beside `ncsheet-bench` (the same workbooks built in memory from formula text), this says
+//! what the file and the document add to an edit.
+//!
+//!     pip install openpyxl
+//!     python3 benches/gen_workbooks.py --out /tmp/wb chain-1000000 fan-100000 grid-100000
+//!     cargo run --release --bin ncsheet-bench-document -- /tmp/wb/chain-1000000.xlsx …
+//!
+//! For each file: the open (read, import, full computation) once, then 15 edits of the input
+//! and 15 back, each checked against `gen_workbooks.py --spec` (best and median wall time).
+
+use std::path::Path;
+use std::process::{Command, ExitCode};
+use std::time::Instant;
+
+use ncsheet::document::{Document, OpenOptions};
+use ncsheet::eval::Value;
+use ncsheet::formula::address::parse_cell;
+
+/// What `gen_workbooks.py --spec NAME` prints: last cell, edited cell, new value, the last
+/// cell's value before and after the edit.
+struct Spec {
+    last: String,
+    edit: String,
+    edit_value: String,
+    before: f64,
+    after: f64,
+}
+
+fn spec_of(name: &str) -> Result<Spec, String> {
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("benches/gen_workbooks.py");
+    let out = Command::new("python3").arg(&script).args(["--spec", name]).output().map_err(|e| e.to_string())?;
+    let text = String::from_utf8_lossy(&out.stdout);
+    let f: Vec<&str> = text.split_whitespace().collect();
+    let num = |i: usize| f.get(i).and_then(|s| s.parse::<f64>().ok()).ok_or(format!("--spec {name}: {text}"));
+    Ok(Spec {
+        last: f.first().ok_or("empty spec")?.to_string(),
+        edit: f.get(1).ok_or("short spec")?.to_string(),
+        edit_value: f.get(2).ok_or("short spec")?.to_string(),
+        before: num(3)?,
+        after: num(4)?,
+    })
+}
+
+fn value(doc: &Document, cell: &str) -> f64 {
+    match doc.workbook().value(0, parse_cell(cell).expect("cell")) {
+        Value::Number(n) => n,
+        _ => f64::NAN,
+    }
+}
+
+fn check(doc: &Document, cell: &str, want: f64, when: &str) -> Result<(), String> {
+    let got = value(doc, cell);
+    let close = (got - want).abs() <= 1e-9 * want.abs().max(1.0);
+    close.then_some(()).ok_or(format!("{cell} {when}: {got}, expected {want}"))
+}
+
+fn bench(file: &Path) -> Result<(), String> {
+    let name = file.file_stem().and_then(|s| s.to_str()).ok_or("file name")?;
+    let spec = spec_of(name)?;
+    let bytes = std::fs::read(file).map_err(|e| format!("{}: {e}", file.display()))?;
+    let t = Instant::now();
+    let mut doc = Document::open(bytes, &OpenOptions::named(file)).map_err(|e| e.to_string())?;
+    let open = t.elapsed().as_secs_f64();
+    check(&doc, &spec.last, spec.before, "after the open")?;
+    let pos = parse_cell(&spec.edit).ok_or("edit cell")?;
+    let original = doc.workbook().input(0, pos).unwrap_or_default();
+    let mut times = Vec::new();
+    for _ in 0..15 {
+        for (input, want) in [(spec.edit_value.as_str(), spec.after), (original.as_str(), spec.before)] {
+            let t = Instant::now();
+            doc.set(0, pos, input).map_err(|p| p.text)?;
+            times.push(t.elapsed().as_secs_f64());
+            check(&doc, &spec.last, want, "after an edit")?;
+        }
+    }
+    times.sort_by(f64::total_cmp);
+    let ms = |s: f64| format!("{:.2} ms", s * 1e3);
+    println!("| {name} | {:.2} s | {} | {} |", open, ms(times[0]), ms(times[times.len() / 2]));
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    println!("| workbook | open + compute | edit, best | edit, median |\n|---|---|---|---|");
+    for file in std::env::args().skip(1) {
+        if let Err(e) = bench(Path::new(&file)) {
+            eprintln!("ncsheet-bench-document: {e}");
+            return ExitCode::FAILURE;
+        }
+    }
+    ExitCode::SUCCESS
+}
