@@ -137,3 +137,181 @@ fn info_lists_names_longer_than_65535_characters() {
     assert!(run.stdout.contains(&format!("{name}  =5")), "{}", &run.stdout[run.stdout.len() - 300..]);
     assert!(run.stdout.contains("short  "));
 }
+
+// ---------------------------------------------------------------------------------------
+// Formulas: one sheet, one cell
+
+/// The value of `formula` in A1 of an empty sheet, the notes of that cell, and how long the
+/// recalculation took.
+fn eval_a1(formula: &str) -> (Value, Vec<String>, std::time::Duration) {
+    let mut wb = ncsheet::workbook::Workbook::with_sheet();
+    let _ = wb.set_input_deferred(0, parse_cell("A1").unwrap(), formula);
+    let start = std::time::Instant::now();
+    wb.recalculate();
+    let took = start.elapsed();
+    let problems = wb.problems().into_iter().map(|p| p.render()).collect();
+    (wb.value(0, parse_cell("A1").unwrap()), problems, took)
+}
+
+fn value(formula: &str) -> Value {
+    eval_a1(formula).0
+}
+
+const NUM: Value = Value::Error(ncsheet::eval::XlError::Num);
+
+// ---------------------------------------------------------------------------------------
+// Runaway: loops that stepped a float past 2^53, quadratic holidays
+
+#[test]
+fn cumulative_sums_past_two_to_the_53_end() {
+    // P(X ≤ n) is 1 whatever the population: 1E+16 terms were summed one by one.
+    let (v, _, took) = eval_a1("=HYPGEOM.DIST(1E+16,1E+16,1E+16,2E+16,TRUE)");
+    assert_eq!(v, Value::Number(1.0));
+    assert!(took.as_secs() < 5, "{took:?}");
+    // Near 1E+18, j + 1 == j: the old loops never ended. 0.5^(1E+18) is 0.
+    let (v, _, took) = eval_a1("=BINOM.DIST.RANGE(1E+18,0.5,1E+18)");
+    assert_eq!(v, Value::Number(0.0));
+    assert!(took.as_secs() < 5, "{took:?}");
+    let (v, _, took) = eval_a1("=ISNUMBER(CUMIPMT(0.1,1E+17,100,1E+17,1E+17,0))");
+    assert!(matches!(v, Value::Bool(_)), "{v:?}");
+    assert!(took.as_secs() < 5, "{took:?}");
+    // Both tails past the step limit: #NUM!, never a sum of 1E+16 terms.
+    let (v, _, took) = eval_a1("=HYPGEOM.DIST(5E+15,1E+16,1E+16,2E+16,TRUE)");
+    assert_eq!(v, NUM);
+    assert!(took.as_secs() < 5, "{took:?}");
+}
+
+#[test]
+fn workday_is_not_quadratic_in_its_holidays() {
+    // 100,000 holidays, every one a Saturday (serial 7 is Saturday 7 January 1900): they
+    // change nothing, so 100,000 working days from Monday serial 2 are 20,000 weeks later.
+    let (v, _, took) = eval_a1("=WORKDAY(2,100000,SEQUENCE(100000,1,7,7))");
+    assert_eq!(v, Value::Number(2.0 + 7.0 * 20_000.0));
+    assert!(took.as_secs() < 5, "{took:?}");
+    // NETWORKDAYS over the same span: 100,000 working days (Monday to Friday inclusive).
+    let (v, _, took) = eval_a1("=NETWORKDAYS(2,139999,SEQUENCE(100000,1,7,7))");
+    assert_eq!(v, Value::Number(100_000.0));
+    assert!(took.as_secs() < 5, "{took:?}");
+}
+
+// ---------------------------------------------------------------------------------------
+// Silently wrong numbers
+
+#[test]
+fn no_function_result_is_infinite_or_nan() {
+    // Excel: MEDIAN(1E+308,1E+308) is 1E+308; GROWTH and TREND that overflow are #NUM!.
+    assert_eq!(value("=MEDIAN(1E+308,1E+308)"), Value::Number(1e308));
+    assert_eq!(value("=GROWTH({1,2},{1,2},2000)"), NUM);
+    assert_eq!(value("=TREND({1E+308,-1E+308},{1,2},{3})"), NUM);
+    assert_eq!(value("=ISNUMBER(GROWTH({1,2},{1,2},2000))"), Value::Bool(false));
+    // Inside an array result too.
+    assert_eq!(value("=INDEX(GROWTH({1,2},{1,2},{1,2000}),1,2)"), NUM);
+}
+
+#[test]
+fn numbers_at_the_edges_of_doubles() {
+    assert_eq!(value("=ROUNDDOWN(1E+308,-300)"), Value::Number(1e308));
+    assert_eq!(value("=ROUNDUP(1.5E+300,-300)"), Value::Number(2e300));
+    // Excel keeps no subnormal numbers: 1E-320 is 0 whichever its sign.
+    assert_eq!(value("=1E-320>0"), Value::Bool(false));
+    assert_eq!(value("=-1E-320<0"), Value::Bool(false));
+    assert_eq!(value("=1E-320=0"), Value::Bool(true));
+}
+
+// ---------------------------------------------------------------------------------------
+// Memory: arrays sized from an argument are checked before they are built
+
+#[test]
+fn arrays_sized_by_an_argument_are_num_naming_the_limit() {
+    let cases = [
+        "=ROWS(WRAPCOLS({1,2,3},1E+15))",
+        "=ROWS(WRAPROWS({1,2,3},1E+15))",
+        "=ROWS(WRAPROWS({1,2,3},20000000))",
+        "=ROWS(VSTACK(SEQUENCE(1,16384),SEQUENCE(1048576)))",
+        "=ROWS(HSTACK(SEQUENCE(1048576),SEQUENCE(1,16384)))",
+        "=ROWS(MAKEARRAY(5000,5000,LAMBDA(r,c,1)))",
+    ];
+    for formula in cases {
+        let (v, notes, took) = eval_a1(formula);
+        assert_eq!(v, NUM, "{formula}");
+        assert!(notes.iter().any(|n| n.contains("more than ncsheet's limit of 16777216")), "{formula}: {notes:?}");
+        assert!(took.as_secs() < 5, "{formula}: {took:?}");
+    }
+    // Within the limit they still build.
+    assert_eq!(value("=ROWS(WRAPCOLS(SEQUENCE(10),4))"), Value::Number(4.0));
+    assert_eq!(value("=COLUMNS(WRAPROWS(SEQUENCE(10),4,0))"), Value::Number(4.0));
+    assert_eq!(value("=ROWS(VSTACK(SEQUENCE(3),SEQUENCE(1,4)))"), Value::Number(4.0));
+    assert_eq!(value("=SUM(MAKEARRAY(3,4,LAMBDA(r,c,r*c)))"), Value::Number(60.0));
+}
+
+#[test]
+fn show_refuses_a_range_past_its_cell_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("two.csv");
+    std::fs::write(&file, "1,2\n").unwrap();
+    for range in ["A1:XFD1048576", "A1:J1000000"] {
+        let run = ncsheet(&["show", file.to_str().unwrap(), range]);
+        assert_ne!(run.code, 0);
+        assert!(run.stderr.contains("more than the 100000 `show` describes at once"), "{}", run.stderr);
+        assert!(run.stdout.is_empty());
+    }
+    let run = ncsheet(&["show", file.to_str().unwrap(), "A1:B2"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+}
+
+#[test]
+fn the_repl_refuses_a_range_past_the_print_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("two.csv");
+    std::fs::write(&file, "1,2\n").unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_ncsheet"))
+        .args(["repl", file.to_str().unwrap()])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    child.stdin.take().unwrap().write_all(b"A1:XFD1048576\nshow A1:XFD1048576\nA1\n").unwrap();
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.code().is_some(), "killed: {:?}", out.status);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("more than the 10000000 ncsheet prints at once"), "{stderr}");
+    assert!(stderr.contains("more than the 100000 `show` describes at once"), "{stderr}");
+}
+
+// ---------------------------------------------------------------------------------------
+// Runaway: a file's own iteration count
+
+#[test]
+fn iteration_counts_past_excels_maximum_are_held_to_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("cycle.xlsx");
+    let mut wb = ncsheet::workbook::Workbook::with_sheet();
+    wb.set_input(0, parse_cell("A1").unwrap(), "=B1+1").unwrap();
+    wb.set_input(0, parse_cell("B1").unwrap(), "=A1+1").unwrap();
+    ncsheet::io::save(&wb, &file).unwrap();
+    let package = std::fs::read(&file).unwrap();
+    let mut iterate = |part: &str, bytes: Vec<u8>| {
+        if part != "xl/workbook.xml" {
+            return bytes;
+        }
+        let text = String::from_utf8(bytes).unwrap();
+        let calc = r#"<calcPr iterate="1" iterateCount="2147483647" iterateDelta="0"/>"#;
+        let text = match text.find("<calcPr") {
+            Some(at) => {
+                let end = at + text[at..].find("/>").unwrap() + 2;
+                format!("{}{calc}{}", &text[..at], &text[end..])
+            }
+            None => text.replace("</workbook>", &format!("{calc}</workbook>")),
+        };
+        text.into_bytes()
+    };
+    std::fs::write(&file, rewrite_package(&package, &mut iterate)).unwrap();
+    let info = ncsheet(&["info", file.to_str().unwrap()]);
+    assert!(info.stdout.contains("at most 32767"), "{}", info.stdout);
+    assert!(!info.stdout.contains("does not iterate"), "{}", info.stdout);
+    let start = std::time::Instant::now();
+    let run = ncsheet(&["eval", file.to_str().unwrap(), "A1:B1"]);
+    assert!(start.elapsed().as_secs() < 20, "{:?}", start.elapsed());
+    assert!(run.code == 0 || !run.stderr.is_empty(), "{}", run.stderr);
+}

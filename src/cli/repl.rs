@@ -178,6 +178,7 @@ impl Session<'_> {
                     )),
                     _ => e,
                 })?;
+                super::refuse_huge_prints(&self.wb, self.sheet, std::slice::from_ref(&selection))?;
                 let shown = self.shown();
                 output::print_selections(out, &self.wb, self.sheet, &[selection], OutputFormat::Table, &shown)?;
             }

@@ -36,6 +36,7 @@ pub fn run(args: ShowArgs, delimiter: Option<u8>) -> Result<()> {
     let mut out = BufWriter::new(io::stdout().lock());
     for (i, t) in args.cells.iter().enumerate() {
         let s = super::locate(wb, &args.file, t, sheet)?;
+        refuse_huge_descriptions(s.rect)?;
         if i > 0 {
             writeln!(out)?;
         }
@@ -125,5 +126,22 @@ fn names_of(wb: &Workbook, sheet: SheetId, rect: Rect) -> Vec<String> {
 /// For the repl: a file's cells described, as `show` does.
 pub fn describe_target(wb: &Workbook, file: &Path, target: &Target, sheet: SheetId) -> Result<String> {
     let s = super::locate(wb, file, target, sheet)?;
+    refuse_huge_descriptions(s.rect)?;
     Ok(describe_rect(wb, &Shown::default(), s.sheet, s.rect, s.label.as_deref()))
+}
+
+/// The most cells `show` describes at once: each is a few lines, blanks included, so
+/// `A1:XFD1048576` (17 billion cells) aborted at the memory cap and `A1:J1000000` wrote
+/// 349 MB of "(blank)".
+pub const MAX_DESCRIBED_CELLS: u64 = 100_000;
+
+fn refuse_huge_descriptions(rect: Rect) -> Result<()> {
+    let cells = rect.rows() as u64 * rect.cols() as u64;
+    if cells <= MAX_DESCRIBED_CELLS {
+        return Ok(());
+    }
+    Err(super::report::Error::User(format!(
+        "{rect} is {cells} cells, more than the {MAX_DESCRIBED_CELLS} `show` describes at once; name a smaller range \
+         (or print values with `eval FILE RANGE`)"
+    )))
 }

@@ -357,6 +357,16 @@ impl<'a> Ctx<'a> {
         self.notes.push(Note { error, message: message.into() });
         error
     }
+    /// `Ok` when an array of `rows` × `cols` items is within [`super::MAX_ARRAY_ITEMS`], else
+    /// `#NUM!` with the note naming both: every function that sizes an array from its
+    /// arguments (WRAPCOLS' count, VSTACK's widest part, MAKEARRAY) asks before allocating.
+    pub fn room_for(&mut self, rows: usize, cols: usize) -> XlResult<()> {
+        if too_many_items(rows, cols) {
+            return Err(self.explain_once(XlError::Num, too_many_items_note(rows, cols)));
+        }
+        Ok(())
+    }
+
 
     /// A cell formula's result. Excel zeroes the result of a formula whose last operation
     /// is an addition or subtraction that cancels to within the operands' last binary
@@ -434,11 +444,19 @@ impl<'a> Ctx<'a> {
     /// A number literal's value: its own, or this formula's in place of a shared tree's.
     #[inline]
     fn literal(&self, e: &Expr, n: f64) -> f64 {
-        if self.numbers.is_empty() {
-            return n;
+        let n = if self.numbers.is_empty() {
+            n
+        } else {
+            let own = self.numbers.iter().find(|&&(node, _)| std::ptr::eq(node, e));
+            own.map_or(n, |&(_, v)| v)
+        };
+        // Excel reads a typed number below the smallest normal double as 0 (`1E-320>0` and
+        // `-1E-320<0` are both FALSE), as it keeps no subnormal result.
+        if n.abs() < f64::MIN_POSITIVE {
+            0.0
+        } else {
+            n
         }
-        let own = self.numbers.iter().find(|&&(node, _)| std::ptr::eq(node, e));
-        own.map_or(n, |&(_, v)| v)
     }
 
     /// Where a one-cell reference relative to this formula's cell points, if on the sheet.
@@ -632,7 +650,7 @@ impl<'a> Ctx<'a> {
                 self.deref(operand)
             }
         };
-        self.within_text_limit(v)
+        self.within_text_limit(finite_numbers(v))
     }
 
     fn name_operand(&mut self, name: &str) -> Operand {
@@ -1096,6 +1114,32 @@ fn scalar_binary(op: BinOp, a: &Value, b: &Value) -> Value {
             (Ok(x), Ok(y)) => Value::Text(format!("{x}{y}").into()),
             (Err(e), _) | (_, Err(e)) => Value::Error(e),
         },
+/// A function's result with every number as [`number_result`] makes it: whatever a
+/// function computes, an infinity or NaN leaves it as `#NUM!` and a subnormal as 0, in one
+/// place rather than in each of 500 functions (`MEDIAN`, `GROWTH` and `TREND` leaked them
+/// into cells, files and ISNUMBER). An array is copied only when it holds one.
+pub fn finite_numbers(v: Value) -> Value {
+    let unfit = |n: f64| !n.is_finite() || (n != 0.0 && n.abs() < f64::MIN_POSITIVE);
+    match v {
+        Value::Number(n) if unfit(n) => number_result(n),
+        Value::Array(a) if a.data.iter().any(|x| matches!(x, Value::Number(n) if unfit(*n))) => {
+            let mut a = Rc::unwrap_or_clone(a);
+            for x in &mut a.data {
+                if let Value::Number(n) = *x {
+                    *x = number_result(n);
+                }
+            }
+            if let Some(tail) = &mut a.tail {
+                if let Value::Number(n) = tail.fill {
+                    tail.fill = number_result(n);
+                }
+            }
+            Value::Array(Rc::new(a))
+        }
+        other => other,
+    }
+}
+
         BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge => match compare_operands(a, b) {
             Ok(ord) => Value::Bool(comparison_holds(op, ord)),
             Err(e) => Value::Error(e),

@@ -80,9 +80,7 @@ pub fn bits_for(deltas: &[i64]) -> u32 {
 /// at constant feed (Δp = 0). An axis longer than 2ⁿ would need two pulses in one clock,
 /// which the adder cannot give.
 pub fn linear(bits: u32, deltas: &[i64]) -> Result<DdaRun, DdaError> {
-    if !(1..=MAX_BITS).contains(&bits) {
-        return Err(DdaError(format!("the adder has 1 to {MAX_BITS} bits, not {bits}")));
-    }
+    check_bits(bits)?;
     let capacity = 1u64 << bits;
     if let Some(d) = deltas.iter().find(|d| d.unsigned_abs() > capacity) {
         return Err(DdaError(format!(
@@ -100,6 +98,28 @@ pub fn linear(bits: u32, deltas: &[i64]) -> Result<DdaRun, DdaError> {
         })
         .collect();
     Ok(DdaRun { bits, deltas: deltas.to_vec(), clocks })
+}
+
+/// The most bits of an adder whose run is tabled: every clock is a row held in memory, and
+/// a 24-bit adder's 16,777,216 clocks (about 4 GB of rows) aborted at the memory cap.
+/// 2^20 clocks is a table of a million rows.
+pub const MAX_TABLE_BITS: u32 = 20;
+
+/// An adder of 1 to [`MAX_BITS`] bits whose run is at most 2^[`MAX_TABLE_BITS`] clocks.
+fn check_bits(bits: u32) -> Result<(), DdaError> {
+    if !(1..=MAX_BITS).contains(&bits) {
+        return Err(DdaError(format!("the adder has 1 to {MAX_BITS} bits, not {bits}")));
+    }
+    if bits > MAX_TABLE_BITS {
+        return Err(DdaError(format!(
+            "a {bits}-bit adder runs 2^{bits} = {} clocks, more than the 2^{MAX_TABLE_BITS} = {} a table holds; \
+             use a coarser --increment (a move of at most {} increments)",
+            1u64 << bits,
+            1u64 << MAX_TABLE_BITS,
+            1u64 << MAX_TABLE_BITS
+        )));
+    }
+    Ok(())
 }
 
 /// One clock of one axis's adder.
@@ -192,9 +212,7 @@ pub fn circular(
     end: (i64, i64),
     direction: ArcDirection,
 ) -> Result<CircularRun, DdaError> {
-    if !(1..=MAX_BITS).contains(&bits) {
-        return Err(DdaError(format!("the adder has 1 to {MAX_BITS} bits, not {bits}")));
-    }
+    check_bits(bits)?;
     let (rs, re) = (radius(start), radius(end));
     if rs == 0.0 {
         return Err(DdaError("an arc whose start is its centre".into()));
@@ -320,5 +338,15 @@ mod tests {
         assert!(linear(4, &[17, 1]).unwrap_err().0.contains("at least 5 bits"));
         assert!(increments(0.0105, 0.001).is_err());
         assert_eq!(increments(-0.016, 0.001), Ok(-16));
+    }
+
+    #[test]
+    fn a_run_longer_than_a_table_holds_is_refused_before_it_is_built() {
+        // 16,000,000 increments: a legal move for a 24-bit adder, 16,777,216 clocks.
+        let e = linear(bits_for(&[16_000_000, 1]), &[16_000_000, 1]).unwrap_err();
+        assert!(e.0.contains("16777216 clocks, more than the 2^20 = 1048576"), "{e}");
+        let e = circular(24, (-8_000_000, 0), (8_000_000, 0), ArcDirection::Clockwise).unwrap_err();
+        assert!(e.0.contains("2^20"), "{e}");
+        assert_eq!(linear(20, &[1 << 20, 3]).unwrap().clocks.len(), 1 << 20);
     }
 }

@@ -62,3 +62,24 @@ pub fn check(ok: bool, error: XlError) -> XlResult<()> {
         Err(error)
     }
 }
+
+/// The most whole numbers a function steps through one by one (a cumulative sum of
+/// probabilities, the periods of a loan): about a second's work.
+pub const MAX_STEPS: f64 = 10_000_000.0;
+
+/// How many whole numbers lie from `from` to `to`, both included (`from` whole).
+pub fn steps_between(from: f64, to: f64) -> f64 {
+    if to >= from {
+        (to - from).floor() + 1.0
+    } else {
+        0.0
+    }
+}
+
+/// The whole numbers from `from` to `to`, both included (`from` whole), counted with an
+/// integer: a float counter `j += 1.0` stops moving past 2^53, where `j + 1 == j`, and its
+/// loop never ends (HYPGEOM.DIST, BINOM.DIST.RANGE and CUMIPMT near 1E+16 did so). Callers
+/// bound the count first (see [`MAX_STEPS`]).
+pub fn whole_numbers(from: f64, to: f64) -> impl Iterator<Item = f64> {
+    (0..steps_between(from, to) as u64).map(move |i| from + i as f64)
+}

@@ -498,6 +498,8 @@ fn stack(ctx: &mut Ctx, args: &[Expr], horizontal: bool) -> XlResult<Value> {
     }
     // Stack vertically; horizontal stacking is the transpose of stacking the transposes.
     let cols = parts.iter().map(|p| p.cols).max().unwrap_or(0);
+    let total_rows = parts.iter().fold(0usize, |n, p| n.saturating_add(p.rows));
+    ctx.room_for(total_rows, cols)?;
     let mut rows = Vec::new();
     for p in &parts {
         for r in rows_of(p) {
@@ -563,9 +565,11 @@ fn wrap(ctx: &mut Ctx, args: &[Expr], into_rows: bool) -> XlResult<Value> {
     if count < 1.0 {
         return Err(XlError::Num);
     }
-    let count = count as usize;
+    // A count past the items makes one line of `count`, padded: sized before it is built.
+    let count = count.min(usize::MAX as f64) as usize;
     let items = &a.data;
     let lines = items.len().div_ceil(count);
+    ctx.room_for(lines, count)?;
     let item = |line: usize, k: usize| items.get(line * count + k).cloned().unwrap_or_else(|| pad.clone());
     if into_rows {
         let data = (0..lines).flat_map(|l| (0..count).map(move |k| (l, k))).map(|(l, k)| item(l, k)).collect();

@@ -573,6 +573,18 @@ impl Workdays<'_> {
         !self.weekend[dates::weekday(serial) as usize] && self.holidays.binary_search(&serial).is_err()
     }
 
+    /// The holidays from `lo` to `hi` inclusive, found by binary search: scanning the whole
+    /// list for every week stepped made WORKDAY quadratic in the holidays.
+    fn holidays_in(&self, lo: i64, hi: i64) -> &[i64] {
+        let from = self.holidays.partition_point(|&h| h < lo);
+        let to = self.holidays.partition_point(|&h| h <= hi);
+        &self.holidays[from..to.max(from)]
+    }
+
+    fn any_holiday_in(&self, lo: i64, hi: i64) -> bool {
+        !self.holidays_in(lo, hi).is_empty()
+    }
+
     fn per_week(&self) -> i64 {
         self.weekend.iter().filter(|&&w| !w).count() as i64
     }
@@ -582,11 +594,8 @@ impl Workdays<'_> {
         let (lo, hi) = (start.min(end), start.max(end));
         let weeks = (hi - lo + 1) / 7;
         let rest = (lo + weeks * 7..=hi).filter(|&d| !self.weekend[dates::weekday(d) as usize]).count() as i64;
-        let holidays = self
-            .holidays
-            .iter()
-            .filter(|&&h| (lo..=hi).contains(&h) && !self.weekend[dates::weekday(h) as usize])
-            .count() as i64;
+        let holidays = self.holidays_in(lo, hi).iter().filter(|&&h| !self.weekend[dates::weekday(h) as usize]).count()
+            as i64;
         let n = weeks * self.per_week() + rest - holidays;
         if start > end {
             -n
@@ -605,7 +614,7 @@ impl Workdays<'_> {
                 return Err(XlError::Num);
             }
             let week_ahead = if step > 0 { day + 1..=day + 7 } else { day - 7..=day - 1 };
-            let holiday_ahead = self.holidays.iter().any(|h| week_ahead.contains(h));
+            let holiday_ahead = self.any_holiday_in(*week_ahead.start(), *week_ahead.end());
             if left > self.per_week() && !holiday_ahead {
                 day += 7 * step;
                 left -= self.per_week();

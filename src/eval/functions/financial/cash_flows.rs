@@ -6,6 +6,7 @@
 
 use crate::eval::functions::api::{
     block, check, finite, number, number_or, numbers, scalar, ArgSet, Ctx, FnSpec, Scalars, MANY,
+    whole_numbers,
 };
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
@@ -286,12 +287,7 @@ fn cumulative(ctx: &mut Ctx, args: &[Expr], principal: bool) -> XlResult<Value> 
         if principal {
             return finite(principal_paid(rate, nper, pv, start, end, kind));
         }
-        let mut sum = 0.0;
-        let mut per = start;
-        while per <= end {
-            sum += ipmt_of(rate, per, nper, pv, 0.0, kind);
-            per += 1.0;
-        }
+        let sum: f64 = whole_numbers(start, end).map(|per| ipmt_of(rate, per, nper, pv, 0.0, kind)).sum();
         finite(sum)
     })
 }
@@ -303,14 +299,12 @@ fn cumulative(ctx: &mut Ctx, args: &[Expr], principal: bool) -> XlResult<Value> 
 fn principal_paid(rate: f64, nper: f64, pv: f64, start: f64, end: f64, kind: f64) -> f64 {
     let first = -pv * rate / ((1.0 + rate).powf(nper) - 1.0);
     let mut sum = 0.0;
-    let mut per = start;
-    while per <= end {
+    for per in whole_numbers(start, end) {
         sum += if kind == 1.0 && per == 1.0 {
             pmt_of(rate, nper, pv, 0.0, 1.0)
         } else {
             first * (1.0 + rate).powf(per - 1.0 - kind)
         };
-        per += 1.0;
     }
     sum
 }

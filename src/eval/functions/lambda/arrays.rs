@@ -176,10 +176,12 @@ fn bycol(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 fn makearray(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let rows = number(ctx, &args[0])?.trunc();
     let cols = number(ctx, &args[1])?.trunc();
-    if rows < 1.0 || cols < 1.0 || rows * cols > 16_777_216.0 {
+    if rows < 1.0 || cols < 1.0 {
         return Err(XlError::Value);
     }
-    let (rows, cols) = (rows as usize, cols as usize);
+    // Past 2^24 items it is #NUM! with the limit's note, as every array (docs/limits.md).
+    let (rows, cols) = (rows.min(1e15) as usize, cols.min(1e15) as usize);
+    ctx.room_for(rows, cols)?;
     with_lambda(ctx, &args[2], |ctx, lambda| {
         let mut data = Vec::with_capacity(rows * cols);
         for r in 0..rows {

@@ -476,7 +476,7 @@ fn round_to(x: f64, digits: f64, mode: Rounding) -> f64 {
         return x;
     }
     let digits = digits.trunc().clamp(-400.0, 400.0) as i32;
-    let scale = 10f64.powi(digits.abs());
+    let scale = power_of_ten(digits.abs());
     let x15 = round15(x);
     let scaled = if digits >= 0 { x15 * scale } else { x15 / scale };
     if !scaled.is_finite() || scaled.abs() >= 1e15 {
@@ -488,11 +488,15 @@ fn round_to(x: f64, digits: f64, mode: Rounding) -> f64 {
         return 0.0;
     }
     let rounded = rounded.copysign(x);
-    if digits >= 0 {
-        rounded / scale
-    } else {
-        rounded * scale
-    }
+    // The quotient or product of two rounded doubles is off in its last bits
+    // (ROUNDDOWN(1E+308,-300) was 9.99999990000001E+307): the result has at most 15
+    // significant digits, so it is read back on them.
+    crate::eval::format::number_format::round15(if digits >= 0 { rounded / scale } else { rounded * scale })
+}
+
+/// 10^k as the nearest double (`powi` multiplies, gathering an error of a few ulps by 10^300).
+fn power_of_ten(k: i32) -> f64 {
+    format!("1e{k}").parse().unwrap_or(f64::INFINITY)
 }
 
 /// Excel's ROUND: half away from zero, on the 15-significant-digit value.

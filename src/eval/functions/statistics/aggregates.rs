@@ -167,7 +167,8 @@ fn median(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     }
     xs.sort_by(f64::total_cmp);
     let mid = xs.len() / 2;
-    let m = if xs.len() % 2 == 1 { xs[mid] } else { (xs[mid - 1] + xs[mid]) / 2.0 };
+    // Halved before adding: the sum of two numbers near 1E+308 would overflow.
+    let m = if xs.len() % 2 == 1 { xs[mid] } else { xs[mid - 1] / 2.0 + xs[mid] / 2.0 };
     Ok(Value::Number(m))
 }
 

@@ -6,6 +6,7 @@
 
 use crate::eval::coerce::{to_bool, to_number};
 use crate::eval::functions::api::{lift, number_result, Ctx, FnSpec};
+use crate::eval::functions::scalar::{steps_between, whole_numbers, MAX_STEPS};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
@@ -732,12 +733,7 @@ fn binomial_sum(lo: f64, hi: f64, n: f64, p: f64) -> f64 {
         let below_lo = if lo <= 0.0 { 0.0 } else { 1.0 - beta_i(p, lo, n - lo + 1.0) };
         return below_hi - below_lo;
     }
-    let mut sum = 0.0;
-    let mut k = lo;
-    while k <= hi {
-        sum += binomial_pmf(k, n, p);
-        k += 1.0;
-    }
+    let sum: f64 = whole_numbers(lo, hi).map(|k| binomial_pmf(k, n, p)).sum();
     sum.min(1.0)
 }
 
@@ -766,13 +762,11 @@ fn binomial_inverse(a: &[f64]) -> XlResult<f64> {
         return Ok(lo);
     }
     let mut sum = 0.0;
-    let mut k = 0.0;
-    while k < n {
+    for k in whole_numbers(0.0, n - 1.0) {
         sum += binomial_pmf(k, n, p);
         if sum >= alpha {
             return Ok(k);
         }
-        k += 1.0;
     }
     Ok(n)
 }
@@ -864,14 +858,18 @@ fn hypergeometric(a: &[f64], cumulative: bool) -> XlResult<f64> {
     if !cumulative {
         return Ok(pmf(k));
     }
-    let first = (n - (big_n - big_k)).max(0.0);
-    let mut sum = 0.0;
-    let mut j = first;
-    while j <= k {
-        sum += pmf(j);
-        j += 1.0;
-    }
-    Ok(sum.min(1.0))
+    // The terms up to k, else one minus those above it when only they are few; past
+    // MAX_STEPS of both it is #NUM! (docs/limits.md) rather than a sum that never ends.
+    let (first, last) = ((n - (big_n - big_k)).max(0.0), n.min(big_k));
+    let (below, above) = (steps_between(first, k), steps_between(k + 1.0, last));
+    let sum = if below <= MAX_STEPS {
+        whole_numbers(first, k).map(pmf).sum::<f64>()
+    } else if above <= MAX_STEPS {
+        1.0 - whole_numbers(k + 1.0, last).map(pmf).sum::<f64>()
+    } else {
+        return Err(XlError::Num);
+    };
+    Ok(sum.clamp(0.0, 1.0))
 }
 
 fn negative_binomial(f: f64, s: f64, p: f64, cumulative: bool) -> XlResult<f64> {
