@@ -170,11 +170,21 @@ impl Document {
         rect.is_cell().then_some((sheet, rect.first))
     }
 
-    /// Types `input` into a cell, as a user types it (`30`, `=B5*2`, `'text`), and
-    /// recalculates what depends on it. Returns the problems the edit brought; a formula that
-    /// does not parse is refused and the cell left as it was.
+    /// Types `input` into a cell, as a user types it in the document's locale (`30`, `0,8`,
+    /// `=B5*2`, `=ROUND(B5*0,5;3)`, `'text`), and recalculates what depends on it. Returns the
+    /// problems the edit brought; a formula that does not parse, or a value that is a number
+    /// only in another locale, is refused and the cell left as it was.
     pub fn set(&mut self, sheet: SheetId, pos: Pos, input: &str) -> Result<Vec<Problem>, Problem> {
-        self.opened.workbook.set_input(sheet, pos, input)
+        let wb = &mut self.opened.workbook;
+        let canonical = wb.typed_input(input).map_err(|why| Problem {
+            sheet,
+            pos,
+            kind: ProblemKind::Parse(why),
+            text: input.to_string(),
+            span: None,
+        })?;
+        let canonical = canonical.into_owned();
+        wb.set_input(sheet, pos, &canonical)
     }
 
     /// The clock and random sequence the formulas read.

@@ -9,7 +9,19 @@ use clap::Parser;
 mod cli;
 
 fn main() -> ExitCode {
-    let args = cli::Cli::parse();
+    let args = match cli::Cli::try_parse() {
+        Ok(args) => args,
+        Err(e) => {
+            // `--tol 0,01` typed in a decimal-comma locale: say what the option wants.
+            let hint = std::env::args().find_map(|a| cli::locale::number_option_hint(&a));
+            let code = e.exit_code();
+            let _ = e.print();
+            if let (Some(hint), clap::error::ErrorKind::ValueValidation) = (hint, e.kind()) {
+                eprintln!("hint: {hint}");
+            }
+            return ExitCode::from(code as u8);
+        }
+    };
     match cli::run(args) {
         Ok(()) => ExitCode::SUCCESS,
         // `ncsheet eval big.csv | head`: the reader has all it wanted.

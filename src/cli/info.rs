@@ -53,6 +53,17 @@ pub fn run(args: InfoArgs, delimiter: Option<u8>) -> Result<()> {
         "none"
     };
     writeln!(out, "macros: {macros}")?;
+    let locale = super::locale::in_force();
+    writeln!(
+        out,
+        "locale: {} ({}; from {}): decimal '{}', list separator '{}', dates {}",
+        locale.locale,
+        locale.locale.english_name,
+        locale.source,
+        locale.locale.decimal,
+        locale.locale.list,
+        locale.locale.short_date
+    )?;
     match doc.layout() {
         Some(layout) => {
             write_tables(&mut out, &layout.tables, &names)?;

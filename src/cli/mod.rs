@@ -18,6 +18,7 @@ mod cam;
 mod hints;
 mod info;
 mod limits;
+pub mod locale;
 mod macros;
 mod nc;
 mod nc_check;
@@ -52,6 +53,12 @@ pub struct Cli {
     /// spreadsheets in such locales write them
     #[arg(long, global = true, value_name = "CHAR", value_parser = parse_delimiter)]
     pub delimiter: Option<u8>,
+    /// The locale numbers, dates and formulas are typed and shown in, and text is read as
+    /// numbers in while formulas compute, as that locale's Excel does: en-US, de-DE, fr-FR,
+    /// et-EE, uk-UA, sk-SK, sr-RS, hu-HU (default: LC_ALL, LC_NUMERIC or LANG; en-US when
+    /// none names one). Files stay as Excel stores them
+    #[arg(long, global = true, value_name = "TAG", value_parser = locale::parse_locale)]
+    pub locale: Option<ncsheet::eval::Locale>,
 }
 
 fn parse_delimiter(text: &str) -> std::result::Result<u8, String> {
@@ -210,6 +217,7 @@ pub struct FunctionsArgs {
 
 pub fn run(cli: Cli) -> Result<()> {
     cli.limits.apply();
+    locale::apply(cli.locale);
     let delimiter = cli.delimiter;
     match cli.command {
         Command::Eval(args) => eval(args, delimiter),
@@ -294,8 +302,15 @@ fn set(args: SetArgs, delimiter: Option<u8>) -> Result<()> {
     let mut done = Vec::new();
     for a in &args.assignments {
         let (cell_sheet, pos) = locate_cell(wb, &args.file, &a.target, sheet)?;
-        wb.set_input_deferred(cell_sheet, pos, &a.input).map_err(|e| in_file(&args.file, repl::refused(e)))?;
-        if let Some(doubt) = hints::doubt_about(wb, cell_sheet, pos, &a.input) {
+        let input = wb.typed_input(&a.input).map_err(|why| {
+            Error::User(format!(
+                "{}: {}: {why}; nothing was written",
+                args.file.display(),
+                wb.cell_name(cell_sheet, pos)
+            ))
+        })?;
+        wb.set_input_deferred(cell_sheet, pos, &input).map_err(|e| in_file(&args.file, repl::refused(e)))?;
+        if let Some(doubt) = hints::doubt_about(wb, cell_sheet, pos, &input) {
             eprintln!("ncsheet: {}: {}: warning: {doubt}", args.file.display(), wb.cell_name(cell_sheet, pos));
         }
         done.push((cell_sheet, pos));
@@ -310,8 +325,13 @@ fn set(args: SetArgs, delimiter: Option<u8>) -> Result<()> {
     drop(lock);
     let wb = doc.workbook();
     // What was done, on stderr: stdout stays empty for scripts.
+    let locale = wb.settings().locale;
     for (cell_sheet, pos) in done {
-        eprintln!("{} = {}", wb.cell_name(cell_sheet, pos), wb.value(cell_sheet, pos));
+        let value = match wb.value(cell_sheet, pos) {
+            ncsheet::eval::Value::Number(n) => locale.shown_number(n, None),
+            v => v.to_string(),
+        };
+        eprintln!("{} = {value}", wb.cell_name(cell_sheet, pos));
     }
     eprintln!("saved {}", out_path.display());
     Ok(())
@@ -341,7 +361,14 @@ fn open(file: &Path, delimiter: Option<u8>) -> Result<Document> {
 /// How every command opens a workbook: the workbook's own functions run under `--timeout`.
 pub(crate) fn open_options(delimiter: Option<u8>) -> OpenOptions {
     let functions = ncsheet::vba::RunOptions { deadline: limits::deadline(), ..Default::default() };
-    OpenOptions { csv_delimiter: delimiter, functions, ..OpenOptions::default() }
+    let locale = locale::in_force().locale;
+    // Under en-US the default settings hold: no second recalculation at opening.
+    let settings = (!locale.is_canonical()).then(|| {
+        let mut settings = ncsheet::eval::Settings::default();
+        settings.locale = locale;
+        settings
+    });
+    OpenOptions { csv_delimiter: delimiter, functions, settings, ..OpenOptions::default() }
 }
 
 /// Whose values a workbook stores, as `eval --check` names them, and, when they are not

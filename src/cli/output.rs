@@ -55,14 +55,17 @@ impl Shown<'_> {
     /// The text of one cell: its formula, its value under its number format, or the value
     /// in full.
     pub fn text(&self, wb: &Workbook, sheet: SheetId, pos: Pos) -> String {
+        // In the user's locale (`1 234,5`, `=ROUND(A1;2)`); en-US as files spell them.
+        let locale = wb.settings().locale;
         if self.formulas {
             if let Some(f) = wb.formula(sheet, pos) {
-                return f;
+                return locale.local_formula(&f);
             }
         }
         match wb.value(sheet, pos) {
-            Value::Number(n) if self.raw => format!("{n}"),
-            Value::Number(n) => shown(n, self.format_code(wb, sheet, pos)),
+            Value::Number(n) if self.raw => locale.localize_shown(&format!("{n}")),
+            Value::Number(n) if locale.is_canonical() => shown(n, self.format_code(wb, sheet, pos)),
+            Value::Number(n) => locale.shown_number(n, self.format_code(wb, sheet, pos)),
             v => v.to_string(),
         }
     }
@@ -199,7 +202,13 @@ pub fn table(wb: &Workbook, sheet: SheetId, rect: Rect, shown: &Shown) -> String
                 }
                 let cell = if r > 0 && i > 0 {
                     let pos = Pos::new(rect.first.row + r as u32 - 1, rect.first.col + i as u32 - 1);
-                    fit_cell(cell, *right, w, wb.value(sheet, pos))
+                    let fitted = fit_cell(cell, *right, w, wb.value(sheet, pos));
+                    // A number shortened to fit is spelled anew: in the locale again.
+                    if fitted == *cell {
+                        fitted
+                    } else {
+                        wb.settings().locale.localize_shown(&fitted)
+                    }
                 } else {
                     cell.clone()
                 };

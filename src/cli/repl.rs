@@ -190,12 +190,18 @@ impl Session<'_> {
     /// cell keeps what it had); new problems, such as a circular reference, are reported.
     fn set(&mut self, assignment: Assignment, out: &mut dyn Write) -> Result<()> {
         let (sheet, pos) = super::locate_cell(&self.wb, self.file, &assignment.target, self.sheet)?;
-        let news = match self.wb.set_input(sheet, pos, &assignment.input) {
+        // Typed in the user's locale: a number of another locale is refused, with the spelling meant.
+        let input = self
+            .wb
+            .typed_input(&assignment.input)
+            .map_err(|why| Error::User(format!("{}: {}: {why}", self.file.display(), self.wb.cell_name(sheet, pos))))?;
+        let input = input.into_owned();
+        let news = match self.wb.set_input(sheet, pos, &input) {
             Ok(news) => news,
             Err(p) => return Err(super::in_file(self.file, Error::User(report::render(&self.wb, &p)))),
         };
         writeln!(out, "{}", self.shown().text(&self.wb, sheet, pos))?;
-        if let Some(doubt) = super::hints::doubt_about(&self.wb, sheet, pos, &assignment.input) {
+        if let Some(doubt) = super::hints::doubt_about(&self.wb, sheet, pos, &input) {
             eprintln!("ncsheet: {}: {}: warning: {doubt}", self.file.display(), self.wb.cell_name(sheet, pos));
         }
         for p in news {

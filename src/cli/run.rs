@@ -160,7 +160,7 @@ fn run_on_this_thread(args: RunArgs, dialect_name: &'static str, delimiter: Opti
     let code_names = sheets.clone().filter_map(|(name, s)| Some((s.code_name.clone()?, name.clone()))).collect();
     let options = RunOptions {
         sub,
-        args: args.args.clone(),
+        args: super::locale::typed_args(&wb, &args.args)?,
         max_statements: args.max_statements,
         max_depth: args.max_depth,
         deadline: super::limits::deadline(),

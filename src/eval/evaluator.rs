@@ -79,6 +79,11 @@ pub trait Env {
     /// The next number 0 ≤ x < 1 of the workbook's random sequence (its `Settings`).
     fn next_random(&self) -> f64;
 
+    /// The user's locale, which text-to-number conversions follow (the workbook's `Settings`).
+    fn locale(&self) -> crate::eval::Locale {
+        crate::eval::Locale::EN_US
+    }
+
     /// The width of column `col` in characters as Excel shows it (CELL("width")); `None`
     /// when the workbook says nothing of it (Excel's default, 8.43).
     fn column_width(&self, _sheet: SheetId, _col: u32) -> Option<f64> {
@@ -352,6 +357,28 @@ impl<'a> Ctx<'a> {
         operand
     }
 
+    /// The workbook's locale (en-US outside a workbook).
+    pub fn locale(&self) -> crate::eval::Locale {
+        self.env.locale()
+    }
+
+    /// Operands of `op` as the workbook's locale reads them: text in arithmetic read as a
+    /// number there (`"0,8"*1` in et-EE), numbers joined as text shown there (`0,8&""`).
+    /// Under en-US, and for other operators, they are unchanged.
+    fn localized_operands(&self, op: BinOp, a: Value, b: Value) -> (Value, Value) {
+        let locale = self.env.locale();
+        if locale.is_canonical() {
+            return (a, b);
+        }
+        match op {
+            BinOp::Pow | BinOp::Mul | BinOp::Div | BinOp::Add | BinOp::Sub => {
+                (locale.numbers_for_arithmetic(a), locale.numbers_for_arithmetic(b))
+            }
+            BinOp::Concat => (locale.numbers_for_joining(a), locale.numbers_for_joining(b)),
+            _ => (a, b),
+        }
+    }
+
     /// Records why `error` happened and returns it, for `return Err(ctx.explain(..))`.
     pub fn explain(&mut self, error: XlError, message: impl Into<String>) -> XlError {
         self.notes.push(Note { error, message: message.into() });
@@ -384,7 +411,10 @@ impl<'a> Ctx<'a> {
         let y = y.map_or_else(|| self.eval(b), Value::Number);
         match (&x, &y) {
             (Value::Number(x), Value::Number(y)) => sum_or_difference(*op, *x, *y),
-            _ => binary(*op, &x, &y),
+            _ => {
+                let (x, y) = self.localized_operands(*op, x, y);
+                binary(*op, &x, &y)
+            }
         }
     }
 
@@ -422,6 +452,7 @@ impl<'a> Ctx<'a> {
                 (x, y) => {
                     let a = x.map_or_else(|| self.eval(a), Value::Number);
                     let b = y.map_or_else(|| self.eval(b), Value::Number);
+                    let (a, b) = self.localized_operands(*op, a, b);
                     let v = binary(*op, &a, &b);
                     if matches!(v, Value::Error(XlError::Num)) {
                         self.explain_array_size(&a, &b);
@@ -873,9 +904,9 @@ impl<'a> Ctx<'a> {
 
     fn unary(&mut self, op: UnaryOp, inner: &Expr) -> Value {
         match op {
-            UnaryOp::Neg => map_number(&self.eval(inner), |x| Ok(-x)),
+            UnaryOp::Neg => map_number(&self.locale().numbers_for_arithmetic(self.eval(inner)), |x| Ok(-x)),
             UnaryOp::Plus => self.eval(inner),
-            UnaryOp::Percent => map_number(&self.eval(inner), |x| Ok(x / 100.0)),
+            UnaryOp::Percent => map_number(&self.locale().numbers_for_arithmetic(self.eval(inner)), |x| Ok(x / 100.0)),
             UnaryOp::Implicit => {
                 let operand = self.operand(inner);
                 self.implicit_intersection(operand)

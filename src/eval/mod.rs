@@ -7,11 +7,13 @@ pub mod diff;
 pub mod evaluator;
 pub mod format;
 pub mod functions;
+pub mod locale;
 pub mod settings;
 pub mod surface;
 pub mod testing;
 pub mod value;
 
 pub use evaluator::{Ctx, Env, Note, Operand, RowHidden, UserCall};
+pub use locale::Locale;
 pub use settings::Settings;
 pub use value::{too_many_items, too_many_items_note, Array, Value, XlError, XlResult, MAX_ARRAY_ITEMS};

@@ -1,5 +1,5 @@
 //! What a workbook decides for its own evaluation besides its cells: the clock NOW and TODAY
-//! read, and the random sequence RAND, RANDBETWEEN and RANDARRAY draw from. Each workbook
+//! read, the random sequence RAND, RANDBETWEEN and RANDARRAY draw from, and the locale. Each workbook
 //! owns its settings (the evaluator asks for them through `Env`), so two workbooks evaluated
 //! on one thread, or a server holding many, never see each other's clock or sequence.
 
@@ -12,6 +12,9 @@ pub struct Settings {
     /// The date and time NOW reads, as a serial; `None`: the system clock. Fixing it
     /// reproduces results saved at a known time.
     pub clock: Option<f64>,
+    /// The user's locale: how typed numbers, dates and formulas are read, values shown, and
+    /// text turned into numbers while formulas compute (see `locale.rs`).
+    pub locale: super::Locale,
     /// The state of the random sequence: 0 seeds it from the system clock at the next draw.
     random: Cell<u64>,
 }

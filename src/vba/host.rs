@@ -97,6 +97,13 @@ impl Env for Interp<'_, '_> {
             None => self.wb.borrow().settings().next_random(),
         }
     }
+
+    fn locale(&self) -> crate::eval::Locale {
+        match self.cells {
+            Some(cells) => cells.locale(),
+            None => self.wb.borrow().settings().locale,
+        }
+    }
 }
 
 impl Host for Interp<'_, '_> {

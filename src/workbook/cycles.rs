@@ -254,6 +254,10 @@ impl Env for Probe<'_> {
         self.wb.settings.next_random()
     }
 
+    fn locale(&self) -> crate::eval::Locale {
+        self.wb.settings.locale
+    }
+
     fn column_width(&self, sheet: SheetId, col: u32) -> Option<f64> {
         Env::column_width(self.wb, sheet, col)
     }

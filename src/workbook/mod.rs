@@ -24,6 +24,7 @@ mod problems;
 mod recalc;
 mod shared;
 mod sheet;
+mod typed;
 mod udf;
 
 pub use cycles::Iteration;
@@ -954,6 +955,10 @@ impl Env for Workbook {
 
     fn next_random(&self) -> f64 {
         self.settings.next_random()
+    }
+
+    fn locale(&self) -> crate::eval::Locale {
+        self.settings.locale
     }
 
     fn row_hidden(&self, sheet: SheetId, row: u32) -> Option<RowHidden> {

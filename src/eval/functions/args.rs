@@ -21,7 +21,8 @@ pub enum Source {
 
 /// A scalar argument as a number (arrays give their first item; use [`lift`] to map instead).
 pub fn number(ctx: &mut Ctx, e: &Expr) -> XlResult<f64> {
-    to_number(&ctx.eval(e))
+    let v = ctx.eval(e);
+    to_number(&ctx.locale().numbers_for_arithmetic(v))
 }
 
 /// Argument `i` when given: `None` when it is omitted or left empty (`ROUND(2.5,)`).
@@ -113,6 +114,7 @@ pub fn lift_number1(ctx: &mut Ctx, args: &[Expr], f: fn(f64) -> XlResult<f64>) -
     if let Value::Number(x) = x {
         return Ok(number_result(f(x)?));
     }
+    let x = ctx.locale().numbers_for_arithmetic(x);
     lift_values(&[x], &|v| {
         let x = to_number(&v[0])?;
         Ok(number_result(f(x)?))
@@ -129,6 +131,7 @@ pub fn lift_number2(ctx: &mut Ctx, args: &[Expr], default: f64, f: fn(f64, f64) 
         [Value::Number(x), Value::Number(y)] => return Ok(number_result(f(x, y)?)),
         _ => {}
     }
+    let values = values.map(|v| ctx.locale().numbers_for_arithmetic(v));
     let values = &values[..args.len().min(2)];
     let lifted = lift_values(values, &|v| {
         let x = to_number(&v[0])?;
@@ -196,12 +199,14 @@ fn for_each_cell_value(
 /// anywhere; typed text and booleans coerced; text, booleans and blanks in ranges and
 /// arrays skipped; any error stops with that error.
 pub fn for_each_number(ctx: &mut Ctx, args: &[Expr], f: &mut dyn FnMut(f64)) -> XlResult<()> {
+    let locale = ctx.locale();
     for_each_value(ctx, args, &mut |v, source| {
         match (v, source) {
             (Value::Number(n), _) => f(*n),
             (Value::Error(e), _) => return Err(*e),
             (_, Source::Collection) => {}
             (Value::Blank, Source::Direct) => {}
+            (Value::Text(_), Source::Direct) => f(to_number(&locale.numbers_for_arithmetic(v.clone()))?),
             (other, Source::Direct) => f(to_number(other)?),
         }
         Ok(())

@@ -3,7 +3,7 @@
 
 use std::rc::Rc;
 
-use crate::eval::coerce::{parse_number, to_bool, to_number, to_text};
+use crate::eval::coerce::{to_bool, to_number, to_text};
 use crate::eval::functions::api::{for_each_value, lift, lift_values, ArgSet, Ctx, FnSpec, MANY};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
@@ -201,9 +201,11 @@ fn items_of(v: Value) -> Vec<Value> {
 // Numbers as text
 
 fn text_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    // The format code and the number text are read, and the result shown, in the locale.
+    let locale = ctx.locale();
     let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
     if let Value::Text(format) = &values[1] {
-        if NumberFormat::parse(format).is_err() {
+        if NumberFormat::parse(&locale.canonical_format_code(format)).is_err() {
             let why =
                 format!("TEXT cannot use the format \"{format}\" (digit placeholders in dates are not supported)");
             return Err(ctx.explain(XlError::Value, why));
@@ -214,23 +216,25 @@ fn text_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         if let Value::Error(e) = &v[0] {
             return Err(*e);
         }
-        let format = NumberFormat::parse(&to_text(&v[1])?)?;
+        let code = locale.canonical_format_code(&to_text(&v[1])?);
+        let format = NumberFormat::parse(&code)?;
         let shown = match &v[0] {
             // A boolean is text to TEXT: the text section formats it.
             Value::Bool(b) => format.format_text(if *b { "TRUE" } else { "FALSE" }),
             // Text that reads as a number is formatted as that number.
-            Value::Text(s) => match parse_number(s) {
-                Some(n) => format.format_number(n)?,
+            Value::Text(s) => match locale.read_number(s) {
+                Some(n) => locale.localize_formatted(&code, &format.format_number(n)?),
                 None => format.format_text(s),
             },
-            other => format.format_number(to_number(other)?)?,
+            other => locale.localize_formatted(&code, &format.format_number(to_number(other)?)?),
         };
         Ok(Value::from(shown))
     })
 }
 
 fn fixed(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    let locale = ctx.locale();
+    let values: Vec<Value> = args.iter().map(|a| locale.numbers_for_arithmetic(ctx.eval(a))).collect();
     let decimals_given = args.get(1).is_some_and(|e| e.kind != ExprKind::Missing);
     lift_values(&values, &|v| {
         let n = to_number(&v[0])?;
@@ -239,19 +243,20 @@ fn fixed(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
             Some(flag) => to_bool(flag)?,
             None => false,
         };
-        Ok(Value::from(fixed_text(n, decimals, no_commas)?))
+        Ok(Value::from(locale.localize_shown(&fixed_text(n, decimals, no_commas)?)))
     })
 }
 
 /// DOLLAR: FIXED with a currency sign, negative amounts in parentheses (`($1,234.57)`), as
 /// Excel's en-US currency format shows them.
 fn dollar(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    let locale = ctx.locale();
+    let values: Vec<Value> = args.iter().map(|a| locale.numbers_for_arithmetic(ctx.eval(a))).collect();
     let decimals_given = args.get(1).is_some_and(|e| e.kind != ExprKind::Missing);
     lift_values(&values, &|v| {
         let n = to_number(&v[0])?;
         let decimals = if decimals_given { to_number(&v[1])?.trunc() } else { 2.0 };
-        let digits = fixed_text(n.abs(), decimals, false)?;
+        let digits = locale.localize_shown(&fixed_text(n.abs(), decimals, false)?);
         // A negative amount that rounds to nothing shows no parentheses.
         let negative = n < 0.0 && digits.chars().any(|c| c.is_ascii_digit() && c != '0');
         Ok(Value::from(if negative { format!("(${digits})") } else { format!("${digits}") }))
@@ -377,23 +382,26 @@ fn map_text(ctx: &mut Ctx, args: &[Expr], f: fn(&str) -> String) -> XlResult<Val
 }
 
 fn value(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let locale = ctx.locale();
     lift(ctx, args, &|v| match &v[0] {
         Value::Number(n) => Ok(Value::Number(*n)),
         Value::Blank => Ok(Value::Number(0.0)),
-        Value::Text(s) => parse_number(s).map(Value::Number).ok_or(XlError::Value),
+        Value::Text(s) => locale.read_number(s).map(Value::Number).ok_or(XlError::Value),
         Value::Error(e) => Err(*e),
         _ => Err(XlError::Value),
     })
 }
 
 fn numbervalue(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    // The separators left out are the locale's, as Excel's are the system's.
+    let locale = ctx.locale();
     lift(ctx, args, &|v| {
         let text = match &v[0] {
             Value::Error(e) => return Err(*e),
             other => to_text(other)?,
         };
-        let decimal = separator(v.get(1), '.')?;
-        let group = separator(v.get(2), ',')?;
+        let decimal = separator(v.get(1), locale.decimal)?;
+        let group = separator(v.get(2), locale.group)?;
         if decimal == group {
             return Err(XlError::Value);
         }

@@ -1,0 +1,72 @@
+//! `--locale`: the user's locale for every command, as LibreOffice picks its own (LC_ALL, then
+//! LC_NUMERIC, then LANG; C, POSIX or nothing set is en-US). The choice is made once when the
+//! command line is read and handed to every document opened (its `Settings`); `ncsheet info`
+//! says which is in force and where it came from.
+
+use std::sync::OnceLock;
+
+use ncsheet::eval::locale::FromEnvironment;
+use ncsheet::eval::Locale;
+
+/// The locale chosen for this run, and where it came from.
+#[derive(Clone, Debug)]
+pub struct InForce {
+    pub locale: Locale,
+    /// `--locale`, or the environment variable and its value.
+    pub source: String,
+}
+
+static IN_FORCE: OnceLock<InForce> = OnceLock::new();
+
+/// `--locale`'s value: a tag ncsheet has data for.
+pub fn parse_locale(text: &str) -> Result<Locale, String> {
+    Locale::from_tag(text).ok_or_else(|| {
+        let known: Vec<String> = Locale::all().map(|l| l.tag.to_string()).collect();
+        format!("no locale '{text}' (ncsheet knows {})", known.join(", "))
+    })
+}
+
+/// Decides the run's locale: `--locale`, else the environment's.
+pub fn apply(option: Option<Locale>) {
+    let in_force = match option {
+        Some(locale) => InForce { locale, source: "--locale".into() },
+        None => from_environment(Locale::from_environment(|name| std::env::var(name).ok())),
+    };
+    let _ = IN_FORCE.set(in_force);
+}
+
+fn from_environment(found: FromEnvironment) -> InForce {
+    let source = match (&found.variable, found.unknown) {
+        (Some((name, value)), false) => format!("{name}={value}"),
+        (Some((name, value)), true) => {
+            format!("{name}={value}, a locale ncsheet has no data for, so en-US; choose one with --locale")
+        }
+        (None, _) => "no LC_ALL, LC_NUMERIC or LANG names one".into(),
+    };
+    InForce { locale: found.locale, source }
+}
+
+/// The run's locale (en-US before [`apply`], as in the library's tests).
+pub fn in_force() -> InForce {
+    IN_FORCE.get().cloned().unwrap_or(InForce { locale: Locale::EN_US, source: "the default".into() })
+}
+
+/// The hint for a number option typed with the locale's decimal mark (`--tol 0,01`).
+pub fn number_option_hint(value: &str) -> Option<String> {
+    let meant = value.replace(',', ".");
+    let is_decimal_comma = value.contains(',') && meant.parse::<f64>().is_ok();
+    is_decimal_comma.then(|| format!("options take numbers with a decimal point, whatever the locale: {meant}"))
+}
+
+/// `run --arg NAME=VALUE`s with their values read as typed in the workbook's locale
+/// (`r=0,8` in et-EE is the number 0.8); a number of another locale is refused.
+pub fn typed_args(
+    wb: &ncsheet::workbook::Workbook,
+    args: &[(String, String)],
+) -> super::report::Result<Vec<(String, String)>> {
+    let typed = |(name, value): &(String, String)| match wb.typed_input(value) {
+        Ok(value) => Ok((name.clone(), value.into_owned())),
+        Err(why) => Err(super::report::Error::Usage(format!("--arg {name}: {why}"))),
+    };
+    args.iter().map(typed).collect()
+}

@@ -1,0 +1,664 @@
+//! The user's locale, as Excel applies it at the edges of a workbook: how typed numbers,
+//! dates and formulas are spelled, how values are shown, and how text becomes a number while
+//! formulas compute (arithmetic on text, VALUE, NUMBERVALUE's defaults, TEXT's format codes).
+//! Files stay canonical (en-US formulas, numbers as numbers): only what is typed, shown and
+//! converted changes. A workbook owns its locale in its `Settings`; the evaluator reaches it
+//! through `Env::locale`, never through a thread's or the process's state.
+//!
+//! The data is CLDR's (decimal and group symbols, date order, month and day names) with
+//! Windows' choices where Excel follows Windows rather than CLDR: the group separator of the
+//! space-grouping locales is shown as U+00A0 (CLDR's fr has U+202F; Excel on Windows shows a
+//! no-break space), and `;` is the list separator of every decimal-comma locale.
+
+use std::fmt;
+
+use super::coerce::parse_plain_number;
+use super::dates;
+use super::format::number_format::general;
+use super::value::{Array, Value, XlError};
+
+/// The order of day, month and year in a short date.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DateOrder {
+    MonthDayYear,
+    DayMonthYear,
+    YearMonthDay,
+}
+
+/// One locale's facts (see the module doc for their source).
+#[derive(Debug, PartialEq, Eq)]
+pub struct LocaleData {
+    /// The BCP 47 tag, as `--locale` takes it.
+    pub tag: &'static str,
+    pub english_name: &'static str,
+    pub decimal: char,
+    /// The group (thousands) separator as Excel shows it.
+    pub group: char,
+    /// Further group separators a user may type (a plain space where Excel shows U+00A0).
+    pub group_typed: &'static [char],
+    /// Between a formula's arguments.
+    pub list: char,
+    pub date_order: DateOrder,
+    pub date_separator: char,
+    /// The short date as a canonical format code (what Excel's built-in format 14 shows).
+    pub short_date: &'static str,
+    pub months: [&'static str; 12],
+    pub days: [&'static str; 7],
+}
+
+const SPACES: &[char] = &[' ', '\u{202F}'];
+
+static EN_US: LocaleData = LocaleData {
+    tag: "en-US",
+    english_name: "English (United States)",
+    decimal: '.',
+    group: ',',
+    group_typed: &[],
+    list: ',',
+    date_order: DateOrder::MonthDayYear,
+    date_separator: '/',
+    short_date: "m/d/yyyy",
+    months: [
+        "January",
+        "February",
+        "March",
+        "April",
+        "May",
+        "June",
+        "July",
+        "August",
+        "September",
+        "October",
+        "November",
+        "December",
+    ],
+    days: ["Sunday", "Monday", "Tuesday", "Wednesday", "Thursday", "Friday", "Saturday"],
+};
+
+static LOCALES: [&LocaleData; 8] = [
+    &EN_US,
+    &LocaleData {
+        tag: "de-DE",
+        english_name: "German (Germany)",
+        decimal: ',',
+        group: '.',
+        group_typed: &[],
+        list: ';',
+        date_order: DateOrder::DayMonthYear,
+        date_separator: '.',
+        short_date: "dd.mm.yyyy",
+        months: [
+            "Januar",
+            "Februar",
+            "März",
+            "April",
+            "Mai",
+            "Juni",
+            "Juli",
+            "August",
+            "September",
+            "Oktober",
+            "November",
+            "Dezember",
+        ],
+        days: ["Sonntag", "Montag", "Dienstag", "Mittwoch", "Donnerstag", "Freitag", "Samstag"],
+    },
+    &LocaleData {
+        tag: "fr-FR",
+        english_name: "French (France)",
+        decimal: ',',
+        group: '\u{A0}',
+        group_typed: SPACES,
+        list: ';',
+        date_order: DateOrder::DayMonthYear,
+        date_separator: '/',
+        short_date: "dd/mm/yyyy",
+        months: [
+            "janvier",
+            "février",
+            "mars",
+            "avril",
+            "mai",
+            "juin",
+            "juillet",
+            "août",
+            "septembre",
+            "octobre",
+            "novembre",
+            "décembre",
+        ],
+        days: ["dimanche", "lundi", "mardi", "mercredi", "jeudi", "vendredi", "samedi"],
+    },
+    &LocaleData {
+        tag: "et-EE",
+        english_name: "Estonian (Estonia)",
+        decimal: ',',
+        group: '\u{A0}',
+        group_typed: SPACES,
+        list: ';',
+        date_order: DateOrder::DayMonthYear,
+        date_separator: '.',
+        short_date: "dd.mm.yyyy",
+        months: [
+            "jaanuar",
+            "veebruar",
+            "märts",
+            "aprill",
+            "mai",
+            "juuni",
+            "juuli",
+            "august",
+            "september",
+            "oktoober",
+            "november",
+            "detsember",
+        ],
+        days: ["pühapäev", "esmaspäev", "teisipäev", "kolmapäev", "neljapäev", "reede", "laupäev"],
+    },
+    &LocaleData {
+        tag: "uk-UA",
+        english_name: "Ukrainian (Ukraine)",
+        decimal: ',',
+        group: '\u{A0}',
+        group_typed: SPACES,
+        list: ';',
+        date_order: DateOrder::DayMonthYear,
+        date_separator: '.',
+        short_date: "dd.mm.yyyy",
+        months: [
+            "січень",
+            "лютий",
+            "березень",
+            "квітень",
+            "травень",
+            "червень",
+            "липень",
+            "серпень",
+            "вересень",
+            "жовтень",
+            "листопад",
+            "грудень",
+        ],
+        days: ["неділя", "понеділок", "вівторок", "середа", "четвер", "пʼятниця", "субота"],
+    },
+    &LocaleData {
+        tag: "sk-SK",
+        english_name: "Slovak (Slovakia)",
+        decimal: ',',
+        group: '\u{A0}',
+        group_typed: SPACES,
+        list: ';',
+        date_order: DateOrder::DayMonthYear,
+        date_separator: '.',
+        short_date: "d.m.yyyy",
+        months: [
+            "január",
+            "február",
+            "marec",
+            "apríl",
+            "máj",
+            "jún",
+            "júl",
+            "august",
+            "september",
+            "október",
+            "november",
+            "december",
+        ],
+        days: ["nedeľa", "pondelok", "utorok", "streda", "štvrtok", "piatok", "sobota"],
+    },
+    &LocaleData {
+        tag: "sr-RS",
+        english_name: "Serbian (Latin, Serbia)",
+        decimal: ',',
+        group: '.',
+        group_typed: &[],
+        list: ';',
+        date_order: DateOrder::DayMonthYear,
+        date_separator: '.',
+        short_date: "d.m.yyyy",
+        months: [
+            "januar",
+            "februar",
+            "mart",
+            "april",
+            "maj",
+            "jun",
+            "jul",
+            "avgust",
+            "septembar",
+            "oktobar",
+            "novembar",
+            "decembar",
+        ],
+        days: ["nedelja", "ponedeljak", "utorak", "sreda", "četvrtak", "petak", "subota"],
+    },
+    &LocaleData {
+        tag: "hu-HU",
+        english_name: "Hungarian (Hungary)",
+        decimal: ',',
+        group: '\u{A0}',
+        group_typed: SPACES,
+        list: ';',
+        date_order: DateOrder::YearMonthDay,
+        date_separator: '.',
+        short_date: "yyyy.mm.dd.",
+        months: [
+            "január",
+            "február",
+            "március",
+            "április",
+            "május",
+            "június",
+            "július",
+            "augusztus",
+            "szeptember",
+            "október",
+            "november",
+            "december",
+        ],
+        days: ["vasárnap", "hétfő", "kedd", "szerda", "csütörtök", "péntek", "szombat"],
+    },
+];
+
+/// A locale: a handle on static data, cheap to copy.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub struct Locale(&'static LocaleData);
+
+impl Default for Locale {
+    fn default() -> Locale {
+        Locale::EN_US
+    }
+}
+
+impl fmt::Debug for Locale {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str(self.0.tag)
+    }
+}
+
+impl fmt::Display for Locale {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str(self.0.tag)
+    }
+}
+
+impl std::ops::Deref for Locale {
+    type Target = LocaleData;
+    fn deref(&self) -> &LocaleData {
+        self.0
+    }
+}
+
+/// Where a locale in force came from, for `ncsheet info`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FromEnvironment {
+    pub locale: Locale,
+    /// The variable and its value that chose it (`None`: none is set, or it says C/POSIX).
+    pub variable: Option<(String, String)>,
+    /// A value naming a locale ncsheet has no data for (then en-US is used).
+    pub unknown: bool,
+}
+
+impl Locale {
+    /// Excel's and the file format's own locale: formulas and numbers as files store them.
+    pub const EN_US: Locale = Locale(&EN_US);
+
+    /// Every locale ncsheet knows.
+    pub fn all() -> impl Iterator<Item = Locale> {
+        LOCALES.iter().map(|d| Locale(d))
+    }
+
+    /// The locale a tag names: `et-EE`, `et_EE`, `et_EE.UTF-8`, `et` (its country's),
+    /// `sr-Latn-RS`; case aside. `C` and `POSIX` are en-US, as LibreOffice reads them.
+    pub fn from_tag(tag: &str) -> Option<Locale> {
+        let tag = tag.split(['.', '@']).next().unwrap_or(tag).replace('_', "-");
+        if tag.eq_ignore_ascii_case("C") || tag.eq_ignore_ascii_case("POSIX") {
+            return Some(Locale::EN_US);
+        }
+        let tag = tag.replace("-Latn", "").replace("-latn", "");
+        let language = tag.split('-').next().unwrap_or("");
+        Locale::all().find(|l| l.tag.eq_ignore_ascii_case(&tag)).or_else(|| {
+            (!tag.contains('-')).then(|| Locale::all().find(|l| l.tag[..2].eq_ignore_ascii_case(language)))?
+        })
+    }
+
+    /// The locale the environment asks for, read as LibreOffice reads it: LC_ALL, then
+    /// LC_NUMERIC, then LANG; unset, empty, `C` and `POSIX` are en-US.
+    pub fn from_environment(var: impl Fn(&str) -> Option<String>) -> FromEnvironment {
+        for name in ["LC_ALL", "LC_NUMERIC", "LANG"] {
+            let Some(value) = var(name).filter(|v| !v.is_empty()) else { continue };
+            let found = Locale::from_tag(&value);
+            let neutral = value == "C" || value == "POSIX" || value.starts_with("C.");
+            let variable = (!neutral).then(|| (name.to_string(), value.clone()));
+            return FromEnvironment { locale: found.unwrap_or(Locale::EN_US), variable, unknown: found.is_none() };
+        }
+        FromEnvironment { locale: Locale::EN_US, variable: None, unknown: false }
+    }
+
+    /// Whether numbers and formulas are spelled as files store them (`.` and `,`).
+    pub fn is_canonical(self) -> bool {
+        self.decimal == '.' && self.list == ','
+    }
+
+    /// Typed or computed text as a number, as this locale's Excel reads it (VALUE, arithmetic
+    /// on text, a typed value): numbers with the locale's decimal mark and group separators,
+    /// a percent, a currency sign; a fraction `1 1/2`; a date or time in the locale's order.
+    pub fn read_number(self, text: &str) -> Option<f64> {
+        if self.is_canonical() {
+            return super::coerce::parse_number(text);
+        }
+        self.read_plain_number(text).or_else(|| self.read_date(text.trim()))
+    }
+
+    /// [`Locale::read_number`] without dates and times.
+    pub fn read_plain_number(self, text: &str) -> Option<f64> {
+        if self.is_canonical() {
+            return parse_plain_number(text);
+        }
+        parse_plain_number(&self.canonical_number_text(text)?)
+    }
+
+    /// A number typed in this locale spelled as en-US reads it (`1 234,5` → `1,234.5`);
+    /// `None` when the text has a mark the locale does not use in numbers (`0.8` in et-EE).
+    fn canonical_number_text(self, text: &str) -> Option<String> {
+        let t = text.trim_matches(|c: char| c.is_whitespace() || c == '\u{A0}');
+        let is_group = |c: char| c == self.group || self.group_typed.contains(&c);
+        let mut out = String::with_capacity(t.len());
+        for c in t.chars() {
+            match c {
+                _ if c == self.decimal => out.push('.'),
+                _ if is_group(c) => out.push(','),
+                // The canonical marks that mean nothing here make the text no number.
+                '.' | ',' => return None,
+                c => out.push(c),
+            }
+        }
+        Some(out)
+    }
+
+    /// A date, a time, or both (`12.03.2025`, `12.03.2025 13:30`, `2025-03-12`, `13:30`) in the
+    /// locale's date order.
+    pub fn read_date(self, text: &str) -> Option<f64> {
+        if self.is_canonical() {
+            return dates::parse_date_text(text).map(dates::DateText::serial);
+        }
+        if let Some(date) = self.read_day(text) {
+            return Some(date as f64);
+        }
+        if text.contains(':') {
+            if let Some((day, time)) = text.split_once(' ') {
+                let day = self.read_day(day.trim())?;
+                let time = dates::parse_date_text(time.trim())?.time?;
+                return Some(day as f64 + time);
+            }
+            let time = dates::parse_date_text(text)?;
+            return time.date.is_none().then(|| time.serial());
+        }
+        None
+    }
+
+    /// A short date in the locale's order with `.`, `/` or `-` between its parts (and ISO's
+    /// year-first order, which every Excel reads), as its serial.
+    fn read_day(self, text: &str) -> Option<i64> {
+        let t = text.strip_suffix('.').unwrap_or(text);
+        let parts: Vec<&str> = t.split(['.', '/', '-']).map(str::trim).collect();
+        let [a, b, c] = parts.as_slice() else { return None };
+        let number = |s: &str| -> Option<i64> {
+            (!s.is_empty() && s.len() <= 4 && s.bytes().all(|b| b.is_ascii_digit())).then(|| s.parse().ok())?
+        };
+        let (a_n, b_n, c_n) = (number(a)?, number(b)?, number(c)?);
+        let (year, month, day, year_text) = if a.len() == 4 || self.date_order == DateOrder::YearMonthDay {
+            (a_n, b_n, c_n, *a)
+        } else if self.date_order == DateOrder::DayMonthYear {
+            (c_n, b_n, a_n, *c)
+        } else {
+            (c_n, a_n, b_n, *c)
+        };
+        let year = match year_text.len() {
+            1 | 2 if year < 30 => 2000 + year,
+            1 | 2 => 1900 + year,
+            4 => year,
+            _ => return None,
+        };
+        let valid = (1900..=9999).contains(&year)
+            && (1..=12).contains(&month)
+            && day >= 1
+            && day <= i64::from(dates::days_in_month(year, month as u32));
+        valid.then(|| dates::serial_from_ymd(year, month, day))
+    }
+
+    /// A value with its text read as a number in this locale, for arithmetic: text that is no
+    /// number here is `#VALUE!`; other values, and everything under en-US, unchanged.
+    pub fn numbers_for_arithmetic(self, v: Value) -> Value {
+        if self.is_canonical() {
+            return v;
+        }
+        match v {
+            Value::Text(s) => self.read_number(&s).map_or(Value::Error(XlError::Value), Value::Number),
+            Value::Array(a) if a.data.iter().any(|x| matches!(x, Value::Text(_))) => {
+                let data = a.data.iter().map(|x| self.numbers_for_arithmetic(x.clone())).collect();
+                Value::Array(std::rc::Rc::new(Array::new(a.rows, a.cols, data)))
+            }
+            v => v,
+        }
+    }
+
+    /// A value with its numbers as text as this locale's Excel joins them (`=A1&""` is
+    /// `0,8` in et-EE); other values unchanged.
+    pub fn numbers_for_joining(self, v: Value) -> Value {
+        if self.is_canonical() {
+            return v;
+        }
+        match v {
+            Value::Number(n) => Value::Text(self.localize_shown(&general(n)).into()),
+            Value::Array(a) if a.data.iter().any(|x| matches!(x, Value::Number(_))) => {
+                let data = a.data.iter().map(|x| self.numbers_for_joining(x.clone())).collect();
+                Value::Array(std::rc::Rc::new(Array::new(a.rows, a.cols, data)))
+            }
+            v => v,
+        }
+    }
+
+    /// A number as en-US shows it (`1,234.5`, `-0.8`, `1.5E+20`, `12.5%`) with this locale's
+    /// marks (`1 234,5`). Only a `.` or `,` after a digit and before a digit is a mark: the
+    /// other text a format code adds (`kg.`, `m/s`) is kept.
+    pub fn localize_shown(self, shown: &str) -> String {
+        if self.is_canonical() {
+            return shown.to_string();
+        }
+        let chars: Vec<char> = shown.chars().collect();
+        let digit = |i: Option<usize>| i.and_then(|i| chars.get(i)).is_some_and(char::is_ascii_digit);
+        let mut out = String::with_capacity(shown.len() + 4);
+        for (i, &c) in chars.iter().enumerate() {
+            let between_digits = digit(i.checked_sub(1)) && digit(Some(i + 1));
+            match c {
+                '.' if between_digits => out.push(self.decimal),
+                ',' if between_digits => out.push(self.group),
+                c => out.push(c),
+            }
+        }
+        out
+    }
+
+    /// A number as a cell with the number format `code` shows it in this locale: its marks,
+    /// and the short date for Excel's built-in date format (format 14, which follows the
+    /// system's short date).
+    pub fn shown_number(self, n: f64, code: Option<&str>) -> String {
+        let code = match code {
+            Some("m/d/yyyy" | "mm-dd-yy" | "m/d/yy") => Some(self.short_date),
+            code => code,
+        };
+        let shown = super::format::number_format::shown(n, code);
+        self.localize_formatted(code.unwrap_or(""), &shown)
+    }
+
+    /// What a canonical format `code` showed (`shown`) with this locale's marks: numbers
+    /// localized, dates left as their code spells them.
+    pub fn localize_formatted(self, code: &str, shown: &str) -> String {
+        if is_date_code(code) {
+            shown.to_string()
+        } else {
+            self.localize_shown(shown)
+        }
+    }
+
+    /// A number format code as this locale's user types it (TEXT's second argument) in the
+    /// canonical spelling: in a decimal-comma locale `0,00` is two decimals (`0.00`) and
+    /// `#.##0` or `# ##0` groups thousands (`#,##0`). Date and time codes, quoted text,
+    /// `\`-escaped characters and `[…]` sections are left as they are.
+    pub fn canonical_format_code(self, code: &str) -> String {
+        if self.is_canonical() || is_date_code(code) {
+            return code.to_string();
+        }
+        let chars: Vec<char> = code.chars().collect();
+        let placeholder = |i: Option<usize>| i.and_then(|i| chars.get(i)).is_some_and(|c| matches!(c, '0' | '#' | '?'));
+        let is_group = |c: char| c == self.group || self.group_typed.contains(&c);
+        let mut out = String::with_capacity(code.len());
+        let mut i = 0;
+        while i < chars.len() {
+            let c = chars[i];
+            match c {
+                '"' => {
+                    let end = chars[i + 1..].iter().position(|&q| q == '"').map_or(chars.len(), |p| i + 2 + p);
+                    out.extend(&chars[i..end.min(chars.len())]);
+                    i = end;
+                    continue;
+                }
+                '[' => {
+                    let end = chars[i..].iter().position(|&q| q == ']').map_or(chars.len(), |p| i + p + 1);
+                    out.extend(&chars[i..end]);
+                    i = end;
+                    continue;
+                }
+                '\\' => {
+                    out.extend(&chars[i..(i + 2).min(chars.len())]);
+                    i += 2;
+                    continue;
+                }
+                _ if c == self.decimal => out.push('.'),
+                _ if is_group(c) && placeholder(i.checked_sub(1)) && placeholder(Some(i + 1)) => out.push(','),
+                // A group separator after the last placeholder scales by 1000, as `,` does.
+                _ if is_group(c) && c != ' ' && placeholder(i.checked_sub(1)) => out.push(','),
+                '.' if self.group != '.' => out.push('.'),
+                '.' | ',' => out.push(if c == '.' { ',' } else { '.' }),
+                c => out.push(c),
+            }
+            i += 1;
+        }
+        out
+    }
+
+    /// A formula typed in this locale (`=ROUND(B5*0,5;3)`) in the file syntax
+    /// (`=ROUND(B5*0.5,3)`).
+    pub fn canonical_formula(self, typed: &str) -> String {
+        if self.is_canonical() {
+            return typed.to_string();
+        }
+        crate::formula::locale_syntax::from_semicolon_locale(typed)
+    }
+
+    /// A formula in the file syntax as this locale's Excel shows it.
+    pub fn local_formula(self, canonical: &str) -> String {
+        if self.is_canonical() {
+            return canonical.to_string();
+        }
+        crate::formula::locale_syntax::to_semicolon_locale(canonical)
+    }
+
+    /// When `text` is no number here but is one in another locale ncsheet knows, that
+    /// locale and the spelling this locale's user means (`0.8` in et-EE: en-US, `0,8`).
+    pub fn number_elsewhere(self, text: &str) -> Option<(Locale, String)> {
+        if self.read_number(text).is_some() || text.trim().is_empty() {
+            return None;
+        }
+        let other = if self.is_canonical() { Locale::from_tag("de-DE")? } else { Locale::EN_US };
+        let n = other.read_plain_number(text)?;
+        // Text with letters besides an exponent, or a currency, is left alone: only numbers.
+        if text.trim().chars().any(|c| c.is_alphabetic() && c != 'E' && c != 'e') {
+            return None;
+        }
+        Some((other, self.localize_shown(&general(n))))
+    }
+}
+
+/// Whether a format code shows a date or time (a d, m, y, h or s outside quotes and `[…]`).
+fn is_date_code(code: &str) -> bool {
+    let mut quoted = false;
+    let mut bracket = false;
+    let mut escaped = false;
+    for c in code.chars() {
+        match c {
+            _ if escaped => escaped = false,
+            '\\' => escaped = true,
+            '"' => quoted = !quoted,
+            '[' if !quoted => bracket = true,
+            ']' if !quoted => bracket = false,
+            'd' | 'D' | 'm' | 'M' | 'y' | 'Y' | 'h' | 'H' | 's' | 'S' if !quoted && !bracket => return true,
+            _ => {}
+        }
+    }
+    false
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn locale(tag: &str) -> Locale {
+        Locale::from_tag(tag).unwrap()
+    }
+
+    #[test]
+    fn tags_as_users_and_environments_spell_them() {
+        assert_eq!(locale("et_EE.UTF-8").tag, "et-EE");
+        assert_eq!(locale("sr-Latn-RS").tag, "sr-RS");
+        assert_eq!(locale("HU").tag, "hu-HU");
+        assert_eq!(locale("C"), Locale::EN_US);
+        assert!(Locale::from_tag("xx-YY").is_none());
+        let env = |pairs: &'static [(&str, &str)]| {
+            move |name: &str| pairs.iter().find(|(n, _)| *n == name).map(|(_, v)| v.to_string())
+        };
+        assert_eq!(Locale::from_environment(env(&[("LANG", "de_DE.UTF-8")])).locale.tag, "de-DE");
+        let all = Locale::from_environment(env(&[("LC_ALL", "C"), ("LANG", "de_DE.UTF-8")]));
+        assert_eq!(all.locale, Locale::EN_US);
+        assert_eq!(Locale::from_environment(env(&[])).locale, Locale::EN_US);
+    }
+
+    #[test]
+    fn numbers_and_dates_read_in_the_locale() {
+        let et = locale("et-EE");
+        assert_eq!(et.read_number("0,8"), Some(0.8));
+        assert_eq!(et.read_number("1 234,5"), Some(1234.5));
+        assert_eq!(et.read_number("1\u{A0}234,5"), Some(1234.5));
+        assert_eq!(et.read_number("25%"), Some(0.25));
+        assert_eq!(et.read_number("-0,0171"), Some(-0.0171));
+        assert_eq!(et.read_number("0.8"), None);
+        // 2025-03-12 is serial 45728 (DATE(2025,3,12) in Excel).
+        assert_eq!(et.read_number("12.03.2025"), Some(45728.0));
+        assert_eq!(locale("hu-HU").read_number("2025.03.12."), Some(45728.0));
+        assert_eq!(Locale::EN_US.read_number("3/12/2025"), Some(45728.0));
+        let de = locale("de-DE");
+        assert_eq!(de.read_number("1.234,5"), Some(1234.5));
+        assert_eq!(de.read_number("1,5"), Some(1.5));
+        assert_eq!(de.read_number("12.3.2025 12:00"), Some(45728.5));
+    }
+
+    #[test]
+    fn shown_numbers_and_format_codes_take_the_locale_marks() {
+        let fr = locale("fr-FR");
+        assert_eq!(fr.localize_shown("1,234.50 kg."), "1\u{A0}234,50 kg.");
+        assert_eq!(fr.canonical_format_code("00,00"), "00.00");
+        assert_eq!(fr.canonical_format_code("# ##0,00\" m.\""), "#,##0.00\" m.\"");
+        assert_eq!(locale("de-DE").canonical_format_code("#.##0,0"), "#,##0.0");
+        assert_eq!(fr.canonical_format_code("dd.mm.yyyy"), "dd.mm.yyyy");
+    }
+
+    #[test]
+    fn a_number_of_another_locale_is_named_with_the_spelling_meant() {
+        let (other, meant) = locale("et-EE").number_elsewhere("0.8").unwrap();
+        assert_eq!((other, meant.as_str()), (Locale::EN_US, "0,8"));
+        assert_eq!(Locale::EN_US.number_elsewhere("0,8").unwrap().1, "0.8");
+        assert!(Locale::EN_US.number_elsewhere("abc").is_none());
+    }
+}
