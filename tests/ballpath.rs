@@ -386,3 +386,16 @@ fn ballpath_refuses_a_gouge_unless_asked_to_lift() {
     assert!(matches!(at(&wb, "E1"), Value::Number(_)));
     assert_eq!(at(&wb, "I1"), Value::Error(XlError::Value));
 }
+
+#[test]
+fn a_surface_that_computes_a_ballpath_itself_is_refused_not_recursed() {
+    // The named surface calls BALLPATH over itself: without a guard this recurses until the
+    // stack gives out. Each workbook's evaluation carries its own guard.
+    let mut wb = Workbook::with_sheet();
+    wb.define_name("loop", "=LAMBDA(x,y,INDEX(BALLPATH(loop,0.1,0,0.1,0,0.1,0.1,0.1),1,3))", None).unwrap();
+    set(&mut wb, "A1", "=BALLPATH(loop,0.1,0,0.1,0,0.1,0.1,0.1)");
+    assert!(matches!(at(&wb, "A1"), Value::Error(_)), "{:?}", at(&wb, "A1"));
+    // A plain surface on the same thread afterwards is not refused.
+    set(&mut wb, "B1", "=BALLPATH(LAMBDA(x,y,0),0.1,0,0.1,0,0.1,0.1,0.1)");
+    assert!(matches!(at(&wb, "B1"), Value::Number(_)), "{:?}", at(&wb, "B1"));
+}

@@ -240,6 +240,9 @@ pub struct Ctx<'a> {
     depth: u32,
     /// Calls of named LAMBDAs (LET-bound or defined names) so far, against [`MAX_LAMBDA_CALLS`].
     lambda_calls: u32,
+    /// Evaluating a BALLPATH's surface: a surface that computed a BALLPATH itself (through a
+    /// named LAMBDA) would recurse without end.
+    pub in_surface: bool,
     /// Messages explaining error values, for the CLI to show.
     pub notes: Vec<Note>,
     /// Numbers to read in place of number literals of the tree being evaluated, each with
@@ -299,6 +302,7 @@ impl<'a> Ctx<'a> {
             host: None,
             depth: 0,
             lambda_calls: 0,
+            in_surface: false,
             notes: Vec::new(),
             numbers: &[],
             dynamic_refs: Vec::new(),

@@ -2,7 +2,6 @@
 //! Each body reads its arguments, calls a pure function and maps a geometry error to
 //! `#NUM!` (a number out of range) or `#VALUE!` (an unknown word) with its message.
 
-use std::cell::Cell;
 
 use nalgebra::{Point3, Vector3};
 
@@ -222,12 +221,6 @@ impl Surface for BoundSurface<'_, '_, '_> {
     }
 }
 
-thread_local! {
-    /// Set while a BALLPATH evaluates its surface: a surface calling BALLPATH (through a named
-    /// LAMBDA, itself) would recurse without end.
-    static IN_SURFACE: Cell<bool> = const { Cell::new(false) };
-}
-
 /// The ball path over a formula surface, evaluated where `home` says; a failure as an error
 /// value with its message.
 pub fn formula_ball_path(
@@ -259,15 +252,19 @@ fn typed_ball_path(
     spec: &BallPathSpec,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<BallPath, PathFailure> {
-    if IN_SURFACE.get() {
+    if ctx.in_surface {
         return Err(PathFailure::Other(XlError::Calc, "a surface formula cannot itself compute a BALLPATH".into()));
     }
-    IN_SURFACE.set(true);
+    ctx.in_surface = true;
     let result = match home {
         Home::Here => ball_path(&mut surface.bind(ctx), spec, progress),
-        Home::Name(sheet) => ball_path(&mut surface.bind(&mut Ctx::new(ctx.env, sheet, ctx.at)), spec, progress),
+        Home::Name(sheet) => {
+            let mut named = Ctx::new(ctx.env, sheet, ctx.at);
+            named.in_surface = true;
+            ball_path(&mut surface.bind(&mut named), spec, progress)
+        }
     };
-    IN_SURFACE.set(false);
+    ctx.in_surface = false;
     result.map_err(|e| match e {
         PathError::Spec(g) => {
             let (error, message) = geometry_error(g);
