@@ -678,3 +678,17 @@ fn check_on_a_file_ncsheet_wrote_does_not_claim_agreement_with_excel() {
     assert!(run.stderr.contains("agree with the values stored in it"), "{}", run.stderr);
     assert!(run.stderr.contains("fullCalcOnLoad") && run.stderr.contains("not Excel's results"), "{}", run.stderr);
 }
+
+#[test]
+fn errors_speak_the_users_words() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("no-such.xlsx");
+    let run = ncsheet(&["eval", missing.to_str().unwrap()]);
+    assert!(run.stderr.contains("no such file or folder"), "{}", run.stderr);
+    assert!(!run.stderr.contains("os error"), "{}", run.stderr);
+    // Excel's last column is XFD and its last row 1048576: ZZZZ1 and A0 are no cells.
+    let run = ncsheet(&["eval", &repo("sheets/chamfer.xlsx"), "ZZZZ1"]);
+    assert!(run.stderr.contains("ZZZZ1 is past the last column, XFD"), "{}", run.stderr);
+    let run = ncsheet(&["eval", &repo("sheets/chamfer.xlsx"), "B1048577"]);
+    assert!(run.stderr.contains("past the last row, 1048576"), "{}", run.stderr);
+}

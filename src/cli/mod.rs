@@ -561,12 +561,30 @@ pub(crate) fn locate(wb: &Workbook, file: &Path, target: &Target, default: Sheet
             };
             let what = if wb.names().iter().any(|(n, _, _)| n.eq_ignore_ascii_case(name)) {
                 format!("the name {name} is not a cell or range")
+            } else if let Some(past) = past_the_sheet(name) {
+                format!("{name} is {past}, and no defined name either ({known})")
             } else {
                 format!("no cell, range or defined name {name} ({known})")
             };
             Err(Error::User(format!("{}: {what}", file.display())))
         }
     }
+}
+
+/// Why a name shaped like a cell address (letters, then digits) is none: its column is past
+/// XFD or its row past 1,048,576, Excel's last.
+fn past_the_sheet(name: &str) -> Option<String> {
+    let split = name.find(|c: char| c.is_ascii_digit())?;
+    let (letters, digits) = name.split_at(split);
+    let shaped = !letters.is_empty() && letters.chars().all(|c| c.is_ascii_alphabetic());
+    if !shaped || !digits.chars().all(|c| c.is_ascii_digit()) {
+        return None;
+    }
+    if letters.len() > 3 || letters.to_ascii_uppercase().as_str() > "XFD" && letters.len() == 3 {
+        return Some("past the last column, XFD".to_string());
+    }
+    let row: u64 = digits.parse().unwrap_or(u64::MAX);
+    (row == 0 || row > 1_048_576).then(|| "past the last row, 1048576".to_string())
 }
 
 /// The sheets that define `name` for themselves only, in sheet order.

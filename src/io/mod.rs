@@ -109,10 +109,10 @@ impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{}: ", self.path.display())?;
         match &self.kind {
-            ErrorKind::Read(e) => write!(f, "cannot read: {e}"),
+            ErrorKind::Read(e) => write!(f, "cannot read: {}", plain(e)),
             ErrorKind::Write(e) => match missing_folder(&self.path, e) {
                 Some(folder) => write!(f, "cannot write: the folder {} does not exist", folder.display()),
-                None => write!(f, "cannot write: {e}"),
+                None => write!(f, "cannot write: {}", plain(e)),
             },
             ErrorKind::Malformed { line, message } => write!(f, "line {line}: {message}"),
             ErrorKind::UnknownFormat => {
@@ -123,6 +123,25 @@ impl fmt::Display for Error {
             ErrorKind::Xlsx { part: None, message } => f.write_str(message),
             ErrorKind::OneSheetOnly { sheets } => {
                 write!(f, "a csv file holds one sheet and the workbook has {sheets}; export one with --sheet")
+            }
+        }
+    }
+}
+
+/// A system error in a user's words: what happened, without the errno Rust appends
+/// ("No such file or directory (os error 2)" is "no such file or folder").
+fn plain(e: &std::io::Error) -> String {
+    use std::io::ErrorKind as K;
+    match e.kind() {
+        K::NotFound => "no such file or folder".into(),
+        K::PermissionDenied => "permission denied".into(),
+        K::IsADirectory => "it is a folder, not a file".into(),
+        K::StorageFull => "the disk is full".into(),
+        _ => {
+            let text = e.to_string();
+            match text.rfind(" (os error ") {
+                Some(at) => text[..at].to_string(),
+                None => text,
             }
         }
     }
