@@ -315,3 +315,114 @@ fn iteration_counts_past_excels_maximum_are_held_to_it() {
     assert!(start.elapsed().as_secs() < 20, "{:?}", start.elapsed());
     assert!(run.code == 0 || !run.stderr.is_empty(), "{}", run.stderr);
 }
+
+// ---------------------------------------------------------------------------------------
+// Silently wrong: positions read as dependencies
+
+/// A sheet with `cells` typed in, recalculated.
+fn sheet(cells: &[(&str, String)]) -> ncsheet::workbook::Workbook {
+    let mut wb = ncsheet::workbook::Workbook::with_sheet();
+    for (cell, input) in cells {
+        wb.set_input_deferred(0, parse_cell(cell).unwrap(), input).unwrap();
+    }
+    wb.recalculate();
+    wb
+}
+
+#[test]
+fn a_running_balance_through_index_of_its_own_column_is_no_cycle() {
+    // B2 = A2, then B3 = INDEX(B:B,ROW()-1)+A3 filled down 5,000 rows: each row adds its A,
+    // so B(n) is the sum 1 + 2 + … + (n-1) of the A column (A(n) = n - 1).
+    let rows = 5_001;
+    let mut cells = vec![("A2".to_string(), "1".to_string()), ("B2".to_string(), "=A2".to_string())];
+    for r in 3..=rows {
+        cells.push((format!("A{r}"), (r - 1).to_string()));
+        cells.push((format!("B{r}"), "=INDEX(B:B,ROW()-1)+A".to_string() + &r.to_string()));
+    }
+    let cells: Vec<(&str, String)> = cells.iter().map(|(c, i)| (c.as_str(), i.clone())).collect();
+    let mut wb = sheet(&cells);
+    let n = (rows - 1) as f64;
+    assert_eq!(wb.value(0, parse_cell(&format!("B{rows}")).unwrap()), Value::Number(n * (n + 1.0) / 2.0));
+    assert!(wb.problems().is_empty(), "{:?}", wb.problems().first().map(|p| p.render()));
+    // An edit high up reaches the bottom: the cells INDEX returned are its links.
+    wb.set_input(0, parse_cell("A2").unwrap(), "101").unwrap();
+    assert_eq!(wb.value(0, parse_cell(&format!("B{rows}")).unwrap()), Value::Number(n * (n + 1.0) / 2.0 + 100.0));
+    // A real cycle through INDEX is still one.
+    let wb = sheet(&[("C1", "=INDEX(C:C,1)+1".to_string())]);
+    assert_eq!(wb.value(0, parse_cell("C1").unwrap()), Value::Error(ncsheet::eval::XlError::Circ));
+}
+
+#[test]
+fn row_and_columns_over_their_own_spill_range_spill() {
+    // Excel spills these: they read where the range is, not what it holds.
+    let wb = sheet(&[("A1", "=ROW(A1:A3)".to_string()), ("B1", "=COLUMN(B1:D1)".to_string())]);
+    assert_eq!(wb.value(0, parse_cell("A3").unwrap()), Value::Number(3.0));
+    assert_eq!(wb.value(0, parse_cell("D1").unwrap()), Value::Number(4.0));
+    let wb = sheet(&[("A1", "=SEQUENCE(ROWS(A1:A4))".to_string())]);
+    assert_eq!(wb.value(0, parse_cell("A4").unwrap()), Value::Number(4.0));
+    let wb = sheet(&[("A1", "=SEQUENCE(1,COLUMNS(A1:E1))*10".to_string())]);
+    assert_eq!(wb.value(0, parse_cell("E1").unwrap()), Value::Number(50.0));
+}
+
+// ---------------------------------------------------------------------------------------
+// Files: cells a hostile or damaged sheet part stores
+
+/// An xlsx whose first sheet's cells are `sheet_data` (the inside of `<sheetData>`).
+fn book_with_cells(dir: &Path, sheet_data: &str) -> std::path::PathBuf {
+    let file = dir.join("cells.xlsx");
+    let mut wb = ncsheet::workbook::Workbook::with_sheet();
+    wb.set_input(0, parse_cell("A1").unwrap(), "1").unwrap();
+    ncsheet::io::save(&wb, &file).unwrap();
+    let package = std::fs::read(&file).unwrap();
+    let mut cells = |part: &str, bytes: Vec<u8>| {
+        if part != "xl/worksheets/sheet1.xml" {
+            return bytes;
+        }
+        let text = String::from_utf8(bytes).unwrap();
+        let (start, end) = (text.find("<sheetData").unwrap(), text.find("</sheetData>").unwrap());
+        format!("{}<sheetData>{sheet_data}{}", &text[..start], &text[end..]).into_bytes()
+    };
+    std::fs::write(&file, rewrite_package(&package, &mut cells)).unwrap();
+    file
+}
+
+#[test]
+fn a_shared_formula_moved_past_the_sheets_edge_reads_ref() {
+    let dir = tempfile::tempdir().unwrap();
+    // B1048575 holds =A1048576*2 shared down to B1048576, whose copy reads one row below
+    // the last: Excel's copy is =#REF!*2.
+    let file = book_with_cells(
+        dir.path(),
+        r#"<row r="1048575"><c r="B1048575"><f t="shared" ref="B1048575:B1048576" si="0">A1048576*2</f><v>6</v></c></row><row r="1048576"><c r="A1048576"><v>3</v></c><c r="B1048576"><f t="shared" si="0"/><v>0</v></c></row>"#,
+    );
+    let wb = ncsheet::io::load(&file).unwrap();
+    assert_eq!(wb.value(0, parse_cell("B1048575").unwrap()), Value::Number(6.0));
+    assert_eq!(wb.value(0, parse_cell("B1048576").unwrap()), Value::Error(ncsheet::eval::XlError::Ref));
+    // A copy that stays on the sheet still moves: C1:C2 = A1*2, A2*2.
+    let file = book_with_cells(
+        dir.path(),
+        r#"<row r="1"><c r="A1"><v>3</v></c><c r="C1"><f t="shared" ref="C1:C2" si="0">A1*2</f><v>6</v></c></row><row r="2"><c r="A2"><v>5</v></c><c r="C2"><f t="shared" si="0"/><v>10</v></c></row>"#,
+    );
+    let wb = ncsheet::io::load(&file).unwrap();
+    assert_eq!(wb.value(0, parse_cell("C2").unwrap()), Value::Number(10.0));
+}
+
+#[test]
+fn numbers_past_the_largest_double_and_indexes_past_u32_are_named() {
+    let dir = tempfile::tempdir().unwrap();
+    for (cells, says) in [
+        (r#"<row r="1"><c r="A1"><v>1e400</v></c></row>"#, "A1"),
+        (r#"<row r="1"><c r="A1" t="n"><v>-1E+309</v></c></row>"#, "past the largest number"),
+        (
+            r#"<row r="1"><c r="A1"><f t="shared" ref="A1:A2" si="4294967296">B1</f><v>0</v></c></row><row r="2"><c r="A2"><f t="shared" si="4294967296"/><v>0</v></c></row>"#,
+            "si=\"4294967296\"",
+        ),
+    ] {
+        let file = book_with_cells(dir.path(), cells);
+        let e = match ncsheet::io::load(&file) {
+            Ok(_) => panic!("{cells}: read without a word"),
+            Err(e) => e.to_string(),
+        };
+        assert!(e.contains(says), "{e}");
+    }
+}

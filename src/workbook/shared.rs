@@ -33,12 +33,36 @@ pub struct SharedFormula {
     pub volatile: bool,
 }
 
+/// Functions whose first argument, written as a reference, is read for where it is, not for
+/// what it holds: ROW, COLUMN, ROWS, COLUMNS, AREAS and ISREF read nothing there, and INDEX
+/// reads only the cells it returns, which it links at run time (`Ctx::note_dynamic_ref`), as
+/// OFFSET does. An edge from the whole reference made `B3 = INDEX(B:B,ROW()-1)+A3` a cycle
+/// through every cell of column B, and `=ROW(A1:A3)` in A1 a reader of its own spill range.
+const POSITION_ONLY_FIRST_ARG: &[&str] = &["ROW", "COLUMN", "ROWS", "COLUMNS", "AREAS", "ISREF", "INDEX"];
+
+/// The reference nodes of `expr` that are such a first argument.
+fn position_only_refs(expr: &Expr) -> Vec<*const Expr> {
+    let mut out = Vec::new();
+    expr.visit(&mut |e| {
+        if let ExprKind::Call(id, args) = &e.kind {
+            if let Some(first) = args.first().filter(|a| matches!(a.kind, ExprKind::Ref(_))) {
+                if POSITION_ONLY_FIRST_ARG.contains(&functions::spec(*id).name) {
+                    out.push(first as *const Expr);
+                }
+            }
+        }
+    });
+    out
+}
+
 impl SharedFormula {
     pub fn new(expr: Expr) -> SharedFormula {
         let mut refs = Vec::new();
         let mut names = Vec::new();
         let mut volatile = false;
+        let positions = position_only_refs(&expr);
         expr.visit(&mut |e| match &e.kind {
+            ExprKind::Ref(_) if positions.contains(&(e as *const Expr)) => {}
             // A reference read twice (`IF(C1>1,C1-1,C1+1)`) is one edge of the graph.
             crate::formula::ast::ExprKind::Ref(r) if !refs.contains(r) => refs.push(r.clone()),
             crate::formula::ast::ExprKind::Name(n) => names.push((n.clone(), None)),

@@ -458,6 +458,9 @@ struct SheetImport<'a> {
 
 impl<'a> SheetImport<'a> {
     fn new(sheet: SheetId, legacy_ranges: &'a mut Vec<(SheetId, Pos)>, book: &'a BookParts) -> SheetImport<'a> {
+    /// Each shared formula's tree at the cell holding its text, parsed for its first copy:
+    /// its references are offsets, so a copy reads `#REF!` where one falls off the sheet.
+    shared_trees: HashMap<u32, Option<Rc<crate::formula::ast::Expr>>>,
         SheetImport {
             sheet,
             book,
@@ -471,6 +474,7 @@ impl<'a> SheetImport<'a> {
 
     fn cell(&mut self, imported: &mut Imported, strings: &[Rc<str>], cell: CellXml) {
         let CellXml { pos, value, formula } = cell;
+            shared_trees: HashMap::new(),
         let value = value.map(|v| v.into_value(strings));
         match formula {
             None => self.constant(imported, pos, value),
@@ -486,13 +490,10 @@ impl<'a> SheetImport<'a> {
                 self.shared.insert(index, (pos, text.to_string()));
                 self.formula(imported, pos, text, value, true);
             }
-            Some(FormulaXml::SharedCopy { index }) => match self.shared.get(&index) {
+            Some(FormulaXml::SharedCopy { index }) => match self.shared.get(&index).cloned() {
                 // Relative to the cell that holds the text, which need not be the top left
                 // of the shared range.
-                Some((holder, text)) => {
-                    let moved = shared_text(text, *holder, pos);
-                    self.formula(imported, pos, &moved, value, true);
-                }
+                Some((holder, text)) => self.shared_copy(imported, index, (holder, &text), pos, value),
                 None => self.waiting.push((pos, index, value)),
             },
         }
@@ -501,11 +502,8 @@ impl<'a> SheetImport<'a> {
     /// Copies of shared formulas whose text came later in the file.
     fn finish(&mut self, imported: &mut Imported) {
         for (pos, index, value) in std::mem::take(&mut self.waiting) {
-            match self.shared.get(&index) {
-                Some((holder, text)) => {
-                    let moved = shared_text(text, *holder, pos);
-                    self.formula(imported, pos, &moved, value, true);
-                }
+            match self.shared.get(&index).cloned() {
+                Some((holder, text)) => self.shared_copy(imported, index, (holder, &text), pos, value),
                 None => {
                     imported.notes.push(format!(
                         "{}: the shared formula it belongs to is missing; its value is kept as a constant",
@@ -523,6 +521,39 @@ impl<'a> SheetImport<'a> {
         // for billions of entries (the cells beyond it then read as constants).
         if area.rows() as u64 * area.cols() as u64 > 1 << 22 {
             return;
+    /// A copy at `pos` of shared formula `index`, whose text is held at `holder`: the text
+    /// moved there, or, where a relative reference of it would fall off the sheet (A1048576
+    /// one row down), the holder's tree, which reads `#REF!` there as Excel's copy does (the
+    /// text expansion kept such a reference at the edge: the copy read the wrong cell).
+    fn shared_copy(
+        &mut self,
+        imported: &mut Imported,
+        index: u32,
+        (holder, text): (Pos, &str),
+        pos: Pos,
+        value: Option<Value>,
+    ) {
+        let sheet = self.sheet;
+        let book = self.book;
+        let tree = self
+            .shared_trees
+            .entry(index)
+            .or_insert_with(|| {
+                let typed = typed_formula(text, book, sheet, holder);
+                imported.workbook.parse_at(&typed, sheet, holder).ok().map(Rc::new)
+            })
+            .clone();
+        if let Some(tree) = tree.filter(|t| falls_off_the_sheet(t, sheet, holder, pos)) {
+            imported.workbook.set_formula_tree_deferred(sheet, pos, (*tree).clone());
+            if let Some(value) = value {
+                imported.cached.push(CachedValue { sheet, pos, value, anchor: pos });
+            }
+            return;
+        }
+        let moved = shared_text(text, holder, pos);
+        self.formula(imported, pos, &moved, value, true);
+    }
+
         }
         for row in area.first.row..=area.last.row {
             for col in area.first.col..=area.last.col {
@@ -624,6 +655,17 @@ fn shared_text(formula: &str, holder: Pos, pos: Pos) -> String {
 }
 
 fn define_names(
+/// Whether a reference of `tree`, on the sheet at `holder`, is off the sheet at `pos`.
+fn falls_off_the_sheet(tree: &crate::formula::ast::Expr, sheet: SheetId, holder: Pos, pos: Pos) -> bool {
+    let mut off = false;
+    tree.visit(&mut |e| {
+        if let crate::formula::ast::ExprKind::Ref(r) = &e.kind {
+            off |= r.resolve(sheet, holder).is_some() && r.resolve(sheet, pos).is_none();
+        }
+    });
+    off
+}
+
     imported: &mut Imported,
     package: &Package,
     sheets: &[SheetEntry],

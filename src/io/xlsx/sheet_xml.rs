@@ -417,10 +417,16 @@ impl SheetScanner<'_> {
             CellType::Untyped | CellType::Number if trimmed.is_empty() => return Ok(None),
             CellType::Untyped => match trimmed.parse::<f64>() {
                 Ok(n) if n.is_finite() => Stored::Number(n),
+                Ok(_) if !trimmed.to_ascii_lowercase().contains("inf") && !trimmed.to_ascii_lowercase().contains("nan") => {
+                    return Err(past_largest_number(raw))
+                }
                 _ => Stored::Text(raw.to_string()),
             },
             CellType::Number => match trimmed.parse::<f64>() {
                 Ok(n) if n.is_finite() => Stored::Number(n),
+                Ok(n) if !n.is_nan() && !trimmed.to_ascii_lowercase().contains("inf") => {
+                    return Err(past_largest_number(raw))
+                }
                 _ => return Err(format!("'{raw}' is not a number")),
             },
             CellType::SharedString if trimmed.is_empty() => return Ok(None),
@@ -515,12 +521,29 @@ fn cell_type(value: &[u8]) -> Result<CellType, ScanError> {
     })
 }
 
+/// A stored number that reads as one but past the largest double (`1e400`): Excel writes
+/// none, and read as text it would compute silently wrong.
+fn past_largest_number(raw: &str) -> String {
+    format!("'{raw}' is past the largest number a cell holds (1.79769313486232E+308)")
+}
+
 fn formula_attrs(tag: &Tag) -> Result<FormulaAttrs, String> {
     let area = tag.attr("ref").and_then(parse_rect);
     Ok(match tag.attr("t") {
         None | Some(b"normal") => FormulaAttrs::Normal,
         Some(b"array") => FormulaAttrs::Array(area),
-        Some(b"shared") => FormulaAttrs::Shared(tag.attr("si").and_then(parse_u32)),
+        // si is an xsd:unsignedInt: one past it would leave the copies as constants, stale
+        // after an edit, so the cell is refused by name.
+        Some(b"shared") => match tag.attr("si") {
+            Some(si) => match parse_u32(si) {
+                Some(index) => FormulaAttrs::Shared(Some(index)),
+                None => {
+                    let si = String::from_utf8_lossy(si);
+                    return Err(format!("has a shared formula index si=\"{si}\" that is not a number from 0 to 4294967295"));
+                }
+            },
+            None => FormulaAttrs::Shared(None),
+        },
         Some(b"dataTable") => FormulaAttrs::DataTable,
         Some(other) => return Err(format!("has a formula of unknown type t=\"{}\"", String::from_utf8_lossy(other))),
     })

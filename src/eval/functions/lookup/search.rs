@@ -128,7 +128,11 @@ fn index_operand(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Operand> {
         return Err(e);
     }
     if matches!(row_arg, Value::Array(_)) || matches!(col_arg, Value::Array(_)) {
-        // Arrays of positions pick item by item (Excel 365 spills the result).
+        // Arrays of positions pick item by item (Excel 365 spills the result): the whole
+        // reference is read, and linked as read (the graph has no edge from it).
+        if let Operand::Ref(sheet, rect) = source {
+            ctx.note_dynamic_ref(sheet, rect);
+        }
         let grid = grid_of(ctx, source)?;
         let picked = lift_values(&[row_arg, col_arg], &|v| {
             let (rows, cols) = pick(grid.rows, grid.cols, &v[0], &v[1], col_given)?;
@@ -139,7 +143,11 @@ fn index_operand(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Operand> {
     match source {
         Operand::Ref(sheet, rect) => {
             let (rows, cols) = pick(rect.rows() as usize, rect.cols() as usize, &row_arg, &col_arg, col_given)?;
-            Ok(Operand::Ref(sheet, sub_rect(rect, rows, cols)))
+            // Only the cells returned are read: they are this formula's link, made at run time
+            // as OFFSET's (src/workbook/shared.rs gives the whole reference no edge).
+            let picked = sub_rect(rect, rows, cols);
+            ctx.note_dynamic_ref(sheet, picked);
+            Ok(Operand::Ref(sheet, picked))
         }
         Operand::Value(v) => {
             let grid = grid_of(ctx, Operand::Value(v))?;
