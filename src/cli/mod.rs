@@ -28,6 +28,7 @@ mod post;
 mod repl;
 pub mod report;
 mod run;
+mod serve;
 mod show;
 mod target;
 
@@ -86,6 +87,7 @@ pub enum Command {
     Info(info::InfoArgs),
     Nc(nc::NcArgs),
     Post(post::PostArgs),
+    Serve(serve::ServeArgs),
 }
 
 /// Compute a sheet and print its values (all of it, or the cells and ranges named).
@@ -234,6 +236,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Info(args) => info::run(args, delimiter),
         Command::Nc(args) => nc::run(args),
         Command::Post(args) => post::run(args),
+        Command::Serve(args) => serve::run(args),
     }
 }
 

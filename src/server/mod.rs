@@ -1,0 +1,157 @@
+//! `ncsheet serve`: the workbench, a local web server showing one workbook in a browser grid
+//! with its toolpaths beside it. HTTP is axum's on a one-thread tokio runtime; the page is
+//! plain HTML, CSS and JavaScript compiled into the binary (`assets/`).
+//!
+//! The [`Document`] is not `Send` (its formula trees are shared by `Rc`), so it lives on a
+//! thread of its own: each request hands that thread a job and awaits its answer, which also
+//! serialises the edits. The server prints nothing: [`Server::open`] returns the URL and the
+//! caller says it.
+
+mod guard;
+mod machining;
+mod routes;
+mod workbench;
+
+use std::fmt;
+use std::net::{Ipv4Addr, SocketAddr, TcpListener};
+use std::path::{Path, PathBuf};
+
+use tokio::sync::{mpsc, oneshot};
+
+use crate::document::{Document, OpenOptions};
+pub use guard::TOKEN_HEADER;
+use guard::{random_token, Guard};
+use workbench::Workbench;
+
+/// The stack of the document's thread: a macro run from the page recurses as deep as the
+/// command line's `run` allows by default.
+const DOCUMENT_STACK: usize = 256 << 20;
+
+/// What `ncsheet serve` was asked for.
+#[derive(Clone, Debug, Default)]
+pub struct Options {
+    /// The port on 127.0.0.1 (0: one the system picks).
+    pub port: u16,
+    /// Macro files (.bas) beside the workbook that the page may run: the caller lists the
+    /// folder, the server reads only these.
+    pub macro_files: Vec<PathBuf>,
+}
+
+/// Why the workbench did not start or stopped.
+#[derive(Debug)]
+pub enum Error {
+    /// The workbook did not open (the message names the file and the place).
+    Open(String),
+    /// The port could not be taken.
+    Bind { port: u16, error: std::io::Error },
+    /// The server failed while running.
+    Serve(std::io::Error),
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::Open(message) => f.write_str(message),
+            Error::Bind { port, error } => write!(f, "cannot listen on 127.0.0.1:{port}: {error}"),
+            Error::Serve(error) => write!(f, "the server stopped: {error}"),
+        }
+    }
+}
+
+impl std::error::Error for Error {}
+
+/// A job for the document's thread.
+type Job = Box<dyn FnOnce(&mut Workbench) + Send>;
+
+/// The way to the document's thread, shared by every request.
+#[derive(Clone)]
+struct DocumentThread {
+    jobs: mpsc::UnboundedSender<Job>,
+}
+
+/// The workbook's thread stopped (a job panicked past its guard, or the server is ending).
+struct Gone;
+
+impl DocumentThread {
+    /// Opens the workbook on a new thread that then runs the jobs sent to it.
+    fn start(path: &Path) -> Result<DocumentThread, Error> {
+        let (jobs, mut queue) = mpsc::unbounded_channel::<Job>();
+        let (opened_tx, opened_rx) = std::sync::mpsc::channel::<Result<(), String>>();
+        let path = path.to_path_buf();
+        let thread = std::thread::Builder::new().name("workbook".into()).stack_size(DOCUMENT_STACK).spawn(move || {
+            let mut bench = match Document::open_file(&path, &OpenOptions::named(&path)) {
+                Ok(doc) => Workbench::new(doc, path),
+                Err(e) => return drop(opened_tx.send(Err(e.to_string()))),
+            };
+            drop(opened_tx.send(Ok(())));
+            while let Some(job) = queue.blocking_recv() {
+                // A panic in one request must not take the workbook away from the others.
+                let bench = &mut bench;
+                let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(move || job(bench)));
+            }
+        });
+        thread.map_err(|e| Error::Open(format!("cannot start the workbook's thread: {e}")))?;
+        match opened_rx.recv() {
+            Ok(Ok(())) => Ok(DocumentThread { jobs }),
+            Ok(Err(message)) => Err(Error::Open(message)),
+            Err(_) => Err(Error::Open("the workbook's thread stopped while opening it".into())),
+        }
+    }
+
+    /// Runs `f` on the workbook and returns its answer.
+    async fn with<R: Send + 'static>(&self, f: impl FnOnce(&mut Workbench) -> R + Send + 'static) -> Result<R, Gone> {
+        let (tx, rx) = oneshot::channel();
+        let job: Job = Box::new(move |bench| drop(tx.send(f(bench))));
+        self.jobs.send(job).map_err(|_| Gone)?;
+        rx.await.map_err(|_| Gone)
+    }
+}
+
+/// A workbench bound to its port, ready to run.
+pub struct Server {
+    listener: TcpListener,
+    guard: Guard,
+    document: DocumentThread,
+    macro_files: Vec<PathBuf>,
+}
+
+impl Server {
+    /// Opens the workbook at `path` and takes the port on 127.0.0.1 (never another address).
+    pub fn open(path: &Path, options: &Options) -> Result<Server, Error> {
+        let document = DocumentThread::start(path)?;
+        let address = SocketAddr::from((Ipv4Addr::LOCALHOST, options.port));
+        let listener = TcpListener::bind(address).map_err(|error| Error::Bind { port: options.port, error })?;
+        let port = listener.local_addr().map_err(|error| Error::Bind { port: options.port, error })?.port();
+        let macro_files = options.macro_files.clone();
+        Ok(Server { listener, guard: Guard::new(port, random_token()), document, macro_files })
+    }
+
+    /// The address to open in a browser, with the token.
+    pub fn url(&self) -> String {
+        format!("http://127.0.0.1:{}/?t={}", self.port(), self.guard.token())
+    }
+
+    pub fn port(&self) -> u16 {
+        self.listener.local_addr().map_or(0, |a| a.port())
+    }
+
+    /// The secret every request must carry.
+    pub fn token(&self) -> &str {
+        self.guard.token()
+    }
+
+    /// Serves until the process ends.
+    pub fn run(self) -> Result<(), Error> {
+        let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build().map_err(Error::Serve)?;
+        runtime.block_on(async move {
+            self.listener.set_nonblocking(true).map_err(Error::Serve)?;
+            let listener = tokio::net::TcpListener::from_std(self.listener).map_err(Error::Serve)?;
+            let router = routes::router(routes::App {
+                guard: self.guard,
+                document: self.document,
+                bas_files: std::sync::Arc::new(self.macro_files),
+            });
+            axum::serve(listener, router).await.map_err(Error::Serve)
+        })
+    }
+}

@@ -1,0 +1,385 @@
+//! The opened workbook as the page sees it: windows of cells as shown, edits with their
+//! history, what a cell reads and what reads it, saves. Answers are JSON values for the page;
+//! a request the workbook cannot answer is a [`Refused`] with the words to show.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use serde_json::{json, Value as Json};
+
+use crate::document::{Document, SaveFormat};
+use crate::eval::Value;
+use crate::formula::address::{column_name, Pos, Rect};
+use crate::formula::ast::SheetId;
+use crate::io::atomic;
+use crate::workbook::Problem;
+
+/// The most cells one window may ask for: a screen of a large monitor, several times over.
+const MAX_WINDOW_ROWS: u32 = 1000;
+const MAX_WINDOW_COLS: u32 = 200;
+/// Excel's last row and column (1,048,576 × XFD).
+const LAST_ROW: u32 = 1_048_575;
+const LAST_COL: u32 = 16_383;
+
+/// A request the workbook refuses, in words for the user (a 400 or 409 to the page).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Refused {
+    pub message: String,
+    /// The request was well formed but conflicts with the files (an existing file).
+    pub conflict: bool,
+}
+
+pub fn refused(message: impl Into<String>) -> Refused {
+    Refused { message: message.into(), conflict: false }
+}
+
+/// One edit as typed: what the cell held before and after, as a user would type it.
+#[derive(Clone, Debug)]
+struct Edit {
+    sheet: SheetId,
+    pos: Pos,
+    before: String,
+    after: String,
+}
+
+/// A rectangle of cells the page shows (rows and columns from 0, both ends included).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Window {
+    pub sheet: SheetId,
+    pub rect: Rect,
+}
+
+/// The document with the edit history of one session.
+pub struct Workbench {
+    doc: Document,
+    /// The file the document was opened from: the only file saved over, and only when asked.
+    path: PathBuf,
+    undo: Vec<Edit>,
+    redo: Vec<Edit>,
+}
+
+impl Workbench {
+    pub fn new(doc: Document, path: PathBuf) -> Workbench {
+        Workbench { doc, path, undo: Vec::new(), redo: Vec::new() }
+    }
+
+    pub fn document(&self) -> &Document {
+        &self.doc
+    }
+
+    /// The workbook, for a macro run from the page (its writes are not in the edit history).
+    pub fn workbook_mut(&mut self) -> &mut crate::workbook::Workbook {
+        self.doc.workbook_mut()
+    }
+
+    /// The sheets with their extent, the import's notes and the history's depth.
+    pub fn summary(&self) -> Json {
+        let wb = self.doc.workbook();
+        let sheets: Vec<Json> = wb
+            .sheet_names()
+            .into_iter()
+            .enumerate()
+            .map(|(i, name)| {
+                let used = wb.used_rect(i as SheetId);
+                let (rows, cols) = used.map_or((0, 0), |r| (r.last.row + 1, r.last.col + 1));
+                json!({ "name": name, "rows": rows, "cols": cols, "widths": self.widths(&name) })
+            })
+            .collect();
+        let file = self.path.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
+        json!({
+            "file": file,
+            "sheets": sheets,
+            "active": wb.active_sheet(),
+            "notes": self.doc.notes(),
+            "history": self.history(),
+        })
+    }
+
+    fn history(&self) -> Json {
+        json!({ "undo": self.undo.len(), "redo": self.redo.len() })
+    }
+
+    /// Column widths the file gave, in Excel's character units, as `[column, width]`.
+    fn widths(&self, sheet_name: &str) -> Json {
+        let layout = self.doc.layout().and_then(|l| l.sheets.get(sheet_name));
+        let widths: Vec<Json> =
+            layout.map_or(Vec::new(), |l| l.column_widths.iter().map(|&(c, w)| json!([c, w])).collect());
+        Json::Array(widths)
+    }
+
+    /// The sheet named by index, or a refusal naming it.
+    pub fn sheet(&self, index: u64) -> Result<SheetId, Refused> {
+        let len = self.doc.workbook().sheet_len() as u64;
+        if index < len {
+            Ok(index as SheetId)
+        } else {
+            Err(refused(format!("no sheet {index}: the workbook has {len}")))
+        }
+    }
+
+    /// Checks a window's bounds: inside the sheet's grid and no larger than a screen asks for.
+    pub fn window(&self, sheet: u64, rows: (u64, u64), cols: (u64, u64)) -> Result<Window, Refused> {
+        let sheet = self.sheet(sheet)?;
+        let (r0, r1, c0, c1) = (rows.0, rows.1, cols.0, cols.1);
+        if r0 > r1 || c0 > c1 || r1 > LAST_ROW as u64 || c1 > LAST_COL as u64 {
+            return Err(refused(format!("window rows {r0}..{r1}, columns {c0}..{c1} is outside the sheet")));
+        }
+        if r1 - r0 >= MAX_WINDOW_ROWS as u64 || c1 - c0 >= MAX_WINDOW_COLS as u64 {
+            return Err(refused(format!(
+                "a window holds at most {MAX_WINDOW_ROWS} rows and {MAX_WINDOW_COLS} columns"
+            )));
+        }
+        let rect = Rect { first: Pos::new(r0 as u32, c0 as u32), last: Pos::new(r1 as u32, c1 as u32) };
+        Ok(Window { sheet, rect })
+    }
+
+    /// The cells of a window that hold something, as shown.
+    pub fn cells(&self, window: Window) -> Json {
+        let shown = self.shown_window(window);
+        let mut explain = Explainer::new(&self.doc);
+        let cells: Vec<Json> =
+            shown.into_iter().map(|(pos, cell)| cell.to_json(window.sheet, pos, &mut explain)).collect();
+        json!({ "sheet": window.sheet, "cells": cells })
+    }
+
+    fn shown_window(&self, window: Window) -> Vec<(Pos, Shown)> {
+        let mut out = Vec::new();
+        for row in window.rect.first.row..=window.rect.last.row {
+            for col in window.rect.first.col..=window.rect.last.col {
+                let pos = Pos::new(row, col);
+                if let Some(cell) = Shown::of(&self.doc, window.sheet, pos) {
+                    out.push((pos, cell));
+                }
+            }
+        }
+        out
+    }
+
+    /// A cell by the name a user types in the name box (`B8`, `Outer!B8`, a defined name,
+    /// a sheet's own name before a workbook-wide one).
+    pub fn locate(&self, name: &str, current: SheetId) -> Result<(SheetId, Pos), Refused> {
+        let name = name.trim();
+        let sheet_name = self.doc.workbook().sheet_names().into_iter().nth(current as usize).unwrap_or_default();
+        let on_current = format!("'{}'!{name}", sheet_name.replace('\'', "''"));
+        let found = if name.contains('!') { self.doc.cell(name) } else { self.doc.cell(&on_current) };
+        found.ok_or_else(|| refused(format!("{name}: no such cell or single-cell name")))
+    }
+
+    /// Types `input` into a cell, keeps the edit for undo, and returns the cells of `window`
+    /// whose display changed.
+    pub fn set(&mut self, sheet: SheetId, pos: Pos, input: &str, window: Window) -> Result<Json, Refused> {
+        let before = self.doc.workbook().input(sheet, pos).unwrap_or_default();
+        let edit = Edit { sheet, pos, before, after: input.to_string() };
+        let changed = self.apply(&edit, &edit.after, window)?;
+        self.undo.push(edit);
+        self.redo.clear();
+        Ok(self.with_history(changed))
+    }
+
+    /// Takes back the last edit (refused when there is none).
+    pub fn undo(&mut self, window: Window) -> Result<Json, Refused> {
+        let Some(edit) = self.undo.pop() else { return Err(refused("nothing to undo")) };
+        match self.apply(&edit, &edit.before, window) {
+            Ok(changed) => {
+                self.redo.push(edit);
+                Ok(self.with_history(changed))
+            }
+            Err(e) => {
+                self.undo.push(edit);
+                Err(e)
+            }
+        }
+    }
+
+    /// Makes the last undone edit again.
+    pub fn redo(&mut self, window: Window) -> Result<Json, Refused> {
+        let Some(edit) = self.redo.pop() else { return Err(refused("nothing to redo")) };
+        match self.apply(&edit, &edit.after, window) {
+            Ok(changed) => {
+                self.undo.push(edit);
+                Ok(self.with_history(changed))
+            }
+            Err(e) => {
+                self.redo.push(edit);
+                Err(e)
+            }
+        }
+    }
+
+    /// Sets the edit's cell to `input` and compares the window before and after.
+    fn apply(&mut self, edit: &Edit, input: &str, window: Window) -> Result<Json, Refused> {
+        let before: HashMap<Pos, Shown> = self.shown_window(window).into_iter().collect();
+        let problems = self.doc.set(edit.sheet, edit.pos, input).map_err(|p| refused(self.place(&p)))?;
+        let after = self.shown_window(window);
+        let mut explain = Explainer::new(&self.doc);
+        let mut changed: Vec<Json> = Vec::new();
+        for (pos, cell) in &after {
+            if before.get(pos) != Some(cell) {
+                changed.push(cell.to_json(window.sheet, *pos, &mut explain));
+            }
+        }
+        let after: HashMap<Pos, Shown> = after.into_iter().collect();
+        for pos in before.keys().filter(|p| !after.contains_key(p)) {
+            changed.push(json!({ "r": pos.row, "c": pos.col, "shown": "", "input": "" }));
+        }
+        let problems: Vec<String> = problems.iter().map(|p| self.place(p)).collect();
+        let cell = self.doc.workbook().cell_name(edit.sheet, edit.pos);
+        Ok(json!({ "sheet": window.sheet, "cell": cell, "changed": changed, "problems": problems }))
+    }
+
+    /// An edit's answer with the history's depth after it, for the page's buttons.
+    fn with_history(&self, mut answer: Json) -> Json {
+        answer["history"] = self.history();
+        answer
+    }
+
+    /// A problem with the cell it is in.
+    fn place(&self, p: &Problem) -> String {
+        format!("{}: {}", self.doc.workbook().cell_name(p.sheet, p.pos), p.render())
+    }
+
+    /// The cells a cell's formula reads and the formula cells that read it.
+    pub fn inspect(&self, sheet: SheetId, pos: Pos) -> Json {
+        let wb = self.doc.workbook();
+        let precedents: Vec<Json> = wb
+            .precedents(sheet, pos)
+            .into_iter()
+            .map(|(s, r)| json!({ "sheet": s, "r0": r.first.row, "c0": r.first.col, "r1": r.last.row, "c1": r.last.col, "name": range_name(&self.doc, s, r) }))
+            .collect();
+        let dependents: Vec<Json> = wb
+            .dependents(sheet, pos)
+            .into_iter()
+            .map(|(s, p)| json!({ "sheet": s, "r0": p.row, "c0": p.col, "r1": p.row, "c1": p.col, "name": wb.cell_name(s, p) }))
+            .collect();
+        json!({ "cell": wb.cell_name(sheet, pos), "precedents": precedents, "dependents": dependents })
+    }
+
+    /// What a save in `format` would lose, said before anything is written.
+    pub fn losses(&self, format: SaveFormat) -> Result<Json, Refused> {
+        let encoded = self.doc.save_as(format).map_err(|e| refused(e.to_string()))?;
+        Ok(json!({ "losses": encoded.losses }))
+    }
+
+    /// The bytes of the document in `format`, for the browser to download.
+    pub fn download(&self, format: SaveFormat) -> Result<(String, Vec<u8>), Refused> {
+        let encoded = self.doc.save_as(format).map_err(|e| refused(e.to_string()))?;
+        let name = encoded.path.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
+        Ok((name, encoded.bytes().to_vec()))
+    }
+
+    /// Saves beside the opened file under `name` (a bare file name: the server writes nowhere
+    /// else), or over the opened file when `name` is its own and `over` says so.
+    pub fn save(&self, name: &str, over: bool) -> Result<Json, Refused> {
+        let target = self.save_target(name, over)?;
+        let encoded = self.doc.encode(&target).map_err(|e| refused(e.to_string()))?;
+        encoded.write(atomic::Options::default()).map_err(|e| refused(e.to_string()))?;
+        Ok(json!({ "saved": target.to_string_lossy(), "losses": encoded.losses }))
+    }
+
+    fn save_target(&self, name: &str, over: bool) -> Result<PathBuf, Refused> {
+        let bare = Path::new(name).file_name().is_some_and(|f| f == name);
+        if !bare || name.starts_with('.') {
+            return Err(refused(format!(
+                "{name}: give a file name without a folder (it is saved beside the workbook)"
+            )));
+        }
+        let target = self.path.with_file_name(name);
+        if target == self.path {
+            return if over {
+                Ok(target)
+            } else {
+                Err(Refused {
+                    message: format!("{name} is the opened workbook: confirm to save over it"),
+                    conflict: true,
+                })
+            };
+        }
+        if target.exists() {
+            return Err(Refused { message: format!("{name} already exists: choose another name"), conflict: true });
+        }
+        Ok(target)
+    }
+}
+
+/// A range as a user writes it, with its sheet.
+fn range_name(doc: &Document, sheet: SheetId, rect: Rect) -> String {
+    let sheet_name = doc.workbook().sheet_names().into_iter().nth(sheet as usize).unwrap_or_default();
+    if rect.is_cell() {
+        return doc.workbook().cell_name(sheet, rect.first);
+    }
+    let a1 = |p: Pos| format!("{}{}", column_name(p.col), p.row + 1);
+    format!("{sheet_name}!{}:{}", a1(rect.first), a1(rect.last))
+}
+
+/// One cell as the grid shows it.
+#[derive(Clone, Debug, PartialEq)]
+struct Shown {
+    shown: String,
+    input: String,
+    number: Option<f64>,
+    error: bool,
+}
+
+impl Shown {
+    fn of(doc: &Document, sheet: SheetId, pos: Pos) -> Option<Shown> {
+        let wb = doc.workbook();
+        let value = wb.value(sheet, pos);
+        let input = wb.input(sheet, pos).unwrap_or_default();
+        if matches!(value, Value::Blank) && input.is_empty() {
+            return None;
+        }
+        let number = match value {
+            Value::Number(n) => Some(n),
+            _ => None,
+        };
+        let error = matches!(value, Value::Error(_));
+        Some(Shown { shown: doc.shown(sheet, pos), input, number, error })
+    }
+
+    fn to_json(&self, sheet: SheetId, pos: Pos, explain: &mut Explainer) -> Json {
+        let mut cell = json!({ "r": pos.row, "c": pos.col, "shown": self.shown, "input": self.input });
+        if let Some(n) = self.number.filter(|n| n.is_finite()) {
+            cell["num"] = json!(n);
+        }
+        if self.error {
+            cell["explain"] = json!(explain.explain(sheet, pos, &self.shown));
+        }
+        cell
+    }
+}
+
+/// Why a cell holds an error value: the workbook's problems at the cell (read once per
+/// answer, and only when an error is shown), else what the error means in Excel.
+struct Explainer<'a> {
+    doc: &'a Document,
+    problems: Option<Vec<Problem>>,
+}
+
+impl<'a> Explainer<'a> {
+    fn new(doc: &'a Document) -> Explainer<'a> {
+        Explainer { doc, problems: None }
+    }
+
+    fn explain(&mut self, sheet: SheetId, pos: Pos, shown: &str) -> String {
+        let doc = self.doc;
+        let problems = self.problems.get_or_insert_with(|| doc.problems());
+        let here: Vec<String> =
+            problems.iter().filter(|p| p.sheet == sheet && p.pos == pos).map(|p| p.render()).collect();
+        if !here.is_empty() {
+            return here.join("\n");
+        }
+        let meaning = match shown {
+            "#DIV/0!" => "a division by zero",
+            "#N/A" => "a value not available (a lookup that found nothing)",
+            "#NAME?" => "a name or function the workbook does not know",
+            "#NULL!" => "two ranges that do not intersect",
+            "#NUM!" => "a number out of range for the calculation",
+            "#REF!" => "a reference to a cell that does not exist",
+            "#VALUE!" => "a value of the wrong type for the calculation",
+            "#SPILL!" => "a spilled result blocked by cells that hold something",
+            "#CALC!" => "a calculation the engine cannot do (an empty array)",
+            _ => "an error value",
+        };
+        format!("{shown}: {meaning}, here or in a cell this formula reads")
+    }
+}

@@ -1,0 +1,347 @@
+//! `ncsheet serve`, the workbench: its safety through a plain TCP client (no token, a foreign
+//! Origin or Host, a path outside, a flood of malformed requests), its API on the chamfer
+//! workbook (values from docs/domain.md §1 and the values Excel cached in the file), and its
+//! page in a real browser (tests/workbench_browser.py through Selenium and chromium-driver).
+
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::TcpStream;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::Duration;
+
+use ncsheet::server::{Options, Server, TOKEN_HEADER};
+use serde_json::Value;
+
+/// A workbench serving a copy of `sheets/NAME` from a folder of its own.
+struct Bench {
+    port: u16,
+    token: String,
+    folder: tempfile::TempDir,
+}
+
+impl Bench {
+    fn start(name: &str) -> Bench {
+        let folder = tempfile::tempdir().unwrap();
+        let file = folder.path().join(name);
+        std::fs::copy(Path::new(env!("CARGO_MANIFEST_DIR")).join("sheets").join(name), &file).unwrap();
+        let server = Server::open(&file, &Options::default()).unwrap();
+        let (port, token) = (server.port(), server.token().to_string());
+        std::thread::spawn(move || server.run());
+        Bench { port, token, folder }
+    }
+
+    fn file(&self, name: &str) -> PathBuf {
+        self.folder.path().join(name)
+    }
+
+    /// Sends raw bytes and returns the status (0 when the server closed without one) and body.
+    fn raw(&self, request: &[u8]) -> (u16, String) {
+        let mut stream = TcpStream::connect(("127.0.0.1", self.port)).unwrap();
+        stream.set_read_timeout(Some(Duration::from_secs(20))).unwrap();
+        stream.write_all(request).unwrap();
+        let mut answer = Vec::new();
+        let _ = stream.read_to_end(&mut answer);
+        let text = String::from_utf8_lossy(&answer).into_owned();
+        let status = text.split(' ').nth(1).and_then(|s| s.parse().ok()).unwrap_or(0);
+        let body = text.split_once("\r\n\r\n").map_or(String::new(), |(_, b)| b.to_string());
+        (status, body)
+    }
+
+    /// A request as a browser on this page sends it: own Host, the token header, no Origin.
+    fn send(&self, method: &str, path: &str, extra: &str, body: &str) -> (u16, String) {
+        let request = format!(
+            "{method} {path} HTTP/1.1\r\nHost: 127.0.0.1:{}\r\n{TOKEN_HEADER}: {}\r\n{extra}Content-Type: application/json\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
+            self.port,
+            self.token,
+            body.len()
+        );
+        self.raw(request.as_bytes())
+    }
+
+    fn get_json(&self, path: &str) -> Value {
+        let (status, body) = self.send("GET", path, "", "");
+        assert_eq!(status, 200, "GET {path}: {body}");
+        serde_json::from_str(&body).unwrap()
+    }
+
+    fn post_json(&self, path: &str, body: &Value) -> (u16, Value) {
+        let (status, text) = self.send("POST", path, "", &body.to_string());
+        (status, serde_json::from_str(&text).unwrap_or(Value::Null))
+    }
+}
+
+/// The changed cell at (row, col) of an edit's answer.
+fn changed<'a>(answer: &'a Value, row: u64, col: u64) -> &'a Value {
+    let cells = answer["changed"].as_array().unwrap();
+    cells.iter().find(|c| c["r"] == row && c["c"] == col).unwrap_or_else(|| panic!("({row},{col}) not in {answer}"))
+}
+
+const OUTER: u64 = 1;
+const WINDOW: &str = r#"{"sheet":1,"r0":0,"r1":40,"c0":0,"c1":10}"#;
+
+#[test]
+fn a_request_without_the_token_is_forbidden() {
+    let bench = Bench::start("chamfer.xlsx");
+    let host = format!("Host: 127.0.0.1:{}\r\n", bench.port);
+    let (status, _) = bench.raw(format!("GET /api/sheets HTTP/1.1\r\n{host}Connection: close\r\n\r\n").as_bytes());
+    assert_eq!(status, 403);
+    let (status, _) = bench.raw(format!("GET / HTTP/1.1\r\n{host}Connection: close\r\n\r\n").as_bytes());
+    assert_eq!(status, 403);
+    let (status, _) = bench.raw(format!("GET /?t=0123 HTTP/1.1\r\n{host}Connection: close\r\n\r\n").as_bytes());
+    assert_eq!(status, 403);
+    // The API takes the token from its header only, not from a link's query.
+    let path = format!("/api/sheets?t={}", bench.token);
+    let (status, _) = bench.raw(format!("GET {path} HTTP/1.1\r\n{host}Connection: close\r\n\r\n").as_bytes());
+    assert_eq!(status, 403);
+    let page = format!("GET /?t={} HTTP/1.1\r\n{host}Connection: close\r\n\r\n", bench.token);
+    let (status, body) = bench.raw(page.as_bytes());
+    assert_eq!(status, 200);
+    assert!(body.contains("<script>") && body.contains("/api/cells"), "{body}");
+}
+
+#[test]
+fn a_foreign_origin_or_host_is_forbidden() {
+    let bench = Bench::start("chamfer.xlsx");
+    let (status, _) = bench.send("GET", "/api/sheets", "Origin: http://evil.example\r\n", "");
+    assert_eq!(status, 403);
+    let (status, _) = bench.send("POST", "/api/undo", "Origin: null\r\n", &format!(r#"{{"window":{WINDOW}}}"#));
+    assert_eq!(status, 403);
+    // DNS rebinding: the browser thinks it talks to evil.example, and says so in Host.
+    let request = format!(
+        "GET /api/sheets HTTP/1.1\r\nHost: evil.example:{}\r\n{TOKEN_HEADER}: {}\r\nConnection: close\r\n\r\n",
+        bench.port, bench.token
+    );
+    assert_eq!(bench.raw(request.as_bytes()).0, 403);
+    let (status, _) = bench.send("GET", "/api/sheets", &format!("Origin: http://localhost:{}\r\n", bench.port), "");
+    assert_eq!(status, 200);
+}
+
+#[test]
+fn a_path_outside_the_served_ones_is_not_found() {
+    let bench = Bench::start("chamfer.xlsx");
+    for path in
+        ["/../Cargo.toml", "/etc/passwd", "/api/../../chamfer.xlsx", "/chamfer.xlsx", "/api/nothing", "/%2e%2e/x"]
+    {
+        let (status, body) = bench.send("GET", path, "", "");
+        assert_eq!(status, 404, "{path}: {body}");
+        assert!(!body.contains("PK"), "{path} served a file");
+    }
+}
+
+#[test]
+fn a_thousand_malformed_requests_leave_the_server_answering() {
+    let bench = Bench::start("chamfer.xlsx");
+    let host = format!("Host: 127.0.0.1:{}\r\n", bench.port);
+    let token = format!("{TOKEN_HEADER}: {}\r\n", bench.token);
+    let bodies = [
+        "",
+        "{",
+        "[]",
+        "null",
+        "{\"sheet\":-1}",
+        "{\"sheet\":99,\"r\":0,\"c\":0,\"input\":\"1\",\"window\":{}}",
+        "{\"sheet\":1,\"r\":1e30,\"c\":0,\"input\":\"1\"}",
+        "{\"sheet\":1,\"r\":0,\"c\":0,\"input\":7}",
+        "{\"window\":{\"sheet\":1,\"r0\":5,\"r1\":1,\"c0\":0,\"c1\":0}}",
+        "\u{0}\u{1}\u{2}",
+        "{\"name\":\"../x.xlsx\"}",
+        "{\"name\":\"/tmp/x.xlsx\",\"over\":true}",
+        "{\"source\":\"file:/etc/passwd\",\"sub\":\"\",\"dialect\":\"iso\",\"sheet\":0}",
+    ];
+    let queries = [
+        "/api/cells",
+        "/api/cells?sheet=x",
+        "/api/cells?sheet=1&r0=0&r1=99999999&c0=0&c1=1",
+        "/api/cells?sheet=1&r0=9&r1=1&c0=0&c1=1",
+        "/api/locate?sheet=1&name=%ZZ",
+        "/api/inspect?sheet=7&r=0&c=0",
+        "/api/download?format=exe",
+        "/api/chamfer?sheet=1&r=0&c=0",
+        "/api/locate?sheet=1",
+    ];
+    let posts = ["/api/set", "/api/undo", "/api/redo", "/api/save", "/api/run"];
+    for i in 0..1000 {
+        let request: Vec<u8> = match i % 5 {
+            0 => format!("GARBAGE{i} \u{7f}\r\n\r\n").into_bytes(),
+            1 => format!("GET {} HTTP/1.1\r\n{host}{token}Connection: close\r\n\r\n", queries[i % queries.len()])
+                .into_bytes(),
+            2 => {
+                let body = bodies[i % bodies.len()];
+                let path = posts[i % posts.len()];
+                format!(
+                    "POST {path} HTTP/1.1\r\n{host}{token}Content-Length: {}\r\nConnection: close\r\n\r\n{body}",
+                    body.len()
+                )
+                .into_bytes()
+            }
+            3 => format!("GET / HTTP/1.1\r\n{host}Content-Length: -{i}\r\nConnection: close\r\n\r\n").into_bytes(),
+            _ => {
+                let mut bytes = format!("GET /api/sheets HTTP/1.1\r\n{host}X-Bad: ").into_bytes();
+                bytes.extend([0xff, 0xfe, 0x00, b'\r', b'\n', b'\r', b'\n']);
+                bytes
+            }
+        };
+        let (status, body) = bench.raw(&request);
+        assert!(status == 0 || (400..500).contains(&status), "request {i} answered {status}: {body}");
+    }
+    let summary = bench.get_json("/api/sheets");
+    assert_eq!(summary["sheets"][OUTER as usize]["name"], "Outer");
+}
+
+#[test]
+fn an_edit_answers_the_changed_cells_and_undo_brings_the_old_values_back() {
+    let bench = Bench::start("chamfer.xlsx");
+    let located = bench.get_json("/api/locate?sheet=0&name=Outer!B8");
+    assert_eq!((located["sheet"].as_u64(), located["r"].as_u64(), located["c"].as_u64()), (Some(1), Some(7), Some(1)));
+    // The sheet-level name alpha of Outer is B8 too.
+    let alpha = bench.get_json("/api/locate?sheet=1&name=alpha");
+    assert_eq!((alpha["r"].as_u64(), alpha["c"].as_u64()), (Some(7), Some(1)));
+
+    let window: Value = serde_json::from_str(WINDOW).unwrap();
+    let set = serde_json::json!({ "sheet": OUTER, "r": 7, "c": 1, "input": "30", "window": window });
+    let (status, answer) = bench.post_json("/api/set", &set);
+    assert_eq!(status, 200, "{answer}");
+    assert_eq!((answer["history"]["undo"].as_u64(), answer["history"]["redo"].as_u64()), (Some(1), Some(0)));
+    // docs/domain.md §1: outer chamfer D 40, f 2, α 30°, r 0.8, eA 1, eB 1.
+    let (xa, xb) = (changed(&answer, 5, 6), changed(&answer, 7, 6));
+    assert!((xa["num"].as_f64().unwrap() - 42.3259818304895).abs() < 1e-12, "{xa}");
+    assert!((xb["num"].as_f64().unwrap() - 35.8596588155657).abs() < 1e-12, "{xb}");
+    assert_eq!(xa["shown"], "42.325982", "the cell's format is 0.000000");
+    assert_eq!(xb["shown"], "35.859659");
+    // Only cells that changed: the labels and inputs of the sheet are not sent again.
+    assert!(answer["changed"].as_array().unwrap().len() < 30, "{answer}");
+    assert!(!answer["changed"].as_array().unwrap().iter().any(|c| c["r"] == 5 && c["c"] == 0));
+
+    let (status, undone) = bench.post_json("/api/undo", &serde_json::json!({ "window": window }));
+    assert_eq!(status, 200, "{undone}");
+    // The values Excel cached in the file for α = 45°.
+    assert!((changed(&undone, 5, 6)["num"].as_f64().unwrap() - 44.262741699796955).abs() < 1e-12);
+    assert!((changed(&undone, 7, 6)["num"].as_f64().unwrap() - 33.06274169979695).abs() < 1e-12);
+    assert_eq!(changed(&undone, 7, 1)["input"], "45");
+    assert_eq!((undone["history"]["undo"].as_u64(), undone["history"]["redo"].as_u64()), (Some(0), Some(1)));
+    let (status, redone) = bench.post_json("/api/redo", &serde_json::json!({ "window": window }));
+    assert_eq!(status, 200);
+    assert!((changed(&redone, 5, 6)["num"].as_f64().unwrap() - 42.3259818304895).abs() < 1e-12);
+    let (status, nothing) = bench.post_json("/api/redo", &serde_json::json!({ "window": window }));
+    assert_eq!(status, 400, "{nothing}");
+}
+
+#[test]
+fn a_cell_shows_what_it_reads_and_what_reads_it() {
+    let bench = Bench::start("chamfer.xlsx");
+    // Outer!G6 is =C21; Summary!C5 is =Outer!G6.
+    let g6 = bench.get_json("/api/inspect?sheet=1&r=5&c=6");
+    let names = |list: &Value| {
+        list.as_array().unwrap().iter().map(|m| m["name"].as_str().unwrap().to_string()).collect::<Vec<_>>()
+    };
+    assert_eq!(names(&g6["precedents"]), ["Outer!C21"]);
+    assert_eq!(names(&g6["dependents"]), ["Summary!C5"]);
+}
+
+#[test]
+fn a_formula_error_is_explained_where_it_is_shown() {
+    let bench = Bench::start("chamfer.xlsx");
+    let window: Value = serde_json::from_str(WINDOW).unwrap();
+    let set = serde_json::json!({ "sheet": OUTER, "r": 30, "c": 9, "input": "=NOSUCH(1)", "window": window });
+    let (status, answer) = bench.post_json("/api/set", &set);
+    assert_eq!(status, 200);
+    let cell = changed(&answer, 30, 9);
+    assert_eq!(cell["shown"], "#NAME?");
+    assert!(cell["explain"].as_str().unwrap().contains("unknown function NOSUCH"), "{cell}");
+    let refused = serde_json::json!({ "sheet": OUTER, "r": 30, "c": 9, "input": "=1+*2", "window": window });
+    let (status, answer) = bench.post_json("/api/set", &refused);
+    assert_eq!(status, 400, "a formula that does not parse is refused: {answer}");
+    assert!(answer["error"].as_str().unwrap().starts_with("Outer!J31"), "{answer}");
+}
+
+#[test]
+fn saving_writes_beside_the_workbook_and_over_it_only_when_asked() {
+    let bench = Bench::start("chamfer.xlsx");
+    let original = std::fs::read(bench.file("chamfer.xlsx")).unwrap();
+    let losses = bench.get_json("/api/losses?format=xlsx");
+    assert!(losses["losses"].is_array(), "{losses}");
+    let (status, answer) = bench.post_json("/api/save", &serde_json::json!({ "name": "../escape.xlsx" }));
+    assert_eq!(status, 400, "{answer}");
+    let (status, answer) = bench.post_json("/api/save", &serde_json::json!({ "name": "chamfer.xlsx" }));
+    assert_eq!(status, 409, "{answer}");
+    assert_eq!(std::fs::read(bench.file("chamfer.xlsx")).unwrap(), original);
+
+    let window: Value = serde_json::from_str(WINDOW).unwrap();
+    let set = serde_json::json!({ "sheet": OUTER, "r": 7, "c": 1, "input": "30", "window": window });
+    assert_eq!(bench.post_json("/api/set", &set).0, 200);
+    let (status, answer) = bench.post_json("/api/save", &serde_json::json!({ "name": "edited.xlsx" }));
+    assert_eq!(status, 200, "{answer}");
+    let saved = ncsheet::document::Document::open_file(&bench.file("edited.xlsx"), &Default::default()).unwrap();
+    let (sheet, g6) = saved.cell("Outer!G6").unwrap();
+    let ncsheet::eval::Value::Number(xa) = saved.workbook().value(sheet, g6) else { panic!("G6 is no number") };
+    assert!((xa - 42.3259818304895).abs() < 1e-12);
+    let (status, _) = bench.post_json("/api/save", &serde_json::json!({ "name": "edited.xlsx" }));
+    assert_eq!(status, 409, "an existing file is not replaced by a save-as");
+    let (status, answer) = bench.post_json("/api/save", &serde_json::json!({ "name": "chamfer.xlsx", "over": true }));
+    assert_eq!(status, 200, "{answer}");
+    assert_ne!(std::fs::read(bench.file("chamfer.xlsx")).unwrap(), original);
+    let (status, body) = bench.send("GET", "/api/download?format=csv", "", "");
+    assert_eq!((status, body.is_empty()), (400, false), "csv holds one sheet; the workbook has four: {body}");
+}
+
+#[test]
+fn the_command_prints_the_url_and_serves_the_page() {
+    let folder = tempfile::tempdir().unwrap();
+    let file = folder.path().join("chamfer.xlsx");
+    std::fs::copy(Path::new(env!("CARGO_MANIFEST_DIR")).join("sheets/chamfer.xlsx"), &file).unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_ncsheet"))
+        .args(["serve", file.to_str().unwrap()])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    BufReader::new(child.stdout.take().unwrap()).read_line(&mut line).unwrap();
+    let url = line.trim().to_string();
+    let rest = url.strip_prefix("http://127.0.0.1:").unwrap_or_else(|| panic!("{url}"));
+    let (port, query) = rest.split_once('/').unwrap();
+    let port: u16 = port.parse().unwrap();
+    let mut stream = TcpStream::connect(("127.0.0.1", port)).unwrap();
+    write!(stream, "GET /{query} HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nConnection: close\r\n\r\n").unwrap();
+    let mut answer = String::new();
+    stream.read_to_string(&mut answer).unwrap();
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(answer.starts_with("HTTP/1.1 200"), "{answer}");
+    assert!(query.starts_with("?t=") && query.len() == 3 + 32, "{query}");
+}
+
+/// The page in Chromium: select Outer!B8, type 30, read XA and XB; undo; a screenshot of the
+/// grid into docs/. Skipped without chromium, chromium-driver or selenium, except on CI.
+#[test]
+fn the_page_in_a_real_browser() {
+    let missing = ["chromium", "chromedriver"]
+        .into_iter()
+        .find(|tool| Command::new("which").arg(tool).output().map_or(true, |o| !o.status.success()));
+    let selenium = Command::new("python3").args(["-c", "import selenium"]).status().is_ok_and(|s| s.success());
+    let why = match (missing, selenium) {
+        (Some(tool), _) => Some(format!("{tool} is not installed (Debian chromium, chromium-driver)")),
+        (None, false) => Some("python selenium is not installed (pip install selenium)".to_string()),
+        (None, true) => None,
+    };
+    if let Some(why) = why {
+        assert!(std::env::var_os("CI").is_none(), "the browser test cannot run on CI: {why}");
+        eprintln!("skipped: {why}");
+        return;
+    }
+    let bench = Bench::start("chamfer.xlsx");
+    let url = format!("http://127.0.0.1:{}/?t={}", bench.port, bench.token);
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let screenshot = root.join("docs/workbench-grid.png");
+    let out = Command::new("python3")
+        .arg(root.join("tests/workbench_browser.py"))
+        .arg(&url)
+        .arg(&screenshot)
+        .arg(bench.folder.path().join("chrome-profile"))
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
+    assert!(stdout.contains("ok"), "{stdout}");
+    assert!(std::fs::metadata(&screenshot).unwrap().len() > 10_000);
+}

@@ -1,0 +1,129 @@
+#!/usr/bin/env python3
+"""The workbench page in a real browser (Chromium through chromium-driver and Selenium).
+
+Run by tests/workbench.rs: `workbench_browser.py URL SCREENSHOT.png PROFILE_DIR`, with the
+server serving sheets/chamfer.xlsx. It selects Outer!B8 through the name box, types 30 into
+the grid, reads XA (G6) and XB (G8) as the page shows them and as the API returns them
+(docs/domain.md section 1), undoes, checks the old values (Excel's cached ones) are back, and saves a
+screenshot of the grid. Prints "ok" at the end; any failure raises.
+"""
+
+import json
+import sys
+import urllib.parse
+import urllib.request
+
+from selenium import webdriver
+from selenium.webdriver.chrome.service import Service
+from selenium.webdriver.common.by import By
+from selenium.webdriver.common.keys import Keys
+from selenium.webdriver.support.ui import WebDriverWait
+
+URL, SCREENSHOT, PROFILE = sys.argv[1], sys.argv[2], sys.argv[3]
+TOKEN = urllib.parse.parse_qs(urllib.parse.urlparse(URL).query)["t"][0]
+BASE = URL.split("/?")[0]
+
+# docs/domain.md section 1: outer chamfer, D 40, f 2, alpha 30, r 0.8, eA 1, eB 1.
+XA_30, XB_30 = 42.3259818304895, 35.8596588155657
+# What Excel cached in sheets/chamfer.xlsx for alpha 45.
+XA_45, XB_45 = 44.262741699796955, 33.06274169979695
+
+
+def api(path):
+    request = urllib.request.Request(BASE + path, headers={"x-ncsheet-token": TOKEN})
+    with urllib.request.urlopen(request, timeout=20) as response:
+        return json.load(response)
+
+
+def api_value(cell_row, cell_col):
+    """The underlying number of an Outer cell, as the API gives it."""
+    window = f"/api/cells?sheet=1&r0={cell_row}&r1={cell_row}&c0={cell_col}&c1={cell_col}"
+    cells = api(window)["cells"]
+    assert len(cells) == 1, cells
+    return cells[0]["num"]
+
+
+def cell_text(driver, name):
+    """The text of a grid cell, read in one step (the grid redraws its cells as it scrolls)."""
+    script = "const e = document.querySelector(arguments[0]); return e ? e.textContent : null;"
+    return driver.execute_script(script, f'#cells [data-cell="{name}"]')
+
+
+def cell_class(driver, name):
+    script = "const e = document.querySelector(arguments[0]); return e ? e.className : '';"
+    return driver.execute_script(script, f'#cells [data-cell="{name}"]')
+
+
+def wait_text(driver, name, expected):
+    try:
+        WebDriverWait(driver, 10).until(lambda d: cell_text(d, name) == expected)
+    except Exception:
+        status = driver.find_element(By.ID, "status").text
+        raise AssertionError(f"{name} shows {cell_text(driver, name)!r}, expected {expected!r} (status: {status!r})")
+
+
+def main():
+    options = webdriver.ChromeOptions()
+    options.binary_location = "/usr/bin/chromium"
+    for flag in [
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--disable-quic",
+        "--no-first-run",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--disable-sync",
+        f"--user-data-dir={PROFILE}",
+        "--window-size=1400,800",
+    ]:
+        options.add_argument(flag)
+    driver = webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=options)
+    try:
+        driver.get(URL)
+        WebDriverWait(driver, 20).until(lambda d: d.find_element(By.TAG_NAME, "body").get_attribute("data-ready") == "1")
+
+        namebox = driver.find_element(By.ID, "namebox")
+        namebox.clear()
+        namebox.send_keys("Outer!B8", Keys.ENTER)
+        WebDriverWait(driver, 10).until(
+            lambda d: d.find_element(By.CSS_SELECTOR, "#tabs button.on").text == "Outer"
+            and d.find_element(By.ID, "namebox").get_attribute("value") == "B8"
+        )
+        wait_text(driver, "B8", "45")
+        wait_text(driver, "G6", "44.262742")
+
+        # Typing into the grid starts an edit in the formula bar, as in a spreadsheet.
+        driver.find_element(By.ID, "scroller").send_keys("30")
+        formula = driver.find_element(By.ID, "formula")
+        assert formula.get_attribute("value") == "30", formula.get_attribute("value")
+        formula.send_keys(Keys.ENTER)
+
+        # Shown to the cell's number format 0.000000; the value itself from the API to 1e-12.
+        wait_text(driver, "G6", f"{XA_30:.6f}")
+        wait_text(driver, "G8", f"{XB_30:.6f}")
+        assert abs(api_value(5, 6) - XA_30) < 1e-12
+        assert abs(api_value(7, 6) - XB_30) < 1e-12
+
+        # G6 selected: the cell it reads (C21) is highlighted.
+        namebox = driver.find_element(By.ID, "namebox")
+        namebox.clear()
+        namebox.send_keys("G6", Keys.ENTER)
+        WebDriverWait(driver, 10).until(lambda d: "prec" in cell_class(d, "C21"))
+        driver.save_screenshot(SCREENSHOT)
+
+        driver.find_element(By.ID, "undo").click()
+        wait_text(driver, "B8", "45")
+        wait_text(driver, "G6", f"{XA_45:.6f}")
+        wait_text(driver, "G8", f"{XB_45:.6f}")
+        assert abs(api_value(5, 6) - XA_45) < 1e-12
+
+        # Ctrl+Y makes the edit again.
+        driver.find_element(By.ID, "scroller").send_keys(Keys.CONTROL, "y")
+        wait_text(driver, "G6", f"{XA_30:.6f}")
+    finally:
+        driver.quit()
+    print("ok")
+
+
+main()
