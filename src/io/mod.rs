@@ -22,6 +22,7 @@ use crate::workbook::Workbook;
 pub mod atomic;
 pub mod csv;
 pub mod csv_locale;
+pub mod legacy;
 pub mod limits;
 pub mod xlsx;
 
@@ -30,6 +31,12 @@ pub mod xlsx;
 pub enum Format {
     Csv,
     Xlsx,
+    /// Excel 97-2003 (BIFF8), read only (`legacy/xls.rs`).
+    Xls,
+    /// Excel's binary workbook, read only (`legacy/xlsb.rs`).
+    Xlsb,
+    /// OpenDocument, read only (`legacy/ods.rs`).
+    Ods,
 }
 
 impl Format {
@@ -39,17 +46,35 @@ impl Format {
         match ext.as_deref() {
             Some("csv") => Ok(Format::Csv),
             Some("xlsx" | "xlsm") => Ok(Format::Xlsx),
+            Some("xls") => Ok(Format::Xls),
+            Some("xlsb") => Ok(Format::Xlsb),
+            Some("ods") => Ok(Format::Ods),
             _ => Err(Error::new(path, ErrorKind::UnknownFormat)),
         }
     }
 
-    /// The format of a file's bytes: a package (zip) is an xlsx workbook whatever it is
-    /// called; otherwise the name's extension says (a csv has no signature).
+    /// The format of a file's bytes: a compound file holding a workbook stream is an .xls,
+    /// a zip package an .xlsb (`xl/workbook.bin`), an .ods (its `mimetype`) or else an xlsx
+    /// workbook, whatever the file is called; otherwise the name's extension says (a csv
+    /// has no signature).
     pub fn detect(bytes: &[u8], name: &Path) -> Result<Format, Error> {
+        if let Some(kind) = legacy::detect(bytes) {
+            return Ok(kind.format());
+        }
         if bytes.starts_with(b"PK\x03\x04") {
             return Ok(Format::Xlsx);
         }
         Format::of(name)
+    }
+
+    /// The read-only format this is, if it is one.
+    fn legacy(self) -> Option<legacy::Kind> {
+        match self {
+            Format::Xls => Some(legacy::Kind::Xls),
+            Format::Xlsb => Some(legacy::Kind::Xlsb),
+            Format::Ods => Some(legacy::Kind::Ods),
+            Format::Csv | Format::Xlsx => None,
+        }
     }
 }
 
@@ -116,7 +141,7 @@ impl fmt::Display for Error {
             },
             ErrorKind::Malformed { line, message } => write!(f, "line {line}: {message}"),
             ErrorKind::UnknownFormat => {
-                write!(f, "unknown file type (ncsheet reads and writes .csv, .xlsx and .xlsm)")?;
+                write!(f, "unknown file type (ncsheet reads and writes .csv, .xlsx and .xlsm, and reads .xls, .xlsb and .ods)")?;
                 f.write_str(conversion_advice(&self.path))
             }
             ErrorKind::Xlsx { part: Some(part), message } => write!(f, "{part}: {message}"),
@@ -157,7 +182,7 @@ fn missing_folder<'a>(path: &'a Path, e: &std::io::Error) -> Option<&'a Path> {
 fn conversion_advice(path: &Path) -> &'static str {
     let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
     match ext.as_deref() {
-        Some("xls" | "ods" | "xlsb" | "fods" | "numbers") => {
+        Some("fods" | "numbers") => {
             "; save it as .xlsx from Excel or LibreOffice (File > Save As), or convert it: \
              soffice --headless --convert-to xlsx FILE"
         }
@@ -200,6 +225,9 @@ pub enum Origin {
     Csv(csv::Original),
     /// The xlsx package as read.
     Xlsx(Source),
+    /// A file of a format ncsheet reads but does not write (.xls, .xlsb, .ods): a save is
+    /// an xlsx written anew.
+    Legacy(PathBuf, legacy::Kind),
 }
 
 /// The bytes of a file as read, which a save starts from, and the name its messages use.
@@ -291,6 +319,19 @@ pub fn open_bytes(bytes: Vec<u8>, path: &Path, format: Format, csv_delimiter: Op
                 origin: Origin::Xlsx(Source { file: path.to_path_buf(), bytes: bytes.into() }),
             })
         }
+        Format::Xls | Format::Xlsb | Format::Ods => {
+            let kind = format.legacy().expect("a read-only format");
+            let mut imported = legacy::load(&bytes, path, kind)?;
+            imported.workbook.track_changes();
+            Ok(Opened {
+                workbook: imported.workbook,
+                cached: imported.cached,
+                layout: Some(imported.layout),
+                written_by: imported.written_by,
+                notes: imported.notes,
+                origin: Origin::Legacy(path.to_path_buf(), kind),
+            })
+        }
     }
 }
 
@@ -333,6 +374,7 @@ pub fn encode_save_with(
 ) -> Result<Encoded, Error> {
     let encoded = |bytes, losses| Ok(Encoded { path: path.to_path_buf(), bytes, losses });
     let kept: Result<Encoded, Error> = match (Format::of(path)?, origin) {
+        (format @ (Format::Xls | Format::Xlsb | Format::Ods), _) => Err(read_only(path, format)),
         (Format::Csv, _) if wb.sheet_len() != 1 => {
             Err(Error::new(path, ErrorKind::OneSheetOnly { sheets: wb.sheet_len() }))
         }
@@ -368,6 +410,7 @@ pub fn encode_save_with(
                         .flatten()
                         .collect()
                 }
+                Origin::Legacy(source, kind) => vec![legacy::conversion_loss(source, *kind)],
                 _ => Vec::new(),
             };
             encoded(bytes, losses)
@@ -378,6 +421,17 @@ pub fn encode_save_with(
     let names: Vec<String> = replaced.iter().map(|&(sheet, pos)| wb.cell_name(sheet, pos)).collect();
     encoded.losses.extend(formulas_replaced(&names));
     Ok(encoded)
+}
+
+/// The refusal to write a file of a format ncsheet only reads.
+fn read_only(path: &Path, format: Format) -> Error {
+    let kind = format.legacy().expect("a read-only format");
+    let message = format!(
+        "ncsheet reads {} but does not write that format (ncsheet writes .xlsx, .xlsm and .csv); \
+         save the workbook elsewhere with -o FILE.xlsx",
+        kind.describe()
+    );
+    Error::new(path, ErrorKind::Xlsx { part: None, message })
 }
 
 /// The .xlsm `source` to be saved as `path` with a new VBA project (`xl/vbaProject.bin`),
@@ -462,6 +516,7 @@ pub fn encode_export_with(
     let sheet_name = wb.sheet_names().into_iter().nth(what.sheet as usize).unwrap_or_default();
     let sheet_layout = options.layout.and_then(|l| l.sheets.get(&sheet_name));
     let bytes = match Format::of(path)? {
+        format @ (Format::Xls | Format::Xlsb | Format::Ods) => return Err(read_only(path, format)),
         Format::Csv => {
             let style = csv::Style {
                 delimiter: options.delimiter.unwrap_or(b','),

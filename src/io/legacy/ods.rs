@@ -1,0 +1,339 @@
+//! OpenDocument spreadsheets (`.ods`, ODF 1.2+ with OpenFormula): calamine reads the cells,
+//! the values the file stored and each formula's text; the text is OpenFormula (`of:=SUM([.A1:.B2];2)`)
+//! and is spelled here as an xlsx file spells it (`SUM(A1:B2,2)`): references in brackets,
+//! `;` between arguments, `~` for union, `!` for intersection, inline arrays with `;` between
+//! columns and `|` between rows, and the namespaces LibreOffice puts on Excel's newer functions.
+
+use std::io::Cursor;
+
+use calamine::{Data, Ods, Reader, SheetVisible};
+
+use crate::eval::Value;
+use crate::workbook::Visibility;
+
+use super::{cells_named, quoted_sheet, value_of, Book, Cell, Name, Sheet};
+
+/// Reads an .ods file's bytes into a [`Book`].
+pub fn read(bytes: &[u8]) -> Result<Book, String> {
+    let mut ods: Ods<_> = Ods::new(Cursor::new(bytes)).map_err(|e| e.to_string())?;
+    let application = ods.workbook_properties().ok().and_then(|p| p.application);
+    let mut book = Book { application, ..Book::default() };
+    let metadata = ods.sheets_metadata().to_vec();
+    for meta in &metadata {
+        let values = ods.worksheet_range(&meta.name).map_err(|e| format!("sheet '{}': {e}", meta.name))?;
+        let formulas = ods.worksheet_formula(&meta.name).map_err(|e| format!("sheet '{}': {e}", meta.name))?;
+        let visibility = match meta.visible {
+            SheetVisible::Visible => Visibility::Visible,
+            SheetVisible::Hidden => Visibility::Hidden,
+            SheetVisible::VeryHidden => Visibility::VeryHidden,
+        };
+        let mut sheet = Sheet { name: meta.name.clone(), visibility, ..Sheet::default() };
+        let (r0, c0) = values.start().unwrap_or((0, 0));
+        for (r, c, data) in values.used_cells() {
+            let pos = (r0 + r as u32, c0 + c as u32);
+            sheet.cells.insert(pos, Cell { value: ods_value(data), ..Cell::default() });
+        }
+        let (r0, c0) = formulas.start().unwrap_or((0, 0));
+        let mut unread = Vec::new();
+        for (r, c, text) in formulas.used_cells() {
+            if text.is_empty() {
+                continue;
+            }
+            let pos = (r0 + r as u32, c0 + c as u32);
+            let cell = sheet.cells.entry(pos).or_default();
+            match to_xlsx(text) {
+                Some(formula) => cell.formula = Some(formula),
+                None => unread.push(pos),
+            }
+        }
+        if !unread.is_empty() {
+            book.notes.push(format!(
+                "{} formula cells of sheet '{}' keep the value the file stored, as a constant: ncsheet does not read \
+                 their OpenFormula ({})",
+                unread.len(),
+                meta.name,
+                cells_named(&meta.name, &unread)
+            ));
+        }
+        book.sheets.push(sheet);
+    }
+    for (name, text) in ods.defined_names() {
+        let formula = if text.starts_with("of:") { to_xlsx(text) } else { range_address(text) };
+        match formula {
+            Some(formula) => book.names.push(Name { name: name.clone(), formula, sheet: None }),
+            None => book.notes.push(format!("name {name} ({text}) was left out: ncsheet does not read it")),
+        }
+    }
+    book.notes.push("number formats are not read from an .ods file: values show as General".into());
+    Ok(book)
+}
+
+/// A stored value; dates and times (ISO 8601 text in the file) as Excel's serial numbers.
+fn ods_value(data: &Data) -> Option<Value> {
+    match data {
+        Data::DateTimeIso(text) => {
+            Some(iso_date(text).map_or_else(|| Value::Text(text.as_str().into()), Value::Number))
+        }
+        Data::DurationIso(text) => {
+            Some(iso_duration(text).map_or_else(|| Value::Text(text.as_str().into()), Value::Number))
+        }
+        other => value_of(other),
+    }
+}
+
+/// `2024-03-01` or `2024-03-01T12:30:00` as a serial.
+fn iso_date(text: &str) -> Option<f64> {
+    let (date, time) = text.split_once('T').unwrap_or((text, ""));
+    let mut parts = date.splitn(3, '-');
+    let year: i64 = parts.next()?.parse().ok()?;
+    let month: i64 = parts.next()?.parse().ok()?;
+    let day: i64 = parts.next()?.parse().ok()?;
+    let serial = crate::eval::dates::serial_from_ymd(year, month, day) as f64;
+    let fraction = if time.is_empty() {
+        0.0
+    } else {
+        let mut t = time.split(':');
+        let h: f64 = t.next()?.parse().ok()?;
+        let m: f64 = t.next().unwrap_or("0").parse().ok()?;
+        let s: f64 = t.next().unwrap_or("0").parse().ok()?;
+        (h * 3600.0 + m * 60.0 + s) / 86400.0
+    };
+    Some(serial + fraction)
+}
+
+/// `PT12H30M00S` (a time) as a fraction of a day.
+fn iso_duration(text: &str) -> Option<f64> {
+    let negative = text.starts_with('-');
+    let rest =
+        text.trim_start_matches('-').strip_prefix("PT").or_else(|| text.trim_start_matches('-').strip_prefix('P'))?;
+    let mut seconds = 0.0;
+    let mut number = String::new();
+    for c in rest.chars() {
+        match c {
+            'D' => seconds += number.parse::<f64>().ok()? * 86400.0,
+            'H' => seconds += number.parse::<f64>().ok()? * 3600.0,
+            'M' => seconds += number.parse::<f64>().ok()? * 60.0,
+            'S' => seconds += number.parse::<f64>().ok()?,
+            'T' => {}
+            c => {
+                number.push(c);
+                continue;
+            }
+        }
+        number.clear();
+    }
+    let days = seconds / 86400.0;
+    Some(if negative { -days } else { days })
+}
+
+/// An OpenFormula (`of:=…`) as an xlsx file spells the formula, or `None` for what has no
+/// spelling there (a reference into another file).
+pub fn to_xlsx(text: &str) -> Option<String> {
+    let body = text.strip_prefix("of:").unwrap_or(text);
+    let body = body.strip_prefix('=').unwrap_or(body);
+    let chars: Vec<char> = body.chars().collect();
+    let mut out = String::with_capacity(body.len());
+    let mut in_array = 0usize;
+    let mut i = 0;
+    while i < chars.len() {
+        let c = chars[i];
+        match c {
+            '"' => {
+                let end = closing_quote(&chars, i, '"');
+                out.extend(&chars[i..end]);
+                i = end;
+                continue;
+            }
+            '[' => {
+                let end = chars[i..].iter().position(|&c| c == ']').map(|p| i + p)?;
+                let inner: String = chars[i + 1..end].iter().collect();
+                out.push_str(&reference(&inner)?);
+                i = end + 1;
+                continue;
+            }
+            '{' => in_array += 1,
+            '}' => in_array = in_array.saturating_sub(1),
+            ';' if in_array > 0 => {
+                out.push(',');
+                i += 1;
+                continue;
+            }
+            '|' if in_array > 0 => {
+                out.push(';');
+                i += 1;
+                continue;
+            }
+            ';' => {
+                out.push(',');
+                i += 1;
+                continue;
+            }
+            '~' => {
+                out.push(',');
+                i += 1;
+                continue;
+            }
+            '!' => {
+                out.push(' ');
+                i += 1;
+                continue;
+            }
+            c if c.is_alphabetic() || c == '_' => {
+                let end = chars[i..]
+                    .iter()
+                    .position(|&c| !(c.is_alphanumeric() || c == '_' || c == '.'))
+                    .map_or(chars.len(), |p| i + p);
+                let word: String = chars[i..end].iter().collect();
+                let is_call = chars.get(end) == Some(&'(');
+                out.push_str(&if is_call { function_name(&word) } else { word });
+                i = end;
+                continue;
+            }
+            _ => {}
+        }
+        out.push(c);
+        i += 1;
+    }
+    Some(out)
+}
+
+/// The index just past a quoted run starting at `start` (a doubled quote stays inside).
+fn closing_quote(chars: &[char], start: usize, quote: char) -> usize {
+    let mut i = start + 1;
+    while i < chars.len() {
+        if chars[i] == quote {
+            if chars.get(i + 1) == Some(&quote) {
+                i += 2;
+                continue;
+            }
+            return i + 1;
+        }
+        i += 1;
+    }
+    chars.len()
+}
+
+/// A function's OpenFormula name as Excel's: LibreOffice writes Excel's newer functions with
+/// a namespace (`COM.MICROSOFT.IFS`), and a few under names of its own.
+fn function_name(word: &str) -> String {
+    let upper = word.to_ascii_uppercase();
+    for prefix in ["COM.MICROSOFT.", "_XLFN.", "ORG.OPENOFFICE.", "LEGACY."] {
+        if let Some(rest) = upper.strip_prefix(prefix) {
+            return function_name(rest);
+        }
+    }
+    match upper.as_str() {
+        "CEILING.XCL" => "CEILING",
+        "FLOOR.XCL" => "FLOOR",
+        "CHISQDIST" => "CHIDIST",
+        "CHISQINV" => "CHIINV",
+        "NORMSDIST" | "NORMSINV" | "CHIDIST" | "CHIINV" | "TDIST" | "FDIST" | "FINV" => return upper,
+        _ => return word.to_string(),
+    }
+    .to_string()
+}
+
+/// A bracketed OpenFormula reference (`.A1`, `.A1:.B2`, `$'My sheet'.A1:.B2`,
+/// `Sheet1.A1:Sheet3.A1`) as A1 text with its sheet; `None` for another file's.
+fn reference(inner: &str) -> Option<String> {
+    if inner.starts_with('\'') && inner.contains('#') && !inner.starts_with("'#") {
+        // 'file:///…'#$Sheet1.A1: another document.
+        let quoted_end = closing_quote(&inner.chars().collect::<Vec<_>>(), 0, '\'');
+        if inner.chars().nth(quoted_end) == Some('#') {
+            return None;
+        }
+    }
+    let parts = split_outside_quotes(inner, ':');
+    let mut sheets = Vec::new();
+    let mut cells = Vec::new();
+    for part in &parts {
+        let (sheet, cell) = split_sheet(part);
+        sheets.push(sheet);
+        cells.push(cell);
+    }
+    let first_sheet = sheets.first().cloned().flatten();
+    let last_sheet = sheets.last().cloned().flatten();
+    let prefix = match (&first_sheet, &last_sheet) {
+        (Some(a), Some(b)) if a != b => {
+            let both = format!("{a}:{b}");
+            if quoted_sheet(a).starts_with('\'') || quoted_sheet(b).starts_with('\'') {
+                format!("'{}'!", both.replace('\'', "''"))
+            } else {
+                format!("{both}!")
+            }
+        }
+        (Some(a), _) => format!("{}!", quoted_sheet(a)),
+        _ => String::new(),
+    };
+    let cells = cells.join(":");
+    if cells.contains("#REF!") {
+        return Some("#REF!".into());
+    }
+    Some(format!("{prefix}{cells}"))
+}
+
+/// A named range's address as LibreOffice stores it (`$Sheet1.$A$1:.$B$2`).
+fn range_address(text: &str) -> Option<String> {
+    reference(text)
+}
+
+/// `$Sheet.A1` → (Some("Sheet"), "A1"); `.A1` → (None, "A1").
+fn split_sheet(part: &str) -> (Option<String>, String) {
+    let part = part.trim();
+    let chars: Vec<char> = part.chars().collect();
+    let mut i = 0;
+    if chars.first() == Some(&'$') {
+        i = 1;
+    }
+    if chars.get(i) == Some(&'\'') {
+        let end = closing_quote(&chars, i, '\'');
+        let name: String = chars[i + 1..end - 1].iter().collect::<String>().replace("''", "'");
+        let cell: String = chars.get(end + 1..).map(|c| c.iter().collect()).unwrap_or_default();
+        return (Some(name), cell);
+    }
+    match part[i..].rfind('.') {
+        Some(0) => (None, part[i + 1..].to_string()),
+        Some(dot) => (Some(part[i..i + dot].to_string()), part[i + dot + 1..].to_string()),
+        None => (None, part.to_string()),
+    }
+}
+
+fn split_outside_quotes(text: &str, sep: char) -> Vec<String> {
+    let mut out = vec![String::new()];
+    let mut quoted = false;
+    for c in text.chars() {
+        if c == '\'' {
+            quoted = !quoted;
+        }
+        if c == sep && !quoted {
+            out.push(String::new());
+        } else {
+            out.last_mut().expect("one part").push(c);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn open_formula_is_spelled_as_excel_spells_it() {
+        assert_eq!(to_xlsx("of:=SUM([.A1:.B2];2)").unwrap(), "SUM(A1:B2,2)");
+        assert_eq!(to_xlsx("of:=[$'My sheet'.$A$1]+[$Data.B2:.C3]").unwrap(), "'My sheet'!$A$1+Data!B2:C3");
+        assert_eq!(to_xlsx("of:={1;2|3;4}").unwrap(), "{1,2;3,4}");
+        assert_eq!(to_xlsx("of:=IF([.A1]=\"a;b\";1;2)").unwrap(), "IF(A1=\"a;b\",1,2)");
+        assert_eq!(to_xlsx("of:=COM.MICROSOFT.IFS([.A1]>1;1)").unwrap(), "IFS(A1>1,1)");
+        assert_eq!(to_xlsx("of:=SUM([.A:.A])").unwrap(), "SUM(A:A)");
+        assert_eq!(to_xlsx("of:=['file:///x.ods'#$Sheet1.A1]"), None);
+        assert_eq!(range_address("$Sheet1.$A$1:.$B$2").unwrap(), "Sheet1!$A$1:$B$2");
+    }
+
+    #[test]
+    fn dates_and_times_become_serials() {
+        assert_eq!(iso_date("1900-03-01"), Some(61.0));
+        assert_eq!(iso_date("2024-01-01T12:00:00"), Some(45292.5));
+        assert_eq!(iso_duration("PT12H30M00S"), Some(0.5208333333333334));
+    }
+}
