@@ -70,3 +70,52 @@ pub fn typed_args(
     };
     args.iter().map(typed).collect()
 }
+
+/// What a csv read with a detected `,` was taken for in a decimal-comma locale, whose Excel
+/// would expect `;` (the io layer says it of a `;` csv itself).
+pub fn csv_reading(doc: &ncsheet::document::Document, given: Option<u8>) -> Option<String> {
+    let ncsheet::io::Origin::Csv(original) = doc.origin() else { return None };
+    let locale = doc.settings().locale;
+    match (given, original.delimiter()) {
+        (None, b',') if !locale.is_canonical() => Some(format!(
+            "read as a ,-separated csv with decimal points, not as {locale}'s ;-separated csv (--delimiter ';' reads it so)"
+        )),
+        _ => None,
+    }
+}
+
+/// Why cells are `#VALUE!` when what they read is text that is a number in another locale
+/// (`0,8` under en-US, `0.8` under et-EE): one line per such cell, naming the input cell and
+/// the spelling meant.
+pub fn foreign_numbers(wb: &ncsheet::workbook::Workbook) -> Vec<String> {
+    use ncsheet::eval::{Value, XlError};
+    let locale = wb.settings().locale;
+    let mut out = Vec::new();
+    for (sheet, _) in wb.sheet_names().iter().enumerate() {
+        let sheet = sheet as ncsheet::formula::ast::SheetId;
+        for (pos, value) in wb.values(sheet) {
+            let Value::Text(text) = &value else { continue };
+            if wb.is_formula(sheet, pos) {
+                continue;
+            }
+            let Some((other, meant)) = locale.number_elsewhere(text) else { continue };
+            let failing: Vec<String> = wb
+                .dependents(sheet, pos)
+                .into_iter()
+                .filter(|&(s, p)| matches!(wb.value(s, p), Value::Error(XlError::Value)))
+                .map(|(s, p)| wb.cell_name(s, p))
+                .collect();
+            if failing.is_empty() {
+                continue;
+            }
+            out.push(format!(
+                "{} {} #VALUE!: {} holds the text '{text}', a number in {other} but only text in {locale}, the locale \
+                 in force; type {meant} there, or choose the locale with --locale",
+                failing.join(", "),
+                if failing.len() == 1 { "is" } else { "are" },
+                wb.cell_name(sheet, pos)
+            ));
+        }
+    }
+    out
+}

@@ -358,6 +358,9 @@ fn open(file: &Path, delimiter: Option<u8>) -> Result<Document> {
     for note in doc.notes() {
         eprintln!("ncsheet: {}: note: {note}", file.display());
     }
+    if let Some(said) = locale::csv_reading(&doc, delimiter) {
+        eprintln!("ncsheet: {}: note: {said}", file.display());
+    }
     Ok(doc)
 }
 
@@ -469,7 +472,9 @@ fn export(args: ExportArgs, delimiter: Option<u8>) -> Result<()> {
         ncsheet::io::Origin::Csv(original) => Some(original.delimiter()),
         _ => None,
     };
-    let delimiter = args.output_delimiter.or(read_with).or(delimiter);
+    // A decimal-comma locale's Excel writes `;` and decimal commas.
+    let by_locale = (!wb.settings().locale.is_canonical()).then_some(b';');
+    let delimiter = args.output_delimiter.or(read_with).or(delimiter).or(by_locale);
     let options = ExportOptions { delimiter, layout: doc.layout(), raw: args.raw };
     let encoded = ncsheet::io::encode_export_with(wb, &args.output, &what, &options)?;
     write_outputs(&[encoded], false, args.force)
@@ -506,6 +511,9 @@ fn report_problems(file: &Path, wb: &Workbook) {
     let context = format!("ncsheet: {}: ", file.display());
     for p in wb.problems() {
         eprintln!("{}", prepend(&context, &report::render(wb, &p)));
+    }
+    for why in locale::foreign_numbers(wb) {
+        eprintln!("{context}{why}");
     }
 }
 

@@ -150,7 +150,9 @@ pub fn print_selections(
         OutputFormat::Csv => {
             for s in selections {
                 let what = Export { sheet: s.sheet, range: Some(s.rect), content: Content::Values };
-                let style = csv::Style { delimiter: b',', formats: shown.formats(wb, s.sheet), raw: shown.raw };
+                // A decimal-comma locale's csv is `;`-separated with decimal commas, as its Excel writes.
+                let delimiter = if wb.settings().locale.is_canonical() { b',' } else { b';' };
+                let style = csv::Style { delimiter, formats: shown.formats(wb, s.sheet), raw: shown.raw };
                 csv::write_with(wb, &what, &style, out)?;
             }
         }

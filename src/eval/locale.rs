@@ -380,22 +380,28 @@ impl Locale {
     /// A date, a time, or both (`12.03.2025`, `12.03.2025 13:30`, `2025-03-12`, `13:30`) in the
     /// locale's date order.
     pub fn read_date(self, text: &str) -> Option<f64> {
+        self.read_date_text(text).map(dates::DateText::serial)
+    }
+
+    /// [`Locale::read_date`]'s date and time apart (DATEVALUE, TIMEVALUE).
+    pub fn read_date_text(self, text: &str) -> Option<dates::DateText> {
         if self.is_canonical() {
-            return dates::parse_date_text(text).map(dates::DateText::serial);
+            return dates::parse_date_text(text);
         }
         if let Some(date) = self.read_day(text) {
-            return Some(date as f64);
+            return Some(dates::DateText { date: Some(date), time: None });
         }
-        if text.contains(':') {
-            if let Some((day, time)) = text.split_once(' ') {
-                let day = self.read_day(day.trim())?;
+        if !text.contains(':') {
+            return None;
+        }
+        if let Some((day, time)) = text.split_once(' ') {
+            if let Some(date) = self.read_day(day.trim()) {
                 let time = dates::parse_date_text(time.trim())?.time?;
-                return Some(day as f64 + time);
+                return Some(dates::DateText { date: Some(date), time: Some(time) });
             }
-            let time = dates::parse_date_text(text)?;
-            return time.date.is_none().then(|| time.serial());
         }
-        None
+        // A time alone reads the same everywhere; a date in another order does not.
+        dates::parse_date_text(text).filter(|t| t.date.is_none())
     }
 
     /// A short date in the locale's order with `.`, `/` or `-` between its parts (and ISO's
@@ -497,10 +503,9 @@ impl Locale {
     /// localized, dates left as their code spells them.
     pub fn localize_formatted(self, code: &str, shown: &str) -> String {
         if is_date_code(code) {
-            shown.to_string()
-        } else {
-            self.localize_shown(shown)
+            return literal_marks(shown);
         }
+        literal_marks(&self.localize_shown(shown))
     }
 
     /// A number format code as this locale's user types it (TEXT's second argument) in the
@@ -521,7 +526,7 @@ impl Locale {
             match c {
                 '"' => {
                     let end = chars[i + 1..].iter().position(|&q| q == '"').map_or(chars.len(), |p| i + 2 + p);
-                    out.extend(&chars[i..end.min(chars.len())]);
+                    out.extend(chars[i..end.min(chars.len())].iter().map(|&c| protected_mark(c)));
                     i = end;
                     continue;
                 }
@@ -532,7 +537,7 @@ impl Locale {
                     continue;
                 }
                 '\\' => {
-                    out.extend(&chars[i..(i + 2).min(chars.len())]);
+                    out.extend(chars[i..(i + 2).min(chars.len())].iter().map(|&c| protected_mark(c)));
                     i += 2;
                     continue;
                 }
@@ -540,8 +545,11 @@ impl Locale {
                 _ if is_group(c) && placeholder(i.checked_sub(1)) && placeholder(Some(i + 1)) => out.push(','),
                 // A group separator after the last placeholder scales by 1000, as `,` does.
                 _ if is_group(c) && c != ' ' && placeholder(i.checked_sub(1)) => out.push(','),
-                '.' if self.group != '.' => out.push('.'),
-                '.' | ',' => out.push(if c == '.' { ',' } else { '.' }),
+                // A mark that is neither the decimal nor the group here is a literal character.
+                '.' | ',' => {
+                    out.push('\\');
+                    out.push(protected_mark(c));
+                }
                 c => out.push(c),
             }
             i += 1;
@@ -580,6 +588,24 @@ impl Locale {
         }
         Some((other, self.localize_shown(&general(n))))
     }
+}
+
+/// Stand-ins for a literal `.` and `,` of a format code (quoted, escaped, or not a mark in the
+/// locale), so that [`Locale::localize_shown`] leaves them alone; [`literal_marks`] puts
+/// them back (TEXT calls it on what a text section showed). Private-use characters: no format code or number holds them.
+const LITERAL_POINT: char = '\u{F8F0}';
+const LITERAL_COMMA: char = '\u{F8F1}';
+
+fn protected_mark(c: char) -> char {
+    match c {
+        '.' => LITERAL_POINT,
+        ',' => LITERAL_COMMA,
+        c => c,
+    }
+}
+
+pub fn literal_marks(shown: &str) -> String {
+    shown.replace(LITERAL_POINT, ".").replace(LITERAL_COMMA, ",")
 }
 
 /// Whether a format code shows a date or time (a d, m, y, h or s outside quotes and `[…]`).
@@ -649,7 +675,9 @@ mod tests {
         let fr = locale("fr-FR");
         assert_eq!(fr.localize_shown("1,234.50 kg."), "1\u{A0}234,50 kg.");
         assert_eq!(fr.canonical_format_code("00,00"), "00.00");
-        assert_eq!(fr.canonical_format_code("# ##0,00\" m.\""), "#,##0.00\" m.\"");
+        let code = fr.canonical_format_code("# ##0,00\" m.\"");
+        assert_eq!(literal_marks(&code), "#,##0.00\" m.\"");
+        assert_eq!(fr.localize_formatted(&code, "1,234.50 m\u{F8F0}"), "1\u{A0}234,50 m.");
         assert_eq!(locale("de-DE").canonical_format_code("#.##0,0"), "#,##0.0");
         assert_eq!(fr.canonical_format_code("dd.mm.yyyy"), "dd.mm.yyyy");
     }

@@ -260,9 +260,10 @@ fn today(ctx: &mut Ctx, _: &[Expr]) -> XlResult<Value> {
 }
 
 /// The date and time written in a text argument (numbers are `#VALUE!`: these read text).
-fn date_text(v: &Value) -> XlResult<dates::DateText> {
+fn date_text(v: &Value, locale: crate::eval::Locale) -> XlResult<dates::DateText> {
     match v {
-        Value::Text(t) => dates::parse_date_text(t.trim()).ok_or(XlError::Value),
+        // In the user's locale: `12.03.2025` is 12 March in et-EE.
+        Value::Text(t) => locale.read_date_text(t.trim()).ok_or(XlError::Value),
         Value::Error(e) => Err(*e),
         _ => Err(XlError::Value),
     }
@@ -270,16 +271,18 @@ fn date_text(v: &Value) -> XlResult<dates::DateText> {
 
 /// DATEVALUE: the date's serial; a time in the text is dropped; text without a date is `#VALUE!`.
 fn datevalue(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let locale = ctx.locale();
     lift(ctx, args, &|v| {
-        let date = date_text(&v[0])?.date.ok_or(XlError::Value)?;
+        let date = date_text(&v[0], locale)?.date.ok_or(XlError::Value)?;
         Ok(Value::Number(date as f64))
     })
 }
 
 /// TIMEVALUE: the time of day (24:00 is 0); text with only a date is 0.
 fn timevalue(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let locale = ctx.locale();
     lift(ctx, args, &|v| {
-        let t = date_text(&v[0])?.time.unwrap_or(0.0);
+        let t = date_text(&v[0], locale)?.time.unwrap_or(0.0);
         Ok(Value::Number(t - t.floor()))
     })
 }

@@ -228,7 +228,7 @@ fn text_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
             },
             other => locale.localize_formatted(&code, &format.format_number(to_number(other)?)?),
         };
-        Ok(Value::from(shown))
+        Ok(Value::from(crate::eval::locale::literal_marks(&shown)))
     })
 }
 

@@ -1,0 +1,284 @@
+//! The user's locale (issue 28): typed values and formulas, shown values and the conversions
+//! between text and numbers as that locale's Excel does them. The oracles: the values Excel
+//! cached in the shipped chamfer workbook, LibreOffice set to de-DE, fr-FR and et-EE (its
+//! shown text, exported as csv), and Excel's documented rules where LibreOffice differs.
+
+mod common;
+
+use std::path::Path;
+use std::process::Command;
+
+use common::cli::{ncsheet, Invocation, Run};
+
+const CHAMFER: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/sheets/chamfer.xlsx");
+const CHAMFER_BAS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/sheets/chamfer.bas");
+
+fn in_dir(dir: &Path, args: &[&str]) -> Run {
+    Invocation { dir: Some(dir), ..Invocation::default() }.run(args)
+}
+
+fn ok(run: Run) -> Run {
+    assert_eq!(run.code, 0, "stdout: {}\nstderr: {}", run.stdout, run.stderr);
+    run
+}
+
+/// The acceptance of issue 28: the chamfer workbook driven entirely in et-EE. Excel cached
+/// XA = 44.262742 (Outer!G6, format 0.000000) for r = 0.8 and D = 40; an Estonian Excel
+/// shows it as 44,262742.
+#[test]
+fn the_chamfer_workbook_driven_in_et_ee() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // The nose radius with a decimal comma, and D as a formula typed with `;` and `,`.
+    let set = ok(in_dir(
+        d,
+        &["set", CHAMFER, "--locale", "et-EE", "Outer!r_=0,8", "Outer!D==ROUND(39,6;0)", "-o", "m1.xlsx"],
+    ));
+    assert!(set.stderr.contains("Outer!B9 = 0,8"), "{}", set.stderr);
+    assert!(!set.stderr.contains("warning"), "{}", set.stderr);
+    let shown = ok(in_dir(d, &["eval", "m1.xlsx", "--locale", "et-EE", "--sheet", "Outer", "G6", "G7", "B9"]));
+    assert_eq!(
+        shown.stdout.split_whitespace().collect::<Vec<_>>(),
+        ["G6", "44,262742", "G7", "-4,600000", "B9", "0,8"]
+    );
+    // The formula is shown as the Estonian user typed it, and the file keeps Excel's syntax.
+    let local = ok(in_dir(d, &["eval", "m1.xlsx", "--locale", "et-EE", "--sheet", "Outer", "--formulas", "B6"]));
+    assert!(local.stdout.contains("=ROUND(39,6;0)"), "{}", local.stdout);
+    let canonical = ok(in_dir(d, &["eval", "m1.xlsx", "--locale", "en-US", "--sheet", "Outer", "--formulas", "B6"]));
+    assert!(canonical.stdout.contains("=ROUND(39.6,0)"), "{}", canonical.stdout);
+    let json = ok(in_dir(d, &["eval", "m1.xlsx", "--locale", "et-EE", "--format", "json", "Outer!G6", "Outer!B9"]));
+    assert!(json.stdout.contains("\"Outer!G6\": 44.2627416") && json.stdout.contains(": 0.8}"), "{}", json.stdout);
+    // The macro gives the NC program the en-US run gives on the shipped workbook.
+    let run = |workbook: &str, locale: &str, out: &str| {
+        ok(in_dir(
+            d,
+            &["run", workbook, CHAMFER_BAS, "--sheet", "Outer", "--dialect", "linuxcnc", "--locale", locale, "-o", out],
+        ))
+    };
+    run("m1.xlsx", "et-EE", "et.ngc");
+    run(CHAMFER, "en-US", "en.ngc");
+    let (et, en) =
+        (std::fs::read_to_string(d.join("et.ngc")).unwrap(), std::fs::read_to_string(d.join("en.ngc")).unwrap());
+    assert_eq!(et, en);
+    assert!(en.contains("X44.263"), "{en}");
+}
+
+/// `0.8` in et-EE and `0,8` in en-US are numbers only in the other locale: refused with the
+/// spelling meant, nothing written (the old behaviour stored text and broke XA, ZA, XB).
+#[test]
+fn a_number_of_another_locale_is_refused_with_the_spelling_meant() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let et = in_dir(d, &["set", CHAMFER, "--locale", "et-EE", "Outer!r_=0.8", "-o", "m.xlsx"]);
+    assert_eq!(et.code, 1, "{}", et.stderr);
+    assert!(et.stderr.contains("Outer!B9") && et.stderr.contains("type 0,8"), "{}", et.stderr);
+    let en = in_dir(d, &["set", CHAMFER, "--locale", "en-US", "Outer!r_=0,8", "-o", "m.xlsx"]);
+    assert_eq!(en.code, 1, "{}", en.stderr);
+    assert!(en.stderr.contains("type 0.8"), "{}", en.stderr);
+    assert!(!d.join("m.xlsx").exists());
+    // Forced text is still text.
+    ok(in_dir(d, &["set", CHAMFER, "--locale", "et-EE", "Outer!r_='0.8", "-o", "t.xlsx"]));
+}
+
+/// A cell that is #VALUE! because it reads text of another locale says so, naming the input.
+#[test]
+fn value_errors_from_text_of_another_locale_name_the_input_cell() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    ok(in_dir(d, &["set", CHAMFER, "--locale", "en-US", "Outer!r_='0,8", "-o", "t.xlsx"]));
+    let shown = ok(in_dir(d, &["eval", "t.xlsx", "--locale", "en-US", "Outer!G6"]));
+    assert!(shown.stdout.contains("#VALUE!"), "{}", shown.stdout);
+    assert!(
+        shown.stderr.contains("Outer!B9 holds the text '0,8'") && shown.stderr.contains("type 0.8"),
+        "{}",
+        shown.stderr
+    );
+}
+
+/// Without --locale the environment decides, as LibreOffice reads it: LC_ALL, then LC_NUMERIC,
+/// then LANG; C and POSIX are en-US.
+#[test]
+fn the_locale_comes_from_the_environment_as_libreoffice_reads_it() {
+    let info = |vars: &[(&str, &str)]| {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_ncsheet"));
+        command.args(["info", CHAMFER]).env_remove("LC_ALL").env_remove("LC_NUMERIC").env_remove("LANG");
+        for (k, v) in vars {
+            command.env(k, v);
+        }
+        let out = command.output().unwrap();
+        let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+        stdout.lines().find(|l| l.starts_with("locale:")).unwrap_or_default().to_string()
+    };
+    assert!(info(&[("LANG", "de_DE.UTF-8")]).starts_with("locale: de-DE"));
+    assert!(info(&[("LANG", "de_DE.UTF-8"), ("LC_NUMERIC", "et_EE.UTF-8")]).starts_with("locale: et-EE"));
+    assert!(info(&[("LANG", "de_DE.UTF-8"), ("LC_ALL", "C")]).starts_with("locale: en-US"));
+    assert!(info(&[]).starts_with("locale: en-US"));
+    let chosen = ok(ncsheet(&["info", CHAMFER, "--locale", "hu-HU"]));
+    assert!(chosen.stdout.contains("locale: hu-HU"), "{}", chosen.stdout);
+    let unknown = ncsheet(&["info", CHAMFER, "--locale", "xx-YY"]);
+    assert_eq!(unknown.code, 2);
+    assert!(unknown.stderr.contains("et-EE"), "{}", unknown.stderr);
+}
+
+/// The probes: coercions, TEXT's codes, FIXED, dates, joining a number, in one row.
+const PROBES: &[&str] = &[
+    r#"=VALUE("0,8")"#,
+    r#"="1,5"*2"#,
+    r#"=--"1 234,5""#,
+    r#"=TEXT(1234.5,"00,00")"#,
+    r##"=TEXT(1234.5,"#.##0,00")"##,
+    r#"=FIXED(1234.567,1)"#,
+    r#"=VALUE("12.03.2025")"#,
+    r#"=1.5&"""#,
+    r#"=VALUE("0.8")"#,
+    r#"=-"0,5""#,
+    r#"="-0,0171"*1000"#,
+    r#"=DATEVALUE("12.03.2025")"#,
+    r#"="3"+"0,25""#,
+    r#"=ROUND("2,345",2)"#,
+    r#"=TEXT(0.256,"0,0%")"#,
+    r#"=TEXT(-1234.5,"0,000")"#,
+];
+
+/// A csv row of the probes, quoted for a `,`-separated file.
+fn probe_csv() -> String {
+    let fields: Vec<String> = PROBES.iter().map(|p| format!("\"{}\"", p.replace('"', "\"\""))).collect();
+    format!("{}\n", fields.join(","))
+}
+
+/// A LibreOffice profile in `locale` that recalculates every file it loads.
+fn libreoffice_profile(dir: &Path, locale: &str) -> String {
+    let user = dir.join("user");
+    std::fs::create_dir_all(&user).unwrap();
+    let settings = format!(
+        r#"<?xml version="1.0" encoding="UTF-8"?>
+<oor:items xmlns:oor="http://openoffice.org/2001/registry" xmlns:xs="http://www.w3.org/2001/XMLSchema" xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance">
+<item oor:path="/org.openoffice.Office.Calc/Formula/Load"><prop oor:name="OOXMLRecalcMode" oor:op="fuse"><value>0</value></prop></item>
+<item oor:path="/org.openoffice.Office.Calc/Formula/Load"><prop oor:name="ODFRecalcMode" oor:op="fuse"><value>0</value></prop></item>
+<item oor:path="/org.openoffice.Setup/L10N"><prop oor:name="ooSetupSystemLocale" oor:op="fuse"><value>{locale}</value></prop></item>
+<item oor:path="/org.openoffice.Setup/L10N"><prop oor:name="ooLocale" oor:op="fuse"><value>{locale}</value></prop></item>
+</oor:items>
+"#
+    );
+    std::fs::write(user.join("registrymodifications.xcu"), settings).unwrap();
+    format!("-env:UserInstallation=file://{}", dir.display())
+}
+
+/// The first row of a `;`-separated csv, fields unquoted.
+fn semicolon_fields(text: &str) -> Vec<String> {
+    let mut reader = csv::ReaderBuilder::new().has_headers(false).delimiter(b';').from_reader(text.as_bytes());
+    let record = reader.records().next().expect("a row").expect("a csv row");
+    record.iter().map(str::to_string).collect()
+}
+
+/// LibreOffice's name for #VALUE! in a csv it writes from an invalid argument.
+fn as_excel_error(text: &str) -> &str {
+    match text {
+        "Err:502" => "#VALUE!",
+        other => other,
+    }
+}
+
+/// LibreOffice set to de-DE, fr-FR and et-EE computes the probes and exports the shown text
+/// as a `;` csv; `ncsheet export --locale` of the same workbook writes the same fields.
+#[test]
+fn libreoffice_in_the_locale_is_the_oracle_for_coercions_text_codes_and_dates() {
+    let Some(soffice) = common::soffice() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("probe.csv"), probe_csv()).unwrap();
+    ok(in_dir(d, &["set", "probe.csv", "--locale", "en-US", "A2=1", "-o", "probe.xlsx"]));
+    for locale in ["de-DE", "fr-FR", "et-EE"] {
+        let out = d.join(format!("lo-{locale}"));
+        let profile = libreoffice_profile(&d.join(format!("profile-{locale}")), locale);
+        let status = Command::new(&soffice)
+            .arg(&profile)
+            .args([
+                "--headless",
+                "--norestore",
+                "--convert-to",
+                "csv:Text - txt - csv (StarCalc):59,34,76,1,,0,false,true,true",
+            ])
+            .arg("--outdir")
+            .arg(&out)
+            .arg(d.join("probe.xlsx"))
+            .output()
+            .expect("soffice runs");
+        assert!(status.status.success(), "{}", String::from_utf8_lossy(&status.stderr));
+        let theirs = semicolon_fields(&std::fs::read_to_string(out.join("probe.csv")).unwrap());
+        let ours_file = format!("ours-{locale}.csv");
+        ok(in_dir(d, &["export", "probe.xlsx", "--locale", locale, "-o", &ours_file]));
+        let ours = semicolon_fields(&std::fs::read_to_string(d.join(&ours_file)).unwrap());
+        for (i, probe) in PROBES.iter().enumerate() {
+            // ncsheet's export guards text a spreadsheet could run (`-1234,500`) with a `'`.
+            let ours = ours[i].strip_prefix('\'').unwrap_or(&ours[i]);
+            assert_eq!(ours, as_excel_error(&theirs[i]), "{locale}: {probe}");
+        }
+    }
+}
+
+/// NUMBERVALUE's separators default to the locale's in Excel ("If the Decimal_separator and
+/// Group_separator arguments are not specified, separators from the current locale are
+/// used", Excel's NUMBERVALUE page); LibreOffice uses `.` and `,` there, so it is no oracle.
+#[test]
+fn numbervalue_defaults_to_the_locale_separators() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("n.csv"), "\"=NUMBERVALUE(\"\"1.234,5\"\")\",\"=NUMBERVALUE(\"\"1,234.5\"\")\"\n").unwrap();
+    let de = ok(in_dir(d, &["eval", "n.csv", "--delimiter", ",", "--locale", "de-DE", "--format", "json"]));
+    assert_eq!(de.stdout.trim(), r##"{"Sheet1!A1": 1234.5, "Sheet1!B1": "#VALUE!"}"##);
+    let en = ok(in_dir(d, &["eval", "n.csv", "--delimiter", ",", "--locale", "en-US", "--format", "json"]));
+    assert_eq!(en.stdout.trim(), r##"{"Sheet1!A1": "#VALUE!", "Sheet1!B1": 1234.5}"##);
+}
+
+/// A workbook whose formulas turn comma-decimal text into numbers (as a French Excel's
+/// engineering workbooks do with TEXTSPLIT(…)*1000 and VALUE) computes as in the comma
+/// locale under --locale fr-FR, and as in en-US without it: LibreOffice in fr-FR gives
+/// -17,1 and -0,0171 for these (see the probes above), en-US Excel #VALUE!.
+#[test]
+fn comma_decimal_text_computes_as_in_the_comma_locale() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let csv = "\"'-0,0171\",\"=A1*1000\",\"=VALUE(A1)\",\"=SUM(--TEXTSPLIT(\"\"1,5 2,5\"\",\"\" \"\"))\"\n";
+    std::fs::write(d.join("fr.csv"), csv).unwrap();
+    ok(in_dir(d, &["set", "fr.csv", "--delimiter", ",", "--locale", "en-US", "E1=1", "-o", "fr.xlsx"]));
+    let fr = ok(in_dir(d, &["eval", "fr.xlsx", "--locale", "fr-FR", "--format", "json", "A1:D1"]));
+    assert_eq!(
+        fr.stdout.trim(),
+        r#"{"Sheet1!A1": "-0,0171", "Sheet1!B1": -17.1, "Sheet1!C1": -0.0171, "Sheet1!D1": 4}"#
+    );
+    let en = ok(in_dir(d, &["eval", "fr.xlsx", "--locale", "en-US", "--format", "json", "A1:D1"]));
+    assert_eq!(
+        en.stdout.trim(),
+        r##"{"Sheet1!A1": "-0,0171", "Sheet1!B1": "#VALUE!", "Sheet1!C1": "#VALUE!", "Sheet1!D1": "#VALUE!"}"##
+    );
+    // Shown in the locale: a decimal comma and the no-break space French Excel groups with.
+    let shown = ok(in_dir(d, &["eval", "fr.xlsx", "--locale", "fr-FR", "B1", "C1"]));
+    assert!(shown.stdout.contains("-17,1") && shown.stdout.contains("-0,0171"), "{}", shown.stdout);
+}
+
+/// The repl reads and shows in the locale: `0,5` and `=ROUND(A1*3;1)` in de-DE.
+#[test]
+fn the_repl_reads_and_shows_in_the_locale() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("r.csv"), "1,2\n").unwrap();
+    let run = Invocation { dir: Some(d), stdin: "A1=0,5\nB1==ROUND(A1*3,33;1)\n", ..Invocation::default() }.run(&[
+        "repl",
+        "r.csv",
+        "--delimiter",
+        ",",
+        "--locale",
+        "de-DE",
+    ]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert_eq!(run.stdout.lines().collect::<Vec<_>>(), ["0,5", "1,7"], "{}", run.stderr);
+}
+
+/// A number option typed with a decimal comma gets the spelling it wants.
+#[test]
+fn a_number_option_with_a_decimal_comma_gets_a_hint() {
+    let run = ncsheet(&["cam", "--tol", "0,01", "x.csv"]);
+    assert_eq!(run.code, 2);
+    assert!(run.stderr.contains("hint:") && run.stderr.contains("0.01"), "{}", run.stderr);
+}
