@@ -283,7 +283,7 @@ fn writers_give_the_table_the_program_and_the_drawing() {
     assert_eq!(lines[0], CSV_HEADER);
     assert_eq!(lines.len(), turret.n_arcs() + 1);
     assert!(lines[1].starts_with("114.000000,0.000000,"), "{}", lines[1]);
-    let nc = dialect::by_name("iso").unwrap().render(&cam_program(turret, &CamNcOptions::default())).unwrap();
+    let nc = dialect::by_name("iso").unwrap().render(&cam_program(turret, &CamNcOptions::default()).unwrap()).unwrap();
     assert!(nc.contains("G21 G17 G90"));
     let n_arc_blocks = nc.lines().filter(|l| l.contains(" G3 ") || l.contains(" G2 ")).count();
     assert_eq!(n_arc_blocks, turret.n_arcs());

@@ -13,7 +13,7 @@ use ncsheet::nc::dialect;
 
 /// The program as LinuxCNC reads it (the `iso` dialect writes a Fanuc O-number it rejects).
 fn nc_program(cam: &CamFit, options: &CamNcOptions) -> String {
-    dialect::by_name("linuxcnc").unwrap().render(&cam_program(cam, options)).unwrap()
+    dialect::by_name("linuxcnc").unwrap().render(&cam_program(cam, options).unwrap()).unwrap()
 }
 
 const SHEET: &str = include_str!("../sheets/cam-turret.csv");

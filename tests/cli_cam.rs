@@ -276,3 +276,144 @@ fn every_listed_dialect_writes_and_bad_feeds_are_refused() {
         assert!(err.contains("block") && err.contains("feed"), "{feed}: {err}");
     }
 }
+
+/// The design sheet's profile exactly (sheets/cam-turret.csv): for a polar angle in degrees,
+/// the radius of the disc's segment covering it, or `None` in a gap of the partial sheet.
+fn profile_radius(disc: &str, phi: f64) -> Option<f64> {
+    let text = std::fs::read_to_string(sheet()).unwrap();
+    let phi = phi.rem_euclid(360.0);
+    for line in text.lines().skip(1) {
+        // The operation may hold a quoted comma; the last six fields are what counts.
+        let f: Vec<&str> = line.rsplitn(7, ',').collect();
+        let (r1, r0, to, from, kind, d) = (f[0], f[1], f[2], f[3], f[4], f[5]);
+        let n = |s: &str| s.parse::<f64>().unwrap();
+        if d == disc && (n(from)..=n(to)).contains(&phi) {
+            let kind = if kind == "circle" { "arch" } else { kind };
+            return Some(spiral(kind, [n(r0), n(from), n(r1), n(to)])(phi));
+        }
+    }
+    None
+}
+
+/// Whether a cutter of `radius` centred at `c` reaches more than `tol` inside the profile:
+/// points of its edge whose polar radius is below the profile's at their angle.
+fn cutter_inside(disc: &str, c: (f64, f64), radius: f64, tol: f64) -> Option<f64> {
+    (0..360).find_map(|k| {
+        let a = (k as f64).to_radians();
+        let p = (c.0 + radius * a.cos(), c.1 + radius * a.sin());
+        let r = profile_radius(disc, p.1.atan2(p.0).to_degrees())?;
+        let depth = r - p.0.hypot(p.1);
+        (depth > tol).then_some(depth)
+    })
+}
+
+/// Issue 32: with a tool table, LinuxCNC's rs274 accepts the cam program for cutters of 2 to
+/// 25 mm, with a straight or an arc lead, on both discs of the shipped sheet, and the cutter
+/// centre rs274 computes with compensation never reaches inside the sheet's own profile on
+/// the way in: from the clearance height down, along the lead, onto the profile.
+#[test]
+fn rs274_with_a_tool_table_accepts_cam_programs_for_cutters_of_2_to_25_mm() {
+    if !rs274::available() {
+        eprintln!("skipped: rs274 is not installed");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    for disc in ["R", "III"] {
+        for diameter in [2.0, 5.0, 10.0, 16.0, 25.0] {
+            for lead in ["line", "arc"] {
+                let program = dir.path().join(format!("cam-{disc}-{diameter}-{lead}.ngc"));
+                let d = diameter.to_string();
+                let out = ncsheet(&[
+                    "cam",
+                    &sheet(),
+                    "--disc",
+                    disc,
+                    "--tol",
+                    "0.01",
+                    "--partial",
+                    "--format",
+                    "nc",
+                    "--dialect",
+                    "linuxcnc",
+                    "--cutter",
+                    "right",
+                    "--cutter-diameter",
+                    &d,
+                    "--lead-kind",
+                    lead,
+                    "-o",
+                    program.to_str().unwrap(),
+                ]);
+                assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+                // A stand-alone rs274 reads its tool table in inches.
+                let table = dir.path().join(format!("tools-{diameter}.tbl"));
+                std::fs::write(&table, format!("T1 P1 Z0 D{:.9}\n", diameter / 25.4)).unwrap();
+                let canon = rs274::canon_with_tools(&program, Some(&table))
+                    .unwrap_or_else(|e| panic!("rs274 refuses {disc} D{diameter} {lead}: {e}"));
+                // The approach: every move until the first cut along the profile's first arc
+                // (the lead arc, if any, is the first ARC_FEED; the profile's comes after).
+                let moves = rs274::moves_of(&canon);
+                let arcs_before_profile = if lead == "arc" { 1 } else { 0 };
+                let mut arcs_seen = 0;
+                let mut from: Option<(f64, f64)> = None;
+                for m in &moves {
+                    let (to, z) = match *m {
+                        Move::Traverse { x, y, z } | Move::Feed { x, y, z } => ((x, y), z),
+                        Move::Arc { first_end, second_end, axis_end, .. } => {
+                            arcs_seen += 1;
+                            ((first_end, second_end), axis_end)
+                        }
+                    };
+                    if arcs_seen > arcs_before_profile {
+                        break;
+                    }
+                    // Above the disc's top (Z0) the cutter touches nothing.
+                    if z >= 0.0 {
+                        from = Some(to);
+                        continue;
+                    }
+                    // Straight moves sampled along their length (the lead arc at its end).
+                    let start = from.unwrap_or(to);
+                    for k in 0..=50 {
+                        let t = k as f64 / 50.0;
+                        let c = (start.0 + (to.0 - start.0) * t, start.1 + (to.1 - start.1) * t);
+                        if let Some(depth) = cutter_inside(disc, c, diameter / 2.0, 0.02) {
+                            panic!(
+                                "disc {disc}, D{diameter} {lead}: the cutter at {c:?} is {depth} mm inside the profile"
+                            );
+                        }
+                    }
+                    from = Some(to);
+                }
+            }
+        }
+    }
+}
+
+/// Issue 32: `nc check --tool-table` refuses what LinuxCNC refuses, a compensation entry move
+/// not longer than the tool radius, and passes what it accepts; the radius is the table's.
+#[test]
+fn nc_check_with_a_tool_table_checks_the_compensation_entry_move() {
+    let dir = tempfile::tempdir().unwrap();
+    let program = dir.path().join("entry.ngc");
+    // The entry move (G42 then G1 X114) is 5 mm long.
+    std::fs::write(
+        &program,
+        "G21 G17 G90 G40\nT1 M6 G43\nS1000 M3\nG0 Z5\nG0 X119 Y0\nG1 Z-12 F100\nG42 D1\nG1 X114 Y0 F200\n\
+         G3 X-114 Y0 I-114 J0\nG40\nG1 X-119\nG0 Z5\nM5\nM2\n",
+    )
+    .unwrap();
+    let p = program.to_str().unwrap();
+    for (diameter, refused) in [(8.0, false), (12.0, true), (16.0, true)] {
+        let table = dir.path().join("t.tbl");
+        std::fs::write(&table, format!("T1 P1 Z0 D{:.9} ;{diameter} mm\n", diameter / 25.4)).unwrap();
+        let run = ncsheet(&["nc", "check", p, "--tool-table", table.to_str().unwrap(), "--table-units", "inch"]);
+        let stdout = String::from_utf8_lossy(&run.stdout);
+        assert_eq!(!run.status.success(), refused, "D{diameter}: {stdout}{}", String::from_utf8_lossy(&run.stderr));
+        assert_eq!(stdout.contains("entry move"), refused, "{stdout}");
+        if rs274::available() {
+            let said = rs274::canon_with_tools(&program, Some(&table));
+            assert_eq!(said.is_err(), refused, "rs274 with D{diameter}: {said:?}");
+        }
+    }
+}

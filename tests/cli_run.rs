@@ -78,7 +78,11 @@ fn debug_print_and_msgbox_go_to_stderr() {
     let out = ncsheet(&["run", &book, &bas]);
     assert!(out.status.success());
     assert_eq!(String::from_utf8_lossy(&out.stdout), "");
-    assert_eq!(String::from_utf8_lossy(&out.stderr), "x= 2 \ndone\n");
+    // What the macro printed, then that there is no program (issue 32: never silently empty).
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "x= 2 \ndone\nno NC program: the macro emitted no NC block (no move)\n"
+    );
 }
 
 #[test]

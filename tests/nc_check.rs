@@ -39,7 +39,12 @@ const HEADER: &str = "G21 G17 G90 G40\nT1 M6 G43\nS1000 M3\nG94\n";
 fn a_clean_program_exits_0_and_says_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let program = format!("{HEADER}G0 X0 Y0 Z5\nG1 Z-1 F100\nG1 X10\nG3 X0 Y10 I-10 J0\nG0 Z5\nM5\nM30\n");
-    let run = check(dir.path(), "clean.nc", &program, &["--min-z", "-1", "--stock", "-20,-20,-10,20,20,0"]);
+    let run = check(
+        dir.path(),
+        "clean.nc",
+        &program,
+        &["--min-z", "-1", "--stock", "-20,-20,-10,20,20,0", "--dialect", "iso"],
+    );
     assert_eq!(run.code, 0, "{}{}", run.stdout, run.stderr);
     assert!(run.stdout.is_empty() && run.stderr.is_empty(), "{}{}", run.stdout, run.stderr);
 }
@@ -48,8 +53,9 @@ fn a_clean_program_exits_0_and_says_nothing() {
 fn a_cut_without_feed_mode_feed_spindle_or_tool_is_found_at_its_line() {
     let dir = tempfile::tempdir().unwrap();
     // Line 3 cuts with none of them set; line 7 cuts again after the spindle stopped (M5).
-    let program = "G21 G17 G90\nG0 X0 Y0 Z5\nG1 Z-1\nG1 X10 F100\nM5\nG0 Z5\nG1 Z-1\nM30\n";
-    let run = check(dir.path(), "bare.nc", program, &[]);
+    // On a lathe: a mill powers on in G94 (issue 32), a lathe's feed mode is its set-up's.
+    let program = "G21 G18 G90\nG0 X0 Y0 Z5\nG1 Z-1\nG1 X10 F100\nM5\nG0 Z5\nG1 Z-1\nM30\n";
+    let run = check(dir.path(), "bare.nc", program, &["--dialect", "linuxcnc", "--machine", "lathe"]);
     assert_eq!(run.code, 1, "{}", run.stderr);
     let found = findings(&run);
     assert!(has(&found, 3, "no feed mode"), "{found:?}");

@@ -101,9 +101,28 @@ fn what_a_control_cannot_read_is_an_error_naming_the_block() {
     let nc31 = dialect::by_name("nc31").unwrap();
     let mut with_arc = lathe_program(true);
     with_arc.blocks[3] = Block::Spindle(Spindle::Rpm { rpm: 800.0, direction: SpindleDirection::Clockwise });
-    let err = nc31.render(&with_arc).unwrap_err();
-    assert_eq!(err.block, Some(8));
-    assert!(err.to_string().contains("circular interpolation"), "{err}");
+    // NC31 has no circular interpolation: the arc (centre Z-2 at radius 20, R2) is written
+    // as lines, every written end on its circle and every chord within the default 0.01 mm.
+    let text = nc31.render(&with_arc).unwrap();
+    let points: Vec<(f64, f64)> = text
+        .lines()
+        .filter(|l| !l.ends_with(" E"))
+        .filter_map(|l| {
+            let word = |a: char| l.split_whitespace().find_map(|w| w.strip_prefix(a)?.parse::<f64>().ok());
+            Some((word('Z')?, word('X')? / 2.0))
+        })
+        .collect();
+    let from = points.iter().position(|p| *p == (0.0, 20.0)).expect("the arc's start");
+    let to = points.iter().position(|p| *p == (-2.0, 22.0)).expect("the arc's end");
+    assert!(to > from + 2, "{text}");
+    let off = |p: &(f64, f64)| (p.0 + 2.0).hypot(p.1 - 20.0) - 2.0;
+    for p in &points[from..=to] {
+        assert!(off(p).abs() < 0.001, "{p:?} is off the arc by {}: {text}", off(p));
+    }
+    for w in points[from..=to].windows(2) {
+        let mid = ((w[0].0 + w[1].0) / 2.0, (w[0].1 + w[1].1) / 2.0);
+        assert!(-off(&mid) <= 0.01, "a chord {} mm inside the arc: {text}", -off(&mid));
+    }
     assert!(dialect::by_name("heidenhain").unwrap().render(&lathe_program(false)).is_err());
     assert!(nc31.render(&mill_program()).is_err());
     let mut p = lathe_program(false);

@@ -9,7 +9,9 @@ use clap::{Args, ValueEnum};
 use ncsheet::geometry::cam::{
     by_disc, fit_cam, fit_piece, CamFit, CamOptions, FittedSegment, Piece, PieceKind, Segment,
 };
-use ncsheet::nc::cam::{cam_program, fit_tolerance, CamNcOptions, Compensation};
+use ncsheet::nc::cam::{
+    cam_program, fit_tolerance, CamNcOptions, Compensation, LeadKind, DEFAULT_CUTTER_DIAMETER, LEAD_BEYOND_RADIUS,
+};
 use ncsheet::nc::cam_sheet::{arcs_csv, parse_sheet, svg_drawing, SvgOptions};
 use ncsheet::nc::{dialect, Machine};
 
@@ -25,6 +27,15 @@ pub enum CamFormat {
     Nc,
     /// A drawing: the curve, the numbered arcs, their centres and the deviation magnified
     Svg,
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum LeadArg {
+    /// A straight move perpendicular to the profile
+    #[default]
+    Line,
+    /// A straight move, then a quarter arc tangent to the profile
+    Arc,
 }
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
@@ -60,6 +71,30 @@ pub struct CamOutput {
     /// Spindle speed in 1/min for the NC program (M3)
     #[arg(long, default_value_t = 1000.0)]
     pub spindle: f64,
+    /// The cutter's diameter, mm: the lead-in must be longer than its radius and the plunge
+    /// clear of the profile by it
+    #[arg(long, value_name = "MM", default_value_t = DEFAULT_CUTTER_DIAMETER)]
+    pub cutter_diameter: f64,
+    /// Cutting depth below the disc's top (Z0), mm
+    #[arg(long, value_name = "MM", default_value_t = 12.0)]
+    pub depth: f64,
+    /// Clearance height for rapids over the part, the start and the end, mm above Z0
+    #[arg(long, value_name = "MM", default_value_t = 5.0)]
+    pub clearance: f64,
+    /// Retract height: the rapid down ends here and the plunge feed starts, mm above Z0
+    #[arg(long, value_name = "MM", default_value_t = 2.0)]
+    pub retract: f64,
+    /// Lead-in and lead-out length, mm, from the cutter's side of the profile (default: the
+    /// cutter's radius + 2 mm; with --cutter left/right it must be longer than the radius)
+    #[arg(long, value_name = "MM")]
+    pub lead: Option<f64>,
+    /// The lead's shape: a line perpendicular to the profile, or a line then a quarter arc of
+    /// radius --lead tangent to it
+    #[arg(long, value_enum, default_value_t)]
+    pub lead_kind: LeadArg,
+    /// Plunge feed in mm/min, from the retract height to the depth
+    #[arg(long, default_value_t = 100.0)]
+    pub plunge_feed: f64,
     /// Write here instead of standard output
     #[arg(short, long, value_name = "OUT")]
     pub output: Option<PathBuf>,
@@ -206,11 +241,21 @@ fn write_fit(fit: &CamFit, out: &CamOutput) -> Result<()> {
             let options = CamNcOptions {
                 compensation,
                 feed: out.feed,
+                plunge_feed: out.plunge_feed,
                 tool: out.tool,
                 spindle: out.spindle,
-                ..CamNcOptions::default()
+                z_safe: out.clearance,
+                z_retract: out.retract,
+                z_cut: -out.depth,
+                lead: out.lead.unwrap_or(out.cutter_diameter / 2.0 + LEAD_BEYOND_RADIUS),
+                lead_kind: match out.lead_kind {
+                    LeadArg::Line => LeadKind::Line,
+                    LeadArg::Arc => LeadKind::Arc,
+                },
+                cutter_diameter: out.cutter_diameter,
             };
-            d.render(&cam_program(fit, &options)).map_err(|e| Error::User(e.to_string()))?
+            let program = cam_program(fit, &options).map_err(Error::User)?;
+            d.render(&program).map_err(|e| Error::User(e.to_string()))?
         }
     };
     emit(&text, out.output.as_deref(), out.force)

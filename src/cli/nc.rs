@@ -12,7 +12,7 @@ use clap::{Args, Subcommand};
 use ncsheet::nc::dda::{self, DdaRun};
 use ncsheet::nc::dialect;
 use ncsheet::nc::motion::{self, BlockTime, Rates};
-use ncsheet::nc::read;
+use ncsheet::nc::read::{self, detect};
 use ncsheet::nc::{ArcDirection, Machine, Program};
 
 use super::report::{Error, Result};
@@ -48,22 +48,39 @@ impl ValueEnum for ReadDialect {
     }
 }
 
-/// Reads the program at `path` in `dialect`: the model, each block's source line, and the
-/// file's name for messages (errors name the file, line and column).
+/// Reads the program at `path` in `dialect`, or in the dialect its header, extension or words
+/// tell when none is given (saying on stderr which and why): the model, each block's source
+/// line, the file's name for messages (errors name the file, line and column, and the
+/// dialects that would read it) and the dialect read.
 pub(super) fn read_program(
     path: &Path,
-    dialect: ReadDialect,
+    dialect: Option<ReadDialect>,
     machine: Option<MachineArg>,
-) -> Result<(Program, Vec<usize>, String)> {
+) -> Result<(Program, Vec<usize>, String, &'static str)> {
     let name = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| Error::User(format!("{name}: {e}")))?;
     let machine = machine.map(|m| match m {
         MachineArg::Lathe => Machine::Lathe,
         MachineArg::Mill => Machine::Mill,
     });
-    let (program, lines) =
-        read::read_dialect(&text, dialect.0, machine).map_err(|e| Error::User(format!("{name}: {e}")))?;
-    Ok((program, lines, name))
+    let dialect = match dialect {
+        Some(d) => d.0,
+        None => {
+            let extension = path.extension().and_then(|e| e.to_str());
+            let guess = detect::guess(&text, extension);
+            eprintln!("{name}: read as {} ({}); --dialect says otherwise", guess.dialect, guess.reason);
+            guess.dialect
+        }
+    };
+    let (program, lines) = read::read_dialect(&text, dialect, machine).map_err(|e| {
+        let others = detect::readers_accepting(&text, dialect, machine);
+        let hint = match others.first() {
+            Some(other) => format!(" (read as {dialect}; it reads as {}: --dialect {other})", others.join(", ")),
+            None => format!(" (read as {dialect}; no other dialect reads it either)"),
+        };
+        Error::User(format!("{name}: {e}{hint}"))
+    })?;
+    Ok((program, lines, name, dialect))
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -85,8 +102,10 @@ pub struct TimeArgs {
     /// Rapid traverse rate, mm/min
     #[arg(long)]
     pub rapid: f64,
-    #[arg(long, value_enum, default_value = "iso")]
-    pub dialect: ReadDialect,
+    /// The control the program is written for; default: what its header, extension
+    /// (.ngc, .mpf, .h, …) or words tell, else iso
+    #[arg(long, value_enum)]
+    pub dialect: Option<ReadDialect>,
     /// What the program is for; default: a lathe when G18 comes before the first move
     #[arg(long, value_enum)]
     pub machine: Option<MachineArg>,
@@ -227,7 +246,7 @@ fn render(run: &DdaRun, letters: &[char]) -> String {
 }
 
 fn cycle_time(args: TimeArgs) -> Result<()> {
-    let (program, lines, name) = read_program(&args.program, args.dialect, args.machine)?;
+    let (program, lines, name, _) = read_program(&args.program, args.dialect, args.machine)?;
     let times = motion::program_times(&program, Rates { accel: args.accel, rapid: args.rapid }).map_err(|e| {
         let at = e.block.and_then(|b| lines.get(b - 1)).map(|l| format!(", line {l}")).unwrap_or_default();
         Error::User(format!("{name}{at}: {}", e.message))

@@ -4,7 +4,7 @@
 use std::io::{self, Write};
 use std::path::PathBuf;
 
-use clap::Args;
+use clap::{Args, ValueEnum};
 use ncsheet::nc::check::{self, CheckOptions, ARC_TOLERANCE_MM};
 
 use super::nc::{read_program, MachineArg, ReadDialect};
@@ -18,8 +18,10 @@ use super::report::{Error, Result};
 pub struct CheckArgs {
     /// The NC program (text as the dialect writes it)
     pub program: PathBuf,
-    #[arg(long, value_enum, default_value = "iso")]
-    pub dialect: ReadDialect,
+    /// The control the program is written for; default: what its header, extension
+    /// (.ngc, .mpf, .h, …) or words tell, else iso
+    #[arg(long, value_enum)]
+    pub dialect: Option<ReadDialect>,
     /// What the program is for; default: a lathe when G18 comes before the first move
     #[arg(long, value_enum)]
     pub machine: Option<MachineArg>,
@@ -30,10 +32,23 @@ pub struct CheckArgs {
     /// there): no rapid may pass through it, no cut go below its bottom
     #[arg(long, value_name = "X0,Y0,Z0,X1,Y1,Z1", allow_hyphen_values = true)]
     pub stock: Option<String>,
+    /// The control's tool table (LinuxCNC .tbl: `T1 P1 D10 Z50`): cutter compensation entry
+    /// moves are checked against each tool's radius as LinuxCNC checks them
+    #[arg(long, value_name = "FILE.tbl")]
+    pub tool_table: Option<PathBuf>,
+    /// The units of the tool table's diameters (a stand-alone rs274 reads its table in inches)
+    #[arg(long, value_enum, default_value_t = TableUnits::Mm)]
+    pub table_units: TableUnits,
     /// How far an arc's end may lie off the circle through its start, mm (default 0.002, what
     /// ncsheet's writers allow; LinuxCNC 2.9 refuses past 0.0283 mm and 0.1 % of the radius)
     #[arg(long, default_value_t = ARC_TOLERANCE_MM)]
     pub tolerance: f64,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum TableUnits {
+    Mm,
+    Inch,
 }
 
 pub fn run(args: CheckArgs) -> Result<()> {
@@ -44,8 +59,27 @@ pub fn run(args: CheckArgs) -> Result<()> {
         return Err(Error::Usage(format!("--min-z is a length in mm, not {z}")));
     }
     let stock = args.stock.as_deref().map(parse_stock).transpose()?;
-    let (program, lines, name) = read_program(&args.program, args.dialect, args.machine)?;
-    let options = CheckOptions { tolerance: args.tolerance, min_z: args.min_z, stock };
+    let (program, lines, name, dialect) = read_program(&args.program, args.dialect, args.machine)?;
+    let power_on_feed_mode = check::power_on_feed_mode(dialect, program.machine);
+    let tool_diameters = match &args.tool_table {
+        Some(path) => {
+            let text = std::fs::read_to_string(path).map_err(|e| Error::User(format!("{}: {e}", path.display())))?;
+            let scale = if args.table_units == TableUnits::Inch { 25.4 } else { 1.0 };
+            check::read_tool_table(&text)
+                .map_err(|e| Error::User(format!("{}: {e}", path.display())))?
+                .into_iter()
+                .map(|(t, d)| (t, d * scale))
+                .collect()
+        }
+        None => Vec::new(),
+    };
+    let options = CheckOptions {
+        tolerance: args.tolerance,
+        min_z: args.min_z,
+        stock,
+        tool_diameters: &tool_diameters,
+        power_on_feed_mode,
+    };
     let line_of = |block: usize| lines.get(block - 1).copied().unwrap_or(0);
     let findings = check::check(&program, &options).map_err(|e| {
         let at = e.block.map(|b| format!(":{}", line_of(b))).unwrap_or_default();

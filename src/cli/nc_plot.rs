@@ -31,8 +31,10 @@ pub struct PlotArgs {
     /// The SVG file to write (never the program itself)
     #[arg(short, long, value_name = "OUT.svg")]
     pub output: PathBuf,
-    #[arg(long, value_enum, default_value = "iso")]
-    pub dialect: ReadDialect,
+    /// The control the program is written for; default: what its header, extension
+    /// (.ngc, .mpf, .h, …) or words tell, else iso
+    #[arg(long, value_enum)]
+    pub dialect: Option<ReadDialect>,
     /// What the program is for; default: a lathe when G18 comes before the first move
     #[arg(long, value_enum)]
     pub machine: Option<MachineArg>,
@@ -46,7 +48,7 @@ pub struct PlotArgs {
 
 pub fn run(args: PlotArgs) -> Result<()> {
     super::refuse_overwriting_inputs(&[&args.program], &[&args.output], "write the drawing to a new file")?;
-    let (program, lines, name) = read_program(&args.program, args.dialect, args.machine)?;
+    let (program, lines, name, _) = read_program(&args.program, args.dialect, args.machine)?;
     let plane = match args.plane {
         Some(PlaneArg::Xy) => Plane::Xy,
         Some(PlaneArg::Xz) => Plane::Xz,

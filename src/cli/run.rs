@@ -49,6 +49,10 @@ pub struct RunArgs {
     #[arg(long, default_value = "iso", ignore_case = true,
           value_parser = clap::builder::PossibleValuesParser::new(dialect::names()))]
     pub dialect: String,
+    /// How far (mm) the lines may lie from an arc on a control without circular
+    /// interpolation (nc31), which gets each arc as lines (default 0.01)
+    #[arg(long, value_name = "MM", value_parser = parse_arc_tol)]
+    pub arc_tol: Option<f64>,
     /// The machine the program is for, until the macro sets Nc.Machine
     #[arg(long, value_enum, default_value_t)]
     pub machine: MachineKind,
@@ -116,6 +120,13 @@ fn parse_max_array_items(text: &str) -> std::result::Result<usize, String> {
     match text.parse::<usize>() {
         Ok(n @ 1..=MAX_ARRAY_ITEMS_LIMIT) => Ok(n),
         _ => Err(format!("'{text}' is not a number of items from 1 to {MAX_ARRAY_ITEMS_LIMIT}")),
+    }
+}
+
+fn parse_arc_tol(text: &str) -> std::result::Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        _ => Err(format!("'{text}' is not a tolerance in mm above 0")),
     }
 }
 
@@ -196,6 +207,8 @@ fn run_on_this_thread(args: RunArgs, dialect_name: &'static str, delimiter: Opti
     let mut files = Vec::new();
     let mut program = None;
     let mut summary = None;
+    let mut out = out;
+    out.program.arc_tolerance = args.arc_tol;
     if emits_program(&out.program) {
         let d = dialect::by_name(dialect_name).expect("dialect checked before");
         let text = d.render(&out.program).map_err(|e| Error::User(format!("{}: {e}", file.display())))?;

@@ -17,16 +17,37 @@ pub struct CamNcOptions {
     pub plunge_feed: f64,
     /// Spindle speed, 1/min (M3).
     pub spindle: f64,
-    /// Clearance height above the disc.
+    /// Clearance height above the disc: rapids over the part, the start and the end.
     pub z_safe: f64,
+    /// Retract height: the rapid down ends here, the plunge at `plunge_feed` starts here.
+    pub z_retract: f64,
     /// Cutting depth (negative: into the disc).
     pub z_cut: f64,
-    /// Length of the straight radial lead-in and lead-out, from outside the profile.
+    /// Length of the lead-in and lead-out line, from the cutter's side of the profile: longer
+    /// than the cutter's radius, so that compensation has room to come on (LinuxCNC refuses an
+    /// entry move no longer than the radius) and the plunge is clear of the profile.
     pub lead: f64,
+    /// A straight lead perpendicular to the profile, or a quarter arc of radius `lead`
+    /// tangent to it after the straight move.
+    pub lead_kind: LeadKind,
+    /// The cutter's diameter, mm.
+    pub cutter_diameter: f64,
     pub compensation: Compensation,
     /// The tool called at the start (its offset is the one G41/G42 use).
     pub tool: u32,
 }
+
+/// How the cutter comes onto the profile and leaves it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LeadKind {
+    #[default]
+    Line,
+    Arc,
+}
+
+/// The default cutter (mm) and how much longer than its radius the default lead is.
+pub const DEFAULT_CUTTER_DIAMETER: f64 = 10.0;
+pub const LEAD_BEYOND_RADIUS: f64 = 2.0;
 
 impl Default for CamNcOptions {
     fn default() -> CamNcOptions {
@@ -35,8 +56,11 @@ impl Default for CamNcOptions {
             plunge_feed: 100.0,
             spindle: 1000.0,
             z_safe: 5.0,
+            z_retract: 2.0,
             z_cut: -12.0,
-            lead: 5.0,
+            lead: DEFAULT_CUTTER_DIAMETER / 2.0 + LEAD_BEYOND_RADIUS,
+            lead_kind: LeadKind::Line,
+            cutter_diameter: DEFAULT_CUTTER_DIAMETER,
             compensation: Compensation::Off,
             tool: 1,
         }
@@ -71,16 +95,40 @@ pub fn fit_tolerance(tol: f64) -> f64 {
 /// Consecutive arcs farther apart than this (mm) get a straight move between them.
 const GAP: f64 = 1e-6;
 
-/// The program for one disc.
-pub fn cam_program(fit: &CamFit, options: &CamNcOptions) -> Program {
+/// The program for one disc, or why the approach cannot be made with these options (a lead
+/// not longer than the cutter's radius, heights out of order, a plunge point the cutter would
+/// cut the profile at).
+pub fn cam_program(fit: &CamFit, options: &CamNcOptions) -> Result<Program, String> {
+    check_approach(options)?;
     let disc = if fit.disc.is_empty() { String::new() } else { format!("_{}", fit.disc) };
     let mut p = Program::new(&format!("CAM{disc}"), Machine::Mill);
     p.precision = Some(written_decimals(fit.tolerance));
     let arcs: Vec<&Arc> = fit.arcs().collect();
     p.push(Block::Comment(format!("ncsheet cam {}: {} arcs, tolerance {} mm", fit.disc, arcs.len(), fit.tolerance)));
-    let (Some(first), Some(last)) = (arcs.first(), arcs.last()) else { return p };
-    let outward = |q: Point2<f64>| if q.coords.norm() > 0.0 { q.coords.normalize() } else { Vector2::x() };
-    let entry = first.start + outward(first.start) * options.lead;
+    p.push(Block::Comment(format!(
+        "cutter D{} T{}, depth {}, lead {} {} mm",
+        options.cutter_diameter,
+        options.tool,
+        options.z_cut,
+        if options.lead_kind == LeadKind::Arc { "arc" } else { "line" },
+        options.lead
+    )));
+    let (Some(first), Some(last)) = (arcs.first(), arcs.last()) else { return Ok(p) };
+    let side = |a: &Arc, at: Point2<f64>| cutter_side(a, at, options.compensation);
+    let lead_in = lead_path(first.start, tangent(first, first.start), side(first, first.start), options, true);
+    let lead_out = lead_path(last.end, tangent(last, last.end), side(last, last.end), options, false);
+    let radius = options.cutter_diameter / 2.0;
+    if options.compensation != Compensation::Off {
+        let plunge = lead_in.outer;
+        let nearest = arcs.iter().map(|a| distance_to_arc(a, plunge)).fold(f64::INFINITY, f64::min);
+        if nearest <= radius {
+            return Err(format!(
+                "the plunge point X{:.3} Y{:.3} is {nearest:.3} mm from the profile, not clear of it for a cutter of \
+                 radius {radius} mm: a longer --lead, or a smaller cutter",
+                plunge.x, plunge.y
+            ));
+        }
+    }
     let reach = arcs.iter().map(|a| a.start.coords.norm().max(a.end.coords.norm())).fold(0.0, f64::max);
     p.blank = Some(([-reach, -reach, options.z_cut.min(0.0)], [reach, reach, 0.0]));
     let safe = Target { z: Some(options.z_safe), ..Target::default() };
@@ -89,12 +137,21 @@ pub fn cam_program(fit: &CamFit, options: &CamNcOptions) -> Program {
     p.push(Block::Tool(ToolChange::new(options.tool)));
     p.push(Block::Spindle(Spindle::Rpm { rpm: options.spindle, direction: SpindleDirection::Clockwise }));
     p.push(Block::Rapid(safe));
-    p.push(Block::Rapid(Target::xy(entry.x, entry.y)));
+    p.push(Block::Rapid(Target::xy(lead_in.outer.x, lead_in.outer.y)));
+    p.push(Block::Rapid(Target { z: Some(options.z_retract), ..Target::default() }));
     p.push(Block::Line { to: Target { z: Some(options.z_cut), ..Target::default() }, feed: Some(options.plunge_feed) });
     if options.compensation != Compensation::Off {
         p.push(Block::Compensation(options.compensation));
     }
-    p.push(Block::Line { to: Target::xy(first.start.x, first.start.y), feed: Some(options.feed) });
+    p.push(Block::Line { to: Target::xy(lead_in.inner.x, lead_in.inner.y), feed: Some(options.feed) });
+    if let Some((centre, direction)) = lead_in.arc {
+        p.push(Block::Arc {
+            direction,
+            to: Target::xy(first.start.x, first.start.y),
+            centre: Target::xy(centre.x, centre.y),
+            feed: None,
+        });
+    }
     let mut previous_end = first.start;
     for a in &arcs {
         if (a.start - previous_end).norm() > GAP {
@@ -106,10 +163,127 @@ pub fn cam_program(fit: &CamFit, options: &CamNcOptions) -> Program {
         p.push(Block::Arc { direction, to, centre, feed: None });
         previous_end = a.end;
     }
-    let exit = last.end + outward(last.end) * options.lead;
+    if let Some((centre, direction)) = lead_out.arc {
+        p.push(Block::Arc {
+            direction,
+            to: Target::xy(lead_out.inner.x, lead_out.inner.y),
+            centre: Target::xy(centre.x, centre.y),
+            feed: None,
+        });
+    }
     if options.compensation != Compensation::Off {
         p.push(Block::Compensation(Compensation::Off));
     }
-    p.push(Block::Line { to: Target::xy(exit.x, exit.y), feed: None });
-    p
+    p.push(Block::Line { to: Target::xy(lead_out.outer.x, lead_out.outer.y), feed: None });
+    Ok(p)
+}
+
+/// The heights in order and a lead the control can turn compensation on along.
+fn check_approach(o: &CamNcOptions) -> Result<(), String> {
+    let finite = [o.z_safe, o.z_retract, o.z_cut, o.lead, o.cutter_diameter].iter().all(|v| v.is_finite());
+    if !finite {
+        return Err("the approach's heights, lead and cutter must be numbers".into());
+    }
+    if o.cutter_diameter <= 0.0 {
+        return Err(format!("the cutter diameter must be above 0, not {}", o.cutter_diameter));
+    }
+    if !(o.z_safe >= o.z_retract && o.z_retract > o.z_cut && o.z_retract >= 0.0) {
+        return Err(format!(
+            "the heights must be clearance {} ≥ retract {} ≥ 0 (the disc's top) > cut depth Z{}",
+            o.z_safe, o.z_retract, o.z_cut
+        ));
+    }
+    let radius = o.cutter_diameter / 2.0;
+    if o.compensation != Compensation::Off && o.lead <= radius {
+        return Err(format!(
+            "the lead {} mm is not longer than the cutter's radius {radius} mm: the control has no room to turn \
+             compensation on (LinuxCNC: \"Length of cutter compensation entry move is not greater than the tool \
+             radius\"); give --lead above {radius}",
+            o.lead
+        ));
+    }
+    if o.lead <= 0.0 {
+        return Err(format!("the lead must be longer than 0 mm, not {}", o.lead));
+    }
+    Ok(())
+}
+
+/// A lead-in (or, walked backwards, a lead-out): the point away from the profile the cutter
+/// plunges at (or leaves from), the point the straight part ends at, and the tangent quarter
+/// arc from there onto the profile (its centre and direction) when the lead is an arc.
+struct Lead {
+    outer: Point2<f64>,
+    inner: Point2<f64>,
+    arc: Option<(Point2<f64>, ArcDirection)>,
+}
+
+/// The lead at profile point `at` with cutting direction `t`, on the cutter's side `s`: a
+/// straight line along `s` of length `lead`; for an arc lead, a quarter circle of radius
+/// `lead` tangent to the profile at `at` (centre at + lead·s), reached by the straight line.
+/// `entering`: the lead-in (the arc ends on the profile); else the lead-out (starts there).
+fn lead_path(at: Point2<f64>, t: Vector2<f64>, s: Vector2<f64>, o: &CamNcOptions, entering: bool) -> Lead {
+    match o.lead_kind {
+        LeadKind::Line => Lead { outer: at + s * o.lead, inner: at, arc: None },
+        LeadKind::Arc => {
+            let rho = o.lead;
+            let centre = at + s * rho;
+            // The quarter circle meets the profile going along t: before it (lead-in) it
+            // starts a quarter turn back, at centre − ρ·t; the lead-out ends at centre + ρ·t.
+            let inner = if entering { centre - t * rho } else { centre + t * rho };
+            // Turning from −s (at the profile) toward ±t: clockwise when s is to the right.
+            let right = s.perp(&t) > 0.0;
+            let direction = if right { ArcDirection::Clockwise } else { ArcDirection::CounterClockwise };
+            Lead { outer: inner + s * o.lead, inner, arc: Some((centre, direction)) }
+        }
+    }
+}
+
+/// The unit direction of travel along arc `a` at its point `p`.
+fn tangent(a: &Arc, p: Point2<f64>) -> Vector2<f64> {
+    let r = (p - a.centre).normalize();
+    let ccw = Vector2::new(-r.y, r.x);
+    if a.turn == Turn::Ccw {
+        ccw
+    } else {
+        -ccw
+    }
+}
+
+/// The side of the profile the cutter is on at `p`: right or left of the travel with
+/// compensation, radially outward without (the program then follows the profile with the
+/// cutter's centre).
+fn cutter_side(a: &Arc, p: Point2<f64>, compensation: Compensation) -> Vector2<f64> {
+    let t = tangent(a, p);
+    match compensation {
+        Compensation::Right => Vector2::new(t.y, -t.x),
+        Compensation::Left => Vector2::new(-t.y, t.x),
+        Compensation::Off => {
+            if p.coords.norm() > 0.0 {
+                p.coords.normalize()
+            } else {
+                Vector2::x()
+            }
+        }
+    }
+}
+
+/// The distance from `q` to the arc `a` (its nearest point: on the arc's sweep, or an end).
+pub fn distance_to_arc(a: &Arc, q: Point2<f64>) -> f64 {
+    let to_q = q - a.centre;
+    let ends = (q - a.start).norm().min((q - a.end).norm());
+    if to_q.norm() == 0.0 {
+        return a.radius.min(ends);
+    }
+    let angle = |v: Vector2<f64>| v.y.atan2(v.x);
+    let (a0, aq) = (angle(a.start - a.centre), angle(to_q));
+    let sweep = a.sweep();
+    let along = match a.turn {
+        Turn::Ccw => (aq - a0).rem_euclid(std::f64::consts::TAU),
+        Turn::Cw => (a0 - aq).rem_euclid(std::f64::consts::TAU),
+    };
+    if along <= sweep {
+        (to_q.norm() - a.radius).abs()
+    } else {
+        ends
+    }
 }

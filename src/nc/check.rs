@@ -6,7 +6,7 @@
 //! a line. Pure: the geometry is the backplot's.
 
 use super::backplot::{toolpath, Move, MoveKind, PlotError};
-use super::program::{Block, Machine, Program, Spindle, ToolOffset};
+use super::program::{Block, Compensation, FeedMode, Machine, Program, Spindle, Target, ToolOffset};
 
 /// How far an arc's end may lie off the circle through its start and around its centre, in mm,
 /// unless asked otherwise: ncsheet's own writers refuse more (docs/dialects.md). It is
@@ -21,7 +21,7 @@ const LINUXCNC_ARC_REL: f64 = 0.001;
 
 /// What to check beyond the program's own consistency.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CheckOptions {
+pub struct CheckOptions<'a> {
     /// Arc end off its circle, mm.
     pub tolerance: f64,
     /// No point of any move below this Z.
@@ -29,11 +29,37 @@ pub struct CheckOptions {
     /// The stock as (lowest corner, highest corner) in program coordinates (a lathe's X a
     /// diameter; Y is not used on a lathe): no rapid through it, no cut below its bottom.
     pub stock: Option<([f64; 3], [f64; 3])>,
+    /// Tool diameters (mm) by tool number, from the control's tool table: compensation entry
+    /// moves are checked against the radius as LinuxCNC checks them. Empty: not checked.
+    pub tool_diameters: &'a [(u32, f64)],
+    /// The feed mode the control is in before the program sets one ([`power_on_feed_mode`]):
+    /// a cut needs no G94 where the control powers on in it.
+    pub power_on_feed_mode: Option<FeedMode>,
 }
 
-impl Default for CheckOptions {
-    fn default() -> CheckOptions {
-        CheckOptions { tolerance: ARC_TOLERANCE_MM, min_z: None, stock: None }
+impl Default for CheckOptions<'_> {
+    fn default() -> Self {
+        CheckOptions {
+            tolerance: ARC_TOLERANCE_MM,
+            min_z: None,
+            stock: None,
+            tool_diameters: &[],
+            power_on_feed_mode: None,
+        }
+    }
+}
+
+/// The feed mode a control of `dialect` is in at power on and after a reset, for `machine`:
+/// feed per minute on every mill here (LinuxCNC's documented start-up modes G17 G21/G20 G40
+/// G49 G80 G90 G94; a Fanuc mill's G94 unless parameter 3402 says otherwise; Sinumerik's
+/// reset value of the feed group, G94; plain language has only F in mm/min), and per
+/// revolution on NC31, which has no other. A lathe's mode depends on the machine's set-up
+/// (a Fanuc lathe's parameter, LinuxCNC's start-up code), so a lathe cut needs its own.
+pub fn power_on_feed_mode(dialect: &str, machine: Machine) -> Option<FeedMode> {
+    match (dialect, machine) {
+        ("nc31", _) => Some(FeedMode::PerRevolution),
+        (_, Machine::Mill) => Some(FeedMode::PerMinute),
+        (_, Machine::Lathe) => None,
     }
 }
 
@@ -45,9 +71,12 @@ pub struct Finding {
 }
 
 /// Everything found in `program`, in block order.
-pub fn check(program: &Program, options: &CheckOptions) -> Result<Vec<Finding>, PlotError> {
+pub fn check(program: &Program, options: &CheckOptions<'_>) -> Result<Vec<Finding>, PlotError> {
     let path = toolpath(program)?;
-    let mut findings = state_findings(program, &path.moves);
+    let mut findings = state_findings(program, &path.moves, options.power_on_feed_mode.is_some());
+    if !options.tool_diameters.is_empty() {
+        findings.extend(compensation_entries(program, &path.moves, options.tool_diameters));
+    }
     let stock = options.stock.map(|s| true_box(program.machine, s));
     for m in &path.moves {
         let mut say = |message: String| findings.push(Finding { block: m.block, message });
@@ -75,9 +104,13 @@ pub fn check(program: &Program, options: &CheckOptions) -> Result<Vec<Finding>, 
 /// The machine's state at each cut: feed mode, feed, spindle and tool set before it, and a
 /// known position to cut from. Each missing thing is said once, at the first cut without it
 /// (the spindle again at the first cut after each stop).
-fn state_findings(program: &Program, moves: &[Move]) -> Vec<Finding> {
+fn state_findings(program: &Program, moves: &[Move], feed_mode_at_power_on: bool) -> Vec<Finding> {
     let mut out = Vec::new();
-    let mut feed_mode = false;
+    let mut feed_mode = feed_mode_at_power_on;
+    // A program that tilts a head (A/B) without tool-tip control positions the head's pivot:
+    // the tool's length is in its coordinates (the post's pivot = tip + H·axis), so the
+    // control's length offset is off on purpose.
+    let pivot_program = program.blocks.iter().any(|b| moves_head(b));
     let mut feed = false;
     let mut tool = false;
     // Whether the tool's offset is in force; said once after each change that cancels it.
@@ -123,7 +156,7 @@ fn state_findings(program: &Program, moves: &[Move]) -> Vec<Finding> {
                         say(message);
                     }
                 }
-                if tool && !offset && !said_offset {
+                if tool && !offset && !said_offset && !pivot_program {
                     said_offset = true;
                     say("a cut with no tool offset in force (a tool change without G43, or G49, D0, T0100): the \
                          coordinates are the spindle's point, the tool tip is its length below them");
@@ -137,6 +170,93 @@ fn state_findings(program: &Program, moves: &[Move]) -> Vec<Finding> {
         }
     }
     out
+}
+
+/// Cutter compensation turned on is taken up along the next move in the plane; LinuxCNC
+/// refuses that entry move when it is not longer than the tool's radius ("Length of cutter
+/// compensation entry move is not greater than the tool radius"), and a tool the table does
+/// not hold has no radius to compensate by.
+fn compensation_entries(program: &Program, moves: &[Move], diameters: &[(u32, f64)]) -> Vec<Finding> {
+    let mut out = Vec::new();
+    let mut tool = None;
+    let mut entering = false;
+    for (i, b) in program.blocks.iter().enumerate() {
+        let block = i + 1;
+        match b {
+            Block::Tool(t) => tool = Some(t.number),
+            Block::Compensation(Compensation::Off) => entering = false,
+            Block::Compensation(_) => {
+                entering = true;
+                let known = tool.is_some_and(|t| diameters.iter().any(|(n, _)| *n == t));
+                if !known {
+                    let which = tool.map_or("no tool".to_string(), |t| format!("tool T{t}"));
+                    out.push(Finding {
+                        block,
+                        message: format!("cutter compensation with {which}, which the tool table does not hold"),
+                    });
+                    entering = false;
+                }
+            }
+            Block::Line { .. } | Block::Arc { .. } if entering => {
+                let Some(m) = moves.iter().find(|m| m.block == block) else { continue };
+                let planar = (m.to[0] - m.from[0]).hypot(m.to[1] - m.from[1]);
+                if planar == 0.0 {
+                    continue;
+                }
+                entering = false;
+                let radius = tool.and_then(|t| diameters.iter().find(|(n, _)| *n == t)).map_or(0.0, |(_, d)| d / 2.0);
+                if planar <= radius {
+                    out.push(Finding {
+                        block,
+                        message: format!(
+                            "the cutter compensation entry move is {} mm long, not longer than the tool's radius {} \
+                             mm (LinuxCNC refuses it)",
+                            mm(planar),
+                            mm(radius)
+                        ),
+                    });
+                }
+            }
+            _ => {}
+        }
+    }
+    out
+}
+
+/// A LinuxCNC tool table (`.tbl`): `T1 P1 D10 Z50 ;comment`, one tool a line, as (tool
+/// number, diameter) in the table's units. A line without T or D holds no diameter; any
+/// other word is the table's own (pocket, offsets, angles).
+pub fn read_tool_table(text: &str) -> Result<Vec<(u32, f64)>, String> {
+    let mut tools = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        let code = line.split(';').next().unwrap_or("");
+        let mut number = None;
+        let mut diameter = None;
+        for word in code.split_whitespace() {
+            let (letter, value) = word.split_at(1);
+            let bad = || format!("line {}: `{word}` is not a tool table word (T1, P1, D10, Z50 …)", i + 1);
+            match letter.to_ascii_uppercase().as_str() {
+                "T" => number = Some(value.parse::<u32>().map_err(|_| bad())?),
+                "D" => {
+                    diameter = Some(value.parse::<f64>().ok().filter(|d| d.is_finite() && *d >= 0.0).ok_or_else(bad)?)
+                }
+                _ => {}
+            }
+        }
+        if let (Some(t), Some(d)) = (number, diameter) {
+            tools.push((t, d));
+        }
+    }
+    Ok(tools)
+}
+
+/// Whether a move sets a head's tilt (A or B).
+fn moves_head(block: &Block) -> bool {
+    let tilts = |t: &Target| t.a.is_some() || t.b.is_some();
+    match block {
+        Block::Rapid(t) | Block::Line { to: t, .. } | Block::Arc { to: t, .. } => tilts(t),
+        _ => false,
+    }
 }
 
 /// Why an arc's end is off the circle through its start, if it is by more than `tolerance`.

@@ -1,4 +1,4 @@
-//! The trapezoidal velocity profile of DOMAIN.md §4: each block starts and ends at rest,
+//! The trapezoidal velocity profile of docs/domain.md §4: each block starts and ends at rest,
 //! accelerates at a constant a to the programmed feed v, cruises, and brakes at a; a block
 //! too short to reach v is a triangle peaking at √(a·L). Axis velocities follow by the
 //! direction cosines δᵢ/√(Σδ²), without trigonometry.
@@ -103,6 +103,10 @@ pub fn program_times(program: &Program, m: Rates) -> Result<Vec<BlockTime>, Moti
                     _ => unreachable!("only moves reach here"),
                 };
                 let length = match path {
+                    // A rapid may set an axis no move has set yet: the standard safe approach
+                    // raises Z, then moves over in XY from wherever the machine stood. The
+                    // travel of an axis from an unknown place is unknown; it counts as none.
+                    Path::Line if kind == "rapid" => line_length(program.machine, &known_from(&at, &end), &end),
                     Path::Line => line_length(program.machine, &at, &end),
                     Path::Arc { centre, direction } => arc_length(program.machine, &at, &end, centre, direction),
                 }
@@ -121,6 +125,17 @@ pub fn program_times(program: &Program, m: Rates) -> Result<Vec<BlockTime>, Moti
         }
     }
     Ok(out)
+}
+
+/// The start of a rapid with every axis it sets for the first time taken as already there.
+fn known_from(at: &[Option<f64>; 3], end: &[Option<f64>; 3]) -> [Option<f64>; 3] {
+    let mut from = *at;
+    for i in 0..3 {
+        if from[i].is_none() && at.iter().any(Option::is_some) {
+            from[i] = end[i];
+        }
+    }
+    from
 }
 
 fn moved(at: &[Option<f64>; 3], t: &Target) -> [Option<f64>; 3] {
@@ -348,6 +363,24 @@ mod tests {
         let t = trapezoid(100.0, 6000.0, 1000.0).unwrap();
         assert_eq!(t.peak, 100.0);
         assert!((t.total - 1.1).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_safe_approach_raise_z_then_over_in_xy_is_timed() {
+        // G0 Z5, G0 X10 Y10 from wherever the machine stood, G1 Z0 F100: the cut is 5 mm
+        // at 100/60 mm/s, which it reaches after (100/60)²/1000 mm; by hand 5/(5/3) + (5/3)/1000.
+        let mut p = Program::new("P", Machine::Mill);
+        p.blocks.push(Block::Rapid(Target { z: Some(5.0), ..Target::default() }));
+        p.blocks.push(Block::Rapid(Target::xy(10.0, 10.0)));
+        p.blocks.push(Block::Line { to: Target { z: Some(0.0), ..Target::default() }, feed: Some(100.0) });
+        let times = program_times(&p, Rates { accel: 1000.0, rapid: 5000.0 }).unwrap();
+        let cut = times.iter().find(|t| t.kind == "line").unwrap();
+        assert!((cut.time - (3.0 + 5.0 / 3.0 / 1000.0)).abs() < 1e-9, "{times:?}");
+        // A cut (not a rapid) into an axis no move has set stays refused.
+        let mut q = Program::new("Q", Machine::Mill);
+        q.blocks.push(Block::Rapid(Target { z: Some(5.0), ..Target::default() }));
+        q.blocks.push(Block::Line { to: Target::xy(10.0, 10.0), feed: Some(100.0) });
+        assert!(program_times(&q, Rates { accel: 1000.0, rapid: 5000.0 }).is_err());
     }
 
     #[test]

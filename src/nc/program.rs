@@ -222,7 +222,15 @@ pub struct Program {
     /// The blank as (lowest corner, highest corner) of a box on a mill, for controls that
     /// draw it (Heidenhain BLK FORM).
     pub blank: Option<([f64; 3], [f64; 3])>,
+    /// How far (mm) the chords may lie from an arc on a control without circular
+    /// interpolation (NC31), which writes the arc as lines; `None`: [`DEFAULT_ARC_TOLERANCE`].
+    pub arc_tolerance: Option<f64>,
 }
+
+/// The chord tolerance (mm) arcs are written as lines within where the control has no
+/// circular interpolation, unless the program says otherwise: a tenth of the usual 0.1 mm
+/// finishing allowance, and ten of NC31's 0.001 mm steps.
+pub const DEFAULT_ARC_TOLERANCE: f64 = 0.01;
 
 impl Program {
     pub fn new(name: &str, machine: Machine) -> Program {
@@ -234,6 +242,7 @@ impl Program {
             precision: None,
             retract: None,
             blank: None,
+            arc_tolerance: None,
         }
     }
 

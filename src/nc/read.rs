@@ -14,6 +14,7 @@ use super::program::{
     ToolOffset,
 };
 
+pub mod detect;
 pub mod heidenhain;
 
 /// Where a program cannot be read, 1-based.

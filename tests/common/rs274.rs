@@ -114,6 +114,12 @@ pub fn moves_with_length_offset(canon: &str) -> Vec<([f64; 3], f64)> {
     out
 }
 
+/// The moves of rs274's canonical commands `canon` (from [`canon_with_tools`]).
+#[allow(dead_code)]
+pub fn moves_of(canon: &str) -> Vec<Move> {
+    canon.lines().filter_map(parse_line).collect()
+}
+
 fn parse_line(line: &str) -> Option<Move> {
     let (name, rest) = line.split_once('(')?;
     let args: Vec<f64> = rest.trim_end_matches(')').split(',').filter_map(|a| a.trim().parse().ok()).collect();

@@ -113,6 +113,67 @@ fn centre_offsets(machine: Machine, start: &Position, centre: &Target) -> Option
     }
 }
 
+/// The end points of chords that follow an arc from `start` to `to` around `centre` within
+/// `tolerance` (each chord's sagitta r·(1 − cos(θ/2)) at most that), the last the arc's own
+/// end; in the machine's plane (a lathe's X a diameter), a helix's third axis evenly.
+fn chords(
+    machine: Machine,
+    start: &Position,
+    to: &Target,
+    centre: &Target,
+    direction: super::program::ArcDirection,
+    tolerance: f64,
+) -> Result<Vec<Target>, String> {
+    if !(tolerance.is_finite() && tolerance > 0.0) {
+        return Err("the chord tolerance is not above the control's resolution".into());
+    }
+    let (sx, sy, sz) = (start.x(), start.y(), start.z());
+    // Plane coordinates (u, v) and back: (X, Y) on a mill; (Z, X/2) on a lathe.
+    let (s, e, c) = match machine {
+        Machine::Mill => (
+            (sx.ok_or("an arc from an unknown X")?, sy.ok_or("an arc from an unknown Y")?),
+            (to.x.or(sx).unwrap_or_default(), to.y.or(sy).unwrap_or_default()),
+            (centre.x.ok_or("an arc centre without X")?, centre.y.ok_or("an arc centre without Y")?),
+        ),
+        Machine::Lathe => (
+            (sz.ok_or("an arc from an unknown Z")?, sx.ok_or("an arc from an unknown X")? / 2.0),
+            (to.z.or(sz).unwrap_or_default(), to.x.or(sx).unwrap_or_default() / 2.0),
+            (centre.z.ok_or("an arc centre without Z")?, centre.x.ok_or("an arc centre without X")? / 2.0),
+        ),
+    };
+    let r = (s.0 - c.0).hypot(s.1 - c.1);
+    let (a0, a1) = ((s.1 - c.1).atan2(s.0 - c.0), (e.1 - c.1).atan2(e.0 - c.0));
+    let ccw = direction == super::program::ArcDirection::CounterClockwise;
+    let mut sweep =
+        if ccw { (a1 - a0).rem_euclid(std::f64::consts::TAU) } else { (a0 - a1).rem_euclid(std::f64::consts::TAU) };
+    if sweep < 1e-12 {
+        sweep = std::f64::consts::TAU;
+    }
+    // The widest chord angle whose sagitta is within the tolerance.
+    let widest = if tolerance >= r { std::f64::consts::PI } else { 2.0 * (1.0 - tolerance / r).acos() };
+    let n = (sweep / widest).ceil().max(1.0) as usize;
+    let across = match machine {
+        Machine::Mill => (sz, to.z),
+        Machine::Lathe => (start.y(), to.y),
+    };
+    let mut points = Vec::with_capacity(n);
+    for k in 1..=n {
+        let t = k as f64 / n as f64;
+        let a = if ccw { a0 + sweep * t } else { a0 - sweep * t };
+        let (u, v) = if k == n { e } else { (c.0 + r * a.cos(), c.1 + r * a.sin()) };
+        let third = match across {
+            (Some(from), Some(to)) => Some(from + (to - from) * t),
+            (_, to) if k == n => to,
+            _ => None,
+        };
+        points.push(match machine {
+            Machine::Mill => Target { x: Some(u), y: Some(v), z: third, ..Target::default() },
+            Machine::Lathe => Target { z: Some(u), x: Some(2.0 * v), y: third, ..Target::default() },
+        });
+    }
+    Ok(points)
+}
+
 /// How far the end point of an arc may lie off the circle through its start around its
 /// centre, as written (mm). LinuxCNC refuses arcs whose two radii differ by more than
 /// 0.005 mm in mm mode, Fanuc by parameter 3410 (commonly 0.01–0.02 mm); a written arc

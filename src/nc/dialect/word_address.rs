@@ -2,11 +2,13 @@
 //! Sinumerik and the old NC31 lathe control; each is one [`WordAddress`] table. What each
 //! writes for feed mode, spindle, tool, numbering and comments is in docs/dialects.md.
 
-use super::{centre_offsets, check_program, feed_style, program_name, sanitise, Dialect, Format, NcError, Position};
+use super::{
+    centre_offsets, check_program, chords, feed_style, program_name, sanitise, Dialect, Format, NcError, Position,
+};
 use crate::nc::format::NumberStyle;
 use crate::nc::program::{
     ArcDirection, Block, Compensation, FeedMode, Machine, Program, Spindle, SpindleDirection, Target, ToolChange,
-    ToolOffset, Word,
+    ToolOffset, Word, DEFAULT_ARC_TOLERANCE,
 };
 use crate::nc::read::{self, ReadError};
 
@@ -72,7 +74,9 @@ pub const ISO: WordAddress = WordAddress {
     block_width: 0,
     block_digits: 5,
     header: &["%", "O{number:04} ({name})"],
-    setup_lathe: Some("G21 G18 G90 G40"),
+    // No G90: in Fanuc lathe G-code system A it is the OD/ID turning cycle (absolute and
+    // incremental are X/Z and U/W there), and X/Z are absolute from power on.
+    setup_lathe: Some("G21 G18 G40"),
     setup_mill: Some("G21 G17 G90 G40"),
     end_block: "M30",
     footer: &["%"],
@@ -181,6 +185,7 @@ impl Dialect for WordAddress {
             spindle_on: false,
             coolant_on: false,
             tool: None,
+            arc_tolerance: program.arc_tolerance.unwrap_or(DEFAULT_ARC_TOLERANCE),
         };
         self.header(&mut w, program).map_err(|m| self.error(None, m))?;
         let setup = match program.machine {
@@ -286,6 +291,8 @@ struct Writer<'a> {
     coolant_on: bool,
     /// The tool last called: G41/G42 take its offset.
     tool: Option<ToolChange>,
+    /// Chord tolerance for arcs on a control without circular interpolation, mm.
+    arc_tolerance: f64,
 }
 
 impl Writer<'_> {
@@ -555,7 +562,15 @@ impl Writer<'_> {
 
     fn arc(&mut self, dir: ArcDirection, to: &Target, centre: &Target, feed: Option<f64>) -> Result<(), String> {
         if !self.d.has_arcs {
-            return Err("this control has no circular interpolation; write the arc as lines".into());
+            // The control has no G2/G3: the arc as chords within the tolerance, each end on it.
+            let reserve = self.numbers.resolution();
+            let points = chords(self.machine, &self.position, to, centre, dir, self.arc_tolerance - reserve)
+                .map_err(|m| format!("{m} (the arc is written as lines on this control: --arc-tol)"))?;
+            for (k, p) in points.iter().enumerate() {
+                let line = Block::Line { to: *p, feed: if k == 0 { feed } else { None } };
+                self.block(&line)?;
+            }
+            return Ok(());
         }
         let offsets = centre_offsets(self.machine, &self.position, centre)
             .ok_or("an arc needs a known start point and a centre in the working plane")?;

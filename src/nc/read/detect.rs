@@ -1,0 +1,175 @@
+//! Which control a program is written for, when the user does not say: from its header
+//! (`BEGIN PGM`, Sinumerik's `%_N_…_MPF`), its file's extension (`.h`, `.mpf`, `.ngc`, …) and
+//! the words only one control writes (NC31's rapid mark `E`, LinuxCNC's `G7` or `M2`, a Fanuc
+//! `O` number or `40.`). The guess carries its reason, for the reader to say what it assumed;
+//! [`readers_accepting`] names the dialects that do read a program another refused.
+
+use crate::nc::dialect::{self, Dialect};
+use crate::nc::Machine;
+
+/// A dialect assumed for a program, and why.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Guess {
+    pub dialect: &'static str,
+    pub reason: String,
+}
+
+/// The dialect `text` (from a file ending in `extension`, if any) is most likely written in.
+/// A header names its control outright and comes first; then the extension a control gives
+/// its programs; then words only one control writes; ISO (Fanuc) when nothing tells.
+pub fn guess(text: &str, extension: Option<&str>) -> Guess {
+    let found = |dialect: &'static str, reason: String| Guess { dialect, reason };
+    if let Some(reason) = header(text) {
+        return reason;
+    }
+    let ext = extension.map(str::to_ascii_lowercase);
+    if let Some(dialect) = ext.as_deref().and_then(by_extension) {
+        return found(dialect, format!("the extension .{}", ext.unwrap_or_default()));
+    }
+    if let Some((dialect, word)) = telling_word(text) {
+        return found(dialect, format!("the word {word}"));
+    }
+    found("iso", "nothing in it names another control".into())
+}
+
+/// Headers that only one control writes.
+fn header(text: &str) -> Option<Guess> {
+    let first = text.lines().map(str::trim).find(|l| !l.is_empty())?;
+    let upper = first.to_ascii_uppercase();
+    let plain = upper.trim_start_matches(|c: char| c.is_ascii_digit()).trim_start();
+    if plain.starts_with("BEGIN PGM") {
+        return Some(Guess { dialect: "heidenhain", reason: "its header BEGIN PGM".into() });
+    }
+    if upper.starts_with("%_N_") {
+        return Some(Guess { dialect: "sinumerik", reason: format!("its header {first}") });
+    }
+    None
+}
+
+/// The extensions controls and their post-processors give programs.
+fn by_extension(ext: &str) -> Option<&'static str> {
+    match ext {
+        "h" => Some("heidenhain"),
+        "mpf" | "spf" => Some("sinumerik"),
+        "ngc" => Some("linuxcnc"),
+        "nc31" => Some("nc31"),
+        _ => None,
+    }
+}
+
+/// The first word in `text` that only one control writes: NC31's rapid mark (a bare `E`),
+/// LinuxCNC's diameter modes G7/G8, its end M2 and its O-word subroutines, Sinumerik's
+/// DIAMON/DIAMOF and G71 (mm), Fanuc's program number `O1234` and numbers ending in a point.
+fn telling_word(text: &str) -> Option<(&'static str, String)> {
+    for line in text.lines() {
+        let code = without_comments(line).to_ascii_uppercase();
+        for (dialect, word) in [
+            ("sinumerik", "DIAMON"),
+            ("sinumerik", "DIAMOF"),
+            ("sinumerik", "G71"),
+            ("sinumerik", "LIMS="),
+            ("linuxcnc", "G7"),
+            ("linuxcnc", "G8"),
+            ("linuxcnc", "M2"),
+            ("linuxcnc", "G64"),
+        ] {
+            if has_word(&code, word) {
+                return Some((dialect, word.to_string()));
+            }
+        }
+        if code.trim_start().starts_with("O<") {
+            return Some(("linuxcnc", "O<…>".into()));
+        }
+        let words: Vec<&str> = code.split_whitespace().collect();
+        if words.last() == Some(&"E") {
+            return Some(("nc31", "E (the rapid mark)".into()));
+        }
+        if let Some(o) = words.first().filter(|w| is_program_number(w)) {
+            return Some(("iso", o.to_string()));
+        }
+        if let Some(w) =
+            words.iter().find(|w| w.len() > 2 && w.ends_with('.') && w[1..w.len() - 1].parse::<f64>().is_ok())
+        {
+            return Some(("iso", format!("{w} (a number ending in its point)")));
+        }
+    }
+    None
+}
+
+/// `O1234`: a Fanuc program number.
+fn is_program_number(word: &str) -> bool {
+    word.len() > 1 && word.starts_with('O') && word[1..].chars().all(|c| c.is_ascii_digit())
+}
+
+/// Whether `code` holds `word` as a whole word (`G7` in `G18 G7 G90`, not in `G71`).
+fn has_word(code: &str, word: &str) -> bool {
+    code.split(|c: char| c.is_whitespace())
+        .any(|w| w == word || (word.ends_with('=') && w.starts_with(word)) || leading_zero_same(w, word))
+}
+
+/// `G07` and `M02` are `G7` and `M2`.
+fn leading_zero_same(w: &str, word: &str) -> bool {
+    let (Some(a), Some(b)) = (w.chars().next(), word.chars().next()) else { return false };
+    if a != b || w.len() < 2 || word.len() < 2 {
+        return false;
+    }
+    match (w[1..].parse::<u32>(), word[1..].parse::<u32>()) {
+        (Ok(x), Ok(y)) => x == y && !w[1..].contains('.'),
+        _ => false,
+    }
+}
+
+/// A line with its `( … )` and `;` comments blanked.
+fn without_comments(line: &str) -> String {
+    let mut out = String::with_capacity(line.len());
+    let mut depth = 0;
+    for c in line.chars() {
+        match c {
+            '(' => depth += 1,
+            ')' if depth > 0 => depth -= 1,
+            ';' if depth == 0 => break,
+            _ if depth == 0 => out.push(c),
+            _ => {}
+        }
+    }
+    out
+}
+
+/// The dialects other than `tried` that read `text` without an error, in `dialect::all()`'s
+/// order: what a reader's refusal suggests.
+pub fn readers_accepting(text: &str, tried: &str, machine: Option<Machine>) -> Vec<&'static str> {
+    dialect::all()
+        .into_iter()
+        .filter(|d: &&dyn Dialect| !d.name().eq_ignore_ascii_case(tried))
+        .filter(|d| d.read(text, machine).is_ok())
+        .map(|d| d.name())
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_header_names_its_control_whatever_the_extension() {
+        assert_eq!(guess("0 BEGIN PGM P MM\n1 END PGM P MM\n", Some("nc")).dialect, "heidenhain");
+        assert_eq!(guess("%_N_CAM_MPF\n;$PATH=/_N_MPF_DIR\nN10 G17\n", None).dialect, "sinumerik");
+    }
+
+    #[test]
+    fn words_tell_when_the_extension_does_not() {
+        assert_eq!(guess("%\n(P)\nN10 G21 G18 G7 G90\n", Some("txt")).dialect, "linuxcnc");
+        assert_eq!(guess("N001 T1\nN003 X47.091 Z3 E\n", None).dialect, "nc31");
+        assert_eq!(guess("%\nO0001 (P)\nG0 X1.\n", None).dialect, "iso");
+        // G71 is Sinumerik's mm; G7 inside G71 is no G7.
+        assert_eq!(guess("N10 G17 G90 G71\n", None).dialect, "sinumerik");
+        assert_eq!(guess("G0 X1 (G7 in a comment)\n", None).dialect, "iso");
+    }
+
+    #[test]
+    fn the_extension_comes_before_words() {
+        assert_eq!(guess("G0 X1.\n", Some("NGC")).dialect, "linuxcnc");
+        assert_eq!(guess("G0 X1\n", Some("mpf")).dialect, "sinumerik");
+        assert_eq!(guess("G0 X1\n", Some("h")).dialect, "heidenhain");
+    }
+}
