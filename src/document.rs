@@ -36,6 +36,8 @@ pub struct OpenOptions {
     pub format: Option<Format>,
     /// A csv's separator (`None`: detected from the text).
     pub csv_delimiter: Option<u8>,
+    /// How far an xlsx part may inflate and how long a csv field or line may be.
+    pub read_limits: io::limits::ReadLimits,
     /// The limits the workbook's own VBA functions run under when cells call them.
     pub functions: RunOptions,
     /// The clock and random sequence the workbook's formulas read (`None`: the system clock
@@ -91,7 +93,8 @@ impl Document {
             Some(format) => format,
             None => Format::detect(&bytes, &options.name)?,
         };
-        let mut opened = io::open_bytes(bytes, &options.name, format, options.csv_delimiter)?;
+        let mut opened =
+            io::open_bytes_limited(bytes, &options.name, format, options.csv_delimiter, options.read_limits)?;
         install_functions(&mut opened, options.functions.clone());
         let mut doc = Document { opened, name: options.name.clone(), csv_delimiter: options.csv_delimiter };
         if let Some(settings) = &options.settings {

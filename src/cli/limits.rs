@@ -5,7 +5,7 @@ use std::sync::OnceLock;
 use std::time::Duration;
 
 use clap::Args;
-use ncsheet::io::limits::{self, ReadLimits};
+use ncsheet::io::limits::ReadLimits;
 
 /// Limits on time and on what a file may make ncsheet hold (see docs/limits.md).
 #[derive(Debug, Args)]
@@ -32,10 +32,11 @@ pub struct LimitArgs {
 }
 
 impl LimitArgs {
-    /// Sets the read limits and starts the clock of `--timeout`.
+    /// Keeps the read limits for every workbook this command opens and starts the clock of
+    /// `--timeout`.
     pub fn apply(&self) {
         let default = ReadLimits::default();
-        limits::set(ReadLimits {
+        let _ = READ_LIMITS.set(ReadLimits {
             part_bytes: self.max_part_size.unwrap_or(default.part_bytes),
             zip_ratio: self.max_zip_ratio.unwrap_or(default.zip_ratio),
             csv_field_bytes: self.max_csv_field.unwrap_or(default.csv_field_bytes),
@@ -46,6 +47,14 @@ impl LimitArgs {
             start_clock(seconds);
         }
     }
+}
+
+/// The read limits of this command's options (the command line's, handed to each document).
+static READ_LIMITS: OnceLock<ReadLimits> = OnceLock::new();
+
+/// The read limits every workbook this command opens is held to.
+pub fn read_limits() -> ReadLimits {
+    READ_LIMITS.get().copied().unwrap_or_default()
 }
 
 /// How long after `--timeout` the clock ends the process.

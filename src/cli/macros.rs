@@ -89,7 +89,7 @@ fn import(
     let mut inputs: Vec<&Path> = vec![file];
     inputs.extend(modules.iter().map(PathBuf::as_path));
     super::refuse_overwriting_inputs(&inputs, &[out], "the workbook with macros goes to a new file")?;
-    let opened = ncsheet::io::open(file)?;
+    let opened = ncsheet::document::Document::open_file(file, &super::open_options(None))?.into_opened();
     let mut layout = opened.layout.unwrap_or_default();
     if let Some(old) = &layout.vba_project {
         // A project that does not read is refused below, naming its stream.
@@ -159,7 +159,7 @@ fn read_module(path: &Path, code_page: u16) -> Result<NewModule> {
 
 /// The VBA project of a workbook file; a workbook without one is an error saying so.
 pub fn open_project(file: &Path) -> Result<VbaProject> {
-    let opened = ncsheet::io::open(file)?;
+    let opened = ncsheet::document::Document::open_file(file, &super::open_options(None))?.into_opened();
     let Some(bytes) = opened.layout.and_then(|l| l.vba_project) else {
         return Err(Error::User(format!("{}: the workbook holds no VBA project (xl/vbaProject.bin)", file.display())));
     };

@@ -29,6 +29,7 @@ use crate::eval::Value;
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::workbook::{Input, Workbook};
 
+use super::limits::ReadLimits;
 use super::{Content, Export};
 
 /// What is wrong with a csv text, and on which line (1-based).
@@ -85,8 +86,17 @@ pub fn read_original(bytes: &[u8]) -> Result<(Workbook, Original), Malformed> {
 
 /// [`read_original`] with a given delimiter (`None`: detect it); a save writes it again.
 pub fn read_original_with(bytes: &[u8], delimiter: Option<u8>) -> Result<(Workbook, Original), Malformed> {
+    read_original_limited(bytes, delimiter, ReadLimits::default())
+}
+
+/// [`read_original_with`], its fields and lines held to `limits`.
+pub fn read_original_limited(
+    bytes: &[u8],
+    delimiter: Option<u8>,
+    limits: ReadLimits,
+) -> Result<(Workbook, Original), Malformed> {
     let bom = bytes.starts_with(b"\xEF\xBB\xBF");
-    let wb = read_with(bytes, delimiter)?;
+    let wb = read_limited(bytes, delimiter, limits)?;
     let text = std::str::from_utf8(&bytes[if bom { 3 } else { 0 }..]).expect("checked by read_text");
     let delimiter = delimiter.unwrap_or_else(|| delimiter_of(text.as_bytes()));
     Ok((wb, Original { bom, delimiter, rows: raw_rows(text, delimiter) }))
@@ -198,13 +208,18 @@ fn quoted(text: &str, delimiter: u8) -> String {
 /// [`read`] with a given delimiter (`None`: detect it). In a `;`-separated file, written by
 /// a spreadsheet whose locale writes decimal commas, `0,8` is the number 0.8.
 pub fn read_with(bytes: &[u8], delimiter: Option<u8>) -> Result<Workbook, Malformed> {
+    read_limited(bytes, delimiter, ReadLimits::default())
+}
+
+/// [`read_with`], its fields and lines held to `limits`.
+pub fn read_limited(bytes: &[u8], delimiter: Option<u8>, limits: ReadLimits) -> Result<Workbook, Malformed> {
     let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     let text = std::str::from_utf8(bytes).map_err(|e| {
         let line = 1 + bytes[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count() as u64;
         Malformed { line, message: "not UTF-8 text (save the csv as UTF-8)".into() }
     })?;
     let delimiter = delimiter.unwrap_or_else(|| delimiter_of(text.as_bytes()));
-    let starts = record_starts(text, delimiter)?;
+    let starts = record_starts(text, delimiter, limits)?;
 
     let mut wb = Workbook::new();
     let sheet = wb.add_sheet(SHEET_NAME).expect("a new workbook has no sheets");
@@ -331,14 +346,14 @@ fn decimal_point(field: &str) -> String {
     }
 }
 
-fn record_starts(text: &str, delimiter: u8) -> Result<Vec<RecordStart>, Malformed> {
+fn record_starts(text: &str, delimiter: u8, limits: ReadLimits) -> Result<Vec<RecordStart>, Malformed> {
     let bytes = text.as_bytes();
     let mut starts = Vec::new();
     let (mut row, mut line) = (0u32, 1u64);
     let mut at_record_start = true;
     let mut at_field_start = true;
     let mut quote_opened: Option<u64> = None;
-    let mut sizes = Sizes { limits: crate::io::limits::current(), record: 0, field: 0, record_line: 1 };
+    let mut sizes = Sizes { limits, record: 0, field: 0, record_line: 1 };
     let mut i = 0;
     while i < bytes.len() {
         let b = bytes[i];
@@ -573,7 +588,7 @@ mod tests {
     use super::*;
 
     fn starts(text: &str) -> Vec<(u32, u64)> {
-        record_starts(text, b',').unwrap().into_iter().map(|s| (s.row, s.line)).collect()
+        record_starts(text, b',', ReadLimits::default()).unwrap().into_iter().map(|s| (s.row, s.line)).collect()
     }
 
     #[test]
@@ -600,10 +615,10 @@ mod tests {
 
     #[test]
     fn an_unterminated_quote_names_the_line_it_opened_on() {
-        let err = record_starts("a,b\nc,\"d\ne\n", b',').unwrap_err();
+        let err = record_starts("a,b\nc,\"d\ne\n", b',', ReadLimits::default()).unwrap_err();
         assert_eq!(err, Malformed { line: 2, message: err.message.clone() });
         // A quote inside an unquoted field is a literal character, as the reader takes it.
-        assert!(record_starts("ab\"c\n", b',').is_ok());
+        assert!(record_starts("ab\"c\n", b',', ReadLimits::default()).is_ok());
     }
 
     #[test]

@@ -3,10 +3,9 @@
 //! writes stay far inside them; a file past one is refused with an error naming the limit
 //! and the option that raises it, before it exhausts memory.
 //!
-//! The command line sets them once, from its options, before it reads a file; the readers
-//! take them from here, so every way into a workbook is bounded alike.
-
-use std::sync::atomic::{AtomicU64, Ordering};
+//! They are the caller's, passed with each read (a document's `OpenOptions::read_limits`;
+//! the command line's options), never state of the process: two documents opened side by
+//! side may have different limits.
 
 /// The limits a read applies.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -29,29 +28,6 @@ pub const RATIO_GRACE: u64 = 1 << 20;
 impl Default for ReadLimits {
     fn default() -> ReadLimits {
         ReadLimits { part_bytes: 1 << 30, zip_ratio: 100, csv_field_bytes: 1 << 20, csv_line_bytes: 64 << 20 }
-    }
-}
-
-static PART_BYTES: AtomicU64 = AtomicU64::new(1 << 30);
-static ZIP_RATIO: AtomicU64 = AtomicU64::new(100);
-static CSV_FIELD_BYTES: AtomicU64 = AtomicU64::new(1 << 20);
-static CSV_LINE_BYTES: AtomicU64 = AtomicU64::new(64 << 20);
-
-/// The limits reads apply from now on, in this process.
-pub fn set(limits: ReadLimits) {
-    PART_BYTES.store(limits.part_bytes, Ordering::Relaxed);
-    ZIP_RATIO.store(limits.zip_ratio, Ordering::Relaxed);
-    CSV_FIELD_BYTES.store(limits.csv_field_bytes, Ordering::Relaxed);
-    CSV_LINE_BYTES.store(limits.csv_line_bytes, Ordering::Relaxed);
-}
-
-/// The limits reads apply (the defaults unless [`set`]).
-pub fn current() -> ReadLimits {
-    ReadLimits {
-        part_bytes: PART_BYTES.load(Ordering::Relaxed),
-        zip_ratio: ZIP_RATIO.load(Ordering::Relaxed),
-        csv_field_bytes: CSV_FIELD_BYTES.load(Ordering::Relaxed),
-        csv_line_bytes: CSV_LINE_BYTES.load(Ordering::Relaxed),
     }
 }
 

@@ -295,10 +295,22 @@ pub fn read_file(path: &Path) -> Result<Vec<u8>, Error> {
 
 /// [`open`] of bytes in a known format; `path` names them in messages (and is not read).
 pub fn open_bytes(bytes: Vec<u8>, path: &Path, format: Format, csv_delimiter: Option<u8>) -> Result<Opened, Error> {
+    open_bytes_limited(bytes, path, format, csv_delimiter, limits::ReadLimits::default())
+}
+
+/// [`open_bytes`] held to the read limits `limits` (how far an xlsx part may inflate, how
+/// long a csv field or line may be).
+pub fn open_bytes_limited(
+    bytes: Vec<u8>,
+    path: &Path,
+    format: Format,
+    csv_delimiter: Option<u8>,
+    limits: limits::ReadLimits,
+) -> Result<Opened, Error> {
     match format {
         Format::Csv => {
             let (mut workbook, original) =
-                csv::read_original_with(&bytes, csv_delimiter).map_err(|m| Error::new(path, m.into()))?;
+                csv::read_original_limited(&bytes, csv_delimiter, limits).map_err(|m| Error::new(path, m.into()))?;
             workbook.track_changes();
             let mut notes = Vec::new();
             if csv_delimiter.is_none() && csv::delimiter_of(&bytes) == b';' {
@@ -308,7 +320,7 @@ pub fn open_bytes(bytes: Vec<u8>, path: &Path, format: Format, csv_delimiter: Op
             Ok(Opened { workbook, cached: Vec::new(), layout: None, written_by: None, notes, origin })
         }
         Format::Xlsx => {
-            let mut imported = xlsx::load_bytes(&bytes, path)?;
+            let mut imported = xlsx::load_bytes_limited(&bytes, path, limits)?;
             imported.workbook.track_changes();
             Ok(Opened {
                 workbook: imported.workbook,

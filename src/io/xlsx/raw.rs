@@ -33,6 +33,8 @@ pub struct Package<'a> {
     /// `<workbookView activeTab="n">`: the index in `sheets` of the sheet the file opens on
     /// (0 when absent, ECMA-376's default).
     pub active_tab: usize,
+    /// How far its parts may inflate (the caller's: a document's settings).
+    limits: ReadLimits,
 }
 
 #[derive(Clone, Debug)]
@@ -71,6 +73,11 @@ pub fn zip_error(part: Option<&str>, e: ZipError) -> Err {
 
 impl<'a> Package<'a> {
     pub fn open(bytes: &'a [u8]) -> Result<Package<'a>, Err> {
+        Package::open_limited(bytes, ReadLimits::default())
+    }
+
+    /// [`Package::open`] with its parts held to `limits` while they inflate.
+    pub fn open_limited(bytes: &'a [u8], limits: ReadLimits) -> Result<Package<'a>, Err> {
         let zip = ZipArchive::new(Cursor::new(bytes))
             .map_err(|e| (None, ErrorKind::NotXlsx, format!("not a readable xlsx (zip) package: {e}")))?;
         let mut package = Package {
@@ -84,6 +91,7 @@ impl<'a> Package<'a> {
             iteration: None,
             external_links: Vec::new(),
             active_tab: 0,
+            limits,
         };
         let workbook = package.main_part()?;
         let rels = package.relationships(&workbook)?;
@@ -122,7 +130,7 @@ impl<'a> Package<'a> {
     /// A part's raw bytes if the package has it.
     pub fn read_optional(&mut self, part: &str) -> Result<Option<Vec<u8>>, Err> {
         let mut entry = match self.zip.by_name(part) {
-            Ok(e) => Inflating::new(e, limits::current()).held_whole(),
+            Ok(e) => Inflating::new(e, self.limits).held_whole(),
             Err(ZipError::FileNotFound) => return Ok(None),
             Err(e) => return Err(zip_error(Some(part), e)),
         };
@@ -260,7 +268,7 @@ impl<'a> Package<'a> {
     /// A part to stream, held to the limits while it inflates; a missing part is an error.
     pub fn entry(&mut self, part: &str) -> Result<Inflating<zip::read::ZipFile<'_, Cursor<&'a [u8]>>>, Err> {
         match self.zip.by_name(part) {
-            Ok(e) => Ok(Inflating::new(e, limits::current())),
+            Ok(e) => Ok(Inflating::new(e, self.limits)),
             Err(ZipError::FileNotFound) => {
                 Err((Some(part.to_string()), ErrorKind::Damaged, "missing from the package".into()))
             }

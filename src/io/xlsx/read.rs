@@ -11,6 +11,7 @@
 //! constants (they would block our own spill) but kept in [`Imported::cached`] like the
 //! results of formula cells.
 
+use crate::io::limits::ReadLimits;
 use std::borrow::Cow;
 use std::collections::{HashMap, HashSet};
 use std::io::Cursor;
@@ -76,11 +77,16 @@ fn element_text(package: &mut Package, part: &str, local: &str) -> Option<String
 
 /// Reads xlsx bytes into a recalculated workbook; `file` names them in errors.
 pub fn load_bytes(bytes: &[u8], file: &Path) -> Result<Imported, XlsxError> {
+    load_bytes_limited(bytes, file, ReadLimits::default())
+}
+
+/// [`load_bytes`] with every part held to `limits` while it inflates.
+pub fn load_bytes_limited(bytes: &[u8], file: &Path, limits: ReadLimits) -> Result<Imported, XlsxError> {
     let fail = |(part, kind, message): (Option<String>, ErrorKind, String)| {
         XlsxError::new(file, part.as_deref(), kind, message)
     };
     sniff(bytes, file)?;
-    let mut package = Package::open(bytes).map_err(fail)?;
+    let mut package = Package::open_limited(bytes, limits).map_err(fail)?;
     let strings = shared_strings(&mut package, file)?;
     let read_before = package.shared_strings.clone();
     package.check_parts_calamine_reads(&[read_before.as_deref().unwrap_or_default()]).map_err(fail)?;
@@ -452,15 +458,15 @@ struct SheetImport<'a> {
     shared: HashMap<u32, (Pos, String)>,
     /// Copies of a shared formula that came before the cell holding its text.
     waiting: Vec<(Pos, u32, Option<Value>)>,
+    /// Each shared formula's tree at the cell holding its text, parsed for its first copy:
+    /// its references are offsets, so a copy reads `#REF!` where one falls off the sheet.
+    shared_trees: HashMap<u32, Option<Rc<crate::formula::ast::Expr>>>,
     /// The formula as typed (`=` and the text), reused from cell to cell.
     typed: String,
 }
 
 impl<'a> SheetImport<'a> {
     fn new(sheet: SheetId, legacy_ranges: &'a mut Vec<(SheetId, Pos)>, book: &'a BookParts) -> SheetImport<'a> {
-    /// Each shared formula's tree at the cell holding its text, parsed for its first copy:
-    /// its references are offsets, so a copy reads `#REF!` where one falls off the sheet.
-    shared_trees: HashMap<u32, Option<Rc<crate::formula::ast::Expr>>>,
         SheetImport {
             sheet,
             book,
@@ -468,13 +474,13 @@ impl<'a> SheetImport<'a> {
             spilled: HashMap::new(),
             shared: HashMap::new(),
             waiting: Vec::new(),
+            shared_trees: HashMap::new(),
             typed: String::new(),
         }
     }
 
     fn cell(&mut self, imported: &mut Imported, strings: &[Rc<str>], cell: CellXml) {
         let CellXml { pos, value, formula } = cell;
-            shared_trees: HashMap::new(),
         let value = value.map(|v| v.into_value(strings));
         match formula {
             None => self.constant(imported, pos, value),
@@ -515,12 +521,6 @@ impl<'a> SheetImport<'a> {
         }
     }
 
-    fn note_spill(&mut self, array: ArrayFormula) {
-        let ArrayFormula { anchor, area, .. } = array;
-        // An area is bounded by the sheet; the cap only keeps a hostile file from asking
-        // for billions of entries (the cells beyond it then read as constants).
-        if area.rows() as u64 * area.cols() as u64 > 1 << 22 {
-            return;
     /// A copy at `pos` of shared formula `index`, whose text is held at `holder`: the text
     /// moved there, or, where a relative reference of it would fall off the sheet (A1048576
     /// one row down), the holder's tree, which reads `#REF!` there as Excel's copy does (the
@@ -554,6 +554,12 @@ impl<'a> SheetImport<'a> {
         self.formula(imported, pos, &moved, value, true);
     }
 
+    fn note_spill(&mut self, array: ArrayFormula) {
+        let ArrayFormula { anchor, area, .. } = array;
+        // An area is bounded by the sheet; the cap only keeps a hostile file from asking
+        // for billions of entries (the cells beyond it then read as constants).
+        if area.rows() as u64 * area.cols() as u64 > 1 << 22 {
+            return;
         }
         for row in area.first.row..=area.last.row {
             for col in area.first.col..=area.last.col {
@@ -649,12 +655,6 @@ fn makes_references(text: &str) -> bool {
 }
 
 /// The text of a shared formula in `pos`, moved from the cell that holds it.
-fn shared_text(formula: &str, holder: Pos, pos: Pos) -> String {
-    calamine::expand_shared_formula(formula, (holder.row, holder.col), (pos.row, pos.col))
-        .unwrap_or_else(|_| formula.to_string())
-}
-
-fn define_names(
 /// Whether a reference of `tree`, on the sheet at `holder`, is off the sheet at `pos`.
 fn falls_off_the_sheet(tree: &crate::formula::ast::Expr, sheet: SheetId, holder: Pos, pos: Pos) -> bool {
     let mut off = false;
@@ -666,6 +666,12 @@ fn falls_off_the_sheet(tree: &crate::formula::ast::Expr, sheet: SheetId, holder:
     off
 }
 
+fn shared_text(formula: &str, holder: Pos, pos: Pos) -> String {
+    calamine::expand_shared_formula(formula, (holder.row, holder.col), (pos.row, pos.col))
+        .unwrap_or_else(|_| formula.to_string())
+}
+
+fn define_names(
     imported: &mut Imported,
     package: &Package,
     sheets: &[SheetEntry],
