@@ -21,9 +21,32 @@ struct Bench {
 
 impl Bench {
     fn start(name: &str) -> Bench {
+        Bench::with_macros(name, &[])
+    }
+
+    /// Serves `sheets/NAME` with the macro files `bas` copied beside it.
+    fn with_macros(name: &str, bas: &[&str]) -> Bench {
         let folder = tempfile::tempdir().unwrap();
+        let sheets = Path::new(env!("CARGO_MANIFEST_DIR")).join("sheets");
         let file = folder.path().join(name);
-        std::fs::copy(Path::new(env!("CARGO_MANIFEST_DIR")).join("sheets").join(name), &file).unwrap();
+        std::fs::copy(sheets.join(name), &file).unwrap();
+        let mut macro_files = Vec::new();
+        for b in bas {
+            macro_files.push(folder.path().join(b));
+            std::fs::copy(sheets.join(b), folder.path().join(b)).unwrap();
+        }
+        let server = Server::open(&file, &Options { port: 0, macro_files }).unwrap();
+        let (port, token) = (server.port(), server.token().to_string());
+        std::thread::spawn(move || server.run());
+        Bench { port, token, folder }
+    }
+
+    /// Serves a csv of `rows` rows: A holds the row's number, B doubles it by formula.
+    fn big_sheet(rows: usize) -> Bench {
+        let folder = tempfile::tempdir().unwrap();
+        let file = folder.path().join("big.csv");
+        let text: String = (1..=rows).map(|i| format!("{i},=A{i}*2\n")).collect();
+        std::fs::write(&file, text).unwrap();
         let server = Server::open(&file, &Options::default()).unwrap();
         let (port, token) = (server.port(), server.token().to_string());
         std::thread::spawn(move || server.run());
@@ -284,6 +307,74 @@ fn saving_writes_beside_the_workbook_and_over_it_only_when_asked() {
     assert_eq!((status, body.is_empty()), (400, false), "csv holds one sheet; the workbook has four: {body}");
 }
 
+/// docs/domain.md §1, the outer chamfer D 40, f 2, α 45°, r 0.8, eA 1, eB 1.
+const XA_45: f64 = 44.2627416997970;
+const ZA_45: f64 = -4.6;
+const XB_45: f64 = 33.0627416997970;
+const ZB_45: f64 = 1.0;
+
+#[test]
+fn a_cell_calling_chamfer_gives_its_construction() {
+    let bench = Bench::start("chamfer-builtin.csv");
+    // H2 is =CHAMFER(A2,B2,C2,D2,E2,F2,G2) over outer, 40, 2, 45, 0.8, 1, 1.
+    let g = bench.get_json("/api/chamfer?sheet=0&r=1&c=7");
+    let num = |k: &str| g[k].as_f64().unwrap_or_else(|| panic!("{k} in {g}"));
+    for (got, want) in [(num("xa"), XA_45), (num("za"), ZA_45), (num("xb"), XB_45), (num("zb"), ZB_45)] {
+        assert!((got - want).abs() < 1e-9, "{got} vs {want}: {g}");
+    }
+    // The chamfer line runs from A = (-f, D/2) to B = (0, D/2 - f·tan α).
+    assert_eq!((g["a"]["z"].as_f64(), g["a"]["x"].as_f64()), (Some(-2.0), Some(20.0)));
+    assert!((g["b"]["x"].as_f64().unwrap() - 18.0).abs() < 1e-12);
+    assert_eq!(g["kind"], "outer");
+    let (status, body) = bench.send("GET", "/api/chamfer?sheet=0&r=1&c=0", "", "");
+    assert_eq!(status, 400, "a constant calls no CHAMFER: {body}");
+}
+
+#[test]
+fn a_macro_beside_the_workbook_runs_into_a_program_and_its_backplot() {
+    let bench = Bench::with_macros("chamfer.xlsx", &["chamfer.bas"]);
+    let macros = bench.get_json("/api/macros");
+    let source = &macros["sources"][0];
+    assert_eq!(source["source"], "file:chamfer.bas", "{macros}");
+    assert!(source["subs"].as_array().unwrap().iter().any(|s| s == "Main"), "{macros}");
+    let run = serde_json::json!({ "source": "file:chamfer.bas", "sub": "Main", "dialect": "linuxcnc", "sheet": OUTER });
+    let (status, out) = bench.post_json("/api/run", &run);
+    assert_eq!(status, 200, "{out}");
+    let lines: Vec<&str> = out["lines"].as_array().unwrap().iter().map(|l| l.as_str().unwrap()).collect();
+    assert!(out["svg"].as_str().unwrap().starts_with("<svg"), "{out}");
+    // The two feed moves end at T1 and T2 (X a radius in the backplot, a diameter in the
+    // program), and the program's lines they come from say the same to the dialect's digits.
+    let feeds: Vec<&Value> = out["moves"].as_array().unwrap().iter().filter(|m| m["rapid"] == false).collect();
+    assert_eq!(feeds.len(), 2, "{out}");
+    for (feed, (x, z)) in feeds.iter().zip([(XA_45, ZA_45), (XB_45, ZB_45)]) {
+        let to = &feed["to"];
+        assert!(
+            (to[0].as_f64().unwrap() * 2.0 - x).abs() < 1e-3 && (to[2].as_f64().unwrap() - z).abs() < 1e-3,
+            "{feed}"
+        );
+        let line = lines[feed["line"].as_u64().unwrap() as usize - 1];
+        assert!(line.contains(&format!("X{:.3}", x)) && line.contains('Z'), "{line}");
+    }
+    let (status, refused) = bench.post_json(
+        "/api/run",
+        &serde_json::json!({ "source": "file:../x.bas", "sub": "", "dialect": "iso", "sheet": 0 }),
+    );
+    assert_eq!(status, 400, "{refused}");
+}
+
+#[test]
+fn a_window_reaches_the_last_row_of_a_large_sheet() {
+    let bench = Bench::big_sheet(100_000);
+    let summary = bench.get_json("/api/sheets");
+    assert_eq!(summary["sheets"][0]["rows"], 100_000);
+    let window = bench.get_json("/api/cells?sheet=0&r0=99990&r1=99999&c0=0&c1=1");
+    let last = window["cells"].as_array().unwrap().iter().find(|c| c["r"] == 99_999 && c["c"] == 1).unwrap();
+    assert_eq!(last["num"], 200_000.0);
+    assert_eq!(last["input"], "=A100000*2");
+    let (status, _) = bench.send("GET", "/api/cells?sheet=0&r0=0&r1=5000&c0=0&c1=1", "", "");
+    assert_eq!(status, 400, "a window is at most a screen, many times over");
+}
+
 #[test]
 fn the_command_prints_the_url_and_serves_the_page() {
     let folder = tempfile::tempdir().unwrap();
@@ -329,19 +420,22 @@ fn the_page_in_a_real_browser() {
         eprintln!("skipped: {why}");
         return;
     }
-    let bench = Bench::start("chamfer.xlsx");
-    let url = format!("http://127.0.0.1:{}/?t={}", bench.port, bench.token);
+    let bench = Bench::with_macros("chamfer.xlsx", &["chamfer.bas"]);
+    let big = Bench::big_sheet(100_000);
+    let url = |b: &Bench| format!("http://127.0.0.1:{}/?t={}", b.port, b.token);
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let screenshot = root.join("docs/workbench-grid.png");
+    let docs = root.join("docs");
     let out = Command::new("python3")
         .arg(root.join("tests/workbench_browser.py"))
-        .arg(&url)
-        .arg(&screenshot)
+        .args([url(&bench), url(&big)])
+        .arg(&docs)
         .arg(bench.folder.path().join("chrome-profile"))
         .output()
         .unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
     assert!(stdout.contains("ok"), "{stdout}");
-    assert!(std::fs::metadata(&screenshot).unwrap().len() > 10_000);
+    for shot in ["workbench-grid.png", "workbench-machining.png"] {
+        assert!(std::fs::metadata(docs.join(shot)).unwrap().len() > 10_000, "{shot}");
+    }
 }

@@ -1,11 +1,13 @@
 #!/usr/bin/env python3
 """The workbench page in a real browser (Chromium through chromium-driver and Selenium).
 
-Run by tests/workbench.rs: `workbench_browser.py URL SCREENSHOT.png PROFILE_DIR`, with the
-server serving sheets/chamfer.xlsx. It selects Outer!B8 through the name box, types 30 into
-the grid, reads XA (G6) and XB (G8) as the page shows them and as the API returns them
-(docs/domain.md section 1), undoes, checks the old values (Excel's cached ones) are back, and saves a
-screenshot of the grid. Prints "ok" at the end; any failure raises.
+Run by tests/workbench.rs: `workbench_browser.py URL BIG_URL DOCS_DIR PROFILE_DIR`, URL serving
+sheets/chamfer.xlsx with sheets/chamfer.bas beside it, BIG_URL a 100,000-row sheet. It selects
+Outer!B8 through the name box, types 30 into the grid, reads XA (G6) and XB (G8) as the page
+shows them and as the API returns them (docs/domain.md section 1), undoes, checks the old values
+(Excel's cached ones) are back; runs chamfer.bas and reads the program's feed blocks; scrolls
+the big sheet to its last row. Screenshots of the grid and the machining pane go to DOCS_DIR.
+Prints "ok" at the end; any failure raises.
 """
 
 import json
@@ -19,7 +21,7 @@ from selenium.webdriver.common.by import By
 from selenium.webdriver.common.keys import Keys
 from selenium.webdriver.support.ui import WebDriverWait
 
-URL, SCREENSHOT, PROFILE = sys.argv[1], sys.argv[2], sys.argv[3]
+URL, BIG_URL, DOCS, PROFILE = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4]
 TOKEN = urllib.parse.parse_qs(urllib.parse.urlparse(URL).query)["t"][0]
 BASE = URL.split("/?")[0]
 
@@ -60,6 +62,42 @@ def wait_text(driver, name, expected):
     except Exception:
         status = driver.find_element(By.ID, "status").text
         raise AssertionError(f"{name} shows {cell_text(driver, name)!r}, expected {expected!r} (status: {status!r})")
+
+
+def run_macro(driver):
+    """Runs chamfer.bas on Outer (alpha 45) for LinuxCNC: the feed blocks go to T1 and T2."""
+    select = driver.find_element(By.ID, "macro")
+    select.find_element(By.CSS_SELECTOR, 'option[value="file:chamfer.bas|Main"]').click()
+    driver.find_element(By.ID, "dialect").find_element(By.XPATH, "option[.='linuxcnc']").click()
+    driver.find_element(By.ID, "run").click()
+    WebDriverWait(driver, 20).until(lambda d: d.find_elements(By.CSS_SELECTOR, "#program li"))
+    lines = [li.text for li in driver.find_elements(By.CSS_SELECTOR, "#program li")]
+    feeds = [l for l in lines if l.startswith("G1") or " G1 " in f" {l} "]
+    assert any(f"X{XA_45:.3f}" in l for l in feeds), lines
+    assert any(f"X{XB_45:.3f}" in l for l in feeds), lines
+    WebDriverWait(driver, 10).until(lambda d: d.find_elements(By.CSS_SELECTOR, "#backplot img"))
+    # Clicking a block says its move.
+    index = next(i for i, l in enumerate(lines) if f"X{XA_45:.3f}" in l)
+    driver.find_elements(By.CSS_SELECTOR, "#program li")[index].click()
+    status = driver.find_element(By.ID, "status").text
+    assert "feed" in status and "to " in status, status
+    driver.find_element(By.ID, "pane").screenshot(DOCS + "/workbench-machining.png")
+
+
+def scroll_big_sheet(driver):
+    """The grid draws only what is on screen, down to row 100,000."""
+    driver.get(BIG_URL)
+    WebDriverWait(driver, 20).until(lambda d: d.find_element(By.TAG_NAME, "body").get_attribute("data-ready") == "1")
+    # Dragged by the scroll bar to the last rows, then to row 100,000 by the name box.
+    driver.execute_script("const s = document.getElementById('scroller'); s.scrollTop = s.scrollHeight;")
+    wait_text(driver, "A100050", "")
+    namebox = driver.find_element(By.ID, "namebox")
+    namebox.clear()
+    namebox.send_keys("A100000", Keys.ENTER)
+    wait_text(driver, "A100000", "100000")
+    wait_text(driver, "B100000", "200000")
+    drawn = driver.execute_script("return document.querySelectorAll('#cells .c').length;")
+    assert drawn < 2000, drawn
 
 
 def main():
@@ -110,7 +148,7 @@ def main():
         namebox.clear()
         namebox.send_keys("G6", Keys.ENTER)
         WebDriverWait(driver, 10).until(lambda d: "prec" in cell_class(d, "C21"))
-        driver.save_screenshot(SCREENSHOT)
+        driver.save_screenshot(DOCS + "/workbench-grid.png")
 
         driver.find_element(By.ID, "undo").click()
         wait_text(driver, "B8", "45")
@@ -121,6 +159,11 @@ def main():
         # Ctrl+Y makes the edit again.
         driver.find_element(By.ID, "scroller").send_keys(Keys.CONTROL, "y")
         wait_text(driver, "G6", f"{XA_30:.6f}")
+        driver.find_element(By.ID, "undo").click()
+        wait_text(driver, "G6", f"{XA_45:.6f}")
+
+        run_macro(driver)
+        scroll_big_sheet(driver)
     finally:
         driver.quit()
     print("ok")
