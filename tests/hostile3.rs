@@ -426,3 +426,65 @@ fn numbers_past_the_largest_double_and_indexes_past_u32_are_named() {
         assert!(e.contains(says), "{e}");
     }
 }
+
+#[test]
+fn damaged_parts_are_named_with_what_is_wrong() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = book_with_cells(dir.path(), r#"<row r="1"><c r="A1"><v>1</v></c></row>"#);
+    let package = std::fs::read(&file).unwrap();
+    let utf16 = |t: String| {
+        let mut v = vec![0xFF, 0xFE];
+        t.encode_utf16().for_each(|u| v.extend(u.to_le_bytes()));
+        v
+    };
+    let cut = |t: String| t.as_bytes()[..t.len() / 2].to_vec();
+    let probes: [(&str, &dyn Fn(String) -> Vec<u8>, &str); 4] = [
+        ("xl/worksheets/sheet1.xml", &utf16, "the part is encoded in UTF-16"),
+        ("xl/styles.xml", &utf16, "the part is encoded in UTF-16"),
+        ("xl/styles.xml", &cut, "the XML is not well-formed"),
+        ("xl/workbook.xml", &cut, "the XML is not well-formed"),
+    ];
+    for (target, change, says) in probes {
+        let mut f = |part: &str, bytes: Vec<u8>| {
+            if part == target {
+                change(String::from_utf8(bytes).unwrap())
+            } else {
+                bytes
+            }
+        };
+        std::fs::write(&file, rewrite_package(&package, &mut f)).unwrap();
+        let e = ncsheet::io::load(&file).err().map(|e| e.to_string()).unwrap_or_default();
+        assert!(e.contains(&format!("{target}: ")) && e.contains(says), "{target}: {e}");
+    }
+}
+
+#[test]
+fn a_long_cycle_is_named_in_a_short_line() {
+    // A1 = A2, A2 = A3, …, A5000 = A1: one cycle of 5,000 cells.
+    let cells: Vec<(String, String)> =
+        (1..=5000).map(|r| (format!("A{r}"), format!("=A{}", if r == 5000 { 1 } else { r + 1 }))).collect();
+    let cells: Vec<(&str, String)> = cells.iter().map(|(c, i)| (c.as_str(), i.clone())).collect();
+    let wb = sheet(&cells);
+    let lines: Vec<String> = wb.problems().iter().map(|p| p.render()).collect();
+    let cycle = lines.iter().find(|l| l.contains("circular reference")).expect("the cycle is reported");
+    assert!(cycle.len() < 400, "{} bytes", cycle.len());
+    assert!(cycle.contains("(4988 more cells)") && cycle.contains("(5000 cells in all)"), "{cycle}");
+    // A short one is named whole.
+    let wb = sheet(&[("A1", "=B1".to_string()), ("B1", "=A1".to_string())]);
+    let lines: Vec<String> = wb.problems().iter().map(|p| p.render()).collect();
+    assert!(lines.iter().any(|l| l.ends_with("Sheet1!A1 -> Sheet1!B1")), "{lines:?}");
+}
+
+#[test]
+fn a_macro_stopped_deep_in_recursion_says_each_caller_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let book = dir.path().join("b.csv");
+    std::fs::write(&book, "1,2\n").unwrap();
+    let bas = dir.path().join("rec.bas");
+    std::fs::write(&bas, "Sub Main()\n    Recurse 1\nEnd Sub\nSub Recurse(n)\n    Recurse n + 1\nEnd Sub\n").unwrap();
+    let run = ncsheet(&["run", book.to_str().unwrap(), bas.to_str().unwrap(), "--max-depth", "10000"]);
+    assert_eq!(run.code, 1);
+    assert!(run.stderr.len() < 2_000, "{} bytes", run.stderr.len());
+    assert!(run.stderr.contains("in Sub Recurse (called at line 5, column 5) ("), "{}", run.stderr);
+    assert!(run.stderr.contains("in Sub Main"), "{}", run.stderr);
+}

@@ -330,7 +330,14 @@ impl fmt::Display for MacroError {
         let lead: String =
             self.source_line.chars().take(span.col as usize - 1).map(|c| if c == '\t' { '\t' } else { ' ' }).collect();
         write!(f, "\n {number} | {}\n {pad} | {lead}^", self.source_line)?;
-        for t in &self.trace {
+        // A recursion stopped at depth 10,000 repeats one line 10,000 times (490 KB): a run
+        // of equal lines is written once with its count.
+        let mut lines = self.trace.iter().peekable();
+        while let Some(t) = lines.next() {
+            let mut repeats = 1;
+            while lines.next_if(|next| *next == t).is_some() {
+                repeats += 1;
+            }
             write!(f, "\n  {t}")?;
         }
         Ok(())
@@ -338,6 +345,9 @@ impl fmt::Display for MacroError {
 }
 
 impl std::error::Error for MacroError {}
+            if repeats > 1 {
+                write!(f, " ({repeats} times)")?;
+            }
 
 /// Parses a module without running it (for listing its Subs, or checking it). `workbook`
 /// resolves sheet names in `[Sheet2!A1]` brackets.

@@ -50,7 +50,7 @@ impl Problem {
             ProblemKind::UnknownFunction(name) => format!("unknown function {name} (see `ncsheet functions`)"),
             ProblemKind::UnknownName(name) => format!("unknown name {name}"),
             ProblemKind::MissingSheet(name) => format!("no sheet named '{name}'"),
-            ProblemKind::Cycle(cells) => format!("circular reference: {}", cells.join(" -> ")),
+            ProblemKind::Cycle(cells) => format!("circular reference: {}", cycle_path(cells)),
             ProblemKind::Note { error, message } => format!("{error}: {message}"),
         }
     }
@@ -67,6 +67,26 @@ impl Problem {
         let span = Some(Span { start: error.offset as u32, end: error.offset as u32 });
         Problem { sheet, pos, kind: ProblemKind::Parse(error.message.clone()), text: text.to_string(), span }
     }
+}
+
+/// The most cells a circular reference's message names: a cycle through a column of a
+/// million cells was one line of 18.8 MB. Past it the first and last cells are named and
+/// the count of those between.
+const CYCLE_CELLS_NAMED: usize = 12;
+
+/// `A1 -> B1 -> A1`, or for a long cycle `A1 -> … -> A9 -> (4,990 more cells) -> B5000`.
+fn cycle_path(cells: &[String]) -> String {
+    if cells.len() <= CYCLE_CELLS_NAMED {
+        return cells.join(" -> ");
+    }
+    let (head, tail) = (CYCLE_CELLS_NAMED - 3, 3);
+    let between = cells.len() - head - tail;
+    format!(
+        "{} -> ({between} more cells) -> {} ({} cells in all)",
+        cells[..head].join(" -> "),
+        cells[cells.len() - tail..].join(" -> "),
+        cells.len()
+    )
 }
 
 /// The rendering, without the cell's place.

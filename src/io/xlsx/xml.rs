@@ -181,6 +181,14 @@ const MAX_PIECE: usize = 1 << 24;
 pub fn stream<E>(reader: impl Read, handler: &mut dyn FnMut(Event) -> Result<(), E>) -> Result<(), StreamError<E>> {
     let mut window = Window { reader, buf: Vec::with_capacity(2 * CHUNK), pos: 0, consumed: 0, eof: false };
     let mut open = OpenElements::default();
+    window.refill().map_err(StreamError::Io)?;
+    if is_utf16(&window.buf) {
+        // Read as bytes, every other one a zero, it "ended inside a tag": say what it is.
+        let message = "the part is encoded in UTF-16; ncsheet reads the UTF-8 that Excel writes (open the file in \
+                       Excel and save it again)"
+            .to_string();
+        return Err(StreamError::Xml { offset: 0, message });
+    }
     loop {
         let offset = window.offset();
         let rest = &window.buf[window.pos..];
@@ -220,6 +228,11 @@ pub fn stream<E>(reader: impl Read, handler: &mut dyn FnMut(Event) -> Result<(),
             return Err(StreamError::Xml { offset, message });
         }
     }
+}
+
+/// Whether a document starts as UTF-16 does: a byte-order mark, or `<` with a zero byte.
+fn is_utf16(start: &[u8]) -> bool {
+    matches!(start, [0xFF, 0xFE, ..] | [0xFE, 0xFF, ..] | [0, b'<', ..] | [b'<', 0, ..])
 }
 
 /// The unread part of a stream: `buf[pos..]`, of which `consumed` bytes came before `buf`.
