@@ -339,15 +339,15 @@ impl fmt::Display for MacroError {
                 repeats += 1;
             }
             write!(f, "\n  {t}")?;
+            if repeats > 1 {
+                write!(f, " ({repeats} times)")?;
+            }
         }
         Ok(())
     }
 }
 
 impl std::error::Error for MacroError {}
-            if repeats > 1 {
-                write!(f, " ({repeats} times)")?;
-            }
 
 /// Parses a module without running it (for listing its Subs, or checking it). `workbook`
 /// resolves sheet names in `[Sheet2!A1]` brackets.
