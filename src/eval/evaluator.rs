@@ -383,11 +383,6 @@ impl<'a> Ctx<'a> {
         }
     }
 
-    /// Records why `error` happened and returns it, for `return Err(ctx.explain(..))`.
-    pub fn explain(&mut self, error: XlError, message: impl Into<String>) -> XlError {
-        self.notes.push(Note { error, message: message.into() });
-        error
-    }
     /// `Ok` when an array of `rows` × `cols` items is within [`super::MAX_ARRAY_ITEMS`], else
     /// `#NUM!` with the note naming both: every function that sizes an array from its
     /// arguments (WRAPCOLS' count, VSTACK's widest part, MAKEARRAY) asks before allocating.
@@ -398,6 +393,11 @@ impl<'a> Ctx<'a> {
         Ok(())
     }
 
+    /// Records why `error` happened and returns it, for `return Err(ctx.explain(..))`.
+    pub fn explain(&mut self, error: XlError, message: impl Into<String>) -> XlError {
+        self.notes.push(Note { error, message: message.into() });
+        error
+    }
 
     /// A cell formula's result. Excel zeroes the result of a formula whose last operation
     /// is an addition or subtraction that cancels to within the operands' last binary
@@ -1118,6 +1118,32 @@ pub fn number_result(n: f64) -> Value {
     }
 }
 
+/// A function's result with every number as [`number_result`] makes it: whatever a
+/// function computes, an infinity or NaN leaves it as `#NUM!` and a subnormal as 0, in one
+/// place rather than in each of 500 functions (`MEDIAN`, `GROWTH` and `TREND` leaked them
+/// into cells, files and ISNUMBER). An array is copied only when it holds one.
+pub fn finite_numbers(v: Value) -> Value {
+    let unfit = |n: f64| !n.is_finite() || (n != 0.0 && n.abs() < f64::MIN_POSITIVE);
+    match v {
+        Value::Number(n) if unfit(n) => number_result(n),
+        Value::Array(a) if a.data.iter().any(|x| matches!(x, Value::Number(n) if unfit(*n))) => {
+            let mut a = Rc::unwrap_or_clone(a);
+            for x in &mut a.data {
+                if let Value::Number(n) = *x {
+                    *x = number_result(n);
+                }
+            }
+            if let Some(tail) = &mut a.tail {
+                if let Value::Number(n) = tail.fill {
+                    tail.fill = number_result(n);
+                }
+            }
+            Value::Array(Rc::new(a))
+        }
+        other => other,
+    }
+}
+
 /// Whether `r`, the sum or difference of `x` and `y`, is only the binary rounding of their
 /// decimal values: within 2^-50 of the larger (`0.1+0.2-0.3` is 1.9e-16 of 0.3 and zeroed;
 /// `40026.44000000006-40026.44`, 1.5e-15, is kept, as Excel keeps it).
@@ -1149,32 +1175,6 @@ fn scalar_binary(op: BinOp, a: &Value, b: &Value) -> Value {
             (Ok(x), Ok(y)) => Value::Text(format!("{x}{y}").into()),
             (Err(e), _) | (_, Err(e)) => Value::Error(e),
         },
-/// A function's result with every number as [`number_result`] makes it: whatever a
-/// function computes, an infinity or NaN leaves it as `#NUM!` and a subnormal as 0, in one
-/// place rather than in each of 500 functions (`MEDIAN`, `GROWTH` and `TREND` leaked them
-/// into cells, files and ISNUMBER). An array is copied only when it holds one.
-pub fn finite_numbers(v: Value) -> Value {
-    let unfit = |n: f64| !n.is_finite() || (n != 0.0 && n.abs() < f64::MIN_POSITIVE);
-    match v {
-        Value::Number(n) if unfit(n) => number_result(n),
-        Value::Array(a) if a.data.iter().any(|x| matches!(x, Value::Number(n) if unfit(*n))) => {
-            let mut a = Rc::unwrap_or_clone(a);
-            for x in &mut a.data {
-                if let Value::Number(n) = *x {
-                    *x = number_result(n);
-                }
-            }
-            if let Some(tail) = &mut a.tail {
-                if let Value::Number(n) = tail.fill {
-                    tail.fill = number_result(n);
-                }
-            }
-            Value::Array(Rc::new(a))
-        }
-        other => other,
-    }
-}
-
         BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge => match compare_operands(a, b) {
             Ok(ord) => Value::Bool(comparison_holds(op, ord)),
             Err(e) => Value::Error(e),
