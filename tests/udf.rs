@@ -325,13 +325,13 @@ fn endless_recursion_in_a_function_is_a_value_error() {
     assert_eq!(wb.value(0, at("A1")), Value::Error(XlError::Value));
 }
 
-/// A module the interpreter cannot read (here `New Collection`) leaves its functions
+/// A module the interpreter cannot read (here a statement cut short) leaves its functions
 /// `#NAME?`, and a note names the module, the place and the function a cell calls.
 #[test]
 fn a_module_that_does_not_parse_is_named_when_a_cell_calls_its_function() {
     let dir = tempfile::tempdir().unwrap();
     let d = |name: &str| dir.path().join(name).to_string_lossy().into_owned();
-    let bas = "Attribute VB_Name = \"Broken\"\r\nFunction Bad()\r\n    Dim h\r\n    Set h = New Collection\r\n    Bad = 1\r\nEnd Function\r\n";
+    let bas = "Attribute VB_Name = \"Broken\"\r\nFunction Bad()\r\n    Dim h\r\n    Set h = * Collection\r\n    Bad = 1\r\nEnd Function\r\n";
     std::fs::write(d("broken.bas"), bas).unwrap();
     std::fs::write(d("b.csv"), "x,=Bad()\n").unwrap();
     assert_eq!(common::cli::ncsheet(&["set", &d("b.csv"), "A2=1", "-o", &d("b.xlsx")]).code, 0);

@@ -189,6 +189,7 @@ fn run_on_this_thread(args: RunArgs, dialect_name: &'static str, delimiter: Opti
             MachineKind::Lathe => Machine::Lathe,
             MachineKind::Mill => Machine::Mill,
         },
+        project: other_modules(&args, file)?,
     };
     let out = match vba::run(&mut wb, &source, &file.display().to_string(), &options) {
         Ok(out) => out,
@@ -297,6 +298,18 @@ fn macro_source(
     let place = args.workbook.join(&module.name);
     let document = document_of(module, layout).map_err(|m| Error::User(format!("{}: {m}", place.display())))?;
     Ok((place, module.source.clone(), sub, document))
+}
+
+/// The project's other standard modules, whose public code the module run sees as VBA
+/// compiles a project as one program (none for a .bas file given on its own).
+fn other_modules(args: &RunArgs, running: &std::path::Path) -> Result<Vec<(String, String)>> {
+    if args.macro_file.is_some() {
+        return Ok(Vec::new());
+    }
+    let project = super::macros::open_project(&args.workbook)?;
+    let own = running.file_name().and_then(|n| n.to_str()).unwrap_or_default();
+    let others = project.modules.iter().filter(|m| m.kind == ModuleKind::Standard && m.name != own);
+    Ok(others.map(|m| (m.name.clone(), m.source.clone())).collect())
 }
 
 /// What a module of the project belongs to: nothing (a standard module), a sheet (its code

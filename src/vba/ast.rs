@@ -35,6 +35,16 @@ pub struct Module {
     pub types: Vec<TypeDef>,
     /// The macro-only expression nodes; `ExprKind::Host(i)` is `nodes[i]`.
     pub nodes: Vec<Node>,
+    /// The modules of the project whose code this source joins, the module run first
+    /// (empty: one module alone).
+    pub parts: Vec<Part>,
+}
+
+/// One module of a project joined into one source: its name and the line it starts at.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Part {
+    pub name: Rc<str>,
+    pub first_line: u32,
 }
 
 impl Module {
@@ -202,6 +212,9 @@ pub enum StmtKind {
     Resume(Resume),
     /// `End`: stops the macro.
     End,
+    /// The procedure does not compile: running it stops the macro with this message, at
+    /// the statement's place (a syntax error, which no `On Error` traps).
+    CompileError(Rc<str>),
 }
 
 /// What a runtime error does in the procedure from an `On Error` statement on.

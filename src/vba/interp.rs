@@ -831,6 +831,16 @@ impl Interp<'_, '_> {
                 return Ok(Flow::Resume(kind.clone()));
             }
             StmtKind::End => return Ok(Flow::End),
+            StmtKind::CompileError(message) => {
+                let message = message.to_string();
+                return Err(Fault {
+                    kind: ErrorKind::Syntax,
+                    code: 0,
+                    message,
+                    span: Some(stmt.span),
+                    trace: Vec::new(),
+                });
+            }
         }
         Ok(Flow::Next)
     }

@@ -103,6 +103,7 @@
 mod arrays;
 pub mod ast;
 mod budget;
+mod conditional;
 mod host;
 mod interp;
 mod nc;
@@ -169,6 +170,10 @@ pub struct RunOptions {
     /// The active cell of each sheet when the macro starts, by sheet name, as the file saved
     /// it (`ActiveCell`, `Selection`); a sheet not listed starts at A1.
     pub active_cells: Vec<(String, crate::formula::address::Pos)>,
+    /// The project's other standard modules (name, source): the module sees their public
+    /// procedures (`Helper`, `Module2.Helper`), constants and variables, as VBA compiles a
+    /// project as one program.
+    pub project: Vec<(String, String)>,
 }
 
 /// A document module: the code behind a sheet or the workbook (a worksheet button's macro
@@ -249,6 +254,7 @@ impl Default for RunOptions {
             code_names: Vec::new(),
             document: None,
             active_cells: Vec::new(),
+            project: Vec::new(),
         }
     }
 }
@@ -362,10 +368,13 @@ fn parse_with(source: &str, file_name: &str, workbook: &Workbook, options: &RunO
     if options.document.is_some() {
         objects.push("me".into());
     }
-    parser::parse_module(source, &|n| workbook.sheet_id(n), &objects).map_err(|e| {
+    let own = std::path::Path::new(file_name).file_stem().and_then(|s| s.to_str()).unwrap_or(file_name);
+    let (joined, parts) = join_project(own, source, &options.project);
+    let source = joined.as_deref().unwrap_or(source);
+    parser::parse_module(source, &|n| workbook.sheet_id(n), &objects, &parts).map_err(|e| {
         let lines = parser::Lines::new(source);
         let span = lines.span(source, e.offset);
-        MacroError {
+        let mut e = MacroError {
             kind: ErrorKind::Syntax,
             file: file_name.to_string(),
             span: Some(span),
@@ -373,8 +382,44 @@ fn parse_with(source: &str, file_name: &str, workbook: &Workbook, options: &RunO
             source_line: lines.text(source, span.line).to_string(),
             trace: Vec::new(),
             output: Box::new(RunOutput::new("", Machine::Lathe)),
-        }
+        };
+        relocate(&mut e, &parts);
+        e
     })
+}
+
+/// `source` with the code of the project's other modules after it (their `Attribute` and
+/// `Option` lines left blank: the first module's options hold), and where each module
+/// starts; `None` and no parts when there are no others.
+fn join_project(own_name: &str, source: &str, others: &[(String, String)]) -> (Option<String>, Vec<ast::Part>) {
+    if others.is_empty() {
+        return (None, Vec::new());
+    }
+    let mut out = source.to_string();
+    let mut parts = vec![ast::Part { name: own_name.into(), first_line: 1 }];
+    for (name, other) in others {
+        if !out.ends_with('\n') {
+            out.push_str("\r\n");
+        }
+        let first_line = out.matches('\n').count() as u32 + 1;
+        parts.push(ast::Part { name: name.as_str().into(), first_line });
+        for line in other.lines() {
+            let word = line.split_whitespace().next().unwrap_or("").to_ascii_lowercase();
+            if word != "attribute" && word != "option" {
+                out.push_str(line);
+            }
+            out.push_str("\r\n");
+        }
+    }
+    (Some(out), parts)
+}
+
+/// An error in another module of a joined project: named by that module and its own line.
+fn relocate(e: &mut MacroError, parts: &[ast::Part]) {
+    let Some(span) = e.span.as_mut() else { return };
+    let Some(part) = parts.iter().skip(1).rev().find(|p| p.first_line <= span.line) else { return };
+    span.line -= part.first_line - 1;
+    e.file = part.name.to_string();
 }
 
 /// Runs a macro: parses `source` (named `file_name` in messages), runs the Sub chosen by
@@ -387,5 +432,11 @@ pub fn run(
     options: &RunOptions,
 ) -> Result<RunOutput, MacroError> {
     let module = parse_with(source, file_name, workbook, options)?;
-    interp::run(&module, workbook, source, file_name, options)
+    let own = std::path::Path::new(file_name).file_stem().and_then(|s| s.to_str()).unwrap_or(file_name);
+    let (joined, parts) = join_project(own, source, &options.project);
+    let source = joined.as_deref().unwrap_or(source);
+    interp::run(&module, workbook, source, file_name, options).map_err(|mut e| {
+        relocate(&mut e, &parts);
+        e
+    })
 }

@@ -70,14 +70,19 @@ pub fn parse_module(
     src: &str,
     sheets: &dyn Fn(&str) -> Option<SheetId>,
     objects: &[String],
+    parts: &[Part],
 ) -> Result<Module, SyntaxError> {
+    let prepared = super::conditional::prepare(src)?;
+    let src = &*prepared;
     limits::check_nesting(src, limits::Language::Macro)?;
     limits::check_block_nesting(src)?;
     let mut pairs = FormulaGrammar::parse(Rule::module, src).map_err(from_pest)?;
     let module = pairs.next().expect("module rule");
     let items: Vec<Pair<Rule>> = module.into_inner().collect();
-    let mut b = Build::new(src, sheets, &items)?;
+    let mut b = Build::new(src, sheets, &items, parts)?;
     b.objects = objects;
+    b.declared =
+        items.iter().filter(|i| i.as_rule() == Rule::declare_stmt).filter_map(|i| declared_name(i.as_str())).collect();
     let type_names = items.iter().filter(|i| i.as_rule() == Rule::type_def);
     *b.types.borrow_mut() = type_names.map(|i| name_of(&find(&kids(i), Rule::ident).expect("type name"))).collect();
     let mut out = Module { base: 0, ..Module::default() };
@@ -88,11 +93,16 @@ pub fn parse_module(
                 out.types.push(t);
             }
             Rule::option_stmt => b.option(item)?,
-            Rule::declare_stmt => {
-                return Err(b.error_at(&item, "Declare calls into a DLL: a macro cannot run other programs"))
-            }
+            // A DLL's procedure: declared, never callable (`resolve.rs` refuses a call of it).
+            Rule::declare_stmt => {}
+            // A procedure that does not compile fails when it runs, not its module: VBA
+            // compiles a procedure when it is first called.
             Rule::sub_def | Rule::function_def => {
-                let p = b.proc(item)?;
+                b.current_part.set(b.part_at(start(&item)));
+                let p = match b.proc(item.clone()) {
+                    Ok(p) => p,
+                    Err(e) => b.failed_proc(&item, e),
+                };
                 out.procs.push(p);
             }
             Rule::dim_stmt | Rule::const_stmt => {
@@ -104,6 +114,7 @@ pub fn parse_module(
             _ => {}
         }
     }
+    out.parts = b.parts.clone();
     out.explicit = b.explicit.get();
     out.base = b.base.get();
     out.nodes = b.nodes.into_inner();
@@ -175,6 +186,9 @@ pub(super) struct Signature {
     pub(super) params: Vec<Rc<str>>,
     /// How many parameters come before the first Optional one.
     pub(super) required: usize,
+    /// The module of the project it is in (`Module::parts`), and whether other modules see it.
+    pub(super) part: usize,
+    pub(super) public: bool,
 }
 
 /// What the parser knows while it builds one procedure.
@@ -197,7 +211,11 @@ pub(super) struct Build<'s> {
     pub(super) procs: Vec<Signature>,
     /// Each procedure's index by its name in ASCII lower case: a module of many procedures
     /// is read in time proportional to its size.
-    pub(super) proc_names: std::collections::HashMap<String, usize>,
+    pub(super) proc_names: std::collections::HashMap<String, Vec<usize>>,
+    /// The project's modules, when the source joins several (`Module::parts`), and the one
+    /// whose procedure is being built.
+    pub(super) parts: Vec<Part>,
+    pub(super) current_part: Cell<usize>,
     pub(super) globals: RefCell<std::collections::HashSet<String>>,
     pub(super) scope: RefCell<Scope>,
     nodes: RefCell<Vec<Node>>,
@@ -207,6 +225,8 @@ pub(super) struct Build<'s> {
     types: RefCell<Vec<Rc<str>>>,
     /// Module-level declarations are being built: they declare globals.
     building_globals: Cell<bool>,
+    /// The names of the module's `Declare`d DLL procedures, lower case.
+    pub(super) declared: std::collections::HashSet<String>,
     lines: Lines,
 }
 
@@ -231,24 +251,32 @@ fn name_of(pair: &Pair<Rule>) -> Rc<str> {
 }
 
 impl<'s> Build<'s> {
-    fn new(src: &'s str, sheets: &'s dyn Fn(&str) -> Option<SheetId>, items: &[Pair<Rule>]) -> Res<Build<'s>> {
+    fn new(
+        src: &'s str,
+        sheets: &'s dyn Fn(&str) -> Option<SheetId>,
+        items: &[Pair<Rule>],
+        parts: &[Part],
+    ) -> Res<Build<'s>> {
         let b = Build {
             src,
             sheets,
             objects: &[],
             procs: Vec::new(),
             proc_names: std::collections::HashMap::new(),
+            parts: parts.to_vec(),
+            current_part: Cell::new(0),
             globals: RefCell::new(Default::default()),
             scope: RefCell::new(Scope::default()),
             nodes: RefCell::new(Vec::new()),
             explicit: Cell::new(false),
             base: Cell::new(0),
             building_globals: Cell::new(false),
+            declared: Default::default(),
             types: RefCell::new(Vec::new()),
             lines: Lines::new(src),
         };
-        let mut procs = Vec::new();
-        let mut proc_names = std::collections::HashMap::new();
+        let mut procs: Vec<Signature> = Vec::new();
+        let mut proc_names: std::collections::HashMap<String, Vec<usize>> = std::collections::HashMap::new();
         for item in items {
             if !matches!(item.as_rule(), Rule::sub_def | Rule::function_def) {
                 continue;
@@ -256,9 +284,13 @@ impl<'s> Build<'s> {
             let k = kids(item);
             let name_pair = find(&k, Rule::ident).expect("procedure name");
             let name = name_of(&name_pair);
-            if proc_names.insert(name.to_ascii_lowercase(), procs.len()).is_some() {
+            let part = b.part_at(start(item));
+            let same_name = proc_names.entry(name.to_ascii_lowercase()).or_default();
+            if same_name.iter().any(|&i| procs[i].part == part) {
                 return Err(b.error_at(&name_pair, format!("{name} is defined twice")));
             }
+            same_name.push(procs.len());
+            let public = find(&k, Rule::scope).is_none_or(|s| !s.as_str().eq_ignore_ascii_case("Private"));
             let kind = if item.as_rule() == Rule::sub_def { ProcKind::Sub } else { ProcKind::Function };
             let params: Vec<Pair<Rule>> =
                 find(&k, Rule::param_list).map(|l| all(&kids(&l), Rule::param)).unwrap_or_default();
@@ -267,7 +299,7 @@ impl<'s> Build<'s> {
                 .iter()
                 .filter(|p| find(&kids(p), Rule::k_optional).is_none() && find(&kids(p), Rule::vexpr).is_none())
                 .count();
-            procs.push(Signature { name, kind, params: names, required });
+            procs.push(Signature { name, kind, params: names, required, part, public });
         }
         Ok(Build { procs, proc_names, ..b })
     }
@@ -278,6 +310,12 @@ impl<'s> Build<'s> {
 
     pub(super) fn span(&self, offset: usize) -> Span {
         self.lines.span(self.src, offset)
+    }
+
+    /// The module of the project the source at `offset` belongs to.
+    fn part_at(&self, offset: usize) -> usize {
+        let line = self.span(offset).line;
+        self.parts.iter().rposition(|p| p.first_line <= line).unwrap_or(0)
     }
 
     fn ctx(&self) -> ParseContext<'_> {
@@ -926,6 +964,33 @@ impl Build<'_> {
             ExprKind::Number(value),
             ByteSpan { start: start(&pair) as u32, end: pair.as_span().end() as u32 },
         ))
+    }
+}
+
+/// The procedure a `Declare [PtrSafe] Function|Sub Name Lib …` line declares, lower case.
+fn declared_name(line: &str) -> Option<String> {
+    let mut words = line.split_whitespace().map(str::to_ascii_lowercase);
+    words.find(|w| w == "function" || w == "sub")?;
+    words.next().map(|w| w.trim_end_matches('$').to_string())
+}
+
+impl Build<'_> {
+    /// A procedure whose body does not compile: its signature, and one statement that stops
+    /// the run with the compile error where it is, when the procedure is called.
+    fn failed_proc(&self, pair: &Pair<Rule>, error: ParseError) -> Proc {
+        let k = kids(pair);
+        let name = name_of(&find(&k, Rule::ident).expect("procedure name"));
+        let kind = if pair.as_rule() == Rule::sub_def { ProcKind::Sub } else { ProcKind::Function };
+        let params = self.procs[self.proc_index(&name).expect("signatures first")]
+            .params
+            .iter()
+            .map(|p| Param { name: p.clone(), by_ref: true, optional: true, default: None, ty: None })
+            .collect();
+        let public = find(&k, Rule::scope).is_none_or(|s| !s.as_str().eq_ignore_ascii_case("Private"));
+        let failing = Stmt { kind: StmtKind::CompileError(error.message.into()), span: self.span(error.offset) };
+        let mut body = Block::default();
+        body.stmts.push(failing);
+        Proc { name, kind, params, ty: None, body, span: self.span(start(pair)), public }
     }
 }
 

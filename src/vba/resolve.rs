@@ -148,8 +148,24 @@ impl Build<'_> {
         scope.vars.insert(lower);
     }
 
+    /// A procedure by name as the module being built sees it: its own first, else a public
+    /// one of another module of the project.
     pub(super) fn proc_index(&self, name: &str) -> Option<usize> {
-        self.proc_names.get(&name.to_ascii_lowercase()).copied()
+        let same_name = self.proc_names.get(&name.to_ascii_lowercase())?;
+        let part = self.current_part.get();
+        let own = same_name.iter().copied().find(|&i| self.procs[i].part == part);
+        own.or_else(|| same_name.iter().copied().find(|&i| self.procs[i].public))
+    }
+
+    /// `Module2.Helper`: a procedure of the module named, if it is one of the project's
+    /// and the procedure is public there (or that module is the one being built).
+    fn module_proc(&self, module: &str, name: &str) -> Option<usize> {
+        let part = self.parts.iter().position(|p| p.name.eq_ignore_ascii_case(module))?;
+        let same_name = self.proc_names.get(&name.to_ascii_lowercase())?;
+        same_name
+            .iter()
+            .copied()
+            .find(|&i| self.procs[i].part == part && (self.procs[i].public || part == self.current_part.get()))
     }
 
     /// A variable used where none is declared: an error under Option Explicit, else declared.
@@ -189,6 +205,14 @@ impl Build<'_> {
         }
         if let Some(call) = self.qualified_call(pair, &mut path)? {
             return Ok(call);
+        }
+        if let [module, link] = path.links.as_slice() {
+            let unshadowed =
+                module.args.is_none() && !self.is_var(&module.name) && !self.is_object(&lower_bare(&module.name));
+            if let Some(proc) = self.module_proc(&module.name, &link.name).filter(|_| unshadowed) {
+                let args = path.links.pop().expect("two links").args.unwrap_or_default();
+                return self.proc_call(pair, proc, args, statement, end);
+            }
         }
         self.check_path(pair, &path)?;
         let root = &path.links[0];
@@ -278,6 +302,10 @@ impl Build<'_> {
         if FORBIDDEN.contains(&lower.as_str()) && !is_var {
             return Err(self.error_at(pair, refusal(&link.name)));
         }
+        if self.declared.contains(&lower) && !is_var && self.proc_index(&link.name).is_none() {
+            let why = "is a DLL's procedure (Declare … Lib): a macro cannot call into other programs";
+            return Err(self.error_at(pair, format!("{} {why}", link.name)));
+        }
         let Some(args) = &link.args else {
             if let Some(kind) = constant(&lower) {
                 return Ok(Expr::new(kind, span));
@@ -329,7 +357,7 @@ impl Build<'_> {
     }
 
     fn proc_call(&self, pair: &Pair<Rule>, proc: usize, args: Vec<Arg>, statement: bool, end: usize) -> Res<Expr> {
-        let Signature { name, kind, params, required } = &self.procs[proc];
+        let Signature { name, kind, params, required, .. } = &self.procs[proc];
         if *kind == ProcKind::Sub && !statement {
             return Err(self.error_at(pair, format!("Sub {name} has no value; call it as a statement")));
         }

@@ -55,19 +55,17 @@ impl WorkbookFunctions {
         let standard: Vec<_> = project.modules.iter().filter(|m| m.kind == ModuleKind::Standard).collect();
         let total: usize = standard.iter().map(|m| m.source.len()).sum();
         for m in &standard {
-            // Alone, or, when it calls another module's procedures, with the others' code
-            // after it, as VBA sees them (not for a project so large that parsing it once per
-            // module would be slow: its error stands).
-            let alone = parse_with(&m.source, &m.name, wb, &options).map(|module| (module, m.source.clone()));
-            let parsed = alone.or_else(|e| {
-                if total > MAX_JOINED || standard.len() == 1 {
-                    return Err(e);
-                }
-                let together = with_others(&m.source, standard.iter().filter(|o| o.name != m.name).map(|o| &*o.source));
-                parse_with(&together, &m.name, wb, &options).map(|module| (module, together)).map_err(|_| e)
-            });
-            match parsed {
-                Ok((module, source)) => {
+            // With the others' code after it, as VBA compiles a project as one program (not
+            // for a project so large that parsing it once per module would be slow).
+            let mut own = options.clone();
+            if total <= MAX_JOINED {
+                own.project =
+                    standard.iter().filter(|o| o.name != m.name).map(|o| (o.name.clone(), o.source.clone())).collect();
+            }
+            let (joined, _) = super::join_project(&m.name, &m.source, &own.project);
+            match parse_with(&m.source, &m.name, wb, &own) {
+                Ok(module) => {
+                    let source = joined.unwrap_or_else(|| m.source.clone());
                     let callable = callable(&module, &source, m.source.lines().count());
                     modules.push(Parsed { name: m.name.clone(), source, module, callable });
                 }
@@ -117,23 +115,6 @@ impl UserFunctions for WorkbookFunctions {
             Err(_) => Value::Error(XlError::Value),
         }
     }
-}
-
-/// `source` followed by the code of `others`, their `Attribute` and `Option` lines left
-/// blank (the first module's options hold).
-fn with_others<'a>(source: &str, others: impl Iterator<Item = &'a str>) -> String {
-    let mut out = source.to_string();
-    for other in others {
-        out.push_str("\r\n");
-        for line in other.lines() {
-            let word = line.split_whitespace().next().unwrap_or("").to_ascii_lowercase();
-            if word != "attribute" && word != "option" {
-                out.push_str(line);
-            }
-            out.push_str("\r\n");
-        }
-    }
-    out
 }
 
 /// For each procedure of `module`: `Some(volatile)` for a public Function of the module's
