@@ -94,7 +94,7 @@ impl Bench {
 }
 
 /// The changed cell at (row, col) of an edit's answer.
-fn changed<'a>(answer: &'a Value, row: u64, col: u64) -> &'a Value {
+fn changed(answer: &Value, row: u64, col: u64) -> &Value {
     let cells = answer["changed"].as_array().unwrap();
     cells.iter().find(|c| c["r"] == row && c["c"] == col).unwrap_or_else(|| panic!("({row},{col}) not in {answer}"))
 }

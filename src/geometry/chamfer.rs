@@ -82,6 +82,16 @@ pub struct ChamferSpec {
     pub clearance_b: f64,
 }
 
+impl ChamferSpec {
+    /// The spec from CHAMFER's numeric arguments in their order: D, f, α, r, eA, eB.
+    pub fn from_arguments(
+        kind: ChamferKind,
+        [diameter, length, angle_deg, nose_radius, clearance_a, clearance_b]: [f64; 6],
+    ) -> ChamferSpec {
+        ChamferSpec { kind, diameter, length, angle_deg, nose_radius, clearance_a, clearance_b }
+    }
+}
+
 /// Points in the (Z, X-radius) plane: `p.x` is Z, `p.y` is the radius.
 pub type ZxPoint = Point2<f64>;
 

@@ -43,15 +43,7 @@ pub fn chamfer(doc: &Document, sheet: SheetId, pos: Pos) -> Result<Json, Refused
         };
         n[i] = *x;
     }
-    let spec = ChamferSpec {
-        kind,
-        diameter: n[0],
-        length: n[1],
-        angle_deg: n[2],
-        nose_radius: n[3],
-        clearance_a: n[4],
-        clearance_b: n[5],
-    };
+    let spec = ChamferSpec::from_arguments(kind, n);
     let g = chamfer_geometry(&spec).map_err(|e| refused(format!("{cell}: {e}")))?;
     let point = |p: crate::geometry::chamfer::ZxPoint| json!({ "z": p.x, "x": p.y });
     let points = g.points();

@@ -2,7 +2,6 @@
 //! Each body reads its arguments, calls a pure function and maps a geometry error to
 //! `#NUM!` (a number out of range) or `#VALUE!` (an unknown word) with its message.
 
-
 use nalgebra::{Point3, Vector3};
 
 use crate::eval::coerce::{to_number, to_text};
@@ -97,16 +96,7 @@ fn chamfer_points(values: &[Value]) -> Result<ChamferPoints, (XlError, String)> 
     for (i, v) in values[1..].iter().enumerate() {
         n[i] = to_number(v).map_err(|e| (e, format!("argument {} of {CHAMFER_ARGS} is {e}", i + 2)))?;
     }
-    let spec = ChamferSpec {
-        kind,
-        diameter: n[0],
-        length: n[1],
-        angle_deg: n[2],
-        nose_radius: n[3],
-        clearance_a: n[4],
-        clearance_b: n[5],
-    };
-    chamfer(&spec).map(|g| g.points()).map_err(geometry_error)
+    chamfer(&ChamferSpec::from_arguments(kind, n)).map(|g| g.points()).map_err(geometry_error)
 }
 
 fn geometry_error(e: GeometryError) -> (XlError, String) {
