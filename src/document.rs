@@ -98,6 +98,7 @@ impl Document {
         install_functions(&mut opened, options.functions.clone());
         let mut doc = Document { opened, name: options.name.clone(), csv_delimiter: options.csv_delimiter };
         if let Some(settings) = &options.settings {
+            read_csv_fields_in_locale(&mut doc.opened, settings.locale);
             doc.set_settings(settings.clone());
         }
         Ok(doc)
@@ -268,6 +269,32 @@ fn install_functions(opened: &mut Opened, options: RunOptions) {
                 e.file, e.message
             ));
         }
+    }
+}
+
+/// A csv opened in a decimal-comma locale: the fields that are numbers or dates there but
+/// text in the file syntax (`1.234,5` in de-DE, `1 234,5` in fr-FR, `12.03.2025`) become
+/// numbers, as that locale's Excel opens the file; a field forced to text with `'` stays text.
+fn read_csv_fields_in_locale(opened: &mut Opened, locale: crate::eval::Locale) {
+    let Origin::Csv(original) = &opened.origin else { return };
+    if locale.is_canonical() {
+        return;
+    }
+    let wb = &mut opened.workbook;
+    let mut numbers = Vec::new();
+    for (pos, value) in wb.values(0) {
+        let crate::eval::Value::Text(text) = &value else { continue };
+        let raw = original.raw_field(pos.row as usize, pos.col as usize).unwrap_or_default();
+        if wb.is_formula(0, pos) || raw.trim_start_matches('"').starts_with('\'') {
+            continue;
+        }
+        if let Some(n) = locale.read_number(text) {
+            numbers.push((pos, n));
+        }
+    }
+    for (pos, n) in numbers {
+        // The shortest spelling that reads back as the same number, in the file syntax.
+        let _ = wb.set_input_deferred(0, pos, &format!("{n}"));
     }
 }
 

@@ -93,6 +93,8 @@ fn value_errors_from_text_of_another_locale_name_the_input_cell() {
         "{}",
         shown.stderr
     );
+    let show = ok(in_dir(d, &["show", "t.xlsx", "--locale", "en-US", "Outer!C17"]));
+    assert!(show.stdout.contains("reads Outer!B9, the text '0,8'"), "{}", show.stdout);
 }
 
 /// Without --locale the environment decides, as LibreOffice reads it: LC_ALL, then LC_NUMERIC,
@@ -281,4 +283,22 @@ fn a_number_option_with_a_decimal_comma_gets_a_hint() {
     let run = ncsheet(&["cam", "--tol", "0,01", "x.csv"]);
     assert_eq!(run.code, 2);
     assert!(run.stderr.contains("hint:") && run.stderr.contains("0.01"), "{}", run.stderr);
+}
+
+/// A `;` csv opened in de-DE reads as a German Excel opens it: `1.234,5` is 1234.5 and
+/// `12.03.2025` the 12th of March (serial 45728, DATE(2025,3,12)); a field forced to text
+/// with `'` stays text. Without the locale, the grouped number is text, as before.
+#[test]
+fn a_semicolon_csv_reads_in_the_locale() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("eu.csv"), "1,5;=A1*2\n\"1.234,5\";=SUM(A1:A2)\n12.03.2025;'1.234,5\n").unwrap();
+    let de = ok(in_dir(d, &["eval", "eu.csv", "--locale", "de-DE", "--format", "json"]));
+    assert_eq!(
+        de.stdout.trim(),
+        r#"{"Sheet1!A1": 1.5, "Sheet1!B1": 3, "Sheet1!A2": 1234.5, "Sheet1!B2": 1236, "Sheet1!A3": 45728, "Sheet1!B3": "1.234,5"}"#
+    );
+    assert!(de.stderr.contains(";-separated"), "{}", de.stderr);
+    let en = ok(in_dir(d, &["eval", "eu.csv", "--locale", "en-US", "--format", "json", "A2"]));
+    assert_eq!(en.stdout.trim(), r#"{"Sheet1!A2": "1.234,5"}"#);
 }

@@ -119,3 +119,39 @@ pub fn foreign_numbers(wb: &ncsheet::workbook::Workbook) -> Vec<String> {
     }
     out
 }
+
+/// For a `#VALUE!` cell, the cells it reads that hold text that is a number in another
+/// locale (`show`'s notes), each with the spelling meant.
+pub fn foreign_inputs_of(
+    wb: &ncsheet::workbook::Workbook,
+    sheet: ncsheet::formula::ast::SheetId,
+    pos: ncsheet::formula::address::Pos,
+) -> Vec<String> {
+    use ncsheet::eval::{Value, XlError};
+    /// Ranges read are looked into up to this many cells.
+    const MAX_CELLS: u64 = 10_000;
+    if !matches!(wb.value(sheet, pos), Value::Error(XlError::Value)) {
+        return Vec::new();
+    }
+    let locale = wb.settings().locale;
+    let mut out = Vec::new();
+    for (s, rect) in wb.precedents(sheet, pos) {
+        if rect.rows() as u64 * rect.cols() as u64 > MAX_CELLS {
+            continue;
+        }
+        for (p, value) in wb.values(s) {
+            let Value::Text(text) = &value else { continue };
+            if !rect.contains(p) || wb.is_formula(s, p) {
+                continue;
+            }
+            if let Some((other, meant)) = locale.number_elsewhere(text) {
+                out.push(format!(
+                    "reads {}, the text '{text}', a number in {other} but only text in {locale}: type {meant} there, \
+                     or choose the locale with --locale",
+                    wb.cell_name(s, p)
+                ));
+            }
+        }
+    }
+    out
+}

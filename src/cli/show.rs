@@ -67,10 +67,13 @@ pub fn describe(wb: &Workbook, shown: &Shown, sheet: SheetId, pos: Pos, label: O
         (None, false) => format!("{title} ({})", names.join(", ")),
         (None, true) => title,
     };
+    // Formulas and typed numbers as the user's locale spells them.
+    let locale = wb.settings().locale;
     if let Some(f) = wb.formula(sheet, pos) {
-        lines.push(("formula", f));
+        lines.push(("formula", locale.local_formula(&f)));
     } else if let Some(input) = wb.input(sheet, pos) {
-        lines.push(("input", input));
+        let number = matches!(wb.value(sheet, pos), ncsheet::eval::Value::Number(_));
+        lines.push(("input", if number { locale.localize_shown(&input) } else { input }));
     }
     let value = wb.value(sheet, pos);
     let full = Shown { layout: shown.layout, raw: true, formulas: false, width: shown.width };
@@ -80,6 +83,9 @@ pub fn describe(wb: &Workbook, shown: &Shown, sheet: SheetId, pos: Pos, label: O
         lines.push(("shown", shown.text(wb, sheet, pos)));
     }
     for note in wb.notes(sheet, pos) {
+        lines.push(("note", note));
+    }
+    for note in super::locale::foreign_inputs_of(wb, sheet, pos) {
         lines.push(("note", note));
     }
     let reads: Vec<String> = wb.precedents(sheet, pos).into_iter().map(|(s, r)| place(wb, sheet, s, r)).collect();

@@ -69,6 +69,11 @@ impl Original {
     pub fn delimiter(&self) -> u8 {
         self.delimiter
     }
+
+    /// The field at `row` and `col` as it stands in the file, quotes included.
+    pub fn raw_field(&self, row: usize, col: usize) -> Option<&str> {
+        self.rows.get(row)?.fields.get(col).map(String::as_str)
+    }
 }
 
 #[derive(Clone, Debug, Default, PartialEq)]
