@@ -488,3 +488,18 @@ fn a_macro_stopped_deep_in_recursion_says_each_caller_once() {
     assert!(run.stderr.contains("in Sub Recurse (called at line 5, column 5) ("), "{}", run.stderr);
     assert!(run.stderr.contains("in Sub Main"), "{}", run.stderr);
 }
+
+#[test]
+fn texts_past_excels_limit_say_so() {
+    for formula in [
+        "=SUBSTITUTE(REPT(\"a\",30000),\"a\",\"aa\")",
+        "=CONCAT(REPT(\"a\",20000),REPT(\"a\",20000))",
+        "=TEXTJOIN(\",\",TRUE,REPT(\"a\",20000),REPT(\"a\",20000))",
+        "=REPT(\"a\",20000)&REPT(\"a\",20000)",
+        "=LEN(SUBSTITUTE(REPT(\"a\",30000),\"a\",\"aa\"))",
+    ] {
+        let (v, notes, _) = eval_a1(formula);
+        assert_eq!(v, Value::Error(ncsheet::eval::XlError::Value), "{formula}");
+        assert!(notes.iter().any(|n| n.contains("longer than the 32767 characters")), "{formula}: {notes:?}");
+    }
+}

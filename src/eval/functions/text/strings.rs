@@ -1,6 +1,7 @@
 //! Text functions. Positions and lengths count characters, not bytes; one-value
 //! functions lift over arrays (`UPPER(A1:A3)` spills three results).
 
+use std::cell::Cell;
 use std::rc::Rc;
 
 use crate::eval::coerce::{to_bool, to_number, to_text};
@@ -136,31 +137,54 @@ pub const FUNCTIONS: &[FnSpec] = &[
 // Joining
 
 fn concat(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let over = Cell::new(false);
     let mut out = String::new();
-    for_each_value(ctx, args, &mut |v, _| {
+    let joined = for_each_value(ctx, args, &mut |v, _| {
         out.push_str(&to_text(v)?);
-        limit(&out)
-    })?;
-    Ok(Value::from(out))
+        limit(&out, &over)
+    });
+    explained(ctx, &over, joined.map(|()| Value::from(out)))
 }
 
 fn concatenate(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift(ctx, args, &|v| {
+    let over = Cell::new(false);
+    let joined = lift(ctx, args, &|v| {
         let mut out = String::new();
         for item in v {
             out.push_str(&to_text(item)?);
         }
-        limit(&out)?;
+        limit(&out, &over)?;
         Ok(Value::from(out))
-    })
+    });
+    explained(ctx, &over, joined)
 }
 
-fn limit(s: &str) -> XlResult<()> {
+/// `#VALUE!` past Excel's text length, noting it in `over` for [`explained`] (a lifted
+/// function's closure cannot reach the context to explain it there).
+fn limit(s: &str, over: &Cell<bool>) -> XlResult<()> {
     if s.len() > MAX_TEXT && s.chars().count() > MAX_TEXT {
-        Err(XlError::Value)
+        Err(too_long(over))
     } else {
         Ok(())
     }
+}
+
+fn too_long(over: &Cell<bool>) -> XlError {
+    over.set(true);
+    XlError::Value
+}
+
+/// `result`, with the text limit named in the cell's note when a text passed it: the
+/// #VALUE! of SUBSTITUTE, CONCAT, TEXTJOIN or REPT past 32,767 characters said nothing.
+fn explained(ctx: &mut Ctx, over: &Cell<bool>, result: XlResult<Value>) -> XlResult<Value> {
+    if over.get() {
+        // Excel's limit even in a macro's WorksheetFunction: these functions apply it there.
+        let e = ctx.explain(XlError::Value, format!("longer than the {MAX_TEXT} characters of a text (Excel's limit)"));
+        if result.is_err() {
+            return Err(e);
+        }
+    }
+    result
 }
 
 fn textjoin(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
@@ -178,13 +202,15 @@ fn textjoin(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
             }
         }
     }
-    let mut out = String::new();
+    let (mut out, over) = (String::new(), Cell::new(false));
     for (i, text) in texts.iter().enumerate() {
         if i > 0 && !delimiters.is_empty() {
             out.push_str(&delimiters[(i - 1) % delimiters.len()]);
         }
         out.push_str(text);
-        limit(&out)?;
+        if let Err(e) = limit(&out, &over) {
+            return explained(ctx, &over, Err(e));
+        }
     }
     Ok(Value::from(out))
 }
@@ -462,7 +488,8 @@ fn valuetotext(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn substitute(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift(ctx, args, &|v| {
+    let over = Cell::new(false);
+    let replaced = lift(ctx, args, &|v| {
         let text = to_text(&v[0])?;
         let old = to_text(&v[1])?;
         let new = to_text(&v[2])?;
@@ -484,7 +511,7 @@ fn substitute(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
             let grows = (new.encode_utf16().count()).saturating_sub(old.encode_utf16().count());
             let longest = text.encode_utf16().count() + text.matches(&*old).count() * grows;
             if longest > MAX_TEXT {
-                return Err(XlError::Value);
+                return Err(too_long(&over));
             }
         }
         let out = match instance {
@@ -494,23 +521,26 @@ fn substitute(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
                 None => text.to_string(),
             },
         };
-        limit(&out)?;
+        limit(&out, &over)?;
         Ok(Value::from(out))
-    })
+    });
+    explained(ctx, &over, replaced)
 }
 
 fn rept(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift(ctx, args, &|v| {
+    let over = Cell::new(false);
+    let repeated = lift(ctx, args, &|v| {
         let text = to_text(&v[0])?;
         let times = to_number(&v[1])?.trunc();
         if times < 0.0 {
             return Err(XlError::Value);
         }
         if text.chars().count() as f64 * times > MAX_TEXT as f64 {
-            return Err(XlError::Value);
+            return Err(too_long(&over));
         }
         Ok(Value::from(text.repeat(times as usize)))
-    })
+    });
+    explained(ctx, &over, repeated)
 }
 
 fn exact(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
