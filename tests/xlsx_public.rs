@@ -216,7 +216,10 @@ fn a_workbook_written_anew_keeps_its_links_to_other_workbooks() {
     workbook.track_changes();
     // A sheet added makes the package unpatchable: it is written anew.
     workbook.add_sheet("Added").expect("sheet");
-    let origin = ncsheet::io::Origin::Xlsx(source.clone());
+    let origin = ncsheet::io::Origin::Xlsx(ncsheet::io::Source {
+        file: source.clone(),
+        bytes: std::fs::read(&source).expect("reads").into(),
+    });
     let encoded = ncsheet::io::encode_save(&workbook, Some(&imported.layout), &origin, &target).expect("encodes");
     assert!(!encoded.losses.iter().any(|l| l.contains("other workbook")), "losses: {:?}", encoded.losses);
     encoded.write(Default::default()).expect("writes");
@@ -306,7 +309,10 @@ fn names_that_read_other_workbooks_are_kept_in_a_workbook_written_anew() {
     let mut workbook = imported.workbook;
     workbook.track_changes();
     workbook.add_sheet("Added").expect("sheet");
-    let origin = ncsheet::io::Origin::Xlsx(source.clone());
+    let origin = ncsheet::io::Origin::Xlsx(ncsheet::io::Source {
+        file: source.clone(),
+        bytes: std::fs::read(&source).expect("reads").into(),
+    });
     let encoded = ncsheet::io::encode_save(&workbook, Some(&imported.layout), &origin, &target).expect("encodes");
     encoded.write(Default::default()).expect("writes");
     let theirs = link_names(&package_part(&source, "xl/workbook.xml").unwrap());
