@@ -1,5 +1,7 @@
-//! Fuzz targets, one per input ncsheet reads (issue 19): formula text, csv bytes, xlsx
-//! packages mutated from a good one, macro source and surface formulas. Each runs a bounded
+//! Fuzz targets, one per input ncsheet reads (issues 19 and 30): formula text, csv bytes, xlsx
+//! packages mutated from a good one, their styles' number formats and defined names, macro
+//! source and declarations, VBA project streams, NC programs in every dialect and surface
+//! formulas. Each runs a bounded
 //! number of proptest cases inside `cargo test` and asserts that nothing panics (a panic is
 //! a failed case; a stack overflow would abort the run). Inputs mix random characters with
 //! the pieces hostile text is made of: deep brackets, long operator chains, huge numbers.
@@ -142,6 +144,153 @@ proptest! {
         }
         if let Ok(imported) = xlsx::load_bytes(&bytes, Path::new("fuzz.xlsx")) {
             let _ = imported.workbook.problems();
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Issue 30: number format codes (cell styles, TEXT, Format), names, VBA streams, macro
+// declarations and the NC readers.
+
+/// Pieces of number format codes, hostile ones among them (65,536 exponent zeros, long
+/// elapsed parts, unclosed brackets and quotes).
+fn format_code() -> impl Strategy<Value = String> {
+    let piece = prop_oneof![
+        3 => "[-0#?.,;%E+/ \"\\\\@_*\\[\\]hmsdyAP:]{1,6}",
+        1 => prop::sample::select(vec![
+            "0E+", "[h]", "[mm]", "[ss]", "[>=100]", "[Red]", "[$-409]", "yyyy-mm-dd", "AM/PM", "0.0%",
+            "\"text\"", "@", "#,##0", "?/?", "General",
+        ])
+        .prop_map(str::to_string),
+        1 => (1usize..70_000, prop::sample::select(vec!["0", "s", "h", "#", "?", ","])).prop_map(|(n, s)| s.repeat(n)),
+    ];
+    prop::collection::vec(piece, 1..6).prop_map(|p| p.concat())
+}
+
+proptest! {
+    #![proptest_config(config(120))]
+
+    #[test]
+    fn number_format_codes_never_panic(code in format_code(), n in prop_oneof![
+        any::<f64>(), Just(1e308), Just(-1e-320), Just(0.5), Just(45_000.75), Just(-2.5e15),
+    ]) {
+        let _ = ncsheet::eval::format::number_format::shown(n, Some(&code));
+        let mut wb = Workbook::with_sheet();
+        let quoted = code.replace('"', "\"\"");
+        let _ = wb.set_input(0, parse_cell("A1").unwrap(), &format!("=LEN(TEXT({n:e},\"{quoted}\"))"));
+        let _ = wb.value(0, parse_cell("A1").unwrap());
+        let src = format!("Sub Main()\n    Debug.Print Len(Format({n:e}, \"{quoted}\"))\nEnd Sub\n");
+        let options = RunOptions { max_statements: 1_000, ..RunOptions::default() };
+        let _ = vba::run(&mut wb, &src, "fuzz.bas", &options);
+    }
+
+    #[test]
+    fn xlsx_styles_and_names_never_panic(
+        code in format_code(),
+        name in prop_oneof!["[A-Za-z_\\\\.0-9]{1,12}", (1usize..70_000).prop_map(|n| "n".repeat(n))],
+        refers in "[-+*/A-Z0-9!$:(),\"# ]{0,16}",
+    ) {
+        let good = good_package();
+        let escape = |s: &str| s.replace('&', "&amp;").replace('<', "&lt;").replace('"', "&quot;");
+        let mut change = |part: &str, data: Vec<u8>| {
+            let text = String::from_utf8_lossy(&data).into_owned();
+            match part {
+                "xl/styles.xml" => {
+                    let fmt = format!(r#"<numFmts count="1"><numFmt numFmtId="200" formatCode="{}"/></numFmts>"#, escape(&code));
+                    let text = text.replacen("<fonts", &format!("{fmt}<fonts"), 1);
+                    text.replacen("<cellXfs count=\"1\">", "<cellXfs count=\"2\"><xf numFmtId=\"200\" applyNumberFormat=\"1\"/>", 1).into_bytes()
+                }
+                "xl/workbook.xml" => {
+                    let defined = format!(r#"<definedNames><definedName name="{}">{}</definedName></definedNames>"#, escape(&name), escape(&refers));
+                    text.replacen("</sheets>", &format!("</sheets>{defined}"), 1).into_bytes()
+                }
+                "xl/worksheets/sheet1.xml" => text.replacen("<c r=\"A1\"", "<c r=\"A1\" s=\"1\"", 1).into_bytes(),
+                _ => data,
+            }
+        };
+        let options = zip::write::SimpleFileOptions::default();
+        let bytes = common::rewrite_package(&good, options, &mut change).finish().unwrap().into_inner();
+        if let Ok(imported) = xlsx::load_bytes(&bytes, Path::new("fuzz.xlsx")) {
+            let _ = imported.workbook.problems();
+            let _ = imported.workbook.names();
+        }
+    }
+
+    #[test]
+    fn vba_streams_never_panic(bytes in prop::collection::vec(prop_oneof![
+        4 => any::<u8>(),
+        2 => prop::sample::select(vec![0x01u8, 0xB0, 0x3F, 0xFF, 0x00, 0x30]),
+    ], 0..2_000)) {
+        let mut container = vec![1u8];
+        container.extend_from_slice(&bytes);
+        if let Ok(out) = vba::ovba::decompress(&container) {
+            prop_assert!(out.len() <= vba::ovba::MAX_DECOMPRESSED);
+        }
+        let _ = vba::ovba::decompress(&bytes);
+        let _ = vba::read_project(&bytes);
+        // What compresses decompresses to itself.
+        let packed = vba::ovba::compress(&bytes).unwrap();
+        prop_assert_eq!(vba::ovba::decompress(&packed).unwrap(), bytes);
+    }
+}
+
+/// Module-level declarations and procedure heads, hostile ones among them.
+fn declaration() -> impl Strategy<Value = String> {
+    prop_oneof![
+        2 => "[-+*/&(),.:=<> \"'_0-9A-Za-z]{0,24}",
+        3 => prop::sample::select(vec![
+            "Const A = 1", "Const A = A + 1", "Public Const B As Long = 2 ^ 40", "Dim x As Long", "Dim x, x",
+            "Private y(1 To 3) As Double", "Public z As Variant", "Option Explicit", "Option Base 1",
+            "Dim a(1E+300)", "Const C = \"x\" & C", "Static s", "Dim q As New Collection", "Global g",
+            "Private Const D = 1: Dim e", "Dim f As String * 5", "Type T", "End Type", "Declare Sub Sleep Lib \"k\" ()",
+            "Attribute VB_Name = \"M\"", "Enum E", "End Enum",
+        ])
+        .prop_map(str::to_string),
+    ]
+}
+
+proptest! {
+    #![proptest_config(config(120))]
+
+    #[test]
+    fn macro_declarations_never_panic(
+        module in prop::collection::vec(declaration(), 0..24),
+        local in prop::collection::vec(declaration(), 0..12),
+    ) {
+        let src = format!("{}\nSub Main()\n{}\nDebug.Print 1\nEnd Sub\n", module.join("\n"), local.join("\n"));
+        let mut wb = Workbook::with_sheet();
+        let options = RunOptions { max_statements: 10_000, ..RunOptions::default() };
+        let _ = vba::run(&mut wb, &src, "fuzz.bas", &options);
+        let _ = vba::parse(&src, "fuzz.bas", &wb);
+    }
+}
+
+/// NC blocks, hostile ones among them: every dialect's words, huge and tiny numbers, arcs of
+/// nearly no radius, unclosed comments.
+fn nc_block() -> impl Strategy<Value = String> {
+    prop_oneof![
+        2 => "[GMXYZIJKRFSTPQDNLOH0-9. +\\-=();#%:\\[\\]]{0,20}",
+        3 => prop::sample::select(vec![
+            "G0 X0 Y0 Z5", "G1 X10 F100", "G2 X1 Y0 I0.0005 J0", "G3 X0 Y0 R0.001", "G2 X1E+300 I1",
+            "M3 S1000", "M6 T1", "T2", "M30", "%", "(unclosed", "; comment", "G18", "G96 S200", "G95 F0.1",
+            "N10 G4 P1", "CYCLE81(10,0,2,-5)", "L X+10 Y+0 R0 FMAX", "CC X0 Y0", "C X+10 Y+0 DR+",
+            "BEGIN PGM 1 MM", "END PGM 1 MM", "TOOL CALL 1 Z S1000", "G1 X-1E-320", "G1 XNaN", "O0001",
+        ])
+        .prop_map(str::to_string),
+    ]
+}
+
+proptest! {
+    #![proptest_config(config(120))]
+
+    #[test]
+    fn nc_readers_never_panic(blocks in prop::collection::vec(nc_block(), 0..20)) {
+        let text = blocks.join("\n");
+        for name in ncsheet::nc::dialect::names() {
+            if let Ok((program, _)) = ncsheet::nc::read::read_dialect(&text, name, None) {
+                let rates = ncsheet::nc::motion::Rates { accel: 1000.0, rapid: 10_000.0 };
+                let _ = ncsheet::nc::motion::program_times(&program, rates);
+            }
         }
     }
 }
