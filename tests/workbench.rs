@@ -178,7 +178,9 @@ fn a_thousand_malformed_requests_leave_the_server_answering() {
         "/api/cells?sheet=1&r0=9&r1=1&c0=0&c1=1",
         "/api/locate?sheet=1&name=%ZZ",
         "/api/inspect?sheet=7&r=0&c=0",
-        "/api/download?format=exe",
+        "/api/download?format=exe&sheet=0",
+        "/api/download?format=csv",
+        "/api/losses?format=csv&sheet=9",
         "/api/chamfer?sheet=1&r=0&c=0",
         "/api/locate?sheet=1",
     ];
@@ -281,7 +283,7 @@ fn a_formula_error_is_explained_where_it_is_shown() {
 fn saving_writes_beside_the_workbook_and_over_it_only_when_asked() {
     let bench = Bench::start("chamfer.xlsx");
     let original = std::fs::read(bench.file("chamfer.xlsx")).unwrap();
-    let losses = bench.get_json("/api/losses?format=xlsx");
+    let losses = bench.get_json("/api/losses?format=xlsx&sheet=1");
     assert!(losses["losses"].is_array(), "{losses}");
     let (status, answer) = bench.post_json("/api/save", &serde_json::json!({ "name": "../escape.xlsx" }));
     assert_eq!(status, 400, "{answer}");
@@ -303,8 +305,14 @@ fn saving_writes_beside_the_workbook_and_over_it_only_when_asked() {
     let (status, answer) = bench.post_json("/api/save", &serde_json::json!({ "name": "chamfer.xlsx", "over": true }));
     assert_eq!(status, 200, "{answer}");
     assert_ne!(std::fs::read(bench.file("chamfer.xlsx")).unwrap(), original);
-    let (status, body) = bench.send("GET", "/api/download?format=csv", "", "");
-    assert_eq!((status, body.is_empty()), (400, false), "csv holds one sheet; the workbook has four: {body}");
+    // A csv holds one sheet: the shown one's values as its cells show them, the loss said.
+    let losses = bench.get_json("/api/losses?format=csv&sheet=1");
+    assert!(losses["losses"][0].as_str().unwrap().contains("other 3 sheet(s)"), "{losses}");
+    let (status, csv) = bench.send("GET", "/api/download?format=csv&sheet=1", "", "");
+    assert_eq!(status, 200, "{csv}");
+    let row8 = csv.lines().nth(7).unwrap();
+    assert!(row8.starts_with("α,30,°,"), "{row8}");
+    assert!(csv.lines().nth(5).unwrap().contains(",XA,42.325982,mm"), "{csv}");
 }
 
 /// docs/domain.md §1, the outer chamfer D 40, f 2, α 45°, r 0.8, eA 1, eB 1.

@@ -19,6 +19,7 @@ from selenium import webdriver
 from selenium.webdriver.chrome.service import Service
 from selenium.webdriver.common.by import By
 from selenium.webdriver.common.keys import Keys
+from selenium.webdriver.support import expected_conditions
 from selenium.webdriver.support.ui import WebDriverWait
 
 URL, BIG_URL, DOCS, PROFILE = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4]
@@ -161,6 +162,12 @@ def main():
         wait_text(driver, "G6", f"{XA_30:.6f}")
         driver.find_element(By.ID, "undo").click()
         wait_text(driver, "G6", f"{XA_45:.6f}")
+
+        # A download says first what the file loses; cancelled, nothing is fetched.
+        driver.find_element(By.ID, "dlcsv").click()
+        alert = WebDriverWait(driver, 10).until(expected_conditions.alert_is_present())
+        assert "a csv holds one sheet: Outer's values" in alert.text, alert.text
+        alert.dismiss()
 
         run_macro(driver)
         scroll_big_sheet(driver)

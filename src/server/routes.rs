@@ -223,11 +223,14 @@ async fn redo(State(app): State<App>, body: Bytes) -> Response {
 }
 
 async fn losses(State(app): State<App>, Query(params): Params) -> Response {
-    on_workbook(&app, move |bench| bench.losses(format_of(&params)?)).await
+    on_workbook(&app, move |bench| bench.losses(format_of(&params)?, bench.sheet(number(&params, "sheet")?)?)).await
 }
 
 async fn download(State(app): State<App>, Query(params): Params) -> Response {
-    let answer = app.document.with(move |bench| bench.download(format_of(&params)?)).await;
+    let answer = app
+        .document
+        .with(move |bench| bench.download(format_of(&params)?, bench.sheet(number(&params, "sheet")?)?))
+        .await;
     match answer {
         Ok(Ok((name, bytes))) => {
             let disposition = format!("attachment; filename=\"{}\"", name.replace(['"', '\\', '\r', '\n'], "_"));

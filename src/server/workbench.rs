@@ -11,7 +11,7 @@ use crate::document::{Document, SaveFormat};
 use crate::eval::Value;
 use crate::formula::address::{column_name, Pos, Rect};
 use crate::formula::ast::SheetId;
-use crate::io::atomic;
+use crate::io::{self, atomic, Content, Encoded, Export, ExportOptions};
 use crate::workbook::Problem;
 
 /// The most cells one window may ask for: a screen of a large monitor, several times over.
@@ -254,17 +254,38 @@ impl Workbench {
         json!({ "cell": wb.cell_name(sheet, pos), "precedents": precedents, "dependents": dependents })
     }
 
-    /// What a save in `format` would lose, said before anything is written.
-    pub fn losses(&self, format: SaveFormat) -> Result<Json, Refused> {
-        let encoded = self.doc.save_as(format).map_err(|e| refused(e.to_string()))?;
+    /// What a download or save in `format` would lose, said before anything is written
+    /// (`sheet`: the one shown, which a csv of a workbook of several sheets holds).
+    pub fn losses(&self, format: SaveFormat, sheet: SheetId) -> Result<Json, Refused> {
+        let encoded = self.encoded(format, sheet)?;
         Ok(json!({ "losses": encoded.losses }))
     }
 
     /// The bytes of the document in `format`, for the browser to download.
-    pub fn download(&self, format: SaveFormat) -> Result<(String, Vec<u8>), Refused> {
-        let encoded = self.doc.save_as(format).map_err(|e| refused(e.to_string()))?;
+    pub fn download(&self, format: SaveFormat, sheet: SheetId) -> Result<(String, Vec<u8>), Refused> {
+        let encoded = self.encoded(format, sheet)?;
         let name = encoded.path.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
         Ok((name, encoded.bytes().to_vec()))
+    }
+
+    /// The document as a file in `format`. A csv holds one sheet: a workbook of several
+    /// gives the shown sheet's values as its cells show them, and says what that leaves out.
+    fn encoded(&self, format: SaveFormat, sheet: SheetId) -> Result<Encoded, Refused> {
+        let wb = self.doc.workbook();
+        if format != SaveFormat::Csv || wb.sheet_len() == 1 {
+            return self.doc.save_as(format).map_err(|e| refused(e.to_string()));
+        }
+        let sheet_name = wb.sheet_names().into_iter().nth(sheet as usize).unwrap_or_default();
+        let stem = self.path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+        let target = self.path.with_file_name(format!("{stem}-{sheet_name}.csv"));
+        let what = Export { sheet, range: None, content: Content::Values };
+        let options = ExportOptions { delimiter: None, layout: self.doc.layout(), raw: false };
+        let mut encoded = io::encode_export_with(wb, &target, &what, &options).map_err(|e| refused(e.to_string()))?;
+        encoded.losses.push(format!(
+            "a csv holds one sheet: {sheet_name}'s values as shown, without its formulas, formats and the workbook's other {} sheet(s)",
+            wb.sheet_len() - 1
+        ));
+        Ok(encoded)
     }
 
     /// Saves beside the opened file under `name` (a bare file name: the server writes nowhere

@@ -277,7 +277,7 @@ function formatOf(name) {
 
 // Says what the saved file would lose, and asks, before anything is written.
 async function acceptLosses(format, what) {
-  const data = await api('/api/losses?' + query({ format }));
+  const data = await api('/api/losses?' + query({ format, sheet }));
   if (!data.losses.length) return confirm(what + '?');
   return confirm(what + '? The saved file loses:\n\n- ' + data.losses.join('\n- '));
 }
@@ -299,7 +299,7 @@ async function save(over) {
 async function download(format) {
   try {
     if (!(await acceptLosses(format, 'Download as .' + format))) return;
-    const response = await fetch('/api/download?' + query({ format }), { headers: { 'x-ncsheet-token': TOKEN } });
+    const response = await fetch('/api/download?' + query({ format, sheet }), { headers: { 'x-ncsheet-token': TOKEN } });
     if (!response.ok) throw new Error(await response.text());
     const blob = await response.blob();
     const disposition = response.headers.get('content-disposition') || '';
