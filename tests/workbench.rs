@@ -308,6 +308,10 @@ fn saving_writes_beside_the_workbook_and_over_it_only_when_asked() {
     // A csv holds one sheet: the shown one's values as its cells show them, the loss said.
     let losses = bench.get_json("/api/losses?format=csv&sheet=1");
     assert!(losses["losses"][0].as_str().unwrap().contains("other 3 sheet(s)"), "{losses}");
+    let (status, answer) = bench.post_json("/api/save", &serde_json::json!({ "name": "outer.csv", "sheet": 1 }));
+    assert_eq!(status, 200, "{answer}");
+    let saved = std::fs::read_to_string(bench.file("outer.csv")).unwrap();
+    assert!(saved.lines().nth(7).unwrap().starts_with("α,30,°,"), "{saved}");
     let (status, csv) = bench.send("GET", "/api/download?format=csv&sheet=1", "", "");
     assert_eq!(status, 200, "{csv}");
     let row8 = csv.lines().nth(7).unwrap();

@@ -252,7 +252,11 @@ async fn save(State(app): State<App>, body: Bytes) -> Response {
         let body = body_json(&body)?;
         let name = json_text(&body, "name")?.to_string();
         let over = body.get("over").and_then(Json_::as_bool).unwrap_or(false);
-        bench.save(&name, over)
+        let sheet = match body.get("sheet") {
+            Some(_) => bench.sheet(json_number(&body, "sheet")?)?,
+            None => 0,
+        };
+        bench.save(&name, over, sheet)
     })
     .await
 }

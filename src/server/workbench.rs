@@ -268,8 +268,7 @@ impl Workbench {
         Ok((name, encoded.bytes().to_vec()))
     }
 
-    /// The document as a file in `format`. A csv holds one sheet: a workbook of several
-    /// gives the shown sheet's values as its cells show them, and says what that leaves out.
+    /// The document as a file in `format` under its own name (the extension changed).
     fn encoded(&self, format: SaveFormat, sheet: SheetId) -> Result<Encoded, Refused> {
         let wb = self.doc.workbook();
         if format != SaveFormat::Csv || wb.sheet_len() == 1 {
@@ -277,10 +276,22 @@ impl Workbench {
         }
         let sheet_name = wb.sheet_names().into_iter().nth(sheet as usize).unwrap_or_default();
         let stem = self.path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-        let target = self.path.with_file_name(format!("{stem}-{sheet_name}.csv"));
+        self.encoded_to(&self.path.with_file_name(format!("{stem}-{sheet_name}.csv")), sheet)
+    }
+
+    /// The document as the file `target` holds it (the format by its extension). A csv holds
+    /// one sheet: a workbook of several gives the shown sheet's values as its cells show
+    /// them, and says what that leaves out.
+    fn encoded_to(&self, target: &Path, sheet: SheetId) -> Result<Encoded, Refused> {
+        let wb = self.doc.workbook();
+        let is_csv = target.extension().is_some_and(|e| e.eq_ignore_ascii_case("csv"));
+        if !is_csv || wb.sheet_len() == 1 {
+            return self.doc.encode(target).map_err(|e| refused(e.to_string()));
+        }
+        let sheet_name = wb.sheet_names().into_iter().nth(sheet as usize).unwrap_or_default();
         let what = Export { sheet, range: None, content: Content::Values };
         let options = ExportOptions { delimiter: None, layout: self.doc.layout(), raw: false };
-        let mut encoded = io::encode_export_with(wb, &target, &what, &options).map_err(|e| refused(e.to_string()))?;
+        let mut encoded = io::encode_export_with(wb, target, &what, &options).map_err(|e| refused(e.to_string()))?;
         encoded.losses.push(format!(
             "a csv holds one sheet: {sheet_name}'s values as shown, without its formulas, formats and the workbook's other {} sheet(s)",
             wb.sheet_len() - 1
@@ -290,9 +301,9 @@ impl Workbench {
 
     /// Saves beside the opened file under `name` (a bare file name: the server writes nowhere
     /// else), or over the opened file when `name` is its own and `over` says so.
-    pub fn save(&self, name: &str, over: bool) -> Result<Json, Refused> {
+    pub fn save(&self, name: &str, over: bool, sheet: SheetId) -> Result<Json, Refused> {
         let target = self.save_target(name, over)?;
-        let encoded = self.doc.encode(&target).map_err(|e| refused(e.to_string()))?;
+        let encoded = self.encoded_to(&target, sheet)?;
         encoded.write(atomic::Options::default()).map_err(|e| refused(e.to_string()))?;
         Ok(json!({ "saved": target.to_string_lossy(), "losses": encoded.losses }))
     }

@@ -289,7 +289,7 @@ async function save(over) {
     const format = formatOf(name);
     if (!format) return status(name + ': name an .xlsx, .xlsm or .csv file', true);
     if (!(await acceptLosses(format, over ? 'Save over ' + name : 'Save as ' + name))) return;
-    const data = await api('/api/save', { name, over });
+    const data = await api('/api/save', { name, over, sheet });
     status('saved ' + data.saved);
   } catch (e) {
     status(e.message, true);
