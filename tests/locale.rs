@@ -140,6 +140,9 @@ const PROBES: &[&str] = &[
     r#"=ROUND("2,345",2)"#,
     r#"=TEXT(0.256,"0,0%")"#,
     r#"=TEXT(-1234.5,"0,000")"#,
+    r#"=TEXT(45728,"mmmm")"#,
+    r#"=TEXT(45728,"d. mmmm yyyy")"#,
+    r#"=TEXT(45728,"dddd")"#,
 ];
 
 /// A csv row of the probes, quoted for a `,`-separated file.

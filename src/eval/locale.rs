@@ -499,11 +499,25 @@ impl Locale {
         self.localize_formatted(code.unwrap_or(""), &shown)
     }
 
+    /// A date as en-US shows it with its month's and weekday's full names (`mmmm`, `dddd`)
+    /// in this locale's words (`märts`, `kolmapäev`).
+    pub fn localize_names(self, shown: &str) -> String {
+        if self.0 == &EN_US || !shown.chars().any(char::is_alphabetic) {
+            return shown.to_string();
+        }
+        let mut out = shown.to_string();
+        let pairs = EN_US.months.iter().zip(&self.months).chain(EN_US.days.iter().zip(&self.days));
+        for (english, own) in pairs {
+            out = out.replace(english, own);
+        }
+        out
+    }
+
     /// What a canonical format `code` showed (`shown`) with this locale's marks: numbers
     /// localized, dates left as their code spells them.
     pub fn localize_formatted(self, code: &str, shown: &str) -> String {
         if is_date_code(code) {
-            return literal_marks(shown);
+            return literal_marks(&self.localize_names(shown));
         }
         literal_marks(&self.localize_shown(shown))
     }
