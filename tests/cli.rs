@@ -180,11 +180,13 @@ fn a_reference_off_the_sheet_is_reported() {
 }
 
 #[test]
-fn a_cycle_holds_an_error_and_is_named_while_the_rest_computes() {
+fn a_cycle_keeps_zero_and_is_named_while_the_rest_computes() {
+    // A circular reference never computed shows 0 in Excel ("displays either a zero or the
+    // last calculated value", Microsoft support, "Remove or allow a circular reference").
     let dir = folder(&[("c.csv", "=B1+1,=A1+1,4\n=C1*2\n")]);
     let run = ncsheet_in(dir.path(), &["eval", "c.csv", "--format", "csv"], "");
     assert_eq!(run.code, 0);
-    assert_eq!(run.stdout, "#CIRC!,#CIRC!,4\n8,,\n");
+    assert_eq!(run.stdout, "0,0,4\n8,,\n");
     assert_eq!(run.stderr, "ncsheet: c.csv: Sheet1!A1: circular reference: Sheet1!A1 -> Sheet1!B1\n");
 }
 
@@ -216,6 +218,7 @@ fn a_csv_sheet_goes_to_xlsx_and_back_and_other_files_are_refused() {
     let run = ncsheet_in(dir.path(), &["eval", "missing.xlsx"], "");
     assert_eq!(run.code, 1);
     assert!(run.stderr.starts_with("ncsheet: missing.xlsx: "), "{}", run.stderr);
+    std::fs::write(dir.path().join("parts.txt"), "not a table").unwrap();
     let run = ncsheet_in(dir.path(), &["eval", "parts.txt"], "");
     assert_eq!(run.code, 1);
     assert!(run.stderr.contains("parts.txt: unknown file type"), "{}", run.stderr);
@@ -377,8 +380,9 @@ fn a_piped_repl_reports_bad_commands_and_goes_on() {
     let dir = folder(&[("parts.csv", PARTS)]);
     let script = "B2==1+*2\nB2\nbogus\nB1==B3\nB2=3\n";
     let run = ncsheet_in(dir.path(), &["repl", "parts.csv"], script);
-    // The broken formula is refused (B2 keeps 2); the cycle is set and named.
-    assert_eq!(run.stdout, "2\n#CIRC!\n3\n");
+    // The broken formula is refused (B2 keeps 2); the cycle is set and named, its new
+    // formula showing 0 as in Excel.
+    assert_eq!(run.stdout, "2\n0\n3\n");
     assert!(run.stderr.contains("ncsheet: parts.csv: Sheet1!B2: =1+*2\n"), "{}", run.stderr);
     assert!(run.stderr.contains("unknown command 'bogus'"), "{}", run.stderr);
     assert!(run.stderr.contains("circular reference: Sheet1!B1 -> Sheet1!B3"), "{}", run.stderr);

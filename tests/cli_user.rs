@@ -380,7 +380,7 @@ fn the_readme_quick_start_says_how_to_install_and_its_five_commands_make_a_progr
     let start = readme.split("## Quick start").nth(1).expect("README has a Quick start");
     let start = start.split("\n## ").next().unwrap();
     let blocks: Vec<&str> = start.split("```sh\n").skip(1).map(|b| b.split("```").next().unwrap()).collect();
-    assert_eq!(blocks.first().map(|b| b.trim()), Some("cargo install --path ."), "the install step");
+    assert_eq!(blocks.first().map(|b| b.trim()), Some("cargo install --locked --path ."), "the install step");
     let commands: Vec<&str> = blocks[1].lines().filter(|l| !l.trim().is_empty()).collect();
     assert_eq!(commands.len(), 5, "the chamfer job in five commands: {commands:?}");
     let dir = tempfile::tempdir().unwrap();
