@@ -392,14 +392,23 @@ fn the_command_prints_the_url_and_serves_the_page() {
     let folder = tempfile::tempdir().unwrap();
     let file = folder.path().join("chamfer.xlsx");
     std::fs::copy(Path::new(env!("CARGO_MANIFEST_DIR")).join("sheets/chamfer.xlsx"), &file).unwrap();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_ncsheet"))
+    let child = Command::new(env!("CARGO_BIN_EXE_ncsheet"))
         .args(["serve", file.to_str().unwrap()])
         .stdout(Stdio::piped())
         .stderr(Stdio::null())
         .spawn()
         .unwrap();
+    // The server runs until killed: killed however the test ends.
+    struct Killed(std::process::Child);
+    impl Drop for Killed {
+        fn drop(&mut self) {
+            let _ = self.0.kill();
+            let _ = self.0.wait();
+        }
+    }
+    let mut child = Killed(child);
     let mut line = String::new();
-    BufReader::new(child.stdout.take().unwrap()).read_line(&mut line).unwrap();
+    BufReader::new(child.0.stdout.take().unwrap()).read_line(&mut line).unwrap();
     let url = line.trim().to_string();
     let rest = url.strip_prefix("http://127.0.0.1:").unwrap_or_else(|| panic!("{url}"));
     let (port, query) = rest.split_once('/').unwrap();
@@ -408,8 +417,6 @@ fn the_command_prints_the_url_and_serves_the_page() {
     write!(stream, "GET /{query} HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nConnection: close\r\n\r\n").unwrap();
     let mut answer = String::new();
     stream.read_to_string(&mut answer).unwrap();
-    child.kill().unwrap();
-    child.wait().unwrap();
     assert!(answer.starts_with("HTTP/1.1 200"), "{answer}");
     assert!(query.starts_with("?t=") && query.len() == 3 + 32, "{query}");
 }
