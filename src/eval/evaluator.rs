@@ -823,6 +823,9 @@ impl<'a> Ctx<'a> {
             let (rows, cols) = (ra.max(rb), ca.max(cb));
             if too_many_items(rows, cols) {
                 self.explain_once(XlError::Num, too_many_items_note(rows, cols));
+            } else {
+                // Broadcasting refuses nothing else: its items' texts passed their limit.
+                self.explain_once(XlError::Num, super::value::too_much_text_note());
             }
         }
     }
@@ -1025,21 +1028,36 @@ pub fn broadcast2(a: &Value, b: &Value, f: &dyn Fn(&Value, &Value) -> Value) -> 
                 return Value::Error(XlError::Num);
             }
             let mut data = Vec::with_capacity(rows * cols);
+            let mut text = super::value::TextBudget::default();
             for r in 0..rows {
                 for c in 0..cols {
-                    data.push(f(&x.broadcast_get(r, c), &y.broadcast_get(r, c)));
+                    let item = f(&x.broadcast_get(r, c), &y.broadcast_get(r, c));
+                    if !text.take(&item) {
+                        return Value::Error(XlError::Num);
+                    }
+                    data.push(item);
                 }
             }
             Value::Array(Rc::new(Array::new(rows, cols, data)))
         }
-        (Value::Array(x), s) => {
-            Value::Array(Rc::new(Array::new(x.rows, x.cols, x.data.iter().map(|v| f(v, s)).collect())))
-        }
-        (s, Value::Array(y)) => {
-            Value::Array(Rc::new(Array::new(y.rows, y.cols, y.data.iter().map(|v| f(s, v)).collect())))
-        }
+        (Value::Array(x), s) => map_items(x, |v| f(v, s)),
+        (s, Value::Array(y)) => map_items(y, |v| f(s, v)),
         (x, y) => f(x, y),
     }
+}
+
+/// `f` on each item of `a`, the result's texts counted against their limit (`#NUM!` past it).
+fn map_items(a: &Array, f: impl Fn(&Value) -> Value) -> Value {
+    let mut text = super::value::TextBudget::default();
+    let mut data = Vec::with_capacity(a.data.len());
+    for v in &a.data {
+        let item = f(v);
+        if !text.take(&item) {
+            return Value::Error(XlError::Num);
+        }
+        data.push(item);
+    }
+    Value::Array(Rc::new(Array::new(a.rows, a.cols, data)))
 }
 
 fn has_tail(v: &Value) -> bool {

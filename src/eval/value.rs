@@ -41,6 +41,31 @@ pub fn too_many_items_note(rows: usize, cols: usize) -> String {
     format!("an array of {rows} × {cols} items, more than ncsheet's limit of {MAX_ARRAY_ITEMS}")
 }
 
+/// The most bytes of text the items of one array a formula makes may hold together: the
+/// item limit alone let 2^24 texts of 30,000 characters (`REPT("x",30000)&SEQUENCE(4096,4096)`)
+/// ask for 500 GB. Counted as the items are made, by [`TextBudget`]: 256 MiB.
+pub const MAX_ARRAY_TEXT_BYTES: usize = 1 << 28;
+
+/// The text bytes of an array's items so far, against [`MAX_ARRAY_TEXT_BYTES`].
+#[derive(Default)]
+pub struct TextBudget(usize);
+
+impl TextBudget {
+    /// Counts `item`; `false` once the array's texts pass the limit.
+    #[inline]
+    pub fn take(&mut self, item: &Value) -> bool {
+        if let Value::Text(t) = item {
+            self.0 += t.len();
+        }
+        self.0 <= MAX_ARRAY_TEXT_BYTES
+    }
+}
+
+/// The note of a formula whose array's texts would pass [`MAX_ARRAY_TEXT_BYTES`].
+pub fn too_much_text_note() -> String {
+    format!("an array whose texts hold more than {} MiB, ncsheet's limit", MAX_ARRAY_TEXT_BYTES >> 20)
+}
+
 /// A rectangular block of values, row-major. Never holds a nested array.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Array {

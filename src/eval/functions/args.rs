@@ -61,9 +61,12 @@ pub fn lift(ctx: &mut Ctx, args: &[Expr], f: &dyn Fn(&[Value]) -> XlResult<Value
 /// Names the array limit when a lifted call's result would pass it.
 fn explain_lifted_size(ctx: &mut Ctx, values: &[Value], lifted: &XlResult<Value>) {
     if *lifted == Err(XlError::Num) {
-        if let Some((rows, cols)) = lifted_size(values).filter(|&(r, c)| too_many_items(r, c)) {
-            ctx.explain(XlError::Num, too_many_items_note(rows, cols));
-        }
+        match lifted_size(values) {
+            Some((rows, cols)) if too_many_items(rows, cols) => ctx.explain(XlError::Num, too_many_items_note(rows, cols)),
+            // The lifting refuses nothing else: its items' texts passed their limit.
+            Some(_) => ctx.explain(XlError::Num, crate::eval::value::too_much_text_note()),
+            None => XlError::Num,
+        };
     }
 }
 
@@ -89,6 +92,7 @@ pub fn lift_values(values: &[Value], f: &dyn Fn(&[Value]) -> XlResult<Value>) ->
     }
     let mut data = Vec::with_capacity(rows * cols);
     let mut scalars = Vec::with_capacity(values.len());
+    let mut text = crate::eval::value::TextBudget::default();
     for r in 0..rows {
         for c in 0..cols {
             scalars.clear();
@@ -96,7 +100,11 @@ pub fn lift_values(values: &[Value], f: &dyn Fn(&[Value]) -> XlResult<Value>) ->
                 Value::Array(a) => a.broadcast_get(r, c),
                 other => other.clone(),
             }));
-            data.push(f(&scalars).unwrap_or_else(Value::Error));
+            let item = f(&scalars).unwrap_or_else(Value::Error);
+            if !text.take(&item) {
+                return Err(XlError::Num);
+            }
+            data.push(item);
         }
     }
     Ok(Value::Array(Rc::new(Array::new(rows, cols, data))))
