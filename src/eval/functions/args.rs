@@ -62,7 +62,9 @@ pub fn lift(ctx: &mut Ctx, args: &[Expr], f: &dyn Fn(&[Value]) -> XlResult<Value
 fn explain_lifted_size(ctx: &mut Ctx, values: &[Value], lifted: &XlResult<Value>) {
     if *lifted == Err(XlError::Num) {
         match lifted_size(values) {
-            Some((rows, cols)) if too_many_items(rows, cols) => ctx.explain(XlError::Num, too_many_items_note(rows, cols)),
+            Some((rows, cols)) if too_many_items(rows, cols) => {
+                ctx.explain(XlError::Num, too_many_items_note(rows, cols))
+            }
             // The lifting refuses nothing else: its items' texts passed their limit.
             Some(_) => ctx.explain(XlError::Num, crate::eval::value::too_much_text_note()),
             None => XlError::Num,

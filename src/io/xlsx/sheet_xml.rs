@@ -417,7 +417,10 @@ impl SheetScanner<'_> {
             CellType::Untyped | CellType::Number if trimmed.is_empty() => return Ok(None),
             CellType::Untyped => match trimmed.parse::<f64>() {
                 Ok(n) if n.is_finite() => Stored::Number(n),
-                Ok(_) if !trimmed.to_ascii_lowercase().contains("inf") && !trimmed.to_ascii_lowercase().contains("nan") => {
+                Ok(_)
+                    if !trimmed.to_ascii_lowercase().contains("inf")
+                        && !trimmed.to_ascii_lowercase().contains("nan") =>
+                {
                     return Err(past_largest_number(raw))
                 }
                 _ => Stored::Text(raw.to_string()),
@@ -539,7 +542,9 @@ fn formula_attrs(tag: &Tag) -> Result<FormulaAttrs, String> {
                 Some(index) => FormulaAttrs::Shared(Some(index)),
                 None => {
                     let si = String::from_utf8_lossy(si);
-                    return Err(format!("has a shared formula index si=\"{si}\" that is not a number from 0 to 4294967295"));
+                    return Err(format!(
+                        "has a shared formula index si=\"{si}\" that is not a number from 0 to 4294967295"
+                    ));
                 }
             },
             None => FormulaAttrs::Shared(None),

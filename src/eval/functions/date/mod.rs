@@ -597,8 +597,8 @@ impl Workdays<'_> {
         let (lo, hi) = (start.min(end), start.max(end));
         let weeks = (hi - lo + 1) / 7;
         let rest = (lo + weeks * 7..=hi).filter(|&d| !self.weekend[dates::weekday(d) as usize]).count() as i64;
-        let holidays = self.holidays_in(lo, hi).iter().filter(|&&h| !self.weekend[dates::weekday(h) as usize]).count()
-            as i64;
+        let holidays =
+            self.holidays_in(lo, hi).iter().filter(|&&h| !self.weekend[dates::weekday(h) as usize]).count() as i64;
         let n = weeks * self.per_week() + rest - holidays;
         if start > end {
             -n

@@ -5,8 +5,7 @@
 //! (Newton's method from the guess, 0.1 by default) and give #NUM! when they do not converge.
 
 use crate::eval::functions::api::{
-    block, check, finite, number, number_or, numbers, scalar, ArgSet, Ctx, FnSpec, Scalars, MANY,
-    whole_numbers,
+    block, check, finite, number, number_or, numbers, scalar, whole_numbers, ArgSet, Ctx, FnSpec, Scalars, MANY,
 };
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
