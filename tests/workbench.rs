@@ -454,6 +454,7 @@ fn the_page_in_a_real_browser() {
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
     assert!(stdout.contains("ok"), "{stdout}");
+    eprint!("{stdout}");
     for shot in ["workbench-grid.png", "workbench-machining.png"] {
         assert!(std::fs::metadata(docs.join(shot)).unwrap().len() > 10_000, "{shot}");
     }
