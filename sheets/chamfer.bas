@@ -10,6 +10,7 @@ Attribute VB_Name = "Chamfer"
 ' chamfer to T2, retract.
 '
 ' Cells: the workbook's defined names D, f, alpha, r, eA, eB, XA, ZA, XB, ZB when it has them,
+' else rows labelled as sheets/chamfer.csv labels them ("input", name, first case's value),
 ' else the fixed layout below (column B of the active sheet: inputs B2:B7, results B9:B12).
 ' X is a diameter.
 '
@@ -57,7 +58,7 @@ Sub Main(Optional kind As String = "outer", Optional feed As Double = 0.1, Optio
     ' paper's Excel model, sheets/chamfer.xlsx, computes XA … ZB with formulas in G6:G9) is
     ' left as it is: B9:B12 there hold inputs.
     Dim fixedLayout As Boolean
-    fixedLayout = Not IsObject(Evaluate("D"))
+    fixedLayout = (Place("D", "B2") = "B2")
     PutResult "XA", "B9", XA, fixedLayout
     PutResult "ZA", "B10", ZA, fixedLayout
     PutResult "XB", "B11", XB, fixedLayout
@@ -151,7 +152,27 @@ Sub PutResult(name As String, fixed As String, v As Double, fixedLayout As Boole
     End If
 End Sub
 
-' A defined name of the workbook if it names cells, else the fixed address.
+' A defined name of the workbook if it names cells; else, on a sheet laid out as
+' sheets/chamfer.csv (rows "input", name, value, …), the value beside the name's label (its
+' first case); else the fixed address.
 Function Place(name As String, fixed As String) As String
-    If IsObject(Evaluate(name)) Then Place = name Else Place = fixed
+    If IsObject(Evaluate(name)) Then
+        Place = name
+    ElseIf LabelRow(name) > 0 Then
+        Place = "C" & LabelRow(name)
+    Else
+        Place = fixed
+    End If
+End Function
+
+' The row of an input labelled `name` in column B (column A saying "input"), or 0.
+Function LabelRow(name As String) As Long
+    Dim r As Long
+    LabelRow = 0
+    For r = 1 To 50
+        If Range("A" & r).Value = "input" And Range("B" & r).Value = name Then
+            LabelRow = r
+            Exit Function
+        End If
+    Next r
 End Function

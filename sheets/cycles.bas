@@ -25,7 +25,7 @@ Const Clear As Double = 1
 Sub L16(Optional X As Double = 30, Optional W As Double = 40, Optional A As Double = 0.5, _
         Optional P As Double = 2, Optional Stock As Double = 44, Optional F As Double = 0.2)
     Dim XT As Double, XK As Double, R1 As Double
-    Begin "L16", 700, F
+    Begin "L16", 700, F, 1
     Nc.Comment "L16 zigzag X" & X & " W" & W & " A" & A & " P" & P
     XK = X + A                      ' the lowest diameter a pass may cut
     XT = Stock
@@ -51,7 +51,7 @@ End Sub
 Sub L17(Optional A As Double = 0.5, Optional P As Double = 3, Optional Stock As Double = 44, _
         Optional F As Double = 0.15)
     Dim R2 As Double
-    Begin "L17", 700, F
+    Begin "L17", 700, F, 1
     Nc.Comment "L17 loop A" & A & " P" & P
     R2 = Stock - 20                 ' the thickest layer: the contour's smallest diameter is 20
 N10:
@@ -81,12 +81,14 @@ End Sub
 ' XStart: the diameter of the part where the recess is (the tool plunges from Clear above it
 ' and returns there); ZRight, ZLeft: the recess's
 ' ends; R0: tool width (the programmed point is its right corner); R4: step along Z;
-' R5: dwell (s); A: allowance on the bottom; F: plunge feed.
+' R5: dwell (s); A: allowance on the bottom; F: plunge feed; Shift: how far along Z the
+' recess of Bottom lies from its place at Z-10…-30; T: the grooving tool, R0 wide.
 Sub L13(Optional XStart As Double = 44, Optional ZRight As Double = -10, Optional ZLeft As Double = -30, _
         Optional R0 As Double = 3, Optional R4 As Double = 2.5, Optional R5 As Double = 0.5, _
-        Optional A As Double = 0, Optional F As Double = 0.05)
+        Optional A As Double = 0, Optional F As Double = 0.05, Optional Shift As Double = 0, _
+        Optional T As Double = 2)
     Dim Z As Double, R3 As Double, X As Double, XSafe As Double
-    Begin "L13", 500, F
+    Begin "L13", 500, F, T
     XSafe = XStart + 2 * Clear
     Nc.Comment "L13 plunge R0=" & R0 & " R4=" & R4
     Z = ZRight                      ' the tool's right corner
@@ -94,7 +96,7 @@ Sub L13(Optional XStart As Double = 44, Optional ZRight As Double = -10, Optiona
     Nc.Rapid XSafe, 1
     Nc.Rapid XSafe, Z
 N10:
-    X = Deepest(Z - R0, Z) + A      ' the larger of the bottom under the two corners
+    X = Deepest(Z - R0 - Shift, Z - Shift) + A   ' the larger of the bottom under the two corners
     Nc.Line X, Z, F
     Nc.Dwell R5
     Nc.Rapid XSafe, Z
@@ -137,11 +139,12 @@ End Function
 
 ' ---- shared ------------------------------------------------------------------------------
 
-' The cycle's start: its name, tool 1, feed per revolution, the spindle at `speed` 1/min.
-Sub Begin(name As String, speed As Double, F As Double)
+' The cycle's start: its name, its tool (1 the turning tool, 2 the 3 mm grooving tool), feed
+' per revolution, the spindle at `speed` 1/min.
+Sub Begin(name As String, speed As Double, F As Double, tool As Double)
     Nc.Name = name
     Nc.Machine = "lathe"
-    Nc.Tool 1
+    Nc.Tool tool
     Nc.FeedPerRev F
     Nc.Spindle speed
 End Sub
@@ -150,9 +153,13 @@ Sub Finish()
     Nc.Spindle 0
 End Sub
 
-' All three, one after another, as one program.
+' One part from a 44 mm blank, each cycle with its own tool: L16 roughs the blank to the
+' contour's largest diameter (40, plus the allowance) over the contour's length (35), L17
+' finishes the contour L03 under it in passes, and L13 plunges the recess with the grooving
+' tool behind the contour, from Z-40 to Z-60 (Bottom's recess shifted 30 along Z).
 Sub Main()
-    L16
+    L16 40, 35
     L17
-    L13
+    L13 44, -40, -60, 3, 2.5, 0.5, 0, 0.05, -30
+    Nc.Name = "CYCLES"
 End Sub

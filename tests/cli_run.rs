@@ -118,3 +118,112 @@ fn saving_over_the_input_workbook_is_refused() {
     assert_eq!(out.status.code(), Some(2));
     assert_eq!(std::fs::read_to_string(&book).unwrap(), "1\n");
 }
+
+/// Issue 32: the shipped chamfer sheet and macro work together as README says: the csv's
+/// labelled rows are the macro's inputs, and the cut goes from T1 to T2 of DOMAIN.md §1
+/// (outer, α = 45°: XA 44.262742, ZA −4.6, XB 33.062742, ZB 1), as rs274 reads it.
+#[test]
+fn the_shipped_chamfer_csv_runs_with_the_shipped_macro() {
+    let dir = tempfile::tempdir().unwrap();
+    let program = dir.path().join("chamfer.ngc");
+    let out = ncsheet(&[
+        "run",
+        &macro_path("chamfer.csv"),
+        &macro_path("chamfer.bas"),
+        "--dialect",
+        "linuxcnc",
+        "-o",
+        program.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    if !rs274::available() {
+        eprintln!("skipped the rs274 part: rs274 is not installed");
+        return;
+    }
+    let feeds: Vec<Move> =
+        rs274::moves(&program).unwrap().into_iter().filter(|m| matches!(m, Move::Feed { .. })).collect();
+    let at = |m: &Move| match *m {
+        Move::Feed { x, z, .. } => (x, z),
+        _ => unreachable!(),
+    };
+    let (x, z) = at(&feeds[0]);
+    assert!((x - 44.262742 / 2.0).abs() < 0.001 && (z + 4.6).abs() < 0.001, "{feeds:?}");
+    let (x, z) = at(&feeds[1]);
+    assert!((x - 33.062742 / 2.0).abs() < 0.001 && (z - 1.0).abs() < 0.001, "{feeds:?}");
+}
+
+/// The finish contour L03 of cycles.bas (DOMAIN.md §2) as a radius at z: diameter 20 to
+/// Z-10, a concave R5 fillet to diameter 30 at Z-15, a cylinder to Z-25, a taper to 40 at Z-35.
+fn contour_radius(z: f64) -> f64 {
+    if z >= -10.0 {
+        10.0
+    } else if z >= -15.0 {
+        15.0 - (25.0 - (z + 10.0).powi(2)).max(0.0).sqrt()
+    } else if z >= -25.0 {
+        15.0
+    } else {
+        15.0 + (-25.0 - z) / 2.0
+    }
+}
+
+/// Issue 32: cycles.bas's Main makes one part with the right tool for each cycle: the turning
+/// tool (T1) for L16 and L17, the grooving tool (T2) for L13; L16's roughing stays outside the
+/// contour L17 finishes (it does not remove the taper), and L17 cuts no deeper than it.
+#[test]
+fn the_cycles_main_makes_one_part_with_a_tool_per_cycle() {
+    if !rs274::available() {
+        eprintln!("skipped: rs274 is not installed");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let program = dir.path().join("main.ngc");
+    let out = ncsheet(&[
+        "run",
+        &macro_path("chamfer.csv"),
+        &macro_path("cycles.bas"),
+        "--dialect",
+        "linuxcnc",
+        "-o",
+        program.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let canon = rs274::canon(&program).unwrap();
+    let (mut cycle, mut tool) = (String::new(), 0);
+    let mut last: Option<(f64, f64)> = None;
+    let mut cycles_seen = Vec::new();
+    for line in canon.lines() {
+        if let Some((_, rest)) = line.split_once("COMMENT(\"") {
+            if let Some(name) = ["L16", "L17", "L13"].iter().find(|n| rest.starts_with(&format!("{n} "))) {
+                cycle = name.to_string();
+                cycles_seen.push(cycle.clone());
+            }
+        }
+        if let Some((_, rest)) = line.split_once("CHANGE_TOOL(") {
+            tool = rest.trim_end_matches(')').trim().parse().unwrap();
+        }
+        for m in rs274::moves_of(line) {
+            let (x, z) = match m {
+                Move::Traverse { x, z, .. } | Move::Feed { x, z, .. } => (x, z),
+                Move::Arc { first_end, second_end, .. } => (second_end, first_end),
+            };
+            if !matches!(m, Move::Traverse { .. }) {
+                let want = if cycle == "L13" { 2 } else { 1 };
+                assert_eq!(tool, want, "{cycle} cuts with T{tool}: {line}");
+                if cycle == "L16" || cycle == "L17" {
+                    let (x0, z0) = last.unwrap_or((x, z));
+                    // The deepest the contour reaches over the move's span along Z.
+                    let (lo, hi) = (z.min(z0), z.max(z0));
+                    let highest =
+                        (0..=100).map(|k| contour_radius(lo + (hi - lo) * k as f64 / 100.0)).fold(0.0, f64::max);
+                    if cycle == "L16" {
+                        assert!(x.min(x0) >= highest - 1e-6, "L16 cuts into the contour: {line}");
+                    } else {
+                        assert!(x >= contour_radius(z) - 1e-3, "L17 cuts below the contour: {line}");
+                    }
+                }
+            }
+            last = Some((x, z));
+        }
+    }
+    assert_eq!(cycles_seen, ["L16", "L17", "L13"], "one program, three cycles");
+}

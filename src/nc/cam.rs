@@ -113,22 +113,11 @@ pub fn cam_program(fit: &CamFit, options: &CamNcOptions) -> Result<Program, Stri
         if options.lead_kind == LeadKind::Arc { "arc" } else { "line" },
         options.lead
     )));
+    let arcs = entry_order(arcs, options)?;
     let (Some(first), Some(last)) = (arcs.first(), arcs.last()) else { return Ok(p) };
     let side = |a: &Arc, at: Point2<f64>| cutter_side(a, at, options.compensation);
     let lead_in = lead_path(first.start, tangent(first, first.start), side(first, first.start), options, true);
     let lead_out = lead_path(last.end, tangent(last, last.end), side(last, last.end), options, false);
-    let radius = options.cutter_diameter / 2.0;
-    if options.compensation != Compensation::Off {
-        let plunge = lead_in.outer;
-        let nearest = arcs.iter().map(|a| distance_to_arc(a, plunge)).fold(f64::INFINITY, f64::min);
-        if nearest <= radius {
-            return Err(format!(
-                "the plunge point X{:.3} Y{:.3} is {nearest:.3} mm from the profile, not clear of it for a cutter of \
-                 radius {radius} mm: a longer --lead, or a smaller cutter",
-                plunge.x, plunge.y
-            ));
-        }
-    }
     let reach = arcs.iter().map(|a| a.start.coords.norm().max(a.end.coords.norm())).fold(0.0, f64::max);
     p.blank = Some(([-reach, -reach, options.z_cut.min(0.0)], [reach, reach, 0.0]));
     let safe = Target { z: Some(options.z_safe), ..Target::default() };
@@ -176,6 +165,85 @@ pub fn cam_program(fit: &CamFit, options: &CamNcOptions) -> Result<Program, Stri
     }
     p.push(Block::Line { to: Target::xy(lead_out.outer.x, lead_out.outer.y), feed: None });
     Ok(p)
+}
+
+/// The arcs in cutting order from an entry the cutter can plunge at clear of the profile:
+/// the first arc's start when it is, else (on a closed profile, which may be cut from any
+/// joint) the first joint that is. An open profile is cut from its start or refused.
+fn entry_order<'a>(arcs: Vec<&'a Arc>, o: &CamNcOptions) -> Result<Vec<&'a Arc>, String> {
+    let (Some(first), Some(last)) = (arcs.first(), arcs.last()) else { return Ok(arcs) };
+    if o.compensation == Compensation::Off {
+        return Ok(arcs);
+    }
+    let radius = o.cutter_diameter / 2.0;
+    let closed = (last.end - first.start).norm() <= GAP;
+    let joints = if closed { arcs.len() } else { 1 };
+    // On a closed profile the cutter's side is its outside or its inside: a plunge point on the
+    // other side is in the material however far it is from the line.
+    let outline = closed.then(|| outline(&arcs));
+    let wants_outside =
+        outline.as_ref().map(|poly| (signed_area(poly) > 0.0) == (o.compensation == Compensation::Right));
+    let on_its_side = |q: Point2<f64>| match (&outline, wants_outside) {
+        (Some(poly), Some(outside)) => inside(poly, q) != outside,
+        _ => true,
+    };
+    let plunge_clearance = |k: usize| {
+        let a = arcs[k];
+        let lead = lead_path(a.start, tangent(a, a.start), cutter_side(a, a.start, o.compensation), o, true);
+        let nearest = arcs.iter().map(|b| distance_to_arc(b, lead.outer)).fold(f64::INFINITY, f64::min);
+        let sided = on_its_side(lead.outer) && on_its_side(lead.inner);
+        (lead.outer, if sided { nearest } else { 0.0 })
+    };
+    for k in 0..joints {
+        if plunge_clearance(k).1 > radius {
+            let mut order = arcs[k..].to_vec();
+            order.extend_from_slice(&arcs[..k]);
+            return Ok(order);
+        }
+    }
+    let (plunge, nearest) = plunge_clearance(0);
+    Err(format!(
+        "the plunge point X{:.3} Y{:.3} is {nearest:.3} mm from the profile, not clear of it for a cutter of radius \
+         {radius} mm{}: a longer --lead, or a smaller cutter",
+        plunge.x,
+        plunge.y,
+        if closed { ", nor is any other joint's" } else { "" }
+    ))
+}
+
+/// A closed profile as a polygon through points of its arcs, 2° apart at most.
+fn outline(arcs: &[&Arc]) -> Vec<Point2<f64>> {
+    let mut points = Vec::new();
+    for a in arcs {
+        let sweep = a.sweep();
+        let n = (sweep / 2f64.to_radians()).ceil().max(1.0) as usize;
+        let a0 = (a.start.y - a.centre.y).atan2(a.start.x - a.centre.x);
+        let turn = if a.turn == Turn::Ccw { 1.0 } else { -1.0 };
+        for k in 0..n {
+            let angle = a0 + turn * sweep * k as f64 / n as f64;
+            points.push(a.centre + Vector2::new(angle.cos(), angle.sin()) * a.radius);
+        }
+    }
+    points
+}
+
+/// The polygon's signed area, above 0 when it runs counter-clockwise.
+fn signed_area(poly: &[Point2<f64>]) -> f64 {
+    let n = poly.len();
+    (0..n).map(|i| poly[i].x * poly[(i + 1) % n].y - poly[(i + 1) % n].x * poly[i].y).sum::<f64>() / 2.0
+}
+
+/// Whether `q` is inside the polygon (even-odd crossings of a ray along +x).
+fn inside(poly: &[Point2<f64>], q: Point2<f64>) -> bool {
+    let n = poly.len();
+    let mut crossings = false;
+    for i in 0..n {
+        let (a, b) = (poly[i], poly[(i + 1) % n]);
+        if (a.y > q.y) != (b.y > q.y) && q.x < a.x + (q.y - a.y) * (b.x - a.x) / (b.y - a.y) {
+            crossings = !crossings;
+        }
+    }
+    crossings
 }
 
 /// The heights in order and a lead the control can turn compensation on along.

@@ -3,7 +3,8 @@
 //! writes for feed mode, spindle, tool, numbering and comments is in docs/dialects.md.
 
 use super::{
-    centre_offsets, check_program, chords, feed_style, program_name, sanitise, Dialect, Format, NcError, Position,
+    centre_offsets, check_program, check_values, chords, feed_style, program_name, sanitise, Dialect, Format, NcError,
+    Position,
 };
 use crate::nc::format::NumberStyle;
 use crate::nc::program::{
@@ -566,8 +567,11 @@ impl Writer<'_> {
             let reserve = self.numbers.resolution();
             let points = chords(self.machine, &self.position, to, centre, dir, self.arc_tolerance - reserve)
                 .map_err(|m| format!("{m} (the arc is written as lines on this control: --arc-tol)"))?;
+            let format = Format { numbers: self.numbers, digits: self.d.digits };
             for (k, p) in points.iter().enumerate() {
                 let line = Block::Line { to: *p, feed: if k == 0 { feed } else { None } };
+                // A chord's end may lie where no end of the program did (an arc's bulge).
+                check_values(&line, self.machine, format).map_err(|m| format!("the arc written as lines: {m}"))?;
                 self.block(&line)?;
             }
             return Ok(());
