@@ -42,8 +42,10 @@ pub struct LocaleData {
     pub date_separator: char,
     /// The short date as a canonical format code (what Excel's built-in format 14 shows).
     pub short_date: &'static str,
-    pub months: [&'static str; 12],
-    pub days: [&'static str; 7],
+    /// The months' full names, January first, between spaces.
+    pub months: &'static str,
+    /// The weekdays' full names, Sunday first, between spaces.
+    pub days: &'static str,
 }
 
 const SPACES: &[char] = &[' ', '\u{202F}'];
@@ -58,21 +60,8 @@ static EN_US: LocaleData = LocaleData {
     date_order: DateOrder::MonthDayYear,
     date_separator: '/',
     short_date: "m/d/yyyy",
-    months: [
-        "January",
-        "February",
-        "March",
-        "April",
-        "May",
-        "June",
-        "July",
-        "August",
-        "September",
-        "October",
-        "November",
-        "December",
-    ],
-    days: ["Sunday", "Monday", "Tuesday", "Wednesday", "Thursday", "Friday", "Saturday"],
+    months: "January February March April May June July August September October November December",
+    days: "Sunday Monday Tuesday Wednesday Thursday Friday Saturday",
 };
 
 static LOCALES: [&LocaleData; 8] = [
@@ -87,21 +76,8 @@ static LOCALES: [&LocaleData; 8] = [
         date_order: DateOrder::DayMonthYear,
         date_separator: '.',
         short_date: "dd.mm.yyyy",
-        months: [
-            "Januar",
-            "Februar",
-            "März",
-            "April",
-            "Mai",
-            "Juni",
-            "Juli",
-            "August",
-            "September",
-            "Oktober",
-            "November",
-            "Dezember",
-        ],
-        days: ["Sonntag", "Montag", "Dienstag", "Mittwoch", "Donnerstag", "Freitag", "Samstag"],
+        months: "Januar Februar März April Mai Juni Juli August September Oktober November Dezember",
+        days: "Sonntag Montag Dienstag Mittwoch Donnerstag Freitag Samstag",
     },
     &LocaleData {
         tag: "fr-FR",
@@ -113,21 +89,8 @@ static LOCALES: [&LocaleData; 8] = [
         date_order: DateOrder::DayMonthYear,
         date_separator: '/',
         short_date: "dd/mm/yyyy",
-        months: [
-            "janvier",
-            "février",
-            "mars",
-            "avril",
-            "mai",
-            "juin",
-            "juillet",
-            "août",
-            "septembre",
-            "octobre",
-            "novembre",
-            "décembre",
-        ],
-        days: ["dimanche", "lundi", "mardi", "mercredi", "jeudi", "vendredi", "samedi"],
+        months: "janvier février mars avril mai juin juillet août septembre octobre novembre décembre",
+        days: "dimanche lundi mardi mercredi jeudi vendredi samedi",
     },
     &LocaleData {
         tag: "et-EE",
@@ -139,21 +102,8 @@ static LOCALES: [&LocaleData; 8] = [
         date_order: DateOrder::DayMonthYear,
         date_separator: '.',
         short_date: "dd.mm.yyyy",
-        months: [
-            "jaanuar",
-            "veebruar",
-            "märts",
-            "aprill",
-            "mai",
-            "juuni",
-            "juuli",
-            "august",
-            "september",
-            "oktoober",
-            "november",
-            "detsember",
-        ],
-        days: ["pühapäev", "esmaspäev", "teisipäev", "kolmapäev", "neljapäev", "reede", "laupäev"],
+        months: "jaanuar veebruar märts aprill mai juuni juuli august september oktoober november detsember",
+        days: "pühapäev esmaspäev teisipäev kolmapäev neljapäev reede laupäev",
     },
     &LocaleData {
         tag: "uk-UA",
@@ -165,21 +115,8 @@ static LOCALES: [&LocaleData; 8] = [
         date_order: DateOrder::DayMonthYear,
         date_separator: '.',
         short_date: "dd.mm.yyyy",
-        months: [
-            "січень",
-            "лютий",
-            "березень",
-            "квітень",
-            "травень",
-            "червень",
-            "липень",
-            "серпень",
-            "вересень",
-            "жовтень",
-            "листопад",
-            "грудень",
-        ],
-        days: ["неділя", "понеділок", "вівторок", "середа", "четвер", "пʼятниця", "субота"],
+        months: "січень лютий березень квітень травень червень липень серпень вересень жовтень листопад грудень",
+        days: "неділя понеділок вівторок середа четвер пʼятниця субота",
     },
     &LocaleData {
         tag: "sk-SK",
@@ -191,21 +128,8 @@ static LOCALES: [&LocaleData; 8] = [
         date_order: DateOrder::DayMonthYear,
         date_separator: '.',
         short_date: "d.m.yyyy",
-        months: [
-            "január",
-            "február",
-            "marec",
-            "apríl",
-            "máj",
-            "jún",
-            "júl",
-            "august",
-            "september",
-            "október",
-            "november",
-            "december",
-        ],
-        days: ["nedeľa", "pondelok", "utorok", "streda", "štvrtok", "piatok", "sobota"],
+        months: "január február marec apríl máj jún júl august september október november december",
+        days: "nedeľa pondelok utorok streda štvrtok piatok sobota",
     },
     &LocaleData {
         tag: "sr-RS",
@@ -217,21 +141,8 @@ static LOCALES: [&LocaleData; 8] = [
         date_order: DateOrder::DayMonthYear,
         date_separator: '.',
         short_date: "d.m.yyyy",
-        months: [
-            "januar",
-            "februar",
-            "mart",
-            "april",
-            "maj",
-            "jun",
-            "jul",
-            "avgust",
-            "septembar",
-            "oktobar",
-            "novembar",
-            "decembar",
-        ],
-        days: ["nedelja", "ponedeljak", "utorak", "sreda", "četvrtak", "petak", "subota"],
+        months: "januar februar mart april maj jun jul avgust septembar oktobar novembar decembar",
+        days: "nedelja ponedeljak utorak sreda četvrtak petak subota",
     },
     &LocaleData {
         tag: "hu-HU",
@@ -243,21 +154,8 @@ static LOCALES: [&LocaleData; 8] = [
         date_order: DateOrder::YearMonthDay,
         date_separator: '.',
         short_date: "yyyy.mm.dd.",
-        months: [
-            "január",
-            "február",
-            "március",
-            "április",
-            "május",
-            "június",
-            "július",
-            "augusztus",
-            "szeptember",
-            "október",
-            "november",
-            "december",
-        ],
-        days: ["vasárnap", "hétfő", "kedd", "szerda", "csütörtök", "péntek", "szombat"],
+        months: "január február március április május június július augusztus szeptember október november december",
+        days: "vasárnap hétfő kedd szerda csütörtök péntek szombat",
     },
 ];
 
@@ -506,7 +404,8 @@ impl Locale {
             return shown.to_string();
         }
         let mut out = shown.to_string();
-        let pairs = EN_US.months.iter().zip(&self.months).chain(EN_US.days.iter().zip(&self.days));
+        let words = |names: &'static str| names.split(' ');
+        let pairs = words(EN_US.months).zip(words(self.months)).chain(words(EN_US.days).zip(words(self.days)));
         for (english, own) in pairs {
             out = out.replace(english, own);
         }
@@ -663,6 +562,14 @@ mod tests {
         let all = Locale::from_environment(env(&[("LC_ALL", "C"), ("LANG", "de_DE.UTF-8")]));
         assert_eq!(all.locale, Locale::EN_US);
         assert_eq!(Locale::from_environment(env(&[])).locale, Locale::EN_US);
+    }
+
+    #[test]
+    fn every_locale_names_twelve_months_and_seven_days() {
+        for l in Locale::all() {
+            assert_eq!((l.months.split(' ').count(), l.days.split(' ').count()), (12, 7), "{l}");
+        }
+        assert_eq!(locale("et-EE").localize_names("Wednesday, March 12"), "kolmapäev, märts 12");
     }
 
     #[test]
