@@ -3,6 +3,8 @@
 //! a date past the calendar, a declared count nobody checks). Each gives a clear error in
 //! its place, bounded in time and memory, never a panic or an abort.
 
+mod common;
+
 use std::io::{Cursor, Write};
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -14,17 +16,7 @@ use ncsheet::io::xlsx;
 use ncsheet::vba::{self, ErrorKind, RunOptions};
 use ncsheet::workbook::Workbook;
 
-/// The value of `formula` in A1 of an empty sheet, the notes of that cell, and how long the
-/// recalculation took.
-fn eval_a1(formula: &str) -> (Value, Vec<String>, Duration) {
-    let mut wb = Workbook::with_sheet();
-    let _ = wb.set_input_deferred(0, parse_cell("A1").unwrap(), formula);
-    let start = Instant::now();
-    wb.recalculate();
-    let took = start.elapsed();
-    let problems = wb.problems().into_iter().map(|p| p.render()).collect();
-    (wb.value(0, parse_cell("A1").unwrap()), problems, took)
-}
+use common::sheet::eval_a1;
 
 fn num(formula: &str) -> Value {
     eval_a1(formula).0

@@ -2,48 +2,23 @@
 //! Each class gives a clear error in its place, bounded in time and memory, never a panic,
 //! an abort, a lost edit or a silent wrong value.
 
-use std::io::{Read, Write};
+mod common;
+
+use std::io::Write;
 use std::path::Path;
 use std::process::{Command, Stdio};
 use std::thread;
 
+use common::cli::ncsheet;
+use common::sheet::eval_a1;
+
 use ncsheet::eval::Value;
 use ncsheet::formula::address::parse_cell;
 
-/// What one run of the built binary gave back.
-struct Run {
-    code: i32,
-    stdout: String,
-    stderr: String,
-}
-
-/// `ncsheet ARGS` with nothing on stdin; a run killed by a signal (a crash) fails the test.
-fn ncsheet(args: &[&str]) -> Run {
-    let out = Command::new(env!("CARGO_BIN_EXE_ncsheet"))
-        .args(args)
-        .stdin(Stdio::null())
-        .output()
-        .expect("the ncsheet binary runs");
-    Run {
-        code: out.status.code().unwrap_or_else(|| panic!("ncsheet was killed by a signal: {:?}", out.status)),
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-    }
-}
-
 /// An xlsx package with each part passed through `change(name, bytes)`.
 fn rewrite_package(package: &[u8], change: &mut dyn FnMut(&str, Vec<u8>) -> Vec<u8>) -> Vec<u8> {
-    let mut zip = zip::ZipArchive::new(std::io::Cursor::new(package)).unwrap();
-    let mut out = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
-    for i in 0..zip.len() {
-        let mut entry = zip.by_index(i).unwrap();
-        let name = entry.name().unwrap().to_string();
-        let mut data = Vec::new();
-        entry.read_to_end(&mut data).unwrap();
-        out.start_file(name.as_str(), zip::write::SimpleFileOptions::default()).unwrap();
-        out.write_all(&change(&name, data)).unwrap();
-    }
-    out.finish().unwrap().into_inner()
+    let options = zip::write::SimpleFileOptions::default();
+    common::rewrite_package(package, options, change).finish().unwrap().into_inner()
 }
 
 // ---------------------------------------------------------------------------------------
@@ -140,18 +115,6 @@ fn info_lists_names_longer_than_65535_characters() {
 
 // ---------------------------------------------------------------------------------------
 // Formulas: one sheet, one cell
-
-/// The value of `formula` in A1 of an empty sheet, the notes of that cell, and how long the
-/// recalculation took.
-fn eval_a1(formula: &str) -> (Value, Vec<String>, std::time::Duration) {
-    let mut wb = ncsheet::workbook::Workbook::with_sheet();
-    let _ = wb.set_input_deferred(0, parse_cell("A1").unwrap(), formula);
-    let start = std::time::Instant::now();
-    wb.recalculate();
-    let took = start.elapsed();
-    let problems = wb.problems().into_iter().map(|p| p.render()).collect();
-    (wb.value(0, parse_cell("A1").unwrap()), problems, took)
-}
 
 fn value(formula: &str) -> Value {
     eval_a1(formula).0

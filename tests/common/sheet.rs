@@ -18,3 +18,15 @@ pub fn get(wb: &Workbook, cell: &str) -> Value {
 pub fn n(v: f64) -> Value {
     Value::Number(v)
 }
+
+/// The value of `formula` in A1 of an empty sheet, the notes of that cell, and how long the
+/// recalculation took.
+pub fn eval_a1(formula: &str) -> (Value, Vec<String>, std::time::Duration) {
+    let mut wb = Workbook::with_sheet();
+    let _ = wb.set_input_deferred(0, parse_cell("A1").unwrap(), formula);
+    let start = std::time::Instant::now();
+    wb.recalculate();
+    let took = start.elapsed();
+    let problems = wb.problems().into_iter().map(|p| p.render()).collect();
+    (wb.value(0, parse_cell("A1").unwrap()), problems, took)
+}
