@@ -320,29 +320,28 @@ pub fn open_bytes_limited(
             Ok(Opened { workbook, cached: Vec::new(), layout: None, written_by: None, notes, origin })
         }
         Format::Xlsx => {
-            let mut imported = xlsx::load_bytes_limited(&bytes, path, limits)?;
-            imported.workbook.track_changes();
-            Ok(Opened {
-                workbook: imported.workbook,
-                cached: imported.cached,
-                layout: Some(imported.layout),
-                written_by: imported.written_by,
-                notes: imported.notes,
-                origin: Origin::Xlsx(Source { file: path.to_path_buf(), bytes: bytes.into() }),
-            })
+            let imported = xlsx::load_bytes_limited(&bytes, path, limits)?;
+            Ok(Opened::imported(imported, Origin::Xlsx(Source { file: path.to_path_buf(), bytes: bytes.into() })))
         }
         Format::Xls | Format::Xlsb | Format::Ods => {
             let kind = format.legacy().expect("a read-only format");
-            let mut imported = legacy::load(&bytes, path, kind)?;
-            imported.workbook.track_changes();
-            Ok(Opened {
-                workbook: imported.workbook,
-                cached: imported.cached,
-                layout: Some(imported.layout),
-                written_by: imported.written_by,
-                notes: imported.notes,
-                origin: Origin::Legacy(path.to_path_buf(), kind),
-            })
+            let imported = legacy::load(&bytes, path, kind)?;
+            Ok(Opened::imported(imported, Origin::Legacy(path.to_path_buf(), kind)))
+        }
+    }
+}
+
+impl Opened {
+    /// A workbook an importer read, its edits tracked from here on for the save.
+    fn imported(mut imported: xlsx::Imported, origin: Origin) -> Opened {
+        imported.workbook.track_changes();
+        Opened {
+            workbook: imported.workbook,
+            cached: imported.cached,
+            layout: Some(imported.layout),
+            written_by: imported.written_by,
+            notes: imported.notes,
+            origin,
         }
     }
 }
