@@ -58,17 +58,8 @@ fn a_run_that_emits_no_block_fails_and_leaves_the_old_program() {
 fn a_successful_run_says_what_it_wrote() {
     let dir = tempfile::tempdir().unwrap();
     let program = dir.path().join("chamfer.ngc");
-    let run = ncsheet(&[
-        "run",
-        &repo("sheets/chamfer.xlsx"),
-        &repo("sheets/chamfer.bas"),
-        "--sheet",
-        "Outer",
-        "--dialect",
-        "linuxcnc",
-        "-o",
-        program.to_str().unwrap(),
-    ]);
+    let args = common::cli::outer_chamfer("linuxcnc", program.to_str().unwrap());
+    let run = ncsheet(&args.iter().map(String::as_str).collect::<Vec<_>>());
     assert_eq!(run.code, 0, "{}", run.stderr);
     let text = std::fs::read_to_string(&program).unwrap();
     let lines = text.lines().filter(|l| !l.trim().is_empty()).count();
@@ -106,21 +97,7 @@ fn generators(cl: &str) -> Vec<(&'static str, Vec<String>, Vec<&'static str>)> {
         "arcfit", "--kind", "arch", "--r0", "79", "--phi0", "36", "--r1", "102", "--phi1", "160.2", "--tol", "0.01",
         "--format", "nc",
     ]);
-    let ball = s(&[
-        "ballpath",
-        "--surface",
-        "15*EXP(-16*((x/50)^2+(y/50)^2))",
-        "--radius",
-        "3",
-        "--x=-25:25",
-        "--y=-25:25",
-        "--stepover",
-        "5",
-        "--step",
-        "5",
-        "--gouge",
-        "lift",
-    ]);
+    let ball = common::cli::bump_ballpath("5", "5", "lift");
     let post = s(&["post", cl, "--machine", "ab-head", "--pivot", "400"]);
     vec![
         ("chamfer", chamfer, lathe.clone()),
@@ -183,17 +160,8 @@ fn every_program_every_command_writes_is_read_back_checked_and_timed_without_dia
 fn a_read_error_another_dialect_accepts_names_it() {
     let dir = tempfile::tempdir().unwrap();
     let program = dir.path().join("prog.mpf");
-    let run = ncsheet(&[
-        "run",
-        &repo("sheets/chamfer.xlsx"),
-        &repo("sheets/chamfer.bas"),
-        "--sheet",
-        "Outer",
-        "--dialect",
-        "sinumerik",
-        "-o",
-        program.to_str().unwrap(),
-    ]);
+    let args = common::cli::outer_chamfer("sinumerik", program.to_str().unwrap());
+    let run = ncsheet(&args.iter().map(String::as_str).collect::<Vec<_>>());
     assert_eq!(run.code, 0, "{}", run.stderr);
     let p = program.to_str().unwrap();
     let wrong = ncsheet(&["nc", "check", p, "--dialect", "iso"]);
