@@ -199,12 +199,14 @@ fn arguments_are_its_dependencies_and_application_volatile_recomputes_at_every_e
 }
 
 /// A cell whose function reads the cell itself through its argument is a cycle, not a
-/// recursion: #CIRC! (the function never runs away).
+/// recursion (the function never runs away): named, and showing 0 as Excel shows a circular
+/// reference never calculated (Microsoft support, "Remove or allow a circular reference").
 #[test]
 fn a_function_reading_its_own_cell_through_its_argument_is_a_cycle() {
     let wb =
         book(&[("Module1", STANDARD, "Function Echo(x)\r\n    Echo = x\r\nEnd Function\r\n")], &[("A1", "=Echo(A1)")]);
-    assert_eq!(wb.value(0, at("A1")), Value::Error(XlError::Circ));
+    assert_eq!(wb.value(0, at("A1")), Value::Number(0.0));
+    assert_eq!(wb.cycles(), vec![vec!["Sheet1!A1".to_string()]]);
 }
 
 /// The statement limit applies to each call: an endless loop is stopped, the cell #VALUE!.

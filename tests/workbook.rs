@@ -31,17 +31,22 @@ fn a_range_sees_cells_created_after_the_formula() {
     assert_eq!(get(&wb, "C1"), n(5.0));
 }
 
+/// Excel without iterative calculation warns of a circular reference and "displays either a
+/// zero or the last calculated value in the cell" (Microsoft support, "Remove or allow a
+/// circular reference in Excel"): the cycle's cells keep what they held, what reads them
+/// computes from that, and the cycle is named.
 #[test]
-fn cycles_are_named_and_hold_an_error_while_the_rest_computes() {
+fn cycles_are_named_and_keep_their_previous_values_while_the_rest_computes() {
     let mut wb = Workbook::with_sheet();
     set(&mut wb, "A1", "=B1+1");
     set(&mut wb, "B1", "=A1+1");
     set(&mut wb, "C1", "=A1*2");
     set(&mut wb, "D1", "5");
     set(&mut wb, "E1", "=D1+1");
-    assert_eq!(get(&wb, "A1"), Value::Error(XlError::Circ));
-    assert_eq!(get(&wb, "B1"), Value::Error(XlError::Circ));
-    assert_eq!(get(&wb, "C1"), Value::Error(XlError::Circ));
+    // A1 computed 1 before B1 closed the cycle; B1 never computed: 0.
+    assert_eq!(get(&wb, "A1"), n(1.0));
+    assert_eq!(get(&wb, "B1"), n(0.0));
+    assert_eq!(get(&wb, "C1"), n(2.0));
     assert_eq!(get(&wb, "E1"), n(6.0));
     assert_eq!(wb.cycles(), vec![vec!["Sheet1!A1".to_string(), "Sheet1!B1".to_string()]]);
     // Breaking the cycle recomputes all three.
@@ -55,7 +60,8 @@ fn cycles_are_named_and_hold_an_error_while_the_rest_computes() {
 fn a_cell_reading_a_range_that_holds_it_is_a_cycle() {
     let mut wb = Workbook::with_sheet();
     set(&mut wb, "A3", "=SUM(A1:A5)");
-    assert_eq!(get(&wb, "A3"), Value::Error(XlError::Circ));
+    // Never computed: Excel shows 0.
+    assert_eq!(get(&wb, "A3"), n(0.0));
     assert_eq!(wb.cycles(), vec![vec!["Sheet1!A3".to_string()]]);
 }
 
@@ -373,7 +379,9 @@ fn run_time_references_follow_the_cells_they_reach() {
     assert_eq!(get(&wb, "C1"), n(70.0));
     // A cell that reaches itself is a cycle.
     set(&mut wb, "D1", "=INDIRECT(\"D1\")+1");
-    assert_eq!(get(&wb, "D1"), Value::Error(XlError::Circ));
+    // Its first computation, before the reference was known, is its last calculated value.
+    assert_eq!(get(&wb, "D1"), n(1.0));
+    assert_eq!(wb.cycles(), vec![vec!["Sheet1!D1".to_string()]]);
     // Where a reference is, unlike what it holds, is no dependency (Excel: no cycle).
     set(&mut wb, "D2", "=ROW(INDIRECT(\"D2\"))+ISREF(OFFSET(A1,1,3))");
     assert_eq!(get(&wb, "D2"), n(3.0));
@@ -405,9 +413,9 @@ fn a_reference_only_located_is_no_cycle() {
     assert!(wb.cycles().is_empty());
     set(&mut wb, "B2", "8");
     assert_eq!(get(&wb, "A2"), n(8.0));
-    // Once the condition holds, the cell reads itself: a cycle.
+    // Once the condition holds, the cell reads itself: a cycle, the last calculated value kept.
     set(&mut wb, "C3", "1");
-    assert_eq!(get(&wb, "C4"), Value::Error(XlError::Circ));
+    assert_eq!(get(&wb, "C4"), n(0.0));
     assert_eq!(wb.cycles(), vec![vec!["Sheet1!C4".to_string()]]);
     // A range built from INDEX results names the row it sits in, reads what it sums.
     set(&mut wb, "E5", "=SUM(INDEX(5:5,1,1):INDEX(5:5,1,3))");
@@ -436,9 +444,11 @@ fn iterative_calculation_runs_a_cycle_to_its_limits() {
         v => panic!("{v:?}"),
     };
     assert!((b1 - 2.0).abs() < 0.002, "{b1}");
-    // Without iteration the cycle is an error again.
+    // Without iteration the cycle keeps its last calculated values, and is named.
     wb.set_iteration(None);
-    assert_eq!(get(&wb, "A1"), Value::Error(XlError::Circ));
+    assert_eq!(get(&wb, "A1"), n(19.0));
+    assert_eq!(get(&wb, "A2"), n(20.0));
+    assert!(!wb.cycles().is_empty());
 }
 
 // Excel 365 spills a whole row or column over the whole row or column, blanks read as 0,

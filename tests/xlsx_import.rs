@@ -204,3 +204,20 @@ fn a_sheet_whose_relationship_names_no_part_is_left_out_with_a_note() {
     assert_eq!(wb.value(1, at("B1")), num(6.0));
     assert!(imported.notes.iter().any(|n| n.contains("'Macro1'") && n.contains("left out")), "{:?}", imported.notes);
 }
+
+#[test]
+fn a_circular_reference_keeps_the_values_excel_cached_and_is_named() {
+    // Without iterative calculation Excel "displays either a zero or the last calculated
+    // value" of a circular reference's cells (Microsoft support, "Remove or allow a circular
+    // reference in Excel"); a saved file holds those values, and what reads them computes
+    // from them.
+    let data = r#"<row r="1"><c r="A1"><f>B1+1</f><v>7</v></c><c r="B1"><f>A1+1</f><v>8</v></c><c r="C1"><f>A1*2</f><v>14</v></c><c r="D1"><f>D1+1</f></c></row>"#;
+    let imported = load(&[("Sheet1", data)], "");
+    let wb = &imported.workbook;
+    assert_eq!(wb.value(0, at("A1")), num(7.0));
+    assert_eq!(wb.value(0, at("B1")), num(8.0));
+    assert_eq!(wb.value(0, at("C1")), num(14.0));
+    // No value cached: Excel shows 0.
+    assert_eq!(wb.value(0, at("D1")), num(0.0));
+    assert_eq!(wb.cycles().len(), 2, "{:?}", wb.cycles());
+}

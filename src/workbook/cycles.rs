@@ -3,7 +3,8 @@
 //! `=INDEX(2:2,1,2)` in A2 names row 2 and reads only B2, `=IF(B3=0,0,B10+1)` in B10 reads
 //! B10 only while B3 is not 0. So the cells of a strongly connected component are
 //! evaluated on demand: a cell whose evaluation reads no cell still waiting is computed,
-//! which may free others; those left waiting read each other and are circular (`#CIRC!`).
+//! which may free others; those left waiting read each other and are circular: they keep
+//! their previous values, 0 if they had none, as Excel does without iterative calculation.
 //!
 //! With iterative calculation on (`<calcPr iterate="1">`, [`Iteration`]) a cycle is not an
 //! error: its cells are recalculated in sheet, row, column order, each reading the others'
@@ -137,6 +138,13 @@ impl Workbook {
         if self.cells[id as usize].formula != super::NO_FORMULA && !matches!(value, Value::Array(_)) {
             self.cells[id as usize].value = value;
         }
+    }
+
+    /// The cells of the circular references the recalculations found: a file reader starts
+    /// them from the values the file cached (see [`Workbook::set_starting_value_deferred`]),
+    /// which they then keep, as in Excel.
+    pub fn cycle_cells(&self) -> Vec<(SheetId, Pos)> {
+        self.cycles.iter().flatten().map(|&id| self.place(id)).collect()
     }
 
     /// Turns iterative calculation on (with its limits) or off, and recalculates.

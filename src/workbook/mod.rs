@@ -2,7 +2,8 @@
 //!
 //! Editing a cell marks only what depends on it and recomputes that in topological order
 //! (see `recalc.rs`). Bad input never stops the rest: a formula that does not parse holds
-//! `#NAME?` and is listed by [`Workbook::problems`]; a cycle's cells hold `#CIRC!`.
+//! `#NAME?` and is listed by [`Workbook::problems`]; a cycle's cells keep their previous
+//! values (0 if none), as Excel's do, and the cycle is listed too.
 
 use std::borrow::Cow;
 use std::fmt;
@@ -154,7 +155,7 @@ pub struct Workbook {
     fixed_arrays: FxMap<u32, (u32, u32)>,
     /// What changed since [`Workbook::track_changes`], for a file saved back surgically.
     changes: Option<Box<ChangeLog>>,
-    /// Iterative calculation (`cycles.rs`): cycles iterate instead of showing `#CIRC!`.
+    /// Iterative calculation (`cycles.rs`): cycles iterate instead of keeping their values.
     iteration: Option<Iteration>,
     /// Names were (re)defined without relinking the graph: the next full recalculation does.
     names_unlinked: bool,
@@ -546,9 +547,11 @@ impl Workbook {
         id
     }
 
-    /// Makes cell `id` (cleared) run formula `fid`.
+    /// Makes cell `id` (cleared) run formula `fid`. A new formula has no last calculated
+    /// value: in a circular reference it shows 0 (`recalc.rs`), not what the cell held.
     fn install_formula(&mut self, id: u32, fid: u32) {
         self.cells[id as usize].formula = fid;
+        self.cells[id as usize].value = Value::Blank;
         self.link(id);
         if self.formulas.get(fid).volatile
             || (self.user_functions.is_some() && self.calls_user_function(&self.formulas.get(fid).expr) == Some(true))

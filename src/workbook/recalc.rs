@@ -1,7 +1,7 @@
 //! Recalculation: from the changed cells, collect what depends on them (cells and range
 //! nodes), order it topologically (Kahn), evaluate each formula once. Cells left over have
-//! a cycle upstream: strongly connected components name the cycle's cells, which get
-//! `#CIRC!`, and everything downstream then computes from that error.
+//! a cycle upstream: strongly connected components name the cycle's cells, which keep
+//! their previous values (as Excel does), and everything downstream computes from those.
 //!
 //! Dynamic arrays spill into the cells below/right of their formula. Cells whose value
 //! changed by a spill are recalculated in a following pass.
@@ -449,8 +449,9 @@ impl Workbook {
     }
 
     /// Settles every cycle among the leftover nodes (`cycles.rs`), in dependency order so
-    /// that a cycle reads what feeds it computed: the cells that truly read each other get
-    /// `#CIRC!` and are recorded. Then finishes the nodes downstream.
+    /// that a cycle reads what feeds it computed: the cells that truly read each other keep
+    /// their previous values, as Excel does, and are recorded (a problem names each cycle).
+    /// Then finishes the nodes downstream.
     fn break_cycles(&mut self, a: &Affected, indegree: &mut [u32], done: &mut [bool], late: &mut Vec<u32>) {
         let components = strongly_connected(a, done);
         let mut queue = Vec::new();
@@ -473,7 +474,7 @@ impl Workbook {
             cells.sort_by_key(|&id| (self.cells[id as usize].sheet, self.cells[id as usize].pos));
             let circular = self.settle_component(&cells, late);
             for &id in &circular {
-                self.set_result(id, Value::Error(XlError::Circ), late);
+                self.keep_previous_value(id, late);
             }
             // No recorded cycle holds these cells: `kahn_pass` dropped those through
             // affected cells, and components are disjoint (searching the list per cycle
@@ -582,6 +583,19 @@ impl Workbook {
     }
 
     /// Stores a formula's result: blank reads as 0, an array spills or reports `#SPILL!`.
+    /// A cell of a circular reference without iterative calculation keeps the value it held
+    /// before this recalculation, 0 when it never had one: Excel's behaviour ("Excel can't
+    /// automatically calculate" a circular reference and shows "the last calculated value"
+    /// or zero, support.microsoft.com, "Remove or allow a circular reference"). Its
+    /// dependents compute from that value; the cycle is a problem of the workbook.
+    fn keep_previous_value(&mut self, id: u32, late: &mut Vec<u32>) {
+        let value = match &self.cells[id as usize].value {
+            Value::Blank | Value::Error(XlError::Circ) => Value::Number(0.0),
+            other => other.clone(),
+        };
+        self.set_result(id, value, late);
+    }
+
     pub(super) fn set_result(&mut self, id: u32, value: Value, late: &mut Vec<u32>) {
         // The usual result, a number in a workbook without spills or array formulas, stored
         // here; the rest is kept out of line, so that this path saves no registers for it.

@@ -7,7 +7,7 @@
 
 use std::rc::Rc;
 
-use crate::eval::{Env, UserCall, Value};
+use crate::eval::{Env, UserCall, Value, XlError};
 use crate::formula::ast::{Expr, ExprKind};
 
 use super::{Workbook, NO_FORMULA};
@@ -37,6 +37,11 @@ impl Workbook {
             let Some(volatile) = self.calls_user_function(&self.formulas.get(formula).expr) else { continue };
             if volatile {
                 self.volatile.insert(id);
+            }
+            // The #NAME? the unknown call gave is no calculation of the formula: in a
+            // circular reference the cell has no last calculated value to keep (0).
+            if self.cells[id as usize].value == Value::Error(XlError::Name) {
+                self.cells[id as usize].value = Value::Blank;
             }
             calling.push(id);
         }

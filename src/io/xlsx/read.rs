@@ -181,10 +181,29 @@ pub fn load_bytes_limited(bytes: &[u8], file: &Path, limits: ReadLimits) -> Resu
         }
     }
     imported.workbook.recalculate();
+    if imported.workbook.iteration().is_none() {
+        keep_cached_cycles(&mut imported);
+    }
     let arrays = array_anchors(&imported.layout, &imported.workbook);
     intersect_legacy_formulas(&mut imported.workbook, &legacy_ranges, &arrays);
     note_resolved_links(&mut imported);
     Ok(imported)
+}
+
+/// Excel keeps the cells of a circular reference at the values it last calculated, the
+/// values the file cached: the cycles' cells start from them and keep them (computed once
+/// more, only when the workbook has a cycle).
+fn keep_cached_cycles(imported: &mut Imported) {
+    let cells: HashSet<(SheetId, Pos)> = imported.workbook.cycle_cells().into_iter().collect();
+    if cells.is_empty() {
+        return;
+    }
+    for c in &imported.cached {
+        if c.anchor == c.pos && cells.contains(&(c.sheet, c.pos)) {
+            imported.workbook.set_starting_value_deferred(c.sheet, c.pos, c.value.clone());
+        }
+    }
+    imported.workbook.recalculate();
 }
 
 /// Each external-link part with its relationships part (which names the linked file), in
