@@ -16,6 +16,24 @@ use ncsheet::nc::dialect;
 
 const SHEET: &str = include_str!("../sheets/cam-turret.csv");
 
+/// The sheet as docs/domain.md §5 prints it, without the return rows of the paper's table 2
+/// that sheets/cam-turret.csv adds.
+const PRINTED: &str = "row,operation,disc,type,from_deg,to_deg,r_start,r_end
+1,\"feed, stop\",R,circle,0,5.4,114,114
+–,approach,R,log,5.4,8,114,110
+2,index turret,R,circle,8,10.8,110,110
+3,centre drill,R,arch,10.8,25.2,110,116
+–,return,R,log,25.2,28,116,79
+4,index turret,R,circle,28,36,79,79
+5,drill ⌀17.3×30,R,arch,36,160.2,79,102
+7,countersink,R,arch,171,207,100.5,109
+10,tap thread,R,arch,217.8,232.2,70,88
+12,tap returns,R,log,234,237.6,88,70
+13,index turret,R,circle,237.6,340,70,70
+–,return,R,log,340,360,70,114
+14,part off (slide III),III,arch,234,349.2,68.15,80
+";
+
 fn sheet() -> Vec<Segment> {
     parse_sheet(SHEET).expect("the sample sheet reads")
 }
@@ -219,26 +237,36 @@ fn arch_fit_spills_one_row_per_arc() {
     assert_eq!(env.eval("=ARCH_FIT(\"arch\", \"x\", 36, 102, 160.2, 0.01)"), Value::Error(XlError::Value));
 }
 
-fn disc(name: &str) -> Vec<Segment> {
-    by_disc(&sheet()).into_iter().find(|(d, _)| d == name).expect("disc").1
+fn printed_disc(name: &str) -> Vec<Segment> {
+    by_disc(&parse_sheet(PRINTED).unwrap()).into_iter().find(|(d, _)| d == name).expect("disc").1
 }
 
 #[test]
 fn the_printed_sheet_has_gaps_and_an_overlap() {
-    let turret = disc("R");
+    let turret = printed_disc("R");
     let issues: Vec<String> = check_coverage(&turret).iter().map(|i| i.to_string()).collect();
     assert_eq!(issues.len(), 3, "{issues:#?}");
     assert!(issues[0].starts_with("gap 160.2°–171°") && issues[0].contains("row 5") && issues[0].contains("row 7"));
     assert!(issues[1].starts_with("gap 207°–217.8°") && issues[1].contains("row 7") && issues[1].contains("row 10"));
     assert!(issues[2].starts_with("gap 232.2°–234°") && issues[2].contains("row 10") && issues[2].contains("row 12"));
     // All rows read as one cam: the part-off row of slide III overlaps the turret's rows.
-    let all = check_coverage(&sheet());
+    let all = check_coverage(&parse_sheet(PRINTED).unwrap());
     let overlaps: Vec<&CoverageIssue> = all.iter().filter(|i| matches!(i, CoverageIssue::Overlap { .. })).collect();
     assert_eq!(overlaps.len(), 3, "{overlaps:#?}");
     assert!(overlaps.iter().all(|o| o.to_string().contains("row 14")));
-    let message = fit_cam("R", &turret, &CamOptions { tolerance: 0.01, allow_partial: false, with_bounds: false })
-        .unwrap_err()
-        .to_string();
+    let message = fit_cam(
+        "R",
+        &turret,
+        &CamOptions {
+            tolerance: 0.01,
+            allow_partial: false,
+            with_bounds: false,
+            side: ncsheet::geometry::cam::Side::Both,
+            reserve: 0.0,
+        },
+    )
+    .unwrap_err()
+    .to_string();
     assert!(message.contains("gap 160.2°–171°") && message.contains("row 5 \"drill ⌀17.3×30\" (line 8)"), "{message}");
 }
 
@@ -257,12 +285,33 @@ fn a_closed_cam_has_no_issues_and_an_overlap_is_fatal_even_when_partial() {
         seg("3", PieceKind::Logarithmic, 300.0, 360.0, 60.0, 50.0),
     ];
     assert_eq!(check_coverage(&closed), vec![]);
-    let fit = fit_cam("", &closed, &CamOptions { tolerance: 0.01, allow_partial: false, with_bounds: false }).unwrap();
+    let fit = fit_cam(
+        "",
+        &closed,
+        &CamOptions {
+            tolerance: 0.01,
+            allow_partial: false,
+            with_bounds: false,
+            side: ncsheet::geometry::cam::Side::Both,
+            reserve: 0.0,
+        },
+    )
+    .unwrap();
     assert!((fit.arcs().next().unwrap().start - fit.arcs().last().unwrap().end).norm() <= 1e-9);
     let mut overlapping = closed.clone();
     overlapping[1] = seg("2", PieceKind::Archimedean, 80.0, 300.0, 50.0, 60.0);
-    let err = fit_cam("", &overlapping, &CamOptions { tolerance: 0.01, allow_partial: true, with_bounds: false })
-        .unwrap_err();
+    let err = fit_cam(
+        "",
+        &overlapping,
+        &CamOptions {
+            tolerance: 0.01,
+            allow_partial: true,
+            with_bounds: false,
+            side: ncsheet::geometry::cam::Side::Both,
+            reserve: 0.0,
+        },
+    )
+    .unwrap_err();
     let CamError::Coverage(issues) = err else { panic!("expected a coverage error") };
     assert!(
         matches!(&issues[0], CoverageIssue::Overlap { first, second, .. } if first.contains("row 1") && second.contains("row 2"))
@@ -270,7 +319,13 @@ fn a_closed_cam_has_no_issues_and_an_overlap_is_fatal_even_when_partial() {
 }
 
 fn sample_cams(tolerance: f64) -> Vec<ncsheet::geometry::cam::CamFit> {
-    let options = CamOptions { tolerance, allow_partial: true, with_bounds: false };
+    let options = CamOptions {
+        tolerance,
+        allow_partial: true,
+        with_bounds: false,
+        side: ncsheet::geometry::cam::Side::Both,
+        reserve: 0.0,
+    };
     fit_design_sheet(SHEET, &options).unwrap()
 }
 
@@ -287,9 +342,9 @@ fn writers_give_the_table_the_program_and_the_drawing() {
     assert!(nc.contains("G21 G17 G90"));
     let n_arc_blocks = nc.lines().filter(|l| l.contains(" G3 ") || l.contains(" G2 ")).count();
     assert_eq!(n_arc_blocks, turret.n_arcs());
-    // Lead-in, lead-out, and the three gaps of the printed sheet crossed by straight moves.
+    // Lead-in and lead-out; the shipped sheet has no gaps to cross.
     let straight = nc.lines().filter(|l| l.contains(" G1 X")).count();
-    assert_eq!(straight, 2 + 3, "{nc}");
+    assert_eq!(straight, 2, "{nc}");
     let svg = svg_drawing(turret, &SvgOptions::default());
     assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
     let arc_paths = svg.lines().filter(|l| l.starts_with("<path") && l.contains(" A ")).count();

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use clap::builder::PossibleValuesParser;
 use clap::{Args, ValueEnum};
 use ncsheet::geometry::cam::{
-    by_disc, fit_cam, fit_piece, CamFit, CamOptions, FittedSegment, Piece, PieceKind, Segment,
+    by_disc, fit_cam, fit_piece_on_side, CamFit, CamOptions, FittedSegment, Piece, PieceKind, Segment, Side,
 };
 use ncsheet::nc::cam::{
     cam_program, fit_tolerance, CamNcOptions, Compensation, LeadKind, DEFAULT_CUTTER_DIAMETER, LEAD_BEYOND_RADIUS,
@@ -47,6 +47,29 @@ pub enum CutterSide {
     Left,
     /// G42: cutter right of the profile (outside a cam cut counter-clockwise)
     Right,
+}
+
+/// Which side of the profile the arcs lie on.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum SideArg {
+    /// Away from the cam centre, within --tol: an outer cam finished from the material side,
+    /// never undersize (the paper's arcs envelop the curve from outside)
+    #[default]
+    Outside,
+    /// Towards the cam centre, within --tol: an inner profile finished from its material side
+    Inside,
+    /// Either side within --tol: the fewest arcs
+    Both,
+}
+
+impl From<SideArg> for Side {
+    fn from(side: SideArg) -> Side {
+        match side {
+            SideArg::Outside => Side::Outside,
+            SideArg::Inside => Side::Inside,
+            SideArg::Both => Side::Both,
+        }
+    }
 }
 
 /// What both commands write and where.
@@ -105,8 +128,10 @@ pub struct CamOutput {
 
 /// Fit every segment of a cam design sheet with tangent arcs within --tol.
 ///
-/// The sheet is csv with a header naming the columns row, operation, disc, type (circle, arch
-/// or log), from_deg, to_deg, r_start, r_end (row, operation and disc may be left out). The
+/// The sheet is csv with a header naming the columns row, operation, disc, type (circle, arch,
+/// log or parab), from_deg, to_deg, r_start, r_end (row, operation and disc may be left out;
+/// from_hundredths, to_hundredths instead of the degrees: the angles in hundredths of a turn,
+/// as the paper's sheets count). The
 /// segments of a disc must go round 0–360° once: gaps, overlaps and steps are reported with
 /// the rows involved, and are an error unless --partial (then the cutter goes straight across
 /// gaps and steps; overlaps stay an error).
@@ -120,6 +145,10 @@ pub struct CamArgs {
     /// The disc to write, when the sheet has several (default: the first)
     #[arg(long)]
     pub disc: Option<String>,
+    /// The side of the profile the arcs lie on; the tolerance is kept on that side, for the
+    /// program as written
+    #[arg(long, value_enum, default_value_t)]
+    pub side: SideArg,
     /// Accept gaps and steps between segments
     #[arg(long)]
     pub partial: bool,
@@ -133,7 +162,8 @@ pub struct CamArgs {
 /// same amount per degree, a logarithmic one by the same ratio.
 #[derive(Debug, Args)]
 pub struct ArcfitArgs {
-    /// The piece: arch (Archimedean), log (logarithmic) or circle
+    /// The piece: arch (Archimedean), log (logarithmic), parab (parabolic: constant
+    /// acceleration, then deceleration) or circle
     #[arg(long)]
     pub kind: String,
     /// Radius at the start (mm)
@@ -151,6 +181,9 @@ pub struct ArcfitArgs {
     /// Tolerance H in mm
     #[arg(long, allow_negative_numbers = true)]
     pub tol: f64,
+    /// The side of the profile the arcs lie on; the tolerance is kept on that side
+    #[arg(long, value_enum, default_value_t)]
+    pub side: SideArg,
     #[command(flatten)]
     pub out: CamOutput,
 }
@@ -166,7 +199,8 @@ pub fn cam(args: CamArgs) -> Result<()> {
     let discs = by_disc(&segments);
     let (disc, segs) = pick_disc(file, &discs, args.disc.as_deref())?;
     let tolerance = fitted_tolerance(args.tol);
-    let options = CamOptions { tolerance, allow_partial: args.partial, with_bounds: false };
+    let (side, reserve) = (args.side.into(), args.tol - tolerance);
+    let options = CamOptions { tolerance, allow_partial: args.partial, with_bounds: false, side, reserve };
     let mut fit = fit_cam(disc, segs, &options).map_err(|e| Error::User(format!("{}: {e}", file.display())))?;
     fit.tolerance = args.tol;
     for issue in &fit.issues {
@@ -179,7 +213,8 @@ pub fn arcfit(args: ArcfitArgs) -> Result<()> {
     let geometry = |e: ncsheet::geometry::GeometryError| Error::User(e.to_string());
     let kind = PieceKind::parse(&args.kind).map_err(geometry)?;
     let piece = Piece::new(kind, args.r0, args.phi0, args.r1, args.phi1).map_err(geometry)?;
-    let arcs = fit_piece(&piece, fitted_tolerance(args.tol)).map_err(geometry)?;
+    let tolerance = fitted_tolerance(args.tol);
+    let arcs = fit_piece_on_side(&piece, tolerance, args.side.into(), args.tol - tolerance).map_err(geometry)?;
     let segment = Segment { row: String::new(), operation: String::new(), disc: String::new(), line: 0, piece };
     let fit = CamFit {
         disc: String::new(),

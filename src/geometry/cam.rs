@@ -2,9 +2,10 @@
 //! replacement by tangent arcs within a tolerance, whole cams from a design sheet, and the
 //! texts a mill and a designer need (coordinate table, NC program, drawing).
 //!
-//! - [`piece`]: circle, Archimedean and logarithmic pieces about the cam centre.
+//! - [`piece`]: circle, Archimedean, logarithmic and parabolic pieces about the cam centre.
 //! - [`arc`]: the arc an NC control cuts, with exact distances.
-//! - [`fit`]: the arc-spline fitter, its lower bound and an independent deviation check.
+//! - [`fit`]: the arc-spline fitter (on either side of the curve or on one), its lower bound
+//!   and an independent deviation check.
 //! - [`profile`]: whole cams: coverage check (gaps, overlaps, steps) and every segment's arcs.
 //!
 //! The design sheet, the coordinate table and the drawing are in `nc::cam_sheet`; the milling
@@ -20,7 +21,7 @@ pub mod piece;
 pub mod profile;
 
 pub use arc::{Arc, Turn};
-pub use fit::{deviation, fit_piece, lower_bound, Deviation};
+pub use fit::{deviation, fit_piece, fit_piece_on_side, lower_bound, Deviation, Side};
 pub use piece::{Piece, PieceKind};
 pub use profile::{
     by_disc, check_coverage, fit_cam, CamError, CamFit, CamOptions, CoverageIssue, FittedSegment, Segment,

@@ -5,7 +5,9 @@
 //!
 //! A design sheet has one segment per row, columns named in a header
 //! `row,operation,disc,type,from_deg,to_deg,r_start,r_end` (any order; `row`, `operation` and
-//! `disc` may be left out). Angles in degrees, radii in mm, type "circle", "arch" or "log".
+//! `disc` may be left out). Radii in mm, type "circle", "arch", "log" or "parab". The header
+//! says the angles' unit: `from_deg,to_deg` in degrees, or `from_hundredths,to_hundredths` in
+//! hundredths of a turn, as the paper's design sheets count them (× 3.6 gives degrees).
 
 use std::f64::consts::TAU;
 use std::fmt::Write;
@@ -15,7 +17,11 @@ use nalgebra::{Point2, Vector2};
 use super::svg::{self, cross, fixed, polyline, scale_bar, Labels};
 use crate::geometry::cam::{by_disc, fit_cam, Arc, CamError, CamFit, CamOptions, Piece, PieceKind, Segment, Turn};
 
-const REQUIRED: [&str; 5] = ["type", "from_deg", "to_deg", "r_start", "r_end"];
+const REQUIRED: [&str; 3] = ["type", "r_start", "r_end"];
+
+/// The units a sheet may give its angles in: the header's two column names and how many
+/// degrees one unit is.
+const ANGLE_UNITS: [(&str, &str, f64); 2] = [("from_deg", "to_deg", 1.0), ("from_hundredths", "to_hundredths", 3.6)];
 
 /// The segments of a design sheet, in the order written.
 pub fn parse_sheet(text: &str) -> Result<Vec<Segment>, CamError> {
@@ -27,12 +33,15 @@ pub fn parse_sheet(text: &str) -> Result<Vec<Segment>, CamError> {
         .map(|h| h.to_ascii_lowercase())
         .collect();
     let column = |name: &str| header.iter().position(|h| h == name);
+    let needs = || format!("needs {}, and from_deg, to_deg or from_hundredths, to_hundredths", REQUIRED.join(", "));
     for name in REQUIRED {
         if column(name).is_none() {
-            let message = format!("the header has no column '{name}' (needs {})", REQUIRED.join(", "));
+            let message = format!("the header has no column '{name}' ({})", needs());
             return Err(CamError::Sheet { line: 1, message });
         }
     }
+    let (from_col, to_col, degrees_per_unit) = angle_columns(&header)
+        .map_err(|message| CamError::Sheet { line: 1, message: format!("{message} ({})", needs()) })?;
     let mut segments = Vec::new();
     for record in reader.records() {
         let record = record.map_err(|e| CamError::Sheet {
@@ -53,11 +62,31 @@ pub fn parse_sheet(text: &str) -> Result<Vec<Segment>, CamError> {
         let row = text("row");
         let in_row = |error| CamError::Segment { row: format!("row {row} (line {line})"), error };
         let kind = PieceKind::parse(&text("type")).map_err(in_row)?;
-        let (from, to, r_start, r_end) = (number("from_deg")?, number("to_deg")?, number("r_start")?, number("r_end")?);
+        let (from, to) = (number(from_col)? * degrees_per_unit, number(to_col)? * degrees_per_unit);
+        let (r_start, r_end) = (number("r_start")?, number("r_end")?);
         let piece = Piece::new(kind, r_start, from, r_end, to).map_err(in_row)?;
         segments.push(Segment { row: row.clone(), operation: text("operation"), disc: text("disc"), line, piece });
     }
     Ok(segments)
+}
+
+/// The header's angle columns and their unit in degrees: exactly one pair of
+/// [`ANGLE_UNITS`] must be there, whole.
+fn angle_columns(header: &[String]) -> Result<(&'static str, &'static str, f64), String> {
+    let has = |name: &str| header.iter().any(|h| h == name);
+    let mut found = None;
+    for (from, to, unit) in ANGLE_UNITS {
+        match (has(from), has(to)) {
+            (true, true) if found.is_some() => {
+                return Err("the header gives the angles twice, in degrees and in hundredths of a turn".into())
+            }
+            (true, true) => found = Some((from, to, unit)),
+            (true, false) => return Err(format!("the header has '{from}' but no '{to}'")),
+            (false, true) => return Err(format!("the header has '{to}' but no '{from}'")),
+            (false, false) => {}
+        }
+    }
+    found.ok_or_else(|| "the header has no angle columns".into())
 }
 
 /// Reads a design sheet and fits every disc on it, discs in order of first appearance. What

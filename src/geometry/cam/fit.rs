@@ -32,6 +32,124 @@ const MARGIN: f64 = 1e-3;
 /// function with at most two interior extrema, and each extremum is refined afterwards.
 const TRIAL_SAMPLES: usize = 12;
 
+/// Where the arcs may lie with respect to the cam's profile.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Side {
+    /// Away from the cam centre: an outer cam finished from the material side comes out never
+    /// undersize (the paper's arcs "envelop the theoretical curve from outside").
+    #[default]
+    Outside,
+    /// Towards the cam centre: an inner profile (a groove's inner wall) finished from its
+    /// material side.
+    Inside,
+    /// Either side, within the tolerance: the fewest arcs.
+    Both,
+}
+
+impl Side {
+    /// `"outside"`, `"inside"` or `"both"`.
+    pub fn word(self) -> &'static str {
+        match self {
+            Side::Outside => "outside",
+            Side::Inside => "inside",
+            Side::Both => "both",
+        }
+    }
+}
+
+/// Fits `piece` with arcs that lie on `side` of it: for [`Side::Outside`] every arc point is
+/// between `reserve` and `tolerance` mm from the profile, away from the cam centre (towards it
+/// for [`Side::Inside`]), and the profile is within `tolerance` of the arcs; `reserve` keeps
+/// room for what the written program's rounding moves the arcs. [`Side::Both`] is
+/// [`fit_piece`] (within `tolerance` either side; `reserve` unused).
+///
+/// The one-sided fit is the two-sided fit, with half the band, of the curve at the band's
+/// middle: the profile offset by (reserve + tolerance)/2. Its chain starts and ends on that
+/// offset curve, off the profile's ends by the same distance, so consecutive pieces of a cam
+/// are joined by a short straight move (in the band too).
+pub fn fit_piece_on_side(piece: &Piece, tolerance: f64, side: Side, reserve: f64) -> Result<Vec<Arc>, GeometryError> {
+    match side_curve(piece, tolerance, side, reserve)? {
+        None => fit_piece(piece, tolerance),
+        Some((curve, half_band)) => fit_piece(&curve, half_band),
+    }
+}
+
+/// For a one-sided fit, the curve the arcs aim at (the profile offset to the band's middle)
+/// and the half width of the band; `None` for [`Side::Both`]. Checks the tolerance first.
+pub fn side_curve(
+    piece: &Piece,
+    tolerance: f64,
+    side: Side,
+    reserve: f64,
+) -> Result<Option<(Piece, f64)>, GeometryError> {
+    let sign = match side {
+        Side::Both => return Ok(None),
+        Side::Outside => 1.0,
+        Side::Inside => -1.0,
+    };
+    check_tolerance(piece, tolerance)?;
+    ensure(reserve.is_finite() && reserve >= 0.0 && reserve < tolerance, || {
+        format!(
+            "tolerance tol = {tolerance} mm leaves no band on the {} after {reserve} mm kept for the program's rounding",
+            side.word()
+        )
+    })?;
+    let half_band = 0.5 * (tolerance - reserve);
+    let middle = 0.5 * (tolerance + reserve);
+    if piece.kind != PieceKind::Circle {
+        let radius = smallest_radius_of_curvature(piece);
+        ensure(middle < radius, || {
+            format!(
+                "tolerance tol = {tolerance} mm is not small beside the profile's smallest radius of curvature \
+                 {radius:.4} mm: no curve at that distance on the {}",
+                side.word()
+            )
+        })?;
+    }
+    Ok(Some((piece.offset_outward(sign * middle), half_band)))
+}
+
+/// Where the offset curves of two pieces that meet at a corner cross, as (parameter on the
+/// first, parameter on the second), when they do so near the corner: on the side where the
+/// corner's angle is the smaller one, each offset runs past the other, and each must stop at
+/// the crossing or its arcs would come closer to the other piece than the band allows (or
+/// cross it). `None` where they do not cross (they diverge, and a short straight move joins
+/// them) or where they meet already.
+pub fn offset_crossing(first: &Piece, second: &Piece) -> Option<(f64, f64)> {
+    let (mut s, mut u) = (1.0, 0.0);
+    if (first.point(s) - second.point(u)).norm() <= 1e-12 {
+        return None;
+    }
+    for _ in 0..60 {
+        let (a, b) = (first.jet(s), second.jet(u));
+        let f = a.p - b.p;
+        let det = cross(a.d1, -b.d1);
+        if det.abs() < 1e-300 {
+            return None;
+        }
+        // [a.d1  −b.d1]·(ds, du) = −f by Cramer's rule.
+        let ds = cross(-f, -b.d1) / det;
+        let du = cross(a.d1, -f) / det;
+        s += ds;
+        u += du;
+        if !(s.is_finite() && u.is_finite()) || s < -1.0 || u > 2.0 {
+            return None;
+        }
+        if ds.abs() + du.abs() < 1e-15 {
+            break;
+        }
+    }
+    let meets = (first.point(s) - second.point(u)).norm() <= 1e-9;
+    (meets && (0.0..1.0).contains(&s) && u > 0.0 && u <= 1.0).then_some((s, u))
+}
+
+/// The smallest radius of curvature of a profile piece, sampled (the pieces here curve
+/// smoothly, the parabolic one with a jump at its middle).
+fn smallest_radius_of_curvature(piece: &Piece) -> f64 {
+    const STEPS: usize = 256;
+    (0..=STEPS).map(|i| 1.0 / piece.curvature(i as f64 / STEPS as f64).abs()).fold(f64::INFINITY, f64::min)
+}
+
 /// Fits `piece` with arcs within `tolerance` mm, or says why it cannot.
 pub fn fit_piece(piece: &Piece, tolerance: f64) -> Result<Vec<Arc>, GeometryError> {
     check_tolerance(piece, tolerance)?;
@@ -145,10 +263,12 @@ fn too_many(tolerance: f64) -> String {
     format!("tolerance tol = {tolerance} mm is too small: this piece would need more than {MAX_ARCS_PER_PIECE} arcs")
 }
 
-/// A circle piece is cut by one arc about the cam centre.
+/// A circle piece is cut by one arc about the cam centre (of the offset radius when the piece
+/// is offset).
 fn circle_arc(piece: &Piece) -> Arc {
     let turn = if piece.sweep() > 0.0 { Turn::Ccw } else { Turn::Cw };
-    Arc { start: piece.point(0.0), end: piece.point(1.0), centre: Point2::origin(), radius: piece.r0, turn }
+    let radius = piece.r0 + piece.offset();
+    Arc { start: piece.point(0.0), end: piece.point(1.0), centre: Point2::origin(), radius, turn }
 }
 
 /// A joint of the chain: a curve point and the tangent the arc leaving it must have.

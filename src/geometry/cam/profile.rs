@@ -12,7 +12,7 @@
 use std::fmt;
 
 use super::arc::Arc;
-use super::fit::{fit_piece, lower_bound};
+use super::fit::{fit_piece, lower_bound, offset_crossing, side_curve, Side};
 use super::piece::Piece;
 use crate::geometry::GeometryError;
 
@@ -121,8 +121,14 @@ impl std::error::Error for CamError {}
 /// How to fit a cam.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CamOptions {
-    /// Tolerance H in mm, both sides of the curve.
+    /// Tolerance H in mm: how far the arcs may lie from the curve, on `side`.
     pub tolerance: f64,
+    /// Which side of the profile the arcs lie on (outside: a finished outer cam is never
+    /// undersize).
+    pub side: Side,
+    /// On one side, how close to the profile the arcs may not come, mm: room kept for the
+    /// rounding of the written program (see `nc::cam::fit_tolerance`). Unused for `Side::Both`.
+    pub reserve: f64,
     /// Accept gaps and steps (the cutter goes straight across them).
     pub allow_partial: bool,
     /// Also compute every piece's lower bound (slower; for reports).
@@ -248,15 +254,46 @@ pub fn fit_cam(disc: &str, segments: &[Segment], options: &CamOptions) -> Result
     }
     let mut ordered: Vec<&Segment> = segments.iter().collect();
     ordered.sort_by(|x, y| x.piece.phi0_deg.total_cmp(&y.piece.phi0_deg));
+    let curves = aimed_curves(&ordered, options)?;
     let mut fitted = Vec::with_capacity(ordered.len());
-    for s in ordered {
+    for (s, (curve, tolerance)) in ordered.into_iter().zip(curves) {
         let in_row = |error| CamError::Segment { row: s.label(), error };
-        let arcs = fit_piece(&s.piece, options.tolerance).map_err(in_row)?;
+        let arcs = fit_piece(&curve, tolerance).map_err(in_row)?;
         let lower_bound =
             if options.with_bounds { Some(lower_bound(&s.piece, options.tolerance).map_err(in_row)?) } else { None };
         fitted.push(FittedSegment { segment: s.clone(), arcs, lower_bound });
     }
     Ok(CamFit { disc: disc.to_string(), tolerance: options.tolerance, segments: fitted, issues })
+}
+
+/// The curve each segment's arcs aim at and the tolerance about it: the profile itself within
+/// the tolerance, or on one side the profile offset into the band, each offset stopped where
+/// it crosses its neighbour's at a corner (also across 0°/360° on a closed cam).
+fn aimed_curves(ordered: &[&Segment], options: &CamOptions) -> Result<Vec<(Piece, f64)>, CamError> {
+    let mut curves = Vec::with_capacity(ordered.len());
+    for s in ordered {
+        let in_row = |error| CamError::Segment { row: s.label(), error };
+        let aimed = side_curve(&s.piece, options.tolerance, options.side, options.reserve).map_err(in_row)?;
+        curves.push(aimed.unwrap_or((s.piece, options.tolerance)));
+    }
+    if options.side == Side::Both || ordered.len() < 2 {
+        return Ok(curves);
+    }
+    let n = ordered.len();
+    for i in 0..n {
+        let j = (i + 1) % n;
+        let (a, b) = (&ordered[i].piece, &ordered[j].piece);
+        let wraps = j == 0 && (a.phi1_deg - 360.0).abs() <= SAME && b.phi0_deg.abs() <= SAME;
+        let meets = (a.phi1_deg - b.phi0_deg).abs() <= SAME || wraps;
+        if !meets || (a.r1 - b.r0).abs() > SAME {
+            continue;
+        }
+        if let Some((s, u)) = offset_crossing(&curves[i].0, &curves[j].0) {
+            curves[i].0 = curves[i].0.trimmed(0.0, s);
+            curves[j].0 = curves[j].0.trimmed(u, 1.0);
+        }
+    }
+    Ok(curves)
 }
 
 /// The segments grouped by disc, discs in order of first appearance.
