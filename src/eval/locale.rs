@@ -64,98 +64,82 @@ static EN_US: LocaleData = LocaleData {
     days: "Sunday Monday Tuesday Wednesday Thursday Friday Saturday",
 };
 
+/// What the decimal-comma locales share (each says what it does otherwise): a no-break space
+/// between groups, `;` between arguments, day.month.year.
+const DECIMAL_COMMA: LocaleData = LocaleData {
+    tag: "",
+    english_name: "",
+    decimal: ',',
+    group: '\u{A0}',
+    group_typed: SPACES,
+    list: ';',
+    date_order: DateOrder::DayMonthYear,
+    date_separator: '.',
+    short_date: "dd.mm.yyyy",
+    months: "",
+    days: "",
+};
+
 static LOCALES: [&LocaleData; 8] = [
     &EN_US,
     &LocaleData {
         tag: "de-DE",
         english_name: "German (Germany)",
-        decimal: ',',
         group: '.',
         group_typed: &[],
-        list: ';',
-        date_order: DateOrder::DayMonthYear,
-        date_separator: '.',
-        short_date: "dd.mm.yyyy",
         months: "Januar Februar März April Mai Juni Juli August September Oktober November Dezember",
         days: "Sonntag Montag Dienstag Mittwoch Donnerstag Freitag Samstag",
+        ..DECIMAL_COMMA
     },
     &LocaleData {
         tag: "fr-FR",
         english_name: "French (France)",
-        decimal: ',',
-        group: '\u{A0}',
-        group_typed: SPACES,
-        list: ';',
-        date_order: DateOrder::DayMonthYear,
         date_separator: '/',
         short_date: "dd/mm/yyyy",
         months: "janvier février mars avril mai juin juillet août septembre octobre novembre décembre",
         days: "dimanche lundi mardi mercredi jeudi vendredi samedi",
+        ..DECIMAL_COMMA
     },
     &LocaleData {
         tag: "et-EE",
         english_name: "Estonian (Estonia)",
-        decimal: ',',
-        group: '\u{A0}',
-        group_typed: SPACES,
-        list: ';',
-        date_order: DateOrder::DayMonthYear,
-        date_separator: '.',
-        short_date: "dd.mm.yyyy",
         months: "jaanuar veebruar märts aprill mai juuni juuli august september oktoober november detsember",
         days: "pühapäev esmaspäev teisipäev kolmapäev neljapäev reede laupäev",
+        ..DECIMAL_COMMA
     },
     &LocaleData {
         tag: "uk-UA",
         english_name: "Ukrainian (Ukraine)",
-        decimal: ',',
-        group: '\u{A0}',
-        group_typed: SPACES,
-        list: ';',
-        date_order: DateOrder::DayMonthYear,
-        date_separator: '.',
-        short_date: "dd.mm.yyyy",
         months: "січень лютий березень квітень травень червень липень серпень вересень жовтень листопад грудень",
         days: "неділя понеділок вівторок середа четвер пʼятниця субота",
+        ..DECIMAL_COMMA
     },
     &LocaleData {
         tag: "sk-SK",
         english_name: "Slovak (Slovakia)",
-        decimal: ',',
-        group: '\u{A0}',
-        group_typed: SPACES,
-        list: ';',
-        date_order: DateOrder::DayMonthYear,
-        date_separator: '.',
         short_date: "d.m.yyyy",
         months: "január február marec apríl máj jún júl august september október november december",
         days: "nedeľa pondelok utorok streda štvrtok piatok sobota",
+        ..DECIMAL_COMMA
     },
     &LocaleData {
         tag: "sr-RS",
         english_name: "Serbian (Latin, Serbia)",
-        decimal: ',',
         group: '.',
         group_typed: &[],
-        list: ';',
-        date_order: DateOrder::DayMonthYear,
-        date_separator: '.',
         short_date: "d.m.yyyy",
         months: "januar februar mart april maj jun jul avgust septembar oktobar novembar decembar",
         days: "nedelja ponedeljak utorak sreda četvrtak petak subota",
+        ..DECIMAL_COMMA
     },
     &LocaleData {
         tag: "hu-HU",
         english_name: "Hungarian (Hungary)",
-        decimal: ',',
-        group: '\u{A0}',
-        group_typed: SPACES,
-        list: ';',
         date_order: DateOrder::YearMonthDay,
-        date_separator: '.',
         short_date: "yyyy.mm.dd.",
         months: "január február március április május június július augusztus szeptember október november december",
         days: "vasárnap hétfő kedd szerda csütörtök péntek szombat",
+        ..DECIMAL_COMMA
     },
 ];
 
