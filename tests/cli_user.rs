@@ -692,3 +692,21 @@ fn errors_speak_the_users_words() {
     let run = ncsheet(&["eval", &repo("sheets/chamfer.xlsx"), "B1048577"]);
     assert!(run.stderr.contains("past the last row, 1048576"), "{}", run.stderr);
 }
+
+#[test]
+fn show_follows_what_a_cell_reads_as_deep_as_asked() {
+    let dir = tempfile::tempdir().unwrap();
+    // A3 = A2·2, A2 = A1 + 1, A1 = 1: A3 is 4, A2 is 2.
+    let book = write(dir.path(), "chain.csv", "1\n=A1+1\n=A2*2\n");
+    let shallow = ncsheet(&["show", &book, "A3"]);
+    assert_eq!(shallow.code, 0, "{}", shallow.stderr);
+    assert!(!shallow.stdout.contains("precedents"), "{}", shallow.stdout);
+    let deep = ncsheet(&["show", &book, "A3", "--depth", "2"]);
+    assert_eq!(deep.code, 0, "{}", deep.stderr);
+    let lines: Vec<&str> = deep.stdout.lines().map(str::trim).collect();
+    let a2 = lines.iter().position(|l| *l == "A2  =A1+1  = 2").expect(&deep.stdout);
+    let a1 = lines.iter().position(|l| *l == "A1  1  = 1").expect(&deep.stdout);
+    assert!(a2 < a1, "A1 is read by A2, so it comes after it: {}", deep.stdout);
+    let one_step = ncsheet(&["show", &book, "A3", "--depth", "1"]);
+    assert_eq!(one_step.stdout, shallow.stdout);
+}

@@ -26,6 +26,10 @@ pub struct ShowArgs {
     /// The sheet of cells named without one (default: the active one, where the file opens)
     #[arg(long, value_name = "NAME")]
     pub sheet: Option<String>,
+    /// Follow what each cell reads this many steps back: 1 lists the cells it reads, 2 also
+    /// what those read, and so on, each with its formula and value
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub depth: u32,
 }
 
 pub fn run(args: ShowArgs, delimiter: Option<u8>) -> Result<()> {
@@ -41,9 +45,64 @@ pub fn run(args: ShowArgs, delimiter: Option<u8>) -> Result<()> {
             writeln!(out)?;
         }
         out.write_all(describe_rect(wb, &shown, s.sheet, s.rect, s.label.as_deref()).as_bytes())?;
+        if args.depth > 1 && s.rect.is_cell() {
+            out.write_all(precedent_tree(wb, &shown, s.sheet, s.rect.first, args.depth).as_bytes())?;
+        }
     }
     out.flush()?;
     Ok(())
+}
+
+/// The most lines a precedent tree prints: a deep chain of a million cells is cut, saying so.
+const MAX_TREE_LINES: usize = 10_000;
+
+/// What a cell reads, followed `depth` steps back as an indented tree, each cell with its
+/// formula (or input) and value; a cell met before is named again without its subtree.
+fn precedent_tree(wb: &Workbook, shown: &Shown, sheet: SheetId, pos: Pos, depth: u32) -> String {
+    let mut text = format!("  precedents, {depth} steps back:\n");
+    let mut seen = std::collections::HashSet::new();
+    seen.insert((sheet, pos));
+    let mut lines = 0;
+    let mut stack: Vec<(SheetId, Pos, u32)> = children(wb, sheet, pos, 1);
+    stack.reverse();
+    while let Some((s, p, level)) = stack.pop() {
+        if lines == MAX_TREE_LINES {
+            text.push_str(&format!("    … cut at {MAX_TREE_LINES} lines\n"));
+            break;
+        }
+        lines += 1;
+        let indent = "  ".repeat(level as usize + 1);
+        let what = wb.formula(s, p).or_else(|| wb.input(s, p)).unwrap_or_default();
+        let first_visit = seen.insert((s, p));
+        let again = if first_visit { "" } else { " (above)" };
+        let value = shown.text(wb, s, p);
+        text.push_str(&format!("{indent}{}  {what}  = {value}{again}\n", place(wb, sheet, s, Rect::cell(p))));
+        if first_visit && level < depth {
+            let mut next = children(wb, s, p, level + 1);
+            next.reverse();
+            stack.extend(next);
+        }
+    }
+    text
+}
+
+/// The cells `pos` reads (ranges as their cells), at `level` in the tree.
+fn children(wb: &Workbook, sheet: SheetId, pos: Pos, level: u32) -> Vec<(SheetId, Pos, u32)> {
+    let mut cells = Vec::new();
+    for (s, rect) in wb.precedents(sheet, pos) {
+        let count = rect.rows() as u64 * rect.cols() as u64;
+        if count > MAX_TREE_LINES as u64 {
+            // A whole column read is one line, not a million.
+            cells.push((s, rect.first, level));
+            continue;
+        }
+        for row in rect.first.row..=rect.last.row {
+            for col in rect.first.col..=rect.last.col {
+                cells.push((s, Pos::new(row, col), level));
+            }
+        }
+    }
+    cells
 }
 
 /// Each cell of a rectangle, described; a blank line between cells.
