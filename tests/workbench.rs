@@ -388,6 +388,23 @@ fn a_window_reaches_the_last_row_of_a_large_sheet() {
 }
 
 #[test]
+fn a_spilled_range_is_marked_for_the_grid() {
+    let folder = tempfile::tempdir().unwrap();
+    let file = folder.path().join("spill.csv");
+    std::fs::write(&file, "=SEQUENCE(3)*10,5\n").unwrap();
+    let server = Server::open(&file, &Options::default()).unwrap();
+    let bench = Bench { port: server.port(), token: server.token().to_string(), folder };
+    std::thread::spawn(move || server.run());
+    let window = bench.get_json("/api/cells?sheet=0&r0=0&r1=4&c0=0&c1=1");
+    let cells = window["cells"].as_array().unwrap();
+    let at = |r: u64, c: u64| cells.iter().find(|x| x["r"] == r && x["c"] == c).unwrap_or_else(|| panic!("{window}"));
+    assert_eq!((at(0, 0)["spill"].as_str(), at(0, 0)["shown"].as_str()), (Some("anchor"), Some("10")));
+    assert_eq!((at(2, 0)["spill"].as_str(), at(2, 0)["shown"].as_str()), (Some("item"), Some("30")));
+    assert_eq!(at(0, 1)["spill"], Value::Null, "a constant is no spill");
+    assert_eq!(cells.len(), 4);
+}
+
+#[test]
 fn the_command_prints_the_url_and_serves_the_page() {
     let folder = tempfile::tempdir().unwrap();
     let file = folder.path().join("chamfer.xlsx");

@@ -143,11 +143,22 @@ impl Workbench {
     }
 
     fn shown_window(&self, window: Window) -> Vec<(Pos, Shown)> {
+        let anchors: Vec<Pos> = self
+            .doc
+            .workbook()
+            .spilling_cells()
+            .into_iter()
+            .filter(|&(s, _)| s == window.sheet)
+            .map(|(_, p)| p)
+            .collect();
         let mut out = Vec::new();
         for row in window.rect.first.row..=window.rect.last.row {
             for col in window.rect.first.col..=window.rect.last.col {
                 let pos = Pos::new(row, col);
-                if let Some(cell) = Shown::of(&self.doc, window.sheet, pos) {
+                if let Some(mut cell) = Shown::of(&self.doc, window.sheet, pos) {
+                    if anchors.contains(&pos) {
+                        cell.spill = Some(Spill::Anchor);
+                    }
                     out.push((pos, cell));
                 }
             }
@@ -350,6 +361,16 @@ struct Shown {
     input: String,
     number: Option<f64>,
     error: bool,
+    spill: Option<Spill>,
+}
+
+/// A cell's part in a spilled range, for the grid to outline.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Spill {
+    /// The formula whose array result spills (or shows #SPILL!).
+    Anchor,
+    /// A cell the result filled: a value with nothing typed in it.
+    Item,
 }
 
 impl Shown {
@@ -365,7 +386,9 @@ impl Shown {
             _ => None,
         };
         let error = matches!(value, Value::Error(_));
-        Some(Shown { shown: doc.shown(sheet, pos), input, number, error })
+        // A cell shows a value without input only when a spill filled it.
+        let spill = input.is_empty().then_some(Spill::Item);
+        Some(Shown { shown: doc.shown(sheet, pos), input, number, error, spill })
     }
 
     fn to_json(&self, sheet: SheetId, pos: Pos, explain: &mut Explainer) -> Json {
@@ -375,6 +398,11 @@ impl Shown {
         }
         if self.error {
             cell["explain"] = json!(explain.explain(sheet, pos, &self.shown));
+        }
+        match self.spill {
+            Some(Spill::Anchor) => cell["spill"] = json!("anchor"),
+            Some(Spill::Item) => cell["spill"] = json!("item"),
+            None => {}
         }
         cell
     }

@@ -108,6 +108,7 @@ function render() {
       let cls = 'c';
       if (cell && cell.num !== undefined) cls += ' num';
       if (cell && cell.explain) cls += ' err';
+      if (cell && cell.spill) cls += ' spill';
       if (r === sel.r && c === sel.c) cls += ' sel';
       if (marks.prec.some((m) => inside(m, r, c))) cls += ' prec';
       if (marks.dep.some((m) => inside(m, r, c))) cls += ' dep';
