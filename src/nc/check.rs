@@ -110,7 +110,7 @@ fn state_findings(program: &Program, moves: &[Move], feed_mode_at_power_on: bool
     // A program that tilts a head (A/B) without tool-tip control positions the head's pivot:
     // the tool's length is in its coordinates (the post's pivot = tip + H·axis), so the
     // control's length offset is off on purpose.
-    let pivot_program = program.blocks.iter().any(|b| moves_head(b));
+    let pivot_program = program.blocks.iter().any(moves_head);
     let mut feed = false;
     let mut tool = false;
     // Whether the tool's offset is in force; said once after each change that cancels it.
