@@ -179,6 +179,10 @@ fn numbers_at_the_edges_of_doubles() {
     assert_eq!(value("=1E-320>0"), Value::Bool(false));
     assert_eq!(value("=-1E-320<0"), Value::Bool(false));
     assert_eq!(value("=1E-320=0"), Value::Bool(true));
+    // Typed into a cell, as in Excel, it is 0 too.
+    let wb = sheet(&[("A1", "1E-320".to_string()), ("B1", "=A1>0".to_string()), ("C1", "=-A1<0".to_string())]);
+    assert_eq!(wb.value(0, parse_cell("B1").unwrap()), Value::Bool(false));
+    assert_eq!(wb.value(0, parse_cell("C1").unwrap()), Value::Bool(false));
 }
 
 // ---------------------------------------------------------------------------------------

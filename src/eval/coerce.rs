@@ -111,6 +111,8 @@ pub fn parse_plain_number(text: &str) -> Option<f64> {
     }
     let v: f64 = plain.parse().ok()?;
     let v = if negative { -v } else { v } * scale;
+    // Excel keeps no number below the smallest normal double: `1E-320` typed is 0.
+    let v = if v.abs() < f64::MIN_POSITIVE { 0.0 } else { v };
     v.is_finite().then_some(v)
 }
 
