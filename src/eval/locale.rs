@@ -399,6 +399,9 @@ impl Locale {
     /// What a canonical format `code` showed (`shown`) with this locale's marks: numbers
     /// localized, dates left as their code spells them.
     pub fn localize_formatted(self, code: &str, shown: &str) -> String {
+        if self.is_canonical() {
+            return shown.to_string();
+        }
         if is_date_code(code) {
             return literal_marks(&self.localize_names(shown));
         }

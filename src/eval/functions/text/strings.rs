@@ -254,6 +254,9 @@ fn text_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
             },
             other => locale.localize_formatted(&code, &format.format_number(to_number(other)?)?),
         };
+        if locale.is_canonical() {
+            return Ok(Value::from(shown));
+        }
         Ok(Value::from(crate::eval::locale::literal_marks(&shown)))
     })
 }
