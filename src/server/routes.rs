@@ -206,8 +206,7 @@ async fn set(State(app): State<App>, body: Bytes) -> Response {
 
 async fn undo(State(app): State<App>, body: Bytes) -> Response {
     on_workbook(&app, move |bench| {
-        let body = body_json(&body)?;
-        let window = window_from(bench, |k| json_number(&body["window"], k))?;
+        let window = window_of_body(bench, &body)?;
         bench.undo(window)
     })
     .await
@@ -215,11 +214,16 @@ async fn undo(State(app): State<App>, body: Bytes) -> Response {
 
 async fn redo(State(app): State<App>, body: Bytes) -> Response {
     on_workbook(&app, move |bench| {
-        let body = body_json(&body)?;
-        let window = window_from(bench, |k| json_number(&body["window"], k))?;
+        let window = window_of_body(bench, &body)?;
         bench.redo(window)
     })
     .await
+}
+
+/// The page's window, from a body `{"window": {...}}`.
+fn window_of_body(bench: &Workbench, body: &Bytes) -> Result<Window, Refused> {
+    let body = body_json(body)?;
+    window_from(bench, |k| json_number(&body["window"], k))
 }
 
 async fn losses(State(app): State<App>, Query(params): Params) -> Response {

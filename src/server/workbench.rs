@@ -42,6 +42,22 @@ struct Edit {
     after: String,
 }
 
+/// Which way an edit of the history is made again.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Replay {
+    Undo,
+    Redo,
+}
+
+impl Replay {
+    fn word(self) -> &'static str {
+        match self {
+            Replay::Undo => "undo",
+            Replay::Redo => "redo",
+        }
+    }
+}
+
 /// A rectangle of cells the page shows (rows and columns from 0, both ends included).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Window {
@@ -189,32 +205,32 @@ impl Workbench {
 
     /// Takes back the last edit (refused when there is none).
     pub fn undo(&mut self, window: Window) -> Result<Json, Refused> {
-        let Some(edit) = self.undo.pop() else { return Err(refused("nothing to undo")) };
-        match self.apply(&edit, &edit.before, window) {
-            Ok(changed) => {
-                self.redo.push(edit);
-                Ok(self.with_history(changed))
-            }
-            Err(e) => {
-                self.undo.push(edit);
-                Err(e)
-            }
-        }
+        self.replay(Replay::Undo, window)
     }
 
     /// Makes the last undone edit again.
     pub fn redo(&mut self, window: Window) -> Result<Json, Refused> {
-        let Some(edit) = self.redo.pop() else { return Err(refused("nothing to redo")) };
-        match self.apply(&edit, &edit.after, window) {
-            Ok(changed) => {
-                self.undo.push(edit);
-                Ok(self.with_history(changed))
-            }
-            Err(e) => {
-                self.redo.push(edit);
-                Err(e)
-            }
+        self.replay(Replay::Redo, window)
+    }
+
+    /// Moves the last edit of one history to the other, typing its input before (undo) or
+    /// after (redo) into its cell; a refused input leaves both histories as they were.
+    fn replay(&mut self, way: Replay, window: Window) -> Result<Json, Refused> {
+        let popped = match way {
+            Replay::Undo => self.undo.pop(),
+            Replay::Redo => self.redo.pop(),
+        };
+        let Some(edit) = popped else { return Err(refused(format!("nothing to {}", way.word()))) };
+        let input = if way == Replay::Undo { &edit.before } else { &edit.after };
+        let result = self.apply(&edit, input, window);
+        // The edit stands undone after an undo that went through or a redo that did not.
+        let stands_undone = (way == Replay::Undo) == result.is_ok();
+        if stands_undone {
+            self.redo.push(edit);
+        } else {
+            self.undo.push(edit);
         }
+        result.map(|changed| self.with_history(changed))
     }
 
     /// Sets the edit's cell to `input` and compares the window before and after.
