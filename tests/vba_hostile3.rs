@@ -110,3 +110,38 @@ fn a_hundred_thousand_statements_on_one_line_run_fast() {
     src.push_str("[A1] = x\nEnd Sub\n");
     quick(src, Duration::from_secs(20));
 }
+
+// Excel's "Range.Address property" example: for Cells(1, 1), Address() is $A$1,
+// Address(RowAbsolute:=False) $A1, Address(ReferenceStyle:=xlR1C1) R1C1, and relative R1C1
+// to Cells(3, 3) R[-2]C[-2] (before: every form was $A$1).
+#[test]
+fn range_address_honours_its_arguments() {
+    let src = "Sub Main()\n    Dim mc\n    Set mc = Worksheets(1).Cells(1, 1)\n    Debug.Print mc.Address()\n\
+               \x20   Debug.Print mc.Address(RowAbsolute:=False)\n    Debug.Print mc.Address(ReferenceStyle:=xlR1C1)\n\
+               \x20   Debug.Print mc.Address(ReferenceStyle:=xlR1C1, RowAbsolute:=False, ColumnAbsolute:=False, \
+               RelativeTo:=Worksheets(1).Cells(3, 3))\n\
+               \x20   Debug.Print Range(\"B2\").Address(False, False)\n    Debug.Print Range(\"A:B\").Address\n\
+               \x20   Debug.Print Range(\"B2:C3\").Address(True, False, xlR1C1)\nEnd Sub\n";
+    assert_eq!(printed(src), ["$A$1", "$A1", "R1C1", "R[-2]C[-2]", "B2", "$A:$B", "R2C[1]:R3C[2]"]);
+}
+
+#[test]
+fn range_address_refuses_a_sixth_argument_and_an_unknown_workbook_name() {
+    let six = "Sub Main()\n    Debug.Print Range(\"B2\").Address(True, True, 1, False, Range(\"A1\"), 6)\nEnd Sub\n";
+    let e = run_with(six, &RunOptions::default()).unwrap_err();
+    assert!(e.message.contains("at most 5 arguments"), "{e}");
+    let external = "Sub Main()\n    Debug.Print Range(\"B2\").Address(External:=True)\nEnd Sub\n";
+    let e = run_with(external, &RunOptions::default()).unwrap_err();
+    assert!(e.message.contains("file name"), "{e}");
+    let options = RunOptions { workbook_name: Some("Book1.xlsm".into()), ..RunOptions::default() };
+    assert_eq!(run_with(external, &options).unwrap().printed, ["[Book1.xlsm]Sheet1!$B$2"]);
+}
+
+// A whole column read into a variable is all 1,048,576 rows (Excel's Rows.Count), not the
+// used part (before: UBound was the last used row).
+#[test]
+fn a_whole_column_read_by_a_macro_is_not_clipped() {
+    let src = "Sub Main()\n    Dim v\n    [A1] = 1: [A2] = 2\n    v = Range(\"A:A\").Value\n\
+               \x20   Debug.Print UBound(v, 1); UBound(v, 2); v(2, 1); IsEmpty(v(1048576, 1))\nEnd Sub\n";
+    assert_eq!(printed(src), [" 1048576  1  2 True"]);
+}

@@ -190,6 +190,7 @@ fn run_on_this_thread(args: RunArgs, dialect_name: &'static str, delimiter: Opti
             MachineKind::Mill => Machine::Mill,
         },
         project: other_modules(&args, file)?,
+        workbook_name: args.workbook.file_name().and_then(|n| n.to_str()).map(str::to_string),
     };
     let out = match vba::run(&mut wb, &source, &file.display().to_string(), &options) {
         Ok(out) => out,

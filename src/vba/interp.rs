@@ -21,7 +21,7 @@ use crate::workbook::{Input, Workbook, WorkbookError};
 
 use super::ast::*;
 use super::parser::Lines;
-use super::value::{array_var, convert, default_value, input_text, print_text, Obj, Slot, Slots, Var};
+use super::value::{array_var, convert, default_value, input_text, print_text, range_var, Obj, Slot, Slots, Var};
 use super::{ErrorKind, MacroError, Printed, RunOptions, RunOutput};
 
 /// Runs the entry procedure that `options` chooses.
@@ -584,7 +584,7 @@ impl Interp<'_, '_> {
             ExprKind::Paren(inner) => self.var_of(inner, as_object),
             ExprKind::Name(n) => match self.lookup(n) {
                 Some(Var::Obj(Obj::Range(sheet, rect))) if !as_object => {
-                    Ok(array_var(self.ctx().rect_value(sheet, rect), self.module.base))
+                    Ok(range_var(self.ctx().rect_value(sheet, rect)))
                 }
                 Some(var) => Ok(var),
                 None => Ok(Var::Value(Value::Blank)),
@@ -608,7 +608,7 @@ impl Interp<'_, '_> {
         self.take_pending()?;
         Ok(match operand {
             Operand::Ref(sheet, rect) if as_object => Var::Obj(Obj::Range(sheet, rect)),
-            Operand::Ref(sheet, rect) => array_var(ctx.rect_value(sheet, rect), self.module.base),
+            Operand::Ref(sheet, rect) => range_var(ctx.rect_value(sheet, rect)),
             Operand::Value(v) => array_var(v, self.module.base),
             // Several areas are no one range: the #VALUE! a cell shows.
             areas @ Operand::Areas(_) => array_var(ctx.deref(areas), self.module.base),

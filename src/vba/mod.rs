@@ -174,6 +174,9 @@ pub struct RunOptions {
     /// procedures (`Helper`, `Module2.Helper`), constants and variables, as VBA compiles a
     /// project as one program.
     pub project: Vec<(String, String)>,
+    /// The workbook's file name (`Book1.xlsm`), for `Address(External:=True)`; `None` when
+    /// the run does not know it (the address is then refused, never invented).
+    pub workbook_name: Option<String>,
 }
 
 /// A document module: the code behind a sheet or the workbook (a worksheet button's macro
@@ -255,6 +258,7 @@ impl Default for RunOptions {
             document: None,
             active_cells: Vec::new(),
             project: Vec::new(),
+            workbook_name: None,
         }
     }
 }

@@ -5,7 +5,7 @@ use crate::eval::coerce::{to_bool, to_number, to_text};
 use crate::eval::functions::vba::vba_text;
 use crate::eval::functions::Registry;
 use crate::eval::{Ctx, Operand, Value};
-use crate::formula::address::{column_index, column_name, Pos, Rect, MAX_COLS, MAX_ROWS};
+use crate::formula::address::{column_index, Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::formula::ast::{Expr, SheetId};
 use crate::formula::parse::{parse_formula, parse_formula_r1c1, ParseContext};
 use crate::formula::print::{print_spelled, R1C1};
@@ -39,16 +39,6 @@ pub(super) fn lower(link: &Link) -> String {
 /// Every cell of a sheet: `Cells`, and what `Rows` and `Columns` count.
 fn whole_sheet() -> Rect {
     Rect::new(Pos::new(0, 0), Pos::new(MAX_ROWS - 1, MAX_COLS - 1))
-}
-
-/// `$B$3` or `$A$1:$C$4`, as VBA's Address.
-fn address(rect: Rect) -> String {
-    let cell = |p: Pos| format!("${}${}", column_name(p.col), p.row + 1);
-    if rect.is_cell() {
-        cell(rect.first)
-    } else {
-        format!("{}:{}", cell(rect.first), cell(rect.last))
-    }
 }
 
 impl Interp<'_, '_> {
@@ -397,14 +387,15 @@ impl Interp<'_, '_> {
         let value = |v: Value| Ok(Obj::Value(v));
         let name = lower(link);
         match name.as_str() {
-            "value" | "value2" => value(ctx.rect_value(sheet, rect).unwrap_single()),
+            // A whole column is all its 1,048,576 rows, not the used part (`whole_array`).
+            "value" | "value2" => value(super::value::whole_array(ctx.rect_value(sheet, rect)).unwrap_single()),
             "formula" | "formulalocal" => value(self.formulas(sheet, rect, false)),
             "formular1c1" | "formular1c1local" => value(self.formulas(sheet, rect, true)),
             "text" => value(Value::text(print_text(&ctx.rect_value(sheet, Rect::cell(rect.first))))),
             "row" => value(Value::Number(rect.first.row as f64 + 1.0)),
             "column" => value(Value::Number(rect.first.col as f64 + 1.0)),
             "count" => value(Value::Number(rect.rows() as f64 * rect.cols() as f64)),
-            "address" => value(Value::text(address(rect))),
+            "address" => value(Value::text(self.address(ctx, sheet, rect, link)?)),
             "offset" => {
                 let (dr, dc) = match self.indexes(ctx, link)?.as_slice() {
                     [r] => (*r, 0),

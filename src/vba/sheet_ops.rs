@@ -319,3 +319,127 @@ fn bounding(a: Rect, b: Rect) -> Rect {
         Pos::new(a.last.row.max(b.last.row), a.last.col.max(b.last.col)),
     )
 }
+
+/// `Range.Address(RowAbsolute, ColumnAbsolute, ReferenceStyle, External, RelativeTo)`, as
+/// Excel's reference ("Range.Address property") describes it: `$B$2` by default, `B2` with
+/// both absolutes False, `R2C2` or `R[1]C[-1]` (relative to `RelativeTo`, else the active
+/// cell) in xlR1C1 style, and `[Book.xlsx]Sheet1!$B$2` when External is True. Whole
+/// columns and rows are written as such (`$A:$A`, `$1:$3`, `C1`, `R1:R3`).
+const ADDRESS_PARAMETERS: [&str; 5] = ["rowabsolute", "columnabsolute", "referencestyle", "external", "relativeto"];
+
+impl Interp<'_, '_> {
+    pub(super) fn address(&self, ctx: &mut Ctx, sheet: SheetId, rect: Rect, link: &Link) -> Run<String> {
+        let args = link.args.as_deref().unwrap_or(&[]);
+        if args.len() > ADDRESS_PARAMETERS.len() {
+            let why = format!("Address takes at most 5 arguments, not {} (wrong number of arguments)", args.len());
+            return Err(self.fault_at(link.span, why));
+        }
+        if let Some(unknown) = args
+            .iter()
+            .filter_map(|a| a.name.as_deref())
+            .find(|n| !ADDRESS_PARAMETERS.iter().any(|p| p.eq_ignore_ascii_case(n)))
+        {
+            return Err(self.fault_at(link.span, format!("Address has no argument named {unknown}")));
+        }
+        let mut flag = |position: usize, default: bool| -> Run<bool> {
+            let Some(e) = argument(link, position, ADDRESS_PARAMETERS[position]) else { return Ok(default) };
+            let v = ctx.eval(e).unwrap_single();
+            self.take_pending()?;
+            crate::eval::coerce::to_bool(&v).map_err(|_| {
+                self.fault_at(link.span, format!("Address: {} is True or False", ADDRESS_PARAMETERS[position]))
+            })
+        };
+        let row_absolute = flag(0, true)?;
+        let column_absolute = flag(1, true)?;
+        let external = flag(3, false)?;
+        let style = match argument(link, 2, "referencestyle") {
+            None => super::interp::XL_A1,
+            Some(e) => self.number(e, "Address's ReferenceStyle")? as i32,
+        };
+        let text = match style {
+            super::interp::XL_A1 => a1_address(rect, row_absolute, column_absolute),
+            super::interp::XL_R1C1 => {
+                let origin = match argument(link, 4, "relativeto") {
+                    Some(e) => match self.var_of(e, true)? {
+                        super::value::Var::Obj(super::value::Obj::Range(_, r)) => r.first,
+                        _ => return Err(self.fault_at(link.span, "Address: RelativeTo is a Range")),
+                    },
+                    None => self.cursor(sheet).1,
+                };
+                r1c1_address(rect, row_absolute, column_absolute, origin)
+            }
+            other => {
+                return Err(self.fault_at(
+                    link.span,
+                    format!("Address: ReferenceStyle is xlA1 (1) or xlR1C1 (-4150), not {other}"),
+                ))
+            }
+        };
+        if !external {
+            return Ok(text);
+        }
+        let book = self.options.workbook_name.as_deref().ok_or_else(|| {
+            self.fault_at(
+                link.span,
+                "Address(External:=True) needs the workbook's file name, which this run does not know",
+            )
+        })?;
+        let name = self.wb.borrow().sheet_names()[sheet as usize].clone();
+        let plain = name.chars().all(|c| c.is_alphanumeric() || c == '_')
+            && book.chars().all(|c| c.is_alphanumeric() || c == '_' || c == '.');
+        Ok(if plain {
+            format!("[{book}]{name}!{text}")
+        } else {
+            format!("'[{book}]{}'!{text}", name.replace('\'', "''"))
+        })
+    }
+}
+
+fn whole_columns(rect: Rect) -> bool {
+    rect.first.row == 0 && rect.last.row == MAX_ROWS - 1
+}
+
+fn whole_rows(rect: Rect) -> bool {
+    rect.first.col == 0 && rect.last.col == MAX_COLS - 1
+}
+
+fn a1_address(rect: Rect, row_absolute: bool, column_absolute: bool) -> String {
+    let dollar = |on: bool| if on { "$" } else { "" };
+    let col = |c: u32| format!("{}{}", dollar(column_absolute), crate::formula::address::column_name(c));
+    let row = |r: u32| format!("{}{}", dollar(row_absolute), r + 1);
+    if whole_columns(rect) && !whole_rows(rect) {
+        return format!("{}:{}", col(rect.first.col), col(rect.last.col));
+    }
+    if whole_rows(rect) && !whole_columns(rect) {
+        return format!("{}:{}", row(rect.first.row), row(rect.last.row));
+    }
+    let cell = |p: Pos| format!("{}{}", col(p.col), row(p.row));
+    if rect.is_cell() {
+        cell(rect.first)
+    } else {
+        format!("{}:{}", cell(rect.first), cell(rect.last))
+    }
+}
+
+fn r1c1_address(rect: Rect, row_absolute: bool, column_absolute: bool, origin: Pos) -> String {
+    let part = |letter: char, n: u32, absolute: bool, from: u32| -> String {
+        if absolute {
+            return format!("{letter}{}", n + 1);
+        }
+        match n as i64 - from as i64 {
+            0 => letter.to_string(),
+            d => format!("{letter}[{d}]"),
+        }
+    };
+    let row = |r: u32| part('R', r, row_absolute, origin.row);
+    let col = |c: u32| part('C', c, column_absolute, origin.col);
+    let span = |a: String, b: String| if a == b { a } else { format!("{a}:{b}") };
+    if whole_columns(rect) && !whole_rows(rect) {
+        return span(col(rect.first.col), col(rect.last.col));
+    }
+    if whole_rows(rect) && !whole_columns(rect) {
+        return span(row(rect.first.row), row(rect.last.row));
+    }
+    let cell = |p: Pos| format!("{}{}", row(p.row), col(p.col));
+    span(cell(rect.first), cell(rect.last))
+}

@@ -128,6 +128,42 @@ pub fn array_var(v: Value, base: i64) -> Var {
     }
 }
 
+/// A range's values as a variable holds them (`v = Range("B5:D5").Value`): one cell is its
+/// value, any other range a two-dimensional array from (1, 1), a single row too (Excel's
+/// "Range.Value property": 1 × 3 for B5:D5). A whole column or row is all of it
+/// (1,048,576 rows), not the used part the evaluator stores with its blank tail, up to
+/// ncsheet's limit on an array's items.
+pub fn range_var(v: Value) -> Var {
+    match v {
+        Value::Array(a) if a.rows == 1 && a.cols == 1 && a.tail.is_none() => Var::Value(a.data[0].clone()),
+        Value::Array(a) => Var::Array(VArray { data: whole(a), lower: (1, 1), dims: 2 }),
+        other => Var::Value(other),
+    }
+}
+
+/// A range's values with the blank tail the evaluator keeps out of memory made items.
+pub fn whole_array(v: Value) -> Value {
+    match v {
+        Value::Array(a) => Value::Array(whole(a)),
+        other => other,
+    }
+}
+
+/// An array with its tail made items, when the whole fits [`crate::eval::value::MAX_ARRAY_ITEMS`].
+fn whole(a: Rc<Array>) -> Rc<Array> {
+    let (rows, cols) = a.whole_size();
+    if (rows, cols) == (a.rows, a.cols) || crate::eval::value::too_many_items(rows, cols) {
+        return a;
+    }
+    let mut data = Vec::with_capacity(rows * cols);
+    for r in 0..rows {
+        for c in 0..cols {
+            data.push(a.whole_get(r, c).cloned().unwrap_or(Value::Blank));
+        }
+    }
+    Rc::new(Array::new(rows, cols, data))
+}
+
 pub(super) fn default_value(ty: Option<&Ty>) -> Value {
     match ty {
         Some(Ty::Whole | Ty::Number) => Value::Number(0.0),
