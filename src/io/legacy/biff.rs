@@ -834,9 +834,29 @@ mod tests {
 
     #[test]
     fn the_function_table_is_sorted_and_every_name_is_a_worksheet_function() {
+        const LACKING: &[&str] = &[
+            "USDOLLAR",
+            "FINDB",
+            "SEARCHB",
+            "REPLACEB",
+            "LEFTB",
+            "RIGHTB",
+            "MIDB",
+            "LENB",
+            "ASC",
+            "DBCS",
+            "DATESTRING",
+            "NUMBERSTRING",
+            "GETPIVOTDATA",
+            "PHONETIC",
+            "BAHTTEXT",
+            "RTD",
+        ];
         assert!(FUNCTIONS.windows(2).all(|w| w[0].0 < w[1].0));
-        for (_, name, _) in FUNCTIONS {
-            assert!(crate::eval::functions::find(name).is_some(), "{name}");
-        }
+        // Functions of Excel 97 ncsheet does not compute (they read as #NAME?, as they would
+        // typed); every other name must be one of the registry's.
+        let missing: Vec<&str> =
+            FUNCTIONS.iter().map(|f| f.1).filter(|name| crate::eval::functions::find(name).is_none()).collect();
+        assert_eq!(missing, LACKING, "names the registry lacks");
     }
 }

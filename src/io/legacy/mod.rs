@@ -364,6 +364,26 @@ pub fn value_of(data: &calamine::Data) -> Option<Value> {
     })
 }
 
+/// A sheet calamine read, with its stored values (`value` turns each into ncsheet's) and
+/// no formulas yet.
+fn calamine_sheet(
+    meta: &calamine::Sheet,
+    values: &calamine::Range<calamine::Data>,
+    value: impl Fn(&calamine::Data) -> Option<Value>,
+) -> Sheet {
+    let visibility = match meta.visible {
+        calamine::SheetVisible::Visible => Visibility::Visible,
+        calamine::SheetVisible::Hidden => Visibility::Hidden,
+        calamine::SheetVisible::VeryHidden => Visibility::VeryHidden,
+    };
+    let mut sheet = Sheet { name: meta.name.clone(), visibility, ..Sheet::default() };
+    let (r0, c0) = values.start().unwrap_or((0, 0));
+    for (r, c, data) in values.used_cells() {
+        sheet.cells.insert((r0 + r as u32, c0 + c as u32), Cell { value: value(data), ..Cell::default() });
+    }
+    sheet
+}
+
 /// calamine's error as Excel's.
 fn error_of(e: &calamine::CellErrorType) -> crate::eval::XlError {
     use crate::eval::XlError;

@@ -6,12 +6,11 @@
 
 use std::io::Cursor;
 
-use calamine::{Data, Ods, Reader, SheetVisible};
+use calamine::{Data, Ods, Reader};
 
 use crate::eval::Value;
-use crate::workbook::Visibility;
 
-use super::{cells_named, quoted_sheet, value_of, Book, Cell, Name, Sheet};
+use super::{calamine_sheet, cells_named, quoted_sheet, value_of, Book, Name};
 
 /// Reads an .ods file's bytes into a [`Book`].
 pub fn read(bytes: &[u8]) -> Result<Book, String> {
@@ -22,17 +21,7 @@ pub fn read(bytes: &[u8]) -> Result<Book, String> {
     for meta in &metadata {
         let values = ods.worksheet_range(&meta.name).map_err(|e| format!("sheet '{}': {e}", meta.name))?;
         let formulas = ods.worksheet_formula(&meta.name).map_err(|e| format!("sheet '{}': {e}", meta.name))?;
-        let visibility = match meta.visible {
-            SheetVisible::Visible => Visibility::Visible,
-            SheetVisible::Hidden => Visibility::Hidden,
-            SheetVisible::VeryHidden => Visibility::VeryHidden,
-        };
-        let mut sheet = Sheet { name: meta.name.clone(), visibility, ..Sheet::default() };
-        let (r0, c0) = values.start().unwrap_or((0, 0));
-        for (r, c, data) in values.used_cells() {
-            let pos = (r0 + r as u32, c0 + c as u32);
-            sheet.cells.insert(pos, Cell { value: ods_value(data), ..Cell::default() });
-        }
+        let mut sheet = calamine_sheet(meta, &values, ods_value);
         let (r0, c0) = formulas.start().unwrap_or((0, 0));
         let mut unread = Vec::new();
         for (r, c, text) in formulas.used_cells() {

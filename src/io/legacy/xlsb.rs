@@ -6,11 +6,9 @@
 
 use std::io::Cursor;
 
-use calamine::{Reader, SheetType, SheetVisible, Xlsb};
+use calamine::{Reader, SheetType, Xlsb};
 
-use crate::workbook::Visibility;
-
-use super::{cells_named, value_of, Book, Cell, Sheet};
+use super::{calamine_sheet, cells_named, value_of, Book};
 
 /// Reads an .xlsb file's bytes into a [`Book`].
 pub fn read(bytes: &[u8]) -> Result<Book, String> {
@@ -25,16 +23,7 @@ pub fn read(bytes: &[u8]) -> Result<Book, String> {
         }
         let values = xlsb.worksheet_range(&meta.name).map_err(|e| format!("sheet '{}': {e}", meta.name))?;
         let formulas = xlsb.worksheet_formula(&meta.name).map_err(|e| format!("sheet '{}': {e}", meta.name))?;
-        let visibility = match meta.visible {
-            SheetVisible::Visible => Visibility::Visible,
-            SheetVisible::Hidden => Visibility::Hidden,
-            SheetVisible::VeryHidden => Visibility::VeryHidden,
-        };
-        let mut sheet = Sheet { name: meta.name.clone(), visibility, ..Sheet::default() };
-        let (r0, c0) = values.start().unwrap_or((0, 0));
-        for (r, c, data) in values.used_cells() {
-            sheet.cells.insert((r0 + r as u32, c0 + c as u32), Cell { value: value_of(data), ..Cell::default() });
-        }
+        let mut sheet = calamine_sheet(meta, &values, value_of);
         let (r0, c0) = formulas.start().unwrap_or((0, 0));
         let mut unread = Vec::new();
         for (r, c, text) in formulas.used_cells() {
