@@ -181,3 +181,18 @@ fn a_procedure_that_does_not_compile_fails_only_when_run() {
     assert!(e.message.contains("NoSuchFunction"), "{e}");
     assert_eq!(e.output.printed, ["before"]);
 }
+
+// "Miscellaneous constants": vbNewLine is Chr(13) + Chr(10), vbLf Chr(10) alone.
+#[test]
+fn vb_new_line_is_cr_lf() {
+    assert_eq!(value("Len(vbNewLine) & \",\" & Asc(vbNewLine) & \",\" & Len(vbLf)"), Value::text("2,13,1"));
+}
+
+// "WorksheetFunction object": each worksheet function is a member of Application as well
+// (`Application.Max`, `Application.Transpose`); Application's own members stay members.
+#[test]
+fn worksheet_functions_through_application() {
+    let out = run("Sub Main()\n    Dim t\n    t = Application.Transpose(Array(1, 2, 3))\n\
+                   \x20   Debug.Print Application.Max(3, 9, 4); UBound(t, 1); t(2, 1)\n    Debug.Print Application.Name\nEnd Sub\n");
+    assert_eq!(out.printed, [" 9  3  2 ", "ncsheet"]);
+}

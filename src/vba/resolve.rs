@@ -95,7 +95,9 @@ fn constant(lower: &str) -> Option<ExprKind> {
     let number = |n: f64| Some(ExprKind::Number(n));
     match lower {
         "vbcrlf" => text("\r\n"),
-        "vbnewline" | "vblf" => text("\n"),
+        // "Miscellaneous constants": vbNewLine is Chr(13) + Chr(10) on Windows.
+        "vbnewline" => text("\r\n"),
+        "vblf" => text("\n"),
         "vbcr" => text("\r"),
         "vbtab" => text("\t"),
         "vbnullstring" => text(""),
@@ -242,6 +244,10 @@ impl Build<'_> {
             ["vba", _] => 1,
             ["worksheetfunction", _] => 1,
             ["application", "worksheetfunction", _] => 2,
+            // `Application.Max(…)`, `Application.Transpose(…)`: every worksheet function is
+            // a member of Application too; its other members (Caller, Volatile …) are not
+            // rows of the function table and stay members.
+            ["application", f] if Registry.lookup(strip_future_prefix(f)).is_some() => 1,
             _ => return Ok(None),
         };
         if path.links[..qualifier_len].iter().any(|l| l.args.is_some()) {
