@@ -36,6 +36,7 @@ fn spec(radius: f64, x: [f64; 2], y: [f64; 2], stepover: f64, step: f64) -> Ball
         gouge: GougeCheck::Report,
         gouge_tol: GOUGE_TOLERANCE,
         check_links: true,
+        direction: ncsheet::geometry::ballpath::Direction::Zigzag,
         max_points: 1_000_000,
     }
 }

@@ -39,6 +39,7 @@ impl Case {
             gouge,
             gouge_tol: GOUGE_TOLERANCE,
             check_links: true,
+            direction: ncsheet::geometry::ballpath::Direction::Zigzag,
             max_points: 1_000_000,
         }
     }

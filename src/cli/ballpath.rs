@@ -11,7 +11,9 @@ use clap::{ArgGroup, Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use ncsheet::eval::functions::{describe_gouge, standalone_ball_path, PathFailure};
 use ncsheet::eval::surface::parse_standalone;
-use ncsheet::geometry::ballpath::{BallPath, BallPathSpec, GougeCheck, GougeKind, Lines, Spacing, GOUGE_TOLERANCE};
+use ncsheet::geometry::ballpath::{
+    BallPath, BallPathSpec, Direction, GougeCheck, GougeKind, Lines, Spacing, GOUGE_TOLERANCE,
+};
 use ncsheet::io::Encoded;
 use ncsheet::nc::ballpath::{ball_path_cl, ball_path_program, BallPathNcOptions, ProgrammedPoint};
 use ncsheet::nc::{apt, dialect, Machine};
@@ -24,7 +26,8 @@ use super::report::{prepend, Error, Result};
 ///
 /// The path is a zig-zag raster over the rectangle --x × --y: lines of constant x (or y with
 /// --lines y) --stepover apart, the last one on the far edge, each running the full width with
-/// both edges included, alternating direction; points --step apart along a line (with
+/// both edges included, alternating direction (or one way with --direction climb or
+/// conventional, retracting between lines); points --step apart along a line (with
 /// --tolerance: as few as keep the programmed polyline within the tolerance of the tool path,
 /// --step apart at most). At each contact point T the ball's centre is T + R·n with n the
 /// outward unit normal, from exact partial derivatives of the formula. The programmed point
@@ -93,6 +96,12 @@ pub struct BallpathArgs {
     /// Rapid up to the clearance height between lines (by default the link move cuts)
     #[arg(long)]
     pub retract: bool,
+    /// Which way the lines are cut: zigzag (every other line backwards, linked), or one way
+    /// on every line, climb or conventional milling for the M3 spindle (the side the next line
+    /// lies on to the right of the feed for climb), with a retract to the clearance height,
+    /// a rapid back to the start of the next line and a plunge at the feed
+    #[arg(long, value_enum, default_value_t)]
+    pub direction: DirectionArg,
     /// Clearance height (mm) for approach, retracts and end, not below the highest ball position
     /// [default: highest point + 5, whole mm]
     #[arg(long, value_name = "Z", allow_hyphen_values = true)]
@@ -124,6 +133,17 @@ pub enum LinesArg {
     #[default]
     X,
     Y,
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum DirectionArg {
+    /// Every other line backwards, the link to the next line cut (or a rapid with --retract)
+    #[default]
+    Zigzag,
+    /// Every line the same way, climb milling (M3: the next line's side right of the feed)
+    Climb,
+    /// Every line the same way, conventional milling (the next line's side left of the feed)
+    Conventional,
 }
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
@@ -211,8 +231,13 @@ fn spec(args: &BallpathArgs) -> BallPathSpec {
             GougeArg::Off => GougeCheck::Off,
         },
         gouge_tol: args.gouge_tol,
-        // With --retract the link between lines is a rapid over the part, not a cut.
-        check_links: !args.retract,
+        direction: match args.direction {
+            DirectionArg::Zigzag => Direction::Zigzag,
+            DirectionArg::Climb => Direction::Climb,
+            DirectionArg::Conventional => Direction::Conventional,
+        },
+        // With a retract the link between lines is a rapid over the part, not a cut.
+        check_links: !retracts(args),
         max_points: args.max_points,
     }
 }
@@ -339,11 +364,17 @@ fn nc_options(args: &BallpathArgs) -> BallPathNcOptions {
         feed: args.feed,
         tool: args.tool,
         spindle: args.spindle,
-        retract: args.retract,
+        retract: retracts(args),
         clearance: args.clearance,
         x: args.x,
         y: args.y,
     }
+}
+
+/// Whether the tool leaves the part between lines: asked for, or a one-way raster (which
+/// goes back to the start of the next line over the part).
+fn retracts(args: &BallpathArgs) -> bool {
+    args.retract || args.direction != DirectionArg::Zigzag
 }
 
 fn programmed_point(args: &BallpathArgs) -> ProgrammedPoint {

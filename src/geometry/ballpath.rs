@@ -55,6 +55,39 @@ pub enum Lines {
     ConstantY,
 }
 
+/// Which way each raster line is cut.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Direction {
+    /// Every other line backwards, linked to the next (the default: no empty travel).
+    #[default]
+    Zigzag,
+    /// One way, climb milling on every pass: with the spindle turning M3 (clockwise seen from
+    /// above) the uncut side, where the next line lies, is on the right of the feed.
+    Climb,
+    /// One way, conventional milling on every pass: the uncut side on the left of the feed.
+    Conventional,
+}
+
+impl Direction {
+    /// Whether every line runs the same way (retract and return between lines).
+    pub fn is_one_way(self) -> bool {
+        self != Direction::Zigzag
+    }
+
+    /// Whether line `k` runs towards the end of its range (the first line of a zig-zag does).
+    /// The lines step across towards +x (lines of constant x) or +y (constant y); climb puts
+    /// that side on the right of the feed: +y along lines of constant x, −x along lines of
+    /// constant y.
+    pub fn forwards(self, k: usize, lines: Lines) -> bool {
+        let climb_forwards = lines == Lines::ConstantX;
+        match self {
+            Direction::Zigzag => k % 2 == 0,
+            Direction::Climb => climb_forwards,
+            Direction::Conventional => !climb_forwards,
+        }
+    }
+}
+
 /// How points are spaced along a line.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Spacing {
@@ -84,6 +117,8 @@ pub struct BallPathSpec {
     pub stepover: f64,
     pub spacing: Spacing,
     pub lines: Lines,
+    /// Zig-zag, or one way (climb or conventional) on every line.
+    pub direction: Direction,
     pub gouge: GougeCheck,
     /// Cuts no deeper than this (mm) are not gouges; the check finds every deeper one.
     pub gouge_tol: f64,
@@ -209,8 +244,8 @@ pub fn ball_path<S: Surface>(
         path.line_starts.push(path.points.len());
         let start = path.points.len();
         placer.line(u, along, spec.spacing, &mut path.points, spec.max_points)?;
-        // Odd lines run backwards: zig-zag.
-        if k % 2 == 1 {
+        // Zig-zag: odd lines run backwards; one way: every line the same way.
+        if !spec.direction.forwards(k, spec.lines) {
             path.points[start..].reverse();
         }
         progress(k + 1, total);
@@ -589,6 +624,7 @@ mod tests {
             gouge: GougeCheck::Report,
             gouge_tol: GOUGE_TOLERANCE,
             check_links: true,
+            direction: Direction::Zigzag,
             max_points: 1000,
         }
     }

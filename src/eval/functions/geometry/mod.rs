@@ -330,6 +330,7 @@ fn ballpath(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         gouge,
         gouge_tol: GOUGE_TOLERANCE,
         check_links: true,
+        direction: crate::geometry::ballpath::Direction::Zigzag,
         max_points: SHEET_ROWS,
     };
     let explained = |ctx: &mut Ctx, (e, message): (XlError, String)| ctx.explain(e, message);
