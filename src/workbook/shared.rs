@@ -33,20 +33,16 @@ pub struct SharedFormula {
     pub volatile: bool,
 }
 
-/// Functions whose first argument, written as a reference, is read for where it is, not for
-/// what it holds: ROW, COLUMN, ROWS, COLUMNS, AREAS and ISREF read nothing there, and INDEX
-/// reads only the cells it returns, which it links at run time (`Ctx::note_dynamic_ref`), as
-/// OFFSET does. An edge from the whole reference made `B3 = INDEX(B:B,ROW()-1)+A3` a cycle
-/// through every cell of column B, and `=ROW(A1:A3)` in A1 a reader of its own spill range.
-const POSITION_ONLY_FIRST_ARG: &[&str] = &["ROW", "COLUMN", "ROWS", "COLUMNS", "AREAS", "ISREF", "INDEX"];
-
 /// The reference nodes of `expr` that are such a first argument.
 fn position_only_refs(expr: &Expr) -> Vec<*const Expr> {
     let mut out = Vec::new();
     expr.visit(&mut |e| {
         if let ExprKind::Call(id, args) = &e.kind {
             if let Some(first) = args.first().filter(|a| matches!(a.kind, ExprKind::Ref(_))) {
-                if POSITION_ONLY_FIRST_ARG.contains(&functions::spec(*id).name) {
+                // Read for where it is, not for what it holds (FnSpec::position_arg): an edge
+                // from the whole reference made `B3 = INDEX(B:B,ROW()-1)+A3` a cycle through
+                // every cell of column B, and `=ROW(A1:A3)` in A1 a reader of its own spill.
+                if functions::spec(*id).position_arg {
                     out.push(first as *const Expr);
                 }
             }

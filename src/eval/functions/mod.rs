@@ -92,6 +92,9 @@ pub struct FnSpec {
     /// What its result depends on besides its arguments and the cells it reads: a value
     /// Excel cached for it was computed at another moment, by chance, or on another machine.
     pub reads: Outside,
+    /// Its first argument, written as a reference, is read for where it is, not for what it
+    /// holds (ROW, ROWS, ISREF …; INDEX links the cells it returns at run time): no graph edge.
+    pub position_arg: bool,
 }
 
 /// What a function's result may depend on besides its arguments and the cells it reads.
@@ -207,6 +210,7 @@ impl FnSpec {
             array_args: ArgSet::NONE,
             range_args: ArgSet::NONE,
             reads: Outside::Nothing,
+            position_arg: false,
         }
     }
 
@@ -254,6 +258,12 @@ impl FnSpec {
     /// The same function, taking `args` as whole ranges in a legacy formula.
     pub const fn range_args(self, args: ArgSet) -> FnSpec {
         FnSpec { range_args: args, ..self }
+    }
+
+    /// The same function, reading its first argument for its position only (see
+    /// [`FnSpec::position_arg`]).
+    pub const fn position_arg(self) -> FnSpec {
+        FnSpec { position_arg: true, ..self }
     }
 }
 

@@ -15,7 +15,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("ISERR", 1, 1, iserr, "ISERR(value)", "TRUE for any error but #N/A"),
     FnSpec::value("ISNA", 1, 1, isna, "ISNA(value)", "TRUE for #N/A"),
     FnSpec::value("ISREF", 1, 1, isref, "ISREF(value)", "TRUE when the argument is a reference")
-        .range_args(ArgSet::only(0)),
+        .range_args(ArgSet::only(0))
+        .position_arg(),
     FnSpec::value("NA", 0, 0, na, "NA()", "The #N/A error"),
     FnSpec::value(
         "ERROR.TYPE",

@@ -20,7 +20,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         index,
         "INDEX(array, row, [column], [area])",
         "The cell (a reference) or item at row and column; 0 or omitted takes the whole row or column",
-    ).array_args(ArgSet::only(0)),
+    ).array_args(ArgSet::only(0)).position_arg(),
     FnSpec::value(
         "AREAS",
         1,
@@ -28,7 +28,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         areas,
         "AREAS(reference)",
         "Number of areas of a reference: (A1:B2,D4) has 2",
-    ).range_args(ArgSet::ALL),
+    ).range_args(ArgSet::ALL).position_arg(),
     FnSpec::value(
         "MATCH",
         2,
@@ -84,7 +84,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         row,
         "ROW([reference])",
         "Row number of a reference (of the formula's cell when omitted)",
-    ).range_args(ArgSet::only(0)),
+    ).range_args(ArgSet::only(0)).position_arg(),
     FnSpec::value(
         "COLUMN",
         0,
@@ -92,7 +92,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         column,
         "COLUMN([reference])",
         "Column number of a reference (of the formula's cell when omitted)",
-    ).range_args(ArgSet::only(0)),
+    ).range_args(ArgSet::only(0)).position_arg(),
     FnSpec::value(
         "ROWS",
         1,
@@ -100,7 +100,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         rows,
         "ROWS(array)",
         "Number of rows of a reference or array",
-    ).range_args(ArgSet::ALL),
+    ).range_args(ArgSet::ALL).position_arg(),
     FnSpec::value(
         "COLUMNS",
         1,
@@ -108,7 +108,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         columns,
         "COLUMNS(array)",
         "Number of columns of a reference or array",
-    ).range_args(ArgSet::ALL),
+    ).range_args(ArgSet::ALL).position_arg(),
 ];
 
 // ---------------------------------------------------------------------------------------
