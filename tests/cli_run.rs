@@ -81,7 +81,7 @@ fn debug_print_and_msgbox_go_to_stderr() {
     // What the macro printed, then that there is no program (issue 32: never silently empty).
     assert_eq!(
         String::from_utf8_lossy(&out.stderr),
-        "x= 2 \ndone\nno NC program: the macro emitted no NC block (no move)\n"
+        format!("x= 2 \ndone\nncsheet: {bas}: note: no NC program: the macro emitted no NC block (no move)\n")
     );
 }
 

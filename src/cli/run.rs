@@ -237,7 +237,7 @@ fn run_on_this_thread(args: RunArgs, dialect_name: &'static str, delimiter: Opti
     }
     match summary {
         Some(s) => eprintln!("{s}"),
-        None => eprintln!("no NC program: the macro emitted no NC block (no move)"),
+        None => eprintln!("ncsheet: {}: note: no NC program: the macro emitted no NC block (no move)", file.display()),
     }
     Ok(())
 }
