@@ -117,6 +117,14 @@ pub struct BallpathArgs {
     /// with --cl and no -o, only this file is written
     #[arg(long, value_name = "OUT.cl")]
     pub cl: Option<PathBuf>,
+    /// For --cl: the tool axis leans this many degrees from the surface normal along the feed
+    /// (forwards), so that the ball does not cut with its centre
+    #[arg(long, value_name = "DEG", default_value_t = 0.0, allow_hyphen_values = true, requires = "cl")]
+    pub lead: f64,
+    /// For --cl: the tool axis leans this many degrees from the surface normal across the feed
+    /// (towards normal × feed)
+    #[arg(long, value_name = "DEG", default_value_t = 0.0, allow_hyphen_values = true, requires = "cl")]
+    pub tilt: f64,
     /// Replace a read-only or hard-linked OUT
     #[arg(long, requires = "written")]
     pub force: bool,
@@ -368,6 +376,8 @@ fn nc_options(args: &BallpathArgs) -> BallPathNcOptions {
         clearance: args.clearance,
         x: args.x,
         y: args.y,
+        lead_deg: args.lead,
+        tilt_deg: args.tilt,
     }
 }
 

@@ -59,6 +59,10 @@ pub struct PostArgs {
     /// The tool to call when the file has no LOADTL before its first move
     #[arg(long, value_name = "T")]
     pub tool: Option<u32>,
+    /// Digits after the point of every number (default: the dialect's): an angle rounded to
+    /// 0.001° moves the tip by up to 3.5 µm at H = 400 mm
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u8).range(0..=9))]
+    pub decimals: Option<u8>,
     /// Spindle speed (1/min, M3) when the file has no SPINDL before its first move
     #[arg(long, value_name = "S")]
     pub spindle: Option<f64>,
@@ -120,7 +124,13 @@ fn options(args: &PostArgs) -> PostOptions {
     head.b_limits = args.b_limits.unwrap_or(head.b_limits);
     head.singular_margin = args.singular;
     head.max_swing = args.max_swing;
-    PostOptions { head, clearance: args.clearance, tool: args.tool, spindle: args.spindle }
+    PostOptions {
+        head,
+        clearance: args.clearance,
+        tool: args.tool,
+        spindle: args.spindle,
+        decimals: args.decimals.map(usize::from),
+    }
 }
 
 /// `--name`, the PARTNO, OUT's file stem, or POST.

@@ -51,6 +51,12 @@ pub struct BallPathNcOptions {
     /// The rectangle the path covers (x and y ranges), for the program's blank.
     pub x: [f64; 2],
     pub y: [f64; 2],
+    /// For the 5-axis cutter-location file: the tool axis inclined from the surface normal
+    /// by these angles (degrees): `lead` along the feed (the axis leaning forwards), `tilt`
+    /// across it (towards n × feed), so that the ball does not cut with its centre. 0, 0:
+    /// the axis along the normal.
+    pub lead_deg: f64,
+    pub tilt_deg: f64,
 }
 
 /// The paper's program for `path`, named `name`.
@@ -104,22 +110,71 @@ pub fn axial_tip(p: &PathPoint, radius: f64) -> Point3<f64> {
     p.centre - tool_axis(p) * radius
 }
 
+/// The tool axis inclined from the normal `n` by `lead` (radians, towards the feed `f`) and
+/// `tilt` (across the feed, towards n × f): a = sin(tilt)·c + cos(tilt)·(cos(lead)·n +
+/// sin(lead)·f), with f taken into the tangent plane. Then atan2(a·f, a·n) = lead and
+/// asin(a·c) = tilt. Along the normal when the feed has no part in the tangent plane.
+pub fn inclined_axis(n: Vector3<f64>, feed: Vector3<f64>, lead: f64, tilt: f64) -> Vector3<f64> {
+    let along = feed - n * feed.dot(&n);
+    if along.norm() <= 1e-12 * feed.norm().max(1e-300) {
+        return n;
+    }
+    let f = along.normalize();
+    let c = n.cross(&f);
+    (c * tilt.sin() + (n * lead.cos() + f * lead.sin()) * tilt.cos()).normalize()
+}
+
+/// The feed direction at ball position `i` of the line `start..end`: towards the next centre,
+/// or from the one before at the line's end.
+fn feed_at(path: &BallPath, i: usize, start: usize, end: usize) -> Vector3<f64> {
+    let c = |k: usize| path.points[k].centre;
+    if i + 1 < end {
+        c(i + 1) - c(i)
+    } else if i > start {
+        c(i) - c(i - 1)
+    } else {
+        Vector3::zeros()
+    }
+}
+
 /// The same finishing path as an APT cutter-location file for a 5-axis post (`ncsheet
 /// post`): each ball position a `GOTO` of the tool tip with the tool axis along the surface
-/// normal, lines linked as in [`ball_path_program`] (`o.point` does not apply: a CL point is
+/// normal, or inclined from it by `o.lead_deg`/`o.tilt_deg` ([`inclined_axis`]; the ball's
+/// centre stays at contact + R·n, the tip R back along the axis), lines linked as in [`ball_path_program`] (`o.point` does not apply: a CL point is
 /// the tip along the axis).
 pub fn ball_path_cl(path: &BallPath, name: &str, o: &BallPathNcOptions) -> Vec<ClRecord> {
     let r = path.radius;
     let goto = |tip: Point3<f64>, axis: Vector3<f64>| ClKind::Goto { tip: tip.into(), axis: Some(axis.into()) };
-    let highest = path.points.iter().map(|p| axial_tip(p, r).z).fold(f64::NEG_INFINITY, f64::max);
+    let inclined = o.lead_deg != 0.0 || o.tilt_deg != 0.0;
+    // Every ball position's tool axis, the line it is on known.
+    let mut axes = Vec::with_capacity(path.points.len());
+    for (k, &start) in path.line_starts.iter().enumerate() {
+        let end = path.line_starts.get(k + 1).copied().unwrap_or(path.points.len());
+        axes.extend((start..end).map(|i| {
+            let n = tool_axis(&path.points[i]);
+            if inclined {
+                inclined_axis(n, feed_at(path, i, start, end), o.lead_deg.to_radians(), o.tilt_deg.to_radians())
+            } else {
+                n
+            }
+        }));
+    }
+    // The ball's centre stays where it touches the surface; the tip is R back along the axis.
+    let tip = |i: usize| path.points[i].centre - axes[i] * r;
+    let highest = (0..path.points.len()).map(|i| tip(i).z).fold(f64::NEG_INFINITY, f64::max);
     let clearance = o.clearance.unwrap_or((highest + 5.0).ceil());
-    let above = |p: &PathPoint| {
-        let t = axial_tip(p, r);
-        goto(Point3::new(t.x, t.y, clearance), tool_axis(p))
+    let above = |i: usize| {
+        let t = tip(i);
+        goto(Point3::new(t.x, t.y, clearance), axes[i])
+    };
+    let axis_words = if inclined {
+        format!("the surface normal inclined {}° along the feed and {}° across it", o.lead_deg, o.tilt_deg)
+    } else {
+        "the surface normal".to_string()
     };
     let mut kinds = vec![
         ClKind::PartNo(name.to_string()),
-        ClKind::Comment(format!("ball-end mill R{r}: GOTO is the tool tip, the tool axis the surface normal")),
+        ClKind::Comment(format!("ball-end mill R{r}: GOTO is the tool tip, the tool axis {axis_words}")),
         ClKind::UnitsMm,
         ClKind::Cutter { diameter: 2.0 * r, corner_radius: Some(r) },
         ClKind::MultiAxis(true),
@@ -132,14 +187,14 @@ pub fn ball_path_cl(path: &BallPath, name: &str, o: &BallPathNcOptions) -> Vec<C
         let end = path.line_starts.get(k + 1).copied().unwrap_or(path.points.len());
         if k == 0 || o.retract {
             if k > 0 {
-                kinds.extend([ClKind::Rapid, above(&path.points[start - 1])]);
+                kinds.extend([ClKind::Rapid, above(start - 1)]);
             }
-            kinds.extend([ClKind::Rapid, above(&path.points[start])]);
+            kinds.extend([ClKind::Rapid, above(start)]);
         }
-        kinds.extend(path.points[start..end].iter().map(|p| goto(axial_tip(p, r), tool_axis(p))));
+        kinds.extend((start..end).map(|i| goto(tip(i), axes[i])));
     }
-    if let Some(last) = path.points.last() {
-        kinds.extend([ClKind::Rapid, above(last)]);
+    if !path.points.is_empty() {
+        kinds.extend([ClKind::Rapid, above(path.points.len() - 1)]);
     }
     kinds.push(ClKind::End);
     kinds.into_iter().enumerate().map(|(i, kind)| ClRecord { line: i + 1, kind }).collect()
