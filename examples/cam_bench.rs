@@ -16,13 +16,7 @@ fn cpu_ns() -> Option<f64> {
 }
 
 fn main() {
-    let options = CamOptions {
-        tolerance: 0.001,
-        allow_partial: true,
-        with_bounds: false,
-        side: ncsheet::geometry::cam::Side::Both,
-        reserve: 0.0,
-    };
+    let options = CamOptions::either_side(0.001, true);
     let (mut best_wall, mut best_cpu) = (f64::INFINITY, f64::INFINITY);
     for _ in 0..10 {
         let (start, cpu_start) = (Instant::now(), cpu_ns());

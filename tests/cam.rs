@@ -254,19 +254,7 @@ fn the_printed_sheet_has_gaps_and_an_overlap() {
     let overlaps: Vec<&CoverageIssue> = all.iter().filter(|i| matches!(i, CoverageIssue::Overlap { .. })).collect();
     assert_eq!(overlaps.len(), 3, "{overlaps:#?}");
     assert!(overlaps.iter().all(|o| o.to_string().contains("row 14")));
-    let message = fit_cam(
-        "R",
-        &turret,
-        &CamOptions {
-            tolerance: 0.01,
-            allow_partial: false,
-            with_bounds: false,
-            side: ncsheet::geometry::cam::Side::Both,
-            reserve: 0.0,
-        },
-    )
-    .unwrap_err()
-    .to_string();
+    let message = fit_cam("R", &turret, &CamOptions::either_side(0.01, false)).unwrap_err().to_string();
     assert!(message.contains("gap 160.2°–171°") && message.contains("row 5 \"drill ⌀17.3×30\" (line 8)"), "{message}");
 }
 
@@ -285,33 +273,11 @@ fn a_closed_cam_has_no_issues_and_an_overlap_is_fatal_even_when_partial() {
         seg("3", PieceKind::Logarithmic, 300.0, 360.0, 60.0, 50.0),
     ];
     assert_eq!(check_coverage(&closed), vec![]);
-    let fit = fit_cam(
-        "",
-        &closed,
-        &CamOptions {
-            tolerance: 0.01,
-            allow_partial: false,
-            with_bounds: false,
-            side: ncsheet::geometry::cam::Side::Both,
-            reserve: 0.0,
-        },
-    )
-    .unwrap();
+    let fit = fit_cam("", &closed, &CamOptions::either_side(0.01, false)).unwrap();
     assert!((fit.arcs().next().unwrap().start - fit.arcs().last().unwrap().end).norm() <= 1e-9);
     let mut overlapping = closed.clone();
     overlapping[1] = seg("2", PieceKind::Archimedean, 80.0, 300.0, 50.0, 60.0);
-    let err = fit_cam(
-        "",
-        &overlapping,
-        &CamOptions {
-            tolerance: 0.01,
-            allow_partial: true,
-            with_bounds: false,
-            side: ncsheet::geometry::cam::Side::Both,
-            reserve: 0.0,
-        },
-    )
-    .unwrap_err();
+    let err = fit_cam("", &overlapping, &CamOptions::either_side(0.01, true)).unwrap_err();
     let CamError::Coverage(issues) = err else { panic!("expected a coverage error") };
     assert!(
         matches!(&issues[0], CoverageIssue::Overlap { first, second, .. } if first.contains("row 1") && second.contains("row 2"))
@@ -319,13 +285,7 @@ fn a_closed_cam_has_no_issues_and_an_overlap_is_fatal_even_when_partial() {
 }
 
 fn sample_cams(tolerance: f64) -> Vec<ncsheet::geometry::cam::CamFit> {
-    let options = CamOptions {
-        tolerance,
-        allow_partial: true,
-        with_bounds: false,
-        side: ncsheet::geometry::cam::Side::Both,
-        reserve: 0.0,
-    };
+    let options = CamOptions::either_side(tolerance, true);
     fit_design_sheet(SHEET, &options).unwrap()
 }
 

@@ -29,13 +29,7 @@ fn sample_cams() -> Vec<CamFit> {
 }
 
 fn sample_cams_at(tolerance: f64) -> Vec<CamFit> {
-    let options = CamOptions {
-        tolerance,
-        allow_partial: true,
-        with_bounds: false,
-        side: ncsheet::geometry::cam::Side::Both,
-        reserve: 0.0,
-    };
+    let options = CamOptions::either_side(tolerance, true);
     let segments = parse_sheet(SHEET).unwrap();
     by_disc(&segments).iter().map(|(d, s)| fit_cam(d, s, &options).unwrap()).collect()
 }

@@ -444,13 +444,7 @@ fn cam_programs_of_the_example_read_back() {
     use ncsheet::nc::cam::{self as nc_cam, cam_program, CamNcOptions};
     use ncsheet::nc::cam_sheet::parse_sheet;
     let segments = parse_sheet(include_str!("../sheets/cam-turret.csv")).unwrap();
-    let options = CamOptions {
-        tolerance: 0.001,
-        allow_partial: true,
-        with_bounds: false,
-        side: ncsheet::geometry::cam::Side::Both,
-        reserve: 0.0,
-    };
+    let options = CamOptions::either_side(0.001, true);
     let dir = tempfile::tempdir().unwrap();
     let rs274_here = rs274::available();
     for (disc, s) in by_disc(&segments) {

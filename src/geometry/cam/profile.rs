@@ -135,6 +135,13 @@ pub struct CamOptions {
     pub with_bounds: bool,
 }
 
+impl CamOptions {
+    /// Within `tolerance` on either side of the curve (the fewest arcs), no lower bounds.
+    pub fn either_side(tolerance: f64, allow_partial: bool) -> CamOptions {
+        CamOptions { tolerance, allow_partial, with_bounds: false, side: Side::Both, reserve: 0.0 }
+    }
+}
+
 /// A segment with its arcs.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FittedSegment {
