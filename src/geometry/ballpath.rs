@@ -81,7 +81,7 @@ impl Direction {
     pub fn forwards(self, k: usize, lines: Lines) -> bool {
         let climb_forwards = lines == Lines::ConstantX;
         match self {
-            Direction::Zigzag => k % 2 == 0,
+            Direction::Zigzag => k.is_multiple_of(2),
             Direction::Climb => climb_forwards,
             Direction::Conventional => !climb_forwards,
         }
