@@ -159,7 +159,10 @@ const ALLOWED: &[(&str, &str)] = &[
         "the .xls format's own function numbers ([MS-XLS] Ftab), read by the .xls reader alone; \
          owed to FnSpec as a .biff(n) fact on each row",
     ),
-    ("src/io/legacy/ods.rs", "the names LibreOffice writes for some of Excel's functions: a fact about another program"),
+    (
+        "src/io/legacy/ods.rs",
+        "the names LibreOffice writes for some of Excel's functions: a fact about another program",
+    ),
 ];
 
 /// Names that are also the language's words: TRUE and FALSE are functions and booleans.

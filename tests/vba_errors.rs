@@ -178,7 +178,9 @@ fn files_programs_and_the_system_are_out_of_reach() {
         assert!(e.span.unwrap().line >= 2, "{body}: {e}");
     }
     // A Declare line compiles (real modules declare under #If VBA7); calling it is refused.
-    let e = fail("Declare Function GetTickCount Lib \"kernel32\" () As Long\nSub Main()\n    x = GetTickCount()\nEnd Sub\n");
+    let e = fail(
+        "Declare Function GetTickCount Lib \"kernel32\" () As Long\nSub Main()\n    x = GetTickCount()\nEnd Sub\n",
+    );
     assert_eq!(e.kind, ErrorKind::Syntax);
     assert!(e.message.contains("cannot call into other programs"), "{e}");
     let e = fail(&main_body("    x = InputBox(\"D?\")"));

@@ -192,7 +192,7 @@ fn vba_operators() {
     assert_eq!(value("Not 0"), n(-1.0));
     assert_eq!(value("2 + 3 Mod 2"), n(3.0)); // Mod above +
     assert_eq!(value("2 ^ 3 ^ 2"), n(64.0)); // left-associative, as in the formula language
-    // VBA's "Operator precedence": ^ above negation, so -2^2 is -4 (a cell's =-2^2 is 4).
+                                             // VBA's "Operator precedence": ^ above negation, so -2^2 is -4 (a cell's =-2^2 is 4).
     assert_eq!(value("-2 ^ 2"), n(-4.0));
     assert_eq!(text("\"G\" & 1 & \" X\" & 2.5"), "G1 X2.5");
 }

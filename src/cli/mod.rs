@@ -374,7 +374,13 @@ pub(crate) fn open_options(delimiter: Option<u8>) -> OpenOptions {
         settings.locale = locale;
         settings
     });
-    OpenOptions { csv_delimiter: delimiter, functions, settings, read_limits: limits::read_limits(), ..OpenOptions::default() }
+    OpenOptions {
+        csv_delimiter: delimiter,
+        functions,
+        settings,
+        read_limits: limits::read_limits(),
+        ..OpenOptions::default()
+    }
 }
 
 /// Whose values a workbook stores, as `eval --check` names them, and, when they are not
