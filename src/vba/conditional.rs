@@ -317,10 +317,14 @@ mod tests {
 
     #[test]
     fn const_and_not_and_nesting() {
-        let src = "#Const DEBUG_ON = 1\n#If Not DEBUG_ON Then\nA\n#Else\n#If Mac Or (VBA7 = 0) Then\nB\n#Else\nC\n#End If\n#End If\n";
-        let kept: Vec<String> =
-            prepare(src).unwrap().lines().map(|l| l.trim().to_string()).filter(|l| !l.is_empty()).collect();
-        assert_eq!(kept, ["C"]);
+        let kept = |src: &str| -> Vec<String> {
+            prepare(src).unwrap().lines().map(|l| l.trim().to_string()).filter(|l| !l.is_empty()).collect()
+        };
+        let src = "#Const DEBUG_ON = True\n#If Not DEBUG_ON Then\nA\n#Else\n#If Mac Or (VBA7 = 0) Then\nB\n#Else\nC\n#End If\n#End If\n";
+        assert_eq!(kept(src), ["C"]);
+        // VBA's Not is bitwise (MS-VBAL 5.6.9.8.1, the Not operator): Not 1 is -2, which is
+        // true, so `#Const X = 1` … `#If Not X` takes the branch (a known VBA trap).
+        assert_eq!(kept("#Const X = 1\n#If Not X Then\nA\n#Else\nB\n#End If\n"), ["A"]);
     }
 
     #[test]
