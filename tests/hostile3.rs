@@ -406,7 +406,8 @@ fn damaged_parts_are_named_with_what_is_wrong() {
         v
     };
     let cut = |t: String| t.as_bytes()[..t.len() / 2].to_vec();
-    let probes: [(&str, &dyn Fn(String) -> Vec<u8>, &str); 4] = [
+    type Spoil<'a> = &'a dyn Fn(String) -> Vec<u8>;
+    let probes: [(&str, Spoil, &str); 4] = [
         ("xl/worksheets/sheet1.xml", &utf16, "the part is encoded in UTF-16"),
         ("xl/styles.xml", &utf16, "the part is encoded in UTF-16"),
         ("xl/styles.xml", &cut, "the XML is not well-formed"),

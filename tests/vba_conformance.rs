@@ -16,12 +16,6 @@ fn run(src: &str) -> RunOutput {
     run_with(src, &RunOptions::default()).unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// What `Debug.Print` prints of each expression, one line each.
-fn print_each(exprs: &[&str]) -> Vec<String> {
-    let body: String = exprs.iter().map(|e| format!("    Debug.Print {e}\n")).collect();
-    run(&format!("Sub Main()\n{body}End Sub\n")).printed
-}
-
 /// An expression's value as a cell receives it.
 fn value(expr: &str) -> Value {
     let mut wb = Workbook::with_sheet();

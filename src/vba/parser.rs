@@ -953,7 +953,7 @@ impl Build<'_> {
         let (fits, kind) = match suffix {
             "%" => (value <= f64::from(i16::MAX) && value.fract() == 0.0, "an Integer (% : up to 32767)"),
             "&" => (value <= f64::from(i32::MAX) && value.fract() == 0.0, "a Long (& : up to 2147483647)"),
-            "@" => (value.abs() < 922_337_203_685_477.580_8, "a Currency (@)"),
+            "@" => (value.abs() < 922_337_203_685_477.6, "a Currency (@)"),
             "!" => (value <= f64::from(f32::MAX), "a Single (!)"),
             _ => (value.is_finite(), "a Double (#)"),
         };

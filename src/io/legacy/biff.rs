@@ -224,7 +224,7 @@ pub fn decode(
                 let shared = base == 0x2D;
                 stack.push(atom(area_ref(r1, r2, c1, c2, shared.then_some(cell))));
             }
-            0x26 | 0x27 | 0x28 => {
+            0x26..=0x28 => {
                 // A reference expression's precomputed area (or its failure): the tokens
                 // that compute it follow, and its cached rectangles are in the extra data.
                 bytes.take(6)?;
@@ -784,7 +784,9 @@ const FUNCTIONS: &[(u16, &str, Option<u8>)] = &[
 mod tests {
     use super::*;
 
-    fn ctx() -> (Vec<String>, Vec<(u16, i16, i16)>, Vec<SupBook>, Vec<(String, Option<usize>)>) {
+    type Parts = (Vec<String>, Vec<(u16, i16, i16)>, Vec<SupBook>, Vec<(String, Option<usize>)>);
+
+    fn ctx() -> Parts {
         (vec!["Sheet1".into(), "My Data".into()], vec![(0, 1, 1), (0, 0, 1)], vec![SupBook::Own], vec![])
     }
 

@@ -14,6 +14,13 @@ use crate::workbook::Visibility;
 use super::biff::{self, Context, SupBook, Unreadable};
 use super::{cells_named, Book, Cell, Name, Sheet};
 
+/// A NAME record: its name, the sheet it belongs to, formula bytes, extra bytes, and whether
+/// it names a macro.
+type NameRecord = (String, Option<usize>, Vec<u8>, Vec<u8>, bool);
+
+/// A shared or array formula by its area: the area, its formula bytes and extra bytes.
+type AreaFormula = (Rect, Vec<u8>, Vec<u8>);
+
 /// One record, its `CONTINUE` records' data kept apart (the shared-string table needs to
 /// know where each starts).
 struct Record<'a> {
@@ -97,7 +104,7 @@ struct Globals {
     books: Vec<SupBook>,
     xtis: Vec<(u16, i16, i16)>,
     /// (name, sheet index it belongs to, formula bytes, extra bytes, is a macro's name).
-    names: Vec<(String, Option<usize>, Vec<u8>, Vec<u8>, bool)>,
+    names: Vec<NameRecord>,
     date_1904: bool,
 }
 
@@ -241,9 +248,8 @@ fn supbook(d: &[u8]) -> SupBook {
 fn external_name(books: &mut [SupBook], d: &[u8]) {
     let cch = d.get(6).copied().unwrap_or(0) as usize;
     let name = d.get(7..).and_then(|b| biff::unicode_string(b, cch)).map(|s| s.0).unwrap_or_default();
-    match books.last_mut() {
-        Some(SupBook::AddIns(names) | SupBook::Other(names)) => names.push(name),
-        _ => {}
+    if let Some(SupBook::AddIns(names) | SupBook::Other(names)) = books.last_mut() {
+        names.push(name);
     }
 }
 
@@ -371,8 +377,8 @@ fn read_sheet(
     let mut sheet = Sheet { name: name.to_string(), visibility, ..Sheet::default() };
     let mut formulas: Vec<FormulaRecord> = Vec::new();
     // By the first cell of their area: (area, formula bytes, extra bytes).
-    let mut shared: HashMap<(u32, u32), (Rect, Vec<u8>, Vec<u8>)> = HashMap::new();
-    let mut arrays: HashMap<(u32, u32), (Rect, Vec<u8>, Vec<u8>)> = HashMap::new();
+    let mut shared: HashMap<(u32, u32), AreaFormula> = HashMap::new();
+    let mut arrays: HashMap<(u32, u32), AreaFormula> = HashMap::new();
     let mut tables: Vec<(u32, u32)> = Vec::new();
     let put = |sheet: &mut Sheet, d: &[u8], value: Value, xf: u16| {
         let pos = (u16_at(d, 0) as u32, u16_at(d, 2) as u32);
@@ -494,7 +500,7 @@ fn read_sheet(
 /// as a rule, else one whose area holds the anchor or the cell (files written by other
 /// programs point elsewhere in the area).
 fn shared_formula(
-    shared: &HashMap<(u32, u32), (Rect, Vec<u8>, Vec<u8>)>,
+    shared: &HashMap<(u32, u32), AreaFormula>,
     anchor: (u32, u32),
     cell: (u32, u32),
 ) -> Option<&(Rect, Vec<u8>, Vec<u8>)> {

@@ -76,7 +76,7 @@ pub fn patch(source: &Source, wb: &Workbook, changes: &Changes) -> Result<Result
     let states_changed =
         package.sheets.iter().any(|e| wb.sheet_id(&e.name).is_some_and(|id| wb.sheet_visibility(id) != e.visibility));
     let changed = !by_part.is_empty() || states_changed;
-    let mut zip = zip::ZipArchive::new(Cursor::new(&bytes[..])).map_err(|e| {
+    let mut zip = zip::ZipArchive::new(Cursor::new(bytes)).map_err(|e| {
         let (p, k, m) = zip_error(None, e);
         fail(p.as_deref(), k, m)
     })?;
@@ -698,7 +698,7 @@ pub fn replace_part(source: &Source, part: &str, data: &[u8]) -> Result<Vec<u8>,
         let (p, k, m) = zip_error(name, e);
         fail(p.as_deref(), k, m)
     };
-    let mut zip = zip::ZipArchive::new(Cursor::new(&bytes[..])).map_err(|e| zerr(None, e))?;
+    let mut zip = zip::ZipArchive::new(Cursor::new(bytes)).map_err(|e| zerr(None, e))?;
     let mut out = zip::ZipWriter::new(Cursor::new(Vec::with_capacity(bytes.len() + data.len())));
     let mut found = false;
     for i in 0..zip.len() {

@@ -350,7 +350,7 @@ fn relationship_id(tag: &str) -> String {
         if prefixed {
             let quote = value.chars().next().unwrap_or('"');
             let inner = &value[quote.len_utf8()..];
-            return unescape(inner[..inner.find(quote).unwrap_or(inner.len())].as_bytes());
+            return unescape(&inner.as_bytes()[..inner.find(quote).unwrap_or(inner.len())]);
         }
         rest = value;
     }
