@@ -166,13 +166,18 @@ Function Place(name As String, fixed As String) As String
 End Function
 
 ' The row of an input labelled `name` in column B (column A saying "input"), or 0.
+' A cell holding an error (a formula of another sheet's making) is no label.
 Function LabelRow(name As String) As Long
-    Dim r As Long
+    Dim r As Long, kind As Variant, label As Variant
     LabelRow = 0
     For r = 1 To 50
-        If Range("A" & r).Value = "input" And Range("B" & r).Value = name Then
-            LabelRow = r
-            Exit Function
+        kind = Range("A" & r).Value
+        label = Range("B" & r).Value
+        If Not IsError(kind) And Not IsError(label) Then
+            If kind = "input" And label = name Then
+                LabelRow = r
+                Exit Function
+            End If
         End If
     Next r
 End Function
