@@ -71,7 +71,17 @@ fn find_comment(line: &str) -> Option<usize> {
     None
 }
 
-fn read_tree(src: &Path) -> Vec<Source> {
+/// The workspace's three crates as one tree, each file named as if under one `src/`: the
+/// library's files by their path in `crates/ncsheet/src`, the server's under `server/`, the
+/// command line's as they are (`main.rs`, `cli/`).
+fn read_workspace(root: &Path) -> Vec<Source> {
+    let mut files = read_tree(&root.join("crates/ncsheet/src"), "");
+    files.extend(read_tree(&root.join("crates/ncsheet-server/src"), "server/"));
+    files.extend(read_tree(&root.join("src"), ""));
+    files
+}
+
+fn read_tree(src: &Path, prefix: &str) -> Vec<Source> {
     let mut files = Vec::new();
     collect_rs(src, &mut files);
     files.sort();
@@ -79,6 +89,7 @@ fn read_tree(src: &Path) -> Vec<Source> {
         .into_iter()
         .map(|path| {
             let rel = path.strip_prefix(src).unwrap().to_string_lossy().replace('\\', "/");
+            let rel = format!("{prefix}{rel}");
             let raw = fs::read_to_string(&path).unwrap();
             let code = strip_comments(&raw);
             let shipped = code.split("#[cfg(test)]").next().unwrap_or("").to_string();
@@ -173,24 +184,24 @@ fn upward_imports(files: &[Source]) -> Vec<String> {
     out
 }
 
-/// Every source file is named in ARCHITECTURE.md, in the section of its layer (`### `src/nc/``),
+/// Every source file is named in ARCHITECTURE.md, in the section of its layer (`### `crates/ncsheet/src/nc/``),
 /// so that `cam.rs` of nc does not pass for `cam.rs` of geometry: a file by its name, a
 /// folder's `mod.rs` by its folder (`functions/`) or as `folder/mod.rs`.
 fn unmapped_files(files: &[Source], map: &str) -> Vec<String> {
     files
         .iter()
         .filter(|f| !mentioned(&f.rel, section_of(map, &f.rel)))
-        .map(|f| format!("src/{}: not named in ARCHITECTURE.md's section of its layer", f.rel))
+        .map(|f| format!("{}: not named in ARCHITECTURE.md's section of its layer", f.rel))
         .collect()
 }
 
 /// The text of the map's `### ` section whose heading names the file's layer folder
-/// (`src/nc/`); the whole map for the crate roots, nothing for a layer without a section.
+/// (`crates/ncsheet/src/nc/`); the whole map for the crate roots, nothing for a layer without a section.
 fn section_of<'a>(map: &'a str, rel: &str) -> &'a str {
     if !rel.contains('/') {
         return map;
     }
-    let heading = format!("`src/{}/`", layer_of(rel));
+    let heading = folder_of(rel);
     let Some(start) = map.lines().position(|l| l.starts_with("### ") && l.contains(&heading)) else {
         return "";
     };
@@ -199,6 +210,15 @@ fn section_of<'a>(map: &'a str, rel: &str) -> &'a str {
     let from = offset(start);
     let to = end.map_or(map.len(), |e| offset(start + 1 + e)).min(map.len());
     &map[from..to]
+}
+
+/// The folder a file's layer heads in the map, as the workspace holds it.
+fn folder_of(rel: &str) -> String {
+    match layer_of(rel) {
+        "cli" | "main" => "`src/cli/`".to_string(),
+        "server" => "`crates/ncsheet-server/src/`".to_string(),
+        layer => format!("`crates/ncsheet/src/{layer}/`"),
+    }
 }
 
 fn mentioned(rel: &str, map: &str) -> bool {
@@ -292,21 +312,100 @@ fn geometry_used_in_the_engine(files: &[Source]) -> Vec<String> {
     found.into_iter().filter(|v| engine.iter().any(|e| v.starts_with(e))).collect()
 }
 
-fn check(src: &Path, map: &str) -> Vec<String> {
-    let files = read_tree(src);
+fn in_front_end(rel: &str) -> bool {
+    in_cli(rel) || rel.starts_with("server/")
+}
+
+/// The library's module paths (`eval::dates`) with whether a front end may name them: declared
+/// `pub mod`, and not behind the `testing` feature (test helpers are not the facade).
+fn library_modules(files: &[Source]) -> Vec<(String, bool)> {
+    let mut modules = Vec::new();
+    for f in files.iter().filter(|f| !in_front_end(&f.rel)) {
+        let parent = f.rel.trim_end_matches(".rs").trim_end_matches("/mod").trim_end_matches("lib").replace('/', "::");
+        let mut testing_only = false;
+        for line in f.shipped.lines().map(str::trim) {
+            if line.starts_with("#[cfg(") {
+                testing_only = line.contains("feature = \"testing\"");
+                continue;
+            }
+            let (public, rest) = match line.strip_prefix("pub mod ") {
+                Some(rest) => (true, rest),
+                None => match line.split_once("mod ") {
+                    Some((vis, rest)) if vis.is_empty() || vis.starts_with("pub(") => (false, rest),
+                    _ => continue,
+                },
+            };
+            let Some(name) = rest.strip_suffix(';') else { continue };
+            let path = if parent.is_empty() { name.to_string() } else { format!("{parent}::{name}") };
+            modules.push((path, public && !testing_only));
+            testing_only = false;
+        }
+    }
+    modules
+}
+
+/// The `ncsheet::` paths a file names: `ncsheet::a::b` and each item of `ncsheet::a::{b::c, d}`.
+fn library_paths(code: &str) -> Vec<String> {
+    let mut paths = Vec::new();
+    for (at, _) in code.match_indices("ncsheet::") {
+        if code[..at].chars().next_back().is_some_and(|c| c.is_alphanumeric() || c == '_') {
+            continue;
+        }
+        let rest = &code[at + "ncsheet::".len()..];
+        let end = rest.find(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == ':')).unwrap_or(rest.len());
+        let head = rest[..end].trim_end_matches(':');
+        if rest[end..].starts_with('{') && rest[..end].ends_with("::") {
+            let close = rest[end..].find('}').map_or(rest.len(), |c| end + c);
+            for item in rest[end + 1..close].split(',') {
+                paths.push(format!("{head}::{}", item.trim()));
+            }
+        } else {
+            paths.push(head.to_string());
+        }
+    }
+    paths
+}
+
+/// Front ends name only public library modules, never the test helpers.
+fn front_ends_past_the_facade(files: &[Source]) -> Vec<String> {
+    let modules = library_modules(files);
+    let mut out = Vec::new();
+    for f in files.iter().filter(|f| in_front_end(&f.rel)) {
+        for path in library_paths(&f.code) {
+            let mut module = String::new();
+            for segment in path.split("::").map(str::trim) {
+                let child = if module.is_empty() { segment.to_string() } else { format!("{module}::{segment}") };
+                match modules.iter().find(|(m, _)| *m == child) {
+                    Some((_, true)) => module = child,
+                    Some((_, false)) => {
+                        out.push(format!("{}: reaches ncsheet::{child}, not public API of the library", f.rel));
+                        break;
+                    }
+                    None => break,
+                }
+            }
+        }
+    }
+    out.sort();
+    out.dedup();
+    out
+}
+
+fn check(files: &[Source], map: &str) -> Vec<String> {
     let mut found = Vec::new();
-    found.extend(prints_outside_cli(&files));
-    found.extend(files_touched_outside_io(&files));
-    found.extend(renames_outside_atomic(&files));
-    found.extend(upward_imports(&files));
-    found.extend(unmapped_files(&files, map));
-    found.extend(dialect_lists_outside_nc(&files));
-    found.extend(functions_past_the_api(&files));
-    found.extend(pratt_tables_elsewhere(&files));
-    found.extend(exits_outside_cli(&files));
-    found.extend(serialisation_outside_cli(&files));
-    found.extend(file_spelling_outside_xlsx(&files));
-    found.extend(geometry_used_in_the_engine(&files));
+    found.extend(prints_outside_cli(files));
+    found.extend(files_touched_outside_io(files));
+    found.extend(renames_outside_atomic(files));
+    found.extend(upward_imports(files));
+    found.extend(unmapped_files(files, map));
+    found.extend(dialect_lists_outside_nc(files));
+    found.extend(functions_past_the_api(files));
+    found.extend(pratt_tables_elsewhere(files));
+    found.extend(exits_outside_cli(files));
+    found.extend(serialisation_outside_cli(files));
+    found.extend(file_spelling_outside_xlsx(files));
+    found.extend(geometry_used_in_the_engine(files));
+    found.extend(front_ends_past_the_facade(files));
     found
 }
 
@@ -314,7 +413,7 @@ fn check(src: &Path, map: &str) -> Vec<String> {
 fn the_tree_keeps_the_rules_of_architecture_md() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let map = fs::read_to_string(root.join("ARCHITECTURE.md")).unwrap();
-    let mut found = check(&root.join("src"), &map);
+    let mut found = check(&read_workspace(root), &map);
     found.retain(|v| !ALLOWED.iter().any(|(prefix, _)| v.starts_with(prefix)));
     assert!(found.is_empty(), "ARCHITECTURE.md's rules are broken:\n{}", found.join("\n"));
 }
@@ -330,20 +429,28 @@ fn the_checker_finds_each_broken_rule() {
         fs::write(path, text).unwrap();
     };
     write("lib.rs", "pub mod eval;\n");
-    write("eval/mod.rs", "fn f() { println!(\"hi\"); }\n// println! in a comment is fine\n");
+    write(
+        "eval/mod.rs",
+        "fn f() { println!(\"hi\"); }\n// println! in a comment is fine\npub mod value;\nmod evaluator;\n\
+         #[cfg(feature = \"testing\")]\npub mod testing;\n",
+    );
     write("eval/value.rs", "use crate::workbook::Workbook;\nfn g() { std::fs::read(\"x\"); }\n");
     write("io/csv.rs", "fn h() { fs::rename(a, b); }\n");
     write("geometry/head.rs", "use crate::{eval::Value, formula};\n");
     write("cli/ballpath.rs", "/// Dialect: iso, linuxcnc, sinumerik or heidenhain\nconst D: u8 = 1;\n");
-    write("cli/mod.rs", "fn main() { println!(\"cli may print\"); }\n");
+    write(
+        "cli/mod.rs",
+        "use ncsheet::eval::evaluator::Ctx;\nuse ncsheet::eval::{value::Value, testing::n};\n\
+         fn main() { println!(\"cli may print\"); }\n",
+    );
     write("eval/functions/math/basic.rs", "use crate::eval::evaluator::Ctx;\n");
     write("eval/dates.rs", "use pest::pratt_parser::PrattParser;\nfn q() { std::process::exit(1) }\n");
     write("workbook/mod.rs", "#[derive(serde::Serialize)]\nstruct W;\nconst P: &str = \"_xlfn.\";\n");
     write("io/cam.rs", "use crate::geometry::cam;\n#[cfg(test)]\nconst T: &str = \"_xlfn.\";\n");
-    let map = "# Map\n`src/lib.rs`\n### `src/eval/`\n`eval/`, `value.rs`, `basic.rs`, `dates.rs`, `csv.rs`\n\
-               ### `src/io/`\n`cam.rs`\n### `src/workbook/`\n`workbook/`\n### `src/geometry/`\n`head.rs`\n\
+    let map = "# Map\n`crates/ncsheet/src/lib.rs`\n### `crates/ncsheet/src/eval/`\n`eval/`, `value.rs`, `basic.rs`, `dates.rs`, `csv.rs`\n\
+               ### `crates/ncsheet/src/io/`\n`cam.rs`\n### `crates/ncsheet/src/workbook/`\n`workbook/`\n### `crates/ncsheet/src/geometry/`\n`head.rs`\n\
                ### `src/cli/` and `src/main.rs`\n`cli/`\n";
-    let found = check(src, map);
+    let found = check(&read_tree(src, ""), map);
     let expect = [
         "eval/mod.rs: prints",
         "eval/value.rs: uses std::fs",
@@ -351,10 +458,12 @@ fn the_checker_finds_each_broken_rule() {
         "eval/value.rs: imports crate::workbook",
         "geometry/head.rs: imports crate::eval",
         "geometry/head.rs: imports crate::formula",
-        "src/cli/ballpath.rs: not named",
+        "cli/ballpath.rs: not named",
+        "cli/mod.rs: reaches ncsheet::eval::evaluator",
+        "cli/mod.rs: reaches ncsheet::eval::testing",
         "cli/ballpath.rs: spells a list of dialects",
         "eval/functions/math/basic.rs: imports the evaluator",
-        "src/io/csv.rs: not named",
+        "io/csv.rs: not named",
         "eval/dates.rs: builds a Pratt table",
         "eval/dates.rs: exits the process",
         "workbook/mod.rs: uses serde",

@@ -49,7 +49,7 @@ fn sheet_functions_reproduce_domain_table() {
 }
 
 /// Paper formulas 1–14 for the outer chamfer, written out as printed (independent of the
-/// construction in src/geometry): they must agree at every angle.
+/// construction in crates/ncsheet/src/geometry): they must agree at every angle.
 fn paper_outer(d: f64, f: f64, alpha: f64, r: f64, ea: f64, eb: f64) -> [f64; 4] {
     let beta = std::f64::consts::FRAC_PI_2 - alpha.to_radians();
     let tan = alpha.to_radians().tan();

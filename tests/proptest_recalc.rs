@@ -179,7 +179,7 @@ proptest! {
 }
 
 /// Formulas that differ only in their numbers are made by copying one parsed tree with the
-/// numbers replaced (src/workbook/shared.rs); each must read and compute as if parsed alone.
+/// numbers replaced (crates/ncsheet/src/workbook/shared.rs); each must read and compute as if parsed alone.
 mod same_shape {
     use super::*;
 

@@ -3,7 +3,7 @@
 //! `Out x`; ncsheet runs it with `Out` printing `CStr(x)`, LibreOffice with `Out` writing
 //! `CStr(x)` to a file, and the two lists of lines must be equal.
 //!
-//! Cases stay inside what VBA and this language agree on (the module doc of `src/vba` lists
+//! Cases stay inside what VBA and this language agree on (the module doc of `crates/ncsheet/src/vba` lists
 //! where they differ on purpose: `-2^2`, text comparison, errors as values). A case's
 //! module-level part (`Type`, helper procedures) goes first in both modules.
 //!

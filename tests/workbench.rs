@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-use ncsheet::server::{Options, Server, TOKEN_HEADER};
+use ncsheet_server::{Options, Server, TOKEN_HEADER};
 use serde_json::Value;
 
 /// A workbench serving a copy of `sheets/NAME` from a folder of its own.

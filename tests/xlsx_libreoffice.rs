@@ -15,7 +15,7 @@ use ncsheet::io::xlsx;
 
 /// Functions LibreOffice 7.4 does not have (it answers #NAME?), so their cells and what
 /// reads them are not compared. Not the library's list of functions Excel stores as
-/// dynamic arrays (`calls_dynamic_function` in src/io/xlsx/syntax.rs), though the two
+/// dynamic arrays (`calls_dynamic_function` in crates/ncsheet/src/io/xlsx/syntax.rs), though the two
 /// share many names: this one is about LibreOffice, and differs (LET, XMATCH and the
 /// REGEX functions are not on that list; SWITCH is, and LibreOffice has it).
 const LIBREOFFICE_LACKS: &[&str] = &[

@@ -1,4 +1,4 @@
-//! ncsheet reads worksheet XML itself (src/io/xlsx/sheet_xml.rs). This test holds that reader
+//! ncsheet reads worksheet XML itself (crates/ncsheet/src/io/xlsx/sheet_xml.rs). This test holds that reader
 //! to an independent one, calamine's cell reader, on every workbook of the Excel corpus.
 //! Each stored value must be the same: a constant becomes the cell's value, and a formula
 //! result or a value an array filled is kept as Excel's cached value. Every formula cell must

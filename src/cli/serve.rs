@@ -1,10 +1,10 @@
-//! `ncsheet serve`: starts the workbench (`ncsheet::server`) on 127.0.0.1 and says its URL;
+//! `ncsheet serve`: starts the workbench (`ncsheet_server`) on 127.0.0.1 and says its URL;
 //! lists the macro files beside the workbook, which the server may then read.
 
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use ncsheet::server::{Options, Server};
+use ncsheet_server::{Options, Server};
 
 use super::report::{Error, Result};
 

@@ -10,6 +10,7 @@ pub mod functions;
 pub mod locale;
 pub mod settings;
 pub mod surface;
+#[cfg(any(test, feature = "testing"))]
 pub mod testing;
 pub mod value;
 

@@ -18,9 +18,9 @@ use std::path::{Path, PathBuf};
 
 use tokio::sync::{mpsc, oneshot};
 
-use crate::document::{Document, OpenOptions};
 pub use guard::TOKEN_HEADER;
 use guard::{random_token, Guard};
+use ncsheet::document::{Document, OpenOptions};
 use workbench::Workbench;
 
 /// The stack of the document's thread: a macro run from the page recurses as deep as the

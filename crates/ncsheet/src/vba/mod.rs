@@ -2,7 +2,7 @@
 //! against a [`Workbook`] and filling an NC [`Program`].
 //!
 //! `parser.rs` turns the source into [`ast::Module`] through the one pest parser
-//! (grammar/formula.pest + grammar/macro.pest); `interp.rs` walks the statements and hands
+//! (crates/ncsheet/grammar/formula.pest + crates/ncsheet/grammar/macro.pest); `interp.rs` walks the statements and hands
 //! every expression to the one evaluator, which reads macro variables and macro-only nodes
 //! (`Range("B3").Value`, calls of the module's Functions) through its `Host` hook;
 //! `objects.rs` holds the objects (`Range`, `Cells`, `Worksheets`, `Application`, …), `nc.rs`

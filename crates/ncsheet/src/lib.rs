@@ -12,6 +12,5 @@ pub mod formula;
 pub mod geometry;
 pub mod io;
 pub mod nc;
-pub mod server;
 pub mod vba;
 pub mod workbook;

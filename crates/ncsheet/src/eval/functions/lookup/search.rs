@@ -144,7 +144,7 @@ fn index_operand(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Operand> {
         Operand::Ref(sheet, rect) => {
             let (rows, cols) = pick(rect.rows() as usize, rect.cols() as usize, &row_arg, &col_arg, col_given)?;
             // Only the cells returned are read: they are this formula's link, made at run time
-            // as OFFSET's (src/workbook/shared.rs gives the whole reference no edge).
+            // as OFFSET's (crates/ncsheet/src/workbook/shared.rs gives the whole reference no edge).
             let picked = sub_rect(rect, rows, cols);
             ctx.note_dynamic_ref(sheet, picked);
             Ok(Operand::Ref(sheet, picked))

@@ -1,4 +1,4 @@
-//! Formula text to syntax tree: binds `grammar/formula.pest` and holds the one Pratt table.
+//! Formula text to syntax tree: binds `crates/ncsheet/grammar/formula.pest` and holds the one Pratt table.
 //!
 //! Precedence, lowest first (Excel's, every binary operator left-associative):
 //!
@@ -17,8 +17,8 @@
 //! :                   range
 //! ```
 //!
-//! The macro language (src/vba) is compiled into the same parser (`grammar/macro.pest`
-//! beside `grammar/formula.pest`, one `Rule` enum) and its expressions go through this table
+//! The macro language (crates/ncsheet/src/vba) is compiled into the same parser (`crates/ncsheet/grammar/macro.pest`
+//! beside `crates/ncsheet/grammar/formula.pest`, one `Rule` enum) and its expressions go through this table
 //! too. Its operators follow the table for everything a formula has — so `-2^2` is 4 in a
 //! macro as in a cell (VBA says -4) — and add VBA's own at VBA's levels, none of which formula
 //! text can produce:

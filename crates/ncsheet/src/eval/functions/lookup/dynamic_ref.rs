@@ -1,7 +1,7 @@
 //! References made at run time: INDIRECT (from text) and OFFSET (moved from another
 //! reference). Their cells are not in the formula's text, so the dependency graph cannot
 //! know them in advance: each is reported through [`Ctx::note_dynamic_ref`], and the workbook
-//! links the cell to it after evaluation (src/workbook/recalc.rs). Excel recalculates both at
+//! links the cell to it after evaluation (crates/ncsheet/src/workbook/recalc.rs). Excel recalculates both at
 //! every edit (they are volatile); here OFFSET is recomputed only when what it reads changes
 //! (`FnSpec::every_edit`).
 

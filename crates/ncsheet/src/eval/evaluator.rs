@@ -247,7 +247,7 @@ pub struct Ctx<'a> {
     pub notes: Vec<Note>,
     /// Numbers to read in place of number literals of the tree being evaluated, each with
     /// the literal's node (by address): formulas that differ only in their numbers share one
-    /// tree (src/workbook/shared.rs). Usually empty. Code that reads numbers from the tree
+    /// tree (crates/ncsheet/src/workbook/shared.rs). Usually empty. Code that reads numbers from the tree
     /// itself, not through `eval`, must be marked `FnSpec::reads_trees`.
     pub numbers: &'a [(*const Expr, f64)],
     /// References made at run time (INDIRECT, OFFSET) that the formula's text does not name:

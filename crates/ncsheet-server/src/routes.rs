@@ -19,8 +19,8 @@ use super::guard::{Claims, Guard, TOKEN_HEADER};
 use super::machining;
 use super::workbench::{refused, Refused, Window, Workbench};
 use super::{DocumentThread, Gone};
-use crate::document::SaveFormat;
-use crate::formula::address::Pos;
+use ncsheet::document::SaveFormat;
+use ncsheet::formula::address::Pos;
 
 /// What every handler shares.
 #[derive(Clone)]

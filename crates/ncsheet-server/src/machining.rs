@@ -7,15 +7,15 @@ use std::path::{Path, PathBuf};
 use serde_json::{json, Value as Json};
 
 use super::workbench::{refused, Refused, Workbench};
-use crate::document::Document;
-use crate::eval::{Ctx, Value};
-use crate::formula::address::Pos;
-use crate::formula::ast::{Expr, ExprKind, SheetId};
-use crate::geometry::chamfer::{chamfer as chamfer_geometry, ChamferKind, ChamferSpec};
-use crate::nc::backplot::{self, Plane};
-use crate::nc::{dialect, read, Block, Machine};
-use crate::vba::project::{decode_module_file, procedures};
-use crate::vba::{self, ModuleKind, RunOptions};
+use ncsheet::document::Document;
+use ncsheet::eval::{Ctx, Value};
+use ncsheet::formula::address::Pos;
+use ncsheet::formula::ast::{Expr, ExprKind, SheetId};
+use ncsheet::geometry::chamfer::{chamfer as chamfer_geometry, ChamferKind, ChamferSpec};
+use ncsheet::nc::backplot::{self, Plane};
+use ncsheet::nc::{dialect, read, Block, Machine};
+use ncsheet::vba::project::{decode_module_file, procedures};
+use ncsheet::vba::{self, ModuleKind, RunOptions};
 
 /// The code page of a .bas file beside a workbook without a VBA project (the VBA editor's
 /// export in Western Europe).
@@ -45,7 +45,7 @@ pub fn chamfer(doc: &Document, sheet: SheetId, pos: Pos) -> Result<Json, Refused
     }
     let spec = ChamferSpec::from_arguments(kind, n);
     let g = chamfer_geometry(&spec).map_err(|e| refused(format!("{cell}: {e}")))?;
-    let point = |p: crate::geometry::chamfer::ZxPoint| json!({ "z": p.x, "x": p.y });
+    let point = |p: ncsheet::geometry::chamfer::ZxPoint| json!({ "z": p.x, "x": p.y });
     let points = g.points();
     Ok(json!({
         "cell": cell,
@@ -63,7 +63,7 @@ pub fn chamfer(doc: &Document, sheet: SheetId, pos: Pos) -> Result<Json, Refused
 fn chamfer_call(e: &Expr) -> Option<&[Expr]> {
     match &e.kind {
         ExprKind::Call(id, args) => {
-            if crate::eval::functions::spec(*id).name.starts_with("CHAMFER") {
+            if ncsheet::eval::functions::spec(*id).name.starts_with("CHAMFER") {
                 return Some(args);
             }
             args.iter().find_map(chamfer_call)
@@ -107,7 +107,7 @@ fn sub_names(source: &str) -> Vec<String> {
 }
 
 fn read_bas(path: &Path) -> Result<String, Refused> {
-    let bytes = crate::io::read_file(path).map_err(|e| refused(e.to_string()))?;
+    let bytes = ncsheet::io::read_file(path).map_err(|e| refused(e.to_string()))?;
     decode_module_file(&bytes, BAS_CODE_PAGE)
         .map_err(|e| refused(format!("{}:{}:{}: {}", path.display(), e.line, e.column, e.message)))
 }

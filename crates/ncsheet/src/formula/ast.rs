@@ -146,7 +146,7 @@ pub enum BinOp {
     Le,
     Gt,
     Ge,
-    // The macro language's operators (src/vba); formula text never produces them.
+    // The macro language's operators (crates/ncsheet/src/vba); formula text never produces them.
     /// `a Mod b`: VBA's remainder of the operands rounded to integers, signed like `a`.
     Mod,
     /// `a \ b`: VBA's integer division.

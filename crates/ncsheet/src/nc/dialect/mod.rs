@@ -53,7 +53,7 @@ pub trait Dialect {
     /// The program as the control reads it, one block per line, ending in a newline.
     fn render(&self, program: &Program) -> Result<String, NcError>;
 
-    /// Reads a program as this control does (`src/nc/read.rs`), with the 1-based source line
+    /// Reads a program as this control does (`crates/ncsheet/src/nc/read.rs`), with the 1-based source line
     /// of each block; `machine` when known, else the reader decides from the program.
     fn read(&self, text: &str, machine: Option<Machine>) -> Result<(Program, Vec<usize>), ReadError>;
 }

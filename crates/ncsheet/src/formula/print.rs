@@ -480,7 +480,7 @@ mod tests {
 
     #[test]
     fn an_in_place_lambda_with_an_optional_parameter_prints_as_typed() {
-        // A file's spelling (src/io/xlsx/syntax.rs tests the way back) reads as typed.
+        // A file's spelling (crates/ncsheet/src/io/xlsx/syntax.rs tests the way back) reads as typed.
         let file = "_xlfn.LAMBDA(_xlpm.a,_xlop.b,_xlpm.a*_xlpm.b)(A5)";
         let typed = "LAMBDA(a,[b],a*b)(A5)";
         assert_eq!(printed(file, &AsTyped), typed);

@@ -7,12 +7,12 @@ use std::path::{Path, PathBuf};
 
 use serde_json::{json, Value as Json};
 
-use crate::document::{Document, SaveFormat};
-use crate::eval::Value;
-use crate::formula::address::{column_name, Pos, Rect};
-use crate::formula::ast::SheetId;
-use crate::io::{self, atomic, Content, Encoded, Export, ExportOptions};
-use crate::workbook::Problem;
+use ncsheet::document::{Document, SaveFormat};
+use ncsheet::eval::Value;
+use ncsheet::formula::address::{column_name, Pos, Rect};
+use ncsheet::formula::ast::SheetId;
+use ncsheet::io::{self, atomic, Content, Encoded, Export, ExportOptions};
+use ncsheet::workbook::Problem;
 
 /// The most cells one window may ask for: a screen of a large monitor, several times over.
 const MAX_WINDOW_ROWS: u32 = 1000;
@@ -84,7 +84,7 @@ impl Workbench {
     }
 
     /// The workbook, for a macro run from the page (its writes are not in the edit history).
-    pub fn workbook_mut(&mut self) -> &mut crate::workbook::Workbook {
+    pub fn workbook_mut(&mut self) -> &mut ncsheet::workbook::Workbook {
         self.doc.workbook_mut()
     }
 

@@ -1,4 +1,4 @@
-//! Macro source to [`Module`]: runs the one pest parser (`Rule::module`, grammar/macro.pest)
+//! Macro source to [`Module`]: runs the one pest parser (`Rule::module`, crates/ncsheet/grammar/macro.pest)
 //! and builds statements here and expressions through the formula builder's Pratt table
 //! ([`build_expr`]), which hands back the primaries only macros have (variables, member
 //! paths, `[B3]`) through [`HostPrimaries`].
