@@ -155,11 +155,6 @@ const ALLOWED: &[(&str, &str)] = &[
         "what the harness's one-sheet environment cannot answer (other cells' formulas, the sheet list)",
     ),
     (
-        "crates/ncsheet/src/io/legacy/biff.rs",
-        "the .xls format's own function numbers ([MS-XLS] Ftab), read by the .xls reader alone; \
-         owed to FnSpec as a .biff(n) fact on each row",
-    ),
-    (
         "crates/ncsheet/src/io/legacy/ods.rs",
         "the names LibreOffice writes for some of Excel's functions: a fact about another program",
     ),

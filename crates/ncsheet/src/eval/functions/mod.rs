@@ -8,7 +8,8 @@
 //! [`REGISTRY`]. A function
 //! whose result changes by itself (NOW) is marked [`FnSpec::volatile`]; the other facts
 //! about a function (its `_xlfn.` spelling in files, whether it makes a dynamic-array
-//! formula, which arguments take whole ranges) are builder methods on its row too, so that
+//! formula, which arguments take whole ranges, its number in .xls files) are builder methods
+//! on its row too, so that
 //! no list of names elsewhere repeats the registry.
 
 use std::collections::HashMap;
@@ -95,6 +96,18 @@ pub struct FnSpec {
     /// Its first argument, written as a reference, is read for where it is, not for what it
     /// holds (ROW, ROWS, ISREF …; INDEX links the cells it returns at run time): no graph edge.
     pub position_arg: bool,
+    /// Its place in the .xls format's function table (MS-XLS 2.5.198.17 `Ftab`), for the
+    /// functions Excel 97 had: the .xls reader knows a function by it.
+    pub biff: Option<Biff>,
+}
+
+/// A function's place in the .xls format's function table.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Biff {
+    pub number: u16,
+    /// The count of arguments of a call stored without one (`PtgFunc`); `None` where the
+    /// count varies (such a call always stores it, `PtgFuncVar`).
+    pub fixed_args: Option<u8>,
 }
 
 /// What a function's result may depend on besides its arguments and the cells it reads.
@@ -211,6 +224,7 @@ impl FnSpec {
             range_args: ArgSet::NONE,
             reads: Outside::Nothing,
             position_arg: false,
+            biff: None,
         }
     }
 
@@ -265,6 +279,19 @@ impl FnSpec {
     pub const fn position_arg(self) -> FnSpec {
         FnSpec { position_arg: true, ..self }
     }
+
+    /// The same function, number `number` of the .xls format's function table; a call stored
+    /// without a count of arguments has the row's count when that is fixed.
+    pub const fn biff(self, number: u16) -> FnSpec {
+        let fixed_args = if self.min_args == self.max_args { Some(self.min_args as u8) } else { None };
+        FnSpec { biff: Some(Biff { number, fixed_args }), ..self }
+    }
+
+    /// [`FnSpec::biff`] for a function whose .xls calls always store `args` arguments although
+    /// a formula may give it fewer (DCOUNT's field may be left out: `DCOUNT(A1:B9,,D1:D2)`).
+    pub const fn biff_fixed(self, number: u16, args: u8) -> FnSpec {
+        FnSpec { biff: Some(Biff { number, fixed_args: Some(args) }), ..self }
+    }
 }
 
 /// Every function, in one list. Ids are indexes into it.
@@ -296,6 +323,22 @@ static BY_NAME: LazyLock<HashMap<String, FnId>> = LazyLock::new(|| {
     }
     map
 });
+
+static BY_BIFF: LazyLock<HashMap<u16, FnId>> = LazyLock::new(|| {
+    let mut map = HashMap::new();
+    for (i, f) in REGISTRY.iter().enumerate() {
+        if let Some(biff) = f.biff {
+            let previous = map.insert(biff.number, i as FnId);
+            assert!(previous.is_none(), ".xls function number {} is given twice", biff.number);
+        }
+    }
+    map
+});
+
+/// The function numbered `number` in the .xls format's function table, if ncsheet has it.
+pub fn find_biff(number: u16) -> Option<FnId> {
+    BY_BIFF.get(&number).copied()
+}
 
 pub fn spec(id: FnId) -> &'static FnSpec {
     &REGISTRY[id as usize]

@@ -20,6 +20,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "DAVERAGE(database, field, criteria)",
         "Mean of a field over the records that meet the criteria",
     )
+    .biff(42)
     .range_args(ArgSet::ALL),
     FnSpec::value(
         "DCOUNT",
@@ -29,6 +30,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "DCOUNT(database, [field], criteria)",
         "How many numbers a field holds in the records that meet the criteria",
     )
+    .biff_fixed(40, 3)
     .range_args(ArgSet::ALL),
     FnSpec::value(
         "DCOUNTA",
@@ -38,6 +40,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "DCOUNTA(database, [field], criteria)",
         "How many non-empty cells a field holds in the records that meet the criteria",
     )
+    .biff_fixed(199, 3)
     .range_args(ArgSet::ALL),
     FnSpec::value(
         "DGET",
@@ -47,6 +50,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "DGET(database, field, criteria)",
         "The field of the one record that meets the criteria",
     )
+    .biff(235)
     .range_args(ArgSet::ALL),
     FnSpec::value(
         "DMAX",
@@ -56,6 +60,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "DMAX(database, field, criteria)",
         "Largest number of a field over the records that meet the criteria",
     )
+    .biff(44)
     .range_args(ArgSet::ALL),
     FnSpec::value(
         "DMIN",
@@ -65,6 +70,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "DMIN(database, field, criteria)",
         "Smallest number of a field over the records that meet the criteria",
     )
+    .biff(43)
     .range_args(ArgSet::ALL),
     FnSpec::value(
         "DPRODUCT",
@@ -74,6 +80,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "DPRODUCT(database, field, criteria)",
         "Product of a field over the records that meet the criteria",
     )
+    .biff(189)
     .range_args(ArgSet::ALL),
     FnSpec::value(
         "DSTDEV",
@@ -83,6 +90,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "DSTDEV(database, field, criteria)",
         "Sample standard deviation of a field over the matching records",
     )
+    .biff(45)
     .range_args(ArgSet::ALL),
     FnSpec::value(
         "DSTDEVP",
@@ -92,6 +100,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "DSTDEVP(database, field, criteria)",
         "Population standard deviation of a field over the matching records",
     )
+    .biff(195)
     .range_args(ArgSet::ALL),
     FnSpec::value(
         "DSUM",
@@ -101,6 +110,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "DSUM(database, field, criteria)",
         "Sum of a field over the records that meet the criteria",
     )
+    .biff(41)
     .range_args(ArgSet::ALL),
     FnSpec::value(
         "DVAR",
@@ -110,6 +120,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "DVAR(database, field, criteria)",
         "Sample variance of a field over the matching records",
     )
+    .biff(47)
     .range_args(ArgSet::ALL),
     FnSpec::value(
         "DVARP",
@@ -119,6 +130,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "DVARP(database, field, criteria)",
         "Population variance of a field over the matching records",
     )
+    .biff(196)
     .range_args(ArgSet::ALL),
 ];
 

@@ -19,7 +19,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         date,
         "DATE(year, month, day)",
         "Serial number of a date; months and days beyond their range roll over",
-    ),
+    )
+    .biff(65),
     FnSpec::value(
         "DATEDIF",
         3,
@@ -27,7 +28,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         datedif,
         "DATEDIF(start_date, end_date, unit)",
         "Whole years (\"Y\"), months (\"M\"), days (\"D\") or the rest (\"YM\", \"YD\", \"MD\") between two dates",
-    ),
+    )
+    .biff(351),
     FnSpec::value(
         "DATEVALUE",
         1,
@@ -35,8 +37,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         datevalue,
         "DATEVALUE(date_text)",
         "Serial number of a date written as text (2024-01-10, 1/10/2024, 10-Jan-2024)",
-    ),
-    FnSpec::value("DAY", 1, 1, day, "DAY(serial_number)", "Day of the month, 1 to 31"),
+    )
+    .biff(140),
+    FnSpec::value("DAY", 1, 1, day, "DAY(serial_number)", "Day of the month, 1 to 31").biff(67),
     FnSpec::value("DAYS", 2, 2, days, "DAYS(end_date, start_date)", "Days from start_date to end_date").future(),
     FnSpec::value(
         "DAYS360",
@@ -45,7 +48,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         days360,
         "DAYS360(start_date, end_date, [method])",
         "Days between two dates in a 360-day year; method TRUE is the European rule",
-    ),
+    )
+    .biff(220),
     FnSpec::value(
         "EDATE",
         2,
@@ -62,10 +66,10 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "EOMONTH(start_date, months)",
         "Last day of the month months after (or before) start_date",
     ),
-    FnSpec::value("HOUR", 1, 1, hour, "HOUR(serial_number)", "Hour of the time, 0 to 23"),
+    FnSpec::value("HOUR", 1, 1, hour, "HOUR(serial_number)", "Hour of the time, 0 to 23").biff(71),
     FnSpec::value("ISOWEEKNUM", 1, 1, isoweeknum, "ISOWEEKNUM(date)", "ISO 8601 week number (weeks start on Monday)").future(),
-    FnSpec::value("MINUTE", 1, 1, minute, "MINUTE(serial_number)", "Minute of the time, 0 to 59"),
-    FnSpec::value("MONTH", 1, 1, month, "MONTH(serial_number)", "Month of the date, 1 to 12"),
+    FnSpec::value("MINUTE", 1, 1, minute, "MINUTE(serial_number)", "Minute of the time, 0 to 59").biff(72),
+    FnSpec::value("MONTH", 1, 1, month, "MONTH(serial_number)", "Month of the date, 1 to 12").biff(68),
     FnSpec::value(
         "NETWORKDAYS",
         2,
@@ -82,8 +86,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "NETWORKDAYS.INTL(start_date, end_date, [weekend], [holidays])",
         "NETWORKDAYS with the weekend days chosen (1-7, 11-17 or a mask like \"0000011\")",
     ),
-    FnSpec::value("NOW", 0, 0, now, "NOW()", "The current date and time (volatile)").volatile().reads(Outside::Clock),
-    FnSpec::value("SECOND", 1, 1, second, "SECOND(serial_number)", "Second of the time, 0 to 59"),
+    FnSpec::value("NOW", 0, 0, now, "NOW()", "The current date and time (volatile)")
+        .biff(74).volatile().reads(Outside::Clock),
+    FnSpec::value("SECOND", 1, 1, second, "SECOND(serial_number)", "Second of the time, 0 to 59").biff(73),
     FnSpec::value(
         "TIME",
         3,
@@ -91,7 +96,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         time,
         "TIME(hour, minute, second)",
         "Time of day as a fraction of a day; beyond 24 hours it wraps",
-    ),
+    )
+    .biff(66),
     FnSpec::value(
         "TIMEVALUE",
         1,
@@ -99,8 +105,10 @@ pub const FUNCTIONS: &[FnSpec] = &[
         timevalue,
         "TIMEVALUE(time_text)",
         "Time of day of a time written as text (13:30, 1:30 PM), as a fraction of a day",
-    ),
-    FnSpec::value("TODAY", 0, 0, today, "TODAY()", "The current date (volatile)").volatile().reads(Outside::Clock),
+    )
+    .biff(141),
+    FnSpec::value("TODAY", 0, 0, today, "TODAY()", "The current date (volatile)")
+        .biff(221).volatile().reads(Outside::Clock),
     FnSpec::value(
         "WEEKDAY",
         1,
@@ -108,7 +116,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         weekday,
         "WEEKDAY(serial_number, [return_type])",
         "Day of the week: 1 (Sunday) to 7; return_type 2, 3, 11-17 count from other days",
-    ),
+    )
+    .biff(70),
     FnSpec::value(
         "WEEKNUM",
         1,
@@ -133,7 +142,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "WORKDAY.INTL(start_date, days, [weekend], [holidays])",
         "WORKDAY with the weekend days chosen (1-7, 11-17 or a mask like \"0000011\")",
     ),
-    FnSpec::value("YEAR", 1, 1, year, "YEAR(serial_number)", "Year of the date, 1900 to 9999"),
+    FnSpec::value("YEAR", 1, 1, year, "YEAR(serial_number)", "Year of the date, 1900 to 9999").biff(69),
     FnSpec::value(
         "YEARFRAC",
         2,

@@ -14,10 +14,10 @@ use crate::eval::coerce::to_number;
 use crate::eval::functions::math::basic::toolpak_number;
 
 pub const FUNCTIONS: &[FnSpec] = &[
-    FnSpec::value("PV", 3, 5, pv, "PV(rate, nper, pmt, [fv], [type])", "Present value of an annuity"),
-    FnSpec::value("FV", 3, 5, fv, "FV(rate, nper, pmt, [pv], [type])", "Future value of an annuity"),
-    FnSpec::value("PMT", 3, 5, pmt, "PMT(rate, nper, pv, [fv], [type])", "Payment per period of an annuity"),
-    FnSpec::value("NPER", 3, 5, nper, "NPER(rate, pmt, pv, [fv], [type])", "Number of periods of an annuity"),
+    FnSpec::value("PV", 3, 5, pv, "PV(rate, nper, pmt, [fv], [type])", "Present value of an annuity").biff(56),
+    FnSpec::value("FV", 3, 5, fv, "FV(rate, nper, pmt, [pv], [type])", "Future value of an annuity").biff(57),
+    FnSpec::value("PMT", 3, 5, pmt, "PMT(rate, nper, pv, [fv], [type])", "Payment per period of an annuity").biff(59),
+    FnSpec::value("NPER", 3, 5, nper, "NPER(rate, pmt, pv, [fv], [type])", "Number of periods of an annuity").biff(58),
     FnSpec::value(
         "RATE",
         3,
@@ -25,9 +25,12 @@ pub const FUNCTIONS: &[FnSpec] = &[
         rate,
         "RATE(nper, pmt, pv, [fv], [type], [guess])",
         "Interest rate per period of an annuity (Newton's method from guess, 0.1)",
-    ),
-    FnSpec::value("IPMT", 4, 6, ipmt, "IPMT(rate, per, nper, pv, [fv], [type])", "Interest part of payment per"),
-    FnSpec::value("PPMT", 4, 6, ppmt, "PPMT(rate, per, nper, pv, [fv], [type])", "Principal part of payment per"),
+    )
+    .biff(60),
+    FnSpec::value("IPMT", 4, 6, ipmt, "IPMT(rate, per, nper, pv, [fv], [type])", "Interest part of payment per")
+        .biff(167),
+    FnSpec::value("PPMT", 4, 6, ppmt, "PPMT(rate, per, nper, pv, [fv], [type])", "Principal part of payment per")
+        .biff(168),
     FnSpec::value(
         "CUMIPMT",
         6,
@@ -44,12 +47,14 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "CUMPRINC(rate, nper, pv, start_period, end_period, type)",
         "Principal paid between two periods",
     ),
-    FnSpec::value("ISPMT", 4, 4, ispmt, "ISPMT(rate, per, nper, pv)", "Interest of period per with even principal"),
-    FnSpec::value("NPV", 2, MANY, npv, "NPV(rate, value1, …)", "Net present value of payments at period ends")
+    FnSpec::value("ISPMT", 4, 4, ispmt, "ISPMT(rate, per, nper, pv)", "Interest of period per with even principal")
+        .biff(350),
+    FnSpec::value("NPV", 2, MANY, npv, "NPV(rate, value1, …)", "Net present value of payments at period ends").biff(11)
         .range_args(ArgSet::from(1)),
-    FnSpec::value("IRR", 1, 2, irr, "IRR(values, [guess])", "Internal rate of return of periodic cash flows")
+    FnSpec::value("IRR", 1, 2, irr, "IRR(values, [guess])", "Internal rate of return of periodic cash flows").biff(62)
         .range_args(ArgSet::only(0)),
     FnSpec::value("MIRR", 3, 3, mirr, "MIRR(values, finance_rate, reinvest_rate)", "Modified internal rate of return")
+        .biff(61)
         .range_args(ArgSet::only(0)),
     FnSpec::value("XNPV", 3, 3, xnpv, "XNPV(rate, values, dates)", "Net present value of dated cash flows")
         .range_args(ArgSet::from(1)),
@@ -64,9 +69,10 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "principal compounded by each rate of schedule",
     )
     .array_args(ArgSet::only(1)),
-    FnSpec::value("SLN", 3, 3, sln, "SLN(cost, salvage, life)", "Straight-line depreciation per period"),
-    FnSpec::value("SYD", 4, 4, syd, "SYD(cost, salvage, life, per)", "Sum-of-years'-digits depreciation"),
-    FnSpec::value("DB", 4, 5, db, "DB(cost, salvage, life, period, [month])", "Fixed-declining-balance depreciation"),
+    FnSpec::value("SLN", 3, 3, sln, "SLN(cost, salvage, life)", "Straight-line depreciation per period").biff(142),
+    FnSpec::value("SYD", 4, 4, syd, "SYD(cost, salvage, life, per)", "Sum-of-years'-digits depreciation").biff(143),
+    FnSpec::value("DB", 4, 5, db, "DB(cost, salvage, life, period, [month])", "Fixed-declining-balance depreciation")
+        .biff(247),
     FnSpec::value(
         "DDB",
         4,
@@ -74,7 +80,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         ddb,
         "DDB(cost, salvage, life, period, [factor])",
         "Double- (or factor-) declining-balance depreciation",
-    ),
+    )
+    .biff(144),
     FnSpec::value(
         "VDB",
         5,
@@ -82,7 +89,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         vdb,
         "VDB(cost, salvage, life, start_period, end_period, [factor], [no_switch])",
         "Declining-balance depreciation between two periods, switching to straight line",
-    ),
+    )
+    .biff(222),
     FnSpec::value("EFFECT", 2, 2, effect, "EFFECT(nominal_rate, npery)", "Effective annual rate"),
     FnSpec::value("NOMINAL", 2, 2, nominal, "NOMINAL(effect_rate, npery)", "Nominal annual rate"),
     FnSpec::value("PDURATION", 3, 3, pduration, "PDURATION(rate, pv, fv)", "Periods for pv to grow to fv").future(),

@@ -6,18 +6,20 @@ use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
 pub const FUNCTIONS: &[FnSpec] = &[
-    FnSpec::value("ISNUMBER", 1, 1, isnumber, "ISNUMBER(value)", "TRUE for a number"),
-    FnSpec::value("ISTEXT", 1, 1, istext, "ISTEXT(value)", "TRUE for text"),
-    FnSpec::value("ISNONTEXT", 1, 1, isnontext, "ISNONTEXT(value)", "TRUE for anything but text (blank included)"),
-    FnSpec::value("ISBLANK", 1, 1, isblank, "ISBLANK(value)", "TRUE for an empty cell (not for the text \"\")"),
-    FnSpec::value("ISLOGICAL", 1, 1, islogical, "ISLOGICAL(value)", "TRUE for TRUE or FALSE"),
-    FnSpec::value("ISERROR", 1, 1, iserror, "ISERROR(value)", "TRUE for any error"),
-    FnSpec::value("ISERR", 1, 1, iserr, "ISERR(value)", "TRUE for any error but #N/A"),
-    FnSpec::value("ISNA", 1, 1, isna, "ISNA(value)", "TRUE for #N/A"),
-    FnSpec::value("ISREF", 1, 1, isref, "ISREF(value)", "TRUE when the argument is a reference")
+    FnSpec::value("ISNUMBER", 1, 1, isnumber, "ISNUMBER(value)", "TRUE for a number").biff(128),
+    FnSpec::value("ISTEXT", 1, 1, istext, "ISTEXT(value)", "TRUE for text").biff(127),
+    FnSpec::value("ISNONTEXT", 1, 1, isnontext, "ISNONTEXT(value)", "TRUE for anything but text (blank included)")
+        .biff(190),
+    FnSpec::value("ISBLANK", 1, 1, isblank, "ISBLANK(value)", "TRUE for an empty cell (not for the text \"\")")
+        .biff(129),
+    FnSpec::value("ISLOGICAL", 1, 1, islogical, "ISLOGICAL(value)", "TRUE for TRUE or FALSE").biff(198),
+    FnSpec::value("ISERROR", 1, 1, iserror, "ISERROR(value)", "TRUE for any error").biff(3),
+    FnSpec::value("ISERR", 1, 1, iserr, "ISERR(value)", "TRUE for any error but #N/A").biff(126),
+    FnSpec::value("ISNA", 1, 1, isna, "ISNA(value)", "TRUE for #N/A").biff(2),
+    FnSpec::value("ISREF", 1, 1, isref, "ISREF(value)", "TRUE when the argument is a reference").biff(105)
         .range_args(ArgSet::only(0))
         .position_arg(),
-    FnSpec::value("NA", 0, 0, na, "NA()", "The #N/A error"),
+    FnSpec::value("NA", 0, 0, na, "NA()", "The #N/A error").biff(10),
     FnSpec::value(
         "ERROR.TYPE",
         1,
@@ -25,10 +27,11 @@ pub const FUNCTIONS: &[FnSpec] = &[
         error_type,
         "ERROR.TYPE(value)",
         "1 #NULL!, 2 #DIV/0!, 3 #VALUE!, 4 #REF!, 5 #NAME?, 6 #NUM!, 7 #N/A; #N/A for a non-error",
-    ),
-    FnSpec::value("N", 1, 1, n, "N(value)", "A number as itself, TRUE as 1, anything else as 0; errors stay"),
-    FnSpec::value("T", 1, 1, t, "T(value)", "Text as itself, anything else as \"\"; errors stay"),
-    FnSpec::value("TYPE", 1, 1, type_fn, "TYPE(value)", "1 number, 2 text, 4 logical, 16 error, 64 array"),
+    )
+    .biff(261),
+    FnSpec::value("N", 1, 1, n, "N(value)", "A number as itself, TRUE as 1, anything else as 0; errors stay").biff(131),
+    FnSpec::value("T", 1, 1, t, "T(value)", "Text as itself, anything else as \"\"; errors stay").biff(130),
+    FnSpec::value("TYPE", 1, 1, type_fn, "TYPE(value)", "1 number, 2 text, 4 logical, 16 error, 64 array").biff(86),
 ];
 
 /// A test on one value, lifted over arrays and ranges (`ISBLANK(A1:A3)` spills).

@@ -16,7 +16,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         if_fn,
         "IF(condition, then, [else])",
         "then when condition is TRUE, else otherwise (FALSE when omitted)",
-    ),
+    )
+    .biff(1),
     FnSpec::value(
         "IFS",
         2,
@@ -43,6 +44,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "AND(logical1, …)",
         "TRUE when every argument is TRUE; text and blanks in ranges are skipped",
     )
+    .biff(36)
     .range_args(ArgSet::ALL),
     FnSpec::value(
         "OR",
@@ -52,11 +54,12 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "OR(logical1, …)",
         "TRUE when any argument is TRUE; text and blanks in ranges are skipped",
     )
+    .biff(37)
     .range_args(ArgSet::ALL),
     FnSpec::value("XOR", 1, MANY, xor, "XOR(logical1, …)", "TRUE when an odd number of arguments are TRUE")
         .future()
         .range_args(ArgSet::ALL),
-    FnSpec::value("NOT", 1, 1, not, "NOT(logical)", "Reverses TRUE and FALSE"),
+    FnSpec::value("NOT", 1, 1, not, "NOT(logical)", "Reverses TRUE and FALSE").biff(38),
     FnSpec::value(
         "SWITCH",
         3,
@@ -74,9 +77,10 @@ pub const FUNCTIONS: &[FnSpec] = &[
         choose,
         "CHOOSE(index, value1, value2, …)",
         "The index-th value (1-based); references stay references",
-    ),
-    FnSpec::value("TRUE", 0, 0, true_fn, "TRUE()", "The logical value TRUE"),
-    FnSpec::value("FALSE", 0, 0, false_fn, "FALSE()", "The logical value FALSE"),
+    )
+    .biff(100),
+    FnSpec::value("TRUE", 0, 0, true_fn, "TRUE()", "The logical value TRUE").biff(34),
+    FnSpec::value("FALSE", 0, 0, false_fn, "FALSE()", "The logical value FALSE").biff(35),
 ];
 
 /// IF returns the chosen branch as a reference when it is one (`SUM(A1:IF(x, B5, B9))`).

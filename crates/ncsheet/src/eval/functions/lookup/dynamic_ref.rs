@@ -21,6 +21,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "INDIRECT(ref_text, [a1])",
         "The reference named by text: A1 style (`B3`, `Sheet2!A1:C4`, a defined name), or R1C1 style when a1 is FALSE",
     )
+    .biff(148)
     .volatile(),
     FnSpec::reference(
         "OFFSET",
@@ -30,6 +31,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "OFFSET(reference, rows, cols, [height], [width])",
         "The reference moved by rows and cols, with the given height and width (the original's by default)",
     )
+    .biff(78)
     .range_args(ArgSet::only(0))
     .volatile()
     .reach_linked(),

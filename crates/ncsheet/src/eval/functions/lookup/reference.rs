@@ -16,17 +16,22 @@ use crate::formula::ast::{Expr, ExprKind, FnId};
 use crate::formula::print::quote_sheet_name;
 
 pub const FUNCTIONS: &[FnSpec] = &[
-    FnSpec::value("ADDRESS", 2, 5, address, "ADDRESS(row, column, [abs_num], [a1], [sheet_text])", "A cell address as text (abs_num 1 $A$1, 2 A$1, 3 $A1, 4 A1)"),
+    FnSpec::value("ADDRESS", 2, 5, address, "ADDRESS(row, column, [abs_num], [a1], [sheet_text])", "A cell address as text (abs_num 1 $A$1, 2 A$1, 3 $A1, 4 A1)")
+        .biff(219),
     FnSpec::value("AGGREGATE", 3, MANY, aggregate, "AGGREGATE(function_num, options, ref1, [ref2], ...)", "SUBTOTAL's functions and more (14 LARGE … 19 QUARTILE.EXC), optionally skipping errors").future().range_args(ArgSet::from(2)),
-    FnSpec::value("CELL", 1, 2, cell, "CELL(info_type, [reference])", "Facts about a cell: \"address\", \"col\", \"row\", \"contents\", \"type\" (b blank, l text, v value)").range_args(ArgSet::only(1)),
+    FnSpec::value("CELL", 1, 2, cell, "CELL(info_type, [reference])", "Facts about a cell: \"address\", \"col\", \"row\", \"contents\", \"type\" (b blank, l text, v value)")
+        .biff(125).range_args(ArgSet::only(1)),
     FnSpec::reference("TRIMRANGE", 1, 3, trimrange, "TRIMRANGE(range, [trim_rows], [trim_cols])", "The range without its blank outer rows and columns (0 none, 1 leading, 2 trailing, 3 both: the default)").future().dynamic().range_args(ArgSet::only(0)),
-    FnSpec::value("INFO", 1, 1, info, "INFO(type_text)", "About the environment: \"numfile\", \"recalc\", \"system\" … as Excel 365 on Windows").reads(Outside::Host).volatile(),
+    FnSpec::value("INFO", 1, 1, info, "INFO(type_text)", "About the environment: \"numfile\", \"recalc\", \"system\" … as Excel 365 on Windows")
+        .biff(244).reads(Outside::Host).volatile(),
     FnSpec::value("FORMULATEXT", 1, 1, formulatext, "FORMULATEXT(reference)", "The formula of a cell as text; #N/A when it holds none").future().range_args(ArgSet::only(0)),
-    FnSpec::value("HYPERLINK", 1, 2, hyperlink, "HYPERLINK(link_location, [friendly_name])", "The text a link shows: friendly_name, or the location (ncsheet opens no links)"),
+    FnSpec::value("HYPERLINK", 1, 2, hyperlink, "HYPERLINK(link_location, [friendly_name])", "The text a link shows: friendly_name, or the location (ncsheet opens no links)")
+        .biff(359),
     FnSpec::value("ISFORMULA", 1, 1, isformula, "ISFORMULA(reference)", "Whether a cell holds a formula").future().range_args(ArgSet::only(0)),
     FnSpec::value("SHEET", 0, 1, sheet, "SHEET([value])", "The number of a sheet (of a reference or a sheet name; this one by default)").future().range_args(ArgSet::only(0)),
     FnSpec::value("SHEETS", 0, 1, sheets, "SHEETS([reference])", "How many sheets (in a reference; the workbook's by default)").future().range_args(ArgSet::only(0)),
-    FnSpec::value("SUBTOTAL", 2, MANY, subtotal, "SUBTOTAL(function_num, ref1, [ref2], ...)", "1 AVERAGE 2 COUNT 3 COUNTA 4 MAX 5 MIN 6 PRODUCT 7 STDEV 8 STDEVP 9 SUM 10 VAR 11 VARP, skipping other subtotals").range_args(ArgSet::from(1)),
+    FnSpec::value("SUBTOTAL", 2, MANY, subtotal, "SUBTOTAL(function_num, ref1, [ref2], ...)", "1 AVERAGE 2 COUNT 3 COUNTA 4 MAX 5 MIN 6 PRODUCT 7 STDEV 8 STDEVP 9 SUM 10 VAR 11 VARP, skipping other subtotals")
+        .biff(344).range_args(ArgSet::from(1)),
 ];
 
 fn address(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {

@@ -20,7 +20,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         index,
         "INDEX(array, row, [column], [area])",
         "The cell (a reference) or item at row and column; 0 or omitted takes the whole row or column",
-    ).array_args(ArgSet::only(0)).position_arg(),
+    )
+    .biff(29).array_args(ArgSet::only(0)).position_arg(),
     FnSpec::value(
         "AREAS",
         1,
@@ -28,7 +29,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         areas,
         "AREAS(reference)",
         "Number of areas of a reference: (A1:B2,D4) has 2",
-    ).range_args(ArgSet::ALL).position_arg(),
+    )
+    .biff(75).range_args(ArgSet::ALL).position_arg(),
     FnSpec::value(
         "MATCH",
         2,
@@ -36,7 +38,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         match_fn,
         "MATCH(value, lookup_array, [match_type])",
         "Position of value: 1 largest <= (sorted ascending), 0 exact with wildcards, -1 smallest >= (sorted descending)",
-    ).array_args(ArgSet::only(1)),
+    )
+    .biff(64).array_args(ArgSet::only(1)),
     FnSpec::value(
         "VLOOKUP",
         3,
@@ -44,7 +47,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         vlookup,
         "VLOOKUP(value, table, column, [approximate])",
         "Finds value in the table's first column and returns that row's column-th item",
-    ).array_args(ArgSet::only(1)),
+    )
+    .biff(102).array_args(ArgSet::only(1)),
     FnSpec::value(
         "HLOOKUP",
         3,
@@ -52,7 +56,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         hlookup,
         "HLOOKUP(value, table, row, [approximate])",
         "Finds value in the table's first row and returns that column's row-th item",
-    ).array_args(ArgSet::only(1)),
+    )
+    .biff(101).array_args(ArgSet::only(1)),
     FnSpec::reference(
         "XLOOKUP",
         3,
@@ -76,7 +81,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         lookup_fn,
         "LOOKUP(value, lookup_vector, [result_vector])",
         "Approximate lookup in sorted data: the result at the last position not above value",
-    ).array_args(ArgSet::from(1)),
+    )
+    .biff(28).array_args(ArgSet::from(1)),
     FnSpec::value(
         "ROW",
         0,
@@ -84,7 +90,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         row,
         "ROW([reference])",
         "Row number of a reference (of the formula's cell when omitted)",
-    ).range_args(ArgSet::only(0)).position_arg(),
+    )
+    .biff(8).range_args(ArgSet::only(0)).position_arg(),
     FnSpec::value(
         "COLUMN",
         0,
@@ -92,7 +99,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         column,
         "COLUMN([reference])",
         "Column number of a reference (of the formula's cell when omitted)",
-    ).range_args(ArgSet::only(0)).position_arg(),
+    )
+    .biff(9).range_args(ArgSet::only(0)).position_arg(),
     FnSpec::value(
         "ROWS",
         1,
@@ -100,7 +108,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         rows,
         "ROWS(array)",
         "Number of rows of a reference or array",
-    ).range_args(ArgSet::ALL).position_arg(),
+    )
+    .biff(76).range_args(ArgSet::ALL).position_arg(),
     FnSpec::value(
         "COLUMNS",
         1,
@@ -108,7 +117,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         columns,
         "COLUMNS(array)",
         "Number of columns of a reference or array",
-    ).range_args(ArgSet::ALL).position_arg(),
+    )
+    .biff(77).range_args(ArgSet::ALL).position_arg(),
 ];
 
 // ---------------------------------------------------------------------------------------

@@ -13,14 +13,15 @@ use crate::formula::address::{MAX_COLS, MAX_ROWS};
 use crate::formula::ast::{Expr, ExprKind};
 
 pub const FUNCTIONS: &[FnSpec] = &[
-    FnSpec::value("ABS", 1, 1, abs, "ABS(number)", "Absolute value"),
-    FnSpec::value("ACOS", 1, 1, acos, "ACOS(number)", "Arccosine in radians, 0 to pi; #NUM! outside -1..1"),
-    FnSpec::value("ACOSH", 1, 1, acosh, "ACOSH(number)", "Inverse hyperbolic cosine; #NUM! below 1"),
+    FnSpec::value("ABS", 1, 1, abs, "ABS(number)", "Absolute value").biff(24),
+    FnSpec::value("ACOS", 1, 1, acos, "ACOS(number)", "Arccosine in radians, 0 to pi; #NUM! outside -1..1").biff(99),
+    FnSpec::value("ACOSH", 1, 1, acosh, "ACOSH(number)", "Inverse hyperbolic cosine; #NUM! below 1").biff(233),
     FnSpec::value("ACOT", 1, 1, acot, "ACOT(number)", "Arccotangent in radians, 0 to pi").future(),
     FnSpec::value("ACOTH", 1, 1, acoth, "ACOTH(number)", "Inverse hyperbolic cotangent; #NUM! for -1..1").future(),
-    FnSpec::value("ASIN", 1, 1, asin, "ASIN(number)", "Arcsine in radians, -pi/2 to pi/2; #NUM! outside -1..1"),
-    FnSpec::value("ASINH", 1, 1, asinh, "ASINH(number)", "Inverse hyperbolic sine"),
-    FnSpec::value("ATAN", 1, 1, atan, "ATAN(number)", "Arctangent in radians, -pi/2 to pi/2"),
+    FnSpec::value("ASIN", 1, 1, asin, "ASIN(number)", "Arcsine in radians, -pi/2 to pi/2; #NUM! outside -1..1")
+        .biff(98),
+    FnSpec::value("ASINH", 1, 1, asinh, "ASINH(number)", "Inverse hyperbolic sine").biff(232),
+    FnSpec::value("ATAN", 1, 1, atan, "ATAN(number)", "Arctangent in radians, -pi/2 to pi/2").biff(18),
     FnSpec::value(
         "ATAN2",
         2,
@@ -28,8 +29,10 @@ pub const FUNCTIONS: &[FnSpec] = &[
         atan2,
         "ATAN2(x, y)",
         "Angle of the point (x, y) in radians, -pi to pi; x before y as in Excel",
-    ),
-    FnSpec::value("ATANH", 1, 1, atanh, "ATANH(number)", "Inverse hyperbolic tangent; #NUM! outside -1..1 (exclusive)"),
+    )
+    .biff(97),
+    FnSpec::value("ATANH", 1, 1, atanh, "ATANH(number)", "Inverse hyperbolic tangent; #NUM! outside -1..1 (exclusive)")
+        .biff(234),
     FnSpec::value(
         "CEILING",
         2,
@@ -37,7 +40,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         ceiling,
         "CEILING(number, significance)",
         "Rounds up to a multiple of significance (negative numbers toward zero)",
-    ),
+    )
+    .biff(288),
     FnSpec::value(
         "CEILING.MATH",
         1,
@@ -56,16 +60,17 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "Rounds up (toward +infinity) to a multiple of |significance|",
     )
     .future(),
-    FnSpec::value("COS", 1, 1, cos, "COS(angle)", "Cosine of an angle in radians"),
-    FnSpec::value("COSH", 1, 1, cosh, "COSH(number)", "Hyperbolic cosine"),
+    FnSpec::value("COS", 1, 1, cos, "COS(angle)", "Cosine of an angle in radians").biff(16),
+    FnSpec::value("COSH", 1, 1, cosh, "COSH(number)", "Hyperbolic cosine").biff(230),
     FnSpec::value("COT", 1, 1, cot, "COT(angle)", "Cotangent of an angle in radians").future(),
     FnSpec::value("COTH", 1, 1, coth, "COTH(number)", "Hyperbolic cotangent").future(),
     FnSpec::value("CSC", 1, 1, csc, "CSC(angle)", "Cosecant of an angle in radians").future(),
     FnSpec::value("CSCH", 1, 1, csch, "CSCH(number)", "Hyperbolic cosecant").future(),
-    FnSpec::value("DEGREES", 1, 1, degrees, "DEGREES(angle)", "Radians to degrees"),
-    FnSpec::value("EXP", 1, 1, exp, "EXP(number)", "e raised to number"),
-    FnSpec::value("EVEN", 1, 1, even, "EVEN(number)", "Rounds away from zero to an even integer"),
-    FnSpec::value("FACT", 1, 1, fact, "FACT(number)", "Factorial of the integer part; #NUM! below 0 or above 170"),
+    FnSpec::value("DEGREES", 1, 1, degrees, "DEGREES(angle)", "Radians to degrees").biff(343),
+    FnSpec::value("EXP", 1, 1, exp, "EXP(number)", "e raised to number").biff(21),
+    FnSpec::value("EVEN", 1, 1, even, "EVEN(number)", "Rounds away from zero to an even integer").biff(279),
+    FnSpec::value("FACT", 1, 1, fact, "FACT(number)", "Factorial of the integer part; #NUM! below 0 or above 170")
+        .biff(184),
     FnSpec::value(
         "FLOOR",
         2,
@@ -73,7 +78,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         floor,
         "FLOOR(number, significance)",
         "Rounds down to a multiple of significance (negative numbers away from zero)",
-    ),
+    )
+    .biff(285),
     FnSpec::value(
         "FLOOR.MATH",
         1,
@@ -92,7 +98,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "Rounds down (toward -infinity) to a multiple of |significance|",
     )
     .future(),
-    FnSpec::value("INT", 1, 1, int, "INT(number)", "Rounds down to an integer (INT(-2.5) = -3)"),
+    FnSpec::value("INT", 1, 1, int, "INT(number)", "Rounds down to an integer (INT(-2.5) = -3)").biff(25),
     FnSpec::value(
         "ISO.CEILING",
         1,
@@ -101,9 +107,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "ISO.CEILING(number, [significance])",
         "Same as CEILING.PRECISE",
     ),
-    FnSpec::value("LN", 1, 1, ln, "LN(number)", "Natural logarithm; #NUM! for 0 and below"),
-    FnSpec::value("LOG", 1, 2, log, "LOG(number, [base])", "Logarithm to base (10 when omitted)"),
-    FnSpec::value("LOG10", 1, 1, log10, "LOG10(number)", "Base-10 logarithm"),
+    FnSpec::value("LN", 1, 1, ln, "LN(number)", "Natural logarithm; #NUM! for 0 and below").biff(22),
+    FnSpec::value("LOG", 1, 2, log, "LOG(number, [base])", "Logarithm to base (10 when omitted)").biff(109),
+    FnSpec::value("LOG10", 1, 1, log10, "LOG10(number)", "Base-10 logarithm").biff(23),
     FnSpec::value(
         "MOD",
         2,
@@ -111,7 +117,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         modulo,
         "MOD(number, divisor)",
         "Remainder with the sign of the divisor; #DIV/0! for divisor 0",
-    ),
+    )
+    .biff(39),
     FnSpec::value(
         "MROUND",
         2,
@@ -120,9 +127,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "MROUND(number, multiple)",
         "Rounds half away from zero to a multiple; #NUM! when the signs differ",
     ),
-    FnSpec::value("PI", 0, 0, pi, "PI()", "3.14159265358979"),
-    FnSpec::value("ODD", 1, 1, odd, "ODD(number)", "Rounds away from zero to an odd integer"),
-    FnSpec::value("POWER", 2, 2, power_fn, "POWER(number, power)", "number^power"),
+    FnSpec::value("PI", 0, 0, pi, "PI()", "3.14159265358979").biff(19),
+    FnSpec::value("ODD", 1, 1, odd, "ODD(number)", "Rounds away from zero to an odd integer").biff(298),
+    FnSpec::value("POWER", 2, 2, power_fn, "POWER(number, power)", "number^power").biff(337),
     FnSpec::value(
         "PRODUCT",
         1,
@@ -131,12 +138,16 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "PRODUCT(number1, [number2], ...)",
         "Multiplies numbers; text and booleans in ranges are skipped",
     )
+    .biff(183)
     .range_args(ArgSet::ALL),
     FnSpec::value("QUOTIENT", 2, 2, quotient, "QUOTIENT(numerator, denominator)", "Integer part of a division"),
-    FnSpec::value("RADIANS", 1, 1, radians, "RADIANS(angle)", "Degrees to radians"),
-    FnSpec::value("ROUND", 2, 2, round, "ROUND(number, digits)", "Rounds half away from zero to digits decimals"),
-    FnSpec::value("ROUNDDOWN", 2, 2, rounddown, "ROUNDDOWN(number, digits)", "Rounds toward zero to digits decimals"),
-    FnSpec::value("ROUNDUP", 2, 2, roundup, "ROUNDUP(number, digits)", "Rounds away from zero to digits decimals"),
+    FnSpec::value("RADIANS", 1, 1, radians, "RADIANS(angle)", "Degrees to radians").biff(342),
+    FnSpec::value("ROUND", 2, 2, round, "ROUND(number, digits)", "Rounds half away from zero to digits decimals")
+        .biff(27),
+    FnSpec::value("ROUNDDOWN", 2, 2, rounddown, "ROUNDDOWN(number, digits)", "Rounds toward zero to digits decimals")
+        .biff(213),
+    FnSpec::value("ROUNDUP", 2, 2, roundup, "ROUNDUP(number, digits)", "Rounds away from zero to digits decimals")
+        .biff(212),
     FnSpec::value("SEC", 1, 1, sec, "SEC(angle)", "Secant of an angle in radians").future(),
     FnSpec::value("SECH", 1, 1, sech, "SECH(number)", "Hyperbolic secant").future(),
     FnSpec::value(
@@ -149,10 +160,10 @@ pub const FUNCTIONS: &[FnSpec] = &[
     )
     .future()
     .dynamic(),
-    FnSpec::value("SIGN", 1, 1, sign, "SIGN(number)", "1, 0 or -1 by the sign of number"),
-    FnSpec::value("SIN", 1, 1, sin, "SIN(angle)", "Sine of an angle in radians"),
-    FnSpec::value("SINH", 1, 1, sinh, "SINH(number)", "Hyperbolic sine"),
-    FnSpec::value("SQRT", 1, 1, sqrt, "SQRT(number)", "Square root; #NUM! for negative numbers"),
+    FnSpec::value("SIGN", 1, 1, sign, "SIGN(number)", "1, 0 or -1 by the sign of number").biff(26),
+    FnSpec::value("SIN", 1, 1, sin, "SIN(angle)", "Sine of an angle in radians").biff(15),
+    FnSpec::value("SINH", 1, 1, sinh, "SINH(number)", "Hyperbolic sine").biff(229),
+    FnSpec::value("SQRT", 1, 1, sqrt, "SQRT(number)", "Square root; #NUM! for negative numbers").biff(20),
     FnSpec::value("SQRTPI", 1, 1, sqrtpi, "SQRTPI(number)", "Square root of number*pi; #NUM! for negative numbers"),
     FnSpec::value(
         "SUM",
@@ -162,6 +173,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "SUM(number1, [number2], ...)",
         "Adds numbers; text and booleans in ranges are skipped",
     )
+    .biff(4)
     .range_args(ArgSet::ALL),
     FnSpec::value(
         "SUMPRODUCT",
@@ -171,6 +183,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "SUMPRODUCT(array1, [array2], ...)",
         "Sum of the item-by-item products of same-sized arrays; non-numbers count as 0",
     )
+    .biff(228)
     .array_args(ArgSet::ALL),
     FnSpec::value(
         "SUMSQ",
@@ -180,10 +193,12 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "SUMSQ(number1, [number2], ...)",
         "Sum of squares; text and booleans in ranges are skipped",
     )
+    .biff(321)
     .range_args(ArgSet::ALL),
-    FnSpec::value("TAN", 1, 1, tan, "TAN(angle)", "Tangent of an angle in radians"),
-    FnSpec::value("TANH", 1, 1, tanh, "TANH(number)", "Hyperbolic tangent"),
-    FnSpec::value("TRUNC", 1, 2, trunc, "TRUNC(number, [digits])", "Cuts off decimals beyond digits (0 when omitted)"),
+    FnSpec::value("TAN", 1, 1, tan, "TAN(angle)", "Tangent of an angle in radians").biff(17),
+    FnSpec::value("TANH", 1, 1, tanh, "TANH(number)", "Hyperbolic tangent").biff(231),
+    FnSpec::value("TRUNC", 1, 2, trunc, "TRUNC(number, [digits])", "Cuts off decimals beyond digits (0 when omitted)")
+        .biff(197),
 ];
 
 // ---- trigonometry -------------------------------------------------------------------------

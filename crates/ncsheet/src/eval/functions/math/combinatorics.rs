@@ -14,9 +14,10 @@ use crate::eval::value::{Array, Value, XlError, XlResult, MAX_ARRAY_ITEMS};
 use crate::formula::ast::{Expr, ExprKind};
 
 pub const FUNCTIONS: &[FnSpec] = &[
-    FnSpec::value("COMBIN", 2, 2, combin, "COMBIN(number, number_chosen)", "Combinations without repetition"),
+    FnSpec::value("COMBIN", 2, 2, combin, "COMBIN(number, number_chosen)", "Combinations without repetition").biff(276),
     FnSpec::value("COMBINA", 2, 2, combina, "COMBINA(number, number_chosen)", "Combinations with repetition").future(),
-    FnSpec::value("PERMUT", 2, 2, permut, "PERMUT(number, number_chosen)", "Ordered selections without repetition"),
+    FnSpec::value("PERMUT", 2, 2, permut, "PERMUT(number, number_chosen)", "Ordered selections without repetition")
+        .biff(299),
     FnSpec::value(
         "PERMUTATIONA",
         2,
@@ -38,17 +39,22 @@ pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("SERIESSUM", 4, 4, seriessum, "SERIESSUM(x, n, m, coefficients)", "Σ coefficient_i · x^(n + i·m)")
         .array_args(ArgSet::only(3)),
     FnSpec::value("SUMX2MY2", 2, 2, sumx2my2, "SUMX2MY2(array_x, array_y)", "Σ (x² - y²) over pairs of numbers")
+        .biff(304)
         .array_args(ArgSet::ALL),
     FnSpec::value("SUMX2PY2", 2, 2, sumx2py2, "SUMX2PY2(array_x, array_y)", "Σ (x² + y²) over pairs of numbers")
+        .biff(305)
         .array_args(ArgSet::ALL),
-    FnSpec::value("SUMXMY2", 2, 2, sumxmy2, "SUMXMY2(array_x, array_y)", "Σ (x - y)² over pairs of numbers")
+    FnSpec::value("SUMXMY2", 2, 2, sumxmy2, "SUMXMY2(array_x, array_y)", "Σ (x - y)² over pairs of numbers").biff(303)
         .array_args(ArgSet::ALL),
-    FnSpec::value("MMULT", 2, 2, mmult, "MMULT(array1, array2)", "Matrix product").array_args(ArgSet::ALL),
+    FnSpec::value("MMULT", 2, 2, mmult, "MMULT(array1, array2)", "Matrix product").biff(165).array_args(ArgSet::ALL),
     FnSpec::value("MINVERSE", 1, 1, minverse, "MINVERSE(array)", "Inverse of a square matrix; #NUM! when singular")
+        .biff(164)
         .array_args(ArgSet::ALL),
-    FnSpec::value("MDETERM", 1, 1, mdeterm, "MDETERM(array)", "Determinant of a square matrix").array_args(ArgSet::ALL),
+    FnSpec::value("MDETERM", 1, 1, mdeterm, "MDETERM(array)", "Determinant of a square matrix")
+        .biff(163).array_args(ArgSet::ALL),
     FnSpec::value("MUNIT", 1, 1, munit, "MUNIT(dimension)", "The identity matrix of that size").future(),
-    FnSpec::value("TRANSPOSE", 1, 1, transpose, "TRANSPOSE(array)", "Rows become columns").array_args(ArgSet::ALL),
+    FnSpec::value("TRANSPOSE", 1, 1, transpose, "TRANSPOSE(array)", "Rows become columns")
+        .biff(83).array_args(ArgSet::ALL),
 ];
 
 /// A count argument: truncated, at least 0.

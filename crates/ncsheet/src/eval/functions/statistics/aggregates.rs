@@ -19,6 +19,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "AVERAGE(number1, [number2], ...)",
         "Arithmetic mean; #DIV/0! when there are no numbers",
     )
+    .biff(5)
     .range_args(ArgSet::ALL),
     FnSpec::value(
         "AVERAGEIF",
@@ -46,6 +47,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "COUNT(value1, [value2], ...)",
         "How many numbers (typed numeric text and booleans count too)",
     )
+    .biff(0)
     .range_args(ArgSet::ALL),
     FnSpec::value(
         "COUNTA",
@@ -55,8 +57,10 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "COUNTA(value1, [value2], ...)",
         "How many values are not empty (errors and \"\" count)",
     )
+    .biff(169)
     .range_args(ArgSet::ALL),
     FnSpec::value("COUNTBLANK", 1, 1, countblank, "COUNTBLANK(range)", "How many cells are empty or hold \"\"")
+        .biff(347)
         .range_args(ArgSet::ALL),
     FnSpec::value(
         "COUNTIF",
@@ -66,6 +70,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "COUNTIF(range, criteria)",
         "How many cells meet the criteria (\"<5\", \"<>x\", \"ab*\", 3, …)",
     )
+    .biff(346)
     .range_args(ArgSet::only(0)),
     FnSpec::value(
         "COUNTIFS",
@@ -76,7 +81,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "How many positions meet every criteria",
     )
     .range_args(ArgSet::ALL),
-    FnSpec::value("MAX", 1, MANY, max, "MAX(number1, [number2], ...)", "Largest number; 0 when there is none")
+    FnSpec::value("MAX", 1, MANY, max, "MAX(number1, [number2], ...)", "Largest number; 0 when there is none").biff(7)
         .range_args(ArgSet::ALL),
     FnSpec::value(
         "MAXIFS",
@@ -96,8 +101,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "MEDIAN(number1, [number2], ...)",
         "Middle number (mean of the two middle ones for an even count)",
     )
+    .biff(227)
     .range_args(ArgSet::ALL),
-    FnSpec::value("MIN", 1, MANY, min, "MIN(number1, [number2], ...)", "Smallest number; 0 when there is none")
+    FnSpec::value("MIN", 1, MANY, min, "MIN(number1, [number2], ...)", "Smallest number; 0 when there is none").biff(6)
         .range_args(ArgSet::ALL),
     FnSpec::value(
         "MINIFS",
@@ -117,6 +123,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "SUMIF(range, criteria, [sum_range])",
         "Sum of the cells whose range cell meets the criteria",
     )
+    .biff(345)
     .range_args(ArgSet::except(1)),
     FnSpec::value(
         "SUMIFS",

@@ -16,6 +16,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "AVEDEV(number1, [number2], ...)",
         "Mean absolute deviation from the mean",
     )
+    .biff(269)
     .range_args(ArgSet::ALL),
     FnSpec::value(
         "AVERAGEA",
@@ -25,8 +26,10 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "AVERAGEA(value1, [value2], ...)",
         "Mean counting text in ranges as 0 and booleans as 1 or 0",
     )
+    .biff(361)
     .range_args(ArgSet::ALL),
     FnSpec::value("DEVSQ", 1, MANY, devsq, "DEVSQ(number1, [number2], ...)", "Sum of squared deviations from the mean")
+        .biff(318)
         .range_args(ArgSet::ALL),
     FnSpec::value(
         "MAXA",
@@ -36,6 +39,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "MAXA(value1, [value2], ...)",
         "Largest value counting text in ranges as 0 and booleans as 1 or 0",
     )
+    .biff(362)
     .range_args(ArgSet::ALL),
     FnSpec::value(
         "MINA",
@@ -45,8 +49,10 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "MINA(value1, [value2], ...)",
         "Smallest value counting text in ranges as 0 and booleans as 1 or 0",
     )
+    .biff(363)
     .range_args(ArgSet::ALL),
     FnSpec::value("STDEV", 1, MANY, stdev_s, "STDEV(number1, [number2], ...)", "Sample standard deviation (STDEV.S)")
+        .biff(12)
         .range_args(ArgSet::ALL),
     FnSpec::value(
         "STDEV.P",
@@ -76,6 +82,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "STDEVA(value1, [value2], ...)",
         "Sample standard deviation counting text in ranges as 0 and booleans as 1 or 0",
     )
+    .biff(366)
     .range_args(ArgSet::ALL),
     FnSpec::value(
         "STDEVP",
@@ -85,6 +92,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "STDEVP(number1, [number2], ...)",
         "Standard deviation of a whole population (STDEV.P)",
     )
+    .biff(193)
     .range_args(ArgSet::ALL),
     FnSpec::value(
         "STDEVPA",
@@ -94,8 +102,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "STDEVPA(value1, [value2], ...)",
         "Population standard deviation counting text in ranges as 0 and booleans as 1 or 0",
     )
+    .biff(364)
     .range_args(ArgSet::ALL),
-    FnSpec::value("VAR", 1, MANY, var_s, "VAR(number1, [number2], ...)", "Sample variance (VAR.S)")
+    FnSpec::value("VAR", 1, MANY, var_s, "VAR(number1, [number2], ...)", "Sample variance (VAR.S)").biff(46)
         .range_args(ArgSet::ALL),
     FnSpec::value("VAR.P", 1, MANY, var_p, "VAR.P(number1, [number2], ...)", "Variance of a whole population")
         .future()
@@ -118,8 +127,10 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "VARA(value1, [value2], ...)",
         "Sample variance counting text in ranges as 0 and booleans as 1 or 0",
     )
+    .biff(367)
     .range_args(ArgSet::ALL),
     FnSpec::value("VARP", 1, MANY, var_p, "VARP(number1, [number2], ...)", "Variance of a whole population (VAR.P)")
+        .biff(194)
         .range_args(ArgSet::ALL),
     FnSpec::value(
         "VARPA",
@@ -129,6 +140,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "VARPA(value1, [value2], ...)",
         "Population variance counting text in ranges as 0 and booleans as 1 or 0",
     )
+    .biff(365)
     .range_args(ArgSet::ALL),
 ];
 

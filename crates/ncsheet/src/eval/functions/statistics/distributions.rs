@@ -88,7 +88,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         betadist,
         "BETADIST(x, alpha, beta, [A], [B])",
         "Cumulative beta distribution (BETA.DIST)",
-    ),
+    )
+    .biff(270),
     FnSpec::value(
         "BETAINV",
         3,
@@ -96,7 +97,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         beta_inv,
         "BETAINV(probability, alpha, beta, [A], [B])",
         "Inverse beta distribution (BETA.INV)",
-    ),
+    )
+    .biff(272),
     FnSpec::value(
         "BINOM.DIST",
         4,
@@ -131,7 +133,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         binom_dist,
         "BINOMDIST(successes, trials, probability, cumulative)",
         "Binomial distribution (BINOM.DIST)",
-    ),
+    )
+    .biff(273),
     FnSpec::value(
         "CHIDIST",
         2,
@@ -139,7 +142,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         chisq_dist_rt,
         "CHIDIST(x, degrees)",
         "Right tail of the chi-squared distribution (CHISQ.DIST.RT)",
-    ),
+    )
+    .biff(274),
     FnSpec::value(
         "CHIINV",
         2,
@@ -147,7 +151,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         chisq_inv_rt,
         "CHIINV(probability, degrees)",
         "Inverse right tail of the chi-squared distribution (CHISQ.INV.RT)",
-    ),
+    )
+    .biff(275),
     FnSpec::value("CHISQ.DIST", 3, 3, chisq_dist, "CHISQ.DIST(x, degrees, cumulative)", "Chi-squared distribution")
         .future(),
     FnSpec::value(
@@ -184,7 +189,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         confidence_norm,
         "CONFIDENCE(alpha, standard_dev, size)",
         "Half-width of a normal confidence interval (CONFIDENCE.NORM)",
-    ),
+    )
+    .biff(277),
     FnSpec::value(
         "CONFIDENCE.NORM",
         3,
@@ -210,7 +216,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         binom_inv,
         "CRITBINOM(trials, probability, alpha)",
         "Inverse binomial distribution (BINOM.INV)",
-    ),
+    )
+    .biff(278),
     FnSpec::value("EXPON.DIST", 3, 3, expon_dist, "EXPON.DIST(x, lambda, cumulative)", "Exponential distribution")
         .future(),
     FnSpec::value(
@@ -220,7 +227,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         expon_dist,
         "EXPONDIST(x, lambda, cumulative)",
         "Exponential distribution (EXPON.DIST)",
-    ),
+    )
+    .biff(280),
     FnSpec::value("F.DIST", 4, 4, f_dist, "F.DIST(x, degrees1, degrees2, cumulative)", "F distribution").future(),
     FnSpec::value("F.DIST.RT", 3, 3, f_dist_rt, "F.DIST.RT(x, degrees1, degrees2)", "Right tail of the F distribution")
         .future(),
@@ -249,7 +257,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         f_dist_rt,
         "FDIST(x, degrees1, degrees2)",
         "Right tail of the F distribution (F.DIST.RT)",
-    ),
+    )
+    .biff(281),
     FnSpec::value(
         "FINV",
         3,
@@ -257,9 +266,10 @@ pub const FUNCTIONS: &[FnSpec] = &[
         f_inv_rt,
         "FINV(probability, degrees1, degrees2)",
         "Inverse right tail of the F distribution (F.INV.RT)",
-    ),
-    FnSpec::value("FISHER", 1, 1, fisher, "FISHER(x)", "Fisher transformation, atanh(x)"),
-    FnSpec::value("FISHERINV", 1, 1, fisher_inv, "FISHERINV(y)", "Inverse Fisher transformation, tanh(y)"),
+    )
+    .biff(282),
+    FnSpec::value("FISHER", 1, 1, fisher, "FISHER(x)", "Fisher transformation, atanh(x)").biff(283),
+    FnSpec::value("FISHERINV", 1, 1, fisher_inv, "FISHERINV(y)", "Inverse Fisher transformation, tanh(y)").biff(284),
     FnSpec::value("GAMMA", 1, 1, gamma_fn, "GAMMA(number)", "The gamma function").future(),
     FnSpec::value("GAMMA.DIST", 4, 4, gamma_dist, "GAMMA.DIST(x, alpha, beta, cumulative)", "Gamma distribution")
         .future(),
@@ -279,7 +289,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         gamma_dist,
         "GAMMADIST(x, alpha, beta, cumulative)",
         "Gamma distribution (GAMMA.DIST)",
-    ),
+    )
+    .biff(286),
     FnSpec::value(
         "GAMMAINV",
         3,
@@ -287,8 +298,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         gamma_inv,
         "GAMMAINV(probability, alpha, beta)",
         "Inverse gamma distribution (GAMMA.INV)",
-    ),
-    FnSpec::value("GAMMALN", 1, 1, gammaln, "GAMMALN(x)", "Natural logarithm of the gamma function"),
+    )
+    .biff(287),
+    FnSpec::value("GAMMALN", 1, 1, gammaln, "GAMMALN(x)", "Natural logarithm of the gamma function").biff(271),
     FnSpec::value("GAMMALN.PRECISE", 1, 1, gammaln, "GAMMALN.PRECISE(x)", "Natural logarithm of the gamma function")
         .future(),
     FnSpec::value("GAUSS", 1, 1, gauss, "GAUSS(z)", "Probability that a standard normal lies between the mean and z")
@@ -309,7 +321,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         hypgeomdist,
         "HYPGEOMDIST(sample_s, number_sample, population_s, number_pop)",
         "Hypergeometric probability (HYPGEOM.DIST, not cumulative)",
-    ),
+    )
+    .biff(289),
     FnSpec::value(
         "LOGINV",
         3,
@@ -317,7 +330,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         lognorm_inv,
         "LOGINV(probability, mean, standard_dev)",
         "Inverse lognormal distribution (LOGNORM.INV)",
-    ),
+    )
+    .biff(291),
     FnSpec::value(
         "LOGNORM.DIST",
         4,
@@ -343,7 +357,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         lognormdist,
         "LOGNORMDIST(x, mean, standard_dev)",
         "Cumulative lognormal distribution (LOGNORM.DIST)",
-    ),
+    )
+    .biff(290),
     FnSpec::value(
         "NEGBINOM.DIST",
         4,
@@ -360,7 +375,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         negbinomdist,
         "NEGBINOMDIST(number_f, number_s, probability_s)",
         "Negative binomial probability (NEGBINOM.DIST, not cumulative)",
-    ),
+    )
+    .biff(292),
     FnSpec::value("NORM.DIST", 4, 4, norm_dist, "NORM.DIST(x, mean, standard_dev, cumulative)", "Normal distribution")
         .future(),
     FnSpec::value(
@@ -390,7 +406,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         norm_dist,
         "NORMDIST(x, mean, standard_dev, cumulative)",
         "Normal distribution (NORM.DIST)",
-    ),
+    )
+    .biff(293),
     FnSpec::value(
         "NORMINV",
         3,
@@ -398,7 +415,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         norm_inv_fn,
         "NORMINV(probability, mean, standard_dev)",
         "Inverse normal distribution (NORM.INV)",
-    ),
+    )
+    .biff(295),
     FnSpec::value(
         "NORMSDIST",
         1,
@@ -406,7 +424,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         normsdist,
         "NORMSDIST(z)",
         "Cumulative standard normal distribution (NORM.S.DIST)",
-    ),
+    )
+    .biff(294),
     FnSpec::value(
         "NORMSINV",
         1,
@@ -414,12 +433,15 @@ pub const FUNCTIONS: &[FnSpec] = &[
         norm_s_inv,
         "NORMSINV(probability)",
         "Inverse standard normal distribution (NORM.S.INV)",
-    ),
+    )
+    .biff(296),
     FnSpec::value("PHI", 1, 1, phi, "PHI(x)", "Standard normal density").future(),
-    FnSpec::value("POISSON", 3, 3, poisson_dist, "POISSON(x, mean, cumulative)", "Poisson distribution (POISSON.DIST)"),
+    FnSpec::value("POISSON", 3, 3, poisson_dist, "POISSON(x, mean, cumulative)", "Poisson distribution (POISSON.DIST)")
+        .biff(300),
     FnSpec::value("POISSON.DIST", 3, 3, poisson_dist, "POISSON.DIST(x, mean, cumulative)", "Poisson distribution")
         .future(),
-    FnSpec::value("STANDARDIZE", 3, 3, standardize, "STANDARDIZE(x, mean, standard_dev)", "(x - mean) / standard_dev"),
+    FnSpec::value("STANDARDIZE", 3, 3, standardize, "STANDARDIZE(x, mean, standard_dev)", "(x - mean) / standard_dev")
+        .biff(297),
     FnSpec::value("T.DIST", 3, 3, t_dist, "T.DIST(x, degrees, cumulative)", "Student's t distribution (left tail)")
         .future(),
     FnSpec::value("T.DIST.2T", 2, 2, t_dist_2t, "T.DIST.2T(x, degrees)", "Two-tailed Student's t distribution")
@@ -451,8 +473,10 @@ pub const FUNCTIONS: &[FnSpec] = &[
         tdist,
         "TDIST(x, degrees, tails)",
         "One- or two-tailed Student's t distribution (T.DIST.RT, T.DIST.2T)",
-    ),
-    FnSpec::value("TINV", 2, 2, t_inv_2t, "TINV(probability, degrees)", "Inverse two-tailed t distribution (T.INV.2T)"),
+    )
+    .biff(301),
+    FnSpec::value("TINV", 2, 2, t_inv_2t, "TINV(probability, degrees)", "Inverse two-tailed t distribution (T.INV.2T)")
+        .biff(332),
     FnSpec::value(
         "WEIBULL",
         4,
@@ -460,7 +484,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         weibull_dist,
         "WEIBULL(x, alpha, beta, cumulative)",
         "Weibull distribution (WEIBULL.DIST)",
-    ),
+    )
+    .biff(302),
     FnSpec::value(
         "WEIBULL.DIST",
         4,

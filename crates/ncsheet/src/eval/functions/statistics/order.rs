@@ -13,8 +13,10 @@ use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
 pub const FUNCTIONS: &[FnSpec] = &[
-    FnSpec::value("LARGE", 2, 2, large, "LARGE(array, k)", "The k-th largest number").range_args(ArgSet::only(0)),
+    FnSpec::value("LARGE", 2, 2, large, "LARGE(array, k)", "The k-th largest number")
+        .biff(325).range_args(ArgSet::only(0)),
     FnSpec::value("MODE", 1, MANY, mode_sngl, "MODE(number1, [number2], ...)", "Most frequent number (MODE.SNGL)")
+        .biff(330)
         .range_args(ArgSet::ALL),
     FnSpec::value(
         "MODE.MULT",
@@ -44,6 +46,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "PERCENTILE(array, k)",
         "The k-th percentile, 0 <= k <= 1 (PERCENTILE.INC)",
     )
+    .biff(328)
     .range_args(ArgSet::only(0)),
     FnSpec::value(
         "PERCENTILE.EXC",
@@ -73,6 +76,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "PERCENTRANK(array, x, [significance])",
         "Rank of x as a fraction 0..1 (PERCENTRANK.INC)",
     )
+    .biff(329)
     .range_args(ArgSet::only(0)),
     FnSpec::value(
         "PERCENTRANK.EXC",
@@ -94,7 +98,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
     )
     .future()
     .range_args(ArgSet::only(0)),
-    FnSpec::value("QUARTILE", 2, 2, quartile_inc, "QUARTILE(array, quart)", "Quartile 0 to 4 (QUARTILE.INC)")
+    FnSpec::value("QUARTILE", 2, 2, quartile_inc, "QUARTILE(array, quart)", "Quartile 0 to 4 (QUARTILE.INC)").biff(327)
         .range_args(ArgSet::only(0)),
     FnSpec::value(
         "QUARTILE.EXC",
@@ -116,7 +120,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
     )
     .future()
     .range_args(ArgSet::only(0)),
-    FnSpec::value("RANK", 2, 3, rank_eq, "RANK(number, ref, [order])", "Rank of number in ref (RANK.EQ)")
+    FnSpec::value("RANK", 2, 3, rank_eq, "RANK(number, ref, [order])", "Rank of number in ref (RANK.EQ)").biff(216)
         .range_args(ArgSet::from(1)),
     FnSpec::value(
         "RANK.AVG",
@@ -138,7 +142,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
     )
     .future()
     .range_args(ArgSet::from(1)),
-    FnSpec::value("SMALL", 2, 2, small, "SMALL(array, k)", "The k-th smallest number").range_args(ArgSet::only(0)),
+    FnSpec::value("SMALL", 2, 2, small, "SMALL(array, k)", "The k-th smallest number")
+        .biff(326).range_args(ArgSet::only(0)),
 ];
 
 /// The numbers of the data argument, ascending.

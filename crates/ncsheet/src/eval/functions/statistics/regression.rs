@@ -19,6 +19,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "GROWTH(known_ys, [known_xs], [new_xs], [const])",
         "Values on the exponential curve fitted to the known points",
     )
+    .biff(52)
     .array_args(ArgSet::except(3)),
     FnSpec::value(
         "LINEST",
@@ -28,6 +29,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "LINEST(known_ys, [known_xs], [const], [stats])",
         "Least-squares line (or plane) coefficients, with regression statistics on request",
     )
+    .biff(49)
     .array_args(ArgSet::only(0).and(ArgSet::only(1))),
     FnSpec::value(
         "LOGEST",
@@ -37,6 +39,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "LOGEST(known_ys, [known_xs], [const], [stats])",
         "Exponential curve y = b·m^x fitted by least squares, with statistics on request",
     )
+    .biff(51)
     .array_args(ArgSet::only(0).and(ArgSet::only(1))),
     FnSpec::value(
         "TREND",
@@ -46,6 +49,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "TREND(known_ys, [known_xs], [new_xs], [const])",
         "Values on the least-squares line (or plane) through the known points",
     )
+    .biff(50)
     .array_args(ArgSet::except(3)),
 ];
 

@@ -33,10 +33,12 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "CHITEST(actual_range, expected_range)",
         "Chi-squared test (CHISQ.TEST)",
     )
+    .biff(306)
     .array_args(ArgSet::ALL),
-    FnSpec::value("CORREL", 2, 2, correl, "CORREL(array1, array2)", "Correlation coefficient of two samples")
+    FnSpec::value("CORREL", 2, 2, correl, "CORREL(array1, array2)", "Correlation coefficient of two samples").biff(307)
         .array_args(ArgSet::ALL),
     FnSpec::value("COVAR", 2, 2, covariance_p, "COVAR(array1, array2)", "Population covariance (COVARIANCE.P)")
+        .biff(308)
         .array_args(ArgSet::ALL),
     FnSpec::value(
         "COVARIANCE.P",
@@ -76,6 +78,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "FORECAST(x, known_ys, known_xs)",
         "Value at x of the least-squares line (FORECAST.LINEAR)",
     )
+    .biff(309)
     .array_args(ArgSet::from(1)),
     FnSpec::value(
         "FORECAST.LINEAR",
@@ -95,8 +98,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "FREQUENCY(data_array, bins_array)",
         "How many values fall in each bin: a column one longer than the bins",
     )
+    .biff(252)
     .array_args(ArgSet::ALL),
-    FnSpec::value("FTEST", 2, 2, f_test, "FTEST(array1, array2)", "F-test (F.TEST)").array_args(ArgSet::ALL),
+    FnSpec::value("FTEST", 2, 2, f_test, "FTEST(array1, array2)", "F-test (F.TEST)").biff(310).array_args(ArgSet::ALL),
     FnSpec::value(
         "GEOMEAN",
         1,
@@ -105,14 +109,18 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "GEOMEAN(number1, [number2], ...)",
         "Geometric mean of positive numbers",
     )
+    .biff(319)
     .range_args(ArgSet::ALL),
     FnSpec::value("HARMEAN", 1, MANY, harmean, "HARMEAN(number1, [number2], ...)", "Harmonic mean of positive numbers")
+        .biff(320)
         .range_args(ArgSet::ALL),
     FnSpec::value("INTERCEPT", 2, 2, intercept, "INTERCEPT(known_ys, known_xs)", "Intercept of the least-squares line")
+        .biff(311)
         .array_args(ArgSet::ALL),
-    FnSpec::value("KURT", 1, MANY, kurt, "KURT(number1, [number2], ...)", "Excess kurtosis of a sample")
+    FnSpec::value("KURT", 1, MANY, kurt, "KURT(number1, [number2], ...)", "Excess kurtosis of a sample").biff(322)
         .range_args(ArgSet::ALL),
     FnSpec::value("PEARSON", 2, 2, correl, "PEARSON(array1, array2)", "Pearson correlation coefficient (CORREL)")
+        .biff(312)
         .array_args(ArgSet::ALL),
     FnSpec::value(
         "PROB",
@@ -122,15 +130,16 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "PROB(x_range, prob_range, lower_limit, [upper_limit])",
         "Probability that a value lies between the limits",
     )
+    .biff(317)
     .array_args(ArgSet::only(0).and(ArgSet::only(1))),
-    FnSpec::value("RSQ", 2, 2, rsq, "RSQ(known_ys, known_xs)", "Square of the correlation coefficient")
+    FnSpec::value("RSQ", 2, 2, rsq, "RSQ(known_ys, known_xs)", "Square of the correlation coefficient").biff(313)
         .array_args(ArgSet::ALL),
-    FnSpec::value("SKEW", 1, MANY, skew, "SKEW(number1, [number2], ...)", "Skewness of a sample")
+    FnSpec::value("SKEW", 1, MANY, skew, "SKEW(number1, [number2], ...)", "Skewness of a sample").biff(323)
         .range_args(ArgSet::ALL),
     FnSpec::value("SKEW.P", 1, MANY, skew_p, "SKEW.P(number1, [number2], ...)", "Skewness of a population")
         .future()
         .range_args(ArgSet::ALL),
-    FnSpec::value("SLOPE", 2, 2, slope, "SLOPE(known_ys, known_xs)", "Slope of the least-squares line")
+    FnSpec::value("SLOPE", 2, 2, slope, "SLOPE(known_ys, known_xs)", "Slope of the least-squares line").biff(315)
         .array_args(ArgSet::ALL),
     FnSpec::value(
         "STEYX",
@@ -140,6 +149,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "STEYX(known_ys, known_xs)",
         "Standard error of the y predicted by the least-squares line",
     )
+    .biff(314)
     .array_args(ArgSet::ALL),
     FnSpec::value(
         "T.TEST",
@@ -159,13 +169,14 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "TRIMMEAN(array, percent)",
         "Mean without the given fraction of the extreme values",
     )
+    .biff(331)
     .array_args(ArgSet::only(0)),
-    FnSpec::value("TTEST", 4, 4, t_test, "TTEST(array1, array2, tails, type)", "Student's t-test (T.TEST)")
+    FnSpec::value("TTEST", 4, 4, t_test, "TTEST(array1, array2, tails, type)", "Student's t-test (T.TEST)").biff(316)
         .array_args(ArgSet::only(0).and(ArgSet::only(1))),
     FnSpec::value("Z.TEST", 2, 3, z_test, "Z.TEST(array, x, [sigma])", "One-tailed probability of a z-test")
         .future()
         .array_args(ArgSet::only(0)),
-    FnSpec::value("ZTEST", 2, 3, z_test, "ZTEST(array, x, [sigma])", "One-tailed z-test (Z.TEST)")
+    FnSpec::value("ZTEST", 2, 3, z_test, "ZTEST(array, x, [sigma])", "One-tailed z-test (Z.TEST)").biff(324)
         .array_args(ArgSet::only(0)),
 ];
 

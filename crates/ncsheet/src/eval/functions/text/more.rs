@@ -18,7 +18,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         roman,
         "ROMAN(number, [form])",
         "0..3999 as a Roman numeral; form 0 (classic) to 4 (most concise)",
-    ),
+    )
+    .biff(354),
     FnSpec::value("ARABIC", 1, 1, arabic, "ARABIC(text)", "A Roman numeral as a number").future(),
     FnSpec::value(
         "BASE",
@@ -37,8 +38,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         replace,
         "REPLACE(old_text, start_num, num_chars, new_text)",
         "Replaces num_chars characters from position start_num with new_text",
-    ),
-    FnSpec::value("CLEAN", 1, 1, clean, "CLEAN(text)", "Removes the control characters 0..31"),
+    )
+    .biff(119),
+    FnSpec::value("CLEAN", 1, 1, clean, "CLEAN(text)", "Removes the control characters 0..31").biff(162),
     FnSpec::value(
         "REGEXTEST",
         2,

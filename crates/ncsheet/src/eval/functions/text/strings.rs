@@ -25,7 +25,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         concatenate,
         "CONCATENATE(text1, …)",
         "Joins texts (a range argument joins item by item)",
-    ),
+    )
+    .biff(336),
     FnSpec::value(
         "TEXTJOIN",
         3,
@@ -43,7 +44,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         text_fn,
         "TEXT(value, format)",
         "A number as text in an Excel number format: \"0.000\", \"#,##0.00\", \"0.0%\", \"0.00E+00\"",
-    ),
+    )
+    .biff(48),
     FnSpec::value(
         "DOLLAR",
         1,
@@ -51,7 +53,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         dollar,
         "DOLLAR(number, [decimals])",
         "A number rounded to decimals (2 by default) as currency text: $1,234.57, ($1,234.57)",
-    ),
+    )
+    .biff(13),
     FnSpec::value(
         "FIXED",
         1,
@@ -59,14 +62,16 @@ pub const FUNCTIONS: &[FnSpec] = &[
         fixed,
         "FIXED(number, [decimals], [no_commas])",
         "A number rounded to decimals (2 by default) as text, with thousands separators unless no_commas",
-    ),
-    FnSpec::value("LEFT", 1, 2, left, "LEFT(text, [count])", "The first count characters (1 by default)"),
-    FnSpec::value("RIGHT", 1, 2, right, "RIGHT(text, [count])", "The last count characters (1 by default)"),
-    FnSpec::value("MID", 3, 3, mid, "MID(text, start, count)", "count characters from position start (1-based)"),
-    FnSpec::value("LEN", 1, 1, len, "LEN(text)", "Number of characters"),
-    FnSpec::value("UPPER", 1, 1, upper, "UPPER(text)", "Text in capitals"),
-    FnSpec::value("LOWER", 1, 1, lower, "LOWER(text)", "Text in small letters"),
-    FnSpec::value("PROPER", 1, 1, proper, "PROPER(text)", "Each word capitalised, the rest in small letters"),
+    )
+    .biff(14),
+    FnSpec::value("LEFT", 1, 2, left, "LEFT(text, [count])", "The first count characters (1 by default)").biff(115),
+    FnSpec::value("RIGHT", 1, 2, right, "RIGHT(text, [count])", "The last count characters (1 by default)").biff(116),
+    FnSpec::value("MID", 3, 3, mid, "MID(text, start, count)", "count characters from position start (1-based)")
+        .biff(31),
+    FnSpec::value("LEN", 1, 1, len, "LEN(text)", "Number of characters").biff(32),
+    FnSpec::value("UPPER", 1, 1, upper, "UPPER(text)", "Text in capitals").biff(113),
+    FnSpec::value("LOWER", 1, 1, lower, "LOWER(text)", "Text in small letters").biff(112),
+    FnSpec::value("PROPER", 1, 1, proper, "PROPER(text)", "Each word capitalised, the rest in small letters").biff(114),
     FnSpec::value(
         "TRIM",
         1,
@@ -74,8 +79,10 @@ pub const FUNCTIONS: &[FnSpec] = &[
         trim,
         "TRIM(text)",
         "Removes leading and trailing spaces and collapses runs of spaces to one",
-    ),
-    FnSpec::value("VALUE", 1, 1, value, "VALUE(text)", "The number a text represents (\"1,234.5\", \"50%\", \"1e-3\")"),
+    )
+    .biff(118),
+    FnSpec::value("VALUE", 1, 1, value, "VALUE(text)", "The number a text represents (\"1,234.5\", \"50%\", \"1e-3\")")
+        .biff(33),
     FnSpec::value(
         "NUMBERVALUE",
         1,
@@ -101,8 +108,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         substitute,
         "SUBSTITUTE(text, old, new, [instance])",
         "Replaces every occurrence of old (or only the instance-th) with new; case-sensitive",
-    ),
-    FnSpec::value("REPT", 2, 2, rept, "REPT(text, times)", "text repeated times times"),
+    )
+    .biff(120),
+    FnSpec::value("REPT", 2, 2, rept, "REPT(text, times)", "text repeated times times").biff(30),
     FnSpec::value(
         "FIND",
         2,
@@ -110,7 +118,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         find,
         "FIND(find_text, within_text, [start])",
         "Position of find_text in within_text, case-sensitive; #VALUE! when absent",
-    ),
+    )
+    .biff(124),
     FnSpec::value(
         "SEARCH",
         2,
@@ -118,8 +127,10 @@ pub const FUNCTIONS: &[FnSpec] = &[
         search,
         "SEARCH(find_text, within_text, [start])",
         "Position of find_text, ignoring case, with wildcards ? * and ~; #VALUE! when absent",
-    ),
-    FnSpec::value("EXACT", 2, 2, exact, "EXACT(text1, text2)", "TRUE when the texts are identical, case included"),
+    )
+    .biff(82),
+    FnSpec::value("EXACT", 2, 2, exact, "EXACT(text1, text2)", "TRUE when the texts are identical, case included")
+        .biff(117),
     FnSpec::value(
         "CHAR",
         1,
@@ -127,8 +138,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         char_fn,
         "CHAR(code)",
         "The character with a code 1-255 (Windows-1252, as Excel on Windows; CHAR(10) is a line feed)",
-    ),
-    FnSpec::value("CODE", 1, 1, code, "CODE(text)", "The code 1-255 of the first character (Windows-1252)"),
+    )
+    .biff(111),
+    FnSpec::value("CODE", 1, 1, code, "CODE(text)", "The code 1-255 of the first character (Windows-1252)").biff(121),
     FnSpec::value("UNICHAR", 1, 1, unichar, "UNICHAR(code)", "The Unicode character with a code point").future(),
     FnSpec::value("UNICODE", 1, 1, unicode, "UNICODE(text)", "The Unicode code point of the first character").future(),
 ];
