@@ -1,9 +1,9 @@
 //! Evaluation: values, coercions, the evaluator and the function table. Reads cells only
 //! through the [`Env`] trait; knows nothing of workbooks, files or the command line.
 
-pub mod coerce;
+pub(crate) mod coerce;
 pub mod dates;
-pub mod diff;
+pub(crate) mod diff;
 pub mod evaluator;
 pub mod format;
 pub mod functions;

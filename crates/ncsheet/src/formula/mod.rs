@@ -5,7 +5,7 @@ pub mod address;
 pub mod ast;
 pub mod error;
 pub mod limits;
-pub mod locale_syntax;
+pub(crate) mod locale_syntax;
 pub mod parse;
 pub mod print;
 

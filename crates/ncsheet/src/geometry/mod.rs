@@ -8,7 +8,7 @@ use std::fmt;
 pub mod ballpath;
 pub mod cam;
 pub mod chamfer;
-pub mod dropcutter;
+pub(crate) mod dropcutter;
 pub mod head;
 
 /// Input that has no geometry. The message names the argument and says what is allowed.

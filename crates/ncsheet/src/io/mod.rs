@@ -21,8 +21,8 @@ use crate::workbook::Workbook;
 
 pub mod atomic;
 pub mod csv;
-pub mod csv_locale;
-pub mod legacy;
+pub(crate) mod csv_locale;
+pub(crate) mod legacy;
 pub mod limits;
 pub mod xlsx;
 

@@ -15,7 +15,7 @@ pub mod motion;
 pub mod post;
 pub mod program;
 pub mod read;
-pub mod svg;
+pub(crate) mod svg;
 
 pub use dialect::{by_name, Dialect, NcError};
 pub use program::{

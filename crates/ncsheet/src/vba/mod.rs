@@ -108,7 +108,7 @@ mod host;
 mod interp;
 mod nc;
 mod objects;
-pub mod ovba;
+pub(crate) mod ovba;
 pub mod parser;
 pub mod project;
 pub mod project_edit;

@@ -3,4 +3,4 @@
 //! apply it (`text_format.rs`).
 
 pub mod number_format;
-pub mod text_format;
+pub(crate) mod text_format;

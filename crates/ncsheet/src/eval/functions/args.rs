@@ -6,7 +6,7 @@ use std::rc::Rc;
 use crate::formula::address::Rect;
 use crate::formula::ast::{Expr, ExprKind, SheetId};
 
-use crate::eval::coerce::{to_bool, to_number, to_text};
+use crate::eval::coerce::{to_bool, to_number};
 use crate::eval::functions::api::{broadcast_whole, number_result, Ctx, Operand};
 use crate::eval::value::{too_many_items, too_many_items_note, Array, Value, XlError, XlResult};
 
@@ -33,10 +33,6 @@ pub fn given(args: &[Expr], i: usize) -> Option<&Expr> {
 /// An optional number argument: `default` when omitted or left empty.
 pub fn number_or(ctx: &mut Ctx, args: &[Expr], i: usize, default: f64) -> XlResult<f64> {
     given(args, i).map_or(Ok(default), |e| number(ctx, e))
-}
-
-pub fn text(ctx: &mut Ctx, e: &Expr) -> XlResult<Rc<str>> {
-    to_text(&ctx.eval(e))
 }
 
 pub fn boolean(ctx: &mut Ctx, e: &Expr) -> XlResult<bool> {

@@ -22,7 +22,7 @@ use super::evaluator::{Ctx, Operand};
 use super::value::{Value, XlResult};
 
 pub(crate) mod api;
-pub mod args;
+pub(crate) mod args;
 mod arrays;
 mod criteria;
 mod database;
@@ -38,7 +38,7 @@ mod math;
 mod scalar;
 mod statistics;
 mod text;
-pub mod vba;
+pub(crate) mod vba;
 
 pub use crate::eval::format::text_format::NumberFormat;
 pub use geometry::{describe_gouge, formula_ball_path, standalone_ball_path, PathFailure};
