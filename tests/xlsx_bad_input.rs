@@ -228,6 +228,18 @@ fn a_damaged_workbook_part_is_named() {
     }
 }
 
+/// An entity XML does not define is a well-formedness error (Excel refuses such a part too);
+/// calamine's own message for it names no part.
+#[test]
+fn an_undefined_entity_in_the_strings_names_its_part() {
+    let good = good_workbook();
+    let name = "xl/sharedStrings.xml";
+    let spoiled = part(&good, name).replacen("<t>", "<t>&bogus;", 1);
+    let e = load_err(&with_part(&good, name, spoiled.as_bytes()));
+    assert_eq!((e.kind, e.part.as_deref()), (ErrorKind::Damaged, Some(name)), "{e}");
+    assert!(e.to_string().contains("unknown entity &bogus;"), "{e}");
+}
+
 #[test]
 fn a_cell_pointing_past_the_string_table_names_the_cell() {
     let good = good_workbook();

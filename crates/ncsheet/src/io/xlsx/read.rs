@@ -31,7 +31,7 @@ use super::sheet_span;
 use super::sheet_xml::{self, CellXml, FormulaXml, ScanError, SheetScan};
 use super::syntax::{self, Storage};
 use super::tables::{self, Table};
-use super::xml::StreamError;
+use super::xml::{Event, StreamError};
 use super::{ArrayFormula, CachedValue, ErrorKind, Imported, Layout, LinkedFormula, SheetLayout, XlsxError};
 use super::{NEW_WORKBOOK_APPLICATION, WRITTEN_BY};
 
@@ -133,6 +133,9 @@ pub fn load_bytes_limited(bytes: &[u8], file: &Path, limits: ReadLimits) -> Resu
     }
     let tables = read_tables(&mut package, &sheets, &ids, &mut imported.notes);
     imported.layout.tables = tables.clone();
+    if !tables.is_empty() {
+        imported.workbook.set_tables(std::rc::Rc::new(tables::FileTables(tables.clone())));
+    }
     imported.layout.calculation = package.calculation.clone();
     let links = read_links(&mut package, &mut imported.notes);
     imported.layout.external_links = links.iter().flatten().count();
@@ -281,11 +284,23 @@ fn shared_strings(package: &mut Package, file: &Path) -> Result<Vec<Rc<str>>, Xl
 fn damaged_workbook_part(package: &mut Package, file: &Path) -> Option<XlsxError> {
     for part in package.workbook_parts.clone() {
         let Ok(entry) = package.entry(&part) else { continue };
-        if let Err(e) = crate::io::xlsx::xml::stream(entry, &mut |_| Ok::<(), ScanError>(())) {
+        if let Err(e) = crate::io::xlsx::xml::stream(entry, &mut defined_entities_only) {
             return Some(stream_error(file, &part, e));
         }
     }
     None
+}
+
+/// A text event's entities are XML's own: `&bogus;` is not well-formed, as Excel and calamine
+/// (whose message names no part) hold too.
+fn defined_entities_only(event: Event) -> Result<(), ScanError> {
+    match event {
+        Event::Text(text) => match super::xml::unknown_entity(text) {
+            Some(name) => Err((ErrorKind::Damaged, format!("the XML is not well-formed: unknown entity &{name};"))),
+            None => Ok(()),
+        },
+        _ => Ok(()),
+    }
 }
 
 fn stream_error(file: &Path, part: &str, e: StreamError<ScanError>) -> XlsxError {

@@ -358,6 +358,24 @@ pub fn unescape_into(text: &str, out: &mut String) {
     out.push_str(rest);
 }
 
+/// The first entity in escaped character data that XML does not define (`&bogus;`): a
+/// well-formedness error, which [`unescape_into`] passes over but a reader must report.
+pub fn unknown_entity(text: &[u8]) -> Option<String> {
+    let text = String::from_utf8_lossy(text);
+    let mut rest = text.as_ref();
+    while let Some(at) = rest.find('&') {
+        rest = &rest[at + 1..];
+        let name = match rest.find(';') {
+            Some(semi) if semi <= 32 => &rest[..semi],
+            _ => return Some(rest.chars().take(16).collect()),
+        };
+        if entity(name).is_none() {
+            return Some(name.to_string());
+        }
+    }
+    None
+}
+
 fn entity(name: &str) -> Option<char> {
     match name {
         "amp" => Some('&'),
@@ -483,6 +501,8 @@ mod tests {
     #[test]
     fn text_unescapes_entities_line_ends_and_excel_escapes() {
         let mut out = String::new();
+        assert_eq!(unknown_entity(b"a&amp;b&#x41;&lt;&bogus;"), Some("bogus".to_string()));
+        assert_eq!(unknown_entity(b"a&amp;b&#x41;&lt;&#8364;"), None);
         unescape_into("a&amp;b&#x41;&lt;\r\nc\rd&bogus;", &mut out);
         assert_eq!(out, "a&bA<\nc\nd&bogus;");
         assert_eq!(unescape_excel("a_x000D_b_x005F_x000D_"), "a\rb_x000D_");
