@@ -16,6 +16,7 @@ use super::program::{
 
 pub mod detect;
 pub mod heidenhain;
+mod nc31;
 
 /// Where a program cannot be read, 1-based.
 #[derive(Clone, Debug, PartialEq)]
@@ -159,9 +160,14 @@ pub fn read_with_lines(
     // Coordinates written finer than the dialects' 0.001 mm: the machine resolves finer.
     let mut decimals = DEFAULT_DECIMALS;
     let mut ended = false;
-    for (i, full) in text.lines().enumerate() {
-        let line = i + 1;
-        for raw in blocks_of_line(full, family) {
+    // NC31 runs its subprograms, parameters and jumps ([`nc31`]): the blocks it executes.
+    let sources: Box<dyn Iterator<Item = (std::borrow::Cow<'_, str>, usize)>> = if family == Family::Nc31 {
+        Box::new(nc31::expand(text)?.into_iter().map(|(b, line)| (std::borrow::Cow::Owned(b), line)))
+    } else {
+        Box::new(text.lines().enumerate().map(|(i, l)| (std::borrow::Cow::Borrowed(l), i + 1)))
+    };
+    for (full, line) in sources {
+        for raw in blocks_of_line(&full, family) {
             let raw = raw.as_str();
             let at = |column: usize, message: String| ReadError { line, column, message };
             let trimmed = raw.trim();
@@ -220,7 +226,7 @@ pub fn read_with_lines(
                 continue;
             }
             started = true;
-            let finest = words.iter().filter(|w| "XYZABCIJKR".contains(w.letter)).map(|w| w.decimals).max();
+            let finest = words.iter().filter(|w| "XYZABCIJKRUW".contains(w.letter)).map(|w| w.decimals).max();
             decimals = decimals.max(finest.unwrap_or(0));
             ended = block(&mut st, &words, rapid_mark, &mut program.blocks).map_err(|(c, m)| at(c, m))?;
             // A comment after a block's words (`N20 T1 D1 ; roughing`) follows the block.
@@ -521,6 +527,8 @@ fn block_blocks(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: 
                 2 | 30 => end = true,
                 m => return Err((w.column, format!("M{m} is not a code this reader knows"))),
             },
+            // NC31's moves by a distance: U in X (a diameter), W in Z (`W+R4` in the paper).
+            'U' | 'W' if st.family == Family::Nc31 => {}
             'Y' | 'A' | 'B' | 'C' if st.family == Family::Nc31 => {
                 return Err((w.column, format!("NC31 has no {} axis (its axes: X Z)", w.letter)));
             }
@@ -881,7 +889,9 @@ fn motion_block(
     let find = |l: char| words.iter().find(|w| w.letter == l);
     let scale = if st.inches { 25.4 } else { 1.0 };
     let axes = ['X', 'Y', 'Z', 'A', 'B', 'C'];
-    let has_axis = words.iter().any(|w| axes.contains(&w.letter));
+    let nc31 = st.family == Family::Nc31;
+    let by_distance = move |w: &&Word| nc31 && matches!(w.letter, 'U' | 'W');
+    let has_axis = words.iter().any(|w| axes.contains(&w.letter) || by_distance(&w));
     let arc_words = words.iter().find(|w| "IJKR".contains(w.letter));
     if !has_axis {
         if let Some(w) = arc_words {
@@ -921,6 +931,20 @@ fn motion_block(
             3 => target.a = Some(v),
             4 => target.b = Some(v),
             _ => target.c = Some(v),
+        }
+        st.position[i] = Some(v);
+    }
+    for w in words.iter().filter(by_distance) {
+        let (axis, i) = if w.letter == 'U' { ('X', 0) } else { ('Z', 2) };
+        if find(axis).is_some() {
+            return Err((w.column, format!("{axis} and {} in one block: the axis cannot go two places", w.letter)));
+        }
+        let from = st.position[i].ok_or((w.column, format!("a move {} from an unknown {axis}", w.letter)))?;
+        let v = from + w.value;
+        if i == 0 {
+            target.x = Some(v);
+        } else {
+            target.z = Some(v);
         }
         st.position[i] = Some(v);
     }
