@@ -174,7 +174,7 @@ proptest! {
     fn number_format_codes_never_panic(code in format_code(), n in prop_oneof![
         any::<f64>(), Just(1e308), Just(-1e-320), Just(0.5), Just(45_000.75), Just(-2.5e15),
     ]) {
-        let _ = ncsheet::eval::format::number_format::shown(n, Some(&code));
+        let _ = ncsheet::eval::format::number_format::shown(n, Some(&code), ncsheet::eval::dates::DateSystem::From1900);
         let mut wb = Workbook::with_sheet();
         let quoted = code.replace('"', "\"\"");
         let _ = wb.set_input(0, parse_cell("A1").unwrap(), &format!("=LEN(TEXT({n:e},\"{quoted}\"))"));

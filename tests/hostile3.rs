@@ -75,15 +75,16 @@ fn concurrent_in_place_edits_of_an_xlsx_never_lose_one_silently() {
 
 #[test]
 fn format_codes_with_more_than_65535_zeros_show_their_number() {
+    use ncsheet::eval::dates::DateSystem;
     use ncsheet::eval::format::number_format::shown;
     // 70,000 exponent zeros: the exponent 4 written with 70,000 digits.
     let code = format!("0E+{}", "0".repeat(70_000));
-    let text = shown(12345.0, Some(&code));
+    let text = shown(12345.0, Some(&code), DateSystem::From1900);
     assert_eq!(text.len(), "1E+".len() + 70_000);
     assert!(text.starts_with("1E+000") && text.ends_with("04"), "{}", &text[..20]);
     // An elapsed part of 70,000 s letters: 90 seconds as 70,000 digits.
     let code = format!("[{}]", "s".repeat(70_000));
-    let text = shown(90.0 / 86_400.0, Some(&code));
+    let text = shown(90.0 / 86_400.0, Some(&code), DateSystem::From1900);
     assert_eq!(text.len(), 70_000);
     assert!(text.ends_with("090"), "{}", &text[text.len() - 5..]);
 }

@@ -281,7 +281,7 @@ fn save_date(path: &Path, imported: &xlsx::Imported) -> Option<f64> {
     let text = &core[open..];
     let date = &text[text.find('>')? + 1..];
     let (y, m, d) = (date.get(0..4)?.parse().ok()?, date.get(5..7)?.parse().ok()?, date.get(8..10)?.parse().ok()?);
-    Some(dates::serial_from_ymd(y, m, d) as f64)
+    Some(dates::serial_from_ymd(dates::DateSystem::From1900, y, m, d) as f64)
 }
 
 /// The corpus's `numbers_are_close(x, y, eps)`: |x−y| < eps, or relative to √(x²+y²).

@@ -11,7 +11,7 @@ use ncsheet::workbook::{Input, Workbook};
 /// like the text it is.
 pub fn doubt_about(wb: &Workbook, sheet: SheetId, pos: Pos, input: &str) -> Option<String> {
     let text = input.trim();
-    if !matches!(Input::parse(input), Input::Value(Value::Text(_))) || text.starts_with('\'') {
+    if !matches!(Input::parse(input, wb.date_system()), Input::Value(Value::Text(_))) || text.starts_with('\'') {
         return None;
     }
     if is_decimal_comma(text) {

@@ -331,7 +331,7 @@ fn set(args: SetArgs, delimiter: Option<u8>) -> Result<()> {
     let locale = wb.settings().locale;
     for (cell_sheet, pos) in done {
         let value = match wb.value(cell_sheet, pos) {
-            ncsheet::eval::Value::Number(n) => locale.shown_number(n, None),
+            ncsheet::eval::Value::Number(n) => locale.shown_number(n, None, wb.date_system()),
             v => v.to_string(),
         };
         eprintln!("{} = {value}", wb.cell_name(cell_sheet, pos));

@@ -64,8 +64,8 @@ impl Shown<'_> {
         }
         match wb.value(sheet, pos) {
             Value::Number(n) if self.raw => locale.localize_shown(&format!("{n}")),
-            Value::Number(n) if locale.is_canonical() => shown(n, self.format_code(wb, sheet, pos)),
-            Value::Number(n) => locale.shown_number(n, self.format_code(wb, sheet, pos)),
+            Value::Number(n) if locale.is_canonical() => shown(n, self.format_code(wb, sheet, pos), wb.date_system()),
+            Value::Number(n) => locale.shown_number(n, self.format_code(wb, sheet, pos), wb.date_system()),
             v => v.to_string(),
         }
     }

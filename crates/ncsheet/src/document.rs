@@ -211,7 +211,7 @@ impl Document {
         let sheet_name = wb.sheet_names().into_iter().nth(sheet as usize).unwrap_or_default();
         let layout = self.layout().and_then(|l| l.sheets.get(&sheet_name));
         let code = layout.and_then(|l| l.number_formats.get(&pos)).map(String::as_str);
-        crate::eval::dates::in_date_system(wb.date_1904(), || crate::eval::format::number_format::shown(n, code))
+        crate::eval::format::number_format::shown(n, code, wb.date_system())
     }
 
     /// Recomputes every cell that an edit made stale.
@@ -288,7 +288,7 @@ fn read_csv_fields_in_locale(opened: &mut Opened, locale: crate::eval::Locale) {
         if wb.is_formula(0, pos) || raw.trim_start_matches('"').starts_with('\'') {
             continue;
         }
-        if let Some(n) = locale.read_number(text) {
+        if let Some(n) = locale.read_number(text, wb.date_system()) {
             numbers.push((pos, n));
         }
     }

@@ -3,19 +3,20 @@
 use std::cmp::Ordering;
 use std::rc::Rc;
 
-use super::dates::{self, DateText};
+use super::dates::{self, DateSystem, DateText};
 use super::format::number_format::general;
 use super::value::{Value, XlError, XlResult};
 
-/// A value as a number for arithmetic: `"2"` is 2, `TRUE` is 1, blank is 0, other text `#VALUE!`.
-pub fn to_number(v: &Value) -> XlResult<f64> {
+/// A value as a number for arithmetic: `"2"` is 2, `TRUE` is 1, blank is 0, date text the
+/// serial of its date in `dates` (the workbook's system), other text `#VALUE!`.
+pub fn to_number(v: &Value, dates: DateSystem) -> XlResult<f64> {
     match v {
         Value::Number(n) => Ok(*n),
         Value::Bool(b) => Ok(f64::from(u8::from(*b))),
         Value::Blank => Ok(0.0),
-        Value::Text(s) => parse_number(s).ok_or(XlError::Value),
+        Value::Text(s) => parse_number(s, dates).ok_or(XlError::Value),
         Value::Error(e) => Err(*e),
-        Value::Array(a) => to_number(a.data.first().unwrap_or(&Value::Blank)),
+        Value::Array(a) => to_number(a.data.first().unwrap_or(&Value::Blank), dates),
         Value::Lambda(_) => Err(XlError::Calc),
     }
 }
@@ -51,13 +52,13 @@ pub fn to_bool(v: &Value) -> XlResult<bool> {
 /// Reads text the way Excel's `VALUE` and arithmetic do: optional sign, thousands
 /// separators, decimals, exponent, a trailing `%`, a currency sign (`$`, `€`, `£`) before or
 /// after, surrounding spaces; or a date or time (`2024-01-10`, `1/10/2024`, `13:30`, as its
-/// serial number: see [`dates::parse_date_text`]).
-pub fn parse_number(text: &str) -> Option<f64> {
+/// serial number in `dates`: see [`dates::parse_date_text`]).
+pub fn parse_number(text: &str, dates: DateSystem) -> Option<f64> {
     // Excel reads " 2024-01-10 " as text although it reads " 100 " as a number: date text is
     // read untrimmed.
     parse_plain_number(text)
         .or_else(|| parse_mixed_fraction(text))
-        .or_else(|| dates::parse_date_text(text).map(DateText::serial))
+        .or_else(|| dates::parse_date_text(dates, text).map(DateText::serial))
 }
 
 /// `1 1/2` → 1.5 and `-2 3/4` → -2.75: a whole number, a space and a proper fraction, as Excel
@@ -189,25 +190,25 @@ mod tests {
 
     #[test]
     fn text_reads_as_excel_reads_it() {
-        assert_eq!(parse_number(" 2 "), Some(2.0));
-        assert_eq!(parse_number("1,234.5"), Some(1234.5));
-        assert_eq!(parse_number("50%"), Some(0.5));
-        assert_eq!(parse_number("-1.5e3"), Some(-1500.0));
-        assert_eq!(parse_number("(3)"), Some(-3.0));
-        assert_eq!(parse_number("1,23"), None);
-        assert_eq!(parse_number("abc"), None);
+        assert_eq!(parse_number(" 2 ", DateSystem::From1900), Some(2.0));
+        assert_eq!(parse_number("1,234.5", DateSystem::From1900), Some(1234.5));
+        assert_eq!(parse_number("50%", DateSystem::From1900), Some(0.5));
+        assert_eq!(parse_number("-1.5e3", DateSystem::From1900), Some(-1500.0));
+        assert_eq!(parse_number("(3)", DateSystem::From1900), Some(-3.0));
+        assert_eq!(parse_number("1,23", DateSystem::From1900), None);
+        assert_eq!(parse_number("abc", DateSystem::From1900), None);
         // Excel's serial numbers of ISO dates (DATE(2024,1,10) = 45301, DATE(1900,3,1) = 61).
-        assert_eq!(parse_number("2024-01-10"), Some(45301.0));
-        assert_eq!(parse_number("1900-03-01"), Some(61.0));
-        assert_eq!(parse_number("2023-02-29"), None);
+        assert_eq!(parse_number("2024-01-10", DateSystem::From1900), Some(45301.0));
+        assert_eq!(parse_number("1900-03-01", DateSystem::From1900), Some(61.0));
+        assert_eq!(parse_number("2023-02-29", DateSystem::From1900), None);
         // Excel (en-US): dates month first, times as fractions of a day.
-        assert_eq!(parse_number("1/10/2024"), Some(45301.0));
-        assert_eq!(parse_number("12:00"), Some(0.5));
-        assert_eq!(parse_number("1900-01-01"), Some(1.0));
-        assert_eq!(parse_number(" 2024-01-10 "), None);
-        assert_eq!(parse_number("$100"), Some(100.0));
-        assert_eq!(parse_number("100€"), Some(100.0));
-        assert_eq!(parse_number("-$1,234.5"), Some(-1234.5));
-        assert_eq!(parse_number(""), None);
+        assert_eq!(parse_number("1/10/2024", DateSystem::From1900), Some(45301.0));
+        assert_eq!(parse_number("12:00", DateSystem::From1900), Some(0.5));
+        assert_eq!(parse_number("1900-01-01", DateSystem::From1900), Some(1.0));
+        assert_eq!(parse_number(" 2024-01-10 ", DateSystem::From1900), None);
+        assert_eq!(parse_number("$100", DateSystem::From1900), Some(100.0));
+        assert_eq!(parse_number("100€", DateSystem::From1900), Some(100.0));
+        assert_eq!(parse_number("-$1,234.5", DateSystem::From1900), Some(-1234.5));
+        assert_eq!(parse_number("", DateSystem::From1900), None);
     }
 }

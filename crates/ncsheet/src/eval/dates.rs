@@ -7,49 +7,49 @@
 //! 1900-02-29 and the days before it fall on the weekday after their real one. Serial 0 is
 //! shown as 1900-01-00. From 1900-03-01 (serial 61) on the calendar is the real Gregorian one.
 
-/// The 1904 date system (`<workbookPr date1904="1"/>`, old Mac workbooks): serial 0 is
-/// 1904-01-01, which is serial 1462 of the 1900 system. Every conversion below goes through
-/// [`to_1900`] and [`from_1900`], so the date functions, TEXT and date text all follow the
-/// system of the workbook being evaluated (set by the evaluator for each evaluation).
+/// Serial 0 of the 1904 system, 1904-01-01, is serial 1462 of the 1900 system.
 const OFFSET_1904: i64 = 1462;
 
-thread_local! {
-    static DATE_1904: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+/// Which day a workbook's serial numbers count from: a setting of the workbook (its
+/// `<workbookPr date1904="1"/>`), handed to every conversion below, so that two workbooks
+/// evaluated on one thread each keep their own dates.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum DateSystem {
+    /// Serial 1 is 1900-01-01 (Excel on Windows, every new workbook, and VBA's Date type for
+    /// days from March 1900 on).
+    #[default]
+    From1900,
+    /// Serial 0 is 1904-01-01 (old Mac workbooks).
+    From1904,
 }
 
-/// Chooses the date system of what is evaluated next on this thread.
-pub fn set_date_1904(on: bool) {
-    DATE_1904.with(|d| d.set(on));
-}
-
-/// Runs `f` with serials counting from 1904-01-01 when `on`, and restores the date system of
-/// whatever was being evaluated before: for showing one workbook's dates between another's
-/// evaluations.
-pub fn in_date_system<R>(on: bool, f: impl FnOnce() -> R) -> R {
-    let before = DATE_1904.with(|d| d.replace(on));
-    let result = f();
-    DATE_1904.with(|d| d.set(before));
-    result
-}
-
-/// Whether serials currently count from 1904-01-01.
-pub fn date_1904() -> bool {
-    DATE_1904.with(std::cell::Cell::get)
-}
-
-fn to_1900(serial: i64) -> i64 {
-    if date_1904() {
-        serial + OFFSET_1904
-    } else {
-        serial
+impl DateSystem {
+    /// The system a workbook's 1904 flag names.
+    pub fn from_1904_flag(date_1904: bool) -> DateSystem {
+        if date_1904 {
+            DateSystem::From1904
+        } else {
+            DateSystem::From1900
+        }
     }
-}
 
-fn from_1900(serial: i64) -> i64 {
-    if date_1904() {
-        serial - OFFSET_1904
-    } else {
-        serial
+    pub fn is_1904(self) -> bool {
+        self == DateSystem::From1904
+    }
+
+    /// A serial of this system as the 1900 system counts it, which the calendar below uses.
+    fn to_1900(self, serial: i64) -> i64 {
+        match self {
+            DateSystem::From1900 => serial,
+            DateSystem::From1904 => serial + OFFSET_1904,
+        }
+    }
+
+    fn from_1900(self, serial: i64) -> i64 {
+        match self {
+            DateSystem::From1900 => serial,
+            DateSystem::From1904 => serial - OFFSET_1904,
+        }
     }
 }
 
@@ -78,10 +78,10 @@ pub fn days_in_month(year: i64, month: u32) -> u32 {
 /// the year (month 13 is January of the next year, month 0 December of the one before) and a
 /// day outside the month counts on from its first (day 0 is the last day of the month before).
 /// Any result, in or out of Excel's range, is returned for the caller to judge.
-pub fn serial_from_ymd(year: i64, month: i64, day: i64) -> i64 {
+pub fn serial_from_ymd(dates: DateSystem, year: i64, month: i64, day: i64) -> i64 {
     let months = year * 12 + (month - 1);
     let (y, m) = (months.div_euclid(12), months.rem_euclid(12) + 1);
-    from_1900(first_of_month(y, m) + day - 1)
+    dates.from_1900(first_of_month(y, m) + day - 1)
 }
 
 /// The serial of the first of a month. Before March 1900 Excel counts from 1899-12-31 (so
@@ -97,8 +97,8 @@ fn first_of_month(year: i64, month: i64) -> i64 {
 
 /// Year, month and day of a whole serial in Excel's calendar (0 is 1900-01-00, 60 is
 /// 1900-02-29). Negative serials, which Excel refuses, count back from 1899-12-31.
-pub fn ymd_from_serial(serial: i64) -> (i64, u32, u32) {
-    let serial = to_1900(serial);
+pub fn ymd_from_serial(dates: DateSystem, serial: i64) -> (i64, u32, u32) {
+    let serial = dates.to_1900(serial);
     match serial {
         ..=-1 => civil_from_days(serial + days_from_civil(1899, 12, 31)),
         0..=31 => (1900, 1, serial as u32),
@@ -109,8 +109,8 @@ pub fn ymd_from_serial(serial: i64) -> (i64, u32, u32) {
 
 /// Day of the week of a whole serial, 0 for Sunday. Serial 1 is a Sunday in Excel (the real
 /// 1900-01-01 was a Monday): from 1900-03-01 on weekdays are right.
-pub fn weekday(serial: i64) -> u32 {
-    (to_1900(serial) + 6).rem_euclid(7) as u32
+pub fn weekday(dates: DateSystem, serial: i64) -> u32 {
+    (dates.to_1900(serial) + 6).rem_euclid(7) as u32
 }
 
 /// Days since 1970-01-01 of a proleptic Gregorian date (Howard Hinnant's algorithm).
@@ -160,20 +160,20 @@ impl DateTime {
     /// Splits a non-negative serial, rounding the time to whole seconds (or to `sub_second_digits`
     /// decimals of a second) and carrying into the next day as Excel does: 0.99999999 is
     /// midnight of day 1, so HOUR gives 0 and DAY the next day, as TEXT shows it.
-    pub fn from_serial(serial: f64, sub_second_digits: usize) -> DateTime {
+    pub fn from_serial(dates: DateSystem, serial: f64, sub_second_digits: usize) -> DateTime {
         let unit = 10f64.powi(sub_second_digits as i32);
         let total_seconds = (serial * DAY_SECONDS * unit).round() / unit;
         let days = (total_seconds / DAY_SECONDS).floor();
         let in_day = total_seconds - days * DAY_SECONDS;
         let secs = in_day.floor() as u32;
         let days = days as i64;
-        let (year, month, day) = ymd_from_serial(days);
+        let (year, month, day) = ymd_from_serial(dates, days);
         DateTime {
             serial: days,
             year,
             month,
             day,
-            weekday: weekday(days),
+            weekday: weekday(dates, days),
             hour: secs / 3600,
             minute: secs / 60 % 60,
             second: secs % 60,
@@ -183,12 +183,12 @@ impl DateTime {
     }
 }
 
-/// The system's local date and time now, as a serial (what NOW returns unless the workbook's
-/// settings fix the clock: `Settings::now`).
-pub fn system_now() -> f64 {
+/// The system's local date and time now, as a serial of `dates` (what NOW returns unless the
+/// workbook's settings fix the clock: `Settings::now`).
+pub fn system_now(dates: DateSystem) -> f64 {
     use chrono::{Datelike, Timelike};
     let t = chrono::Local::now().naive_local();
-    let day = serial_from_ymd(i64::from(t.year()), i64::from(t.month()), i64::from(t.day()));
+    let day = serial_from_ymd(dates, i64::from(t.year()), i64::from(t.month()), i64::from(t.day()));
     let seconds = f64::from(t.num_seconds_from_midnight()) + f64::from(t.nanosecond() % 1_000_000_000) * 1e-9;
     day as f64 + seconds / DAY_SECONDS
 }
@@ -221,14 +221,14 @@ impl DateText {
 /// a time are separated by spaces. Two-digit years 00–29 are 2000–2029, 30–99 are 1930–1999.
 /// Dates without a year (`1/10`, `10-Jan`) are Excel's current year: not read here, since a
 /// value would change with the clock. Surrounding spaces are the caller's to trim.
-pub fn parse_date_text(text: &str) -> Option<DateText> {
+pub fn parse_date_text(dates: DateSystem, text: &str) -> Option<DateText> {
     // Every form is short and has a separator or AM/PM: plain numbers, words and long text
     // leave at once.
     let plausible = text.len() <= MAX_DATE_TEXT && text.contains(['-', '/', ':', ' ', 'm', 'M']);
     if !plausible || text.starts_with(' ') || text.ends_with(' ') {
         return None;
     }
-    if let Some(date) = parse_date(text) {
+    if let Some(date) = parse_date(dates, text) {
         return Some(DateText { date: Some(date), time: None });
     }
     if let Some(time) = parse_time(text) {
@@ -236,7 +236,7 @@ pub fn parse_date_text(text: &str) -> Option<DateText> {
     }
     // A date and a time: try each space as the boundary (dates may hold spaces themselves).
     text.char_indices().filter(|&(_, c)| c == ' ').find_map(|(i, _)| {
-        let date = parse_date(text[..i].trim_end())?;
+        let date = parse_date(dates, text[..i].trim_end())?;
         let time = parse_time(text[i..].trim_start())?;
         Some(DateText { date: Some(date), time: Some(time) })
     })
@@ -249,8 +249,8 @@ enum Piece {
     Month(i64),
 }
 
-/// A date as its serial, from 1900-01-01 to 9999-12-31.
-fn parse_date(text: &str) -> Option<i64> {
+/// A date as its serial in `dates`, from 1900-01-01 to 9999-12-31.
+fn parse_date(dates: DateSystem, text: &str) -> Option<i64> {
     let pieces = date_pieces(text)?;
     let (y, m, d) = match pieces[..] {
         [Piece::Number(y, 4), Piece::Number(m, 1..=2), Piece::Number(d, 1..=2)] if !text.contains([' ', ',']) => {
@@ -266,7 +266,7 @@ fn parse_date(text: &str) -> Option<i64> {
     };
     let valid =
         (1900..=9999).contains(&y) && (1..=12).contains(&m) && d >= 1 && d <= i64::from(days_in_month(y, m as u32));
-    valid.then(|| serial_from_ymd(y, m, d))
+    valid.then(|| serial_from_ymd(dates, y, m, d))
 }
 
 /// A year as typed: four digits as they are, two digits in 1930–2029 as Excel reads them.
@@ -397,41 +397,44 @@ fn seconds(text: &str) -> Option<f64> {
 mod tests {
     use super::*;
 
+    const OLD: DateSystem = DateSystem::From1900;
+    const MAC: DateSystem = DateSystem::From1904;
+
     #[test]
     fn serials_follow_excels_1900_calendar() {
         // Excel: DATE(1900,1,1)=1, DATE(1900,2,28)=59, DATE(1900,2,29)=60, DATE(1900,3,1)=61,
         // DATE(2024,1,10)=45301, DATE(9999,12,31)=2958465.
-        assert_eq!(serial_from_ymd(1900, 1, 1), 1);
-        assert_eq!(serial_from_ymd(1900, 2, 28), 59);
-        assert_eq!(serial_from_ymd(1900, 2, 29), 60);
-        assert_eq!(serial_from_ymd(1900, 3, 1), 61);
-        assert_eq!(serial_from_ymd(1900, 3, 0), 60);
-        assert_eq!(serial_from_ymd(1900, 1, 0), 0);
-        assert_eq!(serial_from_ymd(2024, 1, 10), 45301);
-        assert_eq!(serial_from_ymd(2023, 13, 1), serial_from_ymd(2024, 1, 1));
-        assert_eq!(serial_from_ymd(9999, 12, 31), LAST_SERIAL);
+        assert_eq!(serial_from_ymd(OLD, 1900, 1, 1), 1);
+        assert_eq!(serial_from_ymd(OLD, 1900, 2, 28), 59);
+        assert_eq!(serial_from_ymd(OLD, 1900, 2, 29), 60);
+        assert_eq!(serial_from_ymd(OLD, 1900, 3, 1), 61);
+        assert_eq!(serial_from_ymd(OLD, 1900, 3, 0), 60);
+        assert_eq!(serial_from_ymd(OLD, 1900, 1, 0), 0);
+        assert_eq!(serial_from_ymd(OLD, 2024, 1, 10), 45301);
+        assert_eq!(serial_from_ymd(OLD, 2023, 13, 1), serial_from_ymd(OLD, 2024, 1, 1));
+        assert_eq!(serial_from_ymd(OLD, 9999, 12, 31), LAST_SERIAL);
         for serial in [0, 1, 31, 32, 59, 60, 61, 45301, LAST_SERIAL] {
-            let (y, m, d) = ymd_from_serial(serial);
-            assert_eq!(serial_from_ymd(y, i64::from(m), i64::from(d)), serial, "{serial}");
+            let (y, m, d) = ymd_from_serial(OLD, serial);
+            assert_eq!(serial_from_ymd(OLD, y, i64::from(m), i64::from(d)), serial, "{serial}");
         }
-        assert_eq!(ymd_from_serial(60), (1900, 2, 29));
-        assert_eq!(ymd_from_serial(0), (1900, 1, 0));
-        assert_eq!(ymd_from_serial(-1), (1899, 12, 30));
+        assert_eq!(ymd_from_serial(OLD, 60), (1900, 2, 29));
+        assert_eq!(ymd_from_serial(OLD, 0), (1900, 1, 0));
+        assert_eq!(ymd_from_serial(OLD, -1), (1899, 12, 30));
         // 2024-01-10 was a Wednesday; Excel's serial 1 a Sunday.
-        assert_eq!(weekday(45301), 3);
-        assert_eq!(weekday(1), 0);
+        assert_eq!(weekday(OLD, 45301), 3);
+        assert_eq!(weekday(OLD, 1), 0);
     }
 
     #[test]
     fn times_round_to_the_second_and_carry_into_the_next_day() {
-        let t = DateTime::from_serial(45301.75, 0);
+        let t = DateTime::from_serial(OLD, 45301.75, 0);
         assert_eq!((t.year, t.month, t.day, t.hour, t.minute, t.second), (2024, 1, 10, 18, 0, 0));
-        let t = DateTime::from_serial(45_301.999_999_9, 0);
+        let t = DateTime::from_serial(OLD, 45_301.999_999_9, 0);
         assert_eq!((t.day, t.hour), (11, 0));
     }
 
     fn serial(text: &str) -> Option<f64> {
-        parse_date_text(text).map(DateText::serial)
+        parse_date_text(OLD, text).map(DateText::serial)
     }
 
     #[test]
@@ -457,5 +460,31 @@ mod tests {
         {
             assert_eq!(serial(text), None, "{text}");
         }
+    }
+
+    #[test]
+    fn each_conversion_follows_the_date_system_it_is_given() {
+        // Excel's documentation of the two systems: 1904-01-01 is serial 0 of the 1904 system
+        // and 1462 of the 1900 one, so 2024-01-10 is 45301 and 43839, and 43839 in the 1900
+        // system is 2020-01-09. 1904-01-01 was a Friday.
+        assert_eq!(serial_from_ymd(MAC, 1904, 1, 1), 0);
+        assert_eq!(serial_from_ymd(OLD, 1904, 1, 1), 1462);
+        assert_eq!(serial_from_ymd(MAC, 2024, 1, 10), 43839);
+        assert_eq!(ymd_from_serial(MAC, 43839), (2024, 1, 10));
+        assert_eq!(ymd_from_serial(OLD, 43839), (2020, 1, 9));
+        assert_eq!(weekday(MAC, 0), 5);
+        assert_eq!(weekday(OLD, 1462), 5);
+        assert_eq!(weekday(MAC, 43839), 3);
+        let t = DateTime::from_serial(MAC, 43839.75, 0);
+        assert_eq!((t.year, t.month, t.day, t.weekday, t.hour), (2024, 1, 10, 3, 18));
+        assert_eq!(parse_date_text(MAC, "2024-01-10 18:00").map(DateText::serial), Some(43839.75));
+        // The other system again, with nothing set in between.
+        assert_eq!(parse_date_text(OLD, "2024-01-10").map(DateText::serial), Some(45301.0));
+        assert_eq!(DateTime::from_serial(OLD, 43839.0, 0).year, 2020);
+        // A cell's date format shows a serial in the system it is handed.
+        let shown = |serial, dates| crate::eval::format::number_format::shown(serial, Some("yyyy-mm-dd ddd"), dates);
+        assert_eq!(shown(43839.0, MAC), "2024-01-10 Wed");
+        assert_eq!(shown(43839.0, OLD), "2020-01-09 Thu");
+        assert_eq!(shown(43839.0, MAC), "2024-01-10 Wed");
     }
 }

@@ -6,6 +6,7 @@ use std::rc::Rc;
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::formula::ast::*;
 
+use super::dates::DateSystem;
 use super::coerce::{compare, to_number, to_text};
 use super::functions::{self, FnKind};
 use super::value::{too_many_items, too_many_items_note, Array, Value, XlError, XlResult};
@@ -68,9 +69,9 @@ pub trait Env {
         false
     }
 
-    /// Whether date serials count from 1904-01-01 (see `dates.rs`) rather than 1900.
-    fn date_1904(&self) -> bool {
-        false
+    /// The day the workbook's date serials count from (see `dates.rs`).
+    fn date_system(&self) -> DateSystem {
+        DateSystem::From1900
     }
 
     /// The serial NOW reads: the workbook's fixed clock, or the system's (its `Settings`).
@@ -248,6 +249,8 @@ pub struct Ctx<'a> {
     /// Numbers to read in place of number literals of the tree being evaluated, each with
     /// the literal's node (by address): formulas that differ only in their numbers share one
     /// tree (crates/ncsheet/src/workbook/shared.rs). Usually empty. Code that reads numbers from the tree
+    /// The workbook's date system, read once from `env`: every date conversion takes it.
+    dates: DateSystem,
     /// itself, not through `eval`, must be marked `FnSpec::reads_trees`.
     pub numbers: &'a [(*const Expr, f64)],
     /// References made at run time (INDIRECT, OFFSET) that the formula's text does not name:
@@ -285,13 +288,10 @@ pub const MAX_LAMBDA_CALLS: u32 = 2_000_000;
 
 impl<'a> Ctx<'a> {
     pub fn new(env: &'a dyn Env, sheet: SheetId, at: Pos) -> Ctx<'a> {
-        crate::eval::dates::set_date_1904(env.date_1904());
         Ctx::for_cell(env, sheet, at)
     }
 
-    /// [`Ctx::new`] for a recalculation, which has set the date system once for all its
-    /// cells ([`crate::eval::dates::set_date_1904`]): a cell's evaluation is short enough
-    /// for the setting to show.
+    /// The evaluation of one cell (what a recalculation makes for each): [`Ctx::new`].
     pub fn for_cell(env: &'a dyn Env, sheet: SheetId, at: Pos) -> Ctx<'a> {
         Ctx {
             env,
@@ -310,6 +310,7 @@ impl<'a> Ctx<'a> {
     }
 
     /// The same evaluation with a macro interpreter's variables and nodes.
+            dates: env.date_system(),
     pub fn with_host(mut self, host: &'a dyn Host) -> Ctx<'a> {
         self.host = Some(host);
         self
@@ -369,6 +370,12 @@ impl<'a> Ctx<'a> {
     /// Operands of `op` as the workbook's locale reads them: text in arithmetic read as a
     /// number there (`"0,8"*1` in et-EE), numbers joined as text shown there (`0,8&""`).
     /// Under en-US, and for other operators, they are unchanged.
+    /// The workbook's date system, which every conversion between serials and dates (and
+    /// date text) takes.
+    pub fn dates(&self) -> DateSystem {
+        self.dates
+    }
+
     fn localized_operands(&self, op: BinOp, a: Value, b: Value) -> (Value, Value) {
         let locale = self.env.locale();
         if locale.is_canonical() {
@@ -376,7 +383,7 @@ impl<'a> Ctx<'a> {
         }
         match op {
             BinOp::Pow | BinOp::Mul | BinOp::Div | BinOp::Add | BinOp::Sub => {
-                (locale.numbers_for_arithmetic(a), locale.numbers_for_arithmetic(b))
+                (locale.numbers_for_arithmetic(a, self.dates), locale.numbers_for_arithmetic(b, self.dates))
             }
             BinOp::Concat => (locale.numbers_for_joining(a), locale.numbers_for_joining(b)),
             _ => (a, b),
@@ -417,7 +424,7 @@ impl<'a> Ctx<'a> {
             (Value::Number(x), Value::Number(y)) => sum_or_difference(*op, *x, *y),
             _ => {
                 let (x, y) = self.localized_operands(*op, x, y);
-                binary(*op, &x, &y)
+                binary(*op, &x, &y, self.dates)
             }
         }
     }
@@ -457,7 +464,7 @@ impl<'a> Ctx<'a> {
                     let a = x.map_or_else(|| self.eval(a), Value::Number);
                     let b = y.map_or_else(|| self.eval(b), Value::Number);
                     let (a, b) = self.localized_operands(*op, a, b);
-                    let v = binary(*op, &a, &b);
+                    let v = binary(*op, &a, &b, self.dates);
                     if matches!(v, Value::Error(XlError::Num)) {
                         self.explain_array_size(&a, &b);
                     }
@@ -911,9 +918,15 @@ impl<'a> Ctx<'a> {
 
     fn unary(&mut self, op: UnaryOp, inner: &Expr) -> Value {
         match op {
-            UnaryOp::Neg => map_number(&self.locale().numbers_for_arithmetic(self.eval(inner)), |x| Ok(-x)),
+            UnaryOp::Neg => {
+                let v = self.locale().numbers_for_arithmetic(self.eval(inner), self.dates);
+                map_number(&v, |x| Ok(-x), self.dates)
+            }
             UnaryOp::Plus => self.eval(inner),
-            UnaryOp::Percent => map_number(&self.locale().numbers_for_arithmetic(self.eval(inner)), |x| Ok(x / 100.0)),
+            UnaryOp::Percent => {
+                let v = self.locale().numbers_for_arithmetic(self.eval(inner), self.dates);
+                map_number(&v, |x| Ok(x / 100.0), self.dates)
+            }
             UnaryOp::Implicit => {
                 let operand = self.operand(inner);
                 self.implicit_intersection(operand)
@@ -922,7 +935,10 @@ impl<'a> Ctx<'a> {
                 let operand = self.spill_operand(inner);
                 self.deref(operand)
             }
-            UnaryOp::Not => map_value(&self.eval(inner), &vba_not),
+            UnaryOp::Not => {
+                let dates = self.dates;
+                map_value(&self.eval(inner), &|v| vba_not(v, dates))
+            }
         }
     }
 
@@ -993,8 +1009,8 @@ fn rect_intersection(a: Rect, b: Rect) -> Option<Rect> {
 }
 
 /// Applies a numeric function to a scalar or element-wise to an array.
-pub fn map_number(v: &Value, f: impl Fn(f64) -> XlResult<f64>) -> Value {
-    map_value(v, &|x| match to_number(x).and_then(&f) {
+pub fn map_number(v: &Value, f: impl Fn(f64) -> XlResult<f64>, dates: DateSystem) -> Value {
+    map_value(v, &|x| match to_number(x, dates).and_then(&f) {
         Ok(n) => number_result(n),
         Err(e) => Value::Error(e),
     })
@@ -1179,15 +1195,16 @@ fn sum_or_difference(op: BinOp, x: f64, y: f64) -> Value {
     }
 }
 
-/// A binary operator applied with broadcasting.
-pub fn binary(op: BinOp, a: &Value, b: &Value) -> Value {
+/// A binary operator applied with broadcasting; text operands of arithmetic are read with
+/// date text as serials of `dates`.
+pub fn binary(op: BinOp, a: &Value, b: &Value, dates: DateSystem) -> Value {
     if let (Value::Number(x), Value::Number(y)) = (a, b) {
         return scalar_binary_numbers(op, *x, *y);
     }
-    broadcast2(a, b, &|x, y| scalar_binary(op, x, y))
+    broadcast2(a, b, &|x, y| scalar_binary(op, x, y, dates))
 }
 
-fn scalar_binary(op: BinOp, a: &Value, b: &Value) -> Value {
+fn scalar_binary(op: BinOp, a: &Value, b: &Value, dates: DateSystem) -> Value {
     match op {
         BinOp::Concat => match (to_text(a), to_text(b)) {
             (Ok(x), Ok(y)) => Value::Text(format!("{x}{y}").into()),
@@ -1197,9 +1214,9 @@ fn scalar_binary(op: BinOp, a: &Value, b: &Value) -> Value {
             Ok(ord) => Value::Bool(comparison_holds(op, ord)),
             Err(e) => Value::Error(e),
         },
-        BinOp::And | BinOp::Or | BinOp::Xor | BinOp::Eqv | BinOp::Imp => vba_logic(op, a, b),
+        BinOp::And | BinOp::Or | BinOp::Xor | BinOp::Eqv | BinOp::Imp => vba_logic(op, a, b, dates),
         BinOp::Like => functions::vba::like(a, b),
-        _ => match (to_number(a), to_number(b)) {
+        _ => match (to_number(a, dates), to_number(b, dates)) {
             (Ok(x), Ok(y)) => scalar_binary_numbers(op, x, y),
             (Err(e), _) | (_, Err(e)) => Value::Error(e),
         },
@@ -1257,7 +1274,8 @@ fn scalar_binary_numbers(op: BinOp, x: f64, y: f64) -> Value {
         BinOp::Div => number_result(x / y),
         BinOp::Pow => power(x, y).map_or_else(Value::Error, number_result),
         BinOp::Mod | BinOp::IntDiv => vba_integer_division(op, x, y),
-        _ => scalar_binary(op, &Value::Number(x), &Value::Number(y)),
+        // Numbers only: no date text to read.
+        _ => scalar_binary(op, &Value::Number(x), &Value::Number(y), DateSystem::From1900),
     }
 }
 
@@ -1292,18 +1310,18 @@ enum Logic {
     Int(i64),
 }
 
-fn logic_operand(v: &Value) -> XlResult<Logic> {
+fn logic_operand(v: &Value, dates: DateSystem) -> XlResult<Logic> {
     match v {
         Value::Bool(b) => Ok(Logic::Bool(*b)),
         Value::Text(t) if t.eq_ignore_ascii_case("TRUE") || t.eq_ignore_ascii_case("FALSE") => {
             Ok(Logic::Bool(t.eq_ignore_ascii_case("TRUE")))
         }
-        other => vba_integer(to_number(other)?).map(Logic::Int),
+        other => vba_integer(to_number(other, dates)?).map(Logic::Int),
     }
 }
 
-fn vba_logic(op: BinOp, a: &Value, b: &Value) -> Value {
-    let (a, b) = match (logic_operand(a), logic_operand(b)) {
+fn vba_logic(op: BinOp, a: &Value, b: &Value, dates: DateSystem) -> Value {
+    let (a, b) = match (logic_operand(a, dates), logic_operand(b, dates)) {
         (Ok(a), Ok(b)) => (a, b),
         (Err(e), _) | (_, Err(e)) => return Value::Error(e),
     };
@@ -1332,8 +1350,8 @@ fn vba_logic(op: BinOp, a: &Value, b: &Value) -> Value {
     }
 }
 
-fn vba_not(v: &Value) -> Value {
-    match logic_operand(v) {
+fn vba_not(v: &Value, dates: DateSystem) -> Value {
+    match logic_operand(v, dates) {
         Ok(Logic::Bool(b)) => Value::Bool(!b),
         Ok(Logic::Int(i)) => Value::Number(!i as f64),
         Err(e) => Value::Error(e),

@@ -13,7 +13,7 @@
 use std::fmt;
 
 use super::coerce::parse_plain_number;
-use super::dates;
+use super::dates::{self, DateSystem};
 use super::format::number_format::general;
 use super::value::{Array, Value, XlError};
 
@@ -226,11 +226,12 @@ impl Locale {
     /// Typed or computed text as a number, as this locale's Excel reads it (VALUE, arithmetic
     /// on text, a typed value): numbers with the locale's decimal mark and group separators,
     /// a percent, a currency sign; a fraction `1 1/2`; a date or time in the locale's order.
-    pub fn read_number(self, text: &str) -> Option<f64> {
+    /// Dates are serials of `system`, the workbook's date system.
+    pub fn read_number(self, text: &str, system: DateSystem) -> Option<f64> {
         if self.is_canonical() {
-            return super::coerce::parse_number(text);
+            return super::coerce::parse_number(text, system);
         }
-        self.read_plain_number(text).or_else(|| self.read_date(text.trim()))
+        self.read_plain_number(text).or_else(|| self.read_date(text.trim(), system))
     }
 
     /// [`Locale::read_number`] without dates and times.
@@ -261,34 +262,34 @@ impl Locale {
 
     /// A date, a time, or both (`12.03.2025`, `12.03.2025 13:30`, `2025-03-12`, `13:30`) in the
     /// locale's date order.
-    pub fn read_date(self, text: &str) -> Option<f64> {
-        self.read_date_text(text).map(dates::DateText::serial)
+    pub fn read_date(self, text: &str, system: DateSystem) -> Option<f64> {
+        self.read_date_text(text, system).map(dates::DateText::serial)
     }
 
     /// [`Locale::read_date`]'s date and time apart (DATEVALUE, TIMEVALUE).
-    pub fn read_date_text(self, text: &str) -> Option<dates::DateText> {
+    pub fn read_date_text(self, text: &str, system: DateSystem) -> Option<dates::DateText> {
         if self.is_canonical() {
-            return dates::parse_date_text(text);
+            return dates::parse_date_text(system, text);
         }
-        if let Some(date) = self.read_day(text) {
+        if let Some(date) = self.read_day(text, system) {
             return Some(dates::DateText { date: Some(date), time: None });
         }
         if !text.contains(':') {
             return None;
         }
         if let Some((day, time)) = text.split_once(' ') {
-            if let Some(date) = self.read_day(day.trim()) {
-                let time = dates::parse_date_text(time.trim())?.time?;
+            if let Some(date) = self.read_day(day.trim(), system) {
+                let time = dates::parse_date_text(system, time.trim())?.time?;
                 return Some(dates::DateText { date: Some(date), time: Some(time) });
             }
         }
         // A time alone reads the same everywhere; a date in another order does not.
-        dates::parse_date_text(text).filter(|t| t.date.is_none())
+        dates::parse_date_text(system, text).filter(|t| t.date.is_none())
     }
 
     /// A short date in the locale's order with `.`, `/` or `-` between its parts (and ISO's
     /// year-first order, which every Excel reads), as its serial.
-    fn read_day(self, text: &str) -> Option<i64> {
+    fn read_day(self, text: &str, system: DateSystem) -> Option<i64> {
         let t = text.strip_suffix('.').unwrap_or(text);
         let parts: Vec<&str> = t.split(['.', '/', '-']).map(str::trim).collect();
         let [a, b, c] = parts.as_slice() else { return None };
@@ -313,19 +314,19 @@ impl Locale {
             && (1..=12).contains(&month)
             && day >= 1
             && day <= i64::from(dates::days_in_month(year, month as u32));
-        valid.then(|| dates::serial_from_ymd(year, month, day))
+        valid.then(|| dates::serial_from_ymd(system, year, month, day))
     }
 
     /// A value with its text read as a number in this locale, for arithmetic: text that is no
     /// number here is `#VALUE!`; other values, and everything under en-US, unchanged.
-    pub fn numbers_for_arithmetic(self, v: Value) -> Value {
+    pub fn numbers_for_arithmetic(self, v: Value, system: DateSystem) -> Value {
         if self.is_canonical() {
             return v;
         }
         match v {
-            Value::Text(s) => self.read_number(&s).map_or(Value::Error(XlError::Value), Value::Number),
+            Value::Text(s) => self.read_number(&s, system).map_or(Value::Error(XlError::Value), Value::Number),
             Value::Array(a) if a.data.iter().any(|x| matches!(x, Value::Text(_))) => {
-                let data = a.data.iter().map(|x| self.numbers_for_arithmetic(x.clone())).collect();
+                let data = a.data.iter().map(|x| self.numbers_for_arithmetic(x.clone(), system)).collect();
                 Value::Array(std::rc::Rc::new(Array::new(a.rows, a.cols, data)))
             }
             v => v,
@@ -372,12 +373,12 @@ impl Locale {
     /// A number as a cell with the number format `code` shows it in this locale: its marks,
     /// and the short date for Excel's built-in date format (format 14, which follows the
     /// system's short date).
-    pub fn shown_number(self, n: f64, code: Option<&str>) -> String {
+    pub fn shown_number(self, n: f64, code: Option<&str>, system: DateSystem) -> String {
         let code = match code {
             Some("m/d/yyyy" | "mm-dd-yy" | "m/d/yy") => Some(self.short_date),
             code => code,
         };
-        let shown = super::format::number_format::shown(n, code);
+        let shown = super::format::number_format::shown(n, code, system);
         self.localize_formatted(code.unwrap_or(""), &shown)
     }
 
@@ -477,7 +478,8 @@ impl Locale {
     /// When `text` is no number here but is one in another locale ncsheet knows, that
     /// locale and the spelling this locale's user means (`0.8` in et-EE: en-US, `0,8`).
     pub fn number_elsewhere(self, text: &str) -> Option<(Locale, String)> {
-        if self.read_number(text).is_some() || text.trim().is_empty() {
+        // Whether it reads at all does not depend on the date system.
+        if self.read_number(text, DateSystem::From1900).is_some() || text.trim().is_empty() {
             return None;
         }
         let other = if self.is_canonical() { Locale::from_tag("de-DE")? } else { Locale::EN_US };
@@ -562,20 +564,20 @@ mod tests {
     #[test]
     fn numbers_and_dates_read_in_the_locale() {
         let et = locale("et-EE");
-        assert_eq!(et.read_number("0,8"), Some(0.8));
-        assert_eq!(et.read_number("1 234,5"), Some(1234.5));
-        assert_eq!(et.read_number("1\u{A0}234,5"), Some(1234.5));
-        assert_eq!(et.read_number("25%"), Some(0.25));
-        assert_eq!(et.read_number("-0,0171"), Some(-0.0171));
-        assert_eq!(et.read_number("0.8"), None);
+        assert_eq!(et.read_number("0,8", DateSystem::From1900), Some(0.8));
+        assert_eq!(et.read_number("1 234,5", DateSystem::From1900), Some(1234.5));
+        assert_eq!(et.read_number("1\u{A0}234,5", DateSystem::From1900), Some(1234.5));
+        assert_eq!(et.read_number("25%", DateSystem::From1900), Some(0.25));
+        assert_eq!(et.read_number("-0,0171", DateSystem::From1900), Some(-0.0171));
+        assert_eq!(et.read_number("0.8", DateSystem::From1900), None);
         // 2025-03-12 is serial 45728 (DATE(2025,3,12) in Excel).
-        assert_eq!(et.read_number("12.03.2025"), Some(45728.0));
-        assert_eq!(locale("hu-HU").read_number("2025.03.12."), Some(45728.0));
-        assert_eq!(Locale::EN_US.read_number("3/12/2025"), Some(45728.0));
+        assert_eq!(et.read_number("12.03.2025", DateSystem::From1900), Some(45728.0));
+        assert_eq!(locale("hu-HU").read_number("2025.03.12.", DateSystem::From1900), Some(45728.0));
+        assert_eq!(Locale::EN_US.read_number("3/12/2025", DateSystem::From1900), Some(45728.0));
         let de = locale("de-DE");
-        assert_eq!(de.read_number("1.234,5"), Some(1234.5));
-        assert_eq!(de.read_number("1,5"), Some(1.5));
-        assert_eq!(de.read_number("12.3.2025 12:00"), Some(45728.5));
+        assert_eq!(de.read_number("1.234,5", DateSystem::From1900), Some(1234.5));
+        assert_eq!(de.read_number("1,5", DateSystem::From1900), Some(1.5));
+        assert_eq!(de.read_number("12.3.2025 12:00", DateSystem::From1900), Some(45728.5));
     }
 
     #[test]

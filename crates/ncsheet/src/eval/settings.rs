@@ -31,9 +31,10 @@ impl Settings {
         self.random.set(seed);
     }
 
-    /// The serial NOW returns.
-    pub fn now(&self) -> f64 {
-        self.clock.unwrap_or_else(dates::system_now)
+    /// The serial NOW returns; the system clock is read as a serial of `system`, the
+    /// workbook's date system.
+    pub fn now(&self, system: dates::DateSystem) -> f64 {
+        self.clock.unwrap_or_else(|| dates::system_now(system))
     }
 
     /// The next number 0 ≤ x < 1 of the sequence, with 53 random bits (xorshift64*).

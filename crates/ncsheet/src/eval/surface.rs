@@ -16,6 +16,7 @@ use crate::formula::parse::{parse_formula, ParseContext, ParseError};
 use crate::formula::address::{Pos, Rect};
 
 use super::coerce::{to_number, to_text};
+use super::dates::DateSystem;
 use super::diff::{derivative, is_pure_numeric, DiffError};
 use super::evaluator::{Ctx, Env};
 use super::functions::{self, as_lambda, FnKind, Registry};
@@ -148,7 +149,7 @@ pub struct BoundSurface<'s, 'c, 'a> {
 impl BoundSurface<'_, '_, '_> {
     pub fn height_at(&mut self, x: f64, y: f64) -> Result<f64, SurfaceFault> {
         let s = self.surface;
-        self.with_xy(x, y, |ctx| number(ctx.eval(&s.height), Part::Height))
+        self.with_xy(x, y, |ctx| number(ctx.eval(&s.height), Part::Height, ctx.dates()))
     }
 
     /// Height and slopes (∂f/∂x, ∂f/∂y), with x and y bound once and the parts the three
@@ -159,9 +160,9 @@ impl BoundSurface<'_, '_, '_> {
             shared.with_temps(ctx, &mut |ctx| {
                 let [h, dx, dy] = &shared.roots;
                 Ok([
-                    number(ctx.eval(h), Part::Height)?,
-                    number(ctx.eval(dx), Part::SlopeX)?,
-                    number(ctx.eval(dy), Part::SlopeY)?,
+                    number(ctx.eval(h), Part::Height, ctx.dates())?,
+                    number(ctx.eval(dx), Part::SlopeX, ctx.dates())?,
+                    number(ctx.eval(dy), Part::SlopeY, ctx.dates())?,
                 ])
             })
         })
@@ -174,12 +175,12 @@ impl BoundSurface<'_, '_, '_> {
     }
 }
 
-fn number(v: Value, part: Part) -> Result<f64, SurfaceFault> {
+fn number(v: Value, part: Part, dates: DateSystem) -> Result<f64, SurfaceFault> {
     let fault = |error| SurfaceFault { error, part };
     match v {
         Value::Number(n) => Ok(n),
         Value::Array(a) if a.data.len() != 1 => Err(fault(XlError::Value)),
-        v => to_number(&v.unwrap_single()).map_err(fault),
+        v => to_number(&v.unwrap_single(), dates).map_err(fault),
     }
 }
 
@@ -399,7 +400,7 @@ pub struct EmptyEnv {
 
 impl Env for EmptyEnv {
     fn now(&self) -> f64 {
-        self.settings.now()
+        self.settings.now(self.date_system())
     }
 
     fn next_random(&self) -> f64 {

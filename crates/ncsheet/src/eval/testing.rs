@@ -59,7 +59,7 @@ impl MapEnv {
 
 impl Env for MapEnv {
     fn now(&self) -> f64 {
-        self.settings.now()
+        self.settings.now(self.date_system())
     }
 
     fn next_random(&self) -> f64 {

@@ -24,6 +24,7 @@ use std::collections::HashMap;
 use std::fmt;
 use std::io::{self, Write};
 
+use crate::eval::dates::DateSystem;
 use crate::eval::format::number_format;
 use crate::eval::Value;
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
@@ -316,7 +317,8 @@ fn decimal_comma_input(text: &str) -> String {
     if text.starts_with('=') {
         return super::csv_locale::to_semicolon_locale(text);
     }
-    let is_number = matches!(Input::parse(text), Input::Value(Value::Number(_)));
+    // Whether it is a number does not depend on the date system.
+    let is_number = matches!(Input::parse(text, DateSystem::From1900), Input::Value(Value::Number(_)));
     if is_number && decimal_point(&text.replacen('.', ",", 1)) == text {
         text.replacen('.', ",", 1)
     } else {
@@ -486,7 +488,7 @@ pub fn write_with(wb: &Workbook, what: &Export, style: &Style, out: &mut dyn Wri
         for col in rect.first.col..=rect.last.col {
             let pos = Pos::new(row, col);
             fields.push(match what.content {
-                Content::Values => style.field(&wb.value(what.sheet, pos), pos),
+                Content::Values => style.field(&wb.value(what.sheet, pos), pos, wb.date_system()),
                 Content::Formulas => style.typed(&wb.input(what.sheet, pos).unwrap_or_default()),
             });
         }
@@ -519,7 +521,7 @@ fn write_sparse(wb: &Workbook, what: &Export, style: &Style, rect: Rect, out: &m
         while let Some(&&pos) = next.peek().filter(|p| p.row == row) {
             fields.resize((pos.col - rect.first.col) as usize, String::new());
             fields.push(match what.content {
-                Content::Values => style.field(&wb.value(what.sheet, pos), pos),
+                Content::Values => style.field(&wb.value(what.sheet, pos), pos, wb.date_system()),
                 Content::Formulas => wb.input(what.sheet, pos).unwrap_or_default(),
             });
             next.next();
@@ -548,12 +550,12 @@ impl Style<'_> {
 
     /// The csv text of a value in this style: a number as its cell's format shows it (or
     /// in full), with a decimal comma in a `;` file; anything else as [`value_field`].
-    fn field(&self, v: &Value, pos: Pos) -> String {
+    fn field(&self, v: &Value, pos: Pos, dates: DateSystem) -> String {
         let Value::Number(n) = v else { return value_field(v) };
         let text = if self.raw {
             format!("{n}")
         } else {
-            number_format::shown(*n, self.formats.and_then(|f| f.get(&pos)).map(String::as_str))
+            number_format::shown(*n, self.formats.and_then(|f| f.get(&pos)).map(String::as_str), dates)
         };
         if self.delimiter == b';' {
             // Swapped both ways: 1,234.5 is 1.234,5 where the comma is the decimal mark.
@@ -585,7 +587,7 @@ fn needs_text_mark(text: &str) -> bool {
         return false;
     }
     let formula_like = text.starts_with(['=', '+', '-', '@', '\t', '\r']);
-    formula_like || Input::parse(text) != Input::Value(Value::text(text))
+    formula_like || Input::parse(text, DateSystem::From1900) != Input::Value(Value::text(text))
 }
 
 #[cfg(test)]

@@ -79,15 +79,18 @@ impl Env for Interp<'_, '_> {
         self.wb.borrow().is_subtotal(sheet, pos)
     }
 
-    fn date_1904(&self) -> bool {
-        self.wb.borrow().date_1904()
+    fn date_system(&self) -> crate::eval::dates::DateSystem {
+        self.wb.borrow().date_system()
     }
 
     // A function called from a cell reads the calling workbook's clock and sequence.
     fn now(&self) -> f64 {
         match self.cells {
             Some(cells) => cells.now(),
-            None => self.wb.borrow().settings().now(),
+            None => {
+                let wb = self.wb.borrow();
+                wb.settings().now(wb.date_system())
+            }
         }
     }
 

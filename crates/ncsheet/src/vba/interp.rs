@@ -12,6 +12,7 @@
 use std::cell::{Cell, RefCell};
 use std::rc::Rc;
 
+use crate::eval::dates::DateSystem;
 use crate::eval::coerce::{compare, to_bool, to_number};
 use crate::eval::evaluator::binary;
 use crate::eval::{Ctx, Operand, Value, XlError};
@@ -357,7 +358,7 @@ impl Interp<'_, '_> {
                     format!("{} {} has no parameter {name} (it has: {})", proc.kind, proc.name, names.join(", ")),
                 ));
             };
-            let value = match Input::parse(text) {
+            let value = match Input::parse(text, DateSystem::From1900) {
                 Input::Empty => Value::Blank,
                 Input::Value(v) => v,
                 Input::Formula(f) => Value::text(f),
@@ -491,7 +492,8 @@ impl Interp<'_, '_> {
         if let Value::Array(_) = v {
             return Err(format!("{what} is an array, not a number"));
         }
-        to_number(v).map_err(|err| self.describe_error(what, v, err))
+        // A VBA Date counts days as the 1900 system does, whatever the workbook's.
+        to_number(v, DateSystem::From1900).map_err(|err| self.describe_error(what, v, err))
     }
 
     pub fn truth(&self, e: &Expr, what: &str) -> Run<bool> {
@@ -1181,7 +1183,7 @@ impl Interp<'_, '_> {
             CaseTest::Range(lo, hi) => cmp(lo)?.is_ge() && cmp(hi)?.is_le(),
             CaseTest::Is(op, e) => {
                 let v = self.eval(e)?;
-                to_bool(&binary(*op, s, &v)).unwrap_or(false)
+                to_bool(&binary(*op, s, &v, DateSystem::From1900)).unwrap_or(false)
             }
         })
     }
@@ -1217,7 +1219,7 @@ impl Interp<'_, '_> {
                 other => return Ok(other),
             }
             let v = match self.lookup(var) {
-                Some(Var::Value(v)) => to_number(&v).unwrap_or(f64::NAN),
+                Some(Var::Value(v)) => to_number(&v, DateSystem::From1900).unwrap_or(f64::NAN),
                 _ => f64::NAN,
             };
             self.set_var(var, Var::Value(Value::Number(v + step)), span)?;

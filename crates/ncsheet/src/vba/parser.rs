@@ -1169,7 +1169,8 @@ fn date_part(word: &str) -> Option<f64> {
     if !(100..=9999).contains(&year) || !(1..=12).contains(&month) || !valid_day {
         return None;
     }
-    let serial = crate::eval::dates::serial_from_ymd(year, month, day);
+    // A VBA Date counts days as the 1900 system does (from 1899-12-30), whatever the workbook's.
+    let serial = crate::eval::dates::serial_from_ymd(crate::eval::dates::DateSystem::From1900, year, month, day);
     // Excel counts a 29 February 1900 that VBA does not: before March 1900 VBA is one more.
     Some(if (year, month) < (1900, 3) { serial + 1 } else { serial } as f64)
 }

@@ -3,6 +3,7 @@
 
 use std::rc::Rc;
 
+use crate::eval::dates::DateSystem;
 use crate::eval::coerce::{to_bool, to_number};
 use crate::eval::functions::vba::vba_text;
 use crate::eval::{Array, Value, XlError};
@@ -191,12 +192,13 @@ pub(super) fn convert(var: Var, ty: Option<&Ty>, name: &str) -> Result<Var, Stri
     let mismatch = |e: XlError| format!("{name} cannot hold {e} (type mismatch)");
     let text_mismatch = |v: &Value| format!("{name} cannot hold \"{}\" (type mismatch)", print_text(v));
     Ok(Var::Value(match ty {
-        Ty::Whole => match (&v, to_number(&v)) {
+        // A VBA Date counts days as the 1900 system does, whatever the workbook's.
+        Ty::Whole => match (&v, to_number(&v, DateSystem::From1900)) {
             (_, Ok(n)) => Value::Number(n.round_ties_even()),
             (Value::Text(_), Err(_)) => return Err(text_mismatch(&v)),
             (_, Err(e)) => return Err(mismatch(e)),
         },
-        Ty::Number => match (&v, to_number(&v)) {
+        Ty::Number => match (&v, to_number(&v, DateSystem::From1900)) {
             (_, Ok(n)) => Value::Number(n),
             (Value::Text(_), Err(_)) => return Err(text_mismatch(&v)),
             (_, Err(e)) => return Err(mismatch(e)),

@@ -250,12 +250,12 @@ impl Env for Probe<'_> {
         self.wb.is_subtotal(sheet, pos)
     }
 
-    fn date_1904(&self) -> bool {
-        self.wb.date_1904
+    fn date_system(&self) -> crate::eval::dates::DateSystem {
+        self.wb.date_system()
     }
 
     fn now(&self) -> f64 {
-        self.wb.settings.now()
+        self.wb.settings.now(self.wb.date_system())
     }
 
     fn next_random(&self) -> f64 {

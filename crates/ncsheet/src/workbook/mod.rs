@@ -10,6 +10,7 @@ use std::fmt;
 use std::rc::Rc;
 
 use crate::eval::coerce::parse_number;
+use crate::eval::dates::DateSystem;
 use crate::eval::functions::Registry;
 use crate::eval::{Env, Note, RowHidden, UserCall, Value, XlError};
 use crate::formula::address::{Pos, Rect};
@@ -59,7 +60,8 @@ pub enum Input {
 impl Input {
     /// `=…` is a formula; numbers (`1,234.5`, `50%`), `TRUE`/`FALSE` and error literals are
     /// values; a leading `'` forces text; anything else is text.
-    pub fn parse(text: &str) -> Input {
+    /// Date text is the serial of its date in `dates`, the workbook's date system.
+    pub fn parse(text: &str, dates: DateSystem) -> Input {
         if text.is_empty() {
             return Input::Empty;
         }
@@ -69,7 +71,7 @@ impl Input {
         if let Some(rest) = text.strip_prefix('\'') {
             return Input::Value(Value::text(rest));
         }
-        if let Some(n) = parse_number(text) {
+        if let Some(n) = parse_number(text, dates) {
             return Input::Value(Value::Number(n));
         }
         let t = text.trim();
@@ -268,6 +270,11 @@ impl Workbook {
     }
 
     /// The active sheet, the one a file opens on (the first unless the file says another).
+    /// The day the workbook's serials count from, which every date conversion takes.
+    pub fn date_system(&self) -> DateSystem {
+        DateSystem::from_1904_flag(self.date_1904)
+    }
+
     pub fn active_sheet(&self) -> SheetId {
         if (self.active_sheet as usize) < self.sheets.len() {
             self.active_sheet
@@ -430,7 +437,7 @@ impl Workbook {
                 }
             }
         }
-        match Input::parse(text) {
+        match Input::parse(text, self.date_system()) {
             Input::Empty => {
                 self.set_constant(sheet, pos, Value::Blank);
                 Ok(())
@@ -743,7 +750,9 @@ impl Workbook {
         match &self.cells[id as usize].value {
             Value::Blank => None,
             Value::Number(n) => Some(crate::formula::print::number_literal(*n)),
-            Value::Text(t) if Input::parse(t) != Input::Value(Value::Text(t.clone())) => Some(format!("'{t}")),
+            Value::Text(t) if Input::parse(t, self.date_system()) != Input::Value(Value::Text(t.clone())) => {
+                Some(format!("'{t}"))
+            }
             v => Some(v.to_string()),
         }
     }
@@ -949,12 +958,12 @@ impl Env for Workbook {
         found
     }
 
-    fn date_1904(&self) -> bool {
-        self.date_1904
+    fn date_system(&self) -> DateSystem {
+        Workbook::date_system(self)
     }
 
     fn now(&self) -> f64 {
-        self.settings.now()
+        self.settings.now(Workbook::date_system(self))
     }
 
     fn next_random(&self) -> f64 {

@@ -275,8 +275,6 @@ impl Workbook {
     }
 
     fn run_passes(&mut self, mut sources: Vec<u32>) {
-        // Every cell evaluated below reads dates in this workbook's system (`Ctx::for_cell`).
-        crate::eval::dates::set_date_1904(self.date_1904);
         self.fresh_notes.clear();
         self.cycles.begin();
         for _ in 0..MAX_PASSES {

@@ -7,6 +7,7 @@
 
 use std::borrow::Cow;
 
+use crate::eval::dates::DateSystem;
 use crate::eval::{Locale, Value};
 
 use super::Input;
@@ -14,17 +15,17 @@ use super::Input;
 impl Input {
     /// [`Input::parse`] as a user of `locale` types: numbers and dates in its spelling,
     /// formulas with its separators (turned into the file syntax).
-    pub fn parse_in(text: &str, locale: Locale) -> Input {
+    pub fn parse_in(text: &str, locale: Locale, dates: DateSystem) -> Input {
         if locale.is_canonical() {
-            return Input::parse(text);
+            return Input::parse(text, dates);
         }
-        match Input::parse(text) {
+        match Input::parse(text, dates) {
             Input::Formula(f) => Input::Formula(locale.canonical_formula(&f)),
             // A forced text, a boolean or an error literal reads the same in every locale.
             Input::Empty => Input::Empty,
             Input::Value(v @ (Value::Bool(_) | Value::Error(_))) => Input::Value(v),
-            _ if text.starts_with('\'') => Input::parse(text),
-            _ => match locale.read_number(text) {
+            _ if text.starts_with('\'') => Input::parse(text, dates),
+            _ => match locale.read_number(text, dates) {
                 Some(n) => Input::Value(Value::Number(n)),
                 None => Input::Value(Value::text(text)),
             },
@@ -39,7 +40,7 @@ impl super::Workbook {
     /// spelling meant.
     pub fn typed_input<'t>(&self, text: &'t str) -> Result<Cow<'t, str>, String> {
         let locale = self.settings.locale;
-        let input = Input::parse_in(text, locale);
+        let input = Input::parse_in(text, locale, self.date_system());
         if let Input::Value(Value::Text(_)) = &input {
             if let Some((other, meant)) = locale.number_elsewhere(text) {
                 return Err(format!(
@@ -61,7 +62,7 @@ impl super::Workbook {
             Input::Value(Value::Error(e)) => Cow::Owned(e.to_string()),
             Input::Value(_) if text.starts_with('\'') => Cow::Borrowed(text),
             // Text that the canonical reading would take for something else is forced text.
-            Input::Value(_) if !matches!(Input::parse(text), Input::Value(Value::Text(_))) => {
+            Input::Value(_) if !matches!(Input::parse(text, self.date_system()), Input::Value(Value::Text(_))) => {
                 Cow::Owned(format!("'{text}"))
             }
             Input::Value(_) => Cow::Borrowed(text),

@@ -19,9 +19,10 @@ pub fn general(n: f64) -> String {
 }
 
 /// A number as a cell with the number format `code` shows it: General (15 significant
-/// digits) without one, or when the code is one ncsheet cannot apply.
-pub fn shown(n: f64, code: Option<&str>) -> String {
-    code.and_then(|c| crate::eval::functions::NumberFormat::parse(c).and_then(|f| f.format_number(n)).ok())
+/// digits) without one, or when the code is one ncsheet cannot apply. A date format shows it
+/// as a serial of `dates`, the workbook's date system.
+pub fn shown(n: f64, code: Option<&str>, dates: crate::eval::dates::DateSystem) -> String {
+    code.and_then(|c| crate::eval::functions::NumberFormat::parse(c).and_then(|f| f.format_number(n, dates)).ok())
         .unwrap_or_else(|| general(n))
 }
 

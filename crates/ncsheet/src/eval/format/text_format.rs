@@ -7,7 +7,7 @@
 //! binary double is a little below).
 
 use super::number_format::significant_digits;
-use crate::eval::dates::{DateTime, LAST_SERIAL};
+use crate::eval::dates::{DateSystem, DateTime, LAST_SERIAL};
 use crate::eval::value::{XlError, XlResult};
 
 /// One piece of a format section.
@@ -87,8 +87,8 @@ impl NumberFormat {
         Ok(NumberFormat { sections })
     }
 
-    /// A number as text under this format.
-    pub fn format_number(&self, n: f64) -> XlResult<String> {
+    /// A number as text under this format; a date format reads it as a serial of `dates`.
+    pub fn format_number(&self, n: f64, dates: DateSystem) -> XlResult<String> {
         if self.no_condition_holds(n) {
             // `[<10]0" Wow"` given 10: Excel shows the number in General.
             return Ok(general_text(n));
@@ -98,7 +98,7 @@ impl NumberFormat {
             return Ok(String::new());
         }
         if section.is_date() {
-            return format_date(section, value);
+            return format_date(section, value, dates);
         }
         format_in_section(section, value, signed)
     }
@@ -921,7 +921,7 @@ pub fn general_text(n: f64) -> String {
 // ---------------------------------------------------------------------------------------
 // Dates and times
 
-fn format_date(section: &Section, serial: f64) -> XlResult<String> {
+fn format_date(section: &Section, serial: f64, dates: DateSystem) -> XlResult<String> {
     if !(0.0..(LAST_SERIAL + 1) as f64).contains(&serial) {
         return Err(XlError::Value);
     }
@@ -930,7 +930,7 @@ fn format_date(section: &Section, serial: f64) -> XlResult<String> {
         _ => None,
     });
     // Rounded to the finest unit shown (whole seconds unless `.0`/`.00`/`.000`).
-    let dt = DateTime::from_serial(serial, sub_second.unwrap_or(0));
+    let dt = DateTime::from_serial(dates, serial, sub_second.unwrap_or(0));
     let twelve_hour = section.tokens.iter().any(|t| matches!(t, Tok::Date(DatePart::AmPm { .. })));
     let mut out = String::new();
     for t in &section.tokens {
@@ -1025,7 +1025,7 @@ mod tests {
     use super::*;
 
     fn fmt(n: f64, f: &str) -> String {
-        NumberFormat::parse(f).unwrap().format_number(n).unwrap()
+        NumberFormat::parse(f).unwrap().format_number(n, DateSystem::From1900).unwrap()
     }
 
     #[test]

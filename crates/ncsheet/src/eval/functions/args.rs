@@ -21,8 +21,9 @@ pub enum Source {
 
 /// A scalar argument as a number (arrays give their first item; use [`lift`] to map instead).
 pub fn number(ctx: &mut Ctx, e: &Expr) -> XlResult<f64> {
+    let dates = ctx.dates();
     let v = ctx.eval(e);
-    to_number(&ctx.locale().numbers_for_arithmetic(v))
+    to_number(&ctx.locale().numbers_for_arithmetic(v, dates), dates)
 }
 
 /// Argument `i` when given: `None` when it is omitted or left empty (`ROUND(2.5,)`).
@@ -112,6 +113,7 @@ pub fn lift_values(values: &[Value], f: &dyn Fn(&[Value]) -> XlResult<Value>) ->
 /// The arguments sit in a stack array, not a `Vec`: a scalar call allocates nothing (surface
 /// equations call these a million times).
 pub fn lift_number1(ctx: &mut Ctx, args: &[Expr], f: fn(f64) -> XlResult<f64>) -> XlResult<Value> {
+    let dates = ctx.dates();
     // A number, the usual case, needs no lifting.
     if let Some(x) = ctx.leaf_number(&args[0]) {
         return Ok(number_result(f(x)?));
@@ -120,15 +122,16 @@ pub fn lift_number1(ctx: &mut Ctx, args: &[Expr], f: fn(f64) -> XlResult<f64>) -
     if let Value::Number(x) = x {
         return Ok(number_result(f(x)?));
     }
-    let x = ctx.locale().numbers_for_arithmetic(x);
+    let x = ctx.locale().numbers_for_arithmetic(x, dates);
     lift_values(&[x], &|v| {
-        let x = to_number(&v[0])?;
+        let x = to_number(&v[0], dates)?;
         Ok(number_result(f(x)?))
     })
 }
 
 /// A two-number function lifted over arrays; a missing second argument reads as `default`.
 pub fn lift_number2(ctx: &mut Ctx, args: &[Expr], default: f64, f: fn(f64, f64) -> XlResult<f64>) -> XlResult<Value> {
+    let dates = ctx.dates();
     let missing_second = args.get(1).is_none_or(|e| e.kind == ExprKind::Missing);
     let values = [ctx.eval(&args[0]), args.get(1).map_or(Value::Blank, |e| ctx.eval(e))];
     // Numbers, the usual case, need no lifting.
@@ -137,11 +140,11 @@ pub fn lift_number2(ctx: &mut Ctx, args: &[Expr], default: f64, f: fn(f64, f64) 
         [Value::Number(x), Value::Number(y)] => return Ok(number_result(f(x, y)?)),
         _ => {}
     }
-    let values = values.map(|v| ctx.locale().numbers_for_arithmetic(v));
+    let values = values.map(|v| ctx.locale().numbers_for_arithmetic(v, dates));
     let values = &values[..args.len().min(2)];
     let lifted = lift_values(values, &|v| {
-        let x = to_number(&v[0])?;
-        let y = if missing_second { default } else { to_number(&v[1])? };
+        let x = to_number(&v[0], dates)?;
+        let y = if missing_second { default } else { to_number(&v[1], dates)? };
         Ok(number_result(f(x, y)?))
     });
     explain_lifted_size(ctx, values, &lifted);
@@ -205,6 +208,7 @@ fn for_each_cell_value(
 /// anywhere; typed text and booleans coerced; text, booleans and blanks in ranges and
 /// arrays skipped; any error stops with that error.
 pub fn for_each_number(ctx: &mut Ctx, args: &[Expr], f: &mut dyn FnMut(f64)) -> XlResult<()> {
+    let dates = ctx.dates();
     let locale = ctx.locale();
     for_each_value(ctx, args, &mut |v, source| {
         match (v, source) {
@@ -212,8 +216,8 @@ pub fn for_each_number(ctx: &mut Ctx, args: &[Expr], f: &mut dyn FnMut(f64)) -> 
             (Value::Error(e), _) => return Err(*e),
             (_, Source::Collection) => {}
             (Value::Blank, Source::Direct) => {}
-            (Value::Text(_), Source::Direct) => f(to_number(&locale.numbers_for_arithmetic(v.clone()))?),
-            (other, Source::Direct) => f(to_number(other)?),
+            (Value::Text(_), Source::Direct) => f(to_number(&locale.numbers_for_arithmetic(v.clone(), dates), dates)?),
+            (other, Source::Direct) => f(to_number(other, dates)?),
         }
         Ok(())
     })
@@ -230,6 +234,7 @@ pub fn numbers(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<f64>> {
 /// read them: as [`numbers`], except that in ranges and arrays TRUE is 1, FALSE and text
 /// (even "") are 0. Blank cells are still skipped.
 pub fn numbers_a(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<f64>> {
+    let dates = ctx.dates();
     let mut out = Vec::new();
     for_each_value(ctx, args, &mut |v, source| {
         match (v, source) {
@@ -239,7 +244,7 @@ pub fn numbers_a(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<f64>> {
             (Value::Bool(b), _) => out.push(f64::from(u8::from(*b))),
             (Value::Text(_), Source::Collection) => out.push(0.0),
             (Value::Blank, _) | (Value::Array(_), Source::Collection) => {}
-            (other, Source::Direct) => out.push(to_number(other)?),
+            (other, Source::Direct) => out.push(to_number(other, dates)?),
         }
         Ok(())
     })?;

@@ -5,6 +5,7 @@ use std::cmp::Ordering;
 use std::rc::Rc;
 
 use crate::eval::coerce::{compare_text, parse_number};
+use crate::eval::dates::DateSystem;
 use crate::eval::functions::api::{comparison_holds, Ctx, Operand};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
@@ -34,12 +35,15 @@ pub struct Criterion {
     /// A comparison: `BinOp::Eq` to `BinOp::Ge`.
     op: BinOp,
     target: Target,
+    /// The workbook's date system: date text, in the criterion or in a cell, is read as its
+    /// serial there.
+    dates: DateSystem,
 }
 
 impl Criterion {
     /// Reads a criterion argument (one item of it when it is an array).
-    pub fn new(v: &Value) -> Criterion {
-        let eq = |target| Criterion { op: BinOp::Eq, target };
+    pub fn new(v: &Value, dates: DateSystem) -> Criterion {
+        let eq = |target| Criterion { op: BinOp::Eq, target, dates };
         match v {
             Value::Number(n) => eq(Target::Number(*n)),
             Value::Bool(b) => eq(Target::Bool(*b)),
@@ -47,16 +51,16 @@ impl Criterion {
             Value::Lambda(_) => eq(Target::Error(XlError::Calc)),
             // Documented: "a reference to an empty cell is treated as 0".
             Value::Blank => eq(Target::Number(0.0)),
-            Value::Text(s) => Criterion::parse(s),
-            Value::Array(a) => Criterion::new(a.data.first().unwrap_or(&Value::Blank)),
+            Value::Text(s) => Criterion::parse(s, dates),
+            Value::Array(a) => Criterion::new(a.data.first().unwrap_or(&Value::Blank), dates),
         }
     }
 
-    fn parse(s: &str) -> Criterion {
+    fn parse(s: &str, dates: DateSystem) -> Criterion {
         let (op, operand) = split_operator(s);
         let target = if operand.is_empty() {
             Target::Empty { strict: operand.len() != s.len() }
-        } else if let Some(n) = parse_number(operand) {
+        } else if let Some(n) = parse_number(operand, dates) {
             Target::Number(n)
         } else if operand.eq_ignore_ascii_case("TRUE") || operand.eq_ignore_ascii_case("FALSE") {
             Target::Bool(operand.eq_ignore_ascii_case("TRUE"))
@@ -65,7 +69,7 @@ impl Criterion {
         } else {
             Target::Text { text: operand.into(), pattern: operand.contains(['*', '?', '~']) }
         };
-        Criterion { op, target }
+        Criterion { op, target, dates }
     }
 
     /// Whether a cell's value meets the criterion. Errors in the range are values like any
@@ -83,7 +87,7 @@ impl Criterion {
     fn equals(&self, v: &Value, numeric_text: bool) -> bool {
         match (&self.target, v) {
             (Target::Number(n), Value::Number(x)) => x == n,
-            (Target::Number(n), Value::Text(t)) => numeric_text && parse_number(t) == Some(*n),
+            (Target::Number(n), Value::Text(t)) => numeric_text && parse_number(t, self.dates) == Some(*n),
             (Target::Bool(b), Value::Bool(x)) => b == x,
             (Target::Error(e), Value::Error(x)) => e == x,
             (Target::Text { text, pattern }, Value::Text(t)) => {
@@ -290,7 +294,7 @@ mod tests {
     use super::*;
 
     fn holds(criterion: impl Into<Value>, cell: impl Into<Value>) -> bool {
-        Criterion::new(&criterion.into()).matches(&cell.into())
+        Criterion::new(&criterion.into(), DateSystem::From1900).matches(&cell.into())
     }
 
     #[test]

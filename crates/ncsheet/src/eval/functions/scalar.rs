@@ -4,13 +4,15 @@
 use std::rc::Rc;
 
 use crate::eval::coerce::{to_number, to_text};
+use crate::eval::dates::DateSystem;
 use crate::eval::functions::api::{lift, Ctx};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
-/// One call's scalar arguments.
+/// One call's scalar arguments, and the workbook's date system that date text among them is
+/// read in.
 #[derive(Clone, Copy)]
-pub struct Scalars<'v>(pub &'v [Value]);
+pub struct Scalars<'v>(pub &'v [Value], pub DateSystem);
 
 impl Scalars<'_> {
     /// Whether argument `i` was given (an empty slot `f(1,,2)` counts as given, blank).
@@ -23,7 +25,7 @@ impl Scalars<'_> {
     }
 
     pub fn num(&self, i: usize) -> XlResult<f64> {
-        to_number(self.value(i))
+        to_number(self.value(i), self.1)
     }
 
     /// An optional number: `default` when the call stops before it.
@@ -42,7 +44,8 @@ impl Scalars<'_> {
 
 /// Evaluates the arguments and runs `f` on each set of scalars (item by item over arrays).
 pub fn scalar(ctx: &mut Ctx, args: &[Expr], f: &dyn Fn(Scalars) -> XlResult<Value>) -> XlResult<Value> {
-    lift(ctx, args, &|v| f(Scalars(v)))
+    let dates = ctx.dates();
+    lift(ctx, args, &|v| f(Scalars(v, dates)))
 }
 
 /// A finite number, or #NUM!.

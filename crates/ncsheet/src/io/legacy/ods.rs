@@ -77,7 +77,8 @@ fn iso_date(text: &str) -> Option<f64> {
     let year: i64 = parts.next()?.parse().ok()?;
     let month: i64 = parts.next()?.parse().ok()?;
     let day: i64 = parts.next()?.parse().ok()?;
-    let serial = crate::eval::dates::serial_from_ymd(year, month, day) as f64;
+    // An imported .ods workbook counts in the 1900 system (the reader sets no other).
+    let serial = crate::eval::dates::serial_from_ymd(crate::eval::dates::DateSystem::From1900, year, month, day) as f64;
     let fraction = if time.is_empty() {
         0.0
     } else {

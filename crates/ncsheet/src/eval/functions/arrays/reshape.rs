@@ -389,10 +389,11 @@ fn index_from_ends(i: f64, n: usize) -> XlResult<usize> {
 
 /// The indexes the arguments name, each a number or an array of numbers.
 fn chosen(ctx: &mut Ctx, args: &[Expr], n: usize) -> XlResult<Vec<usize>> {
+    let dates = ctx.dates();
     let mut out = Vec::new();
     for e in args {
         for v in &block(ctx, e)?.data {
-            out.push(index_from_ends(to_number(v)?, n)?);
+            out.push(index_from_ends(to_number(v, dates)?, n)?);
         }
     }
     Ok(out)

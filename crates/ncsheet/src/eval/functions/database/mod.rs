@@ -5,6 +5,7 @@
 //! that begin with it, as in Excel's advanced filter.
 
 use crate::eval::coerce::{compare_text, to_number, to_text};
+use crate::eval::dates::DateSystem;
 use crate::eval::functions::api::{block, number_result, ArgSet, Ctx, FnSpec};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
@@ -139,12 +140,12 @@ pub const FUNCTIONS: &[FnSpec] = &[
 type Condition = (Option<usize>, Criterion);
 
 /// The header's column for a field name (as text, ignoring case) or 1-based number.
-fn field_column(db: &Array, field: &Value) -> XlResult<usize> {
+fn field_column(db: &Array, field: &Value, dates: DateSystem) -> XlResult<usize> {
     match field {
         Value::Text(_) => criteria_column(db, field)?.ok_or(XlError::Value),
         Value::Error(e) => Err(*e),
         v => {
-            let i = to_number(v)?.trunc();
+            let i = to_number(v, dates)?.trunc();
             if i >= 1.0 && i <= db.cols as f64 {
                 Ok(i as usize - 1)
             } else {
@@ -155,12 +156,12 @@ fn field_column(db: &Array, field: &Value) -> XlResult<usize> {
 }
 
 /// A criteria cell as a criterion: text with no operator matches as a prefix.
-fn condition(v: &Value) -> Criterion {
+fn condition(v: &Value, dates: DateSystem) -> Criterion {
     match v {
         Value::Text(t) if !t.starts_with(['=', '<', '>']) && !t.is_empty() && !t.ends_with('*') => {
-            Criterion::new(&Value::text(format!("{t}*")))
+            Criterion::new(&Value::text(format!("{t}*")), dates)
         }
-        v => Criterion::new(v),
+        v => Criterion::new(v, dates),
     }
 }
 
@@ -178,7 +179,7 @@ fn criteria_column(db: &Array, header: &Value) -> XlResult<Option<usize>> {
 }
 
 /// The criteria rows, each its conditions (a blank criteria cell sets none).
-fn criteria_rows(db: &Array, criteria: &Array) -> XlResult<Vec<Vec<Condition>>> {
+fn criteria_rows(db: &Array, criteria: &Array, dates: DateSystem) -> XlResult<Vec<Vec<Condition>>> {
     let mut columns = Vec::with_capacity(criteria.cols);
     for c in 0..criteria.cols {
         columns.push(criteria_column(db, criteria.get(0, c))?);
@@ -189,7 +190,7 @@ fn criteria_rows(db: &Array, criteria: &Array) -> XlResult<Vec<Vec<Condition>>> 
         for (c, column) in columns.iter().enumerate() {
             let v = criteria.get(r, c);
             if !v.is_blank() {
-                conditions.push((*column, condition(v)));
+                conditions.push((*column, condition(v, dates)));
             }
         }
         rows.push(conditions);
@@ -199,6 +200,7 @@ fn criteria_rows(db: &Array, criteria: &Array) -> XlResult<Vec<Vec<Condition>>> 
 
 /// The values of `field` in the records that meet the criteria.
 fn selected(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<Value>> {
+    let dates = ctx.dates();
     let db = block(ctx, &args[0])?;
     let (field, criteria) = match args {
         [_, criteria] => (None, criteria),
@@ -211,8 +213,8 @@ fn selected(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<Value>> {
     if db.rows < 2 || criteria.rows < 1 {
         return Err(XlError::Value);
     }
-    let column = field.map(|f| field_column(&db, &f)).transpose()?;
-    let rows = criteria_rows(&db, &criteria)?;
+    let column = field.map(|f| field_column(&db, &f, dates)).transpose()?;
+    let rows = criteria_rows(&db, &criteria, dates)?;
     let mut out = Vec::new();
     for r in 1..db.rows {
         let meets = |conditions: &Vec<Condition>| {

@@ -4,7 +4,7 @@
 //! NOW). Serials and the calendar are `eval::dates`; every argument lifts over arrays.
 
 use crate::eval::coerce::{to_bool, to_number, to_text};
-use crate::eval::dates::{self, days_in_month, is_leap_year, serial_from_ymd, DateTime, LAST_SERIAL};
+use crate::eval::dates::{self, days_in_month, is_leap_year, serial_from_ymd, DateSystem, DateTime, LAST_SERIAL};
 use crate::eval::functions::api::{for_each_value, lift, lift_values, Ctx, FnSpec, Outside, Source};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
@@ -157,8 +157,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
 
 /// A date-time argument as a serial: numbers, date text, booleans and blanks as arithmetic
 /// reads them; `#NUM!` before serial 0 or after 9999-12-31.
-fn serial(v: &Value) -> XlResult<f64> {
-    let n = to_number(v)?;
+fn serial(v: &Value, dates: DateSystem) -> XlResult<f64> {
+    let n = to_number(v, dates)?;
     if (0.0..(LAST_SERIAL + 1) as f64).contains(&n) {
         Ok(n)
     } else {
@@ -167,20 +167,20 @@ fn serial(v: &Value) -> XlResult<f64> {
 }
 
 /// A date argument split into calendar parts (time rounded to the second, as Excel does).
-fn date_time(v: &Value) -> XlResult<DateTime> {
-    Ok(DateTime::from_serial(serial(v)?, 0))
+fn date_time(v: &Value, dates: DateSystem) -> XlResult<DateTime> {
+    Ok(DateTime::from_serial(dates, serial(v, dates)?, 0))
 }
 
 /// A date argument of an Analysis ToolPak function (EDATE, EOMONTH, WORKDAY, NETWORKDAYS,
 /// YEARFRAC): booleans are `#VALUE!` there.
-fn toolpak_date(v: &Value) -> XlResult<DateTime> {
-    toolpak_number(v)?;
-    date_time(v)
+fn toolpak_date(v: &Value, dates: DateSystem) -> XlResult<DateTime> {
+    toolpak_number(v, dates)?;
+    date_time(v, dates)
 }
 
 /// A count argument (months, days, a type): truncated toward zero as Excel does.
-fn whole(v: &Value) -> XlResult<i64> {
-    let n = to_number(v)?.trunc();
+fn whole(v: &Value, dates: DateSystem) -> XlResult<i64> {
+    let n = to_number(v, dates)?.trunc();
     if n.abs() < 1e15 {
         Ok(n as i64)
     } else {
@@ -208,46 +208,54 @@ fn date_result(serial: i64) -> XlResult<Value> {
 /// roll into must be 1900–9999 before the days roll on: DATE(9999,13,-1) is `#NUM!` in Excel
 /// although 9999-12-30 exists.
 fn date(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     lift(ctx, args, &|v| {
-        let (y, m, d) = (whole(&v[0])?, whole(&v[1])?, whole(&v[2])?);
+        let (y, m, d) = (whole(&v[0], dates)?, whole(&v[1], dates)?, whole(&v[2], dates)?);
         let y = if (0..1900).contains(&y) { y + 1900 } else { y };
         let rolled_year = (y * 12 + m - 1).div_euclid(12);
         if !(1900..10_000).contains(&rolled_year) {
             return Err(XlError::Num);
         }
-        date_result(serial_from_ymd(y, m, d))
+        date_result(serial_from_ymd(dates, y, m, d))
     })
 }
 
 fn year(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift(ctx, args, &|v| Ok(Value::Number(date_time(&v[0])?.year as f64)))
+    let dates = ctx.dates();
+    lift(ctx, args, &|v| Ok(Value::Number(date_time(&v[0], dates)?.year as f64)))
 }
 
 fn month(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift(ctx, args, &|v| Ok(Value::Number(f64::from(date_time(&v[0])?.month))))
+    let dates = ctx.dates();
+    lift(ctx, args, &|v| Ok(Value::Number(f64::from(date_time(&v[0], dates)?.month))))
 }
 
 fn day(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift(ctx, args, &|v| Ok(Value::Number(f64::from(date_time(&v[0])?.day))))
+    let dates = ctx.dates();
+    lift(ctx, args, &|v| Ok(Value::Number(f64::from(date_time(&v[0], dates)?.day))))
 }
 
 fn hour(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift(ctx, args, &|v| Ok(Value::Number(f64::from(date_time(&v[0])?.hour))))
+    let dates = ctx.dates();
+    lift(ctx, args, &|v| Ok(Value::Number(f64::from(date_time(&v[0], dates)?.hour))))
 }
 
 fn minute(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift(ctx, args, &|v| Ok(Value::Number(f64::from(date_time(&v[0])?.minute))))
+    let dates = ctx.dates();
+    lift(ctx, args, &|v| Ok(Value::Number(f64::from(date_time(&v[0], dates)?.minute))))
 }
 
 fn second(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift(ctx, args, &|v| Ok(Value::Number(f64::from(date_time(&v[0])?.second))))
+    let dates = ctx.dates();
+    lift(ctx, args, &|v| Ok(Value::Number(f64::from(date_time(&v[0], dates)?.second))))
 }
 
 /// TIME: each part truncated, each at most 32767; a negative total is `#NUM!`; whole days
 /// are dropped (TIME(25,0,0) is 1:00).
 fn time(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     lift(ctx, args, &|v| {
-        let (h, m, s) = (whole(&v[0])?, whole(&v[1])?, whole(&v[2])?);
+        let (h, m, s) = (whole(&v[0], dates)?, whole(&v[1], dates)?, whole(&v[2], dates)?);
         if h.max(m).max(s) > 32_767 {
             return Err(XlError::Num);
         }
@@ -269,10 +277,10 @@ fn today(ctx: &mut Ctx, _: &[Expr]) -> XlResult<Value> {
 }
 
 /// The date and time written in a text argument (numbers are `#VALUE!`: these read text).
-fn date_text(v: &Value, locale: crate::eval::Locale) -> XlResult<dates::DateText> {
+fn date_text(v: &Value, locale: crate::eval::Locale, dates: DateSystem) -> XlResult<dates::DateText> {
     match v {
         // In the user's locale: `12.03.2025` is 12 March in et-EE.
-        Value::Text(t) => locale.read_date_text(t.trim()).ok_or(XlError::Value),
+        Value::Text(t) => locale.read_date_text(t.trim(), dates).ok_or(XlError::Value),
         Value::Error(e) => Err(*e),
         _ => Err(XlError::Value),
     }
@@ -280,18 +288,20 @@ fn date_text(v: &Value, locale: crate::eval::Locale) -> XlResult<dates::DateText
 
 /// DATEVALUE: the date's serial; a time in the text is dropped; text without a date is `#VALUE!`.
 fn datevalue(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     let locale = ctx.locale();
     lift(ctx, args, &|v| {
-        let date = date_text(&v[0], locale)?.date.ok_or(XlError::Value)?;
+        let date = date_text(&v[0], locale, dates)?.date.ok_or(XlError::Value)?;
         Ok(Value::Number(date as f64))
     })
 }
 
 /// TIMEVALUE: the time of day (24:00 is 0); text with only a date is 0.
 fn timevalue(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     let locale = ctx.locale();
     lift(ctx, args, &|v| {
-        let t = date_text(&v[0], locale)?.time.unwrap_or(0.0);
+        let t = date_text(&v[0], locale, dates)?.time.unwrap_or(0.0);
         Ok(Value::Number(t - t.floor()))
     })
 }
@@ -300,7 +310,7 @@ fn timevalue(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 /// The day of the month `months` after `start`'s, clamped to that month's length (`last_day`:
 /// the month's last day instead).
-fn add_months(start: &DateTime, months: i64, last_day: bool) -> XlResult<Value> {
+fn add_months(start: &DateTime, months: i64, last_day: bool, dates: DateSystem) -> XlResult<Value> {
     // A month count past the calendar's ten thousand years (EDATE(1,1E+300)) is #NUM!, never
     // an overflow.
     let total = (start.year * 12 + i64::from(start.month) - 1).checked_add(months).ok_or(XlError::Num)?;
@@ -310,27 +320,30 @@ fn add_months(start: &DateTime, months: i64, last_day: bool) -> XlResult<Value> 
     }
     let length = days_in_month(y, m);
     let d = if last_day { length } else { start.day.min(length) };
-    date_result(serial_from_ymd(y, i64::from(m), i64::from(d)))
+    date_result(serial_from_ymd(dates, y, i64::from(m), i64::from(d)))
 }
 
 fn edate(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     lift(ctx, args, &|v| {
-        let start = toolpak_date(&v[0])?;
-        add_months(&start, toolpak_number(&v[1])?.trunc() as i64, false)
+        let start = toolpak_date(&v[0], dates)?;
+        add_months(&start, toolpak_number(&v[1], dates)?.trunc() as i64, false, dates)
     })
 }
 
 fn eomonth(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     lift(ctx, args, &|v| {
-        let start = toolpak_date(&v[0])?;
-        add_months(&start, toolpak_number(&v[1])?.trunc() as i64, true)
+        let start = toolpak_date(&v[0], dates)?;
+        add_months(&start, toolpak_number(&v[1], dates)?.trunc() as i64, true, dates)
     })
 }
 
 /// DAYS: whole days between the dates, the times dropped.
 fn days(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     lift(ctx, args, &|v| {
-        let (end, start) = (serial(&v[0])?.trunc(), serial(&v[1])?.trunc());
+        let (end, start) = (serial(&v[0], dates)?.trunc(), serial(&v[1], dates)?.trunc());
         Ok(Value::Number(end - start))
     })
 }
@@ -339,8 +352,9 @@ fn days(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// an end on the 31st is the 30th when the start is the 30th or later, else the 1st of the next
 /// month. European rule (method TRUE): every 31st is the 30th.
 fn days360(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     lift(ctx, args, &|v| {
-        let (start, end) = (date_time(&v[0])?, date_time(&v[1])?);
+        let (start, end) = (date_time(&v[0], dates)?, date_time(&v[1], dates)?);
         let european = match v.get(2) {
             Some(m) => to_bool(m)?,
             None => false,
@@ -372,8 +386,9 @@ fn thirty_360(y1: i64, m1: u32, d1: u32, y2: i64, m2: u32, d2: u32) -> i64 {
 /// the month before the end (DATE's rollover included, so Jan 31 to Mar 1 gives -2, as in
 /// Excel), "YD" from the start's month and day in the end's year or the year before.
 fn datedif(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     lift(ctx, args, &|v| {
-        let (start, end) = (date_time(&v[0])?, date_time(&v[1])?);
+        let (start, end) = (date_time(&v[0], dates)?, date_time(&v[1], dates)?);
         let unit = match &v[2] {
             Value::Error(e) => return Err(*e),
             other => to_text(other)?.to_ascii_uppercase(),
@@ -391,11 +406,11 @@ fn datedif(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
             "Y" => months / 12,
             "YM" => months % 12,
             "MD" if d2 >= d1 => d2 - d1,
-            "MD" => end.serial - serial_from_ymd(end.year, i64::from(end.month) - 1, d1),
+            "MD" => end.serial - serial_from_ymd(dates, end.year, i64::from(end.month) - 1, d1),
             "YD" => {
                 let same_year = (end.month, end.day) >= (start.month, start.day);
                 let y = if same_year { end.year } else { end.year - 1 };
-                end.serial - serial_from_ymd(y, i64::from(start.month), d1)
+                end.serial - serial_from_ymd(dates, y, i64::from(start.month), d1)
             }
             _ => return Err(XlError::Num),
         };
@@ -406,10 +421,11 @@ fn datedif(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// YEARFRAC: the dates in either order; basis 0 (US 30/360), 1 (actual days over the actual
 /// year length), 2 (actual/360), 3 (actual/365), 4 (European 30/360).
 fn yearfrac(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     lift(ctx, args, &|v| {
-        let (mut a, mut b) = (toolpak_date(&v[0])?, toolpak_date(&v[1])?);
+        let (mut a, mut b) = (toolpak_date(&v[0], dates)?, toolpak_date(&v[1], dates)?);
         let basis = match v.get(2) {
-            Some(basis) => toolpak_number(basis)?.trunc(),
+            Some(basis) => toolpak_number(basis, dates)?.trunc(),
             None => 0.0,
         };
         if a.serial > b.serial {
@@ -418,7 +434,7 @@ fn yearfrac(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         let actual = (b.serial - a.serial) as f64;
         let fraction = match basis as i64 {
             0 => us_30_360(&a, &b) as f64 / 360.0,
-            1 => actual / actual_year_length(&a, &b),
+            1 => actual / actual_year_length(&a, &b, dates),
             2 => actual / 360.0,
             3 => actual / 365.0,
             4 => thirty_360(a.year, a.month, a.day.min(30), b.year, b.month, b.day.min(30)) as f64 / 360.0,
@@ -449,17 +465,17 @@ fn us_30_360(a: &DateTime, b: &DateTime) -> i64 {
 /// Basis 1's year length: within a year (up to the same day a year on), 366 when the span
 /// touches a February 29 and 365 otherwise; over longer spans the mean length of the years
 /// from the first to the last.
-pub(crate) fn actual_year_length(a: &DateTime, b: &DateTime) -> f64 {
+pub(crate) fn actual_year_length(a: &DateTime, b: &DateTime, dates: DateSystem) -> f64 {
     let within_a_year = a.year == b.year || (a.year + 1 == b.year && (a.month, a.day) >= (b.month, b.day));
     if within_a_year {
         let leap_day_inside = [a.year, b.year]
             .iter()
-            .any(|&y| is_leap_year(y) && (a.serial..=b.serial).contains(&serial_from_ymd(y, 2, 29)));
+            .any(|&y| is_leap_year(y) && (a.serial..=b.serial).contains(&serial_from_ymd(dates, y, 2, 29)));
         let leap = (a.year == b.year && is_leap_year(a.year)) || leap_day_inside;
         return if leap { 366.0 } else { 365.0 };
     }
     let years = b.year - a.year + 1;
-    let days = serial_from_ymd(b.year + 1, 1, 1) - serial_from_ymd(a.year, 1, 1);
+    let days = serial_from_ymd(dates, b.year + 1, 1, 1) - serial_from_ymd(dates, a.year, 1, 1);
     days as f64 / years as f64
 }
 
@@ -468,9 +484,10 @@ pub(crate) fn actual_year_length(a: &DateTime, b: &DateTime) -> f64 {
 /// WEEKDAY: return_type 1 (Sunday 1 … Saturday 7), 2 (Monday 1 … Sunday 7), 3 (Monday 0 …
 /// Sunday 6), 11–17 (Monday … Sunday is 1).
 fn weekday(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     lift(ctx, args, &|v| {
-        let dow = i64::from(date_time(&v[0])?.weekday);
-        let kind = if v.len() > 1 { whole(&v[1])? } else { 1 };
+        let dow = i64::from(date_time(&v[0], dates)?.weekday);
+        let kind = if v.len() > 1 { whole(&v[1], dates)? } else { 1 };
         let n = match kind {
             1 => dow + 1,
             2 => (dow + 6) % 7 + 1,
@@ -485,34 +502,36 @@ fn weekday(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// WEEKNUM: the week holding January 1 is week 1 and weeks start on the return_type's day: 1
 /// or 17 Sunday, 2 or 11 Monday, 12–16 Tuesday to Saturday; 21 is the ISO week.
 fn weeknum(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     lift(ctx, args, &|v| {
-        let t = date_time(&v[0])?;
-        let kind = if v.len() > 1 { whole(&v[1])? } else { 1 };
+        let t = date_time(&v[0], dates)?;
+        let kind = if v.len() > 1 { whole(&v[1], dates)? } else { 1 };
         let first_day = match kind {
             1 | 17 => 0,
             2 | 11 => 1,
             12..=16 => kind - 10,
-            21 => return Ok(Value::Number(iso_week(t.serial) as f64)),
+            21 => return Ok(Value::Number(iso_week(t.serial, dates) as f64)),
             _ => return Err(XlError::Num),
         };
-        let jan1 = serial_from_ymd(t.year, 1, 1);
-        let lead = (i64::from(dates::weekday(jan1)) - first_day).rem_euclid(7);
+        let jan1 = serial_from_ymd(dates, t.year, 1, 1);
+        let lead = (i64::from(dates::weekday(dates, jan1)) - first_day).rem_euclid(7);
         Ok(Value::Number(((t.serial - jan1 + lead) / 7 + 1) as f64))
     })
 }
 
 fn isoweeknum(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift(ctx, args, &|v| Ok(Value::Number(iso_week(date_time(&v[0])?.serial) as f64)))
+    let dates = ctx.dates();
+    lift(ctx, args, &|v| Ok(Value::Number(iso_week(date_time(&v[0], dates)?.serial, dates) as f64)))
 }
 
 /// ISO 8601 week: the week (Monday to Sunday) whose Thursday is in the year; week 1 holds the
 /// year's first Thursday.
-fn iso_week(serial: i64) -> i64 {
-    let from_monday = (i64::from(dates::weekday(serial)) + 6) % 7;
+fn iso_week(serial: i64, dates: DateSystem) -> i64 {
+    let from_monday = (i64::from(dates::weekday(dates, serial)) + 6) % 7;
     let thursday = serial - from_monday + 3;
     // Thursdays before serial 1 belong to 1899 (Excel's calendar has no days there).
-    let year = if thursday < 1 { 1899 } else { dates::ymd_from_serial(thursday).0 };
-    (thursday - serial_from_ymd(year, 1, 1)) / 7 + 1
+    let year = if thursday < 1 { 1899 } else { dates::ymd_from_serial(dates, thursday).0 };
+    (thursday - serial_from_ymd(dates, year, 1, 1)) / 7 + 1
 }
 
 // ---- working days -------------------------------------------------------------------------
@@ -525,7 +544,7 @@ const SATURDAY_SUNDAY: Weekend = [true, false, false, false, false, false, true]
 /// The .INTL functions' weekend argument: 1–7 a pair of days (1 Saturday and Sunday, 2 Sunday
 /// and Monday, … 7 Friday and Saturday), 11–17 one day (11 Sunday … 17 Saturday), or seven
 /// `0`/`1` characters from Monday; every day a weekend day is `#VALUE!`.
-fn weekend(v: &Value) -> XlResult<Weekend> {
+fn weekend(v: &Value, dates: DateSystem) -> XlResult<Weekend> {
     let mut days = [false; 7];
     match v {
         Value::Blank => return Ok(SATURDAY_SUNDAY),
@@ -537,7 +556,7 @@ fn weekend(v: &Value) -> XlResult<Weekend> {
                 days[(i + 1) % 7] = b == b'1';
             }
         }
-        other => match whole(other)? {
+        other => match whole(other, dates)? {
             n @ 1..=7 => {
                 let first = (n - 2).rem_euclid(7) as usize;
                 days[first] = true;
@@ -556,13 +575,14 @@ fn weekend(v: &Value) -> XlResult<Weekend> {
 /// The holidays argument: dates from a range, an array or a value, sorted, each once. Blank
 /// cells are skipped; text and booleans in a range are `#VALUE!`.
 fn holidays(ctx: &mut Ctx, args: &[Expr], i: usize) -> XlResult<Vec<i64>> {
+    let dates = ctx.dates();
     let mut out = Vec::new();
     if !given(args, i) {
         return Ok(out);
     }
     for_each_value(ctx, &args[i..=i], &mut |v, source| {
         let day = match (v, source) {
-            (Value::Number(_), _) | (Value::Text(_), Source::Direct) => serial(v)?.trunc() as i64,
+            (Value::Number(_), _) | (Value::Text(_), Source::Direct) => serial(v, dates)?.trunc() as i64,
             (Value::Error(e), _) => return Err(*e),
             _ => return Err(XlError::Value),
         };
@@ -578,11 +598,13 @@ fn holidays(ctx: &mut Ctx, args: &[Expr], i: usize) -> XlResult<Vec<i64>> {
 struct Workdays<'a> {
     weekend: Weekend,
     holidays: &'a [i64],
+    /// The workbook's date system, which weekdays are counted in.
+    dates: DateSystem,
 }
 
 impl Workdays<'_> {
     fn is_workday(&self, serial: i64) -> bool {
-        !self.weekend[dates::weekday(serial) as usize] && self.holidays.binary_search(&serial).is_err()
+        !self.weekend[dates::weekday(self.dates, serial) as usize] && self.holidays.binary_search(&serial).is_err()
     }
 
     /// The holidays from `lo` to `hi` inclusive, found by binary search: scanning the whole
@@ -605,9 +627,11 @@ impl Workdays<'_> {
     fn between(&self, start: i64, end: i64) -> i64 {
         let (lo, hi) = (start.min(end), start.max(end));
         let weeks = (hi - lo + 1) / 7;
-        let rest = (lo + weeks * 7..=hi).filter(|&d| !self.weekend[dates::weekday(d) as usize]).count() as i64;
+        let rest =
+            (lo + weeks * 7..=hi).filter(|&d| !self.weekend[dates::weekday(self.dates, d) as usize]).count() as i64;
         let holidays =
-            self.holidays_in(lo, hi).iter().filter(|&&h| !self.weekend[dates::weekday(h) as usize]).count() as i64;
+            self.holidays_in(lo, hi).iter().filter(|&&h| !self.weekend[dates::weekday(self.dates, h) as usize]).count()
+                as i64;
         let n = weeks * self.per_week() + rest - holidays;
         if start > end {
             -n
@@ -650,6 +674,7 @@ fn workdays_call(
     holidays_at: usize,
     f: &dyn Fn(&Workdays, &Value, &Value) -> XlResult<Value>,
 ) -> XlResult<Value> {
+    let dates = ctx.dates();
     let holidays = holidays(ctx, args, holidays_at)?;
     let weekend_value = match weekend_at {
         Some(i) if given(args, i) => ctx.eval(&args[i]),
@@ -657,19 +682,21 @@ fn workdays_call(
     };
     let values = [ctx.eval(&args[0]), ctx.eval(&args[1]), weekend_value];
     lift_values(&values, &|v| {
-        let calendar = Workdays { weekend: weekend(&v[2])?, holidays: &holidays };
+        let calendar = Workdays { weekend: weekend(&v[2], dates)?, holidays: &holidays, dates };
         f(&calendar, &v[0], &v[1])
     })
 }
 
 fn networkdays_of(calendar: &Workdays, start: &Value, end: &Value) -> XlResult<Value> {
-    let (start, end) = (toolpak_date(start)?.serial, toolpak_date(end)?.serial);
+    let dates = calendar.dates;
+    let (start, end) = (toolpak_date(start, dates)?.serial, toolpak_date(end, dates)?.serial);
     Ok(Value::Number(calendar.between(start, end) as f64))
 }
 
 fn workday_of(calendar: &Workdays, start: &Value, days: &Value) -> XlResult<Value> {
-    let start = toolpak_date(start)?.serial;
-    let count = toolpak_number(days)?.trunc();
+    let dates = calendar.dates;
+    let start = toolpak_date(start, dates)?.serial;
+    let count = toolpak_number(days, dates)?.trunc();
     if count.abs() > LAST_SERIAL as f64 {
         return Err(XlError::Num);
     }

@@ -49,9 +49,11 @@ pub const FUNCTIONS: &[FnSpec] = &[
     ),
     FnSpec::value("ISPMT", 4, 4, ispmt, "ISPMT(rate, per, nper, pv)", "Interest of period per with even principal")
         .biff(350),
-    FnSpec::value("NPV", 2, MANY, npv, "NPV(rate, value1, …)", "Net present value of payments at period ends").biff(11)
+    FnSpec::value("NPV", 2, MANY, npv, "NPV(rate, value1, …)", "Net present value of payments at period ends")
+        .biff(11)
         .range_args(ArgSet::from(1)),
-    FnSpec::value("IRR", 1, 2, irr, "IRR(values, [guess])", "Internal rate of return of periodic cash flows").biff(62)
+    FnSpec::value("IRR", 1, 2, irr, "IRR(values, [guess])", "Internal rate of return of periodic cash flows")
+        .biff(62)
         .range_args(ArgSet::only(0)),
     FnSpec::value("MIRR", 3, 3, mirr, "MIRR(values, finance_rate, reinvest_rate)", "Modified internal rate of return")
         .biff(61)
@@ -285,7 +287,7 @@ const MAX_PERIODS: f64 = 1e6;
 /// end down) and nper as given; booleans are #VALUE! (Analysis ToolPak functions).
 fn cumulative(ctx: &mut Ctx, args: &[Expr], principal: bool) -> XlResult<Value> {
     scalar(ctx, args, &|a| {
-        let number = |i| toolpak_number(a.value(i));
+        let number = |i| toolpak_number(a.value(i), a.1);
         let (rate, nper, pv) = (number(0)?, number(1)?, number(2)?);
         let (start, end, kind) = (number(3)?.ceil(), number(4)?.trunc(), number(5)?);
         check(rate > 0.0 && nper > 0.0 && pv > 0.0, XlError::Num)?;
@@ -466,6 +468,7 @@ fn mirr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// first. A blank value is #NUM! for XNPV and 0 for XIRR; a text or boolean value #NUM! for
 /// XNPV and #VALUE! for XIRR (Excel's choices).
 fn dated_flows(ctx: &mut Ctx, values: &Expr, dates: &Expr, strict: bool) -> XlResult<(Vec<f64>, Vec<f64>)> {
+    let system = ctx.dates();
     let not_number = if strict { XlError::Num } else { XlError::Value };
     let values: Vec<f64> = block(ctx, values)?
         .data
@@ -483,7 +486,7 @@ fn dated_flows(ctx: &mut Ctx, values: &Expr, dates: &Expr, strict: bool) -> XlRe
         .iter()
         .map(|v| match v {
             Value::Error(e) => Err(*e),
-            v => Ok(to_number(v)?.trunc()),
+            v => Ok(to_number(v, system)?.trunc()),
         })
         .collect::<XlResult<_>>()?;
     check(values.len() == dates.len() && !values.is_empty(), XlError::Num)?;
@@ -674,7 +677,7 @@ fn switching_ddb(cost: f64, salvage: f64, life: f64, remaining: f64, periods: f6
 
 fn effect(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     scalar(ctx, args, &|a| {
-        let (nominal, npery) = (toolpak_number(a.value(0))?, toolpak_number(a.value(1))?.trunc());
+        let (nominal, npery) = (toolpak_number(a.value(0), a.1)?, toolpak_number(a.value(1), a.1)?.trunc());
         check(nominal > 0.0 && npery >= 1.0, XlError::Num)?;
         finite((1.0 + nominal / npery).powf(npery) - 1.0)
     })
@@ -682,7 +685,7 @@ fn effect(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 fn nominal(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     scalar(ctx, args, &|a| {
-        let (effect, npery) = (toolpak_number(a.value(0))?, toolpak_number(a.value(1))?.trunc());
+        let (effect, npery) = (toolpak_number(a.value(0), a.1)?, toolpak_number(a.value(1), a.1)?.trunc());
         check(effect > 0.0 && npery >= 1.0, XlError::Num)?;
         finite(((1.0 + effect).powf(1.0 / npery) - 1.0) * npery)
     })
@@ -706,7 +709,7 @@ fn rri(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 /// The fraction argument of DOLLARDE and DOLLARFR, and the power of ten above it.
 fn fraction(a: Scalars) -> XlResult<(f64, f64)> {
-    let f = toolpak_number(a.value(1))?.trunc();
+    let f = toolpak_number(a.value(1), a.1)?.trunc();
     check(f >= 0.0, XlError::Num)?;
     check(f != 0.0, XlError::Div0)?;
     Ok((f, 10f64.powf(f.log10().ceil())))
@@ -714,7 +717,7 @@ fn fraction(a: Scalars) -> XlResult<(f64, f64)> {
 
 fn dollarde(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     scalar(ctx, args, &|a| {
-        let x = toolpak_number(a.value(0))?;
+        let x = toolpak_number(a.value(0), a.1)?;
         let (f, scale) = fraction(a)?;
         finite(x.trunc() + x.fract() * scale / f)
     })
@@ -722,7 +725,7 @@ fn dollarde(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 fn dollarfr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     scalar(ctx, args, &|a| {
-        let x = toolpak_number(a.value(0))?;
+        let x = toolpak_number(a.value(0), a.1)?;
         let (f, scale) = fraction(a)?;
         finite(x.trunc() + x.fract() * f / scale)
     })
@@ -731,10 +734,10 @@ fn dollarfr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// Settlement and maturity of a treasury bill (whole days), the days between them: at
 /// most a year, maturity after settlement.
 fn bill_days(a: Scalars) -> XlResult<f64> {
-    let (settlement, maturity) = (toolpak_number(a.value(0))?.trunc(), toolpak_number(a.value(1))?.trunc());
+    let (settlement, maturity) = (toolpak_number(a.value(0), a.1)?.trunc(), toolpak_number(a.value(1), a.1)?.trunc());
     check(settlement >= 0.0 && maturity > settlement, XlError::Num)?;
-    let (y, m, d) = crate::eval::dates::ymd_from_serial(settlement as i64);
-    let year_later = crate::eval::dates::serial_from_ymd(y + 1, i64::from(m), i64::from(d)) as f64;
+    let (y, m, d) = crate::eval::dates::ymd_from_serial(a.1, settlement as i64);
+    let year_later = crate::eval::dates::serial_from_ymd(a.1, y + 1, i64::from(m), i64::from(d)) as f64;
     check(maturity <= year_later, XlError::Num)?;
     Ok(maturity - settlement)
 }
@@ -742,7 +745,7 @@ fn bill_days(a: Scalars) -> XlResult<f64> {
 fn tbillprice(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     scalar(ctx, args, &|a| {
         let days = bill_days(a)?;
-        let discount = toolpak_number(a.value(2))?;
+        let discount = toolpak_number(a.value(2), a.1)?;
         check(discount > 0.0, XlError::Num)?;
         let price = 100.0 * (1.0 - discount * days / 360.0);
         check(price > 0.0, XlError::Num)?;
@@ -753,7 +756,7 @@ fn tbillprice(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 fn tbillyield(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     scalar(ctx, args, &|a| {
         let days = bill_days(a)?;
-        let price = toolpak_number(a.value(2))?;
+        let price = toolpak_number(a.value(2), a.1)?;
         check(price > 0.0, XlError::Num)?;
         finite((100.0 - price) / price * 360.0 / days)
     })
@@ -762,7 +765,7 @@ fn tbillyield(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 fn tbilleq(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     scalar(ctx, args, &|a| {
         let days = bill_days(a)?;
-        let discount = toolpak_number(a.value(2))?;
+        let discount = toolpak_number(a.value(2), a.1)?;
         check(discount > 0.0, XlError::Num)?;
         if days <= 182.0 {
             return finite(365.0 * discount / (360.0 - discount * days));

@@ -10,7 +10,7 @@
 //! Securities Calculation Methods, the rules Excel follows).
 
 use crate::eval::coerce::to_bool;
-use crate::eval::dates::{days_in_month, serial_from_ymd, ymd_from_serial, DateTime, LAST_SERIAL};
+use crate::eval::dates::{days_in_month, serial_from_ymd, ymd_from_serial, DateSystem, DateTime, LAST_SERIAL};
 use crate::eval::functions::api::{check, finite, scalar, Ctx, FnSpec, Scalars};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
@@ -229,16 +229,18 @@ pub(crate) struct Day {
     year: i64,
     month: u32,
     day: u32,
+    /// The workbook's date system, which the serial counts in.
+    dates: DateSystem,
 }
 
 impl Day {
-    fn from_serial(serial: i64) -> Day {
-        let (year, month, day) = ymd_from_serial(serial);
-        Day { serial, year, month, day }
+    fn from_serial(serial: i64, dates: DateSystem) -> Day {
+        let (year, month, day) = ymd_from_serial(dates, serial);
+        Day { serial, year, month, day, dates }
     }
 
-    fn from_ymd(year: i64, month: u32, day: u32) -> Day {
-        Day { serial: serial_from_ymd(year, i64::from(month), i64::from(day)), year, month, day }
+    fn from_ymd(year: i64, month: u32, day: u32, dates: DateSystem) -> Day {
+        Day { serial: serial_from_ymd(dates, year, i64::from(month), i64::from(day)), year, month, day, dates }
     }
 
     fn is_month_end(self) -> bool {
@@ -255,7 +257,7 @@ impl Day {
         let index = self.year * 12 + i64::from(self.month) - 1 + months;
         let (year, month) = (index.div_euclid(12), (index.rem_euclid(12) + 1) as u32);
         let last = days_in_month(year, month);
-        Day::from_ymd(year, month, if month_end { last } else { self.day.min(last) })
+        Day::from_ymd(year, month, if month_end { last } else { self.day.min(last) }, self.dates)
     }
 
     fn days_to(self, later: Day) -> f64 {
@@ -314,7 +316,7 @@ impl Basis {
     /// The year's length for a span from `a` to `b`.
     fn year_days(self, a: Day, b: Day) -> f64 {
         match self {
-            Basis::Actual => crate::eval::functions::date::actual_year_length(&date_time(a), &date_time(b)),
+            Basis::Actual => crate::eval::functions::date::actual_year_length(&date_time(a), &date_time(b), a.dates),
             Basis::Actual365 => 365.0,
             _ => 360.0,
         }
@@ -335,7 +337,7 @@ impl Basis {
 }
 
 fn date_time(d: Day) -> DateTime {
-    DateTime::from_serial(d.serial as f64, 0)
+    DateTime::from_serial(d.dates, d.serial as f64, 0)
 }
 
 // ---- arguments ----------------------------------------------------------------------------
@@ -343,18 +345,18 @@ fn date_time(d: Day) -> DateTime {
 /// A date argument: truncated to the day; #NUM! outside Excel's days, #VALUE! for a boolean
 /// (these are Analysis ToolPak functions).
 fn date_arg(a: Scalars, i: usize) -> XlResult<Day> {
-    let n = toolpak_number(a.value(i))?.trunc();
+    let n = toolpak_number(a.value(i), a.1)?.trunc();
     check((0.0..=LAST_SERIAL as f64).contains(&n), XlError::Num)?;
-    Ok(Day::from_serial(n as i64))
+    Ok(Day::from_serial(n as i64, a.1))
 }
 
 fn number_arg(a: Scalars, i: usize) -> XlResult<f64> {
-    toolpak_number(a.value(i))
+    toolpak_number(a.value(i), a.1)
 }
 
 /// The optional basis argument at `i`: 0–4 after truncation, else #NUM!.
 fn basis_arg(a: Scalars, i: usize) -> XlResult<Basis> {
-    let b = if a.given(i) { toolpak_number(a.value(i))?.trunc() } else { 0.0 };
+    let b = if a.given(i) { toolpak_number(a.value(i), a.1)?.trunc() } else { 0.0 };
     Ok(match b as i64 {
         _ if !(0.0..=4.0).contains(&b) => return Err(XlError::Num),
         0 => Basis::Us30360,
@@ -367,7 +369,7 @@ fn basis_arg(a: Scalars, i: usize) -> XlResult<Basis> {
 
 /// Coupons per year: 1, 2 or 4 after truncation, else #NUM!.
 fn frequency_arg(a: Scalars, i: usize) -> XlResult<f64> {
-    let f = toolpak_number(a.value(i))?.trunc();
+    let f = toolpak_number(a.value(i), a.1)?.trunc();
     check(f == 1.0 || f == 2.0 || f == 4.0, XlError::Num)?;
     Ok(f)
 }

@@ -4,6 +4,7 @@
 
 use nalgebra::{Point3, Vector3};
 
+use crate::eval::dates::DateSystem;
 use crate::eval::coerce::{to_number, to_text};
 use crate::eval::functions::api::{lift, Ctx, FnSpec};
 use crate::eval::surface::{surface_argument, BoundSurface, EmptyEnv, FormulaSurface, Home, SurfaceFault};
@@ -89,12 +90,12 @@ pub const FUNCTIONS: &[FnSpec] = &[
 ];
 
 /// The chamfer from seven scalar arguments, or the error with its message kept in `notes`.
-fn chamfer_points(values: &[Value]) -> Result<ChamferPoints, (XlError, String)> {
+fn chamfer_points(values: &[Value], dates: DateSystem) -> Result<ChamferPoints, (XlError, String)> {
     let kind_text = to_text(&values[0]).map_err(|e| (e, format!("CHAMFER kind is {e}")))?;
     let kind = ChamferKind::parse(&kind_text).map_err(geometry_error)?;
     let mut n = [0.0; 6];
     for (i, v) in values[1..].iter().enumerate() {
-        n[i] = to_number(v).map_err(|e| (e, format!("argument {} of {CHAMFER_ARGS} is {e}", i + 2)))?;
+        n[i] = to_number(v, dates).map_err(|e| (e, format!("argument {} of {CHAMFER_ARGS} is {e}", i + 2)))?;
     }
     chamfer(&ChamferSpec::from_arguments(kind, n)).map(|g| g.points()).map_err(geometry_error)
 }
@@ -108,8 +109,9 @@ fn geometry_error(e: GeometryError) -> (XlError, String) {
 
 /// One chamfer coordinate, lifted over arrays so a column of inputs gives a column of results.
 fn chamfer_coordinate(ctx: &mut Ctx, args: &[Expr], pick: fn(&ChamferPoints) -> f64) -> XlResult<Value> {
+    let dates = ctx.dates();
     let failures = std::cell::RefCell::new(Vec::new());
-    let out = lift(ctx, args, &|v| match chamfer_points(v) {
+    let out = lift(ctx, args, &|v| match chamfer_points(v, dates) {
         Ok(p) => Ok(Value::Number(pick(&p))),
         Err((e, message)) => {
             failures.borrow_mut().push((e, message));
@@ -143,17 +145,19 @@ fn scalars(ctx: &mut Ctx, args: &[Expr]) -> Vec<Value> {
 }
 
 fn chamfer_row(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     let values = scalars(ctx, args);
-    match chamfer_points(&values) {
+    match chamfer_points(&values, dates) {
         Ok(p) => Ok(number_row(&[p.xa, p.za, p.xb, p.zb])),
         Err((e, message)) => Err(ctx.explain(e, message)),
     }
 }
 
 fn head_row(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     let mut n = [0.0; 7];
     for (i, v) in scalars(ctx, args).iter().enumerate() {
-        n[i] = to_number(v)?;
+        n[i] = to_number(v, dates)?;
     }
     let pose = head_ab(Point3::new(n[0], n[1], n[2]), Vector3::new(n[3], n[4], n[5]), n[6]).map_err(|e| {
         let (err, m) = geometry_error(e);
@@ -167,11 +171,12 @@ const ARCH_FIT_ARGS: &str = "(kind, r0, phi0, r1, phi1, tol)";
 /// A cam piece ("arch", "log" or "circle") replaced by tangent arcs: one row per arc, dir = 1
 /// counter-clockwise, −1 clockwise.
 fn arch_fit(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     let values = scalars(ctx, args);
     let kind_text = to_text(&values[0]).map_err(|e| ctx.explain(e, format!("ARCH_FIT kind is {e}")))?;
     let mut n = [0.0; 5];
     for (i, v) in values[1..].iter().enumerate() {
-        n[i] = to_number(v).map_err(|e| ctx.explain(e, format!("argument {} of {ARCH_FIT_ARGS} is {e}", i + 2)))?;
+        n[i] = to_number(v, dates).map_err(|e| ctx.explain(e, format!("argument {} of {ARCH_FIT_ARGS} is {e}", i + 2)))?;
     }
     let [r0, phi0, r1, phi1, tol] = n;
     let arcs = PieceKind::parse(&kind_text)
@@ -302,9 +307,10 @@ pub fn describe_gouge(g: &Gouge) -> String {
 }
 
 fn ballpath(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     let mut n = [0.0; 7];
     for (i, e) in args[1..8].iter().enumerate() {
-        n[i] = to_number(&ctx.eval(e).unwrap_single())?;
+        n[i] = to_number(&ctx.eval(e).unwrap_single(), dates)?;
     }
     let centre = match word(ctx, args.get(8), "tip")?.as_str() {
         "tip" => false,

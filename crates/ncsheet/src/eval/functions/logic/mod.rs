@@ -2,6 +2,7 @@
 //! an array condition makes them choose item by item (Excel 365 spills the result).
 
 use crate::eval::coerce::{to_bool, to_number, values_equal};
+use crate::eval::dates::DateSystem;
 use crate::eval::functions::api::{
     broadcast2, for_each_value, lift, lift_values, ArgSet, Ctx, FnSpec, Operand, Source, MANY,
 };
@@ -255,18 +256,19 @@ fn same_kind(a: &Value, b: &Value) -> bool {
 /// CHOOSE keeps a chosen reference a reference (`SUM(A1:CHOOSE(2, B1, B2))`); an array
 /// index chooses item by item.
 fn choose(ctx: &mut Ctx, args: &[Expr]) -> Operand {
+    let dates = ctx.dates();
     let index = ctx.eval(&args[0]);
     let choices = &args[1..];
     if let Value::Array(_) = index {
         let mut values = vec![index];
         values.extend(choices.iter().map(|e| ctx.eval(e)));
         let chosen = lift_values(&values, &|v| {
-            let i = choice_index(&v[0], v.len() - 1)?;
+            let i = choice_index(&v[0], v.len() - 1, dates)?;
             Ok(v[i].clone())
         });
         return Operand::Value(chosen.unwrap_or_else(Value::Error));
     }
-    match choice_index(&index, choices.len()) {
+    match choice_index(&index, choices.len(), dates) {
         Ok(i) => match &choices[i - 1].kind {
             ExprKind::Missing => Operand::Value(Value::Number(0.0)),
             _ => ctx.operand(&choices[i - 1]),
@@ -276,8 +278,8 @@ fn choose(ctx: &mut Ctx, args: &[Expr]) -> Operand {
 }
 
 /// A 1-based index into `count` choices, truncated as Excel does (1.9 picks the first).
-fn choice_index(index: &Value, count: usize) -> XlResult<usize> {
-    let i = to_number(index)?.trunc();
+fn choice_index(index: &Value, count: usize, dates: DateSystem) -> XlResult<usize> {
+    let i = to_number(index, dates)?.trunc();
     if i < 1.0 || i > count as f64 {
         return Err(XlError::Value);
     }

@@ -5,6 +5,7 @@ use std::cmp::Ordering;
 use std::rc::Rc;
 
 use crate::eval::coerce::{compare, compare_text, to_bool, to_number, to_text};
+use crate::eval::dates::DateSystem;
 use crate::eval::functions::api::{lift_values, number_or, ArgSet, Ctx, FnSpec, Operand};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::address::{Pos, Rect};
@@ -129,6 +130,7 @@ fn index(ctx: &mut Ctx, args: &[Expr]) -> Operand {
 }
 
 fn index_operand(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Operand> {
+    let dates = ctx.dates();
     let source = ctx.operand(&args[0]);
     let row_arg = optional_value(ctx, args, 1);
     let col_arg = optional_value(ctx, args, 2);
@@ -145,14 +147,14 @@ fn index_operand(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Operand> {
         }
         let grid = grid_of(ctx, source)?;
         let picked = lift_values(&[row_arg, col_arg], &|v| {
-            let (rows, cols) = pick(grid.rows, grid.cols, &v[0], &v[1], col_given)?;
+            let (rows, cols) = pick(grid.rows, grid.cols, &v[0], &v[1], col_given, dates)?;
             Ok(sub_array(&grid, rows, cols))
         })?;
         return Ok(Operand::Value(picked));
     }
     match source {
         Operand::Ref(sheet, rect) => {
-            let (rows, cols) = pick(rect.rows() as usize, rect.cols() as usize, &row_arg, &col_arg, col_given)?;
+            let (rows, cols) = pick(rect.rows() as usize, rect.cols() as usize, &row_arg, &col_arg, col_given, dates)?;
             // Only the cells returned are read: they are this formula's link, made at run time
             // as OFFSET's (crates/ncsheet/src/workbook/shared.rs gives the whole reference no edge).
             let picked = sub_rect(rect, rows, cols);
@@ -161,7 +163,7 @@ fn index_operand(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Operand> {
         }
         Operand::Value(v) => {
             let grid = grid_of(ctx, Operand::Value(v))?;
-            let (rows, cols) = pick(grid.rows, grid.cols, &row_arg, &col_arg, col_given)?;
+            let (rows, cols) = pick(grid.rows, grid.cols, &row_arg, &col_arg, col_given, dates)?;
             Ok(Operand::Value(sub_array(&grid, rows, cols)))
         }
         // `pick_area` chose one area above.
@@ -207,16 +209,23 @@ type Span = (usize, usize);
 
 /// Which rows and columns INDEX selects from a `rows`×`cols` block. With one index, a
 /// single-row block is indexed by column (`INDEX({1,2,3}, 2)` is 2).
-fn pick(rows: usize, cols: usize, row: &Value, col: &Value, col_given: bool) -> XlResult<(Span, Span)> {
-    let r = position(row)?;
-    let c = position(col)?;
+fn pick(
+    rows: usize,
+    cols: usize,
+    row: &Value,
+    col: &Value,
+    col_given: bool,
+    dates: DateSystem,
+) -> XlResult<(Span, Span)> {
+    let r = position(row, dates)?;
+    let c = position(col, dates)?;
     let (r, c) = if rows == 1 && !col_given { (c, r) } else { (r, c) };
     Ok((span(r, rows)?, span(c, cols)?))
 }
 
 /// An INDEX position: truncated, 0 for "all", negative `#VALUE!`.
-fn position(v: &Value) -> XlResult<usize> {
-    let n = to_number(v)?.trunc();
+fn position(v: &Value, dates: DateSystem) -> XlResult<usize> {
+    let n = to_number(v, dates)?.trunc();
     if n < 0.0 {
         return Err(XlError::Value);
     }
@@ -372,12 +381,13 @@ fn line_of(grid: &Array) -> Option<&[Value]> {
 // MATCH, VLOOKUP, HLOOKUP
 
 fn match_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     let key = ctx.eval(&args[0]);
     let haystack = grid_of_expr(ctx, &args[1])?;
     // Omitted is 1; left empty (`MATCH(x, r, )`) is 0, as Excel reads empty arguments.
     let match_type = match args.get(2) {
         None => 1.0,
-        Some(e) => to_number(&ctx.eval(e))?,
+        Some(e) => to_number(&ctx.eval(e), dates)?,
     };
     let items = line_of(&haystack).ok_or(XlError::NA)?;
     lift_values(&[key], &|v| {
@@ -428,12 +438,13 @@ fn table_lookup(ctx: &mut Ctx, args: &[Expr], by_row: bool) -> XlResult<Value> {
     };
     let offset = ctx.eval(&args[2]);
     let approximate = approximate_flag(ctx, args.get(3))?;
+    let dates = ctx.dates();
     let table = table.map(|t| TableLookup::new(t, by_row));
     // An array of columns returns each (`SUM(VLOOKUP(x,T,{2,3},0))`), as in Excel.
     lift_values(&[key, offset], &|v| {
         let key = lookup_key(&v[0])?;
         let table = table.as_ref().map_err(|e| *e)?;
-        table.find(&key, &v[1], approximate)
+        table.find(&key, &v[1], approximate, dates)
     })
 }
 
@@ -460,8 +471,8 @@ impl TableLookup {
         }
     }
 
-    fn find(&self, key: &Value, offset: &Value, approximate: bool) -> XlResult<Value> {
-        let offset = to_number(offset)?.trunc();
+    fn find(&self, key: &Value, offset: &Value, approximate: bool, dates: DateSystem) -> XlResult<Value> {
+        let offset = to_number(offset, dates)?.trunc();
         let width = if self.by_row { self.table.rows } else { self.table.cols };
         if offset < 1.0 {
             return Err(XlError::Value);

@@ -3,6 +3,7 @@
 use std::rc::Rc;
 
 use crate::eval::coerce::to_number;
+use crate::eval::dates::DateSystem;
 use crate::eval::format::number_format::round15;
 use crate::eval::functions::api::{
     block, for_each_number, given, lift, lift_number1, lift_number2, number_or, number_result, power, ArgSet, Ctx,
@@ -446,17 +447,18 @@ fn quotient(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 /// A number argument of a function from Excel's old Analysis ToolPak (QUOTIENT, MROUND):
 /// these refuse booleans (`QUOTIENT(TRUE, 1)` is #VALUE!) where built-ins read TRUE as 1.
-pub(crate) fn toolpak_number(v: &Value) -> XlResult<f64> {
+pub(crate) fn toolpak_number(v: &Value, dates: DateSystem) -> XlResult<f64> {
     match v {
         Value::Bool(_) => Err(XlError::Value),
-        v => to_number(v),
+        v => to_number(v, dates),
     }
 }
 
 /// [`lift_number2`] for Analysis ToolPak functions.
 fn lift_toolpak2(ctx: &mut Ctx, args: &[Expr], f: fn(f64, f64) -> XlResult<f64>) -> XlResult<Value> {
+    let dates = ctx.dates();
     lift(ctx, args, &|v| {
-        let (x, y) = (toolpak_number(&v[0])?, toolpak_number(&v[1])?);
+        let (x, y) = (toolpak_number(&v[0], dates)?, toolpak_number(&v[1], dates)?);
         Ok(number_result(f(x, y)?))
     })
 }
@@ -573,12 +575,13 @@ fn floor(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// CEILING.MATH and FLOOR.MATH: the sign of significance is ignored (omitted: 1) and a
 /// non-zero mode flips the direction for negative numbers.
 fn math_rounding(ctx: &mut Ctx, args: &[Expr], up: bool) -> XlResult<Value> {
+    let dates = ctx.dates();
     // Only an omitted significance is 1; an empty cell reads as 0 like any other number.
     let default_significance = given(args, 1).is_none();
     lift(ctx, args, &|v| {
-        let x = to_number(&v[0])?;
-        let s = if default_significance { 1.0 } else { to_number(&v[1])?.abs() };
-        let mode = v.get(2).map_or(Ok(0.0), to_number)?;
+        let x = to_number(&v[0], dates)?;
+        let s = if default_significance { 1.0 } else { to_number(&v[1], dates)?.abs() };
+        let mode = v.get(2).map_or(Ok(0.0), |m| to_number(m, dates))?;
         if s == 0.0 {
             return Ok(Value::Number(0.0));
         }

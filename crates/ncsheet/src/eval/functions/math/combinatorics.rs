@@ -7,6 +7,7 @@ use std::rc::Rc;
 use nalgebra::DMatrix;
 
 use crate::eval::coerce::{parse_number, parse_plain_number, to_number};
+use crate::eval::dates::DateSystem;
 use crate::eval::functions::api::{
     block, check, finite, for_each_value, power, scalar, ArgSet, Ctx, FnSpec, Operand, Scalars, Source, MANY,
 };
@@ -44,17 +45,20 @@ pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("SUMX2PY2", 2, 2, sumx2py2, "SUMX2PY2(array_x, array_y)", "Σ (x² + y²) over pairs of numbers")
         .biff(305)
         .array_args(ArgSet::ALL),
-    FnSpec::value("SUMXMY2", 2, 2, sumxmy2, "SUMXMY2(array_x, array_y)", "Σ (x - y)² over pairs of numbers").biff(303)
+    FnSpec::value("SUMXMY2", 2, 2, sumxmy2, "SUMXMY2(array_x, array_y)", "Σ (x - y)² over pairs of numbers")
+        .biff(303)
         .array_args(ArgSet::ALL),
     FnSpec::value("MMULT", 2, 2, mmult, "MMULT(array1, array2)", "Matrix product").biff(165).array_args(ArgSet::ALL),
     FnSpec::value("MINVERSE", 1, 1, minverse, "MINVERSE(array)", "Inverse of a square matrix; #NUM! when singular")
         .biff(164)
         .array_args(ArgSet::ALL),
     FnSpec::value("MDETERM", 1, 1, mdeterm, "MDETERM(array)", "Determinant of a square matrix")
-        .biff(163).array_args(ArgSet::ALL),
+        .biff(163)
+        .array_args(ArgSet::ALL),
     FnSpec::value("MUNIT", 1, 1, munit, "MUNIT(dimension)", "The identity matrix of that size").future(),
     FnSpec::value("TRANSPOSE", 1, 1, transpose, "TRANSPOSE(array)", "Rows become columns")
-        .biff(83).array_args(ArgSet::ALL),
+        .biff(83)
+        .array_args(ArgSet::ALL),
 ];
 
 /// A count argument: truncated, at least 0.
@@ -120,6 +124,7 @@ fn permutationa(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// a number (or is #VALUE!), booleans are #VALUE!, blank cells of a range are skipped but a
 /// blank argument is #VALUE!.
 fn strict_numbers(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<f64>> {
+    let dates = ctx.dates();
     // An empty argument slot is Excel's #N/A here.
     check(args.iter().all(|a| a.kind != ExprKind::Missing), XlError::NA)?;
     let mut out = Vec::new();
@@ -128,7 +133,7 @@ fn strict_numbers(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<f64>> {
             (Value::Blank, Source::Collection) => {}
             (Value::Blank | Value::Bool(_), _) => return Err(XlError::Value),
             (Value::Text(t), _) => out.push(parse_plain_number(t.trim()).ok_or(XlError::Value)?),
-            (v, _) => out.push(to_number(v)?),
+            (v, _) => out.push(to_number(v, dates)?),
         }
         Ok(())
     })?;
@@ -136,20 +141,21 @@ fn strict_numbers(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<f64>> {
 }
 
 /// A text GCD or LCM reads as a number: a number, or date text ("2024-01-10").
-fn text_number(t: &str) -> XlResult<f64> {
-    parse_plain_number(t.trim()).or_else(|| parse_number(t)).ok_or(XlError::Value)
+fn text_number(t: &str, dates: DateSystem) -> XlResult<f64> {
+    parse_plain_number(t.trim()).or_else(|| parse_number(t, dates)).ok_or(XlError::Value)
 }
 
 /// The arguments' numbers as GCD and LCM read them (Excel's stored results): text anywhere
 /// is read as a number or date; booleans are #VALUE!; a blank single cell is skipped but a
 /// range of several cells with a blank among them counts a 0; no number at all is #VALUE!.
 fn divisor_numbers(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<f64>> {
+    let dates = ctx.dates();
     // An empty argument slot is Excel's #N/A here.
     check(args.iter().all(|a| a.kind != ExprKind::Missing), XlError::NA)?;
     let read = |v: &Value| match v {
         Value::Bool(_) => Err(XlError::Value),
-        Value::Text(t) => text_number(t),
-        v => to_number(v),
+        Value::Text(t) => text_number(t, dates),
+        v => to_number(v, dates),
     };
     let mut out = Vec::new();
     for a in args {
@@ -268,9 +274,10 @@ fn isodd(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 /// A number argument; a boolean is #VALUE! (Analysis ToolPak).
 fn toolpak_number(ctx: &mut Ctx, e: &Expr) -> XlResult<f64> {
+    let dates = ctx.dates();
     match ctx.eval(e) {
         Value::Bool(_) => Err(XlError::Value),
-        v => to_number(&v),
+        v => to_number(&v, dates),
     }
 }
 

@@ -2,6 +2,7 @@
 //! conditional forms (COUNTIF, SUMIF, AVERAGEIF, COUNTIFS, SUMIFS, AVERAGEIFS, MINIFS, MAXIFS).
 
 use crate::eval::coerce::parse_number;
+use crate::eval::dates::DateSystem;
 use crate::eval::functions::api::{
     for_each_number, for_each_value, given, lift_values, number_result, numbers, ArgSet, Ctx, FnSpec, Source, MANY,
 };
@@ -81,7 +82,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "How many positions meet every criteria",
     )
     .range_args(ArgSet::ALL),
-    FnSpec::value("MAX", 1, MANY, max, "MAX(number1, [number2], ...)", "Largest number; 0 when there is none").biff(7)
+    FnSpec::value("MAX", 1, MANY, max, "MAX(number1, [number2], ...)", "Largest number; 0 when there is none")
+        .biff(7)
         .range_args(ArgSet::ALL),
     FnSpec::value(
         "MAXIFS",
@@ -103,7 +105,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
     )
     .biff(227)
     .range_args(ArgSet::ALL),
-    FnSpec::value("MIN", 1, MANY, min, "MIN(number1, [number2], ...)", "Smallest number; 0 when there is none").biff(6)
+    FnSpec::value("MIN", 1, MANY, min, "MIN(number1, [number2], ...)", "Smallest number; 0 when there is none")
+        .biff(6)
         .range_args(ArgSet::ALL),
     FnSpec::value(
         "MINIFS",
@@ -182,12 +185,13 @@ fn median(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// COUNT: numbers anywhere; typed booleans and numeric text too. Errors are not counted and,
 /// unlike in SUM, do not stop the count.
 fn count(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     let mut n = 0usize;
     for_each_value(ctx, args, &mut |v, source| {
         let counted = match (v, source) {
             (Value::Number(_), _) => true,
             (Value::Bool(_), Source::Direct) => true,
-            (Value::Text(t), Source::Direct) => parse_number(t).is_some(),
+            (Value::Text(t), Source::Direct) => parse_number(t, dates).is_some(),
             _ => false,
         };
         n += usize::from(counted);
@@ -209,7 +213,7 @@ fn counta(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 fn countblank(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let range = CellBlock::read(ctx, &args[0])?;
     // The criterion "" is exactly COUNTBLANK's test: empty cells and empty text.
-    let m = matching_cells(&[range], &[Criterion::new(&Value::text(""))])?;
+    let m = matching_cells(&[range], &[Criterion::new(&Value::text(""), DateSystem::From1900)])?;
     Ok(Value::Number((m.cells.len() + m.blanks_beyond) as f64))
 }
 
@@ -222,6 +226,8 @@ struct Conditions {
     target: Option<CellBlock>,
     ranges: Vec<CellBlock>,
     criteria: Vec<Value>,
+    /// The workbook's date system, in which the criteria read date text.
+    dates: DateSystem,
 }
 
 /// How the aggregated numbers become the result.
@@ -237,7 +243,7 @@ impl Conditions {
             Some(e) => CellBlock::read_sized(ctx, e, range.rows, range.cols)?,
             None => range.clone(),
         };
-        Ok(Conditions { target: Some(target), ranges: vec![range], criteria })
+        Ok(Conditions { target: Some(target), ranges: vec![range], criteria, dates: ctx.dates() })
     }
 
     /// `COUNTIFS(range1, criteria1, …)` and, with a target, `SUMIFS(sum_range, range1,
@@ -254,13 +260,13 @@ impl Conditions {
             ranges.push(CellBlock::read(ctx, &pair[0])?);
             criteria.push(ctx.eval(&pair[1]));
         }
-        Ok(Conditions { target, ranges, criteria })
+        Ok(Conditions { target, ranges, criteria, dates: ctx.dates() })
     }
 
     /// How many positions meet every criterion, per criteria item.
     fn count(&self) -> XlResult<Value> {
         lift_values(&self.criteria, &|items| {
-            let criteria: Vec<Criterion> = items.iter().map(Criterion::new).collect();
+            let criteria: Vec<Criterion> = items.iter().map(|v| Criterion::new(v, self.dates)).collect();
             let m = matching_cells(&self.ranges, &criteria)?;
             Ok(Value::Number((m.cells.len() + m.blanks_beyond) as f64))
         })
@@ -274,7 +280,7 @@ impl Conditions {
             return Err(XlError::Value);
         }
         lift_values(&self.criteria, &|items| {
-            let criteria: Vec<Criterion> = items.iter().map(Criterion::new).collect();
+            let criteria: Vec<Criterion> = items.iter().map(|v| Criterion::new(v, self.dates)).collect();
             let m = matching_cells(&self.ranges, &criteria)?;
             let mut xs = Vec::with_capacity(m.cells.len());
             for &(r, c) in &m.cells {

@@ -5,6 +5,7 @@
 //! its domain. The numerics are in `special.rs`.
 
 use crate::eval::coerce::{to_bool, to_number};
+use crate::eval::dates::DateSystem;
 use crate::eval::functions::api::{lift, number_result, Ctx, FnSpec};
 use crate::eval::functions::scalar::{steps_between, whole_numbers, MAX_STEPS};
 use crate::eval::value::{Value, XlError, XlResult};
@@ -18,15 +19,16 @@ type Body = fn(&[f64]) -> XlResult<f64>;
 
 /// Evaluates the arguments, lifts over arrays and calls `f` with them as numbers.
 fn numeric(ctx: &mut Ctx, args: &[Expr], f: Body) -> XlResult<Value> {
+    let dates = ctx.dates();
     lift(ctx, args, &|v| {
-        let x: Vec<f64> = v.iter().map(number_or_flag).collect::<XlResult<_>>()?;
+        let x: Vec<f64> = v.iter().map(|x| number_or_flag(x, dates)).collect::<XlResult<_>>()?;
         Ok(number_result(f(&x)?))
     })
 }
 
 /// A number argument; the cumulative flags also take the text "TRUE" or "FALSE", as in Excel.
-fn number_or_flag(v: &Value) -> XlResult<f64> {
-    to_number(v).or_else(|e| match v {
+fn number_or_flag(v: &Value, dates: DateSystem) -> XlResult<f64> {
+    to_number(v, dates).or_else(|e| match v {
         Value::Text(_) => to_bool(v).map(f64::from).map_err(|_| e),
         _ => Err(e),
     })

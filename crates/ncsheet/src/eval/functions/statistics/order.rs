@@ -7,6 +7,7 @@ use std::collections::HashMap;
 use std::rc::Rc;
 
 use crate::eval::coerce::to_number;
+use crate::eval::dates::DateSystem;
 use crate::eval::format::number_format::round15;
 use crate::eval::functions::api::{lift_values, number_result, numbers, ArgSet, Ctx, FnSpec, MANY};
 use crate::eval::value::{Array, Value, XlError, XlResult};
@@ -14,7 +15,8 @@ use crate::formula::ast::Expr;
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("LARGE", 2, 2, large, "LARGE(array, k)", "The k-th largest number")
-        .biff(325).range_args(ArgSet::only(0)),
+        .biff(325)
+        .range_args(ArgSet::only(0)),
     FnSpec::value("MODE", 1, MANY, mode_sngl, "MODE(number1, [number2], ...)", "Most frequent number (MODE.SNGL)")
         .biff(330)
         .range_args(ArgSet::ALL),
@@ -98,7 +100,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
     )
     .future()
     .range_args(ArgSet::only(0)),
-    FnSpec::value("QUARTILE", 2, 2, quartile_inc, "QUARTILE(array, quart)", "Quartile 0 to 4 (QUARTILE.INC)").biff(327)
+    FnSpec::value("QUARTILE", 2, 2, quartile_inc, "QUARTILE(array, quart)", "Quartile 0 to 4 (QUARTILE.INC)")
+        .biff(327)
         .range_args(ArgSet::only(0)),
     FnSpec::value(
         "QUARTILE.EXC",
@@ -120,7 +123,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
     )
     .future()
     .range_args(ArgSet::only(0)),
-    FnSpec::value("RANK", 2, 3, rank_eq, "RANK(number, ref, [order])", "Rank of number in ref (RANK.EQ)").biff(216)
+    FnSpec::value("RANK", 2, 3, rank_eq, "RANK(number, ref, [order])", "Rank of number in ref (RANK.EQ)")
+        .biff(216)
         .range_args(ArgSet::from(1)),
     FnSpec::value(
         "RANK.AVG",
@@ -143,7 +147,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
     .future()
     .range_args(ArgSet::from(1)),
     FnSpec::value("SMALL", 2, 2, small, "SMALL(array, k)", "The k-th smallest number")
-        .biff(326).range_args(ArgSet::only(0)),
+        .biff(326)
+        .range_args(ArgSet::only(0)),
 ];
 
 /// The numbers of the data argument, ascending.
@@ -168,8 +173,8 @@ fn over_data(ctx: &mut Ctx, args: &[Expr], f: &OnData) -> XlResult<Value> {
 /// The k-th smallest (or largest) of the ascending numbers, k from 1. A fractional k is
 /// rounded down for SMALL and up for LARGE, as if LARGE's k were SMALL's n + 1 - k rounded
 /// down (newer LibreOffice does the same for Excel's sake).
-fn kth(xs: &[f64], k: &Value, largest: bool) -> XlResult<f64> {
-    let k = to_number(k)?;
+fn kth(xs: &[f64], k: &Value, largest: bool, dates: DateSystem) -> XlResult<f64> {
+    let k = to_number(k, dates)?;
     let k = if largest { k.ceil() } else { k.floor() };
     if k < 1.0 || k > xs.len() as f64 {
         return Err(XlError::Num);
@@ -179,11 +184,13 @@ fn kth(xs: &[f64], k: &Value, largest: bool) -> XlResult<f64> {
 }
 
 fn small(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    over_data(ctx, args, &|xs, v| kth(xs, &v[0], false))
+    let dates = ctx.dates();
+    over_data(ctx, args, &move |xs, v| kth(xs, &v[0], false, dates))
 }
 
 fn large(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    over_data(ctx, args, &|xs, v| kth(xs, &v[0], true))
+    let dates = ctx.dates();
+    over_data(ctx, args, &move |xs, v| kth(xs, &v[0], true, dates))
 }
 
 /// The value at 0-based position `rank` of the ascending numbers, interpolated between the
@@ -215,16 +222,18 @@ fn exclusive(xs: &[f64], k: f64) -> XlResult<f64> {
 }
 
 fn percentile_inc(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    over_data(ctx, args, &|xs, v| inclusive(xs, to_number(&v[0])?))
+    let dates = ctx.dates();
+    over_data(ctx, args, &move |xs, v| inclusive(xs, to_number(&v[0], dates)?))
 }
 
 fn percentile_exc(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    over_data(ctx, args, &|xs, v| exclusive(xs, to_number(&v[0])?))
+    let dates = ctx.dates();
+    over_data(ctx, args, &move |xs, v| exclusive(xs, to_number(&v[0], dates)?))
 }
 
 /// A quartile number, truncated; `#NUM!` outside `allowed`.
-fn quart(v: &Value, allowed: std::ops::RangeInclusive<f64>) -> XlResult<f64> {
-    let q = to_number(v)?.trunc();
+fn quart(v: &Value, allowed: std::ops::RangeInclusive<f64>, dates: DateSystem) -> XlResult<f64> {
+    let q = to_number(v, dates)?.trunc();
     if allowed.contains(&q) {
         Ok(q / 4.0)
     } else {
@@ -233,11 +242,13 @@ fn quart(v: &Value, allowed: std::ops::RangeInclusive<f64>) -> XlResult<f64> {
 }
 
 fn quartile_inc(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    over_data(ctx, args, &|xs, v| inclusive(xs, quart(&v[0], 0.0..=4.0)?))
+    let dates = ctx.dates();
+    over_data(ctx, args, &move |xs, v| inclusive(xs, quart(&v[0], 0.0..=4.0, dates)?))
 }
 
 fn quartile_exc(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    over_data(ctx, args, &|xs, v| exclusive(xs, quart(&v[0], 1.0..=3.0)?))
+    let dates = ctx.dates();
+    over_data(ctx, args, &move |xs, v| exclusive(xs, quart(&v[0], 1.0..=3.0, dates)?))
 }
 
 // ---- ranks --------------------------------------------------------------------------------
@@ -251,10 +262,10 @@ fn below_and_equal(xs: &[f64], x: f64) -> (usize, usize) {
 
 /// The rank of `number` among the data, 1 the largest (or with `order`<>0 the smallest),
 /// plus how many tie with it; `#N/A` when it is not there.
-fn rank_of(xs: &[f64], v: &[Value]) -> XlResult<(f64, f64)> {
-    let x = to_number(&v[0])?;
+fn rank_of(xs: &[f64], v: &[Value], dates: DateSystem) -> XlResult<(f64, f64)> {
+    let x = to_number(&v[0], dates)?;
     let ascending = match v.get(1) {
-        Some(order) => to_number(order)? != 0.0,
+        Some(order) => to_number(order, dates)? != 0.0,
         None => false,
     };
     let (below, equal) = below_and_equal(xs, x);
@@ -267,10 +278,11 @@ fn rank_of(xs: &[f64], v: &[Value]) -> XlResult<(f64, f64)> {
 
 /// RANK: the number's data is `args[1]`, so the data is read from there.
 fn ranked(ctx: &mut Ctx, args: &[Expr], f: fn(f64, f64) -> f64) -> XlResult<Value> {
+    let dates = ctx.dates();
     let xs = sorted(ctx, &args[1])?;
     let mut rest = vec![ctx.eval(&args[0])];
     rest.extend(args[2..].iter().map(|a| ctx.eval(a)));
-    lift_values(&rest, &|v| rank_of(&xs, v).map(|(rank, ties)| number_result(f(rank, ties))))
+    lift_values(&rest, &|v| rank_of(&xs, v, dates).map(|(rank, ties)| number_result(f(rank, ties))))
 }
 
 fn rank_eq(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
@@ -283,10 +295,10 @@ fn rank_avg(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 /// PERCENTRANK: where x falls among the data as a fraction, interpolated between the
 /// neighbours when it is not one of them, truncated (not rounded) to `significance` digits.
-fn percentrank(xs: &[f64], v: &[Value], exclusive: bool) -> XlResult<f64> {
-    let x = to_number(&v[0])?;
+fn percentrank(xs: &[f64], v: &[Value], exclusive: bool, dates: DateSystem) -> XlResult<f64> {
+    let x = to_number(&v[0], dates)?;
     let digits = match v.get(1) {
-        Some(s) => to_number(s)?.trunc(),
+        Some(s) => to_number(s, dates)?.trunc(),
         None => 3.0,
     };
     if xs.is_empty() || digits < 1.0 {
@@ -315,11 +327,13 @@ fn percentrank(xs: &[f64], v: &[Value], exclusive: bool) -> XlResult<f64> {
 }
 
 fn percentrank_inc(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    over_data(ctx, args, &|xs, v| percentrank(xs, v, false))
+    let dates = ctx.dates();
+    over_data(ctx, args, &move |xs, v| percentrank(xs, v, false, dates))
 }
 
 fn percentrank_exc(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    over_data(ctx, args, &|xs, v| percentrank(xs, v, true))
+    let dates = ctx.dates();
+    over_data(ctx, args, &move |xs, v| percentrank(xs, v, true, dates))
 }
 
 // ---- modes --------------------------------------------------------------------------------

@@ -35,7 +35,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
     )
     .biff(306)
     .array_args(ArgSet::ALL),
-    FnSpec::value("CORREL", 2, 2, correl, "CORREL(array1, array2)", "Correlation coefficient of two samples").biff(307)
+    FnSpec::value("CORREL", 2, 2, correl, "CORREL(array1, array2)", "Correlation coefficient of two samples")
+        .biff(307)
         .array_args(ArgSet::ALL),
     FnSpec::value("COVAR", 2, 2, covariance_p, "COVAR(array1, array2)", "Population covariance (COVARIANCE.P)")
         .biff(308)
@@ -117,7 +118,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("INTERCEPT", 2, 2, intercept, "INTERCEPT(known_ys, known_xs)", "Intercept of the least-squares line")
         .biff(311)
         .array_args(ArgSet::ALL),
-    FnSpec::value("KURT", 1, MANY, kurt, "KURT(number1, [number2], ...)", "Excess kurtosis of a sample").biff(322)
+    FnSpec::value("KURT", 1, MANY, kurt, "KURT(number1, [number2], ...)", "Excess kurtosis of a sample")
+        .biff(322)
         .range_args(ArgSet::ALL),
     FnSpec::value("PEARSON", 2, 2, correl, "PEARSON(array1, array2)", "Pearson correlation coefficient (CORREL)")
         .biff(312)
@@ -132,14 +134,17 @@ pub const FUNCTIONS: &[FnSpec] = &[
     )
     .biff(317)
     .array_args(ArgSet::only(0).and(ArgSet::only(1))),
-    FnSpec::value("RSQ", 2, 2, rsq, "RSQ(known_ys, known_xs)", "Square of the correlation coefficient").biff(313)
+    FnSpec::value("RSQ", 2, 2, rsq, "RSQ(known_ys, known_xs)", "Square of the correlation coefficient")
+        .biff(313)
         .array_args(ArgSet::ALL),
-    FnSpec::value("SKEW", 1, MANY, skew, "SKEW(number1, [number2], ...)", "Skewness of a sample").biff(323)
+    FnSpec::value("SKEW", 1, MANY, skew, "SKEW(number1, [number2], ...)", "Skewness of a sample")
+        .biff(323)
         .range_args(ArgSet::ALL),
     FnSpec::value("SKEW.P", 1, MANY, skew_p, "SKEW.P(number1, [number2], ...)", "Skewness of a population")
         .future()
         .range_args(ArgSet::ALL),
-    FnSpec::value("SLOPE", 2, 2, slope, "SLOPE(known_ys, known_xs)", "Slope of the least-squares line").biff(315)
+    FnSpec::value("SLOPE", 2, 2, slope, "SLOPE(known_ys, known_xs)", "Slope of the least-squares line")
+        .biff(315)
         .array_args(ArgSet::ALL),
     FnSpec::value(
         "STEYX",
@@ -171,12 +176,14 @@ pub const FUNCTIONS: &[FnSpec] = &[
     )
     .biff(331)
     .array_args(ArgSet::only(0)),
-    FnSpec::value("TTEST", 4, 4, t_test, "TTEST(array1, array2, tails, type)", "Student's t-test (T.TEST)").biff(316)
+    FnSpec::value("TTEST", 4, 4, t_test, "TTEST(array1, array2, tails, type)", "Student's t-test (T.TEST)")
+        .biff(316)
         .array_args(ArgSet::only(0).and(ArgSet::only(1))),
     FnSpec::value("Z.TEST", 2, 3, z_test, "Z.TEST(array, x, [sigma])", "One-tailed probability of a z-test")
         .future()
         .array_args(ArgSet::only(0)),
-    FnSpec::value("ZTEST", 2, 3, z_test, "ZTEST(array, x, [sigma])", "One-tailed z-test (Z.TEST)").biff(324)
+    FnSpec::value("ZTEST", 2, 3, z_test, "ZTEST(array, x, [sigma])", "One-tailed z-test (Z.TEST)")
+        .biff(324)
         .array_args(ArgSet::only(0)),
 ];
 
@@ -380,12 +387,13 @@ fn steyx(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn forecast(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     let m = regression_moments(ctx, &args[1], &args[2])?;
     let b = m.sxy / nonzero(m.sxx)?;
     let a = m.my - b * m.mx;
     let x = ctx.eval(&args[0]);
     let values = [x];
-    lift_values(&values, &|v| Ok(number_result(a + b * to_number(&v[0])?)))
+    lift_values(&values, &|v| Ok(number_result(a + b * to_number(&v[0], dates)?)))
 }
 
 // ---- distributions of data -----------------------------------------------------------------
@@ -427,6 +435,7 @@ fn prob(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 // ---- tests --------------------------------------------------------------------------------
 
 fn z_test(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     let xs = array_numbers(ctx, &args[0])?;
     if xs.is_empty() {
         return Err(XlError::NA);
@@ -445,7 +454,7 @@ fn z_test(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let sigma = nonzero(sigma)?;
     let values = [ctx.eval(&args[1])];
     lift_values(&values, &|v| {
-        let x = to_number(&v[0])?;
+        let x = to_number(&v[0], dates)?;
         Ok(number_result(1.0 - norm_cdf((m - x) / (sigma / n.sqrt()))))
     })
 }

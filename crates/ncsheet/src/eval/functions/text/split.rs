@@ -168,6 +168,7 @@ fn split(text: &[char], delims: &[Vec<char>], ignore_case: bool) -> Vec<String> 
 }
 
 fn textsplit(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     let text: Vec<char> = to_text(&ctx.eval(&args[0]).unwrap_single())?.chars().collect();
     let col_delims = if present(args, 1) { delimiters(&ctx.eval(&args[1]))? } else { Vec::new() };
     let row_delims = if present(args, 2) { delimiters(&ctx.eval(&args[2]))? } else { Vec::new() };
@@ -175,7 +176,7 @@ fn textsplit(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         return Err(XlError::Value);
     }
     let ignore_empty = if present(args, 3) { to_bool(&ctx.eval(&args[3]))? } else { false };
-    let ignore_case = if present(args, 4) { to_number(&ctx.eval(&args[4]))? != 0.0 } else { false };
+    let ignore_case = if present(args, 4) { to_number(&ctx.eval(&args[4]), dates)? != 0.0 } else { false };
     let pad = if present(args, 5) { ctx.eval(&args[5]).unwrap_single() } else { Value::Error(XlError::NA) };
     let mut rows: Vec<Vec<String>> = Vec::new();
     for line in split(&text, &row_delims, ignore_case) {

@@ -5,6 +5,7 @@ use std::cell::Cell;
 use std::rc::Rc;
 
 use crate::eval::coerce::{to_bool, to_number, to_text};
+use crate::eval::dates::DateSystem;
 use crate::eval::functions::api::{for_each_value, lift, lift_values, ArgSet, Ctx, FnSpec, MANY};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
@@ -239,6 +240,7 @@ fn items_of(v: Value) -> Vec<Value> {
 // Numbers as text
 
 fn text_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     // The format code and the number text are read, and the result shown, in the locale.
     let locale = ctx.locale();
     let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
@@ -260,11 +262,11 @@ fn text_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
             // A boolean is text to TEXT: the text section formats it.
             Value::Bool(b) => format.format_text(if *b { "TRUE" } else { "FALSE" }),
             // Text that reads as a number is formatted as that number.
-            Value::Text(s) => match locale.read_number(s) {
-                Some(n) => locale.localize_formatted(&code, &format.format_number(n)?),
+            Value::Text(s) => match locale.read_number(s, dates) {
+                Some(n) => locale.localize_formatted(&code, &format.format_number(n, dates)?),
                 None => format.format_text(s),
             },
-            other => locale.localize_formatted(&code, &format.format_number(to_number(other)?)?),
+            other => locale.localize_formatted(&code, &format.format_number(to_number(other, dates)?, dates)?),
         };
         if locale.is_canonical() {
             return Ok(Value::from(shown));
@@ -274,12 +276,13 @@ fn text_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn fixed(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     let locale = ctx.locale();
-    let values: Vec<Value> = args.iter().map(|a| locale.numbers_for_arithmetic(ctx.eval(a))).collect();
+    let values: Vec<Value> = args.iter().map(|a| locale.numbers_for_arithmetic(ctx.eval(a), dates)).collect();
     let decimals_given = args.get(1).is_some_and(|e| e.kind != ExprKind::Missing);
     lift_values(&values, &|v| {
-        let n = to_number(&v[0])?;
-        let decimals = if decimals_given { to_number(&v[1])?.trunc() } else { 2.0 };
+        let n = to_number(&v[0], dates)?;
+        let decimals = if decimals_given { to_number(&v[1], dates)?.trunc() } else { 2.0 };
         let no_commas = match v.get(2) {
             Some(flag) => to_bool(flag)?,
             None => false,
@@ -291,12 +294,13 @@ fn fixed(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// DOLLAR: FIXED with a currency sign, negative amounts in parentheses (`($1,234.57)`), as
 /// Excel's en-US currency format shows them.
 fn dollar(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     let locale = ctx.locale();
-    let values: Vec<Value> = args.iter().map(|a| locale.numbers_for_arithmetic(ctx.eval(a))).collect();
+    let values: Vec<Value> = args.iter().map(|a| locale.numbers_for_arithmetic(ctx.eval(a), dates)).collect();
     let decimals_given = args.get(1).is_some_and(|e| e.kind != ExprKind::Missing);
     lift_values(&values, &|v| {
-        let n = to_number(&v[0])?;
-        let decimals = if decimals_given { to_number(&v[1])?.trunc() } else { 2.0 };
+        let n = to_number(&v[0], dates)?;
+        let decimals = if decimals_given { to_number(&v[1], dates)?.trunc() } else { 2.0 };
         let digits = locale.localize_shown(&fixed_text(n.abs(), decimals, false)?);
         // A negative amount that rounds to nothing shows no parentheses.
         let negative = n < 0.0 && digits.chars().any(|c| c.is_ascii_digit() && c != '0');
@@ -326,36 +330,39 @@ fn fixed_text(n: f64, decimals: f64, no_commas: bool) -> XlResult<String> {
         format.push('.');
         format.push_str(&"0".repeat(places));
     }
-    NumberFormat::parse(&format)?.format_number(n)
+    // A number format without dates: no date system to follow.
+    NumberFormat::parse(&format)?.format_number(n, DateSystem::From1900)
 }
 
 // ---------------------------------------------------------------------------------------
 // Pieces of text
 
 fn left(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     lift(ctx, args, &|v| {
         let text = to_text(&v[0])?;
-        let count = count_arg(v.get(1))?;
+        let count = count_arg(v.get(1), dates)?;
         let units: Vec<u16> = text.encode_utf16().collect();
         Ok(Value::from(from_units(&units[..count.min(units.len())])))
     })
 }
 
 fn right(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     lift(ctx, args, &|v| {
         let text = to_text(&v[0])?;
-        let count = count_arg(v.get(1))?;
+        let count = count_arg(v.get(1), dates)?;
         let units: Vec<u16> = text.encode_utf16().collect();
         Ok(Value::from(from_units(&units[units.len().saturating_sub(count)..])))
     })
 }
 
 /// LEFT and RIGHT's count: 1 when omitted, truncated, negative `#VALUE!`.
-fn count_arg(v: Option<&Value>) -> XlResult<usize> {
+fn count_arg(v: Option<&Value>, dates: DateSystem) -> XlResult<usize> {
     let Some(v) = v else {
         return Ok(1);
     };
-    let n = to_number(v)?.trunc();
+    let n = to_number(v, dates)?.trunc();
     if n < 0.0 {
         return Err(XlError::Value);
     }
@@ -363,10 +370,11 @@ fn count_arg(v: Option<&Value>) -> XlResult<usize> {
 }
 
 fn mid(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     lift(ctx, args, &|v| {
         let text = to_text(&v[0])?;
-        let start = to_number(&v[1])?.trunc();
-        let count = to_number(&v[2])?.trunc();
+        let start = to_number(&v[1], dates)?.trunc();
+        let count = to_number(&v[2], dates)?.trunc();
         if start < 1.0 || count < 0.0 {
             return Err(XlError::Value);
         }
@@ -423,11 +431,12 @@ fn map_text(ctx: &mut Ctx, args: &[Expr], f: fn(&str) -> String) -> XlResult<Val
 }
 
 fn value(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     let locale = ctx.locale();
     lift(ctx, args, &|v| match &v[0] {
         Value::Number(n) => Ok(Value::Number(*n)),
         Value::Blank => Ok(Value::Number(0.0)),
-        Value::Text(s) => locale.read_number(s).map(Value::Number).ok_or(XlError::Value),
+        Value::Text(s) => locale.read_number(s, dates).map(Value::Number).ok_or(XlError::Value),
         Value::Error(e) => Err(*e),
         _ => Err(XlError::Value),
     })
@@ -484,9 +493,10 @@ fn number_with_separators(text: &str, decimal: char, group: char) -> Option<f64>
 }
 
 fn valuetotext(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     lift(ctx, args, &|v| {
         let strict = match v.get(1) {
-            Some(f) => match to_number(f)? {
+            Some(f) => match to_number(f, dates)? {
                 0.0 => false,
                 1.0 => true,
                 _ => return Err(XlError::Value),
@@ -503,6 +513,7 @@ fn valuetotext(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn substitute(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     let over = Cell::new(false);
     let replaced = lift(ctx, args, &|v| {
         let text = to_text(&v[0])?;
@@ -510,7 +521,7 @@ fn substitute(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         let new = to_text(&v[2])?;
         let instance = match v.get(3) {
             Some(i) => {
-                let i = to_number(i)?.trunc();
+                let i = to_number(i, dates)?.trunc();
                 if i < 1.0 {
                     return Err(XlError::Value);
                 }
@@ -543,10 +554,11 @@ fn substitute(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn rept(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     let over = Cell::new(false);
     let repeated = lift(ctx, args, &|v| {
         let text = to_text(&v[0])?;
-        let times = to_number(&v[1])?.trunc();
+        let times = to_number(&v[1], dates)?.trunc();
         if times < 0.0 {
             return Err(XlError::Value);
         }
@@ -566,8 +578,9 @@ fn exact(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 // FIND and SEARCH
 
 fn find(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     lift(ctx, args, &|v| {
-        let (needle, haystack, start) = search_args(v)?;
+        let (needle, haystack, start) = search_args(v, dates)?;
         let needle: Vec<char> = needle.chars().collect();
         let found = (start..=haystack.len().saturating_sub(needle.len())).find(|&i| haystack[i..].starts_with(&needle));
         position(&haystack, found)
@@ -575,8 +588,9 @@ fn find(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn search(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     lift(ctx, args, &|v| {
-        let (needle, haystack, start) = search_args(v)?;
+        let (needle, haystack, start) = search_args(v, dates)?;
         let found = Wildcard::new(&needle).find_in(&haystack, start);
         position(&haystack, found)
     })
@@ -585,11 +599,11 @@ fn search(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// FIND and SEARCH's arguments: the text sought, the text searched as characters, and
 /// the 0-based start in characters (`#VALUE!` below 1 or past the end; the start given is
 /// in UTF-16 units, as Excel counts).
-fn search_args(v: &[Value]) -> XlResult<(Rc<str>, Vec<char>, usize)> {
+fn search_args(v: &[Value], dates: DateSystem) -> XlResult<(Rc<str>, Vec<char>, usize)> {
     let needle = to_text(&v[0])?;
     let haystack: Vec<char> = to_text(&v[1])?.chars().collect();
     let start = match v.get(2) {
-        Some(s) => to_number(s)?.trunc(),
+        Some(s) => to_number(s, dates)?.trunc(),
         None => 1.0,
     };
     let units: usize = haystack.iter().map(|c| c.len_utf16()).sum();
@@ -722,8 +736,9 @@ const CP1252_HIGH: [char; 32] = [
 ];
 
 fn char_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     lift(ctx, args, &|v| {
-        let code = to_number(&v[0])?.trunc();
+        let code = to_number(&v[0], dates)?.trunc();
         if !(1.0..=255.0).contains(&code) {
             return Err(XlError::Value);
         }
@@ -749,8 +764,9 @@ fn code(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn unichar(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
     lift(ctx, args, &|v| {
-        let code = to_number(&v[0])?.trunc();
+        let code = to_number(&v[0], dates)?.trunc();
         if !(1.0..=1_114_111.0).contains(&code) {
             return Err(XlError::Value);
         }

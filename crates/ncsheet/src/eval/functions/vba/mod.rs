@@ -10,6 +10,7 @@
 use std::rc::Rc;
 
 use crate::eval::coerce::{parse_plain_number, to_bool, to_number, to_text};
+use crate::eval::dates::DateSystem;
 use crate::eval::format::number_format::general;
 use crate::eval::functions::api::{lift, lift_number1, lift_number2, number_result, Ctx, FnSpec, Operand, MANY};
 use crate::eval::value::{Value, XlError, XlResult};
@@ -17,6 +18,10 @@ use crate::formula::ast::{Expr, ExprKind};
 
 use crate::eval::format::text_format::NumberFormat;
 use crate::eval::functions::math::basic as math;
+
+/// VBA's Date type counts days as the 1900 date system does (from 1899-12-30), whatever
+/// the workbook's system: VBA's conversions read date text, and Format shows dates, in it.
+const VBA_DATES: DateSystem = DateSystem::From1900;
 
 /// The prefix of this module's names in the function table.
 pub const PREFIX: &str = "VBA.";
@@ -128,7 +133,7 @@ fn round(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// VBA's conversion to a whole number: halves to even, `#NUM!` (VBA's Overflow) out of range.
 fn whole(ctx: &mut Ctx, args: &[Expr], limit: f64) -> XlResult<Value> {
     lift(ctx, args, &|v| {
-        let r = to_number(&v[0])?.round_ties_even();
+        let r = to_number(&v[0], VBA_DATES)?.round_ties_even();
         if r < -limit - 1.0 || r > limit {
             return Err(XlError::Num);
         }
@@ -145,7 +150,7 @@ fn clng(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn cdbl(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift(ctx, args, &|v| Ok(number_result(to_number(&v[0])?)))
+    lift(ctx, args, &|v| Ok(number_result(to_number(&v[0], VBA_DATES)?)))
 }
 
 fn cbool(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
@@ -166,7 +171,7 @@ fn cstr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 fn str_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift(ctx, args, &|v| {
-        let n = to_number(&v[0])?;
+        let n = to_number(&v[0], VBA_DATES)?;
         let text = general(n);
         Ok(Value::text(if n >= 0.0 { format!(" {text}") } else { text }))
     })
@@ -187,7 +192,7 @@ fn text_fn(ctx: &mut Ctx, args: &[Expr], f: &dyn Fn(&str, &[Value]) -> XlResult<
 
 /// A count argument (lengths, positions): a whole number, `#VALUE!` below zero.
 fn count(v: &Value) -> XlResult<usize> {
-    let n = to_number(v)?.trunc();
+    let n = to_number(v, VBA_DATES)?.trunc();
     if n < 0.0 {
         return Err(XlError::Value);
     }
@@ -283,7 +288,7 @@ fn instr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 fn chr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift(ctx, args, &|v| {
-        let code = to_number(&v[0])?.trunc();
+        let code = to_number(&v[0], VBA_DATES)?.trunc();
         let c = char::from_u32(code as u32).filter(|_| (0.0..=1114111.0).contains(&code)).ok_or(XlError::Value)?;
         Ok(Value::text(c.to_string()))
     })
@@ -375,7 +380,7 @@ fn format(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
             Value::Number(n) => *n,
             Value::Blank => return Ok(Value::text("")),
             Value::Error(e) => return Err(*e),
-            other => match to_number(other) {
+            other => match to_number(other, VBA_DATES) {
                 Ok(n) if !matches!(other, Value::Bool(_)) => n,
                 _ => return Ok(Value::Text(vba_text(other)?)),
             },
@@ -396,7 +401,7 @@ pub fn format_number(n: f64, pattern: &str) -> XlResult<String> {
         "scientific" => "0.00E+00",
         _ => pattern,
     };
-    NumberFormat::parse(named)?.format_number(n)
+    NumberFormat::parse(named)?.format_number(n, VBA_DATES)
 }
 
 /// `text Like pattern` ([MS-VBAL] 5.6.9.5.7, Option Compare Binary): `?` one character, `*`
