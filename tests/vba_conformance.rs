@@ -190,3 +190,226 @@ fn worksheet_functions_through_application() {
                    \x20   Debug.Print Application.Max(3, 9, 4); UBound(t, 1); t(2, 1)\n    Debug.Print Application.Name\nEnd Sub\n");
     assert_eq!(out.printed, [" 9  3  2 ", "ncsheet"]);
 }
+
+/// Lines a macro prints, its `Main` run in a fresh workbook.
+fn printed(body: &str) -> Vec<String> {
+    run(&format!("Sub Main()\n{body}\nEnd Sub\n")).printed
+}
+
+/// The error a macro stops with.
+fn failure(src: &str) -> MacroError {
+    run_with(src, &RunOptions::default()).unwrap_err()
+}
+
+// "Split function": a zero-based, one-dimensional array; the delimiter defaults to a space,
+// a "" delimiter gives the whole text as one item, "" gives an array with no items (UBound
+// -1), `limit` items at most (the last holds the rest), compare 1 (vbTextCompare) ignores
+// case. Its example: Split("a:b:c", ":", 2) is {"a", "b:c"}.
+#[test]
+fn split_returns_a_zero_based_array() {
+    let out = printed(
+        "    Dim a, b, c, d, e\n    a = Split(\"x1,y2,,z\", \",\")\n    Debug.Print LBound(a); UBound(a); a(0); a(2) = \"\"; a(3)\n\
+         \x20   b = Split(\"one two\")\n    Debug.Print UBound(b); b(1)\n\
+         \x20   c = Split(\"a:b:c\", \":\", 2)\n    Debug.Print UBound(c); c(1)\n\
+         \x20   d = Split(\"\")\n    Debug.Print UBound(d)\n\
+         \x20   e = Split(\"solo\", \",\")\n    Debug.Print LBound(e); UBound(e); e(0)\n\
+         \x20   e = Split(\"1X2x3\", \"x\", -1, vbTextCompare)\n    Debug.Print UBound(e); e(1)\n\
+         \x20   e = Split(\"abc\", \"\")\n    Debug.Print UBound(e); e(0)",
+    );
+    assert_eq!(out, [" 0  3 x1Truez", " 1 two", " 1 b:c", "-1 ", " 0  0 solo", " 2 2", " 0 abc"]);
+}
+
+// Option Base does not change Split's lower bound ("Split function": zero-based).
+#[test]
+fn split_is_zero_based_under_option_base_1() {
+    let out = run("Option Base 1\nSub Main()\n    Dim a\n    a = Split(\"p q\")\n    Debug.Print LBound(a); a(0)\n\
+                   \x20   a = Array(7)\n    Debug.Print LBound(a); UBound(a)\nEnd Sub\n");
+    assert_eq!(out.printed, [" 0 p", " 1  1 "]);
+}
+
+// "Join function": the items joined with the delimiter, a space when omitted.
+#[test]
+fn join_puts_the_delimiter_between_items() {
+    assert_eq!(value("Join(Array(\"G0\", \"X1\", \"Z-2\"))"), Value::text("G0 X1 Z-2"));
+    assert_eq!(value("Join(Split(\"a,b,c\", \",\"), \";\")"), Value::text("a;b;c"));
+    assert_eq!(printed("    Debug.Print Join(Array(1, 2.5), \"\")"), ["12.5"]);
+}
+
+// "InStrRev function": from the end; a zero-length stringmatch gives start, start past the
+// text 0, and a match counts only when it ends at or before start. Examples of Visual
+// Basic's page: InStrRev("the quick brown fox jumps over the lazy dog", "the") is 32, with
+// start 16 it is 1.
+#[test]
+fn instr_rev_searches_from_the_end() {
+    let s = "\"the quick brown fox jumps over the lazy dog\"";
+    assert_eq!(value(&format!("InStrRev({s}, \"the\")")), n(32.0));
+    assert_eq!(value(&format!("InStrRev({s}, \"the\", 16)")), n(1.0));
+    assert_eq!(value("InStrRev(\"ABCDEFGHCIJK\", \"C\", 2)"), n(0.0));
+    assert_eq!(value("InStrRev(\"ABCDEFGHCIJK\", \"C\", 8)"), n(3.0));
+    assert_eq!(value("InStrRev(\"abc\", \"\", 2)"), n(2.0));
+    assert_eq!(value("InStrRev(\"abc\", \"c\", 9)"), n(0.0));
+    assert_eq!(value("InStrRev(\"\", \"c\")"), n(0.0));
+    assert_eq!(value("InStrRev(\"aXbx\", \"X\", -1, vbTextCompare)"), n(4.0));
+    assert_eq!(value("InStrRev(\"aXbx\", \"X\", -1, vbBinaryCompare)"), n(2.0));
+}
+
+// "InStr function": InStr([start,] string1, string2[, compare]); with compare the start is
+// required. The page's example: InStr(4, "XXpXXpXXPXXP", "P", 1) is 6 (textual), with 0
+// (binary) it is 9.
+#[test]
+fn instr_with_a_comparison() {
+    assert_eq!(value("InStr(4, \"XXpXXpXXPXXP\", \"P\", 1)"), n(6.0));
+    assert_eq!(value("InStr(1, \"XXpXXpXXPXXP\", \"P\", 0)"), n(9.0));
+    assert_eq!(value("InStr(\"XXpXXpXXPXXP\", \"P\")"), n(9.0));
+    assert_eq!(value("InStr(1, \"XXpXXpXXPXXP\", \"W\", vbTextCompare)"), n(0.0));
+}
+
+// "StrComp function": -1, 0, 1; the page's example: StrComp("ABCD", "abcd", 1) is 0,
+// with 0 it is -1, StrComp("abcd", "ABCD") is 1.
+#[test]
+fn str_comp_orders_texts() {
+    assert_eq!(value("StrComp(\"ABCD\", \"abcd\", 1)"), n(0.0));
+    assert_eq!(value("StrComp(\"ABCD\", \"abcd\", 0)"), n(-1.0));
+    assert_eq!(value("StrComp(\"abcd\", \"ABCD\")"), n(1.0));
+    assert_eq!(value("StrComp(\"T10\", \"T10\")"), n(0.0));
+}
+
+// "VarType function" and "VarType constants": vbEmpty 0, vbInteger 2, vbLong 3, vbDouble
+// 5, vbString 8, vbError 10, vbBoolean 11, vbArray 8192 added to the items' type (8204 an
+// array of Variants, 8194 of Integers); a typed variable answers its declared type.
+#[test]
+fn var_type_names_the_subtype() {
+    let out = printed(
+        "    Dim v, i As Integer, l As Long, d As Double, s As String, b As Boolean, a(3) As Integer\n\
+         \x20   Debug.Print VarType(v); VarType(i); VarType(l); VarType(d); VarType(s); VarType(b)\n\
+         \x20   v = \"x\": Debug.Print VarType(v); VarType(1.5); VarType(True); VarType(CVErr(xlErrNA))\n\
+         \x20   Debug.Print VarType(a); VarType(Array(1, 2)); VarType(a) = vbArray + vbInteger",
+    );
+    assert_eq!(out, [" 0  2  3  5  8  11 ", " 8  5  11  10 ", " 8194  8204 True"]);
+}
+
+// "IsMissing function": True for an Optional Variant parameter the call left out; an
+// omitted parameter with a default is not missing (it has its default).
+#[test]
+fn is_missing_tells_a_left_out_optional_variant() {
+    let src = "Sub Describe(a, Optional b, Optional c As Variant, Optional d = 5)\n\
+               \x20   Debug.Print IsMissing(b); IsMissing(c); IsMissing(d)\nEnd Sub\n\
+               Sub Main()\n    Describe 1\n    Describe 1, 2\n    Describe 1, , 3\n    Describe 1, c:=\"x\"\nEnd Sub\n";
+    assert_eq!(run(src).printed, ["TrueTrueFalse", "FalseTrueFalse", "TrueFalseFalse", "TrueFalseFalse"]);
+}
+
+// "IsArray function": True for an array variable, False for a value.
+#[test]
+fn is_array_tells_arrays() {
+    let out = printed(
+        "    Dim a(2), v\n    v = 3\n    Debug.Print IsArray(a); IsArray(v); IsArray(Array()); IsArray(Split(\"a b\"))",
+    );
+    assert_eq!(out, ["TrueFalseTrueTrue"]);
+}
+
+// "CVErr function": an error value from its number; IsError is True for it. Excel's
+// xlErrNA is 2042, xlErrDiv0 2007 ("XlCVError enumeration"); a cell receives #N/A.
+#[test]
+fn cverr_makes_an_error_value() {
+    assert_eq!(value("CVErr(xlErrNA)"), Value::Error(ncsheet::formula::error::XlError::NA));
+    assert_eq!(value("CVErr(2007)"), Value::Error(ncsheet::formula::error::XlError::Div0));
+    let out = printed("    Dim e\n    e = CVErr(xlErrValue)\n    Debug.Print IsError(e); IsError(1)");
+    assert_eq!(out, ["TrueFalse"]);
+}
+
+// "FormatNumber function": digits after the decimal point (regional default two),
+// leading zero, parentheses for negatives and grouping as Tristate (vbTrue -1, vbFalse 0,
+// vbUseDefault -2); en-US defaults: a leading zero, a minus sign, grouped thousands.
+#[test]
+fn format_number_uses_regional_defaults() {
+    let out = printed(
+        "    Debug.Print FormatNumber(1234.567)\n    Debug.Print FormatNumber(1234.567, 1)\n\
+         \x20   Debug.Print FormatNumber(0.5, 2, vbFalse)\n    Debug.Print FormatNumber(-3, 0, , vbTrue)\n\
+         \x20   Debug.Print FormatNumber(1234.5, 2, , , vbFalse)",
+    );
+    assert_eq!(out, ["1,234.57", "1,234.6", ".50", "(3)", "1234.50"]);
+}
+
+// "Timer function": seconds elapsed since midnight, by the document's clock here.
+#[test]
+fn timer_reads_the_document_clock() {
+    let mut wb = Workbook::with_sheet();
+    // 2026-01-02 06:00:30 as a serial: 46024 + (6 * 3600 + 30) / 86400.
+    wb.settings_mut().clock = Some(46024.0 + 21630.0 / 86400.0);
+    let out =
+        vba::run(&mut wb, "Sub Main()\n    Debug.Print Timer\nEnd Sub\n", "M.bas", &RunOptions::default()).unwrap();
+    let seconds: f64 = out.printed[0].trim().parse().unwrap();
+    assert!((seconds - 21630.0).abs() < 1e-3, "{seconds}");
+}
+
+// "Rnd function": 0 <= Rnd < 1; "Randomize statement": the same seed gives the same
+// sequence; a negative argument gives the same number every time for that argument.
+#[test]
+fn rnd_draws_from_the_document_sequence_and_randomize_restarts_it() {
+    let out = printed(
+        "    Randomize 42\n    a = Rnd: b = Rnd()\n    Randomize 42\n    c = Rnd: d = Rnd(1)\n\
+         \x20   Debug.Print a = c; b = d; a <> b; a >= 0 And a < 1; Rnd(-3) = Rnd(-3)",
+    );
+    assert_eq!(out, ["TrueTrueTrueTrueTrue"]);
+}
+
+// "Erase statement": a fixed-size array's items go back to their defaults (0, "", Empty).
+#[test]
+fn erase_resets_the_items() {
+    let out = printed(
+        "    Dim a(1 To 3) As Long, s(2) As String\n    a(2) = 7: s(1) = \"x\"\n    Erase a, s\n\
+         \x20   Debug.Print a(2); UBound(a); Len(s(1))",
+    );
+    assert_eq!(out, [" 0  3  0 "]);
+}
+
+// "ChrW function": the character of a Unicode code; "LenB function": bytes (two per
+// character of VBA's UTF-16 strings); "StrConv function": vbUpperCase 1, vbLowerCase 2,
+// vbProperCase 3 (the first letter of every word a capital).
+#[test]
+fn chrw_lenb_and_strconv() {
+    assert_eq!(value("ChrW(8960) & ChrW$(65)"), Value::text("\u{2300}A"));
+    assert_eq!(value("ChrW(-1) = ChrW(65535)"), Value::Bool(true));
+    assert_eq!(value("LenB(\"abc\")"), n(6.0));
+    assert_eq!(value("StrConv(\"fACE mill\", vbProperCase)"), Value::text("Face Mill"));
+    assert_eq!(value("StrConv(\"g-code\", vbUpperCase)"), Value::text("G-CODE"));
+    assert_eq!(value("StrConv(\"M30\", 2)"), Value::text("m30"));
+}
+
+// "Stop statement": VBA suspends execution for its debugger. ncsheet has none: the macro
+// stops there with a message that says so, which On Error does not trap.
+#[test]
+fn stop_stops_the_macro_with_its_line() {
+    let e = failure(
+        "Sub Main()\n    On Error Resume Next\n    Debug.Print \"a\"\n    Stop\n    Debug.Print \"b\"\nEnd Sub\n",
+    );
+    assert!(e.message.contains("Stop statement at line 4"), "{e}");
+    assert_eq!((e.span.unwrap().line, e.span.unwrap().col), (4, 5));
+    assert_eq!(e.output.printed, ["a"]);
+}
+
+// "Val function": &H and &O prefixes read hexadecimal and octal ("Val("&HFFFF")" is -1:
+// four hex digits are an Integer); "Format function": `>` writes capitals, `<` small letters.
+#[test]
+fn val_reads_hex_and_octal_and_format_changes_case() {
+    assert_eq!(value("Val(\"&HFF\")"), n(255.0));
+    assert_eq!(value("Val(\"&O17\")"), n(15.0));
+    assert_eq!(value("Val(\"&HFFFF\")"), n(-1.0));
+    assert_eq!(value("Val(\"&H10000\")"), n(65536.0));
+    assert_eq!(value("Format(\"g01 x1\", \">\")"), Value::text("G01 X1"));
+    assert_eq!(value("Format(\"ABC\", \"<\")"), Value::text("abc"));
+}
+
+// "Data type summary": an Integer holds -32,768 to 32,767, a Long -2,147,483,648 to
+// 2,147,483,647, a Byte 0 to 255; more is run-time error 6, Overflow, which On Error traps.
+#[test]
+fn integer_overflow_is_error_6() {
+    let e = failure("Sub Main()\n    Dim i As Integer\n    i = 32767\n    i = i + 1\nEnd Sub\n");
+    assert!(e.message.contains("overflow"), "{e}");
+    assert_eq!(e.span.unwrap().line, 4);
+    let out = printed(
+        "    Dim i As Integer, l As Long, b As Byte\n    On Error Resume Next\n    i = 40000\n    Debug.Print Err.Number; i\n\
+         \x20   Err.Clear\n    l = 40000: Debug.Print Err.Number; l\n    b = 256\n    Debug.Print Err.Number; b",
+    );
+    assert_eq!(out, [" 6  0 ", " 0  40000 ", " 6  0 "]);
+}

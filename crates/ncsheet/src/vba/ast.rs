@@ -95,10 +95,11 @@ pub struct Param {
 /// A declared type, as far as it changes what a variable holds.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Ty {
-    /// Integer, Long, LongLong, Byte: whole numbers, halves rounded to even.
-    Whole,
-    /// Double, Single, Currency, Decimal.
-    Number,
+    /// Integer, Long, LongLong, Byte: whole numbers, halves rounded to even, by their
+    /// VarType number (2 Integer, 3 Long, 17 Byte, 20 LongLong), which also sets their range.
+    Whole(u8),
+    /// Double, Single, Currency, Decimal, by their VarType number (5, 4, 6, 14).
+    Number(u8),
     String,
     Boolean,
     /// Variant, or an object type (Range, Worksheet, Object, …): holds anything.
@@ -212,6 +213,12 @@ pub enum StmtKind {
     Resume(Resume),
     /// `End`: stops the macro.
     End,
+    /// `Stop`: VBA suspends for its debugger; ncsheet has none and stops the macro there.
+    Stop,
+    /// `Randomize [seed]`: restarts the document's random sequence (from the clock without a seed).
+    Randomize(Option<Expr>),
+    /// `Erase a, b`: every item of each array back to its type's default.
+    Erase(Vec<Rc<str>>),
     /// The procedure does not compile: running it stops the macro with this message, at
     /// the statement's place (a syntax error, which no `On Error` traps).
     CompileError(Rc<str>),
@@ -313,6 +320,15 @@ pub enum Node {
     Evaluate { expr: Expr, span: Span },
     /// `object Is Nothing` (`other` is `None`) or `object Is other`: the same object or not.
     Is { object: Expr, other: Option<Expr>, span: Span },
+    /// `VarType(x)`, `IsMissing(x)`: what a variable is, which its declaration tells.
+    Inspect { what: Inspect, arg: Expr, span: Span },
+}
+
+/// The questions [`Node::Inspect`] asks of a variable.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Inspect {
+    VarType,
+    IsMissing,
 }
 
 #[derive(Debug)]

@@ -193,6 +193,7 @@ impl Interp<'_, '_> {
                 };
                 Ok(Operand::Value(Value::Bool(same)))
             }
+            Node::Inspect { what, arg, .. } => self.inspect(*what, arg).map(Operand::Value),
         }
     }
 

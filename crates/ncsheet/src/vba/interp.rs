@@ -206,6 +206,8 @@ pub(super) struct Frame {
     on_error: OnError,
     /// The `On Error GoTo` handler is running: an error now goes to the caller.
     handling: bool,
+    /// Optional Variant parameters without a default that the call left out (IsMissing).
+    pub(super) missing: Vec<Rc<str>>,
 }
 
 pub struct Interp<'m, 'w> {
@@ -332,7 +334,7 @@ impl Interp<'_, '_> {
     /// range's value (VBA reads its default member); a range of several cells does not fit.
     fn range_as_declared(&self, arg: Var, ty: Option<&Ty>) -> Run<Var> {
         match (arg, ty) {
-            (Var::Obj(Obj::Range(sheet, rect)), Some(Ty::Whole | Ty::Number | Ty::String | Ty::Boolean)) => {
+            (Var::Obj(Obj::Range(sheet, rect)), Some(Ty::Whole(_) | Ty::Number(_) | Ty::String | Ty::Boolean)) => {
                 if rect.rows() != 1 || rect.cols() != 1 {
                     return Err(
                         self.fault("a range of several cells given where one value is declared (type mismatch)")
@@ -611,7 +613,10 @@ impl Interp<'_, '_> {
         Ok(match operand {
             Operand::Ref(sheet, rect) if as_object => Var::Obj(Obj::Range(sheet, rect)),
             Operand::Ref(sheet, rect) => range_var(ctx.rect_value(sheet, rect)),
-            Operand::Value(v) => array_var(v, self.module.base),
+            Operand::Value(v) => match super::library::library_array(e, &v, self.module.base) {
+                Some(var) => var,
+                None => array_var(v, self.module.base),
+            },
             // Several areas are no one range: the #VALUE! a cell shows.
             areas @ Operand::Areas(_) => array_var(ctx.deref(areas), self.module.base),
         })
@@ -646,7 +651,8 @@ impl Interp<'_, '_> {
                 Operand::Ref(sheet, rect) => Var::Obj(Obj::Range(sheet, rect)),
                 Operand::Value(v) => match &a.value.kind {
                     ExprKind::Name(n) => self.lookup(n).unwrap_or(Var::Value(v)),
-                    _ => array_var(v, self.module.base),
+                    _ => super::library::library_array(&a.value, &v, self.module.base)
+                        .unwrap_or_else(|| array_var(v, self.module.base)),
                 },
                 areas @ Operand::Areas(_) => array_var(ctx.deref(areas), self.module.base),
             };
@@ -689,6 +695,7 @@ impl Interp<'_, '_> {
             call_site,
             on_error: OnError::Off,
             handling: false,
+            missing: Vec::new(),
         });
         let result = self.bind_and_run(p, bound);
         let frame = self.frames.borrow_mut().pop().expect("the frame pushed above");
@@ -717,7 +724,12 @@ impl Interp<'_, '_> {
                 Some(k) => bound.swap_remove(k).1,
                 None => match &param.default {
                     Some(d) => Var::Value(self.eval(d)?),
-                    None => self.default_var(param.ty.as_ref()),
+                    None => {
+                        if matches!(param.ty, None | Some(Ty::Variant)) {
+                            self.mark_missing(&param.name);
+                        }
+                        self.default_var(param.ty.as_ref())
+                    }
                 },
             };
             let var = convert(var, param.ty.as_ref(), &param.name).map_err(|m| self.fault(m))?;
@@ -833,6 +845,9 @@ impl Interp<'_, '_> {
                 return Ok(Flow::Resume(kind.clone()));
             }
             StmtKind::End => return Ok(Flow::End),
+            StmtKind::Stop => return Err(self.stop(stmt.span)),
+            StmtKind::Randomize(seed) => self.randomize(seed.as_ref())?,
+            StmtKind::Erase(names) => self.erase(names, stmt.span)?,
             StmtKind::CompileError(message) => {
                 let message = message.to_string();
                 return Err(Fault {
@@ -946,7 +961,7 @@ impl Interp<'_, '_> {
             Some(f) => (f.on_error.clone(), f.handling),
             None => return Err(fault),
         };
-        if fault.kind != ErrorKind::Runtime || self.ended.get() {
+        if fault.kind != ErrorKind::Runtime || fault.code == super::library::STOP || self.ended.get() {
             return Err(fault);
         }
         let label = match mode {

@@ -36,10 +36,28 @@
 //! this order: a variable (the workbook's defined names are reached by `Range("D")` or `[D]`,
 //! not bare), a constant (`vbCrLf`, `vbTab`, `Empty`, …), a procedure of the module, one of
 //! VBA's functions (`Sqr Atn Tan Sin Cos Exp Log Abs Sgn Int Fix Round Format CStr CDbl CInt
-//! CLng CBool Val Str Len Left Mid Right UCase LCase Trim LTrim RTrim InStr Replace Chr Asc
-//! Space IIf IsEmpty IsNumeric IsError IsObject Array`, the `VBA.*` rows of the function
-//! table, `$` suffix allowed), an object, or a sheet function (`CHAMFER_XA`, `SUM`, `ATAN2`,
-//! …; also as `Application.WorksheetFunction.Sum` or `WorksheetFunction.Sum`).
+//! CLng CBool Val Str Len Left Mid Right UCase LCase Trim LTrim RTrim InStr InStrRev Replace
+//! Chr ChrW Asc Space IIf IsEmpty IsNumeric IsError IsObject IsArray IsMissing Array Split Join
+//! StrComp StrConv LenB FormatNumber VarType CVErr Timer Rnd`, the `VBA.*` rows of the
+//! function table, `$` suffix allowed), an object, or a sheet function (`CHAMFER_XA`, `SUM`,
+//! `ATAN2`, …; also as `Application.WorksheetFunction.Sum` or `WorksheetFunction.Sum`).
+//!
+//! As VBA's reference has them: `Split` gives a zero-based array (none for `""`), `InStr`,
+//! `InStrRev`, `StrComp` and `Split` take a compare argument (`vbTextCompare` ignores case),
+//! `StrConv` converts with `vbUpperCase`, `vbLowerCase` and `vbProperCase` (not the byte and
+//! East Asian conversions), `FormatNumber` uses English (United States) defaults (two
+//! decimals, `1,234.50`), `VarType` answers a typed variable's declared type (`vbInteger` 2,
+//! `vbLong` 3 …; 8192 + the items' type for an array), `IsMissing` is True for a left-out
+//! `Optional` Variant without a default, `CVErr` takes Excel's `xlErr…` numbers (the values a
+//! cell can hold), `Val` reads `&HFF` and `&O17`, `Format(x, ">")` / `"<"` changes case.
+//! `Timer` is the seconds since midnight of the document's clock and `Rnd` draws from the
+//! document's random sequence (the workbook's settings, as NOW and RAND do in cells):
+//! `Randomize seed` restarts it (`Randomize` alone from the clock), `Rnd(-n)` repeats for
+//! each n, `Rnd(0)` draws the next number (no "last number" is kept). `Erase a` sets every
+//! item back to its default and keeps the bounds (VBA's fixed-size arrays; a dynamic array
+//! is not freed). `Stop` stops the macro with "Stop statement at line N" (there is no
+//! debugger to pause in; On Error does not trap it). An `Integer`, `Long` or `Byte`
+//! variable refuses a value past its range with run-time error 6, Overflow.
 //!
 //! Where VBA and the sheet differ, a macro follows the sheet for what both have, so that a
 //! formula means the same in a cell and in a macro:
@@ -106,6 +124,7 @@ mod budget;
 mod conditional;
 mod host;
 mod interp;
+mod library;
 mod nc;
 mod objects;
 pub(crate) mod ovba;

@@ -483,7 +483,10 @@ impl<'s> Build<'s> {
             }
             Rule::const_stmt => self.consts(&pair)?,
             Rule::set_stmt | Rule::assign_stmt => self.assign(&pair)?,
-            Rule::call_stmt => StmtKind::Call(self.call_stmt(&pair)?),
+            Rule::call_stmt => match self.library_statement(&pair)? {
+                Some(kind) => kind,
+                None => StmtKind::Call(self.call_stmt(&pair)?),
+            },
             Rule::print_stmt => self.print(&pair)?,
             Rule::if_block => self.if_block(&pair)?,
             Rule::if_line => self.if_line(&pair)?,
@@ -855,6 +858,50 @@ impl<'s> Build<'s> {
         Ok(self.node(Node::Evaluate { expr, span: self.span(at) }, at, end))
     }
 
+    /// `Stop`, `Randomize [seed]` and `Erase a, b`: statements of VBA's library that look
+    /// like calls, unless the macro has a variable or procedure of that name.
+    fn library_statement(&self, pair: &Pair<Rule>) -> Res<Option<StmtKind>> {
+        let k = kids(pair);
+        let word: String =
+            pair.as_str().trim_start().chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
+        let lower = word.to_ascii_lowercase();
+        let library = matches!(lower.as_str(), "stop" | "randomize" | "erase");
+        if !library || find(&k, Rule::k_call).is_some() || self.is_var(&word) || self.proc_index(&word).is_some() {
+            return Ok(None);
+        }
+        let args = match (find(&k, Rule::path), find(&k, Rule::callee), find(&k, Rule::call_args)) {
+            (Some(path), _, _) => match self.path_syntax(&path)?.links.as_mut_slice() {
+                [link] => link.args.take().unwrap_or_default(),
+                _ => return Ok(None),
+            },
+            (None, Some(callee), Some(args)) if callee.as_str().trim().eq_ignore_ascii_case(&word) => {
+                self.args(args)?
+            }
+            _ => return Ok(None),
+        };
+        let values: Vec<Expr> = args.into_iter().map(|a| a.value).collect();
+        Ok(Some(match (lower.as_str(), values.as_slice()) {
+            ("stop", []) => StmtKind::Stop,
+            ("randomize", []) => StmtKind::Randomize(None),
+            ("randomize", [_]) => StmtKind::Randomize(values.into_iter().next()),
+            ("erase", [_, ..]) => {
+                let mut names = Vec::new();
+                for v in &values {
+                    match &v.kind {
+                        ExprKind::Name(n) => names.push(n.clone()),
+                        _ => return Err(self.error_at(pair, "Erase takes array variables: Erase a, b")),
+                    }
+                }
+                StmtKind::Erase(names)
+            }
+            _ => {
+                return Err(
+                    self.error_at(pair, format!("{word}: wrong arguments (Stop; Randomize [seed]; Erase array, …)"))
+                )
+            }
+        }))
+    }
+
     fn args(&self, pair: Pair<Rule>) -> Res<Vec<Arg>> {
         let mut out = Vec::new();
         for a in all(&kids(&pair), Rule::varg) {
@@ -1082,8 +1129,14 @@ impl Build<'_> {
 
 fn ty_named(name: &str) -> Ty {
     match name {
-        "integer" | "long" | "longlong" | "longptr" | "byte" => Ty::Whole,
-        "double" | "single" | "currency" | "decimal" => Ty::Number,
+        "integer" => Ty::Whole(2),
+        "long" => Ty::Whole(3),
+        "byte" => Ty::Whole(17),
+        "longlong" | "longptr" => Ty::Whole(20),
+        "double" => Ty::Number(5),
+        "single" => Ty::Number(4),
+        "currency" => Ty::Number(6),
+        "decimal" => Ty::Number(14),
         "string" => Ty::String,
         "boolean" => Ty::Boolean,
         _ => Ty::Variant,

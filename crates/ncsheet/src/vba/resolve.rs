@@ -112,6 +112,40 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "vbquestion" => number(32.0),
         "vbexclamation" => number(48.0),
         "vbinformation" => number(64.0),
+        // "Comparison constants", "StrConv" conversions, "Tristate" and "VarType constants".
+        "vbusecompareoption" => number(-1.0),
+        "vbbinarycompare" => number(0.0),
+        "vbtextcompare" => number(1.0),
+        "vbuppercase" => number(1.0),
+        "vblowercase" => number(2.0),
+        "vbpropercase" => number(3.0),
+        "vbtrue" => number(-1.0),
+        "vbfalse" => number(0.0),
+        "vbusedefault" => number(-2.0),
+        "vbempty" => number(0.0),
+        "vbnull" => number(1.0),
+        "vbinteger" => number(2.0),
+        "vblong" => number(3.0),
+        "vbsingle" => number(4.0),
+        "vbdouble" => number(5.0),
+        "vbcurrency" => number(6.0),
+        "vbdate" => number(7.0),
+        "vbstring" => number(8.0),
+        "vbobject" => number(9.0),
+        "vberror" => number(10.0),
+        "vbboolean" => number(11.0),
+        "vbvariant" => number(12.0),
+        "vbbyte" => number(17.0),
+        "vblonglong" => number(20.0),
+        "vbarray" => number(8192.0),
+        // Excel's XlCVError values, for CVErr.
+        "xlerrnull" => number(2000.0),
+        "xlerrdiv0" => number(2007.0),
+        "xlerrvalue" => number(2015.0),
+        "xlerrref" => number(2023.0),
+        "xlerrname" => number(2029.0),
+        "xlerrnum" => number(2036.0),
+        "xlerrna" => number(2042.0),
         // Excel's XlDirection, XlPasteType, XlSheetVisibility and XlReferenceStyle values.
         "xlup" => number(-4162.0),
         "xldown" => number(-4121.0),
@@ -125,6 +159,15 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "xlsheetveryhidden" => number(2.0),
         "xla1" => number(1.0),
         "xlr1c1" => number(-4150.0),
+        _ => None,
+    }
+}
+
+/// VBA's functions that read a variable's declaration, not only its value.
+fn inspection(lower: &str) -> Option<Inspect> {
+    match lower {
+        "vartype" => Some(Inspect::VarType),
+        "ismissing" => Some(Inspect::IsMissing),
         _ => None,
     }
 }
@@ -348,6 +391,11 @@ impl Build<'_> {
         }
         if lower == "ubound" || lower == "lbound" {
             return self.bound(pair, &link, lower == "ubound", end);
+        }
+        if let Some(what) = inspection(&lower).filter(|_| args.len() == 1 && args[0].name.is_none()) {
+            let arg = args[0].value.clone();
+            let at = start(pair);
+            return Ok(self.node(Node::Inspect { what, arg, span: self.span(at) }, at, end));
         }
         if let Some(call) = self.function_call(pair, &format!("{PREFIX}{lower}"), &link)? {
             return Ok(call);

@@ -3,8 +3,8 @@
 
 use std::rc::Rc;
 
-use crate::eval::dates::DateSystem;
 use crate::eval::coerce::{to_bool, to_number};
+use crate::eval::dates::DateSystem;
 use crate::eval::functions::vba::vba_text;
 use crate::eval::{Array, Value, XlError};
 use crate::formula::address::Rect;
@@ -167,7 +167,7 @@ fn whole(a: Rc<Array>) -> Rc<Array> {
 
 pub(super) fn default_value(ty: Option<&Ty>) -> Value {
     match ty {
-        Some(Ty::Whole | Ty::Number) => Value::Number(0.0),
+        Some(Ty::Whole(_) | Ty::Number(_)) => Value::Number(0.0),
         Some(Ty::String) => Value::text(""),
         Some(Ty::Boolean) => Value::Bool(false),
         _ => Value::Blank,
@@ -193,12 +193,12 @@ pub(super) fn convert(var: Var, ty: Option<&Ty>, name: &str) -> Result<Var, Stri
     let text_mismatch = |v: &Value| format!("{name} cannot hold \"{}\" (type mismatch)", print_text(v));
     Ok(Var::Value(match ty {
         // A VBA Date counts days as the 1900 system does, whatever the workbook's.
-        Ty::Whole => match (&v, to_number(&v, DateSystem::From1900)) {
-            (_, Ok(n)) => Value::Number(n.round_ties_even()),
+        Ty::Whole(code) => match (&v, to_number(&v, DateSystem::From1900)) {
+            (_, Ok(n)) => Value::Number(in_range(n.round_ties_even(), *code, name)?),
             (Value::Text(_), Err(_)) => return Err(text_mismatch(&v)),
             (_, Err(e)) => return Err(mismatch(e)),
         },
-        Ty::Number => match (&v, to_number(&v, DateSystem::From1900)) {
+        Ty::Number(_) => match (&v, to_number(&v, DateSystem::From1900)) {
             (_, Ok(n)) => Value::Number(n),
             (Value::Text(_), Err(_)) => return Err(text_mismatch(&v)),
             (_, Err(e)) => return Err(mismatch(e)),
@@ -207,6 +207,25 @@ pub(super) fn convert(var: Var, ty: Option<&Ty>, name: &str) -> Result<Var, Stri
         Ty::Boolean => Value::Bool(to_bool(&v).map_err(mismatch)?),
         Ty::Variant | Ty::Record(_) => v,
     }))
+}
+
+/// A whole number as a variable of VarType `code` holds it, or VBA's run-time error 6,
+/// Overflow, past the type's range ("Data type summary": Integer -32,768 to 32,767, Long
+/// -2,147,483,648 to 2,147,483,647, Byte 0 to 255).
+fn in_range(n: f64, code: u8, name: &str) -> Result<f64, String> {
+    let (low, high, ty) = match code {
+        2 => (-32768.0, 32767.0, "Integer"),
+        3 => (-2147483648.0, 2147483647.0, "Long"),
+        17 => (0.0, 255.0, "Byte"),
+        _ => (-9.223372036854776e18, 9.223372036854776e18, "LongLong"),
+    };
+    if (low..=high).contains(&n) {
+        return Ok(n);
+    }
+    Err(format!(
+        "{name}: {} does not fit in {ty} ({low} to {high}): overflow (run-time error 6)",
+        print_text(&Value::Number(n))
+    ))
 }
 
 /// How `Debug.Print` shows a value: as a cell shows it, booleans in VBA's spelling.

@@ -12,12 +12,17 @@ use std::rc::Rc;
 use crate::eval::coerce::{parse_plain_number, to_bool, to_number, to_text};
 use crate::eval::dates::DateSystem;
 use crate::eval::format::number_format::general;
-use crate::eval::functions::api::{lift, lift_number1, lift_number2, number_result, Ctx, FnSpec, Operand, MANY};
+use crate::eval::functions::api::{
+    lift, lift_number1, lift_number2, number_result, Ctx, FnSpec, Operand, Outside, MANY,
+};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
 
 use crate::eval::format::text_format::NumberFormat;
 use crate::eval::functions::math::basic as math;
+
+mod strings;
+pub use strings::var_type_of;
 
 /// VBA's Date type counts days as the 1900 date system does (from 1899-12-30), whatever
 /// the workbook's system: VBA's conversions read date text, and Format shows dates, in it.
@@ -36,8 +41,24 @@ pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("VBA.CHR", 1, 1, chr, "VBA.CHR(code)", "VBA Chr: the character with this code"),
     FnSpec::value("VBA.CINT", 1, 1, cint, "VBA.CINT(value)", "VBA CInt: whole number, halves to even, -32768 to 32767"),
     FnSpec::value("VBA.CLNG", 1, 1, clng, "VBA.CLNG(value)", "VBA CLng: whole number, halves to even, 32 bits"),
+    FnSpec::value(
+        "VBA.CHRW",
+        1,
+        1,
+        strings::chrw,
+        "VBA.CHRW(code)",
+        "VBA ChrW: the character of a UTF-16 code (-32768 to 65535)",
+    ),
     FnSpec::value("VBA.COS", 1, 1, math::cos, "VBA.COS(angle)", "VBA Cos: cosine of an angle in radians"),
     FnSpec::value("VBA.CSTR", 1, 1, cstr, "VBA.CSTR(value)", "VBA CStr: value as text (True, 0.5, 1E+20)"),
+    FnSpec::value(
+        "VBA.CVERR",
+        1,
+        1,
+        strings::cv_err,
+        "VBA.CVERR(number)",
+        "VBA CVErr: Excel's error value of an xlErr number (2042: #N/A)",
+    ),
     FnSpec::value("VBA.EXP", 1, 1, math::exp, "VBA.EXP(number)", "VBA Exp: e raised to number"),
     FnSpec::value("VBA.FIX", 1, 1, fix, "VBA.FIX(number)", "VBA Fix: drops the fraction (toward zero)"),
     FnSpec::value(
@@ -48,14 +69,47 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "VBA.FORMAT(value, [format])",
         "VBA Format: number as text in an Excel/VBA number format (\"0.000\", \"#,##0.0\", \"0.00E+00\")",
     ),
+    FnSpec::value(
+        "VBA.FORMATNUMBER",
+        1,
+        5,
+        strings::format_number_fn,
+        "VBA.FORMATNUMBER(number, [digits], [leading_zero], [parentheses], [group])",
+        "VBA FormatNumber: 1,234.50 (two decimals, grouped, as en-US)",
+    ),
     FnSpec::value("VBA.IIF", 3, 3, iif, "VBA.IIF(condition, then, else)", "VBA IIf: evaluates both, returns one"),
     FnSpec::value(
         "VBA.INSTR",
         2,
-        3,
-        instr,
-        "VBA.INSTR([start], text, find)",
-        "VBA InStr: 1-based position of find in text, 0 when absent",
+        4,
+        strings::instr,
+        "VBA.INSTR([start], text, find, [compare])",
+        "VBA InStr: 1-based position of find in text, 0 when absent (compare 1: ignoring case)",
+    ),
+    FnSpec::value(
+        "VBA.INSTRREV",
+        2,
+        4,
+        strings::instr_rev,
+        "VBA.INSTRREV(text, find, [start], [compare])",
+        "VBA InStrRev: position of the last find ending at or before start",
+    ),
+    FnSpec::value("VBA.ISARRAY", 1, 1, strings::is_array, "VBA.ISARRAY(value)", "VBA IsArray: True for an array"),
+    FnSpec::value(
+        "VBA.JOIN",
+        1,
+        2,
+        strings::join,
+        "VBA.JOIN(array, [delimiter])",
+        "VBA Join: the array's items as one text, delimiter (a space) between",
+    ),
+    FnSpec::value(
+        "VBA.LENB",
+        1,
+        1,
+        strings::len_b,
+        "VBA.LENB(text)",
+        "VBA LenB: bytes of the text in UTF-16 (2 a unit)",
     ),
     FnSpec::value("VBA.INT", 1, 1, math::int, "VBA.INT(number)", "VBA Int: largest whole number not above number"),
     FnSpec::value(
@@ -92,6 +146,16 @@ pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("VBA.REPLACE", 3, 3, replace, "VBA.REPLACE(text, find, with)", "VBA Replace: every find replaced"),
     FnSpec::value("VBA.RIGHT", 2, 2, right, "VBA.RIGHT(text, length)", "VBA Right: the last length characters"),
     FnSpec::value(
+        "VBA.RND",
+        0,
+        1,
+        strings::rnd,
+        "VBA.RND([number])",
+        "VBA Rnd: the next number 0 <= x < 1 of the document's random sequence",
+    )
+    .volatile()
+    .reads(Outside::Chance),
+    FnSpec::value(
         "VBA.ROUND",
         1,
         2,
@@ -104,10 +168,52 @@ pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("VBA.SIN", 1, 1, math::sin, "VBA.SIN(angle)", "VBA Sin: sine of an angle in radians"),
     FnSpec::value("VBA.SPACE", 1, 1, space, "VBA.SPACE(count)", "VBA Space: count spaces"),
     FnSpec::value("VBA.SQR", 1, 1, math::sqrt, "VBA.SQR(number)", "VBA Sqr: square root; #NUM! below zero"),
+    FnSpec::value(
+        "VBA.SPLIT",
+        1,
+        4,
+        strings::split,
+        "VBA.SPLIT(text, [delimiter], [limit], [compare])",
+        "VBA Split: the pieces between delimiters (a space) as a zero-based array",
+    ),
     FnSpec::value("VBA.STR", 1, 1, str_fn, "VBA.STR(number)", "VBA Str: number as text, a space before a positive one"),
+    FnSpec::value(
+        "VBA.STRCOMP",
+        2,
+        3,
+        strings::str_comp,
+        "VBA.STRCOMP(text1, text2, [compare])",
+        "VBA StrComp: -1, 0 or 1 (compare 1: ignoring case)",
+    ),
+    FnSpec::value(
+        "VBA.STRCONV",
+        2,
+        2,
+        strings::str_conv,
+        "VBA.STRCONV(text, conversion)",
+        "VBA StrConv: vbUpperCase (1), vbLowerCase (2), vbProperCase (3)",
+    ),
     FnSpec::value("VBA.TAN", 1, 1, math::tan, "VBA.TAN(angle)", "VBA Tan: tangent of an angle in radians"),
+    FnSpec::value(
+        "VBA.TIMER",
+        0,
+        0,
+        strings::timer,
+        "VBA.TIMER()",
+        "VBA Timer: seconds since midnight by the document's clock",
+    )
+    .volatile()
+    .reads(Outside::Clock),
     FnSpec::value("VBA.TRIM", 1, 1, trim, "VBA.TRIM(text)", "VBA Trim: text without leading and trailing spaces"),
     FnSpec::value("VBA.UCASE", 1, 1, ucase, "VBA.UCASE(text)", "VBA UCase: text in capitals"),
+    FnSpec::value(
+        "VBA.VARTYPE",
+        1,
+        1,
+        strings::var_type,
+        "VBA.VARTYPE(value)",
+        "VBA VarType: 0 Empty, 5 Double, 8 String, 10 Error, 11 Boolean, 8204 array",
+    ),
     FnSpec::value("VBA.VAL", 1, 1, val, "VBA.VAL(text)", "VBA Val: the number text starts with (0 if none)"),
 ];
 
@@ -269,23 +375,6 @@ fn replace(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     result
 }
 
-fn instr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
-    let (start, text, find) = match values.as_slice() {
-        [t, f] => (1, vba_text(t)?, vba_text(f)?),
-        [s, t, f] => (count(s)?.max(1), vba_text(t)?, vba_text(f)?),
-        _ => return Err(XlError::Value),
-    };
-    let chars: Vec<char> = text.chars().collect();
-    let needle: Vec<char> = find.chars().collect();
-    if start > chars.len() + 1 {
-        return Ok(Value::Number(0.0));
-    }
-    let found = (start - 1..=chars.len().saturating_sub(needle.len()))
-        .find(|&i| chars.get(i..i + needle.len()) == Some(&needle[..]));
-    Ok(Value::Number(found.map_or(0.0, |i| (i + 1) as f64)))
-}
-
 fn chr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift(ctx, args, &|v| {
         let code = to_number(&v[0], VBA_DATES)?.trunc();
@@ -344,6 +433,9 @@ fn val(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// number is the result (`Val(" 1 2.5mm")` is 12.5, `Val("x")` is 0).
 pub fn vba_val(text: &str) -> f64 {
     let s: String = text.chars().filter(|c| !matches!(c, ' ' | '\t' | '\n' | '\r')).collect();
+    if let Some(n) = radix_val(&s) {
+        return n;
+    }
     let b = s.as_bytes();
     let mut i = usize::from(matches!(b.first(), Some(b'+' | b'-')));
     let digits = |i: &mut usize| {
@@ -372,10 +464,41 @@ pub fn vba_val(text: &str) -> f64 {
     piece.parse().or_else(|_| s[..mantissa_end].parse()).unwrap_or(0.0)
 }
 
+/// Val of `&HFF` (hexadecimal) or `&O17` / `&17` (octal): the digits that follow, read as an
+/// Integer up to 16 bits and a Long up to 32, signed as VBA's (`Val("&HFFFF")` is -1).
+fn radix_val(s: &str) -> Option<f64> {
+    let rest = s.strip_prefix('&')?;
+    let (radix, digits) = match rest.as_bytes().first()? {
+        b'h' | b'H' => (16, &rest[1..]),
+        b'o' | b'O' => (8, &rest[1..]),
+        _ => (8, rest),
+    };
+    let end = digits.find(|c: char| !c.is_digit(radix)).unwrap_or(digits.len());
+    let n = u64::from_str_radix(&digits[..end], radix).ok()?;
+    Some(match n {
+        0..=0xFFFF => n as u16 as i16 as f64,
+        0x1_0000..=0xFFFF_FFFF => n as u32 as i32 as f64,
+        _ => n as f64,
+    })
+}
+
+/// Format's text conversions: `>` writes the value in capitals, `<` in small letters.
+fn case_format(pattern: &str) -> Option<fn(&str) -> String> {
+    let rest = pattern.trim_matches('@');
+    match rest {
+        ">" => Some(str::to_uppercase),
+        "<" => Some(str::to_lowercase),
+        _ => None,
+    }
+}
+
 fn format(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let has_format = args.get(1).is_some_and(|e| e.kind != ExprKind::Missing);
     lift(ctx, args, &|v| {
         let pattern = if has_format { vba_text(&v[1])? } else { Rc::from("") };
+        if let Some(convert) = case_format(&pattern) {
+            return Ok(Value::text(convert(&vba_text(&v[0])?)));
+        }
         let number = match &v[0] {
             Value::Number(n) => *n,
             Value::Blank => return Ok(Value::text("")),

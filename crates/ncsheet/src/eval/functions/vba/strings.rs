@@ -1,0 +1,355 @@
+//! VBA's text and inspection functions beyond the first set: `Split`, `Join`, `InStrRev`,
+//! `StrComp`, `StrConv`, `ChrW`, `LenB`, `FormatNumber`, `VarType`, `IsArray`, `CVErr`, and
+//! the two that read the document's state, `Timer` (its clock) and `Rnd` (its random
+//! sequence). The rules are the Office VBA language reference's pages of the same names.
+
+use crate::eval::coerce::to_number;
+use crate::eval::functions::api::{given, Ctx};
+use crate::eval::value::{Array, Value, XlError, XlResult};
+use crate::formula::ast::Expr;
+
+use super::{format_number, vba_text};
+
+/// `compare` of InStr, InStrRev, StrComp and Split: vbTextCompare (1) ignores case;
+/// vbBinaryCompare (0), the default, and vbUseCompareOption (-1, Option Compare Binary
+/// being the only one) compare character codes.
+fn text_compare(ctx: &mut Ctx, args: &[Expr], i: usize) -> XlResult<bool> {
+    let Some(e) = given(args, i) else { return Ok(false) };
+    let dates = ctx.dates();
+    match to_number(&ctx.eval(e).unwrap_single(), dates)?.trunc() {
+        1.0 => Ok(true),
+        0.0 | -1.0 => Ok(false),
+        _ => Err(XlError::Value),
+    }
+}
+
+/// The characters of a text as a comparison sees them.
+fn chars_for(text: &str, ignore_case: bool) -> Vec<char> {
+    if ignore_case {
+        text.chars().map(fold_case).collect()
+    } else {
+        text.chars().collect()
+    }
+}
+
+/// One character in the case a textual comparison reads (one for one, so positions hold).
+fn fold_case(c: char) -> char {
+    let mut lower = c.to_lowercase();
+    match (lower.next(), lower.next()) {
+        (Some(l), None) => l,
+        _ => c,
+    }
+}
+
+fn text_arg(ctx: &mut Ctx, args: &[Expr], i: usize) -> XlResult<String> {
+    Ok(vba_text(&ctx.eval(&args[i]).unwrap_single())?.to_string())
+}
+
+fn whole_arg(ctx: &mut Ctx, args: &[Expr], i: usize, default: f64) -> XlResult<f64> {
+    let dates = ctx.dates();
+    match given(args, i) {
+        Some(e) => Ok(to_number(&ctx.eval(e).unwrap_single(), dates)?.trunc()),
+        None => Ok(default),
+    }
+}
+
+/// Positions (0-based) at which `needle` starts in `hay`.
+fn starts_at(hay: &[char], needle: &[char], at: usize) -> bool {
+    hay.get(at..at + needle.len()) == Some(needle)
+}
+
+/// `InStr([start,] string1, string2[, compare])`: with four arguments the first is the start.
+pub fn instr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let (start, text_at) = if args.len() >= 3 { (whole_arg(ctx, args, 0, 1.0)?, 1) } else { (1.0, 0) };
+    if start < 1.0 {
+        return Err(XlError::Value);
+    }
+    let ignore_case = args.len() == 4 && text_compare(ctx, args, 3)?;
+    let text = chars_for(&text_arg(ctx, args, text_at)?, ignore_case);
+    let find = chars_for(&text_arg(ctx, args, text_at + 1)?, ignore_case);
+    let start = start.min(usize::MAX as f64) as usize;
+    if start > text.len() + usize::from(find.is_empty()) {
+        return Ok(Value::Number(0.0));
+    }
+    let found = (start - 1..=text.len().saturating_sub(find.len())).find(|&i| starts_at(&text, &find, i));
+    Ok(Value::Number(found.map_or(0.0, |i| (i + 1) as f64)))
+}
+
+/// `InStrRev(stringcheck, stringmatch[, start[, compare]])`: the last match that ends at or
+/// before `start` (-1: the last character); 0 when `start` is past the text.
+pub fn instr_rev(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let ignore_case = text_compare(ctx, args, 3)?;
+    let text = chars_for(&text_arg(ctx, args, 0)?, ignore_case);
+    let find = chars_for(&text_arg(ctx, args, 1)?, ignore_case);
+    let start = whole_arg(ctx, args, 2, -1.0)?;
+    if start == 0.0 || start < -1.0 {
+        return Err(XlError::Value);
+    }
+    if text.is_empty() {
+        return Ok(Value::Number(0.0));
+    }
+    let start = if start == -1.0 { text.len() } else { start.min(usize::MAX as f64) as usize };
+    if start > text.len() {
+        return Ok(Value::Number(0.0));
+    }
+    if find.is_empty() {
+        return Ok(Value::Number(start as f64));
+    }
+    let Some(last) = start.checked_sub(find.len()) else { return Ok(Value::Number(0.0)) };
+    let found = (0..=last).rev().find(|&i| starts_at(&text, &find, i));
+    Ok(Value::Number(found.map_or(0.0, |i| (i + 1) as f64)))
+}
+
+/// `StrComp(string1, string2[, compare])`: -1, 0 or 1.
+pub fn str_comp(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let ignore_case = text_compare(ctx, args, 2)?;
+    let a = chars_for(&text_arg(ctx, args, 0)?, ignore_case);
+    let b = chars_for(&text_arg(ctx, args, 1)?, ignore_case);
+    Ok(Value::Number(match a.cmp(&b) {
+        std::cmp::Ordering::Less => -1.0,
+        std::cmp::Ordering::Equal => 0.0,
+        std::cmp::Ordering::Greater => 1.0,
+    }))
+}
+
+/// `Split(expression[, delimiter[, limit[, compare]]])`: a zero-based one-dimensional array
+/// of texts; `""` gives an array with no items, a `""` delimiter the whole text as one item,
+/// and at `limit` items the last holds the rest unsplit.
+pub fn split(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let text = text_arg(ctx, args, 0)?;
+    let delimiter = match given(args, 1) {
+        Some(_) => text_arg(ctx, args, 1)?,
+        None => " ".to_string(),
+    };
+    let limit = whole_arg(ctx, args, 2, -1.0)?;
+    if limit < -1.0 {
+        return Err(XlError::Value);
+    }
+    let ignore_case = text_compare(ctx, args, 3)?;
+    if text.is_empty() || limit == 0.0 {
+        return Ok(Value::from(Array::row(Vec::new())));
+    }
+    let limit = if limit == -1.0 { usize::MAX } else { limit as usize };
+    let chars: Vec<char> = text.chars().collect();
+    let hay = chars_for(&text, ignore_case);
+    let needle = chars_for(&delimiter, ignore_case);
+    let mut items = Vec::new();
+    let (mut from, mut i) = (0, 0);
+    while !needle.is_empty() && items.len() + 1 < limit && i + needle.len() <= hay.len() {
+        if starts_at(&hay, &needle, i) {
+            items.push(Value::text(chars[from..i].iter().collect::<String>()));
+            i += needle.len();
+            from = i;
+        } else {
+            i += 1;
+        }
+    }
+    items.push(Value::text(chars[from..].iter().collect::<String>()));
+    Ok(Value::from(Array::row(items)))
+}
+
+/// `Join(sourcearray[, delimiter])`: the items' texts with the delimiter (a space when
+/// omitted) between them; a value that is no array is a type mismatch.
+pub fn join(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let Value::Array(items) = ctx.eval(&args[0]) else { return Err(XlError::Value) };
+    let delimiter = match given(args, 1) {
+        Some(_) => text_arg(ctx, args, 1)?,
+        None => " ".to_string(),
+    };
+    let texts = items.data.iter().map(vba_text).collect::<XlResult<Vec<_>>>()?;
+    let joined = texts.join(delimiter.as_str());
+    if joined.len() > ctx.text_limit() {
+        return Err(ctx.text_over_limit());
+    }
+    Ok(Value::text(joined))
+}
+
+/// `StrConv(string, conversion)`: vbUpperCase (1), vbLowerCase (2), vbProperCase (3: the
+/// first letter of every word a capital, the rest small). The byte and East Asian
+/// conversions (4 and up) have no meaning for ncsheet's Unicode text: `#VALUE!`.
+pub fn str_conv(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let text = text_arg(ctx, args, 0)?;
+    let conversion = whole_arg(ctx, args, 1, 0.0)?;
+    Ok(Value::text(match conversion {
+        1.0 => text.to_uppercase(),
+        2.0 => text.to_lowercase(),
+        3.0 => proper_case(&text),
+        _ => {
+            return Err(
+                ctx.explain(XlError::Value, "StrConv converts with vbUpperCase, vbLowerCase or vbProperCase only")
+            )
+        }
+    }))
+}
+
+fn proper_case(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut word_start = true;
+    for c in text.chars() {
+        if word_start {
+            out.extend(c.to_uppercase());
+        } else {
+            out.extend(c.to_lowercase());
+        }
+        // Words are split by white space.
+        word_start = c.is_whitespace() || c == '\0';
+    }
+    out
+}
+
+/// `ChrW(charcode)`: the character of a UTF-16 code, -32768 to 65535 (negative codes are
+/// the same unit read as signed); half a surrogate pair is no character here.
+pub fn chrw(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
+    let code = to_number(&ctx.eval(&args[0]).unwrap_single(), dates)?.trunc();
+    if !(-32768.0..=65535.0).contains(&code) {
+        return Err(XlError::Value);
+    }
+    let unit = if code < 0.0 { code + 65536.0 } else { code } as u32;
+    let c = char::from_u32(unit).ok_or(XlError::Value)?;
+    Ok(Value::text(c.to_string()))
+}
+
+/// `LenB(string)`: the bytes VBA's UTF-16 string holds, two per code unit.
+pub fn len_b(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let text = text_arg(ctx, args, 0)?;
+    Ok(Value::Number((text.encode_utf16().count() * 2) as f64))
+}
+
+/// A Tristate argument of FormatNumber: vbTrue (-1), vbFalse (0), vbUseDefault (-2).
+fn tristate(ctx: &mut Ctx, args: &[Expr], i: usize, default: bool) -> XlResult<bool> {
+    match whole_arg(ctx, args, i, -2.0)? {
+        -2.0 => Ok(default),
+        0.0 => Ok(false),
+        // A Boolean True is -1; any other non-zero number counts as True too.
+        _ => Ok(true),
+    }
+}
+
+/// `FormatNumber(expression[, digits[, leading digit[, parentheses[, group digits]]]])`
+/// with the English (United States) regional defaults: two decimals, a leading zero, a
+/// minus sign, thousands grouped with commas.
+pub fn format_number_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
+    let n = to_number(&ctx.eval(&args[0]).unwrap_single(), dates)?;
+    let digits = whole_arg(ctx, args, 1, -1.0)?;
+    let digits = if digits == -1.0 { 2.0 } else { digits };
+    if !(0.0..=99.0).contains(&digits) {
+        return Err(XlError::Value);
+    }
+    let leading = tristate(ctx, args, 2, true)?;
+    let parens = tristate(ctx, args, 3, false)?;
+    let group = tristate(ctx, args, 4, true)?;
+    let whole = match (group, leading) {
+        (true, true) => "#,##0",
+        (true, false) => "#,###",
+        (false, true) => "0",
+        (false, false) => "#",
+    };
+    let decimals = "0".repeat(digits as usize);
+    let positive = if decimals.is_empty() { whole.to_string() } else { format!("{whole}.{decimals}") };
+    let pattern = if parens { format!("{positive};({positive})") } else { positive };
+    let text = format_number(n, &pattern)?;
+    // A zero without its leading digit and without decimals would be nothing: VBA writes 0.
+    Ok(Value::text(if text.is_empty() || text == "-" { "0".to_string() } else { text }))
+}
+
+/// `VarType(varname)` of a value: vbEmpty 0, vbDouble 5, vbString 8, vbError 10, vbBoolean
+/// 11, vbArray + vbVariant 8204. (A variable declared `As Integer`, `Long`, … answers its
+/// declared type: the macro interpreter asks before it comes here.)
+pub fn var_type(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    Ok(Value::Number(var_type_of(&ctx.eval(&args[0]))))
+}
+
+pub fn var_type_of(v: &Value) -> f64 {
+    match v {
+        Value::Blank => 0.0,
+        Value::Number(_) => 5.0,
+        Value::Text(_) => 8.0,
+        Value::Error(_) => 10.0,
+        Value::Bool(_) => 11.0,
+        Value::Array(_) => 8192.0 + 12.0,
+        Value::Lambda(_) => 9.0,
+    }
+}
+
+/// `IsArray(varname)`: True for an array (a range of more than one cell reads as one).
+pub fn is_array(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    Ok(Value::Bool(matches!(ctx.eval(&args[0]), Value::Array(_))))
+}
+
+/// `CVErr(errornumber)`: Excel's error values by their `xlErr…` numbers (2000 `#NULL!`,
+/// 2007 `#DIV/0!`, 2015 `#VALUE!`, 2023 `#REF!`, 2029 `#NAME?`, 2036 `#NUM!`, 2042 `#N/A`),
+/// the values a cell can hold. Other numbers have no cell value to be.
+pub fn cv_err(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
+    let n = to_number(&ctx.eval(&args[0]).unwrap_single(), dates)?;
+    let error = match n {
+        2000.0 => XlError::Null,
+        2007.0 => XlError::Div0,
+        2015.0 => XlError::Value,
+        2023.0 => XlError::Ref,
+        2029.0 => XlError::Name,
+        2036.0 => XlError::Num,
+        2042.0 => XlError::NA,
+        _ => {
+            let why = format!(
+                "CVErr({n}): only Excel's error numbers (xlErrDiv0 2007, xlErrNA 2042, …) make an error value here"
+            );
+            return Err(ctx.explain(XlError::Value, why));
+        }
+    };
+    Ok(Value::Error(error))
+}
+
+/// `Timer`: seconds since midnight by the document's clock (its settings' NOW).
+pub fn timer(ctx: &mut Ctx, _args: &[Expr]) -> XlResult<Value> {
+    let now = ctx.env.now();
+    Ok(Value::Number((now - now.floor()) * 86400.0))
+}
+
+/// `Rnd[(number)]`: the next number 0 ≤ x < 1 of the document's random sequence (`Randomize`
+/// restarts it). A negative number gives the same result every time for that number, as
+/// VBA's does; zero draws the next number too (ncsheet keeps no "last number").
+pub fn rnd(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let n = whole_or_fraction(ctx, args)?;
+    if n < 0.0 {
+        return Ok(Value::Number(repeatable(n)));
+    }
+    Ok(Value::Number(ctx.env.next_random()))
+}
+
+fn whole_or_fraction(ctx: &mut Ctx, args: &[Expr]) -> XlResult<f64> {
+    let dates = ctx.dates();
+    match given(args, 0) {
+        Some(e) => to_number(&ctx.eval(e).unwrap_single(), dates),
+        None => Ok(1.0),
+    }
+}
+
+/// A number 0 ≤ x < 1 that depends only on `seed` (splitmix64 of its bits).
+fn repeatable(seed: f64) -> f64 {
+    let mut z = seed.to_bits().wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^= z >> 31;
+    (z >> 11) as f64 / (1u64 << 53) as f64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn proper_case_capitalises_each_word() {
+        // "StrConv function": vbProperCase, first letter of every word uppercase.
+        assert_eq!(proper_case("hELLO wORLD\tnc"), "Hello World\tNc");
+    }
+
+    #[test]
+    fn a_negative_seed_repeats() {
+        assert_eq!(repeatable(-1.0), repeatable(-1.0));
+        assert_ne!(repeatable(-1.0), repeatable(-2.0));
+        assert!((0.0..1.0).contains(&repeatable(-3.5)));
+    }
+}
