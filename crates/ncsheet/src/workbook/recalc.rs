@@ -606,7 +606,9 @@ impl Workbook {
     fn store_number(&mut self, id: u32, n: f64) {
         let c = &mut self.cells[id as usize];
         if let Some(log) = &mut self.changes {
-            if c.value != Value::Number(n) {
+            // `c.value != Value::Number(n)` without building a `Value` for the derived
+            // comparison, which is out of line: this runs for every cell an edit recomputes.
+            if !matches!(c.value, Value::Number(old) if old == n) {
                 log.values.insert(id);
             }
         }

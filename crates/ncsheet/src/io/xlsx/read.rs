@@ -335,15 +335,25 @@ fn array_anchors(layout: &Layout, wb: &Workbook) -> HashMap<(SheetId, Pos), ()> 
 /// is intersected as a whole, as Excel shows a legacy formula's result: a reference in line
 /// with the cell, or an array's first item (`=ROW(A3:A8)` shows 3).
 fn intersect_legacy_formulas(wb: &mut Workbook, candidates: &[(SheetId, Pos)], arrays: &HashMap<(SheetId, Pos), ()>) {
-    let mut decided: HashMap<(u32, SheetId), bool> = HashMap::new();
+    // By formula id, for the sheet of the candidates at hand (they come sheet by sheet; a
+    // sheet met again only decides again): an index, not a hash, as a million are looked up.
+    let mut decided: Vec<Option<bool>> = Vec::new();
+    let mut deciding_for = None;
     for &(sheet, pos) in candidates {
         let Some(id) = wb.formula_id(sheet, pos) else { continue };
-        let intersects = match decided.get(&(id, sheet)) {
-            Some(&known) => known,
+        if deciding_for != Some(sheet) {
+            decided.clear();
+            deciding_for = Some(sheet);
+        }
+        if decided.len() <= id as usize {
+            decided.resize(id as usize + 1, None);
+        }
+        let intersects = match decided[id as usize] {
+            Some(known) => known,
             None => {
                 let Some(tree) = wb.formula_tree(sheet, pos) else { continue };
                 let found = syntax::intersects_in_scalar_formula(&tree, wb, sheet);
-                decided.insert((id, sheet), found);
+                decided[id as usize] = Some(found);
                 found
             }
         };
@@ -611,18 +621,25 @@ impl<'a> SheetImport<'a> {
         let (sheet, wb) = (self.sheet, &mut imported.workbook);
         self.typed.clear();
         self.typed.push('=');
-        self.typed.push_str(&typed_formula(text, self.book, sheet, pos));
+        let typed = typed_formula(text, self.book, sheet, pos);
+        let rewritten = matches!(typed, Cow::Owned(_));
+        self.typed.push_str(&typed);
         if reads_links(text, self.book) {
             let original = LinkedFormula { original: text.to_string(), ..Default::default() };
             imported.layout.links.cells.insert((sheet, pos), original);
         }
-        match syntax::tree_from_file(&self.typed[1..], wb, sheet, pos) {
+        // One look at the calls for the two checks below, which most formulas need not make.
+        let calls_special = syntax::calls_any(text, &["ANCHORARRAY", "SINGLE", "OFFSET", "INDIRECT"]);
+        let tree =
+            if calls_special || rewritten { syntax::tree_from_file(&self.typed[1..], wb, sheet, pos) } else { None };
+        match tree {
             Some(tree) => wb.set_formula_tree_deferred(sheet, pos, tree),
             None => {
                 let _ = wb.set_input_deferred(sheet, pos, &self.typed);
             }
         }
-        if plain && (self.typed.contains(':') || makes_references(text) || self.uses_range_name()) {
+        let references_made = calls_special && makes_references(text);
+        if plain && (self.typed.contains(':') || references_made || self.uses_range_name()) {
             self.legacy_ranges.push((sheet, pos));
         }
         if let Some(value) = cached {
@@ -684,8 +701,8 @@ fn range_names(wb: &Workbook) -> HashSet<String> {
 /// Whether a formula may make a multi-cell reference at run time (a candidate for implicit
 /// intersection like a formula with a range in its text).
 fn makes_references(text: &str) -> bool {
-    let upper = text.to_ascii_uppercase();
-    upper.contains("OFFSET(") || upper.contains("INDIRECT(")
+    // Case aside, found at each `(` without an uppercase copy of every formula of the file.
+    syntax::calls_any(text, &["OFFSET", "INDIRECT"])
 }
 
 /// The text of a shared formula in `pos`, moved from the cell that holds it.

@@ -51,7 +51,9 @@ pub(super) fn replace_tokens(text: &str, mut replace: impl FnMut(usize) -> Optio
 /// `[1]Data!#REF!`): Excel writes a reference whose cells were deleted so, and it means
 /// `#REF!`, in a cell as in a defined name.
 pub fn ref_errors_without_sheet(text: &str) -> Cow<'_, str> {
-    if !text.contains("!#REF!") {
+    // The `!` first: one vectorised search, where the whole pattern costs a set-up per
+    // formula of the file.
+    if !text.contains('!') || !text.contains("!#REF!") {
         return Cow::Borrowed(text);
     }
     let bytes = text.as_bytes();

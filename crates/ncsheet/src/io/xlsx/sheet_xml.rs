@@ -555,6 +555,11 @@ fn formula_attrs(tag: &Tag) -> Result<FormulaAttrs, String> {
 }
 
 fn parse_u32(v: &[u8]) -> Option<u32> {
+    // Every cell's and row's `r` comes here: plain digits are read in place; anything else
+    // (spaces, a sign, ten digits or more) as text, as before.
+    if (1..=9).contains(&v.len()) && v.iter().all(u8::is_ascii_digit) {
+        return Some(v.iter().fold(0, |n, &d| n * 10 + u32::from(d - b'0')));
+    }
     std::str::from_utf8(v).ok()?.trim().parse().ok()
 }
 
@@ -664,6 +669,11 @@ const BATCH_CELLS: usize = 4096;
 const BATCHES_AHEAD: usize = 4;
 
 impl Batch {
+    /// An empty batch with the room `full` took, so that the next grows no more.
+    fn with_room_of(full: &Batch) -> Batch {
+        Batch { cells: Vec::with_capacity(full.cells.len()), text: String::with_capacity(full.text.len()) }
+    }
+
     fn push(&mut self, cell: CellXml) {
         let formula = cell.formula.map(|f| {
             let (shape, text) = match f {
@@ -715,7 +725,9 @@ pub fn read_sheet_ahead(
                 if batch.cells.len() >= BATCH_CELLS {
                     // Sending fails only when this thread's receiver is gone, after a panic
                     // there, which the scope passes on.
-                    let _ = sender.send(std::mem::take(&mut batch));
+                    let room = Batch::with_room_of(&batch);
+                    let full = std::mem::replace(&mut batch, room);
+                    let _ = sender.send(full);
                 }
                 Ok(())
             });

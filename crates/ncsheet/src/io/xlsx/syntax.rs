@@ -82,7 +82,7 @@ pub fn cell_to_file_as_needed(wb: &Workbook, sheet: SheetId, pos: Pos) -> Option
 
 /// Whether `text` has `NAME(` for one of `names`, in any case. Looks only before each `(`:
 /// this runs on every formula of an import.
-fn calls_any(text: &str, names: &[&str]) -> bool {
+pub(super) fn calls_any(text: &str, names: &[&str]) -> bool {
     let bytes = text.as_bytes();
     memchr::memchr_iter(b'(', bytes).any(|paren| {
         names
