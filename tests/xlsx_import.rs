@@ -14,6 +14,17 @@ fn at(cell: &str) -> Pos {
 /// An xlsx package: worksheets given by name and `<sheetData>` content, plus extra
 /// `<workbook>` content (defined names).
 fn package(sheets: &[(&str, &str)], workbook_extra: &str) -> Vec<u8> {
+    package_with_parts(sheets, workbook_extra, "", &[])
+}
+
+/// [`package`] with `sheet1_extra` after the first sheet's `<sheetData>` (`<tableParts>`)
+/// and more parts by name (a table, the first sheet's relationships).
+fn package_with_parts(
+    sheets: &[(&str, &str)],
+    workbook_extra: &str,
+    sheet1_extra: &str,
+    parts: &[(&str, &str)],
+) -> Vec<u8> {
     let mut zip = zip::ZipWriter::new(Cursor::new(Vec::new()));
     let options = zip::write::SimpleFileOptions::default();
     let mut put = |name: &str, text: String| {
@@ -32,10 +43,11 @@ fn package(sheets: &[(&str, &str)], workbook_extra: &str) -> Vec<u8> {
         rels.push_str(&format!(
             r#"<Relationship Id="rId{n}" Type="http://schemas.openxmlformats.org/officeDocument/2006/relationships/worksheet" Target="worksheets/sheet{n}.xml"/>"#
         ));
+        let extra = if n == 1 { sheet1_extra } else { "" };
         put(
             &format!("xl/worksheets/sheet{n}.xml"),
             format!(
-                r#"<?xml version="1.0" encoding="UTF-8"?><worksheet xmlns="http://schemas.openxmlformats.org/spreadsheetml/2006/main"><sheetData>{data}</sheetData></worksheet>"#
+                r#"<?xml version="1.0" encoding="UTF-8"?><worksheet xmlns="http://schemas.openxmlformats.org/spreadsheetml/2006/main" xmlns:r="http://schemas.openxmlformats.org/officeDocument/2006/relationships"><sheetData>{data}</sheetData>{extra}</worksheet>"#
             ),
         );
     }
@@ -51,6 +63,9 @@ fn package(sheets: &[(&str, &str)], workbook_extra: &str) -> Vec<u8> {
             r#"<?xml version="1.0" encoding="UTF-8"?><Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships">{rels}</Relationships>"#
         ),
     );
+    for (name, text) in parts {
+        put(name, text.to_string());
+    }
     zip.finish().unwrap().into_inner()
 }
 
@@ -220,4 +235,111 @@ fn a_circular_reference_keeps_the_values_excel_cached_and_is_named() {
     // No value cached: Excel shows 0.
     assert_eq!(wb.value(0, at("D1")), num(0.0));
     assert_eq!(wb.cycles().len(), 2, "{:?}", wb.cycles());
+}
+
+/// Cells of formulas, `(cell, formula)`, as `<c>` elements of one row each (no cached value).
+fn formula_rows(first_row: u32, formulas: &[&str]) -> String {
+    let mut out = String::new();
+    for (i, f) in formulas.iter().enumerate() {
+        let r = first_row + i as u32;
+        let f = f.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;");
+        out.push_str(&format!(r#"<row r="{r}"><c r="A{r}"><f>{f}</f></c></row>"#));
+    }
+    out
+}
+
+/// INDIRECT's text may name a defined name scoped to a sheet, as `Sheet!Name` (the name of
+/// that sheet, else the workbook's) or alone (this sheet's, else the workbook's): the
+/// reference Excel's INDIRECT gives is the name's. LibreOffice agrees on `Sheet1!Rate` (11)
+/// and `'2007'!Rate` (7); a name with a dot it cannot read in this syntax (#REF!).
+#[test]
+fn indirect_reads_names_scoped_to_a_sheet() {
+    let data = r#"<row r="1"><c r="B1"><v>42</v></c><c r="C1"><v>7</v></c></row><row r="2"><c r="B2"><v>8</v></c></row>"#;
+    let formulas = formula_rows(
+        1,
+        &[
+            r#"SUM(INDIRECT("'2007'!Year.NetBalance"))"#,
+            r#"INDIRECT("Rate")"#,
+            r#"INDIRECT("Sheet1!Rate")"#,
+            r#"INDIRECT("'2007'!Rate")"#,
+            r#"INDIRECT("Glob")"#,
+            r#"INDIRECT("Sheet1!Nowhere")"#,
+        ],
+    );
+    let sheet1 = format!(r#"{formulas}<row r="9"><c r="B9"><v>11</v></c></row>"#);
+    let names = r#"<definedNames><definedName name="Year.NetBalance" localSheetId="1">'2007'!$B$1:$B$2</definedName><definedName name="Rate" localSheetId="1">'2007'!$C$1</definedName><definedName name="Rate" localSheetId="0">Sheet1!$B$9</definedName><definedName name="Glob">'2007'!$B$2</definedName></definedNames>"#;
+    let sheet2 = r#"<row r="5"><c r="A5"><f>INDIRECT("Rate")</f></c></row><row r="6"><c r="A6"><f>SUM(INDIRECT("Year.NetBalance"))</f></c></row>"#;
+    let imported = load(&[("Sheet1", &sheet1), ("2007", &format!("{data}{sheet2}"))], names);
+    let wb = &imported.workbook;
+    let expected = [
+        (0, "A1", num(50.0)),
+        (0, "A2", num(11.0)),
+        (0, "A3", num(11.0)),
+        (0, "A4", num(7.0)),
+        (0, "A5", num(8.0)),
+        (0, "A6", Value::Error(XlError::Ref)),
+        (1, "A5", num(7.0)),
+        (1, "A6", num(50.0)),
+    ];
+    for (sheet, cell, value) in expected {
+        assert_eq!(wb.value(sheet, at(cell)), value, "sheet {sheet} {cell}");
+    }
+}
+
+/// INDIRECT's text may be a structured reference to a table (`Parts[Qty]`, built from
+/// pieces, `Parts[[#Totals],[Qty]]`, the table's name alone for its data, `#All`,
+/// `#Headers`; names in any case): the range it names, as a formula typed with it would.
+/// A column the table lacks names nothing (#REF!).
+#[test]
+fn indirect_reads_structured_references_to_tables() {
+    let table_rows = r#"<row r="1"><c r="A1" t="inlineStr"><is><t>Name</t></is></c><c r="B1" t="inlineStr"><is><t>Qty</t></is></c></row><row r="2"><c r="B2"><v>5</v></c></row><row r="3"><c r="B3"><v>7</v></c></row><row r="4"><c r="B4"><v>9</v></c></row><row r="5"><c r="B5"><v>100</v></c></row>"#;
+    let formulas: String = [
+        r#"SUM(INDIRECT("Parts[Qty]"))"#,
+        r#"SUM(INDIRECT("Parts"&"["&"Qty"&"]"))"#,
+        r#"INDIRECT("Parts[[#Totals],[Qty]]")"#,
+        r#"ROWS(INDIRECT("Parts"))"#,
+        r#"ROWS(INDIRECT("Parts[#All]"))"#,
+        r#"COUNTA(INDIRECT("Parts[#Headers]"))"#,
+        r#"SUM(INDIRECT("parts[qty]"))"#,
+        r#"INDIRECT("Parts[Nope]")"#,
+    ]
+    .iter()
+    .enumerate()
+    .map(|(i, f)| {
+        let f = f.replace('&', "&amp;").replace('"', "&quot;");
+        format!(r#"<c r="D{}"><f>{f}</f></c>"#, i + 1)
+    })
+    .collect::<Vec<_>>()
+    .join("");
+    // The formulas sit beside the table, each in its own row (D1:D8).
+    let mut rows = String::new();
+    for r in 1..=8 {
+        let table_part = table_rows.split("</row>").nth(r - 1).filter(|s| !s.is_empty()).unwrap_or("");
+        let inner = table_part.split_once('>').map_or("", |(_, cells)| cells);
+        let formula = formulas.split("</c>").nth(r - 1).map(|c| format!("{c}</c>")).unwrap_or_default();
+        rows.push_str(&format!(r#"<row r="{r}">{inner}{formula}</row>"#));
+    }
+    let table = r#"<?xml version="1.0" encoding="UTF-8"?><table xmlns="http://schemas.openxmlformats.org/spreadsheetml/2006/main" id="1" name="Parts" displayName="Parts" ref="A1:B5" totalsRowCount="1"><autoFilter ref="A1:B4"/><tableColumns count="2"><tableColumn id="1" name="Name"/><tableColumn id="2" name="Qty"/></tableColumns></table>"#;
+    let rels = r#"<?xml version="1.0" encoding="UTF-8"?><Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships"><Relationship Id="rId1" Type="http://schemas.openxmlformats.org/officeDocument/2006/relationships/table" Target="../tables/table1.xml"/></Relationships>"#;
+    let bytes = package_with_parts(
+        &[("Sheet1", &rows)],
+        "",
+        r#"<tableParts count="1"><tablePart r:id="rId1"/></tableParts>"#,
+        &[("xl/tables/table1.xml", table), ("xl/worksheets/_rels/sheet1.xml.rels", rels)],
+    );
+    let imported = xlsx::load_bytes(&bytes, Path::new("book.xlsx")).unwrap_or_else(|e| panic!("{e}"));
+    let wb = &imported.workbook;
+    let expected = [
+        ("D1", num(21.0)),
+        ("D2", num(21.0)),
+        ("D3", num(100.0)),
+        ("D4", num(3.0)),
+        ("D5", num(5.0)),
+        ("D6", num(2.0)),
+        ("D7", num(21.0)),
+        ("D8", Value::Error(XlError::Ref)),
+    ];
+    for (cell, value) in expected {
+        assert_eq!(wb.value(0, at(cell)), value, "{cell}: {:?}", wb.formula(0, at(cell)));
+    }
 }

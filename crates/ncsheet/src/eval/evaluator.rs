@@ -42,6 +42,14 @@ pub trait Env {
     /// A defined name visible from `sheet`: its formula and the sheet it is evaluated on.
     fn defined_name(&self, name: &str, sheet: SheetId) -> Option<(Rc<Expr>, SheetId)>;
 
+    /// `text` with the structured references in it (`Table1[Qty]`, `Table1[#Totals]`, a
+    /// table's name alone) replaced by the ranges they name, for a formula at `pos` of
+    /// `sheet`; `None` when it names no table this environment knows. INDIRECT reads a
+    /// table reference made at run time through it.
+    fn structured_reference(&self, _text: &str, _sheet: SheetId, _pos: Pos) -> Option<String> {
+        None
+    }
+
     /// The cells a dynamic array anchored at `pos` spilled into, for `A1#`.
     fn spill_rect(&self, sheet: SheetId, pos: Pos) -> Option<Rect>;
 

@@ -52,6 +52,10 @@ impl Env for Interp<'_, '_> {
         self.wb.borrow().defined_name(name, sheet)
     }
 
+    fn structured_reference(&self, text: &str, sheet: SheetId, pos: Pos) -> Option<String> {
+        self.wb.borrow().structured_reference(text, sheet, pos)
+    }
+
     fn spill_rect(&self, sheet: SheetId, pos: Pos) -> Option<Rect> {
         match self.cells {
             Some(cells) => cells.spill_rect(sheet, pos),

@@ -228,6 +228,10 @@ impl Env for Probe<'_> {
         self.wb.defined_name(name, sheet)
     }
 
+    fn structured_reference(&self, text: &str, sheet: SheetId, pos: Pos) -> Option<String> {
+        self.wb.structured_reference(text, sheet, pos)
+    }
+
     /// A waiting anchor's spill area is not known yet: asking for it is reading it.
     fn spill_rect(&self, sheet: SheetId, pos: Pos) -> Option<Rect> {
         self.note(sheet, Rect::cell(pos));

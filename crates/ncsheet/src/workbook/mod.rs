@@ -163,6 +163,8 @@ pub struct Workbook {
     names_unlinked: bool,
     /// The workbook's own functions (its VBA Functions), once installed (`udf.rs`).
     user_functions: Option<Rc<dyn UserFunctions>>,
+    /// The tables of the file it was read from, which structured references name.
+    tables: Option<Rc<dyn StructuredReferences>>,
     /// The clock and random sequence this workbook's formulas read (its own, never a thread's).
     settings: crate::eval::Settings,
     /// The sheet shown when the workbook opens (`<workbookView activeTab>`): VBA's
@@ -984,6 +986,26 @@ impl Env for Workbook {
 
     fn call_user_function(&self, cells: &dyn Env, call: &UserCall) -> Option<Value> {
         self.call_user(cells, call)
+    }
+
+    fn structured_reference(&self, text: &str, sheet: SheetId, pos: Pos) -> Option<String> {
+        self.tables.as_ref()?.resolve(self, text, sheet, pos)
+    }
+}
+
+/// A workbook's tables as the file that held them describes them (the reader knows their
+/// format and installs them): formulas read at load have their structured references
+/// resolved already; text made at run time (INDIRECT's) is resolved through this.
+pub trait StructuredReferences {
+    /// `text` with its structured references replaced by the ranges they name (A1 text
+    /// with the sheet), for a formula at `pos` of `sheet`; `None` when it names no table.
+    fn resolve(&self, wb: &Workbook, text: &str, sheet: SheetId, pos: Pos) -> Option<String>;
+}
+
+impl Workbook {
+    /// Installs the tables structured references made at run time name.
+    pub fn set_tables(&mut self, tables: Rc<dyn StructuredReferences>) {
+        self.tables = Some(tables);
     }
 }
 

@@ -130,6 +130,20 @@ pub fn resolve_structured<'t>(
     Cow::Owned(out)
 }
 
+/// The file's tables, installed in the workbook so that INDIRECT reads the structured
+/// references of its text (`INDIRECT("Table1[Qty]")`) as a formula read at load does.
+pub struct FileTables(pub Vec<Table>);
+
+impl crate::workbook::StructuredReferences for FileTables {
+    fn resolve(&self, wb: &crate::workbook::Workbook, text: &str, sheet: SheetId, pos: Pos) -> Option<String> {
+        let name = |s: SheetId| crate::eval::Env::sheet_name(wb, s).unwrap_or_default();
+        match resolve_structured(text, &self.0, sheet, pos, &name) {
+            Cow::Owned(resolved) => Some(resolved),
+            Cow::Borrowed(_) => None,
+        }
+    }
+}
+
 /// A character of a name (a table's, a function's, a cell's).
 fn is_name_char(c: u8) -> bool {
     c.is_ascii_alphanumeric() || c == b'_' || c == b'.' || c == b'\\' || c >= 0x80

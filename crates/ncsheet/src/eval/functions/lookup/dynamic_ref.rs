@@ -86,6 +86,9 @@ fn a1_reference(ctx: &mut Ctx, text: &str) -> XlResult<(SheetId, Rect)> {
     if let Some(made) = plain_a1_reference(ctx, text) {
         return made;
     }
+    // `Table1[Qty]`, `Table1[#Totals]`: the range the workbook's table names.
+    let resolved = ctx.env.structured_reference(text, ctx.sheet, ctx.at);
+    let text = resolved.as_deref().unwrap_or(text);
     let env = ctx.env;
     let sheet_named = |name: &str| sheet_id(env, name);
     let parse = ParseContext { at: ctx.at, functions: &Registry, sheet: &sheet_named };
@@ -145,7 +148,7 @@ fn plain_a1_cell(text: &str) -> Option<Pos> {
 
 fn is_reference(e: &Expr) -> bool {
     match &e.kind {
-        ExprKind::Ref(_) | ExprKind::Name(_) => true,
+        ExprKind::Ref(_) | ExprKind::Name(_) | ExprKind::SheetName(..) => true,
         ExprKind::Binary(BinOp::Range, a, b) => is_reference(a) && is_reference(b),
         _ => false,
     }
