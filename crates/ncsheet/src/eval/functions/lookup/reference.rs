@@ -10,7 +10,7 @@ use crate::eval::coerce::to_text;
 use crate::eval::functions::api::{
     bool_or, find, number, number_or, ArgSet, Ctx, FnSpec, Operand, Outside, RowHidden, MANY,
 };
-use crate::eval::value::{Value, XlError, XlResult};
+use crate::eval::value::{too_many_items, too_many_items_note, Array, Value, XlError, XlResult};
 use crate::formula::address::{column_name, Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::formula::ast::{Expr, ExprKind, FnId};
 use crate::formula::print::quote_sheet_name;
@@ -218,6 +218,65 @@ mod info_tests {
     }
 }
 
+#[cfg(test)]
+mod aggregate_tests {
+    use crate::eval::testing::{err, n, MapEnv};
+    use crate::eval::XlError;
+
+    fn column() -> MapEnv {
+        // 5, #N/A, 1, 9, 3, 7 in A1:A6.
+        let a = [n(5.0), err(XlError::NA), n(1.0), n(9.0), n(3.0), n(7.0)];
+        let cells: Vec<(String, _)> = a.iter().enumerate().map(|(i, v)| (format!("A{}", i + 1), v.clone())).collect();
+        let cells: Vec<(&str, _)> = cells.iter().map(|(c, v)| (c.as_str(), v.clone())).collect();
+        MapEnv::with(&cells)
+    }
+
+    /// The array form (14–19): the function of the same name over the values left, k after.
+    /// Option 6 leaves out errors; 4 keeps them, and the error is the result.
+    #[test]
+    fn the_array_form_is_large_small_percentile_and_quartile_without_errors() {
+        let env = column();
+        // Without the error: 1, 3, 5, 7, 9.
+        assert_eq!(env.eval("=AGGREGATE(14,6,A1:A6,2)"), n(7.0));
+        assert_eq!(env.eval("=AGGREGATE(15,6,A1:A6,2)"), n(3.0));
+        assert_eq!(env.eval("=AGGREGATE(16,6,A1:A6,0.25)"), n(3.0));
+        assert_eq!(env.eval("=AGGREGATE(17,6,A1:A6,1)"), n(3.0));
+        // PERCENTILE.EXC at 0.25 of 5 values: rank 1.5, halfway from 1 to 3.
+        assert_eq!(env.eval("=AGGREGATE(18,6,A1:A6,0.25)"), n(2.0));
+        assert_eq!(env.eval("=AGGREGATE(19,6,A1:A6,1)"), n(2.0));
+        assert_eq!(env.eval("=AGGREGATE(14,4,A1:A6,1)"), err(XlError::NA));
+        assert_eq!(env.eval("=AGGREGATE(14,6,A1:A6,6)"), err(XlError::Num));
+        // "If a second ref argument is required but not provided, AGGREGATE returns #VALUE!".
+        assert_eq!(env.eval("=AGGREGATE(15,6,A1:A6)"), err(XlError::Value));
+    }
+
+    /// A computed array: the errors it makes are left out (the usual conditional LARGE),
+    /// and a whole column's blanks count as what the calculation makes of them.
+    #[test]
+    fn the_array_form_takes_a_computed_array_whole() {
+        let env = column();
+        assert_eq!(env.eval("=AGGREGATE(14,6,A1:A6/(A1:A6>4),1)"), n(9.0));
+        assert_eq!(env.eval("=AGGREGATE(15,6,A1:A6/(A1:A6>4),1)"), n(5.0));
+        assert_eq!(env.eval("=AGGREGATE(15,6,A1:A6*2,3)"), n(10.0));
+        // A:A*1 is 1,048,576 items, the blanks 0: the smallest is 0, as SMALL says.
+        assert_eq!(env.eval("=SMALL(IFERROR(A:A*1,\"\"),1)"), n(0.0));
+        assert_eq!(env.eval("=AGGREGATE(15,6,A:A*1,1)"), n(0.0));
+        assert_eq!(env.eval("=AGGREGATE(16,6,A:A*1,0.5)"), n(0.0));
+        assert_eq!(env.eval("=AGGREGATE(14,6,A:A-10,1)"), n(-1.0));
+    }
+
+    /// Functions 1–13 take references ("invalid types: actual data, arrays" in Excel's
+    /// WorksheetFunction.Aggregate reference).
+    #[test]
+    fn the_reference_form_refuses_arrays_and_values() {
+        let env = column();
+        assert_eq!(env.eval("=AGGREGATE(4,6,A1:A6)"), n(9.0));
+        assert_eq!(env.eval("=AGGREGATE(9,6,A1:A6,A3)"), n(26.0));
+        assert_eq!(env.eval("=AGGREGATE(9,6,A1:A6*2)"), err(XlError::Value));
+        assert_eq!(env.eval("=AGGREGATE(9,6,5)"), err(XlError::Value));
+    }
+}
+
 fn formulatext(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let (sheet, pos) = referenced_cell(ctx, &args[0])?;
     ctx.env.formula_text(sheet, pos).map(Value::text).ok_or(XlError::NA)
@@ -320,7 +379,13 @@ impl Skip {
 
 /// The references and values of the arguments with the cells `skip` names taken out, as
 /// one array argument.
-fn without_subtotals(ctx: &mut Ctx, args: &[Expr], skip: Skip) -> Vec<Value> {
+///
+/// A computed array (`A1:A9*(B1:B9>0)`) has no rows to hide or subtotal cells: only its
+/// errors can be left out, as Excel's AGGREGATE documents. A whole column's array counts
+/// every item, its tail included (`AGGREGATE(15,6,A:A*1,1)` is 0 when A has blanks).
+/// `values_allowed` false: an argument that is no reference is `#VALUE!` (AGGREGATE's
+/// reference form, functions 1–13, takes "no actual data, no arrays").
+fn without_subtotals(ctx: &mut Ctx, args: &[Expr], skip: Skip, values_allowed: bool) -> XlResult<Vec<Value>> {
     let mut out = Vec::new();
     for a in args {
         match ctx.operand(a) {
@@ -330,13 +395,28 @@ fn without_subtotals(ctx: &mut Ctx, args: &[Expr], skip: Skip) -> Vec<Value> {
                     kept_values(ctx, sheet, rect, skip, &mut out);
                 }
             }
-            Operand::Value(Value::Array(arr)) => {
-                out.extend(arr.data.iter().filter(|v| !(skip.errors && matches!(v, Value::Error(_)))).cloned());
-            }
+            Operand::Value(_) if !values_allowed => return Err(XlError::Value),
+            Operand::Value(Value::Array(arr)) => array_items(ctx, &arr, skip, &mut out)?,
             Operand::Value(v) => out.push(v),
         }
     }
-    out
+    Ok(out)
+}
+
+/// Every item of a computed array, the tail's too, but the errors `skip` leaves out.
+fn array_items(ctx: &mut Ctx, arr: &Array, skip: Skip, out: &mut Vec<Value>) -> XlResult<()> {
+    let kept = |v: &Value| !(skip.errors && matches!(v, Value::Error(_)));
+    out.extend(arr.data.iter().filter(|v| kept(v)).cloned());
+    if let Some(tail) = &arr.tail {
+        if too_many_items(tail.rows, tail.cols) {
+            return Err(ctx.explain(XlError::Num, too_many_items_note(tail.rows, tail.cols)));
+        }
+        if kept(&tail.fill) {
+            let count = tail.rows * tail.cols - arr.rows * arr.cols;
+            out.extend(std::iter::repeat_n(tail.fill.clone(), count));
+        }
+    }
+    Ok(())
 }
 
 /// The values of one range that `skip` keeps, pushed onto `out`.
@@ -355,7 +435,6 @@ fn kept_values(ctx: &Ctx, sheet: crate::formula::ast::SheetId, rect: Rect, skip:
 
 /// Calls the aggregate `code` (1-based) on `values` as one array, plus `extra` arguments.
 fn call_on(ctx: &mut Ctx, code: usize, values: Vec<Value>, extra: &[Expr]) -> Value {
-    use crate::eval::value::Array;
     use std::rc::Rc;
     let n = values.len();
     let array = if n == 0 { Value::Blank } else { Value::Array(Rc::new(Array::column(values))) };
@@ -375,7 +454,7 @@ fn subtotal(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         c if (101.0..=111.0).contains(&c) => (c as usize - 100, true),
         _ => return Err(XlError::Value),
     };
-    let values = without_subtotals(ctx, &args[1..], Skip { subtotals: true, hidden, errors: false });
+    let values = without_subtotals(ctx, &args[1..], Skip { subtotals: true, hidden, errors: false }, true)?;
     first_error_unless_counting(code, &values)?;
     Ok(call_on(ctx, code, values, &[]))
 }
@@ -398,7 +477,7 @@ fn aggregate(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     } else {
         (&args[2..], &args[..0])
     };
-    let values = without_subtotals(ctx, refs, skip);
+    let values = without_subtotals(ctx, refs, skip, code >= 14)?;
     first_error_unless_counting(code, &values)?;
     Ok(call_on(ctx, code, values, extra))
 }
