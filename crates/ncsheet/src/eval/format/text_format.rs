@@ -19,9 +19,11 @@ enum Tok {
     Point,
     Comma,
     Percent,
-    /// `E+` (sign always shown) or `E-` (only a minus sign).
+    /// `E+` (sign always shown) or `E-` (only a minus sign); `e+`/`e-` in VBA's Format,
+    /// which writes a small `e`.
     Exp {
         plus: bool,
+        small: bool,
     },
     Lit(String),
     /// `@`: the text value.
@@ -81,9 +83,29 @@ pub struct NumberFormat {
     sections: Vec<Section>,
 }
 
+/// Whose reading of a format code: Excel's (a cell's format, TEXT) or VBA's Format.
+#[derive(Clone, Copy, PartialEq)]
+enum Dialect {
+    /// Only `E+` and `E-` are scientific ([MS-OI29500] 2.1.713 e); `e` and `ee` are the
+    /// year as `yyyy` (f), so Excel refuses `0.0e+0`.
+    Excel,
+    /// VBA's Format: `E-`, `E+`, `e-` and `e+` are scientific, writing `E` or `e` as given.
+    Vba,
+}
+
 impl NumberFormat {
     pub fn parse(format: &str) -> XlResult<NumberFormat> {
-        let sections = split_sections(format).iter().map(|s| parse_section(s)).collect::<XlResult<Vec<_>>>()?;
+        NumberFormat::parse_as(format, Dialect::Excel)
+    }
+
+    /// A format code as VBA's Format reads it (`e+` is scientific with a small `e`).
+    pub fn parse_vba(format: &str) -> XlResult<NumberFormat> {
+        NumberFormat::parse_as(format, Dialect::Vba)
+    }
+
+    fn parse_as(format: &str, dialect: Dialect) -> XlResult<NumberFormat> {
+        let sections =
+            split_sections(format).iter().map(|s| parse_section(s, dialect)).collect::<XlResult<Vec<_>>>()?;
         Ok(NumberFormat { sections })
     }
 
@@ -210,7 +232,7 @@ fn split_sections(format: &str) -> Vec<String> {
     sections
 }
 
-fn parse_section(text: &str) -> XlResult<Section> {
+fn parse_section(text: &str, dialect: Dialect) -> XlResult<Section> {
     let chars: Vec<char> = text.chars().collect();
     let mut section = Section::default();
     let mut i = 0;
@@ -255,9 +277,14 @@ fn parse_section(text: &str) -> XlResult<Section> {
             ',' => Tok::Comma,
             '%' => Tok::Percent,
             '@' => Tok::TextAt,
-            'e' if matches!(chars.get(i), Some('+' | '-')) => {
+            'e' if matches!(chars.get(i), Some('+' | '-')) && (c == 'E' || dialect == Dialect::Vba) => {
                 i += 1;
-                Tok::Exp { plus: chars[i - 1] == '+' }
+                Tok::Exp { plus: chars[i - 1] == '+', small: c == 'e' }
+            }
+            'e' if c == 'e' && dialect == Dialect::Excel => {
+                // The era year, `yyyy` outside Japanese and Chinese (Taiwan) locales.
+                i += chars[i..].iter().take_while(|&&x| x == 'e').count();
+                Tok::Date(DatePart::Year(4))
             }
             'g' if starts_with_ignore_case(&chars[i - 1..], "general") => {
                 i += "general".len() - 1;
@@ -788,8 +815,8 @@ fn render(section: &Section, layout: &Layout, shown: &Shown) -> String {
                 out.push('.');
                 region = 1;
             }
-            Tok::Exp { plus } => {
-                out.push('E');
+            Tok::Exp { plus, small } => {
+                out.push(if *small { 'e' } else { 'E' });
                 let e = shown.exponent.unwrap_or(0);
                 if e < 0 {
                     out.push('-');
@@ -1063,6 +1090,40 @@ mod tests {
         assert_eq!(fmt(150.0, "[>=100]\"big\";0"), "big");
         assert_eq!(fmt(-3.0, "[Red]0.0;[Blue]-0.0"), "-3.0");
         assert!(NumberFormat::parse("0.0\"/min\"").is_ok());
+    }
+
+    /// [MS-OI29500] 2.1.713 e and f: in Office only `E+` and `E-` make scientific
+    /// notation, and `e`/`ee` are the year as `yyyy` outside Japanese and Chinese (Taiwan)
+    /// locales, so `0.0e+0` mixes digits with a date, which Excel refuses (its Format Cells
+    /// does not take it: tidyxl issue 52, tried in Excel). VBA's Format documents `E-`, `E+`,
+    /// `e-` and `e+` and writes the `E` or `e` given.
+    #[test]
+    fn only_a_capital_e_is_scientific_in_excel_and_vba_keeps_a_small_one() {
+        assert_eq!(fmt(12345.678, "0.00E+00"), "1.23E+04");
+        assert_eq!(fmt(0.000123, "0.00E-00"), "1.23E-04");
+        assert!(NumberFormat::parse("0.00e+00").is_err());
+        assert!(NumberFormat::parse("0.0e-0").is_err());
+        assert_eq!(fmt(45000.0, "e"), "2023");
+        assert_eq!(fmt(45000.0, "ee-mm-dd"), "2023-03-15");
+        let vba = |n: f64, f: &str| NumberFormat::parse_vba(f).unwrap().format_number(n, DateSystem::From1900).unwrap();
+        assert_eq!(vba(12345.678, "0.00e+00"), "1.23e+04");
+        assert_eq!(vba(0.000123, "0.00e-00"), "1.23e-04");
+        assert_eq!(vba(12345.678, "0.00E+00"), "1.23E+04");
+    }
+
+    /// Microsoft's "Number format codes": a comma after the digit placeholders scales by
+    /// 1,000 (`#,` shows 12,000 as 12; `0.0,,` shows 12,200,000 as 12.2); `[h]`, `[mm]` and
+    /// `[ss]` count elapsed hours, minutes and seconds past 24 and 60; `.00` after seconds
+    /// shows hundredths.
+    #[test]
+    fn scaling_commas_and_elapsed_time_as_microsoft_documents_them() {
+        assert_eq!(fmt(12000.0, "#,"), "12");
+        assert_eq!(fmt(12200000.0, "0.0,,"), "12.2");
+        assert_eq!(fmt(123456789.0, "0.0,,\"M\""), "123.5M");
+        assert_eq!(fmt(25.02 / 24.0, "[h]:mm"), "25:01");
+        assert_eq!(fmt((63.0 * 60.0 + 46.0) / 86400.0, "[mm]:ss"), "63:46");
+        assert_eq!(fmt(0.01, "[ss]"), "864");
+        assert_eq!(fmt((4.0 * 3600.0 + 36.0 * 60.0 + 3.75) / 86400.0, "h:mm:ss.00"), "4:36:03.75");
     }
 
     #[test]

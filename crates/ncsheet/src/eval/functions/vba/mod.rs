@@ -524,7 +524,7 @@ pub fn format_number(n: f64, pattern: &str) -> XlResult<String> {
         "scientific" => "0.00E+00",
         _ => pattern,
     };
-    NumberFormat::parse(named)?.format_number(n, VBA_DATES)
+    NumberFormat::parse_vba(named)?.format_number(n, VBA_DATES)
 }
 
 /// `text Like pattern` ([MS-VBAL] 5.6.9.5.7, Option Compare Binary): `?` one character, `*`
