@@ -18,16 +18,24 @@ use super::report::{Error, Result};
 pub struct ServeArgs {
     /// The workbook (.csv, .xlsx, .xlsm)
     pub file: PathBuf,
-    /// The port on 127.0.0.1 (default: a free one)
+    /// The port on 127.0.0.1; 0 takes a free one
     #[arg(long, value_name = "P", default_value_t = 0)]
     pub port: u16,
     /// Open the URL in the desktop's browser (xdg-open)
     #[arg(long)]
     pub open: bool,
+    #[command(flatten)]
+    pub reading: super::WorkbookOptions,
 }
 
-pub fn run(args: ServeArgs) -> Result<()> {
-    let options = Options { port: args.port, macro_files: macro_files_beside(&args.file) };
+/// Serves `args.file`, read as every other command reads a workbook (`--delimiter`,
+/// `--locale`, the read limits and `--timeout`).
+pub fn run(args: ServeArgs, delimiter: Option<u8>) -> Result<()> {
+    let options = Options {
+        port: args.port,
+        macro_files: macro_files_beside(&args.file),
+        open: super::open_options(delimiter),
+    };
     let server = Server::open(&args.file, &options).map_err(|e| Error::User(e.to_string()))?;
     let url = server.url();
     println!("{url}");

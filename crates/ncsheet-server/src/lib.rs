@@ -9,6 +9,7 @@
 
 mod guard;
 mod machining;
+mod paths;
 mod routes;
 mod workbench;
 
@@ -35,6 +36,10 @@ pub struct Options {
     /// Macro files (.bas) beside the workbook that the page may run: the caller lists the
     /// folder, the server reads only these.
     pub macro_files: Vec<PathBuf>,
+    /// How to read the workbook: the command line's read limits, locale, csv delimiter and
+    /// the limits of the workbook's own functions, as every other command reads it (the
+    /// name is the served file's).
+    pub open: OpenOptions,
 }
 
 /// Why the workbench did not start or stopped.
@@ -60,6 +65,58 @@ impl fmt::Display for Error {
 
 impl std::error::Error for Error {}
 
+/// The parts of [`OpenOptions`] that cross to the document's thread (a macro's output sink
+/// cannot). The workbook's own functions keep the command line's limits but not its
+/// deadline: a deadline set when the server starts would stop every function call after it.
+struct Reading {
+    format: Option<ncsheet::io::Format>,
+    csv_delimiter: Option<u8>,
+    read_limits: ncsheet::io::limits::ReadLimits,
+    settings: Option<ncsheet::eval::Settings>,
+    limits: [u64; 6],
+}
+
+impl Reading {
+    fn of(open: &OpenOptions) -> Reading {
+        let f = &open.functions;
+        Reading {
+            format: open.format,
+            csv_delimiter: open.csv_delimiter,
+            read_limits: open.read_limits,
+            settings: open.settings.clone(),
+            limits: [
+                f.max_statements,
+                f.max_depth as u64,
+                f.max_string as u64,
+                f.max_array_items as u64,
+                f.max_output,
+                f.max_memory,
+            ],
+        }
+    }
+
+    fn options(&self, path: &Path) -> OpenOptions {
+        let [max_statements, max_depth, max_string, max_array_items, max_output, max_memory] = self.limits;
+        let functions = ncsheet::vba::RunOptions {
+            max_statements,
+            max_depth: max_depth as usize,
+            max_string: max_string as usize,
+            max_array_items: max_array_items as usize,
+            max_output,
+            max_memory,
+            ..Default::default()
+        };
+        OpenOptions {
+            name: path.to_path_buf(),
+            format: self.format,
+            csv_delimiter: self.csv_delimiter,
+            read_limits: self.read_limits,
+            settings: self.settings.clone(),
+            functions,
+        }
+    }
+}
+
 /// A job for the document's thread.
 type Job = Box<dyn FnOnce(&mut Workbench) + Send>;
 
@@ -74,12 +131,13 @@ struct Gone;
 
 impl DocumentThread {
     /// Opens the workbook on a new thread that then runs the jobs sent to it.
-    fn start(path: &Path) -> Result<DocumentThread, Error> {
+    fn start(path: &Path, open: &OpenOptions) -> Result<DocumentThread, Error> {
         let (jobs, mut queue) = mpsc::unbounded_channel::<Job>();
         let (opened_tx, opened_rx) = std::sync::mpsc::channel::<Result<(), String>>();
         let path = path.to_path_buf();
+        let reading = Reading::of(open);
         let thread = std::thread::Builder::new().name("workbook".into()).stack_size(DOCUMENT_STACK).spawn(move || {
-            let mut bench = match Document::open_file(&path, &OpenOptions::named(&path)) {
+            let mut bench = match Document::open_file(&path, &reading.options(&path)) {
                 Ok(doc) => Workbench::new(doc, path),
                 Err(e) => return drop(opened_tx.send(Err(e.to_string()))),
             };
@@ -118,7 +176,7 @@ pub struct Server {
 impl Server {
     /// Opens the workbook at `path` and takes the port on 127.0.0.1 (never another address).
     pub fn open(path: &Path, options: &Options) -> Result<Server, Error> {
-        let document = DocumentThread::start(path)?;
+        let document = DocumentThread::start(path, &options.open)?;
         let address = SocketAddr::from((Ipv4Addr::LOCALHOST, options.port));
         let listener = TcpListener::bind(address).map_err(|error| Error::Bind { port: options.port, error })?;
         let port = listener.local_addr().map_err(|error| Error::Bind { port: options.port, error })?.port();

@@ -90,7 +90,19 @@ pub fn macros(bench: &Workbench, bas_files: &[PathBuf]) -> Json {
         let subs = read_bas(path).map(|s| sub_names(&s)).unwrap_or_default();
         sources.push(json!({ "source": format!("file:{name}"), "label": name, "subs": subs }));
     }
-    json!({ "sources": sources, "dialects": dialect::names() })
+    json!({ "sources": sources, "dialects": dialects(), "machines": [machine_name(Machine::Lathe), machine_name(Machine::Mill)] })
+}
+
+/// Every dialect with the machines whose programs it writes, for the page's choice.
+fn dialects() -> Vec<Json> {
+    let machines = [Machine::Lathe, Machine::Mill];
+    dialect::all()
+        .into_iter()
+        .map(|d| {
+            let writes: Vec<&str> = machines.into_iter().filter(|&m| d.writes(m)).map(machine_name).collect();
+            json!({ "name": d.name(), "machines": writes })
+        })
+        .collect()
 }
 
 /// The names of the Subs a module declares, which a run may start at.
@@ -121,6 +133,8 @@ pub struct RunRequest {
     /// The Sub to start at (empty: `Main`, or the first Sub without arguments).
     pub sub: String,
     pub dialect: String,
+    /// The machine the program is for until the macro says `Nc.Machine`: `lathe` or `mill`.
+    pub machine: String,
     /// The sheet `Range` and `Cells` mean before the macro activates another.
     pub sheet: SheetId,
 }
@@ -129,9 +143,16 @@ pub fn run(bench: &mut Workbench, bas_files: &[PathBuf], request: &RunRequest) -
     let (source, sub, dialect_name) = (request.source.as_str(), request.sub.as_str(), request.dialect.as_str());
     let d = dialect::by_name(dialect_name)
         .ok_or_else(|| refused(format!("dialect {dialect_name}: one of {}", dialect::names().join(", "))))?;
+    let chosen = machine_named(&request.machine)?;
+    if !d.writes(chosen) {
+        return Err(refused(format!("{} writes no {} programs", d.name(), request.machine)));
+    }
     let (file, text) = macro_text(bench, bas_files, source)?;
-    let options = run_options(bench.document(), sub, d.name(), request.sheet);
-    let out = vba::run(bench.workbook_mut(), &text, &file, &options).map_err(|e| refused(e.to_string()))?;
+    let mut options = run_options(bench.document(), sub, d, request.sheet);
+    options.machine = chosen;
+    let label = format!("macro {}", if sub.is_empty() { file.as_str() } else { sub });
+    let out =
+        bench.with_macro(&label, |wb| vba::run(wb, &text, &file, &options)).map_err(|e| refused(e.to_string()))?;
     let printed = out.printed.clone();
     if !out.program.blocks.iter().any(|b| !matches!(b, Block::Comment(_))) {
         return Ok(
@@ -140,7 +161,7 @@ pub fn run(bench: &mut Workbench, bas_files: &[PathBuf], request: &RunRequest) -
     }
     let program_text = d.render(&out.program).map_err(|e| refused(format!("{file}: {e}")))?;
     let machine = out.program.machine;
-    let (read_back, line_of_block) = read::read_dialect(&program_text, d.name(), Some(machine))
+    let (read_back, line_of_block) = read::read_dialect(&program_text, d, Some(machine))
         .map_err(|e| refused(format!("the program as written does not read back: {e}")))?;
     let path = backplot::toolpath(&read_back).map_err(|e| refused(e.message))?;
     let title = format!("{file} ({})", d.name());
@@ -151,7 +172,30 @@ pub fn run(bench: &mut Workbench, bas_files: &[PathBuf], request: &RunRequest) -
         .map(|m| json!({ "block": m.block, "line": line_of_block.get(m.block.saturating_sub(1)), "from": m.from, "to": m.to, "rapid": m.kind == backplot::MoveKind::Rapid }))
         .collect();
     let lines: Vec<&str> = program_text.lines().collect();
-    Ok(json!({ "lines": lines, "printed": printed, "svg": svg, "moves": moves, "machine": machine_name(machine) }))
+    let download =
+        format!("{}.{}", file.rsplit_once('.').map_or(file.as_str(), |(stem, _)| stem), program_extension(d.name()));
+    Ok(json!({
+        "lines": lines, "printed": printed, "svg": svg, "moves": moves, "machine": machine_name(machine),
+        "program": program_text, "download": download,
+    }))
+}
+
+/// The file extension a control's programs usually carry.
+fn program_extension(dialect_name: &str) -> &'static str {
+    match dialect_name {
+        "linuxcnc" => "ngc",
+        "sinumerik" => "mpf",
+        "heidenhain" => "h",
+        _ => "nc",
+    }
+}
+
+fn machine_named(name: &str) -> Result<Machine, Refused> {
+    match name {
+        "lathe" => Ok(Machine::Lathe),
+        "mill" => Ok(Machine::Mill),
+        other => Err(refused(format!("machine {other}: lathe or mill"))),
+    }
 }
 
 fn machine_name(machine: Machine) -> &'static str {
@@ -179,7 +223,7 @@ fn macro_text(bench: &Workbench, bas_files: &[PathBuf], source: &str) -> Result<
     Err(refused(format!("{source}: name a macro as module:NAME or file:NAME.bas")))
 }
 
-fn run_options(doc: &Document, sub: &str, dialect_name: &str, sheet: SheetId) -> RunOptions {
+fn run_options(doc: &Document, sub: &str, dialect: &'static dyn dialect::Dialect, sheet: SheetId) -> RunOptions {
     let sheets = doc.layout().into_iter().flat_map(|l| &l.sheets);
     let code_names = sheets.clone().filter_map(|(name, s)| Some((s.code_name.clone()?, name.clone()))).collect();
     RunOptions {
@@ -188,7 +232,7 @@ fn run_options(doc: &Document, sub: &str, dialect_name: &str, sheet: SheetId) ->
         code_names,
         active_cells: sheets.filter_map(|(name, s)| Some((name.clone(), s.active_cell?))).collect(),
         sheet: doc.workbook().sheet_names().into_iter().nth(sheet as usize),
-        dialect: Some(dialect_name.to_string()),
+        dialect: Some(dialect),
         ..RunOptions::default()
     }
 }

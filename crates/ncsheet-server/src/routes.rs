@@ -16,8 +16,8 @@ use axum::{Json, Router};
 use serde_json::{json, Value as Json_};
 
 use super::guard::{Claims, Guard, TOKEN_HEADER};
-use super::machining;
 use super::workbench::{refused, Refused, Window, Workbench};
+use super::{machining, paths};
 use super::{DocumentThread, Gone};
 use ncsheet::document::SaveFormat;
 use ncsheet::formula::address::Pos;
@@ -46,6 +46,8 @@ pub fn router(app: App) -> Router {
         .route("/api/download", get(download))
         .route("/api/save", post(save))
         .route("/api/chamfer", get(chamfer))
+        .route("/api/archfit", get(arch_fit))
+        .route("/api/ballpath", get(ball_path))
         .route("/api/macros", get(macros))
         .route("/api/run", post(run_macro))
         .fallback(not_found)
@@ -273,6 +275,22 @@ async fn chamfer(State(app): State<App>, Query(params): Params) -> Response {
     .await
 }
 
+async fn arch_fit(State(app): State<App>, Query(params): Params) -> Response {
+    on_workbook(&app, move |bench| {
+        let (sheet, pos) = cell_from(bench, |k| number(&params, k))?;
+        paths::arch_fit(bench.document(), sheet, pos)
+    })
+    .await
+}
+
+async fn ball_path(State(app): State<App>, Query(params): Params) -> Response {
+    on_workbook(&app, move |bench| {
+        let (sheet, pos) = cell_from(bench, |k| number(&params, k))?;
+        paths::ball_path(bench.document(), sheet, pos)
+    })
+    .await
+}
+
 async fn macros(State(app): State<App>) -> Response {
     let files = app.bas_files.clone();
     on_workbook(&app, move |bench| Ok(machining::macros(bench, &files))).await
@@ -286,9 +304,12 @@ async fn run_macro(State(app): State<App>, body: Bytes) -> Response {
             source: json_text(&body, "source")?.to_string(),
             sub: json_text(&body, "sub")?.to_string(),
             dialect: json_text(&body, "dialect")?.to_string(),
+            machine: body.get("machine").and_then(Json_::as_str).unwrap_or("lathe").to_string(),
             sheet: bench.sheet(json_number(&body, "sheet")?)?,
         };
-        machining::run(bench, &files, &request)
+        let mut answer = machining::run(bench, &files, &request)?;
+        answer["history"] = bench.history();
+        Ok(answer)
     })
     .await
 }

@@ -33,13 +33,21 @@ pub fn refused(message: impl Into<String>) -> Refused {
     Refused { message: message.into(), conflict: false }
 }
 
-/// One edit as typed: what the cell held before and after, as a user would type it.
+/// One cell's edit as typed: what the cell held before and after, as a user would type it.
 #[derive(Clone, Debug)]
 struct Edit {
     sheet: SheetId,
     pos: Pos,
     before: String,
     after: String,
+}
+
+/// One step of the history: a typed edit, or all the cells a macro wrote (undone together).
+#[derive(Clone, Debug)]
+struct Step {
+    edits: Vec<Edit>,
+    /// What the step was, for the status line: the cell's name, or the macro's.
+    label: String,
 }
 
 /// Which way an edit of the history is made again.
@@ -70,8 +78,8 @@ pub struct Workbench {
     doc: Document,
     /// The file the document was opened from: the only file saved over, and only when asked.
     path: PathBuf,
-    undo: Vec<Edit>,
-    redo: Vec<Edit>,
+    undo: Vec<Step>,
+    redo: Vec<Step>,
 }
 
 impl Workbench {
@@ -83,9 +91,32 @@ impl Workbench {
         &self.doc
     }
 
-    /// The workbook, for a macro run from the page (its writes are not in the edit history).
-    pub fn workbook_mut(&mut self) -> &mut ncsheet::workbook::Workbook {
-        self.doc.workbook_mut()
+    /// Runs `f` (a macro) on the workbook and keeps the cells it wrote as one step of the
+    /// history, named `label`: an undo types back every input it replaced. The writes stay
+    /// and are kept for undo even when `f` fails partway.
+    pub fn with_macro<R>(&mut self, label: &str, f: impl FnOnce(&mut ncsheet::workbook::Workbook) -> R) -> R {
+        let wb = self.doc.workbook_mut();
+        wb.start_journal();
+        let result = f(wb);
+        let written = wb.take_journal();
+        let edits: Vec<Edit> = written
+            .into_iter()
+            .map(|(sheet, pos, before)| {
+                let after = wb.input(sheet, pos).unwrap_or_default();
+                Edit { sheet, pos, before, after }
+            })
+            .filter(|e| e.before != e.after)
+            .collect();
+        if !edits.is_empty() {
+            self.undo.push(Step { edits, label: label.to_string() });
+            self.redo.clear();
+        }
+        result
+    }
+
+    /// The depth of the undo and redo histories, for the page's buttons.
+    pub fn history(&self) -> Json {
+        json!({ "undo": self.undo.len(), "redo": self.redo.len() })
     }
 
     /// The sheets with their extent, the import's notes and the history's depth.
@@ -109,10 +140,6 @@ impl Workbench {
             "notes": self.doc.notes(),
             "history": self.history(),
         })
-    }
-
-    fn history(&self) -> Json {
-        json!({ "undo": self.undo.len(), "redo": self.redo.len() })
     }
 
     /// Column widths the file gave, in Excel's character units, as `[column, width]`.
@@ -197,8 +224,9 @@ impl Workbench {
     pub fn set(&mut self, sheet: SheetId, pos: Pos, input: &str, window: Window) -> Result<Json, Refused> {
         let before = self.doc.workbook().input(sheet, pos).unwrap_or_default();
         let edit = Edit { sheet, pos, before, after: input.to_string() };
-        let changed = self.apply(&edit, &edit.after, window)?;
-        self.undo.push(edit);
+        let step = Step { label: self.doc.workbook().cell_name(sheet, pos), edits: vec![edit] };
+        let changed = self.apply(&step, Replay::Redo, window)?;
+        self.undo.push(step);
         self.redo.clear();
         Ok(self.with_history(changed))
     }
@@ -213,30 +241,47 @@ impl Workbench {
         self.replay(Replay::Redo, window)
     }
 
-    /// Moves the last edit of one history to the other, typing its input before (undo) or
-    /// after (redo) into its cell; a refused input leaves both histories as they were.
+    /// Moves the last step of one history to the other, typing its inputs before (undo) or
+    /// after (redo) into its cells; a refused input leaves both histories as they were.
     fn replay(&mut self, way: Replay, window: Window) -> Result<Json, Refused> {
         let popped = match way {
             Replay::Undo => self.undo.pop(),
             Replay::Redo => self.redo.pop(),
         };
-        let Some(edit) = popped else { return Err(refused(format!("nothing to {}", way.word()))) };
-        let input = if way == Replay::Undo { &edit.before } else { &edit.after };
-        let result = self.apply(&edit, input, window);
-        // The edit stands undone after an undo that went through or a redo that did not.
+        let Some(step) = popped else { return Err(refused(format!("nothing to {}", way.word()))) };
+        let result = self.apply(&step, way, window);
+        // The step stands undone after an undo that went through or a redo that did not.
         let stands_undone = (way == Replay::Undo) == result.is_ok();
         if stands_undone {
-            self.redo.push(edit);
+            self.redo.push(step);
         } else {
-            self.undo.push(edit);
+            self.undo.push(step);
         }
         result.map(|changed| self.with_history(changed))
     }
 
-    /// Sets the edit's cell to `input` and compares the window before and after.
-    fn apply(&mut self, edit: &Edit, input: &str, window: Window) -> Result<Json, Refused> {
+    /// Types a step's inputs (before for an undo, last edit first; after for a redo) and
+    /// compares the window before and after. A refused input puts back the cells already
+    /// typed, so the workbook is as it was.
+    fn apply(&mut self, step: &Step, way: Replay, window: Window) -> Result<Json, Refused> {
         let before: HashMap<Pos, Shown> = self.shown_window(window).into_iter().collect();
-        let problems = self.doc.set(edit.sheet, edit.pos, input).map_err(|p| refused(self.place(&p)))?;
+        let ordered: Vec<&Edit> =
+            if way == Replay::Undo { step.edits.iter().rev().collect() } else { step.edits.iter().collect() };
+        let typed = |e: &Edit, way: Replay| if way == Replay::Undo { e.before.clone() } else { e.after.clone() };
+        let mut problems = Vec::new();
+        for (done, edit) in ordered.iter().enumerate() {
+            match self.doc.set(edit.sheet, edit.pos, &typed(edit, way)) {
+                Ok(found) => problems.extend(found),
+                Err(p) => {
+                    let message = self.place(&p);
+                    let back = if way == Replay::Undo { Replay::Redo } else { Replay::Undo };
+                    for typed_already in ordered[..done].iter().rev() {
+                        let _ = self.doc.set(typed_already.sheet, typed_already.pos, &typed(typed_already, back));
+                    }
+                    return Err(refused(message));
+                }
+            }
+        }
         let after = self.shown_window(window);
         let mut explain = Explainer::new(&self.doc);
         let mut changed: Vec<Json> = Vec::new();
@@ -250,8 +295,7 @@ impl Workbench {
             changed.push(json!({ "r": pos.row, "c": pos.col, "shown": "", "input": "" }));
         }
         let problems: Vec<String> = problems.iter().map(|p| self.place(p)).collect();
-        let cell = self.doc.workbook().cell_name(edit.sheet, edit.pos);
-        Ok(json!({ "sheet": window.sheet, "cell": cell, "changed": changed, "problems": problems }))
+        Ok(json!({ "sheet": window.sheet, "cell": step.label, "changed": changed, "problems": problems }))
     }
 
     /// An edit's answer with the history's depth after it, for the page's buttons.

@@ -21,6 +21,8 @@ let fetching = false;
 let sel = { r: 0, c: 0 };
 let marks = { prec: [], dep: [] }; // rectangles on the shown sheet
 let runMoves = [];
+let dialects = [];        // {name, machines} from the server
+let program = null;       // the last run's program text and file name
 
 const key = (r, c) => r * 16384 + c;
 
@@ -202,6 +204,8 @@ async function inspect() {
   }
   const cell = cells.get(key(sel.r, sel.c));
   if (cell && /CHAMFER/i.test(cell.input)) drawChamfer(at);
+  if (cell && /ARCH_FIT/i.test(cell.input)) drawArchFit(at);
+  if (cell && /BALLPATH/i.test(cell.input)) drawBallPath(at);
 }
 
 async function goTo(targetSheet, r, c) {
@@ -218,12 +222,17 @@ function applyChanges(data) {
       else cells.set(key(cell.r, cell.c), cell);
     }
   }
-  book.history = data.history;
-  $('undo').disabled = !book.history.undo;
-  $('redo').disabled = !book.history.redo;
+  showHistory(data.history);
   status(data.problems && data.problems.length ? data.problems.join('  ') : data.cell + ': ' + data.changed.length + ' cell(s) changed on screen', data.problems && data.problems.length);
   render();
   showSelection();
+}
+
+function showHistory(h) {
+  if (!h) return;
+  book.history = h;
+  $('undo').disabled = !h.undo;
+  $('redo').disabled = !h.redo;
 }
 
 function editWindow() {
@@ -345,6 +354,138 @@ async function drawChamfer(at) {
   }
 }
 
+// The arcs an ARCH_FIT call fits over the true curve, and the deviation along the curve's
+// normal magnified so that its largest reaches a twentieth of the drawing.
+async function drawArchFit(at) {
+  try {
+    const g = await api('/api/archfit?' + query(at));
+    const xs = g.curve.map((p) => p.x), ys = g.curve.map((p) => p.y);
+    const span = Math.max(Math.max(...xs) - Math.min(...xs), Math.max(...ys) - Math.min(...ys)) || 1;
+    const most = Math.max(...g.curve.map((p) => p.d)) || 1e-12;
+    const gain = span / 20 / most;
+    const pad = span / 12;
+    const minX = Math.min(...xs) - pad, maxY = Math.max(...ys) + pad;
+    const W = 400, k = W / (span + 2 * pad), H = (Math.max(...ys) - Math.min(...ys) + 2 * pad) * k;
+    const X = (x) => ((x - minX) * k).toFixed(2), Y = (y) => ((maxY - y) * k).toFixed(2);
+    const curve = 'M' + g.curve.map((p) => X(p.x) + ',' + Y(p.y)).join(' L');
+    const magnified = 'M' + g.curve.map((p) => X(p.x + p.n[0] * p.d * gain) + ',' + Y(p.y + p.n[1] * p.d * gain)).join(' L');
+    // SVG's y runs down: a counter-clockwise arc in the part is clockwise on screen.
+    const arcs = g.arcs.map((a) => '<path class="arc" d="M' + X(a.start[0]) + ',' + Y(a.start[1]) + ' A' + (a.radius * k).toFixed(2) + ',' +
+      (a.radius * k).toFixed(2) + ' 0 0 ' + (a.ccw ? 0 : 1) + ' ' + X(a.end[0]) + ',' + Y(a.end[1]) + '" fill="none" stroke="#1f5fd0" stroke-width="2"/>' +
+      '<circle cx="' + X(a.end[0]) + '" cy="' + Y(a.end[1]) + '" r="2.5" fill="#1f5fd0"/>').join('');
+    $('arcs').innerHTML = '<div>' + esc(g.cell) + ': ' + esc(g.kind) + ' piece, ' + g.arcs.length + ' arcs within ' + g.tolerance +
+      ' mm (largest deviation ' + g.deviation.toExponential(2) + ' mm)</div>' +
+      '<svg viewBox="0 0 ' + W + ' ' + H.toFixed(1) + '"><path d="' + curve + '" fill="none" stroke="#999" stroke-width="5" stroke-opacity="0.5"/>' + arcs +
+      '<path id="deviation" d="' + magnified + '" fill="none" stroke="#d02020" stroke-width="1"/></svg>' +
+      '<div class="note">grey: the true curve; blue: the arcs and their joints; red: the deviation ×' + gain.toPrecision(3) + ' along the normal</div>';
+  } catch (e) {
+    $('arcs').textContent = e.message;
+  }
+}
+
+// ---- ball path: plan and section from the server, 3D drawn here ----------------------------
+
+let ball = null;                 // {points: Float64Array-like [x,y,z,...], lo, hi}
+let orbit = { yaw: -0.6, pitch: 0.9 };
+
+async function drawBallPath(at) {
+  try {
+    const g = await api('/api/ballpath?' + query(at));
+    const svgImg = (svg, alt) => '<img alt="' + alt + '" src="data:image/svg+xml;charset=utf-8,' + encodeURIComponent(svg) + '">';
+    $('ballpath').innerHTML = '<div>' + esc(g.cell) + ': ' + g.count + ' points, from ' + g.first.map((v) => v.toFixed(3)).join(', ') +
+      ' to ' + g.last.map((v) => v.toFixed(3)).join(', ') + '</div>' +
+      '<h2>Plan</h2>' + svgImg(g.plan, 'plan') + '<h2>Section</h2>' + svgImg(g.section, 'section') +
+      '<h2>3D</h2><canvas id="view3d" width="800" height="640" title="Drag to orbit"></canvas>';
+    ball = { points: g.points, lo: g.stock[0], hi: g.stock[1] };
+    draw3d();
+    const canvas = $('view3d');
+    let from = null;
+    canvas.addEventListener('mousedown', (e) => { from = [e.clientX, e.clientY]; });
+    window.addEventListener('mouseup', () => { from = null; });
+    canvas.addEventListener('mousemove', (e) => {
+      if (!from) return;
+      orbit.yaw += (e.clientX - from[0]) * 0.01;
+      orbit.pitch = Math.max(0, Math.min(Math.PI / 2, orbit.pitch + (e.clientY - from[1]) * 0.01));
+      from = [e.clientX, e.clientY];
+      requestAnimationFrame(draw3d);
+    });
+  } catch (e) {
+    $('ballpath').textContent = e.message;
+  }
+}
+
+// The colour of depth t in 0..1, as the plan's: dark blue deep to light yellow high.
+function depthColour(t) {
+  const stops = [[13, 26, 115], [0, 140, 153], [242, 217, 64]];
+  const u = Math.max(0, Math.min(1, t)) * 2, i = u < 1 ? 0 : 1, f = u - i;
+  return 'rgb(' + stops[i].map((a, j) => Math.round(a + (stops[i + 1][j] - a) * f)).join(',') + ')';
+}
+
+// The path in 3D with the stock's box, orbited by yaw and pitch; segments shorter than a
+// pixel on screen are merged, so a million points draw at once.
+function draw3d() {
+  const canvas = $('view3d');
+  if (!canvas || !ball) return;
+  const ctx = canvas.getContext('2d');
+  const W = canvas.width, H = canvas.height;
+  ctx.fillStyle = '#fff';
+  ctx.fillRect(0, 0, W, H);
+  const [lo, hi] = [ball.lo, ball.hi];
+  const mid = [0, 1, 2].map((i) => (lo[i] + hi[i]) / 2);
+  const size = Math.max(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) || 1;
+  const k = 0.62 * Math.min(W, H) / size;
+  const [cy, sy, cp, sp] = [Math.cos(orbit.yaw), Math.sin(orbit.yaw), Math.cos(orbit.pitch), Math.sin(orbit.pitch)];
+  const project = (x, y, z) => {
+    const dx = x - mid[0], dy = y - mid[1], dz = z - mid[2];
+    const u = dx * cy - dy * sy, v = dx * sy + dy * cy;
+    return [W / 2 + u * k, H / 2 - (dz * sp + v * cp) * k];
+  };
+  // The stock's box.
+  ctx.strokeStyle = '#9a8a5a';
+  ctx.lineWidth = 1;
+  const corner = (i) => project(i & 1 ? hi[0] : lo[0], i & 2 ? hi[1] : lo[1], i & 4 ? hi[2] : lo[2]);
+  ctx.beginPath();
+  for (const [a, b] of [[0, 1], [1, 3], [3, 2], [2, 0], [4, 5], [5, 7], [7, 6], [6, 4], [0, 4], [1, 5], [2, 6], [3, 7]]) {
+    const p = corner(a), q = corner(b);
+    ctx.moveTo(p[0], p[1]);
+    ctx.lineTo(q[0], q[1]);
+  }
+  ctx.stroke();
+  // The axes at the stock's lowest corner: X red, Y green, Z blue, a tenth of the box long.
+  const o = [lo[0], lo[1], lo[2]], len = size / 5;
+  [['X', [len, 0, 0], '#d02020'], ['Y', [0, len, 0], '#1a9a3a'], ['Z', [0, 0, len], '#1f5fd0']].forEach(([name, d, colour]) => {
+    const p = project(...o), q = project(o[0] + d[0], o[1] + d[1], o[2] + d[2]);
+    ctx.strokeStyle = colour;
+    ctx.lineWidth = 2;
+    ctx.beginPath(); ctx.moveTo(p[0], p[1]); ctx.lineTo(q[0], q[1]); ctx.stroke();
+    ctx.fillStyle = colour;
+    ctx.font = '14px sans-serif';
+    ctx.fillText(name, q[0] + 3, q[1] - 3);
+  });
+  const pts = ball.points, zspan = hi[2] - lo[2] || 1;
+  ctx.lineWidth = 1.2;
+  let last = project(pts[0], pts[1], pts[2]), band = -1;
+  ctx.beginPath();
+  for (let i = 3; i < pts.length; i += 3) {
+    const p = project(pts[i], pts[i + 1], pts[i + 2]);
+    const b = Math.min(7, Math.floor((pts[i + 2] - lo[2]) / zspan * 8));
+    if (Math.abs(p[0] - last[0]) < 0.7 && Math.abs(p[1] - last[1]) < 0.7 && b === band && i + 3 < pts.length) continue;
+    if (b !== band) {
+      ctx.stroke();
+      ctx.strokeStyle = depthColour(b / 7);
+      ctx.beginPath();
+      ctx.moveTo(last[0], last[1]);
+      band = b;
+    }
+    ctx.lineTo(p[0], p[1]);
+    last = p;
+  }
+  ctx.stroke();
+  ctx.fillStyle = '#333';
+  ctx.font = '14px sans-serif';
+  ctx.fillText('ball path, ' + (pts.length / 3) + ' points drawn; box ' + [0, 1, 2].map((i) => (hi[i] - lo[i]).toFixed(1)).join(' × ') + ' mm; drag to orbit', 8, H - 10);
+}
+
 async function loadMacros() {
   try {
     const data = await api('/api/macros');
@@ -353,10 +494,28 @@ async function loadMacros() {
       for (const sub of s.subs) options.push('<option value="' + esc(s.source) + '|' + esc(sub) + '">' + esc(s.label) + ' — ' + esc(sub) + '</option>');
     }
     $('macro').innerHTML = options.join('') || '<option value="">(no macro)</option>';
-    $('dialect').innerHTML = data.dialects.map((d) => '<option>' + esc(d) + '</option>').join('');
+    dialects = data.dialects;
+    $('machine').innerHTML = data.machines.map((m) => '<option>' + esc(m) + '</option>').join('');
+    listDialects();
   } catch (e) {
     status(e.message, true);
   }
+}
+
+// The dialects that write programs for the chosen machine.
+function listDialects() {
+  const chosen = $('dialect').value;
+  const able = dialects.filter((d) => d.machines.includes($('machine').value)).map((d) => d.name);
+  $('dialect').innerHTML = able.map((d) => '<option' + (d === chosen ? ' selected' : '') + '>' + esc(d) + '</option>').join('');
+}
+
+function downloadProgram() {
+  if (!program) return;
+  const a = document.createElement('a');
+  a.href = URL.createObjectURL(new Blob([program.text], { type: 'text/plain' }));
+  a.download = program.name;
+  a.click();
+  setTimeout(() => URL.revokeObjectURL(a.href), 10000);
 }
 
 async function runMacro() {
@@ -364,8 +523,11 @@ async function runMacro() {
   if (!source) return;
   status('running ' + sub + '…');
   try {
-    const data = await api('/api/run', { source, sub, dialect: $('dialect').value, sheet });
+    const data = await api('/api/run', { source, sub, dialect: $('dialect').value, machine: $('machine').value, sheet });
     runMoves = data.moves || [];
+    program = data.program ? { text: data.program, name: data.download } : null;
+    $('dlprogram').disabled = !program;
+    showHistory(data.history);
     $('program').innerHTML = (data.message ? '<div>' + esc(data.message) + '</div>' : '') +
       '<ol>' + data.lines.map((l) => '<li>' + esc(l) + '</li>').join('') + '</ol>' +
       (data.printed.length ? '<pre>' + esc(data.printed.join('\n')) + '</pre>' : '');
@@ -375,6 +537,10 @@ async function runMacro() {
     render();
   } catch (e) {
     status(e.message, true);
+    // A macro that failed partway keeps its writes (as Excel's does), undoable as one step.
+    fetched = null;
+    api('/api/sheets').then((b) => showHistory(b.history)).catch(() => {});
+    render();
   }
 }
 
@@ -447,6 +613,8 @@ $('saveover').addEventListener('click', () => save(true));
 $('dlxlsx').addEventListener('click', () => download('xlsx'));
 $('dlcsv').addEventListener('click', () => download('csv'));
 $('run').addEventListener('click', runMacro);
+$('machine').addEventListener('change', listDialects);
+$('dlprogram').addEventListener('click', downloadProgram);
 
 async function start() {
   try {

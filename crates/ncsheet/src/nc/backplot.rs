@@ -1,8 +1,11 @@
 //! A program's tool path as a backplot shows it: every move from a known position as a line
 //! or an arc in true lengths (a lathe's X diameter halved to a radius), its bounding box with
 //! the arcs' extreme points, and the SVG drawing of it in a chosen plane (rapids dashed, feeds
-//! solid, arcs as SVG arcs, start and direction marked, a scale bar and a legend). Pure: the
-//! command line reads the program and writes the drawing.
+//! solid, arcs as SVG arcs, start and direction marked, a scale bar and a legend; a grid with
+//! graduations in mm, the Z0 face, the stock when known, feeds coloured by depth in a plan
+//! view). A path of any length is thinned to what the drawing's pixels can show (lines that
+//! deviate less than half a pixel are merged) and written in paths of bounded length. Pure:
+//! the command line reads the program and writes the drawing.
 
 use std::f64::consts::{FRAC_PI_2, TAU};
 use std::fmt::Write;
@@ -237,10 +240,29 @@ const ARROWS: usize = 24;
 /// those units: k makes the drawing a few hundred units across, since renderers hint text
 /// smaller than a unit badly.
 pub fn svg_drawing(path: &Toolpath, plane: Plane, title: &str) -> Result<String, PlotError> {
-    let (lo, hi) = path.bounds().ok_or_else(|| PlotError {
+    svg_drawing_with(path, plane, title, &Extras::default())
+}
+
+/// What a backplot shows besides the path, when the caller knows it.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Extras {
+    /// The stock's box (lowest and highest corner, mm; a lathe's X as a radius).
+    pub stock: Option<([f64; 3], [f64; 3])>,
+}
+
+/// The backplot of `path` in `plane` with the stock of `extras` drawn behind it.
+pub fn svg_drawing_with(path: &Toolpath, plane: Plane, title: &str, extras: &Extras) -> Result<String, PlotError> {
+    let (mut lo, mut hi) = path.bounds().ok_or_else(|| PlotError {
         block: None,
         message: "the program makes no move from a known position: nothing to plot".into(),
     })?;
+    let (path_lo, path_hi) = (lo, hi);
+    if let Some((a, b)) = extras.stock {
+        grow(&mut lo, &mut hi, a);
+        grow(&mut lo, &mut hi, b);
+    }
+    // Feeds coloured by depth where the view looks along Z and the path goes up and down.
+    let depth = (plane == Plane::Xy && path_hi[2] - path_lo[2] > 1e-9).then_some((path_lo[2], path_hi[2]));
     let (p0, p1) = (plane.project(lo), plane.project(hi));
     let size_mm = (p1.x - p0.x).max(p1.y - p0.y).max(1e-3);
     let k = 10f64.powf((200.0 / size_mm).log10().ceil().max(0.0));
@@ -274,12 +296,21 @@ pub fn svg_drawing(path: &Toolpath, plane: Plane, title: &str) -> Result<String,
             fixed(p1.y, 3)
         ),
     ];
-    let legend_rows = [
+    let depth_row = depth.map(|(z0, z1)| {
+        format!("feeds coloured by depth: Z {} mm (dark) to {} mm (light)", fixed(z0, 3), fixed(z1, 3))
+    });
+    let mut legend_rows = vec![
         ("rapid", "rapid traverse (G0), dashed"),
         ("feed", "feed moves (G1 lines, G2/G3 arcs), solid"),
         ("start", "start of the path"),
         ("arrow", "direction of travel"),
     ];
+    if let Some(row) = &depth_row {
+        legend_rows.push(("depth", row.as_str()));
+    }
+    if extras.stock.is_some() {
+        legend_rows.push(("stock", "the stock"));
+    }
     let title_size = 0.9 * font;
     let text_width = |size: f64, text: &str| 0.66 * size * text.chars().count() as f64;
     let widest = titles
@@ -290,7 +321,8 @@ pub fn svg_drawing(path: &Toolpath, plane: Plane, title: &str) -> Result<String,
     let x0 = frame[0];
     let w = (frame[2] - frame[0]).max(widest);
     let y0 = frame[1] - 3.2 * font;
-    let legend_top = frame[3] + 2.8 * font;
+    // Below the frame: the graduations' numbers, then the scale bar, then the legend.
+    let legend_top = frame[3] + 3.8 * font;
     let y1 = legend_top + (legend_rows.len() as f64 + 0.5) * 1.4 * font;
     let h = y1 - y0;
     // At most 900 pixels across and 1200 down.
@@ -311,29 +343,37 @@ pub fn svg_drawing(path: &Toolpath, plane: Plane, title: &str) -> Result<String,
         frame[2] - frame[0],
         frame[3] - frame[1]
     );
+    if let Some(stock) = extras.stock {
+        stock_box(&mut out, stock, plane, k, stroke);
+    }
+    graduations(&mut out, frame, k, font, stroke, &names);
+    z0_face(&mut out, frame, plane, font, stroke);
     if (frame[0]..frame[2]).contains(&0.0) && (frame[1]..frame[3]).contains(&0.0) {
         svg::cross(&mut out, Point2::origin(), font, stroke, "#999");
     }
     // From here to the marks, millimetres.
     let mm_stroke = stroke / k;
     let _ = writeln!(out, "<g id=\"toolpath\" transform=\"scale({k})\" fill=\"none\" stroke-linecap=\"round\">");
-    for run in runs(&path.moves) {
-        let mut d = String::new();
-        let start = plane.project(run[0].from);
-        let _ = write!(d, "M {:.4} {:.4}", start.x, -start.y);
-        for m in run {
-            segment_path(&mut d, m, plane);
-        }
-        let style = match run[0].kind {
-            MoveKind::Rapid => format!(
+    // Half a pixel of the drawing, in mm: what thinning may move a line by.
+    let tolerance = 0.5 * w / px_width / k;
+    let band = |m: &Move| match (m.kind, depth) {
+        (MoveKind::Feed, Some(range)) => depth_band(0.5 * (m.from[2] + m.to[2]), range),
+        _ => 0,
+    };
+    for run in runs_by(&path.moves, band) {
+        let style = match (run[0].kind, depth) {
+            (MoveKind::Rapid, _) => format!(
                 "stroke=\"{RAPID_COLOUR}\" stroke-width=\"{:.5}\" stroke-dasharray=\"{:.5} {:.5}\"",
                 1.5 * mm_stroke,
                 8.0 * mm_stroke,
                 5.0 * mm_stroke
             ),
-            MoveKind::Feed => format!("stroke=\"{FEED_COLOUR}\" stroke-width=\"{:.5}\"", 2.5 * mm_stroke),
+            (MoveKind::Feed, None) => format!("stroke=\"{FEED_COLOUR}\" stroke-width=\"{:.5}\"", 2.5 * mm_stroke),
+            (MoveKind::Feed, Some(_)) => {
+                format!("stroke=\"{}\" stroke-width=\"{:.5}\"", depth_colour(band(&run[0])), 2.5 * mm_stroke)
+            }
         };
-        let _ = writeln!(out, "<path d=\"{d}\" {style}/>");
+        write_run(&mut out, run, plane, tolerance, &style);
     }
     let _ = writeln!(out, "</g>");
     let _ = writeln!(out, "<g id=\"marks\" transform=\"scale({k})\">");
@@ -389,19 +429,236 @@ fn axis_names(machine: Machine, plane: Plane) -> AxisNames {
     AxisNames { plane: name, across, up, across_letter: a, up_letter: u }
 }
 
-/// The moves split where the kind changes or the path jumps (a move after an unknown
-/// position), each run one SVG path.
-fn runs(moves: &[Move]) -> Vec<&[Move]> {
+/// The moves split where the kind or `band` changes or the path jumps (a move after an
+/// unknown position), each run drawn in one style.
+fn runs_by(moves: &[Move], band: impl Fn(&Move) -> usize) -> Vec<&[Move]> {
     let mut out = Vec::new();
     let mut first = 0;
     for i in 1..=moves.len() {
-        let split = i == moves.len() || moves[i].kind != moves[i - 1].kind || moves[i].from != moves[i - 1].to;
+        let split = i == moves.len()
+            || moves[i].kind != moves[i - 1].kind
+            || moves[i].from != moves[i - 1].to
+            || band(&moves[i]) != band(&moves[i - 1]);
         if split {
             out.push(&moves[first..i]);
             first = i;
         }
     }
     out
+}
+
+/// The most segments one `<path>` holds: renderers refuse attributes of many megabytes.
+const SEGMENTS_PER_PATH: usize = 2000;
+
+/// One run as `<path>`s in `style`: straight moves thinned to `tolerance` (mm) in the view,
+/// arcs as they are, a new path every [`SEGMENTS_PER_PATH`] segments.
+fn write_run(out: &mut String, run: &[Move], plane: Plane, tolerance: f64, style: &str) {
+    let mut d = String::new();
+    let mut segments = 0;
+    let mut at = plane.project(run[0].from);
+    let mut flush = |d: &mut String, segments: &mut usize, at: Point2<f64>, more: bool| {
+        if *segments > 0 {
+            let _ = writeln!(out, "<path d=\"{d}\" {style}/>");
+        }
+        d.clear();
+        *segments = 0;
+        if more {
+            let _ = write!(d, "M {:.4} {:.4}", at.x, -at.y);
+        }
+    };
+    flush(&mut d, &mut segments, at, true);
+    let mut i = 0;
+    while i < run.len() {
+        if run[i].arc.is_some() {
+            segment_path(&mut d, &run[i], plane);
+            at = plane.project(run[i].to);
+            segments += 1;
+            i += 1;
+        } else {
+            let straight = run[i..].iter().take_while(|m| m.arc.is_none()).count();
+            let mut points = vec![at];
+            points.extend(run[i..i + straight].iter().map(|m| plane.project(m.to)));
+            for p in thinned(&points, tolerance).into_iter().skip(1) {
+                let _ = write!(d, " L {:.4} {:.4}", p.x, -p.y);
+                at = p;
+                segments += 1;
+                if segments >= SEGMENTS_PER_PATH {
+                    flush(&mut d, &mut segments, at, true);
+                }
+            }
+            i += straight;
+        }
+        if segments >= SEGMENTS_PER_PATH {
+            flush(&mut d, &mut segments, at, true);
+        }
+    }
+    flush(&mut d, &mut segments, at, false);
+}
+
+/// The points of a polyline that keep it within `tolerance` of itself (Douglas–Peucker):
+/// the ends always, a point between only where leaving it out would move the line further.
+pub fn thinned(points: &[Point2<f64>], tolerance: f64) -> Vec<Point2<f64>> {
+    if points.len() < 3 {
+        return points.to_vec();
+    }
+    let mut keep = vec![false; points.len()];
+    keep[0] = true;
+    keep[points.len() - 1] = true;
+    let mut spans = vec![(0, points.len() - 1)];
+    while let Some((a, b)) = spans.pop() {
+        let (pa, pb) = (points[a], points[b]);
+        let chord = pb - pa;
+        let length = chord.norm();
+        let distance = |p: Point2<f64>| {
+            if length == 0.0 {
+                (p - pa).norm()
+            } else {
+                (chord.x * (p.y - pa.y) - chord.y * (p.x - pa.x)).abs() / length
+            }
+        };
+        let far = (a + 1..b).map(|i| (i, distance(points[i]))).fold((a, 0.0), |m, x| if x.1 > m.1 { x } else { m });
+        if far.1 > tolerance {
+            keep[far.0] = true;
+            spans.push((a, far.0));
+            spans.push((far.0, b));
+        }
+    }
+    points.iter().zip(keep).filter(|(_, k)| *k).map(|(p, _)| *p).collect()
+}
+
+/// Bands of depth a plan view colours feeds in.
+const DEPTH_BANDS: usize = 8;
+
+/// The band (0 the deepest) of depth `z` in the path's range of Z.
+fn depth_band(z: f64, (z0, z1): (f64, f64)) -> usize {
+    let t = ((z - z0) / (z1 - z0)).clamp(0.0, 1.0);
+    ((t * DEPTH_BANDS as f64) as usize).min(DEPTH_BANDS - 1)
+}
+
+/// A band's colour: dark blue deep, through teal, to light yellow high.
+fn depth_colour(band: usize) -> String {
+    let stops = [(0.05, 0.1, 0.45), (0.0, 0.55, 0.6), (0.95, 0.85, 0.25)];
+    let t = band as f64 / (DEPTH_BANDS - 1) as f64 * 2.0;
+    let (a, b, f) = if t <= 1.0 { (stops[0], stops[1], t) } else { (stops[1], stops[2], t - 1.0) };
+    let mix = |x: f64, y: f64| (255.0 * (x + (y - x) * f)).round() as u8;
+    format!("#{:02x}{:02x}{:02x}", mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
+}
+
+const STOCK_FILL: &str = "#f3ecd9";
+const STOCK_COLOUR: &str = "#9a8a5a";
+const GRID_COLOUR: &str = "#e4e4e4";
+const FACE_COLOUR: &str = "#555";
+
+/// The stock's box as the view sees it, behind everything else.
+fn stock_box(out: &mut String, (a, b): ([f64; 3], [f64; 3]), plane: Plane, k: f64, stroke: f64) {
+    let (p, q) = (plane.project(a), plane.project(b));
+    let _ = writeln!(
+        out,
+        "<rect id=\"stock\" x=\"{:.4}\" y=\"{:.4}\" width=\"{:.4}\" height=\"{:.4}\" fill=\"{STOCK_FILL}\" stroke=\"{STOCK_COLOUR}\" stroke-width=\"{:.4}\"/>",
+        p.x.min(q.x) * k,
+        -p.y.max(q.y) * k,
+        (q.x - p.x).abs() * k,
+        (q.y - p.y).abs() * k,
+        stroke
+    );
+}
+
+/// A round step (1, 2 or 5 times a power of ten) that cuts `span` into about 5 to 10 parts.
+fn grid_step(span: f64) -> f64 {
+    let rough = span / 8.0;
+    let power = 10f64.powf(rough.log10().floor());
+    [1.0, 2.0, 5.0, 10.0].into_iter().map(|m| m * power).find(|&s| s >= rough).unwrap_or(10.0 * power)
+}
+
+/// A grid over the frame at a round step in mm, numbered under the frame (across) and inside
+/// its left edge (up), with the axes named.
+fn graduations(out: &mut String, frame: [f64; 4], k: f64, font: f64, stroke: f64, names: &AxisNames) {
+    let (across, up) = ((frame[0] / k, frame[2] / k), (-frame[3] / k, -frame[1] / k));
+    let step = grid_step((across.1 - across.0).max(up.1 - up.0));
+    let decimals = (-step.log10().floor()).max(0.0) as usize;
+    let ticks = |(a, b): (f64, f64)| {
+        let first = (a / step).ceil() as i64;
+        let last = (b / step).floor() as i64;
+        (first..=last).map(move |i| i as f64 * step)
+    };
+    let size = 0.6 * font;
+    let _ = writeln!(out, "<g id=\"grid\" stroke=\"{GRID_COLOUR}\" stroke-width=\"{stroke:.4}\">");
+    for v in ticks(across) {
+        let _ = writeln!(out, "<path d=\"M {:.4} {:.4} V {:.4}\"/>", v * k, frame[1], frame[3]);
+    }
+    for v in ticks(up) {
+        let _ = writeln!(out, "<path d=\"M {:.4} {:.4} H {:.4}\"/>", frame[0], -v * k, frame[2]);
+    }
+    let _ = writeln!(out, "</g>");
+    let _ = writeln!(out, "<g id=\"graduations\" font-family=\"sans-serif\" font-size=\"{size:.4}\" fill=\"#555\">");
+    for v in ticks(across) {
+        let _ = writeln!(
+            out,
+            "<text x=\"{:.4}\" y=\"{:.4}\" text-anchor=\"middle\">{}</text>",
+            v * k,
+            frame[3] + 1.1 * size,
+            fixed(v, decimals)
+        );
+    }
+    for v in ticks(up) {
+        let _ = writeln!(
+            out,
+            "<text x=\"{:.4}\" y=\"{:.4}\" text-anchor=\"start\">{}</text>",
+            frame[0] + 0.3 * size,
+            -v * k - 0.3 * size,
+            fixed(v, decimals)
+        );
+    }
+    let _ = writeln!(
+        out,
+        "<text x=\"{:.4}\" y=\"{:.4}\" text-anchor=\"end\" font-weight=\"bold\">{} mm</text>",
+        frame[2],
+        frame[3] + 2.2 * size,
+        names.across_letter
+    );
+    let _ = writeln!(
+        out,
+        "<text x=\"{:.4}\" y=\"{:.4}\" text-anchor=\"start\" font-weight=\"bold\">{} mm</text>",
+        frame[0] + 0.3 * size,
+        frame[1] + 1.2 * size,
+        names.up_letter
+    );
+    let _ = writeln!(out, "</g>");
+}
+
+/// The Z0 face (the part's front face, where a program's Z counts from) as a dash-dotted
+/// line, in a view that shows Z and where the frame reaches it.
+fn z0_face(out: &mut String, frame: [f64; 4], plane: Plane, font: f64, stroke: f64) {
+    let style = format!(
+        "stroke=\"{FACE_COLOUR}\" stroke-width=\"{:.4}\" stroke-dasharray=\"{:.4} {:.4} {:.4} {:.4}\"",
+        1.5 * stroke,
+        6.0 * stroke,
+        3.0 * stroke,
+        1.0 * stroke,
+        3.0 * stroke
+    );
+    let size = 0.6 * font;
+    match plane {
+        Plane::Zx if frame[0] < 0.0 && 0.0 < frame[2] => {
+            let _ = writeln!(out, "<path id=\"z0\" d=\"M 0 {:.4} V {:.4}\" {style}/>", frame[1], frame[3]);
+            let _ = writeln!(
+                out,
+                "<text x=\"{:.4}\" y=\"{:.4}\" font-family=\"sans-serif\" font-size=\"{size:.4}\" fill=\"{FACE_COLOUR}\">Z0</text>",
+                0.3 * size,
+                frame[1] + 2.4 * size
+            );
+        }
+        Plane::Xz if frame[1] < 0.0 && 0.0 < frame[3] => {
+            let _ = writeln!(out, "<path id=\"z0\" d=\"M {:.4} 0 H {:.4}\" {style}/>", frame[0], frame[2]);
+            let _ = writeln!(
+                out,
+                "<text x=\"{:.4}\" y=\"{:.4}\" text-anchor=\"end\" font-family=\"sans-serif\" font-size=\"{size:.4}\" fill=\"{FACE_COLOUR}\">Z0</text>",
+                frame[2] - 0.3 * size,
+                -0.3 * size
+            );
+        }
+        _ => {}
+    }
 }
 
 /// One move as SVG path commands from where the path stands: an arc seen in its own plane as
@@ -499,6 +756,29 @@ fn legend(svg: &mut String, labels: &mut Labels, rows: &[(&str, &str)], corner: 
                 "<path d=\"M {x:.4} {mid:.4} h {:.4}\" stroke=\"{FEED_COLOUR}\" stroke-width=\"{:.4}\"/>",
                 2.0 * font,
                 2.5 * stroke
+            ),
+            "depth" => {
+                let step = 2.0 * font / DEPTH_BANDS as f64;
+                for b in 0..DEPTH_BANDS {
+                    let _ = writeln!(
+                        svg,
+                        "<rect x=\"{:.4}\" y=\"{:.4}\" width=\"{:.4}\" height=\"{:.4}\" fill=\"{}\"/>",
+                        x + b as f64 * step,
+                        mid - 0.3 * font,
+                        step,
+                        0.6 * font,
+                        depth_colour(b)
+                    );
+                }
+                Ok(())
+            }
+            "stock" => writeln!(
+                svg,
+                "<rect x=\"{x:.4}\" y=\"{:.4}\" width=\"{:.4}\" height=\"{:.4}\" fill=\"{STOCK_FILL}\" stroke=\"{STOCK_COLOUR}\" stroke-width=\"{:.4}\"/>",
+                mid - 0.3 * font,
+                2.0 * font,
+                0.6 * font,
+                stroke
             ),
             "start" => writeln!(
                 svg,

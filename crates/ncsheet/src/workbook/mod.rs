@@ -157,6 +157,9 @@ pub struct Workbook {
     fixed_arrays: FxMap<u32, (u32, u32)>,
     /// What changed since [`Workbook::track_changes`], for a file saved back surgically.
     changes: Option<Box<ChangeLog>>,
+    /// The inputs cells held before their first edit since [`Workbook::start_journal`]: what
+    /// an undo of a macro's writes types back.
+    journal: Option<Box<Journal>>,
     /// Iterative calculation (`cycles.rs`): cycles iterate instead of keeping their values.
     iteration: Option<Iteration>,
     /// Names were (re)defined without relinking the graph: the next full recalculation does.
@@ -183,6 +186,13 @@ struct ChangeLog {
     values: CellBits,
     names: bool,
     sheets: bool,
+}
+
+/// Cells edited since [`Workbook::start_journal`], each with the input it held before.
+#[derive(Default)]
+struct Journal {
+    seen: std::collections::HashSet<u32>,
+    before: Vec<(SheetId, Pos, String)>,
 }
 
 /// A set of cell ids, a bit each.
@@ -522,12 +532,39 @@ impl Workbook {
         })
     }
 
+    /// Starts writing down the input each cell held before its first edit (forgetting what
+    /// was written before): a macro's writes, taken back together by an undo.
+    pub fn start_journal(&mut self) {
+        self.journal = Some(Box::default());
+    }
+
+    /// The cells edited since [`Workbook::start_journal`], in the order of their first edit,
+    /// each with the input it held before (empty: the cell was blank); stops the journal.
+    pub fn take_journal(&mut self) -> Vec<(SheetId, Pos, String)> {
+        self.journal.take().map_or(Vec::new(), |j| j.before)
+    }
+
     fn note_input(&mut self, id: u32) {
+        self.journal_input(id);
         let had_formula = self.cells[id as usize].formula != NO_FORMULA;
         if let Some(log) = &mut self.changes {
             if log.inputs.insert(id) && had_formula {
                 log.had_formula.insert(id);
             }
+        }
+    }
+
+    /// Writes down the input of cell `id` before its first edit, when a journal is kept.
+    fn journal_input(&mut self, id: u32) {
+        let Some(journal) = &self.journal else { return };
+        if journal.seen.contains(&id) {
+            return;
+        }
+        let (sheet, pos) = (self.cells[id as usize].sheet, self.cells[id as usize].pos);
+        let before = self.input(sheet, pos).unwrap_or_default();
+        if let Some(journal) = &mut self.journal {
+            journal.seen.insert(id);
+            journal.before.push((sheet, pos, before));
         }
     }
 
