@@ -69,7 +69,10 @@ def go_to(driver, name):
     box = driver.find_element(By.ID, "namebox")
     box.clear()
     box.send_keys(name, Keys.ENTER)
-    WebDriverWait(driver, 30).until(lambda d: d.find_element(By.ID, "namebox").get_attribute("value") == name)
+    # The name box shows what was typed at once: wait for the grid's selection to get there.
+    selected = "const c = document.querySelector('#cells .c.sel'); return c ? c.dataset.cell : null;"
+    WebDriverWait(driver, 30).until(lambda d: d.execute_script(selected) == name)
+    WebDriverWait(driver, 30).until(lambda d: d.execute_script("return document.activeElement.id;") == "scroller")
 
 
 def main():

@@ -110,7 +110,7 @@ def ball_path_3d(driver):
     canvas = driver.find_element(By.ID, "view3d")
     driver.execute_script("arguments[0].scrollIntoView();", canvas)
     before = driver.execute_script("return arguments[0].toDataURL();", canvas)
-    ActionChains(driver).move_to_element(canvas).click_and_hold().move_by_offset(60, 20).release().perform()
+    ActionChains(driver).move_to_element(canvas).click_and_hold().move_by_offset(-25, -12).release().perform()
     after = driver.execute_script("return arguments[0].toDataURL();", canvas)
     assert before != after, "dragging orbits the 3D view"
     canvas.screenshot(DOCS + "/workbench-ballpath-3d.png")
