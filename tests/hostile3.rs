@@ -493,3 +493,25 @@ fn arrays_of_long_texts_stop_at_their_byte_limit() {
     // Short texts over as many items still work.
     assert_eq!(value("=ROWS(\"ab\"&SEQUENCE(1000,1000))"), Value::Number(1000.0));
 }
+
+/// `Array()` with more items than a call takes (255, docs/limits.md) says the limit and how
+/// to build a longer array, not "takes at least 0 arguments".
+#[test]
+fn array_with_more_items_than_a_call_takes_names_the_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let book = dir.path().join("w.csv");
+    std::fs::write(&book, "a,b\n1,2\n").unwrap();
+    for items in [256, 200_000] {
+        let list = vec!["1"; items].join(",");
+        let bas = dir.path().join("array.bas");
+        std::fs::write(&bas, format!("Sub Main()\n  Dim a\n  a = Array({list})\nEnd Sub\n")).unwrap();
+        let run = ncsheet(&["run", book.to_str().unwrap(), bas.to_str().unwrap()]);
+        assert_ne!(run.code, 0);
+        assert!(
+            run.stderr.contains(&format!("Array takes at most 255 arguments, not {items}")),
+            "{}",
+            &run.stderr[..300]
+        );
+        assert!(run.stderr.contains("array.bas:3:"), "{}", &run.stderr[..300]);
+    }
+}

@@ -128,7 +128,7 @@ fn a_t_word_without_m6_selects_the_next_tool_on_linuxcnc_and_a_fanuc_mill() {
     assert_eq!(tools, [1, 2], "{:?}", p.blocks);
     let change = p.blocks.iter().position(|b| matches!(b, Block::Tool(ToolChange { number: 2, .. }))).unwrap();
     assert_eq!(p.blocks[..change].iter().filter(|b| matches!(b, Block::Rapid(_))).count(), 2, "{:?}", p.blocks);
-    let unknown_lathe = read::read("G21 G18 G90\nT0101\nG0 X50 Z2\nM30\n", Family::Fanuc, None).unwrap();
+    let unknown_lathe = read::read("G21 G18\nT0101\nG0 X50 Z2\nM30\n", Family::Fanuc, None).unwrap();
     assert!(unknown_lathe.blocks.iter().any(|b| matches!(b, Block::Tool(ToolChange { number: 1, .. }))));
     // A lathe's turret and Sinumerik change with T itself.
     let lathe = read::read("G18 G21\nT0202\nG0 X50 Z2\nM30\n", Family::Fanuc, Some(Machine::Lathe)).unwrap();
@@ -253,15 +253,20 @@ fn what_the_writers_refuse_is_refused_when_read() {
 }
 
 /// Fanuc's and LinuxCNC's D with G41/G42 names the radius register (on LinuxCNC a tool
-/// number of the table; without D the loaded tool's): the model compensates with the current
-/// tool's radius, so another register is refused, not read as the tool's.
+/// number of the table; without D the loaded tool's): the model holds one register for the
+/// program (`cam --offset`, issue 32) or each tool's own, so `D2` after `T1` is read as the
+/// program's register 2, and a program mixing it with the tool's own is refused at the D.
 #[test]
-fn a_radius_register_other_than_the_tools_is_refused() {
+fn a_radius_register_other_than_the_tools_is_the_programs_and_a_mixture_is_refused() {
     let head = "G21 G17 G90\nT1 M6 G43\nS1000 M3\nG94\nG0 X0 Y0 Z5\n";
     for family in [Family::LinuxCnc, Family::Fanuc] {
-        let e = read::read(&format!("{head}G41 D2 G1 X5 F100\nM2\n"), family, Some(Machine::Mill)).unwrap_err();
-        assert_eq!((e.line, e.column), (6, 5), "{e}");
-        assert!(read::read(&format!("{head}G41 D1 G1 X5 F100\nM2\n"), family, Some(Machine::Mill)).is_ok());
+        let p = read::read(&format!("{head}G41 D2 G1 X5 F100\nG40\nM2\n"), family, Some(Machine::Mill)).unwrap();
+        assert_eq!(p.radius_offset, Some(2), "{family:?}");
+        let own = read::read(&format!("{head}G41 D1 G1 X5 F100\nM2\n"), family, Some(Machine::Mill)).unwrap();
+        assert_eq!(own.radius_offset, None, "{family:?}");
+        let mixed = format!("{head}G41 D2 G1 X5 F100\nG40 G1 X6\nG42 D1 G1 X10\nM2\n");
+        let e = read::read(&mixed, family, Some(Machine::Mill)).unwrap_err();
+        assert_eq!((e.line, e.column), (8, 5), "{e}");
         let e = read::read("G21 G17 G90\nG0 X0 Y0 Z5\nG42 G1 X5 F100\n", family, Some(Machine::Mill)).unwrap_err();
         assert_eq!((e.line, e.column), (3, 1), "{e}");
     }

@@ -688,7 +688,7 @@ fn closed_form(length: f64, v: f64, a: f64) -> f64 {
 /// spindle at 1000·v/(π·D), capped by G50 S; the feed is F·rpm.
 #[test]
 fn g96_with_g95_times_a_cut_at_the_diameter_it_turns() {
-    let text = "%\nO0001 (CSS)\nN10 G21 G18 G90 G40\nN20 G99\nN30 G50 S2000\nN40 G96 S150 M3\n\
+    let text = "%\nO0001 (CSS)\nN10 G21 G18 G40\nN20 G99\nN30 G50 S2000\nN40 G96 S150 M3\n\
                 N50 G0 X40. Z2.\nN60 G1 Z-98. F0.2\nN70 G0 X10. Z2.\nN80 G1 Z-48. F0.1\nN90 M30\n%\n";
     let (p, _) = read::read_dialect(text, "iso", None).unwrap();
     let a = 100.0;

@@ -270,7 +270,8 @@ fn time_table(times: &[BlockTime], lines: &[usize]) -> String {
             t.kind, t.length, t.feed, t.time
         ));
     }
-    let total: f64 = times.iter().map(|t| t.time).sum();
+    // + 0.0 turns the empty sum's −0 into 0: an empty program takes "0.000 s", not "-0.000 s".
+    let total: f64 = times.iter().map(|t| t.time).sum::<f64>() + 0.0;
     text.push_str(&format!("cycle time {total:.3} s ({}:{:06.3})\n", (total / 60.0).floor(), total % 60.0));
     text
 }

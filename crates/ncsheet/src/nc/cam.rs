@@ -33,8 +33,12 @@ pub struct CamNcOptions {
     /// The cutter's diameter, mm.
     pub cutter_diameter: f64,
     pub compensation: Compensation,
-    /// The tool called at the start (its offset is the one G41/G42 use).
+    /// The tool called at the start (its offset is the one G41/G42 use unless
+    /// `radius_offset` names another).
     pub tool: u32,
+    /// The register G41/G42 take the cutter's radius from (`D21`), where the dialect has
+    /// one apart from the tool; `None`: the tool's own.
+    pub radius_offset: Option<u32>,
 }
 
 /// How the cutter comes onto the profile and leaves it.
@@ -63,6 +67,7 @@ impl Default for CamNcOptions {
             cutter_diameter: DEFAULT_CUTTER_DIAMETER,
             compensation: Compensation::Off,
             tool: 1,
+            radius_offset: None,
         }
     }
 }
@@ -103,6 +108,7 @@ pub fn cam_program(fit: &CamFit, options: &CamNcOptions) -> Result<Program, Stri
     let disc = if fit.disc.is_empty() { String::new() } else { format!("_{}", fit.disc) };
     let mut p = Program::new(&format!("CAM{disc}"), Machine::Mill);
     p.precision = Some(written_decimals(fit.tolerance));
+    p.radius_offset = options.radius_offset;
     let arcs: Vec<&Arc> = fit.arcs().collect();
     p.push(Block::Comment(format!("ncsheet cam {}: {} arcs, tolerance {} mm", fit.disc, arcs.len(), fit.tolerance)));
     p.push(Block::Comment(format!(

@@ -187,9 +187,15 @@ fn compensation_entries(program: &Program, moves: &[Move], diameters: &[(u32, f6
             Block::Compensation(Compensation::Off) => entering = false,
             Block::Compensation(_) => {
                 entering = true;
-                let known = tool.is_some_and(|t| diameters.iter().any(|(n, _)| *n == t));
+                // The radius comes from the program's own register (G41 D21) or the tool's.
+                let entry = program.radius_offset.or(tool);
+                let known = entry.is_some_and(|t| diameters.iter().any(|(n, _)| *n == t));
                 if !known {
-                    let which = tool.map_or("no tool".to_string(), |t| format!("tool T{t}"));
+                    let which = match (program.radius_offset, tool) {
+                        (Some(d), _) => format!("register D{d}"),
+                        (None, Some(t)) => format!("tool T{t}"),
+                        (None, None) => "no tool".to_string(),
+                    };
                     out.push(Finding {
                         block,
                         message: format!("cutter compensation with {which}, which the tool table does not hold"),
@@ -204,7 +210,11 @@ fn compensation_entries(program: &Program, moves: &[Move], diameters: &[(u32, f6
                     continue;
                 }
                 entering = false;
-                let radius = tool.and_then(|t| diameters.iter().find(|(n, _)| *n == t)).map_or(0.0, |(_, d)| d / 2.0);
+                let radius = program
+                    .radius_offset
+                    .or(tool)
+                    .and_then(|t| diameters.iter().find(|(n, _)| *n == t))
+                    .map_or(0.0, |(_, d)| d / 2.0);
                 if planar <= radius {
                     out.push(Finding {
                         block,

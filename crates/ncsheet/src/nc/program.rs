@@ -225,6 +225,10 @@ pub struct Program {
     /// How far (mm) the chords may lie from an arc on a control without circular
     /// interpolation (NC31), which writes the arc as lines; `None`: [`DEFAULT_ARC_TOLERANCE`].
     pub arc_tolerance: Option<f64>,
+    /// The register cutter compensation takes the radius from, where the control names one
+    /// apart from the tool (`G41 D21` on Fanuc/ISO; on LinuxCNC D names a tool-table entry);
+    /// `None`: the called tool's own number. One for the whole program.
+    pub radius_offset: Option<u32>,
 }
 
 /// The chord tolerance (mm) arcs are written as lines within where the control has no
@@ -243,6 +247,7 @@ impl Program {
             retract: None,
             blank: None,
             arc_tolerance: None,
+            radius_offset: None,
         }
     }
 

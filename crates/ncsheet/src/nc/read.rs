@@ -1,7 +1,7 @@
 //! Reading programs back into the one program model. Word-address programs (every family
 //! of `dialect::Family`) here: modal motion (G0–G3; the NC31 rapid `E`), plane
 //! (G17/18/19), units (G20/21, Sinumerik G70/71, read into mm), absolute/incremental
-//! (G90/91), feed mode (G94/95, Fanuc lathe G98/99), diameter mode (LinuxCNC G7/G8,
+//! (G90/91; a Fanuc lathe refuses G90-G94, cycles in system A), feed mode (G94/95, Fanuc lathe G98/99), diameter mode (LinuxCNC G7/G8,
 //! Sinumerik DIAMON/DIAMOF; Fanuc and NC31 lathes are diametral), arcs by I/J/K, R or
 //! Sinumerik CR=, F, S, T, M, Sinumerik LIMS= and MSG. Heidenhain plain language is read in
 //! [`heidenhain`]. A word the reader does not know is an error naming its line and column,
@@ -111,6 +111,9 @@ struct State {
     /// Fanuc mill: only G43/G49 change it.
     register: Option<u32>,
 }
+    /// The first D word of a G41/G42 (Fanuc, LinuxCNC) and whether it was the tool's own
+    /// number: the model holds one radius register for the program, or each tool's own.
+    radius_register: Option<(u32, bool)>,
 
 /// Reads `text` as `family` writes it. `machine` says what the program is for; without it a
 /// G18 before the first move means a lathe and anything else a mill.
@@ -150,6 +153,7 @@ pub fn read_with_lines(
         selected: None,
         register: None,
     };
+        radius_register: None,
     let mut program = Program::new("", machine.unwrap_or(Machine::Mill));
     if family == Family::Nc31 {
         // NC31 feeds per revolution only, with no word for it.
@@ -242,6 +246,7 @@ pub fn read_with_lines(
     program.machine = st.machine.unwrap_or(Machine::Mill);
     program.precision = (decimals > DEFAULT_DECIMALS).then_some(decimals);
     Ok((program, lines))
+    program.radius_offset = st.radius_register.and_then(|(d, own)| (!own).then_some(d));
 }
 
 /// The blocks of one line of text. On a Fanuc control `;` is the end of block (EOB: the
@@ -742,10 +747,11 @@ fn apply_length_offset(offset: ToolOffset, out: &mut Vec<Block>) {
 /// Cutter compensation on a side needs a radius, and the model's is the current tool's. On
 /// Sinumerik it is the active cutting edge's, and D0 (or no tool called) has none ("D0
 /// compensation deselection", length and radius), so the control refuses G41/G42 there, as
-/// the writer does. On Fanuc and LinuxCNC the D word names the radius register: one other
-/// than the tool's own (`T1 M6` … `G41 D2`) is not in the model, and is refused rather than
-/// read as tool 1's radius; with no tool called the writers refuse it too.
-fn radius_known(st: &State, words: &[Word], c: Compensation) -> Result<(), Fail> {
+/// the writer does. On Fanuc and LinuxCNC the D word names the radius register: the model
+/// holds each tool's own (`T1 M6` … `G41 D1`) or one register for the whole program
+/// (`Program::radius_offset`, `G41 D21`); a program that mixes them is refused rather than
+/// read with the wrong radius; with no tool called the writers refuse it too.
+fn radius_known(st: &mut State, words: &[Word], c: Compensation) -> Result<(), Fail> {
     if c == Compensation::Off {
         return Ok(());
     }
@@ -762,17 +768,25 @@ fn radius_known(st: &State, words: &[Word], c: Compensation) -> Result<(), Fail>
     let Some(tool) = st.tool else {
         return Err((column, "cutter compensation with no tool called before it (T… M6)".into()));
     };
-    match words.iter().find(|w| w.letter == 'D') {
-        Some(d) if code(d)? != tool => Err((
-            d.column,
-            format!(
-                "D{} with tool {tool}: the program model compensates with the current tool's radius (D{tool})",
-                d.value
-            ),
-        )),
-        _ => Ok(()),
+    let Some(d) = words.iter().find(|w| w.letter == 'D') else { return Ok(()) };
+    let (register, own) = (code(d)?, code(d)? == tool);
+    match st.radius_register {
+        None => st.radius_register = Some((register, own)),
+        Some((_, true)) if own => {}
+        Some((first, false)) if register == first => {}
+        Some((first, first_own)) => {
+            let before = if first_own { "each tool's own register".to_string() } else { format!("D{first}") };
+            return Err((
+                d.column,
+                format!(
+                    "D{register} with tool {tool}: the program model compensates with one radius register for the \
+                     whole program or each tool's own, and this program used {before} before"
+                ),
+            ));
+        }
     }
 }
+    Ok(())
 
 /// Words that only mean something with a code this block does not have: an error rather
 /// than a word silently dropped.
@@ -862,6 +876,7 @@ fn g_code(
         49 if !sinumerik => *length = Some((w.column, false)),
         50 if st.family == Family::Fanuc => *g50 = true,
         90 => st.incremental = false,
+        90 | 91 | 92 | 94 if st.family == Family::Fanuc && lathe => return Err((w.column, system_a(w.value as i64))),
         91 => st.incremental = true,
         94 => *feed_mode = Some(FeedMode::PerMinute),
         95 => *feed_mode = Some(FeedMode::PerRevolution),
@@ -875,6 +890,26 @@ fn g_code(
 }
 
 fn set_motion(st: &mut State, w: &Word, word: &mut Option<usize>, m: Motion) {
+/// Why a Fanuc lathe's G90, G91, G92 or G94 is refused: in G-code system A (which the ISO
+/// lathe follows: G98/G99, `G50 S`) the first three are cycles, and absolute or incremental is
+/// the letter (X/Z or U/W), never a mode. Read as a mode switch they would turn a cycle into
+/// one straight cut.
+fn system_a(code: i64) -> String {
+    let system_a = "on a Fanuc lathe (G-code system A)";
+    let cycle = |what: &str, not: &str| {
+        format!(
+            "{system_a} G{code} is {what}, not {not}; this reader does not model the cycle: write its passes as \
+             G0/G1 moves"
+        )
+    };
+    match code {
+        90 => cycle("the outer/inner-diameter turning cycle A", "absolute mode (X and Z are absolute, U and W incremental)"),
+        92 => cycle("the threading cycle", "a coordinate setting (the speed limit is G50 S)"),
+        94 => cycle("the end-face turning cycle B", "feed per minute (that is G98)"),
+        _ => format!("{system_a} there is no G{code}: incremental moves are written with U and W"),
+    }
+}
+
     st.motion = Some(m);
     *word = Some(w.column);
 }
@@ -1010,8 +1045,10 @@ fn arc_centre(
         (s.0 + off(ul), s.1 + off(vl))
     };
     // Controls refuse an arc of no radius (rs274: "Zero-radius arc"); so do the writers.
-    if (c.0 - s.0).hypot(c.1 - s.1) <= super::dialect::read_limits(st.family).resolution() {
-        return Err((column, "an arc of radius 0: its centre is its start point".into()));
+    let radius = (c.0 - s.0).hypot(c.1 - s.1);
+    let resolution = super::dialect::read_limits(st.family).resolution();
+    if radius <= resolution {
+        return Err((column, super::dialect::tiny_arc_message(radius, resolution)));
     }
     Ok(if lathe { Target::xz(c.1 * 2.0, c.0) } else { Target::xy(c.0, c.1) })
 }

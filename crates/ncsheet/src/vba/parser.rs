@@ -1061,6 +1061,12 @@ fn on_error(pair: &Pair<Rule>) -> OnError {
 }
 
 pub(super) fn arity_message(name: &str, min: usize, max: usize, got: usize) -> String {
+    if got > max && max >= crate::eval::functions::MANY {
+        return format!(
+            "{name} takes at most {max} arguments, not {got} (a call's limit, docs/limits.md): build a longer \
+             array with ReDim and a loop, or read it from a range"
+        );
+    }
     let wanted = match (min, max) {
         (a, b) if a == b => format!("{a}"),
         (a, b) if b >= 255 => format!("at least {a}"),

@@ -113,6 +113,15 @@ impl Dialect for Heidenhain {
         let numbers = format.numbers;
         check_program(program, format).map_err(|(b, m)| error(b, m))?;
         own_offsets_only(program).map_err(|(b, m)| error(Some(b), m))?;
+        if let Some(d) = program.radius_offset {
+            return Err(error(
+                None,
+                format!(
+                    "no radius register D{d} apart from the tool: RL/RR take the radius of the tool TOOL CALL \
+                     named, from the tool table"
+                ),
+            ));
+        }
         let name = program_name(&program.name, 24);
         let mut w = Numbered { out: String::with_capacity(48 * (program.blocks.len() + 2)), ..Numbered::default() };
         let _ = write!(w.block(), "BEGIN PGM {name} MM");

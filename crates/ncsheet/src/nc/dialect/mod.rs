@@ -403,7 +403,7 @@ fn check_arc(machine: Machine, format: Format, start: &Position, to: &Target, ce
     let r_start = (s.0 - c.0).hypot(s.1 - c.1);
     let r_end = (e.0 - c.0).hypot(e.1 - c.1);
     if r_start <= format.numbers.resolution() {
-        return Err("an arc of radius 0: its centre is its start point".into());
+        return Err(tiny_arc_message(r_start, format.numbers.resolution()));
     }
     if (r_start - r_end).abs() > ARC_TOLERANCE {
         return Err(format!(
@@ -423,6 +423,20 @@ fn sanitise(text: &str, upper: bool, allowed: impl Fn(char) -> bool) -> String {
         let c = if upper { c.to_ascii_uppercase() } else { c };
         let keep = c.is_ascii() && !c.is_ascii_control() && allowed(c);
         let c = if keep { c } else { ' ' };
+/// Why an arc whose centre is within the control's resolution of its start is refused (rs274:
+/// "Zero-radius arc"), with its radius in digits enough to tell it from 0.
+pub(crate) fn tiny_arc_message(radius: f64, resolution: f64) -> String {
+    if radius == 0.0 {
+        return "an arc of radius 0: its centre is its start point".into();
+    }
+    // Six significant digits: 0.001 stays 0.001, 1e-7 stays 1e-7.
+    let shown = format!("{radius:.5e}").parse::<f64>().unwrap_or(radius);
+    format!(
+        "an arc of radius {shown} mm, not more than the {resolution} mm the control resolves: its centre is \
+         written as its start point or next to it; write the move as a line or a larger arc"
+    )
+}
+
         if c == ' ' && out.ends_with(' ') {
             continue;
         }

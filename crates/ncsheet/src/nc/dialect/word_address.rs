@@ -187,6 +187,7 @@ impl Dialect for WordAddress {
             coolant_on: false,
             tool: None,
             arc_tolerance: program.arc_tolerance.unwrap_or(DEFAULT_ARC_TOLERANCE),
+            radius_offset: program.radius_offset,
         };
         self.header(&mut w, program).map_err(|m| self.error(None, m))?;
         let setup = match program.machine {
@@ -294,6 +295,8 @@ struct Writer<'a> {
     tool: Option<ToolChange>,
     /// Chord tolerance for arcs on a control without circular interpolation, mm.
     arc_tolerance: f64,
+    /// The D register of G41/G42 when it is not the tool's number.
+    radius_offset: Option<u32>,
 }
 
 impl Writer<'_> {
@@ -461,12 +464,20 @@ impl Writer<'_> {
         if self.d.family == Family::Sinumerik && side != Compensation::Off && cancelled {
             return Err("cutter compensation after D0: Sinumerik's D0 cancels the radius too".into());
         }
+        if let (Family::Sinumerik, Some(d)) = (self.d.family, self.radius_offset) {
+            if side != Compensation::Off {
+                return Err(format!(
+                    "no radius register D{d} apart from the tool: Sinumerik's D is the tool's cutting edge (T1 D2), \
+                     which holds its length and radius together; give the tool's offset instead"
+                ));
+            }
+        }
         let text = match (self.d.family, side, self.tool.map(|t| t.number)) {
             (Family::Nc31, Compensation::Off, _) => g.to_string(),
             (Family::Nc31, ..) => return Err("NC31 here writes no cutter radius compensation".into()),
             // Sinumerik takes the radius of the active T/D; the others name the offset.
             (Family::Sinumerik, ..) | (_, Compensation::Off, _) => g.to_string(),
-            (_, _, Some(t)) => format!("{g} D{t}"),
+            (_, _, Some(t)) => format!("{g} D{}", self.radius_offset.unwrap_or(t)),
             (_, _, None) => return Err("cutter compensation needs a tool called before it (Nc.Tool)".into()),
         };
         self.numbered(&text);
