@@ -286,8 +286,8 @@ proptest! {
     #[test]
     fn nc_readers_never_panic(blocks in prop::collection::vec(nc_block(), 0..20)) {
         let text = blocks.join("\n");
-        for name in ncsheet::nc::dialect::names() {
-            if let Ok((program, _)) = ncsheet::nc::read::read_dialect(&text, name, None) {
+        for dialect in ncsheet::nc::dialect::all() {
+            if let Ok((program, _)) = ncsheet::nc::read::read_dialect(&text, dialect, None) {
                 let rates = ncsheet::nc::motion::Rates { accel: 1000.0, rapid: 10_000.0 };
                 let _ = ncsheet::nc::motion::program_times(&program, rates);
             }

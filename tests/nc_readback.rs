@@ -690,7 +690,7 @@ fn closed_form(length: f64, v: f64, a: f64) -> f64 {
 fn g96_with_g95_times_a_cut_at_the_diameter_it_turns() {
     let text = "%\nO0001 (CSS)\nN10 G21 G18 G40\nN20 G99\nN30 G50 S2000\nN40 G96 S150 M3\n\
                 N50 G0 X40. Z2.\nN60 G1 Z-98. F0.2\nN70 G0 X10. Z2.\nN80 G1 Z-48. F0.1\nN90 M30\n%\n";
-    let (p, _) = read::read_dialect(text, "iso", None).unwrap();
+    let (p, _) = read::read_dialect(text, &ncsheet::nc::dialect::ISO, None).unwrap();
     let a = 100.0;
     let times = motion::program_times(&p, Rates { accel: a, rapid: 10000.0 }).unwrap();
     let got: Vec<f64> = times.iter().map(|t| t.time).collect();
@@ -717,7 +717,7 @@ fn g96_with_g95_times_a_cut_at_the_diameter_it_turns() {
 fn g96_facing_speeds_up_to_the_limit_as_the_diameter_shrinks() {
     let text = "%_N_FACE_MPF\nN10 G18 DIAMON G90 G71\nN20 G95\nN30 LIMS=3000\nN40 G96 S200 M3\n\
                 N50 G0 X80 Z0\nN60 G1 X20 F0.1\nN70 M30\n";
-    let (p, _) = read::read_dialect(text, "sinumerik", None).unwrap();
+    let (p, _) = read::read_dialect(text, &ncsheet::nc::dialect::SINUMERIK, None).unwrap();
     let times = motion::program_times(&p, Rates { accel: 1e7, rapid: 10000.0 }).unwrap();
     let (v, f, max) = (200.0, 0.1, 3000.0);
     let pi = std::f64::consts::PI;
@@ -735,7 +735,7 @@ fn g96_facing_speeds_up_to_the_limit_as_the_diameter_shrinks() {
 #[test]
 fn a_lone_feed_block_sets_the_feed() {
     let text = "%\n(FEED)\nN10 G21 G17 G90 G40\nN20 G94\nN30 G0 X0 Y0 Z0\nN40 G1 F100\nN50 G1 X50\nN60 M2\n%\n";
-    let (p, _) = read::read_dialect(text, "linuxcnc", None).unwrap();
+    let (p, _) = read::read_dialect(text, &ncsheet::nc::dialect::LINUXCNC, None).unwrap();
     assert_eq!(reread(text, "linuxcnc"), text);
     let a = 50.0;
     let times = motion::program_times(&p, Rates { accel: a, rapid: 10000.0 }).unwrap();

@@ -4,7 +4,6 @@
 
 use std::path::{Path, PathBuf};
 
-use clap::builder::PossibleValuesParser;
 use clap::{Args, ValueEnum};
 use ncsheet::geometry::cam::{
     by_disc, fit_cam, fit_piece_on_side, CamFit, CamOptions, FittedSegment, Piece, PieceKind, Segment, Side,
@@ -80,8 +79,8 @@ pub struct CamOutput {
     pub format: CamFormat,
     /// NC dialect for --format nc
     #[arg(long, default_value = "iso", ignore_case = true,
-          value_parser = PossibleValuesParser::new(dialect::names_for(Machine::Mill)))]
-    pub dialect: String,
+          value_parser = super::nc::dialect_parser(dialect::names_for(Machine::Mill)))]
+    pub dialect: &'static dyn dialect::Dialect,
     /// Cutter radius compensation in the NC program
     #[arg(long, value_enum, default_value_t)]
     pub cutter: CutterSide,
@@ -273,7 +272,7 @@ fn write_fit(fit: &CamFit, out: &CamOutput) -> Result<()> {
         CamFormat::Csv => arcs_csv(fit.arcs()),
         CamFormat::Svg => svg_drawing(fit, &SvgOptions::default()),
         CamFormat::Nc => {
-            let d = dialect::by_name(&out.dialect).expect("clap checked the dialect");
+            let d = out.dialect;
             let compensation = match out.cutter {
                 CutterSide::Off => Compensation::Off,
                 CutterSide::Left => Compensation::Left,

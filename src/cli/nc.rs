@@ -6,11 +6,11 @@ use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
-use clap::builder::PossibleValue;
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::ValueEnum;
 use clap::{Args, Subcommand};
 use ncsheet::nc::dda::{self, DdaRun};
-use ncsheet::nc::dialect;
+use ncsheet::nc::dialect::{self, Dialect};
 use ncsheet::nc::motion::{self, BlockTime, Rates};
 use ncsheet::nc::read::{self, detect};
 use ncsheet::nc::{ArcDirection, Machine, Program};
@@ -33,19 +33,25 @@ pub enum NcCommand {
     Check(super::nc_check::CheckArgs),
 }
 
-/// A dialect to read a program in: every name of `dialect::all()`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct ReadDialect(pub &'static str);
+/// A dialect to read a program in: every one of `dialect::all()`, by its name.
+#[derive(Clone, Copy, Debug)]
+pub struct ReadDialect(pub &'static dyn Dialect);
 
 impl ValueEnum for ReadDialect {
     fn value_variants<'a>() -> &'a [Self] {
         static ALL: OnceLock<Vec<ReadDialect>> = OnceLock::new();
-        ALL.get_or_init(|| dialect::names().into_iter().map(ReadDialect).collect())
+        ALL.get_or_init(|| dialect::all().into_iter().map(ReadDialect).collect())
     }
 
     fn to_possible_value(&self) -> Option<PossibleValue> {
-        Some(PossibleValue::new(self.0))
+        Some(PossibleValue::new(self.0.name()))
     }
+}
+
+/// A `--dialect` among `names` (from `dialect::all()`), read once into the dialect: clap
+/// lists the names in the help and in its error for any other.
+pub(super) fn dialect_parser(names: Vec<&'static str>) -> impl TypedValueParser<Value = &'static dyn Dialect> {
+    PossibleValuesParser::new(names).map(|name| dialect::by_name(&name).expect("a name dialect::all() gave"))
 }
 
 /// Reads the program at `path` in `dialect`, or in the dialect its header, extension or words
@@ -56,7 +62,7 @@ pub(super) fn read_program(
     path: &Path,
     dialect: Option<ReadDialect>,
     machine: Option<MachineArg>,
-) -> Result<(Program, Vec<usize>, String, &'static str)> {
+) -> Result<(Program, Vec<usize>, String, &'static dyn Dialect)> {
     let name = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| Error::User(format!("{name}: {e}")))?;
     let machine = machine.map(|m| match m {
@@ -68,15 +74,16 @@ pub(super) fn read_program(
         None => {
             let extension = path.extension().and_then(|e| e.to_str());
             let guess = detect::guess(&text, extension);
-            eprintln!("{name}: read as {} ({}); --dialect says otherwise", guess.dialect, guess.reason);
+            eprintln!("{name}: read as {} ({}); --dialect says otherwise", guess.dialect.name(), guess.reason);
             guess.dialect
         }
     };
     let (program, lines) = read::read_dialect(&text, dialect, machine).map_err(|e| {
         let others = detect::readers_accepting(&text, dialect, machine);
+        let read_as = dialect.name();
         let hint = match others.first() {
-            Some(other) => format!(" (read as {dialect}; it reads as {}: --dialect {other})", others.join(", ")),
-            None => format!(" (read as {dialect}; no other dialect reads it either)"),
+            Some(other) => format!(" (read as {read_as}; it reads as {}: --dialect {other})", others.join(", ")),
+            None => format!(" (read as {read_as}; no other dialect reads it either)"),
         };
         Error::User(format!("{name}: {e}{hint}"))
     })?;

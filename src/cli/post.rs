@@ -38,8 +38,8 @@ pub struct PostArgs {
     #[arg(long, value_name = "H")]
     pub pivot: f64,
     /// The control's dialect (one that writes milling programs with A and B axes)
-    #[arg(long, value_name = "D", value_parser = dialect_names())]
-    pub dialect: String,
+    #[arg(long, value_name = "D", value_parser = super::nc::dialect_parser(dialect::names()))]
+    pub dialect: &'static dyn dialect::Dialect,
     /// The A axis's travel (degrees) [default: -90:90]
     #[arg(long, value_name = "MIN:MAX", value_parser = parse_range, allow_hyphen_values = true)]
     pub a_limits: Option<[f64; 2]>,
@@ -83,10 +83,6 @@ pub enum MachineKind {
     AbHead,
 }
 
-/// Every dialect: those that cannot write the head's program are refused with the reason.
-fn dialect_names() -> clap::builder::PossibleValuesParser {
-    clap::builder::PossibleValuesParser::new(dialect::names())
-}
 
 fn parse_range(text: &str) -> std::result::Result<[f64; 2], String> {
     let (a, b) = text.split_once(':').ok_or_else(|| format!("'{text}' is not a range MIN:MAX"))?;
@@ -99,7 +95,8 @@ pub fn run(args: PostArgs) -> Result<()> {
     if let Some(out) = &args.output {
         super::refuse_overwriting_inputs(&[file], &[out], "write the program to a new file")?;
     }
-    let dialect = dialect::by_name(&args.dialect).expect("clap checked the name");
+    // Every dialect is taken: one that cannot write the head's program is refused with the reason.
+    let dialect = args.dialect;
     if !dialect.writes(Machine::Mill) {
         let able = dialect::names_for(Machine::Mill).join(", ");
         return Err(Error::User(format!(

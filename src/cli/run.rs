@@ -47,8 +47,8 @@ pub struct RunArgs {
     pub args: Vec<(String, String)>,
     /// Write the NC program in this dialect
     #[arg(long, default_value = "iso", ignore_case = true,
-          value_parser = clap::builder::PossibleValuesParser::new(dialect::names()))]
-    pub dialect: String,
+          value_parser = super::nc::dialect_parser(dialect::names()))]
+    pub dialect: &'static dyn dialect::Dialect,
     /// How far (mm) the lines may lie from an arc on a control without circular
     /// interpolation (nc31), which gets each arc as lines (default 0.01)
     #[arg(long, value_name = "MM", value_parser = parse_arc_tol)]
@@ -146,21 +146,18 @@ pub fn run(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
     let mut inputs: Vec<&std::path::Path> = vec![&args.workbook];
     inputs.extend(args.macro_file.as_deref());
     super::refuse_overwriting_inputs(&inputs, &outputs, hint)?;
-    let d = dialect::by_name(&args.dialect).expect("clap checked the dialect");
     // The workbook's functions, recomputed by the macro's writes, nest on top of it.
     let levels = args.max_depth.saturating_add(ncsheet::vba::FUNCTION_MAX_DEPTH);
     let stack = (8 << 20).max(levels.saturating_mul(STACK_BYTES_PER_LEVEL));
     // The workbook is not Send, so it is loaded and used on the macro's own thread.
-    let dialect_name = d.name();
-    let worker =
-        std::thread::Builder::new().stack_size(stack).spawn(move || run_on_this_thread(args, dialect_name, delimiter));
+    let worker = std::thread::Builder::new().stack_size(stack).spawn(move || run_on_this_thread(args, delimiter));
     match worker {
         Ok(handle) => handle.join().unwrap_or_else(|_| Err(Error::User("the macro crashed".into()))),
         Err(e) => Err(Error::User(format!("cannot start the macro: {e}"))),
     }
 }
 
-fn run_on_this_thread(args: RunArgs, dialect_name: &'static str, delimiter: Option<u8>) -> Result<()> {
+fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
     let doc = ncsheet::document::Document::open_file(&args.workbook, &super::open_options(delimiter))?;
     let opened = doc.into_opened();
     let mut wb = opened.workbook;
@@ -184,7 +181,7 @@ fn run_on_this_thread(args: RunArgs, dialect_name: &'static str, delimiter: Opti
         document,
         active_cells: sheets.filter_map(|(name, s)| Some((name.clone(), s.active_cell?))).collect(),
         sheet: args.sheet.clone(),
-        dialect: Some(dialect_name.to_string()),
+        dialect: Some(args.dialect),
         machine: match args.machine {
             MachineKind::Lathe => Machine::Lathe,
             MachineKind::Mill => Machine::Mill,
@@ -212,10 +209,10 @@ fn run_on_this_thread(args: RunArgs, dialect_name: &'static str, delimiter: Opti
     let mut out = out;
     out.program.arc_tolerance = args.arc_tol;
     if emits_program(&out.program) {
-        let d = dialect::by_name(dialect_name).expect("dialect checked before");
+        let d = args.dialect;
         let text = d.render(&out.program).map_err(|e| Error::User(format!("{}: {e}", file.display())))?;
         let written_to = args.output.as_ref().map_or("standard output".to_string(), |p| p.display().to_string());
-        summary = Some(program_summary(&out.program, &text, dialect_name, &written_to));
+        summary = Some(program_summary(&out.program, &text, d.name(), &written_to));
         match &args.output {
             Some(path) => files.push(ncsheet::io::Encoded::new(path, text.into_bytes())),
             None => program = Some(text),

@@ -55,8 +55,8 @@ impl Default for CheckOptions<'_> {
 /// reset value of the feed group, G94; plain language has only F in mm/min), and per
 /// revolution on NC31, which has no other. A lathe's mode depends on the machine's set-up
 /// (a Fanuc lathe's parameter, LinuxCNC's start-up code), so a lathe cut needs its own.
-pub fn power_on_feed_mode(dialect: &str, machine: Machine) -> Option<FeedMode> {
-    match (dialect, machine) {
+pub fn power_on_feed_mode(dialect: &dyn crate::nc::dialect::Dialect, machine: Machine) -> Option<FeedMode> {
+    match (dialect.name(), machine) {
         ("nc31", _) => Some(FeedMode::PerRevolution),
         (_, Machine::Mill) => Some(FeedMode::PerMinute),
         (_, Machine::Lathe) => None,

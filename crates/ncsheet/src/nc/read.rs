@@ -51,13 +51,14 @@ fn dwell_word(family: Family) -> char {
     }
 }
 
-/// Reads `text` as the dialect named `dialect` (any name of `dialect::all()`) writes it,
-/// with the 1-based source line of each block of the model.
-pub fn read_dialect(text: &str, dialect: &str, machine: Option<Machine>) -> Result<(Program, Vec<usize>), ReadError> {
-    match super::dialect::by_name(dialect) {
-        Some(d) => d.read(text, machine),
-        None => Err(ReadError { line: 1, column: 1, message: format!("no dialect named {dialect}") }),
-    }
+/// Reads `text` as `dialect` writes it, with the 1-based source line of each block of the
+/// model.
+pub fn read_dialect(
+    text: &str,
+    dialect: &dyn super::dialect::Dialect,
+    machine: Option<Machine>,
+) -> Result<(Program, Vec<usize>), ReadError> {
+    dialect.read(text, machine)
 }
 
 /// One word as written: its letter, value and 1-based column.
@@ -110,10 +111,10 @@ struct State {
     /// on in G49, after G49, D0, T0100). A tool change alone keeps it on LinuxCNC and a
     /// Fanuc mill: only G43/G49 change it.
     register: Option<u32>,
-}
     /// The first D word of a G41/G42 (Fanuc, LinuxCNC) and whether it was the tool's own
     /// number: the model holds one radius register for the program, or each tool's own.
     radius_register: Option<(u32, bool)>,
+}
 
 /// Reads `text` as `family` writes it. `machine` says what the program is for; without it a
 /// G18 before the first move means a lathe and anything else a mill.
@@ -152,8 +153,8 @@ pub fn read_with_lines(
         tool: None,
         selected: None,
         register: None,
-    };
         radius_register: None,
+    };
     let mut program = Program::new("", machine.unwrap_or(Machine::Mill));
     if family == Family::Nc31 {
         // NC31 feeds per revolution only, with no word for it.
@@ -245,8 +246,8 @@ pub fn read_with_lines(
     }
     program.machine = st.machine.unwrap_or(Machine::Mill);
     program.precision = (decimals > DEFAULT_DECIMALS).then_some(decimals);
-    Ok((program, lines))
     program.radius_offset = st.radius_register.and_then(|(d, own)| (!own).then_some(d));
+    Ok((program, lines))
 }
 
 /// The blocks of one line of text. On a Fanuc control `;` is the end of block (EOB: the
@@ -785,8 +786,8 @@ fn radius_known(st: &mut State, words: &[Word], c: Compensation) -> Result<(), F
             ));
         }
     }
-}
     Ok(())
+}
 
 /// Words that only mean something with a code this block does not have: an error rather
 /// than a word silently dropped.
@@ -875,8 +876,8 @@ fn g_code(
         43 if !sinumerik => *length = Some((w.column, true)),
         49 if !sinumerik => *length = Some((w.column, false)),
         50 if st.family == Family::Fanuc => *g50 = true,
-        90 => st.incremental = false,
         90 | 91 | 92 | 94 if st.family == Family::Fanuc && lathe => return Err((w.column, system_a(w.value as i64))),
+        90 => st.incremental = false,
         91 => st.incremental = true,
         94 => *feed_mode = Some(FeedMode::PerMinute),
         95 => *feed_mode = Some(FeedMode::PerRevolution),
@@ -889,7 +890,6 @@ fn g_code(
     Ok(())
 }
 
-fn set_motion(st: &mut State, w: &Word, word: &mut Option<usize>, m: Motion) {
 /// Why a Fanuc lathe's G90, G91, G92 or G94 is refused: in G-code system A (which the ISO
 /// lathe follows: G98/G99, `G50 S`) the first three are cycles, and absolute or incremental is
 /// the letter (X/Z or U/W), never a mode. Read as a mode switch they would turn a cycle into
@@ -910,6 +910,7 @@ fn system_a(code: i64) -> String {
     }
 }
 
+fn set_motion(st: &mut State, w: &Word, word: &mut Option<usize>, m: Motion) {
     st.motion = Some(m);
     *word = Some(w.column);
 }

@@ -165,9 +165,9 @@ pub struct RunOptions {
     /// The sheet `Range`, `Cells` and `[B3]` mean before a macro activates another; `None`
     /// is the first sheet.
     pub sheet: Option<String>,
-    /// The dialect the program will be written in, as `Nc.Dialect` tells the macro (`""`
-    /// when none was chosen). Rendering is the caller's: see [`RunOutput::program`].
-    pub dialect: Option<String>,
+    /// The dialect the program will be written in, whose name `Nc.Dialect` tells the macro
+    /// (`""` when none was chosen). Rendering is the caller's: see [`RunOutput::program`].
+    pub dialect: Option<&'static dyn crate::nc::dialect::Dialect>,
     /// The machine of the program until the macro sets `Nc.Machine`.
     pub machine: Machine,
     /// The longest string, in characters (UTF-16 units), a macro may make (`run --max-string`).

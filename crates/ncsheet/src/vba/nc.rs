@@ -52,7 +52,7 @@ impl Interp<'_, '_> {
             "number" => Some(Value::Number(out.program.number.unwrap_or(0) as f64)),
             "machine" => Some(Value::text(if out.program.machine == Machine::Lathe { "lathe" } else { "mill" })),
             "feed" => Some(self.nc.borrow().feed.map_or(Value::Blank, Value::Number)),
-            "dialect" => Some(Value::text(self.options.dialect.clone().unwrap_or_default())),
+            "dialect" => Some(Value::text(self.options.dialect.map_or("", |d| d.name()))),
             "count" => Some(Value::Number(out.program.blocks.len() as f64)),
             _ => None,
         };

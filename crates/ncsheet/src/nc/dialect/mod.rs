@@ -39,7 +39,9 @@ impl fmt::Display for NcError {
 
 impl std::error::Error for NcError {}
 
-pub trait Dialect {
+/// A control's dialect. Every dialect is a `static` (see [`all`]), so a `&'static dyn Dialect`
+/// is the value that names one across the layers: it can be shared between threads.
+pub trait Dialect: Sync {
     /// The name `--dialect` takes.
     fn name(&self) -> &'static str;
 
@@ -56,6 +58,13 @@ pub trait Dialect {
     /// Reads a program as this control does (`crates/ncsheet/src/nc/read.rs`), with the 1-based source line
     /// of each block; `machine` when known, else the reader decides from the program.
     fn read(&self, text: &str, machine: Option<Machine>) -> Result<(Program, Vec<usize>), ReadError>;
+}
+
+/// A dialect shows as its name.
+impl fmt::Debug for dyn Dialect {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
 }
 
 /// The dialects that write programs for `machine`, by name, in `all()`'s order.

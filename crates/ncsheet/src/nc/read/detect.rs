@@ -8,9 +8,9 @@ use crate::nc::dialect::{self, Dialect};
 use crate::nc::Machine;
 
 /// A dialect assumed for a program, and why.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct Guess {
-    pub dialect: &'static str,
+    pub dialect: &'static dyn Dialect,
     pub reason: String,
 }
 
@@ -18,7 +18,7 @@ pub struct Guess {
 /// A header names its control outright and comes first; then the extension a control gives
 /// its programs; then words only one control writes; ISO (Fanuc) when nothing tells.
 pub fn guess(text: &str, extension: Option<&str>) -> Guess {
-    let found = |dialect: &'static str, reason: String| Guess { dialect, reason };
+    let found = |dialect: &'static dyn Dialect, reason: String| Guess { dialect, reason };
     if let Some(reason) = header(text) {
         return reason;
     }
@@ -29,7 +29,7 @@ pub fn guess(text: &str, extension: Option<&str>) -> Guess {
     if let Some((dialect, word)) = telling_word(text) {
         return found(dialect, format!("the word {word}"));
     }
-    found("iso", "nothing in it names another control".into())
+    found(&dialect::ISO, "nothing in it names another control".into())
 }
 
 /// Headers that only one control writes.
@@ -38,21 +38,21 @@ fn header(text: &str) -> Option<Guess> {
     let upper = first.to_ascii_uppercase();
     let plain = upper.trim_start_matches(|c: char| c.is_ascii_digit()).trim_start();
     if plain.starts_with("BEGIN PGM") {
-        return Some(Guess { dialect: "heidenhain", reason: "its header BEGIN PGM".into() });
+        return Some(Guess { dialect: &dialect::Heidenhain, reason: "its header BEGIN PGM".into() });
     }
     if upper.starts_with("%_N_") {
-        return Some(Guess { dialect: "sinumerik", reason: format!("its header {first}") });
+        return Some(Guess { dialect: &dialect::SINUMERIK, reason: format!("its header {first}") });
     }
     None
 }
 
 /// The extensions controls and their post-processors give programs.
-fn by_extension(ext: &str) -> Option<&'static str> {
+fn by_extension(ext: &str) -> Option<&'static dyn Dialect> {
     match ext {
-        "h" => Some("heidenhain"),
-        "mpf" | "spf" => Some("sinumerik"),
-        "ngc" => Some("linuxcnc"),
-        "nc31" => Some("nc31"),
+        "h" => Some(&dialect::Heidenhain),
+        "mpf" | "spf" => Some(&dialect::SINUMERIK),
+        "ngc" => Some(&dialect::LINUXCNC),
+        "nc31" => Some(&dialect::NC31),
         _ => None,
     }
 }
@@ -60,37 +60,38 @@ fn by_extension(ext: &str) -> Option<&'static str> {
 /// The first word in `text` that only one control writes: NC31's rapid mark (a bare `E`),
 /// LinuxCNC's diameter modes G7/G8, its end M2 and its O-word subroutines, Sinumerik's
 /// DIAMON/DIAMOF and G71 (mm), Fanuc's program number `O1234` and numbers ending in a point.
-fn telling_word(text: &str) -> Option<(&'static str, String)> {
+fn telling_word(text: &str) -> Option<(&'static dyn Dialect, String)> {
     for line in text.lines() {
         let code = without_comments(line).to_ascii_uppercase();
-        for (dialect, word) in [
-            ("sinumerik", "DIAMON"),
-            ("sinumerik", "DIAMOF"),
-            ("sinumerik", "G71"),
-            ("sinumerik", "LIMS="),
-            ("linuxcnc", "G7"),
-            ("linuxcnc", "G8"),
-            ("linuxcnc", "M2"),
-            ("linuxcnc", "G64"),
-        ] {
+        let telling: [(&'static dyn Dialect, &str); 8] = [
+            (&dialect::SINUMERIK, "DIAMON"),
+            (&dialect::SINUMERIK, "DIAMOF"),
+            (&dialect::SINUMERIK, "G71"),
+            (&dialect::SINUMERIK, "LIMS="),
+            (&dialect::LINUXCNC, "G7"),
+            (&dialect::LINUXCNC, "G8"),
+            (&dialect::LINUXCNC, "M2"),
+            (&dialect::LINUXCNC, "G64"),
+        ];
+        for (dialect, word) in telling {
             if has_word(&code, word) {
                 return Some((dialect, word.to_string()));
             }
         }
         if code.trim_start().starts_with("O<") {
-            return Some(("linuxcnc", "O<…>".into()));
+            return Some((&dialect::LINUXCNC, "O<…>".into()));
         }
         let words: Vec<&str> = code.split_whitespace().collect();
         if words.last() == Some(&"E") {
-            return Some(("nc31", "E (the rapid mark)".into()));
+            return Some((&dialect::NC31, "E (the rapid mark)".into()));
         }
         if let Some(o) = words.first().filter(|w| is_program_number(w)) {
-            return Some(("iso", o.to_string()));
+            return Some((&dialect::ISO, o.to_string()));
         }
         if let Some(w) =
             words.iter().find(|w| w.len() > 2 && w.ends_with('.') && w[1..w.len() - 1].parse::<f64>().is_ok())
         {
-            return Some(("iso", format!("{w} (a number ending in its point)")));
+            return Some((&dialect::ISO, format!("{w} (a number ending in its point)")));
         }
     }
     None
@@ -137,10 +138,10 @@ fn without_comments(line: &str) -> String {
 
 /// The dialects other than `tried` that read `text` without an error, in `dialect::all()`'s
 /// order: what a reader's refusal suggests.
-pub fn readers_accepting(text: &str, tried: &str, machine: Option<Machine>) -> Vec<&'static str> {
+pub fn readers_accepting(text: &str, tried: &dyn Dialect, machine: Option<Machine>) -> Vec<&'static str> {
     dialect::all()
         .into_iter()
-        .filter(|d: &&dyn Dialect| !d.name().eq_ignore_ascii_case(tried))
+        .filter(|d: &&dyn Dialect| d.name() != tried.name())
         .filter(|d| d.read(text, machine).is_ok())
         .map(|d| d.name())
         .collect()
@@ -152,24 +153,24 @@ mod tests {
 
     #[test]
     fn a_header_names_its_control_whatever_the_extension() {
-        assert_eq!(guess("0 BEGIN PGM P MM\n1 END PGM P MM\n", Some("nc")).dialect, "heidenhain");
-        assert_eq!(guess("%_N_CAM_MPF\n;$PATH=/_N_MPF_DIR\nN10 G17\n", None).dialect, "sinumerik");
+        assert_eq!(guess("0 BEGIN PGM P MM\n1 END PGM P MM\n", Some("nc")).dialect.name(), "heidenhain");
+        assert_eq!(guess("%_N_CAM_MPF\n;$PATH=/_N_MPF_DIR\nN10 G17\n", None).dialect.name(), "sinumerik");
     }
 
     #[test]
     fn words_tell_when_the_extension_does_not() {
-        assert_eq!(guess("%\n(P)\nN10 G21 G18 G7 G90\n", Some("txt")).dialect, "linuxcnc");
-        assert_eq!(guess("N001 T1\nN003 X47.091 Z3 E\n", None).dialect, "nc31");
-        assert_eq!(guess("%\nO0001 (P)\nG0 X1.\n", None).dialect, "iso");
+        assert_eq!(guess("%\n(P)\nN10 G21 G18 G7 G90\n", Some("txt")).dialect.name(), "linuxcnc");
+        assert_eq!(guess("N001 T1\nN003 X47.091 Z3 E\n", None).dialect.name(), "nc31");
+        assert_eq!(guess("%\nO0001 (P)\nG0 X1.\n", None).dialect.name(), "iso");
         // G71 is Sinumerik's mm; G7 inside G71 is no G7.
-        assert_eq!(guess("N10 G17 G90 G71\n", None).dialect, "sinumerik");
-        assert_eq!(guess("G0 X1 (G7 in a comment)\n", None).dialect, "iso");
+        assert_eq!(guess("N10 G17 G90 G71\n", None).dialect.name(), "sinumerik");
+        assert_eq!(guess("G0 X1 (G7 in a comment)\n", None).dialect.name(), "iso");
     }
 
     #[test]
     fn the_extension_comes_before_words() {
-        assert_eq!(guess("G0 X1.\n", Some("NGC")).dialect, "linuxcnc");
-        assert_eq!(guess("G0 X1\n", Some("mpf")).dialect, "sinumerik");
-        assert_eq!(guess("G0 X1\n", Some("h")).dialect, "heidenhain");
+        assert_eq!(guess("G0 X1.\n", Some("NGC")).dialect.name(), "linuxcnc");
+        assert_eq!(guess("G0 X1\n", Some("mpf")).dialect.name(), "sinumerik");
+        assert_eq!(guess("G0 X1\n", Some("h")).dialect.name(), "heidenhain");
     }
 }
