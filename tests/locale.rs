@@ -305,3 +305,98 @@ fn a_semicolon_csv_reads_in_the_locale() {
     let en = ok(in_dir(d, &["eval", "eu.csv", "--locale", "en-US", "--format", "json", "A2"]));
     assert_eq!(en.stdout.trim(), r#"{"Sheet1!A2": "1.234,5"}"#);
 }
+
+/// `Range.FormulaLocal` is the formula "in the language of the user" (Excel's Range page):
+/// in de-DE `;` between arguments and decimal commas, read and written; `.Formula` stays
+/// the file's syntax. A constant typed through it is read in the locale too.
+#[test]
+fn formula_local_reads_and_writes_in_the_locale() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("t.csv"), "x\n").unwrap();
+    ok(in_dir(d, &["set", "t.csv", "--locale", "en-US", "C1=1", "-o", "t.xlsx"]));
+    let macro_text = "Sub Probe()\n    Range(\"B1\").FormulaLocal = \"2,5\"\n    \
+                      Range(\"A1\").FormulaLocal = \"=ROUND(B1*0,5;3)+SUM(1;2)\"\n    MsgBox Range(\"A1\").Formula\n    \
+                      MsgBox Range(\"A1\").FormulaLocal\n    MsgBox Range(\"A1\").Value * 4\n    \
+                      MsgBox Range(\"B1\").FormulaLocal\nEnd Sub\n";
+    std::fs::write(d.join("probe.bas"), macro_text).unwrap();
+    let run = ok(in_dir(d, &["run", "t.xlsx", "probe.bas", "--sub", "Probe", "--locale", "de-DE"]));
+    let said: Vec<&str> = run.stderr.lines().filter(|l| !l.starts_with("ncsheet:")).collect();
+    // ROUND(2.5*0.5, 3) + 3 = 4.25; times 4 is 17.
+    assert_eq!(said, ["=ROUND(B1*0.5,3)+SUM(1,2)", "=ROUND(B1*0,5;3)+SUM(1;2)", "17", "2,5"], "{}", run.stderr);
+    // In en-US `2,5` is no number: refused with the spelling meant, naming the macro's line.
+    let run = in_dir(d, &["run", "t.xlsx", "probe.bas", "--sub", "Probe", "--locale", "en-US"]);
+    assert_ne!(run.code, 0);
+    assert!(run.stderr.contains("probe.bas:2") && run.stderr.contains("type 2.5"), "{}", run.stderr);
+}
+
+/// A date typed in the locale is a date serial shown as the locale's short date: Excel
+/// gives the cell its built-in date format (14), which each locale shows its own way.
+/// 28 November 2026 is serial 46354 (days since 1899-12-30).
+#[test]
+fn a_date_typed_in_the_locale_shows_as_its_short_date() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("t.csv"), "x\n").unwrap();
+    ok(in_dir(d, &["set", "t.csv", "--locale", "de-DE", "A1=28.11.2026", "B1==A1*1", "-o", "t.xlsx"]));
+    let shown = |locale: &str| ok(in_dir(d, &["eval", "t.xlsx", "A1", "B1", "--locale", locale])).stdout;
+    assert_eq!(shown("de-DE"), "A1  28.11.2026\nB1  46354\n");
+    assert_eq!(shown("en-US"), "A1  11/28/2026\nB1  46354\n");
+    assert_eq!(shown("hu-HU"), "A1  2026.11.28.\nB1  46354\n");
+    // A number typed is no date: it keeps General.
+    ok(in_dir(d, &["set", "t.xlsx", "--locale", "de-DE", "C1=28,5", "-o", "u.xlsx"]));
+    assert_eq!(ok(in_dir(d, &["eval", "u.xlsx", "C1", "--locale", "de-DE"])).stdout, "28,5\n");
+}
+
+/// Date letters typed in a locale's format codes (de-DE `TT.MM.JJJJ`, fr-FR `JJ/MM/AAAA`)
+/// and the short month and day names (`mmm`, `ddd`): LibreOffice set to the locale is the
+/// oracle, on TEXT of 2025-03-12 and of the first of every month and seven days in a row.
+#[test]
+fn libreoffice_in_the_locale_is_the_oracle_for_date_letters_and_short_names() {
+    let Some(soffice) = common::soffice() else { return };
+    let mut probes: Vec<(&str, String)> = vec![
+        ("de-DE", r#"=TEXT(45728,"TT.MM.JJJJ")"#.into()),
+        ("de-DE", r#"=TEXT(45728,"TTTT, T. MMMM JJ")"#.into()),
+        ("fr-FR", r#"=TEXT(45728,"JJ/MM/AAAA")"#.into()),
+        ("fr-FR", r#"=TEXT(45728,"jjjj j mmm aa")"#.into()),
+    ];
+    for locale in ["de-DE", "fr-FR", "et-EE"] {
+        probes.extend((1..=12).map(|m| (locale, format!(r#"=TEXT(DATE(2025,{m},1),"mmm")"#))));
+        // 2025-06-01 is a Sunday.
+        probes.extend((1..=7).map(|d| (locale, format!(r#"=TEXT(DATE(2025,6,{d}),"ddd")"#))));
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let fields: Vec<String> = probes.iter().map(|(_, p)| format!("\"{}\"", p.replace('"', "\"\""))).collect();
+    std::fs::write(d.join("names.csv"), format!("{}\n", fields.join(","))).unwrap();
+    ok(in_dir(d, &["set", "names.csv", "--locale", "en-US", "A2=1", "-o", "names.xlsx"]));
+    for locale in ["de-DE", "fr-FR", "et-EE"] {
+        let out = d.join(format!("lo-{locale}"));
+        let profile = libreoffice_profile(&d.join(format!("profile-{locale}")), locale);
+        let status = Command::new(&soffice)
+            .arg(&profile)
+            .args([
+                "--headless",
+                "--norestore",
+                "--convert-to",
+                "csv:Text - txt - csv (StarCalc):59,34,76,1,,0,false,true,true",
+            ])
+            .arg("--outdir")
+            .arg(&out)
+            .arg(d.join("names.xlsx"))
+            .output()
+            .expect("soffice runs");
+        assert!(status.status.success(), "{}", String::from_utf8_lossy(&status.stderr));
+        let theirs = semicolon_fields(&std::fs::read_to_string(out.join("names.csv")).unwrap());
+        let ours_file = format!("ours-{locale}.csv");
+        ok(in_dir(d, &["export", "names.xlsx", "--locale", locale, "-o", &ours_file]));
+        let ours = semicolon_fields(&std::fs::read_to_string(d.join(&ours_file)).unwrap());
+        for (i, (probe_locale, probe)) in probes.iter().enumerate() {
+            if *probe_locale == locale {
+                // ncsheet's export guards text a spreadsheet would read as a date with a `'`.
+                let ours = ours[i].strip_prefix('\'').unwrap_or(&ours[i]);
+                assert_eq!(ours, theirs[i], "{locale}: {probe}");
+            }
+        }
+    }
+}

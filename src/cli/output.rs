@@ -5,7 +5,7 @@ use std::io::{self, Write};
 use std::path::Path;
 
 use clap::ValueEnum;
-use ncsheet::eval::format::number_format::{round15, shown};
+use ncsheet::eval::format::number_format::round15;
 use ncsheet::eval::Value;
 use ncsheet::formula::address::{column_name, Pos, Rect};
 use ncsheet::formula::ast::SheetId;
@@ -64,7 +64,8 @@ impl Shown<'_> {
         }
         match wb.value(sheet, pos) {
             Value::Number(n) if self.raw => locale.localize_shown(&format!("{n}")),
-            Value::Number(n) if locale.is_canonical() => shown(n, self.format_code(wb, sheet, pos), wb.date_system()),
+            // Excel's built-in date (14, `mm-dd-yy` as the file's reader names it) is the
+            // locale's short date, en-US's `m/d/yyyy` included.
             Value::Number(n) => locale.shown_number(n, self.format_code(wb, sheet, pos), wb.date_system()),
             v => v.to_string(),
         }

@@ -188,7 +188,32 @@ impl Document {
             span: None,
         })?;
         let canonical = canonical.into_owned();
-        wb.set_input(sheet, pos, &canonical)
+        let typed_date = is_typed_date(wb, input);
+        let problems = wb.set_input(sheet, pos, &canonical)?;
+        if typed_date {
+            self.show_as_short_date(sheet, pos);
+        }
+        Ok(problems)
+    }
+
+    /// After `typed` was typed into a cell (by a front end that types through
+    /// `Workbook::typed_input`): a date alone in the locale makes the cell show the locale's
+    /// short date, as [`Document::set`] does. Whether it did.
+    pub fn typed_into(&mut self, sheet: SheetId, pos: Pos, typed: &str) -> bool {
+        let date = is_typed_date(&self.opened.workbook, typed);
+        if date {
+            self.show_as_short_date(sheet, pos);
+        }
+        date
+    }
+
+    /// A cell a date was typed into shows it as the locale's short date, as Excel gives it
+    /// the built-in date format (14, `m/d/yyyy` in the file) unless it has a format already.
+    fn show_as_short_date(&mut self, sheet: SheetId, pos: Pos) {
+        let Some(name) = self.opened.workbook.sheet_names().into_iter().nth(sheet as usize) else { return };
+        let layout = self.opened.layout.get_or_insert_with(Default::default);
+        let formats = &mut layout.sheets.entry(name).or_default().number_formats;
+        formats.entry(pos).or_insert_with(|| "m/d/yyyy".to_string());
     }
 
     /// The clock and random sequence the formulas read.
@@ -270,6 +295,18 @@ fn install_functions(opened: &mut Opened, options: RunOptions) {
             ));
         }
     }
+}
+
+/// Whether `typed` is a date alone in the workbook's locale (`28.11.2026` in de-DE,
+/// `11/28/2026` in en-US): not a plain number, and read as a day without a time.
+fn is_typed_date(wb: &crate::workbook::Workbook, typed: &str) -> bool {
+    let locale = wb.settings().locale;
+    let text = typed.trim();
+    if text.starts_with(['=', '\'']) || locale.read_plain_number(text).is_some() {
+        return false;
+    }
+    let date = locale.read_date_text(text, wb.date_system());
+    date.is_some_and(|d| d.date.is_some() && d.time.is_none())
 }
 
 /// A csv opened in a decimal-comma locale: the fields that are numbers or dates there but

@@ -46,6 +46,13 @@ pub struct LocaleData {
     pub months: &'static str,
     /// The weekdays' full names, Sunday first, between spaces.
     pub days: &'static str,
+    /// The months' short names (`mmm`), then the weekdays' (`ddd`), between spaces, as
+    /// LibreOffice set to the locale shows them (the issue's oracle).
+    pub months_short: &'static str,
+    pub days_short: &'static str,
+    /// The date letters this locale's users type in format codes, each with the canonical
+    /// letter it stands for, either case (de-DE `TT.MM.JJJJ`, fr-FR `JJ/MM/AAAA`).
+    pub format_letters: &'static [(char, char)],
 }
 
 const SPACES: &[char] = &[' ', '\u{202F}'];
@@ -62,6 +69,9 @@ static EN_US: LocaleData = LocaleData {
     short_date: "m/d/yyyy",
     months: "January February March April May June July August September October November December",
     days: "Sunday Monday Tuesday Wednesday Thursday Friday Saturday",
+    months_short: "Jan Feb Mar Apr May Jun Jul Aug Sep Oct Nov Dec",
+    days_short: "Sun Mon Tue Wed Thu Fri Sat",
+    format_letters: &[],
 };
 
 /// What the decimal-comma locales share (each says what it does otherwise): a no-break space
@@ -78,6 +88,9 @@ const DECIMAL_COMMA: LocaleData = LocaleData {
     short_date: "dd.mm.yyyy",
     months: "",
     days: "",
+    months_short: "",
+    days_short: "",
+    format_letters: &[],
 };
 
 static LOCALES: [&LocaleData; 8] = [
@@ -89,6 +102,9 @@ static LOCALES: [&LocaleData; 8] = [
         group_typed: &[],
         months: "Januar Februar März April Mai Juni Juli August September Oktober November Dezember",
         days: "Sonntag Montag Dienstag Mittwoch Donnerstag Freitag Samstag",
+        months_short: "Jan Feb Mär Apr Mai Jun Jul Aug Sep Okt Nov Dez",
+        days_short: "So Mo Di Mi Do Fr Sa",
+        format_letters: &[('T', 'd'), ('J', 'y')],
         ..DECIMAL_COMMA
     },
     &LocaleData {
@@ -98,6 +114,9 @@ static LOCALES: [&LocaleData; 8] = [
         short_date: "dd/mm/yyyy",
         months: "janvier février mars avril mai juin juillet août septembre octobre novembre décembre",
         days: "dimanche lundi mardi mercredi jeudi vendredi samedi",
+        months_short: "janv. févr. mars avr. mai juin juil. août sept. oct. nov. déc.",
+        days_short: "dim. lun. mar. mer. jeu. ven. sam.",
+        format_letters: &[('J', 'd'), ('A', 'y')],
         ..DECIMAL_COMMA
     },
     &LocaleData {
@@ -105,6 +124,8 @@ static LOCALES: [&LocaleData; 8] = [
         english_name: "Estonian (Estonia)",
         months: "jaanuar veebruar märts aprill mai juuni juuli august september oktoober november detsember",
         days: "pühapäev esmaspäev teisipäev kolmapäev neljapäev reede laupäev",
+        months_short: "jaan veebr märts apr mai juuni juuli aug sept okt nov dets",
+        days_short: "P E T K N R L",
         ..DECIMAL_COMMA
     },
     &LocaleData {
@@ -112,6 +133,8 @@ static LOCALES: [&LocaleData; 8] = [
         english_name: "Ukrainian (Ukraine)",
         months: "січень лютий березень квітень травень червень липень серпень вересень жовтень листопад грудень",
         days: "неділя понеділок вівторок середа четвер пʼятниця субота",
+        months_short: "січ лют бер квт трв чер лип сер вер жов лис гру",
+        days_short: "Нд Пн Вт Ср Чт Пт Сб",
         ..DECIMAL_COMMA
     },
     &LocaleData {
@@ -120,6 +143,8 @@ static LOCALES: [&LocaleData; 8] = [
         short_date: "d.m.yyyy",
         months: "január február marec apríl máj jún júl august september október november december",
         days: "nedeľa pondelok utorok streda štvrtok piatok sobota",
+        months_short: "I II III IV V VI VII VIII IX X XI XII",
+        days_short: "Ne Po Ut St Št Pi So",
         ..DECIMAL_COMMA
     },
     &LocaleData {
@@ -130,6 +155,8 @@ static LOCALES: [&LocaleData; 8] = [
         short_date: "d.m.yyyy",
         months: "januar februar mart april maj jun jul avgust septembar oktobar novembar decembar",
         days: "nedelja ponedeljak utorak sreda četvrtak petak subota",
+        months_short: "jan feb mar apr maj jun jul avg sep okt nov dec",
+        days_short: "ned pon uto sre čet pet sub",
         ..DECIMAL_COMMA
     },
     &LocaleData {
@@ -139,6 +166,8 @@ static LOCALES: [&LocaleData; 8] = [
         short_date: "yyyy.mm.dd.",
         months: "január február március április május június július augusztus szeptember október november december",
         days: "vasárnap hétfő kedd szerda csütörtök péntek szombat",
+        months_short: "I. II. III. IV. V. VI. VII. VIII. IX. X. XI. XII.",
+        days_short: "V H K Sze Cs P Szo",
         ..DECIMAL_COMMA
     },
 ];
@@ -385,14 +414,86 @@ impl Locale {
     /// A date as en-US shows it with its month's and weekday's full names (`mmmm`, `dddd`)
     /// in this locale's words (`märts`, `kolmapäev`).
     pub fn localize_names(self, shown: &str) -> String {
+        self.localize_names_for("mmmm", shown)
+    }
+
+    /// A date the format `code` showed in en-US with its month and weekday names in this
+    /// locale's words: full names (`mmmm`, `dddd`) and short ones (`mmm`, `ddd`), word by
+    /// word (`Mon` is a word, not the start of `Montag`). English `May` is both; it is the
+    /// short name when the code's longest month is `mmm`.
+    pub fn localize_names_for(self, code: &str, shown: &str) -> String {
         if self.0 == &EN_US || !shown.chars().any(char::is_alphabetic) {
             return shown.to_string();
         }
-        let mut out = shown.to_string();
-        let words = |names: &'static str| names.split(' ');
-        let pairs = words(EN_US.months).zip(words(self.months)).chain(words(EN_US.days).zip(words(self.days)));
-        for (english, own) in pairs {
-            out = out.replace(english, own);
+        let words = |names: &'static str| names.split(' ').collect::<Vec<_>>();
+        let short_may = longest_run(code, 'm') == 3;
+        let (months, days) = (words(self.months), words(self.days));
+        let (months_short, days_short) = (words(self.months_short), words(self.days_short));
+        let own = |english: &str| -> Option<&'static str> {
+            let at = |list: &str| words_position(list, english);
+            if english == "May" && short_may {
+                return months_short.get(4).copied();
+            }
+            at(EN_US.months)
+                .and_then(|i| months.get(i))
+                .or_else(|| at(EN_US.days).and_then(|i| days.get(i)))
+                .or_else(|| at(EN_US.months_short).and_then(|i| months_short.get(i)))
+                .or_else(|| at(EN_US.days_short).and_then(|i| days_short.get(i)))
+                .copied()
+        };
+        let mut out = String::with_capacity(shown.len() + 8);
+        let mut word = String::new();
+        for c in shown.chars().chain(std::iter::once('\0')) {
+            if c.is_alphabetic() {
+                word.push(c);
+                continue;
+            }
+            if !word.is_empty() {
+                out.push_str(own(&word).unwrap_or(&word));
+                word.clear();
+            }
+            if c != '\0' {
+                out.push(c);
+            }
+        }
+        out
+    }
+
+    /// A format code with this locale's date letters (de-DE `TT.MM.JJJJ`) in the canonical
+    /// ones (`dd.mm.yyyy`); quoted text, `\`-escapes, `[…]` and AM/PM are left alone.
+    fn canonical_date_letters(self, code: &str) -> String {
+        // `General` (fr-FR `Standard`) holds letters that are no date here.
+        if self.format_letters.is_empty() || code.to_ascii_lowercase().contains("general") {
+            return code.to_string();
+        }
+        let chars: Vec<char> = code.chars().collect();
+        let mut out = String::with_capacity(code.len());
+        let (mut quoted, mut bracket, mut i) = (false, false, 0);
+        while i < chars.len() {
+            let c = chars[i];
+            let rest: String = chars[i..].iter().take(5).collect::<String>().to_ascii_uppercase();
+            if !quoted && !bracket && (rest.starts_with("AM/PM") || rest.starts_with("A/P")) {
+                let n = if rest.starts_with("AM/PM") { 5 } else { 3 };
+                out.extend(&chars[i..i + n]);
+                i += n;
+                continue;
+            }
+            match c {
+                '"' => quoted = !quoted,
+                '[' if !quoted => bracket = true,
+                ']' if !quoted => bracket = false,
+                '\\' if !quoted => {
+                    out.extend(chars[i..(i + 2).min(chars.len())].iter());
+                    i += 2;
+                    continue;
+                }
+                _ => {}
+            }
+            let mapped = (!quoted && !bracket)
+                .then(|| self.format_letters.iter().find(|(l, _)| l.eq_ignore_ascii_case(&c)))
+                .flatten();
+            out.push(mapped.map_or(c, |(_, canonical)| *canonical));
+            i += 1;
         }
         out
     }
@@ -404,7 +505,7 @@ impl Locale {
             return shown.to_string();
         }
         if is_date_code(code) {
-            return literal_marks(&self.localize_names(shown));
+            return literal_marks(&self.localize_names_for(code, shown));
         }
         literal_marks(&self.localize_shown(shown))
     }
@@ -414,6 +515,7 @@ impl Locale {
     /// `#.##0` or `# ##0` groups thousands (`#,##0`). Date and time codes, quoted text,
     /// `\`-escaped characters and `[…]` sections are left as they are.
     pub fn canonical_format_code(self, code: &str) -> String {
+        let code = &self.canonical_date_letters(code);
         if self.is_canonical() || is_date_code(code) {
             return code.to_string();
         }
@@ -510,6 +612,24 @@ pub fn literal_marks(shown: &str) -> String {
     shown.replace(LITERAL_POINT, ".").replace(LITERAL_COMMA, ",")
 }
 
+/// The index of `word` among the space-separated `names`.
+fn words_position(names: &str, word: &str) -> Option<usize> {
+    names.split(' ').position(|n| n == word)
+}
+
+/// The longest run of `letter` (either case) in a format code, outside quotes.
+fn longest_run(code: &str, letter: char) -> usize {
+    let (mut longest, mut run, mut quoted) = (0, 0, false);
+    for c in code.chars() {
+        if c == '"' {
+            quoted = !quoted;
+        }
+        run = if !quoted && c.eq_ignore_ascii_case(&letter) { run + 1 } else { 0 };
+        longest = longest.max(run);
+    }
+    longest
+}
+
 /// Whether a format code shows a date or time (a d, m, y, h or s outside quotes and `[…]`).
 fn is_date_code(code: &str) -> bool {
     let mut quoted = false;
@@ -590,6 +710,21 @@ mod tests {
         assert_eq!(fr.localize_formatted(&code, "1,234.50 m\u{F8F0}"), "1\u{A0}234,50 m.");
         assert_eq!(locale("de-DE").canonical_format_code("#.##0,0"), "#,##0.0");
         assert_eq!(fr.canonical_format_code("dd.mm.yyyy"), "dd.mm.yyyy");
+    }
+
+    /// LibreOffice set to each locale (TEXT of 2025-03-12 and of the first of each month).
+    #[test]
+    fn date_letters_and_short_names_as_libreoffice_shows_them() {
+        let de = locale("de-DE");
+        assert_eq!(de.canonical_format_code("TT.MM.JJJJ"), "dd.MM.yyyy");
+        assert_eq!(de.canonical_format_code("TTTT \"Tag\""), "dddd \"Tag\"");
+        assert_eq!(locale("fr-FR").canonical_format_code("JJ/MM/AAAA hh:mm AM/PM"), "dd/MM/yyyy hh:mm AM/PM");
+        assert_eq!(locale("et-EE").canonical_format_code("dd.mm.yyyy"), "dd.mm.yyyy");
+        assert_eq!(de.localize_names_for("ddd, d. mmm", "Mon, 3. Mar"), "Mo, 3. Mär");
+        assert_eq!(de.localize_names_for("dddd", "Monday"), "Montag");
+        assert_eq!(locale("uk-UA").localize_names_for("mmm", "May"), "трв");
+        assert_eq!(locale("uk-UA").localize_names_for("mmmm", "May"), "травень");
+        assert_eq!(locale("fr-FR").localize_names_for("mmm yy", "Feb 25"), "févr. 25");
     }
 
     #[test]

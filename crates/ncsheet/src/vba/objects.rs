@@ -2,7 +2,7 @@
 //! `Cells`, `Worksheets`, `Application`, `Evaluate`, `MsgBox`; the `Nc` object is in `nc.rs`.
 
 use crate::eval::dates::DateSystem;
-use crate::eval::coerce::{to_bool, to_number, to_text};
+use crate::eval::coerce::{parse_plain_number, to_bool, to_number, to_text};
 use crate::eval::functions::vba::vba_text;
 use crate::eval::functions::Registry;
 use crate::eval::{Ctx, Operand, Value};
@@ -390,7 +390,8 @@ impl Interp<'_, '_> {
         match name.as_str() {
             // A whole column is all its 1,048,576 rows, not the used part (`whole_array`).
             "value" | "value2" => value(super::value::whole_array(ctx.rect_value(sheet, rect)).unwrap_single()),
-            "formula" | "formulalocal" => value(self.formulas(sheet, rect, false)),
+            "formula" => value(self.formulas(sheet, rect, false)),
+            "formulalocal" => value(self.formulas_local(sheet, rect)),
             "formular1c1" | "formular1c1local" => value(self.formulas(sheet, rect, true)),
             "text" => value(Value::text(print_text(&ctx.rect_value(sheet, Rect::cell(rect.first))))),
             "row" => value(Value::Number(rect.first.row as f64 + 1.0)),
@@ -498,6 +499,41 @@ impl Interp<'_, '_> {
         Value::from(crate::eval::Array::new(rect.rows() as usize, rect.cols() as usize, items))
     }
 
+    /// `.FormulaLocal`: the formulas as the workbook's locale spells them (`;` between
+    /// arguments, decimal commas), constants with its decimal mark; no localized function
+    /// names (the locale data has none).
+    fn formulas_local(&self, sheet: SheetId, rect: Rect) -> Value {
+        let locale = self.wb.borrow().settings().locale;
+        let local = |v: &Value| match v {
+            Value::Text(t) if t.starts_with('=') => Value::text(locale.local_formula(t)),
+            Value::Text(t) if parse_plain_number(t).is_some() => Value::text(locale.localize_shown(t)),
+            v => v.clone(),
+        };
+        match self.formulas(sheet, rect, false) {
+            Value::Array(a) => {
+                let items = a.data.iter().map(local).collect();
+                Value::from(crate::eval::Array::new(a.rows, a.cols, items))
+            }
+            v => local(&v),
+        }
+    }
+
+    /// `.FormulaLocal =`: what a user of the workbook's locale types (`=RUNDEN` aside:
+    /// `=ROUND(B5*0,5;3)`, `0,8`, `28.11.2026`), stored canonically; a number of another
+    /// locale is refused with the spelling meant.
+    fn write_formula_local(&self, sheet: SheetId, rect: Rect, text: &str, span: Span) -> Run<()> {
+        let canonical = self.wb.borrow().typed_input(text).map(|c| c.into_owned());
+        let canonical = canonical.map_err(|why| self.fault_at(span, why))?;
+        if canonical.starts_with('=') {
+            return self.write_formula(sheet, rect, &canonical, false, span);
+        }
+        let value = match crate::workbook::Input::parse(&canonical, self.wb.borrow().date_system()) {
+            crate::workbook::Input::Value(v) => v,
+            _ => Value::text(canonical.as_str()),
+        };
+        self.write_range(sheet, rect, &value)
+    }
+
     fn msgbox(&self, ctx: &mut Ctx, link: &Link) -> Run<Obj> {
         let values = self.values(ctx, link)?;
         let prompt = values.first().map(print_text).unwrap_or_default();
@@ -581,6 +617,9 @@ impl Interp<'_, '_> {
                 let v = self.eval(value)?;
                 let text =
                     vba_text(&v).map_err(|e| self.fault_at(self.expr_span(value), format!("the formula is {e}")))?;
+                if name == "formulalocal" {
+                    return self.write_formula_local(*sheet, *rect, &text, link.span);
+                }
                 self.write_formula(*sheet, *rect, &text, name.starts_with("formular1c1"), link.span)
             }
             (Obj::Nc, _) => self.set_nc(&name, value, link.span),

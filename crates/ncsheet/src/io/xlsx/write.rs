@@ -132,7 +132,7 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
         }
         for (pos, value) in wb.values(sheet) {
             let format = sheet_layout.and_then(|l| l.number_formats.get(&pos)).map(|code| {
-                &*formats.entry(code.as_str()).or_insert_with(|| Format::new().set_num_format(code.as_str()))
+                &*formats.entry(code.as_str()).or_insert_with(|| number_format(code))
             });
             let place = || wb.cell_name(sheet, pos);
             match syntax::cell_to_file(wb, sheet, pos, Storage::Legacy) {
@@ -478,5 +478,14 @@ fn result_text(value: &Value) -> String {
         Value::Text(s) if s.parse::<f64>().is_ok_and(|n| !n.is_finite()) => String::new(),
         Value::Text(s) => s.to_string(),
         Value::Blank | Value::Array(_) | Value::Lambda(_) => String::new(),
+    }
+}
+
+/// A cell format for a number format code: the built-in date (14), which every Excel shows as
+/// its own locale's short date, by its index; any other code as written.
+fn number_format(code: &str) -> Format {
+    match code {
+        "m/d/yyyy" | "mm-dd-yy" => Format::new().set_num_format_index(14),
+        code => Format::new().set_num_format(code),
     }
 }
