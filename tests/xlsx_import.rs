@@ -343,3 +343,23 @@ fn indirect_reads_structured_references_to_tables() {
         assert_eq!(wb.value(0, at(cell)), value, "{cell}: {:?}", wb.formula(0, at(cell)));
     }
 }
+
+/// Whole rows and columns in array formulas: a legacy array formula over a whole row
+/// (`{=First!1:1}` entered across D1:XFD1, as Excel stores it) shows First's row shifted,
+/// 0 for each empty cell out to the sheet's last column; a whole column read as an array
+/// (`SUMPRODUCT((A:A>0)*B:B)`, `ROWS(A:A)`) is all 1,048,576 rows, the empty ones blank,
+/// as Excel computes them.
+#[test]
+fn whole_rows_and_columns_in_array_formulas_reach_the_sheet_edge() {
+    let first = r#"<row r="1"><c r="A1"><v>1</v></c><c r="B1"><v>2</v></c><c r="C1"><v>3</v></c></row>"#;
+    let second = r#"<row r="1"><c r="D1"><f t="array" ref="D1:XFD1">First!1:1</f><v>1</v></c></row><row r="2"><c r="A2"><v>-1</v></c><c r="B2"><v>5</v></c></row><row r="3"><c r="A3"><v>2</v></c><c r="B3"><v>7</v></c></row><row r="4"><c r="E4"><f>SUMPRODUCT((A:A&gt;0)*B:B)</f></c><c r="F4"><f>ROWS(A:A)</f></c><c r="G4"><f>SUMPRODUCT(--(A:A=""))</f></c></row>"#;
+    let imported = load(&[("First", first), ("Second", second)], "");
+    let wb = &imported.workbook;
+    for (cell, value) in [("D1", 1.0), ("E1", 2.0), ("F1", 3.0), ("G1", 0.0), ("XFD1", 0.0)] {
+        assert_eq!(wb.value(1, at(cell)), num(value), "{cell}");
+    }
+    assert_eq!(wb.value(1, at("E4")), num(7.0));
+    assert_eq!(wb.value(1, at("F4")), num(1048576.0));
+    // Every row of A but A2 and A3 is empty.
+    assert_eq!(wb.value(1, at("G4")), num(1048574.0));
+}
