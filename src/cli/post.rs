@@ -83,7 +83,6 @@ pub enum MachineKind {
     AbHead,
 }
 
-
 fn parse_range(text: &str) -> std::result::Result<[f64; 2], String> {
     let (a, b) = text.split_once(':').ok_or_else(|| format!("'{text}' is not a range MIN:MAX"))?;
     let number = |s: &str| s.trim().parse::<f64>().map_err(|_| format!("'{s}' in '{text}' is not a number"));

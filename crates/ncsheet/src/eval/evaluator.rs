@@ -6,8 +6,8 @@ use std::rc::Rc;
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::formula::ast::*;
 
-use super::dates::DateSystem;
 use super::coerce::{compare, to_number, to_text};
+use super::dates::DateSystem;
 use super::functions::{self, FnKind};
 use super::value::{too_many_items, too_many_items_note, Array, Value, XlError, XlResult};
 

@@ -12,8 +12,8 @@
 use std::cell::{Cell, RefCell};
 use std::rc::Rc;
 
-use crate::eval::dates::DateSystem;
 use crate::eval::coerce::{compare, to_bool, to_number};
+use crate::eval::dates::DateSystem;
 use crate::eval::evaluator::binary;
 use crate::eval::{Ctx, Operand, Value, XlError};
 use crate::formula::address::{Pos, Rect};

@@ -1,8 +1,8 @@
 //! The objects a macro reaches through member paths, as a VBA user knows them: `Range`,
 //! `Cells`, `Worksheets`, `Application`, `Evaluate`, `MsgBox`; the `Nc` object is in `nc.rs`.
 
-use crate::eval::dates::DateSystem;
 use crate::eval::coerce::{parse_plain_number, to_bool, to_number, to_text};
+use crate::eval::dates::DateSystem;
 use crate::eval::functions::vba::vba_text;
 use crate::eval::functions::Registry;
 use crate::eval::{Ctx, Operand, Value};
@@ -640,7 +640,9 @@ impl Interp<'_, '_> {
                 Ok(())
             }
             (Obj::App, "referencestyle") => {
-                let style = to_number(&self.eval(value)?, DateSystem::From1900).ok().filter(|s| [XL_A1, XL_R1C1].contains(&(*s as i32)));
+                let style = to_number(&self.eval(value)?, DateSystem::From1900)
+                    .ok()
+                    .filter(|s| [XL_A1, XL_R1C1].contains(&(*s as i32)));
                 let why = "ReferenceStyle is xlA1 or xlR1C1";
                 let style = style.ok_or_else(|| self.fault_at(link.span, why))?;
                 self.reference_style.set(style as i32);

@@ -4,8 +4,8 @@
 
 use nalgebra::{Point3, Vector3};
 
-use crate::eval::dates::DateSystem;
 use crate::eval::coerce::{to_number, to_text};
+use crate::eval::dates::DateSystem;
 use crate::eval::functions::api::{lift, Ctx, FnSpec};
 use crate::eval::surface::{surface_argument, BoundSurface, EmptyEnv, FormulaSurface, Home, SurfaceFault};
 use crate::eval::value::{Array, Value, XlError, XlResult};
@@ -176,7 +176,8 @@ fn arch_fit(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let kind_text = to_text(&values[0]).map_err(|e| ctx.explain(e, format!("ARCH_FIT kind is {e}")))?;
     let mut n = [0.0; 5];
     for (i, v) in values[1..].iter().enumerate() {
-        n[i] = to_number(v, dates).map_err(|e| ctx.explain(e, format!("argument {} of {ARCH_FIT_ARGS} is {e}", i + 2)))?;
+        n[i] =
+            to_number(v, dates).map_err(|e| ctx.explain(e, format!("argument {} of {ARCH_FIT_ARGS} is {e}", i + 2)))?;
     }
     let [r0, phi0, r1, phi1, tol] = n;
     let arcs = PieceKind::parse(&kind_text)
