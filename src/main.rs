@@ -4,12 +4,10 @@
 
 use std::process::ExitCode;
 
-use clap::Parser;
-
 mod cli;
 
 fn main() -> ExitCode {
-    let args = match cli::Cli::try_parse() {
+    let args = match cli::Cli::try_parse_grouped() {
         Ok(args) => args,
         Err(e) => {
             // `--tol 0,01` typed in a decimal-comma locale: say what the option wants.

@@ -317,16 +317,13 @@ fn a_repl_save_keeps_the_files_formats_and_delimiter() {
 }
 
 #[test]
-fn a_table_fits_80_columns_when_not_a_terminal_and_width_when_given() {
+fn a_table_fits_the_width_given_in_blocks() {
     let book = repo("sheets/chamfer.xlsx");
-    let run = ncsheet(&["eval", &book, "--sheet", "Outer"]);
-    assert_eq!(run.code, 0, "{}", run.stderr);
-    assert!(run.stdout.lines().all(|l| l.chars().count() <= 80), "{}", run.stdout);
     let run = ncsheet(&["eval", &book, "--sheet", "Summary", "--width", "50"]);
     assert!(run.stdout.lines().all(|l| l.chars().count() <= 50), "{}", run.stdout);
-    // Twelve columns cannot fit 80 even narrowed: they come in blocks, each within 80, every
-    // column there once, every row in each block.
-    let run = ncsheet(&["eval", &repo("sheets/sphere-5axis.csv")]);
+    // Twelve columns cannot fit 80: they come in blocks, each within 80, every column there
+    // once, every row in each block.
+    let run = ncsheet(&["eval", &repo("sheets/sphere-5axis.csv"), "--width", "80"]);
     assert_eq!(run.code, 0, "{}", run.stderr);
     assert!(run.stdout.lines().all(|l| l.chars().count() <= 80), "{}", run.stdout);
     let headers: Vec<&str> =
@@ -335,6 +332,26 @@ fn a_table_fits_80_columns_when_not_a_terminal_and_width_when_given() {
     let blocks = run.stdout.split("\n\n").count();
     assert!(blocks > 1, "{}", run.stdout);
     assert_eq!(run.stdout.lines().filter(|l| l.starts_with(" 6 ")).count(), blocks, "{}", run.stdout);
+}
+
+/// Twelve cells of −25.512/2 = −12.756 in a row: 12 × 9 characters, wider than 80. Piped, the
+/// table is one block with every digit (issue 26: it was cut to 80 columns, −12.76); within a
+/// width, the columns come in blocks and still keep every digit.
+#[test]
+fn a_piped_table_keeps_every_digit() {
+    let dir = tempfile::tempdir().unwrap();
+    let book = write(dir.path(), "wide.csv", &format!("{}\n", vec!["=-25.512/2"; 12].join(",")));
+    let piped = ncsheet(&["eval", &book]);
+    assert_eq!(piped.code, 0, "{}", piped.stderr);
+    let row = piped.stdout.lines().find(|l| l.starts_with('1')).expect(&piped.stdout);
+    assert_eq!(row.split_whitespace().skip(1).collect::<Vec<_>>(), ["-12.756"; 12], "{}", piped.stdout);
+    assert!(!piped.stdout.contains("\n\n"), "one block: {}", piped.stdout);
+    let narrow = ncsheet(&["eval", &book, "--width", "40"]);
+    assert!(narrow.stdout.lines().all(|l| l.chars().count() <= 40), "{}", narrow.stdout);
+    let values: Vec<&str> =
+        narrow.stdout.lines().filter(|l| l.starts_with('1')).flat_map(|l| l.split_whitespace().skip(1)).collect();
+    assert_eq!(values, ["-12.756"; 12], "{}", narrow.stdout);
+    assert!(narrow.stdout.split("\n\n").count() > 1, "{}", narrow.stdout);
 }
 
 #[test]
@@ -715,4 +732,171 @@ fn show_follows_what_a_cell_reads_as_deep_as_asked() {
     assert!(a2 < a1, "A1 is read by A2, so it comes after it: {}", deep.stdout);
     let one_step = ncsheet(&["show", &book, "A3", "--depth", "1"]);
     assert_eq!(one_step.stdout, shallow.stdout);
+}
+
+// ---------------------------------------------------------------------------------------
+// 9. the help as a user meets it (issue 26)
+
+/// The text of `ncsheet ARGS --help`.
+fn help(args: &[&str]) -> String {
+    let run = ncsheet(&[args, &["--help"]].concat());
+    assert_eq!(run.code, 0, "{args:?}: {}", run.stderr);
+    run.stdout
+}
+
+/// Whether the help lists `option` among its entries (not only names it in a text).
+fn lists(help: &str, option: &str) -> bool {
+    entries(help).iter().any(|e| {
+        e.split_whitespace().take_while(|w| w.starts_with(['-', '<'])).any(|w| w.trim_end_matches(',') == option)
+    })
+}
+
+const READING: [&str; 6] =
+    ["--delimiter", "--locale", "--max-part-size", "--max-zip-ratio", "--max-csv-field", "--max-csv-line"];
+
+#[test]
+fn each_command_lists_the_options_it_takes_and_no_others() {
+    for command in ["eval", "set", "export", "repl", "show", "info", "run", "serve"] {
+        let text = help(&[command]);
+        for option in READING.iter().chain(&["--timeout"]) {
+            assert!(lists(&text, option), "{command} --help lacks {option}:\n{text}");
+        }
+    }
+    // macros reads workbooks too (an .xlsm, or a .csv with --import), with the delimiter
+    // detected.
+    let text = help(&["macros"]);
+    assert!(READING[2..].iter().all(|o| lists(&text, o)), "{text}");
+    let no_workbook: [&[&str]; 10] = [
+        &["functions"],
+        &["cam"],
+        &["arcfit"],
+        &["ballpath"],
+        &["post"],
+        &["nc"],
+        &["nc", "dda"],
+        &["nc", "time"],
+        &["nc", "plot"],
+        &["nc", "check"],
+    ];
+    for command in no_workbook {
+        let text = help(command);
+        assert!(lists(&text, "--timeout"), "{command:?}:\n{text}");
+        for option in READING {
+            assert!(!lists(&text, option), "{command:?} --help lists {option}:\n{text}");
+        }
+    }
+    // Not listed is not taken either: a usage error naming the option.
+    let run = ncsheet(&["functions", "TAN", "--max-part-size", "1G"]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(run.stderr.contains("--max-part-size"), "{}", run.stderr);
+}
+
+#[test]
+fn the_top_level_help_lists_the_commands_in_three_groups() {
+    let text = help(&[]);
+    let headings = ["Workbook commands:", "NC commands:", "Geometry commands:"];
+    let at: Vec<usize> = headings.iter().map(|h| text.find(h).unwrap_or_else(|| panic!("{h}\n{text}"))).collect();
+    assert!(at.windows(2).all(|w| w[0] < w[1]), "{text}");
+    // The commands under each heading, up to the next blank line.
+    let listed = |heading: &str| -> Vec<String> {
+        let section = text.split(heading).nth(1).unwrap().split("\n\n").next().unwrap();
+        section.lines().filter_map(|l| l.split_whitespace().next()).map(String::from).collect()
+    };
+    let words = |names: &[&str]| names.iter().map(|n| n.to_string()).collect::<Vec<_>>();
+    assert_eq!(
+        listed(headings[0]),
+        words(&["eval", "set", "export", "repl", "show", "info", "functions", "macros", "serve"]),
+        "{text}"
+    );
+    assert_eq!(listed(headings[1]), words(&["run", "nc", "post"]), "{text}");
+    assert_eq!(listed(headings[2]), words(&["cam", "arcfit", "ballpath"]), "{text}");
+    // Each with the first line of its own help.
+    let eval_about = ncsheet(&["eval", "-h"]).stdout.lines().next().unwrap().to_string();
+    assert!(text.lines().any(|l| l.trim_start().starts_with("eval") && l.ends_with(&eval_about)), "{text}");
+    assert!(text.contains("Options:") && lists(&text, "--timeout"), "{text}");
+}
+
+#[test]
+fn a_tolerance_is_spelled_tol_and_the_old_spelling_still_works() {
+    for command in [&["cam"][..], &["arcfit"], &["ballpath"], &["nc", "check"]] {
+        let text = help(command);
+        assert!(lists(&text, "--tol"), "{command:?}:\n{text}");
+        assert!(!text.contains("--tolerance"), "{command:?}:\n{text}");
+    }
+    assert!(!help(&["eval"]).contains("--max-seconds"), "--timeout's old name is not shown");
+    // ballpath's chord tolerance under either name: the same path, denser than without it
+    // (the bump's curvature needs points closer than the 5 mm step).
+    let bump = common::cli::bump_ballpath("25", "5", "off");
+    let bump: Vec<&str> = bump.iter().map(String::as_str).collect();
+    let path = |extra: &[&str]| {
+        let run = ncsheet(&[&bump[..], extra].concat());
+        assert_eq!(run.code, 0, "{extra:?}: {}", run.stderr);
+        run.stdout
+    };
+    let (plain, tol, tolerance) = (path(&[]), path(&["--tol", "0.01"]), path(&["--tolerance", "0.01"]));
+    assert!(tol.lines().count() > plain.lines().count(), "{tol}");
+    assert_eq!(tol, tolerance);
+    // nc check's arc tolerance: an arc end 0.01 mm off its circle (radius 10) is found at the
+    // default 0.002 mm and passes --tol 0.02, under either name.
+    let dir = tempfile::tempdir().unwrap();
+    let program = write(
+        dir.path(),
+        "arc.nc",
+        "G21 G17 G90 G40\nT1 M6 G43\nS1000 M3\nG94\nG0 X10 Y0 Z5\nG1 Z-1 F100\nG3 X0 Y10.01 I-10 J0\nG0 Z5\nM5\nM30\n",
+    );
+    assert_eq!(ncsheet(&["nc", "check", &program]).code, 1);
+    for name in ["--tol", "--tolerance"] {
+        let run = ncsheet(&["nc", "check", &program, name, "0.02"]);
+        assert_eq!(run.code, 0, "{name}: {}{}", run.stdout, run.stderr);
+    }
+}
+
+/// The help's entries: an option or argument with its text, as one line.
+fn entries(help: &str) -> Vec<String> {
+    let mut entries: Vec<String> = Vec::new();
+    for line in help.lines() {
+        let trimmed = line.trim_start();
+        let indent = line.len() - trimmed.len();
+        let starts_entry = (2..=6).contains(&indent) && trimmed.starts_with(['-', '<', '[']);
+        if starts_entry || indent == 0 {
+            entries.push(String::new());
+        }
+        if let Some(last) = entries.last_mut() {
+            last.push(' ');
+            last.push_str(trimmed);
+        }
+    }
+    entries
+}
+
+#[test]
+fn no_default_is_said_twice() {
+    let commands: [&[&str]; 18] = [
+        &["eval"],
+        &["set"],
+        &["export"],
+        &["repl"],
+        &["show"],
+        &["info"],
+        &["functions"],
+        &["macros"],
+        &["serve"],
+        &["run"],
+        &["post"],
+        &["nc", "dda"],
+        &["nc", "time"],
+        &["nc", "plot"],
+        &["nc", "check"],
+        &["cam"],
+        &["arcfit"],
+        &["ballpath"],
+    ];
+    for command in commands {
+        for entry in entries(&help(command)) {
+            // clap's `[default: …]` and the text's own word for it.
+            if entry.contains("[default:") {
+                assert_eq!(entry.to_lowercase().matches("default").count(), 1, "{command:?}: {entry}");
+            }
+        }
+    }
 }

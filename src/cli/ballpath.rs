@@ -28,7 +28,7 @@ use super::report::{prepend, Error, Result};
 /// --lines y) --stepover apart, the last one on the far edge, each running the full width with
 /// both edges included, alternating direction (or one way with --direction climb or
 /// conventional, retracting between lines); points --step apart along a line (with
-/// --tolerance: as few as keep the programmed polyline within the tolerance of the tool path,
+/// --tol: as few as keep the programmed polyline within the tolerance of the tool path,
 /// --step apart at most). At each contact point T the ball's centre is T + R·n with n the
 /// outward unit normal, from exact partial derivatives of the formula. The programmed point
 /// is the ball's tip (centre − R in z) unless --program centre.
@@ -63,11 +63,12 @@ pub struct BallpathArgs {
     /// Distance between raster lines (mm)
     #[arg(long, value_name = "S")]
     pub stepover: f64,
-    /// Distance between points along a line (mm); with --tolerance, the longest allowed
+    /// Distance between points along a line (mm); with --tol, the longest allowed
     #[arg(long, value_name = "S")]
     pub step: f64,
     /// Chord tolerance (mm): space points by the path's curvature instead of a fixed step
-    #[arg(long, value_name = "T")]
+    // `--tolerance`: the option's first name, kept for the scripts that use it.
+    #[arg(long = "tol", alias = "tolerance", value_name = "T")]
     pub tolerance: Option<f64>,
     /// Raster lines of constant x (running along y) or of constant y
     #[arg(long, value_enum, default_value_t)]
@@ -78,7 +79,7 @@ pub struct BallpathArgs {
     /// A ball position that cuts the surface elsewhere: fail, lift it clear, or do not check
     #[arg(long, value_enum, default_value_t)]
     pub gouge: GougeArg,
-    /// Cuts up to this deep (mm) are not gouges [default: 0.001, 1 µm]
+    /// Cuts up to this deep (mm) are not gouges (0.001 mm is 1 µm)
     #[arg(long, value_name = "MM", default_value_t = GOUGE_TOLERANCE)]
     pub gouge_tol: f64,
     /// Feed rate of the cutting moves (mm/min)
@@ -254,7 +255,7 @@ fn spec(args: &BallpathArgs) -> BallPathSpec {
 fn failure_message(failure: PathFailure) -> String {
     match failure {
         PathFailure::TooManyPoints { message, .. } => {
-            format!("{message} (--max-points raises the limit; a larger --step, --stepover or --tolerance needs fewer)")
+            format!("{message} (--max-points raises the limit; a larger --step, --stepover or --tol needs fewer)")
         }
         PathFailure::Other(_, message) => message,
     }

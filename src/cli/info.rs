@@ -17,6 +17,8 @@ use super::report::Result;
 pub struct InfoArgs {
     /// The workbook (.csv, .xlsx, .xlsm)
     pub file: PathBuf,
+    #[command(flatten)]
+    pub reading: super::WorkbookOptions,
 }
 
 pub fn run(args: InfoArgs, delimiter: Option<u8>) -> Result<()> {

@@ -1,5 +1,6 @@
-//! The options every command takes that bound what it may spend (docs/limits.md): a
-//! wall-clock `--timeout`, and the limits on reading files (`ncsheet::io::limits`).
+//! The options that bound what a command may spend (docs/limits.md): a wall-clock
+//! `--timeout`, which every command takes, and the limits on reading files
+//! (`ncsheet::io::limits`), which the commands that read workbooks take.
 
 use std::sync::OnceLock;
 use std::time::Duration;
@@ -7,33 +8,49 @@ use std::time::Duration;
 use clap::Args;
 use ncsheet::io::limits::ReadLimits;
 
-/// Limits on time and on what a file may make ncsheet hold (see docs/limits.md).
+/// The time a command may take (see docs/limits.md): every command's.
 #[derive(Debug, Args)]
-pub struct LimitArgs {
+pub struct TimeoutArg {
     /// Stop the command after this many seconds of wall-clock time, with an error; a macro
-    /// stops at the statement it was running (default: no limit; `--max-seconds` is the
-    /// same option)
+    /// stops at the statement it was running (default: no limit)
+    // `--max-seconds`: the option's first name, kept for the scripts that use it.
     #[arg(long, global = true, alias = "max-seconds", value_name = "SECONDS", value_parser = parse_seconds)]
     pub timeout: Option<f64>,
+}
+
+impl TimeoutArg {
+    /// Starts the clock of `--timeout`.
+    pub fn apply(&self) {
+        if let Some(seconds) = self.timeout {
+            let _ = DEADLINE.set(ncsheet::vba::Deadline::after(seconds));
+            start_clock(seconds);
+        }
+    }
+}
+
+/// What a file may make ncsheet hold (see docs/limits.md): the options of the commands that
+/// read workbooks.
+#[derive(Debug, Default, Args)]
+#[command(next_help_heading = "Limits on reading files")]
+pub struct ReadLimitArgs {
     /// The most one part of an xlsx package may inflate to: 1G, 512M, 4096K or bytes
     /// (default 1G)
-    #[arg(long, global = true, value_name = "SIZE", value_parser = parse_size)]
+    #[arg(long, value_name = "SIZE", value_parser = parse_size)]
     pub max_part_size: Option<u64>,
     /// The most one part of an xlsx package may inflate to per byte of its compressed size,
     /// once it passes 1 MiB (default 100; zip bombs reach 1000)
-    #[arg(long, global = true, value_name = "RATIO", value_parser = clap::value_parser!(u64).range(1..))]
+    #[arg(long, value_name = "RATIO", value_parser = clap::value_parser!(u64).range(1..))]
     pub max_zip_ratio: Option<u64>,
     /// The longest field of a csv file (default 1M)
-    #[arg(long, global = true, value_name = "SIZE", value_parser = parse_size)]
+    #[arg(long, value_name = "SIZE", value_parser = parse_size)]
     pub max_csv_field: Option<u64>,
     /// The longest line (record) of a csv file (default 64M)
-    #[arg(long, global = true, value_name = "SIZE", value_parser = parse_size)]
+    #[arg(long, value_name = "SIZE", value_parser = parse_size)]
     pub max_csv_line: Option<u64>,
 }
 
-impl LimitArgs {
-    /// Keeps the read limits for every workbook this command opens and starts the clock of
-    /// `--timeout`.
+impl ReadLimitArgs {
+    /// Keeps the read limits for every workbook this command opens.
     pub fn apply(&self) {
         let default = ReadLimits::default();
         let _ = READ_LIMITS.set(ReadLimits {
@@ -42,10 +59,6 @@ impl LimitArgs {
             csv_field_bytes: self.max_csv_field.unwrap_or(default.csv_field_bytes),
             csv_line_bytes: self.max_csv_line.unwrap_or(default.csv_line_bytes),
         });
-        if let Some(seconds) = self.timeout {
-            let _ = DEADLINE.set(ncsheet::vba::Deadline::after(seconds));
-            start_clock(seconds);
-        }
     }
 }
 
@@ -60,7 +73,7 @@ pub fn read_limits() -> ReadLimits {
 /// How long after `--timeout` the clock ends the process.
 const GRACE: Duration = Duration::from_millis(100);
 
-/// When `--timeout` runs out, once [`LimitArgs::apply`] has started the clock.
+/// When `--timeout` runs out, once [`TimeoutArg::apply`] has started the clock.
 static DEADLINE: OnceLock<ncsheet::vba::Deadline> = OnceLock::new();
 
 /// The `--timeout` of this command, for work that can stop itself at a clear place first

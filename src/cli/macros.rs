@@ -43,6 +43,8 @@ pub struct MacrosArgs {
     /// Replace read-only or hard-linked files among those written
     #[arg(long)]
     pub force: bool,
+    #[command(flatten)]
+    pub limits: super::limits::ReadLimitArgs,
 }
 
 pub fn run(args: MacrosArgs) -> Result<()> {

@@ -15,6 +15,7 @@ use ncsheet::workbook::Workbook;
 
 mod ballpath;
 mod cam;
+mod help;
 mod hints;
 mod info;
 mod limits;
@@ -47,19 +48,37 @@ pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
     #[command(flatten)]
-    pub limits: limits::LimitArgs,
+    pub timeout: limits::TimeoutArg,
+}
+
+impl Cli {
+    /// Reads the command line, with the commands listed in their groups in `ncsheet --help`.
+    pub fn try_parse_grouped() -> std::result::Result<Cli, clap::Error> {
+        use clap::{CommandFactory, FromArgMatches};
+        let command = help::grouped(Cli::command());
+        Cli::from_arg_matches(&command.try_get_matches()?)
+    }
+}
+
+/// How the commands that read workbooks read them: the csv separator, the locale, and the
+/// limits on what a file may make ncsheet hold.
+#[derive(Debug, Default, Args)]
+#[command(next_help_heading = "Reading workbooks")]
+pub struct WorkbookOptions {
     /// The field separator of csv files read, and of a csv saved from a workbook: `,`, `;` or
     /// `tab` (default: detected from the first lines; a csv keeps its own). With `;` numbers
     /// have a decimal comma (0,8) and formulas `;` between arguments (=ROUND(A1*0,5;2)), as
     /// spreadsheets in such locales write them
-    #[arg(long, global = true, value_name = "CHAR", value_parser = parse_delimiter)]
+    #[arg(long, value_name = "CHAR", value_parser = parse_delimiter)]
     pub delimiter: Option<u8>,
     /// The locale numbers, dates and formulas are typed and shown in, and text is read as
     /// numbers in while formulas compute, as that locale's Excel does: en-US, de-DE, fr-FR,
     /// et-EE, uk-UA, sk-SK, sr-RS, hu-HU (default: LC_ALL, LC_NUMERIC or LANG; en-US when
     /// none names one). Files stay as Excel stores them
-    #[arg(long, global = true, value_name = "TAG", value_parser = locale::parse_locale)]
+    #[arg(long, value_name = "TAG", value_parser = locale::parse_locale)]
     pub locale: Option<ncsheet::eval::Locale>,
+    #[command(flatten)]
+    pub limits: limits::ReadLimitArgs,
 }
 
 fn parse_delimiter(text: &str) -> std::result::Result<u8, String> {
@@ -120,9 +139,13 @@ pub struct EvalArgs {
     /// Show formulas (as typed) instead of their values; constants as they are
     #[arg(long)]
     pub formulas: bool,
-    /// Fit tables in this many columns (default: the terminal's width, 80 when not a terminal)
+    /// Fit tables in this many columns: the columns that do not fit come below, in further
+    /// tables; numbers keep every digit (default: the terminal's width; no limit when the
+    /// output is not a terminal)
     #[arg(long, value_name = "N")]
     pub width: Option<usize>,
+    #[command(flatten)]
+    pub reading: WorkbookOptions,
 }
 
 /// Set cells, recalculate and save the workbook.
@@ -153,6 +176,8 @@ pub struct SetArgs {
     /// The sheet of cells named without one (default: the active one, where the file opens)
     #[arg(long, value_name = "NAME")]
     pub sheet: Option<String>,
+    #[command(flatten)]
+    pub reading: WorkbookOptions,
 }
 
 /// Write a sheet's values (or formulas) to a csv file.
@@ -190,6 +215,8 @@ pub struct ExportArgs {
     /// Replace a read-only or hard-linked OUT
     #[arg(long)]
     pub force: bool,
+    #[command(flatten)]
+    pub reading: WorkbookOptions,
 }
 
 /// Edit a workbook interactively: CELL=INPUT, CELL or RANGE, save PATH, quit.
@@ -207,6 +234,8 @@ pub struct ReplArgs {
     /// The sheet of cells named without one (default: the active one, where the file opens)
     #[arg(long, value_name = "NAME")]
     pub sheet: Option<String>,
+    #[command(flatten)]
+    pub reading: WorkbookOptions,
 }
 
 /// List every sheet function with its signature and a one-line summary.
@@ -217,10 +246,37 @@ pub struct FunctionsArgs {
     pub filter: Vec<String>,
 }
 
+impl Command {
+    /// How this command reads workbooks, when it reads any.
+    fn reading(&self) -> Option<&WorkbookOptions> {
+        match self {
+            Command::Eval(args) => Some(&args.reading),
+            Command::Set(args) => Some(&args.reading),
+            Command::Export(args) => Some(&args.reading),
+            Command::Repl(args) => Some(&args.reading),
+            Command::Run(args) => Some(&args.reading),
+            Command::Show(args) => Some(&args.reading),
+            Command::Info(args) => Some(&args.reading),
+            Command::Serve(args) => Some(&args.reading),
+            _ => None,
+        }
+    }
+
+    /// The limits on the files this command reads: a workbook's, or the macros command's.
+    fn read_limits(&self) -> Option<&limits::ReadLimitArgs> {
+        match self {
+            Command::Macros(args) => Some(&args.limits),
+            _ => self.reading().map(|reading| &reading.limits),
+        }
+    }
+}
+
 pub fn run(cli: Cli) -> Result<()> {
-    cli.limits.apply();
-    locale::apply(cli.locale);
-    let delimiter = cli.delimiter;
+    cli.timeout.apply();
+    cli.command.read_limits().unwrap_or(&limits::ReadLimitArgs::default()).apply();
+    let reading = cli.command.reading();
+    locale::apply(reading.and_then(|r| r.locale));
+    let delimiter = reading.and_then(|r| r.delimiter);
     match cli.command {
         Command::Eval(args) => eval(args, delimiter),
         Command::Set(args) => set(args, delimiter),
@@ -236,7 +292,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Info(args) => info::run(args, delimiter),
         Command::Nc(args) => nc::run(args),
         Command::Post(args) => post::run(args),
-        Command::Serve(args) => serve::run(args),
+        Command::Serve(args) => serve::run(args, delimiter),
     }
 }
 
@@ -252,7 +308,7 @@ fn eval(args: EvalArgs, delimiter: Option<u8>) -> Result<()> {
         layout: doc.layout(),
         raw: args.raw,
         formulas: args.formulas,
-        width: args.width.unwrap_or_else(output::terminal_width),
+        width: args.width.or_else(output::terminal_width),
     };
     refuse_huge_prints(wb, sheet, &selections)?;
     let mut out = BufWriter::new(io::stdout().lock());

@@ -10,7 +10,7 @@ use ncsheet::nc::check::{self, CheckOptions, ARC_TOLERANCE_MM};
 use super::nc::{read_program, MachineArg, ReadDialect};
 use super::report::{Error, Result};
 
-/// Check a program before it runs: arc ends on their circles within --tolerance, a feed mode,
+/// Check a program before it runs: arc ends on their circles within --tol, a feed mode,
 /// a feed, a turning spindle and a tool before the first cut, cuts from a known position, no
 /// move below --min-z, no rapid through --stock and no cut below its bottom. Prints one line
 /// per finding (`PROGRAM:LINE: message`); exit status 1 when anything is found, 0 when clean.
@@ -39,9 +39,10 @@ pub struct CheckArgs {
     /// The units of the tool table's diameters (a stand-alone rs274 reads its table in inches)
     #[arg(long, value_enum, default_value_t = TableUnits::Mm)]
     pub table_units: TableUnits,
-    /// How far an arc's end may lie off the circle through its start, mm (default 0.002, what
-    /// ncsheet's writers allow; LinuxCNC 2.9 refuses past 0.0283 mm and 0.1 % of the radius)
-    #[arg(long, default_value_t = ARC_TOLERANCE_MM)]
+    /// How far an arc's end may lie off the circle through its start, mm (ncsheet's writers
+    /// keep within 0.002 mm; LinuxCNC 2.9 refuses past 0.0283 mm and 0.1 % of the radius)
+    // `--tolerance`: the option's first name, kept for the scripts that use it.
+    #[arg(long = "tol", alias = "tolerance", value_name = "MM", default_value_t = ARC_TOLERANCE_MM)]
     pub tolerance: f64,
 }
 
@@ -53,7 +54,7 @@ pub enum TableUnits {
 
 pub fn run(args: CheckArgs) -> Result<()> {
     if !(args.tolerance.is_finite() && args.tolerance >= 0.0) {
-        return Err(Error::Usage(format!("--tolerance is a length in mm from 0 up, not {}", args.tolerance)));
+        return Err(Error::Usage(format!("--tol is a length in mm from 0 up, not {}", args.tolerance)));
     }
     if let Some(z) = args.min_z.filter(|z| !z.is_finite()) {
         return Err(Error::Usage(format!("--min-z is a length in mm, not {z}")));

@@ -37,12 +37,13 @@ pub struct Selection {
 }
 
 /// How a table shows values: as the cells' number formats show them (from an .xlsx), or in
-/// full (`--raw`); formulas instead of values; within `width` columns.
+/// full (`--raw`); formulas instead of values; within `width` columns when there is a limit
+/// (a terminal's width, or `--width`).
 pub struct Shown<'a> {
     pub layout: Option<&'a Layout>,
     pub raw: bool,
     pub formulas: bool,
-    pub width: usize,
+    pub width: Option<usize>,
 }
 
 impl Default for Shown<'_> {
@@ -83,16 +84,13 @@ impl Shown<'_> {
     }
 }
 
-/// The width of the terminal on stdout; 80 when stdout is not a terminal (a file, a pipe).
-pub fn terminal_width() -> usize {
+/// The width of the terminal on stdout; none when stdout is not a terminal (a file, a pipe),
+/// whose reader wants every digit however long the lines get.
+pub fn terminal_width() -> Option<usize> {
     // SAFETY: TIOCGWINSZ fills a winsize for a terminal and fails harmlessly otherwise.
     let mut size: libc::winsize = unsafe { std::mem::zeroed() };
     let ok = unsafe { libc::ioctl(libc::STDOUT_FILENO, libc::TIOCGWINSZ, &mut size) } == 0;
-    if ok && size.ws_col > 0 {
-        size.ws_col as usize
-    } else {
-        80
-    }
+    (ok && size.ws_col > 0).then_some(size.ws_col as usize)
 }
 
 /// Prints a whole sheet, from A1 to its last used row and column.
@@ -163,9 +161,10 @@ pub fn print_selections(
 }
 
 /// A grid with column letters on top and row numbers on the left. Numbers are right-aligned,
-/// everything else left-aligned. Columns are narrowed, widest first, until the table fits
-/// `shown.width`; a number that no longer fits is shown with fewer digits, as a spreadsheet
-/// does in a narrow column, and text is cut with `…`.
+/// everything else left-aligned. Within a width limit, text columns are narrowed (their text
+/// cut with `…`) when that makes the table fit, else the columns that do not fit beside the
+/// first ones come below in further tables, as a spreadsheet prints a wide sheet on several
+/// pages; numbers keep every digit.
 pub fn table(wb: &Workbook, sheet: SheetId, rect: Rect, shown: &Shown) -> String {
     let n_cols = rect.cols() as usize;
     let mut rows: Vec<Vec<(String, bool)>> = Vec::with_capacity(rect.rows() as usize + 1);
@@ -183,16 +182,9 @@ pub fn table(wb: &Workbook, sheet: SheetId, rect: Rect, shown: &Shown) -> String
         }
         rows.push(line);
     }
-    let mut widths = vec![0; n_cols + 1];
-    for line in &rows {
-        for (w, (text, _)) in widths.iter_mut().zip(line) {
-            *w = (*w).max(text.chars().count());
-        }
-    }
-    fit_widths(&mut widths, shown.width);
-    // Columns that cannot fit even narrowed come in blocks, each as wide as the terminal.
+    let widths = column_widths(&rows, shown.width);
     let mut out = String::new();
-    for (k, block) in column_blocks(&widths, shown.width).iter().enumerate() {
+    for (k, block) in column_blocks(&widths, shown.width.unwrap_or(usize::MAX)).iter().enumerate() {
         if k > 0 {
             out.push('\n');
         }
@@ -203,18 +195,7 @@ pub fn table(wb: &Workbook, sheet: SheetId, rect: Rect, shown: &Shown) -> String
                 if i > 0 {
                     text.push_str("  ");
                 }
-                let cell = if r > 0 && i > 0 {
-                    let pos = Pos::new(rect.first.row + r as u32 - 1, rect.first.col + i as u32 - 1);
-                    let fitted = fit_cell(cell, *right, w, wb.value(sheet, pos));
-                    // A number shortened to fit is spelled anew: in the locale again.
-                    if fitted == *cell {
-                        fitted
-                    } else {
-                        wb.settings().locale.localize_shown(&fitted)
-                    }
-                } else {
-                    cell.clone()
-                };
+                let cell = if r > 0 && i > 0 { fit_text(cell, w) } else { cell.clone() };
                 let pad = " ".repeat(w.saturating_sub(cell.chars().count()));
                 if *right {
                     text.push_str(&pad);
@@ -229,6 +210,52 @@ pub fn table(wb: &Workbook, sheet: SheetId, rect: Rect, shown: &Shown) -> String
         }
     }
     out
+}
+
+/// Each column's width within `limit`. Text columns are narrowed, widest first, when that
+/// makes the whole table fit; when it cannot fit even so, the columns keep their widths (and
+/// come in blocks), only a column wider than `limit` on its own narrowed to it. A column is
+/// never narrower than its widest number: a number cut would be a wrong number.
+fn column_widths(rows: &[Vec<(String, bool)>], limit: Option<usize>) -> Vec<usize> {
+    // The column letters, and a little text, stay readable however narrow the limit.
+    const MIN: usize = 6;
+    let n_cols = rows.first().map_or(0, Vec::len);
+    let (mut widths, mut floors) = (vec![0; n_cols], vec![0; n_cols]);
+    for line in rows {
+        for (i, (text, number)) in line.iter().enumerate() {
+            let w = text.chars().count();
+            widths[i] = widths[i].max(w);
+            if *number {
+                floors[i] = floors[i].max(w);
+            }
+        }
+    }
+    let Some(limit) = limit else { return widths };
+    let floors: Vec<usize> = floors.iter().zip(&widths).map(|(&f, &w)| f.max(MIN).min(w)).collect();
+    // Every value column capped at `cap` characters, none below its floor; the labels kept.
+    let capped = |cap: usize| -> Vec<usize> {
+        let values = widths.iter().zip(&floors).skip(1).map(|(&w, &f)| w.min(cap).max(f));
+        widths.iter().take(1).copied().chain(values).collect()
+    };
+    let total = |w: &[usize]| w.iter().sum::<usize>() + 2 * w.len().saturating_sub(1);
+    if total(&capped(0)) > limit {
+        let alone = limit.saturating_sub(widths[0] + 2);
+        for (w, &f) in widths.iter_mut().zip(&floors).skip(1) {
+            *w = (*w).min(alone.max(f));
+        }
+        return widths;
+    }
+    // The widest cap that fits: the narrowing takes the widest columns first.
+    let (mut fits, mut wide) = (0, widths.iter().copied().max().unwrap_or(0) + 1);
+    while wide - fits > 1 {
+        let mid = (fits + wide) / 2;
+        if total(&capped(mid)) <= limit {
+            fits = mid;
+        } else {
+            wide = mid;
+        }
+    }
+    capped(fits)
 }
 
 /// The value columns (1…) in blocks that fit `limit` beside the row labels (column 0): one
@@ -251,58 +278,15 @@ fn column_blocks(widths: &[usize], limit: usize) -> Vec<Vec<usize>> {
     blocks
 }
 
-/// Narrows the widest value column by one until the row fits `limit` (columns keep at least
-/// 6 characters: a letter header and a short number).
-fn fit_widths(widths: &mut [usize], limit: usize) {
-    const MIN: usize = 6;
-    let total = |w: &[usize]| w.iter().sum::<usize>() + 2 * w.len().saturating_sub(1);
-    while total(widths) > limit {
-        let Some((i, &w)) = widths.iter().enumerate().skip(1).max_by_key(|&(i, &w)| (w, std::cmp::Reverse(i))) else {
-            return;
-        };
-        if w <= MIN {
-            return;
-        }
-        widths[i] -= 1;
-    }
-}
-
-/// A cell's text within `width` characters: a number with fewer significant digits (or
-/// `#` marks, as a spreadsheet shows a number that cannot fit), text cut with `…`.
-fn fit_cell(text: &str, number: bool, width: usize, value: Value) -> String {
+/// A cell's text within `width` characters: text cut with `…` (a column is at least as wide
+/// as its widest number, so a number is never cut).
+fn fit_text(text: &str, width: usize) -> String {
     if text.chars().count() <= width {
         return text.to_string();
-    }
-    if let (true, Value::Number(n)) = (number, value) {
-        return (1..15)
-            .rev()
-            .filter_map(|digits| shorter_number(n, digits))
-            .find(|t| t.len() <= width)
-            .unwrap_or_else(|| "#".repeat(width));
     }
     let mut cut: String = text.chars().take(width.saturating_sub(1)).collect();
     cut.push('…');
     cut
-}
-
-/// `n` to `digits` significant digits, in plain or scientific notation (whichever is
-/// shorter), trailing zeros dropped: 9.56E-15, 44.2627.
-fn shorter_number(n: f64, digits: usize) -> Option<String> {
-    if n == 0.0 || !n.is_finite() {
-        return Some(ncsheet::eval::format::number_format::general(n));
-    }
-    let exponent = n.abs().log10().floor() as i32;
-    let trim = |s: String| if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s };
-    let decimals = digits as i32 - 1 - exponent;
-    let plain = (decimals >= 0).then(|| trim(format!("{n:.*}", decimals as usize)));
-    let sci = format!("{n:.*e}", digits - 1);
-    let (mantissa, exp) = sci.split_once('e')?;
-    let exp: i32 = exp.parse().ok()?;
-    let sci = format!("{}E{}{:02}", trim(mantissa.to_string()), if exp < 0 { '-' } else { '+' }, exp.abs());
-    Some(match plain {
-        Some(p) if p.len() <= sci.len() && exponent > -5 => p,
-        _ => sci,
-    })
 }
 
 /// Line breaks inside a cell would break the table's rows apart.

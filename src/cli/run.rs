@@ -87,6 +87,8 @@ pub struct RunArgs {
     /// The sheet Range and Cells mean (default: the active one, where the file opens)
     #[arg(long, value_name = "NAME")]
     pub sheet: Option<String>,
+    #[command(flatten)]
+    pub reading: super::WorkbookOptions,
 }
 
 /// The deepest `--max-depth`: each level reserves [`STACK_BYTES_PER_LEVEL`] of stack, and

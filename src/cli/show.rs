@@ -30,6 +30,8 @@ pub struct ShowArgs {
     /// what those read, and so on, each with its formula and value
     #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1000))]
     pub depth: u32,
+    #[command(flatten)]
+    pub reading: super::WorkbookOptions,
 }
 
 pub fn run(args: ShowArgs, delimiter: Option<u8>) -> Result<()> {
