@@ -3,6 +3,8 @@
 
 use std::time::{Duration, Instant};
 
+mod common;
+
 use ncsheet::vba::{self, ErrorKind, MacroError, RunOptions, RunOutput};
 use ncsheet::workbook::Workbook;
 
@@ -144,4 +146,35 @@ fn a_whole_column_read_by_a_macro_is_not_clipped() {
     let src = "Sub Main()\n    Dim v\n    [A1] = 1: [A2] = 2\n    v = Range(\"A:A\").Value\n\
                \x20   Debug.Print UBound(v, 1); UBound(v, 2); v(2, 1); IsEmpty(v(1048576, 1))\nEnd Sub\n";
     assert_eq!(printed(src), [" 1048576  1  2 True"]);
+}
+
+/// Each module's source is bounded on its own (64 MiB), but a project may list many: what
+/// they decompress to together is bounded as well, and the error names the stream it stopped at.
+#[test]
+fn a_project_whose_modules_inflate_past_the_total_is_refused_naming_the_stream() {
+    use ncsheet::vba::ovba;
+    use ncsheet::vba::project::{build_project, read_project, NewModule, MAX_PROJECT_SOURCE};
+    use ncsheet::vba::ModuleKind;
+    let per_module = 60 << 20;
+    let count = MAX_PROJECT_SOURCE / per_module + 1;
+    let modules: Vec<NewModule> = (1..=count)
+        .map(|n| NewModule {
+            name: format!("Module{n}"),
+            kind: ModuleKind::Standard,
+            source: format!("Attribute VB_Name = \"Module{n}\"\r\n"),
+        })
+        .collect();
+    let mut project = build_project(&modules, 7).expect("builds");
+    // Chunks decompress independently (MS-OVBA 2.4.1.3.1): one chunk of a comment line's
+    // 4,096 bytes, repeated, is a container of 60 MiB that takes some hundred KiB.
+    let chunk = ovba::compress(&[b'\''; 4096]).expect("compresses")[1..].to_vec();
+    let mut container = vec![1u8];
+    (0..per_module / 4096).for_each(|_| container.extend_from_slice(&chunk));
+    assert_eq!(ovba::decompress(&container).expect("within one stream's bound").len(), per_module);
+    for n in 1..=count {
+        project = common::vba::with_stream(&project, &format!("/VBA/Module{n}"), |_| container.clone());
+    }
+    let e = read_project(&project).expect_err("refused");
+    assert!(e.to_string().contains("in all"), "{e}");
+    assert!(e.stream.contains("Module"), "names the module's stream: {e}");
 }

@@ -127,7 +127,7 @@ mod interp;
 mod library;
 mod nc;
 mod objects;
-pub(crate) mod ovba;
+pub mod ovba;
 pub mod parser;
 pub mod project;
 pub mod project_edit;

@@ -7,6 +7,8 @@
 pub struct OvbaError {
     pub offset: usize,
     pub message: String,
+    /// The container inflates past the bound it was read with.
+    pub past_limit: bool,
 }
 
 impl std::fmt::Display for OvbaError {
@@ -18,7 +20,7 @@ impl std::fmt::Display for OvbaError {
 const CHUNK: usize = 4096;
 
 fn fail<T>(offset: usize, message: impl Into<String>) -> Result<T, OvbaError> {
-    Err(OvbaError { offset, message: message.into() })
+    Err(OvbaError { offset, message: message.into(), past_limit: false })
 }
 
 /// The most bytes one stream decompresses to: the VBA editor holds at most 65,535 lines of
@@ -46,7 +48,8 @@ pub fn decompress_at_most(data: &[u8], limit: usize) -> Result<Vec<u8>, OvbaErro
         at = decompress_chunk(data, at, &mut out)?;
         if out.len() > limit {
             let mib = limit >> 20;
-            return fail(chunk, format!("decompresses to more than {mib} MiB (a VBA module holds less)"));
+            let message = format!("decompresses to more than {mib} MiB (a VBA module holds less)");
+            return Err(OvbaError { offset: chunk, message, past_limit: true });
         }
     }
     Ok(out)
@@ -144,6 +147,7 @@ pub fn compress(data: &[u8]) -> Result<Vec<u8>, OvbaError> {
         compress_chunk(chunk, &mut out).map_err(|()| OvbaError {
             offset: n * CHUNK,
             message: format!("the last {} bytes do not compress into one chunk", chunk.len()),
+            past_limit: false,
         })?;
     }
     Ok(out)

@@ -246,6 +246,8 @@ pub(super) struct Parts<'a> {
     /// The PROJECT stream's path and bytes.
     pub project_path: String,
     pub project_text: Vec<u8>,
+    /// The bytes the modules' sources decompressed to so far, held to [`MAX_PROJECT_SOURCE`].
+    inflated: usize,
 }
 
 pub(super) fn open_parts(bytes: &[u8]) -> Result<Parts<'_>, ProjectError> {
@@ -261,7 +263,7 @@ pub(super) fn open_parts(bytes: &[u8]) -> Result<Parts<'_>, ProjectError> {
     let project_text = read_stream(&mut cfb, &project_path)?;
     check_project_text(&project_text, &listing.modules, encoding_for(listing.code_page))
         .map_err(|m| error(&project_path, m))?;
-    Ok(Parts { cfb, storage, listing, dir, project_path, project_text })
+    Ok(Parts { cfb, storage, listing, dir, project_path, project_text, inflated: 0 })
 }
 
 impl Parts<'_> {
@@ -287,9 +289,24 @@ impl Parts<'_> {
                 format!("source offset {} is past the stream's end ({} bytes)", m.offset, data.len()),
             ));
         };
-        ovba::decompress(compressed).map_err(|e| error(&path, e))
+        let budget = MAX_PROJECT_SOURCE.saturating_sub(self.inflated);
+        let text = ovba::decompress_at_most(compressed, ovba::MAX_DECOMPRESSED.min(budget)).map_err(|e| {
+            if budget < ovba::MAX_DECOMPRESSED && e.past_limit {
+                let mib = MAX_PROJECT_SOURCE >> 20;
+                error(&path, format!("the project's modules decompress to more than {mib} MiB in all (many modules may share one stream)"))
+            } else {
+                error(&path, e)
+            }
+        })?;
+        self.inflated += text.len();
+        Ok(text)
     }
 }
+
+/// The most the modules of one project decompress to together: each stream is bounded by
+/// [`ovba::MAX_DECOMPRESSED`], but a dir stream may list thousands of modules, all naming one
+/// stream that inflates to that bound. Real projects hold a few MiB of source.
+pub const MAX_PROJECT_SOURCE: usize = 256 << 20;
 
 /// Checks the PROJECT stream ([MS-OVBA] 2.3.1) as far as a cut or damaged one shows: text
 /// lines of `key=value` from the `ID=` line on, the properties the grammar requires, the
