@@ -176,6 +176,37 @@ fn semicolon_fields(text: &str) -> Vec<String> {
     record.iter().map(str::to_string).collect()
 }
 
+/// The first row of `STEM.xlsx` in `dir` as LibreOffice set to `locale` exports it (shown
+/// text, `;` csv), and as `ncsheet export --locale` does: (ours, theirs).
+fn ours_and_libreoffice(
+    soffice: &impl AsRef<std::ffi::OsStr>,
+    d: &Path,
+    stem: &str,
+    locale: &str,
+) -> (Vec<String>, Vec<String>) {
+    let out = d.join(format!("lo-{locale}"));
+    let profile = libreoffice_profile(&d.join(format!("profile-{locale}")), locale);
+    let status = Command::new(soffice)
+        .arg(&profile)
+        .args([
+            "--headless",
+            "--norestore",
+            "--convert-to",
+            "csv:Text - txt - csv (StarCalc):59,34,76,1,,0,false,true,true",
+        ])
+        .arg("--outdir")
+        .arg(&out)
+        .arg(d.join(format!("{stem}.xlsx")))
+        .output()
+        .expect("soffice runs");
+    assert!(status.status.success(), "{}", String::from_utf8_lossy(&status.stderr));
+    let theirs = semicolon_fields(&std::fs::read_to_string(out.join(format!("{stem}.csv"))).unwrap());
+    let ours_file = format!("ours-{locale}.csv");
+    ok(in_dir(d, &["export", &format!("{stem}.xlsx"), "--locale", locale, "-o", &ours_file]));
+    let ours = semicolon_fields(&std::fs::read_to_string(d.join(&ours_file)).unwrap());
+    (ours, theirs)
+}
+
 /// LibreOffice's name for #VALUE! in a csv it writes from an invalid argument.
 fn as_excel_error(text: &str) -> &str {
     match text {
@@ -194,26 +225,7 @@ fn libreoffice_in_the_locale_is_the_oracle_for_coercions_text_codes_and_dates() 
     std::fs::write(d.join("probe.csv"), probe_csv()).unwrap();
     ok(in_dir(d, &["set", "probe.csv", "--locale", "en-US", "A2=1", "-o", "probe.xlsx"]));
     for locale in ["de-DE", "fr-FR", "et-EE"] {
-        let out = d.join(format!("lo-{locale}"));
-        let profile = libreoffice_profile(&d.join(format!("profile-{locale}")), locale);
-        let status = Command::new(&soffice)
-            .arg(&profile)
-            .args([
-                "--headless",
-                "--norestore",
-                "--convert-to",
-                "csv:Text - txt - csv (StarCalc):59,34,76,1,,0,false,true,true",
-            ])
-            .arg("--outdir")
-            .arg(&out)
-            .arg(d.join("probe.xlsx"))
-            .output()
-            .expect("soffice runs");
-        assert!(status.status.success(), "{}", String::from_utf8_lossy(&status.stderr));
-        let theirs = semicolon_fields(&std::fs::read_to_string(out.join("probe.csv")).unwrap());
-        let ours_file = format!("ours-{locale}.csv");
-        ok(in_dir(d, &["export", "probe.xlsx", "--locale", locale, "-o", &ours_file]));
-        let ours = semicolon_fields(&std::fs::read_to_string(d.join(&ours_file)).unwrap());
+        let (ours, theirs) = ours_and_libreoffice(&soffice, d, "probe", locale);
         for (i, probe) in PROBES.iter().enumerate() {
             // ncsheet's export guards text a spreadsheet could run (`-1234,500`) with a `'`.
             let ours = ours[i].strip_prefix('\'').unwrap_or(&ours[i]);
@@ -371,26 +383,7 @@ fn libreoffice_in_the_locale_is_the_oracle_for_date_letters_and_short_names() {
     std::fs::write(d.join("names.csv"), format!("{}\n", fields.join(","))).unwrap();
     ok(in_dir(d, &["set", "names.csv", "--locale", "en-US", "A2=1", "-o", "names.xlsx"]));
     for locale in ["de-DE", "fr-FR", "et-EE"] {
-        let out = d.join(format!("lo-{locale}"));
-        let profile = libreoffice_profile(&d.join(format!("profile-{locale}")), locale);
-        let status = Command::new(&soffice)
-            .arg(&profile)
-            .args([
-                "--headless",
-                "--norestore",
-                "--convert-to",
-                "csv:Text - txt - csv (StarCalc):59,34,76,1,,0,false,true,true",
-            ])
-            .arg("--outdir")
-            .arg(&out)
-            .arg(d.join("names.xlsx"))
-            .output()
-            .expect("soffice runs");
-        assert!(status.status.success(), "{}", String::from_utf8_lossy(&status.stderr));
-        let theirs = semicolon_fields(&std::fs::read_to_string(out.join("names.csv")).unwrap());
-        let ours_file = format!("ours-{locale}.csv");
-        ok(in_dir(d, &["export", "names.xlsx", "--locale", locale, "-o", &ours_file]));
-        let ours = semicolon_fields(&std::fs::read_to_string(d.join(&ours_file)).unwrap());
+        let (ours, theirs) = ours_and_libreoffice(&soffice, d, "names", locale);
         for (i, (probe_locale, probe)) in probes.iter().enumerate() {
             if *probe_locale == locale {
                 // ncsheet's export guards text a spreadsheet would read as a date with a `'`.
