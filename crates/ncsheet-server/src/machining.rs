@@ -10,7 +10,7 @@ use super::workbench::{refused, Refused, Workbench};
 use ncsheet::document::Document;
 use ncsheet::eval::{Ctx, Value};
 use ncsheet::formula::address::Pos;
-use ncsheet::formula::ast::{Expr, ExprKind, SheetId};
+use ncsheet::formula::ast::SheetId;
 use ncsheet::geometry::chamfer::{chamfer as chamfer_geometry, ChamferKind, ChamferSpec};
 use ncsheet::nc::backplot::{self, Plane};
 use ncsheet::nc::{dialect, read, Block, Machine};
@@ -30,7 +30,8 @@ pub fn chamfer(doc: &Document, sheet: SheetId, pos: Pos) -> Result<Json, Refused
     let wb = doc.workbook();
     let cell = wb.cell_name(sheet, pos);
     let tree = wb.formula_tree(sheet, pos).ok_or_else(|| refused(format!("{cell} holds no formula")))?;
-    let args = chamfer_call(&tree).ok_or_else(|| refused(format!("{cell} calls no CHAMFER function")))?;
+    let args =
+        super::paths::call_of(&tree, "CHAMFER").ok_or_else(|| refused(format!("{cell} calls no CHAMFER function")))?;
     if args.len() != 7 {
         return Err(refused(format!("{cell}: CHAMFER takes 7 arguments")));
     }
@@ -57,22 +58,6 @@ pub fn chamfer(doc: &Document, sheet: SheetId, pos: Pos) -> Result<Json, Refused
         "tip1": point(g.tip1), "tip2": point(g.tip2),
         "xa": points.xa, "za": points.za, "xb": points.xb, "zb": points.zb,
     }))
-}
-
-/// The arguments of the first CHAMFER* call in a formula.
-fn chamfer_call(e: &Expr) -> Option<&[Expr]> {
-    match &e.kind {
-        ExprKind::Call(id, args) => {
-            if ncsheet::eval::functions::spec(*id).name.starts_with("CHAMFER") {
-                return Some(args);
-            }
-            args.iter().find_map(chamfer_call)
-        }
-        ExprKind::Paren(inner) | ExprKind::Unary(_, inner) => chamfer_call(inner),
-        ExprKind::Binary(_, a, b) => chamfer_call(a).or_else(|| chamfer_call(b)),
-        ExprKind::UnknownCall(_, args) | ExprKind::Invoke(_, args) => args.iter().find_map(chamfer_call),
-        _ => None,
-    }
 }
 
 /// The macros the page can run: the standard modules of the workbook's VBA project and the

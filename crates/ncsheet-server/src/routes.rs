@@ -267,28 +267,27 @@ async fn save(State(app): State<App>, body: Bytes) -> Response {
     .await
 }
 
-async fn chamfer(State(app): State<App>, Query(params): Params) -> Response {
-    on_workbook(&app, move |bench| {
+/// What the machining pane shows for the cell a query names (`sheet`, `r`, `c`).
+type CellView = fn(&ncsheet::document::Document, ncsheet::formula::ast::SheetId, Pos) -> Result<Json_, Refused>;
+
+async fn cell_view(app: &App, params: HashMap<String, String>, view: CellView) -> Response {
+    on_workbook(app, move |bench| {
         let (sheet, pos) = cell_from(bench, |k| number(&params, k))?;
-        machining::chamfer(bench.document(), sheet, pos)
+        view(bench.document(), sheet, pos)
     })
     .await
+}
+
+async fn chamfer(State(app): State<App>, Query(params): Params) -> Response {
+    cell_view(&app, params, machining::chamfer).await
 }
 
 async fn arch_fit(State(app): State<App>, Query(params): Params) -> Response {
-    on_workbook(&app, move |bench| {
-        let (sheet, pos) = cell_from(bench, |k| number(&params, k))?;
-        paths::arch_fit(bench.document(), sheet, pos)
-    })
-    .await
+    cell_view(&app, params, paths::arch_fit).await
 }
 
 async fn ball_path(State(app): State<App>, Query(params): Params) -> Response {
-    on_workbook(&app, move |bench| {
-        let (sheet, pos) = cell_from(bench, |k| number(&params, k))?;
-        paths::ball_path(bench.document(), sheet, pos)
-    })
-    .await
+    cell_view(&app, params, paths::ball_path).await
 }
 
 async fn macros(State(app): State<App>) -> Response {
