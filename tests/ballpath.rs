@@ -35,6 +35,7 @@ fn spec(radius: f64, x: [f64; 2], y: [f64; 2], stepover: f64, step: f64) -> Ball
         lines: Lines::ConstantX,
         gouge: GougeCheck::Report,
         gouge_tol: GOUGE_TOLERANCE,
+        gouge_samples: ncsheet::geometry::ballpath::GOUGE_SAMPLES,
         check_links: true,
         direction: ncsheet::geometry::ballpath::Direction::Zigzag,
         max_points: 1_000_000,

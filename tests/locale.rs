@@ -360,9 +360,10 @@ fn a_date_typed_in_the_locale_shows_as_its_short_date() {
     assert_eq!(ok(in_dir(d, &["eval", "u.xlsx", "C1", "--locale", "de-DE"])).stdout, "28,5\n");
 }
 
-/// Date letters typed in a locale's format codes (de-DE `TT.MM.JJJJ`, fr-FR `JJ/MM/AAAA`)
-/// and the short month and day names (`mmm`, `ddd`): LibreOffice set to the locale is the
-/// oracle, on TEXT of 2025-03-12 and of the first of every month and seven days in a row.
+/// Date letters typed in a locale's format codes (de-DE `TT.MM.JJJJ`, fr-FR `JJ/MM/AAAA`),
+/// the short month and day names (`mmm`, `ddd`) and DOLLAR's currency: LibreOffice set to
+/// the locale is the oracle, on TEXT of 2025-03-12, of the first of every month and of seven
+/// days in a row.
 #[test]
 fn libreoffice_in_the_locale_is_the_oracle_for_date_letters_and_short_names() {
     let Some(soffice) = common::soffice() else { return };
@@ -376,6 +377,9 @@ fn libreoffice_in_the_locale_is_the_oracle_for_date_letters_and_short_names() {
         probes.extend((1..=12).map(|m| (locale, format!(r#"=TEXT(DATE(2025,{m},1),"mmm")"#))));
         // 2025-06-01 is a Sunday.
         probes.extend((1..=7).map(|d| (locale, format!(r#"=TEXT(DATE(2025,6,{d}),"ddd")"#))));
+        // The currency DOLLAR shows, and its sign.
+        probes.push((locale, "=DOLLAR(1234.5)".into()));
+        probes.push((locale, "=DOLLAR(-1234.5,1)".into()));
     }
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();

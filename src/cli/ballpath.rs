@@ -12,7 +12,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use ncsheet::eval::functions::{describe_gouge, standalone_ball_path, PathFailure};
 use ncsheet::eval::surface::parse_standalone;
 use ncsheet::geometry::ballpath::{
-    BallPath, BallPathSpec, Direction, GougeCheck, GougeKind, Lines, Spacing, GOUGE_TOLERANCE,
+    BallPath, BallPathSpec, Direction, GougeCheck, GougeKind, Lines, Spacing, GOUGE_SAMPLES, GOUGE_TOLERANCE,
 };
 use ncsheet::io::Encoded;
 use ncsheet::nc::ballpath::{ball_path_cl, ball_path_program, BallPathNcOptions, ProgrammedPoint};
@@ -79,9 +79,15 @@ pub struct BallpathArgs {
     /// A ball position that cuts the surface elsewhere: fail, lift it clear, or do not check
     #[arg(long, value_enum, default_value_t)]
     pub gouge: GougeArg,
-    /// Cuts up to this deep (mm) are not gouges (0.001 mm is 1 µm)
+    /// Cuts up to this deep (mm) are not gouges (0.001 mm is 1 µm), every deeper one is; a
+    /// reported depth is within half of it below the true one, a lifted ball within half of
+    /// it below the drop-cutter height
     #[arg(long, value_name = "MM", default_value_t = GOUGE_TOLERANCE)]
     pub gouge_tol: f64,
+    /// Surface samples the gouge check may take before it stops with an error (its time
+    /// limit: about a microsecond each)
+    #[arg(long, value_name = "N", default_value_t = GOUGE_SAMPLES)]
+    pub gouge_samples: u64,
     /// Feed rate of the cutting moves (mm/min)
     #[arg(long, value_name = "F", default_value_t = 480.0)]
     pub feed: f64,
@@ -240,6 +246,7 @@ fn spec(args: &BallpathArgs) -> BallPathSpec {
             GougeArg::Off => GougeCheck::Off,
         },
         gouge_tol: args.gouge_tol,
+        gouge_samples: args.gouge_samples,
         direction: match args.direction {
             DirectionArg::Zigzag => Direction::Zigzag,
             DirectionArg::Climb => Direction::Climb,
@@ -334,7 +341,9 @@ fn render(path: &BallPath, args: &BallpathArgs) -> Result<String> {
     }
     let name = program_name(args);
     let dialect = dialect::by_name(&args.format).expect("every program format is a dialect");
-    dialect.render(&ball_path_program(path, &name, &nc_options(args))).map_err(|e| Error::User(e.to_string()))
+    // The program keeps a reserve for the decimals its dialect writes.
+    let options = BallPathNcOptions { resolution: dialect.resolution(), ..nc_options(args) };
+    dialect.render(&ball_path_program(path, &name, &options)).map_err(|e| Error::User(e.to_string()))
 }
 
 /// The CL file and, with -o, the usual output: both written or neither.
@@ -379,6 +388,7 @@ fn nc_options(args: &BallpathArgs) -> BallPathNcOptions {
         y: args.y,
         lead_deg: args.lead,
         tilt_deg: args.tilt,
+        resolution: 0.0,
     }
 }
 

@@ -53,6 +53,9 @@ pub struct LocaleData {
     /// The date letters this locale's users type in format codes, each with the canonical
     /// letter it stands for, either case (de-DE `TT.MM.JJJJ`, fr-FR `JJ/MM/AAAA`).
     pub format_letters: &'static [(char, char)],
+    /// The currency symbol DOLLAR writes: before the amount in en-US (`$1,234.50`), after it
+    /// and a space elsewhere here (`1.234,50 €`), as LibreOffice set to the locale shows it.
+    pub currency: &'static str,
 }
 
 const SPACES: &[char] = &[' ', '\u{202F}'];
@@ -72,6 +75,7 @@ static EN_US: LocaleData = LocaleData {
     months_short: "Jan Feb Mar Apr May Jun Jul Aug Sep Oct Nov Dec",
     days_short: "Sun Mon Tue Wed Thu Fri Sat",
     format_letters: &[],
+    currency: "$",
 };
 
 /// What the decimal-comma locales share (each says what it does otherwise): a no-break space
@@ -91,6 +95,7 @@ const DECIMAL_COMMA: LocaleData = LocaleData {
     months_short: "",
     days_short: "",
     format_letters: &[],
+    currency: "€",
 };
 
 static LOCALES: [&LocaleData; 8] = [
@@ -134,6 +139,7 @@ static LOCALES: [&LocaleData; 8] = [
         months: "січень лютий березень квітень травень червень липень серпень вересень жовтень листопад грудень",
         days: "неділя понеділок вівторок середа четвер пʼятниця субота",
         months_short: "січ лют бер квт трв чер лип сер вер жов лис гру",
+        currency: "грн.",
         days_short: "Нд Пн Вт Ср Чт Пт Сб",
         ..DECIMAL_COMMA
     },
@@ -156,6 +162,7 @@ static LOCALES: [&LocaleData; 8] = [
         months: "januar februar mart april maj jun jul avgust septembar oktobar novembar decembar",
         days: "nedelja ponedeljak utorak sreda četvrtak petak subota",
         months_short: "jan feb mar apr maj jun jul avg sep okt nov dec",
+        currency: "RSD",
         days_short: "ned pon uto sre čet pet sub",
         ..DECIMAL_COMMA
     },
@@ -167,6 +174,7 @@ static LOCALES: [&LocaleData; 8] = [
         months: "január február március április május június július augusztus szeptember október november december",
         days: "vasárnap hétfő kedd szerda csütörtök péntek szombat",
         months_short: "I. II. III. IV. V. VI. VII. VIII. IX. X. XI. XII.",
+        currency: "Ft",
         days_short: "V H K Sze Cs P Szo",
         ..DECIMAL_COMMA
     },
@@ -409,6 +417,17 @@ impl Locale {
         };
         let shown = super::format::number_format::shown(n, code, system);
         self.localize_formatted(code.unwrap_or(""), &shown)
+    }
+
+    /// An amount DOLLAR shows (`digits` already in the locale's marks, without a sign): en-US
+    /// `$1,234.50` and `($1,234.50)`; elsewhere `1.234,50 €` and `-1.234,50 €`.
+    pub fn currency_amount(self, digits: &str, negative: bool) -> String {
+        match (self.0 == &EN_US, negative) {
+            (true, false) => format!("{}{digits}", self.currency),
+            (true, true) => format!("({}{digits})", self.currency),
+            (false, false) => format!("{digits} {}", self.currency),
+            (false, true) => format!("-{digits} {}", self.currency),
+        }
     }
 
     /// A date as en-US shows it with its month's and weekday's full names (`mmmm`, `dddd`)

@@ -336,6 +336,7 @@ fn ballpath(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         lines: Lines::ConstantX,
         gouge,
         gouge_tol: GOUGE_TOLERANCE,
+        gouge_samples: crate::geometry::ballpath::GOUGE_SAMPLES,
         check_links: true,
         direction: crate::geometry::ballpath::Direction::Zigzag,
         max_points: SHEET_ROWS,

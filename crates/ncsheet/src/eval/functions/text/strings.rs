@@ -292,7 +292,7 @@ fn fixed(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 /// DOLLAR: FIXED with a currency sign, negative amounts in parentheses (`($1,234.57)`), as
-/// Excel's en-US currency format shows them.
+/// Excel's en-US currency format shows them; in another locale its own currency and sign.
 fn dollar(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let dates = ctx.dates();
     let locale = ctx.locale();
@@ -304,7 +304,7 @@ fn dollar(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         let digits = locale.localize_shown(&fixed_text(n.abs(), decimals, false)?);
         // A negative amount that rounds to nothing shows no parentheses.
         let negative = n < 0.0 && digits.chars().any(|c| c.is_ascii_digit() && c != '0');
-        Ok(Value::from(if negative { format!("(${digits})") } else { format!("${digits}") }))
+        Ok(Value::from(locale.currency_amount(&digits, negative)))
     })
 }
 
