@@ -413,3 +413,26 @@ fn integer_overflow_is_error_6() {
     );
     assert_eq!(out, [" 6  0 ", " 0  40000 ", " 6  0 "]);
 }
+
+// "Function statement": `As type` may name a user-defined type; the Function's value is
+// a copy of the record its name holds ([MS-VBAL] 5.4.3.8, Let of a UDT copies each field).
+#[test]
+fn a_function_returns_a_user_defined_type() {
+    let src = "Type Point\n    X As Double\n    Z As Double\nEnd Type\n\
+               Function MakePoint(x, z) As Point\n    Dim p As Point\n    p.X = x: p.Z = z\n    MakePoint = p\nEnd Function\n\
+               Function Shifted(x) As Point\n    Shifted.X = x + 1\n    Shifted.Z = -1\nEnd Function\n\
+               Sub Main()\n    Dim a As Point, b As Point\n    a = MakePoint(2, -3)\n    b = Shifted(a.X)\n\
+               \x20   a.X = 10\n    Debug.Print a.X; a.Z; b.X; b.Z\nEnd Sub\n";
+    assert_eq!(run(src).printed, [" 10 -3  3 -1 "]);
+}
+
+// "Range.Value property": a range of more than one cell gives a two-dimensional array, a
+// single row too: Range("A1:C1").Value is (1 To 1, 1 To 3).
+#[test]
+fn a_one_row_range_value_is_two_dimensional() {
+    let out = printed(
+        "    Range(\"A1\").Value = 5: Range(\"C1\").Value = \"z\"\n    Dim v\n    v = Range(\"A1:C1\").Value\n\
+         \x20   Debug.Print LBound(v, 1); UBound(v, 1); LBound(v, 2); UBound(v, 2); v(1, 1); v(1, 3)",
+    );
+    assert_eq!(out, [" 1  1  1  3  5 z"]);
+}

@@ -86,13 +86,14 @@ pub fn call_function(
     options: &RunOptions,
     (proc, caller): (usize, (SheetId, Pos)),
     args: Vec<Var>,
-) -> Result<Value, MacroError> {
+) -> (Result<Value, MacroError>, u64) {
     let mut it = Interp::new(module, options, source, Book::Read(wb), Some(cells));
     it.active.set(caller.0);
     it.caller = Some(caller);
     let result = it.start_function(proc, args);
+    let steps = it.steps.get();
     let output = it.out.into_inner();
-    result.map_err(|fault| it_error(source, file, fault, output))
+    (result.map_err(|fault| it_error(source, file, fault, output)), steps)
 }
 
 /// The workbook a run sees: its own to change (a macro), or only to read (a function called
@@ -593,6 +594,10 @@ impl Interp<'_, '_> {
                 Some(var) => Ok(var),
                 None => Ok(Var::Value(Value::Blank)),
             },
+            ExprKind::Host(id) if self.returns_record(*id) => {
+                let Node::Call { proc, args, span } = &self.module.nodes[*id as usize] else { unreachable!() };
+                self.call_record(*proc, args, *span)
+            }
             ExprKind::Host(id) if as_object => {
                 if let Node::Path(path) = &self.module.nodes[*id as usize] {
                     let mut ctx = self.ctx();
@@ -606,6 +611,24 @@ impl Interp<'_, '_> {
         }
     }
 
+    /// `….Value` or `….Value2` (of a Range: no other object has an array Value).
+    fn is_value_member(&self, e: &Expr) -> bool {
+        let ExprKind::Host(id) = &e.kind else { return false };
+        let Node::Path(path) = &self.module.nodes[*id as usize] else { return false };
+        (path.links.len() > 1 || path.with)
+            && path.links.last().is_some_and(|l| {
+                l.args.is_none() && (l.name.eq_ignore_ascii_case("value") || l.name.eq_ignore_ascii_case("value2"))
+            })
+    }
+
+    /// The node is a call of a Function declared `As` a Type.
+    fn returns_record(&self, id: u32) -> bool {
+        match &self.module.nodes[id as usize] {
+            Node::Call { proc, .. } => matches!(self.module.procs[*proc].ty, Some(Ty::Record(_))),
+            _ => false,
+        }
+    }
+
     fn operand_var(&self, e: &Expr, as_object: bool) -> Run<Var> {
         let mut ctx = self.ctx();
         let operand = ctx.operand(e);
@@ -613,6 +636,8 @@ impl Interp<'_, '_> {
         Ok(match operand {
             Operand::Ref(sheet, rect) if as_object => Var::Obj(Obj::Range(sheet, rect)),
             Operand::Ref(sheet, rect) => range_var(ctx.rect_value(sheet, rect)),
+            // `Range("A1:C1").Value`: a range's values are two-dimensional, one row too.
+            Operand::Value(v) if self.is_value_member(e) => range_var(v),
             Operand::Value(v) => match super::library::library_array(e, &v, self.module.base) {
                 Some(var) => var,
                 None => array_var(v, self.module.base),
@@ -627,6 +652,30 @@ impl Interp<'_, '_> {
     /// Calls a procedure with arguments from expressions; ByRef arguments that are plain
     /// variables are copied back when it returns.
     pub fn call(&self, ctx: &mut Ctx, proc: usize, args: &[Arg], span: Span) -> Run<Value> {
+        let (value, frame) = self.call_frame(ctx, proc, args, span)?;
+        self.no_record_result(proc, &frame)?;
+        Ok(value)
+    }
+
+    /// A call of a Function that returns a `Type` (`p = MakePoint(1, 2)`): the record its
+    /// name holds when it returns.
+    pub fn call_record(&self, proc: usize, args: &[Arg], span: Span) -> Run<Var> {
+        let (_, frame) = self.call_frame(&mut self.ctx(), proc, args, span)?;
+        let name = &self.module.procs[proc].name;
+        Ok(frame.vars.get(name).map_or(Var::Value(Value::Blank), |s| s.var.clone()))
+    }
+
+    /// A Type value can be assigned to a variable of that Type, not used as a value.
+    fn no_record_result(&self, proc: usize, frame: &Frame) -> Run<()> {
+        let p = &self.module.procs[proc];
+        if p.kind == ProcKind::Function && matches!(frame.vars.get(&p.name).map(|s| &s.var), Some(Var::Record(..))) {
+            let why = "returns a Type value: assign it to a variable of that Type (p = MakePoint(…))";
+            return Err(self.fault(format!("Function {} {why}", p.name)));
+        }
+        Ok(())
+    }
+
+    fn call_frame(&self, ctx: &mut Ctx, proc: usize, args: &[Arg], span: Span) -> Run<(Value, Frame)> {
         let p = &self.module.procs[proc];
         let mut bound = Vec::new();
         let mut back = Vec::new();
@@ -670,11 +719,13 @@ impl Interp<'_, '_> {
                 self.set_var(&caller_var, slot.var.clone(), span)?;
             }
         }
-        Ok(result)
+        Ok((result, frame))
     }
 
     fn invoke(&self, proc: usize, bound: Vec<(usize, Var)>, call_site: Option<Span>) -> Run<Value> {
-        self.invoke_frame(proc, bound, call_site).map(|(v, _)| v)
+        let (value, frame) = self.invoke_frame(proc, bound, call_site)?;
+        self.no_record_result(proc, &frame)?;
+        Ok(value)
     }
 
     fn invoke_frame(&self, proc: usize, bound: Vec<(usize, Var)>, call_site: Option<Span>) -> Run<(Value, Frame)> {
@@ -707,10 +758,7 @@ impl Interp<'_, '_> {
                 Some(Var::Array(a)) => Value::Array(a.data.clone()),
                 Some(Var::Obj(Obj::Value(v))) => v.clone(),
                 Some(Var::Obj(Obj::Range(s, r))) => self.ctx().rect_value(*s, *r).unwrap_single(),
-                Some(Var::Record(..)) => {
-                    let why = "returns a Type value, which is not supported: fill a Type parameter (ByRef) instead";
-                    return Err(self.fault(format!("Function {} {why}", p.name)));
-                }
+                // The caller takes it from the frame (`call_record`) or refuses it.
                 _ => Value::Blank,
             },
             ProcKind::Sub => Value::Blank,

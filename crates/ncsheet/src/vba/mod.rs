@@ -111,8 +111,9 @@
 //! serial number (days since 1899-12-30, the time as a fraction).
 //!
 //! `Type … End Type` (fields of plain types or earlier Types; a Type value is copied on
-//! assignment, passed ByRef, reached with `With`); not arrays of a Type, array fields, or a
-//! Function returning one. `Foo (y)` without `Call` passes `y` by value, as in VBA.
+//! assignment, passed ByRef, reached with `With`, returned by a Function `As` the Type and
+//! assigned to a variable of it: `p = MakePoint(1, 2)`); not arrays of a Type or array fields.
+//! `Foo (y)` without `Call` passes `y` by value, as in VBA.
 //!
 //! Not in the language: classes, `Is`, `Static Sub`, `ParamArray`, arrays of more than two
 //! dimensions, events and forms. A member's dot touches what it follows ([MS-VBAL] 5.6.12):
