@@ -721,3 +721,31 @@ fn a_million_point_backplot_stays_small_and_opens_in_rsvg() {
         Err(_) => assert!(std::env::var_os("CI").is_none(), "rsvg-convert is not installed"),
     }
 }
+
+#[test]
+fn a_cam_design_sheet_is_fitted_disc_by_disc() {
+    let bench = Bench::start("cam-turret.csv");
+    let fit = bench.get_json("/api/camsheet?sheet=0&tol=0.01");
+    // The discs the sheet's disc column names, in order of first appearance.
+    let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("sheets/cam-turret.csv")).unwrap();
+    let mut named: Vec<String> = Vec::new();
+    for line in text.lines().skip(1) {
+        let fields: Vec<&str> = line.split(',').collect();
+        // The operation may be quoted with a comma inside: the disc is third from the type.
+        let Some(type_at) = fields.iter().position(|f| ["circle", "arch", "log", "parabola"].contains(f)) else {
+            continue;
+        };
+        let disc = fields[type_at - 1].to_string();
+        if !named.contains(&disc) {
+            named.push(disc);
+        }
+    }
+    let discs = fit["discs"].as_array().unwrap();
+    let got: Vec<String> = discs.iter().map(|d| d["disc"].as_str().unwrap().to_string()).collect();
+    assert_eq!(got, named, "{fit}");
+    for d in discs {
+        assert!(d["arcs"].as_u64().unwrap() > 0 && d["svg"].as_str().unwrap().starts_with("<svg"), "{}", d["disc"]);
+    }
+    let (status, body) = bench.send("GET", "/api/camsheet?sheet=0&tol=-1", "", "");
+    assert_eq!(status, 400, "{body}");
+}

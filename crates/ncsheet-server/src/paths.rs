@@ -10,9 +10,11 @@ use ncsheet::document::Document;
 use ncsheet::eval::{Ctx, Value};
 use ncsheet::formula::address::Pos;
 use ncsheet::formula::ast::{Expr, ExprKind, SheetId};
-use ncsheet::geometry::cam::{deviation, fit_piece, Piece, PieceKind, Turn};
+use ncsheet::geometry::cam::{deviation, fit_piece, CamOptions, Piece, PieceKind, Side, Turn};
+use ncsheet::io::{encode_export_with, Content, Export, ExportOptions};
 use ncsheet::nc::backplot::{self, Extras, Move, MoveKind, Plane, Toolpath};
 use ncsheet::nc::cam::distance_to_arc;
+use ncsheet::nc::cam_sheet::{fit_design_sheet, svg_drawing as cam_drawing, SvgOptions};
 use ncsheet::nc::Machine;
 
 /// Points of the true curve the page draws.
@@ -146,4 +148,28 @@ fn stock_of(cell: &str, values: &[Value], points: &[[f64; 3]]) -> Result<([f64; 
     let (x0, x1, y0, y1) = (n(2)?, n(3)?, n(4)?, n(5)?);
     let (lo, hi) = points.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| (lo.min(p[2]), hi.max(p[2])));
     Ok(([x0.min(x1), y0.min(y1), lo], [x0.max(x1), y0.max(y1), hi]))
+}
+
+/// A cam design sheet (the sheet's values as `ncsheet cam` reads a csv: row, operation, disc,
+/// type, angles and radii) fitted disc by disc with arcs on the outside of the curve within
+/// `tolerance`: each disc's drawing (`nc::cam_sheet::svg_drawing`: the curve, the arcs, the
+/// magnified deviation) and its count of arcs.
+pub fn cam_sheet(doc: &Document, sheet: SheetId, tolerance: f64) -> Result<Json, Refused> {
+    if !(tolerance > 0.0 && tolerance.is_finite()) {
+        return Err(refused(format!("tolerance {tolerance}: a positive number of mm")));
+    }
+    let wb = doc.workbook();
+    let what = Export { sheet, range: None, content: Content::Values };
+    let options = ExportOptions { delimiter: Some(b','), layout: doc.layout(), raw: true };
+    let encoded = encode_export_with(wb, std::path::Path::new("sheet.csv"), &what, &options)
+        .map_err(|e| refused(e.to_string()))?;
+    let text = String::from_utf8_lossy(encoded.bytes()).into_owned();
+    let cam = CamOptions { tolerance, side: Side::Outside, reserve: 0.0, allow_partial: false, with_bounds: false };
+    let sheet_name = wb.sheet_names().into_iter().nth(sheet as usize).unwrap_or_default();
+    let fits = fit_design_sheet(&text, &cam).map_err(|e| refused(format!("{sheet_name} as a cam sheet: {e}")))?;
+    let discs: Vec<Json> = fits
+        .iter()
+        .map(|fit| json!({ "disc": fit.disc, "arcs": fit.n_arcs(), "svg": cam_drawing(fit, &SvgOptions::default()) }))
+        .collect();
+    Ok(json!({ "sheet": sheet_name, "tolerance": tolerance, "discs": discs }))
 }

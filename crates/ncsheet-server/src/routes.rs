@@ -48,6 +48,7 @@ pub fn router(app: App) -> Router {
         .route("/api/chamfer", get(chamfer))
         .route("/api/archfit", get(arch_fit))
         .route("/api/ballpath", get(ball_path))
+        .route("/api/camsheet", get(cam_sheet))
         .route("/api/macros", get(macros))
         .route("/api/run", post(run_macro))
         .fallback(not_found)
@@ -288,6 +289,16 @@ async fn arch_fit(State(app): State<App>, Query(params): Params) -> Response {
 
 async fn ball_path(State(app): State<App>, Query(params): Params) -> Response {
     cell_view(&app, params, paths::ball_path).await
+}
+
+async fn cam_sheet(State(app): State<App>, Query(params): Params) -> Response {
+    on_workbook(&app, move |bench| {
+        let sheet = bench.sheet(number(&params, "sheet")?)?;
+        let text = params.get("tol").map_or("0.01", String::as_str);
+        let tolerance = text.parse().map_err(|_| refused(format!("tol={text}: not a number")))?;
+        paths::cam_sheet(bench.document(), sheet, tolerance)
+    })
+    .await
 }
 
 async fn macros(State(app): State<App>) -> Response {

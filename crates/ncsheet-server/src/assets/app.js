@@ -383,6 +383,17 @@ async function drawArchFit(at) {
   }
 }
 
+// A cam design sheet's discs, each fitted with arcs and drawn by the library.
+async function fitCams() {
+  try {
+    const g = await api('/api/camsheet?' + query({ sheet, tol: $('camtol').value }));
+    $('cams').innerHTML = g.discs.map((d) => '<div>disc ' + esc(d.disc) + ': ' + d.arcs + ' arcs</div><img alt="cam ' + esc(d.disc) +
+      '" style="width:100%" src="data:image/svg+xml;charset=utf-8,' + encodeURIComponent(d.svg) + '">').join('');
+  } catch (e) {
+    $('cams').textContent = e.message;
+  }
+}
+
 // ---- ball path: plan and section from the server, 3D drawn here ----------------------------
 
 let ball = null;                 // {points: Float64Array-like [x,y,z,...], lo, hi}
@@ -613,6 +624,7 @@ $('saveover').addEventListener('click', () => save(true));
 $('dlxlsx').addEventListener('click', () => download('xlsx'));
 $('dlcsv').addEventListener('click', () => download('csv'));
 $('run').addEventListener('click', runMacro);
+$('fitcam').addEventListener('click', fitCams);
 $('machine').addEventListener('change', listDialects);
 $('dlprogram').addEventListener('click', downloadProgram);
 
