@@ -275,3 +275,155 @@ fn nc31_gets_the_arcs_of_the_loop_cycle_as_lines_within_the_arc_tolerance() {
         assert!(fillets >= 2, "every pass of L17 cuts the fillet:\n{text}");
     }
 }
+
+/// A command line's words (none with spaces of its own).
+fn words(line: &str) -> Vec<&str> {
+    line.split_whitespace().collect()
+}
+
+/// `nc time`'s machine: acceleration (mm/s²) and rapid rate (mm/min).
+const RATES: [&str; 4] = ["--accel", "500", "--rapid", "10000"];
+
+/// The numbers of the Heidenhain `BLK FORM 0.1`/`0.2` lines: the lowest and highest Z.
+fn blank_z(program: &str) -> (f64, f64) {
+    let z_of = |form: &str| -> f64 {
+        let line = program.lines().find(|l| l.contains(form)).unwrap_or_else(|| panic!("no {form}:\n{program}"));
+        let z = line.rsplit(' ').find(|w| w.starts_with('Z') && w.len() > 1).unwrap();
+        z[1..].parse().unwrap()
+    };
+    (z_of("BLK FORM 0.1"), z_of("BLK FORM 0.2"))
+}
+
+/// The valley z = 0.5 + x²/2 has a curvature radius of 1 mm at its bottom: a 3 mm ball
+/// touching one flank cuts the other, and `--gouge lift` raises it to where it rests on both.
+/// The stock block is still the surface's: from z = 0.5 (x = 0) to 0.5 + 2²/2 = 2.5 (x = ±2).
+#[test]
+fn the_heidenhain_blank_is_the_surfaces_not_the_lifted_paths() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("valley.h");
+    let out_s = out.to_str().unwrap();
+    for gouge in ["lift", "off"] {
+        let mut args = words("ballpath --surface 0.5+x^2/2 --radius 3 --x=-2:2 --y=0:0 --stepover 0.5 --step 0.5");
+        args.extend(["--gouge", gouge, "--format", "heidenhain", "-o", out_s, "--force"]);
+        let run = ncsheet(&args);
+        assert_eq!(run.code, 0, "{}", run.stderr);
+        if gouge == "lift" {
+            assert!(run.stderr.contains("lifted"), "the valley is lifted: {}", run.stderr);
+        }
+        let (low, high) = blank_z(&std::fs::read_to_string(&out).unwrap());
+        assert!((low - 0.5).abs() < 1e-9 && (high - 2.5).abs() < 1e-9, "--gouge {gouge}: Z{low} to Z{high}");
+    }
+}
+
+/// In Fanuc lathe G-code system A, G90 is the OD/ID turning cycle A (and G94 the facing
+/// cycle): a reader that takes it for "absolute" runs a cycle as one straight cut. It is
+/// refused, naming its line and column.
+#[test]
+fn a_fanuc_lathes_g90_is_a_cycle_not_absolute_mode() {
+    let dir = tempfile::tempdir().unwrap();
+    for (code, what) in [("G90", "turning cycle"), ("G94", "end-face turning cycle")] {
+        let text = format!(
+            "%\nO0001\nN10 G21 G18 G40\nN20 T0101\nN30 G99\nN40 G97 S800 M3\nN50 G0 X42. Z2.\nN60 {code} X38. Z-30. \
+             F0.2\nN70 M30\n%\n"
+        );
+        let program = write(dir.path(), "cycle.nc", &text);
+        for command in ["plot", "check", "time"] {
+            let mut args = vec!["nc", command, &program, "--dialect", "iso"];
+            match command {
+                "plot" => args.extend(["-o", "-"]),
+                "time" => args.extend(RATES),
+                _ => {}
+            }
+            let run = ncsheet(&args);
+            assert_ne!(run.code, 0, "nc {command} {code}: {}{}", run.stdout, run.stderr);
+            assert!(run.stderr.contains(what), "nc {command} {code}: {}", run.stderr);
+            assert!(run.stderr.contains("line 8") && run.stderr.contains("column 5"), "{}", run.stderr);
+        }
+    }
+}
+
+/// An empty program takes no time: "0.000 s", not "-0.000 s" (an empty sum of f64 is −0).
+#[test]
+fn nc_time_of_an_empty_program_is_zero_not_negative_zero() {
+    let dir = tempfile::tempdir().unwrap();
+    let program = write(dir.path(), "empty.ngc", "G21 G17 G90\nM2\n");
+    let run = ncsheet(&["nc", "time", &program, "--dialect", "linuxcnc", "--accel", "500", "--rapid", "10000"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(run.stdout.contains("cycle time 0.000 s"), "{}", run.stdout);
+    assert!(!run.stdout.contains("-0.000"), "{}", run.stdout);
+}
+
+/// An arc of radius 0.001 mm (the control's resolution) is refused as rs274 refuses it, but
+/// the message gives its radius, not "radius 0".
+#[test]
+fn a_tiny_arc_is_refused_with_its_radius() {
+    let dir = tempfile::tempdir().unwrap();
+    let program = write(dir.path(), "tiny.ngc", "G21 G17 G90\nG0 X0 Y0 Z1\nG2 X0.002 Y0 I0.001 J0 F100\nM2\n");
+    let run = ncsheet(&["nc", "check", &program, "--dialect", "linuxcnc"]);
+    assert_ne!(run.code, 0, "{}{}", run.stdout, run.stderr);
+    assert!(run.stderr.contains("radius 0.001 mm"), "{}", run.stderr);
+    assert!(!run.stderr.contains("radius 0:"), "{}", run.stderr);
+}
+
+/// `cam --offset N`: cutter compensation takes the radius from register N, apart from the
+/// tool number (issue 32, scope 2). LinuxCNC's rs274 (its D names a tool-table entry) cuts the
+/// program of tool 1 with `--offset 21` exactly as the program of tool 21 itself; ISO writes
+/// `G42 D21` after `T1`, and our readers take it back; Sinumerik's D is the cutting edge and
+/// Heidenhain's radius the called tool's, so both refuse a register apart from the tool.
+#[test]
+fn cam_offset_is_the_radius_register_apart_from_the_tool() {
+    let dir = tempfile::tempdir().unwrap();
+    let sheet = repo("sheets/cam-turret.csv");
+    let cam = |dialect: &str, extra: &[&str], name: &str| {
+        let out = dir.path().join(name);
+        let mut args = vec!["cam", &sheet, "--dialect", dialect, "-o", out.to_str().unwrap()];
+        args.extend(words("--disc R --tol 0.05 --format nc --cutter right --cutter-diameter 12.7"));
+        args.extend(extra);
+        (ncsheet(&args), out)
+    };
+    let (run, iso) = cam("iso", &["--tool", "1", "--offset", "21"], "iso.nc");
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let text = std::fs::read_to_string(&iso).unwrap();
+    assert!(text.contains("T1 M6 G43 H1"), "{text}");
+    let comp: Vec<&str> = text.lines().filter(|l| l.contains("G42")).collect();
+    assert!(!comp.is_empty() && comp.iter().all(|l| l.contains("G42 D21")), "{comp:?}");
+    for command in ["check", "time"] {
+        let mut args = vec!["nc", command, iso.to_str().unwrap()];
+        if command == "time" {
+            args.extend(RATES);
+        }
+        let back = ncsheet(&args);
+        assert_eq!(back.code, 0, "nc {command}: {}{}", back.stdout, back.stderr);
+    }
+    for dialect in ["sinumerik", "heidenhain"] {
+        let (run, _) = cam(dialect, &["--offset", "21"], "refused.nc");
+        assert_ne!(run.code, 0, "{dialect}");
+        assert!(run.stderr.contains("D21"), "{dialect}: {}", run.stderr);
+    }
+    if !common::rs274::available() {
+        eprintln!("rs274 not installed: the LinuxCNC half is skipped");
+        return;
+    }
+    // The stand-alone rs274 reads a table's diameters in inches: T1 2.54 mm, T21 12.7 mm.
+    let table = dir.path().join("tools.tbl");
+    std::fs::write(&table, "T1 P1 Z0 D0.1 ;\nT21 P21 Z0 D0.5 ;\n").unwrap();
+    let cut = |program: &Path| {
+        let canon = common::rs274::canon_with_tools(program, Some(&table)).unwrap();
+        let feeds: Vec<String> = canon
+            .lines()
+            .filter(|l| l.contains("_FEED(") && !l.contains("SET_FEED"))
+            .map(|l| l.split_once("N..... ").map_or(l, |(_, m)| m).to_string())
+            .collect();
+        feeds
+    };
+    let (run, with_offset) = cam("linuxcnc", &["--tool", "1", "--offset", "21"], "offset.ngc");
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let (run, tool21) = cam("linuxcnc", &["--tool", "21"], "tool21.ngc");
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let (a, b) = (cut(&with_offset), cut(&tool21));
+    assert!(a.len() > 3, "{a:?}");
+    assert_eq!(a, b, "G42 D21 after T1 cuts as tool 21");
+    let (run, own) = cam("linuxcnc", &["--tool", "1"], "tool1.ngc");
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert_ne!(cut(&own), a, "tool 1's own radius is another cut: the test can tell them apart");
+}

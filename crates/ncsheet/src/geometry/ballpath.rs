@@ -24,7 +24,7 @@
 
 use nalgebra::{Point3, Vector3};
 
-use super::dropcutter::{self, Map, Sweep};
+use super::dropcutter::{self, Goal, Map, MapError, Sweep};
 use super::{ensure, GeometryError};
 
 /// A surface z = f(x, y) with its gradient.
@@ -122,6 +122,9 @@ pub struct BallPathSpec {
     pub gouge: GougeCheck,
     /// Cuts no deeper than this (mm) are not gouges; the check finds every deeper one.
     pub gouge_tol: f64,
+    /// Surface samples the gouge check may take in all ([`GOUGE_SAMPLES`] by default):
+    /// past them it stops with an error rather than run for hours.
+    pub gouge_samples: u64,
     /// Whether the moves linking one raster line to the next are cut (and so checked).
     pub check_links: bool,
     /// Refuse paths longer than this (a sheet holds 1,048,576 rows).
@@ -174,6 +177,10 @@ pub struct BallPath {
     /// Gouges found (with [`GougeCheck::Lift`]: the positions lifted and the moves cleared
     /// by inserting points).
     pub gouges: Vec<Gouge>,
+    /// The lowest and highest surface heights seen: the contacts the balls were placed by
+    /// (before any lift) and, when checked, the gouge map's nodes over the whole rectangle.
+    /// The stock block encloses these, not the lifted contacts.
+    pub surface_z: [f64; 2],
 }
 
 /// Why there is no path.
@@ -213,6 +220,10 @@ impl<E> From<GeometryError> for PathError<E> {
 /// The depth (mm) a gouge must exceed to count, unless the spec says otherwise: 1 µm.
 pub const GOUGE_TOLERANCE: f64 = 1e-3;
 
+/// The surface samples a gouge check may take unless the spec says otherwise: a formula
+/// sample costs about a microsecond, so some tens of seconds at most.
+pub const GOUGE_SAMPLES: u64 = 20_000_000;
+
 /// The finest chord tolerance (mm): a nanometre, a thousandth of what a control resolves.
 pub const MIN_CHORD_TOLERANCE: f64 = 1e-6;
 
@@ -234,7 +245,13 @@ pub fn ball_path<S: Surface>(
     let stations = stations(across, spec.stepover);
     // Progress counts lines placed, then lines checked for gouges.
     let total = stations.len() * if spec.gouge == GougeCheck::Off { 1 } else { 2 };
-    let mut path = BallPath { radius: spec.radius, points: Vec::new(), line_starts: Vec::new(), gouges: Vec::new() };
+    let mut path = BallPath {
+        radius: spec.radius,
+        points: Vec::new(),
+        line_starts: Vec::new(),
+        gouges: Vec::new(),
+        surface_z: [f64::INFINITY, f64::NEG_INFINITY],
+    };
     if let Spacing::Step(step) = spec.spacing {
         let per_line = ((along[1] - along[0]) / step).ceil() + 1.0;
         path.points.reserve((per_line * stations.len() as f64).min(spec.max_points as f64) as usize);
@@ -250,6 +267,7 @@ pub fn ball_path<S: Surface>(
         }
         progress(k + 1, total);
     }
+    path.surface_z = height_range(path.points.iter().map(|p| p.contact.z));
     if spec.gouge != GougeCheck::Off {
         check_gouges(placer.surface, spec, &mut path, &mut |k| progress(stations.len() + k, total))?;
     }
@@ -258,6 +276,11 @@ pub fn ball_path<S: Surface>(
 
 /// The largest coordinate or length of a ball path, in mm: a kilometre, past any machine.
 pub const MAX_LENGTH: f64 = 1.0e6;
+
+/// The lowest and highest of `heights` (∞, −∞ for none).
+fn height_range(heights: impl Iterator<Item = f64>) -> [f64; 2] {
+    heights.fold([f64::INFINITY, f64::NEG_INFINITY], |[lo, hi], z| [lo.min(z), hi.max(z)])
+}
 
 fn check_spec(spec: &BallPathSpec) -> Result<(), GeometryError> {
     let finite = [spec.radius, spec.x[0], spec.x[1], spec.y[0], spec.y[1], spec.stepover].iter().all(|v| v.is_finite());
@@ -438,9 +461,13 @@ fn check_gouges<S: Surface>(
         Spacing::Step(s) | Spacing::Chord { max_step: s, .. } => s,
     };
     // The map resolves the surface at least as finely as the path does.
+    // The map is made finer where the surface between its nodes is more than a quarter of the
+    // tolerance from what they show (a feature narrower than the path's spacing, a step).
     let spacing = (spec.radius / 4.0).min(spec.stepover.max(step));
-    let map = Map::sample(surface, spec.x, spec.y, spacing).map_err(surface_error)?;
-    let mut check = Checker { surface, map, spec, gouges: Vec::new() };
+    let map = Map::sample(surface, spec.x, spec.y, spacing, 0.25 * spec.gouge_tol).map_err(map_error)?;
+    let [lo, hi] = map.heights();
+    path.surface_z = [path.surface_z[0].min(lo), path.surface_z[1].max(hi)];
+    let mut check = Checker { surface, map, spec, gouges: Vec::new(), samples_left: spec.gouge_samples };
     let below = check.positions(path, lines_checked)?;
     check.moves(path, &below)?;
     path.gouges = check.gouges;
@@ -451,6 +478,28 @@ fn surface_error<E>((x, y, error): (f64, f64, E)) -> PathError<E> {
     PathError::Surface { x, y, error }
 }
 
+/// A surface the map cannot resolve is refused by name: the check would not be exact there.
+fn map_error<E>(e: MapError<E>) -> PathError<E> {
+    match e {
+        MapError::Surface(x, y, error) => PathError::Surface { x, y, error },
+        MapError::Unresolved { x, y, spacing, mismatch } => PathError::Spec(GeometryError::OutOfRange(format!(
+            "the surface near ({x:.4}, {y:.4}) jumps or bends more sharply than the gouge check resolves at its \
+             finest spacing {spacing:.3e} mm (its middle is {mismatch:.4} mm off what its neighbours allow): a step \
+             (IF, ROUND, INT …) or a feature narrower than that cannot be checked exactly; write a step as a \
+             continuous wall, check a smaller area, or give --gouge off"
+        ))),
+    }
+}
+
+/// What the check says of a ball or a move.
+enum Verdict {
+    /// Proved no deeper than this (mm) below the drop-cutter height (≤ the tolerance).
+    Clear(f64),
+    /// Cuts deeper than the tolerance; the depth found is within half the tolerance of the
+    /// true one, below it.
+    Gouge(dropcutter::Cut),
+}
+
 /// How many times a move is halved, at most, to clear it by inserting points.
 const MAX_MOVE_HALVINGS: u32 = 16;
 
@@ -459,18 +508,55 @@ struct Checker<'a, S> {
     map: Map,
     spec: &'a BallPathSpec,
     gouges: Vec<Gouge>,
+    /// Surface samples the searches may still take.
+    samples_left: u64,
 }
 
 impl<S: Surface> Checker<'_, S> {
-    /// The search's own tolerance: half the stated one, so that what it cannot tell apart
-    /// (a cut between its best sample and that plus this) stays within the stated one.
+    /// The search's own tolerance: half the stated one, so that a gouge's reported depth is
+    /// within it of the true depth and a lifted ball ends within it of the drop-cutter height.
     fn search_tol(&self) -> f64 {
         0.5 * self.spec.gouge_tol
     }
 
-    fn deepest(&mut self, ball: &Sweep, seeds: &[Point3<f64>]) -> Result<dropcutter::Cut, PathError<S::Error>> {
-        let tol = self.search_tol();
-        self.map.deepest(self.surface, ball, seeds, tol).map_err(surface_error)
+    fn deepest(
+        &mut self,
+        ball: &Sweep,
+        seeds: &[Point3<f64>],
+        goal: Goal,
+    ) -> Result<dropcutter::Cut, PathError<S::Error>> {
+        let cut = self.map.deepest(self.surface, ball, seeds, goal, &mut self.samples_left).map_err(surface_error)?;
+        if !cut.complete {
+            let c = ball.a;
+            return Err(PathError::Spec(GeometryError::OutOfRange(format!(
+                "the gouge check took its {} surface samples and stopped at the ball centred at ({:.4}, {:.4}, \
+                 {:.4}): the surface bends too often under a ball this large for an exact check in that time; \
+                 give a smaller area, a larger --gouge-tol, --gouge-samples to allow more, or --gouge off",
+                self.spec.gouge_samples, c.x, c.y, c.z
+            ))));
+        }
+        Ok(cut)
+    }
+
+    /// Whether `ball` cuts deeper than the tolerance (`--gouge-tol` means what it says: a cut
+    /// deeper is a gouge, one no deeper is not). A search to half the tolerance decides
+    /// unless its best sample lies within half the tolerance below it; then a second search
+    /// refines until a sample cuts deeper or no square can.
+    fn judge(&mut self, ball: &Sweep, seeds: &[Point3<f64>]) -> Result<Verdict, PathError<S::Error>> {
+        let (tol, half) = (self.spec.gouge_tol, self.search_tol());
+        let cut = self.deepest(ball, seeds, Goal::Within(half))?;
+        if cut.depth > tol {
+            return Ok(Verdict::Gouge(cut));
+        }
+        if cut.depth + half <= tol {
+            return Ok(Verdict::Clear((cut.depth + half).max(0.0)));
+        }
+        let mut more = seeds.to_vec();
+        more.push(cut.at);
+        let decided = self.deepest(ball, &more, Goal::Deeper(tol))?;
+        // The true depth is at most cut.depth + half < tol + half, so a sample past tol is
+        // within half the tolerance of it.
+        Ok(if decided.depth > tol { Verdict::Gouge(decided) } else { Verdict::Clear(tol) })
     }
 
     /// Checks (and with Lift, lifts) each position; returns for each a bound on how far it is
@@ -498,15 +584,15 @@ impl<S: Surface> Checker<'_, S> {
     /// One position: a bound on how far it is below the drop-cutter height, and with Lift
     /// the position lifted to it where it cuts.
     fn position(&mut self, i: usize, p: PathPoint) -> Result<(f64, Option<PathPoint>), PathError<S::Error>> {
-        let (r, tol, half) = (self.spec.radius, self.spec.gouge_tol, self.search_tol());
+        let (r, half) = (self.spec.radius, self.search_tol());
         let ball = Sweep::at_rest(p.centre, r);
         if self.map.proves_clear(&ball) {
             return Ok((0.0, None));
         }
-        let cut = self.deepest(&ball, &[p.contact])?;
-        if cut.depth <= tol - half {
-            return Ok((cut.depth + half, None));
-        }
+        let cut = match self.judge(&ball, &[p.contact])? {
+            Verdict::Clear(below) => return Ok((below, None)),
+            Verdict::Gouge(cut) => cut,
+        };
         self.gouges.push(Gouge {
             point: i,
             kind: GougeKind::Position,
@@ -565,10 +651,10 @@ impl<S: Surface> Checker<'_, S> {
         if self.map.move_bound(&sweep, ends).is_some_and(|bound| bound <= tol) {
             return Ok(());
         }
-        let cut = self.deepest(&sweep, &[a.contact, b.contact])?;
-        if cut.depth <= tol - half {
-            return Ok(());
-        }
+        let cut = match self.judge(&sweep, &[a.contact, b.contact])? {
+            Verdict::Clear(_) => return Ok(()),
+            Verdict::Gouge(cut) => cut,
+        };
         let top = halvings_left == MAX_MOVE_HALVINGS;
         if top {
             let point = out.len() - 1;
@@ -586,7 +672,7 @@ impl<S: Surface> Checker<'_, S> {
         }
         // The ball halfway, dropped onto the surface.
         let mid = Point3::from((a.centre.coords + b.centre.coords) * 0.5);
-        let drop = self.deepest(&Sweep::at_rest(mid, r), &[cut.at, a.contact, b.contact])?;
+        let drop = self.deepest(&Sweep::at_rest(mid, r), &[cut.at, a.contact, b.contact], Goal::Within(half))?;
         let m = PathPoint { contact: drop.at, centre: mid + Vector3::new(0.0, 0.0, drop.depth) };
         self.one_move(a, m, [ends[0], half], halvings_left - 1, out)?;
         out.push(m);
@@ -623,6 +709,7 @@ mod tests {
             lines: Lines::ConstantX,
             gouge: GougeCheck::Report,
             gouge_tol: GOUGE_TOLERANCE,
+            gouge_samples: GOUGE_SAMPLES,
             check_links: true,
             direction: Direction::Zigzag,
             max_points: 1000,

@@ -126,6 +126,18 @@ pub struct Cut {
     pub depth: f64,
     /// The surface point where it cuts deepest (or comes closest).
     pub at: Point3<f64>,
+    /// False when the sample budget ran out before the search ended: `depth` is then only a
+    /// lower bound.
+    pub complete: bool,
+}
+
+/// What a search is after: the deepest cut to within a tolerance, or only whether any cut
+/// is deeper than a threshold (it stops at the first sample that is, and drops every square
+/// that cannot be).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Goal {
+    Within(f64),
+    Deeper(f64),
 }
 
 /// The surface on a grid over the rectangle, with curvature bounds per cell.
@@ -143,6 +155,10 @@ pub struct Map {
     /// Per level L ≥ 1, made when first asked for: Λ and Γ maximised over the block of
     /// 2^L × 2^L cells from each cell (cut at the map's edges).
     blocks: Vec<OnceCell<Blocks>>,
+    /// The lowest and highest node heights.
+    heights: [f64; 2],
+    /// The samples at the nodes, row-major by y.
+    nodes: Vec<Sample>,
 }
 
 /// Λ and Γ over blocks of cells, row-major as the cells.
@@ -157,17 +173,122 @@ const MAX_NODES: f64 = 250_000.0;
 /// A square of the search smaller than this fraction of R is not split further.
 const SMALLEST: f64 = 1e-9;
 
+/// Why there is no map: the surface has no value somewhere, or it is not resolved at the
+/// finest spacing the node limit allows.
+#[derive(Clone, Debug, PartialEq)]
+pub enum MapError<E> {
+    Surface(f64, f64, E),
+    Unresolved {
+        /// The middle of the cell the surface is not resolved in.
+        x: f64,
+        y: f64,
+        /// The map's spacing there (mm): the finest the node limit allows.
+        spacing: f64,
+        /// How far (mm) the surface at the cell's middle is from what its corners allow.
+        mismatch: f64,
+    },
+}
+
+impl<E> From<(f64, f64, E)> for MapError<E> {
+    fn from((x, y, e): (f64, f64, E)) -> Self {
+        MapError::Surface(x, y, e)
+    }
+}
+
 impl Map {
-    /// The map over [x0, x1] × [y0, y1] at about `spacing` (coarser if that would exceed
-    /// [`MAX_NODES`]).
+    /// The map over [x0, x1] × [y0, y1] at about `spacing` or finer: a map is made finer
+    /// (its spacing halved) while a cell's middle lies farther than `accept` (mm) outside
+    /// what the curvature bounds and its corners allow — a bump narrower than the spacing, a
+    /// step — so that features between the path's points are found; at the node limit
+    /// ([`MAX_NODES`]) such a cell is an error naming it.
     pub fn sample<S: Surface>(
+        surface: &mut S,
+        x: [f64; 2],
+        y: [f64; 2],
+        spacing: f64,
+        accept: f64,
+    ) -> Result<Map, MapError<S::Error>> {
+        let mut spacing = spacing;
+        let mut cells = (0, 0);
+        loop {
+            let map = Map::sample_at(surface, x, y, spacing)?;
+            let Some((mx, my, mismatch)) = map.unresolved_cell(surface, accept)? else { return Ok(map) };
+            let finest = map.hx.max(map.hy);
+            // A map no finer than the last: the node limit holds the spacing.
+            if (map.cx, map.cy) == cells {
+                return Err(MapError::Unresolved { x: mx, y: my, spacing: finest, mismatch });
+            }
+            cells = (map.cx, map.cy);
+            spacing = 0.5 * finest;
+        }
+    }
+
+    /// `spacing`, or coarser where the rectangle would need more than [`MAX_NODES`] nodes.
+    fn spacing_within_limit(x: [f64; 2], y: [f64; 2], spacing: f64) -> f64 {
+        let (w, h) = (x[1] - x[0], y[1] - y[0]);
+        spacing.max((w.max(spacing) * h.max(spacing) / MAX_NODES).sqrt())
+    }
+
+    /// The first cell the surface is not resolved in, with its middle and by how much (mm)
+    /// past `accept`. Taylor's bounds with the cell's curvature bounds say how far f(p) may
+    /// lie from f(c) + ∇f(c)·(p − c): up to ½Λ|p − c|² above, ½Γ|p − c|² below. Along each
+    /// edge, from either end, the other end must keep them (a step, whose slopes show no
+    /// rise, does not; a kink's jump of slope makes Λ large enough); and the cell's middle
+    /// must keep them from one corner at least (a bump between the nodes does not; across a
+    /// kink the corner on the middle's side does).
+    fn unresolved_cell<S: Surface>(
+        &self,
+        surface: &mut S,
+        accept: f64,
+    ) -> Result<Option<(f64, f64, f64)>, (f64, f64, S::Error)> {
+        let nx = if self.hx > 0.0 { self.cx + 1 } else { 1 };
+        let ny = if self.hy > 0.0 { self.cy + 1 } else { 1 };
+        let node = |i: usize, j: usize| {
+            let (i, j) = (i.min(nx - 1), j.min(ny - 1));
+            (self.x0 + i as f64 * self.hx, self.y0 + j as f64 * self.hy, self.nodes[j * nx + i])
+        };
+        for j in 0..self.cy {
+            for i in 0..self.cx {
+                let (lambda, gamma) = (self.lambda[j * self.cx + i], self.gamma[j * self.cx + i]);
+                if !(lambda.is_finite() && gamma.is_finite()) {
+                    continue;
+                }
+                // How far f at (px, py) lies outside the bounds from node `c`.
+                let excess = |c: (f64, f64, Sample), px: f64, py: f64, z: f64| {
+                    let (dx, dy) = (px - c.0, py - c.1);
+                    let d2 = dx * dx + dy * dy;
+                    let r = z - c.2.z - c.2.dzdx * dx - c.2.dzdy * dy;
+                    // Rounding of the heights themselves is no feature.
+                    let noise = 1e-12 * (1.0 + z.abs() + c.2.z.abs());
+                    (r - 0.5 * lambda.max(0.0) * d2 - noise).max(-r - 0.5 * gamma * d2 - noise)
+                };
+                let corners = [node(i, j), node(i + 1, j), node(i + 1, j + 1), node(i, j + 1)];
+                let mut worst = f64::NEG_INFINITY;
+                for k in 0..4 {
+                    let (a, b) = (corners[k], corners[(k + 1) % 4]);
+                    worst = worst.max(excess(a, b.0, b.1, b.2.z)).max(excess(b, a.0, a.1, a.2.z));
+                }
+                let (mx, my) = (self.x0 + (i as f64 + 0.5) * self.hx, self.y0 + (j as f64 + 0.5) * self.hy);
+                let m = surface.sample(mx, my).map_err(|e| (mx, my, e))?;
+                let middle = corners.iter().map(|&c| excess(c, mx, my, m.z)).fold(f64::INFINITY, f64::min);
+                worst = worst.max(middle);
+                if worst > accept || worst.is_nan() {
+                    return Ok(Some((mx, my, worst)));
+                }
+            }
+        }
+        Ok(None)
+    }
+
+    /// The map at `spacing` (coarser if that would exceed [`MAX_NODES`]).
+    fn sample_at<S: Surface>(
         surface: &mut S,
         x: [f64; 2],
         y: [f64; 2],
         spacing: f64,
     ) -> Result<Map, (f64, f64, S::Error)> {
         let (w, h) = (x[1] - x[0], y[1] - y[0]);
-        let spacing = spacing.max((w.max(spacing) * h.max(spacing) / MAX_NODES).sqrt());
+        let spacing = Map::spacing_within_limit(x, y, spacing);
         // Clamped: with extents near f64::MAX the product above overflows and the count with it.
         let cells = |len: f64| {
             let n = (len / spacing).ceil();
@@ -187,6 +308,7 @@ impl Map {
                 nodes.push(surface.sample(px, py).map_err(|e| (px, py, e))?);
             }
         }
+        let heights = nodes.iter().fold([f64::INFINITY, f64::NEG_INFINITY], |[lo, hi], n| [lo.min(n.z), hi.max(n.z)]);
         let node = |i: usize, j: usize| nodes[j.min(ny - 1) * nx + i.min(nx - 1)];
         let mut up = Vec::with_capacity(cx * cy);
         let mut lo = Vec::with_capacity(cx * cy);
@@ -218,7 +340,12 @@ impl Map {
         }
         let levels = usize::BITS - cx.max(cy).leading_zeros();
         let blocks = (0..levels).map(|_| OnceCell::new()).collect();
-        Ok(Map { x0: x[0], y0: y[0], hx, hy, cx, cy, lambda, gamma, blocks })
+        Ok(Map { x0: x[0], y0: y[0], hx, hy, cx, cy, lambda, gamma, blocks, heights, nodes })
+    }
+
+    /// The lowest and highest surface heights at the map's nodes.
+    pub fn heights(&self) -> [f64; 2] {
+        self.heights
     }
 
     /// Λ and Γ over the blocks of 2^level cells (level 0: the cells themselves).
@@ -305,14 +432,17 @@ impl Map {
 
     /// The deepest cut of the ball `ball` into the surface, to within `tol`: the search
     /// starts from `seeds` (surface points known to be near the answer, such as contact points).
+    /// `goal` says when to stop; `budget` is the surface samples it may take (decreased by
+    /// those taken).
     pub fn deepest<S: Surface>(
         &self,
         surface: &mut S,
         ball: &Sweep,
         seeds: &[Point3<f64>],
-        tol: f64,
+        goal: Goal,
+        budget: &mut u64,
     ) -> Result<Cut, (f64, f64, S::Error)> {
-        let mut search = Search { ball, tol, best: None, queue: BinaryHeap::new() };
+        let mut search = Search { ball, goal, best: None, queue: BinaryHeap::new(), budget };
         for s in seeds {
             search.offer(Vector2::new(s.x, s.y), s.z);
         }
@@ -332,7 +462,9 @@ impl Map {
                 search.visit(surface, child)?;
             }
         }
-        Ok(search.best.map_or(Cut { depth: f64::NEG_INFINITY, at: ball.a }, |(depth, at)| Cut { depth, at }))
+        let complete = !search.out_of_budget();
+        let cut = |(depth, at)| Cut { depth, at, complete };
+        Ok(search.best.map_or(cut((f64::NEG_INFINITY, ball.a)), cut))
     }
 }
 
@@ -401,7 +533,9 @@ impl Square {
 
 struct Search<'m> {
     ball: &'m Sweep,
-    tol: f64,
+    goal: Goal,
+    /// Surface samples left.
+    budget: &'m mut u64,
     /// The deepest cut sampled so far, and where.
     best: Option<(f64, Point3<f64>)>,
     /// Squares still open, highest bound first.
@@ -441,17 +575,31 @@ impl Search<'_> {
         Some(low)
     }
 
+    /// The bound a square must beat to be searched further.
     fn floor(&self) -> f64 {
-        self.best.map_or(f64::NEG_INFINITY, |(b, _)| b) + self.tol
+        match self.goal {
+            Goal::Within(tol) => self.best.map_or(f64::NEG_INFINITY, |(b, _)| b) + tol,
+            Goal::Deeper(threshold) => threshold,
+        }
+    }
+
+    /// Whether the goal is reached: a sample deeper than the threshold.
+    fn found(&self) -> bool {
+        matches!((self.goal, self.best), (Goal::Deeper(t), Some((b, _))) if b > t)
+    }
+
+    fn out_of_budget(&self) -> bool {
+        *self.budget == 0
     }
 
     /// Samples the square's centre and keeps the square if the surface in it could cut
     /// deeper than the best sample by more than the tolerance.
     fn visit<S: Surface>(&mut self, surface: &mut S, sq: Square) -> Result<(), (f64, f64, S::Error)> {
         let rho = sq.rho();
-        if self.ball.distance(sq.q) - rho >= self.ball.r {
+        if self.ball.distance(sq.q) - rho >= self.ball.r || self.out_of_budget() {
             return Ok(());
         }
+        *self.budget -= 1;
         let s = surface.sample(sq.q.x, sq.q.y).map_err(|e| (sq.q.x, sq.q.y, e))?;
         let slope = Vector2::new(s.dzdx, s.dzdy);
         let low = self.offer(sq.q, s.z);
@@ -476,6 +624,9 @@ impl Search<'_> {
 
     /// The open square with the highest bound, while it can still beat the best.
     fn next(&mut self) -> Option<Square> {
+        if self.found() || self.out_of_budget() {
+            return None;
+        }
         let Open(bound, sq) = self.queue.pop()?;
         // The rest are bounded lower still: none can beat the best.
         (bound > self.floor()).then_some(sq)
@@ -497,7 +648,19 @@ mod tests {
         let gamma = (0..cx * cy).map(|_| next().abs()).collect();
         let levels = usize::BITS - cx.max(cy).leading_zeros();
         let blocks = (0..levels).map(|_| OnceCell::new()).collect();
-        Map { x0: 0.0, y0: 0.0, hx: 0.1, hy: 0.1, cx, cy, lambda, gamma, blocks }
+        Map {
+            x0: 0.0,
+            y0: 0.0,
+            hx: 0.1,
+            hy: 0.1,
+            cx,
+            cy,
+            lambda,
+            gamma,
+            blocks,
+            heights: [0.0, 0.0],
+            nodes: Vec::new(),
+        }
     }
 
     /// Λ and Γ read cell by cell over the box, as the proofs define them.
