@@ -229,6 +229,43 @@ fn an_endless_function_is_stopped_by_the_statement_limit() {
     assert_eq!(wb.value(0, at("A1")), Value::Error(XlError::Value));
 }
 
+/// A thousand cells calling a slow function used to run for half an hour, each ending as an
+/// unexplained `#VALUE!`: the calls of one recalculation share a statement budget (the
+/// document's settings), each cell past it is `#VALUE!` with a note naming the limit, and the
+/// next recalculation has the whole budget again.
+#[test]
+fn the_calls_of_one_recalculation_share_a_statement_budget_and_say_so() {
+    let mut wb = Workbook::with_sheet();
+    wb.settings_mut().functions.statements_per_call = 10_000;
+    wb.settings_mut().functions.statements_per_recalculation = 50_000;
+    for row in 1..=40 {
+        wb.set_input(0, at(&format!("A{row}")), "=Forever()").unwrap();
+    }
+    let source = "Function Forever()\r\n    Do\r\n    Loop\r\nEnd Function\r\n\
+                  Function Quick()\r\n    Quick = 7\r\nEnd Function\r\n";
+    let project = VbaProject {
+        code_page: 1252,
+        modules: vec![ProjectModule {
+            name: "Module1".into(),
+            stream: "Module1".into(),
+            kind: STANDARD,
+            source: source.into(),
+        }],
+        protection: None,
+    };
+    assert!(ncsheet::vba::install_functions(&mut wb, &project, RunOptions::default()).is_empty());
+    let notes: Vec<String> = (1..=40).flat_map(|row| wb.notes(0, at(&format!("A{row}")))).collect();
+    for row in 1..=40 {
+        assert_eq!(wb.value(0, at(&format!("A{row}"))), Value::Error(XlError::Value), "A{row}");
+    }
+    // 50,000 statements hold five calls of 10,000; every later call is refused unrun.
+    let stopped = notes.iter().filter(|n| n.contains("statement limit (10000)")).count();
+    let refused = notes.iter().filter(|n| n.contains("Module1.Forever was not called") && n.contains("50000")).count();
+    assert_eq!((stopped, refused), (5, 35), "{notes:#?}");
+    wb.set_input(0, at("C1"), "=Quick()").unwrap();
+    assert_eq!(number(&wb, "C1"), 7.0, "an edit's recalculation has the whole budget again");
+}
+
 /// The sheet XML of `path`'s first worksheet.
 fn sheet_xml(path: &Path) -> String {
     let mut zip = zip::ZipArchive::new(std::fs::File::open(path).unwrap()).unwrap();

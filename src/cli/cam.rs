@@ -90,12 +90,12 @@ pub struct CamOutput {
     /// Tool number called at the start of the NC program (its offset for --cutter unless
     /// --offset names another)
     #[arg(long, default_value_t = 1)]
+    pub tool: u32,
     /// The offset register --cutter compensation takes the radius from (G41/G42 D N on
     /// iso; on linuxcnc the tool-table entry N) [default: the tool's number]; sinumerik and
     /// heidenhain have none apart from the tool and refuse it
     #[arg(long, value_name = "N", requires = "cutter")]
     pub offset: Option<u32>,
-    pub tool: u32,
     /// Spindle speed in 1/min for the NC program (M3)
     #[arg(long, default_value_t = 1000.0)]
     pub spindle: f64,
@@ -282,8 +282,8 @@ fn write_fit(fit: &CamFit, out: &CamOutput) -> Result<()> {
                 compensation,
                 feed: out.feed,
                 plunge_feed: out.plunge_feed,
-                radius_offset: out.offset,
                 tool: out.tool,
+                radius_offset: out.offset,
                 spindle: out.spindle,
                 z_safe: out.clearance,
                 z_retract: out.retract,

@@ -107,7 +107,8 @@ pub trait Env {
     /// Calls the workbook's own function (a VBA Function of its macros); the function reads
     /// cells through `cells`, the environment the formula is evaluated in. `None` when the
     /// workbook has no such function: the call is then `#NAME?`.
-    fn call_user_function(&self, _cells: &dyn Env, _call: &UserCall) -> Option<Value> {
+    /// A call that failed is `Err` with the error value and why, which the cell's notes keep.
+    fn call_user_function(&self, _cells: &dyn Env, _call: &UserCall) -> Option<Result<Value, Note>> {
         None
     }
 }
@@ -249,6 +250,8 @@ pub struct Ctx<'a> {
     depth: u32,
     /// Calls of named LAMBDAs (LET-bound or defined names) so far, against [`MAX_LAMBDA_CALLS`].
     lambda_calls: u32,
+    /// The workbook's date system, read once from `env`: every date conversion takes it.
+    dates: DateSystem,
     /// Evaluating a BALLPATH's surface: a surface that computed a BALLPATH itself (through a
     /// named LAMBDA) would recurse without end.
     pub in_surface: bool,
@@ -257,8 +260,6 @@ pub struct Ctx<'a> {
     /// Numbers to read in place of number literals of the tree being evaluated, each with
     /// the literal's node (by address): formulas that differ only in their numbers share one
     /// tree (crates/ncsheet/src/workbook/shared.rs). Usually empty. Code that reads numbers from the tree
-    /// The workbook's date system, read once from `env`: every date conversion takes it.
-    dates: DateSystem,
     /// itself, not through `eval`, must be marked `FnSpec::reads_trees`.
     pub numbers: &'a [(*const Expr, f64)],
     /// References made at run time (INDIRECT, OFFSET) that the formula's text does not name:
@@ -310,6 +311,7 @@ impl<'a> Ctx<'a> {
             host: None,
             depth: 0,
             lambda_calls: 0,
+            dates: env.date_system(),
             in_surface: false,
             notes: Vec::new(),
             numbers: &[],
@@ -318,7 +320,6 @@ impl<'a> Ctx<'a> {
     }
 
     /// The same evaluation with a macro interpreter's variables and nodes.
-            dates: env.date_system(),
     pub fn with_host(mut self, host: &'a dyn Host) -> Ctx<'a> {
         self.host = Some(host);
         self
@@ -370,6 +371,12 @@ impl<'a> Ctx<'a> {
         operand
     }
 
+    /// The workbook's date system, which every conversion between serials and dates (and
+    /// date text) takes.
+    pub fn dates(&self) -> DateSystem {
+        self.dates
+    }
+
     /// The workbook's locale (en-US outside a workbook).
     pub fn locale(&self) -> crate::eval::Locale {
         self.env.locale()
@@ -378,12 +385,6 @@ impl<'a> Ctx<'a> {
     /// Operands of `op` as the workbook's locale reads them: text in arithmetic read as a
     /// number there (`"0,8"*1` in et-EE), numbers joined as text shown there (`0,8&""`).
     /// Under en-US, and for other operators, they are unchanged.
-    /// The workbook's date system, which every conversion between serials and dates (and
-    /// date text) takes.
-    pub fn dates(&self) -> DateSystem {
-        self.dates
-    }
-
     fn localized_operands(&self, op: BinOp, a: Value, b: Value) -> (Value, Value) {
         let locale = self.env.locale();
         if locale.is_canonical() {
@@ -786,7 +787,11 @@ impl<'a> Ctx<'a> {
             })
             .collect();
         let call = UserCall { name, args: &operands, caller: (self.sheet, self.at) };
-        self.env.call_user_function(self.env, &call).unwrap_or(Value::Error(XlError::Name))
+        match self.env.call_user_function(self.env, &call) {
+            Some(Ok(value)) => value,
+            Some(Err(Note { error, message })) => Value::Error(self.explain(error, message)),
+            None => Value::Error(XlError::Name),
+        }
     }
 
     /// `LAMBDA(x, y, x+y)(1, 2)`, `f(3)(4)`, `IF(c, LAMBDA(…), LAMBDA(…))(5)`: whatever the

@@ -16,5 +16,5 @@ pub mod value;
 
 pub use evaluator::{Ctx, Env, Note, Operand, RowHidden, UserCall};
 pub use locale::Locale;
-pub use settings::Settings;
+pub use settings::{FunctionLimits, Settings};
 pub use value::{too_many_items, too_many_items_note, Array, Value, XlError, XlResult, MAX_ARRAY_ITEMS};

@@ -17,6 +17,27 @@ pub struct Settings {
     pub locale: super::Locale,
     /// The state of the random sequence: 0 seeds it from the system clock at the next draw.
     random: Cell<u64>,
+    /// How much the workbook's own VBA Functions may run when its cells call them.
+    pub functions: FunctionLimits,
+}
+
+/// The limits of the workbook's VBA Functions called from its cells: each call's, and all the
+/// calls' of one recalculation together, so that a thousand cells calling a slow function
+/// stop in seconds, explained, instead of running for half an hour.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FunctionLimits {
+    /// Statements and loop turns one call may run.
+    pub statements_per_call: u64,
+    /// Statements and loop turns all the calls of one recalculation may run together.
+    pub statements_per_recalculation: u64,
+    /// How deep one call may nest its own calls (it may run inside a macro already deep).
+    pub max_depth: usize,
+}
+
+impl Default for FunctionLimits {
+    fn default() -> FunctionLimits {
+        FunctionLimits { statements_per_call: 10_000_000, statements_per_recalculation: 100_000_000, max_depth: 32 }
+    }
 }
 
 impl Settings {

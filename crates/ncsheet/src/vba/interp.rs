@@ -86,13 +86,14 @@ pub fn call_function(
     options: &RunOptions,
     (proc, caller): (usize, (SheetId, Pos)),
     args: Vec<Var>,
-) -> Result<Value, MacroError> {
+) -> (Result<Value, MacroError>, u64) {
     let mut it = Interp::new(module, options, source, Book::Read(wb), Some(cells));
     it.active.set(caller.0);
     it.caller = Some(caller);
     let result = it.start_function(proc, args);
+    let steps = it.steps.get();
     let output = it.out.into_inner();
-    result.map_err(|fault| it_error(source, file, fault, output))
+    (result.map_err(|fault| it_error(source, file, fault, output)), steps)
 }
 
 /// The workbook a run sees: its own to change (a macro), or only to read (a function called

@@ -6,7 +6,9 @@
 
 use std::rc::Rc;
 
-use crate::eval::{Env, Operand, UserCall, Value, XlError};
+use std::cell::Cell;
+
+use crate::eval::{Env, Note, Operand, UserCall, Value, XlError};
 use crate::workbook::{UserFunctions, Workbook};
 
 use super::ast::{Module, ProcKind};
@@ -14,8 +16,9 @@ use super::project::{ModuleKind, VbaProject};
 use super::value::{array_var, Obj, Var};
 use super::{interp, parse_with, MacroError, RunOptions};
 
-/// The deepest a function called from a cell nests its calls: it may run inside a macro
-/// already deep (a macro's write recalculates the cells), whose stack must hold both.
+/// The deepest a function called from a cell may be allowed to nest its calls
+/// (`FunctionLimits::max_depth` in the settings is held to it): it may run inside a macro already deep (a
+/// macro's write recalculates the cells), whose stack must hold both.
 pub const FUNCTION_MAX_DEPTH: usize = 32;
 
 /// The most source, in bytes, of a project whose modules are parsed with one another's code.
@@ -34,13 +37,15 @@ struct Parsed {
 pub struct WorkbookFunctions {
     modules: Vec<Parsed>,
     options: RunOptions,
+    /// Statements the calls of the current recalculation ran, against
+    /// the settings' `FunctionLimits::statements_per_recalculation`.
+    spent: Cell<u64>,
 }
 
 /// Installs the functions of `project` into `wb` (recomputing the cells that call them), each
 /// call under the limits of `options`. Returns the modules that do not parse: their functions
 /// stay `#NAME?`. Calls nest at most [`FUNCTION_MAX_DEPTH`] deep.
-pub fn install_functions(wb: &mut Workbook, project: &VbaProject, mut options: RunOptions) -> Vec<MacroError> {
-    options.max_depth = options.max_depth.min(FUNCTION_MAX_DEPTH);
+pub fn install_functions(wb: &mut Workbook, project: &VbaProject, options: RunOptions) -> Vec<MacroError> {
     let (functions, errors) = WorkbookFunctions::new(project, wb, options);
     if !functions.modules.is_empty() {
         wb.set_user_functions(Rc::new(functions));
@@ -72,7 +77,7 @@ impl WorkbookFunctions {
                 Err(e) => errors.push(e),
             }
         }
-        (WorkbookFunctions { modules, options }, errors)
+        (WorkbookFunctions { modules, options, spent: Cell::new(0) }, errors)
     }
 
     /// The module and procedure a cell's call of `name` means, with its volatility.
@@ -94,8 +99,26 @@ impl UserFunctions for WorkbookFunctions {
         self.find(name).map(|(_, _, v)| v)
     }
 
-    fn call(&self, wb: &Workbook, cells: &dyn Env, call: &UserCall) -> Value {
-        let Some((m, proc, _)) = self.find(call.name) else { return Value::Error(XlError::Name) };
+    fn begin_recalculation(&self) {
+        self.spent.set(0);
+    }
+
+    fn call(&self, wb: &Workbook, cells: &dyn Env, call: &UserCall) -> Result<Value, Note> {
+        let Some((m, proc, _)) = self.find(call.name) else { return Ok(Value::Error(XlError::Name)) };
+        let limits = wb.settings().functions;
+        let left = limits.statements_per_recalculation.saturating_sub(self.spent.get());
+        if left == 0 {
+            let message = format!(
+                "{}.{} was not called: the workbook's VBA functions ran the {} statements one recalculation \
+                 allows them (docs/limits.md)",
+                m.name, m.module.procs[proc].name, limits.statements_per_recalculation
+            );
+            return Err(Note { error: XlError::Value, message });
+        }
+        let mut options = self.options.clone();
+        // The command's own limit (`RunOptions`) and the document's, whichever is less.
+        options.max_statements = self.options.max_statements.min(limits.statements_per_call).min(left);
+        options.max_depth = limits.max_depth.min(FUNCTION_MAX_DEPTH);
         let caller = call.caller;
         let args = call
             .args
@@ -107,12 +130,14 @@ impl UserFunctions for WorkbookFunctions {
                 Operand::Areas(areas) => Var::Obj(Obj::Range(areas[0].0, areas[0].1)),
             })
             .collect();
-        let result =
-            interp::call_function(&m.module, wb, cells, &m.source, &m.name, &self.options, (proc, caller), args);
+        let (result, steps) =
+            interp::call_function(&m.module, wb, cells, &m.source, &m.name, &options, (proc, caller), args);
+        // A call stopped at its limit counted the statement it stopped at too.
+        self.spent.set(self.spent.get().saturating_add(steps.min(options.max_statements)));
         match result {
-            Ok(Value::Blank) => Value::Number(0.0),
-            Ok(v) => v,
-            Err(_) => Value::Error(XlError::Value),
+            Ok(Value::Blank) => Ok(Value::Number(0.0)),
+            Ok(v) => Ok(v),
+            Err(e) => Err(Note { error: XlError::Value, message: e.to_string() }),
         }
     }
 }

@@ -16,7 +16,7 @@
 use std::cell::Cell;
 use std::rc::Rc;
 
-use crate::eval::{Ctx, Env, UserCall, Value};
+use crate::eval::{Ctx, Env, Note, UserCall, Value};
 use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::{Expr, SheetId};
 
@@ -275,7 +275,7 @@ impl Env for Probe<'_> {
     }
 
     /// The function reads cells through the probe: what it reads is what the cell reads.
-    fn call_user_function(&self, cells: &dyn Env, call: &UserCall) -> Option<Value> {
+    fn call_user_function(&self, cells: &dyn Env, call: &UserCall) -> Option<Result<Value, Note>> {
         self.wb.call_user_function(cells, call)
     }
 }

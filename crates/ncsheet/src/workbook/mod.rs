@@ -270,6 +270,11 @@ impl Workbook {
         self.date_1904
     }
 
+    /// The day the workbook's serials count from, which every date conversion takes.
+    pub fn date_system(&self) -> DateSystem {
+        DateSystem::from_1904_flag(self.date_1904)
+    }
+
     /// The clock and random sequence the formulas read.
     pub fn settings(&self) -> &crate::eval::Settings {
         &self.settings
@@ -282,11 +287,6 @@ impl Workbook {
     }
 
     /// The active sheet, the one a file opens on (the first unless the file says another).
-    /// The day the workbook's serials count from, which every date conversion takes.
-    pub fn date_system(&self) -> DateSystem {
-        DateSystem::from_1904_flag(self.date_1904)
-    }
-
     pub fn active_sheet(&self) -> SheetId {
         if (self.active_sheet as usize) < self.sheets.len() {
             self.active_sheet
@@ -1021,7 +1021,7 @@ impl Env for Workbook {
         self.sheets.get(sheet as usize)?.column_width(col)
     }
 
-    fn call_user_function(&self, cells: &dyn Env, call: &UserCall) -> Option<Value> {
+    fn call_user_function(&self, cells: &dyn Env, call: &UserCall) -> Option<Result<Value, crate::eval::Note>> {
         self.call_user(cells, call)
     }
 

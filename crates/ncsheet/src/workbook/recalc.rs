@@ -276,6 +276,9 @@ impl Workbook {
 
     fn run_passes(&mut self, mut sources: Vec<u32>) {
         self.fresh_notes.clear();
+        if let Some(functions) = &self.user_functions {
+            functions.begin_recalculation();
+        }
         self.cycles.begin();
         for _ in 0..MAX_PASSES {
             sources.append(&mut self.spill.pending);

@@ -7,7 +7,7 @@
 
 use std::rc::Rc;
 
-use crate::eval::{Env, UserCall, Value, XlError};
+use crate::eval::{Env, Note, UserCall, Value, XlError};
 use crate::formula::ast::{Expr, ExprKind};
 
 use super::{Workbook, NO_FORMULA};
@@ -18,9 +18,12 @@ pub trait UserFunctions {
     /// so whether it is volatile; `None` for no such function.
     fn volatile(&self, name: &str) -> Option<bool>;
 
-    /// Makes the call, reading cells through `cells`. A failure inside the function is its
-    /// value (`#VALUE!`), never a change to `wb`.
-    fn call(&self, wb: &Workbook, cells: &dyn Env, call: &UserCall) -> Value;
+    /// Makes the call, reading cells through `cells`. A failure inside the function is an
+    /// error value with why (`#VALUE!`), never a change to `wb`.
+    fn call(&self, wb: &Workbook, cells: &dyn Env, call: &UserCall) -> Result<Value, Note>;
+
+    /// A recalculation starts: the budget all its calls share is full again.
+    fn begin_recalculation(&self) {}
 }
 
 impl Workbook {
@@ -68,7 +71,7 @@ impl Workbook {
         found
     }
 
-    pub(super) fn call_user(&self, cells: &dyn Env, call: &UserCall) -> Option<Value> {
+    pub(super) fn call_user(&self, cells: &dyn Env, call: &UserCall) -> Option<Result<Value, Note>> {
         let functions = self.user_functions.as_ref()?;
         functions.volatile(call.name)?;
         Some(functions.call(self, cells, call))

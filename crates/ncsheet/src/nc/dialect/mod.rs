@@ -423,15 +423,6 @@ fn check_arc(machine: Machine, format: Format, start: &Position, to: &Target, ce
     Ok(())
 }
 
-/// Comment text a control reads as a comment and nothing else: one line, no characters that
-/// end the comment or start another, only `allowed` characters (others become spaces),
-/// upper case when `upper`.
-fn sanitise(text: &str, upper: bool, allowed: impl Fn(char) -> bool) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        let c = if upper { c.to_ascii_uppercase() } else { c };
-        let keep = c.is_ascii() && !c.is_ascii_control() && allowed(c);
-        let c = if keep { c } else { ' ' };
 /// Why an arc whose centre is within the control's resolution of its start is refused (rs274:
 /// "Zero-radius arc"), with its radius in digits enough to tell it from 0.
 pub(crate) fn tiny_arc_message(radius: f64, resolution: f64) -> String {
@@ -446,6 +437,15 @@ pub(crate) fn tiny_arc_message(radius: f64, resolution: f64) -> String {
     )
 }
 
+/// Comment text a control reads as a comment and nothing else: one line, no characters that
+/// end the comment or start another, only `allowed` characters (others become spaces),
+/// upper case when `upper`.
+fn sanitise(text: &str, upper: bool, allowed: impl Fn(char) -> bool) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        let c = if upper { c.to_ascii_uppercase() } else { c };
+        let keep = c.is_ascii() && !c.is_ascii_control() && allowed(c);
+        let c = if keep { c } else { ' ' };
         if c == ' ' && out.ends_with(' ') {
             continue;
         }

@@ -208,10 +208,10 @@ fn in_sheet(index: i64, count: u32) -> XlResult<u32> {
 
 /// A height or width as given, the reference's own when left out.
 fn whole_or(ctx: &mut Ctx, args: &[Expr], i: usize, default: u32) -> XlResult<f64> {
+    let dates = ctx.dates();
     match args.get(i).filter(|e| e.kind != ExprKind::Missing) {
         Some(e) => to_number(&scalar(ctx, e)?, dates),
         None => Ok(f64::from(default)),
-    let dates = ctx.dates();
     }
 }
 
@@ -226,10 +226,10 @@ fn size(n: f64) -> XlResult<i64> {
 }
 
 fn offset_ref(ctx: &mut Ctx, args: &[Expr]) -> XlResult<(SheetId, Rect)> {
+    let dates = ctx.dates();
     let (sheet, base) = match ctx.operand(&args[0]) {
         Operand::Ref(sheet, rect) => (sheet, rect),
         Operand::Value(Value::Error(e)) => return Err(e),
-    let dates = ctx.dates();
         Operand::Value(_) | Operand::Areas(_) => return Err(XlError::Value),
     };
     let mut whole = |i: usize, default: f64| -> XlResult<i64> {
