@@ -340,7 +340,7 @@ fn a_table_fits_the_width_given_in_blocks() {
 #[test]
 fn a_piped_table_keeps_every_digit() {
     let dir = tempfile::tempdir().unwrap();
-    let book = write(dir.path(), "wide.csv", &format!("{}\n", vec!["=-25.512/2"; 12].join(",")));
+    let book = write(dir.path(), "wide.csv", &format!("{}\n", ["=-25.512/2"; 12].join(",")));
     let piped = ncsheet(&["eval", &book]);
     assert_eq!(piped.code, 0, "{}", piped.stderr);
     let row = piped.stdout.lines().find(|l| l.starts_with('1')).expect(&piped.stdout);

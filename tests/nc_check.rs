@@ -112,8 +112,7 @@ fn arc_ends_off_their_circles_are_found_with_what_linuxcnc_does() {
 #[test]
 fn moves_below_min_z_count_an_arcs_extreme_point() {
     let dir = tempfile::tempdir().unwrap();
-    let lathe =
-        "G21 G18 G40\nT0101\nG99\nG97 S800 M3\nG0 X20 Z2\nG1 Z0 F0.1\nG2 X40 Z0 I5 K0\nG0 X50 Z2\nM5\nM30\n";
+    let lathe = "G21 G18 G40\nT0101\nG99\nG97 S800 M3\nG0 X20 Z2\nG1 Z0 F0.1\nG2 X40 Z0 I5 K0\nG0 X50 Z2\nM5\nM30\n";
     let run = check(dir.path(), "lathe.nc", lathe, &["--min-z", "-3"]);
     assert_eq!(run.code, 1, "{}", run.stderr);
     let found = findings(&run);

@@ -123,7 +123,8 @@ fn end(m: &Move) -> (f64, f64) {
 #[test]
 fn chamfer_program_read_by_rs274_cuts_from_t1_to_t2() {
     let mut wb = chamfer_workbook([40.0, 2.0, 45.0, 0.8, 1.0, 1.0], true);
-    let out = run(&mut wb, CHAMFER, &RunOptions { dialect: Some(&ncsheet::nc::dialect::LINUXCNC), ..RunOptions::default() });
+    let out =
+        run(&mut wb, CHAMFER, &RunOptions { dialect: Some(&ncsheet::nc::dialect::LINUXCNC), ..RunOptions::default() });
     let Some(moves) = moves(&out.program) else { return };
     // linuxcnc writes 3 decimals of a diameter: a radius is good to 0.0005.
     let near = |(z, x): (f64, f64), (wz, wx): (f64, f64)| (z - wz).abs() < 6e-4 && (x - wx).abs() < 6e-4;

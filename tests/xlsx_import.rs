@@ -254,7 +254,8 @@ fn formula_rows(first_row: u32, formulas: &[&str]) -> String {
 /// and `'2007'!Rate` (7); a name with a dot it cannot read in this syntax (#REF!).
 #[test]
 fn indirect_reads_names_scoped_to_a_sheet() {
-    let data = r#"<row r="1"><c r="B1"><v>42</v></c><c r="C1"><v>7</v></c></row><row r="2"><c r="B2"><v>8</v></c></row>"#;
+    let data =
+        r#"<row r="1"><c r="B1"><v>42</v></c><c r="C1"><v>7</v></c></row><row r="2"><c r="B2"><v>8</v></c></row>"#;
     let formulas = formula_rows(
         1,
         &[

@@ -31,11 +31,8 @@ pub struct ServeArgs {
 /// Serves `args.file`, read as every other command reads a workbook (`--delimiter`,
 /// `--locale`, the read limits and `--timeout`).
 pub fn run(args: ServeArgs, delimiter: Option<u8>) -> Result<()> {
-    let options = Options {
-        port: args.port,
-        macro_files: macro_files_beside(&args.file),
-        open: super::open_options(delimiter),
-    };
+    let options =
+        Options { port: args.port, macro_files: macro_files_beside(&args.file), open: super::open_options(delimiter) };
     let server = Server::open(&args.file, &options).map_err(|e| Error::User(e.to_string()))?;
     let url = server.url();
     println!("{url}");

@@ -45,7 +45,8 @@ impl DateSystem {
         }
     }
 
-    fn from_1900(self, serial: i64) -> i64 {
+    /// A serial as the 1900 system counts it, in this system.
+    fn of_1900(self, serial: i64) -> i64 {
         match self {
             DateSystem::From1900 => serial,
             DateSystem::From1904 => serial - OFFSET_1904,
@@ -81,7 +82,7 @@ pub fn days_in_month(year: i64, month: u32) -> u32 {
 pub fn serial_from_ymd(dates: DateSystem, year: i64, month: i64, day: i64) -> i64 {
     let months = year * 12 + (month - 1);
     let (y, m) = (months.div_euclid(12), months.rem_euclid(12) + 1);
-    dates.from_1900(first_of_month(y, m) + day - 1)
+    dates.of_1900(first_of_month(y, m) + day - 1)
 }
 
 /// The serial of the first of a month. Before March 1900 Excel counts from 1899-12-31 (so

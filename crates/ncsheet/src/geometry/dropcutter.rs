@@ -27,6 +27,9 @@ use nalgebra::{Point3, Vector2};
 
 use super::ballpath::{Sample, Surface};
 
+/// A place (x, y) where a map cell does not resolve the surface, and by how much (mm).
+type Unresolved = (f64, f64, f64);
+
 /// A ball of radius `r`, at rest (`a == b`) or swept in a straight line from centre `a` to `b`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sweep {
@@ -240,7 +243,7 @@ impl Map {
         &self,
         surface: &mut S,
         accept: f64,
-    ) -> Result<Option<(f64, f64, f64)>, (f64, f64, S::Error)> {
+    ) -> Result<Option<Unresolved>, (f64, f64, S::Error)> {
         let nx = if self.hx > 0.0 { self.cx + 1 } else { 1 };
         let ny = if self.hy > 0.0 { self.cy + 1 } else { 1 };
         let node = |i: usize, j: usize| {

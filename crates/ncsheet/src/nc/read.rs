@@ -903,7 +903,10 @@ fn system_a(code: i64) -> String {
         )
     };
     match code {
-        90 => cycle("the outer/inner-diameter turning cycle A", "absolute mode (X and Z are absolute, U and W incremental)"),
+        90 => cycle(
+            "the outer/inner-diameter turning cycle A",
+            "absolute mode (X and Z are absolute, U and W incremental)",
+        ),
         92 => cycle("the threading cycle", "a coordinate setting (the speed limit is G50 S)"),
         94 => cycle("the end-face turning cycle B", "feed per minute (that is G98)"),
         _ => format!("{system_a} there is no G{code}: incremental moves are written with U and W"),

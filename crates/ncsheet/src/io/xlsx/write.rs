@@ -131,9 +131,9 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
             }
         }
         for (pos, value) in wb.values(sheet) {
-            let format = sheet_layout.and_then(|l| l.number_formats.get(&pos)).map(|code| {
-                &*formats.entry(code.as_str()).or_insert_with(|| number_format(code))
-            });
+            let format = sheet_layout
+                .and_then(|l| l.number_formats.get(&pos))
+                .map(|code| &*formats.entry(code.as_str()).or_insert_with(|| number_format(code)));
             let place = || wb.cell_name(sheet, pos);
             match syntax::cell_to_file(wb, sheet, pos, Storage::Legacy) {
                 Some(legacy) => {

@@ -50,8 +50,11 @@ fn error(line: usize, column: usize, message: impl Into<String>) -> ReadError {
     ReadError { line, column, message: message.into() }
 }
 
+/// Subprograms by number, each with the line of its header and its blocks.
+type Subprograms = HashMap<u32, (usize, Body)>;
+
 /// The main program (to its M02) and the subprograms after it, by number.
-fn split(text: &str) -> Result<(Body, HashMap<u32, (usize, Body)>), ReadError> {
+fn split(text: &str) -> Result<(Body, Subprograms), ReadError> {
     let mut main = Vec::new();
     let mut subprograms: HashMap<u32, (usize, Body)> = HashMap::new();
     let mut ended = false;

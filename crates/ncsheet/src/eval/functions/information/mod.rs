@@ -16,7 +16,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("ISERROR", 1, 1, iserror, "ISERROR(value)", "TRUE for any error").biff(3),
     FnSpec::value("ISERR", 1, 1, iserr, "ISERR(value)", "TRUE for any error but #N/A").biff(126),
     FnSpec::value("ISNA", 1, 1, isna, "ISNA(value)", "TRUE for #N/A").biff(2),
-    FnSpec::value("ISREF", 1, 1, isref, "ISREF(value)", "TRUE when the argument is a reference").biff(105)
+    FnSpec::value("ISREF", 1, 1, isref, "ISREF(value)", "TRUE when the argument is a reference")
+        .biff(105)
         .range_args(ArgSet::only(0))
         .position_arg(),
     FnSpec::value("NA", 0, 0, na, "NA()", "The #N/A error").biff(10),

@@ -10,7 +10,8 @@ use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
 pub const FUNCTIONS: &[FnSpec] = &[
-    FnSpec::value("RAND", 0, 0, rand, "RAND()", "A random number 0 <= x < 1 (volatile)").biff(63)
+    FnSpec::value("RAND", 0, 0, rand, "RAND()", "A random number 0 <= x < 1 (volatile)")
+        .biff(63)
         .volatile()
         .reads(Outside::Chance),
     FnSpec::value(

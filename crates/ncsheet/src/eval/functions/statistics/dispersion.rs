@@ -104,7 +104,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
     )
     .biff(364)
     .range_args(ArgSet::ALL),
-    FnSpec::value("VAR", 1, MANY, var_s, "VAR(number1, [number2], ...)", "Sample variance (VAR.S)").biff(46)
+    FnSpec::value("VAR", 1, MANY, var_s, "VAR(number1, [number2], ...)", "Sample variance (VAR.S)")
+        .biff(46)
         .range_args(ArgSet::ALL),
     FnSpec::value("VAR.P", 1, MANY, var_p, "VAR.P(number1, [number2], ...)", "Variance of a whole population")
         .future()
