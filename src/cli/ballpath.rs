@@ -16,7 +16,7 @@ use ncsheet::geometry::ballpath::{
 };
 use ncsheet::io::Encoded;
 use ncsheet::nc::ballpath::{ball_path_cl, ball_path_program, BallPathNcOptions, ProgrammedPoint};
-use ncsheet::nc::{apt, dialect, Machine};
+use ncsheet::nc::{apt, dialect, Dialect, Machine};
 
 use super::output::emit;
 use super::report::{prepend, Error, Result};
@@ -99,7 +99,7 @@ pub struct BallpathArgs {
     pub spindle: f64,
     /// csv of the points (cx,cy,cz,px,py,pz,tx,ty,tz), or an NC program in a milling dialect
     #[arg(long, default_value = "csv", ignore_case = true, value_parser = output_formats())]
-    pub format: String,
+    pub format: PointsFormat,
     /// Rapid up to the clearance height between lines (by default the link move cuts)
     #[arg(long)]
     pub retract: bool,
@@ -177,12 +177,23 @@ pub enum GougeArg {
     Off,
 }
 
+/// What `--format` writes: the points as csv, or a program in a milling dialect.
+#[derive(Clone, Copy, Debug)]
+pub enum PointsFormat {
+    Csv,
+    Program(&'static dyn Dialect),
+}
+
 /// `csv` and every dialect that writes milling programs (`iso` is Fanuc-style with `%` and
-/// `O0001`; LinuxCNC reads `linuxcnc`, which has no O-number).
-fn output_formats() -> clap::builder::PossibleValuesParser {
+/// `O0001`; LinuxCNC reads `linuxcnc`, which has no O-number), read once into the format.
+fn output_formats() -> impl clap::builder::TypedValueParser<Value = PointsFormat> {
+    use clap::builder::TypedValueParser;
     let mut names = vec!["csv"];
     names.extend(dialect::names_for(Machine::Mill));
-    clap::builder::PossibleValuesParser::new(names)
+    clap::builder::PossibleValuesParser::new(names).map(|name| match dialect::by_name(&name) {
+        Some(dialect) => PointsFormat::Program(dialect),
+        None => PointsFormat::Csv,
+    })
 }
 
 fn parse_range(text: &str) -> std::result::Result<[f64; 2], String> {
@@ -336,11 +347,8 @@ fn check_clearance(path: &BallPath, args: &BallpathArgs) -> Result<()> {
 }
 
 fn render(path: &BallPath, args: &BallpathArgs) -> Result<String> {
-    if args.format.eq_ignore_ascii_case("csv") {
-        return Ok(csv(path));
-    }
+    let PointsFormat::Program(dialect) = args.format else { return Ok(csv(path)) };
     let name = program_name(args);
-    let dialect = dialect::by_name(&args.format).expect("every program format is a dialect");
     // The program keeps a reserve for the decimals its dialect writes.
     let options = BallPathNcOptions { resolution: dialect.resolution(), ..nc_options(args) };
     dialect.render(&ball_path_program(path, &name, &options)).map_err(|e| Error::User(e.to_string()))
