@@ -83,13 +83,13 @@ pub struct NumberFormat {
     sections: Vec<Section>,
 }
 
-/// Whose reading of a format code: Excel's (a cell's format, TEXT) or VBA's Format.
+/// Whose reading of a format code: Excel's (a cell's format, TEXT) or VBA's Format. Both
+/// read `E+`, `E-`, `e+` and `e-` as scientific and write the `E` or `e` given (the values
+/// Excel caches for such cells keep the small `e`); in Excel an `e` or `ee` standing alone
+/// is the year as `yyyy` ([MS-OI29500] 2.1.713 f).
 #[derive(Clone, Copy, PartialEq)]
 enum Dialect {
-    /// Only `E+` and `E-` are scientific ([MS-OI29500] 2.1.713 e); `e` and `ee` are the
-    /// year as `yyyy` (f), so Excel refuses `0.0e+0`.
     Excel,
-    /// VBA's Format: `E-`, `E+`, `e-` and `e+` are scientific, writing `E` or `e` as given.
     Vba,
 }
 
@@ -277,7 +277,7 @@ fn parse_section(text: &str, dialect: Dialect) -> XlResult<Section> {
             ',' => Tok::Comma,
             '%' => Tok::Percent,
             '@' => Tok::TextAt,
-            'e' if matches!(chars.get(i), Some('+' | '-')) && (c == 'E' || dialect == Dialect::Vba) => {
+            'e' if matches!(chars.get(i), Some('+' | '-')) => {
                 i += 1;
                 Tok::Exp { plus: chars[i - 1] == '+', small: c == 'e' }
             }
@@ -1092,17 +1092,15 @@ mod tests {
         assert!(NumberFormat::parse("0.0\"/min\"").is_ok());
     }
 
-    /// [MS-OI29500] 2.1.713 e and f: in Office only `E+` and `E-` make scientific
-    /// notation, and `e`/`ee` are the year as `yyyy` outside Japanese and Chinese (Taiwan)
-    /// locales, so `0.0e+0` mixes digits with a date, which Excel refuses (its Format Cells
-    /// does not take it: tidyxl issue 52, tried in Excel). VBA's Format documents `E-`, `E+`,
-    /// `e-` and `e+` and writes the `E` or `e` given.
+    /// Scientific formats keep the case of the `E` as written, as the values Excel caches for
+    /// cells formatted `0.00e+00` show (and VBA's Format documents for `e-` and `e+`); an `e`
+    /// or `ee` alone is the year as `yyyy` ([MS-OI29500] 2.1.713 f).
     #[test]
-    fn only_a_capital_e_is_scientific_in_excel_and_vba_keeps_a_small_one() {
+    fn scientific_formats_keep_the_case_of_their_e() {
         assert_eq!(fmt(12345.678, "0.00E+00"), "1.23E+04");
         assert_eq!(fmt(0.000123, "0.00E-00"), "1.23E-04");
-        assert!(NumberFormat::parse("0.00e+00").is_err());
-        assert!(NumberFormat::parse("0.0e-0").is_err());
+        assert_eq!(fmt(12345.678, "0.00e+00"), "1.23e+04");
+        assert_eq!(fmt(0.000123, "0.0e-0"), "1.2e-4");
         assert_eq!(fmt(45000.0, "e"), "2023");
         assert_eq!(fmt(45000.0, "ee-mm-dd"), "2023-03-15");
         let vba = |n: f64, f: &str| NumberFormat::parse_vba(f).unwrap().format_number(n, DateSystem::From1900).unwrap();
