@@ -178,3 +178,49 @@ fn a_project_whose_modules_inflate_past_the_total_is_refused_naming_the_stream()
     assert!(e.to_string().contains("in all"), "{e}");
     assert!(e.stream.contains("Module"), "names the module's stream: {e}");
 }
+
+/// The source line of one statement may be 400 KB: an error shows the stretch of it around
+/// its column, with `…` where it was cut, and the caret under the character at that column.
+fn excerpt_and_caret(e: &MacroError) -> (String, usize) {
+    let text = e.to_string();
+    let mut lines = text.lines().skip(1);
+    let shown = lines.next().expect("the source line").split_once(" | ").expect("gutter").1.to_string();
+    let caret = lines.next().expect("the caret line").split_once(" | ").expect("gutter").1;
+    assert!(caret.trim_start().starts_with('^'), "{text}");
+    (shown, caret.chars().count() - 1)
+}
+
+// A call takes at most 255 arguments (docs/limits.md); before, the refusal of an Array( of
+// 200,000 items echoed the whole 1.2 MB line in its message.
+#[test]
+fn an_error_on_a_huge_line_shows_a_short_excerpt_and_still_names_the_place() {
+    let items = vec!["1.5"; 200_000].join(", ");
+    let src = format!("Sub Main()\n    Dim a\n    a = Array({items})\nEnd Sub\n");
+    let e = run_with(&src, &RunOptions::default()).unwrap_err();
+    let text = e.to_string();
+    assert!(text.len() < 2048, "{} bytes", text.len());
+    let span = e.span.expect("a place");
+    assert_eq!(span.line, 3, "{text}");
+    assert!(text.starts_with(&format!("hostile.bas:3:{}:", span.col)), "{text}");
+    assert!(text.contains("at most 255 arguments") && text.contains("200000"), "{text}");
+    let (shown, caret) = excerpt_and_caret(&e);
+    assert!(shown.ends_with('…') && shown.chars().count() <= 130, "{shown}");
+    let source_line = src.lines().nth(2).unwrap();
+    let at_column = source_line.chars().nth(span.col as usize - 1);
+    assert_eq!(shown.chars().nth(caret), at_column, "{text}");
+}
+
+#[test]
+fn a_fault_deep_in_a_long_line_is_shown_cut_on_both_sides_with_the_caret_under_it() {
+    let sum = vec!["1"; 5_000].join(" + ");
+    let src = format!("Sub Main()\n    Dim a\n    a = {sum} + * 2\nEnd Sub\n");
+    let e = run_with(&src, &RunOptions::default()).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::Syntax, "{e}");
+    let span = e.span.expect("a place");
+    let source_line = src.lines().nth(2).unwrap();
+    let star = source_line.chars().position(|c| c == '*').unwrap();
+    assert_eq!(span.col as usize, star + 1, "{e}");
+    let (shown, caret) = excerpt_and_caret(&e);
+    assert!(shown.starts_with('…') && shown.ends_with("* 2"), "{shown}");
+    assert_eq!(shown.chars().nth(caret), Some('*'), "{e}");
+}

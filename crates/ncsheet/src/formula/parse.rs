@@ -211,18 +211,8 @@ impl ParseError {
     pub fn render(&self, text: &str) -> String {
         let e = self.explained(text);
         let col = e.column(text);
-        // A long formula shows only the stretch around the place, so that the caret line
-        // stays readable (a refused formula may be 100,000 characters long).
-        const SHOWN: usize = 60;
-        if text.chars().count() <= 2 * SHOWN {
-            return format!("{text}\n{}^ column {col}: {}", " ".repeat(col - 1), e.message);
-        }
-        let from = (col - 1).saturating_sub(SHOWN);
-        let lead = if from > 0 { "…" } else { "" };
-        let shown: String = text.chars().skip(from).take(2 * SHOWN).collect();
-        let tail = if from + 2 * SHOWN < text.chars().count() { "…" } else { "" };
-        let pad = lead.chars().count() + col - 1 - from;
-        format!("{lead}{shown}{tail}\n{}^ column {col}: {}", " ".repeat(pad), e.message)
+        let (shown, caret) = excerpt_around(text, col);
+        format!("{shown}\n{}^ column {col}: {}", " ".repeat(caret), e.message)
     }
 
     /// The error as a user can act on it: a `(` never closed is shown at the `(` itself, and
@@ -240,6 +230,26 @@ impl ParseError {
         }
         self.clone()
     }
+}
+
+/// How many characters of a long line an error shows on each side of its place.
+const EXCERPT_HALF: usize = 60;
+
+/// The stretch of `line` an error shows around 1-based character column `col`, and how many
+/// characters of it come before the column (where the caret goes). A long line is cut to
+/// about 120 characters with `…` where it was cut, so that an error stays readable: a refused
+/// formula or macro line may be 100,000 characters long.
+pub fn excerpt_around(line: &str, col: usize) -> (String, usize) {
+    let before = col.saturating_sub(1);
+    let length = line.chars().count();
+    if length <= 2 * EXCERPT_HALF {
+        return (line.to_string(), before);
+    }
+    let from = before.saturating_sub(EXCERPT_HALF);
+    let lead = if from > 0 { "…" } else { "" };
+    let tail = if from + 2 * EXCERPT_HALF < length { "…" } else { "" };
+    let shown: String = line.chars().skip(from).take(2 * EXCERPT_HALF).collect();
+    (format!("{lead}{shown}{tail}"), lead.chars().count() + before - from)
 }
 
 /// The byte offset of the last `(` without its `)`, outside string literals and quoted

@@ -356,10 +356,11 @@ impl fmt::Display for MacroError {
         write!(f, "{}:{}:{}: {kind}: {}", self.file, span.line, span.col, self.message)?;
         let number = span.line.to_string();
         let pad = " ".repeat(number.len());
+        // A line of 200,000 items shows only the stretch around the column (`…` where cut).
+        let (shown, caret) = crate::formula::parse::excerpt_around(&self.source_line, span.col as usize);
         // The caret lines up under tabs too: copy the line's own whitespace up to the column.
-        let lead: String =
-            self.source_line.chars().take(span.col as usize - 1).map(|c| if c == '\t' { '\t' } else { ' ' }).collect();
-        write!(f, "\n {number} | {}\n {pad} | {lead}^", self.source_line)?;
+        let lead: String = shown.chars().take(caret).map(|c| if c == '\t' { '\t' } else { ' ' }).collect();
+        write!(f, "\n {number} | {shown}\n {pad} | {lead}^")?;
         // A recursion stopped at depth 10,000 repeats one line 10,000 times (490 KB): a run
         // of equal lines is written once with its count.
         let mut lines = self.trace.iter().peekable();
