@@ -397,3 +397,22 @@ fn libreoffice_in_the_locale_is_the_oracle_for_date_letters_and_short_names() {
         }
     }
 }
+
+/// A csv export in a locale writes a date as that locale shows it (its short date, as `eval`
+/// shows it), not in en-US form: LibreOffice set to the locale exports the same workbook's
+/// shown text as the oracle. 28 November 2026 typed in de-DE is a date of the built-in format.
+#[test]
+fn a_date_exports_as_the_locale_shows_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("t.csv"), "x\n").unwrap();
+    ok(in_dir(d, &["set", "t.csv", "--locale", "de-DE", "A1=28.11.2026", "B1=1234,5", "-o", "dates.xlsx"]));
+    // As `eval` shows it (a_date_typed_in_the_locale_shows_as_its_short_date), not 11-28-26.
+    ok(in_dir(d, &["export", "dates.xlsx", "--locale", "de-DE", "-o", "de.csv"]));
+    assert_eq!(std::fs::read_to_string(d.join("de.csv")).unwrap(), "28.11.2026;1234,5\n");
+    let Some(soffice) = common::soffice() else { return };
+    for locale in ["de-DE", "fr-FR", "et-EE"] {
+        let (ours, theirs) = ours_and_libreoffice(&soffice, d, "dates", locale);
+        assert_eq!(ours, theirs, "{locale}");
+    }
+}

@@ -650,7 +650,7 @@ fn longest_run(code: &str, letter: char) -> usize {
 }
 
 /// Whether a format code shows a date or time (a d, m, y, h or s outside quotes and `[…]`).
-fn is_date_code(code: &str) -> bool {
+pub fn is_date_code(code: &str) -> bool {
     let mut quoted = false;
     let mut bracket = false;
     let mut escaped = false;

@@ -26,6 +26,7 @@ use std::io::{self, Write};
 
 use crate::eval::dates::DateSystem;
 use crate::eval::format::number_format;
+use crate::eval::locale::is_date_code;
 use crate::eval::Value;
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::workbook::{Input, Workbook};
@@ -488,7 +489,7 @@ pub fn write_with(wb: &Workbook, what: &Export, style: &Style, out: &mut dyn Wri
         for col in rect.first.col..=rect.last.col {
             let pos = Pos::new(row, col);
             fields.push(match what.content {
-                Content::Values => style.field(&wb.value(what.sheet, pos), pos, wb.date_system()),
+                Content::Values => style.field(&wb.value(what.sheet, pos), pos, wb),
                 Content::Formulas => style.typed(&wb.input(what.sheet, pos).unwrap_or_default()),
             });
         }
@@ -521,7 +522,7 @@ fn write_sparse(wb: &Workbook, what: &Export, style: &Style, rect: Rect, out: &m
         while let Some(&&pos) = next.peek().filter(|p| p.row == row) {
             fields.resize((pos.col - rect.first.col) as usize, String::new());
             fields.push(match what.content {
-                Content::Values => style.field(&wb.value(what.sheet, pos), pos, wb.date_system()),
+                Content::Values => style.field(&wb.value(what.sheet, pos), pos, wb),
                 Content::Formulas => wb.input(what.sheet, pos).unwrap_or_default(),
             });
             next.next();
@@ -549,14 +550,17 @@ impl Style<'_> {
     }
 
     /// The csv text of a value in this style: a number as its cell's format shows it (or
-    /// in full), with a decimal comma in a `;` file; anything else as [`value_field`].
-    fn field(&self, v: &Value, pos: Pos, dates: DateSystem) -> String {
+    /// in full), with a decimal comma in a `;` file; a date as the workbook's locale shows
+    /// it; anything else as [`value_field`].
+    fn field(&self, v: &Value, pos: Pos, wb: &Workbook) -> String {
         let Value::Number(n) = v else { return value_field(v) };
-        let text = if self.raw {
-            format!("{n}")
-        } else {
-            number_format::shown(*n, self.formats.and_then(|f| f.get(&pos)).map(String::as_str), dates)
-        };
+        let code = self.formats.and_then(|f| f.get(&pos)).map(String::as_str);
+        if !self.raw && code.is_some_and(is_date_code) {
+            // As `eval` shows it: Excel's built-in date is the locale's short date (de-DE
+            // 28.11.2026, en-US 11/28/2026), months and days in the locale's words.
+            return wb.settings().locale.shown_number(*n, code, wb.date_system());
+        }
+        let text = if self.raw { format!("{n}") } else { number_format::shown(*n, code, wb.date_system()) };
         if self.delimiter == b';' {
             // Swapped both ways: 1,234.5 is 1.234,5 where the comma is the decimal mark.
             text.chars()
