@@ -141,6 +141,8 @@ pub struct BallpathArgs {
     /// Refuse a path of more points than this (each costs memory and a line of output)
     #[arg(long, value_name = "N", default_value_t = 4_000_000)]
     pub max_points: usize,
+    #[command(flatten)]
+    pub timeout: super::limits::TimeoutArg,
 }
 
 #[derive(Clone, Copy, Debug, Default, ValueEnum)]

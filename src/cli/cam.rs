@@ -159,6 +159,8 @@ pub struct CamArgs {
     pub partial: bool,
     #[command(flatten)]
     pub out: CamOutput,
+    #[command(flatten)]
+    pub timeout: super::limits::TimeoutArg,
 }
 
 /// Replace one spiral piece by the fewest tangent arcs within --tol.
@@ -191,6 +193,8 @@ pub struct ArcfitArgs {
     pub side: SideArg,
     #[command(flatten)]
     pub out: CamOutput,
+    #[command(flatten)]
+    pub timeout: super::limits::TimeoutArg,
 }
 
 pub fn cam(args: CamArgs) -> Result<()> {

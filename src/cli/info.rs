@@ -18,6 +18,8 @@ pub struct InfoArgs {
     /// The workbook (.csv, .xlsx, .xlsm)
     pub file: PathBuf,
     #[command(flatten)]
+    pub timeout: super::limits::TimeoutArg,
+    #[command(flatten)]
     pub reading: super::WorkbookOptions,
 }
 

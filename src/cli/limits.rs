@@ -1,5 +1,5 @@
 //! The options that bound what a command may spend (docs/limits.md): a wall-clock
-//! `--timeout`, which every command takes, and the limits on reading files
+//! `--timeout`, which every command that does work takes (all but `functions`), and the limits on reading files
 //! (`ncsheet::io::limits`), which the commands that read workbooks take.
 
 use std::sync::OnceLock;
@@ -8,7 +8,8 @@ use std::time::Duration;
 use clap::Args;
 use ncsheet::io::limits::ReadLimits;
 
-/// The time a command may take (see docs/limits.md): every command's.
+/// The time a command may take (see docs/limits.md): every command's that does work a
+/// timeout could stop. Global, so that `nc`'s subcommands take it too.
 #[derive(Debug, Args)]
 pub struct TimeoutArg {
     /// Stop the command after this many seconds of wall-clock time, with an error; a macro

@@ -44,6 +44,8 @@ pub struct MacrosArgs {
     #[arg(long)]
     pub force: bool,
     #[command(flatten)]
+    pub timeout: super::limits::TimeoutArg,
+    #[command(flatten)]
     pub limits: super::limits::ReadLimitArgs,
 }
 

@@ -47,8 +47,6 @@ use target::{parse_assignment, parse_target, Assignment, Target};
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
-    #[command(flatten)]
-    pub timeout: limits::TimeoutArg,
 }
 
 impl Cli {
@@ -145,6 +143,8 @@ pub struct EvalArgs {
     #[arg(long, value_name = "N")]
     pub width: Option<usize>,
     #[command(flatten)]
+    pub timeout: limits::TimeoutArg,
+    #[command(flatten)]
     pub reading: WorkbookOptions,
 }
 
@@ -176,6 +176,8 @@ pub struct SetArgs {
     /// The sheet of cells named without one (default: the active one, where the file opens)
     #[arg(long, value_name = "NAME")]
     pub sheet: Option<String>,
+    #[command(flatten)]
+    pub timeout: limits::TimeoutArg,
     #[command(flatten)]
     pub reading: WorkbookOptions,
 }
@@ -216,6 +218,8 @@ pub struct ExportArgs {
     #[arg(long)]
     pub force: bool,
     #[command(flatten)]
+    pub timeout: limits::TimeoutArg,
+    #[command(flatten)]
     pub reading: WorkbookOptions,
 }
 
@@ -234,6 +238,8 @@ pub struct ReplArgs {
     /// The sheet of cells named without one (default: the active one, where the file opens)
     #[arg(long, value_name = "NAME")]
     pub sheet: Option<String>,
+    #[command(flatten)]
+    pub timeout: limits::TimeoutArg,
     #[command(flatten)]
     pub reading: WorkbookOptions,
 }
@@ -262,6 +268,28 @@ impl Command {
         }
     }
 
+    /// The `--timeout` of this command, when it does work a timeout could stop (listing the
+    /// functions does not).
+    fn timeout(&self) -> Option<&limits::TimeoutArg> {
+        match self {
+            Command::Eval(args) => Some(&args.timeout),
+            Command::Set(args) => Some(&args.timeout),
+            Command::Export(args) => Some(&args.timeout),
+            Command::Repl(args) => Some(&args.timeout),
+            Command::Functions(_) => None,
+            Command::Cam(args) => Some(&args.timeout),
+            Command::Arcfit(args) => Some(&args.timeout),
+            Command::Run(args) => Some(&args.timeout),
+            Command::Ballpath(args) => Some(&args.timeout),
+            Command::Macros(args) => Some(&args.timeout),
+            Command::Show(args) => Some(&args.timeout),
+            Command::Info(args) => Some(&args.timeout),
+            Command::Nc(args) => Some(&args.timeout),
+            Command::Post(args) => Some(&args.timeout),
+            Command::Serve(args) => Some(&args.timeout),
+        }
+    }
+
     /// The limits on the files this command reads: a workbook's, or the macros command's.
     fn read_limits(&self) -> Option<&limits::ReadLimitArgs> {
         match self {
@@ -272,7 +300,9 @@ impl Command {
 }
 
 pub fn run(cli: Cli) -> Result<()> {
-    cli.timeout.apply();
+    if let Some(timeout) = cli.command.timeout() {
+        timeout.apply();
+    }
     cli.command.read_limits().unwrap_or(&limits::ReadLimitArgs::default()).apply();
     let reading = cli.command.reading();
     locale::apply(reading.and_then(|r| r.locale));

@@ -23,6 +23,8 @@ use super::report::{Error, Result};
 pub struct NcArgs {
     #[command(subcommand)]
     pub command: NcCommand,
+    #[command(flatten)]
+    pub timeout: super::limits::TimeoutArg,
 }
 
 #[derive(Debug, Subcommand)]

@@ -75,6 +75,8 @@ pub struct PostArgs {
     /// Replace a read-only or hard-linked OUT
     #[arg(long, requires = "output")]
     pub force: bool,
+    #[command(flatten)]
+    pub timeout: super::limits::TimeoutArg,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]

@@ -88,6 +88,8 @@ pub struct RunArgs {
     #[arg(long, value_name = "NAME")]
     pub sheet: Option<String>,
     #[command(flatten)]
+    pub timeout: super::limits::TimeoutArg,
+    #[command(flatten)]
     pub reading: super::WorkbookOptions,
 }
 

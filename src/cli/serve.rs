@@ -25,6 +25,8 @@ pub struct ServeArgs {
     #[arg(long)]
     pub open: bool,
     #[command(flatten)]
+    pub timeout: super::limits::TimeoutArg,
+    #[command(flatten)]
     pub reading: super::WorkbookOptions,
 }
 

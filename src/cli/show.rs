@@ -31,6 +31,8 @@ pub struct ShowArgs {
     #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1000))]
     pub depth: u32,
     #[command(flatten)]
+    pub timeout: super::limits::TimeoutArg,
+    #[command(flatten)]
     pub reading: super::WorkbookOptions,
 }
 
