@@ -436,3 +436,117 @@ fn a_one_row_range_value_is_two_dimensional() {
     );
     assert_eq!(out, [" 1  1  1  3  5 z"]);
 }
+
+// "Collection object", "Add method (Collection)", "Item method", "Remove method": Add item,
+// key, before, after (positions from 1; Before:=1 puts the item first, After:=n after the
+// n-th); a key picks the item whatever its case; Item is the default member (`c(1)`,
+// `c("k")`); Remove takes a position or a key; For Each goes through the items in order.
+#[test]
+fn collection_add_item_remove_and_for_each() {
+    let out = printed(
+        "    Dim c As New Collection\n    c.Add \"a\"\n    c.Add \"b\", \"kb\"\n    c.Add \"first\", Before:=1\n\
+         \x20   c.Add \"z\", \"KZ\", After:=3\n    Debug.Print c.Count; c(1); c.Item(2); c(\"KB\"); c(4); c.Item(\"kz\")\n\
+         \x20   c.Remove \"kb\"\n    c.Remove 1\n    s = \"\"\n    For Each x In c\n        s = s & x & \",\"\n    Next\n\
+         \x20   Debug.Print s; c.Count",
+    );
+    assert_eq!(out, [" 4 firstabzz", "a,z, 2 "]);
+}
+
+// "Add method (Collection)": a key already used is run-time error 457 ("This key is already
+// associated with an element of this collection"); "Item method (Collection)": a position
+// outside 1 to Count is error 9, "Subscript out of range", and a key no item has is error 5,
+// "Invalid procedure call or argument" (keys ignore case, so "K" is "k"); Remove likewise.
+#[test]
+fn collection_errors_have_vba_numbers() {
+    let out = printed(
+        "    Dim c As Collection\n    Set c = New Collection\n    c.Add 1, \"k\"\n    On Error Resume Next\n\
+         \x20   c.Add 2, \"K\"\n    Debug.Print Err.Number; c.Count\n    Err.Clear\n    x = c(5)\n    Debug.Print Err.Number\n\
+         \x20   Err.Clear\n    x = c(\"nokey\")\n    Debug.Print Err.Number\n    Err.Clear\n    c.Remove 0\n\
+         \x20   Debug.Print Err.Number; c.Count\n    Err.Clear\n    c.Remove \"other\"\n    Debug.Print Err.Number",
+    );
+    assert_eq!(out, [" 457  1 ", " 9 ", " 5 ", " 9  1 ", " 5 "]);
+}
+
+// "Dictionary object" with "Add method (Dictionary)", "Item property (Dictionary object)":
+// `d(k) = v` replaces the item of a key or adds the key; reading a key not there adds it
+// with its item left Empty; "Keys method" and "Items method" give zero-based arrays in the
+// order added; "Exists method"; "Remove method" and "RemoveAll method"; For Each goes
+// through the keys. Keys compare in binary (case counts) by default, and 1 and "1" are two keys.
+#[test]
+fn dictionary_members() {
+    let out = printed(
+        "    Dim d As Object\n    Set d = CreateObject(\"Scripting.Dictionary\")\n    d.Add \"a\", \"Athens\"\n\
+         \x20   d.Add \"b\", \"Belgrade\"\n    d(\"c\") = \"Cairo\"\n    d(\"a\") = \"Ankara\"\n\
+         \x20   Debug.Print d.Count; d(\"a\"); d.Item(\"c\")\n    Debug.Print d.Exists(\"b\"); d.Exists(\"B\")\n\
+         \x20   k = d.Keys\n    its = d.Items\n    Debug.Print LBound(k); UBound(k); k(0); its(2)\n\
+         \x20   x = d(\"missing\")\n    Debug.Print d.Count; IsEmpty(d(\"missing\"))\n    d.Remove \"b\"\n    s = \"\"\n\
+         \x20   For Each key In d\n        s = s & key & \"=\" & d(key) & \";\"\n    Next\n    Debug.Print s\n\
+         \x20   d(1) = \"one\"\n    d(\"1\") = \"text one\"\n    Debug.Print d.Count; d(1)\n    d.RemoveAll\n    Debug.Print d.Count",
+    );
+    assert_eq!(
+        out,
+        [" 3 AnkaraCairo", "TrueFalse", " 0  2 aCairo", " 4 True", "a=Ankara;c=Cairo;missing=;", " 5 one", " 0 "]
+    );
+}
+
+// "Add method (Dictionary)": an existing key is error 457; "Remove method (Dictionary)":
+// "An error occurs if the specified key/item pair does not exist" (32811 in Scripting);
+// "CompareMode property": vbTextCompare makes "KEY" find "Key", and changing the mode of a
+// Dictionary that holds data is an error (5).
+#[test]
+fn dictionary_errors_and_compare_mode() {
+    let out = printed(
+        "    Set d = CreateObject(\"Scripting.Dictionary\")\n    Debug.Print d.CompareMode\n    d.Add \"Key\", 1\n\
+         \x20   On Error Resume Next\n    d.Add \"Key\", 2\n    Debug.Print Err.Number; d(\"Key\")\n    Err.Clear\n\
+         \x20   d.Remove \"nothing here\"\n    Debug.Print Err.Number\n    Err.Clear\n    d.CompareMode = vbTextCompare\n\
+         \x20   Debug.Print Err.Number; d.Exists(\"KEY\")\n    Err.Clear\n    Set t = CreateObject(\"scripting.dictionary\")\n\
+         \x20   t.CompareMode = vbTextCompare\n    t.Add \"Key\", 1\n    t.Add \"KEY\", 2\n    Debug.Print Err.Number; t.Exists(\"kEy\"); t.CompareMode",
+    );
+    assert_eq!(out, [" 0 ", " 457  1 ", " 32811 ", " 5 False", " 457 True 1 "]);
+}
+
+// "Set statement": Set makes the variable refer to the object, no copy: both names see one
+// Collection or Dictionary; `Set` to a `New` object starts another.
+#[test]
+fn collections_and_dictionaries_are_shared_by_set() {
+    let out = printed(
+        "    Set d = CreateObject(\"Scripting.Dictionary\")\n    Set d2 = d\n    d2(\"x\") = 5\n    Debug.Print d.Count; d(\"x\")\n\
+         \x20   Dim c As New Collection, c2 As Collection\n    Set c2 = c\n    c2.Add 7\n    Debug.Print c.Count; c(1)\n\
+         \x20   Set c2 = New Collection\n    Debug.Print c.Count; c2.Count; c Is c2\n\
+         \x20   Set d(\"list\") = New Collection\n    d(\"list\").Add 3\n    d(\"list\").Add 4\n\
+         \x20   Set l = d(\"list\")\n    l.Add 5\n    s = 0\n    For Each v In d(\"list\")\n        s = s + v\n    Next\n\
+         \x20   Debug.Print d(\"list\").Count; s; d(\"list\").Item(3)",
+    );
+    assert_eq!(out, [" 1  5 ", " 1  7 ", " 1  0 False", " 3  12  5 "]);
+}
+
+// The macro memory budget counts what Collections and Dictionaries hold as it counts arrays.
+#[test]
+fn collection_items_count_against_the_memory_budget() {
+    let src = "Sub Main()\n    Dim c As New Collection\n    For i = 1 To 1000\n        c.Add Space(1000000)\n    Next\nEnd Sub\n";
+    let options = RunOptions { max_memory: 64 << 20, ..RunOptions::default() };
+    let e = run_with(src, &options).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::Limit, "{e}");
+    let src = "Sub Main()\n    Set d = CreateObject(\"Scripting.Dictionary\")\n    For i = 1 To 1000\n\
+               \x20       d(i) = Space(1000000)\n    Next\nEnd Sub\n";
+    let e = run_with(src, &options).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::Limit, "{e}");
+}
+
+// "Keys method": "The following code illustrates use of the Keys method" with a loop
+// `For i = 0 To d.Count - 1`: the array is zero-based, under Option Base 1 too.
+#[test]
+fn dictionary_keys_are_zero_based_under_option_base_1() {
+    let src = "Option Base 1\nSub Main()\n    Set d = CreateObject(\"Scripting.Dictionary\")\n    d(\"a\") = 1: d(\"b\") = 2\n\
+               \x20   k = d.Keys\n    its = d.Items()\n    Debug.Print LBound(k); UBound(k); k(0); LBound(its); its(1)\nEnd Sub\n";
+    assert_eq!(run(src).printed, [" 0  1 a 0  2 "]);
+}
+
+// CreateObject makes Scripting.Dictionary and nothing else: a file system object stays refused.
+#[test]
+fn create_object_of_another_class_is_refused() {
+    let e = failure("Sub Main()\n    Set f = CreateObject(\"Scripting.FileSystemObject\")\nEnd Sub\n");
+    assert!(e.message.contains("cannot touch files"), "{e}");
+    let e = failure("Sub Main()\n    Set f = New Class1\nEnd Sub\n");
+    assert!(e.message.contains("New Class1"), "{e}");
+}

@@ -66,6 +66,9 @@ impl Interp<'_, '_> {
     }
 
     pub fn element(&self, ctx: &mut Ctx, name: &str, index: &[Expr], span: Span) -> Run<Operand> {
+        if let Some(Var::Obj(Obj::Store(h))) = self.lookup(name) {
+            return self.store_operand(ctx, &h, index, span);
+        }
         let mut at = Vec::new();
         for e in index {
             let v = ctx.eval(e);

@@ -254,7 +254,16 @@ pub struct VarDecl {
     pub ty: Option<Ty>,
     /// `Dim a(1 To 5, 3)`: (lower, upper) per dimension, lower `None` for Option Base.
     pub bounds: Option<Vec<(Option<Expr>, Expr)>>,
+    /// `Dim c As New Collection`: the object the variable starts with.
+    pub new: Option<Class>,
     pub span: Span,
+}
+
+/// The classes a macro can make objects of (`New Collection`, `CreateObject("Scripting.Dictionary")`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Class {
+    Collection,
+    Dictionary,
 }
 
 #[derive(Debug)]
@@ -322,6 +331,8 @@ pub enum Node {
     Is { object: Expr, other: Option<Expr>, span: Span },
     /// `VarType(x)`, `IsMissing(x)`: what a variable is, which its declaration tells.
     Inspect { what: Inspect, arg: Expr, span: Span },
+    /// `New Collection`, `CreateObject("Scripting.Dictionary")`: a new object of the class.
+    New { class: Class, span: Span },
 }
 
 /// The questions [`Node::Inspect`] asks of a variable.

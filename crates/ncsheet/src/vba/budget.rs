@@ -16,7 +16,7 @@ use crate::eval::{Array, Value};
 
 use super::ast::Span;
 use super::interp::{Interp, Run};
-use super::value::{Slot, Var};
+use super::value::{Obj, Slot, Var};
 use super::ErrorKind;
 
 /// What storing `var` may add: its text's bytes, its array's items.
@@ -81,6 +81,10 @@ impl Measure {
         match var {
             Var::Value(v) => self.value(v),
             Var::Array(a) if self.first_time(&a.data) => self.array(&a.data),
+            Var::Obj(Obj::Store(h)) if self.first_time(&h.0) => {
+                self.bytes = self.bytes.saturating_add(h.own_bytes());
+                h.items().iter().for_each(|item| self.var(item));
+            }
             Var::Array(_) | Var::Obj(_) => {}
             Var::Record(_, fields) => fields.iter().for_each(|f| self.var(f)),
         }

@@ -198,6 +198,7 @@ impl Interp<'_, '_> {
                 Ok(Operand::Value(Value::Bool(same)))
             }
             Node::Inspect { what, arg, .. } => self.inspect(*what, arg).map(Operand::Value),
+            Node::New { span, .. } => Err(self.fault_at(*span, "New makes an object: assign it with Set")),
         }
     }
 

@@ -21,6 +21,7 @@ use crate::formula::ast::{Expr, ExprKind, SheetId};
 use crate::workbook::{Input, Workbook, WorkbookError};
 
 use super::ast::*;
+use super::collections::Handle;
 use super::parser::Lines;
 use super::value::{array_var, convert, default_value, input_text, print_text, range_var, Obj, Slot, Slots, Var};
 use super::{ErrorKind, MacroError, Printed, RunOptions, RunOutput};
@@ -594,6 +595,15 @@ impl Interp<'_, '_> {
                 Some(var) => Ok(var),
                 None => Ok(Var::Value(Value::Blank)),
             },
+            ExprKind::Host(id) if matches!(self.module.nodes[*id as usize], Node::New { .. }) => {
+                let Node::New { class, .. } = &self.module.nodes[*id as usize] else { unreachable!() };
+                Ok(Var::Obj(Obj::Store(Handle::new(*class))))
+            }
+            ExprKind::Host(id) if self.store_element(*id).is_some() => {
+                let (h, index, span) = self.store_element(*id).expect("a Collection's item");
+                let key = self.store_key(&mut self.ctx(), index, span)?;
+                self.store_item(&h, &key, span)
+            }
             ExprKind::Host(id) if self.returns_record(*id) => {
                 let Node::Call { proc, args, span } = &self.module.nodes[*id as usize] else { unreachable!() };
                 self.call_record(*proc, args, *span)
@@ -621,6 +631,26 @@ impl Interp<'_, '_> {
             })
     }
 
+    /// The node is `c(i)` of a variable holding a Collection or a Dictionary.
+    fn store_element(&self, id: u32) -> Option<(Handle, &[Expr], Span)> {
+        let Node::Element { var, index, span } = &self.module.nodes[id as usize] else { return None };
+        match self.lookup(var) {
+            Some(Var::Obj(Obj::Store(h))) => Some((h, index, *span)),
+            _ => None,
+        }
+    }
+
+    /// `….Keys` or `….Items` (a Dictionary's: no other object has them).
+    fn is_keys_member(&self, e: &Expr) -> bool {
+        let ExprKind::Host(id) = &e.kind else { return false };
+        let Node::Path(path) = &self.module.nodes[*id as usize] else { return false };
+        (path.links.len() > 1 || path.with)
+            && path.links.last().is_some_and(|l| {
+                l.args.as_ref().is_none_or(|a| a.is_empty())
+                    && (l.name.eq_ignore_ascii_case("keys") || l.name.eq_ignore_ascii_case("items"))
+            })
+    }
+
     /// The node is a call of a Function declared `As` a Type.
     fn returns_record(&self, id: u32) -> bool {
         match &self.module.nodes[id as usize] {
@@ -638,6 +668,10 @@ impl Interp<'_, '_> {
             Operand::Ref(sheet, rect) => range_var(ctx.rect_value(sheet, rect)),
             // `Range("A1:C1").Value`: a range's values are two-dimensional, one row too.
             Operand::Value(v) if self.is_value_member(e) => range_var(v),
+            // `d.Keys`, `d.Items`: zero-based whatever the Option Base ("Keys method").
+            Operand::Value(Value::Array(a)) if self.is_keys_member(e) => {
+                Var::Array(super::value::VArray { data: a, lower: (1, 0), dims: 1 })
+            }
             Operand::Value(v) => match super::library::library_array(e, &v, self.module.base) {
                 Some(var) => var,
                 None => array_var(v, self.module.base),
@@ -1060,7 +1094,10 @@ impl Interp<'_, '_> {
                     }
                     Var::Array(array)
                 }
-                _ => self.default_var(d.ty.as_ref()),
+                _ => match d.new {
+                    Some(class) => Var::Obj(Obj::Store(Handle::new(class))),
+                    None => self.default_var(d.ty.as_ref()),
+                },
             };
             self.charge(super::budget::brought(&var), d.span)?;
             if redim && self.with_slot(&d.name, |s| s.var = var.clone()).is_some() {
@@ -1116,6 +1153,11 @@ impl Interp<'_, '_> {
                 self.set_var(name, var, span)
             }
             Target::Element(name, index) => {
+                if let Some(Var::Obj(Obj::Store(h))) = self.lookup(name) {
+                    let key = self.store_key(&mut self.ctx(), index, span)?;
+                    let item = if set { self.item_var(value)? } else { self.var_of(value, false)? };
+                    return self.set_store_item(&h, &key, item, span);
+                }
                 let v = self.eval(value)?;
                 self.set_element(name, index, v, span)
             }
@@ -1305,6 +1347,8 @@ impl Interp<'_, '_> {
                 (0..self.wb.borrow().sheet_len()).map(|i| Var::Obj(Obj::Sheet(i as SheetId))).collect()
             }
             Var::Array(a) => a.data.data.iter().cloned().map(Var::Value).collect(),
+            // A Collection's items, a Dictionary's keys ("For Each...Next statement").
+            Var::Obj(Obj::Store(h)) => h.each(),
             Var::Obj(Obj::Value(Value::Array(a))) => a.data.iter().cloned().map(Var::Value).collect(),
             Var::Obj(other) => {
                 return Err(

@@ -9,7 +9,8 @@
 //! the `Nc` object.
 //!
 //! **Architecture Invariant:** a macro cannot reach files, programs or the system: the
-//! language has no such statement or object (`Open`, `Kill`, `Shell`, `CreateObject`,
+//! language has no such statement or object (`Open`, `Kill`, `Shell`, `CreateObject` of
+//! anything but Scripting's Dictionary,
 //! `Declare`, `Workbooks.Open`, `SaveAs` … are refused by the parser, by name), and this
 //! module touches neither files nor stdout: [`run`] returns what the macro printed and
 //! emitted, and the CLI decides where it goes. A statement limit, a call-depth limit, a
@@ -115,6 +116,22 @@
 //! assigned to a variable of it: `p = MakePoint(1, 2)`); not arrays of a Type or array fields.
 //! `Foo (y)` without `Call` passes `y` by value, as in VBA.
 //!
+//! `Collection` (`Dim c As New Collection`, `Set c = New Collection`) and Scripting's
+//! `Dictionary` (`CreateObject("Scripting.Dictionary")`, `New Dictionary`; no other ProgID:
+//! `CreateObject` stays refused for everything else) are objects shared by `Set`, as in VBA.
+//! A Collection: `Add item, [key], [before], [after]` (named arguments too), `Item` (the
+//! default member: `c(1)`, `c("k")`; keys ignore case), `Count`, `Remove index|key`, `For
+//! Each` over the items. A Dictionary: `Add key, item`, `Exists`, `Item` (the default, read
+//! and assigned: `d(k) = v` adds or replaces, reading a missing key adds it with Empty),
+//! `Keys` and `Items` (zero-based arrays), `Count`, `Remove`, `RemoveAll`, `CompareMode`
+//! (`vbBinaryCompare`, the default, or `vbTextCompare`, set while empty), `For Each` over
+//! the keys; `1` and `"1"` are two keys. The errors are VBA's run-time errors, for `On Error`
+//! and `Err.Number`: 457 for a key already there, 9 for a position past the items, 5 for a
+//! Collection key no item has, 32811 for removing a Dictionary key that is not there.
+//! Not there: `Key` (renaming a key), `d(k)(i)` (an item's own index in one
+//! expression: use `d(k).Item(i)` or a variable), objects as Dictionary keys. Their entries
+//! count against the run's memory limit (`--max-memory`) as arrays do.
+//!
 //! Not in the language: classes, `Is`, `Static Sub`, `ParamArray`, arrays of more than two
 //! dimensions, events and forms. A member's dot touches what it follows ([MS-VBAL] 5.6.12):
 //! `Out .Y + .X` in a With block calls `Out` with `.Y + .X`.
@@ -122,6 +139,7 @@
 mod arrays;
 pub mod ast;
 mod budget;
+mod collections;
 mod conditional;
 mod host;
 mod interp;

@@ -91,6 +91,12 @@ impl Interp<'_, '_> {
 
     fn root(&self, ctx: &mut Ctx, link: &Link) -> Run<Obj> {
         if let Some(var) = self.lookup(&link.name) {
+            if let (Var::Obj(Obj::Store(h)), Some(args)) = (&var, &link.args) {
+                // `c(1).Value`, `d("k").Count`: the item, the default member.
+                let index: Vec<Expr> = args.iter().map(|a| a.value.clone()).collect();
+                let key = self.store_key(ctx, &index, link.span)?;
+                return self.store_item(h, &key, link.span).map(super::collections::var_obj);
+            }
             if link.args.is_some() {
                 return Err(self.fault_at(link.span, format!("{} is a variable, not an array of objects", link.name)));
             }
@@ -180,6 +186,7 @@ impl Interp<'_, '_> {
                 _ => Err(self.no_member(&Obj::Debug, link)),
             },
             Obj::Err => self.err_member(ctx, link),
+            Obj::Store(h) => self.store_member(ctx, h, link),
             Obj::Record(var, path) => {
                 let i = self.field_index(&var, &path, link)?;
                 let mut path = path.clone();
@@ -623,6 +630,7 @@ impl Interp<'_, '_> {
                 self.write_formula(*sheet, *rect, &text, name.starts_with("formular1c1"), link.span)
             }
             (Obj::Nc, _) => self.set_nc(&name, value, link.span),
+            (Obj::Store(h), _) => self.set_store_member(h, link, value),
             (Obj::Sheet(sheet), "visible") => {
                 let v = self.eval(value)?;
                 self.set_visible(*sheet, &v, link.span)

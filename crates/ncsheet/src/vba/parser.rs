@@ -21,6 +21,7 @@ use crate::formula::parse::{
 };
 
 use super::ast::*;
+use super::collections::new_class;
 use super::resolve::{lower_bare, refusal, FORBIDDEN};
 
 /// Where byte offsets of the source fall in lines and columns.
@@ -546,16 +547,18 @@ impl<'s> Build<'s> {
                 self.declare(&name);
             }
             let as_clause = find(&k, Rule::as_clause);
+            let mut new = None;
             if let Some(a) = &as_clause {
-                if let Some(new) = find(&kids(a), Rule::k_new) {
-                    return Err(self.refuse_new(&new, a.as_str()));
+                if let Some(k_new) = find(&kids(a), Rule::k_new) {
+                    let class = a.as_str().split_whitespace().last().unwrap_or_default();
+                    new = Some(new_class(class).ok_or_else(|| self.refuse_new(&k_new, a.as_str()))?);
                 }
             }
             let ty = as_clause.map(|a| self.ty_of(&a));
             if let (Some(Ty::Record(_)), Some(_)) = (&ty, &bounds) {
                 return Err(self.error_at(&var, "arrays of a Type are not supported: use one array per field"));
             }
-            out.push(VarDecl { name, ty, bounds, span: self.span(start(&var)) });
+            out.push(VarDecl { name, ty, bounds, new, span: self.span(start(&var)) });
         }
         Ok(out)
     }
@@ -597,10 +600,15 @@ impl<'s> Build<'s> {
     fn assign(&self, pair: &Pair<Rule>) -> Res<StmtKind> {
         let k = kids(pair);
         let set = pair.as_rule() == Rule::set_stmt;
-        if let Some(new) = find(&k, Rule::new_object) {
-            return Err(self.refuse_new(&new, new.as_str()));
-        }
-        let value = self.expr(find(&k, Rule::vexpr).expect("assigned value"))?;
+        let value = match find(&k, Rule::new_object) {
+            Some(new) => {
+                let class = new.as_str().split_whitespace().last().unwrap_or_default();
+                let class = new_class(class).ok_or_else(|| self.refuse_new(&new, new.as_str()))?;
+                let (at, end) = (start(&new), new.as_span().end());
+                self.node(Node::New { class, span: self.span(at) }, at, end)
+            }
+            None => self.expr(find(&k, Rule::vexpr).expect("assigned value"))?,
+        };
         let target = match find(&k, Rule::bracket) {
             Some(b) => match self.bracket(b)?.kind {
                 ExprKind::Host(id) => Target::Node(id),
@@ -1095,8 +1103,8 @@ impl Build<'_> {
         self.error_at(
             pair,
             format!(
-                "New {class}: objects of a class (a class module's, Collection, …) are not supported by \
-                 ncsheet's macros; keep the values in variables, arrays or cells"
+                "New {class}: objects of a class module are not supported by ncsheet's macros (Collection \
+                 and Dictionary are); keep the values in variables, arrays or cells"
             ),
         )
     }

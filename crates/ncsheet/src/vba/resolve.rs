@@ -348,6 +348,11 @@ impl Build<'_> {
         let span = ByteSpan { start: at as u32, end: end as u32 };
         let lower = lower_bare(&link.name);
         let is_var = self.is_var(&link.name);
+        if lower == "createobject" && !is_var {
+            if let Some(class) = created(&link) {
+                return Ok(self.node(Node::New { class, span: self.span(at) }, at, end));
+            }
+        }
         if FORBIDDEN.contains(&lower.as_str()) && !is_var {
             return Err(self.error_at(pair, refusal(&link.name)));
         }
@@ -447,5 +452,16 @@ impl Build<'_> {
         let dim = args.get(1).map(|a| a.value.clone());
         let at = start(pair);
         Ok(self.node(Node::Bound { upper, var, dim, span: self.span(at) }, at, end))
+    }
+}
+
+/// `CreateObject("Scripting.Dictionary")`: the one ProgID a macro may create (a literal).
+fn created(link: &Link) -> Option<Class> {
+    match link.args.as_deref() {
+        Some([Arg { name: None, value }]) => match &value.kind {
+            ExprKind::Text(id) => super::collections::created_class(id),
+            _ => None,
+        },
+        _ => None,
     }
 }

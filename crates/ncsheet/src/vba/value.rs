@@ -49,6 +49,8 @@ pub enum Obj {
     /// A field of a `Type` variable, by the variable's name and the fields leading to it:
     /// reads and writes reach the variable itself (so `With p` … `.X = 1` changes `p`).
     Record(Rc<str>, Vec<usize>),
+    /// A Collection or a Dictionary, shared by every variable set to it.
+    Store(super::collections::Handle),
 }
 
 impl Obj {
@@ -65,6 +67,10 @@ impl Obj {
             Obj::Debug => "Debug",
             Obj::Err => "Err",
             Obj::Record(..) => "a Type value",
+            Obj::Store(h) => match h.class() {
+                super::ast::Class::Collection => "a Collection",
+                super::ast::Class::Dictionary => "a Dictionary",
+            },
         }
     }
 }

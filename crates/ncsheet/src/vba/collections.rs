@@ -1,0 +1,413 @@
+//! VBA's `Collection` (`New Collection`) and Scripting's `Dictionary`
+//! (`CreateObject("Scripting.Dictionary")`, `New Dictionary`): reference objects a macro
+//! keeps values in by position or key. Their members follow Microsoft's VBA reference
+//! ("Collection object", "Dictionary object") and raise its run-time errors: 457 for a key
+//! already there, 5 for a missing Collection key, 9 for an index past the items, 32811 for
+//! a Dictionary's Remove of a missing key.
+
+use std::cell::RefCell;
+use std::collections::HashMap;
+use std::rc::Rc;
+
+use crate::eval::functions::vba::vba_text;
+use crate::eval::{Array, Ctx, Operand, Value};
+
+use crate::formula::ast::Expr;
+
+use super::ast::{Arg, Class, Link, Span};
+use super::interp::{Fault, Interp, Run};
+use super::objects::lower;
+use super::value::{Obj, Var};
+
+/// "Trappable errors": the numbers and texts VBA raises for these objects.
+const DUPLICATE_KEY: (u32, &str) = (457, "This key is already associated with an element of this collection");
+const INVALID_CALL: (u32, &str) = (5, "Invalid procedure call or argument");
+const OUT_OF_RANGE: (u32, &str) = (9, "Subscript out of range");
+const NO_SUCH_KEY: (u32, &str) = (32811, "Method 'Remove' of object 'IDictionary' failed: the key is not there");
+
+/// What one entry costs the memory budget besides its key's text and its item.
+const ENTRY_BYTES: u64 = 64;
+
+/// A key as compared: text in lower case when the comparison ignores case.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+enum KeyForm {
+    Text(String),
+    Number(u64),
+    Bool(bool),
+    Blank,
+}
+
+/// The entries of a Collection or a Dictionary, in the order added.
+#[derive(Debug)]
+pub struct Store {
+    pub class: Class,
+    /// A Dictionary's CompareMode is vbTextCompare (a Collection's keys always ignore case).
+    text_compare: bool,
+    entries: Vec<(Option<Value>, Var)>,
+    /// Each key's entry.
+    index: HashMap<KeyForm, usize>,
+}
+
+/// A shared Collection or Dictionary: `Set d2 = d` makes two names for one object.
+#[derive(Clone, Debug)]
+pub struct Handle(pub Rc<RefCell<Store>>);
+
+impl PartialEq for Handle {
+    fn eq(&self, other: &Handle) -> bool {
+        Rc::ptr_eq(&self.0, &other.0)
+    }
+}
+
+impl Handle {
+    pub fn new(class: Class) -> Handle {
+        Handle(Rc::new(RefCell::new(Store { class, text_compare: false, entries: Vec::new(), index: HashMap::new() })))
+    }
+
+    pub fn class(&self) -> Class {
+        self.0.borrow().class
+    }
+
+    /// What For Each goes through: a Collection's items, a Dictionary's keys.
+    pub fn each(&self) -> Vec<Var> {
+        let store = self.0.borrow();
+        match store.class {
+            Class::Collection => store.entries.iter().map(|(_, item)| item.clone()).collect(),
+            Class::Dictionary => {
+                store.entries.iter().map(|(k, _)| Var::Value(k.clone().unwrap_or(Value::Blank))).collect()
+            }
+        }
+    }
+
+    /// The memory the entries hold besides their items: keys' texts and each entry's share.
+    pub fn own_bytes(&self) -> u64 {
+        let store = self.0.borrow();
+        store.entries.iter().map(|(k, _)| ENTRY_BYTES + key_bytes(k.as_ref())).sum()
+    }
+
+    pub fn items(&self) -> Vec<Var> {
+        self.0.borrow().entries.iter().map(|(_, item)| item.clone()).collect()
+    }
+}
+
+fn key_bytes(key: Option<&Value>) -> u64 {
+    match key {
+        Some(Value::Text(t)) => t.len() as u64,
+        _ => 0,
+    }
+}
+
+impl Store {
+    fn form(&self, key: &Value) -> Result<KeyForm, String> {
+        let ignore_case = self.text_compare || self.class == Class::Collection;
+        Ok(match key {
+            Value::Text(t) if ignore_case => KeyForm::Text(t.to_lowercase()),
+            Value::Text(t) => KeyForm::Text(t.to_string()),
+            Value::Number(n) => KeyForm::Number((n + 0.0).to_bits()),
+            Value::Bool(b) => KeyForm::Bool(*b),
+            Value::Blank => KeyForm::Blank,
+            other => return Err(format!("{other} cannot be a key")),
+        })
+    }
+
+    fn position(&self, key: &Value) -> Result<Option<usize>, String> {
+        Ok(self.index.get(&self.form(key)?).copied())
+    }
+
+    fn reindex(&mut self) {
+        let forms: Vec<(KeyForm, usize)> = (self.entries.iter().enumerate())
+            .filter_map(|(i, (k, _))| k.as_ref().and_then(|k| self.form(k).ok()).map(|f| (f, i)))
+            .collect();
+        self.index = forms.into_iter().collect();
+    }
+
+    fn insert(&mut self, at: usize, key: Option<Value>, item: Var) {
+        self.entries.insert(at, (key, item));
+        if at + 1 < self.entries.len() {
+            // Entries after `at` moved.
+            return self.reindex();
+        }
+        if let Some(form) = self.entries[at].0.as_ref().and_then(|k| self.form(k).ok()) {
+            self.index.insert(form, at);
+        }
+    }
+
+    fn remove(&mut self, at: usize) {
+        self.entries.remove(at);
+        self.reindex();
+    }
+}
+
+/// The array Keys and Items give: zero-based, one dimension (the reference's examples).
+fn zero_based(values: Vec<Value>) -> Value {
+    Value::from(Array::row(values))
+}
+
+fn var_value(var: &Var) -> Value {
+    match var {
+        Var::Value(v) | Var::Obj(Obj::Value(v)) => v.clone(),
+        Var::Array(a) => Value::Array(a.data.clone()),
+        _ => Value::Blank,
+    }
+}
+
+pub(super) fn var_obj(var: Var) -> Obj {
+    match var {
+        Var::Obj(o) => o,
+        Var::Array(a) => Obj::Value(Value::Array(a.data)),
+        other => Obj::Value(var_value(&other)),
+    }
+}
+
+impl Interp<'_, '_> {
+    fn vba_error(&self, span: Span, (code, text): (u32, &str), what: &str) -> Fault {
+        let mut fault = self.fault_at(span, format!("{what}: {text} (run-time error {code})"));
+        fault.code = code;
+        fault
+    }
+
+    /// The arguments of a member by position or by name (`Key:="a"`), `None` when left out.
+    fn member_args<'e>(&self, link: &'e Link, names: &[&str]) -> Run<Vec<Option<&'e Expr>>> {
+        let mut out = vec![None; names.len()];
+        for (i, Arg { name, value }) in link.args.as_deref().unwrap_or(&[]).iter().enumerate() {
+            let at = match name {
+                Some(n) => names.iter().position(|p| p.eq_ignore_ascii_case(n)),
+                None => (i < names.len()).then_some(i),
+            };
+            let Some(at) = at else {
+                return Err(self.fault_at(
+                    link.span,
+                    format!("{} takes no argument {}", link.name, name.as_deref().unwrap_or("more")),
+                ));
+            };
+            if value.kind != crate::formula::ast::ExprKind::Missing {
+                out[at] = Some(value);
+            }
+        }
+        Ok(out)
+    }
+
+    /// What an item argument holds: a value, an array or an object (a Range stays a Range).
+    pub(super) fn item_var(&self, e: &Expr) -> Run<Var> {
+        Ok(match self.var_of(e, true)? {
+            Var::Obj(Obj::Value(v)) => Var::Value(v),
+            other => other,
+        })
+    }
+
+    fn required<'e>(&self, arg: Option<&'e Expr>, link: &Link, what: &str) -> Run<&'e Expr> {
+        arg.ok_or_else(|| self.fault_at(link.span, format!("{}: argument {what} is not optional", link.name)))
+    }
+
+    /// A member of a Collection or a Dictionary.
+    pub(super) fn store_member(&self, _ctx: &mut Ctx, h: Handle, link: &Link) -> Run<Obj> {
+        let name = lower(link);
+        let class = h.class();
+        let blank = Ok(Obj::Value(Value::Blank));
+        match (class, name.as_str()) {
+            (_, "count") => Ok(Obj::Value(Value::Number(h.0.borrow().entries.len() as f64))),
+            (Class::Collection, "add") => {
+                let args = self.member_args(link, &["Item", "Key", "Before", "After"])?;
+                self.collection_add(&h, &args, link)?;
+                blank
+            }
+            (Class::Dictionary, "add") => {
+                let args = self.member_args(link, &["Key", "Item"])?;
+                let key = self.eval(self.required(args[0], link, "Key")?)?;
+                let item = self.item_var(self.required(args[1], link, "Item")?)?;
+                if self.find(&h, &key, link.span)?.is_some() {
+                    return Err(self.vba_error(link.span, DUPLICATE_KEY, "Add"));
+                }
+                self.put(&h, key, item, link.span)?;
+                blank
+            }
+            (_, "item") => {
+                let args = self.member_args(link, &["Index"])?;
+                let key = self.eval(self.required(args[0], link, "Index")?)?;
+                self.store_item(&h, &key, link.span).map(var_obj)
+            }
+            (_, "remove") => {
+                let args = self.member_args(link, &["Key"])?;
+                let key = self.eval(self.required(args[0], link, "Key")?)?;
+                let at = match class {
+                    Class::Collection => self.collection_position(&h, &key, link.span)?,
+                    Class::Dictionary => self
+                        .find(&h, &key, link.span)?
+                        .ok_or_else(|| self.vba_error(link.span, NO_SUCH_KEY, "Remove"))?,
+                };
+                h.0.borrow_mut().remove(at);
+                blank
+            }
+            (Class::Dictionary, "exists") => {
+                let args = self.member_args(link, &["Key"])?;
+                let key = self.eval(self.required(args[0], link, "Key")?)?;
+                Ok(Obj::Value(Value::Bool(self.find(&h, &key, link.span)?.is_some())))
+            }
+            (Class::Dictionary, "keys") => {
+                let keys = h.each().iter().map(var_value).collect();
+                Ok(Obj::Value(zero_based(keys)))
+            }
+            (Class::Dictionary, "items") => Ok(Obj::Value(zero_based(h.items().iter().map(var_value).collect()))),
+            (Class::Dictionary, "removeall") => {
+                let mut store = h.0.borrow_mut();
+                store.entries.clear();
+                store.index.clear();
+                blank
+            }
+            (Class::Dictionary, "comparemode") => {
+                Ok(Obj::Value(Value::Number(if h.0.borrow().text_compare { 1.0 } else { 0.0 })))
+            }
+            _ => Err(self.no_member(&Obj::Store(h), link)),
+        }
+    }
+
+    fn find(&self, h: &Handle, key: &Value, span: Span) -> Run<Option<usize>> {
+        h.0.borrow().position(key).map_err(|m| self.fault_at(span, m))
+    }
+
+    /// Adds an entry at the end, counted against the memory budget.
+    fn put(&self, h: &Handle, key: Value, item: Var, span: Span) -> Run<()> {
+        self.charge(ENTRY_BYTES + key_bytes(Some(&key)) + super::budget::brought(&item), span)?;
+        let mut store = h.0.borrow_mut();
+        let end = store.entries.len();
+        store.insert(end, Some(key), item);
+        Ok(())
+    }
+
+    /// `c.Add item[, key][, before][, after]` ("Add method (Visual Basic for Applications)").
+    fn collection_add(&self, h: &Handle, args: &[Option<&Expr>], link: &Link) -> Run<()> {
+        let item = self.item_var(self.required(args[0], link, "Item")?)?;
+        let key = match args[1] {
+            Some(e) => {
+                let v = self.eval(e)?;
+                let text = vba_text(&v).map_err(|e| self.fault_at(link.span, format!("Add: the key is {e}")))?;
+                Some(Value::Text(text))
+            }
+            None => None,
+        };
+        if let Some(k) = &key {
+            if self.find(h, k, link.span)?.is_some() {
+                return Err(self.vba_error(link.span, DUPLICATE_KEY, "Add"));
+            }
+        }
+        let at = match (args[2], args[3]) {
+            (Some(_), Some(_)) => {
+                return Err(self.vba_error(link.span, INVALID_CALL, "Add with both Before and After"))
+            }
+            (Some(e), None) => self.collection_position(h, &self.eval(e)?, link.span)?,
+            (None, Some(e)) => self.collection_position(h, &self.eval(e)?, link.span)? + 1,
+            (None, None) => h.0.borrow().entries.len(),
+        };
+        self.charge(ENTRY_BYTES + key_bytes(key.as_ref()) + super::budget::brought(&item), link.span)?;
+        h.0.borrow_mut().insert(at, key, item);
+        Ok(())
+    }
+
+    /// A Collection's entry by 1-based index (error 9 past the items) or by key (error 5
+    /// when no item has it).
+    fn collection_position(&self, h: &Handle, key: &Value, span: Span) -> Run<usize> {
+        match key {
+            Value::Text(_) => {
+                self.find(h, key, span)?.ok_or_else(|| self.vba_error(span, INVALID_CALL, "no item has the key"))
+            }
+            _ => {
+                let n = self.number_of(key, "the index").map_err(|m| self.fault_at(span, m))?.round_ties_even();
+                let count = h.0.borrow().entries.len();
+                if n < 1.0 || n > count as f64 {
+                    return Err(self.vba_error(span, OUT_OF_RANGE, &format!("index {n} of a Collection of {count}")));
+                }
+                Ok(n as usize - 1)
+            }
+        }
+    }
+
+    /// `c(i)`, `c("k")`, `d(k)`: the item; a Dictionary adds a key it does not have, with
+    /// Empty ("Item property": "If key is not found when attempting to return an existing
+    /// item, a new key is created and its corresponding item is left empty").
+    pub(super) fn store_item(&self, h: &Handle, key: &Value, span: Span) -> Run<Var> {
+        let at = match h.class() {
+            Class::Collection => self.collection_position(h, key, span)?,
+            Class::Dictionary => match self.find(h, key, span)? {
+                Some(at) => at,
+                None => {
+                    self.put(h, key.clone(), Var::Value(Value::Blank), span)?;
+                    h.0.borrow().entries.len() - 1
+                }
+            },
+        };
+        let item = h.0.borrow().entries[at].1.clone();
+        Ok(item)
+    }
+
+    /// `d(k) = v`, `d.Item(k) = v`: replaces the item, or adds the key ("Item property").
+    pub(super) fn set_store_item(&self, h: &Handle, key: &Value, item: Var, span: Span) -> Run<()> {
+        if h.class() == Class::Collection {
+            return Err(self.fault_at(span, "a Collection's items cannot be assigned: Remove and Add the item"));
+        }
+        match self.find(h, key, span)? {
+            Some(at) => {
+                self.charge(super::budget::brought(&item), span)?;
+                h.0.borrow_mut().entries[at].1 = item;
+                Ok(())
+            }
+            None => self.put(h, key.clone(), item, span),
+        }
+    }
+
+    /// The index arguments of `c(i)` as one key.
+    pub(super) fn store_key(&self, ctx: &mut Ctx, index: &[Expr], span: Span) -> Run<Value> {
+        let [e] = index else {
+            return Err(self.vba_error(span, INVALID_CALL, "an item is picked by one index or key"));
+        };
+        let v = ctx.eval(e).unwrap_single();
+        self.take_pending()?;
+        Ok(v)
+    }
+
+    /// `c(i)` in an expression.
+    pub(super) fn store_operand(&self, ctx: &mut Ctx, h: &Handle, index: &[Expr], span: Span) -> Run<Operand> {
+        let key = self.store_key(ctx, index, span)?;
+        match self.store_item(h, &key, span)? {
+            Var::Obj(Obj::Range(sheet, rect)) => Ok(Operand::Ref(sheet, rect)),
+            Var::Obj(Obj::Value(v)) | Var::Value(v) => Ok(Operand::Value(v)),
+            Var::Array(a) => Ok(Operand::Value(Value::Array(a.data))),
+            Var::Obj(o) => self.operand_of(o, span),
+            Var::Record(..) => Err(self.fault_at(span, "the item is a Type value")),
+        }
+    }
+
+    /// `d.Item(k) = v`, `d.CompareMode = vbTextCompare`.
+    pub(super) fn set_store_member(&self, h: &Handle, link: &Link, value: &Expr) -> Run<()> {
+        match lower(link).as_str() {
+            "item" => {
+                let args = self.member_args(link, &["Key"])?;
+                let key = self.eval(self.required(args[0], link, "Key")?)?;
+                let item = self.item_var(value)?;
+                self.set_store_item(h, &key, item, link.span)
+            }
+            "comparemode" if h.class() == Class::Dictionary => {
+                let mode = self.number(value, "CompareMode")?;
+                if !h.0.borrow().entries.is_empty() || !(0.0..=2.0).contains(&mode) {
+                    // "CompareMode property": an error occurs when the Dictionary already holds data.
+                    return Err(self.vba_error(link.span, INVALID_CALL, "CompareMode"));
+                }
+                h.0.borrow_mut().text_compare = mode >= 1.0;
+                Ok(())
+            }
+            _ => Err(self.no_member(&Obj::Store(h.clone()), link)),
+        }
+    }
+}
+
+/// The ProgID `CreateObject` may name: Scripting's Dictionary, and nothing else.
+pub fn created_class(prog_id: &str) -> Option<Class> {
+    prog_id.eq_ignore_ascii_case("Scripting.Dictionary").then_some(Class::Dictionary)
+}
+
+/// The class `New` names: `Collection`, `Dictionary`, `Scripting.Dictionary`.
+pub fn new_class(name: &str) -> Option<Class> {
+    match name.to_ascii_lowercase().as_str() {
+        "collection" | "vba.collection" => Some(Class::Collection),
+        "dictionary" | "scripting.dictionary" => Some(Class::Dictionary),
+        _ => None,
+    }
+}
