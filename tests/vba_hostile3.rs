@@ -224,3 +224,14 @@ fn a_fault_deep_in_a_long_line_is_shown_cut_on_both_sides_with_the_caret_under_i
     assert!(shown.starts_with('…') && shown.ends_with("* 2"), "{shown}");
     assert_eq!(shown.chars().nth(caret), Some('*'), "{e}");
 }
+
+// Collections each holding the next, 300,000 deep: measuring them for the memory budget and
+// letting them go at the end take no native stack per level (a recursive drop would abort).
+#[test]
+fn collections_nested_deep_are_measured_and_freed_without_the_stack() {
+    let src = "Sub Main()\n    Set prev = New Collection\n    For i = 1 To 300000\n        Set n = New Collection\n\
+               \x20       n.Add prev\n        Set prev = n\n    Next\n    Debug.Print prev.Count\nEnd Sub\n";
+    let options = RunOptions { max_memory: 64 << 20, ..RunOptions::default() };
+    let out = run_with(src, &options).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.printed, [" 1 "]);
+}

@@ -77,16 +77,21 @@ impl Measure {
         }
     }
 
+    /// A variable's values, and those of the Collections and Dictionaries it reaches however
+    /// deep (an explicit stack, as for arrays).
     fn var(&mut self, var: &Var) {
-        match var {
-            Var::Value(v) => self.value(v),
-            Var::Array(a) if self.first_time(&a.data) => self.array(&a.data),
-            Var::Obj(Obj::Store(h)) if self.first_time(&h.0) => {
-                self.bytes = self.bytes.saturating_add(h.own_bytes());
-                h.items().iter().for_each(|item| self.var(item));
+        let mut pending = vec![var.clone()];
+        while let Some(var) = pending.pop() {
+            match &var {
+                Var::Value(v) => self.value(v),
+                Var::Array(a) if self.first_time(&a.data) => self.array(&a.data),
+                Var::Obj(Obj::Store(h)) if self.first_time(&h.0) => {
+                    self.bytes = self.bytes.saturating_add(h.own_bytes());
+                    pending.extend(h.items());
+                }
+                Var::Array(_) | Var::Obj(_) => {}
+                Var::Record(_, fields) => pending.extend(fields.iter().cloned()),
             }
-            Var::Array(_) | Var::Obj(_) => {}
-            Var::Record(_, fields) => fields.iter().for_each(|f| self.var(f)),
         }
     }
 

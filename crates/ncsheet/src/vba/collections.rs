@@ -48,6 +48,26 @@ pub struct Store {
     index: HashMap<KeyForm, usize>,
 }
 
+/// Objects held in items are let go one after another, not each inside the one holding it:
+/// a chain of a million Collections each holding the next does not take the native stack.
+impl Drop for Store {
+    fn drop(&mut self) {
+        let mut pending: Vec<Var> = self.entries.drain(..).map(|(_, item)| item).collect();
+        while let Some(var) = pending.pop() {
+            match var {
+                Var::Obj(Obj::Store(h)) => {
+                    if let Ok(cell) = Rc::try_unwrap(h.0) {
+                        let mut inner = cell.into_inner();
+                        pending.extend(inner.entries.drain(..).map(|(_, item)| item));
+                    }
+                }
+                Var::Record(_, fields) => pending.extend(fields),
+                _ => {}
+            }
+        }
+    }
+}
+
 /// A shared Collection or Dictionary: `Set d2 = d` makes two names for one object.
 #[derive(Clone, Debug)]
 pub struct Handle(pub Rc<RefCell<Store>>);
