@@ -43,7 +43,12 @@ pub struct Store {
     pub class: Class,
     /// A Dictionary's CompareMode is vbTextCompare (a Collection's keys always ignore case).
     text_compare: bool,
+    /// In a Dictionary, whose entries all have keys, an entry without one is a removed key's
+    /// place, left until half the entries are such (removing one key at a time would
+    /// otherwise move and re-index all the others each time).
     entries: Vec<(Option<Value>, Var)>,
+    /// Removed places among `entries`.
+    gone: usize,
     /// Each key's entry.
     index: HashMap<KeyForm, usize>,
 }
@@ -80,7 +85,8 @@ impl PartialEq for Handle {
 
 impl Handle {
     pub fn new(class: Class) -> Handle {
-        Handle(Rc::new(RefCell::new(Store { class, text_compare: false, entries: Vec::new(), index: HashMap::new() })))
+        let store = Store { class, text_compare: false, entries: Vec::new(), gone: 0, index: HashMap::new() };
+        Handle(Rc::new(RefCell::new(store)))
     }
 
     pub fn class(&self) -> Class {
@@ -91,21 +97,19 @@ impl Handle {
     pub fn each(&self) -> Vec<Var> {
         let store = self.0.borrow();
         match store.class {
-            Class::Collection => store.entries.iter().map(|(_, item)| item.clone()).collect(),
-            Class::Dictionary => {
-                store.entries.iter().map(|(k, _)| Var::Value(k.clone().unwrap_or(Value::Blank))).collect()
-            }
+            Class::Collection => store.live().map(|(_, item)| item.clone()).collect(),
+            Class::Dictionary => store.live().map(|(k, _)| Var::Value(k.clone().unwrap_or(Value::Blank))).collect(),
         }
     }
 
     /// The memory the entries hold besides their items: keys' texts and each entry's share.
     pub fn own_bytes(&self) -> u64 {
         let store = self.0.borrow();
-        store.entries.iter().map(|(k, _)| ENTRY_BYTES + key_bytes(k.as_ref())).sum()
+        store.live().map(|(k, _)| ENTRY_BYTES + key_bytes(k.as_ref())).sum()
     }
 
     pub fn items(&self) -> Vec<Var> {
-        self.0.borrow().entries.iter().map(|(_, item)| item.clone()).collect()
+        self.0.borrow().live().map(|(_, item)| item.clone()).collect()
     }
 }
 
@@ -127,6 +131,23 @@ impl Store {
             Value::Blank => KeyForm::Blank,
             other => return Err(format!("{other} cannot be a key")),
         })
+    }
+
+    /// The entries there are, without a Dictionary's removed places.
+    fn live(&self) -> impl Iterator<Item = &(Option<Value>, Var)> {
+        let dictionary = self.class == Class::Dictionary;
+        self.entries.iter().filter(move |(k, _)| !(dictionary && k.is_none()))
+    }
+
+    /// How many entries there are (`Count`).
+    fn len(&self) -> usize {
+        self.entries.len() - self.gone
+    }
+
+    fn clear(&mut self) {
+        self.entries.clear();
+        self.index.clear();
+        self.gone = 0;
     }
 
     fn position(&self, key: &Value) -> Result<Option<usize>, String> {
@@ -152,8 +173,23 @@ impl Store {
     }
 
     fn remove(&mut self, at: usize) {
-        self.entries.remove(at);
-        self.reindex();
+        if self.class == Class::Collection {
+            self.entries.remove(at);
+            return self.reindex();
+        }
+        // A Dictionary's place is kept (its key's entry no longer names it), and the entries
+        // are closed up only once half are such: a key's removal costs the same on average
+        // however many there are.
+        let (key, _) = std::mem::replace(&mut self.entries[at], (None, Var::Value(Value::Blank)));
+        if let Some(form) = key.as_ref().and_then(|k| self.form(k).ok()) {
+            self.index.remove(&form);
+        }
+        self.gone += 1;
+        if self.gone * 2 > self.entries.len() {
+            self.entries.retain(|(k, _)| k.is_some());
+            self.gone = 0;
+            self.reindex();
+        }
     }
 }
 
@@ -224,7 +260,7 @@ impl Interp<'_, '_> {
         let class = h.class();
         let blank = Ok(Obj::Value(Value::Blank));
         match (class, name.as_str()) {
-            (_, "count") => Ok(Obj::Value(Value::Number(h.0.borrow().entries.len() as f64))),
+            (_, "count") => Ok(Obj::Value(Value::Number(h.0.borrow().len() as f64))),
             (Class::Collection, "add") => {
                 let args = self.member_args(link, &["Item", "Key", "Before", "After"])?;
                 self.collection_add(&h, &args, link)?;
@@ -268,9 +304,7 @@ impl Interp<'_, '_> {
             }
             (Class::Dictionary, "items") => Ok(Obj::Value(zero_based(h.items().iter().map(var_value).collect()))),
             (Class::Dictionary, "removeall") => {
-                let mut store = h.0.borrow_mut();
-                store.entries.clear();
-                store.index.clear();
+                h.0.borrow_mut().clear();
                 blank
             }
             (Class::Dictionary, "comparemode") => {
@@ -406,7 +440,7 @@ impl Interp<'_, '_> {
             }
             "comparemode" if h.class() == Class::Dictionary => {
                 let mode = self.number(value, "CompareMode")?;
-                if !h.0.borrow().entries.is_empty() || !(0.0..=2.0).contains(&mode) {
+                if h.0.borrow().len() > 0 || !(0.0..=2.0).contains(&mode) {
                     // "CompareMode property": an error occurs when the Dictionary already holds data.
                     return Err(self.vba_error(link.span, INVALID_CALL, "CompareMode"));
                 }
