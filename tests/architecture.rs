@@ -321,7 +321,8 @@ fn in_front_end(rel: &str) -> bool {
 fn library_modules(files: &[Source]) -> Vec<(String, bool)> {
     let mut modules = Vec::new();
     for f in files.iter().filter(|f| !in_front_end(&f.rel)) {
-        let parent = f.rel.trim_end_matches(".rs").trim_end_matches("/mod").trim_end_matches("lib").replace('/', "::");
+        let path = f.rel.trim_end_matches(".rs");
+        let parent = if path == "lib" { String::new() } else { path.trim_end_matches("/mod").replace('/', "::") };
         let mut testing_only = false;
         for line in f.shipped.lines().map(str::trim) {
             if line.starts_with("#[cfg(") {
