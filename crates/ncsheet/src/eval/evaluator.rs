@@ -141,6 +141,13 @@ pub trait Host {
     /// Told when a result passes [`Host::text_limit`], before it becomes `#VALUE!`: a macro
     /// stops there, with the limit named (VBA's "Out of string space").
     fn text_too_long(&self, _limit: usize) {}
+
+    /// The result of the binary operator `op` on the expressions `operands`, whose values
+    /// were `values`: a macro checks it against its operands' declared types (VBA's Integer
+    /// arithmetic overflows at 32,767); the result stays as computed by default.
+    fn arithmetic(&self, _op: BinOp, _operands: (&Expr, &Expr), _values: (&Value, &Value), result: Value) -> Value {
+        result
+    }
 }
 
 /// The result of evaluating an expression that may be a reference.
@@ -252,6 +259,8 @@ pub struct Ctx<'a> {
     lambda_calls: u32,
     /// The workbook's date system, read once from `env`: every date conversion takes it.
     dates: DateSystem,
+    /// The workbook's locale, read once per cell: every arithmetic operator asks for it.
+    locale: crate::eval::Locale,
     /// Evaluating a BALLPATH's surface: a surface that computed a BALLPATH itself (through a
     /// named LAMBDA) would recurse without end.
     pub in_surface: bool,
@@ -302,6 +311,17 @@ impl<'a> Ctx<'a> {
 
     /// The evaluation of one cell (what a recalculation makes for each): [`Ctx::new`].
     pub fn for_cell(env: &'a dyn Env, sheet: SheetId, at: Pos) -> Ctx<'a> {
+        Ctx::for_cell_of(env, (env.date_system(), env.locale()), sheet, at)
+    }
+
+    /// [`Ctx::for_cell`] with the date system and locale already known: a recalculation
+    /// reads them once, not through `Env` per cell (calls the chain's 27 ns per cell feel).
+    pub fn for_cell_of(
+        env: &'a dyn Env,
+        (dates, locale): (DateSystem, crate::eval::Locale),
+        sheet: SheetId,
+        at: Pos,
+    ) -> Ctx<'a> {
         Ctx {
             env,
             sheet,
@@ -311,7 +331,8 @@ impl<'a> Ctx<'a> {
             host: None,
             depth: 0,
             lambda_calls: 0,
-            dates: env.date_system(),
+            dates,
+            locale,
             in_surface: false,
             notes: Vec::new(),
             numbers: &[],
@@ -379,14 +400,14 @@ impl<'a> Ctx<'a> {
 
     /// The workbook's locale (en-US outside a workbook).
     pub fn locale(&self) -> crate::eval::Locale {
-        self.env.locale()
+        self.locale
     }
 
     /// Operands of `op` as the workbook's locale reads them: text in arithmetic read as a
     /// number there (`"0,8"*1` in et-EE), numbers joined as text shown there (`0,8&""`).
     /// Under en-US, and for other operators, they are unchanged.
     fn localized_operands(&self, op: BinOp, a: Value, b: Value) -> (Value, Value) {
-        let locale = self.env.locale();
+        let locale = self.locale;
         if locale.is_canonical() {
             return (a, b);
         }
@@ -467,16 +488,26 @@ impl<'a> Ctx<'a> {
                 let operand = self.operand(e);
                 self.deref(operand)
             }
-            ExprKind::Binary(op, a, b) => match (self.leaf_number(a), self.leaf_number(b)) {
-                (Some(x), Some(y)) => scalar_binary_numbers(*op, x, y),
+            ExprKind::Binary(op, left, right) => match (self.leaf_number(left), self.leaf_number(right)) {
+                (Some(x), Some(y)) => {
+                    let v = scalar_binary_numbers(*op, x, y);
+                    match self.host {
+                        Some(host) => host.arithmetic(*op, (left, right), (&Value::Number(x), &Value::Number(y)), v),
+                        None => v,
+                    }
+                }
                 (x, y) => {
-                    let a = x.map_or_else(|| self.eval(a), Value::Number);
-                    let b = y.map_or_else(|| self.eval(b), Value::Number);
+                    let a = x.map_or_else(|| self.eval(left), Value::Number);
+                    let b = y.map_or_else(|| self.eval(right), Value::Number);
                     let (a, b) = self.localized_operands(*op, a, b);
                     let v = binary(*op, &a, &b, self.dates);
                     if matches!(v, Value::Error(XlError::Num)) {
                         self.explain_array_size(&a, &b);
                     }
+                    let v = match self.host {
+                        Some(host) => host.arithmetic(*op, (left, right), (&a, &b), v),
+                        None => v,
+                    };
                     if *op == BinOp::Concat {
                         self.within_text_limit(v)
                     } else {
@@ -701,6 +732,17 @@ impl<'a> Ctx<'a> {
                 self.deref(operand)
             }
         };
+        match v {
+            // A finite number, the usual result, needs neither check: no call on this path.
+            Value::Number(n) if is_normal_or_zero(n) => v,
+            v => self.checked_result(v),
+        }
+    }
+
+    /// [`Ctx::call`]'s checks of a result that is not a plain number: infinities, NaN and
+    /// subnormals made Excel's, texts held to the limit.
+    #[inline(never)]
+    fn checked_result(&mut self, v: Value) -> Value {
         self.within_text_limit(finite_numbers(v))
     }
 
@@ -1170,7 +1212,7 @@ pub fn number_result(n: f64) -> Value {
 /// place rather than in each of 500 functions (`MEDIAN`, `GROWTH` and `TREND` leaked them
 /// into cells, files and ISNUMBER). An array is copied only when it holds one.
 pub fn finite_numbers(v: Value) -> Value {
-    let unfit = |n: f64| !n.is_finite() || (n != 0.0 && n.abs() < f64::MIN_POSITIVE);
+    let unfit = |n: f64| !is_normal_or_zero(n);
     match v {
         Value::Number(n) if unfit(n) => number_result(n),
         Value::Array(a) if a.data.iter().any(|x| matches!(x, Value::Number(n) if unfit(*n))) => {
@@ -1189,6 +1231,12 @@ pub fn finite_numbers(v: Value) -> Value {
         }
         other => other,
     }
+}
+
+/// A number a cell may hold as it is: finite and not subnormal ([`finite_numbers`]).
+#[inline]
+fn is_normal_or_zero(n: f64) -> bool {
+    n.is_normal() || n == 0.0
 }
 
 /// Whether `r`, the sum or difference of `x` and `y`, is only the binary rounding of their
