@@ -20,6 +20,7 @@ mod hints;
 mod info;
 mod limits;
 pub mod locale;
+mod macro_files;
 mod macros;
 mod nc;
 mod nc_check;

@@ -11,6 +11,7 @@ use ncsheet::nc::{dialect, Block, Machine, Program};
 use ncsheet::vba::project::{read_project, ModuleKind, ProjectModule};
 use ncsheet::vba::{self, Document, ErrorKind, RunOptions, RunOutput};
 
+use super::macro_files;
 use super::output::emit;
 use super::report::{Error, Result};
 
@@ -28,7 +29,8 @@ pub enum MachineKind {
 /// The macro language is VBA as an Excel user writes it (Sub/Function, Dim, If/Select/For/Do,
 /// GoTo labels, Range("B3").Value, Cells(r, c), [B3], every sheet function) plus an `Nc`
 /// object for the program: Nc.Rapid, Nc.Line, Nc.ArcCW/ArcCCW, Nc.Dwell, Nc.Comment,
-/// Nc.Block, Nc.FeedPerRev/FeedPerMin, Nc.Spindle, Nc.Tool, Nc.Coolant. A macro can touch no file and run no program; it stops with its line and a
+/// Nc.Block, Nc.FeedPerRev/FeedPerMin, Nc.Spindle, Nc.Tool, Nc.Coolant. A macro runs no program and touches no file
+/// outside --out-dir (its own files, written when it succeeds) and --in-file; it stops with its line and a
 /// caret after --max-statements statements, --max-depth nested calls or the --timeout, or
 /// at a string, array or output past --max-string, --max-array-items or --max-output.
 #[derive(Debug, Args)]
@@ -65,6 +67,16 @@ pub struct RunArgs {
     /// Replace a read-only or hard-linked PROGRAM or --save file
     #[arg(long)]
     pub force: bool,
+    /// The one folder the macro's own files go in (Open … For Output/Append, Print #,
+    /// Write #, FileSystemObject's CreateTextFile), each named plainly (program.nc); it may
+    /// read the folder's files too. They are written when the macro runs to its end, and
+    /// listed; without --out-dir and --in-file a file statement is refused
+    #[arg(long, value_name = "DIR")]
+    pub out_dir: Option<PathBuf>,
+    /// A file the macro may read (Open … For Input, Line Input #, Input #, OpenTextFile),
+    /// opened by its file name alone (--in-file data/points.csv: "points.csv"); repeatable
+    #[arg(long = "in-file", value_name = "PATH")]
+    pub in_files: Vec<PathBuf>,
     /// Stop the macro after this many statements (an endless loop, usually)
     #[arg(long, default_value_t = 10_000_000)]
     pub max_statements: u64,
@@ -149,6 +161,7 @@ pub fn run(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
     let hint = "the program and the saved workbook go to new files";
     let mut inputs: Vec<&std::path::Path> = vec![&args.workbook];
     inputs.extend(args.macro_file.as_deref());
+    inputs.extend(args.in_files.iter().map(PathBuf::as_path));
     super::refuse_overwriting_inputs(&inputs, &outputs, hint)?;
     // The workbook's functions, recomputed by the macro's writes, nest on top of it.
     let levels = args.max_depth.saturating_add(ncsheet::vba::FUNCTION_MAX_DEPTH);
@@ -192,12 +205,20 @@ fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
         },
         project: other_modules(&args, file)?,
         workbook_name: args.workbook.file_name().and_then(|n| n.to_str()).map(str::to_string),
+        files: macro_files::access(
+            args.out_dir.as_deref(),
+            &args.in_files,
+            args.max_memory.unwrap_or(vba::DEFAULT_MAX_MEMORY),
+        )?,
     };
     let out = match vba::run(&mut wb, &source, &file.display().to_string(), &options) {
         Ok(out) => out,
         Err(e) => {
             // What the macro printed before it stopped is still the user's.
             print_output(&e.output)?;
+            if let Some(note) = macro_files::not_written(&e.output) {
+                eprintln!("ncsheet: {}: {note}", file.display());
+            }
             return Err(match e.kind {
                 ErrorKind::Usage => Error::Usage(e.to_string()),
                 _ => Error::User(e.to_string()),
@@ -229,15 +250,28 @@ fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
             file.display()
         )));
     }
+    let macro_outputs = macro_files::outputs(args.out_dir.as_deref(), &out)?;
+    let mut inputs: Vec<&std::path::Path> = vec![&args.workbook];
+    inputs.extend(args.macro_file.as_deref());
+    inputs.extend(args.in_files.iter().map(PathBuf::as_path));
+    let mut targets: Vec<&std::path::Path> = args.output.iter().chain(&args.save).map(PathBuf::as_path).collect();
+    targets.extend(macro_outputs.iter().map(|f| f.path.as_path()));
+    super::refuse_overwriting_inputs(&inputs, &targets, "the macro's files go to new files in --out-dir")?;
+    let listed = macro_files::written(&macro_outputs);
+    files.extend(macro_outputs);
     if let Some(save) = &args.save {
         files.push(ncsheet::io::encode_save_with(&wb, opened.layout.as_ref(), &opened.origin, save, delimiter)?);
     }
     super::write_outputs(&files, false, args.force)?;
+    for line in &listed {
+        eprintln!("{line}");
+    }
     if let Some(text) = program {
         emit(&text, None, false)?;
     }
     match summary {
         Some(s) => eprintln!("{s}"),
+        None if !listed.is_empty() => {}
         None => eprintln!("ncsheet: {}: note: no NC program: the macro emitted no NC block (no move)", file.display()),
     }
     Ok(())

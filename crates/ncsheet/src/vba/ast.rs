@@ -219,6 +219,8 @@ pub enum StmtKind {
     Randomize(Option<Expr>),
     /// `Erase a, b`: every item of each array back to its type's default.
     Erase(Vec<Rc<str>>),
+    /// `Open`, `Print #`, `Write #`, `Input #`, `Line Input #`, `Close` (`files.rs`).
+    File(super::files::FileStmt),
     /// The procedure does not compile: running it stops the macro with this message, at
     /// the statement's place (a syntax error, which no `On Error` traps).
     CompileError(Rc<str>),

@@ -145,6 +145,7 @@ impl Interp<'_, '_> {
             m.slots(frame.vars.iter());
         }
         m.slots(self.kept.borrow().values());
-        m.bytes
+        // What the macro's files hold (`files.rs`): written text and text being read.
+        m.bytes.saturating_add(self.files.borrow().held_bytes())
     }
 }

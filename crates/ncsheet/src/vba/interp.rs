@@ -68,7 +68,8 @@ pub fn run(
     *it.out.get_mut() = RunOutput::new(&stem.to_ascii_uppercase(), options.machine);
     let result = it.start(entry);
     it.flush_line();
-    let output = it.out.into_inner();
+    let mut output = it.out.into_inner();
+    output.files = it.files.into_inner().into_written();
     match result {
         Ok(()) => Ok(output),
         Err(fault) => Err(it_error(source, file, fault, output)),
@@ -257,6 +258,8 @@ pub struct Interp<'m, 'w> {
     pub err: RefCell<ErrState>,
     /// GoSubs now running without their Return, across the running procedures.
     gosubs: Cell<usize>,
+    /// The files the macro wrote and those it has open (`files.rs`).
+    pub(super) files: RefCell<super::files::Files>,
 }
 
 impl<'m, 'w> Interp<'m, 'w> {
@@ -295,6 +298,7 @@ impl<'m, 'w> Interp<'m, 'w> {
             charged: Cell::new(0),
             err: RefCell::new(ErrState::default()),
             gosubs: Cell::new(0),
+            files: RefCell::new(super::files::Files::default()),
         }
     }
 }
@@ -930,6 +934,7 @@ impl Interp<'_, '_> {
             StmtKind::Stop => return Err(self.stop(stmt.span)),
             StmtKind::Randomize(seed) => self.randomize(seed.as_ref())?,
             StmtKind::Erase(names) => self.erase(names, stmt.span)?,
+            StmtKind::File(f) => self.file_stmt(f, stmt.span)?,
             StmtKind::CompileError(message) => {
                 let message = message.to_string();
                 return Err(Fault {
@@ -1043,7 +1048,8 @@ impl Interp<'_, '_> {
             Some(f) => (f.on_error.clone(), f.handling),
             None => return Err(fault),
         };
-        if fault.kind != ErrorKind::Runtime || fault.code == super::library::STOP || self.ended.get() {
+        let untrappable = [super::library::STOP, super::files::REFUSED];
+        if fault.kind != ErrorKind::Runtime || untrappable.contains(&fault.code) || self.ended.get() {
             return Err(fault);
         }
         let label = match mode {

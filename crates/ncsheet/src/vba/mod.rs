@@ -9,11 +9,12 @@
 //! the `Nc` object.
 //!
 //! **Architecture Invariant:** a macro cannot reach files, programs or the system: the
-//! language has no such statement or object (`Open`, `Kill`, `Shell`, `CreateObject` of
-//! anything but Scripting's Dictionary,
-//! `Declare`, `Workbooks.Open`, `SaveAs` … are refused by the parser, by name), and this
-//! module touches neither files nor stdout: [`run`] returns what the macro printed and
-//! emitted, and the CLI decides where it goes. A statement limit, a call-depth limit, a
+//! language has no such statement or object (`Kill`, `Shell`, `CreateObject` of anything but
+//! Scripting's Dictionary and FileSystemObject, `Declare`, `Workbooks.Open`, `SaveAs` … are
+//! refused by the parser, by name); its file statements (`Open`, `Print #`, FileSystemObject)
+//! reach only the files of [`RunOptions::files`], as a table in memory (`files.rs`), and are
+//! refused by name without it; and this module touches neither files nor stdout: [`run`]
+//! returns what the macro printed, emitted and wrote, and the CLI decides where it goes. A statement limit, a call-depth limit, a
 //! deadline and limits on strings, arrays and output ([`RunOptions`]) stop endless loops,
 //! recursion and floods with the line that was running.
 //!
@@ -97,6 +98,18 @@
 //! offset register, 0: none), `Nc.Coolant True`.
 //! `InputBox` is refused: pass values with `--arg`.
 //!
+//! Files, with `ncsheet run --out-dir DIR` (and `--in-file PATH` to read): `Open name For
+//! Output|Append|Input As #n`, `Print #n, …` (`;`, `,`, `Spc(n)`, `Tab(n)` as in VBA),
+//! `Write #n, …`, `Line Input #n, s`, `Input #n, a, b`, `Close [#n]`, `FreeFile`, `EOF(n)`,
+//! `LOF(n)`, and `CreateObject("Scripting.FileSystemObject")` with `CreateTextFile`,
+//! `OpenTextFile` (`ForReading` 1, `ForWriting` 2, `ForAppending` 8), `FileExists` and the
+//! TextStream's `WriteLine`, `Write`, `WriteBlankLines`, `ReadLine`, `ReadAll`, `SkipLine`,
+//! `AtEndOfStream`, `Close`. A name is a plain file name in DIR (`program.nc`) or a listed
+//! input's file name; any other path (a folder part, `..`, absolute, a drive, UNC, a device
+//! name, `a.txt:stream`) stops the macro, and no `On Error` traps that. What the macro writes
+//! is held until it ends and written only if it ran to its end ([`RunOutput::files`]). VBA's
+//! file errors are trappable: 52, 53 (not found), 54, 55 (already open), 58, 62 (past the end).
+//!
 //! Errors: `On Error GoTo label` (the label in the procedure's body, outside loops and Ifs),
 //! `On Error Resume Next`, `On Error GoTo 0` / `-1`, `Resume`, `Resume Next`, `Resume label`,
 //! and `Err` (`Number`, `Description`, `Clear`, `Raise n, , text`). `Resume Next` after a
@@ -141,6 +154,7 @@ pub mod ast;
 mod budget;
 mod collections;
 mod conditional;
+mod files;
 mod host;
 mod interp;
 mod library;
@@ -161,6 +175,7 @@ use crate::nc::{Machine, Program};
 use crate::workbook::Workbook;
 
 pub use ast::{Module, Span};
+pub use files::{checked_name, FileAccess};
 pub use project::{read_project, ModuleKind, ProjectError, ProjectModule, VbaProject};
 pub use udf::{install_functions, WorkbookFunctions, FUNCTION_MAX_DEPTH};
 
@@ -215,6 +230,9 @@ pub struct RunOptions {
     /// The workbook's file name (`Book1.xlsm`), for `Address(External:=True)`; `None` when
     /// the run does not know it (the address is then refused, never invented).
     pub workbook_name: Option<String>,
+    /// The files the macro may read and write (`run --out-dir`, `--in-file`); `None`: file
+    /// statements are refused by name, as when the language had none.
+    pub files: Option<FileAccess>,
 }
 
 /// A document module: the code behind a sheet or the workbook (a worksheet button's macro
@@ -297,6 +315,7 @@ impl Default for RunOptions {
             active_cells: Vec::new(),
             project: Vec::new(),
             workbook_name: None,
+            files: None,
         }
     }
 }
@@ -312,11 +331,14 @@ pub struct RunOutput {
     /// The NC program the macro emitted with `Nc.*` (empty when it emitted none); write it
     /// with `nc::by_name(dialect)?.render(&program)`.
     pub program: Program,
+    /// The files the macro wrote (a plain name inside [`FileAccess::out_dir`], the bytes), in
+    /// the order first opened: for the caller to write when the run succeeded, all or none.
+    pub files: Vec<(String, Vec<u8>)>,
 }
 
 impl RunOutput {
     fn new(name: &str, machine: Machine) -> RunOutput {
-        RunOutput { printed: Vec::new(), messages: Vec::new(), program: Program::new(name, machine) }
+        RunOutput { printed: Vec::new(), messages: Vec::new(), program: Program::new(name, machine), files: Vec::new() }
     }
 
     pub fn has_program(&self) -> bool {
@@ -414,7 +436,8 @@ fn parse_with(source: &str, file_name: &str, workbook: &Workbook, options: &RunO
     let own = std::path::Path::new(file_name).file_stem().and_then(|s| s.to_str()).unwrap_or(file_name);
     let (joined, parts) = join_project(own, source, &options.project);
     let source = joined.as_deref().unwrap_or(source);
-    parser::parse_module(source, &|n| workbook.sheet_id(n), &objects, &parts).map_err(|e| {
+    let files = options.files.is_some();
+    parser::parse_module_with_files(source, &|n| workbook.sheet_id(n), &objects, &parts, files).map_err(|e| {
         let lines = parser::Lines::new(source);
         let span = lines.span(source, e.offset);
         let mut e = MacroError {

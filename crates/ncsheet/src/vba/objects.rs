@@ -132,6 +132,8 @@ impl Interp<'_, '_> {
             "debug" => Ok(Obj::Debug),
             "msgbox" => self.msgbox(ctx, link),
             "evaluate" => self.evaluate(ctx, here, link),
+            // Resolved so only when the run has files (`files.rs`).
+            "freefile" | "eof" | "lof" | "createobject" => self.file_root(ctx, link),
             "inputbox" => Err(self.fault_at(
                 link.span,
                 "InputBox: a macro runs without a user; pass values with --arg NAME=VALUE or read them from cells",
@@ -187,6 +189,7 @@ impl Interp<'_, '_> {
             },
             Obj::Err => self.err_member(ctx, link),
             Obj::Store(h) => self.store_member(ctx, h, link),
+            Obj::Files(f) => self.file_member(ctx, f, link),
             Obj::Record(var, path) => {
                 let i = self.field_index(&var, &path, link)?;
                 let mut path = path.clone();

@@ -73,6 +73,18 @@ pub fn parse_module(
     objects: &[String],
     parts: &[Part],
 ) -> Result<Module, SyntaxError> {
+    parse_module_with_files(src, sheets, objects, parts, false)
+}
+
+/// [`parse_module`] for a run that has files (`files.rs`): `Open`, `Print #`, `FreeFile`,
+/// `CreateObject("Scripting.FileSystemObject")` … are built instead of refused by name.
+pub fn parse_module_with_files(
+    src: &str,
+    sheets: &dyn Fn(&str) -> Option<SheetId>,
+    objects: &[String],
+    parts: &[Part],
+    files: bool,
+) -> Result<Module, SyntaxError> {
     let prepared = super::conditional::prepare(src)?;
     let src = &*prepared;
     limits::check_nesting(src, limits::Language::Macro)?;
@@ -82,6 +94,7 @@ pub fn parse_module(
     let items: Vec<Pair<Rule>> = module.into_inner().collect();
     let mut b = Build::new(src, sheets, &items, parts)?;
     b.objects = objects;
+    b.files = files;
     b.declared =
         items.iter().filter(|i| i.as_rule() == Rule::declare_stmt).filter_map(|i| declared_name(i.as_str())).collect();
     let type_names = items.iter().filter(|i| i.as_rule() == Rule::type_def);
@@ -228,6 +241,8 @@ pub(super) struct Build<'s> {
     building_globals: Cell<bool>,
     /// The names of the module's `Declare`d DLL procedures, lower case.
     pub(super) declared: std::collections::HashSet<String>,
+    /// The run has files (`files.rs`): file statements and functions are built, not refused.
+    pub(super) files: bool,
     lines: Lines,
 }
 
@@ -273,6 +288,7 @@ impl<'s> Build<'s> {
             base: Cell::new(0),
             building_globals: Cell::new(false),
             declared: Default::default(),
+            files: false,
             types: RefCell::new(Vec::new()),
             lines: Lines::new(src),
         };
@@ -323,7 +339,7 @@ impl<'s> Build<'s> {
         ParseContext { at: Pos::new(0, 0), functions: &Registry, sheet: self.sheets }
     }
 
-    fn expr(&self, pair: Pair<Rule>) -> Res<Expr> {
+    pub(super) fn expr(&self, pair: Pair<Rule>) -> Res<Expr> {
         build_expr(pair, &self.ctx(), Some(self))
     }
 
@@ -522,10 +538,7 @@ impl<'s> Build<'s> {
                 None if kids(&pair).len() > 1 => Resume::Label(label_of(&pair)),
                 None => Resume::Retry,
             }),
-            Rule::file_stmt => {
-                let word = pair.as_str().split(|c: char| !c.is_alphabetic()).next().unwrap_or("");
-                return Err(self.error_at(&pair, refusal(word)));
-            }
+            Rule::file_stmt => self.file_statement(&pair)?,
             rule => unreachable!("statement {rule:?}"),
         };
         Ok(Some(Stmt { kind, span }))
@@ -619,7 +632,7 @@ impl<'s> Build<'s> {
         Ok(StmtKind::Assign { target, value, set })
     }
 
-    fn target(&self, pair: Pair<Rule>) -> Res<Target> {
+    pub(super) fn target(&self, pair: Pair<Rule>) -> Res<Target> {
         let path = self.path_syntax(&pair)?;
         if !path.with && path.links.len() == 1 {
             let link = &path.links[0];

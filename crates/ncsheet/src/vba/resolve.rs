@@ -56,8 +56,9 @@ pub(super) const FORBIDDEN: &[&str] = &[
 
 pub(super) fn refusal(name: &str) -> String {
     format!(
-        "{name}: a macro cannot touch files or run programs (the language has no Open, Kill, Shell, \
-         CreateObject, …); read and write cells, and let `ncsheet run -o FILE` write the program"
+        "{name}: a macro cannot touch files or run programs (the language has no Kill, Shell, \
+         CreateObject, …; Open, Print # and FileSystemObject reach only a folder given with `ncsheet run \
+         --out-dir DIR`); read and write cells, and let `ncsheet run -o FILE` write the program"
     )
 }
 
@@ -157,6 +158,13 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "xlsheetvisible" => number(-1.0),
         "xlsheethidden" => number(0.0),
         "xlsheetveryhidden" => number(2.0),
+        // Scripting's IOMode and Tristate values, for OpenTextFile (`files.rs`).
+        "forreading" => number(1.0),
+        "forwriting" => number(2.0),
+        "forappending" => number(8.0),
+        "tristatetrue" => number(-1.0),
+        "tristatefalse" => number(0.0),
+        "tristateusedefault" => number(-2.0),
         "xla1" => number(1.0),
         "xlr1c1" => number(-4150.0),
         _ => None,
@@ -272,7 +280,9 @@ impl Build<'_> {
         for (i, link) in path.links.iter().enumerate() {
             let lower = lower_bare(&link.name);
             let is_var = i == 0 && !path.with && self.is_var(&link.name);
-            if FORBIDDEN.contains(&lower.as_str()) && !is_var {
+            // A TextStream's `ts.Close` (`files.rs`), once the run has files.
+            let member_close = self.files && i > 0 && lower == "close";
+            if FORBIDDEN.contains(&lower.as_str()) && !is_var && !member_close {
                 return Err(self.error_at(pair, refusal(&link.name)));
             }
         }
@@ -352,6 +362,10 @@ impl Build<'_> {
             if let Some(class) = created(&link) {
                 return Ok(self.node(Node::New { class, span: self.span(at) }, at, end));
             }
+        }
+        if self.files && !is_var && super::files::is_file_function(&lower, &link) {
+            let path = Path { with: false, links: vec![link], span: self.span(at) };
+            return Ok(self.node(Node::Path(path), at, end));
         }
         if FORBIDDEN.contains(&lower.as_str()) && !is_var {
             return Err(self.error_at(pair, refusal(&link.name)));

@@ -51,6 +51,8 @@ pub enum Obj {
     Record(Rc<str>, Vec<usize>),
     /// A Collection or a Dictionary, shared by every variable set to it.
     Store(super::collections::Handle),
+    /// Scripting's FileSystemObject or one of its TextStreams (`files.rs`).
+    Files(super::files::FileObj),
 }
 
 impl Obj {
@@ -67,6 +69,8 @@ impl Obj {
             Obj::Debug => "Debug",
             Obj::Err => "Err",
             Obj::Record(..) => "a Type value",
+            Obj::Files(super::files::FileObj::System) => "a FileSystemObject",
+            Obj::Files(super::files::FileObj::Stream(_)) => "a TextStream",
             Obj::Store(h) => match h.class() {
                 super::ast::Class::Collection => "a Collection",
                 super::ast::Class::Dictionary => "a Dictionary",

@@ -1,0 +1,1070 @@
+//! The files a macro reads and writes (`Open`, `Print #`, `Write #`, `Input #`, `Line Input #`,
+//! `Close`, `FreeFile`, `EOF`, `LOF`, and Scripting's `FileSystemObject` with its
+//! `TextStream`s), inside a sandbox the run is given ([`FileAccess`]: `ncsheet run --out-dir
+//! DIR` and `--in-file PATH`).
+//!
+//! This module touches no file: the macro sees a table of files in memory. What it writes is
+//! kept here and handed back in [`super::RunOutput::files`], for the front end to write when
+//! the run succeeded (all or nothing); what it reads comes from the listed inputs' bytes or
+//! from [`FileAccess::read_out_dir`], which the front end answers. A path is a plain file name
+//! in the output folder or the name of a listed input: [`checked_name`] refuses every other
+//! spelling (a folder part, `..`, an absolute path, a drive letter, UNC, a Windows device
+//! name, an alternate data stream), and that refusal stops the macro (no `On Error` traps it).
+//!
+//! Formats are VBA's ("Print # statement", "Write # statement", "Input # statement", "Line
+//! Input # statement" in the Office VBA language reference; [MS-VBAL] 5.4.5): `Print #`
+//! writes numbers with a space before (for the sign) and after, `;` joins, `,` and `Tab` move
+//! to the next 14-column print zone; `Write #` quotes strings, separates items with commas
+//! and writes `#TRUE#`/`#FALSE#`; every line ends with CR LF. Text is written in Windows-1252,
+//! the ANSI code page of a Western Excel (`CreateTextFile(…, True)` writes UTF-16 with its
+//! byte-order mark): a character Windows-1252 has not is refused, never replaced.
+
+use std::collections::BTreeMap;
+use std::fmt;
+use std::rc::Rc;
+
+use pest::iterators::Pair;
+
+use crate::eval::{Ctx, Value, XlError};
+use crate::formula::ast::Expr;
+use crate::formula::parse::Rule;
+
+use super::ast::{Link, Span, StmtKind, Target};
+use super::interp::{Fault, Interp, Run};
+use super::parser::{Build, Res};
+use super::resolve::refusal;
+use super::value::{print_text, Obj, Var};
+
+/// What a run may read and write besides its workbook. The library never opens a file: the
+/// front end gives the listed inputs' bytes and reads the output folder for it.
+#[derive(Clone)]
+pub struct FileAccess {
+    /// The folder the macro writes its files in, as the user named it (for messages);
+    /// `None`: the macro may only read.
+    pub out_dir: Option<String>,
+    /// The files the user listed for reading (`--in-file`): the name a macro opens each by
+    /// (its file name) and its bytes.
+    pub inputs: Vec<(String, Rc<[u8]>)>,
+    /// Reads a file of the output folder by a name [`checked_name`] accepted: `Ok(None)` when
+    /// there is none, `Err` why it cannot be read (a symbolic link, not a plain file, …).
+    pub read_out_dir: Rc<dyn Fn(&str) -> Result<Option<Vec<u8>>, String>>,
+}
+
+impl fmt::Debug for FileAccess {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let inputs: Vec<&str> = self.inputs.iter().map(|(n, _)| n.as_str()).collect();
+        f.debug_struct("FileAccess").field("out_dir", &self.out_dir).field("inputs", &inputs).finish()
+    }
+}
+
+/// The code of a sandbox refusal: no `On Error` traps it (the path must change, not be skipped).
+pub(super) const REFUSED: u32 = u32::MAX - 1;
+
+/// VBA's trappable file errors ("Trappable errors" in the VBA reference).
+const BAD_NUMBER: (u32, &str) = (52, "Bad file name or number");
+const NOT_FOUND: (u32, &str) = (53, "File not found");
+const BAD_MODE: (u32, &str) = (54, "Bad file mode");
+const ALREADY_OPEN: (u32, &str) = (55, "File already open");
+const EXISTS: (u32, &str) = (58, "File already exists");
+const PAST_END: (u32, &str) = (62, "Input past end of file");
+const TOO_MANY: (u32, &str) = (67, "Too many files");
+
+/// What one TextStream or written file costs the memory budget besides its text.
+const STREAM_BYTES: u64 = 64;
+
+/// The width of a print zone ("Print # statement": `,` and `Tab` move to the next one).
+const ZONE: usize = 14;
+
+/// Why a path a macro names is not a plain file name of the sandbox, or `None` when it is.
+/// Every spelling that could leave the folder on Linux or on Windows is refused.
+pub fn checked_name(path: &str) -> Option<&'static str> {
+    let bytes = path.as_bytes();
+    let drive = bytes.len() >= 2 && bytes[0].is_ascii_alphabetic() && bytes[1] == b':';
+    let stem = path.split('.').next().unwrap_or("").trim_end().to_ascii_uppercase();
+    let device = matches!(stem.as_str(), "CON" | "PRN" | "AUX" | "NUL" | "CONIN$" | "CONOUT$" | "CLOCK$")
+        || (stem.len() == 4
+            && (stem.starts_with("COM") || stem.starts_with("LPT"))
+            && stem.as_bytes()[3].is_ascii_digit());
+    Some(if path.is_empty() {
+        "a file needs a name"
+    } else if path.chars().any(char::is_control) {
+        "a control character in a file name"
+    } else if path.starts_with("\\\\") || path.starts_with("//") {
+        "a network (UNC) path"
+    } else if drive {
+        "a drive letter"
+    } else if path.starts_with('/') || path.starts_with('\\') {
+        "an absolute path"
+    } else if path == "." || path == ".." || path.split(['/', '\\']).any(|p| p == "..") {
+        "\"..\" leaves the folder"
+    } else if path.contains('\\') {
+        "a backslash (a folder on Windows)"
+    } else if path.contains('/') {
+        "a folder part"
+    } else if path.contains(':') {
+        "a colon (an alternate data stream on Windows)"
+    } else if device {
+        "a Windows device name (CON, PRN, AUX, NUL, COM1…, LPT1…)"
+    } else if path.contains(['<', '>', '"', '|', '?', '*']) {
+        "a character Windows forbids in file names"
+    } else if path.ends_with(['.', ' ']) {
+        "a trailing dot or space (Windows drops it, naming another file)"
+    } else if path.len() > 255 {
+        "a name longer than 255 bytes"
+    } else {
+        return None;
+    })
+}
+
+// ---- statements, as parsed -------------------------------------------------------------
+
+/// A file statement ([MS-VBAL] 5.4.5).
+#[derive(Debug)]
+pub enum FileStmt {
+    /// `Open path For mode As #n`.
+    Open { path: Expr, mode: Mode, number: Expr },
+    /// `Print #n, items`.
+    Print { number: Expr, items: Vec<PrintPart> },
+    /// `Write #n, items`: `open` when a separator ends the list (no line end).
+    Write { number: Expr, items: Vec<Expr>, open: bool },
+    /// `Line Input #n, var`.
+    LineInput { number: Expr, target: Target },
+    /// `Input #n, a, b`.
+    Input { number: Expr, targets: Vec<Target> },
+    /// `Close #1, #2`; no numbers: every file.
+    Close(Vec<Expr>),
+}
+
+/// What a file is open for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    Input,
+    Output,
+    Append,
+}
+
+#[derive(Debug)]
+pub enum PrintPart {
+    Value(Expr),
+    /// `;`
+    Join,
+    /// `,`: the next print zone.
+    Zone,
+    /// `Spc(n)`: n spaces.
+    Spc(Expr),
+    /// `Tab(n)`: to column n; `Tab` alone: the next print zone.
+    Tab(Option<Expr>),
+}
+
+fn kids<'i>(pair: &Pair<'i, Rule>) -> Vec<Pair<'i, Rule>> {
+    pair.clone().into_inner().collect()
+}
+
+impl Build<'_> {
+    /// A file statement: refused by name unless the run has files ([`FileAccess`]).
+    pub(super) fn file_statement(&self, pair: &Pair<Rule>) -> Res<StmtKind> {
+        let word = pair.as_str().split(|c: char| !c.is_alphabetic()).next().unwrap_or("");
+        let Some(inner) = pair.clone().into_inner().next().filter(|_| self.files) else {
+            return Err(self.error_at(pair, refusal(word)));
+        };
+        let k = kids(&inner);
+        let stmt = match inner.as_rule() {
+            Rule::open_stmt => self.open_statement(&k)?,
+            Rule::print_file => {
+                let mut items = Vec::new();
+                for p in &k[2..] {
+                    items.push(match p.as_rule() {
+                        Rule::print_sep if p.as_str() == ";" => PrintPart::Join,
+                        Rule::print_sep => PrintPart::Zone,
+                        Rule::print_spc => PrintPart::Spc(self.expr(kids(p)[1].clone())?),
+                        Rule::print_tab => match kids(p).get(1) {
+                            Some(column) => PrintPart::Tab(Some(self.expr(column.clone())?)),
+                            None => PrintPart::Tab(None),
+                        },
+                        _ => PrintPart::Value(self.expr(p.clone())?),
+                    });
+                }
+                FileStmt::Print { number: self.expr(k[1].clone())?, items }
+            }
+            Rule::write_file => {
+                let rest = &k[2..];
+                let mut items = Vec::new();
+                for p in rest.iter().filter(|p| p.as_rule() == Rule::vexpr) {
+                    items.push(self.expr(p.clone())?);
+                }
+                let open = rest.last().is_some_and(|p| p.as_rule() == Rule::print_sep);
+                FileStmt::Write { number: self.expr(k[1].clone())?, items, open }
+            }
+            Rule::line_input_file => {
+                FileStmt::LineInput { number: self.expr(k[1].clone())?, target: self.input_target(&k[2])? }
+            }
+            Rule::input_file => {
+                let mut targets = Vec::new();
+                for p in &k[2..] {
+                    targets.push(self.input_target(p)?);
+                }
+                FileStmt::Input { number: self.expr(k[1].clone())?, targets }
+            }
+            Rule::close_file => {
+                let mut numbers = Vec::new();
+                for p in &k[1..] {
+                    numbers.push(self.file_number(p)?);
+                }
+                FileStmt::Close(numbers)
+            }
+            _ => {
+                return Err(self.error_at(
+                    pair,
+                    format!(
+                        "{word} #: not supported; a macro's files are text: Open … For Input, Output or Append, \
+                         Print #, Write #, Input #, Line Input #, Close"
+                    ),
+                ))
+            }
+        };
+        Ok(StmtKind::File(stmt))
+    }
+
+    /// `Open path For mode [Access …] [Lock …] As [#]n [Len = …]`.
+    fn open_statement(&self, k: &[Pair<Rule>]) -> Res<FileStmt> {
+        let mode = k.iter().find(|p| p.as_rule() == Rule::open_mode).expect("Open's mode");
+        let mode = match mode.as_str().to_ascii_lowercase().as_str() {
+            "input" => Mode::Input,
+            "output" => Mode::Output,
+            "append" => Mode::Append,
+            other => {
+                return Err(self.error_at(
+                    mode,
+                    format!(
+                        "Open … For {other}: a macro's files are text (For Input, Output or Append); binary and \
+                         random-access files are not supported"
+                    ),
+                ))
+            }
+        };
+        let number = k.iter().find(|p| p.as_rule() == Rule::file_number).expect("Open's number");
+        Ok(FileStmt::Open { path: self.expr(k[1].clone())?, mode, number: self.file_number(number)? })
+    }
+
+    fn file_number(&self, pair: &Pair<Rule>) -> Res<Expr> {
+        let e = kids(pair).into_iter().find(|p| p.as_rule() == Rule::vexpr).expect("a file number");
+        self.expr(e)
+    }
+
+    /// What `Line Input #` and `Input #` read into: a variable or an array's item.
+    fn input_target(&self, pair: &Pair<Rule>) -> Res<Target> {
+        match self.target(pair.clone())? {
+            Target::Node(_) => Err(self.error_at(pair, "Input # and Line Input # read into a variable")),
+            target => Ok(target),
+        }
+    }
+}
+
+/// The names that reach files in expressions once the run has them: `FreeFile`, `EOF(n)`,
+/// `LOF(n)` and `CreateObject("Scripting.FileSystemObject")`, resolved as paths that
+/// [`Interp::file_root`] answers.
+pub(super) fn is_file_function(lower: &str, link: &Link) -> bool {
+    match lower {
+        "freefile" | "eof" | "lof" => true,
+        "createobject" => matches!(
+            link.args.as_deref(),
+            Some([arg]) if matches!(&arg.value.kind,
+                crate::formula::ast::ExprKind::Text(id) if id.eq_ignore_ascii_case("Scripting.FileSystemObject"))
+        ),
+        _ => false,
+    }
+}
+
+// ---- the run's files ----------------------------------------------------------------------
+
+/// A file object a macro holds: the FileSystemObject, or one of its TextStreams.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FileObj {
+    System,
+    Stream(usize),
+}
+
+/// An open file: read from its text, or written into one of the run's written files.
+#[derive(Debug)]
+struct Channel {
+    name: String,
+    way: Way,
+}
+
+#[derive(Debug)]
+enum Way {
+    Read {
+        text: Rc<str>,
+        at: usize,
+        bytes: usize,
+    },
+    Write {
+        file: usize,
+        /// The column the next character goes to (0-based), for print zones and `Tab`.
+        column: usize,
+        unicode: bool,
+    },
+}
+
+/// The run's files: those written (name, bytes, in the order first opened) and those open.
+#[derive(Debug, Default)]
+pub(super) struct Files {
+    written: Vec<(String, Vec<u8>)>,
+    numbered: BTreeMap<i64, Channel>,
+    streams: Vec<Option<Channel>>,
+}
+
+impl Files {
+    /// The files written, for [`super::RunOutput::files`].
+    pub(super) fn into_written(self) -> Vec<(String, Vec<u8>)> {
+        self.written
+    }
+
+    /// The bytes the table holds, for the memory budget.
+    pub(super) fn held_bytes(&self) -> u64 {
+        let written: usize = self.written.iter().map(|(n, b)| b.len() + n.len() + STREAM_BYTES as usize).sum();
+        let read = |c: &Channel| match &c.way {
+            Way::Read { text, .. } => text.len(),
+            Way::Write { .. } => 0,
+        };
+        let reading: usize = self.numbered.values().chain(self.streams.iter().flatten()).map(read).sum();
+        (written + reading) as u64 + self.streams.len() as u64 * STREAM_BYTES
+    }
+
+    fn written_index(&self, name: &str) -> Option<usize> {
+        self.written.iter().position(|(n, _)| n.eq_ignore_ascii_case(name))
+    }
+
+    /// Whether a channel now writes the file `name`.
+    fn writing(&self, name: &str) -> bool {
+        let open = |c: &Channel| matches!(c.way, Way::Write { .. }) && c.name.eq_ignore_ascii_case(name);
+        self.numbered.values().any(open) || self.streams.iter().flatten().any(open)
+    }
+}
+
+/// A value as `Print #` writes it: numbers with room for a sign before and a space after.
+fn print_form(v: &Value) -> String {
+    match v {
+        Value::Number(n) if *n >= 0.0 => format!(" {} ", print_text(v)),
+        Value::Number(_) => format!("{} ", print_text(v)),
+        Value::Error(e) => format!("Error {}", error_number(*e).map_or(e.as_str().to_string(), |n| n.to_string())),
+        _ => print_text(v),
+    }
+}
+
+/// A value as `Write #` writes it: strings quoted, numbers bare, `#TRUE#`, `#ERROR 2007#`.
+fn write_form(v: &Value) -> String {
+    match v {
+        Value::Blank => String::new(),
+        Value::Text(t) => format!("\"{t}\""),
+        Value::Bool(b) => if *b { "#TRUE#" } else { "#FALSE#" }.to_string(),
+        Value::Error(e) => format!("#ERROR {}#", error_number(*e).map_or(e.as_str().to_string(), |n| n.to_string())),
+        other => print_text(other),
+    }
+}
+
+/// Excel's `xlErr…` number of an error value, as VBA's CVErr holds it.
+fn error_number(e: XlError) -> Option<u32> {
+    Some(match e {
+        XlError::Null => 2000,
+        XlError::Div0 => 2007,
+        XlError::Value => 2015,
+        XlError::Ref => 2023,
+        XlError::Name => 2029,
+        XlError::Num => 2036,
+        XlError::NA => 2042,
+        _ => return None,
+    })
+}
+
+/// Text as the file holds it: Windows-1252, or UTF-16LE for a Unicode TextStream.
+fn encode(text: &str, unicode: bool) -> Result<Vec<u8>, char> {
+    if unicode {
+        return Ok(text.encode_utf16().flat_map(u16::to_le_bytes).collect());
+    }
+    let (bytes, _, unmappable) = encoding_rs::WINDOWS_1252.encode(text);
+    if unmappable {
+        let bad = text.chars().find(|c| encoding_rs::WINDOWS_1252.encode(&c.to_string()).2).unwrap_or('?');
+        return Err(bad);
+    }
+    Ok(bytes.into_owned())
+}
+
+/// A file's bytes as text: UTF-16 after its byte-order mark, else Windows-1252 (VBA's ANSI).
+fn decode(bytes: &[u8]) -> Rc<str> {
+    if let [0xFF, 0xFE, rest @ ..] = bytes {
+        let units: Vec<u16> = rest.chunks_exact(2).map(|c| u16::from_le_bytes([c[0], c[1]])).collect();
+        return String::from_utf16_lossy(&units).into();
+    }
+    encoding_rs::WINDOWS_1252.decode_without_bom_handling(bytes).0.into()
+}
+
+/// The next line of `text` from `at`, and where the one after starts. `lf`: a lone LF ends a
+/// line too (FileSystemObject's ReadLine); `Line Input #` ends lines at CR or CR LF only.
+fn next_line(text: &str, at: usize, lf: bool) -> (&str, usize) {
+    let rest = &text[at..];
+    let end = rest.find(|c| c == '\r' || (lf && c == '\n')).unwrap_or(rest.len());
+    let mut next = at + end;
+    if rest[end..].starts_with("\r\n") {
+        next += 2;
+    } else if end < rest.len() {
+        next += 1;
+    }
+    (&rest[..end], next)
+}
+
+/// One field of `Input #` from `at`: a quoted string, or text up to a comma or a line end
+/// with spaces trimmed; and where the next field starts.
+fn next_field(text: &str, at: usize) -> (Value, usize) {
+    let rest = &text[at..];
+    let lead = rest.len() - rest.trim_start_matches([' ', '\t']).len();
+    let body = &rest[lead..];
+    let (field, quoted, used) = match body.strip_prefix('"') {
+        Some(inner) => {
+            let close = inner.find('"').unwrap_or(inner.len());
+            let after = &inner[(close + 1).min(inner.len())..];
+            let skip = after.find([',', '\r', '\n']).unwrap_or(after.len());
+            (&inner[..close], true, 1 + (close + 1).min(inner.len()) + skip)
+        }
+        None => {
+            let end = body.find([',', '\r', '\n']).unwrap_or(body.len());
+            (body[..end].trim_end(), false, end)
+        }
+    };
+    let mut next = at + lead + used;
+    if text[next..].starts_with("\r\n") {
+        next += 2;
+    } else if next < text.len() {
+        next += 1;
+    }
+    let value = if quoted {
+        Value::text(field)
+    } else {
+        match field.to_ascii_uppercase().as_str() {
+            "" => Value::Blank,
+            "#TRUE#" => Value::Bool(true),
+            "#FALSE#" => Value::Bool(false),
+            _ => match field.parse::<f64>() {
+                Ok(n) if n.is_finite() => Value::Number(n),
+                _ => Value::text(field),
+            },
+        }
+    };
+    (value, next)
+}
+
+impl Interp<'_, '_> {
+    fn file_error(&self, span: Span, (code, text): (u32, &str), what: String) -> Fault {
+        let mut fault = self.fault_at(span, format!("{what}: {text} (run-time error {code})"));
+        fault.code = code;
+        fault
+    }
+
+    fn refused(&self, span: Span, message: String) -> Fault {
+        let mut fault = self.fault_at(span, message);
+        fault.code = REFUSED;
+        fault
+    }
+
+    fn access(&self) -> &super::FileAccess {
+        self.options.files.as_ref().expect("file statements parse only when the run has files")
+    }
+
+    /// The sandbox name of a path the macro gave, or the refusal naming it.
+    fn sandbox_name(&self, what: &str, path: &str, span: Span) -> Run<String> {
+        match checked_name(path) {
+            None => Ok(path.to_string()),
+            Some(why) => {
+                let folder = match &self.access().out_dir {
+                    Some(dir) => format!("the --out-dir folder ({dir})"),
+                    None => "the --out-dir folder".to_string(),
+                };
+                Err(self.refused(
+                    span,
+                    format!(
+                        "{what} \"{path}\": refused: {why}; a macro's files are plain names (program.nc) inside \
+                         {folder} or the files given with --in-file"
+                    ),
+                ))
+            }
+        }
+    }
+
+    /// The text of a file to read: written earlier in this run, a listed input, or in the
+    /// output folder; `None` when there is none.
+    fn read_text(&self, what: &str, name: &str, span: Span) -> Run<Option<(Rc<str>, usize)>> {
+        let files = self.files.borrow();
+        if files.writing(name) {
+            return Err(self.file_error(span, ALREADY_OPEN, format!("{what} \"{name}\": it is open for writing")));
+        }
+        let bytes: Option<Vec<u8>> = match files.written_index(name) {
+            Some(i) => Some(files.written[i].1.clone()),
+            None => self.stored_bytes(what, name, span)?,
+        };
+        drop(files);
+        let Some(bytes) = bytes else { return Ok(None) };
+        let text = decode(&bytes);
+        self.charge(text.len() as u64, span)?;
+        Ok(Some((text, bytes.len())))
+    }
+
+    /// A listed input's bytes, or a file's of the output folder.
+    fn stored_bytes(&self, what: &str, name: &str, span: Span) -> Run<Option<Vec<u8>>> {
+        let access = self.access();
+        if let Some((_, bytes)) = access.inputs.iter().find(|(n, _)| n.eq_ignore_ascii_case(name)) {
+            return Ok(Some(bytes.to_vec()));
+        }
+        if access.out_dir.is_none() {
+            return Ok(None);
+        }
+        (access.read_out_dir)(name).map_err(|why| self.refused(span, format!("{what} \"{name}\": refused: {why}")))
+    }
+
+    /// Opens `name` for writing: a new empty file, or (appending) one that goes on from what
+    /// the file holds. Returns the index of the written file.
+    fn open_for_writing(&self, what: &str, name: &str, append: bool, span: Span) -> Run<usize> {
+        if self.access().out_dir.is_none() {
+            return Err(self.refused(
+                span,
+                format!("{what} \"{name}\": refused: a macro writes files only inside a folder given with --out-dir"),
+            ));
+        }
+        if self.access().inputs.iter().any(|(n, _)| n.eq_ignore_ascii_case(name)) {
+            return Err(self.refused(
+                span,
+                format!("{what} \"{name}\": refused: it is an input (--in-file), which a run never writes over"),
+            ));
+        }
+        if self.files.borrow().writing(name) {
+            return Err(self.file_error(span, ALREADY_OPEN, format!("{what} \"{name}\"")));
+        }
+        let existing = self.files.borrow().written_index(name);
+        let start = match (existing, append) {
+            (Some(i), true) => std::mem::take(&mut self.files.borrow_mut().written[i].1),
+            (None, true) => self.stored_bytes(what, name, span)?.unwrap_or_default(),
+            _ => Vec::new(),
+        };
+        let entry = if existing.is_some() { 0 } else { STREAM_BYTES + name.len() as u64 };
+        self.charge(start.len() as u64 + entry, span)?;
+        let mut files = self.files.borrow_mut();
+        Ok(match existing {
+            Some(i) => {
+                files.written[i].1 = start;
+                i
+            }
+            None => {
+                files.written.push((name.to_string(), start));
+                files.written.len() - 1
+            }
+        })
+    }
+
+    /// The column a written file's last line has reached.
+    fn end_column(&self, file: usize) -> usize {
+        let files = self.files.borrow();
+        let bytes = &files.written[file].1;
+        bytes.iter().rev().take_while(|&&b| b != b'\n').count()
+    }
+
+    // ---- statements ---------------------------------------------------------------------
+
+    pub(super) fn file_stmt(&self, stmt: &FileStmt, span: Span) -> Run<()> {
+        match stmt {
+            FileStmt::Open { path, mode, number } => self.open(path, *mode, number, span),
+            FileStmt::Print { number, items } => self.print_file(number, items, span),
+            FileStmt::Write { number, items, open } => self.write_file(number, items, *open, span),
+            FileStmt::LineInput { number, target } => {
+                let n = self.file_no(number)?;
+                let line = self.read_from(Channels::Numbered(n), span, |text, at| {
+                    let (line, next) = next_line(text, at, false);
+                    (Value::text(line), next)
+                })?;
+                self.store_input(target, line, span)
+            }
+            FileStmt::Input { number, targets } => {
+                let n = self.file_no(number)?;
+                for target in targets {
+                    let value = self.read_from(Channels::Numbered(n), span, next_field)?;
+                    self.store_input(target, value, span)?;
+                }
+                Ok(())
+            }
+            FileStmt::Close(numbers) => {
+                if numbers.is_empty() {
+                    self.files.borrow_mut().numbered.clear();
+                }
+                for e in numbers {
+                    let n = self.file_no(e)?;
+                    self.files.borrow_mut().numbered.remove(&n);
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// A file number, 1 to 511 (VBA's range; `#` is optional).
+    fn file_no(&self, e: &Expr) -> Run<i64> {
+        let n = self.index(e, "the file number")?;
+        if !(1..=511).contains(&n) {
+            return Err(self.file_error(self.expr_span(e), BAD_NUMBER, format!("file number {n}")));
+        }
+        Ok(n)
+    }
+
+    fn open(&self, path: &Expr, mode: Mode, number: &Expr, span: Span) -> Run<()> {
+        let v = self.eval(path)?;
+        let shown = print_text(&v);
+        let n = self.file_no(number)?;
+        if self.files.borrow().numbered.contains_key(&n) {
+            return Err(self.file_error(span, ALREADY_OPEN, format!("Open … As #{n}")));
+        }
+        let name = self.sandbox_name("Open", &shown, span)?;
+        let way = match mode {
+            Mode::Input => {
+                let Some((text, bytes)) = self.read_text("Open", &name, span)? else {
+                    return Err(self.not_found("Open", &name, span));
+                };
+                Way::Read { text, at: 0, bytes }
+            }
+            Mode::Output | Mode::Append => {
+                let file = self.open_for_writing("Open", &name, mode == Mode::Append, span)?;
+                Way::Write { file, column: self.end_column(file), unicode: false }
+            }
+        };
+        self.files.borrow_mut().numbered.insert(n, Channel { name, way });
+        Ok(())
+    }
+
+    fn not_found(&self, what: &str, name: &str, span: Span) -> Fault {
+        let folder = match &self.access().out_dir {
+            Some(dir) => format!("in the --out-dir folder ({dir}) or "),
+            None => String::new(),
+        };
+        self.file_error(span, NOT_FOUND, format!("{what} \"{name}\": no such file {folder}among the --in-file files"))
+    }
+
+    /// Appends text to an open file, counted in the memory budget.
+    fn put_text(&self, channel: Channels, text: &str, span: Span) -> Run<()> {
+        let (file, unicode, name) = self.writer(channel, span)?;
+        let bytes = encode(text, unicode).map_err(|c| {
+            self.fault_at(
+                span,
+                format!(
+                    "\"{name}\": the character {c:?} (U+{:04X}) has no place in Windows-1252, the code page VBA writes \
+                     text files in (FileSystemObject's CreateTextFile(name, True, True) writes Unicode)",
+                    c as u32
+                ),
+            )
+        })?;
+        self.charge(bytes.len() as u64, span)?;
+        let mut files = self.files.borrow_mut();
+        files.written[file].1.extend_from_slice(&bytes);
+        let column = match text.rfind('\n') {
+            Some(i) => text[i + 1..].chars().count(),
+            None => self.column_of(&files, channel) + text.chars().count(),
+        };
+        if let Some(Channel { way: Way::Write { column: c, .. }, .. }) = files.channel_mut(channel) {
+            *c = column;
+        }
+        Ok(())
+    }
+
+    fn column_of(&self, files: &Files, channel: Channels) -> usize {
+        match files.channel(channel) {
+            Some(Channel { way: Way::Write { column, .. }, .. }) => *column,
+            _ => 0,
+        }
+    }
+
+    /// The written file an open channel writes: (index, Unicode, name).
+    fn writer(&self, channel: Channels, span: Span) -> Run<(usize, bool, String)> {
+        let files = self.files.borrow();
+        match files.channel(channel) {
+            Some(Channel { name, way: Way::Write { file, unicode, .. } }) => Ok((*file, *unicode, name.clone())),
+            Some(Channel { name, .. }) => {
+                Err(self.file_error(span, BAD_MODE, format!("\"{name}\" is open for reading, not writing")))
+            }
+            None => Err(self.closed(channel, span)),
+        }
+    }
+
+    fn closed(&self, channel: Channels, span: Span) -> Fault {
+        match channel {
+            Channels::Numbered(n) => self.file_error(span, BAD_NUMBER, format!("file #{n} is not open")),
+            Channels::Stream(_) => self.file_error(span, BAD_NUMBER, "the TextStream is closed".to_string()),
+        }
+    }
+
+    /// Reads with `take` (a line, a field) from an open file, or fails past its end.
+    fn read_from(&self, channel: Channels, span: Span, take: impl Fn(&str, usize) -> (Value, usize)) -> Run<Value> {
+        let mut files = self.files.borrow_mut();
+        match files.channel_mut(channel) {
+            Some(Channel { name, way: Way::Read { text, at, .. } }) => {
+                if *at >= text.len() {
+                    return Err(self.file_error(span, PAST_END, format!("\"{name}\"")));
+                }
+                let (value, next) = take(text, *at);
+                *at = next;
+                Ok(value)
+            }
+            Some(Channel { name, .. }) => {
+                Err(self.file_error(span, BAD_MODE, format!("\"{name}\" is open for writing, not reading")))
+            }
+            None => Err(self.closed(channel, span)),
+        }
+    }
+
+    /// Whether an open file is read to its end (`EOF`, `AtEndOfStream`).
+    fn at_end(&self, channel: Channels, span: Span) -> Run<bool> {
+        let files = self.files.borrow();
+        match files.channel(channel) {
+            Some(Channel { way: Way::Read { text, at, .. }, .. }) => Ok(*at >= text.len()),
+            Some(Channel { name, .. }) => {
+                Err(self.file_error(span, BAD_MODE, format!("\"{name}\" is open for writing, not reading")))
+            }
+            None => Err(self.closed(channel, span)),
+        }
+    }
+
+    fn store_input(&self, target: &Target, value: Value, span: Span) -> Run<()> {
+        match target {
+            Target::Var(name) => self.set_var(name, Var::Value(value), span),
+            Target::Element(name, index) => self.set_element(name, index, value, span),
+            Target::Node(_) => Err(self.fault_at(span, "Input # and Line Input # read into a variable")),
+        }
+    }
+
+    fn print_file(&self, number: &Expr, items: &[PrintPart], span: Span) -> Run<()> {
+        let channel = Channels::Numbered(self.file_no(number)?);
+        self.writer(channel, span)?;
+        let mut open = false;
+        for item in items {
+            open = false;
+            let column = self.column_of(&self.files.borrow(), channel);
+            let text = match item {
+                PrintPart::Value(e) => {
+                    let v = self.eval(e)?;
+                    if let Value::Array(_) = v {
+                        return Err(self.fault_at(self.expr_span(e), "Print # prints values, not arrays"));
+                    }
+                    print_form(&v)
+                }
+                PrintPart::Join => {
+                    open = true;
+                    continue;
+                }
+                // A zone or a Tab is where the next item goes: the line stays open after it.
+                PrintPart::Zone | PrintPart::Tab(None) => {
+                    open = true;
+                    " ".repeat(ZONE - column % ZONE)
+                }
+                PrintPart::Spc(e) => self.repeated(" ", self.index(e, "Spc's count")?, "Spc", span)?,
+                PrintPart::Tab(Some(e)) => {
+                    open = true;
+                    // Columns count from 1; a column already passed is on the next line.
+                    let to = self.index(e, "Tab's column")?.max(1) as usize - 1;
+                    if to >= column {
+                        self.repeated(" ", (to - column) as i64, "Tab", span)?
+                    } else {
+                        format!("\r\n{}", self.repeated(" ", to as i64, "Tab", span)?)
+                    }
+                }
+            };
+            self.put_text(channel, &text, span)?;
+        }
+        if !open {
+            self.put_text(channel, "\r\n", span)?;
+        }
+        Ok(())
+    }
+
+    fn write_file(&self, number: &Expr, items: &[Expr], open: bool, span: Span) -> Run<()> {
+        let channel = Channels::Numbered(self.file_no(number)?);
+        self.writer(channel, span)?;
+        let mut line = String::new();
+        for (i, e) in items.iter().enumerate() {
+            let v = self.eval(e)?;
+            if let Value::Array(_) = v {
+                return Err(self.fault_at(self.expr_span(e), "Write # writes values, not arrays"));
+            }
+            if i > 0 {
+                line.push(',');
+            }
+            line.push_str(&write_form(&v));
+        }
+        if open {
+            line.push(',');
+        } else {
+            line.push_str("\r\n");
+        }
+        self.put_text(channel, &line, span)
+    }
+
+    // ---- expressions and objects ------------------------------------------------------
+
+    /// `FreeFile`, `EOF(n)`, `LOF(n)`, `CreateObject("Scripting.FileSystemObject")`.
+    pub(super) fn file_root(&self, ctx: &mut Ctx, link: &Link) -> Run<Obj> {
+        let args = self.values(ctx, link)?;
+        let number = |what: &str| -> Run<i64> {
+            let n = args.first().ok_or_else(|| self.fault_at(link.span, format!("{what} needs a file number")))?;
+            let n = self.number_of(n, "the file number").map_err(|m| self.fault_at(link.span, m))?;
+            Ok(n.round_ties_even() as i64)
+        };
+        let value = |v: Value| Ok(Obj::Value(v));
+        match super::objects::lower(link).as_str() {
+            "freefile" => {
+                let high = match args.first() {
+                    Some(v) => self.number_of(v, "FreeFile's range").map_err(|m| self.fault_at(link.span, m))? != 0.0,
+                    None => false,
+                };
+                let range = if high { 256..=511 } else { 1..=255 };
+                let files = self.files.borrow();
+                let free = range.into_iter().find(|n| !files.numbered.contains_key(n));
+                match free {
+                    Some(n) => value(Value::Number(n as f64)),
+                    None => Err(self.file_error(link.span, TOO_MANY, "FreeFile".to_string())),
+                }
+            }
+            "eof" => value(Value::Bool(self.at_end(Channels::Numbered(number("EOF")?), link.span)?)),
+            "lof" => {
+                let n = number("LOF")?;
+                let files = self.files.borrow();
+                let length = match files.numbered.get(&n).map(|c| &c.way) {
+                    Some(Way::Read { bytes, .. }) => *bytes,
+                    Some(Way::Write { file, .. }) => files.written[*file].1.len(),
+                    None => return Err(self.closed(Channels::Numbered(n), link.span)),
+                };
+                value(Value::Number(length as f64))
+            }
+            _ => Ok(Obj::Files(FileObj::System)),
+        }
+    }
+
+    /// A member of the FileSystemObject or of a TextStream.
+    pub(super) fn file_member(&self, ctx: &mut Ctx, obj: FileObj, link: &Link) -> Run<Obj> {
+        let name = super::objects::lower(link);
+        let args = self.values(ctx, link)?;
+        let span = link.span;
+        let text_arg = |i: usize| args.get(i).map(print_text).unwrap_or_default();
+        let flag = |i: usize, default: bool| match args.get(i) {
+            None | Some(Value::Blank) => Ok(default),
+            Some(v) => crate::eval::coerce::to_bool(v).map_err(|e| self.fault_at(span, format!("{}: {e}", link.name))),
+        };
+        let blank = Ok(Obj::Value(Value::Blank));
+        match (obj, name.as_str()) {
+            (FileObj::System, "createtextfile") => {
+                let name = self.sandbox_name("CreateTextFile", &text_arg(0), span)?;
+                let (overwrite, unicode) = (flag(1, true)?, flag(2, false)?);
+                if !overwrite && self.exists(&name, span)? {
+                    return Err(self.file_error(span, EXISTS, format!("CreateTextFile \"{name}\"")));
+                }
+                let file = self.open_for_writing("CreateTextFile", &name, false, span)?;
+                if unicode {
+                    self.files.borrow_mut().written[file].1.extend_from_slice(&[0xFF, 0xFE]);
+                }
+                self.new_stream(name, Way::Write { file, column: 0, unicode }, span)
+            }
+            (FileObj::System, "opentextfile") => {
+                let name = self.sandbox_name("OpenTextFile", &text_arg(0), span)?;
+                let mode = match args.get(1) {
+                    None | Some(Value::Blank) => 1.0,
+                    Some(v) => self.number_of(v, "OpenTextFile's IOMode").map_err(|m| self.fault_at(span, m))?,
+                };
+                let create = flag(2, false)?;
+                let unicode = matches!(args.get(3), Some(Value::Number(n)) if *n == -1.0);
+                if mode != 1.0 && mode != 2.0 && mode != 8.0 {
+                    let why = "IOMode is ForReading (1), ForWriting (2) or ForAppending (8)";
+                    return Err(self.file_error(
+                        span,
+                        (5, "Invalid procedure call or argument"),
+                        format!("OpenTextFile: {why}"),
+                    ));
+                }
+                if !create && !self.exists(&name, span)? {
+                    return Err(self.not_found("OpenTextFile", &name, span));
+                }
+                if mode == 1.0 {
+                    let (text, bytes) = self.read_text("OpenTextFile", &name, span)?.unwrap_or(("".into(), 0));
+                    return self.new_stream(name, Way::Read { text, at: 0, bytes }, span);
+                }
+                let file = self.open_for_writing("OpenTextFile", &name, mode == 8.0, span)?;
+                let unicode = unicode || self.files.borrow().written[file].1.starts_with(&[0xFF, 0xFE]);
+                self.new_stream(name, Way::Write { file, column: self.end_column(file), unicode }, span)
+            }
+            (FileObj::System, "fileexists") => {
+                let name = self.sandbox_name("FileExists", &text_arg(0), span)?;
+                Ok(Obj::Value(Value::Bool(self.exists(&name, span)?)))
+            }
+            (FileObj::Stream(id), "writeline") => {
+                self.put_text(Channels::Stream(id), &format!("{}\r\n", text_arg(0)), span)?;
+                blank
+            }
+            (FileObj::Stream(id), "write") => {
+                self.put_text(Channels::Stream(id), &text_arg(0), span)?;
+                blank
+            }
+            (FileObj::Stream(id), "writeblanklines") => {
+                let n = args.first().map_or(Ok(1.0), |v| self.number_of(v, "WriteBlankLines' count"));
+                let n = n.map_err(|m| self.fault_at(span, m))?.round_ties_even();
+                let lines = self.repeated("\r\n", n.clamp(0.0, i64::MAX as f64) as i64, "WriteBlankLines", span)?;
+                self.put_text(Channels::Stream(id), &lines, span)?;
+                blank
+            }
+            (FileObj::Stream(id), "readline") => {
+                let line = self.read_from(Channels::Stream(id), span, |text, at| {
+                    let (line, next) = next_line(text, at, true);
+                    (Value::text(line), next)
+                })?;
+                Ok(Obj::Value(line))
+            }
+            (FileObj::Stream(id), "skipline") => {
+                self.read_from(Channels::Stream(id), span, |text, at| (Value::Blank, next_line(text, at, true).1))?;
+                blank
+            }
+            (FileObj::Stream(id), "readall") => {
+                if self.at_end(Channels::Stream(id), span)? {
+                    return Err(self.file_error(span, PAST_END, "ReadAll".to_string()));
+                }
+                let all =
+                    self.read_from(Channels::Stream(id), span, |text, at| (Value::text(&text[at..]), text.len()))?;
+                Ok(Obj::Value(all))
+            }
+            (FileObj::Stream(id), "atendofstream") => {
+                Ok(Obj::Value(Value::Bool(self.at_end(Channels::Stream(id), span)?)))
+            }
+            (FileObj::Stream(id), "close") => {
+                if let Some(slot) = self.files.borrow_mut().streams.get_mut(id) {
+                    *slot = None;
+                }
+                blank
+            }
+            (obj, _) => Err(self.no_member(&Obj::Files(obj), link)),
+        }
+    }
+
+    /// `unit` `n` times (none for less than one), within the longest string a macro may make.
+    fn repeated(&self, unit: &str, n: i64, what: &str, span: Span) -> Run<String> {
+        let n = n.max(0) as usize;
+        if n.saturating_mul(unit.len()) > self.options.max_string {
+            let limit = self.options.max_string;
+            let mut f = self.fault_at(
+                span,
+                format!("{what}: {n} times is past the longest string a macro may make ({limit}; --max-string)"),
+            );
+            f.kind = super::ErrorKind::Limit;
+            return Err(f);
+        }
+        Ok(unit.repeat(n))
+    }
+
+    /// A new TextStream, its place counted in the memory budget (a loop opening streams
+    /// without end is stopped like one filling an array).
+    fn new_stream(&self, name: String, way: Way, span: Span) -> Run<Obj> {
+        self.charge(STREAM_BYTES, span)?;
+        let mut files = self.files.borrow_mut();
+        files.streams.push(Some(Channel { name, way }));
+        Ok(Obj::Files(FileObj::Stream(files.streams.len() - 1)))
+    }
+
+    /// Whether a file of the sandbox exists: written this run, listed, or in the folder.
+    fn exists(&self, name: &str, span: Span) -> Run<bool> {
+        if self.files.borrow().written_index(name).is_some() {
+            return Ok(true);
+        }
+        Ok(self.stored_bytes("FileExists", name, span)?.is_some())
+    }
+}
+
+/// An open file by its number or as a TextStream.
+#[derive(Clone, Copy, Debug)]
+enum Channels {
+    Numbered(i64),
+    Stream(usize),
+}
+
+impl Files {
+    fn channel(&self, c: Channels) -> Option<&Channel> {
+        match c {
+            Channels::Numbered(n) => self.numbered.get(&n),
+            Channels::Stream(id) => self.streams.get(id).and_then(Option::as_ref),
+        }
+    }
+
+    fn channel_mut(&mut self, c: Channels) -> Option<&mut Channel> {
+        match c {
+            Channels::Numbered(n) => self.numbered.get_mut(&n),
+            Channels::Stream(id) => self.streams.get_mut(id).and_then(Option::as_mut),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plain_names_pass_and_every_way_out_is_refused() {
+        for ok in ["program.nc", "O1234", "part 2.nc", ".hidden", "a.b.c", "CONFIG.txt", "com10.txt"] {
+            assert_eq!(checked_name(ok), None, "{ok}");
+        }
+        let refused = [
+            ("", "a file needs a name"),
+            ("../x.nc", "leaves the folder"),
+            ("..", "leaves the folder"),
+            ("sub/../../x", "leaves the folder"),
+            ("/etc/passwd", "an absolute path"),
+            ("\\x.nc", "an absolute path"),
+            ("C:\\out.nc", "a drive letter"),
+            ("c:out.nc", "a drive letter"),
+            ("\\\\server\\share\\x.nc", "UNC"),
+            ("//server/share/x.nc", "UNC"),
+            ("sub\\x.nc", "a backslash"),
+            ("sub/x.nc", "a folder part"),
+            ("a.txt:stream", "alternate data stream"),
+            ("CON", "device"),
+            ("nul.txt", "device"),
+            ("Com1.nc", "device"),
+            ("LPT9", "device"),
+            ("aux .txt", "device"),
+            ("a?.nc", "forbids"),
+            ("x.nc.", "trailing dot"),
+            ("x.nc ", "trailing dot or space"),
+            ("a\nb", "control character"),
+        ];
+        for (path, why) in refused {
+            let got = checked_name(path).unwrap_or_else(|| panic!("{path:?} passed"));
+            assert!(got.contains(why), "{path:?}: {got}");
+        }
+        assert!(checked_name(&"x".repeat(256)).is_some());
+    }
+
+    #[test]
+    fn input_fields_read_as_write_wrote_them() {
+        // "Write # statement": `"Hello World",234` then `#TRUE#`.
+        let text = "\"Hello World\",234\r\n#TRUE#,  -1.5 ,plain text\r\n";
+        let (a, at) = next_field(text, 0);
+        let (b, at) = next_field(text, at);
+        let (c, at) = next_field(text, at);
+        let (d, at) = next_field(text, at);
+        let (e, at) = next_field(text, at);
+        assert_eq!(
+            (a, b, c, d, e),
+            (
+                Value::text("Hello World"),
+                Value::Number(234.0),
+                Value::Bool(true),
+                Value::Number(-1.5),
+                Value::text("plain text")
+            )
+        );
+        assert_eq!(at, text.len());
+    }
+
+    #[test]
+    fn line_input_ends_lines_at_cr_and_crlf_readline_at_lf_too() {
+        assert_eq!(next_line("a\r\nb", 0, false), ("a", 3));
+        assert_eq!(next_line("a\rb", 0, false), ("a", 2));
+        assert_eq!(next_line("a\nb", 0, false), ("a\nb", 3));
+        assert_eq!(next_line("a\nb", 0, true), ("a", 2));
+    }
+}

@@ -1,0 +1,484 @@
+//! A macro's own files (issue 31, scopes 4 and 5): `Open`, `Print #`, `Write #`, `Input #`,
+//! `Line Input #`, `Close`, `FreeFile`, `EOF` and Scripting's FileSystemObject, inside the
+//! sandbox of `ncsheet run --out-dir DIR` and `--in-file PATH`.
+//!
+//! The formats are checked against Microsoft's VBA language reference (learn.microsoft.com,
+//! "Office VBA language reference", the page named at each test) and [MS-VBAL]; the sandbox
+//! runs the real `ncsheet run` binary on a temporary folder, with every spelling of a path
+//! out of it.
+
+mod common;
+
+use std::path::Path;
+use std::rc::Rc;
+
+use common::cli::{ncsheet, Run};
+use ncsheet::vba::{self, ErrorKind, FileAccess, MacroError, RunOptions, RunOutput};
+use ncsheet::workbook::Workbook;
+
+// ---- the language, on files in memory ------------------------------------------------------
+
+/// A sandbox with an empty output folder named `out` and the given inputs.
+fn sandbox(inputs: &[(&str, &[u8])]) -> RunOptions {
+    let inputs = inputs.iter().map(|(n, b)| (n.to_string(), Rc::from(*b))).collect();
+    let files = FileAccess { out_dir: Some("out".into()), inputs, read_out_dir: Rc::new(|_| Ok(None)) };
+    RunOptions { files: Some(files), ..RunOptions::default() }
+}
+
+fn run_with(src: &str, options: &RunOptions) -> Result<RunOutput, MacroError> {
+    vba::run(&mut Workbook::with_sheet(), src, "Module1.bas", options)
+}
+
+fn run(src: &str) -> RunOutput {
+    run_with(src, &sandbox(&[])).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The one file a macro body wrote, as text.
+fn written(body: &str) -> String {
+    let out = run(&format!("Sub Main()\n{body}\nEnd Sub\n"));
+    assert_eq!(out.files.len(), 1, "{:?}", out.files);
+    String::from_utf8(out.files[0].1.clone()).unwrap()
+}
+
+fn fail(body: &str, options: &RunOptions) -> MacroError {
+    match run_with(&format!("Sub Main()\n{body}\nEnd Sub\n"), options) {
+        Ok(out) => panic!("ran: {:?}", out.files),
+        Err(e) => e,
+    }
+}
+
+// "Print # statement", its example: a blank line for `Print #1,`, `Tab` to the next print zone
+// (zones are 14 columns: "Zone 2" starts in column 15), `Spc(5)` five spaces, `Tab(10)` to
+// column 10, a Boolean as False; every line ends with CR LF ([MS-VBAL] 5.4.5: the line
+// termination sequence).
+#[test]
+fn print_writes_the_reference_pages_example() {
+    let text = written(
+        "    Open \"TESTFILE\" For Output As #1
+    Print #1, \"This is a test\"
+    Print #1,
+    Print #1, \"Zone 1\"; Tab ; \"Zone 2\"
+    Print #1, \"Hello\" ; \" \" ; \"World\"
+    Print #1, Spc(5) ; \"5 leading spaces \"
+    Print #1, Tab(10) ; \"Hello\"
+    Dim MyBool
+    MyBool = False
+    Print #1, MyBool ; \" is a Boolean value\"
+    Close #1",
+    );
+    assert_eq!(
+        text,
+        "This is a test\r\n\r\nZone 1        Zone 2\r\nHello World\r\n     5 leading spaces \r\n         Hello\r\n\
+         False is a Boolean value\r\n"
+    );
+}
+
+// "Displaying Different Items on a Single Line" (Visual Basic reference): a positive number
+// prints with a leading and a trailing space, a negative one with its sign instead of the
+// leading space; `,` moves to the next 14-column zone; a trailing `;` keeps the line open
+// for the next Print #. "Tab function": a column already passed is taken on the next line.
+#[test]
+fn print_spaces_numbers_and_zones_as_vba() {
+    let text = written(
+        "    Open \"n.txt\" For Output As #1
+    Print #1, \"X\"; 2; \"Y\"; -7
+    Print #1, 1, 2
+    Print #1, \"a\";
+    Print #1, \"b\"
+    Print #1, \"abcdef\"; Tab(3); \"c\"
+    Close #1",
+    );
+    assert_eq!(text, "X 2 Y-7 \r\n 1             2 \r\nab\r\nabcdef\r\n  c\r\n");
+}
+
+// "Write # statement", its example: items comma-delimited, strings in quotation marks, a
+// blank line for `Write #1,`, Boolean data as #FALSE#, Error data as #ERROR errorcode#.
+#[test]
+fn write_quotes_and_delimits_as_the_reference_page() {
+    let text = written(
+        "    Open \"TESTFILE\" For Output As #1
+    Write #1, \"Hello World\", 234
+    Write #1,
+    Dim MyBool
+    MyBool = False
+    Write #1, MyBool ; \" is a Boolean value\"
+    Write #1, True, -1.5, CVErr(2007)
+    Close #1",
+    );
+    assert_eq!(text, "\"Hello World\",234\r\n\r\n#FALSE#,\" is a Boolean value\"\r\n#TRUE#,-1.5,#ERROR 2007#\r\n");
+}
+
+// "Input # statement": data written with Write # reads back item by item (a quoted string
+// whole, commas inside it kept; numbers as numbers); "Line Input # statement" reads a line
+// up to its CR LF without it; "EOF function" is True once the file is read to its end.
+#[test]
+fn input_and_line_input_read_back_what_was_written() {
+    let out = run("Sub Main()
+    Open \"data.txt\" For Output As #1
+    Write #1, \"a, b\", 42, True
+    Print #1, \"second line\"
+    Close #1
+    Dim s, n, b, line
+    Open \"data.txt\" For Input As #1
+    Input #1, s, n, b
+    Debug.Print s; \"|\"; n * 2; \"|\"; b
+    Do While Not EOF(1)
+        Line Input #1, line
+        Debug.Print \"[\" & line & \"]\"
+    Loop
+    Close #1
+End Sub
+");
+    assert_eq!(out.printed, vec!["a, b| 84 |True", "[second line]"]);
+}
+
+// "Trappable errors": 62 Input past end of file, 53 File not found, 52 Bad file name or
+// number, 55 File already open, 54 Bad file mode; each traps with On Error as VBA's do.
+#[test]
+fn file_errors_are_vbas_and_trappable() {
+    let out = run("Sub Main()
+    On Error Resume Next
+    Open \"e.txt\" For Output As #1
+    Close #1
+    Open \"e.txt\" For Input As #1
+    Line Input #1, s
+    Debug.Print Err.Number
+    Err.Clear
+    Open \"missing.txt\" For Input As #2
+    Debug.Print Err.Number
+    Err.Clear
+    Print #3, \"x\"
+    Debug.Print Err.Number
+    Err.Clear
+    Open \"f.txt\" For Output As #1
+    Debug.Print Err.Number
+    Err.Clear
+    Print #1, \"x\"
+    Debug.Print Err.Number
+End Sub
+");
+    assert_eq!(out.printed, vec![" 62 ", " 53 ", " 52 ", " 55 ", " 54 "]);
+}
+
+// "FreeFile function": the next file number not in use, from 1.
+#[test]
+fn freefile_gives_the_next_unused_number() {
+    let out = run("Sub Main()
+    Dim a, b
+    a = FreeFile
+    Open \"a.txt\" For Output As #a
+    b = FreeFile()
+    Debug.Print a; b
+    Close #a
+    Debug.Print FreeFile
+End Sub
+");
+    assert_eq!(out.printed, vec![" 1  2 ", " 1 "]);
+}
+
+// "CreateTextFile method", "OpenTextFile method" (ForAppending 8, ForReading 1),
+// "WriteLine method" (the string and a newline), "Write method" (no newline),
+// "FileExists method", "ReadLine method", "AtEndOfStream property".
+#[test]
+fn filesystemobject_writes_appends_and_reads_text_streams() {
+    let out = run("Sub Main()
+    Dim fso, ts
+    Set fso = CreateObject(\"Scripting.FileSystemObject\")
+    Set ts = fso.CreateTextFile(\"prog.nc\", True)
+    ts.WriteLine \"G0 X0\"
+    ts.Write \"G1 \"
+    ts.WriteLine \"X1\"
+    ts.Close
+    Debug.Print fso.FileExists(\"prog.nc\"); fso.FileExists(\"nope.nc\")
+    Set ts = fso.OpenTextFile(\"prog.nc\", ForAppending)
+    ts.WriteLine \"M30\"
+    ts.Close
+    Set ts = fso.OpenTextFile(\"prog.nc\", 1)
+    Do Until ts.AtEndOfStream
+        Debug.Print ts.ReadLine
+    Loop
+    ts.Close
+End Sub
+");
+    assert_eq!(out.printed, vec!["TrueFalse", "G0 X0", "G1 X1", "M30"]);
+    assert_eq!(out.files, vec![("prog.nc".to_string(), b"G0 X0\r\nG1 X1\r\nM30\r\n".to_vec())]);
+}
+
+#[test]
+fn a_listed_input_is_read_by_its_file_name_and_never_written() {
+    let options = sandbox(&[("points.csv", &b"1.5,2\r\n-3,4\r\n"[..])]);
+    let out = run_with(
+        "Sub Main()
+    Dim x, z
+    Open \"points.csv\" For Input As #1
+    Do Until EOF(1)
+        Input #1, x, z
+        Debug.Print x + z
+    Loop
+    Close #1
+End Sub
+",
+        &options,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.printed, vec![" 3.5 ", " 1 "]);
+    let e = fail("    Open \"points.csv\" For Append As #1", &options);
+    assert!(e.message.contains("\"points.csv\": refused: it is an input (--in-file)"), "{e}");
+}
+
+#[test]
+fn a_path_out_of_the_sandbox_stops_the_macro_even_under_on_error() {
+    for path in ["..\\x.nc", "../x.nc", "/tmp/x.nc", "C:\\x.nc", "\\\\srv\\share\\x.nc", "CON", "a.txt:s"] {
+        let e = fail(&format!("    On Error Resume Next\n    Open \"{path}\" For Output As #1"), &sandbox(&[]));
+        assert_eq!(e.kind, ErrorKind::Runtime, "{path}");
+        assert!(e.message.contains(&format!("Open \"{path}\": refused: ")), "{path}: {e}");
+        assert_eq!(e.span.unwrap().line, 3, "{path}");
+    }
+    let e = fail(
+        "    Set fso = CreateObject(\"Scripting.FileSystemObject\")\n    fso.CreateTextFile \"../x\"",
+        &sandbox(&[]),
+    );
+    assert!(e.message.contains("CreateTextFile \"../x\": refused: "), "{e}");
+}
+
+#[test]
+fn reading_only_runs_refuse_every_write() {
+    let mut options = sandbox(&[("in.txt", &b"x"[..])]);
+    options.files.as_mut().unwrap().out_dir = None;
+    let e = fail("    Open \"out.nc\" For Output As #1", &options);
+    assert!(
+        e.message.contains("\"out.nc\": refused: a macro writes files only inside a folder given with --out-dir"),
+        "{e}"
+    );
+}
+
+#[test]
+fn written_bytes_count_against_the_memory_limit() {
+    let options = RunOptions { max_memory: 1 << 20, ..sandbox(&[]) };
+    let e = fail(
+        "    Open \"big.txt\" For Output As #1\n    For i = 1 To 100000\n        Print #1, Space(99)\n    Next",
+        &options,
+    );
+    assert_eq!(e.kind, ErrorKind::Limit, "{e}");
+    assert!(e.message.contains("--max-memory"), "{e}");
+}
+
+#[test]
+fn text_windows_1252_cannot_hold_is_refused_not_replaced() {
+    let e = fail("    Open \"u.txt\" For Output As #1\n    Print #1, ChrW(8364) & ChrW(1046)", &sandbox(&[]));
+    assert!(e.message.contains("U+0416"), "{e}");
+    // The euro sign is Windows-1252's 0x80.
+    let out = run("Sub Main()\n    Open \"e.txt\" For Output As #1\n    Print #1, ChrW(8364)\nEnd Sub\n");
+    assert_eq!(out.files, vec![("e.txt".to_string(), b"\x80\r\n".to_vec())]);
+}
+
+// ---- the sandbox, through `ncsheet run` ---------------------------------------------------
+
+fn write(dir: &Path, name: &str, text: &str) -> String {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path.to_str().unwrap().to_string()
+}
+
+/// A folder with a workbook, a macro and an empty `out` folder; the run's answer.
+fn run_macro(dir: &Path, bas: &str, extra: &[&str]) -> Run {
+    let book = write(dir, "book.csv", "x\n1.5\n-2\n12.25\n");
+    let macro_file = write(dir, "macro.bas", bas);
+    let out = dir.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let mut args = vec!["run", &book, &macro_file, "--out-dir", out.to_str().unwrap()];
+    args.extend_from_slice(extra);
+    ncsheet(&args)
+}
+
+/// Every file under a folder, however deep (symbolic links not followed), by its path there.
+fn files_under(root: &Path) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut folders = vec![root.to_path_buf()];
+    while let Some(dir) = folders.pop() {
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let entry = entry.unwrap();
+            if entry.file_type().unwrap().is_dir() {
+                folders.push(entry.path());
+            } else {
+                out.push(entry.path().strip_prefix(root).unwrap().to_string_lossy().into_owned());
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// A G-code writer as shop macros are written: the program's blocks from the sheet's cells.
+const GCODE_WRITER: &str = "Sub Main()
+    Dim f As Integer, i As Integer
+    f = FreeFile
+    Open \"program.nc\" For Output As #f
+    Print #f, \"%\"
+    Print #f, \"O1001\"
+    Print #f, \"G21 G90\"
+    For i = 2 To 4
+        Print #f, \"N\" & (i - 1) * 10 & \" G01 X\" & Format(Cells(i, 1).Value, \"0.000\") & \" F200\"
+    Next i
+    Print #f, \"M30\"
+    Print #f, \"%\"
+    Close #f
+End Sub
+";
+
+#[test]
+fn a_gcode_writer_writes_its_program_into_the_out_dir() {
+    let dir = tempfile::tempdir().unwrap();
+    let r = run_macro(dir.path(), GCODE_WRITER, &[]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    let program = std::fs::read_to_string(dir.path().join("out/program.nc")).unwrap();
+    assert_eq!(
+        program,
+        "%\r\nO1001\r\nG21 G90\r\nN10 G01 X1.500 F200\r\nN20 G01 X-2.000 F200\r\nN30 G01 X12.250 F200\r\nM30\r\n%\r\n"
+    );
+    assert!(r.stderr.contains("out/program.nc: 92 bytes"), "{}", r.stderr);
+    assert_eq!(files_under(dir.path()), vec!["book.csv", "macro.bas", "out/program.nc"]);
+}
+
+#[test]
+fn a_failing_macro_leaves_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let bas = GCODE_WRITER.replace("    Close #f\n", "    Close #f\n    Err.Raise 5\n");
+    let r = run_macro(dir.path(), &bas, &[]);
+    assert_eq!(r.code, 1, "{}", r.stderr);
+    assert!(r.stderr.contains("its files were not written: program.nc"), "{}", r.stderr);
+    assert_eq!(files_under(dir.path()), vec!["book.csv", "macro.bas"]);
+}
+
+#[test]
+fn no_spelling_reaches_outside_the_out_dir() {
+    let dir = tempfile::tempdir().unwrap();
+    let outside = dir.path().join("outside.nc");
+    let spellings = [
+        "../outside.nc".to_string(),
+        "..\\outside.nc".to_string(),
+        outside.to_str().unwrap().to_string(),
+        "sub/x.nc".to_string(),
+        "sub\\..\\..\\outside.nc".to_string(),
+        "C:\\outside.nc".to_string(),
+        "c:outside.nc".to_string(),
+        "\\\\server\\share\\outside.nc".to_string(),
+        "//server/share/outside.nc".to_string(),
+        "CON".to_string(),
+        "nul.txt".to_string(),
+        "COM1.nc".to_string(),
+        "lpt1".to_string(),
+        "a.txt:hidden".to_string(),
+    ];
+    for path in &spellings {
+        for (how, statement) in [
+            ("Open", format!("    Open \"{path}\" For Output As #1\n    Print #1, \"G0\"\n    Close #1")),
+            ("Open", format!("    Open \"{path}\" For Append As #1")),
+            ("Open", format!("    Open \"{path}\" For Input As #1")),
+            (
+                "CreateTextFile",
+                format!(
+                    "    Set fso = CreateObject(\"Scripting.FileSystemObject\")\n    Set t = fso.CreateTextFile(\"{path}\")"
+                ),
+            ),
+            (
+                "OpenTextFile",
+                format!(
+                    "    Set fso = CreateObject(\"Scripting.FileSystemObject\")\n    Set t = fso.OpenTextFile(\"{path}\")"
+                ),
+            ),
+        ] {
+            let r = run_macro(dir.path(), &format!("Sub Main()\n{statement}\nEnd Sub\n"), &[]);
+            assert_eq!(r.code, 1, "{path}: {}", r.stderr);
+            assert!(r.stderr.contains(&format!("{how} \"{path}\": refused: ")), "{path}: {}", r.stderr);
+            assert_eq!(files_under(dir.path()), vec!["book.csv", "macro.bas"], "{path}");
+        }
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn a_symbolic_link_in_the_out_dir_is_neither_read_nor_written_through() {
+    let dir = tempfile::tempdir().unwrap();
+    let secret = write(dir.path(), "secret.txt", "keep out\n");
+    std::fs::create_dir_all(dir.path().join("out")).unwrap();
+    std::os::unix::fs::symlink(&secret, dir.path().join("out/link.txt")).unwrap();
+    let read = "Sub Main()\n    Open \"link.txt\" For Input As #1\n    Line Input #1, s\n    Debug.Print s\nEnd Sub\n";
+    let r = run_macro(dir.path(), read, &[]);
+    assert_eq!(r.code, 1, "{}", r.stderr);
+    assert!(r.stderr.contains("Open \"link.txt\": refused: ") && r.stderr.contains("symbolic link"), "{}", r.stderr);
+    assert!(!r.stderr.contains("keep out"), "{}", r.stderr);
+    for mode in ["Output", "Append"] {
+        let bas = format!(
+            "Sub Main()\n    Open \"link.txt\" For {mode} As #1\n    Print #1, \"G0\"\n    Close #1\nEnd Sub\n"
+        );
+        let r = run_macro(dir.path(), &bas, &[]);
+        assert_eq!(r.code, 1, "{mode}: {}", r.stderr);
+        assert!(r.stderr.contains("link.txt"), "{mode}: {}", r.stderr);
+        assert!(r.stderr.contains("symbolic link"), "{mode}: {}", r.stderr);
+        assert_eq!(std::fs::read_to_string(&secret).unwrap(), "keep out\n", "{mode}");
+    }
+}
+
+#[test]
+fn listed_inputs_are_read_and_the_folder_too() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    std::fs::create_dir_all(&data).unwrap();
+    let points = write(&data, "points.csv", "10,1\r\n20,2\r\n");
+    std::fs::create_dir_all(dir.path().join("out")).unwrap();
+    write(&dir.path().join("out"), "header.txt", "(HEADER)\r\n");
+    let bas = "Sub Main()
+    Dim x, z, head
+    Open \"header.txt\" For Input As #2
+    Line Input #2, head
+    Close #2
+    Open \"points.csv\" For Input As #1
+    Open \"p.nc\" For Output As #3
+    Print #3, head
+    Do Until EOF(1)
+        Input #1, x, z
+        Print #3, \"G1 X\" & x & \" Z\" & z
+    Loop
+    Close
+End Sub
+";
+    let r = run_macro(dir.path(), bas, &["--in-file", &points]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert_eq!(std::fs::read_to_string(dir.path().join("out/p.nc")).unwrap(), "(HEADER)\r\nG1 X10 Z1\r\nG1 X20 Z2\r\n");
+    // Without --in-file the same file is out of reach.
+    let r = run_macro(dir.path(), bas, &[]);
+    assert_eq!(r.code, 1, "{}", r.stderr);
+    assert!(r.stderr.contains("Open \"points.csv\": no such file"), "{}", r.stderr);
+    assert!(r.stderr.contains("(run-time error 53)"), "{}", r.stderr);
+}
+
+#[test]
+fn without_out_dir_file_statements_are_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let book = write(dir.path(), "book.csv", "x\n1\n");
+    let macro_file = write(dir.path(), "macro.bas", GCODE_WRITER);
+    let r = ncsheet(&["run", &book, &macro_file]);
+    assert_eq!(r.code, 1, "{}", r.stderr);
+    assert!(r.stderr.contains("a macro cannot touch files or run programs"), "{}", r.stderr);
+    assert!(r.stderr.contains("--out-dir"), "{}", r.stderr);
+}
+
+#[test]
+fn the_macro_cannot_write_over_the_workbook_in_its_out_dir() {
+    let dir = tempfile::tempdir().unwrap();
+    let book = write(dir.path(), "book.csv", "x\n1\n");
+    let bas = "Sub Main()\n    Open \"book.csv\" For Output As #1\n    Print #1, \"gone\"\n    Close #1\nEnd Sub\n";
+    let macro_file = write(dir.path(), "macro.bas", bas);
+    let r = ncsheet(&["run", &book, &macro_file, "--out-dir", dir.path().to_str().unwrap()]);
+    assert_eq!(r.code, 2, "{}", r.stderr);
+    assert!(r.stderr.contains("refusing to overwrite the input file"), "{}", r.stderr);
+    assert_eq!(std::fs::read_to_string(&book).unwrap(), "x\n1\n");
+}
+
+#[test]
+fn run_help_names_the_out_dir_and_the_in_files() {
+    let r = ncsheet(&["run", "--help"]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert!(r.stdout.contains("--out-dir <DIR>") && r.stdout.contains("--in-file <PATH>"), "{}", r.stdout);
+}
