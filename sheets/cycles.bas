@@ -6,9 +6,12 @@ Attribute VB_Name = "Cycles"
 '   ncsheet run part.xlsx cycles.bas --sub L16 --arg X=30 --arg W=40 --dialect nc31
 '   ncsheet run part.xlsx cycles.bas --sub L17 --dialect linuxcnc -o l17.ngc
 '   ncsheet run part.xlsx cycles.bas --sub L13 --arg R0=3 --arg R4=2.5
+'   ncsheet run part.xlsx cycles.bas --dialect nc31 --subprograms    ' L16 called, not unrolled
 '
 ' L16  zigzag roughing of an open surface: cuts along Z toward the chuck and back, stepping
-'      X down by P between the cuts, until the final diameter X plus the allowance A.
+'      X down by P between the cuts, until the final diameter X plus the allowance A. It
+'      also carries its NC31 subprogram (L16Subprogram): with `run --subprograms` the NC31
+'      program calls it, `L16 X30 W40 A0.5 P2 B44 F0.2`, instead of holding every pass.
 ' L17  loop: the finish contour L03, shifted out in X by a shrinking amount, cut once per pass
 '      from the face toward the chuck, each pass returning by rapid.
 ' L13  plunge ("descent") into a recess whose bottom is a contour of lines and an arc, a
@@ -27,6 +30,8 @@ Sub L16(Optional X As Double = 30, Optional W As Double = 40, Optional A As Doub
     Dim XT As Double, XK As Double, R1 As Double
     Begin "L16", 700, F, 1
     Nc.Comment "L16 zigzag X" & X & " W" & W & " A" & A & " P" & P
+    L16Subprogram
+    Nc.Cycle "L16", X, W, A, P, Stock, F   ' the blocks to Nc.EndCycle are this call of it
     XK = X + A                      ' the lowest diameter a pass may cut
     XT = Stock
     R1 = 0                          ' where the loop is: 0 at the face, W toward the chuck
@@ -41,7 +46,23 @@ N10:
     If XT > XK Then GoTo N10
     Nc.Rapid Stock + 2 * Clear, -R1
     Nc.Rapid Stock + 2 * Clear, 1
+    Nc.EndCycle
     Finish
+End Sub
+
+' L16 above as the NC31 runs it (docs/domain.md §2, "Calls with values"): the call's X W A P,
+' the blank's diameter B and the feed F land in R1-R6. R7 is the lowest pass diameter X + A,
+' R8 the pass diameter, R9 where the cut along Z ends (0 at the face, W toward the chuck),
+' R10 the diameter the rapids keep, Clear above the blank. ncsheet checks, before it writes
+' the call, that this runs exactly the blocks the Sub emitted.
+Sub L16Subprogram()
+    Nc.Subprogram "L16 XR1 WR2 AR3 PR4 BR5 FR6", _
+        "N1 R7=R1+R3", "N2 R8=R5", "N3 R9=0", "N4 R10=R5+" & 2 * Clear, _
+        "N5 XR10 Z1 E", "N6 XR10 Z0 E", _
+        "N7 R8=R8-R4", "N8 IF R8<R7 THEN R8=R7", "N9 XR8 FR6", _
+        "N10 IF R9=0 THEN R9=R2 GOTO N12", "N11 R9=0", "N12 Z-R9", _
+        "N13 IF R8>R7 THEN GOTO N7", _
+        "N14 XR10 Z-R9 E", "N15 XR10 Z1 E", "N16 M17"
 End Sub
 
 ' ---- L17 and its contour L03 --------------------------------------------------------------

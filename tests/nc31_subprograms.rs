@@ -3,6 +3,10 @@
 //! that take a parameter's value (`XR4`, `W-R1`), called per use. The reader runs it as the
 //! control does, so `nc` tools see the real path: the points are checked against the zigzag
 //! of the paper's L16 algorithm computed here, and against the flat (unrolled) program.
+//! Calls with values (`L16 X30 W40 …`, the letters bound by the header `L16 XR5 WR1 …`) read
+//! the same way; `run --dialect nc31 --subprograms` writes a macro's marked cycles so
+//! (sheets/cycles.bas's L16), checked against the cycle's path worked out here, against the
+//! unrolled program block for block, and with `nc time` and `nc check`.
 
 mod common;
 
@@ -173,4 +177,226 @@ fn what_the_control_would_not_run_is_refused_at_its_line() {
     // A subprogram without its M17.
     let e = refused("N001 L03\nN002 M02\nN003 L03\nN004 X40\n");
     assert_eq!(e.line, 3, "{e}");
+}
+
+// ---- calls with values, and programs written with subprograms (issue 33, scope 2) ---------
+
+/// The paper's call form: the header binds the call's letters to R parameters and each call
+/// gives them values, numbers or a parameter's (docs/domain.md §2, "Calls with values"): the
+/// job of [`with_subprograms`], its values now in the two calls (X the final diameter, W the
+/// loop, A the allowance, P the depth of cut as the paper's `L16 X W A P`, B the start).
+#[test]
+fn a_call_with_values_reads_back_as_the_papers_zigzag() {
+    let text = format!(
+        "N001 T1\nN002 S700 M03 F0.5\nN003 X44 Z0 E\nN004 L16 X30 W40 A0.5 P2 B44\nN005 X50 Z2 E\n\
+         N006 X30 Z-28 E\nN007 R9=1.5\nN008 L16 X20.4 W12 A0.2 PR9 B30\nN009 X60 Z5 E\nN010 M05\nN011 M02\n\
+         N100 L16 XR5 WR1 AR2 PR3 BR4\n{L16}"
+    );
+    assert_same_path(&moves(&read(&text)), &expected());
+}
+
+/// The repository's sheets/ file, by path (the binary runs in the test's folder).
+fn sheet(name: &str) -> String {
+    format!("{}/sheets/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+/// `ncsheet run sheets/chamfer.csv sheets/cycles.bas --dialect nc31 EXTRA…` into `out`: the text.
+fn run_cycles(out: &std::path::Path, extra: &[&str]) -> String {
+    let (book, bas) = (sheet("chamfer.csv"), sheet("cycles.bas"));
+    let mut args = vec!["run", &book, &bas, "--dialect", "nc31", "-o", out.to_str().unwrap()];
+    args.extend(extra);
+    let run = ncsheet(&args);
+    assert_eq!(run.code, 0, "{args:?}: {}", run.stderr);
+    std::fs::read_to_string(out).unwrap()
+}
+
+/// cycles.bas's L16 as docs/domain.md §2 describes it (zigzag, cutting both ways, the first
+/// pass at the blank's diameter B − P, the last exactly at X + A) with its approach and
+/// return in rapid 1 mm off the blank (2 on the diameter), from and back to Z1: (rapid, x, z).
+fn l16_moves(x: f64, w: f64, a: f64, p: f64, blank: f64) -> Vec<(bool, f64, f64)> {
+    let safe = blank + 2.0;
+    let mut moves = vec![(true, safe, 1.0), (true, safe, 0.0)];
+    let (mut pass, mut z) = (blank, 0.0);
+    loop {
+        pass = (pass - p).max(x + a);
+        moves.push((false, pass, z));
+        z = if z == 0.0 { -w } else { 0.0 };
+        moves.push((false, pass, z));
+        if pass <= x + a {
+            break;
+        }
+    }
+    moves.extend([(true, safe, z), (true, safe, 1.0)]);
+    moves
+}
+
+/// The feed in force at every cut.
+fn feeds(program: &Program) -> Vec<f64> {
+    let mut feed = f64::NAN;
+    let mut out = Vec::new();
+    for block in &program.blocks {
+        if let Block::Line { to, feed: f } = block {
+            feed = f.unwrap_or(feed);
+            if to.x.is_some() || to.z.is_some() {
+                out.push(feed);
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn the_cycles_macro_with_subprograms_calls_l16_and_moves_as_the_unrolled_program() {
+    let dir = tempfile::tempdir().unwrap();
+    let job = ["--sub", "L16", "--arg", "X=30", "--arg", "W=40", "--arg", "P=2", "--arg", "A=0.5"];
+    let flat = run_cycles(&dir.path().join("flat.nc31"), &job);
+    let mut with = job.to_vec();
+    with.push("--subprograms");
+    let called = run_cycles(&dir.path().join("sub.nc31"), &with);
+    // Written as the paper writes a cycle: one call with its values, the cycle once after
+    // M02 under a header binding the call's letters, ended by M17.
+    let (main, subprogram) = called.split_once("M02\n").expect("an M02");
+    let calls: Vec<&str> = main.lines().filter(|l| l.contains(" L16")).collect();
+    assert_eq!(calls.len(), 1, "{called}");
+    assert!(calls[0].ends_with(" L16 X30 W40 A0.5 P2 B44 F0.2"), "{called}");
+    assert!(!main.lines().any(|l| l.contains("Z-40")), "no pass is written in the main program:\n{called}");
+    assert!(subprogram.lines().next().unwrap().ends_with(" L16 XR1 WR2 AR3 PR4 BR5 FR6"), "{called}");
+    assert!(subprogram.trim_end().ends_with("M17"), "{called}");
+    // Read back with the subprogram run: the path of the unrolled program, and both the
+    // path of the cycle worked out here: 44 → 42, 40, …, 32, then 30.5 = X + A.
+    let want = l16_moves(30.0, 40.0, 0.5, 2.0, 44.0);
+    let passes: Vec<f64> = want.iter().filter(|m| !m.0).map(|m| m.1).step_by(2).collect();
+    assert_eq!(passes, [42.0, 40.0, 38.0, 36.0, 34.0, 32.0, 30.5]);
+    let (sub, unrolled) = (read(&called), read(&flat));
+    assert_same_path(&moves(&sub), &want);
+    assert_same_path(&moves(&unrolled), &want);
+    // Block for block: the feed of every cut, and the blocks that are no moves.
+    assert_eq!(feeds(&sub), feeds(&unrolled));
+    assert_eq!(feeds(&sub), [0.2; 14]);
+    let others = |p: &Program| -> Vec<Block> {
+        p.blocks.iter().filter(|b| !matches!(b, Block::Rapid(_) | Block::Line { .. })).cloned().collect()
+    };
+    assert_eq!(others(&sub), others(&unrolled));
+}
+
+#[test]
+fn the_whole_part_with_subprograms_times_and_checks_as_the_unrolled_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let (flat_path, sub_path) = (dir.path().join("flat.nc31"), dir.path().join("sub.nc31"));
+    let flat = run_cycles(&flat_path, &[]);
+    let called = run_cycles(&sub_path, &["--subprograms"]);
+    assert!(called.contains(" L16 X40 W35 A0.5 P2 B44 F0.2\n"), "{called}");
+    assert_same_path(&moves(&read(&called)), &moves(&read(&flat)));
+    for command in ["time", "check"] {
+        let run = |path: &std::path::Path| {
+            let mut args = vec!["nc", command, path.to_str().unwrap(), "--dialect", "nc31"];
+            if command == "time" {
+                args.extend(["--accel", "200", "--rapid", "10000"]);
+            }
+            ncsheet(&args)
+        };
+        let (a, b) = (run(&sub_path), run(&flat_path));
+        assert_eq!(a.code, b.code, "{command}: {}\n{}", a.stderr, b.stderr);
+        // The lines named differ (the passes are in the subprogram); findings and time not.
+        let text = |s: &str| -> Vec<String> {
+            s.replace("sub.nc31", "P")
+                .replace("flat.nc31", "P")
+                .lines()
+                .filter(|l| command == "check" || l.contains("cycle time"))
+                .map(|l| l.split_once(": ").map_or(l, |(_, m)| m).to_string())
+                .collect()
+        };
+        assert_eq!(text(&a.stdout), text(&b.stdout), "{command}:\n{}\n{}", a.stdout, b.stdout);
+        if command == "time" {
+            assert_eq!(text(&a.stdout).len(), 1, "{}", a.stdout);
+        }
+    }
+}
+
+/// A grooving cycle of a macro's own: three grooves at Z-10, -15, -20, 4, 5 and 6 mm deep on
+/// the diameter from X40, each marked as a use of L20 whose blocks are `body`.
+fn grooves(body: &str) -> String {
+    format!(
+        "Sub Main()\n    Nc.Machine = \"lathe\"\n    Nc.Tool 2\n    Nc.FeedPerRev 0.05\n    Nc.Spindle 500\n\
+         \x20   Nc.Subprogram \"L20 XR1 ZR2 DR3\", {body}\n    Dim i As Integer\n    For i = 0 To 2\n\
+         \x20       Nc.Cycle \"L20\", 40, -10 - 5 * i, 4 + i\n        Nc.Rapid 40, -10 - 5 * i\n\
+         \x20       Nc.Line 40 - (4 + i), , 0.05\n        Nc.Rapid 40\n        Nc.EndCycle\n    Next\n\
+         \x20   Nc.Spindle 0\nEnd Sub\n"
+    )
+}
+
+fn run_macro(src: &str) -> Result<Program, String> {
+    let mut wb = ncsheet::workbook::Workbook::with_sheet();
+    let options = ncsheet::vba::RunOptions::default();
+    ncsheet::vba::run(&mut wb, src, "grooves.bas", &options).map(|o| o.program).map_err(|e| e.to_string())
+}
+
+fn grooves_program(body: &str) -> Program {
+    run_macro(&grooves(body)).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// L20: in rapid to X Z, cut to X − D, out in rapid; one VBA string per block, and several
+/// blocks in one string, a line each.
+const GROOVE: &str = r#""N1 XR1 ZR2 E", "N2 R4=R1-R3" & vbLf & "N3 XR4 F0.05", "N4 XR1 E M17""#;
+
+#[test]
+fn a_macros_own_cycle_is_called_once_per_use_and_reads_back_as_its_grooves() {
+    let program = grooves_program(GROOVE);
+    let text = dialect::NC31.render_with_subprograms(&program).unwrap();
+    let (main, _) = text.split_once("M02\n").expect("an M02");
+    let calls: Vec<&str> = main.lines().filter(|l| l.contains(" L20 X")).collect();
+    assert_eq!(calls.len(), 3, "{text}");
+    assert!(calls[2].ends_with(" L20 X40 Z-20 D6"), "{text}");
+    assert_eq!(text.matches("M17").count(), 1, "the subprogram is written once:\n{text}");
+    // Each groove: in rapid to X40 at its Z, cut to 40 − depth, out in rapid.
+    let mut want = Vec::new();
+    for (z, depth) in [(-10.0, 4.0), (-15.0, 5.0), (-20.0, 6.0)] {
+        want.extend([(true, 40.0, z), (false, 40.0 - depth, z), (true, 40.0, z)]);
+    }
+    let got = read(&text);
+    assert_same_path(&moves(&got), &want);
+    assert_eq!(feeds(&got), [0.05; 3]);
+    // Without the option nothing changes: the blocks, as every writer writes them.
+    let flat = dialect::by_name("nc31").unwrap().render(&program).unwrap();
+    assert!(!flat.contains("L20") && !flat.contains("M17"), "{flat}");
+    assert_same_path(&moves(&read(&flat)), &want);
+}
+
+#[test]
+fn a_subprogram_that_does_not_do_what_its_blocks_do_is_refused() {
+    // Deeper instead of shallower: the check says where, in the program with the calls.
+    let wrong = GROOVE.replace("R4=R1-R3", "R4=R1+R3");
+    let e = dialect::NC31.render_with_subprograms(&grooves_program(&wrong)).unwrap_err();
+    assert!(e.message.contains("does not do what the blocks marked for them do"), "{e}");
+    assert!(e.message.contains("cuts to X44 Z-10"), "{e}");
+    // No feed in the subprogram: the first use's F0.05 is no longer in the main program.
+    let no_feed = GROOVE.replace(" F0.05", "");
+    let e = dialect::NC31.render_with_subprograms(&grooves_program(&no_feed)).unwrap_err();
+    assert!(e.message.contains("cuts to X36 Z-10 at F?"), "{e}");
+    // A use never closed; a use opened inside another.
+    let mut open = grooves_program(GROOVE);
+    open.calls[2].end = None;
+    let e = dialect::NC31.render_with_subprograms(&open).unwrap_err();
+    assert!(e.message.contains("not closed"), "{e}");
+    let e = run_macro(&grooves(GROOVE).replace("        Nc.EndCycle\n", "")).unwrap_err();
+    assert!(e.contains("close it with Nc.EndCycle first"), "{e}");
+    // --subprograms for a control without them.
+    let (book, bas) = (sheet("chamfer.csv"), sheet("cycles.bas"));
+    let iso = ncsheet(&["run", &book, &bas, "--dialect", "iso", "--subprograms"]);
+    assert_eq!(iso.code, 2, "{}", iso.stderr);
+    assert!(iso.stderr.contains("--dialect nc31"), "{}", iso.stderr);
+}
+
+#[test]
+fn nc_subprogram_refuses_what_the_reader_would_not_read() {
+    let fails = |lines: &str| run_macro(&format!("Sub Main()\n{lines}\nEnd Sub\n")).unwrap_err();
+    assert!(fails("Nc.Subprogram \"L20 X1\", \"N1 M17\"").contains("not to a value"));
+    assert!(fails("Nc.Subprogram \"L20 XR1\", \"N1 X2 M17\", \"N2 X3\"").contains("before its last block"));
+    assert!(fails("Nc.Subprogram \"L20 XR1\", \"N1 XR1\"").contains("no M17"));
+    assert!(
+        fails("Nc.Subprogram \"L20 XR1\", \"N1 M17\"\nNc.Subprogram \"L20 XR2\", \"N1 M17\"").contains("differently")
+    );
+    assert!(fails("Nc.Cycle \"L20\", 1").contains("no Nc.Subprogram before it"));
+    assert!(fails("Nc.Subprogram \"L20 XR1\", \"N1 M17\"\nNc.Cycle \"L20\", 1, 2").contains("takes 1 values"));
+    assert!(fails("Nc.EndCycle").contains("without an Nc.Cycle"));
 }

@@ -58,6 +58,13 @@ pub struct RunArgs {
     /// The machine the program is for, until the macro sets Nc.Machine
     #[arg(long, value_enum, default_value_t)]
     pub machine: MachineKind,
+    /// NC31: write each cycle the macro marks (Nc.Subprogram, Nc.Cycle … Nc.EndCycle, as
+    /// sheets/cycles.bas does for L16) once, as a subprogram with R parameters after M02, and
+    /// call it per use with its values (`L16 X40 W35 …`), as the cycles paper writes its
+    /// cycles. The program is read back with its subprograms run and refused unless it moves
+    /// as the unrolled one (docs/domain.md §2). Without it every cycle is written unrolled.
+    #[arg(long)]
+    pub subprograms: bool,
     /// Write the NC program here instead of standard output
     #[arg(short, long, value_name = "PROGRAM")]
     pub output: Option<PathBuf>,
@@ -175,6 +182,12 @@ pub fn run(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
 }
 
 fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
+    if args.subprograms && args.dialect.name() != dialect::NC31.name {
+        return Err(Error::Usage(format!(
+            "--subprograms writes NC31 subprograms: give --dialect nc31 (the {} dialect gets the cycles unrolled)",
+            args.dialect.name()
+        )));
+    }
     let doc = ncsheet::document::Document::open_file(&args.workbook, &super::open_options(delimiter))?;
     let opened = doc.into_opened();
     let mut wb = opened.workbook;
@@ -235,7 +248,18 @@ fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
     out.program.arc_tolerance = args.arc_tol;
     if emits_program(&out.program) {
         let d = args.dialect;
-        let text = d.render(&out.program).map_err(|e| Error::User(format!("{}: {e}", file.display())))?;
+        let text = if args.subprograms {
+            if out.program.calls.is_empty() {
+                eprintln!(
+                    "ncsheet: {}: note: the macro marks no cycle (Nc.Cycle … Nc.EndCycle), so no subprogram is written",
+                    file.display()
+                );
+            }
+            dialect::NC31.render_with_subprograms(&out.program)
+        } else {
+            d.render(&out.program)
+        };
+        let text = text.map_err(|e| Error::User(format!("{}: {e}", file.display())))?;
         let written_to = args.output.as_ref().map_or("standard output".to_string(), |p| p.display().to_string());
         summary = Some(program_summary(&out.program, &text, d.name(), &written_to));
         match &args.output {

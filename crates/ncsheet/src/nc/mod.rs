@@ -19,6 +19,6 @@ pub(crate) mod svg;
 
 pub use dialect::{by_name, Dialect, NcError};
 pub use program::{
-    ArcDirection, Block, Compensation, FeedMode, Machine, Program, Spindle, SpindleDirection, Target, ToolChange,
-    ToolOffset, Word,
+    ArcDirection, Block, Compensation, FeedMode, Machine, Program, Spindle, SpindleDirection, Subprogram,
+    SubprogramCall, Target, ToolChange, ToolOffset, Word,
 };

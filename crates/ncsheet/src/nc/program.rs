@@ -229,6 +229,45 @@ pub struct Program {
     /// apart from the tool (`G41 D21` on Fanuc/ISO; on LinuxCNC D names a tool-table entry);
     /// `None`: the called tool's own number. One for the whole program.
     pub radius_offset: Option<u32>,
+    /// Cycles the program may write once as NC31 subprograms (`Nc.Subprogram`), and
+    /// [`calls`](Program::calls), the blocks each use of one stands for. Only
+    /// `WordAddress::render_with_subprograms` writes them; every writer writes the blocks.
+    pub subprograms: Vec<Subprogram>,
+    pub calls: Vec<SubprogramCall>,
+}
+
+/// A cycle written once after the program's end as an NC31 subprogram (docs/domain.md §2,
+/// "Calls with values"): its header `L16 XR1 WR2 …` and its blocks.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Subprogram {
+    /// `L16`: 16.
+    pub number: u32,
+    /// The letters a call gives values to, each with the R parameter it sets, in the
+    /// header's order (`X` → R1, `W` → R2, …).
+    pub parameters: Vec<(char, u32)>,
+    /// Its blocks after the header as the control reads them, the last one ending in `M17`.
+    pub body: Vec<String>,
+}
+
+impl Subprogram {
+    /// A subprogram from its header as the control reads it (`L16`, or `L16 XR1 WR2 …`
+    /// binding letters to R parameters: docs/domain.md §2) and its blocks, the last one
+    /// (and only it) ending in `M17`.
+    pub fn new(header: &str, body: Vec<String>) -> Result<Subprogram, String> {
+        let (number, parameters) = crate::nc::read::nc31_subprogram(header, &body)?;
+        Ok(Subprogram { number, parameters, body })
+    }
+}
+
+/// One use of a subprogram: the blocks `first..end` of the program are what the subprogram
+/// runs when called with `values` (one per parameter, in the header's order).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SubprogramCall {
+    pub number: u32,
+    pub values: Vec<f64>,
+    pub first: usize,
+    /// One past the use's last block; `None` when the macro never closed it (`Nc.EndCycle`).
+    pub end: Option<usize>,
 }
 
 /// The chord tolerance (mm) arcs are written as lines within where the control has no
@@ -248,6 +287,8 @@ impl Program {
             blank: None,
             arc_tolerance: None,
             radius_offset: None,
+            subprograms: Vec::new(),
+            calls: Vec::new(),
         }
     }
 

@@ -12,12 +12,20 @@
 //! a lathe program must say it before its first cut), `Nc.Spindle 800` (M3), `Nc.Spindle 800,
 //! "ccw"` (M4), `Nc.Spindle 0` (stop), `Nc.Spindle Vc:=180, Limit:=2500` (constant surface
 //! speed on a lathe: m/min, and the spindle limit in 1/min), `Nc.Tool 3`, `Nc.Coolant True`.
+//!
+//! A cycle the NC31 may run as a subprogram (docs/domain.md §2, "Calls with values"):
+//! `Nc.Subprogram "L16 XR1 WR2", "N1 …", …, "N9 M17"` gives its header and blocks as the
+//! control reads them; `Nc.Cycle "L16", x, w` … `Nc.EndCycle` around the blocks a use of it
+//! emits marks them as that use, with the values of its header's letters in order. The blocks
+//! are emitted as ever; only `run --subprograms` writes the use as a call (and checks that the
+//! subprogram does what the blocks do).
 
 use crate::eval::coerce::to_bool;
 use crate::eval::{Ctx, Value};
 use crate::formula::ast::{Expr, ExprKind};
 use crate::nc::{
-    ArcDirection, Block, FeedMode, Machine, Spindle, SpindleDirection, Target, ToolChange, ToolOffset, Word,
+    ArcDirection, Block, FeedMode, Machine, Spindle, SpindleDirection, Subprogram, SubprogramCall, Target, ToolChange,
+    ToolOffset, Word,
 };
 
 use super::ast::{Link, Span};
@@ -32,6 +40,8 @@ pub struct NcState {
     feed: Option<f64>,
     /// The feed last written into a block: a cut writes F only when it changes.
     written: Option<f64>,
+    /// The use of a subprogram `Nc.Cycle` opened, as its index in the program's calls.
+    open_cycle: Option<usize>,
 }
 
 impl Interp<'_, '_> {
@@ -59,6 +69,15 @@ impl Interp<'_, '_> {
         drop(out);
         if let Some(v) = property {
             return Ok(Obj::Value(v));
+        }
+        let marked = match name.as_str() {
+            "subprogram" => Some(self.subprogram(ctx, link)),
+            "cycle" => Some(self.cycle(ctx, link)),
+            "endcycle" => Some(self.end_cycle(link)),
+            _ => None,
+        };
+        if let Some(done) = marked {
+            return done.map(|()| Obj::Value(Value::Blank));
         }
         let block = match name.as_str() {
             "rapid" => {
@@ -103,6 +122,89 @@ impl Interp<'_, '_> {
         };
         self.out.borrow_mut().program.push(block);
         Ok(Obj::Value(Value::Blank))
+    }
+
+    /// `Nc.Subprogram "L16 XR1 WR2 …", "N1 …", …`: the header, then the blocks (an argument
+    /// may hold several, one a line). Given again, it must be the same.
+    fn subprogram(&self, ctx: &mut Ctx, link: &Link) -> Run<()> {
+        let values = self.values(ctx, link)?;
+        let fault = |m: String| self.fault_at(link.span, format!("Nc.Subprogram: {m}"));
+        let mut lines: Vec<String> = Vec::new();
+        for v in &values {
+            let Value::Text(t) = v else {
+                return Err(fault(format!("{} is not the text of a block", print_text(v))));
+            };
+            lines.extend(t.lines().map(|l| l.trim().to_string()).filter(|l| !l.is_empty()));
+        }
+        if lines.len() < 2 {
+            return Err(fault("it takes the header (\"L16 XR1 WR2\") and the blocks, the last with M17".into()));
+        }
+        let header = lines.remove(0);
+        let subprogram = Subprogram::new(&header, lines).map_err(fault)?;
+        let mut out = self.out.borrow_mut();
+        let subprograms = &mut out.program.subprograms;
+        match subprograms.iter().find(|s| s.number == subprogram.number) {
+            Some(s) if *s == subprogram => {}
+            Some(_) => return Err(fault(format!("L{:02} is given twice, differently", subprogram.number))),
+            None => subprograms.push(subprogram),
+        }
+        Ok(())
+    }
+
+    /// `Nc.Cycle "L16", x, w, …`: the blocks emitted until `Nc.EndCycle` are a use of L16
+    /// with these values for its header's letters, in their order.
+    fn cycle(&self, ctx: &mut Ctx, link: &Link) -> Run<()> {
+        let values = self.values(ctx, link)?;
+        let fault = |m: String| self.fault_at(link.span, format!("Nc.Cycle: {m}"));
+        let name = values.first().map(print_text).unwrap_or_default();
+        let number = name
+            .trim()
+            .strip_prefix(['L', 'l'])
+            .and_then(|d| d.parse::<u32>().ok())
+            .ok_or_else(|| fault(format!("\"{name}\" is not a subprogram's name (\"L16\")")))?;
+        let numbers = values[1..]
+            .iter()
+            .map(|v| {
+                self.number_of(v, &format!("Nc.Cycle: a value of L{number:02}"))
+                    .map_err(|m| self.fault_at(link.span, m))
+            })
+            .collect::<Run<Vec<f64>>>()?;
+        let mut out = self.out.borrow_mut();
+        let Some(subprogram) = out.program.subprograms.iter().find(|s| s.number == number) else {
+            return Err(fault(format!("L{number:02} has no Nc.Subprogram before it")));
+        };
+        if subprogram.parameters.len() != numbers.len() {
+            let letters: Vec<String> = subprogram.parameters.iter().map(|(l, _)| l.to_string()).collect();
+            return Err(fault(format!(
+                "L{number:02} takes {} values ({}), not {}",
+                letters.len(),
+                letters.join(" "),
+                numbers.len()
+            )));
+        }
+        let mut nc = self.nc.borrow_mut();
+        if let Some(open) = nc.open_cycle {
+            let inside = out.program.calls[open].number;
+            return Err(fault(format!("inside the use of L{inside:02}: close it with Nc.EndCycle first")));
+        }
+        let first = out.program.blocks.len();
+        nc.open_cycle = Some(out.program.calls.len());
+        out.program.calls.push(SubprogramCall { number, values: numbers, first, end: None });
+        Ok(())
+    }
+
+    fn end_cycle(&self, link: &Link) -> Run<()> {
+        if link.args.as_ref().is_some_and(|a| !a.is_empty()) {
+            return Err(self.fault_at(link.span, "Nc.EndCycle takes no arguments"));
+        }
+        let open = self.nc.borrow_mut().open_cycle.take();
+        let Some(open) = open else {
+            return Err(self.fault_at(link.span, "Nc.EndCycle without an Nc.Cycle before it"));
+        };
+        let mut out = self.out.borrow_mut();
+        let end = out.program.blocks.len();
+        out.program.calls[open].end = Some(end);
+        Ok(())
     }
 
     /// `Nc.Spindle S [, Dir]`, `Nc.Spindle Vc:=…, Limit:=… [, Dir:=…]`; S 0 stops it.

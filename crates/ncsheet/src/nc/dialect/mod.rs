@@ -14,6 +14,7 @@ mod heidenhain;
 
 /// The numbers a Heidenhain control reads, for its reader's refusals ([`check_values`]).
 pub(crate) use heidenhain::format_for as plain_language_limits;
+mod subprograms;
 mod word_address;
 
 pub use heidenhain::Heidenhain;

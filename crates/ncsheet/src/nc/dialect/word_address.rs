@@ -2,6 +2,7 @@
 //! Sinumerik and the old NC31 lathe control; each is one [`WordAddress`] table. What each
 //! writes for feed mode, spindle, tool, numbering and comments is in docs/dialects.md.
 
+use super::subprograms::{self, Call};
 use super::{
     centre_offsets, check_program, check_values, chords, feed_style, program_name, sanitise, Dialect, Format, NcError,
     Position,
@@ -170,6 +171,32 @@ impl Dialect for WordAddress {
     }
 
     fn render(&self, program: &Program) -> Result<String, NcError> {
+        self.write(program, &[])
+    }
+}
+
+impl WordAddress {
+    /// The program with every use of a subprogram it marks ([`Program::calls`]) written as a
+    /// call, `L16 X30 W40 …`, in place of the use's blocks, and each subprogram used written
+    /// once after the program's end (docs/domain.md §2). NC31 only. Before it is returned
+    /// the text is read back with its subprograms run as the control runs them, and refused
+    /// unless it moves, dwells and sets the machine as the unrolled program does, block for
+    /// block. A program that marks no use is written as [`Dialect::render`] writes it.
+    pub fn render_with_subprograms(&self, program: &Program) -> Result<String, NcError> {
+        if self.family != Family::Nc31 {
+            return Err(self.error(None, "writes no subprograms (nc31 does)".into()));
+        }
+        let calls = subprograms::checked_calls(program).map_err(|(b, m)| self.error(b, m))?;
+        let called = self.write(program, &calls)?;
+        if !calls.is_empty() {
+            let flat = self.write(program, &[])?;
+            subprograms::same_motion(&flat, &called).map_err(|m| self.error(None, m))?;
+        }
+        Ok(called)
+    }
+
+    /// The program, each of `calls` written as a call of its subprogram (in block order).
+    fn write(&self, program: &Program, calls: &[Call<'_>]) -> Result<String, NcError> {
         if !self.machines.contains(&program.machine) {
             return Err(self.error(None, format!("writes no {:?} programs", program.machine).to_lowercase()));
         }
@@ -197,18 +224,44 @@ impl Dialect for WordAddress {
         if let Some(s) = setup {
             w.numbered(s);
         }
-        for (i, block) in program.blocks.iter().enumerate() {
+        let mut calls_left = calls.iter().peekable();
+        let mut i = 0;
+        while let Some(block) = program.blocks.get(i) {
+            if let Some(call) = calls_left.next_if(|c| c.first == i) {
+                // The writer's state (position, spindle, tool) as after the blocks the call
+                // stands for; their text is not written.
+                let (kept, next) = (w.out.len(), w.next);
+                for (k, b) in program.blocks[call.first..call.end].iter().enumerate() {
+                    w.block(b).map_err(|m| self.error(Some(call.first + k + 1), m))?;
+                }
+                w.out.truncate(kept);
+                w.next = next;
+                let text = subprograms::call(call, |v| w.number(v));
+                w.numbered(&text);
+                i = call.end;
+                continue;
+            }
             w.block(block).map_err(|m| self.error(Some(i + 1), m))?;
+            i += 1;
         }
         w.end(program.retract.as_ref());
+        let mut written: Vec<u32> = Vec::new();
+        for call in calls {
+            let subprogram = call.subprogram;
+            if !written.contains(&subprogram.number) {
+                written.push(subprogram.number);
+                w.numbered(&subprograms::header(subprogram));
+                for line in &subprogram.body {
+                    w.line(line.trim());
+                }
+            }
+        }
         for line in self.footer {
             w.line(line);
         }
         Ok(w.out)
     }
-}
 
-impl WordAddress {
     fn error(&self, block: Option<usize>, message: String) -> NcError {
         NcError { dialect: self.name, block, message }
     }

@@ -7,7 +7,11 @@
 //!   (`> >= < <= = <>`); `GOTO Nn` jumps to block Nn of the same (sub)program;
 //! - `L03` alone in a block calls subprogram L03, which is written after the main program's
 //!   `M02`, from a block `L03` to the block with `M17` (a block may move and end with M17,
-//!   `N007 X30 M17`). A subprogram takes its values in the R parameters set before its call.
+//!   `N007 X30 M17`). A subprogram takes its values in the R parameters set before its call;
+//! - or, as the cycles paper calls its cycles (`L13 DR2 XR1 AR3 PR0`), the header binds
+//!   letters to R parameters, `L16 XR1 WR2 AR3 PR4`, and every call gives each of those
+//!   letters its value, a number or a parameter's: `L16 X30 W40 A0.5 PR9` sets R1=30, R2=40,
+//!   R3=0.5 and R4 to R9's value (all worked out before any is set), then runs L16.
 //!
 //! [`expand`] turns a program into the blocks the control executes, each with its source
 //! line; a program without any of this comes back block for block.
@@ -50,16 +54,27 @@ fn error(line: usize, column: usize, message: impl Into<String>) -> ReadError {
     ReadError { line, column, message: message.into() }
 }
 
-/// Subprograms by number, each with the line of its header and its blocks.
-type Subprograms = HashMap<u32, (usize, Body)>;
+/// A subprogram as written: the line of its header, the letters its calls give values to
+/// (each with the R parameter it sets) and its blocks.
+struct Sub {
+    line: usize,
+    parameters: Vec<(char, u32)>,
+    body: Body,
+}
+
+/// Subprograms by number.
+type Subprograms = HashMap<u32, Sub>;
+
+/// A letter bound to an R parameter, as (letter, parameter).
+pub(crate) type Binding = (char, u32);
 
 /// The main program (to its M02) and the subprograms after it, by number.
 fn split(text: &str) -> Result<(Body, Subprograms), ReadError> {
     let mut main = Vec::new();
-    let mut subprograms: HashMap<u32, (usize, Body)> = HashMap::new();
+    let mut subprograms: Subprograms = HashMap::new();
     let mut ended = false;
-    // The subprogram being read: its number, header line and blocks.
-    let mut open: Option<(u32, usize, Body)> = None;
+    // The subprogram being read: its number and what is read of it so far.
+    let mut open: Option<(u32, Sub)> = None;
     for (i, raw) in text.lines().enumerate() {
         let Some(source) = source(raw, i + 1)? else { continue };
         if !ended {
@@ -67,31 +82,34 @@ fn split(text: &str) -> Result<(Body, Subprograms), ReadError> {
             main.push(source);
             continue;
         }
-        if let Some((n, line, mut body)) = open.take() {
+        if let Some((n, mut sub)) = open.take() {
             let last = has_word(&source.code, 'M', 17);
-            body.push(source);
+            sub.body.push(source);
             if last {
-                if subprograms.insert(n, (line, body)).is_some() {
+                let line = sub.line;
+                if subprograms.insert(n, sub).is_some() {
                     return Err(error(line, 1, format!("subprogram L{n:02} is written twice")));
                 }
             } else {
-                open = Some((n, line, body));
+                open = Some((n, sub));
             }
             continue;
         }
-        match lone_call(&source.code) {
-            Some(n) => open = Some((n, source.line, Vec::new())),
+        match header(&source.code) {
+            Some(Ok((n, parameters))) => open = Some((n, Sub { line: source.line, parameters, body: Vec::new() })),
+            Some(Err(m)) => return Err(error(source.line, source.column, m)),
             None => {
                 return Err(error(
                     source.line,
                     source.column,
-                    "text after the program's end (M02) that is not a subprogram (a block `Lnn`, its blocks, M17)",
+                    "text after the program's end (M02) that is not a subprogram (a header `Lnn` or `Lnn XR1 …`, \
+                     its blocks, M17)",
                 ))
             }
         }
     }
-    if let Some((n, line, _)) = open {
-        return Err(error(line, 1, format!("subprogram L{n:02} has no M17 at its end")));
+    if let Some((n, sub)) = open {
+        return Err(error(sub.line, 1, format!("subprogram L{n:02} has no M17 at its end")));
     }
     Ok((main, subprograms))
 }
@@ -137,18 +155,101 @@ fn has_word(code: &str, letter: char, n: u32) -> bool {
     false
 }
 
-/// `Lnn` alone: the subprogram's number.
-fn lone_call(code: &str) -> Option<u32> {
+/// `Lnn …`: the subprogram's number and the text after it; `None` when `code` is no `Lnn`.
+fn numbered_l(code: &str) -> Option<(u32, &str)> {
     let code = code.trim();
-    let digits = code.strip_prefix(['L', 'l'])?;
-    if digits.is_empty() || !digits.chars().all(|c| c.is_ascii_digit()) {
+    let after = code.strip_prefix(['L', 'l'])?;
+    let digits = after.len() - after.trim_start_matches(|c: char| c.is_ascii_digit()).len();
+    let rest = &after[digits..];
+    if digits == 0 || rest.starts_with(|c: char| !c.is_whitespace() && !c.is_ascii_alphabetic()) {
         return None;
     }
-    digits.parse().ok()
+    Some((after[..digits].parse().ok()?, rest))
+}
+
+/// A subprogram's header: `L16` alone, or with the letters its calls give values to, each
+/// bound to the R parameter it sets (`L16 XR1 WR2 AR3 PR4`); `None` when `code` is no `Lnn`.
+pub(crate) fn header(code: &str) -> Option<Result<(u32, Vec<Binding>), String>> {
+    let (n, rest) = numbered_l(code)?;
+    Some(bindings(rest).map(|p| (n, p)).map_err(|m| format!("the header of L{n:02}: {m}")))
+}
+
+/// A subprogram given as its header and its blocks (what `Nc.Subprogram` takes): its number
+/// and bindings, when the header reads and the blocks end, as the reader needs, in an `M17`
+/// in the last block and in no other.
+pub(crate) fn subprogram(header_text: &str, body: &[String]) -> Result<(u32, Vec<Binding>), String> {
+    let (n, parameters) = header(header_text).unwrap_or_else(|| {
+        Err(format!("`{}` is not a subprogram's header (L16, L16 XR1 WR2 …)", header_text.trim()))
+    })?;
+    let blocks: Vec<Source> = body
+        .iter()
+        .enumerate()
+        .map(|(i, text)| match source(text, i + 1) {
+            Ok(Some(s)) => Ok(s),
+            _ => Err(format!("L{n:02}'s block {} is empty", i + 1)),
+        })
+        .collect::<Result<_, _>>()?;
+    let ends = |s: &Source| has_word(&s.code, 'M', 17);
+    match blocks.iter().position(ends) {
+        Some(i) if i + 1 == blocks.len() => Ok((n, parameters)),
+        Some(i) => Err(format!("L{n:02}'s block {} ends it with M17 before its last block", i + 1)),
+        None => Err(format!("L{n:02} has no M17 at the end of its last block")),
+    }
+}
+
+/// `XR1 WR2 …`: each letter with its parameter, no parameter bound twice.
+fn bindings(text: &str) -> Result<Vec<Binding>, String> {
+    let mut out: Vec<Binding> = Vec::new();
+    for (letter, value) in words(text)? {
+        let r = value
+            .strip_prefix(['R', 'r'])
+            .and_then(|d| d.parse::<u32>().ok())
+            .ok_or_else(|| format!("{letter}{value}: a header binds a letter to a parameter (XR1), not to a value"))?;
+        if let Some((other, _)) = out.iter().find(|(_, p)| *p == r) {
+            return Err(format!("R{r} is bound to both {other} and {letter}"));
+        }
+        out.push((letter, r));
+    }
+    Ok(out)
+}
+
+/// A call's or a header's words: a letter (not R, which names parameters) and its value, a
+/// number or a parameter with an optional sign (`X30`, `W-R1`, `A.5`), as (letter, value text).
+fn words(text: &str) -> Result<Vec<(char, String)>, String> {
+    let chars: Vec<char> = text.chars().collect();
+    let mut out: Vec<(char, String)> = Vec::new();
+    let mut i = 0;
+    while i < chars.len() {
+        if chars[i].is_whitespace() {
+            i += 1;
+            continue;
+        }
+        let letter = chars[i].to_ascii_uppercase();
+        if !letter.is_ascii_alphabetic() || letter == 'R' {
+            let rest: String = chars[i..].iter().collect();
+            return Err(format!("`{}` where a letter and its value belong (X30, WR2)", rest.trim()));
+        }
+        let mut j = i + 1;
+        if matches!(chars.get(j), Some('+' | '-')) {
+            j += 1;
+        }
+        let parameter = matches!(chars.get(j), Some('R' | 'r'));
+        let start = j + usize::from(parameter);
+        let digits = chars[start..].iter().take_while(|c| c.is_ascii_digit() || (!parameter && **c == '.')).count();
+        if digits == 0 {
+            return Err(format!("{letter} without its value (X30, XR1)"));
+        }
+        if out.iter().any(|(l, _)| *l == letter) {
+            return Err(format!("{letter} is given twice"));
+        }
+        out.push((letter, chars[i + 1..start + digits].iter().collect()));
+        i = start + digits;
+    }
+    Ok(out)
 }
 
 struct Run<'a> {
-    subprograms: &'a HashMap<u32, (usize, Body)>,
+    subprograms: &'a Subprograms,
     parameters: HashMap<u32, f64>,
     out: Vec<(String, usize)>,
     jumps: usize,
@@ -211,15 +312,18 @@ impl Run<'_> {
             self.parameters.insert(n, value);
             return Ok(false);
         }
-        if let Some(n) = call(trimmed).map_err(at)? {
+        if let Some((n, given)) = call(trimmed).map_err(at)? {
             if depth >= MAX_DEPTH {
                 return Err(at(format!("L{n:02} called {MAX_DEPTH} deep: a subprogram that never returns")));
             }
-            let (_, body) = self
+            let sub = self
                 .subprograms
                 .get(&n)
                 .ok_or_else(|| at(format!("L{n:02} is called but not written after the program's M02")))?;
-            self.body(body, Some(n), depth + 1)?;
+            for (r, value) in self.arguments(n, sub, &given).map_err(at)? {
+                self.parameters.insert(r, value);
+            }
+            self.body(&sub.body, Some(n), depth + 1)?;
             return Ok(false);
         }
         let ends = number.is_some() && has_word(trimmed, 'M', 17);
@@ -271,6 +375,32 @@ impl Run<'_> {
             i = j + 1 + digits.len();
         }
         Ok(out)
+    }
+
+    /// The parameters a call of L`n` sets: one for every letter of its header, each given in
+    /// the call; all are worked out before any is set, so `L13 DR2 XR1` may swap R1 and R2.
+    fn arguments(&self, n: u32, sub: &Sub, given: &[(char, String)]) -> Result<Vec<(u32, f64)>, String> {
+        let letters: Vec<String> = sub.parameters.iter().map(|(l, r)| format!("{l}R{r}")).collect();
+        if let Some((letter, _)) = given.iter().find(|(l, _)| !sub.parameters.iter().any(|(p, _)| p == l)) {
+            return Err(if letters.is_empty() {
+                format!(
+                    "L{n:02} takes no values in its call: its header names no letters (its values are set in \
+                     R parameters before the call, R1=…)"
+                )
+            } else {
+                format!("L{n:02} has no parameter {letter} (its header: L{n:02} {})", letters.join(" "))
+            });
+        }
+        sub.parameters
+            .iter()
+            .map(|(letter, r)| {
+                let (_, text) = given
+                    .iter()
+                    .find(|(l, _)| l == letter)
+                    .ok_or_else(|| format!("the call of L{n:02} gives no {letter} (its header binds it to R{r})"))?;
+                Ok((*r, self.value(text)?))
+            })
+            .collect()
     }
 
     fn parameter(&self, n: u32) -> Result<f64, String> {
@@ -339,18 +469,16 @@ fn assignment(code: &str) -> Option<(u32, &str)> {
     Some((digits.parse().ok()?, expression))
 }
 
-/// A block that calls a subprogram: `L03` alone; anything else beside it is refused.
-fn call(code: &str) -> Result<Option<u32>, String> {
-    let upper = code.to_ascii_uppercase();
-    if !upper.starts_with('L') {
+/// A block that calls a subprogram: `L03` alone, or `L16 X30 WR2 …` with the values of its
+/// header's letters.
+fn call(code: &str) -> Result<Option<(u32, Vec<(char, String)>)>, String> {
+    if !code.to_ascii_uppercase().starts_with('L') {
         return Ok(None);
     }
-    lone_call(code).map(Some).ok_or_else(|| {
-        format!(
-            "`{code}`: a subprogram is called by `Lnn` alone here, its values set in R parameters \
-             before the call (R1=…)"
-        )
-    })
+    let (n, rest) = numbered_l(code).ok_or_else(|| {
+        format!("`{code}`: a subprogram is called by `Lnn`, with the values of its header's letters (L16 X30 W40)")
+    })?;
+    Ok(Some((n, words(rest).map_err(|m| format!("the call of L{n:02}: {m}"))?)))
 }
 
 /// `code` without its M17 word.
@@ -477,6 +605,18 @@ mod tests {
     }
 
     #[test]
+    fn a_call_gives_the_headers_letters_their_values_all_at_once() {
+        // The paper's call form (`L13 DR2 XR1 …`): D and X take R2's and R1's values as they
+        // were at the call, though the header binds D to R1 and X to R2.
+        let text = "N001 R1=5\nN002 R2=7\nN003 L13 DR2 XR1 A-0.5\nN004 L13 D1 X2 A+R1\nN005 M02\n\
+                    N100 L13 DR1 XR2 AR3\nN101 XR1 ZR2\nN102 U-R3 M17\n";
+        assert_eq!(
+            blocks(text),
+            ["N101 X7.000 Z5.000", "N102 U0.500", "N101 X1.000 Z2.000", "N102 U-7.000", "N005 M02"]
+        );
+    }
+
+    #[test]
     fn what_the_control_cannot_run_is_refused_at_its_line() {
         let e = |t: &str| expand(t).unwrap_err();
         assert_eq!(e("N001 XR4\nN002 M02\n").line, 1);
@@ -487,6 +627,12 @@ mod tests {
         assert!(e("N001 M02\nN002 X4\n").message.contains("after the program's end"));
         assert!(e("N001 M02\nN002 L03\nN003 X4\n").message.contains("no M17"));
         assert!(e("N001 GOTO N9\nN002 M02\n").message.contains("no block N9"));
-        assert!(e("N001 L03 W-R1\nN002 M02\n").message.contains("R parameters"));
+        assert!(e("N001 L03 W-R1\nN002 M02\nN003 L03\nN004 M17\n").message.contains("takes no values"));
+        assert!(e("N001 L03 W-R1\nN002 M02\nN003 L03 XR1\nN004 M17\n").message.contains("no parameter W"));
+        assert!(e("N001 L03 W1\nN002 M02\nN003 L03 XR1 WR2\nN004 M17\n").message.contains("gives no X"));
+        assert!(e("N001 M02\nN003 L03 X1\nN004 M17\n").message.contains("not to a value"));
+        assert!(e("N001 M02\nN003 L03 XR1 WR1\nN004 M17\n").message.contains("R1 is bound to both X and W"));
+        assert!(e("N001 L03 X1 X2\nN002 M02\n").message.contains("X is given twice"));
+        assert!(e("N001 L03 X\nN002 M02\n").message.contains("without its value"));
     }
 }
