@@ -482,3 +482,31 @@ fn run_help_names_the_out_dir_and_the_in_files() {
     assert_eq!(r.code, 0, "{}", r.stderr);
     assert!(r.stdout.contains("--out-dir <DIR>") && r.stdout.contains("--in-file <PATH>"), "{}", r.stdout);
 }
+
+// "Workbook.Path property (Excel)": the folder, without a separator at its end; a macro
+// joins a file name to it with "\" or Application.PathSeparator. Here the folder is the
+// one --out-dir gives, so such a macro writes there and nowhere else.
+#[test]
+fn this_workbook_path_is_the_out_dir() {
+    let dir = tempfile::tempdir().unwrap();
+    let bas = "Sub Main()
+    Open ThisWorkbook.Path & \"\\a.nc\" For Output As #1
+    Print #1, \"G0 X0\"
+    Close #1
+    Open ThisWorkbook.Path & Application.PathSeparator & \"b.nc\" For Output As #2
+    Print #2, \"M30\"
+    Close #2
+End Sub
+";
+    let r = run_macro(dir.path(), bas, &[]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert_eq!(files_under(dir.path()), vec!["book.csv", "macro.bas", "out/a.nc", "out/b.nc"]);
+    assert_eq!(std::fs::read_to_string(dir.path().join("out/a.nc")).unwrap(), "G0 X0\r\n");
+    // The folder's name is no way out: what follows it is a plain name too.
+    let bas = "Sub Main()\n    Open ThisWorkbook.Path & \"\\..\\x.nc\" For Output As #1\nEnd Sub\n";
+    let r = run_macro(dir.path(), bas, &[]);
+    assert_eq!(r.code, 1, "{}", r.stderr);
+    assert!(r.stderr.contains("x.nc\": refused: \"..\" leaves the folder"), "{}", r.stderr);
+    let e = fail("    x = ThisWorkbook.Path", &RunOptions::default());
+    assert!(e.message.contains("ThisWorkbook.Path: a macro's folder is the one given with"), "{e}");
+}

@@ -342,6 +342,17 @@ impl Files {
     }
 }
 
+/// A folder as `ThisWorkbook.Path` gives it: without a separator at its end ("Path
+/// property (Excel)": the complete path to the workbook's folder), the root excepted.
+fn folder_spelling(dir: &str) -> String {
+    let trimmed = dir.trim_end_matches(['/', '\\']);
+    if trimmed.is_empty() {
+        dir.to_string()
+    } else {
+        trimmed.to_string()
+    }
+}
+
 /// A value as `Print #` writes it: numbers with room for a sign before and a space after.
 fn print_form(v: &Value) -> String {
     match v {
@@ -470,10 +481,27 @@ impl Interp<'_, '_> {
         self.options.files.as_ref().expect("file statements parse only when the run has files")
     }
 
-    /// The sandbox name of a path the macro gave, or the refusal naming it.
+    /// `ThisWorkbook.Path`: the --out-dir folder as the user named it, the one folder a
+    /// macro has (a real macro joins it with a file name: `ThisWorkbook.Path & "\prog.nc"`).
+    pub(super) fn workbook_path(&self, link: &Link) -> Run<Obj> {
+        match self.options.files.as_ref().and_then(|f| f.out_dir.as_deref()) {
+            Some(dir) => Ok(Obj::Value(Value::text(folder_spelling(dir)))),
+            None => Err(self.fault_at(
+                link.span,
+                "ThisWorkbook.Path: a macro's folder is the one given with `ncsheet run --out-dir DIR`, and this run \
+                 has none",
+            )),
+        }
+    }
+
+    /// The sandbox name of a path the macro gave, or the refusal naming it. A path in the
+    /// --out-dir folder as `ThisWorkbook.Path` spells it is the file name after it.
     fn sandbox_name(&self, what: &str, path: &str, span: Span) -> Run<String> {
-        match checked_name(path) {
-            None => Ok(path.to_string()),
+        let dir = self.access().out_dir.as_deref().map(folder_spelling);
+        let inside = dir.and_then(|d| path.strip_prefix(d.as_str())?.strip_prefix(['\\', '/']).map(str::to_string));
+        let name = inside.as_deref().unwrap_or(path);
+        match checked_name(name) {
+            None => Ok(name.to_string()),
             Some(why) => {
                 let folder = match &self.access().out_dir {
                     Some(dir) => format!("the --out-dir folder ({dir})"),

@@ -105,8 +105,10 @@
 //! `OpenTextFile` (`ForReading` 1, `ForWriting` 2, `ForAppending` 8), `FileExists` and the
 //! TextStream's `WriteLine`, `Write`, `WriteBlankLines`, `ReadLine`, `ReadAll`, `SkipLine`,
 //! `AtEndOfStream`, `Close`. A name is a plain file name in DIR (`program.nc`) or a listed
-//! input's file name; any other path (a folder part, `..`, absolute, a drive, UNC, a device
-//! name, `a.txt:stream`) stops the macro, and no `On Error` traps that. What the macro writes
+//! input's file name (`ThisWorkbook.Path` is DIR, so `ThisWorkbook.Path & "\prog.nc"` and
+//! `Application.PathSeparator` name a file there); any other path (a folder part, `..`,
+//! absolute, a drive, UNC, a device name, `a.txt:stream`) stops the macro, and no `On Error`
+//! traps that. What the macro writes
 //! is held until it ends and written only if it ran to its end ([`RunOutput::files`]). VBA's
 //! file errors are trappable: 52, 53 (not found), 54, 55 (already open), 58, 62 (past the end).
 //!

@@ -158,10 +158,13 @@ impl Interp<'_, '_> {
                     None => Err(self.fault_at(link.span, "Application.Caller: the macro was not called from a cell")),
                 },
                 "referencestyle" => Ok(Obj::Value(Value::Number(f64::from(self.reference_style.get())))),
+                // Windows Excel's: a macro joins its paths with it (`files.rs` reads both).
+                "pathseparator" => Ok(Obj::Value(Value::text("\\"))),
                 _ => Err(self.no_member(&Obj::App, link)),
             },
             Obj::Workbook => match name.as_str() {
                 "worksheets" | "sheets" | "activesheet" => self.root(ctx, link),
+                "path" => self.workbook_path(link),
                 _ => Err(self.no_member(&Obj::Workbook, link)),
             },
             Obj::Sheets => match name.as_str() {
