@@ -134,6 +134,12 @@ fn nc_time_and_check_see_the_expanded_path() {
     let flat_path = dir.path().join("flat.nc31");
     std::fs::write(&sub, with_subprograms()).unwrap();
     std::fs::write(&flat_path, flat()).unwrap();
+    assert_time_and_check_agree(&sub, &flat_path);
+}
+
+/// `nc time` and `nc check` say the same of both programs: the cycle time, and the findings
+/// (whose lines differ: the passes of one are in its subprogram).
+fn assert_time_and_check_agree(sub: &std::path::Path, flat: &std::path::Path) {
     for command in ["time", "check"] {
         let run = |path: &std::path::Path| {
             let mut args = vec!["nc", command, path.to_str().unwrap(), "--dialect", "nc31"];
@@ -142,19 +148,20 @@ fn nc_time_and_check_see_the_expanded_path() {
             }
             ncsheet(&args)
         };
-        let (a, b) = (run(&sub), run(&flat_path));
+        let (a, b) = (run(sub), run(flat));
         assert_eq!(a.code, b.code, "{command}: {}\n{}", a.stderr, b.stderr);
-        let strip = |s: &str| s.replace("sub.nc31", "P").replace("flat.nc31", "P");
+        let text = |s: &str| -> Vec<String> {
+            let named = |p: &std::path::Path| p.file_name().unwrap().to_string_lossy().into_owned();
+            s.replace(&named(sub), "P")
+                .replace(&named(flat), "P")
+                .lines()
+                .filter(|l| command == "check" || l.contains("cycle time"))
+                .map(|l| l.split_once(": ").map_or(l, |(_, m)| m).to_string())
+                .collect()
+        };
+        assert_eq!(text(&a.stdout), text(&b.stdout), "{command}:\n{}\n{}", a.stdout, b.stdout);
         if command == "time" {
-            let time = |s: &str| s.lines().find(|l| l.contains("cycle time")).map(str::to_string);
-            assert!(time(&a.stdout).is_some(), "{}{}", a.stdout, a.stderr);
-            assert_eq!(time(&a.stdout), time(&b.stdout));
-        } else {
-            // Findings name source lines, which differ; their messages must not.
-            let messages = |s: &str| -> Vec<String> {
-                strip(s).lines().map(|l| l.split_once(": ").map_or(l, |(_, m)| m).to_string()).collect()
-            };
-            assert_eq!(messages(&a.stdout), messages(&b.stdout));
+            assert_eq!(text(&a.stdout).len(), 1, "{}{}", a.stdout, a.stderr);
         }
     }
 }
@@ -287,30 +294,7 @@ fn the_whole_part_with_subprograms_times_and_checks_as_the_unrolled_one() {
     let called = run_cycles(&sub_path, &["--subprograms"]);
     assert!(called.contains(" L16 X40 W35 A0.5 P2 B44 F0.2\n"), "{called}");
     assert_same_path(&moves(&read(&called)), &moves(&read(&flat)));
-    for command in ["time", "check"] {
-        let run = |path: &std::path::Path| {
-            let mut args = vec!["nc", command, path.to_str().unwrap(), "--dialect", "nc31"];
-            if command == "time" {
-                args.extend(["--accel", "200", "--rapid", "10000"]);
-            }
-            ncsheet(&args)
-        };
-        let (a, b) = (run(&sub_path), run(&flat_path));
-        assert_eq!(a.code, b.code, "{command}: {}\n{}", a.stderr, b.stderr);
-        // The lines named differ (the passes are in the subprogram); findings and time not.
-        let text = |s: &str| -> Vec<String> {
-            s.replace("sub.nc31", "P")
-                .replace("flat.nc31", "P")
-                .lines()
-                .filter(|l| command == "check" || l.contains("cycle time"))
-                .map(|l| l.split_once(": ").map_or(l, |(_, m)| m).to_string())
-                .collect()
-        };
-        assert_eq!(text(&a.stdout), text(&b.stdout), "{command}:\n{}\n{}", a.stdout, b.stdout);
-        if command == "time" {
-            assert_eq!(text(&a.stdout).len(), 1, "{}", a.stdout);
-        }
-    }
+    assert_time_and_check_agree(&sub_path, &flat_path);
 }
 
 /// A grooving cycle of a macro's own: three grooves at Z-10, -15, -20, 4, 5 and 6 mm deep on
