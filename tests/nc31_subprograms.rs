@@ -364,6 +364,11 @@ fn a_subprogram_that_does_not_do_what_its_blocks_do_is_refused() {
     assert!(e.message.contains("not closed"), "{e}");
     let e = run_macro(&grooves(GROOVE).replace("        Nc.EndCycle\n", "")).unwrap_err();
     assert!(e.contains("close it with Nc.EndCycle first"), "{e}");
+    // A value the call's words would round: the subprogram would cut elsewhere.
+    let fine = grooves(GROOVE).replace("4 + i\n", "4.0004 + i\n").replace("40 - (4 + i)", "40 - (4.0004 + i)");
+    let e = dialect::NC31.render_with_subprograms(&run_macro(&fine).unwrap()).unwrap_err();
+    assert!(e.message.contains("L20's D is 4.0004, which the control's words write as D4"), "{e}");
+    assert_eq!(e.block, Some(4), "the first use's first block (after T2, the feed mode, S500): {e}");
     // --subprograms for a control without them.
     let (book, bas) = (sheet("chamfer.csv"), sheet("cycles.bas"));
     let iso = ncsheet(&["run", &book, &bas, "--dialect", "iso", "--subprograms"]);

@@ -95,7 +95,10 @@
 //! machine's state is part of the program: `Nc.FeedPerRev 0.1` / `Nc.FeedPerMin 200` (what F
 //! means; a lathe program is refused without it), `Nc.Spindle 800` (M3, `"ccw"` for M4, 0 to
 //! stop; `Vc:=180, Limit:=2500` for constant surface speed), `Nc.Tool 1` (`Offset:=2`: another
-//! offset register, 0: none), `Nc.Coolant True`.
+//! offset register, 0: none), `Nc.Coolant True`. A cycle may carry its NC31 subprogram:
+//! `Nc.Subprogram "L16 XR1 WR2 …", "N1 …", …, "N16 M17"`, and `Nc.Cycle "L16", x, w, …` …
+//! `Nc.EndCycle` around the blocks one use emits (`ncsheet run --subprograms` writes that use
+//! as the call `L16 X… W…`; `nc.rs` says more).
 //! `InputBox` is refused: pass values with `--arg`.
 //!
 //! Files, with `ncsheet run --out-dir DIR` (and `--in-file PATH` to read): `Open name For

@@ -68,13 +68,22 @@ pub(super) fn header(subprogram: &Subprogram) -> String {
     text
 }
 
-/// The call block: `L16 X30 W40 …`, each value written by `number`.
-pub(super) fn call(call: &Call<'_>, number: impl Fn(f64) -> String) -> String {
+/// The call block: `L16 X30 W40 …`, each value written by `number`; refused when a value
+/// as written is not the value (more decimals than the control's), which the subprogram
+/// would run with instead.
+pub(super) fn call(call: &Call<'_>, number: impl Fn(f64) -> String) -> Result<String, String> {
     let mut text = format!("L{:02}", call.subprogram.number);
     for ((letter, _), v) in call.subprogram.parameters.iter().zip(call.values) {
-        text.push_str(&format!(" {letter}{}", number(*v)));
+        let written = number(*v);
+        if written.parse::<f64>().map_or(true, |w| (w - v).abs() > 1e-9 * v.abs().max(1.0)) {
+            return Err(format!(
+                "L{:02}'s {letter} is {v}, which the control's words write as {letter}{written}",
+                call.subprogram.number
+            ));
+        }
+        text.push_str(&format!(" {letter}{written}"));
     }
-    text
+    Ok(text)
 }
 
 /// What a block does to the machine, as the comparison sees it: a move with the position it

@@ -236,7 +236,7 @@ impl WordAddress {
                 }
                 w.out.truncate(kept);
                 w.next = next;
-                let text = subprograms::call(call, |v| w.number(v));
+                let text = subprograms::call(call, |v| w.number(v)).map_err(|m| self.error(Some(call.first + 1), m))?;
                 w.numbered(&text);
                 i = call.end;
                 continue;
