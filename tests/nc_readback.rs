@@ -30,8 +30,8 @@ const T8_1_1: [(u64, u64, u64, u64, u64, u64, u64); 16] = [
 #[test]
 fn dda_reproduces_table_t8_1_1_every_clock() {
     let run = dda::linear(4, &[16, 8]).unwrap();
-    assert_eq!(run.clocks.len(), 16);
-    for (clock, row) in run.clocks.iter().zip(T8_1_1) {
+    assert_eq!(run.clocks().count(), 16);
+    for (clock, row) in run.clocks().zip(T8_1_1) {
         let (x, y) = (clock.axes[0], clock.axes[1]);
         let got = (clock.number, x.p, x.q, u64::from(x.pulse), y.p, y.q, u64::from(y.pulse));
         assert_eq!(got, row, "clock {}", row.0);
@@ -84,6 +84,69 @@ fn nc_dda_takes_millimetres_at_the_machine_increment() {
     let off_grid = run(&["nc", "dda", "--increment", "0.001", "--dx", "0.0165"]);
     assert_eq!(off_grid.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&off_grid.stderr).contains("--dx"));
+}
+
+/// A legal move of 16,000,000 increments (a 24-bit adder: 2^24 = 16,777,216 clocks) comes out
+/// whole under a 1 GiB address-space cap: its table, about 1.2 GB, is written row by row (held
+/// in memory it aborted at the cap; then it was refused past 2^20 clocks). Counted, not timed.
+#[test]
+fn nc_dda_writes_a_table_of_two_to_the_24_clocks_within_bounded_memory() {
+    use std::io::Read;
+    let mut child = Command::new("sh")
+        .arg("-c")
+        .arg("ulimit -v 1048576; exec \"$0\" \"$@\"")
+        .arg(env!("CARGO_BIN_EXE_ncsheet"))
+        .args(["nc", "dda", "--dx", "16000000", "--dy", "3"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdout = child.stdout.take().unwrap();
+    let (mut lines, mut head, mut tail) = (0u64, Vec::new(), Vec::new());
+    let mut buf = vec![0u8; 1 << 16];
+    loop {
+        let n = stdout.read(&mut buf).unwrap();
+        if n == 0 {
+            break;
+        }
+        lines += buf[..n].iter().filter(|&&b| b == b'\n').count() as u64;
+        if head.len() < 1000 {
+            head.extend_from_slice(&buf[..n.min(1000)]);
+        }
+        tail.extend_from_slice(&buf[..n]);
+        let keep = tail.len().saturating_sub(1000);
+        tail.drain(..keep);
+    }
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.success(), "{:?}: {}", out.status, String::from_utf8_lossy(&out.stderr));
+    // The title, the column heads, the row of zeros, 2^24 clocks and the pulses.
+    assert_eq!(lines, 3 + (1 << 24) + 1);
+    let head = String::from_utf8_lossy(&head);
+    let rows: Vec<Vec<&str>> = head.lines().map(|l| l.split_whitespace().collect()).collect();
+    assert_eq!(rows[0].join(" "), "DDA: 24 bits, 2^24 = 16777216 clocks");
+    // Clock 2: X's sum 16,000,000 + 16,000,000 passes 2^24 and leaves 15,222,784 with a
+    // pulse; Y's q holds 3 + 3.
+    assert_eq!(rows[4], ["2", "16000000", "32000000-16777216=15222784", "1", "3", "6", "0"]);
+    let tail = String::from_utf8_lossy(&tail);
+    assert_eq!(tail.lines().last().unwrap().split_whitespace().collect::<Vec<_>>(), ["pulses", "16000000", "3"]);
+}
+
+/// `nc dda -o OUT` writes through the one atomic write exactly what stdout shows.
+#[test]
+fn nc_dda_writes_its_table_to_a_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("t8.txt");
+    let run = |args: &[&str]| Command::new(env!("CARGO_BIN_EXE_ncsheet")).args(args).output().unwrap();
+    let shown = run(&["nc", "dda", "--bits", "4", "--dx", "16", "--dy", "8"]);
+    let written = run(&["nc", "dda", "--bits", "4", "--dx", "16", "--dy", "8", "-o", file.to_str().unwrap()]);
+    assert!(written.status.success(), "{}", String::from_utf8_lossy(&written.stderr));
+    assert!(written.stdout.is_empty());
+    assert_eq!(std::fs::read(&file).unwrap(), shown.stdout);
+    let arc = ["nc", "dda", "--arc", "ccw", "--dx=-10", "--dy", "10", "--i=-10", "--j", "0"];
+    let shown = run(&arc);
+    let written = run(&[&arc[..], &["-o", file.to_str().unwrap()]].concat());
+    assert!(written.status.success(), "{}", String::from_utf8_lossy(&written.stderr));
+    assert_eq!(std::fs::read(&file).unwrap(), shown.stdout);
 }
 
 use ncsheet::nc::motion::{self, Rates};
@@ -769,12 +832,13 @@ fn dda_circles_stay_near_the_circle_and_end_exactly() {
                     continue;
                 }
                 let bits = dda::bits_for_circle(start, end);
-                let run = dda::circular(bits, start, end, direction)
+                let clocks = dda::circular(bits, start, end, direction)
+                    .and_then(|run| run.clocks().collect::<Result<Vec<_>, _>>())
                     .unwrap_or_else(|e| panic!("r {r} {start:?}→{end:?} {direction:?}: {e}"));
-                assert_eq!(run.clocks.last().map_or(start, |c| c.position), end, "r {r} {t0}→{t1} {direction:?}");
+                assert_eq!(clocks.last().map_or(start, |c| c.position), end, "r {r} {t0}→{t1} {direction:?}");
                 let mut at = start;
                 let mut turned = 0.0;
-                for c in &run.clocks {
+                for c in &clocks {
                     let (x, y) = c.position;
                     // Within one increment on each axis of a point of the circle: the box of
                     // ±1 around the position meets the circle.

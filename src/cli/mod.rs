@@ -405,8 +405,8 @@ fn set(args: SetArgs, delimiter: Option<u8>) -> Result<()> {
         }
         done.push((cell_sheet, pos, a.input.clone()));
     }
-    // A date typed in the locale shows as its short date (the cell's format), as Excel's.
-    let dates: Vec<bool> = done.iter().map(|(s, p, typed)| doc.typed_into(*s, *p, typed)).collect();
+    // A date or time typed in the locale shows as Excel shows it (the cell's format).
+    let formats: Vec<Option<&str>> = done.iter().map(|(s, p, typed)| doc.typed_into(*s, *p, typed)).collect();
     doc.recalculate();
     report_problems(&args.file, doc.workbook());
     let encoded = doc.encode(&out_path)?;
@@ -418,11 +418,10 @@ fn set(args: SetArgs, delimiter: Option<u8>) -> Result<()> {
     let wb = doc.workbook();
     // What was done, on stderr: stdout stays empty for scripts.
     let locale = wb.settings().locale;
-    for ((cell_sheet, pos, _), date) in done.into_iter().zip(dates) {
-        let code = date.then_some("m/d/yyyy");
+    for ((cell_sheet, pos, _), code) in done.into_iter().zip(formats) {
         let value = match wb.value(cell_sheet, pos) {
             ncsheet::eval::Value::Number(n) => locale.shown_number(n, code, wb.date_system()),
-            v => v.to_string(),
+            v => locale.shown_value(&v),
         };
         eprintln!("{} = {value}", wb.cell_name(cell_sheet, pos));
     }

@@ -2,6 +2,7 @@
 //! table for one straight move, and a program's cycle time block by block (`nc plot` and
 //! `nc check` are in `nc_plot.rs` and `nc_check.rs`).
 
+use std::fmt::Write as _;
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
@@ -150,6 +151,12 @@ pub struct DdaArgs {
     /// The arc's centre along Y from the start
     #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
     pub j: f64,
+    /// Write the table here instead of to stdout
+    #[arg(short, long, value_name = "OUT")]
+    pub output: Option<PathBuf>,
+    /// Replace a read-only or hard-linked OUT
+    #[arg(long, requires = "output")]
+    pub force: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -186,14 +193,14 @@ fn dda_table(args: DdaArgs) -> Result<()> {
     let bits = args.bits.unwrap_or_else(|| dda::bits_for(&deltas));
     let run = dda::linear(bits, &deltas).map_err(user)?;
     let letters: Vec<char> = axes.iter().map(|a| a.0).collect();
-    let mut out = io::BufWriter::new(io::stdout().lock());
-    out.write_all(render(&run, &letters).as_bytes())?;
-    out.flush()?;
-    Ok(())
+    let table = LinearTable::measure(&run, &letters);
+    emit_streamed(args.output.as_deref(), args.force, |out| table.write(&run, out))
 }
 
 /// The circular interpolator's table: clock, per axis p, q and the step (±1), the position
-/// from the centre.
+/// from the centre. The arc is run twice, the clocks written as they come: first to count
+/// the pulses and find that it reaches its end (so that nothing is written for an arc the
+/// adders lose), then to write it.
 fn dda_arc(args: &DdaArgs, arc: ArcArg, increment: f64) -> Result<()> {
     let count = |v: f64, what: &str| dda::increments(v, increment).map_err(|e| Error::User(format!("--{what}: {e}")));
     let (dx, dy, i, j) = (count(args.dx, "dx")?, count(args.dy, "dy")?, count(args.i, "i")?, count(args.j, "j")?);
@@ -201,57 +208,154 @@ fn dda_arc(args: &DdaArgs, arc: ArcArg, increment: f64) -> Result<()> {
     let direction = if arc == ArcArg::Cw { ArcDirection::Clockwise } else { ArcDirection::CounterClockwise };
     let bits = args.bits.unwrap_or_else(|| dda::bits_for_circle(start, end));
     let run = dda::circular(bits, start, end, direction).map_err(|e| Error::User(e.to_string()))?;
-    let mut text = format!("DDA arc: {} bits, from {start:?} to {end:?} around the centre\n", run.bits);
-    text.push_str("clock  X p  X q  X step  Y p  Y q  Y step  x  y\n");
-    for c in &run.clocks {
-        let [x, y] = c.axes;
-        text.push_str(&format!(
-            "{}  {}  {}  {}  {}  {}  {}  {}  {}\n",
-            c.number, x.p, x.q, c.steps[0], y.p, y.q, c.steps[1], c.position.0, c.position.1
-        ));
-    }
-    let [px, py] = run.pulses();
-    text.push_str(&format!("pulses  X {px}  Y {py}\n"));
-    let mut out = io::BufWriter::new(io::stdout().lock());
-    out.write_all(text.as_bytes())?;
-    out.flush()?;
-    Ok(())
+    let [px, py] = run.pulses().map_err(|e| Error::User(e.to_string()))?;
+    emit_streamed(args.output.as_deref(), args.force, |out| {
+        writeln!(out, "DDA arc: {} bits, from {start:?} to {end:?} around the centre", run.bits)?;
+        writeln!(out, "clock  X p  X q  X step  Y p  Y q  Y step  x  y")?;
+        for c in run.clocks() {
+            let c = c.map_err(|e| io::Error::other(e.to_string()))?;
+            let [x, y] = c.axes;
+            writeln!(
+                out,
+                "{}  {}  {}  {}  {}  {}  {}  {}  {}",
+                c.number, x.p, x.q, c.steps[0], y.p, y.q, c.steps[1], c.position.0, c.position.1
+            )?;
+        }
+        writeln!(out, "pulses  X {px}  Y {py}")
+    })
 }
 
-/// The table as the paper lays it out: clock, then per axis p, q (`16-16=0` on an overflow)
-/// and the pulse; a last row with each axis's pulse count.
-fn render(run: &DdaRun, letters: &[char]) -> String {
-    let capacity = run.capacity();
-    let mut rows: Vec<Vec<String>> = Vec::new();
-    let mut head = vec!["clock".to_string()];
-    for l in letters {
-        head.extend([format!("{l} p"), format!("{l} q"), format!("{l} pulse")]);
-    }
-    rows.push(head);
-    let mut start = vec!["0".to_string()];
-    start.extend(letters.iter().flat_map(|_| ["0".to_string(), "0".to_string(), "0".to_string()]));
-    rows.push(start);
-    for clock in &run.clocks {
-        let mut row = vec![clock.number.to_string()];
-        for a in &clock.axes {
-            let q = if a.pulse { format!("{}-{capacity}={}", a.sum, a.q) } else { a.q.to_string() };
-            row.extend([a.p.to_string(), q, u8::from(a.pulse).to_string()]);
+/// Text written as it is made, to OUT through the one atomic write (all of it or nothing)
+/// or to stdout: a table of 2^24 clocks is about 1.2 GB, never held in memory.
+fn emit_streamed(path: Option<&Path>, force: bool, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> Result<()> {
+    match path {
+        Some(p) => ncsheet::io::atomic::write_file_with(p, ncsheet::io::atomic::Options { force }, write)
+            .map_err(|e| ncsheet::io::Error::new(p, ncsheet::io::ErrorKind::Write(e)).into()),
+        None => {
+            let mut out = io::BufWriter::new(io::stdout().lock());
+            write(&mut out)?;
+            out.flush()?;
+            Ok(())
         }
-        rows.push(row);
     }
-    let mut total = vec!["pulses".to_string()];
-    for n in run.pulses() {
-        total.extend([String::new(), String::new(), n.to_string()]);
+}
+
+/// The linear table as the paper lays it out: clock, then per axis p, q (`16-16=0` on an
+/// overflow) and the pulse; a last row with each axis's pulse count. Every column is as wide
+/// as its widest cell, right-aligned: the widths are measured by a first run of the adders
+/// (lengths only), and the rows written by a second.
+struct LinearTable {
+    head: Vec<String>,
+    widths: Vec<usize>,
+    pulses: Vec<i64>,
+}
+
+impl LinearTable {
+    fn measure(run: &DdaRun, letters: &[char]) -> LinearTable {
+        let capacity = run.capacity();
+        let mut head = vec!["clock".to_string()];
+        for l in letters {
+            head.extend([format!("{l} p"), format!("{l} q"), format!("{l} pulse")]);
+        }
+        // The header, the start row of zeros, the clock numbers and the pulses row's title.
+        let mut widths: Vec<usize> = head.iter().map(String::len).collect();
+        widths[0] = widths[0].max("pulses".len()).max(digits(capacity));
+        let mut counts = vec![0i64; run.deltas.len()];
+        for clock in run.clocks() {
+            for (axis, a) in clock.axes.iter().enumerate() {
+                let q = &mut widths[2 + 3 * axis];
+                *q = (*q).max(q_text_len(a, capacity));
+                counts[axis] += i64::from(a.pulse);
+            }
+        }
+        let pulses: Vec<i64> = counts.iter().zip(&run.deltas).map(|(n, d)| n * d.signum()).collect();
+        for (axis, n) in pulses.iter().enumerate() {
+            let p = &mut widths[1 + 3 * axis];
+            *p = (*p).max(digits(run.deltas[axis].unsigned_abs()));
+            let pulse = &mut widths[3 + 3 * axis];
+            *pulse = (*pulse).max(n.to_string().len());
+        }
+        LinearTable { head, widths, pulses }
     }
-    rows.push(total);
-    let widths: Vec<usize> = (0..rows[0].len()).map(|c| rows.iter().map(|r| r[c].len()).max().unwrap_or(0)).collect();
-    let mut text = format!("DDA: {} bits, 2^{} = {capacity} clocks\n", run.bits, run.bits);
-    for row in rows {
-        let cells: Vec<String> = row.iter().zip(&widths).map(|(s, w)| format!("{s:>w$}")).collect();
-        text.push_str(cells.join("  ").trim_end());
-        text.push('\n');
+
+    fn write(&self, run: &DdaRun, out: &mut dyn Write) -> io::Result<()> {
+        let capacity = run.capacity();
+        writeln!(out, "DDA: {} bits, 2^{} = {capacity} clocks", run.bits, run.bits)?;
+        let mut row = Row { widths: &self.widths, line: String::new(), column: 0 };
+        for h in &self.head {
+            row.cell(h);
+        }
+        row.end(out)?;
+        for _ in &self.widths {
+            row.cell(0);
+        }
+        row.end(out)?;
+        let mut q = String::new();
+        for clock in run.clocks() {
+            row.cell(clock.number);
+            for a in &clock.axes {
+                q.clear();
+                if a.pulse {
+                    let _ = write!(q, "{}-{capacity}={}", a.sum, a.q);
+                } else {
+                    let _ = write!(q, "{}", a.q);
+                }
+                row.cell(a.p);
+                row.cell(&q);
+                row.cell(u8::from(a.pulse));
+            }
+            row.end(out)?;
+        }
+        row.cell("pulses");
+        for n in &self.pulses {
+            row.cell("");
+            row.cell("");
+            row.cell(n);
+        }
+        row.end(out)
     }
-    text
+}
+
+/// A row being written: each cell right-aligned in its column, two spaces between columns,
+/// no spaces at the end.
+struct Row<'a> {
+    widths: &'a [usize],
+    line: String,
+    column: usize,
+}
+
+impl Row<'_> {
+    fn cell(&mut self, value: impl std::fmt::Display) {
+        if self.column > 0 {
+            self.line.push_str("  ");
+        }
+        let width = self.widths[self.column];
+        let _ = write!(self.line, "{value:>width$}");
+        self.column += 1;
+    }
+
+    fn end(&mut self, out: &mut dyn Write) -> io::Result<()> {
+        self.line.truncate(self.line.trim_end().len());
+        self.line.push('\n');
+        out.write_all(self.line.as_bytes())?;
+        self.line.clear();
+        self.column = 0;
+        Ok(())
+    }
+}
+
+/// The length of q as the table writes it: `sum-2ⁿ=q` on an overflow, else q.
+fn q_text_len(a: &dda::AxisClock, capacity: u64) -> usize {
+    if a.pulse {
+        digits(a.sum) + digits(capacity) + digits(a.q) + 2
+    } else {
+        digits(a.q)
+    }
+}
+
+/// Decimal digits of n.
+fn digits(n: u64) -> usize {
+    n.checked_ilog10().map_or(1, |d| d as usize + 1)
 }
 
 fn cycle_time(args: TimeArgs) -> Result<()> {

@@ -21,7 +21,8 @@ impl fmt::Display for DdaError {
 
 impl std::error::Error for DdaError {}
 
-/// The most adder bits we run: 2ⁿ clocks are listed one by one.
+/// The most adder bits we run: 2ⁿ clocks, each computed as it is read (a 24-bit adder's
+/// 16,777,216 clocks are a table of about 1.2 GB, written row by row, never held).
 pub const MAX_BITS: u32 = 24;
 
 /// One axis in one clock.
@@ -44,13 +45,13 @@ pub struct Clock {
     pub axes: Vec<AxisClock>,
 }
 
-/// A whole straight move through the interpolator.
+/// A whole straight move through the interpolator. Its clocks are computed as they are
+/// read ([`DdaRun::clocks`]), so a run of 2^24 clocks takes no more memory than one of 16.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct DdaRun {
     pub bits: u32,
     /// The move per axis in increments, with its sign (the pulses' direction).
     pub deltas: Vec<i64>,
-    pub clocks: Vec<Clock>,
 }
 
 impl DdaRun {
@@ -59,14 +60,25 @@ impl DdaRun {
         1u64 << self.bits
     }
 
-    /// Pulses each axis received, signed by direction.
+    /// The run's 2ⁿ clocks in order, each computed when it is asked for.
+    pub fn clocks(&self) -> impl Iterator<Item = Clock> + '_ {
+        let capacity = self.capacity();
+        let mut q = vec![0u64; self.deltas.len()];
+        (1..=capacity).map(move |number| {
+            let axes = self.deltas.iter().zip(q.iter_mut()).map(|(d, q)| add(d.unsigned_abs(), q, capacity)).collect();
+            Clock { number, axes }
+        })
+    }
+
+    /// Pulses each axis received, signed by direction (counted by running the adders).
     pub fn pulses(&self) -> Vec<i64> {
-        (0..self.deltas.len())
-            .map(|i| {
-                let n = self.clocks.iter().filter(|c| c.axes[i].pulse).count() as i64;
-                n * self.deltas[i].signum()
-            })
-            .collect()
+        let mut counts = vec![0i64; self.deltas.len()];
+        for clock in self.clocks() {
+            for (n, a) in counts.iter_mut().zip(&clock.axes) {
+                *n += i64::from(a.pulse);
+            }
+        }
+        counts.iter().zip(&self.deltas).map(|(n, d)| n * d.signum()).collect()
     }
 }
 
@@ -76,9 +88,9 @@ pub fn bits_for(deltas: &[i64]) -> u32 {
     64 - (longest - 1).leading_zeros()
 }
 
-/// Runs a straight move of `deltas` increments per axis through `bits`-bit adders: 2ⁿ clocks
-/// at constant feed (Δp = 0). An axis longer than 2ⁿ would need two pulses in one clock,
-/// which the adder cannot give.
+/// A straight move of `deltas` increments per axis through `bits`-bit adders: 2ⁿ clocks at
+/// constant feed (Δp = 0). An axis longer than 2ⁿ would need two pulses in one clock, which
+/// the adder cannot give.
 pub fn linear(bits: u32, deltas: &[i64]) -> Result<DdaRun, DdaError> {
     check_bits(bits)?;
     let capacity = 1u64 << bits;
@@ -89,35 +101,13 @@ pub fn linear(bits: u32, deltas: &[i64]) -> Result<DdaRun, DdaError> {
             bits_for(deltas)
         )));
     }
-    let p: Vec<u64> = deltas.iter().map(|d| d.unsigned_abs()).collect();
-    let mut q = vec![0u64; deltas.len()];
-    let clocks = (1..=capacity)
-        .map(|number| {
-            let axes = p.iter().zip(q.iter_mut()).map(|(&p, q)| add(p, q, capacity)).collect();
-            Clock { number, axes }
-        })
-        .collect();
-    Ok(DdaRun { bits, deltas: deltas.to_vec(), clocks })
+    Ok(DdaRun { bits, deltas: deltas.to_vec() })
 }
 
-/// The most bits of an adder whose run is tabled: every clock is a row held in memory, and
-/// a 24-bit adder's 16,777,216 clocks (about 4 GB of rows) aborted at the memory cap.
-/// 2^20 clocks is a table of a million rows.
-pub const MAX_TABLE_BITS: u32 = 20;
-
-/// An adder of 1 to [`MAX_BITS`] bits whose run is at most 2^[`MAX_TABLE_BITS`] clocks.
+/// An adder of 1 to [`MAX_BITS`] bits.
 fn check_bits(bits: u32) -> Result<(), DdaError> {
     if !(1..=MAX_BITS).contains(&bits) {
         return Err(DdaError(format!("the adder has 1 to {MAX_BITS} bits, not {bits}")));
-    }
-    if bits > MAX_TABLE_BITS {
-        return Err(DdaError(format!(
-            "a {bits}-bit adder runs 2^{bits} = {} clocks, more than the 2^{MAX_TABLE_BITS} = {} a table holds; \
-             use a coarser --increment (a move of at most {} increments)",
-            1u64 << bits,
-            1u64 << MAX_TABLE_BITS,
-            1u64 << MAX_TABLE_BITS
-        )));
     }
     Ok(())
 }
@@ -159,14 +149,14 @@ pub struct CircleClock {
     pub position: (i64, i64),
 }
 
-/// An arc through the interpolator, positions in increments relative to its centre.
+/// An arc through the interpolator, positions in increments relative to its centre. Its
+/// clocks are computed as they are read ([`CircularRun::clocks`]).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct CircularRun {
     pub bits: u32,
     pub direction: ArcDirection,
     pub start: (i64, i64),
     pub end: (i64, i64),
-    pub clocks: Vec<CircleClock>,
 }
 
 impl CircularRun {
@@ -174,11 +164,32 @@ impl CircularRun {
         1u64 << self.bits
     }
 
-    /// Steps each axis took, X then Y (a full circle takes 4R on each).
-    pub fn pulses(&self) -> [u64; 2] {
-        let count = |i: usize| self.clocks.iter().filter(|c| c.steps[i] != 0).count() as u64;
-        [count(0), count(1)]
+    /// The arc's clocks in order, each computed when it is asked for; an error in place of a
+    /// clock, and then no more, when the adders lose the circle.
+    pub fn clocks(&self) -> ArcClocks {
+        // A clockwise arc is a counter-clockwise one with X and Y exchanged (a mirror image):
+        // the adders run in that order, so that both directions keep to the circle alike.
+        let mirrored = self.direction == ArcDirection::Clockwise;
+        let (start, end) = if mirrored { (swap(self.start), swap(self.end)) } else { (self.start, self.end) };
+        ArcClocks::counter_clockwise(self.capacity(), start, end, mirrored)
     }
+
+    /// Steps each axis took, X then Y (a full circle takes 4R on each), or why the arc did
+    /// not reach its end.
+    pub fn pulses(&self) -> Result<[u64; 2], DdaError> {
+        let mut counts = [0u64; 2];
+        for clock in self.clocks() {
+            let clock = clock?;
+            for (n, step) in counts.iter_mut().zip(clock.steps) {
+                *n += u64::from(step != 0);
+            }
+        }
+        Ok(counts)
+    }
+}
+
+fn swap(p: (i64, i64)) -> (i64, i64) {
+    (p.1, p.0)
 }
 
 /// The bits an arc of these end points needs: 2ⁿ at least four times the radius (no adder is
@@ -223,7 +234,6 @@ pub fn circular(
              (within half an increment)"
         )));
     }
-    let capacity = 1u64 << bits;
     let needed = bits_for_circle(start, end);
     if bits < needed {
         return Err(DdaError(format!(
@@ -231,65 +241,102 @@ pub fn circular(
             rs.max(re),
         )));
     }
-    // A clockwise arc is a counter-clockwise one with X and Y exchanged (a mirror image):
-    // the adders run in that order, so that both directions keep to the circle alike.
-    let swap = |p: (i64, i64)| (p.1, p.0);
-    let clocks = match direction {
-        ArcDirection::CounterClockwise => counter_clockwise(capacity, start, end)?,
-        ArcDirection::Clockwise => counter_clockwise(capacity, swap(start), swap(end))?
-            .into_iter()
-            .map(|c| CircleClock {
-                axes: [c.axes[1], c.axes[0]],
-                steps: [c.steps[1], c.steps[0]],
-                position: swap(c.position),
-                ..c
-            })
-            .collect(),
-    };
-    Ok(CircularRun { bits, direction, start, end, clocks })
+    Ok(CircularRun { bits, direction, start, end })
 }
 
-/// The counter-clockwise arc's clocks. The Y adder takes the X register as this clock's X
-/// pulse left it (an integrator fed the newest value: the path closes on itself rather than
-/// spiralling outwards, as two adders fed the same clock's old values do).
-fn counter_clockwise(capacity: u64, start: (i64, i64), end: (i64, i64)) -> Result<Vec<CircleClock>, DdaError> {
-    let crossings = axis_crossings(start, end, ArcDirection::CounterClockwise);
-    let (mut x, mut y) = start;
-    let mut q = [capacity / 2; 2];
-    let mut last_dir = [0i64; 2];
-    let mut crossed = 0;
-    let mut last_quadrant = crossings == 0;
-    let mut clocks = Vec::new();
-    // A full circle takes about 2π·2ⁿ clocks; far more means the adders lost the circle.
-    let limit = 8 * capacity + 16;
-    while !(last_quadrant && (x, y) == end) {
-        if clocks.len() as u64 >= limit {
-            return Err(DdaError(format!("the arc did not reach its end in {limit} clocks")));
+/// The counter-clockwise arc's clocks, one at a time. The Y adder takes the X register as
+/// this clock's X pulse left it (an integrator fed the newest value: the path closes on
+/// itself rather than spiralling outwards, as two adders fed the same clock's old values do).
+/// A mirrored arc (a clockwise one with X and Y exchanged) gives its clocks exchanged back.
+pub struct ArcClocks {
+    capacity: u64,
+    end: (i64, i64),
+    mirrored: bool,
+    /// Axes the arc crosses before its last quadrant, and how many it has crossed.
+    crossings: usize,
+    crossed: usize,
+    last_quadrant: bool,
+    position: (i64, i64),
+    q: [u64; 2],
+    last_dir: [i64; 2],
+    number: u64,
+    /// A full circle takes about 2π·2ⁿ clocks; far more means the adders lost the circle.
+    limit: u64,
+    failed: bool,
+}
+
+impl ArcClocks {
+    fn counter_clockwise(capacity: u64, start: (i64, i64), end: (i64, i64), mirrored: bool) -> ArcClocks {
+        let crossings = axis_crossings(start, end, ArcDirection::CounterClockwise);
+        ArcClocks {
+            capacity,
+            end,
+            mirrored,
+            crossings,
+            crossed: 0,
+            last_quadrant: crossings == 0,
+            position: start,
+            q: [capacity / 2; 2],
+            last_dir: [0; 2],
+            number: 0,
+            limit: 8 * capacity + 16,
+            failed: false,
         }
+    }
+
+    /// One clock of both adders, counter-clockwise.
+    fn step(&mut self) -> CircleClock {
+        let (capacity, end, last_quadrant) = (self.capacity, self.end, self.last_quadrant);
+        let (x, y) = self.position;
         let mut steps = [0i8; 2];
         // q holds how far the integral is past the position in the axis's direction of
         // travel; where that direction turns (the other axis crossed 0) it starts again
         // from half, the rounding point. Each axis's direction is the one its own step
         // takes: Y's from the X this clock's X pulse left (the value its adder is fed), or
         // Y would take one more step the old way with the other's sum, just past X = 0.
-        turn(&mut q[0], &mut last_dir[0], -y.signum(), capacity);
-        let ax = add(y.unsigned_abs(), &mut q[0], capacity);
+        turn(&mut self.q[0], &mut self.last_dir[0], -y.signum(), capacity);
+        let ax = add(y.unsigned_abs(), &mut self.q[0], capacity);
         if ax.pulse && !(last_quadrant && x == end.0) {
             steps[0] = -y.signum() as i8;
         }
         let nx = x + i64::from(steps[0]);
-        turn(&mut q[1], &mut last_dir[1], nx.signum(), capacity);
-        let ay = add(nx.unsigned_abs(), &mut q[1], capacity);
+        turn(&mut self.q[1], &mut self.last_dir[1], nx.signum(), capacity);
+        let ay = add(nx.unsigned_abs(), &mut self.q[1], capacity);
         if ay.pulse && !(last_quadrant && y == end.1) {
             steps[1] = nx.signum() as i8;
         }
         let ny = y + i64::from(steps[1]);
-        crossed += usize::from(x != 0 && nx == 0) + usize::from(y != 0 && ny == 0);
-        last_quadrant |= crossed >= crossings;
-        (x, y) = (nx, ny);
-        clocks.push(CircleClock { number: clocks.len() as u64 + 1, axes: [ax, ay], steps, position: (x, y) });
+        self.crossed += usize::from(x != 0 && nx == 0) + usize::from(y != 0 && ny == 0);
+        self.last_quadrant |= self.crossed >= self.crossings;
+        self.position = (nx, ny);
+        self.number += 1;
+        CircleClock { number: self.number, axes: [ax, ay], steps, position: (nx, ny) }
     }
-    Ok(clocks)
+}
+
+impl Iterator for ArcClocks {
+    type Item = Result<CircleClock, DdaError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        if self.failed || (self.last_quadrant && self.position == self.end) {
+            return None;
+        }
+        if self.number >= self.limit {
+            self.failed = true;
+            return Some(Err(DdaError(format!("the arc did not reach its end in {} clocks", self.limit))));
+        }
+        let c = self.step();
+        Some(Ok(if self.mirrored {
+            CircleClock {
+                axes: [c.axes[1], c.axes[0]],
+                steps: [c.steps[1], c.steps[0]],
+                position: swap(c.position),
+                ..c
+            }
+        } else {
+            c
+        }))
+    }
 }
 
 /// An adder whose axis now steps the other way (`dir`, 0 at the turning point itself) starts
@@ -341,12 +388,20 @@ mod tests {
     }
 
     #[test]
-    fn a_run_longer_than_a_table_holds_is_refused_before_it_is_built() {
-        // 16,000,000 increments: a legal move for a 24-bit adder, 16,777,216 clocks.
-        let e = linear(bits_for(&[16_000_000, 1]), &[16_000_000, 1]).unwrap_err();
-        assert!(e.0.contains("16777216 clocks, more than the 2^20 = 1048576"), "{e}");
-        let e = circular(24, (-8_000_000, 0), (8_000_000, 0), ArcDirection::Clockwise).unwrap_err();
-        assert!(e.0.contains("2^20"), "{e}");
-        assert_eq!(linear(20, &[1 << 20, 3]).unwrap().clocks.len(), 1 << 20);
+    fn a_run_of_two_to_the_24_clocks_is_computed_as_it_is_read() {
+        // 16,000,000 increments: a legal move for a 24-bit adder, 16,777,216 clocks (2^24 =
+        // 16,777,216: the second clock's sum 32,000,000 overflows, leaving 15,222,784).
+        let run = linear(bits_for(&[16_000_000, 1]), &[16_000_000, 1]).unwrap();
+        assert_eq!(run.capacity(), 16_777_216);
+        let first: Vec<(u64, u64, bool)> =
+            run.clocks().take(3).map(|c| (c.axes[0].sum, c.axes[0].q, c.axes[0].pulse)).collect();
+        assert_eq!(
+            first,
+            [(16_000_000, 16_000_000, false), (32_000_000, 15_222_784, true), (31_222_784, 14_445_568, true)]
+        );
+        let arc = circular(24, (-4_000_000, 0), (4_000_000, 0), ArcDirection::Clockwise).unwrap();
+        // Clockwise from (-R, 0) the first steps go up: +Y, X still.
+        let c = arc.clocks().find_map(|c| c.ok().filter(|c| c.steps != [0, 0])).unwrap();
+        assert_eq!(c.steps, [0, 1]);
     }
 }
