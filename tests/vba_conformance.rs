@@ -550,3 +550,122 @@ fn create_object_of_another_class_is_refused() {
     let e = failure("Sub Main()\n    Set f = New Class1\nEnd Sub\n");
     assert!(e.message.contains("New Class1"), "{e}");
 }
+
+// ---- class modules --------------------------------------------------------------------
+
+/// A macro run with the project's class modules (name, source), as `run` gives them.
+fn with_classes(main: &str, classes: &[(&str, &str)]) -> Result<RunOutput, MacroError> {
+    let classes = classes.iter().map(|(n, s)| (n.to_string(), s.to_string())).collect();
+    run_with(main, &RunOptions { classes, ..RunOptions::default() })
+}
+
+/// A class module as the VBA editor stores it: its attributes, a private count, a public
+/// variable, a Sub, a Property Get/Let pair and a Function calling its own Property Get.
+const COUNTER: &str = "Attribute VB_Name = \"Counter\"\nAttribute VB_PredeclaredId = False\nOption Explicit\n\
+    Private n As Long\nPublic Label As String\n\
+    Public Sub Add(Optional amount As Long = 1)\n    n = n + amount\nEnd Sub\n\
+    Public Property Get Count() As Long\n    Count = n\nEnd Property\n\
+    Public Property Let Count(v As Long)\n    If v < 0 Then Exit Property\n    n = v\nEnd Property\n\
+    Public Function Twice() As Long\n    Twice = 2 * Count\nEnd Function\n";
+
+// "Writing a property procedure", "Property Get statement", "Property Let statement" and
+// "Dim statement" (`New` "enables implicit creation of an object"): each object made by New
+// has its own copy of the class module's variables; its public Subs, Functions, properties
+// and Public variables are its members ([MS-VBAL] 5.2.4.1, class modules).
+#[test]
+fn each_object_of_a_class_has_its_own_variables_and_members() {
+    let main = "Sub Main()\n    Dim a As New Counter, b As Counter\n    Set b = New Counter\n    a.Add\n    a.Add 5\n\
+                \x20   b.Count = 10\n    b.Count = -1\n    b.Label = \"b\"\n    Debug.Print a.Count; b.Count; a.Twice(); b.Label\nEnd Sub\n";
+    assert_eq!(with_classes(main, &[("Counter", COUNTER)]).unwrap().printed, [" 6  10  12 b"]);
+}
+
+// "Set statement": "Set … creates a reference to the object …; two or more object variables
+// can refer to the same object", and a change through one is seen through the others (by
+// a procedure given the object too); "Is operator" compares the references.
+#[test]
+fn set_shares_one_object_and_is_compares_the_references() {
+    let main = "Sub Bump(c As Counter)\n    c.Add 10\nEnd Sub\n\
+                Function Made(start) As Counter\n    Set Made = New Counter\n    Made.Count = start\nEnd Function\n\
+                Sub Main()\n    Dim a As Counter, b As Counter, c As Counter\n    Set a = New Counter\n    Set b = a\n\
+                \x20   b.Add 3\n    Bump a\n    Debug.Print a.Count\n    Debug.Print a Is b\n    Debug.Print a Is c\n\
+                \x20   Debug.Print c Is Nothing\n    Set c = Made(7)\n    Debug.Print c.Count\n    Debug.Print a Is c\nEnd Sub\n";
+    let out = with_classes(main, &[("Counter", COUNTER)]).unwrap();
+    assert_eq!(out.printed, [" 13 ", "True", "False", "True", " 7 ", "False"]);
+}
+
+// "Me keyword": "The Me keyword behaves like an implicitly declared variable … the instance
+// of the class where the code is running"; objects go into Collections and Dictionaries by
+// reference ("Add method", "Item property"), and `Property Set` assigns an object.
+#[test]
+fn me_property_set_and_objects_in_collections() {
+    let node = "Public Value As Double\nPrivate mOwner As Object\n\
+                Public Function Self() As Object\n    Set Self = Me\nEnd Function\n\
+                Public Sub AddTo(c As Collection)\n    c.Add Me\nEnd Sub\n\
+                Public Property Set Owner(o As Object)\n    Set mOwner = o\nEnd Property\n\
+                Public Property Get Owner() As Object\n    Set Owner = mOwner\nEnd Property\n";
+    let main = "Sub Main()\n    Dim c As New Collection, n As Node, i As Long, total As Double\n    For i = 1 To 3\n\
+                \x20       Set n = New Node\n        n.Value = i * 1.5\n        n.AddTo c\n    Next\n\
+                \x20   For Each x In c\n        total = total + x.Value\n    Next\n    Debug.Print c.Count; total\n\
+                \x20   Debug.Print n.Self() Is n\n    Debug.Print c(1) Is n\n\
+                \x20   Set d = CreateObject(\"Scripting.Dictionary\")\n    Set c(2).Owner = n\n    d.Add \"k\", c(2)\n\
+                \x20   Debug.Print d(\"k\").Owner.Value\n    Debug.Print d(\"k\").Owner Is c(3)\nEnd Sub\n";
+    let out = with_classes(main, &[("Node", node)]).unwrap();
+    assert_eq!(out.printed, [" 3  9 ", "True", "False", " 4.5 ", "True"]);
+}
+
+// "Initialize event": it "occurs when an instance of the class is created"; "Terminate
+// event": it "occurs when all references to an instance of an object are removed from
+// memory by setting all the variables that refer to the object to Nothing or when the last
+// reference to the object goes out of scope".
+#[test]
+fn class_initialize_and_terminate_run_at_the_first_and_last_reference() {
+    let probe = "Private Sub Class_Initialize()\n    Debug.Print \"init\"\nEnd Sub\n\
+                 Private Sub Class_Terminate()\n    Debug.Print \"term\"\nEnd Sub\n";
+    let main = "Sub Use()\n    Dim p As Probe\n    Set p = New Probe\n    Debug.Print \"using\"\nEnd Sub\n\
+                Sub Main()\n    Dim a As Probe, b As Probe\n    Set a = New Probe\n    Set b = a\n    Set a = Nothing\n\
+                \x20   Debug.Print \"b holds it\"\n    Set b = Nothing\n    Use\n    Debug.Print \"end\"\nEnd Sub\n";
+    let out = with_classes(main, &[("Probe", probe)]).unwrap();
+    assert_eq!(out.printed, ["init", "b holds it", "term", "init", "using", "term", "end"]);
+}
+
+// "Object variable or With block variable not set (Error 91)" for a member of a variable
+// that holds no object; "Object doesn't support this property or method (Error 438)" for a
+// member its class has not, a Private one too.
+#[test]
+fn members_of_nothing_and_members_a_class_has_not_are_errors_91_and_438() {
+    let main = "Sub Main()\n    Dim c As Counter\n    On Error Resume Next\n    c.Add\n    Debug.Print Err.Number\n\
+                \x20   Err.Clear\n    Set c = New Counter\n    c.Missing\n    Debug.Print Err.Number\n    Err.Clear\n\
+                \x20   x = c.n\n    Debug.Print Err.Number\nEnd Sub\n";
+    let out = with_classes(main, &[("Counter", COUNTER)]).unwrap();
+    assert_eq!(out.printed, [" 91 ", " 438 ", " 438 "]);
+    let e = with_classes("Sub Main()\n    Dim c As Counter\n    c.Add\nEnd Sub\n", &[("Counter", COUNTER)]).unwrap_err();
+    assert!(e.message.contains("Object variable or With block variable not set"), "{e}");
+    assert_eq!(e.span.unwrap().line, 3, "{e}");
+}
+
+// A class's procedures are members of its objects, not names of the project ("Understanding
+// scope and visibility"): a standard module calling one by name does not compile.
+#[test]
+fn a_class_modules_procedures_are_not_names_of_the_project() {
+    let e = with_classes("Sub Main()\n    Debug.Print Twice()\nEnd Sub\n", &[("Counter", COUNTER)]).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::Syntax, "{e}");
+    assert!(e.message.contains("Twice"), "{e}");
+}
+
+// The objects count against the memory budget as Collections do, and a linked list of
+// 100,000 of them is let go without taking the native stack.
+#[test]
+fn objects_count_against_the_memory_budget() {
+    let link = "Public Text As String\nPublic Next_ As Object\n";
+    let chain = "Sub Main()\n    Dim head As Object, n As Object\n    For i = 1 To 100000\n        Set n = New Link\n\
+                 \x20       n.Text = Space(200)\n        Set n.Next_ = head\n        Set head = n\n    Next\nEnd Sub\n";
+    let options = RunOptions {
+        classes: vec![("Link".into(), link.into())],
+        max_memory: 4 << 20,
+        ..RunOptions::default()
+    };
+    let e = run_with(chain, &options).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::Limit, "{e}");
+    let options = RunOptions { max_memory: 256 << 20, ..options };
+    run_with(chain, &options).unwrap_or_else(|e| panic!("{e}"));
+}

@@ -139,7 +139,7 @@ pub fn read_module_text(path: &Path, code_page: u16) -> Result<String> {
 }
 
 /// A .bas or .cls file as a module: named by its `Attribute VB_Name` line, else by the file name.
-fn read_module(path: &Path, code_page: u16) -> Result<NewModule> {
+pub(super) fn read_module(path: &Path, code_page: u16) -> Result<NewModule> {
     let text = read_module_text(path, code_page)?;
     let is_cls = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("cls"));
     let (kind, source) =

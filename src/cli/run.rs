@@ -40,6 +40,10 @@ pub struct RunArgs {
     /// The macro file (default: the macros stored in the workbook, an .xlsm)
     #[arg(value_name = "MACRO.bas")]
     pub macro_file: Option<PathBuf>,
+    /// Another module of the macro's project, repeatable: a .bas standard module (its public
+    /// procedures) or a .cls class module (`New Name` makes its objects)
+    #[arg(long = "module", value_name = "FILE")]
+    pub modules: Vec<PathBuf>,
     /// The Sub to run (default: Main, or the first Sub without arguments); for the
     /// workbook's own macros also MODULE.SUB (Module1.Chamfer)
     #[arg(long, value_name = "NAME")]
@@ -168,6 +172,7 @@ pub fn run(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
     let hint = "the program and the saved workbook go to new files";
     let mut inputs: Vec<&std::path::Path> = vec![&args.workbook];
     inputs.extend(args.macro_file.as_deref());
+    inputs.extend(args.modules.iter().map(PathBuf::as_path));
     inputs.extend(args.in_files.iter().map(PathBuf::as_path));
     super::refuse_overwriting_inputs(&inputs, &outputs, hint)?;
     // The workbook's functions, recomputed by the macro's writes, nest on top of it.
@@ -217,6 +222,7 @@ fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
             MachineKind::Mill => Machine::Mill,
         },
         project: other_modules(&args, file)?,
+        classes: class_modules(&args)?,
         workbook_name: args.workbook.file_name().and_then(|n| n.to_str()).map(str::to_string),
         files: macro_files::access(
             args.out_dir.as_deref(),
@@ -363,13 +369,40 @@ fn macro_source(
 /// The project's other standard modules, whose public code the module run sees as VBA
 /// compiles a project as one program (none for a .bas file given on its own).
 fn other_modules(args: &RunArgs, running: &std::path::Path) -> Result<Vec<(String, String)>> {
+    let mut modules = given_modules(args, ModuleKind::Standard)?;
     if args.macro_file.is_some() {
-        return Ok(Vec::new());
+        return Ok(modules);
     }
     let project = super::macros::open_project(&args.workbook)?;
     let own = running.file_name().and_then(|n| n.to_str()).unwrap_or_default();
     let others = project.modules.iter().filter(|m| m.kind == ModuleKind::Standard && m.name != own);
-    Ok(others.map(|m| (m.name.clone(), m.source.clone())).collect())
+    modules.extend(others.map(|m| (m.name.clone(), m.source.clone())));
+    Ok(modules)
+}
+
+/// The project's class modules: the workbook's own (none for a .bas file given on its own)
+/// and the .cls files given with --module.
+fn class_modules(args: &RunArgs) -> Result<Vec<(String, String)>> {
+    let mut classes = given_modules(args, ModuleKind::Class)?;
+    if args.macro_file.is_none() {
+        let project = super::macros::open_project(&args.workbook)?;
+        let own = project.modules.iter().filter(|m| m.kind == ModuleKind::Class);
+        classes.extend(own.map(|m| (m.name.clone(), m.source.clone())));
+    }
+    Ok(classes)
+}
+
+/// The --module files of one kind (a .cls file with a class header or named .cls is a class
+/// module), by their `Attribute VB_Name` or file name.
+fn given_modules(args: &RunArgs, kind: ModuleKind) -> Result<Vec<(String, String)>> {
+    let mut out = Vec::new();
+    for path in &args.modules {
+        let m = super::macros::read_module(path, super::macros::NEW_PROJECT_CODE_PAGE)?;
+        if m.kind == kind {
+            out.push((m.name, m.source));
+        }
+    }
+    Ok(out)
 }
 
 /// What a module of the project belongs to: nothing (a standard module), a sheet (its code

@@ -46,7 +46,7 @@ impl Interp<'_, '_> {
     }
 
     /// The row-major position of an element, or why there is none.
-    fn element_at(&self, a: &VArray, index: &[i64]) -> Result<usize, String> {
+    pub(super) fn element_at(&self, a: &VArray, index: &[i64]) -> Result<usize, String> {
         let (row, col) = match (a.dims, index) {
             (1, [i]) => (0, i - a.lower.1),
             (2, [i, j]) => (i - a.lower.0, j - a.lower.1),

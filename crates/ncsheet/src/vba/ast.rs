@@ -38,6 +38,20 @@ pub struct Module {
     /// The modules of the project whose code this source joins, the module run first
     /// (empty: one module alone).
     pub parts: Vec<Part>,
+    /// The project's class modules (`Made::Object(i)` is `classes[i]`).
+    pub classes: Vec<ClassDef>,
+}
+
+/// A class module: what each of its objects holds and which procedures are its members.
+#[derive(Debug)]
+pub struct ClassDef {
+    pub name: Rc<str>,
+    /// The module's place in `Module::parts`: its procedures are those of this part.
+    pub part: usize,
+    /// The module-level `Dim`/`Private`/`Public`/`Const` statements: each object's own variables.
+    pub fields: Vec<Stmt>,
+    /// The fields declared `Public` (ASCII lower case): the only ones other code reaches.
+    pub public: Vec<String>,
 }
 
 /// One module of a project joined into one source: its name and the line it starts at.
@@ -45,6 +59,8 @@ pub struct Module {
 pub struct Part {
     pub name: Rc<str>,
     pub first_line: u32,
+    /// A class module: its procedures are members of its objects, not names of the project.
+    pub class: bool,
 }
 
 impl Module {
@@ -80,6 +96,18 @@ pub struct Proc {
     pub span: Span,
     /// Not declared `Private`: a cell may call a public Function of a standard module.
     pub public: bool,
+    /// The module of the project it is in (`Module::parts`; 0 for a module alone).
+    pub part: usize,
+    /// `Property Get|Let|Set`: a Get is a Function, a Let or Set a Sub taking the value last.
+    pub property: Option<PropertyKind>,
+}
+
+/// The three kinds of property procedure ([MS-VBAL] 5.3.1.4).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PropertyKind {
+    Get,
+    Let,
+    Set,
 }
 
 #[derive(Debug)]
@@ -257,7 +285,7 @@ pub struct VarDecl {
     /// `Dim a(1 To 5, 3)`: (lower, upper) per dimension, lower `None` for Option Base.
     pub bounds: Option<Vec<(Option<Expr>, Expr)>>,
     /// `Dim c As New Collection`: the object the variable starts with.
-    pub new: Option<Class>,
+    pub new: Option<Made>,
     pub span: Span,
 }
 
@@ -266,6 +294,14 @@ pub struct VarDecl {
 pub enum Class {
     Collection,
     Dictionary,
+}
+
+/// What `New` makes: a Collection or a Dictionary, or an object of a class module of the
+/// project (by its index in `Module::classes`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Made {
+    Store(Class),
+    Object(usize),
 }
 
 #[derive(Debug)]
@@ -334,7 +370,7 @@ pub enum Node {
     /// `VarType(x)`, `IsMissing(x)`: what a variable is, which its declaration tells.
     Inspect { what: Inspect, arg: Expr, span: Span },
     /// `New Collection`, `CreateObject("Scripting.Dictionary")`: a new object of the class.
-    New { class: Class, span: Span },
+    New { class: Made, span: Span },
 }
 
 /// The questions [`Node::Inspect`] asks of a variable.

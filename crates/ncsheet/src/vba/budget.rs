@@ -89,6 +89,10 @@ impl Measure {
                     self.bytes = self.bytes.saturating_add(h.own_bytes());
                     pending.extend(h.items());
                 }
+                Var::Obj(Obj::Instance(o)) if self.first_time(&o.0) => {
+                    self.bytes = self.bytes.saturating_add(super::classes::OBJECT_BYTES);
+                    pending.extend(o.field_vars());
+                }
                 Var::Array(_) | Var::Obj(_) => {}
                 Var::Record(_, fields) => pending.extend(fields.iter().cloned()),
             }

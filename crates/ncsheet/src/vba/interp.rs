@@ -21,6 +21,7 @@ use crate::formula::ast::{Expr, ExprKind, SheetId};
 use crate::workbook::{Input, Workbook, WorkbookError};
 
 use super::ast::*;
+use super::classes::Instance;
 use super::collections::Handle;
 use super::parser::Lines;
 use super::value::{array_var, convert, default_value, input_text, print_text, range_var, Obj, Slot, Slots, Var};
@@ -149,7 +150,12 @@ fn entry(module: &Module, options: &RunOptions) -> Result<usize, String> {
     if let Some(main) = module.proc("Main").filter(|&i| module.procs[i].kind == ProcKind::Sub) {
         return Ok(main);
     }
-    let plain = module.procs.iter().position(|p| p.kind == ProcKind::Sub && p.params.iter().all(|q| q.optional));
+    // A class module's Subs need an object: none is a macro to run.
+    let of_class = |p: &Proc| module.parts.get(p.part).is_some_and(|m| m.class);
+    let plain = module
+        .procs
+        .iter()
+        .position(|p| p.kind == ProcKind::Sub && p.params.iter().all(|q| q.optional) && !of_class(p));
     plain.ok_or_else(|| match subs.as_slice() {
         [] => "the module has no Sub to run".to_string(),
         _ => format!("which Sub? pass --sub NAME (the module has: {})", subs.join(", ")),
@@ -211,6 +217,17 @@ pub(super) struct Frame {
     handling: bool,
     /// Optional Variant parameters without a default that the call left out (IsMissing).
     pub(super) missing: Vec<Rc<str>>,
+    /// The object a class module's procedure runs for (`Me`): its variables are the
+    /// procedure's module-level ones.
+    pub(super) me: Option<Instance>,
+}
+
+/// What a call of a class module's procedure brings besides its arguments: the object it
+/// runs for, and the value a Property Let or Set assigns (its last parameter).
+#[derive(Default)]
+pub(super) struct Call {
+    pub me: Option<Instance>,
+    pub value: Option<Var>,
 }
 
 pub struct Interp<'m, 'w> {
@@ -396,12 +413,13 @@ impl Interp<'_, '_> {
         let trace = frames
             .iter()
             .rev()
-            .map(|f| {
-                let p = &self.module.procs[f.proc];
-                match f.call_site {
+            // A new object's declarations run in a frame of no procedure.
+            .filter_map(|f| {
+                let p = self.module.procs.get(f.proc)?;
+                Some(match f.call_site {
                     Some(s) => format!("in {} {} (called at {s})", p.kind, p.name),
                     None => format!("in {} {}", p.kind, p.name),
-                }
+                })
             })
             .collect();
         Fault { kind: ErrorKind::Runtime, code: 0, message: message.into(), span: None, trace }
@@ -538,6 +556,11 @@ impl Interp<'_, '_> {
         if let Some(s) = local {
             return Some(s.var.clone());
         }
+        if let Some(me) = frames.last().and_then(|f| f.me.as_ref()) {
+            if let Some(s) = me.0.fields.borrow().get(name) {
+                return Some(s.var.clone());
+            }
+        }
         self.globals.borrow().get(name).map(|s| s.var.clone())
     }
 
@@ -547,7 +570,13 @@ impl Interp<'_, '_> {
         if let Some(s) = frames.last_mut().and_then(|fr| fr.vars.get_mut(name)) {
             return Some(f(s));
         }
+        let me = frames.last().and_then(|fr| fr.me.clone());
         drop(frames);
+        if let Some(me) = me {
+            if let Some(s) = me.0.fields.borrow_mut().get_mut(name) {
+                return Some(f(s));
+            }
+        }
         self.globals.borrow_mut().get_mut(name).map(f)
     }
 
@@ -575,11 +604,12 @@ impl Interp<'_, '_> {
             if slot.constant {
                 return Err(format!("{} is a constant", slot.name));
             }
-            slot.var = convert(var.clone(), slot.ty.as_ref(), &slot.name)?;
-            Ok(())
+            let new = convert(var.clone(), slot.ty.as_ref(), &slot.name)?;
+            Ok(std::mem::replace(&mut slot.var, new))
         });
         match result {
-            Some(r) => r.map_err(|m| self.fault_at(span, m)),
+            // The object the variable held may have lost its last reference.
+            Some(r) => self.release(&r.map_err(|m| self.fault_at(span, m))?),
             None => {
                 self.declare(Slot { name: name.clone(), var, ty: None, constant: false });
                 Ok(())
@@ -600,15 +630,16 @@ impl Interp<'_, '_> {
                 None => Ok(Var::Value(Value::Blank)),
             },
             ExprKind::Host(id) if matches!(self.module.nodes[*id as usize], Node::New { .. }) => {
-                let Node::New { class, .. } = &self.module.nodes[*id as usize] else { unreachable!() };
-                Ok(Var::Obj(Obj::Store(Handle::new(*class))))
+                let Node::New { class, span } = &self.module.nodes[*id as usize] else { unreachable!() };
+                self.new_object(*class, *span)
             }
             ExprKind::Host(id) if self.store_element(*id).is_some() => {
                 let (h, index, span) = self.store_element(*id).expect("a Collection's item");
                 let key = self.store_key(&mut self.ctx(), index, span)?;
                 self.store_item(&h, &key, span)
             }
-            ExprKind::Host(id) if self.returns_record(*id) => {
+            // `p = MakePoint(1, 2)`, `Set o = MakeObject()`: what the Function's name holds.
+            ExprKind::Host(id) if self.returns_record(*id) || (as_object && self.is_call(*id)) => {
                 let Node::Call { proc, args, span } = &self.module.nodes[*id as usize] else { unreachable!() };
                 self.call_record(*proc, args, *span)
             }
@@ -655,6 +686,10 @@ impl Interp<'_, '_> {
             })
     }
 
+    fn is_call(&self, id: u32) -> bool {
+        matches!(self.module.nodes[id as usize], Node::Call { .. })
+    }
+
     /// The node is a call of a Function declared `As` a Type.
     fn returns_record(&self, id: u32) -> bool {
         match &self.module.nodes[id as usize] {
@@ -690,7 +725,7 @@ impl Interp<'_, '_> {
     /// Calls a procedure with arguments from expressions; ByRef arguments that are plain
     /// variables are copied back when it returns.
     pub fn call(&self, ctx: &mut Ctx, proc: usize, args: &[Arg], span: Span) -> Run<Value> {
-        let (value, frame) = self.call_frame(ctx, proc, args, span)?;
+        let (value, frame) = self.call_frame(ctx, proc, args, span, Call::default())?;
         self.no_record_result(proc, &frame)?;
         Ok(value)
     }
@@ -698,7 +733,7 @@ impl Interp<'_, '_> {
     /// A call of a Function that returns a `Type` (`p = MakePoint(1, 2)`): the record its
     /// name holds when it returns.
     pub fn call_record(&self, proc: usize, args: &[Arg], span: Span) -> Run<Var> {
-        let (_, frame) = self.call_frame(&mut self.ctx(), proc, args, span)?;
+        let (_, frame) = self.call_frame(&mut self.ctx(), proc, args, span, Call::default())?;
         let name = &self.module.procs[proc].name;
         Ok(frame.vars.get(name).map_or(Var::Value(Value::Blank), |s| s.var.clone()))
     }
@@ -713,7 +748,14 @@ impl Interp<'_, '_> {
         Ok(())
     }
 
-    fn call_frame(&self, ctx: &mut Ctx, proc: usize, args: &[Arg], span: Span) -> Run<(Value, Frame)> {
+    pub(super) fn call_frame(
+        &self,
+        ctx: &mut Ctx,
+        proc: usize,
+        args: &[Arg],
+        span: Span,
+        call: Call,
+    ) -> Run<(Value, Frame)> {
         let p = &self.module.procs[proc];
         let mut bound = Vec::new();
         let mut back = Vec::new();
@@ -734,6 +776,10 @@ impl Interp<'_, '_> {
                     continue;
                 }
             }
+            if let Some(object) = self.object_arg(ctx, &a.value)? {
+                bound.push((index, object));
+                continue;
+            }
             let var = match ctx.operand(&a.value) {
                 Operand::Ref(sheet, rect) => Var::Obj(Obj::Range(sheet, rect)),
                 Operand::Value(v) => match &a.value.kind {
@@ -746,7 +792,10 @@ impl Interp<'_, '_> {
             self.take_pending()?;
             bound.push((index, var));
         }
-        let (result, frame) = self.invoke_frame(proc, bound, Some(span))?;
+        if let Some(value) = call.value {
+            bound.push((p.params.len() - 1, value));
+        }
+        let (result, frame) = self.invoke_frame(proc, bound, Some(span), Call { me: call.me, value: None })?;
         for (index, caller_var) in back {
             // A constant passed ByRef is passed as a copy, as in VBA.
             if self.with_slot(&caller_var, |s| s.constant) == Some(true) {
@@ -761,13 +810,21 @@ impl Interp<'_, '_> {
     }
 
     fn invoke(&self, proc: usize, bound: Vec<(usize, Var)>, call_site: Option<Span>) -> Run<Value> {
-        let (value, frame) = self.invoke_frame(proc, bound, call_site)?;
+        let (value, frame) = self.invoke_frame(proc, bound, call_site, Call::default())?;
         self.no_record_result(proc, &frame)?;
         Ok(value)
     }
 
-    fn invoke_frame(&self, proc: usize, bound: Vec<(usize, Var)>, call_site: Option<Span>) -> Run<(Value, Frame)> {
+    pub(super) fn invoke_frame(
+        &self,
+        proc: usize,
+        bound: Vec<(usize, Var)>,
+        call_site: Option<Span>,
+        call: Call,
+    ) -> Run<(Value, Frame)> {
         let p = &self.module.procs[proc];
+        // A class's procedure calling another of its own runs for the same object.
+        let me = call.me.or_else(|| self.me().filter(|_| self.same_class(proc)));
         if self.frames.borrow().len() >= self.options.max_depth {
             let limit = self.options.max_depth;
             let mut f = self.fault(format!(
@@ -785,11 +842,13 @@ impl Interp<'_, '_> {
             on_error: OnError::Off,
             handling: false,
             missing: Vec::new(),
+            me,
         });
         let result = self.bind_and_run(p, bound);
         let frame = self.frames.borrow_mut().pop().expect("the frame pushed above");
         self.keep_statics(&frame);
         result?;
+        self.release_locals(p, &frame)?;
         let value = match p.kind {
             ProcKind::Function => match frame.vars.get(&p.name).map(|s| &s.var) {
                 Some(Var::Value(v)) => v.clone(),
@@ -835,6 +894,53 @@ impl Interp<'_, '_> {
             }
             _ => Ok(()),
         }
+    }
+
+    /// Whether the running procedure and `proc` are of one class module.
+    fn same_class(&self, proc: usize) -> bool {
+        let Some(running) = self.frames.borrow().last().map(|f| f.proc) else { return false };
+        self.module.procs.get(running).is_some_and(|r| r.part == self.module.procs[proc].part)
+    }
+
+    /// A procedure's own variables are gone when it ends: an object only they held is
+    /// terminated (not the Function's result, nor what a ByRef parameter gives back).
+    fn release_locals(&self, p: &Proc, frame: &Frame) -> Run<()> {
+        for slot in frame.vars.iter() {
+            let kept = (p.kind == ProcKind::Function && slot.name.eq_ignore_ascii_case(&p.name))
+                || p.params.iter().any(|q| q.by_ref && q.name.eq_ignore_ascii_case(&slot.name));
+            if !kept {
+                self.release(&slot.var)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Runs a class module's declarations for a new object: the variables they declare
+    /// become the object's own.
+    pub(super) fn declare_fields(&self, object: &Instance, declarations: &[Stmt]) -> Run<()> {
+        // `Dim child As New Node` in class Node makes one object inside the other without end.
+        if self.frames.borrow().len() >= self.options.max_depth {
+            let limit = self.options.max_depth;
+            let mut f = self.fault(format!(
+                "objects made by their own class's declarations (Dim … As New) nest deeper than the limit ({limit})"
+            ));
+            f.kind = ErrorKind::Limit;
+            return Err(f);
+        }
+        self.frames.borrow_mut().push(Frame {
+            proc: usize::MAX,
+            vars: Slots::default(),
+            with: Vec::new(),
+            call_site: None,
+            on_error: OnError::Off,
+            handling: false,
+            missing: Vec::new(),
+            me: None,
+        });
+        let result = declarations.iter().try_for_each(|d| self.exec(d).map(|_| ()));
+        let frame = self.frames.borrow_mut().pop().expect("the frame pushed above");
+        *object.0.fields.borrow_mut() = frame.vars;
+        result
     }
 
     // ---- statements ------------------------------------------------------------------
@@ -1101,7 +1207,7 @@ impl Interp<'_, '_> {
                     Var::Array(array)
                 }
                 _ => match d.new {
-                    Some(class) => Var::Obj(Obj::Store(Handle::new(class))),
+                    Some(class) => self.new_object(class, d.span)?,
                     None => self.default_var(d.ty.as_ref()),
                 },
             };

@@ -150,13 +150,28 @@
 //! expression: use `d(k).Item(i)` or a variable), objects as Dictionary keys. Their entries
 //! count against the run's memory limit (`--max-memory`) as arrays do.
 //!
-//! Not in the language: classes, `Is`, `Static Sub`, `ParamArray`, arrays of more than two
-//! dimensions, events and forms. A member's dot touches what it follows ([MS-VBAL] 5.6.12):
-//! `Out .Y + .X` in a With block calls `Out` with `.Y + .X`.
+//! Class modules (the project's, and `.cls` files given with `run --module`): `Dim x As New
+//! Class1` or `Set x = New Class1` makes an object with its own module-level variables;
+//! its public Subs, Functions, `Property Get|Let|Set` and `Public` variables are its members
+//! (`x.Area`, `x.Width = 3`, `Set x.Owner = o`), `Me` is the object inside them, and `Set`
+//! shares one object between variables, Collections and Dictionaries. `Class_Initialize` runs
+//! when an object is made, `Class_Terminate` when the variable holding the last reference is
+//! set to something else (or Nothing) or its procedure ends (not when a Collection holding
+//! the last one lets it go, nor at the end of the run for module-level variables). A member
+//! of Nothing is VBA's error 91, a member the class has not error 438. `Dim x As New
+//! Class1` makes the object at the `Dim` (VBA makes it at its first use, and again at a use
+//! after `Set x = Nothing`, where ncsheet stops with error 91). Not there: arrays of objects,
+//! `Implements`, events (`WithEvents`, `RaiseEvent`), default members; a class module the
+//! grammar does not take is left out of the project (`New` of it is refused by name).
+//!
+//! Not in the language: `ParamArray`, arrays of more than two dimensions, events and forms.
+//! A member's dot touches what it follows ([MS-VBAL] 5.6.12): `Out .Y + .X` in a With block
+//! calls `Out` with `.Y + .X`.
 
 mod arrays;
 pub mod ast;
 mod budget;
+mod classes;
 mod collections;
 mod conditional;
 mod files;
@@ -232,6 +247,8 @@ pub struct RunOptions {
     /// procedures (`Helper`, `Module2.Helper`), constants and variables, as VBA compiles a
     /// project as one program.
     pub project: Vec<(String, String)>,
+    /// The project's class modules (name, source): `New Name` makes an object of one.
+    pub classes: Vec<(String, String)>,
     /// The workbook's file name (`Book1.xlsm`), for `Address(External:=True)`; `None` when
     /// the run does not know it (the address is then refused, never invented).
     pub workbook_name: Option<String>,
@@ -319,6 +336,7 @@ impl Default for RunOptions {
             document: None,
             active_cells: Vec::new(),
             project: Vec::new(),
+            classes: Vec::new(),
             workbook_name: None,
             files: None,
         }
@@ -439,7 +457,7 @@ fn parse_with(source: &str, file_name: &str, workbook: &Workbook, options: &RunO
         objects.push("me".into());
     }
     let own = std::path::Path::new(file_name).file_stem().and_then(|s| s.to_str()).unwrap_or(file_name);
-    let (joined, parts) = join_project(own, source, &options.project);
+    let (joined, parts) = join_project(own, source, &options.project, &options.classes);
     let source = joined.as_deref().unwrap_or(source);
     let files = options.files.is_some();
     parser::parse_module_with_files(source, &|n| workbook.sheet_id(n), &objects, &parts, files).map_err(|e| {
@@ -459,21 +477,29 @@ fn parse_with(source: &str, file_name: &str, workbook: &Workbook, options: &RunO
     })
 }
 
-/// `source` with the code of the project's other modules after it (their `Attribute` and
-/// `Option` lines left blank: the first module's options hold), and where each module
-/// starts; `None` and no parts when there are no others.
-fn join_project(own_name: &str, source: &str, others: &[(String, String)]) -> (Option<String>, Vec<ast::Part>) {
-    if others.is_empty() {
+/// `source` with the code of the project's other modules after it, its class modules last
+/// (those the language's grammar takes), their `Attribute` and `Option` lines left blank
+/// (the first module's options hold), and where each module starts; `None` and no parts
+/// when there are no others.
+fn join_project(
+    own_name: &str,
+    source: &str,
+    others: &[(String, String)],
+    classes: &[(String, String)],
+) -> (Option<String>, Vec<ast::Part>) {
+    if others.is_empty() && classes.is_empty() {
         return (None, Vec::new());
     }
     let mut out = source.to_string();
-    let mut parts = vec![ast::Part { name: own_name.into(), first_line: 1 }];
-    for (name, other) in others {
+    let mut parts = vec![ast::Part { name: own_name.into(), first_line: 1, class: false }];
+    let classes = classes.iter().filter(|(_, source)| parser::in_grammar(source));
+    let modules = others.iter().map(|m| (m, false)).chain(classes.map(|c| (c, true)));
+    for ((name, other), class) in modules {
         if !out.ends_with('\n') {
             out.push_str("\r\n");
         }
         let first_line = out.matches('\n').count() as u32 + 1;
-        parts.push(ast::Part { name: name.as_str().into(), first_line });
+        parts.push(ast::Part { name: name.as_str().into(), first_line, class });
         for line in other.lines() {
             let word = line.split_whitespace().next().unwrap_or("").to_ascii_lowercase();
             if word != "attribute" && word != "option" {
@@ -504,7 +530,7 @@ pub fn run(
 ) -> Result<RunOutput, MacroError> {
     let module = parse_with(source, file_name, workbook, options)?;
     let own = std::path::Path::new(file_name).file_stem().and_then(|s| s.to_str()).unwrap_or(file_name);
-    let (joined, parts) = join_project(own, source, &options.project);
+    let (joined, parts) = join_project(own, source, &options.project, &options.classes);
     let source = joined.as_deref().unwrap_or(source);
     interp::run(&module, workbook, source, file_name, options).map_err(|mut e| {
         relocate(&mut e, &parts);

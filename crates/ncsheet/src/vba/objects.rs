@@ -116,7 +116,10 @@ impl Interp<'_, '_> {
         match name.as_str() {
             "application" => Ok(Obj::App),
             "thisworkbook" | "activeworkbook" => Ok(Obj::Workbook),
-            "me" => Ok(self.home.map_or(Obj::Workbook, Obj::Sheet)),
+            "me" => Ok(match self.me() {
+                Some(object) => Obj::Instance(object),
+                None => self.home.map_or(Obj::Workbook, Obj::Sheet),
+            }),
             "activesheet" => Ok(Obj::Sheet(active)),
             "activecell" => Ok(Obj::Range(active, Rect::cell(self.cursor(active).1))),
             "selection" => Ok(Obj::Range(active, self.cursor(active).0)),
@@ -193,6 +196,7 @@ impl Interp<'_, '_> {
             Obj::Err => self.err_member(ctx, link),
             Obj::Store(h) => self.store_member(ctx, h, link),
             Obj::Files(f) => self.file_member(ctx, f, link),
+            Obj::Instance(object) => self.instance_member(ctx, &object, link),
             Obj::Record(var, path) => {
                 let i = self.field_index(&var, &path, link)?;
                 let mut path = path.clone();
@@ -203,6 +207,8 @@ impl Interp<'_, '_> {
                     _ => Err(self.no_member(&Obj::Record(var, path), link)),
                 }
             }
+            // A variable never set, or set to Nothing.
+            Obj::Value(Value::Blank) => Err(self.not_set(link)),
             Obj::Value(v) => {
                 let shown = print_text(&v);
                 Err(self.fault_at(link.span, format!("{}: {shown} is a value, not an object", link.name)))
@@ -637,6 +643,7 @@ impl Interp<'_, '_> {
             }
             (Obj::Nc, _) => self.set_nc(&name, value, link.span),
             (Obj::Store(h), _) => self.set_store_member(h, link, value),
+            (Obj::Instance(object), _) => self.set_instance_member(ctx, object, link, value),
             (Obj::Sheet(sheet), "visible") => {
                 let v = self.eval(value)?;
                 self.set_visible(*sheet, &v, link.span)

@@ -99,7 +99,7 @@ pub fn parse_module_with_files(
         items.iter().filter(|i| i.as_rule() == Rule::declare_stmt).filter_map(|i| declared_name(i.as_str())).collect();
     let type_names = items.iter().filter(|i| i.as_rule() == Rule::type_def);
     *b.types.borrow_mut() = type_names.map(|i| name_of(&find(&kids(i), Rule::ident).expect("type name"))).collect();
-    let mut out = Module { base: 0, ..Module::default() };
+    let mut out = Module { base: 0, classes: super::classes::class_defs(parts), ..Module::default() };
     for item in items {
         match item.as_rule() {
             Rule::type_def => {
@@ -111,7 +111,7 @@ pub fn parse_module_with_files(
             Rule::declare_stmt => {}
             // A procedure that does not compile fails when it runs, not its module: VBA
             // compiles a procedure when it is first called.
-            Rule::sub_def | Rule::function_def => {
+            Rule::sub_def | Rule::function_def | Rule::property_def => {
                 b.current_part.set(b.part_at(start(&item)));
                 let p = match b.proc(item.clone()) {
                     Ok(p) => p,
@@ -120,10 +120,22 @@ pub fn parse_module_with_files(
                 out.procs.push(p);
             }
             Rule::dim_stmt | Rule::const_stmt => {
+                let part = b.part_at(start(&item));
+                b.current_part.set(part);
+                let public = item.as_str().trim_start().get(..6).is_some_and(|w| w.eq_ignore_ascii_case("public"));
                 b.building_globals.set(true);
                 let s = b.statement(item)?.expect("a declaration");
                 b.building_globals.set(false);
-                out.globals.push(s);
+                match out.classes.iter_mut().find(|c| c.part == part) {
+                    // A class module's own variables: each of its objects has them.
+                    Some(class) => {
+                        if public {
+                            class.public.extend(declared_names(&s));
+                        }
+                        class.fields.push(s);
+                    }
+                    None => out.globals.push(s),
+                }
             }
             _ => {}
         }
@@ -133,6 +145,14 @@ pub fn parse_module_with_files(
     out.base = b.base.get();
     out.nodes = b.nodes.into_inner();
     Ok(out)
+}
+
+/// Whether a module's text is in the language's grammar (a procedure of it may still fail to
+/// compile, when it runs): a class module that is not (`Implements`, `Event` …) is left out
+/// of the project rather than failing every module joined with it.
+pub(super) fn in_grammar(src: &str) -> bool {
+    let Ok(prepared) = super::conditional::prepare(src) else { return false };
+    FormulaGrammar::parse(Rule::module, &prepared).is_ok()
 }
 
 fn from_pest(err: pest::error::Error<Rule>) -> ParseError {
@@ -156,6 +176,7 @@ fn closer(rule: Rule) -> Option<&'static str> {
         Rule::k_end_if => "End If",
         Rule::k_end_sub => "End Sub",
         Rule::k_end_function => "End Function",
+        Rule::k_end_property => "End Property",
         Rule::k_end_select => "End Select",
         Rule::k_end_with => "End With",
         Rule::k_next => "Next",
@@ -203,6 +224,7 @@ pub(super) struct Signature {
     /// The module of the project it is in (`Module::parts`), and whether other modules see it.
     pub(super) part: usize,
     pub(super) public: bool,
+    pub(super) property: Option<PropertyKind>,
 }
 
 /// What the parser knows while it builds one procedure.
@@ -295,20 +317,24 @@ impl<'s> Build<'s> {
         let mut procs: Vec<Signature> = Vec::new();
         let mut proc_names: std::collections::HashMap<String, Vec<usize>> = std::collections::HashMap::new();
         for item in items {
-            if !matches!(item.as_rule(), Rule::sub_def | Rule::function_def) {
+            if !matches!(item.as_rule(), Rule::sub_def | Rule::function_def | Rule::property_def) {
                 continue;
             }
             let k = kids(item);
             let name_pair = find(&k, Rule::ident).expect("procedure name");
             let name = name_of(&name_pair);
             let part = b.part_at(start(item));
+            let property = property_kind(item);
             let same_name = proc_names.entry(name.to_ascii_lowercase()).or_default();
-            if same_name.iter().any(|&i| procs[i].part == part) {
+            // A Property Get and its Let or Set share a name ([MS-VBAL] 5.3.1.4).
+            let clash =
+                |i: usize| procs[i].part == part && (procs[i].property.is_none() || procs[i].property == property);
+            if same_name.iter().any(|&i| clash(i)) {
                 return Err(b.error_at(&name_pair, format!("{name} is defined twice")));
             }
             same_name.push(procs.len());
             let public = find(&k, Rule::scope).is_none_or(|s| !s.as_str().eq_ignore_ascii_case("Private"));
-            let kind = if item.as_rule() == Rule::sub_def { ProcKind::Sub } else { ProcKind::Function };
+            let kind = proc_kind(item);
             let params: Vec<Pair<Rule>> =
                 find(&k, Rule::param_list).map(|l| all(&kids(&l), Rule::param)).unwrap_or_default();
             let names = params.iter().map(|p| name_of(&find(&kids(p), Rule::ident).expect("param name"))).collect();
@@ -316,7 +342,7 @@ impl<'s> Build<'s> {
                 .iter()
                 .filter(|p| find(&kids(p), Rule::k_optional).is_none() && find(&kids(p), Rule::vexpr).is_none())
                 .count();
-            procs.push(Signature { name, kind, params: names, required, part, public });
+            procs.push(Signature { name, kind, params: names, required, part, public, property });
         }
         Ok(Build { procs, proc_names, ..b })
     }
@@ -372,7 +398,7 @@ impl<'s> Build<'s> {
 
     fn proc(&self, pair: Pair<Rule>) -> Res<Proc> {
         let k = kids(&pair);
-        let kind = if pair.as_rule() == Rule::sub_def { ProcKind::Sub } else { ProcKind::Function };
+        let kind = proc_kind(&pair);
         let name = name_of(&find(&k, Rule::ident).expect("procedure name"));
         *self.scope.borrow_mut() = Scope {
             all_static: find(&k, Rule::k_static).is_some(),
@@ -388,7 +414,8 @@ impl<'s> Build<'s> {
         self.check_gotos(&body, &mut Vec::new())?;
         self.check_body_labels(&body, &body)?;
         let public = find(&k, Rule::scope).is_none_or(|s| !s.as_str().eq_ignore_ascii_case("Private"));
-        Ok(Proc { name, kind, params, ty, body, span: self.span(start(&pair)), public })
+        let (part, property) = (self.current_part.get(), property_kind(&pair));
+        Ok(Proc { name, kind, params, ty, body, span: self.span(start(&pair)), public, part, property })
     }
 
     fn param(&self, pair: Pair<Rule>) -> Res<Param> {
@@ -564,7 +591,7 @@ impl<'s> Build<'s> {
             if let Some(a) = &as_clause {
                 if let Some(k_new) = find(&kids(a), Rule::k_new) {
                     let class = a.as_str().split_whitespace().last().unwrap_or_default();
-                    new = Some(new_class(class).ok_or_else(|| self.refuse_new(&k_new, a.as_str()))?);
+                    new = Some(self.class_named(class).ok_or_else(|| self.refuse_new(&k_new, a.as_str()))?);
                 }
             }
             let ty = as_clause.map(|a| self.ty_of(&a));
@@ -616,7 +643,7 @@ impl<'s> Build<'s> {
         let value = match find(&k, Rule::new_object) {
             Some(new) => {
                 let class = new.as_str().split_whitespace().last().unwrap_or_default();
-                let class = new_class(class).ok_or_else(|| self.refuse_new(&new, new.as_str()))?;
+                let class = self.class_named(class).ok_or_else(|| self.refuse_new(&new, new.as_str()))?;
                 let (at, end) = (start(&new), new.as_span().end());
                 self.node(Node::New { class, span: self.span(at) }, at, end)
             }
@@ -866,6 +893,9 @@ impl<'s> Build<'s> {
             "do" => ExitKind::Do,
             "sub" if !in_function => ExitKind::Sub,
             "function" if in_function => ExitKind::Function,
+            // A Property Get ends as a Function does, a Let or Set as a Sub.
+            "property" if in_function => ExitKind::Function,
+            "property" => ExitKind::Sub,
             _ => return Err(self.error_at(pair, format!("Exit {what} outside a {what}"))),
         })
     }
@@ -1048,7 +1078,7 @@ impl Build<'_> {
     fn failed_proc(&self, pair: &Pair<Rule>, error: ParseError) -> Proc {
         let k = kids(pair);
         let name = name_of(&find(&k, Rule::ident).expect("procedure name"));
-        let kind = if pair.as_rule() == Rule::sub_def { ProcKind::Sub } else { ProcKind::Function };
+        let kind = proc_kind(pair);
         let params = self.procs[self.proc_index(&name).expect("signatures first")]
             .params
             .iter()
@@ -1058,7 +1088,8 @@ impl Build<'_> {
         let failing = Stmt { kind: StmtKind::CompileError(error.message.into()), span: self.span(error.offset) };
         let mut body = Block::default();
         body.stmts.push(failing);
-        Proc { name, kind, params, ty: None, body, span: self.span(start(pair)), public }
+        let (part, property) = (self.current_part.get(), property_kind(pair));
+        Proc { name, kind, params, ty: None, body, span: self.span(start(pair)), public, part, property }
     }
 }
 
@@ -1110,14 +1141,22 @@ fn comparison(rule: Rule) -> Option<BinOp> {
 }
 
 impl Build<'_> {
-    /// `Dim c As New Class1`, `Set c = New Class1`: the class named, refused.
+    /// The class `New` names: a Collection, a Dictionary or a class module of the project.
+    fn class_named(&self, name: &str) -> Option<Made> {
+        new_class(name).map(Made::Store).or_else(|| {
+            let mut classes = self.parts.iter().filter(|p| p.class);
+            classes.position(|p| p.name.eq_ignore_ascii_case(name)).map(Made::Object)
+        })
+    }
+
+    /// `Dim c As New Class9`, `Set c = New Class9` of a class the project has not: refused.
     fn refuse_new(&self, pair: &Pair<Rule>, text: &str) -> ParseError {
         let class = text.split_whitespace().last().unwrap_or_default();
         self.error_at(
             pair,
             format!(
-                "New {class}: objects of a class module are not supported by ncsheet's macros (Collection \
-                 and Dictionary are); keep the values in variables, arrays or cells"
+                "New {class}: no class module of the project has that name (New makes a Collection, a \
+                 Dictionary or an object of one of the project's class modules)"
             ),
         )
     }
@@ -1278,4 +1317,31 @@ fn time_part(words: &[&str]) -> Option<f64> {
         return None;
     }
     Some(f64::from(h * 3600 + m * 60 + s) / 86_400.0)
+}
+
+/// A Sub, or a Function (a Property Get: it has a value); a Property Let or Set is a Sub.
+fn proc_kind(pair: &Pair<Rule>) -> ProcKind {
+    match (pair.as_rule(), property_kind(pair)) {
+        (Rule::function_def, _) | (_, Some(PropertyKind::Get)) => ProcKind::Function,
+        _ => ProcKind::Sub,
+    }
+}
+
+/// `Property Get|Let|Set`: which one; `None` for a Sub or Function.
+fn property_kind(pair: &Pair<Rule>) -> Option<PropertyKind> {
+    let kind = find(&kids(pair), Rule::property_kind)?;
+    Some(match kind.as_str().to_ascii_lowercase().as_str() {
+        "get" => PropertyKind::Get,
+        "let" => PropertyKind::Let,
+        _ => PropertyKind::Set,
+    })
+}
+
+/// The names a module-level `Dim` or `Const` declares, lower case.
+fn declared_names(stmt: &Stmt) -> Vec<String> {
+    match &stmt.kind {
+        StmtKind::Dim(vars) => vars.iter().map(|v| v.name.to_ascii_lowercase()).collect(),
+        StmtKind::Const(items) => items.iter().map(|(n, _)| n.to_ascii_lowercase()).collect(),
+        _ => Vec::new(),
+    }
 }

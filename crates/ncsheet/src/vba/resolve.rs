@@ -187,7 +187,12 @@ pub(super) fn lower_bare(name: &str) -> String {
 impl Build<'_> {
     /// An object of the language or of this run (a sheet's code name, `Me`).
     pub(super) fn is_object(&self, lower: &str) -> bool {
-        is_object(lower) || self.objects.iter().any(|o| o == lower)
+        is_object(lower) || self.objects.iter().any(|o| o == lower) || (lower == "me" && self.in_class())
+    }
+
+    /// The procedure being built is a class module's: `Me` is the object it runs for.
+    fn in_class(&self) -> bool {
+        self.parts.get(self.current_part.get()).is_some_and(|p| p.class)
     }
 
     pub(super) fn is_var(&self, name: &str) -> bool {
@@ -201,19 +206,24 @@ impl Build<'_> {
         scope.vars.insert(lower);
     }
 
-    /// A procedure by name as the module being built sees it: its own first, else a public
-    /// one of another module of the project.
+    /// A procedure by name as the module being built sees it: its own first (a Property
+    /// Get before its Let or Set), else a public one of another standard module of the
+    /// project (a class module's procedures are members of its objects).
     pub(super) fn proc_index(&self, name: &str) -> Option<usize> {
         let same_name = self.proc_names.get(&name.to_ascii_lowercase())?;
         let part = self.current_part.get();
-        let own = same_name.iter().copied().find(|&i| self.procs[i].part == part);
-        own.or_else(|| same_name.iter().copied().find(|&i| self.procs[i].public))
+        let own = |i: &usize| self.procs[*i].part == part;
+        let readable = |i: &usize| matches!(self.procs[*i].property, None | Some(PropertyKind::Get));
+        let mine = same_name.iter().copied().filter(own);
+        let own = mine.clone().find(readable).or_else(|| mine.clone().next());
+        let class_part = |i: usize| self.parts.get(self.procs[i].part).is_some_and(|p| p.class);
+        own.or_else(|| same_name.iter().copied().find(|&i| self.procs[i].public && !class_part(i)))
     }
 
     /// `Module2.Helper`: a procedure of the module named, if it is one of the project's
     /// and the procedure is public there (or that module is the one being built).
     fn module_proc(&self, module: &str, name: &str) -> Option<usize> {
-        let part = self.parts.iter().position(|p| p.name.eq_ignore_ascii_case(module))?;
+        let part = self.parts.iter().position(|p| p.name.eq_ignore_ascii_case(module) && !p.class)?;
         let same_name = self.proc_names.get(&name.to_ascii_lowercase())?;
         same_name
             .iter()
@@ -360,7 +370,7 @@ impl Build<'_> {
         let is_var = self.is_var(&link.name);
         if lower == "createobject" && !is_var {
             if let Some(class) = created(&link) {
-                return Ok(self.node(Node::New { class, span: self.span(at) }, at, end));
+                return Ok(self.node(Node::New { class: Made::Store(class), span: self.span(at) }, at, end));
             }
         }
         if self.files && !is_var && super::files::is_file_function(&lower, &link) {

@@ -59,15 +59,19 @@ impl WorkbookFunctions {
         let mut errors = Vec::new();
         let standard: Vec<_> = project.modules.iter().filter(|m| m.kind == ModuleKind::Standard).collect();
         let total: usize = standard.iter().map(|m| m.source.len()).sum();
+        let classes: Vec<(String, String)> = (project.modules.iter().filter(|m| m.kind == ModuleKind::Class))
+            .map(|m| (m.name.clone(), m.source.clone()))
+            .collect();
         for m in &standard {
             // With the others' code after it, as VBA compiles a project as one program (not
             // for a project so large that parsing it once per module would be slow).
             let mut own = options.clone();
-            if total <= MAX_JOINED {
+            if total + classes.iter().map(|c| c.1.len()).sum::<usize>() <= MAX_JOINED {
                 own.project =
                     standard.iter().filter(|o| o.name != m.name).map(|o| (o.name.clone(), o.source.clone())).collect();
+                own.classes = classes.clone();
             }
-            let (joined, _) = super::join_project(&m.name, &m.source, &own.project);
+            let (joined, _) = super::join_project(&m.name, &m.source, &own.project, &own.classes);
             match parse_with(&m.source, &m.name, wb, &own) {
                 Ok(module) => {
                     let source = joined.unwrap_or_else(|| m.source.clone());

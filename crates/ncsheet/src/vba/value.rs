@@ -53,6 +53,8 @@ pub enum Obj {
     Store(super::collections::Handle),
     /// Scripting's FileSystemObject or one of its TextStreams (`files.rs`).
     Files(super::files::FileObj),
+    /// An object of a class module, shared by every variable set to it.
+    Instance(super::classes::Instance),
 }
 
 impl Obj {
@@ -75,6 +77,7 @@ impl Obj {
                 super::ast::Class::Collection => "a Collection",
                 super::ast::Class::Dictionary => "a Dictionary",
             },
+            Obj::Instance(_) => "an object of a class module",
         }
     }
 }

@@ -1,0 +1,336 @@
+//! Class modules ([MS-VBAL] 5.2.4.1 class modules, 5.3.1.4 property declarations): `New
+//! Class1` makes an object holding its own copy of the module's variables; its public Subs,
+//! Functions and `Property Get|Let|Set` are the object's members, run with `Me` the object.
+//! Objects are shared by `Set` (two names, one object) and compared by `Is`;
+//! `Class_Initialize` runs when one is made, `Class_Terminate` when the last variable
+//! holding it lets it go (set to another object or Nothing, or a procedure's variable when
+//! the procedure ends). VBA's errors: 91 for a member of Nothing, 438 for a member the class
+//! has not.
+
+use std::cell::RefCell;
+use std::fmt;
+use std::rc::Rc;
+
+use crate::eval::{Ctx, Value};
+use crate::formula::ast::{Expr, ExprKind};
+
+use super::ast::{Arg, ClassDef, Link, Made, Node, Part, ProcKind, PropertyKind, Span};
+use super::collections::{var_obj, Handle};
+use super::interp::{Call, Fault, Interp, Run};
+use super::value::{array_var, convert, range_var, Obj, Slots, Var};
+
+/// What one object costs the memory budget besides its variables' values.
+pub(super) const OBJECT_BYTES: u64 = 64;
+
+/// "Trappable errors": VBA's numbers and texts for objects.
+const NOT_SET: (u32, &str) = (91, "Object variable or With block variable not set");
+const NO_MEMBER: (u32, &str) = (438, "Object doesn't support this property or method");
+
+/// An object of a class module, shared by every variable set to it.
+#[derive(Clone)]
+pub struct Instance(pub Rc<Object>);
+
+/// What an object holds: its class and its own variables.
+pub struct Object {
+    /// The class module, by its index in `Module::classes`.
+    pub class: usize,
+    pub fields: RefCell<Slots>,
+}
+
+impl PartialEq for Instance {
+    fn eq(&self, other: &Instance) -> bool {
+        Rc::ptr_eq(&self.0, &other.0)
+    }
+}
+
+/// The class only: an object's variables may lead back to itself.
+impl fmt::Debug for Instance {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "Instance(class {})", self.0.class)
+    }
+}
+
+impl Instance {
+    /// Its variables' values (for the memory budget).
+    pub fn field_vars(&self) -> Vec<Var> {
+        self.0.fields.borrow().iter().map(|s| s.var.clone()).collect()
+    }
+}
+
+/// Objects held in variables are let go one after another, not each inside the one holding
+/// it: a linked list of a million objects does not take the native stack.
+impl Drop for Object {
+    fn drop(&mut self) {
+        let fields = std::mem::take(self.fields.get_mut());
+        let vars = fields.iter().map(|s| s.var.clone()).collect();
+        drop(fields);
+        let_go(vars);
+    }
+}
+
+/// Drops what `pending` holds, the objects it alone holds emptied first (an explicit stack
+/// instead of nested drops; a Collection or a Dictionary empties itself the same way).
+pub(super) fn let_go(mut pending: Vec<Var>) {
+    while let Some(var) = pending.pop() {
+        match var {
+            Var::Obj(Obj::Instance(o)) => {
+                if let Ok(object) = Rc::try_unwrap(o.0) {
+                    let fields = object.fields.take();
+                    pending.extend(fields.iter().map(|s| s.var.clone()));
+                }
+            }
+            Var::Record(_, fields) => pending.extend(fields),
+            _ => {}
+        }
+    }
+}
+
+/// The class modules among a project's parts, in order (`Made::Object(i)`).
+pub(super) fn class_defs(parts: &[Part]) -> Vec<ClassDef> {
+    let classes = parts.iter().enumerate().filter(|(_, p)| p.class);
+    classes.map(|(i, p)| ClassDef { name: p.name.clone(), part: i, fields: Vec::new(), public: Vec::new() }).collect()
+}
+
+impl Interp<'_, '_> {
+    fn object_error(&self, span: Span, (code, text): (u32, &str), what: &str) -> Fault {
+        let mut fault = self.fault_at(span, format!("{what}: {text} (run-time error {code})"));
+        fault.code = code;
+        fault
+    }
+
+    /// `x.Member` where `x` holds Nothing (or was never set): VBA's error 91.
+    pub(super) fn not_set(&self, link: &Link) -> Fault {
+        self.object_error(link.span, NOT_SET, &link.name)
+    }
+
+    /// A new object of `class`: a Collection, a Dictionary or an object of a class module,
+    /// its variables declared and its `Class_Initialize` run.
+    pub(super) fn new_object(&self, made: Made, span: Span) -> Run<Var> {
+        let class = match made {
+            Made::Store(class) => return Ok(Var::Obj(Obj::Store(Handle::new(class)))),
+            Made::Object(class) => class,
+        };
+        self.charge(OBJECT_BYTES, span)?;
+        let object = Instance(Rc::new(Object { class, fields: RefCell::new(Slots::default()) }));
+        self.declare_fields(&object, &self.module.classes[class].fields)?;
+        if let Some(proc) = self.class_proc(class, "Class_Initialize", None) {
+            self.run_event(proc, &object, span)?;
+        }
+        Ok(Var::Obj(Obj::Instance(object)))
+    }
+
+    /// A procedure of the class by name: a Sub, a Function or a Property Get (`write`
+    /// `None`), or the Property Let or Set that assigns.
+    fn class_proc(&self, class: usize, name: &str, write: Option<PropertyKind>) -> Option<usize> {
+        let part = self.module.classes[class].part;
+        self.module.procs.iter().position(|p| {
+            p.part == part
+                && p.name.eq_ignore_ascii_case(name)
+                && match write {
+                    None => matches!(p.property, None | Some(PropertyKind::Get)),
+                    Some(kind) => p.property == Some(kind),
+                }
+        })
+    }
+
+    /// A member other code may call: declared without `Private`.
+    fn public_proc(&self, class: usize, name: &str, write: Option<PropertyKind>) -> Option<usize> {
+        self.class_proc(class, name, write).filter(|&p| self.module.procs[p].public)
+    }
+
+    fn run_event(&self, proc: usize, object: &Instance, span: Span) -> Run<()> {
+        let call = Call { me: Some(object.clone()), value: None };
+        self.invoke_frame(proc, Vec::new(), Some(span), call).map(|_| ())
+    }
+
+    /// Runs `Class_Terminate` of an object `var` held, when nothing else holds it: the last
+    /// reference is going.
+    pub(super) fn release(&self, var: &Var) -> Run<()> {
+        let Var::Obj(Obj::Instance(object)) = var else { return Ok(()) };
+        if Rc::strong_count(&object.0) != 1 {
+            return Ok(());
+        }
+        match self.class_proc(object.0.class, "Class_Terminate", None) {
+            Some(proc) => self.run_event(proc, object, self.module.procs[proc].span),
+            None => Ok(()),
+        }
+    }
+
+    /// `obj.Member(args)` read or called: a public Sub, Function or Property Get of the
+    /// class, else a public variable of the object.
+    pub(super) fn instance_member(&self, ctx: &mut Ctx, object: &Instance, link: &Link) -> Run<Obj> {
+        let class = object.0.class;
+        if let Some(proc) = self.public_proc(class, &link.name, None) {
+            let args = link.args.as_deref().unwrap_or(&[]);
+            return self.call_method(ctx, object, proc, args, None, link.span).map(var_obj);
+        }
+        let Some(var) = self.public_field(object, &link.name) else { return Err(self.no_such_member(object, link)) };
+        match (var, link.args.as_deref()) {
+            (var, None) => Ok(var_obj(var)),
+            (Var::Array(a), Some(args)) => {
+                let index: Vec<Expr> = args.iter().map(|a| a.value.clone()).collect();
+                let mut at = Vec::new();
+                for e in &index {
+                    at.push(self.index(e, "an array index")?);
+                }
+                let k =
+                    self.element_at(&a, &at).map_err(|m| self.fault_at(link.span, format!("{}: {m}", link.name)))?;
+                Ok(Obj::Value(a.data.data[k].clone()))
+            }
+            (_, Some(_)) => {
+                Err(self.fault_at(link.span, format!("{} is a variable of the object, not an array", link.name)))
+            }
+        }
+    }
+
+    fn no_such_member(&self, object: &Instance, link: &Link) -> Fault {
+        let class = &self.module.classes[object.0.class].name;
+        self.object_error(link.span, NO_MEMBER, &format!("{class}.{}", link.name))
+    }
+
+    /// A variable of the object that other code may read (declared `Public`).
+    fn public_field(&self, object: &Instance, name: &str) -> Option<Var> {
+        let def = &self.module.classes[object.0.class];
+        if !def.public.iter().any(|p| p.eq_ignore_ascii_case(name)) {
+            return None;
+        }
+        object.0.fields.borrow().get(name).map(|s| s.var.clone())
+    }
+
+    /// `obj.Member = value` and `Set obj.Member = value`: its Property Let or Set (a Set when
+    /// the value is an object and the class has both), else a public variable of the object.
+    pub(super) fn set_instance_member(&self, ctx: &mut Ctx, object: &Instance, link: &Link, value: &Expr) -> Run<()> {
+        let class = object.0.class;
+        let name = &link.name;
+        let args = link.args.as_deref().unwrap_or(&[]);
+        let (lets, sets) = (
+            self.public_proc(class, name, Some(PropertyKind::Let)),
+            self.public_proc(class, name, Some(PropertyKind::Set)),
+        );
+        let (proc, var) = match (lets, sets) {
+            (Some(let_), None) => (let_, self.var_of(value, false)?),
+            (None, Some(set)) => (set, self.item_var(value)?),
+            (Some(let_), Some(set)) => match self.item_var(value)? {
+                object @ Var::Obj(Obj::Instance(_) | Obj::Store(_)) => (set, object),
+                Var::Obj(Obj::Range(sheet, rect)) => (let_, range_var(self.ctx().rect_value(sheet, rect))),
+                other => (let_, other),
+            },
+            (None, None) => return self.set_field(object, link, value),
+        };
+        self.call_method(ctx, object, proc, args, Some(var), link.span).map(|_| ())
+    }
+
+    /// `obj.Field = value`: a public variable of the object, converted to its type.
+    fn set_field(&self, object: &Instance, link: &Link, value: &Expr) -> Run<()> {
+        let name = &link.name;
+        let args = link.args.as_deref().unwrap_or(&[]);
+        if self.public_field(object, name).is_none() || !args.is_empty() {
+            return Err(self.no_such_member(object, link));
+        }
+        // `Set o.Field = obj` keeps the object; a range assigned without Set is its values.
+        let var = match self.item_var(value)? {
+            Var::Obj(Obj::Range(sheet, rect)) => range_var(self.ctx().rect_value(sheet, rect)),
+            other => other,
+        };
+        self.charge(super::budget::brought(&var), link.span)?;
+        let old = {
+            let mut fields = object.0.fields.borrow_mut();
+            let slot = fields.get_mut(name).expect("a public variable");
+            let new = convert(var, slot.ty.as_ref(), &slot.name).map_err(|m| self.fault_at(link.span, m))?;
+            std::mem::replace(&mut slot.var, new)
+        };
+        self.release(&old)
+    }
+
+    /// Calls a member procedure for `object`, the arguments checked first (the parser does
+    /// not know the class of a variable); `value` is a Property Let's or Set's last argument.
+    fn call_method(
+        &self,
+        ctx: &mut Ctx,
+        object: &Instance,
+        proc: usize,
+        args: &[Arg],
+        value: Option<Var>,
+        span: Span,
+    ) -> Run<Var> {
+        self.check_member_args(proc, args, value.is_some(), span)?;
+        let call = Call { me: Some(object.clone()), value };
+        let (result, frame) = self.call_frame(ctx, proc, args, span, call)?;
+        let p = &self.module.procs[proc];
+        Ok(match p.kind {
+            ProcKind::Function => frame.vars.get(&p.name).map_or(Var::Value(result), |s| s.var.clone()),
+            ProcKind::Sub => Var::Value(Value::Blank),
+        })
+    }
+
+    /// What the parser checks of a call of the module's own procedure, checked at run time.
+    fn check_member_args(&self, proc: usize, args: &[Arg], value: bool, span: Span) -> Run<()> {
+        let p = &self.module.procs[proc];
+        let params = p.params.len().saturating_sub(usize::from(value));
+        if value && p.params.is_empty() {
+            return Err(self.fault_at(span, format!("Property {} has no parameter for the value", p.name)));
+        }
+        let wrong = |m: String| Err(self.fault_at(span, m));
+        if args.len() > params {
+            return wrong(format!(
+                "{}.{} takes at most {params} arguments, not {}",
+                self.class_name(p.part),
+                p.name,
+                args.len()
+            ));
+        }
+        for (i, a) in args.iter().enumerate() {
+            match &a.name {
+                Some(n) if !p.params[..params].iter().any(|q| q.name.eq_ignore_ascii_case(n)) => {
+                    return wrong(format!("{} has no parameter {n}", p.name))
+                }
+                None if args[..i].iter().any(|b| b.name.is_some()) => {
+                    return wrong("a positional argument cannot follow a named one".into())
+                }
+                _ => {}
+            }
+        }
+        let given = |i: usize, name: &str| {
+            args.get(i).is_some_and(|a| a.name.is_none() && a.value.kind != ExprKind::Missing)
+                || args.iter().any(|a| a.name.as_deref().is_some_and(|n| n.eq_ignore_ascii_case(name)))
+        };
+        let required = p.params[..params].iter().enumerate().filter(|(_, q)| !q.optional);
+        if let Some((_, q)) = required.into_iter().find(|(i, q)| !given(*i, &*q.name)) {
+            return wrong(format!("{}: argument {} is not optional", p.name, q.name));
+        }
+        Ok(())
+    }
+
+    fn class_name(&self, part: usize) -> &str {
+        self.module.parts.get(part).map_or("the object", |p| &p.name)
+    }
+
+    /// An argument that is an object, passed as the object: a variable holding one, `Me`,
+    /// `obj.Child`, `New Class1`. `None` for the other arguments (values, ranges, arrays).
+    pub(super) fn object_arg(&self, ctx: &mut Ctx, e: &Expr) -> Run<Option<Var>> {
+        match &e.kind {
+            ExprKind::Name(n) => Ok(self.lookup(n).filter(|v| matches!(v, Var::Obj(Obj::Instance(_) | Obj::Store(_))))),
+            ExprKind::Host(id) => match &self.module.nodes[*id as usize] {
+                Node::New { class, span } => self.new_object(*class, *span).map(Some),
+                Node::Path(path) => {
+                    let object = self.path(ctx, path);
+                    self.take_pending()?;
+                    Ok(Some(match object? {
+                        o @ (Obj::Instance(_) | Obj::Store(_)) => Var::Obj(o),
+                        other => match self.operand_of(other, path.span)? {
+                            crate::eval::Operand::Ref(sheet, rect) => Var::Obj(Obj::Range(sheet, rect)),
+                            operand => array_var(ctx.deref(operand), self.module.base),
+                        },
+                    }))
+                }
+                _ => Ok(None),
+            },
+            _ => Ok(None),
+        }
+    }
+
+    /// `Me` in a class module's procedure: the object it runs for.
+    pub(super) fn me(&self) -> Option<Instance> {
+        self.frames.borrow().last().and_then(|f| f.me.clone())
+    }
+}
