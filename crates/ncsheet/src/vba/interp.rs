@@ -275,6 +275,8 @@ pub struct Interp<'m, 'w> {
     pub err: RefCell<ErrState>,
     /// GoSubs now running without their Return, across the running procedures.
     gosubs: Cell<usize>,
+    /// The lowest address of this thread's stack, read at the first GoSub ([`stack_low`]).
+    stack_low: Cell<Option<usize>>,
     /// The files the macro wrote and those it has open (`files.rs`).
     pub(super) files: RefCell<super::files::Files>,
 }
@@ -315,6 +317,7 @@ impl<'m, 'w> Interp<'m, 'w> {
             charged: Cell::new(0),
             err: RefCell::new(ErrState::default()),
             gosubs: Cell::new(0),
+            stack_low: Cell::new(None),
             files: RefCell::new(super::files::Files::default()),
         }
     }
@@ -1115,12 +1118,21 @@ impl Interp<'_, '_> {
     /// `GoSub label`: the subroutine runs nested in this statement until its `Return`. A
     /// GoSub that never returns nests deeper at each call; past [`GOSUB_MAX_DEPTH`] it is
     /// VBA's error 28, "Out of stack space" (VBA's reference, "Out of stack space (Error
-    /// 28)"), before the native stack runs out.
+    /// 28)"), before the native stack runs out. The blocks between two GoSubs (`If`, `For`,
+    /// `With` … around the inner one) nest native frames too, so the stack left is measured
+    /// as well: a GoSub is refused with less than [`STACK_RESERVE`] of it (800 GoSubs each
+    /// inside an `If` overflowed an 8 MiB stack before the count was reached).
     fn gosub(&self, label: &str) -> Run<Flow> {
         let depth = self.gosubs.get();
-        if depth >= GOSUB_MAX_DEPTH {
+        let short = self.stack_left().is_some_and(|left| left < STACK_RESERVE);
+        if depth >= GOSUB_MAX_DEPTH || short {
+            let why = if short {
+                format!(", less than {} KiB of the thread's stack left", STACK_RESERVE >> 10)
+            } else {
+                String::new()
+            };
             let mut f = self.fault(format!(
-                "Out of stack space (run-time error 28): GoSubs nest {GOSUB_MAX_DEPTH} deep without a Return"
+                "Out of stack space (run-time error 28): GoSubs nest {depth} deep without a Return{why}"
             ));
             f.code = 28;
             return Err(f);
@@ -1132,6 +1144,20 @@ impl Interp<'_, '_> {
             Flow::Return => Flow::Next,
             other => other,
         })
+    }
+
+    /// The native stack left below this frame, where the system says where the thread's
+    /// stack ends (read once: a macro runs on one thread).
+    fn stack_left(&self) -> Option<usize> {
+        let low = match self.stack_low.get() {
+            Some(low) => low,
+            None => {
+                let low = stack_low()?;
+                self.stack_low.set(Some(low));
+                low
+            }
+        };
+        Some(stack_address().saturating_sub(low))
     }
 
     /// Runs the procedure's body from a label: a GoSub's subroutine or an error handler.
@@ -1562,6 +1588,35 @@ impl Interp<'_, '_> {
 /// The deepest GoSubs nest without a Return (each level is a few native stack frames: the
 /// limit leaves room for them on a 2 MiB thread with procedures and expressions running).
 pub const GOSUB_MAX_DEPTH: usize = 1000;
+
+/// The native stack a GoSub leaves for what runs inside it: a statement's expressions at
+/// their nesting limits fit in it (docs/limits.md: both formula limits hold on 2 MiB).
+const STACK_RESERVE: usize = 1 << 20;
+
+/// The lowest address of the running thread's stack (glibc's `pthread_getattr_np`, which
+/// knows the main thread's too), or `None` where the system does not say.
+fn stack_low() -> Option<usize> {
+    // SAFETY: `attr` is initialised by pthread_getattr_np before it is read, and destroyed
+    // once; the out-pointers are valid locals.
+    unsafe {
+        let mut attr: libc::pthread_attr_t = std::mem::zeroed();
+        if libc::pthread_getattr_np(libc::pthread_self(), &mut attr) != 0 {
+            return None;
+        }
+        let mut addr: *mut libc::c_void = std::ptr::null_mut();
+        let mut size: libc::size_t = 0;
+        let read = libc::pthread_attr_getstack(&attr, &mut addr, &mut size) == 0;
+        libc::pthread_attr_destroy(&mut attr);
+        (read && !addr.is_null()).then_some(addr as usize)
+    }
+}
+
+/// The address of a local of this frame: where the native stack stands (it grows down).
+#[inline(never)]
+fn stack_address() -> usize {
+    let marker = 0u8;
+    std::hint::black_box(&marker) as *const u8 as usize
+}
 
 /// The most cells one assignment writes (a whole sheet is 17 billion).
 const MAX_WRITE: u64 = 10_000_000;

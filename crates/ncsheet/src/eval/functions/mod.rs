@@ -72,8 +72,9 @@ pub struct FnSpec {
     pub volatile: bool,
     /// A cell calling it is recomputed at every edit, not only when what it reads changes.
     /// Every volatile function is, but one whose reach is linked in the graph after each
-    /// evaluation (OFFSET: the reference it is given is an edge, the one it makes is linked by
-    /// `relink_dynamic`), so filling a column with it one edit at a time stays linear.
+    /// evaluation (OFFSET: the reference it is given is a position, no edge; the one it makes
+    /// is linked by `relink_dynamic`), so filling a column with it one edit at a time stays
+    /// linear.
     /// INDIRECT's text may name a sheet or a name not there yet: it stays.
     pub every_edit: bool,
     /// How an xlsx file spells the name: functions newer than Excel 2007 carry `_xlfn.`.
@@ -94,7 +95,8 @@ pub struct FnSpec {
     /// Excel cached for it was computed at another moment, by chance, or on another machine.
     pub reads: Outside,
     /// Its first argument, written as a reference, is read for where it is, not for what it
-    /// holds (ROW, ROWS, ISREF …; INDEX links the cells it returns at run time): no graph edge.
+    /// holds (ROW, ROWS, ISREF …; INDEX and OFFSET link the cells they return at run time): no
+    /// graph edge.
     pub position_arg: bool,
     /// Its place in the .xls format's function table (MS-XLS 2.5.198.17 `Ftab`), for the
     /// functions Excel 97 had: the .xls reader knows a function by it.

@@ -387,12 +387,22 @@ fn index_from_ends(i: f64, n: usize) -> XlResult<usize> {
     }
 }
 
-/// The indexes the arguments name, each a number or an array of numbers.
-fn chosen(ctx: &mut Ctx, args: &[Expr], n: usize) -> XlResult<Vec<usize>> {
+/// The indexes the arguments name, each a number or an array of numbers. Each pick is a
+/// whole row (CHOOSEROWS) or column (CHOOSECOLS) of `width` items: the result's size is
+/// checked as the picks are counted, before anything is copied (16,000 picks of a row of
+/// 16,384 items aborted at the memory cap).
+fn chosen(ctx: &mut Ctx, args: &[Expr], n: usize, width: usize, rows: bool) -> XlResult<Vec<usize>> {
     let dates = ctx.dates();
     let mut out = Vec::new();
     for e in args {
-        for v in &block(ctx, e)?.data {
+        let picks = block(ctx, e)?;
+        let count = out.len() + picks.data.len();
+        if rows {
+            ctx.room_for(count, width)?;
+        } else {
+            ctx.room_for(width, count)?;
+        }
+        for v in &picks.data {
             out.push(index_from_ends(to_number(v, dates)?, n)?);
         }
     }
@@ -401,13 +411,13 @@ fn chosen(ctx: &mut Ctx, args: &[Expr], n: usize) -> XlResult<Vec<usize>> {
 
 fn chooserows(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let a = block(ctx, &args[0])?;
-    let picks = chosen(ctx, &args[1..], a.rows)?;
+    let picks = chosen(ctx, &args[1..], a.rows, a.cols, true)?;
     by_rows_or_cols(&a, false, |rows| Ok(picks.iter().map(|&i| rows[i].clone()).collect()))
 }
 
 fn choosecols(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let a = block(ctx, &args[0])?;
-    let picks = chosen(ctx, &args[1..], a.cols)?;
+    let picks = chosen(ctx, &args[1..], a.cols, a.rows, false)?;
     by_rows_or_cols(&a, true, |cols| Ok(picks.iter().map(|&i| cols[i].clone()).collect()))
 }
 

@@ -3,7 +3,10 @@
 //! know them in advance: each is reported through [`Ctx::note_dynamic_ref`], and the workbook
 //! links the cell to it after evaluation (crates/ncsheet/src/workbook/recalc.rs). Excel recalculates both at
 //! every edit (they are volatile); here OFFSET is recomputed only when what it reads changes
-//! (`FnSpec::every_edit`).
+//! (`FnSpec::every_edit`). OFFSET's first argument is where to start, not what it reads
+//! (`FnSpec::position_arg`): no graph edge comes from it, only from the cells it reaches, so
+//! a running balance `B3 = OFFSET(B3,-1,0)+A3`, or `OFFSET(B:B,ROW()-2,0,1)` over its own
+//! column, is no cycle.
 
 use crate::eval::coerce::{to_bool, to_number, to_text};
 use crate::eval::functions::api::{ArgSet, Ctx, FnSpec, Operand, Registry};
@@ -34,7 +37,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
     .biff(78)
     .range_args(ArgSet::only(0))
     .volatile()
-    .reach_linked(),
+    .reach_linked()
+    .position_arg(),
 ];
 
 fn indirect(ctx: &mut Ctx, args: &[Expr]) -> Operand {
@@ -243,9 +247,12 @@ fn offset_ref(ctx: &mut Ctx, args: &[Expr]) -> XlResult<(SheetId, Rect)> {
     let height = size(whole_or(ctx, args, 3, base.rows())?)?;
     let width = size(whole_or(ctx, args, 4, base.cols())?)?;
     let corner = |start: u32, by: i64, size: i64, count: u32| -> XlResult<(u32, u32)> {
-        let from = i64::from(start) + by;
+        // Saturating: a move or size of 1E+300 was cast to i64::MAX and overflowed here (a
+        // panic in a debug build); any such count is off the sheet, `#REF!`.
+        let from = i64::from(start).saturating_add(by);
         // A negative height or width reaches up or left from the moved corner, as in Excel.
-        let (low, high) = if size > 0 { (from, from + size - 1) } else { (from + size + 1, from) };
+        let (low, high) =
+            if size > 0 { (from, from.saturating_add(size - 1)) } else { (from.saturating_add(size + 1), from) };
         Ok((in_sheet(low, count)?, in_sheet(high, count)?))
     };
     let (top, bottom) = corner(base.first.row, rows, height, MAX_ROWS)?;

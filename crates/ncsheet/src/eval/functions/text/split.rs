@@ -195,6 +195,9 @@ fn textsplit(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         return Err(XlError::Calc);
     }
     let n = rows.len();
+    // Every row is padded to the widest: 16,384 rows under one row of 16,384 parts (a text
+    // of 32,767 delimiters) would be 2^28 items.
+    ctx.room_for(n, cols)?;
     let data = rows
         .into_iter()
         .flat_map(|r| {

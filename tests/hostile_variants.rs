@@ -1,0 +1,172 @@
+//! Hostile input (issue 30): variants of each class that nobody tuned the fixes for — other
+//! functions of the same family, other spellings, other parts. Each gives a clear error in
+//! its place, bounded in time and memory, never a panic, an abort or a silent wrong value.
+
+mod common;
+
+use ncsheet::eval::{Value, XlError};
+use ncsheet::formula::address::parse_cell;
+use ncsheet::workbook::Workbook;
+
+/// A sheet with `cells` typed in, recalculated.
+fn sheet(cells: &[(String, String)]) -> Workbook {
+    let mut wb = Workbook::with_sheet();
+    for (cell, input) in cells {
+        wb.set_input_deferred(0, parse_cell(cell).unwrap(), input).unwrap();
+    }
+    wb.recalculate();
+    wb
+}
+
+fn get(wb: &Workbook, cell: &str) -> Value {
+    wb.value(0, parse_cell(cell).unwrap())
+}
+
+// ---------------------------------------------------------------------------------------
+// Silently wrong: OFFSET's starting reference read as a dependency
+
+/// A ledger of `last` rows: A(n) = n - 1 from row 2, B2 = A2 and B(n) = `step(n)` below it,
+/// so that B(n) is the running sum 1 + 2 + … + (n - 1) = n(n - 1)/2.
+fn ledger(last: u32, step: &dyn Fn(u32) -> String) -> Workbook {
+    let mut cells = vec![("A2".to_string(), "1".to_string()), ("B2".to_string(), "=A2".to_string())];
+    for r in 3..=last {
+        cells.push((format!("A{r}"), (r - 1).to_string()));
+        cells.push((format!("B{r}"), step(r)));
+    }
+    sheet(&cells)
+}
+
+fn running_sum(n: u32) -> Value {
+    Value::Number(f64::from(n) * f64::from(n - 1) / 2.0)
+}
+
+#[test]
+fn a_running_balance_through_offset_of_its_own_column_is_no_cycle() {
+    let forms: [(&str, &dyn Fn(u32) -> String); 3] = [
+        ("OFFSET(B3,-1,0)", &|r| format!("=OFFSET(B{r},-1,0)+A{r}")),
+        ("OFFSET(B:B,ROW()-2,0,1)", &|r| format!("=OFFSET(B:B,ROW()-2,0,1)+A{r}")),
+        ("OFFSET($B$1,ROW()-2,0)", &|r| format!("=OFFSET($B$1,ROW()-2,0)+A{r}")),
+    ];
+    let last = 5_001;
+    for (form, step) in forms {
+        let mut wb = ledger(last, step);
+        for n in [3, 1_500, last] {
+            assert_eq!(get(&wb, &format!("B{n}")), running_sum(n), "{form}: B{n}");
+        }
+        assert!(wb.problems().is_empty(), "{form}: {:?}", wb.problems().first().map(|p| p.render()));
+        // An edit at the top reaches the bottom: the cells OFFSET reached are its links.
+        wb.set_input(0, parse_cell("A2").unwrap(), "101").unwrap();
+        let Value::Number(sum) = running_sum(last) else { unreachable!() };
+        assert_eq!(get(&wb, &format!("B{last}")), Value::Number(sum + 100.0), "{form}");
+    }
+    // Summed from the bottom up, each row reading the one below through its own column (the
+    // order a cycle's cells are settled in is the worst for it): C(n) = C(n+1) + A(n),
+    // C5001 = A5001 = 5000.
+    let mut cells = vec![("C5001".to_string(), "=A5001".to_string())];
+    for r in 2..=last {
+        cells.push((format!("A{r}"), (r - 1).to_string()));
+        if r < last {
+            cells.push((format!("C{r}"), format!("=OFFSET(C:C,ROW(),0,1)+A{r}")));
+        }
+    }
+    let wb = sheet(&cells);
+    assert_eq!(get(&wb, "C2"), running_sum(last));
+    assert!(wb.problems().is_empty(), "{:?}", wb.problems().first().map(|p| p.render()));
+}
+
+#[test]
+fn offset_still_finds_a_real_cycle_and_excels_ref() {
+    // The cell OFFSET reaches is the formula's own: a cycle, as in Excel, and named. (It
+    // keeps the value of its one computation before its reach was known, as INDEX's does.)
+    for formula in ["=OFFSET(C2,-1,0)+1", "=OFFSET(C:C,0,0,1)+1", "=SUM(OFFSET($C$1,0,0))"] {
+        let wb = sheet(&[("C1".to_string(), formula.to_string())]);
+        assert_eq!(wb.cycles(), vec![vec!["Sheet1!C1".to_string()]], "{formula}");
+    }
+    // B:B moved down one row runs past the sheet's last row: #REF! in Excel, not a cycle.
+    let wb = sheet(&[("A3".to_string(), "2".to_string()), ("B3".to_string(), "=OFFSET(B:B,ROW()-2,0)+A3".to_string())]);
+    assert_eq!(get(&wb, "B3"), Value::Error(XlError::Ref));
+}
+
+// ---------------------------------------------------------------------------------------
+// Arrays sized by their arguments: other builders than the ones the item limit named
+
+const NUM: Value = Value::Error(XlError::Num);
+
+#[test]
+fn arrays_built_from_picks_and_splits_are_num_naming_the_limit() {
+    let cases = [
+        // 16,000 picks of a row of 16,384 items: 262,144,000 items.
+        "=ROWS(CHOOSEROWS(SEQUENCE(1,16384),SEQUENCE(16000,1,1,0)))",
+        "=ROWS(CHOOSECOLS(SEQUENCE(16384),SEQUENCE(1,16000,1,0)))",
+        // Picks given in several arguments add up: 3 × 4,096 rows of 4,096.
+        "=ROWS(CHOOSEROWS(SEQUENCE(4096,4096),SEQUENCE(4096),SEQUENCE(4096),SEQUENCE(4096)))",
+        // 16,384 rows (semicolons) padded to the first row's 16,384 parts (commas).
+        "=ROWS(TEXTSPLIT(REPT(\",\",16383)&REPT(\";\",16383),\",\",\";\"))",
+    ];
+    for formula in cases {
+        let (v, notes, _) = common::sheet::eval_a1(formula);
+        assert_eq!(v, NUM, "{formula}");
+        assert!(notes.iter().any(|n| n.contains("more than ncsheet's limit of 16777216")), "{formula}: {notes:?}");
+    }
+    // Within the limit they still build (Excel's results).
+    let value = |f: &str| common::sheet::eval_a1(f).0;
+    assert_eq!(value("=SUM(CHOOSEROWS({1,2;3,4;5,6},3,-3))"), Value::Number(5.0 + 6.0 + 1.0 + 2.0));
+    assert_eq!(value("=SUM(CHOOSECOLS({1,2,3;4,5,6},{3,1}))"), Value::Number(3.0 + 1.0 + 6.0 + 4.0));
+    assert_eq!(value("=COLUMNS(TEXTSPLIT(\"a,b,c;d\",\",\",\";\"))"), Value::Number(3.0));
+    assert_eq!(value("=ROWS(TEXTSPLIT(\"a,b,c;d\",\",\",\";\"))"), Value::Number(2.0));
+}
+
+// ---------------------------------------------------------------------------------------
+// Counts past i64: OFFSET's move and size
+
+#[test]
+fn offset_by_counts_past_the_sheet_is_ref() {
+    // 1E+300 rows down, or a height of 1E+300 from row 5: far off the sheet (the count was
+    // cast to the largest i64 and overflowed when added).
+    let reference = Value::Error(XlError::Ref);
+    for formula in [
+        "=OFFSET(A2,1E+300,0)",
+        "=OFFSET(A2,-1E+300,0)",
+        "=OFFSET(A5,0,0,1E+300)",
+        "=OFFSET(A5,-3,0,-1E+300)",
+        "=OFFSET(B5,0,-1E+300,1,-1E+300)",
+        "=OFFSET(A5,0,2,1,1E+300)",
+    ] {
+        assert_eq!(common::sheet::eval_a1(formula).0, reference, "{formula}");
+    }
+    // A negative height reaches up from the moved corner (Excel: OFFSET(A5,0,0,-3) is A3:A5).
+    assert_eq!(common::sheet::eval_a1("=ROWS(OFFSET(A5,0,0,-3))").0, Value::Number(3.0));
+}
+
+
+// ---------------------------------------------------------------------------------------
+// Macros: GoSubs nested with blocks between them
+
+/// GoSubs that each return, nested 100,000 deep through an `If` (block or one-line) between
+/// two of them: VBA's error 28, "Out of stack space", never an overflow of the native stack
+/// (800 such levels aborted the process: the limit counted GoSubs, not the frames of the
+/// blocks between them).
+#[test]
+fn gosubs_nested_inside_blocks_stop_with_error_28() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("wb.csv"), "1\n").unwrap();
+    let one_line = "Sub Main()\n    Dim i As Long\n    GoSub Down\n    Debug.Print i\n    Exit Sub\nDown:\n    i = i + 1\n\
+                    \x20   If i < 100000 Then GoSub Down\n    Return\nEnd Sub\n";
+    let blocks = "Sub Main()\n    Dim i As Long, j As Long\n    GoSub Down\n    Exit Sub\nDown:\n    i = i + 1\n\
+                  \x20   If i < 100000 Then\n        If True Then\n            For j = 1 To 1\n                Select Case 1\n\
+                  \x20                   Case 1\n                        Do\n                            GoSub Down\n\
+                  \x20                           Exit Do\n                        Loop\n                End Select\n\
+                  \x20           Next\n        End If\n    End If\n    Return\nEnd Sub\n";
+    for (name, source) in [("one_line.bas", one_line), ("blocks.bas", blocks)] {
+        std::fs::write(dir.path().join(name), source).unwrap();
+        let run = common::cli::Invocation { dir: Some(dir.path()), ..Default::default() }.run(&["run", "wb.csv", name]);
+        assert_eq!(run.code, 1, "{name}: {}", run.stderr);
+        assert!(run.stderr.contains("Out of stack space (run-time error 28)"), "{name}: {}", run.stderr);
+    }
+    // A hundred nested GoSubs with their Returns still run to the end.
+    std::fs::write(dir.path().join("hundred.bas"), one_line.replace("100000", "100")).unwrap();
+    let run = common::cli::Invocation { dir: Some(dir.path()), ..Default::default() }.run(&["run", "wb.csv", "hundred.bas"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    // Debug.Print writes to standard error, as it happens.
+    assert_eq!(run.stderr.lines().next().map(str::trim), Some("100"), "{}", run.stderr);
+}
