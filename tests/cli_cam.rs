@@ -289,7 +289,8 @@ fn every_listed_dialect_writes_and_bad_feeds_are_refused() {
 /// The design sheet's profile exactly (sheets/cam-turret.csv): for a polar angle in degrees,
 /// the radius of the disc's segment covering it, or `None` in a gap of the partial sheet.
 fn profile_radius(disc: &str, phi: f64) -> Option<f64> {
-    let text = std::fs::read_to_string(sheet()).unwrap();
+    static TEXT: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    let text = TEXT.get_or_init(|| std::fs::read_to_string(sheet()).unwrap());
     let phi = phi.rem_euclid(360.0);
     for line in text.lines().skip(1) {
         // The operation may hold a quoted comma; the last six fields are what counts.
@@ -327,11 +328,11 @@ fn rs274_with_a_tool_table_accepts_cam_programs_for_cutters_of_2_to_25_mm() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    // Disc R's profile has a concave corner at 5.4° (the 114 mm circle meets the spiral down
-    // to 110 mm over 2.6°) that no cutter over 16 mm reaches: LinuxCNC refuses that corner
-    // whatever the approach ("Arc move in concave corner cannot be reached by the tool").
-    for (disc, largest) in [("R", 16.0), ("III", 25.0)] {
-        for diameter in [2.0, 5.0, 10.0, 16.0, 25.0].into_iter().filter(|d| *d <= largest) {
+    // Disc R's profile has concave places that a cutter over 16 mm does not reach under
+    // compensation (LinuxCNC: "Arc move in concave corner cannot be reached by the tool");
+    // the program rounds them (see the next test), so every cutter is accepted.
+    for disc in ["R", "III"] {
+        for diameter in [2.0, 5.0, 10.0, 16.0, 25.0] {
             for lead in ["line", "arc"] {
                 let program = dir.path().join(format!("cam-{disc}-{diameter}-{lead}.ngc"));
                 let d = diameter.to_string();
@@ -400,6 +401,85 @@ fn rs274_with_a_tool_table_accepts_cam_programs_for_cutters_of_2_to_25_mm() {
             }
         }
     }
+}
+
+/// Issue 32: a concave place of the profile that a 25 mm cutter cannot reach under the
+/// control's compensation (disc R, which LinuxCNC refused with "Arc move in concave corner
+/// cannot be reached by the tool without gouging") is rounded in the program and said on
+/// stderr; the cutter's centre as rs274 compensates it never reaches inside the sheet's
+/// profile anywhere along the cut, and stays on it (within 0.05 mm) away from the rounded
+/// places.
+#[test]
+fn a_concave_place_beyond_a_large_cutter_is_rounded_and_said_and_never_gouged() {
+    if !rs274::available() {
+        eprintln!("skipped: rs274 is not installed");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let program = dir.path().join("cam-R-25.ngc");
+    let out = ncsheet(&[
+        "cam",
+        &sheet(),
+        "--disc",
+        "R",
+        "--tol",
+        "0.01",
+        "--partial",
+        "--format",
+        "nc",
+        "--dialect",
+        "linuxcnc",
+        "--cutter",
+        "right",
+        "--cutter-diameter",
+        "25",
+        "-o",
+        program.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stderr.contains("beyond the reach of the D25 cutter"), "{stderr}");
+    let table = dir.path().join("tools.tbl");
+    std::fs::write(&table, format!("T1 P1 Z0 D{:.9}\n", 25.0 / 25.4)).unwrap();
+    let canon = rs274::canon_with_tools(&program, Some(&table)).unwrap_or_else(|e| panic!("rs274 refuses: {e}"));
+    let radius = 12.5;
+    let mut from: Option<(f64, f64)> = None;
+    let mut checked = 0;
+    for m in rs274::moves_of(&canon) {
+        let (to, z, centre) = match m {
+            Move::Traverse { x, y, z } | Move::Feed { x, y, z } => ((x, y), z, None),
+            Move::Arc { first_end, second_end, first_centre, second_centre, rotation, axis_end } => {
+                ((first_end, second_end), axis_end, Some(((first_centre, second_centre), rotation)))
+            }
+        };
+        let start = from.unwrap_or(to);
+        from = Some(to);
+        if z >= 0.0 {
+            continue;
+        }
+        for k in 0..=20 {
+            let t = k as f64 / 20.0;
+            let c = match centre {
+                None => (start.0 + (to.0 - start.0) * t, start.1 + (to.1 - start.1) * t),
+                Some((o, rotation)) => {
+                    let (a0, a1) = ((start.1 - o.1).atan2(start.0 - o.0), (to.1 - o.1).atan2(to.0 - o.0));
+                    let sweep = if rotation > 0 {
+                        (a1 - a0).rem_euclid(std::f64::consts::TAU)
+                    } else {
+                        -(a0 - a1).rem_euclid(std::f64::consts::TAU)
+                    };
+                    let r = (start.0 - o.0).hypot(start.1 - o.1);
+                    let a = a0 + sweep * t;
+                    (o.0 + r * a.cos(), o.1 + r * a.sin())
+                }
+            };
+            if let Some(depth) = cutter_inside("R", c, radius, 0.02) {
+                panic!("the cutter at {c:?} is {depth} mm inside disc R's profile");
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked > 500, "only {checked} cutter positions below the top");
 }
 
 /// Issue 32: `nc check --tool-table` refuses what LinuxCNC refuses, a compensation entry move

@@ -9,7 +9,8 @@ use ncsheet::geometry::cam::{
     by_disc, fit_cam, fit_piece_on_side, CamFit, CamOptions, FittedSegment, Piece, PieceKind, Segment, Side,
 };
 use ncsheet::nc::cam::{
-    cam_program, fit_tolerance, CamNcOptions, Compensation, LeadKind, DEFAULT_CUTTER_DIAMETER, LEAD_BEYOND_RADIUS,
+    cam_program_reporting, fit_tolerance, CamNcOptions, Compensation, LeadKind, DEFAULT_CUTTER_DIAMETER,
+    LEAD_BEYOND_RADIUS,
 };
 use ncsheet::nc::cam_sheet::{arcs_csv, parse_sheet, svg_drawing, SvgOptions};
 use ncsheet::nc::{dialect, Machine};
@@ -299,7 +300,23 @@ fn write_fit(fit: &CamFit, out: &CamOutput) -> Result<()> {
                 },
                 cutter_diameter: out.cutter_diameter,
             };
-            let program = cam_program(fit, &options).map_err(Error::User)?;
+            let (program, roundings) = cam_program_reporting(fit, &options).map_err(Error::User)?;
+            for u in &roundings {
+                let r = &u.rounding;
+                eprintln!(
+                    "ncsheet: disc {}: warning: the concave place at X{:.3} Y{:.3}{} is beyond the reach of the \
+                     D{} cutter with compensation; the program rounds it with R{:.3} and leaves up to {:.3} mm \
+                     there ({})",
+                    fit.disc,
+                    r.at.x,
+                    r.at.y,
+                    if u.at_entry { ", where the lead meets the profile," } else { "" },
+                    out.cutter_diameter,
+                    r.arc.radius,
+                    r.left,
+                    if u.at_entry { "--lead-kind arc enters without that corner" } else { "a smaller cutter cuts it" }
+                );
+            }
             d.render(&program).map_err(|e| Error::User(e.to_string()))?
         }
     };

@@ -7,6 +7,8 @@
 //! - [`fit`]: the arc-spline fitter (on either side of the curve or on one), its lower bound
 //!   and an independent deviation check.
 //! - [`profile`]: whole cams: coverage check (gaps, overlaps, steps) and every segment's arcs.
+//! - [`reach`]: what a cutter of a given radius reaches with the control's compensation:
+//!   concave places it cannot reach rounded by a tangent arc, and how much is left there.
 //!
 //! The design sheet, the coordinate table and the drawing are in `nc::cam_sheet`; the milling
 //! program is built on the NC model in `nc::cam`.
@@ -19,6 +21,7 @@ pub mod arc;
 pub mod fit;
 pub mod piece;
 pub mod profile;
+pub mod reach;
 
 pub use arc::{Arc, Turn};
 pub use fit::{deviation, fit_piece, fit_piece_on_side, lower_bound, Deviation, Side};

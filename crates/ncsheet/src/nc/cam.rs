@@ -7,6 +7,8 @@ use nalgebra::{Point2, Vector2};
 
 pub use super::program::Compensation;
 use super::program::{ArcDirection, Block, FeedMode, Machine, Program, Spindle, SpindleDirection, Target, ToolChange};
+pub use crate::geometry::cam::reach::Rounding;
+use crate::geometry::cam::reach::{round_concave, CutterSide, Element};
 use crate::geometry::cam::{Arc, CamFit, Turn};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -104,6 +106,13 @@ const GAP: f64 = 1e-6;
 /// not longer than the cutter's radius, heights out of order, a plunge point the cutter would
 /// cut the profile at).
 pub fn cam_program(fit: &CamFit, options: &CamNcOptions) -> Result<Program, String> {
+    cam_program_reporting(fit, options).map(|(program, _)| program)
+}
+
+/// [`cam_program`] and the concave places the cutter cannot reach with the control's
+/// compensation, rounded in the program (`geometry::cam::reach`): each with the material it
+/// leaves, for the user to be told.
+pub fn cam_program_reporting(fit: &CamFit, options: &CamNcOptions) -> Result<(Program, Vec<Unreached>), String> {
     check_approach(options)?;
     let disc = if fit.disc.is_empty() { String::new() } else { format!("_{}", fit.disc) };
     let mut p = Program::new(&format!("CAM{disc}"), Machine::Mill);
@@ -120,7 +129,7 @@ pub fn cam_program(fit: &CamFit, options: &CamNcOptions) -> Result<Program, Stri
         options.lead
     )));
     let arcs = entry_order(arcs, options)?;
-    let (Some(first), Some(last)) = (arcs.first(), arcs.last()) else { return Ok(p) };
+    let (Some(first), Some(last)) = (arcs.first(), arcs.last()) else { return Ok((p, Vec::new())) };
     let side = |a: &Arc, at: Point2<f64>| cutter_side(a, at, options.compensation);
     let lead_in = lead_path(first.start, tangent(first, first.start), side(first, first.start), options, true);
     let lead_out = lead_path(last.end, tangent(last, last.end), side(last, last.end), options, false);
@@ -131,32 +140,48 @@ pub fn cam_program(fit: &CamFit, options: &CamNcOptions) -> Result<Program, Stri
     p.push(Block::FeedMode(FeedMode::PerMinute));
     p.push(Block::Tool(ToolChange::new(options.tool)));
     p.push(Block::Spindle(Spindle::Rpm { rpm: options.spindle, direction: SpindleDirection::Clockwise }));
+    // The lead-in's straight entry (and arc) are the chain's first moves: a concave corner
+    // where the lead meets the profile is the control's to reach like any other.
+    let (mut chain, roundings) = reachable_chain(&lead_in, &arcs, options);
+    let Element::Line { start: plunge, end: entered } = chain.remove(0) else {
+        unreachable!("reachable_chain starts with the lead's straight entry")
+    };
     p.push(Block::Rapid(safe));
-    p.push(Block::Rapid(Target::xy(lead_in.outer.x, lead_in.outer.y)));
+    p.push(Block::Rapid(Target::xy(plunge.x, plunge.y)));
     p.push(Block::Rapid(Target { z: Some(options.z_retract), ..Target::default() }));
     p.push(Block::Line { to: Target { z: Some(options.z_cut), ..Target::default() }, feed: Some(options.plunge_feed) });
     if options.compensation != Compensation::Off {
         p.push(Block::Compensation(options.compensation));
     }
-    p.push(Block::Line { to: Target::xy(lead_in.inner.x, lead_in.inner.y), feed: Some(options.feed) });
-    if let Some((centre, direction)) = lead_in.arc {
-        p.push(Block::Arc {
-            direction,
-            to: Target::xy(first.start.x, first.start.y),
-            centre: Target::xy(centre.x, centre.y),
-            feed: None,
-        });
+    p.push(Block::Line { to: Target::xy(entered.x, entered.y), feed: Some(options.feed) });
+    let roundings: Vec<Unreached> = roundings
+        .into_iter()
+        .map(|rounding| Unreached { at_entry: (rounding.at - lead_in.inner).norm() <= GAP, rounding })
+        .collect();
+    for u in &roundings {
+        let r = &u.rounding;
+        p.push(Block::Comment(format!(
+            "concave place at X{:.3} Y{:.3}{} beyond the reach of the D{} cutter: rounded R{:.3}, {:.3} mm left",
+            r.at.x,
+            r.at.y,
+            if u.at_entry { " (the entry)" } else { "" },
+            options.cutter_diameter,
+            r.arc.radius,
+            r.left
+        )));
     }
-    let mut previous_end = first.start;
-    for a in &arcs {
-        if (a.start - previous_end).norm() > GAP {
-            // A gap or a step of a partial cam: straight across.
-            p.push(Block::Line { to: Target::xy(a.start.x, a.start.y), feed: None });
+    for e in &chain {
+        match e {
+            Element::Line { end, .. } => {
+                p.push(Block::Line { to: Target::xy(end.x, end.y), feed: None });
+            }
+            Element::Arc(a) => {
+                let direction =
+                    if a.turn == Turn::Ccw { ArcDirection::CounterClockwise } else { ArcDirection::Clockwise };
+                let (to, centre) = (Target::xy(a.end.x, a.end.y), Target::xy(a.centre.x, a.centre.y));
+                p.push(Block::Arc { direction, to, centre, feed: None });
+            }
         }
-        let direction = if a.turn == Turn::Ccw { ArcDirection::CounterClockwise } else { ArcDirection::Clockwise };
-        let (to, centre) = (Target::xy(a.end.x, a.end.y), Target::xy(a.centre.x, a.centre.y));
-        p.push(Block::Arc { direction, to, centre, feed: None });
-        previous_end = a.end;
     }
     if let Some((centre, direction)) = lead_out.arc {
         p.push(Block::Arc {
@@ -170,7 +195,61 @@ pub fn cam_program(fit: &CamFit, options: &CamNcOptions) -> Result<Program, Stri
         p.push(Block::Compensation(Compensation::Off));
     }
     p.push(Block::Line { to: Target::xy(lead_out.outer.x, lead_out.outer.y), feed: None });
-    Ok(p)
+    Ok((p, roundings))
+}
+
+/// A concave place the cutter cannot reach under the control's compensation, rounded in the
+/// program; `at_entry` when it is where the lead meets the profile (a straight lead into a
+/// move shorter than the pull-back the corner needs: an arc lead enters without a corner).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Unreached {
+    pub rounding: Rounding,
+    pub at_entry: bool,
+}
+
+/// How much a rounding arc's radius exceeds the cutter's (mm): the control's offset of it is
+/// then a small arc, not a point it would refuse, and the written decimals cannot make it
+/// smaller than the cutter.
+const ROUNDING_MARGIN: f64 = 0.01;
+
+/// The lead-in and the profile as moves in cutting order (straight across the gaps and steps
+/// of a partial cam), with the concave places the cutter cannot reach under compensation
+/// rounded. The first move is the lead's straight entry; when a rounding shortens it, it
+/// starts farther out along its line, so that the control still has the lead's length to
+/// turn compensation on along.
+fn reachable_chain(lead: &Lead, arcs: &[&Arc], o: &CamNcOptions) -> (Vec<Element>, Vec<Rounding>) {
+    let first = arcs[0].start;
+    let mut chain = Vec::with_capacity(arcs.len() + 4);
+    chain.push(Element::Line { start: lead.outer, end: lead.inner });
+    if let Some((centre, direction)) = lead.arc {
+        let turn = if direction == ArcDirection::CounterClockwise { Turn::Ccw } else { Turn::Cw };
+        let radius = (lead.inner - centre).norm();
+        chain.push(Element::Arc(Arc { start: lead.inner, end: first, centre, radius, turn }));
+    }
+    let mut previous_end = first;
+    for a in arcs {
+        if (a.start - previous_end).norm() > GAP {
+            // A gap or a step of a partial cam: straight across.
+            chain.push(Element::Line { start: previous_end, end: a.start });
+        }
+        chain.push(Element::Arc(**a));
+        previous_end = a.end;
+    }
+    let side = match o.compensation {
+        Compensation::Left => CutterSide::Left,
+        Compensation::Right => CutterSide::Right,
+        // Without compensation the program is the path of the cutter's centre.
+        Compensation::Off => return (chain, Vec::new()),
+    };
+    let radius = o.cutter_diameter / 2.0;
+    let (mut chain, roundings) = round_concave(&chain, side, radius, radius + ROUNDING_MARGIN);
+    if let Element::Line { start, end } = chain[0] {
+        let length = (end - start).norm();
+        if length < o.lead && length > 0.0 {
+            chain[0] = Element::Line { start: end + (start - end) * (o.lead / length), end };
+        }
+    }
+    (chain, roundings)
 }
 
 /// The arcs in cutting order from an entry the cutter can plunge at clear of the profile:
