@@ -5,10 +5,11 @@
 
 mod common;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use common::cli::{ncsheet, Invocation, Run};
+use common::locale::libreoffice_profile;
 
 const CHAMFER: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/sheets/chamfer.xlsx");
 const CHAMFER_BAS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/sheets/chamfer.bas");
@@ -151,29 +152,35 @@ fn probe_csv() -> String {
     format!("{}\n", fields.join(","))
 }
 
-/// A LibreOffice profile in `locale` that recalculates every file it loads.
-fn libreoffice_profile(dir: &Path, locale: &str) -> String {
-    let user = dir.join("user");
-    std::fs::create_dir_all(&user).unwrap();
-    let settings = format!(
-        r#"<?xml version="1.0" encoding="UTF-8"?>
-<oor:items xmlns:oor="http://openoffice.org/2001/registry" xmlns:xs="http://www.w3.org/2001/XMLSchema" xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance">
-<item oor:path="/org.openoffice.Office.Calc/Formula/Load"><prop oor:name="OOXMLRecalcMode" oor:op="fuse"><value>0</value></prop></item>
-<item oor:path="/org.openoffice.Office.Calc/Formula/Load"><prop oor:name="ODFRecalcMode" oor:op="fuse"><value>0</value></prop></item>
-<item oor:path="/org.openoffice.Setup/L10N"><prop oor:name="ooSetupSystemLocale" oor:op="fuse"><value>{locale}</value></prop></item>
-<item oor:path="/org.openoffice.Setup/L10N"><prop oor:name="ooLocale" oor:op="fuse"><value>{locale}</value></prop></item>
-</oor:items>
-"#
-    );
-    std::fs::write(user.join("registrymodifications.xcu"), settings).unwrap();
-    format!("-env:UserInstallation=file://{}", dir.display())
-}
-
 /// The first row of a `;`-separated csv, fields unquoted.
 fn semicolon_fields(text: &str) -> Vec<String> {
     let mut reader = csv::ReaderBuilder::new().has_headers(false).delimiter(b';').from_reader(text.as_bytes());
     let record = reader.records().next().expect("a row").expect("a csv row");
     record.iter().map(str::to_string).collect()
+}
+
+/// LibreOffice set to `locale` (its profile in `d`) converts `input` to `format` in `out`,
+/// with `options` (an import filter) before.
+fn libreoffice_converts(
+    soffice: &impl AsRef<std::ffi::OsStr>,
+    d: &Path,
+    locale: &str,
+    options: &[&str],
+    format: &str,
+    out: &Path,
+    input: &Path,
+) {
+    let profile = libreoffice_profile(&d.join(format!("profile-{locale}")), locale);
+    let status = Command::new(soffice)
+        .arg(&profile)
+        .args(["--headless", "--norestore"])
+        .args(options)
+        .args(["--convert-to", format, "--outdir"])
+        .arg(out)
+        .arg(input)
+        .output()
+        .expect("soffice runs");
+    assert!(status.status.success(), "{}", String::from_utf8_lossy(&status.stderr));
 }
 
 /// The first row of `STEM.xlsx` in `dir` as LibreOffice set to `locale` exports it (shown
@@ -185,21 +192,8 @@ fn ours_and_libreoffice(
     locale: &str,
 ) -> (Vec<String>, Vec<String>) {
     let out = d.join(format!("lo-{locale}"));
-    let profile = libreoffice_profile(&d.join(format!("profile-{locale}")), locale);
-    let status = Command::new(soffice)
-        .arg(&profile)
-        .args([
-            "--headless",
-            "--norestore",
-            "--convert-to",
-            "csv:Text - txt - csv (StarCalc):59,34,76,1,,0,false,true,true",
-        ])
-        .arg("--outdir")
-        .arg(&out)
-        .arg(d.join(format!("{stem}.xlsx")))
-        .output()
-        .expect("soffice runs");
-    assert!(status.status.success(), "{}", String::from_utf8_lossy(&status.stderr));
+    let csv = "csv:Text - txt - csv (StarCalc):59,34,76,1,,0,false,true,true";
+    libreoffice_converts(soffice, d, locale, &[], csv, &out, &d.join(format!("{stem}.xlsx")));
     let theirs = semicolon_fields(&std::fs::read_to_string(out.join(format!("{stem}.csv"))).unwrap());
     let ours_file = format!("ours-{locale}.csv");
     ok(in_dir(d, &["export", &format!("{stem}.xlsx"), "--locale", locale, "-o", &ours_file]));
@@ -414,5 +408,174 @@ fn a_date_exports_as_the_locale_shows_it() {
     for locale in ["de-DE", "fr-FR", "et-EE"] {
         let (ours, theirs) = ours_and_libreoffice(&soffice, d, "dates", locale);
         assert_eq!(ours, theirs, "{locale}");
+    }
+}
+
+/// The kinds of values a csv carries, each in a number format whose shown text reads back as
+/// the same value: booleans (constant and computed), grouped numbers, percents, a scientific
+/// number, Excel's built-in date (14) and date and time (22), a time, plain numbers, text.
+fn write_kinds(path: &Path) {
+    use rust_xlsxwriter::{Format, Workbook};
+    let mut book = Workbook::new();
+    let sheet = book.add_worksheet();
+    let code = |code: &str| Format::new().set_num_format(code);
+    sheet.write_boolean(0, 0, true).unwrap();
+    sheet.write_boolean(0, 1, false).unwrap();
+    sheet.write_formula(0, 2, "=2>1").unwrap();
+    sheet.write_formula(0, 3, "=2<1").unwrap();
+    sheet.write_number_with_format(0, 4, 1234567.89, &code("#,##0.00")).unwrap();
+    sheet.write_number_with_format(0, 5, -1234.5, &code("#,##0.0")).unwrap();
+    sheet.write_number_with_format(0, 6, 0.125, &code("0.0%")).unwrap();
+    // Not Excel's built-in 0% (9), which LibreOffice shows with its locale's own percent
+    // format (`25 %` in de-DE and fr-FR) where Excel keeps `25%`.
+    sheet.write_number_with_format(0, 7, 0.0375, &code("0.000%")).unwrap();
+    sheet.write_number(0, 8, -0.0171).unwrap();
+    sheet.write_number(0, 9, 0.8).unwrap();
+    sheet.write_number_with_format(0, 10, 1250.0, &code("0.00E+00")).unwrap();
+    // 28 November 2026 and 12 March 2025 14:30 (serials 46354 and 45728 + 14.5/24).
+    sheet.write_number_with_format(0, 11, 46354.0, &Format::new().set_num_format_index(14)).unwrap();
+    sheet.write_number_with_format(0, 12, 45728.0 + 14.5 / 24.0, &Format::new().set_num_format_index(22)).unwrap();
+    sheet.write_number_with_format(0, 13, 14.5 / 24.0, &code("h:mm")).unwrap();
+    sheet.write_number(0, 14, 1234567.5).unwrap();
+    sheet.write_string(0, 15, "abc").unwrap();
+    book.save(path).unwrap();
+}
+
+/// A csv export in the locale writes booleans in its words (Excel's names of TRUE and FALSE:
+/// WAHR/FALSCH in German, VRAI/FAUX in French, TÕENE/VÄÄR in Estonian) and numbers with its
+/// own group mark (fr-FR and et-EE a no-break space, de-DE `.`), as LibreOffice set to the
+/// locale exports the same workbook (the oracle); en-US is unchanged.
+#[test]
+fn booleans_and_grouped_numbers_export_as_libreoffice_writes_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write_kinds(&d.join("kinds.xlsx"));
+    let ours = |locale: &str| {
+        let out = format!("ours-{locale}.csv");
+        ok(in_dir(d, &["export", "kinds.xlsx", "--locale", locale, "-o", &out]));
+        std::fs::read_to_string(d.join(out)).unwrap()
+    };
+    let de = ours("de-DE");
+    assert!(de.starts_with("WAHR;FALSCH;WAHR;FALSCH;1.234.567,89;-1.234,5;12,5%;3,750%;-0,0171;0,8;"), "{de}");
+    assert!(ours("fr-FR").starts_with("VRAI;FAUX;VRAI;FAUX;1\u{A0}234\u{A0}567,89;-1\u{A0}234,5;"));
+    assert!(ours("et-EE").starts_with("TÕENE;VÄÄR;TÕENE;VÄÄR;1\u{A0}234\u{A0}567,89;"));
+    assert!(ours("en-US").starts_with("TRUE,FALSE,TRUE,FALSE,\"1,234,567.89\",\"-1,234.5\",12.5%,3.750%,-0.0171,0.8,"));
+    let Some(soffice) = common::soffice() else { return };
+    for locale in ["de-DE", "fr-FR", "et-EE"] {
+        let (ours, theirs) = ours_and_libreoffice(&soffice, d, "kinds", locale);
+        assert_eq!(ours, theirs, "{locale}");
+    }
+}
+
+/// `ncsheet eval`'s values of the first sheet of `file` read in `locale`, by cell (sheet
+/// names left out: LibreOffice names a csv's sheet after the file).
+fn values_by_cell(d: &Path, file: &Path, locale: &str) -> std::collections::BTreeMap<String, serde_json::Value> {
+    let file = file.to_str().unwrap();
+    let run = ok(in_dir(d, &["eval", file, "--locale", locale, "--format", "json"]));
+    let values: serde_json::Map<String, serde_json::Value> = serde_json::from_str(&run.stdout).unwrap();
+    values.into_iter().map(|(k, v)| (k.rsplit('!').next().unwrap().to_string(), v)).collect()
+}
+
+/// Whether two cells' JSON values are the same value (numbers to 1e-12 relative: LibreOffice
+/// stores 15 to 17 significant digits).
+fn same_value(a: &serde_json::Value, b: &serde_json::Value) -> bool {
+    match (a.as_f64(), b.as_f64()) {
+        (Some(x), Some(y)) => (x - y).abs() <= 1e-12 * x.abs().max(1.0),
+        _ => a == b,
+    }
+}
+
+fn assert_same_values(
+    expected: &std::collections::BTreeMap<String, serde_json::Value>,
+    found: &std::collections::BTreeMap<String, serde_json::Value>,
+    what: &str,
+) {
+    for (cell, value) in expected {
+        let got = found.get(cell).unwrap_or(&serde_json::Value::Null);
+        assert!(same_value(value, got), "{what}: {cell}: expected {value}, found {got}");
+    }
+    assert_eq!(expected.len(), found.len(), "{what}: {found:?}");
+}
+
+/// LibreOffice set to `locale` reads a `;` csv in that locale (detecting numbers, dates,
+/// percents and booleans as its users' files hold them) and saves it as xlsx: its path.
+fn libreoffice_reads_csv(soffice: &impl AsRef<std::ffi::OsStr>, d: &Path, csv: &Path, locale: &str) -> PathBuf {
+    let out = d.join(format!("lo-read-{locale}"));
+    let reading = "--infilter=Text - txt - csv (StarCalc):59,34,76,1,,0,false,true";
+    libreoffice_converts(soffice, d, locale, &[reading], "xlsx", &out, csv);
+    out.join(csv.with_extension("xlsx").file_name().unwrap())
+}
+
+/// csv round trips through LibreOffice in each locale: the `;` csv `ncsheet export --locale`
+/// writes (decimal commas, grouped numbers, percents, dates, a date with a time, booleans)
+/// is read by LibreOffice set to that locale to the workbook's values, and LibreOffice's own
+/// csv export of the workbook is read by `ncsheet --locale` to the same values.
+#[test]
+fn csv_round_trips_through_libreoffice_in_the_locale() {
+    let Some(soffice) = common::soffice() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write_kinds(&d.join("kinds.xlsx"));
+    let workbook = values_by_cell(d, Path::new("kinds.xlsx"), "en-US");
+    for locale in ["de-DE", "fr-FR", "et-EE"] {
+        // ours_and_libreoffice leaves both csv files: ours-LOCALE.csv and lo-LOCALE/kinds.csv.
+        ours_and_libreoffice(&soffice, d, "kinds", locale);
+        let read_by_libreoffice = libreoffice_reads_csv(&soffice, d, &d.join(format!("ours-{locale}.csv")), locale);
+        let theirs = values_by_cell(d, &read_by_libreoffice, "en-US");
+        assert_same_values(&workbook, &theirs, &format!("{locale}: LibreOffice reading ncsheet's csv"));
+        let ours = values_by_cell(d, &d.join(format!("lo-{locale}/kinds.csv")), locale);
+        assert_same_values(&workbook, &ours, &format!("{locale}: ncsheet reading LibreOffice's csv"));
+    }
+}
+
+/// A date with a time typed in the locale (`12.03.2025 14:30`, fr-FR `12/03/2025 14:30`) is
+/// the day's serial plus the time (2025-03-12 is serial 45728, 14:30 is 14.5/24 of a day)
+/// in Excel's built-in date and time format (22), which shows the short date and the time;
+/// `14:30` alone is a time in `h:mm` (20). LibreOffice set to the locale shows those formats
+/// the same way (the oracle for the shown text). LibreOffice's own typing gives other codes
+/// (`TT.MM.JJ HH:MM`, `HH:MM:SS`: `12.03.25 14:30`, `14:30:00`); Excel's are kept.
+#[test]
+fn a_date_with_a_time_typed_in_the_locale_is_a_date_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("t.csv"), "x\n").unwrap();
+    let soffice = common::soffice();
+    for (locale, typed) in [("de-DE", "12.03.2025 14:30"), ("fr-FR", "12/03/2025 14:30"), ("et-EE", "12.03.2025 14:30")]
+    {
+        let stem = format!("t-{locale}");
+        let out = format!("{stem}.xlsx");
+        let (a1, b1) = (format!("A1={typed}"), "B1=14:30");
+        ok(in_dir(d, &["set", "t.csv", "--locale", locale, &a1, b1, "-o", &out]));
+        let values = values_by_cell(d, Path::new(&out), locale);
+        assert!(same_value(&values["A1"], &serde_json::json!(45728.0 + 14.5 / 24.0)), "{locale}: {values:?}");
+        assert!(same_value(&values["B1"], &serde_json::json!(14.5 / 24.0)), "{locale}: {values:?}");
+        let shown = ok(in_dir(d, &["eval", &out, "A1", "B1", "--locale", locale])).stdout;
+        assert_eq!(shown, format!("A1  {typed}\nB1  14:30\n"), "{locale}");
+        let Some(soffice) = &soffice else { continue };
+        let (ours, theirs) = ours_and_libreoffice(soffice, d, &stem, locale);
+        assert_eq!(ours[..2], theirs[..2], "{locale}");
+    }
+}
+
+/// Slovak's and Hungarian's short month names (`mmm`) and day names (`ddd`) of every month
+/// and weekday, as LibreOffice set to sk-SK and hu-HU shows them (its locale data, CLDR's
+/// abbreviated names), and their words for TRUE and FALSE.
+#[test]
+fn libreoffice_in_sk_and_hu_is_the_oracle_for_short_names() {
+    let Some(soffice) = common::soffice() else { return };
+    let mut probes: Vec<String> = (1..=12).map(|m| format!(r#"=TEXT(DATE(2025,{m},1),"mmm")"#)).collect();
+    // 2025-06-01 is a Sunday.
+    probes.extend((1..=7).map(|d| format!(r#"=TEXT(DATE(2025,6,{d}),"ddd")"#)));
+    probes.extend(["=1<2".to_string(), "=1>2".to_string()]);
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let fields: Vec<String> = probes.iter().map(|p| format!("\"{}\"", p.replace('"', "\"\""))).collect();
+    std::fs::write(d.join("short.csv"), format!("{}\n", fields.join(","))).unwrap();
+    ok(in_dir(d, &["set", "short.csv", "--locale", "en-US", "A2=1", "-o", "short.xlsx"]));
+    for locale in ["sk-SK", "hu-HU"] {
+        let (ours, theirs) = ours_and_libreoffice(&soffice, d, "short", locale);
+        for (i, probe) in probes.iter().enumerate() {
+            assert_eq!(ours[i].strip_prefix('\'').unwrap_or(&ours[i]), theirs[i], "{locale}: {probe}");
+        }
     }
 }

@@ -68,7 +68,8 @@ impl Shown<'_> {
             // Excel's built-in date (14, `mm-dd-yy` as the file's reader names it) is the
             // locale's short date, en-US's `m/d/yyyy` included.
             Value::Number(n) => locale.shown_number(n, self.format_code(wb, sheet, pos), wb.date_system()),
-            v => v.to_string(),
+            // Booleans in the locale's words (de-DE `WAHR`), as its Excel shows them.
+            v => locale.shown_value(&v),
         }
     }
 

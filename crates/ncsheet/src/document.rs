@@ -188,32 +188,33 @@ impl Document {
             span: None,
         })?;
         let canonical = canonical.into_owned();
-        let typed_date = is_typed_date(wb, input);
+        let format = typed_date_format(wb, input);
         let problems = wb.set_input(sheet, pos, &canonical)?;
-        if typed_date {
-            self.show_as_short_date(sheet, pos);
+        if let Some(code) = format {
+            self.show_as(sheet, pos, code);
         }
         Ok(problems)
     }
 
     /// After `typed` was typed into a cell (by a front end that types through
-    /// `Workbook::typed_input`): a date alone in the locale makes the cell show the locale's
-    /// short date, as [`Document::set`] does. Whether it did.
-    pub fn typed_into(&mut self, sheet: SheetId, pos: Pos, typed: &str) -> bool {
-        let date = is_typed_date(&self.opened.workbook, typed);
-        if date {
-            self.show_as_short_date(sheet, pos);
+    /// `Workbook::typed_input`): a date or time in the locale gives the cell the format Excel
+    /// gives it, as [`Document::set`] does. The format given, if any.
+    pub fn typed_into(&mut self, sheet: SheetId, pos: Pos, typed: &str) -> Option<&'static str> {
+        let format = typed_date_format(&self.opened.workbook, typed);
+        if let Some(code) = format {
+            self.show_as(sheet, pos, code);
         }
-        date
+        format
     }
 
-    /// A cell a date was typed into shows it as the locale's short date, as Excel gives it
-    /// the built-in date format (14, `m/d/yyyy` in the file) unless it has a format already.
-    fn show_as_short_date(&mut self, sheet: SheetId, pos: Pos) {
+    /// A cell a date or time was typed into shows it in `code` (Excel's built-in date, 14,
+    /// `m/d/yyyy` in the file, which every locale shows as its short date; its date and time,
+    /// 22; or a time), unless it has a format already.
+    fn show_as(&mut self, sheet: SheetId, pos: Pos, code: &str) {
         let Some(name) = self.opened.workbook.sheet_names().into_iter().nth(sheet as usize) else { return };
         let layout = self.opened.layout.get_or_insert_with(Default::default);
         let formats = &mut layout.sheets.entry(name).or_default().number_formats;
-        formats.entry(pos).or_insert_with(|| "m/d/yyyy".to_string());
+        formats.entry(pos).or_insert_with(|| code.to_string());
     }
 
     /// The clock and random sequence the formulas read.
@@ -297,41 +298,68 @@ fn install_functions(opened: &mut Opened, options: RunOptions) {
     }
 }
 
-/// Whether `typed` is a date alone in the workbook's locale (`28.11.2026` in de-DE,
-/// `11/28/2026` in en-US): not a plain number, and read as a day without a time.
-fn is_typed_date(wb: &crate::workbook::Workbook, typed: &str) -> bool {
+/// The number format a cell gets when `typed` is a date or time in the workbook's locale,
+/// as Excel and LibreOffice give it: a date alone (`28.11.2026` in de-DE, `11/28/2026` in
+/// en-US) the built-in date (14); in a decimal-comma locale also a date with a time
+/// (`12.03.2025 14:30`) the built-in date and time (22), and a time alone (`14:30`) `h:mm`
+/// (20, `h:mm:ss` with seconds). Under en-US a typed time keeps General, as before issue 28.
+fn typed_date_format(wb: &crate::workbook::Workbook, typed: &str) -> Option<&'static str> {
     let locale = wb.settings().locale;
     let text = typed.trim();
     if text.starts_with(['=', '\'']) || locale.read_plain_number(text).is_some() {
-        return false;
+        return None;
     }
-    let date = locale.read_date_text(text, wb.date_system());
-    date.is_some_and(|d| d.date.is_some() && d.time.is_none())
+    let read = locale.read_date_text(text, wb.date_system())?;
+    let seconds = text.matches(':').count() > 1;
+    match (read.date, read.time) {
+        (Some(_), None) => Some(crate::eval::locale::BUILTIN_DATE),
+        _ if locale.is_canonical() => None,
+        (Some(_), Some(_)) => Some(crate::eval::locale::BUILTIN_DATE_TIME),
+        (None, Some(_)) if seconds => Some("h:mm:ss"),
+        (None, Some(_)) => Some("h:mm"),
+        (None, None) => None,
+    }
 }
 
-/// A csv opened in a decimal-comma locale: the fields that are numbers or dates there but
-/// text in the file syntax (`1.234,5` in de-DE, `1 234,5` in fr-FR, `12.03.2025`) become
-/// numbers, as that locale's Excel opens the file; a field forced to text with `'` stays text.
+/// A csv opened in a decimal-comma locale: each field is read as that locale's Excel opens
+/// the file, from the file's own text: numbers and dates in its spelling (`1.234,5` in de-DE,
+/// `1 234,5` in fr-FR, `12.03.2025`, and `3,750%`, which the file syntax would take for 37.5)
+/// and its words for TRUE and FALSE (`WAHR`); a field forced to text with `'` stays text.
 fn read_csv_fields_in_locale(opened: &mut Opened, locale: crate::eval::Locale) {
+    use crate::eval::Value;
     let Origin::Csv(original) = &opened.origin else { return };
     if locale.is_canonical() {
         return;
     }
     let wb = &mut opened.workbook;
-    let mut numbers = Vec::new();
+    let mut inputs = Vec::new();
     for (pos, value) in wb.values(0) {
-        let crate::eval::Value::Text(text) = &value else { continue };
         let raw = original.raw_field(pos.row as usize, pos.col as usize).unwrap_or_default();
-        if wb.is_formula(0, pos) || raw.trim_start_matches('"').starts_with('\'') {
+        let text = unquoted(raw);
+        if wb.is_formula(0, pos) || text.starts_with('\'') {
             continue;
         }
-        if let Some(n) = locale.read_number(text, wb.date_system()) {
-            numbers.push((pos, n));
+        if let Some(b) = locale.read_boolean(&text) {
+            if value != Value::Bool(b) {
+                inputs.push((pos, if b { "TRUE" } else { "FALSE" }.to_string()));
+            }
+        } else if let Some(n) = locale.read_number(&text, wb.date_system()) {
+            if value != Value::Number(n) {
+                // The shortest spelling that reads back as the same number, in the file syntax.
+                inputs.push((pos, format!("{n}")));
+            }
         }
     }
-    for (pos, n) in numbers {
-        // The shortest spelling that reads back as the same number, in the file syntax.
-        let _ = wb.set_input_deferred(0, pos, &format!("{n}"));
+    for (pos, input) in inputs {
+        let _ = wb.set_input_deferred(0, pos, &input);
+    }
+}
+
+/// A csv field's text: without the quotes around it, `""` inside it one `"`.
+fn unquoted(raw: &str) -> String {
+    match raw.strip_prefix('"').and_then(|r| r.strip_suffix('"')) {
+        Some(inner) => inner.replace("\"\"", "\""),
+        None => raw.to_string(),
     }
 }
 

@@ -25,6 +25,14 @@ pub enum DateOrder {
     YearMonthDay,
 }
 
+/// Excel's built-in date format (14) as the file spells it: every locale shows it as its
+/// short date ([`LocaleData::short_date`]).
+pub const BUILTIN_DATE: &str = "m/d/yyyy";
+
+/// Excel's built-in date and time format (22) as the file spells it: the short date and the
+/// time in every locale.
+pub const BUILTIN_DATE_TIME: &str = "m/d/yyyy h:mm";
+
 /// One locale's facts (see the module doc for their source).
 #[derive(Debug, PartialEq, Eq)]
 pub struct LocaleData {
@@ -56,6 +64,9 @@ pub struct LocaleData {
     /// The currency symbol DOLLAR writes: before the amount in en-US (`$1,234.50`), after it
     /// and a space elsewhere here (`1.234,50 €`), as LibreOffice set to the locale shows it.
     pub currency: &'static str,
+    /// TRUE and FALSE as this locale's Excel and LibreOffice show and read them (de-DE
+    /// `WAHR`, `FALSCH`): LibreOffice's csv export in the locale writes them so.
+    pub booleans: [&'static str; 2],
 }
 
 const SPACES: &[char] = &[' ', '\u{202F}'];
@@ -76,6 +87,7 @@ static EN_US: LocaleData = LocaleData {
     days_short: "Sun Mon Tue Wed Thu Fri Sat",
     format_letters: &[],
     currency: "$",
+    booleans: ["TRUE", "FALSE"],
 };
 
 /// What the decimal-comma locales share (each says what it does otherwise): a no-break space
@@ -96,6 +108,7 @@ const DECIMAL_COMMA: LocaleData = LocaleData {
     days_short: "",
     format_letters: &[],
     currency: "€",
+    booleans: ["", ""],
 };
 
 static LOCALES: [&LocaleData; 8] = [
@@ -110,6 +123,7 @@ static LOCALES: [&LocaleData; 8] = [
         months_short: "Jan Feb Mär Apr Mai Jun Jul Aug Sep Okt Nov Dez",
         days_short: "So Mo Di Mi Do Fr Sa",
         format_letters: &[('T', 'd'), ('J', 'y')],
+        booleans: ["WAHR", "FALSCH"],
         ..DECIMAL_COMMA
     },
     &LocaleData {
@@ -122,15 +136,19 @@ static LOCALES: [&LocaleData; 8] = [
         months_short: "janv. févr. mars avr. mai juin juil. août sept. oct. nov. déc.",
         days_short: "dim. lun. mar. mer. jeu. ven. sam.",
         format_letters: &[('J', 'd'), ('A', 'y')],
+        booleans: ["VRAI", "FAUX"],
         ..DECIMAL_COMMA
     },
     &LocaleData {
         tag: "et-EE",
         english_name: "Estonian (Estonia)",
+        // The day without a leading zero (`1.01.1998`), as LibreOffice set to et-EE shows it.
+        short_date: "d.mm.yyyy",
         months: "jaanuar veebruar märts aprill mai juuni juuli august september oktoober november detsember",
         days: "pühapäev esmaspäev teisipäev kolmapäev neljapäev reede laupäev",
         months_short: "jaan veebr märts apr mai juuni juuli aug sept okt nov dets",
         days_short: "P E T K N R L",
+        booleans: ["TÕENE", "VÄÄR"],
         ..DECIMAL_COMMA
     },
     &LocaleData {
@@ -141,6 +159,7 @@ static LOCALES: [&LocaleData; 8] = [
         months_short: "січ лют бер квт трв чер лип сер вер жов лис гру",
         currency: "грн.",
         days_short: "Нд Пн Вт Ср Чт Пт Сб",
+        booleans: ["ІСТИНА", "БРЕХНЯ"],
         ..DECIMAL_COMMA
     },
     &LocaleData {
@@ -151,6 +170,7 @@ static LOCALES: [&LocaleData; 8] = [
         days: "nedeľa pondelok utorok streda štvrtok piatok sobota",
         months_short: "I II III IV V VI VII VIII IX X XI XII",
         days_short: "Ne Po Ut St Št Pi So",
+        booleans: ["PRAVDA", "NEPRAVDA"],
         ..DECIMAL_COMMA
     },
     &LocaleData {
@@ -164,6 +184,7 @@ static LOCALES: [&LocaleData; 8] = [
         months_short: "jan feb mar apr maj jun jul avg sep okt nov dec",
         currency: "RSD",
         days_short: "ned pon uto sre čet pet sub",
+        booleans: ["TAČNO", "NETAČNO"],
         ..DECIMAL_COMMA
     },
     &LocaleData {
@@ -176,6 +197,7 @@ static LOCALES: [&LocaleData; 8] = [
         months_short: "I. II. III. IV. V. VI. VII. VIII. IX. X. XI. XII.",
         currency: "Ft",
         days_short: "V H K Sze Cs P Szo",
+        booleans: ["IGAZ", "HAMIS"],
         ..DECIMAL_COMMA
     },
 ];
@@ -411,12 +433,47 @@ impl Locale {
     /// and the short date for Excel's built-in date format (format 14, which follows the
     /// system's short date).
     pub fn shown_number(self, n: f64, code: Option<&str>, system: DateSystem) -> String {
+        let date_time;
         let code = match code {
-            Some("m/d/yyyy" | "mm-dd-yy" | "m/d/yy") => Some(self.short_date),
+            Some(BUILTIN_DATE | "mm-dd-yy" | "m/d/yy") => Some(self.short_date),
+            // Excel's built-in date and time (22) is the short date and the time, as
+            // LibreOffice set to the locale shows it; en-US keeps the code as read.
+            Some(BUILTIN_DATE_TIME | "m/d/yy h:mm") if !self.is_canonical() => {
+                date_time = self.date_time_code();
+                Some(date_time.as_str())
+            }
             code => code,
         };
         let shown = super::format::number_format::shown(n, code, system);
         self.localize_formatted(code.unwrap_or(""), &shown)
+    }
+
+    /// TRUE or FALSE as this locale shows it (de-DE `WAHR`, fr-FR `FAUX`).
+    pub fn boolean_name(self, b: bool) -> &'static str {
+        self.booleans[usize::from(!b)]
+    }
+
+    /// This locale's word for TRUE or FALSE, either case (`wahr`, `Faux`), as its Excel and
+    /// LibreOffice read a typed value or a csv field.
+    pub fn read_boolean(self, text: &str) -> Option<bool> {
+        let upper = text.trim().to_uppercase();
+        self.booleans.iter().position(|word| *word == upper).map(|i| i == 0)
+    }
+
+    /// A value other than a number as a cell shows it here: booleans in the locale's words,
+    /// text and errors as they are (LibreOffice names errors in English in every locale).
+    /// Numbers take their cell's format ([`Locale::shown_number`]).
+    pub fn shown_value(self, v: &Value) -> String {
+        match v {
+            Value::Bool(b) => self.boolean_name(*b).to_string(),
+            Value::Array(a) => a.data.first().map_or_else(String::new, |first| self.shown_value(first)),
+            v => v.to_string(),
+        }
+    }
+
+    /// The format code of a date with a time (Excel's built-in format 22) in this locale.
+    fn date_time_code(self) -> String {
+        format!("{} hh:mm", self.short_date)
     }
 
     /// An amount DOLLAR shows (`digits` already in the locale's marks, without a sign): en-US
@@ -441,13 +498,15 @@ impl Locale {
     /// word (`Mon` is a word, not the start of `Montag`). English `May` is both; it is the
     /// short name when the code's longest month is `mmm`.
     pub fn localize_names_for(self, code: &str, shown: &str) -> String {
-        if self.0 == &EN_US || !shown.chars().any(char::is_alphabetic) {
+        // A code tagged with a language (`[$-409]mmmm d, yyyy`) names months in that one.
+        let names = tagged_language(code).unwrap_or(self);
+        if names.0 == &EN_US || !shown.chars().any(char::is_alphabetic) {
             return shown.to_string();
         }
         let words = |names: &'static str| names.split(' ').collect::<Vec<_>>();
         let short_may = longest_run(code, 'm') == 3;
-        let (months, days) = (words(self.months), words(self.days));
-        let (months_short, days_short) = (words(self.months_short), words(self.days_short));
+        let (months, days) = (words(names.months), words(names.days));
+        let (months_short, days_short) = (words(names.months_short), words(names.days_short));
         let own = |english: &str| -> Option<&'static str> {
             let at = |list: &str| words_position(list, english);
             if english == "May" && short_may {
@@ -524,9 +583,25 @@ impl Locale {
             return shown.to_string();
         }
         if is_date_code(code) {
-            return literal_marks(&self.localize_names_for(code, shown));
+            let named = self.localize_names_for(code, shown);
+            return literal_marks(&self.localize_fraction_of_seconds(code, &named));
         }
         literal_marks(&self.localize_shown(shown))
+    }
+
+    /// A time shown with fractions of a second (`ss.000`: `14:30:27.500`) with the locale's
+    /// decimal mark (`14:30:27,500`), as LibreOffice set to the locale shows it: the first
+    /// `.` between digits after the time's `:`.
+    fn localize_fraction_of_seconds(self, code: &str, shown: &str) -> String {
+        let lower = code.to_ascii_lowercase();
+        if !lower.contains("s.0") {
+            return shown.to_string();
+        }
+        let chars: Vec<char> = shown.chars().collect();
+        let digit = |i: usize| chars.get(i).is_some_and(char::is_ascii_digit);
+        let Some(colon) = chars.iter().position(|&c| c == ':') else { return shown.to_string() };
+        let mark = (colon..chars.len()).find(|&i| chars[i] == '.' && i > 0 && digit(i - 1) && digit(i + 1));
+        chars.iter().enumerate().map(|(i, &c)| if Some(i) == mark { self.decimal } else { c }).collect()
     }
 
     /// A number format code as this locale's user types it (TEXT's second argument) in the
@@ -631,6 +706,28 @@ pub fn literal_marks(shown: &str) -> String {
     shown.replace(LITERAL_POINT, ".").replace(LITERAL_COMMA, ",")
 }
 
+/// The locale a format code's `[$-LCID]` or `[$currency-LCID]` tag names by its Windows
+/// language id (`[$-409]` English (United States), `[$-407]` German), when ncsheet knows it;
+/// the high bits (calendar, digits) are left aside.
+fn tagged_language(code: &str) -> Option<Locale> {
+    let (_, tag) = code.split_once("[$")?;
+    let (tag, _) = tag.split_once(']')?;
+    let (_, hex) = tag.rsplit_once('-')?;
+    let language = u32::from_str_radix(hex, 16).ok()? & 0xFFFF;
+    let tag = match language {
+        0x409 => "en-US",
+        0x407 => "de-DE",
+        0x40C => "fr-FR",
+        0x425 => "et-EE",
+        0x422 => "uk-UA",
+        0x41B => "sk-SK",
+        0x81A | 0x241A => "sr-RS",
+        0x40E => "hu-HU",
+        _ => return None,
+    };
+    Locale::from_tag(tag)
+}
+
 /// The index of `word` among the space-separated `names`.
 fn words_position(names: &str, word: &str) -> Option<usize> {
     names.split(' ').position(|n| n == word)
@@ -698,6 +795,33 @@ mod tests {
             assert_eq!((l.months.split(' ').count(), l.days.split(' ').count()), (12, 7), "{l}");
         }
         assert_eq!(locale("et-EE").localize_names("Wednesday, March 12"), "kolmapäev, märts 12");
+    }
+
+    /// Excel's names of TRUE and FALSE in each language, either case when typed.
+    #[test]
+    fn booleans_take_the_locale_words() {
+        for l in Locale::all() {
+            assert!(l.booleans.iter().all(|w| !w.is_empty()), "{l}");
+        }
+        let et = locale("et-EE");
+        assert_eq!((et.read_boolean("tõene"), et.read_boolean(" Väär")), (Some(true), Some(false)));
+        assert_eq!(locale("de-DE").shown_value(&Value::Bool(false)), "FALSCH");
+        assert_eq!(Locale::EN_US.read_boolean("WAHR"), None);
+        assert_eq!(Locale::EN_US.shown_value(&Value::Bool(true)), "TRUE");
+    }
+
+    /// As LibreOffice set to the locale shows the public corpus's workbooks (POI's 45540 and
+    /// DateFormatTests, xlcalculator's DATEDIF): a `[$-409]` code keeps English names, the
+    /// fraction of a second takes the decimal comma, et-EE's short date has no leading zero.
+    #[test]
+    fn language_tags_fractions_of_seconds_and_short_dates() {
+        let (fr, de) = (locale("fr-FR"), locale("de-DE"));
+        assert_eq!(fr.localize_names_for("[$-409]mmmm d, yyyy", "September 11, 2006"), "September 11, 2006");
+        assert_eq!(fr.localize_names_for("mmmm d, yyyy", "September 11, 2006"), "septembre 11, 2006");
+        assert_eq!(fr.localize_names_for("[$-407]mmmm", "March"), "März");
+        assert_eq!(de.localize_formatted("yyyy-mm-dd hh:mm:ss.0", "1904-01-02 00:00:00.4"), "1904-01-02 00:00:00,4");
+        assert_eq!(de.localize_formatted("dd.mm.yyyy", "12.03.2025"), "12.03.2025");
+        assert_eq!(locale("et-EE").shown_number(35796.0, Some("m/d/yyyy"), DateSystem::From1900), "1.01.1998");
     }
 
     #[test]

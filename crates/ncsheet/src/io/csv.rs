@@ -27,7 +27,7 @@ use std::io::{self, Write};
 use crate::eval::dates::DateSystem;
 use crate::eval::format::number_format;
 use crate::eval::locale::is_date_code;
-use crate::eval::Value;
+use crate::eval::{Locale, Value};
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::workbook::{Input, Workbook};
 
@@ -551,14 +551,26 @@ impl Style<'_> {
 
     /// The csv text of a value in this style: a number as its cell's format shows it (or
     /// in full), with a decimal comma in a `;` file; a date as the workbook's locale shows
-    /// it; anything else as [`value_field`].
+    /// it. In a decimal-comma locale's `;` (or tab) file, everything as that locale shows it
+    /// ([`locale_value_field`]), as LibreOffice set to the locale exports it; anything else
+    /// as [`value_field`].
     fn field(&self, v: &Value, pos: Pos, wb: &Workbook) -> String {
-        let Value::Number(n) = v else { return value_field(v) };
+        let locale = wb.settings().locale;
+        // A decimal-comma locale's own csv (`;` or tab between fields), as its Excel and
+        // LibreOffice write it: that locale's marks, words and text guards.
+        let in_locale = !locale.is_canonical() && self.delimiter != b',';
+        let Value::Number(n) = v else {
+            return if in_locale { locale_value_field(v, locale) } else { value_field(v) };
+        };
         let code = self.formats.and_then(|f| f.get(&pos)).map(String::as_str);
-        if !self.raw && code.is_some_and(is_date_code) {
+        if !self.raw && (in_locale || code.is_some_and(is_date_code)) {
             // As `eval` shows it: Excel's built-in date is the locale's short date (de-DE
-            // 28.11.2026, en-US 11/28/2026), months and days in the locale's words.
-            return wb.settings().locale.shown_number(*n, code, wb.date_system());
+            // 28.11.2026, en-US 11/28/2026), months and days in the locale's words; numbers
+            // with the locale's decimal and group marks (fr-FR `1 234,5`, a no-break space).
+            return locale.shown_number(*n, code, wb.date_system());
+        }
+        if in_locale {
+            return locale.localize_shown(&format!("{n}"));
         }
         let text = if self.raw { format!("{n}") } else { number_format::shown(*n, code, wb.date_system()) };
         if self.delimiter == b';' {
@@ -584,14 +596,31 @@ pub fn value_field(v: &Value) -> String {
     }
 }
 
+/// [`value_field`] in a decimal-comma locale's csv: booleans in its words (de-DE `WAHR`),
+/// text guarded that the locale would read as something else (`1,5`, `WAHR`, `12.03.2025`).
+pub fn locale_value_field(v: &Value, locale: Locale) -> String {
+    match v {
+        Value::Text(t) if needs_text_mark_in(t, locale) => format!("'{t}"),
+        v => locale.shown_value(v),
+    }
+}
+
 /// Whether a spreadsheet could read this text as something else: a formula, a number, a
 /// boolean, an error, or text with a `'` dropped. Empty text is written as an empty field.
 fn needs_text_mark(text: &str) -> bool {
+    needs_text_mark_in(text, Locale::EN_US)
+}
+
+/// [`needs_text_mark`] for a spreadsheet in `locale`, which reads its own numbers, dates and
+/// words as well as the canonical ones.
+fn needs_text_mark_in(text: &str, locale: Locale) -> bool {
     if text.is_empty() {
         return false;
     }
+    // Whether it reads as something else does not depend on the date system.
+    let read = |locale| Input::parse_in(text, locale, DateSystem::From1900);
     let formula_like = text.starts_with(['=', '+', '-', '@', '\t', '\r']);
-    formula_like || Input::parse(text, DateSystem::From1900) != Input::Value(Value::text(text))
+    formula_like || [Locale::EN_US, locale].into_iter().any(|l| read(l) != Input::Value(Value::text(text)))
 }
 
 #[cfg(test)]

@@ -25,9 +25,11 @@ impl Input {
             Input::Empty => Input::Empty,
             Input::Value(v @ (Value::Bool(_) | Value::Error(_))) => Input::Value(v),
             _ if text.starts_with('\'') => Input::parse(text, dates),
-            _ => match locale.read_number(text, dates) {
-                Some(n) => Input::Value(Value::Number(n)),
-                None => Input::Value(Value::text(text)),
+            // The locale's own words for TRUE and FALSE (de-DE `WAHR`) read as its Excel reads them.
+            _ => match (locale.read_boolean(text), locale.read_number(text, dates)) {
+                (Some(b), _) => Input::Value(Value::Bool(b)),
+                (None, Some(n)) => Input::Value(Value::Number(n)),
+                (None, None) => Input::Value(Value::text(text)),
             },
         }
     }

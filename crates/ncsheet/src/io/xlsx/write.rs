@@ -482,10 +482,12 @@ fn result_text(value: &Value) -> String {
 }
 
 /// A cell format for a number format code: the built-in date (14), which every Excel shows as
-/// its own locale's short date, by its index; any other code as written.
+/// its own locale's short date, and the built-in date and time (22) ncsheet gives a date typed
+/// with a time, by their index; any other code as written.
 fn number_format(code: &str) -> Format {
     match code {
         "m/d/yyyy" | "mm-dd-yy" => Format::new().set_num_format_index(14),
+        crate::eval::locale::BUILTIN_DATE_TIME => Format::new().set_num_format_index(22),
         code => Format::new().set_num_format(code),
     }
 }
