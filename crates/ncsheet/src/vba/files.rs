@@ -47,8 +47,11 @@ pub struct FileAccess {
     pub inputs: Vec<(String, Rc<[u8]>)>,
     /// Reads a file of the output folder by a name [`checked_name`] accepted: `Ok(None)` when
     /// there is none, `Err` why it cannot be read (a symbolic link, not a plain file, …).
-    pub read_out_dir: Rc<dyn Fn(&str) -> Result<Option<Vec<u8>>, String>>,
+    pub read_out_dir: Rc<FolderReader>,
 }
+
+/// Reads a file of the output folder by name for the sandbox (see [`FileAccess::read_out_dir`]).
+pub type FolderReader = dyn Fn(&str) -> Result<Option<Vec<u8>>, String>;
 
 impl fmt::Debug for FileAccess {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
