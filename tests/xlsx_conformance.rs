@@ -117,13 +117,12 @@ const KNOWN_UNCOMPARED: &[(&str, &str, &str)] = &[
     ("DynamicArrays.xlsx", "DynamicArrays!A21", "RANDARRAY: Excel's draw"),
     ("DynamicArrays.xlsx", "DynamicArrays!B21", "RANDARRAY: Excel's draw"),
     ("DynamicArrays.xlsx", "DynamicArrays!C21", "RANDARRAY: Excel's draw"),
-    // Calls of names that are no Excel function either (the file tests error trapping):
-    // Excel's #NAME?, caught by IFERROR/IFNA or shown. Counted unsupported because the
-    // judge cannot tell a function Excel lacks from one we lack.
+    // Calls of names that are no Excel function either (the file tests error trapping),
+    // caught by IFERROR: counted unsupported because the judge cannot tell a function Excel
+    // lacks from one we lack where Excel's value is not the call's #NAME? (where it is, the
+    // cell is compared).
     ("calc_tests/LOGICAL/IFERROR.xlsx", "Sheet1!C13", "SUMM is no Excel function: IFERROR's fallback"),
-    ("calc_tests/LOGICAL/IFERROR.xlsx", "Sheet1!C14", "SUMM is no Excel function: IFNA passes #NAME?"),
     ("calc_tests/LOGICAL/IFERROR.xlsx", "Sheet1!C20", "XYZ is no Excel function: IFERROR's fallback"),
-    ("calc_tests/LOGICAL/IFERROR.xlsx", "Sheet1!E20", "XYZ is no Excel function: #NAME?"),
 ];
 
 /// The public corpus (`tests/data/excel-corpus/public`): at least this share of the compared
@@ -195,16 +194,24 @@ fn compare_corpus(root: &Path, not_from_excel: &[&str], known: &[(&str, &str, &s
         let agree = |excel: &Value, ours: &Value| xlsx::values_agree(excel, ours) || close(excel, ours, tolerance);
         let (results, infos) = judge(&imported, &|c| Some(c.value.clone()), &|_| false, &agree);
         let mut tally = Tally::default();
+        let mut problems = None;
         for r in &results {
             tally.add(r.verdict);
             let info = &infos[&(r.sheet, r.anchor)];
-            for name in &info.unknown {
+            // A name Excel did not know either (it cached #NAME?) is no function we lack.
+            for name in info.unknown.iter().filter(|_| r.verdict == Verdict::Unsupported) {
                 *run.unsupported_calls.entry(name.clone()).or_default() += 1;
             }
-            if matches!(r.verdict, Verdict::Unsupported | Verdict::Volatile) {
+            if matches!(r.verdict, Verdict::Unsupported | Verdict::Volatile | Verdict::Kept) {
                 let cell = imported.workbook.cell_name(r.sheet, r.pos);
-                let formula = imported.workbook.formula(r.sheet, r.anchor).unwrap_or_default();
-                run.uncompared.push((rel.clone(), cell, r.verdict, formula.to_string()));
+                let mut formula = imported.workbook.formula(r.sheet, r.anchor).unwrap_or_default();
+                if r.verdict == Verdict::Kept {
+                    // Why, as ncsheet reports it (a problem of the cell).
+                    let problems = problems.get_or_insert_with(|| imported.workbook.problems());
+                    let why = problems.iter().find(|p| p.sheet == r.sheet && p.pos == r.pos).map(|p| p.message());
+                    formula = format!("{formula}: {}", why.unwrap_or_default());
+                }
+                run.uncompared.push((rel.clone(), cell, r.verdict, formula));
                 continue;
             }
             for f in &info.functions {
@@ -356,13 +363,14 @@ fn unexplained(uncompared: &[(String, String, Verdict, String)], known: &[(&str,
 
 /// The header of a report's summary table.
 const SUMMARY_HEADER: &str =
-    "| formula results | compared | agree | disagree | upstream | unsupported | volatile |\n|---:|---:|---:|---:|---:|---:|---:|";
+    "| formula results | compared | agree | disagree | upstream | unsupported | volatile | kept |\n\
+     |---:|---:|---:|---:|---:|---:|---:|---:|";
 
 /// A tally as the cells of a report's row: results, compared, agree (rate), disagree,
-/// upstream, unsupported, volatile.
+/// upstream, unsupported, volatile, kept.
 fn tally_cells(t: &Tally) -> String {
     format!(
-        "{} | {} | {} ({}) | {} | {} | {} | {}",
+        "{} | {} | {} ({}) | {} | {} | {} | {} | {}",
         t.all(),
         t.compared(),
         t.agree,
@@ -370,14 +378,16 @@ fn tally_cells(t: &Tally) -> String {
         t.disagree,
         t.upstream,
         t.unsupported,
-        t.volatile
+        t.volatile,
+        t.kept
     )
 }
 
 /// A report's table of workbooks, one row a file.
 fn write_by_file(out: &mut String, per_file: &[(String, Tally)]) {
-    let _ = writeln!(out, "| file | results | compared | agree | disagree | upstream | unsupported | volatile |");
-    let _ = writeln!(out, "|---|---:|---:|---:|---:|---:|---:|---:|");
+    let _ =
+        writeln!(out, "| file | results | compared | agree | disagree | upstream | unsupported | volatile | kept |");
+    let _ = writeln!(out, "|---|---:|---:|---:|---:|---:|---:|---:|---:|");
     for (file, t) in per_file {
         let _ = writeln!(out, "| `{file}` | {} |", tally_cells(t));
     }
@@ -398,6 +408,16 @@ fn render_public(run: &CorpusRun) -> String {
     );
     let _ = writeln!(out, "{SUMMARY_HEADER}");
     let _ = writeln!(out, "| {} |\n", tally_cells(&t));
+    let timeless = t.all() - t.volatile;
+    let _ = writeln!(
+        out,
+        "Of the formula results (clock and chance left out), {} are computed and agree with Excel; with the \
+         {} kept cells, which show what Excel shows, {}.\n",
+        percent(t.agree, timeless),
+        t.kept,
+        percent(t.agree + t.kept, timeless)
+    );
+    write_not_compared(&mut out, run);
     if !run.refused.is_empty() {
         let _ = writeln!(out, "## Refused packages\n");
         for (file, error) in &run.refused {
@@ -409,6 +429,19 @@ fn render_public(run: &CorpusRun) -> String {
     let _ = writeln!(out, "## Public workbooks by file\n");
     write_by_file(&mut out, &run.per_file);
     out
+}
+
+/// Every cell not compared (unsupported, volatile or kept), with its formula.
+fn write_not_compared(out: &mut String, run: &CorpusRun) {
+    if run.uncompared.is_empty() {
+        return;
+    }
+    let _ = writeln!(out, "## Cells not compared\n");
+    for (file, cell, verdict, formula) in &run.uncompared {
+        let line = format!("{file}: {cell}: {}: {formula}", format!("{verdict:?}").to_lowercase());
+        let _ = writeln!(out, "- {}", line.replace('|', "\\|"));
+    }
+    let _ = writeln!(out);
 }
 
 /// Every cell that disagrees, with the known list's reason where it has one (a cell without
@@ -435,9 +468,20 @@ fn render(run: &CorpusRun) -> String {
     );
     let _ = writeln!(
         out,
-        "A cell is *unsupported* when its formula calls a function ncsheet does not have (or does not \
-         parse), or reads such a cell; *volatile* when it calls NOW, TODAY or RAND…, or reads such a cell; \
-         *upstream* when it disagrees because a cell it reads disagrees.\n"
+        "A cell is *unsupported* when its formula calls a function ncsheet does not have, or reads such a \
+         cell; *volatile* when it calls NOW, TODAY or RAND…, or reads such a cell; *upstream* when it \
+         disagrees because a cell it reads disagrees.\n"
+    );
+    let _ = writeln!(
+        out,
+        "A cell is *kept* when its formula is one ncsheet does not compute and it shows the value the file \
+         cached, as Excel shows it: a formula that does not parse (one Excel cannot read either, such as \
+         LibreOffice's `L6-(-4,3)` with a decimal comma: Excel repairs the file by dropping the formula and \
+         keeping the cell's value), or a call of an add-in's function (`[1]!LUCANET(…)` of an .xla, \
+         `_xll.Name(…)` of an XLL), whose last result Excel shows while the add-in is missing, an error \
+         keeping its kind. A kept cell is not counted as computed or compared (its value is the file's, not \
+         ours); the cells reading it are compared as usual. Each is listed, and each is a problem of its \
+         cell that ncsheet reports.\n"
     );
     let _ = writeln!(out, "## Summary\n");
     let _ = writeln!(out, "{SUMMARY_HEADER}");

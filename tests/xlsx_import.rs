@@ -146,21 +146,26 @@ fn names_keep_their_scope_and_built_in_names_are_noted() {
 }
 
 #[test]
-fn a_formula_we_cannot_read_keeps_its_text_and_shows_name() {
+fn a_formula_we_cannot_read_keeps_its_text_and_the_value_the_file_cached() {
+    // A table that is not in the file: as Excel, which drops a formula it cannot read when
+    // it repairs the file, the cell shows the value the file holds, and B1 computes from it.
     let data = r#"<row r="1"><c r="A1"><f>SUM(Table1[Qty])</f><v>12</v></c><c r="B1"><f>A1+1</f><v>13</v></c></row>"#;
     let imported = load(&[("Sheet1", data)], "");
     let wb = &imported.workbook;
     assert_eq!(wb.formula(0, at("A1")).as_deref(), Some("=SUM(Table1[Qty])"));
-    assert_eq!(wb.value(0, at("A1")), Value::Error(XlError::Name));
-    assert_eq!(wb.problems().len(), 1);
-    assert_eq!((wb.problems()[0].sheet, wb.problems()[0].pos), (0, at("A1")));
-    // Both cells show in the comparison with Excel, with both values.
-    let differences = xlsx::compare_cached(wb, &imported.cached);
-    let found: Vec<_> = differences.iter().map(|d| (d.pos, d.excel.clone(), d.ncsheet.clone())).collect();
-    assert_eq!(
-        found,
-        vec![(at("A1"), num(12.0), Value::Error(XlError::Name)), (at("B1"), num(13.0), Value::Error(XlError::Name))]
-    );
+    assert_eq!(wb.value(0, at("A1")), num(12.0));
+    assert_eq!(wb.value(0, at("B1")), num(13.0));
+    assert!(wb.keeps_file_value(0, at("A1")) && !wb.keeps_file_value(0, at("B1")));
+    let problems = wb.problems();
+    assert_eq!(problems.len(), 1);
+    assert_eq!((problems[0].sheet, problems[0].pos), (0, at("A1")));
+    assert!(problems[0].message().contains("keeps the value the file cached"), "{}", problems[0].message());
+    assert!(imported.notes.iter().any(|n| n.contains("Sheet1!A1 =SUM(Table1[Qty])")), "{:?}", imported.notes);
+    // Edited, the cell is computed again, and so is B1.
+    let mut wb = imported.workbook;
+    wb.set_input(0, at("A1"), "=2*5").unwrap();
+    assert_eq!((wb.value(0, at("A1")), wb.value(0, at("B1"))), (num(10.0), num(11.0)));
+    assert!(!wb.keeps_file_value(0, at("A1")) && wb.problems().is_empty());
 }
 
 #[test]

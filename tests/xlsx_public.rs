@@ -5,20 +5,14 @@
 mod common;
 
 use common::{judge, Verdict};
-use ncsheet::eval::Value;
+use ncsheet::eval::{Value, XlError};
 use ncsheet::formula::address::parse_cell;
 use ncsheet::io::xlsx;
 
 /// Loads a public-corpus workbook and checks every formula result against Excel's; returns
 /// how many were compared. `None` (skipped) without the corpus, a failure under CI.
 fn agrees_with_excel(rel: &str) -> Option<usize> {
-    let root = common::corpus::public_path();
-    if !root.is_dir() {
-        assert!(std::env::var_os("CI").is_none(), "public Excel corpus not found at {}", root.display());
-        eprintln!("skipped: public Excel corpus not found at {}", root.display());
-        return None;
-    }
-    let imported = xlsx::load(&root.join(rel)).unwrap_or_else(|e| panic!("{rel}: {e}"));
+    let imported = public_workbook(rel)?;
     let (results, _) = judge(&imported, &|c| Some(c.value.clone()), &|_| false, &xlsx::values_agree);
     let wrong: Vec<String> = results
         .iter()
@@ -323,4 +317,151 @@ fn names_that_read_other_workbooks_are_kept_in_a_workbook_written_anew() {
         let value = back.workbook.value(c.sheet, c.pos);
         assert!(xlsx::values_agree(&c.value, &value), "{}: ncsheet {value:?}, Excel {:?}", c.pos, c.value);
     }
+}
+
+/// The public corpus's folder, `None` (skipped) without it, a failure under CI.
+fn public_root() -> Option<std::path::PathBuf> {
+    let root = common::corpus::public_path();
+    if !root.is_dir() {
+        assert!(std::env::var_os("CI").is_none(), "public Excel corpus not found at {}", root.display());
+        eprintln!("skipped: public Excel corpus not found at {}", root.display());
+        return None;
+    }
+    Some(root)
+}
+
+/// A public-corpus workbook, `None` (skipped) without the corpus.
+fn public_workbook(rel: &str) -> Option<xlsx::Imported> {
+    Some(xlsx::load(&public_root()?.join(rel)).unwrap_or_else(|e| panic!("{rel}: {e}")))
+}
+
+/// The value of `cell` of the first sheet, and what the workbook's problems say of it.
+fn value_and_problem(imported: &xlsx::Imported, cell: &str) -> (Value, String) {
+    let pos = parse_cell(cell).expect("a cell");
+    let wb = &imported.workbook;
+    let problem = wb.problems().into_iter().find(|p| p.sheet == 0 && p.pos == pos).map(|p| p.message());
+    (wb.value(0, pos), problem.unwrap_or_default())
+}
+
+#[test]
+fn getpivotdata_reads_the_pivot_table_of_the_file() {
+    // 54436: a pivot table at A8:B11 summing Score by Category (B9 3, B10 12, B11 15 as
+    // Excel laid it out); A14 `=GETPIVOTDATA("Sum of Score",A8,"Category","Category 1")`.
+    all_agree(&["poi/test-data_spreadsheet_54436.xlsx"], 1);
+    let Some(mut imported) = public_workbook("poi/test-data_spreadsheet_54436.xlsx") else { return };
+    let wb = &mut imported.workbook;
+    let at = |cell: &str| parse_cell(cell).expect("a cell");
+    let cases = [
+        // The values Excel shows in the table: Category 2's sum and the grand total.
+        (r#"=GETPIVOTDATA("Sum of Score",$B$10,"Category","Category 2")"#, Value::Number(12.0)),
+        (r#"=GETPIVOTDATA("Score",A8)"#, Value::Number(15.0)),
+        // Excel's #REF! where the table shows nothing: outside it, a field on no axis, an
+        // item it has not, a data field it has not.
+        (r#"=GETPIVOTDATA("Sum of Score",C1,"Category","Category 1")"#, Value::Error(XlError::Ref)),
+        (r#"=GETPIVOTDATA("Sum of Score",A8,"Question","Question 1")"#, Value::Error(XlError::Ref)),
+        (r#"=GETPIVOTDATA("Sum of Score",A8,"Category","Category 3")"#, Value::Error(XlError::Ref)),
+        (r#"=GETPIVOTDATA("Count of Score",A8)"#, Value::Error(XlError::Ref)),
+    ];
+    for (formula, _) in &cases {
+        wb.set_input(0, at("E1"), formula).expect("parses");
+    }
+    for (formula, want) in cases {
+        wb.set_input(0, at("E1"), formula).expect("parses");
+        assert_eq!(wb.value(0, at("E1")), want, "{formula}");
+    }
+}
+
+#[test]
+fn add_in_functions_keep_the_values_excel_cached_with_a_problem_naming_them() {
+    // `[1]!LUCANET("Ist")` of lucanet.xla and `[1]!HsGetValue(…)` of Oracle Smart View's
+    // HsTbar.xla: the add-ins are not here; the cells show what Excel showed.
+    let Some(lucanet) = public_workbook("poi/test-data_spreadsheet_56502.xlsx") else { return };
+    let (value, problem) = value_and_problem(&lucanet, "A4");
+    assert_eq!(value, Value::text("pls. update"));
+    assert!(problem.contains("LUCANET") && problem.contains("keeps the value the file cached"), "{problem}");
+    assert!(lucanet.notes.iter().any(|n| n.contains("[1]!LUCANET")), "{:?}", lucanet.notes);
+    let hyperion = public_workbook("poi/test-data_spreadsheet_HsGetVal.xlsx").expect("the corpus is here");
+    for cell in ["B5", "C5"] {
+        let (value, problem) = value_and_problem(&hyperion, cell);
+        assert_eq!(value, Value::text("#Missing"), "{cell}");
+        assert!(problem.contains("HsGetValue"), "{cell}: {problem}");
+    }
+}
+
+#[test]
+fn an_xll_add_in_call_keeps_the_error_excel_cached_with_its_kind() {
+    // HsGetVal's B5 as an XLL add-in's call (`_xll.`) whose last result was #N/A, C5 as
+    // one of .xla that returned #DIV/0!: each keeps its error, not #NAME?.
+    let Some(root) = public_root() else { return };
+    let source = std::fs::read(root.join("poi/test-data_spreadsheet_HsGetVal.xlsx")).expect("reads");
+    let bytes = replace_in_part(&source, "xl/worksheets/sheet1.xml", &|xml| {
+        let b5 = xml.find(r#"<c r="B5""#).expect("B5");
+        let (head, tail) = xml.split_at(b5);
+        let tail = tail
+            .replacen(r#"t="str"><f>[1]!HsGetValue("#, r#"t="e"><f>_xll.HsGetValue("#, 1)
+            .replacen("<v>#Missing</v>", "<v>#N/A</v>", 1)
+            .replacen(r#"t="str"><f>[1]!"#, r#"t="e"><f>[1]!"#, 1)
+            .replacen("<v>#Missing</v>", "<v>#DIV/0!</v>", 1);
+        format!("{head}{tail}")
+    });
+    let imported = xlsx::load_bytes(&bytes, std::path::Path::new("xll.xlsx")).expect("loads");
+    let (b5, problem) = value_and_problem(&imported, "B5");
+    assert_eq!(b5, Value::Error(XlError::NA));
+    assert!(problem.contains("HsGetValue") && problem.contains("XLL"), "{problem}");
+    assert_eq!(value_and_problem(&imported, "C5").0, Value::Error(XlError::Div0));
+    // Kept as written for a save.
+    assert_eq!(
+        imported.workbook.formula(0, parse_cell("B5").unwrap()).unwrap_or_default().get(..15),
+        Some("=_xll.HsGetValu")
+    );
+}
+
+/// A copy of an xlsx package with one part's text rewritten.
+fn replace_in_part(package: &[u8], part: &str, rewrite: &dyn Fn(&str) -> String) -> Vec<u8> {
+    let mut zip = zip::ZipArchive::new(std::io::Cursor::new(package)).expect("zip");
+    let mut out = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
+    for i in 0..zip.len() {
+        let mut entry = zip.by_index(i).expect("entry");
+        let name = entry.name().expect("a name").to_string();
+        let mut data = Vec::new();
+        std::io::Read::read_to_end(&mut entry, &mut data).expect("inflates");
+        if name == part {
+            data = rewrite(&String::from_utf8(data).expect("utf-8")).into_bytes();
+        }
+        out.start_file(name, zip::write::SimpleFileOptions::default()).expect("entry");
+        std::io::Write::write_all(&mut out, &data).expect("writes");
+    }
+    out.finish().expect("zip").into_inner()
+}
+
+#[test]
+fn a_formula_excel_cannot_read_keeps_the_value_the_file_cached() {
+    // clone_sheet (written by LibreOffice in a Polish locale): `L6-(-4,3)`, a decimal comma
+    // Excel reads as a union of numbers, which it cannot; Excel repairs the file by dropping
+    // such formulas and keeping their values. The cells show the values the file holds
+    // (L6 -4.1 + 4.3 = 0.2), each a problem of its cell; the others compute as Excel.
+    let Some(imported) = public_workbook("poi/test-data_spreadsheet_clone_sheet.xlsx") else { return };
+    let (value, problem) = value_and_problem(&imported, "M6");
+    assert_eq!(value, Value::Number(0.2));
+    assert!(problem.contains("keeps the value the file cached"), "{problem}");
+    assert_eq!(imported.workbook.formula(0, parse_cell("M6").unwrap()).as_deref(), Some("=L6-(-4,3)"));
+    let (results, _) = judge(&imported, &|c| Some(c.value.clone()), &|_| false, &xlsx::values_agree);
+    let kept = results.iter().filter(|r| r.verdict == Verdict::Kept).count();
+    let agree = results.iter().filter(|r| r.verdict == Verdict::Agree).count();
+    assert_eq!((kept, agree, results.len()), (16, 69, 85));
+    assert!(imported.notes.iter().any(|n| n.contains("16 formula(s)")), "{:?}", imported.notes);
+}
+
+#[test]
+fn a_call_of_a_name_excel_does_not_know_either_is_its_name_error() {
+    // testNames.xlsm: `myFunc` is the workbook's VBA Function; `crapName("abc")` is nothing
+    // anywhere, and Excel cached #NAME? for it, as ncsheet computes.
+    let Some(mut imported) = public_workbook("poi/test-data_spreadsheet_testNames.xlsm") else { return };
+    common::install_workbook_functions(&mut imported);
+    imported.workbook.recalculate();
+    let (results, _) = judge(&imported, &|c| Some(c.value.clone()), &|_| false, &xlsx::values_agree);
+    let a6 = results.iter().find(|r| r.pos == parse_cell("A6").unwrap()).expect("A6 is judged");
+    assert_eq!((a6.verdict, imported.workbook.value(0, a6.pos)), (Verdict::Agree, Value::Error(XlError::Name)));
+    let agree = results.iter().filter(|r| r.verdict == Verdict::Agree).count();
+    assert_eq!((agree, results.len()), (7, 7));
 }

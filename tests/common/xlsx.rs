@@ -43,6 +43,10 @@ pub enum Verdict {
     Upstream,
     Unsupported,
     Volatile,
+    /// A formula ncsheet does not compute (it does not parse, or calls an add-in's
+    /// function) whose cell keeps the value the file cached, as Excel shows it: neither
+    /// computed nor compared. The cells reading it are judged as usual.
+    Kept,
 }
 
 /// What a formula calls and reads.
@@ -217,9 +221,18 @@ pub fn judge(
     // Unsupported and volatile cells, then everything that reads them.
     let mut tainted = CellSet::default();
     let mut volatile = HashSet::new();
-    for c in &imported.cached {
+    // An array formula's other cells are not kept (they show no value of the file's).
+    let kept = |c: &CachedValue| c.pos == c.anchor && wb.keeps_file_value(c.sheet, c.pos);
+    let expectations: Vec<Option<Value>> = imported.cached.iter().map(expected).collect();
+    for (c, want) in imported.cached.iter().zip(&expectations) {
         let info = &infos[&(c.sheet, c.anchor)];
-        if !info.parses || !info.unknown.is_empty() || info.volatile || excluded(info) {
+        if kept(c) {
+            continue;
+        }
+        // A call of a name Excel did not know either (it cached #NAME? for it): no function
+        // ncsheet lacks, and the cell is compared (its #NAME? is Excel's).
+        let lacking = !info.unknown.is_empty() && *want != Some(Value::Error(ncsheet::eval::XlError::Name));
+        if !info.parses || lacking || info.volatile || excluded(info) {
             tainted.insert(c.sheet, c.pos);
             if info.volatile {
                 volatile.insert((c.sheet, c.pos));
@@ -250,7 +263,6 @@ pub fn judge(
             break;
         }
     }
-    let expectations: Vec<Option<Value>> = imported.cached.iter().map(expected).collect();
     let mut wrong = CellSet::default();
     for (c, want) in imported.cached.iter().zip(&expectations) {
         if want.as_ref().is_some_and(|w| !agree(w, &wb.value(c.sheet, c.pos))) {
@@ -265,7 +277,9 @@ pub fn judge(
         .map(|(c, want)| {
             let key = (c.sheet, c.pos);
             let info = &infos[&(c.sheet, c.anchor)];
-            let verdict = if volatile.contains(&key) {
+            let verdict = if kept(c) {
+                Verdict::Kept
+            } else if volatile.contains(&key) {
                 Verdict::Volatile
             } else if tainted.cells.contains(&key) {
                 Verdict::Unsupported
@@ -291,6 +305,7 @@ pub struct Tally {
     pub upstream: usize,
     pub unsupported: usize,
     pub volatile: usize,
+    pub kept: usize,
 }
 
 impl Tally {
@@ -301,6 +316,7 @@ impl Tally {
             Verdict::Upstream => self.upstream += 1,
             Verdict::Unsupported => self.unsupported += 1,
             Verdict::Volatile => self.volatile += 1,
+            Verdict::Kept => self.kept += 1,
         }
     }
 
@@ -310,6 +326,7 @@ impl Tally {
         self.upstream += other.upstream;
         self.unsupported += other.unsupported;
         self.volatile += other.volatile;
+        self.kept += other.kept;
     }
 
     pub fn compared(&self) -> usize {
@@ -317,7 +334,7 @@ impl Tally {
     }
 
     pub fn all(&self) -> usize {
-        self.compared() + self.unsupported + self.volatile
+        self.compared() + self.unsupported + self.volatile + self.kept
     }
 }
 

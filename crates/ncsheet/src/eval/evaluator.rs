@@ -50,6 +50,18 @@ pub trait Env {
         None
     }
 
+    /// What the pivot table holding cell `at` of `sheet` shows for `data_field` at the
+    /// (field, item) `pairs` (GETPIVOTDATA); `Err` says why it shows nothing.
+    fn pivot_data(
+        &self,
+        _sheet: SheetId,
+        _at: Pos,
+        _data_field: &str,
+        _pairs: &[(String, Value)],
+    ) -> Result<Value, String> {
+        Err("the workbook has no pivot table".into())
+    }
+
     /// The cells a dynamic array anchored at `pos` spilled into, for `A1#`.
     fn spill_rect(&self, sheet: SheetId, pos: Pos) -> Option<Rect>;
 

@@ -232,6 +232,16 @@ impl Env for Probe<'_> {
         self.wb.structured_reference(text, sheet, pos)
     }
 
+    fn pivot_data(
+        &self,
+        sheet: SheetId,
+        at: Pos,
+        data_field: &str,
+        pairs: &[(String, Value)],
+    ) -> Result<Value, String> {
+        self.wb.pivot_data(sheet, at, data_field, pairs)
+    }
+
     /// A waiting anchor's spill area is not known yet: asking for it is reading it.
     fn spill_rect(&self, sheet: SheetId, pos: Pos) -> Option<Rect> {
         self.note(sheet, Rect::cell(pos));

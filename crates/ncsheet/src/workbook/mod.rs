@@ -131,6 +131,9 @@ pub struct Workbook {
     names: Vec<DefinedName>,
     /// Formula text that did not parse, by cell id, with the error.
     bad_inputs: FxMap<u32, (String, ParseError)>,
+    /// Of `bad_inputs`, the cells that show the value their file cached instead of `#NAME?`
+    /// ([`Workbook::keep_formula_value_deferred`]).
+    kept_values: FxMap<u32, ()>,
     /// Messages functions left explaining a cell's error value.
     notes: FxMap<u32, Vec<Note>>,
     /// Cells whose notes the last recalculation changed (what an edit has to report).
@@ -168,6 +171,8 @@ pub struct Workbook {
     user_functions: Option<Rc<dyn UserFunctions>>,
     /// The tables of the file it was read from, which structured references name.
     tables: Option<Rc<dyn StructuredReferences>>,
+    /// The pivot tables of the file it was read from, which GETPIVOTDATA reads.
+    pivot_tables: Option<Rc<dyn PivotTables>>,
     /// The clock and random sequence this workbook's formulas read (its own, never a thread's).
     settings: crate::eval::Settings,
     /// The sheet shown when the workbook opens (`<workbookView activeTab>`): VBA's
@@ -585,6 +590,34 @@ impl Workbook {
         }
     }
 
+    /// Keeps formula text that ncsheet does not compute, the cell showing `value`, the value
+    /// the file cached, without recalculating: a formula that does not parse (Excel, meeting
+    /// one it cannot read, repairs the file by dropping the formula and keeping the value),
+    /// or one calling what only the machine that saved the file has (an add-in's function).
+    /// `why` says what [`Workbook::problems`] reports; the text is kept for saving.
+    pub fn keep_formula_value_deferred(&mut self, sheet: SheetId, pos: Pos, text: &str, why: ParseError, value: Value) {
+        let value = match value {
+            Value::Array(a) => a.data.first().cloned().unwrap_or(Value::Blank),
+            v => v,
+        };
+        let id = self.cleared_cell(sheet, pos);
+        self.store_value(id, value);
+        let why = ParseError { message: format!("{}; the cell keeps the value the file cached", why.message), ..why };
+        self.bad_inputs.insert(id, (text.to_string(), why));
+        self.kept_values.insert(id, ());
+    }
+
+    /// Whether the cell holds formula text ncsheet does not compute and shows the value its
+    /// file cached ([`Workbook::keep_formula_value_deferred`]).
+    pub fn keeps_file_value(&self, sheet: SheetId, pos: Pos) -> bool {
+        !self.kept_values.is_empty()
+            && self
+                .sheets
+                .get(sheet as usize)
+                .and_then(|s| s.get(pos))
+                .is_some_and(|id| self.kept_values.contains_key(&id))
+    }
+
     /// The cell at `pos`, noted as edited, with no formula, spill or value of its own left.
     fn cleared_cell(&mut self, sheet: SheetId, pos: Pos) -> u32 {
         let id = self.cell_at(sheet, pos);
@@ -862,6 +895,7 @@ impl Workbook {
     fn clear_formula(&mut self, id: u32) {
         if !self.bad_inputs.is_empty() {
             self.bad_inputs.remove(&id);
+            self.kept_values.remove(&id);
         }
         if !self.fixed_arrays.is_empty() {
             self.fixed_arrays.remove(&id);
@@ -1027,6 +1061,34 @@ impl Env for Workbook {
 
     fn structured_reference(&self, text: &str, sheet: SheetId, pos: Pos) -> Option<String> {
         self.tables.as_ref()?.resolve(self, text, sheet, pos)
+    }
+
+    fn pivot_data(
+        &self,
+        sheet: SheetId,
+        at: Pos,
+        data_field: &str,
+        pairs: &[(String, Value)],
+    ) -> Result<Value, String> {
+        match &self.pivot_tables {
+            Some(pivots) => pivots.value(sheet, at, data_field, pairs),
+            None => Err("the workbook has no pivot table".into()),
+        }
+    }
+}
+
+/// A workbook's pivot tables as the file that held them describes them (the reader knows
+/// their format and installs them), for GETPIVOTDATA.
+pub trait PivotTables {
+    /// The value the pivot table holding cell `at` of `sheet` shows for `data_field` at the
+    /// (field, item) `pairs`; `Err` says why it shows none (GETPIVOTDATA's `#REF!`).
+    fn value(&self, sheet: SheetId, at: Pos, data_field: &str, pairs: &[(String, Value)]) -> Result<Value, String>;
+}
+
+impl Workbook {
+    /// Installs the pivot tables GETPIVOTDATA reads.
+    pub fn set_pivot_tables(&mut self, pivots: Rc<dyn PivotTables>) {
+        self.pivot_tables = Some(pivots);
     }
 }
 

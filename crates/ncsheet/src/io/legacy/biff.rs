@@ -548,7 +548,6 @@ const NOT_COMPUTED: &[(u16, &str, Option<u8>)] = &[
     (215, "DBCS", Some(1)),
     (352, "DATESTRING", Some(1)),
     (353, "NUMBERSTRING", Some(2)),
-    (358, "GETPIVOTDATA", None),
     (360, "PHONETIC", Some(1)),
     (368, "BAHTTEXT", Some(1)),
     (379, "RTD", None),

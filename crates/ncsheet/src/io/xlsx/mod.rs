@@ -42,6 +42,7 @@ mod read;
 mod sheet_span;
 mod sheet_xml;
 mod syntax;
+mod pivot;
 mod tables;
 mod write;
 mod xml;

@@ -176,6 +176,13 @@ impl<'a> Package<'a> {
         Ok(rels.into_iter().filter(|(_, _, kind)| kind == "table").map(|(_, target, _)| target).collect())
     }
 
+    /// The parts `part` relates to by relationships of the types `kinds` (a type's last
+    /// segment: `table`, `pivotTable`, `pivotCacheDefinition`…), as (type, part).
+    pub fn related_parts(&mut self, part: &str, kinds: &[&str]) -> Result<Vec<(String, String)>, Err> {
+        let rels = self.relationships(part)?;
+        Ok(rels.into_iter().filter(|(_, _, k)| kinds.contains(&k.as_str())).map(|(_, target, k)| (k, target)).collect())
+    }
+
     /// The relationships of a part: id → (target part, type's last segment).
     fn relationships(&mut self, part: &str) -> Result<Vec<(String, String, String)>, Err> {
         let (dir, file) = part.rsplit_once('/').unwrap_or(("", part));

@@ -22,10 +22,12 @@ use calamine::{Reader, Style, Xlsx};
 
 use crate::eval::{Env, RowHidden, Value, XlError};
 use crate::formula::address::{Pos, Rect};
+use crate::formula::parse::ParseError;
 use crate::formula::ast::SheetId;
-use crate::workbook::Workbook;
+use crate::workbook::{Workbook, WorkbookError};
 
 use super::external::{self, ExternalBook};
+use super::pivot;
 use super::raw::{self, Package, SheetEntry};
 use super::sheet_span;
 use super::sheet_xml::{self, CellXml, FormulaXml, ScanError, SheetScan};
@@ -131,7 +133,11 @@ pub fn load_bytes_limited(bytes: &[u8], file: &Path, limits: ReadLimits) -> Resu
     if let Some(&Some(active)) = ids.get(package.active_tab) {
         imported.workbook.set_active_sheet(active);
     }
-    let tables = read_tables(&mut package, &sheets, &ids, &mut imported.notes);
+    // Each sheet's relationships read once, for its tables and its pivot tables.
+    let related = related_parts(&mut package, &sheets, &ids);
+    let tables = read_tables(&mut package, &related, &mut imported.notes);
+    let pivots = read_pivots(&mut package, &related, imported.workbook.date_1904(), &mut imported.notes);
+    pivot::install(&mut imported.workbook, pivots);
     imported.layout.tables = tables.clone();
     if !tables.is_empty() {
         imported.workbook.set_tables(std::rc::Rc::new(tables::FileTables(tables.clone())));
@@ -390,25 +396,72 @@ fn intersect_legacy_formula(wb: &mut Workbook, sheet: SheetId, pos: Pos) {
     }
 }
 
-/// The tables of every worksheet kept (a table part that cannot be read is left out with a
-/// note: its structured references then show #NAME?).
-fn read_tables(
-    package: &mut Package,
-    sheets: &[SheetEntry],
-    ids: &[Option<SheetId>],
-    notes: &mut Vec<String>,
-) -> Vec<Table> {
-    let mut tables = Vec::new();
+/// The table and pivot-table parts of every worksheet kept, by sheet: (type, part).
+fn related_parts(package: &mut Package, sheets: &[SheetEntry], ids: &[Option<SheetId>]) -> Vec<(SheetId, Vec<(String, String)>)> {
+    let mut related = Vec::new();
     for (entry, id) in sheets.iter().zip(ids) {
         let Some(sheet) = *id else { continue };
-        for part in package.table_parts(&entry.part).unwrap_or_default() {
-            match package.read_optional(&part).ok().flatten().and_then(|xml| tables::parse_table(&xml, sheet)) {
+        let parts = package.related_parts(&entry.part, &["table", "pivotTable"]).unwrap_or_default();
+        if !parts.is_empty() {
+            related.push((sheet, parts));
+        }
+    }
+    related
+}
+
+/// The parts of type `kind` among `parts`.
+fn of_kind<'p>(parts: &'p [(String, String)], kind: &'p str) -> impl Iterator<Item = &'p str> + 'p {
+    parts.iter().filter(move |(k, _)| k == kind).map(|(_, part)| part.as_str())
+}
+
+/// The tables of every worksheet kept (a table part that cannot be read is left out with a
+/// note: its structured references then show #NAME?).
+fn read_tables(package: &mut Package, related: &[(SheetId, Vec<(String, String)>)], notes: &mut Vec<String>) -> Vec<Table> {
+    let mut tables = Vec::new();
+    for (sheet, parts) in related {
+        for part in of_kind(parts, "table") {
+            match package.read_optional(part).ok().flatten().and_then(|xml| tables::parse_table(&xml, *sheet)) {
                 Some(table) => tables.push(table),
                 None => notes.push(format!("{part}: the table could not be read and was left out")),
             }
         }
     }
     tables
+}
+
+/// The pivot tables of every worksheet kept, with their caches, for GETPIVOTDATA (one whose
+/// parts cannot be read is left out with a note: GETPIVOTDATA on it is then `#REF!`).
+fn read_pivots(
+    package: &mut Package,
+    related: &[(SheetId, Vec<(String, String)>)],
+    date_1904: bool,
+    notes: &mut Vec<String>,
+) -> Vec<pivot::Pivot> {
+    let mut pivots = Vec::new();
+    for (sheet, parts) in related {
+        for part in of_kind(parts, "pivotTable") {
+            match read_pivot(package, part, *sheet, date_1904) {
+                Some(p) => pivots.push(p),
+                None => notes.push(format!("{part}: the pivot table could not be read; GETPIVOTDATA on it is #REF!")),
+            }
+        }
+    }
+    pivots
+}
+
+/// One pivot table part with its cache's definition and records (records may be missing:
+/// a cache saved without them summarises nothing).
+fn read_pivot(package: &mut Package, part: &str, sheet: SheetId, date_1904: bool) -> Option<pivot::Pivot> {
+    let mut first = |part: &str, kind: &str| package.related_parts(part, &[kind]).ok()?.into_iter().next().map(|(_, p)| p);
+    let definition_part = first(part, "pivotCacheDefinition")?;
+    let records_part = first(&definition_part, "pivotCacheRecords");
+    let table = package.read_optional(part).ok()??;
+    let definition = package.read_optional(&definition_part).ok()??;
+    let records = match records_part {
+        Some(records) => package.read_optional(&records).ok().flatten().unwrap_or_default(),
+        None => Vec::new(),
+    };
+    pivot::parse_pivot(&pivot::PivotParts { sheet, table: &table, definition: &definition, records: &records, date_1904 })
 }
 
 /// The workbooks the file links to, numbered as its formulas number them (a part that
@@ -507,6 +560,10 @@ struct SheetImport<'a> {
     shared_trees: HashMap<u32, Option<Rc<crate::formula::ast::Expr>>>,
     /// The formula as typed (`=` and the text), reused from cell to cell.
     typed: String,
+    /// The first formula ncsheet cannot compute whose cell keeps the value the file cached
+    /// (its place and text), and how many there are.
+    kept: Option<String>,
+    kept_count: usize,
 }
 
 impl<'a> SheetImport<'a> {
@@ -520,6 +577,8 @@ impl<'a> SheetImport<'a> {
             waiting: Vec::new(),
             shared_trees: HashMap::new(),
             typed: String::new(),
+            kept: None,
+            kept_count: 0,
         }
     }
 
@@ -549,7 +608,8 @@ impl<'a> SheetImport<'a> {
         }
     }
 
-    /// Copies of shared formulas whose text came later in the file.
+    /// Copies of shared formulas whose text came later in the file; the note on the formulas
+    /// whose cells keep their cached values.
     fn finish(&mut self, imported: &mut Imported) {
         for (pos, index, value) in std::mem::take(&mut self.waiting) {
             match self.shared.get(&index).cloned() {
@@ -562,6 +622,14 @@ impl<'a> SheetImport<'a> {
                     self.constant(imported, pos, value);
                 }
             }
+        }
+        if let Some(first) = self.kept.take() {
+            imported.notes.push(format!(
+                "{} formula(s) ncsheet cannot compute (the first: {first}) keep the values the file \
+                 cached, as Excel shows them (it drops a formula it cannot read when it repairs the file, and \
+                 keeps an add-in's last result without the add-in); `ncsheet info` lists each",
+                self.kept_count
+            ));
         }
     }
 
@@ -630,13 +698,31 @@ impl<'a> SheetImport<'a> {
         }
         // One look at the calls for the two checks below, which most formulas need not make.
         let calls_special = syntax::calls_any(text, &["ANCHORARRAY", "SINGLE", "OFFSET", "INDIRECT"]);
-        let tree =
-            if calls_special || rewritten { syntax::tree_from_file(&self.typed[1..], wb, sheet, pos) } else { None };
-        match tree {
-            Some(tree) => wb.set_formula_tree_deferred(sheet, pos, tree),
-            None => {
-                let _ = wb.set_input_deferred(sheet, pos, &self.typed);
+        // An add-in's function (`_xll.Name(…)`) would parse, as a call of a function nobody has.
+        let add_in = calls_xll_add_in(text);
+        let tree = if (calls_special || rewritten) && !add_in {
+            syntax::tree_from_file(&self.typed[1..], wb, sheet, pos)
+        } else {
+            None
+        };
+        let unread = match tree {
+            Some(tree) => {
+                wb.set_formula_tree_deferred(sheet, pos, tree);
+                None
             }
+            None if add_in && cached.is_some() => Some(add_in_call(text)),
+            None => match wb.set_input_deferred(sheet, pos, &self.typed) {
+                Err(WorkbookError::Parse { error, .. }) => Some(linked_add_in_call(text).unwrap_or(error)),
+                _ => None,
+            },
+        };
+        if let (Some(why), Some(value)) = (unread, &cached) {
+            let why = ParseError { offset: why.offset.min(self.typed.len()), ..why };
+            wb.keep_formula_value_deferred(sheet, pos, &self.typed, why, value.clone());
+            if self.kept.is_none() {
+                self.kept = Some(format!("{} {}", wb.cell_name(sheet, pos), self.typed));
+            }
+            self.kept_count += 1;
         }
         let references_made = calls_special && makes_references(text);
         if plain && (self.typed.contains(':') || references_made || self.uses_range_name()) {
@@ -687,6 +773,36 @@ impl SheetImport<'_> {
         }
         false
     }
+}
+
+/// Whether the formula calls a function of an XLL add-in (`_xll.DSSData(…)`), which only
+/// the machine that saved the file has. Most formulas hold no `_`: one byte search decides.
+fn calls_xll_add_in(text: &str) -> bool {
+    memchr::memchr(b'_', text.as_bytes()).is_some() && text.contains("_xll.")
+}
+
+/// Why a formula calling an XLL add-in's function is not computed.
+fn add_in_call(text: &str) -> ParseError {
+    let at = text.find("_xll.").unwrap_or(0);
+    let name: String = text[at + 5..].chars().take_while(|&c| c.is_alphanumeric() || matches!(c, '_' | '.')).collect();
+    ParseError { offset: at + 1, message: format!("{name} is a function of an add-in (XLL) ncsheet does not have") }
+}
+
+/// Why a formula calling a function of a linked workbook (`[1]!LUCANET(…)`, an .xla add-in
+/// or a macro workbook) is not computed; `None` when it calls none (a parse error then).
+fn linked_add_in_call(text: &str) -> Option<ParseError> {
+    let bytes = text.as_bytes();
+    memchr::memmem::find_iter(bytes, b"]!").find_map(|bang| {
+        let open = text[..bang].rfind('[')?;
+        let book = &text[open + 1..bang];
+        let name_len = bytes[bang + 2..].iter().take_while(|&&b| b.is_ascii_alphanumeric() || matches!(b, b'_' | b'.')).count();
+        let name = &text[bang + 2..bang + 2 + name_len];
+        (book.bytes().all(|b| b.is_ascii_digit()) && !name.is_empty() && bytes.get(bang + 2 + name_len) == Some(&b'('))
+            .then(|| ParseError {
+                offset: open + 1,
+                message: format!("{name} is a function of linked workbook [{book}] (an add-in) ncsheet does not open"),
+            })
+    })
 }
 
 /// Defined names whose formula holds a range (lowercase).

@@ -1,5 +1,5 @@
 //! Reference and information functions that need facts about the workbook: ADDRESS, SHEET,
-//! SHEETS, FORMULATEXT, ISFORMULA, and SUBTOTAL and AGGREGATE, which skip cells that are
+//! SHEETS, FORMULATEXT, ISFORMULA, GETPIVOTDATA (the file's pivot tables), and SUBTOTAL and AGGREGATE, which skip cells that are
 //! themselves subtotals (through `Env::is_subtotal`) so that totals of subtotals do not count
 //! twice. Rows a filter hid are left out by every code, rows hidden by hand by 101–111
 //! (`Env::row_hidden`, from the file's `<row hidden="1">`).
@@ -25,6 +25,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("INFO", 1, 1, info, "INFO(type_text)", "About the environment: \"numfile\", \"recalc\", \"system\" … as Excel 365 on Windows")
         .biff(244).reads(Outside::Host).volatile(),
     FnSpec::value("FORMULATEXT", 1, 1, formulatext, "FORMULATEXT(reference)", "The formula of a cell as text; #N/A when it holds none").future().range_args(ArgSet::only(0)),
+    FnSpec::value("GETPIVOTDATA", 2, MANY, getpivotdata, "GETPIVOTDATA(data_field, pivot_table, [field1, item1], ...)", "A value a pivot table of the file shows: the data field's summary of the records holding the items")
+        .biff(358).range_args(ArgSet::only(1)),
     FnSpec::value("HYPERLINK", 1, 2, hyperlink, "HYPERLINK(link_location, [friendly_name])", "The text a link shows: friendly_name, or the location (ncsheet opens no links)")
         .biff(359),
     FnSpec::value("ISFORMULA", 1, 1, isformula, "ISFORMULA(reference)", "Whether a cell holds a formula").future().range_args(ArgSet::only(0)),
@@ -289,6 +291,35 @@ fn isformula(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         Operand::Value(_) | Operand::Areas(_) => return Err(XlError::Value),
     };
     Ok(Value::Bool(ctx.env.formula_text(sheet, pos).is_some()))
+}
+
+/// GETPIVOTDATA: what the pivot table holding the referenced cell shows, through
+/// `Env::pivot_data` (the file's pivot cache); `#REF!` with a note where it shows nothing.
+fn getpivotdata(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let data_field = to_text(&ctx.eval(&args[0]).unwrap_single())?;
+    let (sheet, at) = match ctx.reference_only(&args[1]) {
+        Operand::Ref(sheet, rect) => (sheet, rect.first),
+        Operand::Value(Value::Error(e)) => return Err(e),
+        Operand::Value(_) | Operand::Areas(_) => {
+            return Err(ctx.explain(XlError::Ref, "GETPIVOTDATA's second argument must be a cell of a pivot table"))
+        }
+    };
+    if args.len() % 2 != 0 {
+        return Err(ctx.explain(XlError::Ref, "GETPIVOTDATA takes its fields and items in pairs"));
+    }
+    let mut pairs = Vec::with_capacity(args.len() / 2 - 1);
+    for pair in args[2..].chunks(2) {
+        let field = to_text(&ctx.eval(&pair[0]).unwrap_single())?;
+        let item = match ctx.eval(&pair[1]).unwrap_single() {
+            Value::Error(e) => return Err(e),
+            item => item,
+        };
+        pairs.push((field.to_string(), item));
+    }
+    match ctx.env.pivot_data(sheet, at, &data_field, &pairs) {
+        Ok(value) => Ok(value),
+        Err(why) => Err(ctx.explain(XlError::Ref, why)),
+    }
 }
 
 fn hyperlink(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
