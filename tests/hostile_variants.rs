@@ -138,7 +138,6 @@ fn offset_by_counts_past_the_sheet_is_ref() {
     assert_eq!(common::sheet::eval_a1("=ROWS(OFFSET(A5,0,0,-3))").0, Value::Number(3.0));
 }
 
-
 // ---------------------------------------------------------------------------------------
 // Macros: GoSubs nested with blocks between them
 
@@ -150,7 +149,8 @@ fn offset_by_counts_past_the_sheet_is_ref() {
 fn gosubs_nested_inside_blocks_stop_with_error_28() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("wb.csv"), "1\n").unwrap();
-    let one_line = "Sub Main()\n    Dim i As Long\n    GoSub Down\n    Debug.Print i\n    Exit Sub\nDown:\n    i = i + 1\n\
+    let one_line =
+        "Sub Main()\n    Dim i As Long\n    GoSub Down\n    Debug.Print i\n    Exit Sub\nDown:\n    i = i + 1\n\
                     \x20   If i < 100000 Then GoSub Down\n    Return\nEnd Sub\n";
     let blocks = "Sub Main()\n    Dim i As Long, j As Long\n    GoSub Down\n    Exit Sub\nDown:\n    i = i + 1\n\
                   \x20   If i < 100000 Then\n        If True Then\n            For j = 1 To 1\n                Select Case 1\n\
@@ -165,8 +165,68 @@ fn gosubs_nested_inside_blocks_stop_with_error_28() {
     }
     // A hundred nested GoSubs with their Returns still run to the end.
     std::fs::write(dir.path().join("hundred.bas"), one_line.replace("100000", "100")).unwrap();
-    let run = common::cli::Invocation { dir: Some(dir.path()), ..Default::default() }.run(&["run", "wb.csv", "hundred.bas"]);
+    let run =
+        common::cli::Invocation { dir: Some(dir.path()), ..Default::default() }.run(&["run", "wb.csv", "hundred.bas"]);
     assert_eq!(run.code, 0, "{}", run.stderr);
     // Debug.Print writes to standard error, as it happens.
     assert_eq!(run.stderr.lines().next().map(str::trim), Some("100"), "{}", run.stderr);
+}
+
+// ---------------------------------------------------------------------------------------
+// Files: attributes past their types that the xlsx reader's library adds up
+
+/// A one-sheet xlsx with `before_data` ahead of `<sheetData>` and cell A1 in a style of
+/// format code `code`.
+fn book(dir: &std::path::Path, name: &str, before_data: &str, code: &str) -> std::path::PathBuf {
+    use std::io::Write;
+    let ns = r#"xmlns="http://schemas.openxmlformats.org/spreadsheetml/2006/main""#;
+    let rels = "http://schemas.openxmlformats.org/officeDocument/2006/relationships";
+    let parts = [
+        (
+            "[Content_Types].xml",
+            r#"<?xml version="1.0" encoding="UTF-8"?><Types xmlns="http://schemas.openxmlformats.org/package/2006/content-types"><Default Extension="rels" ContentType="application/vnd.openxmlformats-package.relationships+xml"/><Default Extension="xml" ContentType="application/xml"/><Override PartName="/xl/workbook.xml" ContentType="application/vnd.openxmlformats-officedocument.spreadsheetml.sheet.main+xml"/><Override PartName="/xl/worksheets/sheet1.xml" ContentType="application/vnd.openxmlformats-officedocument.spreadsheetml.worksheet+xml"/><Override PartName="/xl/styles.xml" ContentType="application/vnd.openxmlformats-officedocument.spreadsheetml.styles+xml"/></Types>"#.to_string(),
+        ),
+        (
+            "_rels/.rels",
+            format!(r#"<?xml version="1.0" encoding="UTF-8"?><Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships"><Relationship Id="rId1" Type="{rels}/officeDocument" Target="xl/workbook.xml"/></Relationships>"#),
+        ),
+        (
+            "xl/workbook.xml",
+            format!(r#"<?xml version="1.0" encoding="UTF-8"?><workbook {ns} xmlns:r="{rels}"><sheets><sheet name="Sheet1" sheetId="1" r:id="rId1"/></sheets></workbook>"#),
+        ),
+        (
+            "xl/_rels/workbook.xml.rels",
+            format!(r#"<?xml version="1.0" encoding="UTF-8"?><Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships"><Relationship Id="rId1" Type="{rels}/worksheet" Target="worksheets/sheet1.xml"/><Relationship Id="rId2" Type="{rels}/styles" Target="styles.xml"/></Relationships>"#),
+        ),
+        (
+            "xl/worksheets/sheet1.xml",
+            format!(r#"<?xml version="1.0" encoding="UTF-8"?><worksheet {ns}>{before_data}<sheetData><row r="1"><c r="A1" s="1"><v>2</v></c><c r="B1"><f>A1*3</f></c></row></sheetData></worksheet>"#),
+        ),
+        (
+            "xl/styles.xml",
+            format!(r#"<?xml version="1.0" encoding="UTF-8"?><styleSheet {ns}><numFmts count="1"><numFmt numFmtId="200" formatCode="{code}"/></numFmts><fonts count="1"><font><sz val="11"/></font></fonts><fills count="1"><fill><patternFill patternType="none"/></fill></fills><borders count="1"><border/></borders><cellStyleXfs count="1"><xf numFmtId="0" fontId="0" fillId="0" borderId="0"/></cellStyleXfs><cellXfs count="2"><xf numFmtId="0" fontId="0" fillId="0" borderId="0" xfId="0"/><xf numFmtId="200" fontId="0" fillId="0" borderId="0" xfId="0" applyNumberFormat="1"/></cellXfs></styleSheet>"#),
+        ),
+    ];
+    let file = dir.join(name);
+    let mut zip = zip::ZipWriter::new(std::fs::File::create(&file).unwrap());
+    for (part, text) in parts {
+        zip.start_file(part, zip::write::SimpleFileOptions::default()).unwrap();
+        zip.write_all(text.as_bytes()).unwrap();
+    }
+    zip.finish().unwrap();
+    file
+}
+
+#[test]
+fn a_dimension_past_u32_and_a_format_of_300_brackets_read_without_a_panic() {
+    // Both overflowed in the xlsx reader's library (a row number summed in a u32, brackets
+    // counted in a u8): a panic in a debug build. Neither is read for what it says: the
+    // cells are the sheet's, and the code is a text shown as written.
+    let dir = tempfile::tempdir().unwrap();
+    let wide = book(dir.path(), "dimension.xlsx", r#"<dimension ref="A1:XFD99999999999"/>"#, "0.00");
+    let brackets = book(dir.path(), "brackets.xlsx", "", &format!("{}0", "[".repeat(300)));
+    for file in [wide, brackets] {
+        let wb = ncsheet::io::load(&file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+        assert_eq!(get(&wb, "B1"), Value::Number(6.0), "{}", file.display());
+    }
 }
