@@ -510,3 +510,20 @@ End Sub
     let e = fail("    x = ThisWorkbook.Path", &RunOptions::default());
     assert!(e.message.contains("ThisWorkbook.Path: a macro's folder is the one given with"), "{e}");
 }
+
+// File statements stand in a one-line If too ([MS-VBAL] 5.4.2.8: a single-line If holds
+// any statement list), as real macros write `If Not EOF(1) Then Line Input #1, s`.
+#[test]
+fn file_statements_in_a_one_line_if() {
+    let out = run("Sub Main()
+    Open \"o.txt\" For Output As #1
+    If 1 > 0 Then Print #1, \"yes\" Else Print #1, \"no\"
+    Close #1
+    Open \"o.txt\" For Input As #1
+    If Not EOF(1) Then Line Input #1, s: Debug.Print s
+    If EOF(1) Then Close #1
+End Sub
+");
+    assert_eq!(out.printed, vec!["yes"]);
+    assert_eq!(out.files, vec![("o.txt".to_string(), b"yes\r\n".to_vec())]);
+}
