@@ -669,3 +669,169 @@ fn objects_count_against_the_memory_budget() {
     let options = RunOptions { max_memory: 256 << 20, ..options };
     run_with(chain, &options).unwrap_or_else(|e| panic!("{e}"));
 }
+
+// [MS-VBAL] 5.6.13 "Index Expressions": an index applies to the value a call or a default
+// member gives, in the same expression. "Split function": Split gives a zero-based array, so
+// `Split("a,b,c", ",")(1)` is "b"; a Dictionary's or a Collection's item that is an array
+// is indexed as `d(k)(i)` and `d.Item(k)(i)`; a Function's array result as `F()(i)`, with
+// the bounds the Function gave it ("Function statement": an array is returned by assigning
+// the array to the name); `d.Keys()(0)` is the first key ("Keys method": a zero-based array).
+#[test]
+fn what_a_call_or_an_item_gives_is_indexed_in_the_same_expression() {
+    let out = run("Option Base 1\nFunction Bounded()\n    Dim a(3 To 5)\n    a(3) = \"three\": a(5) = \"five\"\n\
+                   \x20   Bounded = a\nEnd Function\nSub Main()\n    Set d = CreateObject(\"Scripting.Dictionary\")\n\
+                   \x20   d.Add \"p\", Split(\"x,y,z\", \",\")\n    Debug.Print d(\"p\")(0); d.Item(\"p\")(2)\n\
+                   \x20   Set c = New Collection\n    c.Add Split(\"u,v\", \",\")\n    Set inner = New Collection\n\
+                   \x20   inner.Add \"first\": inner.Add \"second\"\n    c.Add inner\n    Debug.Print c(1)(1); c(2)(2); c.Item(2)(1)\n\
+                   \x20   Debug.Print Split(\"a,b,c\", \",\")(1); Bounded()(5); Bounded()(3); d.Keys()(0)\n\
+                   \x20   n = d(\"p\")(1) & \"!\"\n    Debug.Print n\nEnd Sub\n");
+    assert_eq!(out.printed, ["xz", "vsecondfirst", "bfivethreep", "y!"]);
+    // Past the bounds the Function gave: "Subscript out of range (Error 9)".
+    let e = run_with(
+        "Function Bounded()\n    Dim a(3 To 5)\n    Bounded = a\nEnd Function\nSub Main()\n    x = Bounded()(2)\nEnd Sub\n",
+        &RunOptions::default(),
+    )
+    .unwrap_err();
+    assert!(e.message.contains("run-time error 9"), "{e}");
+}
+
+// "Key property" (Scripting's Dictionary): `d.Key(key) = newkey` replaces a key, the item
+// and its place kept (the reference's DicDemo: after d.Key("c") = "d", d.Item("d") is
+// "Cairo"); a key not there is a run-time error, and a new key already there is error 457
+// ("This key is already associated with an element of this collection").
+#[test]
+fn a_dictionary_key_is_renamed_in_place() {
+    let out = run("Sub Main()\n    Set d = CreateObject(\"Scripting.Dictionary\")\n    d.Add \"a\", \"Athens\"\n\
+                   \x20   d.Add \"b\", \"Belgrade\"\n    d.Add \"c\", \"Cairo\"\n    d.Key(\"c\") = \"d\"\n\
+                   \x20   Debug.Print d.Item(\"d\"); d.Exists(\"c\"); Join(d.Keys, \",\")\n    On Error Resume Next\n\
+                   \x20   d.Key(\"a\") = \"b\"\n    Debug.Print Err.Number; d(\"a\")\n    Err.Clear\n\
+                   \x20   d.Key(\"zz\") = \"y\"\n    Debug.Print Err.Number <> 0; d.Count\nEnd Sub\n");
+    assert_eq!(out.printed, ["CairoFalsea,b,d", " 457 Athens", "True 3 "]);
+}
+
+// Objects as Dictionary keys ("Add method (Dictionary)": a key may be any type but an
+// array) are not ncsheet's: its keys are values, and Keys gives them as an array of values.
+// The macro is refused with the reason, not keyed by something else.
+#[test]
+fn an_object_as_a_dictionary_key_is_refused_with_the_reason() {
+    for add in ["d.Add c, 1", "d(c) = 1", "x = d.Exists(c)", "d.Add New Collection, 1"] {
+        let src = format!(
+            "Sub Main()\n    Set d = CreateObject(\"Scripting.Dictionary\")\n    Set c = New Collection\n    {add}\nEnd Sub\n"
+        );
+        let e = run_with(&src, &RunOptions::default()).unwrap_err();
+        assert!(e.message.contains("cannot be a Dictionary key"), "{add}: {e}");
+        assert_eq!(e.span.unwrap().line, 4, "{add}: {e}");
+    }
+}
+
+// "TypeName function": the reference's examples (a String variable "String", an Integer
+// "Integer", a Currency "Currency", an array of Integers "Integer()"), an object's class
+// ("Collection", "Dictionary", "Range"), "Nothing" for an object variable that refers to no
+// object and for Nothing itself, "Empty" for an unassigned Variant. "VarType function": an
+// object is vbObject (9). "IsObject function": True for an object variable, Nothing included.
+#[test]
+fn typename_vartype_and_isobject_of_objects() {
+    let out = run("Sub Main()\n    Dim StrVar As String, IntVar As Integer, CurVar As Currency, v\n\
+                   \x20   Dim ArrayVar(1 To 5) As Integer\n    Set c = New Collection\n\
+                   \x20   Set d = CreateObject(\"Scripting.Dictionary\")\n    Set x = c\n    Set x = Nothing\n\
+                   \x20   Debug.Print TypeName(StrVar); \" \"; TypeName(IntVar); \" \"; TypeName(CurVar); \" \"; TypeName(ArrayVar)\n\
+                   \x20   Debug.Print TypeName(c); \" \"; TypeName(d); \" \"; TypeName(Nothing); \" \"; TypeName(x); \" \"; TypeName(v)\n\
+                   \x20   Debug.Print TypeName(Range(\"A1\")); \" \"; TypeName(5); \" \"; TypeName(2.5); \" \"; TypeName(\"s\")\n\
+                   \x20   Debug.Print VarType(c); VarType(d); VarType(x) = vbObject\n\
+                   \x20   Debug.Print IsObject(c); IsObject(d); IsObject(x); IsObject(v); IsObject(5); IsObject(Range(\"A1\"))\n\
+                   End Sub\n");
+    assert_eq!(
+        out.printed,
+        [
+            "String Integer Currency Integer()",
+            "Collection Dictionary Nothing Nothing Empty",
+            "Range Integer Double String",
+            " 9  9 True",
+            "TrueTrueTrueFalseFalseTrue",
+        ]
+    );
+}
+
+// [MS-VBAL] 5.6.9.3 "Arithmetic Operators": `+ - * \ Mod` on two Integer operands have the
+// declared type Integer (Byte on two Bytes, Long when one is a Long), and a result past the
+// type's range is run-time error 6, whatever the variable it goes to; a Variant operand
+// makes the operation a Variant's, which widens. "Overflow (Error 6)": `x = 2000 * 365` in a
+// Long is an overflow (two Integer literals), `CLng(2000) * 365` is not.
+#[test]
+fn integer_arithmetic_overflows_in_its_declared_type() {
+    let overflow = |body: &str| {
+        let src = format!("Sub Main()\n    Dim a As Integer, l As Long, y As Byte, x As Long, b\n{body}\nEnd Sub\n");
+        let e = run_with(&src, &RunOptions::default()).unwrap_err();
+        assert!(e.message.contains("Overflow (run-time error 6)"), "{body}: {e}");
+    };
+    overflow("    x = 2000 * 365");
+    overflow("    a = 200: b = a * 200");
+    overflow("    l = 50000: b = l * l");
+    overflow("    y = 200: b = y + y");
+    overflow("    a = 32767: b = a + 1");
+    overflow("    b = 3000000000# \\ 2");
+    overflow("    b = 3000000000# Mod 7");
+    let out = run("Sub Main()\n    Dim a As Integer, l As Long, y As Byte, x As Long, d As Double\n\
+                   \x20   x = CLng(2000) * 365\n    a = 200: l = 200: y = 200: d = 200: v = 200\n\
+                   \x20   Debug.Print x; a * l; y + 100; d * 200; v * 200; a / 3 > 66; a * 2.5; a \\ 7; a Mod 7\n\
+                   \x20   On Error Resume Next\n    b = a * 200\n    Debug.Print Err.Number; IsEmpty(b)\nEnd Sub\n");
+    assert_eq!(out.printed, [" 730000  40000  300  40000  40000 True 500  28  4 ", " 6 True"]);
+}
+
+// [MS-VBAL] 5.6.8 "New Expressions": `New class-name` is an expression (classified as a
+// value, the new object), so it is an argument too: `Fill New Collection` passes a new Collection to the Sub, and
+// `Set c = Filled(New Collection)` sets c to the one the Function filled and returned.
+#[test]
+fn new_is_an_expression_an_argument_too() {
+    let out = run("Sub Fill(c)\n    c.Add \"one\"\nEnd Sub\nFunction Filled(c)\n    c.Add \"two\"\n    Set Filled = c\n\
+                   End Function\nFunction CountOf(c)\n    CountOf = c.Count\nEnd Function\nSub Main()\n    Fill New Collection\n\
+                   \x20   Call Fill(New Collection)\n    Debug.Print CountOf(New Collection)\n    Set c = Filled(New Collection)\n\
+                   \x20   Debug.Print TypeName(c); c.Count; c(1)\nEnd Sub\n");
+    assert_eq!(out.printed, [" 0 ", "Collection 1 two"]);
+}
+
+// ---- Null -------------------------------------------------------------------------------
+
+// "IsNull function": "Expressions that you might expect to evaluate to True …, such as If
+// Var = Null and If Var <> Null, are always False. This is because any expression containing
+// a Null is itself Null and, therefore, False": arithmetic, negation, Not and comparisons
+// with Null are Null, `Null = Null` too, and `If` takes Null as False.
+#[test]
+fn null_propagates_through_arithmetic_and_comparisons() {
+    let out = printed(
+        "    x = Null\n    Debug.Print x + 1\n    Debug.Print x = x\n    Debug.Print IsNull(x * 2); IsNull(x = 1); IsNull(1 < x)\n\
+         \x20   Debug.Print IsNull(y); IsNull(\"\")\n    If x = Null Then Debug.Print \"equal\" Else Debug.Print \"not true\"\n\
+         \x20   If Not x Then Debug.Print \"not\" Else Debug.Print \"Not Null is Null\"\n    Debug.Print -x\n\
+         \x20   Select Case x\n        Case Null: Debug.Print \"case\"\n        Case Else: Debug.Print \"else\"\n    End Select",
+    );
+    assert_eq!(
+        out,
+        ["Null", "Null", "TrueTrueTrue", "FalseFalse", "not true", "Not Null is Null", "Null", "else"]
+    );
+}
+
+// "& operator": "If both expressions are Null, result is Null. However, if only one
+// expression is Null, that expression is treated as a zero-length string"; the "And
+// operator", "Or operator", "Xor operator" and "Imp operator" pages' tables for Null.
+#[test]
+fn null_in_concatenation_and_logic() {
+    let out = printed(
+        "    Debug.Print \"a\" & Null & \"b\"\n    Debug.Print IsNull(Null & Null)\n\
+         \x20   Debug.Print Null And False; IsNull(Null And True); Null Or True; IsNull(Null Or False)\n\
+         \x20   Debug.Print False Imp Null; IsNull(True Imp Null); Null Imp True; IsNull(Null Xor True)",
+    );
+    assert_eq!(out, ["ab", "True", "FalseTrueTrueTrue", "TrueTrueTrueTrue"]);
+}
+
+// "Invalid use of Null (Error 94)": Null assigned to a variable that is not a Variant; a
+// Variant holds it ("VarType function": vbNull is 1).
+#[test]
+fn null_into_a_typed_variable_is_error_94() {
+    let out = printed(
+        "    Dim n As Long, s As String, v\n    On Error Resume Next\n    n = Null\n    Debug.Print Err.Number\n\
+         \x20   Err.Clear\n    s = Null\n    Debug.Print Err.Number\n    v = Null\n    Debug.Print IsNull(v); VarType(v)",
+    );
+    assert_eq!(out, [" 94 ", " 94 ", "True 1 "]);
+    let e = failure("Sub Main()\n    Dim d As Double\n    d = Null\nEnd Sub\n");
+    assert!(e.message.contains("Invalid use of Null"), "{e}");
+}

@@ -248,3 +248,16 @@ fn a_dictionary_emptied_key_by_key_is_not_quadratic() {
     // Debug.Print pads a number with its sign's space before and a space after.
     assert_eq!(printed(src), [" 2 k199999k200000 200000 False"]);
 }
+
+/// Emptying a Collection from the front (`c.Remove 1` in a loop, the usual queue) keeps each
+/// removal's cost from growing with what is left (before: every removal moved and re-indexed
+/// all the later items, hours for 200,000); positions stay VBA's 1-based ones, keys find
+/// their items, and Add Before:= after the removals puts the item first ("Remove method",
+/// "Add method" of the Collection object).
+#[test]
+fn a_collection_emptied_from_the_front_is_not_quadratic() {
+    let src = "Sub Main()\n    Set c = New Collection\n    For i = 1 To 200000\n        c.Add i, \"k\" & i\n    Next\n\
+               \x20   For i = 1 To 199997\n        c.Remove 1\n    Next\n    Debug.Print c.Count; c(1); c(2); c(\"k200000\")\n\
+               \x20   c.Remove \"k199999\"\n    c.Add \"x\", Before:=1\n    Debug.Print c(1); c(2); c(3); c.Count\nEnd Sub\n";
+    assert_eq!(printed(src), [" 3  199998  199999  200000 ", "x 199998  200000  3 "]);
+}

@@ -6,9 +6,9 @@ use std::rc::Rc;
 
 use crate::eval::{Array, Ctx, Operand, Value};
 use crate::formula::address::Rect;
-use crate::formula::ast::Expr;
+use crate::formula::ast::{Expr, ExprKind};
 
-use super::ast::{Span, Ty};
+use super::ast::{Link, Node, Span, Ty};
 use super::interp::{Interp, Run};
 use super::value::{convert, default_value, Obj, VArray, Var};
 
@@ -138,6 +138,83 @@ impl Interp<'_, '_> {
         };
         Ok(Value::Number(if upper { lower + len as i64 - 1 } else { lower } as f64))
     }
+}
+
+/// Indexing what an expression gives: `d(k)(i)`, `c.Item(1)(2)`, `Split(s, ",")(0)`, `f()(2)`.
+impl Interp<'_, '_> {
+    /// `base(index)`: an item of the array, Collection or Dictionary `base` gives.
+    pub(super) fn indexed_var(&self, base: &Expr, index: &[Expr], span: Span) -> Run<Var> {
+        let whole = match self.indexed_base(base)? {
+            // An item added from a Range's values or a sheet function holds a plain array.
+            Var::Value(v @ Value::Array(_)) => super::value::array_var(v, self.module.base),
+            other => other,
+        };
+        match whole {
+            Var::Obj(Obj::Store(h)) => {
+                let key = self.store_key(&mut self.ctx(), index, span)?;
+                self.store_item(&h, &key, span)
+            }
+            Var::Array(a) => {
+                let at = index.iter().map(|e| self.index(e, "the index")).collect::<Run<Vec<i64>>>()?;
+                let k = self.element_at(&a, &at).map_err(|m| {
+                    let mut f = self.fault_at(span, format!("Subscript out of range (run-time error 9): {m}"));
+                    f.code = 9;
+                    f
+                })?;
+                Ok(super::value::array_var(a.data.data[k].clone(), self.module.base))
+            }
+            Var::Obj(Obj::Range(..)) => Err(self
+                .fault_at(span, "a Range is indexed through .Cells(row, column) or .Item(i) here, not a second (…)")),
+            other => {
+                let what = match other {
+                    Var::Obj(o) => o.describe().to_string(),
+                    Var::Record(..) => "a Type value".to_string(),
+                    _ => "a value, not an array".to_string(),
+                };
+                let mut f = self.fault_at(span, format!("Type mismatch (run-time error 13): indexing {what}"));
+                f.code = 13;
+                Err(f)
+            }
+        }
+    }
+
+    /// What the indexed expression gives, arrays with their own bounds: a Function's result
+    /// as it assigned it, a Collection's or a Dictionary's item as it was added.
+    fn indexed_base(&self, base: &Expr) -> Run<Var> {
+        let ExprKind::Host(id) = &base.kind else { return self.var_of(base, false) };
+        match &self.module.nodes[*id as usize] {
+            Node::Call { proc, args, span } => self.call_record(*proc, args, *span),
+            Node::Path(path) => {
+                let mut ctx = self.ctx();
+                let last = path.links.last().filter(|l| l.name.eq_ignore_ascii_case("item") && l.args.is_some());
+                if let (Some(link), true) = (last, path.links.len() > 1 || path.with) {
+                    let owner = self.path_until(&mut ctx, path, path.links.len() - 1);
+                    self.take_pending()?;
+                    if let Obj::Store(h) = owner? {
+                        let key = self.store_key(&mut ctx, &link_index(link), link.span)?;
+                        return self.store_item(&h, &key, link.span);
+                    }
+                }
+                let obj = self.path(&mut ctx, path);
+                self.take_pending()?;
+                match obj? {
+                    o @ (Obj::Store(_) | Obj::Range(..)) => Ok(Var::Obj(o)),
+                    // `d.Keys()(0)`: Keys and Items are zero-based.
+                    Obj::Value(Value::Array(a)) if self.is_keys_member(base) => {
+                        Ok(Var::Array(VArray { data: a, lower: (1, 0), dims: 1 }))
+                    }
+                    Obj::Value(v) => Ok(super::value::array_var(v, self.module.base)),
+                    other => Ok(Var::Obj(other)),
+                }
+            }
+            _ => self.var_of(base, false),
+        }
+    }
+}
+
+/// A link's arguments as the index expressions of `c(i)`.
+fn link_index(link: &Link) -> Vec<Expr> {
+    link.args.iter().flatten().map(|a| a.value.clone()).collect()
 }
 
 pub(super) fn preserve_items(old: &VArray, new: &mut VArray) {

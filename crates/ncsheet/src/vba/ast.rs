@@ -367,8 +367,14 @@ pub enum Node {
     Evaluate { expr: Expr, span: Span },
     /// `object Is Nothing` (`other` is `None`) or `object Is other`: the same object or not.
     Is { object: Expr, other: Option<Expr>, span: Span },
-    /// `VarType(x)`, `IsMissing(x)`: what a variable is, which its declaration tells.
+    /// `VarType(x)`, `IsMissing(x)`, `TypeName(x)`, `IsObject(x)`: what a variable is, which its
+    /// declaration tells.
     Inspect { what: Inspect, arg: Expr, span: Span },
+    /// `d(k)(i)`, `Split(s)(0)`, `f()(2)`: what `base` gives (an array, a Collection, a
+    /// Dictionary), indexed in the same expression.
+    Index { base: Expr, index: Vec<Expr>, span: Span },
+    /// VBA's `Null`.
+    Null,
     /// `New Collection`, `CreateObject("Scripting.Dictionary")`: a new object of the class.
     New { class: Made, span: Span },
 }
@@ -378,6 +384,10 @@ pub enum Node {
 pub enum Inspect {
     VarType,
     IsMissing,
+    /// `TypeName(x)`: the name of a variable's type or of what it holds.
+    TypeName,
+    /// `IsObject(x)`: an object (a Range, a Collection, Nothing …), not a value.
+    IsObject,
 }
 
 #[derive(Debug)]

@@ -12,7 +12,7 @@ use std::rc::Rc;
 use crate::eval::functions::vba::vba_text;
 use crate::eval::{Array, Ctx, Operand, Value};
 
-use crate::formula::ast::Expr;
+use crate::formula::ast::{Expr, ExprKind};
 
 use super::ast::{Arg, Class, Link, Span};
 use super::interp::{Fault, Interp, Run};
@@ -24,6 +24,7 @@ const DUPLICATE_KEY: (u32, &str) = (457, "This key is already associated with an
 const INVALID_CALL: (u32, &str) = (5, "Invalid procedure call or argument");
 const OUT_OF_RANGE: (u32, &str) = (9, "Subscript out of range");
 const NO_SUCH_KEY: (u32, &str) = (32811, "Method 'Remove' of object 'IDictionary' failed: the key is not there");
+const NO_KEY_TO_CHANGE: (u32, &str) = (32811, "Method 'Key' of object 'IDictionary' failed: the key is not there");
 
 /// What one entry costs the memory budget besides its key's text and its item.
 const ENTRY_BYTES: u64 = 64;
@@ -37,39 +38,123 @@ enum KeyForm {
     Blank,
 }
 
+/// One entry: its key (a Collection's item may have none) and its item.
+type Entry = (Option<Value>, Var);
+
 /// The entries of a Collection or a Dictionary, in the order added.
 #[derive(Debug)]
 pub struct Store {
     pub class: Class,
     /// A Dictionary's CompareMode is vbTextCompare (a Collection's keys always ignore case).
     text_compare: bool,
-    /// In a Dictionary, whose entries all have keys, an entry without one is a removed key's
-    /// place, left until half the entries are such (removing one key at a time would
-    /// otherwise move and re-index all the others each time).
-    entries: Vec<(Option<Value>, Var)>,
+    /// The entries in order; `None` is a removed entry's place, left until half the places
+    /// are such (removing one entry at a time would otherwise move and re-index all the
+    /// later ones each time: emptying a Collection with `Remove 1` would be quadratic).
+    entries: Vec<Option<Entry>>,
     /// Removed places among `entries`.
     gone: usize,
-    /// Each key's entry.
+    /// Each key's place in `entries`.
     index: HashMap<KeyForm, usize>,
+    /// Which places hold an entry, counted so that a Collection's 1-based position and a
+    /// place convert into each other in logarithmic time.
+    live: LiveCounts,
 }
 
 /// Objects held in items are let go one after another, not each inside the one holding it:
 /// a chain of a million Collections each holding the next does not take the native stack.
 impl Drop for Store {
     fn drop(&mut self) {
-        let mut pending: Vec<Var> = self.entries.drain(..).map(|(_, item)| item).collect();
+        let mut pending: Vec<Var> = self.entries.drain(..).flatten().map(|(_, item)| item).collect();
         while let Some(var) = pending.pop() {
             match var {
                 Var::Obj(Obj::Store(h)) => {
                     if let Ok(cell) = Rc::try_unwrap(h.0) {
                         let mut inner = cell.into_inner();
-                        pending.extend(inner.entries.drain(..).map(|(_, item)| item));
+                        pending.extend(inner.entries.drain(..).flatten().map(|(_, item)| item));
                     }
                 }
                 Var::Record(_, fields) => pending.extend(fields),
                 _ => {}
             }
         }
+    }
+}
+
+/// A Fenwick tree over the places of `Store::entries`, 1 where an entry is: how many entries
+/// lie before a place, and the place of the n-th entry, each in O(log n).
+#[derive(Debug, Default)]
+struct LiveCounts {
+    /// `tree[i]` (1-based) counts the entries among places `i - lowbit(i) .. i`; `tree[0]` is unused.
+    tree: Vec<u32>,
+}
+
+fn lowbit(i: usize) -> usize {
+    i & i.wrapping_neg()
+}
+
+impl LiveCounts {
+    /// The counts for places that all hold an entry, built in O(n).
+    fn full(places: usize) -> LiveCounts {
+        let mut tree = vec![1u32; places + 1];
+        tree[0] = 0;
+        for i in 1..=places {
+            let parent = i + lowbit(i);
+            if parent <= places {
+                tree[parent] += tree[i];
+            }
+        }
+        LiveCounts { tree }
+    }
+
+    fn places(&self) -> usize {
+        self.tree.len().saturating_sub(1)
+    }
+
+    /// A new place at the end holding an entry.
+    fn push(&mut self) {
+        if self.tree.is_empty() {
+            self.tree.push(0);
+        }
+        let i = self.tree.len();
+        // The new node covers places i - lowbit(i) + 1 ..= i: the one added and those before it.
+        let covered = self.before(i - 1) - self.before(i - lowbit(i));
+        self.tree.push(1 + covered as u32);
+    }
+
+    /// The place `at` (0-based) no longer holds an entry.
+    fn take(&mut self, at: usize) {
+        let mut i = at + 1;
+        while i <= self.places() {
+            self.tree[i] -= 1;
+            i += lowbit(i);
+        }
+    }
+
+    /// How many entries lie in the first `places` places.
+    fn before(&self, places: usize) -> usize {
+        let mut i = places;
+        let mut n = 0;
+        while i > 0 {
+            n += self.tree[i] as usize;
+            i -= lowbit(i);
+        }
+        n
+    }
+
+    /// The place (0-based) of the entry at 0-based position `n` (there must be more than n).
+    fn nth(&self, n: usize) -> usize {
+        let places = self.places();
+        let mut at = 0;
+        let mut left = n + 1;
+        let mut step = if places == 0 { 0 } else { 1 << places.ilog2() };
+        while step > 0 {
+            if at + step <= places && (self.tree[at + step] as usize) < left {
+                at += step;
+                left -= self.tree[at] as usize;
+            }
+            step >>= 1;
+        }
+        at
     }
 }
 
@@ -85,7 +170,14 @@ impl PartialEq for Handle {
 
 impl Handle {
     pub fn new(class: Class) -> Handle {
-        let store = Store { class, text_compare: false, entries: Vec::new(), gone: 0, index: HashMap::new() };
+        let store = Store {
+            class,
+            text_compare: false,
+            entries: Vec::new(),
+            gone: 0,
+            index: HashMap::new(),
+            live: LiveCounts::default(),
+        };
         Handle(Rc::new(RefCell::new(store)))
     }
 
@@ -133,10 +225,9 @@ impl Store {
         })
     }
 
-    /// The entries there are, without a Dictionary's removed places.
-    fn live(&self) -> impl Iterator<Item = &(Option<Value>, Var)> {
-        let dictionary = self.class == Class::Dictionary;
-        self.entries.iter().filter(move |(k, _)| !(dictionary && k.is_none()))
+    /// The entries there are, in order.
+    fn live(&self) -> impl Iterator<Item = &Entry> {
+        self.entries.iter().flatten()
     }
 
     /// How many entries there are (`Count`).
@@ -148,48 +239,91 @@ impl Store {
         self.entries.clear();
         self.index.clear();
         self.gone = 0;
+        self.live = LiveCounts::default();
     }
 
+    /// The place of the entry with `key`.
     fn position(&self, key: &Value) -> Result<Option<usize>, String> {
         Ok(self.index.get(&self.form(key)?).copied())
     }
 
-    fn reindex(&mut self) {
-        let forms: Vec<(KeyForm, usize)> = (self.entries.iter().enumerate())
+    /// The place of the entry at 0-based position `n` (`n < len()`).
+    fn place_of(&self, n: usize) -> usize {
+        self.live.nth(n)
+    }
+
+    /// The 0-based position of the entry at place `at`.
+    fn position_of(&self, at: usize) -> usize {
+        self.live.before(at)
+    }
+
+    fn item(&self, at: usize) -> &Var {
+        &self.entries[at].as_ref().expect("a place holding an entry").1
+    }
+
+    fn item_mut(&mut self, at: usize) -> &mut Var {
+        &mut self.entries[at].as_mut().expect("a place holding an entry").1
+    }
+
+    /// Closes up the removed places, once: positions and places are the same again.
+    fn close_up(&mut self) {
+        self.entries.retain(Option::is_some);
+        self.gone = 0;
+        let forms: Vec<(KeyForm, usize)> = (self.live().enumerate())
             .filter_map(|(i, (k, _))| k.as_ref().and_then(|k| self.form(k).ok()).map(|f| (f, i)))
             .collect();
         self.index = forms.into_iter().collect();
+        self.live = LiveCounts::full(self.entries.len());
     }
 
-    fn insert(&mut self, at: usize, key: Option<Value>, item: Var) {
-        self.entries.insert(at, (key, item));
-        if at + 1 < self.entries.len() {
-            // Entries after `at` moved.
-            return self.reindex();
+    /// Adds an entry after the last.
+    fn push(&mut self, key: Option<Value>, item: Var) {
+        if let Some(form) = key.as_ref().and_then(|k| self.form(k).ok()) {
+            self.index.insert(form, self.entries.len());
         }
-        if let Some(form) = self.entries[at].0.as_ref().and_then(|k| self.form(k).ok()) {
-            self.index.insert(form, at);
-        }
+        self.entries.push(Some((key, item)));
+        self.live.push();
     }
 
+    /// Adds an entry at 0-based position `n`: at the end in constant time, elsewhere moving
+    /// the later entries (a Collection's Add with Before or After).
+    fn insert(&mut self, n: usize, key: Option<Value>, item: Var) {
+        if n >= self.len() {
+            return self.push(key, item);
+        }
+        if self.gone > 0 {
+            self.close_up();
+        }
+        self.entries.insert(n, Some((key, item)));
+        self.gone = 0;
+        self.close_up();
+    }
+
+    /// Removes the entry at place `at`: its place is kept (no later entry moves) until half
+    /// the places are such, then all are closed up at once, so that a removal costs the same
+    /// on average however many entries there are.
     fn remove(&mut self, at: usize) {
-        if self.class == Class::Collection {
-            self.entries.remove(at);
-            return self.reindex();
-        }
-        // A Dictionary's place is kept (its key's entry no longer names it), and the entries
-        // are closed up only once half are such: a key's removal costs the same on average
-        // however many there are.
-        let (key, _) = std::mem::replace(&mut self.entries[at], (None, Var::Value(Value::Blank)));
+        let Some((key, _)) = self.entries[at].take() else { return };
         if let Some(form) = key.as_ref().and_then(|k| self.form(k).ok()) {
             self.index.remove(&form);
         }
         self.gone += 1;
+        self.live.take(at);
         if self.gone * 2 > self.entries.len() {
-            self.entries.retain(|(k, _)| k.is_some());
-            self.gone = 0;
-            self.reindex();
+            self.close_up();
         }
+    }
+
+    /// `d.Key(old) = new`: the entry at place `at` takes the key `new` and keeps its place.
+    fn rename(&mut self, at: usize, new: Value) -> Result<(), String> {
+        let form = self.form(&new)?;
+        let entry = self.entries[at].as_mut().expect("a place holding an entry");
+        let old = std::mem::replace(&mut entry.0, Some(new));
+        if let Some(old) = old.and_then(|k| self.form(&k).ok()) {
+            self.index.remove(&old);
+        }
+        self.index.insert(form, at);
+        Ok(())
     }
 }
 
@@ -268,7 +402,7 @@ impl Interp<'_, '_> {
             }
             (Class::Dictionary, "add") => {
                 let args = self.member_args(link, &["Key", "Item"])?;
-                let key = self.eval(self.required(args[0], link, "Key")?)?;
+                let key = self.store_key_value(self.required(args[0], link, "Key")?)?;
                 let item = self.item_var(self.required(args[1], link, "Item")?)?;
                 if self.find(&h, &key, link.span)?.is_some() {
                     return Err(self.vba_error(link.span, DUPLICATE_KEY, "Add"));
@@ -278,14 +412,14 @@ impl Interp<'_, '_> {
             }
             (_, "item") => {
                 let args = self.member_args(link, &["Index"])?;
-                let key = self.eval(self.required(args[0], link, "Index")?)?;
+                let key = self.store_key_value(self.required(args[0], link, "Index")?)?;
                 self.store_item(&h, &key, link.span).map(var_obj)
             }
             (_, "remove") => {
                 let args = self.member_args(link, &["Key"])?;
-                let key = self.eval(self.required(args[0], link, "Key")?)?;
+                let key = self.store_key_value(self.required(args[0], link, "Key")?)?;
                 let at = match class {
-                    Class::Collection => self.collection_position(&h, &key, link.span)?,
+                    Class::Collection => self.collection_place(&h, &key, link.span)?,
                     Class::Dictionary => self
                         .find(&h, &key, link.span)?
                         .ok_or_else(|| self.vba_error(link.span, NO_SUCH_KEY, "Remove"))?,
@@ -295,7 +429,7 @@ impl Interp<'_, '_> {
             }
             (Class::Dictionary, "exists") => {
                 let args = self.member_args(link, &["Key"])?;
-                let key = self.eval(self.required(args[0], link, "Key")?)?;
+                let key = self.store_key_value(self.required(args[0], link, "Key")?)?;
                 Ok(Obj::Value(Value::Bool(self.find(&h, &key, link.span)?.is_some())))
             }
             (Class::Dictionary, "keys") => {
@@ -321,9 +455,7 @@ impl Interp<'_, '_> {
     /// Adds an entry at the end, counted against the memory budget.
     fn put(&self, h: &Handle, key: Value, item: Var, span: Span) -> Run<()> {
         self.charge(ENTRY_BYTES + key_bytes(Some(&key)) + super::budget::brought(&item), span)?;
-        let mut store = h.0.borrow_mut();
-        let end = store.entries.len();
-        store.insert(end, Some(key), item);
+        h.0.borrow_mut().push(Some(key), item);
         Ok(())
     }
 
@@ -347,31 +479,48 @@ impl Interp<'_, '_> {
             (Some(_), Some(_)) => {
                 return Err(self.vba_error(link.span, INVALID_CALL, "Add with both Before and After"))
             }
-            (Some(e), None) => self.collection_position(h, &self.eval(e)?, link.span)?,
-            (None, Some(e)) => self.collection_position(h, &self.eval(e)?, link.span)? + 1,
-            (None, None) => h.0.borrow().entries.len(),
+            (Some(e), None) => self.collection_index(h, &self.eval(e)?, link.span)?,
+            (None, Some(e)) => self.collection_index(h, &self.eval(e)?, link.span)? + 1,
+            (None, None) => h.0.borrow().len(),
         };
         self.charge(ENTRY_BYTES + key_bytes(key.as_ref()) + super::budget::brought(&item), link.span)?;
         h.0.borrow_mut().insert(at, key, item);
         Ok(())
     }
 
-    /// A Collection's entry by 1-based index (error 9 past the items) or by key (error 5
-    /// when no item has it).
-    fn collection_position(&self, h: &Handle, key: &Value, span: Span) -> Run<usize> {
+    /// The place of a Collection's entry by 1-based index (error 9 past the items) or by key
+    /// (error 5 when no item has it).
+    fn collection_place(&self, h: &Handle, key: &Value, span: Span) -> Run<usize> {
         match key {
             Value::Text(_) => {
                 self.find(h, key, span)?.ok_or_else(|| self.vba_error(span, INVALID_CALL, "no item has the key"))
             }
             _ => {
-                let n = self.number_of(key, "the index").map_err(|m| self.fault_at(span, m))?.round_ties_even();
-                let count = h.0.borrow().entries.len();
-                if n < 1.0 || n > count as f64 {
-                    return Err(self.vba_error(span, OUT_OF_RANGE, &format!("index {n} of a Collection of {count}")));
-                }
-                Ok(n as usize - 1)
+                let n = self.collection_number(h, key, span)?;
+                Ok(h.0.borrow().place_of(n))
             }
         }
+    }
+
+    /// The 0-based position of a Collection's entry by 1-based index or by key.
+    fn collection_index(&self, h: &Handle, key: &Value, span: Span) -> Run<usize> {
+        match key {
+            Value::Text(_) => {
+                let at = self.collection_place(h, key, span)?;
+                Ok(h.0.borrow().position_of(at))
+            }
+            _ => self.collection_number(h, key, span),
+        }
+    }
+
+    /// A 1-based index as a 0-based position among the entries (error 9 past them).
+    fn collection_number(&self, h: &Handle, key: &Value, span: Span) -> Run<usize> {
+        let n = self.number_of(key, "the index").map_err(|m| self.fault_at(span, m))?.round_ties_even();
+        let count = h.0.borrow().len();
+        if n < 1.0 || n > count as f64 {
+            return Err(self.vba_error(span, OUT_OF_RANGE, &format!("index {n} of a Collection of {count}")));
+        }
+        Ok(n as usize - 1)
     }
 
     /// `c(i)`, `c("k")`, `d(k)`: the item; a Dictionary adds a key it does not have, with
@@ -379,7 +528,7 @@ impl Interp<'_, '_> {
     /// item, a new key is created and its corresponding item is left empty").
     pub(super) fn store_item(&self, h: &Handle, key: &Value, span: Span) -> Run<Var> {
         let at = match h.class() {
-            Class::Collection => self.collection_position(h, key, span)?,
+            Class::Collection => self.collection_place(h, key, span)?,
             Class::Dictionary => match self.find(h, key, span)? {
                 Some(at) => at,
                 None => {
@@ -388,7 +537,7 @@ impl Interp<'_, '_> {
                 }
             },
         };
-        let item = h.0.borrow().entries[at].1.clone();
+        let item = h.0.borrow().item(at).clone();
         Ok(item)
     }
 
@@ -400,11 +549,49 @@ impl Interp<'_, '_> {
         match self.find(h, key, span)? {
             Some(at) => {
                 self.charge(super::budget::brought(&item), span)?;
-                h.0.borrow_mut().entries[at].1 = item;
+                *h.0.borrow_mut().item_mut(at) = item;
                 Ok(())
             }
             None => self.put(h, key.clone(), item, span),
         }
+    }
+
+    /// `d.Key(old) = new` ("Key property"): the entry keeps its place and its item under the
+    /// new key; a run-time error when `old` is not there, 457 when `new` already is.
+    fn change_key(&self, h: &Handle, old: &Value, new: Value, span: Span) -> Run<()> {
+        let at = self.find(h, old, span)?.ok_or_else(|| self.vba_error(span, NO_KEY_TO_CHANGE, "Key"))?;
+        if self.find(h, &new, span)?.is_some() {
+            return Err(self.vba_error(span, DUPLICATE_KEY, "Key"));
+        }
+        self.charge(key_bytes(Some(&new)), span)?;
+        h.0.borrow_mut().rename(at, new).map_err(|m| self.fault_at(span, m))
+    }
+
+    /// A Dictionary's key from its expression: a value. An object (a Collection, a
+    /// Dictionary, a Range) is refused by name: ncsheet's keys are values, and `Keys` gives
+    /// them as an array of values, which cannot hold objects.
+    pub(super) fn store_key_value(&self, e: &Expr) -> Run<Value> {
+        let object = match &e.kind {
+            ExprKind::Name(name) => match self.lookup(name) {
+                Some(Var::Obj(obj @ (Obj::Store(_) | Obj::Range(..) | Obj::Sheet(_)))) => Some(obj.describe()),
+                _ => None,
+            },
+            ExprKind::Host(id) => match self.module.nodes[*id as usize] {
+                super::ast::Node::New { .. } => Some("a new object"),
+                _ => None,
+            },
+            _ => None,
+        };
+        if let Some(what) = object {
+            return Err(self.fault_at(
+                self.expr_span(e),
+                format!(
+                    "{what} cannot be a Dictionary key here: ncsheet's Dictionary keys are values (text, \
+                     numbers, dates, booleans), not objects; key it by a value that names the object"
+                ),
+            ));
+        }
+        self.eval(e)
     }
 
     /// The index arguments of `c(i)` as one key.
@@ -412,6 +599,9 @@ impl Interp<'_, '_> {
         let [e] = index else {
             return Err(self.vba_error(span, INVALID_CALL, "an item is picked by one index or key"));
         };
+        if let ExprKind::Name(_) | ExprKind::Host(_) = e.kind {
+            return self.store_key_value(e);
+        }
         let v = ctx.eval(e).unwrap_single();
         self.take_pending()?;
         Ok(v)
@@ -434,9 +624,15 @@ impl Interp<'_, '_> {
         match lower(link).as_str() {
             "item" => {
                 let args = self.member_args(link, &["Key"])?;
-                let key = self.eval(self.required(args[0], link, "Key")?)?;
+                let key = self.store_key_value(self.required(args[0], link, "Key")?)?;
                 let item = self.item_var(value)?;
                 self.set_store_item(h, &key, item, link.span)
+            }
+            "key" if h.class() == Class::Dictionary => {
+                let args = self.member_args(link, &["Key"])?;
+                let old = self.store_key_value(self.required(args[0], link, "Key")?)?;
+                let new = self.store_key_value(value)?;
+                self.change_key(h, &old, new, link.span)
             }
             "comparemode" if h.class() == Class::Dictionary => {
                 let mode = self.number(value, "CompareMode")?;
@@ -463,5 +659,39 @@ pub fn new_class(name: &str) -> Option<Class> {
         "collection" | "vba.collection" => Some(Class::Collection),
         "dictionary" | "scripting.dictionary" => Some(Class::Dictionary),
         _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::LiveCounts;
+
+    /// The counts agree with counting the places one by one, through pushes and removals in
+    /// an order that is neither the first nor the last place each time.
+    #[test]
+    fn live_counts_find_positions_and_places() {
+        let mut counts = LiveCounts::default();
+        let mut live = Vec::new();
+        for i in 0..300usize {
+            counts.push();
+            live.push(true);
+            if i % 3 == 1 {
+                let at = (i * 7) % live.len();
+                if live[at] {
+                    counts.take(at);
+                    live[at] = false;
+                }
+            }
+        }
+        let places: Vec<usize> = (0..live.len()).filter(|&p| live[p]).collect();
+        for (n, &place) in places.iter().enumerate() {
+            assert_eq!(counts.nth(n), place, "position {n}");
+            assert_eq!(counts.before(place), n, "place {place}");
+        }
+        let rebuilt = LiveCounts::full(places.len());
+        assert_eq!(
+            (0..places.len()).map(|n| rebuilt.nth(n)).collect::<Vec<_>>(),
+            (0..places.len()).collect::<Vec<_>>()
+        );
     }
 }

@@ -6,7 +6,7 @@ use std::rc::Rc;
 use crate::eval::evaluator::Host;
 use crate::eval::{Ctx, Env, Operand, Value, XlError};
 use crate::formula::address::{Pos, Rect};
-use crate::formula::ast::{Expr, SheetId};
+use crate::formula::ast::{BinOp, Expr, SheetId};
 
 use super::ast::{Node, Span};
 use super::interp::{Fault, Interp, Run};
@@ -149,6 +149,16 @@ impl Host for Interp<'_, '_> {
         self.options.max_string
     }
 
+    fn arithmetic(&self, op: BinOp, operands: (&Expr, &Expr), values: (&Value, &Value), result: Value) -> Value {
+        match self.overflow(op, operands, values, &result) {
+            Some(fault) => {
+                self.park(fault);
+                Value::Error(XlError::Num)
+            }
+            None => result,
+        }
+    }
+
     fn text_too_long(&self, limit: usize) {
         let mut f = self.fault(format!(
             "a string longer than {limit} characters (ncsheet's limit for macro strings; raise it with --max-string)"
@@ -198,6 +208,14 @@ impl Interp<'_, '_> {
                 Ok(Operand::Value(Value::Bool(same)))
             }
             Node::Inspect { what, arg, .. } => self.inspect(*what, arg).map(Operand::Value),
+            Node::Index { base, index, span } => match self.indexed_var(base, index, *span)? {
+                Var::Obj(obj) => self.operand_of(obj, *span),
+                Var::Value(v) => Ok(Operand::Value(v)),
+                Var::Array(a) => Ok(Operand::Value(Value::Array(a.data))),
+                Var::Record(..) => {
+                    Err(self.fault_at(*span, "the item is a Type value: assign it to a variable of the Type"))
+                }
+            },
             Node::New { span, .. } => Err(self.fault_at(*span, "New makes an object: assign it with Set")),
         }
     }

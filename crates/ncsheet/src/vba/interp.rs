@@ -437,6 +437,11 @@ impl Interp<'_, '_> {
         self.lines.span(self.source, e.span.start as usize)
     }
 
+    /// The source text between two byte offsets (empty where they do not fall in it).
+    pub(super) fn source_between(&self, start: u32, end: u32) -> &str {
+        self.source.get(start as usize..end as usize).unwrap_or("")
+    }
+
     /// Counts one statement or loop turn against the limit.
     fn tick(&self, span: Span) -> Run<()> {
         let n = self.steps.get() + 1;
@@ -636,6 +641,10 @@ impl Interp<'_, '_> {
                 let Node::New { class, span } = &self.module.nodes[*id as usize] else { unreachable!() };
                 self.new_object(*class, *span)
             }
+            ExprKind::Host(id) if matches!(self.module.nodes[*id as usize], Node::Index { .. }) => {
+                let Node::Index { base, index, span } = &self.module.nodes[*id as usize] else { unreachable!() };
+                self.indexed_var(base, index, *span)
+            }
             ExprKind::Host(id) if self.store_element(*id).is_some() => {
                 let (h, index, span) = self.store_element(*id).expect("a Collection's item");
                 let key = self.store_key(&mut self.ctx(), index, span)?;
@@ -679,7 +688,7 @@ impl Interp<'_, '_> {
     }
 
     /// `….Keys` or `….Items` (a Dictionary's: no other object has them).
-    fn is_keys_member(&self, e: &Expr) -> bool {
+    pub(super) fn is_keys_member(&self, e: &Expr) -> bool {
         let ExprKind::Host(id) = &e.kind else { return false };
         let Node::Path(path) = &self.module.nodes[*id as usize] else { return false };
         (path.links.len() > 1 || path.with)
@@ -1288,6 +1297,12 @@ impl Interp<'_, '_> {
                 if set && matches!(var, Var::Value(ref v) if !v.is_blank()) {
                     return Err(self.fault_at(self.expr_span(value), "Set needs an object (a Range, a Worksheet, …)"));
                 }
+                // `Set x = Nothing`: an object variable without an object (TypeName "Nothing",
+                // IsObject True), where an unassigned Variant is Empty.
+                let var = match var {
+                    Var::Value(Value::Blank) if set => Var::Obj(Obj::Value(Value::Blank)),
+                    other => other,
+                };
                 self.set_var(name, var, span)
             }
             Target::Element(name, index) => {

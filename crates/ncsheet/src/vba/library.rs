@@ -9,8 +9,9 @@ use crate::eval::functions::vba::var_type_of;
 use crate::eval::{Array, Env, Value};
 use crate::formula::ast::{Expr, ExprKind};
 
-use super::ast::{Inspect, Span, Ty};
+use super::ast::{Class, Inspect, Span, Ty};
 use super::interp::{Fault, Interp, Run};
+use super::typing::Declared;
 use super::value::{default_value, range_var, Obj, VArray, Var};
 
 /// The error code of a `Stop`: no `On Error` traps it (VBA's Stop is no error but a pause).
@@ -22,6 +23,8 @@ const VB_ARRAY: f64 = 8192.0;
 const VB_VARIANT: f64 = 12.0;
 /// vbError: what a left-out Optional Variant holds.
 const VB_ERROR: f64 = 10.0;
+/// vbObject: an object (a Collection, a Dictionary, a Range without a value, Nothing).
+const VB_OBJECT: f64 = 9.0;
 
 impl Interp<'_, '_> {
     /// `Stop`: VBA would pause in its debugger; ncsheet has none, so the macro ends here.
@@ -90,7 +93,71 @@ impl Interp<'_, '_> {
         match what {
             Inspect::VarType => self.var_type(arg).map(Value::Number),
             Inspect::IsMissing => Ok(Value::Bool(self.is_missing(arg))),
+            Inspect::TypeName => self.type_name(arg).map(Value::text),
+            Inspect::IsObject => self.is_object(arg).map(Value::Bool),
         }
+    }
+
+    /// `Nothing` and `Empty` are both the empty expression; their text tells them apart.
+    fn is_nothing_literal(&self, arg: &Expr) -> bool {
+        arg.kind == ExprKind::Missing
+            && self.source_between(arg.span.start, arg.span.end).trim().eq_ignore_ascii_case("nothing")
+    }
+
+    /// `TypeName(x)` ("TypeName function"): a typed variable's declared type, a Variant's
+    /// content ("Empty", "Double", "String" …, "Nothing" for an object variable set to
+    /// Nothing), an object's class ("Range", "Collection", "Dictionary" …), an array's item
+    /// type followed by "()"; an expression of a declared type answers it ("Integer" for 5).
+    fn type_name(&self, arg: &Expr) -> Run<String> {
+        if arg.kind == ExprKind::Missing {
+            return Ok(if self.is_nothing_literal(arg) { "Nothing" } else { "Empty" }.into());
+        }
+        if let ExprKind::Name(name) = &arg.kind {
+            if let Some((var, ty)) = self.with_slot(name, |s| (s.var.clone(), s.ty.clone())) {
+                return Ok(self.type_name_of(&var, ty.as_ref()));
+            }
+        }
+        let var = self.var_of(arg, true)?;
+        match (self.declared_type(arg), &var) {
+            (Declared::Variant, _) | (_, Var::Obj(_) | Var::Array(_) | Var::Record(..)) => {
+                Ok(self.type_name_of(&var, None))
+            }
+            (declared, _) => Ok(declared.name().into()),
+        }
+    }
+
+    fn type_name_of(&self, var: &Var, ty: Option<&Ty>) -> String {
+        match (var, ty) {
+            (Var::Array(_), Some(Ty::Record(i))) => format!("{}()", self.module.types[*i].name),
+            (Var::Array(_), ty) => format!("{}()", Declared::of_ty(ty).name()),
+            (Var::Record(i, _), _) => self.module.types[*i].name.to_string(),
+            (Var::Obj(obj), _) => object_type_name(obj).into(),
+            (Var::Value(v), ty) => match Declared::of_ty(ty) {
+                Declared::Variant => value_type_name(v),
+                declared => declared.name(),
+            }
+            .into(),
+        }
+    }
+
+    /// `IsObject(x)` ("IsObject function"): True for an object, Nothing included.
+    fn is_object(&self, arg: &Expr) -> Run<bool> {
+        if arg.kind == ExprKind::Missing {
+            return Ok(self.is_nothing_literal(arg));
+        }
+        let var = match &arg.kind {
+            ExprKind::Name(name) => self.lookup(name).unwrap_or(Var::Value(Value::Blank)),
+            ExprKind::Host(_) | ExprKind::Paren(_) => self.var_of(arg, true)?,
+            _ => {
+                self.eval(arg)?;
+                return Ok(false);
+            }
+        };
+        Ok(match var {
+            Var::Obj(Obj::Value(v)) => v.is_blank(),
+            Var::Obj(_) => true,
+            _ => false,
+        })
     }
 
     /// `IsMissing(param)`: an Optional Variant parameter without a default that the call
@@ -104,6 +171,9 @@ impl Interp<'_, '_> {
 
     /// `VarType(x)`: a typed variable answers its declared type, a Variant what it holds.
     fn var_type(&self, arg: &Expr) -> Run<f64> {
+        if self.is_nothing_literal(arg) {
+            return Ok(VB_OBJECT);
+        }
         if let ExprKind::Name(name) = &arg.kind {
             if self.is_missing(arg) {
                 return Ok(VB_ERROR);
@@ -125,8 +195,10 @@ impl Interp<'_, '_> {
                 Var::Value(v) => var_type_of(&v),
                 _ => VB_ARRAY + VB_VARIANT,
             },
+            // An object variable set to Nothing.
+            Var::Obj(Obj::Value(Value::Blank)) => VB_OBJECT,
             Var::Obj(Obj::Value(v)) => var_type_of(v),
-            Var::Obj(_) => 9.0,
+            Var::Obj(_) => VB_OBJECT,
             Var::Value(v) => ty.and_then(declared_var_type).unwrap_or_else(|| var_type_of(v)),
         })
     }
@@ -154,5 +226,43 @@ fn declared_var_type(ty: &Ty) -> Option<f64> {
         Ty::Boolean => Some(11.0),
         Ty::Record(_) => Some(36.0),
         Ty::Variant => None,
+    }
+}
+
+/// `TypeName` of what a Variant holds.
+fn value_type_name(v: &Value) -> &'static str {
+    match v {
+        Value::Blank => "Empty",
+        Value::Number(_) => "Double",
+        Value::Text(_) => "String",
+        Value::Bool(_) => "Boolean",
+        Value::Error(_) => "Error",
+        Value::Array(_) => "Variant()",
+        Value::Lambda(_) => "Object",
+        // VBA's Null ("TypeName function": "Null"), which no cell holds.
+        #[allow(unreachable_patterns)]
+        _ => "Null",
+    }
+}
+
+/// `TypeName` of an object: its class as Excel and VBA name it.
+fn object_type_name(obj: &Obj) -> &'static str {
+    match obj {
+        Obj::Value(Value::Blank) => "Nothing",
+        Obj::Value(v) => value_type_name(v),
+        Obj::Range(..) | Obj::Lines(..) => "Range",
+        Obj::Sheet(_) => "Worksheet",
+        Obj::Sheets => "Sheets",
+        Obj::Workbook => "Workbook",
+        Obj::App => "Application",
+        Obj::Err => "ErrObject",
+        Obj::Store(h) => match h.class() {
+            Class::Collection => "Collection",
+            Class::Dictionary => "Dictionary",
+            #[allow(unreachable_patterns)]
+            _ => "Object",
+        },
+        #[allow(unreachable_patterns)]
+        _ => "Object",
     }
 }

@@ -59,7 +59,10 @@
 //! item back to its default and keeps the bounds (VBA's fixed-size arrays; a dynamic array
 //! is not freed). `Stop` stops the macro with "Stop statement at line N" (there is no
 //! debugger to pause in; On Error does not trap it). An `Integer`, `Long` or `Byte`
-//! variable refuses a value past its range with run-time error 6, Overflow.
+//! variable refuses a value past its range with run-time error 6, Overflow; so does
+//! arithmetic whose declared type is one of them ([MS-VBAL] 5.6.9.3): `+ - * \ Mod` on two
+//! Integers (Integer literals `200 * 200` too) is Integer, with a Long it is Long, two Bytes
+//! a Byte; a Variant operand widens instead, as VBA's Variants do.
 //!
 //! Where VBA and the sheet differ, a macro follows the sheet for what both have, so that a
 //! formula means the same in a cell and in a macro:
@@ -146,9 +149,15 @@
 //! the keys; `1` and `"1"` are two keys. The errors are VBA's run-time errors, for `On Error`
 //! and `Err.Number`: 457 for a key already there, 9 for a position past the items, 5 for a
 //! Collection key no item has, 32811 for removing a Dictionary key that is not there.
-//! Not there: `Key` (renaming a key), `d(k)(i)` (an item's own index in one
-//! expression: use `d(k).Item(i)` or a variable), objects as Dictionary keys. Their entries
-//! count against the run's memory limit (`--max-memory`) as arrays do.
+//! `d.Key(old) = new` renames a key in place (457 when `new` is there). What an item, a
+//! Function or `Split` gives is indexed in the same expression: `d(k)(i)`, `c.Item(1)(2)`,
+//! `F()(i)` (with the bounds the Function gave), `Split(s, ",")(0)`, `d.Keys()(0)`. Not
+//! there: objects as Dictionary keys (refused with the reason: keys are values). Removing
+//! entries one at a time (`c.Remove 1` in a loop) costs the same per entry however many
+//! there are. Their entries count against the run's memory limit (`--max-memory`) as arrays do.
+//! `TypeName` names a variable's type or an object's class ("Collection", "Dictionary",
+//! "Range", "Nothing"), `IsObject` is True for objects and Nothing, `VarType` of an object is
+//! 9 (`vbObject`). `New Collection` is an expression: an argument too (`Fill New Collection`).
 //!
 //! Class modules (the project's, and `.cls` files given with `run --module`): `Dim x As New
 //! Class1` or `Set x = New Class1` makes an object with its own module-level variables;
@@ -186,6 +195,7 @@ pub mod project;
 pub mod project_edit;
 mod resolve;
 mod sheet_ops;
+mod typing;
 mod udf;
 mod value;
 

@@ -45,10 +45,16 @@ fn whole_sheet() -> Rect {
 impl Interp<'_, '_> {
     /// Follows a member path to the object it names.
     pub fn path(&self, ctx: &mut Ctx, path: &Path) -> Run<Obj> {
+        self.path_until(ctx, path, path.links.len())
+    }
+
+    /// Follows the first `links` links of a path (at least its root): `d.Item(k)` to `d`.
+    pub(super) fn path_until(&self, ctx: &mut Ctx, path: &Path, links: usize) -> Run<Obj> {
+        let links = &path.links[..links.min(path.links.len())];
         let (mut obj, rest) = if path.with {
-            (self.with_object(path.span)?, &path.links[..])
+            (self.with_object(path.span)?, links)
         } else {
-            (self.root(ctx, &path.links[0])?, &path.links[1..])
+            (self.root(ctx, &path.links[0])?, links.get(1..).unwrap_or_default())
         };
         for link in rest {
             obj = self.member(ctx, obj, link)?;

@@ -202,6 +202,7 @@ fn describe(rule: Rule) -> &'static str {
         | Rule::radix_lit
         | Rule::typed_number
         | Rule::path_is
+        | Rule::new_object
         | Rule::vneg
         | Rule::vplus
         | Rule::not_op => "a value",
@@ -641,12 +642,7 @@ impl<'s> Build<'s> {
         let k = kids(pair);
         let set = pair.as_rule() == Rule::set_stmt;
         let value = match find(&k, Rule::new_object) {
-            Some(new) => {
-                let class = new.as_str().split_whitespace().last().unwrap_or_default();
-                let class = self.class_named(class).ok_or_else(|| self.refuse_new(&new, new.as_str()))?;
-                let (at, end) = (start(&new), new.as_span().end());
-                self.node(Node::New { class, span: self.span(at) }, at, end)
-            }
+            Some(new) => self.new_object(new)?,
             None => self.expr(find(&k, Rule::vexpr).expect("assigned value"))?,
         };
         let target = match find(&k, Rule::bracket) {
@@ -657,6 +653,14 @@ impl<'s> Build<'s> {
             None => self.target(find(&k, Rule::path).expect("assignment target"))?,
         };
         Ok(StmtKind::Assign { target, value, set })
+    }
+
+    /// `New Collection`, `New Class1`: a node that makes the object where it is evaluated.
+    fn new_object(&self, new: Pair<Rule>) -> Res<Expr> {
+        let class = new.as_str().split_whitespace().last().unwrap_or_default();
+        let class = self.class_named(class).ok_or_else(|| self.refuse_new(&new, new.as_str()))?;
+        let (at, end) = (start(&new), new.as_span().end());
+        Ok(self.node(Node::New { class, span: self.span(at) }, at, end))
     }
 
     pub(super) fn target(&self, pair: Pair<Rule>) -> Res<Target> {
@@ -964,14 +968,25 @@ impl<'s> Build<'s> {
             };
             out.push(Arg { name, value });
         }
-        // `Foo()` has one empty argument slot in the grammar, and no argument.
-        if out.len() == 1 && out[0].name.is_none() && out[0].value.kind == ExprKind::Missing {
+        // `Foo()` has one empty argument slot in the grammar, and no argument (`Foo(Nothing)`
+        // has one: the constant's text is there).
+        let empty = |a: &Arg| a.value.kind == ExprKind::Missing && a.value.span.start == a.value.span.end;
+        if out.len() == 1 && out[0].name.is_none() && empty(&out[0]) {
             out.clear();
         }
         Ok(out)
     }
 
     fn link(&self, pair: Pair<Rule>) -> Res<Link> {
+        let (link, indexes) = self.link_indexed(pair.clone())?;
+        if !indexes.is_empty() {
+            return Err(self.not_indexed_here(&pair));
+        }
+        Ok(link)
+    }
+
+    /// A link and the index lists after its arguments (`d(k)(i)`: `(i)`).
+    fn link_indexed(&self, pair: Pair<Rule>) -> Res<(Link, Vec<Vec<Arg>>)> {
         let span = self.span(start(&pair));
         let k = kids(&pair);
         let name = k.iter().find(|p| matches!(p.as_rule(), Rule::ident | Rule::member_name)).expect("link name");
@@ -979,18 +994,48 @@ impl<'s> Build<'s> {
             Some(p) => Some(self.args(p)?),
             None => None,
         };
-        Ok(Link { name: name_of(name), args, span })
+        let indexes = all(&k, Rule::index_parens).into_iter().map(|p| self.args(p)).collect::<Res<_>>()?;
+        Ok((Link { name: name_of(name), args, span }, indexes))
+    }
+
+    fn not_indexed_here(&self, pair: &Pair<Rule>) -> ParseError {
+        self.error_at(
+            pair,
+            format!(
+                "{}: an item of what a call gives, `f(x)(i)`, is read at the end of an expression, not \
+                 assigned, called or followed by a member here; put it in a variable first",
+                pair.as_str().trim()
+            ),
+        )
     }
 
     pub(super) fn path_syntax(&self, pair: &Pair<Rule>) -> Res<Path> {
-        let mut path = Path { with: false, links: Vec::new(), span: self.span(start(pair)) };
-        for part in pair.clone().into_inner() {
-            match part.as_rule() {
-                Rule::with_dot => path.with = true,
-                _ => path.links.push(self.link(part)?),
-            }
+        let (path, indexes) = self.path_indexed(pair)?;
+        if !indexes.is_empty() {
+            return Err(self.not_indexed_here(pair));
         }
         Ok(path)
+    }
+
+    /// A path and the index lists after its last link's arguments (`d.Item(k)(i)`).
+    pub(super) fn path_indexed(&self, pair: &Pair<Rule>) -> Res<(Path, Vec<Vec<Arg>>)> {
+        let mut path = Path { with: false, links: Vec::new(), span: self.span(start(pair)) };
+        let mut indexes = Vec::new();
+        for part in pair.clone().into_inner() {
+            if !indexes.is_empty() {
+                // `d(k)(i).Name`: only the end of the path is indexed.
+                return Err(self.not_indexed_here(pair));
+            }
+            match part.as_rule() {
+                Rule::with_dot => path.with = true,
+                _ => {
+                    let (link, more) = self.link_indexed(part)?;
+                    path.links.push(link);
+                    indexes = more;
+                }
+            }
+        }
+        Ok((path, indexes))
     }
 }
 
@@ -1000,6 +1045,7 @@ impl HostPrimaries for Build<'_> {
             Rule::bracket => self.bracket(pair),
             Rule::path => self.path_expr(pair, false),
             Rule::path_is => self.path_is(pair),
+            Rule::new_object => self.new_object(pair),
             Rule::typed_number => self.typed_number(pair),
             Rule::date_lit => {
                 let text = pair.as_str().trim_matches('#');

@@ -176,6 +176,8 @@ fn inspection(lower: &str) -> Option<Inspect> {
     match lower {
         "vartype" => Some(Inspect::VarType),
         "ismissing" => Some(Inspect::IsMissing),
+        "typename" => Some(Inspect::TypeName),
+        "isobject" => Some(Inspect::IsObject),
         _ => None,
     }
 }
@@ -251,8 +253,25 @@ impl Build<'_> {
     }
 
     pub(super) fn path_expr(&self, pair: Pair<Rule>, statement: bool) -> Res<Expr> {
-        let path = self.path_syntax(&pair)?;
-        self.resolve(&pair, path, statement, pair.as_span().end())
+        let (path, indexes) = self.path_indexed(&pair)?;
+        let end = pair.as_span().end();
+        if indexes.is_empty() {
+            return self.resolve(&pair, path, statement, end);
+        }
+        if statement {
+            return Err(self.error_at(&pair, format!("{}: a statement cannot be just a value", pair.as_str().trim())));
+        }
+        // `d(k)(i)(j)`: each index list applies to what the one before gives.
+        let mut e = self.resolve(&pair, path, false, end)?;
+        let at = start(&pair);
+        for args in indexes {
+            if args.iter().any(|a| a.name.is_some() || a.value.kind == ExprKind::Missing) {
+                return Err(self.error_at(&pair, "an index is a value: no name:= and none left out"));
+            }
+            let index = args.into_iter().map(|a| a.value).collect();
+            e = self.node(Node::Index { base: e, index, span: self.span(at) }, at, end);
+        }
+        Ok(e)
     }
 
     /// Decides what a path names (see the module doc for the order).

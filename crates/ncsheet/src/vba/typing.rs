@@ -1,0 +1,283 @@
+//! The declared type of an expression as VBA's static semantics give it ([MS-VBAL] 5.6.9.3,
+//! "Arithmetic Operators"), and the Overflow (run-time error 6) it implies: `+`, `-`, `*`,
+//! `\` and `Mod` on two Integer operands compute in Integer, on Long operands in Long, so
+//! `200 * 200` fails although a Long or a Variant would hold 40000 (Office VBA reference,
+//! "Overflow (Error 6)": `x = 2000 * 365` is an overflow, `CLng(2000) * 365` is not). An
+//! operand that is a Variant makes the operation a Variant's, which VBA widens instead of
+//! failing: values are kept as doubles here, so it gives the exact result already.
+
+use crate::eval::coerce::to_number;
+use crate::eval::dates::DateSystem;
+use crate::eval::Value;
+use crate::formula::ast::{BinOp, Expr, ExprKind, UnaryOp};
+
+use super::ast::{Inspect, Node, Ty};
+use super::interp::{Fault, Interp};
+
+/// An expression's declared type, as far as the interpreter tells types apart.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Declared {
+    Byte,
+    Boolean,
+    Integer,
+    Long,
+    LongLong,
+    Single,
+    Double,
+    Currency,
+    Decimal,
+    Date,
+    String,
+    /// A Variant, an object, or a type the interpreter does not follow: no static type.
+    Variant,
+}
+
+/// How deep into an expression its type is followed; deeper parts count as Variants (no
+/// check), so that a long chain of operators costs no more than a bounded walk per operator.
+const MAX_DEPTH: u32 = 24;
+
+impl Declared {
+    /// The declared type of a variable, an array's items or a Function's result.
+    pub(super) fn of_ty(ty: Option<&Ty>) -> Declared {
+        match ty {
+            Some(Ty::Whole(2)) => Declared::Integer,
+            Some(Ty::Whole(3)) => Declared::Long,
+            Some(Ty::Whole(17)) => Declared::Byte,
+            Some(Ty::Whole(_)) => Declared::LongLong,
+            Some(Ty::Number(4)) => Declared::Single,
+            Some(Ty::Number(6)) => Declared::Currency,
+            Some(Ty::Number(14)) => Declared::Decimal,
+            Some(Ty::Number(_)) => Declared::Double,
+            Some(Ty::String) => Declared::String,
+            Some(Ty::Boolean) => Declared::Boolean,
+            Some(Ty::Variant | Ty::Record(_)) | None => Declared::Variant,
+        }
+    }
+
+    /// VBA's name of the type (`TypeName`).
+    pub(super) fn name(self) -> &'static str {
+        match self {
+            Declared::Byte => "Byte",
+            Declared::Boolean => "Boolean",
+            Declared::Integer => "Integer",
+            Declared::Long => "Long",
+            Declared::LongLong => "LongLong",
+            Declared::Single => "Single",
+            Declared::Double => "Double",
+            Declared::Currency => "Currency",
+            Declared::Decimal => "Decimal",
+            Declared::Date => "Date",
+            Declared::String => "String",
+            Declared::Variant => "Variant",
+        }
+    }
+
+    /// The range of an integral type and its name; `None` for any other type.
+    fn range(self) -> Option<(f64, f64, &'static str)> {
+        Some(match self {
+            Declared::Byte => (0.0, 255.0, "a Byte (0 to 255)"),
+            Declared::Integer => (-32768.0, 32767.0, "an Integer (-32,768 to 32,767)"),
+            Declared::Long => (-2147483648.0, 2147483647.0, "a Long (-2,147,483,648 to 2,147,483,647)"),
+            Declared::LongLong => (-9.223372036854776e18, 9.223372036854776e18, "a LongLong"),
+            _ => return None,
+        })
+    }
+
+    /// Byte 0, Boolean and Integer 1, Long 2, LongLong 3: the integral types in the order
+    /// the operator table widens to; `None` for the others.
+    fn integral_rank(self) -> Option<u8> {
+        match self {
+            Declared::Byte => Some(0),
+            Declared::Boolean | Declared::Integer => Some(1),
+            Declared::Long => Some(2),
+            Declared::LongLong => Some(3),
+            _ => None,
+        }
+    }
+
+    fn of_rank(rank: u8) -> Declared {
+        match rank {
+            0 => Declared::Byte,
+            1 => Declared::Integer,
+            2 => Declared::Long,
+            _ => Declared::LongLong,
+        }
+    }
+}
+
+/// The declared type of `+`, `-` and `*` on operands of these types ([MS-VBAL] 5.6.9.3's
+/// table): two integral types give the wider (Byte and Byte a Byte, Boolean counts as
+/// Integer), a Variant a Variant, anything else a floating or fixed-point type (Double here:
+/// it is never checked for overflow).
+fn sum_type(a: Declared, b: Declared) -> Declared {
+    if a == Declared::Variant || b == Declared::Variant {
+        return Declared::Variant;
+    }
+    match (a.integral_rank(), b.integral_rank()) {
+        (Some(x), Some(y)) => Declared::of_rank(x.max(y)),
+        _ => Declared::Double,
+    }
+}
+
+/// The declared type of `\` and `Mod` ([MS-VBAL] 5.6.9.3.6 and 5.6.9.3.7): as for `+` on
+/// integral operands; otherwise the operands are made Longs (LongLong beside a LongLong).
+fn whole_division_type(a: Declared, b: Declared) -> Declared {
+    match (a.integral_rank(), b.integral_rank()) {
+        (Some(x), Some(y)) => Declared::of_rank(x.max(y)),
+        _ if a == Declared::LongLong || b == Declared::LongLong => Declared::LongLong,
+        _ => Declared::Long,
+    }
+}
+
+/// The type of a number literal from its text ([MS-VBAL] 3.3.2): a type character says it
+/// (`%` Integer, `&` Long, `^` LongLong, `!` Single, `#` Double, `@` Currency); a whole
+/// decimal number is an Integer if it fits, else a Long if it fits, else a Double; a number
+/// with a point or an exponent is a Double; `&H…` and `&O…` are Integers or Longs; `#…#` a Date.
+fn literal_type(text: &str, value: f64) -> Declared {
+    let text = text.trim();
+    let whole = |n: f64| {
+        if n.abs() <= 32767.0 {
+            Declared::Integer
+        } else if n.abs() <= 2147483647.0 {
+            Declared::Long
+        } else {
+            Declared::Double
+        }
+    };
+    if text.starts_with('#') {
+        return Declared::Date;
+    }
+    if let Some(radix) = text.strip_prefix('&') {
+        return match radix.chars().last() {
+            Some('&') => Declared::Long,
+            Some('%') => Declared::Integer,
+            _ if value.abs() <= 32767.0 => Declared::Integer,
+            _ => Declared::Long,
+        };
+    }
+    let digits = text.trim_start_matches(['-', '+']);
+    match digits.chars().last() {
+        Some('%') => Declared::Integer,
+        Some('&') => Declared::Long,
+        Some('^') => Declared::LongLong,
+        Some('!') => Declared::Single,
+        Some('#') => Declared::Double,
+        Some('@') => Declared::Currency,
+        _ if !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()) => whole(value),
+        _ => Declared::Double,
+    }
+}
+
+/// The declared type of a VBA function's result, by its row of the function table.
+fn function_type(name: &str) -> Declared {
+    match name {
+        "VBA.CINT" | "VBA.ASC" | "VBA.SGN" | "VBA.VARTYPE" => Declared::Integer,
+        "VBA.CLNG" | "VBA.LEN" | "VBA.LENB" => Declared::Long,
+        "VBA.CDBL" | "VBA.VAL" | "VBA.TIMER" | "VBA.ATN" | "VBA.COS" | "VBA.SIN" | "VBA.TAN" | "VBA.EXP"
+        | "VBA.LOG" | "VBA.SQR" => Declared::Double,
+        "VBA.CSTR" => Declared::String,
+        "VBA.CBOOL" | "VBA.ISNUMERIC" | "VBA.ISEMPTY" | "VBA.ISERROR" | "VBA.ISARRAY" => Declared::Boolean,
+        _ => Declared::Variant,
+    }
+}
+
+impl Interp<'_, '_> {
+    /// The declared type of an expression ([MS-VBAL] 5.6: each expression has one).
+    pub(super) fn declared_type(&self, e: &Expr) -> Declared {
+        self.declared_within(e, 0)
+    }
+
+    fn declared_within(&self, e: &Expr, depth: u32) -> Declared {
+        if depth > MAX_DEPTH {
+            return Declared::Variant;
+        }
+        let inner = |e: &Expr| self.declared_within(e, depth + 1);
+        match &e.kind {
+            ExprKind::Number(n) => literal_type(self.source_between(e.span.start, e.span.end), *n),
+            ExprKind::Text(_) => Declared::String,
+            ExprKind::Bool(_) => Declared::Boolean,
+            ExprKind::Paren(e) => inner(e),
+            ExprKind::Name(name) => Declared::of_ty(self.with_slot(name, |s| s.ty.clone()).flatten().as_ref()),
+            ExprKind::Unary(UnaryOp::Neg | UnaryOp::Plus, e) => match inner(e) {
+                Declared::Boolean => Declared::Integer,
+                other => other,
+            },
+            ExprKind::Binary(BinOp::Add | BinOp::Sub | BinOp::Mul, a, b) => sum_type(inner(a), inner(b)),
+            ExprKind::Binary(BinOp::IntDiv | BinOp::Mod, a, b) => match (inner(a), inner(b)) {
+                (Declared::Variant, _) | (_, Declared::Variant) => Declared::Variant,
+                (x, y) => whole_division_type(x, y),
+            },
+            ExprKind::Binary(BinOp::Div | BinOp::Pow, a, b) => match (inner(a), inner(b)) {
+                (Declared::Variant, _) | (_, Declared::Variant) => Declared::Variant,
+                _ => Declared::Double,
+            },
+            ExprKind::Binary(BinOp::Concat, ..) => Declared::String,
+            ExprKind::Call(id, _) => function_type(crate::eval::functions::spec(*id).name),
+            ExprKind::Host(id) => self.node_type(*id),
+            _ => Declared::Variant,
+        }
+    }
+
+    fn node_type(&self, id: u32) -> Declared {
+        match &self.module.nodes[id as usize] {
+            Node::Call { proc, .. } => Declared::of_ty(self.module.procs[*proc].ty.as_ref()),
+            // An item of a typed array (a Collection's or a Range's is a Variant).
+            Node::Element { var, .. } => {
+                match self.with_slot(var, |s| (matches!(s.var, super::value::Var::Array(_)), s.ty.clone())) {
+                    Some((true, ty)) => Declared::of_ty(ty.as_ref()),
+                    _ => Declared::Variant,
+                }
+            }
+            Node::Bound { .. } => Declared::Long,
+            Node::Inspect { what: Inspect::VarType, .. } => Declared::Integer,
+            Node::Is { .. } | Node::Inspect { what: Inspect::IsMissing, .. } => Declared::Boolean,
+            _ => Declared::Variant,
+        }
+    }
+
+    /// Overflow (run-time error 6) of `a op b`, whose operands had `values` and which gave
+    /// `result`, when its declared type is integral and the result (or, for `\` and `Mod`,
+    /// an operand made whole) is past that type's range.
+    pub(super) fn overflow(
+        &self,
+        op: BinOp,
+        (a, b): (&Expr, &Expr),
+        values: (&Value, &Value),
+        result: &Value,
+    ) -> Option<Fault> {
+        let Value::Number(n) = *result else { return None };
+        let (ty, checked) = match op {
+            BinOp::Add | BinOp::Sub | BinOp::Mul => {
+                // Nothing fits every integral type, and a fraction is no integral result.
+                if (0.0..=255.0).contains(&n) || n.fract() != 0.0 {
+                    return None;
+                }
+                (sum_type(self.declared_type(a), self.declared_type(b)), vec![n])
+            }
+            BinOp::IntDiv | BinOp::Mod => {
+                let number = |v: &Value| to_number(v, DateSystem::From1900).ok().map(f64::round_ties_even);
+                let (x, y) = (number(values.0)?, number(values.1)?);
+                if [x, y, n].iter().all(|v| (0.0..=255.0).contains(v)) {
+                    return None;
+                }
+                (whole_division_type(self.declared_type(a), self.declared_type(b)), vec![x, y, n])
+            }
+            _ => return None,
+        };
+        let (low, high, holds) = ty.range()?;
+        let past = checked.into_iter().find(|v| !(low..=high).contains(v))?;
+        let text = self.source_between(a.span.start, b.span.end).trim();
+        let shown =
+            if text.is_empty() || text.chars().count() > 60 { "the operation".to_string() } else { text.to_string() };
+        let mut fault = self.fault_at(
+            self.expr_span(a),
+            format!(
+                "Overflow (run-time error 6): {shown} overflows: its operands' types make it {holds}, \
+                 which cannot hold {} ([MS-VBAL] 5.6.9.3); make an operand wider, as CLng(x) or CDbl(x)",
+                crate::eval::format::number_format::general(past)
+            ),
+        );
+        fault.code = 6;
+        Some(fault)
+    }
+}
