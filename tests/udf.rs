@@ -235,10 +235,30 @@ fn an_endless_function_is_stopped_by_the_statement_limit() {
 /// next recalculation has the whole budget again.
 #[test]
 fn the_calls_of_one_recalculation_share_a_statement_budget_and_say_so() {
+    let limits = |l: &mut ncsheet::eval::FunctionLimits| {
+        l.statements_per_call = 10_000;
+        l.statements_per_recalculation = 50_000;
+    };
+    let (mut wb, notes) = endless_calls(40, limits, RunOptions::default());
+    // 50,000 statements hold five calls of 10,000; every later call is refused unrun.
+    let stopped = notes.iter().filter(|n| n.contains("statement limit (10000)")).count();
+    let refused = notes.iter().filter(|n| n.contains("Module1.Forever was not called") && n.contains("50000")).count();
+    assert_eq!((stopped, refused), (5, 35), "{notes:#?}");
+    wb.set_input(0, at("C1"), "=Quick()").unwrap();
+    assert_eq!(number(&wb, "C1"), 7.0, "an edit's recalculation has the whole budget again");
+}
+
+/// A workbook whose A1 to A`rows` call Module1's `Forever()` (an endless loop), with its
+/// functions (and `Quick()`, 7) installed under `options` and the settings' function limits
+/// set by `limits`; each of those cells is `#VALUE!`, and their notes say why.
+fn endless_calls(
+    rows: u32,
+    limits: impl FnOnce(&mut ncsheet::eval::FunctionLimits),
+    options: RunOptions,
+) -> (Workbook, Vec<String>) {
     let mut wb = Workbook::with_sheet();
-    wb.settings_mut().functions.statements_per_call = 10_000;
-    wb.settings_mut().functions.statements_per_recalculation = 50_000;
-    for row in 1..=40 {
+    limits(&mut wb.settings_mut().functions);
+    for row in 1..=rows {
         wb.set_input(0, at(&format!("A{row}")), "=Forever()").unwrap();
     }
     let source = "Function Forever()\r\n    Do\r\n    Loop\r\nEnd Function\r\n\
@@ -253,17 +273,33 @@ fn the_calls_of_one_recalculation_share_a_statement_budget_and_say_so() {
         }],
         protection: None,
     };
-    assert!(ncsheet::vba::install_functions(&mut wb, &project, RunOptions::default()).is_empty());
-    let notes: Vec<String> = (1..=40).flat_map(|row| wb.notes(0, at(&format!("A{row}")))).collect();
-    for row in 1..=40 {
+    assert!(ncsheet::vba::install_functions(&mut wb, &project, options).is_empty());
+    let notes: Vec<String> = (1..=rows).flat_map(|row| wb.notes(0, at(&format!("A{row}")))).collect();
+    for row in 1..=rows {
         assert_eq!(wb.value(0, at(&format!("A{row}"))), Value::Error(XlError::Value), "A{row}");
     }
-    // 50,000 statements hold five calls of 10,000; every later call is refused unrun.
-    let stopped = notes.iter().filter(|n| n.contains("statement limit (10000)")).count();
-    let refused = notes.iter().filter(|n| n.contains("Module1.Forever was not called") && n.contains("50000")).count();
-    assert_eq!((stopped, refused), (5, 35), "{notes:#?}");
+    (wb, notes)
+}
+
+/// A front end that stays open (the workbench) bounds each recalculation by time, as a
+/// command's `--timeout` bounds the command: a call running past it stops at its statement,
+/// the calls after it are refused unrun, each `#VALUE!` with a note naming the limit; the next
+/// recalculation has its whole time again. The statement budgets are out of reach here: only
+/// the clock can stop these calls.
+#[test]
+fn the_calls_of_one_recalculation_stop_at_its_time_limit() {
+    let limits = |l: &mut ncsheet::eval::FunctionLimits| {
+        l.statements_per_call = u64::MAX;
+        l.statements_per_recalculation = u64::MAX;
+        l.seconds_per_recalculation = Some(0.2);
+    };
+    let options = RunOptions { max_statements: u64::MAX, ..RunOptions::default() };
+    let (mut wb, notes) = endless_calls(3, limits, options);
+    let stopped = notes.iter().filter(|n| n.contains("ran past its --timeout of 0.2 s")).count();
+    let refused = notes.iter().filter(|n| n.contains("Module1.Forever was not called") && n.contains("0.2 s")).count();
+    assert_eq!((stopped, refused), (1, 2), "{notes:#?}");
     wb.set_input(0, at("C1"), "=Quick()").unwrap();
-    assert_eq!(number(&wb, "C1"), 7.0, "an edit's recalculation has the whole budget again");
+    assert_eq!(number(&wb, "C1"), 7.0, "an edit's recalculation has its whole time again");
 }
 
 /// The sheet XML of `path`'s first worksheet.

@@ -56,6 +56,11 @@ impl Bench {
     /// Serves `name` written with `text` in a folder of its own, with the macro files `bas`
     /// (name, text) beside it, opened with `open` (the command line's reading options).
     fn written(name: &str, text: &str, bas: &[(&str, &str)], open: ncsheet::document::OpenOptions) -> Bench {
+        Bench::written_with(name, text, bas, Options { open, ..Options::default() })
+    }
+
+    /// As [`Bench::written`], served with `options` (its port and macro files aside).
+    fn written_with(name: &str, text: &str, bas: &[(&str, &str)], options: Options) -> Bench {
         let folder = tempfile::tempdir().unwrap();
         let file = folder.path().join(name);
         std::fs::write(&file, text).unwrap();
@@ -64,7 +69,7 @@ impl Bench {
             std::fs::write(folder.path().join(b), source).unwrap();
             macro_files.push(folder.path().join(b));
         }
-        let server = Server::open(&file, &Options { port: 0, macro_files, open }).unwrap();
+        let server = Server::open(&file, &Options { port: 0, macro_files, ..options }).unwrap();
         let (port, token) = (server.port(), server.token().to_string());
         std::thread::spawn(move || server.run());
         Bench { port, token, folder }
@@ -421,42 +426,59 @@ fn a_spilled_range_is_marked_for_the_grid() {
     assert_eq!(cells.len(), 4);
 }
 
-#[test]
-fn the_command_prints_the_url_and_serves_the_page() {
-    let folder = tempfile::tempdir().unwrap();
-    let file = folder.path().join("chamfer.xlsx");
+/// A process killed however the test that started it ends.
+struct Killed(std::process::Child);
+
+impl Drop for Killed {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// `ncsheet serve` on a copy of sheets/chamfer.xlsx with `extra` arguments: the running
+/// server, its port and the query of the URL it printed.
+fn serve_command(folder: &Path, extra: &[&str]) -> (Killed, u16, String) {
+    let file = folder.join("chamfer.xlsx");
     std::fs::copy(Path::new(env!("CARGO_MANIFEST_DIR")).join("sheets/chamfer.xlsx"), &file).unwrap();
     let child = Command::new(env!("CARGO_BIN_EXE_ncsheet"))
         .args(["serve", file.to_str().unwrap()])
+        .args(extra)
         .stdout(Stdio::piped())
         .stderr(Stdio::null())
         .spawn()
         .unwrap();
-    // The server runs until killed: killed however the test ends.
-    struct Killed(std::process::Child);
-    impl Drop for Killed {
-        fn drop(&mut self) {
-            let _ = self.0.kill();
-            let _ = self.0.wait();
-        }
-    }
     let mut child = Killed(child);
     let mut line = String::new();
     BufReader::new(child.0.stdout.take().unwrap()).read_line(&mut line).unwrap();
     let url = line.trim().to_string();
     let rest = url.strip_prefix("http://127.0.0.1:").unwrap_or_else(|| panic!("{url}"));
     let (port, query) = rest.split_once('/').unwrap();
-    let port: u16 = port.parse().unwrap();
+    (child, port.parse().unwrap(), query.to_string())
+}
+
+/// The page as a browser first asks for it, by the printed URL.
+fn page_answer(port: u16, query: &str) -> String {
     let mut stream = TcpStream::connect(("127.0.0.1", port)).unwrap();
     write!(stream, "GET /{query} HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nConnection: close\r\n\r\n").unwrap();
     let mut answer = String::new();
     stream.read_to_string(&mut answer).unwrap();
+    answer
+}
+
+#[test]
+fn the_command_prints_the_url_and_serves_the_page() {
+    let folder = tempfile::tempdir().unwrap();
+    let (_server, port, query) = serve_command(folder.path(), &[]);
+    let answer = page_answer(port, &query);
     assert!(answer.starts_with("HTTP/1.1 200"), "{answer}");
     assert!(query.starts_with("?t=") && query.len() == 3 + 32, "{query}");
 }
 
 /// The page in Chromium: select Outer!B8, type 30, read XA and XB; undo; run chamfer.bas for a
-/// lathe; orbit a ball path in 3D; screenshots of the grid, the pane and the 3D view into docs/. Skipped without chromium, chromium-driver or selenium, except on CI.
+/// lathe; a ball path drawn in 3D by WebGL (its pixels read back), orbited and zoomed;
+/// screenshots of the grid, the pane and the 3D view into docs/. Skipped without chromium,
+/// chromium-driver or selenium, except on CI.
 #[test]
 fn the_page_in_a_real_browser() {
     let missing = ["chromium", "chromedriver"]
@@ -748,4 +770,112 @@ fn a_cam_design_sheet_is_fitted_disc_by_disc() {
     }
     let (status, body) = bench.send("GET", "/api/camsheet?sheet=0&tol=-1", "", "");
     assert_eq!(status, 400, "{body}");
+}
+
+/// A macro that never ends, each turn a statement costlier than a thousand plain ones: only
+/// the clock stops it (the statement limit is hours away).
+const ENDLESS_MACRO: &str = "Attribute VB_Name = \"Endless\"\r\nSub Main()\r\n    Dim x As Double\r\n    Do\r\n        x = x + Evaluate(\"SUM(SEQUENCE(20000))\")\r\n    Loop\r\nEnd Sub\r\n";
+
+#[test]
+fn serve_timeout_stops_a_macro_run_at_its_statement() {
+    let options = Options { timeout: Some(0.5), ..Options::default() };
+    let bench = Bench::written_with("book.csv", "1\n", &[("endless.bas", ENDLESS_MACRO)], options);
+    let run = serde_json::json!({ "source": "file:endless.bas", "sub": "Main", "dialect": "iso", "machine": "lathe", "sheet": 0 });
+    let (status, out) = bench.post_json("/api/run", &run);
+    assert_eq!(status, 400, "the macro's own error, not the server's: {out}");
+    let error = out["error"].as_str().unwrap();
+    assert!(error.contains("--timeout of 0.5 s") && error.contains("endless.bas"), "{error}");
+    let summary = bench.get_json("/api/sheets");
+    assert_eq!(summary["file"], "book.csv");
+}
+
+/// A formula that computes for seconds in little memory: n sums of 1 + 2 + … + 1000, each
+/// by a LAMBDA called 1000 times, n · 500500 in all.
+const SLOW_SUMS: u64 = 10_000;
+
+/// An edit whose recalculation outlasts `--timeout` (a formula cannot stop partway): its
+/// request is answered with an error naming the limit while the workbook computes on; a
+/// request queued behind it is refused and never carried out; the page is still served; and
+/// the edit's value is there once the computation ends.
+#[test]
+fn serve_timeout_answers_a_long_recalculation_with_an_error() {
+    let options = Options { timeout: Some(0.05), ..Options::default() };
+    let bench = Bench::written_with("book.csv", "1\n", &[], options);
+    let window = serde_json::json!({ "sheet": 0, "r0": 0, "r1": 5, "c0": 0, "c1": 3 });
+    let slow = format!("=REDUCE(0,SEQUENCE({SLOW_SUMS}),LAMBDA(a,b,a+REDUCE(0,SEQUENCE(1000),LAMBDA(c,d,c+d))))");
+    let edit =
+        |c: u64, input: &str| serde_json::json!({ "sheet": 0, "r": 0, "c": c, "input": input, "window": window });
+    let (status, answer) = bench.post_json("/api/set", &edit(1, &slow));
+    assert_eq!(status, 503, "{answer}");
+    let error = answer["error"].as_str().unwrap();
+    assert!(error.contains("still computing after the --timeout of 0.05 s"), "{error}");
+    let (status, answer) = bench.post_json("/api/set", &edit(2, "7"));
+    assert_eq!(status, 503, "{answer}");
+    assert!(answer["error"].as_str().unwrap().contains("was not carried out"), "{answer}");
+    let page =
+        format!("GET /?t={} HTTP/1.1\r\nHost: 127.0.0.1:{}\r\nConnection: close\r\n\r\n", bench.token, bench.port);
+    assert_eq!(bench.raw(page.as_bytes()).0, 200, "the page is served while the workbook computes");
+    // Each look waits at most --timeout and its grace.
+    let cells = (0..600)
+        .find_map(|_| {
+            let (status, body) = bench.send("GET", "/api/cells?sheet=0&r0=0&r1=0&c0=0&c1=2", "", "");
+            (status == 200).then(|| serde_json::from_str::<Value>(&body).unwrap())
+        })
+        .expect("the workbook answers again");
+    let at = |c: u64| cells["cells"].as_array().unwrap().iter().find(|x| x["c"] == c).cloned();
+    assert_eq!(at(1).unwrap()["num"].as_f64(), Some(SLOW_SUMS as f64 * 500_500.0), "{cells}");
+    assert_eq!(at(2), None, "the refused edit was not made: {cells}");
+    let summary = bench.get_json("/api/sheets");
+    assert_eq!(summary["history"]["undo"], 1, "{summary}");
+}
+
+/// docs/domain.md §1's outer chamfer on Outer (D 40, f 2, α 45°): the chamfer runs from
+/// A = (Z −f, X D/2) to B = (Z 0, X D/2 − f·tan α), X a radius in the backplot.
+#[test]
+fn a_macros_backplot_shows_the_workbooks_part_and_stock() {
+    let bench = Bench::with_macros("chamfer.xlsx", &["chamfer.bas"]);
+    let run = serde_json::json!({ "source": "file:chamfer.bas", "sub": "Main", "dialect": "linuxcnc", "machine": "lathe", "sheet": OUTER });
+    let (status, out) = bench.post_json("/api/run", &run);
+    assert_eq!(status, 200, "{out}");
+    let part = &out["part"];
+    let point = |v: &Value| [0, 1, 2].map(|i| v[i].as_f64().unwrap());
+    let outline: Vec<[f64; 3]> = part["outline"].as_array().unwrap().iter().map(point).collect();
+    let (radius, f, alpha) = (20.0, 2.0, 45f64.to_radians());
+    let a = [radius, 0.0, -f];
+    let b = [radius - f * alpha.tan(), 0.0, 0.0];
+    let near = |p: [f64; 3], q: [f64; 3]| (0..3).all(|i| (p[i] - q[i]).abs() < 1e-9);
+    let at_a = outline.iter().position(|&p| near(p, a)).unwrap_or_else(|| panic!("A not in {outline:?}"));
+    assert!(near(outline[at_a + 1], b), "A then B: {outline:?}");
+    // The part reaches past the tool's start (ZA = −4.6), down to the axis and out to D/2.
+    let left = outline.iter().map(|p| p[2]).fold(f64::INFINITY, f64::min);
+    assert!(left < ZA_45, "{outline:?}");
+    assert!(outline.iter().all(|p| p[0] >= 0.0 && p[0] <= radius && p[2] <= 0.0), "{outline:?}");
+    // The stock before the chamfer: the bar, D/2 in radius, up to the face.
+    let stock = &part["stock"];
+    assert!(near(point(&stock[0]), [0.0, 0.0, left]) && near(point(&stock[1]), [radius, 0.0, 0.0]), "{stock}");
+    assert!(part["said"].as_str().unwrap().contains("outer chamfer of Outer's names"), "{part}");
+    let svg = out["svg"].as_str().unwrap();
+    assert!(svg.contains("id=\"part\"") && svg.contains("id=\"stock\""), "the backplot draws them");
+
+    // sheets/chamfer.csv labels its inputs in rows, names none and calls no CHAMFER: the
+    // program is drawn without a part, and the page is told why.
+    let bench = Bench::with_macros("chamfer.csv", &["chamfer.bas"]);
+    let run = serde_json::json!({ "source": "file:chamfer.bas", "sub": "Main", "dialect": "linuxcnc", "machine": "lathe", "sheet": 0 });
+    let (status, out) = bench.post_json("/api/run", &run);
+    assert_eq!(status, 200, "{out}");
+    assert!(out["part"]["said"].as_str().unwrap().starts_with("no stock or part is known"), "{out}");
+    assert!(!out["svg"].as_str().unwrap().contains("id=\"part\""), "{out}");
+}
+
+/// `serve --timeout` bounds each request, never the server's life (the command line's clock
+/// would end the process once the timeout passed).
+#[test]
+fn serve_timeout_bounds_requests_not_the_server() {
+    let folder = tempfile::tempdir().unwrap();
+    let (mut server, port, query) = serve_command(folder.path(), &["--timeout", "0.2"]);
+    // Well past the timeout, the server still serves.
+    std::thread::sleep(Duration::from_secs(1));
+    assert!(server.0.try_wait().unwrap().is_none(), "the server ended");
+    let answer = page_answer(port, &query);
+    assert!(answer.starts_with("HTTP/1.1 200"), "{answer}");
 }

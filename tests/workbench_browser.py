@@ -7,8 +7,10 @@ BALL_URL sheets/eqcam-bump.csv (a BALLPATH cell). It selects
 Outer!B8 through the name box, types 30 into the grid, reads XA (G6) and XB (G8) as the page
 shows them and as the API returns them (docs/domain.md section 1), undoes, checks the old values
 (Excel's cached ones) are back; runs chamfer.bas and reads the program's feed blocks; scrolls
-the big sheet to its last row; selects the ball path and orbits its 3D view. Screenshots of the
-grid, the machining pane and the 3D ball path go to DOCS_DIR.
+the big sheet to its last row; selects the ball path, checks its 3D view is drawn by WebGL
+(SwiftShader's software WebGL where there is no GPU: the flags below ask for it) with the path's
+colours by Z in the pixels read back, orbits it by dragging and zooms it with the wheel.
+Screenshots of the grid, the machining pane and the 3D ball path go to DOCS_DIR.
 Prints "ok" at the end; any failure raises.
 """
 
@@ -84,6 +86,9 @@ def run_macro(driver):
     assert any(f"X{XA_45:.3f}" in l for l in feeds), lines
     assert any(f"X{XB_45:.3f}" in l for l in feeds), lines
     WebDriverWait(driver, 10).until(lambda d: d.find_elements(By.CSS_SELECTOR, "#backplot img"))
+    # The backplot draws the part Outer computes (its names D, f, alpha ...) and says so.
+    said = driver.find_element(By.ID, "partsaid").text
+    assert "outer chamfer of Outer's names" in said, said
     # Clicking a block says its move.
     index = next(i for i, l in enumerate(lines) if f"X{XA_45:.3f}" in l)
     driver.find_elements(By.CSS_SELECTOR, "#program li")[index].click()
@@ -109,11 +114,48 @@ def ball_path_3d(driver):
     assert abs(first[0] + 25) < 0.01 and abs(first[1] + 25) < 0.01 and abs(first[2]) < 0.01, text
     canvas = driver.find_element(By.ID, "view3d")
     driver.execute_script("arguments[0].scrollIntoView();", canvas)
+    # Drawn by WebGL (SwiftShader in a headless browser without a GPU), as the page says.
+    renderer = canvas.get_attribute("data-renderer")
+    info = driver.find_element(By.ID, "view3dinfo").text
+    assert renderer == "webgl", f"the 3D view fell back to {renderer!r}: {info}"
+    assert "drawn by WebGL" in info, info
+    pixels = driver.execute_script(GL_PIXELS, canvas)
+    # The path coloured by Z: the deep end's dark blue at the sheet's flat corners and the
+    # high end's yellow on the bump's top, over a white background.
+    assert pixels["drawn"] > 5000, pixels
+    assert pixels["deep"] > 50 and pixels["high"] > 20, pixels
     before = driver.execute_script("return arguments[0].toDataURL();", canvas)
     ActionChains(driver).move_to_element(canvas).click_and_hold().move_by_offset(-25, -12).release().perform()
-    after = driver.execute_script("return arguments[0].toDataURL();", canvas)
-    assert before != after, "dragging orbits the 3D view"
-    canvas.screenshot(DOCS + "/workbench-ballpath-3d.png")
+    image = lambda d: d.execute_script("return arguments[0].toDataURL();", canvas)
+    WebDriverWait(driver, 5).until(lambda d: image(d) != before, "dragging orbits the 3D view")
+    after = image(driver)
+    driver.execute_script(WHEEL, canvas, -400)
+    WebDriverWait(driver, 5).until(lambda d: image(d) != after, "the wheel zooms the 3D view")
+    driver.execute_script(WHEEL, canvas, 400)
+    driver.find_element(By.ID, "view3dbox").screenshot(DOCS + "/workbench-ballpath-3d.png")
+
+
+# The WebGL canvas's pixels read back (the context keeps its drawing buffer): how many are
+# not the white background, how many are the deep end's dark blue and the high end's yellow.
+GL_PIXELS = """
+const canvas = arguments[0];
+const gl = canvas.getContext('webgl');
+const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
+const px = new Uint8Array(w * h * 4);
+gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, px);
+let drawn = 0, deep = 0, high = 0;
+for (let i = 0; i < px.length; i += 4) {
+  const [r, g, b] = [px[i], px[i + 1], px[i + 2]];
+  if (r < 240 || g < 240 || b < 240) drawn++;
+  if (b > 80 && r < 60 && g < 80) deep++;
+  if (r > 180 && g > 150 && b < 120) high++;
+}
+return { drawn, deep, high, width: w, height: h };
+"""
+
+WHEEL = """
+arguments[0].dispatchEvent(new WheelEvent('wheel', { deltaY: arguments[1], bubbles: true, cancelable: true }));
+"""
 
 
 def scroll_big_sheet(driver):
@@ -155,7 +197,10 @@ def main():
     for flag in [
         "--headless",
         "--no-sandbox",
-        "--disable-gpu",
+        # WebGL without a GPU: ANGLE on SwiftShader, which Chromium no longer falls back to
+        # by itself (chromestatus 5166674414927872) and asks to be allowed explicitly.
+        "--use-angle=swiftshader",
+        "--enable-unsafe-swiftshader",
         "--disable-quic",
         "--no-first-run",
         "--disable-background-networking",

@@ -14,6 +14,10 @@ use super::report::{Error, Result};
 /// The server listens on 127.0.0.1 only and prints its URL, which carries a random token:
 /// every request must bring it, and requests from other sites are refused. The opened
 /// workbook is saved over only when asked in the page. Stop it with Ctrl+C.
+///
+/// `--timeout` bounds each request as it bounds a command: a macro run stops at its
+/// statement, the workbook's VBA functions stop with the edit's recalculation, and a request
+/// still computing then is answered with an error while the server goes on serving.
 #[derive(Debug, Args)]
 pub struct ServeArgs {
     /// The workbook (.csv, .xlsx, .xlsm)
@@ -31,10 +35,14 @@ pub struct ServeArgs {
 }
 
 /// Serves `args.file`, read as every other command reads a workbook (`--delimiter`,
-/// `--locale`, the read limits and `--timeout`).
+/// `--locale`, the read limits), with `--timeout` for each request.
 pub fn run(args: ServeArgs, delimiter: Option<u8>) -> Result<()> {
-    let options =
-        Options { port: args.port, macro_files: macro_files_beside(&args.file), open: super::open_options(delimiter) };
+    let options = Options {
+        port: args.port,
+        macro_files: macro_files_beside(&args.file),
+        open: super::open_options(delimiter),
+        timeout: args.timeout.timeout,
+    };
     let server = Server::open(&args.file, &options).map_err(|e| Error::User(e.to_string()))?;
     let url = server.url();
     println!("{url}");

@@ -16,6 +16,9 @@ mod workbench;
 use std::fmt;
 use std::net::{Ipv4Addr, SocketAddr, TcpListener};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU8, Ordering};
+use std::sync::Arc;
+use std::time::Duration;
 
 use tokio::sync::{mpsc, oneshot};
 
@@ -40,6 +43,12 @@ pub struct Options {
     /// the limits of the workbook's own functions, as every other command reads it (the
     /// name is the served file's).
     pub open: OpenOptions,
+    /// The command line's `--timeout`, in seconds, for each request as for a command: a
+    /// macro run stops at its statement, the workbook's own functions stop with the edit's
+    /// recalculation, and a request still computing then is answered with an error while the
+    /// server goes on answering. `None`: no limit, but a macro run from the page stops after
+    /// 20 s.
+    pub timeout: Option<f64>,
 }
 
 /// Why the workbench did not start or stopped.
@@ -67,7 +76,8 @@ impl std::error::Error for Error {}
 
 /// The parts of [`OpenOptions`] that cross to the document's thread (a macro's output sink
 /// cannot). The workbook's own functions keep the command line's limits but not its
-/// deadline: a deadline set when the server starts would stop every function call after it.
+/// deadline: a deadline set when the server starts would stop every function call after it
+/// (each recalculation gets `--timeout` of its own instead, [`Options::timeout`]).
 struct Reading {
     format: Option<ncsheet::io::Format>,
     csv_delimiter: Option<u8>,
@@ -124,21 +134,43 @@ type Job = Box<dyn FnOnce(&mut Workbench) + Send>;
 #[derive(Clone)]
 struct DocumentThread {
     jobs: mpsc::UnboundedSender<Job>,
+    /// `--timeout`: how long a request waits for its answer.
+    timeout: Option<f64>,
 }
 
-/// The workbook's thread stopped (a job panicked past its guard, or the server is ending).
-struct Gone;
+/// Why a request got no answer from the workbook's thread.
+enum Unanswered {
+    /// The thread stopped (a job panicked past its guard, or the server is ending).
+    Gone,
+    /// No answer within `--timeout` (and a moment's grace). `started`: the job was running
+    /// and goes on to its end (a recalculation cannot stop partway); else it never will run.
+    Late { seconds: f64, started: bool },
+}
+
+/// How long past `--timeout` a request waits, so that a macro that stops itself at the
+/// deadline can say where (the command line's clock waits 100 ms; a request has its answer
+/// to build too).
+const GRACE: Duration = Duration::from_millis(500);
+
+/// Where a job is: waiting in the queue, running, or given up by its request before it ran.
+const WAITING: u8 = 0;
+const RUNNING: u8 = 1;
+const ABANDONED: u8 = 2;
 
 impl DocumentThread {
     /// Opens the workbook on a new thread that then runs the jobs sent to it.
-    fn start(path: &Path, open: &OpenOptions) -> Result<DocumentThread, Error> {
+    fn start(path: &Path, open: &OpenOptions, timeout: Option<f64>) -> Result<DocumentThread, Error> {
         let (jobs, mut queue) = mpsc::unbounded_channel::<Job>();
         let (opened_tx, opened_rx) = std::sync::mpsc::channel::<Result<(), String>>();
         let path = path.to_path_buf();
         let reading = Reading::of(open);
         let thread = std::thread::Builder::new().name("workbook".into()).stack_size(DOCUMENT_STACK).spawn(move || {
             let mut bench = match Document::open_file(&path, &reading.options(&path)) {
-                Ok(doc) => Workbench::new(doc, path),
+                Ok(mut doc) => {
+                    // Each edit's recalculation gets the time a command gets.
+                    doc.workbook_mut().settings_mut().functions.seconds_per_recalculation = timeout;
+                    Workbench::new(doc, path)
+                }
                 Err(e) => return drop(opened_tx.send(Err(e.to_string()))),
             };
             drop(opened_tx.send(Ok(())));
@@ -150,18 +182,37 @@ impl DocumentThread {
         });
         thread.map_err(|e| Error::Open(format!("cannot start the workbook's thread: {e}")))?;
         match opened_rx.recv() {
-            Ok(Ok(())) => Ok(DocumentThread { jobs }),
+            Ok(Ok(())) => Ok(DocumentThread { jobs, timeout }),
             Ok(Err(message)) => Err(Error::Open(message)),
             Err(_) => Err(Error::Open("the workbook's thread stopped while opening it".into())),
         }
     }
 
-    /// Runs `f` on the workbook and returns its answer.
-    async fn with<R: Send + 'static>(&self, f: impl FnOnce(&mut Workbench) -> R + Send + 'static) -> Result<R, Gone> {
-        let (tx, rx) = oneshot::channel();
-        let job: Job = Box::new(move |bench| drop(tx.send(f(bench))));
-        self.jobs.send(job).map_err(|_| Gone)?;
-        rx.await.map_err(|_| Gone)
+    /// Runs `f` on the workbook and returns its answer, waiting at most `--timeout` (and
+    /// [`GRACE`]): a job its request gave up on before it started is never run.
+    async fn with<R: Send + 'static>(
+        &self,
+        f: impl FnOnce(&mut Workbench) -> R + Send + 'static,
+    ) -> Result<R, Unanswered> {
+        let (tx, mut rx) = oneshot::channel();
+        let state = Arc::new(AtomicU8::new(WAITING));
+        let job_state = state.clone();
+        let job: Job = Box::new(move |bench| {
+            if job_state.compare_exchange(WAITING, RUNNING, Ordering::SeqCst, Ordering::SeqCst).is_ok() {
+                drop(tx.send(f(bench)));
+            }
+        });
+        self.jobs.send(job).map_err(|_| Unanswered::Gone)?;
+        let Some(seconds) = self.timeout else { return rx.await.map_err(|_| Unanswered::Gone) };
+        let wait = Duration::try_from_secs_f64(seconds).unwrap_or(Duration::MAX).saturating_add(GRACE);
+        match tokio::time::timeout(wait, &mut rx).await {
+            Ok(answer) => answer.map_err(|_| Unanswered::Gone),
+            // The answer may have come as the wait ended.
+            Err(_) => rx.try_recv().map_err(|_| {
+                let given_up = state.compare_exchange(WAITING, ABANDONED, Ordering::SeqCst, Ordering::SeqCst);
+                Unanswered::Late { seconds, started: given_up.is_err() }
+            }),
+        }
     }
 }
 
@@ -176,7 +227,7 @@ pub struct Server {
 impl Server {
     /// Opens the workbook at `path` and takes the port on 127.0.0.1 (never another address).
     pub fn open(path: &Path, options: &Options) -> Result<Server, Error> {
-        let document = DocumentThread::start(path, &options.open)?;
+        let document = DocumentThread::start(path, &options.open, options.timeout)?;
         let address = SocketAddr::from((Ipv4Addr::LOCALHOST, options.port));
         let listener = TcpListener::bind(address).map_err(|error| Error::Bind { port: options.port, error })?;
         let port = listener.local_addr().map_err(|error| Error::Bind { port: options.port, error })?.port();

@@ -114,7 +114,7 @@ pub fn ball_path(doc: &Document, sheet: SheetId, pos: Pos) -> Result<Json, Refus
         .collect();
     let path = Toolpath { machine: Machine::Mill, moves };
     let stock = stock_of(&cell, &values, &points)?;
-    let extras = Extras { stock: Some(stock) };
+    let extras = Extras { stock: Some(stock), ..Extras::default() };
     let title = format!("{cell}: ball path, {} points", points.len());
     let plan = backplot::svg_drawing_with(&path, Plane::Xy, &title, &extras).map_err(|e| refused(e.message))?;
     let section = backplot::svg_drawing_with(&path, Plane::Xz, &title, &extras).map_err(|e| refused(e.message))?;

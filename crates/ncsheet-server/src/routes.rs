@@ -18,7 +18,7 @@ use serde_json::{json, Value as Json_};
 use super::guard::{Claims, Guard, TOKEN_HEADER};
 use super::workbench::{refused, Refused, Window, Workbench};
 use super::{machining, paths};
-use super::{DocumentThread, Gone};
+use super::{DocumentThread, Unanswered};
 use ncsheet::document::SaveFormat;
 use ncsheet::formula::address::Pos;
 
@@ -112,8 +112,23 @@ fn refusal(r: Refused) -> Response {
     (status, Json(json!({ "error": r.message }))).into_response()
 }
 
-fn gone(_: Gone) -> Response {
-    (StatusCode::INTERNAL_SERVER_ERROR, "the workbook's thread stopped").into_response()
+/// A request the workbook's thread did not answer: it stopped (500), or it is computing past
+/// `--timeout` (503, with what became of the request, for the page to say).
+fn unanswered(u: Unanswered) -> Response {
+    let message = match u {
+        Unanswered::Gone => {
+            return (StatusCode::INTERNAL_SERVER_ERROR, "the workbook's thread stopped").into_response()
+        }
+        Unanswered::Late { seconds, started: true } => format!(
+            "still computing after the --timeout of {seconds} s: a formula's recalculation cannot stop partway, so \
+             this request finishes in the background and the workbook answers again when it is done"
+        ),
+        Unanswered::Late { seconds, started: false } => format!(
+            "the workbook is still computing an earlier request after the --timeout of {seconds} s: this request \
+             was not carried out"
+        ),
+    };
+    (StatusCode::SERVICE_UNAVAILABLE, Json(json!({ "error": message }))).into_response()
 }
 
 /// Runs `f` on the workbook and answers with its JSON or its refusal.
@@ -121,7 +136,7 @@ async fn on_workbook(app: &App, f: impl FnOnce(&mut Workbench) -> Result<Json_, 
     match app.document.with(f).await {
         Ok(Ok(answer)) => Json(answer).into_response(),
         Ok(Err(r)) => refusal(r),
-        Err(g) => gone(g),
+        Err(u) => unanswered(u),
     }
 }
 
@@ -250,7 +265,7 @@ async fn download(State(app): State<App>, Query(params): Params) -> Response {
             response
         }
         Ok(Err(r)) => refusal(r),
-        Err(g) => gone(g),
+        Err(u) => unanswered(u),
     }
 }
 
@@ -308,6 +323,7 @@ async fn macros(State(app): State<App>) -> Response {
 
 async fn run_macro(State(app): State<App>, body: Bytes) -> Response {
     let files = app.bas_files.clone();
+    let timeout = app.document.timeout;
     on_workbook(&app, move |bench| {
         let body = body_json(&body)?;
         let request = machining::RunRequest {
@@ -316,6 +332,7 @@ async fn run_macro(State(app): State<App>, body: Bytes) -> Response {
             dialect: json_text(&body, "dialect")?.to_string(),
             machine: body.get("machine").and_then(Json_::as_str).unwrap_or("lathe").to_string(),
             sheet: bench.sheet(json_number(&body, "sheet")?)?,
+            seconds: timeout.unwrap_or(machining::RUN_SECONDS),
         };
         let mut answer = machining::run(bench, &files, &request)?;
         answer["history"] = bench.history();

@@ -52,8 +52,18 @@ async function api(path, body) {
   const text = await response.text();
   let data = null;
   try { data = JSON.parse(text); } catch (e) { data = null; }
+  // Past --timeout the workbook is still computing: look again until it answers.
+  if (response.status === 503 && !busyTimer) busyTimer = setTimeout(refreshAfterBusy, 1000);
   if (!response.ok) throw new Error((data && data.error) || text || response.statusText);
   return data;
+}
+
+let busyTimer = null;
+function refreshAfterBusy() {
+  busyTimer = null;
+  fetched = null;
+  render();
+  api('/api/sheets').then((b) => showHistory(b.history)).catch(() => {});
 }
 
 function query(params) {
@@ -396,105 +406,301 @@ async function fitCams() {
 
 // ---- ball path: plan and section from the server, 3D drawn here ----------------------------
 
-let ball = null;                 // {points: Float64Array-like [x,y,z,...], lo, hi}
-let orbit = { yaw: -0.6, pitch: 0.9 };
+let ball = null;                 // {points: [x,y,z,...], lo, hi}
+let orbit = { yaw: -0.6, pitch: 0.9, zoom: 1 };
+let view3d = null;               // the renderer of the 3D view: WebGL, or the 2D canvas without it
 
 async function drawBallPath(at) {
   try {
     const g = await api('/api/ballpath?' + query(at));
     const svgImg = (svg, alt) => '<img alt="' + alt + '" src="data:image/svg+xml;charset=utf-8,' + encodeURIComponent(svg) + '">';
+    if (view3d) view3d.dispose();
     $('ballpath').innerHTML = '<div>' + esc(g.cell) + ': ' + g.count + ' points, from ' + g.first.map((v) => v.toFixed(3)).join(', ') +
       ' to ' + g.last.map((v) => v.toFixed(3)).join(', ') + '</div>' +
       '<h2>Plan</h2>' + svgImg(g.plan, 'plan') + '<h2>Section</h2>' + svgImg(g.section, 'section') +
-      '<h2>3D</h2><canvas id="view3d" width="800" height="640" title="Drag to orbit"></canvas>';
+      '<h2>3D</h2><div id="view3dbox"><canvas id="view3d" width="800" height="640" title="Drag to orbit, wheel to zoom"></canvas>' +
+      '<canvas id="view3dlabels" width="800" height="640"></canvas></div><div id="view3dinfo" class="note"></div>';
     ball = { points: g.points, lo: g.stock[0], hi: g.stock[1] };
-    draw3d();
-    const canvas = $('view3d');
-    let from = null;
-    canvas.addEventListener('mousedown', (e) => { from = [e.clientX, e.clientY]; });
-    window.addEventListener('mouseup', () => { from = null; });
-    canvas.addEventListener('mousemove', (e) => {
-      if (!from) return;
-      orbit.yaw += (e.clientX - from[0]) * 0.01;
-      orbit.pitch = Math.max(0, Math.min(Math.PI / 2, orbit.pitch + (e.clientY - from[1]) * 0.01));
-      from = [e.clientX, e.clientY];
-      requestAnimationFrame(draw3d);
-    });
+    view3d = glView($('view3d'), $('view3dlabels')) || canvasView($('view3d'), $('view3dlabels'));
+    $('view3d').dataset.renderer = view3d.kind;
+    $('view3dinfo').textContent = 'ball path, ' + (ball.points.length / 3) + ' points drawn; box ' +
+      [0, 1, 2].map((i) => (ball.hi[i] - ball.lo[i]).toFixed(1)).join(' × ') + ' mm; drag to orbit, wheel to zoom; drawn by ' + view3d.name;
+    view3d.draw();
+    orbitWithMouse($('view3d'));
   } catch (e) {
     $('ballpath').textContent = e.message;
   }
 }
 
-// The colour of depth t in 0..1, as the plan's: dark blue deep to light yellow high.
-function depthColour(t) {
-  const stops = [[13, 26, 115], [0, 140, 153], [242, 217, 64]];
-  const u = Math.max(0, Math.min(1, t)) * 2, i = u < 1 ? 0 : 1, f = u - i;
-  return 'rgb(' + stops[i].map((a, j) => Math.round(a + (stops[i + 1][j] - a) * f)).join(',') + ')';
+let dragFrom = null;
+window.addEventListener('mouseup', () => { dragFrom = null; });
+
+function orbitWithMouse(canvas) {
+  canvas.addEventListener('mousedown', (e) => { dragFrom = [e.clientX, e.clientY]; e.preventDefault(); });
+  canvas.addEventListener('mousemove', (e) => {
+    if (!dragFrom) return;
+    orbit.yaw += (e.clientX - dragFrom[0]) * 0.01;
+    orbit.pitch = Math.max(-Math.PI / 2, Math.min(Math.PI / 2, orbit.pitch + (e.clientY - dragFrom[1]) * 0.01));
+    dragFrom = [e.clientX, e.clientY];
+    requestAnimationFrame(() => view3d && view3d.draw());
+  });
+  canvas.addEventListener('wheel', (e) => {
+    e.preventDefault();
+    orbit.zoom = Math.max(0.1, Math.min(20, orbit.zoom * Math.exp(-e.deltaY * 0.001)));
+    requestAnimationFrame(() => view3d && view3d.draw());
+  }, { passive: false });
 }
 
-// The path in 3D with the stock's box, orbited by yaw and pitch; segments shorter than a
-// pixel on screen are merged, so a million points draw at once.
-function draw3d() {
-  const canvas = $('view3d');
-  if (!canvas || !ball) return;
-  const ctx = canvas.getContext('2d');
-  const W = canvas.width, H = canvas.height;
-  ctx.fillStyle = '#fff';
-  ctx.fillRect(0, 0, W, H);
+// The colour of depth t in 0..1, as the plan's: dark blue deep to light yellow high.
+function depthRgb(t) {
+  const stops = [[13, 26, 115], [0, 140, 153], [242, 217, 64]];
+  const u = Math.max(0, Math.min(1, t)) * 2, i = u < 1 ? 0 : 1, f = u - i;
+  return stops[i].map((a, j) => a + (stops[i + 1][j] - a) * f);
+}
+
+function depthColour(t) {
+  return 'rgb(' + depthRgb(t).map(Math.round).join(',') + ')';
+}
+
+// A round step (1, 2 or 5 times a power of ten) that cuts `span` into about 5 to 10 parts.
+function gridStep(span) {
+  const rough = (span || 1) / 8, power = Math.pow(10, Math.floor(Math.log10(rough)));
+  return [1, 2, 5, 10].map((m) => m * power).find((s) => s >= rough);
+}
+
+function ticks(a, b, step) {
+  const out = [];
+  for (let i = Math.ceil(a / step - 1e-9); i * step <= b + 1e-9 * step; i++) out.push(i * step);
+  return out;
+}
+
+// The scene in millimetres about the stock's middle: the stock's edges, the floor grid, the
+// axes with their graduations (X red, Y green, Z blue, from the stock's lowest corner), as
+// line segments [x0,y0,z0,x1,y1,z1, ...] with their colours and the labels to write.
+function scene() {
   const [lo, hi] = [ball.lo, ball.hi];
-  const mid = [0, 1, 2].map((i) => (lo[i] + hi[i]) / 2);
   const size = Math.max(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) || 1;
-  const k = 0.62 * Math.min(W, H) / size;
-  const [cy, sy, cp, sp] = [Math.cos(orbit.yaw), Math.sin(orbit.yaw), Math.cos(orbit.pitch), Math.sin(orbit.pitch)];
-  const project = (x, y, z) => {
-    const dx = x - mid[0], dy = y - mid[1], dz = z - mid[2];
-    const u = dx * cy - dy * sy, v = dx * sy + dy * cy;
-    return [W / 2 + u * k, H / 2 - (dz * sp + v * cp) * k];
-  };
-  // The stock's box.
-  ctx.strokeStyle = '#9a8a5a';
-  ctx.lineWidth = 1;
-  const corner = (i) => project(i & 1 ? hi[0] : lo[0], i & 2 ? hi[1] : lo[1], i & 4 ? hi[2] : lo[2]);
-  ctx.beginPath();
-  for (const [a, b] of [[0, 1], [1, 3], [3, 2], [2, 0], [4, 5], [5, 7], [7, 6], [6, 4], [0, 4], [1, 5], [2, 6], [3, 7]]) {
-    const p = corner(a), q = corner(b);
-    ctx.moveTo(p[0], p[1]);
-    ctx.lineTo(q[0], q[1]);
-  }
-  ctx.stroke();
-  // The axes at the stock's lowest corner: X red, Y green, Z blue, a tenth of the box long.
-  const o = [lo[0], lo[1], lo[2]], len = size / 5;
-  [['X', [len, 0, 0], '#d02020'], ['Y', [0, len, 0], '#1a9a3a'], ['Z', [0, 0, len], '#1f5fd0']].forEach(([name, d, colour]) => {
-    const p = project(...o), q = project(o[0] + d[0], o[1] + d[1], o[2] + d[2]);
-    ctx.strokeStyle = colour;
-    ctx.lineWidth = 2;
-    ctx.beginPath(); ctx.moveTo(p[0], p[1]); ctx.lineTo(q[0], q[1]); ctx.stroke();
-    ctx.fillStyle = colour;
-    ctx.font = '14px sans-serif';
-    ctx.fillText(name, q[0] + 3, q[1] - 3);
-  });
-  const pts = ball.points, zspan = hi[2] - lo[2] || 1;
-  ctx.lineWidth = 1.2;
-  let last = project(pts[0], pts[1], pts[2]), band = -1;
-  ctx.beginPath();
-  for (let i = 3; i < pts.length; i += 3) {
-    const p = project(pts[i], pts[i + 1], pts[i + 2]);
-    const b = Math.min(7, Math.floor((pts[i + 2] - lo[2]) / zspan * 8));
-    if (Math.abs(p[0] - last[0]) < 0.7 && Math.abs(p[1] - last[1]) < 0.7 && b === band && i + 3 < pts.length) continue;
-    if (b !== band) {
-      ctx.stroke();
-      ctx.strokeStyle = depthColour(b / 7);
-      ctx.beginPath();
-      ctx.moveTo(last[0], last[1]);
-      band = b;
+  const segments = [], labels = [];
+  const line = (p, q, rgb) => segments.push({ p, q, rgb });
+  const boxRgb = [154, 138, 90], gridRgb = [222, 222, 222];
+  const step = gridStep(Math.max(hi[0] - lo[0], hi[1] - lo[1]));
+  for (const x of ticks(lo[0], hi[0], step)) line([x, lo[1], lo[2]], [x, hi[1], lo[2]], gridRgb);
+  for (const y of ticks(lo[1], hi[1], step)) line([lo[0], y, lo[2]], [hi[0], y, lo[2]], gridRgb);
+  const corner = (i) => [i & 1 ? hi[0] : lo[0], i & 2 ? hi[1] : lo[1], i & 4 ? hi[2] : lo[2]];
+  for (const [a, b] of [[0, 1], [1, 3], [3, 2], [2, 0], [4, 5], [5, 7], [7, 6], [6, 4], [0, 4], [1, 5], [2, 6], [3, 7]]) line(corner(a), corner(b), boxRgb);
+  const tick = size * 0.025, axes = [
+    { name: 'X', axis: 0, out: [0, -1, 0], rgb: [208, 32, 32] },
+    { name: 'Y', axis: 1, out: [-1, 0, 0], rgb: [26, 154, 58] },
+    { name: 'Z', axis: 2, out: [-1, 0, 0], rgb: [31, 95, 208] },
+  ];
+  for (const a of axes) {
+    const span = hi[a.axis] - lo[a.axis];
+    const along = (v) => { const p = lo.slice(); p[a.axis] = v; return p; };
+    const end = lo[a.axis] + Math.max(span, size * 0.2);
+    line(along(lo[a.axis]), along(end), a.rgb);
+    const s = gridStep(Math.max(span, size * 0.2));
+    const digits = Math.max(0, -Math.floor(Math.log10(s)));
+    for (const v of ticks(lo[a.axis], end, s)) {
+      const p = along(v), q = p.map((c, i) => c + a.out[i] * tick);
+      line(p, q, a.rgb);
+      labels.push({ at: p.map((c, i) => c + a.out[i] * tick * 2.6), text: v.toFixed(digits), rgb: a.rgb });
     }
-    ctx.lineTo(p[0], p[1]);
-    last = p;
+    labels.push({ at: along(end + size * 0.08), text: a.name, rgb: a.rgb, bold: true });
   }
-  ctx.stroke();
-  ctx.fillStyle = '#333';
-  ctx.font = '14px sans-serif';
-  ctx.fillText('ball path, ' + (pts.length / 3) + ' points drawn; box ' + [0, 1, 2].map((i) => (hi[i] - lo[i]).toFixed(1)).join(' × ') + ' mm; drag to orbit', 8, H - 10);
+  return { segments, labels, size, mid: [0, 1, 2].map((i) => (lo[i] + hi[i]) / 2) };
+}
+
+// The camera: orbiting the stock's middle at yaw (about Z) and pitch, Z up; perspective.
+// Returns the column-major matrix from millimetres about the middle to clip space.
+function cameraMatrix(size, aspect) {
+  const [sy, cy, sp, cp] = [Math.sin(orbit.yaw), Math.cos(orbit.yaw), Math.sin(orbit.pitch), Math.cos(orbit.pitch)];
+  const dir = [cp * sy, -cp * cy, sp];          // from the middle to the eye
+  const up = [-sp * sy, sp * cy, cp];           // square to dir, up on the screen
+  const right = [dir[1] * up[2] - dir[2] * up[1], dir[2] * up[0] - dir[0] * up[2], dir[0] * up[1] - dir[1] * up[0]].map((v) => -v);
+  const fov = 35 * Math.PI / 180, distance = size * 2.4 / orbit.zoom;
+  const eye = dir.map((v) => v * distance);
+  const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+  const view = [
+    right[0], up[0], dir[0], 0,
+    right[1], up[1], dir[1], 0,
+    right[2], up[2], dir[2], 0,
+    -dot(right, eye), -dot(up, eye), -dot(dir, eye), 1,
+  ];
+  const near = distance / 100, far = distance + size * 4, f = 1 / Math.tan(fov / 2);
+  const projection = [f / aspect, 0, 0, 0, 0, f, 0, 0, 0, 0, (far + near) / (near - far), -1, 0, 0, 2 * far * near / (near - far), 0];
+  const out = new Float32Array(16);
+  for (let c = 0; c < 4; c++) {
+    for (let r = 0; r < 4; r++) {
+      let sum = 0;
+      for (let k = 0; k < 4; k++) sum += projection[k * 4 + r] * view[c * 4 + k];
+      out[c * 4 + r] = sum;
+    }
+  }
+  return out;
+}
+
+// Where a point (mm about the middle) lands on a canvas W × H, or null behind the eye.
+function toScreen(m, p, W, H) {
+  const x = m[0] * p[0] + m[4] * p[1] + m[8] * p[2] + m[12];
+  const y = m[1] * p[0] + m[5] * p[1] + m[9] * p[2] + m[13];
+  const w = m[3] * p[0] + m[7] * p[1] + m[11] * p[2] + m[15];
+  if (w <= 0) return null;
+  return [(x / w + 1) * W / 2, (1 - y / w) * H / 2];
+}
+
+// The graduations' numbers and the axes' names, written over the 3D view; a number that
+// would overlap one written already (an axis seen end-on) is left out.
+function drawLabels(canvas, labels, m, mid) {
+  const ctx = canvas.getContext('2d');
+  ctx.clearRect(0, 0, canvas.width, canvas.height);
+  const written = [];
+  for (const l of labels) {
+    const s = toScreen(m, l.at.map((c, i) => c - mid[i]), canvas.width, canvas.height);
+    if (!s) continue;
+    if (!l.bold && written.some((w) => Math.abs(w[0] - s[0]) < 40 && Math.abs(w[1] - s[1]) < 24)) continue;
+    written.push(s);
+    ctx.fillStyle = 'rgb(' + l.rgb.join(',') + ')';
+    ctx.font = (l.bold ? 'bold 28px' : '22px') + ' sans-serif';
+    ctx.textAlign = 'center';
+    ctx.textBaseline = 'middle';
+    ctx.fillText(l.text, s[0], s[1]);
+  }
+}
+
+const VERTEX_SHADER = 'attribute vec3 position; attribute vec3 colour; uniform mat4 camera; varying vec3 shade;' +
+  'void main() { shade = colour; gl_Position = camera * vec4(position, 1.0); }';
+const FRAGMENT_SHADER = 'precision mediump float; varying vec3 shade; void main() { gl_FragColor = vec4(shade, 1.0); }';
+
+function compiled(gl, type, text) {
+  const shader = gl.createShader(type);
+  gl.shaderSource(shader, text);
+  gl.compileShader(shader);
+  if (!gl.getShaderParameter(shader, gl.COMPILE_STATUS)) throw new Error(gl.getShaderInfoLog(shader));
+  return shader;
+}
+
+// The path as a WebGL line strip coloured by Z, over the scene's lines; null where the
+// browser gives no WebGL context (the 2D canvas draws it then).
+function glView(canvas, overlay) {
+  let gl = null;
+  try {
+    gl = canvas.getContext('webgl', { antialias: true, preserveDrawingBuffer: true });
+  } catch (e) {
+    gl = null;
+  }
+  if (!gl) return null;
+  try {
+    return glRenderer(gl, canvas, overlay);
+  } catch (e) {
+    // A context that cannot compile or link the two small shaders draws nothing: the 2D canvas does.
+    return null;
+  }
+}
+
+function glRenderer(gl, canvas, overlay) {
+  const program = gl.createProgram();
+  gl.attachShader(program, compiled(gl, gl.VERTEX_SHADER, VERTEX_SHADER));
+  gl.attachShader(program, compiled(gl, gl.FRAGMENT_SHADER, FRAGMENT_SHADER));
+  gl.linkProgram(program);
+  if (!gl.getProgramParameter(program, gl.LINK_STATUS)) throw new Error(gl.getProgramInfoLog(program));
+  const s = scene();
+  const pts = ball.points, n = pts.length / 3, zlo = ball.lo[2], zspan = ball.hi[2] - ball.lo[2] || 1;
+  // Positions about the middle, so that single precision keeps the micrometres.
+  const path = new Float32Array(pts.length), pathColour = new Float32Array(pts.length);
+  for (let i = 0; i < n; i++) {
+    for (let j = 0; j < 3; j++) path[3 * i + j] = pts[3 * i + j] - s.mid[j];
+    const rgb = depthRgb((pts[3 * i + 2] - zlo) / zspan);
+    for (let j = 0; j < 3; j++) pathColour[3 * i + j] = rgb[j] / 255;
+  }
+  const lines = new Float32Array(s.segments.length * 6), lineColour = new Float32Array(s.segments.length * 6);
+  s.segments.forEach((seg, i) => {
+    for (let j = 0; j < 3; j++) {
+      lines[6 * i + j] = seg.p[j] - s.mid[j];
+      lines[6 * i + 3 + j] = seg.q[j] - s.mid[j];
+      lineColour[6 * i + j] = lineColour[6 * i + 3 + j] = seg.rgb[j] / 255;
+    }
+  });
+  const buffer = (data) => {
+    const b = gl.createBuffer();
+    gl.bindBuffer(gl.ARRAY_BUFFER, b);
+    gl.bufferData(gl.ARRAY_BUFFER, data, gl.STATIC_DRAW);
+    return b;
+  };
+  const buffers = { path: buffer(path), pathColour: buffer(pathColour), lines: buffer(lines), lineColour: buffer(lineColour) };
+  const position = gl.getAttribLocation(program, 'position'), colour = gl.getAttribLocation(program, 'colour');
+  const camera = gl.getUniformLocation(program, 'camera');
+  const bind = (where, b) => {
+    gl.bindBuffer(gl.ARRAY_BUFFER, b);
+    gl.enableVertexAttribArray(where);
+    gl.vertexAttribPointer(where, 3, gl.FLOAT, false, 0, 0);
+  };
+  const info = gl.getExtension('WEBGL_debug_renderer_info');
+  const renderer = info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER);
+  return {
+    kind: 'webgl',
+    name: 'WebGL (' + renderer + ')',
+    draw() {
+      const m = cameraMatrix(s.size, canvas.width / canvas.height);
+      gl.viewport(0, 0, canvas.width, canvas.height);
+      gl.clearColor(1, 1, 1, 1);
+      gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
+      gl.enable(gl.DEPTH_TEST);
+      gl.useProgram(program);
+      gl.uniformMatrix4fv(camera, false, m);
+      bind(position, buffers.lines);
+      bind(colour, buffers.lineColour);
+      gl.drawArrays(gl.LINES, 0, lines.length / 3);
+      bind(position, buffers.path);
+      bind(colour, buffers.pathColour);
+      gl.drawArrays(gl.LINE_STRIP, 0, n);
+      drawLabels(overlay, s.labels, m, s.mid);
+    },
+    dispose() {
+      const lose = gl.getExtension('WEBGL_lose_context');
+      if (lose) lose.loseContext();
+    },
+  };
+}
+
+// The same scene on a 2D canvas, for a browser without WebGL: segments shorter than a pixel
+// on screen are merged, so a million points draw at once.
+function canvasView(canvas, overlay) {
+  const ctx = canvas.getContext('2d');
+  const s = scene();
+  const draw = () => {
+    const W = canvas.width, H = canvas.height;
+    const m = cameraMatrix(s.size, W / H);
+    const project = (x, y, z) => toScreen(m, [x - s.mid[0], y - s.mid[1], z - s.mid[2]], W, H) || [W / 2, H / 2];
+    ctx.fillStyle = '#fff';
+    ctx.fillRect(0, 0, W, H);
+    ctx.lineWidth = 1;
+    for (const seg of s.segments) {
+      const p = project(...seg.p), q = project(...seg.q);
+      ctx.strokeStyle = 'rgb(' + seg.rgb.join(',') + ')';
+      ctx.beginPath(); ctx.moveTo(p[0], p[1]); ctx.lineTo(q[0], q[1]); ctx.stroke();
+    }
+    const pts = ball.points, zlo = ball.lo[2], zspan = ball.hi[2] - ball.lo[2] || 1;
+    ctx.lineWidth = 1.2;
+    let last = project(pts[0], pts[1], pts[2]), band = -1;
+    ctx.beginPath();
+    for (let i = 3; i < pts.length; i += 3) {
+      const p = project(pts[i], pts[i + 1], pts[i + 2]);
+      const b = Math.min(7, Math.floor((pts[i + 2] - zlo) / zspan * 8));
+      if (Math.abs(p[0] - last[0]) < 0.7 && Math.abs(p[1] - last[1]) < 0.7 && b === band && i + 3 < pts.length) continue;
+      if (b !== band) {
+        ctx.stroke();
+        ctx.strokeStyle = depthColour(b / 7);
+        ctx.beginPath();
+        ctx.moveTo(last[0], last[1]);
+        band = b;
+      }
+      ctx.lineTo(p[0], p[1]);
+      last = p;
+    }
+    ctx.stroke();
+    drawLabels(overlay, s.labels, m, s.mid);
+  };
+  return { kind: '2d', name: 'a 2D canvas (this browser gives no WebGL)', draw, dispose() {} };
 }
 
 async function loadMacros() {
@@ -542,7 +748,8 @@ async function runMacro() {
     $('program').innerHTML = (data.message ? '<div>' + esc(data.message) + '</div>' : '') +
       '<ol>' + data.lines.map((l) => '<li>' + esc(l) + '</li>').join('') + '</ol>' +
       (data.printed.length ? '<pre>' + esc(data.printed.join('\n')) + '</pre>' : '');
-    $('backplot').innerHTML = data.svg ? '<img alt="backplot" src="data:image/svg+xml;charset=utf-8,' + encodeURIComponent(data.svg) + '">' : '';
+    $('backplot').innerHTML = (data.svg ? '<img alt="backplot" src="data:image/svg+xml;charset=utf-8,' + encodeURIComponent(data.svg) + '">' : '') +
+      (data.part ? '<div id="partsaid" class="note">' + esc(data.part.said) + '</div>' : '');
     status(sub + ': ' + data.lines.length + ' lines');
     fetched = null; // the macro may have written cells
     render();

@@ -32,11 +32,20 @@ pub struct FunctionLimits {
     pub statements_per_recalculation: u64,
     /// How deep one call may nest its own calls (it may run inside a macro already deep).
     pub max_depth: usize,
+    /// The seconds of wall-clock time all the calls of one recalculation may take together
+    /// (`None`: none but the command's own `--timeout`). A front end that stays open (the
+    /// workbench) gives each edit's recalculation the time a command's `--timeout` gives it.
+    pub seconds_per_recalculation: Option<f64>,
 }
 
 impl Default for FunctionLimits {
     fn default() -> FunctionLimits {
-        FunctionLimits { statements_per_call: 10_000_000, statements_per_recalculation: 100_000_000, max_depth: 32 }
+        FunctionLimits {
+            statements_per_call: 10_000_000,
+            statements_per_recalculation: 100_000_000,
+            max_depth: 32,
+            seconds_per_recalculation: None,
+        }
     }
 }
 

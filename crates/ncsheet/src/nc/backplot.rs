@@ -244,10 +244,13 @@ pub fn svg_drawing(path: &Toolpath, plane: Plane, title: &str) -> Result<String,
 }
 
 /// What a backplot shows besides the path, when the caller knows it.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Extras {
     /// The stock's box (lowest and highest corner, mm; a lathe's X as a radius).
     pub stock: Option<([f64; 3], [f64; 3])>,
+    /// The finished part's outline in the drawing's plane, a closed polygon (mm; a lathe's
+    /// X as a radius); empty when not known.
+    pub part: Vec<[f64; 3]>,
 }
 
 /// The backplot of `path` in `plane` with the stock of `extras` drawn behind it.
@@ -260,6 +263,9 @@ pub fn svg_drawing_with(path: &Toolpath, plane: Plane, title: &str, extras: &Ext
     if let Some((a, b)) = extras.stock {
         grow(&mut lo, &mut hi, a);
         grow(&mut lo, &mut hi, b);
+    }
+    for &p in &extras.part {
+        grow(&mut lo, &mut hi, p);
     }
     // Feeds coloured by depth where the view looks along Z and the path goes up and down.
     let depth = (plane == Plane::Xy && path_hi[2] - path_lo[2] > 1e-9).then_some((path_lo[2], path_hi[2]));
@@ -311,6 +317,9 @@ pub fn svg_drawing_with(path: &Toolpath, plane: Plane, title: &str, extras: &Ext
     if extras.stock.is_some() {
         legend_rows.push(("stock", "the stock"));
     }
+    if !extras.part.is_empty() {
+        legend_rows.push(("part", "the finished part's outline"));
+    }
     let title_size = 0.9 * font;
     let text_width = |size: f64, text: &str| 0.66 * size * text.chars().count() as f64;
     let widest = titles
@@ -346,6 +355,7 @@ pub fn svg_drawing_with(path: &Toolpath, plane: Plane, title: &str, extras: &Ext
     if let Some(stock) = extras.stock {
         stock_box(&mut out, stock, plane, k, stroke);
     }
+    part_outline(&mut out, &extras.part, plane, k, stroke);
     graduations(&mut out, frame, k, font, stroke, &names);
     z0_face(&mut out, frame, plane, font, stroke);
     if (frame[0]..frame[2]).contains(&0.0) && (frame[1]..frame[3]).contains(&0.0) {
@@ -546,6 +556,8 @@ fn depth_colour(band: usize) -> String {
 
 const STOCK_FILL: &str = "#f3ecd9";
 const STOCK_COLOUR: &str = "#9a8a5a";
+const PART_FILL: &str = "#d9d9d9";
+const PART_COLOUR: &str = "#333";
 const GRID_COLOUR: &str = "#e4e4e4";
 const FACE_COLOUR: &str = "#555";
 
@@ -560,6 +572,23 @@ fn stock_box(out: &mut String, (a, b): ([f64; 3], [f64; 3]), plane: Plane, k: f6
         (q.x - p.x).abs() * k,
         (q.y - p.y).abs() * k,
         stroke
+    );
+}
+
+/// The part's outline as a closed path (`id="part"`) over the stock, in drawing units.
+fn part_outline(out: &mut String, outline: &[[f64; 3]], plane: Plane, k: f64, stroke: f64) {
+    if outline.len() < 2 {
+        return;
+    }
+    let mut d = String::new();
+    for (i, &p) in outline.iter().enumerate() {
+        let q = plane.project(p);
+        let _ = write!(d, "{} {:.4} {:.4} ", if i == 0 { "M" } else { "L" }, q.x * k, -q.y * k);
+    }
+    let _ = writeln!(
+        out,
+        "<path id=\"part\" d=\"{d}Z\" fill=\"{PART_FILL}\" stroke=\"{PART_COLOUR}\" stroke-width=\"{:.4}\"/>",
+        2.0 * stroke
     );
 }
 
@@ -779,6 +808,14 @@ fn legend(svg: &mut String, labels: &mut Labels, rows: &[(&str, &str)], corner: 
                 2.0 * font,
                 0.6 * font,
                 stroke
+            ),
+            "part" => writeln!(
+                svg,
+                "<rect x=\"{x:.4}\" y=\"{:.4}\" width=\"{:.4}\" height=\"{:.4}\" fill=\"{PART_FILL}\" stroke=\"{PART_COLOUR}\" stroke-width=\"{:.4}\"/>",
+                mid - 0.3 * font,
+                2.0 * font,
+                0.6 * font,
+                2.0 * stroke
             ),
             "start" => writeln!(
                 svg,

@@ -7,14 +7,16 @@
 use std::rc::Rc;
 
 use std::cell::Cell;
+use std::time::{Duration, Instant};
 
+use crate::eval::settings::FunctionLimits;
 use crate::eval::{Env, Note, Operand, UserCall, Value, XlError};
 use crate::workbook::{UserFunctions, Workbook};
 
 use super::ast::{Module, ProcKind};
 use super::project::{ModuleKind, VbaProject};
 use super::value::{array_var, Obj, Var};
-use super::{interp, parse_with, MacroError, RunOptions};
+use super::{interp, parse_with, Deadline, MacroError, RunOptions};
 
 /// The deepest a function called from a cell may be allowed to nest its calls
 /// (`FunctionLimits::max_depth` in the settings is held to it): it may run inside a macro already deep (a
@@ -40,6 +42,8 @@ pub struct WorkbookFunctions {
     /// Statements the calls of the current recalculation ran, against
     /// the settings' `FunctionLimits::statements_per_recalculation`.
     spent: Cell<u64>,
+    /// When the current recalculation began, for `FunctionLimits::seconds_per_recalculation`.
+    began: Cell<Instant>,
 }
 
 /// Installs the functions of `project` into `wb` (recomputing the cells that call them), each
@@ -81,7 +85,7 @@ impl WorkbookFunctions {
                 Err(e) => errors.push(e),
             }
         }
-        (WorkbookFunctions { modules, options, spent: Cell::new(0) }, errors)
+        (WorkbookFunctions { modules, options, spent: Cell::new(0), began: Cell::new(Instant::now()) }, errors)
     }
 
     /// The module and procedure a cell's call of `name` means, with its volatility.
@@ -96,6 +100,19 @@ impl WorkbookFunctions {
             m.callable[i].map(|volatile| (m, i, volatile))
         })
     }
+
+    /// When the calls of the current recalculation must stop, by the settings' time for one
+    /// recalculation, or the command's `--timeout` if sooner.
+    fn deadline(&self, limits: FunctionLimits) -> Option<Deadline> {
+        let own = limits.seconds_per_recalculation.and_then(|seconds| {
+            let at = self.began.get().checked_add(Duration::try_from_secs_f64(seconds).ok()?)?;
+            Some(Deadline { at, seconds })
+        });
+        match (self.options.deadline, own) {
+            (Some(a), Some(b)) => Some(if a.at <= b.at { a } else { b }),
+            (a, b) => a.or(b),
+        }
+    }
 }
 
 impl UserFunctions for WorkbookFunctions {
@@ -105,6 +122,7 @@ impl UserFunctions for WorkbookFunctions {
 
     fn begin_recalculation(&self) {
         self.spent.set(0);
+        self.began.set(Instant::now());
     }
 
     fn call(&self, wb: &Workbook, cells: &dyn Env, call: &UserCall) -> Result<Value, Note> {
@@ -119,7 +137,17 @@ impl UserFunctions for WorkbookFunctions {
             );
             return Err(Note { error: XlError::Value, message });
         }
+        let deadline = self.deadline(limits);
+        if let Some(past) = deadline.filter(|d| Instant::now() > d.at) {
+            let message = format!(
+                "{}.{} was not called: the workbook's VBA functions ran past the --timeout of {} s one \
+                 recalculation allows them (docs/limits.md)",
+                m.name, m.module.procs[proc].name, past.seconds
+            );
+            return Err(Note { error: XlError::Value, message });
+        }
         let mut options = self.options.clone();
+        options.deadline = deadline;
         // The command's own limit (`RunOptions`) and the document's, whichever is less.
         options.max_statements = self.options.max_statements.min(limits.statements_per_call).min(left);
         options.max_depth = limits.max_depth.min(FUNCTION_MAX_DEPTH);
