@@ -239,6 +239,11 @@ fn a_path_out_of_the_sandbox_stops_the_macro_even_under_on_error() {
         &sandbox(&[]),
     );
     assert!(e.message.contains("CreateTextFile \"../x\": refused: "), "{e}");
+    let e = fail(
+        "    Set fso = CreateObject(\"Scripting.FileSystemObject\")\n    fso.CreateTextFile \"u.txt\", Unicode:=True",
+        &sandbox(&[]),
+    );
+    assert!(e.message.contains("CreateTextFile: named arguments (x:=) are not read here"), "{e}");
 }
 
 #[test]

@@ -874,6 +874,11 @@ impl Interp<'_, '_> {
     /// A member of the FileSystemObject or of a TextStream.
     pub(super) fn file_member(&self, ctx: &mut Ctx, obj: FileObj, link: &Link) -> Run<Obj> {
         let name = super::objects::lower(link);
+        if link.args.iter().flatten().any(|a| a.name.is_some()) {
+            // Taken by position they would be read as other arguments: refused, never guessed.
+            let why = "named arguments (x:=) are not read here: pass them by position";
+            return Err(self.fault_at(link.span, format!("{}: {why}", link.name)));
+        }
         let args = self.values(ctx, link)?;
         let span = link.span;
         let text_arg = |i: usize| args.get(i).map(print_text).unwrap_or_default();
