@@ -75,7 +75,7 @@ pub(super) fn call(call: &Call<'_>, number: impl Fn(f64) -> String) -> Result<St
     let mut text = format!("L{:02}", call.subprogram.number);
     for ((letter, _), v) in call.subprogram.parameters.iter().zip(call.values) {
         let written = number(*v);
-        if written.parse::<f64>().map_or(true, |w| (w - v).abs() > 1e-9 * v.abs().max(1.0)) {
+        if !written.parse::<f64>().is_ok_and(|w| (w - v).abs() <= 1e-9 * v.abs().max(1.0)) {
             return Err(format!(
                 "L{:02}'s {letter} is {v}, which the control's words write as {letter}{written}",
                 call.subprogram.number

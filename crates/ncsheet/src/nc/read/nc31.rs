@@ -68,6 +68,9 @@ type Subprograms = HashMap<u32, Sub>;
 /// A letter bound to an R parameter, as (letter, parameter).
 pub(crate) type Binding = (char, u32);
 
+/// A call's or a header's words as written: (letter, value text).
+type Words = Vec<(char, String)>;
+
 /// The main program (to its M02) and the subprograms after it, by number.
 fn split(text: &str) -> Result<(Body, Subprograms), ReadError> {
     let mut main = Vec::new();
@@ -215,7 +218,7 @@ fn bindings(text: &str) -> Result<Vec<Binding>, String> {
 
 /// A call's or a header's words: a letter (not R, which names parameters) and its value, a
 /// number or a parameter with an optional sign (`X30`, `W-R1`, `A.5`), as (letter, value text).
-fn words(text: &str) -> Result<Vec<(char, String)>, String> {
+fn words(text: &str) -> Result<Words, String> {
     let chars: Vec<char> = text.chars().collect();
     let mut out: Vec<(char, String)> = Vec::new();
     let mut i = 0;
@@ -471,7 +474,7 @@ fn assignment(code: &str) -> Option<(u32, &str)> {
 
 /// A block that calls a subprogram: `L03` alone, or `L16 X30 WR2 …` with the values of its
 /// header's letters.
-fn call(code: &str) -> Result<Option<(u32, Vec<(char, String)>)>, String> {
+fn call(code: &str) -> Result<Option<(u32, Words)>, String> {
     if !code.to_ascii_uppercase().starts_with('L') {
         return Ok(None);
     }
