@@ -22,8 +22,8 @@ use calamine::{Reader, Style, Xlsx};
 
 use crate::eval::{Env, RowHidden, Value, XlError};
 use crate::formula::address::{Pos, Rect};
-use crate::formula::parse::ParseError;
 use crate::formula::ast::SheetId;
+use crate::formula::parse::ParseError;
 use crate::workbook::{Workbook, WorkbookError};
 
 use super::external::{self, ExternalBook};
@@ -397,7 +397,11 @@ fn intersect_legacy_formula(wb: &mut Workbook, sheet: SheetId, pos: Pos) {
 }
 
 /// The table and pivot-table parts of every worksheet kept, by sheet: (type, part).
-fn related_parts(package: &mut Package, sheets: &[SheetEntry], ids: &[Option<SheetId>]) -> Vec<(SheetId, Vec<(String, String)>)> {
+fn related_parts(
+    package: &mut Package,
+    sheets: &[SheetEntry],
+    ids: &[Option<SheetId>],
+) -> Vec<(SheetId, Vec<(String, String)>)> {
     let mut related = Vec::new();
     for (entry, id) in sheets.iter().zip(ids) {
         let Some(sheet) = *id else { continue };
@@ -416,7 +420,11 @@ fn of_kind<'p>(parts: &'p [(String, String)], kind: &'p str) -> impl Iterator<It
 
 /// The tables of every worksheet kept (a table part that cannot be read is left out with a
 /// note: its structured references then show #NAME?).
-fn read_tables(package: &mut Package, related: &[(SheetId, Vec<(String, String)>)], notes: &mut Vec<String>) -> Vec<Table> {
+fn read_tables(
+    package: &mut Package,
+    related: &[(SheetId, Vec<(String, String)>)],
+    notes: &mut Vec<String>,
+) -> Vec<Table> {
     let mut tables = Vec::new();
     for (sheet, parts) in related {
         for part in of_kind(parts, "table") {
@@ -452,7 +460,8 @@ fn read_pivots(
 /// One pivot table part with its cache's definition and records (records may be missing:
 /// a cache saved without them summarises nothing).
 fn read_pivot(package: &mut Package, part: &str, sheet: SheetId, date_1904: bool) -> Option<pivot::Pivot> {
-    let mut first = |part: &str, kind: &str| package.related_parts(part, &[kind]).ok()?.into_iter().next().map(|(_, p)| p);
+    let mut first =
+        |part: &str, kind: &str| package.related_parts(part, &[kind]).ok()?.into_iter().next().map(|(_, p)| p);
     let definition_part = first(part, "pivotCacheDefinition")?;
     let records_part = first(&definition_part, "pivotCacheRecords");
     let table = package.read_optional(part).ok()??;
@@ -461,7 +470,13 @@ fn read_pivot(package: &mut Package, part: &str, sheet: SheetId, date_1904: bool
         Some(records) => package.read_optional(&records).ok().flatten().unwrap_or_default(),
         None => Vec::new(),
     };
-    pivot::parse_pivot(&pivot::PivotParts { sheet, table: &table, definition: &definition, records: &records, date_1904 })
+    pivot::parse_pivot(&pivot::PivotParts {
+        sheet,
+        table: &table,
+        definition: &definition,
+        records: &records,
+        date_1904,
+    })
 }
 
 /// The workbooks the file links to, numbered as its formulas number them (a part that
@@ -627,7 +642,7 @@ impl<'a> SheetImport<'a> {
             imported.notes.push(format!(
                 "{} formula(s) ncsheet cannot compute (the first: {first}) keep the values the file \
                  cached, as Excel shows them (it drops a formula it cannot read when it repairs the file, and \
-                 keeps an add-in's last result without the add-in); `ncsheet info` lists each",
+                 keeps an add-in's last result without the add-in); each is a problem of its cell",
                 self.kept_count
             ));
         }
@@ -795,7 +810,8 @@ fn linked_add_in_call(text: &str) -> Option<ParseError> {
     memchr::memmem::find_iter(bytes, b"]!").find_map(|bang| {
         let open = text[..bang].rfind('[')?;
         let book = &text[open + 1..bang];
-        let name_len = bytes[bang + 2..].iter().take_while(|&&b| b.is_ascii_alphanumeric() || matches!(b, b'_' | b'.')).count();
+        let name_len =
+            bytes[bang + 2..].iter().take_while(|&&b| b.is_ascii_alphanumeric() || matches!(b, b'_' | b'.')).count();
         let name = &text[bang + 2..bang + 2 + name_len];
         (book.bytes().all(|b| b.is_ascii_digit()) && !name.is_empty() && bytes.get(bang + 2 + name_len) == Some(&b'('))
             .then(|| ParseError {
