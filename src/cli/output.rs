@@ -322,7 +322,7 @@ fn json_value(v: &Value) -> serde_json::Value {
             .map_or_else(|| serde_json::Value::String(v.to_string()), serde_json::Value::Number),
         Value::Bool(b) => serde_json::Value::Bool(*b),
         Value::Array(a) => a.data.first().map_or(serde_json::Value::Null, json_value),
-        Value::Blank => serde_json::Value::Null,
+        Value::Blank | Value::Null => serde_json::Value::Null,
         Value::Text(_) | Value::Error(_) | Value::Lambda(_) => serde_json::Value::String(v.to_string()),
     }
 }

@@ -18,6 +18,7 @@ pub fn to_number(v: &Value, dates: DateSystem) -> XlResult<f64> {
         Value::Error(e) => Err(*e),
         Value::Array(a) => to_number(a.data.first().unwrap_or(&Value::Blank), dates),
         Value::Lambda(_) => Err(XlError::Calc),
+        Value::Null => Err(XlError::Value),
     }
 }
 
@@ -31,6 +32,7 @@ pub fn to_text(v: &Value) -> XlResult<Rc<str>> {
         Value::Error(e) => Err(*e),
         Value::Array(a) => to_text(a.data.first().unwrap_or(&Value::Blank)),
         Value::Lambda(_) => Err(XlError::Calc),
+        Value::Null => Err(XlError::Value),
     }
 }
 
@@ -46,6 +48,7 @@ pub fn to_bool(v: &Value) -> XlResult<bool> {
         Value::Error(e) => Err(*e),
         Value::Array(a) => to_bool(a.data.first().unwrap_or(&Value::Blank)),
         Value::Lambda(_) => Err(XlError::Calc),
+        Value::Null => Err(XlError::Value),
     }
 }
 
@@ -151,6 +154,7 @@ pub fn compare(a: &Value, b: &Value) -> XlResult<Ordering> {
     Ok(match (a, b) {
         (Error(e), _) | (_, Error(e)) => return Err(*e),
         (Lambda(_), _) | (_, Lambda(_)) => return Err(XlError::Calc),
+        (Null, _) | (_, Null) => return Err(XlError::Value),
         (Array(x), _) => return compare(x.data.first().unwrap_or(&Blank), b),
         (_, Array(y)) => return compare(a, y.data.first().unwrap_or(&Blank)),
         (Number(x), Number(y)) => x.partial_cmp(y).unwrap_or(Ordering::Equal),

@@ -987,7 +987,11 @@ impl<'a> Ctx<'a> {
         match op {
             UnaryOp::Neg => {
                 let v = self.locale().numbers_for_arithmetic(self.eval(inner), self.dates);
-                map_number(&v, |x| Ok(-x), self.dates)
+                match v {
+                    // VBA's Null propagates through negation too.
+                    Value::Null => Value::Null,
+                    v => map_number(&v, |x| Ok(-x), self.dates),
+                }
             }
             UnaryOp::Plus => self.eval(inner),
             UnaryOp::Percent => {
@@ -1278,6 +1282,9 @@ pub fn binary(op: BinOp, a: &Value, b: &Value, dates: DateSystem) -> Value {
 }
 
 fn scalar_binary(op: BinOp, a: &Value, b: &Value, dates: DateSystem) -> Value {
+    if matches!(a, Value::Null) || matches!(b, Value::Null) {
+        return null_binary(op, a, b, dates);
+    }
     match op {
         BinOp::Concat => match (to_text(a), to_text(b)) {
             (Ok(x), Ok(y)) => Value::Text(format!("{x}{y}").into()),
@@ -1423,7 +1430,35 @@ fn vba_logic(op: BinOp, a: &Value, b: &Value, dates: DateSystem) -> Value {
     }
 }
 
+/// VBA's operators on Null ([MS-VBAL] 5.6.9, the Office VBA reference's operator pages):
+/// arithmetic and comparisons give Null; `&` takes a lone Null as "" ("& operator"); `And`
+/// and `Or` give what the other operand decides alone (`Null And False` is False, `Null Or
+/// True` True, bit by bit for numbers), else Null; `Imp` is True from False or into True.
+fn null_binary(op: BinOp, a: &Value, b: &Value, dates: DateSystem) -> Value {
+    let other = if matches!(a, Value::Null) { b } else { a };
+    let decided = |v: &Value, by: i64| match logic_operand(v, dates) {
+        Ok(Logic::Bool(x)) => -i64::from(x) == by,
+        Ok(Logic::Int(i)) => i == by,
+        Err(_) => false,
+    };
+    match op {
+        BinOp::Concat if matches!(other, Value::Null) => Value::Null,
+        BinOp::Concat => scalar_binary(op, &Value::text(""), other, dates),
+        BinOp::And if decided(other, 0) => other.clone(),
+        BinOp::Or if decided(other, -1) => other.clone(),
+        BinOp::Imp if matches!(a, Value::Null) && decided(b, -1) => b.clone(),
+        BinOp::Imp if matches!(b, Value::Null) && decided(a, 0) => Value::Bool(true),
+        _ => match other.as_error() {
+            Some(e) => Value::Error(e),
+            None => Value::Null,
+        },
+    }
+}
+
 fn vba_not(v: &Value, dates: DateSystem) -> Value {
+    if let Value::Null = v {
+        return Value::Null;
+    }
     match logic_operand(v, dates) {
         Ok(Logic::Bool(b)) => Value::Bool(!b),
         Ok(Logic::Int(i)) => Value::Number(!i as f64),

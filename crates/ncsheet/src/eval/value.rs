@@ -20,6 +20,9 @@ pub enum Value {
     /// REDUCE…. Read where a number, text or condition is wanted it is `#CALC!`, and a
     /// formula whose result is one shows `#CALC!`, as in Excel.
     Lambda(Rc<Closure>),
+    /// VBA's Null, "no valid data" (a macro's `Null`): no cell holds it. The macro's operators
+    /// propagate it; a cell, or a function reading a number or a text, takes it as `#VALUE!`.
+    Null,
 }
 
 pub use super::evaluator::Closure;
@@ -236,6 +239,8 @@ impl fmt::Display for Value {
                 None => Ok(()),
             },
             Value::Lambda(_) => f.write_str(XlError::Calc.as_str()),
+            // As VBA's Print shows it.
+            Value::Null => f.write_str("Null"),
         }
     }
 }

@@ -208,6 +208,7 @@ impl Interp<'_, '_> {
                 Ok(Operand::Value(Value::Bool(same)))
             }
             Node::Inspect { what, arg, .. } => self.inspect(*what, arg).map(Operand::Value),
+            Node::Null => Ok(Operand::Value(Value::Null)),
             Node::Index { base, index, span } => match self.indexed_var(base, index, *span)? {
                 Var::Obj(obj) => self.operand_of(obj, *span),
                 Var::Value(v) => Ok(Operand::Value(v)),

@@ -526,12 +526,19 @@ impl Interp<'_, '_> {
         if let Value::Array(_) = v {
             return Err(format!("{what} is an array, not a number"));
         }
+        if let Value::Null = v {
+            return Err(format!("{what} is Null: {}", super::value::INVALID_USE_OF_NULL));
+        }
         // A VBA Date counts days as the 1900 system does, whatever the workbook's.
         to_number(v, DateSystem::From1900).map_err(|err| self.describe_error(what, v, err))
     }
 
     pub fn truth(&self, e: &Expr, what: &str) -> Run<bool> {
         let v = self.eval(e)?;
+        // "any expression containing a Null is itself Null and, therefore, False" (IsNull function).
+        if let Value::Null = v {
+            return Ok(false);
+        }
         to_bool(&v).map_err(|err| self.fault_at(self.expr_span(e), self.describe_error(what, &v, err)))
     }
 
@@ -1414,6 +1421,10 @@ impl Interp<'_, '_> {
 
     fn select(&self, subject: &Expr, cases: &[Case], otherwise: Option<&Block>) -> Run<Flow> {
         let s = self.eval(subject)?;
+        // Every Case compares Null with Null: no Case holds.
+        if let Value::Null = s {
+            return otherwise.map_or(Ok(Flow::Next), |b| self.block(b));
+        }
         if let Some(err) = s.as_error() {
             return Err(self.fault_at(self.expr_span(subject), self.describe_error("the Select Case value", &s, err)));
         }
@@ -1653,6 +1664,7 @@ fn err_state(fault: &Fault) -> ErrState {
     let number = match fault.code {
         0 if m.contains("#DIV/0!") => 11,
         0 if m.contains("overflow") => 6,
+        0 if m.contains("Invalid use of Null") => 94,
         0 if m.contains("type mismatch") || m.contains("not a number") => 13,
         0 if m.contains("out of range") || m.contains("subscript") => 9,
         0 => 5,

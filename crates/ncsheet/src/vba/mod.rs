@@ -39,7 +39,7 @@
 //! not bare), a constant (`vbCrLf`, `vbTab`, `Empty`, …), a procedure of the module, one of
 //! VBA's functions (`Sqr Atn Tan Sin Cos Exp Log Abs Sgn Int Fix Round Format CStr CDbl CInt
 //! CLng CBool Val Str Len Left Mid Right UCase LCase Trim LTrim RTrim InStr InStrRev Replace
-//! Chr ChrW Asc Space IIf IsEmpty IsNumeric IsError IsObject IsArray IsMissing Array Split Join
+//! Chr ChrW Asc Space IIf IsEmpty IsNull IsNumeric IsError IsObject IsArray IsMissing Array Split Join
 //! StrComp StrConv LenB FormatNumber VarType CVErr Timer Rnd`, the `VBA.*` rows of the
 //! function table, `$` suffix allowed), an object, or a sheet function (`CHAMFER_XA`, `SUM`,
 //! `ATAN2`, …; also as `Application.WorksheetFunction.Sum` or `WorksheetFunction.Sum`).
@@ -172,6 +172,12 @@
 //! after `Set x = Nothing`, where ncsheet stops with error 91). Not there: arrays of objects,
 //! `Implements`, events (`WithEvents`, `RaiseEvent`), default members; a class module the
 //! grammar does not take is left out of the project (`New` of it is refused by name).
+//!
+//! `Null` is VBA's: arithmetic, comparisons (`Null = Null`), `Not` and negation give Null,
+//! `&` takes a lone Null as "", `And`/`Or`/`Imp` follow VBA's tables, `If`/`While` take it as
+//! False, and a variable declared with a type other than Variant refuses it with error 94.
+//! A cell never holds Null (written to one, it leaves the cell empty); a library function
+//! given Null sees `#VALUE!` (VBA's `Len(Null)` is Null).
 //!
 //! Not in the language: `ParamArray`, arrays of more than two dimensions, events and forms.
 //! A member's dot touches what it follows ([MS-VBAL] 5.6.12): `Out .Y + .X` in a With block

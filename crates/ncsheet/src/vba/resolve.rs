@@ -407,6 +407,9 @@ impl Build<'_> {
             if let Some(kind) = constant(&lower) {
                 return Ok(Expr::new(kind, span));
             }
+            if lower == "null" && !is_var {
+                return Ok(self.node(Node::Null, at, end));
+            }
             if is_var {
                 if statement {
                     return Err(self.error_at(pair, format!("{}: a statement cannot be just a value", link.name)));

@@ -187,6 +187,9 @@ pub(super) fn default_value(ty: Option<&Ty>) -> Value {
     }
 }
 
+/// VBA's run-time error 94, for Null where a value is needed ("Invalid use of Null (Error 94)").
+pub const INVALID_USE_OF_NULL: &str = "Invalid use of Null (run-time error 94)";
+
 /// What a typed variable makes of an assigned value (VBA's implicit conversions).
 pub(super) fn convert(var: Var, ty: Option<&Ty>, name: &str) -> Result<Var, String> {
     let Some(ty) = ty.filter(|t| **t != Ty::Variant) else { return Ok(var) };
@@ -202,6 +205,9 @@ pub(super) fn convert(var: Var, ty: Option<&Ty>, name: &str) -> Result<Var, Stri
     let Var::Value(v) = var else {
         return Err(format!("{name} is declared with a type and cannot hold an object or an array"));
     };
+    if let Value::Null = v {
+        return Err(format!("{name} cannot hold Null: {INVALID_USE_OF_NULL}"));
+    }
     let mismatch = |e: XlError| format!("{name} cannot hold {e} (type mismatch)");
     let text_mismatch = |v: &Value| format!("{name} cannot hold \"{}\" (type mismatch)", print_text(v));
     Ok(Var::Value(match ty {
@@ -258,6 +264,8 @@ pub fn input_text(v: &Value) -> String {
         Value::Text(t) => t.to_string(),
         Value::Error(e) => e.as_str().to_string(),
         Value::Lambda(_) => XlError::Calc.as_str().to_string(),
+        // A cell holds no Null: the cell is left empty.
+        Value::Null => String::new(),
         Value::Array(a) => a.data.first().map(input_text).unwrap_or_default(),
     }
 }

@@ -241,6 +241,7 @@ pub fn numbers_a(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<f64>> {
             (Value::Number(n), _) => out.push(*n),
             (Value::Error(e), _) => return Err(*e),
             (Value::Lambda(_), _) => return Err(XlError::Calc),
+            (Value::Null, _) => return Err(XlError::Value),
             (Value::Bool(b), _) => out.push(f64::from(u8::from(*b))),
             (Value::Text(_), Source::Collection) => out.push(0.0),
             (Value::Blank, _) | (Value::Array(_), Source::Collection) => {}

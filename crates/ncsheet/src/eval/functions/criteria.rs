@@ -49,6 +49,7 @@ impl Criterion {
             Value::Bool(b) => eq(Target::Bool(*b)),
             Value::Error(e) => eq(Target::Error(*e)),
             Value::Lambda(_) => eq(Target::Error(XlError::Calc)),
+            Value::Null => eq(Target::Error(XlError::Value)),
             // Documented: "a reference to an empty cell is treated as 0".
             Value::Blank => eq(Target::Number(0.0)),
             Value::Text(s) => Criterion::parse(s, dates),

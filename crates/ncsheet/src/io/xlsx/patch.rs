@@ -600,14 +600,14 @@ impl SheetPatch<'_> {
         let v = |text: &str| format!("<{ns}v>{text}</{ns}v>");
         match value {
             // A cell never holds a LAMBDA (its formula shows #CALC!).
-            Value::Blank | Value::Array(_) | Value::Lambda(_) if !is_formula => {
+            Value::Blank | Value::Array(_) | Value::Lambda(_) | Value::Null if !is_formula => {
                 if style.is_empty() {
                     String::new()
                 } else {
                     format!("{r}/>")
                 }
             }
-            Value::Blank | Value::Array(_) | Value::Lambda(_) => format!("{r} t=\"str\">{f}{}{end}", v("")),
+            Value::Blank | Value::Array(_) | Value::Lambda(_) | Value::Null => format!("{r} t=\"str\">{f}{}{end}", v("")),
             Value::Number(n) if n.is_finite() => format!("{r}>{f}{}{end}", v(&number_text(n))),
             Value::Number(_) => format!("{r} t=\"e\">{f}{}{end}", v("#NUM!")),
             Value::Bool(b) => format!("{r} t=\"b\">{f}{}{end}", v(&u8::from(b).to_string())),

@@ -457,7 +457,7 @@ fn write_value(
     let (row, col) = (pos.row, pos.col as u16);
     match (value, format) {
         // A cell never holds a LAMBDA (its formula shows #CALC!).
-        (Value::Blank | Value::Array(_) | Value::Lambda(_), _) => Ok(()),
+        (Value::Blank | Value::Array(_) | Value::Lambda(_) | Value::Null, _) => Ok(()),
         (Value::Number(n), Some(f)) => ws.write_number_with_format(row, col, *n, f).map(|_| ()),
         (Value::Number(n), None) => ws.write_number(row, col, *n).map(|_| ()),
         (Value::Text(s), Some(f)) => ws.write_string_with_format(row, col, s.as_ref(), f).map(|_| ()),
@@ -477,7 +477,7 @@ fn result_text(value: &Value) -> String {
         // "inf" and "nan" would be written as numbers XML cannot hold.
         Value::Text(s) if s.parse::<f64>().is_ok_and(|n| !n.is_finite()) => String::new(),
         Value::Text(s) => s.to_string(),
-        Value::Blank | Value::Array(_) | Value::Lambda(_) => String::new(),
+        Value::Blank | Value::Array(_) | Value::Lambda(_) | Value::Null => String::new(),
     }
 }
 

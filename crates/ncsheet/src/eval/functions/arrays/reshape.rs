@@ -226,7 +226,7 @@ fn sort_cmp(a: &Value, b: &Value) -> Ordering {
             Value::Text(_) => 1,
             Value::Bool(_) => 2,
             Value::Error(_) | Value::Lambda(_) => 3,
-            Value::Blank | Value::Array(_) => 4,
+            Value::Blank | Value::Array(_) | Value::Null => 4,
         }
     }
     match (a, b) {
@@ -610,7 +610,7 @@ fn item_text(v: &Value, strict: bool) -> String {
         Value::Bool(b) => if *b { "TRUE" } else { "FALSE" }.to_string(),
         Value::Error(e) => e.as_str().to_string(),
         Value::Lambda(_) => XlError::Calc.as_str().to_string(),
-        Value::Blank | Value::Array(_) => String::new(),
+        Value::Blank | Value::Array(_) | Value::Null => String::new(),
     }
 }
 

@@ -111,7 +111,7 @@ fn type_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         Value::Text(_) => 2.0,
         Value::Bool(_) => 4.0,
         // A LAMBDA read as a value is #CALC!.
-        Value::Error(_) | Value::Lambda(_) => 16.0,
+        Value::Error(_) | Value::Lambda(_) | Value::Null => 16.0,
         Value::Array(_) => 64.0,
     };
     Ok(Value::Number(code))

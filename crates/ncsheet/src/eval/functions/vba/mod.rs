@@ -120,6 +120,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "VBA.ISEMPTY(value)",
         "VBA IsEmpty: True for an empty cell or variable",
     ),
+    FnSpec::value("VBA.ISNULL", 1, 1, is_null, "VBA.ISNULL(value)", "VBA IsNull: True for Null"),
     FnSpec::value("VBA.ISERROR", 1, 1, is_error, "VBA.ISERROR(value)", "VBA IsError: True for an error value"),
     FnSpec::value(
         "VBA.ISOBJECT",
@@ -406,6 +407,10 @@ fn space(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 fn is_empty(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     Ok(Value::Bool(ctx.eval(&args[0]).unwrap_single().is_blank()))
+}
+
+fn is_null(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    Ok(Value::Bool(matches!(ctx.eval(&args[0]).unwrap_single(), Value::Null)))
 }
 
 fn is_error(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {

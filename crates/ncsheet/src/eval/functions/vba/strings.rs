@@ -270,6 +270,8 @@ pub fn var_type_of(v: &Value) -> f64 {
         Value::Bool(_) => 11.0,
         Value::Array(_) => 8192.0 + 12.0,
         Value::Lambda(_) => 9.0,
+        // vbNull.
+        Value::Null => 1.0,
     }
 }
 
