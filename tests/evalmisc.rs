@@ -195,21 +195,9 @@ fn matrices_and_transpose_read_every_item_of_a_whole_row() {
 // workbook opens (0 when absent). Both files below were saved by Excel with their second tab
 // active.
 
-/// The public corpus of Excel-saved workbooks, or `None` (skipped) without it; a failure
-/// under CI.
-fn public_corpus() -> Option<std::path::PathBuf> {
-    let root = common::corpus::public_path();
-    if !root.is_dir() {
-        assert!(std::env::var_os("CI").is_none(), "public Excel corpus not found at {}", root.display());
-        eprintln!("skipped: public Excel corpus not found at {}", root.display());
-        return None;
-    }
-    Some(root)
-}
-
 /// An Excel-saved workbook of the public corpus, or `None` without the corpus.
 fn public_workbook(rel: &str) -> Option<ncsheet::io::xlsx::Imported> {
-    let root = public_corpus()?;
+    let root = common::corpus::public_root()?;
     Some(ncsheet::io::xlsx::load(&root.join(rel)).unwrap_or_else(|e| panic!("{rel}: {e}")))
 }
 
@@ -283,7 +271,7 @@ fn a_macros_formula_stays_a1_when_the_reference_style_is_r1c1() {
 
 #[test]
 fn a_workbook_saved_in_r1c1_mode_computes_its_a1_formulas() {
-    let Some(root) = public_corpus() else { return };
+    let Some(root) = common::corpus::public_root() else { return };
     for rel in ["koala/tests_files_SharedFormula.xlsx", "poi/test-data_spreadsheet_56574.xlsx"] {
         let bytes = std::fs::read(root.join(rel)).unwrap();
         // The same workbook as Excel saves it with File > Options > R1C1 reference style on.

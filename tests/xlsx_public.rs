@@ -319,20 +319,9 @@ fn names_that_read_other_workbooks_are_kept_in_a_workbook_written_anew() {
     }
 }
 
-/// The public corpus's folder, `None` (skipped) without it, a failure under CI.
-fn public_root() -> Option<std::path::PathBuf> {
-    let root = common::corpus::public_path();
-    if !root.is_dir() {
-        assert!(std::env::var_os("CI").is_none(), "public Excel corpus not found at {}", root.display());
-        eprintln!("skipped: public Excel corpus not found at {}", root.display());
-        return None;
-    }
-    Some(root)
-}
-
 /// A public-corpus workbook, `None` (skipped) without the corpus.
 fn public_workbook(rel: &str) -> Option<xlsx::Imported> {
-    Some(xlsx::load(&public_root()?.join(rel)).unwrap_or_else(|e| panic!("{rel}: {e}")))
+    Some(xlsx::load(&common::corpus::public_root()?.join(rel)).unwrap_or_else(|e| panic!("{rel}: {e}")))
 }
 
 /// The value of `cell` of the first sheet, and what the workbook's problems say of it.
@@ -392,7 +381,7 @@ fn add_in_functions_keep_the_values_excel_cached_with_a_problem_naming_them() {
 fn an_xll_add_in_call_keeps_the_error_excel_cached_with_its_kind() {
     // HsGetVal's B5 as an XLL add-in's call (`_xll.`) whose last result was #N/A, C5 as
     // one of .xla that returned #DIV/0!: each keeps its error, not #NAME?.
-    let Some(root) = public_root() else { return };
+    let Some(root) = common::corpus::public_root() else { return };
     let source = std::fs::read(root.join("poi/test-data_spreadsheet_HsGetVal.xlsx")).expect("reads");
     let bytes = replace_in_part(&source, "xl/worksheets/sheet1.xml", &|xml| {
         let b5 = xml.find(r#"<c r="B5""#).expect("B5");
