@@ -230,3 +230,22 @@ fn a_dimension_past_u32_and_a_format_of_300_brackets_read_without_a_panic() {
         assert_eq!(get(&wb, "B1"), Value::Number(6.0), "{}", file.display());
     }
 }
+
+// ---------------------------------------------------------------------------------------
+// Runaway: a regression over thousands of variables
+
+#[test]
+fn a_fit_past_its_work_limit_is_num_naming_it() {
+    // 1,000 observations of 5,000 variables: an SVD of 5·10^9 multiply-adds ran for minutes.
+    for formula in
+        ["=ROWS(LINEST(SEQUENCE(1000),SEQUENCE(1000,5000)))", "=ROWS(TREND(SEQUENCE(1000),SEQUENCE(1000,5000)))"]
+    {
+        let (v, notes, _) = common::sheet::eval_a1(formula);
+        assert_eq!(v, NUM, "{formula}");
+        assert!(notes.iter().any(|n| n.contains("more work than ncsheet's limit")), "{formula}: {notes:?}");
+    }
+    // y = 2x + 1 over 1,000 points still fits (slope then intercept, as Excel lists them).
+    let (v, _, _) = common::sheet::eval_a1("=INDEX(LINEST(2*SEQUENCE(1000)+1,SEQUENCE(1000)),1,1)");
+    let Value::Number(slope) = v else { panic!("{v:?}") };
+    assert!((slope - 2.0).abs() < 1e-9, "{slope}");
+}

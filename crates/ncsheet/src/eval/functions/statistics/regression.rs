@@ -110,10 +110,25 @@ fn design(x: &DMatrix<f64>, with_constant: bool) -> DMatrix<f64> {
     DMatrix::from_fn(x.nrows(), k + usize::from(with_constant), |i, j| if j < k { x[(i, j)] } else { 1.0 })
 }
 
-fn fit(data: &Data, with_constant: bool) -> XlResult<Fit> {
+/// The most work one fit may take: rows × columns × the smaller of the two, the SVD's
+/// count of multiply-adds (a million rows by a few variables is 10^7; 1,000 rows by 5,000
+/// variables, 5·10^9, ran for minutes).
+const MAX_FIT_WORK: f64 = 1e9;
+
+fn fit(ctx: &mut Ctx, data: &Data, with_constant: bool) -> XlResult<Fit> {
     let a = design(&data.x, with_constant);
     if a.nrows() == 0 {
         return Err(XlError::Value);
+    }
+    let (m, n) = (a.nrows() as f64, a.ncols() as f64);
+    if m * n * m.min(n) > MAX_FIT_WORK {
+        return Err(ctx.explain(
+            XlError::Num,
+            format!(
+                "a fit of {m} rows by {n} variables is more work than ncsheet's limit of {MAX_FIT_WORK:e} \
+                 (rows × variables × the smaller of the two)"
+            ),
+        ));
     }
     let b = DVector::from_column_slice(&data.y);
     let solution = a.svd(true, true).solve(&b, 1e-13).map_err(|_| XlError::Num)?;
@@ -150,7 +165,7 @@ fn logest(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 fn estimate(ctx: &mut Ctx, args: &[Expr], data: Data, exponential: bool) -> XlResult<Value> {
     let with_constant = bool_or(ctx, args, 2, true)?;
     let stats = bool_or(ctx, args, 3, false)?;
-    let f = fit(&data, with_constant)?;
+    let f = fit(ctx, &data, with_constant)?;
     let shown = |v: f64| if exponential { v.exp() } else { v };
     // Excel lists the coefficients last variable first, then the constant.
     let mut first_row: Vec<Value> = f.coef.iter().rev().map(|&m| Value::Number(shown(m))).collect();
@@ -217,7 +232,7 @@ fn growth(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// The fitted values at the new xs (the known xs by default), in the new xs' shape.
 fn project(ctx: &mut Ctx, args: &[Expr], data: Data, exponential: bool) -> XlResult<Value> {
     let with_constant = bool_or(ctx, args, 3, true)?;
-    let f = fit(&data, with_constant)?;
+    let f = fit(ctx, &data, with_constant)?;
     let k = data.x.ncols();
     let shown = |v: f64| Value::Number(if exponential { v.exp() } else { v });
     let new = if given(args, 2).is_some() {
