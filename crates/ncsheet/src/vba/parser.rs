@@ -203,6 +203,7 @@ fn describe(rule: Rule) -> &'static str {
         | Rule::typed_number
         | Rule::path_is
         | Rule::new_object
+        | Rule::k_new
         | Rule::vneg
         | Rule::vplus
         | Rule::not_op => "a value",
