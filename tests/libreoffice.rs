@@ -826,8 +826,8 @@ fn agrees(ours: &Value, general: &str, precise: &str) -> bool {
         Value::Text(t) => general == &**t,
         Value::Error(e) => general == e.as_str(),
         Value::Blank => general.is_empty(),
-        // A cell never holds a LAMBDA.
-        Value::Array(_) | Value::Lambda(_) => false,
+        // A cell never holds a LAMBDA, nor VBA's Null (a macro writes it as an empty cell).
+        Value::Array(_) | Value::Lambda(_) | Value::Null => false,
     }
 }
 

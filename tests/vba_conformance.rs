@@ -638,7 +638,8 @@ fn members_of_nothing_and_members_a_class_has_not_are_errors_91_and_438() {
                 \x20   x = c.n\n    Debug.Print Err.Number\nEnd Sub\n";
     let out = with_classes(main, &[("Counter", COUNTER)]).unwrap();
     assert_eq!(out.printed, [" 91 ", " 438 ", " 438 "]);
-    let e = with_classes("Sub Main()\n    Dim c As Counter\n    c.Add\nEnd Sub\n", &[("Counter", COUNTER)]).unwrap_err();
+    let e =
+        with_classes("Sub Main()\n    Dim c As Counter\n    c.Add\nEnd Sub\n", &[("Counter", COUNTER)]).unwrap_err();
     assert!(e.message.contains("Object variable or With block variable not set"), "{e}");
     assert_eq!(e.span.unwrap().line, 3, "{e}");
 }
@@ -659,11 +660,8 @@ fn objects_count_against_the_memory_budget() {
     let link = "Public Text As String\nPublic Next_ As Object\n";
     let chain = "Sub Main()\n    Dim head As Object, n As Object\n    For i = 1 To 100000\n        Set n = New Link\n\
                  \x20       n.Text = Space(200)\n        Set n.Next_ = head\n        Set head = n\n    Next\nEnd Sub\n";
-    let options = RunOptions {
-        classes: vec![("Link".into(), link.into())],
-        max_memory: 4 << 20,
-        ..RunOptions::default()
-    };
+    let options =
+        RunOptions { classes: vec![("Link".into(), link.into())], max_memory: 4 << 20, ..RunOptions::default() };
     let e = run_with(chain, &options).unwrap_err();
     assert_eq!(e.kind, ErrorKind::Limit, "{e}");
     let options = RunOptions { max_memory: 256 << 20, ..options };
@@ -804,10 +802,7 @@ fn null_propagates_through_arithmetic_and_comparisons() {
          \x20   If Not x Then Debug.Print \"not\" Else Debug.Print \"Not Null is Null\"\n    Debug.Print -x\n\
          \x20   Select Case x\n        Case Null: Debug.Print \"case\"\n        Case Else: Debug.Print \"else\"\n    End Select",
     );
-    assert_eq!(
-        out,
-        ["Null", "Null", "TrueTrueTrue", "FalseFalse", "not true", "Not Null is Null", "Null", "else"]
-    );
+    assert_eq!(out, ["Null", "Null", "TrueTrueTrue", "FalseFalse", "not true", "Not Null is Null", "Null", "else"]);
 }
 
 // "& operator": "If both expressions are Null, result is Null. However, if only one

@@ -295,7 +295,7 @@ impl Interp<'_, '_> {
                 || args.iter().any(|a| a.name.as_deref().is_some_and(|n| n.eq_ignore_ascii_case(name)))
         };
         let required = p.params[..params].iter().enumerate().filter(|(_, q)| !q.optional);
-        if let Some((_, q)) = required.into_iter().find(|(i, q)| !given(*i, &*q.name)) {
+        if let Some((_, q)) = required.into_iter().find(|(i, q)| !given(*i, &q.name)) {
             return wrong(format!("{}: argument {} is not optional", p.name, q.name));
         }
         Ok(())

@@ -318,7 +318,7 @@ impl Store {
     fn rename(&mut self, at: usize, new: Value) -> Result<(), String> {
         let form = self.form(&new)?;
         let entry = self.entries[at].as_mut().expect("a place holding an entry");
-        let old = std::mem::replace(&mut entry.0, Some(new));
+        let old = entry.0.replace(new);
         if let Some(old) = old.and_then(|k| self.form(&k).ok()) {
             self.index.remove(&old);
         }

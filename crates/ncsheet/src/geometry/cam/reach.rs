@@ -252,6 +252,10 @@ fn concave_joint(a: &Element, b: &Element, side: CutterSide) -> bool {
     turn * side.sign() > TANGENT
 }
 
+/// A rounding circle's reach: the first and last elements it touches (indices), its centre,
+/// and where it touches them.
+type Span = (usize, usize, Point2<f64>, Point2<f64>, Point2<f64>);
+
 /// The rounding circle for the place between elements `before` and `after`: the nearest
 /// elements `i ≤ before`, `j ≥ after` whose offsets by `rho` meet at a centre that touches
 /// both inside them and keeps `rho` from every element between (the circle rolls past
@@ -263,7 +267,7 @@ fn rounding_between(
     side: CutterSide,
     rho: f64,
     spans: usize,
-) -> Option<(usize, usize, Point2<f64>, Point2<f64>, Point2<f64>)> {
+) -> Option<Span> {
     for span in 0..spans {
         for back in 0..=span {
             let (Some(i), j) = (before.checked_sub(back), after + (span - back)) else { continue };

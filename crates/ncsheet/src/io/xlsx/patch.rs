@@ -607,7 +607,9 @@ impl SheetPatch<'_> {
                     format!("{r}/>")
                 }
             }
-            Value::Blank | Value::Array(_) | Value::Lambda(_) | Value::Null => format!("{r} t=\"str\">{f}{}{end}", v("")),
+            Value::Blank | Value::Array(_) | Value::Lambda(_) | Value::Null => {
+                format!("{r} t=\"str\">{f}{}{end}", v(""))
+            }
             Value::Number(n) if n.is_finite() => format!("{r}>{f}{}{end}", v(&number_text(n))),
             Value::Number(_) => format!("{r} t=\"e\">{f}{}{end}", v("#NUM!")),
             Value::Bool(b) => format!("{r} t=\"b\">{f}{}{end}", v(&u8::from(b).to_string())),

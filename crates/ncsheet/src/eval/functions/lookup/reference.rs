@@ -304,7 +304,7 @@ fn getpivotdata(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
             return Err(ctx.explain(XlError::Ref, "GETPIVOTDATA's second argument must be a cell of a pivot table"))
         }
     };
-    if args.len() % 2 != 0 {
+    if !args.len().is_multiple_of(2) {
         return Err(ctx.explain(XlError::Ref, "GETPIVOTDATA takes its fields and items in pairs"));
     }
     let mut pairs = Vec::with_capacity(args.len() / 2 - 1);
