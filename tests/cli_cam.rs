@@ -336,27 +336,7 @@ fn rs274_with_a_tool_table_accepts_cam_programs_for_cutters_of_2_to_25_mm() {
             for lead in ["line", "arc"] {
                 let program = dir.path().join(format!("cam-{disc}-{diameter}-{lead}.ngc"));
                 let d = diameter.to_string();
-                let out = ncsheet(&[
-                    "cam",
-                    &sheet(),
-                    "--disc",
-                    disc,
-                    "--tol",
-                    "0.01",
-                    "--partial",
-                    "--format",
-                    "nc",
-                    "--dialect",
-                    "linuxcnc",
-                    "--cutter",
-                    "right",
-                    "--cutter-diameter",
-                    &d,
-                    "--lead-kind",
-                    lead,
-                    "-o",
-                    program.to_str().unwrap(),
-                ]);
+                let out = linuxcnc_cam_program(disc, &d, lead, &program);
                 assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
                 // A stand-alone rs274 reads its tool table in inches.
                 let table = dir.path().join(format!("tools-{diameter}.tbl"));
@@ -403,25 +383,14 @@ fn rs274_with_a_tool_table_accepts_cam_programs_for_cutters_of_2_to_25_mm() {
     }
 }
 
-/// Issue 32: a concave place of the profile that a 25 mm cutter cannot reach under the
-/// control's compensation (disc R, which LinuxCNC refused with "Arc move in concave corner
-/// cannot be reached by the tool without gouging") is rounded in the program and said on
-/// stderr; the cutter's centre as rs274 compensates it never reaches inside the sheet's
-/// profile anywhere along the cut, and stays on it (within 0.05 mm) away from the rounded
-/// places.
-#[test]
-fn a_concave_place_beyond_a_large_cutter_is_rounded_and_said_and_never_gouged() {
-    if !rs274::available() {
-        eprintln!("skipped: rs274 is not installed");
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
-    let program = dir.path().join("cam-R-25.ngc");
-    let out = ncsheet(&[
+/// `ncsheet cam` on the shipped sheet at 0.01 mm, for LinuxCNC with the cutter right of the
+/// profile (G42): the program of `disc` for a cutter of `diameter` with a `lead` (line, arc).
+fn linuxcnc_cam_program(disc: &str, diameter: &str, lead: &str, program: &std::path::Path) -> Output {
+    ncsheet(&[
         "cam",
         &sheet(),
         "--disc",
-        "R",
+        disc,
         "--tol",
         "0.01",
         "--partial",
@@ -432,10 +401,28 @@ fn a_concave_place_beyond_a_large_cutter_is_rounded_and_said_and_never_gouged() 
         "--cutter",
         "right",
         "--cutter-diameter",
-        "25",
+        diameter,
+        "--lead-kind",
+        lead,
         "-o",
         program.to_str().unwrap(),
-    ]);
+    ])
+}
+
+/// Issue 32: a concave place of the profile that a 25 mm cutter cannot reach under the
+/// control's compensation (disc R, which LinuxCNC refused with "Arc move in concave corner
+/// cannot be reached by the tool without gouging") is rounded in the program and said on
+/// stderr; the cutter's centre as rs274 compensates it never reaches inside the sheet's
+/// profile anywhere along the cut.
+#[test]
+fn a_concave_place_beyond_a_large_cutter_is_rounded_and_said_and_never_gouged() {
+    if !rs274::available() {
+        eprintln!("skipped: rs274 is not installed");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let program = dir.path().join("cam-R-25.ngc");
+    let out = linuxcnc_cam_program("R", "25", "line", &program);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
     assert!(stderr.contains("beyond the reach of the D25 cutter"), "{stderr}");
