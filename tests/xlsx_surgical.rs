@@ -456,6 +456,14 @@ fn calls_the_moment_or_the_program(wb: &Workbook, sheet: SheetId, pos: Pos) -> b
     found
 }
 
+/// Changed cells where LibreOffice computes the edited workbook otherwise than Excel does,
+/// though it agrees on the original: (workbook, cell, why).
+const LIBREOFFICE_DEPARTS_AFTER_THE_EDIT: &[(&str, &str, &str)] = &[(
+    "poi/test-data_spreadsheet_61063.xlsx",
+    "!A4",
+    "RANK(A1,(B1,B2,B3),1) of a number not in the union: LibreOffice 7.4 gives -1, Excel #N/A (RANK finds no rank)",
+)];
+
 /// Compares the changed cells of one saved workbook with LibreOffice's reading of it, leaving
 /// out a cell where LibreOffice's reading of the original departs from the stored value.
 fn compare_with_libreoffice(s: &Saved, lo: &Workbook, lo_original: Option<&Workbook>, tally: &mut Tally) {
@@ -468,6 +476,13 @@ fn compare_with_libreoffice(s: &Saved, lo: &Workbook, lo_original: Option<&Workb
         let place = format!("{}: {}: {formula}", s.source.display(), s.wb.cell_name(sheet, pos));
         if depends_on_the_moment_or_the_program(s, sheet, pos) {
             tally.momentary.push(place);
+            continue;
+        }
+        if let Some((_, _, why)) = LIBREOFFICE_DEPARTS_AFTER_THE_EDIT
+            .iter()
+            .find(|(book, cell, _)| s.source.ends_with(book) && s.wb.cell_name(sheet, pos).ends_with(cell))
+        {
+            tally.excluded.push(format!("{place}: {why}"));
             continue;
         }
         let stored = s.stored.get(&(sheet, pos));
