@@ -119,6 +119,49 @@ fn endless_lambda_recursion_is_num_with_the_depth_named() {
     }
 }
 
+/// The LAMBDAs of MAP, REDUCE, SCAN, BYROW, BYCOL and MAKEARRAY share one budget of work per
+/// formula (`MAX_LAMBDA_WORK`, 2^28: each call, each array item made, each cell read): an
+/// array grown by VSTACK at each step of a REDUCE (copied whole each time: n²/2 items), a
+/// MAKEARRAY whose LAMBDA builds arrays, a MAP whose LAMBDA reads a range, ran past 30 s.
+#[test]
+fn lambdas_of_the_array_helpers_past_their_work_limit_are_num_naming_it() {
+    let mut wb = Workbook::with_sheet();
+    for r in 1..=1000 {
+        set(&mut wb, &format!("B{r}"), "1");
+    }
+    let cases = [
+        // 25,000 steps copy 312 million items.
+        ("A1", "=ROWS(REDUCE(0,SEQUENCE(25000),LAMBDA(a,x,VSTACK(a,x))))"),
+        // 4 million calls, each making 1,000 items.
+        ("A2", "=SUM(MAKEARRAY(2000,2000,LAMBDA(r,c,SUM(SEQUENCE(1000)))))"),
+        ("A3", "=SUM(BYROW(SEQUENCE(1000000),LAMBDA(row,SUM(SEQUENCE(1,1000)))))"),
+        // A million calls, each reading 1,000 cells.
+        ("A4", "=SUM(MAP(SEQUENCE(1000000),LAMBDA(x,SUM(B1:B1000))))"),
+        ("A5", "=SUM(SCAN(0,SEQUENCE(1000000),LAMBDA(a,x,a+SUM(B1:B1000))))"),
+    ];
+    for (cell, formula) in cases {
+        set(&mut wb, cell, formula);
+        assert_eq!(get(&wb, cell), Value::Error(XlError::Num), "{formula}");
+        let problems = problems_at(&wb, cell);
+        assert!(
+            mentions(&problems, &["#NUM!", "more than 268435456 items of work", "ncsheet's limit"]),
+            "{formula}: {problems:?}"
+        );
+        assert_eq!(problems.len(), 1, "one note: {problems:?}");
+    }
+    // Within the limit they compute: 1,000 steps give 1,001 rows summing to 1 + … + 1,000;
+    // MAKEARRAY's items are 10r + c; 1,000 reads of 1,000 ones.
+    set(&mut wb, "C1", "=SUM(REDUCE(0,SEQUENCE(1000),LAMBDA(a,x,VSTACK(a,x))))");
+    set(&mut wb, "C2", "=ROWS(REDUCE(0,SEQUENCE(1000),LAMBDA(a,x,VSTACK(a,x))))");
+    set(&mut wb, "C3", "=SUM(MAKEARRAY(3,2,LAMBDA(r,c,10*r+c)))");
+    set(&mut wb, "C4", "=SUM(MAP(SEQUENCE(1000),LAMBDA(x,SUM(B1:B1000))))");
+    assert_eq!(get(&wb, "C1"), n(500_500.0));
+    assert_eq!(get(&wb, "C2"), n(1_001.0));
+    assert_eq!(get(&wb, "C3"), n((11 + 12 + 21 + 22 + 31 + 32) as f64));
+    assert_eq!(get(&wb, "C4"), n(1_000_000.0));
+    assert!(problems_at(&wb, "C1").is_empty());
+}
+
 #[test]
 fn names_that_refer_to_themselves_or_chain_too_deep_say_so() {
     let mut wb = Workbook::with_sheet();

@@ -269,6 +269,11 @@ pub struct Ctx<'a> {
     depth: u32,
     /// Calls of named LAMBDAs (LET-bound or defined names) so far, against [`MAX_LAMBDA_CALLS`].
     lambda_calls: u32,
+    /// Work done inside the LAMBDAs that MAP, REDUCE, SCAN, BYROW, BYCOL and MAKEARRAY call,
+    /// against [`MAX_LAMBDA_WORK`]: a `Cell`, as a range is read through `&self`.
+    lambda_work: std::cell::Cell<u64>,
+    /// How many of those LAMBDA bodies are running: work outside them is not counted.
+    iterating: u32,
     /// The workbook's date system, read once from `env`: every date conversion takes it.
     dates: DateSystem,
     /// The workbook's locale, read once per cell: every arithmetic operator asks for it.
@@ -316,6 +321,25 @@ const MAX_DEPTH: u32 = 200;
 /// Fibonacci of 45 would run for hours.
 pub const MAX_LAMBDA_CALLS: u32 = 2_000_000;
 
+/// ncsheet's limit on the work of the LAMBDAs MAP, REDUCE, SCAN, BYROW, BYCOL and MAKEARRAY
+/// call while one formula evaluates (docs/limits.md): one per call, plus every item of an
+/// array made, cell read and 16 bytes of text made inside them. A few seconds of work: a
+/// REDUCE growing its array with VSTACK copies it whole at every step, and each LAMBDA of a
+/// 4,096 × 4,096 MAKEARRAY may build arrays of its own. A MAKEARRAY of 2^24 simple items
+/// (2^24 calls) stays well within it, as does a MAP of 10,000 items each looking a value up
+/// in 10,000 rows.
+pub const MAX_LAMBDA_WORK: u64 = 1 << 28;
+
+/// The work [`Ctx::charge`] counts for a value made: its array's stored items, or its
+/// text's bytes by 16 (about the cost of copying one item).
+fn work_of(v: &Value) -> usize {
+    match v {
+        Value::Array(a) => a.data.len(),
+        Value::Text(s) => s.len() / 16,
+        _ => 0,
+    }
+}
+
 impl<'a> Ctx<'a> {
     pub fn new(env: &'a dyn Env, sheet: SheetId, at: Pos) -> Ctx<'a> {
         Ctx::for_cell(env, sheet, at)
@@ -343,6 +367,8 @@ impl<'a> Ctx<'a> {
             host: None,
             depth: 0,
             lambda_calls: 0,
+            lambda_work: std::cell::Cell::new(0),
+            iterating: 0,
             dates,
             locale,
             in_surface: false,
@@ -513,6 +539,7 @@ impl<'a> Ctx<'a> {
                     let b = y.map_or_else(|| self.eval(right), Value::Number);
                     let (a, b) = self.localized_operands(*op, a, b);
                     let v = binary(*op, &a, &b, self.dates);
+                    self.charge(work_of(&v));
                     if matches!(v, Value::Error(XlError::Num)) {
                         self.explain_array_size(&a, &b);
                     }
@@ -638,6 +665,7 @@ impl<'a> Ctx<'a> {
         let whole = rect;
         let rect = self.clip_to_used(sheet, rect);
         let (rows, cols) = (rect.rows() as usize, rect.cols() as usize);
+        self.charge(rows * cols);
         let mut data = vec![Value::Blank; rows * cols];
         self.env.for_each_value(sheet, rect, &mut |p, v| {
             data[(p.row - rect.first.row) as usize * cols + (p.col - rect.first.col) as usize] = v.clone();
@@ -693,16 +721,46 @@ impl<'a> Ctx<'a> {
 
     /// The LAMBDA value `closure` called with `values` (MAP, REDUCE… call it so), every
     /// parameter given. These calls are not counted against [`MAX_LAMBDA_CALLS`]: there are
-    /// as many as the array has items, and no recursion.
-    pub fn apply_closure(&mut self, closure: &Rc<Closure>, values: &[Value]) -> Value {
+    /// as many as the array has items, and no recursion. They are counted, with what their
+    /// bodies make and read, against [`MAX_LAMBDA_WORK`]: past it, `#NUM!` with a note.
+    pub fn apply_closure(&mut self, closure: &Rc<Closure>, values: &[Value]) -> XlResult<Value> {
+        self.within_lambda_work()?;
         let lambda = closure.lambda();
         if lambda.params.len() != values.len() {
-            return Value::Error(XlError::Value);
+            return Ok(Value::Error(XlError::Value));
         }
         let bound = lambda.param_names().zip(values);
         let bound = bound.map(|(name, value)| Local { name: name.clone(), value: value.clone(), omitted: false });
         let bound: Vec<Local> = bound.collect();
-        self.run_closure(closure, bound)
+        self.iterating += 1;
+        let out = self.run_closure(closure, bound);
+        self.iterating -= 1;
+        Ok(out)
+    }
+
+    /// Counts `work` (items made or read, see [`work_of`]) when a LAMBDA of MAP, REDUCE, …
+    /// is running; [`Ctx::apply_closure`] checks the total before each call.
+    #[inline]
+    pub fn charge(&self, work: usize) {
+        if self.iterating > 0 {
+            self.lambda_work.set(self.lambda_work.get().saturating_add(work as u64));
+        }
+    }
+
+    /// One more call of a LAMBDA by MAP, REDUCE, …: `#NUM!`, with the limit's note, once
+    /// their work has passed [`MAX_LAMBDA_WORK`].
+    fn within_lambda_work(&mut self) -> XlResult<()> {
+        let work = self.lambda_work.get() + 1;
+        self.lambda_work.set(work);
+        if work > MAX_LAMBDA_WORK {
+            let why = format!(
+                "the LAMBDAs of MAP, REDUCE, SCAN, BYROW, BYCOL or MAKEARRAY did more than {MAX_LAMBDA_WORK} items of \
+                 work in one formula (ncsheet's limit: each call, and every array item made, cell read and 16 bytes \
+                 of text made inside them; an array grown item by item is copied at every step)"
+            );
+            return Err(self.explain_once(XlError::Num, why));
+        }
+        Ok(())
     }
 
     /// The LAMBDA value `closure` called with `args`, evaluated here.
@@ -755,6 +813,7 @@ impl<'a> Ctx<'a> {
     /// subnormals made Excel's, texts held to the limit.
     #[inline(never)]
     fn checked_result(&mut self, v: Value) -> Value {
+        self.charge(work_of(&v));
         self.within_text_limit(finite_numbers(v))
     }
 

@@ -56,7 +56,7 @@ pub fn lift(ctx: &mut Ctx, args: &[Expr], f: &dyn Fn(&[Value]) -> XlResult<Value
 }
 
 /// Names the array limit when a lifted call's result would pass it.
-fn explain_lifted_size(ctx: &mut Ctx, values: &[Value], lifted: &XlResult<Value>) {
+pub fn explain_lifted_size(ctx: &mut Ctx, values: &[Value], lifted: &XlResult<Value>) {
     if *lifted == Err(XlError::Num) {
         match lifted_size(values) {
             Some((rows, cols)) if too_many_items(rows, cols) => {
@@ -196,11 +196,15 @@ fn for_each_cell_value(
 ) -> XlResult<()> {
     let rect = ctx.clip_to_used(sheet, rect);
     let mut outcome = Ok(());
+    let mut visited = 0;
     ctx.env.for_each_value(sheet, rect, &mut |_, v| {
+        visited += 1;
         if outcome.is_ok() {
             outcome = f(v, Source::Collection);
         }
     });
+    // `SUM(A:A)` inside MAP's LAMBDA reads the column once per item.
+    ctx.charge(visited);
     outcome
 }
 

@@ -511,15 +511,19 @@ fn stack(ctx: &mut Ctx, args: &[Expr], horizontal: bool) -> XlResult<Value> {
     let cols = parts.iter().map(|p| p.cols).max().unwrap_or(0);
     let total_rows = parts.iter().fold(0usize, |n, p| n.saturating_add(p.rows));
     ctx.room_for(total_rows, cols)?;
-    let mut rows = Vec::new();
+    // Item by item into one vector: a REDUCE growing its array with VSTACK copies it at
+    // every step, so each copy is kept to the items themselves.
+    let mut data = Vec::with_capacity(total_rows * cols);
     for p in &parts {
-        for r in rows_of(p) {
-            let mut r = r;
-            r.resize(cols, Value::Error(XlError::NA));
-            rows.push(r);
+        for row in p.data.chunks(p.cols.max(1)) {
+            data.extend_from_slice(row);
+            data.resize(data.len() + cols - row.len(), Value::Error(XlError::NA));
         }
     }
-    let out = from_rows(rows)?;
+    if data.is_empty() {
+        return Err(XlError::Calc);
+    }
+    let out = array(data.len() / cols, cols, data);
     match (out, horizontal) {
         (Value::Array(o), true) => Ok(Value::Array(Rc::new(transpose(&o)))),
         (v, _) => Ok(v),

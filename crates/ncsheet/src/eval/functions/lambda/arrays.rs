@@ -80,8 +80,9 @@ fn with_lambda<T>(ctx: &mut Ctx, e: &Expr, f: impl FnOnce(&mut Ctx, &Rc<Closure>
     }
 }
 
-/// The LAMBDA's body with its parameters bound to `values`.
-fn apply(ctx: &mut Ctx, lambda: &Rc<Closure>, values: &[Value]) -> Value {
+/// The LAMBDA's body with its parameters bound to `values`; `#NUM!` (the whole call's) once
+/// the LAMBDAs of one formula have done ncsheet's limit of work (`MAX_LAMBDA_WORK`).
+fn apply(ctx: &mut Ctx, lambda: &Rc<Closure>, values: &[Value]) -> XlResult<Value> {
     ctx.apply_closure(lambda, values)
 }
 
@@ -109,7 +110,7 @@ fn map(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         for r in 0..rows {
             for c in 0..cols {
                 let values: Vec<Value> = blocks.iter().map(|b| b.broadcast_get(r, c)).collect();
-                data.push(as_item(apply(ctx, lambda, &values)));
+                data.push(as_item(apply(ctx, lambda, &values)?));
             }
         }
         Ok(array(rows, cols, data))
@@ -130,7 +131,7 @@ fn reduce(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let (mut acc, items) = accumulation(ctx, args)?;
     with_lambda(ctx, &args[args.len() - 1], |ctx, lambda| {
         for v in &items.data {
-            acc = apply(ctx, lambda, &[acc.clone(), v.clone()]);
+            acc = apply(ctx, lambda, &[acc.clone(), v.clone()])?;
         }
         Ok(acc)
     })
@@ -141,7 +142,7 @@ fn scan(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     with_lambda(ctx, &args[args.len() - 1], |ctx, lambda| {
         let mut data = Vec::with_capacity(items.data.len());
         for v in &items.data {
-            acc = apply(ctx, lambda, &[acc.clone(), v.clone()]);
+            acc = apply(ctx, lambda, &[acc.clone(), v.clone()])?;
             data.push(as_item(acc.clone()));
         }
         Ok(array(items.rows, items.cols, data))
@@ -159,7 +160,7 @@ fn by_line(ctx: &mut Ctx, args: &[Expr], rows: bool) -> XlResult<Value> {
             } else {
                 Array::column((0..a.rows).map(|r| a.get(r, i).clone()).collect())
             };
-            data.push(as_item(apply(ctx, lambda, &[Value::Array(Rc::new(line))])));
+            data.push(as_item(apply(ctx, lambda, &[Value::Array(Rc::new(line))])?));
         }
         Ok(if rows { array(lines, 1, data) } else { array(1, lines, data) })
     })
@@ -187,7 +188,7 @@ fn makearray(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         for r in 0..rows {
             for c in 0..cols {
                 let at = [Value::Number((r + 1) as f64), Value::Number((c + 1) as f64)];
-                data.push(as_item(apply(ctx, lambda, &at)));
+                data.push(as_item(apply(ctx, lambda, &at)?));
             }
         }
         Ok(array(rows, cols, data))
