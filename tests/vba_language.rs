@@ -390,3 +390,136 @@ fn hex_and_octal_literals_are_typed_as_vba_types_them() {
         assert_eq!(value(expr), n(want), "{expr}");
     }
 }
+
+// ---- issue 31: VBA's semantics for New, Const, negation and Date ----------------------
+
+/// A macro run with the project's class modules (name, source), failing or not.
+fn with_classes(main: &str, classes: &[(&str, &str)]) -> Result<RunOutput, vba::MacroError> {
+    let classes = classes.iter().map(|(n, s)| (n.to_string(), s.to_string())).collect();
+    let mut wb = Workbook::with_sheet();
+    vba::run(&mut wb, main, "test.bas", &RunOptions { classes, ..RunOptions::default() })
+}
+
+/// A macro's failure.
+fn failure(src: &str) -> vba::MacroError {
+    let mut wb = Workbook::with_sheet();
+    vba::run(&mut wb, src, "test.bas", &RunOptions::default()).expect_err("the macro fails")
+}
+
+/// A class that says when an object of it is made and let go, and counts its objects.
+const PROBE: &str = "Public Field As Long\nPrivate Sub Class_Initialize()\n    Debug.Print \"init\"\nEnd Sub\n\
+    Private Sub Class_Terminate()\n    Debug.Print \"term\"; Field\nEnd Sub\n";
+
+// [MS-VBAL] 5.2.3.1.4 "Variable Declarations" (auto-instantiation): a variable declared
+// `As New` holds Nothing until it is used; using it then makes a new object, so the object
+// is made at the first use, not at the Dim; `Set x = Nothing` lets the object go and the
+// next use makes another; `x Is Nothing` uses x, so it is never True. ("Dim statement": New
+// "enables implicit creation of an object".)
+#[test]
+fn dim_as_new_makes_the_object_at_its_first_use() {
+    let main = "Sub Main()\n    Dim x As New Probe\n    Debug.Print \"declared\"\n    x.Field = 1\n\
+                \x20   Set x = Nothing\n    Debug.Print \"let go\"\n    Debug.Print x.Field\n    Debug.Print x Is Nothing\n\
+                \x20   Set x = Nothing\n    Debug.Print x Is Nothing\nEnd Sub\n";
+    let out = with_classes(main, &[("Probe", PROBE)]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        out.printed,
+        ["declared", "init", "term 1 ", "let go", "init", " 0 ", "False", "term 0 ", "init", "False", "term 0 "]
+    );
+}
+
+// [MS-VBAL] 5.2.3.2 "Const Declarations": a constant with an `As` clause has the declared
+// type, its value let-coerced to it (5.5.1.2.1: to Integer by banker's rounding, so 2.5 is
+// 2 and 3.5 is 4); a value past the type's range is "Overflow (Error 6)".
+#[test]
+fn a_typed_constant_is_converted_to_its_type() {
+    let out =
+        printed("    Const C As Integer = 2.5, D As Long = 3.5, S As String = 12\n    Debug.Print C; D; S & \"!\"");
+    assert_eq!(out, [" 2  4 12!"]);
+    let e = failure("Sub Main()\n    Const X As Integer = 40000\n    Debug.Print X\nEnd Sub\n");
+    assert!(e.message.contains("run-time error 6"), "{e}");
+    assert_eq!(e.span.unwrap().line, 2, "{e}");
+    // A constant's declared type is its expressions': Integer * Integer overflows (5.6.9.3).
+    let e = failure("Const K As Integer = 200\nSub Main()\n    x = K * K\nEnd Sub\n");
+    assert!(e.message.contains("run-time error 6"), "{e}");
+}
+
+// [MS-VBAL] 5.6.9.3.1 "Unary - Operator": the result has the operand's declared type, and
+// "if the result overflows the range of the declared type, runtime error 6 (Overflow) is
+// raised": the Integer -32,768 and the Long -2,147,483,648 have no positive of their type.
+#[test]
+fn negating_the_most_negative_integer_or_long_overflows() {
+    for (ty, min) in [("Integer", "-32768"), ("Long", "-2147483648")] {
+        let e = failure(&format!("Sub Main()\n    Dim x As {ty}\n    x = {min}\n    y = -x\nEnd Sub\n"));
+        assert!(e.message.contains("run-time error 6"), "{ty}: {e}");
+        assert_eq!(e.span.unwrap().line, 4, "{e}");
+    }
+    // A Variant widens, and an Integer's other values negate.
+    assert_eq!(
+        printed("    Dim x As Integer, v\n    x = -32767: v = -32768\n    Debug.Print -x; -v"),
+        [" 32767  32768 "]
+    );
+    let out = printed(
+        "    Dim x As Integer\n    x = -32768\n    On Error Resume Next\n    y = -x\n    Debug.Print Err.Number",
+    );
+    assert_eq!(out, [" 6 "]);
+}
+
+// "Terminate event": it "occurs when all references to an instance of an object are removed
+// from memory": an object whose last reference was a Collection's or a Dictionary's entry is
+// terminated when the entry is removed (Remove, RemoveAll), replaced, or when the Collection
+// itself goes; one still held by a variable is not.
+#[test]
+fn objects_only_a_collection_held_are_terminated_when_it_lets_them_go() {
+    let main = "Function Made(n)\n    Dim p As Probe\n    Set p = New Probe\n    p.Field = n\n    Set Made = p\nEnd Function\n\
+                Sub Main()\n    Dim c As Collection, d As Object, kept As Probe\n    Set c = New Collection\n\
+                \x20   c.Add Made(1)\n    c.Add Made(2)\n    Set kept = c(2)\n    c.Remove 1\n    c.Remove 1\n\
+                \x20   Debug.Print \"removed\"\n    Set d = CreateObject(\"Scripting.Dictionary\")\n    d.Add \"a\", Made(3)\n\
+                \x20   d.Add \"b\", Made(4)\n    Set d(\"b\") = Made(5)\n    d.RemoveAll\n    Debug.Print \"cleared\"\n\
+                \x20   c.Add Made(6)\n    Set c = Nothing\n    Debug.Print \"end\"\nEnd Sub\n";
+    let out = with_classes(main, &[("Probe", PROBE)]).unwrap_or_else(|e| panic!("{e}"));
+    let mut lines: Vec<&str> = out.printed.iter().map(String::as_str).filter(|l| *l != "init").collect();
+    // RemoveAll lets both go; the reference names no order between them.
+    lines[3..5].sort_unstable();
+    assert_eq!(lines, ["term 1 ", "removed", "term 4 ", "term 3 ", "term 5 ", "cleared", "term 6 ", "end", "term 2 "]);
+}
+
+// [MS-VBAL] 2.1.1.1 "Date" and 3.3.3 "Date Tokens": `Dim d As Date` is a Date (TypeName
+// "Date", VarType 7, vbDate, "VarType function"), `#1/2/2024#` and `#12:30:00 PM#` are Date
+// literals; 5.6.9.3.3 and 5.6.9.3.4: a Date plus or minus a number is a Date (the next day
+// for + 1), a Date minus a Date the Double of the days between; dates compare as points in
+// time. A Date made a String ("Print # statement": "the standard short date format", and
+// only the part, date or time, that is there) shows as the en-US locale writes it; Debug.Print,
+// MsgBox and `&` show that text, not the day count.
+#[test]
+fn date_is_a_type_with_literals_arithmetic_and_text() {
+    let out = printed(
+        "    Dim d As Date, e As Date, t As Date\n    d = #1/2/2024#\n    e = d + 1\n    t = #12:30:00 PM#\n\
+         \x20   Debug.Print TypeName(d); VarType(d); TypeName(#1/2/2024#)\n    Debug.Print d\n    Debug.Print e\n\
+         \x20   Debug.Print t\n    Debug.Print d + t\n    Debug.Print e - d; e > d; d = #2024-01-02#\n\
+         \x20   Debug.Print \"on \" & e",
+    );
+    assert_eq!(
+        out,
+        ["Date 7 Date", "1/2/2024", "1/3/2024", "12:30:00 PM", "1/2/2024 12:30:00 PM", " 1 TrueTrue", "on 1/3/2024"]
+    );
+    let mut wb = Workbook::with_sheet();
+    let src = "Sub Main()\n    Dim d As Date\n    d = #1/2/2024#\n    MsgBox d - 1\nEnd Sub\n";
+    let out = vba::run(&mut wb, src, "test.bas", &RunOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.messages, ["1/1/2024"]);
+}
+
+// "Print # statement": dates are written in the short date format, only the part there;
+// "Write # statement": "Date data is written to the file by using the universal date
+// format" (#yyyy-mm-dd hh:mm:ss#, hours 0 to 23; its example: "#1994-07-13#").
+#[test]
+fn print_and_write_to_a_file_write_dates_as_vba_does() {
+    use ncsheet::vba::FileAccess;
+    let src = "Sub Main()\n    Dim d As Date\n    d = #7/13/1994#\n    Open \"OUT.TXT\" For Output As #1\n\
+               \x20   Print #1, d; \"|\"; d + #1:05:09 PM#\n    Write #1, d, d + #1:05:09 PM#, #13:05:09#, 1\n    Close #1\nEnd Sub\n";
+    let files =
+        FileAccess { out_dir: Some("out".into()), inputs: Vec::new(), read_out_dir: std::rc::Rc::new(|_| Ok(None)) };
+    let options = RunOptions { files: Some(files), ..RunOptions::default() };
+    let out = vba::run(&mut Workbook::with_sheet(), src, "test.bas", &options).unwrap_or_else(|e| panic!("{e}"));
+    let text = String::from_utf8(out.files[0].1.clone()).unwrap();
+    assert_eq!(text, "7/13/1994|7/13/1994 1:05:09 PM\r\n#1994-07-13#,#1994-07-13 13:05:09#,#13:05:09#,1\r\n");
+}

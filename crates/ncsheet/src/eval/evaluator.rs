@@ -160,6 +160,12 @@ pub trait Host {
     fn arithmetic(&self, _op: BinOp, _operands: (&Expr, &Expr), _values: (&Value, &Value), result: Value) -> Value {
         result
     }
+
+    /// The result of `-operand`: a macro checks it against the operand's declared type
+    /// (VBA's `-x` of the Integer -32,768 overflows); the result stays as computed by default.
+    fn negation(&self, _operand: &Expr, result: Value) -> Value {
+        result
+    }
 }
 
 /// The result of evaluating an expression that may be a reference.
@@ -1049,7 +1055,13 @@ impl<'a> Ctx<'a> {
                 match v {
                     // VBA's Null propagates through negation too.
                     Value::Null => Value::Null,
-                    v => map_number(&v, |x| Ok(-x), self.dates),
+                    v => {
+                        let negated = map_number(&v, |x| Ok(-x), self.dates);
+                        match self.host {
+                            Some(host) => host.negation(inner, negated),
+                            None => negated,
+                        }
+                    }
                 }
             }
             UnaryOp::Plus => self.eval(inner),

@@ -126,7 +126,8 @@ pub enum Ty {
     /// Integer, Long, LongLong, Byte: whole numbers, halves rounded to even, by their
     /// VarType number (2 Integer, 3 Long, 17 Byte, 20 LongLong), which also sets their range.
     Whole(u8),
-    /// Double, Single, Currency, Decimal, by their VarType number (5, 4, 6, 14).
+    /// Double, Single, Currency, Decimal and Date, by their VarType number (5, 4, 6, 14,
+    /// [`DATE_VAR_TYPE`]); a Date holds its day count as the 1900 date system counts.
     Number(u8),
     String,
     Boolean,
@@ -135,6 +136,9 @@ pub enum Ty {
     /// A `Type` of the module, by index.
     Record(usize),
 }
+
+/// VarType's number for a Date (vbDate): `Ty::Number(DATE_VAR_TYPE)` is the Date type.
+pub const DATE_VAR_TYPE: u8 = 7;
 
 /// `Type Name … End Type`: its fields in order, with their types.
 #[derive(Debug)]
@@ -191,7 +195,8 @@ pub enum StmtKind {
         preserve: bool,
         vars: Vec<VarDecl>,
     },
-    Const(Vec<(Rc<str>, Expr)>),
+    /// `Const C As Integer = 2.5`: each name, its declared type, and its value's expression.
+    Const(Vec<(Rc<str>, Option<Ty>, Expr)>),
     /// `x = …`, `Range("B3").Value = …`, `Set r = …`.
     Assign {
         target: Target,

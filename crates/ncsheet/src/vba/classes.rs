@@ -144,16 +144,42 @@ impl Interp<'_, '_> {
     }
 
     /// Runs `Class_Terminate` of an object `var` held, when nothing else holds it: the last
-    /// reference is going.
+    /// reference is going. The objects it alone held go with it, and so do those a
+    /// Collection or a Dictionary alone held ("Terminate event": when "all references to an
+    /// instance" are removed), one after another: a long chain does not take the stack.
     pub(super) fn release(&self, var: &Var) -> Run<()> {
-        let Var::Obj(Obj::Instance(object)) = var else { return Ok(()) };
-        if Rc::strong_count(&object.0) != 1 {
-            return Ok(());
+        let mut pending = Vec::new();
+        self.release_one(var, &mut pending)?;
+        self.release_all(pending)
+    }
+
+    /// Lets go of vars that nothing else will hold (taken out of their holder).
+    pub(super) fn release_all(&self, pending: Vec<Var>) -> Run<()> {
+        // In the order held: the first item of a Collection goes first.
+        let mut pending: Vec<Var> = pending.into_iter().rev().collect();
+        while let Some(var) = pending.pop() {
+            self.release_one(&var, &mut pending)?;
         }
-        match self.class_proc(object.0.class, "Class_Terminate", None) {
-            Some(proc) => self.run_event(proc, object, self.module.procs[proc].span),
-            None => Ok(()),
+        Ok(())
+    }
+
+    /// Terminates `var`'s object if this is its last reference, adding what it held to `pending`.
+    fn release_one(&self, var: &Var, pending: &mut Vec<Var>) -> Run<()> {
+        match var {
+            Var::Obj(Obj::Instance(object)) if Rc::strong_count(&object.0) == 1 => {
+                if let Some(proc) = self.class_proc(object.0.class, "Class_Terminate", None) {
+                    self.run_event(proc, object, self.module.procs[proc].span)?;
+                }
+                // Class_Terminate may have handed `Me` to someone: then it lives on.
+                if Rc::strong_count(&object.0) == 1 {
+                    let fields = object.0.fields.take();
+                    pending.extend(fields.iter().map(|s| s.var.clone()));
+                }
+            }
+            Var::Obj(Obj::Store(h)) if Rc::strong_count(&h.0) == 1 => pending.extend(h.0.borrow_mut().take_items()),
+            _ => {}
         }
+        Ok(())
     }
 
     /// `obj.Member(args)` read or called: a public Sub, Function or Property Get of the

@@ -302,8 +302,8 @@ impl Store {
     /// Removes the entry at place `at`: its place is kept (no later entry moves) until half
     /// the places are such, then all are closed up at once, so that a removal costs the same
     /// on average however many entries there are.
-    fn remove(&mut self, at: usize) {
-        let Some((key, _)) = self.entries[at].take() else { return };
+    fn remove(&mut self, at: usize) -> Option<Var> {
+        let (key, item) = self.entries[at].take()?;
         if let Some(form) = key.as_ref().and_then(|k| self.form(k).ok()) {
             self.index.remove(&form);
         }
@@ -312,6 +312,14 @@ impl Store {
         if self.gone * 2 > self.entries.len() {
             self.close_up();
         }
+        Some(item)
+    }
+
+    /// Empties it, giving back the items it held (for their objects' Class_Terminate).
+    pub(super) fn take_items(&mut self) -> Vec<Var> {
+        let items = self.entries.drain(..).flatten().map(|(_, item)| item).collect();
+        self.clear();
+        items
     }
 
     /// `d.Key(old) = new`: the entry at place `at` takes the key `new` and keeps its place.
@@ -424,7 +432,9 @@ impl Interp<'_, '_> {
                         .find(&h, &key, link.span)?
                         .ok_or_else(|| self.vba_error(link.span, NO_SUCH_KEY, "Remove"))?,
                 };
-                h.0.borrow_mut().remove(at);
+                let removed = h.0.borrow_mut().remove(at);
+                // An object only the entry held is let go: its Class_Terminate runs.
+                self.release_all(removed.into_iter().collect())?;
                 blank
             }
             (Class::Dictionary, "exists") => {
@@ -438,7 +448,8 @@ impl Interp<'_, '_> {
             }
             (Class::Dictionary, "items") => Ok(Obj::Value(zero_based(h.items().iter().map(var_value).collect()))),
             (Class::Dictionary, "removeall") => {
-                h.0.borrow_mut().clear();
+                let removed = h.0.borrow_mut().take_items();
+                self.release_all(removed)?;
                 blank
             }
             (Class::Dictionary, "comparemode") => {
@@ -549,8 +560,8 @@ impl Interp<'_, '_> {
         match self.find(h, key, span)? {
             Some(at) => {
                 self.charge(super::budget::brought(&item), span)?;
-                *h.0.borrow_mut().item_mut(at) = item;
-                Ok(())
+                let old = std::mem::replace(h.0.borrow_mut().item_mut(at), item);
+                self.release(&old)
             }
             None => self.put(h, key.clone(), item, span),
         }

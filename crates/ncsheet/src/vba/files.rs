@@ -778,7 +778,10 @@ impl Interp<'_, '_> {
                     if let Value::Array(_) = v {
                         return Err(self.fault_at(self.expr_span(e), "Print # prints values, not arrays"));
                     }
-                    print_form(&v)
+                    match self.as_date(e, &v) {
+                        Some(date) => super::value::date_text(date),
+                        None => print_form(&v),
+                    }
                 }
                 PrintPart::Join => {
                     open = true;
@@ -821,7 +824,10 @@ impl Interp<'_, '_> {
             if i > 0 {
                 line.push(',');
             }
-            line.push_str(&write_form(&v));
+            match self.as_date(e, &v) {
+                Some(date) => line.push_str(&super::value::universal_date_text(date)),
+                None => line.push_str(&write_form(&v)),
+            }
         }
         if open {
             line.push(',');

@@ -150,7 +150,20 @@ impl Host for Interp<'_, '_> {
     }
 
     fn arithmetic(&self, op: BinOp, operands: (&Expr, &Expr), values: (&Value, &Value), result: Value) -> Value {
+        if op == BinOp::Concat {
+            return self.concat_dates(operands, values).unwrap_or(result);
+        }
         match self.overflow(op, operands, values, &result) {
+            Some(fault) => {
+                self.park(fault);
+                Value::Error(XlError::Num)
+            }
+            None => result,
+        }
+    }
+
+    fn negation(&self, operand: &Expr, result: Value) -> Value {
+        match self.negation_overflow(operand, &result) {
             Some(fault) => {
                 self.park(fault);
                 Value::Error(XlError::Num)
@@ -169,12 +182,30 @@ impl Host for Interp<'_, '_> {
 }
 
 /// What an object variable holds before `Set` or after `Set x = Nothing`: no object.
-fn is_nothing(var: &Var) -> bool {
+pub(super) fn is_nothing(var: &Var) -> bool {
     matches!(var, Var::Value(Value::Blank) | Var::Obj(Obj::Value(Value::Blank)))
 }
 
 impl Interp<'_, '_> {
-    fn park(&self, fault: Fault) {
+    /// `"on " & d` with a Date operand: the date's text, not its day count ([MS-VBAL]
+    /// 5.6.9.4, `&` let-coerces each operand to String). `None` when neither is a Date.
+    fn concat_dates(&self, (a, b): (&Expr, &Expr), (x, y): (&Value, &Value)) -> Option<Value> {
+        if !matches!(x, Value::Number(_)) && !matches!(y, Value::Number(_)) {
+            return None;
+        }
+        let (dx, dy) = (self.as_date(a, x), self.as_date(b, y));
+        if dx.is_none() && dy.is_none() {
+            return None;
+        }
+        let text = |date: Option<f64>, v: &Value| match (date, v) {
+            (Some(d), _) => Some(super::value::date_text(d)),
+            (None, Value::Null) => Some(String::new()),
+            (None, v) => crate::eval::functions::vba::vba_text(v).ok().map(|t| t.to_string()),
+        };
+        Some(Value::text(format!("{}{}", text(dx, x)?, text(dy, y)?)))
+    }
+
+    pub(super) fn park(&self, fault: Fault) {
         let mut pending = self.pending.borrow_mut();
         if pending.is_none() {
             *pending = Some(fault);

@@ -23,6 +23,7 @@ use crate::workbook::{Input, Workbook, WorkbookError};
 use super::ast::*;
 use super::classes::Instance;
 use super::collections::Handle;
+use super::host::is_nothing;
 use super::parser::Lines;
 use super::value::{array_var, convert, default_value, input_text, print_text, range_var, Obj, Slot, Slots, Var};
 use super::{ErrorKind, MacroError, Printed, RunOptions, RunOutput};
@@ -564,19 +565,44 @@ impl Interp<'_, '_> {
             .ok_or_else(|| self.fault_at(span, "a name starting with . needs a With block around it"))
     }
 
-    /// A copy of what the variable `name` holds (current procedure first, then module).
+    /// A copy of what the variable `name` holds (current procedure first, then module); a
+    /// variable declared `As New` holding Nothing gets its new object first.
     pub fn lookup(&self, name: &str) -> Option<Var> {
-        let frames = self.frames.borrow();
-        let local = frames.last().and_then(|f| f.vars.get(name));
-        if let Some(s) = local {
-            return Some(s.var.clone());
+        match self.lookup_slot(name, |s| (s.var.clone(), s.new))? {
+            (var, Some((class, span))) if is_nothing(&var) => Some(self.instantiate(name, class, span)),
+            (var, _) => Some(var),
         }
-        if let Some(me) = frames.last().and_then(|f| f.me.as_ref()) {
+    }
+
+    fn lookup_slot<T>(&self, name: &str, f: impl FnOnce(&Slot) -> T) -> Option<T> {
+        let frames = self.frames.borrow();
+        let local = frames.last().and_then(|fr| fr.vars.get(name));
+        if let Some(s) = local {
+            return Some(f(s));
+        }
+        if let Some(me) = frames.last().and_then(|fr| fr.me.as_ref()) {
             if let Some(s) = me.0.fields.borrow().get(name) {
-                return Some(s.var.clone());
+                return Some(f(s));
             }
         }
-        self.globals.borrow().get(name).map(|s| s.var.clone())
+        self.globals.borrow().get(name).map(f)
+    }
+
+    /// Auto-instantiation ([MS-VBAL] 5.2.3.1.4, "Variable Declarations": a variable declared
+    /// `As New` that holds Nothing when it is used gets a new object of its class first, so
+    /// `x Is Nothing` is never True and `Set x = Nothing` only lets its object go). A failure
+    /// making it (its Class_Initialize) is parked for the statement to raise.
+    fn instantiate(&self, name: &str, class: Made, span: Span) -> Var {
+        match self.new_object(class, span) {
+            Ok(object) => {
+                self.with_slot(name, |s| s.var = object.clone());
+                object
+            }
+            Err(fault) => {
+                self.park(fault);
+                Var::Obj(Obj::Value(Value::Blank))
+            }
+        }
     }
 
     /// Changes a variable in place; `None` when there is no such variable.
@@ -626,7 +652,7 @@ impl Interp<'_, '_> {
             // The object the variable held may have lost its last reference.
             Some(r) => self.release(&r.map_err(|m| self.fault_at(span, m))?),
             None => {
-                self.declare(Slot { name: name.clone(), var, ty: None, constant: false });
+                self.declare(Slot { name: name.clone(), var, ty: None, constant: false, new: None });
                 Ok(())
             }
         }
@@ -897,11 +923,11 @@ impl Interp<'_, '_> {
                 },
             };
             let var = convert(var, param.ty.as_ref(), &param.name).map_err(|m| self.fault(m))?;
-            self.declare(Slot { name: param.name.clone(), var, ty: param.ty.clone(), constant: false });
+            self.declare(Slot { name: param.name.clone(), var, ty: param.ty.clone(), constant: false, new: None });
         }
         if p.kind == ProcKind::Function {
             let var = self.default_var(p.ty.as_ref());
-            self.declare(Slot { name: p.name.clone(), var, ty: p.ty.clone(), constant: false });
+            self.declare(Slot { name: p.name.clone(), var, ty: p.ty.clone(), constant: false, new: None });
         }
         match self.block(&p.body)? {
             Flow::GoTo(label) => Err(self.fault(format!("GoTo {label}: no such label"))),
@@ -1010,10 +1036,10 @@ impl Interp<'_, '_> {
             StmtKind::Static(vars) => self.statics(vars)?,
             StmtKind::ReDim { preserve, vars } => self.dim(vars, true, *preserve)?,
             StmtKind::Const(items) => {
-                for (name, e) in items {
-                    let var = Var::Value(self.eval(e)?);
+                for (name, ty, e) in items {
                     if !self.has_local(name) {
-                        self.declare(Slot { name: name.clone(), var, ty: None, constant: true });
+                        let var = self.constant_value(name, ty.as_ref(), e)?;
+                        self.declare(Slot { name: name.clone(), var, ty: ty.clone(), constant: true, new: None });
                     }
                 }
             }
@@ -1072,6 +1098,20 @@ impl Interp<'_, '_> {
             }
         }
         Ok(Flow::Next)
+    }
+
+    /// A constant's value converted to its declared type ([MS-VBAL] 5.2.3.2, "Const
+    /// Declarations": the value is let-coerced to the declared type), so `Const C As Integer
+    /// = 2.5` is 2 and `Const X As Integer = 40000` an Overflow (error 6).
+    fn constant_value(&self, name: &str, ty: Option<&Ty>, e: &Expr) -> Run<Var> {
+        let var = Var::Value(self.eval(e)?);
+        convert(var, ty, name).map_err(|m| {
+            let mut fault = self.fault_at(self.expr_span(e), m);
+            if fault.message.contains("(run-time error 6)") {
+                fault.code = 6;
+            }
+            fault
+        })
     }
 
     /// A new variable of a type: a Type's fields each at their own default.
@@ -1248,16 +1288,16 @@ impl Interp<'_, '_> {
                     }
                     Var::Array(array)
                 }
-                _ => match d.new {
-                    Some(class) => self.new_object(class, d.span)?,
-                    None => self.default_var(d.ty.as_ref()),
-                },
+                // `Dim x As New Class1` makes no object yet: the first use does.
+                _ if d.new.is_some() => Var::Obj(Obj::Value(Value::Blank)),
+                _ => self.default_var(d.ty.as_ref()),
             };
             self.charge(super::budget::brought(&var), d.span)?;
             if redim && self.with_slot(&d.name, |s| s.var = var.clone()).is_some() {
                 continue;
             }
-            self.declare(Slot { name: d.name.clone(), var, ty: d.ty.clone(), constant: false });
+            let new = d.new.map(|class| (class, d.span));
+            self.declare(Slot { name: d.name.clone(), var, ty: d.ty.clone(), constant: false, new });
         }
         Ok(())
     }
@@ -1350,10 +1390,12 @@ impl Interp<'_, '_> {
                     if let Value::Array(_) = v {
                         return Err(self.fault_at(self.expr_span(e), "Debug.Print prints values, not arrays"));
                     }
-                    // VBA's Print leaves room for a sign before a number and a space after it.
-                    match v {
-                        Value::Number(n) if n >= 0.0 => line.push_str(&format!(" {} ", print_text(&v))),
-                        Value::Number(_) => line.push_str(&format!("{} ", print_text(&v))),
+                    // VBA's Print leaves room for a sign before a number and a space after it;
+                    // a Date is its text ("Print # statement").
+                    match (self.as_date(e, &v), &v) {
+                        (Some(date), _) => line.push_str(&super::value::date_text(date)),
+                        (None, Value::Number(n)) if *n >= 0.0 => line.push_str(&format!(" {} ", print_text(&v))),
+                        (None, Value::Number(_)) => line.push_str(&format!("{} ", print_text(&v))),
                         _ => line.push_str(&print_text(&v)),
                     }
                 }

@@ -561,7 +561,12 @@ impl Interp<'_, '_> {
 
     fn msgbox(&self, ctx: &mut Ctx, link: &Link) -> Run<Obj> {
         let values = self.values(ctx, link)?;
-        let prompt = values.first().map(print_text).unwrap_or_default();
+        let first = link.args.as_deref().and_then(|a| a.first()).map(|a| &a.value);
+        // A Date prompt shows its text ("MsgBox function": the prompt is a string expression).
+        let prompt = match first.zip(values.first()).and_then(|(e, v)| self.as_date(e, v)) {
+            Some(date) => super::value::date_text(date),
+            None => values.first().map(print_text).unwrap_or_default(),
+        };
         self.within_output_limit(prompt.len())?;
         self.emit(super::Printed::Message(&prompt));
         // vbOK: nobody is there to press another button.

@@ -629,12 +629,13 @@ impl<'s> Build<'s> {
             let k = kids(&item);
             let name = name_of(&find(&k, Rule::ident).expect("constant name"));
             let value = self.expr(find(&k, Rule::vexpr).expect("constant value"))?;
+            let ty = find(&k, Rule::as_clause).map(|a| self.ty_of(&a));
             if at_module {
                 self.globals.borrow_mut().insert(name.to_ascii_lowercase());
             } else {
                 self.declare(&name);
             }
-            out.push((name, value));
+            out.push((name, ty, value));
         }
         Ok(StmtKind::Const(out))
     }
@@ -1252,6 +1253,7 @@ fn ty_named(name: &str) -> Ty {
         "decimal" => Ty::Number(14),
         "string" => Ty::String,
         "boolean" => Ty::Boolean,
+        "date" => Ty::Number(DATE_VAR_TYPE),
         _ => Ty::Variant,
     }
 }
@@ -1388,7 +1390,7 @@ fn property_kind(pair: &Pair<Rule>) -> Option<PropertyKind> {
 fn declared_names(stmt: &Stmt) -> Vec<String> {
     match &stmt.kind {
         StmtKind::Dim(vars) => vars.iter().map(|v| v.name.to_ascii_lowercase()).collect(),
-        StmtKind::Const(items) => items.iter().map(|(n, _)| n.to_ascii_lowercase()).collect(),
+        StmtKind::Const(items) => items.iter().map(|(n, ..)| n.to_ascii_lowercase()).collect(),
         _ => Vec::new(),
     }
 }

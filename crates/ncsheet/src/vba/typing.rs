@@ -8,10 +8,11 @@
 
 use crate::eval::coerce::to_number;
 use crate::eval::dates::DateSystem;
+use crate::eval::format::number_format::general;
 use crate::eval::Value;
 use crate::formula::ast::{BinOp, Expr, ExprKind, UnaryOp};
 
-use super::ast::{Inspect, Node, Ty};
+use super::ast::{Inspect, Node, Ty, DATE_VAR_TYPE};
 use super::interp::{Fault, Interp};
 
 /// An expression's declared type, as far as the interpreter tells types apart.
@@ -47,6 +48,7 @@ impl Declared {
             Some(Ty::Number(4)) => Declared::Single,
             Some(Ty::Number(6)) => Declared::Currency,
             Some(Ty::Number(14)) => Declared::Decimal,
+            Some(Ty::Number(DATE_VAR_TYPE)) => Declared::Date,
             Some(Ty::Number(_)) => Declared::Double,
             Some(Ty::String) => Declared::String,
             Some(Ty::Boolean) => Declared::Boolean,
@@ -119,6 +121,18 @@ fn sum_type(a: Declared, b: Declared) -> Declared {
     }
 }
 
+/// The declared type of `+` and `-` with a Date operand ([MS-VBAL] 5.6.9.3.3 and 5.6.9.3.4):
+/// a Date plus or minus a number is a Date (`d + 1` is the next day), a Date minus a Date a
+/// Double (the days between); `None` when neither operand is a Date, or one is a Variant.
+fn date_sum_type(op: BinOp, a: Declared, b: Declared) -> Option<Declared> {
+    let numeric = |t: Declared| t != Declared::Variant && t != Declared::String;
+    match (a, b) {
+        (Declared::Date, Declared::Date) if op == BinOp::Sub => Some(Declared::Double),
+        (Declared::Date, other) | (other, Declared::Date) if numeric(other) => Some(Declared::Date),
+        _ => None,
+    }
+}
+
 /// The declared type of `\` and `Mod` ([MS-VBAL] 5.6.9.3.6 and 5.6.9.3.7): as for `+` on
 /// integral operands; otherwise the operands are made Longs (LongLong beside a LongLong).
 fn whole_division_type(a: Declared, b: Declared) -> Declared {
@@ -177,6 +191,8 @@ fn function_type(name: &str) -> Declared {
         | "VBA.LOG" | "VBA.SQR" => Declared::Double,
         "VBA.CSTR" => Declared::String,
         "VBA.CBOOL" | "VBA.ISNUMERIC" | "VBA.ISEMPTY" | "VBA.ISERROR" | "VBA.ISARRAY" => Declared::Boolean,
+        "VBA.CDATE" | "VBA.CVDATE" | "VBA.DATESERIAL" | "VBA.TIMESERIAL" | "VBA.DATEVALUE" | "VBA.TIMEVALUE"
+        | "VBA.DATE" | "VBA.TIME" | "VBA.NOW" | "VBA.DATEADD" => Declared::Date,
         _ => Declared::Variant,
     }
 }
@@ -202,7 +218,11 @@ impl Interp<'_, '_> {
                 Declared::Boolean => Declared::Integer,
                 other => other,
             },
-            ExprKind::Binary(BinOp::Add | BinOp::Sub | BinOp::Mul, a, b) => sum_type(inner(a), inner(b)),
+            ExprKind::Binary(op @ (BinOp::Add | BinOp::Sub), a, b) => {
+                let (x, y) = (inner(a), inner(b));
+                date_sum_type(*op, x, y).unwrap_or_else(|| sum_type(x, y))
+            }
+            ExprKind::Binary(BinOp::Mul, a, b) => sum_type(inner(a), inner(b)),
             ExprKind::Binary(BinOp::IntDiv | BinOp::Mod, a, b) => match (inner(a), inner(b)) {
                 (Declared::Variant, _) | (_, Declared::Variant) => Declared::Variant,
                 (x, y) => whole_division_type(x, y),
@@ -215,6 +235,16 @@ impl Interp<'_, '_> {
             ExprKind::Call(id, _) => function_type(crate::eval::functions::spec(*id).name),
             ExprKind::Host(id) => self.node_type(*id),
             _ => Declared::Variant,
+        }
+    }
+
+    /// The day count of `v` when `e`, which gave it, is of the declared type Date: what
+    /// Debug.Print, Print #, Write #, MsgBox and `&` show as a date ([MS-VBAL] 5.5.1.2.4,
+    /// a Date let-coerced to String).
+    pub(super) fn as_date(&self, e: &Expr, v: &Value) -> Option<f64> {
+        match v {
+            Value::Number(n) if self.declared_type(e) == Declared::Date => Some(*n),
+            _ => None,
         }
     }
 
@@ -233,6 +263,38 @@ impl Interp<'_, '_> {
             Node::Is { .. } | Node::Inspect { what: Inspect::IsMissing, .. } => Declared::Boolean,
             _ => Declared::Variant,
         }
+    }
+
+    /// Overflow (run-time error 6) of `-operand`, which gave `result`: the negation has the
+    /// operand's declared type ([MS-VBAL] 5.6.9.3.1, unary `-`), and the most negative
+    /// Integer or Long has no positive of its type (`-x` for the Integer -32,768).
+    pub(super) fn negation_overflow(&self, operand: &Expr, result: &Value) -> Option<Fault> {
+        let Value::Number(n) = *result else { return None };
+        if (-255.0..=255.0).contains(&n) || n.fract() != 0.0 {
+            return None;
+        }
+        let (low, high, holds) = self.declared_type(operand).range()?;
+        if (low..=high).contains(&n) {
+            return None;
+        }
+        let text = self.source_between(operand.span.start, operand.span.end).trim();
+        let shown = if text.is_empty() || text.chars().count() > 60 { "the operand" } else { text };
+        Some(self.overflow_fault(
+            self.expr_span(operand),
+            format!("-{shown} overflows: its type makes it {holds}, which cannot hold {}", general(n)),
+        ))
+    }
+
+    /// VBA's Overflow (run-time error 6), with how to avoid it.
+    fn overflow_fault(&self, span: super::ast::Span, what: String) -> Fault {
+        let mut fault = self.fault_at(
+            span,
+            format!(
+                "Overflow (run-time error 6): {what} ([MS-VBAL] 5.6.9.3); make an operand wider, as CLng(x) or CDbl(x)"
+            ),
+        );
+        fault.code = 6;
+        fault
     }
 
     /// Overflow (run-time error 6) of `a op b`, whose operands had `values` and which gave
@@ -269,15 +331,9 @@ impl Interp<'_, '_> {
         let text = self.source_between(a.span.start, b.span.end).trim();
         let shown =
             if text.is_empty() || text.chars().count() > 60 { "the operation".to_string() } else { text.to_string() };
-        let mut fault = self.fault_at(
+        Some(self.overflow_fault(
             self.expr_span(a),
-            format!(
-                "Overflow (run-time error 6): {shown} overflows: its operands' types make it {holds}, \
-                 which cannot hold {} ([MS-VBAL] 5.6.9.3); make an operand wider, as CLng(x) or CDbl(x)",
-                crate::eval::format::number_format::general(past)
-            ),
-        );
-        fault.code = 6;
-        Some(fault)
+            format!("{shown} overflows: its operands' types make it {holds}, which cannot hold {}", general(past)),
+        ))
     }
 }

@@ -88,6 +88,9 @@ pub struct Slot {
     pub var: Var,
     pub ty: Option<Ty>,
     pub constant: bool,
+    /// `Dim x As New Class1`: the class an auto-instantiated variable makes an object of when
+    /// it is used holding Nothing ([MS-VBAL] 5.2.3.1.4), and the declaration's place.
+    pub new: Option<(super::ast::Made, super::ast::Span)>,
 }
 
 /// The variables of a procedure's call or of the module, in the order declared, each found
@@ -252,6 +255,53 @@ pub fn print_text(v: &Value) -> String {
     match v {
         Value::Bool(b) => if *b { "True" } else { "False" }.to_string(),
         other => other.to_string(),
+    }
+}
+
+/// A Date's calendar day (`None` for day 0, 1899-12-30: a time alone) and its second of
+/// the day (`None` at midnight). VBA counts days from 1899-12-30 on both sides of 1900 (no
+/// 1900-02-29), and a negative date's time runs forward from its day ([MS-VBAL] 2.1.1.1
+/// "Date": the fractional part's absolute value is the time of day).
+fn date_parts(serial: f64) -> (Option<chrono::NaiveDate>, Option<u32>) {
+    let mut days = serial.trunc();
+    let mut seconds = ((serial - days).abs() * 86400.0).round() as u32;
+    if seconds == 86400 {
+        seconds = 0;
+        days += serial.signum();
+    }
+    let base = chrono::NaiveDate::from_ymd_opt(1899, 12, 30).expect("VBA's day 0");
+    let date = (days != 0.0).then(|| base.checked_add_signed(chrono::Duration::days(days as i64))).flatten();
+    (date, (seconds != 0).then_some(seconds))
+}
+
+/// A Date as VBA makes it a String in the en-US locale ("Print # statement": the short date
+/// format, the time in the long time format; "when either the date or the time component is
+/// missing or zero, only the part provided" is there): `1/2/2024`, `12:30:00 PM`,
+/// `1/2/2024 12:30:00 PM`; midnight of day 0 is `12:00:00 AM`.
+pub fn date_text(serial: f64) -> String {
+    use chrono::Datelike;
+    let time = |s: u32| {
+        let (h, m, sec) = (s / 3600, s / 60 % 60, s % 60);
+        let twelve = if h % 12 == 0 { 12 } else { h % 12 };
+        format!("{twelve}:{m:02}:{sec:02} {}", if h < 12 { "AM" } else { "PM" })
+    };
+    match date_parts(serial) {
+        (Some(d), None) => format!("{}/{}/{}", d.month(), d.day(), d.year()),
+        (Some(d), Some(s)) => format!("{}/{}/{} {}", d.month(), d.day(), d.year(), time(s)),
+        (None, Some(s)) => time(s),
+        (None, None) => time(0),
+    }
+}
+
+/// A Date as `Write #` writes it ("Write # statement": the universal format
+/// `#yyyy-mm-dd hh:mm:ss#`, hours 0 to 23, only the part that is there).
+pub fn universal_date_text(serial: f64) -> String {
+    let time = |s: u32| format!("{:02}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60);
+    match date_parts(serial) {
+        (Some(d), None) => format!("#{}#", d.format("%Y-%m-%d")),
+        (Some(d), Some(s)) => format!("#{} {}#", d.format("%Y-%m-%d"), time(s)),
+        (None, Some(s)) => format!("#{}#", time(s)),
+        (None, None) => format!("#{}#", time(0)),
     }
 }
 
