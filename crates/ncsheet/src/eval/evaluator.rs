@@ -30,6 +30,15 @@ pub trait Env {
     /// which error a SUM reports and the rounding of long sums).
     fn for_each_value(&self, sheet: SheetId, rect: Rect, f: &mut dyn FnMut(Pos, &Value));
 
+    /// Calls `f` for every number among the cells of `rect`, in [`Env::for_each_value`]'s
+    /// order, as SUM, MAX and AVERAGE read a range: text, booleans and blanks are skipped,
+    /// and the first error ends the visit as the result. An environment may read its cells
+    /// more directly than through [`Env::for_each_value`] (the workbook does: ranges are most
+    /// of what aggregates read).
+    fn for_each_number_in(&self, sheet: SheetId, rect: Rect, f: &mut dyn FnMut(f64)) -> XlResult<()> {
+        numbers_of_values(self, sheet, rect, f)
+    }
+
     /// The rectangle from A1 to the last used row and column (`None` for an empty sheet).
     fn used_rect(&self, sheet: SheetId) -> Option<Rect>;
 
@@ -299,6 +308,17 @@ pub struct Ctx<'a> {
     pub dynamic_refs: Vec<(SheetId, Rect)>,
 }
 
+/// [`Env::for_each_number_in`] through [`Env::for_each_value`], for any environment.
+pub fn numbers_of_values<E: Env + ?Sized>(env: &E, sheet: SheetId, rect: Rect, f: &mut dyn FnMut(f64)) -> XlResult<()> {
+    let mut outcome = Ok(());
+    env.for_each_value(sheet, rect, &mut |_, v| match v {
+        Value::Number(n) if outcome.is_ok() => f(*n),
+        Value::Error(e) if outcome.is_ok() => outcome = Err(*e),
+        _ => {}
+    });
+    outcome
+}
+
 /// Excel's longest text, in UTF-16 units: any longer text result of a cell formula is
 /// `#VALUE!`, whichever function or operator made it.
 pub const MAX_TEXT: usize = 32_767;
@@ -384,6 +404,21 @@ impl<'a> Ctx<'a> {
         }
     }
 
+    /// What the evaluation found besides its value: notes explaining errors, and references
+    /// made at run time. Ending a cell's evaluation through this rather than dropping the
+    /// `Ctx` keeps the per-cell cost flat: the LET and LAMBDA names are all gone by now, and
+    /// an empty list that never allocated needs no drop call (a recalculation ends a million
+    /// of these).
+    pub fn into_findings(self) -> (Vec<Note>, Vec<(SheetId, Rect)>) {
+        let Ctx { locals, notes, dynamic_refs, .. } = self;
+        if locals.capacity() == 0 {
+            std::mem::forget(locals);
+        } else {
+            drop(locals);
+        }
+        (notes, dynamic_refs)
+    }
+
     /// The same evaluation with a macro interpreter's variables and nodes.
     pub fn with_host(mut self, host: &'a dyn Host) -> Ctx<'a> {
         self.host = Some(host);
@@ -450,11 +485,19 @@ impl<'a> Ctx<'a> {
     /// Operands of `op` as the workbook's locale reads them: text in arithmetic read as a
     /// number there (`"0,8"*1` in et-EE), numbers joined as text shown there (`0,8&""`).
     /// Under en-US, and for other operators, they are unchanged.
+    #[inline]
     fn localized_operands(&self, op: BinOp, a: Value, b: Value) -> (Value, Value) {
-        let locale = self.locale;
-        if locale.is_canonical() {
+        if self.locale.is_canonical() {
             return (a, b);
         }
+        self.operands_in_locale(op, a, b)
+    }
+
+    /// [`Ctx::localized_operands`] outside en-US, kept out of line: the hot path of every
+    /// operator under en-US is the one comparison above.
+    #[inline(never)]
+    fn operands_in_locale(&self, op: BinOp, a: Value, b: Value) -> (Value, Value) {
+        let locale = self.locale;
         match op {
             BinOp::Pow | BinOp::Mul | BinOp::Div | BinOp::Add | BinOp::Sub => {
                 (locale.numbers_for_arithmetic(a, self.dates), locale.numbers_for_arithmetic(b, self.dates))

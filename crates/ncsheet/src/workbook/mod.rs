@@ -974,6 +974,20 @@ impl Env for Workbook {
         }
     }
 
+    fn for_each_number_in(&self, sheet: SheetId, rect: Rect, f: &mut dyn FnMut(f64)) -> crate::eval::XlResult<()> {
+        if self.spill.tails_meeting(sheet, rect).next().is_some() {
+            return crate::eval::evaluator::numbers_of_values(self, sheet, rect, f);
+        }
+        let Some(s) = self.sheets.get(sheet as usize) else { return Ok(()) };
+        let mut outcome = Ok(());
+        s.for_each_in(rect, &mut |_, id| match &self.cells[id as usize].value {
+            Value::Number(n) if outcome.is_ok() => f(*n),
+            Value::Error(e) if outcome.is_ok() => outcome = Err(*e),
+            _ => {}
+        });
+        outcome
+    }
+
     fn used_rect(&self, sheet: SheetId) -> Option<Rect> {
         self.sheets.get(sheet as usize)?.extent()
     }

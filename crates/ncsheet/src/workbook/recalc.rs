@@ -566,8 +566,7 @@ impl Workbook {
         let mut ctx = Ctx::for_cell_of(self, (self.date_system(), self.settings().locale), cell.sheet, cell.pos);
         ctx.numbers = &formula.numbers;
         let value = ctx.eval_formula(&formula.expr);
-        let notes = ctx.notes;
-        let dynamic_refs = ctx.dynamic_refs;
+        let (notes, dynamic_refs) = ctx.into_findings();
         if notes.is_empty() {
             if !self.notes.is_empty() {
                 self.notes.remove(&id);

@@ -158,31 +158,42 @@ pub fn for_each_value(ctx: &mut Ctx, args: &[Expr], f: &mut dyn FnMut(&Value, So
         if a.kind == ExprKind::Missing {
             continue;
         }
-        match ctx.operand(a) {
-            Operand::Ref(sheet, rect) => for_each_cell_value(ctx, sheet, rect, f)?,
-            // `SUM((A1:A3,C1))`: each area in turn, as Excel reads a multi-area reference.
-            Operand::Areas(areas) => {
-                for &(sheet, rect) in areas.iter() {
-                    for_each_cell_value(ctx, sheet, rect, f)?;
-                }
+        let operand = ctx.operand(a);
+        for_each_value_of(ctx, operand, f)?;
+    }
+    Ok(())
+}
+
+/// [`for_each_value`] of one argument's operand.
+fn for_each_value_of(
+    ctx: &mut Ctx,
+    operand: Operand,
+    f: &mut dyn FnMut(&Value, Source) -> XlResult<()>,
+) -> XlResult<()> {
+    match operand {
+        Operand::Ref(sheet, rect) => for_each_cell_value(ctx, sheet, rect, f)?,
+        // `SUM((A1:A3,C1))`: each area in turn, as Excel reads a multi-area reference.
+        Operand::Areas(areas) => {
+            for &(sheet, rect) in areas.iter() {
+                for_each_cell_value(ctx, sheet, rect, f)?;
             }
-            Operand::Value(Value::Array(arr)) => {
-                for v in &arr.data {
-                    f(v, Source::Collection)?;
-                }
-                // The items of a whole row or column beyond those stored (`COUNT(1:1*2)`):
-                // one by one, so past the array limit (`SUM(B:XFD*1)`, 17 billion) #NUM!.
-                if let Some(tail) = &arr.tail {
-                    if too_many_items(tail.rows, tail.cols) {
-                        return Err(ctx.explain(XlError::Num, too_many_items_note(tail.rows, tail.cols)));
-                    }
-                    for _ in 0..tail.rows * tail.cols - arr.rows * arr.cols {
-                        f(&tail.fill, Source::Collection)?;
-                    }
-                }
-            }
-            Operand::Value(v) => f(&v, Source::Direct)?,
         }
+        Operand::Value(Value::Array(arr)) => {
+            for v in &arr.data {
+                f(v, Source::Collection)?;
+            }
+            // The items of a whole row or column beyond those stored (`COUNT(1:1*2)`):
+            // one by one, so past the array limit (`SUM(B:XFD*1)`, 17 billion) #NUM!.
+            if let Some(tail) = &arr.tail {
+                if too_many_items(tail.rows, tail.cols) {
+                    return Err(ctx.explain(XlError::Num, too_many_items_note(tail.rows, tail.cols)));
+                }
+                for _ in 0..tail.rows * tail.cols - arr.rows * arr.cols {
+                    f(&tail.fill, Source::Collection)?;
+                }
+            }
+        }
+        Operand::Value(v) => f(&v, Source::Direct)?,
     }
     Ok(())
 }
@@ -214,17 +225,32 @@ fn for_each_cell_value(
 pub fn for_each_number(ctx: &mut Ctx, args: &[Expr], f: &mut dyn FnMut(f64)) -> XlResult<()> {
     let dates = ctx.dates();
     let locale = ctx.locale();
-    for_each_value(ctx, args, &mut |v, source| {
-        match (v, source) {
-            (Value::Number(n), _) => f(*n),
-            (Value::Error(e), _) => return Err(*e),
-            (_, Source::Collection) => {}
-            (Value::Blank, Source::Direct) => {}
-            (Value::Text(_), Source::Direct) => f(to_number(&locale.numbers_for_arithmetic(v.clone(), dates), dates)?),
-            (other, Source::Direct) => f(to_number(other, dates)?),
+    for a in args {
+        if a.kind == ExprKind::Missing {
+            continue;
         }
-        Ok(())
-    })
+        match ctx.operand(a) {
+            // A range, what aggregates read most: its numbers straight from the cells.
+            Operand::Ref(sheet, rect) => {
+                let rect = ctx.clip_to_used(sheet, rect);
+                ctx.env.for_each_number_in(sheet, rect, f)?;
+            }
+            operand => for_each_value_of(ctx, operand, &mut |v, source| {
+                match (v, source) {
+                    (Value::Number(n), _) => f(*n),
+                    (Value::Error(e), _) => return Err(*e),
+                    (_, Source::Collection) => {}
+                    (Value::Blank, Source::Direct) => {}
+                    (Value::Text(_), Source::Direct) => {
+                        f(to_number(&locale.numbers_for_arithmetic(v.clone(), dates), dates)?)
+                    }
+                    (other, Source::Direct) => f(to_number(other, dates)?),
+                }
+                Ok(())
+            })?,
+        }
+    }
+    Ok(())
 }
 
 /// The numbers of the arguments, collected.

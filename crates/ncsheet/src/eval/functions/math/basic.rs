@@ -493,6 +493,7 @@ fn round_to(x: f64, digits: f64, mode: Rounding) -> f64 {
         return x;
     }
     let digits = digits.trunc().clamp(-400.0, 400.0) as i32;
+    let exact_scale = digits.unsigned_abs() as usize <= MAX_EXACT_POWER_OF_TEN;
     let scale = power_of_ten(digits.abs());
     let x15 = round15(x);
     let scaled = if digits >= 0 { x15 * scale } else { x15 / scale };
@@ -505,15 +506,32 @@ fn round_to(x: f64, digits: f64, mode: Rounding) -> f64 {
         return 0.0;
     }
     let rounded = rounded.copysign(x);
-    // The quotient or product of two rounded doubles is off in its last bits
-    // (ROUNDDOWN(1E+308,-300) was 9.99999990000001E+307): the result has at most 15
+    let unscaled = if digits >= 0 { rounded / scale } else { rounded * scale };
+    if exact_scale {
+        // An integer below 10^15 and an exact power of ten: the one rounding of the quotient
+        // or product is already the double nearest the decimal result.
+        return unscaled;
+    }
+    // Past 10^22 the scale itself is rounded, and the quotient or product is off in its last
+    // bits (ROUNDDOWN(1E+308,-300) was 9.99999990000001E+307): the result has at most 15
     // significant digits, so it is read back on them.
-    crate::eval::format::number_format::round15(if digits >= 0 { rounded / scale } else { rounded * scale })
+    crate::eval::format::number_format::round15(unscaled)
 }
+
+/// The largest k for which 10^k is a double exactly (2^53 > 5^22).
+const MAX_EXACT_POWER_OF_TEN: usize = 22;
 
 /// 10^k as the nearest double (`powi` multiplies, gathering an error of a few ulps by 10^300).
 fn power_of_ten(k: i32) -> f64 {
-    format!("1e{k}").parse().unwrap_or(f64::INFINITY)
+    const EXACT: [f64; MAX_EXACT_POWER_OF_TEN + 1] = [
+        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18,
+        1e19, 1e20, 1e21, 1e22,
+    ];
+    match EXACT.get(k.unsigned_abs() as usize) {
+        Some(&p) if k >= 0 => p,
+        // Text is the nearest double for the rest; ROUND's digits reach it only past 22.
+        _ => format!("1e{k}").parse().unwrap_or(f64::INFINITY),
+    }
 }
 
 /// Excel's ROUND: half away from zero, on the 15-significant-digit value.
