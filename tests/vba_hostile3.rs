@@ -261,3 +261,23 @@ fn a_collection_emptied_from_the_front_is_not_quadratic() {
                \x20   c.Remove \"k199999\"\n    c.Add \"x\", Before:=1\n    Debug.Print c(1); c(2); c(3); c.Count\nEnd Sub\n";
     assert_eq!(printed(src), [" 3  199998  199999  200000 ", "x 199998  200000  3 "]);
 }
+
+// Split builds an array as Dim and ReDim do: past `--max-array-items` it stops the macro
+// with the same error, naming the items, the limit and the option (before: a text of 20
+// million spaces split into 20 million items whatever the limit said).
+#[test]
+fn split_past_the_array_item_limit_stops_like_dim() {
+    let options = RunOptions { max_array_items: 10, ..RunOptions::default() };
+    let over = "Sub Main()\n    Dim parts\n    parts = Split(Space(20))\n    Debug.Print UBound(parts)\nEnd Sub\n";
+    let dim = "Sub Main()\n    Dim parts(1 To 11)\nEnd Sub\n";
+    for src in [over, dim] {
+        let e = run_with(src, &options).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::Limit, "{e}");
+        assert!(e.message.contains("passes the limit of 10") && e.message.contains("--max-array-items"), "{e}");
+    }
+    // At the limit, and with Split's own count below it, the items are VBA's: 9 spaces
+    // split into 10 empty texts (UBound 9); at most 3 items, the last holding the rest.
+    let at = "Sub Main()\n    Dim p\n    p = Split(Space(9))\n    Debug.Print UBound(p)\n    Debug.Print Split(\"a b c d e f g h i j k l\", \" \", 3)(2)\nEnd Sub\n";
+    let out = run_with(at, &options).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.printed, [" 9 ", "c d e f g h i j k l"]);
+}

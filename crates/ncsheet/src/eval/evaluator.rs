@@ -163,6 +163,16 @@ pub trait Host {
     /// stops there, with the limit named (VBA's "Out of string space").
     fn text_too_long(&self, _limit: usize) {}
 
+    /// The most items an array a macro makes may hold (`run --max-array-items`), which
+    /// [`Ctx::room_for`] checks besides the formulas' own limit.
+    fn array_item_limit(&self) -> usize {
+        super::MAX_ARRAY_ITEMS
+    }
+
+    /// Told when an array of `items` would pass [`Host::array_item_limit`], before it is
+    /// built: a macro stops there, with the limit named.
+    fn array_too_large(&self, _items: usize, _limit: usize) {}
+
     /// The result of the binary operator `op` on the expressions `operands`, whose values
     /// were `values`: a macro checks it against its operands' declared types (VBA's Integer
     /// arithmetic overflows at 32,767); the result stays as computed by default.
@@ -511,10 +521,23 @@ impl<'a> Ctx<'a> {
     /// `#NUM!` with the note naming both: every function that sizes an array from its
     /// arguments (WRAPCOLS' count, VSTACK's widest part, MAKEARRAY) asks before allocating.
     pub fn room_for(&mut self, rows: usize, cols: usize) -> XlResult<()> {
+        if let Some(host) = self.host {
+            let (items, limit) = (rows.saturating_mul(cols), self.array_item_limit());
+            if items > limit {
+                host.array_too_large(items, limit);
+                return Err(self.explain_once(XlError::Num, format!("an array of {items} items, more than {limit}")));
+            }
+        }
         if too_many_items(rows, cols) {
             return Err(self.explain_once(XlError::Num, too_many_items_note(rows, cols)));
         }
         Ok(())
+    }
+
+    /// The most items an array may hold here: a macro's `--max-array-items`, else
+    /// [`super::MAX_ARRAY_ITEMS`] (both are checked by [`Ctx::room_for`]).
+    pub fn array_item_limit(&self) -> usize {
+        self.host.map_or(super::MAX_ARRAY_ITEMS, |host| host.array_item_limit().min(super::MAX_ARRAY_ITEMS))
     }
 
     /// Records why `error` happened and returns it, for `return Err(ctx.explain(..))`.

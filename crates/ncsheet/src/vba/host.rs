@@ -179,6 +179,22 @@ impl Host for Interp<'_, '_> {
         f.kind = ErrorKind::Limit;
         self.park(f);
     }
+
+    fn array_item_limit(&self) -> usize {
+        self.options.max_array_items
+    }
+
+    /// The same error as `Dim` and `ReDim` past the limit give (`Split` of a long text).
+    fn array_too_large(&self, items: usize, limit: usize) {
+        let why = if limit < self.options.max_array_items {
+            "ncsheet's limit for an array a function makes"
+        } else {
+            "ncsheet's limit; raise it with --max-array-items"
+        };
+        let mut f = self.fault(format!("an array of {items} items passes the limit of {limit} ({why})"));
+        f.kind = ErrorKind::Limit;
+        self.park(f);
+    }
 }
 
 /// What an object variable holds before `Set` or after `Set x = Nothing`: no object.

@@ -135,8 +135,14 @@ pub fn split(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let needle = chars_for(&delimiter, ignore_case);
     let mut items = Vec::new();
     let (mut from, mut i) = (0, 0);
+    // Refused like every array builder past the limit (a macro's `--max-array-items`).
+    let most = ctx.array_item_limit();
     while !needle.is_empty() && items.len() + 1 < limit && i + needle.len() <= hay.len() {
         if starts_at(&hay, &needle, i) {
+            if items.len() + 2 > most {
+                // This item and the last one after it.
+                ctx.room_for(1, items.len() + 2)?;
+            }
             items.push(Value::text(chars[from..i].iter().collect::<String>()));
             i += needle.len();
             from = i;
