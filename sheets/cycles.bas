@@ -6,16 +6,20 @@ Attribute VB_Name = "Cycles"
 '   ncsheet run part.xlsx cycles.bas --sub L16 --arg X=30 --arg W=40 --dialect nc31
 '   ncsheet run part.xlsx cycles.bas --sub L17 --dialect linuxcnc -o l17.ngc
 '   ncsheet run part.xlsx cycles.bas --sub L13 --arg R0=3 --arg R4=2.5
-'   ncsheet run part.xlsx cycles.bas --dialect nc31 --subprograms    ' L16 called, not unrolled
+'   ncsheet run part.xlsx cycles.bas --dialect nc31 --subprograms    ' the cycles called, not unrolled
 '
 ' L16  zigzag roughing of an open surface: cuts along Z toward the chuck and back, stepping
 '      X down by P between the cuts, until the final diameter X plus the allowance A. It
 '      also carries its NC31 subprogram (L16Subprogram): with `run --subprograms` the NC31
 '      program calls it, `L16 X30 W40 A0.5 P2 B44 F0.2`, instead of holding every pass.
 ' L17  loop: the finish contour L03, shifted out in X by a shrinking amount, cut once per pass
-'      from the face toward the chuck, each pass returning by rapid.
+'      from the face toward the chuck, each pass returning by rapid. Its NC31 subprogram
+'      calls L03 per pass, `L17 A0.5 P3 B44 F0.15`; L03's fillet is cut as the lines the
+'      program's arcs become on the NC31 (Nc.ChordsCW, within --arc-tol).
 ' L13  plunge ("descent") into a recess whose bottom is a contour of lines and an arc, a
-'      grooving tool of width R0 stepping along Z by R4, with a dwell of R5 seconds.
+'      grooving tool of width R0 stepping along Z by R4, with a dwell of R5 seconds. Its NC31
+'      subprogram works the bottom out itself (L14): the lines by the paper's formula (1),
+'      the arc's square root, which the control's arithmetic lacks, by Newton's iteration.
 Option Explicit
 
 ' How far (mm, in X as a radius) the tool stays off the blank wherever it moves in rapid.
@@ -74,13 +78,26 @@ Sub L17(Optional A As Double = 0.5, Optional P As Double = 3, Optional Stock As 
     Dim R2 As Double
     Begin "L17", 700, F, 1
     Nc.Comment "L17 loop A" & A & " P" & P
+    L17Subprogram
+    Nc.Cycle "L17", A, P, Stock, F  ' the blocks to Nc.EndCycle are this call of it
     R2 = Stock - 20                 ' the thickest layer: the contour's smallest diameter is 20
 N10:
     R2 = R2 - P
     If R2 < A Then R2 = A
     L03 R2, Stock, F                ' one pass along the contour, R2 above it
     If R2 > A Then GoTo N10
+    Nc.EndCycle
     Finish
+End Sub
+
+' L17 above as the NC31 runs it: the call's A P, the blank's diameter B and the feed F land
+' in R2-R5 (R2 the allowance and R3 the depth of cut, as the paper numbers them); R6 is the
+' pass's shift, which L03 reads.
+Sub L17Subprogram()
+    Nc.Subprogram "L17 AR2 PR3 BR4 FR5", _
+        "N1 R6=R4-20", "N2 R6=R6-R3", "N3 IF R6<R2 THEN R6=R2", "N4 L03", _
+        "N5 IF R6>R2 THEN GOTO N2", "N6 M17"
+    L03Subprogram
 End Sub
 
 ' The finish contour, shifted out in X by dx: a face-side diameter 20, a fillet of radius 5
@@ -95,6 +112,25 @@ Sub L03(dx As Double, Stock As Double, F As Double)
     Nc.Line 40 + dx, -35
     Nc.Rapid Stock + 2 * Clear, -35
     Nc.Rapid Stock + 2 * Clear, 2
+End Sub
+
+' L03 above as the NC31 runs it, shifted by R6, from the blank R4 at the feed R5. The control
+' has no arcs: the fillet is the lines Nc.ChordsCW gives for it (at shift 0), each end moved
+' out by R6 in R7, as the program's own ArcCW becomes.
+Sub L03Subprogram()
+    Dim c, k As Long, n As Long, body As String
+    body = "N1 R7=20+R6" & vbLf & "N2 XR7 Z2 E" & vbLf & "N3 XR7 Z0 FR5" & vbLf & "N4 XR7 Z-10"
+    c = Nc.ChordsCW(20, -10, 30, -15, 30, -10)
+    n = 5
+    For k = LBound(c) To UBound(c) Step 2
+        body = body & vbLf & "N" & n & " R7=R6+" & c(k) & vbLf & "N" & (n + 1) & " XR7 Z" & c(k + 1)
+        n = n + 2
+    Next
+    body = body & vbLf & "N" & n & " R7=30+R6" & vbLf & "N" & (n + 1) & " XR7 Z-25" & vbLf & _
+        "N" & (n + 2) & " R7=40+R6" & vbLf & "N" & (n + 3) & " XR7 Z-35" & vbLf & _
+        "N" & (n + 4) & " R7=R4+" & 2 * Clear & vbLf & "N" & (n + 5) & " XR7 Z-35 E" & vbLf & _
+        "N" & (n + 6) & " XR7 Z2 E M17"
+    Nc.Subprogram "L03", body
 End Sub
 
 ' ---- L13 -------------------------------------------------------------------------------
@@ -112,6 +148,8 @@ Sub L13(Optional XStart As Double = 44, Optional ZRight As Double = -10, Optiona
     Begin "L13", 500, F, T
     XSafe = XStart + 2 * Clear
     Nc.Comment "L13 plunge R0=" & R0 & " R4=" & R4
+    L13Subprogram
+    Nc.Cycle "L13", XStart, ZRight, ZLeft, R0, R4, R5, A, F, Shift
     Z = ZRight                      ' the tool's right corner
     R3 = (ZRight - ZLeft) - R0      ' width still to plunge after this one
     Nc.Rapid XSafe, 1
@@ -128,11 +166,38 @@ N10:
     GoTo N10
 N20:
     Nc.Rapid XSafe, 1
+    Nc.EndCycle
     Finish
+End Sub
+
+' L13 above as the NC31 runs it. The call's letters: X the part's diameter (R6), Z and K the
+' recess's right and left ends (R7, R8; R7 then follows the tool's right corner), P the tool's
+' width (R0, as the paper's `PR0`), W the step along Z (R4), D the dwell (R5), A the
+' allowance (R9), F the feed (R10), Q Bottom's shift along Z (R11). R3 is the width still to
+' plunge and R1 the plunge's diameter, as the paper names them; R12 the safe diameter.
+' Deepest's three bottoms are L14's, with R20 in and R21 out.
+Sub L13Subprogram()
+    Nc.Subprogram "L13 XR6 ZR7 KR8 PR0 WR4 DR5 AR9 FR10 QR11", _
+        "N1 R12=R6+" & 2 * Clear, "N2 R3=R7-R8-R0", "N3 XR12 Z1 E", "N4 XR12 ZR7 E", _
+        "N5 R20=R7-R0-R11", "N6 L14", "N7 R1=R21", "N8 R20=R7-R11", "N9 L14", "N10 IF R21>R1 THEN R1=R21", _
+        "N11 IF R7-R0-R11>-22 THEN GOTO N16", "N12 IF R7-R11<-22 THEN GOTO N16", _
+        "N13 R20=-22", "N14 L14", "N15 IF R21>R1 THEN R1=R21", _
+        "N16 R1=R1+R9", "N17 XR1 ZR7 FR10", "N18 G4 DR5", "N19 XR12 ZR7 E", _
+        "N20 IF R3<=0 THEN GOTO N25", "N21 IF R3<R4 THEN R7=R7-R3 GOTO N23", "N22 R7=R7-R4", _
+        "N23 R3=R3-R4", "N24 XR12 ZR7 E GOTO N5", "N25 XR12 Z1 E M17"
+    ' Bottom(R20) into R21, piece by piece as Bottom; the arc's root by Newton's iteration from
+    ' the radius down (R23), which stops where it no longer falls: the root to the last digit.
+    Nc.Subprogram "L14", _
+        "N1 IF R20>=-14 THEN R21=36+(R20+10)*(30-36)/(-14+10) GOTO N11", _
+        "N2 IF R20>=-18 THEN R21=30 GOTO N11", "N3 IF R20>=-26 THEN GOTO N6", _
+        "N4 IF R20>=-30 THEN R21=30+(R20+26)*(36-30)/(-30+26) GOTO N11", "N5 R21=36 GOTO N11", _
+        "N6 R22=5*5-(R20+22)*(R20+22)", "N7 R23=5", "N8 R24=(R23+R22/R23)/2", _
+        "N9 IF R24<R23 THEN R23=R24 GOTO N8", "N10 R21=2*(12+R23)", "N11 M17"
 End Sub
 
 ' The recess bottom's diameter at Z: a taper down, a flat, an arc bulging up by 2 (radius 5,
 ' centre at diameter 24, Z-22), a flat, a taper up.
+' L14 (in L13Subprogram) is this function as the NC31 runs it: change both together.
 Function Bottom(Z As Double) As Double
     Select Case Z
         Case Is >= -14

@@ -292,9 +292,187 @@ fn the_whole_part_with_subprograms_times_and_checks_as_the_unrolled_one() {
     let (flat_path, sub_path) = (dir.path().join("flat.nc31"), dir.path().join("sub.nc31"));
     let flat = run_cycles(&flat_path, &[]);
     let called = run_cycles(&sub_path, &["--subprograms"]);
-    assert!(called.contains(" L16 X40 W35 A0.5 P2 B44 F0.2\n"), "{called}");
+    // Main's three cycles, each one call with its values (L13's recess shifted 30 along Z).
+    let (main, _) = called.split_once("M02\n").expect("an M02");
+    for call in
+        [" L16 X40 W35 A0.5 P2 B44 F0.2", " L17 A0.5 P3 B44 F0.15", " L13 X44 Z-40 K-60 P3 W2.5 D0.5 A0 F0.05 Q-30"]
+    {
+        assert_eq!(main.lines().filter(|l| l.ends_with(call)).count(), 1, "{call}:\n{called}");
+    }
+    // After M02 each subprogram once, those the cycles call (L03, L14) included.
+    let named: Vec<String> =
+        subprogram_headers(&called).iter().map(|h| h.split(' ').next().unwrap().to_string()).collect();
+    assert_eq!(named, ["L16", "L17", "L13", "L03", "L14"], "{called}");
     assert_same_path(&moves(&read(&called)), &moves(&read(&flat)));
+    assert_eq!(feeds(&read(&called)), feeds(&read(&flat)));
     assert_time_and_check_agree(&sub_path, &flat_path);
+}
+
+/// A cycle of cycles.bas run alone, unrolled and with `--subprograms` (plus `extra`): both texts.
+fn flat_and_called(dir: &std::path::Path, sub: &str, extra: &[&str]) -> (String, String) {
+    let mut job = vec!["--sub", sub];
+    job.extend(extra);
+    let flat = run_cycles(&dir.join("flat.nc31"), &job);
+    job.push("--subprograms");
+    (flat, run_cycles(&dir.join("sub.nc31"), &job))
+}
+
+/// The lines of `text` after its M02 that head a subprogram (`N041 L13 XR6 …`), without the
+/// label: the first, and each after a subprogram's M17.
+fn subprogram_headers(text: &str) -> Vec<String> {
+    let (_, after) = text.split_once("M02\n").expect("an M02");
+    let mut heads = Vec::new();
+    let mut next_is_head = true;
+    for line in after.lines() {
+        if next_is_head {
+            heads.push(line.split_once(' ').map_or(line, |(_, c)| c).to_string());
+        }
+        next_is_head = line.ends_with("M17");
+    }
+    heads
+}
+
+/// cycles.bas's recess bottom (docs/domain.md §2, L13) as a diameter at z, in closed form: a
+/// taper from 36 at Z-10 to 30 at Z-14, a flat, the arc of radius 5 about (Z-22, radius 12)
+/// solved for X on its outer side, X = 2(12 + √(5² − (z + 22)²)), a flat, a taper back to 36.
+fn recess_bottom(z: f64) -> f64 {
+    match z {
+        z if z >= -14.0 => 36.0 - 6.0 * (z + 10.0) / -4.0,
+        z if z >= -18.0 => 30.0,
+        z if z >= -26.0 => 2.0 * (12.0 + (25.0 - (z + 22.0).powi(2)).sqrt()),
+        z if z >= -30.0 => 30.0 + 6.0 * (z + 26.0) / -4.0,
+        _ => 36.0,
+    }
+}
+
+#[test]
+fn l13_with_subprograms_plunges_to_the_arc_bottom_as_the_unrolled_program() {
+    let dir = tempfile::tempdir().unwrap();
+    let (flat, called) = flat_and_called(dir.path(), "L13", &[]);
+    let (main, _) = called.split_once("M02\n").unwrap();
+    let calls: Vec<&str> = main.lines().filter(|l| l.contains(" L13 ")).collect();
+    assert_eq!(calls.len(), 1, "{called}");
+    assert!(calls[0].ends_with(" L13 X44 Z-10 K-30 P3 W2.5 D0.5 A0 F0.05 Q0"), "{called}");
+    assert!(!main.contains("G4"), "no plunge is written in the main program:\n{called}");
+    let headers = subprogram_headers(&called);
+    assert_eq!(headers, ["L13 XR6 ZR7 KR8 PR0 WR4 DR5 AR9 FR10 QR11", "L14"], "{called}");
+    // The plunges as the paper's algorithm places them: the tool's right corner at Z-10, then
+    // 2.5 to the left each time, the last one (Z-27) taking what is left of the 20 mm recess
+    // for the 3 mm tool; each to the higher bottom under its two corners, or the arc's top
+    // (X34 at Z-22) when it lies between them.
+    let rights = [-10.0, -12.5, -15.0, -17.5, -20.0, -22.5, -25.0, -27.0];
+    let mut want = vec![(true, 46.0, 1.0)];
+    for z in rights {
+        let (left, right) = (z - 3.0, z);
+        let mut x = recess_bottom(left).max(recess_bottom(right));
+        if left <= -22.0 && right >= -22.0 {
+            x = x.max(34.0);
+        }
+        want.extend([(true, 46.0, z), (false, x, z), (true, 46.0, z)]);
+    }
+    want.push((true, 46.0, 1.0));
+    // Hand-worked: at Z-20 the corners are over the arc either side of its top.
+    assert!(want.contains(&(false, 34.0, -20.0)), "{want:?}");
+    // At Z-25 (corners at Z-28 and Z-25) the left one is on the taper: 30 + 6·2/4 = 33.
+    assert!(want.contains(&(false, 33.0, -25.0)), "{want:?}");
+    let (sub, unrolled) = (read(&called), read(&flat));
+    let plunges = |p: &Program| -> Vec<(bool, f64, f64)> {
+        let mut m = moves(p);
+        m.dedup();
+        m
+    };
+    assert_same_path(&plunges(&sub), &want);
+    assert_same_path(&plunges(&unrolled), &want);
+    // Block for block: every move, its feed, the dwells and the other blocks.
+    assert_eq!(moves(&sub), moves(&unrolled));
+    assert_eq!(feeds(&sub), feeds(&unrolled));
+    let dwells = |p: &Program| p.blocks.iter().filter(|b| matches!(b, Block::Dwell(s) if *s == 0.5)).count();
+    assert_eq!((dwells(&sub), dwells(&unrolled)), (8, 8));
+}
+
+/// cycles.bas's L17 passes: the contour L03 shifted out by 21, 18, …, 3, then 0.5 (the blank's
+/// 44 less the contour's 20, less the depth of cut 3 each pass, the allowance 0.5 the last).
+const L17_SHIFTS: [f64; 8] = [21.0, 18.0, 15.0, 12.0, 9.0, 6.0, 3.0, 0.5];
+
+#[test]
+fn l17_with_subprograms_cuts_the_fillet_as_lines_within_arc_tol_as_the_unrolled_program() {
+    for tol in ["0.01", "0.002"] {
+        let dir = tempfile::tempdir().unwrap();
+        let (flat, called) = flat_and_called(dir.path(), "L17", &["--arc-tol", tol]);
+        let tol: f64 = tol.parse().unwrap();
+        let (main, _) = called.split_once("M02\n").unwrap();
+        let calls: Vec<&str> = main.lines().filter(|l| l.contains(" L17")).collect();
+        assert_eq!(calls.len(), 1, "{called}");
+        assert!(calls[0].ends_with(" L17 A0.5 P3 B44 F0.15"), "{called}");
+        assert_eq!(subprogram_headers(&called), ["L17 AR2 PR3 BR4 FR5", "L03"], "{called}");
+        let (sub, unrolled) = (read(&called), read(&flat));
+        assert_eq!(moves(&sub), moves(&unrolled), "tol {tol}");
+        assert_eq!(feeds(&sub), feeds(&unrolled), "tol {tol}");
+        assert_fillet_within(&moves(&sub), tol);
+    }
+}
+
+/// Every pass of L17 as docs/domain.md §2 has it: the contour shifted out by each of
+/// [`L17_SHIFTS`] in turn, its fillet (radius 5 about Z-10, diameter 30 + shift, from
+/// diameter 20 + shift at Z-10 to 30 + shift at Z-15) cut as lines whose ends lie on the arc
+/// (to the 0.001 of the words) and which stray from it by no more than `tol`.
+fn assert_fillet_within(moves: &[(bool, f64, f64)], tol: f64) {
+    let cuts: Vec<&(bool, f64, f64)> = moves.iter().filter(|m| !m.0).collect();
+    let starts: Vec<f64> = cuts.iter().filter(|m| m.2 == 0.0).map(|m| m.1).collect();
+    let want: Vec<f64> = L17_SHIFTS.iter().map(|s| 20.0 + s).collect();
+    assert_eq!(starts, want, "each pass starts at the face on the shifted contour");
+    for shift in L17_SHIFTS {
+        let (cz, cr) = (-10.0, 15.0 + shift / 2.0);
+        let on_arc: Vec<(f64, f64)> = cuts
+            .iter()
+            .map(|m| (m.2, m.1 / 2.0))
+            .skip_while(|&(z, r)| !(z == -10.0 && (r - (10.0 + shift / 2.0)).abs() < 1e-9))
+            .take_while(|&(z, _)| z >= -15.0)
+            .collect();
+        assert!(on_arc.len() >= 3, "shift {shift}: the fillet as lines: {on_arc:?}");
+        assert_eq!(on_arc.last(), Some(&(-15.0, cr)), "shift {shift}");
+        for pair in on_arc.windows(2) {
+            let [(z0, r0), (z1, r1)] = [pair[0], pair[1]];
+            for (z, r) in [(z0, r0), (z1, r1)] {
+                assert!(((z - cz).hypot(r - cr) - 5.0).abs() <= 0.0006, "shift {shift}: ({z}, {r}) off the arc");
+            }
+            // The most a chord strays from its arc: the sagitta of its length on radius 5.
+            let half = (z1 - z0).hypot(r1 - r0) / 2.0;
+            let sagitta = 5.0 - (25.0 - half * half).sqrt();
+            assert!(sagitta <= tol + 1e-9, "shift {shift}: a chord strays {sagitta} > {tol}");
+        }
+    }
+}
+
+#[test]
+fn nc81_writes_the_words_of_nc31_per_the_paper() {
+    // docs/domain.md §1: the chamfer paper's model serves "all NC31- and NC81-type controls";
+    // no NC81 manual was available, so nc81 writes what the paper gives, NC31's words.
+    let dir = tempfile::tempdir().unwrap();
+    let (book, bas) = (sheet("chamfer.csv"), sheet("cycles.bas"));
+    let mut texts = Vec::new();
+    for (d, extra) in [("nc31", None), ("nc81", None), ("nc31", Some("--subprograms")), ("nc81", Some("--subprograms"))]
+    {
+        let out = dir.path().join(format!("{d}{}.txt", texts.len()));
+        let mut args = vec!["run", &book, &bas, "--dialect", d, "-o", out.to_str().unwrap()];
+        args.extend(extra);
+        let run = ncsheet(&args);
+        assert_eq!(run.code, 0, "{args:?}: {}", run.stderr);
+        texts.push(std::fs::read_to_string(&out).unwrap());
+    }
+    assert_eq!(texts[0], texts[1]);
+    assert_eq!(texts[2], texts[3]);
+    assert!(texts[3].contains(" L13 X44 "), "{}", texts[3]);
+    // Read as nc81 (named, or by the extension .nc81), its subprograms run.
+    let program = dir.path().join("part.nc81");
+    std::fs::write(&program, &texts[3]).unwrap();
+    let p = program.to_str().unwrap();
+    for args in [vec!["nc", "check", p], vec!["nc", "check", p, "--dialect", "nc81"]] {
+        let run = ncsheet(&args);
+        assert_eq!(run.code, 0, "{args:?}: {}{}", run.stdout, run.stderr);
+    }
+    let run = ncsheet(&["nc", "check", p]);
+    assert!(run.stderr.contains("read as nc81 ("), "{}", run.stderr);
 }
 
 /// A grooving cycle of a macro's own: three grooves at Z-10, -15, -20, 4, 5 and 6 mm deep on

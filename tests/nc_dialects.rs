@@ -96,6 +96,12 @@ fn nc31_lathe() {
     assert_eq!(render("nc31", &lathe_program(false)), golden("nc31", "lathe.nc"));
 }
 
+/// NC81 writes NC31's words, per the chamfer paper (docs/domain.md §2, "NC81").
+#[test]
+fn nc81_lathe() {
+    assert_eq!(render("nc81", &lathe_program(false)), golden("nc81", "lathe.nc"));
+}
+
 #[test]
 fn what_a_control_cannot_read_is_an_error_naming_the_block() {
     let nc31 = dialect::by_name("nc31").unwrap();

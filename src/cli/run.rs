@@ -51,19 +51,21 @@ pub struct RunArgs {
     /// A value for one of the Sub's parameters, read as a cell reads what is typed
     #[arg(long = "arg", value_name = "NAME=VALUE", value_parser = parse_arg)]
     pub args: Vec<(String, String)>,
-    /// Write the NC program in this dialect
+    /// Write the NC program in this dialect. nc81: the same words as nc31, per the chamfer
+    /// paper, which names NC81 beside NC31; no NC81 manual was available
     #[arg(long, default_value = "iso", ignore_case = true,
           value_parser = super::nc::dialect_parser(dialect::names()))]
     pub dialect: &'static dyn dialect::Dialect,
     /// How far (mm) the lines may lie from an arc on a control without circular
-    /// interpolation (nc31), which gets each arc as lines (default 0.01)
+    /// interpolation (nc31, nc81), which gets each arc as lines (default 0.01)
     #[arg(long, value_name = "MM", value_parser = parse_arc_tol)]
     pub arc_tol: Option<f64>,
     /// The machine the program is for, until the macro sets Nc.Machine
     #[arg(long, value_enum, default_value_t)]
     pub machine: MachineKind,
-    /// NC31: write each cycle the macro marks (Nc.Subprogram, Nc.Cycle … Nc.EndCycle, as
-    /// sheets/cycles.bas does for L16) once, as a subprogram with R parameters after M02, and
+    /// NC31 (and NC81): write each cycle the macro marks (Nc.Subprogram, Nc.Cycle …
+    /// Nc.EndCycle, as sheets/cycles.bas does for L16, L17 and L13) once, as a subprogram with
+    /// R parameters after M02 (with the subprograms it calls), and
     /// call it per use with its values (`L16 X40 W35 …`), as the cycles paper writes its
     /// cycles. The program is read back with its subprograms run and refused unless it moves
     /// as the unrolled one (docs/domain.md §2). Without it every cycle is written unrolled.
@@ -187,9 +189,10 @@ pub fn run(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
 }
 
 fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
-    if args.subprograms && args.dialect.name() != dialect::NC31.name {
+    if args.subprograms && dialect::with_subprograms(args.dialect.name()).is_none() {
         return Err(Error::Usage(format!(
-            "--subprograms writes NC31 subprograms: give --dialect nc31 (the {} dialect gets the cycles unrolled)",
+            "--subprograms writes NC31 subprograms: give --dialect nc31 or nc81 (the {} dialect gets the cycles \
+             unrolled)",
             args.dialect.name()
         )));
     }
@@ -229,6 +232,7 @@ fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
             &args.in_files,
             args.max_memory.unwrap_or(vba::DEFAULT_MAX_MEMORY),
         )?,
+        arc_tolerance: args.arc_tol,
     };
     let out = match vba::run(&mut wb, &source, &file.display().to_string(), &options) {
         Ok(out) => out,
@@ -261,7 +265,7 @@ fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
                     file.display()
                 );
             }
-            dialect::NC31.render_with_subprograms(&out.program)
+            dialect::with_subprograms(d.name()).unwrap_or(&dialect::NC31).render_with_subprograms(&out.program)
         } else {
             d.render(&out.program)
         };

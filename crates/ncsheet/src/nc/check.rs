@@ -53,11 +53,11 @@ impl Default for CheckOptions<'_> {
 /// feed per minute on every mill here (LinuxCNC's documented start-up modes G17 G21/G20 G40
 /// G49 G80 G90 G94; a Fanuc mill's G94 unless parameter 3402 says otherwise; Sinumerik's
 /// reset value of the feed group, G94; plain language has only F in mm/min), and per
-/// revolution on NC31, which has no other. A lathe's mode depends on the machine's set-up
+/// revolution on NC31 (and NC81, written with its words), which has no other. A lathe's mode depends on the machine's set-up
 /// (a Fanuc lathe's parameter, LinuxCNC's start-up code), so a lathe cut needs its own.
 pub fn power_on_feed_mode(dialect: &dyn crate::nc::dialect::Dialect, machine: Machine) -> Option<FeedMode> {
     match (dialect.name(), machine) {
-        ("nc31", _) => Some(FeedMode::PerRevolution),
+        ("nc31" | "nc81", _) => Some(FeedMode::PerRevolution),
         (_, Machine::Mill) => Some(FeedMode::PerMinute),
         (_, Machine::Lathe) => None,
     }

@@ -18,6 +18,7 @@ pub mod detect;
 pub mod heidenhain;
 mod nc31;
 
+pub(crate) use nc31::called as nc31_called;
 pub(crate) use nc31::subprogram as nc31_subprogram;
 
 /// Where a program cannot be read, 1-based.

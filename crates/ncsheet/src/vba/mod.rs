@@ -271,6 +271,9 @@ pub struct RunOptions {
     /// The files the macro may read and write (`run --out-dir`, `--in-file`); `None`: file
     /// statements are refused by name, as when the language had none.
     pub files: Option<FileAccess>,
+    /// The chord tolerance the program will be written with on a control without circular
+    /// interpolation (`run --arc-tol`), for `Nc.ChordsCW`; `None`: the default.
+    pub arc_tolerance: Option<f64>,
 }
 
 /// A document module: the code behind a sheet or the workbook (a worksheet button's macro
@@ -355,6 +358,7 @@ impl Default for RunOptions {
             classes: Vec::new(),
             workbook_name: None,
             files: None,
+            arc_tolerance: None,
         }
     }
 }

@@ -18,11 +18,16 @@
 //! control reads them; `Nc.Cycle "L16", x, w` … `Nc.EndCycle` around the blocks a use of it
 //! emits marks them as that use, with the values of its header's letters in order. The blocks
 //! are emitted as ever; only `run --subprograms` writes the use as a call (and checks that the
-//! subprogram does what the blocks do).
+//! subprogram does what the blocks do). A subprogram may call another (`N4 L03`), which is
+//! written with it. `Nc.ChordsCW(x0, z0, x, z, cx, cz)` (and `Nc.ChordsCCW`) gives the ends of
+//! the lines an arc becomes on a control without circular interpolation, at the run's
+//! `--arc-tol`, for a subprogram that cuts the arc as the program's own arc blocks are cut.
 
 use crate::eval::coerce::to_bool;
 use crate::eval::{Ctx, Value};
 use crate::formula::ast::{Expr, ExprKind};
+use crate::nc::dialect::arc_as_lines;
+use crate::nc::program::DEFAULT_ARC_TOLERANCE;
 use crate::nc::{
     ArcDirection, Block, FeedMode, Machine, Spindle, SpindleDirection, Subprogram, SubprogramCall, Target, ToolChange,
     ToolOffset, Word,
@@ -69,6 +74,9 @@ impl Interp<'_, '_> {
         drop(out);
         if let Some(v) = property {
             return Ok(Obj::Value(v));
+        }
+        if name == "chordscw" || name == "chordsccw" {
+            return self.chords(ctx, link, name == "chordscw").map(Obj::Value);
         }
         let marked = match name.as_str() {
             "subprogram" => Some(self.subprogram(ctx, link)),
@@ -368,6 +376,43 @@ impl Interp<'_, '_> {
         }
         let direction = if clockwise { ArcDirection::Clockwise } else { ArcDirection::CounterClockwise };
         Ok(Block::Arc { direction, to, centre, feed: self.feed(get(&a, "f"), link)? })
+    }
+
+    /// `Nc.ChordsCW(x0, z0, x, z, cx, cz)` (a mill's `x0, y0, x, y, cx, cy`): the ends of the
+    /// lines the program's writer puts for that arc on a control without circular
+    /// interpolation, at the run's `--arc-tol` and as its words write them, as one array
+    /// `x1, z1, x2, z2, …`. A subprogram that cuts the arc (the NC31 has no G2) is written
+    /// with them and cuts what the program's own arc blocks become.
+    fn chords(&self, ctx: &mut Ctx, link: &Link, clockwise: bool) -> Run<Value> {
+        let second = self.plane_second();
+        let usage =
+            format!("Nc.{} takes the start X, {second}, the end X, {second} and the centre X, {second}", link.name);
+        let [x0, v0, x, v, cx, cv] =
+            <[f64; 6]>::try_from(self.numbers(ctx, link)?).map_err(|_| self.fault_at(link.span, usage.clone()))?;
+        let machine = self.machine();
+        let point = |x: f64, v: f64| match machine {
+            Machine::Lathe => Target::xz(x, v),
+            Machine::Mill => Target { x: Some(x), y: Some(v), ..Target::default() },
+        };
+        let program = &self.out.borrow().program;
+        let resolution = match program.precision {
+            Some(decimals) => 10f64.powi(-(decimals as i32)),
+            None => self.options.dialect.map_or(0.001, |d| d.resolution()),
+        };
+        let tolerance = self.options.arc_tolerance.unwrap_or(DEFAULT_ARC_TOLERANCE);
+        let direction = if clockwise { ArcDirection::Clockwise } else { ArcDirection::CounterClockwise };
+        let ends =
+            arc_as_lines(machine, &point(x0, v0), &point(x, v), &point(cx, cv), direction, tolerance, resolution)
+                .map_err(|m| self.fault_at(link.span, format!("Nc.{}: {m}", link.name)))?;
+        let written = |v: Option<f64>| Value::Number((v.unwrap_or(0.0) / resolution).round() * resolution);
+        let items = ends
+            .iter()
+            .flat_map(|p| match machine {
+                Machine::Lathe => [written(p.x), written(p.z)],
+                Machine::Mill => [written(p.x), written(p.y)],
+            })
+            .collect();
+        Ok(Value::Array(std::rc::Rc::new(crate::eval::Array::row(items))))
     }
 
     fn plane_second(&self) -> char {

@@ -18,7 +18,7 @@ mod subprograms;
 mod word_address;
 
 pub use heidenhain::Heidenhain;
-pub use word_address::{Family, WordAddress, ISO, LINUXCNC, NC31, SINUMERIK};
+pub use word_address::{Family, WordAddress, ISO, LINUXCNC, NC31, NC81, SINUMERIK};
 
 /// Something a dialect cannot write.
 #[derive(Clone, Debug, PartialEq)]
@@ -74,8 +74,14 @@ pub fn names_for(machine: Machine) -> Vec<&'static str> {
 }
 
 /// Every dialect, by the name the CLI uses.
-pub fn all() -> [&'static dyn Dialect; 5] {
-    [&ISO, &LINUXCNC, &SINUMERIK, &Heidenhain, &NC31]
+pub fn all() -> [&'static dyn Dialect; 6] {
+    [&ISO, &LINUXCNC, &SINUMERIK, &Heidenhain, &NC31, &NC81]
+}
+
+/// The writer of `name` when its control runs the cycles paper's subprograms (NC31, and NC81
+/// with its words): `run --subprograms` writes with it.
+pub fn with_subprograms(name: &str) -> Option<&'static WordAddress> {
+    [&NC31, &NC81].into_iter().find(|d| d.name.eq_ignore_ascii_case(name))
 }
 
 pub fn by_name(name: &str) -> Option<&'static dyn Dialect> {
@@ -103,6 +109,12 @@ impl Position {
 
     fn x(&self) -> Option<f64> {
         self.axes[0]
+    }
+
+    /// The known axes as a point.
+    fn target(&self) -> Target {
+        let [x, y, z, a, b, c] = self.axes;
+        Target { x, y, z, a, b, c }
     }
 
     fn y(&self) -> Option<f64> {
@@ -182,6 +194,24 @@ fn chords(
         });
     }
     Ok(points)
+}
+
+/// The ends of the lines a control without circular interpolation (NC31) is written for an
+/// arc from `start`, each within `tolerance` of the arc once written in steps of `resolution`
+/// (the tolerance keeps one step in reserve for that), as the control's words write them. The
+/// writer's chords and a macro's (`Nc.Chords`, for a subprogram that cuts the arc) are these.
+pub fn arc_as_lines(
+    machine: Machine,
+    start: &Target,
+    to: &Target,
+    centre: &Target,
+    direction: super::program::ArcDirection,
+    tolerance: f64,
+    resolution: f64,
+) -> Result<Vec<Target>, String> {
+    let mut from = Position::default();
+    from.apply(start);
+    chords(machine, &from, to, centre, direction, tolerance - resolution)
 }
 
 /// How far the end point of an arc may lie off the circle through its start around its

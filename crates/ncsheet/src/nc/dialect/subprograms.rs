@@ -59,6 +59,32 @@ pub(super) fn checked_calls(program: &Program) -> Result<Vec<Call<'_>>, (Option<
     Ok(calls)
 }
 
+/// The subprograms to write after the program's end: each the calls use, once, in the order
+/// first used, and after them those their blocks call (L17's `L03`), so that every call the
+/// control makes finds its subprogram.
+pub(super) fn written<'a>(program: &'a Program, calls: &[Call<'a>]) -> Result<Vec<&'a Subprogram>, String> {
+    let mut out: Vec<&Subprogram> = Vec::new();
+    let add = |s: &'a Subprogram, out: &mut Vec<&'a Subprogram>| {
+        if !out.iter().any(|w| w.number == s.number) {
+            out.push(s);
+        }
+    };
+    for call in calls {
+        add(call.subprogram, &mut out);
+    }
+    let mut i = 0;
+    while let Some(caller) = out.get(i).copied() {
+        for n in caller.body.iter().filter_map(|line| read::nc31_called(line)) {
+            let callee = program.subprograms.iter().find(|s| s.number == n).ok_or_else(|| {
+                format!("L{:02} calls L{n:02}, which is not written (no Nc.Subprogram for it)", caller.number)
+            })?;
+            add(callee, &mut out);
+        }
+        i += 1;
+    }
+    Ok(out)
+}
+
 /// The header block: `L16 XR1 WR2 …`.
 pub(super) fn header(subprogram: &Subprogram) -> String {
     let mut text = format!("L{:02}", subprogram.number);

@@ -4,8 +4,8 @@
 
 use super::subprograms::{self, Call};
 use super::{
-    centre_offsets, check_program, check_values, chords, feed_style, program_name, sanitise, Dialect, Format, NcError,
-    Position,
+    arc_as_lines, centre_offsets, check_program, check_values, feed_style, program_name, sanitise, Dialect, Format,
+    NcError, Position,
 };
 use crate::nc::format::NumberStyle;
 use crate::nc::program::{
@@ -153,6 +153,11 @@ pub const NC31: WordAddress = WordAddress {
     legal: "NGMXZUWFSTLDPARQ",
 };
 
+/// NC81, which the chamfer paper names beside NC31 as the controls its model serves ("all
+/// NC31- and NC81-type controls", docs/domain.md §1): the same words as NC31, per the paper;
+/// no NC81 manual was available to say how it differs.
+pub const NC81: WordAddress = WordAddress { name: "nc81", ..NC31 };
+
 impl Dialect for WordAddress {
     fn name(&self) -> &'static str {
         self.name
@@ -184,7 +189,7 @@ impl WordAddress {
     /// block. A program that marks no use is written as [`Dialect::render`] writes it.
     pub fn render_with_subprograms(&self, program: &Program) -> Result<String, NcError> {
         if self.family != Family::Nc31 {
-            return Err(self.error(None, "writes no subprograms (nc31 does)".into()));
+            return Err(self.error(None, "writes no subprograms (nc31 and nc81 do)".into()));
         }
         let calls = subprograms::checked_calls(program).map_err(|(b, m)| self.error(b, m))?;
         let called = self.write(program, &calls)?;
@@ -245,15 +250,10 @@ impl WordAddress {
             i += 1;
         }
         w.end(program.retract.as_ref());
-        let mut written: Vec<u32> = Vec::new();
-        for call in calls {
-            let subprogram = call.subprogram;
-            if !written.contains(&subprogram.number) {
-                written.push(subprogram.number);
-                w.numbered(&subprograms::header(subprogram));
-                for line in &subprogram.body {
-                    w.line(line.trim());
-                }
+        for subprogram in subprograms::written(program, calls).map_err(|m| self.error(None, m))? {
+            w.numbered(&subprograms::header(subprogram));
+            for line in &subprogram.body {
+                w.line(line.trim());
             }
         }
         for line in self.footer {
@@ -628,8 +628,9 @@ impl Writer<'_> {
     fn arc(&mut self, dir: ArcDirection, to: &Target, centre: &Target, feed: Option<f64>) -> Result<(), String> {
         if !self.d.has_arcs {
             // The control has no G2/G3: the arc as chords within the tolerance, each end on it.
-            let reserve = self.numbers.resolution();
-            let points = chords(self.machine, &self.position, to, centre, dir, self.arc_tolerance - reserve)
+            let start = self.position.target();
+            let (tolerance, resolution) = (self.arc_tolerance, self.numbers.resolution());
+            let points = arc_as_lines(self.machine, &start, to, centre, dir, tolerance, resolution)
                 .map_err(|m| format!("{m} (the arc is written as lines on this control: --arc-tol)"))?;
             let format = Format { numbers: self.numbers, digits: self.d.digits };
             for (k, p) in points.iter().enumerate() {

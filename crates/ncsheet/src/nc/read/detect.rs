@@ -53,6 +53,7 @@ fn by_extension(ext: &str) -> Option<&'static dyn Dialect> {
         "mpf" | "spf" => Some(&dialect::SINUMERIK),
         "ngc" => Some(&dialect::LINUXCNC),
         "nc31" => Some(&dialect::NC31),
+        "nc81" => Some(&dialect::NC81),
         _ => None,
     }
 }

@@ -200,6 +200,21 @@ pub(crate) fn subprogram(header_text: &str, body: &[String]) -> Result<(u32, Vec
     }
 }
 
+/// The subprogram a block calls (`N4 L03`, `IF R1>0 THEN L03`), if it calls one.
+pub(crate) fn called(block: &str) -> Option<u32> {
+    let source = source(block, 1).ok()??;
+    let code = match conditional(&source.code) {
+        Ok(Some((_, rest, _))) => rest,
+        _ => source.code.as_str(),
+    };
+    let (code, _) = jump(code).ok()?;
+    let code = code.trim();
+    if assignment(code).is_some() {
+        return None;
+    }
+    numbered_l(code).map(|(n, _)| n)
+}
+
 /// `XR1 WR2 …`: each letter with its parameter, no parameter bound twice.
 fn bindings(text: &str) -> Result<Vec<Binding>, String> {
     let mut out: Vec<Binding> = Vec::new();
