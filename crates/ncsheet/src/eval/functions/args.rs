@@ -233,6 +233,8 @@ pub fn for_each_number(ctx: &mut Ctx, args: &[Expr], f: &mut dyn FnMut(f64)) -> 
             // A range, what aggregates read most: its numbers straight from the cells.
             Operand::Ref(sheet, rect) => {
                 let rect = ctx.clip_to_used(sheet, rect);
+                // Counted as `for_each_cell_value` counts a range (MAP's LAMBDA reading `SUM(A:A)`).
+                ctx.charge(rect.rows() as usize * rect.cols() as usize);
                 ctx.env.for_each_number_in(sheet, rect, f)?;
             }
             operand => for_each_value_of(ctx, operand, &mut |v, source| {
