@@ -281,3 +281,24 @@ fn split_past_the_array_item_limit_stops_like_dim() {
     let out = run_with(at, &options).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(out.printed, [" 9 ", "c d e f g h i j k l"]);
 }
+
+// `ReDim Preserve a(i)` in a loop grows the array in place (its capacity doubling), not by
+// copying every item at each step: 200,000 steps were 2·10^10 item copies. VBA's semantics
+// hold: the items are kept, a copy taken before (`b = a`) keeps its own items and bounds,
+// and the memory budget still stops a loop that grows past it.
+#[test]
+fn redim_preserve_in_a_loop_grows_in_place() {
+    let src = "Sub Main()\n    Dim a(), b, i As Long, total As Double\n    ReDim a(0)\n    b = a\n\
+               \x20   For i = 1 To 200000\n        ReDim Preserve a(i)\n        a(i) = i\n    Next\n\
+               \x20   For i = 0 To UBound(a)\n        total = total + a(i)\n    Next\n\
+               \x20   Debug.Print UBound(a); total; UBound(b)\nEnd Sub\n";
+    // 0 + 1 + … + 200,000 = 20,000,100,000.
+    let out = run_with(src, &RunOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.printed[0], " 200000  20000100000  0 ");
+    let grow = "Sub Main()\n    Dim a(), i As Long\n    ReDim a(0)\n    For i = 1 To 1000000\n\
+                \x20       ReDim Preserve a(i)\n    Next\nEnd Sub\n";
+    let options = RunOptions { max_memory: 4 << 20, ..RunOptions::default() };
+    let e = run_with(grow, &options).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::Limit, "{e}");
+    assert!(e.message.contains("--max-memory"), "{e}");
+}

@@ -1280,7 +1280,11 @@ impl Interp<'_, '_> {
                     // `Dim a() As Double` … `ReDim a(3)`: the items keep the declared type.
                     let declared = || self.with_slot(&d.name, |s| s.ty.clone()).flatten();
                     let ty = d.ty.clone().or_else(|| redim.then(declared).flatten());
-                    let mut array = self.new_array(bounds, ty.as_ref(), d.span)?;
+                    let dims = self.array_dims(bounds, d.span)?;
+                    if preserve && self.grown_in_place(&d.name, &dims, ty.as_ref(), d.span)? {
+                        continue;
+                    }
+                    let mut array = self.array_with(&dims, ty.as_ref());
                     if preserve {
                         if let Some(Var::Array(old)) = self.lookup(&d.name) {
                             super::arrays::preserve_items(&old, &mut array);
