@@ -567,3 +567,32 @@ fn nc_subprogram_refuses_what_the_reader_would_not_read() {
     assert!(fails("Nc.Subprogram \"L20 XR1\", \"N1 M17\"\nNc.Cycle \"L20\", 1, 2").contains("takes 1 values"));
     assert!(fails("Nc.EndCycle").contains("without an Nc.Cycle"));
 }
+
+#[test]
+fn a_call_of_a_subprogram_not_written_and_chords_misgiven_are_refused() {
+    // L20's body calls L21, which no Nc.Subprogram gives: the writer says so, not the control.
+    let body = GROOVE.replace("\"N1 XR1 ZR2 E\"", "\"N1 XR1 ZR2 E\", \"N5 L21\"");
+    let e = dialect::NC31.render_with_subprograms(&grooves_program(&body)).unwrap_err();
+    assert!(e.message.contains("L20 calls L21, which is not written"), "{e}");
+    // Nc.ChordsCW takes the arc's start, end and centre, and an arc of radius 0 has no lines.
+    let fails = |call: &str| run_macro(&format!("Sub Main()\n    Dim c\n    c = {call}\nEnd Sub\n")).unwrap_err();
+    let e = fails("Nc.ChordsCW(20, -10, 30, -15, 30)");
+    assert!(e.contains("Nc.ChordsCW takes the start X, Z, the end X, Z and the centre X, Z"), "{e}");
+    // A quarter circle of radius 5 at the default 0.01 mm: the fewest equal chords whose
+    // sagitta 5(1 − cos(π/4n)) is within 0.01 less the 0.001 the written ends may move; each
+    // end on the circle as the control's words write it, the last the arc's end.
+    let src = "Sub Main()\n    Dim c, k\n    c = Nc.ChordsCW(20, -10, 30, -15, 30, -10)\n    \
+               For k = LBound(c) To UBound(c)\n        Debug.Print c(k)\n    Next\nEnd Sub\n";
+    let mut wb = ncsheet::workbook::Workbook::with_sheet();
+    let out = ncsheet::vba::run(&mut wb, src, "chords.bas", &ncsheet::vba::RunOptions::default()).unwrap();
+    let values: Vec<f64> = out.printed.iter().map(|l| l.trim().parse().unwrap()).collect();
+    let sagitta = |n: u32| 5.0 * (1.0 - (std::f64::consts::FRAC_PI_4 / f64::from(n)).cos());
+    let n = (1..).find(|&n| sagitta(n) <= 0.009).unwrap();
+    assert_eq!(values.len(), 2 * n as usize, "{values:?}");
+    for point in values.chunks(2) {
+        let (x, z) = (point[0], point[1]);
+        assert!(((z + 10.0).hypot(x / 2.0 - 15.0) - 5.0).abs() <= 0.0006, "({x}, {z}) off the arc");
+        assert_eq!(x, (x * 1000.0).round() / 1000.0, "written to the 0.001");
+    }
+    assert_eq!(values[values.len() - 2..], [30.0, -15.0]);
+}
