@@ -523,3 +523,31 @@ fn print_and_write_to_a_file_write_dates_as_vba_does() {
     let text = String::from_utf8(out.files[0].1.clone()).unwrap();
     assert_eq!(text, "7/13/1994|7/13/1994 1:05:09 PM\r\n#1994-07-13#,#1994-07-13 13:05:09#,#13:05:09#,1\r\n");
 }
+
+// [MS-VBAL] 5.4.3.9 "Set Statement" with an index expression as its target, and "Using
+// arrays" / "Dim statement" (`Dim a(3) As Class1`: an array whose items hold objects, each
+// Nothing until set): `Set a(i) = New Class1` puts a reference in the item, `a(i).Field`
+// reaches the object's member, two items may share one object, an item is passed to a
+// procedure as the object, `ReDim Preserve` keeps the items, For Each goes through them,
+// and an object only an item held is terminated when the item is set to another, or when
+// the array goes at the end of its procedure.
+#[test]
+fn arrays_hold_objects() {
+    let main = "Sub Bump(p As Probe)\n    p.Field = p.Field + 100\nEnd Sub\n\
+                Sub Main()\n    Dim a(3) As Probe, total As Long\n    Set a(0) = New Probe\n    a(0).Field = 1\n\
+                \x20   Set a(1) = a(0)\n    a(1).Field = a(1).Field + 1\n    Debug.Print a(0).Field; a(2) Is Nothing; a(0) Is a(1)\n\
+                \x20   Bump a(1)\n    ReDim Preserve a(5)\n    Set a(5) = New Probe\n    a(5).Field = 10\n\
+                \x20   For Each p In a\n        If Not p Is Nothing Then total = total + p.Field\n    Next\n\
+                \x20   Set p = Nothing\n    Debug.Print total; UBound(a)\n    Set a(0) = Nothing\n    Debug.Print \"one left\"\n\
+                \x20   Set a(1) = New Probe\n    Debug.Print \"end\"\nEnd Sub\n";
+    let out = with_classes(main, &[("Probe", PROBE)]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        out.printed,
+        ["init", " 2 TrueTrue", "init", " 214  5 ", "one left", "init", "term 102 ", "end", "term 0 ", "term 10 "],
+    );
+    // An array of values cannot hold an object: "Type mismatch".
+    let e = with_classes("Sub Main()\n    Dim a(3) As Long\n    Set a(0) = New Probe\nEnd Sub\n", &[("Probe", PROBE)])
+        .unwrap_err();
+    assert!(e.message.contains("type mismatch"), "{e}");
+    assert_eq!(e.span.unwrap().line, 3, "{e}");
+}

@@ -48,7 +48,7 @@ impl Interp<'_, '_> {
         let (rows, lower_row) = if dims.len() == 2 { (dims[0].1, dims[0].0) } else { (1, 1) };
         let (lower_col, cols) = *dims.last().expect("one dimension at least");
         let data = Rc::new(Array::filled(rows, cols, default_value(ty)));
-        VArray { data, lower: (lower_row, lower_col), dims: dims.len() as u8 }
+        VArray { data, lower: (lower_row, lower_col), dims: dims.len() as u8, objects: None }
     }
 
     /// The row-major position of an element, or why there is none.
@@ -85,13 +85,74 @@ impl Interp<'_, '_> {
         match self.lookup(name) {
             Some(Var::Array(a)) => {
                 let k = self.element_at(&a, &at).map_err(|m| self.fault_at(span, format!("{name}: {m}")))?;
-                Ok(Operand::Value(a.data.data[k].clone()))
+                match a.item(k) {
+                    Var::Obj(o) => self.operand_of(o, span),
+                    _ => Ok(Operand::Value(a.data.data[k].clone())),
+                }
             }
             Some(Var::Obj(Obj::Range(sheet, rect))) => {
                 let cell = super::objects::item(rect, &at).map_err(|m| self.fault_at(span, format!("{name}: {m}")))?;
                 Ok(Operand::Ref(sheet, Rect::cell(cell)))
             }
             _ => Err(self.fault_at(span, format!("{name} is not an array"))),
+        }
+    }
+
+    /// The node is `a(i)` of a variable holding an array with objects among its items.
+    pub(super) fn array_object(&self, id: u32) -> Option<(Rc<str>, &[Expr], Span)> {
+        let Node::Element { var, index, span } = &self.module.nodes[id as usize] else { return None };
+        match self.lookup(var) {
+            Some(Var::Array(a)) if a.objects.is_some() => Some((var.clone(), index, *span)),
+            _ => None,
+        }
+    }
+
+    /// `a(i)` as a variable holds it: its object, or its value.
+    pub(super) fn array_item(&self, name: &str, index: &[Expr], span: Span) -> Run<Var> {
+        let at = index.iter().map(|e| self.index(e, "the index")).collect::<Run<Vec<i64>>>()?;
+        let Some(Var::Array(a)) = self.lookup(name) else {
+            return Err(self.fault_at(span, format!("{name} is not an array")));
+        };
+        let k = self.element_at(&a, &at).map_err(|m| self.subscript_error(span, name, m))?;
+        Ok(a.item(k))
+    }
+
+    /// VBA's "Subscript out of range (Error 9)".
+    fn subscript_error(&self, span: Span, name: &str, m: String) -> super::interp::Fault {
+        let mut f = self.fault_at(span, format!("Subscript out of range (run-time error 9): {name}: {m}"));
+        f.code = 9;
+        f
+    }
+
+    /// `Set a(i) = obj` ([MS-VBAL] 5.4.3.9, "Set Statement"): the item holds the object (or
+    /// Nothing), in an array of any declared item type that holds objects (Variant, Object
+    /// or a class); an object only it held is let go.
+    pub(super) fn set_object_element(&self, name: &Rc<str>, index: &[Expr], item: Var, span: Span) -> Run<()> {
+        let at = index.iter().map(|e| self.index(e, "the index")).collect::<Run<Vec<i64>>>()?;
+        let object = match item {
+            Var::Obj(Obj::Value(Value::Blank)) | Var::Value(Value::Blank) => None,
+            Var::Obj(Obj::Value(_)) | Var::Value(_) | Var::Array(_) | Var::Record(..) => {
+                return Err(self.fault_at(span, "Set needs an object (a Range, a Worksheet, …)"))
+            }
+            Var::Obj(o) => Some(o),
+        };
+        let result = self.with_slot(name, |slot| {
+            if matches!(slot.ty, Some(ref t) if *t != Ty::Variant) {
+                return Err(format!("{}: an array of values cannot hold an object (type mismatch)", slot.name));
+            }
+            let Var::Array(a) = &mut slot.var else { return Err(format!("{} is not an array", slot.name)) };
+            let k = self.element_at(a, &at).map_err(|m| format!("{}: {m}", slot.name))?;
+            Rc::make_mut(&mut a.data).data[k] = Value::Blank;
+            let objects = Rc::make_mut(a.objects.get_or_insert_with(Default::default));
+            Ok(match object {
+                Some(o) => objects.insert(k, o),
+                None => objects.remove(&k),
+            })
+        });
+        match result {
+            Some(Ok(old)) => self.release(&old.map_or(Var::Value(Value::Blank), Var::Obj)),
+            Some(Err(m)) => Err(self.fault_at(span, m)),
+            None => Err(self.fault_at(span, format!("{name} is not an array (Dim {name}(…) first)"))),
         }
     }
 
@@ -116,6 +177,9 @@ impl Interp<'_, '_> {
                 _ => return Err(format!("{}: an array item holds a value", slot.name)),
             };
             Rc::make_mut(&mut a.data).data[k] = item;
+            if let Some(objects) = a.objects.as_mut().filter(|o| o.contains_key(&k)) {
+                Rc::make_mut(objects).remove(&k);
+            }
             Ok(())
         });
         match result {
@@ -167,7 +231,10 @@ impl Interp<'_, '_> {
                     f.code = 9;
                     f
                 })?;
-                Ok(super::value::array_var(a.data.data[k].clone(), self.module.base))
+                match a.item(k) {
+                    object @ Var::Obj(_) => Ok(object),
+                    _ => Ok(super::value::array_var(a.data.data[k].clone(), self.module.base)),
+                }
             }
             Var::Obj(Obj::Range(..)) => Err(self
                 .fault_at(span, "a Range is indexed through .Cells(row, column) or .Item(i) here, not a second (…)")),
@@ -207,7 +274,7 @@ impl Interp<'_, '_> {
                     o @ (Obj::Store(_) | Obj::Range(..)) => Ok(Var::Obj(o)),
                     // `d.Keys()(0)`: Keys and Items are zero-based.
                     Obj::Value(Value::Array(a)) if self.is_keys_member(base) => {
-                        Ok(Var::Array(VArray { data: a, lower: (1, 0), dims: 1 }))
+                        Ok(Var::Array(VArray { data: a, lower: (1, 0), dims: 1, objects: None }))
                     }
                     Obj::Value(v) => Ok(super::value::array_var(v, self.module.base)),
                     other => Ok(Var::Obj(other)),
@@ -225,11 +292,16 @@ fn link_index(link: &Link) -> Vec<Expr> {
 
 pub(super) fn preserve_items(old: &VArray, new: &mut VArray) {
     let data = Rc::make_mut(&mut new.data);
+    let mut objects = std::collections::HashMap::new();
     for r in 0..old.data.rows.min(data.rows) {
         for c in 0..old.data.cols.min(data.cols) {
             data.data[r * data.cols + c] = old.data.get(r, c).clone();
+            if let Var::Obj(o) = old.item(r * old.data.cols + c) {
+                objects.insert(r * data.cols + c, o);
+            }
         }
     }
+    new.objects = (!objects.is_empty()).then(|| Rc::new(objects));
 }
 
 impl Interp<'_, '_> {

@@ -166,7 +166,26 @@ impl Interp<'_, '_> {
     /// Terminates `var`'s object if this is its last reference, adding what it held to `pending`.
     fn release_one(&self, var: &Var, pending: &mut Vec<Var>) -> Run<()> {
         match var {
-            Var::Obj(Obj::Instance(object)) if Rc::strong_count(&object.0) == 1 => {
+            Var::Obj(object) => self.release_obj(object, pending)?,
+            // An array's objects go with it when nothing else holds its items.
+            Var::Array(a) => {
+                if let Some(objects) = a.objects.as_ref().filter(|o| Rc::strong_count(o) == 1) {
+                    let mut places: Vec<&usize> = objects.keys().collect();
+                    places.sort_unstable();
+                    for k in places {
+                        self.release_obj(&objects[k], pending)?;
+                    }
+                }
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
+    /// `release_one` of an object held where `object` is.
+    fn release_obj(&self, object: &Obj, pending: &mut Vec<Var>) -> Run<()> {
+        match object {
+            Obj::Instance(object) if Rc::strong_count(&object.0) == 1 => {
                 if let Some(proc) = self.class_proc(object.0.class, "Class_Terminate", None) {
                     self.run_event(proc, object, self.module.procs[proc].span)?;
                 }
@@ -176,7 +195,7 @@ impl Interp<'_, '_> {
                     pending.extend(fields.iter().map(|s| s.var.clone()));
                 }
             }
-            Var::Obj(Obj::Store(h)) if Rc::strong_count(&h.0) == 1 => pending.extend(h.0.borrow_mut().take_items()),
+            Obj::Store(h) if Rc::strong_count(&h.0) == 1 => pending.extend(h.0.borrow_mut().take_items()),
             _ => {}
         }
         Ok(())
@@ -338,6 +357,9 @@ impl Interp<'_, '_> {
             ExprKind::Name(n) => Ok(self.lookup(n).filter(|v| matches!(v, Var::Obj(Obj::Instance(_) | Obj::Store(_))))),
             ExprKind::Host(id) => match &self.module.nodes[*id as usize] {
                 Node::New { class, span } => self.new_object(*class, *span).map(Some),
+                Node::Element { var, index, span } if self.array_object(*id).is_some() => {
+                    Ok(Some(self.array_item(var, index, *span)?).filter(|v| matches!(v, Var::Obj(_))))
+                }
                 Node::Path(path) => {
                     let object = self.path(ctx, path);
                     self.take_pending()?;

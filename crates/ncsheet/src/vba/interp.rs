@@ -674,6 +674,11 @@ impl Interp<'_, '_> {
                 let Node::New { class, span } = &self.module.nodes[*id as usize] else { unreachable!() };
                 self.new_object(*class, *span)
             }
+            // `Set x = a(1)`, `a(1) Is Nothing`, `With a(1)`: an array's item that is an object.
+            ExprKind::Host(id) if self.array_object(*id).is_some() => {
+                let (var, index, span) = self.array_object(*id).expect("an array's item");
+                self.array_item(&var, index, span)
+            }
             ExprKind::Host(id) if matches!(self.module.nodes[*id as usize], Node::Index { .. }) => {
                 let Node::Index { base, index, span } = &self.module.nodes[*id as usize] else { unreachable!() };
                 self.indexed_var(base, index, *span)
@@ -754,7 +759,7 @@ impl Interp<'_, '_> {
             Operand::Value(v) if self.is_value_member(e) => range_var(v),
             // `d.Keys`, `d.Items`: zero-based whatever the Option Base ("Keys method").
             Operand::Value(Value::Array(a)) if self.is_keys_member(e) => {
-                Var::Array(super::value::VArray { data: a, lower: (1, 0), dims: 1 })
+                Var::Array(super::value::VArray { data: a, lower: (1, 0), dims: 1, objects: None })
             }
             Operand::Value(v) => match super::library::library_array(e, &v, self.module.base) {
                 Some(var) => var,
@@ -1297,8 +1302,12 @@ impl Interp<'_, '_> {
                 _ => self.default_var(d.ty.as_ref()),
             };
             self.charge(super::budget::brought(&var), d.span)?;
-            if redim && self.with_slot(&d.name, |s| s.var = var.clone()).is_some() {
-                continue;
+            if redim {
+                // The objects only the old items held go (ReDim Preserve kept them).
+                if let Some(old) = self.with_slot(&d.name, |s| std::mem::replace(&mut s.var, var.clone())) {
+                    self.release(&old)?;
+                    continue;
+                }
             }
             let new = d.new.map(|class| (class, d.span));
             self.declare(Slot { name: d.name.clone(), var, ty: d.ty.clone(), constant: false, new });
@@ -1361,6 +1370,10 @@ impl Interp<'_, '_> {
                     let key = self.store_key(&mut self.ctx(), index, span)?;
                     let item = if set { self.item_var(value)? } else { self.var_of(value, false)? };
                     return self.set_store_item(&h, &key, item, span);
+                }
+                if set {
+                    let item = self.item_var(value)?;
+                    return self.set_object_element(name, index, item, span);
                 }
                 let v = self.eval(value)?;
                 self.set_element(name, index, v, span)
@@ -1556,7 +1569,7 @@ impl Interp<'_, '_> {
             Var::Obj(Obj::Sheets) => {
                 (0..self.wb.borrow().sheet_len()).map(|i| Var::Obj(Obj::Sheet(i as SheetId))).collect()
             }
-            Var::Array(a) => a.data.data.iter().cloned().map(Var::Value).collect(),
+            Var::Array(a) => a.items(),
             // A Collection's items, a Dictionary's keys ("For Each...Next statement").
             Var::Obj(Obj::Store(h)) => h.each(),
             Var::Obj(Obj::Value(Value::Array(a))) => a.data.iter().cloned().map(Var::Value).collect(),

@@ -71,6 +71,8 @@ impl Interp<'_, '_> {
                 Var::Array(a) => {
                     let fill = default_value(slot.ty.as_ref());
                     a.data = Rc::new(Array::filled(a.data.rows, a.data.cols, fill));
+                    // An array of objects holds Nothing again ("Erase statement").
+                    a.objects = None;
                     true
                 }
                 _ => false,
@@ -215,7 +217,7 @@ pub(super) fn library_array(e: &Expr, v: &Value, base: i64) -> Option<Var> {
         _ => return None,
     };
     let Value::Array(data) = v else { return None };
-    Some(Var::Array(VArray { data: data.clone(), lower: (1, lower), dims: 1 }))
+    Some(Var::Array(VArray { data: data.clone(), lower: (1, lower), dims: 1, objects: None }))
 }
 
 /// The VarType number of a declared type (`None`: a Variant, which answers what it holds).

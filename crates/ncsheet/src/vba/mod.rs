@@ -164,14 +164,15 @@
 //! its public Subs, Functions, `Property Get|Let|Set` and `Public` variables are its members
 //! (`x.Area`, `x.Width = 3`, `Set x.Owner = o`), `Me` is the object inside them, and `Set`
 //! shares one object between variables, Collections and Dictionaries. `Class_Initialize` runs
-//! when an object is made, `Class_Terminate` when the variable holding the last reference is
-//! set to something else (or Nothing) or its procedure ends (not when a Collection holding
-//! the last one lets it go, nor at the end of the run for module-level variables). A member
-//! of Nothing is VBA's error 91, a member the class has not error 438. `Dim x As New
-//! Class1` makes the object at the `Dim` (VBA makes it at its first use, and again at a use
-//! after `Set x = Nothing`, where ncsheet stops with error 91). Not there: arrays of objects,
-//! `Implements`, events (`WithEvents`, `RaiseEvent`), default members; a class module the
-//! grammar does not take is left out of the project (`New` of it is refused by name).
+//! when an object is made, `Class_Terminate` when the last reference goes: a variable set to
+//! something else (or Nothing) or whose procedure ends, a Collection's or a Dictionary's
+//! entry removed or replaced, an array's item, or the object, Collection or array holding it
+//! let go (not at the end of the run for module-level variables). A member of Nothing is
+//! VBA's error 91, a member the class has not error 438. `Dim x As New Class1` makes the
+//! object at its first use, and again at a use after `Set x = Nothing` (auto-instantiation).
+//! Arrays hold objects (`Set a(i) = New Class1`). Not there: `Implements`, events
+//! (`WithEvents`, `RaiseEvent`), default members; a class module the grammar does not take
+//! is left out of the project (`New` of it is refused by name).
 //!
 //! `Null` is VBA's: arithmetic, comparisons (`Null = Null`), `Not` and negation give Null,
 //! `&` takes a lone Null as "", `And`/`Or`/`Imp` follow VBA's tables, `If`/`While` take it as

@@ -103,6 +103,11 @@ impl Interp<'_, '_> {
                 let key = self.store_key(ctx, &index, link.span)?;
                 return self.store_item(h, &key, link.span).map(super::collections::var_obj);
             }
+            if let (Var::Array(_), Some(args)) = (&var, &link.args) {
+                // `a(1).Field`: the item, an object or a value.
+                let index: Vec<Expr> = args.iter().map(|a| a.value.clone()).collect();
+                return Ok(super::collections::var_obj(self.array_item(&link.name, &index, link.span)?));
+            }
             if link.args.is_some() {
                 return Err(self.fault_at(link.span, format!("{} is a variable, not an array of objects", link.name)));
             }

@@ -29,6 +29,24 @@ pub struct VArray {
     /// (first row, first column) indexes; a one-dimensional array uses only the column.
     pub lower: (i64, i64),
     pub dims: u8,
+    /// The items that are objects (`Set a(i) = New Class1`), by their row-major position;
+    /// `data` holds Empty there. Copying the array copies the references, as VBA does.
+    pub objects: Option<Rc<std::collections::HashMap<usize, Obj>>>,
+}
+
+impl VArray {
+    /// The item at row-major position `k` as a variable holds it: its object, or its value.
+    pub fn item(&self, k: usize) -> Var {
+        match self.objects.as_ref().and_then(|o| o.get(&k)) {
+            Some(object) => Var::Obj(object.clone()),
+            None => Var::Value(self.data.data[k].clone()),
+        }
+    }
+
+    /// Every item, in row-major order (For Each).
+    pub fn items(&self) -> Vec<Var> {
+        (0..self.data.data.len()).map(|k| self.item(k)).collect()
+    }
 }
 
 /// The objects a macro reaches through member paths.
@@ -139,8 +157,8 @@ impl Slots {
 pub fn array_var(v: Value, base: i64) -> Var {
     match v {
         Value::Array(a) if a.rows == 1 && a.cols == 1 => Var::Value(a.data[0].clone()),
-        Value::Array(a) if a.rows == 1 => Var::Array(VArray { data: a, lower: (1, base), dims: 1 }),
-        Value::Array(a) => Var::Array(VArray { data: a, lower: (1, 1), dims: 2 }),
+        Value::Array(a) if a.rows == 1 => Var::Array(VArray { data: a, lower: (1, base), dims: 1, objects: None }),
+        Value::Array(a) => Var::Array(VArray { data: a, lower: (1, 1), dims: 2, objects: None }),
         other => Var::Value(other),
     }
 }
@@ -153,7 +171,7 @@ pub fn array_var(v: Value, base: i64) -> Var {
 pub fn range_var(v: Value) -> Var {
     match v {
         Value::Array(a) if a.rows == 1 && a.cols == 1 && a.tail.is_none() => Var::Value(a.data[0].clone()),
-        Value::Array(a) => Var::Array(VArray { data: whole(a), lower: (1, 1), dims: 2 }),
+        Value::Array(a) => Var::Array(VArray { data: whole(a), lower: (1, 1), dims: 2, objects: None }),
         other => Var::Value(other),
     }
 }
