@@ -305,6 +305,28 @@ End Sub
     Out r & " " & Err.Number
 "#,
     },
+    // tests/vba_library.rs: built-ins a shop's modules use, with the reference pages' results
+    // (not Null given to them: LibreOffice stops at `Left(Null, 1)`, which VBA makes Null).
+    Case {
+        name: "library",
+        module: "",
+        body: r#"
+    Out String(5, "*") & String(3, 42) & String(4, "ABC")
+    Out Hex(255) & " " & Hex(459) & " " & Hex(-1) & " " & Oct(8) & " " & Oct(459)
+    Out CDbl(DateSerial(1990 - 10, 8 - 2, 1 - 1))
+    Out CDbl(DateSerial(2020, 13, 1))
+    Out CDbl(TimeSerial(6, 0, 0))
+    Out StrReverse("G01 X5")
+    Out Replace("XXpXXPXXp", "p", "Y", 1, 1)
+    Out Replace("XXpXXPXXp", "p", "Y", 3)
+    Dim s As String
+    s = "The dog jumps"
+    Mid(s, 5, 3) = "fox"
+    Out s
+    Mid(s, 5) = "cow jumped over"
+    Out s
+"#,
+    },
 ];
 
 /// ncsheet's lines for one case.

@@ -173,6 +173,11 @@ pub trait Host {
     /// built: a macro stops there, with the limit named.
     fn array_too_large(&self, _items: usize, _limit: usize) {}
 
+    /// Told when one of VBA's library functions raises a VBA run-time error (`Chr(Null)`:
+    /// 94, "Invalid use of Null"): a macro goes to its handler or stops there, with that
+    /// number; the call's value is the error value it returns.
+    fn raise(&self, _number: u32, _message: &str) {}
+
     /// The result of the binary operator `op` on the expressions `operands`, whose values
     /// were `values`: a macro checks it against its operands' declared types (VBA's Integer
     /// arithmetic overflows at 32,767); the result stays as computed by default.
@@ -462,6 +467,15 @@ impl<'a> Ctx<'a> {
             return Value::Error(self.text_over_limit());
         }
         v
+    }
+
+    /// `error` with a note, and VBA's run-time error `number` raised in a macro ([`Host::raise`]):
+    /// how a VBA library function fails as VBA's does, while a cell gets the error value.
+    pub fn raise_vba(&mut self, error: XlError, number: u32, message: String) -> XlError {
+        if let Some(host) = self.host {
+            host.raise(number, &message);
+        }
+        self.explain(error, message)
     }
 
     /// Records a reference made at run time, for the dependency graph.

@@ -172,6 +172,12 @@ impl Host for Interp<'_, '_> {
         }
     }
 
+    fn raise(&self, number: u32, message: &str) {
+        let mut f = self.fault(message);
+        f.code = number;
+        self.park(f);
+    }
+
     fn text_too_long(&self, limit: usize) {
         let mut f = self.fault(format!(
             "a string longer than {limit} characters (ncsheet's limit for macro strings; raise it with --max-string)"

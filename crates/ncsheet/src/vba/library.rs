@@ -6,13 +6,19 @@
 use std::rc::Rc;
 
 use crate::eval::functions::vba::var_type_of;
+use pest::iterators::Pair;
+
+use crate::eval::functions::Registry;
 use crate::eval::{Array, Env, Value};
 use crate::formula::ast::{Expr, ExprKind};
+use crate::formula::parse::{FunctionTable, Rule};
 
-use super::ast::{Class, Inspect, Span, Ty};
+use super::ast::{Class, Inspect, Link, Span, StmtKind, Target, Ty};
 use super::interp::{Fault, Interp, Run};
+use super::parser::{Build, Res};
+use super::resolve::lower_bare;
 use super::typing::Declared;
-use super::value::{default_value, range_var, Obj, VArray, Var};
+use super::value::{default_value, print_text, range_var, Obj, VArray, Var};
 
 /// The error code of a `Stop`: no `On Error` traps it (VBA's Stop is no error but a pause).
 pub(super) const STOP: u32 = u32::MAX;
@@ -84,6 +90,69 @@ impl Interp<'_, '_> {
         Ok(())
     }
 
+    /// `Application.Run "Proc", args…` ("Application.Run method (Excel)"): runs the project's
+    /// Sub or Function named by the text (`"Module1.Proc"` and `"'Book.xlsm'!Proc"` name it
+    /// too), its arguments passed by value; a Function's value is Run's. No such procedure is
+    /// Excel's run-time error 1004, a wrong count of arguments VBA's 449 or 450.
+    pub(super) fn application_run(&self, link: &Link) -> Run<Obj> {
+        let args = link.args.as_deref().unwrap_or(&[]);
+        let Some(first) = args.first() else {
+            return Err(self.fault_at(link.span, "Application.Run needs the name of the procedure to run"));
+        };
+        let named = print_text(&self.eval(&first.value)?);
+        let Some(proc) = self.run_target(&named) else {
+            let mut fault = self.fault_at(
+                link.span,
+                format!("Application.Run: Cannot run the macro '{named}' (run-time error 1004): the project has no Sub or Function of that name"),
+            );
+            fault.code = 1004;
+            return Err(fault);
+        };
+        let p = &self.module.procs[proc];
+        let given = &args[1..];
+        let required = p.params.iter().filter(|q| !q.optional).count();
+        let wrong = if given.len() > p.params.len() {
+            Some((450, "Wrong number of arguments or invalid property assignment"))
+        } else if given.len() < required {
+            Some((449, "Argument not optional"))
+        } else {
+            None
+        };
+        if let Some((code, what)) = wrong {
+            let mut fault = self.fault_at(
+                link.span,
+                format!("Application.Run \"{named}\": {what} (run-time error {code}): {} takes {required} to {} arguments, given {}", p.name, p.params.len(), given.len()),
+            );
+            fault.code = code;
+            return Err(fault);
+        }
+        let mut bound = Vec::new();
+        for (i, a) in given.iter().enumerate() {
+            if a.value.kind != ExprKind::Missing {
+                bound.push((i, self.var_of(&a.value, true)?));
+            }
+        }
+        let (value, _) = self.invoke_frame(proc, bound, Some(link.span), Default::default())?;
+        Ok(Obj::Value(value))
+    }
+
+    /// The procedure `Application.Run` names: by its name, after a workbook (`Book!`) and a
+    /// module (`Module1.`) if given; never a class module's.
+    fn run_target(&self, named: &str) -> Option<usize> {
+        let name = named.rsplit('!').next().unwrap_or(named).trim();
+        let (module, name) = match name.rsplit_once('.') {
+            Some((module, name)) => (Some(module), name),
+            None => (None, name),
+        };
+        self.module.procs.iter().position(|p| {
+            let part = &self.module.parts.get(p.part);
+            p.name.eq_ignore_ascii_case(name)
+                && p.property.is_none()
+                && !part.is_some_and(|m| m.class)
+                && module.is_none_or(|m| part.is_some_and(|part| part.name.eq_ignore_ascii_case(m)))
+        })
+    }
+
     /// Notes a parameter the call left out, for IsMissing.
     pub(super) fn mark_missing(&self, name: &Rc<str>) {
         if let Some(frame) = self.frames.borrow_mut().last_mut() {
@@ -133,6 +202,8 @@ impl Interp<'_, '_> {
             (Var::Array(_), Some(Ty::Record(i))) => format!("{}()", self.module.types[*i].name),
             (Var::Array(_), ty) => format!("{}()", Declared::of_ty(ty).name()),
             (Var::Record(i, _), _) => self.module.types[*i].name.to_string(),
+            // "TypeName function": an object's class, a class module's name for its objects.
+            (Var::Obj(Obj::Instance(object)), _) => self.module.classes[object.0.class].name.to_string(),
             (Var::Obj(obj), _) => object_type_name(obj).into(),
             (Var::Value(v), ty) => match Declared::of_ty(ty) {
                 Declared::Variant => value_type_name(v),
@@ -203,6 +274,47 @@ impl Interp<'_, '_> {
             Var::Obj(_) => VB_OBJECT,
             Var::Value(v) => ty.and_then(declared_var_type).unwrap_or_else(|| var_type_of(v)),
         })
+    }
+}
+
+impl Build<'_> {
+    /// `Mid(stringvar, start[, length]) = string` ("Mid statement"): the assignment
+    /// `stringvar = <its text with the characters replaced>`, through the function table's
+    /// `VBA.MIDSTATEMENT`; `None` for any other assignment.
+    pub(super) fn mid_statement(&self, target: &Pair<Rule>, value: &Expr) -> Res<Option<StmtKind>> {
+        // Only a target spelled `Mid(…)` is read twice.
+        if !target.as_str().get(..3).is_some_and(|s| s.eq_ignore_ascii_case("mid")) {
+            return Ok(None);
+        }
+        let path = self.path_syntax(target)?;
+        let [link] = path.links.as_slice() else { return Ok(None) };
+        let Some(args) = link.args.as_deref() else { return Ok(None) };
+        let lower = lower_bare(&link.name);
+        if path.with || lower != "mid" || self.is_var(&link.name) || self.proc_index(&link.name).is_some() {
+            return Ok(None);
+        }
+        let var = match args.first().map(|a| &a.value.kind) {
+            Some(ExprKind::Name(var)) if self.is_var(var) && (2..=3).contains(&args.len()) => var.clone(),
+            _ => {
+                return Err(self.error_at(
+                    target,
+                    "Mid statement: Mid(stringvar, start[, length]) = string, where stringvar is a variable",
+                ))
+            }
+        };
+        if args.iter().any(|a| a.name.is_some()) {
+            return Err(
+                self.error_at(target, "Mid statement: named arguments (x:=) are for the macro's own procedures")
+            );
+        }
+        let Some(info) = Registry.lookup("VBA.MIDSTATEMENT") else { return Ok(None) };
+        let mut exprs: Vec<Expr> = args.iter().map(|a| a.value.clone()).collect();
+        if exprs.len() == 2 {
+            exprs.push(Expr::new(ExprKind::Missing, value.span));
+        }
+        exprs.push(value.clone());
+        let call = Expr::new(ExprKind::Call(info.id, exprs), value.span);
+        Ok(Some(StmtKind::Assign { target: Target::Var(var), value: call, set: false }))
     }
 }
 

@@ -40,7 +40,8 @@
 //! VBA's functions (`Sqr Atn Tan Sin Cos Exp Log Abs Sgn Int Fix Round Format CStr CDbl CInt
 //! CLng CBool Val Str Len Left Mid Right UCase LCase Trim LTrim RTrim InStr InStrRev Replace
 //! Chr ChrW Asc Space IIf IsEmpty IsNull IsNumeric IsError IsObject IsArray IsMissing Array Split Join
-//! StrComp StrConv LenB FormatNumber VarType CVErr Timer Rnd`, the `VBA.*` rows of the
+//! StrComp StrConv LenB FormatNumber VarType CVErr Timer Rnd String Hex Oct StrReverse
+//! DateSerial TimeSerial Date Time CLngLng`, the `VBA.*` rows of the
 //! function table, `$` suffix allowed), an object, or a sheet function (`CHAMFER_XA`, `SUM`,
 //! `ATAN2`, …; also as `Application.WorksheetFunction.Sum` or `WorksheetFunction.Sum`).
 //!
@@ -52,6 +53,9 @@
 //! `vbLong` 3 …; 8192 + the items' type for an array), `IsMissing` is True for a left-out
 //! `Optional` Variant without a default, `CVErr` takes Excel's `xlErr…` numbers (the values a
 //! cell can hold), `Val` reads `&HFF` and `&O17`, `Format(x, ">")` / `"<"` changes case.
+//! `Replace` takes its start, count and compare (the text from start is returned); the Mid
+//! statement (`Mid(s, 5, 3) = "fox"`) replaces characters of a variable; `Application.Run
+//! "Proc", args` runs a procedure of the project by its name.
 //! `Timer` is the seconds since midnight of the document's clock and `Rnd` draws from the
 //! document's random sequence (the workbook's settings, as NOW and RAND do in cells):
 //! `Randomize seed` restarts it (`Randomize` alone from the clock), `Rnd(-n)` repeats for
@@ -177,8 +181,10 @@
 //! `Null` is VBA's: arithmetic, comparisons (`Null = Null`), `Not` and negation give Null,
 //! `&` takes a lone Null as "", `And`/`Or`/`Imp` follow VBA's tables, `If`/`While` take it as
 //! False, and a variable declared with a type other than Variant refuses it with error 94.
-//! A cell never holds Null (written to one, it leaves the cell empty); a library function
-//! given Null sees `#VALUE!` (VBA's `Len(Null)` is Null).
+//! A cell never holds Null (written to one, it leaves the cell empty). A library function
+//! given Null follows its reference page: Null for a Variant parameter that passes it
+//! (`Len(Null)`, `Left(Null, 1)`, `Abs(Null)`, `Hex(Null)` are Null), error 94 anywhere else
+//! (`Left$(Null, 1)`, `Chr(Null)`, `Sqr(Null)`, `CStr(Null)`).
 //!
 //! Not in the language: `ParamArray`, arrays of more than two dimensions, events and forms.
 //! A member's dot touches what it follows ([MS-VBAL] 5.6.12): `Out .Y + .X` in a With block

@@ -174,6 +174,7 @@ impl Interp<'_, '_> {
                 "referencestyle" => Ok(Obj::Value(Value::Number(f64::from(self.reference_style.get())))),
                 // Windows Excel's: a macro joins its paths with it (`files.rs` reads both).
                 "pathseparator" => Ok(Obj::Value(Value::text("\\"))),
+                "run" => self.application_run(link),
                 _ => Err(self.no_member(&Obj::App, link)),
             },
             Obj::Workbook => match name.as_str() {

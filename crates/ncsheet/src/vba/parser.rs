@@ -652,7 +652,13 @@ impl<'s> Build<'s> {
                 ExprKind::Host(id) => Target::Node(id),
                 _ => unreachable!("a bracket is a node"),
             },
-            None => self.target(find(&k, Rule::path).expect("assignment target"))?,
+            None => {
+                let path = find(&k, Rule::path).expect("assignment target");
+                if let Some(mid) = self.mid_statement(&path, &value).transpose().filter(|_| !set) {
+                    return mid;
+                }
+                self.target(path)?
+            }
         };
         Ok(StmtKind::Assign { target, value, set })
     }

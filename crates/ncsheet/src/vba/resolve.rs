@@ -448,6 +448,12 @@ impl Build<'_> {
             let at = start(pair);
             return Ok(self.node(Node::Inspect { what, arg, span: self.span(at) }, at, end));
         }
+        // `Left$(…)`: the `$` form, a String, where VBA has one apart (Null is error 94 there).
+        if link.name.ends_with('$') {
+            if let Some(call) = self.function_call(pair, &format!("{PREFIX}{lower}$"), &link)? {
+                return Ok(call);
+            }
+        }
         if let Some(call) = self.function_call(pair, &format!("{PREFIX}{lower}"), &link)? {
             return Ok(call);
         }

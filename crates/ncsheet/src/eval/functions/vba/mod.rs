@@ -13,14 +13,14 @@ use crate::eval::coerce::{parse_plain_number, to_bool, to_number, to_text};
 use crate::eval::dates::DateSystem;
 use crate::eval::format::number_format::general;
 use crate::eval::functions::api::{
-    lift, lift_number1, lift_number2, number_result, Ctx, FnSpec, Operand, Outside, MANY,
+    explain_lifted_size, lift, lift_number2, lift_values, number_result, Ctx, FnSpec, Operand, Outside, MANY,
 };
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
 
 use crate::eval::format::text_format::NumberFormat;
-use crate::eval::functions::math::basic as math;
 
+mod conversions;
 mod strings;
 pub use strings::var_type_of;
 
@@ -32,10 +32,10 @@ const VBA_DATES: DateSystem = DateSystem::From1900;
 pub const PREFIX: &str = "VBA.";
 
 pub const FUNCTIONS: &[FnSpec] = &[
-    FnSpec::value("VBA.ABS", 1, 1, math::abs, "VBA.ABS(number)", "VBA Abs: absolute value"),
+    FnSpec::value("VBA.ABS", 1, 1, abs, "VBA.ABS(number)", "VBA Abs: absolute value"),
     FnSpec::value("VBA.ARRAY", 0, MANY, array, "VBA.ARRAY(item1, ...)", "VBA Array: the items as a one-row array"),
     FnSpec::value("VBA.ASC", 1, 1, asc, "VBA.ASC(text)", "VBA Asc: code of the first character"),
-    FnSpec::value("VBA.ATN", 1, 1, math::atan, "VBA.ATN(number)", "VBA Atn: arctangent in radians"),
+    FnSpec::value("VBA.ATN", 1, 1, atn, "VBA.ATN(number)", "VBA Atn: arctangent in radians"),
     FnSpec::value("VBA.CBOOL", 1, 1, cbool, "VBA.CBOOL(value)", "VBA CBool: value as True or False"),
     FnSpec::value("VBA.CDBL", 1, 1, cdbl, "VBA.CDBL(value)", "VBA CDbl: value as a number; #VALUE! for other text"),
     FnSpec::value("VBA.CHR", 1, 1, chr, "VBA.CHR(code)", "VBA Chr: the character with this code"),
@@ -49,7 +49,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "VBA.CHRW(code)",
         "VBA ChrW: the character of a UTF-16 code (-32768 to 65535)",
     ),
-    FnSpec::value("VBA.COS", 1, 1, math::cos, "VBA.COS(angle)", "VBA Cos: cosine of an angle in radians"),
+    FnSpec::value("VBA.COS", 1, 1, cos, "VBA.COS(angle)", "VBA Cos: cosine of an angle in radians"),
     FnSpec::value("VBA.CSTR", 1, 1, cstr, "VBA.CSTR(value)", "VBA CStr: value as text (True, 0.5, 1E+20)"),
     FnSpec::value(
         "VBA.CVERR",
@@ -59,7 +59,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "VBA.CVERR(number)",
         "VBA CVErr: Excel's error value of an xlErr number (2042: #N/A)",
     ),
-    FnSpec::value("VBA.EXP", 1, 1, math::exp, "VBA.EXP(number)", "VBA Exp: e raised to number"),
+    FnSpec::value("VBA.EXP", 1, 1, exp, "VBA.EXP(number)", "VBA Exp: e raised to number"),
     FnSpec::value("VBA.FIX", 1, 1, fix, "VBA.FIX(number)", "VBA Fix: drops the fraction (toward zero)"),
     FnSpec::value(
         "VBA.FORMAT",
@@ -111,7 +111,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "VBA.LENB(text)",
         "VBA LenB: bytes of the text in UTF-16 (2 a unit)",
     ),
-    FnSpec::value("VBA.INT", 1, 1, math::int, "VBA.INT(number)", "VBA Int: largest whole number not above number"),
+    FnSpec::value("VBA.INT", 1, 1, int, "VBA.INT(number)", "VBA Int: largest whole number not above number"),
     FnSpec::value(
         "VBA.ISEMPTY",
         1,
@@ -141,10 +141,17 @@ pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("VBA.LCASE", 1, 1, lcase, "VBA.LCASE(text)", "VBA LCase: text in small letters"),
     FnSpec::value("VBA.LEFT", 2, 2, left, "VBA.LEFT(text, length)", "VBA Left: the first length characters"),
     FnSpec::value("VBA.LEN", 1, 1, len, "VBA.LEN(text)", "VBA Len: number of characters"),
-    FnSpec::value("VBA.LOG", 1, 1, math::ln, "VBA.LOG(number)", "VBA Log: natural logarithm (Excel's LN)"),
+    FnSpec::value("VBA.LOG", 1, 1, log, "VBA.LOG(number)", "VBA Log: natural logarithm (Excel's LN)"),
     FnSpec::value("VBA.LTRIM", 1, 1, ltrim, "VBA.LTRIM(text)", "VBA LTrim: text without leading spaces"),
     FnSpec::value("VBA.MID", 2, 3, mid, "VBA.MID(text, start, [length])", "VBA Mid: characters from start (1-based)"),
-    FnSpec::value("VBA.REPLACE", 3, 3, replace, "VBA.REPLACE(text, find, with)", "VBA Replace: every find replaced"),
+    FnSpec::value(
+        "VBA.REPLACE",
+        3,
+        6,
+        conversions::replace,
+        "VBA.REPLACE(text, find, with, [start], [count], [compare])",
+        "VBA Replace: the text from start with count finds (all: -1) replaced",
+    ),
     FnSpec::value("VBA.RIGHT", 2, 2, right, "VBA.RIGHT(text, length)", "VBA Right: the last length characters"),
     FnSpec::value(
         "VBA.RND",
@@ -165,10 +172,10 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "VBA Round: to digits decimals, halves to even (Round(2.5) is 2)",
     ),
     FnSpec::value("VBA.RTRIM", 1, 1, rtrim, "VBA.RTRIM(text)", "VBA RTrim: text without trailing spaces"),
-    FnSpec::value("VBA.SGN", 1, 1, math::sign, "VBA.SGN(number)", "VBA Sgn: -1, 0 or 1"),
-    FnSpec::value("VBA.SIN", 1, 1, math::sin, "VBA.SIN(angle)", "VBA Sin: sine of an angle in radians"),
+    FnSpec::value("VBA.SGN", 1, 1, sgn, "VBA.SGN(number)", "VBA Sgn: -1, 0 or 1"),
+    FnSpec::value("VBA.SIN", 1, 1, sin, "VBA.SIN(angle)", "VBA Sin: sine of an angle in radians"),
     FnSpec::value("VBA.SPACE", 1, 1, space, "VBA.SPACE(count)", "VBA Space: count spaces"),
-    FnSpec::value("VBA.SQR", 1, 1, math::sqrt, "VBA.SQR(number)", "VBA Sqr: square root; #NUM! below zero"),
+    FnSpec::value("VBA.SQR", 1, 1, sqr, "VBA.SQR(number)", "VBA Sqr: square root; #NUM! below zero"),
     FnSpec::value(
         "VBA.SPLIT",
         1,
@@ -194,7 +201,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "VBA.STRCONV(text, conversion)",
         "VBA StrConv: vbUpperCase (1), vbLowerCase (2), vbProperCase (3)",
     ),
-    FnSpec::value("VBA.TAN", 1, 1, math::tan, "VBA.TAN(angle)", "VBA Tan: tangent of an angle in radians"),
+    FnSpec::value("VBA.TAN", 1, 1, tan, "VBA.TAN(angle)", "VBA Tan: tangent of an angle in radians"),
     FnSpec::value(
         "VBA.TIMER",
         0,
@@ -216,15 +223,216 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "VBA VarType: 0 Empty, 5 Double, 8 String, 10 Error, 11 Boolean, 8204 array",
     ),
     FnSpec::value("VBA.VAL", 1, 1, val, "VBA.VAL(text)", "VBA Val: the number text starts with (0 if none)"),
+    FnSpec::value("VBA.HEX", 1, 1, conversions::hex, "VBA.HEX(number)", "VBA Hex: a whole number in hexadecimal"),
+    FnSpec::value("VBA.OCT", 1, 1, conversions::oct, "VBA.OCT(number)", "VBA Oct: a whole number in octal"),
+    FnSpec::value(
+        "VBA.CLNGLNG",
+        1,
+        1,
+        conversions::clnglng,
+        "VBA.CLNGLNG(value)",
+        "VBA CLngLng: whole number, halves to even, 64 bits",
+    ),
+    FnSpec::value(
+        "VBA.STRING",
+        2,
+        2,
+        conversions::string,
+        "VBA.STRING(number, character)",
+        "VBA String: number copies of a character (a code or a text's first)",
+    ),
+    FnSpec::value(
+        "VBA.STRREVERSE",
+        1,
+        1,
+        conversions::str_reverse,
+        "VBA.STRREVERSE(text)",
+        "VBA StrReverse: the characters in reverse order",
+    ),
+    FnSpec::value(
+        "VBA.DATESERIAL",
+        3,
+        3,
+        conversions::date_serial,
+        "VBA.DATESERIAL(year, month, day)",
+        "VBA DateSerial: the date (days from 1899-12-30), months and days past their range carried",
+    ),
+    FnSpec::value(
+        "VBA.TIMESERIAL",
+        3,
+        3,
+        conversions::time_serial,
+        "VBA.TIMESERIAL(hour, minute, second)",
+        "VBA TimeSerial: the time as a fraction of a day",
+    ),
+    FnSpec::value("VBA.DATE", 0, 0, conversions::date, "VBA.DATE()", "VBA Date: today by the document's clock")
+        .volatile()
+        .reads(Outside::Clock),
+    FnSpec::value(
+        "VBA.TIME",
+        0,
+        0,
+        conversions::time,
+        "VBA.TIME()",
+        "VBA Time: the time of day by the document's clock",
+    )
+    .volatile()
+    .reads(Outside::Clock),
+    FnSpec::value(
+        "VBA.MIDSTATEMENT",
+        4,
+        4,
+        conversions::mid_statement,
+        "VBA.MIDSTATEMENT(text, start, [length], replacement)",
+        "VBA's Mid statement (Mid(s, start, length) = replacement): the text with characters replaced",
+    ),
+    // The `$` forms of the functions that pass Null: a String, so Null is error 94.
+    FnSpec::value("VBA.LEFT$", 2, 2, conversions::left_s, "VBA.LEFT$(text, length)", "VBA Left$: Left as a String"),
+    FnSpec::value(
+        "VBA.RIGHT$",
+        2,
+        2,
+        conversions::right_s,
+        "VBA.RIGHT$(text, length)",
+        "VBA Right$: Right as a String",
+    ),
+    FnSpec::value("VBA.MID$", 2, 3, conversions::mid_s, "VBA.MID$(text, start, [length])", "VBA Mid$: Mid as a String"),
+    FnSpec::value("VBA.TRIM$", 1, 1, conversions::trim_s, "VBA.TRIM$(text)", "VBA Trim$: Trim as a String"),
+    FnSpec::value("VBA.LTRIM$", 1, 1, conversions::ltrim_s, "VBA.LTRIM$(text)", "VBA LTrim$: LTrim as a String"),
+    FnSpec::value("VBA.RTRIM$", 1, 1, conversions::rtrim_s, "VBA.RTRIM$(text)", "VBA RTrim$: RTrim as a String"),
+    FnSpec::value("VBA.UCASE$", 1, 1, conversions::ucase_s, "VBA.UCASE$(text)", "VBA UCase$: UCase as a String"),
+    FnSpec::value("VBA.LCASE$", 1, 1, conversions::lcase_s, "VBA.LCASE$(text)", "VBA LCase$: LCase as a String"),
+    FnSpec::value("VBA.HEX$", 1, 1, conversions::hex_s, "VBA.HEX$(number)", "VBA Hex$: Hex as a String"),
+    FnSpec::value("VBA.OCT$", 1, 1, conversions::oct_s, "VBA.OCT$(number)", "VBA Oct$: Oct as a String"),
+    FnSpec::value(
+        "VBA.STRING$",
+        2,
+        2,
+        conversions::string_s,
+        "VBA.STRING$(number, character)",
+        "VBA String$: String as a String",
+    ),
 ];
+
+/// The parameters of a VBA function that pass Null through to its result: bit i for argument i.
+type Passes = u8;
+/// No parameter passes Null: Null anywhere is run-time error 94.
+const NO_NULL: Passes = 0;
+/// The first parameter passes Null (`Left`'s string, `Abs`'s number).
+const FIRST: Passes = 1;
+/// Every parameter passes Null (`String`'s number and character).
+const EVERY: Passes = Passes::MAX;
+
+/// VBA's rule for Null among a library call's arguments (each function's page in the Office
+/// VBA language reference, and its "Runtime Semantics" in [MS-VBAL] 6.1.2): Null given for a
+/// parameter that passes it (`passes`: `Left`'s string, "If string contains Null, Null is
+/// returned") makes the result Null; Null for any other (`Left`'s length, `Chr`'s code,
+/// `Sqr`'s number) raises run-time error 94, "Invalid use of Null". `None`: no Null.
+fn null_argument(ctx: &mut Ctx, name: &str, values: &[Value], passes: Passes) -> Option<XlResult<Value>> {
+    let mut nulls = values.iter().enumerate().filter(|(_, v)| matches!(v, Value::Null)).map(|(i, _)| i).peekable();
+    nulls.peek()?;
+    if nulls.any(|i| i >= Passes::BITS as usize || passes >> i & 1 == 0) {
+        return Some(Err(invalid_use_of_null(ctx, name)));
+    }
+    Some(Ok(Value::Null))
+}
+
+/// Run-time error 94 for a Null where `name` needs a value (`#VALUE!` in a cell).
+pub(crate) fn invalid_use_of_null(ctx: &mut Ctx, name: &str) -> XlError {
+    ctx.raise_vba(XlError::Value, 94, format!("Invalid use of Null (run-time error 94): {name} was given Null"))
+}
+
+/// Run-time error 5, "Invalid procedure call or argument", for an argument out of its range
+/// (`#VALUE!` in a cell).
+pub(crate) fn invalid_call(ctx: &mut Ctx, name: &str, why: &str) -> XlError {
+    ctx.raise_vba(XlError::Value, 5, format!("Invalid procedure call or argument (run-time error 5): {name}: {why}"))
+}
+
+/// [`lift`] for VBA's functions: the arguments' Nulls as [`null_argument`] says, then `f` on
+/// the values (item by item over arrays).
+fn lift_vba(
+    ctx: &mut Ctx,
+    args: &[Expr],
+    name: &str,
+    passes: Passes,
+    f: &dyn Fn(&[Value]) -> XlResult<Value>,
+) -> XlResult<Value> {
+    let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    if let Some(result) = null_argument(ctx, name, &values, passes) {
+        return result;
+    }
+    let lifted = lift_values(&values, f);
+    explain_lifted_size(ctx, &values, &lifted);
+    lifted
+}
+
+/// A function of one number, after VBA's rule for a Null argument.
+fn number_fn(ctx: &mut Ctx, args: &[Expr], name: &str, passes: Passes, f: fn(f64) -> XlResult<f64>) -> XlResult<Value> {
+    // A number, the usual case, needs neither the Null rule nor lifting.
+    if let Some(x) = ctx.leaf_number(&args[0]) {
+        return Ok(number_result(f(x)?));
+    }
+    let v = ctx.eval(&args[0]);
+    if let Value::Number(x) = v {
+        return Ok(number_result(f(x)?));
+    }
+    if let Some(result) = null_argument(ctx, name, std::slice::from_ref(&v), passes) {
+        return result;
+    }
+    let dates = ctx.dates();
+    let v = ctx.locale().numbers_for_arithmetic(v, dates);
+    lift_values(&[v], &|v| Ok(number_result(f(to_number(&v[0], dates)?)?)))
+}
+
+// "Abs function", "Int, Fix functions": "If number contains Null, Null is returned"; [MS-VBAL]
+// 6.1.2.6 declares Sgn's number a Variant and its result a Variant. The others take a Double.
+fn abs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    number_fn(ctx, args, "Abs", FIRST, |x| Ok(x.abs()))
+}
+
+fn int(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    number_fn(ctx, args, "Int", FIRST, |x| Ok(x.floor()))
+}
+
+fn fix(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    number_fn(ctx, args, "Fix", FIRST, |x| Ok(x.trunc()))
+}
+
+fn sgn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    number_fn(ctx, args, "Sgn", FIRST, |x| Ok(if x == 0.0 { 0.0 } else { x.signum() }))
+}
+
+fn atn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    number_fn(ctx, args, "Atn", NO_NULL, |x| Ok(x.atan()))
+}
+
+fn cos(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    number_fn(ctx, args, "Cos", NO_NULL, |x| Ok(x.cos()))
+}
+
+fn sin(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    number_fn(ctx, args, "Sin", NO_NULL, |x| Ok(x.sin()))
+}
+
+fn tan(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    number_fn(ctx, args, "Tan", NO_NULL, |x| Ok(x.tan()))
+}
+
+fn exp(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    number_fn(ctx, args, "Exp", NO_NULL, |x| Ok(x.exp()))
+}
+
+fn log(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    number_fn(ctx, args, "Log", NO_NULL, |x| if x > 0.0 { Ok(x.ln()) } else { Err(XlError::Num) })
+}
+
+fn sqr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    number_fn(ctx, args, "Sqr", NO_NULL, |x| if x < 0.0 { Err(XlError::Num) } else { Ok(x.sqrt()) })
+}
 
 fn array(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let items = args.iter().map(|a| ctx.eval(a).unwrap_single()).collect();
     Ok(Value::from(crate::eval::value::Array::row(items)))
-}
-
-fn fix(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number1(ctx, args, |x| Ok(x.trunc()))
 }
 
 fn round(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
@@ -238,8 +446,8 @@ fn round(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 /// VBA's conversion to a whole number: halves to even, `#NUM!` (VBA's Overflow) out of range.
-fn whole(ctx: &mut Ctx, args: &[Expr], limit: f64) -> XlResult<Value> {
-    lift(ctx, args, &|v| {
+fn whole(ctx: &mut Ctx, args: &[Expr], name: &str, limit: f64) -> XlResult<Value> {
+    lift_vba(ctx, args, name, NO_NULL, &|v| {
         let r = to_number(&v[0], VBA_DATES)?.round_ties_even();
         if r < -limit - 1.0 || r > limit {
             return Err(XlError::Num);
@@ -249,19 +457,19 @@ fn whole(ctx: &mut Ctx, args: &[Expr], limit: f64) -> XlResult<Value> {
 }
 
 fn cint(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    whole(ctx, args, 32767.0)
+    whole(ctx, args, "CInt", 32767.0)
 }
 
 fn clng(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    whole(ctx, args, 2147483647.0)
+    whole(ctx, args, "CLng", 2147483647.0)
 }
 
 fn cdbl(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift(ctx, args, &|v| Ok(number_result(to_number(&v[0], VBA_DATES)?)))
+    lift_vba(ctx, args, "CDbl", NO_NULL, &|v| Ok(number_result(to_number(&v[0], VBA_DATES)?)))
 }
 
 fn cbool(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift(ctx, args, &|v| Ok(Value::Bool(to_bool(&v[0])?)))
+    lift_vba(ctx, args, "CBool", NO_NULL, &|v| Ok(Value::Bool(to_bool(&v[0])?)))
 }
 
 /// A value as VBA's CStr writes it: `True`/`False` in VBA's spelling, numbers to 15 digits.
@@ -273,11 +481,11 @@ pub fn vba_text(v: &Value) -> XlResult<Rc<str>> {
 }
 
 fn cstr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift(ctx, args, &|v| Ok(Value::Text(vba_text(&v[0])?)))
+    lift_vba(ctx, args, "CStr", NO_NULL, &|v| Ok(Value::Text(vba_text(&v[0])?)))
 }
 
 fn str_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift(ctx, args, &|v| {
+    lift_vba(ctx, args, "Str", NO_NULL, &|v| {
         let n = to_number(&v[0], VBA_DATES)?;
         let text = general(n);
         Ok(Value::text(if n >= 0.0 { format!(" {text}") } else { text }))
@@ -292,9 +500,16 @@ fn iif(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     Ok(if condition { then } else { otherwise })
 }
 
-/// Applies a text function to the text of each argument (lifted over arrays).
-fn text_fn(ctx: &mut Ctx, args: &[Expr], f: &dyn Fn(&str, &[Value]) -> XlResult<Value>) -> XlResult<Value> {
-    lift(ctx, args, &|v| f(&vba_text(&v[0])?, &v[1..]))
+/// Applies a text function to the text of each argument (lifted over arrays), after VBA's
+/// rule for Null arguments ([`null_argument`]).
+fn text_fn(
+    ctx: &mut Ctx,
+    args: &[Expr],
+    name: &str,
+    passes: Passes,
+    f: &dyn Fn(&str, &[Value]) -> XlResult<Value>,
+) -> XlResult<Value> {
+    lift_vba(ctx, args, name, passes, &|v| f(&vba_text(&v[0])?, &v[1..]))
 }
 
 /// A count argument (lengths, positions): a whole number, `#VALUE!` below zero.
@@ -307,15 +522,15 @@ fn count(v: &Value) -> XlResult<usize> {
 }
 
 fn len(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    text_fn(ctx, args, &|s, _| Ok(Value::Number(s.chars().count() as f64)))
+    text_fn(ctx, args, "Len", FIRST, &|s, _| Ok(Value::Number(s.chars().count() as f64)))
 }
 
 fn left(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    text_fn(ctx, args, &|s, rest| Ok(Value::text(s.chars().take(count(&rest[0])?).collect::<String>())))
+    text_fn(ctx, args, "Left", FIRST, &|s, rest| Ok(Value::text(s.chars().take(count(&rest[0])?).collect::<String>())))
 }
 
 fn right(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    text_fn(ctx, args, &|s, rest| {
+    text_fn(ctx, args, "Right", FIRST, &|s, rest| {
         let n = s.chars().count();
         Ok(Value::text(s.chars().skip(n.saturating_sub(count(&rest[0])?)).collect::<String>()))
     })
@@ -323,7 +538,7 @@ fn right(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 fn mid(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let has_length = args.get(2).is_some_and(|e| e.kind != ExprKind::Missing);
-    text_fn(ctx, args, &|s, rest| {
+    text_fn(ctx, args, "Mid", FIRST, &|s, rest| {
         let start = count(&rest[0])?;
         if start == 0 {
             return Err(XlError::Value);
@@ -334,50 +549,27 @@ fn mid(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn ucase(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    text_fn(ctx, args, &|s, _| Ok(Value::text(s.to_uppercase())))
+    text_fn(ctx, args, "UCase", FIRST, &|s, _| Ok(Value::text(s.to_uppercase())))
 }
 
 fn lcase(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    text_fn(ctx, args, &|s, _| Ok(Value::text(s.to_lowercase())))
+    text_fn(ctx, args, "LCase", FIRST, &|s, _| Ok(Value::text(s.to_lowercase())))
 }
 
 fn trim(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    text_fn(ctx, args, &|s, _| Ok(Value::text(s.trim_matches(' '))))
+    text_fn(ctx, args, "Trim", FIRST, &|s, _| Ok(Value::text(s.trim_matches(' '))))
 }
 
 fn ltrim(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    text_fn(ctx, args, &|s, _| Ok(Value::text(s.trim_start_matches(' '))))
+    text_fn(ctx, args, "LTrim", FIRST, &|s, _| Ok(Value::text(s.trim_start_matches(' '))))
 }
 
 fn rtrim(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    text_fn(ctx, args, &|s, _| Ok(Value::text(s.trim_end_matches(' '))))
-}
-
-fn replace(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    let limit = ctx.text_limit();
-    let over = std::cell::Cell::new(false);
-    let result = text_fn(ctx, args, &|s, rest| {
-        let find = vba_text(&rest[0])?;
-        if find.is_empty() {
-            return Ok(Value::text(s));
-        }
-        let with = vba_text(&rest[1])?;
-        // Refused before it is built: a doubling Replace in a loop grows without bound.
-        let grows = with.len().saturating_sub(find.len());
-        if grows > 0 && s.len() + s.matches(&*find).count() * grows > limit.saturating_mul(4) {
-            over.set(true);
-            return Err(XlError::Value);
-        }
-        Ok(Value::text(s.replace(&*find, &with)))
-    });
-    if over.get() {
-        return Err(ctx.text_over_limit());
-    }
-    result
+    text_fn(ctx, args, "RTrim", FIRST, &|s, _| Ok(Value::text(s.trim_end_matches(' '))))
 }
 
 fn chr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift(ctx, args, &|v| {
+    lift_vba(ctx, args, "Chr", NO_NULL, &|v| {
         let code = to_number(&v[0], VBA_DATES)?.trunc();
         let c = char::from_u32(code as u32).filter(|_| (0.0..=1114111.0).contains(&code)).ok_or(XlError::Value)?;
         Ok(Value::text(c.to_string()))
@@ -385,14 +577,16 @@ fn chr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn asc(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    text_fn(ctx, args, &|s, _| s.chars().next().map(|c| Value::Number(c as u32 as f64)).ok_or(XlError::Value))
+    text_fn(ctx, args, "Asc", NO_NULL, &|s, _| {
+        s.chars().next().map(|c| Value::Number(c as u32 as f64)).ok_or(XlError::Value)
+    })
 }
 
 fn space(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     // Space(1e9) is refused before it is built, not cut to a shorter string.
     let limit = ctx.text_limit();
     let over = std::cell::Cell::new(false);
-    let result = lift(ctx, args, &|v| match count(&v[0])? {
+    let result = lift_vba(ctx, args, "Space", NO_NULL, &|v| match count(&v[0])? {
         n if n > limit => {
             over.set(true);
             Err(XlError::Value)
@@ -431,7 +625,7 @@ fn is_numeric(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn val(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    text_fn(ctx, args, &|s, _| Ok(Value::Number(vba_val(s))))
+    text_fn(ctx, args, "Val", NO_NULL, &|s, _| Ok(Value::Number(vba_val(s))))
 }
 
 /// VBA's Val: spaces anywhere are ignored, and the longest leading piece that reads as a

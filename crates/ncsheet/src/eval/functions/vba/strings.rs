@@ -33,7 +33,7 @@ fn chars_for(text: &str, ignore_case: bool) -> Vec<char> {
 }
 
 /// One character in the case a textual comparison reads (one for one, so positions hold).
-fn fold_case(c: char) -> char {
+pub(super) fn fold_case(c: char) -> char {
     let mut lower = c.to_lowercase();
     match (lower.next(), lower.next()) {
         (Some(l), None) => l,

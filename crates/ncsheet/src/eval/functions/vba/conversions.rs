@@ -1,0 +1,313 @@
+//! VBA's conversions and constructors beyond the first set: `Hex`, `Oct`, `CLngLng`,
+//! `String`, `StrReverse`, `Replace` with its start, count and compare, `DateSerial`,
+//! `TimeSerial`, `Date` and `Time`, and the `$` forms of the functions that pass Null. The
+//! rules are [MS-VBAL] 6.1.2's "Runtime Semantics" and the Office VBA language reference's
+//! pages of the same names.
+
+use std::cell::Cell;
+
+use crate::eval::coerce::to_number;
+use crate::eval::functions::api::{given, Ctx};
+use crate::eval::functions::ValueFn;
+use crate::eval::value::{Value, XlError, XlResult};
+use crate::formula::ast::Expr;
+
+use super::strings::fold_case;
+use super::{invalid_call, invalid_use_of_null, lift_vba, vba_text, EVERY, FIRST, NO_NULL, VBA_DATES};
+
+/// A value Let-coerced to a whole number as VBA does ([MS-VBAL] 5.5.1.2.1): halves to even,
+/// True is -1; `None` past `limit` (VBA's Overflow).
+fn whole_in(v: &Value, limit: f64) -> XlResult<Option<f64>> {
+    let n = match v {
+        Value::Bool(b) => -f64::from(u8::from(*b)),
+        Value::Blank => 0.0,
+        other => to_number(other, VBA_DATES)?.round_ties_even(),
+    };
+    Ok((-limit - 1.0..=limit).contains(&n).then_some(n))
+}
+
+const LONG_MAX: f64 = 2147483647.0;
+
+/// `Hex(number)` and `Oct(number)` ([MS-VBAL] 6.1.2.3 "Hex", "Oct"): Null gives Null, Empty
+/// "0"; a positive Long its digits, -32,767 to -1 the 16-bit two's complement, a Long below
+/// that the 32-bit one (`Hex(-1)` is "FFFF").
+fn radix(ctx: &mut Ctx, args: &[Expr], name: &str, base: u32) -> XlResult<Value> {
+    lift_vba(ctx, args, name, FIRST, &|v| {
+        let n = whole_in(&v[0], LONG_MAX)?.ok_or(XlError::Num)? as i64;
+        let bits = match n {
+            0.. => n as u64,
+            -32767..=-1 => u64::from(n as i16 as u16),
+            _ => u64::from(n as i32 as u32),
+        };
+        Ok(Value::text(if base == 16 { format!("{bits:X}") } else { format!("{bits:o}") }))
+    })
+}
+
+pub(super) fn hex(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    radix(ctx, args, "Hex", 16)
+}
+
+pub(super) fn oct(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    radix(ctx, args, "Oct", 8)
+}
+
+/// `CLngLng(value)`: a LongLong, halves to even (64-bit hosts' conversion, "Type conversion
+/// functions"); past its range `#NUM!` (VBA's Overflow).
+pub(super) fn clnglng(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_vba(ctx, args, "CLngLng", NO_NULL, &|v| {
+        let n = whole_in(&v[0], 9.223372036854776e18)?.ok_or(XlError::Num)?;
+        // 2^63 itself rounds into the range as a double but is one past LongLong's top.
+        if n >= 9.223372036854776e18 {
+            return Err(XlError::Num);
+        }
+        Ok(Value::Number(n))
+    })
+}
+
+/// `String(number, character)` ("String function"): `number` copies of a character, given
+/// by its code (taken Mod 256) or as the first character of a text; Null in either gives Null.
+pub(super) fn string(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let limit = ctx.text_limit();
+    let over = Cell::new(false);
+    let result = lift_vba(ctx, args, "String", EVERY, &|v| {
+        let n = whole_in(&v[0], LONG_MAX)?.ok_or(XlError::Num)?;
+        if n < 0.0 {
+            return Err(XlError::Value);
+        }
+        let c = match &v[1] {
+            Value::Text(t) => t.chars().next().ok_or(XlError::Value)?,
+            other => {
+                let code = whole_in(other, LONG_MAX)?.ok_or(XlError::Num)?;
+                char::from_u32(code.rem_euclid(256.0) as u32).ok_or(XlError::Value)?
+            }
+        };
+        if n as usize > limit {
+            over.set(true);
+            return Err(XlError::Value);
+        }
+        Ok(Value::text(c.to_string().repeat(n as usize)))
+    });
+    if over.get() {
+        return Err(ctx.text_over_limit());
+    }
+    result
+}
+
+/// `StrReverse(expression)`: the characters in reverse order ([MS-VBAL]: its expression is
+/// a String, so Null is error 94).
+pub(super) fn str_reverse(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_vba(ctx, args, "StrReverse", NO_NULL, &|v| Ok(Value::text(vba_text(&v[0])?.chars().rev().collect::<String>())))
+}
+
+/// `Replace(expression, find, replace[, start[, count[, compare]]])` ("Replace function"):
+/// the text from `start` on (what comes before is dropped), with at most `count` (-1: every)
+/// finds replaced, compared ignoring case for vbTextCompare (1). Null expression: error 94.
+pub(super) fn replace(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let limit = ctx.text_limit();
+    let over = Cell::new(false);
+    let has = |i: usize| given(args, i).is_some();
+    let (has_start, has_count, has_compare) = (has(3), has(4), has(5));
+    let result = lift_vba(ctx, args, "Replace", NO_NULL, &|v| {
+        let text: Vec<char> = vba_text(&v[0])?.chars().collect();
+        let find: Vec<char> = vba_text(&v[1])?.chars().collect();
+        let with = vba_text(&v[2])?;
+        let start = if has_start { whole_in(&v[3], LONG_MAX)?.ok_or(XlError::Num)? } else { 1.0 };
+        let count = if has_count { whole_in(&v[4], LONG_MAX)?.ok_or(XlError::Num)? } else { -1.0 };
+        let ignore_case = match if has_compare { whole_in(&v[5], LONG_MAX)?.ok_or(XlError::Num)? } else { 0.0 } {
+            1.0 => true,
+            0.0 | -1.0 => false,
+            _ => return Err(XlError::Value),
+        };
+        if start < 1.0 || count < -1.0 {
+            return Err(XlError::Value);
+        }
+        let from = (start as usize - 1).min(text.len());
+        let replaced = replaced(&text[from..], &find, &with, count, ignore_case, limit.saturating_mul(4));
+        replaced.map(Value::text).ok_or_else(|| {
+            over.set(true);
+            XlError::Value
+        })
+    });
+    if over.get() {
+        return Err(ctx.text_over_limit());
+    }
+    result
+}
+
+/// `text` with up to `count` (-1: every) non-overlapping `find`s, left to right, replaced by
+/// `with`; `None` once the result passes `cap` bytes (refused before it is built further).
+fn replaced(text: &[char], find: &[char], with: &str, count: f64, ignore_case: bool, cap: usize) -> Option<String> {
+    let same = |a: &char, b: &char| if ignore_case { fold_case(*a) == fold_case(*b) } else { a == b };
+    let mut out = String::new();
+    let mut left = count;
+    let mut i = 0;
+    while i < text.len() {
+        let found = !find.is_empty()
+            && left != 0.0
+            && text.get(i..i + find.len()).is_some_and(|w| w.iter().zip(find).all(|(a, b)| same(a, b)));
+        if found {
+            out.push_str(with);
+            i += find.len();
+            left -= 1.0;
+        } else {
+            out.push(text[i]);
+            i += 1;
+        }
+        if out.len() > cap {
+            return None;
+        }
+    }
+    Some(out)
+}
+
+/// The Mid statement's new text ("Mid statement": `Mid(stringvar, start[, length]) =
+/// string`): characters of the variable from `start` replaced by those of `string`, never
+/// more than `length`, than `string` has, or than the variable has from `start` on (its
+/// length stays). A start outside the text is error 5.
+pub(super) fn mid_statement(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let has_length = given(args, 2).is_some();
+    let bad = Cell::new("");
+    let result = lift_vba(ctx, args, "Mid", NO_NULL, &|v| {
+        let mut text: Vec<char> = vba_text(&v[0])?.chars().collect();
+        let start = whole_in(&v[1], LONG_MAX)?.ok_or(XlError::Num)?;
+        let with: Vec<char> = vba_text(&v[3])?.chars().collect();
+        if start < 1.0 || start as usize > text.len() {
+            bad.set("start is not a position of the text");
+            return Err(XlError::Value);
+        }
+        let from = start as usize - 1;
+        let mut n = with.len().min(text.len() - from);
+        if has_length {
+            match whole_in(&v[2], LONG_MAX)?.ok_or(XlError::Num)? {
+                l if l < 0.0 => {
+                    bad.set("length is negative");
+                    return Err(XlError::Value);
+                }
+                l => n = n.min(l as usize),
+            }
+        }
+        text[from..from + n].copy_from_slice(&with[..n]);
+        Ok(Value::text(text.into_iter().collect::<String>()))
+    });
+    if !bad.get().is_empty() {
+        return Err(invalid_call(ctx, "Mid statement", bad.get()));
+    }
+    result
+}
+
+/// Days from 1899-12-30 (VBA's day 0) to a day of the proleptic Gregorian calendar.
+fn days_from_civil(year: i64, month: i64, day: i64) -> i64 {
+    // Years counted from March, so that the leap day ends a year.
+    let y = if month <= 2 { year - 1 } else { year };
+    let era = y.div_euclid(400);
+    let year_of_era = y - era * 400;
+    let day_of_year = (153 * (month + if month > 2 { -3 } else { 9 }) + 2) / 5 + day - 1;
+    let day_of_era = year_of_era * 365 + year_of_era / 4 - year_of_era / 100 + day_of_year;
+    // 693,899 days from 0000-03-01 to 1899-12-30 (719,468 to 1970-01-01, less 25,569).
+    era * 146_097 + day_of_era - 693_899
+}
+
+/// `DateSerial(year, month, day)` ("DateSerial function"): the date, a month or day past its
+/// range carried into the next larger unit (`DateSerial(1990 - 10, 8 - 2, 1 - 1)` is
+/// 1980-05-31); a year 0–29 is 2000–2029 and 30–99 is 1930–1999 (Windows' default); the
+/// result from 100-01-01 to 9999-12-31. Its arguments are Integers: Null is error 94.
+pub(super) fn date_serial(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_vba(ctx, args, "DateSerial", NO_NULL, &|v| {
+        let part = |i: usize| -> XlResult<i64> { Ok(whole_in(&v[i], 32767.0)?.ok_or(XlError::Num)? as i64) };
+        let (year, month, day) = (part(0)?, part(1)?, part(2)?);
+        let year = match year {
+            0..=29 => year + 2000,
+            30..=99 => year + 1900,
+            _ => year,
+        };
+        let months = year * 12 + (month - 1);
+        let first = days_from_civil(months.div_euclid(12), months.rem_euclid(12) + 1, 1);
+        let date = first + day - 1;
+        if !(days_from_civil(100, 1, 1)..=days_from_civil(9999, 12, 31)).contains(&date) {
+            return Err(XlError::Num);
+        }
+        Ok(Value::Number(date as f64))
+    })
+}
+
+/// `TimeSerial(hour, minute, second)` ("TimeSerial function"): the time as a fraction of a
+/// day, a minute or second past its range carried into the next unit (`TimeSerial(12 - 6,
+/// -15, 0)` is 5:45:00). Integers: Null is error 94.
+pub(super) fn time_serial(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_vba(ctx, args, "TimeSerial", NO_NULL, &|v| {
+        let part = |i: usize| -> XlResult<f64> { whole_in(&v[i], 32767.0)?.ok_or(XlError::Num) };
+        let seconds = part(0)? * 3600.0 + part(1)? * 60.0 + part(2)?;
+        Ok(Value::Number(seconds / 86400.0))
+    })
+}
+
+/// The document's clock as a VBA Date (days from 1899-12-30, whatever the workbook's system).
+fn now(ctx: &Ctx) -> f64 {
+    let now = ctx.env.now();
+    // 1904-01-01, serial 0 of the 1904 system, is day 1,462 of VBA's.
+    if ctx.dates().is_1904() {
+        now + 1462.0
+    } else {
+        now
+    }
+}
+
+/// `Date`: today, the whole day of the document's clock ("Date function").
+pub(super) fn date(ctx: &mut Ctx, _: &[Expr]) -> XlResult<Value> {
+    Ok(Value::Number(now(ctx).floor()))
+}
+
+/// `Time`: the time of day of the document's clock ("Time function").
+pub(super) fn time(ctx: &mut Ctx, _: &[Expr]) -> XlResult<Value> {
+    let now = now(ctx);
+    Ok(Value::Number(now - now.floor()))
+}
+
+/// The `$` form of a function that passes Null (`Left$`, `Hex$`): the same text, but a
+/// String, which cannot hold Null ([MS-VBAL] 6.1.2: "the function Hex$ raises error 94").
+fn string_form(ctx: &mut Ctx, args: &[Expr], name: &str, f: ValueFn) -> XlResult<Value> {
+    match f(ctx, args)? {
+        Value::Null => Err(invalid_use_of_null(ctx, name)),
+        v => Ok(v),
+    }
+}
+
+macro_rules! string_forms {
+    ($($form:ident = $base:path, $name:literal;)*) => {
+        $(
+            pub(super) fn $form(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+                string_form(ctx, args, $name, $base)
+            }
+        )*
+    };
+}
+
+string_forms! {
+    left_s = super::left, "Left$";
+    right_s = super::right, "Right$";
+    mid_s = super::mid, "Mid$";
+    trim_s = super::trim, "Trim$";
+    ltrim_s = super::ltrim, "LTrim$";
+    rtrim_s = super::rtrim, "RTrim$";
+    ucase_s = super::ucase, "UCase$";
+    lcase_s = super::lcase, "LCase$";
+    hex_s = hex, "Hex$";
+    oct_s = oct, "Oct$";
+    string_s = string, "String$";
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn days_count_from_vba_day_zero() {
+        // Day 0 is 1899-12-30; Excel's serial of 2020-01-31 is 43861 (the 1900 system agrees
+        // with VBA from 1900-03-01 on); 100-01-01 is VBA's first date, -657434.
+        assert_eq!(days_from_civil(1899, 12, 30), 0);
+        assert_eq!(days_from_civil(1900, 3, 1), 61);
+        assert_eq!(days_from_civil(2020, 1, 31), 43861);
+        assert_eq!(days_from_civil(100, 1, 1), -657434);
+        assert_eq!(days_from_civil(9999, 12, 31), 2958465);
+    }
+}

@@ -1,0 +1,221 @@
+//! VBA's library as real modules use it (issue 31, scope 3): built-ins beyond the first set
+//! (`String`, `Hex`, `Oct`, `DateSerial`, `TimeSerial`, `CLngLng`, `StrReverse`, `Replace`'s
+//! start/count/compare, the Mid statement, `Application.Run`), Null given to library
+//! functions, and `TypeName` of a class module's object.
+//!
+//! Each expected value is the one Microsoft's VBA language reference (learn.microsoft.com,
+//! "Office VBA language reference", the page named at each test, its examples' stated
+//! results) or [MS-VBAL] 6.1.2 (the VBA standard library's "Runtime Semantics") gives. The
+//! cases LibreOffice Basic agrees on are run there too (tests/vba_libreoffice.rs, "library").
+
+use ncsheet::vba::{self, MacroError, RunOptions, RunOutput};
+use ncsheet::workbook::Workbook;
+
+fn run_src(src: &str) -> Result<RunOutput, MacroError> {
+    vba::run(&mut Workbook::with_sheet(), src, "Module1.bas", &RunOptions::default())
+}
+
+/// What a Sub body prints with Debug.Print, line by line.
+fn printed(body: &str) -> Vec<String> {
+    let src = format!("Sub Main()\n{body}\nEnd Sub\n");
+    run_src(&src).unwrap_or_else(|e| panic!("{e}")).printed
+}
+
+/// One expression as `CStr` shows it (Null: "Null").
+fn shown(expr: &str) -> String {
+    let out = printed(&format!(
+        "    Dim v\n    v = {expr}\n    If IsNull(v) Then Debug.Print \"Null\" Else Debug.Print CStr(v)"
+    ));
+    out[0].clone()
+}
+
+// "String function", its example: String(5, "*") and String(5, 42) are "*****",
+// String(10, "ABC") is "AAAAAAAAAA"; "If number contains Null, Null is returned" (and the
+// same for character).
+#[test]
+fn string_repeats_a_character() {
+    assert_eq!(shown("String(5, \"*\")"), "*****");
+    assert_eq!(shown("String(5, 42)"), "*****");
+    assert_eq!(shown("String(10, \"ABC\")"), "AAAAAAAAAA");
+    assert_eq!(shown("String(0, \"x\")"), "");
+    assert_eq!(shown("String(Null, \"x\")"), "Null");
+    assert_eq!(shown("String(3, Null)"), "Null");
+    // "If you specify a number for character greater than 255, String converts the number
+    // to a valid character code by using this formula: character Mod 256."
+    assert_eq!(shown("String(3, 42 + 256)"), "***");
+}
+
+// "Hex function": Hex(5) is "5", Hex(10) "A", Hex(459) "1CB", Hex(255) "FF"; [MS-VBAL]
+// 6.1.2 Hex: Null gives Null (and Hex$ raises error 94), Empty "0", -32,767 to -1 the 16-bit
+// two's complement, below it the 32-bit one; a fraction is rounded first.
+#[test]
+fn hex_and_oct_write_whole_numbers() {
+    assert_eq!(printed("    Debug.Print Hex(5); Hex(10); Hex(459); Hex(255)"), ["5A1CBFF"]);
+    assert_eq!(shown("Hex(-1)"), "FFFF");
+    assert_eq!(shown("Hex(-32768)"), "FFFF8000");
+    assert_eq!(shown("Hex(2.5)"), "2");
+    assert_eq!(shown("Hex(Empty)"), "0");
+    assert_eq!(shown("Hex(Null)"), "Null");
+    assert_eq!(shown("Hex$(4096)"), "1000");
+    // "Oct function": Oct(4) is "4", Oct(8) "10", Oct(459) "713".
+    assert_eq!(printed("    Debug.Print Oct(4); \" \"; Oct(8); \" \"; Oct(459)"), ["4 10 713"]);
+    assert_eq!(shown("Oct(-1)"), "177777");
+    assert_eq!(shown("Oct$(64)"), "100");
+}
+
+// "DateSerial function", its example: DateSerial(1969, 2, 12) is February 12, 1969, and
+// DateSerial(1990 - 10, 8 - 2, 1 - 1) is May 31, 1980 (a day of 0 is the last of the month
+// before); a two-digit year 0-29 is 2000-2029, 30-99 1930-1999. The day count is VBA's Date:
+// days from 1899-12-30 (2020-01-31 is 43861, Excel's serial of that day too).
+#[test]
+fn date_serial_builds_a_date() {
+    let f = |e: &str| shown(&format!("Format({e}, \"yyyy-mm-dd\")"));
+    assert_eq!(f("DateSerial(1969, 2, 12)"), "1969-02-12");
+    assert_eq!(f("DateSerial(1990 - 10, 8 - 2, 1 - 1)"), "1980-05-31");
+    assert_eq!(f("DateSerial(2020, 13, 1)"), "2021-01-01");
+    assert_eq!(f("DateSerial(2021, 3, 0)"), "2021-02-28");
+    assert_eq!(f("DateSerial(20, 1, 1)"), "2020-01-01");
+    assert_eq!(f("DateSerial(75, 1, 1)"), "1975-01-01");
+    assert_eq!(shown("CDbl(DateSerial(2020, 1, 31))"), "43861");
+    assert_eq!(shown("CDbl(DateSerial(1899, 12, 30))"), "0");
+    assert_eq!(shown("CDbl(DateSerial(1899, 12, 29))"), "-1");
+}
+
+// "TimeSerial function", its example: TimeSerial(16, 35, 17) is 4:35:17 PM, and
+// TimeSerial(12 - 6, -15, 0) is 5:45:00 AM (a negative minute borrows from the hour).
+#[test]
+fn time_serial_builds_a_time() {
+    assert_eq!(shown("Format(TimeSerial(16, 35, 17), \"hh:mm:ss\")"), "16:35:17");
+    assert_eq!(shown("Format(TimeSerial(12 - 6, -15, 0), \"hh:mm:ss\")"), "05:45:00");
+    assert_eq!(shown("CDbl(TimeSerial(6, 0, 0))"), "0.25");
+}
+
+// "Type conversion functions": CLngLng rounds halves to the even number (0.5 to 0, 1.5 to 2),
+// as CInt and CLng do; its range is LongLong's.
+#[test]
+fn clnglng_rounds_halves_to_even() {
+    assert_eq!(printed("    Debug.Print CLngLng(0.5); CLngLng(1.5); CLngLng(2.5); CLngLng(-2.5)"), [" 0  2  2 -2 "]);
+    assert_eq!(shown("CLngLng(\"3000000000\")"), "3000000000");
+}
+
+// "StrReverse function": the characters in reverse order; [MS-VBAL] declares its expression
+// a String, so Null is error 94.
+#[test]
+fn str_reverse_reverses() {
+    assert_eq!(shown("StrReverse(\"abc\")"), "cba");
+    assert_eq!(shown("StrReverse(\"\")"), "");
+}
+
+// "Replace function": the return value "begins at the position specified by start"; count
+// limits the replacements; vbTextCompare ignores case. The page's table: find "" gives a
+// copy of expression, start past the length gives "".
+#[test]
+fn replace_takes_start_count_and_compare() {
+    assert_eq!(shown("Replace(\"XXpXXPXXp\", \"p\", \"Y\")"), "XXYXXPXXY");
+    assert_eq!(shown("Replace(\"XXpXXPXXp\", \"p\", \"Y\", 3)"), "YXXPXXY");
+    assert_eq!(shown("Replace(\"XXpXXPXXp\", \"p\", \"Y\", 1, 1)"), "XXYXXPXXp");
+    assert_eq!(shown("Replace(\"XXpXXPXXp\", \"p\", \"Y\", 1, -1, vbTextCompare)"), "XXYXXYXXY");
+    assert_eq!(shown("Replace(\"XXpXXPXXp\", \"p\", \"Y\", 1, 0)"), "XXpXXPXXp");
+    assert_eq!(shown("Replace(\"abc\", \"\", \"Y\", 2)"), "bc");
+    assert_eq!(shown("Replace(\"abc\", \"b\", \"Y\", 9)"), "");
+}
+
+// "Mid statement", its example, line for line.
+#[test]
+fn mid_statement_replaces_characters_in_place() {
+    let out = printed(
+        "    Dim MyString
+    MyString = \"The dog jumps\"
+    Mid(MyString, 5, 3) = \"fox\"
+    Debug.Print MyString
+    Mid(MyString, 5) = \"cow\"
+    Debug.Print MyString
+    Mid(MyString, 5) = \"cow jumped over\"
+    Debug.Print MyString
+    Mid(MyString, 5, 3) = \"duck\"
+    Debug.Print MyString",
+    );
+    assert_eq!(out, ["The fox jumps", "The cow jumps", "The cow jumpe", "The duc jumpe"]);
+    // A typed String, and Mid$: the same statement.
+    let out = printed("    Dim s As String\n    s = \"G01 X0\"\n    Mid$(s, 2, 2) = \"00\"\n    Debug.Print s");
+    assert_eq!(out, ["G00 X0"]);
+    // A start past the text is run-time error 5, "Invalid procedure call or argument".
+    let out = printed(
+        "    Dim s As String\n    s = \"abc\"\n    On Error Resume Next\n    Mid(s, 9) = \"x\"\n    Debug.Print Err.Number; s",
+    );
+    assert_eq!(out, [" 5 abc"]);
+}
+
+// "Application.Run method (Excel)": runs a macro by its name with arguments, and returns
+// what a Function returns; a name the project lacks is run-time error 1004.
+#[test]
+fn application_run_calls_a_procedure_by_name() {
+    let out = run_src(
+        "Sub Main()\n    Application.Run \"Greet\", \"N10\"\n    Debug.Print Application.Run(\"Twice\", 21)\n\
+         \x20   Dim name As String\n    name = \"Tw\" & \"ice\"\n    Debug.Print Application.Run(name, 4)\n\
+         \x20   On Error Resume Next\n    Application.Run \"NoSuchMacro\"\n    Debug.Print Err.Number\nEnd Sub\n\
+         Sub Greet(block)\n    Debug.Print \"hello \" & block\nEnd Sub\n\
+         Function Twice(x)\n    Twice = x * 2\nEnd Function\n",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.printed, ["hello N10", " 42 ", " 8 ", " 1004 "]);
+}
+
+// Null given to library functions: "If string contains Null, Null is returned" (Left,
+// Right, Mid, Len, LTrim/RTrim/Trim, UCase/LCase); "If number contains Null, Null is
+// returned" (Abs, Int, Fix); [MS-VBAL] 6.1.2: Left$ and the other `$` forms return a String
+// and raise error 94, "Invalid use of Null", as does a Null for a parameter that is not a
+// Variant (Chr's code, Sqr's number, Left's length, CStr, CDbl).
+#[test]
+fn null_passes_through_string_and_number_functions() {
+    for f in [
+        "Left(Null, 1)",
+        "Right(Null, 1)",
+        "Mid(Null, 2)",
+        "Len(Null)",
+        "Trim(Null)",
+        "LTrim(Null)",
+        "RTrim(Null)",
+        "UCase(Null)",
+        "LCase(Null)",
+        "Abs(Null)",
+        "Int(Null)",
+        "Fix(Null)",
+    ] {
+        assert_eq!(shown(f), "Null", "{f}");
+    }
+}
+
+#[test]
+fn null_where_a_value_is_needed_is_error_94() {
+    for f in [
+        "Left$(Null, 1)",
+        "UCase$(Null)",
+        "Chr(Null)",
+        "Sqr(Null)",
+        "Left(\"abc\", Null)",
+        "CStr(Null)",
+        "CDbl(Null)",
+        "Space(Null)",
+        "Hex$(Null)",
+    ] {
+        let out = printed(&format!(
+            "    Dim v\n    On Error Resume Next\n    v = {f}\n    Debug.Print Err.Number; Err.Description"
+        ));
+        assert_eq!(out, [" 94 Invalid use of Null"], "{f}");
+    }
+    // Not trapped, the macro stops with the error's number and name.
+    let e = run_src("Sub Main()\n    x = Chr(Null)\nEnd Sub\n").unwrap_err();
+    assert!(e.message.contains("Invalid use of Null") && e.message.contains("94"), "{e}");
+}
+
+// "TypeName function": an object's class; for an object of a class module, its name.
+#[test]
+fn type_name_of_a_class_object_is_its_class() {
+    let main = "Sub Main()\n    Dim t As Tool\n    Set t = New Tool\n\
+                \x20   Debug.Print TypeName(t)\n    Dim v As Variant\n    Set v = t\n    Debug.Print TypeName(v)\nEnd Sub\n";
+    let options =
+        RunOptions { classes: vec![("Tool".into(), "Public Diameter As Double\n".into())], ..RunOptions::default() };
+    let out = vba::run(&mut Workbook::with_sheet(), main, "Module1.bas", &options).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.printed, ["Tool", "Tool"]);
+}
