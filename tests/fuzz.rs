@@ -294,3 +294,115 @@ proptest! {
         }
     }
 }
+
+// ---------------------------------------------------------------------------------------
+// Issue 30, second pass: byte mutations that reach past the first check of each reader —
+// the streams of a real vbaProject.bin (its dir stream and module sources are MS-OVBA
+// compressed), the styles and workbook parts of a package holding defined names, and
+// declarations joined on one line with `:`.
+
+/// The vbaProject.bin of a vendored workbook with a macro (Apache POI's SimpleMacro.xlsm).
+fn good_vba_project() -> &'static [u8] {
+    static PROJECT: std::sync::OnceLock<Vec<u8>> = std::sync::OnceLock::new();
+    PROJECT.get_or_init(|| {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data/excel-corpus/public/poi/test-data_spreadsheet_SimpleMacro.xlsm");
+        let mut zip = zip::ZipArchive::new(std::fs::File::open(path).unwrap()).unwrap();
+        let mut bytes = Vec::new();
+        std::io::Read::read_to_end(&mut zip.by_name("xl/vbaProject.bin").unwrap(), &mut bytes).unwrap();
+        bytes
+    })
+}
+
+/// The paths of a compound file's streams (PROJECT, VBA/dir, the modules, …).
+fn streams(bytes: &[u8]) -> Vec<String> {
+    let cfb = cfb::CompoundFile::open(std::io::Cursor::new(bytes)).unwrap();
+    cfb.walk().filter(|e| e.is_stream()).map(|e| e.path().to_string_lossy().into_owned()).collect()
+}
+
+/// `data` with bytes replaced at the edits' places, then perhaps cut short.
+fn mutated(mut data: Vec<u8>, edits: &[(prop::sample::Index, u8)], cut: Option<prop::sample::Index>) -> Vec<u8> {
+    if !data.is_empty() {
+        for (at, byte) in edits {
+            let i = at.index(data.len());
+            data[i] = *byte;
+        }
+    }
+    if let Some(cut) = cut {
+        data.truncate(cut.index(data.len() + 1));
+    }
+    data
+}
+
+/// A package like [`good_package`] with defined names and a number format of its own.
+fn good_package_with_names() -> Vec<u8> {
+    let mut wb = Workbook::with_sheet();
+    let _ = wb.set_input(0, parse_cell("A1").unwrap(), "2");
+    let _ = wb.set_input(0, parse_cell("A2").unwrap(), "=Rate*A1");
+    wb.define_name("Rate", "=Sheet1!$A$1*2", None).unwrap();
+    wb.define_name("Twice", "=LAMBDA(x, 2*x)", None).unwrap();
+    let _ = wb.set_input(0, parse_cell("A3").unwrap(), "=Twice(A2)");
+    xlsx::to_bytes(&wb, &xlsx::Layout::default()).unwrap()
+}
+
+proptest! {
+    #![proptest_config(config(150))]
+
+    #[test]
+    fn mutated_vba_project_streams_never_panic(
+        which in any::<prop::sample::Index>(),
+        edits in prop::collection::vec((any::<prop::sample::Index>(), any::<u8>()), 1..8),
+        cut in prop::option::of(any::<prop::sample::Index>()),
+    ) {
+        let good = good_vba_project();
+        let names = streams(good);
+        let path = &names[which.index(names.len())];
+        let bytes = common::vba::with_stream(good, path, |old| mutated(old.to_vec(), &edits, cut));
+        if let Ok(project) = vba::read_project(&bytes) {
+            let wb = Workbook::with_sheet();
+            for m in &project.modules {
+                let _ = vba::parse(&m.source, &m.name, &wb);
+            }
+        }
+    }
+
+    #[test]
+    fn mutated_styles_and_workbook_parts_never_panic(
+        styles in any::<bool>(),
+        edits in prop::collection::vec((any::<prop::sample::Index>(), any::<u8>()), 1..8),
+        cut in prop::option::of(any::<prop::sample::Index>()),
+    ) {
+        let good = good_package_with_names();
+        let target = if styles { "xl/styles.xml" } else { "xl/workbook.xml" };
+        let mut change = |part: &str, data: Vec<u8>| if part == target { mutated(data, &edits, cut) } else { data };
+        let options = zip::write::SimpleFileOptions::default();
+        let bytes = common::rewrite_package(&good, options, &mut change).finish().unwrap().into_inner();
+        if let Ok(imported) = xlsx::load_bytes(&bytes, Path::new("fuzz.xlsx")) {
+            let _ = imported.workbook.problems();
+            let _ = imported.workbook.names();
+            let _ = imported.workbook.value(0, parse_cell("A3").unwrap());
+        }
+    }
+
+    #[test]
+    fn declarations_joined_with_colons_never_panic(
+        module in prop::collection::vec(declaration(), 0..24),
+        local in prop::collection::vec(prop_oneof![declaration(), macro_line()], 0..24),
+    ) {
+        let src = format!("{}\nSub Main()\n{}\nEnd Sub\n", module.join(": "), local.join(": "));
+        let mut wb = Workbook::with_sheet();
+        let options = RunOptions { max_statements: 10_000, ..RunOptions::default() };
+        let _ = vba::run(&mut wb, &src, "fuzz.bas", &options);
+    }
+}
+
+/// The fuzz targets reach past the first check: the good inputs they mutate are read whole.
+#[test]
+fn the_fuzzed_inputs_start_from_readable_ones() {
+    let project = vba::read_project(good_vba_project()).unwrap();
+    assert!(!project.modules.is_empty());
+    assert!(streams(good_vba_project()).iter().any(|s| s.ends_with("dir")));
+    let imported = xlsx::load_bytes(&good_package_with_names(), Path::new("good.xlsx")).unwrap();
+    // Rate = A1 * 2 = 4, A2 = 8, Twice(A2) = 16.
+    assert_eq!(imported.workbook.value(0, parse_cell("A3").unwrap()), ncsheet::eval::Value::Number(16.0));
+}
