@@ -146,6 +146,18 @@ const PROBES: &[&str] = &[
     r#"=TEXT(45728,"dddd")"#,
 ];
 
+/// Probes whose text Excel's rule gives where LibreOffice guesses otherwise: Excel reads
+/// TEXT's code with the date letters of the user's locale and shows any other letter as it
+/// is (de-DE spells day and year `T` and `J`, fr-FR `j` and `a`: `d` and `y` are no date
+/// letters there; the source is at `Locale::canonical_date_letters`). LibreOffice takes such
+/// a code for an en-US one. (locale, probe, what that Excel shows.)
+const LITERAL_LETTERS: &[(&str, &str, &str)] = &[
+    ("de-DE", r#"=TEXT(45728,"d. mmmm yyyy")"#, "d. März yyyy"),
+    ("fr-FR", r#"=TEXT(45728,"d. mmmm yyyy")"#, "d. mars yyyy"),
+    ("de-DE", r#"=TEXT(45728,"dddd")"#, "dddd"),
+    ("fr-FR", r#"=TEXT(45728,"dddd")"#, "dddd"),
+];
+
 /// A csv row of the probes, quoted for a `,`-separated file.
 fn probe_csv() -> String {
     let fields: Vec<String> = PROBES.iter().map(|p| format!("\"{}\"", p.replace('"', "\"\""))).collect();
@@ -223,7 +235,8 @@ fn libreoffice_in_the_locale_is_the_oracle_for_coercions_text_codes_and_dates() 
         for (i, probe) in PROBES.iter().enumerate() {
             // ncsheet's export guards text a spreadsheet could run (`-1234,500`) with a `'`.
             let ours = ours[i].strip_prefix('\'').unwrap_or(&ours[i]);
-            assert_eq!(ours, as_excel_error(&theirs[i]), "{locale}: {probe}");
+            let excel = LITERAL_LETTERS.iter().find(|(l, p, _)| *l == locale && p == probe).map(|(_, _, shows)| *shows);
+            assert_eq!(ours, excel.unwrap_or(as_excel_error(&theirs[i])), "{locale}: {probe}");
         }
     }
 }
@@ -367,10 +380,11 @@ fn libreoffice_in_the_locale_is_the_oracle_for_date_letters_and_short_names() {
         ("fr-FR", r#"=TEXT(45728,"JJ/MM/AAAA")"#.into()),
         ("fr-FR", r#"=TEXT(45728,"jjjj j mmm aa")"#.into()),
     ];
-    for locale in ["de-DE", "fr-FR", "et-EE"] {
+    // The short day name in each locale's letters (de-DE `TTT`, fr-FR `jjj`).
+    for (locale, short_day) in [("de-DE", "TTT"), ("fr-FR", "jjj"), ("et-EE", "ddd")] {
         probes.extend((1..=12).map(|m| (locale, format!(r#"=TEXT(DATE(2025,{m},1),"mmm")"#))));
         // 2025-06-01 is a Sunday.
-        probes.extend((1..=7).map(|d| (locale, format!(r#"=TEXT(DATE(2025,6,{d}),"ddd")"#))));
+        probes.extend((1..=7).map(|d| (locale, format!(r#"=TEXT(DATE(2025,6,{d}),"{short_day}")"#))));
         // The currency DOLLAR shows, and its sign.
         probes.push((locale, "=DOLLAR(1234.5)".into()));
         probes.push((locale, "=DOLLAR(-1234.5,1)".into()));
@@ -578,4 +592,125 @@ fn libreoffice_in_sk_and_hu_is_the_oracle_for_short_names() {
             assert_eq!(ours[i].strip_prefix('\'').unwrap_or(&ours[i]), theirs[i], "{locale}: {probe}");
         }
     }
+}
+
+/// The probes of [`values_and_shown_text_of_probes_are_libreoffice_s`], each with the locales
+/// it runs in: text read as numbers and dates (a fraction, a space before `%` and a currency,
+/// a time's fraction of a second with the decimal comma, a month named in the locale's words,
+/// date text given to YEAR and MONTH), NUMBERVALUE with its separators given, text that is
+/// no number where a number is compared or tested, and TEXT's codes with a `.` or English
+/// date letters where the locale spells them otherwise.
+const VALUE_PROBES: &[(&[&str], &str)] = &[
+    (ALL, r#"=VALUE("1 1/2")"#),
+    (ALL, r#"=VALUE("-2 3/4")"#),
+    (&["fr-FR", "et-EE"], r#"=VALUE("12,5 %")"#),
+    (&["fr-FR", "et-EE"], r#"=VALUE("1 234,5 €")"#),
+    (ALL, r#"=VALUE("1,5 €")"#),
+    (ALL, r#"=VALUE("14:30:15,5")"#),
+    (ALL, r#"=VALUE("1.234,5")"#),
+    (ALL, r#"=VALUE("1 234,5")"#),
+    (&["de-DE"], r#"=DATEVALUE("12. März 2025")"#),
+    (&["fr-FR"], r#"=DATEVALUE("12 mars 2025")"#),
+    (&["et-EE"], r#"=DATEVALUE("12. märts 2025")"#),
+    (&["de-DE", "et-EE"], r#"=VALUE("12. März 2025 14:30")"#),
+    (&["de-DE", "et-EE"], r#"=YEAR("12.03.2025")"#),
+    (&["de-DE", "et-EE"], r#"=DAY("12.03.2025"&"")"#),
+    (&["fr-FR"], r#"=MONTH("12/03/2025")"#),
+    (ALL, r#"=EDATE("12.03.2025",1)"#),
+    (ALL, r#"=TIMEVALUE("12.03.2025 14:30")"#),
+    (ALL, r#"=NUMBERVALUE("1.234,5",",",".")"#),
+    (ALL, r#"=NUMBERVALUE("1 234,5",","," ")"#),
+    (ALL, r#"="1,5"=1.5"#),
+    (ALL, r#"=ISNUMBER("1,5")"#),
+    (ALL, r#"=N("1,5")"#),
+    (ALL, r#"=IF("1,5">1,1,0)"#),
+    (ALL, r#"=ABS("-0,5")+INT("3,7")"#),
+    (ALL, r#"=DATE(2025,3,12)+"0,5""#),
+    (ALL, r#"=TEXT(1234.5,"00.00")"#),
+    (&["fr-FR", "et-EE"], r##"=TEXT(1234.5,"#,##0.00")"##),
+    (ALL, r#"=TEXT(45728,"dd\ mmm\ yyyy")"#),
+];
+
+const ALL: &[&str] = &["de-DE", "fr-FR", "et-EE"];
+
+/// Probes whose shown text LibreOffice gives otherwise than Excel while the value is the
+/// same (the values are still compared), and why.
+const SHOWN_DIFFERS: &[(&str, &str)] = &[
+    (
+        r#"=TIMEVALUE("12.03.2025 14:30")"#,
+        "LibreOffice subtracts the day and keeps 0.604166666664241; Excel's time is 14.5/24 (0.604166666666667)",
+    ),
+    (r#"=DATE(2025,3,12)+"0,5""#, "LibreOffice gives the sum a date format of its own; Excel keeps General"),
+];
+
+/// A value LibreOffice cached as ncsheet's [`Value`] compares: LibreOffice's own error codes
+/// (`Err:502`, an invalid argument) are `#VALUE!` in Excel.
+fn same_probe_value(ours: &ncsheet::eval::Value, theirs: &ncsheet::eval::Value) -> bool {
+    use ncsheet::eval::Value;
+    match (ours, theirs) {
+        (Value::Number(a), Value::Number(b)) => (a - b).abs() <= 1e-9 * a.abs().max(b.abs()),
+        (Value::Error(_), Value::Error(_)) => ours == theirs,
+        (Value::Error(ncsheet::eval::XlError::Value), Value::Text(t)) => t.starts_with("Err:"),
+        _ => ours == theirs,
+    }
+}
+
+/// LibreOffice set to each locale recalculates the probes: the values it saves (an xlsx,
+/// read back) and the text it shows (a `;` csv) are ncsheet's under `--locale`, but for the
+/// shown text of [`SHOWN_DIFFERS`].
+#[test]
+fn values_and_shown_text_of_probes_are_libreoffice_s() {
+    let Some(soffice) = common::soffice() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for locale in ALL {
+        let probes: Vec<&str> = VALUE_PROBES.iter().filter(|(at, _)| at.contains(&locale)).map(|(_, p)| *p).collect();
+        let stem = format!("values-{locale}");
+        let fields: Vec<String> = probes.iter().map(|p| format!("\"{}\"", p.replace('"', "\"\""))).collect();
+        std::fs::write(d.join(format!("{stem}.csv")), format!("{}\n", fields.join(","))).unwrap();
+        let xlsx = format!("{stem}.xlsx");
+        ok(in_dir(d, &["set", &format!("{stem}.csv"), "--delimiter", ",", "--locale", "en-US", "A2=1", "-o", &xlsx]));
+        // LibreOffice's values: the workbook it recalculated in the locale and saved.
+        let saved = d.join(format!("lo-xlsx-{locale}"));
+        libreoffice_converts(&soffice, d, locale, &[], "xlsx", &saved, &d.join(&xlsx));
+        let mut theirs = calamine::open_workbook::<calamine::Xlsx<_>, _>(saved.join(&xlsx)).unwrap();
+        let theirs = common::excel_oracle::read_sheet(&mut theirs, "Sheet1").expect("LibreOffice's sheet");
+        let mut settings = ncsheet::eval::Settings::default();
+        settings.locale = ncsheet::eval::Locale::from_tag(locale).unwrap();
+        let path = d.join(&xlsx);
+        let options =
+            ncsheet::document::OpenOptions { settings: Some(settings), ..ncsheet::document::OpenOptions::named(&path) };
+        let doc = ncsheet::document::Document::open_file(&path, &options).unwrap();
+        let (ours_shown, theirs_shown) = ours_and_libreoffice(&soffice, d, &stem, locale);
+        for (i, probe) in probes.iter().enumerate() {
+            let ours = doc.workbook().value(0, ncsheet::formula::address::Pos::new(0, i as u32));
+            let cached = theirs.values.get(&(0, i as u32)).cloned().unwrap_or(ncsheet::eval::Value::Blank);
+            assert!(same_probe_value(&ours, &cached), "{locale}: {probe}: ncsheet {ours:?}, LibreOffice {cached:?}");
+            if SHOWN_DIFFERS.iter().any(|(p, _)| p == probe) {
+                continue;
+            }
+            let shown = ours_shown[i].strip_prefix('\'').unwrap_or(&ours_shown[i]);
+            assert_eq!(shown, as_excel_error(&theirs_shown[i]), "{locale}: {probe} (shown)");
+        }
+    }
+}
+
+/// A workbook a decimal-comma Excel saved (poi's 61495-test.xlsm, whose grouping mark was
+/// `.`): the TEXT results it cached are what ncsheet computes under de-DE, where `.` groups
+/// and `,` is the decimal mark (`TEXT(67.1,"00.00")` is `0.067`, `TEXT(68.2,"00,00")` is
+/// `68,20`); under en-US the second is `0,068` (docs/excel-conformance.md lists it).
+#[test]
+fn text_codes_compute_as_the_comma_locale_excel_that_saved_them() {
+    let file = common::corpus::public_path().join("poi/test-data_spreadsheet_61495-test.xlsm");
+    if !file.exists() {
+        assert!(std::env::var_os("CI").is_none(), "{} not found", file.display());
+        return;
+    }
+    let mut cached = calamine::open_workbook::<calamine::Xlsx<_>, _>(&file).unwrap();
+    let cached = common::excel_oracle::read_sheet(&mut cached, "TEST").expect("sheet TEST");
+    let excel: Vec<String> = [(0, 1), (1, 1)].iter().map(|at| cached.values[at].to_string()).collect();
+    assert_eq!(excel, ["D 0.067", "D 68,20"]);
+    let run =
+        ok(ncsheet(&["eval", file.to_str().unwrap(), "--locale", "de-DE", "--format", "json", "TEST!B1", "TEST!B2"]));
+    assert_eq!(run.stdout.trim(), format!(r#"{{"TEST!B1": "{}", "TEST!B2": "{}"}}"#, excel[0], excel[1]));
 }

@@ -67,7 +67,7 @@ pub fn parse_number(text: &str, dates: DateSystem) -> Option<f64> {
 /// `1 1/2` → 1.5 and `-2 3/4` → -2.75: a whole number, a space and a proper fraction, as Excel
 /// reads a fraction typed into a cell (VALUE("1 1/2") is 1.5). A bare `1/2` is a date there,
 /// so it is left to the date reading.
-fn parse_mixed_fraction(text: &str) -> Option<f64> {
+pub(crate) fn parse_mixed_fraction(text: &str) -> Option<f64> {
     let t = text.trim();
     let (negative, t) = match t.strip_prefix('-') {
         Some(rest) => (true, rest),

@@ -290,7 +290,9 @@ impl Locale {
         if self.is_canonical() {
             return super::coerce::parse_number(text, system);
         }
-        self.read_plain_number(text).or_else(|| self.read_date(text.trim(), system))
+        self.read_plain_number(text)
+            .or_else(|| super::coerce::parse_mixed_fraction(text))
+            .or_else(|| self.read_date(text.trim(), system))
     }
 
     /// [`Locale::read_number`] without dates and times.
@@ -306,11 +308,17 @@ impl Locale {
     fn canonical_number_text(self, text: &str) -> Option<String> {
         let t = text.trim_matches(|c: char| c.is_whitespace() || c == '\u{A0}');
         let is_group = |c: char| c == self.group || self.group_typed.contains(&c);
+        let chars: Vec<char> = t.chars().collect();
+        let digit = |i: Option<usize>| i.and_then(|i| chars.get(i)).is_some_and(char::is_ascii_digit);
         let mut out = String::with_capacity(t.len());
-        for c in t.chars() {
+        for (i, &c) in chars.iter().enumerate() {
+            let between_digits = digit(i.checked_sub(1)) && digit(Some(i + 1));
             match c {
                 _ if c == self.decimal => out.push('.'),
-                _ if is_group(c) => out.push(','),
+                // A space groups digits; before a percent or a currency (`12,5 %`, `1,5 €`)
+                // it is only a space.
+                _ if is_group(c) && (between_digits || !is_space(c)) => out.push(','),
+                _ if is_space(c) => out.push(' '),
                 // The canonical marks that mean nothing here make the text no number.
                 '.' | ',' => return None,
                 c => out.push(c),
@@ -333,9 +341,13 @@ impl Locale {
         if let Some(date) = self.read_day(text, system) {
             return Some(dates::DateText { date: Some(date), time: None });
         }
+        if let Some(named) = self.with_english_months(text) {
+            return dates::parse_date_text(system, &named);
+        }
         if !text.contains(':') {
             return None;
         }
+        let text = &self.canonical_fraction_of_seconds(text);
         if let Some((day, time)) = text.split_once(' ') {
             if let Some(date) = self.read_day(day.trim(), system) {
                 let time = dates::parse_date_text(system, time.trim())?.time?;
@@ -344,6 +356,47 @@ impl Locale {
         }
         // A time alone reads the same everywhere; a date in another order does not.
         dates::parse_date_text(system, text).filter(|t| t.date.is_none())
+    }
+
+    /// Date text naming its month in this locale's words, full or short (de-DE
+    /// `12. März 2025`, fr-FR `12 mars 2025`, et-EE `12. märts 2025`), with the English short
+    /// name in its place and the `.` after the day dropped (`12 Mar 2025`), as en-US reads
+    /// it; `None` when no word is a month's name here.
+    fn with_english_months(self, text: &str) -> Option<String> {
+        let english: Vec<&str> = EN_US.months_short.split(' ').collect();
+        let bare = |word: &str| word.trim_end_matches('.').to_lowercase();
+        let month = |word: &str| -> Option<usize> {
+            let word = bare(word);
+            let at = |names: &str| names.split(' ').position(|name| bare(name) == word);
+            at(self.months).or_else(|| at(self.months_short))
+        };
+        let mut named = false;
+        let words: Vec<String> = text
+            .split(' ')
+            .map(|word| {
+                let number = word.trim_end_matches('.');
+                if !number.is_empty() && number.bytes().all(|b| b.is_ascii_digit()) {
+                    return number.to_string();
+                }
+                match month(word).filter(|_| word.chars().any(char::is_alphabetic)) {
+                    Some(i) => {
+                        named = true;
+                        english[i].to_string()
+                    }
+                    None => word.to_string(),
+                }
+            })
+            .collect();
+        named.then(|| words.join(" "))
+    }
+
+    /// A time's fraction of a second with this locale's decimal mark (`14:30:15,5`) as en-US
+    /// writes it (`14:30:15.5`): the mark after the last `:`.
+    fn canonical_fraction_of_seconds(self, text: &str) -> String {
+        match text.rfind(':') {
+            Some(colon) => format!("{}{}", &text[..colon], text[colon..].replace(self.decimal, ".")),
+            None => text.to_string(),
+        }
     }
 
     /// A short date in the locale's order with `.`, `/` or `-` between its parts (and ISO's
@@ -539,6 +592,14 @@ impl Locale {
 
     /// A format code with this locale's date letters (de-DE `TT.MM.JJJJ`) in the canonical
     /// ones (`dd.mm.yyyy`); quoted text, `\`-escapes, `[…]` and AM/PM are left alone.
+    ///
+    /// The canonical letters the locale replaces (`d` and `y` in de-DE and fr-FR) are no date
+    /// letters there: Excel reads TEXT's code with the letters of the user's regional
+    /// settings and shows any other letter as it is (TEXT(NOW(),"dd/mm/yyyy") gives
+    /// `01/02/yyyy` on Norwegian Windows, whose year letter is `å`: Bullen et al., Excel 2007
+    /// VBA Programmer's Reference, "The TEXT worksheet function"). LibreOffice set to the
+    /// locale shows `dd\ mmm\ yyyy` so too (`dd Mär yyyy`) but guesses other such codes
+    /// are en-US ones.
     fn canonical_date_letters(self, code: &str) -> String {
         // `General` (fr-FR `Standard`) holds letters that are no date here.
         if self.format_letters.is_empty() || code.to_ascii_lowercase().contains("general") {
@@ -570,10 +631,19 @@ impl Locale {
             let mapped = (!quoted && !bracket)
                 .then(|| self.format_letters.iter().find(|(l, _)| l.eq_ignore_ascii_case(&c)))
                 .flatten();
+            let foreign = !quoted && !bracket && mapped.is_none() && self.replaces_letter(c);
+            if foreign {
+                out.push('\\');
+            }
             out.push(mapped.map_or(c, |(_, canonical)| *canonical));
             i += 1;
         }
         out
+    }
+
+    /// Whether `c` is a canonical date letter this locale spells otherwise (de-DE `d`, `y`).
+    fn replaces_letter(self, c: char) -> bool {
+        self.format_letters.iter().any(|(_, canonical)| canonical.eq_ignore_ascii_case(&c))
     }
 
     /// What a canonical format `code` showed (`shown`) with this locale's marks: numbers
@@ -610,7 +680,7 @@ impl Locale {
     /// `\`-escaped characters and `[…]` sections are left as they are.
     pub fn canonical_format_code(self, code: &str) -> String {
         let code = &self.canonical_date_letters(code);
-        if self.is_canonical() || is_date_code(code) {
+        if self.is_canonical() || is_date_code(code) || self.reads_as_en_us(code) {
             return code.to_string();
         }
         let chars: Vec<char> = code.chars().collect();
@@ -654,6 +724,33 @@ impl Locale {
         out
     }
 
+    /// Whether a number format code is read as en-US writes it: where `.` is neither the
+    /// decimal nor a group mark (fr-FR, et-EE), a `.` between digit placeholders with no
+    /// decimal comma after it (`00.00`, `#,##0.00`; not `#.##0,00`) makes no code of the locale. Excel's reading of such a code is not
+    /// documented; LibreOffice set to the locale reads it as an en-US code (`1234,50`,
+    /// `1 234,50`), and so does ncsheet.
+    fn reads_as_en_us(self, code: &str) -> bool {
+        if self.decimal == '.' || self.group == '.' || self.group_typed.contains(&'.') {
+            return false;
+        }
+        let chars: Vec<char> = code.chars().collect();
+        let placeholder = |i: usize| chars.get(i).is_some_and(|c| matches!(c, '0' | '#' | '?'));
+        let (mut quoted, mut escaped) = (false, false);
+        for (i, &c) in chars.iter().enumerate() {
+            match c {
+                _ if escaped => escaped = false,
+                '"' => quoted = !quoted,
+                '\\' if !quoted => escaped = true,
+                // `#.##0,00` has its decimal comma after: the `.` is a literal there.
+                '.' if !quoted && i > 0 && placeholder(i - 1) && placeholder(i + 1) => {
+                    return !chars[i..].contains(&self.decimal)
+                }
+                _ => {}
+            }
+        }
+        false
+    }
+
     /// A formula typed in this locale (`=ROUND(B5*0,5;3)`) in the file syntax
     /// (`=ROUND(B5*0.5,3)`).
     pub fn canonical_formula(self, typed: &str) -> String {
@@ -686,6 +783,11 @@ impl Locale {
         }
         Some((other, self.localize_shown(&general(n))))
     }
+}
+
+/// A space between digits or beside a number: plain, no-break or narrow no-break.
+fn is_space(c: char) -> bool {
+    matches!(c, ' ' | '\u{A0}' | '\u{202F}')
 }
 
 /// Stand-ins for a literal `.` and `,` of a format code (quoted, escaped, or not a mark in the
@@ -843,6 +945,30 @@ mod tests {
         assert_eq!(de.read_number("12.3.2025 12:00", DateSystem::From1900), Some(45728.5));
     }
 
+    /// What LibreOffice set to each locale reads as numbers (VALUE and DATEVALUE there): a
+    /// fraction, a space before a percent or a currency sign, a time's fraction of a second
+    /// with the decimal comma, and a month named in the locale's words.
+    #[test]
+    fn fractions_spaced_signs_and_named_months_read_in_the_locale() {
+        let (fr, de, et) = (locale("fr-FR"), locale("de-DE"), locale("et-EE"));
+        let read = |l: Locale, text: &str| l.read_number(text, DateSystem::From1900);
+        assert_eq!(read(fr, "1 1/2"), Some(1.5));
+        assert_eq!(read(de, "-2 3/4"), Some(-2.75));
+        assert_eq!(read(fr, "12,5 %"), Some(0.125));
+        assert_eq!(read(et, "1,5 €"), Some(1.5));
+        assert_eq!(read(fr, "1 234,5 €"), Some(1234.5));
+        // 14:30:15.5 is (14 * 3600 + 30 * 60 + 15.5) / 86400 of a day.
+        let time = (14.0 * 3600.0 + 30.0 * 60.0 + 15.5) / 86400.0;
+        assert!((read(de, "14:30:15,5").unwrap() - time).abs() < 1e-12);
+        assert_eq!(read(de, "12. März 2025"), Some(45728.0));
+        assert_eq!(read(fr, "12 mars 2025"), Some(45728.0));
+        assert_eq!(read(fr, "1 janv. 2025"), Some(45658.0));
+        assert_eq!(read(et, "12. märts 2025"), Some(45728.0));
+        assert_eq!(read(de, "12. März 2025 12:00"), Some(45728.5));
+        // A month of another language is no month here.
+        assert_eq!(read(de, "12 mars 2025"), None);
+    }
+
     #[test]
     fn shown_numbers_and_format_codes_take_the_locale_marks() {
         let fr = locale("fr-FR");
@@ -852,7 +978,12 @@ mod tests {
         assert_eq!(literal_marks(&code), "#,##0.00\" m.\"");
         assert_eq!(fr.localize_formatted(&code, "1,234.50 m\u{F8F0}"), "1\u{A0}234,50 m.");
         assert_eq!(locale("de-DE").canonical_format_code("#.##0,0"), "#,##0.0");
-        assert_eq!(fr.canonical_format_code("dd.mm.yyyy"), "dd.mm.yyyy");
+        // `d` and `y` are no date letters in fr-FR (`jj/mm/aaaa`): literal, as in Excel there.
+        assert_eq!(fr.canonical_format_code("dd.mm.yyyy"), "\\d\\d.mm.\\y\\y\\y\\y");
+        assert_eq!(locale("de-DE").canonical_format_code("dd\\ mmm\\ yyyy"), "\\d\\d\\ mmm\\ \\y\\y\\y\\y");
+        // A `.` between placeholders where it is no mark: the code is read as en-US writes it.
+        assert_eq!(fr.canonical_format_code("00.00"), "00.00");
+        assert_eq!(locale("et-EE").canonical_format_code("#,##0.00"), "#,##0.00");
     }
 
     /// LibreOffice set to each locale (TEXT of 2025-03-12 and of the first of each month).

@@ -5,7 +5,9 @@
 
 use crate::eval::coerce::{to_bool, to_number, to_text};
 use crate::eval::dates::{self, days_in_month, is_leap_year, serial_from_ymd, DateSystem, DateTime, LAST_SERIAL};
-use crate::eval::functions::api::{for_each_value, lift, lift_values, Ctx, FnSpec, Outside, Source};
+use crate::eval::functions::api::{
+    explain_lifted_size, for_each_value, lift, lift_values, Ctx, FnSpec, Outside, Source,
+};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
 
@@ -166,6 +168,16 @@ fn serial(v: &Value, dates: DateSystem) -> XlResult<f64> {
     }
 }
 
+/// [`lift`] for functions whose every argument is a date, a time or a number: text reads as
+/// the workbook's locale reads it (`YEAR("12.03.2025")` is 2025 in de-DE), as arithmetic does.
+fn lift_dates(ctx: &mut Ctx, args: &[Expr], f: &dyn Fn(&[Value]) -> XlResult<Value>) -> XlResult<Value> {
+    let (locale, dates) = (ctx.locale(), ctx.dates());
+    let values: Vec<Value> = args.iter().map(|a| locale.numbers_for_arithmetic(ctx.eval(a), dates)).collect();
+    let lifted = lift_values(&values, f);
+    explain_lifted_size(ctx, &values, &lifted);
+    lifted
+}
+
 /// A date argument split into calendar parts (time rounded to the second, as Excel does).
 fn date_time(v: &Value, dates: DateSystem) -> XlResult<DateTime> {
     Ok(DateTime::from_serial(dates, serial(v, dates)?, 0))
@@ -209,7 +221,7 @@ fn date_result(serial: i64) -> XlResult<Value> {
 /// although 9999-12-30 exists.
 fn date(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let dates = ctx.dates();
-    lift(ctx, args, &|v| {
+    lift_dates(ctx, args, &|v| {
         let (y, m, d) = (whole(&v[0], dates)?, whole(&v[1], dates)?, whole(&v[2], dates)?);
         let y = if (0..1900).contains(&y) { y + 1900 } else { y };
         let rolled_year = (y * 12 + m - 1).div_euclid(12);
@@ -222,39 +234,39 @@ fn date(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 fn year(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let dates = ctx.dates();
-    lift(ctx, args, &|v| Ok(Value::Number(date_time(&v[0], dates)?.year as f64)))
+    lift_dates(ctx, args, &|v| Ok(Value::Number(date_time(&v[0], dates)?.year as f64)))
 }
 
 fn month(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let dates = ctx.dates();
-    lift(ctx, args, &|v| Ok(Value::Number(f64::from(date_time(&v[0], dates)?.month))))
+    lift_dates(ctx, args, &|v| Ok(Value::Number(f64::from(date_time(&v[0], dates)?.month))))
 }
 
 fn day(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let dates = ctx.dates();
-    lift(ctx, args, &|v| Ok(Value::Number(f64::from(date_time(&v[0], dates)?.day))))
+    lift_dates(ctx, args, &|v| Ok(Value::Number(f64::from(date_time(&v[0], dates)?.day))))
 }
 
 fn hour(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let dates = ctx.dates();
-    lift(ctx, args, &|v| Ok(Value::Number(f64::from(date_time(&v[0], dates)?.hour))))
+    lift_dates(ctx, args, &|v| Ok(Value::Number(f64::from(date_time(&v[0], dates)?.hour))))
 }
 
 fn minute(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let dates = ctx.dates();
-    lift(ctx, args, &|v| Ok(Value::Number(f64::from(date_time(&v[0], dates)?.minute))))
+    lift_dates(ctx, args, &|v| Ok(Value::Number(f64::from(date_time(&v[0], dates)?.minute))))
 }
 
 fn second(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let dates = ctx.dates();
-    lift(ctx, args, &|v| Ok(Value::Number(f64::from(date_time(&v[0], dates)?.second))))
+    lift_dates(ctx, args, &|v| Ok(Value::Number(f64::from(date_time(&v[0], dates)?.second))))
 }
 
 /// TIME: each part truncated, each at most 32767; a negative total is `#NUM!`; whole days
 /// are dropped (TIME(25,0,0) is 1:00).
 fn time(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let dates = ctx.dates();
-    lift(ctx, args, &|v| {
+    lift_dates(ctx, args, &|v| {
         let (h, m, s) = (whole(&v[0], dates)?, whole(&v[1], dates)?, whole(&v[2], dates)?);
         if h.max(m).max(s) > 32_767 {
             return Err(XlError::Num);
@@ -325,7 +337,7 @@ fn add_months(start: &DateTime, months: i64, last_day: bool, dates: DateSystem) 
 
 fn edate(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let dates = ctx.dates();
-    lift(ctx, args, &|v| {
+    lift_dates(ctx, args, &|v| {
         let start = toolpak_date(&v[0], dates)?;
         add_months(&start, toolpak_number(&v[1], dates)?.trunc() as i64, false, dates)
     })
@@ -333,7 +345,7 @@ fn edate(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 fn eomonth(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let dates = ctx.dates();
-    lift(ctx, args, &|v| {
+    lift_dates(ctx, args, &|v| {
         let start = toolpak_date(&v[0], dates)?;
         add_months(&start, toolpak_number(&v[1], dates)?.trunc() as i64, true, dates)
     })
@@ -342,7 +354,7 @@ fn eomonth(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// DAYS: whole days between the dates, the times dropped.
 fn days(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let dates = ctx.dates();
-    lift(ctx, args, &|v| {
+    lift_dates(ctx, args, &|v| {
         let (end, start) = (serial(&v[0], dates)?.trunc(), serial(&v[1], dates)?.trunc());
         Ok(Value::Number(end - start))
     })
@@ -353,7 +365,7 @@ fn days(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// month. European rule (method TRUE): every 31st is the 30th.
 fn days360(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let dates = ctx.dates();
-    lift(ctx, args, &|v| {
+    lift_dates(ctx, args, &|v| {
         let (start, end) = (date_time(&v[0], dates)?, date_time(&v[1], dates)?);
         let european = match v.get(2) {
             Some(m) => to_bool(m)?,
@@ -422,7 +434,7 @@ fn datedif(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// year length), 2 (actual/360), 3 (actual/365), 4 (European 30/360).
 fn yearfrac(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let dates = ctx.dates();
-    lift(ctx, args, &|v| {
+    lift_dates(ctx, args, &|v| {
         let (mut a, mut b) = (toolpak_date(&v[0], dates)?, toolpak_date(&v[1], dates)?);
         let basis = match v.get(2) {
             Some(basis) => toolpak_number(basis, dates)?.trunc(),
@@ -485,7 +497,7 @@ pub(crate) fn actual_year_length(a: &DateTime, b: &DateTime, dates: DateSystem) 
 /// Sunday 6), 11–17 (Monday … Sunday is 1).
 fn weekday(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let dates = ctx.dates();
-    lift(ctx, args, &|v| {
+    lift_dates(ctx, args, &|v| {
         let dow = i64::from(date_time(&v[0], dates)?.weekday);
         let kind = if v.len() > 1 { whole(&v[1], dates)? } else { 1 };
         let n = match kind {
@@ -503,7 +515,7 @@ fn weekday(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// or 17 Sunday, 2 or 11 Monday, 12–16 Tuesday to Saturday; 21 is the ISO week.
 fn weeknum(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let dates = ctx.dates();
-    lift(ctx, args, &|v| {
+    lift_dates(ctx, args, &|v| {
         let t = date_time(&v[0], dates)?;
         let kind = if v.len() > 1 { whole(&v[1], dates)? } else { 1 };
         let first_day = match kind {
@@ -521,7 +533,7 @@ fn weeknum(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 fn isoweeknum(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let dates = ctx.dates();
-    lift(ctx, args, &|v| Ok(Value::Number(iso_week(date_time(&v[0], dates)?.serial, dates) as f64)))
+    lift_dates(ctx, args, &|v| Ok(Value::Number(iso_week(date_time(&v[0], dates)?.serial, dates) as f64)))
 }
 
 /// ISO 8601 week: the week (Monday to Sunday) whose Thursday is in the year; week 1 holds the
