@@ -551,3 +551,24 @@ fn arrays_hold_objects() {
     assert!(e.message.contains("type mismatch"), "{e}");
     assert_eq!(e.span.unwrap().line, 3, "{e}");
 }
+
+// "Implements statement" ([MS-VBAL] 5.2.4.2, implements directive): a class module that
+// `Implements IShape` provides IShape's members as its procedures `IShape_Member`, usually
+// Private, and an object of it used as an IShape runs them: `shape.Area` of a Circle runs
+// Circle's `IShape_Area`; one procedure takes objects of every class implementing IShape.
+#[test]
+fn a_class_implements_an_interface_with_its_interface_procedures() {
+    let shape = "Public Function Area() As Double\nEnd Function\nPublic Property Get Name() As String\nEnd Property\n";
+    let circle = "Implements IShape\nPublic R As Double\n\
+                  Private Function IShape_Area() As Double\n    IShape_Area = 3 * R * R\nEnd Function\n\
+                  Private Property Get IShape_Name() As String\n    IShape_Name = \"circle\"\nEnd Property\n";
+    let square = "Option Explicit\nImplements IShape\nPublic Side As Double\n\
+                  Private Function IShape_Area() As Double\n    IShape_Area = Side * Side\nEnd Function\n\
+                  Private Property Get IShape_Name() As String\n    IShape_Name = \"square\"\nEnd Property\n";
+    let main = "Sub Show(s As IShape)\n    Debug.Print s.Name; s.Area\nEnd Sub\n\
+                Sub Main()\n    Dim c As New Circle, q As New Square, s As IShape\n    c.R = 2\n    q.Side = 3\n\
+                \x20   Show c\n    Set s = q\n    Show s\nEnd Sub\n";
+    let classes = [("IShape", shape), ("Circle", circle), ("Square", square)];
+    let out = with_classes(main, &classes).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.printed, ["circle 12 ", "square 9 "]);
+}

@@ -52,6 +52,8 @@ pub struct ClassDef {
     pub fields: Vec<Stmt>,
     /// The fields declared `Public` (ASCII lower case): the only ones other code reaches.
     pub public: Vec<String>,
+    /// `Implements IShape`: the interfaces whose members its `IShape_Member` procedures are.
+    pub implements: Vec<Rc<str>>,
 }
 
 /// One module of a project joined into one source: its name and the line it starts at.

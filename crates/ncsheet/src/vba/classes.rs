@@ -88,7 +88,15 @@ pub(super) fn let_go(mut pending: Vec<Var>) {
 /// The class modules among a project's parts, in order (`Made::Object(i)`).
 pub(super) fn class_defs(parts: &[Part]) -> Vec<ClassDef> {
     let classes = parts.iter().enumerate().filter(|(_, p)| p.class);
-    classes.map(|(i, p)| ClassDef { name: p.name.clone(), part: i, fields: Vec::new(), public: Vec::new() }).collect()
+    classes
+        .map(|(i, p)| ClassDef {
+            name: p.name.clone(),
+            part: i,
+            fields: Vec::new(),
+            public: Vec::new(),
+            implements: Vec::new(),
+        })
+        .collect()
 }
 
 impl Interp<'_, '_> {
@@ -133,9 +141,16 @@ impl Interp<'_, '_> {
         })
     }
 
-    /// A member other code may call: declared without `Private`.
+    /// A member other code may call: declared without `Private`, or the procedure that
+    /// implements an interface's member ("Implements statement": `Private Function
+    /// IShape_Area()` is what `shape.Area` runs for an object of a class that `Implements
+    /// IShape`, reached through a variable of any declared type here).
     fn public_proc(&self, class: usize, name: &str, write: Option<PropertyKind>) -> Option<usize> {
-        self.class_proc(class, name, write).filter(|&p| self.module.procs[p].public)
+        let public = self.class_proc(class, name, write).filter(|&p| self.module.procs[p].public);
+        public.or_else(|| {
+            let interfaces = self.module.classes[class].implements.iter();
+            interfaces.filter_map(|i| self.class_proc(class, &format!("{i}_{name}"), write)).next()
+        })
     }
 
     fn run_event(&self, proc: usize, object: &Instance, span: Span) -> Run<()> {

@@ -174,9 +174,10 @@
 //! let go (not at the end of the run for module-level variables). A member of Nothing is
 //! VBA's error 91, a member the class has not error 438. `Dim x As New Class1` makes the
 //! object at its first use, and again at a use after `Set x = Nothing` (auto-instantiation).
-//! Arrays hold objects (`Set a(i) = New Class1`). Not there: `Implements`, events
-//! (`WithEvents`, `RaiseEvent`), default members; a class module the grammar does not take
-//! is left out of the project (`New` of it is refused by name).
+//! Arrays hold objects (`Set a(i) = New Class1`). A class that `Implements IShape` answers
+//! `s.Area` with its `IShape_Area`, whatever `s` is declared as (`TypeOf` is not there). Not
+//! there: events (`WithEvents`, `RaiseEvent`), default members; a class module the grammar
+//! does not take is left out of the project (`New` of it is refused by name).
 //!
 //! `Null` is VBA's: arithmetic, comparisons (`Null = Null`), `Not` and negation give Null,
 //! `&` takes a lone Null as "", `And`/`Or`/`Imp` follow VBA's tables, `If`/`While` take it as

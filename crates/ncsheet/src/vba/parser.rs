@@ -107,6 +107,14 @@ pub fn parse_module_with_files(
                 out.types.push(t);
             }
             Rule::option_stmt => b.option(item)?,
+            Rule::implements_stmt => {
+                let part = b.part_at(start(&item));
+                let interface = name_of(&find(&kids(&item), Rule::ident).expect("interface name"));
+                match out.classes.iter_mut().find(|c| c.part == part) {
+                    Some(class) => class.implements.push(interface),
+                    None => return Err(b.error_at(&item, "Implements belongs in a class module")),
+                }
+            }
             // A DLL's procedure: declared, never callable (`resolve.rs` refuses a call of it).
             Rule::declare_stmt => {}
             // A procedure that does not compile fails when it runs, not its module: VBA
