@@ -21,7 +21,12 @@ use ncsheet::workbook::Workbook;
 /// A sandbox with an empty output folder named `out` and the given inputs.
 fn sandbox(inputs: &[(&str, &[u8])]) -> RunOptions {
     let inputs = inputs.iter().map(|(n, b)| (n.to_string(), Rc::from(*b))).collect();
-    let files = FileAccess { out_dir: Some("out".into()), inputs, read_out_dir: Rc::new(|_| Ok(None)) };
+    let files = FileAccess {
+        out_dir: Some("out".into()),
+        inputs,
+        read_out_dir: Rc::new(|_| Ok(None)),
+        list_out_dir: Rc::new(|| Ok(Vec::new())),
+    };
     RunOptions { files: Some(files), ..RunOptions::default() }
 }
 
@@ -531,4 +536,105 @@ End Sub
 ");
     assert_eq!(out.printed, vec!["yes"]);
     assert_eq!(out.files, vec![("o.txt".to_string(), b"yes\r\n".to_vec())]);
+}
+
+// ---- Kill, Dir, FileLen, FileCopy -----------------------------------------------------------
+
+// "Dir function": the first file name matching the pattern (wildcards * and ?), the next at
+// each Dir without arguments, "" when none is left, and after that "" a Dir without a
+// pattern is an error (5, "Invalid procedure call or argument"). "FileLen function": the
+// length in bytes. "FileCopy statement": copies a file. "Kill statement": deletes files,
+// wildcards allowed; "An error occurs if you try to use Kill to delete an open file" (75,
+// Path/File access error); a file not there is 53, "File not found".
+#[test]
+fn kill_dir_filelen_and_filecopy_act_on_the_runs_files() {
+    let out = run("Sub Main()
+    Open \"b.nc\" For Output As #1: Print #1, \"G0\": Close #1
+    Open \"a.nc\" For Output As #1: Print #1, \"G01 X5\": Close #1
+    Open \"notes.txt\" For Output As #1: Print #1, \"x\": Close #1
+    f = Dir(\"*.nc\")
+    Do While f <> \"\"
+        Debug.Print f; FileLen(f)
+        f = Dir
+    Loop
+    FileCopy \"a.nc\", \"O1000.nc\"
+    Debug.Print FileLen(\"O1000.nc\"); Dir(\"o????.NC\")
+    Kill \"a.nc\"
+    Debug.Print \"[\" & Dir(\"a.nc\") & \"]\"
+    On Error Resume Next
+    Kill \"a.nc\"
+    Debug.Print Err.Number
+    Err.Clear
+    f = Dir
+    Debug.Print Err.Number
+    Err.Clear
+    Open \"b.nc\" For Append As #2
+    Kill \"b.nc\"
+    Debug.Print Err.Number
+    Close #2
+    Err.Clear
+    Kill \"*.txt\"
+    Debug.Print Err.Number; \"[\" & Dir(\"notes.txt\") & \"]\"
+End Sub
+");
+    assert_eq!(out.printed, ["a.nc 8 ", "b.nc 4 ", " 8 O1000.nc", "[]", " 53 ", " 5 ", " 75 ", " 0 []"]);
+    let names: Vec<&str> = out.files.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(names, ["b.nc", "O1000.nc"]);
+    assert_eq!(out.files[1].1, b"G01 X5\r\n");
+    assert!(out.removed.is_empty(), "only files of this run were deleted: {:?}", out.removed);
+}
+
+#[test]
+fn kill_removes_a_folder_file_only_when_the_macro_succeeds() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir_all(dir.path().join("out")).unwrap();
+    write(&dir.path().join("out"), "old.nc", "G0\r\n");
+    write(&dir.path().join("out"), "keep.txt", "x");
+    let bas =
+        "Sub Main()\n    Debug.Print Dir(\"*.nc\"); FileLen(\"old.nc\")\n    Kill ThisWorkbook.Path & \"\\old.nc\"\n\
+               \x20   Debug.Print \"[\" & Dir(\"*.nc\") & \"]\"\n    Err.Raise 5\nEnd Sub\n";
+    let r = run_macro(dir.path(), bas, &[]);
+    assert_eq!(r.code, 1, "{}", r.stderr);
+    assert!(r.stderr.contains("old.nc 4 \n[]"), "{}", r.stderr);
+    assert_eq!(
+        files_under(dir.path()),
+        ["book.csv", "macro.bas", "out/keep.txt", "out/old.nc"],
+        "a failed run deletes nothing"
+    );
+    let r = run_macro(dir.path(), &bas.replace("    Err.Raise 5\n", ""), &[]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert!(r.stderr.contains("removed ") && r.stderr.contains("old.nc, by the macro's Kill"), "{}", r.stderr);
+    assert_eq!(files_under(dir.path()), ["book.csv", "macro.bas", "out/keep.txt"]);
+}
+
+#[test]
+fn kill_dir_filelen_and_filecopy_reach_nothing_outside_the_out_dir() {
+    let dir = tempfile::tempdir().unwrap();
+    let outside = write(dir.path(), "outside.nc", "G0\r\n");
+    for path in
+        ["../outside.nc", "..\\outside.nc", outside.as_str(), "..\\*.nc", "/*", "C:\\*.*", "\\\\server\\share\\*"]
+    {
+        for (how, statement) in [
+            ("Kill", format!("Kill \"{path}\"")),
+            ("Dir", format!("Debug.Print Dir(\"{path}\")")),
+            ("FileLen", format!("Debug.Print FileLen(\"{path}\")")),
+            ("FileCopy", format!("FileCopy \"{path}\", \"copy.nc\"")),
+            ("FileCopy", format!("FileCopy \"macro.bas\", \"{path}\"")),
+        ] {
+            if how != "Kill" && how != "Dir" && path.contains('*') {
+                continue;
+            }
+            let bas = format!("Sub Main()\n    On Error Resume Next\n    {statement}\nEnd Sub\n");
+            let r = run_macro(dir.path(), &bas, &[]);
+            assert_eq!(r.code, 1, "{how} {path}: {}", r.stderr);
+            assert!(r.stderr.contains(&format!("{how} \"{path}\": refused: ")), "{how} {path}: {}", r.stderr);
+            assert_eq!(files_under(dir.path()), ["book.csv", "macro.bas", "outside.nc"], "{how} {path}");
+        }
+    }
+    let r = run_macro(dir.path(), "Sub Main()\n    MkDir \"NC\"\nEnd Sub\n", &[]);
+    assert_eq!(r.code, 1, "{}", r.stderr);
+    assert!(r.stderr.contains("MkDir: refused: "), "{}", r.stderr);
+    // Without --out-dir the statements are refused by name, as before.
+    let e = fail("    Kill \"a.nc\"", &RunOptions::default());
+    assert!(e.message.contains("Kill: a macro cannot touch files"), "{e}");
 }

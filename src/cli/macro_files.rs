@@ -43,10 +43,16 @@ pub(super) fn access(out_dir: Option<&Path>, in_files: &[PathBuf], max_bytes: u6
         Some(dir) => read_in_folder(&dir.join(name), max_bytes),
         None => Ok(None),
     };
+    let folder = out_dir.map(Path::to_path_buf);
+    let list_out_dir = move || match &folder {
+        Some(dir) => plain_files(dir),
+        None => Ok(Vec::new()),
+    };
     Ok(Some(FileAccess {
         out_dir: out_dir.map(|d| d.display().to_string()),
         inputs,
         read_out_dir: Rc::new(read_out_dir),
+        list_out_dir: Rc::new(list_out_dir),
     }))
 }
 
@@ -90,6 +96,46 @@ fn read_in_folder(path: &Path, max_bytes: u64) -> std::result::Result<Option<Vec
         )),
         Ok(_) => read_limited(path, max_bytes).map(Some),
     }
+}
+
+/// The names of a folder's plain files that a macro could name (for `Dir` and `Kill` with
+/// wildcards): no folder, no symbolic link, no name the sandbox refuses.
+fn plain_files(dir: &Path) -> std::result::Result<Vec<String>, String> {
+    let entries = std::fs::read_dir(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let mut names = Vec::new();
+    for entry in entries {
+        let entry = entry.map_err(|e| format!("{}: {e}", dir.display()))?;
+        let plain = entry.file_type().is_ok_and(|t| t.is_file());
+        if let (true, Some(name)) = (plain, entry.file_name().to_str()) {
+            if checked_name(name).is_none() {
+                names.push(name.to_string());
+            }
+        }
+    }
+    Ok(names)
+}
+
+/// Removes the files of `out_dir` the macro deleted (`Kill`), once its outputs are written;
+/// returns what a run says of each. A symbolic link there is removed itself, never what it
+/// points to.
+pub(super) fn remove_killed(out_dir: Option<&Path>, out: &RunOutput) -> Result<Vec<String>> {
+    let mut said = Vec::new();
+    for name in &out.removed {
+        let (Some(dir), None) = (out_dir, checked_name(name)) else {
+            return Err(Error::User(format!("the macro deleted {name:?}, which is no file of --out-dir")));
+        };
+        let path = dir.join(name);
+        match std::fs::symlink_metadata(&path) {
+            Ok(m) if m.is_dir() => {
+                return Err(Error::User(format!("{}: a folder, which a macro's Kill does not remove", path.display())))
+            }
+            Ok(_) => std::fs::remove_file(&path).map_err(|e| Error::User(format!("{}: {e}", path.display())))?,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => continue,
+            Err(e) => return Err(Error::User(format!("{}: {e}", path.display()))),
+        }
+        said.push(format!("removed {}, by the macro's Kill", path.display()));
+    }
+    Ok(said)
 }
 
 /// What the macro wrote, as outputs to write with the program and the saved workbook: each

@@ -300,6 +300,9 @@ fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
     for line in &listed {
         eprintln!("{line}");
     }
+    for line in macro_files::remove_killed(args.out_dir.as_deref(), &out)? {
+        eprintln!("{line}");
+    }
     if let Some(text) = program {
         emit(&text, None, false)?;
     }

@@ -1,11 +1,13 @@
 //! The files a macro reads and writes (`Open`, `Print #`, `Write #`, `Input #`, `Line Input #`,
-//! `Close`, `FreeFile`, `EOF`, `LOF`, and Scripting's `FileSystemObject` with its
+//! `Close`, `FreeFile`, `EOF`, `LOF`, `Dir`, `Kill`, `FileLen`, `FileCopy`, and Scripting's
+//! `FileSystemObject` with its
 //! `TextStream`s), inside a sandbox the run is given ([`FileAccess`]: `ncsheet run --out-dir
 //! DIR` and `--in-file PATH`).
 //!
 //! This module touches no file: the macro sees a table of files in memory. What it writes is
 //! kept here and handed back in [`super::RunOutput::files`], for the front end to write when
-//! the run succeeded (all or nothing); what it reads comes from the listed inputs' bytes or
+//! the run succeeded (all or nothing), as are the folder's files it deleted
+//! ([`super::RunOutput::removed`]); what it reads comes from the listed inputs' bytes or
 //! from [`FileAccess::read_out_dir`], which the front end answers. A path is a plain file name
 //! in the output folder or the name of a listed input: [`checked_name`] refuses every other
 //! spelling (a folder part, `..`, an absolute path, a drive letter, UNC, a Windows device
@@ -48,10 +50,16 @@ pub struct FileAccess {
     /// Reads a file of the output folder by a name [`checked_name`] accepted: `Ok(None)` when
     /// there is none, `Err` why it cannot be read (a symbolic link, not a plain file, …).
     pub read_out_dir: Rc<FolderReader>,
+    /// The names of the output folder's plain files (those [`checked_name`] accepts), for
+    /// `Dir` and `Kill` with wildcards; `Err` why the folder cannot be listed.
+    pub list_out_dir: Rc<FolderLister>,
 }
 
 /// Reads a file of the output folder by name for the sandbox (see [`FileAccess::read_out_dir`]).
 pub type FolderReader = dyn Fn(&str) -> Result<Option<Vec<u8>>, String>;
+
+/// Lists the output folder's files for the sandbox (see [`FileAccess::list_out_dir`]).
+pub type FolderLister = dyn Fn() -> Result<Vec<String>, String>;
 
 impl fmt::Debug for FileAccess {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -71,6 +79,8 @@ const ALREADY_OPEN: (u32, &str) = (55, "File already open");
 const EXISTS: (u32, &str) = (58, "File already exists");
 const PAST_END: (u32, &str) = (62, "Input past end of file");
 const TOO_MANY: (u32, &str) = (67, "Too many files");
+const ACCESS: (u32, &str) = (75, "Path/File access error");
+const INVALID_CALL: (u32, &str) = (5, "Invalid procedure call or argument");
 
 /// What one TextStream or written file costs the memory budget besides its text.
 const STREAM_BYTES: u64 = 64;
@@ -268,7 +278,7 @@ impl Build<'_> {
 /// [`Interp::file_root`] answers.
 pub(super) fn is_file_function(lower: &str, link: &Link) -> bool {
     match lower {
-        "freefile" | "eof" | "lof" => true,
+        "freefile" | "eof" | "lof" | "kill" | "dir" | "filelen" | "filecopy" | "mkdir" | "rmdir" => true,
         "createobject" => matches!(
             link.args.as_deref(),
             Some([arg]) if matches!(&arg.value.kind,
@@ -315,12 +325,27 @@ pub(super) struct Files {
     written: Vec<(String, Vec<u8>)>,
     numbered: BTreeMap<i64, Channel>,
     streams: Vec<Option<Channel>>,
+    /// Files of the output folder the macro deleted (`Kill`): gone for the rest of the run,
+    /// removed from the folder when the run succeeded.
+    removed: Vec<String>,
+    /// `Dir`'s matches not yet returned, for `Dir` without arguments; `None` before a
+    /// `Dir(pattern)` and after the last match was returned.
+    dir_left: Option<std::collections::VecDeque<String>>,
 }
 
 impl Files {
     /// The files written, for [`super::RunOutput::files`].
     pub(super) fn into_written(self) -> Vec<(String, Vec<u8>)> {
         self.written
+    }
+
+    /// The files of the output folder the macro deleted, for [`super::RunOutput::removed`].
+    pub(super) fn removed(&self) -> Vec<String> {
+        self.removed.clone()
+    }
+
+    fn is_removed(&self, name: &str) -> bool {
+        self.removed.iter().any(|n| n.eq_ignore_ascii_case(name))
     }
 
     /// The bytes the table holds, for the memory budget.
@@ -500,10 +525,17 @@ impl Interp<'_, '_> {
     /// The sandbox name of a path the macro gave, or the refusal naming it. A path in the
     /// --out-dir folder as `ThisWorkbook.Path` spells it is the file name after it.
     fn sandbox_name(&self, what: &str, path: &str, span: Span) -> Run<String> {
+        self.sandbox_pattern(what, path, false, span)
+    }
+
+    /// [`Interp::sandbox_name`], or with `wild` a pattern of such names (`*.nc`, `O????`:
+    /// `Dir` and `Kill` take Windows' wildcards).
+    fn sandbox_pattern(&self, what: &str, path: &str, wild: bool, span: Span) -> Run<String> {
         let dir = self.access().out_dir.as_deref().map(folder_spelling);
         let inside = dir.and_then(|d| path.strip_prefix(d.as_str())?.strip_prefix(['\\', '/']).map(str::to_string));
         let name = inside.as_deref().unwrap_or(path);
-        match checked_name(name) {
+        let checked = if wild { name.replace(['*', '?'], "_") } else { name.to_string() };
+        match checked_name(&checked) {
             None => Ok(name.to_string()),
             Some(why) => {
                 let folder = match &self.access().out_dir {
@@ -541,6 +573,9 @@ impl Interp<'_, '_> {
 
     /// A listed input's bytes, or a file's of the output folder.
     fn stored_bytes(&self, what: &str, name: &str, span: Span) -> Run<Option<Vec<u8>>> {
+        if self.files.borrow().is_removed(name) {
+            return Ok(None);
+        }
         let access = self.access();
         if let Some((_, bytes)) = access.inputs.iter().find(|(n, _)| n.eq_ignore_ascii_case(name)) {
             return Ok(Some(bytes.to_vec()));
@@ -578,6 +613,8 @@ impl Interp<'_, '_> {
         let entry = if existing.is_some() { 0 } else { STREAM_BYTES + name.len() as u64 };
         self.charge(start.len() as u64 + entry, span)?;
         let mut files = self.files.borrow_mut();
+        // Written again after a Kill: the new file replaces the one deleted.
+        files.removed.retain(|n| !n.eq_ignore_ascii_case(name));
         Ok(match existing {
             Some(i) => {
                 files.written[i].1 = start;
@@ -873,8 +910,143 @@ impl Interp<'_, '_> {
                 };
                 value(Value::Number(length as f64))
             }
+            "kill" => self.kill(&args, link.span).map(|()| Obj::Value(Value::Blank)),
+            "dir" => self.dir(&args, link.span).map(|name| Obj::Value(Value::text(name))),
+            "filelen" => {
+                let name =
+                    self.sandbox_name("FileLen", &args.first().map(print_text).unwrap_or_default(), link.span)?;
+                match self.current_bytes("FileLen", &name, link.span)? {
+                    Some(bytes) => value(Value::Number(bytes.len() as f64)),
+                    None => Err(self.not_found("FileLen", &name, link.span)),
+                }
+            }
+            "filecopy" => self.file_copy(&args, link.span).map(|()| Obj::Value(Value::Blank)),
+            "mkdir" | "rmdir" => Err(self.refused(
+                link.span,
+                format!(
+                    "{}: refused: a macro's files are plain names inside the one --out-dir folder, which has no \
+                     folders of its own",
+                    link.name
+                ),
+            )),
             _ => Ok(Obj::Files(FileObj::System)),
         }
+    }
+
+    /// A file's bytes as they stand now: written this run, or listed, or in the folder.
+    fn current_bytes(&self, what: &str, name: &str, span: Span) -> Run<Option<Vec<u8>>> {
+        if let Some(i) = self.files.borrow().written_index(name) {
+            return Ok(Some(self.files.borrow().written[i].1.clone()));
+        }
+        self.stored_bytes(what, name, span)
+    }
+
+    /// Refuses a file that is open (error 75, as VBA's Kill and FileCopy of an open file).
+    fn not_open(&self, what: &str, name: &str, span: Span) -> Run<()> {
+        let files = self.files.borrow();
+        let open = |c: &Channel| c.name.eq_ignore_ascii_case(name);
+        if files.numbered.values().any(open) || files.streams.iter().flatten().any(open) {
+            return Err(self.file_error(span, ACCESS, format!("{what} \"{name}\": the file is open")));
+        }
+        Ok(())
+    }
+
+    /// The files a pattern names: the one name without wildcards (if it exists), else the
+    /// output folder's files and those written this run that match it, in name order.
+    fn matching(&self, what: &str, pattern: &str, span: Span) -> Run<Vec<String>> {
+        if !pattern.contains(['*', '?']) {
+            return Ok(if self.exists(pattern, span)? { vec![pattern.to_string()] } else { Vec::new() });
+        }
+        let listed = match self.access().out_dir {
+            Some(_) => (self.access().list_out_dir)().map_err(|why| self.refused(span, format!("{what}: {why}")))?,
+            None => Vec::new(),
+        };
+        let files = self.files.borrow();
+        let mut names: Vec<String> = listed.into_iter().filter(|n| !files.is_removed(n)).collect();
+        for (name, _) in &files.written {
+            if !names.iter().any(|n| n.eq_ignore_ascii_case(name)) {
+                names.push(name.clone());
+            }
+        }
+        let pattern: Vec<char> = pattern.to_lowercase().chars().collect();
+        names.retain(|n| wildcard_match(&pattern, &n.to_lowercase().chars().collect::<Vec<_>>()));
+        names.sort_by_key(|n| n.to_lowercase());
+        Ok(names)
+    }
+
+    /// `Kill pathname` ("Kill statement"): deletes the files it names (wildcards allowed); none
+    /// is error 53, an open one error 75. A file written this run is dropped; one of the
+    /// folder is removed when the run succeeds (all or nothing, as the writes are); a listed
+    /// input is never deleted.
+    fn kill(&self, args: &[Value], span: Span) -> Run<()> {
+        let path = args.first().map(print_text).unwrap_or_default();
+        let pattern = self.sandbox_pattern("Kill", &path, true, span)?;
+        let names = self.matching("Kill", &pattern, span)?;
+        if names.is_empty() {
+            return Err(self.not_found("Kill", &pattern, span));
+        }
+        for name in names {
+            if self.access().inputs.iter().any(|(n, _)| n.eq_ignore_ascii_case(&name)) {
+                return Err(self.refused(
+                    span,
+                    format!("Kill \"{name}\": refused: it is an input (--in-file), which a run never deletes"),
+                ));
+            }
+            self.not_open("Kill", &name, span)?;
+            let written = self.files.borrow().written_index(&name);
+            if let Some(i) = written {
+                self.files.borrow_mut().written.remove(i);
+            }
+            if self.access().out_dir.is_some() && self.stored_bytes("Kill", &name, span)?.is_some() {
+                self.files.borrow_mut().removed.push(name);
+            }
+        }
+        Ok(())
+    }
+
+    /// `Dir[(pathname[, attributes])]` ("Dir function"): the first file name the pattern
+    /// matches ("" when none); `Dir` alone the next match of the last pattern, "" after the
+    /// last, and error 5 once that "" was returned. The sandbox has files only, so the
+    /// attributes find nothing more.
+    fn dir(&self, args: &[Value], span: Span) -> Run<String> {
+        let Some(path) = args.first() else {
+            let mut files = self.files.borrow_mut();
+            let Some(left) = files.dir_left.as_mut() else {
+                let why = "Dir without a pattern, before any Dir(pattern) or after its last file";
+                return Err(self.file_error(span, INVALID_CALL, why.to_string()));
+            };
+            let next = left.pop_front();
+            if next.is_none() {
+                files.dir_left = None;
+            }
+            return Ok(next.unwrap_or_default());
+        };
+        let path = match print_text(path) {
+            p if p.is_empty() => "*".to_string(),
+            p => p,
+        };
+        let pattern = self.sandbox_pattern("Dir", &path, true, span)?;
+        let mut names: std::collections::VecDeque<String> = self.matching("Dir", &pattern, span)?.into();
+        let first = names.pop_front();
+        self.files.borrow_mut().dir_left = first.as_ref().map(|_| names);
+        Ok(first.unwrap_or_default())
+    }
+
+    /// `FileCopy source, destination` ("FileCopy statement"): the destination, a file of the
+    /// output folder, gets the source's bytes as they stand; an open file is error 75.
+    fn file_copy(&self, args: &[Value], span: Span) -> Run<()> {
+        let text = |i: usize| args.get(i).map(print_text).unwrap_or_default();
+        let source = self.sandbox_name("FileCopy", &text(0), span)?;
+        let destination = self.sandbox_name("FileCopy", &text(1), span)?;
+        self.not_open("FileCopy", &source, span)?;
+        self.not_open("FileCopy", &destination, span)?;
+        let Some(bytes) = self.current_bytes("FileCopy", &source, span)? else {
+            return Err(self.not_found("FileCopy", &source, span));
+        };
+        let file = self.open_for_writing("FileCopy", &destination, false, span)?;
+        self.charge(bytes.len() as u64, span)?;
+        self.files.borrow_mut().written[file].1 = bytes;
+        Ok(())
     }
 
     /// A member of the FileSystemObject or of a TextStream.
@@ -1008,13 +1180,38 @@ impl Interp<'_, '_> {
         Ok(Obj::Files(FileObj::Stream(files.streams.len() - 1)))
     }
 
-    /// Whether a file of the sandbox exists: written this run, listed, or in the folder.
+    /// Whether a file of the sandbox exists: written this run, listed, or in the folder (and
+    /// not deleted since).
     fn exists(&self, name: &str, span: Span) -> Run<bool> {
         if self.files.borrow().written_index(name).is_some() {
             return Ok(true);
         }
         Ok(self.stored_bytes("FileExists", name, span)?.is_some())
     }
+}
+
+/// Whether `name` matches `pattern`, both in one case: `*` any run of characters, `?` one
+/// (Windows' wildcards, as Dir and Kill read them).
+fn wildcard_match(pattern: &[char], name: &[char]) -> bool {
+    // reach[j]: the pattern so far can match name[..j].
+    let mut reach = vec![false; name.len() + 1];
+    reach[0] = true;
+    for p in pattern {
+        let mut next = vec![false; name.len() + 1];
+        for j in 0..=name.len() {
+            if !reach[j] {
+                continue;
+            }
+            match p {
+                '*' => next[j..].iter_mut().for_each(|r| *r = true),
+                _ if j == name.len() => {}
+                '?' => next[j + 1] = true,
+                c => next[j + 1] |= name[j] == *c,
+            }
+        }
+        reach = next;
+    }
+    reach[name.len()]
 }
 
 /// An open file by its number or as a TextStream.

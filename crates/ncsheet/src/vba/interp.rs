@@ -71,6 +71,7 @@ pub fn run(
     let result = it.start(entry);
     it.flush_line();
     let mut output = it.out.into_inner();
+    output.removed = it.files.borrow().removed();
     output.files = it.files.into_inner().into_written();
     match result {
         Ok(()) => Ok(output),

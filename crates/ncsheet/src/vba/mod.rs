@@ -9,10 +9,10 @@
 //! the `Nc` object.
 //!
 //! **Architecture Invariant:** a macro cannot reach files, programs or the system: the
-//! language has no such statement or object (`Kill`, `Shell`, `CreateObject` of anything but
+//! language has no such statement or object (`Shell`, `CreateObject` of anything but
 //! Scripting's Dictionary and FileSystemObject, `Declare`, `Workbooks.Open`, `SaveAs` … are
-//! refused by the parser, by name); its file statements (`Open`, `Print #`, FileSystemObject)
-//! reach only the files of [`RunOptions::files`], as a table in memory (`files.rs`), and are
+//! refused by the parser, by name); its file statements (`Open`, `Print #`, `Kill`, `Dir`,
+//! FileSystemObject) reach only the files of [`RunOptions::files`], as a table in memory (`files.rs`), and are
 //! refused by name without it; and this module touches neither files nor stdout: [`run`]
 //! returns what the macro printed, emitted and wrote, and the CLI decides where it goes. A statement limit, a call-depth limit, a
 //! deadline and limits on strings, arrays and output ([`RunOptions`]) stop endless loops,
@@ -111,7 +111,9 @@
 //! Files, with `ncsheet run --out-dir DIR` (and `--in-file PATH` to read): `Open name For
 //! Output|Append|Input As #n`, `Print #n, …` (`;`, `,`, `Spc(n)`, `Tab(n)` as in VBA),
 //! `Write #n, …`, `Line Input #n, s`, `Input #n, a, b`, `Close [#n]`, `FreeFile`, `EOF(n)`,
-//! `LOF(n)`, and `CreateObject("Scripting.FileSystemObject")` with `CreateTextFile`,
+//! `LOF(n)`, `Dir(pattern)` and `Dir`, `Kill pattern` (`*` and `?` as wildcards), `FileLen(name)`,
+//! `FileCopy source, destination` (`MkDir`, `RmDir` are refused: the folder has no folders
+//! of its own), and `CreateObject("Scripting.FileSystemObject")` with `CreateTextFile`,
 //! `OpenTextFile` (`ForReading` 1, `ForWriting` 2, `ForAppending` 8), `FileExists` and the
 //! TextStream's `WriteLine`, `Write`, `WriteBlankLines`, `ReadLine`, `ReadAll`, `SkipLine`,
 //! `AtEndOfStream`, `Close`. A name is a plain file name in DIR (`program.nc`) or a listed
@@ -385,11 +387,20 @@ pub struct RunOutput {
     /// The files the macro wrote (a plain name inside [`FileAccess::out_dir`], the bytes), in
     /// the order first opened: for the caller to write when the run succeeded, all or none.
     pub files: Vec<(String, Vec<u8>)>,
+    /// The files of [`FileAccess::out_dir`] the macro deleted (`Kill`, plain names): for the
+    /// caller to remove after writing [`RunOutput::files`], when the run succeeded.
+    pub removed: Vec<String>,
 }
 
 impl RunOutput {
     fn new(name: &str, machine: Machine) -> RunOutput {
-        RunOutput { printed: Vec::new(), messages: Vec::new(), program: Program::new(name, machine), files: Vec::new() }
+        RunOutput {
+            printed: Vec::new(),
+            messages: Vec::new(),
+            program: Program::new(name, machine),
+            files: Vec::new(),
+            removed: Vec::new(),
+        }
     }
 
     pub fn has_program(&self) -> bool {
