@@ -76,11 +76,22 @@ fn a_running_balance_through_offset_of_its_own_column_is_no_cycle() {
 
 #[test]
 fn offset_still_finds_a_real_cycle_and_excels_ref() {
-    // The cell OFFSET reaches is the formula's own: a cycle, as in Excel, and named. (It
-    // keeps the value of its one computation before its reach was known, as INDEX's does.)
-    for formula in ["=OFFSET(C2,-1,0)+1", "=OFFSET(C:C,0,0,1)+1", "=SUM(OFFSET($C$1,0,0))"] {
+    // The cell OFFSET (INDEX, INDIRECT) reaches is the formula's own: a cycle, as in Excel,
+    // and named. Its cell shows 0, as `=C1+1` does and Excel does for a circular formula
+    // just entered (support.microsoft.com, "Remove or allow a circular reference": the last
+    // calculated value or zero), not the 1 of its one computation reading itself as blank.
+    let forms = [
+        "=OFFSET(C2,-1,0)+1",
+        "=OFFSET(C:C,0,0,1)+1",
+        "=SUM(OFFSET($C$1,0,0))+1",
+        "=INDEX(C:C,1)+1",
+        "=INDIRECT(\"C1\")+1",
+        "=C1+1",
+    ];
+    for formula in forms {
         let wb = sheet(&[("C1".to_string(), formula.to_string())]);
         assert_eq!(wb.cycles(), vec![vec!["Sheet1!C1".to_string()]], "{formula}");
+        assert_eq!(get(&wb, "C1"), Value::Number(0.0), "{formula}");
     }
     // B:B moved down one row runs past the sheet's last row: #REF! in Excel, not a cycle.
     let wb = sheet(&[("A3".to_string(), "2".to_string()), ("B3".to_string(), "=OFFSET(B:B,ROW()-2,0)+A3".to_string())]);

@@ -379,8 +379,13 @@ fn run_time_references_follow_the_cells_they_reach() {
     assert_eq!(get(&wb, "C1"), n(70.0));
     // A cell that reaches itself is a cycle.
     set(&mut wb, "D1", "=INDIRECT(\"D1\")+1");
-    // Its first computation, before the reference was known, is its last calculated value.
-    assert_eq!(get(&wb, "D1"), n(1.0));
+    // It shows 0, as Excel shows a circular formula it meets at entry and as `=D1+1` shows;
+    // not 1, its first computation reading itself as blank before the reference was known.
+    assert_eq!(get(&wb, "D1"), n(0.0));
+    assert_eq!(wb.cycles(), vec![vec!["Sheet1!D1".to_string()]]);
+    // INDIRECT is volatile: every edit computes it again, and it keeps its 0.
+    set(&mut wb, "E5", "1");
+    assert_eq!(get(&wb, "D1"), n(0.0));
     assert_eq!(wb.cycles(), vec![vec!["Sheet1!D1".to_string()]]);
     // Where a reference is, unlike what it holds, is no dependency (Excel: no cycle).
     set(&mut wb, "D2", "=ROW(INDIRECT(\"D2\"))+ISREF(OFFSET(A1,1,3))");

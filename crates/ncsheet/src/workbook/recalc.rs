@@ -223,6 +223,10 @@ pub struct Scratch {
     /// The search's stack of nodes and the order in which they finished.
     stack: Vec<u32>,
     order: Vec<u32>,
+    /// The values cells held before this recalculation evaluated them and found new
+    /// references made at run time (OFFSET, INDEX, INDIRECT): one of them that turns out
+    /// circular keeps that value, as a cell whose formula names its cycle does.
+    before_relink: FxMap<u32, Value>,
 }
 
 /// Entries of the search's buffers kept between recalculations.
@@ -276,6 +280,7 @@ impl Workbook {
 
     fn run_passes(&mut self, mut sources: Vec<u32>) {
         self.fresh_notes.clear();
+        self.scratch.before_relink.clear();
         if let Some(functions) = &self.user_functions {
             functions.begin_recalculation();
         }
@@ -575,8 +580,13 @@ impl Workbook {
             self.notes.insert(id, notes);
             self.fresh_notes.push(id);
         }
+        // Only a cell making references at run time may find itself in a cycle after the fact.
+        let before = (!dynamic_refs.is_empty()).then(|| self.cells[id as usize].value.clone());
         self.set_result(id, value, late);
         if (!dynamic_refs.is_empty() || !self.dynamic_refs.is_empty()) && self.relink_dynamic(id, dynamic_refs) {
+            if let Some(before) = before {
+                self.scratch.before_relink.entry(id).or_insert(before);
+            }
             // Now in the graph, the cells it reached are ordered before it in the next pass.
             late.push(id);
         }
@@ -588,8 +598,11 @@ impl Workbook {
     /// automatically calculate" a circular reference and shows "the last calculated value"
     /// or zero, support.microsoft.com, "Remove or allow a circular reference"). Its
     /// dependents compute from that value; the cycle is a problem of the workbook.
+    /// A cell whose cycle only its evaluation revealed (`=OFFSET(C2,-1,0)+1` in C1) keeps the
+    /// value from before that evaluation too, not what it computed reading itself.
     fn keep_previous_value(&mut self, id: u32, late: &mut Vec<u32>) {
-        let value = match &self.cells[id as usize].value {
+        let before = self.scratch.before_relink.remove(&id);
+        let value = match before.as_ref().unwrap_or(&self.cells[id as usize].value) {
             Value::Blank | Value::Error(XlError::Circ) => Value::Number(0.0),
             other => other.clone(),
         };
