@@ -65,11 +65,14 @@ fn xlsb_files_recompute_the_values_excel_cached() {
     let Some(corpus) = common::corpus::root() else { return };
     let (mut compared, mut agree) = (0usize, 0usize);
     let mut left = Vec::new();
+    let mut cached_wrong = Vec::new();
     for (name, source) in sources() {
         let excel = excel_values(&corpus.join(&source));
         let path = xlsb_dir().join(format!("{name}.xlsb"));
         let opened = ncsheet::io::open(&path).unwrap_or_else(|e| panic!("{name}.xlsb: {e}"));
         let wb = &opened.workbook;
+        // What the .xlsb stores for each formula, as ncsheet read it (for `eval --check`).
+        let stored: HashMap<_, _> = opened.cached.iter().map(|c| ((c.sheet, c.pos), &c.value)).collect();
         let written = written_formulas(&name);
         assert!(!written.is_empty(), "{name}: no formulas listed");
         for (sheet, cell) in written {
@@ -77,6 +80,10 @@ fn xlsb_files_recompute_the_values_excel_cached() {
             let pos = parse_cell(&cell).unwrap_or_else(|| panic!("{name}: cell {cell}"));
             let want = excel.get(&(sheet.clone(), pos)).unwrap_or_else(|| panic!("{source}: no cached {sheet}!{cell}"));
             compared += 1;
+            if !stored.get(&(id, pos)).is_some_and(|v| xlsx::values_agree(want, v)) {
+                cached_wrong
+                    .push(format!("{name}.xlsb: {sheet}!{cell}: stored {:?}, Excel {want:?}", stored.get(&(id, pos))));
+            }
             // The formula must have come through and been computed: a cell read as the
             // constant the file cached, or one keeping that value, is not agreement.
             let computed = wb.is_formula(id, pos) && !wb.keeps_file_value(id, pos);
@@ -96,6 +103,7 @@ fn xlsb_files_recompute_the_values_excel_cached() {
     let share = agree as f64 / compared as f64;
     eprintln!("xlsb: {agree} of {compared} formula cells compute Excel's value ({:.2} %)", 100.0 * share);
     eprintln!("left:\n{}", left.join("\n"));
+    assert!(cached_wrong.is_empty(), "values the .xlsb stores read wrong:\n{}", cached_wrong.join("\n"));
     // No listed formula reads the clock or chance: every one is compared.
     assert!(compared >= 8000, "only {compared} formula cells compared");
     assert!(share >= THRESHOLD, "{agree} of {compared} agree, below {THRESHOLD}:\n{}", left.join("\n"));

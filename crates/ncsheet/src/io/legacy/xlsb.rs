@@ -9,13 +9,16 @@
 //! and relative-column flags the wrong way round, and leaves them in an area's column number
 //! (a relative column comes out past XFD); [`references_as_stored`] undoes both.
 //! tests/xlsb_corpus.rs computes .xlsb files with all of these, so an upgrade of calamine that
-//! mends them shows there.
+//! mends them shows there. calamine does not read the value of a formula whose result is an
+//! error (BrtFmlaError); [`formula_errors`] reads it from the sheet part.
 
-use std::io::Cursor;
+use std::collections::HashMap;
+use std::io::{BufReader, Cursor, Read};
 
 use calamine::{Reader, SheetType, Xlsb};
 
 use super::{calamine_sheet, cells_named, value_of, Book};
+use crate::eval::{Value, XlError};
 use crate::formula::address::column_name;
 
 /// Reads an .xlsb file's bytes into a [`Book`].
@@ -24,6 +27,7 @@ pub fn read(bytes: &[u8]) -> Result<Book, String> {
     let application = xlsb.workbook_properties().ok().and_then(|p| p.application);
     let mut book = Book { application, ..Book::default() };
     let metadata = xlsb.sheets_metadata().to_vec();
+    let mut errors = formula_errors(bytes)?;
     for meta in &metadata {
         if meta.typ != SheetType::WorkSheet {
             book.notes.push(format!("sheet '{}' is not a worksheet and was left out", meta.name));
@@ -32,11 +36,18 @@ pub fn read(bytes: &[u8]) -> Result<Book, String> {
         let values = xlsb.worksheet_range(&meta.name).map_err(|e| format!("sheet '{}': {e}", meta.name))?;
         let formulas = xlsb.worksheet_formula(&meta.name).map_err(|e| format!("sheet '{}': {e}", meta.name))?;
         let mut sheet = calamine_sheet(meta, &values, value_of);
+        for (pos, error) in errors.remove(&meta.name).unwrap_or_default() {
+            sheet.cells.entry(pos).or_default().value.get_or_insert(Value::Error(error));
+        }
         let (r0, c0) = formulas.start().unwrap_or((0, 0));
         let mut unread = Vec::new();
         for (r, c, text) in formulas.used_cells() {
             let pos = (r0 + r as u32, c0 + c as u32);
-            if text.is_empty() || text.contains('!') || text.contains("Ptg") || text.starts_with("Unrecognised") {
+            if text.is_empty()
+                || outside_strings(text).contains('!')
+                || text.contains("Ptg")
+                || text.starts_with("Unrecognised")
+            {
                 unread.push(pos);
                 continue;
             }
@@ -59,6 +70,135 @@ pub fn read(bytes: &[u8]) -> Result<Book, String> {
     }
     book.notes.push("number formats are not read from an .xlsb file: values show as General".into());
     Ok(book)
+}
+
+/// The error each formula cell holds whose last result was one (BrtFmlaError), by sheet
+/// name and (row, column).
+fn formula_errors(bytes: &[u8]) -> Result<HashMap<String, Vec<((u32, u32), XlError)>>, String> {
+    let mut zip = zip::ZipArchive::new(Cursor::new(bytes)).map_err(|e| e.to_string())?;
+    let mut errors = HashMap::new();
+    for (name, part) in sheet_parts(&mut zip)? {
+        let Ok(entry) = zip.by_name(&part) else { continue };
+        let mut records = Records(BufReader::new(entry));
+        let (mut row, mut found) = (0u32, Vec::new());
+        while let Some((kind, body)) = records.next_head(16).map_err(|e| format!("{part}: {e}"))? {
+            match kind {
+                0x0000 if body.len() >= 4 => row = u32_at(&body, 0),
+                0x000B if body.len() >= 9 => {
+                    if let Some(error) = berr(body[8]) {
+                        found.push(((row, u32_at(&body, 0)), error));
+                    }
+                }
+                _ => {}
+            }
+        }
+        errors.insert(name, found);
+    }
+    Ok(errors)
+}
+
+/// Each sheet's name and part, from xl/workbook.bin's BrtBundleSh records and their
+/// relationships.
+fn sheet_parts<R: Read + std::io::Seek>(zip: &mut zip::ZipArchive<R>) -> Result<Vec<(String, String)>, String> {
+    let mut rels = String::new();
+    if let Ok(entry) = zip.by_name("xl/_rels/workbook.bin.rels") {
+        entry.take(1 << 20).read_to_string(&mut rels).map_err(|e| e.to_string())?;
+    }
+    let targets: HashMap<&str, &str> = rels
+        .split("<Relationship ")
+        .skip(1)
+        .filter_map(|r| Some((attribute(r, "Id")?, attribute(r, "Target")?)))
+        .collect();
+    let entry = zip.by_name("xl/workbook.bin").map_err(|e| e.to_string())?;
+    let mut records = Records(BufReader::new(entry));
+    let mut parts = Vec::new();
+    while let Some((kind, body)) = records.next_head(4096).map_err(|e| format!("xl/workbook.bin: {e}"))? {
+        if kind != 0x009C {
+            continue;
+        }
+        // BrtBundleSh: hsState, iTabID, strRelID (null: no part), strName.
+        let Some((rel, rest)) = wide_string(body.get(8..).unwrap_or_default()) else { continue };
+        let Some((name, _)) = wide_string(rest) else { continue };
+        if let Some(target) = targets.get(rel.as_str()) {
+            let part = target.strip_prefix('/').map_or_else(|| format!("xl/{target}"), str::to_string);
+            parts.push((name, part));
+        }
+    }
+    Ok(parts)
+}
+
+/// The value of `name="…"` in an XML start tag's text.
+fn attribute<'a>(tag: &'a str, name: &str) -> Option<&'a str> {
+    let start = tag.find(&format!(" {name}=\"")).or_else(|| tag.starts_with(&format!("{name}=\"")).then_some(0))?;
+    let value = &tag[start..];
+    let value = &value[value.find('"')? + 1..];
+    Some(&value[..value.find('"')?])
+}
+
+/// An XLWideString (a count of UTF-16 units, then the units) and what follows it; `None`
+/// for a null string or one past the record's end.
+fn wide_string(bytes: &[u8]) -> Option<(String, &[u8])> {
+    let count = usize::try_from(u32::from_le_bytes(bytes.get(..4)?.try_into().ok()?)).ok()?;
+    let units: Vec<u16> =
+        bytes.get(4..4 + count.checked_mul(2)?)?.chunks(2).map(|u| u16::from_le_bytes([u[0], u[1]])).collect();
+    Some((String::from_utf16_lossy(&units), &bytes[4 + count * 2..]))
+}
+
+fn u32_at(bytes: &[u8], at: usize) -> u32 {
+    u32::from_le_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]])
+}
+
+/// A BErr ([MS-XLSB] 2.5.98.2) as an error value.
+fn berr(code: u8) -> Option<XlError> {
+    Some(match code {
+        0x00 => XlError::Null,
+        0x07 => XlError::Div0,
+        0x0F => XlError::Value,
+        0x17 => XlError::Ref,
+        0x1D => XlError::Name,
+        0x24 => XlError::Num,
+        0x2A => XlError::NA,
+        0x2B => XlError::GettingData,
+        _ => return None,
+    })
+}
+
+/// The records of a part ([MS-XLSB] 2.1.4), read as a stream.
+struct Records<R: Read>(R);
+
+impl<R: Read> Records<R> {
+    /// The next record's type and the first `keep` bytes of its body (the rest is skipped);
+    /// `None` at the part's end.
+    fn next_head(&mut self, keep: u64) -> std::io::Result<Option<(u16, Vec<u8>)>> {
+        let Some(kind) = self.varint(2)? else { return Ok(None) };
+        let size = self.varint(4)?.ok_or_else(|| std::io::Error::other("a record cut short"))?;
+        let mut head = Vec::new();
+        (&mut self.0).take(size.min(keep)).read_to_end(&mut head)?;
+        std::io::copy(&mut (&mut self.0).take(size.saturating_sub(keep)), &mut std::io::sink())?;
+        Ok(Some((kind as u16, head)))
+    }
+
+    /// A little-endian number of at most `bytes` bytes, 7 bits each, the high bit saying
+    /// another follows; `None` at the end of the stream.
+    fn varint(&mut self, bytes: u32) -> std::io::Result<Option<u64>> {
+        let mut value = 0u64;
+        for i in 0..bytes {
+            let mut byte = [0u8];
+            if self.0.read(&mut byte)? == 0 {
+                return if i == 0 { Ok(None) } else { Err(std::io::Error::other("a record cut short")) };
+            }
+            value |= u64::from(byte[0] & 0x7F) << (7 * i);
+            if byte[0] & 0x80 == 0 {
+                break;
+            }
+        }
+        Ok(Some(value))
+    }
+}
+
+/// A formula's text without its string constants (a `!` in `"Hello!"` is no sheet's).
+fn outside_strings(text: &str) -> String {
+    text.split('"').step_by(2).collect()
 }
 
 /// calamine's spelling of a formula with `>` and `>=` outside string constants swapped back
@@ -192,7 +332,13 @@ fn references_as_stored(text: &str) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::{comparisons_as_stored, references_as_stored};
+    use super::{comparisons_as_stored, outside_strings, references_as_stored};
+
+    #[test]
+    fn a_bang_in_a_string_is_no_sheet_reference() {
+        assert!(!outside_strings("\"Hello!\"&A1").contains('!'));
+        assert!(outside_strings("Sheet2!A1&\"x\"").contains('!'));
+    }
 
     #[test]
     fn calamines_reference_flags_are_read_as_stored() {
