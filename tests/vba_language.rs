@@ -489,18 +489,29 @@ fn objects_only_a_collection_held_are_terminated_when_it_lets_them_go() {
 // for + 1), a Date minus a Date the Double of the days between; dates compare as points in
 // time. A Date made a String ("Print # statement": "the standard short date format", and
 // only the part, date or time, that is there) shows as the en-US locale writes it; Debug.Print,
-// MsgBox and `&` show that text, not the day count.
+// MsgBox and `&` show that text, not the day count. "Type conversion functions": CDate gives
+// a Date; "Now function": "Returns a Variant (Date)".
 #[test]
 fn date_is_a_type_with_literals_arithmetic_and_text() {
     let out = printed(
         "    Dim d As Date, e As Date, t As Date\n    d = #1/2/2024#\n    e = d + 1\n    t = #12:30:00 PM#\n\
          \x20   Debug.Print TypeName(d); VarType(d); TypeName(#1/2/2024#)\n    Debug.Print d\n    Debug.Print e\n\
          \x20   Debug.Print t\n    Debug.Print d + t\n    Debug.Print e - d; e > d; d = #2024-01-02#\n\
-         \x20   Debug.Print \"on \" & e",
+         \x20   Debug.Print \"on \" & e\n    Debug.Print CDate(\"1/2/2024\") + 1\n    Debug.Print TypeName(CDate(45000)); TypeName(Now)",
     );
     assert_eq!(
         out,
-        ["Date 7 Date", "1/2/2024", "1/3/2024", "12:30:00 PM", "1/2/2024 12:30:00 PM", " 1 TrueTrue", "on 1/3/2024"]
+        [
+            "Date 7 Date",
+            "1/2/2024",
+            "1/3/2024",
+            "12:30:00 PM",
+            "1/2/2024 12:30:00 PM",
+            " 1 TrueTrue",
+            "on 1/3/2024",
+            "1/3/2024",
+            "DateDate"
+        ]
     );
     let mut wb = Workbook::with_sheet();
     let src = "Sub Main()\n    Dim d As Date\n    d = #1/2/2024#\n    MsgBox d - 1\nEnd Sub\n";
@@ -516,8 +527,12 @@ fn print_and_write_to_a_file_write_dates_as_vba_does() {
     use ncsheet::vba::FileAccess;
     let src = "Sub Main()\n    Dim d As Date\n    d = #7/13/1994#\n    Open \"OUT.TXT\" For Output As #1\n\
                \x20   Print #1, d; \"|\"; d + #1:05:09 PM#\n    Write #1, d, d + #1:05:09 PM#, #13:05:09#, 1\n    Close #1\nEnd Sub\n";
-    let files =
-        FileAccess { out_dir: Some("out".into()), inputs: Vec::new(), read_out_dir: std::rc::Rc::new(|_| Ok(None)) };
+    let files = FileAccess {
+        out_dir: Some("out".into()),
+        inputs: Vec::new(),
+        read_out_dir: std::rc::Rc::new(|_| Ok(None)),
+        list_out_dir: std::rc::Rc::new(|| Ok(Vec::new())),
+    };
     let options = RunOptions { files: Some(files), ..RunOptions::default() };
     let out = vba::run(&mut Workbook::with_sheet(), src, "test.bas", &options).unwrap_or_else(|e| panic!("{e}"));
     let text = String::from_utf8(out.files[0].1.clone()).unwrap();

@@ -25,6 +25,24 @@ struct Case {
 }
 
 const CASES: &[Case] = &[
+    // Arrays holding objects (tests/vba_language.rs has the class-module forms). Where
+    // LibreOffice departs from VBA, left out: it does not make a `Dim c As New Collection`
+    // again after `Set c = Nothing` (VBA's auto-instantiation, [MS-VBAL] 5.2.3.1.4), and its
+    // `Const C As Integer = 2.5` is 2.5 (VBA converts a typed constant to its type: 2).
+    Case {
+        name: "object_semantics",
+        module: "",
+        body: r#"
+    Dim a(2) As Object
+    Set a(0) = New Collection
+    a(0).Add "x"
+    Set a(2) = a(0)
+    a(2).Add "y"
+    Out a(0).Count
+    Out a(1) Is Nothing
+    Out a(0) Is a(2)
+"#,
+    },
     Case {
         name: "like",
         module: "",

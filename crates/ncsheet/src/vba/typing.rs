@@ -192,7 +192,7 @@ fn function_type(name: &str) -> Declared {
         "VBA.CSTR" => Declared::String,
         "VBA.CBOOL" | "VBA.ISNUMERIC" | "VBA.ISEMPTY" | "VBA.ISERROR" | "VBA.ISARRAY" => Declared::Boolean,
         "VBA.CDATE" | "VBA.CVDATE" | "VBA.DATESERIAL" | "VBA.TIMESERIAL" | "VBA.DATEVALUE" | "VBA.TIMEVALUE"
-        | "VBA.DATE" | "VBA.TIME" | "VBA.NOW" | "VBA.DATEADD" => Declared::Date,
+        | "VBA.DATE" | "VBA.TIME" | "VBA.NOW" | "VBA.DATEADD" | "NOW" => Declared::Date,
         _ => Declared::Variant,
     }
 }

@@ -263,6 +263,17 @@ pub(super) fn time(ctx: &mut Ctx, _: &[Expr]) -> XlResult<Value> {
     Ok(Value::Number(now - now.floor()))
 }
 
+/// `CDate(value)` ("Type conversion functions"; [MS-VBAL] 5.5.1.2.4, Let-coercion to Date):
+/// a number is the date it counts (days from 1899-12-30), text a date or a time as the
+/// en-US locale writes it (`"1/2/2024"`, `"2024-01-02"`, `"12:30 PM"`), True -1; Null is
+/// error 94, text that is no date a type mismatch.
+pub(super) fn cdate(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    lift_vba(ctx, args, "CDate", NO_NULL, &|v| match &v[0] {
+        Value::Bool(b) => Ok(Value::Number(-f64::from(u8::from(*b)))),
+        other => to_number(other, VBA_DATES).map(Value::Number),
+    })
+}
+
 /// The `$` form of a function that passes Null (`Left$`, `Hex$`): the same text, but a
 /// String, which cannot hold Null ([MS-VBAL] 6.1.2: "the function Hex$ raises error 94").
 fn string_form(ctx: &mut Ctx, args: &[Expr], name: &str, f: ValueFn) -> XlResult<Value> {

@@ -278,6 +278,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
     )
     .volatile()
     .reads(Outside::Clock),
+    FnSpec::value("VBA.CDATE", 1, 1, conversions::cdate, "VBA.CDATE(value)", "VBA CDate: the value as a Date"),
     FnSpec::value(
         "VBA.MIDSTATEMENT",
         4,
