@@ -219,3 +219,43 @@ fn type_name_of_a_class_object_is_its_class() {
     let out = vba::run(&mut Workbook::with_sheet(), main, "Module1.bas", &options).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(out.printed, ["Tool", "Tool"]);
 }
+
+// "Format function", its predefined formats with English (United States) system settings:
+// Currency (thousands separator, two decimals, a negative number in parentheses), Yes/No,
+// True/False, On/Off (0 is No, False, Off); General Date (the date, the time, or both as
+// the value has them), Long Date, Medium Date, Short Date, Long Time, Medium Time (12-hour,
+// AM/PM), Short Time (24-hour).
+#[test]
+fn format_takes_the_predefined_formats() {
+    let out = printed(
+        "    d = DateSerial(2026, 11, 28) + TimeSerial(14, 5, 9)
+    Debug.Print Format(1234.5, \"Currency\"); \"|\"; Format(-1234.5, \"Currency\")
+    Debug.Print Format(0, \"Yes/No\"); Format(3, \"Yes/No\"); Format(0, \"True/False\"); Format(-1, \"On/Off\")
+    Debug.Print Format(d, \"General Date\"); \"|\"; Format(Int(d), \"General Date\"); \"|\"; Format(d - Int(d), \"General Date\")
+    Debug.Print Format(d, \"Long Date\"); \"|\"; Format(d, \"Medium Date\"); \"|\"; Format(d, \"Short Date\")
+    Debug.Print Format(d, \"Long Time\"); \"|\"; Format(d, \"Medium Time\"); \"|\"; Format(d, \"Short Time\")",
+    );
+    assert_eq!(
+        out,
+        [
+            "$1,234.50|($1,234.50)",
+            "NoYesFalseOn",
+            "11/28/2026 2:05:09 PM|11/28/2026|2:05:09 PM",
+            "Saturday, November 28, 2026|28-Nov-26|11/28/2026",
+            "2:05:09 PM|02:05 PM|14:05",
+        ]
+    );
+}
+
+// "InStr function": "If string1 is Null / string2 is Null: Null"; "StrComp function": "If
+// string1 or string2 is Null: Null"; "Len function" covers LenB. A Null start is error 94.
+#[test]
+fn instr_and_strcomp_pass_null() {
+    for f in
+        ["InStr(Null, \"a\")", "InStr(1, \"abc\", Null)", "InStrRev(Null, \"a\")", "StrComp(\"a\", Null)", "LenB(Null)"]
+    {
+        assert_eq!(shown(f), "Null", "{f}");
+    }
+    let out = printed("    On Error Resume Next\n    x = InStr(Null, \"abc\", \"b\")\n    Debug.Print Err.Number");
+    assert_eq!(out, [" 94 "]);
+}

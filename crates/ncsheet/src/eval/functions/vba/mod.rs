@@ -713,7 +713,8 @@ fn format(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 /// A number in a VBA/Excel number format: VBA's named formats (`Fixed`, `Standard`,
-/// `Percent`, `Scientific`, `General Number`) or any pattern Excel's TEXT reads — the one
+/// `Percent`, `Scientific`, `General Number`, `Currency`, `Yes/No`, `True/False`, `On/Off`,
+/// `General Date`, `Long Date` … `Short Time`) or any pattern Excel's TEXT reads — the one
 /// number-format engine of `text_format.rs`.
 pub fn format_number(n: f64, pattern: &str) -> XlResult<String> {
     let named = match pattern.to_ascii_lowercase().as_str() {
@@ -722,6 +723,23 @@ pub fn format_number(n: f64, pattern: &str) -> XlResult<String> {
         "standard" => "#,##0.00",
         "percent" => "0.00%",
         "scientific" => "0.00E+00",
+        // "Format function", its predefined formats, with the system settings of English
+        // (United States), as FormatNumber's defaults.
+        "currency" => "$#,##0.00;($#,##0.00)",
+        "yes/no" => return Ok(if n == 0.0 { "No" } else { "Yes" }.into()),
+        "true/false" => return Ok(if n == 0.0 { "False" } else { "True" }.into()),
+        "on/off" => return Ok(if n == 0.0 { "Off" } else { "On" }.into()),
+        "general date" => match (n.trunc() == 0.0, n.fract() == 0.0) {
+            (true, _) if n != 0.0 => "h:mm:ss AM/PM",
+            (_, true) => "m/d/yyyy",
+            _ => "m/d/yyyy h:mm:ss AM/PM",
+        },
+        "long date" => "dddd, mmmm d, yyyy",
+        "medium date" => "dd-mmm-yy",
+        "short date" => "m/d/yyyy",
+        "long time" => "h:mm:ss AM/PM",
+        "medium time" => "hh:mm AM/PM",
+        "short time" => "hh:mm",
         _ => pattern,
     };
     NumberFormat::parse_vba(named)?.format_number(n, VBA_DATES)

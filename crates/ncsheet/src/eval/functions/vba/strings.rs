@@ -8,7 +8,7 @@ use crate::eval::functions::api::{given, Ctx};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
-use super::{format_number, vba_text};
+use super::{format_number, invalid_use_of_null, vba_text};
 
 /// `compare` of InStr, InStrRev, StrComp and Split: vbTextCompare (1) ignores case;
 /// vbBinaryCompare (0), the default, and vbUseCompareOption (-1, Option Compare Binary
@@ -41,14 +41,29 @@ pub(super) fn fold_case(c: char) -> char {
     }
 }
 
-fn text_arg(ctx: &mut Ctx, args: &[Expr], i: usize) -> XlResult<String> {
-    Ok(vba_text(&ctx.eval(&args[i]).unwrap_single())?.to_string())
+/// A text argument; Null is run-time error 94 (`name` needs a String there).
+fn text_arg(ctx: &mut Ctx, name: &str, args: &[Expr], i: usize) -> XlResult<String> {
+    match text_or_null(ctx, args, i)? {
+        Some(text) => Ok(text),
+        None => Err(invalid_use_of_null(ctx, name)),
+    }
 }
 
-fn whole_arg(ctx: &mut Ctx, args: &[Expr], i: usize, default: f64) -> XlResult<f64> {
+/// A text argument, `None` for Null: InStr, InStrRev and StrComp then return Null ("If
+/// string1 is Null", "If string1 or string2 is Null" on their pages).
+fn text_or_null(ctx: &mut Ctx, args: &[Expr], i: usize) -> XlResult<Option<String>> {
+    match ctx.eval(&args[i]).unwrap_single() {
+        Value::Null => Ok(None),
+        v => Ok(Some(vba_text(&v)?.to_string())),
+    }
+}
+
+/// A whole-number argument (`default` when left out); Null is run-time error 94.
+fn whole_arg(ctx: &mut Ctx, name: &str, args: &[Expr], i: usize, default: f64) -> XlResult<f64> {
     let dates = ctx.dates();
-    match given(args, i) {
-        Some(e) => Ok(to_number(&ctx.eval(e).unwrap_single(), dates)?.trunc()),
+    match given(args, i).map(|e| ctx.eval(e).unwrap_single()) {
+        Some(Value::Null) => Err(invalid_use_of_null(ctx, name)),
+        Some(v) => Ok(to_number(&v, dates)?.trunc()),
         None => Ok(default),
     }
 }
@@ -60,13 +75,15 @@ fn starts_at(hay: &[char], needle: &[char], at: usize) -> bool {
 
 /// `InStr([start,] string1, string2[, compare])`: with four arguments the first is the start.
 pub fn instr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    let (start, text_at) = if args.len() >= 3 { (whole_arg(ctx, args, 0, 1.0)?, 1) } else { (1.0, 0) };
+    let (start, text_at) = if args.len() >= 3 { (whole_arg(ctx, "InStr", args, 0, 1.0)?, 1) } else { (1.0, 0) };
     if start < 1.0 {
         return Err(XlError::Value);
     }
     let ignore_case = args.len() == 4 && text_compare(ctx, args, 3)?;
-    let text = chars_for(&text_arg(ctx, args, text_at)?, ignore_case);
-    let find = chars_for(&text_arg(ctx, args, text_at + 1)?, ignore_case);
+    let (Some(text), Some(find)) = (text_or_null(ctx, args, text_at)?, text_or_null(ctx, args, text_at + 1)?) else {
+        return Ok(Value::Null);
+    };
+    let (text, find) = (chars_for(&text, ignore_case), chars_for(&find, ignore_case));
     let start = start.min(usize::MAX as f64) as usize;
     if start > text.len() + usize::from(find.is_empty()) {
         return Ok(Value::Number(0.0));
@@ -79,9 +96,11 @@ pub fn instr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// before `start` (-1: the last character); 0 when `start` is past the text.
 pub fn instr_rev(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let ignore_case = text_compare(ctx, args, 3)?;
-    let text = chars_for(&text_arg(ctx, args, 0)?, ignore_case);
-    let find = chars_for(&text_arg(ctx, args, 1)?, ignore_case);
-    let start = whole_arg(ctx, args, 2, -1.0)?;
+    let (Some(text), Some(find)) = (text_or_null(ctx, args, 0)?, text_or_null(ctx, args, 1)?) else {
+        return Ok(Value::Null);
+    };
+    let (text, find) = (chars_for(&text, ignore_case), chars_for(&find, ignore_case));
+    let start = whole_arg(ctx, "InStrRev", args, 2, -1.0)?;
     if start == 0.0 || start < -1.0 {
         return Err(XlError::Value);
     }
@@ -103,8 +122,10 @@ pub fn instr_rev(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// `StrComp(string1, string2[, compare])`: -1, 0 or 1.
 pub fn str_comp(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let ignore_case = text_compare(ctx, args, 2)?;
-    let a = chars_for(&text_arg(ctx, args, 0)?, ignore_case);
-    let b = chars_for(&text_arg(ctx, args, 1)?, ignore_case);
+    let (Some(a), Some(b)) = (text_or_null(ctx, args, 0)?, text_or_null(ctx, args, 1)?) else {
+        return Ok(Value::Null);
+    };
+    let (a, b) = (chars_for(&a, ignore_case), chars_for(&b, ignore_case));
     Ok(Value::Number(match a.cmp(&b) {
         std::cmp::Ordering::Less => -1.0,
         std::cmp::Ordering::Equal => 0.0,
@@ -116,12 +137,12 @@ pub fn str_comp(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// of texts; `""` gives an array with no items, a `""` delimiter the whole text as one item,
 /// and at `limit` items the last holds the rest unsplit.
 pub fn split(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    let text = text_arg(ctx, args, 0)?;
+    let text = text_arg(ctx, "Split", args, 0)?;
     let delimiter = match given(args, 1) {
-        Some(_) => text_arg(ctx, args, 1)?,
+        Some(_) => text_arg(ctx, "Split", args, 1)?,
         None => " ".to_string(),
     };
-    let limit = whole_arg(ctx, args, 2, -1.0)?;
+    let limit = whole_arg(ctx, "Split", args, 2, -1.0)?;
     if limit < -1.0 {
         return Err(XlError::Value);
     }
@@ -159,7 +180,7 @@ pub fn split(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 pub fn join(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let Value::Array(items) = ctx.eval(&args[0]) else { return Err(XlError::Value) };
     let delimiter = match given(args, 1) {
-        Some(_) => text_arg(ctx, args, 1)?,
+        Some(_) => text_arg(ctx, "Join", args, 1)?,
         None => " ".to_string(),
     };
     let texts = items.data.iter().map(vba_text).collect::<XlResult<Vec<_>>>()?;
@@ -174,8 +195,8 @@ pub fn join(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// first letter of every word a capital, the rest small). The byte and East Asian
 /// conversions (4 and up) have no meaning for ncsheet's Unicode text: `#VALUE!`.
 pub fn str_conv(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    let text = text_arg(ctx, args, 0)?;
-    let conversion = whole_arg(ctx, args, 1, 0.0)?;
+    let text = text_arg(ctx, "StrConv", args, 0)?;
+    let conversion = whole_arg(ctx, "StrConv", args, 1, 0.0)?;
     Ok(Value::text(match conversion {
         1.0 => text.to_uppercase(),
         2.0 => text.to_lowercase(),
@@ -218,13 +239,14 @@ pub fn chrw(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 /// `LenB(string)`: the bytes VBA's UTF-16 string holds, two per code unit.
 pub fn len_b(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    let text = text_arg(ctx, args, 0)?;
+    // "Len function": LenB too, "If string contains Null, Null is returned".
+    let Some(text) = text_or_null(ctx, args, 0)? else { return Ok(Value::Null) };
     Ok(Value::Number((text.encode_utf16().count() * 2) as f64))
 }
 
 /// A Tristate argument of FormatNumber: vbTrue (-1), vbFalse (0), vbUseDefault (-2).
 fn tristate(ctx: &mut Ctx, args: &[Expr], i: usize, default: bool) -> XlResult<bool> {
-    match whole_arg(ctx, args, i, -2.0)? {
+    match whole_arg(ctx, "FormatNumber", args, i, -2.0)? {
         -2.0 => Ok(default),
         0.0 => Ok(false),
         // A Boolean True is -1; any other non-zero number counts as True too.
@@ -238,7 +260,7 @@ fn tristate(ctx: &mut Ctx, args: &[Expr], i: usize, default: bool) -> XlResult<b
 pub fn format_number_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let dates = ctx.dates();
     let n = to_number(&ctx.eval(&args[0]).unwrap_single(), dates)?;
-    let digits = whole_arg(ctx, args, 1, -1.0)?;
+    let digits = whole_arg(ctx, "FormatNumber", args, 1, -1.0)?;
     let digits = if digits == -1.0 { 2.0 } else { digits };
     if !(0.0..=99.0).contains(&digits) {
         return Err(XlError::Value);
