@@ -27,6 +27,7 @@ use std::rc::Rc;
 
 use pest::iterators::Pair;
 
+use crate::eval::functions::vba::wildcard_matches;
 use crate::eval::{Ctx, Value, XlError};
 use crate::formula::ast::Expr;
 use crate::formula::parse::Rule;
@@ -968,8 +969,8 @@ impl Interp<'_, '_> {
                 names.push(name.clone());
             }
         }
-        let pattern: Vec<char> = pattern.to_lowercase().chars().collect();
-        names.retain(|n| wildcard_match(&pattern, &n.to_lowercase().chars().collect::<Vec<_>>()));
+        let pattern = pattern.to_lowercase();
+        names.retain(|n| wildcard_matches(&pattern, &n.to_lowercase()));
         names.sort_by_key(|n| n.to_lowercase());
         Ok(names)
     }
@@ -1188,30 +1189,6 @@ impl Interp<'_, '_> {
         }
         Ok(self.stored_bytes("FileExists", name, span)?.is_some())
     }
-}
-
-/// Whether `name` matches `pattern`, both in one case: `*` any run of characters, `?` one
-/// (Windows' wildcards, as Dir and Kill read them).
-fn wildcard_match(pattern: &[char], name: &[char]) -> bool {
-    // reach[j]: the pattern so far can match name[..j].
-    let mut reach = vec![false; name.len() + 1];
-    reach[0] = true;
-    for p in pattern {
-        let mut next = vec![false; name.len() + 1];
-        for j in 0..=name.len() {
-            if !reach[j] {
-                continue;
-            }
-            match p {
-                '*' => next[j..].iter_mut().for_each(|r| *r = true),
-                _ if j == name.len() => {}
-                '?' => next[j + 1] = true,
-                c => next[j + 1] |= name[j] == *c,
-            }
-        }
-        reach = next;
-    }
-    reach[name.len()]
 }
 
 /// An open file by its number or as a TextStream.

@@ -809,6 +809,20 @@ fn char_ranges(items: &[char]) -> Vec<(char, char)> {
     out
 }
 
+/// Whether `text` matches a file pattern of Windows' wildcards, as `Dir` and `Kill` read
+/// them: `*` any run of characters, `?` one; `#` and `[` are themselves there.
+pub fn wildcard_matches(pattern: &str, text: &str) -> bool {
+    let tokens: Vec<LikeToken> = pattern
+        .chars()
+        .map(|c| match c {
+            '*' => LikeToken::Any,
+            '?' => LikeToken::One,
+            c => LikeToken::Char(c),
+        })
+        .collect();
+    like_matches(&tokens, &text.chars().collect::<Vec<_>>())
+}
+
 /// Dynamic programming over (pattern token, text position): no exponential backtracking on
 /// patterns with many `*`.
 fn like_matches(tokens: &[LikeToken], text: &[char]) -> bool {
