@@ -12,7 +12,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use ncsheet::eval::functions::{describe_gouge, standalone_ball_path, PathFailure};
 use ncsheet::eval::surface::parse_standalone;
 use ncsheet::geometry::ballpath::{
-    BallPath, BallPathSpec, Direction, GougeCheck, GougeKind, Lines, Spacing, GOUGE_SAMPLES, GOUGE_TOLERANCE,
+    BallPath, BallPathSpec, Direction, GougeCheck, GougeKind, Lines, Spacing, Written, GOUGE_SAMPLES, GOUGE_TOLERANCE,
 };
 use ncsheet::io::Encoded;
 use ncsheet::nc::ballpath::{ball_path_cl, ball_path_program, BallPathNcOptions, ProgrammedPoint};
@@ -216,17 +216,19 @@ pub fn run(args: BallpathArgs) -> Result<()> {
             bar.set_position(done as u64);
         }
     };
-    let path = standalone_ball_path(&surface, &spec, &mut progress);
+    let paths = standalone_ball_path(&surface, &spec, written(&args), &mut progress);
     // Cleared before any message, so an error does not land on the bar's line.
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
-    let path = path.map_err(|failure| Error::User(prepend("--surface: ", &failure_message(failure))))?;
+    let (path, as_written) = paths.map_err(|failure| Error::User(prepend("--surface: ", &failure_message(failure))))?;
     let computed = started.elapsed();
     report_gouges(&path, spec.gouge)?;
     check_clearance(&path, &args)?;
+    // A program's points are the written path's: on its dialect's grid, checked there.
+    let programmed = as_written.as_ref().unwrap_or(&path);
     let started = Instant::now();
-    let text = render(&path, &args)?;
+    let text = render(&path, programmed, &args)?;
     let formatted = started.elapsed();
     let started = Instant::now();
     match &args.cl {
@@ -348,12 +350,23 @@ fn check_clearance(path: &BallPath, args: &BallpathArgs) -> Result<()> {
     )))
 }
 
-fn render(path: &BallPath, args: &BallpathArgs) -> Result<String> {
+/// How the program of `--format` writes its points (none for the csv, which is exact): the
+/// dialect's decimals, of the tip or the centre.
+fn written(args: &BallpathArgs) -> Option<Written> {
+    let PointsFormat::Program(dialect) = args.format else { return None };
+    let programmed_dz = match args.program {
+        Programmed::Tip => -args.radius,
+        Programmed::Centre => 0.0,
+    };
+    Some(Written { resolution: dialect.resolution(), programmed_dz })
+}
+
+/// The csv of `path`, or the program of `programmed` (the path as its dialect writes it).
+fn render(path: &BallPath, programmed: &BallPath, args: &BallpathArgs) -> Result<String> {
     let PointsFormat::Program(dialect) = args.format else { return Ok(csv(path)) };
     let name = program_name(args);
-    // The program keeps a reserve for the decimals its dialect writes.
-    let options = BallPathNcOptions { resolution: dialect.resolution(), ..nc_options(args) };
-    dialect.render(&ball_path_program(path, &name, &options)).map_err(|e| Error::User(e.to_string()))
+    let program = ball_path_program(programmed, &name, &nc_options(args));
+    dialect.render(&program).map_err(|e| Error::User(e.to_string()))
 }
 
 /// The CL file and, with -o, the usual output: both written or neither.
@@ -398,7 +411,6 @@ fn nc_options(args: &BallpathArgs) -> BallPathNcOptions {
         y: args.y,
         lead_deg: args.lead,
         tilt_deg: args.tilt,
-        resolution: 0.0,
     }
 }
 

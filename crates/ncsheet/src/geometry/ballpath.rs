@@ -27,6 +27,9 @@ use nalgebra::{Point3, Vector3};
 use super::dropcutter::{self, Goal, Map, MapError, Sweep};
 use super::{ensure, GeometryError};
 
+mod written;
+pub use written::{written_reserve, Written};
+
 /// A surface z = f(x, y) with its gradient.
 pub trait Surface {
     /// Why the surface has no height or slope at a point (kept as the caller's own type).
@@ -236,6 +239,31 @@ pub fn ball_path<S: Surface>(
     spec: &BallPathSpec,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<BallPath, PathError<S::Error>> {
+    Ok(build(surface, spec, None, progress)?.0)
+}
+
+/// The ball path of `spec` over `surface`, and the same path as a program writes it
+/// ([`Written`]): its programmed points on the dialect's grid, each position and each written
+/// move kept within `spec.gouge_tol` of the drop-cutter height by lifting points or inserting
+/// them (issue 32, scope 5). With [`GougeCheck::Off`] only the reserve of
+/// [`written_reserve`] is kept; with [`GougeCheck::Report`] and gouges found the written path
+/// is the computed one, rounded (the path is refused anyway).
+pub fn ball_path_as_written<S: Surface>(
+    surface: &mut S,
+    spec: &BallPathSpec,
+    written: Written,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<(BallPath, BallPath), PathError<S::Error>> {
+    let (path, as_written) = build(surface, spec, Some(written), progress)?;
+    Ok((path, as_written.expect("a written path was asked for")))
+}
+
+fn build<S: Surface>(
+    surface: &mut S,
+    spec: &BallPathSpec,
+    written: Option<Written>,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<(BallPath, Option<BallPath>), PathError<S::Error>> {
     check_spec(spec)?;
     check_point_count(spec)?;
     let (across, along) = match spec.lines {
@@ -268,10 +296,17 @@ pub fn ball_path<S: Surface>(
         progress(k + 1, total);
     }
     path.surface_z = height_range(path.points.iter().map(|p| p.contact.z));
-    if spec.gouge != GougeCheck::Off {
-        check_gouges(placer.surface, spec, &mut path, &mut |k| progress(stations.len() + k, total))?;
+    if spec.gouge == GougeCheck::Off {
+        let as_written = written.map(|w| written::rounded(&path, w));
+        return Ok((path, as_written));
     }
-    Ok(path)
+    let mut check = check_gouges(placer.surface, spec, &mut path, &mut |k| progress(stations.len() + k, total))?;
+    let as_written = match written {
+        Some(w) if spec.gouge == GougeCheck::Lift || path.gouges.is_empty() => Some(check.as_written(&path, w)?),
+        Some(w) => Some(written::rounded(&path, w)),
+        None => None,
+    };
+    Ok((path, as_written))
 }
 
 /// The largest coordinate or length of a ball path, in mm: a kilometre, past any machine.
@@ -451,12 +486,12 @@ fn distance_to_segment(p: &Point3<f64>, a: &Point3<f64>, b: &Point3<f64>) -> f64
 /// Checks every ball position and every straight move between consecutive ones (the links
 /// between lines too, unless `check_links` is off) with the exact drop-cutter of
 /// [`dropcutter`]; reports or lifts what cuts deeper than `spec.gouge_tol`.
-fn check_gouges<S: Surface>(
-    surface: &mut S,
-    spec: &BallPathSpec,
+fn check_gouges<'a, S: Surface>(
+    surface: &'a mut S,
+    spec: &'a BallPathSpec,
     path: &mut BallPath,
     lines_checked: &mut dyn FnMut(usize),
-) -> Result<(), PathError<S::Error>> {
+) -> Result<Checker<'a, S>, PathError<S::Error>> {
     let step = match spec.spacing {
         Spacing::Step(s) | Spacing::Chord { max_step: s, .. } => s,
     };
@@ -470,8 +505,8 @@ fn check_gouges<S: Surface>(
     let mut check = Checker { surface, map, spec, gouges: Vec::new(), samples_left: spec.gouge_samples };
     let below = check.positions(path, lines_checked)?;
     check.moves(path, &below)?;
-    path.gouges = check.gouges;
-    Ok(())
+    path.gouges = std::mem::take(&mut check.gouges);
+    Ok(check)
 }
 
 fn surface_error<E>((x, y, error): (f64, f64, E)) -> PathError<E> {

@@ -57,57 +57,13 @@ pub struct BallPathNcOptions {
     /// the axis along the normal.
     pub lead_deg: f64,
     pub tilt_deg: f64,
-    /// The step (mm) the dialect writes coordinates in (0: exact, as the csv): each cutting
-    /// point is raised by [`written_reserve`] so that the point as written is no deeper than
-    /// the point computed (issue 32, scope 5).
-    pub resolution: f64,
 }
 
-/// How much higher (mm) a cutting point is programmed so that rounding its coordinates to
-/// `resolution` cannot take the ball deeper into the surface: half a step for its own z, and
-/// for x and y (each moved up to half a step, √2/2 steps in all) the drop-cutter height's rise
-/// over that shift, its slope taken as the steepest surface slope at the point and its
-/// neighbours on the line (a move between two points shifts by no more than they do).
-pub fn written_reserve(resolution: f64, slope: f64) -> f64 {
-    resolution * (0.5 + slope * std::f64::consts::FRAC_1_SQRT_2)
-}
-
-/// The surface's slope |∇f| where ball position `p` touches it: the normal from the contact
-/// to the centre is (−f_x, −f_y, 1)/√(1 + |∇f|²). A normal lying flat is taken as a steep
-/// wall (slope 10⁶).
-fn slope_at(p: &PathPoint) -> f64 {
-    let n = p.centre - p.contact;
-    let flat = n.x.hypot(n.y);
-    if n.z <= flat * 1e-6 {
-        1e6
-    } else {
-        flat / n.z
-    }
-}
-
-/// Each point's reserve for the written decimals: its slope the steepest of itself and its
-/// neighbours on the same raster line.
-fn reserves(path: &BallPath, resolution: f64) -> Vec<f64> {
-    if resolution <= 0.0 {
-        return vec![0.0; path.points.len()];
-    }
-    let slopes: Vec<f64> = path.points.iter().map(slope_at).collect();
-    let mut out = Vec::with_capacity(slopes.len());
-    for (k, &start) in path.line_starts.iter().enumerate() {
-        let end = path.line_starts.get(k + 1).copied().unwrap_or(path.points.len());
-        out.extend((start..end).map(|i| {
-            let around =
-                slopes[i.saturating_sub(1).max(start)..(i + 2).min(end)].iter().fold(0.0, |m: f64, &s| m.max(s));
-            written_reserve(resolution, around)
-        }));
-    }
-    out
-}
-
-/// The paper's program for `path`, named `name`.
+/// The paper's program for `path`, named `name`. The points are written as they are: a path
+/// for a dialect's decimals is the one `geometry::ballpath::ball_path_as_written` made, its
+/// programmed points already on the grid and checked there (issue 32, scope 5).
 pub fn ball_path_program(path: &BallPath, name: &str, o: &BallPathNcOptions) -> Program {
-    let reserve = reserves(path, o.resolution);
-    let at = |i: usize| o.point.of(path, i) + Vector3::new(0.0, 0.0, reserve[i]);
+    let at = |i: usize| o.point.of(path, i);
     let clearance = o.clearance.unwrap_or((o.point.highest(path) + 5.0).ceil());
     let mut p = Program::new(name, Machine::Mill);
     p.blocks.reserve(path.points.len() + 4 * path.line_starts.len() + 8);

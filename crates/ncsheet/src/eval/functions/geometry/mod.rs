@@ -12,8 +12,8 @@ use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::address::Pos;
 use crate::formula::ast::{Expr, ExprKind};
 use crate::geometry::ballpath::{
-    ball_path, BallPath, BallPathSpec, Gouge, GougeCheck, GougeKind, Lines, PathError, Sample, Spacing, Surface,
-    GOUGE_TOLERANCE,
+    ball_path, ball_path_as_written, BallPath, BallPathSpec, Gouge, GougeCheck, GougeKind, Lines, PathError, Sample,
+    Spacing, Surface, Written, GOUGE_TOLERANCE,
 };
 use crate::geometry::cam::{fit_piece, Piece, PieceKind};
 use crate::geometry::chamfer::{chamfer, ChamferKind, ChamferPoints, ChamferSpec};
@@ -226,10 +226,11 @@ pub fn formula_ball_path(
     spec: &BallPathSpec,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<BallPath, (XlError, String)> {
-    typed_ball_path(ctx, surface, home, spec, progress).map_err(|e| match e {
-        PathFailure::TooManyPoints { message, .. } => (XlError::Num, message),
-        PathFailure::Other(error, message) => (error, message),
-    })
+    match typed_ball_path(ctx, surface, home, spec, None, progress) {
+        Ok(paths) => Ok(paths.0),
+        Err(PathFailure::TooManyPoints { message, .. }) => Err((XlError::Num, message)),
+        Err(PathFailure::Other(error, message)) => Err((error, message)),
+    }
 }
 
 /// Why there is no ball path over a formula surface.
@@ -246,18 +247,19 @@ fn typed_ball_path(
     surface: &FormulaSurface,
     home: Home,
     spec: &BallPathSpec,
+    written: Option<Written>,
     progress: &mut dyn FnMut(usize, usize),
-) -> Result<BallPath, PathFailure> {
+) -> Result<(BallPath, Option<BallPath>), PathFailure> {
     if ctx.in_surface {
         return Err(PathFailure::Other(XlError::Calc, "a surface formula cannot itself compute a BALLPATH".into()));
     }
     ctx.in_surface = true;
     let result = match home {
-        Home::Here => ball_path(&mut surface.bind(ctx), spec, progress),
+        Home::Here => both_paths(&mut surface.bind(ctx), spec, written, progress),
         Home::Name(sheet) => {
             let mut named = Ctx::new(ctx.env, sheet, ctx.at);
             named.in_surface = true;
-            ball_path(&mut surface.bind(&mut named), spec, progress)
+            both_paths(&mut surface.bind(&mut named), spec, written, progress)
         }
     };
     ctx.in_surface = false;
@@ -278,14 +280,33 @@ fn typed_ball_path(
     })
 }
 
+/// The path and, with `written`, the path as written, in one run: the written one's check
+/// reads the gouge check's map.
+fn both_paths<S: Surface>(
+    surface: &mut S,
+    spec: &BallPathSpec,
+    written: Option<Written>,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<(BallPath, Option<BallPath>), PathError<S::Error>> {
+    match written {
+        Some(w) => ball_path_as_written(surface, spec, w, progress).map(|(path, w)| (path, Some(w))),
+        None => ball_path(surface, spec, progress).map(|path| (path, None)),
+    }
+}
+
 /// The ball path over a surface formula typed on its own (`ncsheet ballpath`), evaluated on
-/// an [`EmptyEnv`]: a reference in it reads a blank cell (0).
+/// an [`EmptyEnv`]: a reference in it reads a blank cell (0). With `written`, also the path
+/// as a program in those decimals writes it, checked as written
+/// (`geometry::ballpath::ball_path_as_written`).
 pub fn standalone_ball_path(
     surface: &FormulaSurface,
     spec: &BallPathSpec,
+    written: Option<Written>,
     progress: &mut dyn FnMut(usize, usize),
-) -> Result<BallPath, PathFailure> {
-    typed_ball_path(&mut Ctx::new(&EmptyEnv::default(), 0, Pos::new(0, 0)), surface, Home::Here, spec, progress)
+) -> Result<(BallPath, Option<BallPath>), PathFailure> {
+    let env = EmptyEnv::default();
+    let mut ctx = Ctx::new(&env, 0, Pos::new(0, 0));
+    typed_ball_path(&mut ctx, surface, Home::Here, spec, written, progress)
 }
 
 /// One gouge, said in a line: where the ball was placed, where it cuts and how deep.
