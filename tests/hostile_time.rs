@@ -162,6 +162,27 @@ fn lambdas_of_the_array_helpers_past_their_work_limit_are_num_naming_it() {
     assert!(problems_at(&wb, "C1").is_empty());
 }
 
+/// A surface (BALLPATH's, `ballpath --surface`) evaluates its formula once per point through
+/// one evaluation context: each point has the LAMBDA work budget to itself, as each cell
+/// does. 300 points of a million items each are past one budget, not past one point's.
+#[test]
+fn a_surface_has_the_lambda_work_budget_at_each_point() {
+    use ncsheet::eval::functions::Registry;
+    use ncsheet::eval::surface::FormulaSurface;
+    use ncsheet::eval::Ctx;
+    use ncsheet::formula::parse::ParseContext;
+    use ncsheet::formula::Pos;
+    let parsing = ParseContext { at: Pos::new(0, 0), functions: &Registry, sheet: &|_| None };
+    let formula = "=x+0*SUM(MAP(SEQUENCE(10),LAMBDA(v,SUM(SEQUENCE(100000)))))";
+    let surface = FormulaSurface::parse(formula, &parsing).unwrap();
+    let wb = Workbook::with_sheet();
+    let mut eval = Ctx::new(&wb, 0, Pos::new(0, 0));
+    let mut bound = surface.bind(&mut eval);
+    for i in 0..300 {
+        assert_eq!(bound.height_at(f64::from(i), 0.0), Ok(f64::from(i)), "point {i}");
+    }
+}
+
 #[test]
 fn names_that_refer_to_themselves_or_chain_too_deep_say_so() {
     let mut wb = Workbook::with_sheet();

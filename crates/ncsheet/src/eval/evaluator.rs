@@ -824,6 +824,12 @@ impl<'a> Ctx<'a> {
         Ok(out)
     }
 
+    /// Starts a new evaluation's count against [`MAX_LAMBDA_WORK`]: a surface evaluates its
+    /// formula once per point through one `Ctx`, each point an evaluation of its own.
+    pub fn restart_lambda_work(&mut self) {
+        self.lambda_work.set(0);
+    }
+
     /// Counts `work` (items made or read, see [`work_of`]) when a LAMBDA of MAP, REDUCE, …
     /// is running; [`Ctx::apply_closure`] checks the total before each call.
     #[inline]

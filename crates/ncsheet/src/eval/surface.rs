@@ -171,6 +171,7 @@ impl BoundSurface<'_, '_, '_> {
     fn with_xy<T>(&mut self, x: f64, y: f64, body: impl FnOnce(&mut Ctx) -> T) -> T {
         let [px, py] = &self.surface.params;
         let (px, py) = (px.clone(), py.clone());
+        self.ctx.restart_lambda_work();
         self.ctx.with_local(px, Value::Number(x), |ctx| ctx.with_local(py, Value::Number(y), body))
     }
 }
