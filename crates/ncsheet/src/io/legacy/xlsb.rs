@@ -72,9 +72,11 @@ pub fn read(bytes: &[u8]) -> Result<Book, String> {
     Ok(book)
 }
 
-/// The error each formula cell holds whose last result was one (BrtFmlaError), by sheet
-/// name and (row, column).
-fn formula_errors(bytes: &[u8]) -> Result<HashMap<String, Vec<((u32, u32), XlError)>>, String> {
+/// Cells by (row, column) with the error each holds.
+type CellErrors = Vec<((u32, u32), XlError)>;
+
+/// The error each formula cell holds whose last result was one (BrtFmlaError), by sheet name.
+fn formula_errors(bytes: &[u8]) -> Result<HashMap<String, CellErrors>, String> {
     let mut zip = zip::ZipArchive::new(Cursor::new(bytes)).map_err(|e| e.to_string())?;
     let mut errors = HashMap::new();
     for (name, part) in sheet_parts(&mut zip)? {
