@@ -683,7 +683,7 @@ fn values_and_shown_text_of_probes_are_libreoffice_s() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     for locale in ALL {
-        let probes: Vec<&str> = VALUE_PROBES.iter().filter(|(at, _)| at.contains(&locale)).map(|(_, p)| *p).collect();
+        let probes: Vec<&str> = VALUE_PROBES.iter().filter(|(at, _)| at.contains(locale)).map(|(_, p)| *p).collect();
         let stem = format!("values-{locale}");
         let fields: Vec<String> = probes.iter().map(|p| format!("\"{}\"", p.replace('"', "\"\""))).collect();
         std::fs::write(d.join(format!("{stem}.csv")), format!("{}\n", fields.join(","))).unwrap();
