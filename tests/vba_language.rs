@@ -490,14 +490,16 @@ fn objects_only_a_collection_held_are_terminated_when_it_lets_them_go() {
 // time. A Date made a String ("Print # statement": "the standard short date format", and
 // only the part, date or time, that is there) shows as the en-US locale writes it; Debug.Print,
 // MsgBox and `&` show that text, not the day count. "Type conversion functions": CDate gives
-// a Date; "Now function": "Returns a Variant (Date)".
+// a Date; "Now function": "Returns a Variant (Date)"; a Variant assigned a Date holds a Date
+// (VarType 7) until assigned something else.
 #[test]
 fn date_is_a_type_with_literals_arithmetic_and_text() {
     let out = printed(
         "    Dim d As Date, e As Date, t As Date\n    d = #1/2/2024#\n    e = d + 1\n    t = #12:30:00 PM#\n\
          \x20   Debug.Print TypeName(d); VarType(d); TypeName(#1/2/2024#)\n    Debug.Print d\n    Debug.Print e\n\
          \x20   Debug.Print t\n    Debug.Print d + t\n    Debug.Print e - d; e > d; d = #2024-01-02#\n\
-         \x20   Debug.Print \"on \" & e\n    Debug.Print CDate(\"1/2/2024\") + 1\n    Debug.Print TypeName(CDate(45000)); TypeName(Now)",
+         \x20   Debug.Print \"on \" & e\n    Debug.Print CDate(\"1/2/2024\") + 1\n    Debug.Print TypeName(CDate(45000)); TypeName(Now)\n\
+         \x20   v = d: w = v + 1\n    Debug.Print v; \" \"; w; \" \"; TypeName(v); VarType(w)\n    v = \"x\"\n    Debug.Print v; TypeName(v)",
     );
     assert_eq!(
         out,
@@ -510,7 +512,9 @@ fn date_is_a_type_with_literals_arithmetic_and_text() {
             " 1 TrueTrue",
             "on 1/3/2024",
             "1/3/2024",
-            "DateDate"
+            "DateDate",
+            "1/2/2024 1/3/2024 Date 7 ",
+            "xString",
         ]
     );
     let mut wb = Workbook::with_sheet();

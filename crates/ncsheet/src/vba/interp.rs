@@ -647,13 +647,15 @@ impl Interp<'_, '_> {
                 return Err(format!("{} is a constant", slot.name));
             }
             let new = convert(var.clone(), slot.ty.as_ref(), &slot.name)?;
+            // What is assigned is no Date unless the assignment says so (`assign`).
+            slot.date = false;
             Ok(std::mem::replace(&mut slot.var, new))
         });
         match result {
             // The object the variable held may have lost its last reference.
             Some(r) => self.release(&r.map_err(|m| self.fault_at(span, m))?),
             None => {
-                self.declare(Slot { name: name.clone(), var, ty: None, constant: false, new: None });
+                self.declare(Slot { name: name.clone(), var, ty: None, constant: false, new: None, date: false });
                 Ok(())
             }
         }
@@ -929,11 +931,18 @@ impl Interp<'_, '_> {
                 },
             };
             let var = convert(var, param.ty.as_ref(), &param.name).map_err(|m| self.fault(m))?;
-            self.declare(Slot { name: param.name.clone(), var, ty: param.ty.clone(), constant: false, new: None });
+            self.declare(Slot {
+                name: param.name.clone(),
+                var,
+                ty: param.ty.clone(),
+                constant: false,
+                new: None,
+                date: false,
+            });
         }
         if p.kind == ProcKind::Function {
             let var = self.default_var(p.ty.as_ref());
-            self.declare(Slot { name: p.name.clone(), var, ty: p.ty.clone(), constant: false, new: None });
+            self.declare(Slot { name: p.name.clone(), var, ty: p.ty.clone(), constant: false, new: None, date: false });
         }
         match self.block(&p.body)? {
             Flow::GoTo(label) => Err(self.fault(format!("GoTo {label}: no such label"))),
@@ -1045,7 +1054,14 @@ impl Interp<'_, '_> {
                 for (name, ty, e) in items {
                     if !self.has_local(name) {
                         let var = self.constant_value(name, ty.as_ref(), e)?;
-                        self.declare(Slot { name: name.clone(), var, ty: ty.clone(), constant: true, new: None });
+                        self.declare(Slot {
+                            name: name.clone(),
+                            var,
+                            ty: ty.clone(),
+                            constant: true,
+                            new: None,
+                            date: false,
+                        });
                     }
                 }
             }
@@ -1311,7 +1327,7 @@ impl Interp<'_, '_> {
                 }
             }
             let new = d.new.map(|class| (class, d.span));
-            self.declare(Slot { name: d.name.clone(), var, ty: d.ty.clone(), constant: false, new });
+            self.declare(Slot { name: d.name.clone(), var, ty: d.ty.clone(), constant: false, new, date: false });
         }
         Ok(())
     }
@@ -1354,6 +1370,8 @@ impl Interp<'_, '_> {
     fn assign(&self, target: &Target, value: &Expr, set: bool, span: Span) -> Run<()> {
         match target {
             Target::Var(name) => {
+                // A Variant keeps the Date it is given as a Date ([MS-VBAL] 2.1.1.1).
+                let date = !set && self.declared_type(value) == super::typing::Declared::Date;
                 let var = self.var_of(value, set)?;
                 if set && matches!(var, Var::Value(ref v) if !v.is_blank()) {
                     return Err(self.fault_at(self.expr_span(value), "Set needs an object (a Range, a Worksheet, …)"));
@@ -1364,7 +1382,9 @@ impl Interp<'_, '_> {
                     Var::Value(Value::Blank) if set => Var::Obj(Obj::Value(Value::Blank)),
                     other => other,
                 };
-                self.set_var(name, var, span)
+                self.set_var(name, var, span)?;
+                self.with_slot(name, |s| s.date = date && matches!(s.ty, None | Some(Ty::Variant)));
+                Ok(())
             }
             Target::Element(name, index) => {
                 if let Some(Var::Obj(Obj::Store(h))) = self.lookup(name) {

@@ -184,7 +184,7 @@ impl Interp<'_, '_> {
             return Ok(if self.is_nothing_literal(arg) { "Nothing" } else { "Empty" }.into());
         }
         if let ExprKind::Name(name) = &arg.kind {
-            if let Some((var, ty)) = self.with_slot(name, |s| (s.var.clone(), s.ty.clone())) {
+            if let Some((var, ty)) = self.with_slot(name, |s| (s.var.clone(), s.held_ty())) {
                 return Ok(self.type_name_of(&var, ty.as_ref()));
             }
         }
@@ -251,7 +251,7 @@ impl Interp<'_, '_> {
             if self.is_missing(arg) {
                 return Ok(VB_ERROR);
             }
-            if let Some((var, ty)) = self.with_slot(name, |s| (s.var.clone(), s.ty.clone())) {
+            if let Some((var, ty)) = self.with_slot(name, |s| (s.var.clone(), s.held_ty())) {
                 return self.var_type_of_var(&var, ty.as_ref());
             }
         }

@@ -213,7 +213,7 @@ impl Interp<'_, '_> {
             ExprKind::Text(_) => Declared::String,
             ExprKind::Bool(_) => Declared::Boolean,
             ExprKind::Paren(e) => inner(e),
-            ExprKind::Name(name) => Declared::of_ty(self.with_slot(name, |s| s.ty.clone()).flatten().as_ref()),
+            ExprKind::Name(name) => Declared::of_ty(self.with_slot(name, |s| s.held_ty()).flatten().as_ref()),
             ExprKind::Unary(UnaryOp::Neg | UnaryOp::Plus, e) => match inner(e) {
                 Declared::Boolean => Declared::Integer,
                 other => other,

@@ -109,6 +109,19 @@ pub struct Slot {
     /// `Dim x As New Class1`: the class an auto-instantiated variable makes an object of when
     /// it is used holding Nothing ([MS-VBAL] 5.2.3.1.4), and the declaration's place.
     pub new: Option<(super::ast::Made, super::ast::Span)>,
+    /// A Variant that holds a Date (VarType 7): assigned from an expression of the declared
+    /// type Date, it shows and answers as one until assigned anything else.
+    pub date: bool,
+}
+
+impl Slot {
+    /// The type its value answers to: the declared one, or Date for a Variant holding a Date.
+    pub fn held_ty(&self) -> Option<Ty> {
+        match self.date {
+            true => Some(Ty::Number(super::ast::DATE_VAR_TYPE)),
+            false => self.ty.clone(),
+        }
+    }
 }
 
 /// The variables of a procedure's call or of the module, in the order declared, each found
