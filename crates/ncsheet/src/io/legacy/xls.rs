@@ -548,7 +548,8 @@ fn rk(v: u32) -> f64 {
     }
 }
 
-fn error_of(code: u8) -> XlError {
+/// A BErr (the error codes BIFF8 and [MS-XLSB] 2.5.98.2 share) as an error value.
+pub(super) fn error_of(code: u8) -> XlError {
     match code {
         0x00 => XlError::Null,
         0x07 => XlError::Div0,

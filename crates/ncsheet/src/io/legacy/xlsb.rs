@@ -86,11 +86,7 @@ fn formula_errors(bytes: &[u8]) -> Result<HashMap<String, CellErrors>, String> {
         while let Some((kind, body)) = records.next_head(16).map_err(|e| format!("{part}: {e}"))? {
             match kind {
                 0x0000 if body.len() >= 4 => row = u32_at(&body, 0),
-                0x000B if body.len() >= 9 => {
-                    if let Some(error) = berr(body[8]) {
-                        found.push(((row, u32_at(&body, 0)), error));
-                    }
-                }
+                0x000B if body.len() >= 9 => found.push(((row, u32_at(&body, 0)), super::xls::error_of(body[8]))),
                 _ => {}
             }
         }
@@ -148,21 +144,6 @@ fn wide_string(bytes: &[u8]) -> Option<(String, &[u8])> {
 
 fn u32_at(bytes: &[u8], at: usize) -> u32 {
     u32::from_le_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]])
-}
-
-/// A BErr ([MS-XLSB] 2.5.98.2) as an error value.
-fn berr(code: u8) -> Option<XlError> {
-    Some(match code {
-        0x00 => XlError::Null,
-        0x07 => XlError::Div0,
-        0x0F => XlError::Value,
-        0x17 => XlError::Ref,
-        0x1D => XlError::Name,
-        0x24 => XlError::Num,
-        0x2A => XlError::NA,
-        0x2B => XlError::GettingData,
-        _ => return None,
-    })
 }
 
 /// The records of a part ([MS-XLSB] 2.1.4), read as a stream.
