@@ -419,11 +419,14 @@ const PROBE: &str = "Public Field As Long\nPrivate Sub Class_Initialize()\n    D
 fn dim_as_new_makes_the_object_at_its_first_use() {
     let main = "Sub Main()\n    Dim x As New Probe\n    Debug.Print \"declared\"\n    x.Field = 1\n\
                 \x20   Set x = Nothing\n    Debug.Print \"let go\"\n    Debug.Print x.Field\n    Debug.Print x Is Nothing\n\
-                \x20   Set x = Nothing\n    Debug.Print x Is Nothing\nEnd Sub\n";
+                \x20   Set x = Nothing\n    Debug.Print x Is Nothing\n    Set x = Nothing\n    Debug.Print TypeName(x)\nEnd Sub\n";
     let out = with_classes(main, &[("Probe", PROBE)]).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(
         out.printed,
-        ["declared", "init", "term 1 ", "let go", "init", " 0 ", "False", "term 0 ", "init", "False", "term 0 "]
+        [
+            "declared", "init", "term 1 ", "let go", "init", " 0 ", "False", "term 0 ", "init", "False", "term 0 ",
+            "init", "Probe", "term 0 "
+        ]
     );
 }
 

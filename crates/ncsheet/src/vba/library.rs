@@ -184,6 +184,8 @@ impl Interp<'_, '_> {
             return Ok(if self.is_nothing_literal(arg) { "Nothing" } else { "Empty" }.into());
         }
         if let ExprKind::Name(name) = &arg.kind {
+            // Using a variable declared `As New` makes its object first (auto-instantiation).
+            self.lookup(name);
             if let Some((var, ty)) = self.with_slot(name, |s| (s.var.clone(), s.held_ty())) {
                 return Ok(self.type_name_of(&var, ty.as_ref()));
             }
