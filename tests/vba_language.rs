@@ -494,7 +494,7 @@ fn objects_only_a_collection_held_are_terminated_when_it_lets_them_go() {
 // only the part, date or time, that is there) shows as the en-US locale writes it; Debug.Print,
 // MsgBox and `&` show that text, not the day count. "Type conversion functions": CDate gives
 // a Date; "Now function": "Returns a Variant (Date)"; a Variant assigned a Date holds a Date
-// (VarType 7) until assigned something else.
+// (VarType 7) until assigned something else; a String assigned a Date holds its text.
 #[test]
 fn date_is_a_type_with_literals_arithmetic_and_text() {
     let out = printed(
@@ -502,7 +502,7 @@ fn date_is_a_type_with_literals_arithmetic_and_text() {
          \x20   Debug.Print TypeName(d); VarType(d); TypeName(#1/2/2024#)\n    Debug.Print d\n    Debug.Print e\n\
          \x20   Debug.Print t\n    Debug.Print d + t\n    Debug.Print e - d; e > d; d = #2024-01-02#\n\
          \x20   Debug.Print \"on \" & e\n    Debug.Print CDate(\"1/2/2024\") + 1\n    Debug.Print TypeName(CDate(45000)); TypeName(Now)\n\
-         \x20   v = d: w = v + 1\n    Debug.Print v; \" \"; w; \" \"; TypeName(v); VarType(w)\n    v = \"x\"\n    Debug.Print v; TypeName(v)",
+         \x20   v = d: w = v + 1\n    Debug.Print v; \" \"; w; \" \"; TypeName(v); VarType(w)\n    v = \"x\"\n    Debug.Print v; TypeName(v)\n    Dim s As String\n    s = d\n    Debug.Print s",
     );
     assert_eq!(
         out,
@@ -518,6 +518,7 @@ fn date_is_a_type_with_literals_arithmetic_and_text() {
             "DateDate",
             "1/2/2024 1/3/2024 Date 7 ",
             "xString",
+            "1/2/2024",
         ]
     );
     let mut wb = Workbook::with_sheet();

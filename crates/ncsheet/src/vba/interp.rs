@@ -1380,6 +1380,12 @@ impl Interp<'_, '_> {
                 // IsObject True), where an unassigned Variant is Empty.
                 let var = match var {
                     Var::Value(Value::Blank) if set => Var::Obj(Obj::Value(Value::Blank)),
+                    // A String given a Date holds its text (5.5.1.2.4), not its day count.
+                    Var::Value(Value::Number(n))
+                        if date && self.with_slot(name, |s| s.ty == Some(Ty::String)) == Some(true) =>
+                    {
+                        Var::Value(Value::text(super::value::date_text(n)))
+                    }
                     other => other,
                 };
                 self.set_var(name, var, span)?;
