@@ -259,3 +259,23 @@ fn instr_and_strcomp_pass_null() {
     let out = printed("    On Error Resume Next\n    x = InStr(Null, \"abc\", \"b\")\n    Debug.Print Err.Number");
     assert_eq!(out, [" 94 "]);
 }
+
+// Arguments out of range are VBA's run-time errors, raised and trappable, not values:
+// [MS-VBAL] 6.1.2 Hex and Oct Let-coerce to Long ("Overflow", error 6, past it); String's
+// number and Replace's start below 1 are "Invalid procedure call or argument" (5); "DateSerial
+// function": "If the date specified by the three arguments falls outside the acceptable
+// range of dates, an error occurs".
+#[test]
+fn arguments_out_of_range_raise_vba_errors() {
+    for (f, number) in [
+        ("Hex(3000000000#)", 6),
+        ("Oct(-3000000000#)", 6),
+        ("String(-1, \"a\")", 5),
+        ("String(2, \"\")", 5),
+        ("Replace(\"abc\", \"b\", \"x\", 0)", 5),
+        ("DateSerial(10000, 1, 1)", 5),
+    ] {
+        let out = printed(&format!("    Dim v\n    On Error Resume Next\n    v = {f}\n    Debug.Print Err.Number"));
+        assert_eq!(out, [format!(" {number} ")], "{f}");
+    }
+}

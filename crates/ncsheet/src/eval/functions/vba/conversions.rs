@@ -28,19 +28,57 @@ fn whole_in(v: &Value, limit: f64) -> XlResult<Option<f64>> {
 
 const LONG_MAX: f64 = 2147483647.0;
 
+/// The first VBA run-time error the items of a lifted call met (its number and why), raised
+/// once the call is done: 5 (Invalid procedure call or argument) or 6 (Overflow).
+#[derive(Default)]
+struct Raised(Cell<Option<(u32, &'static str)>>);
+
+impl Raised {
+    /// Notes error `number`; the item is meanwhile the error value returned.
+    fn set(&self, number: u32, why: &'static str) -> XlError {
+        if self.0.get().is_none() {
+            self.0.set(Some((number, why)));
+        }
+        if number == 6 {
+            XlError::Num
+        } else {
+            XlError::Value
+        }
+    }
+
+    /// `result`, or the error noted, raised in a macro.
+    fn raise(&self, ctx: &mut Ctx, name: &str, result: XlResult<Value>) -> XlResult<Value> {
+        match self.0.get() {
+            Some((6, why)) => {
+                Err(ctx.raise_vba(XlError::Num, 6, format!("Overflow (run-time error 6): {name}: {why}")))
+            }
+            Some((_, why)) => Err(invalid_call(ctx, name, why)),
+            None => result,
+        }
+    }
+
+    /// A value Let-coerced to a whole number within `limit` (a Long's, an Integer's), its
+    /// overflow noted.
+    fn whole(&self, v: &Value, limit: f64) -> XlResult<f64> {
+        whole_in(v, limit)?.ok_or_else(|| self.set(6, "a number past the range of its type"))
+    }
+}
+
 /// `Hex(number)` and `Oct(number)` ([MS-VBAL] 6.1.2.3 "Hex", "Oct"): Null gives Null, Empty
 /// "0"; a positive Long its digits, -32,767 to -1 the 16-bit two's complement, a Long below
 /// that the 32-bit one (`Hex(-1)` is "FFFF").
 fn radix(ctx: &mut Ctx, args: &[Expr], name: &str, base: u32) -> XlResult<Value> {
-    lift_vba(ctx, args, name, FIRST, &|v| {
-        let n = whole_in(&v[0], LONG_MAX)?.ok_or(XlError::Num)? as i64;
+    let raised = Raised::default();
+    let result = lift_vba(ctx, args, name, FIRST, &|v| {
+        let n = raised.whole(&v[0], LONG_MAX)? as i64;
         let bits = match n {
             0.. => n as u64,
             -32767..=-1 => u64::from(n as i16 as u16),
             _ => u64::from(n as i32 as u32),
         };
         Ok(Value::text(if base == 16 { format!("{bits:X}") } else { format!("{bits:o}") }))
-    })
+    });
+    raised.raise(ctx, name, result)
 }
 
 pub(super) fn hex(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
@@ -54,14 +92,16 @@ pub(super) fn oct(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// `CLngLng(value)`: a LongLong, halves to even (64-bit hosts' conversion, "Type conversion
 /// functions"); past its range `#NUM!` (VBA's Overflow).
 pub(super) fn clnglng(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_vba(ctx, args, "CLngLng", NO_NULL, &|v| {
-        let n = whole_in(&v[0], 9.223372036854776e18)?.ok_or(XlError::Num)?;
+    let raised = Raised::default();
+    let result = lift_vba(ctx, args, "CLngLng", NO_NULL, &|v| {
+        let n = raised.whole(&v[0], 9.223372036854776e18)?;
         // 2^63 itself rounds into the range as a double but is one past LongLong's top.
         if n >= 9.223372036854776e18 {
-            return Err(XlError::Num);
+            return Err(raised.set(6, "a number past the range of a LongLong"));
         }
         Ok(Value::Number(n))
-    })
+    });
+    raised.raise(ctx, "CLngLng", result)
 }
 
 /// `String(number, character)` ("String function"): `number` copies of a character, given
@@ -69,15 +109,16 @@ pub(super) fn clnglng(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 pub(super) fn string(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let limit = ctx.text_limit();
     let over = Cell::new(false);
+    let raised = Raised::default();
     let result = lift_vba(ctx, args, "String", EVERY, &|v| {
-        let n = whole_in(&v[0], LONG_MAX)?.ok_or(XlError::Num)?;
+        let n = raised.whole(&v[0], LONG_MAX)?;
         if n < 0.0 {
-            return Err(XlError::Value);
+            return Err(raised.set(5, "a negative number of characters"));
         }
         let c = match &v[1] {
-            Value::Text(t) => t.chars().next().ok_or(XlError::Value)?,
+            Value::Text(t) => t.chars().next().ok_or_else(|| raised.set(5, "an empty text gives no character"))?,
             other => {
-                let code = whole_in(other, LONG_MAX)?.ok_or(XlError::Num)?;
+                let code = raised.whole(other, LONG_MAX)?;
                 char::from_u32(code.rem_euclid(256.0) as u32).ok_or(XlError::Value)?
             }
         };
@@ -90,7 +131,7 @@ pub(super) fn string(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     if over.get() {
         return Err(ctx.text_over_limit());
     }
-    result
+    raised.raise(ctx, "String", result)
 }
 
 /// `StrReverse(expression)`: the characters in reverse order ([MS-VBAL]: its expression is
@@ -107,19 +148,23 @@ pub(super) fn replace(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let over = Cell::new(false);
     let has = |i: usize| given(args, i).is_some();
     let (has_start, has_count, has_compare) = (has(3), has(4), has(5));
+    let raised = Raised::default();
     let result = lift_vba(ctx, args, "Replace", NO_NULL, &|v| {
         let text: Vec<char> = vba_text(&v[0])?.chars().collect();
         let find: Vec<char> = vba_text(&v[1])?.chars().collect();
         let with = vba_text(&v[2])?;
-        let start = if has_start { whole_in(&v[3], LONG_MAX)?.ok_or(XlError::Num)? } else { 1.0 };
-        let count = if has_count { whole_in(&v[4], LONG_MAX)?.ok_or(XlError::Num)? } else { -1.0 };
-        let ignore_case = match if has_compare { whole_in(&v[5], LONG_MAX)?.ok_or(XlError::Num)? } else { 0.0 } {
+        let start = if has_start { raised.whole(&v[3], LONG_MAX)? } else { 1.0 };
+        let count = if has_count { raised.whole(&v[4], LONG_MAX)? } else { -1.0 };
+        let ignore_case = match if has_compare { raised.whole(&v[5], LONG_MAX)? } else { 0.0 } {
             1.0 => true,
             0.0 | -1.0 => false,
-            _ => return Err(XlError::Value),
+            _ => return Err(raised.set(5, "compare is vbBinaryCompare (0) or vbTextCompare (1)")),
         };
-        if start < 1.0 || count < -1.0 {
-            return Err(XlError::Value);
+        if start < 1.0 {
+            return Err(raised.set(5, "start is below 1"));
+        }
+        if count < -1.0 {
+            return Err(raised.set(5, "count is below -1"));
         }
         let from = (start as usize - 1).min(text.len());
         let replaced = replaced(&text[from..], &find, &with, count, ignore_case, limit.saturating_mul(4));
@@ -131,7 +176,7 @@ pub(super) fn replace(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     if over.get() {
         return Err(ctx.text_over_limit());
     }
-    result
+    raised.raise(ctx, "Replace", result)
 }
 
 /// `text` with up to `count` (-1: every) non-overlapping `find`s, left to right, replaced by
@@ -166,33 +211,26 @@ fn replaced(text: &[char], find: &[char], with: &str, count: f64, ignore_case: b
 /// length stays). A start outside the text is error 5.
 pub(super) fn mid_statement(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let has_length = given(args, 2).is_some();
-    let bad = Cell::new("");
+    let raised = Raised::default();
     let result = lift_vba(ctx, args, "Mid", NO_NULL, &|v| {
         let mut text: Vec<char> = vba_text(&v[0])?.chars().collect();
-        let start = whole_in(&v[1], LONG_MAX)?.ok_or(XlError::Num)?;
+        let start = raised.whole(&v[1], LONG_MAX)?;
         let with: Vec<char> = vba_text(&v[3])?.chars().collect();
         if start < 1.0 || start as usize > text.len() {
-            bad.set("start is not a position of the text");
-            return Err(XlError::Value);
+            return Err(raised.set(5, "start is not a position of the text"));
         }
         let from = start as usize - 1;
         let mut n = with.len().min(text.len() - from);
         if has_length {
-            match whole_in(&v[2], LONG_MAX)?.ok_or(XlError::Num)? {
-                l if l < 0.0 => {
-                    bad.set("length is negative");
-                    return Err(XlError::Value);
-                }
+            match raised.whole(&v[2], LONG_MAX)? {
+                l if l < 0.0 => return Err(raised.set(5, "length is negative")),
                 l => n = n.min(l as usize),
             }
         }
         text[from..from + n].copy_from_slice(&with[..n]);
         Ok(Value::text(text.into_iter().collect::<String>()))
     });
-    if !bad.get().is_empty() {
-        return Err(invalid_call(ctx, "Mid statement", bad.get()));
-    }
-    result
+    raised.raise(ctx, "Mid statement", result)
 }
 
 /// Days from 1899-12-30 (VBA's day 0) to a day of the proleptic Gregorian calendar.
@@ -212,8 +250,9 @@ fn days_from_civil(year: i64, month: i64, day: i64) -> i64 {
 /// 1980-05-31); a year 0–29 is 2000–2029 and 30–99 is 1930–1999 (Windows' default); the
 /// result from 100-01-01 to 9999-12-31. Its arguments are Integers: Null is error 94.
 pub(super) fn date_serial(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_vba(ctx, args, "DateSerial", NO_NULL, &|v| {
-        let part = |i: usize| -> XlResult<i64> { Ok(whole_in(&v[i], 32767.0)?.ok_or(XlError::Num)? as i64) };
+    let raised = Raised::default();
+    let result = lift_vba(ctx, args, "DateSerial", NO_NULL, &|v| {
+        let part = |i: usize| -> XlResult<i64> { Ok(raised.whole(&v[i], 32767.0)? as i64) };
         let (year, month, day) = (part(0)?, part(1)?, part(2)?);
         let year = match year {
             0..=29 => year + 2000,
@@ -224,21 +263,24 @@ pub(super) fn date_serial(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         let first = days_from_civil(months.div_euclid(12), months.rem_euclid(12) + 1, 1);
         let date = first + day - 1;
         if !(days_from_civil(100, 1, 1)..=days_from_civil(9999, 12, 31)).contains(&date) {
-            return Err(XlError::Num);
+            return Err(raised.set(5, "the date is outside 100-01-01 to 9999-12-31"));
         }
         Ok(Value::Number(date as f64))
-    })
+    });
+    raised.raise(ctx, "DateSerial", result)
 }
 
 /// `TimeSerial(hour, minute, second)` ("TimeSerial function"): the time as a fraction of a
 /// day, a minute or second past its range carried into the next unit (`TimeSerial(12 - 6,
 /// -15, 0)` is 5:45:00). Integers: Null is error 94.
 pub(super) fn time_serial(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_vba(ctx, args, "TimeSerial", NO_NULL, &|v| {
-        let part = |i: usize| -> XlResult<f64> { whole_in(&v[i], 32767.0)?.ok_or(XlError::Num) };
+    let raised = Raised::default();
+    let result = lift_vba(ctx, args, "TimeSerial", NO_NULL, &|v| {
+        let part = |i: usize| raised.whole(&v[i], 32767.0);
         let seconds = part(0)? * 3600.0 + part(1)? * 60.0 + part(2)?;
         Ok(Value::Number(seconds / 86400.0))
-    })
+    });
+    raised.raise(ctx, "TimeSerial", result)
 }
 
 /// The document's clock as a VBA Date (days from 1899-12-30, whatever the workbook's system).
