@@ -279,3 +279,14 @@ fn arguments_out_of_range_raise_vba_errors() {
         assert_eq!(out, [format!(" {number} ")], "{f}");
     }
 }
+
+// "Date function" and "Time function": `Date$` is a 10-character string, mm-dd-yyyy, and
+// `Time$` an 8-character one, hh:mm:ss, of the same clock as Date and Time.
+#[test]
+fn date_and_time_dollar_are_strings() {
+    let out = printed(
+        "    Debug.Print TypeName(Date$); Len(Date$); Date$ Like \"##-##-####\"; Date$ = Format(Date, \"mm-dd-yyyy\")
+    Debug.Print TypeName(Time$); Len(Time$); Time$ Like \"##:##:##\"",
+    );
+    assert_eq!(out, ["String 10 TrueTrue", "String 8 True"]);
+}

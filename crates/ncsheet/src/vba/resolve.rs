@@ -375,6 +375,12 @@ impl Build<'_> {
         if !CALLED_BARE.contains(&lower.as_str()) {
             return Ok(None);
         }
+        // `Date$`, `Time$`: the `$` forms, a String.
+        if link.name.ends_with('$') {
+            if let Some(call) = self.function_call(pair, &format!("{PREFIX}{lower}$"), link)? {
+                return Ok(Some(call));
+            }
+        }
         match self.function_call(pair, &format!("{PREFIX}{lower}"), link)? {
             Some(call) => Ok(Some(call)),
             None => self.function_call(pair, &link.name, link),

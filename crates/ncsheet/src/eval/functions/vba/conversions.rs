@@ -316,6 +316,17 @@ pub(super) fn cdate(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     })
 }
 
+/// `Date$` ("Date function": `Date$` returns a 10-character string, mm-dd-yyyy).
+pub(super) fn date_s(ctx: &mut Ctx, _: &[Expr]) -> XlResult<Value> {
+    Ok(Value::text(super::format_number(now(ctx).floor(), "mm-dd-yyyy")?))
+}
+
+/// `Time$` ("Time function": `Time$` returns an 8-character string, hh:mm:ss).
+pub(super) fn time_s(ctx: &mut Ctx, _: &[Expr]) -> XlResult<Value> {
+    let now = now(ctx);
+    Ok(Value::text(super::format_number(now - now.floor(), "hh:mm:ss")?))
+}
+
 /// The `$` form of a function that passes Null (`Left$`, `Hex$`): the same text, but a
 /// String, which cannot hold Null ([MS-VBAL] 6.1.2: "the function Hex$ raises error 94").
 fn string_form(ctx: &mut Ctx, args: &[Expr], name: &str, f: ValueFn) -> XlResult<Value> {

@@ -287,6 +287,12 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "VBA.MIDSTATEMENT(text, start, [length], replacement)",
         "VBA's Mid statement (Mid(s, start, length) = replacement): the text with characters replaced",
     ),
+    FnSpec::value("VBA.DATE$", 0, 0, conversions::date_s, "VBA.DATE$()", "VBA Date$: today as mm-dd-yyyy")
+        .volatile()
+        .reads(Outside::Clock),
+    FnSpec::value("VBA.TIME$", 0, 0, conversions::time_s, "VBA.TIME$()", "VBA Time$: the time of day as hh:mm:ss")
+        .volatile()
+        .reads(Outside::Clock),
     // The `$` forms of the functions that pass Null: a String, so Null is error 94.
     FnSpec::value("VBA.LEFT$", 2, 2, conversions::left_s, "VBA.LEFT$(text, length)", "VBA Left$: Left as a String"),
     FnSpec::value(
