@@ -502,7 +502,8 @@ fn check_gouges<'a, S: Surface>(
     let map = Map::sample(surface, spec.x, spec.y, spacing, 0.25 * spec.gouge_tol).map_err(map_error)?;
     let [lo, hi] = map.heights();
     path.surface_z = [path.surface_z[0].min(lo), path.surface_z[1].max(hi)];
-    let mut check = Checker { surface, map, spec, gouges: Vec::new(), samples_left: spec.gouge_samples };
+    let mut check =
+        Checker { surface, map, spec, gouges: Vec::new(), samples_left: spec.gouge_samples, placed: Vec::new() };
     let below = check.positions(path, lines_checked)?;
     check.moves(path, &below)?;
     path.gouges = std::mem::take(&mut check.gouges);
@@ -545,6 +546,9 @@ struct Checker<'a, S> {
     gouges: Vec<Gouge>,
     /// Surface samples the searches may still take.
     samples_left: u64,
+    /// Per point of the checked path: still the ball placed by its contact point (tangent to
+    /// the surface there), neither lifted nor inserted; the written path's proofs start there.
+    placed: Vec<bool>,
 }
 
 impl<S: Surface> Checker<'_, S> {
@@ -607,6 +611,7 @@ impl<S: Surface> Checker<'_, S> {
             for i in path.line_starts[k]..end {
                 let (depth, lifted) = self.position(i, path.points[i])?;
                 below.push(depth);
+                self.placed.push(lifted.is_none());
                 if let Some(p) = lifted {
                     path.points[i] = p;
                 }
@@ -666,6 +671,12 @@ impl<S: Surface> Checker<'_, S> {
         for g in self.gouges.iter_mut().filter(|g| g.kind == GougeKind::Position) {
             g.point = index[g.point];
         }
+        // Points inserted in moves were dropped, not placed by a contact.
+        let mut placed = vec![false; out.len()];
+        for (i, &at) in index.iter().enumerate() {
+            placed[at] = self.placed[i];
+        }
+        self.placed = placed;
         path.points = out;
         path.line_starts = starts;
         Ok(())

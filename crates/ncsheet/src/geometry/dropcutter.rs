@@ -416,6 +416,12 @@ impl Map {
         (lambda, gamma)
     }
 
+    /// Λ (≥ the surface Hessian's eigenvalues) over the cells meeting the box around the
+    /// swept ball's footprint (`f64::MIN` off the map).
+    pub fn upper_curvature(&self, s: &Sweep) -> f64 {
+        self.curvature(s).0
+    }
+
     /// Whether a ball placed by a contact point (tangent to the surface there) is proved
     /// clear of it: the surface bends up less than the ball over its whole footprint.
     pub fn proves_clear(&self, ball: &Sweep) -> bool {

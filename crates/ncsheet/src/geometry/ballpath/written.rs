@@ -134,8 +134,9 @@ impl<S: Surface> Checker<'_, S> {
             return Ok(written);
         }
         let mut below = Vec::with_capacity(written.points.len());
-        for p in written.points.iter_mut() {
-            below.push(self.written_position(p, w)?);
+        for (i, p) in written.points.iter_mut().enumerate() {
+            let placed = self.placed.get(i).copied().unwrap_or(false).then_some(&path.points[i]);
+            below.push(self.written_position(p, placed, w)?);
         }
         let n = written.points.len();
         let mut out = Vec::with_capacity(n);
@@ -161,9 +162,19 @@ impl<S: Surface> Checker<'_, S> {
         Ok(written)
     }
 
-    /// Checks the written ball `p`, lifting it on the grid where it cuts deeper than the
-    /// tolerance; returns a bound on how far it is below the drop-cutter height.
-    fn written_position(&mut self, p: &mut PathPoint, w: Written) -> Result<f64, PathError<S::Error>> {
+    /// Checks the written ball `p` (rounded from the computed one, `placed` where that is
+    /// still the ball placed by its contact), lifting it on the grid where it cuts deeper than
+    /// the tolerance; returns a bound on how far it is below the drop-cutter height.
+    fn written_position(
+        &mut self,
+        p: &mut PathPoint,
+        placed: Option<&PathPoint>,
+        w: Written,
+    ) -> Result<f64, PathError<S::Error>> {
+        let proved = placed.and_then(|exact| self.shifted_bound(exact, p));
+        if let Some(bound) = proved.filter(|&b| b <= self.spec.gouge_tol) {
+            return Ok(bound.max(0.0));
+        }
         let ball = Sweep::at_rest(p.centre, self.spec.radius);
         match self.judge(&ball, &[p.contact])? {
             Verdict::Clear(below) => Ok(below),
@@ -172,6 +183,28 @@ impl<S: Surface> Checker<'_, S> {
                 Ok((cut.depth + self.search_tol() - rise).max(0.0))
             }
         }
+    }
+
+    /// A bound on how far the ball `moved` is below the drop-cutter height, proved from the
+    /// ball `placed` it was moved from by δ, where that one is tangent to the surface at its
+    /// contact T (slope s there) and the surface bends up less than the ball (Λ < 1/R) over
+    /// both footprints: f lies under the paraboloid q of T's tangent plane and Λ, which lies
+    /// under the placed ball by ½(1/R − Λ)|x − T|²; so for a point p of the moved footprint,
+    /// x = p − δ, f(p) − low'(p) ≤ −½κ|x − T|² + (s + Λ|x − T|)·|δ| + ½Λ|δ|² − δz with
+    /// κ = 1/R − Λ, at most s|δ| + ½Λ|δ|² + (Λ|δ|)²/(2κ) − δz. None where it does not apply.
+    fn shifted_bound(&self, placed: &PathPoint, moved: &PathPoint) -> Option<f64> {
+        let r = self.spec.radius;
+        let lambda = self.map.upper_curvature(&Sweep { a: placed.centre, b: moved.centre, r }).max(0.0);
+        let kappa = 1.0 / r - lambda;
+        if kappa <= 0.0 {
+            return None;
+        }
+        // Placed by its contact, the ball's centre lies along the surface's normal there.
+        let s = slope_at(placed);
+        let shift = (moved.centre.x - placed.centre.x).hypot(moved.centre.y - placed.centre.y);
+        let rise = moved.centre.z - placed.centre.z;
+        let lifted = lambda * shift;
+        Some(s * shift + 0.5 * lambda * shift * shift + lifted * lifted / (2.0 * kappa) - rise)
     }
 
     /// The written move from the last point of `out` to `b` (whose bounds below the
@@ -282,8 +315,14 @@ mod tests {
 
         let mut surface = Slope;
         let map = Map::sample(&mut surface, spec.x, spec.y, 0.25, 0.25 * spec.gouge_tol).unwrap();
-        let mut check =
-            Checker { surface: &mut surface, map, spec: &spec, gouges: Vec::new(), samples_left: 10_000_000 };
+        let mut check = Checker {
+            surface: &mut surface,
+            map,
+            spec: &spec,
+            gouges: Vec::new(),
+            samples_left: 10_000_000,
+            placed: Vec::new(),
+        };
         let written = check.as_written(&path, w).unwrap();
         assert_eq!(written.points.len(), path.points.len());
         for p in &written.points {
