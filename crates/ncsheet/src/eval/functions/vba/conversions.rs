@@ -64,9 +64,9 @@ impl Raised {
     }
 }
 
-/// `Hex(number)` and `Oct(number)` ([MS-VBAL] 6.1.2.3 "Hex", "Oct"): Null gives Null, Empty
-/// "0"; a positive Long its digits, -32,767 to -1 the 16-bit two's complement, a Long below
-/// that the 32-bit one (`Hex(-1)` is "FFFF").
+/// `Hex(number)` and `Oct(number)` ([MS-VBAL] 6.1.2, its pages "Hex" and "Oct"): Null gives
+/// Null, Empty "0"; a positive Long its digits, -32,767 to -1 the 16-bit two's complement, a
+/// Long below that the 32-bit one (`Hex(-1)` is "FFFF").
 fn radix(ctx: &mut Ctx, args: &[Expr], name: &str, base: u32) -> XlResult<Value> {
     let raised = Raised::default();
     let result = lift_vba(ctx, args, name, FIRST, &|v| {

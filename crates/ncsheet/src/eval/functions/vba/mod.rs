@@ -391,8 +391,8 @@ fn number_fn(ctx: &mut Ctx, args: &[Expr], name: &str, passes: Passes, f: fn(f64
     lift_values(&[v], &|v| Ok(number_result(f(to_number(&v[0], dates)?)?)))
 }
 
-// "Abs function", "Int, Fix functions": "If number contains Null, Null is returned"; [MS-VBAL]
-// 6.1.2.6 declares Sgn's number a Variant and its result a Variant. The others take a Double.
+// "Abs function", "Int, Fix functions": "If number contains Null, Null is returned"; [MS-VBAL]'s
+// Sgn page declares its number and its result Variants. The others take a Double.
 fn abs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     number_fn(ctx, args, "Abs", FIRST, |x| Ok(x.abs()))
 }
