@@ -5,7 +5,7 @@
 //!
 //! Each expected value is the one Microsoft's VBA language reference (learn.microsoft.com,
 //! "Office VBA language reference", the page named at each test, its examples' stated
-//! results) or [MS-VBAL] 6.1.2 (the VBA standard library's "Runtime Semantics") gives. The
+//! results) or [MS-VBAL] section 6 (the VBA standard library's "Runtime Semantics") gives. The
 //! cases LibreOffice Basic agrees on are run there too (tests/vba_libreoffice.rs, "library").
 
 use ncsheet::vba::{self, MacroError, RunOptions, RunOutput};
@@ -163,7 +163,7 @@ fn application_run_calls_a_procedure_by_name() {
 
 // Null given to library functions: "If string contains Null, Null is returned" (Left,
 // Right, Mid, Len, LTrim/RTrim/Trim, UCase/LCase); "If number contains Null, Null is
-// returned" (Abs, Int, Fix); [MS-VBAL] 6.1.2: Left$ and the other `$` forms return a String
+// returned" (Abs, Int, Fix); [MS-VBAL] section 6: Left$ and the other `$` forms return a String
 // and raise error 94, "Invalid use of Null", as does a Null for a parameter that is not a
 // Variant (Chr's code, Sqr's number, Left's length, CStr, CDbl).
 #[test]
@@ -261,7 +261,7 @@ fn instr_and_strcomp_pass_null() {
 }
 
 // Arguments out of range are VBA's run-time errors, raised and trappable, not values:
-// [MS-VBAL] 6.1.2 Hex and Oct Let-coerce to Long ("Overflow", error 6, past it); String's
+// [MS-VBAL] section 6: Hex and Oct Let-coerce to Long ("Overflow", error 6, past it); String's
 // number and Replace's start below 1 are "Invalid procedure call or argument" (5); "DateSerial
 // function": "If the date specified by the three arguments falls outside the acceptable
 // range of dates, an error occurs".

@@ -1,8 +1,8 @@
 //! VBA's conversions and constructors beyond the first set: `Hex`, `Oct`, `CLngLng`,
 //! `String`, `StrReverse`, `Replace` with its start, count and compare, `DateSerial`,
-//! `TimeSerial`, `Date` and `Time`, and the `$` forms of the functions that pass Null. The
-//! rules are [MS-VBAL] 6.1.2's "Runtime Semantics" and the Office VBA language reference's
-//! pages of the same names.
+//! `TimeSerial`, `Date`, `Time`, `Date$`, `Time$`, the Mid statement, and the `$` forms of the
+//! functions that pass Null. The rules are the "Runtime Semantics" of [MS-VBAL] section 6
+//! (the VBA standard library) and the Office VBA language reference's pages of the same names.
 
 use std::cell::Cell;
 
@@ -64,7 +64,7 @@ impl Raised {
     }
 }
 
-/// `Hex(number)` and `Oct(number)` ([MS-VBAL] 6.1.2, its pages "Hex" and "Oct"): Null gives
+/// `Hex(number)` and `Oct(number)` ([MS-VBAL] section 6, its pages "Hex" and "Oct"): Null gives
 /// Null, Empty "0"; a positive Long its digits, -32,767 to -1 the 16-bit two's complement, a
 /// Long below that the 32-bit one (`Hex(-1)` is "FFFF").
 fn radix(ctx: &mut Ctx, args: &[Expr], name: &str, base: u32) -> XlResult<Value> {
@@ -328,7 +328,7 @@ pub(super) fn time_s(ctx: &mut Ctx, _: &[Expr]) -> XlResult<Value> {
 }
 
 /// The `$` form of a function that passes Null (`Left$`, `Hex$`): the same text, but a
-/// String, which cannot hold Null ([MS-VBAL] 6.1.2: "the function Hex$ raises error 94").
+/// String, which cannot hold Null ([MS-VBAL] section 6, Hex: "the function Hex$ raises error 94").
 fn string_form(ctx: &mut Ctx, args: &[Expr], name: &str, f: ValueFn) -> XlResult<Value> {
     match f(ctx, args)? {
         Value::Null => Err(invalid_use_of_null(ctx, name)),

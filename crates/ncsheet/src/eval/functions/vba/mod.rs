@@ -331,7 +331,7 @@ const FIRST: Passes = 1;
 const EVERY: Passes = Passes::MAX;
 
 /// VBA's rule for Null among a library call's arguments (each function's page in the Office
-/// VBA language reference, and its "Runtime Semantics" in [MS-VBAL] 6.1.2): Null given for a
+/// VBA language reference, and its "Runtime Semantics" in [MS-VBAL] section 6): Null given for a
 /// parameter that passes it (`passes`: `Left`'s string, "If string contains Null, Null is
 /// returned") makes the result Null; Null for any other (`Left`'s length, `Chr`'s code,
 /// `Sqr`'s number) raises run-time error 94, "Invalid use of Null". `None`: no Null.
