@@ -524,8 +524,8 @@ const MAX_EXACT_POWER_OF_TEN: usize = 22;
 /// 10^k as the nearest double (`powi` multiplies, gathering an error of a few ulps by 10^300).
 fn power_of_ten(k: i32) -> f64 {
     const EXACT: [f64; MAX_EXACT_POWER_OF_TEN + 1] = [
-        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18,
-        1e19, 1e20, 1e21, 1e22,
+        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19,
+        1e20, 1e21, 1e22,
     ];
     match EXACT.get(k.unsigned_abs() as usize) {
         Some(&p) if k >= 0 => p,
