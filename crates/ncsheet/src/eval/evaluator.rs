@@ -613,7 +613,8 @@ impl<'a> Ctx<'a> {
                 self.deref(operand)
             }
             ExprKind::Binary(op, left, right) => match (self.leaf_number(left), self.leaf_number(right)) {
-                (Some(x), Some(y)) => {
+                // `&` joins numbers as the locale shows them: the general path below.
+                (Some(x), Some(y)) if *op != BinOp::Concat => {
                     let v = scalar_binary_numbers(*op, x, y);
                     match self.host {
                         Some(host) => host.arithmetic(*op, (left, right), (&Value::Number(x), &Value::Number(y)), v),
@@ -623,20 +624,13 @@ impl<'a> Ctx<'a> {
                 (x, y) => {
                     let a = x.map_or_else(|| self.eval(left), Value::Number);
                     let b = y.map_or_else(|| self.eval(right), Value::Number);
-                    let (a, b) = self.localized_operands(*op, a, b);
-                    let v = binary(*op, &a, &b, self.dates);
-                    self.charge(work_of(&v));
-                    if matches!(v, Value::Error(XlError::Num)) {
-                        self.explain_array_size(&a, &b);
-                    }
-                    let v = match self.host {
-                        Some(host) => host.arithmetic(*op, (left, right), (&a, &b), v),
-                        None => v,
-                    };
-                    if *op == BinOp::Concat {
-                        self.within_text_limit(v)
-                    } else {
-                        v
+                    match (&a, &b, self.host) {
+                        // Numbers from names, parentheses and calls (a surface's `(x/50)^2`):
+                        // no locale to read them in, no array or text to count or limit.
+                        (Value::Number(x), Value::Number(y), None) if *op != BinOp::Concat => {
+                            scalar_binary_numbers(*op, *x, *y)
+                        }
+                        _ => self.binary_of_values(*op, (left, right), a, b),
                     }
                 }
             },
@@ -645,6 +639,27 @@ impl<'a> Ctx<'a> {
             ExprKind::Invoke(callee, args) => self.invoke(callee, args),
             // A parameter list's, never evaluated (LAMBDA alone is #CALC!).
             ExprKind::OptionalParam(_) => Value::Error(XlError::Value),
+        }
+    }
+
+    /// `op` on evaluated operands, in the workbook's locale, with a macro's typing and the
+    /// limits on arrays and text; kept out of [`Ctx::eval`], whose usual operands are numbers.
+    #[inline(never)]
+    fn binary_of_values(&mut self, op: BinOp, (left, right): (&Expr, &Expr), a: Value, b: Value) -> Value {
+        let (a, b) = self.localized_operands(op, a, b);
+        let v = binary(op, &a, &b, self.dates);
+        self.charge(work_of(&v));
+        if matches!(v, Value::Error(XlError::Num)) {
+            self.explain_array_size(&a, &b);
+        }
+        let v = match self.host {
+            Some(host) => host.arithmetic(op, (left, right), (&a, &b), v),
+            None => v,
+        };
+        if op == BinOp::Concat {
+            self.within_text_limit(v)
+        } else {
+            v
         }
     }
 
