@@ -133,6 +133,8 @@ const PROBES: &[&str] = &[
     r#"=FIXED(1234.567,1)"#,
     r#"=VALUE("12.03.2025")"#,
     r#"=1.5&"""#,
+    // Two numbers joined: each shown as the locale shows it (ncsheet gave `1.52.25`).
+    r#"=1.5&2.25"#,
     r#"=VALUE("0.8")"#,
     r#"=-"0,5""#,
     r#"="-0,0171"*1000"#,
