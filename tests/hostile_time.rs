@@ -183,6 +183,28 @@ fn a_surface_has_the_lambda_work_budget_at_each_point() {
     }
 }
 
+/// The same holds for the calls of named LAMBDAs (`MAX_LAMBDA_CALLS`, 2,000,000 per
+/// evaluation): 300 points of 10,000 calls of a LET-bound LAMBDA each are 3,000,000 calls in
+/// all, past one evaluation's limit, and within each point's.
+#[test]
+fn a_surface_has_the_named_lambda_calls_at_each_point() {
+    use ncsheet::eval::functions::Registry;
+    use ncsheet::eval::surface::FormulaSurface;
+    use ncsheet::eval::Ctx;
+    use ncsheet::formula::parse::ParseContext;
+    use ncsheet::formula::Pos;
+    let parsing = ParseContext { at: Pos::new(0, 0), functions: &Registry, sheet: &|_| None };
+    // 0 * (1 + … + 10,000): each point calls g 10,000 times by name.
+    let formula = "=x+0*LET(g,LAMBDA(v,v),SUM(MAP(SEQUENCE(10000),LAMBDA(v,g(v)))))";
+    let surface = FormulaSurface::parse(formula, &parsing).unwrap();
+    let wb = Workbook::with_sheet();
+    let mut eval = Ctx::new(&wb, 0, Pos::new(0, 0));
+    let mut bound = surface.bind(&mut eval);
+    for i in 0..300 {
+        assert_eq!(bound.height_at(f64::from(i), 0.0), Ok(f64::from(i)), "point {i}");
+    }
+}
+
 #[test]
 fn names_that_refer_to_themselves_or_chain_too_deep_say_so() {
     let mut wb = Workbook::with_sheet();

@@ -114,6 +114,13 @@ pub trait Env {
         crate::eval::Locale::EN_US
     }
 
+    /// The language of the Excel that saved the workbook, when the file says and it is not
+    /// English (a .xls's COUNTRY record): Excel reads CELL's info_type in it as well as in
+    /// English (MS-OI29500 2.1.896). A language tag such as `fr`.
+    fn excel_language(&self) -> Option<&'static str> {
+        None
+    }
+
     /// The width of column `col` in characters as Excel shows it (CELL("width")); `None`
     /// when the workbook says nothing of it (Excel's default, 8.43).
     fn column_width(&self, _sheet: SheetId, _col: u32) -> Option<f64> {
@@ -183,6 +190,13 @@ pub trait Host {
     /// arithmetic overflows at 32,767); the result stays as computed by default.
     fn arithmetic(&self, _op: BinOp, _operands: (&Expr, &Expr), _values: (&Value, &Value), result: Value) -> Value {
         result
+    }
+
+    /// The text a macro's String conversion gives `value`, the value of `e`, when it is a Date
+    /// (CStr, Format and Str of a Date show the date, [MS-VBAL] 5.5.1.2.4); `None` for any
+    /// other value, converted as a number. Cells have no Date type: `None`.
+    fn date_text(&self, _e: &Expr, _value: &Value) -> Option<String> {
+        None
     }
 
     /// The result of `-operand`: a macro checks it against the operand's declared type
@@ -467,6 +481,12 @@ impl<'a> Ctx<'a> {
             return Value::Error(self.text_over_limit());
         }
         v
+    }
+
+    /// The date text of `value`, the value of `e`, when a macro holds it as a Date
+    /// ([`Host::date_text`]).
+    pub fn macro_date_text(&self, e: &Expr, value: &Value) -> Option<String> {
+        self.host?.date_text(e, value)
     }
 
     /// `error` with a note, and VBA's run-time error `number` raised in a macro ([`Host::raise`]):
@@ -839,10 +859,12 @@ impl<'a> Ctx<'a> {
         Ok(out)
     }
 
-    /// Starts a new evaluation's count against [`MAX_LAMBDA_WORK`]: a surface evaluates its
-    /// formula once per point through one `Ctx`, each point an evaluation of its own.
+    /// Starts a new evaluation's counts against [`MAX_LAMBDA_WORK`] and [`MAX_LAMBDA_CALLS`]:
+    /// a surface evaluates its formula once per point through one `Ctx`, each point an
+    /// evaluation of its own.
     pub fn restart_lambda_work(&mut self) {
         self.lambda_work.set(0);
+        self.lambda_calls = 0;
     }
 
     /// Counts `work` (items made or read, see [`work_of`]) when a LAMBDA of MAP, REDUCE, …
