@@ -1,16 +1,20 @@
 //! Fuzz targets, one per input ncsheet reads (issues 19 and 30): formula text, csv bytes, xlsx
 //! packages mutated from a good one, their styles' number formats and defined names, macro
 //! source and declarations, VBA project streams, NC programs in every dialect and surface
-//! formulas. Each runs a bounded
-//! number of proptest cases inside `cargo test` and asserts that nothing panics (a panic is
-//! a failed case; a stack overflow would abort the run). Inputs mix random characters with
-//! the pieces hostile text is made of: deep brackets, long operator chains, huge numbers.
+//! formulas. Each runs a bounded number of proptest cases inside `cargo test` and asserts that
+//! nothing panics (a panic is a failed case; a stack overflow would abort the run). Inputs mix
+//! random characters with the pieces hostile text is made of: deep brackets, long operator
+//! chains, huge numbers. The cases come from a fixed seed (`common::fuzz`): CI runs the same
+//! ones every time, a failure prints the seed, and `PROPTEST_CASES` and `PROPTEST_RNG_SEED`
+//! run more or other cases locally.
 
 mod common;
 
 use std::path::Path;
 
 use proptest::prelude::*;
+
+use common::fuzz::config;
 
 use ncsheet::eval::functions::Registry;
 use ncsheet::eval::surface::FormulaSurface;
@@ -39,10 +43,6 @@ fn formula_piece() -> impl Strategy<Value = String> {
 
 fn formula() -> impl Strategy<Value = String> {
     prop::collection::vec(formula_piece(), 0..12).prop_map(|pieces| format!("={}", pieces.concat()))
-}
-
-fn config(cases: u32) -> ProptestConfig {
-    ProptestConfig { cases, failure_persistence: None, ..ProptestConfig::default() }
 }
 
 proptest! {

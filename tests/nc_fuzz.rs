@@ -118,7 +118,7 @@ fn check(dialect: &str, machine: Machine, p: &Program, a: [f64; 3], b: [f64; 3],
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 96, failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(common::fuzz::config(96))]
 
     #[test]
     fn iso_and_linuxcnc_write_the_models_moves_or_refuse(

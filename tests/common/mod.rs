@@ -5,6 +5,7 @@
 pub mod cli;
 pub mod corpus;
 pub mod excel_oracle;
+pub mod fuzz;
 pub mod locale;
 pub mod rs274;
 pub mod sheet;

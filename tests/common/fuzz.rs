@@ -1,0 +1,22 @@
+//! The configuration of the fuzz targets (`tests/fuzz.rs`, `tests/nc_fuzz.rs`): a fixed seed,
+//! so that CI runs the same cases every time and a failure found there is found again here.
+//!
+//! Locally, more or other cases come from proptest's own variables, which override what this
+//! file sets: `PROPTEST_CASES=20000` runs that many cases of every target, and
+//! `PROPTEST_RNG_SEED=N` another seed (or the one a failure printed, to replay it).
+
+use proptest::test_runner::{Config, RngSeed};
+
+/// The seed CI runs with.
+pub const SEED: u64 = 0x6e63_7368_6565_7430;
+
+/// `cases` cases from the fixed seed, no failure files written. The seed in use is written
+/// to stderr, which `cargo test` shows only for a test that failed.
+pub fn config(cases: u32) -> Config {
+    let seed = match std::env::var("PROPTEST_RNG_SEED").ok().and_then(|s| s.parse::<u64>().ok()) {
+        Some(seed) => seed,
+        None => SEED,
+    };
+    eprintln!("fuzz seed {seed}: rerun with PROPTEST_RNG_SEED={seed}; PROPTEST_CASES=N runs N cases");
+    Config { cases, failure_persistence: None, rng_seed: RngSeed::Fixed(seed), ..Config::default() }
+}
