@@ -142,6 +142,11 @@ pub enum Ty {
 /// VarType's number for a Date (vbDate): `Ty::Number(DATE_VAR_TYPE)` is the Date type.
 pub const DATE_VAR_TYPE: u8 = 7;
 
+/// 2^63, one past a LongLong's top ("LongLong data type": -9,223,372,036,854,775,808 to
+/// 9,223,372,036,854,775,807): a LongLong is at least -2^63 and below this. The values are
+/// doubles, so the top itself reads as 2^63 and overflows: its largest whole double is 2^63 - 1024.
+pub const LONG_LONG_END: f64 = 9_223_372_036_854_775_808.0;
+
 /// `Type Name … End Type`: its fields in order, with their types.
 #[derive(Debug)]
 pub struct TypeDef {

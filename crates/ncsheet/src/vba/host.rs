@@ -162,6 +162,10 @@ impl Host for Interp<'_, '_> {
         }
     }
 
+    fn date_text(&self, e: &Expr, value: &Value) -> Option<String> {
+        self.as_date(e, value).map(super::value::date_text)
+    }
+
     fn negation(&self, operand: &Expr, result: Value) -> Value {
         match self.negation_overflow(operand, &result) {
             Some(fault) => {

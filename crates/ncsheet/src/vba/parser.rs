@@ -1113,6 +1113,12 @@ impl Build<'_> {
         let (fits, kind) = match suffix {
             "%" => (value <= f64::from(i16::MAX) && value.fract() == 0.0, "an Integer (% : up to 32767)"),
             "&" => (value <= f64::from(i32::MAX) && value.fract() == 0.0, "a Long (& : up to 2147483647)"),
+            // 2^63 is one past a LongLong's top; numbers are doubles here, and the largest
+            // below 2^63 is 2^63 - 1024 (9223372036854775807^ itself reads as 2^63).
+            "^" => (
+                value < LONG_LONG_END && value.fract() == 0.0,
+                "a LongLong (^ : up to 9223372036854774784, the largest double below 2^63)",
+            ),
             "@" => (value.abs() < 922_337_203_685_477.6, "a Currency (@)"),
             "!" => (value <= f64::from(f32::MAX), "a Single (!)"),
             _ => (value.is_finite(), "a Double (#)"),

@@ -12,7 +12,7 @@ use crate::eval::format::number_format::general;
 use crate::eval::Value;
 use crate::formula::ast::{BinOp, Expr, ExprKind, UnaryOp};
 
-use super::ast::{Inspect, Node, Ty, DATE_VAR_TYPE};
+use super::ast::{Inspect, Node, Ty, DATE_VAR_TYPE, LONG_LONG_END};
 use super::interp::{Fault, Interp};
 
 /// An expression's declared type, as far as the interpreter tells types apart.
@@ -80,7 +80,8 @@ impl Declared {
             Declared::Byte => (0.0, 255.0, "a Byte (0 to 255)"),
             Declared::Integer => (-32768.0, 32767.0, "an Integer (-32,768 to 32,767)"),
             Declared::Long => (-2147483648.0, 2147483647.0, "a Long (-2,147,483,648 to 2,147,483,647)"),
-            Declared::LongLong => (-9.223372036854776e18, 9.223372036854776e18, "a LongLong"),
+            // The largest double below 2^63: 2^63 itself is one past the top.
+            Declared::LongLong => (-LONG_LONG_END, LONG_LONG_END - 1024.0, "a LongLong (-2^63 to 2^63 - 1)"),
             _ => return None,
         })
     }

@@ -270,9 +270,9 @@ fn in_range(n: f64, code: u8, name: &str) -> Result<f64, String> {
         2 => (-32768.0, 32767.0, "Integer"),
         3 => (-2147483648.0, 2147483647.0, "Long"),
         17 => (0.0, 255.0, "Byte"),
-        _ => (-9.223372036854776e18, 9.223372036854776e18, "LongLong"),
+        _ => (-super::ast::LONG_LONG_END, super::ast::LONG_LONG_END, "LongLong"),
     };
-    if (low..=high).contains(&n) {
+    if (low..=high).contains(&n) && n != super::ast::LONG_LONG_END {
         return Ok(n);
     }
     Err(format!(

@@ -13,7 +13,7 @@ use crate::eval::coerce::{parse_plain_number, to_bool, to_number, to_text};
 use crate::eval::dates::DateSystem;
 use crate::eval::format::number_format::general;
 use crate::eval::functions::api::{
-    explain_lifted_size, lift, lift_number2, lift_values, number_result, Ctx, FnSpec, Operand, Outside, MANY,
+    explain_lifted_size, lift_number2, lift_values, number_result, Ctx, FnSpec, Operand, Outside, MANY,
 };
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
@@ -355,7 +355,7 @@ pub(crate) fn invalid_call(ctx: &mut Ctx, name: &str, why: &str) -> XlError {
     ctx.raise_vba(XlError::Value, 5, format!("Invalid procedure call or argument (run-time error 5): {name}: {why}"))
 }
 
-/// [`lift`] for VBA's functions: the arguments' Nulls as [`null_argument`] says, then `f` on
+/// `lift` for VBA's functions: the arguments' Nulls as [`null_argument`] says, then `f` on
 /// the values (item by item over arrays).
 fn lift_vba(
     ctx: &mut Ctx,
@@ -365,6 +365,31 @@ fn lift_vba(
     f: &dyn Fn(&[Value]) -> XlResult<Value>,
 ) -> XlResult<Value> {
     let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    lift_vba_values(ctx, values, name, passes, f)
+}
+
+/// The first argument's date text when a macro holds it as a Date and no format is given
+/// (CStr, Str, Format without a format or with "General Date"): "Type conversion functions",
+/// CStr of a Date is "a String containing a date in the short date format of your system";
+/// `None` otherwise, for the function's own conversion of the `values` of `args`.
+fn date_shown(ctx: &Ctx, args: &[Expr], values: &[Value]) -> Option<Value> {
+    let plain = match values.get(1) {
+        None | Some(Value::Blank) => true,
+        Some(Value::Text(t)) => t.is_empty() || t.eq_ignore_ascii_case("general date"),
+        Some(_) => false,
+    };
+    let text = ctx.macro_date_text(args.first()?, values.first()?).filter(|_| plain)?;
+    Some(Value::text(text))
+}
+
+/// [`lift_vba`] on values already evaluated.
+fn lift_vba_values(
+    ctx: &mut Ctx,
+    values: Vec<Value>,
+    name: &str,
+    passes: Passes,
+    f: &dyn Fn(&[Value]) -> XlResult<Value>,
+) -> XlResult<Value> {
     if let Some(result) = null_argument(ctx, name, &values, passes) {
         return result;
     }
@@ -488,11 +513,20 @@ pub fn vba_text(v: &Value) -> XlResult<Rc<str>> {
 }
 
 fn cstr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_vba(ctx, args, "CStr", NO_NULL, &|v| Ok(Value::Text(vba_text(&v[0])?)))
+    let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    if let Some(date) = date_shown(ctx, args, &values) {
+        return Ok(date);
+    }
+    lift_vba_values(ctx, values, "CStr", NO_NULL, &|v| Ok(Value::Text(vba_text(&v[0])?)))
 }
 
+/// `Str(number)`; a Date shows as CStr shows it, without the sign's space.
 fn str_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_vba(ctx, args, "Str", NO_NULL, &|v| {
+    let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    if let Some(date) = date_shown(ctx, args, &values) {
+        return Ok(date);
+    }
+    lift_vba_values(ctx, values, "Str", NO_NULL, &|v| {
         let n = to_number(&v[0], VBA_DATES)?;
         let text = general(n);
         Ok(Value::text(if n >= 0.0 { format!(" {text}") } else { text }))
@@ -700,7 +734,13 @@ fn case_format(pattern: &str) -> Option<fn(&str) -> String> {
 
 fn format(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let has_format = args.get(1).is_some_and(|e| e.kind != ExprKind::Missing);
-    lift(ctx, args, &|v| {
+    let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    // "Format function": a Date without a format shows as General Date, the short date
+    // and the long time as the system sets them.
+    if let Some(date) = date_shown(ctx, args, &values) {
+        return Ok(date);
+    }
+    let lifted = lift_values(&values, &|v| {
         let pattern = if has_format { vba_text(&v[1])? } else { Rc::from("") };
         if let Some(convert) = case_format(&pattern) {
             return Ok(Value::text(convert(&vba_text(&v[0])?)));
@@ -715,7 +755,9 @@ fn format(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
             },
         };
         Ok(Value::text(format_number(number, &pattern)?))
-    })
+    });
+    explain_lifted_size(ctx, &values, &lifted);
+    lifted
 }
 
 /// A number in a VBA/Excel number format: VBA's named formats (`Fixed`, `Standard`,

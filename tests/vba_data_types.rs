@@ -1,0 +1,66 @@
+//! VBA's data types as values carry them through a program: a Date keeps its type through
+//! parameters, arrays, Collections and Dictionaries and shows as a date wherever it becomes
+//! a String; LongLong is VBA7's 64-bit integer. Expected values are MS-VBAL's and the Office
+//! VBA language reference's (each test cites its sections), not our own output.
+
+use ncsheet::vba::{self, RunOptions, RunOutput};
+use ncsheet::workbook::Workbook;
+
+fn run(src: &str) -> Result<RunOutput, vba::MacroError> {
+    vba::run(&mut Workbook::with_sheet(), src, "test.bas", &RunOptions::default())
+}
+
+/// The lines `Sub Main` with `body` prints, after the module-level `module`.
+fn printed(module: &str, body: &str) -> Vec<String> {
+    run(&format!("{module}\nSub Main()\n{body}\nEnd Sub\n")).unwrap_or_else(|e| panic!("{e}")).printed
+}
+
+// "Type conversion functions", CStr: "Date: A String containing a date in the short date
+// format of your system" (en-US: m/d/yyyy, the time as h:mm:ss AM/PM, only the part that is
+// there, "Print # statement"; a time alone on day 0, midnight of day 0 as 12:00:00 AM).
+// "Format function": a value without a format is shown as "General Date" shows a Date, and
+// the "General Date" named format is the same text; a format given is used as given. "Str
+// function" makes a number's String; a Date's is its date text (no sign's space). Values
+// that are no Dates are converted as numbers, as before.
+#[test]
+fn cstr_format_and_str_of_a_date_show_the_date() {
+    let out = printed(
+        "",
+        "    Dim d As Date, t As Date, s As String\n    d = #1/2/2024#\n    t = #12:30:00 PM#\n\
+         \x20   Debug.Print CStr(d); \"|\"; Format(d); \"|\"; Str(d); \"|\"; Format$(d + t, \"General Date\")\n\
+         \x20   Debug.Print CStr(t); \"|\"; CStr(d + t); \"|\"; CStr(#12:00:00 AM#); \"|\"; Format(d, \"yyyy-mm-dd\")\n\
+         \x20   s = CStr(d + 1)\n    Debug.Print s; \"|\"; CStr(45293); \"|\"; Str(5); \"|\"; Format(45293)",
+    );
+    assert_eq!(
+        out,
+        [
+            "1/2/2024|1/2/2024|1/2/2024|1/2/2024 12:30:00 PM",
+            "12:30:00 PM|1/2/2024 12:30:00 PM|12:00:00 AM|2024-01-02",
+            "1/3/2024|45293| 5|45293",
+        ]
+    );
+}
+
+// "LongLong data type": a signed 64-bit integer, -9,223,372,036,854,775,808 to
+// 9,223,372,036,854,775,807, type-declaration character `^`; [MS-VBAL] 3.3.2, Number
+// Tokens: `5^` is an INTEGER whose declared type is LongLong; "VarType function": vbLongLong
+// is 20; 5.6.9.3, arithmetic on LongLong operands is LongLong, and a result past its range is
+// Overflow ("Overflow (Error 6)"), as is assigning one to a LongLong. `2^3` stays the
+// exponent, a Double ([MS-VBAL] 5.6.9.3.8), as `10^-3` (a `^` before a sign or an operand).
+#[test]
+fn longlong_is_a_64_bit_integer_type() {
+    let out = printed(
+        "",
+        "    Dim x As LongLong, y As LongLong\n    x = 5^\n\
+         \x20   Debug.Print TypeName(x); VarType(x); TypeName(5^); TypeName(2^3); 2^3; 7^ * 2\n\
+         \x20   x = 4611686018427387904^\n    y = -x * 2\n    Debug.Print y = -2 * 4611686018427387904#; TypeName(x + 1)\n\
+         \x20   On Error Resume Next\n    y = x * 2\n    Debug.Print Err.Number\n    Err.Clear\n\
+         \x20   y = 9.3E+18\n    Debug.Print Err.Number\n    Err.Clear\n    y = -9.3E+18\n    Debug.Print Err.Number\n\
+         \x20   Err.Clear\n    y = CLngLng(-9.3E+18)\n    Debug.Print Err.Number",
+    );
+    assert_eq!(out, ["LongLong 20 LongLongDouble 8  14 ", "TrueLongLong", " 6 ", " 6 ", " 6 ", " 6 "]);
+    // A LongLong literal past the type is a compile error naming its place.
+    let e = run("Sub Main()\n    x = 9300000000000000000^\nEnd Sub\n").unwrap_err();
+    assert!(e.message.contains("LongLong"), "{e}");
+    assert_eq!(e.span.unwrap().line, 2, "{e}");
+}
