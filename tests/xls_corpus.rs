@@ -26,15 +26,13 @@ const KNOWN: &[(&str, &str, &str)] = &[
     ("BooleanFunctionsTestCaseData.xls", "Tests!*", "AND/OR with a missing argument"),
     ("IndexFunctionTestCaseData.xls", "Index!*", "INDEX past its range is #REF!"),
     ("LookupFunctionsTestCaseData.xls", "*", "VLOOKUP/HLOOKUP past the range's width is #REF!"),
-    // A French Excel saved CELL("adresse", …): CELL's info types in the language of the Excel
-    // that computes them; ncsheet knows the English ones.
-    ("StringContinueRecords.xls", "'file load sequence'!*", "CELL's info type in French"),
     // CELL("filename") names the file as Excel had it open, a path ncsheet does not know.
     ("57231_MixedGasReport.xls", "MASTER!B3", "CELL(\"filename\")"),
 ];
 
-/// The least share of compared formula cells that must agree.
-const THRESHOLD: f64 = 0.975;
+/// The least share of compared formula cells that must agree (issue 29's acceptance: 99 %
+/// on every set of Excel-saved workbooks).
+const THRESHOLD: f64 = 0.99;
 
 fn files(dir: &Path) -> Vec<PathBuf> {
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
@@ -105,4 +103,56 @@ fn excel_saved_xls_files_compute_the_values_excel_stored() {
     assert!(share >= THRESHOLD, "{agree} of {compared} agree, below {THRESHOLD}");
     let stale: Vec<&str> = KNOWN.iter().map(|k| k.0).filter(|f| !files_with_known.contains(*f)).collect();
     assert!(stale.is_empty(), "KNOWN entries that no longer disagree: {stale:?}");
+}
+
+/// The file's sheet of shell commands, saved by a French Excel (its COUNTRY record says 33).
+fn french_workbook() -> Option<ncsheet::io::Opened> {
+    let path = common::corpus::xls_path().join("StringContinueRecords.xls");
+    if !path.is_file() {
+        assert!(std::env::var_os("CI").is_none(), "{} not found", path.display());
+        return None;
+    }
+    Some(ncsheet::io::open(&path).unwrap())
+}
+
+fn cell_of(opened: &ncsheet::io::Opened, cell: &str) -> (ncsheet::formula::ast::SheetId, ncsheet::formula::Pos) {
+    let (sheet, at) = cell.rsplit_once('!').unwrap();
+    let sheet = opened.workbook.sheet_id(sheet.trim_matches('\'')).unwrap();
+    (sheet, ncsheet::formula::address::parse_cell(at).unwrap())
+}
+
+/// MS-OI29500 2.1.896: an Excel of another language reads CELL's info type in English or in
+/// its own language. The French Excel that saved the file computed `CELL("adresse",…)` and
+/// the cells that read it, as ncsheet must; in a workbook of an English Excel it is #VALUE!.
+#[test]
+fn cell_reads_its_info_type_in_the_language_of_the_excel_that_saved_the_file() {
+    let Some(opened) = french_workbook() else { return };
+    for cell in ["'file load sequence'!AW5", "'file load sequence'!AW10"] {
+        let (sheet, pos) = cell_of(&opened, cell);
+        assert!(opened.workbook.formula(sheet, pos).unwrap().contains("CELL(\"adresse\""));
+        let cached = opened.cached.iter().find(|c| c.sheet == sheet && c.pos == pos).unwrap();
+        assert_eq!(opened.workbook.value(sheet, pos), cached.value, "{cell}");
+    }
+    let mut english = ncsheet::workbook::Workbook::with_sheet();
+    common::sheet::set(&mut english, "B2", "=CELL(\"adresse\",C7)");
+    common::sheet::set(&mut english, "B3", "=CELL(\"address\",C7)");
+    assert_eq!(common::sheet::get(&english, "B2"), ncsheet::eval::Value::Error(ncsheet::eval::XlError::Value));
+    english.set_excel_language(Some("fr"));
+    assert_eq!(common::sheet::get(&english, "B2"), ncsheet::eval::Value::text("$C$7"));
+    assert_eq!(common::sheet::get(&english, "B3"), ncsheet::eval::Value::text("$C$7"));
+}
+
+/// A formula's text result longer than one record goes on in CONTINUE records, each starting
+/// with a byte of flags: Excel's cached text of these cells (over 8,224 characters) holds no
+/// NUL where a record ends, and is what the formula computes from the sheet's strings.
+#[test]
+fn a_text_result_continued_over_records_reads_without_the_flag_bytes() {
+    let Some(opened) = french_workbook() else { return };
+    for cell in ["'file load sequence'!AO143", "'file load sequence'!AO220"] {
+        let (sheet, pos) = cell_of(&opened, cell);
+        let cached = &opened.cached.iter().find(|c| c.sheet == sheet && c.pos == pos).unwrap().value;
+        let ncsheet::eval::Value::Text(text) = cached else { panic!("{cell}: {cached:?}") };
+        assert!(text.len() > 8224 && !text.contains('\0'), "{cell}: {} characters", text.len());
+        assert_eq!(&opened.workbook.value(sheet, pos), cached, "{cell}");
+    }
 }

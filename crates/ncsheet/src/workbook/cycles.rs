@@ -280,6 +280,10 @@ impl Env for Probe<'_> {
         self.wb.settings.locale
     }
 
+    fn excel_language(&self) -> Option<&'static str> {
+        Env::excel_language(self.wb)
+    }
+
     fn column_width(&self, sheet: SheetId, col: u32) -> Option<f64> {
         Env::column_width(self.wb, sheet, col)
     }

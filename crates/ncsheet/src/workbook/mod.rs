@@ -155,6 +155,8 @@ pub struct Workbook {
     literals: Vec<f64>,
     /// The 1904 date system (`dates.rs`): serial 0 is 1904-01-01.
     date_1904: bool,
+    /// The language of the Excel that saved the file, when not English ([`Env::excel_language`]).
+    excel_language: Option<&'static str>,
     /// Legacy (Ctrl+Shift+Enter) array formulas: anchor cell → rows and columns of the area
     /// their result is fitted to (a spill of fixed size).
     fixed_arrays: FxMap<u32, (u32, u32)>,
@@ -273,6 +275,15 @@ impl Workbook {
 
     pub fn date_1904(&self) -> bool {
         self.date_1904
+    }
+
+    /// Sets the language of the Excel that saved the file (`fr`; `None`: English), in which
+    /// CELL reads its info_type too, and recalculates when it changes.
+    pub fn set_excel_language(&mut self, language: Option<&'static str>) {
+        if self.excel_language != language {
+            self.excel_language = language;
+            self.recalculate();
+        }
     }
 
     /// The day the workbook's serials count from, which every date conversion takes.
@@ -1059,6 +1070,10 @@ impl Env for Workbook {
 
     fn locale(&self) -> crate::eval::Locale {
         self.settings.locale
+    }
+
+    fn excel_language(&self) -> Option<&'static str> {
+        self.excel_language
     }
 
     fn row_hidden(&self, sheet: SheetId, row: u32) -> Option<RowHidden> {

@@ -54,6 +54,9 @@ pub struct Book {
     pub date_1904: bool,
     /// The program that saved the file, when it says.
     pub application: Option<String>,
+    /// The language of the Excel that saved the file, when it says and it is not English
+    /// (`fr`): CELL reads its info_type in it too.
+    pub excel_language: Option<&'static str>,
     /// What the reader left out, one sentence each.
     pub notes: Vec<String>,
 }
@@ -100,6 +103,7 @@ pub fn load(bytes: &[u8], path: &Path, kind: Kind) -> Result<Imported, Error> {
     let package = to_package(&book).map_err(|e| fail(format!("cannot convert {}: {e}", kind.describe())))?;
     let mut imported = xlsx::load_bytes(&package, path)?;
     imported.written_by = book.application.clone();
+    imported.workbook.set_excel_language(book.excel_language);
     let mut notes = book.notes;
     notes.append(&mut imported.notes);
     imported.notes = notes;

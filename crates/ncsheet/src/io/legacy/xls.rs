@@ -106,6 +106,8 @@ struct Globals {
     /// (name, sheet index it belongs to, formula bytes, extra bytes, is a macro's name).
     names: Vec<NameRecord>,
     date_1904: bool,
+    /// `Country`'s iCountryDef: the country code of the saving Excel's UI language.
+    country: Option<u16>,
 }
 
 /// Reads an .xls file's bytes into a [`Book`].
@@ -115,7 +117,12 @@ pub fn read(bytes: &[u8]) -> Result<Book, String> {
     let sheet_names: Vec<String> = globals.sheets.iter().map(|s| s.0.clone()).collect();
     let name_refs: Vec<(String, Option<usize>)> = globals.names.iter().map(|n| (n.0.clone(), n.1)).collect();
     let ctx = Context { sheets: &sheet_names, xtis: &globals.xtis, books: &globals.books, names: &name_refs };
-    let mut book = Book { date_1904: globals.date_1904, application: application(bytes), ..Book::default() };
+    let mut book = Book {
+        date_1904: globals.date_1904,
+        application: application(bytes),
+        excel_language: globals.country.and_then(ui_language),
+        ..Book::default()
+    };
     // Worksheets keep their order; a sheet's index in the file → its index in the book.
     let mut index_in_book: Vec<Option<usize>> = Vec::new();
     for (name, offset, visibility, kind) in &globals.sheets {
@@ -199,6 +206,7 @@ fn read_globals(stream: &[u8]) -> Result<Globals, String> {
         match r.kind {
             0x002F => return Err("the workbook is encrypted; remove the password in Excel and save again".into()),
             0x0022 => g.date_1904 = u16_at(&d, 0) == 1,
+            0x008C if d.len() >= 2 => g.country = Some(u16_at(&d, 0)),
             0x0085 => {
                 let offset = u32_at(&d, 0) as usize;
                 let visibility = match d.get(4).map(|v| v & 0x03) {
@@ -233,6 +241,29 @@ fn read_globals(stream: &[u8]) -> Result<Globals, String> {
         }
     }
     Ok(g)
+}
+
+/// The language of an Excel whose `Country` record (MS-XLS) names `country`, the
+/// international calling code of the country of its UI language, when it is not English
+/// and CELL's info types are translated into it; `None` for a country of several languages
+/// (Belgium, Switzerland, Canada) or one whose translations ncsheet does not hold.
+fn ui_language(country: u16) -> Option<&'static str> {
+    Some(match country {
+        31 => "nl",
+        33 => "fr",
+        34 | 52 => "es",
+        36 => "hu",
+        39 => "it",
+        43 | 49 => "de",
+        45 => "da",
+        47 => "nb",
+        48 => "pl",
+        55 => "pt-BR",
+        351 => "pt-PT",
+        358 => "fi",
+        420 => "cs",
+        _ => return None,
+    })
 }
 
 /// `SupBook`: this workbook (`ctab` sheets, `cch` 0x0401), the add-ins (0x3A01), or another.
@@ -300,6 +331,13 @@ fn shared_strings(r: &Record) -> Vec<String> {
         out.push(s);
     }
     out
+}
+
+/// The `XLUnicodeString` at `at` of a record (a cell's text, a formula's text result), whose
+/// characters may run on into `CONTINUE` records, each starting with a flags byte of its own
+/// (MS-XLS: a string continued in the next record): that byte is not a character.
+fn continued_string(r: &Record, at: usize) -> String {
+    PartReader { parts: &r.parts, part: 0, at }.rich_string().unwrap_or_default()
 }
 
 struct PartReader<'a, 'b> {
@@ -408,8 +446,7 @@ fn read_sheet(
                 put(&mut sheet, &d, Value::Text(text.into()), u16_at(&d, 4));
             }
             0x0204 | 0x00D6 => {
-                let cch = u16_at(&d, 6) as usize;
-                let text = d.get(8..).and_then(|b| biff::unicode_string(b, cch)).map(|s| s.0).unwrap_or_default();
+                let text = continued_string(&r, 6);
                 put(&mut sheet, &d, Value::Text(text.into()), u16_at(&d, 4));
             }
             0x0205 => {
@@ -419,8 +456,7 @@ fn read_sheet(
             }
             0x0006 => formulas.push(formula_record(&d)),
             0x0207 => {
-                let cch = u16_at(&d, 0) as usize;
-                let text = d.get(2..).and_then(|b| biff::unicode_string(b, cch)).map(|s| s.0).unwrap_or_default();
+                let text = continued_string(&r, 0);
                 if let Some(last) = formulas.last_mut() {
                     last.cached = Some(Value::Text(text.into()));
                 }

@@ -79,7 +79,7 @@ fn referenced_cell(ctx: &mut Ctx, e: &Expr) -> XlResult<(crate::formula::ast::Sh
 /// parentheses, prefix, protect, width) and filename are not modelled: `#N/A` with a note.
 fn cell(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let info = match ctx.eval(&args[0]).unwrap_single() {
-        Value::Text(t) => t.to_ascii_lowercase(),
+        Value::Text(t) => english_info_type(&t, ctx.env.excel_language()),
         Value::Error(e) => return Err(e),
         _ => return Err(XlError::Value),
     };
@@ -117,6 +117,38 @@ fn cell(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
             Err(ctx.explain(XlError::NA, format!("CELL(\"{info}\") reads formatting ncsheet does not keep")))
         }
         _ => Err(XlError::Value),
+    }
+}
+
+/// CELL's info types that an Excel of a language other than English reads in that language
+/// too, as MS-OI29500 2.1.896 lists them: these English types, then each language's
+/// translations in their order. (The document's table of the other types, row, type, width
+/// and the rest, is not here: ncsheet reads those in English only.)
+const CELL_INFO_TRANSLATED: [&str; 6] = ["address", "col", "color", "contents", "filename", "format"];
+const CELL_INFO_TRANSLATIONS: &[(&str, [&str; 6])] = &[
+    ("cs", ["adresa", "sloupec", "barva", "obsah", "názevsouboru", "formát"]),
+    ("da", ["adresse", "kolonne", "farve", "indhold", "filnavn", "format"]),
+    ("de", ["adresse", "spalte", "farbe", "inhalt", "dateiname", "format"]),
+    ("es", ["direccion", "columna", "color", "contenido", "nombrearchivo", "formato"]),
+    ("fi", ["osoite", "sarake", "väri", "sisältö", "tiedostonnimi", "muoto"]),
+    ("fr", ["adresse", "colonne", "couleur", "contenu", "nomfichier", "format"]),
+    ("hu", ["cím", "oszlop", "szín", "tartalom", "filenév", "forma"]),
+    ("it", ["indirizzo", "col", "colore", "contenuto", "nomefile", "formato"]),
+    ("nb", ["adresse", "kol", "farge", "innhold", "filnavn", "format"]),
+    ("nl", ["adres", "kolom", "kleur", "inhoud", "bestandsnaam", "notatie"]),
+    ("pl", ["adres", "kolumna", "kolor", "zawartość", "nazwa_pliku", "format"]),
+    ("pt-BR", ["endereço", "col", "cor", "conteúdo", "nome.arquivo", "formato"]),
+    ("pt-PT", ["endereço", "col", "cor", "conteúdo", "nome.ficheiro", "formato"]),
+];
+
+/// CELL's info type in English, lowercased: as given, or translated from `language`, the
+/// language of the Excel that saved the workbook, when it is one of that language's types.
+fn english_info_type(info: &str, language: Option<&str>) -> String {
+    let lower = info.to_lowercase();
+    let translations = language.and_then(|language| CELL_INFO_TRANSLATIONS.iter().find(|(tag, _)| *tag == language));
+    match translations.and_then(|(_, types)| types.iter().position(|local| *local == lower)) {
+        Some(i) => CELL_INFO_TRANSLATED[i].to_string(),
+        None => lower,
     }
 }
 
