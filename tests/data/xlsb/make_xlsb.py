@@ -62,10 +62,22 @@ PTG_UPLUS, PTG_UMINUS, PTG_PERCENT, PTG_PAREN, PTG_MISSARG = 0x12, 0x13, 0x14, 0
 PTG_STR, PTG_ERR, PTG_BOOL, PTG_INT, PTG_NUM = 0x17, 0x1C, 0x1D, 0x1E, 0x1F
 # Value-class forms of PtgFunc, PtgFuncVar, PtgRef, PtgArea; the reference class is 0x20 less.
 PTG_FUNC_V, PTG_FUNCVAR_V, PTG_REF_V, PTG_AREA_V = 0x41, 0x42, 0x44, 0x45
+# PtgName, PtgRefN, PtgAreaN, PtgRef3d, PtgArea3d (value class) and PtgExp.
+PTG_NAME_V, PTG_REFN_V, PTG_AREAN_V, PTG_REF3D_V, PTG_AREA3D_V, PTG_EXP = 0x43, 0x4C, 0x4D, 0x5A, 0x5B, 0x01
+# The user-defined function number of PtgFuncVar: the function is the name on the stack first.
+USER_FUNCTION = 0xFF
+# BrtName's flags ([MS-XLSB] 2.4.711): fHidden, fFunc, fProc, fFutureFunction.
+NAME_HIDDEN, NAME_FUNC, NAME_PROC, NAME_FUTURE = 0x1, 0x2, 0x8, 0x20000
+# The last row and column of a sheet: a reference over all of them is a whole column or row.
+LAST_ROW, LAST_COL = 0xFFFFF, 0x3FFF
 
 
 class Unsupported(Exception):
     """A formula this writer does not compile; the message says why."""
+
+
+class NotShareable(Unsupported):
+    """A shared formula this writer writes cell by cell instead (a reference to another sheet)."""
 
 
 # ---------------------------------------------------------------- formulas to Ptg tokens
@@ -83,6 +95,8 @@ def function_entry(name):
 
 
 CELL_RE = re.compile(r"^\$?([A-Z]{1,3})\$?([0-9]+)$")
+COLUMN_RE = re.compile(r"^\$?([A-Z]{1,3})$")
+ROW_RE = re.compile(r"^\$?([0-9]+)$")
 
 
 def cell_location(text):
@@ -96,26 +110,91 @@ def cell_location(text):
     return row - 1, column_index_from_string(col) - 1, row_rel, col_rel
 
 
+def area_location(first, last):
+    """(row1, col1, rr1, cr1), (row2, col2, rr2, cr2) of `A1:B2`, a whole column `A:B` or a
+    whole row `1:2` (stored as all rows or all columns, that part absolute)."""
+    if COLUMN_RE.match(first.upper()) and COLUMN_RE.match(last.upper()):
+        c1 = column_index_from_string(first.lstrip("$").upper()) - 1
+        c2 = column_index_from_string(last.lstrip("$").upper()) - 1
+        return (0, c1, False, not first.startswith("$")), (LAST_ROW, c2, False, not last.startswith("$"))
+    if ROW_RE.match(first) and ROW_RE.match(last):
+        r1, r2 = int(first.lstrip("$")) - 1, int(last.lstrip("$")) - 1
+        return (r1, 0, not first.startswith("$"), False), (r2, LAST_COL, not last.startswith("$"), False)
+    return cell_location(first), cell_location(last)
+
+
 def col_field(col, row_rel, col_rel):
     """ColRelShort ([MS-XLSB] 2.5.98.x): 14 bits of column, then fColRel and fRwRel."""
-    return col | (0x4000 if col_rel else 0) | (0x8000 if row_rel else 0)
+    return (col & 0x3FFF) | (0x4000 if col_rel else 0) | (0x8000 if row_rel else 0)
 
 
-def reference_tokens(text, value_class):
-    if "!" in text:
-        raise Unsupported("a reference to another sheet")
+def split_sheet(text):
+    """(sheet part or None, the reference) of `Sheet1!A1`, `'My Sheet'!A1`, `S1:S3!A1`."""
+    if "!" not in text:
+        return None, text
+    sheet, ref = text.rsplit("!", 1)
+    if sheet.startswith("'") and sheet.endswith("'"):
+        sheet = sheet[1:-1].replace("''", "'")
+    return sheet, ref
+
+
+def relative_to(location, origin):
+    """A shared formula's location: relative parts as offsets from `origin` (row, column)."""
+    r, c, rr, cr = location
+    if rr:
+        r = (r - origin[0]) & 0xFFFFFFFF
+    if cr:
+        c = (c - origin[1]) & 0x3FFF
+    return r, c, rr, cr
+
+
+def reference_tokens(text, value_class, book, origin):
+    """A cell, area, whole column or row, on this sheet or another (PtgRef3d/PtgArea3d);
+    in a shared formula (`origin` set) relative parts are offsets (PtgRefN/PtgAreaN)."""
     shift = 0 if value_class else -0x20
-    parts = text.split(":")
+    sheet, ref = split_sheet(text)
+    parts = ref.split(":")
+    if sheet is not None:
+        if origin is not None:
+            raise NotShareable("a reference to another sheet")
+        first, _, last = sheet.partition(":")
+        ixti = book.xti(first, last or first)
+        if len(parts) == 1:
+            r, c, rr, cr = cell_location(parts[0])
+            return struct.pack("<BHIH", PTG_REF3D_V + shift, ixti, r, col_field(c, rr, cr))
+        if len(parts) == 2:
+            (r1, c1, rr1, cr1), (r2, c2, rr2, cr2) = area_location(*parts)
+            return struct.pack(
+                "<BHIIHH", PTG_AREA3D_V + shift, ixti, r1, r2, col_field(c1, rr1, cr1), col_field(c2, rr2, cr2)
+            )
+        raise Unsupported(f"reference {text}")
     if len(parts) == 1:
-        r, c, rr, cr = cell_location(parts[0])
-        return struct.pack("<BIH", PTG_REF_V + shift, r, col_field(c, rr, cr))
+        location = cell_location(parts[0])
+        ptg = PTG_REF_V
+        if origin is not None:
+            location, ptg = relative_to(location, origin), PTG_REFN_V
+        r, c, rr, cr = location
+        return struct.pack("<BIH", ptg + shift, r, col_field(c, rr, cr))
     if len(parts) == 2:
-        r1, c1, rr1, cr1 = cell_location(parts[0])
-        r2, c2, rr2, cr2 = cell_location(parts[1])
-        return struct.pack(
-            "<BIIHH", PTG_AREA_V + shift, r1, r2, col_field(c1, rr1, cr1), col_field(c2, rr2, cr2)
-        )
+        first, last = area_location(*parts)
+        ptg = PTG_AREA_V
+        if origin is not None:
+            first, last, ptg = relative_to(first, origin), relative_to(last, origin), PTG_AREAN_V
+        (r1, c1, rr1, cr1), (r2, c2, rr2, cr2) = first, last
+        return struct.pack("<BIIHH", ptg + shift, r1, r2, col_field(c1, rr1, cr1), col_field(c2, rr2, cr2))
     raise Unsupported(f"reference {text}")
+
+
+def is_reference(text):
+    """Whether an operand is a cell, area, whole column or row (perhaps on another sheet),
+    not a defined name."""
+    _, ref = split_sheet(text)
+    parts = [p.upper() for p in ref.split(":")]
+    if len(parts) == 1:
+        return bool(CELL_RE.match(parts[0]))
+    if len(parts) == 2:
+        return any(all(pattern.match(p) for p in parts) for pattern in (CELL_RE, COLUMN_RE, ROW_RE))
+    return False
 
 
 def number_tokens(text):
@@ -135,7 +214,8 @@ def string_tokens(text):
 class Parser:
     """Recursive descent over openpyxl's tokens to Ptgs in reverse Polish order."""
 
-    def __init__(self, formula):
+    def __init__(self, formula, book, sheet, origin=None):
+        self.book, self.sheet, self.origin = book, sheet, origin
         tokens = Tokenizer(formula).items
         if any(t.type == Token.WSPACE for t in tokens):
             # Spaces are only layout unless they are the intersection operator; drop the
@@ -219,13 +299,33 @@ class Parser:
                 raise Unsupported(f"error {t.value}")
             return struct.pack("<BB", PTG_ERR, ERRORS[t.value])
         if t.subtype == Token.RANGE:
-            return reference_tokens(t.value, value_class)
+            if is_reference(t.value):
+                return reference_tokens(t.value, value_class, self.book, self.origin)
+            return self.name_tokens(t.value, value_class)
         raise Unsupported(f"operand {t.value!r}")
 
+    def name_tokens(self, text, value_class):
+        """PtgName of a defined name: the sheet's own, else the workbook's."""
+        sheet, name = split_sheet(text)
+        scope = self.book.sheet_index(sheet) if sheet is not None else self.sheet
+        index = self.book.name_index(name, scope)
+        shift = 0 if value_class else -0x20
+        return struct.pack("<BI", PTG_NAME_V + shift, index)
+
     def call(self, name):
-        if name.startswith("_XL"):
+        future = name.startswith("_XLFN.")
+        if name.startswith("_XL") and not future:
             raise Unsupported(f"function {name}")
-        iftab, least, most = function_entry(name)
+        if future:
+            # A function newer than the Ftab ([MS-XLSB] 2.5.98.10): a hidden future-function
+            # name, pushed first, called through the user-defined function number.
+            if "_XLWS." in name or "_XLPM." in name:
+                raise Unsupported(f"function {name}")
+            head = struct.pack("<BI", PTG_NAME_V - 0x20, self.book.future_function(name))
+            iftab, least, most = USER_FUNCTION, 0, 254
+        else:
+            head = b""
+            iftab, least, most = function_entry(name)
         args = []
         if self.peek() is not None and self.peek().type == Token.FUNC and self.peek().subtype == Token.CLOSE:
             self.take()
@@ -245,7 +345,9 @@ class Parser:
                     raise Unsupported(f"token {t.value!r} in {name}")
         if not least <= len(args) <= most:
             raise Unsupported(f"{name} with {len(args)} arguments")
-        body = b"".join(args)
+        body = head + b"".join(args)
+        if future:
+            return body + struct.pack("<BBH", PTG_FUNCVAR_V, len(args) + 1, iftab)
         if least == most:
             return body + struct.pack("<BH", PTG_FUNC_V, iftab)
         return body + struct.pack("<BBH", PTG_FUNCVAR_V, len(args), iftab)
@@ -263,8 +365,53 @@ def starts_operand(t):
     )
 
 
-def compile_formula(formula):
-    return Parser(formula).parse()
+def compile_formula(formula, book, sheet, origin=None):
+    """The Ptgs of `formula` in sheet number `sheet`; with `origin` (row, column), as the
+    formula a block of cells shares, its relative references offsets from the cell."""
+    return Parser(formula, book, sheet, origin).parse()
+
+
+class Book:
+    """What formulas point at beyond their sheet: the sheets, the ExternSheet entries
+    (XTI: this workbook's first and last sheet) and the defined names, in file order."""
+
+    def __init__(self, sheets):
+        self.sheets = sheets
+        self.xtis = []
+        # [name, sheet index or None, flags, rgce (None until compiled)]
+        self.names = []
+
+    def sheet_index(self, name):
+        for i, s in enumerate(self.sheets):
+            if s.upper() == name.upper():
+                return i
+        raise Unsupported(f"a reference to a sheet {name} the workbook lacks")
+
+    def xti(self, first, last):
+        entry = (self.sheet_index(first), self.sheet_index(last))
+        if entry not in self.xtis:
+            self.xtis.append(entry)
+        return self.xtis.index(entry)
+
+    def add_name(self, name, scope):
+        self.names.append([name, scope, 0, None])
+
+    def name_index(self, name, scope):
+        """The 1-based index of PtgName: the name of sheet `scope`, else the workbook's."""
+        for wanted in (scope, None):
+            for i, (n, s, flags, _) in enumerate(self.names):
+                if n.upper() == name.upper() and s == wanted and not flags & NAME_FUTURE:
+                    return i + 1
+        raise Unsupported(f"the name {name}")
+
+    def future_function(self, name):
+        """The 1-based index of the hidden name `_xlfn.NAME` a future function is called by."""
+        spelled = "_xlfn." + name[len("_XLFN."):]
+        for i, (n, _, flags, _) in enumerate(self.names):
+            if flags & NAME_FUTURE and n.upper() == spelled.upper():
+                return i + 1
+        self.names.append([spelled, None, NAME_HIDDEN | NAME_FUNC | NAME_PROC | NAME_FUTURE, b""])
+        return len(self.names)
 
 
 # ---------------------------------------------------------------- the source workbook
@@ -346,9 +493,9 @@ def cell_head(col):
     return struct.pack("<II", col, 0)
 
 
-def formula_body(rgce):
-    """GrbitFmla (no flags), then CellParsedFormula: cce, rgce, cb 0 (no extra data)."""
-    return struct.pack("<HI", 0, len(rgce)) + rgce + struct.pack("<I", 0)
+def formula_body(rgce, extra=b""):
+    """GrbitFmla (no flags), then CellParsedFormula: cce, rgce, cb, rgcb (the extra data)."""
+    return struct.pack("<HI", 0, len(rgce)) + rgce + struct.pack("<I", len(extra)) + extra
 
 
 class Strings:
@@ -379,14 +526,27 @@ def value_cell(col, kind, text, strings):
     return record(0x07, cell_head(col) + struct.pack("<I", strings.add(text)))  # BrtCellIsst
 
 
-def formula_cell(col, kind, text, rgce):
+def formula_cell(col, kind, text, rgce, extra=b""):
+    body = formula_body(rgce, extra)
     if kind == "n":
-        return record(0x09, cell_head(col) + struct.pack("<d", float(text)) + formula_body(rgce))
+        return record(0x09, cell_head(col) + struct.pack("<d", float(text)) + body)
     if kind == "b":
-        return record(0x0A, cell_head(col) + bytes([text == "1"]) + formula_body(rgce))
+        return record(0x0A, cell_head(col) + bytes([text == "1"]) + body)
     if kind == "e":
-        return record(0x0B, cell_head(col) + bytes([ERRORS[text]]) + formula_body(rgce))
-    return record(0x08, cell_head(col) + wide(text) + formula_body(rgce))
+        return record(0x0B, cell_head(col) + bytes([ERRORS[text]]) + body)
+    return record(0x08, cell_head(col) + wide(text) + body)
+
+
+def shared_member_rgce(anchor):
+    """A cell of a shared formula: PtgExp naming the anchor's row, and in the extra data the
+    PtgExtraCol naming its column ([MS-XLSB] 2.5.98.40)."""
+    return struct.pack("<BI", PTG_EXP, anchor[0]), struct.pack("<I", anchor[1])
+
+
+def shared_formula_record(area, rgce):
+    """BrtShrFmla ([MS-XLSB] 2.4.785): the cells' RfX (rows, then columns), then the formula."""
+    (r1, c1), (r2, c2) = area
+    return record(0x1AB, struct.pack("<IIII", r1, r2, c1, c2) + struct.pack("<I", len(rgce)) + rgce + struct.pack("<I", 0))
 
 
 def sheet_part(cells):
@@ -421,7 +581,7 @@ def styles_part():
     return body + record(0x117)  # BrtEndStyleSheet
 
 
-def workbook_part(names, date_1904):
+def workbook_part(names, date_1904, book):
     body = record(0x83)  # BrtBeginBook
     body += record(0x99, struct.pack("<II", 1 if date_1904 else 0, 0) + wide(""))  # BrtWbProp
     body += record(0x8F)  # BrtBeginBundleShs
@@ -429,10 +589,23 @@ def workbook_part(names, date_1904):
         # BrtBundleSh: hsState visible, iTabID, strRelID, strName.
         body += record(0x9C, struct.pack("<II", 0, i + 1) + wide(f"rId{i + 1}") + wide(name))
     body += record(0x90)  # BrtEndBundleShs
+    if book.xtis:
+        # EXTERNALS: this workbook as supporting book 0, then the XTIs of the 3-D references.
+        body += record(0x161) + record(0x165)  # BrtBeginExternals, BrtSupSelf
+        xtis = b"".join(struct.pack("<Iii", 0, first, last) for first, last in book.xtis)
+        body += record(0x16A, struct.pack("<I", len(book.xtis)) + xtis)  # BrtExternSheet
+        body += record(0x162)  # BrtEndExternals
+    for name, scope, flags, rgce in book.names:
+        # BrtName: flags, chKey, itab (0xFFFFFFFF: the workbook's), name, NameParsedFormula
+        # (cce, rgce, cb 0), a null comment; a macro's name (fProc) four more null strings.
+        itab = 0xFFFFFFFF if scope is None else scope
+        text = struct.pack("<IBI", flags, 0, itab) + wide(name) + struct.pack("<I", len(rgce)) + rgce
+        text += struct.pack("<I", 0) + struct.pack("<I", 0xFFFFFFFF) * (5 if flags & NAME_PROC else 1)
+        body += record(0x27, text)
     return body + record(0x84)  # BrtEndBook
 
 
-def package(names, sheets, strings, date_1904):
+def package(names, sheets, strings, date_1904, book):
     ct = (
         '<?xml version="1.0" encoding="UTF-8" standalone="yes"?>\n'
         '<Types xmlns="http://schemas.openxmlformats.org/package/2006/content-types">'
@@ -482,7 +655,7 @@ def package(names, sheets, strings, date_1904):
         ("[Content_Types].xml", ct.encode()),
         ("_rels/.rels", rels.encode()),
         ("docProps/app.xml", app.encode()),
-        ("xl/workbook.bin", workbook_part(names, date_1904)),
+        ("xl/workbook.bin", workbook_part(names, date_1904, book)),
         ("xl/_rels/workbook.bin.rels", wb_rels.encode()),
     ]
     parts += [(f"xl/worksheets/sheet{i + 1}.bin", sheet_part(s)) for i, s in enumerate(sheets)]
@@ -491,15 +664,93 @@ def package(names, sheets, strings, date_1904):
     return parts
 
 
+def source_shared(path):
+    """{sheet name: {(row, col): (group, anchor's area or None, anchor's formula)}} of the
+    cells of shared formulas (`<f t="shared" si=…>`), from the sheet parts."""
+    z = zipfile.ZipFile(path)
+    rels = {r.get("Id"): r.get("Target") for r in ET.fromstring(z.read("xl/_rels/workbook.xml.rels"))}
+    out = {}
+    for sheet in ET.fromstring(z.read("xl/workbook.xml")).iter(MAIN_NS + "sheet"):
+        target = rels[sheet.get(REL_NS + "id")].lstrip("/")
+        part = target if target.startswith("xl/") else "xl/" + target
+        cells = {}
+        for c in ET.fromstring(z.read(part)).iter(MAIN_NS + "c"):
+            f = c.find(MAIN_NS + "f")
+            if f is None or f.get("t") != "shared":
+                continue
+            col, row = coordinate_from_string(c.get("r"))
+            area = None
+            if f.get("ref"):
+                first, _, last = f.get("ref").partition(":")
+                (r1, c1, _, _), (r2, c2, _, _) = cell_location(first), cell_location(last or first)
+                area = ((r1, c1), (r2, c2))
+            cells[(row - 1, column_index_from_string(col) - 1)] = (f.get("si"), area, f.text)
+        out[sheet.get("name")] = cells
+    return out
+
+
+def defined_names(book_xl):
+    """(name, sheet index or None, formula) of the source's defined names, built-in ones
+    (print areas…) left out."""
+    found = [(name, None, d.attr_text) for name, d in book_xl.defined_names.items()]
+    for i, ws in enumerate(book_xl.worksheets):
+        found += [(name, i, d.attr_text) for name, d in ws.defined_names.items()]
+    return [n for n in found if not n[0].startswith("_xlnm.")]
+
+
+def compile_names(book, found, skipped):
+    """Puts the defined names in `book` with their formulas; a name whose formula does not
+    compile is left out (and the formulas using it are written as their values)."""
+    while True:
+        book.names, book.xtis = [], []
+        for name, scope, _ in found:
+            book.add_name(name, scope)
+        failed = None
+        for i, (name, scope, formula) in enumerate(found):
+            try:
+                parser = Parser("=" + formula, book, scope)
+                rgce = parser.expression(0, False)
+                if parser.peek() is not None:
+                    raise Unsupported(f"unexpected {parser.peek().value!r}")
+                book.names[i][3] = rgce
+            except Unsupported as why:
+                failed = i
+                skipped.append(("(names)", name, str(why)))
+                break
+        if failed is None:
+            return
+        found = found[:failed] + found[failed + 1 :]
+
+
+def shared_groups(book, sheet, shared, cached, skipped):
+    """{group: (anchor, area, rgce)} of the shared formulas of a sheet that compile as one;
+    the others are written cell by cell."""
+    groups = {}
+    for pos, (group, area, text) in shared.items():
+        if area is None or pos not in cached or text is None:
+            continue
+        try:
+            groups[group] = (pos, area, compile_formula(text, book, sheet, origin=pos))
+        except Unsupported as why:
+            if not isinstance(why, NotShareable):
+                continue
+    return groups
+
+
 def convert(source, out, listing):
     values = source_values(source)
-    book = load_workbook(source, data_only=False)
+    shared_cells = source_shared(source)
+    book_xl = load_workbook(source, data_only=False)
     strings = Strings()
     names, sheets, written, skipped = [], [], [], []
-    for ws in book.worksheets:
+    book = Book([ws.title for ws in book_xl.worksheets])
+    compile_names(book, defined_names(book_xl), skipped)
+    for index, ws in enumerate(book_xl.worksheets):
         names.append(ws.title)
         cells = {}
         cached = values.get(ws.title, {})
+        shared = shared_cells.get(ws.title, {})
+        groups = shared_groups(book, index, shared, cached, skipped)
         for row in ws.iter_rows():
             for cell in row:
                 pos = (cell.row - 1, cell.column - 1)
@@ -513,9 +764,18 @@ def convert(source, out, listing):
                 if isinstance(formula, (ArrayFormula, DataTableFormula)):
                     skipped.append((ws.title, cell.coordinate, "an array formula or data table"))
                     formula = None
+                group = groups.get(shared[pos][0]) if pos in shared else None
+                if isinstance(formula, str) and group is not None:
+                    anchor, area, shared_rgce = group
+                    rgce, extra = shared_member_rgce(anchor)
+                    cells[pos] = formula_cell(pos[1], kind, text, rgce, extra)
+                    if pos == anchor:
+                        cells[pos] += shared_formula_record(area, shared_rgce)
+                    written.append((ws.title, cell.coordinate, formula))
+                    continue
                 if isinstance(formula, str):
                     try:
-                        rgce = compile_formula(formula)
+                        rgce = compile_formula(formula, book, index)
                         cells[pos] = formula_cell(pos[1], kind, text, rgce)
                         written.append((ws.title, cell.coordinate, formula))
                         continue
@@ -524,7 +784,7 @@ def convert(source, out, listing):
                 cells[pos] = value_cell(pos[1], kind, text, strings)
         sheets.append(cells)
     with zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as z:
-        for name, data in package(names, sheets, strings, book.epoch.year == 1904):
+        for name, data in package(names, sheets, strings, book_xl.epoch.year == 1904, book):
             info = zipfile.ZipInfo(name, date_time=(2026, 11, 28, 0, 0, 0))
             info.compress_type = zipfile.ZIP_DEFLATED
             z.writestr(info, data)

@@ -55,18 +55,18 @@ const CONCAT: u8 = 2;
 const ADD: u8 = 3;
 const MULTIPLY: u8 = 4;
 const POWER: u8 = 5;
-const PERCENT: u8 = 6;
-const UNARY: u8 = 7;
+pub(super) const PERCENT: u8 = 6;
+pub(super) const UNARY: u8 = 7;
 const INTERSECT: u8 = 9;
 const RANGE: u8 = 10;
 const ATOM: u8 = 11;
 
-struct Item {
-    text: String,
-    precedence: u8,
+pub(super) struct Item {
+    pub(super) text: String,
+    pub(super) precedence: u8,
 }
 
-fn atom(text: String) -> Item {
+pub(super) fn atom(text: String) -> Item {
     Item { text, precedence: ATOM }
 }
 
@@ -76,38 +76,38 @@ const LAST_ROW: u32 = 0xFFFF;
 const LAST_COL: u32 = 0xFF;
 
 /// A reader over the formula's bytes.
-struct Bytes<'a> {
-    data: &'a [u8],
-    at: usize,
+pub(super) struct Bytes<'a> {
+    pub(super) data: &'a [u8],
+    pub(super) at: usize,
 }
 
 impl<'a> Bytes<'a> {
-    fn take(&mut self, n: usize) -> Result<&'a [u8], Unreadable> {
+    pub(super) fn take(&mut self, n: usize) -> Result<&'a [u8], Unreadable> {
         let slice = self.data.get(self.at..self.at + n).ok_or_else(damaged)?;
         self.at += n;
         Ok(slice)
     }
-    fn u8(&mut self) -> Result<u8, Unreadable> {
+    pub(super) fn u8(&mut self) -> Result<u8, Unreadable> {
         Ok(self.take(1)?[0])
     }
-    fn u16(&mut self) -> Result<u16, Unreadable> {
+    pub(super) fn u16(&mut self) -> Result<u16, Unreadable> {
         let b = self.take(2)?;
         Ok(u16::from_le_bytes([b[0], b[1]]))
     }
-    fn u32(&mut self) -> Result<u32, Unreadable> {
+    pub(super) fn u32(&mut self) -> Result<u32, Unreadable> {
         let b = self.take(4)?;
         Ok(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
     }
-    fn f64(&mut self) -> Result<f64, Unreadable> {
+    pub(super) fn f64(&mut self) -> Result<f64, Unreadable> {
         let b = self.take(8)?;
         Ok(f64::from_le_bytes(b.try_into().expect("8 bytes")))
     }
-    fn done(&self) -> bool {
+    pub(super) fn done(&self) -> bool {
         self.at >= self.data.len()
     }
 }
 
-fn damaged() -> Unreadable {
+pub(super) fn damaged() -> Unreadable {
     Unreadable::Token("a damaged formula".into())
 }
 
@@ -277,7 +277,7 @@ pub fn decode(
 }
 
 /// A binary operator over the two items on top of the stack.
-fn binary(stack: &mut Vec<Item>, ptg: u8) -> Result<(), Unreadable> {
+pub(super) fn binary(stack: &mut Vec<Item>, ptg: u8) -> Result<(), Unreadable> {
     let (op, precedence) = match ptg {
         0x03 => ("+", ADD),
         0x04 => ("-", ADD),
@@ -309,7 +309,7 @@ fn binary(stack: &mut Vec<Item>, ptg: u8) -> Result<(), Unreadable> {
 }
 
 /// An item's text, in parentheses when it binds less tightly than `needed`.
-fn wrap(item: Item, needed: u8) -> String {
+pub(super) fn wrap(item: Item, needed: u8) -> String {
     if item.precedence < needed {
         format!("({})", item.text)
     } else {
@@ -318,7 +318,7 @@ fn wrap(item: Item, needed: u8) -> String {
 }
 
 /// `PtgAttr`: control tokens with no effect on the text, and `SUM` of one argument.
-fn attribute(bytes: &mut Bytes, stack: &mut Vec<Item>) -> Result<(), Unreadable> {
+pub(super) fn attribute(bytes: &mut Bytes, stack: &mut Vec<Item>) -> Result<(), Unreadable> {
     let flags = bytes.u8()?;
     if flags & 0x04 != 0 {
         let offsets = bytes.u16()? as usize + 1;
@@ -334,7 +334,7 @@ fn attribute(bytes: &mut Bytes, stack: &mut Vec<Item>) -> Result<(), Unreadable>
 }
 
 /// A call of a built-in function over the top `argc` items.
-fn call(stack: &mut Vec<Item>, name: &str, argc: usize) -> Result<(), Unreadable> {
+pub(super) fn call(stack: &mut Vec<Item>, name: &str, argc: usize) -> Result<(), Unreadable> {
     if stack.len() < argc {
         return Err(damaged());
     }
@@ -344,7 +344,7 @@ fn call(stack: &mut Vec<Item>, name: &str, argc: usize) -> Result<(), Unreadable
 }
 
 /// A call of an add-in or macro function: its name is the first of the `argc` items.
-fn user_call(stack: &mut Vec<Item>, argc: usize) -> Result<(), Unreadable> {
+pub(super) fn user_call(stack: &mut Vec<Item>, argc: usize) -> Result<(), Unreadable> {
     if argc == 0 || stack.len() < argc {
         return Err(damaged());
     }
@@ -355,7 +355,7 @@ fn user_call(stack: &mut Vec<Item>, argc: usize) -> Result<(), Unreadable> {
     Ok(())
 }
 
-fn error_text(code: u8) -> &'static str {
+pub(super) fn error_text(code: u8) -> &'static str {
     match code {
         0x00 => "#NULL!",
         0x07 => "#DIV/0!",
@@ -369,7 +369,7 @@ fn error_text(code: u8) -> &'static str {
 }
 
 /// A number as a formula writes it.
-fn number(n: f64) -> String {
+pub(super) fn number(n: f64) -> String {
     let text = format!("{n:?}");
     text.strip_suffix(".0").map(str::to_string).unwrap_or(text)
 }
@@ -473,7 +473,7 @@ fn area_ref(r1: u16, r2: u16, c1: u16, c2: u16, origin: Option<(u32, u32)>) -> S
 
 /// The sheet part of a 3D reference (`Sheet1!`, `'Sheet 1:Sheet 3'!`).
 /// `None` when the sheet was deleted (the reference is then `#REF!`).
-fn sheet_prefix(ctx: &Context, ixti: u16) -> Result<Option<String>, Unreadable> {
+pub(super) fn sheet_prefix(ctx: &Context, ixti: u16) -> Result<Option<String>, Unreadable> {
     let &(book, first, last) = ctx.xtis.get(ixti as usize).ok_or_else(damaged)?;
     match ctx.books.get(book as usize) {
         Some(SupBook::Own) => {}
@@ -494,7 +494,7 @@ fn sheet_prefix(ctx: &Context, ixti: u16) -> Result<Option<String>, Unreadable> 
 }
 
 /// A defined name as a formula in `sheet` reads it (1-based `index` into the names).
-fn defined_name(ctx: &Context, index: usize, sheet: Option<usize>) -> Result<String, Unreadable> {
+pub(super) fn defined_name(ctx: &Context, index: usize, sheet: Option<usize>) -> Result<String, Unreadable> {
     let (name, scope) = ctx.names.get(index.wrapping_sub(1)).ok_or_else(damaged)?;
     match scope {
         Some(s) if Some(*s) != sheet => {
@@ -506,7 +506,7 @@ fn defined_name(ctx: &Context, index: usize, sheet: Option<usize>) -> Result<Str
 }
 
 /// `PtgNameX`: an add-in function's name, or a name of this workbook.
-fn external_name(ctx: &Context, ixti: u16, index: usize) -> Result<String, Unreadable> {
+pub(super) fn external_name(ctx: &Context, ixti: u16, index: usize) -> Result<String, Unreadable> {
     let &(book, ..) = ctx.xtis.get(ixti as usize).ok_or_else(damaged)?;
     match ctx.books.get(book as usize) {
         Some(SupBook::AddIns(names)) => names.get(index.wrapping_sub(1)).cloned().ok_or_else(damaged),
@@ -520,7 +520,7 @@ fn external_name(ctx: &Context, ixti: u16, index: usize) -> Result<String, Unrea
 /// when that is fixed (a `PtgFunc` holds none). The number is a fact on the function's row of
 /// the function table (`FnSpec::biff`); the functions of Excel 97 ncsheet does not compute
 /// are read by name, to show #NAME? as a typed call of them would.
-fn function(iftab: u16) -> Result<(&'static str, Option<u8>), Unreadable> {
+pub(super) fn function(iftab: u16) -> Result<(&'static str, Option<u8>), Unreadable> {
     if let Some(id) = crate::eval::functions::find_biff(iftab) {
         let spec = crate::eval::functions::spec(id);
         return Ok((spec.name, spec.biff.and_then(|b| b.fixed_args)));

@@ -1,23 +1,25 @@
-//! Excel binary workbooks (`.xlsb`, MS-XLSB): calamine reads the cells, the values Excel
-//! stored and the formulas it can spell. Its spelling is trusted only where it is sure: a
-//! formula it could not decode (a cell of a shared or array formula) or one reading another
-//! sheet (calamine names a 3D reference's sheet by the wrong index) keeps the value Excel
-//! stored, as a constant, and a note names the cells.
+//! Excel binary workbooks (`.xlsb`, MS-XLSB): calamine reads the cells and the values Excel
+//! stored; the formulas are read here from the parts' records, because calamine 0.38's
+//! spelling of them is wrong in ways a patch over its text cannot undo (`>` and `>=`
+//! swapped, the relative flags of references swapped or left in column numbers, a 3-D
+//! reference named by the wrong sheet, a `"` in a string not doubled, shared formulas and
+//! future functions not read at all).
 //!
-//! calamine 0.38 spells PtgGe (0x0C, `>=` in [MS-XLSB] 2.5.98.16) as `>` and PtgGt (0x0D) as
-//! `>=`; [`comparisons_as_stored`] swaps them back. It also reads a reference's relative-row
-//! and relative-column flags the wrong way round, and leaves them in an area's column number
-//! (a relative column comes out past XFD); [`references_as_stored`] undoes both.
-//! tests/xlsb_corpus.rs computes .xlsb files with all of these, so an upgrade of calamine that
-//! mends them shows there. calamine does not read the value of a formula whose result is an
-//! error (BrtFmlaError); [`formula_errors`] reads it from the sheet part.
+//! A formula's tokens ([MS-XLSB] 2.5.98, `Rgce`) are BIFF8's with wider fields: rows of 4
+//! bytes, a string's length of 2 and no flags byte, a name's index of 4. The operators,
+//! functions and names are turned into text by `biff.rs`, which the `.xls` reader shares. A
+//! shared formula's cells hold `PtgExp`, pointing at the `BrtShrFmla` that follows its first
+//! cell; a future function (`_xlfn.`) is a call through a hidden name (`fFutureFunction`).
+//! A formula this reader cannot carry over keeps the value Excel stored, as a constant, and a
+//! note names the cells.
 
 use std::collections::HashMap;
 use std::io::{BufReader, Cursor, Read};
 
 use calamine::{Reader, SheetType, Xlsb};
 
-use super::{calamine_sheet, cells_named, value_of, Book};
+use super::biff::{self, atom, Bytes, Context, Item, SupBook, Unreadable};
+use super::{calamine_sheet, cells_named, value_of, Book, Name};
 use crate::eval::{Value, XlError};
 use crate::formula::address::column_name;
 
@@ -27,37 +29,39 @@ pub fn read(bytes: &[u8]) -> Result<Book, String> {
     let application = xlsb.workbook_properties().ok().and_then(|p| p.application);
     let mut book = Book { application, ..Book::default() };
     let metadata = xlsb.sheets_metadata().to_vec();
-    let mut errors = formula_errors(bytes)?;
+    let mut zip = zip::ZipArchive::new(Cursor::new(bytes)).map_err(|e| e.to_string())?;
+    let globals = read_globals(&mut zip)?;
+    let ctx =
+        Context { sheets: &globals.sheets, xtis: &globals.xtis, books: &globals.books, names: &globals.name_refs };
+    let mut parts = read_sheet_parts(&mut zip, &globals.parts)?;
+    // A sheet's index in the file → its index in the book (worksheets only).
+    let mut index_in_book = Vec::new();
     for meta in &metadata {
         if meta.typ != SheetType::WorkSheet {
             book.notes.push(format!("sheet '{}' is not a worksheet and was left out", meta.name));
+            index_in_book.push(None);
             continue;
         }
+        index_in_book.push(Some(book.sheets.len()));
         let values = xlsb.worksheet_range(&meta.name).map_err(|e| format!("sheet '{}': {e}", meta.name))?;
-        let formulas = xlsb.worksheet_formula(&meta.name).map_err(|e| format!("sheet '{}': {e}", meta.name))?;
         let mut sheet = calamine_sheet(meta, &values, value_of);
-        for (pos, error) in errors.remove(&meta.name).unwrap_or_default() {
-            sheet.cells.entry(pos).or_default().value.get_or_insert(Value::Error(error));
-        }
-        let (r0, c0) = formulas.start().unwrap_or((0, 0));
+        let file_index = globals.sheets.iter().position(|n| *n == meta.name);
+        let part = parts.remove(&meta.name).unwrap_or_default();
         let mut unread = Vec::new();
-        for (r, c, text) in formulas.used_cells() {
-            let pos = (r0 + r as u32, c0 + c as u32);
-            if text.is_empty()
-                || outside_strings(text).contains('!')
-                || text.contains("Ptg")
-                || text.starts_with("Unrecognised")
-            {
-                unread.push(pos);
-                continue;
+        for formula in &part.formulas {
+            let cell = sheet.cells.entry(formula.pos).or_default();
+            if let Some(error) = formula.error {
+                cell.value.get_or_insert(Value::Error(error));
             }
-            sheet.cells.entry(pos).or_default().formula = Some(references_as_stored(&comparisons_as_stored(text)));
+            match formula_text(formula, &part.shared, &ctx, file_index) {
+                Ok(text) => cell.formula = Some(text),
+                Err(_) => unread.push(formula.pos),
+            }
         }
         if !unread.is_empty() {
             book.notes.push(format!(
-                "{} formula cells of sheet '{}' keep the value Excel stored, as a constant: ncsheet reads an .xlsb's \
-                 own formulas only, not those shared by a block of cells, array formulas or references to other \
-                 sheets ({})",
+                "{} formula cells of sheet '{}' keep the value Excel stored, as a constant: ncsheet does not read \
+                 their formulas (array formulas, tables, other workbooks) ({})",
                 unread.len(),
                 meta.name,
                 cells_named(&meta.name, &unread)
@@ -65,39 +69,72 @@ pub fn read(bytes: &[u8]) -> Result<Book, String> {
         }
         book.sheets.push(sheet);
     }
-    if !xlsb.defined_names().is_empty() {
-        book.notes.push(format!("{} defined names of the .xlsb were left out", xlsb.defined_names().len()));
-    }
+    read_names(&globals, &ctx, &index_in_book, &mut book);
     book.notes.push("number formats are not read from an .xlsb file: values show as General".into());
     Ok(book)
 }
 
-/// Cells by (row, column) with the error each holds.
-type CellErrors = Vec<((u32, u32), XlError)>;
+/// BrtName's flags ([MS-XLSB] 2.4.711) of a name that is no defined name of the sheets': a
+/// macro's (fFunc, fProc) or a future function's (fFutureFunction).
+const NAME_NOT_A_FORMULA: u32 = 0x2 | 0x8 | 0x20000;
 
-/// The error each formula cell holds whose last result was one (BrtFmlaError), by sheet name.
-fn formula_errors(bytes: &[u8]) -> Result<HashMap<String, CellErrors>, String> {
-    let mut zip = zip::ZipArchive::new(Cursor::new(bytes)).map_err(|e| e.to_string())?;
-    let mut errors = HashMap::new();
-    for (name, part) in sheet_parts(&mut zip)? {
-        let Ok(entry) = zip.by_name(&part) else { continue };
-        let mut records = Records(BufReader::new(entry));
-        let (mut row, mut found) = (0u32, Vec::new());
-        while let Some((kind, body)) = records.next_head(16).map_err(|e| format!("{part}: {e}"))? {
-            match kind {
-                0x0000 if body.len() >= 4 => row = u32_at(&body, 0),
-                0x000B if body.len() >= 9 => found.push(((row, u32_at(&body, 0)), super::xls::error_of(body[8]))),
-                _ => {}
-            }
+/// The workbook's defined names into `book`, as formulas of the sheets they belong to.
+fn read_names(globals: &Globals, ctx: &Context, index_in_book: &[Option<usize>], book: &mut Book) {
+    for name in &globals.names {
+        if name.flags & NAME_NOT_A_FORMULA != 0 || name.name.starts_with("_xlnm.") {
+            continue;
         }
-        errors.insert(name, found);
+        let sheet = match name.scope {
+            None => None,
+            Some(i) => match index_in_book.get(i).copied().flatten() {
+                Some(s) => Some(s),
+                None => {
+                    book.notes.push(format!("name {} belongs to a sheet that was left out", name.name));
+                    continue;
+                }
+            },
+        };
+        match decode(&name.rgce, &name.extra, ctx, None, name.scope) {
+            Ok(formula) => book.names.push(Name { name: name.name.clone(), formula, sheet }),
+            Err(why) => book.notes.push(format!("name {} was left out: ncsheet does not read {why}", name.name)),
+        }
     }
-    Ok(errors)
 }
 
-/// Each sheet's name and part, from xl/workbook.bin's BrtBundleSh records and their
-/// relationships.
-fn sheet_parts<R: Read + std::io::Seek>(zip: &mut zip::ZipArchive<R>) -> Result<Vec<(String, String)>, String> {
+/// What the workbook part says: the sheets in file order with their parts, the
+/// ExternSheet's XTIs, the supporting books and the defined names.
+#[derive(Default)]
+struct Globals {
+    sheets: Vec<String>,
+    parts: Vec<(String, String)>,
+    xtis: Vec<(u16, i16, i16)>,
+    books: Vec<SupBook>,
+    names: Vec<NameRecord>,
+    /// Each name and the sheet it belongs to, for [`Context`].
+    name_refs: Vec<(String, Option<usize>)>,
+}
+
+struct NameRecord {
+    name: String,
+    flags: u32,
+    scope: Option<usize>,
+    rgce: Vec<u8>,
+    extra: Vec<u8>,
+}
+
+/// Records of xl/workbook.bin ([MS-XLSB] 2.4) this reader uses.
+const BRT_NAME: u16 = 0x0027;
+const BRT_BUNDLE_SH: u16 = 0x009C;
+const BRT_SUP_BOOK_SRC: u16 = 0x0163;
+const BRT_SUP_SELF: u16 = 0x0165;
+const BRT_SUP_SAME: u16 = 0x0166;
+const BRT_SUP_ADDIN: u16 = 0x029B;
+const BRT_EXTERN_SHEET: u16 = 0x016A;
+
+/// The largest record read whole: a formula's record holds its tokens and values.
+const RECORD_LIMIT: u64 = 1 << 24;
+
+fn read_globals<R: Read + std::io::Seek>(zip: &mut zip::ZipArchive<R>) -> Result<Globals, String> {
     let mut rels = String::new();
     if let Ok(entry) = zip.by_name("xl/_rels/workbook.bin.rels") {
         entry.take(1 << 20).read_to_string(&mut rels).map_err(|e| e.to_string())?;
@@ -109,20 +146,353 @@ fn sheet_parts<R: Read + std::io::Seek>(zip: &mut zip::ZipArchive<R>) -> Result<
         .collect();
     let entry = zip.by_name("xl/workbook.bin").map_err(|e| e.to_string())?;
     let mut records = Records(BufReader::new(entry));
-    let mut parts = Vec::new();
-    while let Some((kind, body)) = records.next_head(4096).map_err(|e| format!("xl/workbook.bin: {e}"))? {
-        if kind != 0x009C {
-            continue;
-        }
-        // BrtBundleSh: hsState, iTabID, strRelID (null: no part), strName.
-        let Some((rel, rest)) = wide_string(body.get(8..).unwrap_or_default()) else { continue };
-        let Some((name, _)) = wide_string(rest) else { continue };
-        if let Some(target) = targets.get(rel.as_str()) {
-            let part = target.strip_prefix('/').map_or_else(|| format!("xl/{target}"), str::to_string);
-            parts.push((name, part));
+    let mut g = Globals::default();
+    while let Some((kind, body)) = records.next_head(RECORD_LIMIT).map_err(|e| format!("xl/workbook.bin: {e}"))? {
+        match kind {
+            BRT_BUNDLE_SH => {
+                // BrtBundleSh: hsState, iTabID, strRelID (null: no part), strName.
+                let rest = body.get(8..).unwrap_or_default();
+                let (rel, after) = match wide_string(rest) {
+                    Some((rel, after)) => (Some(rel), after),
+                    None => (None, rest.get(4..).unwrap_or_default()),
+                };
+                let Some((name, _)) = wide_string(after) else { continue };
+                if let Some(target) = rel.as_deref().and_then(|r| targets.get(r)) {
+                    let part = target.strip_prefix('/').map_or_else(|| format!("xl/{target}"), str::to_string);
+                    g.parts.push((name.clone(), part));
+                }
+                g.sheets.push(name);
+            }
+            BRT_SUP_SELF | BRT_SUP_SAME => g.books.push(SupBook::Own),
+            BRT_SUP_ADDIN => g.books.push(SupBook::AddIns(Vec::new())),
+            BRT_SUP_BOOK_SRC => g.books.push(SupBook::Other(Vec::new())),
+            BRT_EXTERN_SHEET => {
+                // cXti, then each XTI: iSupBook, itabFirst, itabLast (4 bytes each).
+                let count = body.get(..4).map_or(0, |_| u32_at(&body, 0) as usize);
+                for xti in body.get(4..).unwrap_or_default().chunks_exact(12).take(count) {
+                    let tab = |at: usize| i32::from_le_bytes(xti[at..at + 4].try_into().expect("4 bytes"));
+                    g.xtis.push((u32_at(xti, 0) as u16, tab(4) as i16, tab(8) as i16));
+                }
+            }
+            BRT_NAME => {
+                if let Some(name) = name_record(&body) {
+                    g.name_refs.push((name.name.clone(), name.scope));
+                    g.names.push(name);
+                }
+            }
+            _ => {}
         }
     }
-    Ok(parts)
+    Ok(g)
+}
+
+/// BrtName: flags, chKey, itab (0xFFFFFFFF: the workbook's), name, then NameParsedFormula
+/// (cce, rgce, cb, rgcb).
+fn name_record(body: &[u8]) -> Option<NameRecord> {
+    let flags = u32::from_le_bytes(body.get(..4)?.try_into().ok()?);
+    let itab = u32::from_le_bytes(body.get(5..9)?.try_into().ok()?);
+    let (name, rest) = wide_string(body.get(9..)?)?;
+    let (rgce, extra) = parsed_formula(rest)?;
+    let scope = (itab != u32::MAX).then_some(itab as usize);
+    Some(NameRecord { name, flags, scope, rgce: rgce.to_vec(), extra: extra.to_vec() })
+}
+
+/// A formula's tokens and extra data: cce, rgce, cb, rgcb.
+fn parsed_formula(bytes: &[u8]) -> Option<(&[u8], &[u8])> {
+    let cce = u32::from_le_bytes(bytes.get(..4)?.try_into().ok()?) as usize;
+    let rgce = bytes.get(4..4 + cce)?;
+    let rest = bytes.get(4 + cce..)?;
+    let cb = rest.get(..4).map_or(0, |b| u32::from_le_bytes(b.try_into().expect("4 bytes")) as usize);
+    Some((rgce, rest.get(4..4 + cb).unwrap_or_default()))
+}
+
+/// One formula cell of a sheet part.
+struct FormulaCell {
+    pos: (u32, u32),
+    rgce: Vec<u8>,
+    extra: Vec<u8>,
+    /// The error it holds when its last result was one (BrtFmlaError): calamine does not
+    /// read those values.
+    error: Option<XlError>,
+}
+
+/// A sheet part's formulas and its shared formulas (by the cell they follow).
+#[derive(Default)]
+struct SheetPart {
+    formulas: Vec<FormulaCell>,
+    shared: HashMap<(u32, u32), (Vec<u8>, Vec<u8>)>,
+}
+
+/// Records of a sheet part ([MS-XLSB] 2.4).
+const BRT_ROW_HDR: u16 = 0x0000;
+const BRT_FMLA_STRING: u16 = 0x0008;
+const BRT_FMLA_NUM: u16 = 0x0009;
+const BRT_FMLA_ERROR: u16 = 0x000B;
+const BRT_SHR_FMLA: u16 = 0x01AB;
+
+/// Each sheet part's formulas, by sheet name.
+fn read_sheet_parts<R: Read + std::io::Seek>(
+    zip: &mut zip::ZipArchive<R>,
+    parts: &[(String, String)],
+) -> Result<HashMap<String, SheetPart>, String> {
+    let mut out = HashMap::new();
+    for (name, part) in parts {
+        let Ok(entry) = zip.by_name(part) else { continue };
+        let mut records = Records(BufReader::new(entry));
+        let (mut row, mut sheet) = (0u32, SheetPart::default());
+        while let Some((kind, body)) = records.next_head(RECORD_LIMIT).map_err(|e| format!("{part}: {e}"))? {
+            match kind {
+                BRT_ROW_HDR if body.len() >= 4 => row = u32_at(&body, 0),
+                BRT_FMLA_STRING..=BRT_FMLA_ERROR if body.len() >= 8 => {
+                    // Cell (column, style), the value, GrbitFmla, then the formula.
+                    let value_end = match kind {
+                        BRT_FMLA_NUM => Some(16),
+                        BRT_FMLA_STRING => body.get(8..12).map(|_| 12 + 2 * u32_at(&body, 8) as usize),
+                        _ => Some(9),
+                    };
+                    let formula = value_end.and_then(|end| body.get(end + 2..)).and_then(parsed_formula);
+                    let Some((rgce, extra)) = formula else { continue };
+                    let error = (kind == BRT_FMLA_ERROR).then(|| biff_error(body[8]));
+                    let pos = (row, u32_at(&body, 0));
+                    sheet.formulas.push(FormulaCell { pos, rgce: rgce.to_vec(), extra: extra.to_vec(), error });
+                }
+                BRT_SHR_FMLA if body.len() >= 16 => {
+                    // RfX (its cells), then the formula; it follows the first cell's record.
+                    let (Some(first), Some((rgce, extra))) = (sheet.formulas.last(), parsed_formula(&body[16..]))
+                    else {
+                        continue;
+                    };
+                    sheet.shared.insert(first.pos, (rgce.to_vec(), extra.to_vec()));
+                }
+                _ => {}
+            }
+        }
+        out.insert(name.clone(), sheet);
+    }
+    Ok(out)
+}
+
+fn biff_error(code: u8) -> XlError {
+    super::xls::error_of(code)
+}
+
+/// The text of a formula cell's formula; a cell of a shared formula reads the one its
+/// `PtgExp` points at, from the cell itself.
+fn formula_text(
+    cell: &FormulaCell,
+    shared: &HashMap<(u32, u32), (Vec<u8>, Vec<u8>)>,
+    ctx: &Context,
+    sheet: Option<usize>,
+) -> Result<String, Unreadable> {
+    if cell.rgce.first() == Some(&0x01) {
+        // PtgExp: the first cell's row; its column is the PtgExtraCol in the extra data.
+        let (Some(row), Some(col)) = (cell.rgce.get(1..5), cell.extra.get(..4)) else {
+            return Err(Unreadable::Token("a damaged formula".into()));
+        };
+        let first = (u32_at(row, 0), u32_at(col, 0));
+        let (rgce, extra) = shared
+            .get(&first)
+            .ok_or_else(|| Unreadable::Token("an array formula, or a shared one without its record".into()))?;
+        return decode(rgce, extra, ctx, Some(cell.pos), sheet);
+    }
+    decode(&cell.rgce, &cell.extra, ctx, None, sheet)
+}
+
+/// The last row and column of a sheet: a reference over all of them is a whole column or
+/// row.
+const LAST_ROW: u32 = 0xF_FFFF;
+const LAST_COL: u32 = 0x3FFF;
+
+/// The formula of `rgce` (with `extra`, its `RgbExtra`) as an xlsx file spells it. `origin`
+/// is the cell a shared formula computes in, which its relative references (`PtgRefN`,
+/// `PtgAreaN`) count from; `sheet` the file index of the formula's sheet.
+fn decode(
+    rgce: &[u8],
+    extra: &[u8],
+    ctx: &Context,
+    origin: Option<(u32, u32)>,
+    sheet: Option<usize>,
+) -> Result<String, Unreadable> {
+    let mut bytes = Bytes { data: rgce, at: 0 };
+    let mut extra = Bytes { data: extra, at: 0 };
+    let mut stack: Vec<Item> = Vec::new();
+    while !bytes.done() {
+        let ptg = bytes.u8()?;
+        // Operand and function tokens come in three classes (reference, value, array).
+        let base = if ptg >= 0x20 { (ptg & 0x1F) | 0x20 } else { ptg };
+        match base {
+            0x01 => return Err(Unreadable::Token("a shared or array formula inside another".into())),
+            0x02 => return Err(Unreadable::DataTable),
+            0x03..=0x11 => biff::binary(&mut stack, ptg)?,
+            0x12 | 0x13 => {
+                let operand = stack.pop().ok_or_else(biff::damaged)?;
+                let sign = if ptg == 0x12 { '+' } else { '-' };
+                let text = format!("{sign}{}", biff::wrap(operand, biff::UNARY));
+                stack.push(Item { text, precedence: biff::UNARY });
+            }
+            0x14 => {
+                let operand = stack.pop().ok_or_else(biff::damaged)?;
+                let text = format!("{}%", biff::wrap(operand, biff::PERCENT));
+                stack.push(Item { text, precedence: biff::PERCENT });
+            }
+            0x15 => {
+                let inner = stack.pop().ok_or_else(biff::damaged)?;
+                stack.push(atom(format!("({})", inner.text)));
+            }
+            0x16 => stack.push(atom(String::new())),
+            0x17 => {
+                // PtgStr: a count of UTF-16 units, then the units (no flags byte).
+                let cch = bytes.u16()? as usize;
+                let units: Vec<u16> =
+                    bytes.take(2 * cch)?.chunks_exact(2).map(|u| u16::from_le_bytes([u[0], u[1]])).collect();
+                let text = String::from_utf16_lossy(&units);
+                stack.push(atom(format!("\"{}\"", text.replace('"', "\"\""))));
+            }
+            0x18 => return Err(Unreadable::Token("a table reference".into())),
+            0x19 => biff::attribute(&mut bytes, &mut stack)?,
+            0x1C => stack.push(atom(biff::error_text(bytes.u8()?).to_string())),
+            0x1D => stack.push(atom(if bytes.u8()? != 0 { "TRUE" } else { "FALSE" }.to_string())),
+            0x1E => stack.push(atom(bytes.u16()?.to_string())),
+            0x1F => stack.push(atom(biff::number(bytes.f64()?))),
+            0x20 => return Err(Unreadable::Token("an array constant".into())),
+            0x21 => {
+                let (name, argc) = function(bytes.u16()?)?;
+                let argc = argc.ok_or_else(|| Unreadable::Token(format!("{name} with a fixed count of arguments")))?;
+                biff::call(&mut stack, name, argc as usize)?;
+            }
+            0x22 => {
+                let argc = (bytes.u8()? & 0x7F) as usize;
+                let iftab = bytes.u16()? & 0x7FFF;
+                if iftab == 0xFF {
+                    biff::user_call(&mut stack, argc)?;
+                } else {
+                    biff::call(&mut stack, function(iftab)?.0, argc)?;
+                }
+            }
+            0x23 => {
+                let index = bytes.u32()? as usize;
+                stack.push(atom(biff::defined_name(ctx, index, sheet)?));
+            }
+            0x24 | 0x2C => {
+                let (row, col) = (bytes.u32()?, bytes.u16()?);
+                let at = if base == 0x2C { origin } else { None };
+                stack.push(atom(cell_text(location(row, col, at))));
+            }
+            0x25 | 0x2D => {
+                let (r1, r2, c1, c2) = (bytes.u32()?, bytes.u32()?, bytes.u16()?, bytes.u16()?);
+                let at = if base == 0x2D { origin } else { None };
+                stack.push(atom(area_text(location(r1, c1, at), location(r2, c2, at))));
+            }
+            0x26..=0x28 => {
+                // A reference expression's precomputed area: the tokens that compute it
+                // follow, and its cached rectangles (RFx, 16 bytes each) are in the extra data.
+                bytes.take(6)?;
+                if base == 0x26 {
+                    let count = extra.u32()? as usize;
+                    extra.take(count.checked_mul(16).ok_or_else(biff::damaged)?)?;
+                }
+            }
+            0x29 | 0x2E | 0x2F => {
+                bytes.take(2)?;
+            }
+            0x2A => {
+                bytes.take(6)?;
+                stack.push(atom("#REF!".into()));
+            }
+            0x2B => {
+                bytes.take(12)?;
+                stack.push(atom("#REF!".into()));
+            }
+            0x39 => {
+                let (ixti, index) = (bytes.u16()?, bytes.u32()? as usize);
+                stack.push(atom(biff::external_name(ctx, ixti, index)?));
+            }
+            0x3A | 0x3C => {
+                let ixti = bytes.u16()?;
+                let (row, col) = (bytes.u32()?, bytes.u16()?);
+                let text = match biff::sheet_prefix(ctx, ixti)? {
+                    Some(prefix) if base == 0x3A => format!("{prefix}{}", cell_text(location(row, col, None))),
+                    _ => "#REF!".to_string(),
+                };
+                stack.push(atom(text));
+            }
+            0x3B | 0x3D => {
+                let ixti = bytes.u16()?;
+                let (r1, r2, c1, c2) = (bytes.u32()?, bytes.u32()?, bytes.u16()?, bytes.u16()?);
+                let text = match biff::sheet_prefix(ctx, ixti)? {
+                    Some(prefix) if base == 0x3B => {
+                        format!("{prefix}{}", area_text(location(r1, c1, None), location(r2, c2, None)))
+                    }
+                    _ => "#REF!".to_string(),
+                };
+                stack.push(atom(text));
+            }
+            other => return Err(Unreadable::Token(format!("the token 0x{other:02X}"))),
+        }
+    }
+    match (stack.pop(), stack.is_empty()) {
+        (Some(item), true) => Ok(item.text),
+        _ => Err(biff::damaged()),
+    }
+}
+
+/// A built-in function by its number: BIFF8's table ([MS-XLS] 2.5.198.17), which MS-XLSB's
+/// Ftab ([MS-XLSB] 2.5.98.10) continues with Excel 2007's functions.
+fn function(iftab: u16) -> Result<(&'static str, Option<u8>), Unreadable> {
+    const EXCEL_2007: &[(u16, &str, Option<u8>)] = &[
+        (480, "IFERROR", Some(2)),
+        (481, "COUNTIFS", None),
+        (482, "SUMIFS", None),
+        (483, "AVERAGEIF", None),
+        (484, "AVERAGEIFS", None),
+    ];
+    match EXCEL_2007.iter().find(|&&(n, ..)| n == iftab) {
+        Some(&(_, name, argc)) => Ok((name, argc)),
+        None => biff::function(iftab),
+    }
+}
+
+/// One end of a reference: (row, column, row relative, column relative). The column field
+/// (`ColRelShort`) holds 14 bits of column, bit 14 the column relative, bit 15 the row
+/// relative; in a shared formula (`origin`) a relative part is a signed offset from it.
+fn location(row: u32, col: u16, origin: Option<(u32, u32)>) -> (u32, u32, bool, bool) {
+    let col_relative = col & 0x4000 != 0;
+    let row_relative = col & 0x8000 != 0;
+    let (mut r, mut c) = (row, u32::from(col & 0x3FFF));
+    if let Some((orow, ocol)) = origin {
+        if row_relative {
+            r = (i64::from(orow) + i64::from(row as i32)).rem_euclid(i64::from(LAST_ROW) + 1) as u32;
+        }
+        if col_relative {
+            // 14 bits, signed.
+            let offset = ((c << 18) as i32 >> 18) as i64;
+            c = (i64::from(ocol) + offset).rem_euclid(i64::from(LAST_COL) + 1) as u32;
+        }
+    }
+    (r, c, row_relative, col_relative)
+}
+
+fn dollar(relative: bool) -> &'static str {
+    if relative {
+        ""
+    } else {
+        "$"
+    }
+}
+
+fn cell_text((row, col, row_relative, col_relative): (u32, u32, bool, bool)) -> String {
+    format!("{}{}{}{}", dollar(col_relative), column_name(col), dollar(row_relative), row + 1)
+}
+
+/// An area as a file spells it: all rows of columns is `A:B`, all columns of rows `1:2`.
+fn area_text(first: (u32, u32, bool, bool), last: (u32, u32, bool, bool)) -> String {
+    if first.0 == 0 && last.0 == LAST_ROW {
+        return format!("{}{}:{}{}", dollar(first.3), column_name(first.1), dollar(last.3), column_name(last.1));
+    }
+    if first.1 == 0 && last.1 == LAST_COL {
+        return format!("{}{}:{}{}", dollar(first.2), first.0 + 1, dollar(last.2), last.0 + 1);
+    }
+    format!("{}:{}", cell_text(first), cell_text(last))
 }
 
 /// The value of `name="…"` in an XML start tag's text.
@@ -179,164 +549,48 @@ impl<R: Read> Records<R> {
     }
 }
 
-/// A formula's text without its string constants (a `!` in `"Hello!"` is no sheet's).
-fn outside_strings(text: &str) -> String {
-    text.split('"').step_by(2).collect()
-}
-
-/// calamine's spelling of a formula with `>` and `>=` outside string constants swapped back
-/// (calamine names PtgGe `>` and PtgGt `>=`); `<>` and `<=` are left alone.
-fn comparisons_as_stored(text: &str) -> String {
-    let mut out = String::with_capacity(text.len() + 2);
-    let mut chars = text.chars().peekable();
-    let mut in_string = false;
-    let mut previous = None;
-    while let Some(c) = chars.next() {
-        if c == '"' {
-            in_string = !in_string;
-        }
-        if c == '>' && !in_string && previous != Some('<') {
-            if chars.peek() == Some(&'=') {
-                chars.next();
-                out.push('>');
-            } else {
-                out.push_str(">=");
-            }
-            previous = Some('>');
-            continue;
-        }
-        out.push(c);
-        previous = Some(c);
-    }
-    out
-}
-
-/// One cell of calamine's spelling: `$`, column letters, `$`, row digits.
-struct Spelled {
-    first_dollar: bool,
-    column: u32,
-    second_dollar: bool,
-    row: String,
-}
-
-/// Whether `c` may sit right before a reference: anything but a name's or a sheet's end.
-fn may_precede(c: Option<&char>) -> bool {
-    c.is_none_or(|c| !(c.is_alphanumeric() || matches!(c, '_' | '.' | '$' | '!' | '\'' | ']')))
-}
-
-/// Whether `c` may sit right after a reference: not a name's, nor a call's `(`.
-fn may_follow(c: Option<&char>) -> bool {
-    c.is_none_or(|c| !(c.is_alphanumeric() || matches!(c, '_' | '.' | '$' | '!' | '(')))
-}
-
-/// The cell spelled at `chars[at..]` and where it ends.
-fn spelled_at(chars: &[char], at: usize) -> Option<(Spelled, usize)> {
-    let mut i = at;
-    let first_dollar = chars.get(i) == Some(&'$');
-    i += usize::from(first_dollar);
-    let letters = i;
-    while i < chars.len() && chars[i].is_ascii_uppercase() && i - letters < 4 {
-        i += 1;
-    }
-    if i == letters {
-        return None;
-    }
-    let column = chars[letters..i].iter().fold(0u32, |n, c| n * 26 + (*c as u32 - 'A' as u32 + 1)) - 1;
-    let second_dollar = chars.get(i) == Some(&'$');
-    i += usize::from(second_dollar);
-    let digits = i;
-    while i < chars.len() && chars[i].is_ascii_digit() {
-        i += 1;
-    }
-    if i == digits {
-        return None;
-    }
-    let row = chars[digits..i].iter().collect();
-    Some((Spelled { first_dollar, column, second_dollar, row }, i))
-}
-
-fn cell_text(column: u32, column_absolute: bool, row: &str, row_absolute: bool) -> String {
-    let dollar = |on: bool| if on { "$" } else { "" };
-    format!("{}{}{}{row}", dollar(column_absolute), column_name(column), dollar(row_absolute))
-}
-
-/// A single cell as stored: calamine writes the row's `$` before the column and the
-/// column's after it.
-fn single_as_stored(cell: &Spelled) -> String {
-    cell_text(cell.column, cell.second_dollar, &cell.row, cell.first_dollar)
-}
-
-/// One end of an area as stored: calamine writes `$` on both and leaves the flags in the
-/// column number (0x4000: the column is relative, 0x8000: the row is).
-fn area_end_as_stored(cell: &Spelled) -> String {
-    cell_text(cell.column & 0x3FFF, cell.column & 0x4000 == 0, &cell.row, cell.column & 0x8000 == 0)
-}
-
-/// calamine's spelling of a formula with its cell and area references, outside string
-/// constants, as the file stores them (see the module's comment).
-fn references_as_stored(text: &str) -> String {
-    let chars: Vec<char> = text.chars().collect();
-    let mut out = String::with_capacity(text.len());
-    let mut in_string = false;
-    let mut i = 0;
-    while i < chars.len() {
-        let c = chars[i];
-        if c == '"' {
-            in_string = !in_string;
-        }
-        let starts = !in_string && may_precede(i.checked_sub(1).and_then(|p| chars.get(p)));
-        if let Some((first, end)) = starts.then(|| spelled_at(&chars, i)).flatten() {
-            let second = (chars.get(end) == Some(&':')).then(|| spelled_at(&chars, end + 1)).flatten();
-            match second {
-                Some((second, end2)) if may_follow(chars.get(end2)) => {
-                    let calamines_area = [&first, &second].iter().all(|c| c.first_dollar && c.second_dollar);
-                    let ends = if calamines_area {
-                        [area_end_as_stored(&first), area_end_as_stored(&second)]
-                    } else {
-                        [single_as_stored(&first), single_as_stored(&second)]
-                    };
-                    out.push_str(&ends.join(":"));
-                    i = end2;
-                    continue;
-                }
-                None if may_follow(chars.get(end)) => {
-                    out.push_str(&single_as_stored(&first));
-                    i = end;
-                    continue;
-                }
-                _ => {}
-            }
-        }
-        out.push(c);
-        i += 1;
-    }
-    out
-}
-
 #[cfg(test)]
 mod tests {
-    use super::{comparisons_as_stored, outside_strings, references_as_stored};
+    use super::*;
 
-    #[test]
-    fn a_bang_in_a_string_is_no_sheet_reference() {
-        assert!(!outside_strings("\"Hello!\"&A1").contains('!'));
-        assert!(outside_strings("Sheet2!A1&\"x\"").contains('!'));
+    fn run(rgce: &[u8], origin: Option<(u32, u32)>) -> Result<String, Unreadable> {
+        let sheets = vec!["Sheet1".to_string(), "My Data".to_string()];
+        let xtis = vec![(0, 1, 1)];
+        let books = vec![SupBook::Own];
+        let names = vec![("Rate".to_string(), None), ("_xlfn.XOR".to_string(), None)];
+        let ctx = Context { sheets: &sheets, xtis: &xtis, books: &books, names: &names };
+        decode(rgce, &[], &ctx, origin, Some(0))
     }
 
     #[test]
-    fn calamines_reference_flags_are_read_as_stored() {
-        // A relative area: both flags in each column number (0xC000 + column).
-        assert_eq!(references_as_stored("SUM($BTRM$2:$BTRN$2)"), "SUM(A2:B2)");
-        // Column relative only (0x4000 + column), and an absolute area left alone.
-        assert_eq!(references_as_stored("DCOUNTA($XFE$1:$XFL$11,F$1,$A$1:$H$11)"), "DCOUNTA(A$1:H$11,$F1,$A$1:$H$11)");
-        // Single cells swap their marks; names, functions and strings are left alone.
-        assert_eq!(references_as_stored("A$2>$B2+LOG10(C3)&\"$D$4 E5\""), "$A2>B$2+LOG10(C3)&\"$D$4 E5\"");
+    fn a_quote_in_a_string_is_doubled() {
+        // PtgStr of `a"b` (3 UTF-16 units, [MS-XLSB] 2.5.98.81).
+        assert_eq!(run(&[0x17, 3, 0, b'a', 0, b'"', 0, b'b', 0], None).unwrap(), "\"a\"\"b\"");
     }
 
     #[test]
-    fn calamines_greater_than_operators_are_swapped_back_outside_strings() {
-        assert_eq!(comparisons_as_stored("A1>B1"), "A1>=B1");
-        assert_eq!(comparisons_as_stored("A1>=B1"), "A1>B1");
-        assert_eq!(comparisons_as_stored("IF(A1<>B1,A1<=B1,\"a>b\">\"c>=d\")"), "IF(A1<>B1,A1<=B1,\"a>b\">=\"c>=d\")");
+    fn references_keep_their_flags_rows_are_four_bytes() {
+        // PtgRef B3, both relative (bits 15 and 14 of the column); $A1 (row relative only).
+        assert_eq!(run(&[0x44, 2, 0, 0, 0, 1, 0xC0], None).unwrap(), "B3");
+        assert_eq!(run(&[0x44, 0, 0, 0, 0, 0, 0x80], None).unwrap(), "$A1");
+        // PtgGe is 0x0C, PtgGt 0x0D ([MS-XLSB] 2.5.98.16).
+        assert_eq!(run(&[0x1E, 1, 0, 0x1E, 2, 0, 0x0C], None).unwrap(), "1>=2");
+        assert_eq!(run(&[0x1E, 1, 0, 0x1E, 2, 0, 0x0D], None).unwrap(), "1>2");
+    }
+
+    #[test]
+    fn a_3d_reference_names_its_sheet_through_the_extern_sheet() {
+        // PtgArea3d, XTI 0 (sheet 1, 'My Data'), all rows of column A: a whole column.
+        let rgce = [0x3B, 0, 0, 0, 0, 0, 0, 0xFF, 0xFF, 0x0F, 0, 0, 0x40, 0, 0x40];
+        assert_eq!(run(&rgce, None).unwrap(), "'My Data'!A:A");
+    }
+
+    #[test]
+    fn shared_formulas_count_from_their_cell_and_future_functions_are_named() {
+        // PtgRefN row -1, column +1 (relative) from C5 (row 4, column 2): D4.
+        assert_eq!(run(&[0x4C, 0xFF, 0xFF, 0xFF, 0xFF, 0x01, 0xC0], Some((4, 2))).unwrap(), "D4");
+        // PtgName 2 (the hidden `_xlfn.XOR`), TRUE, PtgFuncVar of 2 through number 255.
+        assert_eq!(run(&[0x23, 2, 0, 0, 0, 0x1D, 1, 0x42, 2, 0xFF, 0], None).unwrap(), "_xlfn.XOR(TRUE)");
+        assert_eq!(run(&[0x43, 1, 0, 0, 0], None).unwrap(), "Rate");
     }
 }
