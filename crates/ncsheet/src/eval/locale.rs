@@ -48,6 +48,14 @@ pub struct LocaleData {
     pub list: char,
     pub date_order: DateOrder,
     pub date_separator: char,
+    /// The separators a typed date may have between its day, month and year (besides ISO's
+    /// `2025-03-12`, which every locale reads), as LibreOffice set to the locale reads them:
+    /// only `.` in de-DE and et-EE (`12/03/2025` is text there), `/`, `.` or `-` in fr-FR.
+    pub date_separators_typed: &'static str,
+    /// Day and month typed without a year, which mean the current year's day (LibreOffice's
+    /// date acceptance patterns, as it reads them: de-DE `12.03.` with the last `.`, et-EE
+    /// `12.03` with or without it, fr-FR `12/03`). `D` is the day, `M` the month.
+    pub year_less: &'static [&'static str],
     /// The short date as a canonical format code (what Excel's built-in format 14 shows).
     pub short_date: &'static str,
     /// The months' full names, January first, between spaces.
@@ -80,6 +88,9 @@ static EN_US: LocaleData = LocaleData {
     list: ',',
     date_order: DateOrder::MonthDayYear,
     date_separator: '/',
+    // en-US reads dates through `dates::parse_date_text`, not these.
+    date_separators_typed: "/-",
+    year_less: &[],
     short_date: "m/d/yyyy",
     months: "January February March April May June July August September October November December",
     days: "Sunday Monday Tuesday Wednesday Thursday Friday Saturday",
@@ -101,6 +112,8 @@ const DECIMAL_COMMA: LocaleData = LocaleData {
     list: ';',
     date_order: DateOrder::DayMonthYear,
     date_separator: '.',
+    date_separators_typed: ".",
+    year_less: &["D.M"],
     short_date: "dd.mm.yyyy",
     months: "",
     days: "",
@@ -124,12 +137,15 @@ static LOCALES: [&LocaleData; 8] = [
         days_short: "So Mo Di Mi Do Fr Sa",
         format_letters: &[('T', 'd'), ('J', 'y')],
         booleans: ["WAHR", "FALSCH"],
+        year_less: &["D.M."],
         ..DECIMAL_COMMA
     },
     &LocaleData {
         tag: "fr-FR",
         english_name: "French (France)",
         date_separator: '/',
+        date_separators_typed: "/.-",
+        year_less: &["D/M"],
         short_date: "dd/mm/yyyy",
         months: "janvier février mars avril mai juin juillet août septembre octobre novembre décembre",
         days: "dimanche lundi mardi mercredi jeudi vendredi samedi",
@@ -149,6 +165,7 @@ static LOCALES: [&LocaleData; 8] = [
         months_short: "jaan veebr märts apr mai juuni juuli aug sept okt nov dets",
         days_short: "P E T K N R L",
         booleans: ["TÕENE", "VÄÄR"],
+        year_less: &["D.M", "D.M."],
         ..DECIMAL_COMMA
     },
     &LocaleData {
@@ -171,6 +188,7 @@ static LOCALES: [&LocaleData; 8] = [
         months_short: "I II III IV V VI VII VIII IX X XI XII",
         days_short: "Ne Po Ut St Št Pi So",
         booleans: ["PRAVDA", "NEPRAVDA"],
+        year_less: &["D.M."],
         ..DECIMAL_COMMA
     },
     &LocaleData {
@@ -198,6 +216,7 @@ static LOCALES: [&LocaleData; 8] = [
         currency: "Ft",
         days_short: "V H K Sze Cs P Szo",
         booleans: ["IGAZ", "HAMIS"],
+        year_less: &["M.D", "M.D."],
         ..DECIMAL_COMMA
     },
 ];
@@ -342,7 +361,13 @@ impl Locale {
             return Some(dates::DateText { date: Some(date), time: None });
         }
         if let Some(named) = self.with_english_months(text) {
-            return dates::parse_date_text(system, &named);
+            return dates::parse_date_text(system, &named).or_else(|| {
+                // A day and a named month (`12. März`) are the current year's, as a day and
+                // month in numbers are.
+                let [day, month] = named.split(' ').collect::<Vec<_>>()[..] else { return None };
+                date_number(day)?;
+                dates::parse_date_text(system, &format!("{day} {month} {}", this_year()))
+            });
         }
         if !text.contains(':') {
             return None;
@@ -399,17 +424,31 @@ impl Locale {
         }
     }
 
-    /// A short date in the locale's order with `.`, `/` or `-` between its parts (and ISO's
-    /// year-first order, which every Excel reads), as its serial.
+    /// A short date in the locale's order with one of its typed separators between its parts
+    /// (and ISO's `2025-03-12`, which every Excel and LibreOffice reads), or a day and month
+    /// without a year in one of the locale's forms, as its serial.
     fn read_day(self, text: &str, system: DateSystem) -> Option<i64> {
+        let (year, month, day) = self.full_date(text).or_else(|| self.year_less_date(text))?;
+        let valid = (1900..=9999).contains(&year)
+            && (1..=12).contains(&month)
+            && day >= 1
+            && day <= i64::from(dates::days_in_month(year, month as u32));
+        valid.then(|| dates::serial_from_ymd(system, year, month, day))
+    }
+
+    /// Year, month and day of a date with all three typed (`12.03.2025`, hu-HU
+    /// `2025.03.12.`): one separator throughout, one this locale reads in dates.
+    fn full_date(self, text: &str) -> Option<(i64, i64, i64)> {
         let t = text.strip_suffix('.').unwrap_or(text);
-        let parts: Vec<&str> = t.split(['.', '/', '-']).map(str::trim).collect();
+        let separator = t.chars().find(|c| matches!(c, '.' | '/' | '-'))?;
+        let parts: Vec<&str> = t.split(separator).map(str::trim).collect();
         let [a, b, c] = parts.as_slice() else { return None };
-        let number = |s: &str| -> Option<i64> {
-            (!s.is_empty() && s.len() <= 4 && s.bytes().all(|b| b.is_ascii_digit())).then(|| s.parse().ok())?
-        };
-        let (a_n, b_n, c_n) = (number(a)?, number(b)?, number(c)?);
-        let (year, month, day, year_text) = if a.len() == 4 || self.date_order == DateOrder::YearMonthDay {
+        let iso = separator == '-' && a.len() == 4;
+        if !iso && !self.date_separators_typed.contains(separator) {
+            return None;
+        }
+        let (a_n, b_n, c_n) = (date_number(a)?, date_number(b)?, date_number(c)?);
+        let (year, month, day, year_text) = if iso || self.date_order == DateOrder::YearMonthDay {
             (a_n, b_n, c_n, *a)
         } else if self.date_order == DateOrder::DayMonthYear {
             (c_n, b_n, a_n, *c)
@@ -422,11 +461,23 @@ impl Locale {
             4 => year,
             _ => return None,
         };
-        let valid = (1900..=9999).contains(&year)
-            && (1..=12).contains(&month)
-            && day >= 1
-            && day <= i64::from(dates::days_in_month(year, month as u32));
-        valid.then(|| dates::serial_from_ymd(system, year, month, day))
+        Some((year, month, day))
+    }
+
+    /// Year, month and day of a day and month typed without a year in one of this locale's
+    /// forms ([`LocaleData::year_less`]): the current year's, as Excel and LibreOffice read
+    /// it (the value changes with the year, as it does there).
+    fn year_less_date(self, text: &str) -> Option<(i64, i64, i64)> {
+        self.year_less.iter().find_map(|form| {
+            let form: Vec<char> = form.chars().collect();
+            let separator = form[1];
+            let body = if form.len() == 4 { text.strip_suffix(separator)? } else { text };
+            let (first, second) = body.split_once(separator)?;
+            let part = |s: &str| (s.trim().len() <= 2).then(|| date_number(s.trim()))?;
+            let (first, second) = (part(first)?, part(second)?);
+            let (month, day) = if form[0] == 'D' { (second, first) } else { (first, second) };
+            (month <= 12 && day <= 31).then(|| (this_year(), month, day))
+        })
     }
 
     /// A value with its text read as a number in this locale, for arithmetic: text that is no
@@ -686,6 +737,11 @@ impl Locale {
         let chars: Vec<char> = code.chars().collect();
         let placeholder = |i: Option<usize>| i.and_then(|i| chars.get(i)).is_some_and(|c| matches!(c, '0' | '#' | '?'));
         let is_group = |c: char| c == self.group || self.group_typed.contains(&c);
+        // Whether the group marks before `i` (if any) follow a digit placeholder.
+        let after_placeholder = |i: usize| {
+            let before = chars[..i].iter().rposition(|&c| !is_group(c));
+            before.is_some_and(|j| placeholder(Some(j)))
+        };
         let mut out = String::with_capacity(code.len());
         let mut i = 0;
         while i < chars.len() {
@@ -710,8 +766,10 @@ impl Locale {
                 }
                 _ if c == self.decimal => out.push('.'),
                 _ if is_group(c) && placeholder(i.checked_sub(1)) && placeholder(Some(i + 1)) => out.push(','),
-                // A group separator after the last placeholder scales by 1000, as `,` does.
-                _ if is_group(c) && c != ' ' && placeholder(i.checked_sub(1)) => out.push(','),
+                // Group separators after the last placeholder scale by 1000 each, as `,` does:
+                // a space too where spaces group digits (fr-FR `0,0 €` shows 1234.5 as
+                // `1,2€`, `0  ` divides by a million), as LibreOffice set to the locale does.
+                _ if is_group(c) && after_placeholder(i) => out.push(','),
                 // A mark that is neither the decimal nor the group here is a literal character.
                 '.' | ',' => {
                     out.push('\\');
@@ -783,6 +841,17 @@ impl Locale {
         }
         Some((other, self.localize_shown(&general(n))))
     }
+}
+
+/// A part of a typed date: one to four digits.
+fn date_number(s: &str) -> Option<i64> {
+    (!s.is_empty() && s.len() <= 4 && s.bytes().all(|b| b.is_ascii_digit())).then(|| s.parse().ok())?
+}
+
+/// The current year by the system clock, which a date typed without a year falls in.
+fn this_year() -> i64 {
+    use chrono::Datelike;
+    i64::from(chrono::Local::now().year())
 }
 
 /// A space between digits or beside a number: plain, no-break or narrow no-break.
@@ -969,6 +1038,42 @@ mod tests {
         assert_eq!(read(de, "12 mars 2025"), None);
     }
 
+    /// What LibreOffice set to each locale reads as a date (DATEVALUE there): only its own
+    /// separators between a date's parts (fr-FR also `.` and `-`), ISO's year-first form, and
+    /// a day and month without a year in the locale's forms, which are the current year's.
+    #[test]
+    fn date_separators_and_dates_without_a_year_read_as_libreoffice_reads_them() {
+        let (fr, de, et) = (locale("fr-FR"), locale("de-DE"), locale("et-EE"));
+        let read = |l: Locale, text: &str| l.read_number(text, DateSystem::From1900);
+        // 2025-03-12 is serial 45728 (DATE(2025,3,12) in Excel).
+        for (l, text) in
+            [(de, "12/03/2025"), (de, "12-03-2025"), (et, "12/3/25"), (de, "2025/03/12"), (fr, "2025.03.12")]
+        {
+            assert_eq!(read(l, text), None, "{l}: {text}");
+        }
+        for (l, text) in [(fr, "12/3/25"), (fr, "12-03-2025"), (fr, "12.03.2025"), (de, "2025-03-12"), (et, "12.3.25")]
+        {
+            assert_eq!(read(l, text), Some(45728.0), "{l}: {text}");
+        }
+        // The year is the clock's when the test runs (Excel and LibreOffice take it so).
+        use chrono::Datelike;
+        let year = i64::from(chrono::Local::now().year());
+        let march_12 = dates::serial_from_ymd(DateSystem::From1900, year, 3, 12) as f64;
+        for (l, text) in [(de, "12.03."), (de, "12.3."), (et, "12.03"), (et, "12.3."), (fr, "12/03"), (fr, "12/3")] {
+            assert_eq!(read(l, text), Some(march_12), "{l}: {text}");
+        }
+        for (l, text) in [(de, "12. März"), (de, "12 Mär"), (fr, "12 mars"), (et, "12. märts")] {
+            assert_eq!(read(l, text), Some(march_12), "{l}: {text}");
+        }
+        assert_eq!(locale("hu-HU").read_number("3.12.", DateSystem::From1900), Some(march_12));
+        for (l, text) in [(de, "12.03"), (fr, "12.03."), (et, "12/03"), (de, "12-03"), (de, "12.13."), (de, "März 12")]
+        {
+            assert_eq!(read(l, text), None, "{l}: {text}");
+        }
+        // en-US reads no date without a year: its results stay as they were.
+        assert_eq!(Locale::EN_US.read_number("3/12", DateSystem::From1900), None);
+    }
+
     #[test]
     fn shown_numbers_and_format_codes_take_the_locale_marks() {
         let fr = locale("fr-FR");
@@ -984,6 +1089,11 @@ mod tests {
         // A `.` between placeholders where it is no mark: the code is read as en-US writes it.
         assert_eq!(fr.canonical_format_code("00.00"), "00.00");
         assert_eq!(locale("et-EE").canonical_format_code("#,##0.00"), "#,##0.00");
+        // Spaces after the last placeholder scale by 1000 each where spaces group digits.
+        assert_eq!(fr.canonical_format_code("0,0 \\€"), "0.0,\\€");
+        assert_eq!(fr.canonical_format_code("0  "), "0,,");
+        assert_eq!(fr.canonical_format_code("0,0\\ \\€"), "0.0\\ \\€");
+        assert_eq!(locale("de-DE").canonical_format_code("0,0 \\€"), "0.0 \\€");
     }
 
     /// LibreOffice set to each locale (TEXT of 2025-03-12 and of the first of each month).

@@ -50,6 +50,40 @@ pub fn bool_or(ctx: &mut Ctx, args: &[Expr], i: usize, default: bool) -> XlResul
 /// array — how `SIN(A1:A5)` spills in Excel 365.
 pub fn lift(ctx: &mut Ctx, args: &[Expr], f: &dyn Fn(&[Value]) -> XlResult<Value>) -> XlResult<Value> {
     let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    ctx.charge_texts(&values);
+    let lifted = lift_values(&values, f);
+    explain_lifted_size(ctx, &values, &lifted);
+    lifted
+}
+
+/// A number or date argument's value with its text read as the workbook's locale reads it
+/// (`"12.03.2025"` is 12 March and `"0,5"` a half in de-DE), as arithmetic on text does;
+/// text that is no number there is `#VALUE!`. Under en-US the value is unchanged.
+pub fn in_locale(ctx: &Ctx, v: Value) -> Value {
+    ctx.locale().numbers_for_arithmetic(v, ctx.dates())
+}
+
+/// [`lift`] for functions whose arguments at the positions `numeric` picks are numbers or
+/// dates, read [`in_locale`]; the others (a unit, a weekend mask) stay as they are. Every
+/// function taking dates reads their text this one way (DATEDIF, WORKDAY, COUPNCD, …).
+pub fn lift_in_locale(
+    ctx: &mut Ctx,
+    args: &[Expr],
+    numeric: &dyn Fn(usize) -> bool,
+    f: &dyn Fn(&[Value]) -> XlResult<Value>,
+) -> XlResult<Value> {
+    let values: Vec<Value> = args
+        .iter()
+        .enumerate()
+        .map(|(i, a)| {
+            let v = ctx.eval(a);
+            if numeric(i) {
+                in_locale(ctx, v)
+            } else {
+                v
+            }
+        })
+        .collect();
     let lifted = lift_values(&values, f);
     explain_lifted_size(ctx, &values, &lifted);
     lifted
@@ -179,6 +213,9 @@ fn for_each_value_of(
             }
         }
         Operand::Value(Value::Array(arr)) => {
+            // `SUM(a)` of an array bound outside MAP's LAMBDA reads it whole at every call.
+            let (rows, cols) = arr.whole_size();
+            ctx.charge(rows.saturating_mul(cols));
             for v in &arr.data {
                 f(v, Source::Collection)?;
             }

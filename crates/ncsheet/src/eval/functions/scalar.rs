@@ -5,7 +5,7 @@ use std::rc::Rc;
 
 use crate::eval::coerce::{to_number, to_text};
 use crate::eval::dates::DateSystem;
-use crate::eval::functions::api::{lift, Ctx};
+use crate::eval::functions::api::{lift, lift_in_locale, Ctx};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
@@ -46,6 +46,14 @@ impl Scalars<'_> {
 pub fn scalar(ctx: &mut Ctx, args: &[Expr], f: &dyn Fn(Scalars) -> XlResult<Value>) -> XlResult<Value> {
     let dates = ctx.dates();
     lift(ctx, args, &|v| f(Scalars(v, dates)))
+}
+
+/// [`scalar`] for functions whose every argument is a number or a date (the financial
+/// ones): text reads as the workbook's locale reads it (`"12.03.2025"` in de-DE), as
+/// arithmetic on text does.
+pub fn scalar_numbers(ctx: &mut Ctx, args: &[Expr], f: &dyn Fn(Scalars) -> XlResult<Value>) -> XlResult<Value> {
+    let dates = ctx.dates();
+    lift_in_locale(ctx, args, &|_| true, &|v| f(Scalars(v, dates)))
 }
 
 /// A finite number, or #NUM!.

@@ -6,7 +6,7 @@
 use crate::eval::coerce::{to_bool, to_number, to_text};
 use crate::eval::dates::{self, days_in_month, is_leap_year, serial_from_ymd, DateSystem, DateTime, LAST_SERIAL};
 use crate::eval::functions::api::{
-    explain_lifted_size, for_each_value, lift, lift_values, Ctx, FnSpec, Outside, Source,
+    for_each_value, in_locale, lift, lift_in_locale, lift_values, Ctx, FnSpec, Outside, Source,
 };
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
@@ -171,11 +171,7 @@ fn serial(v: &Value, dates: DateSystem) -> XlResult<f64> {
 /// [`lift`] for functions whose every argument is a date, a time or a number: text reads as
 /// the workbook's locale reads it (`YEAR("12.03.2025")` is 2025 in de-DE), as arithmetic does.
 fn lift_dates(ctx: &mut Ctx, args: &[Expr], f: &dyn Fn(&[Value]) -> XlResult<Value>) -> XlResult<Value> {
-    let (locale, dates) = (ctx.locale(), ctx.dates());
-    let values: Vec<Value> = args.iter().map(|a| locale.numbers_for_arithmetic(ctx.eval(a), dates)).collect();
-    let lifted = lift_values(&values, f);
-    explain_lifted_size(ctx, &values, &lifted);
-    lifted
+    lift_in_locale(ctx, args, &|_| true, f)
 }
 
 /// A date argument split into calendar parts (time rounded to the second, as Excel does).
@@ -399,7 +395,8 @@ fn thirty_360(y1: i64, m1: u32, d1: u32, y2: i64, m2: u32, d2: u32) -> i64 {
 /// Excel), "YD" from the start's month and day in the end's year or the year before.
 fn datedif(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let dates = ctx.dates();
-    lift(ctx, args, &|v| {
+    // The dates read in the locale; the unit is text.
+    lift_in_locale(ctx, args, &|i| i < 2, &|v| {
         let (start, end) = (date_time(&v[0], dates)?, date_time(&v[1], dates)?);
         let unit = match &v[2] {
             Value::Error(e) => return Err(*e),
@@ -587,14 +584,18 @@ fn weekend(v: &Value, dates: DateSystem) -> XlResult<Weekend> {
 /// The holidays argument: dates from a range, an array or a value, sorted, each once. Blank
 /// cells are skipped; text and booleans in a range are `#VALUE!`.
 fn holidays(ctx: &mut Ctx, args: &[Expr], i: usize) -> XlResult<Vec<i64>> {
-    let dates = ctx.dates();
+    let (dates, locale) = (ctx.dates(), ctx.locale());
     let mut out = Vec::new();
     if !given(args, i) {
         return Ok(out);
     }
     for_each_value(ctx, &args[i..=i], &mut |v, source| {
         let day = match (v, source) {
-            (Value::Number(_), _) | (Value::Text(_), Source::Direct) => serial(v, dates)?.trunc() as i64,
+            (Value::Number(_), _) => serial(v, dates)?.trunc() as i64,
+            // Typed date text, read in the locale (`"13.03.2025"` in de-DE).
+            (Value::Text(_), Source::Direct) => {
+                serial(&locale.numbers_for_arithmetic(v.clone(), dates), dates)?.trunc() as i64
+            }
             (Value::Error(e), _) => return Err(*e),
             _ => return Err(XlError::Value),
         };
@@ -692,7 +693,9 @@ fn workdays_call(
         Some(i) if given(args, i) => ctx.eval(&args[i]),
         _ => Value::Blank,
     };
-    let values = [ctx.eval(&args[0]), ctx.eval(&args[1]), weekend_value];
+    // The start (and end) date and the count read in the locale; the weekend mask is text.
+    let (first, second) = (ctx.eval(&args[0]), ctx.eval(&args[1]));
+    let values = [in_locale(ctx, first), in_locale(ctx, second), weekend_value];
     lift_values(&values, &|v| {
         let calendar = Workdays { weekend: weekend(&v[2], dates)?, holidays: &holidays, dates };
         f(&calendar, &v[0], &v[1])

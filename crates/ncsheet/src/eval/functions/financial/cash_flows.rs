@@ -5,7 +5,7 @@
 //! (Newton's method from the guess, 0.1 by default) and give #NUM! when they do not converge.
 
 use crate::eval::functions::api::{
-    block, check, finite, number, number_or, numbers, scalar, whole_numbers, ArgSet, Ctx, FnSpec, Scalars, MANY,
+    block, check, finite, number, number_or, numbers, scalar_numbers, whole_numbers, ArgSet, Ctx, FnSpec, Scalars, MANY,
 };
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
@@ -168,7 +168,7 @@ fn no_zero_growth(rate: f64, nper: f64, divides: bool) -> XlResult<()> {
 }
 
 fn pv(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let (rate, nper) = (a.num(0)?, a.num(1)?);
         let (pmt, fv, kind) = (a.num(2)?, a.num_or(3, 0.0)?, payment_type(a, 4)?);
         no_zero_growth(rate, nper, true)?;
@@ -177,7 +177,7 @@ fn pv(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn fv(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let (rate, nper) = (a.num(0)?, a.num(1)?);
         let (pmt, pv, kind) = (a.num(2)?, a.num_or(3, 0.0)?, payment_type(a, 4)?);
         no_zero_growth(rate, nper, false)?;
@@ -186,7 +186,7 @@ fn fv(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn pmt(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let (rate, nper) = (a.num(0)?, a.num(1)?);
         // Excel refuses a rate of −1 or below (no sensible loan shrinks that fast).
         check(nper != 0.0 && rate > -1.0, XlError::Num)?;
@@ -195,7 +195,7 @@ fn pmt(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn nper(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let (rate, pmt, pv, fv, kind) = (a.num(0)?, a.num(1)?, a.num(2)?, a.num_or(3, 0.0)?, payment_type(a, 4)?);
         if rate == 0.0 {
             check(pmt != 0.0, XlError::Num)?;
@@ -208,7 +208,7 @@ fn nper(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn rate(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let (nper, pmt, pv, fv, kind) = (a.num(0)?, a.num(1)?, a.num(2)?, a.num_or(3, 0.0)?, payment_type(a, 4)?);
         let guess = a.num_or(5, 0.1)?;
         check(nper > 0.0, XlError::Num)?;
@@ -262,7 +262,7 @@ fn ipmt_of(rate: f64, per: f64, nper: f64, pv: f64, fv: f64, kind: f64) -> f64 {
 }
 
 fn ipmt(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let (rate, per, nper, pv) = (a.num(0)?, a.num(1)?, a.num(2)?, a.num(3)?);
         let (fv, kind) = (a.num_or(4, 0.0)?, payment_type(a, 5)?);
         check(per >= 1.0 && per < nper + 1.0, XlError::Num)?;
@@ -271,7 +271,7 @@ fn ipmt(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn ppmt(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let (rate, per, nper, pv) = (a.num(0)?, a.num(1)?, a.num(2)?, a.num(3)?);
         let (fv, kind) = (a.num_or(4, 0.0)?, payment_type(a, 5)?);
         check(per >= 1.0 && per < nper + 1.0, XlError::Num)?;
@@ -286,7 +286,7 @@ const MAX_PERIODS: f64 = 1e6;
 /// CUMIPMT and CUMPRINC: Excel reads the periods as whole ones (the start rounded up, the
 /// end down) and nper as given; booleans are #VALUE! (Analysis ToolPak functions).
 fn cumulative(ctx: &mut Ctx, args: &[Expr], principal: bool) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let number = |i| toolpak_number(a.value(i), a.1);
         let (rate, nper, pv) = (number(0)?, number(1)?, number(2)?);
         let (start, end, kind) = (number(3)?.ceil(), number(4)?.trunc(), number(5)?);
@@ -327,7 +327,7 @@ fn cumprinc(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn ispmt(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let (rate, per, nper, pv) = (a.num(0)?, a.num(1)?, a.num(2)?, a.num(3)?);
         check(nper != 0.0, XlError::Div0)?;
         finite(pv * rate * (per / nper - 1.0))
@@ -468,7 +468,7 @@ fn mirr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// first. A blank value is #NUM! for XNPV and 0 for XIRR; a text or boolean value #NUM! for
 /// XNPV and #VALUE! for XIRR (Excel's choices).
 fn dated_flows(ctx: &mut Ctx, values: &Expr, dates: &Expr, strict: bool) -> XlResult<(Vec<f64>, Vec<f64>)> {
-    let system = ctx.dates();
+    let (system, locale) = (ctx.dates(), ctx.locale());
     let not_number = if strict { XlError::Num } else { XlError::Value };
     let values: Vec<f64> = block(ctx, values)?
         .data
@@ -486,7 +486,8 @@ fn dated_flows(ctx: &mut Ctx, values: &Expr, dates: &Expr, strict: bool) -> XlRe
         .iter()
         .map(|v| match v {
             Value::Error(e) => Err(*e),
-            v => Ok(to_number(v, system)?.trunc()),
+            // Date text read in the locale (`"12.03.2025"` in de-DE).
+            v => Ok(to_number(&locale.numbers_for_arithmetic(v.clone(), system), system)?.trunc()),
         })
         .collect::<XlResult<_>>()?;
     check(values.len() == dates.len() && !values.is_empty(), XlError::Num)?;
@@ -533,7 +534,7 @@ fn fvschedule(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn sln(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let life = a.num(2)?;
         check(life != 0.0, XlError::Div0)?;
         finite((a.num(0)? - a.num(1)?) / life)
@@ -541,7 +542,7 @@ fn sln(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn syd(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let (cost, salvage, life, per) = (a.num(0)?, a.num(1)?, a.num(2)?, a.num(3)?);
         check(life > 0.0 && per > 0.0 && per <= life, XlError::Num)?;
         finite((cost - salvage) * (life - per + 1.0) * 2.0 / (life * (life + 1.0)))
@@ -549,7 +550,7 @@ fn syd(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn db(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let (cost, salvage, life, period) = (a.num(0)?, a.num(1)?, a.num(2)?, a.num(3)?.trunc());
         let month = a.num_or(4, 12.0)?.trunc();
         check(cost >= 0.0 && salvage >= 0.0 && life > 0.0 && period > 0.0, XlError::Num)?;
@@ -577,7 +578,7 @@ fn db(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn ddb(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let (cost, salvage, life, period) = (a.num(0)?, a.num(1)?, a.num(2)?, a.num(3)?);
         let factor = a.num_or(4, 2.0)?;
         check(cost >= 0.0 && salvage >= 0.0 && life > 0.0 && period > 0.0 && factor > 0.0, XlError::Num)?;
@@ -608,7 +609,7 @@ fn ddb_of(cost: f64, salvage: f64, life: f64, period: f64, factor: f64) -> f64 {
 /// prorated), switching to straight line on what is left once that is larger unless
 /// `no_switch`.
 fn vdb(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let (cost, salvage, life, start, end) = (a.num(0)?, a.num(1)?, a.num(2)?, a.num(3)?, a.num(4)?);
         let factor = a.num_or(5, 2.0)?;
         let no_switch = if a.given(6) { crate::eval::coerce::to_bool(a.value(6))? } else { false };
@@ -676,7 +677,7 @@ fn switching_ddb(cost: f64, salvage: f64, life: f64, remaining: f64, periods: f6
 }
 
 fn effect(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let (nominal, npery) = (toolpak_number(a.value(0), a.1)?, toolpak_number(a.value(1), a.1)?.trunc());
         check(nominal > 0.0 && npery >= 1.0, XlError::Num)?;
         finite((1.0 + nominal / npery).powf(npery) - 1.0)
@@ -684,7 +685,7 @@ fn effect(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn nominal(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let (effect, npery) = (toolpak_number(a.value(0), a.1)?, toolpak_number(a.value(1), a.1)?.trunc());
         check(effect > 0.0 && npery >= 1.0, XlError::Num)?;
         finite(((1.0 + effect).powf(1.0 / npery) - 1.0) * npery)
@@ -692,7 +693,7 @@ fn nominal(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn pduration(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let (rate, pv, fv) = (a.num(0)?, a.num(1)?, a.num(2)?);
         check(rate > 0.0 && pv > 0.0 && fv > 0.0, XlError::Num)?;
         finite((fv.ln() - pv.ln()) / rate.ln_1p())
@@ -700,7 +701,7 @@ fn pduration(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn rri(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let (nper, pv, fv) = (a.num(0)?, a.num(1)?, a.num(2)?);
         check(nper > 0.0 && pv != 0.0, XlError::Num)?;
         finite((fv / pv).powf(1.0 / nper) - 1.0)
@@ -716,7 +717,7 @@ fn fraction(a: Scalars) -> XlResult<(f64, f64)> {
 }
 
 fn dollarde(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let x = toolpak_number(a.value(0), a.1)?;
         let (f, scale) = fraction(a)?;
         finite(x.trunc() + x.fract() * scale / f)
@@ -724,7 +725,7 @@ fn dollarde(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn dollarfr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let x = toolpak_number(a.value(0), a.1)?;
         let (f, scale) = fraction(a)?;
         finite(x.trunc() + x.fract() * f / scale)
@@ -743,7 +744,7 @@ fn bill_days(a: Scalars) -> XlResult<f64> {
 }
 
 fn tbillprice(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let days = bill_days(a)?;
         let discount = toolpak_number(a.value(2), a.1)?;
         check(discount > 0.0, XlError::Num)?;
@@ -754,7 +755,7 @@ fn tbillprice(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn tbillyield(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let days = bill_days(a)?;
         let price = toolpak_number(a.value(2), a.1)?;
         check(price > 0.0, XlError::Num)?;
@@ -763,7 +764,7 @@ fn tbillyield(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn tbilleq(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let days = bill_days(a)?;
         let discount = toolpak_number(a.value(2), a.1)?;
         check(discount > 0.0, XlError::Num)?;

@@ -11,7 +11,7 @@
 
 use crate::eval::coerce::to_bool;
 use crate::eval::dates::{days_in_month, serial_from_ymd, ymd_from_serial, DateSystem, DateTime, LAST_SERIAL};
-use crate::eval::functions::api::{check, finite, scalar, Ctx, FnSpec, Scalars};
+use crate::eval::functions::api::{check, finite, scalar_numbers, Ctx, FnSpec, Scalars};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
@@ -437,7 +437,7 @@ impl Coupons {
 }
 
 fn coupon_fn(ctx: &mut Ctx, args: &[Expr], f: fn(&Coupons, Day, Basis) -> f64) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let (coupons, settlement, basis) = Coupons::of_args(a, 2)?;
         finite(f(&coupons, settlement, basis))
     })
@@ -474,7 +474,7 @@ fn coupdaysnc(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// date. With calc_method FALSE the whole periods before the first interest date are left
 /// out (only the issue's stub and the settlement's period count).
 fn accrint(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let (issue, first, settlement) = (date_arg(a, 0)?, date_arg(a, 1)?, date_arg(a, 2)?);
         let (rate, par, frequency, basis) =
             (number_arg(a, 3)?, number_arg(a, 4)?, frequency_arg(a, 5)?, basis_arg(a, 6)?);
@@ -537,7 +537,7 @@ fn stub_length(begin: Day, end: Day, frequency: f64, basis: Basis) -> f64 {
 
 /// ACCRINTM: par × rate × the year fraction from issue to settlement.
 fn accrintm(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let (issue, settlement) = (date_arg(a, 0)?, date_arg(a, 1)?);
         let (rate, par, basis) = (number_arg(a, 2)?, number_arg(a, 3)?, basis_arg(a, 4)?);
         check(rate > 0.0 && par > 0.0 && issue < settlement, XlError::Num)?;
@@ -550,7 +550,7 @@ fn accrintm(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// The common frame of DISC, INTRATE, RECEIVED, PRICEDISC and YIELDDISC: settlement before
 /// maturity, two positive amounts, the year fraction between the dates.
 fn discounted(ctx: &mut Ctx, args: &[Expr], f: fn(x: f64, y: f64, years: f64) -> f64) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let (settlement, maturity) = settlement_maturity(a)?;
         let (x, y, basis) = (number_arg(a, 2)?, number_arg(a, 3)?, basis_arg(a, 4)?);
         check(x > 0.0 && y > 0.0, XlError::Num)?;
@@ -593,7 +593,7 @@ fn at_maturity_years(a: Scalars) -> XlResult<(f64, f64, f64)> {
 }
 
 fn pricemat(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let (issue_to_maturity, issue_to_settlement, settlement_to_maturity) = at_maturity_years(a)?;
         let (rate, yld) = (number_arg(a, 3)?, number_arg(a, 4)?);
         check(rate >= 0.0 && yld >= 0.0, XlError::Num)?;
@@ -605,7 +605,7 @@ fn pricemat(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn yieldmat(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let (issue_to_maturity, issue_to_settlement, settlement_to_maturity) = at_maturity_years(a)?;
         let (rate, pr) = (number_arg(a, 3)?, number_arg(a, 4)?);
         check(rate >= 0.0 && pr > 0.0, XlError::Num)?;
@@ -682,7 +682,7 @@ impl Bond {
 }
 
 fn price(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let bond = Bond::of_args(a, 5)?;
         let (rate, yld, redemption) = (number_arg(a, 2)?, number_arg(a, 3)?, number_arg(a, 4)?);
         check(rate >= 0.0 && yld >= 0.0 && redemption > 0.0, XlError::Num)?;
@@ -691,7 +691,7 @@ fn price(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn yield_(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let bond = Bond::of_args(a, 5)?;
         let (rate, pr, redemption) = (number_arg(a, 2)?, number_arg(a, 3)?, number_arg(a, 4)?);
         check(rate >= 0.0 && pr > 0.0 && redemption > 0.0, XlError::Num)?;
@@ -707,14 +707,14 @@ fn duration_args(a: Scalars) -> XlResult<(Bond, f64, f64)> {
 }
 
 fn duration(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let (bond, coupon, yld) = duration_args(a)?;
         finite(bond.duration(coupon, yld))
     })
 }
 
 fn mduration(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let (bond, coupon, yld) = duration_args(a)?;
         finite(bond.duration(coupon, yld) / (1.0 + yld / bond.frequency))
     })
@@ -839,7 +839,7 @@ impl OddFirst {
 }
 
 fn oddfprice(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let bond = OddFirst::of_args(a)?;
         let yld = number_arg(a, 5)?;
         check(yld >= 0.0, XlError::Num)?;
@@ -848,7 +848,7 @@ fn oddfprice(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn oddfyield(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let bond = OddFirst::of_args(a)?;
         let pr = number_arg(a, 5)?;
         check(pr > 0.0, XlError::Num)?;
@@ -915,7 +915,7 @@ impl OddLast {
 }
 
 fn oddlprice(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let bond = OddLast::of_args(a)?;
         let yld = number_arg(a, 4)?;
         check(yld >= 0.0, XlError::Num)?;
@@ -925,7 +925,7 @@ fn oddlprice(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn oddlyield(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let bond = OddLast::of_args(a)?;
         let pr = number_arg(a, 4)?;
         check(pr > 0.0, XlError::Num)?;
@@ -949,7 +949,7 @@ fn amortization_args(a: Scalars) -> XlResult<(f64, f64, f64, f64, f64)> {
 }
 
 fn amorlinc(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let (cost, first_share, salvage, period, rate) = amortization_args(a)?;
         let full = cost * rate;
         let first = first_share * full;
@@ -971,7 +971,7 @@ fn amorlinc(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// the salvage is reached takes half the value left, later ones nothing. Lives strictly
 /// between 0 and 3 years other than 1 and 2, or between 4 and 5, are #NUM! as in Excel.
 fn amordegrc(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    scalar_numbers(ctx, args, &|a| {
         let (mut cost, first_share, salvage, period, rate) = amortization_args(a)?;
         let life = 1.0 / rate;
         let odd_life = |lo: f64, hi: f64| life > lo && life < hi;
