@@ -302,3 +302,35 @@ fn redim_preserve_in_a_loop_grows_in_place() {
     assert_eq!(e.kind, ErrorKind::Limit, "{e}");
     assert!(e.message.contains("--max-memory"), "{e}");
 }
+
+// `s = s & x` appends to the variable's text in place, its buffer doubling, not by copying
+// the whole text at each step: 2,000,000 appends (the issue's loop) copied 2·10^12 bytes, so
+// on the old code this test does not fail but runs for minutes (a hang in CI, not an
+// assertion). VBA's semantics hold ("& operator": a Null joins as "", a number as its text):
+// a copy taken before keeps its own text, a Function's result grows the same way, and a
+// String's text is read between appends.
+#[test]
+fn appending_to_a_string_in_a_loop_is_linear() {
+    let src = "Function Build(n)\n    Dim i As Long\n    For i = 1 To n\n        Build = Build & \"ab\"\n    Next\n\
+               End Function\nSub Main()\n    Dim s As String, t, u, i As Long\n    t = \"ab\"\n\
+               \x20   For i = 1 To 2000000\n        s = s & \"x\"\n    Next\n    u = s\n    s = s & Null & \"yz\"\n\
+               \x20   For i = 1 To 1000\n        t = t & i & \",\"\n    Next\n\
+               \x20   Debug.Print Len(u); Len(s); Right(s, 3); Left(t, 10); Right(t, 5); Len(t)\n\
+               \x20   Debug.Print Len(Build(100000))\nEnd Sub\n";
+    // t is "ab" and 1 to 1,000 each with a comma: 2 + (9·1 + 90·2 + 900·3 + 4) + 1,000 = 3,895.
+    assert_eq!(printed(src), [" 2000000  2000002 xyzab1,2,3,4,1000, 3895 ", " 200000 "]);
+}
+
+// The macro string limit (`--max-string`, docs/limits.md) still stops a string that grows
+// by appending, at the append that passes it, with its message.
+#[test]
+fn a_string_grown_by_appending_stops_at_the_string_limit() {
+    let src = "Sub Main()\n    Dim s As String, i As Long\n    For i = 1 To 200000\n        s = s & \"xy\"\n\
+               \x20   Next\n    Debug.Print Len(s)\nEnd Sub\n";
+    let options = RunOptions { max_string: 100_001, ..RunOptions::default() };
+    let e = run_with(src, &options).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::Limit, "{e}");
+    assert!(e.message.contains("a string longer than 100001 characters"), "{e}");
+    assert!(e.message.contains("--max-string"), "{e}");
+    assert!(e.to_string().starts_with("hostile.bas:4:"), "{e}");
+}

@@ -683,6 +683,12 @@ impl<'a> Ctx<'a> {
         }
     }
 
+    /// `a & b` of the values `a` and `b` of `operands`, as [`Ctx::eval`] joins them: a macro's
+    /// `s = s & x` appends what `"" & x` makes to its text in place (`vba/append.rs`).
+    pub fn join_values(&mut self, operands: (&Expr, &Expr), a: Value, b: Value) -> Value {
+        self.binary_of_values(BinOp::Concat, operands, a, b)
+    }
+
     /// A number literal's value: its own, or this formula's in place of a shared tree's.
     #[inline]
     fn literal(&self, e: &Expr, n: f64) -> f64 {

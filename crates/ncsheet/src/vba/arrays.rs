@@ -140,8 +140,9 @@ impl Interp<'_, '_> {
             if matches!(slot.ty, Some(ref t) if *t != Ty::Variant) {
                 return Err(format!("{}: an array of values cannot hold an object (type mismatch)", slot.name));
             }
-            let Var::Array(a) = &mut slot.var else { return Err(format!("{} is not an array", slot.name)) };
-            let k = self.element_at(a, &at).map_err(|m| format!("{}: {m}", slot.name))?;
+            let own = slot.name.clone();
+            let Var::Array(a) = slot.var_mut() else { return Err(format!("{own} is not an array")) };
+            let k = self.element_at(a, &at).map_err(|m| format!("{own}: {m}"))?;
             Rc::make_mut(&mut a.data).data[k] = Value::Blank;
             let objects = Rc::make_mut(a.objects.get_or_insert_with(Default::default));
             Ok(match object {
@@ -170,11 +171,12 @@ impl Interp<'_, '_> {
         self.charge(shared + super::budget::value_bytes(&v), span)?;
         let result = self.with_slot(name, |slot| {
             let ty = slot.ty.clone();
-            let Var::Array(a) = &mut slot.var else { return Err(format!("{} is not an array", slot.name)) };
-            let k = self.element_at(a, &at).map_err(|m| format!("{}: {m}", slot.name))?;
-            let item = match convert(Var::Value(v.clone()), ty.as_ref(), &slot.name)? {
+            let own = slot.name.clone();
+            let Var::Array(a) = slot.var_mut() else { return Err(format!("{own} is not an array")) };
+            let k = self.element_at(a, &at).map_err(|m| format!("{own}: {m}"))?;
+            let item = match convert(Var::Value(v.clone()), ty.as_ref(), &own)? {
                 Var::Value(item) => item,
-                _ => return Err(format!("{}: an array item holds a value", slot.name)),
+                _ => return Err(format!("{own}: an array item holds a value")),
             };
             Rc::make_mut(&mut a.data).data[k] = item;
             if let Some(objects) = a.objects.as_mut().filter(|o| o.contains_key(&k)) {
@@ -318,15 +320,13 @@ impl Interp<'_, '_> {
         };
         // Taken out of its slot, the array's items are its own: growing them copies nothing
         // unless another variable shares them.
-        let taken = self.with_slot(name, |slot| {
-            grows(&slot.var).then(|| std::mem::replace(&mut slot.var, Var::Value(Value::Blank)))
-        });
+        let taken = self.with_slot(name, |slot| grows(slot.var()).then(|| slot.replace(Var::Value(Value::Blank))));
         let Some(Some(Var::Array(mut a))) = taken else { return Ok(false) };
         let added = len - a.data.cols;
         let items = Rc::make_mut(&mut a.data);
         items.data.resize(len, default_value(ty));
         items.cols = len;
-        self.with_slot(name, |slot| slot.var = Var::Array(a));
+        self.with_slot(name, |slot| slot.replace(Var::Array(a)));
         self.charge((added * std::mem::size_of::<Value>()) as u64, span)?;
         Ok(true)
     }

@@ -99,9 +99,15 @@ impl Measure {
         }
     }
 
+    /// Variables' values; a text growing in place (`append.rs`) by its buffer's capacity,
+    /// without making its value.
     fn slots<'a>(&mut self, slots: impl IntoIterator<Item = &'a Slot>) {
         for s in slots {
-            self.var(&s.var);
+            let (buffer, var) = s.held_parts();
+            self.bytes = self.bytes.saturating_add(buffer as u64);
+            if let Some(var) = var {
+                self.var(var);
+            }
         }
     }
 }

@@ -53,7 +53,7 @@ impl fmt::Debug for Instance {
 impl Instance {
     /// Its variables' values (for the memory budget).
     pub fn field_vars(&self) -> Vec<Var> {
-        self.0.fields.borrow().iter().map(|s| s.var.clone()).collect()
+        self.0.fields.borrow().iter().map(|s| s.var().clone()).collect()
     }
 }
 
@@ -62,7 +62,7 @@ impl Instance {
 impl Drop for Object {
     fn drop(&mut self) {
         let fields = std::mem::take(self.fields.get_mut());
-        let vars = fields.iter().map(|s| s.var.clone()).collect();
+        let vars = fields.iter().map(|s| s.var().clone()).collect();
         drop(fields);
         let_go(vars);
     }
@@ -76,7 +76,7 @@ pub(super) fn let_go(mut pending: Vec<Var>) {
             Var::Obj(Obj::Instance(o)) => {
                 if let Ok(object) = Rc::try_unwrap(o.0) {
                     let fields = object.fields.take();
-                    pending.extend(fields.iter().map(|s| s.var.clone()));
+                    pending.extend(fields.iter().map(|s| s.var().clone()));
                 }
             }
             Var::Record(_, fields) => pending.extend(fields),
@@ -207,7 +207,7 @@ impl Interp<'_, '_> {
                 // Class_Terminate may have handed `Me` to someone: then it lives on.
                 if Rc::strong_count(&object.0) == 1 {
                     let fields = object.0.fields.take();
-                    pending.extend(fields.iter().map(|s| s.var.clone()));
+                    pending.extend(fields.iter().map(|s| s.var().clone()));
                 }
             }
             Obj::Store(h) if Rc::strong_count(&h.0) == 1 => pending.extend(h.0.borrow_mut().take_items()),
@@ -254,7 +254,7 @@ impl Interp<'_, '_> {
         if !def.public.iter().any(|p| p.eq_ignore_ascii_case(name)) {
             return None;
         }
-        object.0.fields.borrow().get(name).map(|s| s.var.clone())
+        object.0.fields.borrow().get(name).map(|s| s.var().clone())
     }
 
     /// `obj.Member = value` and `Set obj.Member = value`: its Property Let or Set (a Set when
@@ -297,7 +297,7 @@ impl Interp<'_, '_> {
             let mut fields = object.0.fields.borrow_mut();
             let slot = fields.get_mut(name).expect("a public variable");
             let new = convert(var, slot.ty.as_ref(), &slot.name).map_err(|m| self.fault_at(link.span, m))?;
-            std::mem::replace(&mut slot.var, new)
+            slot.replace(new)
         };
         self.release(&old)
     }
@@ -318,7 +318,7 @@ impl Interp<'_, '_> {
         let (result, frame) = self.call_frame(ctx, proc, args, span, call)?;
         let p = &self.module.procs[proc];
         Ok(match p.kind {
-            ProcKind::Function => frame.vars.get(&p.name).map_or(Var::Value(result), |s| s.var.clone()),
+            ProcKind::Function => frame.vars.get(&p.name).map_or(Var::Value(result), |s| s.var().clone()),
             ProcKind::Sub => Var::Value(Value::Blank),
         })
     }

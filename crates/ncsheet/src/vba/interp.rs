@@ -569,7 +569,7 @@ impl Interp<'_, '_> {
     /// A copy of what the variable `name` holds (current procedure first, then module); a
     /// variable declared `As New` holding Nothing gets its new object first.
     pub fn lookup(&self, name: &str) -> Option<Var> {
-        match self.lookup_slot(name, |s| (s.var.clone(), s.new))? {
+        match self.lookup_slot(name, |s| (s.var().clone(), s.new))? {
             (var, Some((class, span))) if is_nothing(&var) => Some(self.instantiate(name, class, span)),
             (var, _) => Some(var),
         }
@@ -596,7 +596,7 @@ impl Interp<'_, '_> {
     fn instantiate(&self, name: &str, class: Made, span: Span) -> Var {
         match self.new_object(class, span) {
             Ok(object) => {
-                self.with_slot(name, |s| s.var = object.clone());
+                self.with_slot(name, |s| s.replace(object.clone()));
                 object
             }
             Err(fault) => {
@@ -649,13 +649,13 @@ impl Interp<'_, '_> {
             let new = convert(var.clone(), slot.ty.as_ref(), &slot.name)?;
             // What is assigned is no Date unless the assignment says so (`assign`).
             slot.date = false;
-            Ok(std::mem::replace(&mut slot.var, new))
+            Ok(slot.replace(new))
         });
         match result {
             // The object the variable held may have lost its last reference.
             Some(r) => self.release(&r.map_err(|m| self.fault_at(span, m))?),
             None => {
-                self.declare(Slot { name: name.clone(), var, ty: None, constant: false, new: None, date: false });
+                self.declare(Slot::new(name.clone(), var, None));
                 Ok(())
             }
         }
@@ -788,13 +788,13 @@ impl Interp<'_, '_> {
     pub fn call_record(&self, proc: usize, args: &[Arg], span: Span) -> Run<Var> {
         let (_, frame) = self.call_frame(&mut self.ctx(), proc, args, span, Call::default())?;
         let name = &self.module.procs[proc].name;
-        Ok(frame.vars.get(name).map_or(Var::Value(Value::Blank), |s| s.var.clone()))
+        Ok(frame.vars.get(name).map_or(Var::Value(Value::Blank), |s| s.var().clone()))
     }
 
     /// A Type value can be assigned to a variable of that Type, not used as a value.
     fn no_record_result(&self, proc: usize, frame: &Frame) -> Run<()> {
         let p = &self.module.procs[proc];
-        if p.kind == ProcKind::Function && matches!(frame.vars.get(&p.name).map(|s| &s.var), Some(Var::Record(..))) {
+        if p.kind == ProcKind::Function && matches!(frame.vars.get(&p.name).map(|s| s.var()), Some(Var::Record(..))) {
             let why = "returns a Type value: assign it to a variable of that Type (p = MakePoint(…))";
             return Err(self.fault(format!("Function {} {why}", p.name)));
         }
@@ -856,7 +856,7 @@ impl Interp<'_, '_> {
             }
             let name = &p.params[index].name;
             if let Some(slot) = frame.vars.get(name) {
-                self.set_var(&caller_var, slot.var.clone(), span)?;
+                self.set_var(&caller_var, slot.var().clone(), span)?;
             }
         }
         Ok((result, frame))
@@ -903,7 +903,7 @@ impl Interp<'_, '_> {
         result?;
         self.release_locals(p, &frame)?;
         let value = match p.kind {
-            ProcKind::Function => match frame.vars.get(&p.name).map(|s| &s.var) {
+            ProcKind::Function => match frame.vars.get(&p.name).map(|s| s.var()) {
                 Some(Var::Value(v)) => v.clone(),
                 Some(Var::Array(a)) => Value::Array(a.data.clone()),
                 Some(Var::Obj(Obj::Value(v))) => v.clone(),
@@ -931,18 +931,11 @@ impl Interp<'_, '_> {
                 },
             };
             let var = convert(var, param.ty.as_ref(), &param.name).map_err(|m| self.fault(m))?;
-            self.declare(Slot {
-                name: param.name.clone(),
-                var,
-                ty: param.ty.clone(),
-                constant: false,
-                new: None,
-                date: false,
-            });
+            self.declare(Slot::new(param.name.clone(), var, param.ty.clone()));
         }
         if p.kind == ProcKind::Function {
             let var = self.default_var(p.ty.as_ref());
-            self.declare(Slot { name: p.name.clone(), var, ty: p.ty.clone(), constant: false, new: None, date: false });
+            self.declare(Slot::new(p.name.clone(), var, p.ty.clone()));
         }
         match self.block(&p.body)? {
             Flow::GoTo(label) => Err(self.fault(format!("GoTo {label}: no such label"))),
@@ -969,7 +962,7 @@ impl Interp<'_, '_> {
             let kept = (p.kind == ProcKind::Function && slot.name.eq_ignore_ascii_case(&p.name))
                 || p.params.iter().any(|q| q.by_ref && q.name.eq_ignore_ascii_case(&slot.name));
             if !kept {
-                self.release(&slot.var)?;
+                self.release(slot.var())?;
             }
         }
         Ok(())
@@ -1054,14 +1047,9 @@ impl Interp<'_, '_> {
                 for (name, ty, e) in items {
                     if !self.has_local(name) {
                         let var = self.constant_value(name, ty.as_ref(), e)?;
-                        self.declare(Slot {
-                            name: name.clone(),
-                            var,
-                            ty: ty.clone(),
-                            constant: true,
-                            new: None,
-                            date: false,
-                        });
+                        let mut slot = Slot::new(name.clone(), var, ty.clone());
+                        slot.constant = true;
+                        self.declare(slot);
                     }
                 }
             }
@@ -1163,7 +1151,7 @@ impl Interp<'_, '_> {
     pub fn set_record_field(&self, name: &str, path: &[usize], value: Var, span: Span) -> Run<()> {
         let module = self.module;
         let result = self.with_slot(name, |slot| {
-            let mut var = &mut slot.var;
+            let mut var = slot.var_mut();
             let mut ty = None;
             for &i in path {
                 let Var::Record(t, fields) = var else { return Err("not a Type value".to_string()) };
@@ -1321,13 +1309,15 @@ impl Interp<'_, '_> {
             self.charge(super::budget::brought(&var), d.span)?;
             if redim {
                 // The objects only the old items held go (ReDim Preserve kept them).
-                if let Some(old) = self.with_slot(&d.name, |s| std::mem::replace(&mut s.var, var.clone())) {
+                if let Some(old) = self.with_slot(&d.name, |s| s.replace(var.clone())) {
                     self.release(&old)?;
                     continue;
                 }
             }
             let new = d.new.map(|class| (class, d.span));
-            self.declare(Slot { name: d.name.clone(), var, ty: d.ty.clone(), constant: false, new, date: false });
+            let mut slot = Slot::new(d.name.clone(), var, d.ty.clone());
+            slot.new = new;
+            self.declare(slot);
         }
         Ok(())
     }
@@ -1362,13 +1352,15 @@ impl Interp<'_, '_> {
         }
         for s in frame.vars.iter() {
             if let Some(slot) = kept.get_mut(&(frame.proc, s.name.to_ascii_lowercase())) {
-                slot.var = s.var.clone();
+                slot.replace(s.var().clone());
             }
         }
     }
 
     fn assign(&self, target: &Target, value: &Expr, set: bool, span: Span) -> Run<()> {
         match target {
+            // `s = s & …` appends to the text in place (`append.rs`).
+            Target::Var(name) if !set && self.append_in_place(name, value, span)? => Ok(()),
             Target::Var(name) => {
                 // A Variant keeps the Date it is given as a Date ([MS-VBAL] 2.1.1.1).
                 let date = !set && self.declared_type(value) == super::typing::Declared::Date;

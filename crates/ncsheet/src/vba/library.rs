@@ -73,15 +73,17 @@ impl Interp<'_, '_> {
     /// Empty); the bounds stay, as for VBA's fixed-size arrays.
     pub(super) fn erase(&self, names: &[Rc<str>], span: Span) -> Run<()> {
         for name in names {
-            let erased = self.with_slot(name, |slot| match &mut slot.var {
-                Var::Array(a) => {
-                    let fill = default_value(slot.ty.as_ref());
-                    a.data = Rc::new(Array::filled(a.data.rows, a.data.cols, fill));
-                    // An array of objects holds Nothing again ("Erase statement").
-                    a.objects = None;
-                    true
+            let erased = self.with_slot(name, |slot| {
+                let fill = default_value(slot.ty.as_ref());
+                match slot.var_mut() {
+                    Var::Array(a) => {
+                        a.data = Rc::new(Array::filled(a.data.rows, a.data.cols, fill));
+                        // An array of objects holds Nothing again ("Erase statement").
+                        a.objects = None;
+                        true
+                    }
+                    _ => false,
                 }
-                _ => false,
             });
             if erased != Some(true) {
                 return Err(self.fault_at(span, format!("Erase {name}: {name} is not an array (type mismatch)")));
@@ -186,7 +188,7 @@ impl Interp<'_, '_> {
         if let ExprKind::Name(name) = &arg.kind {
             // Using a variable declared `As New` makes its object first (auto-instantiation).
             self.lookup(name);
-            if let Some((var, ty)) = self.with_slot(name, |s| (s.var.clone(), s.held_ty())) {
+            if let Some((var, ty)) = self.with_slot(name, |s| (s.var().clone(), s.held_ty())) {
                 return Ok(self.type_name_of(&var, ty.as_ref()));
             }
         }
@@ -253,7 +255,7 @@ impl Interp<'_, '_> {
             if self.is_missing(arg) {
                 return Ok(VB_ERROR);
             }
-            if let Some((var, ty)) = self.with_slot(name, |s| (s.var.clone(), s.held_ty())) {
+            if let Some((var, ty)) = self.with_slot(name, |s| (s.var().clone(), s.held_ty())) {
                 return self.var_type_of_var(&var, ty.as_ref());
             }
         }

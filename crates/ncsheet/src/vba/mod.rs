@@ -193,6 +193,7 @@
 //! A member's dot touches what it follows ([MS-VBAL] 5.6.12): `Out .Y + .X` in a With block
 //! calls `Out` with `.Y + .X`.
 
+mod append;
 mod arrays;
 pub mod ast;
 mod budget;

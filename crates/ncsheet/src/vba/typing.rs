@@ -254,7 +254,7 @@ impl Interp<'_, '_> {
             Node::Call { proc, .. } => Declared::of_ty(self.module.procs[*proc].ty.as_ref()),
             // An item of a typed array (a Collection's or a Range's is a Variant).
             Node::Element { var, .. } => {
-                match self.with_slot(var, |s| (matches!(s.var, super::value::Var::Array(_)), s.ty.clone())) {
+                match self.with_slot(var, |s| (matches!(s.var(), super::value::Var::Array(_)), s.ty.clone())) {
                     Some((true, ty)) => Declared::of_ty(ty.as_ref()),
                     _ => Declared::Variant,
                 }

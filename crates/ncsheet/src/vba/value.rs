@@ -103,7 +103,9 @@ impl Obj {
 #[derive(Clone, Debug)]
 pub struct Slot {
     pub name: Rc<str>,
-    pub var: Var,
+    /// What it holds, read through [`Slot::var`]: a text that `s = s & …` grows is kept as a
+    /// buffer with room to grow.
+    held: Held,
     pub ty: Option<Ty>,
     pub constant: bool,
     /// `Dim x As New Class1`: the class an auto-instantiated variable makes an object of when
@@ -114,7 +116,93 @@ pub struct Slot {
     pub date: bool,
 }
 
+/// What a variable holds: a value, or a text growing in place.
+#[derive(Clone, Debug)]
+enum Held {
+    Var(Var),
+    Growing(Growing),
+}
+
+/// A text variable that `s = s & …` appends to (`append.rs`): a value's text is an `Rc<str>`,
+/// which cannot grow, so each append copied the whole text and a loop of them was quadratic.
+/// The buffer doubles its capacity as it grows; the value is made from it when the variable
+/// is read, and kept until the next append.
+#[derive(Clone, Debug)]
+struct Growing {
+    text: String,
+    /// The text's length in UTF-16 units, the unit of the macro string limit.
+    units: usize,
+    shown: std::cell::OnceCell<Var>,
+}
+
+impl Growing {
+    fn shown(&self) -> &Var {
+        self.shown.get_or_init(|| Var::Value(Value::Text(Rc::from(self.text.as_str()))))
+    }
+}
+
 impl Slot {
+    /// A variable holding `var`: not a constant, not `As New`, no Date.
+    pub fn new(name: Rc<str>, var: Var, ty: Option<Ty>) -> Slot {
+        Slot { name, held: Held::Var(var), ty, constant: false, new: None, date: false }
+    }
+
+    /// What the variable holds.
+    pub fn var(&self) -> &Var {
+        match &self.held {
+            Held::Var(var) => var,
+            Held::Growing(g) => g.shown(),
+        }
+    }
+
+    /// What the variable holds, to change in place (a growing text becomes a value first).
+    pub fn var_mut(&mut self) -> &mut Var {
+        if let Held::Growing(g) = &mut self.held {
+            let var = g.shown.take().unwrap_or_else(|| Var::Value(Value::Text(Rc::from(g.text.as_str()))));
+            self.held = Held::Var(var);
+        }
+        match &mut self.held {
+            Held::Var(var) => var,
+            Held::Growing(_) => unreachable!("made a value above"),
+        }
+    }
+
+    /// Gives the variable `var`; returns what it held.
+    pub fn replace(&mut self, var: Var) -> Var {
+        std::mem::replace(self.var_mut(), var)
+    }
+
+    /// The length in UTF-16 units of the text the variable holds, ready to be appended to
+    /// with [`Slot::append`]; `None` when it holds no text.
+    pub(super) fn text_units(&mut self) -> Option<usize> {
+        if let Held::Var(Var::Value(Value::Text(t))) = &self.held {
+            let text = String::from(&**t);
+            let units = text.encode_utf16().count();
+            self.held = Held::Growing(Growing { text, units, shown: std::cell::OnceCell::new() });
+        }
+        match &self.held {
+            Held::Growing(g) => Some(g.units),
+            Held::Var(_) => None,
+        }
+    }
+
+    /// Appends `piece` of `units` UTF-16 units to the text [`Slot::text_units`] made ready.
+    pub(super) fn append(&mut self, piece: &str, units: usize) {
+        let Held::Growing(g) = &mut self.held else { unreachable!("text_units made the text ready") };
+        g.shown.take();
+        g.text.push_str(piece);
+        g.units += units;
+    }
+
+    /// The bytes of a growing text's buffer, and what else the variable holds to be measured
+    /// (the value made from the buffer, when it was read): for the memory budget.
+    pub(super) fn held_parts(&self) -> (usize, Option<&Var>) {
+        match &self.held {
+            Held::Var(var) => (0, Some(var)),
+            Held::Growing(g) => (g.text.capacity(), g.shown.get()),
+        }
+    }
+
     /// The type its value answers to: the declared one, or Date for a Variant holding a Date.
     pub fn held_ty(&self) -> Option<Ty> {
         match self.date {
