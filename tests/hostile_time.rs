@@ -162,6 +162,41 @@ fn lambdas_of_the_array_helpers_past_their_work_limit_are_num_naming_it() {
     assert!(problems_at(&wb, "C1").is_empty());
 }
 
+/// A function inside the LAMBDA that makes no array of its size still counts its work against
+/// the same budget: an aggregate or SUMPRODUCT of an array bound outside the LAMBDA (read
+/// whole at every call), a regression (rows × variables × the smaller), a matrix product
+/// (its multiply-adds), a text function reading a long text. Each of these formulas ran for
+/// minutes or hours (a million sums of a million items); now each is #NUM! with the note.
+#[test]
+fn heavy_functions_inside_the_lambdas_count_against_their_work_limit() {
+    let mut wb = Workbook::with_sheet();
+    let cases = [
+        ("A1", "=LET(a,SEQUENCE(1000,1000),SUM(MAP(SEQUENCE(1000000),LAMBDA(x,SUM(a)))))"),
+        ("A2", "=LET(a,SEQUENCE(1000,1000),SUM(MAP(SEQUENCE(1000000),LAMBDA(x,SUMPRODUCT(a,a)))))"),
+        ("A3", "=LET(m,SEQUENCE(300,300),SUM(MAP(SEQUENCE(100000),LAMBDA(x,INDEX(MMULT(m,m),1,1)))))"),
+        (
+            "A4",
+            "=LET(x,SEQUENCE(100000,10)^0.5,y,SEQUENCE(100000),\
+             SUM(MAKEARRAY(1000,1,LAMBDA(r,c,INDEX(LINEST(y,x),1,1)))))",
+        ),
+        ("A5", "=LET(t,REPT(\"a\",32767),REDUCE(0,SEQUENCE(1000,1000),LAMBDA(a,x,a+LEN(t))))"),
+    ];
+    for (cell, formula) in cases {
+        set(&mut wb, cell, formula);
+        assert_eq!(get(&wb, cell), Value::Error(XlError::Num), "{formula}");
+        let problems = problems_at(&wb, cell);
+        assert!(
+            mentions(&problems, &["#NUM!", "more than 268435456 items of work", "ncsheet's limit"]),
+            "{formula}: {problems:?}"
+        );
+    }
+    // Within the budget they compute: 1,000 sums of 1 + … + 100 and 1,000 lengths of 1,000.
+    set(&mut wb, "B1", "=LET(a,SEQUENCE(10,10),SUM(MAP(SEQUENCE(1000),LAMBDA(x,SUM(a)))))");
+    set(&mut wb, "B2", "=LET(t,REPT(\"a\",1000),REDUCE(0,SEQUENCE(1000),LAMBDA(a,x,a+LEN(t))))");
+    assert_eq!(get(&wb, "B1"), n(5_050_000.0));
+    assert_eq!(get(&wb, "B2"), n(1_000_000.0));
+}
+
 /// A surface (BALLPATH's, `ballpath --surface`) evaluates its formula once per point through
 /// one evaluation context: each point has the LAMBDA work budget to itself, as each cell
 /// does. 300 points of a million items each are past one budget, not past one point's.

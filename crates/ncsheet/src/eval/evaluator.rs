@@ -882,6 +882,17 @@ impl<'a> Ctx<'a> {
         }
     }
 
+    /// Counts the texts among a function's arguments `values` (16 bytes a unit, as texts made
+    /// are) when a LAMBDA of MAP, REDUCE, … is running: a text function reads its arguments
+    /// whole and may make nothing (`LEN(t)` of a 32,767-character `t` bound outside the LAMBDA).
+    #[inline]
+    pub fn charge_texts(&self, values: &[Value]) {
+        if self.iterating > 0 {
+            let bytes: usize = values.iter().map(|v| if let Value::Text(t) = v { t.len() } else { 0 }).sum();
+            self.charge(bytes / 16);
+        }
+    }
+
     /// One more call of a LAMBDA by MAP, REDUCE, …: `#NUM!`, with the limit's note, once
     /// their work has passed [`MAX_LAMBDA_WORK`].
     fn within_lambda_work(&mut self) -> XlResult<()> {

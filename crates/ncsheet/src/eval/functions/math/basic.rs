@@ -692,6 +692,8 @@ fn sumproduct(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         return Err(XlError::Value);
     }
     let stored = blocks.iter().fold((0, 0), |(r, c), b| (r.max(b.rows), c.max(b.cols)));
+    // Its products, for arrays bound outside MAP's LAMBDA and read at every call.
+    ctx.charge(stored.0 * stored.1 * blocks.len());
     let mut total = 0.0;
     for r in 0..stored.0 {
         for c in 0..stored.1 {

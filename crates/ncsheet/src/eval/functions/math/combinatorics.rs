@@ -372,12 +372,16 @@ fn mmult(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     if a.nrows() * b.ncols() > MAX_MATRIX_ITEMS {
         return Err(ctx.explain(XlError::Num, format!("a product of {} × {} items is too large", a.nrows(), b.ncols())));
     }
+    // Its multiply-adds, for a product inside MAP's LAMBDA (the result counts far fewer).
+    ctx.charge(a.nrows().saturating_mul(a.ncols()).saturating_mul(b.ncols()));
     to_value(&(a * b))
 }
 
 fn square(ctx: &mut Ctx, e: &Expr) -> XlResult<DMatrix<f64>> {
     let m = matrix(ctx, e)?;
     check(m.is_square(), XlError::Value)?;
+    // MINVERSE's and MDETERM's LU decomposition, about n^3 steps, inside MAP's LAMBDA.
+    ctx.charge(m.nrows().saturating_mul(m.nrows()).saturating_mul(m.nrows()));
     Ok(m)
 }
 

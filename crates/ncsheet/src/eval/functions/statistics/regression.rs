@@ -130,6 +130,8 @@ fn fit(ctx: &mut Ctx, data: &Data, with_constant: bool) -> XlResult<Fit> {
             ),
         ));
     }
+    // A fit inside MAP's LAMBDA makes no array to count: its work is counted.
+    ctx.charge((m * n * m.min(n)) as usize);
     let b = DVector::from_column_slice(&data.y);
     let solution = a.svd(true, true).solve(&b, 1e-13).map_err(|_| XlError::Num)?;
     let k = data.x.ncols();
