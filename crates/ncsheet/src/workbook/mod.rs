@@ -147,11 +147,11 @@ pub struct Workbook {
     dynamic_refs: FxMap<u32, Vec<(SheetId, Rect)>>,
     scratch: recalc::Scratch,
     /// Reused buffers: the relative key of the formula being stored, a formula's precedents.
-    key_buf: String,
+    key_buf: Vec<u8>,
     precedents_buf: Vec<(SheetId, Rect)>,
     /// The formula being stored: where its number literals are in its key, its shape, their values.
     literal_spans: Vec<(usize, usize)>,
-    shape_buf: String,
+    shape_buf: Vec<u8>,
     literals: Vec<f64>,
     /// The 1904 date system (`dates.rs`): serial 0 is 1904-01-01.
     date_1904: bool,
@@ -674,7 +674,7 @@ impl Workbook {
         text: &str,
         sheet: SheetId,
         pos: Pos,
-        key: &str,
+        key: &[u8],
         spans: &[(usize, usize)],
     ) -> Result<u32, ParseError> {
         let mut shape = std::mem::take(&mut self.shape_buf);
@@ -684,10 +684,10 @@ impl Workbook {
         let result = match pattern {
             Some(p) => {
                 let formula = SharedFormula::with_literals(self.formulas.get(p), &literals);
-                Ok(self.formulas.add(Some(key.to_string()), formula))
+                Ok(self.formulas.add(Some(key.to_vec()), formula))
             }
             None => self.parse_at(text, sheet, pos).map(|expr| {
-                let id = self.formulas.add(Some(key.to_string()), SharedFormula::new(expr));
+                let id = self.formulas.add(Some(key.to_vec()), SharedFormula::new(expr));
                 if shaped {
                     self.formulas.add_shape(&shape, id, &literals);
                 }

@@ -102,9 +102,9 @@ impl SharedFormula {
 #[derive(Default)]
 pub struct FormulaStore {
     pub formulas: Vec<SharedFormula>,
-    by_key: FxMap<String, u32>,
+    by_key: FxMap<Vec<u8>, u32>,
     /// Formulas by shape (see the module doc), for copying with other numbers.
-    by_shape: FxMap<String, u32>,
+    by_shape: FxMap<Vec<u8>, u32>,
 }
 
 impl FormulaStore {
@@ -113,11 +113,11 @@ impl FormulaStore {
     }
 
     /// The id of an already parsed formula with this key.
-    pub fn find(&self, key: &str) -> Option<u32> {
+    pub fn find(&self, key: &[u8]) -> Option<u32> {
         self.by_key.get(key).copied()
     }
 
-    pub fn add(&mut self, key: Option<String>, formula: SharedFormula) -> u32 {
+    pub fn add(&mut self, key: Option<Vec<u8>>, formula: SharedFormula) -> u32 {
         let id = self.formulas.len() as u32;
         self.formulas.push(formula);
         if let Some(k) = key {
@@ -139,14 +139,14 @@ impl FormulaStore {
     }
 
     /// A formula with this shape, to copy with other numbers.
-    pub fn find_shape(&self, shape: &str) -> Option<u32> {
+    pub fn find_shape(&self, shape: &[u8]) -> Option<u32> {
         self.by_shape.get(shape).copied()
     }
 
     /// Offers formula `id` as the pattern for its shape: taken when its tree's numbers, in
     /// order, are the literals of its text (then every text of that shape parses to the
     /// same tree but for those numbers), and when no function reads part of it as a tree.
-    pub fn add_shape(&mut self, shape: &str, id: u32, literals: &[f64]) {
+    pub fn add_shape(&mut self, shape: &[u8], id: u32, literals: &[f64]) {
         let mut numbers = Vec::with_capacity(literals.len());
         let mut read_as_tree = false;
         self.formulas[id as usize].expr.visit(&mut |e| match e.kind {
@@ -157,27 +157,27 @@ impl FormulaStore {
         let same =
             numbers.len() == literals.len() && numbers.iter().zip(literals).all(|(a, b)| a.to_bits() == b.to_bits());
         if same && !read_as_tree {
-            self.by_shape.insert(shape.to_string(), id);
+            self.by_shape.insert(shape.to_vec(), id);
         }
     }
 }
 
 /// The shape of a relative key and the values of its number literals, from the literal
 /// spans [`relative_key_into`] recorded; `None` when a literal is not a plain finite number.
-pub fn shape_of(key: &str, spans: &[(usize, usize)], shape: &mut String, literals: &mut Vec<f64>) -> bool {
+pub fn shape_of(key: &[u8], spans: &[(usize, usize)], shape: &mut Vec<u8>, literals: &mut Vec<f64>) -> bool {
     shape.clear();
     literals.clear();
     let mut last = 0;
     for &(start, end) in spans {
-        match key[start..end].parse::<f64>() {
-            Ok(v) if v.is_finite() => literals.push(v),
+        match std::str::from_utf8(&key[start..end]).map(str::parse::<f64>) {
+            Ok(Ok(v)) if v.is_finite() => literals.push(v),
             _ => return false,
         }
-        shape.push_str(&key[last..start]);
-        shape.push('\u{2}');
+        shape.extend_from_slice(&key[last..start]);
+        shape.push(2);
         last = end;
     }
-    shape.push_str(&key[last..]);
+    shape.extend_from_slice(&key[last..]);
     true
 }
 
@@ -213,81 +213,131 @@ fn with_numbers(e: &Expr, numbers: &mut dyn Iterator<Item = f64>) -> Expr {
 /// scan does not understand (whole rows/columns, unusual tokens): such text is parsed each time.
 #[cfg(test)]
 pub fn relative_key(text: &str, at: Pos) -> Option<String> {
-    let mut out = String::with_capacity(text.len() + 16);
-    relative_key_into(text, at, &mut out, &mut Vec::new()).then_some(out)
+    let mut out = Vec::new();
+    relative_key_into(text, at, &mut out, &mut Vec::new()).then(|| String::from_utf8(out).expect("a key is text"))
 }
+
+/// How the scan treats a byte of formula text.
+#[derive(Clone, Copy, PartialEq)]
+enum Class {
+    /// Operators, parentheses, commas, spaces: copied as they are.
+    Plain,
+    /// `"` or `'`: a string or a quoted sheet name, copied to its closing quote.
+    Quote,
+    /// A digit or `.`: a number literal.
+    Number,
+    /// A letter, `$`, `_` or `\`: the start of a cell address, a function or a name.
+    Word,
+    /// Part of a character past ASCII: copied.
+    Wide,
+}
+
+/// Each byte's class, looked up once per byte: this scan runs on every formula a file holds.
+const CLASSES: [Class; 256] = {
+    let mut table = [Class::Plain; 256];
+    let mut c = 0;
+    while c < 256 {
+        let b = c as u8;
+        table[c] = match b {
+            b'"' | b'\'' => Class::Quote,
+            b'0'..=b'9' | b'.' => Class::Number,
+            b'$' | b'A'..=b'Z' | b'a'..=b'z' | b'_' | b'\\' => Class::Word,
+            0x80..=0xff => Class::Wide,
+            _ => Class::Plain,
+        };
+        c += 1;
+    }
+    table
+};
+
+/// Whether a byte continues a word (an address, a function's or a name's text).
+const IN_WORD: [bool; 256] = {
+    let mut table = [false; 256];
+    let mut c = 0;
+    while c < 256 {
+        let b = c as u8;
+        table[c] = b.is_ascii_alphanumeric() || matches!(b, b'$' | b'_' | b'.' | b'\\');
+        c += 1;
+    }
+    table
+};
 
 /// [`relative_key`] written into `out` (cleared first), so that a caller can reuse one buffer
 /// for every cell of a workbook; `false` where `relative_key` gives `None`. `literals`
-/// receives where in `out` each number literal is.
-pub fn relative_key_into(text: &str, at: Pos, out: &mut String, literals: &mut Vec<(usize, usize)>) -> bool {
+/// receives where in `out` each number literal is. The key is the text's bytes with each
+/// cell address replaced, so it is UTF-8 whenever the text is.
+pub fn relative_key_into(text: &str, at: Pos, out: &mut Vec<u8>, literals: &mut Vec<(usize, usize)>) -> bool {
     out.clear();
     literals.clear();
+    // Offsets are seldom longer than the addresses they replace: one reserve serves the scan.
+    out.reserve(text.len() + 16);
     let b = text.as_bytes();
     let mut i = 0;
     while i < b.len() {
-        let c = b[i];
-        match c {
-            b'"' | b'\'' => {
-                let Some(end) = quoted_end(b, i) else { return false };
-                out.push_str(&text[i..end]);
-                i = end;
-            }
-            b'0'..=b'9' | b'.' => {
+        let class = CLASSES[b[i] as usize];
+        let end = match class {
+            Class::Plain | Class::Wide => run_end(b, i, class),
+            Class::Quote => match quoted_end(b, i) {
+                Some(end) => end,
+                None => return false,
+            },
+            Class::Number => {
                 let end = number_end(b, i);
                 if next_non_space(b, end) == Some(b':') {
                     return false;
                 }
                 literals.push((out.len(), out.len() + end - i));
-                push_ascii(out, &b[i..end]);
-                i = end;
+                end
             }
-            b'$' | b'A'..=b'Z' | b'a'..=b'z' | b'_' | b'\\' => {
-                let end = word_end(b, i);
-                let word = &text[i..end];
-                let next = next_non_space(b, end);
-                match cell_address(word.as_bytes()) {
-                    Some(cell) if !matches!(next, Some(b'(') | Some(b'!')) => {
-                        out.push('\u{1}');
-                        push_coord(out, cell.row_abs, cell.row, at.row);
-                        out.push('\u{1}');
-                        push_coord(out, cell.col_abs, cell.col, at.col);
-                        out.push('\u{1}');
-                    }
-                    _ if next == Some(b':') && !word.bytes().any(|c| c.is_ascii_digit()) => return false,
-                    _ if word.contains('$') => return false,
-                    _ => push_ascii(out, word.as_bytes()),
+            Class::Word => match push_word(b, i, at, out) {
+                Some(end) => {
+                    i = end;
+                    continue;
                 }
-                i = end;
-            }
-            _ if c >= 0x80 => {
-                let Some(ch) = text[i..].chars().next() else { return false };
-                out.push(ch);
-                i += ch.len_utf8();
-            }
-            _ => {
-                // Operators, parentheses, commas, spaces: copied as a run.
-                let end = b[i..].iter().position(|&c| !is_plain(c)).map_or(b.len(), |n| i + n);
-                push_ascii(out, &b[i..end]);
-                i = end;
-            }
-        }
+                None => return false,
+            },
+        };
+        append(out, &b[i..end]);
+        i = end;
     }
     true
 }
 
-/// Appends a few ASCII bytes (byte by byte: cheaper than a `memcpy` call for the short
-/// pieces a formula is made of).
-fn push_ascii(out: &mut String, bytes: &[u8]) {
+/// Appends a piece of formula text byte by byte: the pieces are a few bytes long, for which
+/// a `memcpy` call costs more than the copy.
+fn append(out: &mut Vec<u8>, bytes: &[u8]) {
     for &c in bytes {
-        debug_assert!(c.is_ascii());
-        out.push(c as char);
+        out.push(c);
     }
 }
 
-/// ASCII that the scan copies without looking at it.
-fn is_plain(c: u8) -> bool {
-    c < 0x80 && !matches!(c, b'"' | b'\'' | b'0'..=b'9' | b'.' | b'$' | b'A'..=b'Z' | b'a'..=b'z' | b'_' | b'\\')
+/// The end of the run of bytes of `class` from `start`. A run of bytes past ASCII ends where
+/// an ASCII byte starts, so it holds whole characters.
+fn run_end(b: &[u8], start: usize, class: Class) -> usize {
+    b[start..].iter().position(|&c| CLASSES[c as usize] != class).map_or(b.len(), |n| start + n)
+}
+
+/// Appends the word at `start` (a cell address as its offsets from `at`, anything else as
+/// typed) and returns where it ends; `None` for a form the key cannot hold.
+fn push_word(b: &[u8], start: usize, at: Pos, out: &mut Vec<u8>) -> Option<usize> {
+    let end = b[start..].iter().position(|&c| !IN_WORD[c as usize]).map_or(b.len(), |n| start + n);
+    let word = &b[start..end];
+    let next = next_non_space(b, end);
+    match cell_address(word) {
+        Some(cell) if !matches!(next, Some(b'(') | Some(b'!')) => {
+            out.push(1);
+            push_coord(out, cell.row_abs, cell.row, at.row);
+            out.push(1);
+            push_coord(out, cell.col_abs, cell.col, at.col);
+            out.push(1);
+        }
+        // A whole column (`A:A`) or a row span with `$`: its meaning depends on the position
+        // in a way the key does not model.
+        _ if next == Some(b':') && !word.iter().any(u8::is_ascii_digit) => return None,
+        _ if word.contains(&b'$') => return None,
+        _ => append(out, word),
+    }
+    Some(end)
 }
 
 fn quoted_end(b: &[u8], start: usize) -> Option<usize> {
@@ -322,14 +372,6 @@ fn number_end(b: &[u8], start: usize) -> usize {
             }
             return j;
         }
-    }
-    i
-}
-
-fn word_end(b: &[u8], start: usize) -> usize {
-    let mut i = start;
-    while i < b.len() && (b[i].is_ascii_alphanumeric() || matches!(b[i], b'$' | b'_' | b'.' | b'\\')) {
-        i += 1;
     }
     i
 }
@@ -382,9 +424,9 @@ fn cell_address(word: &[u8]) -> Option<CellAddress> {
 }
 
 /// `B3` at C5 gives row offset "-2" and column offset "-1"; `$B$3` gives "$2" and "$1".
-fn push_coord(out: &mut String, absolute: bool, v: u32, base: u32) {
+fn push_coord(out: &mut Vec<u8>, absolute: bool, v: u32, base: u32) {
     if absolute {
-        out.push('$');
+        out.push(b'$');
         push_int(out, v as i64);
     } else {
         push_int(out, v as i64 - base as i64);
@@ -392,9 +434,13 @@ fn push_coord(out: &mut String, absolute: bool, v: u32, base: u32) {
 }
 
 /// Appends `n` in decimal (`write!` costs more than the rest of the scan).
-fn push_int(out: &mut String, n: i64) {
+fn push_int(out: &mut Vec<u8>, n: i64) {
+    if (0..10).contains(&n) {
+        out.push(b'0' + n as u8);
+        return;
+    }
     if n < 0 {
-        out.push('-');
+        out.push(b'-');
     }
     let mut m = n.unsigned_abs();
     let mut buf = [0u8; 20];
@@ -407,9 +453,7 @@ fn push_int(out: &mut String, n: i64) {
             break;
         }
     }
-    for &d in &buf[i..] {
-        out.push(d as char);
-    }
+    append(out, &buf[i..]);
 }
 
 #[cfg(test)]
