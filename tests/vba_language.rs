@@ -595,3 +595,71 @@ fn a_class_implements_an_interface_with_its_interface_procedures() {
     let out = with_classes(main, &classes).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(out.printed, ["circle 12 ", "square 9 "]);
 }
+
+// [MS-VBAL] 5.6.7 "TypeOf…Is Expressions": True when the object's type is the type named,
+// when its class implements the interface named, and for `Object` with any object; `Not`
+// applies to the whole test. Nothing is of no type: False, as the "If...Then...Else
+// statement" reference page says of `TypeOf objectname Is objecttype` ("True if objectname
+// is of the object type specified by objecttype; otherwise it is False").
+#[test]
+fn typeof_is_tests_an_objects_type() {
+    let shape = "Public Function Area() As Double\nEnd Function\n";
+    let circle = "Implements IShape\nPrivate Function IShape_Area() As Double\nEnd Function\n";
+    let main = "Sub Main()\n    Dim c As New Collection, k As Circle, r As Range, o As Object, v\n\
+                \x20   Set k = New Circle\n    Set r = Range(\"A1:B2\")\n    Set v = ActiveSheet\n\
+                \x20   Debug.Print TypeOf c Is Collection, TypeOf c Is VBA.Collection, TypeOf c Is Range, TypeOf c Is Object\n\
+                \x20   Debug.Print TypeOf k Is Circle, TypeOf k Is IShape, TypeOf k Is Collection\n\
+                \x20   Debug.Print TypeOf r Is Range, TypeOf r Is Excel.Range, TypeOf v Is Worksheet, TypeOf v Is Range\n\
+                \x20   Debug.Print TypeOf o Is Object, Not TypeOf o Is Collection, Not TypeOf c Is Collection\n\
+                \x20   If TypeOf c Is Collection And Not TypeOf r Is Worksheet Then Debug.Print \"both\"\nEnd Sub\n";
+    let out = with_classes(main, &[("IShape", shape), ("Circle", circle)]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        out.printed,
+        [
+            "True          True          False         True",
+            "True          True          False",
+            "True          True          True          False",
+            "False         True          False",
+            "both"
+        ]
+    );
+}
+
+// An object variable not yet Set holds Nothing ([MS-VBAL] 5.2.3.1.3, the default value of a
+// variable of an object type is Nothing): "TypeName function" gives "Nothing", "VarType
+// function" vbObject (9), "IsObject function" True ("IsObject returns True if identifier is
+// a variable declared with Object type or any valid class type"), `Is Nothing` True; a
+// Variant not yet assigned is Empty (0, False).
+#[test]
+fn an_unset_object_variable_holds_nothing() {
+    let probe = "Public Field As Long\n";
+    let main = "Function Maker() As Object\nEnd Function\n\
+                Sub Main()\n    Dim o As Object, c As Collection, p As Probe, w As Worksheet, v\n\
+                \x20   Debug.Print TypeName(o); \" \"; TypeName(c); \" \"; TypeName(p); \" \"; TypeName(w); \" \"; TypeName(v)\n\
+                \x20   Debug.Print VarType(o); VarType(c); VarType(p); VarType(v)\n\
+                \x20   Debug.Print IsObject(o); IsObject(p); IsObject(v); o Is Nothing; p Is Nothing\n\
+                \x20   Debug.Print TypeName(Maker()); Maker() Is Nothing\nEnd Sub\n";
+    let out = with_classes(main, &[("Probe", probe)]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        out.printed,
+        ["Nothing Nothing Nothing Nothing Empty", " 9  9  9  0 ", "TrueTrueFalseTrueTrue", "NothingTrue"]
+    );
+}
+
+// "Initialize, Terminate events": Terminate runs when the last reference to an object goes.
+// The end of a run is the end of its program, so the objects module-level and Static
+// variables still hold go then, their Class_Terminate run (module variables in the order
+// declared); a run ended by `End` removes them without it (the same page: "if your
+// application invokes the End statement … the Terminate event isn't triggered").
+#[test]
+fn module_and_static_objects_are_terminated_at_the_runs_end() {
+    let main = "Private first As Probe, second As Object\n\
+                Sub Keep()\n    Static kept As Probe\n    If kept Is Nothing Then Set kept = New Probe: kept.Field = 3\nEnd Sub\n\
+                Sub Main()\n    Set second = New Probe\n    second.Field = 2\n    Set first = New Probe\n    first.Field = 1\n\
+                \x20   Keep\n    Keep\n    Debug.Print \"end of Main\"\nEnd Sub\n";
+    let out = with_classes(main, &[("Probe", PROBE)]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.printed, ["init", "init", "init", "end of Main", "term 1 ", "term 2 ", "term 3 "]);
+    let ended = main.replace("Debug.Print \"end of Main\"", "Debug.Print \"end of Main\"\n    End");
+    let out = with_classes(&ended, &[("Probe", PROBE)]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.printed, ["init", "init", "init", "end of Main"]);
+}

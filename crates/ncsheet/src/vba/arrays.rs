@@ -137,7 +137,7 @@ impl Interp<'_, '_> {
             Var::Obj(o) => Some(o),
         };
         let result = self.with_slot(name, |slot| {
-            if matches!(slot.ty, Some(ref t) if *t != Ty::Variant) {
+            if matches!(slot.ty, Some(ref t) if !matches!(t, Ty::Variant | Ty::Object)) {
                 return Err(format!("{}: an array of values cannot hold an object (type mismatch)", slot.name));
             }
             let own = slot.name.clone();

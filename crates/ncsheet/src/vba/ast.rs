@@ -133,8 +133,12 @@ pub enum Ty {
     Number(u8),
     String,
     Boolean,
-    /// Variant, or an object type (Range, Worksheet, Object, …): holds anything.
+    /// Variant: holds anything.
     Variant,
+    /// An object type (Object, Range, Worksheet, Collection, a class module …): holds
+    /// anything as a Variant does, but starts as Nothing, not Empty ([MS-VBAL] 5.2.3.1.3:
+    /// an object variable's default value is Nothing).
+    Object,
     /// A `Type` of the module, by index.
     Record(usize),
 }
@@ -379,6 +383,9 @@ pub enum Node {
     Evaluate { expr: Expr, span: Span },
     /// `object Is Nothing` (`other` is `None`) or `object Is other`: the same object or not.
     Is { object: Expr, other: Option<Expr>, span: Span },
+    /// `TypeOf object Is Type` ([MS-VBAL] 5.6.7): whether the object is of the type named
+    /// (`Collection`, `Excel.Range`, a class module, an interface it implements, `Object`).
+    TypeOf { object: Expr, ty: Rc<str>, span: Span },
     /// `VarType(x)`, `IsMissing(x)`, `TypeName(x)`, `IsObject(x)`: what a variable is, which its
     /// declaration tells.
     Inspect { what: Inspect, arg: Expr, span: Span },

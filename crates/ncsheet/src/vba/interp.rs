@@ -403,7 +403,31 @@ impl Interp<'_, '_> {
                 ));
             }
         }
-        self.invoke(entry, bound, None).map(|_| ())
+        self.invoke(entry, bound, None)?;
+        if !self.ended.get() {
+            self.release_module_variables()?;
+        }
+        Ok(())
+    }
+
+    /// The end of a run is the end of its program: the objects the module's variables and
+    /// the procedures' Static variables still hold are let go, in the order declared, each
+    /// object's Class_Terminate running as its last reference goes ("Initialize, Terminate
+    /// events"). Not after `End`, which removes them without it (the same page).
+    fn release_module_variables(&self) -> Run<()> {
+        let names: Vec<Rc<str>> = self.globals.borrow().iter().map(|s| s.name.clone()).collect();
+        for name in names {
+            let var = self.globals.borrow_mut().get_mut(&name).map(|s| s.replace(Var::Value(Value::Blank)));
+            if let Some(var) = var {
+                self.release(&var)?;
+            }
+        }
+        let mut statics: Vec<_> = self.kept.borrow_mut().drain().collect();
+        statics.sort_by(|a, b| a.0.cmp(&b.0));
+        for (_, slot) in statics {
+            self.release(slot.var())?;
+        }
+        Ok(())
     }
 
     // ---- faults ----------------------------------------------------------------------
@@ -1186,6 +1210,8 @@ impl Interp<'_, '_> {
     /// VBA's error 28, "Out of stack space" (VBA's reference, "Out of stack space (Error
     /// 28)"), before the native stack runs out. The blocks between two GoSubs (`If`, `For`,
     /// `With` … around the inner one) nest native frames too, so the stack left is measured
+            // An object variable starts as Nothing ([MS-VBAL] 5.2.3.1.3).
+            Some(Ty::Object) => Var::Obj(Obj::Value(Value::Blank)),
     /// as well: a GoSub is refused with less than [`STACK_RESERVE`] of it (800 GoSubs each
     /// inside an `If` overflowed an 8 MiB stack before the count was reached).
     fn gosub(&self, label: &str) -> Run<Flow> {

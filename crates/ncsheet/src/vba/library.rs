@@ -217,6 +217,29 @@ impl Interp<'_, '_> {
         }
     }
 
+    /// `TypeOf x Is ty` ([MS-VBAL] 5.6.7): True for an object whose class is `ty` (a library's
+    /// prefix, `Excel.` or `Scripting.`, aside), a class module's object whose class implements
+    /// `ty`, and any object for `Object`. Nothing and values are of no object type: False, as
+    /// the "If...Then...Else statement" reference says ("True if objectname is of the object
+    /// type specified by objecttype; otherwise it is False"), where MS-VBAL raises error 91.
+    pub(super) fn is_of_type(&self, var: &Var, ty: &str) -> bool {
+        let ty = ty.rsplit('.').next().unwrap_or(ty);
+        let obj = match var {
+            Var::Obj(Obj::Value(_)) | Var::Value(_) | Var::Array(_) | Var::Record(..) => return false,
+            Var::Obj(obj) => obj,
+        };
+        if ty.eq_ignore_ascii_case("Object") {
+            return true;
+        }
+        match obj {
+            Obj::Instance(object) => {
+                let class = &self.module.classes[object.0.class];
+                class.name.eq_ignore_ascii_case(ty) || class.implements.iter().any(|i| i.eq_ignore_ascii_case(ty))
+            }
+            obj => object_type_name(obj).eq_ignore_ascii_case(ty),
+        }
+    }
+
     /// `IsObject(x)` ("IsObject function"): True for an object, Nothing included.
     fn is_object(&self, arg: &Expr) -> Run<bool> {
         if arg.kind == ExprKind::Missing {
@@ -343,7 +366,8 @@ fn declared_var_type(ty: &Ty) -> Option<f64> {
         Ty::String => Some(8.0),
         Ty::Boolean => Some(11.0),
         Ty::Record(_) => Some(36.0),
-        Ty::Variant => None,
+        // An object variable answers what it holds (Nothing 9, a Range its Value's type).
+        Ty::Variant | Ty::Object => None,
     }
 }
 

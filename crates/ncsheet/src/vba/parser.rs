@@ -210,6 +210,8 @@ fn describe(rule: Rule) -> &'static str {
         | Rule::radix_lit
         | Rule::typed_number
         | Rule::path_is
+        | Rule::type_of
+        | Rule::k_typeof
         | Rule::new_object
         | Rule::k_new
         | Rule::vneg
@@ -1061,6 +1063,7 @@ impl HostPrimaries for Build<'_> {
             Rule::bracket => self.bracket(pair),
             Rule::path => self.path_expr(pair, false),
             Rule::path_is => self.path_is(pair),
+            Rule::type_of => self.type_of(pair),
             Rule::new_object => self.new_object(pair),
             Rule::typed_number => self.typed_number(pair),
             Rule::date_lit => {
@@ -1102,6 +1105,15 @@ impl Build<'_> {
         let object = self.path_expr(first, false)?;
         let other = paths.next().map(|p| self.path_expr(p, false)).transpose()?;
         Ok(self.node(Node::Is { object, other, span: self.span(at) }, at, end))
+    }
+
+    /// `TypeOf x Is Type`: a node the interpreter answers by x's object's type.
+    fn type_of(&self, pair: Pair<Rule>) -> Res<Expr> {
+        let (at, end) = (start(&pair), pair.as_span().end());
+        let k = kids(&pair);
+        let object = self.path_expr(find(&k, Rule::path).expect("a path"), false)?;
+        let ty = find(&k, Rule::type_path).expect("a type").as_str().into();
+        Ok(self.node(Node::TypeOf { object, ty, span: self.span(at) }, at, end))
     }
 
     /// `10#`, `1E10#`, `1!`, `1@`, `32767%`, `100000&`: the number; an Integer or Long
@@ -1274,7 +1286,9 @@ fn ty_named(name: &str) -> Ty {
         "string" => Ty::String,
         "boolean" => Ty::Boolean,
         "date" => Ty::Number(DATE_VAR_TYPE),
-        _ => Ty::Variant,
+        "variant" | "any" | "" => Ty::Variant,
+        // Object, Range, Collection, a class module's name …
+        _ => Ty::Object,
     }
 }
 

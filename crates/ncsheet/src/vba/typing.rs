@@ -52,7 +52,7 @@ impl Declared {
             Some(Ty::Number(_)) => Declared::Double,
             Some(Ty::String) => Declared::String,
             Some(Ty::Boolean) => Declared::Boolean,
-            Some(Ty::Variant | Ty::Record(_)) | None => Declared::Variant,
+            Some(Ty::Variant | Ty::Object | Ty::Record(_)) | None => Declared::Variant,
         }
     }
 
@@ -261,7 +261,7 @@ impl Interp<'_, '_> {
             }
             Node::Bound { .. } => Declared::Long,
             Node::Inspect { what: Inspect::VarType, .. } => Declared::Integer,
-            Node::Is { .. } | Node::Inspect { what: Inspect::IsMissing, .. } => Declared::Boolean,
+            Node::Is { .. } | Node::TypeOf { .. } | Node::Inspect { what: Inspect::IsMissing, .. } => Declared::Boolean,
             _ => Declared::Variant,
         }
     }

@@ -314,7 +314,7 @@ pub const INVALID_USE_OF_NULL: &str = "Invalid use of Null (run-time error 94)";
 
 /// What a typed variable makes of an assigned value (VBA's implicit conversions).
 pub(super) fn convert(var: Var, ty: Option<&Ty>, name: &str) -> Result<Var, String> {
-    let Some(ty) = ty.filter(|t| **t != Ty::Variant) else { return Ok(var) };
+    let Some(ty) = ty.filter(|t| !matches!(t, Ty::Variant | Ty::Object)) else { return Ok(var) };
     if let Ty::Record(i) = ty {
         return match var {
             Var::Record(j, fields) if j == *i => Ok(Var::Record(j, fields)),
@@ -346,7 +346,7 @@ pub(super) fn convert(var: Var, ty: Option<&Ty>, name: &str) -> Result<Var, Stri
         },
         Ty::String => Value::Text(vba_text(&v).map_err(mismatch)?),
         Ty::Boolean => Value::Bool(to_bool(&v).map_err(mismatch)?),
-        Ty::Variant | Ty::Record(_) => v,
+        Ty::Variant | Ty::Object | Ty::Record(_) => v,
     }))
 }
 
