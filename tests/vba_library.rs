@@ -290,3 +290,44 @@ fn date_and_time_dollar_are_strings() {
     );
     assert_eq!(out, ["String 10 TrueTrue", "String 8 True"]);
 }
+
+// An argument outside a function's domain is run-time error 5, "Invalid procedure call or
+// argument", raised (On Error traps it), not a value: "Mid function" (start below 1, a
+// negative length), "Left function" and "Right function" (a negative length), "Space
+// function", "String function" (a negative number), "Chr function" (a negative code),
+// "Asc function" ("If the string contains no characters, a run-time error occurs"), "InStr
+// function" (start below 1), "InStrRev function", "Split function" (limit below -1), "Sqr
+// function" (a number below zero), "Log function" (a number not above zero), "Round
+// function" (negative decimal places). CInt and CLng past their type are error 6, Overflow
+// ("Type conversion functions").
+#[test]
+fn an_argument_outside_the_domain_raises_error_5() {
+    for f in [
+        "Mid(\"abc\", 0)",
+        "Mid(\"abc\", 1, -1)",
+        "Left(\"abc\", -1)",
+        "Right$(\"abc\", -1)",
+        "Space(-1)",
+        "String(-1, \"a\")",
+        "Chr(-1)",
+        "Asc(\"\")",
+        "InStr(0, \"abc\", \"b\")",
+        "InStrRev(\"abc\", \"b\", 0)",
+        "Split(\"a b\", \" \", -2)",
+        "Sqr(-1)",
+        "Log(0)",
+        "Round(2.5, -1)",
+    ] {
+        let out = printed(&format!(
+            "    Dim v\n    v = \"kept\"\n    On Error Resume Next\n    v = {f}\n    Debug.Print Err.Number; Err.Description; \" \"; v"
+        ));
+        assert_eq!(out, [" 5 Invalid procedure call or argument kept"], "{f}");
+    }
+    for f in ["CInt(40000)", "CLng(3E+9)"] {
+        let out = printed(&format!("    Dim v\n    On Error Resume Next\n    v = {f}\n    Debug.Print Err.Number"));
+        assert_eq!(out, [" 6 "], "{f}");
+    }
+    // Not trapped, the macro stops there, naming the error.
+    let e = run_src("Sub Main()\n    Dim s As String\n    s = Mid(\"abc\", 0, 1)\nEnd Sub\n").unwrap_err();
+    assert!(e.message.contains("Invalid procedure call or argument") && e.message.contains("Mid"), "{e}");
+}

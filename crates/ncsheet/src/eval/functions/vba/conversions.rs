@@ -31,11 +31,11 @@ const LONG_MAX: f64 = 2147483647.0;
 /// The first VBA run-time error the items of a lifted call met (its number and why), raised
 /// once the call is done: 5 (Invalid procedure call or argument) or 6 (Overflow).
 #[derive(Default)]
-struct Raised(Cell<Option<(u32, &'static str)>>);
+pub(super) struct Raised(Cell<Option<(u32, &'static str)>>);
 
 impl Raised {
     /// Notes error `number`; the item is meanwhile the error value returned.
-    fn set(&self, number: u32, why: &'static str) -> XlError {
+    pub(super) fn set(&self, number: u32, why: &'static str) -> XlError {
         if self.0.get().is_none() {
             self.0.set(Some((number, why)));
         }
@@ -47,7 +47,7 @@ impl Raised {
     }
 
     /// `result`, or the error noted, raised in a macro.
-    fn raise(&self, ctx: &mut Ctx, name: &str, result: XlResult<Value>) -> XlResult<Value> {
+    pub(super) fn raise(&self, ctx: &mut Ctx, name: &str, result: XlResult<Value>) -> XlResult<Value> {
         match self.0.get() {
             Some((6, why)) => {
                 Err(ctx.raise_vba(XlError::Num, 6, format!("Overflow (run-time error 6): {name}: {why}")))

@@ -13,7 +13,7 @@ use crate::eval::coerce::{parse_plain_number, to_bool, to_number, to_text};
 use crate::eval::dates::DateSystem;
 use crate::eval::format::number_format::general;
 use crate::eval::functions::api::{
-    explain_lifted_size, lift_number2, lift_values, number_result, Ctx, FnSpec, Operand, Outside, MANY,
+    explain_lifted_size, lift_values, number_result, Ctx, FnSpec, Operand, Outside, MANY,
 };
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
@@ -22,6 +22,7 @@ use crate::eval::format::text_format::NumberFormat;
 
 mod conversions;
 mod strings;
+use conversions::Raised;
 pub use strings::var_type_of;
 
 /// VBA's Date type counts days as the 1900 date system does (from 1899-12-30), whatever
@@ -175,7 +176,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("VBA.SGN", 1, 1, sgn, "VBA.SGN(number)", "VBA Sgn: -1, 0 or 1"),
     FnSpec::value("VBA.SIN", 1, 1, sin, "VBA.SIN(angle)", "VBA Sin: sine of an angle in radians"),
     FnSpec::value("VBA.SPACE", 1, 1, space, "VBA.SPACE(count)", "VBA Space: count spaces"),
-    FnSpec::value("VBA.SQR", 1, 1, sqr, "VBA.SQR(number)", "VBA Sqr: square root; #NUM! below zero"),
+    FnSpec::value("VBA.SQR", 1, 1, sqr, "VBA.SQR(number)", "VBA Sqr: square root; error 5 below zero"),
     FnSpec::value(
         "VBA.SPLIT",
         1,
@@ -398,22 +399,34 @@ fn lift_vba_values(
     lifted
 }
 
-/// A function of one number, after VBA's rule for a Null argument.
-fn number_fn(ctx: &mut Ctx, args: &[Expr], name: &str, passes: Passes, f: fn(f64) -> XlResult<f64>) -> XlResult<Value> {
+/// A function of one number, after VBA's rule for a Null argument; a number outside the
+/// function's domain (`Err(why)`: `Sqr(-1)`, `Log(0)`) is run-time error 5, "Invalid
+/// procedure call or argument", as the function's page says.
+fn number_fn(
+    ctx: &mut Ctx,
+    args: &[Expr],
+    name: &str,
+    passes: Passes,
+    f: fn(f64) -> Result<f64, &'static str>,
+) -> XlResult<Value> {
+    let raised = Raised::default();
+    let apply = |x: f64| f(x).map(number_result).map_err(|why| raised.set(5, why));
     // A number, the usual case, needs neither the Null rule nor lifting.
-    if let Some(x) = ctx.leaf_number(&args[0]) {
-        return Ok(number_result(f(x)?));
-    }
-    let v = ctx.eval(&args[0]);
-    if let Value::Number(x) = v {
-        return Ok(number_result(f(x)?));
-    }
-    if let Some(result) = null_argument(ctx, name, std::slice::from_ref(&v), passes) {
-        return result;
-    }
-    let dates = ctx.dates();
-    let v = ctx.locale().numbers_for_arithmetic(v, dates);
-    lift_values(&[v], &|v| Ok(number_result(f(to_number(&v[0], dates)?)?)))
+    let result = match ctx.leaf_number(&args[0]) {
+        Some(x) => apply(x),
+        None => match ctx.eval(&args[0]) {
+            Value::Number(x) => apply(x),
+            v => {
+                if let Some(result) = null_argument(ctx, name, std::slice::from_ref(&v), passes) {
+                    return result;
+                }
+                let dates = ctx.dates();
+                let v = ctx.locale().numbers_for_arithmetic(v, dates);
+                lift_values(&[v], &|v| apply(to_number(&v[0], dates)?))
+            }
+        },
+    };
+    raised.raise(ctx, name, result)
 }
 
 // "Abs function", "Int, Fix functions": "If number contains Null, Null is returned"; [MS-VBAL]'s
@@ -454,12 +467,13 @@ fn exp(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     number_fn(ctx, args, "Exp", NO_NULL, |x| Ok(x.exp()))
 }
 
+// "Log function": number "greater than zero"; "Sqr function": "greater than or equal to zero".
 fn log(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    number_fn(ctx, args, "Log", NO_NULL, |x| if x > 0.0 { Ok(x.ln()) } else { Err(XlError::Num) })
+    number_fn(ctx, args, "Log", NO_NULL, |x| if x > 0.0 { Ok(x.ln()) } else { Err("the number is not above zero") })
 }
 
 fn sqr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    number_fn(ctx, args, "Sqr", NO_NULL, |x| if x < 0.0 { Err(XlError::Num) } else { Ok(x.sqrt()) })
+    number_fn(ctx, args, "Sqr", NO_NULL, |x| if x < 0.0 { Err("the number is below zero") } else { Ok(x.sqrt()) })
 }
 
 fn array(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
@@ -467,25 +481,40 @@ fn array(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     Ok(Value::from(crate::eval::value::Array::row(items)))
 }
 
+/// "Round function": a negative number of decimal places is run-time error 5.
 fn round(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_number2(ctx, args, 0.0, |x, digits| {
-        if !(0.0..=22.0).contains(&digits.trunc()) {
+    let raised = Raised::default();
+    let result = lift_vba(ctx, args, "Round", FIRST, &|v| {
+        let x = to_number(&v[0], VBA_DATES)?;
+        let digits = match v.get(1) {
+            None | Some(Value::Blank) => 0.0,
+            Some(d) => to_number(d, VBA_DATES)?,
+        };
+        if digits.trunc() < 0.0 {
+            return Err(raised.set(5, "the number of decimal places is below zero"));
+        }
+        if digits.trunc() > 22.0 {
             return Err(XlError::Value);
         }
         let scale = 10f64.powi(digits.trunc() as i32);
-        Ok((x * scale).round_ties_even() / scale)
-    })
+        Ok(number_result((x * scale).round_ties_even() / scale))
+    });
+    raised.raise(ctx, "Round", result)
 }
 
-/// VBA's conversion to a whole number: halves to even, `#NUM!` (VBA's Overflow) out of range.
+/// VBA's conversion to a whole number: halves to even; out of range VBA's Overflow, run-time
+/// error 6 ("Type conversion functions": "If the expression passed to the function is outside
+/// the range of the data type being converted to, an error occurs"), `#NUM!` in a cell.
 fn whole(ctx: &mut Ctx, args: &[Expr], name: &str, limit: f64) -> XlResult<Value> {
-    lift_vba(ctx, args, name, NO_NULL, &|v| {
+    let raised = Raised::default();
+    let result = lift_vba(ctx, args, name, NO_NULL, &|v| {
         let r = to_number(&v[0], VBA_DATES)?.round_ties_even();
         if r < -limit - 1.0 || r > limit {
-            return Err(XlError::Num);
+            return Err(raised.set(6, "the number is past the range of its type"));
         }
         Ok(Value::Number(r))
-    })
+    });
+    raised.raise(ctx, name, result)
 }
 
 fn cint(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
@@ -553,13 +582,26 @@ fn text_fn(
     lift_vba(ctx, args, name, passes, &|v| f(&vba_text(&v[0])?, &v[1..]))
 }
 
-/// A count argument (lengths, positions): a whole number, `#VALUE!` below zero.
-fn count(v: &Value) -> XlResult<usize> {
+/// A count argument (lengths, positions): a whole number; below zero run-time error 5 (the
+/// pages of Left, Right, Mid and Space: "Invalid procedure call or argument"), `#VALUE!` in a cell.
+fn count(raised: &Raised, v: &Value) -> XlResult<usize> {
     let n = to_number(v, VBA_DATES)?.trunc();
     if n < 0.0 {
-        return Err(XlError::Value);
+        return Err(raised.set(5, "a length below zero"));
     }
     Ok(n.min(u32::MAX as f64) as usize)
+}
+
+/// [`text_fn`] whose `f` notes run-time errors in the `Raised` it is given.
+fn checked_text_fn(
+    ctx: &mut Ctx,
+    args: &[Expr],
+    name: &str,
+    f: &dyn Fn(&Raised, &str, &[Value]) -> XlResult<Value>,
+) -> XlResult<Value> {
+    let raised = Raised::default();
+    let result = text_fn(ctx, args, name, FIRST, &|s, rest| f(&raised, s, rest));
+    raised.raise(ctx, name, result)
 }
 
 fn len(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
@@ -567,24 +609,27 @@ fn len(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn left(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    text_fn(ctx, args, "Left", FIRST, &|s, rest| Ok(Value::text(s.chars().take(count(&rest[0])?).collect::<String>())))
-}
-
-fn right(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    text_fn(ctx, args, "Right", FIRST, &|s, rest| {
-        let n = s.chars().count();
-        Ok(Value::text(s.chars().skip(n.saturating_sub(count(&rest[0])?)).collect::<String>()))
+    checked_text_fn(ctx, args, "Left", &|raised, s, rest| {
+        Ok(Value::text(s.chars().take(count(raised, &rest[0])?).collect::<String>()))
     })
 }
 
+fn right(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    checked_text_fn(ctx, args, "Right", &|raised, s, rest| {
+        let n = s.chars().count();
+        Ok(Value::text(s.chars().skip(n.saturating_sub(count(raised, &rest[0])?)).collect::<String>()))
+    })
+}
+
+/// "Mid function": a start of 0 or below, or a negative length, is run-time error 5.
 fn mid(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let has_length = args.get(2).is_some_and(|e| e.kind != ExprKind::Missing);
-    text_fn(ctx, args, "Mid", FIRST, &|s, rest| {
-        let start = count(&rest[0])?;
+    checked_text_fn(ctx, args, "Mid", &|raised, s, rest| {
+        let start = count(raised, &rest[0])?;
         if start == 0 {
-            return Err(XlError::Value);
+            return Err(raised.set(5, "start is below 1"));
         }
-        let length = if has_length { count(&rest[1])? } else { usize::MAX };
+        let length = if has_length { count(raised, &rest[1])? } else { usize::MAX };
         Ok(Value::text(s.chars().skip(start - 1).take(length).collect::<String>()))
     })
 }
@@ -609,25 +654,35 @@ fn rtrim(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     text_fn(ctx, args, "RTrim", FIRST, &|s, _| Ok(Value::text(s.trim_end_matches(' '))))
 }
 
+/// "Chr function": a negative code is run-time error 5 (codes past 255 are read as Unicode).
 fn chr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_vba(ctx, args, "Chr", NO_NULL, &|v| {
+    let raised = Raised::default();
+    let result = lift_vba(ctx, args, "Chr", NO_NULL, &|v| {
         let code = to_number(&v[0], VBA_DATES)?.trunc();
-        let c = char::from_u32(code as u32).filter(|_| (0.0..=1114111.0).contains(&code)).ok_or(XlError::Value)?;
+        if code < 0.0 {
+            return Err(raised.set(5, "the character code is below zero"));
+        }
+        let c = char::from_u32(code as u32).filter(|_| code <= 1114111.0).ok_or(XlError::Value)?;
         Ok(Value::text(c.to_string()))
-    })
+    });
+    raised.raise(ctx, "Chr", result)
 }
 
+/// "Asc function": "If the string contains no characters, a run-time error occurs" (error 5).
 fn asc(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    text_fn(ctx, args, "Asc", NO_NULL, &|s, _| {
-        s.chars().next().map(|c| Value::Number(c as u32 as f64)).ok_or(XlError::Value)
-    })
+    let raised = Raised::default();
+    let result = text_fn(ctx, args, "Asc", NO_NULL, &|s, _| {
+        s.chars().next().map(|c| Value::Number(c as u32 as f64)).ok_or_else(|| raised.set(5, "the text is empty"))
+    });
+    raised.raise(ctx, "Asc", result)
 }
 
 fn space(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     // Space(1e9) is refused before it is built, not cut to a shorter string.
     let limit = ctx.text_limit();
     let over = std::cell::Cell::new(false);
-    let result = lift_vba(ctx, args, "Space", NO_NULL, &|v| match count(&v[0])? {
+    let raised = Raised::default();
+    let result = lift_vba(ctx, args, "Space", NO_NULL, &|v| match count(&raised, &v[0])? {
         n if n > limit => {
             over.set(true);
             Err(XlError::Value)
@@ -637,7 +692,7 @@ fn space(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     if over.get() {
         return Err(ctx.text_over_limit());
     }
-    result
+    raised.raise(ctx, "Space", result)
 }
 
 fn is_empty(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {

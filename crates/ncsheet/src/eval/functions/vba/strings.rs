@@ -8,18 +8,18 @@ use crate::eval::functions::api::{given, Ctx};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
-use super::{format_number, invalid_use_of_null, vba_text};
+use super::{format_number, invalid_call, invalid_use_of_null, vba_text};
 
 /// `compare` of InStr, InStrRev, StrComp and Split: vbTextCompare (1) ignores case;
 /// vbBinaryCompare (0), the default, and vbUseCompareOption (-1, Option Compare Binary
-/// being the only one) compare character codes.
-fn text_compare(ctx: &mut Ctx, args: &[Expr], i: usize) -> XlResult<bool> {
+/// being the only one) compare character codes. Any other is run-time error 5 for `name`.
+fn text_compare(ctx: &mut Ctx, name: &str, args: &[Expr], i: usize) -> XlResult<bool> {
     let Some(e) = given(args, i) else { return Ok(false) };
     let dates = ctx.dates();
     match to_number(&ctx.eval(e).unwrap_single(), dates)?.trunc() {
         1.0 => Ok(true),
         0.0 | -1.0 => Ok(false),
-        _ => Err(XlError::Value),
+        _ => Err(invalid_call(ctx, name, "compare is vbBinaryCompare (0) or vbTextCompare (1)")),
     }
 }
 
@@ -76,10 +76,11 @@ fn starts_at(hay: &[char], needle: &[char], at: usize) -> bool {
 /// `InStr([start,] string1, string2[, compare])`: with four arguments the first is the start.
 pub fn instr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let (start, text_at) = if args.len() >= 3 { (whole_arg(ctx, "InStr", args, 0, 1.0)?, 1) } else { (1.0, 0) };
+    // "InStr function": start below 1 is run-time error 5.
     if start < 1.0 {
-        return Err(XlError::Value);
+        return Err(invalid_call(ctx, "InStr", "start is below 1"));
     }
-    let ignore_case = args.len() == 4 && text_compare(ctx, args, 3)?;
+    let ignore_case = args.len() == 4 && text_compare(ctx, "InStr", args, 3)?;
     let (Some(text), Some(find)) = (text_or_null(ctx, args, text_at)?, text_or_null(ctx, args, text_at + 1)?) else {
         return Ok(Value::Null);
     };
@@ -95,14 +96,14 @@ pub fn instr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// `InStrRev(stringcheck, stringmatch[, start[, compare]])`: the last match that ends at or
 /// before `start` (-1: the last character); 0 when `start` is past the text.
 pub fn instr_rev(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    let ignore_case = text_compare(ctx, args, 3)?;
+    let ignore_case = text_compare(ctx, "InStrRev", args, 3)?;
     let (Some(text), Some(find)) = (text_or_null(ctx, args, 0)?, text_or_null(ctx, args, 1)?) else {
         return Ok(Value::Null);
     };
     let (text, find) = (chars_for(&text, ignore_case), chars_for(&find, ignore_case));
     let start = whole_arg(ctx, "InStrRev", args, 2, -1.0)?;
     if start == 0.0 || start < -1.0 {
-        return Err(XlError::Value);
+        return Err(invalid_call(ctx, "InStrRev", "start is 0 or below -1"));
     }
     if text.is_empty() {
         return Ok(Value::Number(0.0));
@@ -121,7 +122,7 @@ pub fn instr_rev(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 /// `StrComp(string1, string2[, compare])`: -1, 0 or 1.
 pub fn str_comp(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    let ignore_case = text_compare(ctx, args, 2)?;
+    let ignore_case = text_compare(ctx, "StrComp", args, 2)?;
     let (Some(a), Some(b)) = (text_or_null(ctx, args, 0)?, text_or_null(ctx, args, 1)?) else {
         return Ok(Value::Null);
     };
@@ -144,9 +145,9 @@ pub fn split(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     };
     let limit = whole_arg(ctx, "Split", args, 2, -1.0)?;
     if limit < -1.0 {
-        return Err(XlError::Value);
+        return Err(invalid_call(ctx, "Split", "limit is below -1"));
     }
-    let ignore_case = text_compare(ctx, args, 3)?;
+    let ignore_case = text_compare(ctx, "Split", args, 3)?;
     if text.is_empty() || limit == 0.0 {
         return Ok(Value::from(Array::row(Vec::new())));
     }
@@ -230,7 +231,7 @@ pub fn chrw(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let dates = ctx.dates();
     let code = to_number(&ctx.eval(&args[0]).unwrap_single(), dates)?.trunc();
     if !(-32768.0..=65535.0).contains(&code) {
-        return Err(XlError::Value);
+        return Err(invalid_call(ctx, "ChrW", "the code is outside -32768 to 65535"));
     }
     let unit = if code < 0.0 { code + 65536.0 } else { code } as u32;
     let c = char::from_u32(unit).ok_or(XlError::Value)?;
