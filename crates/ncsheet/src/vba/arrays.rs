@@ -48,7 +48,7 @@ impl Interp<'_, '_> {
         let (rows, lower_row) = if dims.len() == 2 { (dims[0].1, dims[0].0) } else { (1, 1) };
         let (lower_col, cols) = *dims.last().expect("one dimension at least");
         let data = Rc::new(Array::filled(rows, cols, default_value(ty)));
-        VArray { data, lower: (lower_row, lower_col), dims: dims.len() as u8, objects: None }
+        VArray { data, lower: (lower_row, lower_col), dims: dims.len() as u8, objects: None, dates: None }
     }
 
     /// The row-major position of an element, or why there is none.
@@ -85,6 +85,7 @@ impl Interp<'_, '_> {
         match self.lookup(name) {
             Some(Var::Array(a)) => {
                 let k = self.element_at(&a, &at).map_err(|m| self.fault_at(span, format!("{name}: {m}")))?;
+                self.gave_date.set(a.holds_date(k));
                 match a.item(k) {
                     Var::Obj(o) => self.operand_of(o, span),
                     _ => Ok(Operand::Value(a.data.data[k].clone())),
@@ -157,7 +158,8 @@ impl Interp<'_, '_> {
         }
     }
 
-    pub(super) fn set_element(&self, name: &Rc<str>, index: &[Expr], v: Value, span: Span) -> Run<()> {
+    /// `a(i) = v`; `date`: `v` is a Date, which a Variant array's item keeps as one.
+    pub(super) fn set_element(&self, name: &Rc<str>, index: &[Expr], v: Value, date: bool, span: Span) -> Run<()> {
         let at = index.iter().map(|e| self.index(e, "the index")).collect::<Run<Vec<i64>>>()?;
         if let Some(Var::Obj(Obj::Range(sheet, rect))) = self.lookup(name) {
             let cell = super::objects::item(rect, &at).map_err(|m| self.fault_at(span, format!("{name}: {m}")))?;
@@ -182,6 +184,7 @@ impl Interp<'_, '_> {
             if let Some(objects) = a.objects.as_mut().filter(|o| o.contains_key(&k)) {
                 Rc::make_mut(objects).remove(&k);
             }
+            a.mark_date(k, date && matches!(ty, None | Some(Ty::Variant)));
             Ok(())
         });
         match result {
@@ -233,6 +236,7 @@ impl Interp<'_, '_> {
                     f.code = 9;
                     f
                 })?;
+                self.gave_date.set(a.holds_date(k));
                 match a.item(k) {
                     object @ Var::Obj(_) => Ok(object),
                     _ => Ok(super::value::array_var(a.data.data[k].clone(), self.module.base)),
@@ -276,7 +280,7 @@ impl Interp<'_, '_> {
                     o @ (Obj::Store(_) | Obj::Range(..)) => Ok(Var::Obj(o)),
                     // `d.Keys()(0)`: Keys and Items are zero-based.
                     Obj::Value(Value::Array(a)) if self.is_keys_member(base) => {
-                        Ok(Var::Array(VArray { data: a, lower: (1, 0), dims: 1, objects: None }))
+                        Ok(Var::Array(VArray { data: a, lower: (1, 0), dims: 1, objects: None, dates: None }))
                     }
                     Obj::Value(v) => Ok(super::value::array_var(v, self.module.base)),
                     other => Ok(Var::Obj(other)),
@@ -295,15 +299,20 @@ fn link_index(link: &Link) -> Vec<Expr> {
 pub(super) fn preserve_items(old: &VArray, new: &mut VArray) {
     let data = Rc::make_mut(&mut new.data);
     let mut objects = std::collections::HashMap::new();
+    let mut dates = std::collections::HashSet::new();
     for r in 0..old.data.rows.min(data.rows) {
         for c in 0..old.data.cols.min(data.cols) {
             data.data[r * data.cols + c] = old.data.get(r, c).clone();
             if let Var::Obj(o) = old.item(r * old.data.cols + c) {
                 objects.insert(r * data.cols + c, o);
             }
+            if old.holds_date(r * old.data.cols + c) {
+                dates.insert(r * data.cols + c);
+            }
         }
     }
     new.objects = (!objects.is_empty()).then(|| Rc::new(objects));
+    new.dates = (!dates.is_empty()).then(|| Rc::new(dates));
 }
 
 impl Interp<'_, '_> {

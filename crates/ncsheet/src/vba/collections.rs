@@ -38,8 +38,9 @@ enum KeyForm {
     Blank,
 }
 
-/// One entry: its key (a Collection's item may have none) and its item.
-type Entry = (Option<Value>, Var);
+/// One entry: its key (a Collection's item may have none), its item, and whether the item
+/// is a Date (VarType 7, which a Variant item keeps: [MS-VBAL] 2.1.1.1).
+type Entry = (Option<Value>, Var, bool);
 
 /// The entries of a Collection or a Dictionary, in the order added.
 #[derive(Debug)]
@@ -64,13 +65,13 @@ pub struct Store {
 /// a chain of a million Collections each holding the next does not take the native stack.
 impl Drop for Store {
     fn drop(&mut self) {
-        let mut pending: Vec<Var> = self.entries.drain(..).flatten().map(|(_, item)| item).collect();
+        let mut pending: Vec<Var> = self.entries.drain(..).flatten().map(|(_, item, _)| item).collect();
         while let Some(var) = pending.pop() {
             match var {
                 Var::Obj(Obj::Store(h)) => {
                     if let Ok(cell) = Rc::try_unwrap(h.0) {
                         let mut inner = cell.into_inner();
-                        pending.extend(inner.entries.drain(..).flatten().map(|(_, item)| item));
+                        pending.extend(inner.entries.drain(..).flatten().map(|(_, item, _)| item));
                     }
                 }
                 Var::Record(_, fields) => pending.extend(fields),
@@ -189,19 +190,19 @@ impl Handle {
     pub fn each(&self) -> Vec<Var> {
         let store = self.0.borrow();
         match store.class {
-            Class::Collection => store.live().map(|(_, item)| item.clone()).collect(),
-            Class::Dictionary => store.live().map(|(k, _)| Var::Value(k.clone().unwrap_or(Value::Blank))).collect(),
+            Class::Collection => store.live().map(|(_, item, _)| item.clone()).collect(),
+            Class::Dictionary => store.live().map(|(k, _, _)| Var::Value(k.clone().unwrap_or(Value::Blank))).collect(),
         }
     }
 
     /// The memory the entries hold besides their items: keys' texts and each entry's share.
     pub fn own_bytes(&self) -> u64 {
         let store = self.0.borrow();
-        store.live().map(|(k, _)| ENTRY_BYTES + key_bytes(k.as_ref())).sum()
+        store.live().map(|(k, _, _)| ENTRY_BYTES + key_bytes(k.as_ref())).sum()
     }
 
     pub fn items(&self) -> Vec<Var> {
-        self.0.borrow().live().map(|(_, item)| item.clone()).collect()
+        self.0.borrow().live().map(|(_, item, _)| item.clone()).collect()
     }
 }
 
@@ -261,6 +262,17 @@ impl Store {
         &self.entries[at].as_ref().expect("a place holding an entry").1
     }
 
+    /// Whether the item at place `at` is a Date.
+    fn holds_date(&self, at: usize) -> bool {
+        self.entries[at].as_ref().is_some_and(|e| e.2)
+    }
+
+    fn set_date(&mut self, at: usize, date: bool) {
+        if let Some(entry) = self.entries[at].as_mut() {
+            entry.2 = date;
+        }
+    }
+
     fn item_mut(&mut self, at: usize) -> &mut Var {
         &mut self.entries[at].as_mut().expect("a place holding an entry").1
     }
@@ -270,7 +282,7 @@ impl Store {
         self.entries.retain(Option::is_some);
         self.gone = 0;
         let forms: Vec<(KeyForm, usize)> = (self.live().enumerate())
-            .filter_map(|(i, (k, _))| k.as_ref().and_then(|k| self.form(k).ok()).map(|f| (f, i)))
+            .filter_map(|(i, (k, _, _))| k.as_ref().and_then(|k| self.form(k).ok()).map(|f| (f, i)))
             .collect();
         self.index = forms.into_iter().collect();
         self.live = LiveCounts::full(self.entries.len());
@@ -281,7 +293,7 @@ impl Store {
         if let Some(form) = key.as_ref().and_then(|k| self.form(k).ok()) {
             self.index.insert(form, self.entries.len());
         }
-        self.entries.push(Some((key, item)));
+        self.entries.push(Some((key, item, false)));
         self.live.push();
     }
 
@@ -294,7 +306,7 @@ impl Store {
         if self.gone > 0 {
             self.close_up();
         }
-        self.entries.insert(n, Some((key, item)));
+        self.entries.insert(n, Some((key, item, false)));
         self.gone = 0;
         self.close_up();
     }
@@ -303,7 +315,7 @@ impl Store {
     /// the places are such, then all are closed up at once, so that a removal costs the same
     /// on average however many entries there are.
     fn remove(&mut self, at: usize) -> Option<Var> {
-        let (key, item) = self.entries[at].take()?;
+        let (key, item, _) = self.entries[at].take()?;
         if let Some(form) = key.as_ref().and_then(|k| self.form(k).ok()) {
             self.index.remove(&form);
         }
@@ -317,7 +329,7 @@ impl Store {
 
     /// Empties it, giving back the items it held (for their objects' Class_Terminate).
     pub(super) fn take_items(&mut self) -> Vec<Var> {
-        let items = self.entries.drain(..).flatten().map(|(_, item)| item).collect();
+        let items = self.entries.drain(..).flatten().map(|(_, item, _)| item).collect();
         self.clear();
         items
     }
@@ -411,11 +423,14 @@ impl Interp<'_, '_> {
             (Class::Dictionary, "add") => {
                 let args = self.member_args(link, &["Key", "Item"])?;
                 let key = self.store_key_value(self.required(args[0], link, "Key")?)?;
-                let item = self.item_var(self.required(args[1], link, "Item")?)?;
+                let item_expr = self.required(args[1], link, "Item")?;
+                let item = self.item_var(item_expr)?;
                 if self.find(&h, &key, link.span)?.is_some() {
                     return Err(self.vba_error(link.span, DUPLICATE_KEY, "Add"));
                 }
-                self.put(&h, key, item, link.span)?;
+                let date = self.item_is_date(item_expr, &item);
+                self.put(&h, key.clone(), item, link.span)?;
+                self.mark_store_date(&h, Some(&key), date, link.span)?;
                 blank
             }
             (_, "item") => {
@@ -472,7 +487,9 @@ impl Interp<'_, '_> {
 
     /// `c.Add item[, key][, before][, after]` ("Add method (Visual Basic for Applications)").
     fn collection_add(&self, h: &Handle, args: &[Option<&Expr>], link: &Link) -> Run<()> {
-        let item = self.item_var(self.required(args[0], link, "Item")?)?;
+        let item_expr = self.required(args[0], link, "Item")?;
+        let item = self.item_var(item_expr)?;
+        let date = self.item_is_date(item_expr, &item);
         let key = match args[1] {
             Some(e) => {
                 let v = self.eval(e)?;
@@ -495,7 +512,12 @@ impl Interp<'_, '_> {
             (None, None) => h.0.borrow().len(),
         };
         self.charge(ENTRY_BYTES + key_bytes(key.as_ref()) + super::budget::brought(&item), link.span)?;
-        h.0.borrow_mut().insert(at, key, item);
+        let mut store = h.0.borrow_mut();
+        let last = at >= store.len();
+        store.insert(at, key, item);
+        // Added last, it is at the last place; else the places were closed up first.
+        let place = if last { store.entries.len() - 1 } else { at };
+        store.set_date(place, date);
         Ok(())
     }
 
@@ -549,7 +571,25 @@ impl Interp<'_, '_> {
             },
         };
         let item = h.0.borrow().item(at).clone();
+        self.gave_date.set(h.0.borrow().holds_date(at));
         Ok(item)
+    }
+
+    /// Notes whether the item under `key` (a Collection's last item without one) is a Date.
+    pub(super) fn mark_store_date(&self, h: &Handle, key: Option<&Value>, date: bool, span: Span) -> Run<()> {
+        let at = match key {
+            Some(key) => self.find(h, key, span)?,
+            None => h.0.borrow().entries.len().checked_sub(1),
+        };
+        if let Some(at) = at {
+            h.0.borrow_mut().set_date(at, date);
+        }
+        Ok(())
+    }
+
+    /// Whether the item expression `e`, which gave `item`, is a Date.
+    fn item_is_date(&self, e: &Expr, item: &Var) -> bool {
+        matches!(item, Var::Value(v) if self.as_date(e, v).is_some())
     }
 
     /// `d(k) = v`, `d.Item(k) = v`: replaces the item, or adds the key ("Item property").

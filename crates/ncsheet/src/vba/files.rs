@@ -798,7 +798,7 @@ impl Interp<'_, '_> {
     fn store_input(&self, target: &Target, value: Value, span: Span) -> Run<()> {
         match target {
             Target::Var(name) => self.set_var(name, Var::Value(value), span),
-            Target::Element(name, index) => self.set_element(name, index, value, span),
+            Target::Element(name, index) => self.set_element(name, index, value, false, span),
             Target::Node(_) => Err(self.fault_at(span, "Input # and Line Input # read into a variable")),
         }
     }

@@ -136,7 +136,8 @@ impl Host for Interp<'_, '_> {
         if self.pending.borrow().is_some() || self.ended.get() {
             return Operand::Value(Value::Error(XlError::Value));
         }
-        match self.node_operand(ctx, id) {
+        // What the node gave is a Date or not until it is evaluated again.
+        match self.noting_date(id, || self.node_operand(ctx, id)) {
             Ok(operand) => operand,
             Err(fault) => {
                 self.park(fault);

@@ -281,6 +281,14 @@ pub struct Interp<'m, 'w> {
     stack_low: Cell<Option<usize>>,
     /// The files the macro wrote and those it has open (`files.rs`).
     pub(super) files: RefCell<super::files::Files>,
+    /// The nodes (calls, items of arrays, Collections and Dictionaries) whose last value was
+    /// a Date: a Variant keeps its Date type through them ([MS-VBAL] 2.1.1.1), which the
+    /// static typing of `typing.rs` cannot see.
+    pub(super) date_nodes: RefCell<std::collections::HashSet<u32>>,
+    /// Whether the value the last call, item or element gave was a Date (for `date_nodes`).
+    pub(super) gave_date: Cell<bool>,
+    /// The parameters a call passes Dates to, by position, for the next `bind_and_run`.
+    arg_dates: RefCell<Vec<usize>>,
 }
 
 impl<'m, 'w> Interp<'m, 'w> {
@@ -321,6 +329,9 @@ impl<'m, 'w> Interp<'m, 'w> {
             gosubs: Cell::new(0),
             stack_low: Cell::new(None),
             files: RefCell::new(super::files::Files::default()),
+            date_nodes: RefCell::new(std::collections::HashSet::new()),
+            gave_date: Cell::new(false),
+            arg_dates: RefCell::new(Vec::new()),
         }
     }
 }
@@ -697,31 +708,58 @@ impl Interp<'_, '_> {
                 Some(var) => Ok(var),
                 None => Ok(Var::Value(Value::Blank)),
             },
-            ExprKind::Host(id) if matches!(self.module.nodes[*id as usize], Node::New { .. }) => {
-                let Node::New { class, span } = &self.module.nodes[*id as usize] else { unreachable!() };
+            ExprKind::Host(id) => self.noting_date(*id, || self.host_var(e, *id, as_object)),
+            _ => self.operand_var(e, as_object),
+        }
+    }
+
+    /// Runs `give`, which evaluates the node `id`, noting whether it gave a Date
+    /// ([`Interp::date_nodes`]).
+    pub(super) fn noting_date<T>(&self, id: u32, give: impl FnOnce() -> T) -> T {
+        self.gave_date.set(false);
+        let given = give();
+        // The flag is the last call's or item's, which is this node's own only for these.
+        let own = match &self.module.nodes[id as usize] {
+            Node::Call { .. } | Node::Element { .. } | Node::Index { .. } => true,
+            Node::Path(path) => path.links.last().is_some_and(|l| l.name.eq_ignore_ascii_case("item")),
+            _ => false,
+        };
+        if own && self.gave_date.get() {
+            self.date_nodes.borrow_mut().insert(id);
+        } else if !self.date_nodes.borrow().is_empty() {
+            self.date_nodes.borrow_mut().remove(&id);
+        }
+        given
+    }
+
+    /// [`Interp::var_of`] of the node `id`, the expression `e`.
+    fn host_var(&self, e: &Expr, id: u32, as_object: bool) -> Run<Var> {
+        match &e.kind {
+            ExprKind::Host(_) if matches!(self.module.nodes[id as usize], Node::New { .. }) => {
+                let Node::New { class, span } = &self.module.nodes[id as usize] else { unreachable!() };
                 self.new_object(*class, *span)
             }
             // `Set x = a(1)`, `a(1) Is Nothing`, `With a(1)`: an array's item that is an object.
-            ExprKind::Host(id) if self.array_object(*id).is_some() => {
-                let (var, index, span) = self.array_object(*id).expect("an array's item");
+            ExprKind::Host(_) if self.array_object(id).is_some() => {
+                let (var, index, span) = self.array_object(id).expect("an array's item");
                 self.array_item(&var, index, span)
             }
-            ExprKind::Host(id) if matches!(self.module.nodes[*id as usize], Node::Index { .. }) => {
-                let Node::Index { base, index, span } = &self.module.nodes[*id as usize] else { unreachable!() };
+            ExprKind::Host(_) if matches!(self.module.nodes[id as usize], Node::Index { .. }) => {
+                let Node::Index { base, index, span } = &self.module.nodes[id as usize] else { unreachable!() };
                 self.indexed_var(base, index, *span)
             }
-            ExprKind::Host(id) if self.store_element(*id).is_some() => {
-                let (h, index, span) = self.store_element(*id).expect("a Collection's item");
+            ExprKind::Host(_) if self.store_element(id).is_some() => {
+                let (h, index, span) = self.store_element(id).expect("a Collection's item");
                 let key = self.store_key(&mut self.ctx(), index, span)?;
                 self.store_item(&h, &key, span)
             }
             // `p = MakePoint(1, 2)`, `Set o = MakeObject()`: what the Function's name holds.
-            ExprKind::Host(id) if self.returns_record(*id) || (as_object && self.is_call(*id)) => {
-                let Node::Call { proc, args, span } = &self.module.nodes[*id as usize] else { unreachable!() };
+            ExprKind::Host(_) if self.returns_record(id) || (as_object && self.is_call(id)) => {
+                let Node::Call { proc, args, span } = &self.module.nodes[id as usize] else { unreachable!() };
                 self.call_record(*proc, args, *span)
             }
-            ExprKind::Host(id) if as_object => {
-                if let Node::Path(path) = &self.module.nodes[*id as usize] {
+            ExprKind::Host(_) if as_object => {
+                if let Node::Path(path) = &self.module.nodes[id as usize] {
                     let mut ctx = self.ctx();
                     let obj = self.path(&mut ctx, path);
                     self.take_pending()?;
@@ -786,7 +824,7 @@ impl Interp<'_, '_> {
             Operand::Value(v) if self.is_value_member(e) => range_var(v),
             // `d.Keys`, `d.Items`: zero-based whatever the Option Base ("Keys method").
             Operand::Value(Value::Array(a)) if self.is_keys_member(e) => {
-                Var::Array(super::value::VArray { data: a, lower: (1, 0), dims: 1, objects: None })
+                Var::Array(super::value::VArray { data: a, lower: (1, 0), dims: 1, objects: None, dates: None })
             }
             Operand::Value(v) => match super::library::library_array(e, &v, self.module.base) {
                 Some(var) => var,
@@ -836,6 +874,7 @@ impl Interp<'_, '_> {
         let p = &self.module.procs[proc];
         let mut bound = Vec::new();
         let mut back = Vec::new();
+        let mut dates = Vec::new();
         for (i, a) in args.iter().enumerate() {
             let index = match &a.name {
                 Some(n) => p.params.iter().position(|q| q.name.eq_ignore_ascii_case(n)).expect("checked by the parser"),
@@ -859,6 +898,10 @@ impl Interp<'_, '_> {
             }
             let var = match ctx.operand(&a.value) {
                 Operand::Ref(sheet, rect) => Var::Obj(Obj::Range(sheet, rect)),
+                Operand::Value(v) if self.as_date(&a.value, &v).is_some() => {
+                    dates.push(index);
+                    Var::Value(v)
+                }
                 Operand::Value(v) => match &a.value.kind {
                     ExprKind::Name(n) => self.lookup(n).unwrap_or(Var::Value(v)),
                     _ => super::library::library_array(&a.value, &v, self.module.base)
@@ -872,7 +915,10 @@ impl Interp<'_, '_> {
         if let Some(value) = call.value {
             bound.push((p.params.len() - 1, value));
         }
-        let (result, frame) = self.invoke_frame(proc, bound, Some(span), Call { me: call.me, value: None })?;
+        *self.arg_dates.borrow_mut() = dates;
+        let called = self.invoke_frame(proc, bound, Some(span), Call { me: call.me, value: None });
+        self.arg_dates.borrow_mut().clear();
+        let (result, frame) = called?;
         for (index, caller_var) in back {
             // A constant passed ByRef is passed as a copy, as in VBA.
             if self.with_slot(&caller_var, |s| s.constant) == Some(true) {
@@ -881,8 +927,12 @@ impl Interp<'_, '_> {
             let name = &p.params[index].name;
             if let Some(slot) = frame.vars.get(name) {
                 self.set_var(&caller_var, slot.var().clone(), span)?;
+                // A Date given back through a ByRef Variant stays a Date.
+                self.with_slot(&caller_var, |s| s.date = slot.date && matches!(s.ty, None | Some(Ty::Variant)));
             }
         }
+        // A Variant Function assigned a Date returns a Date.
+        self.gave_date.set(frame.vars.get(&p.name).is_some_and(|s| s.date));
         Ok((result, frame))
     }
 
@@ -941,6 +991,7 @@ impl Interp<'_, '_> {
     }
 
     fn bind_and_run(&self, p: &Proc, mut bound: Vec<(usize, Var)>) -> Run<()> {
+        let dates = std::mem::take(&mut *self.arg_dates.borrow_mut());
         for (i, param) in p.params.iter().enumerate() {
             let var = match bound.iter().position(|(j, _)| *j == i) {
                 Some(k) => bound.swap_remove(k).1,
@@ -955,7 +1006,11 @@ impl Interp<'_, '_> {
                 },
             };
             let var = convert(var, param.ty.as_ref(), &param.name).map_err(|m| self.fault(m))?;
-            self.declare(Slot::new(param.name.clone(), var, param.ty.clone()));
+            let mut slot = Slot::new(param.name.clone(), var, param.ty.clone());
+            // A Variant parameter given a Date holds a Date ([MS-VBAL] 5.3.1.11: the argument's
+            // value is bound as it is, its value type with it).
+            slot.date = dates.contains(&i) && matches!(param.ty, None | Some(Ty::Variant));
+            self.declare(slot);
         }
         if p.kind == ProcKind::Function {
             let var = self.default_var(p.ty.as_ref());
@@ -1155,6 +1210,8 @@ impl Interp<'_, '_> {
                 let fields = self.module.types[*i].fields.iter().map(|(_, t)| self.default_var(Some(t))).collect();
                 Var::Record(*i, fields)
             }
+            // An object variable starts as Nothing ([MS-VBAL] 5.2.3.1.3).
+            Some(Ty::Object) => Var::Obj(Obj::Value(Value::Blank)),
             other => Var::Value(default_value(other)),
         }
     }
@@ -1210,8 +1267,6 @@ impl Interp<'_, '_> {
     /// VBA's error 28, "Out of stack space" (VBA's reference, "Out of stack space (Error
     /// 28)"), before the native stack runs out. The blocks between two GoSubs (`If`, `For`,
     /// `With` … around the inner one) nest native frames too, so the stack left is measured
-            // An object variable starts as Nothing ([MS-VBAL] 5.2.3.1.3).
-            Some(Ty::Object) => Var::Obj(Obj::Value(Value::Blank)),
     /// as well: a GoSub is refused with less than [`STACK_RESERVE`] of it (800 GoSubs each
     /// inside an `If` overflowed an 8 MiB stack before the count was reached).
     fn gosub(&self, label: &str) -> Run<Flow> {
@@ -1388,9 +1443,10 @@ impl Interp<'_, '_> {
             // `s = s & …` appends to the text in place (`append.rs`).
             Target::Var(name) if !set && self.append_in_place(name, value, span)? => Ok(()),
             Target::Var(name) => {
-                // A Variant keeps the Date it is given as a Date ([MS-VBAL] 2.1.1.1).
-                let date = !set && self.declared_type(value) == super::typing::Declared::Date;
                 let var = self.var_of(value, set)?;
+                // A Variant keeps the Date it is given as a Date ([MS-VBAL] 2.1.1.1); known once
+                // evaluated (an item's, a Variant Function's).
+                let date = !set && self.declared_type(value) == super::typing::Declared::Date;
                 if set && matches!(var, Var::Value(ref v) if !v.is_blank()) {
                     return Err(self.fault_at(self.expr_span(value), "Set needs an object (a Range, a Worksheet, …)"));
                 }
@@ -1414,14 +1470,17 @@ impl Interp<'_, '_> {
                 if let Some(Var::Obj(Obj::Store(h))) = self.lookup(name) {
                     let key = self.store_key(&mut self.ctx(), index, span)?;
                     let item = if set { self.item_var(value)? } else { self.var_of(value, false)? };
-                    return self.set_store_item(&h, &key, item, span);
+                    let date = matches!(&item, Var::Value(v) if !set && self.as_date(value, v).is_some());
+                    self.set_store_item(&h, &key, item, span)?;
+                    return self.mark_store_date(&h, Some(&key), date, span);
                 }
                 if set {
                     let item = self.item_var(value)?;
                     return self.set_object_element(name, index, item, span);
                 }
                 let v = self.eval(value)?;
-                self.set_element(name, index, v, span)
+                let date = self.as_date(value, &v).is_some();
+                self.set_element(name, index, v, date, span)
             }
             Target::Node(id) => self.assign_node(*id, value),
         }

@@ -283,7 +283,12 @@ impl Interp<'_, '_> {
             }
         }
         let var = self.var_of(arg, false)?;
-        self.var_type_of_var(&var, None)
+        // An expression of a declared type answers it (`VarType(5)` vbInteger, `d + 1` of a
+        // Date vbDate, an item or a call that gave a Date vbDate).
+        match (&var, self.declared_type(arg).var_type()) {
+            (Var::Value(v), Some(code)) if !matches!(v, Value::Null | Value::Error(_)) => Ok(code),
+            _ => self.var_type_of_var(&var, None),
+        }
     }
 
     fn var_type_of_var(&self, var: &Var, ty: Option<&Ty>) -> Run<f64> {
@@ -356,7 +361,7 @@ pub(super) fn library_array(e: &Expr, v: &Value, base: i64) -> Option<Var> {
         _ => return None,
     };
     let Value::Array(data) = v else { return None };
-    Some(Var::Array(VArray { data: data.clone(), lower: (1, lower), dims: 1, objects: None }))
+    Some(Var::Array(VArray { data: data.clone(), lower: (1, lower), dims: 1, objects: None, dates: None }))
 }
 
 /// The VarType number of a declared type (`None`: a Variant, which answers what it holds).

@@ -74,6 +74,25 @@ impl Declared {
         }
     }
 
+    /// VarType's number for a value of this type ("VarType function": vbInteger 2 …
+    /// vbLongLong 20); `None` for a Variant, which answers what it holds.
+    pub(super) fn var_type(self) -> Option<f64> {
+        Some(match self {
+            Declared::Integer => 2.0,
+            Declared::Long => 3.0,
+            Declared::Single => 4.0,
+            Declared::Double => 5.0,
+            Declared::Currency => 6.0,
+            Declared::Date => 7.0,
+            Declared::String => 8.0,
+            Declared::Boolean => 11.0,
+            Declared::Decimal => 14.0,
+            Declared::Byte => 17.0,
+            Declared::LongLong => 20.0,
+            Declared::Variant => return None,
+        })
+    }
+
     /// The range of an integral type and its name; `None` for any other type.
     fn range(self) -> Option<(f64, f64, &'static str)> {
         Some(match self {
@@ -250,6 +269,10 @@ impl Interp<'_, '_> {
     }
 
     fn node_type(&self, id: u32) -> Declared {
+        // A call, an item of an array, a Collection or a Dictionary that gave a Date.
+        if self.date_nodes.borrow().contains(&id) {
+            return Declared::Date;
+        }
         match &self.module.nodes[id as usize] {
             Node::Call { proc, .. } => Declared::of_ty(self.module.procs[*proc].ty.as_ref()),
             // An item of a typed array (a Collection's or a Range's is a Variant).

@@ -32,6 +32,10 @@ pub struct VArray {
     /// The items that are objects (`Set a(i) = New Class1`), by their row-major position;
     /// `data` holds Empty there. Copying the array copies the references, as VBA does.
     pub objects: Option<Rc<std::collections::HashMap<usize, Obj>>>,
+    /// The items of a Variant array that hold a Date (VarType 7), by row-major position: a
+    /// Date keeps its type in the array ([MS-VBAL] 2.1.1.1). An array of declared type Date
+    /// needs none: its type says it.
+    pub dates: Option<Rc<std::collections::HashSet<usize>>>,
 }
 
 impl VArray {
@@ -40,6 +44,24 @@ impl VArray {
         match self.objects.as_ref().and_then(|o| o.get(&k)) {
             Some(object) => Var::Obj(object.clone()),
             None => Var::Value(self.data.data[k].clone()),
+        }
+    }
+
+    /// Whether the item at row-major position `k` holds a Date (in a Variant array).
+    pub fn holds_date(&self, k: usize) -> bool {
+        self.dates.as_ref().is_some_and(|d| d.contains(&k))
+    }
+
+    /// Notes whether the item at `k` now holds a Date.
+    pub fn mark_date(&mut self, k: usize, date: bool) {
+        match (&mut self.dates, date) {
+            (Some(dates), false) if dates.contains(&k) => {
+                Rc::make_mut(dates).remove(&k);
+            }
+            (dates, true) => {
+                Rc::make_mut(dates.get_or_insert_with(Default::default)).insert(k);
+            }
+            _ => {}
         }
     }
 
@@ -258,8 +280,8 @@ impl Slots {
 pub fn array_var(v: Value, base: i64) -> Var {
     match v {
         Value::Array(a) if a.rows == 1 && a.cols == 1 => Var::Value(a.data[0].clone()),
-        Value::Array(a) if a.rows == 1 => Var::Array(VArray { data: a, lower: (1, base), dims: 1, objects: None }),
-        Value::Array(a) => Var::Array(VArray { data: a, lower: (1, 1), dims: 2, objects: None }),
+        Value::Array(a) if a.rows == 1 => Var::Array(VArray { data: a, lower: (1, base), dims: 1, objects: None, dates: None }),
+        Value::Array(a) => Var::Array(VArray { data: a, lower: (1, 1), dims: 2, objects: None, dates: None }),
         other => Var::Value(other),
     }
 }
@@ -272,7 +294,7 @@ pub fn array_var(v: Value, base: i64) -> Var {
 pub fn range_var(v: Value) -> Var {
     match v {
         Value::Array(a) if a.rows == 1 && a.cols == 1 && a.tail.is_none() => Var::Value(a.data[0].clone()),
-        Value::Array(a) => Var::Array(VArray { data: whole(a), lower: (1, 1), dims: 2, objects: None }),
+        Value::Array(a) => Var::Array(VArray { data: whole(a), lower: (1, 1), dims: 2, objects: None, dates: None }),
         other => Var::Value(other),
     }
 }
