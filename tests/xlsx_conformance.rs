@@ -201,8 +201,10 @@ fn compare_corpus(root: &Path, not_from_excel: &[&str], known: &[(&str, &str, &s
             }
             imported.workbook.recalculate();
         }
-        let tolerance = metadata_tolerance(&imported.workbook);
-        let agree = |excel: &Value, ours: &Value| xlsx::values_agree(excel, ours) || close(excel, ours, tolerance);
+        let tolerance = common::metadata_tolerance(&imported.workbook);
+        let agree = |excel: &Value, ours: &Value| {
+            xlsx::values_agree(excel, ours) || common::close_within(excel, ours, tolerance)
+        };
         let (results, infos) = judge(&imported, &|c| Some(c.value.clone()), &|_| false, &agree);
         let mut tally = Tally::default();
         let mut problems = None;
@@ -248,16 +250,6 @@ fn compare_corpus(root: &Path, not_from_excel: &[&str], known: &[(&str, &str, &s
         run.per_file.push((rel, tally));
     }
     run
-}
-
-/// The corpus's per-file tolerance (its README): a number in `METADATA!A1`, for files whose
-/// functions Excel computes by approximations (BESSEL.xlsx: 1e-5).
-fn metadata_tolerance(wb: &Workbook) -> Option<f64> {
-    let sheet = wb.sheet_names().iter().position(|n| n.eq_ignore_ascii_case("METADATA"))?;
-    match wb.value(sheet as _, Pos::new(0, 0)) {
-        Value::Number(eps) => Some(eps),
-        _ => None,
-    }
 }
 
 /// The time Excel saved the file at (its README): the cached value of `=NOW()` beside a
@@ -325,13 +317,6 @@ fn excel_locale(path: &Path) -> Option<Locale> {
         _ => return None,
     };
     Locale::from_tag(language)
-}
-
-/// The corpus's `numbers_are_close(x, y, eps)`: |x−y| < eps, or relative to √(x²+y²).
-fn close(excel: &Value, ours: &Value, eps: Option<f64>) -> bool {
-    let (Some(eps), Value::Number(x), Value::Number(y)) = (eps, excel, ours) else { return false };
-    let d = (x - y).abs();
-    d < eps || d / x.hypot(*y) < eps
 }
 
 #[test]

@@ -442,3 +442,20 @@ pub fn rewrite_package(
     }
     out
 }
+
+/// The corpus's per-file tolerance (its README): a number in `METADATA!A1`, for files whose
+/// functions Excel computes by approximations (BESSEL.xlsx: 1e-5).
+pub fn metadata_tolerance(wb: &Workbook) -> Option<f64> {
+    let sheet = wb.sheet_names().iter().position(|n| n.eq_ignore_ascii_case("METADATA"))?;
+    match wb.value(sheet as _, Pos::new(0, 0)) {
+        Value::Number(eps) => Some(eps),
+        _ => None,
+    }
+}
+
+/// The corpus's `numbers_are_close(x, y, eps)`: |x−y| < eps, or relative to √(x²+y²).
+pub fn close_within(excel: &Value, ours: &Value, eps: Option<f64>) -> bool {
+    let (Some(eps), Value::Number(x), Value::Number(y)) = (eps, excel, ours) else { return false };
+    let d = (x - y).abs();
+    d < eps || d / x.hypot(*y) < eps
+}
