@@ -197,18 +197,15 @@ fn heavy_functions_inside_the_lambdas_count_against_their_work_limit() {
     assert_eq!(get(&wb, "B2"), n(1_000_000.0));
 }
 
-/// A surface (BALLPATH's, `ballpath --surface`) evaluates its formula once per point through
-/// one evaluation context: each point has the LAMBDA work budget to itself, as each cell
-/// does. 300 points of a million items each are past one budget, not past one point's.
-#[test]
-fn a_surface_has_the_lambda_work_budget_at_each_point() {
+/// Evaluates the surface `formula` (`=x+…`, the rest 0) at 300 points through one evaluation
+/// context, as BALLPATH and `ballpath --surface` do, and checks each point's height is its x.
+fn surface_heights_are_x_at_300_points(formula: &str) {
     use ncsheet::eval::functions::Registry;
     use ncsheet::eval::surface::FormulaSurface;
     use ncsheet::eval::Ctx;
     use ncsheet::formula::parse::ParseContext;
     use ncsheet::formula::Pos;
     let parsing = ParseContext { at: Pos::new(0, 0), functions: &Registry, sheet: &|_| None };
-    let formula = "=x+0*SUM(MAP(SEQUENCE(10),LAMBDA(v,SUM(SEQUENCE(100000)))))";
     let surface = FormulaSurface::parse(formula, &parsing).unwrap();
     let wb = Workbook::with_sheet();
     let mut eval = Ctx::new(&wb, 0, Pos::new(0, 0));
@@ -218,26 +215,21 @@ fn a_surface_has_the_lambda_work_budget_at_each_point() {
     }
 }
 
+/// A surface evaluates its formula once per point through one evaluation context: each point
+/// has the LAMBDA work budget to itself, as each cell does. 300 points of a million items
+/// each are past one budget, not past one point's.
+#[test]
+fn a_surface_has_the_lambda_work_budget_at_each_point() {
+    surface_heights_are_x_at_300_points("=x+0*SUM(MAP(SEQUENCE(10),LAMBDA(v,SUM(SEQUENCE(100000)))))");
+}
+
 /// The same holds for the calls of named LAMBDAs (`MAX_LAMBDA_CALLS`, 2,000,000 per
 /// evaluation): 300 points of 10,000 calls of a LET-bound LAMBDA each are 3,000,000 calls in
 /// all, past one evaluation's limit, and within each point's.
 #[test]
 fn a_surface_has_the_named_lambda_calls_at_each_point() {
-    use ncsheet::eval::functions::Registry;
-    use ncsheet::eval::surface::FormulaSurface;
-    use ncsheet::eval::Ctx;
-    use ncsheet::formula::parse::ParseContext;
-    use ncsheet::formula::Pos;
-    let parsing = ParseContext { at: Pos::new(0, 0), functions: &Registry, sheet: &|_| None };
     // 0 * (1 + … + 10,000): each point calls g 10,000 times by name.
-    let formula = "=x+0*LET(g,LAMBDA(v,v),SUM(MAP(SEQUENCE(10000),LAMBDA(v,g(v)))))";
-    let surface = FormulaSurface::parse(formula, &parsing).unwrap();
-    let wb = Workbook::with_sheet();
-    let mut eval = Ctx::new(&wb, 0, Pos::new(0, 0));
-    let mut bound = surface.bind(&mut eval);
-    for i in 0..300 {
-        assert_eq!(bound.height_at(f64::from(i), 0.0), Ok(f64::from(i)), "point {i}");
-    }
+    surface_heights_are_x_at_300_points("=x+0*LET(g,LAMBDA(v,v),SUM(MAP(SEQUENCE(10000),LAMBDA(v,g(v)))))");
 }
 
 #[test]

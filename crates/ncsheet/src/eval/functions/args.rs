@@ -84,6 +84,7 @@ pub fn lift_in_locale(
             }
         })
         .collect();
+    ctx.charge_texts(&values);
     let lifted = lift_values(&values, f);
     explain_lifted_size(ctx, &values, &lifted);
     lifted
