@@ -9,11 +9,15 @@ writer is independent of the reader under test (calamine): the record layouts fo
 table (the Ftab of [MS-XLS] 2.5.198.17, which [MS-XLSB] 2.5.98.10 continues) plus the
 2007 functions of the XLSB Ftab, and formulas are lexed by openpyxl's tokenizer.
 
-What it compiles: numbers, strings, booleans, errors, same-sheet cell and area references,
-the operators (+ - * / ^ & = <> < > <= >= unary - + and %), parentheses, missing arguments and
-the built-in functions of the Ftab. What it does not (another sheet, a defined name, a whole
-row or column, an array constant, an array formula, a `_xlfn.` function, the intersection
-operator) is written as the value Excel cached, a constant, and listed on stderr.
+What it compiles: numbers, strings, booleans, errors, cell and area references (whole columns
+and rows too) on the same sheet or another (PtgRef3d/PtgArea3d through BrtExternSheet), defined
+names (BrtName, PtgName), the operators (+ - * / ^ & = <> < > <= >= unary - + and %),
+parentheses, missing arguments, the built-in functions of the Ftab and `_xlfn.` functions (a
+hidden future-function name and PtgFuncVar 255). A block of cells sharing one formula in the
+source is written as a shared formula (PtgExp and BrtShrFmla with PtgRefN/PtgAreaN). What it
+does not compile (an array constant, an array formula, `_xlws.`/`_xlpm.` functions, a function
+not in the Ftab, the intersection operator) is written as the value Excel cached, a constant,
+and listed on stderr.
 
 The optional parts and tokens Excel adds are left out: a styles.bin of one XF (every cell General),
 no PtgAttr tokens (PtgAttrIf, PtgAttrSpace…), no calc chain. Strings go to sharedStrings.bin.
@@ -432,16 +436,10 @@ def source_values(path):
     if "xl/sharedStrings.xml" in z.namelist():
         for si in ET.fromstring(z.read("xl/sharedStrings.xml")).iter(MAIN_NS + "si"):
             shared.append(unescape("".join(t.text or "" for t in si.iter(MAIN_NS + "t"))))
-    rels = {
-        r.get("Id"): r.get("Target")
-        for r in ET.fromstring(z.read("xl/_rels/workbook.xml.rels"))
-    }
     out = {}
-    for sheet in ET.fromstring(z.read("xl/workbook.xml")).iter(MAIN_NS + "sheet"):
-        target = rels[sheet.get(REL_NS + "id")].lstrip("/")
-        part = target if target.startswith("xl/") else "xl/" + target
+    for name, root in sheet_roots(z):
         cells = {}
-        for c in ET.fromstring(z.read(part)).iter(MAIN_NS + "c"):
+        for c in root.iter(MAIN_NS + "c"):
             t = c.get("t", "n")
             v = c.find(MAIN_NS + "v")
             if c.get("vm") is not None:
@@ -462,8 +460,17 @@ def source_values(path):
                     text = unescape(text)
             col, row = coordinate_from_string(c.get("r"))
             cells[(row - 1, column_index_from_string(col) - 1)] = (t, text)
-        out[sheet.get("name")] = cells
+        out[name] = cells
     return out
+
+
+def sheet_roots(z):
+    """(name, parsed sheet part) of each sheet of the package `z`, in the workbook's order."""
+    rels = {r.get("Id"): r.get("Target") for r in ET.fromstring(z.read("xl/_rels/workbook.xml.rels"))}
+    for sheet in ET.fromstring(z.read("xl/workbook.xml")).iter(MAIN_NS + "sheet"):
+        target = rels[sheet.get(REL_NS + "id")].lstrip("/")
+        part = target if target.startswith("xl/") else "xl/" + target
+        yield sheet.get("name"), ET.fromstring(z.read(part))
 
 
 # ---------------------------------------------------------------- records
@@ -667,14 +674,10 @@ def package(names, sheets, strings, date_1904, book):
 def source_shared(path):
     """{sheet name: {(row, col): (group, anchor's area or None, anchor's formula)}} of the
     cells of shared formulas (`<f t="shared" si=…>`), from the sheet parts."""
-    z = zipfile.ZipFile(path)
-    rels = {r.get("Id"): r.get("Target") for r in ET.fromstring(z.read("xl/_rels/workbook.xml.rels"))}
     out = {}
-    for sheet in ET.fromstring(z.read("xl/workbook.xml")).iter(MAIN_NS + "sheet"):
-        target = rels[sheet.get(REL_NS + "id")].lstrip("/")
-        part = target if target.startswith("xl/") else "xl/" + target
+    for name, root in sheet_roots(zipfile.ZipFile(path)):
         cells = {}
-        for c in ET.fromstring(z.read(part)).iter(MAIN_NS + "c"):
+        for c in root.iter(MAIN_NS + "c"):
             f = c.find(MAIN_NS + "f")
             if f is None or f.get("t") != "shared":
                 continue
@@ -685,7 +688,7 @@ def source_shared(path):
                 (r1, c1, _, _), (r2, c2, _, _) = cell_location(first), cell_location(last or first)
                 area = ((r1, c1), (r2, c2))
             cells[(row - 1, column_index_from_string(col) - 1)] = (f.get("si"), area, f.text)
-        out[sheet.get("name")] = cells
+        out[name] = cells
     return out
 
 
