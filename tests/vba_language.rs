@@ -663,3 +663,29 @@ fn module_and_static_objects_are_terminated_at_the_runs_end() {
     let out = with_classes(&ended, &[("Probe", PROBE)]).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(out.printed, ["init", "init", "init", "end of Main"]);
 }
+
+// "+ operator" (Office VBA language reference): two String expressions, or two Variants
+// holding Strings, are concatenated; a String and a number are added ("1" + 2 is 3).
+#[test]
+fn plus_joins_two_strings_and_adds_a_string_to_a_number() {
+    let out = printed(
+        "    Dim s As String, v\n    s = \"36\"\n    v = \"1\"\n\
+         \x20   Debug.Print s + Chr(34); \" \"; v + \"2\"; \" \"; v + 2; \" \"; \"a\" + \"b\" + \"c\"",
+    );
+    assert_eq!(out, ["36\" 12  3  abc"]);
+}
+
+// An array variable followed by empty parentheses is the whole array: the way a call passes
+// an array ("Call statement" and "Function statement": an array argument `a()` for an array
+// parameter), here to a ByRef parameter that sorts it in place.
+#[test]
+fn an_array_passed_with_empty_parentheses_is_the_whole_array() {
+    let out = run("Sub SortUp(ByRef xs() As Variant)\n    Dim i As Integer, j As Integer, t\n\
+                   \x20   For i = LBound(xs) To UBound(xs)\n        For j = i + 1 To UBound(xs)\n\
+                   \x20           If xs(j) < xs(i) Then t = xs(i): xs(i) = xs(j): xs(j) = t\n\
+                   \x20       Next j\n    Next i\nEnd Sub\n\
+                   Function Total(xs()) As Double\n    Dim x\n    For Each x In xs\n        Total = Total + x\n    Next\nEnd Function\n\
+                   Sub Main()\n    Dim a() As Variant\n    a = Array(3, 1, 2)\n    Call SortUp(a())\n\
+                   \x20   Debug.Print a(0); a(1); a(2); Total(a())\nEnd Sub\n");
+    assert_eq!(out.printed, [" 1  2  3  6 "]);
+}

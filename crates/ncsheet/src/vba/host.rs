@@ -154,6 +154,11 @@ impl Host for Interp<'_, '_> {
         if op == BinOp::Concat {
             return self.concat_dates(operands, values).unwrap_or(result);
         }
+        // "+ operator" (Office VBA reference): two Strings, or two Variants holding Strings,
+        // are concatenated ("36" + Chr(34) is 36"), where a formula would add "1" + "2" to 3.
+        if let (BinOp::Add, (Value::Text(a), Value::Text(b))) = (op, values) {
+            return Value::text(format!("{a}{b}"));
+        }
         match self.overflow(op, operands, values, &result) {
             Some(fault) => {
                 self.park(fault);
