@@ -14,8 +14,9 @@ and rows too) on the same sheet or another (PtgRef3d/PtgArea3d through BrtExtern
 names (BrtName, PtgName), the operators (+ - * / ^ & = <> < > <= >= unary - + and %),
 parentheses, missing arguments, the built-in functions of the Ftab and `_xlfn.` functions (a
 hidden future-function name and PtgFuncVar 255). A block of cells sharing one formula in the
-source is written as a shared formula (PtgExp and BrtShrFmla with PtgRefN/PtgAreaN). What it
-does not compile (an array constant, an array formula, `_xlws.`/`_xlpm.` functions, a function
+source is written as a shared formula (PtgExp and BrtShrFmla with PtgRefN/PtgAreaN), an array
+formula as BrtArrFmla after its first cell, each of its cells PtgExp. What it
+does not compile (an array constant, a data table, `_xlws.`/`_xlpm.` functions, a function
 not in the Ftab, the intersection operator) is written as the value Excel cached, a constant,
 and listed on stderr.
 
@@ -550,6 +551,14 @@ def shared_member_rgce(anchor):
     return struct.pack("<BI", PTG_EXP, anchor[0]), struct.pack("<I", anchor[1])
 
 
+def array_formula_record(area, rgce):
+    """BrtArrFmla ([MS-XLSB] 2.4.6): the cells' RfX, a flags byte (fAlwaysCalc 0), then the
+    formula."""
+    (r1, c1), (r2, c2) = area
+    head = struct.pack("<IIIIB", r1, r2, c1, c2, 0)
+    return record(0x1AA, head + struct.pack("<I", len(rgce)) + rgce + struct.pack("<I", 0))
+
+
 def shared_formula_record(area, rgce):
     """BrtShrFmla ([MS-XLSB] 2.4.785): the cells' RfX (rows, then columns), then the formula."""
     (r1, c1), (r2, c2) = area
@@ -740,6 +749,28 @@ def shared_groups(book, sheet, shared, cached, skipped):
     return groups
 
 
+def array_formulas(ws, book, sheet, skipped):
+    """{cell: (anchor, area, rgce)} of every cell of the sheet's array formulas that compile
+    (a legacy Ctrl+Shift+Enter array, or a dynamic array over the cells it spilled to)."""
+    cells = {}
+    for row in ws.iter_rows():
+        for cell in row:
+            if not isinstance(cell.value, ArrayFormula):
+                continue
+            first, _, last = (cell.value.ref or cell.coordinate).partition(":")
+            (r1, c1, _, _), (r2, c2, _, _) = cell_location(first), cell_location(last or first)
+            try:
+                rgce = compile_formula(cell.value.text, book, sheet)
+            except Unsupported as why:
+                skipped.append((ws.title, cell.coordinate, f"an array formula with {why}"))
+                continue
+            anchor = (r1, c1)
+            for r in range(r1, r2 + 1):
+                for c in range(c1, c2 + 1):
+                    cells[(r, c)] = (anchor, ((r1, c1), (r2, c2)), rgce)
+    return cells
+
+
 def convert(source, out, listing):
     values = source_values(source)
     shared_cells = source_shared(source)
@@ -754,6 +785,7 @@ def convert(source, out, listing):
         cached = values.get(ws.title, {})
         shared = shared_cells.get(ws.title, {})
         groups = shared_groups(book, index, shared, cached, skipped)
+        arrays = array_formulas(ws, book, index, skipped)
         for row in ws.iter_rows():
             for cell in row:
                 pos = (cell.row - 1, cell.column - 1)
@@ -764,6 +796,15 @@ def convert(source, out, listing):
                     continue
                 kind, text = cached[pos]
                 kind = "str" if kind in ("s", "str") else kind
+                if pos in arrays:
+                    anchor, area, array_rgce = arrays[pos]
+                    rgce, extra = shared_member_rgce(anchor)
+                    cells[pos] = formula_cell(pos[1], kind, text, rgce, extra)
+                    if pos == anchor:
+                        cells[pos] += array_formula_record(area, array_rgce)
+                        # The first cell is listed: its formula computes the array.
+                        written.append((ws.title, cell.coordinate, "{" + formula.text + "}"))
+                    continue
                 if isinstance(formula, (ArrayFormula, DataTableFormula)):
                     skipped.append((ws.title, cell.coordinate, "an array formula or data table"))
                     formula = None

@@ -9,7 +9,8 @@
 //! bytes, a string's length of 2 and no flags byte, a name's index of 4. The operators,
 //! functions and names are turned into text by `biff.rs`, which the `.xls` reader shares. A
 //! shared formula's cells hold `PtgExp`, pointing at the `BrtShrFmla` that follows its first
-//! cell; a future function (`_xlfn.`) is a call through a hidden name (`fFutureFunction`).
+//! cell (an array formula's at its `BrtArrFmla`); a future function (`_xlfn.`) is a call
+//! through a hidden name (`fFutureFunction`).
 //! A formula this reader cannot carry over keeps the value Excel stored, as a constant, and a
 //! note names the cells.
 
@@ -21,7 +22,7 @@ use calamine::{Reader, SheetType, Xlsb};
 use super::biff::{self, atom, Bytes, Context, Item, SupBook, Unreadable};
 use super::{calamine_sheet, cells_named, value_of, Book, Name};
 use crate::eval::{Value, XlError};
-use crate::formula::address::column_name;
+use crate::formula::address::{column_name, Pos, Rect};
 
 /// Reads an .xlsb file's bytes into a [`Book`].
 pub fn read(bytes: &[u8]) -> Result<Book, String> {
@@ -53,15 +54,19 @@ pub fn read(bytes: &[u8]) -> Result<Book, String> {
             if let Some(error) = formula.error {
                 cell.value.get_or_insert(Value::Error(error));
             }
-            match formula_text(formula, &part.shared, &ctx, file_index) {
-                Ok(text) => cell.formula = Some(text),
+            match formula_text(formula, &part.blocks, &ctx, file_index) {
+                Ok(Some((text, array))) => {
+                    cell.formula = Some(text);
+                    cell.array = array;
+                }
+                Ok(None) => {}
                 Err(_) => unread.push(formula.pos),
             }
         }
         if !unread.is_empty() {
             book.notes.push(format!(
                 "{} formula cells of sheet '{}' keep the value Excel stored, as a constant: ncsheet does not read \
-                 their formulas (array formulas, tables, other workbooks) ({})",
+                 their formulas (tables, array constants, other workbooks) ({})",
                 unread.len(),
                 meta.name,
                 cells_named(&meta.name, &unread)
@@ -216,11 +221,21 @@ struct FormulaCell {
     error: Option<XlError>,
 }
 
-/// A sheet part's formulas and its shared formulas (by the cell they follow).
+/// A formula a block of cells shares (BrtShrFmla) or an array formula (BrtArrFmla): its
+/// cells, tokens and extra data.
+struct BlockFormula {
+    area: Rect,
+    rgce: Vec<u8>,
+    extra: Vec<u8>,
+    array: bool,
+}
+
+/// A sheet part's formulas and its shared and array formulas, by the cell they follow (the
+/// first of their cells).
 #[derive(Default)]
 struct SheetPart {
     formulas: Vec<FormulaCell>,
-    shared: HashMap<(u32, u32), (Vec<u8>, Vec<u8>)>,
+    blocks: HashMap<(u32, u32), BlockFormula>,
 }
 
 /// Records of a sheet part ([MS-XLSB] 2.4).
@@ -228,6 +243,7 @@ const BRT_ROW_HDR: u16 = 0x0000;
 const BRT_FMLA_STRING: u16 = 0x0008;
 const BRT_FMLA_NUM: u16 = 0x0009;
 const BRT_FMLA_ERROR: u16 = 0x000B;
+const BRT_ARR_FMLA: u16 = 0x01AA;
 const BRT_SHR_FMLA: u16 = 0x01AB;
 
 /// Each sheet part's formulas, by sheet name.
@@ -256,13 +272,23 @@ fn read_sheet_parts<R: Read + std::io::Seek>(
                     let pos = (row, u32_at(&body, 0));
                     sheet.formulas.push(FormulaCell { pos, rgce: rgce.to_vec(), extra: extra.to_vec(), error });
                 }
-                BRT_SHR_FMLA if body.len() >= 16 => {
-                    // RfX (its cells), then the formula; it follows the first cell's record.
-                    let (Some(first), Some((rgce, extra))) = (sheet.formulas.last(), parsed_formula(&body[16..]))
+                BRT_SHR_FMLA | BRT_ARR_FMLA if body.len() >= 16 => {
+                    // RfX (its cells: first and last row, first and last column), for an
+                    // array formula a flags byte, then the formula; the record follows the
+                    // first cell's.
+                    let array = kind == BRT_ARR_FMLA;
+                    let start = if array { 17 } else { 16 };
+                    let (Some(first), Some((rgce, extra))) =
+                        (sheet.formulas.last(), body.get(start..).and_then(parsed_formula))
                     else {
                         continue;
                     };
-                    sheet.shared.insert(first.pos, (rgce.to_vec(), extra.to_vec()));
+                    let area = Rect::new(
+                        Pos::new(u32_at(&body, 0), u32_at(&body, 8)),
+                        Pos::new(u32_at(&body, 4), u32_at(&body, 12)),
+                    );
+                    let block = BlockFormula { area, rgce: rgce.to_vec(), extra: extra.to_vec(), array };
+                    sheet.blocks.insert(first.pos, block);
                 }
                 _ => {}
             }
@@ -276,26 +302,35 @@ fn biff_error(code: u8) -> XlError {
     super::xls::error_of(code)
 }
 
-/// The text of a formula cell's formula; a cell of a shared formula reads the one its
-/// `PtgExp` points at, from the cell itself.
+/// A formula cell as the book holds it: its formula's text and, for the first cell of an
+/// array formula, the array's area; `None` for another cell of an array formula (its value
+/// only). A cell of a shared or array formula holds `PtgExp`, naming the first cell's row
+/// (its column is the PtgExtraCol of the extra data); a shared formula is read from the
+/// cell itself.
 fn formula_text(
     cell: &FormulaCell,
-    shared: &HashMap<(u32, u32), (Vec<u8>, Vec<u8>)>,
+    blocks: &HashMap<(u32, u32), BlockFormula>,
     ctx: &Context,
     sheet: Option<usize>,
-) -> Result<String, Unreadable> {
-    if cell.rgce.first() == Some(&0x01) {
-        // PtgExp: the first cell's row; its column is the PtgExtraCol in the extra data.
-        let (Some(row), Some(col)) = (cell.rgce.get(1..5), cell.extra.get(..4)) else {
-            return Err(Unreadable::Token("a damaged formula".into()));
-        };
-        let first = (u32_at(row, 0), u32_at(col, 0));
-        let (rgce, extra) = shared
-            .get(&first)
-            .ok_or_else(|| Unreadable::Token("an array formula, or a shared one without its record".into()))?;
-        return decode(rgce, extra, ctx, Some(cell.pos), sheet);
+) -> Result<Option<(String, Option<Rect>)>, Unreadable> {
+    if cell.rgce.first() != Some(&0x01) {
+        return decode(&cell.rgce, &cell.extra, ctx, None, sheet).map(|text| Some((text, None)));
     }
-    decode(&cell.rgce, &cell.extra, ctx, None, sheet)
+    let row = cell.rgce.get(1..5).map(|r| u32_at(r, 0)).ok_or_else(biff::damaged)?;
+    let named = cell.extra.get(..4).map(|c| (row, u32_at(c, 0)));
+    // Without its PtgExtraCol, the block on that row holding the cell.
+    let block = named.and_then(|first| blocks.get(&first)).or_else(|| {
+        let here = Pos::new(cell.pos.0, cell.pos.1);
+        blocks.iter().find(|(first, b)| first.0 == row && b.area.contains(here)).map(|(_, b)| b)
+    });
+    let block = block.ok_or_else(|| Unreadable::Token("a shared or array formula without its record".into()))?;
+    if !block.array {
+        return decode(&block.rgce, &block.extra, ctx, Some(cell.pos), sheet).map(|text| Some((text, None)));
+    }
+    if Pos::new(cell.pos.0, cell.pos.1) != block.area.first {
+        return Ok(None);
+    }
+    decode(&block.rgce, &block.extra, ctx, None, sheet).map(|text| Some((text, Some(block.area))))
 }
 
 /// The last row and column of a sheet: a reference over all of them is a whole column or
