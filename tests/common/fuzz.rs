@@ -13,10 +13,8 @@ pub const SEED: u64 = 0x6e63_7368_6565_7430;
 /// `cases` cases from the fixed seed, no failure files written. The seed in use is written
 /// to stderr, which `cargo test` shows only for a test that failed.
 pub fn config(cases: u32) -> Config {
-    let seed = match std::env::var("PROPTEST_RNG_SEED").ok().and_then(|s| s.parse::<u64>().ok()) {
-        Some(seed) => seed,
-        None => SEED,
-    };
+    let given = std::env::var("PROPTEST_RNG_SEED").ok().and_then(|s| s.parse::<u64>().ok());
+    let seed = given.unwrap_or(SEED);
     eprintln!("fuzz seed {seed}: rerun with PROPTEST_RNG_SEED={seed}; PROPTEST_CASES=N runs N cases");
     Config { cases, failure_persistence: None, rng_seed: RngSeed::Fixed(seed), ..Config::default() }
 }

@@ -41,7 +41,11 @@ impl Interp<'_, '_> {
         }
         let plain_text = |s: &mut super::value::Slot| {
             let typed = matches!(s.ty, None | Some(Ty::Variant | Ty::String));
-            (typed && !s.constant).then(|| s.text_units()).flatten()
+            if typed && !s.constant {
+                s.text_units()
+            } else {
+                None
+            }
         };
         let Some(units) = self.with_slot(name, plain_text).flatten() else { return Ok(false) };
         let mut ctx = self.ctx();
