@@ -21,9 +21,7 @@ const KNOWN: &[(&str, &str, &str)] = &[
     // NPV of cash flows whose sum is nearly 0: Excel's order of summation leaves different
     // last digits (issue 29's summation-order class).
     ("IrrNpvTestCaseData.xls", "'IRR-NPV'!*", "summation order near 0"),
-    // AND/OR with an empty argument, INDEX/VLOOKUP past the range's width (#REF!):
-    // evaluator classes of their own, as in the xlsx corpus.
-    ("BooleanFunctionsTestCaseData.xls", "Tests!*", "AND/OR with a missing argument"),
+    // INDEX/VLOOKUP past the range's width (#REF!): evaluator classes of their own.
     ("IndexFunctionTestCaseData.xls", "Index!*", "INDEX past its range is #REF!"),
     ("LookupFunctionsTestCaseData.xls", "*", "VLOOKUP/HLOOKUP past the range's width is #REF!"),
     // CELL("filename") names the file as Excel had it open, a path ncsheet does not know.

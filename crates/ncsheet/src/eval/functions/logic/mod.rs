@@ -198,14 +198,18 @@ fn xor(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// booleans (text and blanks skipped); typed text counts as "TRUE" or "FALSE", the empty
 /// text is skipped (Excel: `OR("", TRUE)` is TRUE) and any other is `#VALUE!` (`AND("1",1)`).
 /// No value at all is `#VALUE!`; any error wins, over bad text too (`AND("x",NA())` is #N/A).
+/// An argument left empty (`AND(,TRUE)`) and an empty value a function gave (a VLOOKUP that
+/// finds an empty cell) are FALSE, as Excel computes them (BooleanFunctionsTestCaseData.xls);
+/// only empty cells of a reference are skipped.
 fn logicals(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<bool>> {
-    let mut flags = Vec::new();
+    let mut flags: Vec<bool> = args.iter().filter(|a| a.kind == ExprKind::Missing).map(|_| false).collect();
     let mut bad_text = false;
     for_each_value(ctx, args, &mut |v, source| {
         match (v, source) {
             (Value::Error(e), _) => return Err(*e),
             (Value::Bool(b), _) => flags.push(*b),
             (Value::Number(n), _) => flags.push(*n != 0.0),
+            (Value::Blank, Source::Direct) => flags.push(false),
             (Value::Text(s), Source::Direct) if !s.is_empty() => match to_bool(&Value::Text(s.clone())) {
                 Ok(b) => flags.push(b),
                 Err(_) => bad_text = true,
@@ -309,6 +313,21 @@ mod tests {
             ("B2", n(20.0)),
             ("B3", n(30.0)),
         ])
+    }
+
+    /// Excel's cached values in BooleanFunctionsTestCaseData.xls (Apache POI's test data,
+    /// sheet Tests, rows 19-32): an empty argument and an empty value from a function are
+    /// FALSE; empty cells of a reference are skipped, and nothing else left is #VALUE!.
+    #[test]
+    fn and_or_read_an_empty_argument_and_a_functions_empty_value_as_false() {
+        let env = env();
+        assert_eq!(env.eval("=AND(,TRUE)"), Value::Bool(false));
+        assert_eq!(env.eval("=AND(C9,)"), Value::Bool(false));
+        assert_eq!(env.eval("=OR(C9,)"), Value::Bool(false));
+        assert_eq!(env.eval("=OR(,TRUE)"), Value::Bool(true));
+        assert_eq!(env.eval("=AND(TRUE,VLOOKUP(1,A1:C1,3,FALSE))"), Value::Bool(false));
+        assert_eq!(env.eval("=AND(C9)"), Value::Error(XlError::Value));
+        assert_eq!(env.eval("=AND(TRUE,C9)"), Value::Bool(true));
     }
 
     #[test]
