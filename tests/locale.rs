@@ -544,6 +544,29 @@ fn csv_round_trips_through_libreoffice_in_the_locale() {
     }
 }
 
+/// A `;` csv's fields that are numbers only in the file syntax (`0.8`, `12/03/2025` and
+/// `1.5` in de-DE) are text in the locale, and a day and month without a year (`12.03.`) the
+/// current year's, as LibreOffice set to the locale reads the file (the oracle, run at the
+/// same time). ncsheet kept the en-US reading of such fields (0.8, 3 December 2025).
+#[test]
+fn a_csv_field_that_is_a_number_only_in_the_file_syntax_is_text_in_the_locale() {
+    let Some(soffice) = common::soffice() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let csv = d.join("mixed.csv");
+    std::fs::write(&csv, "12/03/2025;0.8;12.03.;1.5;1,5;12.03\n").unwrap();
+    for locale in ["de-DE", "fr-FR", "et-EE"] {
+        let theirs = values_by_cell(d, &libreoffice_reads_csv(&soffice, d, &csv, locale), "en-US");
+        let ours = values_by_cell(d, &csv, locale);
+        assert_same_values(&theirs, &ours, locale);
+    }
+    // A `,` file is read with decimal points (the command says so): its numbers stay numbers.
+    std::fs::write(d.join("points.csv"), "0.8,1.5\n").unwrap();
+    let run = ok(in_dir(d, &["eval", "points.csv", "--locale", "de-DE", "--format", "json"]));
+    assert_eq!(run.stdout.trim(), r#"{"Sheet1!A1": 0.8, "Sheet1!B1": 1.5}"#);
+    assert!(run.stderr.contains("with decimal points"), "{}", run.stderr);
+}
+
 /// A date with a time typed in the locale (`12.03.2025 14:30`, fr-FR `12/03/2025 14:30`) is
 /// the day's serial plus the time (2025-03-12 is serial 45728, 14:30 is 14.5/24 of a day)
 /// in Excel's built-in date and time format (22), which shows the short date and the time;
@@ -665,7 +688,10 @@ const VALUE_PROBES: &[(&[&str], &str)] = &[
     // the number; a space after the last placeholder scales by 1000 where spaces group.
     (ALL, r#"=TEXT(-1234.5,"0.0;(0.0)")"#),
     (ALL, r##"=TEXT(-1234.5,"#.##0,00;(#.##0,00)")"##),
-    (&["fr-FR", "et-EE"], r##"=TEXT(-1234.5,"#,##0.00;-#,##0.00")"##),
+    (ALL, r##"=TEXT(-1234.5,"#,##0.00;-#,##0.00")"##),
+    (&["de-DE"], r##"=TEXT(1234.5,"#,##0.000")"##),
+    (&["de-DE"], r#"=TEXT(1234.5,"0,0.0")"#),
+    (&["de-DE"], r#"=TEXT(1234.5,"0.00")"#),
     (ALL, r#"=TEXT(1234.5,"0,0 \€")"#),
     (ALL, r#"=TEXT(1234.5,"0,0\ \€")"#),
     (ALL, r#"=TEXT(1234.5,"0,00 ""€""")"#),
@@ -703,6 +729,7 @@ const EXCEL_SHOWS: &[(&str, &str, &str)] = &[
     (r#"=--"WAHR""#, "#VALUE!", BOOLEAN_WORDS),
     (r#"=--"VRAI""#, "#VALUE!", BOOLEAN_WORDS),
     (r#"=--"TÕENE""#, "#VALUE!", BOOLEAN_WORDS),
+    (r#"=TEXT(1234.5,"0.00")"#, "1.235", EN_US_BUILT_IN),
     (r#"=1E20&"""#, "1E+20", NUMBER_TEXT),
     (r#"=1234567890123456&"""#, "1,23456789012346E+15", NUMBER_TEXT),
 ];
@@ -713,6 +740,13 @@ const EXCEL_SHOWS: &[(&str, &str, &str)] = &[
 /// same way (en-US `--"TRUE"` is #VALUE!, docs/functions.md). LibreOffice reads its boolean
 /// words as numbers in every locale (en-US `--"TRUE"` is 1 there).
 const BOOLEAN_WORDS: &str = "a boolean word is no number format: #VALUE! in Excel, 1 in LibreOffice";
+
+/// Why de-DE `TEXT(1234.5,"0.00")` is `1.235`: German Excel reads TEXT's code in its own
+/// marks, where `.` groups thousands (poi's 61495-test.xlsm cached `0.067` for
+/// `TEXT(67.1,"00.00")`, text_codes_compute_as_the_comma_locale_excel_that_saved_them);
+/// LibreOffice reads a code that is exactly one of its en-US built-in formats (`0.00`,
+/// `#,##0`, `#,##0.00`, `0.00%`) as en-US, and any other code (`0.0`, `##0.00`) in the locale.
+const EN_US_BUILT_IN: &str = "an en-US built-in code: read in the locale by Excel, as en-US by LibreOffice";
 
 /// Why `1E20&""` is `1E+20`: a number joined to text is written as Excel's General format
 /// writes it, with Excel's 15 digits of precision ("Excel specifications and limits") and a

@@ -324,7 +324,8 @@ fn typed_date_format(wb: &crate::workbook::Workbook, typed: &str) -> Option<&'st
 /// A csv opened in a decimal-comma locale: each field is read as that locale's Excel opens
 /// the file, from the file's own text: numbers and dates in its spelling (`1.234,5` in de-DE,
 /// `1 234,5` in fr-FR, `12.03.2025`, and `3,750%`, which the file syntax would take for 37.5)
-/// and its words for TRUE and FALSE (`WAHR`); a field forced to text with `'` stays text.
+/// and its words for TRUE and FALSE (`WAHR`); a field forced to text with `'` stays text, and
+/// so does one that is a number only in the file syntax.
 fn read_csv_fields_in_locale(opened: &mut Opened, locale: crate::eval::Locale) {
     use crate::eval::Value;
     let Origin::Csv(original) = &opened.origin else { return };
@@ -348,6 +349,11 @@ fn read_csv_fields_in_locale(opened: &mut Opened, locale: crate::eval::Locale) {
                 // The shortest spelling that reads back as the same number, in the file syntax.
                 inputs.push((pos, format!("{n}")));
             }
+        } else if matches!(value, Value::Number(_)) && original.delimiter() != b',' {
+            // In a `;` file, a number only in the file syntax (`0.8`, `12/03/2025` in de-DE)
+            // is text, as LibreOffice set to the locale opens it: never the en-US reading. A
+            // `,` file is read with decimal points, as the command line notes.
+            inputs.push((pos, format!("'{text}")));
         }
     }
     for (pos, input) in inputs {

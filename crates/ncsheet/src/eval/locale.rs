@@ -743,6 +743,7 @@ impl Locale {
             before.is_some_and(|j| placeholder(Some(j)))
         };
         let mut out = String::with_capacity(code.len());
+        let mut section = Section::default();
         let mut i = 0;
         while i < chars.len() {
             let c = chars[i];
@@ -764,8 +765,20 @@ impl Locale {
                     i += 2;
                     continue;
                 }
-                _ if c == self.decimal => out.push('.'),
-                _ if is_group(c) && placeholder(i.checked_sub(1)) && placeholder(Some(i + 1)) => out.push(','),
+                _ if c == self.decimal => {
+                    section.decimal = true;
+                    out.push('.');
+                }
+                // A group mark among the decimals groups the integer part, as LibreOffice set
+                // to the locale reads it (de-DE `#,##0.000` shows `1.234,500000`).
+                _ if is_group(c) && placeholder(i.checked_sub(1)) && placeholder(Some(i + 1)) => {
+                    if section.decimal {
+                        section.group_among_decimals = true;
+                    } else {
+                        section.grouped = true;
+                        out.push(',');
+                    }
+                }
                 // Group separators after the last placeholder scale by 1000 each, as `,` does:
                 // a space too where spaces group digits (fr-FR `0,0 €` shows 1234.5 as
                 // `1,2€`, `0  ` divides by a million), as LibreOffice set to the locale does.
@@ -775,10 +788,21 @@ impl Locale {
                     out.push('\\');
                     out.push(protected_mark(c));
                 }
-                c => out.push(c),
+                ';' => {
+                    section.finish(&mut out);
+                    section = Section::default();
+                    out.push(c);
+                }
+                c => {
+                    if placeholder(Some(i)) && !section.decimal && section.integer_at.is_none() {
+                        section.integer_at = Some(out.len());
+                    }
+                    out.push(c);
+                }
             }
             i += 1;
         }
+        section.finish(&mut out);
         out
     }
 
@@ -852,6 +876,26 @@ fn date_number(s: &str) -> Option<i64> {
 fn this_year() -> i64 {
     use chrono::Datelike;
     i64::from(chrono::Local::now().year())
+}
+
+/// What [`Locale::canonical_format_code`] tracks in one section of a number format code.
+#[derive(Default)]
+struct Section {
+    /// Where the integer part's first placeholder went in the canonical code.
+    integer_at: Option<usize>,
+    decimal: bool,
+    grouped: bool,
+    group_among_decimals: bool,
+}
+
+impl Section {
+    /// A section with a group mark among its decimals (de-DE `#,##0.000`) groups its integer
+    /// part: `#,` goes before the integer part's first placeholder in the canonical code.
+    fn finish(&self, out: &mut String) {
+        if let (true, false, Some(at)) = (self.group_among_decimals, self.grouped, self.integer_at) {
+            out.insert_str(at, "#,");
+        }
+    }
 }
 
 /// A space between digits or beside a number: plain, no-break or narrow no-break.
@@ -1094,6 +1138,9 @@ mod tests {
         assert_eq!(fr.canonical_format_code("0  "), "0,,");
         assert_eq!(fr.canonical_format_code("0,0\\ \\€"), "0.0\\ \\€");
         assert_eq!(locale("de-DE").canonical_format_code("0,0 \\€"), "0.0 \\€");
+        // A group mark among the decimals groups the integer part (LibreOffice in de-DE).
+        assert_eq!(locale("de-DE").canonical_format_code("#,##0.00;-#,##0.00"), "#,#.##000;-#,#.##000");
+        assert_eq!(locale("de-DE").canonical_format_code("0,0.0"), "#,0.00");
     }
 
     /// LibreOffice set to each locale (TEXT of 2025-03-12 and of the first of each month).
