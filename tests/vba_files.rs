@@ -638,3 +638,74 @@ fn kill_dir_filelen_and_filecopy_reach_nothing_outside_the_out_dir() {
     let e = fail("    Kill \"a.nc\"", &RunOptions::default());
     assert!(e.message.contains("Kill: a macro cannot touch files"), "{e}");
 }
+
+// "Put statement" and "Get statement" (and [MS-VBAL] 5.4.5.11, 5.4.5.7): in a Binary file a
+// variable's bytes go one after the other, little-endian: an Integer 2 bytes (-2 is FE FF), a
+// Long 4, a Double 8, a Date 8 (its day count as a Double), a Byte 1; a variable-length
+// String its characters only ("the number of bytes written equals the number of characters");
+// a Variant 2 bytes of its VarType first, a String Variant then 2 bytes of length ("a Variant
+// of VarType 8 … 2 bytes identifying the VarType, 2 bytes indicating the length"). Positions
+// count from 1; Get reads back by the variable's type (a String for as many characters as it
+// holds); "EOF function": True once a Get could not read a whole item; "Loc function": the
+// last byte read or written (Binary), the last record (Random); "Seek function": the next
+// position. In a Random file a record is `Len` bytes, a String there has its 2-byte length,
+// and a Put longer than the record is error 59 ("Bad record length").
+#[test]
+fn binary_and_random_files_hold_vbas_bytes() {
+    let out = run(
+        "Sub Main()\n    Dim i As Integer, l As Long, d As Double, s As String, v, t As Date, b As Byte\n\
+         \x20   i = -2: l = 70000: d = 1.5: s = \"AB\": v = \"xy\": t = #1/2/2024#: b = 255\n\
+         \x20   Open \"B.BIN\" For Binary As #1\n\
+         \x20   Put #1, , i\n    Put #1, , l\n    Put #1, , d\n    Put #1, , s\n    Put #1, , v\n    Put #1, , t\n    Put #1, , b\n\
+         \x20   Debug.Print LOF(1); Loc(1); Seek(1)\n\
+         \x20   Dim i2 As Integer, l2 As Long, d2 As Double, s2 As String, v2, t2 As Date\n    s2 = \"??\"\n\
+         \x20   Get #1, 1, i2\n    Get #1, , l2\n    Get #1, , d2\n    Get #1, , s2\n    Get #1, , v2\n    Get #1, , t2\n\
+         \x20   Debug.Print i2; l2; d2; s2; \" \"; v2; \" \"; t2; TypeName(t2); EOF(1)\n\
+         \x20   Get #1, , b\n    Get #1, , i2\n    Debug.Print b; EOF(1)\n\
+         \x20   Seek #1, 3\n    Get #1, , l2\n    Debug.Print l2; Seek(1)\n    Close #1\n\
+         \x20   Open \"R.DAT\" For Random As #2 Len = 10\n    Put #2, 2, \"hello\"\n    Put #2, 1, 7&\n\
+         \x20   Dim r As String, n As Long\n    Get #2, 2, r\n    Get #2, 1, n\n    Debug.Print r; n; LOF(2); Loc(2)\n\
+         \x20   On Error Resume Next\n    Put #2, 1, \"longer than ten\"\n    Debug.Print Err.Number\n    Close\nEnd Sub\n",
+    );
+    assert_eq!(
+        out.printed,
+        [
+            " 31  31  32 ",
+            "-2  70000  1.5 AB xy 1/2/2024DateFalse",
+            " 255 True",
+            " 70000  7 ",
+            "hello 7  20  1 ",
+            " 59 "
+        ]
+    );
+    let file = |name: &str| out.files.iter().find(|(n, _)| n == name).map(|(_, b)| b.clone()).unwrap();
+    let mut binary = vec![0xFE, 0xFF, 0x70, 0x11, 0x01, 0x00];
+    binary.extend(1.5f64.to_le_bytes());
+    binary.extend(b"AB");
+    binary.extend([8, 0, 2, 0, b'x', b'y']);
+    binary.extend(45293f64.to_le_bytes());
+    binary.push(0xFF);
+    assert_eq!(file("B.BIN"), binary);
+    let mut random = vec![7, 0, 0, 0, 0, 0, 0, 0, 0, 0, 5, 0];
+    random.extend(b"hello");
+    random.extend([0, 0, 0]);
+    assert_eq!(file("R.DAT"), random);
+}
+
+// A Binary or Random file is one of the sandbox's names like any other ("no path outside
+// --out-dir by any spelling"), and a listed input is read, never written: Put to it is
+// error 75 ("Path/File access error").
+#[test]
+fn binary_files_keep_to_the_sandbox() {
+    for path in ["../B.BIN", "/tmp/B.BIN", "sub/B.BIN", "C:\\B.BIN", "NUL", "\\\\server\\share\\B.BIN"] {
+        let e = fail(&format!("    On Error Resume Next\n    Open \"{path}\" For Binary As #1"), &sandbox(&[]));
+        assert!(e.message.contains("refused"), "{path}: {e}");
+    }
+    let options = sandbox(&[("IN.BIN", &[1, 0, 2, 0])]);
+    let src = "Sub Main()\n    Dim a As Integer, b As Integer\n    Open \"IN.BIN\" For Binary As #1\n\
+               \x20   Get #1, , a\n    Get #1, , b\n    Debug.Print a; b\n    On Error Resume Next\n    Put #1, 1, a\n\
+               \x20   Debug.Print Err.Number\nEnd Sub\n";
+    let out = run_with(src, &options).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.printed, [" 1  2 ", " 75 "]);
+    assert!(out.files.is_empty(), "{:?}", out.files);
+}

@@ -136,7 +136,7 @@ pub fn checked_name(path: &str) -> Option<&'static str> {
 #[derive(Debug)]
 pub enum FileStmt {
     /// `Open path For mode As #n`.
-    Open { path: Expr, mode: Mode, number: Expr },
+    Open { path: Expr, mode: Mode, number: Expr, len: Option<Expr> },
     /// `Print #n, items`.
     Print { number: Expr, items: Vec<PrintPart> },
     /// `Write #n, items`: `open` when a separator ends the list (no line end).
@@ -147,6 +147,12 @@ pub enum FileStmt {
     Input { number: Expr, targets: Vec<Target> },
     /// `Close #1, #2`; no numbers: every file.
     Close(Vec<Expr>),
+    /// `Put #n, [record], data` (`binary.rs`).
+    Put { number: Expr, record: Option<Expr>, data: Expr },
+    /// `Get #n, [record], var`.
+    Get { number: Expr, record: Option<Expr>, target: Target },
+    /// `Seek #n, position`.
+    Seek { number: Expr, position: Expr },
 }
 
 /// What a file is open for.
@@ -155,6 +161,8 @@ pub enum Mode {
     Input,
     Output,
     Append,
+    Binary,
+    Random,
 }
 
 #[derive(Debug)]
@@ -172,6 +180,10 @@ pub enum PrintPart {
 
 fn kids<'i>(pair: &Pair<'i, Rule>) -> Vec<Pair<'i, Rule>> {
     pair.clone().into_inner().collect()
+}
+
+fn find_rule<'i>(pairs: &[Pair<'i, Rule>], rule: Rule) -> Option<Pair<'i, Rule>> {
+    pairs.iter().find(|p| p.as_rule() == rule).cloned()
 }
 
 impl Build<'_> {
@@ -226,12 +238,25 @@ impl Build<'_> {
                 }
                 FileStmt::Close(numbers)
             }
+            Rule::put_file | Rule::get_file => {
+                let record = match find_rule(&k, Rule::record_number) {
+                    Some(r) => Some(self.expr(kids(&r)[0].clone())?),
+                    None => None,
+                };
+                let number = self.expr(k[1].clone())?;
+                let last = k.last().expect("Put's data or Get's variable").clone();
+                match inner.as_rule() {
+                    Rule::put_file => FileStmt::Put { number, record, data: self.expr(last)? },
+                    _ => FileStmt::Get { number, record, target: self.input_target(&last)? },
+                }
+            }
+            Rule::seek_file => FileStmt::Seek { number: self.expr(k[1].clone())?, position: self.expr(k[2].clone())? },
             _ => {
                 return Err(self.error_at(
                     pair,
                     format!(
-                        "{word} #: not supported; a macro's files are text: Open … For Input, Output or Append, \
-                         Print #, Write #, Input #, Line Input #, Close"
+                        "{word} #: not supported; a macro's files: Open … For Input, Output, Append, Binary or \
+                         Random, Print #, Write #, Input #, Line Input #, Put #, Get #, Seek #, Close"
                     ),
                 ))
             }
@@ -246,18 +271,15 @@ impl Build<'_> {
             "input" => Mode::Input,
             "output" => Mode::Output,
             "append" => Mode::Append,
-            other => {
-                return Err(self.error_at(
-                    mode,
-                    format!(
-                        "Open … For {other}: a macro's files are text (For Input, Output or Append); binary and \
-                         random-access files are not supported"
-                    ),
-                ))
-            }
+            "binary" => Mode::Binary,
+            _ => Mode::Random,
         };
         let number = k.iter().find(|p| p.as_rule() == Rule::file_number).expect("Open's number");
-        Ok(FileStmt::Open { path: self.expr(k[1].clone())?, mode, number: self.file_number(number)? })
+        let len = match find_rule(k, Rule::open_len) {
+            Some(l) => Some(self.expr(kids(&l).into_iter().find(|p| p.as_rule() == Rule::vexpr).expect("Len's value"))?),
+            None => None,
+        };
+        Ok(FileStmt::Open { path: self.expr(k[1].clone())?, mode, number: self.file_number(number)?, len })
     }
 
     fn file_number(&self, pair: &Pair<Rule>) -> Res<Expr> {
@@ -279,7 +301,7 @@ impl Build<'_> {
 /// [`Interp::file_root`] answers.
 pub(super) fn is_file_function(lower: &str, link: &Link) -> bool {
     match lower {
-        "freefile" | "eof" | "lof" | "kill" | "dir" | "filelen" | "filecopy" | "mkdir" | "rmdir" => true,
+        "freefile" | "eof" | "lof" | "loc" | "seek" | "kill" | "dir" | "filelen" | "filecopy" | "mkdir" | "rmdir" => true,
         "createobject" => matches!(
             link.args.as_deref(),
             Some([arg]) if matches!(&arg.value.kind,
@@ -323,8 +345,10 @@ enum Way {
 /// The run's files: those written (name, bytes, in the order first opened) and those open.
 #[derive(Debug, Default)]
 pub(super) struct Files {
-    written: Vec<(String, Vec<u8>)>,
+    pub(super) written: Vec<(String, Vec<u8>)>,
     numbered: BTreeMap<i64, Channel>,
+    /// The files open for Binary or Random (`binary.rs`), by number.
+    pub(super) records: BTreeMap<i64, super::binary::Channel>,
     streams: Vec<Option<Channel>>,
     /// Files of the output folder the macro deleted (`Kill`): gone for the rest of the run,
     /// removed from the folder when the run succeeded.
@@ -335,6 +359,11 @@ pub(super) struct Files {
 }
 
 impl Files {
+    /// Whether file number `n` is open for Input, Output or Append.
+    pub(super) fn is_numbered(&self, n: i64) -> bool {
+        self.numbered.contains_key(&n)
+    }
+
     /// The files written, for [`super::RunOutput::files`].
     pub(super) fn into_written(self) -> Vec<(String, Vec<u8>)> {
         self.written
@@ -417,6 +446,19 @@ fn error_number(e: XlError) -> Option<u32> {
     })
 }
 
+/// Text in Windows-1252, VBA's ANSI code page, for a Binary or Random file; a character it
+/// has not is refused.
+pub(super) fn ansi_bytes(text: &str) -> Result<Vec<u8>, String> {
+    encode(text, false).map_err(|c| {
+        format!("the character {c:?} (U+{:04X}) has no place in Windows-1252, the code page VBA writes", c as u32)
+    })
+}
+
+/// Bytes of a Binary or Random file as text (Windows-1252).
+pub(super) fn ansi_text(bytes: &[u8]) -> Rc<str> {
+    encoding_rs::WINDOWS_1252.decode_without_bom_handling(bytes).0.into()
+}
+
 /// Text as the file holds it: Windows-1252, or UTF-16LE for a Unicode TextStream.
 fn encode(text: &str, unicode: bool) -> Result<Vec<u8>, char> {
     if unicode {
@@ -494,7 +536,7 @@ fn next_field(text: &str, at: usize) -> (Value, usize) {
 }
 
 impl Interp<'_, '_> {
-    fn file_error(&self, span: Span, (code, text): (u32, &str), what: String) -> Fault {
+    pub(super) fn file_error(&self, span: Span, (code, text): (u32, &str), what: String) -> Fault {
         let mut fault = self.fault_at(span, format!("{what}: {text} (run-time error {code})"));
         fault.code = code;
         fault
@@ -506,7 +548,7 @@ impl Interp<'_, '_> {
         fault
     }
 
-    fn access(&self) -> &super::FileAccess {
+    pub(super) fn access(&self) -> &super::FileAccess {
         self.options.files.as_ref().expect("file statements parse only when the run has files")
     }
 
@@ -589,7 +631,7 @@ impl Interp<'_, '_> {
 
     /// Opens `name` for writing: a new empty file, or (appending) one that goes on from what
     /// the file holds. Returns the index of the written file.
-    fn open_for_writing(&self, what: &str, name: &str, append: bool, span: Span) -> Run<usize> {
+    pub(super) fn open_for_writing(&self, what: &str, name: &str, append: bool, span: Span) -> Run<usize> {
         if self.access().out_dir.is_none() {
             return Err(self.refused(
                 span,
@@ -639,7 +681,10 @@ impl Interp<'_, '_> {
 
     pub(super) fn file_stmt(&self, stmt: &FileStmt, span: Span) -> Run<()> {
         match stmt {
-            FileStmt::Open { path, mode, number } => self.open(path, *mode, number, span),
+            FileStmt::Open { path, mode, number, len } => self.open(path, *mode, number, len.as_ref(), span),
+            FileStmt::Put { number, record, data } => self.put_record(number, record.as_ref(), data, span),
+            FileStmt::Get { number, record, target } => self.get_record(number, record.as_ref(), target, span),
+            FileStmt::Seek { number, position } => self.seek_record(number, position, span),
             FileStmt::Print { number, items } => self.print_file(number, items, span),
             FileStmt::Write { number, items, open } => self.write_file(number, items, *open, span),
             FileStmt::LineInput { number, target } => {
@@ -661,10 +706,12 @@ impl Interp<'_, '_> {
             FileStmt::Close(numbers) => {
                 if numbers.is_empty() {
                     self.files.borrow_mut().numbered.clear();
+                    self.files.borrow_mut().records.clear();
                 }
                 for e in numbers {
                     let n = self.file_no(e)?;
                     self.files.borrow_mut().numbered.remove(&n);
+                    self.files.borrow_mut().records.remove(&n);
                 }
                 Ok(())
             }
@@ -672,7 +719,7 @@ impl Interp<'_, '_> {
     }
 
     /// A file number, 1 to 511 (VBA's range; `#` is optional).
-    fn file_no(&self, e: &Expr) -> Run<i64> {
+    pub(super) fn file_no(&self, e: &Expr) -> Run<i64> {
         let n = self.index(e, "the file number")?;
         if !(1..=511).contains(&n) {
             return Err(self.file_error(self.expr_span(e), BAD_NUMBER, format!("file number {n}")));
@@ -680,15 +727,16 @@ impl Interp<'_, '_> {
         Ok(n)
     }
 
-    fn open(&self, path: &Expr, mode: Mode, number: &Expr, span: Span) -> Run<()> {
+    fn open(&self, path: &Expr, mode: Mode, number: &Expr, len: Option<&Expr>, span: Span) -> Run<()> {
         let v = self.eval(path)?;
         let shown = print_text(&v);
         let n = self.file_no(number)?;
-        if self.files.borrow().numbered.contains_key(&n) {
+        if self.files.borrow().numbered.contains_key(&n) || self.files.borrow().records.contains_key(&n) {
             return Err(self.file_error(span, ALREADY_OPEN, format!("Open … As #{n}")));
         }
         let name = self.sandbox_name("Open", &shown, span)?;
         let way = match mode {
+            Mode::Binary | Mode::Random => return self.open_record_file(name, n, mode == Mode::Random, len, span),
             Mode::Input => {
                 let Some((text, bytes)) = self.read_text("Open", &name, span)? else {
                     return Err(self.not_found("Open", &name, span));
@@ -894,11 +942,20 @@ impl Interp<'_, '_> {
                 };
                 let range = if high { 256..=511 } else { 1..=255 };
                 let files = self.files.borrow();
-                let free = range.into_iter().find(|n| !files.numbered.contains_key(n));
+                let free = range.into_iter().find(|n| !files.numbered.contains_key(n) && !files.records.contains_key(n));
                 match free {
                     Some(n) => value(Value::Number(n as f64)),
                     None => Err(self.file_error(link.span, TOO_MANY, "FreeFile".to_string())),
                 }
+            }
+            what @ ("eof" | "lof" | "loc" | "seek")
+                if self.record_file_query(what, number(what)?).is_some() =>
+            {
+                value(self.record_file_query(what, number(what)?).expect("a Binary or Random file"))
+            }
+            "loc" | "seek" => {
+                let n = number(&link.name)?;
+                Err(self.file_error(link.span, BAD_MODE, format!("{}(#{n}): not a Binary or Random file", link.name)))
             }
             "eof" => value(Value::Bool(self.at_end(Channels::Numbered(number("EOF")?), link.span)?)),
             "lof" => {

@@ -195,6 +195,7 @@
 
 mod append;
 mod arrays;
+mod binary;
 pub mod ast;
 mod budget;
 mod classes;

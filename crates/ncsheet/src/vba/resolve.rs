@@ -48,6 +48,7 @@ pub(super) const FORBIDDEN: &[&str] = &[
     "saveas",
     "savecopyas",
     "savesetting",
+    "seek",
     "sendkeys",
     "setattr",
     "shell",
