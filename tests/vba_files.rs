@@ -631,9 +631,14 @@ fn kill_dir_filelen_and_filecopy_reach_nothing_outside_the_out_dir() {
             assert_eq!(files_under(dir.path()), ["book.csv", "macro.bas", "outside.nc"], "{how} {path}");
         }
     }
-    let r = run_macro(dir.path(), "Sub Main()\n    MkDir \"NC\"\nEnd Sub\n", &[]);
-    assert_eq!(r.code, 1, "{}", r.stderr);
-    assert!(r.stderr.contains("MkDir: refused: "), "{}", r.stderr);
+    // MkDir and RmDir stay refused, with the reason, whatever the spelling.
+    for statement in ["MkDir \"NC\"", "MkDir \"../NC\"", "RmDir \"NC\"", "MkDir \"/tmp/NC\""] {
+        let r =
+            run_macro(dir.path(), &format!("Sub Main()\n    On Error Resume Next\n    {statement}\nEnd Sub\n"), &[]);
+        assert_eq!(r.code, 1, "{statement}: {}", r.stderr);
+        assert!(r.stderr.contains("Dir: refused: ") && r.stderr.contains("symbolic link"), "{statement}: {}", r.stderr);
+        assert_eq!(files_under(dir.path()), ["book.csv", "macro.bas", "outside.nc"], "{statement}");
+    }
     // Without --out-dir the statements are refused by name, as before.
     let e = fail("    Kill \"a.nc\"", &RunOptions::default());
     assert!(e.message.contains("Kill: a macro cannot touch files"), "{e}");

@@ -979,11 +979,15 @@ impl Interp<'_, '_> {
                 }
             }
             "filecopy" => self.file_copy(&args, link.span).map(|()| Obj::Value(Value::Blank)),
+            // Subfolders stay refused: every part of a path would have to be checked for a
+            // symbolic link at the moment each file is written, which a link made between the
+            // check and the write would get around; plain names in one folder have no such parts.
             "mkdir" | "rmdir" => Err(self.refused(
                 link.span,
                 format!(
                     "{}: refused: a macro's files are plain names inside the one --out-dir folder, which has no \
-                     folders of its own",
+                     folders of its own (a folder part could lead out through a symbolic link); write the files \
+                     into --out-dir itself",
                     link.name
                 ),
             )),
