@@ -270,9 +270,11 @@ fn build<S: Surface>(
         Lines::ConstantX => (spec.x, spec.y),
         Lines::ConstantY => (spec.y, spec.x),
     };
+    let along_stations = stations(along, spacing_step(spec.spacing));
     let stations = stations(across, spec.stepover);
+    let n_lines = stations.len();
     // Progress counts lines placed, then lines checked for gouges.
-    let total = stations.len() * if spec.gouge == GougeCheck::Off { 1 } else { 2 };
+    let total = n_lines * if spec.gouge == GougeCheck::Off { 1 } else { 2 };
     let mut path = BallPath {
         radius: spec.radius,
         points: Vec::new(),
@@ -284,7 +286,10 @@ fn build<S: Surface>(
         let per_line = ((along[1] - along[0]) / step).ceil() + 1.0;
         path.points.reserve((per_line * stations.len() as f64).min(spec.max_points as f64) as usize);
     }
-    let mut placer = Placer { surface, radius: spec.radius, lines: spec.lines };
+    // The gouge check samples the surface again on its map and in its searches: where that
+    // is a station the path was placed by, it reads the sample kept here.
+    let kept = (spec.gouge != GougeCheck::Off).then(|| Vec::with_capacity(n_lines * along_stations.len()));
+    let mut placer = Placer { surface, radius: spec.radius, lines: spec.lines, kept };
     for (k, &u) in stations.iter().enumerate() {
         path.line_starts.push(path.points.len());
         let start = path.points.len();
@@ -300,7 +305,10 @@ fn build<S: Surface>(
         let as_written = written.map(|w| written::rounded(&path, w));
         return Ok((path, as_written));
     }
-    let mut check = check_gouges(placer.surface, spec, &mut path, &mut |k| progress(stations.len() + k, total))?;
+    let samples = placer.kept.take().unwrap_or_default();
+    let mut known =
+        Known { surface: placer.surface, lines: spec.lines, across: stations, along: along_stations, samples };
+    let mut check = check_gouges(&mut known, spec, &mut path, &mut |k| progress(n_lines + k, total))?;
     let as_written = match written {
         Some(w) if spec.gouge == GougeCheck::Lift || path.gouges.is_empty() => Some(check.as_written(&path, w)?),
         Some(w) => Some(written::rounded(&path, w)),
@@ -366,9 +374,7 @@ fn check_point_count<E>(spec: &BallPathSpec) -> Result<(), PathError<E>> {
         Lines::ConstantY => spec.x,
     };
     let n_lines = ((across[1] - across[0]) / spec.stepover).ceil() + 1.0;
-    let step = match spec.spacing {
-        Spacing::Step(s) | Spacing::Chord { max_step: s, .. } => s,
-    };
+    let step = spacing_step(spec.spacing);
     let per_line = ((along[1] - along[0]) / step).ceil() + 1.0;
     let least = n_lines * per_line;
     if least > spec.max_points as f64 {
@@ -387,22 +393,87 @@ fn stations(range: [f64; 2], step: f64) -> Vec<f64> {
     out
 }
 
+/// The longest step along a line: the fixed step, or the chord tolerance's largest.
+fn spacing_step(spacing: Spacing) -> f64 {
+    match spacing {
+        Spacing::Step(s) | Spacing::Chord { max_step: s, .. } => s,
+    }
+}
+
+/// The surface, with the samples the path was placed by at the raster's stations: the
+/// station (across[k], along[j]) has `samples[k * along.len() + j]`. A sample asked for at
+/// exactly a station's coordinates is that one (the same formula at the same point), so the
+/// gouge check's map and searches evaluate the surface only where nothing was placed.
+struct Known<'s, S> {
+    surface: &'s mut S,
+    lines: Lines,
+    across: Vec<f64>,
+    along: Vec<f64>,
+    samples: Vec<Sample>,
+}
+
+impl<S> Known<'_, S> {
+    fn kept(&self, x: f64, y: f64) -> Option<Sample> {
+        let (u, v) = match self.lines {
+            Lines::ConstantX => (x, y),
+            Lines::ConstantY => (y, x),
+        };
+        // Exactly the station's bits (total_cmp tells −0 from +0).
+        let k = self.across.binary_search_by(|s| s.total_cmp(&u)).ok()?;
+        let j = self.along.binary_search_by(|s| s.total_cmp(&v)).ok()?;
+        self.samples.get(k * self.along.len() + j).copied()
+    }
+}
+
+impl<S: Surface> Surface for Known<'_, S> {
+    type Error = S::Error;
+
+    fn height(&mut self, x: f64, y: f64) -> Result<f64, S::Error> {
+        match self.kept(x, y) {
+            Some(s) => Ok(s.z),
+            None => self.surface.height(x, y),
+        }
+    }
+
+    fn sample(&mut self, x: f64, y: f64) -> Result<Sample, S::Error> {
+        match self.kept(x, y) {
+            Some(s) => Ok(s),
+            None => self.surface.sample(x, y),
+        }
+    }
+}
+
 /// Places balls by their contact points.
 struct Placer<'s, S> {
     surface: &'s mut S,
     radius: f64,
     lines: Lines,
+    /// The samples taken at the raster's stations, kept for the gouge check (`None`: not kept).
+    kept: Option<Vec<Sample>>,
 }
 
 impl<S: Surface> Placer<'_, S> {
     /// The ball touching the surface at line coordinate `u`, position `v` along the line.
     fn place(&mut self, u: f64, v: f64) -> Result<PathPoint, PathError<S::Error>> {
+        Ok(self.place_sampled(u, v)?.0)
+    }
+
+    /// The ball at a station of the raster, its sample kept if asked for.
+    fn place_station(&mut self, u: f64, v: f64) -> Result<PathPoint, PathError<S::Error>> {
+        let (p, s) = self.place_sampled(u, v)?;
+        if let Some(kept) = &mut self.kept {
+            kept.push(s);
+        }
+        Ok(p)
+    }
+
+    fn place_sampled(&mut self, u: f64, v: f64) -> Result<(PathPoint, Sample), PathError<S::Error>> {
         let (x, y) = match self.lines {
             Lines::ConstantX => (u, v),
             Lines::ConstantY => (v, u),
         };
         let s = self.surface.sample(x, y).map_err(|error| PathError::Surface { x, y, error })?;
-        Ok(ball_at(Point3::new(x, y, s.z), s.dzdx, s.dzdy, self.radius))
+        Ok((ball_at(Point3::new(x, y, s.z), s.dzdx, s.dzdy, self.radius), s))
     }
 
     fn line(
@@ -422,15 +493,15 @@ impl<S: Surface> Placer<'_, S> {
                 }
                 out.reserve(vs.len());
                 for v in vs {
-                    out.push(self.place(u, v)?);
+                    out.push(self.place_station(u, v)?);
                 }
             }
             Spacing::Chord { tolerance, max_step } => {
                 let vs = stations(along, max_step);
-                let mut prev = (vs[0], self.place(u, vs[0])?);
+                let mut prev = (vs[0], self.place_station(u, vs[0])?);
                 out.push(prev.1);
                 for &v in &vs[1..] {
-                    let next = (v, self.place(u, v)?);
+                    let next = (v, self.place_station(u, v)?);
                     self.refine(u, prev, next, tolerance, MAX_HALVINGS, out)?;
                     out.push(next.1);
                     if out.len() > max_points {
@@ -492,9 +563,7 @@ fn check_gouges<'a, S: Surface>(
     path: &mut BallPath,
     lines_checked: &mut dyn FnMut(usize),
 ) -> Result<Checker<'a, S>, PathError<S::Error>> {
-    let step = match spec.spacing {
-        Spacing::Step(s) | Spacing::Chord { max_step: s, .. } => s,
-    };
+    let step = spacing_step(spec.spacing);
     // The map resolves the surface at least as finely as the path does.
     // The map is made finer where the surface between its nodes is more than a quarter of the
     // tolerance from what they show (a feature narrower than the path's spacing, a step).
@@ -821,6 +890,40 @@ mod tests {
         fn sample(&mut self, x: f64, y: f64) -> Result<Sample, ()> {
             Ok(Sample { z: x * x + y * y, dzdx: 2.0 * x, dzdy: 2.0 * y })
         }
+    }
+
+    /// The plane z = 0.1x + 0.2y, counting what is asked of it.
+    #[derive(Default)]
+    struct Counted {
+        samples: usize,
+        heights: usize,
+    }
+
+    impl Surface for Counted {
+        type Error = ();
+
+        fn height(&mut self, x: f64, y: f64) -> Result<f64, ()> {
+            self.heights += 1;
+            Ok(0.1 * x + 0.2 * y)
+        }
+
+        fn sample(&mut self, x: f64, y: f64) -> Result<Sample, ()> {
+            self.samples += 1;
+            Ok(Sample { z: 0.1 * x + 0.2 * y, dzdx: 0.1, dzdy: 0.2 })
+        }
+    }
+
+    #[test]
+    fn the_gouge_check_evaluates_the_surface_only_where_nothing_was_placed() {
+        // Step and stepover 0.5 under a 3 mm ball: the map's spacing is the step (R/4 is
+        // larger), so its 5 × 5 nodes are the path's stations, and its 4 × 4 cell middles,
+        // which need only a height, are not. A plane needs no search.
+        let plane = BallPathSpec { radius: 3.0, x: [0.0, 2.0], y: [0.0, 2.0], stepover: 0.5, ..spec() };
+        let mut surface = Counted::default();
+        let path = ball_path(&mut surface, &plane, &mut |_, _| {}).unwrap();
+        assert_eq!(path.points.len(), 25);
+        assert!(path.gouges.is_empty());
+        assert_eq!((surface.samples, surface.heights), (25, 16));
     }
 
     #[test]

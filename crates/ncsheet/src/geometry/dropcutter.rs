@@ -272,8 +272,9 @@ impl Map {
                     worst = worst.max(excess(a, b.0, b.1, b.2.z)).max(excess(b, a.0, a.1, a.2.z));
                 }
                 let (mx, my) = (self.x0 + (i as f64 + 0.5) * self.hx, self.y0 + (j as f64 + 0.5) * self.hy);
-                let m = surface.sample(mx, my).map_err(|e| (mx, my, e))?;
-                let middle = corners.iter().map(|&c| excess(c, mx, my, m.z)).fold(f64::INFINITY, f64::min);
+                // Only its height: the middle's slopes take no part.
+                let m = surface.height(mx, my).map_err(|e| (mx, my, e))?;
+                let middle = corners.iter().map(|&c| excess(c, mx, my, m)).fold(f64::INFINITY, f64::min);
                 worst = worst.max(middle);
                 if worst > accept || worst.is_nan() {
                     return Ok(Some((mx, my, worst)));
@@ -356,6 +357,16 @@ impl Map {
         if level == 0 {
             return (&self.lambda, &self.gamma);
         }
+        match self.blocks[level - 1].get() {
+            Some(b) => (&b.lambda, &b.gamma),
+            None => self.make_level(level),
+        }
+    }
+
+    /// [`Map::level`] the first time it is asked for (kept out of the proofs' hot path).
+    #[cold]
+    #[inline(never)]
+    fn make_level(&self, level: usize) -> (&[f64], &[f64]) {
         let b = self.blocks[level - 1].get_or_init(|| {
             // Each block is the four blocks of half its side that it is made of.
             let (lambda, gamma) = self.level(level - 1);
@@ -385,8 +396,9 @@ impl Map {
             if h <= 0.0 {
                 return [0, 1];
             }
-            let a = ((lo - origin) / h).floor().max(0.0) as usize;
-            let b = (((hi - origin) / h).floor().max(0.0) as usize + 1).min(n);
+            // A cast truncates, which for the non-negative (and NaN, made 0) is the floor.
+            let a = ((lo - origin) / h).max(0.0) as usize;
+            let b = (((hi - origin) / h).max(0.0) as usize + 1).min(n);
             [a.min(b.saturating_sub(1)), b]
         };
         (span(bx[0], bx[1], self.x0, self.hx, self.cx), span(by[0], by[1], self.y0, self.hy, self.cy))
@@ -407,11 +419,24 @@ impl Map {
         let level = (usize::BITS - 1 - (i1 - i0).min(j1 - j0).leading_zeros()) as usize;
         let side = 1 << level;
         let (lambdas, gammas) = self.level(level);
-        for j in block_starts(j0, j1, side) {
-            for i in block_starts(i0, i1, side) {
-                lambda = lambda.max(lambdas[j * self.cx + i]);
-                gamma = gamma.max(gammas[j * self.cx + i]);
+        // Blocks every `side` cells from the near edge, the last ending at the far edge.
+        let mut j = j0;
+        loop {
+            let row = j.min(j1 - side) * self.cx;
+            let mut i = i0;
+            loop {
+                let k = row + i.min(i1 - side);
+                lambda = lambda.max(lambdas[k]);
+                gamma = gamma.max(gammas[k]);
+                if i + side >= i1 {
+                    break;
+                }
+                i += side;
             }
+            if j + side >= j1 {
+                break;
+            }
+            j += side;
         }
         (lambda, gamma)
     }
@@ -475,13 +500,6 @@ impl Map {
         let cut = |(depth, at)| Cut { depth, at, complete };
         Ok(search.best.map_or(cut((f64::NEG_INFINITY, ball.a)), cut))
     }
-}
-
-/// Where blocks of `side` cells start to cover `lo..hi` (at least `side` long): every `side`
-/// cells, the last ending at `hi`.
-fn block_starts(lo: usize, hi: usize, side: usize) -> impl Iterator<Item = usize> {
-    let last = hi - side;
-    (lo..last).step_by(side).chain(std::iter::once(last))
 }
 
 /// The extremes of a cell's Hessian's eigenvalues as its corners' slopes show them: the

@@ -94,33 +94,36 @@ fn slope_at(p: &PathPoint) -> f64 {
     }
 }
 
-/// Each point's reserve for the written decimals: its slope the steepest of itself and its
-/// neighbours on the same raster line.
-fn reserves(path: &BallPath, resolution: f64) -> Vec<f64> {
-    let slopes: Vec<f64> = path.points.iter().map(slope_at).collect();
-    let mut out = Vec::with_capacity(slopes.len());
-    for (k, &start) in path.line_starts.iter().enumerate() {
-        let end = path.line_starts.get(k + 1).copied().unwrap_or(path.points.len());
-        out.extend((start..end).map(|i| {
-            let around =
-                slopes[i.saturating_sub(1).max(start)..(i + 2).min(end)].iter().fold(0.0, |m: f64, &s| m.max(s));
-            written_reserve(resolution, around)
-        }));
-    }
-    out
-}
-
 /// `path` with each programmed point raised by its reserve and rounded as the dialect
 /// rounds it, unchecked (the gouge check is off, or the path is refused anyway).
 pub(super) fn rounded(path: &BallPath, w: Written) -> BallPath {
-    let mut out = BallPath { gouges: Vec::new(), ..path.clone() };
-    if w.exact() {
-        return out;
+    let points = if w.exact() { path.points.clone() } else { rounded_points(path, w) };
+    BallPath {
+        radius: path.radius,
+        points,
+        line_starts: path.line_starts.clone(),
+        gouges: Vec::new(),
+        surface_z: path.surface_z,
     }
-    let reserve = reserves(path, w.resolution);
-    for (p, reserve) in out.points.iter_mut().zip(reserve) {
-        let z = w.nearest(p.centre.z + w.programmed_dz + reserve);
-        p.centre = w.ball(p.centre, z);
+}
+
+/// Each point raised by its reserve for the written decimals, its slope the steepest of
+/// itself and its neighbours on the same raster line, and rounded.
+fn rounded_points(path: &BallPath, w: Written) -> Vec<PathPoint> {
+    let mut out = Vec::with_capacity(path.points.len());
+    for (k, &start) in path.line_starts.iter().enumerate() {
+        let end = path.line_starts.get(k + 1).copied().unwrap_or(path.points.len());
+        let line = &path.points[start..end];
+        // The slopes of the point before, this one and the next (0 where there is none:
+        // no slope is below it) slide along the line.
+        let (mut before, mut here) = (0.0, line.first().map_or(0.0, slope_at));
+        for (i, p) in line.iter().enumerate() {
+            let next = line.get(i + 1).map_or(0.0, slope_at);
+            let around = 0.0f64.max(before).max(here).max(next);
+            let z = w.nearest(p.centre.z + w.programmed_dz + written_reserve(w.resolution, around));
+            out.push(PathPoint { contact: p.contact, centre: w.ball(p.centre, z) });
+            (before, here) = (here, next);
+        }
     }
     out
 }
