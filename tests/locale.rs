@@ -79,6 +79,12 @@ fn a_number_of_another_locale_is_refused_with_the_spelling_meant() {
     assert!(!d.join("m.xlsx").exists());
     // Forced text is still text.
     ok(in_dir(d, &["set", CHAMFER, "--locale", "et-EE", "Outer!r_='0.8", "-o", "t.xlsx"]));
+    // A date typed with a separator the locale does not read (LibreOffice in de-DE keeps
+    // `12/03/2025` as text): refused with the locale's own spelling.
+    let de = in_dir(d, &["set", CHAMFER, "--locale", "de-DE", "Outer!r_=12/03/2025", "-o", "m.xlsx"]);
+    assert_eq!(de.code, 1, "{}", de.stderr);
+    assert!(de.stderr.contains("type 12.03.2025"), "{}", de.stderr);
+    assert!(!d.join("m.xlsx").exists());
 }
 
 /// A cell that is #VALUE! because it reads text of another locale says so, naming the input.

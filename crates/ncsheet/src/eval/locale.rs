@@ -857,6 +857,9 @@ impl Locale {
         if self.read_number(text, DateSystem::From1900).is_some() || text.trim().is_empty() {
             return None;
         }
+        if let Some(date) = self.date_spelled_elsewhere(text.trim()) {
+            return Some(date);
+        }
         let other = if self.is_canonical() { Locale::from_tag("de-DE")? } else { Locale::EN_US };
         let n = other.read_plain_number(text)?;
         // Text with letters besides an exponent, or a currency, is left alone: only numbers.
@@ -864,6 +867,25 @@ impl Locale {
             return None;
         }
         Some((other, self.localize_shown(&general(n))))
+    }
+
+    /// A date typed with a separator this locale does not read between its parts
+    /// (`12/03/2025` in de-DE): a locale of the same date order that reads it, and the same
+    /// parts with this locale's separator (`12.03.2025`).
+    fn date_spelled_elsewhere(self, text: &str) -> Option<(Locale, String)> {
+        if self.is_canonical() {
+            return None;
+        }
+        let separator = text.chars().find(|c| matches!(c, '.' | '/' | '-'))?;
+        if self.date_separators_typed.contains(separator) {
+            return None;
+        }
+        let own = text.replace(separator, &self.date_separator.to_string());
+        self.read_day(&own, DateSystem::From1900)?;
+        let reads = |l: &Locale| l.read_day(text, DateSystem::From1900).is_some();
+        let other =
+            Locale::all().find(|l| *l != self && !l.is_canonical() && l.date_order == self.date_order && reads(l))?;
+        Some((other, own))
     }
 }
 
@@ -1164,5 +1186,10 @@ mod tests {
         assert_eq!((other, meant.as_str()), (Locale::EN_US, "0,8"));
         assert_eq!(Locale::EN_US.number_elsewhere("0,8").unwrap().1, "0.8");
         assert!(Locale::EN_US.number_elsewhere("abc").is_none());
+        // A date with a separator the locale does not read: its own separator meant.
+        let (other, meant) = locale("de-DE").number_elsewhere("12/03/2025").unwrap();
+        assert_eq!((other.tag, meant.as_str()), ("fr-FR", "12.03.2025"));
+        assert_eq!(locale("et-EE").number_elsewhere("12-3-25").unwrap().1, "12.3.25");
+        assert!(locale("fr-FR").number_elsewhere("12/03/2025").is_none());
     }
 }
