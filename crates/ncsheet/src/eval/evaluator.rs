@@ -378,7 +378,9 @@ pub const MAX_LAMBDA_CALLS: u32 = 2_000_000;
 
 /// ncsheet's limit on the work of the LAMBDAs MAP, REDUCE, SCAN, BYROW, BYCOL and MAKEARRAY
 /// call while one formula evaluates (docs/limits.md): one per call, plus every item of an
-/// array made, cell read and 16 bytes of text made inside them. A few seconds of work: a
+/// array made or read, cell read, 16 bytes of text made or read, and step of a regression or
+/// matrix product inside them (a function that makes no array counts its work where it
+/// loops). A few seconds of work: a
 /// REDUCE growing its array with VSTACK copies it whole at every step, and each LAMBDA of a
 /// 4,096 × 4,096 MAKEARRAY may build arrays of its own. A MAKEARRAY of 2^24 simple items
 /// (2^24 calls) stays well within it, as does a MAP of 10,000 items each looking a value up
@@ -901,8 +903,9 @@ impl<'a> Ctx<'a> {
         if work > MAX_LAMBDA_WORK {
             let why = format!(
                 "the LAMBDAs of MAP, REDUCE, SCAN, BYROW, BYCOL or MAKEARRAY did more than {MAX_LAMBDA_WORK} items of \
-                 work in one formula (ncsheet's limit: each call, and every array item made, cell read and 16 bytes \
-                 of text made inside them; an array grown item by item is copied at every step)"
+                 work in one formula (ncsheet's limit: each call, and every array item made or read, cell read, 16 \
+                 bytes of text made or read and step of a regression or matrix product inside them; an array \
+                 grown item by item is copied at every step)"
             );
             return Err(self.explain_once(XlError::Num, why));
         }
