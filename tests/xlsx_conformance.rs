@@ -30,7 +30,6 @@ use ncsheet::eval::Locale;
 use ncsheet::formula::address::Pos;
 use ncsheet::formula::ast::ExprKind;
 use ncsheet::io::xlsx;
-use ncsheet::workbook::Workbook;
 
 /// Cells where we knowingly differ from Excel, on their own or because a cell they read does:
 /// (file, cell, why). Keep this short: fix the cause and delete the entry.
