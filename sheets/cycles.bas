@@ -97,7 +97,10 @@ Sub L17Subprogram()
     Nc.Subprogram "L17 AR2 PR3 BR4 FR5", _
         "N1 R6=R4-20", "N2 R6=R6-R3", "N3 IF R6<R2 THEN R6=R2", "N4 L03", _
         "N5 IF R6>R2 THEN GOTO N2", "N6 M17"
-    L03Subprogram
+    ' L03 cuts its fillet as lines (Nc.ChordsCW, within --arc-tol): only a control without arcs
+    ' runs the subprograms; elsewhere the cycle is written unrolled, with its arcs, and
+    ' --arc-tol does not apply.
+    If Nc.Dialect = "nc31" Or Nc.Dialect = "nc81" Then L03Subprogram
 End Sub
 
 ' The finish contour, shifted out in X by dx: a face-side diameter 20, a fillet of radius 5

@@ -444,6 +444,58 @@ fn assert_fillet_within(moves: &[(bool, f64, f64)], tol: f64) {
     }
 }
 
+/// `--arc-tol` is for a control without arcs. L17 on a control with arcs cuts each pass's
+/// fillet as one arc at any tolerance, as before the NC31 subprograms (cycles.bas gives its
+/// subprogram on every run, for Nc.Cycle, but the fillet's lines only where they are written);
+/// the NC31, which gets the fillet as lines, still refuses a tolerance within its 0.001 step.
+#[test]
+fn l17_at_an_arc_tol_of_the_controls_step_refuses_only_the_control_without_arcs() {
+    let dir = tempfile::tempdir().unwrap();
+    let (book, bas) = (sheet("chamfer.csv"), sheet("cycles.bas"));
+    for d in ["iso", "linuxcnc", "sinumerik"] {
+        let out = dir.path().join(format!("l17.{d}"));
+        let args =
+            ["run", &book, &bas, "--sub", "L17", "--dialect", d, "--arc-tol", "0.001", "-o", out.to_str().unwrap()];
+        let run = ncsheet(&args);
+        assert_eq!(run.code, 0, "{args:?}: {}", run.stderr);
+        let text = std::fs::read_to_string(&out).unwrap();
+        let program = dialect::by_name(d).unwrap().read(&text, None).unwrap_or_else(|e| panic!("{e}\n{text}")).0;
+        // Each pass's fillet: clockwise from diameter 20 + shift at Z-10 to 30 + shift at Z-15
+        // about diameter 30 + shift, Z-10 (docs/domain.md §2).
+        let arcs: Vec<(f64, f64, f64, f64)> = program
+            .blocks
+            .iter()
+            .filter_map(|b| match b {
+                Block::Arc { direction: ncsheet::nc::ArcDirection::Clockwise, to, centre, .. } => {
+                    Some((to.x?, to.z?, centre.x?, centre.z?))
+                }
+                _ => None,
+            })
+            .collect();
+        let want: Vec<(f64, f64, f64, f64)> = L17_SHIFTS.iter().map(|s| (30.0 + s, -15.0, 30.0 + s, -10.0)).collect();
+        assert_eq!(arcs, want, "{d}:\n{text}");
+    }
+    for d in ["nc31", "nc81"] {
+        let out = dir.path().join(format!("l17.{d}"));
+        let run = ncsheet(&[
+            "run",
+            &book,
+            &bas,
+            "--sub",
+            "L17",
+            "--dialect",
+            d,
+            "--arc-tol",
+            "0.001",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert_ne!(run.code, 0, "{d}");
+        assert!(run.stderr.contains("--arc-tol"), "{d}: {}", run.stderr);
+        assert!(!out.exists(), "{d}: nothing written");
+    }
+}
+
 #[test]
 fn nc81_writes_the_words_of_nc31_per_the_paper() {
     // docs/domain.md §1: the chamfer paper's model serves "all NC31- and NC81-type controls";

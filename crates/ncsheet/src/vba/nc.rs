@@ -403,7 +403,10 @@ impl Interp<'_, '_> {
         let direction = if clockwise { ArcDirection::Clockwise } else { ArcDirection::CounterClockwise };
         let ends =
             arc_as_lines(machine, &point(x0, v0), &point(x, v), &point(cx, cv), direction, tolerance, resolution)
-                .map_err(|m| self.fault_at(link.span, format!("Nc.{}: {m}", link.name)))?;
+                .map_err(|m| {
+                    let why = format!("the lines keep within --arc-tol ({tolerance} mm) less the control's step");
+                    self.fault_at(link.span, format!("Nc.{}: {m} ({why}, {resolution} mm)", link.name))
+                })?;
         let written = |v: Option<f64>| Value::Number((v.unwrap_or(0.0) / resolution).round() * resolution);
         let items = ends
             .iter()
