@@ -25,6 +25,45 @@ struct Case {
 }
 
 const CASES: &[Case] = &[
+    // tests/vba_data_types.rs: a Date keeps its type through a Variant parameter, ByVal and
+    // ByRef, a Variant Function's result, a Variant array's item and a Collection's item
+    // ([MS-VBAL] 2.1.1.1; TypeName "Date", VarType 7).
+    Case {
+        name: "date_keeps_its_type",
+        module: r#"
+Function IdD(x)
+    IdD = x
+End Function
+Function ShowD(ByVal x)
+    ShowD = TypeName(x) & VarType(x)
+End Function
+Sub AddOneD(ByRef x)
+    x = x + 1
+End Sub
+"#,
+        body: r#"
+    Dim d As Date, v(2), c As New Collection, w
+    d = #1/2/2024#
+    Out ShowD(d)
+    Out TypeName(IdD(d))
+    Out VarType(IdD(d))
+    v(0) = d
+    v(1) = 5.5
+    Out TypeName(v(0))
+    Out VarType(v(0))
+    Out TypeName(v(1))
+    c.Add d
+    c.Add 2.5
+    Out TypeName(c(1))
+    Out VarType(c.Item(1))
+    Out TypeName(c(2))
+    w = d
+    AddOneD w
+    Out TypeName(w)
+    Out CDbl(w)
+    Out VarType(d + 1)
+"#,
+    },
     // Arrays holding objects (tests/vba_language.rs has the class-module forms). Where
     // LibreOffice departs from VBA, left out: it does not make a `Dim c As New Collection`
     // again after `Set c = Nothing` (VBA's auto-instantiation, [MS-VBAL] 5.2.3.1.4), and its
