@@ -119,6 +119,19 @@ fn endless_lambda_recursion_is_num_with_the_depth_named() {
     }
 }
 
+/// Sets `formula` in `cell` and checks it is #NUM! with the LAMBDA work limit's note; the
+/// cell's notes.
+fn past_the_work_limit(wb: &mut Workbook, cell: &str, formula: &str) -> Vec<String> {
+    set(wb, cell, formula);
+    assert_eq!(get(wb, cell), Value::Error(XlError::Num), "{formula}");
+    let problems = problems_at(wb, cell);
+    assert!(
+        mentions(&problems, &["#NUM!", "more than 268435456 items of work", "ncsheet's limit"]),
+        "{formula}: {problems:?}"
+    );
+    problems
+}
+
 /// The LAMBDAs of MAP, REDUCE, SCAN, BYROW, BYCOL and MAKEARRAY share one budget of work per
 /// formula (`MAX_LAMBDA_WORK`, 2^28: each call, each array item made, each cell read): an
 /// array grown by VSTACK at each step of a REDUCE (copied whole each time: n²/2 items), a
@@ -140,13 +153,7 @@ fn lambdas_of_the_array_helpers_past_their_work_limit_are_num_naming_it() {
         ("A5", "=SUM(SCAN(0,SEQUENCE(1000000),LAMBDA(a,x,a+SUM(B1:B1000))))"),
     ];
     for (cell, formula) in cases {
-        set(&mut wb, cell, formula);
-        assert_eq!(get(&wb, cell), Value::Error(XlError::Num), "{formula}");
-        let problems = problems_at(&wb, cell);
-        assert!(
-            mentions(&problems, &["#NUM!", "more than 268435456 items of work", "ncsheet's limit"]),
-            "{formula}: {problems:?}"
-        );
+        let problems = past_the_work_limit(&mut wb, cell, formula);
         assert_eq!(problems.len(), 1, "one note: {problems:?}");
     }
     // Within the limit they compute: 1,000 steps give 1,001 rows summing to 1 + … + 1,000;
@@ -182,13 +189,7 @@ fn heavy_functions_inside_the_lambdas_count_against_their_work_limit() {
         ("A5", "=LET(t,REPT(\"a\",32767),REDUCE(0,SEQUENCE(1000,1000),LAMBDA(a,x,a+LEN(t))))"),
     ];
     for (cell, formula) in cases {
-        set(&mut wb, cell, formula);
-        assert_eq!(get(&wb, cell), Value::Error(XlError::Num), "{formula}");
-        let problems = problems_at(&wb, cell);
-        assert!(
-            mentions(&problems, &["#NUM!", "more than 268435456 items of work", "ncsheet's limit"]),
-            "{formula}: {problems:?}"
-        );
+        past_the_work_limit(&mut wb, cell, formula);
     }
     // Within the budget they compute: 1,000 sums of 1 + … + 100 and 1,000 lengths of 1,000.
     set(&mut wb, "B1", "=LET(a,SEQUENCE(10,10),SUM(MAP(SEQUENCE(1000),LAMBDA(x,SUM(a)))))");
