@@ -35,15 +35,11 @@ pub fn read(bytes: &[u8]) -> Result<Book, String> {
     let ctx =
         Context { sheets: &globals.sheets, xtis: &globals.xtis, books: &globals.books, names: &globals.name_refs };
     let mut parts = read_sheet_parts(&mut zip, &globals.parts)?;
-    // A sheet's index in the file → its index in the book (worksheets only).
-    let mut index_in_book = Vec::new();
     for meta in &metadata {
         if meta.typ != SheetType::WorkSheet {
             book.notes.push(format!("sheet '{}' is not a worksheet and was left out", meta.name));
-            index_in_book.push(None);
             continue;
         }
-        index_in_book.push(Some(book.sheets.len()));
         let values = xlsb.worksheet_range(&meta.name).map_err(|e| format!("sheet '{}': {e}", meta.name))?;
         let mut sheet = calamine_sheet(meta, &values, value_of);
         let file_index = globals.sheets.iter().position(|n| *n == meta.name);
@@ -74,7 +70,7 @@ pub fn read(bytes: &[u8]) -> Result<Book, String> {
         }
         book.sheets.push(sheet);
     }
-    read_names(&globals, &ctx, &index_in_book, &mut book);
+    read_names(&globals, &ctx, &mut book);
     book.notes.push("number formats are not read from an .xlsb file: values show as General".into());
     Ok(book)
 }
@@ -84,14 +80,15 @@ pub fn read(bytes: &[u8]) -> Result<Book, String> {
 const NAME_NOT_A_FORMULA: u32 = 0x2 | 0x8 | 0x20000;
 
 /// The workbook's defined names into `book`, as formulas of the sheets they belong to.
-fn read_names(globals: &Globals, ctx: &Context, index_in_book: &[Option<usize>], book: &mut Book) {
+fn read_names(globals: &Globals, ctx: &Context, book: &mut Book) {
     for name in &globals.names {
         if name.flags & NAME_NOT_A_FORMULA != 0 || name.name.starts_with("_xlnm.") {
             continue;
         }
         let sheet = match name.scope {
             None => None,
-            Some(i) => match index_in_book.get(i).copied().flatten() {
+            // The name's sheet (an index into the workbook part's sheets) among the book's.
+            Some(i) => match globals.sheets.get(i).and_then(|n| book.sheets.iter().position(|s| s.name == *n)) {
                 Some(s) => Some(s),
                 None => {
                     book.notes.push(format!("name {} belongs to a sheet that was left out", name.name));
