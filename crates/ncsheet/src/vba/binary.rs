@@ -15,7 +15,7 @@ use std::rc::Rc;
 use crate::eval::coerce::to_number;
 use crate::eval::dates::DateSystem;
 use crate::eval::functions::vba::vba_text;
-use crate::eval::{Value, XlError};
+use crate::eval::Value;
 use crate::formula::ast::Expr;
 
 use super::ast::{Span, Target, Ty};
@@ -274,26 +274,15 @@ fn variant_bytes(v: &Value, date: bool) -> Result<Vec<u8>, String> {
         Value::Text(_) => (8, string_bytes(v, true)?),
         Value::Bool(b) => (11, (if *b { -1i16 } else { 0 }).to_le_bytes().to_vec()),
         // An Error Variant holds VBA's SCODE of the error number (CVErr's).
-        Value::Error(e) => (10, (0x800A_0000u32 + error_number(*e)).to_le_bytes().to_vec()),
+        Value::Error(e) => {
+            let number = super::files::error_number(*e).unwrap_or(2015);
+            (10, (0x800A_0000u32 + number).to_le_bytes().to_vec())
+        }
         Value::Array(_) | Value::Lambda(_) => {
             return Err("an array in a Variant is not written (Put a typed array's items)".into())
         }
     };
     Ok([var_type.to_le_bytes().to_vec(), body].concat())
-}
-
-/// The number `CVErr` gives Excel's error values (xlErrDiv0 2007 …).
-fn error_number(e: XlError) -> u32 {
-    match e {
-        XlError::Null => 2000,
-        XlError::Div0 => 2007,
-        XlError::Value => 2015,
-        XlError::Ref => 2023,
-        XlError::Name => 2029,
-        XlError::Num => 2036,
-        XlError::NA => 2042,
-        _ => 2015,
-    }
 }
 
 /// Reads items from a file's bytes; what lies past the end reads as zeros.

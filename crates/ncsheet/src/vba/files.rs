@@ -433,7 +433,7 @@ fn write_form(v: &Value) -> String {
 }
 
 /// Excel's `xlErr…` number of an error value, as VBA's CVErr holds it.
-fn error_number(e: XlError) -> Option<u32> {
+pub(super) fn error_number(e: XlError) -> Option<u32> {
     Some(match e {
         XlError::Null => 2000,
         XlError::Div0 => 2007,
