@@ -331,3 +331,15 @@ fn an_argument_outside_the_domain_raises_error_5() {
     let e = run_src("Sub Main()\n    Dim s As String\n    s = Mid(\"abc\", 0, 1)\nEnd Sub\n").unwrap_err();
     assert!(e.message.contains("Invalid procedure call or argument") && e.message.contains("Mid"), "{e}");
 }
+
+// "Err object": its default property is Number, so `Err = 10` sets Err.Number, and "Number
+// property" is a Long that can be set (`Err.Number = 5`) without raising the error; a value
+// set is rounded as a Long takes it (`Err = 0.3` is 0). Description can be set too.
+#[test]
+fn err_number_can_be_assigned_and_err_is_its_number() {
+    let out = printed(
+        "    Err = 10\n    Debug.Print Err; Err.Number; Err > 5\n    Err.Number = 5\n    Err.Description = \"mine\"\n\
+         \x20   Debug.Print Err.Number; Err.Description\n    Err = 0.3\n    Debug.Print Err.Number",
+    );
+    assert_eq!(out, [" 10  10 True", " 5 mine", " 0 "]);
+}

@@ -229,6 +229,17 @@ impl Interp<'_, '_> {
         }
     }
 
+    /// `Err.Number = n` and `Err = n` ("Number property": a Long, the number rounded as a
+    /// Long takes it, so `Err = 0.3` clears it): sets the number without raising it.
+    fn set_err_number(&self, v: &Value, span: Span) -> Run<()> {
+        let n = self.number_of(v, "Err.Number").map_err(|m| self.fault_at(span, m))?.round_ties_even();
+        if !(0.0..=f64::from(u32::MAX)).contains(&n) {
+            return Err(self.fault_at(span, "Err.Number takes an error number from 0 to 65535"));
+        }
+        self.err.borrow_mut().number = n as u32;
+        Ok(())
+    }
+
     /// `Err.Number`, `Err.Description`, `Err.Source`, `Err.Clear`, `Err.Raise n [, source [, description]]`.
     fn err_member(&self, ctx: &mut Ctx, link: &Link) -> Run<Obj> {
         let err = self.err.borrow().clone();
@@ -639,6 +650,8 @@ impl Interp<'_, '_> {
     fn write_default(&self, obj: Obj, v: &Value, span: Span) -> Run<()> {
         match obj {
             Obj::Range(sheet, rect) => self.write_range(sheet, rect, v),
+            // `Err = n`: Err's default member is its Number ("Err object").
+            Obj::Err => self.set_err_number(v, span),
             other => Err(self.fault_at(span, format!("cannot assign to {}", other.describe()))),
         }
     }
@@ -646,6 +659,11 @@ impl Interp<'_, '_> {
     fn set_member(&self, ctx: &mut Ctx, obj: Obj, link: &Link, value: &Expr) -> Run<()> {
         let name = lower(link);
         match (&obj, name.as_str()) {
+            (Obj::Err, "number") => self.set_err_number(&self.eval(value)?, link.span),
+            (Obj::Err, "description") => {
+                self.err.borrow_mut().description = print_text(&self.eval(value)?);
+                Ok(())
+            }
             (Obj::Range(sheet, rect), "value" | "value2") => {
                 let v = self.eval(value)?;
                 self.write_range(*sheet, *rect, &v)
