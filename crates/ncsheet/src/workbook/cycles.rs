@@ -135,7 +135,9 @@ impl Workbook {
     /// continues from the values it shows). No effect on other cells.
     pub fn set_starting_value_deferred(&mut self, sheet: SheetId, pos: Pos, value: Value) {
         let Some(id) = self.sheets.get(sheet as usize).and_then(|s| s.get(pos)) else { return };
-        if self.cells[id as usize].formula != super::NO_FORMULA && !matches!(value, Value::Array(_)) {
+        // An array formula's anchor starts from the values of its whole area.
+        let fits = !matches!(value, Value::Array(_)) || self.fixed_arrays.contains_key(&id);
+        if self.cells[id as usize].formula != super::NO_FORMULA && fits {
             self.cells[id as usize].value = value;
         }
     }

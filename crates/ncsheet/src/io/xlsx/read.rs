@@ -209,10 +209,28 @@ fn keep_cached_cycles(imported: &mut Imported) {
     }
     for c in &imported.cached {
         if c.anchor == c.pos && cells.contains(&(c.sheet, c.pos)) {
-            imported.workbook.set_starting_value_deferred(c.sheet, c.pos, c.value.clone());
+            let value = match imported.workbook.array_area(c.sheet, c.pos) {
+                Some(area) => cached_area(&imported.cached, c.sheet, area),
+                None => c.value.clone(),
+            };
+            imported.workbook.set_starting_value_deferred(c.sheet, c.pos, value);
         }
     }
     imported.workbook.recalculate();
+}
+
+/// The values the file cached over an array formula's area, as one array: what the formula
+/// showed in each of its cells.
+fn cached_area(cached: &[super::CachedValue], sheet: SheetId, area: Rect) -> Value {
+    let (rows, cols) = (area.rows() as usize, area.cols() as usize);
+    let mut data = vec![Value::Blank; rows * cols];
+    for c in cached.iter().filter(|c| c.sheet == sheet && c.anchor == area.first) {
+        if area.contains(c.pos) {
+            let (r, k) = ((c.pos.row - area.first.row) as usize, (c.pos.col - area.first.col) as usize);
+            data[r * cols + k] = c.value.clone();
+        }
+    }
+    Value::from(crate::eval::Array::new(rows, cols, data))
 }
 
 /// Each external-link part with its relationships part (which names the linked file), in
