@@ -71,7 +71,8 @@ fn longlong_is_a_64_bit_integer_type() {
 // the procedure made of it; 5.3.1.2, a Function's result is what its name was assigned;
 // "Using arrays", an item of a Variant array, kept by ReDim Preserve; "Collection object"
 // and "Dictionary object", an item as added or assigned. `d + 1` is a Date (5.6.9.3.3). Shown
-// as text, each is the date (as Debug.Print shows a Date); a number among them stays a number.
+// as text, each is the date (as Debug.Print shows a Date); a number among them stays a number
+// (a Double: 5.5, as the Variants here do not tell a whole number's Integer from a Double).
 #[test]
 fn a_date_keeps_its_type_through_parameters_results_arrays_and_collections() {
     let module = "Function Id(x)\n    Id = x\nEnd Function\n\
@@ -80,15 +81,16 @@ fn a_date_keeps_its_type_through_parameters_results_arrays_and_collections() {
     let out = printed(
         module,
         "    Dim d As Date, a(2) As Date, v(2), c As New Collection, dic, w\n    d = #1/2/2024#\n\
-         \x20   Show d, d, d\n    Debug.Print TypeName(Id(d)); VarType(Id(d)); \" \"; Id(d); \" \"; TypeName(Id(5))\n\
-         \x20   a(1) = d: v(0) = d: v(1) = 5\n    ReDim Preserve v(3)\n\
+         \x20   Show d, d, d\n    Debug.Print TypeName(Id(d)); VarType(Id(d)); \" \"; Id(d); \" \"; TypeName(Id(5.5))\n\
+         \x20   a(1) = d: v(0) = d: v(1) = 5.5\n    ReDim Preserve v(3)\n\
          \x20   Debug.Print TypeName(a(1)); VarType(a(1)); TypeName(v(0)); VarType(v(0)); TypeName(v(1)); \" \"; CStr(v(0))\n\
-         \x20   c.Add d: c.Add 7, \"k\": c.Add d + 1, Before:=1\n\
+         \x20   c.Add d: c.Add 7.5, \"k\": c.Add d + 1, Before:=1\n\
          \x20   Debug.Print TypeName(c(1)); TypeName(c(2)); TypeName(c(\"k\")); VarType(c.Item(2)); \" \"; c(1)\n\
-         \x20   Set dic = CreateObject(\"Scripting.Dictionary\")\n    dic.Add \"k\", d\n    dic(\"j\") = d + 2\n    dic(\"n\") = 3\n\
+         \x20   Set dic = CreateObject(\"Scripting.Dictionary\")\n    dic.Add \"k\", d\n    dic(\"j\") = d + 2\n    dic(\"n\") = 3.5\n\
          \x20   Debug.Print TypeName(dic(\"k\")); VarType(dic.Item(\"j\")); TypeName(dic(\"n\")); \" \"; dic(\"j\")\n\
          \x20   w = d\n    Later w\n    Debug.Print TypeName(w); \" \"; w; \" \"; \"on \" & Id(d)\n\
-         \x20   w = v(0)\n    Debug.Print TypeName(w); VarType(d + 1)",
+         \x20   w = v(0)\n    Debug.Print TypeName(w); VarType(d + 1)\n\
+         \x20   w = Array(d, 2.5, d + 1)\n    Debug.Print TypeName(w(0)); TypeName(w(1)); TypeName(w(2)); \" \"; w(2)",
     );
     assert_eq!(
         out,
@@ -100,6 +102,7 @@ fn a_date_keeps_its_type_through_parameters_results_arrays_and_collections() {
             "Date 7 Double 1/4/2024",
             "Date 1/3/2024 on 1/2/2024",
             "Date 7 ",
+            "DateDoubleDate 1/3/2024",
         ]
     );
 }

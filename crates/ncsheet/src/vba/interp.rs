@@ -826,7 +826,7 @@ impl Interp<'_, '_> {
             Operand::Value(Value::Array(a)) if self.is_keys_member(e) => {
                 Var::Array(super::value::VArray { data: a, lower: (1, 0), dims: 1, objects: None, dates: None })
             }
-            Operand::Value(v) => match super::library::library_array(e, &v, self.module.base) {
+            Operand::Value(v) => match self.array_of_call(e, &v) {
                 Some(var) => var,
                 None => array_var(v, self.module.base),
             },
@@ -904,8 +904,7 @@ impl Interp<'_, '_> {
                 }
                 Operand::Value(v) => match &a.value.kind {
                     ExprKind::Name(n) => self.lookup(n).unwrap_or(Var::Value(v)),
-                    _ => super::library::library_array(&a.value, &v, self.module.base)
-                        .unwrap_or_else(|| array_var(v, self.module.base)),
+                    _ => self.array_of_call(&a.value, &v).unwrap_or_else(|| array_var(v, self.module.base)),
                 },
                 areas @ Operand::Areas(_) => array_var(ctx.deref(areas), self.module.base),
             };

@@ -353,6 +353,23 @@ impl Build<'_> {
 /// What `Split(…)` and `Array(…)` give a variable: a one-dimensional array even of one
 /// item or none, zero-based for Split ("Split function": "a zero-based, one-dimensional
 /// array"), from Option Base for Array. `None` for any other expression.
+impl Interp<'_, '_> {
+    /// [`library_array`], with the Dates among `Array(…)`'s items marked: each item is a
+    /// Variant holding its value with its type ([MS-VBAL] 2.1.1.1, "Array function").
+    pub(super) fn array_of_call(&self, e: &Expr, v: &Value) -> Option<Var> {
+        let mut var = library_array(e, v, self.module.base)?;
+        if let (ExprKind::Call(id, args), Var::Array(a)) = (&e.kind, &mut var) {
+            if crate::eval::functions::spec(*id).name == "VBA.ARRAY" {
+                for (k, arg) in args.iter().enumerate() {
+                    let date = a.data.data.get(k).is_some_and(|item| self.as_date(arg, item).is_some());
+                    a.mark_date(k, date);
+                }
+            }
+        }
+        Some(var)
+    }
+}
+
 pub(super) fn library_array(e: &Expr, v: &Value, base: i64) -> Option<Var> {
     let ExprKind::Call(id, _) = &e.kind else { return None };
     let lower = match crate::eval::functions::spec(*id).name {
