@@ -225,7 +225,17 @@ pub fn run(args: BallpathArgs) -> Result<()> {
     let computed = started.elapsed();
     report_gouges(&path, spec.gouge)?;
     check_clearance(&path, &args)?;
-    // A program's points are the written path's: on its dialect's grid, checked there.
+    let points = path.points.len();
+    // A program's points are the written path's: on its dialect's grid, checked there. With
+    // no CL file, which is made from the computed path, the computed path is let go before
+    // the program is made (48 bytes a point), so the two are not held at once.
+    let (path, as_written) = match as_written {
+        Some(written) if args.cl.is_none() => {
+            drop(path);
+            (written, None)
+        }
+        as_written => (path, as_written),
+    };
     let programmed = as_written.as_ref().unwrap_or(&path);
     let started = Instant::now();
     let text = render(&path, programmed, &args)?;
@@ -236,7 +246,7 @@ pub fn run(args: BallpathArgs) -> Result<()> {
         None => emit(&text, args.output.as_deref(), args.force)?,
     }
     if args.timings {
-        print_timings(path.points.len(), computed, formatted, started.elapsed());
+        print_timings(points, computed, formatted, started.elapsed());
     }
     Ok(())
 }
