@@ -319,7 +319,7 @@ impl Reader<'_> {
     /// the characters a String variable holds (a Binary file's String reads as many).
     /// Returns the value and whether it is a Date.
     fn item(&mut self, declared: Declared, random: bool, held: usize) -> Result<(Value, bool), String> {
-        let number = |n: f64| Value::Number(n);
+        let number = Value::Number;
         Ok(match declared {
             Declared::Byte => (number(f64::from(self.take::<1>()[0])), false),
             Declared::Boolean => (Value::Bool(i16::from_le_bytes(self.take()) != 0), false),
