@@ -270,11 +270,11 @@ impl Interp<'_, '_> {
                 };
                 Ok(Operand::Value(Value::Bool(same)))
             }
-            Node::Inspect { what, arg, .. } => self.inspect(*what, arg).map(Operand::Value),
             Node::TypeOf { object, ty, .. } => {
                 let object = self.var_of(object, true)?;
                 Ok(Operand::Value(Value::Bool(self.is_of_type(&object, ty))))
             }
+            Node::Inspect { what, arg, .. } => self.inspect(*what, arg).map(Operand::Value),
             Node::Null => Ok(Operand::Value(Value::Null)),
             Node::Index { base, index, span } => match self.indexed_var(base, index, *span)? {
                 Var::Obj(obj) => self.operand_of(obj, *span),

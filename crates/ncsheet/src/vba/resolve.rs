@@ -443,12 +443,12 @@ impl Build<'_> {
             let args = link.args.expect("arguments");
             return self.proc_call(pair, proc, args, statement, end);
         }
-        if is_var {
         // `a()`, an array variable with empty parentheses, is the whole array: how an argument
         // passes one (`Sort a()`, "Function statement": a parameter `arglist` of an array).
         if is_var && args.is_empty() {
             return Ok(Expr::new(ExprKind::Name(link.name.clone()), span));
         }
+        if is_var {
             let index = args.iter().map(|a| a.value.clone()).collect();
             return Ok(self.node(Node::Element { var: link.name.clone(), index, span: self.span(at) }, at, end));
         }
