@@ -469,19 +469,10 @@ fn decode(
 }
 
 /// A built-in function by its number: BIFF8's table ([MS-XLS] 2.5.198.17), which MS-XLSB's
-/// Ftab ([MS-XLSB] 2.5.98.10) continues with Excel 2007's functions.
+/// Ftab ([MS-XLSB] 2.5.98.10) continues with Excel 2007's functions (IFERROR is 480): the
+/// registry holds both (`FnSpec::biff`).
 fn function(iftab: u16) -> Result<(&'static str, Option<u8>), Unreadable> {
-    const EXCEL_2007: &[(u16, &str, Option<u8>)] = &[
-        (480, "IFERROR", Some(2)),
-        (481, "COUNTIFS", None),
-        (482, "SUMIFS", None),
-        (483, "AVERAGEIF", None),
-        (484, "AVERAGEIFS", None),
-    ];
-    match EXCEL_2007.iter().find(|&&(n, ..)| n == iftab) {
-        Some(&(_, name, argc)) => Ok((name, argc)),
-        None => biff::function(iftab),
-    }
+    biff::function(iftab)
 }
 
 /// One end of a reference: (row, column, row relative, column relative). The column field

@@ -35,7 +35,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         iferror,
         "IFERROR(value, value_if_error)",
         "value, or value_if_error when value is any error",
-    ),
+    )
+    .biff(480),
     FnSpec::value("IFNA", 2, 2, ifna, "IFNA(value, value_if_na)", "value, or value_if_na when value is #N/A").future(),
     FnSpec::value(
         "AND",

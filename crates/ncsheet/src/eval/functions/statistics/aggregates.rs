@@ -30,6 +30,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "AVERAGEIF(range, criteria, [average_range])",
         "Mean of the cells whose range cell meets the criteria",
     )
+    .biff(483)
     .range_args(ArgSet::except(1)),
     FnSpec::value(
         "AVERAGEIFS",
@@ -39,6 +40,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "AVERAGEIFS(average_range, criteria_range1, criteria1, ...)",
         "Mean of the cells where every criteria range meets its criteria",
     )
+    .biff(484)
     .range_args(ArgSet::ALL),
     FnSpec::value(
         "COUNT",
@@ -81,6 +83,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "COUNTIFS(criteria_range1, criteria1, ...)",
         "How many positions meet every criteria",
     )
+    .biff(481)
     .range_args(ArgSet::ALL),
     FnSpec::value("MAX", 1, MANY, max, "MAX(number1, [number2], ...)", "Largest number; 0 when there is none")
         .biff(7)
@@ -136,6 +139,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "SUMIFS(sum_range, criteria_range1, criteria1, ...)",
         "Sum of the cells where every criteria range meets its criteria",
     )
+    .biff(482)
     .range_args(ArgSet::ALL),
 ];
 
