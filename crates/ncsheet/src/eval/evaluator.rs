@@ -440,6 +440,7 @@ impl<'a> Ctx<'a> {
     /// `Ctx` keeps the per-cell cost flat: the LET and LAMBDA names are all gone by now, and
     /// an empty list that never allocated needs no drop call (a recalculation ends a million
     /// of these).
+    #[inline]
     pub fn into_findings(self) -> (Vec<Note>, Vec<(SheetId, Rect)>) {
         let Ctx { locals, notes, dynamic_refs, .. } = self;
         if locals.capacity() == 0 {
