@@ -572,6 +572,33 @@ impl Workbook {
         ctx.numbers = &formula.numbers;
         let value = ctx.eval_formula(&formula.expr);
         let (notes, dynamic_refs) = ctx.into_findings();
+        // The usual cell: no notes now or before, no references made at run time anywhere,
+        // and two lists that never allocated (so nothing to free): only its value to store.
+        if notes.capacity() == 0
+            && dynamic_refs.capacity() == 0
+            && self.notes.is_empty()
+            && self.dynamic_refs.is_empty()
+        {
+            std::mem::forget(notes);
+            std::mem::forget(dynamic_refs);
+            self.set_result(id, value, late);
+            return;
+        }
+        self.record_findings(id, value, notes, dynamic_refs, late);
+    }
+
+    /// The rest of [`Workbook::evaluate`] for a cell with notes or references made at run
+    /// time (or in a workbook that has some): kept out of line, so that the usual cell's path
+    /// saves no registers for it.
+    #[inline(never)]
+    fn record_findings(
+        &mut self,
+        id: u32,
+        value: Value,
+        notes: Vec<crate::eval::Note>,
+        dynamic_refs: Vec<(crate::formula::ast::SheetId, Rect)>,
+        late: &mut Vec<u32>,
+    ) {
         if notes.is_empty() {
             if !self.notes.is_empty() {
                 self.notes.remove(&id);
