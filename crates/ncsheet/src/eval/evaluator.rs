@@ -338,7 +338,12 @@ pub struct Ctx<'a> {
 }
 
 /// [`Env::for_each_number_in`] through [`Env::for_each_value`], for any environment.
-pub(crate) fn numbers_of_values<E: Env + ?Sized>(env: &E, sheet: SheetId, rect: Rect, f: &mut dyn FnMut(f64)) -> XlResult<()> {
+pub(crate) fn numbers_of_values<E: Env + ?Sized>(
+    env: &E,
+    sheet: SheetId,
+    rect: Rect,
+    f: &mut dyn FnMut(f64),
+) -> XlResult<()> {
     let mut outcome = Ok(());
     env.for_each_value(sheet, rect, &mut |_, v| match v {
         Value::Number(n) if outcome.is_ok() => f(*n),

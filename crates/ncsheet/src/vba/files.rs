@@ -276,7 +276,9 @@ impl Build<'_> {
         };
         let number = k.iter().find(|p| p.as_rule() == Rule::file_number).expect("Open's number");
         let len = match find_rule(k, Rule::open_len) {
-            Some(l) => Some(self.expr(kids(&l).into_iter().find(|p| p.as_rule() == Rule::vexpr).expect("Len's value"))?),
+            Some(l) => {
+                Some(self.expr(kids(&l).into_iter().find(|p| p.as_rule() == Rule::vexpr).expect("Len's value"))?)
+            }
             None => None,
         };
         Ok(FileStmt::Open { path: self.expr(k[1].clone())?, mode, number: self.file_number(number)?, len })
@@ -301,7 +303,9 @@ impl Build<'_> {
 /// [`Interp::file_root`] answers.
 pub(super) fn is_file_function(lower: &str, link: &Link) -> bool {
     match lower {
-        "freefile" | "eof" | "lof" | "loc" | "seek" | "kill" | "dir" | "filelen" | "filecopy" | "mkdir" | "rmdir" => true,
+        "freefile" | "eof" | "lof" | "loc" | "seek" | "kill" | "dir" | "filelen" | "filecopy" | "mkdir" | "rmdir" => {
+            true
+        }
         "createobject" => matches!(
             link.args.as_deref(),
             Some([arg]) if matches!(&arg.value.kind,
@@ -942,15 +946,14 @@ impl Interp<'_, '_> {
                 };
                 let range = if high { 256..=511 } else { 1..=255 };
                 let files = self.files.borrow();
-                let free = range.into_iter().find(|n| !files.numbered.contains_key(n) && !files.records.contains_key(n));
+                let free =
+                    range.into_iter().find(|n| !files.numbered.contains_key(n) && !files.records.contains_key(n));
                 match free {
                     Some(n) => value(Value::Number(n as f64)),
                     None => Err(self.file_error(link.span, TOO_MANY, "FreeFile".to_string())),
                 }
             }
-            what @ ("eof" | "lof" | "loc" | "seek")
-                if self.record_file_query(what, number(what)?).is_some() =>
-            {
+            what @ ("eof" | "lof" | "loc" | "seek") if self.record_file_query(what, number(what)?).is_some() => {
                 value(self.record_file_query(what, number(what)?).expect("a Binary or Random file"))
             }
             "loc" | "seek" => {

@@ -195,8 +195,8 @@
 
 mod append;
 mod arrays;
-mod binary;
 pub mod ast;
+mod binary;
 mod budget;
 mod classes;
 mod collections;

@@ -147,8 +147,8 @@ impl Interp<'_, '_> {
             "msgbox" => self.msgbox(ctx, link),
             "evaluate" => self.evaluate(ctx, here, link),
             // Resolved so only when the run has files (`files.rs`).
-            "freefile" | "eof" | "lof" | "loc" | "seek" | "createobject" | "kill" | "dir" | "filelen"
-            | "filecopy" | "mkdir" | "rmdir" => self.file_root(ctx, link),
+            "freefile" | "eof" | "lof" | "loc" | "seek" | "createobject" | "kill" | "dir" | "filelen" | "filecopy"
+            | "mkdir" | "rmdir" => self.file_root(ctx, link),
             "inputbox" => Err(self.fault_at(
                 link.span,
                 "InputBox: a macro runs without a user; pass values with --arg NAME=VALUE or read them from cells",

@@ -280,7 +280,9 @@ impl Slots {
 pub fn array_var(v: Value, base: i64) -> Var {
     match v {
         Value::Array(a) if a.rows == 1 && a.cols == 1 => Var::Value(a.data[0].clone()),
-        Value::Array(a) if a.rows == 1 => Var::Array(VArray { data: a, lower: (1, base), dims: 1, objects: None, dates: None }),
+        Value::Array(a) if a.rows == 1 => {
+            Var::Array(VArray { data: a, lower: (1, base), dims: 1, objects: None, dates: None })
+        }
         Value::Array(a) => Var::Array(VArray { data: a, lower: (1, 1), dims: 2, objects: None, dates: None }),
         other => Var::Value(other),
     }
