@@ -592,13 +592,12 @@ fn count(raised: &Raised, v: &Value) -> XlResult<usize> {
     Ok(n.min(u32::MAX as f64) as usize)
 }
 
+/// A text function's body that notes run-time errors in the `Raised` it is given: the text,
+/// the other arguments.
+type CheckedTextBody<'f> = &'f dyn Fn(&Raised, &str, &[Value]) -> XlResult<Value>;
+
 /// [`text_fn`] whose `f` notes run-time errors in the `Raised` it is given.
-fn checked_text_fn(
-    ctx: &mut Ctx,
-    args: &[Expr],
-    name: &str,
-    f: &dyn Fn(&Raised, &str, &[Value]) -> XlResult<Value>,
-) -> XlResult<Value> {
+fn checked_text_fn(ctx: &mut Ctx, args: &[Expr], name: &str, f: CheckedTextBody) -> XlResult<Value> {
     let raised = Raised::default();
     let result = text_fn(ctx, args, name, FIRST, &|s, rest| f(&raised, s, rest));
     raised.raise(ctx, name, result)
