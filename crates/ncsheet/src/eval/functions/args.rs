@@ -50,9 +50,15 @@ pub fn bool_or(ctx: &mut Ctx, args: &[Expr], i: usize, default: bool) -> XlResul
 /// array — how `SIN(A1:A5)` spills in Excel 365.
 pub fn lift(ctx: &mut Ctx, args: &[Expr], f: &dyn Fn(&[Value]) -> XlResult<Value>) -> XlResult<Value> {
     let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
-    ctx.charge_texts(&values);
-    let lifted = lift_values(&values, f);
-    explain_lifted_size(ctx, &values, &lifted);
+    lift_evaluated(ctx, &values, f)
+}
+
+/// [`lift`] of arguments already evaluated: their texts counted against the LAMBDA work
+/// budget, `f` lifted over them, a result past the size limit explained.
+fn lift_evaluated(ctx: &mut Ctx, values: &[Value], f: &dyn Fn(&[Value]) -> XlResult<Value>) -> XlResult<Value> {
+    ctx.charge_texts(values);
+    let lifted = lift_values(values, f);
+    explain_lifted_size(ctx, values, &lifted);
     lifted
 }
 
@@ -84,10 +90,7 @@ pub fn lift_in_locale(
             }
         })
         .collect();
-    ctx.charge_texts(&values);
-    let lifted = lift_values(&values, f);
-    explain_lifted_size(ctx, &values, &lifted);
-    lifted
+    lift_evaluated(ctx, &values, f)
 }
 
 /// Names the array limit when a lifted call's result would pass it.
