@@ -502,7 +502,8 @@ fn render(run: &CorpusRun) -> String {
          computed in the locale of the Excel that saved it as far as the file tells (`docProps/app.xml` names \
          its parts in that Excel's language: `Arbeitsblätter` is computed in de-DE, `Feuilles de calcul` in \
          fr-FR, English or a language ncsheet has no locale for in en-US), as Excel reads TEXT's format code and \
-         shows numbers in the user's locale.\n",
+         shows numbers in the user's locale. The legacy formats have reports of their own: \
+         `docs/xls-conformance.md` (Excel-saved .xls files, written by `tests/xls_corpus.rs`).\n",
         per_file.len()
     );
     let _ = writeln!(
