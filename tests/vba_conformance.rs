@@ -830,3 +830,100 @@ fn null_into_a_typed_variable_is_error_94() {
     let e = failure("Sub Main()\n    Dim d As Double\n    d = Null\nEnd Sub\n");
     assert!(e.message.contains("Invalid use of Null"), "{e}");
 }
+
+// ---- numbers in Variants ----------------------------------------------------------------
+
+/// The lines `Sub Main` with `body` prints, after the module-level `module`.
+fn printed_in(module: &str, body: &str) -> Vec<String> {
+    run(&format!("{module}\nSub Main()\n{body}\nEnd Sub\n")).printed
+}
+
+// [MS-VBAL] 3.3.2 "Number Tokens": a whole decimal literal's declared type is Integer if it
+// fits -32,768 to 32,767, else Long if it fits, else Double; a type character says it (`&`
+// Long, `^` LongLong, `#` Double, `!` Single, `@` Currency). "Variant data type": "numeric
+// Variant data is maintained in its original data type within the Variant", so `x = 5`
+// holds an Integer ("TypeName function", "VarType function": vbInteger 2, vbLong 3,
+// vbSingle 4, vbDouble 5, vbCurrency 6, vbLongLong 20).
+#[test]
+fn a_variant_holds_a_literal_with_its_declared_type() {
+    let out = printed_in(
+        "",
+        "    Dim a, b, c, d, e, f, g, h, k\n    a = 5: b = 40000: c = 3000000000#: d = 2.5: e = 5&\n\
+         \x20   f = 5^: g = 5!: h = 5@: k = 3000000000\n\
+         \x20   Debug.Print TypeName(a); \" \"; TypeName(b); \" \"; TypeName(c); \" \"; TypeName(d); \" \"; TypeName(e)\n\
+         \x20   Debug.Print TypeName(f); \" \"; TypeName(g); \" \"; TypeName(h); \" \"; TypeName(k); \" \"; TypeName(&HFF)\n\
+         \x20   Debug.Print VarType(a); VarType(b); VarType(c); VarType(e); VarType(f); VarType(g); VarType(h)\n\
+         \x20   Debug.Print TypeName(-32768); \" \"; TypeName(-32767 - 1); \" \"; TypeName(32767 + 0)",
+    );
+    assert_eq!(
+        out,
+        [
+            "Integer Long Double Double Long",
+            "LongLong Single Currency Double Integer",
+            " 2  3  5  3  20  4  6 ",
+            // Eric Lippert's VBScript quiz, part two (VB6 agrees): -32768 is the negation of
+            // the Long 32768; -32767 - 1 is an Integer minus an Integer.
+            "Long Integer Integer",
+        ]
+    );
+}
+
+// [MS-VBAL] 5.6.9.3 "Arithmetic Operators": `+ - *` on two Integers are an Integer, an Integer
+// and a Long a Long, a Double with either a Double; 5.6.9.3.5 `/` is a Double, 5.6.9.3.8 `^` a
+// Double, 5.6.9.3.6-7 `\` and `Mod` an Integer on Integers and a Long beside a Double. "Variant
+// data type": a Variant's Byte, Integer, Long or Single result past its type's range "is
+// promoted within the Variant to the next larger data type": Byte to Integer, Integer to
+// Long, Long to Double; a declared Integer still overflows (run-time error 6).
+#[test]
+fn variant_arithmetic_keeps_integer_types_and_widens_past_their_range() {
+    let out = printed_in(
+        "",
+        "    Dim x, y, l, t As Byte, b, z\n    x = 200: l = 2147483647: t = 200: b = t\n\
+         \x20   y = x * 200\n    Debug.Print TypeName(x + 1); \" \"; TypeName(y); y; TypeName(l + 1); l + 1\n\
+         \x20   Debug.Print TypeName(x / 2); \" \"; TypeName(x \\ 3); \" \"; TypeName(x Mod 3); \" \"; TypeName(x ^ 2)\n\
+         \x20   Debug.Print TypeName(b); \" \"; TypeName(b + b); b + b; TypeName(x + 0.5); \" \"; TypeName(2.5 \\ 1)\n\
+         \x20   z = 32767: z = z + 1\n    Debug.Print TypeName(z); z; TypeName(-x); \" \"; TypeName(x + 1&); \" \"; TypeName(True + 1)\n\
+         \x20   z = -32768: z = -z\n    Debug.Print TypeName(z); z; TypeName(Empty + 1); \" \"; TypeName(\"2\" + 1)",
+    );
+    assert_eq!(
+        out,
+        [
+            "Integer Long 40000 Double 2147483648 ",
+            "Double Integer Integer Double",
+            "Byte Integer 400 Double Long",
+            "Long 32768 Integer Long Integer",
+            "Long 32768 Integer Double",
+        ]
+    );
+    let e = run_with("Sub Main()\n    Dim a As Integer\n    a = 200\n    v = a * 200\nEnd Sub\n", &RunOptions::default())
+        .unwrap_err();
+    assert!(e.message.contains("Overflow (run-time error 6)"), "{e}");
+}
+
+// [MS-VBAL] 5.3.1.11: a Variant parameter is bound to the argument's value with its value
+// type, and a ByRef one gives back what the procedure made of it; 5.3.1.2: a Function's
+// result is what its name was assigned. "Type conversion functions": CInt gives an Integer,
+// CLng a Long, CLngLng a LongLong, CDbl a Double. A whole number's type changes none of its
+// text (CStr, Str, Format) or comparisons.
+#[test]
+fn a_number_keeps_its_type_through_calls_and_conversions() {
+    let module = "Function Seven()\n    Seven = 7\nEnd Function\nFunction Kind(p)\n    Kind = TypeName(p)\nEnd Function\n\
+                  Sub Twice(ByRef p)\n    p = p * 2\nEnd Sub\n";
+    let out = printed_in(
+        module,
+        "    Dim v, w\n    v = Seven()\n    w = 20000\n    Twice w\n\
+         \x20   Debug.Print TypeName(Seven()); \" \"; TypeName(v); \" \"; Kind(5); \" \"; Kind(v + 70000); \" \"; Kind(1.5); \" \"; TypeName(w); w\n\
+         \x20   Debug.Print TypeName(CInt(2.5)); \" \"; TypeName(CLng(2)); \" \"; TypeName(CLngLng(2)); \" \"; TypeName(CDbl(2)); \" \"; VarType(CLng(2))\n\
+         \x20   v = 5\n    Debug.Print CStr(v); \"|\"; Str(v); \"|\"; Format(v); \"|\"; v = 5#; \"|\"; v < 5.5; \"|\"; IsNumeric(v)\n\
+         \x20   v = CLng(5): w = v: Debug.Print TypeName(w); \" \"; TypeName(Abs(-v)); \" \"; TypeName(Int(2.5))",
+    );
+    assert_eq!(
+        out,
+        [
+            "Integer Integer Integer Long Double Long 40000 ",
+            "Integer Long LongLong Double  3 ",
+            "5| 5|5|True|True|True",
+            "Long Long Double",
+        ]
+    );
+}

@@ -75,7 +75,7 @@ impl Interp<'_, '_> {
         self.charge(piece.len() as u64, span)?;
         self.with_slot(name, |s| {
             s.append(&piece, piece_units);
-            s.date = false;
+            s.holds = super::typing::Declared::Variant;
         });
         Ok(true)
     }

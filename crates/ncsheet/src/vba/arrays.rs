@@ -85,7 +85,7 @@ impl Interp<'_, '_> {
         match self.lookup(name) {
             Some(Var::Array(a)) => {
                 let k = self.element_at(&a, &at).map_err(|m| self.fault_at(span, format!("{name}: {m}")))?;
-                self.gave_date.set(a.holds_date(k));
+                self.gave_date(a.holds_date(k));
                 match a.item(k) {
                     Var::Obj(o) => self.operand_of(o, span),
                     _ => Ok(Operand::Value(a.data.data[k].clone())),
@@ -236,7 +236,7 @@ impl Interp<'_, '_> {
                     f.code = 9;
                     f
                 })?;
-                self.gave_date.set(a.holds_date(k));
+                self.gave_date(a.holds_date(k));
                 match a.item(k) {
                     object @ Var::Obj(_) => Ok(object),
                     _ => Ok(super::value::array_var(a.data.data[k].clone(), self.module.base)),

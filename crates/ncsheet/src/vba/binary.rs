@@ -18,7 +18,7 @@ use crate::eval::functions::vba::vba_text;
 use crate::eval::Value;
 use crate::formula::ast::Expr;
 
-use super::ast::{Span, Target, Ty};
+use super::ast::{Span, Target};
 use super::interp::{Interp, Run};
 use super::typing::Declared;
 use super::value::Var;
@@ -201,7 +201,7 @@ impl Interp<'_, '_> {
         match index {
             None => {
                 self.set_var(name, Var::Value(value), span)?;
-                self.with_slot(name, |s| s.date = date && matches!(s.ty, None | Some(Ty::Variant)));
+                self.with_slot(name, |s| s.set_holds(if date { Declared::Date } else { Declared::Variant }));
             }
             Some(index) => self.set_element(name, index, value, date, span)?,
         }

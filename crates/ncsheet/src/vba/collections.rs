@@ -571,7 +571,7 @@ impl Interp<'_, '_> {
             },
         };
         let item = h.0.borrow().item(at).clone();
-        self.gave_date.set(h.0.borrow().holds_date(at));
+        self.gave_date(h.0.borrow().holds_date(at));
         Ok(item)
     }
 

@@ -25,6 +25,7 @@ use super::classes::Instance;
 use super::collections::Handle;
 use super::host::is_nothing;
 use super::parser::Lines;
+use super::typing::Declared;
 use super::value::{array_var, convert, default_value, input_text, print_text, range_var, Obj, Slot, Slots, Var};
 use super::{ErrorKind, MacroError, Printed, RunOptions, RunOutput};
 
@@ -282,13 +283,16 @@ pub struct Interp<'m, 'w> {
     /// The files the macro wrote and those it has open (`files.rs`).
     pub(super) files: RefCell<super::files::Files>,
     /// The nodes (calls, items of arrays, Collections and Dictionaries) whose last value was
-    /// a Date: a Variant keeps its Date type through them ([MS-VBAL] 2.1.1.1), which the
-    /// static typing of `typing.rs` cannot see.
-    pub(super) date_nodes: RefCell<std::collections::HashSet<u32>>,
-    /// Whether the value the last call, item or element gave was a Date (for `date_nodes`).
-    pub(super) gave_date: Cell<bool>,
-    /// The parameters a call passes Dates to, by position, for the next `bind_and_run`.
-    arg_dates: RefCell<Vec<usize>>,
+    /// a number of a type a Variant keeps (a Date, a Variant Function's Integer …): a Variant
+    /// keeps its type through them ([MS-VBAL] 2.1.1.1), which the static typing of
+    /// `typing.rs` cannot see.
+    pub(super) node_types: RefCell<std::collections::HashMap<u32, Declared>>,
+    /// The type of the number the last call, item or element gave (for `node_types`);
+    /// `Variant` when it gave none of a kept type.
+    pub(super) gave: Cell<Declared>,
+    /// The types of the numbers a call passes to its parameters, by position, for the next
+    /// `bind_and_run` (a Double's is left out).
+    arg_types: RefCell<Vec<(usize, Declared)>>,
 }
 
 impl<'m, 'w> Interp<'m, 'w> {
@@ -329,9 +333,9 @@ impl<'m, 'w> Interp<'m, 'w> {
             gosubs: Cell::new(0),
             stack_low: Cell::new(None),
             files: RefCell::new(super::files::Files::default()),
-            date_nodes: RefCell::new(std::collections::HashSet::new()),
-            gave_date: Cell::new(false),
-            arg_dates: RefCell::new(Vec::new()),
+            node_types: RefCell::new(std::collections::HashMap::new()),
+            gave: Cell::new(Declared::Variant),
+            arg_types: RefCell::new(Vec::new()),
         }
     }
 }
@@ -682,8 +686,8 @@ impl Interp<'_, '_> {
                 return Err(format!("{} is a constant", slot.name));
             }
             let new = convert(var.clone(), slot.ty.as_ref(), &slot.name)?;
-            // What is assigned is no Date unless the assignment says so (`assign`).
-            slot.date = false;
+            // What is assigned is of no kept type unless the assignment says so (`assign`).
+            slot.holds = Declared::Variant;
             Ok(slot.replace(new))
         });
         match result {
@@ -713,10 +717,10 @@ impl Interp<'_, '_> {
         }
     }
 
-    /// Runs `give`, which evaluates the node `id`, noting whether it gave a Date
-    /// ([`Interp::date_nodes`]).
+    /// Runs `give`, which evaluates the node `id`, noting the type of the number it gave
+    /// ([`Interp::node_types`]).
     pub(super) fn noting_date<T>(&self, id: u32, give: impl FnOnce() -> T) -> T {
-        self.gave_date.set(false);
+        self.gave.set(Declared::Variant);
         let given = give();
         // The flag is the last call's or item's, which is this node's own only for these.
         let own = match &self.module.nodes[id as usize] {
@@ -724,12 +728,18 @@ impl Interp<'_, '_> {
             Node::Path(path) => path.links.last().is_some_and(|l| l.name.eq_ignore_ascii_case("item")),
             _ => false,
         };
-        if own && self.gave_date.get() {
-            self.date_nodes.borrow_mut().insert(id);
-        } else if !self.date_nodes.borrow().is_empty() {
-            self.date_nodes.borrow_mut().remove(&id);
+        let gave = self.gave.get();
+        if own && gave != Declared::Variant {
+            self.node_types.borrow_mut().insert(id, gave);
+        } else if !self.node_types.borrow().is_empty() {
+            self.node_types.borrow_mut().remove(&id);
         }
         given
+    }
+
+    /// Notes whether the item or element being read holds a Date (for [`Interp::node_types`]).
+    pub(super) fn gave_date(&self, date: bool) {
+        self.gave.set(if date { Declared::Date } else { Declared::Variant });
     }
 
     /// [`Interp::var_of`] of the node `id`, the expression `e`.
@@ -874,7 +884,7 @@ impl Interp<'_, '_> {
         let p = &self.module.procs[proc];
         let mut bound = Vec::new();
         let mut back = Vec::new();
-        let mut dates = Vec::new();
+        let mut types = Vec::new();
         for (i, a) in args.iter().enumerate() {
             let index = match &a.name {
                 Some(n) => p.params.iter().position(|q| q.name.eq_ignore_ascii_case(n)).expect("checked by the parser"),
@@ -898,11 +908,15 @@ impl Interp<'_, '_> {
             }
             let var = match ctx.operand(&a.value) {
                 Operand::Ref(sheet, rect) => Var::Obj(Obj::Range(sheet, rect)),
-                Operand::Value(v) if self.as_date(&a.value, &v).is_some() => {
-                    dates.push(index);
-                    Var::Value(v)
-                }
                 Operand::Value(v) => match &a.value.kind {
+                    // A number keeps its type in a Variant parameter ([MS-VBAL] 5.3.1.11).
+                    _ if matches!(v, Value::Number(_)) => {
+                        match self.value_type(&a.value, &v) {
+                            Declared::Double => {}
+                            ty => types.push((index, ty)),
+                        }
+                        Var::Value(v)
+                    }
                     ExprKind::Name(n) => self.lookup(n).unwrap_or(Var::Value(v)),
                     _ => self.array_of_call(&a.value, &v).unwrap_or_else(|| array_var(v, self.module.base)),
                 },
@@ -914,9 +928,9 @@ impl Interp<'_, '_> {
         if let Some(value) = call.value {
             bound.push((p.params.len() - 1, value));
         }
-        *self.arg_dates.borrow_mut() = dates;
+        *self.arg_types.borrow_mut() = types;
         let called = self.invoke_frame(proc, bound, Some(span), Call { me: call.me, value: None });
-        self.arg_dates.borrow_mut().clear();
+        self.arg_types.borrow_mut().clear();
         let (result, frame) = called?;
         for (index, caller_var) in back {
             // A constant passed ByRef is passed as a copy, as in VBA.
@@ -926,12 +940,12 @@ impl Interp<'_, '_> {
             let name = &p.params[index].name;
             if let Some(slot) = frame.vars.get(name) {
                 self.set_var(&caller_var, slot.var().clone(), span)?;
-                // A Date given back through a ByRef Variant stays a Date.
-                self.with_slot(&caller_var, |s| s.date = slot.date && matches!(s.ty, None | Some(Ty::Variant)));
+                // A number given back through a ByRef Variant keeps its type (a Date, an Integer …).
+                self.with_slot(&caller_var, |s| s.set_holds(slot.holds));
             }
         }
-        // A Variant Function assigned a Date returns a Date.
-        self.gave_date.set(frame.vars.get(&p.name).is_some_and(|s| s.date));
+        // A Variant Function assigned a Date returns a Date, assigned an Integer an Integer.
+        self.gave.set(frame.vars.get(&p.name).map_or(Declared::Variant, |s| s.holds));
         Ok((result, frame))
     }
 
@@ -990,7 +1004,7 @@ impl Interp<'_, '_> {
     }
 
     fn bind_and_run(&self, p: &Proc, mut bound: Vec<(usize, Var)>) -> Run<()> {
-        let dates = std::mem::take(&mut *self.arg_dates.borrow_mut());
+        let types = std::mem::take(&mut *self.arg_types.borrow_mut());
         for (i, param) in p.params.iter().enumerate() {
             let var = match bound.iter().position(|(j, _)| *j == i) {
                 Some(k) => bound.swap_remove(k).1,
@@ -1006,9 +1020,9 @@ impl Interp<'_, '_> {
             };
             let var = convert(var, param.ty.as_ref(), &param.name).map_err(|m| self.fault(m))?;
             let mut slot = Slot::new(param.name.clone(), var, param.ty.clone());
-            // A Variant parameter given a Date holds a Date ([MS-VBAL] 5.3.1.11: the argument's
-            // value is bound as it is, its value type with it).
-            slot.date = dates.contains(&i) && matches!(param.ty, None | Some(Ty::Variant));
+            // A Variant parameter given a Date holds a Date, given an Integer an Integer
+            // ([MS-VBAL] 5.3.1.11: the argument's value is bound as it is, its value type with it).
+            slot.set_holds(types.iter().find(|(j, _)| *j == i).map_or(Declared::Variant, |&(_, ty)| ty));
             self.declare(slot);
         }
         if p.kind == ProcKind::Function {
@@ -1443,9 +1457,14 @@ impl Interp<'_, '_> {
             Target::Var(name) if !set && self.append_in_place(name, value, span)? => Ok(()),
             Target::Var(name) => {
                 let var = self.var_of(value, set)?;
-                // A Variant keeps the Date it is given as a Date ([MS-VBAL] 2.1.1.1); known once
-                // evaluated (an item's, a Variant Function's).
-                let date = !set && self.declared_type(value) == super::typing::Declared::Date;
+                // A Variant keeps the type of the number it is given ([MS-VBAL] 2.1.1.1: an
+                // Integer for `x = 5`, a Date for a Date); known once evaluated (an item's, a
+                // Variant Function's).
+                let held = match &var {
+                    Var::Value(v @ Value::Number(_)) if !set => self.value_type(value, v),
+                    _ => Declared::Variant,
+                };
+                let date = held == Declared::Date;
                 if set && matches!(var, Var::Value(ref v) if !v.is_blank()) {
                     return Err(self.fault_at(self.expr_span(value), "Set needs an object (a Range, a Worksheet, …)"));
                 }
@@ -1462,7 +1481,7 @@ impl Interp<'_, '_> {
                     other => other,
                 };
                 self.set_var(name, var, span)?;
-                self.with_slot(name, |s| s.date = date && matches!(s.ty, None | Some(Ty::Variant)));
+                self.with_slot(name, |s| s.set_holds(held));
                 Ok(())
             }
             Target::Element(name, index) => {

@@ -193,11 +193,16 @@ impl Interp<'_, '_> {
             }
         }
         let var = self.var_of(arg, true)?;
-        match (self.declared_type(arg), &var) {
-            (Declared::Variant, _) | (_, Var::Obj(_) | Var::Array(_) | Var::Record(..)) => {
-                Ok(self.type_name_of(&var, None))
+        match &var {
+            // A value answers its type, a number the type it is held with (`TypeName(x + 1)`),
+            // a member's value too (`TypeName(c.Item(1))`; an object path's Empty is Nothing).
+            Var::Value(v) | Var::Obj(Obj::Value(v)) if matches!(var, Var::Value(_)) || !v.is_blank() => {
+                match self.value_type(arg, v) {
+                    Declared::Variant => Ok(self.type_name_of(&var, None)),
+                    held => Ok(held.name().into()),
+                }
             }
-            (declared, _) => Ok(declared.name().into()),
+            _ => Ok(self.type_name_of(&var, None)),
         }
     }
 
@@ -283,10 +288,13 @@ impl Interp<'_, '_> {
             }
         }
         let var = self.var_of(arg, false)?;
-        // An expression of a declared type answers it (`VarType(5)` vbInteger, `d + 1` of a
+        // A value answers the type it is held with (`VarType(5)` vbInteger, `d + 1` of a
         // Date vbDate, an item or a call that gave a Date vbDate).
-        match (&var, self.declared_type(arg).var_type()) {
-            (Var::Value(v), Some(code)) if !matches!(v, Value::Null | Value::Error(_)) => Ok(code),
+        match &var {
+            Var::Value(v) => match self.value_type(arg, v).var_type() {
+                Some(code) => Ok(code),
+                None => self.var_type_of_var(&var, None),
+            },
             _ => self.var_type_of_var(&var, None),
         }
     }
@@ -372,12 +380,16 @@ impl Interp<'_, '_> {
 
 pub(super) fn library_array(e: &Expr, v: &Value, base: i64) -> Option<Var> {
     let ExprKind::Call(id, _) = &e.kind else { return None };
+    let Value::Array(data) = v else { return None };
     let lower = match crate::eval::functions::spec(*id).name {
         "VBA.SPLIT" => 0,
         "VBA.ARRAY" => base,
+        name if name.starts_with("VBA.") => return None,
+        // A worksheet function's one-row result (`Application.Transpose(column)`) comes to
+        // VBA as a one-dimensional array from 1, whatever the Option Base, as Excel gives it.
+        _ if data.rows == 1 && data.cols > 1 => 1,
         _ => return None,
     };
-    let Value::Array(data) = v else { return None };
     Some(Var::Array(VArray { data: data.clone(), lower: (1, lower), dims: 1, objects: None, dates: None }))
 }
 

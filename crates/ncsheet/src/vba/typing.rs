@@ -33,6 +33,15 @@ pub(super) enum Declared {
     Variant,
 }
 
+/// Which type [`Interp::typed_within`] follows: the declared (static) type, where a Variant
+/// is a Variant and its operations are checked for no overflow, or the type the value is held
+/// with, where a Variant counts as the type of what it holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Typing {
+    Declared,
+    Held,
+}
+
 /// How deep into an expression its type is followed; deeper parts count as Variants (no
 /// check), so that a long chain of operators costs no more than a bounded walk per operator.
 const MAX_DEPTH: u32 = 24;
@@ -91,6 +100,50 @@ impl Declared {
             Declared::LongLong => 20.0,
             Declared::Variant => return None,
         })
+    }
+
+    /// The variable type that answers as this type (`TypeName`, `VarType`); `None` for a Variant.
+    pub(super) fn ty(self) -> Option<Ty> {
+        Some(match self {
+            Declared::Byte => Ty::Whole(17),
+            Declared::Integer => Ty::Whole(2),
+            Declared::Long => Ty::Whole(3),
+            Declared::LongLong => Ty::Whole(20),
+            Declared::Single => Ty::Number(4),
+            Declared::Double => Ty::Number(5),
+            Declared::Currency => Ty::Number(6),
+            Declared::Decimal => Ty::Number(14),
+            Declared::Date => Ty::Number(DATE_VAR_TYPE),
+            Declared::String => Ty::String,
+            Declared::Boolean => Ty::Boolean,
+            Declared::Variant => return None,
+        })
+    }
+
+    /// The type a Variant holds the number `n` with when an operation of this type gave it
+    /// ("Variant data type": "if an arithmetic operation is performed on a Variant containing
+    /// a Byte, an Integer, a Long, or a Single, and the result exceeds the normal range for the
+    /// original data type, the result is promoted within the Variant to the next larger data
+    /// type. A Byte is promoted to an Integer, an Integer is promoted to a Long, and a Long and
+    /// a Single are promoted to a Double").
+    fn widened_for(self, n: f64) -> Declared {
+        let mut ty = self;
+        loop {
+            let next = match ty {
+                Declared::Byte => Declared::Integer,
+                Declared::Integer => Declared::Long,
+                Declared::Long | Declared::Single => Declared::Double,
+                other => return other,
+            };
+            let fits = match ty.range() {
+                Some((low, high, _)) => (low..=high).contains(&n),
+                None => n.abs() <= f32::MAX as f64 || !n.is_finite(),
+            };
+            if fits {
+                return ty;
+            }
+            ty = next;
+        }
     }
 
     /// The range of an integral type and its name; `None` for any other type.
@@ -207,6 +260,10 @@ fn function_type(name: &str) -> Declared {
     match name {
         "VBA.CINT" | "VBA.ASC" | "VBA.SGN" | "VBA.VARTYPE" => Declared::Integer,
         "VBA.CLNG" | "VBA.LEN" | "VBA.LENB" => Declared::Long,
+        "VBA.CLNGLNG" => Declared::LongLong,
+        "VBA.CBYTE" => Declared::Byte,
+        "VBA.CSNG" => Declared::Single,
+        "VBA.CCUR" => Declared::Currency,
         "VBA.CDBL" | "VBA.VAL" | "VBA.TIMER" | "VBA.ATN" | "VBA.COS" | "VBA.SIN" | "VBA.TAN" | "VBA.EXP"
         | "VBA.LOG" | "VBA.SQR" => Declared::Double,
         "VBA.CSTR" => Declared::String,
@@ -220,40 +277,73 @@ fn function_type(name: &str) -> Declared {
 impl Interp<'_, '_> {
     /// The declared type of an expression ([MS-VBAL] 5.6: each expression has one).
     pub(super) fn declared_type(&self, e: &Expr) -> Declared {
-        self.declared_within(e, 0)
+        self.typed_within(e, 0, Typing::Declared)
     }
 
-    fn declared_within(&self, e: &Expr, depth: u32) -> Declared {
+    /// The type of the value `v` that `e` gave, as a Variant holds it (`TypeName`, `VarType`,
+    /// a Variant assigned it): the declared type, where a Variant operand counts as what it
+    /// holds ([MS-VBAL] 5.6.9.3's "effective value type"), a whole number widened past its
+    /// type's range ([`Declared::widened_for`]); a number of no known type is a Double.
+    ///
+    /// Widening looks at the result only: `x * x - 39999` with `x` holding the Integer 200
+    /// is an Integer here, where VBA widened `x * x` to a Long first.
+    pub(super) fn value_type(&self, e: &Expr, v: &Value) -> Declared {
+        match v {
+            Value::Number(n) => match self.typed_within(e, 0, Typing::Held) {
+                ty @ (Declared::Double | Declared::Currency | Declared::Decimal | Declared::Date) => ty,
+                Declared::String | Declared::Boolean | Declared::Variant => Declared::Double,
+                ty => ty.widened_for(*n),
+            },
+            Value::Text(_) => Declared::String,
+            Value::Bool(_) => Declared::Boolean,
+            _ => Declared::Variant,
+        }
+    }
+
+    fn typed_within(&self, e: &Expr, depth: u32, typing: Typing) -> Declared {
         if depth > MAX_DEPTH {
             return Declared::Variant;
         }
-        let inner = |e: &Expr| self.declared_within(e, depth + 1);
+        let operand = |e: &Expr| match (self.typed_within(e, depth + 1, typing), typing) {
+            // An operand of no known type holding a number: a Double (a cell's value).
+            (Declared::Variant, Typing::Held) => Declared::Double,
+            (ty, _) => ty,
+        };
         match &e.kind {
             ExprKind::Number(n) => literal_type(self.source_between(e.span.start, e.span.end), *n),
             ExprKind::Text(_) => Declared::String,
             ExprKind::Bool(_) => Declared::Boolean,
-            ExprKind::Paren(e) => inner(e),
-            ExprKind::Name(name) => Declared::of_ty(self.with_slot(name, |s| s.held_ty()).flatten().as_ref()),
-            ExprKind::Unary(UnaryOp::Neg | UnaryOp::Plus, e) => match inner(e) {
+            ExprKind::Paren(e) => self.typed_within(e, depth + 1, typing),
+            ExprKind::Name(name) => self.with_slot(name, |s| s.typed(typing)).unwrap_or(Declared::Variant),
+            ExprKind::Unary(UnaryOp::Neg | UnaryOp::Plus, e) => match operand(e) {
                 Declared::Boolean => Declared::Integer,
                 other => other,
             },
             ExprKind::Binary(op @ (BinOp::Add | BinOp::Sub), a, b) => {
-                let (x, y) = (inner(a), inner(b));
+                let (x, y) = (operand(a), operand(b));
                 date_sum_type(*op, x, y).unwrap_or_else(|| sum_type(x, y))
             }
-            ExprKind::Binary(BinOp::Mul, a, b) => sum_type(inner(a), inner(b)),
-            ExprKind::Binary(BinOp::IntDiv | BinOp::Mod, a, b) => match (inner(a), inner(b)) {
+            ExprKind::Binary(BinOp::Mul, a, b) => sum_type(operand(a), operand(b)),
+            ExprKind::Binary(BinOp::IntDiv | BinOp::Mod, a, b) => match (operand(a), operand(b)) {
                 (Declared::Variant, _) | (_, Declared::Variant) => Declared::Variant,
                 (x, y) => whole_division_type(x, y),
             },
-            ExprKind::Binary(BinOp::Div | BinOp::Pow, a, b) => match (inner(a), inner(b)) {
+            ExprKind::Binary(BinOp::Div | BinOp::Pow, a, b) => match (operand(a), operand(b)) {
                 (Declared::Variant, _) | (_, Declared::Variant) => Declared::Variant,
                 _ => Declared::Double,
             },
             ExprKind::Binary(BinOp::Concat, ..) => Declared::String,
-            ExprKind::Call(id, _) => function_type(crate::eval::functions::spec(*id).name),
-            ExprKind::Host(id) => self.node_type(*id),
+            ExprKind::Call(id, args) => match (crate::eval::functions::spec(*id).name, args.first()) {
+                // "Abs function", "Int, Fix functions": the result has the argument's type.
+                ("VBA.ABS" | "VBA.INT" | "VBA.FIX", Some(arg)) if typing == Typing::Held => match operand(arg) {
+                    Declared::String | Declared::Boolean => Declared::Double,
+                    ty => ty,
+                },
+                (name, _) => function_type(name),
+            },
+            ExprKind::Host(id) => self.node_type(*id, typing),
+            // `Empty` in arithmetic is an Integer 0 ([MS-VBAL] 5.6.9.3's effective value type).
+            ExprKind::Missing if typing == Typing::Held => Declared::Integer,
             _ => Declared::Variant,
         }
     }
@@ -268,10 +358,12 @@ impl Interp<'_, '_> {
         }
     }
 
-    fn node_type(&self, id: u32) -> Declared {
-        // A call, an item of an array, a Collection or a Dictionary that gave a Date.
-        if self.date_nodes.borrow().contains(&id) {
-            return Declared::Date;
+    fn node_type(&self, id: u32, typing: Typing) -> Declared {
+        // A call, an item of an array, a Collection or a Dictionary that gave a Date (or,
+        // for the held type, a number of a type, as a Variant Function's Integer).
+        match self.node_types.borrow().get(&id) {
+            Some(&ty) if ty == Declared::Date || typing == Typing::Held => return ty,
+            _ => {}
         }
         match &self.module.nodes[id as usize] {
             Node::Call { proc, .. } => Declared::of_ty(self.module.procs[*proc].ty.as_ref()),

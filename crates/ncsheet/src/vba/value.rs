@@ -11,6 +11,7 @@ use crate::formula::address::Rect;
 use crate::formula::ast::SheetId;
 
 use super::ast::Ty;
+use super::typing::{Declared, Typing};
 
 /// What a variable holds.
 #[derive(Clone, Debug)]
@@ -133,9 +134,11 @@ pub struct Slot {
     /// `Dim x As New Class1`: the class an auto-instantiated variable makes an object of when
     /// it is used holding Nothing ([MS-VBAL] 5.2.3.1.4), and the declaration's place.
     pub new: Option<(super::ast::Made, super::ast::Span)>,
-    /// A Variant that holds a Date (VarType 7): assigned from an expression of the declared
-    /// type Date, it shows and answers as one until assigned anything else.
-    pub date: bool,
+    /// The type a Variant holds its number with ("Variant data type": "numeric Variant data
+    /// is maintained in its original data type"): an Integer for `x = 5`, a Date assigned
+    /// from a Date, which it shows and answers as until assigned anything else. `Variant`
+    /// when it holds no number or the variable is not a Variant.
+    pub(super) holds: Declared,
 }
 
 /// What a variable holds: a value, or a text growing in place.
@@ -166,7 +169,7 @@ impl Growing {
 impl Slot {
     /// A variable holding `var`: not a constant, not `As New`, no Date.
     pub fn new(name: Rc<str>, var: Var, ty: Option<Ty>) -> Slot {
-        Slot { name, held: Held::Var(var), ty, constant: false, new: None, date: false }
+        Slot { name, held: Held::Var(var), ty, constant: false, new: None, holds: Declared::Variant }
     }
 
     /// What the variable holds.
@@ -225,11 +228,39 @@ impl Slot {
         }
     }
 
-    /// The type its value answers to: the declared one, or Date for a Variant holding a Date.
+    /// The type its value answers to: the declared one, or for a Variant holding a number
+    /// the number's type.
     pub fn held_ty(&self) -> Option<Ty> {
-        match self.date {
-            true => Some(Ty::Number(super::ast::DATE_VAR_TYPE)),
-            false => self.ty.clone(),
+        match (self.holds, self.var()) {
+            (Declared::Variant, _) | (_, Var::Value(Value::Blank)) => self.ty.clone(),
+            (holds, Var::Value(Value::Number(_))) => holds.ty(),
+            _ => self.ty.clone(),
+        }
+    }
+
+    /// Notes the type of the number the variable now holds, which only a Variant keeps.
+    pub(super) fn set_holds(&mut self, ty: Declared) {
+        let variant = matches!(self.ty, None | Some(Ty::Variant));
+        let number = matches!(self.var(), Var::Value(Value::Number(_)));
+        self.holds = if variant && number { ty } else { Declared::Variant };
+    }
+
+    /// The variable's type as `typing.rs` follows it: for the declared type, a Variant is a
+    /// Variant unless it holds a Date (which `+` and `&` treat as a Date); for the held type,
+    /// a Variant is the type of what it holds, Empty an Integer ([MS-VBAL] 5.6.9.3: Empty's
+    /// effective value type in arithmetic).
+    pub(super) fn typed(&self, typing: Typing) -> Declared {
+        match (typing, self.holds) {
+            (_, Declared::Date) => Declared::Date,
+            (Typing::Held, Declared::Variant) => match (Declared::of_ty(self.ty.as_ref()), self.var()) {
+                (Declared::Variant, Var::Value(Value::Text(_))) => Declared::String,
+                (Declared::Variant, Var::Value(Value::Bool(_))) => Declared::Boolean,
+                (Declared::Variant, Var::Value(Value::Blank)) => Declared::Integer,
+                (Declared::Variant, Var::Value(Value::Number(_))) => Declared::Double,
+                (declared, _) => declared,
+            },
+            (Typing::Held, holds) => holds,
+            (Typing::Declared, _) => Declared::of_ty(self.ty.as_ref()),
         }
     }
 }
