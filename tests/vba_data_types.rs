@@ -106,3 +106,76 @@ fn a_date_keeps_its_type_through_parameters_results_arrays_and_collections() {
         ]
     );
 }
+
+// [MS-VBAL] 3.3.5.3 "Special Identifier Forms" and the language reference's "Type
+// characters" table: a name declared with a type character has that type (`%` Integer, `&`
+// Long, `@` Currency, `!` Single, `#` Double, `$` String), in Dim, ReDim, Const, parameters
+// and a Function's name; the name is used without it. An Integer rounds what it is given
+// half to even ("Type conversion functions", CInt).
+#[test]
+fn names_declared_with_a_type_character_have_its_type() {
+    let module = "Function Half#(ByVal x%)\n    Half = x / 2\nEnd Function\n";
+    let out = printed(
+        module,
+        "    Dim I%, N&, C@, F!, X#, S$, h#()\n    Const K# = 2\n\
+         \x20   I = 2.5: N = 70000: X = 1 / 4: S = 12\n\
+         \x20   Debug.Print TypeName(I); TypeName(N); TypeName(C); TypeName(F); TypeName(X); TypeName(S); TypeName(K)\n\
+         \x20   ReDim h(1 To 2)\n    h(1) = \"2.5\"\n\
+         \x20   Debug.Print I; N; X; S; h(1); TypeName(h(1)); Half(2.6); TypeName(Half(1))",
+    );
+    assert_eq!(out, ["IntegerLongCurrencySingleDoubleStringDouble", " 2  70000  0.25 12 2.5 Double 1.5 Double"]);
+}
+
+// The language reference's "Using arrays" ("Assigning arrays"): a dynamic array of a declared
+// type takes a whole array of that type (`a = Squares(3)`, `s = Split(…)`), with its bounds;
+// a Function declared `As Double()` returns one ([MS-VBAL] 5.3.1.2, function-declaration's
+// array return type). An array passed ByRef to a Variant parameter is the caller's array:
+// what the procedure stores in it stays ([MS-VBAL] 5.3.1.11). A dynamic array before its
+// first ReDim has no bounds: UBound is run-time error 9, "Subscript out of range".
+#[test]
+fn an_array_variable_of_a_declared_type_takes_a_whole_array() {
+    let module = "Function Squares(n) As Double()\n    Dim r() As Double, i\n    ReDim r(1 To n)\n\
+                  \x20   For i = 1 To n: r(i) = i * i: Next\n    Squares = r\nEnd Function\n\
+                  Sub Fill(v)\n    v(2) = 7\nEnd Sub\n";
+    let out = printed(
+        module,
+        "    Dim a() As Double, b(1 To 3) As Double, s() As String, c() As Long, u\n\
+         \x20   a = Squares(3)\n    Debug.Print LBound(a); UBound(a); a(3); TypeName(a(3))\n\
+         \x20   Fill b\n    Debug.Print b(2)\n\
+         \x20   s = Split(\"x,y\", \",\")\n    Debug.Print UBound(s); s(1)\n\
+         \x20   On Error Resume Next\n    u = UBound(c)\n    Debug.Print Err.Number",
+    );
+    assert_eq!(out, [" 1  3  9 Double", " 7 ", " 1 y", " 9 "]);
+}
+
+// [MS-VBAL] 5.3.1.5 (function-declaration): a Function's value is what its name holds when
+// it returns; an array keeps its bounds and its one item ("Using arrays": arrays are
+// declared with the bounds they have, not rebased). Excel gives VBA a worksheet function's
+// one-row array as a one-dimensional array from 1, whatever the module's Option Base
+// ("WorksheetFunction.Transpose": a column made a row; `Application.Transpose` of a
+// column is the idiom that reads it into a 1-based list).
+#[test]
+fn a_function_returns_its_array_with_its_bounds() {
+    let module = "Option Base 0\nFunction Limits()\n    Dim t(1 To 2) As Double\n    t(1) = 10: t(2) = 20\n\
+                  \x20   Limits = t\nEnd Function\nFunction One()\n    Dim t(5 To 5)\n    t(5) = \"x\"\n    One = t\nEnd Function\n";
+    let out = printed(
+        module,
+        "    Dim v, w\n    v = Limits()\n    Debug.Print LBound(v); UBound(v); v(2)\n\
+         \x20   w = One()\n    Debug.Print IsArray(w); LBound(w); w(5)\n\
+         \x20   [A1] = 1: [A2] = 2: [A3] = 3\n    w = Application.Transpose(Range(\"A1:A3\"))\n\
+         \x20   Debug.Print LBound(w); UBound(w); w(3)",
+    );
+    assert_eq!(out, [" 1  2  20 ", "True 5 x", " 1  3  3 "]);
+}
+
+// [MS-VBAL] 5.3.1.11: an argument that is a variable holding an object passes the object;
+// a procedure given a Worksheet (`Sub WriteRow(ws As Worksheet, …)`) writes its cells.
+#[test]
+fn a_worksheet_passes_as_an_argument() {
+    let module = "Sub Put2(ws As Worksheet, r As Long, v)\n    ws.Cells(r, 2).Value = v\nEnd Sub\n";
+    let out = printed(
+        module,
+        "    Dim sh As Worksheet\n    Set sh = ActiveSheet\n    Put2 sh, 3, \"z\"\n    Debug.Print Range(\"B3\").Value",
+    );
+    assert_eq!(out, ["z"]);
+}

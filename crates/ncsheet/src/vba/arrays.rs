@@ -54,6 +54,7 @@ impl Interp<'_, '_> {
     /// The row-major position of an element, or why there is none.
     pub(super) fn element_at(&self, a: &VArray, index: &[i64]) -> Result<usize, String> {
         let (row, col) = match (a.dims, index) {
+            (0, _) => return Err("the array has no bounds yet (ReDim gives them)".into()),
             (1, [i]) => (0, i - a.lower.1),
             (2, [i, j]) => (i - a.lower.0, j - a.lower.1),
             (d, _) => {
@@ -206,6 +207,8 @@ impl Interp<'_, '_> {
             return Err(self.fault_at(span, format!("{name} is not an array")));
         };
         let (lower, len) = match (a.dims, d) {
+            // A dynamic array before its first ReDim has no bounds ("UBound function": error 9).
+            (0, _) => return Err(self.subscript_error(span, name, "it has no bounds yet (ReDim gives them)".into())),
             (1, 1) => (a.lower.1, a.data.cols),
             (2, 1) => (a.lower.0, a.data.rows),
             (2, 2) => (a.lower.1, a.data.cols),
@@ -339,4 +342,42 @@ impl Interp<'_, '_> {
         self.charge((added * std::mem::size_of::<Value>()) as u64, span)?;
         Ok(true)
     }
+}
+
+/// Whether items of type `ty` are plain values a conversion gives (a number, a String, a
+/// Boolean): not a Variant, an object or a `Type`.
+fn holds_values(ty: &Ty) -> bool {
+    matches!(ty, Ty::Whole(_) | Ty::Number(_) | Ty::String | Ty::Boolean)
+}
+
+/// `Dim a() As Double` before its first `ReDim` or assignment: a dynamic array with no
+/// bounds yet ([MS-VBAL] 5.2.3.1.3: an array variable declared without bounds is a resizable
+/// array). `UBound` and an item of it are run-time error 9, as in VBA.
+pub(super) fn unallocated(ty: Option<&Ty>) -> Option<VArray> {
+    ty.filter(|t| holds_values(t)).map(|_| VArray {
+        data: Rc::new(Array::filled(0, 0, Value::Blank)),
+        lower: (0, 0),
+        dims: 0,
+        objects: None,
+        dates: None,
+    })
+}
+
+/// An array assigned to an array variable of declared type `ty` (`h = F_Minverse(m)` with
+/// `Dim h() As Double`, or one a ByRef parameter gives back): its items as that type holds
+/// them, each converted as a Let of that type converts ([MS-VBAL] 5.4.3.8, "Let Statement";
+/// 5.5.1.2, "Let-coercion").
+pub(super) fn typed_items(mut a: VArray, ty: Option<&Ty>, name: &str) -> Result<VArray, String> {
+    let Some(ty) = ty.filter(|t| holds_values(t)) else { return Ok(a) };
+    if a.objects.is_some() {
+        return Err(format!("{name} is an array of a declared type and cannot hold objects (type mismatch)"));
+    }
+    for item in Rc::make_mut(&mut a.data).data.iter_mut() {
+        let Var::Value(v) = convert(Var::Value(std::mem::take(item)), Some(ty), name)? else {
+            unreachable!("a value converts to a value")
+        };
+        *item = v;
+    }
+    a.dates = None;
+    Ok(a)
 }

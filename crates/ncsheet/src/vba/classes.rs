@@ -369,7 +369,12 @@ impl Interp<'_, '_> {
     /// `obj.Child`, `New Class1`. `None` for the other arguments (values, ranges, arrays).
     pub(super) fn object_arg(&self, ctx: &mut Ctx, e: &Expr) -> Run<Option<Var>> {
         match &e.kind {
-            ExprKind::Name(n) => Ok(self.lookup(n).filter(|v| matches!(v, Var::Obj(Obj::Instance(_) | Obj::Store(_))))),
+            // A variable holding an object passes the object: a Worksheet, a Workbook, a
+            // TextStream, Nothing … ([MS-VBAL] 5.3.1.11: an argument of an object is a reference
+            // to it). A Range passes as the range the evaluator reads.
+            ExprKind::Name(n) => {
+                Ok(self.lookup(n).filter(|v| matches!(v, Var::Obj(o) if !matches!(o, Obj::Range(..)))))
+            }
             ExprKind::Host(id) => match &self.module.nodes[*id as usize] {
                 Node::New { class, span } => self.new_object(*class, *span).map(Some),
                 Node::Element { var, index, span } if self.array_object(*id).is_some() => {
@@ -379,7 +384,9 @@ impl Interp<'_, '_> {
                     let object = self.path(ctx, path);
                     self.take_pending()?;
                     Ok(Some(match object? {
-                        o @ (Obj::Instance(_) | Obj::Store(_)) => Var::Obj(o),
+                        o @ (Obj::Instance(_) | Obj::Store(_) | Obj::Sheet(_) | Obj::Workbook | Obj::Files(_)) => {
+                            Var::Obj(o)
+                        }
                         other => match self.operand_of(other, path.span)? {
                             crate::eval::Operand::Ref(sheet, rect) => Var::Obj(Obj::Range(sheet, rect)),
                             operand => array_var(ctx.deref(operand), self.module.base),

@@ -685,7 +685,13 @@ impl Interp<'_, '_> {
             if slot.constant {
                 return Err(format!("{} is a constant", slot.name));
             }
-            let new = convert(var.clone(), slot.ty.as_ref(), &slot.name)?;
+            let new = match (&var, slot.var()) {
+                // An array variable takes a whole array, its items converted to its type.
+                (Var::Array(a), Var::Array(_)) => {
+                    Var::Array(super::arrays::typed_items(a.clone(), slot.ty.as_ref(), &slot.name)?)
+                }
+                _ => convert(var.clone(), slot.ty.as_ref(), &slot.name)?,
+            };
             // What is assigned is of no kept type unless the assignment says so (`assign`).
             slot.holds = Declared::Variant;
             Ok(slot.replace(new))
@@ -776,6 +782,18 @@ impl Interp<'_, '_> {
                     return Ok(Var::Obj(obj?));
                 }
                 self.operand_var(e, as_object)
+            // `c = Coeffs(x)`: the array a Function returns keeps its bounds and dimensions, as
+            // its name held it ([MS-VBAL] 5.3.1.5: the function's result is its variable's value).
+            ExprKind::Host(_) if !as_object && self.is_call(id) => {
+                let Node::Call { proc, args, span } = &self.module.nodes[id as usize] else { unreachable!() };
+                let (value, frame) = self.call_frame(&mut self.ctx(), *proc, args, *span, Call::default())?;
+                let name = &self.module.procs[*proc].name;
+                if let Some(array @ Var::Array(_)) = frame.vars.get(name).map(|s| s.var()) {
+                    return Ok(array.clone());
+                }
+                self.no_record_result(*proc, &frame)?;
+                Ok(array_var(value, self.module.base))
+            }
             }
             _ => self.operand_var(e, as_object),
         }
@@ -1411,6 +1429,10 @@ impl Interp<'_, '_> {
             let new = d.new.map(|class| (class, d.span));
             let mut slot = Slot::new(d.name.clone(), var, d.ty.clone());
             slot.new = new;
+                Some(_) if !redim => match super::arrays::unallocated(d.ty.as_ref()) {
+                    Some(array) => Var::Array(array),
+                    None => self.default_var(d.ty.as_ref()),
+                },
             self.declare(slot);
         }
         Ok(())

@@ -300,6 +300,30 @@ fn name_of(pair: &Pair<Rule>) -> Rc<str> {
     pair.as_str().into()
 }
 
+/// A declared name without its type character: `s$` declares `s` ([MS-VBAL] 3.3.5.3).
+fn decl_name(kids: &[Pair<Rule>]) -> Option<Rc<str>> {
+    find(kids, Rule::ident).map(|n| n.as_str().trim_end_matches('$').into())
+}
+
+/// The type a declared name's type character gives ([MS-VBAL] 3.3.5.3, "Type characters"):
+/// `I%` Integer, `N&` Long, `L^` LongLong, `c@` Currency, `f!` Single, `x#` Double, `s$` String.
+fn type_char_ty(kids: &[Pair<Rule>]) -> Option<Ty> {
+    let mark = match find(kids, Rule::type_char) {
+        Some(c) => c.as_str().to_string(),
+        None if find(kids, Rule::ident)?.as_str().ends_with('$') => "$".to_string(),
+        None => return None,
+    };
+    Some(match mark.as_str() {
+        "%" => ty_named("integer"),
+        "&" => ty_named("long"),
+        "^" => ty_named("longlong"),
+        "@" => ty_named("currency"),
+        "!" => ty_named("single"),
+        "#" => ty_named("double"),
+        _ => ty_named("string"),
+    })
+}
+
 impl<'s> Build<'s> {
     fn new(
         src: &'s str,
@@ -334,7 +358,7 @@ impl<'s> Build<'s> {
             }
             let k = kids(item);
             let name_pair = find(&k, Rule::ident).expect("procedure name");
-            let name = name_of(&name_pair);
+            let name = decl_name(&k).expect("procedure name");
             let part = b.part_at(start(item));
             let property = property_kind(item);
             let same_name = proc_names.entry(name.to_ascii_lowercase()).or_default();
@@ -349,7 +373,7 @@ impl<'s> Build<'s> {
             let kind = proc_kind(item);
             let params: Vec<Pair<Rule>> =
                 find(&k, Rule::param_list).map(|l| all(&kids(&l), Rule::param)).unwrap_or_default();
-            let names = params.iter().map(|p| name_of(&find(&kids(p), Rule::ident).expect("param name"))).collect();
+            let names = params.iter().map(|p| decl_name(&kids(p)).expect("param name")).collect();
             let required = params
                 .iter()
                 .filter(|p| find(&kids(p), Rule::k_optional).is_none() && find(&kids(p), Rule::vexpr).is_none())
@@ -411,7 +435,7 @@ impl<'s> Build<'s> {
     fn proc(&self, pair: Pair<Rule>) -> Res<Proc> {
         let k = kids(&pair);
         let kind = proc_kind(&pair);
-        let name = name_of(&find(&k, Rule::ident).expect("procedure name"));
+        let name = decl_name(&k).expect("procedure name");
         *self.scope.borrow_mut() = Scope {
             all_static: find(&k, Rule::k_static).is_some(),
             function: (kind == ProcKind::Function).then(|| name.clone()),
@@ -421,7 +445,10 @@ impl<'s> Build<'s> {
             Some(list) => all(&kids(&list), Rule::param).into_iter().map(|p| self.param(p)).collect::<Res<Vec<_>>>()?,
             None => Vec::new(),
         };
-        let ty = find(&k, Rule::as_clause).map(|a| self.ty_of(&a));
+        // `As Double()` returns an array: the Function's name holds it as a Variant would.
+        let returns_array = find(&k, Rule::empty_parens).is_some();
+        let ty =
+            find(&k, Rule::as_clause).map(|a| self.ty_of(&a)).or_else(|| type_char_ty(&k)).filter(|_| !returns_array);
         let body = self.block(find(&k, Rule::block).expect("procedure body"))?;
         self.check_gotos(&body, &mut Vec::new())?;
         self.check_body_labels(&body, &body)?;
@@ -432,7 +459,7 @@ impl<'s> Build<'s> {
 
     fn param(&self, pair: Pair<Rule>) -> Res<Param> {
         let k = kids(&pair);
-        let name = name_of(&find(&k, Rule::ident).expect("parameter name"));
+        let name = decl_name(&k).expect("parameter name");
         self.declare(&name);
         let by_ref = find(&k, Rule::pass_mode).is_none_or(|m| m.as_str().eq_ignore_ascii_case("ByRef"));
         let default = find(&k, Rule::vexpr).map(|e| self.expr(e)).transpose()?;
@@ -441,7 +468,7 @@ impl<'s> Build<'s> {
             by_ref,
             optional: find(&k, Rule::k_optional).is_some(),
             default,
-            ty: find(&k, Rule::as_clause).map(|a| self.ty_of(&a)),
+            ty: find(&k, Rule::as_clause).map(|a| self.ty_of(&a)).or_else(|| type_char_ty(&k)),
         })
     }
 
@@ -588,7 +615,7 @@ impl<'s> Build<'s> {
         let mut out = Vec::new();
         for var in all(&kids(pair), Rule::dim_var) {
             let k = kids(&var);
-            let name = name_of(&find(&k, Rule::ident).expect("variable name"));
+            let name = decl_name(&k).expect("variable name");
             let bounds = match find(&k, Rule::dim_bounds) {
                 Some(b) => Some(self.bounds(b)?),
                 None => None,
@@ -606,7 +633,7 @@ impl<'s> Build<'s> {
                     new = Some(self.class_named(class).ok_or_else(|| self.refuse_new(&k_new, a.as_str()))?);
                 }
             }
-            let ty = as_clause.map(|a| self.ty_of(&a));
+            let ty = as_clause.map(|a| self.ty_of(&a)).or_else(|| type_char_ty(&k));
             if let (Some(Ty::Record(_)), Some(_)) = (&ty, &bounds) {
                 return Err(self.error_at(&var, "arrays of a Type are not supported: use one array per field"));
             }
@@ -637,9 +664,9 @@ impl<'s> Build<'s> {
         let mut out = Vec::new();
         for item in all(&kids(pair), Rule::const_item) {
             let k = kids(&item);
-            let name = name_of(&find(&k, Rule::ident).expect("constant name"));
+            let name = decl_name(&k).expect("constant name");
             let value = self.expr(find(&k, Rule::vexpr).expect("constant value"))?;
-            let ty = find(&k, Rule::as_clause).map(|a| self.ty_of(&a));
+            let ty = find(&k, Rule::as_clause).map(|a| self.ty_of(&a)).or_else(|| type_char_ty(&k));
             if at_module {
                 self.globals.borrow_mut().insert(name.to_ascii_lowercase());
             } else {
@@ -1157,7 +1184,7 @@ impl Build<'_> {
     /// the run with the compile error where it is, when the procedure is called.
     fn failed_proc(&self, pair: &Pair<Rule>, error: ParseError) -> Proc {
         let k = kids(pair);
-        let name = name_of(&find(&k, Rule::ident).expect("procedure name"));
+        let name = decl_name(&k).expect("procedure name");
         let kind = proc_kind(pair);
         let params = self.procs[self.proc_index(&name).expect("signatures first")]
             .params
