@@ -129,6 +129,33 @@ fn the_locale_comes_from_the_environment_as_libreoffice_reads_it() {
     assert!(unknown.stderr.contains("et-EE"), "{}", unknown.stderr);
 }
 
+/// A day and month typed without a year fall in the year of the workbook's clock when its
+/// settings fix one (NOW's clock), not the system clock's: with the clock at 2031-06-01
+/// (serial 48000), de-DE `12.03.` is 2031-03-12 (serial 47919, days since 1899-12-30), in a
+/// formula, a csv field read in the locale and a typed value.
+#[test]
+fn a_date_without_a_year_takes_the_year_of_the_settings_clock() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("clock.csv");
+    std::fs::write(&path, "\"=DATEVALUE(\"\"12.03.\"\")\";12.03.;\"=YEAR(\"\"12. März\"\")\"\n").unwrap();
+    let mut settings = ncsheet::eval::Settings::default();
+    settings.clock = Some(48000.5);
+    settings.locale = ncsheet::eval::Locale::from_tag("de-DE").unwrap();
+    let options =
+        ncsheet::document::OpenOptions { settings: Some(settings), ..ncsheet::document::OpenOptions::named(&path) };
+    let doc = ncsheet::document::Document::open_file(&path, &options).unwrap();
+    let value = |doc: &ncsheet::document::Document, col: u32| {
+        doc.workbook().value(0, ncsheet::formula::address::Pos::new(0, col))
+    };
+    use ncsheet::eval::Value;
+    assert_eq!(
+        [value(&doc, 0), value(&doc, 1), value(&doc, 2)],
+        [Value::Number(47919.0), Value::Number(47919.0), Value::Number(2031.0)]
+    );
+    let typed = doc.workbook().typed_input("12.3.").unwrap().into_owned();
+    assert_eq!(typed, "47919", "the typed value as the file stores it");
+}
+
 /// The probes: coercions, TEXT's codes, FIXED, dates, joining a number, in one row.
 const PROBES: &[&str] = &[
     r#"=VALUE("0,8")"#,
@@ -672,6 +699,46 @@ const VALUE_PROBES: &[(&[&str], &str)] = &[
     (&["fr-FR"], r#"=DATEVALUE("12 mars")"#),
     (&["et-EE"], r#"=YEAR("12 märts")"#),
     (&["de-DE"], r#"=DATEDIF("01.01.2000","12.03.","y")"#),
+    // A named month: after a day with or without the `.` (not in fr-FR, whose date separator
+    // is `/`), a short name's own `.`, a year between dashes; the month and one number are
+    // that year's first day of the month (`März 12` is 1 March 2012); a full name with a `.`
+    // after it, a dash without a year and a comma are no date.
+    (&["de-DE"], r#"=DATEVALUE("März 12")"#),
+    (&["de-DE"], r#"="März 12"+0"#),
+    (&["de-DE"], r#"=DATEVALUE("Mär.12")"#),
+    (&["de-DE"], r#"=DATEVALUE("märz 12.")"#),
+    (&["de-DE"], r#"=DATEVALUE("Sept. 12")"#),
+    (&["de-DE"], r#"=DATEVALUE("Dez 30")"#),
+    (&["de-DE"], r#"=DATEVALUE("Dez 29")"#),
+    (&["de-DE"], r#"=DATEVALUE("12.März")"#),
+    (&["de-DE"], r#"=DATEVALUE("12.März 2025")"#),
+    (&["de-DE"], r#"=DATEVALUE("12-März-2025")"#),
+    (&["de-DE"], r#"=DATEVALUE("12.Mär.2025")"#),
+    (&["de-DE"], r#"=DATEVALUE("März 12 25")"#),
+    (&["de-DE"], r#"=DATEVALUE("12. März.")"#),
+    (&["de-DE"], r#"=DATEVALUE("12-März")"#),
+    (&["de-DE"], r#"=DATEVALUE("12.März.2025")"#),
+    (&["de-DE"], r#"=DATEVALUE("März 12, 2025")"#),
+    (&["de-DE"], r#"=DATEVALUE("März.12")"#),
+    (&["de-DE"], r#"=DATEVALUE("12 March")"#),
+    (&["fr-FR"], r#"=DATEVALUE("12. mars")"#),
+    (&["fr-FR"], r#"=DATEVALUE("12 mars.")"#),
+    (&["fr-FR"], r#"=DATEVALUE("12 janv")"#),
+    (&["fr-FR"], r#"=DATEVALUE("Sept 12")"#),
+    (&["fr-FR"], r#"=DATEVALUE("12/mars/2025")"#),
+    (&["fr-FR"], r#"=DATEVALUE("mars 12")"#),
+    (&["fr-FR"], r#"=DATEVALUE("mars/12")"#),
+    (&["fr-FR"], r#"=DATEVALUE("janv. 12")"#),
+    (&["fr-FR"], r#"=DATEVALUE("12/mars")"#),
+    (&["fr-FR"], r#"=DATEVALUE("12-sept.-2025")"#),
+    (&["fr-FR"], r#"=DATEVALUE("12/mars 2025")"#),
+    (&["et-EE"], r#"=DATEVALUE("märts 12")"#),
+    (&["et-EE"], r#"=DATEVALUE("veebr.12")"#),
+    (&["et-EE"], r#"=DATEVALUE("märts-12")"#),
+    (&["et-EE"], r#"=DATEVALUE("12.veebr.2025")"#),
+    (&["et-EE"], r#"=DATEVALUE("12 märts.")"#),
+    (&["et-EE"], r#"=DATEVALUE("Sept 12")"#),
+    (&["et-EE"], r#"=DATEVALUE("12. Sep.")"#),
     // Forms that are no date there: `12.03` in de-DE (its form ends with the `.`), `12.03.`
     // in fr-FR, and `/` or `-` between a date's parts in de-DE and et-EE.
     (&["de-DE", "fr-FR"], r#"=DATEVALUE("12.03")"#),

@@ -98,7 +98,8 @@ impl Document {
         install_functions(&mut opened, options.functions.clone());
         let mut doc = Document { opened, name: options.name.clone(), csv_delimiter: options.csv_delimiter };
         if let Some(settings) = &options.settings {
-            read_csv_fields_in_locale(&mut doc.opened, settings.locale);
+            let locale = settings.locale_in_force(doc.opened.workbook.date_system());
+            read_csv_fields_in_locale(&mut doc.opened, locale);
             doc.set_settings(settings.clone());
         }
         Ok(doc)
@@ -304,7 +305,7 @@ fn install_functions(opened: &mut Opened, options: RunOptions) {
 /// (`12.03.2025 14:30`) the built-in date and time (22), and a time alone (`14:30`) `h:mm`
 /// (20, `h:mm:ss` with seconds). Under en-US a typed time keeps General, as before issue 28.
 fn typed_date_format(wb: &crate::workbook::Workbook, typed: &str) -> Option<&'static str> {
-    let locale = wb.settings().locale;
+    let locale = wb.settings().locale_in_force(wb.date_system());
     let text = typed.trim();
     if text.starts_with(['=', '\'']) || locale.read_plain_number(text).is_some() {
         return None;

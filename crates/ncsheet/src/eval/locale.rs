@@ -221,9 +221,24 @@ static LOCALES: [&LocaleData; 8] = [
     },
 ];
 
-/// A locale: a handle on static data, cheap to copy.
-#[derive(Clone, Copy, PartialEq, Eq)]
-pub struct Locale(&'static LocaleData);
+/// A locale: a handle on static data, cheap to copy, with the year of the workbook's clock
+/// when its settings fix one ([`Locale::at_year`]), which a date typed without a year falls in.
+#[derive(Clone, Copy)]
+pub struct Locale {
+    data: &'static LocaleData,
+    /// The year a day and month typed without a year fall in (`None`: the system clock's).
+    year: Option<i32>,
+}
+
+/// Two locales are the same when their data is: the clock's year is the workbook's, not the
+/// locale's.
+impl PartialEq for Locale {
+    fn eq(&self, other: &Locale) -> bool {
+        self.data == other.data
+    }
+}
+
+impl Eq for Locale {}
 
 impl Default for Locale {
     fn default() -> Locale {
@@ -233,20 +248,20 @@ impl Default for Locale {
 
 impl fmt::Debug for Locale {
     fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
-        f.write_str(self.0.tag)
+        f.write_str(self.data.tag)
     }
 }
 
 impl fmt::Display for Locale {
     fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
-        f.write_str(self.0.tag)
+        f.write_str(self.data.tag)
     }
 }
 
 impl std::ops::Deref for Locale {
     type Target = LocaleData;
     fn deref(&self) -> &LocaleData {
-        self.0
+        self.data
     }
 }
 
@@ -262,11 +277,25 @@ pub struct FromEnvironment {
 
 impl Locale {
     /// Excel's and the file format's own locale: formulas and numbers as files store them.
-    pub const EN_US: Locale = Locale(&EN_US);
+    pub const EN_US: Locale = Locale { data: &EN_US, year: None };
 
     /// Every locale ncsheet knows.
     pub fn all() -> impl Iterator<Item = Locale> {
-        LOCALES.iter().map(|d| Locale(d))
+        LOCALES.iter().map(|d| Locale { data: d, year: None })
+    }
+
+    /// This locale with `year` as the year a day and month typed without a year fall in (the
+    /// year of the workbook's fixed clock: `Settings::locale_in_force`); `None`: the system
+    /// clock's.
+    pub fn at_year(self, year: Option<i32>) -> Locale {
+        Locale { year, ..self }
+    }
+
+    /// The year a day and month typed without a year fall in: the workbook's clock's, else
+    /// the system clock's (as Excel and LibreOffice read it, the value changes with the year).
+    fn this_year(self) -> i64 {
+        use chrono::Datelike;
+        i64::from(self.year.unwrap_or_else(|| chrono::Local::now().year()))
     }
 
     /// The locale a tag names: `et-EE`, `et_EE`, `et_EE.UTF-8`, `et` (its country's),
@@ -360,14 +389,8 @@ impl Locale {
         if let Some(date) = self.read_day(text, system) {
             return Some(dates::DateText { date: Some(date), time: None });
         }
-        if let Some(named) = self.with_english_months(text) {
-            return dates::parse_date_text(system, &named).or_else(|| {
-                // A day and a named month (`12. März`) are the current year's, as a day and
-                // month in numbers are.
-                let [day, month] = named.split(' ').collect::<Vec<_>>()[..] else { return None };
-                date_number(day)?;
-                dates::parse_date_text(system, &format!("{day} {month} {}", this_year()))
-            });
+        if let Some((named, _)) = self.named_month_date(text) {
+            return Some(dates::DateText { date: Some(valid_serial(system, named)?), time: None });
         }
         if !text.contains(':') {
             return None;
@@ -379,40 +402,122 @@ impl Locale {
                 return Some(dates::DateText { date: Some(date), time: Some(time) });
             }
         }
+        // A named month's date with its year typed, and a time (`12. März 2025 14:30`); a
+        // day and month alone take no time (LibreOffice in de-DE refuses `12. März 14:30`).
+        if let Some((day, time)) = text.rsplit_once(' ') {
+            if let Some((named, true)) = self.named_month_date(day.trim()) {
+                let time = dates::parse_date_text(system, time.trim())?.time?;
+                return Some(dates::DateText { date: Some(valid_serial(system, named)?), time: Some(time) });
+            }
+        }
         // A time alone reads the same everywhere; a date in another order does not.
         dates::parse_date_text(system, text).filter(|t| t.date.is_none())
     }
 
-    /// Date text naming its month in this locale's words, full or short (de-DE
-    /// `12. März 2025`, fr-FR `12 mars 2025`, et-EE `12. märts 2025`), with the English short
-    /// name in its place and the `.` after the day dropped (`12 Mar 2025`), as en-US reads
-    /// it; `None` when no word is a month's name here.
-    fn with_english_months(self, text: &str) -> Option<String> {
-        let english: Vec<&str> = EN_US.months_short.split(' ').collect();
-        let bare = |word: &str| word.trim_end_matches('.').to_lowercase();
-        let month = |word: &str| -> Option<usize> {
-            let word = bare(word);
-            let at = |names: &str| names.split(' ').position(|name| bare(name) == word);
-            at(self.months).or_else(|| at(self.months_short))
+    /// Year, month and day of date text naming its month in this locale's words, either
+    /// case, and whether all three were typed, as LibreOffice set to the locale reads it
+    /// (probed in de-DE, fr-FR and et-EE, tests/locale.rs):
+    /// - a day, then the month: `12. März`, `12.März`, `12 März` (fr-FR `12/mars`, not
+    ///   `12. mars`: after the day only spaces or the locale's date separator), the current
+    ///   year's day, as a day and month in numbers are;
+    /// - the same with a year after a space (`12. März 2025`, `12.Mär.2025` after a short
+    ///   name's `.`), or between dashes (`12-März-2025`, not `12-März`);
+    /// - the month, then one number: that is a year, and the date its month's first day
+    ///   (`März 12` is 1 March 2012, `Mär.25`, `März-5`);
+    /// - the month, a day and a year, between spaces (`März 12 2025`).
+    ///
+    /// A short name may have a `.` after it (`Mär.`, et-EE `veebr.`); a full name may not
+    /// (de-DE `12. März.`, fr-FR `mars. 12` are text), nor may any other separator follow.
+    fn named_month_date(self, text: &str) -> Option<((i64, i64, i64), bool)> {
+        use DatePiece::{Between, Month, Number};
+        let pieces = self.date_pieces(text.trim())?;
+        let spaces = |s: &str| s.chars().all(is_space);
+        // After a day: spaces, or the date separator and spaces (`12. März`, `12/mars`).
+        let after_day = |s: &str| s.strip_prefix(self.date_separator).map_or(spaces(s), spaces);
+        // After a month, before its year: spaces, a dash, or the date separator where that is
+        // no `.` (fr-FR `mars/12`); a short name's `.` is separator enough (`Mär.12`).
+        let after_month = |s: &str| spaces(s) || s == "-" || (self.date_separator != '.' && self.is_date_separator(s));
+        let date = match pieces.as_slice() {
+            [Number(d, _), Between(a), Month(m, _)] if after_day(a) => ((self.this_year(), *m, *d), false),
+            [Number(d, _), Between(a), Month(m, dot), Between(b), Number(y, n)]
+                if (after_day(a) && spaces(b)) || (a == "-" && b == "-" && !dot) =>
+            {
+                ((full_year(*y, *n)?, *m, *d), true)
+            }
+            [Number(d, _), Between(a), Month(m, true), Number(y, n)] if after_day(a) => {
+                ((full_year(*y, *n)?, *m, *d), true)
+            }
+            [Month(m, _), Between(a), Number(y, n), rest @ ..] if after_month(a) && self.ends_date(rest) => {
+                ((full_year(*y, *n)?, *m, 1), false)
+            }
+            [Month(m, true), Number(y, n), rest @ ..] if self.ends_date(rest) => ((full_year(*y, *n)?, *m, 1), false),
+            [Month(m, _), Between(a), Number(d, _), Between(b), Number(y, n)] if spaces(a) && spaces(b) => {
+                ((full_year(*y, *n)?, *m, *d), true)
+            }
+            _ => return None,
         };
-        let mut named = false;
-        let words: Vec<String> = text
-            .split(' ')
-            .map(|word| {
-                let number = word.trim_end_matches('.');
-                if !number.is_empty() && number.bytes().all(|b| b.is_ascii_digit()) {
-                    return number.to_string();
-                }
-                match month(word).filter(|_| word.chars().any(char::is_alphabetic)) {
-                    Some(i) => {
-                        named = true;
-                        english[i].to_string()
-                    }
-                    None => word.to_string(),
-                }
-            })
-            .collect();
-        named.then(|| words.join(" "))
+        Some(date)
+    }
+
+    /// Whether what follows a date's last number may end it: nothing, or the date separator
+    /// (de-DE `März 12.`).
+    fn ends_date(self, rest: &[DatePiece]) -> bool {
+        match rest {
+            [] => true,
+            [DatePiece::Between(s)] => self.is_date_separator(s),
+            _ => false,
+        }
+    }
+
+    fn is_date_separator(self, s: &str) -> bool {
+        s.len() == self.date_separator.len_utf8() && s.starts_with(self.date_separator)
+    }
+
+    /// Date text as numbers, month names and what stands between them; `None` when a word is
+    /// no month's name here or a number has more than four digits.
+    fn date_pieces(self, text: &str) -> Option<Vec<DatePiece>> {
+        let mut pieces = Vec::new();
+        let mut rest = text;
+        while let Some(c) = rest.chars().next() {
+            let end = if c.is_ascii_digit() {
+                let end = rest.find(|c: char| !c.is_ascii_digit()).unwrap_or(rest.len());
+                pieces.push(DatePiece::Number(rest[..end].parse().ok()?, end));
+                end
+            } else if c.is_alphabetic() {
+                let (month, end, short) = self.month_at(rest)?;
+                // LibreOffice reads a `.` after a short name as part of it.
+                let dot = short && rest[end..].starts_with('.');
+                pieces.push(DatePiece::Month(month, dot));
+                end + usize::from(dot)
+            } else {
+                let end = rest.find(char::is_alphanumeric).unwrap_or(rest.len());
+                pieces.push(DatePiece::Between(rest[..end].to_string()));
+                end
+            };
+            rest = &rest[end..];
+        }
+        pieces.iter().all(|p| !matches!(p, DatePiece::Number(_, n) if *n > 4)).then_some(pieces)
+    }
+
+    /// The month (1 to 12) whose name `text` starts with as a whole word, either case, the
+    /// name's length in `text` and whether it is the short name. Full names are tried first
+    /// (fr-FR `mars` is both, so `mars.` is the full name and a `.`), and the short name
+    /// `Sep` stands for `Sept` and the other way round, as LibreOffice reads them.
+    fn month_at(self, text: &str) -> Option<(i64, usize, bool)> {
+        let find = |names: &str| names.split(' ').enumerate().find_map(|(i, name)| Some((i, word_at(text, name)?)));
+        if let Some((i, len)) = find(self.months) {
+            return Some((i as i64 + 1, len, false));
+        }
+        if let Some((i, len)) = find(self.months_short) {
+            return Some((i as i64 + 1, len, true));
+        }
+        let september = self.months_short.split(' ').nth(8)?.to_lowercase();
+        let other = match september.as_str() {
+            "sep" => "sept",
+            "sept" => "sep",
+            _ => return None,
+        };
+        word_at(text, other).map(|len| (9, len, true))
     }
 
     /// A time's fraction of a second with this locale's decimal mark (`14:30:15,5`) as en-US
@@ -428,12 +533,7 @@ impl Locale {
     /// (and ISO's `2025-03-12`, which every Excel and LibreOffice reads), or a day and month
     /// without a year in one of the locale's forms, as its serial.
     fn read_day(self, text: &str, system: DateSystem) -> Option<i64> {
-        let (year, month, day) = self.full_date(text).or_else(|| self.year_less_date(text))?;
-        let valid = (1900..=9999).contains(&year)
-            && (1..=12).contains(&month)
-            && day >= 1
-            && day <= i64::from(dates::days_in_month(year, month as u32));
-        valid.then(|| dates::serial_from_ymd(system, year, month, day))
+        valid_serial(system, self.full_date(text).or_else(|| self.year_less_date(text))?)
     }
 
     /// Year, month and day of a date with all three typed (`12.03.2025`, hu-HU
@@ -455,13 +555,7 @@ impl Locale {
         } else {
             (c_n, a_n, b_n, *c)
         };
-        let year = match year_text.len() {
-            1 | 2 if year < 30 => 2000 + year,
-            1 | 2 => 1900 + year,
-            4 => year,
-            _ => return None,
-        };
-        Some((year, month, day))
+        Some((full_year(year, year_text.len())?, month, day))
     }
 
     /// Year, month and day of a day and month typed without a year in one of this locale's
@@ -476,7 +570,7 @@ impl Locale {
             let part = |s: &str| (s.trim().len() <= 2).then(|| date_number(s.trim()))?;
             let (first, second) = (part(first)?, part(second)?);
             let (month, day) = if form[0] == 'D' { (second, first) } else { (first, second) };
-            (month <= 12 && day <= 31).then(|| (this_year(), month, day))
+            (month <= 12 && day <= 31).then(|| (self.this_year(), month, day))
         })
     }
 
@@ -583,7 +677,7 @@ impl Locale {
     /// An amount DOLLAR shows (`digits` already in the locale's marks, without a sign): en-US
     /// `$1,234.50` and `($1,234.50)`; elsewhere `1.234,50 €` and `-1.234,50 €`.
     pub fn currency_amount(self, digits: &str, negative: bool) -> String {
-        match (self.0 == &EN_US, negative) {
+        match (self.data == &EN_US, negative) {
             (true, false) => format!("{}{digits}", self.currency),
             (true, true) => format!("({}{digits})", self.currency),
             (false, false) => format!("{digits} {}", self.currency),
@@ -604,7 +698,7 @@ impl Locale {
     pub fn localize_names_for(self, code: &str, shown: &str) -> String {
         // A code tagged with a language (`[$-409]mmmm d, yyyy`) names months in that one.
         let names = tagged_language(code).unwrap_or(self);
-        if names.0 == &EN_US || !shown.chars().any(char::is_alphabetic) {
+        if names.data == &EN_US || !shown.chars().any(char::is_alphabetic) {
             return shown.to_string();
         }
         let words = |names: &'static str| names.split(' ').collect::<Vec<_>>();
@@ -889,15 +983,54 @@ impl Locale {
     }
 }
 
+/// The serial of a year, month and day typed, when that day is in Excel's calendar.
+fn valid_serial(system: DateSystem, (year, month, day): (i64, i64, i64)) -> Option<i64> {
+    let valid = (1900..=9999).contains(&year)
+        && (1..=12).contains(&month)
+        && day >= 1
+        && day <= i64::from(dates::days_in_month(year, month as u32));
+    valid.then(|| dates::serial_from_ymd(system, year, month, day))
+}
+
+/// A year typed with `digits` digits: two (or one) are 1930 to 2029, as Excel and
+/// LibreOffice read them; four as typed; others none.
+fn full_year(year: i64, digits: usize) -> Option<i64> {
+    match digits {
+        1 | 2 if year < 30 => Some(2000 + year),
+        1 | 2 => Some(1900 + year),
+        4 => Some(year),
+        _ => None,
+    }
+}
+
+/// The bytes of `text` that spell `name` at its start, either case, as a whole word (no
+/// letter after it).
+fn word_at(text: &str, name: &str) -> Option<usize> {
+    let mut chars = text.chars();
+    let mut end = 0;
+    for n in name.chars() {
+        let c = chars.next()?;
+        if !c.to_lowercase().eq(n.to_lowercase()) {
+            return None;
+        }
+        end += c.len_utf8();
+    }
+    (!name.is_empty() && !text[end..].starts_with(char::is_alphabetic)).then_some(end)
+}
+
+/// One piece of date text naming its month ([`Locale::named_month_date`]).
+enum DatePiece {
+    /// Digits: their value and how many there are.
+    Number(i64, usize),
+    /// A month (1 to 12) by its name, and whether a short name's `.` followed it.
+    Month(i64, bool),
+    /// What stands between two numbers or names.
+    Between(String),
+}
+
 /// A part of a typed date: one to four digits.
 fn date_number(s: &str) -> Option<i64> {
     (!s.is_empty() && s.len() <= 4 && s.bytes().all(|b| b.is_ascii_digit())).then(|| s.parse().ok())?
-}
-
-/// The current year by the system clock, which a date typed without a year falls in.
-fn this_year() -> i64 {
-    use chrono::Datelike;
-    i64::from(chrono::Local::now().year())
 }
 
 /// What [`Locale::canonical_format_code`] tracks in one section of a number format code.
@@ -1132,12 +1265,78 @@ mod tests {
             assert_eq!(read(l, text), Some(march_12), "{l}: {text}");
         }
         assert_eq!(locale("hu-HU").read_number("3.12.", DateSystem::From1900), Some(march_12));
-        for (l, text) in [(de, "12.03"), (fr, "12.03."), (et, "12/03"), (de, "12-03"), (de, "12.13."), (de, "März 12")]
-        {
+        for (l, text) in [(de, "12.03"), (fr, "12.03."), (et, "12/03"), (de, "12-03"), (de, "12.13.")] {
             assert_eq!(read(l, text), None, "{l}: {text}");
         }
         // en-US reads no date without a year: its results stay as they were.
         assert_eq!(Locale::EN_US.read_number("3/12", DateSystem::From1900), None);
+    }
+
+    /// A day and month without a year fall in the year of the workbook's clock when its
+    /// settings fix one, not the system clock's. 2031-06-01 is serial 48000, 2031-03-12
+    /// 47919 (days since 1899-12-30).
+    #[test]
+    fn a_date_without_a_year_falls_in_the_year_of_the_fixed_clock() {
+        let mut settings = crate::eval::Settings::default();
+        settings.clock = Some(48000.5);
+        settings.locale = locale("de-DE");
+        let de = settings.locale_in_force(DateSystem::From1900);
+        assert_eq!(de, locale("de-DE"));
+        for text in ["12.03.", "12. März", "12.3."] {
+            assert_eq!(de.read_number(text, DateSystem::From1900), Some(47919.0), "{text}");
+        }
+        // The clock's serial is the workbook's: in the 1904 system 48000 is 2035-06-02, and
+        // 2035-03-12 is 47918 days after 1904-01-01.
+        let de_1904 = settings.locale_in_force(DateSystem::From1904);
+        assert_eq!(de_1904.read_number("12.03.", DateSystem::From1904), Some(47918.0));
+    }
+
+    /// Dates naming their month, as LibreOffice set to each locale reads them (the probes of
+    /// tests/locale.rs): the month and one number are that year's first day of the month,
+    /// 1 March 2012 is serial 40969, 2005's 38412, 1931's 11383, 12 March 2025 45728.
+    #[test]
+    fn named_months_read_as_libreoffice_reads_them() {
+        let (fr, de, et) = (locale("fr-FR"), locale("de-DE"), locale("et-EE"));
+        let read = |l: Locale, text: &str| l.read_number(text, DateSystem::From1900);
+        for (l, text, serial) in [
+            (de, "März 12", 40969.0),
+            (de, "märz 12.", 40969.0),
+            (de, "Mär.12", 40969.0),
+            (de, "Sept. 12", 41153.0),
+            (de, "März 5", 38412.0),
+            (de, "März 31", 11383.0),
+            (fr, "mars 12", 40969.0),
+            (fr, "mars/12", 40969.0),
+            (fr, "mars-12", 40969.0),
+            (et, "märts 12", 40969.0),
+            (de, "12-März-2025", 45728.0),
+            (de, "12.März 2025", 45728.0),
+            (de, "12.Mär.2025", 45728.0),
+            (et, "12.veebr.2025", 45700.0),
+            (fr, "12-sept.-2025", 45912.0),
+            (fr, "12/mars 2025", 45728.0),
+            (de, "März 12 2025", 45728.0),
+        ] {
+            assert_eq!(read(l, text), Some(serial), "{l}: {text}");
+        }
+        for (l, text) in [
+            (fr, "12. mars"),
+            (fr, "12 mars."),
+            (fr, "12 janv"),
+            (fr, "mars. 12"),
+            (fr, "12/mars/2025"),
+            (de, "12. März."),
+            (de, "März.12"),
+            (de, "12-März"),
+            (de, "12.März.2025"),
+            (de, "12-Mär.-2025"),
+            (de, "März 12, 2025"),
+            (de, "12 March"),
+            (et, "12 märts."),
+            (de, "32 März"),
+        ] {
+            assert_eq!(read(l, text), None, "{l}: {text}");
+        }
     }
 
     #[test]

@@ -67,6 +67,14 @@ impl Settings {
         self.clock.unwrap_or_else(|| dates::system_now(system))
     }
 
+    /// The locale with the year of the fixed clock (if any) as the year a day and month typed
+    /// without a year fall in (de-DE `12.03.`), as NOW reads the clock; `system` is the
+    /// workbook's date system, the clock's serial's.
+    pub fn locale_in_force(&self, system: dates::DateSystem) -> super::Locale {
+        let year = self.clock.filter(|c| c.is_finite()).map(|c| dates::ymd_from_serial(system, c.floor() as i64).0);
+        self.locale.at_year(year.and_then(|y| i32::try_from(y).ok()))
+    }
+
     /// The next number 0 ≤ x < 1 of the sequence, with 53 random bits (xorshift64*).
     pub fn next_random(&self) -> f64 {
         let mut x = self.random.get();

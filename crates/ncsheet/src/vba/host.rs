@@ -108,7 +108,10 @@ impl Env for Interp<'_, '_> {
     fn locale(&self) -> crate::eval::Locale {
         match self.cells {
             Some(cells) => cells.locale(),
-            None => self.wb.borrow().settings().locale,
+            None => {
+                let wb = self.wb.borrow();
+                wb.settings().locale_in_force(wb.date_system())
+            }
         }
     }
 }

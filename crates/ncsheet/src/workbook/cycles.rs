@@ -279,7 +279,7 @@ impl Env for Probe<'_> {
     }
 
     fn locale(&self) -> crate::eval::Locale {
-        self.wb.settings.locale
+        self.wb.settings.locale_in_force(self.wb.date_system())
     }
 
     fn excel_language(&self) -> Option<&'static str> {

@@ -1069,7 +1069,7 @@ impl Env for Workbook {
     }
 
     fn locale(&self) -> crate::eval::Locale {
-        self.settings.locale
+        self.settings.locale_in_force(self.date_system())
     }
 
     fn excel_language(&self) -> Option<&'static str> {

@@ -568,7 +568,8 @@ impl Workbook {
     pub(super) fn evaluate(&mut self, id: u32, late: &mut Vec<u32>) {
         let cell = &self.cells[id as usize];
         let formula = self.formulas.get(cell.formula);
-        let mut ctx = Ctx::for_cell_of(self, (self.date_system(), self.settings().locale), cell.sheet, cell.pos);
+        let locale = self.settings().locale_in_force(self.date_system());
+        let mut ctx = Ctx::for_cell_of(self, (self.date_system(), locale), cell.sheet, cell.pos);
         ctx.numbers = &formula.numbers;
         let value = ctx.eval_formula(&formula.expr);
         let (notes, dynamic_refs) = ctx.into_findings();

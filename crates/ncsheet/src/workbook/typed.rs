@@ -41,7 +41,7 @@ impl super::Workbook {
     /// another locale and only text in this one (`0.8` in et-EE, `0,8` in en-US), with the
     /// spelling meant.
     pub fn typed_input<'t>(&self, text: &'t str) -> Result<Cow<'t, str>, String> {
-        let locale = self.settings.locale;
+        let locale = self.settings.locale_in_force(self.date_system());
         let input = Input::parse_in(text, locale, self.date_system());
         if let Input::Value(Value::Text(_)) = &input {
             if let Some((other, meant)) = locale.number_elsewhere(text) {
