@@ -122,14 +122,28 @@ fn endless_lambda_recursion_is_num_with_the_depth_named() {
 /// Sets `formula` in `cell` and checks it is #NUM! with the LAMBDA work limit's note; the
 /// cell's notes.
 fn past_the_work_limit(wb: &mut Workbook, cell: &str, formula: &str) -> Vec<String> {
+    past_the_limit_of(wb, cell, formula, 268_435_456)
+}
+
+/// [`past_the_work_limit`] for a workbook whose LAMBDAs may do `limit` items of work.
+fn past_the_limit_of(wb: &mut Workbook, cell: &str, formula: &str, limit: u64) -> Vec<String> {
     set(wb, cell, formula);
     assert_eq!(get(wb, cell), Value::Error(XlError::Num), "{formula}");
     let problems = problems_at(wb, cell);
-    assert!(
-        mentions(&problems, &["#NUM!", "more than 268435456 items of work", "ncsheet's limit"]),
-        "{formula}: {problems:?}"
-    );
+    let more_than = format!("more than {limit} items of work");
+    assert!(mentions(&problems, &["#NUM!", &more_than, "ncsheet's limit"]), "{formula}: {problems:?}");
     problems
+}
+
+/// The budget the tests of what is charged give the LAMBDAs (`Settings::lambda_work`): 2^20
+/// items of work, so that a case passes it after a 256th of the work the real limit (2^28)
+/// takes, through the same charges.
+const SMALL_BUDGET: u64 = 1 << 20;
+
+fn with_small_lambda_budget() -> Workbook {
+    let mut wb = Workbook::with_sheet();
+    wb.settings_mut().lambda_work = Some(SMALL_BUDGET);
+    wb
 }
 
 /// The LAMBDAs of MAP, REDUCE, SCAN, BYROW, BYCOL and MAKEARRAY share one budget of work per
@@ -173,29 +187,84 @@ fn lambdas_of_the_array_helpers_past_their_work_limit_are_num_naming_it() {
 /// the same budget: an aggregate or SUMPRODUCT of an array bound outside the LAMBDA (read
 /// whole at every call), a regression (rows × variables × the smaller), a matrix product
 /// (its multiply-adds), a text function reading a long text. Each of these formulas ran for
-/// minutes or hours (a million sums of a million items); now each is #NUM! with the note.
+/// minutes or hours at full size (a million sums of a million items); each is #NUM! with the
+/// note. Shown with the small budget (the same charges; at 2^28 the text case alone reads
+/// 4 GB of text before it stops), and the real limit once, for an aggregate.
 #[test]
 fn heavy_functions_inside_the_lambdas_count_against_their_work_limit() {
     let mut wb = Workbook::with_sheet();
+    past_the_work_limit(&mut wb, "A1", "=LET(a,SEQUENCE(1000,1000),SUM(MAP(SEQUENCE(1000000),LAMBDA(x,SUM(a)))))");
+    let mut wb = with_small_lambda_budget();
     let cases = [
-        ("A1", "=LET(a,SEQUENCE(1000,1000),SUM(MAP(SEQUENCE(1000000),LAMBDA(x,SUM(a)))))"),
-        ("A2", "=LET(a,SEQUENCE(1000,1000),SUM(MAP(SEQUENCE(1000000),LAMBDA(x,SUMPRODUCT(a,a)))))"),
-        ("A3", "=LET(m,SEQUENCE(300,300),SUM(MAP(SEQUENCE(100000),LAMBDA(x,INDEX(MMULT(m,m),1,1)))))"),
+        // 1,000 calls, each reading 10,000 items (or multiplying 30 × 30 by 30 × 30).
+        ("A1", "=LET(a,SEQUENCE(100,100),SUM(MAP(SEQUENCE(1000),LAMBDA(x,SUM(a)))))"),
+        ("A2", "=LET(a,SEQUENCE(100,100),SUM(MAP(SEQUENCE(1000),LAMBDA(x,SUMPRODUCT(a,a)))))"),
+        ("A3", "=LET(m,SEQUENCE(30,30),SUM(MAP(SEQUENCE(1000),LAMBDA(x,INDEX(MMULT(m,m),1,1)))))"),
+        // 100 regressions of 1,000 rows on 10 variables: 100,000 steps each.
         (
             "A4",
-            "=LET(x,SEQUENCE(100000,10)^0.5,y,SEQUENCE(100000),\
-             SUM(MAKEARRAY(1000,1,LAMBDA(r,c,INDEX(LINEST(y,x),1,1)))))",
+            "=LET(x,SEQUENCE(1000,10)^0.5,y,SEQUENCE(1000),\
+             SUM(MAKEARRAY(100,1,LAMBDA(r,c,INDEX(LINEST(y,x),1,1)))))",
         ),
-        ("A5", "=LET(t,REPT(\"a\",32767),REDUCE(0,SEQUENCE(1000,1000),LAMBDA(a,x,a+LEN(t))))"),
+        // 600 lengths of a 32,767-byte text: 2,047 + 1 each, 1,228,800 in all.
+        ("A5", "=LET(t,REPT(\"a\",32767),REDUCE(0,SEQUENCE(600),LAMBDA(a,x,a+LEN(t))))"),
     ];
     for (cell, formula) in cases {
-        past_the_work_limit(&mut wb, cell, formula);
+        past_the_limit_of(&mut wb, cell, formula, SMALL_BUDGET);
     }
-    // Within the budget they compute: 1,000 sums of 1 + … + 100 and 1,000 lengths of 1,000.
+    // Within the budget they compute: 1,000 sums of 1 + … + 100, 1,000 lengths of 1,000, and
+    // 500 lengths of 32,767 (1,024,000 items of work, just under 2^20).
     set(&mut wb, "B1", "=LET(a,SEQUENCE(10,10),SUM(MAP(SEQUENCE(1000),LAMBDA(x,SUM(a)))))");
     set(&mut wb, "B2", "=LET(t,REPT(\"a\",1000),REDUCE(0,SEQUENCE(1000),LAMBDA(a,x,a+LEN(t))))");
+    set(&mut wb, "B3", "=LET(t,REPT(\"a\",32767),REDUCE(0,SEQUENCE(500),LAMBDA(a,x,a+LEN(t))))");
     assert_eq!(get(&wb, "B1"), n(5_050_000.0));
     assert_eq!(get(&wb, "B2"), n(1_000_000.0));
+    assert_eq!(get(&wb, "B3"), n(500.0 * 32_767.0));
+}
+
+/// Lookups inside the LAMBDA count the items they look at (and the column VLOOKUP, HLOOKUP
+/// and LOOKUP copy) against the same budget: a MAP whose LAMBDA looks each item up in a
+/// million-item array bound outside it (`MAP(SEQUENCE(100000),LAMBDA(i,MATCH(i,big,0)))`)
+/// scanned 5·10^10 items. A value not found is a scan of the whole array at every call; a
+/// value found early, or a binary search, costs what it looked at, so those compute.
+#[test]
+fn lookups_inside_the_lambdas_count_the_items_they_look_at() {
+    // Bound outside the LAMBDA: made once, not charged; read at every call.
+    const BOUND: &str = "LET(big,SEQUENCE(100000),wide,SEQUENCE(1,16000),texts,\"\"&big,";
+    let mut wb = with_small_lambda_budget();
+    // 1,000 calls each scanning 100,000 items (HLOOKUP 16,000, a row being at most 16,384
+    // columns): a hundred million, past 2^20 at the 11th call (the 66th).
+    let scans = [
+        "MATCH(-i,big,0)",
+        "XMATCH(-i,big)",
+        "XLOOKUP(-i,big,big,0)",
+        "XLOOKUP(-i,big,big,0,-1,-1)",
+        "VLOOKUP(-i,big,1,FALSE)",
+        "HLOOKUP(-i,wide,1,FALSE)",
+        // A sorted search copies both vectors; text items are stepped over one by one.
+        "LOOKUP(i,big)",
+        "MATCH(i,texts,1)",
+    ];
+    for (r, scan) in scans.iter().enumerate() {
+        let formula = format!("={BOUND}SUM(MAP(SEQUENCE(1000),LAMBDA(i,IFERROR({scan},0)))))");
+        past_the_limit_of(&mut wb, &format!("A{}", r + 1), &formula, SMALL_BUDGET);
+    }
+    // 1,000 values found at positions 1 … 1,000 (500,500 items looked at), 5 copies of the
+    // column VLOOKUP searches, and 10,000 binary searches of about 17 steps each: within 2^20,
+    // each the sum 1 + … + n.
+    let within = [
+        ("B1", "MATCH(i,big,0)", 1000),
+        ("B2", "XLOOKUP(i,big,big)", 1000),
+        ("B3", "VLOOKUP(i,big,1,FALSE)", 5),
+        ("B4", "MATCH(i,big,1)", 10_000),
+        ("B5", "XLOOKUP(i,big,big,,0,2)", 10_000),
+    ];
+    for (cell, lookup, calls) in within {
+        let formula = format!("={BOUND}SUM(MAP(SEQUENCE({calls}),LAMBDA(i,{lookup}))))");
+        set(&mut wb, cell, &formula);
+        let sum = (calls * (calls + 1) / 2) as f64;
+        assert_eq!(get(&wb, cell), n(sum), "{formula}: {:?}", problems_at(&wb, cell));
+    }
 }
 
 /// Evaluates the surface `formula` (`=x+…`, the rest 0) at 300 points through one evaluation

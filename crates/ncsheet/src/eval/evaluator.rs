@@ -114,6 +114,12 @@ pub trait Env {
         crate::eval::Locale::EN_US
     }
 
+    /// The work the LAMBDAs of MAP, REDUCE, … may do in one formula (the workbook's
+    /// `Settings::lambda_work`): [`MAX_LAMBDA_WORK`] unless a test asks for less.
+    fn lambda_work_limit(&self) -> u64 {
+        MAX_LAMBDA_WORK
+    }
+
     /// The language of the Excel that saved the workbook, when the file says and it is not
     /// English (a .xls's COUNTRY record): Excel reads CELL's info_type in it as well as in
     /// English (MS-OI29500 2.1.896). A language tag such as `fr`.
@@ -902,13 +908,15 @@ impl<'a> Ctx<'a> {
     }
 
     /// One more call of a LAMBDA by MAP, REDUCE, …: `#NUM!`, with the limit's note, once
-    /// their work has passed [`MAX_LAMBDA_WORK`].
+    /// their work has passed [`MAX_LAMBDA_WORK`] (or the smaller budget the workbook's
+    /// settings give, [`Env::lambda_work_limit`]).
     fn within_lambda_work(&mut self) -> XlResult<()> {
         let work = self.lambda_work.get() + 1;
         self.lambda_work.set(work);
-        if work > MAX_LAMBDA_WORK {
+        let limit = self.env.lambda_work_limit();
+        if work > limit {
             let why = format!(
-                "the LAMBDAs of MAP, REDUCE, SCAN, BYROW, BYCOL or MAKEARRAY did more than {MAX_LAMBDA_WORK} items of \
+                "the LAMBDAs of MAP, REDUCE, SCAN, BYROW, BYCOL or MAKEARRAY did more than {limit} items of \
                  work in one formula (ncsheet's limit: each call, and every array item made or read, cell read, 16 \
                  bytes of text made or read and step of a regression or matrix product inside them; an array \
                  grown item by item is copied at every step)"

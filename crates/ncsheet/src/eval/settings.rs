@@ -19,6 +19,10 @@ pub struct Settings {
     random: Cell<u64>,
     /// How much the workbook's own VBA Functions may run when its cells call them.
     pub functions: FunctionLimits,
+    /// The work the LAMBDAs of MAP, REDUCE, SCAN, BYROW, BYCOL and MAKEARRAY may do in one
+    /// formula; `None`: ncsheet's limit, `MAX_LAMBDA_WORK` (docs/limits.md). A smaller budget
+    /// lets a test show what is charged without doing 2^28 items of work.
+    pub lambda_work: Option<u64>,
 }
 
 /// The limits of the workbook's VBA Functions called from its cells: each call's, and all the
@@ -73,6 +77,11 @@ impl Settings {
     pub fn locale_in_force(&self, system: dates::DateSystem) -> super::Locale {
         let year = self.clock.filter(|c| c.is_finite()).map(|c| dates::ymd_from_serial(system, c.floor() as i64).0);
         self.locale.at_year(year.and_then(|y| i32::try_from(y).ok()))
+    }
+
+    /// The work the LAMBDAs of MAP, REDUCE, … may do in one formula (see [`Settings::lambda_work`]).
+    pub fn lambda_work_limit(&self) -> u64 {
+        self.lambda_work.unwrap_or(super::evaluator::MAX_LAMBDA_WORK)
     }
 
     /// The next number 0 ≤ x < 1 of the sequence, with 53 random bits (xorshift64*).

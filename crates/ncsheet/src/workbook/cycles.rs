@@ -278,6 +278,10 @@ impl Env for Probe<'_> {
         self.wb.settings.next_random()
     }
 
+    fn lambda_work_limit(&self) -> u64 {
+        self.wb.settings.lambda_work_limit()
+    }
+
     fn locale(&self) -> crate::eval::Locale {
         self.wb.settings.locale_in_force(self.wb.date_system())
     }

@@ -1068,6 +1068,10 @@ impl Env for Workbook {
         self.settings.next_random()
     }
 
+    fn lambda_work_limit(&self) -> u64 {
+        self.settings.lambda_work_limit()
+    }
+
     fn locale(&self) -> crate::eval::Locale {
         self.settings.locale_in_force(self.date_system())
     }

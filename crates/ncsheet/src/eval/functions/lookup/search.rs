@@ -1,6 +1,7 @@
 //! Lookup and reference functions. INDEX, CHOOSE (in logic) and XLOOKUP return references
 //! when given references, so that `SUM(A1:INDEX(A1:A9, n))` works as in Excel.
 
+use std::cell::Cell;
 use std::cmp::Ordering;
 use std::rc::Rc;
 
@@ -322,6 +323,34 @@ fn find_exact(key: &Value, items: &[Value], wildcards: bool, reverse: bool) -> O
     }
 }
 
+/// The items a search from the front (from the back when `reverse`) of `len` items looked at
+/// to find `found`: all of them when it found nothing.
+fn looked_at(found: Option<usize>, len: usize, reverse: bool) -> usize {
+    match found {
+        Some(i) if reverse => len - i,
+        Some(i) => i + 1,
+        None => len,
+    }
+}
+
+/// `order`, counting each item it compares in `looked`. A lookup charges what it looked at
+/// against the LAMBDA work budget (`Ctx::charge`): inside MAP's LAMBDA, a MATCH over an array
+/// bound outside it (`MAP(SEQUENCE(100000),LAMBDA(i,MATCH(i,big,0)))`) scans it at every call.
+fn counting<'a>(
+    looked: &'a Cell<usize>,
+    order: fn(&Value, &Value) -> Option<Ordering>,
+) -> impl Fn(&Value, &Value) -> Option<Ordering> + 'a {
+    move |a, b| {
+        looked.set(looked.get() + 1);
+        order(a, b)
+    }
+}
+
+/// Adds `work` to the items `looked` counts.
+fn add(looked: &Cell<usize>, work: usize) {
+    looked.set(looked.get().saturating_add(work));
+}
+
 /// Excel's approximate search on data sorted by `order` (ascending for MATCH 1 and
 /// VLOOKUP, reversed for MATCH -1): a binary search for the last item not after the key.
 /// Items of another kind are stepped over, as Excel does, so a sorted column with a
@@ -390,17 +419,22 @@ fn match_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         Some(e) => to_number(&ctx.eval(e), dates)?,
     };
     let items = line_of(&haystack).ok_or(XlError::NA)?;
-    lift_values(&[key], &|v| {
+    let looked = Cell::new(0);
+    let found = lift_values(&[key], &|v| {
         let key = lookup_key(&v[0])?;
         let found = if match_type == 0.0 {
-            find_exact(&key, items, true, false)
+            let found = find_exact(&key, items, true, false);
+            add(&looked, looked_at(found, items.len(), false));
+            found
         } else if match_type > 0.0 {
-            binary_search_last_not_after(&key, items, ascending)
+            binary_search_last_not_after(&key, items, counting(&looked, ascending))
         } else {
-            binary_search_last_not_after(&key, items, descending)
+            binary_search_last_not_after(&key, items, counting(&looked, descending))
         };
         found.map(|i| Value::Number(i as f64 + 1.0)).ok_or(XlError::NA)
-    })
+    });
+    ctx.charge(looked.get());
+    found
 }
 
 /// The value a lookup searches for; an error is the result, an empty cell looks for 0
@@ -440,12 +474,16 @@ fn table_lookup(ctx: &mut Ctx, args: &[Expr], by_row: bool) -> XlResult<Value> {
     let approximate = approximate_flag(ctx, args.get(3))?;
     let dates = ctx.dates();
     let table = table.map(|t| TableLookup::new(t, by_row));
+    // Its first column (row) is copied, and each key's search counted.
+    let looked = Cell::new(table.as_ref().map_or(0, |t| t.keys.len()));
     // An array of columns returns each (`SUM(VLOOKUP(x,T,{2,3},0))`), as in Excel.
-    lift_values(&[key, offset], &|v| {
+    let found = lift_values(&[key, offset], &|v| {
         let key = lookup_key(&v[0])?;
         let table = table.as_ref().map_err(|e| *e)?;
-        table.find(&key, &v[1], approximate, dates)
-    })
+        table.find(&key, &v[1], approximate, dates, &looked)
+    });
+    ctx.charge(looked.get());
+    found
 }
 
 /// A VLOOKUP or HLOOKUP table with its first column (row) read once for every key.
@@ -471,7 +509,16 @@ impl TableLookup {
         }
     }
 
-    fn find(&self, key: &Value, offset: &Value, approximate: bool, dates: DateSystem) -> XlResult<Value> {
+    /// The item at `offset` in the line `key` is found on; the items the search looked at
+    /// are added to `looked`.
+    fn find(
+        &self,
+        key: &Value,
+        offset: &Value,
+        approximate: bool,
+        dates: DateSystem,
+        looked: &Cell<usize>,
+    ) -> XlResult<Value> {
         let offset = to_number(offset, dates)?.trunc();
         let width = if self.by_row { self.table.rows } else { self.table.cols };
         if offset < 1.0 {
@@ -481,9 +528,11 @@ impl TableLookup {
             return Err(XlError::Ref);
         }
         let found = if approximate {
-            binary_search_last_not_after(key, &self.keys, ascending)
+            binary_search_last_not_after(key, &self.keys, counting(looked, ascending))
         } else {
-            find_exact(key, &self.keys, true, false)
+            let found = find_exact(key, &self.keys, true, false);
+            add(looked, looked_at(found, self.keys.len(), false));
+            found
         };
         let i = found.ok_or(XlError::NA)?;
         Ok(self.at(i, offset as usize - 1).clone())
@@ -545,16 +594,20 @@ fn xlookup_operand(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Operand> {
     }
     let items = &lookup.values.data;
     let not_found = args.get(3).filter(|e| e.kind != ExprKind::Missing);
+    let looked = Cell::new(0);
     if let Value::Array(_) = key {
         // One lookup per key; each result must be a single item.
         let fallback = not_found.map(|e| ctx.eval(e));
-        let picked = lift_values(&[key], &|v| match mode.find(&v[0], items)? {
+        let picked = lift_values(&[key], &|v| match mode.find(&v[0], items, &looked)? {
             Some(i) => Ok(result_line(&result, i, vertical).unwrap_single()),
             None => fallback.clone().ok_or(XlError::NA),
-        })?;
-        return Ok(Operand::Value(picked));
+        });
+        ctx.charge(looked.get());
+        return Ok(Operand::Value(picked?));
     }
-    match mode.find(&key, items)? {
+    let found = mode.find(&key, items, &looked);
+    ctx.charge(looked.get());
+    match found? {
         Some(i) => Ok(match result.place {
             Some((sheet, rect)) => {
                 let (rows, cols) = line_span(&result, i, vertical);
@@ -597,25 +650,28 @@ impl XMode {
         Ok(XMode { fallback, wildcards, regex, search })
     }
 
-    /// The position of `key` in `items`.
-    fn find(&self, key: &Value, items: &[Value]) -> XlResult<Option<usize>> {
+    /// The position of `key` in `items`; the items looked at are added to `looked`.
+    fn find(&self, key: &Value, items: &[Value], looked: &Cell<usize>) -> XlResult<Option<usize>> {
         let reverse = self.search < 0;
         if key.is_blank() {
             // An empty lookup value finds the first (or last) empty cell, whatever the
             // match mode (Excel: `XLOOKUP(, A:A, B:B,, 1, 2)` returns the first blank row).
             let blank =
                 if reverse { items.iter().rposition(Value::is_blank) } else { items.iter().position(Value::is_blank) };
+            add(looked, looked_at(blank, items.len(), reverse));
             if blank.is_some() {
                 return Ok(blank);
             }
         }
         if self.regex {
-            return regex_position(key, items, reverse);
+            let found = regex_position(key, items, reverse);
+            add(looked, looked_at(found.clone().ok().flatten(), items.len(), reverse));
+            return found;
         }
         let key = lookup_key(key)?;
         Ok(match self.search {
-            2 | -2 => xlookup_binary(&key, items, self.fallback, reverse),
-            _ => xlookup_linear(&key, items, self.fallback, self.wildcards, reverse),
+            2 | -2 => xlookup_binary(&key, items, self.fallback, reverse, looked),
+            _ => xlookup_linear(&key, items, self.fallback, self.wildcards, reverse, looked),
         })
     }
 }
@@ -635,10 +691,13 @@ fn xmatch(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let haystack = grid_of_expr(ctx, &args[1])?;
     let mode = XMode::read(ctx, args, 2)?;
     let items = line_of(&haystack).ok_or(XlError::Value)?;
-    lift_values(&[key], &|v| {
-        let i = mode.find(&v[0], items)?.ok_or(XlError::NA)?;
+    let looked = Cell::new(0);
+    let found = lift_values(&[key], &|v| {
+        let i = mode.find(&v[0], items, &looked)?.ok_or(XlError::NA)?;
         Ok(Value::Number(i as f64 + 1.0))
-    })
+    });
+    ctx.charge(looked.get());
+    found
 }
 
 /// LOOKUP's vector form (value, lookup_vector, result_vector) and array form (value,
@@ -661,11 +720,15 @@ fn lookup_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
             (0..table.rows).map(|r| table.get(r, table.cols - 1).clone()).collect(),
         ),
     };
-    lift_values(&[key], &|v| {
+    // The keys and results are copied, and each key's search counted.
+    let looked = Cell::new(keys.len() + results.len());
+    let found = lift_values(&[key], &|v| {
         let key = lookup_key(&v[0])?;
-        let i = binary_search_last_not_after(&key, &keys, ascending).ok_or(XlError::NA)?;
+        let i = binary_search_last_not_after(&key, &keys, counting(&looked, ascending)).ok_or(XlError::NA)?;
         results.get(i).cloned().ok_or(XlError::NA)
-    })
+    });
+    ctx.charge(looked.get());
+    found
 }
 
 /// The row (vertical lookup) or column of the return source at position `i`.
@@ -699,13 +762,20 @@ fn result_line(result: &Source, i: usize, vertical: bool) -> Value {
 
 /// XLOOKUP's linear search: the first (or last) exact match, else the closest item on
 /// the wanted side, preferring the first found among equals.
-fn xlookup_linear(key: &Value, items: &[Value], fallback: Fallback, wildcards: bool, reverse: bool) -> Option<usize> {
-    if let Some(i) = find_exact(key, items, wildcards, reverse) {
-        return Some(i);
+fn xlookup_linear(
+    key: &Value,
+    items: &[Value],
+    fallback: Fallback,
+    wildcards: bool,
+    reverse: bool,
+    looked: &Cell<usize>,
+) -> Option<usize> {
+    let exact = find_exact(key, items, wildcards, reverse);
+    add(looked, looked_at(exact, items.len(), reverse));
+    if exact.is_some() || fallback == Fallback::None {
+        return exact;
     }
-    if fallback == Fallback::None {
-        return None;
-    }
+    add(looked, items.len());
     let mut best: Option<usize> = None;
     let order: Box<dyn Iterator<Item = usize>> =
         if reverse { Box::new((0..items.len()).rev()) } else { Box::new(0..items.len()) };
@@ -742,10 +812,19 @@ fn xlookup_order(a: &Value, b: &Value) -> Option<Ordering> {
 /// searched as the ascending sequence read backwards). Among equal items it finds the
 /// first in ascending order, as Excel does: with duplicates, `2` finds the first and `-2`
 /// the last of them.
-fn xlookup_binary(key: &Value, items: &[Value], fallback: Fallback, reverse: bool) -> Option<usize> {
+fn xlookup_binary(
+    key: &Value,
+    items: &[Value],
+    fallback: Fallback,
+    reverse: bool,
+    looked: &Cell<usize>,
+) -> Option<usize> {
     let n = items.len();
     let original = |i: usize| if reverse { n - 1 - i } else { i };
-    let order = |i: usize| xlookup_order(&items[original(i)], key);
+    let order = |i: usize| {
+        add(looked, 1);
+        xlookup_order(&items[original(i)], key)
+    };
     let bound = lower_bound(n, order);
     let at_or_after = (bound..n).find(|&i| order(i).is_some());
     if let Some(i) = at_or_after.filter(|&i| order(i) == Some(Ordering::Equal)) {
