@@ -1,4 +1,8 @@
 //! Chamfer and 5-axis head built-ins checked against docs/domain.md's tables and exact geometry.
+//!
+//! The property tests run from the fixed seed of `common::fuzz`.
+
+mod common;
 
 use nalgebra::{Point3, Vector3};
 use ncsheet::eval::testing::MapEnv;
@@ -75,6 +79,8 @@ fn distance_to_line(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
 }
 
 proptest! {
+    #![proptest_config(common::fuzz::with_regressions(256))]
+
     #[test]
     fn outer_equals_the_paper_at_every_angle(alpha in 0.5f64..89.5, r in 0.0f64..2.0, ea in 0.0f64..5.0, eb in 0.0f64..5.0) {
         let (d, f) = (200.0, 1.5);

@@ -1,5 +1,9 @@
 //! Each dialect against programs written by hand from the control's documented syntax
 //! (tests/nc/<dialect>/*.nc), plus a round-trip property of the number formatter.
+//!
+//! The property runs from the fixed seed of `common::fuzz`.
+
+mod common;
 
 use ncsheet::nc::dialect::{self, Dialect};
 use ncsheet::nc::{
@@ -269,6 +273,8 @@ fn first_x(text: &str) -> f64 {
 }
 
 proptest! {
+    #![proptest_config(common::fuzz::with_regressions(256))]
+
     #[test]
     fn coordinates_round_trip_to_the_dialect_resolution(v in -5000.0f64..5000.0, which in 0usize..5) {
         let d: &dyn Dialect = dialect::all()[which];

@@ -174,7 +174,7 @@ fn program(machine: Machine, steps: &[(u8, f64, f64, f64, bool)], comment: &str,
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+    #![proptest_config(common::fuzz::with_regressions(256))]
 
     /// Every program a dialect writes (the writer may refuse: NC31 arcs, lathes in plain
     /// language) reads back and is written again to the same text.

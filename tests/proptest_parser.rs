@@ -6,6 +6,10 @@
 //! `parse_formula` returns without panicking; an error renders; an accepted formula
 //! evaluates without panicking, prints, and the printed text parses to the same tree
 //! (source spans aside).
+//!
+//! The cases come from the fixed seed of `common::fuzz` (the seed is named when one fails).
+
+mod common;
 
 use ncsheet::eval::functions::Registry;
 use ncsheet::eval::testing::MapEnv;
@@ -270,7 +274,7 @@ fn valid_formula() -> impl Strategy<Value = String> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 1000, ..ProptestConfig::default() })]
+    #![proptest_config(common::fuzz::with_regressions(1000))]
 
     #[test]
     fn arbitrary_strings_never_panic(text in any::<String>(), at in at()) {

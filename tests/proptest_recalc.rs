@@ -5,6 +5,10 @@
 //! edit each cell must hold what a fresh workbook built from the same inputs and
 //! recalculated once holds — errors included; with a circular reference, whose cells keep
 //! their last calculated values as in Excel, a cycle in both.
+//!
+//! The cases come from the fixed seed of `common::fuzz` (the seed is named when one fails).
+
+mod common;
 
 use ncsheet::eval::Value;
 use ncsheet::formula::address::{column_name, MAX_COLS, MAX_ROWS};
@@ -134,7 +138,7 @@ fn check(wb: &Workbook, inputs: &[Vec<String>]) -> Result<(), TestCaseError> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
+    #![proptest_config(common::fuzz::with_regressions(200))]
 
     #[test]
     fn incremental_edits_match_a_fresh_recalculation(
@@ -215,7 +219,7 @@ mod same_shape {
     }
 
     proptest! {
-        #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+        #![proptest_config(common::fuzz::with_regressions(64))]
 
         #[test]
         fn copies_with_other_numbers_read_and_compute_as_if_parsed_alone(
