@@ -260,3 +260,52 @@ fn a_fit_past_its_work_limit_is_num_naming_it() {
     let Value::Number(slope) = v else { panic!("{v:?}") };
     assert!((slope - 2.0).abs() < 1e-9, "{slope}");
 }
+
+// ---------------------------------------------------------------------------------------
+// Unclear errors: relationships and attributes that calamine refuses without naming a part
+
+#[test]
+fn damaged_relationships_and_entities_in_attributes_name_their_part() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = book(dir.path(), "spoiled.xlsx", "", "0.00");
+    let package = std::fs::read(&file).unwrap();
+    let cut = |t: &str| t[..t.len() - 40].to_string();
+    type Spoil<'a> = &'a dyn Fn(&str) -> String;
+    let probes: [(&str, Spoil, &str); 5] = [
+        ("xl/styles.xml", &|t| t.replace(r#"formatCode="0.00""#, r#"formatCode="&nope;""#), "unknown entity &nope;"),
+        ("xl/workbook.xml", &|t| t.replace(r#"name="Sheet1""#, r#"name="&zz;""#), "unknown entity &zz;"),
+        ("xl/_rels/workbook.xml.rels", &|t| t.replace("worksheets/sheet1.xml", "&q;"), "unknown entity &q;"),
+        ("xl/_rels/workbook.xml.rels", &cut, "the XML is not well-formed"),
+        ("_rels/.rels", &cut, "the XML is not well-formed"),
+    ];
+    for (target, spoil, says) in probes {
+        let mut change = |part: &str, bytes: Vec<u8>| {
+            if part == target {
+                spoil(std::str::from_utf8(&bytes).unwrap()).into_bytes()
+            } else {
+                bytes
+            }
+        };
+        let options = zip::write::SimpleFileOptions::default();
+        let spoiled = common::xlsx::rewrite_package(&package, options, &mut change).finish().unwrap().into_inner();
+        std::fs::write(&file, spoiled).unwrap();
+        let e = ncsheet::io::load(&file).err().map(|e| e.to_string()).unwrap_or_default();
+        assert!(e.contains(&format!("{target}: ")) && e.contains(says), "{target}: {e}");
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Runaway: UNIQUE compared every row with every distinct row before it
+
+#[test]
+fn unique_is_not_quadratic_in_its_rows() {
+    // A million distinct rows: half a million million comparisons before (100,000 took 27 s).
+    let (v, _, took) = common::sheet::eval_a1("=ROWS(UNIQUE(SEQUENCE(1000000)))");
+    assert_eq!(v, Value::Number(1e6));
+    assert!(took.as_secs() < 20, "{took:?}");
+    // Rows equal as `=` finds them: text without regard to case, 1 apart from "1" and TRUE.
+    let count = |f: &str| common::sheet::eval_a1(f).0;
+    assert_eq!(count(r#"=ROWS(UNIQUE({"a";"A";"É";"é";1;TRUE;"1";1}))"#), Value::Number(5.0));
+    assert_eq!(count(r#"=ROWS(UNIQUE({"a";"A";"b"},,TRUE))"#), Value::Number(1.0));
+    assert_eq!(count(r#"=COLUMNS(UNIQUE({1,"x",1,"X",2},TRUE))"#), Value::Number(3.0));
+}

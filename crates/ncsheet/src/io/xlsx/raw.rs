@@ -185,12 +185,16 @@ impl<'a> Package<'a> {
 
     /// The relationships of a part: id → (target part, type's last segment).
     fn relationships(&mut self, part: &str) -> Result<Vec<(String, String, String)>, Err> {
-        let (dir, file) = part.rsplit_once('/').unwrap_or(("", part));
-        let rels_part = if dir.is_empty() { format!("_rels/{file}.rels") } else { format!("{dir}/_rels/{file}.rels") };
+        let dir = part.rsplit_once('/').map_or("", |(dir, _)| dir);
+        let rels_part = relationships_part(part);
         let Some(bytes) = self.read_optional(&rels_part)? else { return Ok(Vec::new()) };
         let mut out = Vec::new();
+        let mut unknown_entity = None;
         for_each_tag(&bytes, &mut |tag, _| {
             if tag.name == b"Relationship" {
+                // `Target="&q;"` would be looked for as a part of that name.
+                unknown_entity =
+                    unknown_entity.take().or_else(|| tag.attrs().find_map(|(_, v)| super::xml::unknown_entity(v)));
                 let id = tag.attr("Id").map(unescape).unwrap_or_default();
                 let target = tag.attr("Target").map(|v| resolve(dir, &unescape(v))).unwrap_or_default();
                 let kind = tag.attr("Type").map(unescape).unwrap_or_default();
@@ -198,7 +202,14 @@ impl<'a> Package<'a> {
                 out.push((id, target, kind));
             }
         });
-        Ok(out)
+        match unknown_entity {
+            Some(name) => Err((
+                Some(rels_part),
+                ErrorKind::Damaged,
+                format!("the XML is not well-formed: unknown entity &{name};"),
+            )),
+            None => Ok(out),
+        }
     }
 
     fn read_workbook(&mut self, text: &str, rels: &[(String, String, String)]) -> Result<(), Err> {
@@ -319,6 +330,14 @@ impl<'a> Package<'a> {
             std::io::copy(&mut entry, &mut std::io::sink()).map_err(|e| zip_error(Some(&name), ZipError::Io(e)))?;
         }
         Ok(())
+    }
+}
+
+/// The part holding `part`'s relationships (`xl/_rels/workbook.xml.rels`).
+pub fn relationships_part(part: &str) -> String {
+    match part.rsplit_once('/') {
+        Some((dir, file)) => format!("{dir}/_rels/{file}.rels"),
+        None => format!("_rels/{part}.rels"),
     }
 }
 

@@ -304,9 +304,12 @@ fn shared_strings(package: &mut Package, file: &Path) -> Result<Vec<Rc<str>>, Xl
 }
 
 /// When calamine cannot open the workbook, the workbook-level part whose XML is broken, so
-/// the error names it (calamine's own does not).
+/// the error names it (calamine's own does not): the package's and the workbook's
+/// relationships first, then the workbook and the parts they name.
 fn damaged_workbook_part(package: &mut Package, file: &Path) -> Option<XlsxError> {
-    for part in package.workbook_parts.clone() {
+    let workbook = package.workbook_parts.first().cloned().unwrap_or_else(|| "xl/workbook.xml".into());
+    let relationships = ["_rels/.rels".to_string(), raw::relationships_part(&workbook)];
+    for part in relationships.into_iter().chain(package.workbook_parts.clone()) {
         let Ok(entry) = package.entry(&part) else { continue };
         if let Err(e) = crate::io::xlsx::xml::stream(entry, &mut defined_entities_only) {
             return Some(stream_error(file, &part, e));
@@ -315,15 +318,17 @@ fn damaged_workbook_part(package: &mut Package, file: &Path) -> Option<XlsxError
     None
 }
 
-/// A text event's entities are XML's own: `&bogus;` is not well-formed, as Excel and calamine
-/// (whose message names no part) hold too.
+/// A text event's and an attribute value's entities are XML's own: `&bogus;` is not
+/// well-formed, as Excel and calamine (whose message names no part) hold too.
 fn defined_entities_only(event: Event) -> Result<(), ScanError> {
-    match event {
-        Event::Text(text) => match super::xml::unknown_entity(text) {
-            Some(name) => Err((ErrorKind::Damaged, format!("the XML is not well-formed: unknown entity &{name};"))),
-            None => Ok(()),
-        },
-        _ => Ok(()),
+    let unknown = match event {
+        Event::Text(text) => super::xml::unknown_entity(text),
+        Event::Tag(tag) => tag.attrs().find_map(|(_, value)| super::xml::unknown_entity(value)),
+        Event::CData(_) => None,
+    };
+    match unknown {
+        Some(name) => Err((ErrorKind::Damaged, format!("the XML is not well-formed: unknown entity &{name};"))),
+        None => Ok(()),
     }
 }
 

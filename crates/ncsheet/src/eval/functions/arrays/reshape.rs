@@ -4,6 +4,7 @@
 //! blanks included) and returns a new array that spills.
 
 use std::cmp::Ordering;
+use std::collections::hash_map::{Entry, HashMap};
 use std::rc::Rc;
 
 use crate::eval::coerce::{compare_text, to_bool, to_number};
@@ -363,15 +364,56 @@ fn unique(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let by_col = bool_or(ctx, args, 1, false)?;
     let exactly_once = bool_or(ctx, args, 2, false)?;
     by_rows_or_cols(&a, by_col, |rows| {
+        // Each row is found among the distinct ones by its key, so a million rows take a
+        // million look-ups, not half a million million comparisons (100,000 rows took 27 s).
         let mut distinct: Vec<(Vec<Value>, usize)> = Vec::new();
+        let mut by_key: HashMap<Vec<ItemKey>, usize> = HashMap::new();
         for row in rows {
-            match distinct.iter_mut().find(|(r, _)| same_row(r, &row)) {
-                Some((_, count)) => *count += 1,
+            let found = match row.iter().map(item_key).collect::<Option<Vec<_>>>() {
+                Some(key) => match by_key.entry(key) {
+                    Entry::Occupied(e) => Some(*e.get()),
+                    Entry::Vacant(e) => {
+                        e.insert(distinct.len());
+                        None
+                    }
+                },
+                None => distinct.iter().position(|(r, _)| same_row(r, &row)),
+            };
+            match found {
+                Some(i) => distinct[i].1 += 1,
                 None => distinct.push((row, 1)),
             }
         }
         let kept = distinct.into_iter().filter(|(_, count)| !exactly_once || *count == 1).map(|(r, _)| r).collect();
         Ok(kept)
+    })
+}
+
+/// An item as [`same_row`] compares it, hashable: text folded to lower case as
+/// `compare_text` folds it, a number by its value (0 and -0 alike).
+#[derive(PartialEq, Eq, Hash)]
+enum ItemKey {
+    Blank,
+    Number(u64),
+    Bool(bool),
+    Text(String),
+    Error(XlError),
+    Null,
+}
+
+/// `None` for what has no key (NaN, a LAMBDA or an array as an item): such a row is
+/// compared with each distinct row in turn.
+fn item_key(v: &Value) -> Option<ItemKey> {
+    Some(match v {
+        Value::Blank => ItemKey::Blank,
+        Value::Number(n) if n.is_nan() => return None,
+        Value::Number(n) => ItemKey::Number(if *n == 0.0 { 0 } else { n.to_bits() }),
+        Value::Bool(b) => ItemKey::Bool(*b),
+        Value::Text(s) if s.is_ascii() => ItemKey::Text(s.to_ascii_lowercase()),
+        Value::Text(s) => ItemKey::Text(s.chars().flat_map(char::to_lowercase).collect()),
+        Value::Error(e) => ItemKey::Error(*e),
+        Value::Null => ItemKey::Null,
+        Value::Array(_) | Value::Lambda(_) => return None,
     })
 }
 
