@@ -895,8 +895,8 @@ fn variant_arithmetic_keeps_integer_types_and_widens_past_their_range() {
             "Long 32768 Integer Double",
         ]
     );
-    let e = run_with("Sub Main()\n    Dim a As Integer\n    a = 200\n    v = a * 200\nEnd Sub\n", &RunOptions::default())
-        .unwrap_err();
+    let declared = "Sub Main()\n    Dim a As Integer\n    a = 200\n    v = a * 200\nEnd Sub\n";
+    let e = run_with(declared, &RunOptions::default()).unwrap_err();
     assert!(e.message.contains("Overflow (run-time error 6)"), "{e}");
 }
 
@@ -907,8 +907,8 @@ fn variant_arithmetic_keeps_integer_types_and_widens_past_their_range() {
 // text (CStr, Str, Format) or comparisons.
 #[test]
 fn a_number_keeps_its_type_through_calls_and_conversions() {
-    let module = "Function Seven()\n    Seven = 7\nEnd Function\nFunction Kind(p)\n    Kind = TypeName(p)\nEnd Function\n\
-                  Sub Twice(ByRef p)\n    p = p * 2\nEnd Sub\n";
+    let module = "Function Seven()\n    Seven = 7\nEnd Function\n\
+                  Function Kind(p)\n    Kind = TypeName(p)\nEnd Function\nSub Twice(ByRef p)\n    p = p * 2\nEnd Sub\n";
     let out = printed_in(
         module,
         "    Dim v, w\n    v = Seven()\n    w = 20000\n    Twice w\n\
@@ -926,4 +926,21 @@ fn a_number_keeps_its_type_through_calls_and_conversions() {
             "Long Long Double",
         ]
     );
+}
+
+// "Type conversion functions": CByte gives a Byte (0 to 255), CSng a Single (±3.402823E38),
+// CCur a Currency (four decimal places, ±922,337,203,685,477.5807); a value past the type's
+// range is run-time error 6, Overflow ("VarType function": vbSingle 4, vbCurrency 6, vbByte 17).
+#[test]
+fn cbyte_csng_and_ccur_give_their_types() {
+    let out = printed_in(
+        "",
+        "    Dim v\n    v = CByte(200.5)\n\
+         \x20   Debug.Print TypeName(v); v; TypeName(CSng(1.5)); CSng(1.5); TypeName(CCur(1.23456)); CCur(1.23456)\n\
+         \x20   Debug.Print VarType(CByte(1)); VarType(CSng(1)); VarType(CCur(1)); TypeName(v + 100)\n\
+         \x20   On Error Resume Next\n    v = CByte(256)\n    Debug.Print Err.Number;\n    Err.Clear\n    v = CByte(-1)\n\
+         \x20   Debug.Print Err.Number;\n    Err.Clear\n    v = CCur(1E+16)\n    Debug.Print Err.Number;\n    Err.Clear\n\
+         \x20   v = CSng(1E+39)\n    Debug.Print Err.Number",
+    );
+    assert_eq!(out, ["Byte 200 Single 1.5 Currency 1.2346 ", " 17  4  6 Integer", " 6  6  6  6 "]);
 }

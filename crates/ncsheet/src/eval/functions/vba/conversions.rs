@@ -1,5 +1,5 @@
-//! VBA's conversions and constructors beyond the first set: `Hex`, `Oct`, `CLngLng`,
-//! `String`, `StrReverse`, `Replace` with its start, count and compare, `DateSerial`,
+//! VBA's conversions and constructors beyond the first set: `Hex`, `Oct`, `CLngLng`, `CByte`,
+//! `CSng`, `CCur`, `String`, `StrReverse`, `Replace` with its start, count and compare, `DateSerial`,
 //! `TimeSerial`, `Date`, `Time`, `Date$`, `Time$`, the Mid statement, and the `$` forms of the
 //! functions that pass Null. The rules are the "Runtime Semantics" of [MS-VBAL] section 6
 //! (the VBA standard library) and the Office VBA language reference's pages of the same names.
@@ -62,6 +62,43 @@ impl Raised {
     fn whole(&self, v: &Value, limit: f64) -> XlResult<f64> {
         whole_in(v, limit)?.ok_or_else(|| self.set(6, "a number past the range of its type"))
     }
+}
+
+/// `CByte(value)` ("Type conversion functions"): a whole number 0 to 255, halves to even;
+/// past that run-time error 6, Overflow.
+pub(super) fn cbyte(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    converted(ctx, args, "CByte", &|n| Some(n.round_ties_even()).filter(|r| (0.0..=255.0).contains(r)))
+}
+
+/// `CSng(value)` ("Type conversion functions"): a number within a Single's range,
+/// -3.402823E38 to 3.402823E38, else Overflow. Its value is kept as the double given: the
+/// macro language computes a Single as a Double.
+pub(super) fn csng(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    converted(ctx, args, "CSng", &|n| Some(n).filter(|n| n.abs() <= f64::from(f32::MAX)))
+}
+
+/// `CCur(value)` ("Type conversion functions", "Currency data type"): the number to four
+/// decimal places, halves to even, within -922,337,203,685,477.5808 to 922,337,203,685,477.5807,
+/// else Overflow.
+pub(super) fn ccur(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    const CURRENCY_END: f64 = 922_337_203_685_477.5808;
+    let four_places = |n: f64| (n * 10_000.0).round_ties_even() / 10_000.0;
+    converted(ctx, args, "CCur", &|n| Some(four_places(n)).filter(|r| (-CURRENCY_END..CURRENCY_END).contains(r)))
+}
+
+/// A value Let-coerced to a number ([MS-VBAL] 5.5.1.2.1: True is -1, Empty 0) and made the
+/// type's by `fit`, which gives `None` past the type's range: run-time error 6.
+fn converted(ctx: &mut Ctx, args: &[Expr], name: &str, fit: &dyn Fn(f64) -> Option<f64>) -> XlResult<Value> {
+    let raised = Raised::default();
+    let result = lift_vba(ctx, args, name, NO_NULL, &|v| {
+        let n = match &v[0] {
+            Value::Bool(b) => -f64::from(u8::from(*b)),
+            Value::Blank => 0.0,
+            other => to_number(other, VBA_DATES)?,
+        };
+        fit(n).map(Value::Number).ok_or_else(|| raised.set(6, "a number past the range of its type"))
+    });
+    raised.raise(ctx, name, result)
 }
 
 /// `Hex(number)` and `Oct(number)` ([MS-VBAL] section 6, its pages "Hex" and "Oct"): Null gives

@@ -234,6 +234,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "VBA.CLNGLNG(value)",
         "VBA CLngLng: whole number, halves to even, 64 bits",
     ),
+    FnSpec::value("VBA.CBYTE", 1, 1, conversions::cbyte, "VBA.CBYTE(value)", "VBA CByte: whole number 0 to 255"),
+    FnSpec::value("VBA.CSNG", 1, 1, conversions::csng, "VBA.CSNG(value)", "VBA CSng: number as a Single"),
+    FnSpec::value("VBA.CCUR", 1, 1, conversions::ccur, "VBA.CCUR(value)", "VBA CCur: number to 4 decimal places"),
     FnSpec::value(
         "VBA.STRING",
         2,
