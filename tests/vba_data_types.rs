@@ -179,3 +179,18 @@ fn a_worksheet_passes_as_an_argument() {
     );
     assert_eq!(out, ["z"]);
 }
+
+// "UBound function" and "LBound function" take the array, whatever gives it: "Split
+// function" returns "a zero-based, one-dimensional array", so `UBound(Split("a,b,c", ","))`
+// is 2; a Function's array keeps the bounds it was given, and a Collection's item the bounds
+// it was added with.
+#[test]
+fn ubound_and_lbound_of_an_array_an_expression_gives() {
+    let module = "Function Pair()\n    Dim t(3 To 4)\n    Pair = t\nEnd Function\n";
+    let out = printed(
+        module,
+        "    Dim c As New Collection\n    c.Add Array(4, 5, 6)\n\
+         \x20   Debug.Print UBound(Split(\"a,b,c\", \",\")); LBound(Pair()); UBound(Pair()); UBound(c(1))",
+    );
+    assert_eq!(out, [" 2  3  4  2 "]);
+}

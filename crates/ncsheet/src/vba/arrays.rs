@@ -194,7 +194,7 @@ impl Interp<'_, '_> {
         }
     }
 
-    pub fn bound(&self, ctx: &mut Ctx, upper: bool, name: &str, dim: Option<&Expr>, span: Span) -> Run<Value> {
+    pub fn bound(&self, ctx: &mut Ctx, upper: bool, of: &Expr, dim: Option<&Expr>, span: Span) -> Run<Value> {
         let d = match dim {
             Some(e) => {
                 let v = ctx.eval(e);
@@ -203,7 +203,16 @@ impl Interp<'_, '_> {
             }
             None => 1,
         };
-        let Some(Var::Array(a)) = self.lookup(name) else {
+        // A variable's array, or the one a call, an item or a library function gives
+        // (`UBound(Split(s, ","))`, `UBound(c(1))`), with its own bounds.
+        let (name, array): (&str, Option<Var>) = match &of.kind {
+            ExprKind::Name(n) => (n, self.lookup(n)),
+            _ => match self.indexed_base(of)? {
+                Var::Value(v @ Value::Array(_)) => ("the value", Some(super::value::array_var(v, self.module.base))),
+                other => ("the value", Some(other)),
+            },
+        };
+        let Some(Var::Array(a)) = array else {
             return Err(self.fault_at(span, format!("{name} is not an array")));
         };
         let (lower, len) = match (a.dims, d) {

@@ -377,8 +377,9 @@ pub enum Node {
     Path(Path),
     /// `a(i)`: an element of an array variable.
     Element { var: Rc<str>, index: Vec<Expr>, span: Span },
-    /// `UBound(a, 1)` and `LBound(a)`, which need the variable's bounds.
-    Bound { upper: bool, var: Rc<str>, dim: Option<Expr>, span: Span },
+    /// `UBound(a, 1)`, `LBound(a)`, `UBound(Split(s, ","))`: the bounds of the array a
+    /// variable holds, or of the one an expression gives (a Function's, an item's, Split's).
+    Bound { upper: bool, of: Expr, dim: Option<Expr>, span: Span },
     /// `[B3]`, `[Sheet2!A1:C4]`, `[D]`: formula text evaluated as in a cell (no macro variables).
     Evaluate { expr: Expr, span: Span },
     /// `object Is Nothing` (`other` is `None`) or `object Is other`: the same object or not.

@@ -255,8 +255,8 @@ impl Interp<'_, '_> {
                 self.operand_of(obj, path.span)
             }
             Node::Element { var, index, span } => self.element(ctx, var, index, *span),
-            Node::Bound { upper, var, dim, span } => {
-                self.bound(ctx, *upper, var, dim.as_ref(), *span).map(Operand::Value)
+            Node::Bound { upper, of, dim, span } => {
+                self.bound(ctx, *upper, of, dim.as_ref(), *span).map(Operand::Value)
             }
             Node::Evaluate { expr, .. } => Ok(Ctx::new(self, self.unqualified_sheet(), Pos::new(0, 0)).operand(expr)),
             Node::Is { object, other, .. } => {

@@ -509,9 +509,9 @@ impl Build<'_> {
 
     fn bound(&self, pair: &Pair<Rule>, link: &Link, upper: bool, end: usize) -> Res<Expr> {
         let args = link.args.as_deref().unwrap_or(&[]);
-        let var = match args.first().map(|a| &a.value.kind) {
-            Some(ExprKind::Name(n)) if args.len() <= 2 => n.clone(),
-            _ => return Err(self.error_at(pair, format!("{}(array, [dimension]) needs an array variable", link.name))),
+        let of = match args.first() {
+            Some(a) if args.len() <= 2 && a.name.is_none() && a.value.kind != ExprKind::Missing => a.value.clone(),
+            _ => return Err(self.error_at(pair, format!("{}(array, [dimension]) needs an array", link.name))),
         };
         let dim = args.get(1).map(|a| a.value.clone());
         let at = start(pair);
