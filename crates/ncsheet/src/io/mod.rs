@@ -325,7 +325,7 @@ pub fn open_bytes_limited(
         }
         Format::Xls | Format::Xlsb | Format::Ods => {
             let kind = format.legacy().expect("a read-only format");
-            let imported = legacy::load(&bytes, path, kind)?;
+            let imported = legacy::load(&bytes, path, kind, limits)?;
             Ok(Opened::imported(imported, Origin::Legacy(path.to_path_buf(), kind)))
         }
     }

@@ -19,6 +19,7 @@ use crate::eval::Value;
 use crate::formula::address::{column_name, Rect};
 use crate::workbook::Visibility;
 
+use super::limits::ReadLimits;
 use super::xlsx::{self, Imported};
 use super::{Error, ErrorKind};
 
@@ -91,14 +92,16 @@ pub struct Name {
     pub sheet: Option<usize>,
 }
 
-/// Reads a file of `kind` into a recalculated workbook through the xlsx importer.
-pub fn load(bytes: &[u8], path: &Path, kind: Kind) -> Result<Imported, Error> {
+/// Reads a file of `kind` into a recalculated workbook through the xlsx importer; the parts
+/// of an .xlsb inflate within `limits`.
+pub fn load(bytes: &[u8], path: &Path, kind: Kind, limits: ReadLimits) -> Result<Imported, Error> {
     let fail = |message: String| Error::new(path, ErrorKind::Xlsx { part: None, message });
     let book = match kind {
         Kind::Xls => xls::read(bytes),
-        Kind::Xlsb => xlsb::read(bytes),
+        Kind::Xlsb => xlsb::read(bytes, limits),
         Kind::Ods => ods::read(bytes),
     }
+    .and_then(|book| within_limits(&book).map(|()| book))
     .map_err(|m| fail(format!("{} that cannot be read: {m}", kind.describe())))?;
     let package = to_package(&book).map_err(|e| fail(format!("cannot convert {}: {e}", kind.describe())))?;
     let mut imported = xlsx::load_bytes(&package, path)?;
@@ -108,6 +111,41 @@ pub fn load(bytes: &[u8], path: &Path, kind: Kind) -> Result<Imported, Error> {
     notes.append(&mut imported.notes);
     imported.notes = notes;
     Ok(imported)
+}
+
+/// The most cells (values and formulas) a file of these formats may hold: each is held as a
+/// cell of the book and again as the xlsx text the importer reads.
+pub const MAX_CELLS: usize = 1 << 23;
+
+/// The most bytes of text (values and formulas) the cells of one file may hold together: a
+/// string the file shares among cells is written out again for each.
+pub const MAX_TEXT: usize = 512 << 20;
+
+/// The refusal of a file past [`MAX_CELLS`].
+pub fn too_many_cells() -> String {
+    format!("the file holds more than {MAX_CELLS} cells, ncsheet's limit on the cells of a file it converts")
+}
+
+/// Refuses a book past [`MAX_CELLS`] or [`MAX_TEXT`] before it is written out as xlsx text.
+fn within_limits(book: &Book) -> Result<(), String> {
+    let cells: usize = book.sheets.iter().map(|s| s.cells.len()).sum();
+    if cells > MAX_CELLS {
+        return Err(too_many_cells());
+    }
+    let mut text = 0usize;
+    for cell in book.sheets.iter().flat_map(|s| s.cells.values()) {
+        if let Some(Value::Text(t)) = &cell.value {
+            text += t.len();
+        }
+        text += cell.formula.as_ref().map_or(0, String::len);
+        if text > MAX_TEXT {
+            return Err(format!(
+                "its cells hold more than {} MiB of text, ncsheet's limit on the text of a file it converts",
+                MAX_TEXT >> 20
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// What saving a workbook read from a file of `kind` as xlsx leaves behind.

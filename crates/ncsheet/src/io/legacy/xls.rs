@@ -6,6 +6,7 @@
 
 use std::collections::HashMap;
 use std::io::{Cursor, Read};
+use std::rc::Rc;
 
 use crate::eval::{Value, XlError};
 use crate::formula::address::{Pos, Rect};
@@ -97,7 +98,8 @@ fn f64_at(b: &[u8], at: usize) -> f64 {
 struct Globals {
     /// (name, stream offset of its BOF, visibility, sheet type: 0 a worksheet).
     sheets: Vec<(String, usize, Visibility, u8)>,
-    strings: Vec<String>,
+    /// Shared among the cells that show them.
+    strings: Vec<Rc<str>>,
     formats: HashMap<u16, String>,
     /// Each XF's number format index.
     xf_formats: Vec<u16>,
@@ -186,10 +188,30 @@ fn workbook_stream(bytes: &[u8]) -> Result<Vec<u8>, String> {
     Ok(stream)
 }
 
-/// The program that saved the file (`SummaryInformation`'s application name).
+/// The program that saved the file: `SummaryInformation`'s application name ([MS-OLEPS]
+/// 2.21 PropertySetStream, its first property set; PIDSI_APPNAME 0x12, a CodePageString in
+/// the code page of property 1). Read here, not by calamine, which parses the whole
+/// workbook on the way and panicked on a damaged one.
 fn application(bytes: &[u8]) -> Option<String> {
-    let mut xls: calamine::Xls<_> = calamine::Reader::new(Cursor::new(bytes)).ok()?;
-    xls.workbook_properties().ok()?.application.map(|a| a.trim_end_matches('\0').to_string())
+    let mut cfb = cfb::CompoundFile::open(Cursor::new(bytes)).ok()?;
+    let mut stream = Vec::new();
+    cfb.open_stream("/\u{5}SummaryInformation").ok()?.take(1 << 20).read_to_end(&mut stream).ok()?;
+    let set = stream.get(u32_at(&stream, 44) as usize..)?;
+    let count = (u32_at(set, 4) as usize).min(set.len() / 8);
+    let property = |id: u32| {
+        (0..count).find(|i| u32_at(set, 8 + 8 * i) == id).and_then(|i| set.get(u32_at(set, 12 + 8 * i) as usize..))
+    };
+    const VT_I2: u16 = 0x02;
+    const VT_LPSTR: u16 = 0x1E;
+    let utf16 = property(1).is_some_and(|p| u16_at(p, 0) == VT_I2 && u16_at(p, 4) == 1200);
+    let name = property(0x12).filter(|p| u16_at(p, 0) == VT_LPSTR)?;
+    let text = name.get(8..8 + u32_at(name, 4) as usize)?;
+    let text = if utf16 {
+        String::from_utf16_lossy(&text.chunks_exact(2).map(|u| u16::from_le_bytes([u[0], u[1]])).collect::<Vec<_>>())
+    } else {
+        text.iter().map(|&b| char::from(b)).collect()
+    };
+    Some(text.trim_end_matches('\0').to_string()).filter(|t| !t.is_empty())
 }
 
 fn read_globals(stream: &[u8]) -> Result<Globals, String> {
@@ -322,13 +344,13 @@ fn defined_name(d: &[u8]) -> (String, Option<usize>, Vec<u8>, Vec<u8>, bool) {
 
 /// The shared-string table (`SST` and its `CONTINUE`s). A string's characters may run on
 /// into the next record, which then starts with a new flags byte saying their width.
-fn shared_strings(r: &Record) -> Vec<String> {
+fn shared_strings(r: &Record) -> Vec<Rc<str>> {
     let mut reader = PartReader { parts: &r.parts, part: 0, at: 8 };
     let count = u32_at(r.parts[0], 4) as usize;
     let mut out = Vec::with_capacity(count.min(1 << 20));
     for _ in 0..count {
         let Some(s) = reader.rich_string() else { break };
-        out.push(s);
+        out.push(s.into());
     }
     out
 }
@@ -442,8 +464,8 @@ fn read_sheet(
                 }
             }
             0x00FD => {
-                let text = globals.strings.get(u32_at(&d, 6) as usize).cloned().unwrap_or_default();
-                put(&mut sheet, &d, Value::Text(text.into()), u16_at(&d, 4));
+                let text = globals.strings.get(u32_at(&d, 6) as usize).cloned().unwrap_or_else(|| "".into());
+                put(&mut sheet, &d, Value::Text(text), u16_at(&d, 4));
             }
             0x0204 | 0x00D6 => {
                 let text = continued_string(&r, 6);
@@ -575,7 +597,7 @@ fn ref_u(d: &[u8]) -> Rect {
 }
 
 /// `RkNumber`: a number in 30 bits, an integer or the top of a double, perhaps times 100.
-fn rk(v: u32) -> f64 {
+pub(super) fn rk(v: u32) -> f64 {
     let n = if v & 0x02 != 0 { ((v as i32) >> 2) as f64 } else { f64::from_bits(((v & 0xFFFF_FFFC) as u64) << 32) };
     if v & 0x01 != 0 {
         n / 100.0
@@ -661,6 +683,6 @@ mod tests {
         let sst: &[u8] = &[2, 0, 0, 0, 2, 0, 0, 0, 2, 0, 0, b'a', b'b', 3, 0, 0, b'c'];
         let cont: &[u8] = &[1, b'd', 0, 0xE9, 0];
         let r = Record { kind: 0x00FC, parts: vec![sst, cont] };
-        assert_eq!(shared_strings(&r), ["ab", "cdé"]);
+        assert_eq!(shared_strings(&r), ["ab".into(), "cdé".into()] as [Rc<str>; 2]);
     }
 }

@@ -1,9 +1,10 @@
-//! Excel binary workbooks (`.xlsb`, MS-XLSB): calamine reads the cells and the values Excel
-//! stored; the formulas are read here from the parts' records, because calamine 0.38's
-//! spelling of them is wrong in ways a patch over its text cannot undo (`>` and `>=`
-//! swapped, the relative flags of references swapped or left in column numbers, a 3-D
-//! reference named by the wrong sheet, a `"` in a string not doubled, shared formulas and
-//! future functions not read at all).
+//! Excel binary workbooks (`.xlsb`, MS-XLSB), read here from the parts' records: the
+//! sheets and names of the workbook part, the shared strings, and each sheet part's cells
+//! with the values Excel stored and their formulas. (calamine 0.38 read the cells once: it
+//! panicked on a damaged record, refused a whole file over a defined name whose tokens it did
+//! not know, and built each sheet as one dense block, so that two cells at A1 and
+//! XFD1048576 asked for 17 billion slots; its spelling of formulas was wrong besides: `>`
+//! and `>=` swapped, relative flags swapped, a 3-D reference named by the wrong sheet.)
 //!
 //! A formula's tokens ([MS-XLSB] 2.5.98, `Rgce`) are BIFF8's with wider fields: rows of 4
 //! bytes, a string's length of 2 and no flags byte, a name's index of 4. The operators,
@@ -12,45 +13,53 @@
 //! cell (an array formula's at its `BrtArrFmla`); a future function (`_xlfn.`) is a call
 //! through a hidden name (`fFutureFunction`).
 //! A formula this reader cannot carry over keeps the value Excel stored, as a constant, and a
-//! note names the cells.
+//! note names the cells. A record cut short, a cell past the sheet's edge, a string index
+//! past the table or a sheet whose part is missing refuses the file, naming the part and the
+//! record.
 
-use std::collections::HashMap;
-use std::io::{BufReader, Cursor, Read};
-
-use calamine::{Reader, SheetType, Xlsb};
+use std::collections::{BTreeMap, HashMap};
+use std::io::{BufReader, Cursor, Read, Seek};
+use std::rc::Rc;
 
 use super::biff::{self, atom, Bytes, Context, Item, SupBook, Unreadable};
-use super::{calamine_sheet, cells_named, value_of, Book, Name};
+use super::{cells_named, too_many_cells, Book, Cell, Name, Sheet, MAX_CELLS};
 use crate::eval::{Value, XlError};
 use crate::formula::address::{column_name, Pos, Rect};
+use crate::io::limits::ReadLimits;
+use crate::io::xlsx::Inflating;
+use crate::workbook::Visibility;
 
 /// Reads an .xlsb file's bytes into a [`Book`].
-pub fn read(bytes: &[u8]) -> Result<Book, String> {
-    let mut xlsb: Xlsb<_> = Xlsb::new(Cursor::new(bytes)).map_err(|e| e.to_string())?;
-    let application = xlsb.workbook_properties().ok().and_then(|p| p.application);
-    let mut book = Book { application, ..Book::default() };
-    let metadata = xlsb.sheets_metadata().to_vec();
-    let mut zip = zip::ZipArchive::new(Cursor::new(bytes)).map_err(|e| e.to_string())?;
+pub fn read(bytes: &[u8], limits: ReadLimits) -> Result<Book, String> {
+    let mut zip = Parts { zip: zip::ZipArchive::new(Cursor::new(bytes)).map_err(|e| e.to_string())?, limits };
     let globals = read_globals(&mut zip)?;
+    let strings = read_shared_strings(&mut zip)?;
+    let application = application(&mut zip);
+    let mut book = Book { application, date_1904: globals.date_1904, ..Book::default() };
     let ctx =
         Context { sheets: &globals.sheets, xtis: &globals.xtis, books: &globals.books, names: &globals.name_refs };
-    let mut parts = read_sheet_parts(&mut zip, &globals.parts)?;
-    for meta in &metadata {
-        if meta.typ != SheetType::WorkSheet {
-            book.notes.push(format!("sheet '{}' is not a worksheet and was left out", meta.name));
-            continue;
+    let mut cells_left = MAX_CELLS;
+    for (file_index, bundle) in globals.bundles.iter().enumerate() {
+        let part = match (&bundle.part, bundle.worksheet) {
+            (Some(part), true) => part,
+            (Some(_), false) => {
+                book.notes.push(format!("sheet '{}' is not a worksheet and was left out", bundle.name));
+                continue;
+            }
+            (None, _) => {
+                book.notes.push(format!("sheet '{}' has no part in the file and was left out", bundle.name));
+                continue;
+            }
+        };
+        let part = read_sheet_part(&mut zip, part, &strings, &mut cells_left)?;
+        let mut sheet = Sheet { name: bundle.name.clone(), visibility: bundle.visibility, ..Sheet::default() };
+        for (pos, value) in part.values {
+            sheet.cells.insert(pos, Cell { value: Some(value), ..Cell::default() });
         }
-        let values = xlsb.worksheet_range(&meta.name).map_err(|e| format!("sheet '{}': {e}", meta.name))?;
-        let mut sheet = calamine_sheet(meta, &values, value_of);
-        let file_index = globals.sheets.iter().position(|n| *n == meta.name);
-        let part = parts.remove(&meta.name).unwrap_or_default();
         let mut unread = Vec::new();
         for formula in &part.formulas {
             let cell = sheet.cells.entry(formula.pos).or_default();
-            if let Some(error) = formula.error {
-                cell.value.get_or_insert(Value::Error(error));
-            }
-            match formula_text(formula, &part.blocks, &ctx, file_index) {
+            match formula_text(formula, &part.blocks, &ctx, Some(file_index)) {
                 Ok(Some((text, array))) => {
                     cell.formula = Some(text);
                     cell.array = array;
@@ -64,8 +73,8 @@ pub fn read(bytes: &[u8]) -> Result<Book, String> {
                 "{} formula cells of sheet '{}' keep the value Excel stored, as a constant: ncsheet does not read \
                  their formulas (tables, array constants, other workbooks) ({})",
                 unread.len(),
-                meta.name,
-                cells_named(&meta.name, &unread)
+                bundle.name,
+                cells_named(&bundle.name, &unread)
             ));
         }
         book.sheets.push(sheet);
@@ -73,6 +82,39 @@ pub fn read(bytes: &[u8]) -> Result<Book, String> {
     read_names(&globals, &ctx, &mut book);
     book.notes.push("number formats are not read from an .xlsb file: values show as General".into());
     Ok(book)
+}
+
+/// The package's parts, each read through the limits on how far it may inflate.
+struct Parts<R> {
+    zip: zip::ZipArchive<R>,
+    limits: ReadLimits,
+}
+
+impl<R: Read + Seek> Parts<R> {
+    /// The records of a part (`None` when the file has no such part), its name spelled as
+    /// calamine and Excel find it: as written, else with other case or with `\\`.
+    fn records(&mut self, part: &str) -> Result<Option<Records<impl Read + '_>>, String> {
+        let name = if self.zip.index_for_name(part).is_some() {
+            part.to_string()
+        } else {
+            let same = |n: &str| n.replace('\\', "/").eq_ignore_ascii_case(part);
+            match self.zip.file_names().flatten().find(|n| same(n)) {
+                Some(name) => name.into_owned(),
+                None => return Ok(None),
+            }
+        };
+        let entry = self.zip.by_name(&name).map_err(|e| format!("{part}: {e}"))?;
+        Ok(Some(Records(BufReader::new(Inflating::new(entry, self.limits)))))
+    }
+}
+
+/// The program that saved the file: `docProps/app.xml`'s `Application`.
+fn application<R: Read + Seek>(zip: &mut Parts<R>) -> Option<String> {
+    let mut xml = String::new();
+    zip.zip.by_name("docProps/app.xml").ok()?.take(1 << 20).read_to_string(&mut xml).ok()?;
+    let start = xml.find("<Application>")? + "<Application>".len();
+    let text = &xml[start..];
+    Some(text[..text.find('<')?].trim().to_string()).filter(|t| !t.is_empty())
 }
 
 /// BrtName's flags ([MS-XLSB] 2.4.711) of a name that is no defined name of the sheets': a
@@ -107,13 +149,25 @@ fn read_names(globals: &Globals, ctx: &Context, book: &mut Book) {
 /// ExternSheet's XTIs, the supporting books and the defined names.
 #[derive(Default)]
 struct Globals {
+    /// Each sheet's name, in file order (the index formulas and names use).
     sheets: Vec<String>,
-    parts: Vec<(String, String)>,
+    /// Each sheet, as [`Globals::sheets`].
+    bundles: Vec<Bundle>,
+    date_1904: bool,
     xtis: Vec<(u16, i16, i16)>,
     books: Vec<SupBook>,
     names: Vec<NameRecord>,
     /// Each name and the sheet it belongs to, for [`Context`].
     name_refs: Vec<(String, Option<usize>)>,
+}
+
+/// A sheet of the workbook part (BrtBundleSh): its name, state and part, and whether the
+/// part is a worksheet's.
+struct Bundle {
+    name: String,
+    visibility: Visibility,
+    part: Option<String>,
+    worksheet: bool,
 }
 
 struct NameRecord {
@@ -126,6 +180,7 @@ struct NameRecord {
 
 /// Records of xl/workbook.bin ([MS-XLSB] 2.4) this reader uses.
 const BRT_NAME: u16 = 0x0027;
+const BRT_WB_PROP: u16 = 0x0099;
 const BRT_BUNDLE_SH: u16 = 0x009C;
 const BRT_SUP_BOOK_SRC: u16 = 0x0163;
 const BRT_SUP_SELF: u16 = 0x0165;
@@ -136,44 +191,44 @@ const BRT_EXTERN_SHEET: u16 = 0x016A;
 /// The largest record read whole: a formula's record holds its tokens and values.
 const RECORD_LIMIT: u64 = 1 << 24;
 
-fn read_globals<R: Read + std::io::Seek>(zip: &mut zip::ZipArchive<R>) -> Result<Globals, String> {
+const WORKBOOK_PART: &str = "xl/workbook.bin";
+
+fn read_globals<R: Read + Seek>(zip: &mut Parts<R>) -> Result<Globals, String> {
     let mut rels = String::new();
-    if let Ok(entry) = zip.by_name("xl/_rels/workbook.bin.rels") {
-        entry.take(1 << 20).read_to_string(&mut rels).map_err(|e| e.to_string())?;
+    if let Ok(entry) = zip.zip.by_name("xl/_rels/workbook.bin.rels") {
+        entry.take(1 << 20).read_to_string(&mut rels).map_err(|e| format!("xl/_rels/workbook.bin.rels: {e}"))?;
     }
     let targets: HashMap<&str, &str> = rels
         .split("<Relationship ")
         .skip(1)
         .filter_map(|r| Some((attribute(r, "Id")?, attribute(r, "Target")?)))
         .collect();
-    let entry = zip.by_name("xl/workbook.bin").map_err(|e| e.to_string())?;
-    let mut records = Records(BufReader::new(entry));
+    let mut records = zip.records(WORKBOOK_PART)?.ok_or_else(|| format!("{WORKBOOK_PART}: the part is missing"))?;
     let mut g = Globals::default();
-    while let Some((kind, body)) = records.next_head(RECORD_LIMIT).map_err(|e| format!("xl/workbook.bin: {e}"))? {
+    while let Some((kind, body)) = records.next_head(RECORD_LIMIT).map_err(|e| format!("{WORKBOOK_PART}: {e}"))? {
         match kind {
+            BRT_WB_PROP => g.date_1904 = body.first().is_some_and(|flags| flags & 1 != 0),
             BRT_BUNDLE_SH => {
-                // BrtBundleSh: hsState, iTabID, strRelID (null: no part), strName.
-                let rest = body.get(8..).unwrap_or_default();
-                let (rel, after) = match wide_string(rest) {
-                    Some((rel, after)) => (Some(rel), after),
-                    None => (None, rest.get(4..).unwrap_or_default()),
-                };
-                let Some((name, _)) = wide_string(after) else { continue };
-                if let Some(target) = rel.as_deref().and_then(|r| targets.get(r)) {
-                    let part = target.strip_prefix('/').map_or_else(|| format!("xl/{target}"), str::to_string);
-                    g.parts.push((name.clone(), part));
-                }
-                g.sheets.push(name);
+                let bundle = bundle(&body, &targets).map_err(|why| {
+                    format!("{WORKBOOK_PART}: sheet {} (record BrtBundleSh): {why}", g.sheets.len() + 1)
+                })?;
+                g.sheets.push(bundle.name.clone());
+                g.bundles.push(bundle);
             }
             BRT_SUP_SELF | BRT_SUP_SAME => g.books.push(SupBook::Own),
             BRT_SUP_ADDIN => g.books.push(SupBook::AddIns(Vec::new())),
             BRT_SUP_BOOK_SRC => g.books.push(SupBook::Other(Vec::new())),
             BRT_EXTERN_SHEET => {
                 // cXti, then each XTI: iSupBook, itabFirst, itabLast (4 bytes each).
-                let count = body.get(..4).map_or(0, |_| u32_at(&body, 0) as usize);
-                for xti in body.get(4..).unwrap_or_default().chunks_exact(12).take(count) {
-                    let tab = |at: usize| i32::from_le_bytes(xti[at..at + 4].try_into().expect("4 bytes"));
-                    g.xtis.push((u32_at(xti, 0) as u16, tab(4) as i16, tab(8) as i16));
+                let count = body.get(..4).map(|_| u32_at(&body, 0) as usize);
+                let xtis = body.get(4..).unwrap_or_default();
+                if count.is_none_or(|count| count.saturating_mul(12) > xtis.len()) {
+                    return Err(format!(
+                        "{WORKBOOK_PART}: the list of sheets 3-D references name (record BrtExternSheet) is cut short"
+                    ));
+                }
+                for xti in xtis.chunks_exact(12).take(count.unwrap_or(0)) {
+                    g.xtis.push((u32_at(xti, 0) as u16, u32_at(xti, 4) as i16, u32_at(xti, 8) as i16));
                 }
             }
             BRT_NAME => {
@@ -186,6 +241,52 @@ fn read_globals<R: Read + std::io::Seek>(zip: &mut zip::ZipArchive<R>) -> Result
         }
     }
     Ok(g)
+}
+
+/// BrtBundleSh: hsState, iTabID, strRelID (null: no part), strName; the relationship names
+/// the sheet's part, whose folder says what sheet it is.
+fn bundle(body: &[u8], targets: &HashMap<&str, &str>) -> Result<Bundle, String> {
+    let cut_short = || "the record is cut short".to_string();
+    let state = body.get(..4).map(|_| u32_at(body, 0)).ok_or_else(cut_short)?;
+    let rest = body.get(8..).ok_or_else(cut_short)?;
+    let null_rel = rest.get(..4) == Some(&[0xFF; 4][..]);
+    let (rel, after) = if null_rel {
+        (None, &rest[4..])
+    } else {
+        wide_string(rest).map(|(r, a)| (Some(r), a)).ok_or_else(cut_short)?
+    };
+    let (name, _) = wide_string(after).ok_or_else(cut_short)?;
+    let visibility = match state {
+        0 => Visibility::Visible,
+        1 => Visibility::Hidden,
+        2 => Visibility::VeryHidden,
+        other => {
+            return Err(format!(
+                "'{name}' has the state {other}, which is none of visible (0), hidden (1) and very hidden (2)"
+            ))
+        }
+    };
+    let part = match rel {
+        None => None,
+        Some(rel) => {
+            let target = targets.get(rel.as_str()).ok_or_else(|| {
+                format!("'{name}' names the relationship '{rel}', which xl/_rels/workbook.bin.rels does not hold")
+            })?;
+            Some(target.strip_prefix('/').map_or_else(|| format!("xl/{target}"), str::to_string))
+        }
+    };
+    let folder = part.as_deref().and_then(|p| p.rsplit('/').nth(1));
+    let worksheet = match folder {
+        None | Some("worksheets") => true,
+        Some("chartsheets" | "dialogsheets" | "macrosheets") => false,
+        Some(_) => {
+            return Err(format!(
+            "'{name}' has its part at {}, which is under none of worksheets, chartsheets, dialogsheets and macrosheets",
+            part.unwrap_or_default()
+        ))
+        }
+    };
+    Ok(Bundle { name, visibility, part, worksheet })
 }
 
 /// BrtName: flags, chKey, itab (0xFFFFFFFF: the workbook's), name, then NameParsedFormula
@@ -213,9 +314,6 @@ struct FormulaCell {
     pos: (u32, u32),
     rgce: Vec<u8>,
     extra: Vec<u8>,
-    /// The error it holds when its last result was one (BrtFmlaError): calamine does not
-    /// read those values.
-    error: Option<XlError>,
 }
 
 /// A formula a block of cells shares (BrtShrFmla) or an array formula (BrtArrFmla): its
@@ -227,76 +325,159 @@ struct BlockFormula {
     array: bool,
 }
 
-/// A sheet part's formulas and its shared and array formulas, by the cell they follow (the
-/// first of their cells).
+/// A sheet part's values, its formulas and its shared and array formulas, by the cell they
+/// follow (the first of their cells).
 #[derive(Default)]
 struct SheetPart {
+    values: BTreeMap<(u32, u32), Value>,
     formulas: Vec<FormulaCell>,
     blocks: HashMap<(u32, u32), BlockFormula>,
 }
 
-/// Records of a sheet part ([MS-XLSB] 2.4).
+/// Records of a sheet part ([MS-XLSB] 2.4): a row's header, then its cells, each a Cell
+/// (column, style) and its value; BrtCellBlank to BrtCellIsst constants, BrtFmlaString to
+/// BrtFmlaError formulas with their last result.
 const BRT_ROW_HDR: u16 = 0x0000;
+const BRT_CELL_BLANK: u16 = 0x0001;
+const BRT_CELL_RK: u16 = 0x0002;
+const BRT_CELL_ERROR: u16 = 0x0003;
+const BRT_CELL_BOOL: u16 = 0x0004;
+const BRT_CELL_REAL: u16 = 0x0005;
+const BRT_CELL_ST: u16 = 0x0006;
+const BRT_CELL_ISST: u16 = 0x0007;
 const BRT_FMLA_STRING: u16 = 0x0008;
 const BRT_FMLA_NUM: u16 = 0x0009;
+const BRT_FMLA_BOOL: u16 = 0x000A;
 const BRT_FMLA_ERROR: u16 = 0x000B;
 const BRT_ARR_FMLA: u16 = 0x01AA;
 const BRT_SHR_FMLA: u16 = 0x01AB;
 
-/// Each sheet part's formulas, by sheet name.
-fn read_sheet_parts<R: Read + std::io::Seek>(
-    zip: &mut zip::ZipArchive<R>,
-    parts: &[(String, String)],
-) -> Result<HashMap<String, SheetPart>, String> {
-    let mut out = HashMap::new();
-    for (name, part) in parts {
-        let Ok(entry) = zip.by_name(part) else { continue };
-        let mut records = Records(BufReader::new(entry));
-        let (mut row, mut sheet) = (0u32, SheetPart::default());
-        while let Some((kind, body)) = records.next_head(RECORD_LIMIT).map_err(|e| format!("{part}: {e}"))? {
-            match kind {
-                BRT_ROW_HDR if body.len() >= 4 => row = u32_at(&body, 0),
-                BRT_FMLA_STRING..=BRT_FMLA_ERROR if body.len() >= 8 => {
-                    // Cell (column, style), the value, GrbitFmla, then the formula.
-                    let value_end = match kind {
-                        BRT_FMLA_NUM => Some(16),
-                        BRT_FMLA_STRING => body.get(8..12).map(|_| 12 + 2 * u32_at(&body, 8) as usize),
-                        _ => Some(9),
-                    };
-                    let formula = value_end.and_then(|end| body.get(end + 2..)).and_then(parsed_formula);
-                    let Some((rgce, extra)) = formula else { continue };
-                    let error = (kind == BRT_FMLA_ERROR).then(|| biff_error(body[8]));
-                    let pos = (row, u32_at(&body, 0));
-                    sheet.formulas.push(FormulaCell { pos, rgce: rgce.to_vec(), extra: extra.to_vec(), error });
-                }
-                BRT_SHR_FMLA | BRT_ARR_FMLA if body.len() >= 16 => {
-                    // RfX (its cells: first and last row, first and last column), for an
-                    // array formula a flags byte, then the formula; the record follows the
-                    // first cell's.
-                    let array = kind == BRT_ARR_FMLA;
-                    let start = if array { 17 } else { 16 };
-                    let (Some(first), Some((rgce, extra))) =
-                        (sheet.formulas.last(), body.get(start..).and_then(parsed_formula))
-                    else {
-                        continue;
-                    };
-                    let area = Rect::new(
-                        Pos::new(u32_at(&body, 0), u32_at(&body, 8)),
-                        Pos::new(u32_at(&body, 4), u32_at(&body, 12)),
-                    );
-                    let block = BlockFormula { area, rgce: rgce.to_vec(), extra: extra.to_vec(), array };
-                    sheet.blocks.insert(first.pos, block);
-                }
-                _ => {}
+/// A sheet part's cells; `cells_left` counts down the cells the file may still hold (read
+/// as they inflate, before the book's cells are counted as a whole).
+fn read_sheet_part<R: Read + Seek>(
+    zip: &mut Parts<R>,
+    part: &str,
+    strings: &[Rc<str>],
+    cells_left: &mut usize,
+) -> Result<SheetPart, String> {
+    let mut records = zip.records(part)?.ok_or_else(|| format!("{part}: the sheet's part is missing from the file"))?;
+    let (mut row, mut sheet) = (0u32, SheetPart::default());
+    while let Some((kind, body)) = records.next_head(RECORD_LIMIT).map_err(|e| format!("{part}: {e}"))? {
+        match kind {
+            BRT_ROW_HDR => {
+                row = body.get(..4).map(|_| u32_at(&body, 0)).filter(|r| *r <= LAST_ROW).ok_or_else(|| {
+                    format!("{part}: a row (record BrtRowHdr) is cut short or past the sheet's last row")
+                })?;
             }
+            BRT_CELL_BLANK..=BRT_FMLA_ERROR => {
+                let (col, value) = cell_value(kind, &body, strings)
+                    .map_err(|why| format!("{part}: a cell of row {} (record 0x{kind:04X}) {why}", row + 1))?;
+                *cells_left = cells_left.checked_sub(1).ok_or_else(|| format!("{part}: {}", too_many_cells()))?;
+                if let Some(value) = value {
+                    sheet.values.insert((row, col), value);
+                }
+                if kind >= BRT_FMLA_STRING {
+                    // GrbitFmla (2 bytes) after the value, then the formula.
+                    let value_end = match kind {
+                        BRT_FMLA_NUM => 16,
+                        BRT_FMLA_STRING => 12 + 2 * u32_at(&body, 8) as usize,
+                        _ => 9,
+                    };
+                    if let Some((rgce, extra)) = body.get(value_end + 2..).and_then(parsed_formula) {
+                        sheet.formulas.push(FormulaCell {
+                            pos: (row, col),
+                            rgce: rgce.to_vec(),
+                            extra: extra.to_vec(),
+                        });
+                    }
+                }
+            }
+            BRT_SHR_FMLA | BRT_ARR_FMLA if body.len() >= 16 => {
+                // RfX (its cells: first and last row, first and last column), for an
+                // array formula a flags byte, then the formula; the record follows the
+                // first cell's.
+                let array = kind == BRT_ARR_FMLA;
+                let start = if array { 17 } else { 16 };
+                let (Some(first), Some((rgce, extra))) =
+                    (sheet.formulas.last(), body.get(start..).and_then(parsed_formula))
+                else {
+                    continue;
+                };
+                let area = Rect::new(
+                    Pos::new(u32_at(&body, 0), u32_at(&body, 8)),
+                    Pos::new(u32_at(&body, 4), u32_at(&body, 12)),
+                );
+                let block = BlockFormula { area, rgce: rgce.to_vec(), extra: extra.to_vec(), array };
+                sheet.blocks.insert(first.pos, block);
+            }
+            _ => {}
         }
-        out.insert(name.clone(), sheet);
     }
-    Ok(out)
+    Ok(sheet)
 }
 
-fn biff_error(code: u8) -> XlError {
-    super::xls::error_of(code)
+/// A cell record's column and value (`None`: blank), or why it cannot be read.
+fn cell_value(kind: u16, body: &[u8], strings: &[Rc<str>]) -> Result<(u32, Option<Value>), String> {
+    let field = |at: usize, len: usize| body.get(at..at + len).ok_or_else(|| "is cut short".to_string());
+    let col = u32_at(field(0, 8)?, 0);
+    if col > LAST_COL {
+        return Err(format!("is in column {}, past the sheet's last column XFD", u64::from(col) + 1));
+    }
+    let value = match kind {
+        BRT_CELL_BLANK => None,
+        BRT_CELL_RK => Some(Value::Number(super::xls::rk(u32_at(field(8, 4)?, 0)))),
+        BRT_CELL_ERROR | BRT_FMLA_ERROR => {
+            let code = field(8, 1)?[0];
+            Some(Value::Error(
+                known_error(code)
+                    .ok_or_else(|| format!("holds the error code 0x{code:02X}, which is no error of Excel's"))?,
+            ))
+        }
+        BRT_CELL_BOOL | BRT_FMLA_BOOL => Some(Value::Bool(field(8, 1)?[0] != 0)),
+        BRT_CELL_REAL | BRT_FMLA_NUM => {
+            Some(Value::Number(f64::from_le_bytes(field(8, 8)?.try_into().expect("8 bytes"))))
+        }
+        BRT_CELL_ST | BRT_FMLA_STRING => {
+            let (text, _) = wide_string(&body[8..]).ok_or_else(|| "has its text cut short".to_string())?;
+            Some(Value::Text(text.into()))
+        }
+        BRT_CELL_ISST => {
+            let index = u32_at(field(8, 4)?, 0) as usize;
+            let text = strings.get(index).ok_or_else(|| {
+                format!("names shared string {index}, past the {} of xl/sharedStrings.bin", strings.len())
+            })?;
+            Some(Value::Text(text.clone()))
+        }
+        _ => None,
+    };
+    Ok((col, value))
+}
+
+/// A BErr ([MS-XLSB] 2.5.98.2) as the error it stands for, `None` for a code Excel has not.
+fn known_error(code: u8) -> Option<XlError> {
+    matches!(code, 0x00 | 0x07 | 0x0F | 0x17 | 0x1D | 0x24 | 0x2A | 0x2B).then(|| super::xls::error_of(code))
+}
+
+/// The shared strings (xl/sharedStrings.bin, each BrtSSTItem a flags byte and the text;
+/// runs and phonetic text after it are left), none without the part.
+fn read_shared_strings<R: Read + Seek>(zip: &mut Parts<R>) -> Result<Vec<Rc<str>>, String> {
+    const PART: &str = "xl/sharedStrings.bin";
+    const BRT_SST_ITEM: u16 = 0x0013;
+    let Some(mut records) = zip.records(PART)? else { return Ok(Vec::new()) };
+    let mut strings = Vec::new();
+    while let Some((kind, body)) = records.next_head(RECORD_LIMIT).map_err(|e| format!("{PART}: {e}"))? {
+        if kind == BRT_SST_ITEM {
+            let (text, _) = body
+                .get(1..)
+                .and_then(wide_string)
+                .ok_or_else(|| format!("{PART}: string {} (record BrtSSTItem) is cut short", strings.len() + 1))?;
+            if strings.len() == MAX_CELLS {
+                return Err(format!("{PART}: more strings than {}", too_many_cells()));
+            }
+            strings.push(text.into());
+        }
+    }
+    Ok(strings)
 }
 
 /// A formula cell as the book holds it: its formula's text and, for the first cell of an

@@ -47,6 +47,7 @@ mod tables;
 mod write;
 mod xml;
 
+pub(crate) use raw::Inflating;
 pub use check::{compare_cached, values_agree, Difference, REL_TOLERANCE};
 pub use patch::{patch, replace_part, Patched, Unpatchable};
 pub use read::{load, load_bytes, load_bytes_limited};

@@ -1,0 +1,449 @@
+//! Hostile .xls, .xlsb and .ods files (issue 30 applied to the readers of issue 29): records
+//! cut short or past the sheet's edge, names whose tokens a library does not know, cells far
+//! apart, and fuzz targets mutating small vendored files (bytes flipped, parts cut short,
+//! records given other lengths or huge counts, zip entries removed). Each file is either
+//! read or refused with an error naming the file, never a panic, an abort or a hang.
+//!
+//! The fuzz cases come from the fixed seed of `common::fuzz` (CI runs the same ones);
+//! `PROPTEST_CASES=N` runs more locally.
+
+mod common;
+
+use std::io::{Cursor, Read, Write};
+use std::path::{Path, PathBuf};
+
+use proptest::prelude::*;
+
+use common::fuzz::config;
+use ncsheet::eval::Value;
+use ncsheet::formula::address::parse_cell;
+use ncsheet::io::{self, Format};
+
+fn data(path: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(path)
+}
+
+fn vendored(path: &str) -> Vec<u8> {
+    std::fs::read(data(path)).unwrap()
+}
+
+/// Opens `bytes` as a file of `format`: the workbook, or the error as the user reads it.
+fn open(bytes: Vec<u8>, format: Format) -> Result<io::Opened, String> {
+    let name = match format {
+        Format::Xls => "hostile.xls",
+        Format::Xlsb => "hostile.xlsb",
+        _ => "hostile.ods",
+    };
+    io::open_bytes(bytes, Path::new(name), format, None).map_err(|e| e.to_string())
+}
+
+// ---------------------------------------------------------------------------------------
+// .xlsb records ([MS-XLSB] 2.1.4): a type and a length, each 7 bits a byte with the high
+// bit saying another byte follows (2 bytes at most for the type, 4 for the length).
+
+fn records(part: &[u8]) -> Vec<(u16, Vec<u8>)> {
+    let mut out = Vec::new();
+    let mut at = 0;
+    let varint = |at: &mut usize, most: usize| {
+        let mut value = 0usize;
+        for i in 0..most {
+            let byte = part[*at];
+            *at += 1;
+            value |= usize::from(byte & 0x7F) << (7 * i);
+            if byte & 0x80 == 0 {
+                break;
+            }
+        }
+        value
+    };
+    while at < part.len() {
+        let kind = varint(&mut at, 2) as u16;
+        let len = varint(&mut at, 4);
+        out.push((kind, part[at..at + len].to_vec()));
+        at += len;
+    }
+    out
+}
+
+fn varint(mut value: usize, out: &mut Vec<u8>) {
+    loop {
+        let byte = (value & 0x7F) as u8;
+        value >>= 7;
+        if value == 0 {
+            out.push(byte);
+            return;
+        }
+        out.push(byte | 0x80);
+    }
+}
+
+fn encode(records: &[(u16, Vec<u8>)]) -> Vec<u8> {
+    let mut out = Vec::new();
+    for (kind, body) in records {
+        varint(usize::from(*kind), &mut out);
+        varint(body.len(), &mut out);
+        out.extend_from_slice(body);
+    }
+    out
+}
+
+/// `package` with each entry `change` returns `Some` for replaced by it (`None` keeps it),
+/// every entry stored uncompressed; `drop` is left out.
+fn rewrite(package: &[u8], drop: Option<&str>, change: &mut dyn FnMut(&str, &[u8]) -> Option<Vec<u8>>) -> Vec<u8> {
+    let mut zip = zip::ZipArchive::new(Cursor::new(package)).unwrap();
+    let mut out = zip::ZipWriter::new(Cursor::new(Vec::new()));
+    let options = zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Stored);
+    for i in 0..zip.len() {
+        let mut entry = zip.by_index(i).unwrap();
+        let name = entry.name().unwrap().to_string();
+        if Some(name.as_str()) == drop {
+            continue;
+        }
+        let mut bytes = Vec::new();
+        entry.read_to_end(&mut bytes).unwrap();
+        let bytes = change(&name, &bytes).unwrap_or(bytes);
+        out.start_file(name.as_str(), options).unwrap();
+        out.write_all(&bytes).unwrap();
+    }
+    out.finish().unwrap().into_inner()
+}
+
+/// `package` with the records of `part` changed by `change`.
+fn with_records(package: &[u8], part: &str, change: impl Fn(&mut Vec<(u16, Vec<u8>)>)) -> Vec<u8> {
+    rewrite(package, None, &mut |name, bytes| {
+        (name == part).then(|| {
+            let mut list = records(bytes);
+            change(&mut list);
+            encode(&list)
+        })
+    })
+}
+
+fn wide(text: &str) -> Vec<u8> {
+    let units: Vec<u16> = text.encode_utf16().collect();
+    let mut out = (units.len() as u32).to_le_bytes().to_vec();
+    units.iter().for_each(|u| out.extend_from_slice(&u.to_le_bytes()));
+    out
+}
+
+const BRT_NAME: u16 = 0x0027;
+const BRT_BUNDLE_SH: u16 = 0x009C;
+const BRT_EXTERN_SHEET: u16 = 0x016A;
+const BRT_ROW_HDR: u16 = 0x0000;
+const BRT_CELL_REAL: u16 = 0x0005;
+const BRT_CELL_ISST: u16 = 0x0007;
+const BRT_END_SHEET_DATA: u16 = 0x0092;
+
+/// A PtgArea3d ([MS-XLSB] 2.5.98.20) through XTI `ixti`: rows and columns absolute.
+fn area3d(ixti: u16, rows: (u32, u32), cols: (u16, u16)) -> Vec<u8> {
+    let mut out = vec![0x3B];
+    out.extend_from_slice(&ixti.to_le_bytes());
+    for n in [rows.0, rows.1] {
+        out.extend_from_slice(&n.to_le_bytes());
+    }
+    for n in [cols.0, cols.1] {
+        out.extend_from_slice(&n.to_le_bytes());
+    }
+    out
+}
+
+/// A workbook name ([MS-XLSB] 2.4.711 BrtName) holding `rgce` and `extra`.
+fn name_record(name: &str, rgce: &[u8], extra: &[u8]) -> Vec<u8> {
+    let mut out = vec![0, 0, 0, 0, 0, 0xFF, 0xFF, 0xFF, 0xFF];
+    out.extend(wide(name));
+    out.extend_from_slice(&(rgce.len() as u32).to_le_bytes());
+    out.extend_from_slice(rgce);
+    out.extend_from_slice(&(extra.len() as u32).to_le_bytes());
+    out.extend_from_slice(extra);
+    out.extend_from_slice(&[0xFF; 4]); // no comment
+    out
+}
+
+/// calamine refused a whole .xlsb over a defined name whose tokens it did not know: a union
+/// kept as PtgMemArea ([MS-XLSB] 2.5.98.63: its cached rectangles in the extra data) before
+/// the two areas and PtgUnion. The workbook opens, the name read from its tokens.
+#[test]
+fn an_xlsb_whose_name_holds_a_union_opens_with_the_name() {
+    let good = vendored("xlsb/defined_names.xlsb");
+    // XTI 0 of this file is its first sheet, NamedCells.
+    let mut union = area3d(0, (0, 1), (0, 0));
+    union.extend(area3d(0, (0, 1), (2, 3)));
+    union.push(0x10);
+    let mut rgce = vec![0x26, 0, 0, 0, 0];
+    rgce.extend_from_slice(&(union.len() as u16).to_le_bytes());
+    rgce.extend(union);
+    let mut extra = 2u32.to_le_bytes().to_vec();
+    for rect in [[0u32, 1, 0, 0], [0, 1, 2, 3]] {
+        rect.iter().for_each(|n| extra.extend_from_slice(&n.to_le_bytes()));
+    }
+    let bytes = with_records(&good, "xl/workbook.bin", |list| {
+        let at = list.iter().position(|(kind, _)| *kind == BRT_NAME).unwrap();
+        list.insert(at, (BRT_NAME, name_record("Both", &rgce, &extra)));
+    });
+    let opened = open(bytes, Format::Xlsb).unwrap();
+    let names = opened.workbook.names();
+    let both = names.iter().find(|(n, ..)| n == "Both").expect("the name is read");
+    // The union of the two areas, in parentheses as a formula writes a union.
+    assert_eq!(both.1, "=(NamedCells!$A$1:$A$2,NamedCells!$C$1:$D$2)");
+    assert!(names.iter().any(|(n, ..)| n == "NC_1"), "the file's own names are read too");
+}
+
+/// The row and column of a cell record, then its value.
+fn cell_real(col: u32, value: f64) -> Vec<u8> {
+    let mut body = col.to_le_bytes().to_vec();
+    body.extend_from_slice(&[0; 4]);
+    body.extend_from_slice(&value.to_le_bytes());
+    body
+}
+
+/// `package`'s first sheet with `extra` records put before its BrtEndSheetData.
+fn with_cells(package: &[u8], extra: Vec<(u16, Vec<u8>)>) -> Vec<u8> {
+    with_records(package, "xl/worksheets/sheet1.bin", move |list| {
+        let end = list.iter().position(|(kind, _)| *kind == BRT_END_SHEET_DATA).unwrap();
+        list.splice(end..end, extra.clone());
+    })
+}
+
+/// calamine built each sheet as one dense block: a cell at A1 and one at XFD1048576 asked
+/// for 17 billion slots and aborted. Both are read where they are.
+#[test]
+fn an_xlsb_with_cells_at_both_corners_of_the_sheet_opens() {
+    let good = vendored("xlsb/IS_INFORMATION.xlsb");
+    let far = vec![(BRT_ROW_HDR, vec![0xFF, 0xFF, 0x0F, 0, 0, 0, 0, 0]), (BRT_CELL_REAL, cell_real(0x3FFF, 7.5))];
+    let opened = open(with_cells(&good, far), Format::Xlsb).unwrap();
+    assert_eq!(opened.workbook.value(0, parse_cell("XFD1048576").unwrap()), Value::Number(7.5));
+}
+
+/// Records calamine indexed without checking (it panicked) and records this reader must
+/// not read as something else: each refuses the file, naming the part and the record.
+#[test]
+fn damaged_xlsb_records_are_refused_naming_the_part_and_the_record() {
+    let good = vendored("xlsb/IS_INFORMATION.xlsb");
+    let refusal = |bytes: Vec<u8>| open(bytes, Format::Xlsb).err().expect("refused");
+    let workbook = |change: &dyn Fn(&mut Vec<(u16, Vec<u8>)>)| with_records(&good, "xl/workbook.bin", change);
+
+    // A sheet naming a relationship the rels part does not hold.
+    let error = refusal(workbook(&|list| {
+        let (_, body) = list.iter_mut().find(|(kind, _)| *kind == BRT_BUNDLE_SH).unwrap();
+        let mut renamed = body[..8].to_vec();
+        renamed.extend(wide("rId99"));
+        renamed.extend(wide("Lost"));
+        *body = renamed;
+    }));
+    assert!(error.contains("hostile.xlsb") && error.contains("xl/workbook.bin") && error.contains("BrtBundleSh"));
+    assert!(error.contains("rId99"), "{error}");
+
+    // A sheet's record cut inside its relationship's id.
+    let error = refusal(workbook(&|list| {
+        let (_, body) = list.iter_mut().find(|(kind, _)| *kind == BRT_BUNDLE_SH).unwrap();
+        body.truncate(13);
+    }));
+    assert!(error.contains("BrtBundleSh") && error.contains("cut short"), "{error}");
+
+    // The list of XTIs saying more than it holds (calamine read past its last one).
+    let error = refusal(workbook(&|list| {
+        let xti = [0u8; 12];
+        let mut body = 3u32.to_le_bytes().to_vec();
+        body.extend_from_slice(&xti);
+        body.extend_from_slice(&xti[..6]);
+        match list.iter_mut().find(|(kind, _)| *kind == BRT_EXTERN_SHEET) {
+            Some(record) => record.1 = body,
+            None => {
+                let at = list.iter().position(|(kind, _)| *kind == BRT_BUNDLE_SH).unwrap() + 1;
+                list.insert(at, (BRT_EXTERN_SHEET, body));
+            }
+        }
+    }));
+    assert!(error.contains("xl/workbook.bin") && error.contains("BrtExternSheet"), "{error}");
+
+    // A cell naming a shared string past the table, a number cut short, a column past XFD.
+    let isst = vec![(BRT_CELL_ISST, [0u32, 0, 1_000_000].iter().flat_map(|n| n.to_le_bytes()).collect())];
+    let error = refusal(with_cells(&good, isst));
+    assert!(error.contains("xl/worksheets/sheet1.bin") && error.contains("shared string 1000000"), "{error}");
+    let short = vec![(BRT_CELL_REAL, cell_real(1, 2.0)[..12].to_vec())];
+    let error = refusal(with_cells(&good, short));
+    assert!(error.contains("xl/worksheets/sheet1.bin") && error.contains("cut short"), "{error}");
+    let wide_col = vec![(BRT_CELL_REAL, cell_real(16_384, 2.0))];
+    let error = refusal(with_cells(&good, wide_col));
+    assert!(error.contains("column 16385"), "{error}");
+
+    // The sheet's part missing from the package.
+    let error = refusal(rewrite(&good, Some("xl/worksheets/sheet1.bin"), &mut |_, _| None));
+    assert!(error.contains("xl/worksheets/sheet1.bin") && error.contains("missing"), "{error}");
+}
+
+// ---------------------------------------------------------------------------------------
+// Fuzz targets.
+
+/// `data` with bytes replaced at the edits' places, then perhaps cut short.
+fn mutated(mut data: Vec<u8>, edits: &[(prop::sample::Index, u8)], cut: Option<prop::sample::Index>) -> Vec<u8> {
+    if !data.is_empty() {
+        for (at, byte) in edits {
+            let i = at.index(data.len());
+            data[i] = *byte;
+        }
+    }
+    if let Some(cut) = cut {
+        data.truncate(cut.index(data.len() + 1));
+    }
+    data
+}
+
+/// A change of a package's entry: its bytes mutated, its records given other lengths or
+/// huge counts, or the entry removed.
+#[derive(Clone, Debug)]
+enum Change {
+    Bytes(Vec<(prop::sample::Index, u8)>, Option<prop::sample::Index>),
+    /// The record's body cut to or padded with 0xFF to a length.
+    RecordLength(prop::sample::Index, usize),
+    /// The record's first bytes (its counts and lengths) all ones.
+    HugeCounts(prop::sample::Index, usize),
+    Remove,
+}
+
+fn change() -> impl Strategy<Value = Change> {
+    let edits = prop::collection::vec((any::<prop::sample::Index>(), any::<u8>()), 1..8);
+    prop_oneof![
+        4 => (edits, prop::option::of(any::<prop::sample::Index>())).prop_map(|(e, c)| Change::Bytes(e, c)),
+        2 => (any::<prop::sample::Index>(), 0usize..40).prop_map(|(i, n)| Change::RecordLength(i, n)),
+        2 => (any::<prop::sample::Index>(), 1usize..16).prop_map(|(i, n)| Change::HugeCounts(i, n)),
+        1 => Just(Change::Remove),
+    ]
+}
+
+/// A record of `list` changed as `change` says.
+fn change_record<T>(list: &mut [(T, Vec<u8>)], change: &Change) {
+    if list.is_empty() {
+        return;
+    }
+    match change {
+        Change::RecordLength(i, len) => {
+            let body = &mut list[i.index(list.len())].1;
+            body.resize(*len, 0xFF);
+        }
+        Change::HugeCounts(i, n) => {
+            let body = &mut list[i.index(list.len())].1;
+            let n = (*n).min(body.len());
+            body[..n].fill(0xFF);
+        }
+        _ => {}
+    }
+}
+
+/// A zip package with one entry changed.
+fn changed_package(good: &[u8], which: prop::sample::Index, change: &Change, xlsb: bool) -> Vec<u8> {
+    let zip = zip::ZipArchive::new(Cursor::new(good)).unwrap();
+    let names: Vec<String> = zip.file_names().map(|n| n.unwrap().to_string()).collect();
+    let target = names[which.index(names.len())].clone();
+    if let Change::Remove = change {
+        return rewrite(good, Some(&target), &mut |_, _| None);
+    }
+    rewrite(good, None, &mut |name, bytes| {
+        if name != target {
+            return None;
+        }
+        Some(match change {
+            Change::Bytes(edits, cut) => mutated(bytes.to_vec(), edits, *cut),
+            _ if xlsb && target.ends_with(".bin") => {
+                let mut list = records(bytes);
+                change_record(&mut list, change);
+                encode(&list)
+            }
+            // An XML part: its first attribute values made huge.
+            _ => String::from_utf8_lossy(bytes).replacen("=\"1\"", "=\"4294967295\"", 8).into_bytes(),
+        })
+    })
+}
+
+/// BIFF8 records ([MS-XLS] 2.1.4): type and length, 2 bytes each.
+fn biff_records(stream: &[u8]) -> Vec<(u16, Vec<u8>)> {
+    let mut out = Vec::new();
+    let mut at = 0;
+    while at + 4 <= stream.len() {
+        let kind = u16::from_le_bytes([stream[at], stream[at + 1]]);
+        let len = usize::from(u16::from_le_bytes([stream[at + 2], stream[at + 3]]));
+        let end = (at + 4 + len).min(stream.len());
+        out.push((kind, stream[at + 4..end].to_vec()));
+        at = end;
+    }
+    out
+}
+
+fn biff_encode(records: &[(u16, Vec<u8>)]) -> Vec<u8> {
+    let mut out = Vec::new();
+    for (kind, body) in records {
+        out.extend_from_slice(&kind.to_le_bytes());
+        out.extend_from_slice(&(body.len().min(0xFFFF) as u16).to_le_bytes());
+        out.extend_from_slice(&body[..body.len().min(0xFFFF)]);
+    }
+    out
+}
+
+/// A compound file with its Workbook stream changed, or the file's own bytes mutated.
+fn changed_xls(good: &[u8], change: &Change) -> Vec<u8> {
+    match change {
+        Change::Bytes(edits, cut) => mutated(good.to_vec(), edits, *cut),
+        Change::Remove => common::vba::with_stream(good, "/Workbook", |old| old[..old.len() / 2].to_vec()),
+        _ => common::vba::with_stream(good, "/Workbook", |old| {
+            let mut list = biff_records(old);
+            change_record(&mut list, change);
+            biff_encode(&list)
+        }),
+    }
+}
+
+/// A workbook read from a hostile file is used as any other: its values, formulas and names.
+fn exercise(opened: &io::Opened) {
+    let wb = &opened.workbook;
+    let _ = wb.names();
+    let _ = wb.problems();
+    for sheet in 0..wb.sheet_names().len() {
+        let _ = wb.value(sheet as _, parse_cell("A1").unwrap());
+    }
+}
+
+/// Reading `bytes` gives a workbook or an error naming the file.
+fn reads_or_names_the_file(bytes: Vec<u8>, format: Format) {
+    match open(bytes, format) {
+        Ok(opened) => exercise(&opened),
+        Err(error) => assert!(error.starts_with("hostile."), "{error}"),
+    }
+}
+
+proptest! {
+    #![proptest_config(config(60))]
+
+    #[test]
+    fn mutated_xlsb_files_never_panic(which in any::<prop::sample::Index>(), change in change()) {
+        let good = vendored("xlsb/defined_names.xlsb");
+        reads_or_names_the_file(changed_package(&good, which, &change, true), Format::Xlsb);
+    }
+
+    #[test]
+    fn mutated_xls_files_never_panic(change in change()) {
+        let good = vendored("excel-corpus/xls/testNames.xls");
+        reads_or_names_the_file(changed_xls(&good, &change), Format::Xls);
+    }
+
+    #[test]
+    fn mutated_ods_files_never_panic(which in any::<prop::sample::Index>(), change in change()) {
+        let good = vendored("ods/defined_names.ods");
+        reads_or_names_the_file(changed_package(&good, which, &change, false), Format::Ods);
+    }
+}
+
+/// The fuzz targets reach past the first check: the files they mutate are read whole.
+#[test]
+fn the_fuzzed_files_start_readable() {
+    for (path, format) in [
+        ("xlsb/defined_names.xlsb", Format::Xlsb),
+        ("excel-corpus/xls/testNames.xls", Format::Xls),
+        ("ods/defined_names.ods", Format::Ods),
+    ] {
+        let opened = open(vendored(path), format).unwrap_or_else(|e| panic!("{path}: {e}"));
+        assert!(!opened.workbook.names().is_empty(), "{path}: its names are read");
+    }
+    // The application its SummaryInformation names, as olefile reads it.
+    let xls = open(vendored("excel-corpus/xls/testNames.xls"), Format::Xls).unwrap();
+    assert_eq!(xls.written_by.as_deref(), Some("Microsoft Excel"));
+}
