@@ -831,6 +831,41 @@ fn null_into_a_typed_variable_is_error_94() {
     assert!(e.message.contains("Invalid use of Null"), "{e}");
 }
 
+// [MS-VBAL] 6.1.2, the Strings module's Chr: "If the argument is not in the range 0 to 255,
+// Error Number 5 ("Invalid procedure call or argument") is raised unless the implementation
+// supports a character set with a larger code point range"; 128 to 255 are the code page's,
+// Windows-1252 in a Western Excel ("Character set (128-255)": 128 is €, 150 the en dash).
+// Asc is its inverse in that code page ("Asc function").
+#[test]
+fn chr_takes_codes_0_to_255_of_the_code_page() {
+    assert_eq!(value("Chr(65) & Chr$(176)"), Value::text("A\u{b0}"));
+    assert_eq!(value("Chr(128) = ChrW(8364)"), Value::Bool(true));
+    assert_eq!(value("Chr(150) = ChrW(8211)"), Value::Bool(true));
+    assert_eq!(value("Asc(Chr(128))"), n(128.0));
+    assert_eq!(value("Asc(ChrW(8211))"), n(150.0));
+    for code in ["256", "300", "8364"] {
+        let out = run(&format!(
+            "Sub Main()\n    Dim v\n    v = \"kept\"\n    On Error Resume Next\n    v = Chr({code})\n\
+             \x20   Debug.Print Err.Number; v\nEnd Sub\n"
+        ));
+        assert_eq!(out.printed, [" 5 kept"], "Chr({code})");
+    }
+}
+
+// [MS-VBAL] 5.4.2.4 "For Each Statement": the bound variable is Let-assigned each element
+// of the array in turn, so a Variant bound variable holds each item with its subtype: the
+// items of a Date array, and the Dates a Variant array or a Collection holds, are Dates
+// (TypeName "Date", VarType 7, shown as dates).
+#[test]
+fn for_each_over_dates_gives_dates() {
+    let out = run("Sub Main()\n    Dim d(1 To 2) As Date, v(1), c As New Collection, x, s\n\
+                   \x20   d(1) = #1/2/2020#: d(2) = #3/4/2021#\n    v(0) = #5/6/2022#: v(1) = \"t\"\n\
+                   \x20   c.Add #7/8/2023#\n    For Each x In d\n        s = s & TypeName(x) & \" \" & x & \";\"\n    Next\n\
+                   \x20   For Each x In v\n        s = s & VarType(x) & \";\"\n    Next\n\
+                   \x20   For Each x In c\n        s = s & TypeName(x) & \" \" & x\n    Next\n    Debug.Print s\nEnd Sub\n");
+    assert_eq!(out.printed, ["Date 1/2/2020;Date 3/4/2021;7;8;Date 7/8/2023"]);
+}
+
 // ---- numbers in Variants ----------------------------------------------------------------
 
 /// The lines `Sub Main` with `body` prints, after the module-level `module`.
@@ -943,4 +978,33 @@ fn cbyte_csng_and_ccur_give_their_types() {
          \x20   v = CSng(1E+39)\n    Debug.Print Err.Number",
     );
     assert_eq!(out, ["Byte 200 Single 1.5 Currency 1.2346 ", " 17  4  6 Integer", " 6  6  6  6 "]);
+}
+
+// [MS-VBAL] 3.3.5.3: a name in square brackets is a foreign name, here a member of a
+// worksheet (`ws.[A1]`), which Excel's Worksheet evaluates: "Using square brackets (for
+// example, "[A1:C5]") is identical to calling the Evaluate method with a string argument"
+// ("Worksheet.Evaluate method"), on that sheet.
+#[test]
+fn a_bracketed_member_of_a_sheet_is_its_evaluate() {
+    let mut wb = Workbook::with_sheet();
+    wb.add_sheet("cfg").unwrap();
+    wb.set_input(1, parse_cell("A1").unwrap(), "out").unwrap();
+    wb.set_input(1, parse_cell("B2").unwrap(), "4").unwrap();
+    let src = "Sub Main()\n    Debug.Print Sheets(\"cfg\").[A1] & \"\\x.nc\"; Sheets(2).[B2*10]\n\
+               \x20   Sheets(\"cfg\").[C3] = 7\nEnd Sub\n";
+    let out = vba::run(&mut wb, src, "Module1.bas", &RunOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.printed, ["out\\x.nc 40 "]);
+    assert_eq!(wb.value(1, parse_cell("C3").unwrap()), n(7.0));
+}
+
+// "WorksheetFunction.Floor_Precise method" and "…Ceiling_Precise": a worksheet function whose
+// name holds a dot is a member with an underscore there; the values are the FLOOR.PRECISE and
+// CEILING.PRECISE pages' examples (FLOOR.PRECISE(-3.2,-1) = -4, (3.2,1) = 3; CEILING.PRECISE(4.3)
+// = 5, (-4.3) = -4).
+#[test]
+fn worksheet_functions_with_a_dot_are_members_with_an_underscore() {
+    assert_eq!(value("WorksheetFunction.Floor_Precise(-3.2, -1)"), n(-4.0));
+    assert_eq!(value("Application.WorksheetFunction.Floor_Precise(3.2, 1)"), n(3.0));
+    assert_eq!(value("WorksheetFunction.Ceiling_Precise(4.3)"), n(5.0));
+    assert_eq!(value("Application.Ceiling_Precise(-4.3)"), n(-4.0));
 }

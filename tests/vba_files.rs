@@ -26,6 +26,7 @@ fn sandbox(inputs: &[(&str, &[u8])]) -> RunOptions {
         inputs,
         read_out_dir: Rc::new(|_| Ok(None)),
         list_out_dir: Rc::new(|| Ok(Vec::new())),
+        modified_out_dir: Rc::new(|_| Ok(None)),
     };
     RunOptions { files: Some(files), ..RunOptions::default() }
 }
@@ -713,4 +714,100 @@ fn binary_files_keep_to_the_sandbox() {
     let out = run_with(src, &options).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(out.printed, [" 1  2 ", " 75 "]);
     assert!(out.files.is_empty(), "{:?}", out.files);
+}
+
+// "FileDateTime function": "Returns a Variant (Date) that indicates the date and time when a
+// file was created or last modified", in local time. It reads the sandbox only, as FileLen: a
+// file of --out-dir (its modification time), or one this run writes, which is written when
+// the run ends, so at the run's clock; a missing file is error 53 ("File not found"); a listed
+// input has no date in the run (its bytes only) and is refused by name.
+#[test]
+fn file_date_time_is_when_the_file_was_last_modified() {
+    use std::time::{Duration, UNIX_EPOCH};
+    // 2024-06-15 12:00:00 UTC: the 15th or 16th of June 2024 in every time zone.
+    let june = UNIX_EPOCH + Duration::from_secs(1_718_452_800);
+    let files = FileAccess {
+        out_dir: Some("out".into()),
+        inputs: vec![("in.txt".to_string(), Rc::from(&b"x"[..]))],
+        read_out_dir: Rc::new(|_| Ok(None)),
+        list_out_dir: Rc::new(|| Ok(Vec::new())),
+        modified_out_dir: Rc::new(move |name| {
+            Ok(match name {
+                "a.nc" => Some(june),
+                "b.nc" => Some(june + Duration::from_secs(3723)),
+                _ => None,
+            })
+        }),
+    };
+    let options = RunOptions { files: Some(files), ..RunOptions::default() };
+    let mut wb = Workbook::with_sheet();
+    wb.settings_mut().clock = Some(45_000.25);
+    let src = "Sub Main()\n    Debug.Print TypeName(FileDateTime(\"a.nc\")); Year(FileDateTime(\"a.nc\")); \
+               Month(FileDateTime(\"a.nc\"))\n\
+               \x20   Debug.Print Round((FileDateTime(\"b.nc\") - FileDateTime(\"a.nc\")) * 86400)\n\
+               \x20   Open \"new.nc\" For Output As #1\n    Print #1, \"G0 X0\"\n    Close #1\n\
+               \x20   Debug.Print FileDateTime(\"new.nc\") = Now\n\
+               \x20   On Error Resume Next\n    x = FileDateTime(\"none.nc\")\n    Debug.Print Err.Number\nEnd Sub\n";
+    let out = vba::run(&mut wb, src, "m.bas", &options).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.printed, ["Date 2024  6 ", " 3723 ", "True", " 53 "]);
+    let src = "Sub Main()\n    On Error Resume Next\n    x = FileDateTime(\"in.txt\")\nEnd Sub\n";
+    let e = vba::run(&mut wb, src, "m.bas", &options).unwrap_err();
+    assert!(e.message.contains("FileDateTime \"in.txt\"") && e.message.contains("--in-file"), "{e}");
+}
+
+// The same through `ncsheet run --out-dir`: the folder's file is read for its modification
+// time, a symbolic link there is refused as for reading.
+#[cfg(unix)]
+#[test]
+fn file_date_time_reads_the_out_dir() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let file = std::fs::File::create(out.join("old.nc")).unwrap();
+    let june = std::time::UNIX_EPOCH + std::time::Duration::from_secs(1_718_452_800);
+    file.set_modified(june).unwrap();
+    drop(file);
+    let bas = "Sub Main()\n    Debug.Print \"year\"; Year(FileDateTime(ThisWorkbook.Path & \"\\old.nc\"))\nEnd Sub\n";
+    let r = run_macro(dir.path(), bas, &[]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert!(r.stderr.contains("year 2024"), "{}", r.stderr);
+    std::os::unix::fs::symlink(dir.path().join("book.csv"), out.join("link.nc")).unwrap();
+    let r = run_macro(dir.path(), "Sub Main()\n    x = FileDateTime(\"link.nc\")\nEnd Sub\n", &[]);
+    assert_eq!(r.code, 1, "{}", r.stderr);
+    let refused = r.stderr.contains("FileDateTime \"link.nc\": refused") && r.stderr.contains("symbolic link");
+    assert!(refused, "{}", r.stderr);
+}
+
+// "Put statement" ([MS-VBAL] 5.4.5.11: "If <data> is a UDT, then the value of each member of
+// the UDT is written … in the order in which the members are declared"): a user-defined type
+// is written "as if [each element] were written individually, except that there is no padding
+// between elements", and in a Binary file "Put writes variable-length strings that are not
+// elements of user-defined types without the 2-byte length descriptor" — so a String member
+// keeps its 2-byte length; "For any array other than an array in a user-defined type, Put
+// writes only the data". "Get statement" reads them back the same way ([MS-VBAL] 5.4.5.7).
+// In a Random file a Type value is one record; a whole array there follows a descriptor
+// whose content the reference does not give, and is refused.
+#[test]
+fn put_and_get_write_types_and_arrays_as_vba_lays_them_out() {
+    let src = "Type Part\n    Id As Integer\n    Name As String\n    X As Double\n    Done As Boolean\n    Tag As Variant\n\
+               End Type\nSub Main()\n    Dim p As Part, q As Part, a(1 To 3) As Long, b(1 To 3) As Long\n\
+               \x20   p.Id = 7: p.Name = \"AB\": p.X = 1.5: p.Done = True: p.Tag = \"x\"\n\
+               \x20   a(1) = 1: a(2) = -1: a(3) = 70000\n    Open \"T.BIN\" For Binary As #1\n    Put #1, , p\n    Put #1, , a\n\
+               \x20   Get #1, 1, q\n    Get #1, , b\n\
+               \x20   Debug.Print q.Id; q.Name; q.X; q.Done; q.Tag; b(1); b(2); b(3); Loc(1); LOF(1)\n    Close #1\n\
+               \x20   Open \"T.DAT\" For Random As #2 Len = 21\n    Put #2, 2, p\n    Close #2\nEnd Sub\n";
+    let out = run(src);
+    assert_eq!(out.printed, [" 7 AB 1.5 Truex 1 -1  70000  33  33 "]);
+    let file = |name: &str| out.files.iter().find(|(n, _)| n == name).map(|(_, b)| b.clone()).unwrap();
+    let mut part = vec![7, 0, 2, 0, b'A', b'B'];
+    part.extend(1.5f64.to_le_bytes());
+    part.extend([0xFF, 0xFF, 8, 0, 1, 0, b'x']);
+    let mut binary = part.clone();
+    binary.extend([1, 0, 0, 0, 0xFF, 0xFF, 0xFF, 0xFF, 0x70, 0x11, 0x01, 0x00]);
+    assert_eq!(file("T.BIN"), binary);
+    let mut random = vec![0; 21];
+    random.extend(&part);
+    assert_eq!(file("T.DAT"), random);
+    let e = fail("    Dim a(2) As Long\n    Open \"R.DAT\" For Random As #1 Len = 64\n    Put #1, 1, a", &sandbox(&[]));
+    assert!(e.message.contains("descriptor"), "{e}");
 }

@@ -540,6 +540,7 @@ fn print_and_write_to_a_file_write_dates_as_vba_does() {
         inputs: Vec::new(),
         read_out_dir: std::rc::Rc::new(|_| Ok(None)),
         list_out_dir: std::rc::Rc::new(|| Ok(Vec::new())),
+        modified_out_dir: std::rc::Rc::new(|_| Ok(None)),
     };
     let options = RunOptions { files: Some(files), ..RunOptions::default() };
     let out = vba::run(&mut Workbook::with_sheet(), src, "test.bas", &options).unwrap_or_else(|e| panic!("{e}"));

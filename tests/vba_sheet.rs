@@ -235,3 +235,53 @@ fn active_cell_and_selection_follow_select_and_activate() {
     assert_eq!(get(&wb, 0, "B2"), n(3.0));
     assert_eq!(get(&wb, 1, "D4"), Value::text("Two"));
 }
+
+// "Sheets.Add method" (Excel VBA reference): "Creates a new worksheet … The new worksheet
+// becomes the active sheet"; its return value "represents the new worksheet"; After is "the
+// sheet after which the new sheet is added". "Worksheet.Name property" renames the sheet,
+// and formulas that refer to it follow (Excel keeps references to the sheet, not its name).
+// A new sheet of a workbook holding Sheet1 is named Sheet2.
+#[test]
+fn sheets_add_after_the_last_sheet_returns_it_and_name_renames_it() {
+    let mut wb = Workbook::with_sheet();
+    let printed = run(
+        &mut wb,
+        "    Dim ws As Worksheet\n    Set ws = Sheets.Add(After:=Sheets(Sheets.Count))\n\
+         \x20   Debug.Print ws.Name; ActiveSheet.Name; ws.Index; Worksheets.Count\n\
+         \x20   Sheets(1).Range(\"A1\").Formula = \"=Sheet2!B1*2\"\n    ws.Name = \"GCode\"\n    ws.Range(\"B1\").Value = 21\n\
+         \x20   Worksheets.Add After:=Worksheets(\"GCode\")\n    Debug.Print ActiveSheet.Name; Sheets(3).Name\n\
+         \x20   Debug.Print Worksheets(\"gcode\").Range(\"B1\").Value; Sheets(1).Range(\"A1\").Value",
+    );
+    assert_eq!(printed, ["Sheet2Sheet2 2  2 ", "Sheet3Sheet3", " 21  42 "]);
+    assert_eq!(wb.sheet_names(), ["Sheet1", "GCode", "Sheet3"]);
+    assert_eq!(wb.formula(0, parse_cell("A1").unwrap()).as_deref(), Some("=GCode!B1*2"));
+}
+
+// "Sheets.Add method": "If Before and After are both omitted, the new sheet is inserted
+// before the active sheet", a place ncsheet's sheets (kept in the order made) cannot take: it
+// is refused with where Excel puts it. "Rename a worksheet" (Excel help): a name is at most
+// 31 characters, not blank, without : \ / ? * [ ], and not another sheet's: run-time error 1004.
+#[test]
+fn sheets_add_elsewhere_and_bad_names_are_refused() {
+    let mut wb = Workbook::with_sheet();
+    let e = vba::run(&mut wb, "Sub Main()\n    Sheets.Add\nEnd Sub\n", "m.bas", &RunOptions::default()).unwrap_err();
+    assert!(e.message.contains("before Sheet1") && e.message.contains("After:=Sheets(Sheets.Count)"), "{e}");
+    assert_eq!(wb.sheet_len(), 1, "nothing added");
+    wb.add_sheet("Data").unwrap();
+    let printed = run(
+        &mut wb,
+        "    On Error Resume Next\n    For Each n In Array(\"Data\", \"a/b\", \"\", String(32, \"x\"), \"'q\")\n\
+         \x20   Err.Clear\n        Sheets(1).Name = n\n        s = s & Err.Number & \",\"\n    Next\n\
+         \x20   Debug.Print s; Sheets(1).Name",
+    );
+    assert_eq!(printed, ["1004,1004,1004,1004,1004,Sheet1"]);
+}
+
+// "Workbook.Name property": the workbook's name, its file name with the extension.
+#[test]
+fn workbook_name_is_the_file_name() {
+    let mut wb = Workbook::with_sheet();
+    let options = RunOptions { workbook_name: Some("Parts.xlsm".into()), ..RunOptions::default() };
+    let out = vba::run(&mut wb, "Sub Main()\n    Debug.Print ThisWorkbook.Name\nEnd Sub\n", "m.bas", &options).unwrap();
+    assert_eq!(out.printed, ["Parts.xlsm"]);
+}

@@ -48,12 +48,33 @@ pub(super) fn access(out_dir: Option<&Path>, in_files: &[PathBuf], max_bytes: u6
         Some(dir) => plain_files(dir),
         None => Ok(Vec::new()),
     };
+    let folder = out_dir.map(Path::to_path_buf);
+    let modified_out_dir = move |name: &str| match &folder {
+        Some(dir) => modified_in_folder(&dir.join(name)),
+        None => Ok(None),
+    };
     Ok(Some(FileAccess {
         out_dir: out_dir.map(|d| d.display().to_string()),
         inputs,
         read_out_dir: Rc::new(read_out_dir),
         list_out_dir: Rc::new(list_out_dir),
+        modified_out_dir: Rc::new(modified_out_dir),
     }))
+}
+
+/// When a file of the output folder was last modified (`FileDateTime`): `None` when there is
+/// none; a symbolic link or anything but a plain file is refused, as for reading.
+fn modified_in_folder(path: &Path) -> std::result::Result<Option<std::time::SystemTime>, String> {
+    match std::fs::symlink_metadata(path) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        Err(e) => Err(format!("{}: {e}", path.display())),
+        Ok(m) if m.file_type().is_symlink() => Err(format!(
+            "{} is a symbolic link, which could lead out of --out-dir: a macro reads only the folder's own files",
+            path.display()
+        )),
+        Ok(m) if !m.is_file() => Err(format!("{}: not a plain file", path.display())),
+        Ok(m) => m.modified().map(Some).map_err(|e| format!("{}: {e}", path.display())),
+    }
 }
 
 /// The name a macro opens a listed input by: its file name, a plain name of the sandbox.

@@ -16,9 +16,9 @@ use crate::eval::coerce::to_number;
 use crate::eval::dates::DateSystem;
 use crate::eval::functions::vba::vba_text;
 use crate::eval::Value;
-use crate::formula::ast::Expr;
+use crate::formula::ast::{Expr, ExprKind};
 
-use super::ast::{Span, Target};
+use super::ast::{Span, Target, Ty};
 use super::interp::{Interp, Run};
 use super::typing::Declared;
 use super::value::Var;
@@ -128,20 +128,23 @@ impl Interp<'_, '_> {
     pub(super) fn put_record(&self, number: &Expr, record: Option<&Expr>, data: &Expr, span: Span) -> Run<()> {
         let n = self.file_no(number)?;
         let start = self.record_start(n, record, span)?;
-        let value =
-            match self.var_of(data, false)? {
-                Var::Value(v) => v,
-                Var::Array(_) | Var::Record(..) | Var::Obj(_) => return Err(self.fault_at(
-                    span,
-                    "Put # writes a value (a number, a string, a Date, a Variant); arrays, Type values and objects \
-                     are not written here",
-                )),
-            };
         let random = self.files.borrow().records.get(&n).is_some_and(|c| c.random);
-        let declared = self.declared_type(data);
-        let date = self.as_date(data, &value).is_some();
-        let bytes =
-            put_bytes(declared, &value, date, random).map_err(|m| self.fault_at(span, format!("Put #{n}: {m}")))?;
+        let bytes = match self.var_of(data, false)? {
+            Var::Value(value) => {
+                let declared = self.declared_type(data);
+                let date = self.as_date(data, &value).is_some();
+                put_bytes(declared, &value, date, random)
+            }
+            whole @ (Var::Array(_) | Var::Record(..)) => {
+                let ty = match &data.kind {
+                    ExprKind::Name(name) => self.with_slot(name, |s| s.ty.clone()).flatten(),
+                    _ => None,
+                };
+                self.composite_bytes(&whole, ty.as_ref(), random, false)
+            }
+            Var::Obj(_) => Err("an object is not written to a file (Put # writes values)".to_string()),
+        };
+        let bytes = bytes.map_err(|m| self.fault_at(span, format!("Put #{n}: {m}")))?;
         self.charge(bytes.len() as u64, span)?;
         let mut files = self.files.borrow_mut();
         let super::files::Files { records, written, .. } = &mut *files;
@@ -177,6 +180,11 @@ impl Interp<'_, '_> {
             Target::Node(_) => return Err(self.fault_at(span, "Get # reads into a variable or an array's item")),
         };
         let ty = self.with_slot(name, |s| s.ty.clone()).flatten();
+        if index.is_none() {
+            if let Some(shape @ (Var::Array(_) | Var::Record(..))) = self.lookup(name) {
+                return self.get_composite(n, start, name, &shape, ty.as_ref(), span);
+            }
+        }
         let declared = Declared::of_ty(ty.as_ref());
         // A String in a Binary file is read for as many characters as the variable holds.
         let current = match index {
@@ -213,6 +221,130 @@ impl Interp<'_, '_> {
         Ok(())
     }
 
+    /// The bytes `Put` writes for a Type value or an array ("Put statement"): a Type's members
+    /// one after the other in their declared order, without padding, a String member after
+    /// its 2-byte length even in a Binary file ("Put writes variable-length strings that are
+    /// not elements of user-defined types without the 2-byte length descriptor"); an array's
+    /// items in order, without a descriptor in a Binary file ("For any array other than an
+    /// array in a user-defined type, Put writes only the data"). In a Random file VBA writes
+    /// a descriptor before a dynamic array, whose content its reference does not give: such
+    /// a Put is refused, as is an array of more than one dimension (its item order is VBA's
+    /// memory's).
+    fn composite_bytes(&self, var: &Var, ty: Option<&Ty>, random: bool, member: bool) -> Result<Vec<u8>, String> {
+        match var {
+            Var::Value(v) => match Declared::of_ty(ty) {
+                Declared::String if member => string_bytes(v, true),
+                declared => put_bytes(declared, v, false, random),
+            },
+            Var::Record(t, fields) => {
+                let mut out = Vec::new();
+                for (field, (_, field_ty)) in fields.iter().zip(&self.module.types[*t].fields) {
+                    out.extend(self.composite_bytes(field, Some(field_ty), random, true)?);
+                }
+                Ok(out)
+            }
+            Var::Array(a) => {
+                whole_array_layout(a, random)?;
+                let mut out = Vec::new();
+                for k in 0..a.data.data.len() {
+                    let item = a.item(k);
+                    match &item {
+                        Var::Value(v) if matches!(Declared::of_ty(ty), Declared::Variant) => {
+                            out.extend(variant_bytes(v, a.holds_date(k))?)
+                        }
+                        _ => out.extend(self.composite_bytes(&item, ty, random, member)?),
+                    }
+                }
+                Ok(out)
+            }
+            Var::Obj(_) => Err("an object is not written to a file (Put # writes values)".to_string()),
+        }
+    }
+
+    /// `Get #n, [record], var` into a whole Type variable or array: read as
+    /// [`Interp::composite_bytes`] writes it, in the shape the variable has.
+    fn get_composite(
+        &self,
+        n: i64,
+        start: usize,
+        name: &std::rc::Rc<str>,
+        shape: &Var,
+        ty: Option<&Ty>,
+        span: Span,
+    ) -> Run<()> {
+        let (var, read, past_end, random) = {
+            let files = self.files.borrow();
+            let c = files.records.get(&n).expect("checked by record_start");
+            let bytes: &[u8] = match &c.place {
+                Place::Written(i) => &files.written[*i].1,
+                Place::Input(bytes) => bytes,
+            };
+            let mut reader = Reader { bytes, at: start, past_end: false };
+            let var = self
+                .read_composite(&mut reader, shape, ty, c.random, false)
+                .map_err(|m| self.fault_at(span, format!("Get #{n}: {m}")))?;
+            (var, reader.at - start, reader.past_end, c.random)
+        };
+        self.with_slot(name, |s| s.replace(var));
+        let mut files = self.files.borrow_mut();
+        let c = files.records.get_mut(&n).expect("checked by record_start");
+        c.at = start + if random { c.record.max(read) } else { read };
+        c.last = if random { start / c.record + 1 } else { start + read };
+        c.past_end = past_end;
+        Ok(())
+    }
+
+    /// A Type value or an array of `shape`'s form read from `reader`.
+    fn read_composite(
+        &self,
+        reader: &mut Reader,
+        shape: &Var,
+        ty: Option<&Ty>,
+        random: bool,
+        member: bool,
+    ) -> Result<Var, String> {
+        match shape {
+            Var::Value(v) => {
+                let held = match v {
+                    Value::Text(t) => t.chars().count(),
+                    _ => 0,
+                };
+                let (value, _) = reader.item(Declared::of_ty(ty), random || member, held)?;
+                Ok(Var::Value(value))
+            }
+            Var::Record(t, fields) => {
+                let mut read = Vec::with_capacity(fields.len());
+                for (field, (_, field_ty)) in fields.iter().zip(&self.module.types[*t].fields) {
+                    read.push(self.read_composite(reader, field, Some(field_ty), random, true)?);
+                }
+                Ok(Var::Record(*t, read))
+            }
+            Var::Array(a) => {
+                whole_array_layout(a, random)?;
+                let mut items = a.data.as_ref().clone();
+                let mut dates = Vec::new();
+                for (k, item) in items.data.iter_mut().enumerate() {
+                    let (value, date) = match Declared::of_ty(ty) {
+                        Declared::Variant => reader.variant()?,
+                        _ => match self.read_composite(reader, &a.item(k), ty, random, member)? {
+                            Var::Value(v) => (v, false),
+                            _ => return Err("an array of objects or Type values is not read here".into()),
+                        },
+                    };
+                    *item = value;
+                    dates.push(date);
+                }
+                let mut array = a.clone();
+                array.data = std::rc::Rc::new(items);
+                for (k, date) in dates.into_iter().enumerate() {
+                    array.mark_date(k, date);
+                }
+                Ok(Var::Array(array))
+            }
+            Var::Obj(_) => Err("an object is not read from a file".into()),
+        }
+    }
+
     /// `Seek #n, position`: the byte (Binary) or record (Random) the next Put or Get uses.
     pub(super) fn seek_record(&self, number: &Expr, position: &Expr, span: Span) -> Run<()> {
         let n = self.file_no(number)?;
@@ -222,6 +354,22 @@ impl Interp<'_, '_> {
         }
         Ok(())
     }
+}
+
+/// Whether Put and Get take array `a` whole: one dimension, in a Binary file, no objects.
+fn whole_array_layout(a: &super::value::VArray, random: bool) -> Result<(), String> {
+    if a.dims > 1 {
+        return Err("an array of more than one dimension is not written or read whole here (Put its items)".into());
+    }
+    if random {
+        return Err("a whole array in a Random file comes after a descriptor VBA's reference does not lay out; \
+                    Put and Get its items, or use a Binary file"
+            .into());
+    }
+    if a.objects.as_ref().is_some_and(|o| !o.is_empty()) {
+        return Err("an array holding objects is not written to a file".into());
+    }
+    Ok(())
 }
 
 /// The bytes `Put` writes for `v` of the declared type `declared`: a Variant's with its

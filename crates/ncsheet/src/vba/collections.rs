@@ -195,6 +195,15 @@ impl Handle {
         }
     }
 
+    /// Which of [`Handle::each`]'s items are Dates (a Dictionary's keys are not marked).
+    pub fn each_dates(&self) -> Vec<bool> {
+        let store = self.0.borrow();
+        match store.class {
+            Class::Collection => store.live().map(|e| e.2).collect(),
+            Class::Dictionary => store.live().map(|_| false).collect(),
+        }
+    }
+
     /// The memory the entries hold besides their items: keys' texts and each entry's share.
     pub fn own_bytes(&self) -> u64 {
         let store = self.0.borrow();

@@ -1,6 +1,6 @@
 //! The files a macro reads and writes (`Open`, `Print #`, `Write #`, `Input #`, `Line Input #`,
-//! `Close`, `FreeFile`, `EOF`, `LOF`, `Dir`, `Kill`, `FileLen`, `FileCopy`, and Scripting's
-//! `FileSystemObject` with its
+//! `Close`, `FreeFile`, `EOF`, `LOF`, `Dir`, `Kill`, `FileLen`, `FileDateTime`, `FileCopy`, and
+//! Scripting's `FileSystemObject` with its
 //! `TextStream`s), inside a sandbox the run is given ([`FileAccess`]: `ncsheet run --out-dir
 //! DIR` and `--in-file PATH`).
 //!
@@ -54,6 +54,9 @@ pub struct FileAccess {
     /// The names of the output folder's plain files (those [`checked_name`] accepts), for
     /// `Dir` and `Kill` with wildcards; `Err` why the folder cannot be listed.
     pub list_out_dir: Rc<FolderLister>,
+    /// When a file of the output folder was last modified (`FileDateTime`), by a name
+    /// [`checked_name`] accepted: `Ok(None)` when there is none, `Err` why it cannot be read.
+    pub modified_out_dir: Rc<FolderClock>,
 }
 
 /// Reads a file of the output folder by name for the sandbox (see [`FileAccess::read_out_dir`]).
@@ -61,6 +64,9 @@ pub type FolderReader = dyn Fn(&str) -> Result<Option<Vec<u8>>, String>;
 
 /// Lists the output folder's files for the sandbox (see [`FileAccess::list_out_dir`]).
 pub type FolderLister = dyn Fn() -> Result<Vec<String>, String>;
+
+/// When a file of the output folder was last modified (see [`FileAccess::modified_out_dir`]).
+pub type FolderClock = dyn Fn(&str) -> Result<Option<std::time::SystemTime>, String>;
 
 impl fmt::Debug for FileAccess {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -303,9 +309,8 @@ impl Build<'_> {
 /// [`Interp::file_root`] answers.
 pub(super) fn is_file_function(lower: &str, link: &Link) -> bool {
     match lower {
-        "freefile" | "eof" | "lof" | "loc" | "seek" | "kill" | "dir" | "filelen" | "filecopy" | "mkdir" | "rmdir" => {
-            true
-        }
+        "freefile" | "eof" | "lof" | "loc" | "seek" | "kill" | "dir" | "filelen" | "filedatetime" | "filecopy"
+        | "mkdir" | "rmdir" => true,
         "createobject" => matches!(
             link.args.as_deref(),
             Some([arg]) if matches!(&arg.value.kind,
@@ -981,6 +986,13 @@ impl Interp<'_, '_> {
                     None => Err(self.not_found("FileLen", &name, link.span)),
                 }
             }
+            "filedatetime" => {
+                let name =
+                    self.sandbox_name("FileDateTime", &args.first().map(print_text).unwrap_or_default(), link.span)?;
+                let serial = self.file_date_time(&name, link.span)?;
+                self.gave_date(true);
+                value(Value::Number(serial))
+            }
             "filecopy" => self.file_copy(&args, link.span).map(|()| Obj::Value(Value::Blank)),
             // Subfolders stay refused: every part of a path would have to be checked for a
             // symbolic link at the moment each file is written, which a link made between the
@@ -996,6 +1008,34 @@ impl Interp<'_, '_> {
             )),
             _ => Ok(Obj::Files(FileObj::System)),
         }
+    }
+
+    /// `FileDateTime(name)` ("FileDateTime function"): when the file was last modified, a
+    /// Date in local time to the second. A file this run writes is written when the run
+    /// ends, so its time is the run's clock now; a listed input (`--in-file`) has no time in
+    /// the sandbox, which sees only its bytes.
+    fn file_date_time(&self, name: &str, span: Span) -> Run<f64> {
+        if self.files.borrow().written_index(name).is_some() {
+            return Ok(crate::eval::evaluator::Env::now(self));
+        }
+        if self.files.borrow().is_removed(name) {
+            return Err(self.not_found("FileDateTime", name, span));
+        }
+        let access = self.access();
+        if access.inputs.iter().any(|(n, _)| n.eq_ignore_ascii_case(name)) {
+            let why = format!(
+                "FileDateTime \"{name}\": an --in-file file is read for its bytes only; its date is not part of \
+                 the run (put the file in --out-dir to read its date)"
+            );
+            return Err(self.refused(span, why));
+        }
+        let modified = match access.out_dir {
+            Some(_) => (access.modified_out_dir)(name)
+                .map_err(|why| self.refused(span, format!("FileDateTime \"{name}\": refused: {why}")))?,
+            None => None,
+        };
+        let modified = modified.ok_or_else(|| self.not_found("FileDateTime", name, span))?;
+        Ok(local_serial(modified))
     }
 
     /// A file's bytes as they stand now: written this run, or listed, or in the folder.
@@ -1253,6 +1293,20 @@ impl Interp<'_, '_> {
         }
         Ok(self.stored_bytes("FileExists", name, span)?.is_some())
     }
+}
+
+/// A moment as a VBA Date in local time (days as the 1900 system counts them), to the
+/// second as file times are shown.
+fn local_serial(t: std::time::SystemTime) -> f64 {
+    use chrono::{Datelike, Timelike};
+    let local = chrono::DateTime::<chrono::Local>::from(t).naive_local();
+    let day = crate::eval::dates::serial_from_ymd(
+        crate::eval::dates::DateSystem::From1900,
+        i64::from(local.year()),
+        i64::from(local.month()),
+        i64::from(local.day()),
+    );
+    day as f64 + f64::from(local.num_seconds_from_midnight()) / 86_400.0
 }
 
 /// An open file by its number or as a TextStream.

@@ -731,7 +731,10 @@ impl Interp<'_, '_> {
         // The flag is the last call's or item's, which is this node's own only for these.
         let own = match &self.module.nodes[id as usize] {
             Node::Call { .. } | Node::Element { .. } | Node::Index { .. } => true,
-            Node::Path(path) => path.links.last().is_some_and(|l| l.name.eq_ignore_ascii_case("item")),
+            Node::Path(path) => path
+                .links
+                .last()
+                .is_some_and(|l| l.name.eq_ignore_ascii_case("item") || l.name.eq_ignore_ascii_case("filedatetime")),
             _ => false,
         };
         let gave = self.gave.get();
@@ -746,6 +749,11 @@ impl Interp<'_, '_> {
     /// Notes whether the item or element being read holds a Date (for [`Interp::node_types`]).
     pub(super) fn gave_date(&self, date: bool) {
         self.gave.set(if date { Declared::Date } else { Declared::Variant });
+    }
+
+    /// Whether `e` is a member path (`Sheets.Add …`, `ws.Copy`), which may end at an object.
+    fn is_member_path(&self, e: &Expr) -> bool {
+        matches!(&e.kind, ExprKind::Host(id) if matches!(self.module.nodes[*id as usize], Node::Path(_)))
     }
 
     /// [`Interp::var_of`] of the node `id`, the expression `e`.
@@ -774,14 +782,6 @@ impl Interp<'_, '_> {
                 let Node::Call { proc, args, span } = &self.module.nodes[id as usize] else { unreachable!() };
                 self.call_record(*proc, args, *span)
             }
-            ExprKind::Host(_) if as_object => {
-                if let Node::Path(path) = &self.module.nodes[id as usize] {
-                    let mut ctx = self.ctx();
-                    let obj = self.path(&mut ctx, path);
-                    self.take_pending()?;
-                    return Ok(Var::Obj(obj?));
-                }
-                self.operand_var(e, as_object)
             // `c = Coeffs(x)`: the array a Function returns keeps its bounds and dimensions, as
             // its name held it ([MS-VBAL] 5.3.1.5: the function's result is its variable's value).
             ExprKind::Host(_) if !as_object && self.is_call(id) => {
@@ -794,6 +794,14 @@ impl Interp<'_, '_> {
                 self.no_record_result(*proc, &frame)?;
                 Ok(array_var(value, self.module.base))
             }
+            ExprKind::Host(_) if as_object => {
+                if let Node::Path(path) = &self.module.nodes[id as usize] {
+                    let mut ctx = self.ctx();
+                    let obj = self.path(&mut ctx, path);
+                    self.take_pending()?;
+                    return Ok(Var::Obj(obj?));
+                }
+                self.operand_var(e, as_object)
             }
             _ => self.operand_var(e, as_object),
         }
@@ -1164,6 +1172,11 @@ impl Interp<'_, '_> {
                 }
             }
             StmtKind::Assign { target, value, set } => self.assign(target, value, *set, stmt.span)?,
+            // A method called as a statement drops its result, an object too ([MS-VBAL]
+            // 5.4.2.1: a call statement's return value is discarded), as `Sheets.Add After:=…`.
+            StmtKind::Call(e) if self.is_member_path(e) => {
+                self.var_of(e, true)?;
+            }
             StmtKind::Call(e) => {
                 self.eval(e)?;
             }
@@ -1416,6 +1429,10 @@ impl Interp<'_, '_> {
                 }
                 // `Dim x As New Class1` makes no object yet: the first use does.
                 _ if d.new.is_some() => Var::Obj(Obj::Value(Value::Blank)),
+                Some(_) if !redim => match super::arrays::unallocated(d.ty.as_ref()) {
+                    Some(array) => Var::Array(array),
+                    None => self.default_var(d.ty.as_ref()),
+                },
                 _ => self.default_var(d.ty.as_ref()),
             };
             self.charge(super::budget::brought(&var), d.span)?;
@@ -1429,10 +1446,6 @@ impl Interp<'_, '_> {
             let new = d.new.map(|class| (class, d.span));
             let mut slot = Slot::new(d.name.clone(), var, d.ty.clone());
             slot.new = new;
-                Some(_) if !redim => match super::arrays::unallocated(d.ty.as_ref()) {
-                    Some(array) => Var::Array(array),
-                    None => self.default_var(d.ty.as_ref()),
-                },
             self.declare(slot);
         }
         Ok(())
@@ -1699,6 +1712,9 @@ impl Interp<'_, '_> {
     }
 
     fn for_each(&self, var: &Rc<str>, group: &Expr, body: &Block, span: Span) -> Run<Flow> {
+        // Which items are Dates, so the element variable holds a Date ([MS-VBAL] 5.4.2.4:
+        // it is let-assigned each element, which keeps its Variant subtype).
+        let mut dates: Vec<bool> = Vec::new();
         let items: Vec<Var> = match self.var_of(group, true)? {
             Var::Obj(Obj::Range(sheet, rect)) => {
                 let rect = self.ctx().clip_to_used(sheet, rect);
@@ -1713,9 +1729,19 @@ impl Interp<'_, '_> {
             Var::Obj(Obj::Sheets) => {
                 (0..self.wb.borrow().sheet_len()).map(|i| Var::Obj(Obj::Sheet(i as SheetId))).collect()
             }
-            Var::Array(a) => a.items(),
+            Var::Array(a) => {
+                let typed_date = match &group.kind {
+                    ExprKind::Name(n) => self.with_slot(n, |s| s.ty == Some(Ty::Number(DATE_VAR_TYPE))) == Some(true),
+                    _ => false,
+                };
+                dates = (0..a.data.data.len()).map(|k| typed_date || a.holds_date(k)).collect();
+                a.items()
+            }
             // A Collection's items, a Dictionary's keys ("For Each...Next statement").
-            Var::Obj(Obj::Store(h)) => h.each(),
+            Var::Obj(Obj::Store(h)) => {
+                dates = h.each_dates();
+                h.each()
+            }
             Var::Obj(Obj::Value(Value::Array(a))) => a.data.iter().cloned().map(Var::Value).collect(),
             Var::Obj(other) => {
                 return Err(
@@ -1732,9 +1758,12 @@ impl Interp<'_, '_> {
                 return Err(self.fault_at(self.expr_span(group), "For Each needs a range or an array, not a Type value"))
             }
         };
-        for item in items {
+        for (k, item) in items.into_iter().enumerate() {
             self.tick(span)?;
             self.set_var(var, item, span)?;
+            if dates.get(k) == Some(&true) {
+                self.with_slot(var, |s| s.set_holds(Declared::Date));
+            }
             match self.block(body)? {
                 Flow::Next => {}
                 Flow::Exit(ExitKind::For) => return Ok(Flow::Next),

@@ -147,8 +147,8 @@ impl Interp<'_, '_> {
             "msgbox" => self.msgbox(ctx, link),
             "evaluate" => self.evaluate(ctx, here, link),
             // Resolved so only when the run has files (`files.rs`).
-            "freefile" | "eof" | "lof" | "loc" | "seek" | "createobject" | "kill" | "dir" | "filelen" | "filecopy"
-            | "mkdir" | "rmdir" => self.file_root(ctx, link),
+            "freefile" | "eof" | "lof" | "loc" | "seek" | "createobject" | "kill" | "dir" | "filelen"
+            | "filedatetime" | "filecopy" | "mkdir" | "rmdir" => self.file_root(ctx, link),
             "inputbox" => Err(self.fault_at(
                 link.span,
                 "InputBox: a macro runs without a user; pass values with --arg NAME=VALUE or read them from cells",
@@ -176,15 +176,26 @@ impl Interp<'_, '_> {
                 // Windows Excel's: a macro joins its paths with it (`files.rs` reads both).
                 "pathseparator" => Ok(Obj::Value(Value::text("\\"))),
                 "run" => self.application_run(link),
+                // File dialogs: no user answers them, and the sandbox names the folder.
+                "getsaveasfilename" | "getopenfilename" | "filedialog" => Err(self.fault_at(
+                    link.span,
+                    format!(
+                        "Application.{}: a macro runs without a user, so no file dialog opens; it writes and reads \
+                         files by the names it gives, inside --out-dir (ThisWorkbook.Path) and --in-file",
+                        link.name
+                    ),
+                )),
                 _ => Err(self.no_member(&Obj::App, link)),
             },
             Obj::Workbook => match name.as_str() {
                 "worksheets" | "sheets" | "activesheet" => self.root(ctx, link),
                 "path" => self.workbook_path(link),
+                "name" => self.workbook_name(link),
                 _ => Err(self.no_member(&Obj::Workbook, link)),
             },
             Obj::Sheets => match name.as_str() {
                 "count" => Ok(Obj::Value(Value::Number(self.wb.borrow().sheet_len() as f64))),
+                "add" => self.add_sheet(link),
                 "item" => self.sheet_by(ctx, link).map(Obj::Sheet),
                 _ => Err(self.no_member(&Obj::Sheets, link)),
             },
@@ -305,6 +316,14 @@ impl Interp<'_, '_> {
     }
 
     fn sheet_member(&self, ctx: &mut Ctx, id: SheetId, link: &Link) -> Run<Obj> {
+        // `ws.[A1]`: "Using square brackets … is identical to calling the Evaluate method"
+        // ("Worksheet.Evaluate method"), on that sheet.
+        if let Some(text) = link.name.strip_prefix('[').and_then(|t| t.strip_suffix(']')) {
+            if link.args.is_some() {
+                return Err(self.fault_at(link.span, format!("{}: a bracketed member takes no arguments", link.name)));
+            }
+            return self.evaluate_text(id, text, link);
+        }
         match lower(link).as_str() {
             "range" => self.range(ctx, id, link),
             "cells" => self.cells(ctx, id, Rect::cell(Pos::new(0, 0)), link),
@@ -598,9 +617,14 @@ impl Interp<'_, '_> {
             [v] => to_text(v).map_err(|e| self.fault_at(link.span, format!("Evaluate: the text is {e}")))?,
             _ => return Err(self.fault_at(link.span, "Evaluate takes one text")),
         };
-        let parsed = self.wb.borrow().parse_at(&text, sheet, Pos::new(0, 0));
+        self.evaluate_text(sheet, &text, link)
+    }
+
+    /// `ws.Evaluate(text)` with its text: a range, or the value of a formula on `sheet`.
+    fn evaluate_text(&self, sheet: SheetId, text: &str, link: &Link) -> Run<Obj> {
+        let parsed = self.wb.borrow().parse_at(text, sheet, Pos::new(0, 0));
         let expr = parsed.map_err(|e| {
-            self.fault_at(link.span, format!("Evaluate: {text}: column {}: {}", e.column(&text), e.message))
+            self.fault_at(link.span, format!("Evaluate: {text}: column {}: {}", e.column(text), e.message))
         })?;
         Ok(match Ctx::new(self, sheet, Pos::new(0, 0)).operand(&expr) {
             Operand::Ref(s, r) => Obj::Range(s, r),
@@ -683,6 +707,10 @@ impl Interp<'_, '_> {
             (Obj::Sheet(sheet), "visible") => {
                 let v = self.eval(value)?;
                 self.set_visible(*sheet, &v, link.span)
+            }
+            (Obj::Sheet(sheet), "name") => {
+                let v = self.eval(value)?;
+                self.rename_sheet(*sheet, &v, link.span)
             }
             (Obj::Record(var, path), _) => {
                 let mut path = path.clone();

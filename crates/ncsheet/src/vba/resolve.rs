@@ -330,15 +330,14 @@ impl Build<'_> {
             // `Application.Max(…)`, `Application.Transpose(…)`: every worksheet function is
             // a member of Application too; its other members (Caller, Volatile …) are not
             // rows of the function table and stay members.
-            ["application", f] if Registry.lookup(strip_future_prefix(f)).is_some() => 1,
+            ["application", f] if Registry.lookup(strip_future_prefix(&dotted(f))).is_some() => 1,
             _ => return Ok(None),
         };
         if path.links[..qualifier_len].iter().any(|l| l.args.is_some()) {
             return Ok(None);
         }
         let link = path.links.pop().expect("function link");
-        let name =
-            if names[0] == "vba" { format!("{PREFIX}{}", lower_bare(&link.name)) } else { link.name.to_string() };
+        let name = if names[0] == "vba" { format!("{PREFIX}{}", lower_bare(&link.name)) } else { dotted(&link.name) };
         if FORBIDDEN.contains(&lower_bare(&link.name).as_str()) {
             return Err(self.error_at(pair, refusal(&link.name)));
         }
@@ -528,4 +527,11 @@ fn created(link: &Link) -> Option<Class> {
         },
         _ => None,
     }
+}
+
+/// A worksheet function's name as a member of WorksheetFunction or Application spells it:
+/// a dot of the function's name is an underscore there (`Floor_Precise` is FLOOR.PRECISE,
+/// "WorksheetFunction.Floor_Precise method"), as no function name holds an underscore.
+fn dotted(member: &str) -> String {
+    member.replace('_', ".")
 }

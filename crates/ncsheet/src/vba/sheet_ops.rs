@@ -1,5 +1,6 @@
 //! What a recorded macro does with the keyboard and the clipboard: `Range.End` (Ctrl+arrow),
-//! `Range.Copy` and `PasteSpecial`, and a sheet's `Visible`.
+//! `Range.Copy` and `PasteSpecial`, a sheet's `Visible`, and adding and renaming sheets
+//! (`Sheets.Add`, `ws.Name =`).
 
 use crate::eval::{Ctx, Operand, Value};
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
@@ -7,7 +8,8 @@ use crate::formula::ast::SheetId;
 use crate::workbook::Visibility;
 
 use super::ast::{Link, Span};
-use super::interp::{Interp, Run};
+use super::interp::{Fault, Interp, Run};
+use super::value::{print_text, Obj, Var};
 
 /// Excel's `XlDirection`: where `Range.End` moves.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -442,4 +444,113 @@ fn r1c1_address(rect: Rect, row_absolute: bool, column_absolute: bool, origin: P
     }
     let cell = |p: Pos| format!("{}{}", row(p.row), col(p.col));
     span(cell(rect.first), cell(rect.last))
+}
+
+/// Excel's `xlWorksheet` (`Sheets.Add`'s Type): the one kind of sheet ncsheet's workbook holds.
+const XL_WORKSHEET: f64 = -4167.0;
+
+/// Why Excel refuses `name` for a sheet ("Rename a worksheet": at most 31 characters, not
+/// blank, none of `: \ / ? * [ ]`, no apostrophe first or last, not "History").
+fn sheet_name_fault(name: &str) -> Option<&'static str> {
+    if name.is_empty() {
+        Some("a sheet's name cannot be blank")
+    } else if name.chars().count() > 31 {
+        Some("a sheet's name has at most 31 characters")
+    } else if name.contains([':', '\\', '/', '?', '*', '[', ']']) {
+        Some("a sheet's name cannot hold : \\ / ? * [ or ]")
+    } else if name.starts_with('\'') || name.ends_with('\'') {
+        Some("a sheet's name cannot begin or end with an apostrophe")
+    } else if name.eq_ignore_ascii_case("history") {
+        Some("History is a name Excel keeps for itself")
+    } else {
+        None
+    }
+}
+
+impl Interp<'_, '_> {
+    /// Excel's run-time error 1004 with its reason.
+    fn error_1004(&self, span: Span, why: String) -> Fault {
+        let mut fault = self.fault_at(span, format!("{why} (run-time error 1004)"));
+        fault.code = 1004;
+        fault
+    }
+
+    /// `Sheets.Add [Before], [After], [Count], [Type]` ("Sheets.Add method"): a new, empty
+    /// worksheet named as Excel names one (`Sheet` and the next free number), which becomes
+    /// the active sheet; returns it. ncsheet's sheets stay in the order they were made, so
+    /// a sheet can only be added last (`After:=Sheets(Sheets.Count)`): any other place, the
+    /// default before the active sheet included, is refused, naming where Excel puts it,
+    /// rather than a workbook in a different order.
+    pub(super) fn add_sheet(&self, link: &Link) -> Run<Obj> {
+        let before = argument(link, 0, "Before").map(|e| self.sheet_argument(e, "Before")).transpose()?;
+        let after = argument(link, 1, "After").map(|e| self.sheet_argument(e, "After")).transpose()?;
+        if let Some(e) = argument(link, 2, "Count") {
+            let count =
+                self.number_of(&self.eval(e)?, "Sheets.Add's Count").map_err(|m| self.fault_at(link.span, m))?;
+            if count.round_ties_even() != 1.0 {
+                let why = "Sheets.Add adds one sheet at a time here (Count:=1): call it once for each sheet";
+                return Err(self.fault_at(link.span, why));
+            }
+        }
+        if let Some(e) = argument(link, 3, "Type") {
+            if self.number_of(&self.eval(e)?, "Sheets.Add's Type").ok() != Some(XL_WORKSHEET) {
+                let why = "Sheets.Add: ncsheet's workbooks hold worksheets only (Type:=xlWorksheet)";
+                return Err(self.fault_at(link.span, why));
+            }
+        }
+        let names = self.wb.borrow().sheet_names();
+        let at = match (before, after) {
+            (Some(_), Some(_)) => {
+                return Err(self.error_1004(link.span, "Sheets.Add takes Before or After, not both".into()))
+            }
+            (Some(b), None) => b as usize,
+            (None, Some(a)) => a as usize + 1,
+            (None, None) => self.active.get() as usize,
+        };
+        if at < names.len() {
+            let why = format!(
+                "Sheets.Add: Excel puts the new sheet before {} (with no Before or After, before the active \
+                 sheet); ncsheet adds a sheet only after the last one: write Sheets.Add(After:=Sheets(Sheets.Count))",
+                names[at]
+            );
+            return Err(self.fault_at(link.span, why));
+        }
+        let taken = |n: &str| names.iter().any(|s| s.eq_ignore_ascii_case(n));
+        let name = (names.len() + 1..).map(|k| format!("Sheet{k}")).find(|n| !taken(n)).expect("a free name");
+        let id = self.book_mut()?.add_sheet(&name).map_err(|e| self.fault_at(link.span, e.to_string()))?;
+        self.active.set(id);
+        Ok(Obj::Sheet(id))
+    }
+
+    /// `ThisWorkbook.Name` ("Workbook.Name property"): the workbook's file name with its
+    /// extension (`Book1.xlsm`), as the run was given it.
+    pub(super) fn workbook_name(&self, link: &Link) -> Run<Obj> {
+        match self.options.workbook_name.as_deref() {
+            Some(name) => Ok(Obj::Value(Value::text(name))),
+            None => Err(self.fault_at(link.span, "ThisWorkbook.Name: this run was not given the workbook's file name")),
+        }
+    }
+
+    /// The sheet a `Before:=` or `After:=` argument names.
+    fn sheet_argument(&self, e: &crate::formula::ast::Expr, what: &str) -> Run<SheetId> {
+        match self.var_of(e, true)? {
+            Var::Obj(Obj::Sheet(id)) => Ok(id),
+            _ => Err(self.fault_at(self.expr_span(e), format!("{what}:= takes a sheet (Sheets(\"Name\"), Sheets(n))"))),
+        }
+    }
+
+    /// `ws.Name = v` ("Worksheet.Name property"): renames the sheet; formulas that refer to it
+    /// show the new name. A name Excel refuses, or one another sheet has, is run-time error 1004.
+    pub(super) fn rename_sheet(&self, sheet: SheetId, v: &Value, span: Span) -> Run<()> {
+        let name = print_text(v);
+        if let Some(why) = sheet_name_fault(&name) {
+            return Err(self.error_1004(span, format!("{why}, not \"{name}\"")));
+        }
+        let taken = self.wb.borrow().sheet_id(&name).is_some_and(|other| other != sheet);
+        if taken {
+            let why = format!("That name is already taken: a sheet is named {name}");
+            return Err(self.error_1004(span, why));
+        }
+        self.book_mut()?.rename_sheet(sheet, &name).map_err(|e| self.fault_at(span, e.to_string()))
+    }
 }

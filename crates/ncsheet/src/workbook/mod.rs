@@ -232,7 +232,7 @@ pub struct Changes {
     pub values: Vec<(SheetId, Pos)>,
     /// A defined name was defined or redefined.
     pub names: bool,
-    /// A sheet was added.
+    /// A sheet was added or renamed.
     pub sheets: bool,
     /// Cells that held a formula before their edit and now hold a constant.
     pub formulas_replaced: Vec<(SheetId, Pos)>,
@@ -262,6 +262,26 @@ impl Workbook {
         // References to this name parsed before it existed are stale now.
         self.formulas.forget_keys();
         Ok((self.sheets.len() - 1) as SheetId)
+    }
+
+    /// Renames `sheet` (Excel's `Worksheet.Name =`). Formulas point at sheets by index, so
+    /// they show the new name; a name another sheet has is refused, in any case.
+    pub fn rename_sheet(&mut self, sheet: SheetId, name: &str) -> Result<(), WorkbookError> {
+        let Some(old) = self.sheets.get(sheet as usize).map(|s| s.name.to_ascii_lowercase()) else {
+            return Err(WorkbookError::NoSuchSheet(format!("number {}", sheet as usize + 1)));
+        };
+        if self.sheet_id(name).is_some_and(|other| other != sheet) {
+            return Err(WorkbookError::DuplicateSheet(name.to_string()));
+        }
+        self.sheet_index.remove(&old);
+        self.sheet_index.insert(name.to_ascii_lowercase(), sheet);
+        self.sheets[sheet as usize].name = name.to_string();
+        if let Some(log) = &mut self.changes {
+            log.sheets = true;
+        }
+        // Formula texts parsed with the old name (or the new one, missing then) read anew.
+        self.formulas.forget_keys();
+        Ok(())
     }
 
     /// Switches the date system (serial 0 is 1904-01-01 when on) and recalculates, since

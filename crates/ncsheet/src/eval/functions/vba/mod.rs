@@ -656,25 +656,34 @@ fn rtrim(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     text_fn(ctx, args, "RTrim", FIRST, &|s, _| Ok(Value::text(s.trim_end_matches(' '))))
 }
 
-/// "Chr function": a negative code is run-time error 5 (codes past 255 are read as Unicode).
+/// "Chr function" ([MS-VBAL] 6.1.2, the Strings module's Chr): the character of a code 0 to
+/// 255 in the code page of a Western Excel, Windows-1252 (0 to 127 ASCII; 128 "€"); a code
+/// outside 0 to 255 is run-time error 5, as in a single-byte code page (ChrW takes Unicode).
 fn chr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let raised = Raised::default();
     let result = lift_vba(ctx, args, "Chr", NO_NULL, &|v| {
         let code = to_number(&v[0], VBA_DATES)?.trunc();
-        if code < 0.0 {
-            return Err(raised.set(5, "the character code is below zero"));
+        if !(0.0..=255.0).contains(&code) {
+            return Err(raised.set(5, "the character code is outside 0 to 255 (ChrW takes Unicode codes)"));
         }
-        let c = char::from_u32(code as u32).filter(|_| code <= 1114111.0).ok_or(XlError::Value)?;
-        Ok(Value::text(c.to_string()))
+        let byte = [code as u8];
+        let (text, _) = encoding_rs::WINDOWS_1252.decode_without_bom_handling(&byte);
+        Ok(Value::text(text.into_owned()))
     });
     raised.raise(ctx, "Chr", result)
 }
 
-/// "Asc function": "If the string contains no characters, a run-time error occurs" (error 5).
+/// "Asc function": the code of the first character in Windows-1252, Chr's code page (63,
+/// "?", for a character that code page has not, as Windows converts it); "If the string
+/// contains no characters, a run-time error occurs" (error 5).
 fn asc(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let raised = Raised::default();
     let result = text_fn(ctx, args, "Asc", NO_NULL, &|s, _| {
-        s.chars().next().map(|c| Value::Number(c as u32 as f64)).ok_or_else(|| raised.set(5, "the text is empty"))
+        let c = s.chars().next().ok_or_else(|| raised.set(5, "the text is empty"))?;
+        let mut unit = [0u8; 4];
+        let (bytes, _, unmappable) = encoding_rs::WINDOWS_1252.encode(c.encode_utf8(&mut unit));
+        let code = if unmappable { b'?' } else { bytes[0] };
+        Ok(Value::Number(f64::from(code)))
     });
     raised.raise(ctx, "Asc", result)
 }
