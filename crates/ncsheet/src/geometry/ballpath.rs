@@ -24,7 +24,7 @@
 
 use nalgebra::{Point3, Vector3};
 
-use super::dropcutter::{self, Goal, Map, MapError, Sweep};
+use super::dropcutter::{self, Goal, GridAxis, Map, MapError, Sweep};
 use super::{ensure, GeometryError};
 
 mod written;
@@ -288,12 +288,12 @@ fn build<S: Surface>(
     }
     // The gouge check samples the surface again on its map and in its searches: where that
     // is a station the path was placed by, it reads the sample kept here.
-    let kept = (spec.gouge != GougeCheck::Off).then(|| Vec::with_capacity(n_lines * along_stations.len()));
+    let kept = (spec.gouge != GougeCheck::Off).then(|| Kept::new(spec, &stations, &along_stations));
     let mut placer = Placer { surface, radius: spec.radius, lines: spec.lines, kept };
     for (k, &u) in stations.iter().enumerate() {
         path.line_starts.push(path.points.len());
         let start = path.points.len();
-        placer.line(u, along, spec.spacing, &mut path.points, spec.max_points)?;
+        placer.line(k, u, along, spec.spacing, &mut path.points, spec.max_points)?;
         // Zig-zag: odd lines run backwards; one way: every line the same way.
         if !spec.direction.forwards(k, spec.lines) {
             path.points[start..].reverse();
@@ -305,12 +305,12 @@ fn build<S: Surface>(
         let as_written = written.map(|w| written::rounded(&path, w));
         return Ok((path, as_written));
     }
-    let samples = placer.kept.take().unwrap_or_default();
-    let mut known =
-        Known { surface: placer.surface, lines: spec.lines, across: stations, along: along_stations, samples };
-    let mut check = check_gouges(&mut known, spec, &mut path, &mut |k| progress(n_lines + k, total))?;
+    let mut kept = placer.kept.take().expect("kept for the check");
+    let nodes = kept.take_nodes(spec);
+    let mut known = Known { surface: placer.surface, lines: spec.lines, across: stations, along: along_stations, kept };
+    let (mut check, spent) = check_gouges(&mut known, spec, nodes, &mut path, &mut |k| progress(n_lines + k, total))?;
     let as_written = match written {
-        Some(w) if spec.gouge == GougeCheck::Lift || path.gouges.is_empty() => Some(check.as_written(&path, w)?),
+        Some(w) if spec.gouge == GougeCheck::Lift || path.gouges.is_empty() => Some(check.as_written(&path, w, spent)?),
         Some(w) => Some(written::rounded(&path, w)),
         None => None,
     };
@@ -400,16 +400,16 @@ fn spacing_step(spacing: Spacing) -> f64 {
     }
 }
 
-/// The surface, with the samples the path was placed by at the raster's stations: the
-/// station (across[k], along[j]) has `samples[k * along.len() + j]`. A sample asked for at
-/// exactly a station's coordinates is that one (the same formula at the same point), so the
-/// gouge check's map and searches evaluate the surface only where nothing was placed.
+/// The surface, with the samples the path was placed by at the raster's stations where the
+/// gouge map reads it ([`Kept`]). A sample asked for at exactly such a station's coordinates
+/// is that one (the same formula at the same point), so the gouge check's map and searches
+/// evaluate the surface only where nothing was placed.
 struct Known<'s, S> {
     surface: &'s mut S,
     lines: Lines,
     across: Vec<f64>,
     along: Vec<f64>,
-    samples: Vec<Sample>,
+    kept: Kept,
 }
 
 impl<S> Known<'_, S> {
@@ -421,7 +421,7 @@ impl<S> Known<'_, S> {
         // Exactly the station's bits (total_cmp tells −0 from +0).
         let k = self.across.binary_search_by(|s| s.total_cmp(&u)).ok()?;
         let j = self.along.binary_search_by(|s| s.total_cmp(&v)).ok()?;
-        self.samples.get(k * self.along.len() + j).copied()
+        self.kept.get(k, j)
     }
 }
 
@@ -443,13 +443,99 @@ impl<S: Surface> Surface for Known<'_, S> {
     }
 }
 
+/// The samples kept at the stations (across k, along j) where the gouge map first reads the
+/// surface: where both coordinates are its nodes', or both its cells' middles (a map of
+/// twice the path's spacing reads half the stations). A block for each kind, row-major by y
+/// like the map's nodes: the block of nodes becomes the map's when it holds every node.
+struct Kept {
+    lines: Lines,
+    /// Per station across and along the lines, its place among the node coordinates and
+    /// among the middle ones of that axis (`None`: not one).
+    across: Vec<[Option<usize>; 2]>,
+    along: Vec<[Option<usize>; 2]>,
+    /// How many node and middle coordinates lie on each axis, x and y.
+    counts: [[usize; 2]; 2],
+    samples: [Vec<Sample>; 2],
+}
+
+impl Kept {
+    fn new(spec: &BallPathSpec, across: &[f64], along: &[f64]) -> Kept {
+        let [x, y] = Map::grid(spec.x, spec.y, map_spacing(spec));
+        let (across_axis, along_axis) = match spec.lines {
+            Lines::ConstantX => (x, y),
+            Lines::ConstantY => (y, x),
+        };
+        let (across, across_count) = Kept::places(across, across_axis);
+        let (along, along_count) = Kept::places(along, along_axis);
+        let counts = match spec.lines {
+            Lines::ConstantX => [across_count, along_count],
+            Lines::ConstantY => [along_count, across_count],
+        };
+        // Every station is placed before the check reads any: each slot is written.
+        let unset = Sample { z: f64::NAN, dzdx: f64::NAN, dzdy: f64::NAN };
+        let samples = [0, 1].map(|kind| vec![unset; counts[0][kind] * counts[1][kind]]);
+        Kept { lines: spec.lines, across, along, counts, samples }
+    }
+
+    /// Each station's place among the node and among the middle coordinates of `axis`, and
+    /// how many of each there are.
+    fn places(stations: &[f64], axis: GridAxis) -> (Vec<[Option<usize>; 2]>, [usize; 2]) {
+        let mut count = [0usize; 2];
+        let places = stations
+            .iter()
+            .map(|&v| {
+                let mut place = |kind: usize, read: bool| {
+                    read.then(|| {
+                        count[kind] += 1;
+                        count[kind] - 1
+                    })
+                };
+                [place(0, axis.is_node(v)), place(1, axis.is_middle(v))]
+            })
+            .collect();
+        (places, count)
+    }
+
+    /// Which block the sample at station (k, j) is kept in, and where.
+    fn slot(&self, k: usize, j: usize) -> Option<(usize, usize)> {
+        let (across, along) = (self.across.get(k)?, self.along.get(j)?);
+        let (x, y) = match self.lines {
+            Lines::ConstantX => (across, along),
+            Lines::ConstantY => (along, across),
+        };
+        (0..2).find_map(|kind| Some((kind, y[kind]? * self.counts[0][kind] + x[kind]?)))
+    }
+
+    /// Keeps the sample at station (k, j) if the map reads it.
+    fn keep(&mut self, k: usize, j: usize, s: Sample) {
+        if let Some((kind, at)) = self.slot(k, j) {
+            self.samples[kind][at] = s;
+        }
+    }
+
+    fn get(&self, k: usize, j: usize) -> Option<Sample> {
+        let (kind, at) = self.slot(k, j)?;
+        self.samples[kind].get(at).copied()
+    }
+
+    /// The samples at every node of the map's first grid, row-major by y, where every node is
+    /// a station (else none): the map takes them, and they are kept here no longer.
+    fn take_nodes(&mut self, spec: &BallPathSpec) -> Vec<Sample> {
+        let [x, y] = Map::grid(spec.x, spec.y, map_spacing(spec));
+        if [self.counts[0][0], self.counts[1][0]] != [x.nodes(), y.nodes()] {
+            return Vec::new();
+        }
+        std::mem::take(&mut self.samples[0])
+    }
+}
+
 /// Places balls by their contact points.
 struct Placer<'s, S> {
     surface: &'s mut S,
     radius: f64,
     lines: Lines,
     /// The samples taken at the raster's stations, kept for the gouge check (`None`: not kept).
-    kept: Option<Vec<Sample>>,
+    kept: Option<Kept>,
 }
 
 impl<S: Surface> Placer<'_, S> {
@@ -458,11 +544,11 @@ impl<S: Surface> Placer<'_, S> {
         Ok(self.place_sampled(u, v)?.0)
     }
 
-    /// The ball at a station of the raster, its sample kept if asked for.
-    fn place_station(&mut self, u: f64, v: f64) -> Result<PathPoint, PathError<S::Error>> {
+    /// The ball at station (k, j) of the raster, its sample kept if asked for.
+    fn place_station(&mut self, (k, j): (usize, usize), u: f64, v: f64) -> Result<PathPoint, PathError<S::Error>> {
         let (p, s) = self.place_sampled(u, v)?;
         if let Some(kept) = &mut self.kept {
-            kept.push(s);
+            kept.keep(k, j, s);
         }
         Ok(p)
     }
@@ -476,8 +562,10 @@ impl<S: Surface> Placer<'_, S> {
         Ok((ball_at(Point3::new(x, y, s.z), s.dzdx, s.dzdy, self.radius), s))
     }
 
+    /// Places line `k`, at line coordinate `u`.
     fn line(
         &mut self,
+        k: usize,
         u: f64,
         along: [f64; 2],
         spacing: Spacing,
@@ -492,16 +580,16 @@ impl<S: Surface> Placer<'_, S> {
                     return Err(too_many());
                 }
                 out.reserve(vs.len());
-                for v in vs {
-                    out.push(self.place_station(u, v)?);
+                for (j, v) in vs.into_iter().enumerate() {
+                    out.push(self.place_station((k, j), u, v)?);
                 }
             }
             Spacing::Chord { tolerance, max_step } => {
                 let vs = stations(along, max_step);
-                let mut prev = (vs[0], self.place_station(u, vs[0])?);
+                let mut prev = (vs[0], self.place_station((k, 0), u, vs[0])?);
                 out.push(prev.1);
-                for &v in &vs[1..] {
-                    let next = (v, self.place_station(u, v)?);
+                for (j, &v) in vs.iter().enumerate().skip(1) {
+                    let next = (v, self.place_station((k, j), u, v)?);
                     self.refine(u, prev, next, tolerance, MAX_HALVINGS, out)?;
                     out.push(next.1);
                     if out.len() > max_points {
@@ -556,19 +644,20 @@ fn distance_to_segment(p: &Point3<f64>, a: &Point3<f64>, b: &Point3<f64>) -> f64
 
 /// Checks every ball position and every straight move between consecutive ones (the links
 /// between lines too, unless `check_links` is off) with the exact drop-cutter of
-/// [`dropcutter`]; reports or lifts what cuts deeper than `spec.gouge_tol`.
+/// [`dropcutter`]; reports or lifts what cuts deeper than `spec.gouge_tol`. Returns the
+/// checker and its buffer of bounds, spent (the written path's check reuses it). `nodes`:
+/// the samples at the map's nodes where the path was placed by them ([`Map::sample`]).
 fn check_gouges<'a, S: Surface>(
     surface: &'a mut S,
     spec: &'a BallPathSpec,
+    nodes: Vec<Sample>,
     path: &mut BallPath,
     lines_checked: &mut dyn FnMut(usize),
-) -> Result<Checker<'a, S>, PathError<S::Error>> {
-    let step = spacing_step(spec.spacing);
-    // The map resolves the surface at least as finely as the path does.
+) -> Result<(Checker<'a, S>, Vec<f64>), PathError<S::Error>> {
     // The map is made finer where the surface between its nodes is more than a quarter of the
     // tolerance from what they show (a feature narrower than the path's spacing, a step).
-    let spacing = (spec.radius / 4.0).min(spec.stepover.max(step));
-    let map = Map::sample(surface, spec.x, spec.y, spacing, 0.25 * spec.gouge_tol).map_err(map_error)?;
+    let map =
+        Map::sample(surface, spec.x, spec.y, map_spacing(spec), 0.25 * spec.gouge_tol, nodes).map_err(map_error)?;
     let [lo, hi] = map.heights();
     path.surface_z = [path.surface_z[0].min(lo), path.surface_z[1].max(hi)];
     let mut check =
@@ -576,7 +665,12 @@ fn check_gouges<'a, S: Surface>(
     let below = check.positions(path, lines_checked)?;
     check.moves(path, &below)?;
     path.gouges = std::mem::take(&mut check.gouges);
-    Ok(check)
+    Ok((check, below))
+}
+
+/// The gouge map's spacing: it resolves the surface at least as finely as the path does.
+fn map_spacing(spec: &BallPathSpec) -> f64 {
+    (spec.radius / 4.0).min(spec.stepover.max(spacing_step(spec.spacing)))
 }
 
 fn surface_error<E>((x, y, error): (f64, f64, E)) -> PathError<E> {
@@ -717,49 +811,42 @@ impl<S: Surface> Checker<'_, S> {
     }
 
     /// Checks each straight move between consecutive positions; with Lift, inserts points at
-    /// the drop-cutter height until every move clears, and renumbers the path.
+    /// the drop-cutter height until every move clears, and renumbers the path (in its own
+    /// buffer: the inserted points wait aside until the end).
     fn moves(&mut self, path: &mut BallPath, below: &[f64]) -> Result<(), PathError<S::Error>> {
         let n = path.points.len();
-        let mut out = Vec::with_capacity(n);
-        let mut starts = Vec::with_capacity(path.line_starts.len());
-        let mut index = vec![0; n];
+        let mut inserted = Inserted::default();
         for k in 0..path.line_starts.len() {
-            starts.push(out.len());
             let end = path.line_starts.get(k + 1).copied().unwrap_or(n);
             for i in path.line_starts[k]..end {
-                index[i] = out.len();
-                out.push(path.points[i]);
                 if i + 1 == n || (i + 1 == end && !self.spec.check_links) {
                     continue;
                 }
                 let (a, b) = (path.points[i], path.points[i + 1]);
-                self.one_move(a, b, [below[i], below[i + 1]], MAX_MOVE_HALVINGS, &mut out)?;
+                self.one_move(i, a, b, [below[i], below[i + 1]], MAX_MOVE_HALVINGS, &mut inserted)?;
             }
         }
         // Positions were numbered in the old path; moves already in the new one.
         for g in self.gouges.iter_mut().filter(|g| g.kind == GougeKind::Position) {
-            g.point = index[g.point];
+            g.point += inserted.before(g.point);
         }
         // Points inserted in moves were dropped, not placed by a contact.
-        let mut placed = vec![false; out.len()];
-        for (i, &at) in index.iter().enumerate() {
-            placed[at] = self.placed[i];
-        }
-        self.placed = placed;
-        path.points = out;
-        path.line_starts = starts;
+        inserted.spread(&mut self.placed, |_| false);
+        inserted.into_path(path);
         Ok(())
     }
 
-    /// The move from `a` to `b` (the last point of `out` is `a`), whose ends are at most
-    /// `ends` below the drop-cutter height.
+    /// The move from `a` to `b`, part of the move from the path's point `i` to the next,
+    /// whose ends are at most `ends` below the drop-cutter height; the points it needs are
+    /// inserted after `i` (after those already inserted there).
     fn one_move(
         &mut self,
+        i: usize,
         a: PathPoint,
         b: PathPoint,
         ends: [f64; 2],
         halvings_left: u32,
-        out: &mut Vec<PathPoint>,
+        inserted: &mut Inserted,
     ) -> Result<(), PathError<S::Error>> {
         let (r, tol, half) = (self.spec.radius, self.spec.gouge_tol, self.search_tol());
         let sweep = Sweep { a: a.centre, b: b.centre, r };
@@ -772,7 +859,8 @@ impl<S: Surface> Checker<'_, S> {
         };
         let top = halvings_left == MAX_MOVE_HALVINGS;
         if top {
-            let point = out.len() - 1;
+            // `a` is the path's point `i`, after every point inserted before it.
+            let point = i + inserted.len();
             self.gouges.push(Gouge { point, kind: GougeKind::Move, contact: a.contact, at: cut.at, depth: cut.depth });
         }
         if self.spec.gouge != GougeCheck::Lift {
@@ -789,9 +877,66 @@ impl<S: Surface> Checker<'_, S> {
         let mid = Point3::from((a.centre.coords + b.centre.coords) * 0.5);
         let drop = self.deepest(&Sweep::at_rest(mid, r), &[cut.at, a.contact, b.contact], Goal::Within(half))?;
         let m = PathPoint { contact: drop.at, centre: mid + Vector3::new(0.0, 0.0, drop.depth) };
-        self.one_move(a, m, [ends[0], half], halvings_left - 1, out)?;
-        out.push(m);
-        self.one_move(m, b, [half, ends[1]], halvings_left - 1, out)
+        self.one_move(i, a, m, [ends[0], half], halvings_left - 1, inserted)?;
+        inserted.push(i, m);
+        self.one_move(i, m, b, [half, ends[1]], halvings_left - 1, inserted)
+    }
+}
+
+/// Points inserted into a path while it is checked in order, kept aside until the end: then
+/// the path's points move up in their own buffer to make room (one pass from the back), so
+/// that a check that inserts a few points does not copy the path (48 bytes a point) into a
+/// new one.
+#[derive(Default)]
+struct Inserted {
+    /// For each inserted point, the index in the path of the point it follows (in order).
+    after: Vec<usize>,
+    points: Vec<PathPoint>,
+}
+
+impl Inserted {
+    fn len(&self) -> usize {
+        self.points.len()
+    }
+
+    /// Inserts `p` after the path's point `i`, after those already inserted there (`i` is
+    /// never below an earlier one's).
+    fn push(&mut self, i: usize, p: PathPoint) {
+        debug_assert!(self.after.last().is_none_or(|&a| a <= i));
+        self.after.push(i);
+        self.points.push(p);
+    }
+
+    /// The last point inserted, where it follows the path's point `i`.
+    fn last_after(&mut self, i: usize) -> Option<&mut PathPoint> {
+        (self.after.last() == Some(&i)).then(|| self.points.last_mut()).flatten()
+    }
+
+    /// How many points are inserted before the path's point `i`: it moves up by as many.
+    fn before(&self, i: usize) -> usize {
+        self.after.partition_point(|&a| a < i)
+    }
+
+    /// `v`, one entry per point of the path, with `item(k)` in the place of inserted point k.
+    fn spread<T: Copy>(&self, v: &mut Vec<T>, item: impl Fn(usize) -> T) {
+        let Some(&fill) = v.first() else { return };
+        let n = v.len();
+        v.resize(n + self.len(), fill);
+        // From the back: the entries after the k-th inserted point's move up by k + 1.
+        let mut end = n;
+        for (k, &a) in self.after.iter().enumerate().rev() {
+            v.copy_within(a + 1..end, a + k + 2);
+            v[a + k + 1] = item(k);
+            end = a + 1;
+        }
+    }
+
+    /// The path with the inserted points in their places and its lines renumbered.
+    fn into_path(self, path: &mut BallPath) {
+        for start in &mut path.line_starts {
+            *start += self.before(*start);
+        }
+        self.spread(&mut path.points, |k| self.points[k]);
     }
 }
 
@@ -924,6 +1069,64 @@ mod tests {
         assert_eq!(path.points.len(), 25);
         assert!(path.gouges.is_empty());
         assert_eq!((surface.samples, surface.heights), (25, 16));
+    }
+
+    /// A path of 12 points on the line x = 0 (point i at y = i) with 5 points inserted in its
+    /// own buffer: two after point 0, one after point 4, two after point 11 (the last).
+    #[test]
+    fn inserted_points_take_their_places_in_the_paths_own_buffer() {
+        let at = |y: f64| PathPoint { contact: Point3::new(0.0, y, 0.0), centre: Point3::new(0.0, y, 1.0) };
+        let mut path = BallPath {
+            radius: 1.0,
+            points: (0..12).map(|i| at(i as f64)).collect(),
+            line_starts: vec![0, 4, 8],
+            gouges: Vec::new(),
+            surface_z: [0.0, 0.0],
+        };
+        let mut inserted = Inserted::default();
+        for (after, y) in [(0, 0.25), (0, 0.5), (4, 4.5), (11, 11.5), (11, 12.0)] {
+            inserted.push(after, at(y));
+        }
+        assert_eq!((inserted.before(0), inserted.before(1), inserted.before(5), inserted.before(11)), (0, 2, 3, 3));
+        let mut placed = vec![true; 12];
+        inserted.spread(&mut placed, |_| false);
+        inserted.into_path(&mut path);
+        let ys: Vec<f64> = path.points.iter().map(|p| p.contact.y).collect();
+        #[rustfmt::skip]
+        let expected = [0.0, 0.25, 0.5, 1.0, 2.0, 3.0, 4.0, 4.5, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 11.0, 11.5, 12.0];
+        assert_eq!(ys, expected);
+        // The lines began at y = 0, 4 and 8.
+        assert_eq!(path.line_starts, vec![0, 6, 11]);
+        let inserted_at: Vec<usize> = placed.iter().enumerate().filter(|(_, &p)| !p).map(|(i, _)| i).collect();
+        assert_eq!(inserted_at, vec![1, 2, 7, 15, 16]);
+    }
+
+    /// The bump's raster of 0.05 mm over 50 × 50 mm would need a map of 1,002,001 nodes; the
+    /// node limit makes it 0.1 mm, so the map reads the 501 × 501 stations at even places as
+    /// nodes and the 500 × 500 at odd places as cells' middles: only those are kept.
+    #[test]
+    fn samples_are_kept_only_where_the_map_reads_them() {
+        let spec = BallPathSpec {
+            radius: 3.0,
+            x: [-25.0, 25.0],
+            y: [-25.0, 25.0],
+            stepover: 0.05,
+            spacing: Spacing::Step(0.05),
+            lines: Lines::ConstantY,
+            ..spec()
+        };
+        let [across, along] = [spec.y, spec.x].map(|range| stations(range, 0.05));
+        assert_eq!((across.len(), along.len()), (1001, 1001));
+        let kept = Kept::new(&spec, &across, &along);
+        let kept_at = |k: usize, j: usize| kept.slot(k, j).is_some();
+        for (k, j) in [(0, 0), (2, 998), (1000, 1000), (1, 1), (999, 3)] {
+            assert!(kept_at(k, j), "({k}, {j})");
+        }
+        for (k, j) in [(0, 1), (1, 0), (1000, 999), (998, 1)] {
+            assert!(!kept_at(k, j), "({k}, {j})");
+        }
+        let count = (0..1001).flat_map(|k| (0..1001).map(move |j| (k, j))).filter(|&(k, j)| kept_at(k, j)).count();
+        assert_eq!(count, 501 * 501 + 500 * 500);
     }
 
     #[test]

@@ -164,6 +164,49 @@ pub struct Map {
     nodes: Vec<Sample>,
 }
 
+/// One axis of a map's grid: nodes at `start + i·step` (i = 0 ..= cells; only `start` for a
+/// step of 0), cells between them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GridAxis {
+    pub start: f64,
+    pub step: f64,
+    pub cells: usize,
+}
+
+impl GridAxis {
+    /// How many nodes: one past the cells, or one where the axis has no width.
+    pub fn nodes(&self) -> usize {
+        if self.step > 0.0 {
+            self.cells + 1
+        } else {
+            1
+        }
+    }
+
+    /// Whether the map samples the surface at coordinate `v` (exactly these bits) as a node.
+    pub fn is_node(&self, v: f64) -> bool {
+        self.near(v, 0.0).any(|i| i < self.nodes() && self.start + i as f64 * self.step == v)
+    }
+
+    /// Whether the map samples the surface at coordinate `v` (exactly these bits) as a cell's
+    /// middle: where it checks that the cell resolves the surface, or where a search starts.
+    pub fn is_middle(&self, v: f64) -> bool {
+        let half = 0.5 * self.step;
+        self.near(v, 0.5).any(|i| {
+            let corner = self.start + i as f64 * self.step;
+            i < self.cells && (self.start + (i as f64 + 0.5) * self.step == v || corner + half == v)
+        })
+    }
+
+    /// The indices i around where `start + (i + offset)·step` is `v`.
+    fn near(&self, v: f64, offset: f64) -> impl Iterator<Item = usize> {
+        let i = if self.step > 0.0 { ((v - self.start) / self.step - offset).round() } else { 0.0 };
+        let first = if i.is_finite() && i >= 1.0 { i as usize - 1 } else { 0 };
+        let count = if i.is_finite() && i >= -1.0 { 3 } else { 0 };
+        first..first + count
+    }
+}
+
 /// Λ and Γ over blocks of cells, row-major as the cells.
 struct Blocks {
     lambda: Vec<f64>,
@@ -203,18 +246,21 @@ impl Map {
     /// (its spacing halved) while a cell's middle lies farther than `accept` (mm) outside
     /// what the curvature bounds and its corners allow — a bump narrower than the spacing, a
     /// step — so that features between the path's points are found; at the node limit
-    /// ([`MAX_NODES`]) such a cell is an error naming it.
+    /// ([`MAX_NODES`]) such a cell is an error naming it. `nodes`: the samples at the nodes of
+    /// the first grid ([`Map::grid`], row-major by y) where the caller holds them, taken as
+    /// they are if there is one per node (else the nodes are sampled).
     pub fn sample<S: Surface>(
         surface: &mut S,
         x: [f64; 2],
         y: [f64; 2],
         spacing: f64,
         accept: f64,
+        nodes: Vec<Sample>,
     ) -> Result<Map, MapError<S::Error>> {
-        let mut spacing = spacing;
+        let (mut spacing, mut given) = (spacing, nodes);
         let mut cells = (0, 0);
         loop {
-            let map = Map::sample_at(surface, x, y, spacing)?;
+            let map = Map::sample_at(surface, x, y, spacing, std::mem::take(&mut given))?;
             let Some((mx, my, mismatch)) = map.unresolved_cell(surface, accept)? else { return Ok(map) };
             let finest = map.hx.max(map.hy);
             // A map no finer than the last: the node limit holds the spacing.
@@ -284,34 +330,19 @@ impl Map {
         Ok(None)
     }
 
-    /// The map at `spacing` (coarser if that would exceed [`MAX_NODES`]).
+    /// The map at `spacing` (coarser if that would exceed [`MAX_NODES`]), its nodes `given`
+    /// where there is one per node.
     fn sample_at<S: Surface>(
         surface: &mut S,
         x: [f64; 2],
         y: [f64; 2],
         spacing: f64,
+        given: Vec<Sample>,
     ) -> Result<Map, (f64, f64, S::Error)> {
-        let (w, h) = (x[1] - x[0], y[1] - y[0]);
-        let spacing = Map::spacing_within_limit(x, y, spacing);
-        // Clamped: with extents near f64::MAX the product above overflows and the count with it.
-        let cells = |len: f64| {
-            let n = (len / spacing).ceil();
-            if n.is_nan() {
-                1
-            } else {
-                n.clamp(1.0, MAX_NODES) as usize
-            }
-        };
-        let (cx, cy) = (cells(w), cells(h));
-        let (hx, hy) = (w / cx as f64, h / cy as f64);
-        let (nx, ny) = (if w > 0.0 { cx + 1 } else { 1 }, if h > 0.0 { cy + 1 } else { 1 });
-        let mut nodes = Vec::with_capacity(nx * ny);
-        for j in 0..ny {
-            for i in 0..nx {
-                let (px, py) = (x[0] + i as f64 * hx, y[0] + j as f64 * hy);
-                nodes.push(surface.sample(px, py).map_err(|e| (px, py, e))?);
-            }
-        }
+        let [ax, ay] = Map::grid(x, y, spacing);
+        let (cx, cy, hx, hy) = (ax.cells, ay.cells, ax.step, ay.step);
+        let (nx, ny) = (ax.nodes(), ay.nodes());
+        let nodes = if given.len() == nx * ny { given } else { Map::sample_nodes(surface, ax, ay)? };
         let heights = nodes.iter().fold([f64::INFINITY, f64::NEG_INFINITY], |[lo, hi], n| [lo.min(n.z), hi.max(n.z)]);
         let node = |i: usize, j: usize| nodes[j.min(ny - 1) * nx + i.min(nx - 1)];
         let mut up = Vec::with_capacity(cx * cy);
@@ -345,6 +376,37 @@ impl Map {
         let levels = usize::BITS - cx.max(cy).leading_zeros();
         let blocks = (0..levels).map(|_| OnceCell::new()).collect();
         Ok(Map { x0: x[0], y0: y[0], hx, hy, cx, cy, lambda, gamma, blocks, heights, nodes })
+    }
+
+    /// The axes of the grid the map over [x0, x1] × [y0, y1] first samples at `spacing`
+    /// (coarser if that would exceed [`MAX_NODES`]), before any cell is made finer.
+    pub fn grid(x: [f64; 2], y: [f64; 2], spacing: f64) -> [GridAxis; 2] {
+        let spacing = Map::spacing_within_limit(x, y, spacing);
+        let axis = |[start, end]: [f64; 2]| {
+            let len = end - start;
+            // Clamped: with extents near f64::MAX the product above overflows and the count
+            // with it.
+            let n = (len / spacing).ceil();
+            let cells = if n.is_nan() { 1 } else { n.clamp(1.0, MAX_NODES) as usize };
+            GridAxis { start, step: len / cells as f64, cells }
+        };
+        [axis(x), axis(y)]
+    }
+
+    /// The samples at the nodes of the grid, row-major by y.
+    fn sample_nodes<S: Surface>(
+        surface: &mut S,
+        ax: GridAxis,
+        ay: GridAxis,
+    ) -> Result<Vec<Sample>, (f64, f64, S::Error)> {
+        let mut nodes = Vec::with_capacity(ax.nodes() * ay.nodes());
+        for j in 0..ay.nodes() {
+            for i in 0..ax.nodes() {
+                let (px, py) = (ax.start + i as f64 * ax.step, ay.start + j as f64 * ay.step);
+                nodes.push(surface.sample(px, py).map_err(|e| (px, py, e))?);
+            }
+        }
+        Ok(nodes)
     }
 
     /// The lowest and highest surface heights at the map's nodes.

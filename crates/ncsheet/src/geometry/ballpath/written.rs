@@ -16,7 +16,7 @@
 
 use nalgebra::Point3;
 
-use super::{BallPath, Checker, Goal, PathError, PathPoint, Surface, Sweep, Verdict, MAX_MOVE_HALVINGS};
+use super::{BallPath, Checker, Goal, Inserted, PathError, PathPoint, Surface, Sweep, Verdict, MAX_MOVE_HALVINGS};
 
 /// How an NC program writes a ball path's programmed points.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -130,38 +130,47 @@ fn rounded_points(path: &BallPath, w: Written) -> Vec<PathPoint> {
 
 impl<S: Surface> Checker<'_, S> {
     /// `path` as written with `w`: rounded, then each ball and each move checked against the
-    /// surface and mended where it cuts deeper than the tolerance.
-    pub(super) fn as_written(&mut self, path: &BallPath, w: Written) -> Result<BallPath, PathError<S::Error>> {
+    /// surface and mended where it cuts deeper than the tolerance. The written path is checked
+    /// in its own buffer, and its bounds kept in `buffer` (the computed check's, spent).
+    pub(super) fn as_written(
+        &mut self,
+        path: &BallPath,
+        w: Written,
+        buffer: Vec<f64>,
+    ) -> Result<BallPath, PathError<S::Error>> {
         let mut written = rounded(path, w);
         if w.exact() {
             return Ok(written);
         }
-        let mut below = Vec::with_capacity(written.points.len());
+        let mut below = buffer;
+        below.clear();
         for (i, p) in written.points.iter_mut().enumerate() {
             let placed = self.placed.get(i).copied().unwrap_or(false).then_some(&path.points[i]);
             below.push(self.written_position(p, placed, w)?);
         }
         let n = written.points.len();
-        let mut out = Vec::with_capacity(n);
-        let mut bounds = Vec::with_capacity(n);
-        let mut starts = Vec::with_capacity(written.line_starts.len());
+        let mut out = Rewriting {
+            points: &mut written.points,
+            below: &mut below,
+            at: 0,
+            inserted: Inserted::default(),
+            inserted_below: Vec::new(),
+        };
         for k in 0..written.line_starts.len() {
-            starts.push(out.len());
             let end = written.line_starts.get(k + 1).copied().unwrap_or(n);
             for i in written.line_starts[k]..end {
-                out.push(written.points[i]);
-                bounds.push(below[i]);
+                out.at = i;
                 if i + 1 == n || (i + 1 == end && !self.spec.check_links) {
                     continue;
                 }
                 // The move may lift its far end: the next move starts from it as lifted.
-                let (mut b, mut b_below) = (written.points[i + 1], below[i + 1]);
-                self.written_move(&mut out, &mut bounds, &mut b, &mut b_below, w, MAX_MOVE_HALVINGS)?;
-                (written.points[i + 1], below[i + 1]) = (b, b_below);
+                let (mut b, mut b_below) = (out.points[i + 1], out.below[i + 1]);
+                self.written_move(&mut out, &mut b, &mut b_below, w, MAX_MOVE_HALVINGS)?;
+                (out.points[i + 1], out.below[i + 1]) = (b, b_below);
             }
         }
-        written.points = out;
-        written.line_starts = starts;
+        let inserted = out.inserted;
+        inserted.into_path(&mut written);
         Ok(written)
     }
 
@@ -211,19 +220,19 @@ impl<S: Surface> Checker<'_, S> {
     }
 
     /// The written move from the last point of `out` to `b` (whose bounds below the
-    /// drop-cutter height are the last of `bounds` and `b_below`): a point halfway where it
-    /// cuts deeper than the tolerance, or its ends lifted where the grid has no point between.
+    /// drop-cutter height are the last point's and `b_below`): a point halfway where it cuts
+    /// deeper than the tolerance, or its ends lifted where the grid has no point between.
     fn written_move(
         &mut self,
-        out: &mut Vec<PathPoint>,
-        bounds: &mut Vec<f64>,
+        out: &mut Rewriting,
         b: &mut PathPoint,
         b_below: &mut f64,
         w: Written,
         halvings_left: u32,
     ) -> Result<(), PathError<S::Error>> {
         let (r, tol, half) = (self.spec.radius, self.spec.gouge_tol, self.search_tol());
-        let (a, a_below) = (*out.last().expect("a move starts at a point"), *bounds.last().expect("one per point"));
+        let (a, a_below) = out.last();
+        let (a, a_below) = (*a, *a_below);
         let sweep = Sweep { a: a.centre, b: b.centre, r };
         if self.map.move_bound(&sweep, [a_below, *b_below]).is_some_and(|bound| bound <= tol) {
             return Ok(());
@@ -236,8 +245,7 @@ impl<S: Surface> Checker<'_, S> {
         let on_an_end = |p: &PathPoint| p.centre.x == middle.x && p.centre.y == middle.y;
         if halvings_left == 0 || on_an_end(&a) || on_an_end(b) {
             // Both ends lifted by the depth lift the whole move by it at least.
-            let a = out.last_mut().expect("a move starts at a point");
-            w.lift(a, cut.depth);
+            w.lift(out.last().0, cut.depth);
             w.lift(b, cut.depth);
             return Ok(());
         }
@@ -246,10 +254,37 @@ impl<S: Surface> Checker<'_, S> {
         let mut m = PathPoint { contact: drop.at, centre: mid };
         m.centre.z = w.at_or_above(mid.z + drop.depth + w.programmed_dz) - w.programmed_dz;
         let mut m_below = half;
-        self.written_move(out, bounds, &mut m, &mut m_below, w, halvings_left - 1)?;
-        out.push(m);
-        bounds.push(m_below);
-        self.written_move(out, bounds, b, b_below, w, halvings_left - 1)
+        self.written_move(out, &mut m, &mut m_below, w, halvings_left - 1)?;
+        out.push(m, m_below);
+        self.written_move(out, b, b_below, w, halvings_left - 1)
+    }
+}
+
+/// The written path while its moves are checked, in its own buffer: the path's points up to
+/// `at` are done, and the points inserted after them wait aside with their bounds.
+struct Rewriting<'p> {
+    points: &'p mut [PathPoint],
+    /// Per point of the path, a bound on how far it is below the drop-cutter height.
+    below: &'p mut [f64],
+    /// The path's point the move being checked starts from.
+    at: usize,
+    inserted: Inserted,
+    inserted_below: Vec<f64>,
+}
+
+impl Rewriting<'_> {
+    /// The written path's last point so far (where the move being checked starts) and its
+    /// bound: the last inserted after `at`, or `at` itself.
+    fn last(&mut self) -> (&mut PathPoint, &mut f64) {
+        match self.inserted.last_after(self.at) {
+            Some(p) => (p, self.inserted_below.last_mut().expect("one per inserted point")),
+            None => (&mut self.points[self.at], &mut self.below[self.at]),
+        }
+    }
+
+    fn push(&mut self, p: PathPoint, below: f64) {
+        self.inserted.push(self.at, p);
+        self.inserted_below.push(below);
     }
 }
 
@@ -317,7 +352,7 @@ mod tests {
         assert!(rounded.points.iter().map(depth).fold(f64::MIN, f64::max) > 0.5 * res);
 
         let mut surface = Slope;
-        let map = Map::sample(&mut surface, spec.x, spec.y, 0.25, 0.25 * spec.gouge_tol).unwrap();
+        let map = Map::sample(&mut surface, spec.x, spec.y, 0.25, 0.25 * spec.gouge_tol, Vec::new()).unwrap();
         let mut check = Checker {
             surface: &mut surface,
             map,
@@ -326,7 +361,7 @@ mod tests {
             samples_left: 10_000_000,
             placed: Vec::new(),
         };
-        let written = check.as_written(&path, w).unwrap();
+        let written = check.as_written(&path, w, Vec::new()).unwrap();
         assert_eq!(written.points.len(), path.points.len());
         for p in &written.points {
             // On the plane the depth along a move is linear: its ends bound it.
