@@ -384,6 +384,35 @@ End Sub
     Out s
 "#,
     },
+    // tests/vba_conformance.rs: a Variant holds a number with its type ([MS-VBAL] 3.3.2, a
+    // literal's declared type; "Type conversion functions"). Left out where LibreOffice departs
+    // from VBA: it computes `+ - *` on a Variant's Integers as Doubles (`x + 1`, `x * 200`) and
+    // `\` and `Mod` on them as Longs, where VBA keeps an Integer ([MS-VBAL] 5.6.9.3, "Variant
+    // data type": promoted only past the type's range).
+    Case {
+        name: "variant_numbers",
+        module: "",
+        body: r#"
+    Dim a, b, c, x
+    a = 5
+    b = 40000
+    c = 2.5
+    Out TypeName(a)
+    Out TypeName(b)
+    Out TypeName(c)
+    Out VarType(a)
+    Out VarType(b)
+    x = 200
+    Out TypeName(x / 2)
+    Out TypeName(x + 0.5)
+    Out TypeName(CLng(x))
+    Out TypeName(CInt(2.5))
+    Out TypeName(CDbl(2))
+    Out TypeName(CByte(7))
+    Out TypeName(CCur(1.5))
+    Out TypeName(CSng(1.5))
+"#,
+    },
 ];
 
 /// ncsheet's lines for one case.
