@@ -285,3 +285,27 @@ fn workbook_name_is_the_file_name() {
     let out = vba::run(&mut wb, "Sub Main()\n    Debug.Print ThisWorkbook.Name\nEnd Sub\n", "m.bas", &options).unwrap();
     assert_eq!(out.printed, ["Parts.xlsm"]);
 }
+
+// "Worksheet.Copy method": "Copies the sheet to another location in the current workbook"
+// After the sheet named; the copy holds the same cells and formulas (a reference to the
+// original sheet still points there) and is named as Excel names a copy, "Sheet1 (2)";
+// "If you don't specify either Before or After, Microsoft Excel creates a new workbook",
+// which a run has not: refused.
+#[test]
+fn worksheet_copy_after_the_last_sheet_copies_cells_and_formulas() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, 0, "A1", "2");
+    set(&mut wb, 0, "A2", "=A1*3");
+    set(&mut wb, 0, "B1", "=Sheet1!A1+1");
+    let printed = run(
+        &mut wb,
+        "    Sheets(\"Sheet1\").Copy After:=Sheets(Sheets.Count)\n    Debug.Print ActiveSheet.Name; Sheets.Count\n\
+         \x20   Sheets(1).Range(\"A1\").Value = 5\n\
+         \x20   Debug.Print Sheets(2).Range(\"A2\").Value; Sheets(2).Range(\"B1\").Value",
+    );
+    assert_eq!(printed, ["Sheet1 (2) 2 ", " 6  6 "]);
+    assert_eq!(wb.formula(1, parse_cell("A2").unwrap()).as_deref(), Some("=A1*3"));
+    let e =
+        vba::run(&mut wb, "Sub Main()\n    Sheets(1).Copy\nEnd Sub\n", "m.bas", &RunOptions::default()).unwrap_err();
+    assert!(e.message.contains("new workbook"), "{e}");
+}

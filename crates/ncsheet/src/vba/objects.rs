@@ -340,6 +340,7 @@ impl Interp<'_, '_> {
                 Ok(Obj::Range(id, used))
             }
             "evaluate" => self.evaluate(ctx, id, link),
+            "copy" => self.copy_sheet(id, link),
             "checkboxes" | "optionbuttons" | "dropdowns" | "listboxes" | "buttons" | "shapes" | "oleobjects"
             | "chartobjects" => Err(self.fault_at(
                 link.span,

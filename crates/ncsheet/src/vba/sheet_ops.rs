@@ -522,6 +522,47 @@ impl Interp<'_, '_> {
         Ok(Obj::Sheet(id))
     }
 
+    /// `ws.Copy Before|After` ("Worksheet.Copy method"): a new sheet holding the sheet's
+    /// cells, formulas as they are (a reference to another sheet, the original included,
+    /// still points there), named as Excel names a copy (`Data (2)`), which becomes the active
+    /// sheet. As for `Sheets.Add`, only a copy placed last can be made; without Before or
+    /// After Excel makes a new workbook, which a run has not.
+    pub(super) fn copy_sheet(&self, sheet: SheetId, link: &Link) -> Run<Obj> {
+        let before = argument(link, 0, "Before").map(|e| self.sheet_argument(e, "Before")).transpose()?;
+        let after = argument(link, 1, "After").map(|e| self.sheet_argument(e, "After")).transpose()?;
+        let names = self.wb.borrow().sheet_names();
+        let at = match (before, after) {
+            (None, None) => {
+                let why = "Worksheet.Copy without Before or After copies the sheet into a new workbook, which a \
+                           run has not: write ws.Copy After:=Sheets(Sheets.Count)";
+                return Err(self.fault_at(link.span, why));
+            }
+            (Some(_), Some(_)) => {
+                return Err(self.error_1004(link.span, "Worksheet.Copy takes Before or After, not both".into()))
+            }
+            (Some(b), None) => b as usize,
+            (None, Some(a)) => a as usize + 1,
+        };
+        if at < names.len() {
+            let why = format!(
+                "Worksheet.Copy: Excel puts the copy before {}; ncsheet adds a sheet only after the last one: \
+                 write ws.Copy After:=Sheets(Sheets.Count)",
+                names[at]
+            );
+            return Err(self.fault_at(link.span, why));
+        }
+        let original = &names[sheet as usize];
+        let taken = |n: &str| names.iter().any(|s| s.eq_ignore_ascii_case(n));
+        let name = (2..).map(|k| format!("{original} ({k})")).find(|n| !taken(n)).expect("a free name");
+        let copy = self.book_mut()?.add_sheet(&name).map_err(|e| self.fault_at(link.span, e.to_string()))?;
+        let used = self.wb.borrow().used_rect(sheet);
+        if let Some(used) = used {
+            self.paste((sheet, used), copy, used, Paste::Inputs, link.span)?;
+        }
+        self.active.set(copy);
+        Ok(Obj::Value(Value::Blank))
+    }
+
     /// `ThisWorkbook.Name` ("Workbook.Name property"): the workbook's file name with its
     /// extension (`Book1.xlsm`), as the run was given it.
     pub(super) fn workbook_name(&self, link: &Link) -> Run<Obj> {
