@@ -980,6 +980,21 @@ fn cbyte_csng_and_ccur_give_their_types() {
     assert_eq!(out, ["Byte 200 Single 1.5 Currency 1.2346 ", " 17  4  6 Integer", " 6  6  6  6 "]);
 }
 
+// The language reference names the type of the number some functions give in a Variant:
+// "InStr function" and "InStrRev function" a Variant (Long), "StrComp function" a Variant
+// (Integer), "Rnd function" a Single.
+#[test]
+fn library_functions_give_numbers_of_their_documented_types() {
+    let out = printed_in(
+        "",
+        "    Dim v
+    v = InStr(\"abc\", \"b\")
+\
+         \x20   Debug.Print TypeName(v); \" \"; TypeName(InStrRev(\"abc\", \"c\")); \" \"; TypeName(StrComp(\"a\", \"b\")); \" \"; TypeName(Rnd)",
+    );
+    assert_eq!(out, ["Long Long Integer Single"]);
+}
+
 // [MS-VBAL] 3.3.5.3: a name in square brackets is a foreign name, here a member of a
 // worksheet (`ws.[A1]`), which Excel's Worksheet evaluates: "Using square brackets (for
 // example, "[A1:C5]") is identical to calling the Evaluate method with a string argument"

@@ -255,6 +255,18 @@ fn literal_type(text: &str, value: f64) -> Declared {
     }
 }
 
+/// The type of the number a VBA function gives in a Variant, where the language reference
+/// names it ("InStr function": "Variant (Long)"; "StrComp function": "Variant (Integer)";
+/// "Rnd function": "a Single"); `None` for the rest.
+fn held_function_type(name: &str) -> Option<Declared> {
+    match name {
+        "VBA.INSTR" | "VBA.INSTRREV" => Some(Declared::Long),
+        "VBA.STRCOMP" => Some(Declared::Integer),
+        "VBA.RND" => Some(Declared::Single),
+        _ => None,
+    }
+}
+
 /// The declared type of a VBA function's result, by its row of the function table.
 fn function_type(name: &str) -> Declared {
     match name {
@@ -339,6 +351,7 @@ impl Interp<'_, '_> {
                     Declared::String | Declared::Boolean => Declared::Double,
                     ty => ty,
                 },
+                (name, _) if typing == Typing::Held => held_function_type(name).unwrap_or_else(|| function_type(name)),
                 (name, _) => function_type(name),
             },
             ExprKind::Host(id) => self.node_type(*id, typing),
