@@ -65,6 +65,16 @@ pub(super) fn access(out_dir: Option<&Path>, in_files: &[PathBuf], max_bytes: u6
 /// When a file of the output folder was last modified (`FileDateTime`): `None` when there is
 /// none; a symbolic link or anything but a plain file is refused, as for reading.
 fn modified_in_folder(path: &Path) -> std::result::Result<Option<std::time::SystemTime>, String> {
+    match folder_entry(path)? {
+        None => Ok(None),
+        Some(m) if !m.is_file() => Err(format!("{}: not a plain file", path.display())),
+        Some(m) => m.modified().map(Some).map_err(|e| format!("{}: {e}", path.display())),
+    }
+}
+
+/// What the output folder holds at `path`, not following a link: `None` when nothing; a
+/// symbolic link (which could point anywhere) is refused.
+fn folder_entry(path: &Path) -> std::result::Result<Option<std::fs::Metadata>, String> {
     match std::fs::symlink_metadata(path) {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
         Err(e) => Err(format!("{}: {e}", path.display())),
@@ -72,8 +82,7 @@ fn modified_in_folder(path: &Path) -> std::result::Result<Option<std::time::Syst
             "{} is a symbolic link, which could lead out of --out-dir: a macro reads only the folder's own files",
             path.display()
         )),
-        Ok(m) if !m.is_file() => Err(format!("{}: not a plain file", path.display())),
-        Ok(m) => m.modified().map(Some).map_err(|e| format!("{}: {e}", path.display())),
+        Ok(m) => Ok(Some(m)),
     }
 }
 
@@ -108,15 +117,7 @@ fn read_limited(path: &Path, max_bytes: u64) -> std::result::Result<Vec<u8>, Str
 /// A file of the output folder: `None` when there is none; a symbolic link (which could
 /// point anywhere) or anything but a plain file is refused.
 fn read_in_folder(path: &Path, max_bytes: u64) -> std::result::Result<Option<Vec<u8>>, String> {
-    match std::fs::symlink_metadata(path) {
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
-        Err(e) => Err(format!("{}: {e}", path.display())),
-        Ok(m) if m.file_type().is_symlink() => Err(format!(
-            "{} is a symbolic link, which could lead out of --out-dir: a macro reads only the folder's own files",
-            path.display()
-        )),
-        Ok(_) => read_limited(path, max_bytes).map(Some),
-    }
+    folder_entry(path)?.map(|_| read_limited(path, max_bytes)).transpose()
 }
 
 /// The names of a folder's plain files that a macro could name (for `Dir` and `Kill` with

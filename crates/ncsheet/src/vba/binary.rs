@@ -195,17 +195,9 @@ impl Interp<'_, '_> {
             Some(Var::Value(Value::Text(t))) => t.chars().count(),
             _ => 0,
         };
-        let (value, date, read, past_end) = {
-            let files = self.files.borrow();
-            let c = files.records.get(&n).expect("checked by record_start");
-            let bytes: &[u8] = match &c.place {
-                Place::Written(i) => &files.written[*i].1,
-                Place::Input(bytes) => bytes,
-            };
-            let mut reader = Reader { bytes, at: start, past_end: false };
-            let (value, date) = reader.item(declared, c.random, held).map_err(|m| self.fault_at(span, m))?;
-            (value, date, reader.at - start, reader.past_end)
-        };
+        let ((value, date), read) = self
+            .read_at(n, start, |reader, random| reader.item(declared, random, held))
+            .map_err(|m| self.fault_at(span, m))?;
         match index {
             None => {
                 self.set_var(name, Var::Value(value), span)?;
@@ -213,12 +205,37 @@ impl Interp<'_, '_> {
             }
             Some(index) => self.set_element(name, index, value, date, span)?,
         }
+        self.moved_past(n, start, read);
+        Ok(())
+    }
+
+    /// Reads with `read` (given the reader and whether the file is Random) from file `n`'s
+    /// bytes at `start`; returns what it read and the reader, for [`Interp::moved_past`].
+    fn read_at<T>(
+        &self,
+        n: i64,
+        start: usize,
+        read: impl FnOnce(&mut Reader, bool) -> Result<T, String>,
+    ) -> Result<(T, (usize, bool)), String> {
+        let files = self.files.borrow();
+        let c = files.records.get(&n).expect("checked by record_start");
+        let bytes: &[u8] = match &c.place {
+            Place::Written(i) => &files.written[*i].1,
+            Place::Input(bytes) => bytes,
+        };
+        let mut reader = Reader { bytes, at: start, past_end: false };
+        let value = read(&mut reader, c.random)?;
+        Ok((value, (reader.at - start, reader.past_end)))
+    }
+
+    /// After a Get of `read` bytes (and whether it ran past the end) at `start`: the next
+    /// position, `Loc` and `EOF` of file `n`.
+    fn moved_past(&self, n: i64, start: usize, (read, past_end): (usize, bool)) {
         let mut files = self.files.borrow_mut();
         let c = files.records.get_mut(&n).expect("checked by record_start");
         c.at = start + if c.random { c.record } else { read };
         c.last = if c.random { start / c.record + 1 } else { start + read };
         c.past_end = past_end;
-        Ok(())
     }
 
     /// The bytes `Put` writes for a Type value or an array ("Put statement"): a Type's members
@@ -272,25 +289,11 @@ impl Interp<'_, '_> {
         ty: Option<&Ty>,
         span: Span,
     ) -> Run<()> {
-        let (var, read, past_end, random) = {
-            let files = self.files.borrow();
-            let c = files.records.get(&n).expect("checked by record_start");
-            let bytes: &[u8] = match &c.place {
-                Place::Written(i) => &files.written[*i].1,
-                Place::Input(bytes) => bytes,
-            };
-            let mut reader = Reader { bytes, at: start, past_end: false };
-            let var = self
-                .read_composite(&mut reader, shape, ty, c.random, false)
-                .map_err(|m| self.fault_at(span, format!("Get #{n}: {m}")))?;
-            (var, reader.at - start, reader.past_end, c.random)
-        };
+        let (var, read) = self
+            .read_at(n, start, |reader, random| self.read_composite(reader, shape, ty, random, false))
+            .map_err(|m| self.fault_at(span, format!("Get #{n}: {m}")))?;
         self.with_slot(name, |s| s.replace(var));
-        let mut files = self.files.borrow_mut();
-        let c = files.records.get_mut(&n).expect("checked by record_start");
-        c.at = start + if random { c.record.max(read) } else { read };
-        c.last = if random { start / c.record + 1 } else { start + read };
-        c.past_end = past_end;
+        self.moved_past(n, start, read);
         Ok(())
     }
 
