@@ -75,6 +75,12 @@ pub struct LocaleData {
     /// TRUE and FALSE as this locale's Excel and LibreOffice show and read them (de-DE
     /// `WAHR`, `FALSCH`): LibreOffice's csv export in the locale writes them so.
     pub booleans: [&'static str; 2],
+    /// The word for General in format codes besides `General` (de-DE and fr-FR `Standard`),
+    /// as that Excel and LibreOffice read TEXT's code; empty: none.
+    pub general: &'static str,
+    /// What `AM/PM` in a format code shows before and after noon, as LibreOffice set to the
+    /// locale shows it (de-DE `vorm.` and `nachm.`).
+    pub am_pm: [&'static str; 2],
 }
 
 const SPACES: &[char] = &[' ', '\u{202F}'];
@@ -99,6 +105,8 @@ static EN_US: LocaleData = LocaleData {
     format_letters: &[],
     currency: "$",
     booleans: ["TRUE", "FALSE"],
+    general: "",
+    am_pm: ["AM", "PM"],
 };
 
 /// What the decimal-comma locales share (each says what it does otherwise): a no-break space
@@ -122,6 +130,8 @@ const DECIMAL_COMMA: LocaleData = LocaleData {
     format_letters: &[],
     currency: "€",
     booleans: ["", ""],
+    general: "",
+    am_pm: ["AM", "PM"],
 };
 
 static LOCALES: [&LocaleData; 8] = [
@@ -137,6 +147,8 @@ static LOCALES: [&LocaleData; 8] = [
         days_short: "So Mo Di Mi Do Fr Sa",
         format_letters: &[('T', 'd'), ('J', 'y')],
         booleans: ["WAHR", "FALSCH"],
+        general: "Standard",
+        am_pm: ["vorm.", "nachm."],
         year_less: &["D.M."],
         ..DECIMAL_COMMA
     },
@@ -153,6 +165,7 @@ static LOCALES: [&LocaleData; 8] = [
         days_short: "dim. lun. mar. mer. jeu. ven. sam.",
         format_letters: &[('J', 'd'), ('A', 'y')],
         booleans: ["VRAI", "FAUX"],
+        general: "Standard",
         ..DECIMAL_COMMA
     },
     &LocaleData {
@@ -165,6 +178,8 @@ static LOCALES: [&LocaleData; 8] = [
         months_short: "jaan veebr märts apr mai juuni juuli aug sept okt nov dets",
         days_short: "P E T K N R L",
         booleans: ["TÕENE", "VÄÄR"],
+        // LibreOffice set to et-EE shows them without a last `.`.
+        am_pm: ["e.l", "p.l"],
         year_less: &["D.M", "D.M."],
         ..DECIMAL_COMMA
     },
@@ -355,6 +370,21 @@ impl Locale {
     /// `None` when the text has a mark the locale does not use in numbers (`0.8` in et-EE).
     fn canonical_number_text(self, text: &str) -> Option<String> {
         let t = text.trim_matches(|c: char| c.is_whitespace() || c == '\u{A0}');
+        // Only this locale's currency sign makes text a number (LibreOffice set to de-DE
+        // refuses `$1,5`).
+        if t.chars().any(|c| matches!(c, '$' | '€' | '£') && !self.currency.contains(c)) {
+            return None;
+        }
+        // A minus after the number (`1,5-`) is its sign, as LibreOffice set to the locale
+        // reads it.
+        let signed_after;
+        let t = match t.strip_suffix('-') {
+            Some(rest) if !rest.starts_with(['-', '+']) && rest.ends_with(|c: char| c.is_ascii_digit()) => {
+                signed_after = format!("-{rest}");
+                signed_after.as_str()
+            }
+            _ => t,
+        };
         let is_group = |c: char| c == self.group || self.group_typed.contains(&c);
         let chars: Vec<char> = t.chars().collect();
         let digit = |i: Option<usize>| i.and_then(|i| chars.get(i)).is_some_and(char::is_ascii_digit);
@@ -799,9 +829,36 @@ impl Locale {
         }
         if is_date_code(code) {
             let named = self.localize_names_for(code, shown);
+            let named = self.localize_meridiem(code, &named);
             return literal_marks(&self.localize_fraction_of_seconds(code, &named));
         }
         literal_marks(&self.localize_shown(shown))
+    }
+
+    /// A time that `AM/PM` in `code` showed (`02:24 PM`) with this locale's words for before
+    /// and after noon (de-DE `02:24 nachm.`), either case in the code.
+    fn localize_meridiem(self, code: &str, shown: &str) -> String {
+        if !code.to_ascii_uppercase().contains("AM/PM") || self.am_pm == EN_US.am_pm {
+            return shown.to_string();
+        }
+        let mut out = String::with_capacity(shown.len() + 4);
+        let mut word = String::new();
+        for c in shown.chars().chain(std::iter::once('\0')) {
+            if c.is_alphabetic() {
+                word.push(c);
+                continue;
+            }
+            match word.to_ascii_uppercase().as_str() {
+                "AM" => out.push_str(self.am_pm[0]),
+                "PM" => out.push_str(self.am_pm[1]),
+                _ => out.push_str(&word),
+            }
+            word.clear();
+            if c != '\0' {
+                out.push(c);
+            }
+        }
+        out
     }
 
     /// A time shown with fractions of a second (`ss.000`: `14:30:27.500`) with the locale's
@@ -824,13 +881,22 @@ impl Locale {
     /// `#.##0` or `# ##0` groups thousands (`#,##0`). Date and time codes, quoted text,
     /// `\`-escaped characters and `[…]` sections are left as they are.
     pub fn canonical_format_code(self, code: &str) -> String {
-        let code = &self.canonical_date_letters(code);
-        if self.is_canonical() || is_date_code(code) || self.reads_as_en_us(code) {
+        if self.is_canonical() {
+            return code.to_string();
+        }
+        let code = &self.canonical_date_letters(&self.canonical_general(code));
+        if is_date_code(code) {
+            return self.canonical_fraction_of_seconds_code(code);
+        }
+        if self.reads_as_en_us(code) {
             return code.to_string();
         }
         let chars: Vec<char> = code.chars().collect();
         let placeholder = |i: Option<usize>| i.and_then(|i| chars.get(i)).is_some_and(|c| matches!(c, '0' | '#' | '?'));
-        let is_group = |c: char| c == self.group || self.group_typed.contains(&c);
+        // In a fraction (`# ?/?`) a space parts the whole number from the fraction, as
+        // LibreOffice set to fr-FR or et-EE shows it (`1 3/4`): it groups nothing.
+        let fraction = has_unquoted_slash(code);
+        let is_group = |c: char| (c == self.group || self.group_typed.contains(&c)) && !(fraction && is_space(c));
         // Whether the group marks before `i` (if any) follow a digit placeholder.
         let after_placeholder = |i: usize| {
             let before = chars[..i].iter().rposition(|&c| !is_group(c));
@@ -897,6 +963,47 @@ impl Locale {
             i += 1;
         }
         section.finish(&mut out);
+        out
+    }
+
+    /// A format code with the locale's word for General (de-DE `Standard`, either case, not
+    /// in quotes) as `General`.
+    fn canonical_general(self, code: &str) -> String {
+        if self.general.is_empty() {
+            return code.to_string();
+        }
+        let word: Vec<char> = self.general.chars().collect();
+        let chars: Vec<char> = code.chars().collect();
+        let mut out = String::with_capacity(code.len());
+        let (mut quoted, mut i) = (false, 0);
+        while i < chars.len() {
+            let here = chars.get(i..i + word.len());
+            let is_word = here.is_some_and(|h| h.iter().zip(&word).all(|(a, b)| a.to_lowercase().eq(b.to_lowercase())));
+            if !quoted && is_word {
+                out.push_str("General");
+                i += word.len();
+                continue;
+            }
+            quoted ^= chars[i] == '"';
+            out.push(chars[i]);
+            i += 1;
+        }
+        out
+    }
+
+    /// A time code with the fraction of a second after this locale's decimal mark
+    /// (`hh:mm:ss,00`) as the file spells it (`hh:mm:ss.00`), as LibreOffice set to the
+    /// locale reads TEXT's code: the mark between an `s` and a `0`, not in quotes.
+    fn canonical_fraction_of_seconds_code(self, code: &str) -> String {
+        let chars: Vec<char> = code.chars().collect();
+        let mut quoted = false;
+        let mut out = String::with_capacity(code.len());
+        for (i, &c) in chars.iter().enumerate() {
+            quoted ^= c == '"';
+            let after_seconds = i > 0 && chars[i - 1].eq_ignore_ascii_case(&'s');
+            let fraction = !quoted && c == self.decimal && after_seconds && chars.get(i + 1) == Some(&'0');
+            out.push(if fraction { '.' } else { c });
+        }
         out
     }
 
@@ -1051,6 +1158,21 @@ impl Section {
             out.insert_str(at, "#,");
         }
     }
+}
+
+/// Whether a format code has a `/` outside quotes and not escaped (a fraction's).
+fn has_unquoted_slash(code: &str) -> bool {
+    let (mut quoted, mut escaped) = (false, false);
+    for c in code.chars() {
+        match c {
+            _ if escaped => escaped = false,
+            '"' => quoted = !quoted,
+            '\\' if !quoted => escaped = true,
+            '/' if !quoted => return true,
+            _ => {}
+        }
+    }
+    false
 }
 
 /// A space between digits or beside a number: plain, no-break or narrow no-break.
@@ -1225,6 +1347,9 @@ mod tests {
         assert_eq!(read(fr, "12,5 %"), Some(0.125));
         assert_eq!(read(et, "1,5 €"), Some(1.5));
         assert_eq!(read(fr, "1 234,5 €"), Some(1234.5));
+        assert_eq!(read(de, "$1,5"), None);
+        assert_eq!(read(de, "1.234,5-"), Some(-1234.5));
+        assert_eq!(read(de, "-1,5-"), None);
         // 14:30:15.5 is (14 * 3600 + 30 * 60 + 15.5) / 86400 of a day.
         let time = (14.0 * 3600.0 + 30.0 * 60.0 + 15.5) / 86400.0;
         assert!((read(de, "14:30:15,5").unwrap() - time).abs() < 1e-12);
@@ -1362,6 +1487,23 @@ mod tests {
         // A group mark among the decimals groups the integer part (LibreOffice in de-DE).
         assert_eq!(locale("de-DE").canonical_format_code("#,##0.00;-#,##0.00"), "#,#.##000;-#,#.##000");
         assert_eq!(locale("de-DE").canonical_format_code("0,0.0"), "#,0.00");
+    }
+
+    /// TEXT's codes as LibreOffice set to the locale reads them: its word for General, a
+    /// fraction of a second after its decimal mark, a fraction's space (no group there), and
+    /// AM/PM in its words.
+    #[test]
+    fn general_fractions_and_meridiems_in_the_locale() {
+        let (fr, de, et) = (locale("fr-FR"), locale("de-DE"), locale("et-EE"));
+        assert_eq!(de.canonical_format_code("STANDARD\" kg\""), "General\" kg\"");
+        assert_eq!(fr.canonical_format_code("\"Standard\" 0"), "\"Standard\" 0");
+        assert_eq!(et.canonical_format_code("Standard"), "Standard");
+        assert_eq!(de.canonical_format_code("[h]:mm:ss,00"), "[h]:mm:ss.00");
+        assert_eq!(fr.canonical_format_code("# ??/??"), "# ??/??");
+        assert_eq!(fr.canonical_format_code("# ##0,0\" m/s\""), "#,##0.0\" m/s\"");
+        assert_eq!(de.localize_formatted("hh:mm AM/PM", "02:24 PM"), "02:24 nachm.");
+        assert_eq!(et.localize_formatted("h am/pm", "7 AM"), "7 e.l");
+        assert_eq!(fr.localize_formatted("h AM/PM", "7 AM"), "7 AM");
     }
 
     /// LibreOffice set to each locale (TEXT of 2025-03-12 and of the first of each month).
