@@ -210,6 +210,12 @@ pub trait Host {
     fn negation(&self, _operand: &Expr, result: Value) -> Value {
         result
     }
+
+    /// The length in characters of the text variable `name` holds while it grows in place
+    /// (`s = s & …`), known without making its value; `None` for anything else.
+    fn text_length(&self, _name: &str) -> Option<usize> {
+        None
+    }
 }
 
 /// The result of evaluating an expression that may be a reference.
@@ -885,6 +891,11 @@ impl<'a> Ctx<'a> {
     pub fn restart_lambda_work(&mut self) {
         self.lambda_work.set(0);
         self.lambda_calls = 0;
+    }
+
+    /// [`Host::text_length`] of the host's variable `name`, when there is a host.
+    pub fn host_text_length(&self, name: &str) -> Option<usize> {
+        self.host?.text_length(name)
     }
 
     /// Counts `work` (items made or read, see [`work_of`]) when a LAMBDA of MAP, REDUCE, …

@@ -36,7 +36,7 @@ impl Interp<'_, '_> {
     /// (a String or a Variant); `false` when the statement is to be run as any other.
     pub(super) fn append_in_place(&self, name: &Rc<str>, value: &Expr, span: Span) -> Run<bool> {
         let Some(pieces) = appended(name, value) else { return Ok(false) };
-        if !pieces.iter().all(|(_, right)| self.reads_only(right)) {
+        if !self.unchanged_by(name, &pieces) {
             return Ok(false);
         }
         let plain_text = |s: &mut super::value::Slot| {
@@ -78,6 +78,54 @@ impl Interp<'_, '_> {
             s.holds = super::typing::Declared::Variant;
         });
         Ok(true)
+    }
+
+    /// Whether evaluating the right operands of `pieces` leaves the variable `name` as it
+    /// was: `s & a & b …` reads `s` first, and here `a`, `b` … are evaluated before `s` is
+    /// appended to. So either they run none of the macro's procedures, or `name` is a
+    /// variable of the running procedure that none of them names: a procedure they call
+    /// cannot reach it then (it has its own variables, and a ByRef argument is a name), so
+    /// `s = s & Cells(i, 1).Value`, `s = s & f(x)` and `s = s & d(k)` append in place too.
+    fn unchanged_by(&self, name: &str, pieces: &[(&Expr, &Expr)]) -> bool {
+        if pieces.iter().all(|(_, right)| self.reads_only(right)) {
+            return true;
+        }
+        let local = self.frames.borrow().last().is_some_and(|f| f.vars.get(name).is_some());
+        local && !pieces.iter().any(|(_, right)| self.names(right, name))
+    }
+
+    /// Whether `e` names the variable `name` anywhere (an argument of a call, an index, a
+    /// member path's link).
+    fn names(&self, e: &Expr, name: &str) -> bool {
+        let mut found = false;
+        e.visit(&mut |e| match &e.kind {
+            ExprKind::Name(n) => found |= n.eq_ignore_ascii_case(name),
+            ExprKind::Host(id) => found |= self.node_names(*id, name),
+            _ => {}
+        });
+        found
+    }
+
+    fn node_names(&self, id: u32, name: &str) -> bool {
+        let any = |es: &[Expr]| es.iter().any(|e| self.names(e, name));
+        let args = |args: &[super::ast::Arg]| args.iter().any(|a| self.names(&a.value, name));
+        match &self.module.nodes[id as usize] {
+            Node::Call { args: a, .. } => args(a),
+            Node::Path(path) => path
+                .links
+                .iter()
+                .any(|l| l.name.eq_ignore_ascii_case(name) || l.args.as_deref().is_some_and(|a| args(a))),
+            Node::Element { var, index, .. } => var.eq_ignore_ascii_case(name) || any(index),
+            Node::Bound { dim, .. } => dim.as_ref().is_some_and(|d| self.names(d, name)),
+            Node::Is { object, other, .. } => {
+                self.names(object, name) || other.as_ref().is_some_and(|o| self.names(o, name))
+            }
+            Node::TypeOf { object, .. } => self.names(object, name),
+            Node::Inspect { arg, .. } => self.names(arg, name),
+            Node::Index { base, index, .. } => self.names(base, name) || any(index),
+            // Formula text reads no macro variable.
+            Node::Evaluate { .. } | Node::Null | Node::New { .. } => false,
+        }
     }
 
     /// Whether evaluating `e` only reads: it runs none of the macro's procedures (a Function

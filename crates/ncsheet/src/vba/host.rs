@@ -185,6 +185,10 @@ impl Host for Interp<'_, '_> {
         }
     }
 
+    fn text_length(&self, name: &str) -> Option<usize> {
+        self.with_slot(name, |s| s.growing_chars()).flatten()
+    }
+
     fn raise(&self, number: u32, message: &str) {
         let mut f = self.fault(message);
         f.code = number;

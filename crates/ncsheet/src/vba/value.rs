@@ -157,6 +157,9 @@ struct Growing {
     text: String,
     /// The text's length in UTF-16 units, the unit of the macro string limit.
     units: usize,
+    /// Its length in characters, which `Len` answers without making the value: a loop that
+    /// reads `Len(s)` between appends would copy the text at every turn.
+    chars: usize,
     shown: std::cell::OnceCell<Var>,
 }
 
@@ -202,8 +205,8 @@ impl Slot {
     pub(super) fn text_units(&mut self) -> Option<usize> {
         if let Held::Var(Var::Value(Value::Text(t))) = &self.held {
             let text = String::from(&**t);
-            let units = text.encode_utf16().count();
-            self.held = Held::Growing(Growing { text, units, shown: std::cell::OnceCell::new() });
+            let (units, chars) = (text.encode_utf16().count(), text.chars().count());
+            self.held = Held::Growing(Growing { text, units, chars, shown: std::cell::OnceCell::new() });
         }
         match &self.held {
             Held::Growing(g) => Some(g.units),
@@ -217,6 +220,16 @@ impl Slot {
         g.shown.take();
         g.text.push_str(piece);
         g.units += units;
+        g.chars += piece.chars().count();
+    }
+
+    /// The length in characters of the text the variable grows in place; `None` when it
+    /// holds anything else.
+    pub(super) fn growing_chars(&self) -> Option<usize> {
+        match &self.held {
+            Held::Growing(g) => Some(g.chars),
+            Held::Var(_) => None,
+        }
     }
 
     /// The bytes of a growing text's buffer, and what else the variable holds to be measured

@@ -607,6 +607,12 @@ fn checked_text_fn(ctx: &mut Ctx, args: &[Expr], name: &str, f: CheckedTextBody)
 }
 
 fn len(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    // A text growing in place answers without being copied (`Do While Len(s) < n: s = s & …`).
+    if let [Expr { kind: ExprKind::Name(name), .. }] = args {
+        if let Some(chars) = ctx.host_text_length(name) {
+            return Ok(Value::Number(chars as f64));
+        }
+    }
     text_fn(ctx, args, "Len", FIRST, &|s, _| Ok(Value::Number(s.chars().count() as f64)))
 }
 
