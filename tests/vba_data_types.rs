@@ -194,3 +194,12 @@ fn ubound_and_lbound_of_an_array_an_expression_gives() {
     );
     assert_eq!(out, [" 2  3  4  2 "]);
 }
+
+// [MS-VBAL] 3.3.5.3: `Function Greet$(n$)` declares Greet, a String Function; `Greet$(…)` and
+// `Greet(…)` both call it, and `Greet = …` in its body sets its result.
+#[test]
+fn a_function_declared_with_dollar_is_called_with_or_without_it() {
+    let module = "Function Greet$(n$)\n    Greet = \"hi \" & n\nEnd Function\n";
+    let out = printed(module, "    Debug.Print Greet(\"a\"); \"|\"; Greet$(\"b\"); \"|\"; TypeName(Greet(\"c\"))");
+    assert_eq!(out, ["hi a|hi b|String"]);
+}

@@ -213,7 +213,8 @@ impl Build<'_> {
     /// Get before its Let or Set), else a public one of another standard module of the
     /// project (a class module's procedures are members of its objects).
     pub(super) fn proc_index(&self, name: &str) -> Option<usize> {
-        let same_name = self.proc_names.get(&name.to_ascii_lowercase())?;
+        // `Greet$(…)` calls `Function Greet$`, declared as Greet ([MS-VBAL] 3.3.5.3).
+        let same_name = self.proc_names.get(&lower_bare(name))?;
         let part = self.current_part.get();
         let own = |i: &usize| self.procs[*i].part == part;
         let readable = |i: &usize| matches!(self.procs[*i].property, None | Some(PropertyKind::Get));
