@@ -272,6 +272,52 @@ fn damaged_xlsb_records_are_refused_naming_the_part_and_the_record() {
     assert!(error.contains("xl/worksheets/sheet1.bin") && error.contains("missing"), "{error}");
 }
 
+/// An .ods package of one sheet whose rows are `rows` (content.xml's table rows).
+fn ods_with_rows(rows: &str) -> Vec<u8> {
+    let content = format!(
+        r#"<?xml version="1.0" encoding="UTF-8"?><office:document-content xmlns:office="urn:oasis:names:tc:opendocument:xmlns:office:1.0" xmlns:table="urn:oasis:names:tc:opendocument:xmlns:table:1.0" xmlns:text="urn:oasis:names:tc:opendocument:xmlns:text:1.0" office:version="1.2"><office:body><office:spreadsheet><table:table table:name="S">{rows}</table:table></office:spreadsheet></office:body></office:document-content>"#
+    );
+    let mut out = zip::ZipWriter::new(Cursor::new(Vec::new()));
+    let stored = zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Stored);
+    out.start_file("mimetype", stored).unwrap();
+    out.write_all(b"application/vnd.oasis.opendocument.spreadsheet").unwrap();
+    out.start_file("content.xml", zip::write::SimpleFileOptions::default()).unwrap();
+    out.write_all(content.as_bytes()).unwrap();
+    out.start_file("META-INF/manifest.xml", stored).unwrap();
+    out.write_all(br#"<?xml version="1.0" encoding="UTF-8"?><manifest:manifest xmlns:manifest="urn:oasis:names:tc:opendocument:xmlns:manifest:1.0" manifest:version="1.2"><manifest:file-entry manifest:full-path="/" manifest:media-type="application/vnd.oasis.opendocument.spreadsheet"/><manifest:file-entry manifest:full-path="content.xml" manifest:media-type="text/xml"/></manifest:manifest>"#).unwrap();
+    out.finish().unwrap().into_inner()
+}
+
+const ODS_ONE: &str = r#"<table:table-row><table:table-cell office:value-type="float" office:value="1"><text:p>1</text:p></table:table-cell></table:table-row>"#;
+
+/// calamine holds an .ods sheet whole from its first used cell to its last and copies a
+/// repeated cell's text for each repeat: cells at A1 and XFD6000 (98 million slots), a long
+/// text repeated a million times, `<text:s text:c="N"/>` of four billion spaces aborted.
+/// Each is refused naming the sheet and the limit; the small file still opens.
+#[test]
+fn ods_sheets_calamine_would_hold_past_the_limits_are_refused_naming_the_sheet() {
+    let opened = open(ods_with_rows(ODS_ONE), Format::Ods).unwrap();
+    assert_eq!(opened.workbook.value(0, parse_cell("A1").unwrap()), Value::Number(1.0));
+
+    let far = format!(
+        r#"{ODS_ONE}<table:table-row table:number-rows-repeated="5998"><table:table-cell table:number-columns-repeated="16384"/></table:table-row><table:table-row><table:table-cell table:number-columns-repeated="16383"/><table:table-cell office:value-type="float" office:value="2"/></table:table-row>"#
+    );
+    let error = open(ods_with_rows(&far), Format::Ods).err().expect("refused");
+    assert!(error.contains("hostile.ods") && error.contains("sheet 'S' spans 6000 rows and 16384 columns"), "{error}");
+    assert!(error.contains("8388608"), "{error}");
+
+    let text = "x".repeat(1000);
+    let repeated = format!(
+        r#"<table:table-row table:number-rows-repeated="1000"><table:table-cell table:number-columns-repeated="1000" office:value-type="string"><text:p>{text}</text:p></table:table-cell></table:table-row>"#
+    );
+    let error = open(ods_with_rows(&repeated), Format::Ods).err().expect("refused");
+    assert!(error.contains("sheet 'S'") && error.contains("MiB of text"), "{error}");
+
+    let spaces = r#"<table:table-row><table:table-cell office:value-type="string"><text:p>a<text:s text:c="4294967295"/>b</text:p></table:table-cell></table:table-row>"#;
+    let error = open(ods_with_rows(spaces), Format::Ods).err().expect("refused");
+    assert!(error.contains("MiB of text"), "{error}");
+}
+
 // ---------------------------------------------------------------------------------------
 // Fuzz targets.
 

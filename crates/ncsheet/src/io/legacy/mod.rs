@@ -93,13 +93,13 @@ pub struct Name {
 }
 
 /// Reads a file of `kind` into a recalculated workbook through the xlsx importer; the parts
-/// of an .xlsb inflate within `limits`.
+/// of an .xlsb and an .ods inflate within `limits`.
 pub fn load(bytes: &[u8], path: &Path, kind: Kind, limits: ReadLimits) -> Result<Imported, Error> {
     let fail = |message: String| Error::new(path, ErrorKind::Xlsx { part: None, message });
     let book = match kind {
         Kind::Xls => xls::read(bytes),
         Kind::Xlsb => xlsb::read(bytes, limits),
-        Kind::Ods => ods::read(bytes),
+        Kind::Ods => ods::read(bytes, limits),
     }
     .and_then(|book| within_limits(&book).map(|()| book))
     .map_err(|m| fail(format!("{} that cannot be read: {m}", kind.describe())))?;

@@ -9,11 +9,15 @@ use std::io::Cursor;
 use calamine::{Data, Ods, Reader};
 
 use crate::eval::Value;
+use crate::io::limits::ReadLimits;
+use crate::io::xlsx::xml::{self, Event, StreamError, TagKind};
+use crate::io::xlsx::Inflating;
 
-use super::{calamine_sheet, cells_named, quoted_sheet, value_of, Book, Name};
+use super::{calamine_sheet, cells_named, quoted_sheet, value_of, Book, Name, MAX_CELLS, MAX_TEXT};
 
-/// Reads an .ods file's bytes into a [`Book`].
-pub fn read(bytes: &[u8]) -> Result<Book, String> {
+/// Reads an .ods file's bytes into a [`Book`]; content.xml inflates within `limits`.
+pub fn read(bytes: &[u8], limits: ReadLimits) -> Result<Book, String> {
+    measure_content(bytes, limits)?;
     let mut ods: Ods<_> = Ods::new(Cursor::new(bytes)).map_err(|e| e.to_string())?;
     let application = ods.workbook_properties().ok().and_then(|p| p.application);
     let mut book = Book { application, ..Book::default() };
@@ -55,6 +59,147 @@ pub fn read(bytes: &[u8]) -> Result<Book, String> {
     }
     book.notes.push("number formats are not read from an .ods file: values show as General".into());
     Ok(book)
+}
+
+/// content.xml measured before calamine reads it: calamine holds each sheet whole, every
+/// slot from its first used cell to its last (A1 and XFD6000 are 98 million), copies a
+/// repeated cell's text for each repeat (`number-columns-repeated`, `number-rows-repeated`)
+/// and writes out `<text:s text:c="N"/>` as N spaces. A file whose sheets would hold more
+/// than [`MAX_CELLS`] slots or [`MAX_TEXT`] bytes of text is refused here, naming the sheet.
+fn measure_content(bytes: &[u8], limits: ReadLimits) -> Result<(), String> {
+    const PART: &str = "content.xml";
+    let mut zip = zip::ZipArchive::new(Cursor::new(bytes)).map_err(|e| e.to_string())?;
+    let Ok(entry) = zip.by_name(PART) else { return Ok(()) };
+    let mut extent = Extent::default();
+    xml::stream(Inflating::new(entry, limits), &mut |event| extent.take(event)).map_err(|e| match e {
+        StreamError::Io(e) => format!("{PART}: {e}"),
+        StreamError::Xml { offset, message } => format!("{PART}: at byte {offset}: {message}"),
+        StreamError::Handler(message) => format!("{PART}: {message}"),
+    })
+}
+
+/// What calamine will hold of the sheets read so far.
+#[derive(Default)]
+struct Extent {
+    sheet: String,
+    /// The current row's first row and how many it repeats for.
+    row: u64,
+    rows: u64,
+    col: u64,
+    /// The column after the current row's last used cell: calamine holds the row's cells
+    /// up to it.
+    row_end: u64,
+    /// The open cell: its repeats, whether it holds a value or a formula, its text's bytes.
+    cell: Option<(u64, bool, u64)>,
+    /// The current sheet's used rows and columns (first, last).
+    used: Option<((u64, u64), (u64, u64))>,
+    /// Slots of the sheets before, and of the rows of this one as read.
+    slots: u64,
+    row_slots: u64,
+    text: u64,
+}
+
+/// The attributes that give a cell a value (calamine keeps a cell without any as empty).
+const VALUE_ATTRIBUTES: [&str; 7] =
+    ["value-type", "value", "string-value", "date-value", "time-value", "boolean-value", "formula"];
+
+impl Extent {
+    fn take(&mut self, event: Event) -> Result<(), String> {
+        let tag = match event {
+            Event::Text(text) | Event::CData(text) => {
+                if let Some(cell) = &mut self.cell {
+                    cell.2 += text.len() as u64;
+                }
+                return Ok(());
+            }
+            Event::Tag(tag) => tag,
+        };
+        let count = |key: &str| tag.parsed::<u64>(key).unwrap_or(1);
+        match (tag.name, tag.kind) {
+            (b"table", TagKind::Start) => {
+                self.sheet = tag.attr("name").map(xml::unescape).unwrap_or_default();
+                (self.row, self.used) = (0, None);
+            }
+            (b"table", TagKind::End) => self.end_sheet()?,
+            (b"table-row", TagKind::Start | TagKind::Empty) => {
+                (self.rows, self.col, self.row_end) = (count("number-rows-repeated"), 0, 0);
+                if tag.kind == TagKind::Empty {
+                    self.row = self.row.saturating_add(self.rows);
+                }
+            }
+            (b"table-row", TagKind::End) => {
+                self.row_slots = self.row_slots.saturating_add(self.row_end);
+                self.row = self.row.saturating_add(self.rows);
+                self.check()?;
+            }
+            (b"table-cell" | b"covered-table-cell", TagKind::Start | TagKind::Empty) => {
+                let used = VALUE_ATTRIBUTES.iter().any(|key| tag.attr(key).is_some());
+                let text = ["string-value", "formula"].iter().filter_map(|key| tag.attr(key)).map(|v| v.len() as u64);
+                self.cell = Some((count("number-columns-repeated"), used, text.sum()));
+                if tag.kind == TagKind::Empty {
+                    self.end_cell();
+                }
+            }
+            (b"table-cell" | b"covered-table-cell", TagKind::End) => self.end_cell(),
+            (b"s", TagKind::Start | TagKind::Empty) => {
+                if let Some(cell) = &mut self.cell {
+                    cell.2 = cell.2.saturating_add(count("c"));
+                }
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
+    fn end_cell(&mut self) {
+        let Some((repeats, used, text)) = self.cell.take() else { return };
+        let last_col = self.col.saturating_add(repeats.max(1) - 1);
+        if used {
+            let last_row = self.row.saturating_add(self.rows.max(1) - 1);
+            let ((r0, r1), (c0, c1)) = self.used.unwrap_or(((self.row, last_row), (self.col, last_col)));
+            self.used = Some(((r0.min(self.row), r1.max(last_row)), (c0.min(self.col), c1.max(last_col))));
+            self.row_end = last_col.saturating_add(1);
+            self.text = self.text.saturating_add(text.saturating_mul(repeats).saturating_mul(self.rows));
+        }
+        self.col = last_col.saturating_add(1);
+    }
+
+    /// The sheet's used area is held whole, each of its rows repeated as often as it says.
+    fn end_sheet(&mut self) -> Result<(), String> {
+        if let Some(((r0, r1), (c0, c1))) = self.used.take() {
+            let (rows, cols) = ((r1 - r0).saturating_add(1), (c1 - c0).saturating_add(1));
+            let area = rows.saturating_mul(cols);
+            self.slots = self.slots.saturating_add(area);
+            if self.slots > MAX_CELLS as u64 {
+                return Err(format!(
+                    "sheet '{}' spans {} rows and {} columns from its first used cell to its last: with the sheets \
+                     before it, more than {MAX_CELLS} cells, ncsheet's limit on the cells of a file it converts (an \
+                     .ods sheet is held whole, blanks between its cells included)",
+                    self.sheet, rows, cols
+                ));
+            }
+        }
+        self.row_slots = 0;
+        self.check()
+    }
+
+    fn check(&self) -> Result<(), String> {
+        if self.slots.saturating_add(self.row_slots) > MAX_CELLS as u64 {
+            return Err(format!(
+                "sheet '{}' holds more than {MAX_CELLS} cells, ncsheet's limit on the cells of a file it converts",
+                self.sheet
+            ));
+        }
+        if self.text > MAX_TEXT as u64 {
+            return Err(format!(
+                "sheet '{}': the cells hold more than {} MiB of text (each repeat of a cell counted), ncsheet's limit \
+                 on the text of a file it converts",
+                self.sheet,
+                MAX_TEXT >> 20
+            ));
+        }
+        Ok(())
+    }
 }
 
 /// A stored value; dates and times (ISO 8601 text in the file) as Excel's serial numbers.

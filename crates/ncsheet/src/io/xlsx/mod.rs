@@ -45,7 +45,7 @@ mod sheet_xml;
 mod syntax;
 mod tables;
 mod write;
-mod xml;
+pub(crate) mod xml;
 
 pub(crate) use raw::Inflating;
 pub use check::{compare_cached, values_agree, Difference, REL_TOLERANCE};
