@@ -642,6 +642,9 @@ fn distance_to_segment(p: &Point3<f64>, a: &Point3<f64>, b: &Point3<f64>) -> f64
 
 // ---- gouge check ---------------------------------------------------------------------------
 
+/// The checker after the computed path's check, and its buffer of bounds, spent.
+type Checked<'a, S> = (Checker<'a, S>, Vec<f64>);
+
 /// Checks every ball position and every straight move between consecutive ones (the links
 /// between lines too, unless `check_links` is off) with the exact drop-cutter of
 /// [`dropcutter`]; reports or lifts what cuts deeper than `spec.gouge_tol`. Returns the
@@ -653,7 +656,7 @@ fn check_gouges<'a, S: Surface>(
     nodes: Vec<Sample>,
     path: &mut BallPath,
     lines_checked: &mut dyn FnMut(usize),
-) -> Result<(Checker<'a, S>, Vec<f64>), PathError<S::Error>> {
+) -> Result<Checked<'a, S>, PathError<S::Error>> {
     // The map is made finer where the surface between its nodes is more than a quarter of the
     // tolerance from what they show (a feature narrower than the path's spacing, a step).
     let map =
