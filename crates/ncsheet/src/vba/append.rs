@@ -111,10 +111,9 @@ impl Interp<'_, '_> {
         let args = |args: &[super::ast::Arg]| args.iter().any(|a| self.names(&a.value, name));
         match &self.module.nodes[id as usize] {
             Node::Call { args: a, .. } => args(a),
-            Node::Path(path) => path
-                .links
-                .iter()
-                .any(|l| l.name.eq_ignore_ascii_case(name) || l.args.as_deref().is_some_and(|a| args(a))),
+            Node::Path(path) => {
+                path.links.iter().any(|l| l.name.eq_ignore_ascii_case(name) || l.args.as_deref().is_some_and(args))
+            }
             Node::Element { var, index, .. } => var.eq_ignore_ascii_case(name) || any(index),
             Node::Bound { dim, .. } => dim.as_ref().is_some_and(|d| self.names(d, name)),
             Node::Is { object, other, .. } => {

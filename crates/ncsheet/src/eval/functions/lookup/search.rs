@@ -665,7 +665,7 @@ impl XMode {
         }
         if self.regex {
             let found = regex_position(key, items, reverse);
-            add(looked, looked_at(found.clone().ok().flatten(), items.len(), reverse));
+            add(looked, looked_at(found.ok().flatten(), items.len(), reverse));
             return found;
         }
         let key = lookup_key(key)?;
