@@ -318,6 +318,41 @@ fn ods_sheets_calamine_would_hold_past_the_limits_are_refused_naming_the_sheet()
     assert!(error.contains("MiB of text"), "{error}");
 }
 
+/// BIFF8's BoundSheet8 ([MS-XLS] 2.4.28): the stream offset of the sheet's BOF, its state
+/// and type, its name (ShortXLUnicodeString, 8-bit).
+fn bound_sheet(offset: u32, name: &str) -> Vec<u8> {
+    let mut body = offset.to_le_bytes().to_vec();
+    body.extend_from_slice(&[0, 0, name.len() as u8, 0]);
+    body.extend_from_slice(name.as_bytes());
+    body
+}
+
+/// Sheets whose records overlap (BoundSheet8 offsets pointing into one sheet) made the
+/// reader read that sheet again for each: with thousands, quadratic time and the same cells
+/// many times over. The file is refused naming the sheet.
+#[test]
+fn xls_sheets_whose_records_overlap_are_refused_naming_the_sheet() {
+    const BOUND_SHEET: u16 = 0x0085;
+    let good = vendored("excel-corpus/xls/testNames.xls");
+    let bytes = common::vba::with_stream(&good, "/Workbook", |old| {
+        let mut list = biff_records(old);
+        let last = list.iter().rposition(|(kind, _)| *kind == BOUND_SHEET).unwrap();
+        let sheet_offset = u32::from_le_bytes(list[last].1[..4].try_into().unwrap());
+        let copy = |i: usize, offset: u32| (BOUND_SHEET, bound_sheet(offset, &format!("Copy{i}")));
+        let delta: u32 = (0..200).map(|i| 4 + copy(i, 0).1.len() as u32).sum();
+        // Every offset moves by the records put before the sheets.
+        for (_, body) in list.iter_mut().filter(|(kind, _)| *kind == BOUND_SHEET) {
+            let offset = u32::from_le_bytes(body[..4].try_into().unwrap()) + delta;
+            body[..4].copy_from_slice(&offset.to_le_bytes());
+        }
+        let copies: Vec<(u16, Vec<u8>)> = (0..200).map(|i| copy(i, sheet_offset + delta)).collect();
+        list.splice(last + 1..last + 1, copies);
+        biff_encode(&list)
+    });
+    let error = open(bytes, Format::Xls).err().expect("refused");
+    assert!(error.contains("hostile.xls") && error.contains("'Copy") && error.contains("overlap"), "{error}");
+}
+
 // ---------------------------------------------------------------------------------------
 // Fuzz targets.
 

@@ -13,7 +13,7 @@ use crate::formula::address::{Pos, Rect};
 use crate::workbook::Visibility;
 
 use super::biff::{self, Context, SupBook, Unreadable};
-use super::{cells_named, Book, Cell, Name, Sheet};
+use super::{cells_named, Book, Cell, Name, Sheet, MAX_CELLS};
 
 /// A NAME record: its name, the sheet it belongs to, formula bytes, extra bytes, and whether
 /// it names a macro.
@@ -46,6 +46,11 @@ const BOF: u16 = 0x0809;
 /// The records of a substream from `start`, up to its EOF, those of nested substreams
 /// (a chart on a sheet) left out.
 fn records(stream: &[u8], start: usize) -> Vec<Record<'_>> {
+    substream(stream, start).0
+}
+
+/// [`records`], and the offset where they end.
+fn substream(stream: &[u8], start: usize) -> (Vec<Record<'_>>, usize) {
     let mut out: Vec<Record> = Vec::new();
     let mut at = start;
     let mut depth = 0usize;
@@ -78,7 +83,7 @@ fn records(stream: &[u8], start: usize) -> Vec<Record<'_>> {
         }
         out.push(Record { kind, parts: vec![data] });
     }
-    out
+    (out, at)
 }
 
 fn u16_at(b: &[u8], at: usize) -> u16 {
@@ -127,6 +132,10 @@ pub fn read(bytes: &[u8]) -> Result<Book, String> {
     };
     // Worksheets keep their order; a sheet's index in the file → its index in the book.
     let mut index_in_book: Vec<Option<usize>> = Vec::new();
+    // The bytes the sheets' records span together: in a sound file they do not overlap, so
+    // never more than the stream; sheets pointing into each other would read it again and
+    // again (quadratic time, the same cells many times over).
+    let (mut spanned, mut cells) = (0usize, 0usize);
     for (name, offset, visibility, kind) in &globals.sheets {
         if *kind != 0 {
             let what = match kind {
@@ -141,7 +150,19 @@ pub fn read(bytes: &[u8]) -> Result<Book, String> {
         }
         let sheet_index = index_in_book.len();
         index_in_book.push(Some(book.sheets.len()));
-        let sheet = read_sheet(&stream, *offset, name, *visibility, sheet_index, &ctx, &globals, &mut book.notes);
+        let (records, end) = substream(&stream, *offset);
+        spanned += end.saturating_sub(*offset);
+        if spanned > stream.len() {
+            return Err(format!(
+                "the records of sheet '{name}' (from byte {offset} of the Workbook stream, its BoundSheet8) overlap \
+                 another sheet's: a damaged file"
+            ));
+        }
+        let sheet = read_sheet(records, name, *visibility, sheet_index, &ctx, &globals, &mut book.notes);
+        cells += sheet.cells.len();
+        if cells > MAX_CELLS {
+            return Err(super::too_many_cells());
+        }
         book.sheets.push(sheet);
     }
 
@@ -425,8 +446,7 @@ struct FormulaRecord {
 /// A sheet's records: cells, formulas and the shared and array formulas they point to.
 #[allow(clippy::too_many_arguments)]
 fn read_sheet(
-    stream: &[u8],
-    offset: usize,
+    records: Vec<Record<'_>>,
     name: &str,
     visibility: Visibility,
     sheet_index: usize,
@@ -444,7 +464,7 @@ fn read_sheet(
         let pos = (u16_at(d, 0) as u32, u16_at(d, 2) as u32);
         sheet.cells.insert(pos, Cell { value: Some(value), format: format_of(globals, xf), ..Cell::default() });
     };
-    for r in records(stream, offset) {
+    for r in records {
         let d = r.data();
         match r.kind {
             0x0203 => put(&mut sheet, &d, Value::Number(f64_at(&d, 6)), u16_at(&d, 4)),
