@@ -1023,3 +1023,19 @@ fn worksheet_functions_with_a_dot_are_members_with_an_underscore() {
     assert_eq!(value("WorksheetFunction.Ceiling_Precise(4.3)"), n(5.0));
     assert_eq!(value("Application.Ceiling_Precise(-4.3)"), n(-4.0));
 }
+
+// [MS-VBAL] 5.4.2.3 "For Statement": the bound variable is Let-assigned the start value, then
+// at each Next its value plus the step, so a Variant counter holds the start's type, then that
+// of `counter + step` (5.6.9.3.3), widened past its range as a Variant's sum is ("Variant data
+// type"): 32766 To 32768 counts two Integers and a Long.
+#[test]
+fn a_variant_for_counter_holds_the_type_of_its_start_and_steps() {
+    let out = printed_in(
+        "",
+        "    Dim i, s\n    For i = 1 To 2: s = s & TypeName(i) & \" \": Next\n    s = s & TypeName(i) & \"|\"\n\
+         \x20   For i = 32766 To 32768: s = s & TypeName(i) & \" \": Next\n    s = s & \"|\"\n\
+         \x20   For i = 1 To 2 Step 0.5: s = s & TypeName(i) & \" \": Next\n    s = s & \"|\"\n\
+         \x20   For i = 1& To 1: s = s & TypeName(i): Next\n    Debug.Print s",
+    );
+    assert_eq!(out, ["Integer Integer Integer|Integer Integer Long |Integer Double Double |Long"]);
+}

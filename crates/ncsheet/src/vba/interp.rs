@@ -680,6 +680,11 @@ impl Interp<'_, '_> {
 
     /// Assigns a variable, converting to its declared type; an undeclared one is created.
     pub fn set_var(&self, name: &Rc<str>, var: Var, span: Span) -> Run<()> {
+        self.set_var_holding(name, var, Declared::Variant, span)
+    }
+
+    /// [`Interp::set_var`], a Variant given a number noting its type `held` (an Integer …).
+    fn set_var_holding(&self, name: &Rc<str>, var: Var, held: Declared, span: Span) -> Run<()> {
         self.charge(super::budget::brought(&var), span)?;
         let result = self.with_slot(name, |slot| {
             if slot.constant {
@@ -692,15 +697,17 @@ impl Interp<'_, '_> {
                 }
                 _ => convert(var.clone(), slot.ty.as_ref(), &slot.name)?,
             };
-            // What is assigned is of no kept type unless the assignment says so (`assign`).
-            slot.holds = Declared::Variant;
-            Ok(slot.replace(new))
+            let old = slot.replace(new);
+            slot.set_holds(held);
+            Ok(old)
         });
         match result {
             // The object the variable held may have lost its last reference.
             Some(r) => self.release(&r.map_err(|m| self.fault_at(span, m))?),
             None => {
-                self.declare(Slot::new(name.clone(), var, None));
+                let mut slot = Slot::new(name.clone(), var, None);
+                slot.set_holds(held);
+                self.declare(slot);
                 Ok(())
             }
         }
@@ -1515,9 +1522,7 @@ impl Interp<'_, '_> {
                     }
                     other => other,
                 };
-                self.set_var(name, var, span)?;
-                self.with_slot(name, |s| s.set_holds(held));
-                Ok(())
+                self.set_var_holding(name, var, held, span)
             }
             Target::Element(name, index) => {
                 if let Some(Var::Obj(Obj::Store(h))) = self.lookup(name) {
@@ -1684,11 +1689,17 @@ impl Interp<'_, '_> {
     ) -> Run<Flow> {
         let start = self.number(from, "the For start")?;
         let end = self.number(to, "the For end")?;
-        let step = match step {
-            Some(e) => self.number(e, "the For step")?,
-            None => 1.0,
+        let (step, step_ty) = match step {
+            Some(e) => {
+                let step = self.number(e, "the For step")?;
+                (step, self.value_type(e, &Value::Number(step)))
+            }
+            None => (1.0, Declared::Integer),
         };
-        self.set_var(var, Var::Value(Value::Number(start)), span)?;
+        // A Variant counter holds the start's type, then that of counter + step ([MS-VBAL]
+        // 5.4.2.3: it is Let-assigned the start value, then its value plus the step).
+        let mut held = self.value_type(from, &Value::Number(start));
+        self.set_var_holding(var, Var::Value(Value::Number(start)), held, span)?;
         loop {
             let v = match self.lookup(var) {
                 Some(Var::Value(v)) => self.number_of(&v, var).map_err(|m| self.fault_at(span, m))?,
@@ -1707,7 +1718,8 @@ impl Interp<'_, '_> {
                 Some(Var::Value(v)) => to_number(&v, DateSystem::From1900).unwrap_or(f64::NAN),
                 _ => f64::NAN,
             };
-            self.set_var(var, Var::Value(Value::Number(v + step)), span)?;
+            held = super::typing::sum_held(held, step_ty, v + step);
+            self.set_var_holding(var, Var::Value(Value::Number(v + step)), held, span)?;
         }
     }
 

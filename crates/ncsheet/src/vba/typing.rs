@@ -216,6 +216,22 @@ fn whole_division_type(a: Declared, b: Declared) -> Declared {
     }
 }
 
+/// The type a Variant holds the number `n` with that an expression of type `ty` gave: a
+/// whole-number type widened past its range, a number of no numeric type a Double.
+fn held_number(ty: Declared, n: f64) -> Declared {
+    match ty {
+        Declared::Double | Declared::Currency | Declared::Decimal | Declared::Date => ty,
+        Declared::String | Declared::Boolean | Declared::Variant => Declared::Double,
+        ty => ty.widened_for(n),
+    }
+}
+
+/// The type a Variant holds `n`, the sum of numbers held as `a` and `b`, with (a For
+/// counter's next value): as `+` of those types gives it ([MS-VBAL] 5.6.9.3.3).
+pub(super) fn sum_held(a: Declared, b: Declared, n: f64) -> Declared {
+    held_number(date_sum_type(BinOp::Add, a, b).unwrap_or_else(|| sum_type(a, b)), n)
+}
+
 /// The type of a number literal from its text ([MS-VBAL] 3.3.2): a type character says it
 /// (`%` Integer, `&` Long, `^` LongLong, `!` Single, `#` Double, `@` Currency); a whole
 /// decimal number is an Integer if it fits, else a Long if it fits, else a Double; a number
@@ -301,11 +317,7 @@ impl Interp<'_, '_> {
     /// is an Integer here, where VBA widened `x * x` to a Long first.
     pub(super) fn value_type(&self, e: &Expr, v: &Value) -> Declared {
         match v {
-            Value::Number(n) => match self.typed_within(e, 0, Typing::Held) {
-                ty @ (Declared::Double | Declared::Currency | Declared::Decimal | Declared::Date) => ty,
-                Declared::String | Declared::Boolean | Declared::Variant => Declared::Double,
-                ty => ty.widened_for(*n),
-            },
+            Value::Number(n) => held_number(self.typed_within(e, 0, Typing::Held), *n),
             Value::Text(_) => Declared::String,
             Value::Bool(_) => Declared::Boolean,
             _ => Declared::Variant,
