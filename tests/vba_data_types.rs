@@ -195,6 +195,31 @@ fn ubound_and_lbound_of_an_array_an_expression_gives() {
     assert_eq!(out, [" 2  3  4  2 "]);
 }
 
+// [MS-VBAL] 2.2 "Arrays" and 5.6.13.1 "Index Expressions": an array value carries the lower
+// and upper bound of each dimension, so an array stored as an item of a Variant array
+// (`A(2) = C` with `ReDim C(1 To n)`) keeps 1 To n through `A(2)(i)`, `UBound(A(2))`, a copy
+// `X = A(2)`, an argument `F(A(2))`, a Function's result, and `ReDim Preserve` of the outer
+// array; an item given a value afterwards is that value. Under Option Base 0 a lost bound
+// would show as 0 To 3 (the spline module ModApproximate read its coefficients one off).
+#[test]
+fn an_array_stored_as_an_item_keeps_its_bounds() {
+    let module = "Option Base 0\nFunction Pack()\n    Dim Out(1 To 2), B(1 To 3)\n    B(3) = 30\n    Out(1) = B\n\
+                  \x20   Pack = Out\nEnd Function\nFunction Fourth(v)\n    Fourth = v(4)\nEnd Function\n\
+                  Function Inner()\n    Dim A(1 To 2), C()\n    ReDim C(2 To 4)\n    C(4) = 44\n    A(2) = C\n\
+                  \x20   Inner = A(2)\nEnd Function\n";
+    let out = printed(
+        module,
+        "    Dim A(1 To 3) As Variant, C(), X, P, n\n    n = 4\n    ReDim C(1 To n)\n    C(4) = 4\n    A(2) = C\n\
+         \x20   Debug.Print LBound(A(2)); UBound(A(2)); A(2)(4)\n\
+         \x20   X = A(2)\n    Debug.Print LBound(X); UBound(X); X(4); Fourth(A(2))\n\
+         \x20   P = Pack()\n    Debug.Print LBound(P(1)); UBound(P(1)); P(1)(3)\n\
+         \x20   X = Inner()\n    Debug.Print LBound(X); UBound(X); X(4)\n\
+         \x20   ReDim Preserve A(1 To 4)\n    Debug.Print UBound(A(2))\n\
+         \x20   A(2) = 7\n    Debug.Print IsArray(A(2)); A(2)",
+    );
+    assert_eq!(out, [" 1  4  4 ", " 1  4  4  4 ", " 1  3  30 ", " 2  4  44 ", " 4 ", "False 7 "]);
+}
+
 // [MS-VBAL] 3.3.5.3: `Function Greet$(n$)` declares Greet, a String Function; `Greet$(…)` and
 // `Greet(…)` both call it, and `Greet = …` in its body sets its result.
 #[test]

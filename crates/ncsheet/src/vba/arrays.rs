@@ -48,7 +48,7 @@ impl Interp<'_, '_> {
         let (rows, lower_row) = if dims.len() == 2 { (dims[0].1, dims[0].0) } else { (1, 1) };
         let (lower_col, cols) = *dims.last().expect("one dimension at least");
         let data = Rc::new(Array::filled(rows, cols, default_value(ty)));
-        VArray { data, lower: (lower_row, lower_col), dims: dims.len() as u8, objects: None, dates: None }
+        VArray { data, lower: (lower_row, lower_col), dims: dims.len() as u8, objects: None, dates: None, arrays: None }
     }
 
     /// The row-major position of an element, or why there is none.
@@ -100,11 +100,11 @@ impl Interp<'_, '_> {
         }
     }
 
-    /// The node is `a(i)` of a variable holding an array with objects among its items.
+    /// The node is `a(i)` of a variable holding an array with objects or arrays among its items.
     pub(super) fn array_object(&self, id: u32) -> Option<(Rc<str>, &[Expr], Span)> {
         let Node::Element { var, index, span } = &self.module.nodes[id as usize] else { return None };
         match self.lookup(var) {
-            Some(Var::Array(a)) if a.objects.is_some() => Some((var.clone(), index, *span)),
+            Some(Var::Array(a)) if a.objects.is_some() || a.arrays.is_some() => Some((var.clone(), index, *span)),
             _ => None,
         }
     }
@@ -185,7 +185,61 @@ impl Interp<'_, '_> {
             if let Some(objects) = a.objects.as_mut().filter(|o| o.contains_key(&k)) {
                 Rc::make_mut(objects).remove(&k);
             }
+            if let Some(arrays) = a.arrays.as_mut().filter(|o| o.contains_key(&k)) {
+                Rc::make_mut(arrays).remove(&k);
+            }
             a.mark_date(k, date && matches!(ty, None | Some(Ty::Variant)));
+            Ok(())
+        });
+        match result {
+            Some(r) => r.map_err(|m| self.fault_at(span, m)),
+            None => Err(self.fault_at(span, format!("{name} is not an array (Dim {name}(…) first)"))),
+        }
+    }
+
+    /// What `a(i) = value` stores: an array with its own bounds ([MS-VBAL] 2.2), when `value`
+    /// gives one — a variable's array, a Function's, another array's item — or else its value.
+    pub(super) fn item_given(&self, value: &Expr) -> Run<Result<VArray, Value>> {
+        let gives_array = match &value.kind {
+            ExprKind::Name(n) => matches!(self.lookup(n), Some(Var::Array(_))),
+            ExprKind::Host(id) => {
+                matches!(self.module.nodes[*id as usize], Node::Call { .. }) || self.array_object(*id).is_some()
+            }
+            _ => false,
+        };
+        if gives_array {
+            match self.var_of(value, false)? {
+                Var::Array(a) => return Ok(Ok(a)),
+                Var::Value(v) => return Ok(Err(v)),
+                // An object's default value, a Type's refusal: as any other assignment.
+                _ => {}
+            }
+        }
+        self.eval(value).map(Err)
+    }
+
+    /// `a(i) = b` where `b` is an array: the item holds it with its bounds, in an array of
+    /// Variants (an array of a declared value type cannot hold an array: type mismatch).
+    pub(super) fn set_array_element(&self, name: &Rc<str>, index: &[Expr], item: VArray, span: Span) -> Run<()> {
+        let at = index.iter().map(|e| self.index(e, "the index")).collect::<Run<Vec<i64>>>()?;
+        let shared = match self.lookup(name) {
+            Some(Var::Array(a)) if Rc::strong_count(&a.data) > 2 => super::budget::value_bytes(&Value::Array(a.data)),
+            _ => 0,
+        };
+        self.charge(shared, span)?;
+        let result = self.with_slot(name, |slot| {
+            let own = slot.name.clone();
+            if matches!(slot.ty, Some(ref t) if !matches!(t, Ty::Variant)) {
+                return Err(format!("{own}: an array of a declared type cannot hold an array (type mismatch)"));
+            }
+            let Var::Array(a) = slot.var_mut() else { return Err(format!("{own} is not an array")) };
+            let k = self.element_at(a, &at).map_err(|m| format!("{own}: {m}"))?;
+            Rc::make_mut(&mut a.data).data[k] = Value::Array(item.data.clone());
+            if let Some(objects) = a.objects.as_mut().filter(|o| o.contains_key(&k)) {
+                Rc::make_mut(objects).remove(&k);
+            }
+            a.mark_date(k, false);
+            Rc::make_mut(a.arrays.get_or_insert_with(Default::default)).insert(k, item);
             Ok(())
         });
         match result {
@@ -250,7 +304,7 @@ impl Interp<'_, '_> {
                 })?;
                 self.gave_date(a.holds_date(k));
                 match a.item(k) {
-                    object @ Var::Obj(_) => Ok(object),
+                    held @ (Var::Obj(_) | Var::Array(_)) => Ok(held),
                     _ => Ok(super::value::array_var(a.data.data[k].clone(), self.module.base)),
                 }
             }
@@ -291,9 +345,7 @@ impl Interp<'_, '_> {
                 match obj? {
                     o @ (Obj::Store(_) | Obj::Range(..)) => Ok(Var::Obj(o)),
                     // `d.Keys()(0)`: Keys and Items are zero-based.
-                    Obj::Value(Value::Array(a)) if self.is_keys_member(base) => {
-                        Ok(Var::Array(VArray { data: a, lower: (1, 0), dims: 1, objects: None, dates: None }))
-                    }
+                    Obj::Value(Value::Array(a)) if self.is_keys_member(base) => Ok(Var::Array(VArray::row(a, 0))),
                     Obj::Value(v) => Ok(super::value::array_var(v, self.module.base)),
                     other => Ok(Var::Obj(other)),
                 }
@@ -312,11 +364,14 @@ pub(super) fn preserve_items(old: &VArray, new: &mut VArray) {
     let data = Rc::make_mut(&mut new.data);
     let mut objects = std::collections::HashMap::new();
     let mut dates = std::collections::HashSet::new();
+    let mut arrays = std::collections::HashMap::new();
     for r in 0..old.data.rows.min(data.rows) {
         for c in 0..old.data.cols.min(data.cols) {
             data.data[r * data.cols + c] = old.data.get(r, c).clone();
-            if let Var::Obj(o) = old.item(r * old.data.cols + c) {
-                objects.insert(r * data.cols + c, o);
+            match old.item(r * old.data.cols + c) {
+                Var::Obj(o) => _ = objects.insert(r * data.cols + c, o),
+                Var::Array(a) => _ = arrays.insert(r * data.cols + c, a),
+                _ => {}
             }
             if old.holds_date(r * old.data.cols + c) {
                 dates.insert(r * data.cols + c);
@@ -325,6 +380,7 @@ pub(super) fn preserve_items(old: &VArray, new: &mut VArray) {
     }
     new.objects = (!objects.is_empty()).then(|| Rc::new(objects));
     new.dates = (!dates.is_empty()).then(|| Rc::new(dates));
+    new.arrays = (!arrays.is_empty()).then(|| Rc::new(arrays));
 }
 
 impl Interp<'_, '_> {
@@ -369,6 +425,7 @@ pub(super) fn unallocated(ty: Option<&Ty>) -> Option<VArray> {
         dims: 0,
         objects: None,
         dates: None,
+        arrays: None,
     })
 }
 

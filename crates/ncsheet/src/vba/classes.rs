@@ -378,7 +378,8 @@ impl Interp<'_, '_> {
             ExprKind::Host(id) => match &self.module.nodes[*id as usize] {
                 Node::New { class, span } => self.new_object(*class, *span).map(Some),
                 Node::Element { var, index, span } if self.array_object(*id).is_some() => {
-                    Ok(Some(self.array_item(var, index, *span)?).filter(|v| matches!(v, Var::Obj(_))))
+                    // An item that is an array passes with its bounds ([MS-VBAL] 2.2).
+                    Ok(Some(self.array_item(var, index, *span)?).filter(|v| matches!(v, Var::Obj(_) | Var::Array(_))))
                 }
                 Node::Path(path) => {
                     let object = self.path(ctx, path);

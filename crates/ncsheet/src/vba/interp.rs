@@ -866,9 +866,7 @@ impl Interp<'_, '_> {
             // `Range("A1:C1").Value`: a range's values are two-dimensional, one row too.
             Operand::Value(v) if self.is_value_member(e) => range_var(v),
             // `d.Keys`, `d.Items`: zero-based whatever the Option Base ("Keys method").
-            Operand::Value(Value::Array(a)) if self.is_keys_member(e) => {
-                Var::Array(super::value::VArray { data: a, lower: (1, 0), dims: 1, objects: None, dates: None })
-            }
+            Operand::Value(Value::Array(a)) if self.is_keys_member(e) => Var::Array(super::value::VArray::row(a, 0)),
             Operand::Value(v) => match self.array_of_call(e, &v) {
                 Some(var) => var,
                 None => array_var(v, self.module.base),
@@ -1536,7 +1534,10 @@ impl Interp<'_, '_> {
                     let item = self.item_var(value)?;
                     return self.set_object_element(name, index, item, span);
                 }
-                let v = self.eval(value)?;
+                let v = match self.item_given(value)? {
+                    Ok(array) => return self.set_array_element(name, index, array, span),
+                    Err(v) => v,
+                };
                 let date = self.as_date(value, &v).is_some();
                 self.set_element(name, index, v, date, span)
             }

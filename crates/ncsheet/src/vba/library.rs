@@ -390,7 +390,7 @@ pub(super) fn library_array(e: &Expr, v: &Value, base: i64) -> Option<Var> {
         _ if data.rows == 1 && data.cols > 1 => 1,
         _ => return None,
     };
-    Some(Var::Array(VArray { data: data.clone(), lower: (1, lower), dims: 1, objects: None, dates: None }))
+    Some(Var::Array(VArray::row(data.clone(), lower)))
 }
 
 /// The VarType number of a declared type (`None`: a Variant, which answers what it holds).

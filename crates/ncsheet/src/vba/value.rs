@@ -37,11 +37,23 @@ pub struct VArray {
     /// Date keeps its type in the array ([MS-VBAL] 2.1.1.1). An array of declared type Date
     /// needs none: its type says it.
     pub dates: Option<Rc<std::collections::HashSet<usize>>>,
+    /// The items of a Variant array that hold an array, by row-major position, each with its
+    /// own bounds ([MS-VBAL] 2.2: an array value carries its bounds; `a(1) = b` with
+    /// `Dim b(1 To 3)` keeps 1 To 3). `data` holds the same items there, as a plain array.
+    pub arrays: Option<Rc<std::collections::HashMap<usize, VArray>>>,
 }
 
 impl VArray {
+    /// A one-dimensional array of `data`'s one row, from `lower`, holding plain values.
+    pub fn row(data: Rc<Array>, lower: i64) -> VArray {
+        VArray { data, lower: (1, lower), dims: 1, objects: None, dates: None, arrays: None }
+    }
+
     /// The item at row-major position `k` as a variable holds it: its object, or its value.
     pub fn item(&self, k: usize) -> Var {
+        if let Some(array) = self.arrays.as_ref().and_then(|a| a.get(&k)) {
+            return Var::Array(array.clone());
+        }
         match self.objects.as_ref().and_then(|o| o.get(&k)) {
             Some(object) => Var::Obj(object.clone()),
             None => Var::Value(self.data.data[k].clone()),
@@ -324,10 +336,10 @@ impl Slots {
 pub fn array_var(v: Value, base: i64) -> Var {
     match v {
         Value::Array(a) if a.rows == 1 && a.cols == 1 => Var::Value(a.data[0].clone()),
-        Value::Array(a) if a.rows == 1 => {
-            Var::Array(VArray { data: a, lower: (1, base), dims: 1, objects: None, dates: None })
+        Value::Array(a) if a.rows == 1 => Var::Array(VArray::row(a, base)),
+        Value::Array(a) => {
+            Var::Array(VArray { data: a, lower: (1, 1), dims: 2, objects: None, dates: None, arrays: None })
         }
-        Value::Array(a) => Var::Array(VArray { data: a, lower: (1, 1), dims: 2, objects: None, dates: None }),
         other => Var::Value(other),
     }
 }
@@ -340,7 +352,9 @@ pub fn array_var(v: Value, base: i64) -> Var {
 pub fn range_var(v: Value) -> Var {
     match v {
         Value::Array(a) if a.rows == 1 && a.cols == 1 && a.tail.is_none() => Var::Value(a.data[0].clone()),
-        Value::Array(a) => Var::Array(VArray { data: whole(a), lower: (1, 1), dims: 2, objects: None, dates: None }),
+        Value::Array(a) => {
+            Var::Array(VArray { data: whole(a), lower: (1, 1), dims: 2, objects: None, dates: None, arrays: None })
+        }
         other => Var::Value(other),
     }
 }
