@@ -14,7 +14,7 @@ use std::path::Path;
 
 use proptest::prelude::*;
 
-use common::fuzz::config;
+use common::fuzz::{config, mutated};
 
 use ncsheet::eval::functions::Registry;
 use ncsheet::eval::surface::FormulaSurface;
@@ -318,20 +318,6 @@ fn good_vba_project() -> &'static [u8] {
 fn streams(bytes: &[u8]) -> Vec<String> {
     let cfb = cfb::CompoundFile::open(std::io::Cursor::new(bytes)).unwrap();
     cfb.walk().filter(|e| e.is_stream()).map(|e| e.path().to_string_lossy().into_owned()).collect()
-}
-
-/// `data` with bytes replaced at the edits' places, then perhaps cut short.
-fn mutated(mut data: Vec<u8>, edits: &[(prop::sample::Index, u8)], cut: Option<prop::sample::Index>) -> Vec<u8> {
-    if !data.is_empty() {
-        for (at, byte) in edits {
-            let i = at.index(data.len());
-            data[i] = *byte;
-        }
-    }
-    if let Some(cut) = cut {
-        data.truncate(cut.index(data.len() + 1));
-    }
-    data
 }
 
 /// A package like [`good_package`] with defined names and a number format of its own.

@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 
 use proptest::prelude::*;
 
-use common::fuzz::config;
+use common::fuzz::{config, mutated};
 use ncsheet::eval::Value;
 use ncsheet::formula::address::parse_cell;
 use ncsheet::io::{self, Format};
@@ -355,20 +355,6 @@ fn xls_sheets_whose_records_overlap_are_refused_naming_the_sheet() {
 
 // ---------------------------------------------------------------------------------------
 // Fuzz targets.
-
-/// `data` with bytes replaced at the edits' places, then perhaps cut short.
-fn mutated(mut data: Vec<u8>, edits: &[(prop::sample::Index, u8)], cut: Option<prop::sample::Index>) -> Vec<u8> {
-    if !data.is_empty() {
-        for (at, byte) in edits {
-            let i = at.index(data.len());
-            data[i] = *byte;
-        }
-    }
-    if let Some(cut) = cut {
-        data.truncate(cut.index(data.len() + 1));
-    }
-    data
-}
 
 /// A change of a package's entry: its bytes mutated, its records given other lengths or
 /// huge counts, or the entry removed.

@@ -27,3 +27,21 @@ pub fn with_regressions(cases: u32) -> Config {
     eprintln!("proptest seed {seed}: rerun with PROPTEST_RNG_SEED={seed}; PROPTEST_CASES=N runs N cases");
     Config { cases, rng_seed: RngSeed::Fixed(seed), ..Config::default() }
 }
+
+/// `data` with bytes replaced at the edits' places, then perhaps cut short.
+pub fn mutated(
+    mut data: Vec<u8>,
+    edits: &[(proptest::sample::Index, u8)],
+    cut: Option<proptest::sample::Index>,
+) -> Vec<u8> {
+    if !data.is_empty() {
+        for (at, byte) in edits {
+            let i = at.index(data.len());
+            data[i] = *byte;
+        }
+    }
+    if let Some(cut) = cut {
+        data.truncate(cut.index(data.len() + 1));
+    }
+    data
+}
