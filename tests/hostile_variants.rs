@@ -309,3 +309,39 @@ fn unique_is_not_quadratic_in_its_rows() {
     assert_eq!(count(r#"=ROWS(UNIQUE({"a";"A";"b"},,TRUE))"#), Value::Number(1.0));
     assert_eq!(count(r#"=COLUMNS(UNIQUE({1,"x",1,"X",2},TRUE))"#), Value::Number(3.0));
 }
+
+// ---------------------------------------------------------------------------------------
+// Silently wrong: distributions whose parameters pass what their series resolve
+
+#[test]
+fn distributions_past_what_their_functions_resolve_are_num_not_noise() {
+    // Shapes of 1E+16: the continued fractions stopped unconverged after 10,000 steps, and
+    // ln Γ terms of 10^17 cancelled to noise. Each was a number: F.DIST -795023 (a
+    // probability), BETA.DIST 1, HYPGEOMDIST 1.5E+111, NEGBINOM.DIST 1, BINOM.DIST.RANGE 0,
+    // BETA.INV 0.49999979, T.DIST 0.5 (df / (df + 1) rounded to 1), CRITBINOM two standard
+    // deviations off.
+    for formula in [
+        "=F.DIST(1,1E16,1E16,TRUE)",
+        "=BETA.DIST(0.5,1E16,1E16,TRUE)",
+        "=HYPGEOMDIST(5E15,1E16,1E16,2E16)",
+        "=NEGBINOM.DIST(1E16,1E16,0.5,TRUE)",
+        "=BINOM.DIST.RANGE(2E16,0.5,0,1E16)",
+        "=BETA.INV(0.5,1E16,1E16)",
+        "=T.DIST(1,1E16,TRUE)",
+        "=CRITBINOM(9E15,0.5,0.999)",
+    ] {
+        assert_eq!(common::sheet::eval_a1(formula).0, NUM, "{formula}");
+    }
+    // Large but resolved parameters keep their values, against closed forms apart from this
+    // code: C(2m, m) / 4^m = (1 - 1/(8m)) / √(πm) for m = 500,000 (Stirling), and the t
+    // distribution's expansion Φ(t) - φ(t)(t³ + t) / (4 df) at t = 1, df = 10^6.
+    // (To 1e-8: ln Γ(10^6) is 1.3·10^7, so its rounding alone is about 3e-9 of the result.)
+    let close = |formula: &str, want: f64| {
+        let Value::Number(got) = common::sheet::eval_a1(formula).0 else { panic!("{formula}") };
+        assert!((got - want).abs() <= 1e-8 * want, "{formula}: {got} against {want}");
+    };
+    let m = 500_000.0_f64;
+    close("=BINOM.DIST(500000,1000000,0.5,FALSE)", (1.0 - 1.0 / (8.0 * m)) / (std::f64::consts::PI * m).sqrt());
+    let (phi, density) = (0.841_344_746_068_542_9, 0.241_970_724_519_143_37);
+    close("=T.DIST(1,1000000,TRUE)", phi - density * 2.0 / 4e6);
+}

@@ -12,7 +12,7 @@ use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
 use crate::eval::functions::statistics::special::{
-    beta_i, gamma, gamma_p, gamma_q, invert_increasing, ln_beta, ln_gamma, norm_cdf, norm_inv, norm_pdf,
+    beta_i, exp_of_sum, gamma, gamma_p, gamma_q, invert_increasing, ln_beta, ln_gamma, norm_cdf, norm_inv, norm_pdf,
 };
 
 type Body = fn(&[f64]) -> XlResult<f64>;
@@ -711,9 +711,9 @@ fn lognormal(x: f64, mean: f64, sd: f64, cumulative: bool) -> XlResult<f64> {
     Ok(if cumulative { norm_cdf(z) } else { norm_pdf(z) / (sd * x) })
 }
 
-/// ln C(n, k), exact through Γ for the sizes a sheet uses.
-fn ln_choose(n: f64, k: f64) -> f64 {
-    ln_gamma(n + 1.0) - ln_gamma(k + 1.0) - ln_gamma(n - k + 1.0)
+/// ln C(n, k) as its three ln Γ terms, for [`exp_of_sum`] to add and judge.
+fn ln_choose(n: f64, k: f64) -> [f64; 3] {
+    [ln_gamma(n + 1.0), -ln_gamma(k + 1.0), -ln_gamma(n - k + 1.0)]
 }
 
 /// C(n, k) as a product while it is exact in a double, else through ln Γ.
@@ -729,7 +729,7 @@ fn choose(n: f64, k: f64) -> f64 {
         }
         return c.round();
     }
-    ln_choose(n, k).exp()
+    exp_of_sum(&ln_choose(n, k))
 }
 
 fn binomial_pmf(k: f64, n: f64, p: f64) -> f64 {
@@ -742,7 +742,8 @@ fn binomial_pmf(k: f64, n: f64, p: f64) -> f64 {
     if n <= 1000.0 {
         return choose(n, k) * p.powf(k) * (1.0 - p).powf(n - k);
     }
-    (ln_choose(n, k) + k * p.ln() + (n - k) * (-p).ln_1p()).exp()
+    let [a, b, c] = ln_choose(n, k);
+    exp_of_sum(&[a, b, c, k * p.ln(), (n - k) * (-p).ln_1p()])
 }
 
 fn binomial(k: f64, n: f64, p: f64, cumulative: bool) -> XlResult<f64> {
@@ -780,7 +781,12 @@ fn binomial_inverse(a: &[f64]) -> XlResult<f64> {
         let (mut lo, mut hi) = (0.0, n);
         while lo < hi {
             let mid = ((lo + hi) / 2.0).floor();
-            if binomial_sum(0.0, mid, n, p) >= alpha {
+            let below = binomial_sum(0.0, mid, n, p);
+            if below.is_nan() {
+                // Parameters past what the incomplete beta function resolves: no k is found.
+                return Err(XlError::Num);
+            }
+            if below >= alpha {
                 hi = mid;
             } else {
                 lo = mid + 1.0;
@@ -806,7 +812,7 @@ fn poisson(x: f64, mean: f64, cumulative: bool) -> XlResult<f64> {
     if cumulative {
         Ok(gamma_q(x + 1.0, mean))
     } else {
-        Ok((x * mean.ln() - mean - ln_gamma(x + 1.0)).exp())
+        Ok(exp_of_sum(&[x * mean.ln(), -mean, -ln_gamma(x + 1.0)]))
     }
 }
 
@@ -822,7 +828,7 @@ fn gamma_distribution(x: f64, alpha: f64, beta: f64, cumulative: bool) -> XlResu
             _ => Ok(0.0),
         };
     }
-    Ok(((alpha - 1.0) * x.ln() - x / beta - ln_gamma(alpha) - alpha * beta.ln()).exp())
+    Ok(exp_of_sum(&[(alpha - 1.0) * x.ln(), -x / beta, -ln_gamma(alpha), -alpha * beta.ln()]))
 }
 
 fn beta_distribution(x: f64, alpha: f64, beta: f64, cumulative: bool, lo: f64, hi: f64) -> XlResult<f64> {
@@ -834,13 +840,21 @@ fn beta_distribution(x: f64, alpha: f64, beta: f64, cumulative: bool, lo: f64, h
     if (y == 0.0 && alpha < 1.0) || (y == 1.0 && beta < 1.0) {
         return Err(XlError::Num);
     }
-    let ln_density = (alpha - 1.0) * y.ln() + (beta - 1.0) * (-y).ln_1p() - ln_beta(alpha, beta);
-    Ok(ln_density.exp() / (hi - lo))
+    let (y_term, rest_term) = ((alpha - 1.0) * y.ln(), (beta - 1.0) * (-y).ln_1p());
+    let ln_b = [-ln_gamma(alpha), -ln_gamma(beta), ln_gamma(alpha + beta)];
+    Ok(exp_of_sum(&[y_term, rest_term, ln_b[0], ln_b[1], ln_b[2]]) / (hi - lo))
 }
 
-/// P(T > t) for t ≥ 0.
+/// P(T > t) for t ≥ 0. Where df / (df + t²) is near 1 it is taken as one minus its
+/// complement t² / (df + t²), which keeps its digits (df = 1E+16 rounded it to 1: a
+/// probability of 0.5 for every t).
 fn t_tail(t: f64, df: f64) -> f64 {
-    0.5 * beta_i(df / (df + t * t), df / 2.0, 0.5)
+    let x = df / (df + t * t);
+    if x < 0.5 {
+        0.5 * beta_i(x, df / 2.0, 0.5)
+    } else {
+        0.5 * (1.0 - beta_i(t * t / (df + t * t), 0.5, df / 2.0))
+    }
 }
 
 fn t_density(t: f64, df: f64) -> f64 {
@@ -881,7 +895,11 @@ fn hypergeometric(a: &[f64], cumulative: bool) -> XlResult<f64> {
     let (k, n, big_k, big_n) = (a[0].trunc(), a[1].trunc(), a[2].trunc(), a[3].trunc());
     domain(k >= 0.0 && n > 0.0 && big_k > 0.0 && big_n > 0.0)?;
     domain(n <= big_n && big_k <= big_n && k <= n && k <= big_k && n - k <= big_n - big_k)?;
-    let pmf = |j: f64| (ln_choose(big_k, j) + ln_choose(big_n - big_k, n - j) - ln_choose(big_n, n)).exp();
+    let pmf = |j: f64| {
+        let ([a, b, c], [d, e, f], [g, h, i]) =
+            (ln_choose(big_k, j), ln_choose(big_n - big_k, n - j), ln_choose(big_n, n));
+        exp_of_sum(&[a, b, c, d, e, f, -g, -h, -i])
+    };
     if !cumulative {
         return Ok(pmf(k));
     }

@@ -5,9 +5,31 @@
 
 use std::f64::consts::PI;
 
-const EPS: f64 = 1e-16;
+/// Converged: a continued fraction's factor within two units of the last place of 1 (its
+/// rounding can leave it 1 + 2^-52 for good, which a tolerance of 1e-16 never accepted).
+const EPS: f64 = 2.0 * f64::EPSILON;
 const TINY: f64 = 1e-300;
 const MAX_ITER: usize = 10_000;
+
+/// The most the logarithm of a probability may be off from rounding before the probability
+/// is not given: it is the result's relative error. A sum of logarithms of size S is off by
+/// a few units of 2^-52 of S, so past parameters of about 10^8 (ln Γ(10^8) is 1.7·10^9)
+/// the digits are noise: F.DIST(1,1E16,1E16,TRUE) was -795023, a probability.
+const MAX_LOG_ERROR: f64 = 1e-6;
+
+/// e^(Σ terms), the terms being logarithms (ln Γ values, a·ln x …) that nearly cancel: NaN
+/// (`#NUM!`) when their size leaves the sum off by more than [`MAX_LOG_ERROR`], unless the
+/// result is 0 (or past the largest double) whatever the error.
+pub fn exp_of_sum(terms: &[f64]) -> f64 {
+    let sum: f64 = terms.iter().sum();
+    let error = terms.iter().map(|t| t.abs()).sum::<f64>() * 4.0 * f64::EPSILON;
+    // An infinite term (ln 0, x² past the largest double) leaves e^sum what it always was.
+    if error <= MAX_LOG_ERROR || !error.is_finite() || sum + error < -746.0 || sum - error > 710.0 {
+        sum.exp()
+    } else {
+        f64::NAN
+    }
+}
 
 /// Lanczos coefficients for g = 7, n = 9 (about 1e-15 relative over the positive reals).
 const LANCZOS: [f64; 9] = [
@@ -79,7 +101,7 @@ pub fn gamma_q(a: f64, x: f64) -> f64 {
 }
 
 fn gamma_prefactor(a: f64, x: f64) -> f64 {
-    (a * x.ln() - x - ln_gamma(a)).exp()
+    exp_of_sum(&[a * x.ln(), -x, -ln_gamma(a)])
 }
 
 fn gamma_series(a: f64, x: f64) -> f64 {
@@ -91,10 +113,11 @@ fn gamma_series(a: f64, x: f64) -> f64 {
         term *= x / ap;
         sum += term;
         if term.abs() < sum.abs() * EPS {
-            break;
+            return sum * gamma_prefactor(a, x);
         }
     }
-    sum * gamma_prefactor(a, x)
+    // Not converged (a beyond about 10^8): the partial sum is no answer.
+    f64::NAN
 }
 
 fn gamma_fraction(a: f64, x: f64) -> f64 {
@@ -117,10 +140,10 @@ fn gamma_fraction(a: f64, x: f64) -> f64 {
         let delta = d * c;
         h *= delta;
         if (delta - 1.0).abs() < EPS {
-            break;
+            return gamma_prefactor(a, x) * h;
         }
     }
-    gamma_prefactor(a, x) * h
+    f64::NAN
 }
 
 /// The regularized incomplete beta function I_x(a, b).
@@ -131,7 +154,7 @@ pub fn beta_i(x: f64, a: f64, b: f64) -> f64 {
     if x >= 1.0 {
         return 1.0;
     }
-    let front = (a * x.ln() + b * (1.0 - x).ln() - ln_beta(a, b)).exp();
+    let front = exp_of_sum(&[a * x.ln(), b * (1.0 - x).ln(), -ln_gamma(a), -ln_gamma(b), ln_gamma(a + b)]);
     if x < (a + 1.0) / (a + b + 2.0) {
         front * beta_fraction(x, a, b) / a
     } else {
@@ -169,10 +192,11 @@ fn beta_fraction(x: f64, a: f64, b: f64) -> f64 {
         let delta = d * c;
         h *= delta;
         if (delta - 1.0).abs() < EPS {
-            break;
+            return h;
         }
     }
-    h
+    // Not converged (a and b beyond about 10^8): the partial fraction is no answer.
+    f64::NAN
 }
 
 /// The error function.
@@ -281,8 +305,19 @@ fn acklam(p: f64) -> f64 {
 /// last bit (the distribution functions are cheap; robustness matters more than speed).
 /// `hi` is doubled until it brackets `p`.
 pub fn invert_increasing(p: f64, mut lo: f64, mut hi: f64, cdf: impl Fn(f64) -> f64) -> Option<f64> {
+    // A cdf that cannot be computed there (NaN) compares false with everything, and the
+    // search would settle on a bound as if it were the answer: NaN is the answer (#NUM!).
+    let below = |x: f64| {
+        let c = cdf(x);
+        (!c.is_nan()).then_some(c < p)
+    };
     let mut grow = 0;
-    while cdf(hi) < p {
+    loop {
+        match below(hi) {
+            None => return Some(f64::NAN),
+            Some(false) => break,
+            Some(true) => {}
+        }
         lo = hi;
         hi *= 2.0;
         grow += 1;
@@ -295,10 +330,10 @@ pub fn invert_increasing(p: f64, mut lo: f64, mut hi: f64, cdf: impl Fn(f64) -> 
         if mid <= lo || mid >= hi {
             break;
         }
-        if cdf(mid) < p {
-            lo = mid;
-        } else {
-            hi = mid;
+        match below(mid) {
+            None => return Some(f64::NAN),
+            Some(true) => lo = mid,
+            Some(false) => hi = mid,
         }
     }
     Some(0.5 * (lo + hi))
