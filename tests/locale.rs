@@ -577,6 +577,30 @@ fn csv_round_trips_through_libreoffice_in_the_locale() {
     }
 }
 
+/// A `;` csv with dates and times, read in the locale and written back, keeps their spelling:
+/// each gets the format a date or time typed there gets (Excel's built-in date, 14, its date
+/// and time, 22, and `h:mm`, as `set` gives them), so `export` writes `12.03.2025` where it
+/// wrote the serial 45728. The reading says the delimiter and the decimal comma, and the
+/// values are LibreOffice's reading of the same file in the locale (the oracle).
+#[test]
+fn dates_and_times_of_a_semicolon_csv_are_written_back_as_they_were_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let soffice = common::soffice();
+    for (locale, date) in [("de-DE", "12.03.2025"), ("fr-FR", "12/03/2025"), ("et-EE", "12.03.2025")] {
+        let text = format!("{date};14:30;{date} 14:30;0,8;28{}\n", &date[2..]);
+        let csv = d.join(format!("eu-{locale}.csv"));
+        std::fs::write(&csv, &text).unwrap();
+        let back = format!("back-{locale}.csv");
+        let run = ok(in_dir(d, &["export", csv.to_str().unwrap(), "--locale", locale, "-o", &back]));
+        assert!(run.stderr.contains(";-separated values (decimal commas"), "{}", run.stderr);
+        assert_eq!(std::fs::read_to_string(d.join(&back)).unwrap(), text, "{locale}");
+        let Some(soffice) = &soffice else { continue };
+        let theirs = values_by_cell(d, &libreoffice_reads_csv(soffice, d, &csv, locale), "en-US");
+        assert_same_values(&theirs, &values_by_cell(d, &csv, locale), locale);
+    }
+}
+
 /// A `;` csv's fields that are numbers only in the file syntax (`0.8`, `12/03/2025` and
 /// `1.5` in de-DE) are text in the locale, and a day and month without a year (`12.03.`) the
 /// current year's, as LibreOffice set to the locale reads the file (the oracle, run at the

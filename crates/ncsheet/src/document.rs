@@ -305,12 +305,20 @@ fn install_functions(opened: &mut Opened, options: RunOptions) {
 /// (`12.03.2025 14:30`) the built-in date and time (22), and a time alone (`14:30`) `h:mm`
 /// (20, `h:mm:ss` with seconds). Under en-US a typed time keeps General, as before issue 28.
 fn typed_date_format(wb: &crate::workbook::Workbook, typed: &str) -> Option<&'static str> {
-    let locale = wb.settings().locale_in_force(wb.date_system());
+    typed_date_format_in(wb.settings().locale_in_force(wb.date_system()), wb.date_system(), typed)
+}
+
+/// [`typed_date_format`] in `locale`, for dates of `system`.
+fn typed_date_format_in(
+    locale: crate::eval::Locale,
+    system: crate::eval::dates::DateSystem,
+    typed: &str,
+) -> Option<&'static str> {
     let text = typed.trim();
     if text.starts_with(['=', '\'']) || locale.read_plain_number(text).is_some() {
         return None;
     }
-    let read = locale.read_date_text(text, wb.date_system())?;
+    let read = locale.read_date_text(text, system)?;
     let seconds = text.matches(':').count() > 1;
     match (read.date, read.time) {
         (Some(_), None) => Some(crate::eval::locale::BUILTIN_DATE),
@@ -326,7 +334,9 @@ fn typed_date_format(wb: &crate::workbook::Workbook, typed: &str) -> Option<&'st
 /// the file, from the file's own text: numbers and dates in its spelling (`1.234,5` in de-DE,
 /// `1 234,5` in fr-FR, `12.03.2025`, and `3,750%`, which the file syntax would take for 37.5)
 /// and its words for TRUE and FALSE (`WAHR`); a field forced to text with `'` stays text, and
-/// so does one that is a number only in the file syntax.
+/// so does one that is a number only in the file syntax. A date or time gets the format a
+/// date or time typed there gets ([`typed_date_format`]), so that it shows, and is written
+/// back, as the file spelled it (`12.03.2025`, not its serial 45728).
 fn read_csv_fields_in_locale(opened: &mut Opened, locale: crate::eval::Locale) {
     use crate::eval::Value;
     let Origin::Csv(original) = &opened.origin else { return };
@@ -335,6 +345,7 @@ fn read_csv_fields_in_locale(opened: &mut Opened, locale: crate::eval::Locale) {
     }
     let wb = &mut opened.workbook;
     let mut inputs = Vec::new();
+    let mut formats = Vec::new();
     for (pos, value) in wb.values(0) {
         let raw = original.raw_field(pos.row as usize, pos.col as usize).unwrap_or_default();
         let text = unquoted(raw);
@@ -346,6 +357,7 @@ fn read_csv_fields_in_locale(opened: &mut Opened, locale: crate::eval::Locale) {
                 inputs.push((pos, if b { "TRUE" } else { "FALSE" }.to_string()));
             }
         } else if let Some(n) = locale.read_number(&text, wb.date_system()) {
+            formats.extend(typed_date_format_in(locale, wb.date_system(), &text).map(|code| (pos, code)));
             if value != Value::Number(n) {
                 // The shortest spelling that reads back as the same number, in the file syntax.
                 inputs.push((pos, format!("{n}")));
@@ -359,6 +371,15 @@ fn read_csv_fields_in_locale(opened: &mut Opened, locale: crate::eval::Locale) {
     }
     for (pos, input) in inputs {
         let _ = wb.set_input_deferred(0, pos, &input);
+    }
+    let Some(sheet) = wb.sheet_names().into_iter().next() else { return };
+    if formats.is_empty() {
+        return;
+    }
+    let layout = opened.layout.get_or_insert_with(Default::default);
+    let shown = &mut layout.sheets.entry(sheet).or_default().number_formats;
+    for (pos, code) in formats {
+        shown.entry(pos).or_insert_with(|| code.to_string());
     }
 }
 
