@@ -220,6 +220,22 @@ fn an_array_stored_as_an_item_keeps_its_bounds() {
     assert_eq!(out, [" 1  4  4 ", " 1  4  4  4 ", " 1  3  30 ", " 2  4  44 ", " 4 ", "False 7 "]);
 }
 
+// [MS-VBAL] 5.3.1.11 "Evaluation of Procedure Invocation Argument Lists": an argument that
+// is an array's item (a variable) passed to a ByRef parameter is passed by reference, so
+// what the procedure leaves in the parameter is the item's afterwards — a number, or an
+// array item's own array changed inside (with its bounds, 2.2); a ByVal one is a copy.
+#[test]
+fn an_array_item_passed_by_reference_gets_what_the_procedure_left() {
+    let module = "Sub Inc(x)\n    x = x + 1\nEnd Sub\nSub NoInc(ByVal x)\n    x = x + 1\nEnd Sub\n\
+                  Sub Fill(v)\n    v(2) = 9\nEnd Sub\n";
+    let out = printed(
+        module,
+        "    Dim A(1 To 3), C(1 To 2)\n    A(3) = 5\n    Inc A(3)\n    NoInc A(3)\n    A(1) = C\n    Fill A(1)\n\
+         \x20   Debug.Print A(3); A(1)(2); LBound(A(1)); UBound(A(1))",
+    );
+    assert_eq!(out, [" 6  9  1  2 "]);
+}
+
 // [MS-VBAL] 3.3.5.3: `Function Greet$(n$)` declares Greet, a String Function; `Greet$(…)` and
 // `Greet(…)` both call it, and `Greet = …` in its body sets its result.
 #[test]

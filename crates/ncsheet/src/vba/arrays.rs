@@ -248,6 +248,33 @@ impl Interp<'_, '_> {
         }
     }
 
+    /// An argument `a(i)` naming an item of an array variable: the array's name and the
+    /// item's indexes, evaluated before the call, for a ByRef parameter to give the item
+    /// back ([MS-VBAL] 5.3.1.11: a ByRef argument is a reference to the item itself).
+    pub(super) fn item_reference(&self, e: &Expr) -> Option<Run<(Rc<str>, Vec<Expr>)>> {
+        let ExprKind::Host(id) = &e.kind else { return None };
+        let Node::Element { var, index, .. } = &self.module.nodes[*id as usize] else { return None };
+        if !matches!(self.lookup(var), Some(Var::Array(_))) {
+            return None;
+        }
+        let at = index
+            .iter()
+            .map(|i| Ok(Expr::new(ExprKind::Number(self.index(i, "the index")? as f64), i.span)))
+            .collect::<Run<Vec<Expr>>>();
+        Some(at.map(|at| (var.clone(), at)))
+    }
+
+    /// The item `name(at)` given what a ByRef parameter holds after the call: a value, an
+    /// array with its bounds or an object (a Type is left as it was).
+    pub(super) fn give_back_item(&self, name: &Rc<str>, at: &[Expr], var: Var, date: bool, span: Span) -> Run<()> {
+        match var {
+            Var::Array(a) => self.set_array_element(name, at, a, span),
+            Var::Value(v) => self.set_element(name, at, v, date, span),
+            object @ Var::Obj(_) => self.set_object_element(name, at, object, span),
+            Var::Record(..) => Ok(()),
+        }
+    }
+
     pub fn bound(&self, ctx: &mut Ctx, upper: bool, of: &Expr, dim: Option<&Expr>, span: Span) -> Run<Value> {
         let d = match dim {
             Some(e) => {

@@ -916,6 +916,7 @@ impl Interp<'_, '_> {
         let mut bound = Vec::new();
         let mut back = Vec::new();
         let mut types = Vec::new();
+        let mut items_back = Vec::new();
         for (i, a) in args.iter().enumerate() {
             let index = match &a.name {
                 Some(n) => p.params.iter().position(|q| q.name.eq_ignore_ascii_case(n)).expect("checked by the parser"),
@@ -926,6 +927,8 @@ impl Interp<'_, '_> {
             }
             if let (true, ExprKind::Name(caller_var)) = (p.params[index].by_ref, &a.value.kind) {
                 back.push((index, caller_var.clone()));
+            } else if let Some(item) = self.item_reference(&a.value).filter(|_| p.params[index].by_ref) {
+                items_back.push((index, item?));
             }
             if let ExprKind::Name(n) = &a.value.kind {
                 if let Some(record @ Var::Record(..)) = self.lookup(n) {
@@ -973,6 +976,11 @@ impl Interp<'_, '_> {
                 self.set_var(&caller_var, slot.var().clone(), span)?;
                 // A number given back through a ByRef Variant keeps its type (a Date, an Integer …).
                 self.with_slot(&caller_var, |s| s.set_holds(slot.holds));
+            }
+        }
+        for (index, (array, at)) in items_back {
+            if let Some(slot) = frame.vars.get(&p.params[index].name) {
+                self.give_back_item(&array, &at, slot.var().clone(), slot.holds == Declared::Date, span)?;
             }
         }
         // A Variant Function assigned a Date returns a Date, assigned an Integer an Integer.
