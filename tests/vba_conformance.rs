@@ -201,6 +201,38 @@ fn failure(src: &str) -> MacroError {
     run_with(src, &RunOptions::default()).unwrap_err()
 }
 
+// [MS-VBAL] 5.2.1.4 "Option Compare" and 5.6.9.5 "Relational Operators": without the
+// option (Binary) texts compare by their code units, case counting ("a" is U+0061, after
+// "B" U+0042); `Option Compare Text` ignores case. `Like` ("Like operator") and Select Case
+// ([MS-VBAL] 5.4.2.10, its tests compare as `=`, `<=` and `>=` do) follow the option too.
+const COMPARISONS: &str =
+    "    Debug.Print \"a\" = \"A\"\n    Debug.Print \"a\" < \"B\"\n    Debug.Print \"B\" < \"a\"\n\
+    \x20   Debug.Print \"abc\" Like \"A*\"\n    Select Case \"x\"\n    Case \"X\": Debug.Print \"X\"\n\
+    \x20   Case Is > \"a\": Debug.Print \"after a\"\n    End Select";
+
+#[test]
+fn text_compares_by_code_units_by_default_and_without_case_under_option_compare_text() {
+    assert_eq!(printed_in("", COMPARISONS), ["False", "False", "True", "False", "after a"]);
+    assert_eq!(printed_in("Option Compare Binary", COMPARISONS), ["False", "False", "True", "False", "after a"]);
+    assert_eq!(printed_in("Option Compare Text", COMPARISONS), ["True", "True", "False", "True", "X"]);
+}
+
+// [MS-VBAL] 5.6.9.5 "Relational Operators" and "Comparison operators" (Office VBA reference):
+// a String against a numeric type is made a Double (a String that is no number: run-time
+// error 13, Type mismatch); a String against a Variant holding a number compares as texts
+// ("9" > "10"); a Variant holding a String against a Variant holding a number: the number is
+// less. Empty against a String is "".
+#[test]
+fn a_string_against_a_number_compares_as_vba_says() {
+    let out = printed_in(
+        "",
+        "    Dim s As String, v, n, e\n    s = \"10\": v = \"10\": n = 10\n    Debug.Print s = 10\n    Debug.Print v = 10\n\
+         \x20   Debug.Print v = n\n    Debug.Print v > n\n    Debug.Print e = \"\"\n    n = 9\n    Debug.Print s < n\n\
+         \x20   On Error Resume Next\n    s = \"abc\"\n    Debug.Print s = 1\n    Debug.Print Err.Number",
+    );
+    assert_eq!(out, ["True", "True", "False", "True", "True", "True", " 13 "]);
+}
+
 // "Split function": a zero-based, one-dimensional array; the delimiter defaults to a space,
 // a "" delimiter gives the whole text as one item, "" gives an array with no items (UBound
 // -1), `limit` items at most (the last holds the rest), compare 1 (vbTextCompare) ignores

@@ -28,6 +28,9 @@ pub struct Module {
     pub explicit: bool,
     /// `Option Base 1`: the lower bound of arrays dimensioned without one.
     pub base: i64,
+    /// `Option Compare Text`: text compares without case ([MS-VBAL] 5.2.1.4; Binary, the
+    /// default, by code units).
+    pub text_compare: bool,
     /// Module-level `Dim`/`Private`/`Public` variables and `Const`s, in order.
     pub globals: Vec<Stmt>,
     pub procs: Vec<Proc>,

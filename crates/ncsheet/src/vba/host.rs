@@ -157,6 +157,14 @@ impl Host for Interp<'_, '_> {
         if op == BinOp::Concat {
             return self.concat_dates(operands, values).unwrap_or(result);
         }
+        match self.vba_comparison(op, operands, values) {
+            Some(Ok(v)) => return v,
+            Some(Err(fault)) => {
+                self.park(fault);
+                return Value::Error(XlError::Value);
+            }
+            None => {}
+        }
         // "+ operator" (Office VBA reference): two Strings, or two Variants holding Strings,
         // are concatenated ("36" + Chr(34) is 36"), where a formula would add "1" + "2" to 3.
         if let (BinOp::Add, (Value::Text(a), Value::Text(b))) = (op, values) {

@@ -1674,7 +1674,9 @@ impl Interp<'_, '_> {
     fn case_matches(&self, s: &Value, test: &CaseTest) -> Run<bool> {
         let cmp = |e: &Expr| -> Run<std::cmp::Ordering> {
             let v = self.eval(e)?;
-            compare(s, &v)
+            // Texts under Option Compare ([MS-VBAL] 5.4.2.10 compares as `=` and `<=` do).
+            self.vba_order(s, &v)
+                .map_or_else(|| compare(s, &v), Ok)
                 .map_err(|err| self.fault_at(self.expr_span(e), self.describe_error("the Case value", &v, err)))
         };
         Ok(match test {
@@ -1682,7 +1684,10 @@ impl Interp<'_, '_> {
             CaseTest::Range(lo, hi) => cmp(lo)?.is_ge() && cmp(hi)?.is_le(),
             CaseTest::Is(op, e) => {
                 let v = self.eval(e)?;
-                to_bool(&binary(*op, s, &v, DateSystem::From1900)).unwrap_or(false)
+                match self.vba_order(s, &v) {
+                    Some(ord) => crate::eval::evaluator::comparison_holds(*op, ord),
+                    None => to_bool(&binary(*op, s, &v, DateSystem::From1900)).unwrap_or(false),
+                }
             }
         })
     }

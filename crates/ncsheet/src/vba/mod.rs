@@ -68,11 +68,14 @@
 //! Integers (Integer literals `200 * 200` too) is Integer, with a Long it is Long, two Bytes
 //! a Byte; a Variant operand widens instead, as VBA's Variants do.
 //!
-//! Where VBA and the sheet differ, a macro follows the sheet for what both have, so that a
-//! formula means the same in a cell and in a macro:
-//! - `-2^2` is 4 (VBA: -4); write `-(2^2)`.
-//! - `"a" = "A"` is True and `"10" = 10` is False (Excel's comparison: text without case,
-//!   numbers before text); `&` writes TRUE/FALSE for booleans; `+` does not join text.
+//! Operators are VBA's ([MS-VBAL] 5.6.9), not the formula language's:
+//! - `-2^2` is -4 (a cell's `=-2^2` is 4); two Strings joined by `+` are joined.
+//! - Texts compare by code units, case counting (`"a" = "A"` is False, `"B" < "a"`), unless
+//!   the module says `Option Compare Text`; `Like` and Select Case follow the option. A
+//!   String against a number of a numeric type is made a Double (`"10" = 10` is True; a text
+//!   that is no number is error 13, Type mismatch), against a Variant holding a number the
+//!   number's text is compared; two Variants, a text and a number: the number is less.
+//!   Numbers still compare to 15 digits, as a cell does.
 //! - Errors are values: `1/0` is `#DIV/0!`, and a Variant can hold it as a cell does. A
 //!   statement that needs a number, a truth value or an index (If, For, Cells, Nc.Line, a
 //!   typed variable) stops there with the error and the function's explanation.
@@ -134,8 +137,8 @@
 //! needs a number from it (a typed variable, `For`, `Cells`) is the one that fails, with VBA's
 //! number (11 for a division by zero, 13 for a type mismatch, 6 for an overflow, else 5). The
 //! statement, time and depth limits are not errors a macro can trap. `GoSub label` / `Return`.
-//! `text Like pattern` (`?`, `*`, `#`, `[a-z]`, `[!…]`; case counts, as Option Compare
-//! Binary). Date literals `#1/2/2026#`, `#2026-01-02 18:30#`, `#6:00 PM#` are the Date's
+//! `text Like pattern` (`?`, `*`, `#`, `[a-z]`, `[!…]`; case counts but under Option Compare
+//! Text). Date literals `#1/2/2026#`, `#2026-01-02 18:30#`, `#6:00 PM#` are the Date's
 //! serial number (days since 1899-12-30, the time as a fraction).
 //!
 //! `Type … End Type` (fields of plain types or earlier Types; a Type value is copied on
@@ -207,6 +210,7 @@ mod interp;
 mod library;
 mod nc;
 mod objects;
+mod operators;
 pub mod ovba;
 pub mod parser;
 pub mod project;

@@ -151,6 +151,7 @@ pub fn parse_module_with_files(
     out.parts = b.parts.clone();
     out.explicit = b.explicit.get();
     out.base = b.base.get();
+    out.text_compare = b.text_compare.get();
     out.nodes = b.nodes.into_inner();
     Ok(out)
 }
@@ -268,6 +269,7 @@ pub(super) struct Build<'s> {
     pub(super) scope: RefCell<Scope>,
     nodes: RefCell<Vec<Node>>,
     pub(super) explicit: Cell<bool>,
+    text_compare: Cell<bool>,
     base: Cell<i64>,
     /// The names of the module's Types, by index.
     types: RefCell<Vec<Rc<str>>>,
@@ -343,6 +345,7 @@ impl<'s> Build<'s> {
             scope: RefCell::new(Scope::default()),
             nodes: RefCell::new(Vec::new()),
             explicit: Cell::new(false),
+            text_compare: Cell::new(false),
             base: Cell::new(0),
             building_globals: Cell::new(false),
             declared: Default::default(),
@@ -425,8 +428,18 @@ impl<'s> Build<'s> {
                     _ => return Err(self.error_at(&pair, "Option Base is 0 or 1")),
                 }
             }
-            // Text comparison is what the formula language does anyway; Private Module is moot.
-            Some("compare") | Some("private") => {}
+            // [MS-VBAL] 5.2.1.4: Binary (the default) or Text; Database is Microsoft Access's.
+            Some("compare") => match words.get(1).map(String::as_str) {
+                Some("binary") => self.text_compare.set(false),
+                Some("text") => self.text_compare.set(true),
+                _ => {
+                    return Err(
+                        self.error_at(&pair, "Option Compare is Binary or Text (Database is Microsoft Access's)")
+                    )
+                }
+            },
+            // Private Module is moot: nothing outside the project reaches its names.
+            Some("private") => {}
             _ => return Err(self.error_at(&pair, "Option is Explicit, Base 0|1, Compare or Private Module")),
         }
         Ok(())

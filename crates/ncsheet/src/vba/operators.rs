@@ -1,0 +1,123 @@
+//! Where VBA's operators differ from the formula language's, which computes them first
+//! ([`crate::eval::evaluator::Host::arithmetic`] hands each result here): text compared
+//! under the module's `Option Compare` ([MS-VBAL] 5.2.1.4; Binary, the default, by code
+//! units with case, Text without case), a String against a number of a declared type
+//! converted to Double ([MS-VBAL] 5.6.9.5), and `Like` under `Option Compare Text`.
+
+use std::cmp::Ordering;
+
+use crate::eval::coerce::to_number;
+use crate::eval::dates::DateSystem;
+use crate::eval::evaluator::comparison_holds;
+use crate::eval::functions::vba::{like, vba_text};
+use crate::eval::{Value, XlError};
+use crate::formula::ast::{BinOp, Expr};
+
+use super::interp::{Fault, Interp};
+use super::typing::Declared;
+
+/// VBA's "Type mismatch" ("Trappable errors").
+pub(super) const TYPE_MISMATCH: (u32, &str) = (13, "Type mismatch");
+
+/// Whether `op` is one of the relational operators `= <> < > <= >=`.
+fn relational(op: BinOp) -> bool {
+    matches!(op, BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge)
+}
+
+/// Two texts in the order of `Option Compare`: Binary by UTF-16 code units, as VBA's
+/// Strings hold them; Text the same with case folded.
+pub(super) fn text_order(x: &str, y: &str, text_compare: bool) -> Ordering {
+    if text_compare {
+        x.to_lowercase().encode_utf16().cmp(y.to_lowercase().encode_utf16())
+    } else {
+        x.encode_utf16().cmp(y.encode_utf16())
+    }
+}
+
+impl Interp<'_, '_> {
+    /// `Option Compare Text` is in force.
+    pub(super) fn text_compare(&self) -> bool {
+        self.module.text_compare
+    }
+
+    /// The order of two values where VBA's differs from a formula's ([MS-VBAL] 5.6.9.5):
+    /// texts (and Empty, which is "" against a text) under `Option Compare`; `None` where the
+    /// formula's order holds (numbers, and a Variant text against a Variant number, the
+    /// number first).
+    pub(super) fn vba_order(&self, a: &Value, b: &Value) -> Option<Ordering> {
+        let text_compare = self.text_compare();
+        match (a, b) {
+            (Value::Text(x), Value::Text(y)) => Some(text_order(x, y, text_compare)),
+            (Value::Text(x), Value::Blank) => Some(text_order(x, "", text_compare)),
+            (Value::Blank, Value::Text(y)) => Some(text_order("", y, text_compare)),
+            _ => None,
+        }
+    }
+
+    /// The result of the relational operator or `Like` `op` on `values`, the values of
+    /// `operands`, where VBA's differs from the formula's; `None` where it does not. A text
+    /// against a number ("Comparison operators" in the Office VBA reference): a declared
+    /// String against a Variant number compares as texts; against a number of a numeric
+    /// type the text is made a Double (Type mismatch when it is no number); two Variants
+    /// put the number first.
+    pub(super) fn vba_comparison(
+        &self,
+        op: BinOp,
+        (ea, eb): (&Expr, &Expr),
+        (a, b): (&Value, &Value),
+    ) -> Option<Result<Value, Fault>> {
+        if op == BinOp::Like {
+            return self.text_compare().then(|| Ok(like_ignoring_case(a, b)));
+        }
+        if !relational(op) {
+            return None;
+        }
+        if let Some(ord) = self.vba_order(a, b) {
+            return Some(Ok(Value::Bool(comparison_holds(op, ord))));
+        }
+        let (text, number, text_expr, number_expr) = match (a, b) {
+            (Value::Text(t), Value::Number(n)) => (t, *n, ea, eb),
+            (Value::Number(n), Value::Text(t)) => (t, *n, eb, ea),
+            _ => return None,
+        };
+        let text_variant = self.declared_type(text_expr) == Declared::Variant;
+        match (text_variant, self.declared_type(number_expr) == Declared::Variant) {
+            // Two Variants: the number is less, as in a formula.
+            (true, true) => return None,
+            // A String against a Variant holding a number: the number's text is compared.
+            (false, true) => {
+                let shown = vba_text(&Value::Number(number)).ok()?;
+                let ord = if matches!(a, Value::Text(_)) {
+                    text_order(text, &shown, self.text_compare())
+                } else {
+                    text_order(&shown, text, self.text_compare())
+                };
+                return Some(Ok(Value::Bool(comparison_holds(op, ord))));
+            }
+            _ => {}
+        }
+        let Ok(converted) = to_number(&Value::Text(text.clone()), DateSystem::From1900) else {
+            let (code, name) = TYPE_MISMATCH;
+            let mut fault = self.fault_at(
+                self.expr_span(text_expr),
+                format!("{name} (run-time error {code}): \"{text}\" is compared with a number and is no number"),
+            );
+            fault.code = code;
+            return Some(Err(fault));
+        };
+        let (x, y) = if matches!(a, Value::Text(_)) { (converted, number) } else { (number, converted) };
+        Some(Ok(Value::Bool(comparison_holds(op, x.partial_cmp(&y).unwrap_or(Ordering::Equal)))))
+    }
+}
+
+/// `text Like pattern` under `Option Compare Text`: case does not count ("Like operator").
+fn like_ignoring_case(text: &Value, pattern: &Value) -> Value {
+    let folded = |v: &Value| match v {
+        Value::Text(t) => Value::text(t.to_lowercase()),
+        other => other.clone(),
+    };
+    match like(&folded(text), &folded(pattern)) {
+        Value::Error(XlError::Value) => like(text, pattern),
+        v => v,
+    }
+}
