@@ -41,7 +41,10 @@ fn open(bytes: Vec<u8>, format: Format) -> Result<io::Opened, String> {
 // .xlsb records ([MS-XLSB] 2.1.4): a type and a length, each 7 bits a byte with the high
 // bit saying another byte follows (2 bytes at most for the type, 4 for the length).
 
-fn records(part: &[u8]) -> Vec<(u16, Vec<u8>)> {
+/// A record's type and body.
+type Record = (u16, Vec<u8>);
+
+fn records(part: &[u8]) -> Vec<Record> {
     let mut out = Vec::new();
     let mut at = 0;
     let varint = |at: &mut usize, most: usize| {
@@ -89,7 +92,10 @@ fn encode(records: &[(u16, Vec<u8>)]) -> Vec<u8> {
 
 /// `package` with each entry `change` returns `Some` for replaced by it (`None` keeps it),
 /// every entry stored uncompressed; `drop` is left out.
-fn rewrite(package: &[u8], drop: Option<&str>, change: &mut dyn FnMut(&str, &[u8]) -> Option<Vec<u8>>) -> Vec<u8> {
+/// A change of a package entry by name and bytes: `Some` replaces it.
+type EntryChange<'a> = &'a mut dyn FnMut(&str, &[u8]) -> Option<Vec<u8>>;
+
+fn rewrite(package: &[u8], drop: Option<&str>, change: EntryChange) -> Vec<u8> {
     let mut zip = zip::ZipArchive::new(Cursor::new(package)).unwrap();
     let mut out = zip::ZipWriter::new(Cursor::new(Vec::new()));
     let options = zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Stored);
@@ -220,7 +226,7 @@ fn an_xlsb_with_cells_at_both_corners_of_the_sheet_opens() {
 fn damaged_xlsb_records_are_refused_naming_the_part_and_the_record() {
     let good = vendored("xlsb/IS_INFORMATION.xlsb");
     let refusal = |bytes: Vec<u8>| open(bytes, Format::Xlsb).err().expect("refused");
-    let workbook = |change: &dyn Fn(&mut Vec<(u16, Vec<u8>)>)| with_records(&good, "xl/workbook.bin", change);
+    let workbook = |change: &dyn Fn(&mut Vec<Record>)| with_records(&good, "xl/workbook.bin", change);
 
     // A sheet naming a relationship the rels part does not hold.
     let error = refusal(workbook(&|list| {
