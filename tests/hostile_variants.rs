@@ -345,3 +345,13 @@ fn distributions_past_what_their_functions_resolve_are_num_not_noise() {
     let (phi, density) = (0.841_344_746_068_542_9, 0.241_970_724_519_143_37);
     close("=T.DIST(1,1000000,TRUE)", phi - density * 2.0 / 4e6);
 }
+
+#[test]
+fn nper_at_a_rate_near_zero_keeps_its_periods() {
+    // As the rate goes to 0, NPER goes to -(pv + fv) / pmt: 1,000 payments of 1 for a loan of
+    // 1,000. At 1E-300 the ratio of the balances rounded to 1, and NPER was 0.
+    for formula in ["=NPER(1E-300,-1,1000)", "=NPER(1E-17,-1,1000)"] {
+        let Value::Number(n) = common::sheet::eval_a1(formula).0 else { panic!("{formula}") };
+        assert!((n - 1000.0).abs() < 1e-9, "{formula}: {n}");
+    }
+}

@@ -201,9 +201,12 @@ fn nper(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
             check(pmt != 0.0, XlError::Num)?;
             return finite(-(pv + fv) / pmt);
         }
-        let ratio = (pmt * (1.0 + rate * kind) - fv * rate) / (pv * rate + pmt * (1.0 + rate * kind));
-        check(ratio > 0.0, XlError::Num)?;
-        finite(ratio.ln() / rate.ln_1p())
+        // ln of the ratio (pmt(1 + rate·kind) - fv·rate) / (pv·rate + pmt(1 + rate·kind)),
+        // taken as ln(1 + its difference from 1): at a rate of 1E-300 the ratio rounded to 1
+        // and NPER(1E-300,-1,1000) was 0 periods instead of 1000.
+        let change = -rate * (fv + pv) / (pv * rate + pmt * (1.0 + rate * kind));
+        check(change > -1.0, XlError::Num)?;
+        finite(change.ln_1p() / rate.ln_1p())
     })
 }
 
