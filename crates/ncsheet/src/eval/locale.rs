@@ -747,22 +747,7 @@ impl Locale {
                 .or_else(|| at(EN_US.days_short).and_then(|i| days_short.get(i)))
                 .copied()
         };
-        let mut out = String::with_capacity(shown.len() + 8);
-        let mut word = String::new();
-        for c in shown.chars().chain(std::iter::once('\0')) {
-            if c.is_alphabetic() {
-                word.push(c);
-                continue;
-            }
-            if !word.is_empty() {
-                out.push_str(own(&word).unwrap_or(&word));
-                word.clear();
-            }
-            if c != '\0' {
-                out.push(c);
-            }
-        }
-        out
+        replace_words(shown, own)
     }
 
     /// A format code with this locale's date letters (de-DE `TT.MM.JJJJ`) in the canonical
@@ -841,24 +826,11 @@ impl Locale {
         if !code.to_ascii_uppercase().contains("AM/PM") || self.am_pm == EN_US.am_pm {
             return shown.to_string();
         }
-        let mut out = String::with_capacity(shown.len() + 4);
-        let mut word = String::new();
-        for c in shown.chars().chain(std::iter::once('\0')) {
-            if c.is_alphabetic() {
-                word.push(c);
-                continue;
-            }
-            match word.to_ascii_uppercase().as_str() {
-                "AM" => out.push_str(self.am_pm[0]),
-                "PM" => out.push_str(self.am_pm[1]),
-                _ => out.push_str(&word),
-            }
-            word.clear();
-            if c != '\0' {
-                out.push(c);
-            }
-        }
-        out
+        replace_words(shown, |word| match word.to_ascii_uppercase().as_str() {
+            "AM" => Some(self.am_pm[0]),
+            "PM" => Some(self.am_pm[1]),
+            _ => None,
+        })
     }
 
     /// A time shown with fractions of a second (`ss.000`: `14:30:27.500`) with the locale's
@@ -1218,6 +1190,26 @@ fn tagged_language(code: &str) -> Option<Locale> {
         _ => return None,
     };
     Locale::from_tag(tag)
+}
+
+/// `shown` with each word (a run of letters) that `own` has another word for replaced by it.
+fn replace_words<'w>(shown: &str, own: impl Fn(&str) -> Option<&'w str>) -> String {
+    let mut out = String::with_capacity(shown.len() + 8);
+    let mut word = String::new();
+    for c in shown.chars().chain(std::iter::once('\0')) {
+        if c.is_alphabetic() {
+            word.push(c);
+            continue;
+        }
+        if !word.is_empty() {
+            out.push_str(own(&word).unwrap_or(&word));
+            word.clear();
+        }
+        if c != '\0' {
+            out.push(c);
+        }
+    }
+    out
 }
 
 /// The index of `word` among the space-separated `names`.
