@@ -233,6 +233,25 @@ fn a_string_against_a_number_compares_as_vba_says() {
     assert_eq!(out, ["True", "True", "False", "True", "True", "True", " 13 "]);
 }
 
+// [MS-VBAL] 5.6.9.3 "Arithmetic Operators" and "Trappable errors": an operation that fails
+// raises a run-time error, which On Error traps (the variable is not assigned) and which
+// stops the macro at its line otherwise: `/`, `\` and `Mod` by zero are 11 ("Division by
+// zero"), a String operand that is no number 13 ("Type mismatch"), a result past a Double 6
+// ("Overflow"). An error value a Variant holds (`CVErr`, "CVErr function") is no failure.
+#[test]
+fn failing_arithmetic_raises_the_run_time_error_on_error_traps() {
+    let out = printed(
+        "    Dim x\n    On Error Resume Next\n    x = 1 / 0\n    Debug.Print Err.Number; TypeName(x)\n    Err.Clear\n\
+         \x20   x = 7 \\ 0\n    Debug.Print Err.Number\n    Err.Clear\n    x = 7 Mod 0\n    Debug.Print Err.Number\n\
+         \x20   Err.Clear\n    x = \"abc\" + 1\n    Debug.Print Err.Number\n    Err.Clear\n    x = 1E308 * 10\n\
+         \x20   Debug.Print Err.Number\n    Err.Clear\n    x = CVErr(xlErrDiv0)\n    Debug.Print Err.Number; TypeName(x)",
+    );
+    assert_eq!(out, [" 11 Empty", " 11 ", " 11 ", " 13 ", " 6 ", " 0 Error"]);
+    let e = failure("Sub Main()\n    Dim x\n    x = 1 / 0\nEnd Sub\n");
+    assert!(e.message.contains("Division by zero (run-time error 11)"), "{e}");
+    assert_eq!(e.span.unwrap().line, 3);
+}
+
 // "Split function": a zero-based, one-dimensional array; the delimiter defaults to a space,
 // a "" delimiter gives the whole text as one item, "" gives an array with no items (UBound
 // -1), `limit` items at most (the last holds the rest), compare 1 (vbTextCompare) ignores

@@ -70,13 +70,14 @@ fn option_explicit_refuses_an_undeclared_variable() {
 #[test]
 fn a_runtime_error_shows_the_line_the_caret_and_the_calls() {
     let src = "Function Ratio(a, b)\n    Ratio = a / b\nEnd Function\n\nSub Main()\n    Dim x\n\
-               \x20   x = Ratio(1, 0)\n    Debug.Print \"before\"\n    Nc.Rapid x, 0\nEnd Sub\n";
+               \x20   Debug.Print \"before\"\n    x = Ratio(1, 0)\n    Nc.Rapid x, 0\nEnd Sub\n";
     let e = fail(src);
     assert_eq!(e.kind, ErrorKind::Runtime);
-    // A Variant holds an error value as a cell does; the statement that needs a number stops.
+    // "Division by zero (Error 11)" is raised where the division is ([MS-VBAL] 5.6.9.3.4).
     assert_eq!(
         e.to_string(),
-        "bad.bas:9:14: error: Nc.Rapid: X is #DIV/0!\n 9 |     Nc.Rapid x, 0\n   |              ^\n  in Sub Main"
+        "bad.bas:2:13: error: Division by zero (run-time error 11): a / b\n 2 |     Ratio = a / b\n   |             ^\n\
+         \x20 in Function Ratio (called at line 8, column 9)\n  in Sub Main"
     );
     assert_eq!(e.output.printed, ["before"]);
 }

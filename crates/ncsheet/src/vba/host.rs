@@ -170,7 +170,8 @@ impl Host for Interp<'_, '_> {
         if let (BinOp::Add, (Value::Text(a), Value::Text(b))) = (op, values) {
             return Value::text(format!("{a}{b}"));
         }
-        match self.overflow(op, operands, values, &result) {
+        match self.overflow(op, operands, values, &result).or_else(|| self.raised_error(op, operands, values, &result))
+        {
             Some(fault) => {
                 self.park(fault);
                 Value::Error(XlError::Num)

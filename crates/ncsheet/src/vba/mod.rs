@@ -76,8 +76,11 @@
 //!   that is no number is error 13, Type mismatch), against a Variant holding a number the
 //!   number's text is compared; two Variants, a text and a number: the number is less.
 //!   Numbers still compare to 15 digits, as a cell does.
-//! - Errors are values: `1/0` is `#DIV/0!`, and a Variant can hold it as a cell does. A
-//!   statement that needs a number, a truth value or an index (If, For, Cells, Nc.Line, a
+//! - An operation that fails raises VBA's run-time error, which On Error traps: `/`, `\` and
+//!   `Mod` by zero 11, a text that is no number in arithmetic 13, a result past a Double 6.
+//!   A worksheet function's error is still a value (`WorksheetFunction.…` as a cell gives it),
+//!   as is `CVErr(xlErrDiv0)`, and a Variant holds it; arithmetic on an error value keeps it.
+//!   A statement that needs a number, a truth value or an index (If, For, Cells, Nc.Line, a
 //!   typed variable) stops there with the error and the function's explanation.
 //! - `Round` is VBA's (halves to even); `WorksheetFunction.Round` is Excel's.
 //!
@@ -132,10 +135,10 @@
 //! and `Err` (`Number`, `Description`, `Clear`, `Raise n, , text`). `Resume Next` after a
 //! failing If, ElseIf or `Do While` condition goes on with the block's first statement (VBA's
 //! "next statement"; LibreOffice's VBA mode agrees), after a failing `Loop While` past the
-//! loop; a failing For bound or Select Case subject skips the statement. Only statements trap: an
-//! expression that fails gives an error value (`1/0` is `#DIV/0!`), and the statement that
-//! needs a number from it (a typed variable, `For`, `Cells`) is the one that fails, with VBA's
-//! number (11 for a division by zero, 13 for a type mismatch, 6 for an overflow, else 5). The
+//! loop; a failing For bound or Select Case subject skips the statement. A failing operator raises its
+//! error where it is (`1/0`: 11); a function's error value fails the statement that needs a
+//! number from it (a typed variable, `For`, `Cells`), with VBA's number (11 for a division by
+//! zero, 13 for a type mismatch, 6 for an overflow, else 5). The
 //! statement, time and depth limits are not errors a macro can trap. `GoSub label` / `Return`.
 //! `text Like pattern` (`?`, `*`, `#`, `[a-z]`, `[!…]`; case counts but under Option Compare
 //! Text). Date literals `#1/2/2026#`, `#2026-01-02 18:30#`, `#6:00 PM#` are the Date's

@@ -2,7 +2,9 @@
 //! ([`crate::eval::evaluator::Host::arithmetic`] hands each result here): text compared
 //! under the module's `Option Compare` ([MS-VBAL] 5.2.1.4; Binary, the default, by code
 //! units with case, Text without case), a String against a number of a declared type
-//! converted to Double ([MS-VBAL] 5.6.9.5), and `Like` under `Option Compare Text`.
+//! converted to Double ([MS-VBAL] 5.6.9.5), and `Like` under `Option Compare Text`; and an
+//! operation that fails raises VBA's run-time error (division by zero 11, a text that is no
+//! number 13, a result past a Double 6) where a formula gives an error value.
 
 use std::cmp::Ordering;
 
@@ -18,6 +20,10 @@ use super::typing::Declared;
 
 /// VBA's "Type mismatch" ("Trappable errors").
 pub(super) const TYPE_MISMATCH: (u32, &str) = (13, "Type mismatch");
+
+/// VBA's "Division by zero" and "Overflow" ("Trappable errors").
+const DIVISION_BY_ZERO: (u32, &str) = (11, "Division by zero");
+const OVERFLOW: (u32, &str) = (6, "Overflow");
 
 /// Whether `op` is one of the relational operators `= <> < > <= >=`.
 fn relational(op: BinOp) -> bool {
@@ -35,6 +41,36 @@ pub(super) fn text_order(x: &str, y: &str, text_compare: bool) -> Ordering {
 }
 
 impl Interp<'_, '_> {
+    /// The run-time error `op` raises where it gave the error value `result` of operands
+    /// that were no errors ([MS-VBAL] 5.6.9.3: `/`, `\` and `Mod` by zero are error 11, a
+    /// String operand that is no number 13, a result past a Double's range 6); `None` where
+    /// the error came from an operand (an error value a Variant holds, as `CVErr` makes) or
+    /// from an array, whose items keep their errors.
+    pub(super) fn raised_error(
+        &self,
+        op: BinOp,
+        (ea, eb): (&Expr, &Expr),
+        (a, b): (&Value, &Value),
+        result: &Value,
+    ) -> Option<Fault> {
+        let Value::Error(err) = result else { return None };
+        let plain = |v: &Value| !matches!(v, Value::Error(_) | Value::Null | Value::Array(_) | Value::Lambda(_));
+        if !plain(a) || !plain(b) || relational(op) || matches!(op, BinOp::Concat | BinOp::Like) {
+            return None;
+        }
+        let (code, name) = match (op, err) {
+            (BinOp::Div | BinOp::IntDiv | BinOp::Mod, XlError::Div0) => DIVISION_BY_ZERO,
+            (_, XlError::Value) => TYPE_MISMATCH,
+            (_, XlError::Num) => OVERFLOW,
+            _ => return None,
+        };
+        let text = self.source_between(ea.span.start, eb.span.end).trim();
+        let shown = if text.is_empty() || text.chars().count() > 60 { "the operation" } else { text };
+        let mut fault = self.fault_at(self.expr_span(ea), format!("{name} (run-time error {code}): {shown}"));
+        fault.code = code;
+        Some(fault)
+    }
+
     /// `Option Compare Text` is in force.
     pub(super) fn text_compare(&self) -> bool {
         self.module.text_compare
