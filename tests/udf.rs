@@ -165,7 +165,8 @@ fn an_error_inside_the_function_is_a_value_error_and_changes_no_cell() {
     // `n = x` with x = "abc" and n a Long: VBA's type mismatch (run-time error 13).
     let source = "Function Fails(x)\r\n    Dim n As Long\r\n    n = x\r\n    Fails = n\r\nEnd Function\r\n\
         Function Writes(x)\r\n    Range(\"C1\").Value = 99\r\n    Writes = x\r\nEnd Function\r\n\
-        Function Raises()\r\n    Err.Raise 1000\r\nEnd Function\r\n";
+        Function Raises()\r\n    Err.Raise 1000\r\nEnd Function\r\n\
+        Function Inverse(x)\r\n    Inverse = 1 / x\r\nEnd Function\r\n";
     let wb = book(
         &[("Module1", STANDARD, source)],
         &[
@@ -174,10 +175,12 @@ fn an_error_inside_the_function_is_a_value_error_and_changes_no_cell() {
             ("B2", "=Writes(1)"),
             ("B3", "=Fails(1,2)"),
             ("B4", "=Raises()"),
+            // 1 / 0 raises "Division by zero" (error 11) in the function: #VALUE!, as Excel's.
+            ("B5", "=Inverse(0)"),
             ("C1", "7"),
         ],
     );
-    for cell in ["B1", "B2", "B3", "B4"] {
+    for cell in ["B1", "B2", "B3", "B4", "B5"] {
         assert_eq!(wb.value(0, at(cell)), Value::Error(XlError::Value), "{cell}");
     }
     assert_eq!(number(&wb, "C1"), 7.0);
