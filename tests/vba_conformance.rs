@@ -215,6 +215,12 @@ fn text_compares_by_code_units_by_default_and_without_case_under_option_compare_
     assert_eq!(printed_in("", COMPARISONS), ["False", "False", "True", "False", "after a"]);
     assert_eq!(printed_in("Option Compare Binary", COMPARISONS), ["False", "False", "True", "False", "after a"]);
     assert_eq!(printed_in("Option Compare Text", COMPARISONS), ["True", "True", "False", "True", "X"]);
+    // "InStr function", "StrComp function": the compare argument left out (or
+    // vbUseCompareOption) is the module's Option Compare.
+    let functions =
+        "    Debug.Print InStr(\"aXb\", \"x\"); StrComp(\"a\", \"A\"); StrComp(\"a\", \"A\", vbUseCompareOption)";
+    assert_eq!(printed_in("", functions), [" 0  1  1 "]);
+    assert_eq!(printed_in("Option Compare Text", functions), [" 2  0  0 "]);
 }
 
 // [MS-VBAL] 5.6.9.5 "Relational Operators" and "Comparison operators" (Office VBA reference):

@@ -216,6 +216,12 @@ pub trait Host {
     fn text_length(&self, _name: &str) -> Option<usize> {
         None
     }
+
+    /// The macro's module says `Option Compare Text`: InStr, InStrRev, StrComp and Split
+    /// without a compare argument ignore case ([MS-VBAL] 5.2.1.4). Cells: Binary.
+    fn option_compare_text(&self) -> bool {
+        false
+    }
 }
 
 /// The result of evaluating an expression that may be a reference.
@@ -891,6 +897,11 @@ impl<'a> Ctx<'a> {
     pub fn restart_lambda_work(&mut self) {
         self.lambda_work.set(0);
         self.lambda_calls = 0;
+    }
+
+    /// [`Host::option_compare_text`]: the comparison VBA's text functions default to.
+    pub fn option_compare_text(&self) -> bool {
+        self.host.is_some_and(|host| host.option_compare_text())
     }
 
     /// [`Host::text_length`] of the host's variable `name`, when there is a host.

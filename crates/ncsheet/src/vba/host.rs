@@ -194,6 +194,10 @@ impl Host for Interp<'_, '_> {
         }
     }
 
+    fn option_compare_text(&self) -> bool {
+        self.module.text_compare
+    }
+
     fn text_length(&self, name: &str) -> Option<usize> {
         self.with_slot(name, |s| s.growing_chars()).flatten()
     }

@@ -46,7 +46,8 @@
 //! `ATAN2`, …; also as `Application.WorksheetFunction.Sum` or `WorksheetFunction.Sum`).
 //!
 //! As VBA's reference has them: `Split` gives a zero-based array (none for `""`), `InStr`,
-//! `InStrRev`, `StrComp` and `Split` take a compare argument (`vbTextCompare` ignores case),
+//! `InStrRev`, `StrComp` and `Split` take a compare argument (`vbTextCompare` ignores case;
+//! left out or `vbUseCompareOption`, the module's Option Compare),
 //! `StrConv` converts with `vbUpperCase`, `vbLowerCase` and `vbProperCase` (not the byte and
 //! East Asian conversions), `FormatNumber` uses English (United States) defaults (two
 //! decimals, `1,234.50`), `VarType` answers a typed variable's declared type (`vbInteger` 2,

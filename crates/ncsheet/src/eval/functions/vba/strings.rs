@@ -11,14 +11,15 @@ use crate::formula::ast::Expr;
 use super::{format_number, invalid_call, invalid_use_of_null, vba_text};
 
 /// `compare` of InStr, InStrRev, StrComp and Split: vbTextCompare (1) ignores case;
-/// vbBinaryCompare (0), the default, and vbUseCompareOption (-1, Option Compare Binary
-/// being the only one) compare character codes. Any other is run-time error 5 for `name`.
+/// vbBinaryCompare (0) compares character codes; vbUseCompareOption (-1) and no argument
+/// follow the module's Option Compare. Any other is run-time error 5 for `name`.
 fn text_compare(ctx: &mut Ctx, name: &str, args: &[Expr], i: usize) -> XlResult<bool> {
-    let Some(e) = given(args, i) else { return Ok(false) };
+    let Some(e) = given(args, i) else { return Ok(ctx.option_compare_text()) };
     let dates = ctx.dates();
     match to_number(&ctx.eval(e).unwrap_single(), dates)?.trunc() {
         1.0 => Ok(true),
-        0.0 | -1.0 => Ok(false),
+        0.0 => Ok(false),
+        -1.0 => Ok(ctx.option_compare_text()),
         _ => Err(invalid_call(ctx, name, "compare is vbBinaryCompare (0) or vbTextCompare (1)")),
     }
 }
@@ -80,7 +81,7 @@ pub fn instr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     if start < 1.0 {
         return Err(invalid_call(ctx, "InStr", "start is below 1"));
     }
-    let ignore_case = args.len() == 4 && text_compare(ctx, "InStr", args, 3)?;
+    let ignore_case = if args.len() == 4 { text_compare(ctx, "InStr", args, 3)? } else { ctx.option_compare_text() };
     let (Some(text), Some(find)) = (text_or_null(ctx, args, text_at)?, text_or_null(ctx, args, text_at + 1)?) else {
         return Ok(Value::Null);
     };
