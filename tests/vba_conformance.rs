@@ -221,6 +221,9 @@ fn text_compares_by_code_units_by_default_and_without_case_under_option_compare_
         "    Debug.Print InStr(\"aXb\", \"x\"); StrComp(\"a\", \"A\"); StrComp(\"a\", \"A\", vbUseCompareOption)";
     assert_eq!(printed_in("", functions), [" 0  1  1 "]);
     assert_eq!(printed_in("Option Compare Text", functions), [" 2  0  0 "]);
+    // "Replace function": compare left out is the option too.
+    assert_eq!(printed_in("", "    Debug.Print Replace(\"aXa\", \"x\", \"-\")"), ["aXa"]);
+    assert_eq!(printed_in("Option Compare Text", "    Debug.Print Replace(\"aXa\", \"x\", \"-\")"), ["a-a"]);
 }
 
 // [MS-VBAL] 5.6.9.5 "Relational Operators" and "Comparison operators" (Office VBA reference):

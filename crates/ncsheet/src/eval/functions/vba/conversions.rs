@@ -185,6 +185,8 @@ pub(super) fn replace(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let over = Cell::new(false);
     let has = |i: usize| given(args, i).is_some();
     let (has_start, has_count, has_compare) = (has(3), has(4), has(5));
+    // Left out or vbUseCompareOption: the module's Option Compare.
+    let option_text = ctx.option_compare_text();
     let raised = Raised::default();
     let result = lift_vba(ctx, args, "Replace", NO_NULL, &|v| {
         let text: Vec<char> = vba_text(&v[0])?.chars().collect();
@@ -192,9 +194,10 @@ pub(super) fn replace(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         let with = vba_text(&v[2])?;
         let start = if has_start { raised.whole(&v[3], LONG_MAX)? } else { 1.0 };
         let count = if has_count { raised.whole(&v[4], LONG_MAX)? } else { -1.0 };
-        let ignore_case = match if has_compare { raised.whole(&v[5], LONG_MAX)? } else { 0.0 } {
+        let ignore_case = match if has_compare { raised.whole(&v[5], LONG_MAX)? } else { -1.0 } {
             1.0 => true,
-            0.0 | -1.0 => false,
+            0.0 => false,
+            -1.0 => option_text,
             _ => return Err(raised.set(5, "compare is vbBinaryCompare (0) or vbTextCompare (1)")),
         };
         if start < 1.0 {
