@@ -515,7 +515,7 @@ impl Build<'_> {
         };
         let dim = args.get(1).map(|a| a.value.clone());
         let at = start(pair);
-        Ok(self.node(Node::Bound { upper, var, dim, span: self.span(at) }, at, end))
+        Ok(self.node(Node::Bound { upper, of, dim, span: self.span(at) }, at, end))
     }
 }
 
