@@ -772,6 +772,17 @@ fn binomial_range(a: &[f64]) -> XlResult<f64> {
     Ok(binomial_sum(s, s2, n, p))
 }
 
+/// P(X ≤ k) for X binomial(n, p) by the normal law with the continuity correction and the
+/// first Edgeworth term (the skewness's): Φ(z) − φ(z)·γ(z² − 1)/6, z = (k + ½ − np)/σ,
+/// γ = (1 − 2p)/σ. Its error is of order 1/(npq): for the n the beta function cannot
+/// resolve, below 10^-8.
+fn binomial_cdf_edgeworth(k: f64, n: f64, p: f64) -> f64 {
+    let sigma = (n * p * (1.0 - p)).sqrt();
+    let z = (k + 0.5 - n * p) / sigma;
+    let skew = (1.0 - 2.0 * p) / sigma;
+    (norm_cdf(z) - norm_pdf(z) * skew * (z * z - 1.0) / 6.0).clamp(0.0, 1.0)
+}
+
 fn binomial_inverse(a: &[f64]) -> XlResult<f64> {
     let (n, p, alpha) = (a[0].trunc(), a[1], a[2]);
     domain(n >= 0.0 && n < 2f64.powi(53) && p > 0.0 && p < 1.0 && alpha > 0.0 && alpha < 1.0)?;
@@ -781,10 +792,11 @@ fn binomial_inverse(a: &[f64]) -> XlResult<f64> {
         let (mut lo, mut hi) = (0.0, n);
         while lo < hi {
             let mid = ((lo + hi) / 2.0).floor();
-            let below = binomial_sum(0.0, mid, n, p);
+            let mut below = binomial_sum(0.0, mid, n, p);
             if below.is_nan() {
-                // Parameters past what the incomplete beta function resolves: no k is found.
-                return Err(XlError::Num);
+                // Past what the incomplete beta function resolves (n p q beyond about 10^8),
+                // where the normal law's error is far below the beta function's rounding.
+                below = binomial_cdf_edgeworth(mid, n, p);
             }
             if below >= alpha {
                 hi = mid;
