@@ -47,9 +47,9 @@ mod tables;
 mod write;
 pub(crate) mod xml;
 
-pub(crate) use raw::Inflating;
 pub use check::{compare_cached, values_agree, Difference, REL_TOLERANCE};
 pub use patch::{patch, replace_part, Patched, Unpatchable};
+pub(crate) use raw::Inflating;
 pub use read::{load, load_bytes, load_bytes_limited};
 pub use tables::Table;
 pub use write::{save, save_with_layout, to_bytes, to_bytes_for};
