@@ -81,7 +81,8 @@ pub(super) fn csng(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// decimal places, halves to even, within -922,337,203,685,477.5808 to 922,337,203,685,477.5807,
 /// else Overflow.
 pub(super) fn ccur(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    const CURRENCY_END: f64 = 922_337_203_685_477.5808;
+    // 2^63 / 10^4 (Currency is a 64-bit integer of ten-thousandths), as the nearest double.
+    const CURRENCY_END: f64 = 9_223_372_036_854_775_808.0 / 10_000.0;
     let four_places = |n: f64| (n * 10_000.0).round_ties_even() / 10_000.0;
     converted(ctx, args, "CCur", &|n| Some(four_places(n)).filter(|r| (-CURRENCY_END..CURRENCY_END).contains(r)))
 }
