@@ -317,14 +317,13 @@ fn unique_is_not_quadratic_in_its_rows() {
 fn distributions_past_what_their_functions_resolve_are_num_not_noise() {
     // Shapes of 1E+16: the continued fractions stopped unconverged after 10,000 steps, and
     // ln Γ terms of 10^17 cancelled to noise. Each was a number: F.DIST -795023 (a
-    // probability), BETA.DIST 1, HYPGEOMDIST 1.5E+111, NEGBINOM.DIST 1, BINOM.DIST.RANGE 0,
+    // probability), BETA.DIST 1, HYPGEOMDIST 1.5E+111, NEGBINOM.DIST 1,
     // BETA.INV 0.49999979, T.DIST 0.5 (df / (df + 1) rounded to 1).
     for formula in [
         "=F.DIST(1,1E16,1E16,TRUE)",
         "=BETA.DIST(0.5,1E16,1E16,TRUE)",
         "=HYPGEOMDIST(5E15,1E16,1E16,2E16)",
         "=NEGBINOM.DIST(1E16,1E16,0.5,TRUE)",
-        "=BINOM.DIST.RANGE(2E16,0.5,0,1E16)",
         "=BETA.INV(0.5,1E16,1E16)",
         "=T.DIST(1,1E16,TRUE)",
     ] {
@@ -335,6 +334,12 @@ fn distributions_past_what_their_functions_resolve_are_num_not_noise() {
     // Φ((k + ½ − np)/σ) ≥ 0.999, σ = √(9E15/4), Φ⁻¹(0.999) = 3.0902323061678135415, worked
     // out to 40 digits apart from this code: np + σ·3.0902… − ½ = 4500000146582588.2979.
     assert_eq!(common::sheet::eval_a1("=CRITBINOM(9E15,0.5,0.999)").0, Value::Number(4500000146582589.0));
+    // BINOM.DIST.RANGE, 0 before, reads the same law: P(X ≤ n/2) for n = 2E16 is
+    // Φ(½/σ) = ½ + φ(0)·½/σ to 10^-25, σ = √(5E15).
+    let half_step = 0.5 / 5e15_f64.sqrt();
+    let want = 0.5 + half_step / (2.0 * std::f64::consts::PI).sqrt();
+    let Value::Number(got) = common::sheet::eval_a1("=BINOM.DIST.RANGE(2E16,0.5,0,1E16)").0 else { panic!("a number") };
+    assert!((got - want).abs() <= 1e-12, "BINOM.DIST.RANGE(2E16,0.5,0,1E16): {got} against {want}");
     // Large but resolved parameters keep their values, against closed forms apart from this
     // code: C(2m, m) / 4^m = (1 - 1/(8m)) / √(πm) for m = 500,000 (Stirling), and the t
     // distribution's expansion Φ(t) - φ(t)(t³ + t) / (4 df) at t = 1, df = 10^6.

@@ -757,8 +757,8 @@ fn binomial(k: f64, n: f64, p: f64, cumulative: bool) -> XlResult<f64> {
 /// P(lo ≤ X ≤ hi) for X binomial: a sum of terms, as Excel computes it.
 fn binomial_sum(lo: f64, hi: f64, n: f64, p: f64) -> f64 {
     if hi - lo > 10_000.0 {
-        let below_hi = if hi >= n { 1.0 } else { 1.0 - beta_i(p, hi + 1.0, n - hi) };
-        let below_lo = if lo <= 0.0 { 0.0 } else { 1.0 - beta_i(p, lo, n - lo + 1.0) };
+        let below_hi = if hi >= n { 1.0 } else { binomial_cdf(hi, n, p) };
+        let below_lo = if lo <= 0.0 { 0.0 } else { binomial_cdf(lo - 1.0, n, p) };
         return below_hi - below_lo;
     }
     let sum: f64 = whole_numbers(lo, hi).map(|k| binomial_pmf(k, n, p)).sum();
@@ -772,13 +772,26 @@ fn binomial_range(a: &[f64]) -> XlResult<f64> {
     Ok(binomial_sum(s, s2, n, p))
 }
 
+/// P(X ≤ k) for X binomial(n, p), k < n: the incomplete beta function, or past what it
+/// resolves (n p q beyond about 10^8) the normal law, whose error is far below the beta
+/// function's rounding there.
+fn binomial_cdf(k: f64, n: f64, p: f64) -> f64 {
+    let exact = 1.0 - beta_i(p, k + 1.0, n - k);
+    if exact.is_nan() {
+        binomial_cdf_edgeworth(k, n, p)
+    } else {
+        exact
+    }
+}
+
 /// P(X ≤ k) for X binomial(n, p) by the normal law with the continuity correction and the
 /// first Edgeworth term (the skewness's): Φ(z) − φ(z)·γ(z² − 1)/6, z = (k + ½ − np)/σ,
 /// γ = (1 − 2p)/σ. Its error is of order 1/(npq): for the n the beta function cannot
 /// resolve, below 10^-8.
 fn binomial_cdf_edgeworth(k: f64, n: f64, p: f64) -> f64 {
     let sigma = (n * p * (1.0 - p)).sqrt();
-    let z = (k + 0.5 - n * p) / sigma;
+    // The mean taken off first: past 2^53 a half added to k is rounded away.
+    let z = ((k - n * p) + 0.5) / sigma;
     let skew = (1.0 - 2.0 * p) / sigma;
     (norm_cdf(z) - norm_pdf(z) * skew * (z * z - 1.0) / 6.0).clamp(0.0, 1.0)
 }
@@ -792,12 +805,7 @@ fn binomial_inverse(a: &[f64]) -> XlResult<f64> {
         let (mut lo, mut hi) = (0.0, n);
         while lo < hi {
             let mid = ((lo + hi) / 2.0).floor();
-            let mut below = binomial_sum(0.0, mid, n, p);
-            if below.is_nan() {
-                // Past what the incomplete beta function resolves (n p q beyond about 10^8),
-                // where the normal law's error is far below the beta function's rounding.
-                below = binomial_cdf_edgeworth(mid, n, p);
-            }
+            let below = binomial_sum(0.0, mid, n, p);
             if below >= alpha {
                 hi = mid;
             } else {
