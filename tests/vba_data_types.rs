@@ -244,3 +244,37 @@ fn a_function_declared_with_dollar_is_called_with_or_without_it() {
     let out = printed(module, "    Debug.Print Greet(\"a\"); \"|\"; Greet$(\"b\"); \"|\"; TypeName(Greet(\"c\"))");
     assert_eq!(out, ["hi a|hi b|String"]);
 }
+
+// [MS-VBAL] 5.6.9.3 "Arithmetic Operators": each operation's value type comes from its
+// operands' value types, so an operation inside an expression has its type before the one
+// around it is computed. "Variant data type": a Variant's Byte, Integer or Long result past
+// its type's range "is promoted within the Variant to the next larger data type" (Byte to
+// Integer, Integer to Long, Long to Double), where it is computed: `x * x - 30000` of the
+// Integer 200 is the Long 40000 less an Integer, a Long; `(l + 1) - 1` of the Long
+// 2,147,483,647 a Double; `-z - 1` of the Integer -32,768 the Long 32,768 less one. A declared
+// Integer or Long operand still overflows at that operation, whatever the target's type
+// ("Overflow (Error 6)").
+#[test]
+fn a_variant_operation_widens_where_it_is_computed() {
+    let out = printed(
+        "",
+        "    Dim x, l, z, b, t As Byte, y\n    x = 200: l = 2147483647: z = -32768: t = 200: b = t\n\
+         \x20   y = x * x - 30000\n    Debug.Print TypeName(y); y; TypeName(x * x - 30000); TypeName((x * x) \\ 2)\n\
+         \x20   Debug.Print TypeName((l + 1) - 1); (l + 1) - 1; TypeName(-z - 1); -z - 1; TypeName((b + b) - b)\n\
+         \x20   For i = 1 To 2
+        If i = 1 Then x = 200 Else x = 2
+        Debug.Print TypeName(x * x - 3); \" \";
+    Next
+         \x20   Debug.Print TypeName(x * 2.5 * 2)",
+    );
+    // The same operation computed again takes its new operands' types (the Integer 4 less 3).
+    assert_eq!(out, ["Long 10000 LongLong", "Double 2147483647 Long 32767 Integer", "Long Integer Double"]);
+    let overflow = |body: &str| {
+        let src = format!("Sub Main()\n    Dim a As Integer, l As Long, d As Double, v\n{body}\nEnd Sub\n");
+        let e = run(&src).unwrap_err();
+        assert!(e.message.contains("Overflow (run-time error 6)"), "{body}: {e}");
+    };
+    overflow("    a = 200: v = a * a - 39999");
+    overflow("    a = 200: d = a * a");
+    overflow("    l = 65536: d = l * l - 1");
+}

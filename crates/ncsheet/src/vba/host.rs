@@ -154,6 +154,7 @@ impl Host for Interp<'_, '_> {
     }
 
     fn arithmetic(&self, op: BinOp, operands: (&Expr, &Expr), values: (&Value, &Value), result: Value) -> Value {
+        self.forget_widening(operands.0);
         if op == BinOp::Concat {
             return self.concat_dates(operands, values).unwrap_or(result);
         }
@@ -185,6 +186,7 @@ impl Host for Interp<'_, '_> {
     }
 
     fn negation(&self, operand: &Expr, result: Value) -> Value {
+        self.forget_widening(operand);
         match self.negation_overflow(operand, &result) {
             Some(fault) => {
                 self.park(fault);

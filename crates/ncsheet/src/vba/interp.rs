@@ -293,6 +293,11 @@ pub struct Interp<'m, 'w> {
     /// The types of the numbers a call passes to its parameters, by position, for the next
     /// `bind_and_run` (a Double's is left out).
     arg_types: RefCell<Vec<(usize, Declared)>>,
+    /// The operations (by their first operand's address) whose last result, held in a
+    /// Variant, widened past the type their operands gave it (`x * x` of the Integer 200 is
+    /// a Long): what an enclosing operation, or the variable it goes to, takes it as
+    /// ([`Interp::note_widening`]).
+    pub(super) widened: RefCell<std::collections::HashMap<usize, Declared>>,
 }
 
 impl<'m, 'w> Interp<'m, 'w> {
@@ -336,6 +341,7 @@ impl<'m, 'w> Interp<'m, 'w> {
             node_types: RefCell::new(std::collections::HashMap::new()),
             gave: Cell::new(Declared::Variant),
             arg_types: RefCell::new(Vec::new()),
+            widened: RefCell::new(std::collections::HashMap::new()),
         }
     }
 }

@@ -4,7 +4,8 @@
 //! `200 * 200` fails although a Long or a Variant would hold 40000 (Office VBA reference,
 //! "Overflow (Error 6)": `x = 2000 * 365` is an overflow, `CLng(2000) * 365` is not). An
 //! operand that is a Variant makes the operation a Variant's, which VBA widens instead of
-//! failing: values are kept as doubles here, so it gives the exact result already.
+//! failing: the value is exact already (kept as a double), and the type each operation's
+//! result widened to is noted where it is computed, for the operations around it.
 
 use crate::eval::coerce::to_number;
 use crate::eval::dates::DateSystem;
@@ -216,6 +217,19 @@ fn whole_division_type(a: Declared, b: Declared) -> Declared {
     }
 }
 
+/// The declared type of `x op y` for operands of the types `x` and `y` ([MS-VBAL] 5.6.9.3);
+/// `Variant` for an operator that is no arithmetic one.
+fn binary_type(op: BinOp, x: Declared, y: Declared) -> Declared {
+    let variant = x == Declared::Variant || y == Declared::Variant;
+    match op {
+        BinOp::Add | BinOp::Sub => date_sum_type(op, x, y).unwrap_or_else(|| sum_type(x, y)),
+        BinOp::Mul => sum_type(x, y),
+        BinOp::IntDiv | BinOp::Mod if !variant => whole_division_type(x, y),
+        BinOp::Div | BinOp::Pow if !variant => Declared::Double,
+        _ => Declared::Variant,
+    }
+}
+
 /// The type a Variant holds the number `n` with that an expression of type `ty` gave: a
 /// whole-number type widened past its range, a number of no numeric type a Double.
 fn held_number(ty: Declared, n: f64) -> Declared {
@@ -312,9 +326,7 @@ impl Interp<'_, '_> {
     /// a Variant assigned it): the declared type, where a Variant operand counts as what it
     /// holds ([MS-VBAL] 5.6.9.3's "effective value type"), a whole number widened past its
     /// type's range ([`Declared::widened_for`]); a number of no known type is a Double.
-    ///
-    /// Widening looks at the result only: `x * x - 39999` with `x` holding the Integer 200
-    /// is an Integer here, where VBA widened `x * x` to a Long first.
+    /// Each operation inside widened where it was computed ([`Interp::note_widening`]).
     pub(super) fn value_type(&self, e: &Expr, v: &Value) -> Declared {
         match v {
             Value::Number(n) => held_number(self.typed_within(e, 0, Typing::Held), *n),
@@ -339,24 +351,17 @@ impl Interp<'_, '_> {
             ExprKind::Bool(_) => Declared::Boolean,
             ExprKind::Paren(e) => self.typed_within(e, depth + 1, typing),
             ExprKind::Name(name) => self.with_slot(name, |s| s.typed(typing)).unwrap_or(Declared::Variant),
-            ExprKind::Unary(UnaryOp::Neg | UnaryOp::Plus, e) => match operand(e) {
-                Declared::Boolean => Declared::Integer,
-                other => other,
-            },
-            ExprKind::Binary(op @ (BinOp::Add | BinOp::Sub), a, b) => {
-                let (x, y) = (operand(a), operand(b));
-                date_sum_type(*op, x, y).unwrap_or_else(|| sum_type(x, y))
-            }
-            ExprKind::Binary(BinOp::Mul, a, b) => sum_type(operand(a), operand(b)),
-            ExprKind::Binary(BinOp::IntDiv | BinOp::Mod, a, b) => match (operand(a), operand(b)) {
-                (Declared::Variant, _) | (_, Declared::Variant) => Declared::Variant,
-                (x, y) => whole_division_type(x, y),
-            },
-            ExprKind::Binary(BinOp::Div | BinOp::Pow, a, b) => match (operand(a), operand(b)) {
-                (Declared::Variant, _) | (_, Declared::Variant) => Declared::Variant,
-                _ => Declared::Double,
+            ExprKind::Unary(op @ (UnaryOp::Neg | UnaryOp::Plus), e) => match (op, self.widened_if_held(typing, e)) {
+                (UnaryOp::Neg, Some(ty)) => ty,
+                _ => match operand(e) {
+                    Declared::Boolean => Declared::Integer,
+                    other => other,
+                },
             },
             ExprKind::Binary(BinOp::Concat, ..) => Declared::String,
+            ExprKind::Binary(op, a, b) => {
+                self.widened_if_held(typing, a).unwrap_or_else(|| binary_type(*op, operand(a), operand(b)))
+            }
             ExprKind::Call(id, args) => match (crate::eval::functions::spec(*id).name, args.first()) {
                 // "Abs function", "Int, Fix functions": the result has the argument's type.
                 ("VBA.ABS" | "VBA.INT" | "VBA.FIX", Some(arg)) if typing == Typing::Held => match operand(arg) {
@@ -414,7 +419,16 @@ impl Interp<'_, '_> {
         if (-255.0..=255.0).contains(&n) || n.fract() != 0.0 {
             return None;
         }
-        let (low, high, holds) = self.declared_type(operand).range()?;
+        let declared = self.declared_type(operand);
+        if declared == Declared::Variant {
+            let ty = match self.held_operand(operand) {
+                Declared::Boolean => Declared::Integer,
+                other => other,
+            };
+            self.note_widening(operand, ty, n);
+            return None;
+        }
+        let (low, high, holds) = declared.range()?;
         if (low..=high).contains(&n) {
             return None;
         }
@@ -424,6 +438,50 @@ impl Interp<'_, '_> {
             self.expr_span(operand),
             format!("-{shown} overflows: its type makes it {holds}, which cannot hold {}", general(n)),
         ))
+    }
+
+    /// The type a Variant holds the value of the operand `e` with (a number of no known
+    /// type is a Double).
+    fn held_operand(&self, e: &Expr) -> Declared {
+        match self.typed_within(e, 1, Typing::Held) {
+            Declared::Variant => Declared::Double,
+            ty => ty,
+        }
+    }
+
+    /// For the held type, the type the operation whose first operand is `first` gave its last
+    /// result in, where that result widened past the type its operands' types give it.
+    fn widened_if_held(&self, typing: Typing, first: &Expr) -> Option<Declared> {
+        if typing == Typing::Declared {
+            return None;
+        }
+        let widened = self.widened.borrow();
+        if widened.is_empty() {
+            return None;
+        }
+        widened.get(&(first as *const Expr as usize)).copied()
+    }
+
+    /// Notes the type a Variant holds `n` with, which the operation whose first operand is
+    /// `first` gave in the type `ty` its operands' held types make ("Variant data type": a
+    /// Byte, Integer, Long or Single result past its type's range "is promoted within the
+    /// Variant to the next larger data type"), so that an enclosing operation takes the
+    /// widened type: `x * x - 30000` of the Integer 200 is the Long 10000, as the Long 40000
+    /// less an Integer. Each operation's result widens where it is computed, not the whole
+    /// expression's at its end.
+    fn note_widening(&self, first: &Expr, ty: Declared, n: f64) {
+        let held = held_number(ty, n);
+        if held != ty && matches!(ty, Declared::Byte | Declared::Integer | Declared::Long | Declared::Single) {
+            self.widened.borrow_mut().insert(first as *const Expr as usize, held);
+        }
+    }
+
+    /// Forgets what the operation whose first operand is `first` gave before: it is being
+    /// computed again ([`Interp::note_widening`]).
+    pub(super) fn forget_widening(&self, first: &Expr) {
+        if !self.widened.borrow().is_empty() {
+            self.widened.borrow_mut().remove(&(first as *const Expr as usize));
+        }
     }
 
     /// VBA's Overflow (run-time error 6), with how to avoid it.
@@ -455,7 +513,12 @@ impl Interp<'_, '_> {
                 if (0.0..=255.0).contains(&n) || n.fract() != 0.0 {
                     return None;
                 }
-                (sum_type(self.declared_type(a), self.declared_type(b)), vec![n])
+                let ty = sum_type(self.declared_type(a), self.declared_type(b));
+                if ty == Declared::Variant {
+                    self.note_widening(a, binary_type(op, self.held_operand(a), self.held_operand(b)), n);
+                    return None;
+                }
+                (ty, vec![n])
             }
             BinOp::IntDiv | BinOp::Mod => {
                 let number = |v: &Value| to_number(v, DateSystem::From1900).ok().map(f64::round_ties_even);
@@ -463,7 +526,12 @@ impl Interp<'_, '_> {
                 if [x, y, n].iter().all(|v| (0.0..=255.0).contains(v)) {
                     return None;
                 }
-                (whole_division_type(self.declared_type(a), self.declared_type(b)), vec![x, y, n])
+                let (da, db) = (self.declared_type(a), self.declared_type(b));
+                if da == Declared::Variant || db == Declared::Variant {
+                    self.note_widening(a, binary_type(op, self.held_operand(a), self.held_operand(b)), n);
+                    return None;
+                }
+                (whole_division_type(da, db), vec![x, y, n])
             }
             _ => return None,
         };
