@@ -210,6 +210,7 @@ mod collections;
 mod conditional;
 mod files;
 mod host;
+mod insert_delete;
 mod interp;
 mod library;
 mod nc;

@@ -522,6 +522,9 @@ impl Interp<'_, '_> {
                 self.select_range(sheet, rect, name == "activate");
                 value(Value::Blank)
             }
+            "delete" | "insert" => self.insert_or_delete(ctx, sheet, rect, name == "insert", link),
+            "entirerow" => Ok(Obj::Range(sheet, super::insert_delete::entire_rows(rect))),
+            "entirecolumn" => Ok(Obj::Range(sheet, super::insert_delete::entire_columns(rect))),
             _ => Err(self.no_member(&Obj::Range(sheet, rect), link)),
         }
     }

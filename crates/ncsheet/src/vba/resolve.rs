@@ -153,6 +153,11 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "xldown" => number(-4121.0),
         "xltoleft" => number(-4159.0),
         "xltoright" => number(-4161.0),
+        // XlDeleteShiftDirection and XlInsertShiftDirection, for Range.Delete and Insert.
+        "xlshiftup" => number(-4162.0),
+        "xlshifttoleft" => number(-4159.0),
+        "xlshiftdown" => number(-4121.0),
+        "xlshifttoright" => number(-4161.0),
         "xlpasteall" => number(-4104.0),
         "xlpasteformulas" => number(-4123.0),
         "xlpastevalues" => number(-4163.0),

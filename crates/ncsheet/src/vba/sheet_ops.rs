@@ -191,7 +191,7 @@ fn paste_area(source: Rect, dest: Rect) -> Option<Rect> {
 }
 
 /// The argument named `name` (`Paste:=…`), or else the one at `position`.
-fn argument<'l>(link: &'l Link, position: usize, name: &str) -> Option<&'l crate::formula::ast::Expr> {
+pub(super) fn argument<'l>(link: &'l Link, position: usize, name: &str) -> Option<&'l crate::formula::ast::Expr> {
     let args = link.args.as_deref()?;
     let named = args.iter().find(|a| a.name.as_deref().is_some_and(|n| n.eq_ignore_ascii_case(name)));
     let arg = named.or_else(|| args.get(position).filter(|a| a.name.is_none()))?;

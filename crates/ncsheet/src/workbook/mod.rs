@@ -26,6 +26,7 @@ mod problems;
 mod recalc;
 mod shared;
 mod sheet;
+mod shift;
 mod typed;
 mod udf;
 
@@ -36,6 +37,7 @@ pub use problems::{Problem, ProblemKind};
 use shared::{relative_key_into, shape_of, FormulaStore, SharedFormula};
 use sheet::Sheet;
 pub use sheet::Visibility;
+pub use shift::{Axis, SheetEdit};
 pub use udf::UserFunctions;
 
 const NO_FORMULA: u32 = u32::MAX;
@@ -97,6 +99,8 @@ struct DefinedName {
 pub enum WorkbookError {
     DuplicateSheet(String),
     NoSuchSheet(String),
+    /// An insertion or deletion of cells that Excel refuses too, and why.
+    CannotShift(String),
     BadName(String),
     /// A formula (of a cell or a name) that does not parse; `text` is what was typed.
     Parse {
@@ -112,6 +116,7 @@ impl fmt::Display for WorkbookError {
             WorkbookError::DuplicateSheet(s) => write!(f, "a sheet named '{s}' exists already"),
             WorkbookError::NoSuchSheet(s) => write!(f, "no sheet named '{s}'"),
             WorkbookError::BadName(s) => write!(f, "'{s}' cannot be a defined name"),
+            WorkbookError::CannotShift(why) => write!(f, "cannot insert or delete cells: {why}"),
             WorkbookError::Parse { place, text, error } => write!(f, "{place}: {}", error.render(text)),
         }
     }

@@ -62,6 +62,12 @@ impl Sheet {
         }
     }
 
+    /// Moves or drops the spans of set widths as columns are inserted or deleted: `f` gives
+    /// a span's new first and last column, `None` when its columns are all deleted.
+    pub fn map_width_spans(&mut self, f: impl Fn(u32, u32) -> Option<(u32, u32)>) {
+        self.widths = self.widths.iter().filter_map(|&(a, b, w)| f(a, b).map(|(a, b)| (a, b, w))).collect();
+    }
+
     /// Whether row `row` is hidden, and how.
     pub fn row_hidden(&self, row: u32) -> Option<RowHidden> {
         self.hidden_rows.get(&row).copied()

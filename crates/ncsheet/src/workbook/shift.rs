@@ -1,0 +1,448 @@
+//! Inserting and deleting rows, columns and cells, as Excel does: the cells after the edit
+//! move, and every reference of the workbook follows what it pointed at. A reference after
+//! the edit moves (`$` too: it matters only to copying); one to a deleted cell becomes
+//! `#REF!`; a range the edit cuts through grows or shrinks. Shifting a rectangle's cells
+//! (`Range("B2:B3").Delete xlShiftUp`) moves only the cells in its columns (rows), and only
+//! the references lying wholly inside those columns follow, as in Excel and LibreOffice.
+//! References built at run time (INDIRECT, OFFSET's text) do not follow, as in Excel.
+//!
+//! The edit rewrites the formulas it changes, moves the cells it moves and rebuilds the
+//! graph once: its cost is linear in the cells of the workbook.
+
+use super::*;
+use crate::formula::address::{MAX_COLS, MAX_ROWS};
+use crate::formula::ast::{CellCoord, Coord, ExprKind, RefShape, SheetRef};
+
+/// Which way the cells move: `Rows` inserts or deletes rows (cells move down or up),
+/// `Columns` columns (cells move right or left).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Axis {
+    Rows,
+    Columns,
+}
+
+/// One insertion or deletion on a sheet.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SheetEdit {
+    pub axis: Axis,
+    /// The first row (column) inserted or deleted, 0-based, and how many.
+    pub at: u32,
+    pub count: u32,
+    /// The columns (for `Rows`; rows for `Columns`) whose cells move; `None` for whole rows
+    /// (columns).
+    pub band: Option<(u32, u32)>,
+    pub insert: bool,
+}
+
+impl SheetEdit {
+    /// Whole rows `at..at+count` inserted (`insert`) or deleted.
+    pub fn rows(at: u32, count: u32, insert: bool) -> SheetEdit {
+        SheetEdit { axis: Axis::Rows, at, count, band: None, insert }
+    }
+
+    /// Whole columns `at..at+count` inserted (`insert`) or deleted.
+    pub fn columns(at: u32, count: u32, insert: bool) -> SheetEdit {
+        SheetEdit { axis: Axis::Columns, at, count, band: None, insert }
+    }
+
+    /// The cells of `rect` deleted (`insert` false), those below (`Axis::Rows`) or right of
+    /// it moving into their place; or cells inserted over `rect`, its cells and those below
+    /// (right) moving away. A rectangle as wide (tall) as the sheet is whole rows (columns).
+    pub fn cells(rect: Rect, axis: Axis, insert: bool) -> SheetEdit {
+        let (at, count, across, limit) = match axis {
+            Axis::Rows => (rect.first.row, rect.rows(), (rect.first.col, rect.last.col), MAX_COLS),
+            Axis::Columns => (rect.first.col, rect.cols(), (rect.first.row, rect.last.row), MAX_ROWS),
+        };
+        let band = (across != (0, limit - 1)).then_some(across);
+        SheetEdit { axis, at, count, band, insert }
+    }
+
+    /// The last index along the axis.
+    fn limit(&self) -> u32 {
+        match self.axis {
+            Axis::Rows => MAX_ROWS,
+            Axis::Columns => MAX_COLS,
+        }
+    }
+
+    /// (along the axis, across it) of `p`.
+    fn split(&self, p: Pos) -> (u32, u32) {
+        match self.axis {
+            Axis::Rows => (p.row, p.col),
+            Axis::Columns => (p.col, p.row),
+        }
+    }
+
+    fn join(&self, along: u32, across: u32) -> Pos {
+        match self.axis {
+            Axis::Rows => Pos::new(along, across),
+            Axis::Columns => Pos::new(across, along),
+        }
+    }
+
+    /// Whether what spans `across` (inclusive) lies wholly in the moving band.
+    fn covers(&self, across: (u32, u32)) -> bool {
+        self.band.is_none_or(|(b1, b2)| b1 <= across.0 && across.1 <= b2)
+    }
+
+    /// Whether `across` meets the moving band.
+    fn meets(&self, across: (u32, u32)) -> bool {
+        self.band.is_none_or(|(b1, b2)| across.0 <= b2 && b1 <= across.1)
+    }
+
+    /// Where the index `along` of a moving cell goes; `None` when it is deleted (or pushed
+    /// off the sheet).
+    fn index(&self, along: u32) -> Option<u32> {
+        if along < self.at {
+            return Some(along);
+        }
+        if self.insert {
+            let to = along as u64 + self.count as u64;
+            return (to < self.limit() as u64).then_some(to as u32);
+        }
+        (along >= self.at + self.count).then(|| along - self.count)
+    }
+
+    /// Where the span `along` (inclusive) of a reference goes: deleted wholly, `None`
+    /// (`#REF!`); cut through, shrunk to what is left; an insertion inside it, grown.
+    fn span(&self, (s1, s2): (u32, u32)) -> Option<(u32, u32)> {
+        let last = self.limit() - 1;
+        if self.insert {
+            if s1 >= self.at {
+                let first = self.index(s1)?;
+                return Some((first, (s2 + self.count).min(last)));
+            }
+            return Some(if s2 >= self.at { (s1, (s2 + self.count).min(last)) } else { (s1, s2) });
+        }
+        let (d1, d2) = (self.at, self.at + self.count - 1);
+        match (s1 < d1, s2 > d2) {
+            _ if s2 < d1 => Some((s1, s2)),
+            _ if s1 > d2 => Some((s1 - self.count, s2 - self.count)),
+            (false, false) => None,
+            (first_kept, last_kept) => {
+                let first = if first_kept { s1 } else { d1 };
+                let last = if last_kept { s2 - self.count } else { d1 - 1 };
+                Some((first, last))
+            }
+        }
+    }
+
+    /// Where the cell at `p` goes: `Ok(p)` unmoved or moved, `Err(())` deleted.
+    fn cell(&self, p: Pos) -> Result<Pos, ()> {
+        let (along, across) = self.split(p);
+        if !self.covers((across, across)) {
+            return Ok(p);
+        }
+        self.index(along).map(|a| self.join(a, across)).ok_or(())
+    }
+
+    /// Whether the edit would cut through an array's area `rect` (part of it moved or
+    /// deleted and part not), which Excel refuses ("You can't change part of an array").
+    fn cuts(&self, rect: Rect) -> bool {
+        let (a1, c1) = self.split(rect.first);
+        let (a2, c2) = self.split(rect.last);
+        if a2 < self.at || !self.meets((c1, c2)) {
+            return false;
+        }
+        if !self.covers((c1, c2)) {
+            return true;
+        }
+        let deleted_whole = !self.insert && a1 >= self.at && a2 < self.at + self.count;
+        let moved_whole = if self.insert { a1 >= self.at } else { a1 >= self.at + self.count };
+        !(deleted_whole || moved_whole)
+    }
+}
+
+/// A reference after the edit: the same, rewritten, or pointing at deleted cells (`#REF!`).
+enum Followed {
+    Same,
+    To(Reference),
+    Deleted,
+}
+
+/// A cell's new content, written once every moving cell has been cleared.
+enum Content {
+    Formula(Expr, Option<(u32, u32)>),
+    Value(Value),
+    /// Formula text that does not parse, with the value its file cached if it keeps one.
+    Unparsed(String, ParseError, Option<Value>),
+}
+
+impl Workbook {
+    /// Inserts or deletes rows, columns or a rectangle's cells on `sheet` (see [`SheetEdit`])
+    /// and recalculates. Refused, with nothing changed, when the edit would cut through an
+    /// array formula's or a spill's area, or push filled cells off the sheet.
+    pub fn shift_cells(&mut self, sheet: SheetId, edit: SheetEdit) -> Result<(), WorkbookError> {
+        if edit.count == 0 {
+            return Ok(());
+        }
+        if edit.at as u64 + edit.count as u64 > edit.limit() as u64 {
+            return Err(WorkbookError::CannotShift("the rows or columns are off the sheet".into()));
+        }
+        self.check_arrays_whole(sheet, &edit)?;
+        let moves = self.moves(sheet, &edit)?;
+        for &(id, _, _) in &moves {
+            let c = &self.cells[id as usize];
+            let (s, p) = (c.sheet, c.pos);
+            self.set_constant(s, p, Value::Blank);
+        }
+        for (id, to, content) in moves {
+            let s = self.cells[id as usize].sheet;
+            let Some(to) = to else { continue };
+            match content {
+                Content::Formula(tree, area) => {
+                    self.set_formula_tree_deferred(s, to, tree);
+                    if let Some((rows, cols)) = area {
+                        let last = Pos::new(to.row + rows - 1, to.col + cols - 1);
+                        self.set_array_area_deferred(s, Rect::new(to, last));
+                    }
+                }
+                Content::Value(v) => self.set_value_deferred(s, to, v),
+                Content::Unparsed(text, why, Some(v)) => self.keep_formula_value_deferred(s, to, &text, why, v),
+                Content::Unparsed(text, _, None) => {
+                    let _still_unparsed = self.set_input_deferred(s, to, &text);
+                }
+            }
+        }
+        self.follow_names(sheet, &edit);
+        self.shift_lines(sheet, &edit);
+        if let Some(log) = &mut self.changes {
+            log.names = true;
+        }
+        self.names_unlinked = true;
+        self.recalculate();
+        Ok(())
+    }
+
+    /// Refuses an edit that would cut through a legacy array formula's area or a spill.
+    fn check_arrays_whole(&self, sheet: SheetId, edit: &SheetEdit) -> Result<(), WorkbookError> {
+        let fixed = self.fixed_arrays.iter().map(|(&id, &(rows, cols))| {
+            let p = self.cells[id as usize].pos;
+            (id, Rect::new(p, Pos::new(p.row + rows - 1, p.col + cols - 1)))
+        });
+        let spills = self.spill.anchors().filter_map(|id| self.spill.rect(id).map(|r| (id, r)));
+        for (id, rect) in fixed.chain(spills) {
+            if self.cells[id as usize].sheet == sheet && edit.cuts(rect) {
+                let anchor = self.cell_name(sheet, self.cells[id as usize].pos);
+                return Err(WorkbookError::CannotShift(format!(
+                    "the edit would change part of the array of {anchor}, which Excel refuses: move or delete it whole"
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// Every cell the edit moves, deletes (no destination) or whose formula it rewrites.
+    #[allow(clippy::type_complexity)]
+    fn moves(&self, sheet: SheetId, edit: &SheetEdit) -> Result<Vec<(u32, Option<Pos>, Content)>, WorkbookError> {
+        let mut moves = Vec::new();
+        for (id, c) in self.cells.iter().enumerate() {
+            let id = id as u32;
+            let on_sheet = c.sheet == sheet;
+            if !on_sheet && c.formula == NO_FORMULA {
+                continue;
+            }
+            let to = if on_sheet { edit.cell(c.pos).ok() } else { Some(c.pos) };
+            if c.formula != NO_FORMULA {
+                let tree = self.formula_tree(c.sheet, c.pos).expect("a formula cell has a tree");
+                let followed = follow_tree(&tree, c.sheet, c.pos, to.unwrap_or(c.pos), sheet, edit);
+                if to == Some(c.pos) && followed.is_none() {
+                    continue;
+                }
+                let tree = followed.unwrap_or_else(|| tree.into_owned());
+                moves.push((id, to, Content::Formula(tree, self.fixed_arrays.get(&id).copied())));
+                continue;
+            }
+            if to == Some(c.pos) {
+                continue;
+            }
+            let content = match self.bad_inputs.get(&id) {
+                Some((text, why)) => {
+                    let kept = self.kept_values.contains_key(&id).then(|| c.value.clone());
+                    Content::Unparsed(text.clone(), why.clone(), kept)
+                }
+                None if c.value.is_blank() || self.spill.owner(id).is_some() => continue,
+                None => Content::Value(c.value.clone()),
+            };
+            if to.is_none() && edit.insert {
+                return Err(WorkbookError::CannotShift(format!(
+                    "{} would be pushed off the sheet: Excel cannot shift filled cells off the worksheet",
+                    self.cell_name(sheet, c.pos)
+                )));
+            }
+            moves.push((id, to, content));
+        }
+        Ok(moves)
+    }
+
+    /// Defined names whose references are absolute follow the edit too.
+    fn follow_names(&mut self, sheet: SheetId, edit: &SheetEdit) {
+        for i in 0..self.names.len() {
+            let name = &self.names[i];
+            // A name's relative reference is read from the cell that uses it: it moves with
+            // that cell, not with the edit.
+            let mut relative = false;
+            name.expr.visit_refs(&mut |r| relative |= has_relative(r));
+            if relative {
+                continue;
+            }
+            let home = name.scope.unwrap_or(SheetId::MAX);
+            let origin = Pos::new(0, 0);
+            if let Some(tree) = follow_tree(&name.expr, home, origin, origin, sheet, edit) {
+                self.names[i].expr = Rc::new(tree);
+            }
+        }
+    }
+
+    /// Hidden rows and column widths move with whole rows and columns.
+    fn shift_lines(&mut self, sheet: SheetId, edit: &SheetEdit) {
+        if edit.band.is_some() {
+            return;
+        }
+        let s = &mut self.sheets[sheet as usize];
+        match edit.axis {
+            Axis::Rows => {
+                let hidden: Vec<(u32, RowHidden)> = s.hidden_rows().collect();
+                for &(row, _) in &hidden {
+                    s.set_row_hidden(row, None);
+                }
+                for (row, how) in hidden {
+                    if let Some(to) = edit.index(row) {
+                        s.set_row_hidden(to, Some(how));
+                    }
+                }
+            }
+            Axis::Columns => s.map_width_spans(|first, last| edit.span((first, last))),
+        }
+    }
+}
+
+fn has_relative(r: &Reference) -> bool {
+    let coords: &[Coord] = match &r.shape {
+        RefShape::Cell(c) => &[c.row, c.col],
+        RefShape::Cells(a, b) => &[a.row, a.col, b.row, b.col],
+        RefShape::Cols(a, b) | RefShape::Rows(a, b) => &[*a, *b],
+    };
+    coords.iter().any(|c| !c.absolute)
+}
+
+/// The formula `tree`, written in cell `from` of sheet `home` and moving to `to`, with its
+/// references following `edit` of sheet `edited`; `None` when nothing in it changes.
+fn follow_tree(tree: &Expr, home: SheetId, from: Pos, to: Pos, edited: SheetId, edit: &SheetEdit) -> Option<Expr> {
+    let mut changed = from != to;
+    if !changed {
+        tree.visit_refs(&mut |r| changed |= !matches!(follow(r, home, from, to, edited, edit), Followed::Same));
+    }
+    if !changed {
+        return None;
+    }
+    let mut tree = tree.clone();
+    each_ref_mut(&mut tree, &mut |e| {
+        let ExprKind::Ref(r) = &e.kind else { return };
+        match follow(r, home, from, to, edited, edit) {
+            Followed::Same => {}
+            Followed::To(r) => e.kind = ExprKind::Ref(r),
+            Followed::Deleted => e.kind = ExprKind::Error(XlError::Ref),
+        }
+    });
+    Some(tree)
+}
+
+/// Calls `f` on every reference node of the tree.
+fn each_ref_mut(e: &mut Expr, f: &mut dyn FnMut(&mut Expr)) {
+    match &mut e.kind {
+        ExprKind::Ref(_) => f(e),
+        ExprKind::Unary(_, x) | ExprKind::Paren(x) => each_ref_mut(x, f),
+        ExprKind::Binary(_, a, b) => {
+            each_ref_mut(a, f);
+            each_ref_mut(b, f);
+        }
+        ExprKind::Call(_, args) | ExprKind::UnknownCall(_, args) => args.iter_mut().for_each(|a| each_ref_mut(a, f)),
+        ExprKind::Invoke(callee, args) => {
+            each_ref_mut(callee, f);
+            args.iter_mut().for_each(|a| each_ref_mut(a, f));
+        }
+        _ => {}
+    }
+}
+
+/// Reference `r` of a formula in `from` on sheet `home` (moving to `to`) after `edit` of
+/// sheet `edited`.
+fn follow(r: &Reference, home: SheetId, from: Pos, to: Pos, edited: SheetId, edit: &SheetEdit) -> Followed {
+    let target = match &r.sheet {
+        SheetRef::Current => home,
+        SheetRef::Id(id) => *id,
+        SheetRef::Missing(_) => return Followed::Same,
+    };
+    let Some((_, rect)) = r.resolve(home, from) else { return Followed::Same };
+    let rect = if target == edited { follow_rect(rect, &r.shape, edit) } else { Some(rect) };
+    let Some(rect) = rect else { return Followed::Deleted };
+    let shape = reshape(&r.shape, rect, from, to);
+    if shape == r.shape {
+        Followed::Same
+    } else {
+        Followed::To(Reference { sheet: r.sheet.clone(), shape })
+    }
+}
+
+/// Where the cells of a reference covering `rect` go; `None` when they are all deleted.
+fn follow_rect(rect: Rect, shape: &RefShape, edit: &SheetEdit) -> Option<Rect> {
+    // Whole columns (rows) stay whole when rows (columns) come or go.
+    let spans_axis = match (shape, edit.axis) {
+        (RefShape::Cols(..), Axis::Rows) | (RefShape::Rows(..), Axis::Columns) => false,
+        _ => true,
+    };
+    let (a1, c1) = edit.split(rect.first);
+    let (a2, c2) = edit.split(rect.last);
+    if !spans_axis || !edit.covers((c1, c2)) {
+        return Some(rect);
+    }
+    let (b1, b2) = edit.span((a1, a2))?;
+    Some(Rect::new(edit.join(b1, c1), edit.join(b2, c2)))
+}
+
+/// `shape` pointing at `rect`, its relative coordinates counted from `to` (they were
+/// counted from `from`). The corners keep the order they were written in (`A3:A1` stays so).
+fn reshape(shape: &RefShape, rect: Rect, from: Pos, to: Pos) -> RefShape {
+    let coord = |old: Coord, index: u32, base: u32| {
+        if old.absolute {
+            Coord::absolute(index)
+        } else {
+            Coord::relative(index as i32 - base as i32)
+        }
+    };
+    let row = |old: Coord, index: u32| coord(old, index, to.row);
+    let col = |old: Coord, index: u32| coord(old, index, to.col);
+    // The written corners as they were: the first the lower one, or the other way round.
+    let pair = |a: Coord, b: Coord, base: u32, lo: u32, hi: u32| {
+        let v = |c: Coord| if c.absolute { c.value as i64 } else { base as i64 + c.value as i64 };
+        if v(a) <= v(b) {
+            (lo, hi)
+        } else {
+            (hi, lo)
+        }
+    };
+    let rows = |a: Coord, b: Coord| pair(a, b, from.row, rect.first.row, rect.last.row);
+    let cols = |a: Coord, b: Coord| pair(a, b, from.col, rect.first.col, rect.last.col);
+    match *shape {
+        RefShape::Cell(c) => {
+            RefShape::Cell(CellCoord { row: row(c.row, rect.first.row), col: col(c.col, rect.first.col) })
+        }
+        RefShape::Cells(a, b) => {
+            let (ar, br) = rows(a.row, b.row);
+            let (ac, bc) = cols(a.col, b.col);
+            RefShape::Cells(
+                CellCoord { row: row(a.row, ar), col: col(a.col, ac) },
+                CellCoord { row: row(b.row, br), col: col(b.col, bc) },
+            )
+        }
+        RefShape::Rows(a, b) => {
+            let (x, y) = rows(a, b);
+            RefShape::Rows(row(a, x), row(b, y))
+        }
+        RefShape::Cols(a, b) => {
+            let (x, y) = cols(a, b);
+            RefShape::Cols(col(a, x), col(b, y))
+        }
+    }
+}

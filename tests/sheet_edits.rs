@@ -1,0 +1,388 @@
+//! Inserting and deleting rows, columns and cells (`Workbook::shift_cells`, and VBA's
+//! `Range.Delete`, `Range.Insert`, `EntireRow`, `Rows(n)`, `Columns(..)`), with every
+//! reference of the workbook following the cells.
+//!
+//! The expected formulas are LibreOffice 7.4's: the probe book below was built in a
+//! headless LibreOffice, each edit made with the sheet's own `removeRange` / `insertCells`
+//! (modes ROWS, UP, DOWN, COLUMNS), and the formulas and values read back (LibreOffice writes a
+//! deleted reference as `A#REF!`, Excel and we as `#REF!`: the values are compared there).
+//! Excel's documented rules agree: Microsoft's "Move or copy cells" and "Insert or delete
+//! rows and columns" pages (references move with their cells; a reference to a deleted
+//! cell is #REF!), and the Range.Delete page: "If this argument is omitted, Microsoft Excel
+//! decides based on the shape of the range."
+
+use ncsheet::eval::{Value, XlError};
+use ncsheet::formula::address::{parse_cell, Pos, Rect};
+use ncsheet::vba::{self, RunOptions};
+use ncsheet::workbook::{Axis, SheetEdit, Workbook};
+
+fn at(cell: &str) -> Pos {
+    parse_cell(cell).unwrap()
+}
+
+fn set(wb: &mut Workbook, sheet: u16, cell: &str, input: &str) {
+    wb.set_input(sheet, at(cell), input).unwrap();
+}
+
+/// Sheet1: A1:A10 = 1..10, B1:B10 = 100..1000, formulas in C1:C12; Sheet2 reading Sheet1;
+/// the name MyR = Sheet1!$A$5:$A$8.
+fn probe_book() -> Workbook {
+    let mut wb = Workbook::with_sheet();
+    wb.add_sheet("Sheet2").unwrap();
+    for i in 1..=10 {
+        set(&mut wb, 0, &format!("A{i}"), &i.to_string());
+        set(&mut wb, 0, &format!("B{i}"), &(100 * i).to_string());
+    }
+    let formulas = [
+        "=SUM(A1:A10)",
+        "=A5",
+        "=$A$7",
+        "=A3",
+        "=SUM(A3:A4)",
+        "=SUM(A2:A3)",
+        "=SUM(A4:A6)",
+        "=B3",
+        "=SUM(A1:B10)",
+        "=SUM(A:A)",
+        "=SUM(A3:A4)+A4",
+        "=A$2+$A3",
+    ];
+    for (i, f) in formulas.iter().enumerate() {
+        set(&mut wb, 0, &format!("C{}", i + 1), f);
+    }
+    wb.define_name("MyR", "Sheet1!$A$5:$A$8", None).unwrap();
+    set(&mut wb, 1, "A1", "=Sheet1!A5");
+    set(&mut wb, 1, "A2", "=SUM(Sheet1!A1:A10)");
+    set(&mut wb, 1, "A3", "=Sheet1!A3");
+    set(&mut wb, 1, "A4", "=SUM(MyR)");
+    wb
+}
+
+/// What a cell must hold after the edit: its formula as we print it (`None`: only the
+/// value is compared, where LibreOffice's spelling of #REF! differs) and its value.
+type Want = (u16, &'static str, Option<&'static str>, Value);
+
+fn n(x: f64) -> Value {
+    Value::Number(x)
+}
+
+fn bad() -> Value {
+    Value::Error(XlError::Ref)
+}
+
+fn check(wb: &Workbook, edit: &str, wants: &[Want]) {
+    for (sheet, cell, formula, value) in wants {
+        let place = format!("{edit}: sheet {sheet} {cell}");
+        if let Some(f) = formula {
+            assert_eq!(wb.formula(*sheet, at(cell)).as_deref(), Some(*f), "{place}");
+        }
+        assert_eq!(&wb.value(*sheet, at(cell)), value, "{place}");
+    }
+}
+
+fn name_formula(wb: &Workbook) -> String {
+    wb.names().into_iter().find(|(n, _, _)| n == "MyR").unwrap().1
+}
+
+#[test]
+fn deleting_whole_rows_moves_shrinks_and_breaks_references_as_libreoffice() {
+    let mut wb = probe_book();
+    wb.shift_cells(0, SheetEdit::rows(2, 2, false)).unwrap();
+    check(
+        &wb,
+        "delete rows 3:4",
+        &[
+            (0, "C1", Some("=SUM(A1:A8)"), n(48.0)),
+            (0, "C2", Some("=A3"), n(5.0)),
+            // The old C5 (=SUM(A3:A4)): both rows deleted.
+            (0, "C3", None, bad()),
+            (0, "C4", Some("=SUM(A2:A2)"), n(2.0)),
+            (0, "C5", Some("=SUM(A3:A4)"), n(11.0)),
+            (0, "C6", None, bad()),
+            (0, "C7", Some("=SUM(A1:B8)"), n(4848.0)),
+            (0, "C8", Some("=SUM(A:A)"), n(48.0)),
+            (0, "C9", None, bad()),
+            (0, "C10", None, bad()),
+            (0, "A3", None, n(5.0)),
+            (0, "C11", None, Value::Blank),
+            (1, "A1", Some("=Sheet1!A3"), n(5.0)),
+            (1, "A2", Some("=SUM(Sheet1!A1:A8)"), n(48.0)),
+            (1, "A3", None, bad()),
+            (1, "A4", Some("=SUM(MyR)"), n(26.0)),
+        ],
+    );
+    assert_eq!(name_formula(&wb), "=Sheet1!$A$3:$A$6");
+}
+
+#[test]
+fn deleting_cells_shifted_up_moves_only_their_columns() {
+    let mut wb = probe_book();
+    wb.shift_cells(0, SheetEdit::cells(Rect::new(at("A3"), at("A4")), Axis::Rows, false)).unwrap();
+    check(
+        &wb,
+        "delete A3:A4 shift up",
+        &[
+            (0, "C1", Some("=SUM(A1:A8)"), n(48.0)),
+            (0, "C2", Some("=A3"), n(5.0)),
+            (0, "C3", Some("=$A$5"), n(7.0)),
+            (0, "C4", None, bad()),
+            (0, "C5", None, bad()),
+            (0, "C6", Some("=SUM(A2:A2)"), n(2.0)),
+            (0, "C7", Some("=SUM(A3:A4)"), n(11.0)),
+            // Column B did not move, and a range reaching outside column A stays.
+            (0, "C8", Some("=B3"), n(300.0)),
+            (0, "C9", Some("=SUM(A1:B10)"), n(5548.0)),
+            (0, "C10", Some("=SUM(A:A)"), n(48.0)),
+            (0, "C11", None, bad()),
+            (0, "C12", None, bad()),
+            (0, "A9", None, Value::Blank),
+            (0, "B3", None, n(300.0)),
+            (1, "A1", Some("=Sheet1!A3"), n(5.0)),
+            (1, "A2", Some("=SUM(Sheet1!A1:A8)"), n(48.0)),
+            (1, "A3", None, bad()),
+            (1, "A4", Some("=SUM(MyR)"), n(26.0)),
+        ],
+    );
+    assert_eq!(name_formula(&wb), "=Sheet1!$A$3:$A$6");
+}
+
+#[test]
+fn inserting_whole_rows_grows_the_ranges_they_fall_inside() {
+    let mut wb = probe_book();
+    wb.shift_cells(0, SheetEdit::rows(2, 2, true)).unwrap();
+    check(
+        &wb,
+        "insert rows 3:4",
+        &[
+            (0, "C1", Some("=SUM(A1:A12)"), n(55.0)),
+            (0, "C2", Some("=A7"), n(5.0)),
+            (0, "C3", None, Value::Blank),
+            (0, "C5", Some("=$A$9"), n(7.0)),
+            (0, "C6", Some("=A5"), n(3.0)),
+            (0, "C7", Some("=SUM(A5:A6)"), n(7.0)),
+            (0, "C8", Some("=SUM(A2:A5)"), n(5.0)),
+            (0, "C9", Some("=SUM(A6:A8)"), n(15.0)),
+            (0, "C10", Some("=B5"), n(300.0)),
+            (0, "C11", Some("=SUM(A1:B12)"), n(5555.0)),
+            (0, "C12", Some("=SUM(A:A)"), n(55.0)),
+            (0, "C13", Some("=SUM(A5:A6)+A6"), n(11.0)),
+            (0, "C14", Some("=A$2+$A5"), n(5.0)),
+            (1, "A1", Some("=Sheet1!A7"), n(5.0)),
+            (1, "A2", Some("=SUM(Sheet1!A1:A12)"), n(55.0)),
+            (1, "A3", Some("=Sheet1!A5"), n(3.0)),
+            (1, "A4", Some("=SUM(MyR)"), n(26.0)),
+        ],
+    );
+    assert_eq!(name_formula(&wb), "=Sheet1!$A$7:$A$10");
+}
+
+#[test]
+fn inserting_cells_shifted_down_leaves_ranges_reaching_outside_the_band() {
+    let mut wb = probe_book();
+    wb.shift_cells(0, SheetEdit::cells(Rect::new(at("A3"), at("A4")), Axis::Rows, true)).unwrap();
+    check(
+        &wb,
+        "insert A3:A4 shift down",
+        &[
+            (0, "C1", Some("=SUM(A1:A12)"), n(55.0)),
+            (0, "C2", Some("=A7"), n(5.0)),
+            (0, "C3", Some("=$A$9"), n(7.0)),
+            (0, "C4", Some("=A5"), n(3.0)),
+            (0, "C6", Some("=SUM(A2:A5)"), n(5.0)),
+            (0, "C8", Some("=B3"), n(300.0)),
+            (0, "C9", Some("=SUM(A1:B10)"), n(5536.0)),
+            (0, "C12", Some("=A$2+$A5"), n(5.0)),
+            (0, "A12", None, n(10.0)),
+            (1, "A3", Some("=Sheet1!A5"), n(3.0)),
+        ],
+    );
+}
+
+#[test]
+fn deleting_and_inserting_columns() {
+    let mut wb = probe_book();
+    wb.shift_cells(0, SheetEdit::columns(1, 1, false)).unwrap();
+    check(
+        &wb,
+        "delete column B",
+        &[
+            (0, "B1", Some("=SUM(A1:A10)"), n(55.0)),
+            (0, "B8", None, bad()),
+            (0, "B9", Some("=SUM(A1:A10)"), n(55.0)),
+            (0, "B12", Some("=A$2+$A3"), n(5.0)),
+            (0, "C1", None, Value::Blank),
+            (1, "A1", Some("=Sheet1!A5"), n(5.0)),
+        ],
+    );
+    let mut wb = probe_book();
+    wb.shift_cells(0, SheetEdit::columns(0, 1, true)).unwrap();
+    check(
+        &wb,
+        "insert column A",
+        &[
+            (0, "C1", None, n(100.0)),
+            (0, "D1", Some("=SUM(B1:B10)"), n(55.0)),
+            (0, "D3", Some("=$B$7"), n(7.0)),
+            (0, "D8", Some("=C3"), n(300.0)),
+            (0, "D9", Some("=SUM(B1:C10)"), n(5555.0)),
+            (0, "D10", Some("=SUM(B:B)"), n(55.0)),
+            (0, "D12", Some("=B$2+$B3"), n(5.0)),
+            (1, "A2", Some("=SUM(Sheet1!B1:B10)"), n(55.0)),
+        ],
+    );
+    assert_eq!(name_formula(&wb), "=Sheet1!$B$5:$B$8");
+}
+
+#[test]
+fn later_edits_reach_the_formulas_that_moved() {
+    // The graph follows the edit: a value typed after it recomputes what reads it now.
+    let mut wb = probe_book();
+    wb.shift_cells(0, SheetEdit::rows(0, 1, false)).unwrap();
+    set(&mut wb, 0, "A4", "1000");
+    // C1 was C2 (=A5, now =A4).
+    assert_eq!(wb.value(0, at("C1")), n(1000.0));
+    assert_eq!(wb.value(1, at("A1")), n(1000.0));
+}
+
+#[test]
+fn an_edit_cutting_through_an_array_is_refused_and_changes_nothing() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, 0, "A1", "=SEQUENCE(4)");
+    set(&mut wb, 0, "B1", "7");
+    let refused = wb.shift_cells(0, SheetEdit::rows(1, 1, false));
+    let message = refused.unwrap_err().to_string();
+    assert!(message.contains("Sheet1!A1"), "{message}");
+    assert_eq!(wb.value(0, at("A4")), n(4.0));
+    // Shifting the column beside it is fine, and so is deleting the rows the array is in.
+    wb.shift_cells(0, SheetEdit::cells(Rect::new(at("B1"), at("B1")), Axis::Rows, false)).unwrap();
+    assert_eq!(wb.value(0, at("B1")), Value::Blank);
+    wb.shift_cells(0, SheetEdit::rows(0, 4, false)).unwrap();
+    assert_eq!(wb.value(0, at("A1")), Value::Blank);
+}
+
+#[test]
+fn inserting_refuses_to_push_filled_cells_off_the_sheet() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, 0, "A1048576", "1");
+    let message = wb.shift_cells(0, SheetEdit::rows(0, 1, true)).unwrap_err().to_string();
+    assert!(message.contains("A1048576"), "{message}");
+    assert_eq!(wb.value(0, at("A1048576")), n(1.0));
+}
+
+fn run(wb: &mut Workbook, body: &str) -> Vec<String> {
+    let src = format!("Sub Main()\n{body}\nEnd Sub\n");
+    vba::run(wb, &src, "edits.bas", &RunOptions::default()).unwrap_or_else(|e| panic!("{e}")).printed
+}
+
+fn column(wb: &Workbook, sheet: u16, col: &str, rows: u32) -> Vec<String> {
+    (1..=rows).map(|r| wb.value(sheet, at(&format!("{col}{r}"))).to_string()).collect()
+}
+
+fn list(wb: &mut Workbook, sheet: u16, items: &[&str]) {
+    for (i, t) in items.iter().enumerate() {
+        set(wb, sheet, &format!("A{}", i + 1), t);
+    }
+}
+
+/// The class of macro in Microsoft's support article "Macro to delete duplicate items in a
+/// list" (its DelDups_OneList and DelDups_TwoLists): walk a list, delete each later
+/// duplicate with `Cells(i, 1).Delete xlShiftUp`. Written anew here; the article's expected
+/// result is the list with its duplicates gone, in first-seen order.
+#[test]
+fn a_macro_deleting_duplicates_with_delete_xlshiftup() {
+    let mut wb = Workbook::with_sheet();
+    wb.add_sheet("Sheet2").unwrap();
+    list(&mut wb, 0, &["a", "b", "a", "c", "b", "d"]);
+    list(&mut wb, 1, &["x", "a", "y", "c", "z"]);
+    set(&mut wb, 0, "C1", "=COUNTA(A1:A6)");
+    run(
+        &mut wb,
+        r#"
+    Dim last As Integer, i As Integer
+    Sheets("Sheet1").Range("A1").Select
+    Do Until ActiveCell = ""
+        i = ActiveCell.Row + 1
+        Do While Sheets("Sheet1").Cells(i, 1).Value <> ""
+            If Sheets("Sheet1").Cells(i, 1).Value = ActiveCell.Value Then
+                Sheets("Sheet1").Cells(i, 1).Delete xlShiftUp
+            Else
+                i = i + 1
+            End If
+        Loop
+        ActiveCell.Offset(1, 0).Select
+    Loop
+    Dim master As Range
+    For Each master In Sheets("Sheet1").Range("A1:A10")
+        For i = 10 To 1 Step -1
+            If master.Value <> "" And Sheets("Sheet2").Cells(i, 1).Value = master.Value Then
+                Sheets("Sheet2").Cells(i, 1).Delete Shift:=xlShiftUp
+            End If
+        Next
+    Next"#,
+    );
+    assert_eq!(column(&wb, 0, "A", 6), ["a", "b", "c", "d", "", ""]);
+    assert_eq!(column(&wb, 1, "A", 5), ["x", "y", "z", "", ""]);
+    // The count's range shrank with the two deleted cells (A1:A4), as a reference does.
+    assert_eq!(wb.formula(0, at("C1")).as_deref(), Some("=COUNTA(A1:A4)"));
+    assert_eq!(wb.value(0, at("C1")), n(4.0));
+}
+
+#[test]
+fn rows_and_entire_row_delete_and_insert() {
+    let mut wb = Workbook::with_sheet();
+    list(&mut wb, 0, &["1", "2", "3", "4", "5", "6"]);
+    set(&mut wb, 0, "B1", "=SUM(A1:A6)");
+    run(&mut wb, "    Rows(2).Delete\n    Range(\"A3\").EntireRow.Delete\n    Rows(\"1:2\").Insert");
+    // 1,2,3,4,5,6 → without 2 → without 4 → two empty rows on top: _,_,1,3,5,6; B1 moved to B3.
+    assert_eq!(column(&wb, 0, "A", 6), ["", "", "1", "3", "5", "6"]);
+    assert_eq!(wb.formula(0, at("B3")).as_deref(), Some("=SUM(A3:A6)"));
+    assert_eq!(wb.value(0, at("B3")), n(15.0));
+    run(&mut wb, "    Cells(4, 1).EntireRow.Insert\n    Range(\"A4\").Value = 100");
+    // Inserted inside the sum's range: it grows to take the new row in.
+    assert_eq!(wb.formula(0, at("B3")).as_deref(), Some("=SUM(A3:A7)"));
+    assert_eq!(wb.value(0, at("B3")), n(115.0));
+}
+
+#[test]
+fn columns_and_entire_column_delete_and_insert() {
+    let mut wb = Workbook::with_sheet();
+    for (cell, v) in [("A1", "1"), ("B1", "2"), ("C1", "3"), ("D1", "=A1+C1")] {
+        set(&mut wb, 0, cell, v);
+    }
+    run(&mut wb, "    Columns(\"B\").Delete");
+    assert_eq!(wb.formula(0, at("C1")).as_deref(), Some("=A1+B1"));
+    assert_eq!(wb.value(0, at("C1")), n(4.0));
+    run(&mut wb, "    Range(\"B5\").EntireColumn.Insert\n    Columns(\"A:A\").Delete");
+    assert_eq!(wb.formula(0, at("C1")).as_deref(), Some("=#REF!+B1"));
+    assert_eq!(wb.value(0, at("C1")), bad());
+}
+
+#[test]
+fn range_delete_and_insert_with_a_shift_and_without_one() {
+    let mut wb = Workbook::with_sheet();
+    for r in 1..=3 {
+        for (c, col) in ["A", "B", "C", "D"].iter().enumerate() {
+            set(&mut wb, 0, &format!("{col}{r}"), &format!("{}", r * 10 + c as u32 + 1));
+        }
+    }
+    set(&mut wb, 0, "F1", "=D2");
+    run(&mut wb, "    Range(\"A2:B2\").Delete Shift:=xlShiftToLeft");
+    // Row 2 was 21,22,23,24: its C and D moved to A and B; F1 follows D2 to B2.
+    assert_eq!(column(&wb, 0, "A", 3), ["11", "23", "31"]);
+    assert_eq!(wb.formula(0, at("F1")).as_deref(), Some("=B2"));
+    assert_eq!(wb.value(0, at("F1")), n(24.0));
+    run(&mut wb, "    Range(\"A1:A2\").Insert Shift:=xlShiftToRight");
+    // Rows 1 and 2 move right, F1 with them (to G1), and its B2 with them (to C2).
+    assert_eq!(wb.value(0, at("B1")), n(11.0));
+    assert_eq!(wb.value(0, at("F1")), Value::Blank);
+    assert_eq!(wb.formula(0, at("G1")).as_deref(), Some("=C2"));
+    assert_eq!(wb.value(0, at("G1")), n(24.0));
+    // Wider than tall, without Shift: the cells below move up.
+    run(&mut wb, "    Range(\"C3:D3\").Delete");
+    assert_eq!(wb.value(0, at("C3")), Value::Blank);
+    assert_eq!(wb.value(0, at("A3")), n(31.0));
+    // A bad Shift names what it takes.
+    let src = "Sub Main()\n    Range(\"A1\").Delete xlShiftDown\nEnd Sub\n";
+    let e = vba::run(&mut wb, src, "edits.bas", &RunOptions::default()).unwrap_err().to_string();
+    assert!(e.contains("xlShiftUp or xlShiftToLeft"), "{e}");
+}
