@@ -819,6 +819,40 @@ const VALUE_PROBES: &[(&[&str], &str)] = &[
     (ALL, r#"=DOLLAR(-0.5,2)"#),
     (ALL, r#"=FIXED(-1234567.891,-2)"#),
     (ALL, r#"=FIXED(1234.5,2,TRUE)"#),
+    // A space before a currency tag is text where spaces group digits (a plain `€` after
+    // the space still scales by 1000); a weekday code tagged with another language;
+    // `mmmmm`, the first letter of the month's name; colour words in the locale's words
+    // (de-DE `[Rot]`, `[Farbe10]`; English elsewhere), another locale's refused; `A/P`.
+    (ALL, r##"=TEXT(1234.5,"#.##0,00 [$€-407]")"##),
+    (ALL, r##"=TEXT(1234.5,"#.##0,00 [$€]")"##),
+    (ALL, r#"=TEXT(1234.5,"0,00 [$€-407]")"#),
+    (ALL, r##"=TEXT(1234.5,"#.##0,00 €")"##),
+    (ALL, r#"=TEXT(45728,"[$-40C]dddd")"#),
+    (ALL, r#"=TEXT(45728,"[$-40C]mmmmm")"#),
+    (&["de-DE", "fr-FR"], r#"=TEXT(45728,"mmmmm")"#),
+    (&["et-EE"], r#"=TEXT(45728,"mmmmm yyyy")"#),
+    (&["de-DE"], r#"=TEXT(-5,"0;[Red]-0")"#),
+    (&["de-DE"], r#"=TEXT(-5,"[Blau]0;[Rot]-0;[Farbe10]0")"#),
+    (&["fr-FR", "et-EE"], r#"=TEXT(-5,"0;[Rot]-0")"#),
+    (&["fr-FR", "et-EE"], r#"=TEXT(-5,"[Blue]0;[RED]-0;[Color10]0")"#),
+    (ALL, r#"=TEXT(45728.6,"h:mm A/P")"#),
+    // Typed times with the locale's words for before and after noon and not en-US's where
+    // it has its own (de-DE, et-EE), an hour alone, ISO 8601's `T`, a weekday's full name
+    // before a date.
+    (&["de-DE"], r#"=VALUE("2:30 nachm.")"#),
+    (&["de-DE"], r#"=VALUE("12.03.2025 2:30 nachm.")"#),
+    (&["de-DE"], r#"=VALUE("12.03.2025 2 nachm.")"#),
+    (&["et-EE"], r#"=VALUE("2:30 p.l")"#),
+    (&["de-DE", "et-EE"], r#"=VALUE("2:30 PM")"#),
+    (&["de-DE", "et-EE"], r#"="2:30 am"+0"#),
+    (&["fr-FR"], r#"=VALUE("2 pm")"#),
+    (ALL, r#"=VALUE("2025-03-12T14:30")"#),
+    (ALL, r#"="2025-03-12T14:30:15"+0"#),
+    (&["de-DE"], r#"=VALUE("Montag, 12. März 2025")"#),
+    (&["de-DE"], r#"=DATEVALUE("mittwoch 12.03.2025")"#),
+    (&["fr-FR"], r#"=VALUE("mercredi 12 mars 2025")"#),
+    (&["fr-FR"], r#"=VALUE("mercredi, 12 mars 2025")"#),
+    (&["et-EE"], r#"=VALUE("kolmapäev, 12. märts 2025")"#),
     // The locale's boolean words and large numbers turned into text (see EXCEL_SHOWS).
     (&["de-DE"], r#"=--"WAHR""#),
     (&["fr-FR"], r#"=--"VRAI""#),
@@ -854,7 +888,21 @@ const EXCEL_SHOWS: &[(&str, &str, &str)] = &[
     (r#"=TEXT(1234.5,"0.00")"#, "1.235", EN_US_BUILT_IN),
     (r#"=1E20&"""#, "1E+20", NUMBER_TEXT),
     (r#"=1234567890123456&"""#, "1,23456789012346E+15", NUMBER_TEXT),
+    (r#"=TEXT(45728.6,"h:mm A/P")"#, "2:24 P", A_OR_P),
+    (r#"=TEXT(45728,"mmmmm yyyy")"#, "m 2025", MONTH_LETTER),
 ];
+
+/// Why `h:mm A/P` shows `2:24 P`: Excel's "Review guidelines for customizing a number
+/// format" page, "If the format contains an AM or PM, the hour is based on the 12-hour
+/// clock, where "AM" or "A" indicates times from midnight until noon and "PM" or "P"
+/// indicates times from noon until midnight" (its table: `h:mm:ss A/P` shows `4:36:03 P`);
+/// the code's case is kept. LibreOffice set to de-DE, fr-FR or et-EE shows `2:24 p`.
+const A_OR_P: &str = "A/P shows A or P as the code writes it in Excel; LibreOffice shows it lowercase";
+
+/// Why et-EE `mmmmm` is `m` for March (`märts`): the same Excel page, "mmmmm: Display the
+/// month as the first letter of the month"; LibreOffice set to et-EE shows `III` (a Roman
+/// numeral of its own), while it shows the name's first letter in de-DE (`M`) and fr-FR (`m`).
+const MONTH_LETTER: &str = "mmmmm is the month name's first letter in Excel; LibreOffice in et-EE shows III";
 
 /// Why `--"WAHR"` is #VALUE!: Excel's VALUE page, "Text can be in any of the constant number,
 /// date, or time formats recognized by Microsoft Excel. If text is not in one of these

@@ -81,9 +81,21 @@ pub struct LocaleData {
     /// What `AM/PM` in a format code shows before and after noon, as LibreOffice set to the
     /// locale shows it (de-DE `vorm.` and `nachm.`).
     pub am_pm: [&'static str; 2],
+    /// The colour words of format codes (`[Red]`), between spaces, and the word before a
+    /// colour's number (`[Color10]`), as LibreOffice set to the locale reads TEXT's code:
+    /// de-DE `[Rot]` and `[Farbe10]` (and not `[Red]`), English in fr-FR and et-EE.
+    pub colours: &'static str,
+    pub colour_number: &'static str,
+    /// What may part a weekday's full name from the date after it, which LibreOffice set to
+    /// the locale reads as that date (`Mittwoch, 12. März 2025`; fr-FR `mercredi 12 mars
+    /// 2025`, not `mercredi, 12 mars 2025`). The name itself is not checked against the date.
+    pub after_weekday: &'static [&'static str],
 }
 
 const SPACES: &[char] = &[' ', '\u{202F}'];
+
+const ENGLISH_COLOURS: &str = "Black Blue Cyan Green Magenta Red White Yellow Brown Grey";
+const GERMAN_COLOURS: &str = "Schwarz Blau Cyan Grün Magenta Rot Weiss Gelb Braun Grau";
 
 static EN_US: LocaleData = LocaleData {
     tag: "en-US",
@@ -107,6 +119,9 @@ static EN_US: LocaleData = LocaleData {
     booleans: ["TRUE", "FALSE"],
     general: "",
     am_pm: ["AM", "PM"],
+    colours: ENGLISH_COLOURS,
+    colour_number: "Color",
+    after_weekday: &[", ", " "],
 };
 
 /// What the decimal-comma locales share (each says what it does otherwise): a no-break space
@@ -132,6 +147,9 @@ const DECIMAL_COMMA: LocaleData = LocaleData {
     booleans: ["", ""],
     general: "",
     am_pm: ["AM", "PM"],
+    colours: ENGLISH_COLOURS,
+    colour_number: "Color",
+    after_weekday: &[", ", " "],
 };
 
 static LOCALES: [&LocaleData; 8] = [
@@ -149,6 +167,8 @@ static LOCALES: [&LocaleData; 8] = [
         booleans: ["WAHR", "FALSCH"],
         general: "Standard",
         am_pm: ["vorm.", "nachm."],
+        colours: GERMAN_COLOURS,
+        colour_number: "Farbe",
         year_less: &["D.M."],
         ..DECIMAL_COMMA
     },
@@ -165,6 +185,7 @@ static LOCALES: [&LocaleData; 8] = [
         days_short: "dim. lun. mar. mer. jeu. ven. sam.",
         format_letters: &[('J', 'd'), ('A', 'y')],
         booleans: ["VRAI", "FAUX"],
+        after_weekday: &[" "],
         general: "Standard",
         ..DECIMAL_COMMA
     },
@@ -416,6 +437,7 @@ impl Locale {
         if self.is_canonical() {
             return dates::parse_date_text(system, text);
         }
+        let text = &self.canonical_date_time_text(text)?;
         if let Some(date) = self.read_day(text, system) {
             return Some(dates::DateText { date: Some(date), time: None });
         }
@@ -442,6 +464,62 @@ impl Locale {
         }
         // A time alone reads the same everywhere; a date in another order does not.
         dates::parse_date_text(system, text).filter(|t| t.date.is_none())
+    }
+
+    /// Date and time text as LibreOffice set to the locale reads it, in the spelling the
+    /// readers below take: a weekday's full name before a date left out, ISO 8601's `T`
+    /// between a date and a time as a space (`2025-03-12T14:30`), and the locale's words
+    /// for before and after noon as en-US's ([`Locale::canonical_meridiem`]).
+    fn canonical_date_time_text(self, text: &str) -> Option<String> {
+        let text = self.without_weekday(text);
+        let iso_date = |head: &str| {
+            let parts: Vec<&str> = head.split('-').collect();
+            parts.len() == 3
+                && parts[0].len() == 4
+                && parts.iter().all(|p| !p.is_empty() && p.len() <= 4 && p.bytes().all(|b| b.is_ascii_digit()))
+        };
+        let text = match text.split_once(['T', 't']) {
+            Some((date, time)) if iso_date(date) && time.starts_with(|c: char| c.is_ascii_digit()) => {
+                format!("{date} {time}")
+            }
+            _ => text.to_string(),
+        };
+        self.canonical_meridiem(&text)
+    }
+
+    /// `text` without a weekday's full name in this locale's words (either case) and what
+    /// may follow it ([`LocaleData::after_weekday`]) before a date.
+    fn without_weekday(self, text: &str) -> &str {
+        for day in self.days.split(' ').filter(|d| !d.is_empty()) {
+            let Some(head) = text.get(..day.len()).filter(|h| h.to_lowercase() == day.to_lowercase()) else { continue };
+            let rest = &text[head.len()..];
+            if let Some(date) = self.after_weekday.iter().find_map(|sep| rest.strip_prefix(sep)) {
+                if date.starts_with(|c: char| c.is_alphanumeric()) {
+                    return date;
+                }
+            }
+        }
+        text
+    }
+
+    /// A time with this locale's words for before and after noon (de-DE `2:30 nachm.`,
+    /// et-EE `2:30 p.l`; either case, with or without a space) spelled with en-US's
+    /// (`2:30 PM`), and an hour alone given its minutes (`2 nachm.` is 14:00), as LibreOffice
+    /// set to the locale reads them; `None` for en-US's words where the locale has its own
+    /// (LibreOffice set to de-DE or et-EE refuses `2:30 PM`).
+    fn canonical_meridiem(self, text: &str) -> Option<String> {
+        let Some(end) = text.rfind(|c: char| c.is_ascii_digit()).map(|i| i + 1) else { return Some(text.to_string()) };
+        let (head, word) = (&text[..end], text[end..].trim_start_matches(is_space));
+        let same = |a: &str, b: &str| a.to_lowercase() == b.to_lowercase();
+        let own = self.am_pm.iter().position(|w| same(w, word));
+        let at = match own {
+            Some(at) if !word.is_empty() => at,
+            _ if self.am_pm != EN_US.am_pm && EN_US.am_pm.iter().any(|w| same(w, word)) => return None,
+            _ => return Some(text.to_string()),
+        };
+        // An hour alone is a time; after a date it is not (`12.03.2025 2 nachm.` is text).
+        let minutes = if head.contains(':') || head.contains(is_space) { "" } else { ":00" };
+        Some(format!("{head}{minutes} {}", EN_US.am_pm[at]))
     }
 
     /// Year, month and day of date text naming its month in this locale's words, either
@@ -806,6 +884,26 @@ impl Locale {
         self.format_letters.iter().any(|(_, canonical)| canonical.eq_ignore_ascii_case(&c))
     }
 
+    /// The first colour word of TEXT's `code` (`[Red]`) that names a colour in another
+    /// locale's words and not in this one's: LibreOffice set to de-DE refuses `[Red]` and
+    /// `[Color10]` (Err:502) and reads `[Rot]` and `[Farbe10]`; set to fr-FR or et-EE, the
+    /// other way round. en-US reads its codes as it always has.
+    pub fn foreign_colour(self, code: &str) -> Option<String> {
+        if self.is_canonical() {
+            return None;
+        }
+        let in_locale = |data: &LocaleData, word: &str| {
+            let numbered =
+                word.get(..data.colour_number.len()).is_some_and(|w| w.eq_ignore_ascii_case(data.colour_number))
+                    && word[data.colour_number.len()..].parse::<u8>().is_ok_and(|n| (1..=56).contains(&n));
+            numbered || data.colours.split(' ').any(|c| c.to_lowercase() == word.to_lowercase())
+        };
+        bracket_words(code)
+            .into_iter()
+            .find(|word| LOCALES.iter().any(|data| in_locale(data, word)) && !in_locale(self.data, word))
+            .map(|word| format!("[{word}]"))
+    }
+
     /// What a canonical format `code` showed (`shown`) with this locale's marks: numbers
     /// localized, dates left as their code spells them.
     pub fn localize_formatted(self, code: &str, shown: &str) -> String {
@@ -813,7 +911,7 @@ impl Locale {
             return shown.to_string();
         }
         if is_date_code(code) {
-            let named = self.localize_names_for(code, shown);
+            let named = month_letters(&self.localize_names_for(code, shown));
             let named = self.localize_meridiem(code, &named);
             return literal_marks(&self.localize_fraction_of_seconds(code, &named));
         }
@@ -858,7 +956,7 @@ impl Locale {
         }
         let code = &self.canonical_date_letters(&self.canonical_general(code));
         if is_date_code(code) {
-            return self.canonical_fraction_of_seconds_code(code);
+            return month_letter_code(&self.canonical_fraction_of_seconds_code(code));
         }
         if self.reads_as_en_us(code) {
             return code.to_string();
@@ -870,6 +968,11 @@ impl Locale {
         let fraction = has_unquoted_slash(code);
         let is_group = |c: char| (c == self.group || self.group_typed.contains(&c)) && !(fraction && is_space(c));
         // Whether the group marks before `i` (if any) follow a digit placeholder.
+        // Whether the group marks from `i` on are followed by a `[$…]` currency tag.
+        let before_currency_tag = |i: usize| {
+            let next = chars[i..].iter().position(|&c| !is_group(c)).map(|j| i + j);
+            next.is_some_and(|j| chars[j..].starts_with(&['[', '$']))
+        };
         let after_placeholder = |i: usize| {
             let before = chars[..i].iter().rposition(|&c| !is_group(c));
             before.is_some_and(|j| placeholder(Some(j)))
@@ -913,8 +1016,10 @@ impl Locale {
                 }
                 // Group separators after the last placeholder scale by 1000 each, as `,` does:
                 // a space too where spaces group digits (fr-FR `0,0 €` shows 1234.5 as
-                // `1,2€`, `0  ` divides by a million), as LibreOffice set to the locale does.
-                _ if is_group(c) && after_placeholder(i) => out.push(','),
+                // `1,2€`, `0  ` divides by a million), as LibreOffice set to the locale does;
+                // but a space before a currency tag is text (`#.##0,00 [$€-407]` shows
+                // `1.234,50 €` there).
+                _ if is_group(c) && after_placeholder(i) && !before_currency_tag(i) => out.push(','),
                 // A mark that is neither the decimal nor the group here is a literal character.
                 '.' | ',' => {
                     out.push('\\');
@@ -1130,6 +1235,87 @@ impl Section {
             out.insert_str(at, "#,");
         }
     }
+}
+
+/// What the `[…]` of a format code hold, outside quotes and escapes.
+fn bracket_words(code: &str) -> Vec<&str> {
+    let mut words = Vec::new();
+    let (mut quoted, mut escaped) = (false, false);
+    for (i, c) in code.char_indices() {
+        match c {
+            _ if escaped => escaped = false,
+            '"' => quoted = !quoted,
+            '\\' if !quoted => escaped = true,
+            '[' if !quoted => {
+                if let Some(end) = code[i + 1..].find(']') {
+                    words.push(&code[i + 1..i + 1 + end]);
+                }
+            }
+            _ => {}
+        }
+    }
+    words
+}
+
+/// Marks around a month's name that stands for its first letter (`mmmmm`): the canonical
+/// code shows the full name between them, in English, and the locale's name replaces it
+/// before [`month_letters`] keeps its first letter. Private-use characters, as above.
+const MONTH_LETTER_OPEN: char = '\u{F8F2}';
+const MONTH_LETTER_CLOSE: char = '\u{F8F3}';
+
+/// A date code's `mmmmm` (the month's first letter, "J–D" in English: Microsoft's "Number
+/// format codes") as the full name between [`MONTH_LETTER_OPEN`] and [`MONTH_LETTER_CLOSE`],
+/// so that the letter is the first of the month's name in the code's language (fr-FR `m`
+/// for `mars`), as LibreOffice set to the locale shows it. Quoted text, escapes and `[…]`
+/// are left alone.
+fn month_letter_code(code: &str) -> String {
+    let chars: Vec<char> = code.chars().collect();
+    let mut out = String::with_capacity(code.len() + 8);
+    let (mut quoted, mut bracket, mut i) = (false, false, 0);
+    while i < chars.len() {
+        let c = chars[i];
+        match c {
+            '"' => quoted = !quoted,
+            '[' if !quoted => bracket = true,
+            ']' if !quoted => bracket = false,
+            '\\' if !quoted => {
+                out.extend(chars[i..(i + 2).min(chars.len())].iter());
+                i += 2;
+                continue;
+            }
+            'm' | 'M' if !quoted && !bracket => {
+                let run = chars[i..].iter().take_while(|m| m.eq_ignore_ascii_case(&'m')).count();
+                if run == 5 {
+                    out.extend(['\\', MONTH_LETTER_OPEN, 'm', 'm', 'm', 'm', '\\', MONTH_LETTER_CLOSE]);
+                } else {
+                    out.extend(&chars[i..i + run]);
+                }
+                i += run;
+                continue;
+            }
+            _ => {}
+        }
+        out.push(c);
+        i += 1;
+    }
+    out
+}
+
+/// What [`month_letter_code`]'s code showed, each marked month name as its first letter.
+fn month_letters(shown: &str) -> String {
+    if !shown.contains(MONTH_LETTER_OPEN) {
+        return shown.to_string();
+    }
+    let mut out = String::with_capacity(shown.len());
+    let mut rest = shown;
+    while let Some((before, after)) = rest.split_once(MONTH_LETTER_OPEN) {
+        out.push_str(before);
+        let (name, tail) = after.split_once(MONTH_LETTER_CLOSE).unwrap_or((after, ""));
+        out.extend(name.chars().next());
+        rest = tail;
+    }
+    out.push_str(rest);
+    out
 }
 
 /// Whether a format code has a `/` outside quotes and not escaped (a fraction's).
@@ -1451,6 +1637,91 @@ mod tests {
             (de, "12 March"),
             (et, "12 märts."),
             (de, "32 März"),
+        ] {
+            assert_eq!(read(l, text), None, "{l}: {text}");
+        }
+    }
+
+    /// TEXT of `n` with `code` typed in `l`, as TEXT computes it.
+    fn text(l: Locale, n: f64, code: &str) -> String {
+        let canonical = l.canonical_format_code(code);
+        let format = crate::eval::functions::NumberFormat::parse(&canonical).unwrap();
+        literal_marks(&l.localize_formatted(&canonical, &format.format_number(n, DateSystem::From1900).unwrap()))
+    }
+
+    /// LibreOffice 7.4 set to each locale, TEXT of 1234.5 and of 2025-03-12 (serial 45728):
+    /// a space before a currency tag is text, not a scaling group mark (a plain `€` after
+    /// the space still scales: `.1,23€`); `mmmmm` is the first letter of the month's name in
+    /// the code's language; colour words are the locale's (de-DE `[Rot]`, not `[Red]`).
+    #[test]
+    fn currency_tags_month_letters_and_colour_words_as_libreoffice_reads_them() {
+        let (de, fr, et) = (locale("de-DE"), locale("fr-FR"), locale("et-EE"));
+        for l in [fr, et] {
+            assert_eq!(text(l, 1234.5, "#.##0,00 [$€-407]"), "1.234,50 €", "{l}");
+            assert_eq!(text(l, 1234.5, "#.##0,00 [$€]"), "1.234,50 €", "{l}");
+            assert_eq!(text(l, 1234.5, "0,00 [$€-407]"), "1234,50 €", "{l}");
+            assert_eq!(text(l, 1234.5, "#.##0,00 €"), ".1,23€", "{l}");
+        }
+        assert_eq!(text(de, 1234.5, "#.##0,00 [$€-407]"), "1.234,50 €");
+        assert_eq!(text(de, 45728.0, "mmmmm"), "M");
+        assert_eq!(text(fr, 45728.0, "mmmmm"), "m");
+        assert_eq!(text(de, 45728.0, "[$-40C]mmmmm"), "m");
+        assert_eq!(text(fr, 45728.0, r"[$-407]mmmmm \m\m\m\m\m mmmm"), "M mmmmm März");
+        assert_eq!(de.foreign_colour("0;[Red]-0"), Some("[Red]".to_string()));
+        assert_eq!(de.foreign_colour("[Color10]0"), Some("[Color10]".to_string()));
+        assert_eq!(de.foreign_colour("[rot]0;[Farbe10]-0;\"[Red]\""), None);
+        assert_eq!(fr.foreign_colour("[Rot]0"), Some("[Rot]".to_string()));
+        assert_eq!(et.foreign_colour("[RED]0;[Color3]-0;[$-407][>1]"), None);
+        assert_eq!(Locale::EN_US.foreign_colour("[Rot]0"), None);
+    }
+
+    /// LibreOffice 7.4 set to each locale reading VALUE's text: its own words for before and
+    /// after noon and not en-US's (de-DE, et-EE), an hour alone with them, ISO 8601's `T`,
+    /// and a weekday's full name before a date (2025-03-12 is serial 45728, 14:30 is
+    /// 14.5/24 of a day).
+    #[test]
+    fn meridiems_iso_times_and_weekdays_read_as_libreoffice_reads_them() {
+        let (de, fr, et) = (locale("de-DE"), locale("fr-FR"), locale("et-EE"));
+        let read = |l: Locale, text: &str| l.read_number(text, DateSystem::From1900);
+        let close = |l: Locale, text: &str, serial: f64| {
+            let found = read(l, text);
+            assert!(found.is_some_and(|f| (f - serial).abs() < 1e-9), "{l}: {text}: {found:?}");
+        };
+        let half_past_two = 14.5 / 24.0;
+        for (l, text, serial) in [
+            (de, "2:30 nachm.", half_past_two),
+            (de, "2:30NACHM.", half_past_two),
+            (de, "2 nachm.", 14.0 / 24.0),
+            (de, "12:30 vorm.", 0.5 / 24.0),
+            (de, "12.03.2025 2:30 nachm.", 45728.0 + half_past_two),
+            (et, "2:30 p.l", half_past_two),
+            (et, "2 p.l", 14.0 / 24.0),
+            (fr, "2 pm", 14.0 / 24.0),
+            (fr, "2:30 PM", half_past_two),
+            (de, "2025-03-12T14:30", 45728.0 + half_past_two),
+            (fr, "2025-3-12t14:30", 45728.0 + half_past_two),
+            (et, "2025-03-12T14:30:15,5", 45728.0 + (14.5 * 3600.0 + 15.5) / 86400.0),
+            (de, "Mittwoch, 12. März 2025", 45728.0),
+            (de, "montag 12.03.2025", 45728.0),
+            (de, "Mittwoch, 12.03.2025 14:30", 45728.0 + half_past_two),
+            (fr, "mercredi 12 mars 2025", 45728.0),
+            (fr, "mercredi 12/03/2025", 45728.0),
+            (et, "kolmapäev, 12. märts 2025", 45728.0),
+        ] {
+            close(l, text, serial);
+        }
+        for (l, text) in [
+            (de, "2:30 PM"),
+            (de, "2:30 pm"),
+            (et, "2:30 AM"),
+            (de, "2:30 nachm"),
+            (et, "2:30 p.l."),
+            (de, "Mittwoch,12.03.2025"),
+            (de, "Mi, 12.03.2025"),
+            (fr, "mercredi, 12 mars 2025"),
+            (de, "mercredi 12 mars 2025"),
+            (de, "Mittwoch"),
+            (de, "12.03.2025 2 nachm."),
         ] {
             assert_eq!(read(l, text), None, "{l}: {text}");
         }

@@ -245,6 +245,10 @@ fn text_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let locale = ctx.locale();
     let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
     if let Value::Text(format) = &values[1] {
+        if let Some(colour) = locale.foreign_colour(format) {
+            let why = format!("TEXT cannot use the format \"{format}\": {colour} is no colour word in {locale}");
+            return Err(ctx.explain(XlError::Value, why));
+        }
         if NumberFormat::parse(&locale.canonical_format_code(format)).is_err() {
             let why =
                 format!("TEXT cannot use the format \"{format}\" (digit placeholders in dates are not supported)");
@@ -256,7 +260,11 @@ fn text_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         if let Value::Error(e) = &v[0] {
             return Err(*e);
         }
-        let code = locale.canonical_format_code(&to_text(&v[1])?);
+        let typed = to_text(&v[1])?;
+        if locale.foreign_colour(&typed).is_some() {
+            return Err(XlError::Value);
+        }
+        let code = locale.canonical_format_code(&typed);
         let format = NumberFormat::parse(&code)?;
         let shown = match &v[0] {
             // A boolean is text to TEXT: the text section formats it.
