@@ -1099,3 +1099,32 @@ fn a_variant_for_counter_holds_the_type_of_its_start_and_steps() {
     );
     assert_eq!(out, ["Integer Integer Integer|Integer Integer Long |Integer Double Double |Long"]);
 }
+
+// [MS-VBAL] 5.6.13.1 "Index Expressions": an index applied to a variable whose Variant holds
+// an array names that array's element as a variable, so `a(1)(2) = 7` changes the array held
+// by `a(1)`, keeping its bounds (2.2: an array value carries them); arrays are copied on
+// assignment (5.4.3.8 "Let Statement"), so the array assigned from and a copy stay as they were.
+#[test]
+fn an_item_of_an_array_held_by_an_array_item_is_assigned() {
+    let out = run("Sub Main()\n    Dim A(1 To 2), b(1 To 3)\n    b(1) = 1: b(2) = 2: b(3) = 3\n    A(1) = b\n\
+                   \x20   A(1)(2) = 7\n    Debug.Print A(1)(2)\n    Debug.Print b(2)\n    Debug.Print LBound(A(1))\n\
+                   \x20   A(2) = Array(Array(1, 2), Array(3, 4))\n    A(2)(1)(0) = \"x\"\n    Debug.Print A(2)(1)(0) & A(2)(0)(0)\n\
+                   \x20   Dim v\n    v = A\n    v(1)(3) = 9\n    Debug.Print A(1)(3)\n    Debug.Print v(1)(3)\n\
+                   \x20   Set A(2)(0)(1) = New Collection\n    Set c = A(2)(0)(1)\n    c.Add 5\n\
+                   \x20   Set d = A(2)(0)(1)\n    Debug.Print d.Count\n\
+                   \x20   On Error Resume Next\n    A(1)(4) = 1\n    Debug.Print Err.Number\n    Err.Clear\n\
+                   \x20   A(1)(1)(1) = 1\n    Debug.Print Err.Number\nEnd Sub\n");
+    assert_eq!(out.printed, [" 7 ", " 2 ", " 1 ", "x1", " 3 ", " 9 ", " 1 ", " 9 ", " 13 "]);
+}
+
+// [MS-VBAL] 5.6.13.1 "Index Expressions" and 5.3.1.11 (ByRef arguments): an argument `b(i)`
+// passed ByRef is the element itself, its index evaluated once when the argument list is
+// evaluated, left to right ("Calling Sub and Function procedures": arguments in order).
+#[test]
+fn a_byref_item_argument_evaluates_its_index_once() {
+    let out = run("Dim k\nFunction NextIndex()\n    k = k + 1\n    Debug.Print \"index \" & k\n    NextIndex = k\nEnd Function\n\
+                   Sub Twice(v, w)\n    v = v * 10\n    Debug.Print \"w \" & w\nEnd Sub\n\
+                   Sub Main()\n    Dim b(1 To 3)\n    b(1) = 1: b(2) = 2: b(3) = 3\n    Twice b(NextIndex()), NextIndex()\n\
+                   \x20   Debug.Print b(1) & \" \" & b(2) & \" \" & b(3)\nEnd Sub\n");
+    assert_eq!(out.printed, ["index 1", "index 2", "w 2", "10 2 3"]);
+}

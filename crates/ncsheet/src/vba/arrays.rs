@@ -264,6 +264,21 @@ impl Interp<'_, '_> {
         Some(at.map(|at| (var.clone(), at)))
     }
 
+    /// The item `name(at)` an argument `e` (an item reference) passes, `at` evaluated already.
+    pub(super) fn item_argument(&self, e: &Expr, name: &str, at: &[Expr]) -> Run<Var> {
+        let ExprKind::Host(id) = e.kind else { unreachable!("an item reference is a node") };
+        let span = self.expr_span(e);
+        self.noting_date(id, || {
+            let at = at.iter().map(|e| self.index(e, "the index")).collect::<Run<Vec<i64>>>()?;
+            let Some(Var::Array(a)) = self.lookup(name) else {
+                return Err(self.fault_at(span, format!("{name} is not an array")));
+            };
+            let k = self.element_at(&a, &at).map_err(|m| self.subscript_error(span, name, m))?;
+            self.gave_date(a.holds_date(k));
+            Ok(a.item(k))
+        })
+    }
+
     /// The item `name(at)` given what a ByRef parameter holds after the call: a value, an
     /// array with its bounds or an object (a Type is left as it was).
     pub(super) fn give_back_item(&self, name: &Rc<str>, at: &[Expr], var: Var, date: bool, span: Span) -> Run<()> {
@@ -474,3 +489,144 @@ pub(super) fn typed_items(mut a: VArray, ty: Option<&Ty>, name: &str) -> Result<
     a.dates = None;
     Ok(a)
 }
+
+/// Writing into an item of an item: `a(1)(2) = 7` where `a(1)` holds an array.
+impl Interp<'_, '_> {
+    /// The array variable and the index lists of `a(i)(j)…`, outermost first, when node `id`
+    /// is such an item.
+    fn nested_item(&self, id: u32) -> Option<(Rc<str>, Vec<&[Expr]>)> {
+        let mut chain = Vec::new();
+        let mut node = &self.module.nodes[id as usize];
+        loop {
+            match node {
+                Node::Index { base, index, .. } => {
+                    chain.push(index.as_slice());
+                    let ExprKind::Host(inner) = base.kind else { return None };
+                    node = &self.module.nodes[inner as usize];
+                }
+                Node::Element { var, index, .. } => {
+                    chain.push(index.as_slice());
+                    chain.reverse();
+                    return Some((var.clone(), chain));
+                }
+                _ => return None,
+            }
+        }
+    }
+
+    pub(super) fn is_nested_item(&self, id: u32) -> bool {
+        self.nested_item(id).is_some()
+    }
+
+    /// `a(i)(j) = v` / `Set a(i)(j) = obj`: the item of the array that `a(i)` holds, which
+    /// is a part of `a` ([MS-VBAL] 2.2: an array item of a Variant holds the array value,
+    /// and an index expression on it names its element as a variable, 5.6.13.1). The value
+    /// is evaluated first, then the indexes left to right, as for `a(i) = v`.
+    pub(super) fn set_nested_item(&self, id: u32, value: &Expr, set: bool, span: Span) -> Run<()> {
+        let (name, chain) = self.nested_item(id).expect("a nested item");
+        let item = match set {
+            true => self.item_var(value)?,
+            false => match self.item_given(value)? {
+                Ok(array) => Var::Array(array),
+                Err(v) => Var::Value(v),
+            },
+        };
+        let date = matches!(&item, Var::Value(v) if !set && self.as_date(value, v).is_some());
+        let item = match item {
+            Var::Obj(Obj::Value(Value::Blank)) | Var::Value(Value::Blank) if set => Var::Obj(Obj::Value(Value::Blank)),
+            Var::Value(_) | Var::Array(_) | Var::Obj(Obj::Value(_)) if set => {
+                return Err(self.fault_at(span, "Set needs an object (a Range, a Worksheet, …)"))
+            }
+            Var::Record(..) => return Err(self.fault_at(span, "a Type value cannot be an item of a Variant's array")),
+            other => other,
+        };
+        let mut at = Vec::new();
+        for index in &chain {
+            at.push(index.iter().map(|e| self.index(e, "the index")).collect::<Run<Vec<i64>>>()?);
+        }
+        match self.lookup(&name) {
+            Some(Var::Array(_)) => {}
+            Some(Var::Obj(Obj::Store(_))) => {
+                return Err(self.fault_at(
+                    span,
+                    format!(
+                        "{name}(…)(…) = …: a Collection's or a Dictionary's item is given as a copy, which VBA changes \
+                         and drops; take the item into a variable, change it and put it back"
+                    ),
+                ))
+            }
+            _ => return Err(self.fault_at(span, format!("{name} is not an array (Dim {name}(…) first)"))),
+        }
+        let bytes = match &item {
+            Var::Value(v) => super::budget::value_bytes(v),
+            Var::Array(a) => super::budget::value_bytes(&Value::Array(a.data.clone())),
+            _ => 0,
+        };
+        self.charge(bytes, span)?;
+        let result = self.with_slot(&name, |slot| {
+            if matches!(slot.ty, Some(ref t) if !matches!(t, Ty::Variant)) {
+                let why = "holds a value, not an array";
+                return Err((13, format!("Type mismatch (run-time error 13): {}(…) {why}", slot.name)));
+            }
+            let own = slot.name.clone();
+            let Var::Array(a) = slot.var_mut() else { return Err((13, format!("{own} is not an array"))) };
+            self.put_nested(a, &own, &at, item, date)
+        });
+        match result {
+            Some(Ok(old)) => old.map_or(Ok(()), |o| self.release(&Var::Obj(o))),
+            Some(Err((code, m))) => {
+                let mut f = self.fault_at(span, m);
+                f.code = code;
+                Err(f)
+            }
+            None => Err(self.fault_at(span, format!("{name} is not an array (Dim {name}(…) first)"))),
+        }
+    }
+
+    /// Puts `item` at `at` (one index list per level) in `a`, taking each inner array out
+    /// while it changes so that only a shared one is copied. Gives the object it replaced.
+    fn put_nested(&self, a: &mut VArray, own: &str, at: &[Vec<i64>], item: Var, date: bool) -> NestedPut {
+        let out_of_range = |m| (9, format!("Subscript out of range (run-time error 9): {own}: {m}"));
+        let k = self.element_at(a, &at[0]).map_err(out_of_range)?;
+        if at.len() > 1 {
+            let held = a.arrays.as_mut().and_then(|arrays| Rc::make_mut(arrays).remove(&k));
+            let taken = std::mem::take(&mut Rc::make_mut(&mut a.data).data[k]);
+            let mut inner = match (held, super::value::array_var(taken.clone(), self.module.base)) {
+                (Some(inner), _) => inner,
+                (None, Var::Array(inner)) => inner,
+                (None, _) => {
+                    Rc::make_mut(&mut a.data).data[k] = taken;
+                    return Err((13, format!("Type mismatch (run-time error 13): {own}(…) holds no array")));
+                }
+            };
+            let old = self.put_nested(&mut inner, own, &at[1..], item, date);
+            Rc::make_mut(&mut a.data).data[k] = Value::Array(inner.data.clone());
+            Rc::make_mut(a.arrays.get_or_insert_with(Default::default)).insert(k, inner);
+            return old;
+        }
+        let data = Rc::make_mut(&mut a.data);
+        data.data[k] = match &item {
+            Var::Value(v) => v.clone(),
+            Var::Array(inner) => Value::Array(inner.data.clone()),
+            _ => Value::Blank,
+        };
+        if let Some(arrays) = a.arrays.as_mut().filter(|o| o.contains_key(&k)) {
+            Rc::make_mut(arrays).remove(&k);
+        }
+        a.mark_date(k, date);
+        let old = a.objects.as_mut().and_then(|o| Rc::make_mut(o).remove(&k));
+        match item {
+            Var::Array(inner) => {
+                Rc::make_mut(a.arrays.get_or_insert_with(Default::default)).insert(k, inner);
+            }
+            Var::Obj(Obj::Value(_)) | Var::Value(_) | Var::Record(..) => {}
+            Var::Obj(o) => {
+                Rc::make_mut(a.objects.get_or_insert_with(Default::default)).insert(k, o);
+            }
+        }
+        Ok(old)
+    }
+}
+
+/// The object an item held before, or the run-time error number and message.
+type NestedPut = Result<Option<Obj>, (u32, String)>;

@@ -934,7 +934,18 @@ impl Interp<'_, '_> {
             if let (true, ExprKind::Name(caller_var)) = (p.params[index].by_ref, &a.value.kind) {
                 back.push((index, caller_var.clone()));
             } else if let Some(item) = self.item_reference(&a.value).filter(|_| p.params[index].by_ref) {
-                items_back.push((index, item?));
+                // Read at the indexes just evaluated: an index that calls a function runs once.
+                let (array, at) = item?;
+                let var = self.item_argument(&a.value, &array, &at)?;
+                if let Var::Value(v @ Value::Number(_)) = &var {
+                    match self.value_type(&a.value, v) {
+                        Declared::Double => {}
+                        ty => types.push((index, ty)),
+                    }
+                }
+                items_back.push((index, (array, at)));
+                bound.push((index, var));
+                continue;
             }
             if let ExprKind::Name(n) = &a.value.kind {
                 if let Some(record @ Var::Record(..)) = self.lookup(n) {
@@ -1555,6 +1566,7 @@ impl Interp<'_, '_> {
                 let date = self.as_date(value, &v).is_some();
                 self.set_element(name, index, v, date, span)
             }
+            Target::Node(id) if self.is_nested_item(*id) => self.set_nested_item(*id, value, set, span),
             Target::Node(id) => self.assign_node(*id, value),
         }
     }

@@ -722,6 +722,9 @@ impl<'s> Build<'s> {
     }
 
     pub(super) fn target(&self, pair: Pair<Rule>) -> Res<Target> {
+        if !self.path_indexed(&pair)?.1.is_empty() {
+            return self.nested_target(pair);
+        }
         let path = self.path_syntax(&pair)?;
         if !path.with && path.links.len() == 1 {
             let link = &path.links[0];
@@ -751,6 +754,24 @@ impl<'s> Build<'s> {
         match self.node(Node::Path(path), start(&pair), end).kind {
             ExprKind::Host(id) => Ok(Target::Node(id)),
             _ => unreachable!("a node"),
+        }
+    }
+
+    /// `a(i)(j) = v`: an item of the array an array variable's item holds, read as in an
+    /// expression; other indexed results (`f(x)(i)`, `c.Item(k)(i)`) are values, not variables.
+    fn nested_target(&self, pair: Pair<Rule>) -> Res<Target> {
+        let e = self.path_expr(pair.clone(), false)?;
+        let mut id = match e.kind {
+            ExprKind::Host(id) => id,
+            _ => return Err(self.not_indexed_here(&pair)),
+        };
+        let target = id;
+        loop {
+            match &self.nodes.borrow()[id as usize] {
+                Node::Index { base: Expr { kind: ExprKind::Host(inner), .. }, .. } => id = *inner,
+                Node::Element { .. } => return Ok(Target::Node(target)),
+                _ => return Err(self.not_indexed_here(&pair)),
+            }
         }
     }
 
