@@ -1128,3 +1128,19 @@ fn a_byref_item_argument_evaluates_its_index_once() {
                    \x20   Debug.Print b(1) & \" \" & b(2) & \" \" & b(3)\nEnd Sub\n");
     assert_eq!(out.printed, ["index 1", "index 2", "w 2", "10 2 3"]);
 }
+
+// [MS-VBAL] 5.4.3.8 "Let Statement" and 5.6.13.1 "Index Expressions": `o.Field(i) = v` names
+// the element of the object's public array variable, converted to the array's declared item
+// type ("Type conversion functions": CDbl("2.5") is 2.5); a Variant array's item takes an array.
+#[test]
+fn an_item_of_an_objects_public_array_is_assigned() {
+    let class = "Public Items As Variant\nPublic Fixed(1 To 3) As Double\n";
+    let out = with_classes(
+        "Sub Main()\n    Dim o As New Holder\n    o.Items = Array(1, 2, 3)\n    o.Items(1) = 9\n    o.Fixed(2) = \"2.5\"\n\
+         \x20   o.Items(2) = Array(7, 8)\n    Debug.Print o.Items(1) + o.Fixed(2)\n    v = o.Items\n    Debug.Print v(2)(1)\n\
+         \x20   On Error Resume Next\n    o.Fixed(4) = 1\n    Debug.Print Err.Number\nEnd Sub\n",
+        &[("Holder", class)],
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.printed, [" 11.5 ", " 8 ", " 9 "]);
+}

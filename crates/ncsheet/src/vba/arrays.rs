@@ -585,7 +585,7 @@ impl Interp<'_, '_> {
 
     /// Puts `item` at `at` (one index list per level) in `a`, taking each inner array out
     /// while it changes so that only a shared one is copied. Gives the object it replaced.
-    fn put_nested(&self, a: &mut VArray, own: &str, at: &[Vec<i64>], item: Var, date: bool) -> NestedPut {
+    pub(super) fn put_nested(&self, a: &mut VArray, own: &str, at: &[Vec<i64>], item: Var, date: bool) -> NestedPut {
         let out_of_range = |m| (9, format!("Subscript out of range (run-time error 9): {own}: {m}"));
         let k = self.element_at(a, &at[0]).map_err(out_of_range)?;
         if at.len() > 1 {

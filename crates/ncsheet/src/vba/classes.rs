@@ -14,7 +14,7 @@ use std::rc::Rc;
 use crate::eval::{Ctx, Value};
 use crate::formula::ast::{Expr, ExprKind};
 
-use super::ast::{Arg, ClassDef, Link, Made, Node, Part, ProcKind, PropertyKind, Span};
+use super::ast::{Arg, ClassDef, Link, Made, Node, Part, ProcKind, PropertyKind, Span, Ty};
 use super::collections::{var_obj, Handle};
 use super::interp::{Call, Fault, Interp, Run};
 use super::value::{array_var, convert, range_var, Obj, Slots, Var};
@@ -284,8 +284,11 @@ impl Interp<'_, '_> {
     fn set_field(&self, object: &Instance, link: &Link, value: &Expr) -> Run<()> {
         let name = &link.name;
         let args = link.args.as_deref().unwrap_or(&[]);
-        if self.public_field(object, name).is_none() || !args.is_empty() {
+        if self.public_field(object, name).is_none() {
             return Err(self.no_such_member(object, link));
+        }
+        if !args.is_empty() {
+            return self.set_field_item(object, link, args, value);
         }
         // `Set o.Field = obj` keeps the object; a range assigned without Set is its values.
         let var = match self.item_var(value)? {
@@ -300,6 +303,39 @@ impl Interp<'_, '_> {
             slot.replace(new)
         };
         self.release(&old)
+    }
+
+    /// `obj.Field(i) = value`: an item of a public array variable of the object, converted
+    /// to the array's item type ([MS-VBAL] 5.4.3.8: the member access names the variable, the
+    /// index its element).
+    fn set_field_item(&self, object: &Instance, link: &Link, args: &[Arg], value: &Expr) -> Run<()> {
+        let item = self.item_var(value)?;
+        let date = matches!(&item, Var::Value(v) if self.as_date(value, v).is_some());
+        let at = args.iter().map(|a| self.index(&a.value, "an array index")).collect::<Run<Vec<i64>>>()?;
+        let put = {
+            let mut fields = object.0.fields.borrow_mut();
+            let slot = fields.get_mut(&link.name).expect("a public variable");
+            let own = slot.name.clone();
+            let variant = matches!(slot.ty, None | Some(Ty::Variant));
+            let item = match item {
+                Var::Value(v) => convert(Var::Value(v), slot.ty.as_ref(), &own).map_err(|m| (13, m)),
+                other if variant => Ok(other),
+                _ => Err((13, format!("{own}: an array of a declared type holds values (type mismatch)"))),
+            };
+            match (item, slot.var_mut()) {
+                (Ok(item), Var::Array(a)) => self.put_nested(a, &own, &[at], item, date && variant),
+                (Err(e), _) => Err(e),
+                (Ok(_), _) => Err((13, format!("Type mismatch (run-time error 13): {own} is not an array"))),
+            }
+        };
+        match put {
+            Ok(old) => old.map_or(Ok(()), |o| self.release(&Var::Obj(o))),
+            Err((code, m)) => {
+                let mut f = self.fault_at(link.span, m);
+                f.code = code;
+                Err(f)
+            }
+        }
     }
 
     /// Calls a member procedure for `object`, the arguments checked first (the parser does
