@@ -386,3 +386,39 @@ fn range_delete_and_insert_with_a_shift_and_without_one() {
     let e = vba::run(&mut wb, src, "edits.bas", &RunOptions::default()).unwrap_err().to_string();
     assert!(e.contains("xlShiftUp or xlShiftToLeft"), "{e}");
 }
+
+#[test]
+fn a_document_row_insert_moves_values_formulas_and_formats() {
+    use ncsheet::document::{Document, OpenOptions};
+    let csv = b"1,2\n=A1+B1,\n".to_vec();
+    let mut doc = Document::open(csv, &OpenOptions::named("parts.csv")).unwrap();
+    doc.set(0, at("C1"), "2025-03-12").unwrap();
+    let shown = doc.shown(0, at("C1"));
+    assert!(shown.contains('/'), "typed as a date, shown as one: {shown}");
+    doc.shift_cells(0, SheetEdit::rows(0, 1, true)).unwrap();
+    assert_eq!(doc.workbook().formula(0, at("A3")).as_deref(), Some("=A2+B2"));
+    assert_eq!(doc.workbook().value(0, at("A3")), n(3.0));
+    // The date keeps the look it was typed with, in its new row; row 1 has none.
+    assert_eq!(doc.shown(0, at("C2")), shown);
+    assert_eq!(doc.shown(0, at("C1")), "");
+    doc.shift_cells(0, SheetEdit::rows(1, 1, false)).unwrap();
+    assert_eq!(doc.workbook().value(0, at("A2")), bad());
+}
+
+#[test]
+fn a_spill_and_hidden_rows_move_whole() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, 0, "A3", "=SEQUENCE(3)");
+    set(&mut wb, 0, "B1", "=SUM(A3#)");
+    wb.set_row_hidden(0, 4, Some(ncsheet::eval::RowHidden::Manually));
+    wb.shift_cells(0, SheetEdit::rows(0, 1, false)).unwrap();
+    assert_eq!(column(&wb, 0, "A", 5), ["", "1", "2", "3", ""]);
+    // B1 was deleted with row 1; the hidden row 5 is row 4 now.
+    assert_eq!(wb.value(0, at("B1")), Value::Blank);
+    assert_eq!(wb.hidden_rows(0).iter().map(|&(r, _)| r).collect::<Vec<_>>(), [3]);
+    set(&mut wb, 0, "C1", "=SUM(A2#)");
+    assert_eq!(wb.value(0, at("C1")), n(6.0));
+    wb.shift_cells(0, SheetEdit::rows(0, 1, true)).unwrap();
+    assert_eq!(wb.formula(0, at("C2")).as_deref(), Some("=SUM(A3#)"));
+    assert_eq!(wb.value(0, at("C2")), n(6.0));
+}

@@ -20,11 +20,16 @@
 use std::path::{Path, PathBuf};
 
 use crate::eval::Settings;
-use crate::formula::address::Pos;
+use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::SheetId;
 use crate::io::{self, xlsx, Encoded, Format, Opened, Origin};
 use crate::vba::{self, ModuleKind, RunOptions, VbaProject};
-use crate::workbook::{Problem, ProblemKind, Workbook};
+use crate::workbook::{Axis, Problem, ProblemKind, SheetEdit, Workbook, WorkbookError};
+
+/// What is kept by cell (a format) moved with its cell by `edit`; a deleted cell's dropped.
+fn follow_positions<T>(map: &mut std::collections::HashMap<Pos, T>, edit: &SheetEdit) {
+    *map = std::mem::take(map).into_iter().filter_map(|(p, v)| edit.moved(p).map(|to| (to, v))).collect();
+}
 
 /// How to read a document's bytes.
 #[derive(Clone, Debug, Default)]
@@ -216,6 +221,31 @@ impl Document {
         let layout = self.opened.layout.get_or_insert_with(Default::default);
         let formats = &mut layout.sheets.entry(name).or_default().number_formats;
         formats.entry(pos).or_insert_with(|| code.to_string());
+    }
+
+    /// Inserts or deletes rows, columns or a rectangle's cells (a front end's "insert row"),
+    /// as [`Workbook::shift_cells`] does: every reference follows its cells, and so do the
+    /// cells' number formats, the columns' widths and the file's array formulas. Refused,
+    /// with nothing changed, where Excel refuses (an array cut through).
+    pub fn shift_cells(&mut self, sheet: SheetId, edit: SheetEdit) -> Result<(), WorkbookError> {
+        self.opened.workbook.shift_cells(sheet, edit)?;
+        let name = self.opened.workbook.sheet_names().into_iter().nth(sheet as usize).unwrap_or_default();
+        let Some(layout) = self.opened.layout.as_mut().and_then(|l| l.sheets.get_mut(&name)) else { return Ok(()) };
+        follow_positions(&mut layout.number_formats, &edit);
+        layout.array_formulas = std::mem::take(&mut layout.array_formulas)
+            .into_values()
+            .filter_map(|a| {
+                let (anchor, first, last) =
+                    (edit.moved(a.anchor)?, edit.moved(a.area.first)?, edit.moved(a.area.last)?);
+                Some((anchor, xlsx::ArrayFormula { anchor, area: Rect::new(first, last), ..a }))
+            })
+            .collect();
+        if edit.axis == Axis::Columns {
+            let widths = std::mem::take(&mut layout.column_widths).into_iter();
+            let moved = |(col, w): (u16, f64)| edit.moved_line(u32::from(col)).map(|c| (c as u16, w));
+            layout.column_widths = widths.filter_map(moved).collect();
+        }
+        Ok(())
     }
 
     /// The clock and random sequence the formulas read.

@@ -127,13 +127,23 @@ impl SheetEdit {
         }
     }
 
-    /// Where the cell at `p` goes: `Ok(p)` unmoved or moved, `Err(())` deleted.
-    fn cell(&self, p: Pos) -> Result<Pos, ()> {
+    /// Where the cell at `p` goes (what is kept by position, a cell's format, follows it):
+    /// `None` when it is deleted.
+    pub fn moved(&self, p: Pos) -> Option<Pos> {
         let (along, across) = self.split(p);
         if !self.covers((across, across)) {
-            return Ok(p);
+            return Some(p);
         }
-        self.index(along).map(|a| self.join(a, across)).ok_or(())
+        self.index(along).map(|a| self.join(a, across))
+    }
+
+    /// Where row (for `Axis::Rows`; else column) `index` goes, with what is kept by row
+    /// (a height, hiddenness) or column (a width): only whole rows (columns) move them.
+    pub fn moved_line(&self, index: u32) -> Option<u32> {
+        match self.band {
+            Some(_) => Some(index),
+            None => self.index(index),
+        }
     }
 
     /// Whether the edit would cut through an array's area `rect` (part of it moved or
@@ -204,9 +214,9 @@ impl Workbook {
                 }
             }
         }
-        self.follow_names(sheet, &edit);
+        let names_moved = self.follow_names(sheet, &edit);
         self.shift_lines(sheet, &edit);
-        if let Some(log) = &mut self.changes {
+        if let Some(log) = self.changes.as_mut().filter(|_| names_moved) {
             log.names = true;
         }
         self.names_unlinked = true;
@@ -242,7 +252,7 @@ impl Workbook {
             if !on_sheet && c.formula == NO_FORMULA {
                 continue;
             }
-            let to = if on_sheet { edit.cell(c.pos).ok() } else { Some(c.pos) };
+            let to = if on_sheet { edit.moved(c.pos) } else { Some(c.pos) };
             if c.formula != NO_FORMULA {
                 let tree = self.formula_tree(c.sheet, c.pos).expect("a formula cell has a tree");
                 let followed = follow_tree(&tree, c.sheet, c.pos, to.unwrap_or(c.pos), sheet, edit);
@@ -275,8 +285,9 @@ impl Workbook {
         Ok(moves)
     }
 
-    /// Defined names whose references are absolute follow the edit too.
-    fn follow_names(&mut self, sheet: SheetId, edit: &SheetEdit) {
+    /// Defined names whose references are absolute follow the edit too; whether one did.
+    fn follow_names(&mut self, sheet: SheetId, edit: &SheetEdit) -> bool {
+        let mut moved = false;
         for i in 0..self.names.len() {
             let name = &self.names[i];
             // A name's relative reference is read from the cell that uses it: it moves with
@@ -290,8 +301,10 @@ impl Workbook {
             let origin = Pos::new(0, 0);
             if let Some(tree) = follow_tree(&name.expr, home, origin, origin, sheet, edit) {
                 self.names[i].expr = Rc::new(tree);
+                moved = true;
             }
         }
+        moved
     }
 
     /// Hidden rows and column widths move with whole rows and columns.
