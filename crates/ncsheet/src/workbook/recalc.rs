@@ -6,7 +6,7 @@
 //! Dynamic arrays spill into the cells below/right of their formula. Cells whose value
 //! changed by a spill are recalculated in a following pass.
 
-use crate::eval::{too_many_items, Array, Ctx, Value, XlError};
+use crate::eval::{too_many_items, Array, Ctx, Locale, Value, XlError};
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 
 use super::graph::{FxHasher, FxMap};
@@ -227,6 +227,9 @@ pub struct Scratch {
     /// references made at run time (OFFSET, INDEX, INDIRECT): one of them that turns out
     /// circular keeps that value, as a cell whose formula names its cycle does.
     before_relink: FxMap<u32, Value>,
+    /// The locale in force for this recalculation, found once at its start: with a fixed
+    /// clock it holds the clock's year, a date conversion too many to make for every cell.
+    locale: Locale,
 }
 
 /// Entries of the search's buffers kept between recalculations.
@@ -281,6 +284,7 @@ impl Workbook {
     fn run_passes(&mut self, mut sources: Vec<u32>) {
         self.fresh_notes.clear();
         self.scratch.before_relink.clear();
+        self.scratch.locale = self.settings().locale_in_force(self.date_system());
         if let Some(functions) = &self.user_functions {
             functions.begin_recalculation();
         }
@@ -568,8 +572,7 @@ impl Workbook {
     pub(super) fn evaluate(&mut self, id: u32, late: &mut Vec<u32>) {
         let cell = &self.cells[id as usize];
         let formula = self.formulas.get(cell.formula);
-        let locale = self.settings().locale_in_force(self.date_system());
-        let mut ctx = Ctx::for_cell_of(self, (self.date_system(), locale), cell.sheet, cell.pos);
+        let mut ctx = Ctx::for_cell_of(self, (self.date_system(), self.scratch.locale), cell.sheet, cell.pos);
         ctx.numbers = &formula.numbers;
         let value = ctx.eval_formula(&formula.expr);
         let (notes, dynamic_refs) = ctx.into_findings();
