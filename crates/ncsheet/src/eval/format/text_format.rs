@@ -341,12 +341,22 @@ enum Denominator {
     Fixed(u64),
 }
 
+/// The largest fixed denominator shown (2^53): past it the denominator and the numerator
+/// are no longer whole numbers a double holds exactly, and a denominator past a u64 came
+/// out as garbage digits (issue 30).
+const MAX_FIXED_DENOMINATOR: u64 = 1 << 53;
+
+/// A fraction section whose fixed denominator is past `MAX_FIXED_DENOMINATOR`: the number
+/// is shown as General, as LibreOffice shows `# ?/100000000000000000000`.
+struct DenominatorPastResolution;
+
 impl FractionLayout {
-    fn of(tokens: &[Tok]) -> Option<FractionLayout> {
-        let slash = tokens.iter().position(|t| *t == Tok::Lit("/".to_string()))?;
+    /// The fraction layout of a section, `Ok(None)` when it is no fraction.
+    fn of(tokens: &[Tok]) -> Result<Option<FractionLayout>, DenominatorPastResolution> {
+        let Some(slash) = tokens.iter().position(|t| *t == Tok::Lit("/".to_string())) else { return Ok(None) };
         let numerator_at = tokens[..slash].iter().rposition(|t| !matches!(t, Tok::Digit(_))).map_or(0, |p| p + 1);
         if numerator_at == slash {
-            return None;
+            return Ok(None);
         }
         let after = &tokens[slash + 1..];
         let placeholders = after.iter().take_while(|t| matches!(t, Tok::Digit(_))).count();
@@ -361,19 +371,22 @@ impl FractionLayout {
                     _ => "0".to_string(),
                 })
                 .collect();
+            if text.is_empty() || text.bytes().all(|b| b == b'0') {
+                return Ok(None);
+            }
             match text.parse::<u64>() {
-                Ok(d) if d > 0 => (Denominator::Fixed(d), len),
-                _ => return None,
+                Ok(d) if d <= MAX_FIXED_DENOMINATOR => (Denominator::Fixed(d), len),
+                _ => return Err(DenominatorPastResolution),
             }
         };
-        Some(FractionLayout {
+        Ok(Some(FractionLayout {
             int_places: digit_places(&tokens[..numerator_at]),
             numerator_at,
             slash,
             denominator_end: slash + 1 + len,
             numerator_places: digit_places(&tokens[numerator_at..slash]),
             denominator,
-        })
+        }))
     }
 
     /// Integer part, numerator and denominator shown for `x` (not negative).
@@ -803,9 +816,16 @@ fn format_in_section(section: &Section, value: f64, signed: bool) -> XlResult<St
         }
         return Ok(with_sign(out, signed && value < 0.0));
     }
-    if let Some(fraction) = FractionLayout::of(&section.tokens) {
-        let body = fraction.render(&section.tokens, value.abs());
-        return Ok(with_sign(body, signed && value < 0.0));
+    match FractionLayout::of(&section.tokens) {
+        Ok(Some(fraction)) => {
+            let body = fraction.render(&section.tokens, value.abs());
+            return Ok(with_sign(body, signed && value < 0.0));
+        }
+        Ok(None) => {}
+        Err(DenominatorPastResolution) => {
+            let body = crate::eval::format::number_format::general(value.abs());
+            return Ok(with_sign(body, signed && value < 0.0));
+        }
     }
     let layout = layout(&section.tokens);
     let scientific = section.tokens.iter().any(|t| matches!(t, Tok::Exp { .. }));
@@ -1120,6 +1140,20 @@ mod tests {
             }
         }
         (best.0, best.1)
+    }
+
+    /// A fixed denominator past 2^53 (issue 30): a 21-digit one overflowed a u64 and the
+    /// section showed garbage digits ("  /100000000000000000003" for 3.25). LibreOffice 7.4
+    /// shows `# ?/100000000000000000000` as General ("3.25"), and so do we; denominators a
+    /// double holds exactly keep their fractions (LibreOffice: "3 4/16", "3 262144/1048576").
+    #[test]
+    fn a_fixed_denominator_past_a_doubles_resolution_shows_general() {
+        assert_eq!(fmt(3.25, "# ?/100000000000000000000"), "3.25");
+        assert_eq!(fmt(-3.25, "# ?/1000000000000000000000"), "-3.25");
+        assert_eq!(fmt(0.3, "?/18446744073709551616"), "0.3");
+        assert_eq!(fmt(3.25, "# ?/16"), "3 4/16");
+        assert_eq!(fmt(3.25, "# ?/1048576"), "3 262144/1048576");
+        assert_eq!(fmt(3.25, "# ?/9007199254740992"), "3 2251799813685248/9007199254740992");
     }
 
     #[test]

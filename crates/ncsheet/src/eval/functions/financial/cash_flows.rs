@@ -548,7 +548,8 @@ fn syd(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     scalar_numbers(ctx, args, &|a| {
         let (cost, salvage, life, per) = (a.num(0)?, a.num(1)?, a.num(2)?, a.num(3)?);
         check(life > 0.0 && per > 0.0 && per <= life, XlError::Num)?;
-        finite((cost - salvage) * (life - per + 1.0) * 2.0 / (life * (life + 1.0)))
+        // Divided in two steps: life × (life + 1) overflows past a life of 1E154.
+        finite((cost - salvage) * 2.0 * ((life - per + 1.0) / life) / (life + 1.0))
     })
 }
 
@@ -601,11 +602,20 @@ fn ddb_of(cost: f64, salvage: f64, life: f64, period: f64, factor: f64) -> f64 {
             0.0
         }
     } else {
-        cost * (1.0 - rate).powf(period - 1.0)
+        worth_after(cost, rate, period - 1.0)
     };
-    let after = cost * (1.0 - rate).powf(period);
-    let depreciation = if after < salvage { before - salvage } else { before - after };
+    let after = worth_after(cost, rate, period);
+    // before − after, written as before × rate: at a life of 1E16 the two worths agree to
+    // the last digit and their difference cancelled to 0.
+    let depreciation = if after < salvage { before - salvage } else { before * rate };
     depreciation.max(0.0)
+}
+
+/// What is left of `cost` after `periods` periods losing `rate` (< 1) of it each:
+/// cost × (1 − rate)^periods, through ln(1 − rate) so a rate below a double's resolution
+/// near 1 (a life past 2^53) is not rounded.
+fn worth_after(cost: f64, rate: f64, periods: f64) -> f64 {
+    cost * (periods * (-rate).ln_1p()).exp()
 }
 
 /// VDB: the declining-balance depreciation from `start` to `end` (fractions of periods
@@ -815,6 +825,31 @@ mod tests {
         for formula in ["=VDB(2400,300,10,11,12)", "=VDB(2400,300,10,2,1)", "=VDB(-1,0,5,0,1)", "=VDB(1,0,1E12,0,1E12)"]
         {
             assert_eq!(env.eval(formula), Value::Error(XlError::Num), "{formula}");
+        }
+    }
+
+    /// Depreciation at lives past a double's resolution (issue 30). DDB's closed form is
+    /// cost × (1 − f/life)^(period−1) × f/life; at life = period = 1E16, f = 2 that is
+    /// 1000 × e^−2 × 2E−16 (the power is e^((1E16−1)·ln(1−2E−16)) = e^−2 to 1E−16). The two
+    /// worths subtracted agreed to the last digit and gave 0. SYD at life 1E200 is
+    /// 2·cost/life = 2E−197, where life × (life + 1) overflowed and gave 0. Microsoft's
+    /// examples for DDB (2400, 300, 10 years) keep their values.
+    #[test]
+    fn depreciation_at_huge_lives() {
+        let env = MapEnv::with(&[]);
+        for (formula, want) in [
+            ("=DDB(1000,1,1E16,1E16)", 1000.0 * (-2f64).exp() * 2e-16),
+            ("=SYD(1000,0,1E200,1)", 2e-197),
+            ("=DDB(2400,300,3650,1)", 1.315068493150685),
+            ("=DDB(2400,300,120,1)", 40.0),
+            ("=DDB(2400,300,10,1,2)", 480.0),
+            ("=DDB(2400,300,10,2,1.5)", 306.0),
+            ("=DDB(2400,300,10,10)", 22.1225472),
+        ] {
+            match env.eval(formula) {
+                Value::Number(got) => assert!((got - want).abs() <= 1e-9 * want, "{formula}: {got}, want {want}"),
+                other => panic!("{formula}: {other:?}"),
+            }
         }
     }
 }

@@ -43,7 +43,26 @@ const MAX_ITEMS: f64 = 16_777_216.0;
 
 /// A whole number from `low` to `high` (both whole, low ≤ high), each equally likely.
 fn whole_between(env: &dyn Env, low: f64, high: f64) -> f64 {
-    (low + (env.next_random() * (high - low + 1.0)).floor()).min(high)
+    let r = env.next_random();
+    let span = high - low + 1.0;
+    if span.is_finite() {
+        (low + (r * span).floor()).min(high)
+    } else {
+        // Bounds further apart than a double holds (-1E308 to 1E308): every double that far
+        // out is whole, so the point r of the way between them is a whole number too.
+        between(low, high, r).floor().clamp(low, high)
+    }
+}
+
+/// The point `r` (0 ≤ r < 1) of the way from `min` to `max`, also when `max - min` is past
+/// a double's range.
+fn between(min: f64, max: f64, r: f64) -> f64 {
+    let span = max - min;
+    if span.is_finite() {
+        min + r * span
+    } else {
+        (min * (1.0 - r) + max * r).clamp(min, max)
+    }
 }
 
 fn rand(ctx: &mut Ctx, _: &[Expr]) -> XlResult<Value> {
@@ -74,7 +93,7 @@ fn randarray(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         return Err(ctx.explain(XlError::Num, "RANDARRAY is too large"));
     }
     let env = ctx.env;
-    let draw = || if whole { whole_between(env, min, max) } else { min + env.next_random() * (max - min) };
+    let draw = || if whole { whole_between(env, min, max) } else { between(min, max, env.next_random()) };
     let data = (0..(rows * cols) as usize).map(|_| Value::Number(draw())).collect();
     Ok(Value::Array(Rc::new(Array::new(rows as usize, cols as usize, data))))
 }
@@ -110,5 +129,22 @@ mod tests {
         assert_eq!(env.eval("=RANDBETWEEN(3, 1)"), Value::Error(XlError::Num));
         assert_eq!(env.eval("=RANDARRAY(2, 2, 5, 1)"), Value::Error(XlError::Value));
         assert_eq!(env.eval("=RANDARRAY(2, 2, 0.5, 3, TRUE)"), Value::Error(XlError::Value));
+    }
+
+    /// Bounds whose distance is past a double's range (issue 30): the draws still spread over
+    /// the whole range, where `high - low` overflowed and every draw was the top bound.
+    #[test]
+    fn bounds_further_apart_than_a_double_still_spread() {
+        let env = MapEnv::default();
+        let draws: Vec<f64> = (0..200).flat_map(|_| numbers(&env.eval("=RANDBETWEEN(-1E308, 1E308)"))).collect();
+        let whole = |k: &f64| k.is_finite() && k.fract() == 0.0 && (-1e308..=1e308).contains(k);
+        assert!(draws.iter().all(whole), "{draws:?}");
+        assert!(draws.iter().any(|k| *k < -1e307) && draws.iter().any(|k| *k > 1e307), "{draws:?}");
+        for whole_numbers in ["FALSE", "TRUE"] {
+            let formula = format!("=RANDARRAY(200, 1, -1.7E308, 1.7E308, {whole_numbers})");
+            let a = numbers(&env.eval_at(&formula, "A1").unwrap());
+            assert!(a.iter().all(|k| k.is_finite() && k.abs() <= 1.7e308), "{a:?}");
+            assert!(a.iter().any(|k| *k < -1e307) && a.iter().any(|k| *k > 1e307), "{a:?}");
+        }
     }
 }
