@@ -359,6 +359,34 @@ fn xls_sheets_whose_records_overlap_are_refused_naming_the_sheet() {
     assert!(error.contains("hostile.xls") && error.contains("'Copy") && error.contains("overlap"), "{error}");
 }
 
+/// Damaged .xls cell records (issue 30): a record cut short was read with its missing fields
+/// as 0, a formula whose length runs past its record as no formula, and a LabelSst naming a
+/// string past the shared-string table as empty text, all silently. Each is refused naming
+/// the sheet, the record ([MS-XLS] 2.4) and where it is in the Workbook stream.
+#[test]
+fn damaged_xls_cell_records_are_refused_naming_the_sheet_and_the_record() {
+    const RK: u16 = 0x027E;
+    const LABEL_SST: u16 = 0x00FD;
+    const FORMULA: u16 = 0x0006;
+    let good = vendored("excel-corpus/xls/testNames.xls");
+    let damaged = |kind: u16, change: fn(&mut Vec<u8>)| {
+        let bytes = common::vba::with_stream(&good, "/Workbook", |old| {
+            let mut list = biff_records(old);
+            let i = list.iter().position(|(k, _)| *k == kind).expect("the file holds the record");
+            change(&mut list[i].1);
+            biff_encode(&list)
+        });
+        open(bytes, Format::Xls).err().expect("refused")
+    };
+    let rk = damaged(RK, |body| body.truncate(8));
+    assert!(rk.contains("hostile.xls") && rk.contains("sheet '") && rk.contains("record RK (0x027E) at byte "), "{rk}");
+    assert!(rk.contains("cut short (8 bytes where 10 are needed)"), "{rk}");
+    let past = damaged(LABEL_SST, |body| body[6..10].copy_from_slice(&u32::MAX.to_le_bytes()));
+    assert!(past.contains("record LabelSst") && past.contains("names shared string 4294967295, past the"), "{past}");
+    let formula = damaged(FORMULA, |body| body[20..22].copy_from_slice(&[0xFF, 0xFF]));
+    assert!(formula.contains("record Formula (0x0006)") && formula.contains("cut short"), "{formula}");
+}
+
 // ---------------------------------------------------------------------------------------
 // Fuzz targets.
 

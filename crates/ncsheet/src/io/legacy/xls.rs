@@ -27,6 +27,8 @@ type AreaFormula = (Rect, Vec<u8>, Vec<u8>);
 struct Record<'a> {
     kind: u16,
     parts: Vec<&'a [u8]>,
+    /// Where its header starts in the Workbook stream (for errors).
+    at: usize,
 }
 
 impl Record<'_> {
@@ -59,6 +61,7 @@ fn substream(stream: &[u8], start: usize) -> (Vec<Record<'_>>, usize) {
         let kind = u16::from_le_bytes([stream[at], stream[at + 1]]);
         let len = u16::from_le_bytes([stream[at + 2], stream[at + 3]]) as usize;
         let Some(data) = stream.get(at + 4..at + 4 + len) else { break };
+        let header = at;
         at += 4 + len;
         match kind {
             BOF if !first => depth += 1,
@@ -81,9 +84,62 @@ fn substream(stream: &[u8], start: usize) -> (Vec<Record<'_>>, usize) {
         if kind == EOF {
             break;
         }
-        out.push(Record { kind, parts: vec![data] });
+        out.push(Record { kind, parts: vec![data], at: header });
     }
     (out, at)
+}
+
+/// MS-XLS's name of a record type the reader reads, for errors.
+fn record_name(kind: u16) -> &'static str {
+    match kind {
+        0x0006 => "Formula",
+        0x0017 => "ExternSheet",
+        0x0018 => "Lbl",
+        0x0023 => "ExternName",
+        0x0085 => "BoundSheet8",
+        0x00BD => "MulRk",
+        0x00D6 => "RString",
+        0x00E0 => "XF",
+        0x00FC => "SST",
+        0x00FD => "LabelSst",
+        0x01AE => "SupBook",
+        0x0203 => "Number",
+        0x0204 => "Label",
+        0x0205 => "BoolErr",
+        0x0207 => "String",
+        0x0221 => "Array",
+        0x0236 => "Table",
+        0x027E => "RK",
+        0x041E => "Format",
+        _ => "of an unknown type",
+    }
+}
+
+/// The refusal of a damaged record of `whose` (the workbook's globals or a sheet): where it
+/// is and what is wrong with it. A field read past a record's end was read as 0, silently.
+fn damaged_record(whose: &str, r: &Record, what: &str) -> String {
+    format!(
+        "{whose}: record {} (0x{:04X}) at byte {} of the Workbook stream {what}: a damaged file",
+        record_name(r.kind),
+        r.kind,
+        r.at
+    )
+}
+
+/// Checks that a record holds the `need` bytes of the fields read from it.
+fn holds(whose: &str, r: &Record, d: &[u8], need: usize) -> Result<(), String> {
+    if d.len() < need {
+        return Err(damaged_record(whose, r, &format!("is cut short ({} bytes where {need} are needed)", d.len())));
+    }
+    Ok(())
+}
+
+/// The formula bytes of a record whose `cce` (a u16) is at `start - 2`, and the extra bytes
+/// after them; `None` when the record is shorter than `cce` says.
+fn formula_bytes(d: &[u8], start: usize) -> Option<(Vec<u8>, Vec<u8>)> {
+    let cce = u16_at(d, start.checked_sub(2)?) as usize;
+    let rgce = d.get(start..start + cce)?.to_vec();
+    Some((rgce, d[start + cce..].to_vec()))
 }
 
 fn u16_at(b: &[u8], at: usize) -> u16 {
@@ -158,7 +214,7 @@ pub fn read(bytes: &[u8]) -> Result<Book, String> {
                  another sheet's: a damaged file"
             ));
         }
-        let sheet = read_sheet(records, name, *visibility, sheet_index, &ctx, &globals, &mut book.notes);
+        let sheet = read_sheet(records, name, *visibility, sheet_index, &ctx, &globals, &mut book.notes)?;
         cells += sheet.cells.len();
         if cells > MAX_CELLS {
             return Err(super::too_many_cells());
@@ -244,42 +300,63 @@ fn read_globals(stream: &[u8]) -> Result<Globals, String> {
     if u16_at(&bof.data(), 0) != 0x0600 {
         return Err("it is not a BIFF8 (Excel 97-2003) workbook; save it as .xlsx in Excel or LibreOffice".into());
     }
+    const WHOSE: &str = "the workbook's globals";
     for r in &records {
         let d = r.data();
+        let cut_short = || damaged_record(WHOSE, r, "is cut short");
         match r.kind {
             0x002F => return Err("the workbook is encrypted; remove the password in Excel and save again".into()),
-            0x0022 => g.date_1904 = u16_at(&d, 0) == 1,
+            0x0022 => {
+                holds(WHOSE, r, &d, 2)?;
+                g.date_1904 = u16_at(&d, 0) == 1;
+            }
             0x008C if d.len() >= 2 => g.country = Some(u16_at(&d, 0)),
             0x0085 => {
+                holds(WHOSE, r, &d, 8)?;
                 let offset = u32_at(&d, 0) as usize;
                 let visibility = match d.get(4).map(|v| v & 0x03) {
                     Some(1) => Visibility::Hidden,
                     Some(2) => Visibility::VeryHidden,
                     _ => Visibility::Visible,
                 };
-                let kind = d.get(5).copied().unwrap_or(0);
-                let cch = d.get(6).copied().unwrap_or(0) as usize;
-                let name = d.get(7..).and_then(|b| biff::unicode_string(b, cch)).map(|s| s.0).unwrap_or_default();
+                let (kind, cch) = (d[5], d[6] as usize);
+                let (name, _) = biff::unicode_string(&d[7..], cch).ok_or_else(cut_short)?;
                 g.sheets.push((name, offset, visibility, kind));
             }
-            0x00FC => g.strings = shared_strings(r),
-            0x041E => {
-                let cch = u16_at(&d, 2) as usize;
-                if let Some((code, _)) = d.get(4..).and_then(|b| biff::unicode_string(b, cch)) {
-                    g.formats.insert(u16_at(&d, 0), code);
-                }
+            0x00FC => {
+                holds(WHOSE, r, &d, 8)?;
+                g.strings = shared_strings(r);
             }
-            0x00E0 => g.xf_formats.push(u16_at(&d, 2)),
-            0x01AE => g.books.push(supbook(&d)),
-            0x0023 => external_name(&mut g.books, &d),
+            0x041E => {
+                holds(WHOSE, r, &d, 5)?;
+                let cch = u16_at(&d, 2) as usize;
+                let (code, _) = biff::unicode_string(&d[4..], cch).ok_or_else(cut_short)?;
+                g.formats.insert(u16_at(&d, 0), code);
+            }
+            0x00E0 => {
+                holds(WHOSE, r, &d, 4)?;
+                g.xf_formats.push(u16_at(&d, 2));
+            }
+            0x01AE => {
+                holds(WHOSE, r, &d, 4)?;
+                g.books.push(supbook(&d));
+            }
+            0x0023 => {
+                holds(WHOSE, r, &d, 8)?;
+                external_name(&mut g.books, &d).ok_or_else(cut_short)?;
+            }
             0x0017 => {
                 let count = u16_at(&d, 0) as usize;
+                holds(WHOSE, r, &d, 2 + 6 * count)?;
                 for i in 0..count {
                     let at = 2 + 6 * i;
                     g.xtis.push((u16_at(&d, at), u16_at(&d, at + 2) as i16, u16_at(&d, at + 4) as i16));
                 }
             }
-            0x0018 => g.names.push(defined_name(&d)),
+            0x0018 => {
+                holds(WHOSE, r, &d, 15)?;
+                g.names.push(defined_name(&d).ok_or_else(cut_short)?);
+            }
             _ => {}
         }
     }
@@ -318,22 +395,25 @@ fn supbook(d: &[u8]) -> SupBook {
     }
 }
 
-/// `ExternName`: a name of the last `SupBook` (an add-in function's, for one).
-fn external_name(books: &mut [SupBook], d: &[u8]) {
-    let cch = d.get(6).copied().unwrap_or(0) as usize;
-    let name = d.get(7..).and_then(|b| biff::unicode_string(b, cch)).map(|s| s.0).unwrap_or_default();
+/// `ExternName`: a name of the last `SupBook` (an add-in function's, for one); `None` when
+/// the record is cut short.
+fn external_name(books: &mut [SupBook], d: &[u8]) -> Option<()> {
+    let cch = *d.get(6)? as usize;
+    let (name, _) = biff::unicode_string(d.get(7..)?, cch)?;
     if let Some(SupBook::AddIns(names) | SupBook::Other(names)) = books.last_mut() {
         names.push(name);
     }
+    Some(())
 }
 
 /// `Lbl`: a defined name. Built-in names (`Print_Area`…) are stored as one character.
-fn defined_name(d: &[u8]) -> (String, Option<usize>, Vec<u8>, Vec<u8>, bool) {
+/// `None` when the record is cut short.
+fn defined_name(d: &[u8]) -> Option<NameRecord> {
     let flags = u16_at(d, 0);
-    let cch = d.get(3).copied().unwrap_or(0) as usize;
+    let cch = *d.get(3)? as usize;
     let cce = u16_at(d, 4) as usize;
     let itab = u16_at(d, 8) as usize;
-    let (mut name, used) = d.get(14..).and_then(|b| biff::unicode_string(b, cch)).unwrap_or_default();
+    let (mut name, used) = biff::unicode_string(d.get(14..)?, cch)?;
     if flags & 0x20 != 0 {
         let builtin = [
             "Consolidate_Area",
@@ -355,12 +435,12 @@ fn defined_name(d: &[u8]) -> (String, Option<usize>, Vec<u8>, Vec<u8>, bool) {
         name = format!("_xlnm.{}", builtin.get(code).copied().unwrap_or("Unknown"));
     }
     let start = 14 + used;
-    let rgce = d.get(start..start + cce).unwrap_or_default().to_vec();
-    let extra = d.get(start + cce..).unwrap_or_default().to_vec();
+    let rgce = d.get(start..start + cce)?.to_vec();
+    let extra = d[start + cce..].to_vec();
     let scope = (itab > 0).then(|| itab - 1);
     // fFunc or fOB: a macro's name, no formula of a worksheet.
     let is_macro = flags & 0x0A != 0;
-    (name, scope, rgce, extra, is_macro)
+    Some((name, scope, rgce, extra, is_macro))
 }
 
 /// The shared-string table (`SST` and its `CONTINUE`s). A string's characters may run on
@@ -378,9 +458,10 @@ fn shared_strings(r: &Record) -> Vec<Rc<str>> {
 
 /// The `XLUnicodeString` at `at` of a record (a cell's text, a formula's text result), whose
 /// characters may run on into `CONTINUE` records, each starting with a flags byte of its own
-/// (MS-XLS: a string continued in the next record): that byte is not a character.
-fn continued_string(r: &Record, at: usize) -> String {
-    PartReader { parts: &r.parts, part: 0, at }.rich_string().unwrap_or_default()
+/// (MS-XLS: a string continued in the next record): that byte is not a character. `None`
+/// when the records end before the string does.
+fn continued_string(r: &Record, at: usize) -> Option<String> {
+    PartReader { parts: &r.parts, part: 0, at }.rich_string()
 }
 
 struct PartReader<'a, 'b> {
@@ -453,8 +534,9 @@ fn read_sheet(
     ctx: &Context,
     globals: &Globals,
     notes: &mut Vec<String>,
-) -> Sheet {
+) -> Result<Sheet, String> {
     let mut sheet = Sheet { name: name.to_string(), visibility, ..Sheet::default() };
+    let whose = format!("sheet '{name}'");
     let mut formulas: Vec<FormulaRecord> = Vec::new();
     // By the first cell of their area: (area, formula bytes, extra bytes).
     let mut shared: HashMap<(u32, u32), AreaFormula> = HashMap::new();
@@ -466,6 +548,8 @@ fn read_sheet(
     };
     for r in records {
         let d = r.data();
+        holds(&whose, &r, &d, least_cell_record(r.kind))?;
+        let cut_short = || damaged_record(&whose, &r, "is cut short");
         match r.kind {
             0x0203 => put(&mut sheet, &d, Value::Number(f64_at(&d, 6)), u16_at(&d, 4)),
             0x027E => put(&mut sheet, &d, Value::Number(rk(u32_at(&d, 6))), u16_at(&d, 4)),
@@ -484,37 +568,40 @@ fn read_sheet(
                 }
             }
             0x00FD => {
-                let text = globals.strings.get(u32_at(&d, 6) as usize).cloned().unwrap_or_else(|| "".into());
+                let index = u32_at(&d, 6) as usize;
+                let Some(text) = globals.strings.get(index).cloned() else {
+                    let what = format!(
+                        "names shared string {index}, past the {} strings of the shared-string table",
+                        globals.strings.len()
+                    );
+                    return Err(damaged_record(&whose, &r, &what));
+                };
                 put(&mut sheet, &d, Value::Text(text), u16_at(&d, 4));
             }
             0x0204 | 0x00D6 => {
-                let text = continued_string(&r, 6);
+                let text = continued_string(&r, 6).ok_or_else(cut_short)?;
                 put(&mut sheet, &d, Value::Text(text.into()), u16_at(&d, 4));
             }
             0x0205 => {
-                let (v, is_error) = (d.get(6).copied().unwrap_or(0), d.get(7).copied().unwrap_or(0));
+                let (v, is_error) = (d[6], d[7]);
                 let value = if is_error != 0 { Value::Error(error_of(v)) } else { Value::Bool(v != 0) };
                 put(&mut sheet, &d, value, u16_at(&d, 4));
             }
-            0x0006 => formulas.push(formula_record(&d)),
+            0x0006 => formulas.push(formula_record(&d).ok_or_else(cut_short)?),
             0x0207 => {
-                let text = continued_string(&r, 0);
+                let text = continued_string(&r, 0).ok_or_else(cut_short)?;
                 if let Some(last) = formulas.last_mut() {
                     last.cached = Some(Value::Text(text.into()));
                 }
             }
             0x04BC => {
                 let area = ref_u(&d);
-                let cce = u16_at(&d, 8) as usize;
-                let rgce = d.get(10..10 + cce).unwrap_or_default().to_vec();
-                let extra = d.get(10 + cce..).unwrap_or_default().to_vec();
+                let (rgce, extra) = formula_bytes(&d, 10).ok_or_else(cut_short)?;
                 shared.insert((area.first.row, area.first.col), (area, rgce, extra));
             }
             0x0221 => {
                 let area = ref_u(&d);
-                let cce = u16_at(&d, 12) as usize;
-                let rgce = d.get(14..14 + cce).unwrap_or_default().to_vec();
-                let extra = d.get(14 + cce..).unwrap_or_default().to_vec();
+                let (rgce, extra) = formula_bytes(&d, 14).ok_or_else(cut_short)?;
                 arrays.insert((area.first.row, area.first.col), (area, rgce, extra));
             }
             0x0236 => {
@@ -571,7 +658,24 @@ fn read_sheet(
             cells_named(name, &cells)
         ));
     }
-    sheet
+    Ok(sheet)
+}
+
+/// The fewest bytes a cell record of a sheet holds (MS-XLS 2.4: the fields read from it,
+/// its strings' and formulas' lengths checked apart); 0 for records the reader skips.
+fn least_cell_record(kind: u16) -> usize {
+    match kind {
+        0x0203 => 14,          // Number: Cell, Xnum
+        0x027E | 0x00FD => 10, // RK: Cell, RkNumber; LabelSst: Cell, isst
+        0x00BD => 12,          // MulRk: row, first column, one RkRec, last column
+        0x0204 | 0x00D6 => 9,  // Label, RString: Cell, cch, flags
+        0x0205 | 0x0236 => 8,  // BoolErr: Cell, bBoolErr, fError; Table: RefU, flags
+        0x0006 => 22,          // Formula: Cell, result, flags, chn, cce
+        0x0207 => 3,           // String: cch, flags
+        0x04BC => 10,          // ShrFmla: RefU, reserved, cUse, cce
+        0x0221 => 14,          // Array: RefU, flags, chn, cce
+        _ => 0,
+    }
 }
 
 /// The shared formula a cell's `PtgExp` points to: the one whose area starts at `anchor`,
@@ -589,10 +693,10 @@ fn shared_formula(
 }
 
 /// A `FORMULA` record: its cell, style, cached result (a string one follows in a `STRING`
-/// record) and formula bytes.
-fn formula_record(d: &[u8]) -> FormulaRecord {
+/// record) and formula bytes; `None` when it is shorter than its fields.
+fn formula_record(d: &[u8]) -> Option<FormulaRecord> {
     let pos = (u16_at(d, 0) as u32, u16_at(d, 2) as u32);
-    let result = d.get(6..14).unwrap_or(&[0; 8]);
+    let result = d.get(6..14)?;
     let cached = if result[6] == 0xFF && result[7] == 0xFF {
         match result[0] {
             0x00 => None,
@@ -603,10 +707,8 @@ fn formula_record(d: &[u8]) -> FormulaRecord {
     } else {
         Some(Value::Number(f64_at(d, 6)))
     };
-    let cce = u16_at(d, 20) as usize;
-    let rgce = d.get(22..22 + cce).unwrap_or_default().to_vec();
-    let extra = d.get(22 + cce..).unwrap_or_default().to_vec();
-    FormulaRecord { pos, xf: u16_at(d, 4), cached, rgce, extra }
+    let (rgce, extra) = formula_bytes(d, 22)?;
+    Some(FormulaRecord { pos, xf: u16_at(d, 4), cached, rgce, extra })
 }
 
 /// `RefU`: rows as 2 bytes, columns as 1.
@@ -702,7 +804,7 @@ mod tests {
         // continues in a CONTINUE record as UTF-16.
         let sst: &[u8] = &[2, 0, 0, 0, 2, 0, 0, 0, 2, 0, 0, b'a', b'b', 3, 0, 0, b'c'];
         let cont: &[u8] = &[1, b'd', 0, 0xE9, 0];
-        let r = Record { kind: 0x00FC, parts: vec![sst, cont] };
+        let r = Record { kind: 0x00FC, parts: vec![sst, cont], at: 0 };
         assert_eq!(shared_strings(&r), ["ab".into(), "cdé".into()] as [Rc<str>; 2]);
     }
 }
