@@ -285,6 +285,22 @@ fn surface_heights_are_x_at_300_points(formula: &str) {
     }
 }
 
+/// A macro's `Evaluate` has the workbook's LAMBDA budget (`Settings::lambda_work`), as its
+/// cells do (issue 30): it had the default budget (2^28) whatever the settings said. The MAP
+/// here is past the small budget of 2^20 items of work and within the default.
+#[test]
+fn a_macros_evaluate_has_the_workbooks_lambda_budget() {
+    let mut wb = with_small_lambda_budget();
+    // A million calls, each making 5 items: about 6 million items of work.
+    let formula = "SUM(MAP(SEQUENCE(1000,1000),LAMBDA(x,SUM(SEQUENCE(1,5)))))";
+    let source = format!("Sub Main()\n    Range(\"A1\").Value = Evaluate(\"{formula}\")\nEnd Sub\n");
+    vba::run(&mut wb, &source, "evaluate.bas", &RunOptions::default()).unwrap();
+    assert_eq!(get(&wb, "A1"), Value::Error(XlError::Num));
+    let mut wb = Workbook::with_sheet();
+    vba::run(&mut wb, &source, "evaluate.bas", &RunOptions::default()).unwrap();
+    assert_eq!(get(&wb, "A1"), n(15_000_000.0), "within the default budget: 10^6 × (1 + … + 5)");
+}
+
 /// A surface evaluates its formula once per point through one evaluation context: each point
 /// has the LAMBDA work budget to itself, as each cell does. 300 points of a million items
 /// each are past one budget, not past one point's.

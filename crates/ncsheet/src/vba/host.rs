@@ -105,6 +105,14 @@ impl Env for Interp<'_, '_> {
         }
     }
 
+    // `Evaluate` and WorksheetFunction have the workbook's LAMBDA budget, as its cells do.
+    fn lambda_work_limit(&self) -> u64 {
+        match self.cells {
+            Some(cells) => cells.lambda_work_limit(),
+            None => self.wb.borrow().settings().lambda_work_limit(),
+        }
+    }
+
     fn locale(&self) -> crate::eval::Locale {
         match self.cells {
             Some(cells) => cells.locale(),
