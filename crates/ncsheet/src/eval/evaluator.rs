@@ -217,6 +217,13 @@ pub trait Host {
         None
     }
 
+    /// The text variable `name` holds while it grows in place, shared rather than copied
+    /// (`Right(s, 1)` between appends read a copy of the whole text each time); `None` for
+    /// anything else.
+    fn growing_text(&self, _name: &str) -> Option<Rc<String>> {
+        None
+    }
+
     /// The macro's module says `Option Compare Text`: InStr, InStrRev, StrComp and Split
     /// without a compare argument ignore case ([MS-VBAL] 5.2.1.4). Cells: Binary.
     fn option_compare_text(&self) -> bool {
@@ -907,6 +914,11 @@ impl<'a> Ctx<'a> {
     /// [`Host::text_length`] of the host's variable `name`, when there is a host.
     pub fn host_text_length(&self, name: &str) -> Option<usize> {
         self.host?.text_length(name)
+    }
+
+    /// [`Host::growing_text`] of the host's variable `name`, when there is a host.
+    pub fn host_growing_text(&self, name: &str) -> Option<Rc<String>> {
+        self.host?.growing_text(name)
     }
 
     /// Counts `work` (items made or read, see [`work_of`]) when a LAMBDA of MAP, REDUCE, …

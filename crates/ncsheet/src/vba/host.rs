@@ -212,6 +212,10 @@ impl Host for Interp<'_, '_> {
         self.with_slot(name, |s| s.growing_chars()).flatten()
     }
 
+    fn growing_text(&self, name: &str) -> Option<Rc<String>> {
+        self.with_slot(name, |s| s.growing_text()).flatten()
+    }
+
     fn raise(&self, number: u32, message: &str) {
         let mut f = self.fault(message);
         f.code = number;

@@ -151,6 +151,16 @@ pub struct Slot {
     /// from a Date, which it shows and answers as until assigned anything else. `Variant`
     /// when it holds no number or the variable is not a Variant.
     pub(super) holds: Declared,
+    /// A number given at each change of what it holds, never given twice ([`next_write`]):
+    /// `s = s & f(x)` appends in place when it is the same after `f(x)` ran (`append.rs`).
+    written: u64,
+}
+
+/// A number no earlier change of a variable was given.
+fn next_write() -> u64 {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static WRITES: AtomicU64 = AtomicU64::new(0);
+    WRITES.fetch_add(1, Ordering::Relaxed)
 }
 
 /// What a variable holds: a value, or a text growing in place.
@@ -166,7 +176,8 @@ enum Held {
 /// is read, and kept until the next append.
 #[derive(Clone, Debug)]
 struct Growing {
-    text: String,
+    /// Shared only while an append evaluates its right side ([`Slot::growing_text`]).
+    text: Rc<String>,
     /// The text's length in UTF-16 units, the unit of the macro string limit.
     units: usize,
     /// Its length in characters, which `Len` answers without making the value: a loop that
@@ -184,7 +195,8 @@ impl Growing {
 impl Slot {
     /// A variable holding `var`: not a constant, not `As New`, no Date.
     pub fn new(name: Rc<str>, var: Var, ty: Option<Ty>) -> Slot {
-        Slot { name, held: Held::Var(var), ty, constant: false, new: None, holds: Declared::Variant }
+        let holds = Declared::Variant;
+        Slot { name, held: Held::Var(var), ty, constant: false, new: None, holds, written: next_write() }
     }
 
     /// What the variable holds.
@@ -197,6 +209,7 @@ impl Slot {
 
     /// What the variable holds, to change in place (a growing text becomes a value first).
     pub fn var_mut(&mut self) -> &mut Var {
+        self.written = next_write();
         if let Held::Growing(g) = &mut self.held {
             let var = g.shown.take().unwrap_or_else(|| Var::Value(Value::Text(Rc::from(g.text.as_str()))));
             self.held = Held::Var(var);
@@ -216,7 +229,7 @@ impl Slot {
     /// with [`Slot::append`]; `None` when it holds no text.
     pub(super) fn text_units(&mut self) -> Option<usize> {
         if let Held::Var(Var::Value(Value::Text(t))) = &self.held {
-            let text = String::from(&**t);
+            let text = Rc::new(String::from(&**t));
             let (units, chars) = (text.encode_utf16().count(), text.chars().count());
             self.held = Held::Growing(Growing { text, units, chars, shown: std::cell::OnceCell::new() });
         }
@@ -229,10 +242,25 @@ impl Slot {
     /// Appends `piece` of `units` UTF-16 units to the text [`Slot::text_units`] made ready.
     pub(super) fn append(&mut self, piece: &str, units: usize) {
         let Held::Growing(g) = &mut self.held else { unreachable!("text_units made the text ready") };
+        self.written = next_write();
         g.shown.take();
-        g.text.push_str(piece);
+        Rc::make_mut(&mut g.text).push_str(piece);
         g.units += units;
         g.chars += piece.chars().count();
+    }
+
+    /// The number of the last change of what the variable holds (see `written`).
+    pub(super) fn written(&self) -> u64 {
+        self.written
+    }
+
+    /// The text the variable grows in place, shared (not copied): what it held before an
+    /// append's right side ran, should that change it.
+    pub(super) fn growing_text(&self) -> Option<Rc<String>> {
+        match &self.held {
+            Held::Growing(g) => Some(Rc::clone(&g.text)),
+            Held::Var(_) => None,
+        }
     }
 
     /// The length in characters of the text the variable grows in place; `None` when it

@@ -582,6 +582,18 @@ fn text_fn(
     passes: Passes,
     f: &dyn Fn(&str, &[Value]) -> XlResult<Value>,
 ) -> XlResult<Value> {
+    // A macro's text growing in place (`s = s & …`) is read where it is, not copied: a loop
+    // reading `Right(s, 1)` between appends copied the whole text at every turn.
+    if let Some(Expr { kind: ExprKind::Name(variable), .. }) = args.first() {
+        if let Some(text) = ctx.host_growing_text(variable) {
+            let rest: Vec<Value> = args[1..].iter().map(|a| ctx.eval(a)).collect();
+            if rest.iter().all(|v| matches!(v, Value::Number(_) | Value::Text(_) | Value::Bool(_))) {
+                return f(text.as_str(), &rest);
+            }
+            let values = std::iter::once(Value::text(text.as_str())).chain(rest).collect();
+            return lift_vba_values(ctx, values, name, passes, &|v| f(&vba_text(&v[0])?, &v[1..]));
+        }
+    }
     lift_vba(ctx, args, name, passes, &|v| f(&vba_text(&v[0])?, &v[1..]))
 }
 
@@ -624,8 +636,10 @@ fn left(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 fn right(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     checked_text_fn(ctx, args, "Right", &|raised, s, rest| {
-        let n = s.chars().count();
-        Ok(Value::text(s.chars().skip(n.saturating_sub(count(raised, &rest[0])?)).collect::<String>()))
+        let n = count(raised, &rest[0])?;
+        // Counted from the end: the work is the part taken, not the whole text.
+        let start = if n == 0 { s.len() } else { s.char_indices().rev().nth(n - 1).map_or(0, |(at, _)| at) };
+        Ok(Value::text(&s[start..]))
     })
 }
 
