@@ -2,11 +2,14 @@
 //! `"<>x"`, `"=3"`, `"abc*"`), and the cell blocks they are tested against.
 
 use std::cmp::Ordering;
+use std::collections::HashMap;
 use std::rc::Rc;
 
 use crate::eval::coerce::{compare_text, parse_number};
 use crate::eval::dates::DateSystem;
 use crate::eval::functions::api::{comparison_holds, Ctx, Operand};
+use crate::eval::functions::arrays::reshape::{item_key, ItemKey};
+use crate::eval::functions::lookup::key_index::worth_indexing;
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::formula::ast::{BinOp, Expr, SheetId};
@@ -112,6 +115,26 @@ impl Criterion {
             (Target::Bool(b), Value::Bool(x)) => Some(x.cmp(b)),
             _ => None,
         }
+    }
+}
+
+impl Criterion {
+    /// The keys of the cells an equality criterion matches, as [`EqualityIndex`] files
+    /// them; `None` for a criterion a key cannot name (a comparison, `<>`, a pattern).
+    fn keys(&self) -> Option<Vec<ItemKey>> {
+        if self.op != BinOp::Eq {
+            return None;
+        }
+        let key = match &self.target {
+            Target::Number(n) => item_key(&Value::Number(*n))?,
+            Target::Bool(b) => ItemKey::Bool(*b),
+            Target::Error(e) => ItemKey::Error(*e),
+            Target::Text { pattern: true, .. } => return None,
+            Target::Text { text, .. } => item_key(&Value::Text(text.clone()))?,
+            Target::Empty { strict: true } => ItemKey::Blank,
+            Target::Empty { strict: false } => return Some(vec![ItemKey::Blank, ItemKey::Text(String::new())]),
+        };
+        Some(vec![key])
     }
 }
 
@@ -271,9 +294,7 @@ pub fn matching_cells(ranges: &[CellBlock], criteria: &[Criterion]) -> XlResult<
     if ranges.iter().any(|r| !r.same_shape(first)) {
         return Err(XlError::Value);
     }
-    let read_rows = ranges.iter().map(|r| r.read.rows).max().unwrap_or(0);
-    let read_cols = ranges.iter().map(|r| r.read.cols).max().unwrap_or(0);
-    let (read_rows, read_cols) = (read_rows.min(first.rows), read_cols.min(first.cols));
+    let (read_rows, read_cols) = read_size(ranges);
     let mut cells = Vec::new();
     for row in 0..read_rows {
         for col in 0..read_cols {
@@ -282,12 +303,164 @@ pub fn matching_cells(ranges: &[CellBlock], criteria: &[Criterion]) -> XlResult<
             }
         }
     }
-    let blanks_beyond = if criteria.iter().all(|c| c.matches(&Value::Blank)) {
+    Ok(Matches { cells, blanks_beyond: blanks_beyond(ranges, criteria) })
+}
+
+/// The part of the ranges' shape that any of them read: the cells tested one by one.
+fn read_size(ranges: &[CellBlock]) -> (usize, usize) {
+    let first = &ranges[0];
+    let read_rows = ranges.iter().map(|r| r.read.rows).max().unwrap_or(0);
+    let read_cols = ranges.iter().map(|r| r.read.cols).max().unwrap_or(0);
+    (read_rows.min(first.rows), read_cols.min(first.cols))
+}
+
+/// How many cells beyond the read part match: all of them (they are blank) or none.
+fn blanks_beyond(ranges: &[CellBlock], criteria: &[Criterion]) -> usize {
+    let first = &ranges[0];
+    let (read_rows, read_cols) = read_size(ranges);
+    if criteria.iter().all(|c| c.matches(&Value::Blank)) {
         first.rows * first.cols - read_rows * read_cols
     } else {
         0
-    };
-    Ok(Matches { cells, blanks_beyond })
+    }
+}
+
+/// The matching of one conditional aggregate over all its criteria items: with an array of
+/// many criteria for one range (`COUNTIF(r, SEQUENCE(100000))`, `SUMIFS(s, r, keys, q, "x")`),
+/// that range is indexed once by the values equality criteria name, where each criterion
+/// used to scan the whole range (100,000 criteria over 100,000 cells took minutes). Other
+/// criteria (comparisons, `<>`, patterns) are tested cell by cell as before. `work` counts
+/// the cells looked at, for the LAMBDA work budget.
+pub struct CriteriaMatcher<'a> {
+    ranges: &'a [CellBlock],
+    indexed: Option<IndexedRange>,
+    pub work: std::cell::Cell<usize>,
+}
+
+/// The range whose criterion varies, indexed, and where the fixed criteria of the other
+/// ranges hold.
+struct IndexedRange {
+    which: usize,
+    index: EqualityIndex,
+    /// Per read cell (row by row), whether every other range meets its criterion.
+    others_hold: Vec<bool>,
+    read_cols: usize,
+}
+
+impl<'a> CriteriaMatcher<'a> {
+    /// `criteria[i]` is the criteria argument of `ranges[i]`, as evaluated.
+    pub fn new(ranges: &'a [CellBlock], criteria: &[Value], dates: DateSystem) -> CriteriaMatcher<'a> {
+        let indexed =
+            IndexedRange::worth_it(ranges, criteria).map(|which| IndexedRange::new(ranges, criteria, which, dates));
+        let (read_rows, read_cols) = read_size(ranges);
+        let built = if indexed.is_some() { read_rows * read_cols * ranges.len() } else { 0 };
+        CriteriaMatcher { ranges, indexed, work: std::cell::Cell::new(built) }
+    }
+
+    /// The cells where every range meets its criterion ([`matching_cells`]).
+    pub fn matches(&self, criteria: &[Criterion]) -> XlResult<Matches> {
+        let add = |n: usize| self.work.set(self.work.get().saturating_add(n));
+        let keyed = self.indexed.as_ref().and_then(|indexed| Some((indexed, criteria[indexed.which].keys()?)));
+        let Some((indexed, keys)) = keyed else {
+            let (read_rows, read_cols) = read_size(self.ranges);
+            add(read_rows * read_cols * self.ranges.len());
+            return matching_cells(self.ranges, criteria);
+        };
+        let positions = indexed.index.positions(&keys);
+        add(1 + positions.len());
+        let cells = positions
+            .into_iter()
+            .filter(|&p| indexed.others_hold[p])
+            .map(|p| (p / indexed.read_cols, p % indexed.read_cols))
+            .collect();
+        Ok(Matches { cells, blanks_beyond: blanks_beyond(self.ranges, criteria) })
+    }
+}
+
+impl IndexedRange {
+    /// The range to index: the one whose criteria argument is an array of many items, the
+    /// others' being single values (what `lift_values` pairs item by item is not indexed).
+    fn worth_it(ranges: &[CellBlock], criteria: &[Value]) -> Option<usize> {
+        let mut arrays = (0..criteria.len()).filter(|&i| matches!(criteria[i], Value::Array(_)));
+        let (which, second) = (arrays.next()?, arrays.next());
+        let same_shape = ranges.iter().all(|r| r.same_shape(&ranges[0]));
+        (second.is_none() && same_shape && worth_indexing(&criteria[which])).then_some(which)
+    }
+
+    fn new(ranges: &[CellBlock], criteria: &[Value], which: usize, dates: DateSystem) -> IndexedRange {
+        let (read_rows, read_cols) = read_size(ranges);
+        let fixed: Vec<Criterion> = criteria.iter().map(|v| Criterion::new(v, dates)).collect();
+        let others_hold = (0..read_rows * read_cols)
+            .map(|p| {
+                let (row, col) = (p / read_cols, p % read_cols);
+                (0..ranges.len()).all(|i| i == which || fixed[i].matches(ranges[i].get(row, col)))
+            })
+            .collect();
+        let index = EqualityIndex::new(&ranges[which], read_rows, read_cols, dates);
+        IndexedRange { which, index, others_hold, read_cols }
+    }
+}
+
+/// The read cells of a range filed by what equality criteria name: each cell under its
+/// value's key (text folded to lower case, numbers by value), and text that reads as a
+/// number under that number too (`COUNTIF(r, 23)` counts "23"). Each key's cells are a
+/// chain through `filed`, in order, so that a million distinct cells make no million lists.
+struct EqualityIndex {
+    /// The first and last entry of `filed` for each key.
+    chains: HashMap<ItemKey, (usize, usize)>,
+    /// (position, next entry of the same key or `END`).
+    filed: Vec<(usize, usize)>,
+}
+
+const END: usize = usize::MAX;
+
+impl EqualityIndex {
+    fn new(range: &CellBlock, read_rows: usize, read_cols: usize, dates: DateSystem) -> EqualityIndex {
+        let mut index = EqualityIndex { chains: HashMap::new(), filed: Vec::with_capacity(read_rows * read_cols) };
+        for p in 0..read_rows * read_cols {
+            let v = range.get(p / read_cols, p % read_cols);
+            if let Some(key) = item_key(v) {
+                index.file(key, p);
+            }
+            if let Value::Text(t) = v {
+                if let Some(key) = parse_number(t, dates).and_then(|n| item_key(&Value::Number(n))) {
+                    index.file(key, p);
+                }
+            }
+        }
+        index
+    }
+
+    fn file(&mut self, key: ItemKey, position: usize) {
+        let entry = self.filed.len();
+        self.filed.push((position, END));
+        match self.chains.get_mut(&key) {
+            Some((_, last)) => {
+                self.filed[*last].1 = entry;
+                *last = entry;
+            }
+            None => {
+                self.chains.insert(key, (entry, entry));
+            }
+        }
+    }
+
+    /// The positions filed under any of `keys` (which no cell shares), in order.
+    fn positions(&self, keys: &[ItemKey]) -> Vec<usize> {
+        let mut positions = Vec::new();
+        for key in keys {
+            let mut entry = self.chains.get(key).map_or(END, |&(first, _)| first);
+            while entry != END {
+                let (position, next) = self.filed[entry];
+                positions.push(position);
+                entry = next;
+            }
+        }
+        if keys.len() > 1 {
+            positions.sort_unstable();
+        }
+        positions
+    }
 }
 
 #[cfg(test)]

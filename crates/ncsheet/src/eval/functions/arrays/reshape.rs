@@ -392,7 +392,7 @@ fn unique(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// An item as [`same_row`] compares it, hashable: text folded to lower case as
 /// `compare_text` folds it, a number by its value (0 and -0 alike).
 #[derive(PartialEq, Eq, Hash)]
-enum ItemKey {
+pub(crate) enum ItemKey {
     Blank,
     Number(u64),
     Bool(bool),
@@ -403,7 +403,7 @@ enum ItemKey {
 
 /// `None` for what has no key (NaN, a LAMBDA or an array as an item): such a row is
 /// compared with each distinct row in turn.
-fn item_key(v: &Value) -> Option<ItemKey> {
+pub(crate) fn item_key(v: &Value) -> Option<ItemKey> {
     Some(match v {
         Value::Blank => ItemKey::Blank,
         Value::Number(n) if n.is_nan() => return None,

@@ -1,7 +1,9 @@
 //! Lookup and reference: lookups and INDEX (`search.rs`), facts about the workbook and
-//! SUBTOTAL (`reference.rs`), references made at run time (`dynamic_ref.rs`).
+//! SUBTOTAL (`reference.rs`), references made at run time (`dynamic_ref.rs`), the indexes a
+//! lookup of many keys builds once (`key_index.rs`).
 
 pub(crate) mod dynamic_ref;
+pub(crate) mod key_index;
 pub(crate) mod reference;
 pub(crate) mod search;
 

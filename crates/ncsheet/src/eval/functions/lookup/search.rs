@@ -1,13 +1,14 @@
 //! Lookup and reference functions. INDEX, CHOOSE (in logic) and XLOOKUP return references
 //! when given references, so that `SUM(A1:INDEX(A1:A9, n))` works as in Excel.
 
-use std::cell::Cell;
+use std::cell::{Cell, OnceCell};
 use std::cmp::Ordering;
 use std::rc::Rc;
 
 use crate::eval::coerce::{compare, compare_text, to_bool, to_number, to_text};
 use crate::eval::dates::DateSystem;
 use crate::eval::functions::api::{lift_values, number_or, ArgSet, Ctx, FnSpec, Operand};
+use crate::eval::functions::lookup::key_index::{worth_indexing, ExactIndex, OrderIndex};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::{Expr, ExprKind, SheetId};
@@ -323,6 +324,71 @@ fn find_exact(key: &Value, items: &[Value], wildcards: bool, reverse: bool) -> O
     }
 }
 
+/// A lookup call's items, with the indexes it builds once when it looks up many keys
+/// (`MATCH(SEQUENCE(100000), items, 0)` was 100,000 scans of the items). Searches count
+/// what they look at; an index counts its building and one item a query.
+struct Haystack<'a> {
+    items: &'a [Value],
+    exact: Option<ExactIndex>,
+    /// Built at the first key that needs the next smaller or larger item.
+    ordered: OnceCell<OrderIndex<'a>>,
+}
+
+impl<'a> Haystack<'a> {
+    /// `keys` is the lookup's first argument: an array of many keys has the items indexed.
+    fn new(items: &'a [Value], keys: &Value, looked: &Cell<usize>) -> Haystack<'a> {
+        let exact = worth_indexing(keys).then(|| {
+            add(looked, items.len());
+            ExactIndex::new(items)
+        });
+        Haystack { items, exact, ordered: OnceCell::new() }
+    }
+
+    /// [`find_exact`], through the index when there is one and the key is no pattern.
+    fn find_exact(&self, key: &Value, wildcards: bool, reverse: bool, looked: &Cell<usize>) -> Option<usize> {
+        let pattern = wildcards && matches!(key, Value::Text(s) if Wildcard::has_wildcards(s));
+        if let Some(index) = self.exact.as_ref().filter(|_| !pattern) {
+            add(looked, 1);
+            return index.find(key, reverse);
+        }
+        let found = find_exact(key, self.items, wildcards, reverse);
+        add(looked, looked_at(found, self.items.len(), reverse));
+        found
+    }
+
+    /// The first (last when `reverse`) empty item.
+    fn find_blank(&self, reverse: bool, looked: &Cell<usize>) -> Option<usize> {
+        if let Some(index) = &self.exact {
+            add(looked, 1);
+            return index.find_blank(reverse);
+        }
+        let items = self.items;
+        let blank =
+            if reverse { items.iter().rposition(Value::is_blank) } else { items.iter().position(Value::is_blank) };
+        add(looked, looked_at(blank, items.len(), reverse));
+        blank
+    }
+
+    /// The closest item on the `fallback` side of a key not found.
+    fn closest(&self, key: &Value, fallback: Fallback, reverse: bool, looked: &Cell<usize>) -> Option<usize> {
+        if self.exact.is_none() {
+            add(looked, self.items.len());
+            return closest_by_scan(key, self.items, fallback, reverse);
+        }
+        let ordered = self.ordered.get_or_init(|| {
+            let n = self.items.len();
+            add(looked, n.saturating_mul((usize::BITS - n.leading_zeros()) as usize));
+            OrderIndex::new(self.items)
+        });
+        add(looked, ordered.query_work());
+        match fallback {
+            Fallback::NextSmaller => ordered.next_smaller(key, reverse),
+            Fallback::NextLarger => ordered.next_larger(key, reverse),
+            Fallback::None => None,
+        }
+    }
+}
+
 /// The items a search from the front (from the back when `reverse`) of `len` items looked at
 /// to find `found`: all of them when it found nothing.
 fn looked_at(found: Option<usize>, len: usize, reverse: bool) -> usize {
@@ -420,12 +486,11 @@ fn match_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     };
     let items = line_of(&haystack).ok_or(XlError::NA)?;
     let looked = Cell::new(0);
+    let exact = Haystack::new(items, if match_type == 0.0 { &key } else { &Value::Blank }, &looked);
     let found = lift_values(&[key], &|v| {
         let key = lookup_key(&v[0])?;
         let found = if match_type == 0.0 {
-            let found = find_exact(&key, items, true, false);
-            add(&looked, looked_at(found, items.len(), false));
-            found
+            exact.find_exact(&key, true, false, &looked)
         } else if match_type > 0.0 {
             binary_search_last_not_after(&key, items, counting(&looked, ascending))
         } else {
@@ -476,11 +541,13 @@ fn table_lookup(ctx: &mut Ctx, args: &[Expr], by_row: bool) -> XlResult<Value> {
     let table = table.map(|t| TableLookup::new(t, by_row));
     // Its first column (row) is copied, and each key's search counted.
     let looked = Cell::new(table.as_ref().map_or(0, |t| t.keys.len()));
+    let keys = if approximate { &Value::Blank } else { &key };
+    let exact = table.as_ref().map(|t| Haystack::new(&t.keys, keys, &looked));
     // An array of columns returns each (`SUM(VLOOKUP(x,T,{2,3},0))`), as in Excel.
     let found = lift_values(&[key, offset], &|v| {
         let key = lookup_key(&v[0])?;
-        let table = table.as_ref().map_err(|e| *e)?;
-        table.find(&key, &v[1], approximate, dates, &looked)
+        let (table, exact) = (table.as_ref().map_err(|e| *e)?, exact.as_ref().map_err(|e| **e)?);
+        table.find(&key, &v[1], approximate, dates, exact, &looked)
     });
     ctx.charge(looked.get());
     found
@@ -517,6 +584,7 @@ impl TableLookup {
         offset: &Value,
         approximate: bool,
         dates: DateSystem,
+        exact: &Haystack,
         looked: &Cell<usize>,
     ) -> XlResult<Value> {
         let offset = to_number(offset, dates)?.trunc();
@@ -530,9 +598,7 @@ impl TableLookup {
         let found = if approximate {
             binary_search_last_not_after(key, &self.keys, counting(looked, ascending))
         } else {
-            let found = find_exact(key, &self.keys, true, false);
-            add(looked, looked_at(found, self.keys.len(), false));
-            found
+            exact.find_exact(key, true, false, looked)
         };
         let i = found.ok_or(XlError::NA)?;
         Ok(self.at(i, offset as usize - 1).clone())
@@ -592,20 +658,20 @@ fn xlookup_operand(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Operand> {
     if (vertical && result.rows != length) || (!vertical && result.cols != length) {
         return Err(XlError::Value);
     }
-    let items = &lookup.values.data;
-    let not_found = args.get(3).filter(|e| e.kind != ExprKind::Missing);
     let looked = Cell::new(0);
+    let items = Haystack::new(&lookup.values.data, &key, &looked);
+    let not_found = args.get(3).filter(|e| e.kind != ExprKind::Missing);
     if let Value::Array(_) = key {
         // One lookup per key; each result must be a single item.
         let fallback = not_found.map(|e| ctx.eval(e));
-        let picked = lift_values(&[key], &|v| match mode.find(&v[0], items, &looked)? {
+        let picked = lift_values(&[key], &|v| match mode.find(&v[0], &items, &looked)? {
             Some(i) => Ok(result_line(&result, i, vertical).unwrap_single()),
             None => fallback.clone().ok_or(XlError::NA),
         });
         ctx.charge(looked.get());
         return Ok(Operand::Value(picked?));
     }
-    let found = mode.find(&key, items, &looked);
+    let found = mode.find(&key, &items, &looked);
     ctx.charge(looked.get());
     match found? {
         Some(i) => Ok(match result.place {
@@ -651,26 +717,24 @@ impl XMode {
     }
 
     /// The position of `key` in `items`; the items looked at are added to `looked`.
-    fn find(&self, key: &Value, items: &[Value], looked: &Cell<usize>) -> XlResult<Option<usize>> {
+    fn find(&self, key: &Value, items: &Haystack, looked: &Cell<usize>) -> XlResult<Option<usize>> {
         let reverse = self.search < 0;
         if key.is_blank() {
             // An empty lookup value finds the first (or last) empty cell, whatever the
             // match mode (Excel: `XLOOKUP(, A:A, B:B,, 1, 2)` returns the first blank row).
-            let blank =
-                if reverse { items.iter().rposition(Value::is_blank) } else { items.iter().position(Value::is_blank) };
-            add(looked, looked_at(blank, items.len(), reverse));
+            let blank = items.find_blank(reverse, looked);
             if blank.is_some() {
                 return Ok(blank);
             }
         }
         if self.regex {
-            let found = regex_position(key, items, reverse);
-            add(looked, looked_at(found.ok().flatten(), items.len(), reverse));
+            let found = regex_position(key, items.items, reverse);
+            add(looked, looked_at(found.ok().flatten(), items.items.len(), reverse));
             return found;
         }
         let key = lookup_key(key)?;
         Ok(match self.search {
-            2 | -2 => xlookup_binary(&key, items, self.fallback, reverse, looked),
+            2 | -2 => xlookup_binary(&key, items.items, self.fallback, reverse, looked),
             _ => xlookup_linear(&key, items, self.fallback, self.wildcards, reverse, looked),
         })
     }
@@ -690,10 +754,10 @@ fn xmatch(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let key = ctx.eval(&args[0]);
     let haystack = grid_of_expr(ctx, &args[1])?;
     let mode = XMode::read(ctx, args, 2)?;
-    let items = line_of(&haystack).ok_or(XlError::Value)?;
     let looked = Cell::new(0);
+    let items = Haystack::new(line_of(&haystack).ok_or(XlError::Value)?, &key, &looked);
     let found = lift_values(&[key], &|v| {
-        let i = mode.find(&v[0], items, &looked)?.ok_or(XlError::NA)?;
+        let i = mode.find(&v[0], &items, &looked)?.ok_or(XlError::NA)?;
         Ok(Value::Number(i as f64 + 1.0))
     });
     ctx.charge(looked.get());
@@ -764,18 +828,21 @@ fn result_line(result: &Source, i: usize, vertical: bool) -> Value {
 /// the wanted side, preferring the first found among equals.
 fn xlookup_linear(
     key: &Value,
-    items: &[Value],
+    items: &Haystack,
     fallback: Fallback,
     wildcards: bool,
     reverse: bool,
     looked: &Cell<usize>,
 ) -> Option<usize> {
-    let exact = find_exact(key, items, wildcards, reverse);
-    add(looked, looked_at(exact, items.len(), reverse));
+    let exact = items.find_exact(key, wildcards, reverse, looked);
     if exact.is_some() || fallback == Fallback::None {
         return exact;
     }
-    add(looked, items.len());
+    items.closest(key, fallback, reverse, looked)
+}
+
+/// The closest item on the `fallback` side of `key`, item by item.
+fn closest_by_scan(key: &Value, items: &[Value], fallback: Fallback, reverse: bool) -> Option<usize> {
     let mut best: Option<usize> = None;
     let order: Box<dyn Iterator<Item = usize>> =
         if reverse { Box::new((0..items.len()).rev()) } else { Box::new(0..items.len()) };

@@ -9,7 +9,7 @@ use crate::eval::functions::api::{
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
-use crate::eval::functions::criteria::{matching_cells, CellBlock, Criterion};
+use crate::eval::functions::criteria::{matching_cells, CellBlock, CriteriaMatcher, Criterion};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value(
@@ -268,24 +268,28 @@ impl Conditions {
     }
 
     /// How many positions meet every criterion, per criteria item.
-    fn count(&self) -> XlResult<Value> {
-        lift_values(&self.criteria, &|items| {
+    fn count(&self, ctx: &mut Ctx) -> XlResult<Value> {
+        let matcher = CriteriaMatcher::new(&self.ranges, &self.criteria, self.dates);
+        let counts = lift_values(&self.criteria, &|items| {
             let criteria: Vec<Criterion> = items.iter().map(|v| Criterion::new(v, self.dates)).collect();
-            let m = matching_cells(&self.ranges, &criteria)?;
+            let m = matcher.matches(&criteria)?;
             Ok(Value::Number((m.cells.len() + m.blanks_beyond) as f64))
-        })
+        });
+        ctx.charge(matcher.work.get());
+        counts
     }
 
     /// `aggregate` of the target's numbers at the matching positions, per criteria item.
     /// Text, booleans and blanks there are skipped; an error there is the result.
-    fn aggregate(&self, aggregate: Aggregate) -> XlResult<Value> {
+    fn aggregate(&self, ctx: &mut Ctx, aggregate: Aggregate) -> XlResult<Value> {
         let target = self.target.as_ref().expect("an aggregate has a target range");
         if !target.same_shape(&self.ranges[0]) {
             return Err(XlError::Value);
         }
-        lift_values(&self.criteria, &|items| {
+        let matcher = CriteriaMatcher::new(&self.ranges, &self.criteria, self.dates);
+        let results = lift_values(&self.criteria, &|items| {
             let criteria: Vec<Criterion> = items.iter().map(|v| Criterion::new(v, self.dates)).collect();
-            let m = matching_cells(&self.ranges, &criteria)?;
+            let m = matcher.matches(&criteria)?;
             let mut xs = Vec::with_capacity(m.cells.len());
             for &(r, c) in &m.cells {
                 match target.get(r, c) {
@@ -295,7 +299,9 @@ impl Conditions {
                 }
             }
             aggregate(&xs).map(number_result)
-        })
+        });
+        ctx.charge(matcher.work.get());
+        results
     }
 }
 
@@ -317,35 +323,35 @@ fn largest(xs: &[f64]) -> XlResult<f64> {
 }
 
 fn countif(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Conditions::single(ctx, args)?.count()
+    Conditions::single(ctx, args)?.count(ctx)
 }
 
 fn countifs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Conditions::pairs(ctx, args, false)?.count()
+    Conditions::pairs(ctx, args, false)?.count(ctx)
 }
 
 fn sumif(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Conditions::single(ctx, args)?.aggregate(total)
+    Conditions::single(ctx, args)?.aggregate(ctx, total)
 }
 
 fn averageif(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Conditions::single(ctx, args)?.aggregate(arithmetic_mean)
+    Conditions::single(ctx, args)?.aggregate(ctx, arithmetic_mean)
 }
 
 fn sumifs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Conditions::pairs(ctx, args, true)?.aggregate(total)
+    Conditions::pairs(ctx, args, true)?.aggregate(ctx, total)
 }
 
 fn averageifs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Conditions::pairs(ctx, args, true)?.aggregate(arithmetic_mean)
+    Conditions::pairs(ctx, args, true)?.aggregate(ctx, arithmetic_mean)
 }
 
 fn minifs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Conditions::pairs(ctx, args, true)?.aggregate(smallest)
+    Conditions::pairs(ctx, args, true)?.aggregate(ctx, smallest)
 }
 
 fn maxifs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Conditions::pairs(ctx, args, true)?.aggregate(largest)
+    Conditions::pairs(ctx, args, true)?.aggregate(ctx, largest)
 }
 
 #[cfg(test)]

@@ -411,7 +411,9 @@ fn frequency(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let mut counts = vec![0.0; bins.len() + 1];
     for x in data {
         // The first bin in ascending order that holds x; beyond the largest, the last row.
-        let slot = order.iter().find(|&&i| x <= bins[i]).copied().unwrap_or(bins.len());
+        // A binary search: 2^20 data in 2^20 bins was 2^40 comparisons one by one.
+        let first_holding = order.partition_point(|&i| bins[i] < x);
+        let slot = order.get(first_holding).copied().unwrap_or(bins.len());
         counts[slot] += 1.0;
     }
     Ok(Value::Array(Rc::new(Array::column(counts.into_iter().map(Value::Number).collect()))))
