@@ -278,3 +278,54 @@ fn a_variant_operation_widens_where_it_is_computed() {
     overflow("    a = 200: d = a * a");
     overflow("    l = 65536: d = l * l - 1");
 }
+
+// "Single data type": a 32-bit (4-byte) floating-point number, ±3.402823E38, type character
+// `!`; [MS-VBAL] 5.6.9.3: a Single operated with a Single, Byte, Boolean or Integer gives a
+// Single (with a Long or a Double a Double), so each such operation's result is a Single:
+// 2^24 + 1 is no Single and comes back 2^24. "Type conversion functions": CSng rounds to a
+// Single, CDbl of it gives the Single's exact value (0.1 as a Single is 0.100000001490116).
+// CStr and Print show a Single to its seven significant digits ("Str function",
+// "Print # statement"): CSng(1 / 3) is 0.3333333. A declared Single past its range is
+// Overflow (error 6); a Variant's Single "is promoted within the Variant" to a Double
+// ("Variant data type").
+#[test]
+fn a_single_is_computed_and_shown_as_a_32_bit_float() {
+    let out = printed(
+        "",
+        "    Dim s As Single, v, big As Single\n    s = 0.1\n\
+         \x20   Debug.Print CSng(1 / 3); s * 3; CStr(CSng(2) / 3); \"|\"; CDbl(s); \"|\" & s * s\n\
+         \x20   Debug.Print TypeName(s * s); \" \"; TypeName(s * 2); \" \"; TypeName(s * 2&); \" \"; TypeName(s / 2); \" \"; TypeName(s * 0.5)\n\
+         \x20   s = 16777216: Debug.Print s + 1 = 16777216; CSng(16777217) = 16777216; CDbl(16777217) = 16777216\n\
+         \x20   v = CSng(3E+38): v = v * 2: Debug.Print TypeName(v)\n\
+         \x20   On Error Resume Next\n    big = 3E+38: big = big * 2\n    Debug.Print Err.Number; big",
+    );
+    assert_eq!(
+        out,
+        [
+            " 0.3333333  0.3 0.6666667| 0.100000001490116 |0.01",
+            "Single Single Double Single Double",
+            "TrueTrueFalse",
+            "Double",
+            " 6  3E+38 ",
+        ]
+    );
+}
+
+// "Currency data type": "64-bit (8-byte) numbers in an integer format, scaled by 10,000 to
+// give a fixed-point number with 15 digits to the left of the decimal point and 4 digits to
+// the right", -922,337,203,685,477.5808 to 922,337,203,685,477.5807; a value assigned to a
+// Currency keeps four places, halves to even (as CCur, "Type conversion functions"). Sums of
+// Currencies are exact (ten 0.1s are 1); [MS-VBAL] 5.6.9.3: a Currency with another number
+// is a Currency, its product rounded to four places; past the range Overflow (error 6).
+#[test]
+fn a_currency_is_a_scaled_64_bit_integer() {
+    let out = printed(
+        "",
+        "    Dim c As Currency, d As Currency, i As Integer, e As Currency\n\
+         \x20   For i = 1 To 10: c = c + 0.1: Next\n    Debug.Print c - 1; TypeName(c + 1); TypeName(c * i)\n\
+         \x20   c = 1.5: d = 0.0001: Debug.Print c * d; 2.5 * d + 0; CStr(c * d)\n\
+         \x20   c = 0.12345678: Debug.Print c\n\
+         \x20   On Error Resume Next\n    e = 922337203685477#: e = e * 10\n    Debug.Print Err.Number; e",
+    );
+    assert_eq!(out, [" 0 CurrencyCurrency", " 0.0002  0.0002 0.0002", " 0.1235 ", " 6  922337203685477 "]);
+}

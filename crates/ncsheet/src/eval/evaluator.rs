@@ -205,6 +205,13 @@ pub trait Host {
         None
     }
 
+    /// The number CStr, Str and Format show for `value`, the value of `e`, when a macro holds
+    /// it as a Single: its seven significant digits ("Single data type"); `None` for any
+    /// other value. Cells have no Single type: `None`.
+    fn shown_number(&self, _e: &Expr, _value: &Value) -> Option<f64> {
+        None
+    }
+
     /// The result of `-operand`: a macro checks it against the operand's declared type
     /// (VBA's `-x` of the Integer -32,768 overflows); the result stays as computed by default.
     fn negation(&self, _operand: &Expr, result: Value) -> Value {
@@ -520,6 +527,11 @@ impl<'a> Ctx<'a> {
     /// ([`Host::date_text`]).
     pub fn macro_date_text(&self, e: &Expr, value: &Value) -> Option<String> {
         self.host?.date_text(e, value)
+    }
+
+    /// The number a macro shows for `value`, the value of `e` ([`Host::shown_number`]).
+    pub fn macro_shown_number(&self, e: &Expr, value: &Value) -> Option<f64> {
+        self.host?.shown_number(e, value)
     }
 
     /// `error` with a note, and VBA's run-time error `number` raised in a macro ([`Host::raise`]):

@@ -164,7 +164,10 @@ impl Host for Interp<'_, '_> {
     fn arithmetic(&self, op: BinOp, operands: (&Expr, &Expr), values: (&Value, &Value), result: Value) -> Value {
         self.forget_widening(operands.0);
         if op == BinOp::Concat {
-            return self.concat_dates(operands, values).unwrap_or(result);
+            return self
+                .concat_dates(operands, values)
+                .or_else(|| self.concat_singles(operands, values))
+                .unwrap_or(result);
         }
         match self.vba_comparison(op, operands, values) {
             Some(Ok(v)) => return v,
@@ -185,8 +188,18 @@ impl Host for Interp<'_, '_> {
                 self.park(fault);
                 Value::Error(XlError::Num)
             }
-            None => result,
+            None => match self.in_its_type(op, operands, values, result) {
+                Ok(v) => v,
+                Err(fault) => {
+                    self.park(fault);
+                    Value::Error(XlError::Num)
+                }
+            },
         }
+    }
+
+    fn shown_number(&self, e: &Expr, value: &Value) -> Option<f64> {
+        self.as_single(e, value)
     }
 
     fn date_text(&self, e: &Expr, value: &Value) -> Option<String> {

@@ -298,6 +298,9 @@ pub struct Interp<'m, 'w> {
     /// a Long): what an enclosing operation, or the variable it goes to, takes it as
     /// ([`Interp::note_widening`]).
     pub(super) widened: RefCell<std::collections::HashMap<usize, Declared>>,
+    /// The module may hold a Single or a Currency, whose operations are computed in their
+    /// types ([`super::typing::names_single_or_currency`]).
+    pub(super) narrow_numbers: bool,
 }
 
 impl<'m, 'w> Interp<'m, 'w> {
@@ -342,6 +345,7 @@ impl<'m, 'w> Interp<'m, 'w> {
             gave: Cell::new(Declared::Variant),
             arg_types: RefCell::new(Vec::new()),
             widened: RefCell::new(std::collections::HashMap::new()),
+            narrow_numbers: super::typing::names_single_or_currency(source),
         }
     }
 }
@@ -1597,7 +1601,8 @@ impl Interp<'_, '_> {
                         return Err(self.fault_at(self.expr_span(e), "Debug.Print prints values, not arrays"));
                     }
                     // VBA's Print leaves room for a sign before a number and a space after it;
-                    // a Date is its text ("Print # statement").
+                    // a Date is its text ("Print # statement"); a Single its seven digits.
+                    let v = self.as_single(e, &v).map_or(v, Value::Number);
                     match (self.as_date(e, &v), &v) {
                         (Some(date), _) => line.push_str(&super::value::date_text(date)),
                         (None, Value::Number(n)) if *n >= 0.0 => line.push_str(&format!(" {} ", print_text(&v))),

@@ -183,15 +183,29 @@ impl Declared {
 
 /// The declared type of `+`, `-` and `*` on operands of these types ([MS-VBAL] 5.6.9.3's
 /// table): two integral types give the wider (Byte and Byte a Byte, Boolean counts as
-/// Integer), a Variant a Variant, anything else a floating or fixed-point type (Double here:
-/// it is never checked for overflow).
+/// Integer), a Variant a Variant; a Currency with any other a Currency, a Single with a
+/// Single, Byte, Boolean or Integer a Single; anything else a Double.
 fn sum_type(a: Declared, b: Declared) -> Declared {
     if a == Declared::Variant || b == Declared::Variant {
         return Declared::Variant;
     }
     match (a.integral_rank(), b.integral_rank()) {
         (Some(x), Some(y)) => Declared::of_rank(x.max(y)),
-        _ => Declared::Double,
+        _ if a == Declared::Decimal || b == Declared::Decimal => Declared::Decimal,
+        _ if a == Declared::Currency || b == Declared::Currency => Declared::Currency,
+        _ => single_or_double(a, b),
+    }
+}
+
+/// A Single where both operands are a Single or one narrower than a Long ([MS-VBAL]
+/// 5.6.9.3: a Single with a Long or a LongLong is a Double, as with a Double); else a Double.
+fn single_or_double(a: Declared, b: Declared) -> Declared {
+    let fits_single =
+        |t: Declared| matches!(t, Declared::Single | Declared::Byte | Declared::Boolean | Declared::Integer);
+    if (a == Declared::Single || b == Declared::Single) && fits_single(a) && fits_single(b) {
+        Declared::Single
+    } else {
+        Declared::Double
     }
 }
 
@@ -225,7 +239,9 @@ fn binary_type(op: BinOp, x: Declared, y: Declared) -> Declared {
         BinOp::Add | BinOp::Sub => date_sum_type(op, x, y).unwrap_or_else(|| sum_type(x, y)),
         BinOp::Mul => sum_type(x, y),
         BinOp::IntDiv | BinOp::Mod if !variant => whole_division_type(x, y),
-        BinOp::Div | BinOp::Pow if !variant => Declared::Double,
+        // [MS-VBAL] 5.6.9.3.5: `/` of a Single keeps a Single as `*` does; `^` is a Double.
+        BinOp::Div if !variant => single_or_double(x, y),
+        BinOp::Pow if !variant => Declared::Double,
         _ => Declared::Variant,
     }
 }
@@ -244,6 +260,39 @@ fn held_number(ty: Declared, n: f64) -> Declared {
 /// counter's next value): as `+` of those types gives it ([MS-VBAL] 5.6.9.3.3).
 pub(super) fn sum_held(a: Declared, b: Declared, n: f64) -> Declared {
     held_number(date_sum_type(BinOp::Add, a, b).unwrap_or_else(|| sum_type(a, b)), n)
+}
+
+/// A Single's value as VBA shows it: its seven significant digits ("Single data type";
+/// CStr, Str and Print show no more: `CSng(1 / 3)` is 0.3333333).
+pub(super) fn single_shown(n: f64) -> f64 {
+    format!("{n:.6e}").parse().unwrap_or(n)
+}
+
+/// Whether `source` may hold a Single or a Currency (it names the types, their conversions,
+/// Rnd, or has a `!` or `@` type character): only then is each operation's result checked
+/// for them, so that a module of Doubles computes as fast as before.
+pub(super) fn names_single_or_currency(source: &str) -> bool {
+    let names = |word: &[u8]| source.as_bytes().windows(word.len()).any(|w| w.eq_ignore_ascii_case(word));
+    source.contains(['!', '@']) || [&b"single"[..], b"currency", b"csng", b"ccur", b"rnd"].into_iter().any(names)
+}
+
+/// `x op y` on Currencies: 64-bit integers of ten-thousandths ("Currency data type"), each
+/// operand made one (four places, halves to even), the product's extra places rounded off
+/// half to even; `None` past the type's range or for an operator that is no `+ - *`.
+fn currency_result(op: BinOp, x: f64, y: f64) -> Option<f64> {
+    let scaled = |v: f64| (v * 10_000.0).round_ties_even() as i128;
+    let (a, b) = (scaled(x), scaled(y));
+    let r = match op {
+        BinOp::Add => a + b,
+        BinOp::Sub => a - b,
+        BinOp::Mul => {
+            let (q, rem) = (a * b / 10_000, a * b % 10_000);
+            let away = rem.abs() * 2 > 10_000 || (rem.abs() * 2 == 10_000 && q % 2 != 0);
+            q + if away { (a * b).signum() } else { 0 }
+        }
+        _ => return None,
+    };
+    i64::try_from(r).ok().map(|r| r as f64 / 10_000.0)
 }
 
 /// The type of a number literal from its text ([MS-VBAL] 3.3.2): a type character says it
@@ -481,6 +530,75 @@ impl Interp<'_, '_> {
     pub(super) fn forget_widening(&self, first: &Expr) {
         if !self.widened.borrow().is_empty() {
             self.widened.borrow_mut().remove(&(first as *const Expr as usize));
+        }
+    }
+
+    /// The number `v`, the value of `e`, shows as when it is held as a Single: its seven
+    /// significant digits; `None` for any other value.
+    pub(super) fn as_single(&self, e: &Expr, v: &Value) -> Option<f64> {
+        match v {
+            Value::Number(n) if self.narrow_numbers && self.value_type(e, v) == Declared::Single => {
+                Some(single_shown(*n))
+            }
+            _ => None,
+        }
+    }
+
+    /// `a & b` with a Single operand: its seven digits' text ([MS-VBAL] 5.6.9.4, `&`
+    /// let-coerces each operand to String). `None` when neither is a Single.
+    pub(super) fn concat_singles(&self, (a, b): (&Expr, &Expr), (x, y): (&Value, &Value)) -> Option<Value> {
+        let (sx, sy) = (self.as_single(a, x), self.as_single(b, y));
+        if sx.is_none() && sy.is_none() {
+            return None;
+        }
+        let text = |single: Option<f64>, v: &Value| match (single, v) {
+            (Some(n), _) => crate::eval::functions::vba::vba_text(&Value::Number(n)).ok(),
+            (None, Value::Null) => Some("".into()),
+            (None, v) => crate::eval::functions::vba::vba_text(v).ok(),
+        };
+        Some(Value::text(format!("{}{}", text(sx, x)?, text(sy, y)?)))
+    }
+
+    /// `result`, the value of `a op b`, computed in its type where that is a Single (rounded
+    /// to a 32-bit float, "Single data type") or a Currency (a scaled 64-bit integer,
+    /// "Currency data type") ([MS-VBAL] 5.6.9.3: the operation's value type is its result's);
+    /// Overflow (run-time error 6) past the type's range, where a Variant's Single widens to
+    /// a Double instead.
+    pub(super) fn in_its_type(
+        &self,
+        op: BinOp,
+        (a, b): (&Expr, &Expr),
+        values: (&Value, &Value),
+        result: Value,
+    ) -> Result<Value, Fault> {
+        let Value::Number(n) = result else { return Ok(result) };
+        if !self.narrow_numbers || !matches!(op, BinOp::Add | BinOp::Sub | BinOp::Mul | BinOp::Div) {
+            return Ok(result);
+        }
+        let held = self
+            .widened_if_held(Typing::Held, a)
+            .unwrap_or_else(|| binary_type(op, self.held_operand(a), self.held_operand(b)));
+        let past = |holds: &str| {
+            let text = self.source_between(a.span.start, b.span.end).trim();
+            let shown = if text.is_empty() || text.chars().count() > 60 { "the operation" } else { text };
+            Err(self.overflow_fault(self.expr_span(a), format!("{shown} overflows: its result is past {holds}")))
+        };
+        match held {
+            Declared::Single => match n as f32 {
+                r if r.is_finite() || !n.is_finite() => Ok(Value::Number(f64::from(r))),
+                // A Variant's Single widened to a Double ([`Interp::note_widening`]).
+                _ if binary_type(op, self.declared_type(a), self.declared_type(b)) == Declared::Variant => Ok(result),
+                _ => past("a Single (±3.402823E38)"),
+            },
+            Declared::Currency => {
+                let number = |v: &Value| to_number(v, DateSystem::From1900).unwrap_or(0.0);
+                match currency_result(op, number(values.0), number(values.1)) {
+                    Some(r) => Ok(Value::Number(r)),
+                    None if op == BinOp::Div => Ok(result),
+                    None => past("a Currency (±922,337,203,685,477.5807)"),
+                }
+            }
+            _ => Ok(result),
         }
     }
 

@@ -449,8 +449,8 @@ pub(super) fn convert(var: Var, ty: Option<&Ty>, name: &str) -> Result<Var, Stri
             (Value::Text(_), Err(_)) => return Err(text_mismatch(&v)),
             (_, Err(e)) => return Err(mismatch(e)),
         },
-        Ty::Number(_) => match (&v, to_number(&v, DateSystem::From1900)) {
-            (_, Ok(n)) => Value::Number(n),
+        Ty::Number(code) => match (&v, to_number(&v, DateSystem::From1900)) {
+            (_, Ok(n)) => Value::Number(in_number_type(n, *code, name)?),
             (Value::Text(_), Err(_)) => return Err(text_mismatch(&v)),
             (_, Err(e)) => return Err(mismatch(e)),
         },
@@ -458,6 +458,28 @@ pub(super) fn convert(var: Var, ty: Option<&Ty>, name: &str) -> Result<Var, Stri
         Ty::Boolean => Value::Bool(to_bool(&v).map_err(mismatch)?),
         Ty::Variant | Ty::Object | Ty::Record(_) => v,
     }))
+}
+
+/// A number as a variable of VarType `code` holds it: a Single (4) rounded to a 32-bit
+/// float ("Single data type"), a Currency (6) to four places, halves to even ("Currency data
+/// type": a 64-bit integer of ten-thousandths), or VBA's run-time error 6, Overflow, past
+/// the type's range; any other as it is.
+fn in_number_type(n: f64, code: u8, name: &str) -> Result<f64, String> {
+    // 2^63 / 10^4, the first ten-thousandth past a Currency.
+    const CURRENCY_END: f64 = 9_223_372_036_854_775_808.0 / 10_000.0;
+    let (fitted, ty) = match code {
+        4 => (f64::from(n as f32), "a Single (-3.402823E38 to 3.402823E38)"),
+        6 => (
+            (n * 10_000.0).round_ties_even() / 10_000.0,
+            "a Currency (-922,337,203,685,477.5808 to 922,337,203,685,477.5807)",
+        ),
+        _ => return Ok(n),
+    };
+    let fits = if code == 4 { fitted.is_finite() } else { (-CURRENCY_END..CURRENCY_END).contains(&fitted) };
+    if fits || !n.is_finite() {
+        return Ok(fitted);
+    }
+    Err(format!("{name}: {} does not fit in {ty}: overflow (run-time error 6)", print_text(&Value::Number(n))))
 }
 
 /// A whole number as a variable of VarType `code` holds it, or VBA's run-time error 6,

@@ -70,11 +70,10 @@ pub(super) fn cbyte(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     converted(ctx, args, "CByte", &|n| Some(n.round_ties_even()).filter(|r| (0.0..=255.0).contains(r)))
 }
 
-/// `CSng(value)` ("Type conversion functions"): a number within a Single's range,
-/// -3.402823E38 to 3.402823E38, else Overflow. Its value is kept as the double given: the
-/// macro language computes a Single as a Double.
+/// `CSng(value)` ("Type conversion functions"): the number rounded to a Single, a 32-bit
+/// float ("Single data type"), within -3.402823E38 to 3.402823E38, else Overflow.
 pub(super) fn csng(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    converted(ctx, args, "CSng", &|n| Some(n).filter(|n| n.abs() <= f64::from(f32::MAX)))
+    converted(ctx, args, "CSng", &|n| Some(f64::from(n as f32)).filter(|r| r.is_finite()))
 }
 
 /// `CCur(value)` ("Type conversion functions", "Currency data type"): the number to four

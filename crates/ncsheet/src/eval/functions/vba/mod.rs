@@ -544,8 +544,20 @@ pub fn vba_text(v: &Value) -> XlResult<Rc<str>> {
     }
 }
 
+/// The arguments' values, the first as a macro shows it ([`Ctx::macro_shown_number`]: a
+/// Single to seven significant digits).
+fn shown_values(ctx: &mut Ctx, args: &[Expr]) -> Vec<Value> {
+    let mut values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    if let (Some(e), Some(v)) = (args.first(), values.first_mut()) {
+        if let Some(n) = ctx.macro_shown_number(e, v) {
+            *v = Value::Number(n);
+        }
+    }
+    values
+}
+
 fn cstr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    let values = shown_values(ctx, args);
     if let Some(date) = date_shown(ctx, args, &values) {
         return Ok(date);
     }
@@ -554,7 +566,7 @@ fn cstr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 /// `Str(number)`; a Date shows as CStr shows it, without the sign's space.
 fn str_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    let values = shown_values(ctx, args);
     if let Some(date) = date_shown(ctx, args, &values) {
         return Ok(date);
     }
@@ -820,7 +832,7 @@ fn case_format(pattern: &str) -> Option<fn(&str) -> String> {
 
 fn format(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let has_format = args.get(1).is_some_and(|e| e.kind != ExprKind::Missing);
-    let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    let values = if has_format { args.iter().map(|a| ctx.eval(a)).collect() } else { shown_values(ctx, args) };
     // "Format function": a Date without a format shows as General Date, the short date
     // and the long time as the system sets them.
     if let Some(date) = date_shown(ctx, args, &values) {
