@@ -8,7 +8,7 @@ use crate::eval::{Array, Ctx, Operand, Value};
 use crate::formula::address::Rect;
 use crate::formula::ast::{Expr, ExprKind};
 
-use super::ast::{Link, Node, Span, Ty};
+use super::ast::{Link, Node, Param, Span, Ty};
 use super::interp::{Interp, Run};
 use super::value::{convert, default_value, Obj, VArray, Var};
 
@@ -469,6 +469,17 @@ pub(super) fn unallocated(ty: Option<&Ty>) -> Option<VArray> {
         dates: None,
         arrays: None,
     })
+}
+
+/// What a parameter declared with `()` (`Sub S(a() As Long)`) holds: the caller's whole
+/// array, its items as the declared type holds them. A value that is no array does not
+/// bind ([MS-VBAL] 5.3.1.5: such a parameter is an array; "Type mismatch: array or
+/// user-defined type expected").
+pub(super) fn array_param(var: Var, param: &Param) -> Result<Var, String> {
+    match var {
+        Var::Array(a) => Ok(Var::Array(typed_items(a, param.ty.as_ref(), &param.name)?)),
+        _ => Err(format!("{} is an array parameter: its argument must be an array (type mismatch)", param.name)),
+    }
 }
 
 /// An array assigned to an array variable of declared type `ty` (`h = F_Minverse(m)` with

@@ -123,6 +123,8 @@ pub struct Param {
     pub optional: bool,
     pub default: Option<Expr>,
     pub ty: Option<Ty>,
+    /// `a() As Long`: the parameter is an array of the declared type, not one value of it.
+    pub array: bool,
 }
 
 /// A declared type, as far as it changes what a variable holds.

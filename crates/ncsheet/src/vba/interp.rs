@@ -1078,7 +1078,11 @@ impl Interp<'_, '_> {
                     }
                 },
             };
-            let var = convert(var, param.ty.as_ref(), &param.name).map_err(|m| self.fault(m))?;
+            let var = match param.array {
+                true => super::arrays::array_param(var, param),
+                false => convert(var, param.ty.as_ref(), &param.name),
+            }
+            .map_err(|m| self.fault(m))?;
             let mut slot = Slot::new(param.name.clone(), var, param.ty.clone());
             // A Variant parameter given a Date holds a Date, given an Integer an Integer
             // ([MS-VBAL] 5.3.1.11: the argument's value is bound as it is, its value type with it).

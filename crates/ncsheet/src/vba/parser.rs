@@ -107,6 +107,7 @@ pub fn parse_module_with_files(
                 out.types.push(t);
             }
             Rule::option_stmt => b.option(item)?,
+            Rule::enum_def => out.globals.push(b.enum_def(&item)?),
             Rule::implements_stmt => {
                 let part = b.part_at(start(&item));
                 let interface = name_of(&find(&kids(&item), Rule::ident).expect("interface name"));
@@ -273,6 +274,8 @@ pub(super) struct Build<'s> {
     base: Cell<i64>,
     /// The names of the module's Types, by index.
     types: RefCell<Vec<Rc<str>>>,
+    /// The project's Enums: each one's name and its members' names.
+    pub(super) enums: Vec<(Rc<str>, Vec<Rc<str>>)>,
     /// Module-level declarations are being built: they declare globals.
     building_globals: Cell<bool>,
     /// The names of the module's `Declare`d DLL procedures, lower case.
@@ -296,6 +299,14 @@ fn all<'i>(kids: &[Pair<'i, Rule>], rule: Rule) -> Vec<Pair<'i, Rule>> {
 
 fn kids<'i>(pair: &Pair<'i, Rule>) -> Vec<Pair<'i, Rule>> {
     pair.clone().into_inner().collect()
+}
+
+/// An `Enum`'s name and its members' names.
+fn enum_names(pair: &Pair<Rule>) -> (Rc<str>, Vec<Rc<str>>) {
+    let k = kids(pair);
+    let members =
+        all(&k, Rule::enum_member).iter().map(|m| name_of(&find(&kids(m), Rule::ident).expect("member"))).collect();
+    (name_of(&find(&k, Rule::ident).expect("enum name")), members)
 }
 
 fn name_of(pair: &Pair<Rule>) -> Rc<str> {
@@ -351,6 +362,7 @@ impl<'s> Build<'s> {
             declared: Default::default(),
             files: false,
             types: RefCell::new(Vec::new()),
+            enums: items.iter().filter(|i| i.as_rule() == Rule::enum_def).map(enum_names).collect(),
             lines: Lines::new(src),
         };
         let mut procs: Vec<Signature> = Vec::new();
@@ -482,6 +494,7 @@ impl<'s> Build<'s> {
             optional: find(&k, Rule::k_optional).is_some(),
             default,
             ty: find(&k, Rule::as_clause).map(|a| self.ty_of(&a)).or_else(|| type_char_ty(&k)),
+            array: find(&k, Rule::empty_parens).is_some(),
         })
     }
 
@@ -1223,7 +1236,7 @@ impl Build<'_> {
         let params = self.procs[self.proc_index(&name).expect("signatures first")]
             .params
             .iter()
-            .map(|p| Param { name: p.clone(), by_ref: true, optional: true, default: None, ty: None })
+            .map(|p| Param { name: p.clone(), by_ref: true, optional: true, default: None, ty: None, array: false })
             .collect();
         let public = find(&k, Rule::scope).is_none_or(|s| !s.as_str().eq_ignore_ascii_case("Private"));
         let failing = Stmt { kind: StmtKind::CompileError(error.message.into()), span: self.span(error.offset) };
@@ -1306,8 +1319,33 @@ impl Build<'_> {
         let name = find(&kids(as_clause), Rule::type_name).map(|t| t.as_str().to_string()).unwrap_or_default();
         match self.types.borrow().iter().position(|t| t.eq_ignore_ascii_case(&name)) {
             Some(i) => Ty::Record(i),
+            // An Enum's variables are Longs ([MS-VBAL] 5.2.3.4).
+            None if self.enums.iter().any(|(e, _)| e.eq_ignore_ascii_case(&name)) => Ty::Whole(3),
             None => ty_named(&name.to_ascii_lowercase()),
         }
+    }
+
+    /// `Enum Tool … End Enum`: a Const of type Long per member, the first 0 and each next one
+    /// more than the one before unless it is given a value ([MS-VBAL] 5.2.3.4).
+    fn enum_def(&self, pair: &Pair<Rule>) -> Res<Stmt> {
+        let mut consts = Vec::new();
+        let whole = |kind: ExprKind, at: &Pair<Rule>| {
+            Expr::new(kind, ByteSpan { start: start(at) as u32, end: at.as_span().end() as u32 })
+        };
+        let mut next = whole(ExprKind::Number(0.0), pair);
+        for member in all(&kids(pair), Rule::enum_member) {
+            let k = kids(&member);
+            let name = name_of(&find(&k, Rule::ident).expect("member name"));
+            let value = match find(&k, Rule::vexpr) {
+                Some(e) => self.expr(e)?,
+                None => next,
+            };
+            let one = Box::new(whole(ExprKind::Number(1.0), &member));
+            next = whole(ExprKind::Binary(BinOp::Add, Box::new(value.clone()), one), &member);
+            self.globals.borrow_mut().insert(name.to_ascii_lowercase());
+            consts.push((name, Some(Ty::Whole(3)), value));
+        }
+        Ok(Stmt { kind: StmtKind::Const(consts), span: self.span(start(pair)) })
     }
 
     fn type_def(&self, pair: Pair<Rule>) -> Res<TypeDef> {

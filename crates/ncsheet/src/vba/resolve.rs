@@ -292,8 +292,15 @@ impl Build<'_> {
             let link = path.links.pop().expect("one link");
             return self.single(pair, link, statement, end);
         }
+        if let Some(kind) = self.qualified_constant(&path) {
+            return Ok(Expr::new(kind, ByteSpan { start: at as u32, end: end as u32 }));
+        }
         if let Some(call) = self.qualified_call(pair, &mut path)? {
             return Ok(call);
+        }
+        if self.is_enum_member(&path) {
+            let member = path.links.pop().expect("two links");
+            return self.single(pair, member, statement, end);
         }
         if let [module, link] = path.links.as_slice() {
             let unshadowed =
@@ -354,6 +361,29 @@ impl Build<'_> {
             Some(e) => Ok(Some(e)),
             None => Err(self.error_at(pair, format!("{} is not a function of {}", link.name, path.links[0].name))),
         }
+    }
+
+    /// `Excel.xlErrNA`, `VBA.vbCrLf`: a constant named through the library that defines it
+    /// (Excel's object library, VBA's own), when no variable has the library's name.
+    fn qualified_constant(&self, path: &Path) -> Option<ExprKind> {
+        let [library, link] = path.links.as_slice() else { return None };
+        let library_name = lower_bare(&library.name);
+        let is_library = matches!(library_name.as_str(), "excel" | "vba") && !self.is_var(&library.name);
+        if !is_library || library.args.is_some() || link.args.is_some() {
+            return None;
+        }
+        constant(&lower_bare(&link.name))
+    }
+
+    /// `Tool.Drill`: a member of the project's Enum `Tool`, the constant `Drill` itself.
+    fn is_enum_member(&self, path: &Path) -> bool {
+        let [enumeration, member] = path.links.as_slice() else { return false };
+        let plain = enumeration.args.is_none() && member.args.is_none() && !self.is_var(&enumeration.name);
+        plain
+            && self.enums.iter().any(|(e, members)| {
+                e.eq_ignore_ascii_case(&enumeration.name)
+                    && members.iter().any(|m| m.eq_ignore_ascii_case(&member.name))
+            })
     }
 
     /// A call of a row of the function table by `name`, with `link`'s arguments.

@@ -1,0 +1,64 @@
+//! Constructs found by real public VBA modules (issue 31, session 15's sample: sorters,
+//! a geodesy module, class-free enum sorters), each in a small macro of our own with the
+//! result Microsoft's VBA language reference or [MS-VBAL] (the page or section named at each
+//! test) gives.
+
+use ncsheet::vba::{self, MacroError, RunOptions, RunOutput};
+use ncsheet::workbook::Workbook;
+
+fn run_with(src: &str, options: &RunOptions) -> Result<RunOutput, MacroError> {
+    let mut wb = Workbook::with_sheet();
+    vba::run(&mut wb, src, "Module1.bas", options)
+}
+
+/// What the macro's `Debug.Print`s wrote, line by line.
+fn printed(src: &str) -> Vec<String> {
+    run_with(src, &RunOptions::default()).unwrap_or_else(|e| panic!("{e}")).printed
+}
+
+// [MS-VBAL] 5.2.3.3 "User Defined Type Declarations": `private-type-declaration` and
+// `public-type-declaration` put Private or Public before Type ("Type statement": `[ Private |
+// Public ] Type varname`).
+#[test]
+fn a_type_declared_private_or_public() {
+    let src = "Private Type Params\n    s As Double\n    n As Long\nEnd Type\n\
+               Public Type Pair\n    a As String\nEnd Type\n\
+               Private Function Make() As Params\n    Dim p As Params\n    p.s = 2.5: p.n = 3\n    Make = p\nEnd Function\n\
+               Sub Main()\n    Dim p As Params, q As Pair\n    p = Make()\n    q.a = \"x\"\n\
+               \x20   Debug.Print p.s * p.n; q.a\nEnd Sub\n";
+    assert_eq!(printed(src), [" 7.5 x"]);
+}
+
+// "XlCVError enumeration (Excel)": xlErrNA is 2042, a member of Excel's object library, so
+// `Excel.xlErrNA` names it as `xlErrNA` does; VBA's own constants likewise through `VBA.`
+// ("Miscellaneous constants": vbCrLf is Chr(13) & Chr(10)).
+#[test]
+fn constants_named_through_their_library() {
+    let src = "Sub Main()\n    Debug.Print Excel.xlErrNA, Excel.xlErrDiv0\n\
+               \x20   Debug.Print Len(VBA.vbCrLf), IsError(CVErr(Excel.xlErrNA))\nEnd Sub\n";
+    assert_eq!(printed(src), [" 2042          2007 ", " 2            True"]);
+}
+
+// [MS-VBAL] 5.3.1.5 "Parameter Lists": a parameter declared with `()` is an array of its
+// declared type; the caller passes a whole array (`S x` or `S x()`), by reference unless
+// ByVal, so what the procedure writes into it, ReDim included, is the caller's.
+#[test]
+fn an_array_parameter_of_a_declared_type_takes_the_whole_array() {
+    let src = "Sub AddTen(a() As Long)\n    a(1) = a(1) + 10\nEnd Sub\n\
+               Sub Grow(a() As Double)\n    ReDim a(0 To 2)\n    a(2) = 0.5\nEnd Sub\n\
+               Sub Main()\n    Dim x(1 To 2) As Long\n    x(1) = 1\n    AddTen x\n    AddTen x()\n\
+               \x20   Dim y() As Double\n    Grow y\n    Debug.Print x(1); UBound(y); y(2); y(0)\nEnd Sub\n";
+    assert_eq!(printed(src), [" 21  2  0.5  0 "]);
+}
+
+// "Enum statement" and [MS-VBAL] 5.2.3.4 "Enum Declarations": members are Long constants;
+// a member without a value is one more than the member before it, the first 0; a variable
+// of the Enum's type is a Long (starts at 0); a member is named alone or as `Enum.member`.
+#[test]
+fn enum_members_are_long_constants_counting_on_from_the_one_before() {
+    let src = "Public Enum Tool\n    Drill\n    Mill = 5\n    Tap\nEnd Enum\n\
+               Private Enum Flags\n    F1 = 1\n    F2 = F1 * 2\nEnd Enum\n\
+               Sub Main()\n    Dim t As Tool\n    Debug.Print t; Drill; Mill; Tap; Tool.Tap; F2\n\
+               \x20   t = Tool.Mill\n    Debug.Print VarType(t); t\nEnd Sub\n";
+    assert_eq!(printed(src), [" 0  0  5  6  6  2 ", " 3  5 "]);
+}
