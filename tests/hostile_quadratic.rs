@@ -116,6 +116,17 @@ fn many_criteria_count_and_sum_what_each_criterion_finds() {
     for (i, (formula, expected)) in cases.iter().enumerate() {
         assert_eq!(shown(&mut wb, &format!("E{}", i + 1), formula), t(expected), "{formula}");
     }
+    // Comparisons match values of their own kind only: ">a" the texts after "a" ("5" sorts
+    // before letters), "<TRUE" no boolean here, ">#N/A" nothing; "<>5" all but the numbers 5.
+    let comparisons = r##"{">4";"<4";">=5";"<=5";">a";"<b";">=TRUE";"<TRUE";">#N/A";"<>5";">=apple";"<5"}"##;
+    let cases = [
+        (format!("COUNTIF(A1:A10,{comparisons})"), "2,1,2,3,3,3,1,0,0,8,3,1"),
+        (format!("COUNTIF(A:A,{comparisons})"), "2,1,2,3,3,3,1,0,0,1048574,3,1"),
+        (format!("COUNTIFS(A1:A10,{comparisons},B1:B10,\">50\")"), "1,1,1,2,1,2,0,0,0,4,1,1"),
+    ];
+    for (i, (formula, expected)) in cases.iter().enumerate() {
+        assert_eq!(shown(&mut wb, &format!("F{}", i + 1), formula), t(expected), "{formula}");
+    }
 }
 
 /// Keys SEQUENCE(k) reversed over the items SEQUENCE(k): key j is found at position j, so
@@ -135,6 +146,8 @@ fn a_million_keys_over_a_million_items_are_found_by_index() {
         // Each criterion matches one cell; SUMIF adds it.
         (format!("=SUM(COUNTIF(SEQUENCE({k}),{keys}))"), k as f64),
         (format!("=SUM(SUMIF(SEQUENCE({k}),{keys}))"), triangle),
+        // "<=j" counts 1 … j.
+        (format!("=SUM(COUNTIF(SEQUENCE({k}),\"<=\"&{keys}))"), triangle),
     ];
     for (i, (formula, expected)) in cases.iter().enumerate() {
         let cell = format!("A{}", i + 1);
@@ -194,6 +207,7 @@ fn many_keys_inside_a_lambda_count_the_index_not_a_scan_per_key() {
         (inside(format!("VLOOKUP({keys},HSTACK(SEQUENCE({k}),SEQUENCE({k})),2,FALSE)")), triangle),
         (inside(format!("HLOOKUP(TRANSPOSE({keys}),SEQUENCE(2,{k}),1,FALSE)")), triangle),
         (inside(format!("COUNTIF(SEQUENCE({k}),{keys})")), k as f64),
+        (inside(format!("COUNTIF(SEQUENCE({k}),\">\"&{keys})")), (k * (k - 1) / 2) as f64),
         (inside(format!("SUMIFS(SEQUENCE({k}),SEQUENCE({k}),{keys})")), triangle),
     ];
     for (i, (formula, expected)) in cases.iter().enumerate() {

@@ -1,6 +1,7 @@
 //! The criteria of COUNTIF, SUMIF, AVERAGEIF and the *IFS functions (`5`, `"<5"`, `">=2"`,
 //! `"<>x"`, `"=3"`, `"abc*"`), and the cell blocks they are tested against.
 
+use std::cell::{Cell, OnceCell};
 use std::cmp::Ordering;
 use std::collections::HashMap;
 use std::rc::Rc;
@@ -334,7 +335,7 @@ fn blanks_beyond(ranges: &[CellBlock], criteria: &[Criterion]) -> usize {
 pub struct CriteriaMatcher<'a> {
     ranges: &'a [CellBlock],
     indexed: Option<IndexedRange>,
-    pub work: std::cell::Cell<usize>,
+    pub work: Cell<usize>,
 }
 
 /// The range whose criterion varies, indexed, and where the fixed criteria of the other
@@ -344,7 +345,12 @@ struct IndexedRange {
     index: EqualityIndex,
     /// Per read cell (row by row), whether every other range meets its criterion.
     others_hold: Vec<bool>,
+    /// Whether they hold in every read cell (as in COUNTIF, which has no others).
+    others_hold_everywhere: bool,
     read_cols: usize,
+    /// The range's numbers, texts and booleans in order, for counting what a comparison
+    /// (`"<5"`, `">=b"`) matches; built at the first such criterion.
+    ordered: OnceCell<OrderedCells>,
 }
 
 impl<'a> CriteriaMatcher<'a> {
@@ -354,12 +360,36 @@ impl<'a> CriteriaMatcher<'a> {
             IndexedRange::worth_it(ranges, criteria).map(|which| IndexedRange::new(ranges, criteria, which, dates));
         let (read_rows, read_cols) = read_size(ranges);
         let built = if indexed.is_some() { read_rows * read_cols * ranges.len() } else { 0 };
-        CriteriaMatcher { ranges, indexed, work: std::cell::Cell::new(built) }
+        CriteriaMatcher { ranges, indexed, work: Cell::new(built) }
+    }
+
+    /// How many cells meet every criterion: a comparison of the indexed range's criterion
+    /// counts by binary search when the other ranges' criteria hold everywhere (COUNTIF).
+    pub fn count(&self, criteria: &[Criterion]) -> XlResult<usize> {
+        if let Some(indexed) = &self.indexed {
+            let criterion = &criteria[indexed.which];
+            if is_order(criterion.op) && indexed.others_hold_everywhere {
+                let ordered = indexed.ordered.get_or_init(|| {
+                    let ordered =
+                        OrderedCells::new(&self.ranges[indexed.which], indexed.others_hold.len(), indexed.read_cols);
+                    self.add_work(ordered.sort_work());
+                    ordered
+                });
+                self.add_work(ordered.query_work());
+                return Ok(ordered.count(criterion) + blanks_beyond(self.ranges, criteria));
+            }
+        }
+        let m = self.matches(criteria)?;
+        Ok(m.cells.len() + m.blanks_beyond)
+    }
+
+    fn add_work(&self, n: usize) {
+        self.work.set(self.work.get().saturating_add(n));
     }
 
     /// The cells where every range meets its criterion ([`matching_cells`]).
     pub fn matches(&self, criteria: &[Criterion]) -> XlResult<Matches> {
-        let add = |n: usize| self.work.set(self.work.get().saturating_add(n));
+        let add = |n: usize| self.add_work(n);
         let keyed = self.indexed.as_ref().and_then(|indexed| Some((indexed, criteria[indexed.which].keys()?)));
         let Some((indexed, keys)) = keyed else {
             let (read_rows, read_cols) = read_size(self.ranges);
@@ -390,14 +420,87 @@ impl IndexedRange {
     fn new(ranges: &[CellBlock], criteria: &[Value], which: usize, dates: DateSystem) -> IndexedRange {
         let (read_rows, read_cols) = read_size(ranges);
         let fixed: Vec<Criterion> = criteria.iter().map(|v| Criterion::new(v, dates)).collect();
-        let others_hold = (0..read_rows * read_cols)
+        let others_hold: Vec<bool> = (0..read_rows * read_cols)
             .map(|p| {
                 let (row, col) = (p / read_cols, p % read_cols);
                 (0..ranges.len()).all(|i| i == which || fixed[i].matches(ranges[i].get(row, col)))
             })
             .collect();
         let index = EqualityIndex::new(&ranges[which], read_rows, read_cols, dates);
-        IndexedRange { which, index, others_hold, read_cols }
+        let others_hold_everywhere = others_hold.iter().all(|&holds| holds);
+        IndexedRange { which, index, others_hold, others_hold_everywhere, read_cols, ordered: OnceCell::new() }
+    }
+}
+
+fn is_order(op: BinOp) -> bool {
+    matches!(op, BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge)
+}
+
+/// A range's numbers, texts and booleans, sorted by kind (in that order) and within a kind
+/// as comparison criteria compare them; only values of the criterion's kind compare.
+struct OrderedCells {
+    sorted: Vec<Value>,
+}
+
+impl OrderedCells {
+    fn new(range: &CellBlock, read_cells: usize, read_cols: usize) -> OrderedCells {
+        let mut sorted: Vec<Value> = (0..read_cells)
+            .map(|p| range.get(p / read_cols, p % read_cols))
+            .filter(|v| kind(v).is_some())
+            .cloned()
+            .collect();
+        sorted.sort_by(ordered_cells_order);
+        OrderedCells { sorted }
+    }
+
+    fn sort_work(&self) -> usize {
+        self.sorted.len().saturating_mul(self.query_work())
+    }
+
+    /// Two binary searches.
+    fn query_work(&self) -> usize {
+        2 * (usize::BITS - self.sorted.len().leading_zeros()) as usize
+    }
+
+    /// How many cells a comparison criterion matches: those of its kind before, equal to
+    /// and after its value, as its operator takes them.
+    fn count(&self, criterion: &Criterion) -> usize {
+        let target = match &criterion.target {
+            Target::Number(n) if !n.is_nan() => Value::Number(*n),
+            Target::Text { text, .. } => Value::Text(text.clone()),
+            Target::Bool(b) => Value::Bool(*b),
+            // Empty cells and errors compare with nothing.
+            _ => return 0,
+        };
+        let before = self.sorted.partition_point(|v| ordered_cells_order(v, &target) == Ordering::Less);
+        let through = self.sorted.partition_point(|v| ordered_cells_order(v, &target) != Ordering::Greater);
+        let first_of_kind = self.sorted.partition_point(|v| kind(v) < kind(&target));
+        let past_kind = self.sorted.partition_point(|v| kind(v) <= kind(&target));
+        let sides = [
+            (Ordering::Less, before - first_of_kind),
+            (Ordering::Equal, through - before),
+            (Ordering::Greater, past_kind - through),
+        ];
+        sides.iter().filter(|(ord, _)| comparison_holds(criterion.op, *ord)).map(|(_, n)| n).sum()
+    }
+}
+
+/// Numbers, then texts, then booleans; `None` for what no comparison criterion matches.
+fn kind(v: &Value) -> Option<u8> {
+    match v {
+        Value::Number(n) if !n.is_nan() => Some(0),
+        Value::Text(_) => Some(1),
+        Value::Bool(_) => Some(2),
+        _ => None,
+    }
+}
+
+fn ordered_cells_order(a: &Value, b: &Value) -> Ordering {
+    match (a, b) {
+        (Value::Number(x), Value::Number(y)) => x.partial_cmp(y).unwrap_or(Ordering::Equal),
+        (Value::Text(x), Value::Text(y)) => compare_text(x, y),
+        (Value::Bool(x), Value::Bool(y)) => x.cmp(y),
+        _ => kind(a).cmp(&kind(b)),
     }
 }
 

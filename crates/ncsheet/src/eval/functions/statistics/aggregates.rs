@@ -272,8 +272,7 @@ impl Conditions {
         let matcher = CriteriaMatcher::new(&self.ranges, &self.criteria, self.dates);
         let counts = lift_values(&self.criteria, &|items| {
             let criteria: Vec<Criterion> = items.iter().map(|v| Criterion::new(v, self.dates)).collect();
-            let m = matcher.matches(&criteria)?;
-            Ok(Value::Number((m.cells.len() + m.blanks_beyond) as f64))
+            Ok(Value::Number(matcher.count(&criteria)? as f64))
         });
         ctx.charge(matcher.work.get());
         counts
