@@ -422,3 +422,14 @@ fn a_spill_and_hidden_rows_move_whole() {
     assert_eq!(wb.formula(0, at("C2")).as_deref(), Some("=SUM(A3#)"));
     assert_eq!(wb.value(0, at("C2")), n(6.0));
 }
+
+#[test]
+fn formulas_moved_by_an_edit_are_not_reported_as_replaced() {
+    let mut wb = probe_book();
+    wb.track_changes();
+    wb.shift_cells(0, SheetEdit::rows(0, 1, false)).unwrap();
+    let changes = wb.changes().unwrap();
+    // C1's formula moved up a row (deleted with row 1 in fact), none was typed over.
+    assert!(changes.formulas_replaced.is_empty(), "{:?}", changes.formulas_replaced);
+    assert!(changes.inputs.contains(&(0, at("C1"))));
+}

@@ -194,7 +194,13 @@ impl Workbook {
         for &(id, _, _) in &moves {
             let c = &self.cells[id as usize];
             let (s, p) = (c.sheet, c.pos);
+            let first_edit = self.changes.as_ref().is_some_and(|log| !log.inputs.contains(&id));
             self.set_constant(s, p, Value::Blank);
+            if first_edit {
+                // A formula moved or deleted with its row was not replaced by a constant
+                // (what `Changes::formulas_replaced` warns of when saving).
+                self.changes.as_mut().map(|log| log.had_formula.remove(&id));
+            }
         }
         for (id, to, content) in moves {
             let s = self.cells[id as usize].sheet;
