@@ -197,7 +197,7 @@ fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
         )));
     }
     let doc = ncsheet::document::Document::open_file(&args.workbook, &super::open_options(delimiter))?;
-    let opened = doc.into_opened();
+    let mut opened = doc.into_opened();
     let mut wb = opened.workbook;
     let (file, source, sub, document) = macro_source(&args, opened.layout.as_ref())?;
     let file = &file;
@@ -233,6 +233,7 @@ fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
             args.max_memory.unwrap_or(vba::DEFAULT_MAX_MEMORY),
         )?,
         arc_tolerance: args.arc_tol,
+        looks: sheet_looks(opened.layout.as_ref()),
     };
     let out = match vba::run(&mut wb, &source, &file.display().to_string(), &options) {
         Ok(out) => out,
@@ -294,6 +295,7 @@ fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
     let listed = macro_files::written(&macro_outputs);
     files.extend(macro_outputs);
     if let Some(save) = &args.save {
+        keep_looks(&mut opened.layout, std::mem::take(&mut out.looks));
         files.push(ncsheet::io::encode_save_with(&wb, opened.layout.as_ref(), &opened.origin, save, delimiter)?);
     }
     super::write_outputs(&files, false, args.force)?;
@@ -312,6 +314,33 @@ fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
         None => eprintln!("ncsheet: {}: note: no NC program: the macro emitted no NC block (no move)", file.display()),
     }
     Ok(())
+}
+
+/// The look of the workbook's sheets as a macro reads it (`NumberFormat`, `ColumnWidth`).
+fn sheet_looks(layout: Option<&ncsheet::io::xlsx::Layout>) -> Vec<(String, vba::SheetLook)> {
+    let sheets = layout.into_iter().flat_map(|l| &l.sheets);
+    let look = |s: &ncsheet::io::xlsx::SheetLayout| vba::SheetLook {
+        number_formats: s.number_formats.clone(),
+        cell_styles: s.cell_styles.clone(),
+        column_widths: s.column_widths.clone(),
+        row_heights: s.row_heights.clone(),
+    };
+    sheets.map(|(name, s)| (name.clone(), look(s))).collect()
+}
+
+/// The look the macro left each sheet with, into the layout the workbook is saved with.
+fn keep_looks(layout: &mut Option<ncsheet::io::xlsx::Layout>, looks: Vec<(String, vba::SheetLook)>) {
+    if looks.is_empty() {
+        return;
+    }
+    let layout = layout.get_or_insert_with(Default::default);
+    for (name, look) in looks {
+        let sheet = layout.sheets.entry(name).or_default();
+        sheet.number_formats = look.number_formats;
+        sheet.cell_styles = look.cell_styles;
+        sheet.column_widths = look.column_widths;
+        sheet.row_heights = look.row_heights;
+    }
 }
 
 /// Whether the macro emitted a program: at least one block a control acts on. Comments

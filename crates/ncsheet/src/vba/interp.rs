@@ -63,7 +63,9 @@ pub fn run(
         .collect();
     let entry = entry(module, options).map_err(|m| usage(file, m))?;
     let stem = std::path::Path::new(file).file_stem().and_then(|s| s.to_str()).unwrap_or("MACRO");
+    let looks = super::formats::Looks::new(wb, &options.looks);
     let mut it = Interp::new(module, options, source, Book::Mut(wb), None);
+    *it.looks.get_mut() = looks;
     it.active.set(active);
     it.home = home;
     it.code_sheets = code_sheets;
@@ -71,7 +73,9 @@ pub fn run(
     *it.out.get_mut() = RunOutput::new(&stem.to_ascii_uppercase(), options.machine);
     let result = it.start(entry);
     it.flush_line();
+    let looks = it.looks.borrow().finish(&it.wb.borrow());
     let mut output = it.out.into_inner();
+    output.looks = looks;
     output.removed = it.files.borrow().removed();
     output.files = it.files.into_inner().into_written();
     match result {
@@ -269,6 +273,8 @@ pub struct Interp<'m, 'w> {
     pub cursors: RefCell<std::collections::HashMap<SheetId, (Rect, Pos)>>,
     /// The range the last `Copy` without a destination took, for `PasteSpecial`.
     pub(super) clipboard: RefCell<Option<(SheetId, Rect)>>,
+    /// How the sheets' cells look (number formats, styles, widths), `formats.rs`.
+    pub(super) looks: RefCell<super::formats::Looks>,
     /// Explanations the last evaluation left (why a value is an error).
     notes: RefCell<Vec<String>>,
     /// Bytes of `Debug.Print` and `MsgBox` output so far, against [`RunOptions::max_output`].
@@ -334,6 +340,7 @@ impl<'m, 'w> Interp<'m, 'w> {
             code_sheets: Vec::new(),
             cursors: RefCell::new(std::collections::HashMap::new()),
             clipboard: RefCell::new(None),
+            looks: RefCell::new(super::formats::Looks::default()),
             notes: RefCell::new(Vec::new()),
             output_bytes: Cell::new(0),
             charged: Cell::new(0),

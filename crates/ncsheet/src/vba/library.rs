@@ -427,6 +427,8 @@ fn object_type_name(obj: &Obj) -> &'static str {
         Obj::Value(Value::Blank) => "Nothing",
         Obj::Value(v) => value_type_name(v),
         Obj::Range(..) | Obj::Lines(..) => "Range",
+        Obj::Look(_, _, super::formats::LookPart::Font) => "Font",
+        Obj::Look(_, _, super::formats::LookPart::Interior) => "Interior",
         Obj::Sheet(_) => "Worksheet",
         Obj::Sheets => "Sheets",
         Obj::Workbook => "Workbook",

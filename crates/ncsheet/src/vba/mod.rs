@@ -209,6 +209,7 @@ mod classes;
 mod collections;
 mod conditional;
 mod files;
+mod formats;
 mod host;
 mod insert_delete;
 mod interp;
@@ -233,6 +234,7 @@ use crate::workbook::Workbook;
 
 pub use ast::{Module, Span};
 pub use files::{checked_name, FileAccess};
+pub use formats::SheetLook;
 pub use project::{read_project, ModuleKind, ProjectError, ProjectModule, VbaProject};
 pub use udf::{install_functions, WorkbookFunctions, FUNCTION_MAX_DEPTH};
 
@@ -295,6 +297,10 @@ pub struct RunOptions {
     /// The chord tolerance the program will be written with on a control without circular
     /// interpolation (`run --arc-tol`), for `Nc.ChordsCW`; `None`: the default.
     pub arc_tolerance: Option<f64>,
+    /// The look of the sheets' cells as the file gave it, by sheet name (number formats,
+    /// styles, column widths, row heights): what `NumberFormat`, `Text` and `ColumnWidth`
+    /// read; the run's changes come back in [`RunOutput::looks`].
+    pub looks: Vec<(String, SheetLook)>,
 }
 
 /// A document module: the code behind a sheet or the workbook (a worksheet button's macro
@@ -380,6 +386,7 @@ impl Default for RunOptions {
             workbook_name: None,
             files: None,
             arc_tolerance: None,
+            looks: Vec::new(),
         }
     }
 }
@@ -401,6 +408,9 @@ pub struct RunOutput {
     /// The files of [`FileAccess::out_dir`] the macro deleted (`Kill`, plain names): for the
     /// caller to remove after writing [`RunOutput::files`], when the run succeeded.
     pub removed: Vec<String>,
+    /// The look of the sheets the file gave a look or the macro formatted, by sheet name,
+    /// as the run left it (`formats.rs`): for the caller to save with the workbook.
+    pub looks: Vec<(String, SheetLook)>,
 }
 
 impl RunOutput {
@@ -411,6 +421,7 @@ impl RunOutput {
             program: Program::new(name, machine),
             files: Vec::new(),
             removed: Vec::new(),
+            looks: Vec::new(),
         }
     }
 

@@ -204,8 +204,14 @@ impl Interp<'_, '_> {
             Obj::Lines(sheet, rect, rows) => match name.as_str() {
                 "count" => Ok(Obj::Value(Value::Number(if rows { rect.rows() } else { rect.cols() } as f64))),
                 "item" => self.line(ctx, sheet, rect, rows, link),
-                _ => Err(self.no_member(&obj, link)),
+                "autofit" => self.autofit(ctx, sheet, rect, rows).map(|_| Obj::Value(Value::Blank)),
+                // `Columns("A").NumberFormat`: the columns are the range's cells.
+                _ => match self.look_member(ctx, sheet, rect, link) {
+                    Some(look) => look,
+                    None => Err(self.no_member(&obj, link)),
+                },
             },
+            Obj::Look(sheet, rect, part) => self.look_part_member(ctx, sheet, rect, part, link),
             Obj::Nc => self.nc_member(ctx, link),
             Obj::Debug => match name.as_str() {
                 "assert" => {
@@ -456,7 +462,7 @@ impl Interp<'_, '_> {
             "formula" => value(self.formulas(sheet, rect, false)),
             "formulalocal" => value(self.formulas_local(sheet, rect)),
             "formular1c1" | "formular1c1local" => value(self.formulas(sheet, rect, true)),
-            "text" => value(Value::text(print_text(&ctx.rect_value(sheet, Rect::cell(rect.first))))),
+            "text" => value(Value::text(self.shown_text(ctx, sheet, rect.first))),
             "row" => value(Value::Number(rect.first.row as f64 + 1.0)),
             "column" => value(Value::Number(rect.first.col as f64 + 1.0)),
             "count" => value(Value::Number(rect.rows() as f64 * rect.cols() as f64)),
@@ -525,7 +531,10 @@ impl Interp<'_, '_> {
             "delete" | "insert" => self.insert_or_delete(ctx, sheet, rect, name == "insert", link),
             "entirerow" => Ok(Obj::Range(sheet, super::insert_delete::entire_rows(rect))),
             "entirecolumn" => Ok(Obj::Range(sheet, super::insert_delete::entire_columns(rect))),
-            _ => Err(self.no_member(&Obj::Range(sheet, rect), link)),
+            _ => match self.look_member(ctx, sheet, rect, link) {
+                Some(look) => look,
+                None => Err(self.no_member(&Obj::Range(sheet, rect), link)),
+            },
         }
     }
 
@@ -685,6 +694,9 @@ impl Interp<'_, '_> {
     }
 
     fn set_member(&self, ctx: &mut Ctx, obj: Obj, link: &Link, value: &Expr) -> Run<()> {
+        if let Some(done) = self.set_look(&obj, link, value) {
+            return done;
+        }
         let name = lower(link);
         match (&obj, name.as_str()) {
             (Obj::Err, "number") => self.set_err_number(&self.eval(value)?, link.span),

@@ -173,6 +173,18 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "tristateusedefault" => number(-2.0),
         "xla1" => number(1.0),
         "xlr1c1" => number(-4150.0),
+        // Excel's XlHAlign and XlVAlign values ("XlHAlign enumeration", "XlVAlign
+        // enumeration"), with the short names of Excel's Constants that macros write.
+        "xlleft" | "xlhalignleft" => number(-4131.0),
+        "xlcenter" | "xlhaligncenter" | "xlvaligncenter" => number(-4108.0),
+        "xlright" | "xlhalignright" => number(-4152.0),
+        "xlgeneral" | "xlhaligngeneral" => number(1.0),
+        "xlfill" | "xlhalignfill" => number(5.0),
+        "xljustify" | "xlhalignjustify" | "xlvalignjustify" => number(-4130.0),
+        "xldistributed" | "xlhaligndistributed" | "xlvaligndistributed" => number(-4117.0),
+        "xlcenteracrossselection" | "xlhaligncenteracrossselection" => number(7.0),
+        "xltop" | "xlvaligntop" => number(-4160.0),
+        "xlbottom" | "xlvalignbottom" => number(-4107.0),
         _ => None,
     }
 }

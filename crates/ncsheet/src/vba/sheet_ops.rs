@@ -469,7 +469,7 @@ fn sheet_name_fault(name: &str) -> Option<&'static str> {
 
 impl Interp<'_, '_> {
     /// Excel's run-time error 1004 with its reason.
-    fn error_1004(&self, span: Span, why: String) -> Fault {
+    pub(super) fn error_1004(&self, span: Span, why: String) -> Fault {
         let mut fault = self.fault_at(span, format!("{why} (run-time error 1004)"));
         fault.code = 1004;
         fault
@@ -559,6 +559,8 @@ impl Interp<'_, '_> {
         if let Some(used) = used {
             self.paste((sheet, used), copy, used, Paste::Inputs, link.span)?;
         }
+        // The copy looks as the original does (number formats, styles, widths).
+        self.looks.borrow_mut().copy_sheet(sheet, copy);
         self.active.set(copy);
         Ok(Obj::Value(Value::Blank))
     }

@@ -91,6 +91,8 @@ pub enum Obj {
     Range(SheetId, Rect),
     /// `r.Rows` / `r.Columns` without an index: for `.Count` and `(i)`.
     Lines(SheetId, Rect, bool),
+    /// `r.Font` or `r.Interior` (`formats.rs`).
+    Look(SheetId, Rect, super::formats::LookPart),
     Sheet(SheetId),
     Sheets,
     Workbook,
@@ -116,6 +118,8 @@ impl Obj {
             Obj::Value(_) => "a value",
             Obj::Range(..) => "a Range",
             Obj::Lines(..) => "a Rows or Columns collection",
+            Obj::Look(_, _, super::formats::LookPart::Font) => "a Font",
+            Obj::Look(_, _, super::formats::LookPart::Interior) => "an Interior",
             Obj::Sheet(_) => "a Worksheet",
             Obj::Sheets => "the Worksheets collection",
             Obj::Workbook => "the Workbook",

@@ -2,5 +2,6 @@
 //! 15 significant digits) and Excel's number-format language as TEXT, FIXED and VBA's Format
 //! apply it (`text_format.rs`).
 
+pub mod cell_style;
 pub mod number_format;
 pub(crate) mod text_format;

@@ -17,6 +17,7 @@ use crate::io::atomic::Scratch;
 
 use rust_xlsxwriter::{Format, Formula, Worksheet};
 
+use crate::eval::format::cell_style::CellStyle;
 use crate::eval::{Env, Value, XlError};
 use crate::formula::address::Pos;
 use crate::formula::ast::SheetId;
@@ -89,7 +90,7 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
     book.set_zip_compression_level(2);
     // Says that the values stored are ncsheet's, not Excel's (see `WRITTEN_BY`).
     book.set_properties(&rust_xlsxwriter::DocProperties::new().set_author(super::WRITTEN_BY));
-    let mut formats: HashMap<&str, Format> = HashMap::new();
+    let mut formats: HashMap<(Option<&str>, CellStyle), Format> = HashMap::new();
     let names = wb.sheet_names();
     // Per sheet, constants rust_xlsxwriter cannot write, as written over their placeholders.
     let mut patches: Vec<Vec<(Pos, &'static str)>> = vec![Vec::new(); names.len()];
@@ -124,6 +125,9 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
             for &(col, width) in &l.column_widths {
                 ws.set_column_width_pixels(col, (width * 7.0).round() as u32).map_err(|e| fail(Some(name), e))?;
             }
+            for &(row, height) in &l.row_heights {
+                ws.set_row_height(row, height).map_err(|e| fail(Some(name), e))?;
+            }
             if macros {
                 if let Some(code_name) = &l.code_name {
                     ws.set_vba_name(code_name).map_err(|e| fail(Some(name), e))?;
@@ -131,9 +135,10 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
             }
         }
         for (pos, value) in wb.values(sheet) {
-            let format = sheet_layout
-                .and_then(|l| l.number_formats.get(&pos))
-                .map(|code| &*formats.entry(code.as_str()).or_insert_with(|| number_format(code)));
+            let code = sheet_layout.and_then(|l| l.number_formats.get(&pos)).map(String::as_str);
+            let style = sheet_layout.and_then(|l| l.cell_styles.get(&pos)).copied().unwrap_or_default();
+            let format = (code.is_some() || !style.is_plain())
+                .then(|| &*formats.entry((code, style)).or_insert_with(|| cell_format(code, style)));
             let place = || wb.cell_name(sheet, pos);
             match syntax::cell_to_file(wb, sheet, pos, Storage::Legacy) {
                 Some(legacy) => {
@@ -479,6 +484,48 @@ fn result_text(value: &Value) -> String {
         Value::Text(s) => s.to_string(),
         Value::Blank | Value::Array(_) | Value::Lambda(_) | Value::Null => String::new(),
     }
+}
+
+/// A cell format for a number format code (none: General) and the rest of a cell's style.
+fn cell_format(code: Option<&str>, style: CellStyle) -> Format {
+    use crate::eval::format::cell_style as xl;
+    use rust_xlsxwriter::{Color, FormatAlign};
+    let mut format = code.map_or_else(Format::new, number_format);
+    let horizontal = match style.horizontal {
+        Some(xl::XL_LEFT) => Some(FormatAlign::Left),
+        Some(xl::XL_CENTER) => Some(FormatAlign::Center),
+        Some(xl::XL_RIGHT) => Some(FormatAlign::Right),
+        Some(xl::XL_FILL) => Some(FormatAlign::Fill),
+        Some(xl::XL_JUSTIFY) => Some(FormatAlign::Justify),
+        Some(xl::XL_CENTER_ACROSS_SELECTION) => Some(FormatAlign::CenterAcross),
+        Some(xl::XL_DISTRIBUTED) => Some(FormatAlign::Distributed),
+        _ => None,
+    };
+    let vertical = match style.vertical {
+        Some(xl::XL_TOP) => Some(FormatAlign::Top),
+        Some(xl::XL_CENTER) => Some(FormatAlign::VerticalCenter),
+        Some(xl::XL_JUSTIFY) => Some(FormatAlign::VerticalJustify),
+        Some(xl::XL_DISTRIBUTED) => Some(FormatAlign::VerticalDistributed),
+        _ => None,
+    };
+    for align in horizontal.into_iter().chain(vertical) {
+        format = format.set_align(align);
+    }
+    if style.bold {
+        format = format.set_bold();
+    }
+    if style.italic {
+        format = format.set_italic();
+    }
+    if style.wrap {
+        format = format.set_text_wrap();
+    }
+    if let Some(bgr) = style.fill {
+        // VBA's RGB puts red in the low byte; the file's colour is RRGGBB.
+        let rgb = ((bgr & 0xFF) << 16) | (bgr & 0xFF00) | ((bgr >> 16) & 0xFF);
+        format = format.set_background_color(Color::RGB(rgb));
+    }
+    format
 }
 
 /// A cell format for a number format code: the built-in date (14), which every Excel shows as

@@ -153,6 +153,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "VBA.REPLACE(text, find, with, [start], [count], [compare])",
         "VBA Replace: the text from start with count finds (all: -1) replaced",
     ),
+    FnSpec::value("VBA.RGB", 3, 3, rgb, "VBA.RGB(red, green, blue)", "VBA RGB: a colour, red + green*256 + blue*65536"),
     FnSpec::value("VBA.RIGHT", 2, 2, right, "VBA.RIGHT(text, length)", "VBA Right: the last length characters"),
     FnSpec::value(
         "VBA.RND",
@@ -448,6 +449,26 @@ fn fix(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 fn sgn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     number_fn(ctx, args, "Sgn", FIRST, |x| Ok(if x == 0.0 { 0.0 } else { x.signum() }))
+}
+
+/// "RGB function": the colour red + green·256 + blue·65536 as a Long (`Interior.Color`);
+/// each part an Integer ("a value … that exceeds 255 is assumed to be 255"), below zero an
+/// invalid argument (run-time error 5).
+fn rgb(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let raised = Raised::default();
+    let dates = ctx.dates();
+    let result = lift_vba(ctx, args, "RGB", NO_NULL, &|v| {
+        let mut colour = 0.0;
+        for (i, part) in v.iter().enumerate() {
+            let part = to_number(part, dates)?.round_ties_even();
+            if part < 0.0 {
+                return Err(raised.set(5, "a colour part below zero"));
+            }
+            colour += part.min(255.0) * 256f64.powi(i as i32);
+        }
+        Ok(Value::Number(colour))
+    });
+    raised.raise(ctx, "RGB", result)
 }
 
 fn atn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {

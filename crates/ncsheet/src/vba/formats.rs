@@ -1,0 +1,560 @@
+//! How cells look, as automation macros set it: `Range.NumberFormat` (which changes what a
+//! cell shows: `Range.Text`, and the saved file), `HorizontalAlignment`, `VerticalAlignment`,
+//! `WrapText`, `Font.Bold`/`Italic`, `Interior.Color`, `ColumnWidth`, `RowHeight` and
+//! `AutoFit`. None of them changes a value. The run starts from the look the file gave
+//! ([`RunOptions::looks`](super::RunOptions::looks)) and hands back the look it leaves
+//! ([`RunOutput::looks`](super::RunOutput::looks)) for the caller to save.
+//!
+//! Formatting a whole column or row (`Columns("A").NumberFormat = "0"`) formats its cells
+//! that have a look of their own now and, as a line format, every other cell of it, those
+//! written later included: in Excel a cell takes its column's format when it is first
+//! filled. The file keeps it per cell (the column's own style, for cells typed later in
+//! Excel, is not written).
+
+use std::collections::{BTreeMap, HashMap};
+use std::rc::Rc;
+
+use crate::eval::format::cell_style::{self, CellStyle};
+use crate::eval::{Ctx, Value};
+use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
+use crate::formula::ast::{Expr, SheetId};
+use crate::workbook::Workbook;
+
+use super::ast::{Link, Span};
+use super::interp::{Interp, Run};
+use super::value::{print_text, Obj};
+
+/// A sheet's look as a run starts with it and leaves it: what an xlsx layout keeps.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SheetLook {
+    /// Cells with a number format other than General.
+    pub number_formats: HashMap<Pos, String>,
+    /// Cells with more style than the Normal style.
+    pub cell_styles: HashMap<Pos, CellStyle>,
+    /// Column → width in characters of the Normal font's digits, as `ColumnWidth` gives it.
+    pub column_widths: Vec<(u16, f64)>,
+    /// Row → height in points.
+    pub row_heights: Vec<(u32, f64)>,
+}
+
+/// Excel's standard column width (8.43 digits of Calibri 11) and row height (15 points), the
+/// look of a column or row nobody sized.
+pub const STANDARD_WIDTH: f64 = 8.43;
+pub const STANDARD_HEIGHT: f64 = 15.0;
+
+/// Excel's limits: "ColumnWidth" (0 to 255 characters) and "RowHeight" (0 to 409 points).
+const MAX_WIDTH: f64 = 255.0;
+const MAX_HEIGHT: f64 = 409.0;
+
+/// The most cells one formatting statement sets one by one (whole rows and columns aside).
+const MAX_FORMATTED_CELLS: u64 = 10_000_000;
+
+/// Interior.Color of a cell without fill: white, as Excel answers.
+const NO_FILL: u32 = 0xFF_FFFF;
+
+/// One formatting statement's change to a cell.
+#[derive(Clone, Debug, PartialEq)]
+enum Edit {
+    Format(Rc<str>),
+    Horizontal(Option<i32>),
+    Vertical(Option<i32>),
+    Bold(bool),
+    Italic(bool),
+    Wrap(bool),
+    Fill(Option<u32>),
+}
+
+impl Edit {
+    fn apply(&self, style: &mut CellStyle) {
+        match self {
+            Edit::Format(_) => {}
+            Edit::Horizontal(h) => style.horizontal = *h,
+            Edit::Vertical(v) => style.vertical = *v,
+            Edit::Bold(b) => style.bold = *b,
+            Edit::Italic(i) => style.italic = *i,
+            Edit::Wrap(w) => style.wrap = *w,
+            Edit::Fill(f) => style.fill = *f,
+        }
+    }
+}
+
+/// One sheet's look during a run.
+#[derive(Clone, Debug, Default)]
+struct SheetState {
+    /// Cells' own number formats ("General" included: it hides a line format).
+    formats: HashMap<Pos, Rc<str>>,
+    /// Cells' own styles.
+    styles: HashMap<Pos, CellStyle>,
+    /// Whole rows and columns formatted, in order: they reach every cell of theirs without
+    /// a format or style of its own.
+    lines: Vec<(Rect, Edit)>,
+    widths: BTreeMap<u16, f64>,
+    heights: BTreeMap<u32, f64>,
+}
+
+impl SheetState {
+    fn from_look(look: &SheetLook) -> SheetState {
+        SheetState {
+            formats: look.number_formats.iter().map(|(p, c)| (*p, Rc::from(c.as_str()))).collect(),
+            styles: look.cell_styles.clone(),
+            lines: Vec::new(),
+            widths: look.column_widths.iter().copied().collect(),
+            heights: look.row_heights.iter().copied().collect(),
+        }
+    }
+
+    fn format(&self, pos: Pos) -> Option<Rc<str>> {
+        if let Some(own) = self.formats.get(&pos) {
+            return Some(own.clone());
+        }
+        let line = self.lines.iter().rev().find_map(|(r, e)| match e {
+            Edit::Format(code) if r.contains(pos) => Some(code.clone()),
+            _ => None,
+        });
+        line
+    }
+
+    fn style(&self, pos: Pos) -> CellStyle {
+        if let Some(own) = self.styles.get(&pos) {
+            return *own;
+        }
+        let mut style = CellStyle::default();
+        for (_, edit) in self.lines.iter().filter(|(r, _)| r.contains(pos)) {
+            edit.apply(&mut style);
+        }
+        style
+    }
+
+    fn edit_cell(&mut self, pos: Pos, edit: &Edit) {
+        match edit {
+            Edit::Format(code) => _ = self.formats.insert(pos, code.clone()),
+            _ => {
+                let mut style = self.style(pos);
+                edit.apply(&mut style);
+                self.styles.insert(pos, style);
+            }
+        }
+    }
+
+    /// A whole row or column: its cells' own entries change, the rest follow the line.
+    fn edit_lines(&mut self, rect: Rect, edit: Edit) {
+        match &edit {
+            Edit::Format(_) => self.formats.retain(|p, _| !rect.contains(*p)),
+            _ => {
+                for (_, style) in self.styles.iter_mut().filter(|(p, _)| rect.contains(**p)) {
+                    edit.apply(style);
+                }
+            }
+        }
+        self.lines.push((rect, edit));
+    }
+
+    /// The look to save: every written cell a line reaches gets its format and style.
+    fn finish(&self, wb: &Workbook, sheet: SheetId) -> SheetLook {
+        let mut formats = self.formats.clone();
+        let mut styles = self.styles.clone();
+        if !self.lines.is_empty() {
+            for (pos, _) in wb.values(sheet) {
+                if let Some(code) = self.format(pos) {
+                    formats.entry(pos).or_insert(code);
+                }
+                styles.entry(pos).or_insert_with(|| self.style(pos));
+            }
+        }
+        SheetLook {
+            number_formats: formats
+                .into_iter()
+                .filter(|(_, c)| !c.eq_ignore_ascii_case("General"))
+                .map(|(p, c)| (p, c.to_string()))
+                .collect(),
+            cell_styles: styles.into_iter().filter(|(_, s)| !s.is_plain()).collect(),
+            column_widths: self.widths.iter().map(|(c, w)| (*c, *w)).collect(),
+            row_heights: self.heights.iter().map(|(r, h)| (*r, *h)).collect(),
+        }
+    }
+}
+
+/// The look of every sheet during a run, by sheet.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Looks {
+    sheets: HashMap<SheetId, SheetState>,
+}
+
+impl Looks {
+    /// The looks of `given` (by sheet name) for the sheets of `wb`.
+    pub(super) fn new(wb: &Workbook, given: &[(String, SheetLook)]) -> Looks {
+        let sheets =
+            given.iter().filter_map(|(name, look)| Some((wb.sheet_id(name)?, SheetState::from_look(look)))).collect();
+        Looks { sheets }
+    }
+
+    /// The look each sheet is left with, by its name now.
+    pub(super) fn finish(&self, wb: &Workbook) -> Vec<(String, SheetLook)> {
+        let names = wb.sheet_names();
+        let mut out: Vec<_> = self
+            .sheets
+            .iter()
+            .filter_map(|(id, state)| Some((names.get(*id as usize)?.clone(), state.finish(wb, *id))))
+            .collect();
+        out.sort_by(|a, b| a.0.cmp(&b.0));
+        out
+    }
+
+    fn sheet(&mut self, sheet: SheetId) -> &mut SheetState {
+        self.sheets.entry(sheet).or_default()
+    }
+
+    /// A copy of `from`'s look for the new sheet `to` (`Worksheet.Copy`).
+    pub(super) fn copy_sheet(&mut self, from: SheetId, to: SheetId) {
+        if let Some(state) = self.sheets.get(&from).cloned() {
+            self.sheets.insert(to, state);
+        }
+    }
+}
+
+/// Which of Excel's formatting objects a member path reached (`r.Font`, `r.Interior`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LookPart {
+    Font,
+    Interior,
+}
+
+/// A rectangle reaching the sheet's last row (whole columns) or last column (whole rows).
+fn is_whole_lines(rect: Rect) -> bool {
+    rect.last.row == MAX_ROWS - 1 || rect.last.col == MAX_COLS - 1
+}
+
+/// Every cell's answer when they agree, Null when they do not ("Range.NumberFormat": "returns
+/// Null if all cells in the specified range don't have the same number format").
+fn agreed<T: PartialEq>(mut answers: impl Iterator<Item = T>) -> Option<T> {
+    let first = answers.next()?;
+    answers.all(|a| a == first).then_some(first)
+}
+
+impl Interp<'_, '_> {
+    /// The cells a formatting read looks at: a whole row or column by its used part (the
+    /// rest of it answers as its line does, which its first cell tells).
+    fn look_cells(&self, ctx: &Ctx, sheet: SheetId, rect: Rect) -> Vec<Pos> {
+        let mut cells = vec![rect.first];
+        let used = if is_whole_lines(rect) { ctx.clip_to_used(sheet, rect) } else { rect };
+        if rect.rows() as u64 * rect.cols() as u64 <= MAX_FORMATTED_CELLS || is_whole_lines(rect) {
+            for row in used.first.row..=used.last.row {
+                cells.extend((used.first.col..=used.last.col).map(|col| Pos::new(row, col)));
+            }
+        }
+        cells
+    }
+
+    /// The number format code a cell shows its number in ("General" without one).
+    pub(super) fn cell_format(&self, sheet: SheetId, pos: Pos) -> Option<Rc<str>> {
+        self.looks.borrow().sheets.get(&sheet).and_then(|s| s.format(pos))
+    }
+
+    /// `Range.Text`: the first cell's value as its number format shows it.
+    pub(super) fn shown_text(&self, ctx: &mut Ctx, sheet: SheetId, pos: Pos) -> String {
+        match ctx.rect_value(sheet, Rect::cell(pos)) {
+            Value::Number(n) => {
+                let code = self.cell_format(sheet, pos);
+                let dates = self.wb.borrow().date_system();
+                crate::eval::format::number_format::shown(n, code.as_deref(), dates)
+            }
+            v => print_text(&v),
+        }
+    }
+
+    /// Every cell's style answer `f` when they agree, else Null.
+    fn style_answer(&self, ctx: &Ctx, sheet: SheetId, rect: Rect, f: fn(&CellStyle) -> Value) -> Obj {
+        let cells = self.look_cells(ctx, sheet, rect);
+        let looks = self.looks.borrow();
+        let state = looks.sheets.get(&sheet);
+        let answers = cells.into_iter().map(|p| f(&state.map(|s| s.style(p)).unwrap_or_default()));
+        Obj::Value(agreed(answers).unwrap_or(Value::Null))
+    }
+
+    /// Reads of the formatting members of a range; `None` when `name` is none of them.
+    pub(super) fn look_member(&self, ctx: &mut Ctx, sheet: SheetId, rect: Rect, link: &Link) -> Option<Run<Obj>> {
+        let name = link.name.to_ascii_lowercase();
+        Some(match name.as_str() {
+            "numberformat" | "numberformatlocal" => {
+                if let Some(refusal) = self.refuse_local_format(&name, link.span) {
+                    return Some(Err(refusal));
+                }
+                let cells = self.look_cells(ctx, sheet, rect);
+                let answers = cells.into_iter().map(|p| self.cell_format(sheet, p));
+                let code = agreed(answers).map(|c| Value::text(c.as_deref().unwrap_or("General")));
+                Ok(Obj::Value(code.unwrap_or(Value::Null)))
+            }
+            "horizontalalignment" => Ok(self.style_answer(ctx, sheet, rect, |s| {
+                Value::Number(f64::from(s.horizontal.unwrap_or(cell_style::XL_GENERAL)))
+            })),
+            // A cell's vertical alignment is bottom until set (xlBottom).
+            "verticalalignment" => Ok(self.style_answer(ctx, sheet, rect, |s| {
+                Value::Number(f64::from(s.vertical.unwrap_or(cell_style::XL_BOTTOM)))
+            })),
+            "wraptext" => Ok(self.style_answer(ctx, sheet, rect, |s| Value::Bool(s.wrap))),
+            "font" => Ok(Obj::Look(sheet, rect, LookPart::Font)),
+            "interior" => Ok(Obj::Look(sheet, rect, LookPart::Interior)),
+            "columnwidth" => {
+                let last = rect.last.col.min(rect.first.col + MAX_COLS);
+                let widths = (rect.first.col..=last).map(|c| self.width(sheet, c));
+                Ok(Obj::Value(agreed(widths).map_or(Value::Null, Value::Number)))
+            }
+            "rowheight" => {
+                let heights = (rect.first.row..=rect.last.row).map(|r| self.height(sheet, r));
+                Ok(Obj::Value(agreed(heights).map_or(Value::Null, Value::Number)))
+            }
+            "autofit" => self.autofit_range(ctx, sheet, rect, link.span).map(|_| Obj::Value(Value::Blank)),
+            _ => return None,
+        })
+    }
+
+    /// `r.Font.Bold`, `r.Interior.Color` …
+    pub(super) fn look_part_member(
+        &self,
+        ctx: &Ctx,
+        sheet: SheetId,
+        rect: Rect,
+        part: LookPart,
+        link: &Link,
+    ) -> Run<Obj> {
+        let name = link.name.to_ascii_lowercase();
+        match (part, name.as_str()) {
+            (LookPart::Font, "bold") => Ok(self.style_answer(ctx, sheet, rect, |s| Value::Bool(s.bold))),
+            (LookPart::Font, "italic") => Ok(self.style_answer(ctx, sheet, rect, |s| Value::Bool(s.italic))),
+            (LookPart::Interior, "color") => {
+                Ok(self.style_answer(ctx, sheet, rect, |s| Value::Number(f64::from(s.fill.unwrap_or(NO_FILL)))))
+            }
+            _ => Err(self.look_part_refused(part, link)),
+        }
+    }
+
+    fn look_part_refused(&self, part: LookPart, link: &Link) -> super::interp::Fault {
+        let kept = match part {
+            LookPart::Font => "Font.Bold and Font.Italic",
+            LookPart::Interior => "Interior.Color",
+        };
+        let what = if part == LookPart::Font { "Font" } else { "Interior" };
+        self.fault_at(link.span, format!("{what}.{}: of this, ncsheet keeps {kept} only", link.name))
+    }
+
+    /// `NumberFormatLocal` is the code in the workbook's locale: the same text where the
+    /// locale writes numbers as en-US does; elsewhere refused (its separators differ).
+    fn refuse_local_format(&self, name: &str, span: Span) -> Option<super::interp::Fault> {
+        if name != "numberformatlocal" {
+            return None;
+        }
+        let locale = self.wb.borrow().settings().locale;
+        let english = locale.localize_shown("1234.5") == "1234.5";
+        (!english).then(|| {
+            self.fault_at(
+                span,
+                "NumberFormatLocal: the workbook's locale spells format codes its own way; use NumberFormat",
+            )
+        })
+    }
+
+    /// Writes of the formatting members; `None` when `name` is none of them.
+    pub(super) fn set_look(&self, obj: &Obj, link: &Link, value: &Expr) -> Option<Run<()>> {
+        let name = link.name.to_ascii_lowercase();
+        let (sheet, rect, part) = match obj {
+            Obj::Range(s, r) | Obj::Lines(s, r, _) => (*s, *r, None),
+            Obj::Look(s, r, p) => (*s, *r, Some(*p)),
+            _ => return None,
+        };
+        let known = match part {
+            None => matches!(
+                name.as_str(),
+                "numberformat"
+                    | "numberformatlocal"
+                    | "horizontalalignment"
+                    | "verticalalignment"
+                    | "wraptext"
+                    | "columnwidth"
+                    | "rowheight"
+            ),
+            Some(_) => true,
+        };
+        if !known {
+            return None;
+        }
+        Some(self.set_look_value((sheet, rect, part), link, value))
+    }
+
+    fn set_look_value(
+        &self,
+        (sheet, rect, part): (SheetId, Rect, Option<LookPart>),
+        link: &Link,
+        value: &Expr,
+    ) -> Run<()> {
+        let name = link.name.to_ascii_lowercase();
+        let v = self.eval(value)?;
+        let span = link.span;
+        let number = |what: &str| self.number_of(&v, what).map_err(|m| self.fault_at(span, m));
+        let boolean = || {
+            crate::eval::coerce::to_bool(&v)
+                .map_err(|_| self.fault_at(span, format!("{} takes True or False", link.name)))
+        };
+        let edit = match (part, name.as_str()) {
+            (None, "numberformat" | "numberformatlocal") => {
+                if let Some(refusal) = self.refuse_local_format(&name, span) {
+                    return Err(refusal);
+                }
+                let code =
+                    crate::eval::coerce::to_text(&v).map_err(|e| self.fault_at(span, format!("the format is {e}")))?;
+                Edit::Format(Rc::from(&*code))
+            }
+            (None, "horizontalalignment") => {
+                let a = number("HorizontalAlignment")?.round() as i32;
+                if !cell_style::is_horizontal(a) {
+                    return Err(self.error_1004(
+                        span,
+                        "HorizontalAlignment takes an XlHAlign value (xlLeft, xlCenter, xlRight …)".into(),
+                    ));
+                }
+                Edit::Horizontal((a != cell_style::XL_GENERAL).then_some(a))
+            }
+            (None, "verticalalignment") => {
+                let a = number("VerticalAlignment")?.round() as i32;
+                if !cell_style::is_vertical(a) {
+                    return Err(self.error_1004(
+                        span,
+                        "VerticalAlignment takes an XlVAlign value (xlTop, xlCenter, xlBottom …)".into(),
+                    ));
+                }
+                Edit::Vertical((a != cell_style::XL_BOTTOM).then_some(a))
+            }
+            (None, "wraptext") => Edit::Wrap(boolean()?),
+            (None, "columnwidth") => return self.set_widths(sheet, rect, number("ColumnWidth")?, span),
+            (None, "rowheight") => return self.set_heights(sheet, rect, number("RowHeight")?, span),
+            (Some(LookPart::Font), "bold") => Edit::Bold(boolean()?),
+            (Some(LookPart::Font), "italic") => Edit::Italic(boolean()?),
+            (Some(LookPart::Interior), "color") => {
+                let c = number("Interior.Color")?.round();
+                if !(0.0..=f64::from(NO_FILL)).contains(&c) {
+                    return Err(
+                        self.error_1004(span, "Interior.Color takes a colour from RGB(…), 0 to 16777215".into())
+                    );
+                }
+                Edit::Fill(Some(c as u32))
+            }
+            (Some(p), _) => return Err(self.look_part_refused(p, link)),
+            _ => unreachable!("set_look checked the member"),
+        };
+        self.edit_look(sheet, rect, edit, span)
+    }
+
+    fn edit_look(&self, sheet: SheetId, rect: Rect, edit: Edit, span: Span) -> Run<()> {
+        let cells = rect.rows() as u64 * rect.cols() as u64;
+        let mut looks = self.looks.borrow_mut();
+        let state = looks.sheet(sheet);
+        if is_whole_lines(rect) {
+            state.edit_lines(rect, edit);
+            return Ok(());
+        }
+        if cells > MAX_FORMATTED_CELLS {
+            return Err(self.fault_at(span, format!("formatting {cells} cells one by one is more than a macro may")));
+        }
+        for row in rect.first.row..=rect.last.row {
+            for col in rect.first.col..=rect.last.col {
+                state.edit_cell(Pos::new(row, col), &edit);
+            }
+        }
+        Ok(())
+    }
+
+    /// A column's width: as the macro or the file set it, else the standard width.
+    fn width(&self, sheet: SheetId, col: u32) -> f64 {
+        let own = self.looks.borrow().sheets.get(&sheet).and_then(|s| s.widths.get(&(col as u16)).copied());
+        own.or_else(|| crate::eval::Env::column_width(&**self.wb.borrow(), sheet, col)).unwrap_or(STANDARD_WIDTH)
+    }
+
+    fn height(&self, sheet: SheetId, row: u32) -> f64 {
+        let own = self.looks.borrow().sheets.get(&sheet).and_then(|s| s.heights.get(&row).copied());
+        own.unwrap_or(STANDARD_HEIGHT)
+    }
+
+    /// `ColumnWidth = w` for every column of `rect`; CELL("width") sees it too.
+    fn set_widths(&self, sheet: SheetId, rect: Rect, width: f64, span: Span) -> Run<()> {
+        if !(0.0..=MAX_WIDTH).contains(&width) {
+            return Err(self.error_1004(span, format!("ColumnWidth is 0 to 255 characters, not {width}")));
+        }
+        for col in rect.first.col..=rect.last.col {
+            self.set_width(sheet, col, width)?;
+        }
+        Ok(())
+    }
+
+    fn set_width(&self, sheet: SheetId, col: u32, width: f64) -> Run<()> {
+        self.looks.borrow_mut().sheet(sheet).widths.insert(col as u16, width);
+        self.book_mut()?.set_column_width(sheet, Some((col, col)), width);
+        Ok(())
+    }
+
+    fn set_heights(&self, sheet: SheetId, rect: Rect, height: f64, span: Span) -> Run<()> {
+        if !(0.0..=MAX_HEIGHT).contains(&height) {
+            return Err(self.error_1004(span, format!("RowHeight is 0 to 409 points, not {height}")));
+        }
+        if rect.rows() as u64 > MAX_FORMATTED_CELLS {
+            return Err(self.fault_at(span, "RowHeight: set the height of the rows in use, not of the whole sheet"));
+        }
+        let mut looks = self.looks.borrow_mut();
+        let state = looks.sheet(sheet);
+        for row in rect.first.row..=rect.last.row {
+            state.heights.insert(row, height);
+        }
+        Ok(())
+    }
+
+    /// `r.AutoFit`: Excel's needs whole rows or whole columns ("Range.AutoFit": "must be a
+    /// row or a range of rows, or a column or a range of columns"; else error 1004).
+    fn autofit_range(&self, ctx: &mut Ctx, sheet: SheetId, rect: Rect, span: Span) -> Run<()> {
+        if rect.last.row == MAX_ROWS - 1 && rect.first.row == 0 {
+            self.autofit(ctx, sheet, rect, false)
+        } else if rect.last.col == MAX_COLS - 1 && rect.first.col == 0 {
+            self.autofit(ctx, sheet, rect, true)
+        } else {
+            Err(self.error_1004(span, "AutoFit method of Range class failed: the range must be whole rows or whole columns (use r.Columns.AutoFit)".into()))
+        }
+    }
+
+    /// `Columns.AutoFit` / `Rows.AutoFit` over the cells of `rect`, as Excel fits only by
+    /// the cells of the range. Excel measures the shown text in the font's pixels; ncsheet
+    /// has no fonts, so a column becomes as wide as its longest shown text in characters,
+    /// each taken as wide as a digit (exact for numbers in Excel's default font, an
+    /// approximation for letters), and a row 15 points per line of its tallest wrapped
+    /// cell. A column or row with nothing shown keeps its size.
+    pub(super) fn autofit(&self, ctx: &mut Ctx, sheet: SheetId, rect: Rect, rows: bool) -> Run<()> {
+        let used = ctx.clip_to_used(sheet, rect);
+        let mut longest: BTreeMap<u32, usize> = BTreeMap::new();
+        for row in used.first.row..=used.last.row {
+            for col in used.first.col..=used.last.col {
+                let pos = Pos::new(row, col);
+                let text = self.shown_text(ctx, sheet, pos);
+                if text.is_empty() {
+                    continue;
+                }
+                let size = if rows {
+                    let wraps = self.looks.borrow().sheets.get(&sheet).is_some_and(|s| s.style(pos).wrap);
+                    if wraps {
+                        text.lines().count().max(1)
+                    } else {
+                        1
+                    }
+                } else {
+                    text.lines().map(|l| l.chars().count()).max().unwrap_or(0)
+                };
+                let line = if rows { row } else { col };
+                let best = longest.entry(line).or_insert(0);
+                *best = (*best).max(size);
+            }
+        }
+        for (line, size) in longest {
+            if rows {
+                self.looks.borrow_mut().sheet(sheet).heights.insert(line, STANDARD_HEIGHT * size as f64);
+            } else {
+                self.set_width(sheet, line, (size as f64).min(MAX_WIDTH))?;
+            }
+        }
+        Ok(())
+    }
+}
