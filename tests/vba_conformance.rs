@@ -1144,3 +1144,22 @@ fn an_item_of_an_objects_public_array_is_assigned() {
     .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(out.printed, [" 11.5 ", " 8 ", " 9 "]);
 }
+
+// Excel reads a VBA array of arrays given to a worksheet function as a two-dimensional array,
+// one row per inner array. "WorksheetFunction.Transpose method": rows become columns, and the
+// result comes back to VBA 1-based in both dimensions; a one-dimensional array is a row (so its
+// transpose is an n × 1 array) and an n × 1 array's transpose a one-dimensional array from 1.
+// "WorksheetFunction.Index method": row and column count from 1 whatever the array's bounds.
+#[test]
+fn worksheet_functions_read_an_array_of_arrays_as_rows() {
+    let out = run("Sub Main()\n    t = Application.Transpose(Array(Array(1, 2, 3), Array(4, 5, 6)))\n\
+                   \x20   Debug.Print LBound(t, 1) & UBound(t, 1) & LBound(t, 2) & UBound(t, 2) & t(3, 2) & t(1, 2)\n\
+                   \x20   u = WorksheetFunction.Transpose(Array(10, 20, 30))\n\
+                   \x20   Debug.Print LBound(u, 1) & UBound(u, 1) & LBound(u, 2) & UBound(u, 2) & u(2, 1)\n\
+                   \x20   w = Application.Transpose(u)\n    Debug.Print LBound(w) & UBound(w) & w(3)\n\
+                   \x20   j = Array(Array(1, 2), Array(3, 4))\n    Debug.Print Application.Index(j, 2, 1)\n\
+                   \x20   Dim z(0 To 2, 0 To 1)\n    z(2, 1) = 42\n    Debug.Print Application.Index(z, 3, 2)\n\
+                   \x20   On Error Resume Next\n    x = Application.Transpose(Array(Array(1, 2), Array(3, 4, 5)))\n\
+                   \x20   Debug.Print Err.Number <> 0\nEnd Sub\n");
+    assert_eq!(out.printed, ["131264", "131120", "1330", " 3 ", " 42 ", "True"]);
+}

@@ -641,3 +641,35 @@ impl Interp<'_, '_> {
 
 /// The object an item held before, or the run-time error number and message.
 type NestedPut = Result<Option<Obj>, (u32, String)>;
+
+/// An argument of a worksheet function: a one-dimensional array whose items are
+/// one-dimensional arrays of one length reads as a two-dimensional array, row i the i-th
+/// inner array, as Excel reads a VBA array of arrays (`Application.Transpose(Array(Array(1,
+/// 2), Array(3, 4)))` is {1,3;2,4}). Inner arrays of different lengths are refused.
+impl Interp<'_, '_> {
+    pub(super) fn worksheet_function_argument(&self, ctx: &mut Ctx, arg: &Expr, span: Span) -> Run<Operand> {
+        let operand = ctx.operand(arg);
+        self.take_pending()?;
+        let Operand::Value(Value::Array(outer)) = &operand else { return Ok(operand) };
+        let inner: Vec<&Array> = outer
+            .data
+            .iter()
+            .filter_map(|v| match v {
+                Value::Array(a) => Some(&**a),
+                _ => None,
+            })
+            .collect();
+        if outer.rows != 1 || inner.is_empty() || inner.len() != outer.data.len() {
+            return Ok(operand);
+        }
+        let width = inner[0].cols;
+        if inner.iter().any(|a| a.rows != 1 || a.cols != width) {
+            return Err(self.fault_at(
+                span,
+                "an array of arrays is a worksheet function's argument only when its arrays are rows of one length",
+            ));
+        }
+        let data = inner.iter().flat_map(|a| a.data.iter().cloned()).collect();
+        Ok(Operand::Value(Value::Array(Rc::new(Array::new(inner.len(), width, data)))))
+    }
+}

@@ -400,6 +400,9 @@ pub enum Node {
     Index { base: Expr, index: Vec<Expr>, span: Span },
     /// VBA's `Null`.
     Null,
+    /// An argument of a worksheet function (`Application.Transpose(a)`): an array of arrays
+    /// reads as a two-dimensional array, one row per inner array, as Excel reads one.
+    SheetArg { arg: Expr, span: Span },
     /// `New Collection`, `CreateObject("Scripting.Dictionary")`: a new object of the class.
     New { class: Made, span: Span },
 }

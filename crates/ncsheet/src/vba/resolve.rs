@@ -370,9 +370,27 @@ impl Build<'_> {
             return Err(self.error_at(pair, format!("{name} is one of VBA's functions, not a worksheet function")));
         }
         match self.function_call(pair, &name, &link)? {
+            Some(e) if names[0] != "vba" => Ok(Some(self.sheet_arguments(e))),
             Some(e) => Ok(Some(e)),
             None => Err(self.error_at(pair, format!("{} is not a function of {}", link.name, path.links[0].name))),
         }
+    }
+
+    /// A worksheet function's call with each argument that may give a VBA array read as
+    /// Excel reads it ([`Node::SheetArg`]).
+    fn sheet_arguments(&self, call: Expr) -> Expr {
+        let ExprKind::Call(id, args) = call.kind else { return call };
+        let args = args
+            .into_iter()
+            .map(|arg| match arg.kind {
+                ExprKind::Name(_) | ExprKind::Host(_) | ExprKind::Call(..) => {
+                    let (at, end) = (arg.span.start as usize, arg.span.end as usize);
+                    self.node(Node::SheetArg { span: self.span(at), arg }, at, end)
+                }
+                _ => arg,
+            })
+            .collect();
+        Expr::new(ExprKind::Call(id, args), call.span)
     }
 
     /// `Excel.xlErrNA`, `VBA.vbCrLf`: a constant named through the library that defines it
