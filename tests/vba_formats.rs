@@ -305,3 +305,29 @@ fn libreoffice_shown(soffice: &Path, dir: &Path, xlsx: &Path, sheet: usize) -> S
     let found: Vec<_> = named.filter(|p| p.file_name().unwrap().to_str().unwrap().starts_with(stem)).collect();
     std::fs::read_to_string(found.first().unwrap_or_else(|| panic!("LibreOffice wrote no csv for {stem}"))).unwrap()
 }
+
+#[test]
+fn a_patched_original_says_it_does_not_keep_the_macros_formats() {
+    let dir = tempfile::tempdir().unwrap();
+    let book = dir.path().join("bom.csv");
+    std::fs::write(&book, BOM).unwrap();
+    let plain = dir.path().join("plain.bas");
+    std::fs::write(&plain, "Sub Main()\n    Range(\"D1\").Value = 1\nEnd Sub\n").unwrap();
+    let original = dir.path().join("original.xlsx");
+    let out = ncsheet(&["run", book.to_str().unwrap(), plain.to_str().unwrap(), "--save", original.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    // Values only: the original package is patched and nothing is said of formats.
+    let patched = dir.path().join("values.xlsx");
+    let out =
+        ncsheet(&["run", original.to_str().unwrap(), plain.to_str().unwrap(), "--save", patched.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success() && !stderr.contains("number formats"), "{stderr}");
+    // A macro that formats: the patched package cannot hold it, and the run says so.
+    let bas = dir.path().join("format.bas");
+    std::fs::write(&bas, "Sub Main()\n    Columns(\"C\").NumberFormat = \"0.0\"\nEnd Sub\n").unwrap();
+    let saved = dir.path().join("formatted.xlsx");
+    let out = ncsheet(&["run", original.to_str().unwrap(), bas.to_str().unwrap(), "--save", saved.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stderr.contains("number formats, cell styles, column widths and row heights the macro set"), "{stderr}");
+}

@@ -334,6 +334,10 @@ fn keep_looks(layout: &mut Option<ncsheet::io::xlsx::Layout>, looks: Vec<(String
         return;
     }
     let layout = layout.get_or_insert_with(Default::default);
+    let before: Vec<_> = sheet_looks(Some(layout)).into_iter().map(|(n, l)| (n, in_order(l))).collect();
+    let unchanged =
+        |name: &String, look: &vba::SheetLook| before.iter().any(|(n, l)| n == name && *l == in_order(look.clone()));
+    layout.looks_edited |= looks.iter().any(|(name, look)| !unchanged(name, look));
     for (name, look) in looks {
         let sheet = layout.sheets.entry(name).or_default();
         sheet.number_formats = look.number_formats;
@@ -341,6 +345,16 @@ fn keep_looks(layout: &mut Option<ncsheet::io::xlsx::Layout>, looks: Vec<(String
         sheet.column_widths = look.column_widths;
         sheet.row_heights = look.row_heights;
     }
+}
+
+/// A look with its widths and heights in order, one each (the last the file gave wins),
+/// to compare as the run's are.
+fn in_order(mut look: vba::SheetLook) -> vba::SheetLook {
+    let widths: std::collections::BTreeMap<u16, f64> = look.column_widths.into_iter().collect();
+    let heights: std::collections::BTreeMap<u32, f64> = look.row_heights.into_iter().collect();
+    look.column_widths = widths.into_iter().collect();
+    look.row_heights = heights.into_iter().collect();
+    look
 }
 
 /// Whether the macro emitted a program: at least one block a control acts on. Comments

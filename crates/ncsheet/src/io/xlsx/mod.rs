@@ -107,6 +107,9 @@ pub struct Layout {
     pub external_links: usize,
     /// The link parts and the formulas that read them, to write back in a package made new.
     pub links: KeptLinks,
+    /// A macro changed how cells look (number formats, styles, widths, heights): a package
+    /// written anew keeps it; a patched original does not, and says so.
+    pub looks_edited: bool,
 }
 
 /// Links to other workbooks as the file had them: a package written anew keeps the parts,
