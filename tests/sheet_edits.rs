@@ -4,7 +4,7 @@
 //!
 //! The expected formulas are LibreOffice 7.4's: the probe book below was built in a
 //! headless LibreOffice, each edit made with the sheet's own `removeRange` / `insertCells`
-//! (modes ROWS, UP, DOWN, COLUMNS), and the formulas and values read back (LibreOffice writes a
+//! (modes ROWS, UP, DOWN, LEFT, COLUMNS), and the formulas and values read back (LibreOffice writes a
 //! deleted reference as `A#REF!`, Excel and we as `#REF!`: the values are compared there).
 //! Excel's documented rules agree: Microsoft's "Move or copy cells" and "Insert or delete
 //! rows and columns" pages (references move with their cells; a reference to a deleted
@@ -432,4 +432,34 @@ fn formulas_moved_by_an_edit_are_not_reported_as_replaced() {
     // C1's formula moved up a row (deleted with row 1 in fact), none was typed over.
     assert!(changes.formulas_replaced.is_empty(), "{:?}", changes.formulas_replaced);
     assert!(changes.inputs.contains(&(0, at("C1"))));
+}
+
+#[test]
+fn deleting_cells_shifted_left_as_libreoffice() {
+    let mut wb = probe_book();
+    for (cell, f) in [
+        ("E1", "=SUM(A2:D2)"),
+        ("E2", "=D2"),
+        ("E3", "=SUM(B1:B3)"),
+        ("E4", "=C2"),
+        ("E5", "=SUM(B2:D2)"),
+        ("F2", "=A2"),
+    ] {
+        set(&mut wb, 0, cell, f);
+    }
+    wb.shift_cells(0, SheetEdit::cells(Rect::new(at("B2"), at("C2")), Axis::Columns, false)).unwrap();
+    check(
+        &wb,
+        "delete B2:C2 shift left",
+        &[
+            (0, "E1", Some("=SUM(A2:B2)"), n(2.0)),
+            // Row 2's E2 and F2 moved two columns left, their references with them.
+            (0, "C2", Some("=B2"), n(0.0)),
+            (0, "D2", Some("=A2"), n(2.0)),
+            (0, "E2", None, Value::Blank),
+            (0, "E3", Some("=SUM(B1:B3)"), n(400.0)),
+            (0, "E4", None, bad()),
+            (0, "E5", Some("=SUM(B2:B2)"), n(0.0)),
+        ],
+    );
 }
