@@ -6,10 +6,11 @@
 //! headless LibreOffice, each edit made with the sheet's own `removeRange` / `insertCells`
 //! (modes ROWS, UP, DOWN, LEFT, COLUMNS), and the formulas and values read back (LibreOffice writes a
 //! deleted reference as `A#REF!`, Excel and we as `#REF!`: the values are compared there).
-//! Excel's documented rules agree: Microsoft's "Move or copy cells" and "Insert or delete
-//! rows and columns" pages (references move with their cells; a reference to a deleted
-//! cell is #REF!), and the Range.Delete page: "If this argument is omitted, Microsoft Excel
-//! decides based on the shape of the range."
+//! Excel's rules for names agree (J. Walkenbach, "Excel 2007 Formulas", "How Excel Maintains
+//! Cell and Range Names": a name's range moves with inserted or deleted rows above it, grows
+//! with a row inserted inside it, and is `#REF!` once all its rows are deleted). Microsoft's
+//! Range.Delete page, for the macros: "If this argument is omitted, Microsoft Excel decides
+//! based on the shape of the range."
 
 use ncsheet::eval::{Value, XlError};
 use ncsheet::formula::address::{parse_cell, Pos, Rect};
