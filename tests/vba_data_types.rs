@@ -329,3 +329,26 @@ fn a_currency_is_a_scaled_64_bit_integer() {
     );
     assert_eq!(out, [" 0 CurrencyCurrency", " 0.0002  0.0002 0.0002", " 0.1235 ", " 6  922337203685477 "]);
 }
+
+// [MS-VBAL] 5.6.9.3 and 5.6.9.3.1: an arithmetic operator let-coerces its operands to numbers,
+// and a value that is none — an error value ("CVErr function": "a Variant of subtype Error")
+// or a String that is no number — is run-time error 13, Type mismatch ("Type mismatch (Error
+// 13)"), which On Error traps, the variable left as it was; 5.6.9.8.1: `Not` likewise. A
+// String that is a number negates as the number.
+#[test]
+fn arithmetic_on_an_error_value_or_a_text_that_is_no_number_is_a_type_mismatch() {
+    let out = printed(
+        "",
+        "    Dim x, e\n    e = CVErr(2042)\n    On Error Resume Next\n\
+         \x20   x = CVErr(2007) + 1: Debug.Print Err.Number; IsEmpty(x): Err.Clear\n\
+         \x20   x = e * 2: Debug.Print Err.Number: Err.Clear\n\
+         \x20   x = -\"abc\": Debug.Print Err.Number: Err.Clear\n\
+         \x20   x = Not \"abc\": Debug.Print Err.Number: Err.Clear\n\
+         \x20   x = -e: Debug.Print Err.Number: Err.Clear\n\
+         \x20   x = -\"12\": Debug.Print Err.Number; x; IsError(e)",
+    );
+    assert_eq!(out, [" 13 True", " 13 ", " 13 ", " 13 ", " 13 ", " 0 -12 True"]);
+    let e = run("Sub Main()\n    Dim x\n    x = 1 + CVErr(2042)\nEnd Sub\n").unwrap_err();
+    assert!(e.message.contains("Type mismatch (run-time error 13)"), "{e}");
+    assert_eq!(e.span.unwrap().line, 3, "{e}");
+}

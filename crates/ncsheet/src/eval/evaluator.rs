@@ -1282,7 +1282,13 @@ impl<'a> Ctx<'a> {
             }
             UnaryOp::Not => {
                 let dates = self.dates;
-                map_value(&self.eval(inner), &|v| vba_not(v, dates))
+                let v = self.eval(inner);
+                let result = map_value(&v, &|v| vba_not(v, dates));
+                // VBA's Not of a text that is no number, or of an error value, is a Type mismatch.
+                if let (Some(host), Value::Error(_), false) = (self.host, &result, matches!(v, Value::Array(_))) {
+                    host.raise(13, "Type mismatch (run-time error 13): Not of a value that is no number");
+                }
+                result
             }
         }
     }

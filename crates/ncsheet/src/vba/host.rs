@@ -208,7 +208,7 @@ impl Host for Interp<'_, '_> {
 
     fn negation(&self, operand: &Expr, result: Value) -> Value {
         self.forget_widening(operand);
-        match self.negation_overflow(operand, &result) {
+        match self.negation_mismatch(operand, &result).or_else(|| self.negation_overflow(operand, &result)) {
             Some(fault) => {
                 self.park(fault);
                 Value::Error(XlError::Num)

@@ -41,11 +41,10 @@ pub(super) fn text_order(x: &str, y: &str, text_compare: bool) -> Ordering {
 }
 
 impl Interp<'_, '_> {
-    /// The run-time error `op` raises where it gave the error value `result` of operands
-    /// that were no errors ([MS-VBAL] 5.6.9.3: `/`, `\` and `Mod` by zero are error 11, a
-    /// String operand that is no number 13, a result past a Double's range 6); `None` where
-    /// the error came from an operand (an error value a Variant holds, as `CVErr` makes) or
-    /// from an array, whose items keep their errors.
+    /// The run-time error `op` raises where it gave the error value `result` ([MS-VBAL]
+    /// 5.6.9.3: `/`, `\` and `Mod` by zero are error 11, a String operand that is no number
+    /// or an error value (as `CVErr` makes) 13, a result past a Double's range 6); `None`
+    /// for a comparison, `&` and `Like`, and where an array's items keep their errors.
     pub(super) fn raised_error(
         &self,
         op: BinOp,
@@ -55,10 +54,15 @@ impl Interp<'_, '_> {
     ) -> Option<Fault> {
         let Value::Error(err) = result else { return None };
         let plain = |v: &Value| !matches!(v, Value::Error(_) | Value::Null | Value::Array(_) | Value::Lambda(_));
-        if !plain(a) || !plain(b) || relational(op) || matches!(op, BinOp::Concat | BinOp::Like) {
+        // An error value (`CVErr`, an error cell's value) is no number: arithmetic on it is a
+        // Type mismatch ([MS-VBAL] 5.6.9.3, the operands are let-coerced to numbers).
+        let error_operand = matches!(a, Value::Error(_)) || matches!(b, Value::Error(_));
+        let computed = !relational(op) && !matches!(op, BinOp::Concat | BinOp::Like);
+        if !computed || (!error_operand && (!plain(a) || !plain(b))) {
             return None;
         }
         let (code, name) = match (op, err) {
+            _ if error_operand => TYPE_MISMATCH,
             (BinOp::Div | BinOp::IntDiv | BinOp::Mod, XlError::Div0) => DIVISION_BY_ZERO,
             (_, XlError::Value) => TYPE_MISMATCH,
             (_, XlError::Num) => OVERFLOW,
@@ -67,6 +71,20 @@ impl Interp<'_, '_> {
         let text = self.source_between(ea.span.start, eb.span.end).trim();
         let shown = if text.is_empty() || text.chars().count() > 60 { "the operation" } else { text };
         let mut fault = self.fault_at(self.expr_span(ea), format!("{name} (run-time error {code}): {shown}"));
+        fault.code = code;
+        Some(fault)
+    }
+
+    /// Type mismatch (run-time error 13) of `-operand`, which gave the error value `result`:
+    /// the operand was a text that is no number or an error value ([MS-VBAL] 5.6.9.3.1, the
+    /// operand is let-coerced to a number).
+    pub(super) fn negation_mismatch(&self, operand: &Expr, result: &Value) -> Option<Fault> {
+        let Value::Error(_) = result else { return None };
+        let text = self.source_between(operand.span.start, operand.span.end).trim();
+        let shown = if text.is_empty() || text.chars().count() > 60 { "the operand" } else { text };
+        let (code, name) = TYPE_MISMATCH;
+        let mut fault =
+            self.fault_at(self.expr_span(operand), format!("{name} (run-time error {code}): -{shown} is no number"));
         fault.code = code;
         Some(fault)
     }
