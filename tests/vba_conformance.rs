@@ -1163,3 +1163,19 @@ fn worksheet_functions_read_an_array_of_arrays_as_rows() {
                    \x20   Debug.Print Err.Number <> 0\nEnd Sub\n");
     assert_eq!(out.printed, ["131264", "131120", "1330", " 3 ", " 42 ", "True"]);
 }
+
+// [MS-VBAL] 2.2 ("an array value carries its bounds") and "Function statement" (an array is
+// returned by assigning it to the name): a Function's array handed straight to another call,
+// `F(G())`, keeps the bounds G gave it, as `x = G()` does, whatever the Option Base.
+#[test]
+fn a_functions_array_passed_to_another_call_keeps_its_bounds() {
+    let out = run("Function G()\n    Dim a(3 To 5)\n    a(3) = 1: a(5) = 5\n    G = a\nEnd Function\n\
+                   Function G2()\n    Dim a(1 To 2, 2 To 3)\n    a(2, 3) = 7\n    G2 = a\nEnd Function\n\
+                   Function F(v)\n    F = LBound(v) & UBound(v)\nEnd Function\nFunction Id(v)\n    Id = v\nEnd Function\n\
+                   Sub S(ByVal v)\n    Debug.Print \"S\" & LBound(v)\nEnd Sub\n\
+                   Function Small() As Integer\n    Small = 7\nEnd Function\n\
+                   Sub Main()\n    Debug.Print F(G())\n    Debug.Print F(Id(G()))\n    x = Id(Id(G()))\n\
+                   \x20   Debug.Print LBound(x) & UBound(x)\n    S G()\n    y = Id(G2())\n    Debug.Print LBound(y, 2) & y(2, 3)\n\
+                   \x20   Debug.Print UBound(Id(G())) & Id(G())(5)\n    Debug.Print TypeName(Id(Small()))\nEnd Sub\n");
+    assert_eq!(out.printed, ["35", "35", "35", "S3", "27", "55", "Integer"]);
+}

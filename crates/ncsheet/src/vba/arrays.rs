@@ -279,6 +279,29 @@ impl Interp<'_, '_> {
         })
     }
 
+    /// What an argument that calls the project's own Function gives, as the Function left it:
+    /// an array with its bounds, an object, a Type value or a value.
+    pub(super) fn call_argument(&self, e: &Expr) -> Option<Run<Var>> {
+        let ExprKind::Host(id) = e.kind else { return None };
+        let Node::Call { proc, args, span } = &self.module.nodes[id as usize] else { return None };
+        let var = self.noting_date(id, || self.call_record(*proc, args, *span));
+        Some(var.map(|var| match var {
+            Var::Value(v @ Value::Array(_)) => super::value::array_var(v, self.module.base),
+            other => other,
+        }))
+    }
+
+    /// The type a number argument `e` gave keeps in a Variant parameter ([MS-VBAL] 5.3.1.11),
+    /// when it is not a Double.
+    pub(super) fn number_type(&self, e: &Expr, var: &Var) -> Option<super::typing::Declared> {
+        match var {
+            Var::Value(v @ Value::Number(_)) => {
+                Some(self.value_type(e, v)).filter(|ty| *ty != super::typing::Declared::Double)
+            }
+            _ => None,
+        }
+    }
+
     /// The item `name(at)` given what a ByRef parameter holds after the call: a value, an
     /// array with its bounds or an object (a Type is left as it was).
     pub(super) fn give_back_item(&self, name: &Rc<str>, at: &[Expr], var: Var, date: bool, span: Span) -> Run<()> {

@@ -948,13 +948,15 @@ impl Interp<'_, '_> {
                 // Read at the indexes just evaluated: an index that calls a function runs once.
                 let (array, at) = item?;
                 let var = self.item_argument(&a.value, &array, &at)?;
-                if let Var::Value(v @ Value::Number(_)) = &var {
-                    match self.value_type(&a.value, v) {
-                        Declared::Double => {}
-                        ty => types.push((index, ty)),
-                    }
-                }
+                types.extend(self.number_type(&a.value, &var).map(|ty| (index, ty)));
                 items_back.push((index, (array, at)));
+                bound.push((index, var));
+                continue;
+            }
+            // `F(G(x))`: G's array passes with the bounds G gave it ([MS-VBAL] 2.2).
+            if let Some(var) = self.call_argument(&a.value) {
+                let var = var?;
+                types.extend(self.number_type(&a.value, &var).map(|ty| (index, ty)));
                 bound.push((index, var));
                 continue;
             }
