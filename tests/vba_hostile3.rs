@@ -380,6 +380,21 @@ fn reading_the_growing_text_between_appends_is_linear() {
     assert_eq!(printed(src), [" 5000000  25000 bbaaa", "\u{f1}b|xa\u{f1}b||\u{f1}xa\u{f1}"]);
 }
 
+// CDate past the days a Date holds (issue 30): `CDate(1E+308)` panicked in chrono when the
+// Date was shown. VBA's "Date data type" holds January 1, 100 to December 31, 9999; past it
+// CDate raises Overflow (run-time error 6), which On Error traps; the range's ends convert.
+#[test]
+fn cdate_past_the_range_of_a_date_is_overflow() {
+    let src = "Sub Main()\n    On Error Resume Next\n    d = CDate(1E+308)\n    Debug.Print Err.Number\n\
+               \x20   Err.Clear\n    d = CDate(-657435)\n    Debug.Print Err.Number\n    Err.Clear\n\
+               \x20   d = CDate(2958465.5)\n    e = CDate(-657434)\n    Debug.Print Err.Number; Year(d)\nEnd Sub\n";
+    assert_eq!(printed(src), [" 6 ", " 6 ", " 0  9999 "]);
+    // A Date moved past the range by arithmetic (`Now + 1E+15`, where VBA raises Overflow)
+    // panicked in chrono when printed; it is shown as its serial.
+    let src = "Sub Main()\n    d = CDate(1) + 1E+15\n    Debug.Print d\nEnd Sub\n";
+    assert_eq!(printed(src), ["1E+15"]);
+}
+
 // The macro string limit (`--max-string`, docs/limits.md) still stops a string that grows
 // by appending, at the append that passes it, with its message.
 #[test]

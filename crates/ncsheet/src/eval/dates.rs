@@ -57,6 +57,10 @@ impl DateSystem {
 /// 9999-12-31, the last day Excel has.
 pub const LAST_SERIAL: i64 = 2_958_465;
 
+/// The days a macro's Date holds ("Date data type": January 1, 100 to December 31, 9999),
+/// as serials from 1899-12-30: the first, and the one after the last.
+pub const VBA_DATE_RANGE: std::ops::Range<f64> = -657_434.0..(LAST_SERIAL + 1) as f64;
+
 /// Seconds in a day.
 const DAY_SECONDS: f64 = 86_400.0;
 

@@ -517,6 +517,7 @@ pub fn print_text(v: &Value) -> String {
 /// the day (`None` at midnight). VBA counts days from 1899-12-30 on both sides of 1900 (no
 /// 1900-02-29), and a negative date's time runs forward from its day ([MS-VBAL] 2.1.1.1
 /// "Date": the fractional part's absolute value is the time of day).
+/// A serial's day and its seconds past midnight; no day outside the days a Date holds.
 fn date_parts(serial: f64) -> (Option<chrono::NaiveDate>, Option<u32>) {
     let mut days = serial.trunc();
     let mut seconds = ((serial - days).abs() * 86400.0).round() as u32;
@@ -525,7 +526,8 @@ fn date_parts(serial: f64) -> (Option<chrono::NaiveDate>, Option<u32>) {
         days += serial.signum();
     }
     let base = chrono::NaiveDate::from_ymd_opt(1899, 12, 30).expect("VBA's day 0");
-    let date = (days != 0.0).then(|| base.checked_add_signed(chrono::Duration::days(days as i64))).flatten();
+    let in_range = days != 0.0 && crate::eval::dates::VBA_DATE_RANGE.contains(&days);
+    let date = in_range.then(|| base.checked_add_signed(chrono::Duration::days(days as i64))).flatten();
     (date, (seconds != 0).then_some(seconds))
 }
 
@@ -535,6 +537,11 @@ fn date_parts(serial: f64) -> (Option<chrono::NaiveDate>, Option<u32>) {
 /// `1/2/2024 12:30:00 PM`; midnight of day 0 is `12:00:00 AM`.
 pub fn date_text(serial: f64) -> String {
     use chrono::Datelike;
+    // Only arithmetic past a Date's range makes one (CDate refuses it): shown as its number,
+    // where chrono panicked on a day past its own range (`CDate(1E+308)`).
+    if !crate::eval::dates::VBA_DATE_RANGE.contains(&serial) {
+        return crate::eval::format::number_format::general(serial);
+    }
     let time = |s: u32| {
         let (h, m, sec) = (s / 3600, s / 60 % 60, s % 60);
         let twelve = if h % 12 == 0 { 12 } else { h % 12 };
@@ -551,6 +558,9 @@ pub fn date_text(serial: f64) -> String {
 /// A Date as `Write #` writes it ("Write # statement": the universal format
 /// `#yyyy-mm-dd hh:mm:ss#`, hours 0 to 23, only the part that is there).
 pub fn universal_date_text(serial: f64) -> String {
+    if !crate::eval::dates::VBA_DATE_RANGE.contains(&serial) {
+        return format!("#{}#", crate::eval::format::number_format::general(serial));
+    }
     let time = |s: u32| format!("{:02}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60);
     match date_parts(serial) {
         (Some(d), None) => format!("#{}#", d.format("%Y-%m-%d")),

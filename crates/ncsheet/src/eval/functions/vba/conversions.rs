@@ -350,10 +350,19 @@ pub(super) fn time(ctx: &mut Ctx, _: &[Expr]) -> XlResult<Value> {
 /// en-US locale writes it (`"1/2/2024"`, `"2024-01-02"`, `"12:30 PM"`), True -1; Null is
 /// error 94, text that is no date a type mismatch.
 pub(super) fn cdate(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_vba(ctx, args, "CDate", NO_NULL, &|v| match &v[0] {
-        Value::Bool(b) => Ok(Value::Number(-f64::from(u8::from(*b)))),
-        other => to_number(other, VBA_DATES).map(Value::Number),
-    })
+    let raised = Raised::default();
+    let result = lift_vba(ctx, args, "CDate", NO_NULL, &|v| {
+        let serial = match &v[0] {
+            Value::Bool(b) => -f64::from(u8::from(*b)),
+            other => to_number(other, VBA_DATES)?,
+        };
+        // "Date data type": January 1, 100 to December 31, 9999; past it Overflow.
+        if !crate::eval::dates::VBA_DATE_RANGE.contains(&serial) {
+            return Err(raised.set(6, "a date before 1/1/100 or after 12/31/9999"));
+        }
+        Ok(Value::Number(serial))
+    });
+    raised.raise(ctx, "CDate", result)
 }
 
 /// `Date$` ("Date function": `Date$` returns a 10-character string, mm-dd-yyyy).
