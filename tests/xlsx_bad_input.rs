@@ -228,6 +228,19 @@ fn a_damaged_workbook_part_is_named() {
     }
 }
 
+/// A part whose root is another element (well-formed, so the check above passes it): calamine
+/// reads to the end looking for `</styleSheet>` and said "Unexpected end of xml, expecting
+/// '</styleSheet>'" naming no part (issue 30). The error now names the part.
+#[test]
+fn a_part_whose_root_is_another_element_is_named() {
+    let good = good_workbook();
+    for (name, root) in [("xl/styles.xml", "styleSheet"), ("xl/sharedStrings.xml", "sst")] {
+        let e = load_err(&with_part(&good, name, b"<?xml version=\"1.0\"?><notThePart/>"));
+        assert_eq!((e.kind, e.part.as_deref()), (ErrorKind::Damaged, Some(name)), "{e}");
+        assert!(e.to_string().contains(&format!("</{root}>")), "{e}");
+    }
+}
+
 /// An entity XML does not define is a well-formedness error (Excel refuses such a part too);
 /// calamine's own message for it names no part.
 #[test]

@@ -96,7 +96,10 @@ pub fn load_bytes_limited(bytes: &[u8], file: &Path, limits: ReadLimits) -> Resu
     let mut calamine: Xlsx<Cursor<&[u8]>> = match Xlsx::new(Cursor::new(&calamine_view[..])) {
         Ok(calamine) => calamine,
         Err(e) => {
-            return Err(damaged_workbook_part(&mut package, file).unwrap_or_else(|| calamine_error(file, None, e)))
+            let part = part_calamine_opened(&package, &e);
+            return Err(
+                damaged_workbook_part(&mut package, file).unwrap_or_else(|| calamine_error(file, part.as_deref(), e))
+            );
         }
     };
     let written_by = written_by(&mut package);
@@ -316,6 +319,24 @@ fn damaged_workbook_part(package: &mut Package, file: &Path) -> Option<XlsxError
         }
     }
     None
+}
+
+/// The part calamine was reading when it opened the package and met the end of its XML
+/// before the closing tag it names (`XmlEof`: a part whose root is another element, such as
+/// a styles part holding `<notStyles/>`); calamine's message names no part. `None` for a
+/// tag two parts share (the package's and the workbook's relationships).
+fn part_calamine_opened(package: &Package, e: &calamine::XlsxError) -> Option<String> {
+    let calamine::XlsxError::XmlEof(tag) = e else { return None };
+    let workbook = package.workbook_parts.first().cloned().unwrap_or_else(|| "xl/workbook.xml".into());
+    let dir = workbook.rsplit_once('/').map_or("xl", |(dir, _)| dir);
+    match *tag {
+        "styleSheet" | "numFmts" | "fonts" | "fills" | "borders" | "cellXfs" | "xf" => {
+            Some(format!("{dir}/styles.xml"))
+        }
+        "sst" | "t" | "" => Some(package.shared_strings.clone().unwrap_or_else(|| format!("{dir}/sharedStrings.xml"))),
+        "workbook" => Some(workbook),
+        _ => None,
+    }
 }
 
 /// A text event's and an attribute value's entities are XML's own: `&bogus;` is not
