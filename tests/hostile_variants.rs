@@ -130,6 +130,19 @@ fn arrays_built_from_picks_and_splits_are_num_naming_the_limit() {
 // ---------------------------------------------------------------------------------------
 // Counts past i64: OFFSET's move and size
 
+/// SEQUENCE past a sheet's rows or columns is #VALUE! (Excel: calc_tests' SEQUENCE.xlsx and
+/// the sheet's 1,048,576 × 16,384), and the note says why (issue 30: it said nothing).
+#[test]
+fn a_sequence_past_the_sheets_rows_or_columns_is_value_naming_the_limit() {
+    for formula in ["=ROWS(SEQUENCE(1048577))", "=ROWS(SEQUENCE(1,16385))", "=ROWS(SEQUENCE(2^24))"] {
+        let (v, notes, _) = common::sheet::eval_a1(formula);
+        assert_eq!(v, Value::Error(XlError::Value), "{formula}");
+        assert!(notes.iter().any(|n| n.contains("1048576 rows or 16384 columns")), "{formula}: {notes:?}");
+    }
+    let (v, _, _) = common::sheet::eval_a1("=ROWS(SEQUENCE(1048576))");
+    assert_eq!(v, Value::Number(1_048_576.0));
+}
+
 #[test]
 fn offset_by_counts_past_the_sheet_is_ref() {
     // 1E+300 rows down, or a height of 1E+300 from row 5: far off the sheet (the count was

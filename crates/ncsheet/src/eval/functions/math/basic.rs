@@ -733,8 +733,13 @@ fn sequence(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let cols = number_or(ctx, args, 1, 1.0)?.trunc();
     let start = number_or(ctx, args, 2, 1.0)?;
     let step = number_or(ctx, args, 3, 1.0)?;
-    if rows < 0.0 || cols < 0.0 || rows > f64::from(MAX_ROWS) || cols > f64::from(MAX_COLS) {
+    if rows < 0.0 || cols < 0.0 {
         return Err(XlError::Value);
+    }
+    if rows > f64::from(MAX_ROWS) || cols > f64::from(MAX_COLS) {
+        let why =
+            format!("SEQUENCE has more than the {MAX_ROWS} rows or {MAX_COLS} columns of a sheet (Excel's limit)");
+        return Err(ctx.explain(XlError::Value, why));
     }
     // No row or no column (`SEQUENCE(0.3)`) is an empty array: #CALC!, as Excel 365 stores it.
     if rows == 0.0 || cols == 0.0 {
