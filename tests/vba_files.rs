@@ -811,3 +811,20 @@ fn put_and_get_write_types_and_arrays_as_vba_lays_them_out() {
     let e = fail("    Dim a(2) As Long\n    Open \"R.DAT\" For Random As #1 Len = 64\n    Put #1, 1, a", &sandbox(&[]));
     assert!(e.message.contains("descriptor"), "{e}");
 }
+
+// "Put statement": "For any array other than an array in a user-defined type, Put writes only
+// the data" — an Integer array of 5 × 10 items is 100 bytes of data (the page's
+// `Dim MyArray(1 To 5, 1 To 10) As Integer`). VBA lays an array out with its first index
+// varying fastest, which is why "ReDim statement" lets Preserve change only the last
+// dimension: a(1, 1), a(2, 1), a(1, 2), … "Get statement" reads it back in the same order.
+#[test]
+fn put_and_get_write_a_two_dimensional_array_first_index_fastest() {
+    let src = "Sub Main()\n    Dim a(1 To 2, 1 To 3) As Integer, b(1 To 2, 1 To 3) As Integer, m(1 To 5, 1 To 10) As Integer\n\
+               \x20   For i = 1 To 2\n        For j = 1 To 3\n            a(i, j) = 10 * i + j\n        Next\n    Next\n\
+               \x20   Open \"M.BIN\" For Binary As #1\n    Put #1, , a\n    Get #1, 1, b\n    Debug.Print b(2, 1); b(1, 3); LOF(1)\n\
+               \x20   Close #1\n    Open \"P.BIN\" For Binary As #2\n    Put #2, , m\n    Debug.Print LOF(2)\n    Close #2\nEnd Sub\n";
+    let out = run(src);
+    assert_eq!(out.printed, [" 21  13  12 ", " 100 "]);
+    let file = out.files.iter().find(|(n, _)| n == "M.BIN").map(|(_, b)| b.clone()).unwrap();
+    assert_eq!(file, [11, 0, 21, 0, 12, 0, 22, 0, 13, 0, 23, 0]);
+}

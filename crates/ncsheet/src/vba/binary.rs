@@ -245,8 +245,8 @@ impl Interp<'_, '_> {
     /// items in order, without a descriptor in a Binary file ("For any array other than an
     /// array in a user-defined type, Put writes only the data"). In a Random file VBA writes
     /// a descriptor before a dynamic array, whose content its reference does not give: such
-    /// a Put is refused, as is an array of more than one dimension (its item order is VBA's
-    /// memory's).
+    /// a Put is refused. A two-dimensional array goes in VBA's memory order, the first index
+    /// varying fastest ([`file_order`]).
     fn composite_bytes(&self, var: &Var, ty: Option<&Ty>, random: bool, member: bool) -> Result<Vec<u8>, String> {
         match var {
             Var::Value(v) => match Declared::of_ty(ty) {
@@ -263,7 +263,7 @@ impl Interp<'_, '_> {
             Var::Array(a) => {
                 whole_array_layout(a, random)?;
                 let mut out = Vec::new();
-                for k in 0..a.data.data.len() {
+                for k in file_order(a) {
                     let item = a.item(k);
                     match &item {
                         Var::Value(v) if matches!(Declared::of_ty(ty), Declared::Variant) => {
@@ -326,7 +326,7 @@ impl Interp<'_, '_> {
                 whole_array_layout(a, random)?;
                 let mut items = a.data.as_ref().clone();
                 let mut dates = Vec::new();
-                for (k, item) in items.data.iter_mut().enumerate() {
+                for k in file_order(a) {
                     let (value, date) = match Declared::of_ty(ty) {
                         Declared::Variant => reader.variant()?,
                         _ => match self.read_composite(reader, &a.item(k), ty, random, member)? {
@@ -334,12 +334,12 @@ impl Interp<'_, '_> {
                             _ => return Err("an array of objects or Type values is not read here".into()),
                         },
                     };
-                    *item = value;
-                    dates.push(date);
+                    items.data[k] = value;
+                    dates.push((k, date));
                 }
                 let mut array = a.clone();
                 array.data = std::rc::Rc::new(items);
-                for (k, date) in dates.into_iter().enumerate() {
+                for (k, date) in dates {
                     array.mark_date(k, date);
                 }
                 Ok(Var::Array(array))
@@ -359,11 +359,16 @@ impl Interp<'_, '_> {
     }
 }
 
-/// Whether Put and Get take array `a` whole: one dimension, in a Binary file, no objects.
+/// The row-major positions of `a`'s items in the order a file holds them: VBA lays an array
+/// out with its first index varying fastest (column-major: `a(1, 1), a(2, 1), …, a(1, 2)`),
+/// which is why `ReDim Preserve` may change only the last dimension ("ReDim statement").
+fn file_order(a: &super::value::VArray) -> impl Iterator<Item = usize> {
+    let (rows, cols) = (a.data.rows, a.data.cols);
+    (0..cols).flat_map(move |c| (0..rows).map(move |r| r * cols + c))
+}
+
+/// Whether Put and Get take array `a` whole: in a Binary file, no objects.
 fn whole_array_layout(a: &super::value::VArray, random: bool) -> Result<(), String> {
-    if a.dims > 1 {
-        return Err("an array of more than one dimension is not written or read whole here (Put its items)".into());
-    }
     if random {
         return Err("a whole array in a Random file comes after a descriptor VBA's reference does not lay out; \
                     Put and Get its items, or use a Binary file"
