@@ -601,6 +601,37 @@ fn dates_and_times_of_a_semicolon_csv_are_written_back_as_they_were_read() {
     }
 }
 
+/// Percents and scientific numbers of a `;` csv, read in the locale and written back, come
+/// back as LibreOffice set to the locale writes them (the oracle, run here when soffice is
+/// installed; its text recorded for de-DE, fr-FR and et-EE with LibreOffice 7.4): the
+/// locale's percent with two decimals (a no-break space before `%` in de-DE, a space in
+/// fr-FR, none in et-EE) and `0,00E+00`. ncsheet wrote the bare values (`0,125`, `1500`).
+#[test]
+fn percents_and_scientific_numbers_of_a_semicolon_csv_are_written_back_as_libreoffice_writes_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let text = "12,5%;1,5E+03;25%;-3,75%;1E-5;1,2345E+10;1234,5\n";
+    std::fs::write(d.join("pct.csv"), text).unwrap();
+    let soffice = common::soffice();
+    for (locale, space) in [("de-DE", "\u{A0}"), ("fr-FR", " "), ("et-EE", "")] {
+        let back = format!("back-{locale}.csv");
+        ok(in_dir(d, &["export", "pct.csv", "--locale", locale, "-o", &back]));
+        let ours = std::fs::read_to_string(d.join(&back)).unwrap();
+        let expected = format!("12,50{space}%;1,50E+03;25,00{space}%;-3,75{space}%;1,00E-05;1,23E+10;1234,5\n");
+        assert_eq!(ours, expected, "{locale}");
+        let Some(soffice) = &soffice else { continue };
+        let out = d.join(format!("lo-pct-{locale}"));
+        let reading = "--infilter=Text - txt - csv (StarCalc):59,34,76,1,,0,false,true";
+        let writing = "csv:Text - txt - csv (StarCalc):59,34,76,1,,0,false,true,true";
+        libreoffice_converts(soffice, d, locale, &[reading], writing, &out, &d.join("pct.csv"));
+        assert_eq!(ours, std::fs::read_to_string(out.join("pct.csv")).unwrap(), "{locale}");
+    }
+    // en-US keeps the values as they were read.
+    std::fs::write(d.join("en.csv"), "12.5%,1.5E+03\n").unwrap();
+    ok(in_dir(d, &["export", "en.csv", "--locale", "en-US", "-o", "back-en.csv"]));
+    assert_eq!(std::fs::read_to_string(d.join("back-en.csv")).unwrap(), "0.125,1500\n");
+}
+
 /// A `;` csv's fields that are numbers only in the file syntax (`0.8`, `12/03/2025` and
 /// `1.5` in de-DE) are text in the locale, and a day and month without a year (`12.03.`) the
 /// current year's, as LibreOffice set to the locale reads the file (the oracle, run at the
@@ -792,6 +823,9 @@ const VALUE_PROBES: &[(&[&str], &str)] = &[
     (&["de-DE"], r##"=TEXT(1234.5,"#,##0.000")"##),
     (&["de-DE"], r#"=TEXT(1234.5,"0,0.0")"#),
     (&["de-DE"], r#"=TEXT(1234.5,"0.00")"#),
+    // (`&""`: the same code is compared with LibreOffice in fr-FR and et-EE above.)
+    (&["de-DE"], r##"=TEXT(1234.5,"#,##0.00")&"""##),
+    (&["de-DE"], r#"=TEXT(1234.5,"0.00E+00")"#),
     (ALL, r#"=TEXT(1234.5,"0,0 \€")"#),
     (ALL, r#"=TEXT(1234.5,"0,0\ \€")"#),
     (ALL, r#"=TEXT(1234.5,"0,00 ""€""")"#),
@@ -886,6 +920,8 @@ const EXCEL_SHOWS: &[(&str, &str, &str)] = &[
     (r#"=--"VRAI""#, "#VALUE!", BOOLEAN_WORDS),
     (r#"=--"TÕENE""#, "#VALUE!", BOOLEAN_WORDS),
     (r#"=TEXT(1234.5,"0.00")"#, "1.235", EN_US_BUILT_IN),
+    (r##"=TEXT(1234.5,"#,##0.00")&"""##, "1.234,50000", EN_US_BUILT_IN),
+    (r#"=TEXT(1234.5,"0.00E+00")"#, "001E+03", EN_US_BUILT_IN),
     (r#"=1E20&"""#, "1E+20", NUMBER_TEXT),
     (r#"=1234567890123456&"""#, "1,23456789012346E+15", NUMBER_TEXT),
     (r#"=TEXT(45728.6,"h:mm A/P")"#, "2:24 P", A_OR_P),
@@ -915,7 +951,12 @@ const BOOLEAN_WORDS: &str = "a boolean word is no number format: #VALUE! in Exce
 /// marks, where `.` groups thousands (poi's 61495-test.xlsm cached `0.067` for
 /// `TEXT(67.1,"00.00")`, text_codes_compute_as_the_comma_locale_excel_that_saved_them);
 /// LibreOffice reads a code that is exactly one of its en-US built-in formats (`0.00`,
-/// `#,##0`, `#,##0.00`, `0.00%`) as en-US, and any other code (`0.0`, `##0.00`) in the locale.
+/// `#,##0`, `#,##0.00`, `0.00%`, `0.00E+00`) as en-US (`1,235`, `1.234,50`, `1,23E+03`), and
+/// any other code (`0.0`, `##0.00`, `$#,##0.00`) in the locale. ncsheet reads them all in
+/// de-DE's marks, as the German Excel that saved 61495 did: `#,##0.00` is `#` and the decimal
+/// comma, then `##0.00` grouped (`1.234,50000`, as LibreOffice in de-DE shows the same code
+/// with a language tag, `#,##0.00 [$€-407]`), and `0.00E+00` three grouped integer places
+/// (`001E+03`). No contrary evidence was found (session 15).
 const EN_US_BUILT_IN: &str = "an en-US built-in code: read in the locale by Excel, as en-US by LibreOffice";
 
 /// Why `1E20&""` is `1E+20`: a number joined to text is written as Excel's General format

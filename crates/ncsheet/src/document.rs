@@ -360,6 +360,21 @@ fn typed_date_format_in(
     }
 }
 
+/// The number format a percent or a scientific number read from a csv in a decimal-comma
+/// `locale` gets (`12,5%`, `1,5E+03`), as LibreOffice set to the locale gives it, so that it is
+/// written back as LibreOffice writes it: the locale's percent with two decimals (de-DE
+/// `12,50 %`, et-EE `12,50%`) and `0.00E+00` (`1,50E+03`).
+fn csv_number_format(locale: crate::eval::Locale, text: &str) -> Option<&'static str> {
+    let text = text.trim();
+    if locale.is_canonical() || locale.read_plain_number(text).is_none() {
+        return None;
+    }
+    if text.ends_with('%') {
+        return Some(locale.percent_code);
+    }
+    text.contains(['E', 'e']).then_some("0.00E+00")
+}
+
 /// A csv opened in a decimal-comma locale: each field is read as that locale's Excel opens
 /// the file, from the file's own text: numbers and dates in its spelling (`1.234,5` in de-DE,
 /// `1 234,5` in fr-FR, `12.03.2025`, and `3,750%`, which the file syntax would take for 37.5)
@@ -387,7 +402,9 @@ fn read_csv_fields_in_locale(opened: &mut Opened, locale: crate::eval::Locale) {
                 inputs.push((pos, if b { "TRUE" } else { "FALSE" }.to_string()));
             }
         } else if let Some(n) = locale.read_number(&text, wb.date_system()) {
-            formats.extend(typed_date_format_in(locale, wb.date_system(), &text).map(|code| (pos, code)));
+            let code =
+                typed_date_format_in(locale, wb.date_system(), &text).or_else(|| csv_number_format(locale, &text));
+            formats.extend(code.map(|code| (pos, code)));
             if value != Value::Number(n) {
                 // The shortest spelling that reads back as the same number, in the file syntax.
                 inputs.push((pos, format!("{n}")));

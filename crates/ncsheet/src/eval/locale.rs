@@ -90,6 +90,10 @@ pub struct LocaleData {
     /// the locale reads as that date (`Mittwoch, 12. März 2025`; fr-FR `mercredi 12 mars
     /// 2025`, not `mercredi, 12 mars 2025`). The name itself is not checked against the date.
     pub after_weekday: &'static [&'static str],
+    /// The format LibreOffice set to the locale gives a percent it reads from a csv, as a
+    /// canonical code: two decimals, and the locale's space before `%` (de-DE U+00A0, fr-FR
+    /// a plain space, et-EE none).
+    pub percent_code: &'static str,
 }
 
 const SPACES: &[char] = &[' ', '\u{202F}'];
@@ -122,6 +126,7 @@ static EN_US: LocaleData = LocaleData {
     colours: ENGLISH_COLOURS,
     colour_number: "Color",
     after_weekday: &[", ", " "],
+    percent_code: "0.00%",
 };
 
 /// What the decimal-comma locales share (each says what it does otherwise): a no-break space
@@ -150,6 +155,7 @@ const DECIMAL_COMMA: LocaleData = LocaleData {
     colours: ENGLISH_COLOURS,
     colour_number: "Color",
     after_weekday: &[", ", " "],
+    percent_code: "0.00%",
 };
 
 static LOCALES: [&LocaleData; 8] = [
@@ -169,6 +175,7 @@ static LOCALES: [&LocaleData; 8] = [
         am_pm: ["vorm.", "nachm."],
         colours: GERMAN_COLOURS,
         colour_number: "Farbe",
+        percent_code: "0.00\u{A0}%",
         year_less: &["D.M."],
         ..DECIMAL_COMMA
     },
@@ -186,6 +193,7 @@ static LOCALES: [&LocaleData; 8] = [
         format_letters: &[('J', 'd'), ('A', 'y')],
         booleans: ["VRAI", "FAUX"],
         after_weekday: &[" "],
+        percent_code: "0.00 %",
         general: "Standard",
         ..DECIMAL_COMMA
     },
@@ -746,6 +754,11 @@ impl Locale {
             // LibreOffice set to the locale shows it; en-US keeps the code as read.
             Some(BUILTIN_DATE_TIME | "m/d/yy h:mm") if !self.is_canonical() => {
                 date_time = self.date_time_code();
+                Some(date_time.as_str())
+            }
+            // `mmmmm` shows the first letter of the month's name in the locale's words.
+            Some(code) if !self.is_canonical() && code.contains(['m', 'M']) && longest_run(code, 'm') == 5 => {
+                date_time = month_letter_code(code);
                 Some(date_time.as_str())
             }
             code => code,
@@ -1666,6 +1679,9 @@ mod tests {
         assert_eq!(text(de, 45728.0, "mmmmm"), "M");
         assert_eq!(text(fr, 45728.0, "mmmmm"), "m");
         assert_eq!(text(de, 45728.0, "[$-40C]mmmmm"), "m");
+        // A cell's own format (canonical) shows it so too.
+        assert_eq!(fr.shown_number(45728.0, Some("mmmmm d"), DateSystem::From1900), "m 12");
+        assert_eq!(Locale::EN_US.shown_number(45728.0, Some("mmmmm d"), DateSystem::From1900), "M 12");
         assert_eq!(text(fr, 45728.0, r"[$-407]mmmmm \m\m\m\m\m mmmm"), "M mmmmm März");
         assert_eq!(de.foreign_colour("0;[Red]-0"), Some("[Red]".to_string()));
         assert_eq!(de.foreign_colour("[Color10]0"), Some("[Color10]".to_string()));
