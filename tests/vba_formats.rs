@@ -156,6 +156,20 @@ fn autofit_sizes_a_column_to_its_longest_shown_text() {
 }
 
 #[test]
+fn rows_autofit_gives_a_wrapped_cell_a_line_height_each() {
+    let mut wb = Workbook::with_sheet();
+    let out = run(
+        &mut wb,
+        "    Range(\"A1\").Value = \"one\" & vbLf & \"two\"\n    Range(\"A1\").WrapText = True\n\
+         \x20   Range(\"A2\").Value = \"one\" & vbLf & \"two\"\n    Rows(\"1:3\").AutoFit\n\
+         \x20   Debug.Print Rows(1).RowHeight & \" \" & Rows(2).RowHeight & \" \" & Rows(3).RowHeight",
+    );
+    // Excel's default row is 15 points a line of Calibri 11: the wrapped cell shows its two
+    // lines; the unwrapped one, and the empty row, one.
+    assert_eq!(out.printed, ["30 15 15"]);
+}
+
+#[test]
 fn a_copied_sheet_keeps_its_formats() {
     let mut wb = Workbook::with_sheet();
     let out = run(

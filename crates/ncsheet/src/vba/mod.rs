@@ -94,7 +94,11 @@
 //! `Select`, `FormulaR1C1` (read and written in R1C1 notation: `=R[-1]C*2`), `End(xlUp)`
 //! (and `xlDown`, `xlToLeft`, `xlToRight`: Ctrl+arrow), `Copy` (with a destination: pasted at
 //! once; without: for `PasteSpecial Paste:=xlPasteValues`, `xlPasteFormulas`, `xlPasteAll`);
-//! bare `Rows`/`Columns` are the sheet's. A sheet's `Visible` (True, False,
+//! bare `Rows`/`Columns` are the sheet's. How cells look (`formats.rs`): `NumberFormat`
+//! (which `Text` shows), `HorizontalAlignment`/`VerticalAlignment` (`xlLeft`, `xlCenter` …),
+//! `WrapText`, `Font.Bold`/`Italic`, `Interior.Color`, `ColumnWidth`, `RowHeight` and
+//! `Columns.AutoFit`/`Rows.AutoFit`, from the file's look ([`RunOptions::looks`]) to the
+//! saved one ([`RunOutput::looks`]). A sheet's `Visible` (True, False,
 //! `xlSheetVeryHidden`) is read from and saved to the file. `ActiveCell` and
 //! `Selection` start at the sheet's active cell as the file saved it ([`RunOptions::active_cells`])
 //! and follow `Select`/`Activate`. In a sheet's module ([`Document::Sheet`]) `Range`, `Cells`
