@@ -284,6 +284,31 @@ fn a_closed_cam_has_no_issues_and_an_overlap_is_fatal_even_when_partial() {
     );
 }
 
+/// Many rows (issue 30): 100,000 rows end to end were compared pairwise (minutes), and 3,000
+/// rows over the same angles listed their 4.5 million overlapping pairs (50,000 such rows
+/// aborted at the memory cap). Rows are compared only with those starting before they end,
+/// and the first 1,000 pairs are listed with a last line saying more overlap.
+#[test]
+fn many_rows_are_checked_in_time_and_overlaps_listed_up_to_a_limit() {
+    let seg = |row: usize, a: f64, b: f64| Segment {
+        row: row.to_string(),
+        operation: String::new(),
+        disc: String::new(),
+        line: row + 1,
+        piece: Piece::new(PieceKind::Circle, 50.0, a, 50.0, b).unwrap(),
+    };
+    let n = 100_000;
+    let end_to_end: Vec<Segment> =
+        (0..n).map(|i| seg(i, i as f64 * 360.0 / n as f64, (i + 1) as f64 * 360.0 / n as f64)).collect();
+    assert_eq!(check_coverage(&end_to_end), vec![]);
+    let same: Vec<Segment> = (0..3000).map(|i| seg(i, 0.0, 360.0)).collect();
+    let issues = check_coverage(&same);
+    assert_eq!(issues.len(), ncsheet::geometry::cam::MAX_OVERLAPS_LISTED + 1);
+    assert!(issues[..1000].iter().all(|i| matches!(i, CoverageIssue::Overlap { .. })));
+    assert_eq!(issues[1000], CoverageIssue::MoreOverlaps);
+    assert!(issues[1000].to_string().contains("the first 1000 overlapping pairs"), "{}", issues[1000]);
+}
+
 fn sample_cams(tolerance: f64) -> Vec<ncsheet::geometry::cam::CamFit> {
     let options = CamOptions::either_side(tolerance, true);
     fit_design_sheet(SHEET, &options).unwrap()
