@@ -352,3 +352,22 @@ fn arithmetic_on_an_error_value_or_a_text_that_is_no_number_is_a_type_mismatch()
     assert!(e.message.contains("Type mismatch (run-time error 13)"), "{e}");
     assert_eq!(e.span.unwrap().line, 3, "{e}");
 }
+
+// [MS-VBAL] 5.6.9.5 "Relational Operators": numeric operands compare as their values in the
+// operation's type, a Double exactly: 0.1 + 0.2 is 0.30000000000000004, not 0.3, where a
+// cell compares to 15 digits. A Boolean is the number it converts to ([MS-VBAL] 5.5.1.2.1,
+// True is -1, False 0), so True = -1 and True < False. A Boolean against a String compares
+// the String converted ("CBool": "True" and "False" are the Booleans, a number its value);
+// a Date against a String the String's date ("CDate"). Select Case compares as `=` does.
+#[test]
+fn numbers_compare_exactly_and_booleans_as_their_numbers() {
+    let out = printed(
+        "",
+        "    Dim b As Boolean, d As Date, x As Double\n    b = True: d = #1/2/2024#: x = 0.1 + 0.2\n\
+         \x20   Debug.Print 0.1 + 0.2 = 0.3; 1 / 3 = 0.333333333333333; x > 0.3; x <> 0.3\n\
+         \x20   Debug.Print True = -1; b = -1; b > 0; True < False; False = 0\n\
+         \x20   Debug.Print b = \"True\"; b = \"-1\"; b = \"false\"; d = \"1/2/2024\"\n\
+         \x20   Select Case x\n        Case 0.3: Debug.Print \"0.3\"\n        Case Else: Debug.Print \"else\"\n    End Select",
+    );
+    assert_eq!(out, ["FalseFalseTrueTrue", "TrueTrueFalseTrueTrue", "TrueTrueFalseTrue", "else"]);
+}

@@ -95,12 +95,18 @@ impl Interp<'_, '_> {
     }
 
     /// The order of two values where VBA's differs from a formula's ([MS-VBAL] 5.6.9.5):
-    /// texts (and Empty, which is "" against a text) under `Option Compare`; `None` where the
-    /// formula's order holds (numbers, and a Variant text against a Variant number, the
-    /// number first).
+    /// texts (and Empty, which is "" against a text) under `Option Compare`; numbers exactly,
+    /// as Doubles compare (`0.1 + 0.2 = 0.3` is False), not to a cell's 15 digits; a Boolean
+    /// as the number it is (True -1, False 0) against a number or a Boolean; `None` where the
+    /// formula's order holds (a Variant text against a Variant number, the number first).
     pub(super) fn vba_order(&self, a: &Value, b: &Value) -> Option<Ordering> {
         let text_compare = self.text_compare();
+        let exact = |x: f64, y: f64| Some(x.partial_cmp(&y).unwrap_or(Ordering::Equal));
         match (a, b) {
+            (Value::Number(x), Value::Number(y)) => exact(*x, *y),
+            (Value::Bool(p), Value::Number(y)) => exact(boolean_number(*p), *y),
+            (Value::Number(x), Value::Bool(q)) => exact(*x, boolean_number(*q)),
+            (Value::Bool(p), Value::Bool(q)) => exact(boolean_number(*p), boolean_number(*q)),
             (Value::Text(x), Value::Text(y)) => Some(text_order(x, y, text_compare)),
             (Value::Text(x), Value::Blank) => Some(text_order(x, "", text_compare)),
             (Value::Blank, Value::Text(y)) => Some(text_order("", y, text_compare)),
@@ -129,18 +135,27 @@ impl Interp<'_, '_> {
         if let Some(ord) = self.vba_order(a, b) {
             return Some(Ok(Value::Bool(comparison_holds(op, ord))));
         }
+        // A Boolean against a text compares as its number, a String "True" or "False" as
+        // the Boolean it converts to ("CBool", [MS-VBAL] 5.5.1.2.2).
         let (text, number, text_expr, number_expr) = match (a, b) {
             (Value::Text(t), Value::Number(n)) => (t, *n, ea, eb),
             (Value::Number(n), Value::Text(t)) => (t, *n, eb, ea),
+            (Value::Text(t), Value::Bool(p)) => (t, boolean_number(*p), ea, eb),
+            (Value::Bool(p), Value::Text(t)) => (t, boolean_number(*p), eb, ea),
             _ => return None,
         };
+        let boolean = matches!(a, Value::Bool(_)) || matches!(b, Value::Bool(_));
         let text_variant = self.declared_type(text_expr) == Declared::Variant;
         match (text_variant, self.declared_type(number_expr) == Declared::Variant) {
             // Two Variants: the number is less, as in a formula.
             (true, true) => return None,
             // A String against a Variant holding a number: the number's text is compared.
             (false, true) => {
-                let shown = vba_text(&Value::Number(number)).ok()?;
+                let shown = if boolean {
+                    vba_text(&Value::Bool(number != 0.0)).ok()?
+                } else {
+                    vba_text(&Value::Number(number)).ok()?
+                };
                 let ord = if matches!(a, Value::Text(_)) {
                     text_order(text, &shown, self.text_compare())
                 } else {
@@ -150,7 +165,14 @@ impl Interp<'_, '_> {
             }
             _ => {}
         }
-        let Ok(converted) = to_number(&Value::Text(text.clone()), DateSystem::From1900) else {
+        let spelled_boolean = match text.trim() {
+            t if boolean && t.eq_ignore_ascii_case("true") => Some(-1.0),
+            t if boolean && t.eq_ignore_ascii_case("false") => Some(0.0),
+            _ => None,
+        };
+        let Some(converted) =
+            spelled_boolean.or_else(|| to_number(&Value::Text(text.clone()), DateSystem::From1900).ok())
+        else {
             let (code, name) = TYPE_MISMATCH;
             let mut fault = self.fault_at(
                 self.expr_span(text_expr),
@@ -161,6 +183,15 @@ impl Interp<'_, '_> {
         };
         let (x, y) = if matches!(a, Value::Text(_)) { (converted, number) } else { (number, converted) };
         Some(Ok(Value::Bool(comparison_holds(op, x.partial_cmp(&y).unwrap_or(Ordering::Equal)))))
+    }
+}
+
+/// A Boolean as a number ([MS-VBAL] 5.5.1.2.1: True is -1, False 0).
+fn boolean_number(b: bool) -> f64 {
+    if b {
+        -1.0
+    } else {
+        0.0
     }
 }
 
