@@ -170,6 +170,9 @@ enum Followed {
     Deleted,
 }
 
+/// A cell the edit changes: its id, where it goes (`None`: deleted) and what it will hold.
+type Move = (u32, Option<Pos>, Content);
+
 /// A cell's new content, written once every moving cell has been cleared.
 enum Content {
     Formula(Expr, Option<(u32, u32)>),
@@ -249,8 +252,7 @@ impl Workbook {
     }
 
     /// Every cell the edit moves, deletes (no destination) or whose formula it rewrites.
-    #[allow(clippy::type_complexity)]
-    fn moves(&self, sheet: SheetId, edit: &SheetEdit) -> Result<Vec<(u32, Option<Pos>, Content)>, WorkbookError> {
+    fn moves(&self, sheet: SheetId, edit: &SheetEdit) -> Result<Vec<Move>, WorkbookError> {
         let mut moves = Vec::new();
         for (id, c) in self.cells.iter().enumerate() {
             let id = id as u32;
@@ -407,10 +409,8 @@ fn follow(r: &Reference, home: SheetId, from: Pos, to: Pos, edited: SheetId, edi
 /// Where the cells of a reference covering `rect` go; `None` when they are all deleted.
 fn follow_rect(rect: Rect, shape: &RefShape, edit: &SheetEdit) -> Option<Rect> {
     // Whole columns (rows) stay whole when rows (columns) come or go.
-    let spans_axis = match (shape, edit.axis) {
-        (RefShape::Cols(..), Axis::Rows) | (RefShape::Rows(..), Axis::Columns) => false,
-        _ => true,
-    };
+    let spans_axis =
+        !matches!((shape, edit.axis), (RefShape::Cols(..), Axis::Rows) | (RefShape::Rows(..), Axis::Columns));
     let (a1, c1) = edit.split(rect.first);
     let (a2, c2) = edit.split(rect.last);
     if !spans_axis || !edit.covers((c1, c2)) {
