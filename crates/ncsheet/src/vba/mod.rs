@@ -94,6 +94,9 @@
 //! `Select`, `FormulaR1C1` (read and written in R1C1 notation: `=R[-1]C*2`), `End(xlUp)`
 //! (and `xlDown`, `xlToLeft`, `xlToRight`: Ctrl+arrow), `Copy` (with a destination: pasted at
 //! once; without: for `PasteSpecial Paste:=xlPasteValues`, `xlPasteFormulas`, `xlPasteAll`);
+//! `Delete` and `Insert` (with `Shift:=xlShiftUp`/`xlShiftToLeft`, `xlShiftDown`/`xlShiftToRight`,
+//! or by the range's shape without it; whole rows and columns through `EntireRow`,
+//! `EntireColumn`, `Rows(5)`, `Columns("B")`), every formula's references following the cells;
 //! bare `Rows`/`Columns` are the sheet's. How cells look (`formats.rs`): `NumberFormat`
 //! (which `Text` shows), `HorizontalAlignment`/`VerticalAlignment` (`xlLeft`, `xlCenter` …),
 //! `WrapText`, `Font.Bold`/`Italic`, `Interior.Color`, `ColumnWidth`, `RowHeight` and
