@@ -107,11 +107,10 @@ impl SheetState {
         if let Some(own) = self.formats.get(&pos) {
             return Some(own.clone());
         }
-        let line = self.lines.iter().rev().find_map(|(r, e)| match e {
+        self.lines.iter().rev().find_map(|(r, e)| match e {
             Edit::Format(code) if r.contains(pos) => Some(code.clone()),
             _ => None,
-        });
-        line
+        })
     }
 
     fn style(&self, pos: Pos) -> CellStyle {
