@@ -62,3 +62,42 @@ fn enum_members_are_long_constants_counting_on_from_the_one_before() {
                \x20   t = Tool.Mill\n    Debug.Print VarType(t); t\nEnd Sub\n";
     assert_eq!(printed(src), [" 0  0  5  6  6  2 ", " 3  5 "]);
 }
+
+/// A macro run with the project's class modules (name, source).
+fn printed_with_classes(main: &str, classes: &[(&str, &str)]) -> Vec<String> {
+    let classes = classes.iter().map(|(n, s)| (n.to_string(), s.to_string())).collect();
+    run_with(main, &RunOptions { classes, ..RunOptions::default() }).unwrap_or_else(|e| panic!("{e}")).printed
+}
+
+// [MS-VBAL] 5.2.3.3 "User Defined Type Declarations": a field's declared type may be a
+// class (Collection, "Type statement": `elementname As type`, any data type); the field
+// holds an object reference that `Set` assigns and whose members the field reaches.
+#[test]
+fn a_type_field_holds_an_object_and_reaches_its_members() {
+    let src = "Private Type TPrivate\n    Items As Collection\n    n As Long\nEnd Type\nPrivate this As TPrivate\n\
+               Sub Main()\n    Set this.Items = New Collection\n    this.Items.Add \"a\"\n    this.Items.Add \"b\", before:=1\n\
+               \x20   this.n = this.Items.Count\n    Debug.Print this.n; this.Items.Item(1); this.Items.Item(2)\nEnd Sub\n";
+    assert_eq!(printed(src), [" 2 ba"]);
+}
+
+// "TypeName function", "IsObject function", "UBound function": members of VBA's library
+// (the VBA project's "VBA" reference, Information and Conversion modules), so `VBA.TypeName(x)`
+// is `TypeName(x)`.
+#[test]
+fn vba_library_functions_named_through_the_library() {
+    let src = "Sub Main()\n    Dim c As New Collection, a(2 To 4)\n\
+               \x20   Debug.Print VBA.TypeName(c); \" \"; VBA.IsObject(c); VBA.UBound(a); VBA.LBound(a); VBA.IsArray(a)\nEnd Sub\n";
+    assert_eq!(printed(src), ["Collection True 4  2 True"]);
+}
+
+// [MS-VBAL] 5.3.1.5 and "Function statement": a Function's value is what its name holds when
+// it returns, an array with its bounds, whether the Function is a standard module's or a
+// class module's method (`a = s.Items(1)` with `ReDim arr(base To …)`).
+#[test]
+fn a_class_functions_array_keeps_its_bounds() {
+    let class = "Option Explicit\nPublic Function Items(Optional ByVal base As Long) As Variant()\n\
+                 \x20   Dim arr() As Variant: ReDim arr(base To base + 2)\n    arr(base) = \"x\"\n    Items = arr\nEnd Function\n";
+    let main = "Sub Main()\n    Dim s As New Bag, a As Variant\n    a = s.Items(1)\n    Debug.Print LBound(a); UBound(a); a(1)\n\
+                \x20   a = s.Items(5)\n    Debug.Print LBound(a); UBound(a); a(5)\nEnd Sub\n";
+    assert_eq!(printed_with_classes(main, &[("Bag", class)]), [" 1  3 x", " 5  7 x"]);
+}

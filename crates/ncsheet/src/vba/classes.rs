@@ -222,7 +222,11 @@ impl Interp<'_, '_> {
         let class = object.0.class;
         if let Some(proc) = self.public_proc(class, &link.name, None) {
             let args = link.args.as_deref().unwrap_or(&[]);
-            return self.call_method(ctx, object, proc, args, None, link.span).map(var_obj);
+            let result = self.call_method(ctx, object, proc, args, None, link.span)?;
+            if let Var::Array(a) = &result {
+                *self.method_array.borrow_mut() = Some(a.clone());
+            }
+            return Ok(var_obj(result));
         }
         let Some(var) = self.public_field(object, &link.name) else { return Err(self.no_such_member(object, link)) };
         match (var, link.args.as_deref()) {
@@ -357,6 +361,14 @@ impl Interp<'_, '_> {
             ProcKind::Function => frame.vars.get(&p.name).map_or(Var::Value(result), |s| s.var().clone()),
             ProcKind::Sub => Var::Value(Value::Blank),
         })
+    }
+
+    /// `a = obj.Items(1)`: the array a class's Function just returned, with its bounds, when
+    /// `v` is that array (a Function's array keeps its bounds, [MS-VBAL] 5.3.1.5).
+    pub(super) fn method_result(&self, v: &Value) -> Option<Var> {
+        let Value::Array(data) = v else { return None };
+        let kept = self.method_array.borrow_mut().take()?;
+        Rc::ptr_eq(&kept.data, data).then_some(Var::Array(kept))
     }
 
     /// What the parser checks of a call of the module's own procedure, checked at run time.

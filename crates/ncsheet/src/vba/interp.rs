@@ -273,6 +273,8 @@ pub struct Interp<'m, 'w> {
     pub cursors: RefCell<std::collections::HashMap<SheetId, (Rect, Pos)>>,
     /// The range the last `Copy` without a destination took, for `PasteSpecial`.
     pub(super) clipboard: RefCell<Option<(SheetId, Rect)>>,
+    /// The array a class's Function last returned, with its bounds (`classes.rs`).
+    pub(super) method_array: RefCell<Option<super::value::VArray>>,
     /// How the sheets' cells look (number formats, styles, widths), `formats.rs`.
     pub(super) looks: RefCell<super::formats::Looks>,
     /// Explanations the last evaluation left (why a value is an error).
@@ -340,6 +342,7 @@ impl<'m, 'w> Interp<'m, 'w> {
             code_sheets: Vec::new(),
             cursors: RefCell::new(std::collections::HashMap::new()),
             clipboard: RefCell::new(None),
+            method_array: RefCell::new(None),
             looks: RefCell::new(super::formats::Looks::default()),
             notes: RefCell::new(Vec::new()),
             output_bytes: Cell::new(0),
@@ -884,7 +887,7 @@ impl Interp<'_, '_> {
             Operand::Value(v) if self.is_value_member(e) => range_var(v),
             // `d.Keys`, `d.Items`: zero-based whatever the Option Base ("Keys method").
             Operand::Value(Value::Array(a)) if self.is_keys_member(e) => Var::Array(super::value::VArray::row(a, 0)),
-            Operand::Value(v) => match self.array_of_call(e, &v) {
+            Operand::Value(v) => match self.array_of_call(e, &v).or_else(|| self.method_result(&v)) {
                 Some(var) => var,
                 None => array_var(v, self.module.base),
             },

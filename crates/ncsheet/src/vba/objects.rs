@@ -234,6 +234,8 @@ impl Interp<'_, '_> {
                 match self.record_field(&var, &path) {
                     Some(Var::Value(v)) => Ok(Obj::Value(v)),
                     Some(Var::Record(..)) => Ok(Obj::Record(var, path)),
+                    // `this.Items.Add x` with `Items As Collection` a field: the object it holds.
+                    Some(Var::Obj(object)) => Ok(object),
                     _ => Err(self.no_member(&Obj::Record(var, path), link)),
                 }
             }

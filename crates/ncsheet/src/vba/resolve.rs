@@ -307,6 +307,10 @@ impl Build<'_> {
         if let Some(kind) = self.qualified_constant(&path) {
             return Ok(Expr::new(kind, ByteSpan { start: at as u32, end: end as u32 }));
         }
+        if self.is_vba_intrinsic(&path) {
+            let link = path.links.pop().expect("two links");
+            return self.single(pair, link, statement, end);
+        }
         if let Some(call) = self.qualified_call(pair, &mut path)? {
             return Ok(call);
         }
@@ -403,6 +407,22 @@ impl Build<'_> {
             return None;
         }
         constant(&lower_bare(&link.name))
+    }
+
+    /// `VBA.TypeName(Me)`, `VBA.IsObject(v)`, `VBA.UBound(a)`: a function of VBA's library that
+    /// the interpreter answers itself (not a row of the function table) named through the
+    /// library, the same function as its bare name.
+    fn is_vba_intrinsic(&self, path: &Path) -> bool {
+        let [library, link] = path.links.as_slice() else { return false };
+        let name = lower_bare(&link.name);
+        let answered_here = inspection(&name).is_some()
+            || (Registry.lookup(&format!("{PREFIX}{name}")).is_none() && Registry.lookup(&name).is_none());
+        lower_bare(&library.name) == "vba"
+            && library.args.is_none()
+            && !self.is_var(&library.name)
+            && answered_here
+            && self.proc_index(&link.name).is_none()
+            && !self.is_var(&link.name)
     }
 
     /// `Tool.Drill`: a member of the project's Enum `Tool`, the constant `Drill` itself.
