@@ -12,6 +12,11 @@
 //! The values are compared too: LibreOffice recalculates each workbook in the locale and
 //! saves it as xlsx, whose cached formula results must be ncsheet's computed values under
 //! that locale, but for the cells of [`KNOWN_VALUES`], each with its reason.
+//!
+//! The figures (session 15, LibreOffice 7.4, 72,462 shown cells and 2,079 formula values
+//! that agree in en-US): shown text differs in 171 cells in de-DE, 169 in fr-FR and 31 in
+//! et-EE, every one of [`KNOWN`] or of [`known_kind`]'s kinds; values differ in 24 cells in
+//! de-DE and fr-FR (TEXT with English date letters, Excel's reading) and none in et-EE.
 
 mod common;
 

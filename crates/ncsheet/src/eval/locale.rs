@@ -856,40 +856,21 @@ impl Locale {
         if self.format_letters.is_empty() || code.to_ascii_lowercase().contains("general") {
             return code.to_string();
         }
-        let chars: Vec<char> = code.chars().collect();
-        let mut out = String::with_capacity(code.len());
-        let (mut quoted, mut bracket, mut i) = (false, false, 0);
-        while i < chars.len() {
-            let c = chars[i];
+        rewrite_code_letters(code, |chars, i, out| {
             let rest: String = chars[i..].iter().take(5).collect::<String>().to_ascii_uppercase();
-            if !quoted && !bracket && (rest.starts_with("AM/PM") || rest.starts_with("A/P")) {
+            if rest.starts_with("AM/PM") || rest.starts_with("A/P") {
                 let n = if rest.starts_with("AM/PM") { 5 } else { 3 };
                 out.extend(&chars[i..i + n]);
-                i += n;
-                continue;
+                return n;
             }
-            match c {
-                '"' => quoted = !quoted,
-                '[' if !quoted => bracket = true,
-                ']' if !quoted => bracket = false,
-                '\\' if !quoted => {
-                    out.extend(chars[i..(i + 2).min(chars.len())].iter());
-                    i += 2;
-                    continue;
-                }
-                _ => {}
+            let c = chars[i];
+            match self.format_letters.iter().find(|(l, _)| l.eq_ignore_ascii_case(&c)) {
+                Some((_, canonical)) => out.push(*canonical),
+                None if self.replaces_letter(c) => out.extend(['\\', c]),
+                None => out.push(c),
             }
-            let mapped = (!quoted && !bracket)
-                .then(|| self.format_letters.iter().find(|(l, _)| l.eq_ignore_ascii_case(&c)))
-                .flatten();
-            let foreign = !quoted && !bracket && mapped.is_none() && self.replaces_letter(c);
-            if foreign {
-                out.push('\\');
-            }
-            out.push(mapped.map_or(c, |(_, canonical)| *canonical));
-            i += 1;
-        }
-        out
+            1
+        })
     }
 
     /// Whether `c` is a canonical date letter this locale spells otherwise (de-DE `d`, `y`).
@@ -1282,34 +1263,56 @@ const MONTH_LETTER_CLOSE: char = '\u{F8F3}';
 /// for `mars`), as LibreOffice set to the locale shows it. Quoted text, escapes and `[…]`
 /// are left alone.
 fn month_letter_code(code: &str) -> String {
+    rewrite_code_letters(code, |chars, i, out| {
+        if !chars[i].eq_ignore_ascii_case(&'m') {
+            return 0;
+        }
+        let run = chars[i..].iter().take_while(|m| m.eq_ignore_ascii_case(&'m')).count();
+        if run == 5 {
+            out.extend(['\\', MONTH_LETTER_OPEN, 'm', 'm', 'm', 'm', '\\', MONTH_LETTER_CLOSE]);
+        } else {
+            out.extend(&chars[i..i + run]);
+        }
+        run
+    })
+}
+
+/// `code` with what stands outside quotes, `[…]` and `\`-escapes rewritten by `rewrite`,
+/// which is given the code's characters and a position there, writes what stands for what
+/// is at it and says how many characters that was (none: the character is copied as it is).
+fn rewrite_code_letters(code: &str, mut rewrite: impl FnMut(&[char], usize, &mut String) -> usize) -> String {
     let chars: Vec<char> = code.chars().collect();
     let mut out = String::with_capacity(code.len() + 8);
     let (mut quoted, mut bracket, mut i) = (false, false, 0);
     while i < chars.len() {
         let c = chars[i];
-        match c {
-            '"' => quoted = !quoted,
-            '[' if !quoted => bracket = true,
-            ']' if !quoted => bracket = false,
+        let taken = match c {
+            '"' => {
+                quoted = !quoted;
+                0
+            }
+            '[' if !quoted => {
+                bracket = true;
+                0
+            }
+            ']' if !quoted => {
+                bracket = false;
+                0
+            }
             '\\' if !quoted => {
-                out.extend(chars[i..(i + 2).min(chars.len())].iter());
-                i += 2;
-                continue;
+                let end = (i + 2).min(chars.len());
+                out.extend(&chars[i..end]);
+                end - i
             }
-            'm' | 'M' if !quoted && !bracket => {
-                let run = chars[i..].iter().take_while(|m| m.eq_ignore_ascii_case(&'m')).count();
-                if run == 5 {
-                    out.extend(['\\', MONTH_LETTER_OPEN, 'm', 'm', 'm', 'm', '\\', MONTH_LETTER_CLOSE]);
-                } else {
-                    out.extend(&chars[i..i + run]);
-                }
-                i += run;
-                continue;
-            }
-            _ => {}
+            _ if quoted || bracket => 0,
+            _ => rewrite(&chars, i, &mut out),
+        };
+        if taken == 0 {
+            out.push(c);
+            i += 1;
+        } else {
+            i += taken;
         }
-        out.push(c);
-        i += 1;
     }
     out
 }
