@@ -101,3 +101,12 @@ fn a_class_functions_array_keeps_its_bounds() {
                 \x20   a = s.Items(5)\n    Debug.Print LBound(a); UBound(a); a(5)\nEnd Sub\n";
     assert_eq!(printed_with_classes(main, &[("Bag", class)]), [" 1  3 x", " 5  7 x"]);
 }
+
+// "Print # statement" (Debug.Print's "Print method" formats its items the same way): error
+// data "is written as Error errorcode", so `Debug.Print CVErr(xlErrNA)` prints `Error 2042`,
+// as VBA's Immediate window shows it, not the cell's `#N/A`.
+#[test]
+fn debug_print_writes_an_error_value_as_error_and_its_number() {
+    let src = "Sub Main()\n    Debug.Print CVErr(xlErrNA)\n    Debug.Print CVErr(2007); \"|\"\nEnd Sub\n";
+    assert_eq!(printed(src), ["Error 2042", "Error 2007|"]);
+}

@@ -421,7 +421,7 @@ fn folder_spelling(dir: &str) -> String {
 }
 
 /// A value as `Print #` writes it: numbers with room for a sign before and a space after.
-fn print_form(v: &Value) -> String {
+pub(super) fn print_form(v: &Value) -> String {
     match v {
         Value::Number(n) if *n >= 0.0 => format!(" {} ", print_text(v)),
         Value::Number(_) => format!("{} ", print_text(v)),

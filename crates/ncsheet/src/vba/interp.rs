@@ -1623,6 +1623,8 @@ impl Interp<'_, '_> {
                         (Some(date), _) => line.push_str(&super::value::date_text(date)),
                         (None, Value::Number(n)) if *n >= 0.0 => line.push_str(&format!(" {} ", print_text(&v))),
                         (None, Value::Number(_)) => line.push_str(&format!("{} ", print_text(&v))),
+                        // An error value prints as `Print #` writes it: `Error 2042`.
+                        (None, Value::Error(_)) => line.push_str(&super::files::print_form(&v)),
                         _ => line.push_str(&print_text(&v)),
                     }
                 }
