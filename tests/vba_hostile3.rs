@@ -380,6 +380,23 @@ fn reading_the_growing_text_between_appends_is_linear() {
     assert_eq!(printed(src), [" 5000000  25000 bbaaa", "\u{f1}b|xa\u{f1}b||\u{f1}xa\u{f1}"]);
 }
 
+// Mid at every character of a long text (issue 30): Mid counted characters from the start at
+// each call, so `For i = 1 To Len(s): Mid(s, i, 1)` over 100,000 characters stepped 5·10^9
+// characters, and `Mid(t, Len(t) - 49, 1)` between appends as many. An ASCII prefix is now
+// skipped a word at a time, and a growing text's second half is found from its end.
+// Characters past ASCII keep their places.
+#[test]
+fn mid_through_a_long_text_is_not_quadratic_in_characters() {
+    let src = "Sub Main()\n    Dim s As String, t As String, i As Long, n As Long, m As Long\n\
+               \x20   s = String(100000, \"a\") & \"\u{f1}b\"\n\
+               \x20   For i = 1 To Len(s)\n        If Mid(s, i, 1) = \"a\" Then n = n + 1\n    Next\n\
+               \x20   For i = 1 To 100000\n        t = t & \"\u{f1}\" & String(49, \"z\")\n\
+               \x20       If Mid(t, Len(t) - 49, 1) = \"\u{f1}\" Then m = m + 1\n    Next\n\
+               \x20   Debug.Print n; m; Mid(s, 100001, 5); Mid(t, 2, 2); Mid(t, Len(t), 9); Mid(t, 51, 1)\n\
+               End Sub\n";
+    assert_eq!(printed(src), [" 100000  100000 \u{f1}bzzz\u{f1}"]);
+}
+
 // CDate past the days a Date holds (issue 30): `CDate(1E+308)` panicked in chrono when the
 // Date was shown. VBA's "Date data type" holds January 1, 100 to December 31, 9999; past it
 // CDate raises Overflow (run-time error 6), which On Error traps; the range's ends convert.

@@ -679,14 +679,49 @@ fn right(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// "Mid function": a start of 0 or below, or a negative length, is run-time error 5.
 fn mid(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let has_length = args.get(2).is_some_and(|e| e.kind != ExprKind::Missing);
+    // A macro's text growing in place knows its length in characters; taken before the other
+    // arguments run, so only when they run no macro code (which could change the text).
+    let runs_macro_code = |e: &Expr| {
+        let mut found = false;
+        e.visit(&mut |e| found |= matches!(e.kind, ExprKind::Host(_)));
+        found
+    };
+    let chars = match args {
+        [Expr { kind: ExprKind::Name(name), .. }, rest @ ..] if !rest.iter().any(runs_macro_code) => {
+            ctx.host_text_length(name)
+        }
+        _ => None,
+    };
     checked_text_fn(ctx, args, "Mid", &|raised, s, rest| {
         let start = count(raised, &rest[0])?;
         if start == 0 {
             return Err(raised.set(5, "start is below 1"));
         }
         let length = if has_length { count(raised, &rest[1])? } else { usize::MAX };
-        Ok(Value::text(s.chars().skip(start - 1).take(length).collect::<String>()))
+        let from = char_start(s, start - 1, chars);
+        let part = &s[from..];
+        let end = part.char_indices().nth(length).map_or(part.len(), |(at, _)| at);
+        Ok(Value::text(&part[..end]))
     })
+}
+
+/// The byte where character `skip` (0-based) of `s` starts (`s.len()` past its end), in work
+/// bounded by the part skipped, not by counting characters one by one from the start: a
+/// `For i = 1 To Len(s): c = Mid(s, i, 1)` loop over a long text was quadratic in characters
+/// stepped. An ASCII prefix is its own byte count (checked a word at a time); with the text's
+/// length in characters known (`chars`), a character in its second half is found from the end.
+fn char_start(s: &str, skip: usize, chars: Option<usize>) -> usize {
+    match chars {
+        Some(total) if skip >= total => return s.len(),
+        Some(total) if skip > total / 2 => {
+            return s.char_indices().rev().nth(total - skip - 1).map_or(0, |(at, _)| at);
+        }
+        _ => {}
+    }
+    if s.as_bytes().get(..skip).is_some_and(<[u8]>::is_ascii) {
+        return skip;
+    }
+    s.char_indices().nth(skip).map_or(s.len(), |(at, _)| at)
 }
 
 fn ucase(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
