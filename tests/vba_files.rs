@@ -785,8 +785,8 @@ fn file_date_time_reads_the_out_dir() {
 // elements of user-defined types without the 2-byte length descriptor" — so a String member
 // keeps its 2-byte length; "For any array other than an array in a user-defined type, Put
 // writes only the data". "Get statement" reads them back the same way ([MS-VBAL] 5.4.5.7).
-// In a Random file a Type value is one record; a whole array there follows a descriptor
-// whose content the reference does not give, and is refused.
+// In a Random file a Type value is one record; a whole dynamic array there follows a
+// descriptor whose content the reference does not give, and is refused.
 #[test]
 fn put_and_get_write_types_and_arrays_as_vba_lays_them_out() {
     let src = "Type Part\n    Id As Integer\n    Name As String\n    X As Double\n    Done As Boolean\n    Tag As Variant\n\
@@ -808,7 +808,7 @@ fn put_and_get_write_types_and_arrays_as_vba_lays_them_out() {
     let mut random = vec![0; 21];
     random.extend(&part);
     assert_eq!(file("T.DAT"), random);
-    let e = fail("    Dim a(2) As Long\n    Open \"R.DAT\" For Random As #1 Len = 64\n    Put #1, 1, a", &sandbox(&[]));
+    let e = fail("    Dim a() As Long\n    ReDim a(2)\n    Open \"R.DAT\" For Random As #1 Len = 64\n    Put #1, 1, a", &sandbox(&[]));
     assert!(e.message.contains("descriptor"), "{e}");
 }
 
@@ -827,4 +827,18 @@ fn put_and_get_write_a_two_dimensional_array_first_index_fastest() {
     assert_eq!(out.printed, [" 21  13  12 ", " 100 "]);
     let file = out.files.iter().find(|(n, _)| n == "M.BIN").map(|(_, b)| b.clone()).unwrap();
     assert_eq!(file, [11, 0, 21, 0, 12, 0, 22, 0, 13, 0, 23, 0]);
+}
+
+// "Put statement": "If the variable being written is a fixed-size array, Put writes only the
+// data. No descriptor is written to disk", in a Random file too, as one record; "Get
+// statement" reads it back the same way.
+#[test]
+fn put_and_get_write_a_fixed_size_array_in_a_random_file_as_its_data() {
+    let src = "Sub Main()\n    Dim a(1 To 3) As Integer, b(1 To 3) As Integer\n    a(1) = 1: a(2) = 2: a(3) = -1\n\
+               \x20   Open \"R.DAT\" For Random As #1 Len = 6\n    Put #1, 2, a\n    Get #1, 2, b\n\
+               \x20   Debug.Print b(1); b(3); LOF(1); Loc(1)\n    Close #1\nEnd Sub\n";
+    let out = run(src);
+    assert_eq!(out.printed, [" 1 -1  12  2 "]);
+    let file = out.files.iter().find(|(n, _)| n == "R.DAT").map(|(_, b)| b.clone()).unwrap();
+    assert_eq!(file, [0, 0, 0, 0, 0, 0, 1, 0, 2, 0, 0xFF, 0xFF]);
 }

@@ -136,11 +136,11 @@ impl Interp<'_, '_> {
                 put_bytes(declared, &value, date, random)
             }
             whole @ (Var::Array(_) | Var::Record(..)) => {
-                let ty = match &data.kind {
-                    ExprKind::Name(name) => self.with_slot(name, |s| s.ty.clone()).flatten(),
-                    _ => None,
+                let (ty, fixed) = match &data.kind {
+                    ExprKind::Name(name) => self.with_slot(name, |s| (s.ty.clone(), s.fixed)).unwrap_or_default(),
+                    _ => (None, false),
                 };
-                self.composite_bytes(&whole, ty.as_ref(), random, false)
+                self.composite_bytes(&whole, ty.as_ref(), random, false, fixed)
             }
             Var::Obj(_) => Err("an object is not written to a file (Put # writes values)".to_string()),
         };
@@ -182,7 +182,8 @@ impl Interp<'_, '_> {
         let ty = self.with_slot(name, |s| s.ty.clone()).flatten();
         if index.is_none() {
             if let Some(shape @ (Var::Array(_) | Var::Record(..))) = self.lookup(name) {
-                return self.get_composite(n, start, name, &shape, ty.as_ref(), span);
+                let fixed = self.with_slot(name, |s| s.fixed).unwrap_or_default();
+                return self.get_composite(n, start, name, (&shape, fixed), ty.as_ref(), span);
             }
         }
         let declared = Declared::of_ty(ty.as_ref());
@@ -245,9 +246,18 @@ impl Interp<'_, '_> {
     /// items in order, without a descriptor in a Binary file ("For any array other than an
     /// array in a user-defined type, Put writes only the data"). In a Random file VBA writes
     /// a descriptor before a dynamic array, whose content its reference does not give: such
-    /// a Put is refused. A two-dimensional array goes in VBA's memory order, the first index
+    /// a Put is refused; a fixed-size array (`fixed`: a variable Dim gave its bounds) is its
+    /// data alone there too ("If the variable being written is a fixed-size array, Put writes
+    /// only the data. No descriptor is written to disk"). A two-dimensional array goes in VBA's memory order, the first index
     /// varying fastest ([`file_order`]).
-    fn composite_bytes(&self, var: &Var, ty: Option<&Ty>, random: bool, member: bool) -> Result<Vec<u8>, String> {
+    fn composite_bytes(
+        &self,
+        var: &Var,
+        ty: Option<&Ty>,
+        random: bool,
+        member: bool,
+        fixed: bool,
+    ) -> Result<Vec<u8>, String> {
         match var {
             Var::Value(v) => match Declared::of_ty(ty) {
                 Declared::String if member => string_bytes(v, true),
@@ -256,12 +266,12 @@ impl Interp<'_, '_> {
             Var::Record(t, fields) => {
                 let mut out = Vec::new();
                 for (field, (_, field_ty)) in fields.iter().zip(&self.module.types[*t].fields) {
-                    out.extend(self.composite_bytes(field, Some(field_ty), random, true)?);
+                    out.extend(self.composite_bytes(field, Some(field_ty), random, true, false)?);
                 }
                 Ok(out)
             }
             Var::Array(a) => {
-                whole_array_layout(a, random)?;
+                whole_array_layout(a, random && !fixed)?;
                 let mut out = Vec::new();
                 for k in file_order(a) {
                     let item = a.item(k);
@@ -269,7 +279,7 @@ impl Interp<'_, '_> {
                         Var::Value(v) if matches!(Declared::of_ty(ty), Declared::Variant) => {
                             out.extend(variant_bytes(v, a.holds_date(k))?)
                         }
-                        _ => out.extend(self.composite_bytes(&item, ty, random, member)?),
+                        _ => out.extend(self.composite_bytes(&item, ty, random, member, false)?),
                     }
                 }
                 Ok(out)
@@ -285,12 +295,12 @@ impl Interp<'_, '_> {
         n: i64,
         start: usize,
         name: &std::rc::Rc<str>,
-        shape: &Var,
+        (shape, fixed): (&Var, bool),
         ty: Option<&Ty>,
         span: Span,
     ) -> Run<()> {
         let (var, read) = self
-            .read_at(n, start, |reader, random| self.read_composite(reader, shape, ty, random, false))
+            .read_at(n, start, |reader, random| self.read_composite(reader, (shape, fixed), ty, random, false))
             .map_err(|m| self.fault_at(span, format!("Get #{n}: {m}")))?;
         self.with_slot(name, |s| s.replace(var));
         self.moved_past(n, start, read);
@@ -301,7 +311,7 @@ impl Interp<'_, '_> {
     fn read_composite(
         &self,
         reader: &mut Reader,
-        shape: &Var,
+        (shape, fixed): (&Var, bool),
         ty: Option<&Ty>,
         random: bool,
         member: bool,
@@ -318,18 +328,18 @@ impl Interp<'_, '_> {
             Var::Record(t, fields) => {
                 let mut read = Vec::with_capacity(fields.len());
                 for (field, (_, field_ty)) in fields.iter().zip(&self.module.types[*t].fields) {
-                    read.push(self.read_composite(reader, field, Some(field_ty), random, true)?);
+                    read.push(self.read_composite(reader, (field, false), Some(field_ty), random, true)?);
                 }
                 Ok(Var::Record(*t, read))
             }
             Var::Array(a) => {
-                whole_array_layout(a, random)?;
+                whole_array_layout(a, random && !fixed)?;
                 let mut items = a.data.as_ref().clone();
                 let mut dates = Vec::new();
                 for k in file_order(a) {
                     let (value, date) = match Declared::of_ty(ty) {
                         Declared::Variant => reader.variant()?,
-                        _ => match self.read_composite(reader, &a.item(k), ty, random, member)? {
+                        _ => match self.read_composite(reader, (&a.item(k), false), ty, random, member)? {
                             Var::Value(v) => (v, false),
                             _ => return Err("an array of objects or Type values is not read here".into()),
                         },
@@ -370,8 +380,8 @@ fn file_order(a: &super::value::VArray) -> impl Iterator<Item = usize> {
 /// Whether Put and Get take array `a` whole: in a Binary file, no objects.
 fn whole_array_layout(a: &super::value::VArray, random: bool) -> Result<(), String> {
     if random {
-        return Err("a whole array in a Random file comes after a descriptor VBA's reference does not lay out; \
-                    Put and Get its items, or use a Binary file"
+        return Err("a whole dynamic array in a Random file comes after a descriptor VBA's reference does not lay \
+                    out; Put and Get its items, or use a Binary file or a fixed-size array"
             .into());
     }
     if a.objects.as_ref().is_some_and(|o| !o.is_empty()) {

@@ -1496,6 +1496,7 @@ impl Interp<'_, '_> {
             let new = d.new.map(|class| (class, d.span));
             let mut slot = Slot::new(d.name.clone(), var, d.ty.clone());
             slot.new = new;
+            slot.fixed = !redim && d.bounds.as_ref().is_some_and(|b| !b.is_empty());
             self.declare(slot);
         }
         Ok(())

@@ -155,6 +155,9 @@ pub struct Slot {
     /// from a Date, which it shows and answers as until assigned anything else. `Variant`
     /// when it holds no number or the variable is not a Variant.
     pub(super) holds: Declared,
+    /// A fixed-size array: `Dim a(1 To 3)` gave its bounds, not ReDim (Put writes no
+    /// descriptor before it in a Random file, "Put statement").
+    pub fixed: bool,
     /// A number given at each change of what it holds, never given twice ([`next_write`]):
     /// `s = s & f(x)` appends in place when it is the same after `f(x)` ran (`append.rs`).
     written: u64,
@@ -200,7 +203,7 @@ impl Slot {
     /// A variable holding `var`: not a constant, not `As New`, no Date.
     pub fn new(name: Rc<str>, var: Var, ty: Option<Ty>) -> Slot {
         let holds = Declared::Variant;
-        Slot { name, held: Held::Var(var), ty, constant: false, new: None, holds, written: next_write() }
+        Slot { name, held: Held::Var(var), ty, constant: false, new: None, holds, fixed: false, written: next_write() }
     }
 
     /// What the variable holds.
