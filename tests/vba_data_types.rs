@@ -371,3 +371,19 @@ fn numbers_compare_exactly_and_booleans_as_their_numbers() {
     );
     assert_eq!(out, ["FalseFalseTrueTrue", "TrueTrueFalseTrueTrue", "TrueTrueFalseTrue", "else"]);
 }
+
+// "Collection object", "Dictionary object": an item is a Variant, which keeps the type of the
+// value added ("Variant data type": "numeric Variant data is maintained in its original data
+// type"; [MS-VBAL] 3.3.2, the literal 5 is an Integer, 40000 a Long): TypeName of an item
+// holding 5 is "Integer", VarType 2 ("VarType function"), and arithmetic on it an Integer's.
+#[test]
+fn a_collection_item_keeps_its_number_type() {
+    let out = printed(
+        "",
+        "    Dim c As New Collection, d, n As Long\n    Set d = CreateObject(\"Scripting.Dictionary\")\n\
+         \x20   n = 7\n    c.Add 5: c.Add 40000: c.Add 2.5: c.Add n, \"k\"\n    d.Add \"a\", 5\n\
+         \x20   Debug.Print TypeName(c(1)); \" \"; VarType(c.Item(1)); TypeName(c(2)); \" \"; TypeName(c(3)); \" \"; TypeName(c(\"k\"))\n\
+         \x20   Debug.Print TypeName(c(1) + 1); \" \"; TypeName(d(\"a\")); \" \"; TypeName(d.Item(\"a\"))",
+    );
+    assert_eq!(out, ["Integer  2 Long Double Long", "Integer Integer Integer"]);
+}

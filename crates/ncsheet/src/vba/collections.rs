@@ -17,6 +17,7 @@ use crate::formula::ast::{Expr, ExprKind};
 use super::ast::{Arg, Class, Link, Span};
 use super::interp::{Fault, Interp, Run};
 use super::objects::lower;
+use super::typing::Declared;
 use super::value::{Obj, Var};
 
 /// "Trappable errors": the numbers and texts VBA raises for these objects.
@@ -38,9 +39,10 @@ enum KeyForm {
     Blank,
 }
 
-/// One entry: its key (a Collection's item may have none), its item, and whether the item
-/// is a Date (VarType 7, which a Variant item keeps: [MS-VBAL] 2.1.1.1).
-type Entry = (Option<Value>, Var, bool);
+/// One entry: its key (a Collection's item may have none), its item, and the type the item's
+/// number has, which a Variant item keeps ([MS-VBAL] 2.1.1.1: a Date, VarType 7; an Integer
+/// 5, VarType 2); `Variant` for any other item.
+type Entry = (Option<Value>, Var, Declared);
 
 /// The entries of a Collection or a Dictionary, in the order added.
 #[derive(Debug)]
@@ -199,7 +201,7 @@ impl Handle {
     pub fn each_dates(&self) -> Vec<bool> {
         let store = self.0.borrow();
         match store.class {
-            Class::Collection => store.live().map(|e| e.2).collect(),
+            Class::Collection => store.live().map(|e| e.2 == Declared::Date).collect(),
             Class::Dictionary => store.live().map(|_| false).collect(),
         }
     }
@@ -271,14 +273,14 @@ impl Store {
         &self.entries[at].as_ref().expect("a place holding an entry").1
     }
 
-    /// Whether the item at place `at` is a Date.
-    fn holds_date(&self, at: usize) -> bool {
-        self.entries[at].as_ref().is_some_and(|e| e.2)
+    /// The type of the number the item at place `at` holds.
+    fn held(&self, at: usize) -> Declared {
+        self.entries[at].as_ref().map_or(Declared::Variant, |e| e.2)
     }
 
-    fn set_date(&mut self, at: usize, date: bool) {
+    fn set_held(&mut self, at: usize, held: Declared) {
         if let Some(entry) = self.entries[at].as_mut() {
-            entry.2 = date;
+            entry.2 = held;
         }
     }
 
@@ -302,7 +304,7 @@ impl Store {
         if let Some(form) = key.as_ref().and_then(|k| self.form(k).ok()) {
             self.index.insert(form, self.entries.len());
         }
-        self.entries.push(Some((key, item, false)));
+        self.entries.push(Some((key, item, Declared::Variant)));
         self.live.push();
     }
 
@@ -315,7 +317,7 @@ impl Store {
         if self.gone > 0 {
             self.close_up();
         }
-        self.entries.insert(n, Some((key, item, false)));
+        self.entries.insert(n, Some((key, item, Declared::Variant)));
         self.gone = 0;
         self.close_up();
     }
@@ -437,9 +439,9 @@ impl Interp<'_, '_> {
                 if self.find(&h, &key, link.span)?.is_some() {
                     return Err(self.vba_error(link.span, DUPLICATE_KEY, "Add"));
                 }
-                let date = self.item_is_date(item_expr, &item);
+                let held = self.item_held(item_expr, &item);
                 self.put(&h, key.clone(), item, link.span)?;
-                self.mark_store_date(&h, Some(&key), date, link.span)?;
+                self.mark_store_held(&h, Some(&key), held, link.span)?;
                 blank
             }
             (_, "item") => {
@@ -498,7 +500,7 @@ impl Interp<'_, '_> {
     fn collection_add(&self, h: &Handle, args: &[Option<&Expr>], link: &Link) -> Run<()> {
         let item_expr = self.required(args[0], link, "Item")?;
         let item = self.item_var(item_expr)?;
-        let date = self.item_is_date(item_expr, &item);
+        let held = self.item_held(item_expr, &item);
         let key = match args[1] {
             Some(e) => {
                 let v = self.eval(e)?;
@@ -526,7 +528,7 @@ impl Interp<'_, '_> {
         store.insert(at, key, item);
         // Added last, it is at the last place; else the places were closed up first.
         let place = if last { store.entries.len() - 1 } else { at };
-        store.set_date(place, date);
+        store.set_held(place, held);
         Ok(())
     }
 
@@ -580,25 +582,36 @@ impl Interp<'_, '_> {
             },
         };
         let item = h.0.borrow().item(at).clone();
-        self.gave_date(h.0.borrow().holds_date(at));
+        self.gave.set(h.0.borrow().held(at));
         Ok(item)
     }
 
     /// Notes whether the item under `key` (a Collection's last item without one) is a Date.
     pub(super) fn mark_store_date(&self, h: &Handle, key: Option<&Value>, date: bool, span: Span) -> Run<()> {
+        self.mark_store_held(h, key, if date { Declared::Date } else { Declared::Variant }, span)
+    }
+
+    /// Notes the type of the number the item under `key` (a Collection's last item without
+    /// one) holds.
+    fn mark_store_held(&self, h: &Handle, key: Option<&Value>, held: Declared, span: Span) -> Run<()> {
         let at = match key {
             Some(key) => self.find(h, key, span)?,
             None => h.0.borrow().entries.len().checked_sub(1),
         };
         if let Some(at) = at {
-            h.0.borrow_mut().set_date(at, date);
+            h.0.borrow_mut().set_held(at, held);
         }
         Ok(())
     }
 
-    /// Whether the item expression `e`, which gave `item`, is a Date.
-    fn item_is_date(&self, e: &Expr, item: &Var) -> bool {
-        matches!(item, Var::Value(v) if self.as_date(e, v).is_some())
+    /// The type of the number the item expression `e`, which gave `item`, holds (a Date, an
+    /// Integer …); `Variant` for an item that is no number.
+    fn item_held(&self, e: &Expr, item: &Var) -> Declared {
+        match item {
+            Var::Value(v @ Value::Number(_)) if self.as_date(e, v).is_some() => Declared::Date,
+            Var::Value(v @ Value::Number(_)) => self.value_type(e, v),
+            _ => Declared::Variant,
+        }
     }
 
     /// `d(k) = v`, `d.Item(k) = v`: replaces the item, or adds the key ("Item property").
