@@ -1179,3 +1179,13 @@ fn a_functions_array_passed_to_another_call_keeps_its_bounds() {
                    \x20   Debug.Print UBound(Id(G())) & Id(G())(5)\n    Debug.Print TypeName(Id(Small()))\nEnd Sub\n");
     assert_eq!(out.printed, ["35", "35", "35", "S3", "27", "55", "Integer"]);
 }
+
+// "Array function": a Variant containing an array, of one item too (`Array(3)`, bounds 0 To 0
+// without Option Base); "Split function": a zero-based one-dimensional array, one item for a
+// text without the delimiter. Stored as an item of an array, each stays an array (2.2).
+#[test]
+fn an_array_of_one_item_stored_as_an_item_stays_an_array() {
+    let out = run("Sub Main()\n    Dim b(1 To 2)\n    b(1) = Array(3)\n    b(2) = Split(\"a\", \",\")\n\
+                   \x20   Debug.Print UBound(b(1)) & b(1)(0) & UBound(b(2)) & b(2)(0)\n    Debug.Print IsArray(b(1))\nEnd Sub\n");
+    assert_eq!(out.printed, ["030a", "True"]);
+}

@@ -205,6 +205,8 @@ impl Interp<'_, '_> {
             ExprKind::Host(id) => {
                 matches!(self.module.nodes[*id as usize], Node::Call { .. }) || self.array_object(*id).is_some()
             }
+            // `a(i) = Array(3)`, `a(i) = Split(s)`: an array of one item is still an array.
+            ExprKind::Call(id, _) => matches!(crate::eval::functions::spec(*id).name, "VBA.ARRAY" | "VBA.SPLIT"),
             _ => false,
         };
         if gives_array {
