@@ -413,6 +413,30 @@ End Sub
     Out TypeName(CSng(1.5))
 "#,
     },
+    // tests/vba_data_types.rs: a Collection item keeps its number's type ("Variant data
+    // type"); a Single is a 32-bit float; Currency sums are exact; a Boolean compares as -1 or
+    // 0 and numbers compare exactly ([MS-VBAL] 5.6.9.5). Their texts are left out: LibreOffice
+    // shows a Single to 9 digits (VBA 7, "0.3333333") and a Currency with 4 places ("0.0000").
+    Case {
+        name: "data_types_held_single_currency_comparison",
+        module: "",
+        body: r#"
+    Dim c As New Collection, s As Single, cu As Currency, i As Integer, b As Boolean
+    c.Add 5
+    Out TypeName(c(1))
+    Out VarType(c(1))
+    s = 1 / 3
+    Out CDbl(s)
+    For i = 1 To 10
+        cu = cu + 0.1
+    Next
+    Out CDbl(cu - 1)
+    b = True
+    Out b = -1
+    Out True < False
+    Out 0.1 + 0.2 = 0.3
+"#,
+    },
 ];
 
 /// ncsheet's lines for one case.
