@@ -32,6 +32,53 @@ fn appended<'e>(name: &str, value: &'e Expr) -> Option<Vec<(&'e Expr, &'e Expr)>
 }
 
 impl Interp<'_, '_> {
+    /// `Mid(s, start[, length]) = text` (the Mid statement, which the parser makes
+    /// `s = VBA.MIDSTATEMENT(s, start, length, text)`) done in the buffer of an ASCII text
+    /// growing in place: the statement made the whole text anew, so a loop replacing one
+    /// character at a time copied it at every turn. Only when the arguments run no macro code
+    /// (they are evaluated again should the statement run as written) and are a whole start,
+    /// a whole length of 0 or more or none, and a text; `false` runs the statement as written.
+    pub(super) fn mid_in_place(&self, name: &Rc<str>, value: &Expr) -> Run<bool> {
+        let ExprKind::Call(id, args) = &value.kind else { return Ok(false) };
+        if crate::eval::functions::spec(*id).name != "VBA.MIDSTATEMENT" {
+            return Ok(false);
+        }
+        let [Expr { kind: ExprKind::Name(var), .. }, start, length, with] = args.as_slice() else { return Ok(false) };
+        if !var.eq_ignore_ascii_case(name) || ![start, length, with].iter().all(|e| self.reads_variables_only(e)) {
+            return Ok(false);
+        }
+        let mut ctx = self.ctx();
+        let (Value::Number(start), Value::Text(with)) = (ctx.eval(start), ctx.eval(with)) else { return Ok(false) };
+        let length = match &length.kind {
+            ExprKind::Missing => None,
+            _ => match ctx.eval(length) {
+                Value::Number(l) if l >= 0.0 && l.fract() == 0.0 => Some(l.min(u32::MAX as f64) as usize),
+                _ => return Ok(false),
+            },
+        };
+        if start < 1.0 || start.fract() != 0.0 || start > u32::MAX as f64 {
+            return Ok(false);
+        }
+        let replace = |s: &mut super::value::Slot| {
+            let typed = matches!(s.ty, None | Some(Ty::Variant | Ty::String));
+            typed && !s.constant && s.text_units().is_some() && s.replace_ascii(start as usize - 1, length, &with)
+        };
+        Ok(self.with_slot(name, replace) == Some(true))
+    }
+
+    /// Whether `e` only reads variables and calls the library's functions: no procedure of
+    /// the macro's, no member path (a Property, a cell), no name that is not a variable (a
+    /// Function called without parentheses).
+    fn reads_variables_only(&self, e: &Expr) -> bool {
+        let mut plain = true;
+        e.visit(&mut |e| match &e.kind {
+            ExprKind::Host(_) => plain = false,
+            ExprKind::Name(n) => plain &= self.with_slot(n, |_| ()).is_some(),
+            _ => {}
+        });
+        plain
+    }
+
     /// Appends in place when `value` is `name & …` and `name` is a variable holding a text
     /// (a String or a Variant); `false` when the statement is to be run as any other.
     ///

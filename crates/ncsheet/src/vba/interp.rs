@@ -1541,6 +1541,8 @@ impl Interp<'_, '_> {
         match target {
             // `s = s & …` appends to the text in place (`append.rs`).
             Target::Var(name) if !set && self.append_in_place(name, value, span)? => Ok(()),
+            // `Mid(s, i, 1) = x` replaces characters in place (`append.rs`).
+            Target::Var(name) if !set && self.mid_in_place(name, value)? => Ok(()),
             Target::Var(name) => {
                 let var = self.var_of(value, set)?;
                 // A Variant keeps the type of the number it is given ([MS-VBAL] 2.1.1.1: an

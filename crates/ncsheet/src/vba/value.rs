@@ -190,6 +190,9 @@ struct Growing {
     /// Its length in characters, which `Len` answers without making the value: a loop that
     /// reads `Len(s)` between appends would copy the text at every turn.
     chars: usize,
+    /// Whether every character is ASCII (one byte each): the Mid statement then replaces
+    /// characters in place by their byte positions.
+    ascii: bool,
     shown: std::cell::OnceCell<Var>,
 }
 
@@ -238,7 +241,8 @@ impl Slot {
         if let Held::Var(Var::Value(Value::Text(t))) = &self.held {
             let text = Rc::new(String::from(&**t));
             let (units, chars) = (text.encode_utf16().count(), text.chars().count());
-            self.held = Held::Growing(Growing { text, units, chars, shown: std::cell::OnceCell::new() });
+            let ascii = text.is_ascii();
+            self.held = Held::Growing(Growing { text, units, chars, ascii, shown: std::cell::OnceCell::new() });
         }
         match &self.held {
             Held::Growing(g) => Some(g.units),
@@ -254,6 +258,23 @@ impl Slot {
         Rc::make_mut(&mut g.text).push_str(piece);
         g.units += units;
         g.chars += piece.chars().count();
+        g.ascii &= piece.is_ascii();
+    }
+
+    /// `Mid(s, from + 1, length) = with` (the Mid statement) on an ASCII text growing in place,
+    /// `with` ASCII too: the characters replaced where they are, the text's length kept.
+    /// `false` (nothing done) for any other text, or a start past its end (run-time error 5,
+    /// which the statement raises).
+    pub(super) fn replace_ascii(&mut self, from: usize, length: Option<usize>, with: &str) -> bool {
+        let Held::Growing(g) = &mut self.held else { return false };
+        if !g.ascii || !with.is_ascii() || from >= g.chars {
+            return false;
+        }
+        let n = with.len().min(g.chars - from).min(length.unwrap_or(usize::MAX));
+        g.shown.take();
+        Rc::make_mut(&mut g.text).replace_range(from..from + n, &with[..n]);
+        self.written = next_write();
+        true
     }
 
     /// The number of the last change of what the variable holds (see `written`).
