@@ -464,3 +464,94 @@ fn deleting_cells_shifted_left_as_libreoffice() {
         ],
     );
 }
+
+/// `text`'s elements `<name …>` (or `<name …/>`), each as its opening tag.
+fn tags<'t>(text: &'t str, name: &str) -> Vec<&'t str> {
+    let open = format!("<{name} ");
+    text.match_indices(&open).map(|(i, _)| &text[i..i + text[i..].find('>').unwrap() + 1]).collect()
+}
+
+fn attr<'t>(tag: &'t str, name: &str) -> Option<&'t str> {
+    let at = tag.find(&format!(" {name}=\""))? + name.len() + 3;
+    Some(&tag[at..at + tag[at..].find('"')?])
+}
+
+/// The `inner` text of the first `<name>…</name>` of `text`.
+fn element<'t>(text: &'t str, name: &str) -> &'t str {
+    let start = text.find(&format!("<{name}")).unwrap_or_else(|| panic!("no <{name}>"));
+    let end = text[start..].find(&format!("</{name}>")).unwrap() + start;
+    &text[start..end]
+}
+
+fn part(zip: &[u8], name: &str) -> String {
+    use std::io::Read;
+    let mut archive = zip::ZipArchive::new(std::io::Cursor::new(zip)).unwrap();
+    let mut text = String::new();
+    archive.by_name(name).unwrap().read_to_string(&mut text).unwrap();
+    text
+}
+
+#[test]
+fn a_saved_run_keeps_widths_hidden_rows_heights_and_styles_with_their_moved_cells() {
+    use ncsheet::io::xlsx::{Layout, SheetLayout};
+    // The book: B3 1.5 shown as 0.000, C3 text, row 4 hidden, column C 20 characters wide.
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, 0, "A1", "head");
+    set(&mut wb, 0, "B3", "1.5");
+    set(&mut wb, 0, "C3", "x");
+    set(&mut wb, 0, "A6", "end");
+    wb.set_row_hidden(0, 3, Some(ncsheet::eval::RowHidden::Manually));
+    let mut sheet = SheetLayout { column_widths: vec![(2, 20.0)], ..SheetLayout::default() };
+    sheet.number_formats.insert(at("B3"), "0.000".into());
+    let mut layout = Layout::default();
+    layout.sheets.insert("Sheet1".into(), sheet);
+    let dir = tempfile::tempdir().unwrap();
+    let book = dir.path().join("book.xlsx");
+    std::fs::write(&book, ncsheet::io::xlsx::to_bytes(&wb, &layout).unwrap()).unwrap();
+    let macro_file = dir.path().join("edit.bas");
+    let src = "Sub Main()\n    Range(\"C3\").Font.Bold = True\n    Rows(5).RowHeight = 30\n    \
+               Rows(2).Delete\n    Columns(1).Delete\nEnd Sub\n";
+    std::fs::write(&macro_file, src).unwrap();
+    let saved = dir.path().join("saved.xlsx");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_ncsheet"))
+        .args(["run".as_ref(), book.as_os_str(), macro_file.as_os_str(), "--save".as_ref(), saved.as_os_str()])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let bytes = std::fs::read(&saved).unwrap();
+    let sheet = part(&bytes, "xl/worksheets/sheet1.xml");
+    let styles = part(&bytes, "xl/styles.xml");
+    // Row 2 and column A deleted, as Excel moves them: B3 is A2, C3 B2, hidden row 4 row 3,
+    // row 5's height row 4's, column C's width column B's.
+    let row = |r: &str| *tags(&sheet, "row").iter().find(|t| attr(t, "r") == Some(r)).unwrap_or(&"<row >");
+    assert_eq!(attr(row("3"), "hidden"), Some("1"), "{sheet}");
+    assert_eq!(attr(row("4"), "hidden"), None, "{sheet}");
+    assert_eq!(attr(row("4"), "ht"), Some("30"), "{sheet}");
+    assert_eq!(attr(row("5"), "ht"), None, "{sheet}");
+    let cols = tags(&sheet, "col");
+    let wide: Vec<_> = cols.iter().filter(|c| attr(c, "customWidth") == Some("1")).collect();
+    assert_eq!(wide.len(), 1, "{sheet}");
+    assert_eq!((attr(wide[0], "min"), attr(wide[0], "max")), (Some("2"), Some("2")), "{sheet}");
+    let width: f64 = attr(wide[0], "width").unwrap().parse().unwrap();
+    assert!((width - 20.0).abs() < 1.0, "{width}");
+    // Each cell's style, looked up in styles.xml: A2 shows 0.000, B2 is bold, C2 plain.
+    let xfs = tags(element(&styles, "cellXfs"), "xf");
+    let fonts: Vec<&str> = element(&styles, "fonts").split("<font>").skip(1).collect();
+    let xf = |cell: &str| {
+        let c = tags(&sheet, "c").into_iter().find(|t| attr(t, "r") == Some(cell)).unwrap_or("<c >");
+        xfs[attr(c, "s").map_or(0, |s| s.parse().unwrap())]
+    };
+    let code = |cell: &str| {
+        let id = attr(xf(cell), "numFmtId").unwrap_or("0");
+        tags(&styles, "numFmt")
+            .into_iter()
+            .find(|f| attr(f, "numFmtId") == Some(id))
+            .and_then(|f| attr(f, "formatCode"))
+    };
+    let bold = |cell: &str| fonts[attr(xf(cell), "fontId").map_or(0, |f| f.parse().unwrap())].contains("<b/>");
+    assert_eq!(code("A2"), Some("0.000"), "{sheet}\n{styles}");
+    assert_eq!(code("B3"), None);
+    assert!(bold("B2"), "{sheet}\n{styles}");
+    assert!(!bold("C3") && !bold("A2"));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("inserted or deleted"));
+}

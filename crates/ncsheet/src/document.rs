@@ -225,13 +225,15 @@ impl Document {
 
     /// Inserts or deletes rows, columns or a rectangle's cells (a front end's "insert row"),
     /// as [`Workbook::shift_cells`] does: every reference follows its cells, and so do the
-    /// cells' number formats, the columns' widths and the file's array formulas. Refused,
+    /// cells' number formats and styles, the columns' widths, the rows' heights and the
+    /// file's array formulas. Refused,
     /// with nothing changed, where Excel refuses (an array cut through).
     pub fn shift_cells(&mut self, sheet: SheetId, edit: SheetEdit) -> Result<(), WorkbookError> {
         self.opened.workbook.shift_cells(sheet, edit)?;
         let name = self.opened.workbook.sheet_names().into_iter().nth(sheet as usize).unwrap_or_default();
         let Some(layout) = self.opened.layout.as_mut().and_then(|l| l.sheets.get_mut(&name)) else { return Ok(()) };
         follow_positions(&mut layout.number_formats, &edit);
+        follow_positions(&mut layout.cell_styles, &edit);
         layout.array_formulas = std::mem::take(&mut layout.array_formulas)
             .into_values()
             .filter_map(|a| {
@@ -244,6 +246,9 @@ impl Document {
             let widths = std::mem::take(&mut layout.column_widths).into_iter();
             let moved = |(col, w): (u16, f64)| edit.moved_line(u32::from(col)).map(|c| (c as u16, w));
             layout.column_widths = widths.filter_map(moved).collect();
+        } else {
+            let heights = std::mem::take(&mut layout.row_heights).into_iter();
+            layout.row_heights = heights.filter_map(|(row, h)| Some((edit.moved_line(row)?, h))).collect();
         }
         Ok(())
     }

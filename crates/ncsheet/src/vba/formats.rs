@@ -18,7 +18,7 @@ use crate::eval::format::cell_style::{self, CellStyle};
 use crate::eval::{Ctx, Value};
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::formula::ast::{Expr, SheetId};
-use crate::workbook::Workbook;
+use crate::workbook::{Axis, SheetEdit, Workbook};
 
 use super::ast::{Link, Span};
 use super::interp::{Interp, Run};
@@ -148,6 +148,25 @@ impl SheetState {
         self.lines.push((rect, edit));
     }
 
+    fn follow(&mut self, edit: &SheetEdit) {
+        self.formats =
+            std::mem::take(&mut self.formats).into_iter().filter_map(|(p, c)| Some((edit.moved(p)?, c))).collect();
+        self.styles =
+            std::mem::take(&mut self.styles).into_iter().filter_map(|(p, s)| Some((edit.moved(p)?, s))).collect();
+        self.lines =
+            std::mem::take(&mut self.lines).into_iter().filter_map(|(r, e)| Some((moved_line(r, edit)?, e))).collect();
+        match edit.axis {
+            Axis::Columns => {
+                let moved = |(c, w): (u16, f64)| Some((edit.moved_line(u32::from(c))? as u16, w));
+                self.widths = std::mem::take(&mut self.widths).into_iter().filter_map(moved).collect();
+            }
+            Axis::Rows => {
+                let moved = |(r, h): (u32, f64)| Some((edit.moved_line(r)?, h));
+                self.heights = std::mem::take(&mut self.heights).into_iter().filter_map(moved).collect();
+            }
+        }
+    }
+
     /// The look to save: every written cell a line reaches gets its format and style.
     fn finish(&self, wb: &Workbook, sheet: SheetId) -> SheetLook {
         let mut formats = self.formats.clone();
@@ -203,6 +222,15 @@ impl Looks {
         self.sheets.entry(sheet).or_default()
     }
 
+    /// Rows, columns or cells of `sheet` inserted or deleted: each cell's format and style,
+    /// each column's width and each row's height go where their cells went (Excel moves
+    /// them with the cells); a deleted one's dropped.
+    pub(super) fn follow(&mut self, sheet: SheetId, edit: &SheetEdit) {
+        if let Some(state) = self.sheets.get_mut(&sheet) {
+            state.follow(edit);
+        }
+    }
+
     /// A copy of `from`'s look for the new sheet `to` (`Worksheet.Copy`).
     pub(super) fn copy_sheet(&mut self, from: SheetId, to: SheetId) {
         if let Some(state) = self.sheets.get(&from).cloned() {
@@ -216,6 +244,19 @@ impl Looks {
 pub enum LookPart {
     Font,
     Interior,
+}
+
+/// A formatted whole row or column after `edit`: a line along the edit (a column when rows
+/// move) stays whole where it is; one across it moves, or is gone with its lines.
+fn moved_line(rect: Rect, edit: &SheetEdit) -> Option<Rect> {
+    let along_edit = match edit.axis {
+        Axis::Rows => rect.first.row == 0 && rect.last.row == MAX_ROWS - 1,
+        Axis::Columns => rect.first.col == 0 && rect.last.col == MAX_COLS - 1,
+    };
+    if along_edit {
+        return Some(rect);
+    }
+    Some(Rect::new(edit.moved(rect.first)?, edit.moved(rect.last)?))
 }
 
 /// A rectangle reaching the sheet's last row (whole columns) or last column (whole rows).

@@ -69,6 +69,7 @@ impl Interp<'_, '_> {
         self.book_mut()?
             .shift_cells(sheet, edit)
             .map_err(|e| self.fault_at(link.span, format!("{member}: {}", one_line(&e))))?;
+        self.looks.borrow_mut().follow(sheet, &edit);
         Ok(Obj::Value(Value::Blank))
     }
 }

@@ -198,6 +198,8 @@ struct ChangeLog {
     values: CellBits,
     names: bool,
     sheets: bool,
+    /// Cells were inserted or deleted ([`Workbook::shift_cells`]).
+    shifted: bool,
 }
 
 /// Cells edited since [`Workbook::start_journal`], each with the input it held before.
@@ -239,6 +241,9 @@ pub struct Changes {
     pub names: bool,
     /// A sheet was added or renamed.
     pub sheets: bool,
+    /// Rows, columns or cells were inserted or deleted: whatever the file keeps by position
+    /// (styles, widths, heights, hidden rows) has to move with them.
+    pub shifted: bool,
     /// Cells that held a formula before their edit and now hold a constant.
     pub formulas_replaced: Vec<(SheetId, Pos)>,
 }
@@ -569,6 +574,7 @@ impl Workbook {
             values: cells(&mut log.values.ids()),
             names: log.names,
             sheets: log.sheets,
+            shifted: log.shifted,
             formulas_replaced,
         })
     }

@@ -225,8 +225,9 @@ impl Workbook {
         }
         let names_moved = self.follow_names(sheet, &edit);
         self.shift_lines(sheet, &edit);
-        if let Some(log) = self.changes.as_mut().filter(|_| names_moved) {
-            log.names = true;
+        if let Some(log) = self.changes.as_mut() {
+            log.names |= names_moved;
+            log.shifted = true;
         }
         self.names_unlinked = true;
         self.recalculate();

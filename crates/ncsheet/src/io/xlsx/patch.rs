@@ -54,6 +54,11 @@ pub fn patch(source: &Source, wb: &Workbook, changes: &Changes) -> Result<Result
     if changes.sheets {
         return Ok(Err(Unpatchable("sheets were added".into())));
     }
+    if changes.shifted {
+        // The original's rows, columns and cells keep their styles, widths, heights and
+        // hidden flags by position: patched in place they would stay where the cells left.
+        return Ok(Err(Unpatchable("rows, columns or cells were inserted or deleted".into())));
+    }
     let bytes = &source.bytes[..];
     let package = Package::open(bytes).map_err(|(part, kind, m)| fail(part.as_deref(), kind, m))?;
     let mut losses = Vec::new();
