@@ -387,3 +387,17 @@ fn a_collection_item_keeps_its_number_type() {
     );
     assert_eq!(out, ["Integer  2 Long Double Long", "Integer Integer Integer"]);
 }
+
+// "& operator" (Office VBA reference): an expression that is not a string is converted to a
+// String variant, and one Null operand is a zero-length string; a Boolean converted to a
+// String is "True" or "False", as CStr gives ("Type conversion functions"), where a formula's
+// `&` gives "TRUE".
+#[test]
+fn a_boolean_concatenated_is_true_or_false_as_vba_spells_it() {
+    let out = printed(
+        "",
+        "    Dim b As Boolean, v As Variant\n    b = True\n    v = (1 > 2)\n\
+         \x20   Debug.Print \"a\" & b & \"|\" & v & \"|\" & (3 = 3) & Null\n    Debug.Print b & v",
+    );
+    assert_eq!(out, ["aTrue|False|True", "TrueFalse"]);
+}

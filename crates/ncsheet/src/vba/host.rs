@@ -167,6 +167,7 @@ impl Host for Interp<'_, '_> {
             return self
                 .concat_dates(operands, values)
                 .or_else(|| self.concat_singles(operands, values))
+                .or_else(|| concat_booleans(values))
                 .unwrap_or(result);
         }
         match self.vba_comparison(op, operands, values) {
@@ -258,6 +259,19 @@ impl Host for Interp<'_, '_> {
         f.kind = ErrorKind::Limit;
         self.park(f);
     }
+}
+
+/// `"on " & True` with a Boolean operand: VBA's "True"/"False" (the "& operator" converts it to
+/// a String as CStr does), where the formula language's `&` would give "TRUE".
+fn concat_booleans((x, y): (&Value, &Value)) -> Option<Value> {
+    if !matches!(x, Value::Bool(_)) && !matches!(y, Value::Bool(_)) {
+        return None;
+    }
+    let text = |v: &Value| match v {
+        Value::Null => Some("".into()),
+        v => crate::eval::functions::vba::vba_text(v).ok(),
+    };
+    Some(Value::text(format!("{}{}", text(x)?, text(y)?)))
 }
 
 /// What an object variable holds before `Set` or after `Set x = Nothing`: no object.
