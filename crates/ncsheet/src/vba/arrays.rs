@@ -228,7 +228,9 @@ impl Interp<'_, '_> {
             Some(Var::Array(a)) if Rc::strong_count(&a.data) > 2 => super::budget::value_bytes(&Value::Array(a.data)),
             _ => 0,
         };
-        self.charge(shared, span)?;
+        // The item's own array too: one a call made (`Array(Space(1E6), …)`) was counted nowhere.
+        let brought = super::budget::value_bytes(&Value::Array(item.data.clone()));
+        self.charge(shared + brought, span)?;
         let result = self.with_slot(name, |slot| {
             let own = slot.name.clone();
             if matches!(slot.ty, Some(ref t) if !matches!(t, Ty::Variant)) {
