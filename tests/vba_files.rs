@@ -808,7 +808,10 @@ fn put_and_get_write_types_and_arrays_as_vba_lays_them_out() {
     let mut random = vec![0; 21];
     random.extend(&part);
     assert_eq!(file("T.DAT"), random);
-    let e = fail("    Dim a() As Long\n    ReDim a(2)\n    Open \"R.DAT\" For Random As #1 Len = 64\n    Put #1, 1, a", &sandbox(&[]));
+    let e = fail(
+        "    Dim a() As Long\n    ReDim a(2)\n    Open \"R.DAT\" For Random As #1 Len = 64\n    Put #1, 1, a",
+        &sandbox(&[]),
+    );
     assert!(e.message.contains("descriptor"), "{e}");
 }
 
