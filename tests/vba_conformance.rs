@@ -1189,3 +1189,28 @@ fn an_array_of_one_item_stored_as_an_item_stays_an_array() {
                    \x20   Debug.Print UBound(b(1)) & b(1)(0) & UBound(b(2)) & b(2)(0)\n    Debug.Print IsArray(b(1))\nEnd Sub\n");
     assert_eq!(out.printed, ["030a", "True"]);
 }
+
+// [MS-VBAL] 5.2.3.1 (an array's declared type may be a UDT: `Dim pts(1 To 3) As TPoint`, each
+// element a UDT value of that Type), 5.4.3.8 "Let Statement" (assigning a UDT copies it: `q =
+// pts(1): q.x = 9` leaves pts(1) as it was), 5.3.1.11 (a ByRef argument `pts(3)` is the element
+// itself, so the Sub's change comes back), "ReDim statement" (Preserve keeps the items; without
+// it they are the Type's defaults again), "UBound function", "With statement" (`With pts(1)`
+// names the element itself).
+#[test]
+fn arrays_of_a_user_defined_type() {
+    let out = run("Type TPoint\n    x As Double\n    y As Double\nEnd Type\n\
+                   Type TSeg\n    a As TPoint\n    b As TPoint\nEnd Type\n\
+                   Function MakePoint(x As Double, y As Double) As TPoint\n    Dim p As TPoint\n    p.x = x: p.y = y\n    MakePoint = p\nEnd Function\n\
+                   Sub ShiftX(p As TPoint, d As Double)\n    p.x = p.x + d\nEnd Sub\n\
+                   Function SumX(a() As TPoint) As Double\n    Dim i As Long\n    For i = LBound(a) To UBound(a)\n        SumX = SumX + a(i).x\n    Next\nEnd Function\n\
+                   Sub ScaleY(a() As TPoint)\n    a(2).y = a(2).y * 10\nEnd Sub\n\
+                   Sub Main()\n    Dim pts(1 To 3) As TPoint\n    pts(1).x = 1.5\n    pts(2) = MakePoint(2, 4)\n    pts(3).y = 7\n\
+                   \x20   ShiftX pts(3), 0.25\n    Debug.Print pts(1).x & \",\" & pts(2).x & \",\" & pts(2).y & \",\" & pts(3).x & \",\" & pts(3).y\n\
+                   \x20   Debug.Print SumX(pts) & \" \" & LBound(pts) & UBound(pts)\n    ScaleY pts\n    Debug.Print pts(2).y\n\
+                   \x20   Dim q As TPoint\n    q = pts(1)\n    q.x = 9\n    With pts(1)\n        .y = -1\n    End With\n    Debug.Print pts(1).x & \" \" & q.x & \" \" & pts(1).y & q.y\n\
+                   \x20   Dim d() As TPoint\n    ReDim d(2)\n    d(2).x = 5\n    ReDim Preserve d(4)\n    d(4).y = 6\n\
+                   \x20   Debug.Print UBound(d) & d(2).x & d(4).y & d(0).x\n    ReDim d(1)\n    Debug.Print UBound(d) & d(1).x\n\
+                   \x20   Dim segs(1 To 2) As TSeg\n    segs(2).a.x = 3\n    segs(2).b = pts(2)\n    Debug.Print segs(2).a.x + segs(2).b.y\n\
+                   \x20   Debug.Print TypeName(pts)\nEnd Sub\n");
+    assert_eq!(out.printed, ["1.5,2,4,0.25,7", "3.75 13", " 40 ", "1.5 9 -10", "4560", "10", " 43 ", "TPoint()"]);
+}

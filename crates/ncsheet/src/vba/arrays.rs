@@ -48,7 +48,18 @@ impl Interp<'_, '_> {
         let (rows, lower_row) = if dims.len() == 2 { (dims[0].1, dims[0].0) } else { (1, 1) };
         let (lower_col, cols) = *dims.last().expect("one dimension at least");
         let data = Rc::new(Array::filled(rows, cols, default_value(ty)));
-        VArray { data, lower: (lower_row, lower_col), dims: dims.len() as u8, objects: None, dates: None, arrays: None }
+        // An array of a Type: each item a record of the Type's defaults.
+        let records =
+            ty.filter(|t| matches!(t, Ty::Record(_))).map(|t| Rc::new(vec![self.default_var(Some(t)); rows * cols]));
+        VArray {
+            data,
+            lower: (lower_row, lower_col),
+            dims: dims.len() as u8,
+            objects: None,
+            dates: None,
+            arrays: None,
+            records,
+        }
     }
 
     /// The row-major position of an element, or why there is none.
@@ -86,6 +97,12 @@ impl Interp<'_, '_> {
         match self.lookup(name) {
             Some(Var::Array(a)) => {
                 let k = self.element_at(&a, &at).map_err(|m| self.fault_at(span, format!("{name}: {m}")))?;
+                if a.records.is_some() {
+                    let why = "is a Type value: read its fields (pts(i).x) or assign it to a variable of the Type";
+                    let mut f = self.fault_at(span, format!("Type mismatch (run-time error 13): {name}(…) {why}"));
+                    f.code = 13;
+                    return Err(f);
+                }
                 self.gave_date(a.holds_date(k));
                 match a.item(k) {
                     Var::Obj(o) => self.operand_of(o, span),
@@ -104,7 +121,9 @@ impl Interp<'_, '_> {
     pub(super) fn array_object(&self, id: u32) -> Option<(Rc<str>, &[Expr], Span)> {
         let Node::Element { var, index, span } = &self.module.nodes[id as usize] else { return None };
         match self.lookup(var) {
-            Some(Var::Array(a)) if a.objects.is_some() || a.arrays.is_some() => Some((var.clone(), index, *span)),
+            Some(Var::Array(a)) if a.objects.is_some() || a.arrays.is_some() || a.records.is_some() => {
+                Some((var.clone(), index, *span))
+            }
             _ => None,
         }
     }
@@ -117,6 +136,50 @@ impl Interp<'_, '_> {
         };
         let k = self.element_at(&a, &at).map_err(|m| self.subscript_error(span, name, m))?;
         Ok(a.item(k))
+    }
+
+    /// The row-major position of `name(index)`, an item of an array of a Type: the first
+    /// step of the path to its fields ([`Obj::Record`]), so `pts(i).x = 1` changes the item.
+    pub(super) fn record_item(&self, name: &str, index: &[Expr], span: Span) -> Run<Option<usize>> {
+        let Some(Var::Array(a)) = self.lookup(name).filter(|v| matches!(v, Var::Array(a) if a.records.is_some()))
+        else {
+            return Ok(None);
+        };
+        let at = index.iter().map(|e| self.index(e, "the index")).collect::<Run<Vec<i64>>>()?;
+        self.element_at(&a, &at).map(Some).map_err(|m| self.subscript_error(span, name, m))
+    }
+
+    /// Whether `name` holds an array of a Type.
+    pub(super) fn holds_records(&self, name: &str) -> bool {
+        matches!(self.lookup(name), Some(Var::Array(a)) if a.records.is_some())
+    }
+
+    /// `pts(i) = q`, `pts(i) = MakePoint(…)` ([MS-VBAL] 5.4.3.8: a Let of a UDT copies it): the
+    /// item becomes a copy of a value of the array's Type; the value first, then the indexes.
+    pub(super) fn set_record_element(&self, name: &Rc<str>, index: &[Expr], value: &Expr, span: Span) -> Run<()> {
+        let record = self.var_of(value, false)?;
+        self.set_record_item(name, index, record, span)
+    }
+
+    /// Puts `record` at `name(index)` in an array of a Type, converted to the array's Type.
+    pub(super) fn set_record_item(&self, name: &Rc<str>, index: &[Expr], record: Var, span: Span) -> Run<()> {
+        let at = index.iter().map(|e| self.index(e, "the index")).collect::<Run<Vec<i64>>>()?;
+        self.charge(super::budget::brought(&record), span)?;
+        let result = self.with_slot(name, |slot| {
+            let (ty, own) = (slot.ty.clone(), slot.name.clone());
+            let Var::Array(a) = slot.var_mut() else { return Err(format!("{own} is not an array")) };
+            let k = self
+                .element_at(a, &at)
+                .map_err(|m| format!("Subscript out of range (run-time error 9): {own}: {m}"))?;
+            let record = convert(record, ty.as_ref(), &format!("{own}(…)"))?;
+            let records = a.records.as_mut().ok_or_else(|| format!("{own} is not an array of a Type"))?;
+            Rc::make_mut(records)[k] = record;
+            Ok(())
+        });
+        match result {
+            Some(r) => r.map_err(|m| self.fault_at(span, m)),
+            None => Err(self.fault_at(span, format!("{name} is not an array (Dim {name}(…) first)"))),
+        }
     }
 
     /// VBA's "Subscript out of range (Error 9)".
@@ -313,6 +376,7 @@ impl Interp<'_, '_> {
             Var::Array(a) => self.set_array_element(name, at, a, span),
             Var::Value(v) => self.set_element(name, at, v, date, span),
             object @ Var::Obj(_) => self.set_object_element(name, at, object, span),
+            record @ Var::Record(..) if self.holds_records(name) => self.set_record_item(name, at, record, span),
             Var::Record(..) => Ok(()),
         }
     }
@@ -434,12 +498,18 @@ pub(super) fn preserve_items(old: &VArray, new: &mut VArray) {
     let mut objects = std::collections::HashMap::new();
     let mut dates = std::collections::HashSet::new();
     let mut arrays = std::collections::HashMap::new();
+    let mut records = new.records.take();
     for r in 0..old.data.rows.min(data.rows) {
         for c in 0..old.data.cols.min(data.cols) {
             data.data[r * data.cols + c] = old.data.get(r, c).clone();
             match old.item(r * old.data.cols + c) {
                 Var::Obj(o) => _ = objects.insert(r * data.cols + c, o),
                 Var::Array(a) => _ = arrays.insert(r * data.cols + c, a),
+                record @ Var::Record(..) => {
+                    if let Some(records) = records.as_mut() {
+                        Rc::make_mut(records)[r * data.cols + c] = record;
+                    }
+                }
                 _ => {}
             }
             if old.holds_date(r * old.data.cols + c) {
@@ -450,6 +520,7 @@ pub(super) fn preserve_items(old: &VArray, new: &mut VArray) {
     new.objects = (!objects.is_empty()).then(|| Rc::new(objects));
     new.dates = (!dates.is_empty()).then(|| Rc::new(dates));
     new.arrays = (!arrays.is_empty()).then(|| Rc::new(arrays));
+    new.records = records;
 }
 
 impl Interp<'_, '_> {
@@ -460,6 +531,9 @@ impl Interp<'_, '_> {
     /// other ReDim, which builds a new array.
     pub(super) fn grown_in_place(&self, name: &str, dims: &[(i64, usize)], ty: Option<&Ty>, span: Span) -> Run<bool> {
         let &[(lower, len)] = dims else { return Ok(false) };
+        if matches!(ty, Some(Ty::Record(_))) {
+            return Ok(false);
+        }
         let grows = |var: &Var| {
             matches!(var, Var::Array(a) if a.dims == 1 && a.lower.1 == lower && a.data.rows == 1
                 && a.data.cols <= len && a.data.tail.is_none())
@@ -488,13 +562,14 @@ fn holds_values(ty: &Ty) -> bool {
 /// bounds yet ([MS-VBAL] 5.2.3.1.3: an array variable declared without bounds is a resizable
 /// array). `UBound` and an item of it are run-time error 9, as in VBA.
 pub(super) fn unallocated(ty: Option<&Ty>) -> Option<VArray> {
-    ty.filter(|t| holds_values(t)).map(|_| VArray {
+    ty.filter(|t| holds_values(t) || matches!(t, Ty::Record(_))).map(|_| VArray {
         data: Rc::new(Array::filled(0, 0, Value::Blank)),
         lower: (0, 0),
         dims: 0,
         objects: None,
         dates: None,
         arrays: None,
+        records: ty.filter(|t| matches!(t, Ty::Record(_))).map(|_| Rc::new(Vec::new())),
     })
 }
 

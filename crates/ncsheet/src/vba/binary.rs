@@ -21,7 +21,7 @@ use crate::formula::ast::{Expr, ExprKind};
 use super::ast::{Span, Target, Ty};
 use super::interp::{Interp, Run};
 use super::typing::Declared;
-use super::value::Var;
+use super::value::{VArray, Var};
 
 /// VBA's errors of record files ("Trappable errors").
 const BAD_RECORD_LENGTH: (u32, &str) = (59, "Bad record length");
@@ -334,6 +334,14 @@ impl Interp<'_, '_> {
             }
             Var::Array(a) => {
                 whole_array_layout(a, random && !fixed)?;
+                if let Some(records) = &a.records {
+                    // An array of a Type: each item read as a Type value, in the file's order.
+                    let mut read = records.as_ref().clone();
+                    for k in file_order(a) {
+                        read[k] = self.read_composite(reader, (&records[k], false), ty, random, member)?;
+                    }
+                    return Ok(Var::Array(VArray { records: Some(Rc::new(read)), ..a.clone() }));
+                }
                 let mut items = a.data.as_ref().clone();
                 let mut dates = Vec::new();
                 for k in file_order(a) {

@@ -23,7 +23,10 @@ use super::ErrorKind;
 pub(super) fn brought(var: &Var) -> u64 {
     match var {
         Var::Value(v) => value_bytes(v),
-        Var::Array(a) => value_bytes(&Value::Array(a.data.clone())),
+        Var::Array(a) => {
+            let records: u64 = a.records.iter().flat_map(|r| r.iter()).map(brought).sum();
+            value_bytes(&Value::Array(a.data.clone())) + records
+        }
         Var::Record(_, fields) => fields.iter().map(brought).sum(),
         Var::Obj(_) => 0,
     }
@@ -84,7 +87,10 @@ impl Measure {
         while let Some(var) = pending.pop() {
             match &var {
                 Var::Value(v) => self.value(v),
-                Var::Array(a) if self.first_time(&a.data) => self.array(&a.data),
+                Var::Array(a) if self.first_time(&a.data) => {
+                    self.array(&a.data);
+                    pending.extend(a.records.iter().flat_map(|r| r.iter()).cloned());
+                }
                 Var::Obj(Obj::Store(h)) if self.first_time(&h.0) => {
                     self.bytes = self.bytes.saturating_add(h.own_bytes());
                     pending.extend(h.items());

@@ -1245,6 +1245,14 @@ impl Interp<'_, '_> {
                     Var::Array(a) => Obj::Value(Value::Array(a.data)),
                     Var::Record(..) => match &object.kind {
                         ExprKind::Name(n) => Obj::Record(n.clone(), Vec::new()),
+                        // `With pts(i)`: the item itself, so `.x = 1` changes it.
+                        ExprKind::Host(id) if self.array_object(*id).is_some() => {
+                            let (var, index, span) = self.array_object(*id).expect("an array's item");
+                            match self.record_item(&var, index, span)? {
+                                Some(k) => Obj::Record(var, vec![k]),
+                                None => return Err(self.fault_at(span, "With needs the Type variable itself")),
+                            }
+                        }
                         _ => return Err(self.fault_at(self.expr_span(object), "With needs the Type variable itself")),
                     },
                 };
@@ -1298,7 +1306,7 @@ impl Interp<'_, '_> {
     }
 
     /// A new variable of a type: a Type's fields each at their own default.
-    fn default_var(&self, ty: Option<&Ty>) -> Var {
+    pub(super) fn default_var(&self, ty: Option<&Ty>) -> Var {
         match ty {
             Some(Ty::Record(i)) => {
                 let fields = self.module.types[*i].fields.iter().map(|(_, t)| self.default_var(Some(t))).collect();
@@ -1316,6 +1324,8 @@ impl Interp<'_, '_> {
         for &i in path {
             var = match var {
                 Var::Record(_, mut fields) => fields.swap_remove(i),
+                // An item of an array of a Type, by its row-major position.
+                Var::Array(a) => a.item(i),
                 _ => return None,
             };
         }
@@ -1329,9 +1339,14 @@ impl Interp<'_, '_> {
             let mut var = slot.var_mut();
             let mut ty = None;
             for &i in path {
-                let Var::Record(t, fields) = var else { return Err("not a Type value".to_string()) };
-                ty = Some(&module.types[*t].fields[i]);
-                var = &mut fields[i];
+                var = match var {
+                    Var::Record(t, fields) => {
+                        ty = Some(&module.types[*t].fields[i]);
+                        &mut fields[i]
+                    }
+                    Var::Array(super::value::VArray { records: Some(records), .. }) => &mut Rc::make_mut(records)[i],
+                    _ => return Err("not a Type value".to_string()),
+                };
             }
             let (field, field_ty) = ty.expect("a field");
             *var = convert(value, Some(field_ty), field)?;
@@ -1577,6 +1592,9 @@ impl Interp<'_, '_> {
                     let date = matches!(&item, Var::Value(v) if !set && self.as_date(value, v).is_some());
                     self.set_store_item(&h, &key, item, span)?;
                     return self.mark_store_date(&h, Some(&key), date, span);
+                }
+                if !set && self.holds_records(name) {
+                    return self.set_record_element(name, index, value, span);
                 }
                 if set {
                     let item = self.item_var(value)?;

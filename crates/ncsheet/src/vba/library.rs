@@ -75,11 +75,16 @@ impl Interp<'_, '_> {
         for name in names {
             let erased = self.with_slot(name, |slot| {
                 let fill = default_value(slot.ty.as_ref());
+                let record = matches!(slot.ty, Some(Ty::Record(_))).then(|| self.default_var(slot.ty.as_ref()));
                 match slot.var_mut() {
                     Var::Array(a) => {
                         a.data = Rc::new(Array::filled(a.data.rows, a.data.cols, fill));
-                        // An array of objects holds Nothing again ("Erase statement").
+                        // An array of objects holds Nothing again ("Erase statement"), an
+                        // array of a Type the Type's defaults.
                         a.objects = None;
+                        if let (Some(records), Some(record)) = (a.records.as_mut(), record) {
+                            Rc::make_mut(records).fill(record);
+                        }
                         true
                     }
                     _ => false,

@@ -154,7 +154,10 @@
 //!
 //! `Type … End Type` (fields of plain types or earlier Types; a Type value is copied on
 //! assignment, passed ByRef, reached with `With`, returned by a Function `As` the Type and
-//! assigned to a variable of it: `p = MakePoint(1, 2)`); not arrays of a Type or array fields.
+//! assigned to a variable of it: `p = MakePoint(1, 2)`). Arrays of a Type: `Dim pts(1 To 10)
+//! As TPoint`, `Dim pts() As TPoint` with `ReDim [Preserve]`, `pts(i).x = 1`, `pts(i) = q` or
+//! `= MakePoint(…)` (a copy), `q = pts(i)` (a copy), `pts(i)` passed ByRef (changes come back),
+//! the whole array to `a() As TPoint`, `With pts(i)`, `Erase`, Put/Get whole. Not array fields.
 //! `Foo (y)` without `Call` passes `y` by value, as in VBA.
 //!
 //! `Collection` (`Dim c As New Collection`, `Set c = New Collection`) and Scripting's

@@ -106,6 +106,10 @@ impl Interp<'_, '_> {
             if let (Var::Array(_), Some(args)) = (&var, &link.args) {
                 // `a(1).Field`: the item, an object or a value.
                 let index: Vec<Expr> = args.iter().map(|a| a.value.clone()).collect();
+                // `pts(i).x`: the field of an item of an array of a Type, the item itself.
+                if let Some(k) = self.record_item(&link.name, &index, link.span)? {
+                    return Ok(Obj::Record(link.name.clone(), vec![k]));
+                }
                 return Ok(super::collections::var_obj(self.array_item(&link.name, &index, link.span)?));
             }
             if link.args.is_some() {

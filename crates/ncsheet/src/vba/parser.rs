@@ -660,9 +660,6 @@ impl<'s> Build<'s> {
                 }
             }
             let ty = as_clause.map(|a| self.ty_of(&a)).or_else(|| type_char_ty(&k));
-            if let (Some(Ty::Record(_)), Some(_)) = (&ty, &bounds) {
-                return Err(self.error_at(&var, "arrays of a Type are not supported: use one array per field"));
-            }
             out.push(VarDecl { name, ty, bounds, new, span: self.span(start(&var)) });
         }
         Ok(out)

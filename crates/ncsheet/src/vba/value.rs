@@ -41,16 +41,22 @@ pub struct VArray {
     /// own bounds ([MS-VBAL] 2.2: an array value carries its bounds; `a(1) = b` with
     /// `Dim b(1 To 3)` keeps 1 To 3). `data` holds the same items there, as a plain array.
     pub arrays: Option<Rc<std::collections::HashMap<usize, VArray>>>,
+    /// An array of a `Type` (`Dim pts(1 To 10) As TPoint`): each item's record, row-major
+    /// (`data` holds Empty there). Copying the array copies the records: Types are values.
+    pub records: Option<Rc<Vec<Var>>>,
 }
 
 impl VArray {
     /// A one-dimensional array of `data`'s one row, from `lower`, holding plain values.
     pub fn row(data: Rc<Array>, lower: i64) -> VArray {
-        VArray { data, lower: (1, lower), dims: 1, objects: None, dates: None, arrays: None }
+        VArray { data, lower: (1, lower), dims: 1, objects: None, dates: None, arrays: None, records: None }
     }
 
     /// The item at row-major position `k` as a variable holds it: its object, or its value.
     pub fn item(&self, k: usize) -> Var {
+        if let Some(record) = self.records.as_ref().and_then(|r| r.get(k)) {
+            return record.clone();
+        }
         if let Some(array) = self.arrays.as_ref().and_then(|a| a.get(&k)) {
             return Var::Array(array.clone());
         }
@@ -393,9 +399,15 @@ pub fn array_var(v: Value, base: i64) -> Var {
     match v {
         Value::Array(a) if a.rows == 1 && a.cols == 1 => Var::Value(a.data[0].clone()),
         Value::Array(a) if a.rows == 1 => Var::Array(VArray::row(a, base)),
-        Value::Array(a) => {
-            Var::Array(VArray { data: a, lower: (1, 1), dims: 2, objects: None, dates: None, arrays: None })
-        }
+        Value::Array(a) => Var::Array(VArray {
+            data: a,
+            lower: (1, 1),
+            dims: 2,
+            objects: None,
+            dates: None,
+            arrays: None,
+            records: None,
+        }),
         other => Var::Value(other),
     }
 }
@@ -408,9 +420,15 @@ pub fn array_var(v: Value, base: i64) -> Var {
 pub fn range_var(v: Value) -> Var {
     match v {
         Value::Array(a) if a.rows == 1 && a.cols == 1 && a.tail.is_none() => Var::Value(a.data[0].clone()),
-        Value::Array(a) => {
-            Var::Array(VArray { data: whole(a), lower: (1, 1), dims: 2, objects: None, dates: None, arrays: None })
-        }
+        Value::Array(a) => Var::Array(VArray {
+            data: whole(a),
+            lower: (1, 1),
+            dims: 2,
+            objects: None,
+            dates: None,
+            arrays: None,
+            records: None,
+        }),
         other => Var::Value(other),
     }
 }
