@@ -1214,3 +1214,18 @@ fn arrays_of_a_user_defined_type() {
                    \x20   Debug.Print TypeName(pts)\nEnd Sub\n");
     assert_eq!(out.printed, ["1.5,2,4,0.25,7", "3.75 13", " 40 ", "1.5 9 -10", "4560", "10", " 43 ", "TPoint()"]);
 }
+
+// "String data type": a fixed-length String (`String * 10`) always holds its length of
+// characters; [MS-VBAL] 5.5.1.2 (Let-coercion to String * length): a longer text is cut to its
+// first characters, a shorter one padded on the right with spaces, a number is made a String
+// first (`s = s & "x"` on a full one drops the "x"). A Type's field `String * 4` is one too.
+#[test]
+fn fixed_length_strings_pad_and_truncate() {
+    let out = run("Type TRec\n    name As String * 4\n    n As Integer\nEnd Type\n\
+                   Sub Main()\n    Dim s As String * 10\n    s = \"abc\"\n    Debug.Print \"[\" & s & \"]\" & Len(s)\n\
+                   \x20   s = \"0123456789ABC\"\n    Debug.Print \"[\" & s & \"]\"\n    s = 12.5\n    s = s & \"x\"\n    Debug.Print \"[\" & s & \"]\"\n\
+                   \x20   Dim r As TRec, q As TRec\n    r.name = \"T1\"\n    Debug.Print \"[\" & r.name & \"]\" & Len(r.name)\n\
+                   \x20   r.name = \"ENDMILL\": r.n = 1\n    Debug.Print r.name\n    Dim t(1 To 2) As String * 3\n    t(1) = \"abcdef\"\n\
+                   \x20   Debug.Print t(1) & Len(t(2))\n    q = r\n    q.name = \"Z\"\n    Debug.Print \"[\" & q.name & \"]\" & r.name\nEnd Sub\n");
+    assert_eq!(out.printed, ["[abc       ]10", "[0123456789]", "[12.5      ]", "[T1  ]4", "ENDM", "abc3", "[Z   ]ENDM"]);
+}

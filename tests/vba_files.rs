@@ -845,3 +845,19 @@ fn put_and_get_write_a_fixed_size_array_in_a_random_file_as_its_data() {
     let file = out.files.iter().find(|(n, _)| n == "R.DAT").map(|(_, b)| b.clone()).unwrap();
     assert_eq!(file, [0, 0, 0, 0, 0, 0, 1, 0, 2, 0, 0xFF, 0xFF]);
 }
+
+// "Put statement": a user-defined type's elements are written one after another without
+// padding; a fixed-length String (`String * 4`, "String data type") is its characters alone,
+// no length descriptor (only a variable-length String has one), the Integer its 2 bytes
+// little-endian. "Get statement" reads the record back the same way.
+#[test]
+fn put_and_get_write_a_fixed_length_string_field_as_its_characters() {
+    let src = "Type TRec\n    name As String * 4\n    n As Integer\nEnd Type\n\
+               Sub Main()\n    Dim r As TRec, q As TRec\n    r.name = \"AB\": r.n = 1\n\
+               \x20   Open \"T.DAT\" For Binary As #1\n    Put #1, 1, r\n    Get #1, 1, q\n    Close #1\n\
+               \x20   Debug.Print \"[\" & q.name & \"]\" & q.n\nEnd Sub\n";
+    let out = run(src);
+    assert_eq!(out.printed, ["[AB  ]1"]);
+    let file = out.files.iter().find(|(n, _)| n == "T.DAT").map(|(_, b)| b.clone()).unwrap();
+    assert_eq!(file, [b'A', b'B', b' ', b' ', 1, 0]);
+}

@@ -555,7 +555,7 @@ impl Interp<'_, '_> {
 /// Whether items of type `ty` are plain values a conversion gives (a number, a String, a
 /// Boolean): not a Variant, an object or a `Type`.
 fn holds_values(ty: &Ty) -> bool {
-    matches!(ty, Ty::Whole(_) | Ty::Number(_) | Ty::String | Ty::Boolean)
+    matches!(ty, Ty::Whole(_) | Ty::Number(_) | Ty::String | Ty::FixedString(_) | Ty::Boolean)
 }
 
 /// `Dim a() As Double` before its first `ReDim` or assignment: a dynamic array with no

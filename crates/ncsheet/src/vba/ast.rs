@@ -137,6 +137,9 @@ pub enum Ty {
     /// [`DATE_VAR_TYPE`]); a Date holds its day count as the 1900 date system counts.
     Number(u8),
     String,
+    /// `String * n`: a String always `n` characters long, padded with spaces or truncated
+    /// on assignment ([MS-VBAL] 5.5.1.2, Let-coercion to String * length).
+    FixedString(u32),
     Boolean,
     /// Variant: holds anything.
     Variant,

@@ -133,7 +133,10 @@ impl Interp<'_, '_> {
             Var::Value(value) => {
                 let declared = self.declared_type(data);
                 let date = self.as_date(data, &value).is_some();
-                put_bytes(declared, &value, date, random)
+                // A fixed-length String is its characters alone, in a Random file too.
+                let fixed = matches!(&data.kind, ExprKind::Name(name)
+                    if matches!(self.with_slot(name, |s| s.ty.clone()).flatten(), Some(Ty::FixedString(_))));
+                put_bytes(declared, &value, date, random && !fixed)
             }
             whole @ (Var::Array(_) | Var::Record(..)) => {
                 let (ty, fixed) = match &data.kind {
@@ -196,8 +199,9 @@ impl Interp<'_, '_> {
             Some(Var::Value(Value::Text(t))) => t.chars().count(),
             _ => 0,
         };
+        let fixed = matches!(ty, Some(Ty::FixedString(_)));
         let ((value, date), read) = self
-            .read_at(n, start, |reader, random| reader.item(declared, random, held))
+            .read_at(n, start, |reader, random| reader.item(declared, random && !fixed, held))
             .map_err(|m| self.fault_at(span, m))?;
         match index {
             None => {
@@ -260,6 +264,8 @@ impl Interp<'_, '_> {
     ) -> Result<Vec<u8>, String> {
         match var {
             Var::Value(v) => match Declared::of_ty(ty) {
+                // A fixed-length String field is its characters alone ("Put statement").
+                _ if matches!(ty, Some(Ty::FixedString(_))) => string_bytes(v, false),
                 Declared::String if member => string_bytes(v, true),
                 declared => put_bytes(declared, v, false, random),
             },
@@ -322,7 +328,8 @@ impl Interp<'_, '_> {
                     Value::Text(t) => t.chars().count(),
                     _ => 0,
                 };
-                let (value, _) = reader.item(Declared::of_ty(ty), random || member, held)?;
+                let counted = (random || member) && !matches!(ty, Some(Ty::FixedString(_)));
+                let (value, _) = reader.item(Declared::of_ty(ty), counted, held)?;
                 Ok(Var::Value(value))
             }
             Var::Record(t, fields) => {

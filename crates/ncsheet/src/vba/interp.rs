@@ -397,7 +397,10 @@ impl Interp<'_, '_> {
     /// range's value (VBA reads its default member); a range of several cells does not fit.
     fn range_as_declared(&self, arg: Var, ty: Option<&Ty>) -> Run<Var> {
         match (arg, ty) {
-            (Var::Obj(Obj::Range(sheet, rect)), Some(Ty::Whole(_) | Ty::Number(_) | Ty::String | Ty::Boolean)) => {
+            (
+                Var::Obj(Obj::Range(sheet, rect)),
+                Some(Ty::Whole(_) | Ty::Number(_) | Ty::String | Ty::FixedString(_) | Ty::Boolean),
+            ) => {
                 if rect.rows() != 1 || rect.cols() != 1 {
                     return Err(
                         self.fault("a range of several cells given where one value is declared (type mismatch)")
@@ -1577,7 +1580,9 @@ impl Interp<'_, '_> {
                     Var::Value(Value::Blank) if set => Var::Obj(Obj::Value(Value::Blank)),
                     // A String given a Date holds its text (5.5.1.2.4), not its day count.
                     Var::Value(Value::Number(n))
-                        if date && self.with_slot(name, |s| s.ty == Some(Ty::String)) == Some(true) =>
+                        if date
+                            && self.with_slot(name, |s| matches!(s.ty, Some(Ty::String | Ty::FixedString(_))))
+                                == Some(true) =>
                     {
                         Var::Value(Value::text(super::value::date_text(n)))
                     }

@@ -402,7 +402,7 @@ pub(super) fn library_array(e: &Expr, v: &Value, base: i64) -> Option<Var> {
 fn declared_var_type(ty: &Ty) -> Option<f64> {
     match ty {
         Ty::Whole(code) | Ty::Number(code) => Some(f64::from(*code)),
-        Ty::String => Some(8.0),
+        Ty::String | Ty::FixedString(_) => Some(8.0),
         Ty::Boolean => Some(11.0),
         Ty::Record(_) => Some(36.0),
         // An object variable answers what it holds (Nothing 9, a Range its Value's type).

@@ -158,6 +158,8 @@
 //! As TPoint`, `Dim pts() As TPoint` with `ReDim [Preserve]`, `pts(i).x = 1`, `pts(i) = q` or
 //! `= MakePoint(…)` (a copy), `q = pts(i)` (a copy), `pts(i)` passed ByRef (changes come back),
 //! the whole array to `a() As TPoint`, `With pts(i)`, `Erase`, Put/Get whole. Not array fields.
+//! Fixed-length Strings, `Dim s As String * 10` and a Type's `name As String * 8` (the length a
+//! number): an assigned text cut to the length or padded with spaces; Put writes no descriptor.
 //! `Foo (y)` without `Call` passes `y` by value, as in VBA.
 //!
 //! `Collection` (`Dim c As New Collection`, `Set c = New Collection`) and Scripting's

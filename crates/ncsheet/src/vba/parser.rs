@@ -472,8 +472,9 @@ impl<'s> Build<'s> {
         };
         // `As Double()` returns an array: the Function's name holds it as a Variant would.
         let returns_array = find(&k, Rule::empty_parens).is_some();
-        let ty =
-            find(&k, Rule::as_clause).map(|a| self.ty_of(&a)).or_else(|| type_char_ty(&k)).filter(|_| !returns_array);
+        let as_clause = find(&k, Rule::as_clause);
+        as_clause.as_ref().map(|a| self.fixed_length_allowed(a, false)).transpose()?;
+        let ty = as_clause.map(|a| self.ty_of(&a)).or_else(|| type_char_ty(&k)).filter(|_| !returns_array);
         let body = self.block(find(&k, Rule::block).expect("procedure body"))?;
         self.check_gotos(&body, &mut Vec::new())?;
         self.check_body_labels(&body, &body)?;
@@ -488,6 +489,7 @@ impl<'s> Build<'s> {
         self.declare(&name);
         let by_ref = find(&k, Rule::pass_mode).is_none_or(|m| m.as_str().eq_ignore_ascii_case("ByRef"));
         let default = find(&k, Rule::vexpr).map(|e| self.expr(e)).transpose()?;
+        find(&k, Rule::as_clause).map(|a| self.fixed_length_allowed(&a, false)).transpose()?;
         Ok(Param {
             name,
             by_ref,
@@ -659,6 +661,7 @@ impl<'s> Build<'s> {
                     new = Some(self.class_named(class).ok_or_else(|| self.refuse_new(&k_new, a.as_str()))?);
                 }
             }
+            as_clause.as_ref().map(|a| self.fixed_length_allowed(a, true)).transpose()?;
             let ty = as_clause.map(|a| self.ty_of(&a)).or_else(|| type_char_ty(&k));
             out.push(VarDecl { name, ty, bounds, new, span: self.span(start(&var)) });
         }
@@ -689,6 +692,7 @@ impl<'s> Build<'s> {
             let k = kids(&item);
             let name = decl_name(&k).expect("constant name");
             let value = self.expr(find(&k, Rule::vexpr).expect("constant value"))?;
+            find(&k, Rule::as_clause).map(|a| self.fixed_length_allowed(&a, false)).transpose()?;
             let ty = find(&k, Rule::as_clause).map(|a| self.ty_of(&a)).or_else(|| type_char_ty(&k));
             if at_module {
                 self.globals.borrow_mut().insert(name.to_ascii_lowercase());
@@ -1314,12 +1318,34 @@ impl Build<'_> {
 
     fn ty_of(&self, as_clause: &Pair<Rule>) -> Ty {
         let name = find(&kids(as_clause), Rule::type_name).map(|t| t.as_str().to_string()).unwrap_or_default();
-        match self.types.borrow().iter().position(|t| t.eq_ignore_ascii_case(&name)) {
+        let ty = match self.types.borrow().iter().position(|t| t.eq_ignore_ascii_case(&name)) {
             Some(i) => Ty::Record(i),
             // An Enum's variables are Longs ([MS-VBAL] 5.2.3.4).
             None if self.enums.iter().any(|(e, _)| e.eq_ignore_ascii_case(&name)) => Ty::Whole(3),
             None => ty_named(&name.to_ascii_lowercase()),
+        };
+        match (ty, fixed_length(as_clause)) {
+            (Ty::String, Some(n)) => Ty::FixedString(n),
+            (ty, _) => ty,
         }
+    }
+
+    /// Refuses `* n` where VBA has no fixed-length String: after another type, with a length
+    /// that is no number from 1 to 65526 (a constant's name is not read here), or on a
+    /// parameter, a Function or a Const (`allowed` false: only Dim and a Type's fields).
+    fn fixed_length_allowed(&self, as_clause: &Pair<Rule>, allowed: bool) -> Res<()> {
+        let Some(star) = find(&kids(as_clause), Rule::fixed_length) else { return Ok(()) };
+        let name = find(&kids(as_clause), Rule::type_name).map(|t| t.as_str().to_string()).unwrap_or_default();
+        let why = if !name.eq_ignore_ascii_case("string") {
+            "only a String has a fixed length (String * n)"
+        } else if !allowed {
+            "a fixed-length String (String * n) is declared with Dim or as a Type's field, not here"
+        } else if fixed_length(as_clause).is_none() {
+            "the length of String * n is a number from 1 to 65526 here (a constant's name is not read)"
+        } else {
+            return Ok(());
+        };
+        Err(self.error_at(&star, why))
     }
 
     /// `Enum Tool … End Enum`: a Const of type Long per member, the first 0 and each next one
@@ -1358,7 +1384,9 @@ impl Build<'_> {
             if fields.iter().any(|(n, _)| n.eq_ignore_ascii_case(&field)) {
                 return Err(self.error_at(&f, format!("{field} is a field of {name} twice")));
             }
-            let ty = self.ty_of(&find(&fk, Rule::as_clause).expect("field type"));
+            let as_clause = find(&fk, Rule::as_clause).expect("field type");
+            self.fixed_length_allowed(&as_clause, true)?;
+            let ty = self.ty_of(&as_clause);
             let index = self.types.borrow().iter().position(|t| t.eq_ignore_ascii_case(&name));
             if matches!((&ty, index), (Ty::Record(i), Some(j)) if *i >= j) {
                 return Err(self.error_at(&f, format!("{field}: a field's Type must be declared before {name}")));
@@ -1367,6 +1395,13 @@ impl Build<'_> {
         }
         Ok(TypeDef { name, fields })
     }
+}
+
+/// The `n` of `As String * n`, when it is a number from 1 to 65526 ("String data type").
+fn fixed_length(as_clause: &Pair<Rule>) -> Option<u32> {
+    let star = find(&kids(as_clause), Rule::fixed_length)?;
+    let digits = find(&kids(&star), Rule::fixed_digits)?;
+    digits.as_str().parse::<u32>().ok().filter(|n| (1..=65526).contains(n))
 }
 
 fn ty_named(name: &str) -> Ty {

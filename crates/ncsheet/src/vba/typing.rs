@@ -60,7 +60,7 @@ impl Declared {
             Some(Ty::Number(14)) => Declared::Decimal,
             Some(Ty::Number(DATE_VAR_TYPE)) => Declared::Date,
             Some(Ty::Number(_)) => Declared::Double,
-            Some(Ty::String) => Declared::String,
+            Some(Ty::String | Ty::FixedString(_)) => Declared::String,
             Some(Ty::Boolean) => Declared::Boolean,
             Some(Ty::Variant | Ty::Object | Ty::Record(_)) | None => Declared::Variant,
         }

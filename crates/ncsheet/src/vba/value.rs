@@ -460,6 +460,8 @@ pub(super) fn default_value(ty: Option<&Ty>) -> Value {
     match ty {
         Some(Ty::Whole(_) | Ty::Number(_)) => Value::Number(0.0),
         Some(Ty::String) => Value::text(""),
+        // A fixed-length String starts as its length of Chr(0).
+        Some(Ty::FixedString(n)) => Value::text("\0".repeat(*n as usize)),
         Some(Ty::Boolean) => Value::Bool(false),
         _ => Value::Blank,
     }
@@ -501,9 +503,19 @@ pub(super) fn convert(var: Var, ty: Option<&Ty>, name: &str) -> Result<Var, Stri
             (_, Err(e)) => return Err(mismatch(e)),
         },
         Ty::String => Value::Text(vba_text(&v).map_err(mismatch)?),
+        Ty::FixedString(n) => Value::text(fixed_length(&vba_text(&v).map_err(mismatch)?, *n as usize)),
         Ty::Boolean => Value::Bool(to_bool(&v).map_err(mismatch)?),
         Ty::Variant | Ty::Object | Ty::Record(_) => v,
     }))
+}
+
+/// A text as a `String * n` holds it ([MS-VBAL] 5.5.1.2, Let-coercion to String * length):
+/// its first `n` characters, or it padded on the right with spaces to `n`.
+fn fixed_length(text: &str, n: usize) -> String {
+    let mut fixed: String = text.chars().take(n).collect();
+    let short = n - fixed.chars().count();
+    fixed.extend(std::iter::repeat_n(' ', short));
+    fixed
 }
 
 /// A number as a variable of VarType `code` holds it: a Single (4) rounded to a 32-bit
