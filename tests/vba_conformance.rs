@@ -1229,3 +1229,22 @@ fn fixed_length_strings_pad_and_truncate() {
                    \x20   Debug.Print t(1) & Len(t(2))\n    q = r\n    q.name = \"Z\"\n    Debug.Print \"[\" & q.name & \"]\" & r.name\nEnd Sub\n");
     assert_eq!(out.printed, ["[abc       ]10", "[0123456789]", "[12.5      ]", "[T1  ]4", "ENDM", "abc3", "[Z   ]ENDM"]);
 }
+
+// "Type statement": a field may be an array, with its bounds (`x(1 To 100) As Double`) or
+// dynamic (`v() As Double`), sized by "ReDim statement" (`ReDim p.v(5)`, Preserve keeping the
+// items); [MS-VBAL] 5.4.3.8: assigning the Type copies its arrays too (`q = p: q.x(3) = 7`
+// leaves p.x(3)); an item assigned is let-coerced to the field's type ("2.5" is 2.5); an index
+// past the bounds is run-time error 9 ("Subscript out of range"); LBound/UBound give the
+// field's own bounds.
+#[test]
+fn a_types_field_can_be_an_array() {
+    let out = run("Type TPath\n    n As Long\n    x(1 To 100) As Double\nEnd Type\n\
+                   Type TBuf\n    v() As Double\n    tag As String\nEnd Type\n\
+                   Sub Main()\n    Dim p As TPath, q As TPath\n    p.x(3) = 2\n    p.x(100) = \"2.5\"\n    p.n = 3\n    q = p\n    q.x(3) = 7\n\
+                   \x20   Debug.Print p.x(3) & \" \" & p.x(100) & \" \" & q.x(3) & \" \" & LBound(p.x) & \" \" & UBound(p.x) & \" \" & p.x(1)\n\
+                   \x20   Dim b As TBuf\n    ReDim b.v(5)\n    b.v(5) = 1.5\n    ReDim Preserve b.v(7)\n    b.v(7) = 2\n\
+                   \x20   Debug.Print UBound(b.v) & \" \" & b.v(5) & \" \" & b.v(7) & \" \" & b.v(0)\n\
+                   \x20   Dim ps(1 To 2) As TPath\n    ps(2).x(4) = 9\n    Debug.Print ps(2).x(4) + ps(1).x(4)\n\
+                   \x20   On Error Resume Next\n    p.x(101) = 1\n    Debug.Print Err.Number\nEnd Sub\n");
+    assert_eq!(out.printed, ["2 2.5 7 1 100 0", "7 1.5 2 0", " 9 ", " 9 "]);
+}

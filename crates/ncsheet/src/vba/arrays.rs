@@ -44,14 +44,16 @@ impl Interp<'_, '_> {
     }
 
     /// An array of `dims`, each item the default of `ty`.
-    pub(super) fn array_with(&self, dims: &[(i64, usize)], ty: Option<&Ty>) -> VArray {
+    pub(super) fn array_with(&self, dims: &[(i64, usize)], ty: Option<&Ty>) -> Run<VArray> {
         let (rows, lower_row) = if dims.len() == 2 { (dims[0].1, dims[0].0) } else { (1, 1) };
         let (lower_col, cols) = *dims.last().expect("one dimension at least");
         let data = Rc::new(Array::filled(rows, cols, default_value(ty)));
         // An array of a Type: each item a record of the Type's defaults.
-        let records =
-            ty.filter(|t| matches!(t, Ty::Record(_))).map(|t| Rc::new(vec![self.default_var(Some(t)); rows * cols]));
-        VArray {
+        let records = match ty.filter(|t| matches!(t, Ty::Record(_))) {
+            Some(t) => Some(Rc::new(vec![self.default_var(Some(t))?; rows * cols])),
+            None => None,
+        };
+        Ok(VArray {
             data,
             lower: (lower_row, lower_col),
             dims: dims.len() as u8,
@@ -59,7 +61,7 @@ impl Interp<'_, '_> {
             dates: None,
             arrays: None,
             records,
-        }
+        })
     }
 
     /// The row-major position of an element, or why there is none.
@@ -473,6 +475,9 @@ impl Interp<'_, '_> {
                         return self.store_item(&h, &key, link.span);
                     }
                 }
+                if let Some(array) = self.array_field(&mut ctx, path)? {
+                    return Ok(array);
+                }
                 let obj = self.path(&mut ctx, path);
                 self.take_pending()?;
                 match obj? {
@@ -485,6 +490,34 @@ impl Interp<'_, '_> {
             }
             _ => self.var_of(base, false),
         }
+    }
+}
+
+impl Interp<'_, '_> {
+    /// `p.x` or `pts(i).x` where the field is an array: the array with its own bounds
+    /// (`UBound(p.x)` with `x(1 To 100)`), when the path starts at a Type variable.
+    fn array_field(&self, ctx: &mut Ctx, path: &super::ast::Path) -> Run<Option<Var>> {
+        let (Some(first), Some(last)) = (path.links.first(), path.links.last()) else { return Ok(None) };
+        let at_record = match self.lookup(&first.name) {
+            Some(Var::Record(..)) => true,
+            Some(Var::Array(a)) => a.records.is_some(),
+            _ => false,
+        };
+        if path.with || path.links.len() < 2 || last.args.is_some() || !at_record {
+            return Ok(None);
+        }
+        let owner = self.path_until(ctx, path, path.links.len() - 1);
+        self.take_pending()?;
+        let Obj::Record(var, mut at) = owner? else { return Ok(None) };
+        let Some(ty) = self.record_field(&var, &at).and_then(|r| match r {
+            Var::Record(t, _) => Some(t),
+            _ => None,
+        }) else {
+            return Ok(None);
+        };
+        let Some(i) = self.module.types[ty].field(&last.name) else { return Ok(None) };
+        at.push(i);
+        Ok(self.record_field(&var, &at).filter(|f| matches!(f, Var::Array(_))))
     }
 }
 

@@ -164,6 +164,9 @@ pub const LONG_LONG_END: f64 = 9_223_372_036_854_775_808.0;
 pub struct TypeDef {
     pub name: Rc<str>,
     pub fields: Vec<(Rc<str>, Ty)>,
+    /// The bounds of each field that is an array, by the field's index (`x(1 To 100) As
+    /// Double`; none given for a dynamic one, `v() As Double`); `None` for the others.
+    pub bounds: Vec<Option<Vec<(Option<Expr>, Expr)>>>,
 }
 
 impl TypeDef {
@@ -311,6 +314,8 @@ pub struct VarDecl {
     /// `Dim c As New Collection`: the object the variable starts with.
     pub new: Option<Made>,
     pub span: Span,
+    /// `ReDim p.v(5)`: the array field of the Type variable `name` that ReDim sizes.
+    pub field: Option<Rc<str>>,
 }
 
 /// The classes a macro can make objects of (`New Collection`, `CreateObject("Scripting.Dictionary")`).

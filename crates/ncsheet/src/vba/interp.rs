@@ -1089,7 +1089,7 @@ impl Interp<'_, '_> {
                         if matches!(param.ty, None | Some(Ty::Variant)) {
                             self.mark_missing(&param.name);
                         }
-                        self.default_var(param.ty.as_ref())
+                        self.default_var(param.ty.as_ref())?
                     }
                 },
             };
@@ -1105,7 +1105,7 @@ impl Interp<'_, '_> {
             self.declare(slot);
         }
         if p.kind == ProcKind::Function {
-            let var = self.default_var(p.ty.as_ref());
+            let var = self.default_var(p.ty.as_ref())?;
             self.declare(Slot::new(p.name.clone(), var, p.ty.clone()));
         }
         match self.block(&p.body)? {
@@ -1309,16 +1309,35 @@ impl Interp<'_, '_> {
     }
 
     /// A new variable of a type: a Type's fields each at their own default.
-    pub(super) fn default_var(&self, ty: Option<&Ty>) -> Var {
-        match ty {
+    pub(super) fn default_var(&self, ty: Option<&Ty>) -> Run<Var> {
+        Ok(match ty {
             Some(Ty::Record(i)) => {
-                let fields = self.module.types[*i].fields.iter().map(|(_, t)| self.default_var(Some(t))).collect();
+                let def = &self.module.types[*i];
+                let mut fields = Vec::with_capacity(def.fields.len());
+                for ((_, t), bounds) in def.fields.iter().zip(&def.bounds) {
+                    fields.push(match bounds {
+                        // `x(1 To 100) As Double`: the field is an array of its type's defaults.
+                        Some(b) if !b.is_empty() => {
+                            let dims = self.array_dims(b, self.expr_span(&b[0].1))?;
+                            Var::Array(self.array_with(&dims, Some(t))?)
+                        }
+                        // `v() As Double`: a dynamic array without bounds until ReDim.
+                        Some(_) => match super::arrays::unallocated(Some(t)) {
+                            Some(a) => Var::Array(a),
+                            None => Var::Array(super::value::VArray {
+                                dims: 0,
+                                ..super::value::VArray::row(Rc::new(crate::eval::Array::filled(0, 0, Value::Blank)), 0)
+                            }),
+                        },
+                        None => self.default_var(Some(t))?,
+                    });
+                }
                 Var::Record(*i, fields)
             }
             // An object variable starts as Nothing ([MS-VBAL] 5.2.3.1.3).
             Some(Ty::Object) => Var::Obj(Obj::Value(Value::Blank)),
             other => Var::Value(default_value(other)),
-        }
+        })
     }
 
     /// The field a record path names, from the variable it starts at.
@@ -1341,13 +1360,22 @@ impl Interp<'_, '_> {
         let result = self.with_slot(name, |slot| {
             let mut var = slot.var_mut();
             let mut ty = None;
-            for &i in path {
+            for (n, &i) in path.iter().enumerate() {
                 var = match var {
                     Var::Record(t, fields) => {
                         ty = Some(&module.types[*t].fields[i]);
                         &mut fields[i]
                     }
                     Var::Array(super::value::VArray { records: Some(records), .. }) => &mut Rc::make_mut(records)[i],
+                    // `p.x(3) = 2`: the item of a field that is an array of values, as it holds them.
+                    Var::Array(a) if n + 1 == path.len() => {
+                        let (field, field_ty) = ty.expect("an array field");
+                        let Var::Value(v) = convert(value, Some(field_ty), field)? else {
+                            return Err(format!("{field}(…) holds a value, not an object or an array"));
+                        };
+                        Rc::make_mut(&mut a.data).data[i] = v;
+                        return Ok(());
+                    }
                     _ => return Err("not a Type value".to_string()),
                 };
             }
@@ -1474,6 +1502,10 @@ impl Interp<'_, '_> {
 
     fn dim(&self, vars: &[VarDecl], redim: bool, preserve: bool) -> Run<()> {
         for d in vars {
+            if let Some(field) = &d.field {
+                self.redim_field(d, field, preserve)?;
+                continue;
+            }
             if !redim && self.has_local(&d.name) {
                 // VBA's Dim is a declaration, not an action: running it again keeps the value.
                 continue;
@@ -1487,7 +1519,7 @@ impl Interp<'_, '_> {
                     if preserve && self.grown_in_place(&d.name, &dims, ty.as_ref(), d.span)? {
                         continue;
                     }
-                    let mut array = self.array_with(&dims, ty.as_ref());
+                    let mut array = self.array_with(&dims, ty.as_ref())?;
                     if preserve {
                         if let Some(Var::Array(old)) = self.lookup(&d.name) {
                             super::arrays::preserve_items(&old, &mut array);
@@ -1499,9 +1531,9 @@ impl Interp<'_, '_> {
                 _ if d.new.is_some() => Var::Obj(Obj::Value(Value::Blank)),
                 Some(_) if !redim => match super::arrays::unallocated(d.ty.as_ref()) {
                     Some(array) => Var::Array(array),
-                    None => self.default_var(d.ty.as_ref()),
+                    None => self.default_var(d.ty.as_ref())?,
                 },
-                _ => self.default_var(d.ty.as_ref()),
+                _ => self.default_var(d.ty.as_ref())?,
             };
             self.charge(super::budget::brought(&var), d.span)?;
             if redim {
@@ -1517,6 +1549,35 @@ impl Interp<'_, '_> {
             slot.fixed = !redim && d.bounds.as_ref().is_some_and(|b| !b.is_empty());
             self.declare(slot);
         }
+        Ok(())
+    }
+
+    /// `ReDim [Preserve] p.v(n)`: new bounds for the dynamic array field `v` of the Type
+    /// variable `p` ("ReDim statement"; a field declared with its bounds keeps them).
+    fn redim_field(&self, d: &VarDecl, field: &str, preserve: bool) -> Run<()> {
+        let Some(Var::Record(t, fields)) = self.lookup(&d.name) else {
+            return Err(self.fault_at(d.span, format!("ReDim {}.{field}: {} is not a Type variable", d.name, d.name)));
+        };
+        let def = &self.module.types[t];
+        let i =
+            def.field(field).filter(|&i| def.bounds[i].as_ref().is_some_and(|b| b.is_empty())).ok_or_else(|| {
+                self.fault_at(
+                    d.span,
+                    format!("ReDim {}.{field}: {field} is no dynamic array field of {}", d.name, def.name),
+                )
+            })?;
+        let dims = self.array_dims(d.bounds.as_deref().unwrap_or_default(), d.span)?;
+        let mut array = self.array_with(&dims, Some(&def.fields[i].1))?;
+        if let (true, Var::Array(old)) = (preserve, &fields[i]) {
+            super::arrays::preserve_items(old, &mut array);
+        }
+        let array = Var::Array(array);
+        self.charge(super::budget::brought(&array), d.span)?;
+        self.with_slot(&d.name, |slot| {
+            if let Var::Record(_, fields) = slot.var_mut() {
+                fields[i] = array;
+            }
+        });
         Ok(())
     }
 

@@ -73,9 +73,13 @@ impl Interp<'_, '_> {
     /// Empty); the bounds stay, as for VBA's fixed-size arrays.
     pub(super) fn erase(&self, names: &[Rc<str>], span: Span) -> Run<()> {
         for name in names {
+            let ty = self.with_slot(name, |slot| slot.ty.clone()).flatten();
+            let record = match ty {
+                Some(Ty::Record(_)) => Some(self.default_var(ty.as_ref())?),
+                _ => None,
+            };
             let erased = self.with_slot(name, |slot| {
                 let fill = default_value(slot.ty.as_ref());
-                let record = matches!(slot.ty, Some(Ty::Record(_))).then(|| self.default_var(slot.ty.as_ref()));
                 match slot.var_mut() {
                     Var::Array(a) => {
                         a.data = Rc::new(Array::filled(a.data.rows, a.data.cols, fill));

@@ -157,7 +157,10 @@
 //! assigned to a variable of it: `p = MakePoint(1, 2)`). Arrays of a Type: `Dim pts(1 To 10)
 //! As TPoint`, `Dim pts() As TPoint` with `ReDim [Preserve]`, `pts(i).x = 1`, `pts(i) = q` or
 //! `= MakePoint(…)` (a copy), `q = pts(i)` (a copy), `pts(i)` passed ByRef (changes come back),
-//! the whole array to `a() As TPoint`, `With pts(i)`, `Erase`, Put/Get whole. Not array fields.
+//! the whole array to `a() As TPoint`, `With pts(i)`, `Erase`, Put/Get whole.
+//! Array fields: `x(1 To 100) As Double` (bounds evaluated when the variable is made) and
+//! `v() As Double` with `ReDim [Preserve] p.v(n)`; `p.x(3) = 2`, `UBound(p.x)`, copied with the
+//! Type. Not covered: `p.x` passed to an array parameter `a() As Double`.
 //! Fixed-length Strings, `Dim s As String * 10` and a Type's `name As String * 8` (the length a
 //! number): an assigned text cut to the length or padded with spaces; Put writes no descriptor.
 //! `Foo (y)` without `Call` passes `y` by value, as in VBA.

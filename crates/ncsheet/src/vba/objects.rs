@@ -235,8 +235,13 @@ impl Interp<'_, '_> {
                 let i = self.field_index(&var, &path, link)?;
                 let mut path = path.clone();
                 path.push(i);
+                if let Some(args) = &link.args {
+                    // `p.x(3)`: an item of a field that is an array.
+                    path.push(self.field_item(&var, &path, args, link)?);
+                }
                 match self.record_field(&var, &path) {
                     Some(Var::Value(v)) => Ok(Obj::Value(v)),
+                    Some(Var::Array(a)) => Ok(Obj::Value(Value::Array(a.data))),
                     Some(Var::Record(..)) => Ok(Obj::Record(var, path)),
                     // `this.Items.Add x` with `Items As Collection` a field: the object it holds.
                     Some(Var::Obj(object)) => Ok(object),
@@ -299,11 +304,27 @@ impl Interp<'_, '_> {
             Some(Var::Record(t, _)) => &self.module.types[t],
             _ => return Err(self.fault_at(link.span, format!("{var} no longer holds a Type value"))),
         };
-        if link.args.is_some() {
+        let i = ty
+            .field(&link.name)
+            .ok_or_else(|| self.fault_at(link.span, format!("Type {} has no field {}", ty.name, link.name)))?;
+        if link.args.is_some() && ty.bounds[i].is_none() {
             return Err(self.fault_at(link.span, format!("{}.{} is a field, not an array", ty.name, link.name)));
         }
-        ty.field(&link.name)
-            .ok_or_else(|| self.fault_at(link.span, format!("Type {} has no field {}", ty.name, link.name)))
+        Ok(i)
+    }
+
+    /// The row-major position of `p.x(args)` in the array field at `path` of `var`.
+    fn field_item(&self, var: &str, path: &[usize], args: &[super::ast::Arg], link: &Link) -> Run<usize> {
+        let Some(Var::Array(a)) = self.record_field(var, path) else {
+            return Err(self.fault_at(link.span, format!("{var}.{} is not an array", link.name)));
+        };
+        let at = args.iter().map(|arg| self.index(&arg.value, "the index")).collect::<Run<Vec<i64>>>()?;
+        self.element_at(&a, &at).map_err(|m| {
+            let mut f =
+                self.fault_at(link.span, format!("Subscript out of range (run-time error 9): {}: {m}", link.name));
+            f.code = 9;
+            f
+        })
     }
 
     fn sheet_by(&self, ctx: &mut Ctx, link: &Link) -> Run<SheetId> {
@@ -737,6 +758,9 @@ impl Interp<'_, '_> {
             (Obj::Record(var, path), _) => {
                 let mut path = path.clone();
                 path.push(self.field_index(var, &path, link)?);
+                if let Some(args) = &link.args {
+                    path.push(self.field_item(var, &path, args, link)?);
+                }
                 let v = self.var_of(value, false)?;
                 self.set_record_field(var, &path, v, link.span)
             }

@@ -663,7 +663,19 @@ impl<'s> Build<'s> {
             }
             as_clause.as_ref().map(|a| self.fixed_length_allowed(a, true)).transpose()?;
             let ty = as_clause.map(|a| self.ty_of(&a)).or_else(|| type_char_ty(&k));
-            out.push(VarDecl { name, ty, bounds, new, span: self.span(start(&var)) });
+            out.push(VarDecl { name, ty, bounds, new, span: self.span(start(&var)), field: None });
+        }
+        for redim in all(&kids(pair), Rule::redim_field) {
+            let names = all(&kids(&redim), Rule::ident);
+            let bounds = self.bounds(find(&kids(&redim), Rule::dim_bounds).expect("ReDim's bounds"))?;
+            out.push(VarDecl {
+                name: name_of(&names[0]),
+                ty: None,
+                bounds: Some(bounds),
+                new: None,
+                span: self.span(start(&redim)),
+                field: Some(name_of(&names[1])),
+            });
         }
         Ok(out)
     }
@@ -1375,12 +1387,11 @@ impl Build<'_> {
         let k = kids(&pair);
         let name = name_of(&find(&k, Rule::ident).expect("type name"));
         let mut fields: Vec<(Rc<str>, Ty)> = Vec::new();
+        let mut bounds = Vec::new();
         for f in all(&k, Rule::type_field) {
             let fk = kids(&f);
             let field = name_of(&find(&fk, Rule::ident).expect("field name"));
-            if find(&fk, Rule::dim_bounds).is_some() {
-                return Err(self.error_at(&f, "array fields in a Type are not supported"));
-            }
+            bounds.push(find(&fk, Rule::dim_bounds).map(|b| self.bounds(b)).transpose()?);
             if fields.iter().any(|(n, _)| n.eq_ignore_ascii_case(&field)) {
                 return Err(self.error_at(&f, format!("{field} is a field of {name} twice")));
             }
@@ -1393,7 +1404,7 @@ impl Build<'_> {
             }
             fields.push((field, ty));
         }
-        Ok(TypeDef { name, fields })
+        Ok(TypeDef { name, fields, bounds })
     }
 }
 
