@@ -56,8 +56,9 @@ fn dim_with_types_converts_as_vba_does() {
          \x20   i = 2.5: d = \"1.5\": s = 7\n\
          \x20   Debug.Print i & \" \" & d & \" \" & s",
     );
-    // Integer rounds halves to even; a String holds "7"; defaults are "", 0, False, Empty.
-    assert_eq!(lines, ["[]0FALSE[]", "2 1.5 7"]);
+    // Integer rounds halves to even; a String holds "7"; defaults are "", 0, False, Empty; a
+    // Boolean joined with & is "False" as CStr spells it ("& operator").
+    assert_eq!(lines, ["[]0False[]", "2 1.5 7"]);
 }
 
 #[test]
