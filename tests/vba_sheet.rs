@@ -117,8 +117,9 @@ fn defined_names_through_range_brackets_and_evaluate() {
         "    Dim D\n    D = 1\n    Range(\"XA\").Value = Range(\"D\").Value + D\n\
          \x20   Debug.Print [XA] & \" \" & Evaluate(\"XA*2\") & \" \" & IsObject(Evaluate(\"XA\")) & IsObject(Evaluate(\"nope\"))",
     );
-    // A macro variable D and the workbook's name D are different things, as in VBA.
-    assert_eq!(printed, ["41 82 TRUEFALSE"]);
+    // A macro variable D and the workbook's name D are different things, as in VBA; IsObject's
+    // Booleans joined with & are "True"/"False" ("& operator").
+    assert_eq!(printed, ["41 82 TrueFalse"]);
     assert_eq!(get(&wb, 0, "B9"), n(41.0));
 }
 
