@@ -1227,7 +1227,10 @@ fn fixed_length_strings_pad_and_truncate() {
                    \x20   Dim r As TRec, q As TRec\n    r.name = \"T1\"\n    Debug.Print \"[\" & r.name & \"]\" & Len(r.name)\n\
                    \x20   r.name = \"ENDMILL\": r.n = 1\n    Debug.Print r.name\n    Dim t(1 To 2) As String * 3\n    t(1) = \"abcdef\"\n\
                    \x20   Debug.Print t(1) & Len(t(2))\n    q = r\n    q.name = \"Z\"\n    Debug.Print \"[\" & q.name & \"]\" & r.name\nEnd Sub\n");
-    assert_eq!(out.printed, ["[abc       ]10", "[0123456789]", "[12.5      ]", "[T1  ]4", "ENDM", "abc3", "[Z   ]ENDM"]);
+    assert_eq!(
+        out.printed,
+        ["[abc       ]10", "[0123456789]", "[12.5      ]", "[T1  ]4", "ENDM", "abc3", "[Z   ]ENDM"]
+    );
 }
 
 // "Type statement": a field may be an array, with its bounds (`x(1 To 100) As Double`) or

@@ -159,6 +159,10 @@ pub const DATE_VAR_TYPE: u8 = 7;
 /// doubles, so the top itself reads as 2^63 and overflows: its largest whole double is 2^63 - 1024.
 pub const LONG_LONG_END: f64 = 9_223_372_036_854_775_808.0;
 
+/// An array's declared bounds, a dimension each: `(lower, upper)`, the lower one when given
+/// (`Dim a(1 To 3, 5)`).
+pub type Bounds = Vec<(Option<Expr>, Expr)>;
+
 /// `Type Name … End Type`: its fields in order, with their types.
 #[derive(Debug)]
 pub struct TypeDef {
@@ -166,7 +170,7 @@ pub struct TypeDef {
     pub fields: Vec<(Rc<str>, Ty)>,
     /// The bounds of each field that is an array, by the field's index (`x(1 To 100) As
     /// Double`; none given for a dynamic one, `v() As Double`); `None` for the others.
-    pub bounds: Vec<Option<Vec<(Option<Expr>, Expr)>>>,
+    pub bounds: Vec<Option<Bounds>>,
 }
 
 impl TypeDef {
@@ -310,7 +314,7 @@ pub struct VarDecl {
     pub name: Rc<str>,
     pub ty: Option<Ty>,
     /// `Dim a(1 To 5, 3)`: (lower, upper) per dimension, lower `None` for Option Base.
-    pub bounds: Option<Vec<(Option<Expr>, Expr)>>,
+    pub bounds: Option<Bounds>,
     /// `Dim c As New Collection`: the object the variable starts with.
     pub new: Option<Made>,
     pub span: Span,
