@@ -52,6 +52,12 @@ impl VArray {
         VArray { data, lower: (1, lower), dims: 1, objects: None, dates: None, arrays: None, records: None }
     }
 
+    /// A two-dimensional array of `data`'s rows and columns, from (1, 1), as VBA reads a
+    /// Range's values, holding plain values.
+    pub fn table(data: Rc<Array>) -> VArray {
+        VArray { data, lower: (1, 1), dims: 2, objects: None, dates: None, arrays: None, records: None }
+    }
+
     /// The item at row-major position `k` as a variable holds it: its object, or its value.
     pub fn item(&self, k: usize) -> Var {
         if let Some(record) = self.records.as_ref().and_then(|r| r.get(k)) {
@@ -399,15 +405,7 @@ pub fn array_var(v: Value, base: i64) -> Var {
     match v {
         Value::Array(a) if a.rows == 1 && a.cols == 1 => Var::Value(a.data[0].clone()),
         Value::Array(a) if a.rows == 1 => Var::Array(VArray::row(a, base)),
-        Value::Array(a) => Var::Array(VArray {
-            data: a,
-            lower: (1, 1),
-            dims: 2,
-            objects: None,
-            dates: None,
-            arrays: None,
-            records: None,
-        }),
+        Value::Array(a) => Var::Array(VArray::table(a)),
         other => Var::Value(other),
     }
 }
@@ -420,15 +418,7 @@ pub fn array_var(v: Value, base: i64) -> Var {
 pub fn range_var(v: Value) -> Var {
     match v {
         Value::Array(a) if a.rows == 1 && a.cols == 1 && a.tail.is_none() => Var::Value(a.data[0].clone()),
-        Value::Array(a) => Var::Array(VArray {
-            data: whole(a),
-            lower: (1, 1),
-            dims: 2,
-            objects: None,
-            dates: None,
-            arrays: None,
-            records: None,
-        }),
+        Value::Array(a) => Var::Array(VArray::table(whole(a))),
         other => Var::Value(other),
     }
 }
