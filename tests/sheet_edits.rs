@@ -555,3 +555,17 @@ fn a_saved_run_keeps_widths_hidden_rows_heights_and_styles_with_their_moved_cell
     assert!(!bold("C3") && !bold("A2"));
     assert!(String::from_utf8_lossy(&out.stderr).contains("inserted or deleted"));
 }
+
+// Excel refuses an insert that would push a filled cell off the sheet ("Microsoft Excel can't
+// insert new cells because it would push non-empty cells off the end of the worksheet"); a
+// formula in the last row is such a cell as much as a constant is (it was dropped silently).
+#[test]
+fn inserting_a_row_that_would_push_a_formula_off_the_sheet_is_refused() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, 0, "A1", "5");
+    set(&mut wb, 0, "A1048576", "=A1*2");
+    let message = wb.shift_cells(0, SheetEdit::rows(0, 1, true)).unwrap_err().to_string();
+    assert!(message.contains("A1048576"), "{message}");
+    assert_eq!(wb.formula(0, at("A1048576")).as_deref(), Some("=A1*2"));
+    assert_eq!(wb.value(0, at("A1048576")), n(10.0));
+}

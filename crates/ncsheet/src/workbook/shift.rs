@@ -262,6 +262,9 @@ impl Workbook {
                 continue;
             }
             let to = if on_sheet { edit.moved(c.pos) } else { Some(c.pos) };
+            if on_sheet && to.is_none() && edit.insert && c.formula != NO_FORMULA {
+                return Err(pushed_off(self.cell_name(sheet, c.pos)));
+            }
             if c.formula != NO_FORMULA {
                 let tree = self.formula_tree(c.sheet, c.pos).expect("a formula cell has a tree");
                 let followed = follow_tree(&tree, c.sheet, c.pos, to.unwrap_or(c.pos), sheet, edit);
@@ -284,10 +287,7 @@ impl Workbook {
                 None => Content::Value(c.value.clone()),
             };
             if to.is_none() && edit.insert {
-                return Err(WorkbookError::CannotShift(format!(
-                    "{} would be pushed off the sheet: Excel cannot shift filled cells off the worksheet",
-                    self.cell_name(sheet, c.pos)
-                )));
+                return Err(pushed_off(self.cell_name(sheet, c.pos)));
             }
             moves.push((id, to, content));
         }
@@ -465,4 +465,12 @@ fn reshape(shape: &RefShape, rect: Rect, from: Pos, to: Pos) -> RefShape {
             RefShape::Cols(col(a, x), col(b, y))
         }
     }
+}
+
+/// The refusal of an insert that would push the filled cell `cell` (a value or a formula) off
+/// the sheet, as Excel refuses it.
+fn pushed_off(cell: String) -> WorkbookError {
+    WorkbookError::CannotShift(format!(
+        "{cell} would be pushed off the sheet: Excel cannot shift filled cells off the worksheet"
+    ))
 }
