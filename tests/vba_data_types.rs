@@ -401,3 +401,17 @@ fn a_boolean_concatenated_is_true_or_false_as_vba_spells_it() {
     );
     assert_eq!(out, ["aTrue|False|True", "TrueFalse"]);
 }
+
+// "+ operator" (Office VBA reference): a Currency with a Double is a Currency (the order of
+// precision for addition ends Double, Currency, Decimal); "Currency data type": its range is
+// ±922,337,203,685,477.5807, so a sum past it is Overflow (error 6), trappable, where the
+// scaled operand 1E+300 overflowed the 128-bit arithmetic (a panic in a debug build).
+#[test]
+fn a_currency_sum_far_past_its_range_is_overflow() {
+    let out = printed(
+        "",
+        "    Dim c As Currency, v\n    c = 1\n    On Error Resume Next\n    v = c + 1E+300\n\
+         \x20   Debug.Print Err.Number\n    Err.Clear\n    v = c - 1E+300\n    Debug.Print Err.Number",
+    );
+    assert_eq!(out, [" 6 ", " 6 "]);
+}

@@ -280,8 +280,10 @@ pub(super) fn names_single_or_currency(source: &str) -> bool {
 /// operand made one (four places, halves to even), the product's extra places rounded off
 /// half to even; `None` past the type's range or for an operator that is no `+ - *`.
 fn currency_result(op: BinOp, x: f64, y: f64) -> Option<f64> {
-    let scaled = |v: f64| (v * 10_000.0).round_ties_even() as i128;
-    let (a, b) = (scaled(x), scaled(y));
+    // An operand past a Currency's range is Overflow itself; within it, two operands' sum
+    // and product fit an i128 (an `as i128` of 1E+300 saturates, and its product overflowed).
+    let scaled = |v: f64| i64::try_from((v * 10_000.0).round_ties_even() as i128).ok().map(i128::from);
+    let (a, b) = (scaled(x)?, scaled(y)?);
     let r = match op {
         BinOp::Add => a + b,
         BinOp::Sub => a - b,
