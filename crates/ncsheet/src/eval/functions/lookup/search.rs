@@ -329,25 +329,34 @@ fn find_exact(key: &Value, items: &[Value], wildcards: bool, reverse: bool) -> O
 /// what they look at; an index counts its building and one item a query.
 struct Haystack<'a> {
     items: &'a [Value],
-    exact: Option<ExactIndex>,
+    /// Whether the call looks up enough keys for the indexes to pay.
+    many: bool,
+    /// Built at the first key looked up exactly (binary and regex searches never use it).
+    exact: OnceCell<ExactIndex>,
     /// Built at the first key that needs the next smaller or larger item.
     ordered: OnceCell<OrderIndex<'a>>,
 }
 
 impl<'a> Haystack<'a> {
     /// `keys` is the lookup's first argument: an array of many keys has the items indexed.
-    fn new(items: &'a [Value], keys: &Value, looked: &Cell<usize>) -> Haystack<'a> {
-        let exact = worth_indexing(keys).then(|| {
-            add(looked, items.len());
-            ExactIndex::new(items)
-        });
-        Haystack { items, exact, ordered: OnceCell::new() }
+    fn new(items: &'a [Value], keys: &Value) -> Haystack<'a> {
+        Haystack { items, many: worth_indexing(keys), exact: OnceCell::new(), ordered: OnceCell::new() }
+    }
+
+    /// The exact-match index, built (and its building counted) at its first use.
+    fn exact(&self, looked: &Cell<usize>) -> Option<&ExactIndex> {
+        self.many.then(|| {
+            self.exact.get_or_init(|| {
+                add(looked, self.items.len());
+                ExactIndex::new(self.items)
+            })
+        })
     }
 
     /// [`find_exact`], through the index when there is one and the key is no pattern.
     fn find_exact(&self, key: &Value, wildcards: bool, reverse: bool, looked: &Cell<usize>) -> Option<usize> {
         let pattern = wildcards && matches!(key, Value::Text(s) if Wildcard::has_wildcards(s));
-        if let Some(index) = self.exact.as_ref().filter(|_| !pattern) {
+        if let Some(index) = (!pattern).then(|| self.exact(looked)).flatten() {
             add(looked, 1);
             return index.find(key, reverse);
         }
@@ -358,7 +367,7 @@ impl<'a> Haystack<'a> {
 
     /// The first (last when `reverse`) empty item.
     fn find_blank(&self, reverse: bool, looked: &Cell<usize>) -> Option<usize> {
-        if let Some(index) = &self.exact {
+        if let Some(index) = self.exact(looked) {
             add(looked, 1);
             return index.find_blank(reverse);
         }
@@ -371,7 +380,7 @@ impl<'a> Haystack<'a> {
 
     /// The closest item on the `fallback` side of a key not found.
     fn closest(&self, key: &Value, fallback: Fallback, reverse: bool, looked: &Cell<usize>) -> Option<usize> {
-        if self.exact.is_none() {
+        if !self.many {
             add(looked, self.items.len());
             return closest_by_scan(key, self.items, fallback, reverse);
         }
@@ -486,7 +495,7 @@ fn match_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     };
     let items = line_of(&haystack).ok_or(XlError::NA)?;
     let looked = Cell::new(0);
-    let exact = Haystack::new(items, if match_type == 0.0 { &key } else { &Value::Blank }, &looked);
+    let exact = Haystack::new(items, if match_type == 0.0 { &key } else { &Value::Blank });
     let found = lift_values(&[key], &|v| {
         let key = lookup_key(&v[0])?;
         let found = if match_type == 0.0 {
@@ -542,7 +551,7 @@ fn table_lookup(ctx: &mut Ctx, args: &[Expr], by_row: bool) -> XlResult<Value> {
     // Its first column (row) is copied, and each key's search counted.
     let looked = Cell::new(table.as_ref().map_or(0, |t| t.keys.len()));
     let keys = if approximate { &Value::Blank } else { &key };
-    let exact = table.as_ref().map(|t| Haystack::new(&t.keys, keys, &looked));
+    let exact = table.as_ref().map(|t| Haystack::new(&t.keys, keys));
     // An array of columns returns each (`SUM(VLOOKUP(x,T,{2,3},0))`), as in Excel.
     let found = lift_values(&[key, offset], &|v| {
         let key = lookup_key(&v[0])?;
@@ -659,7 +668,7 @@ fn xlookup_operand(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Operand> {
         return Err(XlError::Value);
     }
     let looked = Cell::new(0);
-    let items = Haystack::new(&lookup.values.data, &key, &looked);
+    let items = Haystack::new(&lookup.values.data, &key);
     let not_found = args.get(3).filter(|e| e.kind != ExprKind::Missing);
     if let Value::Array(_) = key {
         // One lookup per key; each result must be a single item.
@@ -755,7 +764,7 @@ fn xmatch(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let haystack = grid_of_expr(ctx, &args[1])?;
     let mode = XMode::read(ctx, args, 2)?;
     let looked = Cell::new(0);
-    let items = Haystack::new(line_of(&haystack).ok_or(XlError::Value)?, &key, &looked);
+    let items = Haystack::new(line_of(&haystack).ok_or(XlError::Value)?, &key);
     let found = lift_values(&[key], &|v| {
         let i = mode.find(&v[0], &items, &looked)?.ok_or(XlError::NA)?;
         Ok(Value::Number(i as f64 + 1.0))
