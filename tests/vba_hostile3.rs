@@ -441,3 +441,20 @@ fn a_string_grown_by_appending_stops_at_the_string_limit() {
     assert!(e.message.contains("--max-string"), "{e}");
     assert!(e.to_string().starts_with("hostile.bas:4:"), "{e}");
 }
+
+// The Mid statement ("Mid statement", Office VBA reference) evaluates its arguments once, as
+// every statement does, so one Rnd in them is one draw of the sequence. A start that draws
+// Rnd, with a replacement the in-place path declines (not ASCII), drew twice (the arguments
+// were evaluated again to run the statement as written): the next Rnd was the third draw, not
+// the second one a macro drawing once before it prints.
+#[test]
+fn a_mid_statement_evaluates_a_volatile_argument_once() {
+    let once = printed(
+        "Sub Main()\n    Dim s\n    Rnd -1\n    Randomize 7\n    s = \"abc\"\n    Mid(s, Int(Rnd * 3) + 1, 1) = \"é\"\n\
+         \x20   Debug.Print Rnd\nEnd Sub\n",
+    );
+    let reference = printed(
+        "Sub Main()\n    Dim x\n    Rnd -1\n    Randomize 7\n    x = Int(Rnd * 3) + 1\n    Debug.Print Rnd\nEnd Sub\n",
+    );
+    assert_eq!(once, reference);
+}

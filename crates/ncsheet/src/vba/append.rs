@@ -66,13 +66,15 @@ impl Interp<'_, '_> {
         Ok(self.with_slot(name, replace) == Some(true))
     }
 
-    /// Whether `e` only reads variables and calls the library's functions: no procedure of
-    /// the macro's, no member path (a Property, a cell), no name that is not a variable (a
-    /// Function called without parentheses).
+    /// Whether `e` only reads variables and calls the library's functions that give the same
+    /// value when called again: no procedure of the macro's, no member path (a Property, a
+    /// cell), no name that is not a variable (a Function called without parentheses), no
+    /// volatile function (`Rnd` would advance twice should the statement run as written).
     fn reads_variables_only(&self, e: &Expr) -> bool {
         let mut plain = true;
         e.visit(&mut |e| match &e.kind {
             ExprKind::Host(_) => plain = false,
+            ExprKind::Call(id, _) if crate::eval::functions::spec(*id).volatile => plain = false,
             ExprKind::Name(n) => plain &= self.with_slot(n, |_| ()).is_some(),
             _ => {}
         });
