@@ -335,19 +335,21 @@ fn blanks_beyond(ranges: &[CellBlock], criteria: &[Criterion]) -> usize {
 pub struct CriteriaMatcher<'a> {
     ranges: &'a [CellBlock],
     indexed: Option<IndexedRange>,
+    dates: DateSystem,
     pub work: Cell<usize>,
 }
 
-/// The range whose criterion varies, indexed, and where the fixed criteria of the other
-/// ranges hold.
+/// The range whose criterion varies, and what is known of it: each part is built at its
+/// first use (and counted then), so criteria that are all comparisons or patterns build no
+/// equality index.
 struct IndexedRange {
     which: usize,
-    index: EqualityIndex,
-    /// Per read cell (row by row), whether every other range meets its criterion.
-    others_hold: Vec<bool>,
-    /// Whether they hold in every read cell (as in COUNTIF, which has no others).
-    others_hold_everywhere: bool,
+    /// The fixed criteria, one per range (the varying range's first item stands in).
+    fixed: Vec<Criterion>,
+    read_rows: usize,
     read_cols: usize,
+    index: OnceCell<EqualityIndex>,
+    others: OnceCell<OthersHold>,
     /// The range's numbers, texts and booleans in order, for counting what a comparison
     /// (`"<5"`, `">=b"`) matches; built at the first such criterion.
     ordered: OnceCell<OrderedCells>,
@@ -358,9 +360,7 @@ impl<'a> CriteriaMatcher<'a> {
     pub fn new(ranges: &'a [CellBlock], criteria: &[Value], dates: DateSystem) -> CriteriaMatcher<'a> {
         let indexed =
             IndexedRange::worth_it(ranges, criteria).map(|which| IndexedRange::new(ranges, criteria, which, dates));
-        let (read_rows, read_cols) = read_size(ranges);
-        let built = if indexed.is_some() { read_rows * read_cols * ranges.len() } else { 0 };
-        CriteriaMatcher { ranges, indexed, work: Cell::new(built) }
+        CriteriaMatcher { ranges, indexed, dates, work: Cell::new(0) }
     }
 
     /// How many cells meet every criterion: a comparison of the indexed range's criterion
@@ -368,10 +368,13 @@ impl<'a> CriteriaMatcher<'a> {
     pub fn count(&self, criteria: &[Criterion]) -> XlResult<usize> {
         if let Some(indexed) = &self.indexed {
             let criterion = &criteria[indexed.which];
-            if is_order(criterion.op) && indexed.others_hold_everywhere {
+            if is_order(criterion.op) && self.others_hold(indexed).everywhere {
                 let ordered = indexed.ordered.get_or_init(|| {
-                    let ordered =
-                        OrderedCells::new(&self.ranges[indexed.which], indexed.others_hold.len(), indexed.read_cols);
+                    let ordered = OrderedCells::new(
+                        &self.ranges[indexed.which],
+                        indexed.read_rows * indexed.read_cols,
+                        indexed.read_cols,
+                    );
                     self.add_work(ordered.sort_work());
                     ordered
                 });
@@ -396,14 +399,62 @@ impl<'a> CriteriaMatcher<'a> {
             add(read_rows * read_cols * self.ranges.len());
             return matching_cells(self.ranges, criteria);
         };
-        let positions = indexed.index.positions(&keys);
+        let others = self.others_hold(indexed);
+        let positions = self.equality_index(indexed).positions(&keys);
         add(1 + positions.len());
         let cells = positions
             .into_iter()
-            .filter(|&p| indexed.others_hold[p])
+            .filter(|&p| others.at[p])
             .map(|p| (p / indexed.read_cols, p % indexed.read_cols))
             .collect();
         Ok(Matches { cells, blanks_beyond: blanks_beyond(self.ranges, criteria) })
+    }
+
+    /// Where the other ranges' fixed criteria hold, worked out at the first criterion that
+    /// needs it (one test per read cell of each other range).
+    fn others_hold<'m>(&'m self, indexed: &'m IndexedRange) -> &'m OthersHold {
+        indexed.others.get_or_init(|| {
+            let others = self.ranges.len() - 1;
+            self.add_work(indexed.read_rows * indexed.read_cols * others);
+            OthersHold::new(self.ranges, indexed)
+        })
+    }
+
+    /// The varying range's equality index, built at the first equality criterion (one
+    /// filing per read cell).
+    fn equality_index<'m>(&'m self, indexed: &'m IndexedRange) -> &'m EqualityIndex {
+        indexed.index.get_or_init(|| {
+            self.add_work(indexed.read_rows * indexed.read_cols);
+            EqualityIndex::new(&self.ranges[indexed.which], indexed.read_rows, indexed.read_cols, self.dates)
+        })
+    }
+
+    /// Whether the equality index has been built: for tests of the work counted.
+    #[cfg(test)]
+    fn index_built(&self) -> bool {
+        self.indexed.as_ref().is_some_and(|indexed| indexed.index.get().is_some())
+    }
+}
+
+/// Per read cell of the varying range (row by row), whether every other range meets its
+/// criterion there.
+struct OthersHold {
+    at: Vec<bool>,
+    /// Whether they hold in every read cell (as in COUNTIF, which has no others).
+    everywhere: bool,
+}
+
+impl OthersHold {
+    fn new(ranges: &[CellBlock], indexed: &IndexedRange) -> OthersHold {
+        let (read_cols, which) = (indexed.read_cols, indexed.which);
+        let at: Vec<bool> = (0..indexed.read_rows * read_cols)
+            .map(|p| {
+                let (row, col) = (p / read_cols, p % read_cols);
+                (0..ranges.len()).all(|i| i == which || indexed.fixed[i].matches(ranges[i].get(row, col)))
+            })
+            .collect();
+        let everywhere = at.iter().all(|&holds| holds);
+        OthersHold { at, everywhere }
     }
 }
 
@@ -420,15 +471,15 @@ impl IndexedRange {
     fn new(ranges: &[CellBlock], criteria: &[Value], which: usize, dates: DateSystem) -> IndexedRange {
         let (read_rows, read_cols) = read_size(ranges);
         let fixed: Vec<Criterion> = criteria.iter().map(|v| Criterion::new(v, dates)).collect();
-        let others_hold: Vec<bool> = (0..read_rows * read_cols)
-            .map(|p| {
-                let (row, col) = (p / read_cols, p % read_cols);
-                (0..ranges.len()).all(|i| i == which || fixed[i].matches(ranges[i].get(row, col)))
-            })
-            .collect();
-        let index = EqualityIndex::new(&ranges[which], read_rows, read_cols, dates);
-        let others_hold_everywhere = others_hold.iter().all(|&holds| holds);
-        IndexedRange { which, index, others_hold, others_hold_everywhere, read_cols, ordered: OnceCell::new() }
+        IndexedRange {
+            which,
+            fixed,
+            read_rows,
+            read_cols,
+            index: OnceCell::new(),
+            others: OnceCell::new(),
+            ordered: OnceCell::new(),
+        }
     }
 }
 
@@ -626,6 +677,45 @@ mod tests {
         assert!(holds("#N/A", XlError::NA));
         assert!(holds(XlError::Div0, XlError::Div0));
         assert!(!holds(XlError::Div0, XlError::NA));
+    }
+
+    /// A column of `k` numbers 1 … k, and `k` criteria `op`&1 … `op`&k as one array.
+    fn column_and_criteria(k: usize, op: &str) -> (Vec<CellBlock>, Vec<Value>) {
+        let column = Array::new(k, 1, (1..=k).map(|i| Value::Number(i as f64)).collect());
+        let criteria = Array::new(k, 1, (1..=k).map(|i| Value::text(format!("{op}{i}"))).collect());
+        let block = CellBlock::from_value(Value::Array(Rc::new(column))).unwrap();
+        (vec![block], vec![Value::Array(Rc::new(criteria))])
+    }
+
+    fn count_each(matcher: &CriteriaMatcher, criteria: &Value) -> usize {
+        let Value::Array(items) = criteria else { unreachable!() };
+        let each = |v: &Value| matcher.count(&[Criterion::new(v, DateSystem::From1900)]).unwrap();
+        items.data.iter().map(each).sum()
+    }
+
+    #[test]
+    fn comparisons_and_patterns_build_no_equality_index() {
+        let k = 64;
+        // ">i" counts k − i cells: the sum is k(k − 1)/2, by sorting once (k·2·7 work) and
+        // two binary searches (2·7) a criterion; no equality index (k more) is built.
+        let (ranges, criteria) = column_and_criteria(k, ">");
+        let matcher = CriteriaMatcher::new(&ranges, &criteria, DateSystem::From1900);
+        assert_eq!(count_each(&matcher, &criteria[0]), k * (k - 1) / 2);
+        assert!(!matcher.index_built());
+        assert_eq!(matcher.work.get(), k * 14 + k * 14);
+        // "?"&i and "*"&i match text only: none of these numbers; each tests every cell.
+        let (ranges, criteria) = column_and_criteria(k, "*");
+        let matcher = CriteriaMatcher::new(&ranges, &criteria, DateSystem::From1900);
+        assert_eq!(count_each(&matcher, &criteria[0]), 0);
+        assert!(!matcher.index_built());
+        assert_eq!(matcher.work.get(), k * k);
+        // Equalities build it at the first criterion: k filings, then one look and one
+        // match each.
+        let (ranges, criteria) = column_and_criteria(k, "=");
+        let matcher = CriteriaMatcher::new(&ranges, &criteria, DateSystem::From1900);
+        assert_eq!(count_each(&matcher, &criteria[0]), k);
+        assert!(matcher.index_built());
+        assert_eq!(matcher.work.get(), k + 2 * k);
     }
 
     #[test]
