@@ -110,3 +110,30 @@ fn debug_print_writes_an_error_value_as_error_and_its_number() {
     let src = "Sub Main()\n    Debug.Print CVErr(xlErrNA)\n    Debug.Print CVErr(2007); \"|\"\nEnd Sub\n";
     assert_eq!(printed(src), ["Error 2042", "Error 2007|"]);
 }
+
+// "Range.Item property (Excel)": Item is the Range object's default member, so a Range
+// variable (or parameter) followed by an index is the cell at that place counted from its
+// top-left, `(i)` row by row, `(row, column)` otherwise; a member assigned through it writes
+// that cell (`theRange(1&).Resize(n, 2).Value = ary`).
+#[test]
+fn a_range_variable_with_an_index_is_its_item_as_an_assignment_target() {
+    let src = "Sub Fill(ByRef r As Range)\n    r(2).Value = 9\nEnd Sub\n\
+               Sub Main()\n    Dim r As Range\n    Set r = Range(\"B2\")\n    r(1).Value = 5\n    r(2, 2).Value = 7\n\
+               \x20   r(1&).Resize(1, 2).Value = 3\n    Fill Range(\"E1\")\n\
+               \x20   Debug.Print Range(\"B2\").Value; Range(\"C3\").Value; Range(\"C2\").Value; Range(\"E2\").Value; r(2, 2).Value\nEnd Sub\n";
+    assert_eq!(printed(src), [" 3  7  3  9  7 "]);
+}
+
+// [MS-VBAL] 6.1.2 "Predefined Procedural Modules": VBA's functions are members of the
+// library's modules (Conversion, DateTime, FileSystem, Financial, Information, Interaction,
+// Math, Strings), so `Math.Sqr`, `Strings.UCase` and `VBA.Math.Abs` name the same functions
+// as `Sqr`, `UCase` and `Abs`; a variable of such a name is still the variable.
+#[test]
+fn functions_named_through_a_module_of_the_vba_library() {
+    let src = "Sub Main()\n    Debug.Print Math.Sqr(16); Strings.UCase(\"ab\"); VBA.Math.Abs(-2); Math.Atn(1) * 4 = 4 * Atn(1)\n\
+               \x20   Debug.Print Conversion.CInt(2.6); Interaction.IIf(True, \"y\", \"n\")\nEnd Sub\n\
+               Sub Shadowed()\n    Dim Strings As New Collection\n    Strings.Add \"x\"\n    Debug.Print Strings.Count\nEnd Sub\n";
+    assert_eq!(printed(src), [" 4 AB 2 True", " 3 y"]);
+    let shadowed = RunOptions { sub: Some("Shadowed".into()), ..RunOptions::default() };
+    assert_eq!(run_with(src, &shadowed).unwrap().printed, [" 1 "]);
+}

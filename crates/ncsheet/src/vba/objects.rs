@@ -112,6 +112,10 @@ impl Interp<'_, '_> {
                 }
                 return Ok(super::collections::var_obj(self.array_item(&link.name, &index, link.span)?));
             }
+            if let (Var::Obj(Obj::Range(sheet, rect)), Some(_)) = (&var, &link.args) {
+                // `r(1).Value = x`: a Range's default member is Item, a cell counted from its top-left.
+                return self.cells(ctx, *sheet, *rect, link);
+            }
             if link.args.is_some() {
                 return Err(self.fault_at(link.span, format!("{} is a variable, not an array of objects", link.name)));
             }

@@ -304,6 +304,7 @@ impl Build<'_> {
             let link = path.links.pop().expect("one link");
             return self.single(pair, link, statement, end);
         }
+        self.name_vba_library_module(&mut path);
         if let Some(kind) = self.qualified_constant(&path) {
             return Ok(Expr::new(kind, ByteSpan { start: at as u32, end: end as u32 }));
         }
@@ -407,6 +408,38 @@ impl Build<'_> {
             return None;
         }
         constant(&lower_bare(&link.name))
+    }
+
+    /// `Math.Sqr(x)`, `Strings.Left(s, 1)`, `VBA.Math.Sqr(x)`: a module of VBA's library
+    /// ("Visual Basic language reference": Conversion, DateTime, FileSystem, Financial,
+    /// Information, Interaction, Math, Strings and Constants) names the same functions as
+    /// `VBA.` does, so the path is read as `VBA.Sqr(x)` unless a variable or one of the
+    /// project's modules has that name.
+    fn name_vba_library_module(&self, path: &mut Path) {
+        const MODULES: [&str; 9] = [
+            "conversion",
+            "datetime",
+            "filesystem",
+            "financial",
+            "information",
+            "interaction",
+            "math",
+            "strings",
+            "constants",
+        ];
+        let is_module = |link: &Link| {
+            let name = lower_bare(&link.name);
+            link.args.is_none()
+                && MODULES.contains(&name.as_str())
+                && !self.is_var(&link.name)
+                && !self.parts.iter().any(|p| p.name.eq_ignore_ascii_case(&link.name))
+        };
+        let first_is_vba = lower_bare(&path.links[0].name) == "vba" && !self.is_var(&path.links[0].name);
+        if first_is_vba && path.links.len() >= 3 && is_module(&path.links[1]) {
+            path.links.remove(1);
+        } else if path.links.len() >= 2 && is_module(&path.links[0]) {
+            path.links[0].name = "VBA".into();
+        }
     }
 
     /// `VBA.TypeName(Me)`, `VBA.IsObject(v)`, `VBA.UBound(a)`: a function of VBA's library that
