@@ -569,3 +569,25 @@ fn inserting_a_row_that_would_push_a_formula_off_the_sheet_is_refused() {
     assert_eq!(wb.formula(0, at("A1048576")).as_deref(), Some("=A1*2"));
     assert_eq!(wb.value(0, at("A1048576")), n(10.0));
 }
+
+// An edit Excel refuses from a macro is its run-time error 1004, which On Error traps ("Run-time
+// error '1004': Microsoft Excel can't insert new cells because it would push non-empty cells
+// off the end of the worksheet"; cutting part of an array, "You can't change part of an
+// array", is 1004 too): Err.Number reads 1004 and the cells are as before.
+#[test]
+fn a_refused_insert_or_delete_in_a_macro_is_error_1004() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, 0, "A1", "=SEQUENCE(4)");
+    set(&mut wb, 0, "B1048576", "1");
+    let printed = run(
+        &mut wb,
+        "    On Error Resume Next\n    Rows(2).Delete\n    Debug.Print Err.Number\n    Err.Clear\n\
+         \x20   Rows(1).Insert\n    Debug.Print Err.Number",
+    );
+    assert_eq!(printed, [" 1004 ", " 1004 "]);
+    assert_eq!(wb.value(0, at("A4")), n(4.0));
+    assert_eq!(wb.value(0, at("B1048576")), n(1.0));
+    let src = "Sub Main()\n    Rows(2).Delete\nEnd Sub\n";
+    let e = vba::run(&mut wb, src, "edits.bas", &RunOptions::default()).unwrap_err();
+    assert!(e.message.contains("1004") && e.message.contains("Sheet1!A1"), "{e}");
+}

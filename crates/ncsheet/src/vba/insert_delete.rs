@@ -66,9 +66,11 @@ impl Interp<'_, '_> {
             None => Axis::Rows,
         };
         let edit = SheetEdit::cells(rect, axis, insert);
-        self.book_mut()?
-            .shift_cells(sheet, edit)
-            .map_err(|e| self.fault_at(link.span, format!("{member}: {}", one_line(&e))))?;
+        // An edit Excel refuses (cutting an array, pushing cells off the sheet) is its
+        // run-time error 1004, "Insert method of Range class failed", which On Error traps.
+        self.book_mut()?.shift_cells(sheet, edit).map_err(|e| {
+            self.error_1004(link.span, format!("{member} method of Range class failed: {}", one_line(&e)))
+        })?;
         self.looks.borrow_mut().follow(sheet, &edit);
         Ok(Obj::Value(Value::Blank))
     }
