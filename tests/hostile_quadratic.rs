@@ -127,6 +127,18 @@ fn many_criteria_count_and_sum_what_each_criterion_finds() {
     for (i, (formula, expected)) in cases.iter().enumerate() {
         assert_eq!(shown(&mut wb, &format!("F{}", i + 1), formula), t(expected), "{formula}");
     }
+    // "<>" matches what "=" does not, except that "<>5" keeps the text "5" (Excel's
+    // COUNTIF.xlsx in the corpus); "<>" alone counts every cell that is not empty.
+    let unequal = r##"{"<>apple";"<>5";"<>TRUE";"<>";"<>#N/A";"<>3";"<>x";"<>BANANA"}"##;
+    let cases = [
+        (format!("COUNTIF(A1:A10,{unequal})"), "8,8,9,9,9,9,10,9"),
+        (format!("COUNTIF(A:A,{unequal})"), "1048574,1048574,1048575,9,1048575,1048575,1048576,1048575"),
+        (format!("COUNTIFS(A1:A10,{unequal},B1:B10,\">50\")"), "4,4,5,5,4,4,5,5"),
+        (format!("SUMIF(A1:A10,{unequal},B1:B10)"), "480,460,510,500,450,460,550,520"),
+    ];
+    for (i, (formula, expected)) in cases.iter().enumerate() {
+        assert_eq!(shown(&mut wb, &format!("G{}", i + 1), formula), t(expected), "{formula}");
+    }
 }
 
 /// Keys SEQUENCE(k) reversed over the items SEQUENCE(k): key j is found at position j, so
@@ -215,11 +227,20 @@ fn many_keys_inside_a_lambda_count_the_index_not_a_scan_per_key() {
         set(&mut wb, &cell, formula);
         assert_eq!(get(&wb, &cell), n(*expected), "{formula}");
     }
-    // A criterion no index answers ("<>j") is tested cell by cell, and counted so: 10,000
-    // criteria over 10,000 cells pass the budget (the array range was not counted at all).
+    // "<>j" counts the cells less those equal to j, by the index: k − 1 each.
     set(&mut wb, "B1", &inside(format!("COUNTIF(SEQUENCE({k}),\"<>\"&{keys})")));
-    assert_eq!(get(&wb, "B1"), Value::Error(ncsheet::eval::XlError::Num));
-    let at = parse_cell("B1").unwrap();
+    assert_eq!(get(&wb, "B1"), n((k * (k - 1)) as f64));
+    // 10,000 criteria equal to all 10,000 cells count them from the index, not cell by
+    // cell (10^8 items of work, past the budget).
+    set(&mut wb, "B2", &inside(format!("COUNTIF(SEQUENCE({k},1,1,0),SEQUENCE({k},1,1,0))")));
+    assert_eq!(get(&wb, "B2"), n((k * k) as f64));
+    set(&mut wb, "B3", &inside(format!("COUNTIF(SEQUENCE({k},1,1,0),\"<>\"&SEQUENCE({k},1,1,0))")));
+    assert_eq!(get(&wb, "B3"), n(0.0));
+    // A criterion no index answers (a pattern) is tested cell by cell, and counted so:
+    // 10,000 criteria over 10,000 cells pass the budget.
+    set(&mut wb, "B4", &inside(format!("COUNTIF(SEQUENCE({k}),\"*\"&{keys})")));
+    assert_eq!(get(&wb, "B4"), Value::Error(ncsheet::eval::XlError::Num));
+    let at = parse_cell("B4").unwrap();
     let notes: Vec<String> = wb.problems().into_iter().filter(|p| p.pos == at).map(|p| p.message()).collect();
     assert!(notes.iter().any(|m| m.contains("items of work")), "{notes:?}");
 }
