@@ -244,3 +244,30 @@ fn many_keys_inside_a_lambda_count_the_index_not_a_scan_per_key() {
     let notes: Vec<String> = wb.problems().into_iter().filter(|p| p.pos == at).map(|p| p.message()).collect();
     assert!(notes.iter().any(|m| m.contains("items of work")), "{notes:?}");
 }
+
+/// Criteria no index answers (patterns, here) are tested cell by cell: 2^16 patterns over
+/// 2^16 cells would be 2^32 tests (minutes; the old code also read each pattern again for
+/// every cell). A call past 10^9 such tests stops before testing any, with a note.
+#[test]
+fn many_patterns_over_many_cells_stop_at_the_scan_limit() {
+    let mut wb = Workbook::with_sheet();
+    let k = 1 << 16;
+    for (cell, formula) in [
+        ("A1", format!("=COUNTIF(SEQUENCE({k}),\"*\"&SEQUENCE({k}))")),
+        ("A2", format!("=SUMIF(SEQUENCE({k}),\"?\"&SEQUENCE({k}),SEQUENCE({k}))")),
+    ] {
+        set(&mut wb, cell, &formula);
+        assert_eq!(get(&wb, cell), Value::Error(ncsheet::eval::XlError::Num), "{formula}");
+        let at = parse_cell(cell).unwrap();
+        let notes: Vec<String> = wb.problems().into_iter().filter(|p| p.pos == at).map(|p| p.message()).collect();
+        assert!(notes.iter().any(|m| m.contains("4294967296 cells one by one")), "{notes:?}");
+    }
+    // Below the limit patterns match as before: "*1" the texts ending in 1, "1?" the
+    // two-character texts starting with 1, "~*" a star itself.
+    set(
+        &mut wb,
+        "B1",
+        "=TEXTJOIN(\",\",,COUNTIF(TEXT(SEQUENCE(20),\"0\"),{\"*1\";\"1?\";\"~*\";\"*\";\"?\";\"2*\";\"*0\";\"<>1*\"}))",
+    );
+    assert_eq!(get(&wb, "B1"), t("2,10,0,20,9,2,2,9"));
+}

@@ -22,10 +22,11 @@ enum Target {
     Number(f64),
     Bool(bool),
     Error(XlError),
-    /// Text matched without regard to case; `*`, `?` and `~` are wildcards when `pattern`.
+    /// Text matched without regard to case; `*`, `?` and `~` are wildcards, when it has
+    /// any, read once into `pattern` (a criteria array's item is tested against every cell).
     Text {
         text: Rc<str>,
-        pattern: bool,
+        pattern: Option<Rc<[Token]>>,
     },
     /// `""` matches empty cells and empty text; `"="` and `"<>"` test truly empty cells.
     Empty {
@@ -72,7 +73,8 @@ impl Criterion {
         } else if let Some(e) = XlError::ALL.iter().find(|e| e.as_str().eq_ignore_ascii_case(operand)) {
             Target::Error(*e)
         } else {
-            Target::Text { text: operand.into(), pattern: operand.contains(['*', '?', '~']) }
+            let pattern = operand.contains(['*', '?', '~']).then(|| tokenize(operand).into());
+            Target::Text { text: operand.into(), pattern }
         };
         Criterion { op, target, dates }
     }
@@ -95,13 +97,10 @@ impl Criterion {
             (Target::Number(n), Value::Text(t)) => numeric_text && parse_number(t, self.dates) == Some(*n),
             (Target::Bool(b), Value::Bool(x)) => b == x,
             (Target::Error(e), Value::Error(x)) => e == x,
-            (Target::Text { text, pattern }, Value::Text(t)) => {
-                if *pattern {
-                    wildcard_match(text, t)
-                } else {
-                    compare_text(t, text) == Ordering::Equal
-                }
-            }
+            (Target::Text { text, pattern }, Value::Text(t)) => match pattern {
+                Some(tokens) => glob(tokens, &lowered(t)),
+                None => compare_text(t, text) == Ordering::Equal,
+            },
             (Target::Empty { .. }, Value::Blank) => true,
             (Target::Empty { strict }, Value::Text(t)) => !strict && t.is_empty(),
             _ => false,
@@ -144,7 +143,7 @@ impl Criterion {
             Target::Number(n) => item_key(&Value::Number(*n))?,
             Target::Bool(b) => ItemKey::Bool(*b),
             Target::Error(e) => ItemKey::Error(*e),
-            Target::Text { pattern: true, .. } => return None,
+            Target::Text { pattern: Some(_), .. } => return None,
             Target::Text { text, .. } => item_key(&Value::Text(text.clone()))?,
             Target::Empty { strict: true } => ItemKey::Blank,
             Target::Empty { strict: false } => return Some(vec![ItemKey::Blank, ItemKey::Text(String::new())]),
@@ -167,11 +166,15 @@ enum Token {
 }
 
 /// Excel's wildcard match of a whole text: `*` any run, `?` one character, `~` makes the
-/// next `*`, `?` or `~` literal. Case-insensitive.
-pub fn wildcard_match(pattern: &str, text: &str) -> bool {
-    let tokens = tokenize(pattern);
-    let text: Vec<char> = text.chars().flat_map(char::to_lowercase).collect();
-    glob(&tokens, &text)
+/// next `*`, `?` or `~` literal. Case-insensitive. (Criteria read their pattern once.)
+#[cfg(test)]
+fn wildcard_match(pattern: &str, text: &str) -> bool {
+    glob(&tokenize(pattern), &lowered(text))
+}
+
+/// A text's characters in lower case, as patterns are matched against them.
+fn lowered(text: &str) -> Vec<char> {
+    text.chars().flat_map(char::to_lowercase).collect()
 }
 
 fn tokenize(pattern: &str) -> Vec<Token> {
@@ -353,6 +356,11 @@ pub struct CriteriaMatcher<'a> {
     pub work: Cell<usize>,
 }
 
+/// The most cells one conditional aggregate may test one by one over all its criteria
+/// items: 10^9 take tens of seconds (100,000 patterns over 100,000 cells, 10^10, took
+/// minutes); indexed criteria do not count.
+pub const MAX_CRITERIA_SCAN: usize = 1_000_000_000;
+
 /// The range whose criterion varies, and what is known of it: each part is built at its
 /// first use (and counted then), so criteria that are all comparisons or patterns build no
 /// equality index.
@@ -406,6 +414,49 @@ impl<'a> CriteriaMatcher<'a> {
         }
         let m = self.matches(criteria)?;
         Ok(m.cells.len() + m.blanks_beyond)
+    }
+
+    /// `#NUM!`, with a note, when the criteria items (the argument values given to
+    /// [`CriteriaMatcher::new`]) would test more than [`MAX_CRITERIA_SCAN`] cells one by
+    /// one: known before any is tested, so that such a call stops at once.
+    pub fn within_scan_limit(&self, ctx: &mut Ctx, criteria: &[Value], counting: bool) -> XlResult<()> {
+        let work = self.scan_work(criteria, counting);
+        if work > MAX_CRITERIA_SCAN {
+            let why = format!(
+                "the criteria would test {work} cells one by one, more than ncsheet's limit of \
+                 {MAX_CRITERIA_SCAN:e} for one call (criteria items that are patterns, or comparisons or \
+                 `<>` where no index answers them, × the cells of the ranges)"
+            );
+            return Err(ctx.explain(XlError::Num, why));
+        }
+        Ok(())
+    }
+
+    /// The cells the criteria items would test one by one, over all items.
+    fn scan_work(&self, criteria: &[Value], counting: bool) -> usize {
+        let (read_rows, read_cols) = read_size(self.ranges);
+        let per_scan = read_rows * read_cols * self.ranges.len();
+        let Some(indexed) = &self.indexed else {
+            let size = |v: &Value| if let Value::Array(a) = v { (a.rows, a.cols) } else { (1, 1) };
+            let (rows, cols) = criteria.iter().map(size).fold((1, 1), |(r, c), (ar, ac)| (r.max(ar), c.max(ac)));
+            return per_scan.saturating_mul(rows.saturating_mul(cols));
+        };
+        let Value::Array(items) = &criteria[indexed.which] else {
+            return per_scan;
+        };
+        let scanned = items.data.iter().filter(|v| self.scans(indexed, &Criterion::new(v, self.dates), counting));
+        per_scan.saturating_mul(scanned.count())
+    }
+
+    /// Whether the indexed range's `criterion` is tested cell by cell: by [`Self::count`]
+    /// when `counting`, else by [`Self::matches`].
+    fn scans(&self, indexed: &IndexedRange, criterion: &Criterion, counting: bool) -> bool {
+        let keyed = criterion.keys().is_some();
+        if !counting {
+            return !keyed;
+        }
+        let ordered = is_order(criterion.op) && self.others_hold(indexed).everywhere;
+        !(keyed || ordered || criterion.unequal_keys().is_some())
     }
 
     fn add_work(&self, n: usize) {

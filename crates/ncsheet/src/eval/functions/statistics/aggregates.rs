@@ -270,6 +270,7 @@ impl Conditions {
     /// How many positions meet every criterion, per criteria item.
     fn count(&self, ctx: &mut Ctx) -> XlResult<Value> {
         let matcher = CriteriaMatcher::new(&self.ranges, &self.criteria, self.dates);
+        matcher.within_scan_limit(ctx, &self.criteria, true)?;
         let counts = lift_values(&self.criteria, &|items| {
             let criteria: Vec<Criterion> = items.iter().map(|v| Criterion::new(v, self.dates)).collect();
             Ok(Value::Number(matcher.count(&criteria)? as f64))
@@ -286,6 +287,7 @@ impl Conditions {
             return Err(XlError::Value);
         }
         let matcher = CriteriaMatcher::new(&self.ranges, &self.criteria, self.dates);
+        matcher.within_scan_limit(ctx, &self.criteria, false)?;
         let results = lift_values(&self.criteria, &|items| {
             let criteria: Vec<Criterion> = items.iter().map(|v| Criterion::new(v, self.dates)).collect();
             let m = matcher.matches(&criteria)?;
