@@ -271,3 +271,62 @@ fn many_patterns_over_many_cells_stop_at_the_scan_limit() {
     );
     assert_eq!(get(&wb, "B1"), t("2,10,0,20,9,2,2,9"));
 }
+
+/// A database's criteria range of many rows: each row was tested against every record
+/// (2^17 rows × 2^17 records, 2^34 tests, hours). A row with an equality (`=x`, a
+/// number, TRUE) now tests only the records filed under its value; rows with none still
+/// test every record, and past 10^9 such tests the call stops before testing any.
+#[test]
+fn database_functions_with_many_criteria_rows_look_equalities_up() {
+    let mut wb = Workbook::with_sheet();
+    let k: u64 = 1 << 17;
+    // Row j of the criteria names the record j: each record once, the sum k(k + 1)/2.
+    let db = format!("VSTACK(\"n\",SEQUENCE({k}))");
+    set(&mut wb, "A1", &format!("=DSUM({db},\"n\",{db})"));
+    assert_eq!(get(&wb, "A1"), n((k * (k + 1) / 2) as f64));
+    set(&mut wb, "A2", &format!("=DCOUNT({db},,VSTACK(\"n\",\"=\"&SEQUENCE({k},1,2,2)))"));
+    assert_eq!(get(&wb, "A2"), n((k / 2) as f64));
+    let patterns = format!("VSTACK(\"n\",\"*\"&SEQUENCE({k}))");
+    set(&mut wb, "A3", &format!("=DSUM({db},\"n\",{patterns})"));
+    assert_eq!(get(&wb, "A3"), Value::Error(ncsheet::eval::XlError::Num));
+    let at = parse_cell("A3").unwrap();
+    let notes: Vec<String> = wb.problems().into_iter().filter(|p| p.pos == at).map(|p| p.message()).collect();
+    assert!(notes.iter().any(|m| m.contains("records one by one")), "{notes:?}");
+
+    // Excel's rules on a small database (A5:B11): "=bolt" is the whole text, any case;
+    // "bol" with no operator is a prefix; a row's conditions must all hold.
+    let cells = [
+        ("A5", "Part"),
+        ("B5", "Qty"),
+        ("A6", "bolt"),
+        ("B6", "5"),
+        ("A7", "Bolt"),
+        ("B7", "7"),
+        ("A8", "12"),
+        ("B8", "1"),
+        ("A9", "washer"),
+        ("B9", "2"),
+        ("A10", "nut"),
+        ("B10", "3"),
+        ("A11", "TRUE"),
+        ("B11", "4"),
+        ("A12", "bolts"),
+        ("B12", "6"),
+        ("D5", "Part"),
+        ("E5", "Qty"),
+        ("D6", "'=bolt"),
+        ("D7", "12"),
+        ("D8", "'=nut"),
+        ("E8", ">3"),
+        ("D9", "TRUE"),
+    ];
+    for (cell, input) in cells {
+        set(&mut wb, cell, input);
+    }
+    let sums = "=TEXTJOIN(\",\",,DSUM(A5:B12,\"Qty\",D5:E9),DCOUNTA(A5:B12,1,D5:E9),DSUM(A5:B12,2,D5:E10))";
+    set(&mut wb, "G1", sums);
+    // Rows 6 (bolt), 7 (Bolt), 8 (12) and 11 (TRUE): 5 + 7 + 1 + 4. With the prefix "bol"
+    // below, bolts (6) too.
+    set(&mut wb, "D10", "bol");
+    assert_eq!(get(&wb, "G1"), t("17,4,23"));
+}

@@ -121,7 +121,7 @@ impl Criterion {
 impl Criterion {
     /// The keys of the cells an equality criterion matches, as [`EqualityIndex`] files
     /// them; `None` for a criterion a key cannot name (a comparison, `<>`, a pattern).
-    fn keys(&self) -> Option<Vec<ItemKey>> {
+    pub(crate) fn keys(&self) -> Option<Vec<ItemKey>> {
         if self.op != BinOp::Eq {
             return None;
         }
@@ -520,7 +520,9 @@ impl<'a> CriteriaMatcher<'a> {
     fn equality_index<'m>(&'m self, indexed: &'m IndexedRange) -> &'m EqualityIndex {
         indexed.index.get_or_init(|| {
             self.add_work(indexed.read_rows * indexed.read_cols);
-            EqualityIndex::new(&self.ranges[indexed.which], indexed.read_rows, indexed.read_cols, self.dates)
+            let (range, cols) = (&self.ranges[indexed.which], indexed.read_cols);
+            let cells = (0..indexed.read_rows * cols).map(|p| range.get(p / cols, p % cols));
+            EqualityIndex::new(cells, self.dates)
         })
     }
 
@@ -656,7 +658,7 @@ fn ordered_cells_order(a: &Value, b: &Value) -> Ordering {
 /// value's key (text folded to lower case, numbers by value), and text that reads as a
 /// number under that number too (`COUNTIF(r, 23)` counts "23"). Each key's cells are a
 /// chain through `filed`, in order, so that a million distinct cells make no million lists.
-struct EqualityIndex {
+pub(crate) struct EqualityIndex {
     /// The first and last entry of `filed` for each key, and how many cells it files.
     chains: HashMap<ItemKey, Chain>,
     /// (position, next entry of the same key or `END`).
@@ -675,10 +677,10 @@ struct Chain {
 }
 
 impl EqualityIndex {
-    fn new(range: &CellBlock, read_rows: usize, read_cols: usize, dates: DateSystem) -> EqualityIndex {
-        let mut index = EqualityIndex { chains: HashMap::new(), filed: Vec::with_capacity(read_rows * read_cols) };
-        for p in 0..read_rows * read_cols {
-            let v = range.get(p / read_cols, p % read_cols);
+    /// Files `cells`, each under its position among them.
+    pub(crate) fn new<'v>(cells: impl Iterator<Item = &'v Value>, dates: DateSystem) -> EqualityIndex {
+        let mut index = EqualityIndex { chains: HashMap::new(), filed: Vec::with_capacity(cells.size_hint().0) };
+        for (p, v) in cells.enumerate() {
             if let Some(key) = item_key(v) {
                 index.file(key, p, true);
             }
@@ -713,7 +715,7 @@ impl EqualityIndex {
     }
 
     /// The positions filed under any of `keys` (which no cell shares), in order.
-    fn positions(&self, keys: &[ItemKey]) -> Vec<usize> {
+    pub(crate) fn positions(&self, keys: &[ItemKey]) -> Vec<usize> {
         let mut positions = Vec::new();
         for key in keys {
             let mut entry = self.chains.get(key).map_or(END, |chain| chain.first);

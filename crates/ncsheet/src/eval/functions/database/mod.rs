@@ -4,13 +4,16 @@
 //! conditions of one row must all hold, any row may. Text with no operator matches values
 //! that begin with it, as in Excel's advanced filter.
 
+use std::collections::HashMap;
+
 use crate::eval::coerce::{compare_text, to_number, to_text};
 use crate::eval::dates::DateSystem;
 use crate::eval::functions::api::{block, number_result, ArgSet, Ctx, FnSpec};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
 
-use crate::eval::functions::criteria::Criterion;
+use crate::eval::functions::arrays::reshape::ItemKey;
+use crate::eval::functions::criteria::{Criterion, EqualityIndex, MAX_CRITERIA_SCAN};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value(
@@ -215,17 +218,63 @@ fn selected(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<Value>> {
     }
     let column = field.map(|f| field_column(&db, &f, dates)).transpose()?;
     let rows = criteria_rows(&db, &criteria, dates)?;
+    let records = db.rows - 1;
+    let scanned = rows.iter().filter(|conditions| equality_of(conditions).is_none()).count();
+    if scanned.saturating_mul(records) > MAX_CRITERIA_SCAN {
+        let why = format!(
+            "the criteria would test {} records one by one, more than ncsheet's limit of {MAX_CRITERIA_SCAN:e} for \
+             one call (criteria rows with no plain equality such as =x or a number × the records)",
+            scanned * records
+        );
+        return Err(ctx.explain(XlError::Num, why));
+    }
+    let meeting = records_meeting(&db, &rows, dates);
+    ctx.charge(db.rows.saturating_add(scanned.saturating_mul(records)));
     let mut out = Vec::new();
-    for r in 1..db.rows {
-        let meets = |conditions: &Vec<Condition>| {
-            conditions.iter().all(|(c, crit)| c.is_some_and(|c| crit.matches(db.get(r, c))))
-        };
-        if rows.is_empty() || rows.iter().any(meets) {
-            // DCOUNT with no field counts records: each stands as a number.
-            out.push(column.map_or(Value::Number(1.0), |c| db.get(r, c).clone()));
-        }
+    for r in (0..records).filter(|&r| meeting[r]) {
+        // DCOUNT with no field counts records: each stands as a number.
+        out.push(column.map_or(Value::Number(1.0), |c| db.get(r + 1, c).clone()));
     }
     Ok(out)
+}
+
+/// Whether each record (row 1 … of `db`, from 0) meets the conditions of some criteria
+/// row. A row with an equality condition (`=x`, a number, TRUE) tests only the records an
+/// index of that column files under its value, so that many criteria rows (a list of
+/// 100,000 part numbers) cost their matches, not rows × records; other rows test every
+/// record.
+fn records_meeting(db: &Array, rows: &[Vec<Condition>], dates: DateSystem) -> Vec<bool> {
+    let records = db.rows - 1;
+    if rows.is_empty() {
+        return vec![true; records];
+    }
+    let mut meeting = vec![false; records];
+    let mut indexes: HashMap<usize, EqualityIndex> = HashMap::new();
+    for conditions in rows {
+        let meets = |r: usize| conditions.iter().all(|(c, crit)| c.is_some_and(|c| crit.matches(db.get(r + 1, c))));
+        match equality_of(conditions) {
+            Some((column, keys)) => {
+                let index = indexes
+                    .entry(column)
+                    .or_insert_with(|| EqualityIndex::new((1..db.rows).map(|r| db.get(r, column)), dates));
+                for r in index.positions(&keys) {
+                    meeting[r] = meeting[r] || meets(r);
+                }
+            }
+            None => {
+                for (r, met) in meeting.iter_mut().enumerate() {
+                    *met = *met || meets(r);
+                }
+            }
+        }
+    }
+    meeting
+}
+
+/// The first condition of a criteria row an index can answer: its column and the keys of
+/// the values it matches.
+fn equality_of(conditions: &[Condition]) -> Option<(usize, Vec<ItemKey>)> {
+    conditions.iter().find_map(|(column, criterion)| Some(((*column)?, criterion.keys()?)))
 }
 
 fn numbers_of(values: &[Value]) -> Vec<f64> {
