@@ -88,6 +88,21 @@ impl<'a> OrderIndex<'a> {
         2 * (usize::BITS - self.sorted.len().leading_zeros()) as usize
     }
 
+    /// The work of sorting: a query's for each item.
+    pub fn sort_work(&self) -> usize {
+        self.sorted.len().saturating_mul(self.query_work())
+    }
+
+    /// How many weighed items of `key`'s kind (numbers, text or booleans) sort before
+    /// `key`, level with it and after it: four binary searches (twice a query's work).
+    pub fn sides(&self, key: &Value) -> [usize; 3] {
+        let kind_start = self.count_where(|item| kind(item) < kind(key));
+        let before = self.count_where(|item| order(item, key) == Ordering::Less);
+        let through = self.count_where(|item| order(item, key) != Ordering::Greater);
+        let kind_end = self.count_where(|item| kind(item) <= kind(key));
+        [before - kind_start, through - before, kind_end - through]
+    }
+
     /// The largest item below `key`; among equal ones the first met searching from the
     /// front (from the back when `reverse`).
     pub fn next_smaller(&self, key: &Value, reverse: bool) -> Option<usize> {
@@ -115,6 +130,15 @@ impl<'a> OrderIndex<'a> {
 /// The order of two weighed items, or of an item and a number, text or boolean key.
 fn order(a: &Value, b: &Value) -> Ordering {
     compare(a, b).unwrap_or(Ordering::Equal)
+}
+
+/// Where a weighed item's kind sorts: numbers, then text, then booleans.
+fn kind(v: &Value) -> u8 {
+    match v {
+        Value::Number(_) => 0,
+        Value::Text(_) => 1,
+        _ => 2,
+    }
 }
 
 #[cfg(test)]
@@ -171,5 +195,11 @@ mod tests {
         assert_eq!(index.next_larger(&t("c"), false), Some(5));
         assert_eq!(index.next_larger(&Value::Bool(false), false), None);
         assert_eq!(index.next_smaller(&Value::Bool(false), false), Some(1));
+        // Within a kind only: 3 < 5 = 5 among the numbers; "b" = "B"; FALSE alone.
+        assert_eq!(index.sides(&Value::Number(5.0)), [1, 2, 0]);
+        assert_eq!(index.sides(&Value::Number(4.0)), [1, 0, 2]);
+        assert_eq!(index.sides(&t("a")), [0, 0, 2]);
+        assert_eq!(index.sides(&t("B")), [0, 2, 0]);
+        assert_eq!(index.sides(&Value::Bool(true)), [1, 0, 0]);
     }
 }
