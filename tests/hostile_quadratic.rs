@@ -123,6 +123,11 @@ fn many_criteria_count_and_sum_what_each_criterion_finds() {
         (format!("COUNTIF(A1:A10,{comparisons})"), "2,1,2,3,3,3,1,0,0,8,3,1"),
         (format!("COUNTIF(A:A,{comparisons})"), "2,1,2,3,3,3,1,0,0,1048574,3,1"),
         (format!("COUNTIFS(A1:A10,{comparisons},B1:B10,\">50\")"), "1,1,1,2,1,2,0,0,0,4,1,1"),
+        // Summed beside them (B = 10 … 100): ">a" A1, A3 and A6; "<b" A1, A6 and the text "5".
+        (format!("SUMIF(A1:A10,{comparisons},B1:B10)"), "90,90,90,180,100,150,40,0,0,460,100,90"),
+        (format!("SUMIFS(B1:B10,A1:A10,{comparisons},B1:B10,\"<=70\")"), "90,0,90,90,100,70,40,0,0,190,100,0"),
+        // Numbers with fractions are added in row order, as one criterion at a time adds them.
+        (format!("SUMIF(A1:A10,{comparisons},B1:B10/10+0.1)"), "9.2,9.1,9.2,18.3,10.3,15.3,4.1,0,0,46.8,10.3,9.1"),
     ];
     for (i, (formula, expected)) in cases.iter().enumerate() {
         assert_eq!(shown(&mut wb, &format!("F{}", i + 1), formula), t(expected), "{formula}");
@@ -221,6 +226,10 @@ fn many_keys_inside_a_lambda_count_the_index_not_a_scan_per_key() {
         (inside(format!("COUNTIF(SEQUENCE({k}),{keys})")), k as f64),
         (inside(format!("COUNTIF(SEQUENCE({k}),\">\"&{keys})")), (k * (k - 1) / 2) as f64),
         (inside(format!("SUMIFS(SEQUENCE({k}),SEQUENCE({k}),{keys})")), triangle),
+        // "<=j" sums 1 … j, j(j + 1)/2; over all j, k(k + 1)(k + 2)/6.
+        (inside(format!("SUMIF(SEQUENCE({k}),\"<=\"&{keys},SEQUENCE({k}))")), (k * (k + 1) * (k + 2) / 6) as f64),
+        // The mean of 2j … 2k is j + k.
+        (inside(format!("AVERAGEIF(SEQUENCE({k}),\">=\"&{keys},SEQUENCE({k})*2)")), (k * (k + 1) / 2 + k * k) as f64),
     ];
     for (i, (formula, expected)) in cases.iter().enumerate() {
         let cell = format!("A{}", i + 1);

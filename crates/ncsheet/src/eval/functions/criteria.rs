@@ -353,6 +353,8 @@ pub struct CriteriaMatcher<'a> {
     ranges: &'a [CellBlock],
     indexed: Option<IndexedRange<'a>>,
     dates: DateSystem,
+    /// The range summed, for [`CriteriaMatcher::ordered_total`].
+    target: Option<&'a CellBlock>,
     pub work: Cell<usize>,
 }
 
@@ -375,6 +377,7 @@ struct IndexedRange<'a> {
     /// The range's numbers, texts and booleans in order, for counting what a comparison
     /// (`"<5"`, `">=b"`) matches; built at the first such criterion.
     ordered: OnceCell<OrderIndex<'a>>,
+    sums: OnceCell<Option<SortedSums>>,
 }
 
 impl<'a> CriteriaMatcher<'a> {
@@ -382,7 +385,65 @@ impl<'a> CriteriaMatcher<'a> {
     pub fn new(ranges: &'a [CellBlock], criteria: &[Value], dates: DateSystem) -> CriteriaMatcher<'a> {
         let indexed =
             IndexedRange::worth_it(ranges, criteria).map(|which| IndexedRange::new(ranges, criteria, which, dates));
-        CriteriaMatcher { ranges, indexed, dates, work: Cell::new(0) }
+        CriteriaMatcher { ranges, indexed, dates, target: None, work: Cell::new(0) }
+    }
+
+    /// The matcher of an aggregate that sums `target` (SUMIF, AVERAGEIF and their *IFS):
+    /// a comparison's matches are then summed from [`SortedSums`] where that is exact.
+    pub fn summing(self, target: &'a CellBlock) -> CriteriaMatcher<'a> {
+        CriteriaMatcher { target: Some(target), ..self }
+    }
+
+    /// The sum and the count of the target's numbers where every criterion holds, when the
+    /// indexed range's criterion is a comparison and the other ranges' hold everywhere
+    /// (`SUMIF(r, "<="&keys, s)`), from prefix sums: `None` where the cells must be
+    /// tested one by one.
+    pub fn ordered_total(&self, criteria: &[Criterion]) -> Option<(f64, usize)> {
+        let indexed = self.indexed.as_ref()?;
+        let criterion = &criteria[indexed.which];
+        let sums = self.sorted_sums(indexed, criterion)?;
+        let Some(key) = comparison_key(criterion) else {
+            return Some((0.0, 0));
+        };
+        let ordered = self.ordered(indexed);
+        self.add_work(2 * ordered.query_work());
+        let [kind_start, before, through, kind_end] = ordered.bounds(&key);
+        let (from, to) = match criterion.op {
+            BinOp::Lt => (kind_start, before),
+            BinOp::Le => (kind_start, through),
+            BinOp::Gt => (through, kind_end),
+            _ => (before, kind_end),
+        };
+        Some(sums.total(from, to))
+    }
+
+    /// The prefix sums for a comparison `criterion` of the indexed range, built at the
+    /// first; `None` when the matcher sums no target, the criterion is no comparison, the
+    /// other ranges' criteria do not hold everywhere, or the sums would not be exact.
+    fn sorted_sums<'m>(&'m self, indexed: &'m IndexedRange<'a>, criterion: &Criterion) -> Option<&'m SortedSums> {
+        let target = self.target?;
+        if !is_order(criterion.op) || !self.others_hold(indexed).everywhere {
+            return None;
+        }
+        let cols = self.ranges[indexed.which].read.cols;
+        let ordered = self.ordered(indexed);
+        indexed
+            .sums
+            .get_or_init(|| {
+                self.add_work(ordered.sorted().len());
+                SortedSums::new(ordered, cols, target)
+            })
+            .as_ref()
+    }
+
+    /// The indexed range's numbers, texts and booleans in order, sorted at the first
+    /// comparison. The cells stored are all the range holds: those beyond are blank.
+    fn ordered<'m>(&'m self, indexed: &'m IndexedRange<'a>) -> &'m OrderIndex<'a> {
+        indexed.ordered.get_or_init(|| {
+            let ordered = OrderIndex::new(&self.ranges[indexed.which].read.data);
+            self.add_work(ordered.sort_work());
+            ordered
+        })
     }
 
     /// How many cells meet every criterion: a comparison of the indexed range's criterion
@@ -391,12 +452,7 @@ impl<'a> CriteriaMatcher<'a> {
         if let Some(indexed) = &self.indexed {
             let criterion = &criteria[indexed.which];
             if is_order(criterion.op) && self.others_hold(indexed).everywhere {
-                let ordered = indexed.ordered.get_or_init(|| {
-                    // The cells stored are all the range holds: those beyond are blank.
-                    let ordered = OrderIndex::new(&self.ranges[indexed.which].read.data);
-                    self.add_work(ordered.sort_work());
-                    ordered
-                });
+                let ordered = self.ordered(indexed);
                 self.add_work(2 * ordered.query_work());
                 return Ok(count_ordered(ordered, criterion) + blanks_beyond(self.ranges, criteria));
             }
@@ -447,10 +503,10 @@ impl<'a> CriteriaMatcher<'a> {
 
     /// Whether the indexed range's `criterion` is tested cell by cell: by [`Self::count`]
     /// when `counting`, else by [`Self::matches`].
-    fn scans(&self, indexed: &IndexedRange, criterion: &Criterion, counting: bool) -> bool {
+    fn scans(&self, indexed: &IndexedRange<'a>, criterion: &Criterion, counting: bool) -> bool {
         let keyed = criterion.keys().is_some();
         if !counting {
-            return !keyed;
+            return !keyed && self.sorted_sums(indexed, criterion).is_none();
         }
         let ordered = is_order(criterion.op) && self.others_hold(indexed).everywhere;
         !(keyed || ordered || criterion.unequal_keys().is_some())
@@ -575,6 +631,7 @@ impl IndexedRange<'_> {
             index: OnceCell::new(),
             others: OnceCell::new(),
             ordered: OnceCell::new(),
+            sums: OnceCell::new(),
         }
     }
 }
@@ -586,16 +643,67 @@ fn is_order(op: BinOp) -> bool {
 /// How many cells a comparison criterion matches: those of its kind (only values of one
 /// kind compare) before, equal to and after its value, as its operator takes them.
 fn count_ordered(ordered: &OrderIndex, criterion: &Criterion) -> usize {
-    let target = match &criterion.target {
-        Target::Number(n) if !n.is_nan() => Value::Number(*n),
-        Target::Text { text, .. } => Value::Text(text.clone()),
-        Target::Bool(b) => Value::Bool(*b),
-        // Empty cells and errors compare with nothing.
-        _ => return 0,
+    let Some(target) = comparison_key(criterion) else {
+        return 0;
     };
     let sides = ordered.sides(&target);
     let orders = [Ordering::Less, Ordering::Equal, Ordering::Greater];
     orders.iter().zip(sides).filter(|(ord, _)| comparison_holds(criterion.op, **ord)).map(|(_, n)| n).sum()
+}
+
+/// The value a comparison criterion compares cells with; `None` for an empty cell or an
+/// error, which compare with nothing.
+fn comparison_key(criterion: &Criterion) -> Option<Value> {
+    match &criterion.target {
+        Target::Number(n) if !n.is_nan() => Some(Value::Number(*n)),
+        Target::Text { text, .. } => Some(Value::Text(text.clone())),
+        Target::Bool(b) => Some(Value::Bool(*b)),
+        _ => None,
+    }
+}
+
+/// Prefix sums of a target's numbers (and counts of them) beside the criteria range's
+/// cells in sorted order: a comparison matches a run of that order, summed by two look-ups.
+/// Built only where the sum cannot depend on the order of adding (the old row-by-row sum is
+/// exactly the same): every number there an integer (not -0), their magnitudes adding up to
+/// less than 2^53; and no error there (the result is then the first error in row order).
+struct SortedSums {
+    sums: Vec<f64>,
+    counts: Vec<usize>,
+}
+
+impl SortedSums {
+    /// `range_cols` is the criteria range's stored width, in which `ordered` numbers its cells.
+    fn new(ordered: &OrderIndex, range_cols: usize, target: &CellBlock) -> Option<SortedSums> {
+        const EXACT: f64 = 9_007_199_254_740_992.0;
+        let n = ordered.sorted().len();
+        let (mut sums, mut counts) = (Vec::with_capacity(n + 1), Vec::with_capacity(n + 1));
+        let (mut sum, mut count, mut magnitude) = (0.0, 0, 0.0);
+        sums.push(sum);
+        counts.push(count);
+        for &p in ordered.sorted() {
+            match target.get(p / range_cols, p % range_cols) {
+                Value::Number(x) if x.fract() == 0.0 && !(*x == 0.0 && x.is_sign_negative()) => {
+                    magnitude += x.abs();
+                    if magnitude >= EXACT {
+                        return None;
+                    }
+                    sum += x;
+                    count += 1;
+                }
+                Value::Number(_) | Value::Error(_) => return None,
+                _ => {}
+            }
+            sums.push(sum);
+            counts.push(count);
+        }
+        Some(SortedSums { sums, counts })
+    }
+
+    /// The sum and count of the numbers beside sorted cells `from` to `to` (not included).
+    fn total(&self, from: usize, to: usize) -> (f64, usize) {
+        (self.sums[to] - self.sums[from], self.counts[to] - self.counts[from])
+    }
 }
 
 /// The read cells of a range filed by what equality criteria name: each cell under its

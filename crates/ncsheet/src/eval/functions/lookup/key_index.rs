@@ -96,11 +96,24 @@ impl<'a> OrderIndex<'a> {
     /// How many weighed items of `key`'s kind (numbers, text or booleans) sort before
     /// `key`, level with it and after it: four binary searches (twice a query's work).
     pub fn sides(&self, key: &Value) -> [usize; 3] {
-        let kind_start = self.count_where(|item| kind(item) < kind(key));
-        let before = self.count_where(|item| order(item, key) == Ordering::Less);
-        let through = self.count_where(|item| order(item, key) != Ordering::Greater);
-        let kind_end = self.count_where(|item| kind(item) <= kind(key));
+        let [kind_start, before, through, kind_end] = self.bounds(key);
         [before - kind_start, through - before, kind_end - through]
+    }
+
+    /// Where in the sorted order `key`'s kind starts, the items equal to `key` start and
+    /// end, and its kind ends.
+    pub fn bounds(&self, key: &Value) -> [usize; 4] {
+        [
+            self.count_where(|item| kind(item) < kind(key)),
+            self.count_where(|item| order(item, key) == Ordering::Less),
+            self.count_where(|item| order(item, key) != Ordering::Greater),
+            self.count_where(|item| kind(item) <= kind(key)),
+        ]
+    }
+
+    /// The weighed items' positions in sorted order.
+    pub fn sorted(&self) -> &[usize] {
+        &self.sorted
     }
 
     /// The largest item below `key`; among equal ones the first met searching from the

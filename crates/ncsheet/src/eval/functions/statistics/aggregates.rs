@@ -237,6 +237,9 @@ struct Conditions {
 /// How the aggregated numbers become the result.
 type Aggregate = fn(&[f64]) -> XlResult<f64>;
 
+/// The same result made from the numbers' sum and count, where the aggregate is one.
+type OfTotal = fn(f64, usize) -> XlResult<f64>;
+
 impl Conditions {
     /// `COUNTIF(range, criteria)`, `SUMIF(range, criteria, [sum_range])`: the sum range
     /// takes the criteria range's shape from its own top-left cell.
@@ -281,15 +284,21 @@ impl Conditions {
 
     /// `aggregate` of the target's numbers at the matching positions, per criteria item.
     /// Text, booleans and blanks there are skipped; an error there is the result.
-    fn aggregate(&self, ctx: &mut Ctx, aggregate: Aggregate) -> XlResult<Value> {
+    /// `of_total`, when given, makes the result from the sum and count of those numbers
+    /// (SUMIF, AVERAGEIF): many comparison criteria then add up prefix sums.
+    fn aggregate(&self, ctx: &mut Ctx, aggregate: Aggregate, of_total: Option<OfTotal>) -> XlResult<Value> {
         let target = self.target.as_ref().expect("an aggregate has a target range");
         if !target.same_shape(&self.ranges[0]) {
             return Err(XlError::Value);
         }
         let matcher = CriteriaMatcher::new(&self.ranges, &self.criteria, self.dates);
+        let matcher = if of_total.is_some() { matcher.summing(target) } else { matcher };
         matcher.within_scan_limit(ctx, &self.criteria, false)?;
         let results = lift_values(&self.criteria, &|items| {
             let criteria: Vec<Criterion> = items.iter().map(|v| Criterion::new(v, self.dates)).collect();
+            if let Some((of_total, (sum, count))) = of_total.zip(matcher.ordered_total(&criteria)) {
+                return of_total(sum, count).map(number_result);
+            }
             let m = matcher.matches(&criteria)?;
             let mut xs = Vec::with_capacity(m.cells.len());
             for &(r, c) in &m.cells {
@@ -309,6 +318,10 @@ impl Conditions {
 fn total(xs: &[f64]) -> XlResult<f64> {
     // From 0, not Rust's `sum()`, whose sum of no numbers is -0: SUMIF matching nothing is 0.
     Ok(xs.iter().fold(0.0, |a, x| a + x))
+}
+
+fn sum_of(total: f64, _count: usize) -> XlResult<f64> {
+    Ok(total)
 }
 
 fn arithmetic_mean(xs: &[f64]) -> XlResult<f64> {
@@ -332,27 +345,27 @@ fn countifs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn sumif(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Conditions::single(ctx, args)?.aggregate(ctx, total)
+    Conditions::single(ctx, args)?.aggregate(ctx, total, Some(sum_of))
 }
 
 fn averageif(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Conditions::single(ctx, args)?.aggregate(ctx, arithmetic_mean)
+    Conditions::single(ctx, args)?.aggregate(ctx, arithmetic_mean, Some(mean))
 }
 
 fn sumifs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Conditions::pairs(ctx, args, true)?.aggregate(ctx, total)
+    Conditions::pairs(ctx, args, true)?.aggregate(ctx, total, Some(sum_of))
 }
 
 fn averageifs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Conditions::pairs(ctx, args, true)?.aggregate(ctx, arithmetic_mean)
+    Conditions::pairs(ctx, args, true)?.aggregate(ctx, arithmetic_mean, Some(mean))
 }
 
 fn minifs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Conditions::pairs(ctx, args, true)?.aggregate(ctx, smallest)
+    Conditions::pairs(ctx, args, true)?.aggregate(ctx, smallest, None)
 }
 
 fn maxifs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Conditions::pairs(ctx, args, true)?.aggregate(ctx, largest)
+    Conditions::pairs(ctx, args, true)?.aggregate(ctx, largest, None)
 }
 
 #[cfg(test)]
