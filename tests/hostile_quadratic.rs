@@ -132,6 +132,19 @@ fn many_criteria_count_and_sum_what_each_criterion_finds() {
     for (i, (formula, expected)) in cases.iter().enumerate() {
         assert_eq!(shown(&mut wb, &format!("F{}", i + 1), formula), t(expected), "{formula}");
     }
+    // Two criteria arrays paired item by item (A with B): each pair names the cells where
+    // both hold. The text "5" is 5 to the criterion 5; "" is the empty A5; "b*" a pattern.
+    let first = r##"{"apple";"apple";5;5;"5";TRUE;"";"banana";3;"#N/A";"b*"}"##;
+    let second = "{10;60;20;70;80;40;50;10;90;100;30}";
+    let cases = [
+        (format!("COUNTIFS(A1:A10,{first},B1:B10,{second})"), "1,1,1,1,1,1,1,0,1,1,1"),
+        (format!("COUNTIFS(A1:A10,{first},B1:B10,{second},B1:B10,\">50\")"), "0,1,0,1,1,0,0,0,1,1,0"),
+        (format!("SUMIFS(B1:B10,A1:A10,{first},B1:B10,{second})"), "10,60,20,70,80,40,50,0,90,100,30"),
+        (format!("COUNTIFS(A:A,{first},B:B,{second})"), "1,1,1,1,1,1,1,0,1,1,1"),
+    ];
+    for (i, (formula, expected)) in cases.iter().enumerate() {
+        assert_eq!(shown(&mut wb, &format!("H{}", i + 1), formula), t(expected), "{formula}");
+    }
     // "<>" matches what "=" does not, except that "<>5" keeps the text "5" (Excel's
     // COUNTIF.xlsx in the corpus); "<>" alone counts every cell that is not empty.
     let unequal = r##"{"<>apple";"<>5";"<>TRUE";"<>";"<>#N/A";"<>3";"<>x";"<>BANANA"}"##;
@@ -228,6 +241,9 @@ fn many_keys_inside_a_lambda_count_the_index_not_a_scan_per_key() {
         (inside(format!("SUMIFS(SEQUENCE({k}),SEQUENCE({k}),{keys})")), triangle),
         // "<=j" sums 1 … j, j(j + 1)/2; over all j, k(k + 1)(k + 2)/6.
         (inside(format!("SUMIF(SEQUENCE({k}),\"<=\"&{keys},SEQUENCE({k}))")), (k * (k + 1) * (k + 2) / 6) as f64),
+        // Two criteria arrays paired item by item: (j, 2j) names one cell.
+        (inside(format!("COUNTIFS(SEQUENCE({k}),{keys},SEQUENCE({k})*2,{keys}*2)")), k as f64),
+        (inside(format!("SUMIFS(SEQUENCE({k}),SEQUENCE({k}),{keys},SEQUENCE({k})*2,{keys}*2)")), triangle),
         // The mean of 2j … 2k is j + k.
         (inside(format!("AVERAGEIF(SEQUENCE({k}),\">=\"&{keys},SEQUENCE({k})*2)")), (k * (k + 1) / 2 + k * k) as f64),
     ];

@@ -4,6 +4,7 @@
 use std::cell::{Cell, OnceCell};
 use std::cmp::Ordering;
 use std::collections::HashMap;
+use std::hash::Hash;
 use std::rc::Rc;
 
 use crate::eval::coerce::{compare_text, parse_number};
@@ -352,6 +353,8 @@ fn blanks_beyond(ranges: &[CellBlock], criteria: &[Criterion]) -> usize {
 pub struct CriteriaMatcher<'a> {
     ranges: &'a [CellBlock],
     indexed: Option<IndexedRange<'a>>,
+    /// Two ranges whose criteria arrays pair item by item, indexed together.
+    paired: Option<PairedRanges>,
     dates: DateSystem,
     /// The range summed, for [`CriteriaMatcher::ordered_total`].
     target: Option<&'a CellBlock>,
@@ -385,7 +388,13 @@ impl<'a> CriteriaMatcher<'a> {
     pub fn new(ranges: &'a [CellBlock], criteria: &[Value], dates: DateSystem) -> CriteriaMatcher<'a> {
         let indexed =
             IndexedRange::worth_it(ranges, criteria).map(|which| IndexedRange::new(ranges, criteria, which, dates));
-        CriteriaMatcher { ranges, indexed, dates, target: None, work: Cell::new(0) }
+        let paired = match indexed {
+            Some(_) => None,
+            None => {
+                PairedRanges::worth_it(ranges, criteria).map(|which| PairedRanges::new(ranges, criteria, which, dates))
+            }
+        };
+        CriteriaMatcher { ranges, indexed, paired, dates, target: None, work: Cell::new(0) }
     }
 
     /// The matcher of an aggregate that sums `target` (SUMIF, AVERAGEIF and their *IFS):
@@ -449,6 +458,9 @@ impl<'a> CriteriaMatcher<'a> {
     /// How many cells meet every criterion: a comparison of the indexed range's criterion
     /// counts by binary search when the other ranges' criteria hold everywhere (COUNTIF).
     pub fn count(&self, criteria: &[Criterion]) -> XlResult<usize> {
+        if let Some(n) = self.paired.as_ref().and_then(|paired| self.paired_count(paired, criteria)) {
+            return Ok(n + blanks_beyond(self.ranges, criteria));
+        }
         if let Some(indexed) = &self.indexed {
             let criterion = &criteria[indexed.which];
             if is_order(criterion.op) && self.others_hold(indexed).everywhere {
@@ -489,6 +501,15 @@ impl<'a> CriteriaMatcher<'a> {
     fn scan_work(&self, criteria: &[Value], counting: bool) -> usize {
         let (read_rows, read_cols) = read_size(self.ranges);
         let per_scan = read_rows * read_cols * self.ranges.len();
+        if let Some(paired) = &self.paired {
+            let [a, b] = paired.which;
+            let (Value::Array(x), Value::Array(y)) = (&criteria[a], &criteria[b]) else {
+                return per_scan;
+            };
+            let unkeyed = |v: &Value| Criterion::new(v, self.dates).keys().is_none();
+            let scanned = x.data.iter().zip(&y.data).filter(|(u, v)| unkeyed(u) || unkeyed(v)).count();
+            return per_scan.saturating_mul(scanned);
+        }
         let Some(indexed) = &self.indexed else {
             let size = |v: &Value| if let Value::Array(a) = v { (a.rows, a.cols) } else { (1, 1) };
             let (rows, cols) = criteria.iter().map(size).fold((1, 1), |(r, c), (ar, ac)| (r.max(ar), c.max(ac)));
@@ -518,6 +539,9 @@ impl<'a> CriteriaMatcher<'a> {
 
     /// The cells where every range meets its criterion ([`matching_cells`]).
     pub fn matches(&self, criteria: &[Criterion]) -> XlResult<Matches> {
+        if let Some(cells) = self.paired.as_ref().and_then(|paired| self.paired_matches(paired, criteria)) {
+            return Ok(Matches { cells, blanks_beyond: blanks_beyond(self.ranges, criteria) });
+        }
         let add = |n: usize| self.add_work(n);
         let keyed = self.indexed.as_ref().and_then(|indexed| Some((indexed, criteria[indexed.which].keys()?)));
         let Some((indexed, keys)) = keyed else {
@@ -564,7 +588,7 @@ impl<'a> CriteriaMatcher<'a> {
         indexed.others.get_or_init(|| {
             let others = self.ranges.len() - 1;
             self.add_work(indexed.read_rows * indexed.read_cols * others);
-            OthersHold::new(self.ranges, indexed)
+            OthersHold::new(self.ranges, &[indexed.which], &indexed.fixed, indexed.read_rows, indexed.read_cols)
         })
     }
 
@@ -576,6 +600,46 @@ impl<'a> CriteriaMatcher<'a> {
             let (range, cols) = (&self.ranges[indexed.which], indexed.read_cols);
             let cells = (0..indexed.read_rows * cols).map(|p| range.get(p / cols, p % cols));
             EqualityIndex::new(cells, self.dates)
+        })
+    }
+
+    /// How many read cells a paired item's two equalities and the other ranges' criteria
+    /// hold in; `None` unless both of the pair are equalities.
+    fn paired_count(&self, paired: &PairedRanges, criteria: &[Criterion]) -> Option<usize> {
+        let keys = paired.keys(criteria)?;
+        let others = self.paired_others(paired);
+        let index = self.paired_index(paired);
+        self.add_work(keys.len());
+        if others.everywhere {
+            return Some(keys.iter().map(|key| index.count(key, false)).sum());
+        }
+        let positions = index.positions(&keys);
+        self.add_work(positions.len());
+        Some(positions.into_iter().filter(|&p| others.at[p]).count())
+    }
+
+    /// The read cells, in row order, where a paired item's two equalities and the other
+    /// ranges' criteria hold; `None` unless both of the pair are equalities.
+    fn paired_matches(&self, paired: &PairedRanges, criteria: &[Criterion]) -> Option<Vec<(usize, usize)>> {
+        let keys = paired.keys(criteria)?;
+        let others = self.paired_others(paired);
+        let positions = self.paired_index(paired).positions(&keys);
+        self.add_work(1 + positions.len());
+        let cols = paired.read_cols;
+        Some(positions.into_iter().filter(|&p| others.at[p]).map(|p| (p / cols, p % cols)).collect())
+    }
+
+    fn paired_others<'m>(&'m self, paired: &'m PairedRanges) -> &'m OthersHold {
+        paired.others.get_or_init(|| {
+            self.add_work(paired.read_rows * paired.read_cols * (self.ranges.len() - 2));
+            OthersHold::new(self.ranges, &paired.which, &paired.fixed, paired.read_rows, paired.read_cols)
+        })
+    }
+
+    fn paired_index<'m>(&'m self, paired: &'m PairedRanges) -> &'m EqualityIndex<(ItemKey, ItemKey)> {
+        paired.index.get_or_init(|| {
+            self.add_work(2 * paired.read_rows * paired.read_cols);
+            paired.build_index(self.ranges, self.dates)
         })
     }
 
@@ -597,17 +661,93 @@ struct OthersHold {
 }
 
 impl OthersHold {
-    fn new(ranges: &[CellBlock], indexed: &IndexedRange) -> OthersHold {
-        let (read_cols, which) = (indexed.read_cols, indexed.which);
-        let at: Vec<bool> = (0..indexed.read_rows * read_cols)
+    /// Tests each range but the `varying` ones against its `fixed` criterion.
+    fn new(
+        ranges: &[CellBlock],
+        varying: &[usize],
+        fixed: &[Criterion],
+        read_rows: usize,
+        read_cols: usize,
+    ) -> OthersHold {
+        let at: Vec<bool> = (0..read_rows * read_cols)
             .map(|p| {
                 let (row, col) = (p / read_cols, p % read_cols);
-                (0..ranges.len()).all(|i| i == which || indexed.fixed[i].matches(ranges[i].get(row, col)))
+                (0..ranges.len()).all(|i| varying.contains(&i) || fixed[i].matches(ranges[i].get(row, col)))
             })
             .collect();
         let count = at.iter().filter(|&&holds| holds).count();
         OthersHold { everywhere: count == at.len(), at, count }
     }
+}
+
+/// Two ranges whose criteria arguments are arrays of one shape, which `lift_values` pairs
+/// item by item (`COUNTIFS(a, keys1, b, keys2)`): their read cells are filed by the pair of
+/// values, so that a pair of equalities looks its cells up where it tested every cell.
+struct PairedRanges {
+    which: [usize; 2],
+    /// The fixed criteria, one per range (the first items stand in for the pair's).
+    fixed: Vec<Criterion>,
+    read_rows: usize,
+    read_cols: usize,
+    index: OnceCell<EqualityIndex<(ItemKey, ItemKey)>>,
+    others: OnceCell<OthersHold>,
+}
+
+impl PairedRanges {
+    fn worth_it(ranges: &[CellBlock], criteria: &[Value]) -> Option<[usize; 2]> {
+        let arrays: Vec<usize> = (0..criteria.len()).filter(|&i| matches!(criteria[i], Value::Array(_))).collect();
+        let &[a, b] = arrays.as_slice() else {
+            return None;
+        };
+        let (Value::Array(x), Value::Array(y)) = (&criteria[a], &criteria[b]) else {
+            return None;
+        };
+        let paired = x.tail.is_none() && y.tail.is_none() && (x.rows, x.cols) == (y.rows, y.cols);
+        let same_shape = ranges.iter().all(|r| r.same_shape(&ranges[0]));
+        (paired && same_shape && worth_indexing(&criteria[a])).then_some([a, b])
+    }
+
+    fn new(ranges: &[CellBlock], criteria: &[Value], which: [usize; 2], dates: DateSystem) -> PairedRanges {
+        let (read_rows, read_cols) = read_size(ranges);
+        let fixed: Vec<Criterion> = criteria.iter().map(|v| Criterion::new(v, dates)).collect();
+        PairedRanges { which, fixed, read_rows, read_cols, index: OnceCell::new(), others: OnceCell::new() }
+    }
+
+    /// The pairs of keys a pair of equality criteria names (one pair, or two where a `""`
+    /// names both empty cells and empty text); `None` unless both are equalities.
+    fn keys(&self, criteria: &[Criterion]) -> Option<Vec<(ItemKey, ItemKey)>> {
+        let [a, b] = self.which;
+        let (first, second) = (criteria[a].keys()?, criteria[b].keys()?);
+        Some(first.iter().flat_map(|x| second.iter().map(move |y| (x.clone(), y.clone()))).collect())
+    }
+
+    /// Each read cell filed under every pair of the keys its two values are filed under.
+    fn build_index(&self, ranges: &[CellBlock], dates: DateSystem) -> EqualityIndex<(ItemKey, ItemKey)> {
+        let [a, b] = self.which;
+        let cells = self.read_rows * self.read_cols;
+        let mut index = EqualityIndex::with_capacity(cells);
+        for p in 0..cells {
+            let (row, col) = (p / self.read_cols, p % self.read_cols);
+            let second: Vec<(ItemKey, bool)> = cell_keys(ranges[b].get(row, col), dates).collect();
+            for (x, own_x) in cell_keys(ranges[a].get(row, col), dates) {
+                for (y, own_y) in &second {
+                    index.file((x.clone(), y.clone()), p, own_x && *own_y);
+                }
+            }
+        }
+        index
+    }
+}
+
+/// The keys an [`EqualityIndex`] files a cell under: its own value's, and for text that
+/// reads as a number, that number's (`false`: not its own value).
+fn cell_keys(v: &Value, dates: DateSystem) -> impl Iterator<Item = (ItemKey, bool)> {
+    let own = item_key(v).map(|key| (key, true));
+    let as_number = match v {
+        Value::Text(t) => parse_number(t, dates).and_then(|n| item_key(&Value::Number(n))).map(|key| (key, false)),
+        _ => None,
+    };
+    own.into_iter().chain(as_number)
 }
 
 impl IndexedRange<'_> {
@@ -710,9 +850,9 @@ impl SortedSums {
 /// value's key (text folded to lower case, numbers by value), and text that reads as a
 /// number under that number too (`COUNTIF(r, 23)` counts "23"). Each key's cells are a
 /// chain through `filed`, in order, so that a million distinct cells make no million lists.
-pub(crate) struct EqualityIndex {
+pub(crate) struct EqualityIndex<K = ItemKey> {
     /// The first and last entry of `filed` for each key, and how many cells it files.
-    chains: HashMap<ItemKey, Chain>,
+    chains: HashMap<K, Chain>,
     /// (position, next entry of the same key or `END`).
     filed: Vec<(usize, usize)>,
 }
@@ -731,21 +871,22 @@ struct Chain {
 impl EqualityIndex {
     /// Files `cells`, each under its position among them.
     pub(crate) fn new<'v>(cells: impl Iterator<Item = &'v Value>, dates: DateSystem) -> EqualityIndex {
-        let mut index = EqualityIndex { chains: HashMap::new(), filed: Vec::with_capacity(cells.size_hint().0) };
+        let mut index = EqualityIndex::with_capacity(cells.size_hint().0);
         for (p, v) in cells.enumerate() {
-            if let Some(key) = item_key(v) {
-                index.file(key, p, true);
-            }
-            if let Value::Text(t) = v {
-                if let Some(key) = parse_number(t, dates).and_then(|n| item_key(&Value::Number(n))) {
-                    index.file(key, p, false);
-                }
+            for (key, own) in cell_keys(v, dates) {
+                index.file(key, p, own);
             }
         }
         index
     }
+}
 
-    fn file(&mut self, key: ItemKey, position: usize, own: bool) {
+impl<K: Hash + Eq> EqualityIndex<K> {
+    fn with_capacity(cells: usize) -> EqualityIndex<K> {
+        EqualityIndex { chains: HashMap::new(), filed: Vec::with_capacity(cells) }
+    }
+
+    fn file(&mut self, key: K, position: usize, own: bool) {
         let entry = self.filed.len();
         self.filed.push((position, END));
         match self.chains.get_mut(&key) {
@@ -762,12 +903,12 @@ impl EqualityIndex {
     }
 
     /// How many cells are filed under `key` (under their own value only when `own`).
-    fn count(&self, key: &ItemKey, own: bool) -> usize {
+    fn count(&self, key: &K, own: bool) -> usize {
         self.chains.get(key).map_or(0, |chain| if own { chain.own } else { chain.len })
     }
 
     /// The positions filed under any of `keys` (which no cell shares), in order.
-    pub(crate) fn positions(&self, keys: &[ItemKey]) -> Vec<usize> {
+    pub(crate) fn positions(&self, keys: &[K]) -> Vec<usize> {
         let mut positions = Vec::new();
         for key in keys {
             let mut entry = self.chains.get(key).map_or(END, |chain| chain.first);

@@ -391,7 +391,7 @@ fn unique(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 /// An item as [`same_row`] compares it, hashable: text folded to lower case as
 /// `compare_text` folds it, a number by its value (0 and -0 alike).
-#[derive(PartialEq, Eq, Hash)]
+#[derive(Clone, PartialEq, Eq, Hash)]
 pub(crate) enum ItemKey {
     Blank,
     Number(u64),
