@@ -577,6 +577,84 @@ fn csv_round_trips_through_libreoffice_in_the_locale() {
     }
 }
 
+/// Text cells that look like numbers, dates or words of a spreadsheet (A to I), each forced
+/// to text in en-US.
+const TEXTS: &[&str] = &["2:30 PM", "0.8", "12/03/2025", "12", "1,5", "WAHR", "2:30 nachm.", "12.03.2025", "abc"];
+
+/// ncsheet's `;` csv in `locale` of a workbook of [`TEXTS`] (`texts.xlsx` in `d`).
+fn texts_exported(d: &Path, locale: &str) -> String {
+    if !d.join("texts.xlsx").exists() {
+        std::fs::write(d.join("t.csv"), "x\n").unwrap();
+        let typed: Vec<String> =
+            TEXTS.iter().enumerate().map(|(i, t)| format!("{}1='{t}", char::from(b'A' + i as u8))).collect();
+        let mut args = vec!["set", "t.csv", "--locale", "en-US"];
+        args.extend(typed.iter().map(String::as_str));
+        args.extend(["-o", "texts.xlsx"]);
+        ok(in_dir(d, &args));
+    }
+    let out = format!("texts-{locale}.csv");
+    ok(in_dir(d, &["export", "texts.xlsx", "--locale", locale, "-o", &out]));
+    std::fs::read_to_string(d.join(out)).unwrap()
+}
+
+/// A text cell is written to a `;` csv in the locale as LibreOffice set to the locale writes
+/// it, bare (LibreOffice 7.4 writes every text cell bare: `2:30 PM;0.8;12/03/2025;12;1,5;…`):
+/// text that is a number or date only in another locale's spelling (`2:30 PM` in de-DE and
+/// et-EE, which refuse en-US's PM) reads back there as the same text, so it gets no `'` (it
+/// got one: `'2:30 PM`). Text the locale reads as something else (`12`, `1,5`, de-DE `WAHR`)
+/// keeps ncsheet's `'`, where LibreOffice's bare field reads back as a number. With soffice:
+/// ncsheet's fields are LibreOffice's, but for those marks, and LibreOffice reads ncsheet's
+/// file to text wherever it reads its own to text.
+#[test]
+fn text_cells_are_written_to_a_semicolon_csv_as_libreoffice_writes_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let recorded = [
+        ("de-DE", "2:30 PM;0.8;12/03/2025;'12;'1,5;'WAHR;'2:30 nachm.;'12.03.2025;abc\n"),
+        ("fr-FR", "'2:30 PM;0.8;'12/03/2025;'12;'1,5;WAHR;2:30 nachm.;'12.03.2025;abc\n"),
+        ("et-EE", "2:30 PM;0.8;12/03/2025;'12;'1,5;WAHR;2:30 nachm.;'12.03.2025;abc\n"),
+    ];
+    for (locale, expected) in recorded {
+        assert_eq!(texts_exported(d, locale), expected, "{locale}");
+    }
+    let Some(soffice) = common::soffice() else { return };
+    for (locale, _) in recorded {
+        let out = d.join(format!("lo-{locale}"));
+        let csv = "csv:Text - txt - csv (StarCalc):59,34,76,1,,0,false,true,true";
+        libreoffice_converts(&soffice, d, locale, &[], csv, &out, &d.join("texts.xlsx"));
+        let theirs_file = out.join("texts.csv");
+        let theirs = semicolon_fields(&std::fs::read_to_string(&theirs_file).unwrap());
+        let ours = semicolon_fields(&texts_exported(d, locale));
+        let read_theirs = values_by_cell(d, &libreoffice_reads_csv(&soffice, d, &theirs_file, locale), "en-US");
+        let ours_file = d.join(format!("texts-{locale}.csv"));
+        let read_ours = values_by_cell(d, &libreoffice_reads_csv(&soffice, d, &ours_file, locale), "en-US");
+        for (i, text) in TEXTS.iter().enumerate() {
+            let cell = format!("{}1", char::from(b'A' + i as u8));
+            let text_there = read_theirs.get(&cell) == Some(&serde_json::Value::from(*text));
+            assert_eq!(ours[i].strip_prefix('\'').is_some(), !text_there, "{locale}: {text}");
+            assert_eq!(ours[i].strip_prefix('\'').unwrap_or(&ours[i]), theirs[i], "{locale}: {text}");
+            if text_there {
+                assert_eq!(read_ours.get(&cell), read_theirs.get(&cell), "{locale}: {text}");
+            }
+        }
+    }
+}
+
+/// Text typed in a `;` csv in de-DE that en-US would read as a time (`2:30 PM`, refused as
+/// one there and kept as text) is saved bare, as LibreOffice writes a text cell (it was saved
+/// as `'2:30 PM`); the fields not edited stay as the file spelled them (`1.234,5`, which the
+/// locale's reading had made an edit and saved as `1234,5`).
+#[test]
+fn text_typed_in_a_semicolon_csv_is_saved_as_the_locale_reads_it_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("h.csv"), "2:30 PM;1.234,5;x\n").unwrap();
+    ok(in_dir(d, &["set", "h.csv", "--locale", "de-DE", "C1=2:30 PM", "-o", "i.csv"]));
+    assert_eq!(std::fs::read_to_string(d.join("i.csv")).unwrap(), "2:30 PM;1.234,5;2:30 PM\n");
+    let back = ok(in_dir(d, &["eval", "i.csv", "--locale", "de-DE", "--format", "json"]));
+    assert_eq!(back.stdout.trim(), r#"{"Sheet1!A1": "2:30 PM", "Sheet1!B1": 1234.5, "Sheet1!C1": "2:30 PM"}"#);
+}
+
 /// A `;` csv with dates and times, read in the locale and written back, keeps their spelling:
 /// each gets the format a date or time typed there gets (Excel's built-in date, 14, its date
 /// and time, 22, and `h:mm`, as `set` gives them), so `export` writes `12.03.2025` where it

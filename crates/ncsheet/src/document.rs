@@ -424,6 +424,9 @@ fn read_csv_fields_in_locale(opened: &mut Opened, locale: crate::eval::Locale) {
     for (pos, input) in inputs {
         let _ = wb.set_input_deferred(0, pos, &input);
     }
+    // The locale's reading is the file's own, not an edit: a save writes those fields back
+    // byte for byte (`1.234,5`, not `1234,5`).
+    wb.track_changes();
     let Some(sheet) = wb.sheet_names().into_iter().next() else { return };
     if formats.is_empty() {
         return;

@@ -189,7 +189,7 @@ pub fn write_edited(wb: &Workbook, original: &Original, edited: &[Pos], out: &mu
             }
             row.fields.resize(c + 1, String::new());
         }
-        let text = if original.delimiter == b';' { decimal_comma_input(&text) } else { text };
+        let text = if original.delimiter == b';' { locale_input(&text, wb.settings().locale) } else { text };
         row.fields[c] = quoted(&text, original.delimiter);
     }
     if original.bom {
@@ -324,6 +324,17 @@ fn decimal_comma_input(text: &str) -> String {
         text.replacen('.', ",", 1)
     } else {
         text.to_string()
+    }
+}
+
+/// A cell's input as a `;` file's spreadsheet types it ([`decimal_comma_input`]); in a
+/// decimal-comma `locale`, text forced with `'` (`'2:30 PM`, which en-US reads as a time)
+/// without the `'` when that locale reads it as the same text, as LibreOffice set to the
+/// locale writes a text cell (never with a `'`).
+fn locale_input(input: &str, locale: Locale) -> String {
+    match input.strip_prefix('\'') {
+        Some(text) if !locale.is_canonical() && !needs_text_mark_in(text, locale) => text.to_string(),
+        _ => decimal_comma_input(input),
     }
 }
 
@@ -611,16 +622,18 @@ fn needs_text_mark(text: &str) -> bool {
     needs_text_mark_in(text, Locale::EN_US)
 }
 
-/// [`needs_text_mark`] for a spreadsheet in `locale`, which reads its own numbers, dates and
-/// words as well as the canonical ones.
+/// [`needs_text_mark`] for a spreadsheet in `locale`, which reads a file of its own in its
+/// own spelling only: text that is a number or date only in another locale's (`2:30 PM`,
+/// `0.8` in de-DE) reads back there as the same text, and LibreOffice set to the locale
+/// writes it so, without a mark.
 fn needs_text_mark_in(text: &str, locale: Locale) -> bool {
     if text.is_empty() {
         return false;
     }
     // Whether it reads as something else does not depend on the date system.
-    let read = |locale| Input::parse_in(text, locale, DateSystem::From1900);
+    let read = Input::parse_in(text, locale, DateSystem::From1900);
     let formula_like = text.starts_with(['=', '+', '-', '@', '\t', '\r']);
-    formula_like || [Locale::EN_US, locale].into_iter().any(|l| read(l) != Input::Value(Value::text(text)))
+    formula_like || read != Input::Value(Value::text(text))
 }
 
 #[cfg(test)]
