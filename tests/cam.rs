@@ -362,3 +362,49 @@ fn unusual_pieces_still_meet_the_requirements() {
         assert!(n <= ceil_125(bound), "{n} arcs against a lower bound of {bound}");
     }
 }
+
+/// A design sheet of `rows` one-arc rows end to end, each rising 1 mm in 0.018° (a step
+/// between rows, so a partial cam).
+fn steep_rows(rows: usize) -> String {
+    let mut sheet = String::from("type,from_deg,to_deg,r_start,r_end\n");
+    for i in 0..rows {
+        let (a, b) = (i as f64 * 0.018, (i + 1) as f64 * 0.018);
+        sheet.push_str(&format!("arch,{a},{b},10,11\n"));
+    }
+    sheet
+}
+
+#[test]
+fn a_design_sheet_past_the_row_limit_is_refused_at_its_first_row_too_many() {
+    use ncsheet::nc::cam_sheet::MAX_SHEET_ROWS;
+    assert_eq!(parse_sheet(&steep_rows(MAX_SHEET_ROWS)).unwrap().len(), MAX_SHEET_ROWS);
+    let err = parse_sheet(&steep_rows(MAX_SHEET_ROWS + 1)).unwrap_err();
+    // The header is line 1, so row MAX_SHEET_ROWS + 1 is on line MAX_SHEET_ROWS + 2.
+    let CamError::Sheet { line, message } = &err else { panic!("expected a sheet error, got {err}") };
+    assert_eq!(*line, MAX_SHEET_ROWS + 2);
+    assert_eq!(message, "the sheet has more than 4000 rows, ncsheet's limit for a cam design sheet");
+}
+
+#[test]
+fn a_disc_needing_more_arcs_than_the_limit_is_refused_before_fitting() {
+    use ncsheet::geometry::cam::fit::estimate_arcs;
+    use ncsheet::geometry::cam::MAX_CAM_ARCS;
+    // Ten parabolic rows each rising or falling 50 mm in 36°, at a tolerance where each needs
+    // several hundred arcs (each within the per-piece limit): several thousand together.
+    let tol = 1e-7;
+    let rows: Vec<Segment> = (0..10)
+        .map(|i| {
+            let (a, b) = (i as f64 * 36.0, (i + 1) as f64 * 36.0);
+            let (r0, r1) = if i % 2 == 0 { (10.0, 60.0) } else { (60.0, 10.0) };
+            let piece = Piece::new(PieceKind::Parabolic, r0, a, r1, b).unwrap();
+            Segment { row: i.to_string(), operation: String::new(), disc: String::new(), line: i + 2, piece }
+        })
+        .collect();
+    let each: Vec<f64> = rows.iter().map(|s| estimate_arcs(&s.piece, tol)).collect();
+    assert!(each.iter().all(|&e| e > 1.0 && e < 1000.0), "{each:?}");
+    let total: f64 = each.iter().sum();
+    assert!(total > MAX_CAM_ARCS as f64, "{total}");
+    let err = fit_cam("", &rows, &CamOptions::either_side(tol, true)).unwrap_err();
+    assert_eq!(err, CamError::TooManyArcs { rows: 10, arcs: total });
+    assert!(err.to_string().contains("more than ncsheet's limit of 4000 for one disc"), "{err}");
+}

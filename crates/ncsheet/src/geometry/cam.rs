@@ -28,5 +28,5 @@ pub use fit::{deviation, fit_piece, fit_piece_on_side, lower_bound, Deviation, S
 pub use piece::{Piece, PieceKind};
 pub use profile::{
     by_disc, check_coverage, fit_cam, CamError, CamFit, CamOptions, CoverageIssue, FittedSegment, Segment,
-    MAX_OVERLAPS_LISTED,
+    MAX_CAM_ARCS, MAX_OVERLAPS_LISTED,
 };

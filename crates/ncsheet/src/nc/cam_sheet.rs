@@ -19,6 +19,11 @@ use crate::geometry::cam::{by_disc, fit_cam, Arc, CamError, CamFit, CamOptions, 
 
 const REQUIRED: [&str; 3] = ["type", "r_start", "r_end"];
 
+/// The most rows a design sheet may have: a row is fitted in 1–2 ms (a release build), so the
+/// limit keeps a sheet of one-arc rows within about 8 s (20,000 rows took 24 s); the paper's
+/// sheets have a few dozen. The arcs a disc needs have their own limit, `MAX_CAM_ARCS`.
+pub const MAX_SHEET_ROWS: usize = 4000;
+
 /// The units a sheet may give its angles in: the header's two column names and how many
 /// degrees one unit is.
 const ANGLE_UNITS: [(&str, &str, f64); 2] = [("from_deg", "to_deg", 1.0), ("from_hundredths", "to_hundredths", 3.6)];
@@ -51,6 +56,11 @@ pub fn parse_sheet(text: &str) -> Result<Vec<Segment>, CamError> {
         let line = record.position().map_or(0, |p| p.line() as usize);
         if record.iter().all(|f| f.is_empty()) {
             continue;
+        }
+        if segments.len() == MAX_SHEET_ROWS {
+            let message =
+                format!("the sheet has more than {MAX_SHEET_ROWS} rows, ncsheet's limit for a cam design sheet");
+            return Err(CamError::Sheet { line, message });
         }
         let text = |name: &str| column(name).and_then(|i| record.get(i)).unwrap_or("").to_string();
         let number = |name: &str| {

@@ -9,10 +9,11 @@
 //!   close at 360°) and a step (rows meet at one angle with different radii) are errors unless
 //!   a partial cam is allowed, in which case the cutter goes straight across them.
 
+use std::collections::HashMap;
 use std::fmt;
 
 use super::arc::Arc;
-use super::fit::{fit_piece, lower_bound, offset_crossing, side_curve, Side};
+use super::fit::{estimate_arcs, fit_piece, lower_bound, offset_crossing, side_curve, Side};
 use super::piece::Piece;
 use crate::geometry::GeometryError;
 
@@ -60,6 +61,12 @@ pub enum CoverageIssue {
 /// pairs (50,000 such rows asked for 1.25·10^9 and aborted at the memory cap).
 pub const MAX_OVERLAPS_LISTED: usize = 1000;
 
+/// The most arcs one disc's fit may need, estimated before fitting, each row counting at
+/// least one. In a release build fitting costs up to about 2 ms per estimated arc (the
+/// start-tangent search of each row, even a one-arc row, and a lookahead at every arc), so a
+/// disc within the limit fits within about 8 s; 20,000 one-arc rows took 24 s.
+pub const MAX_CAM_ARCS: usize = 4000;
+
 impl CoverageIssue {
     /// Whether the issue stops the cam from being cut; gaps and steps are allowed in a partial
     /// cam.
@@ -106,6 +113,8 @@ pub enum CamError {
     Segment { row: String, error: GeometryError },
     /// The segments do not go round as required; every issue found is listed.
     Coverage(Vec<CoverageIssue>),
+    /// The fit would need more arcs than [`MAX_CAM_ARCS`] (about `arcs`, from `rows` rows).
+    TooManyArcs { rows: usize, arcs: f64 },
 }
 
 impl fmt::Display for CamError {
@@ -121,6 +130,11 @@ impl fmt::Display for CamError {
                 }
                 Ok(())
             }
+            CamError::TooManyArcs { rows, arcs } => write!(
+                f,
+                "the disc's {rows} rows would need about {arcs:.0} arcs at this tolerance (each row at least one), \
+                 more than ncsheet's limit of {MAX_CAM_ARCS} for one disc: give a larger tolerance or split the sheet"
+            ),
         }
     }
 }
@@ -281,6 +295,7 @@ pub fn fit_cam(disc: &str, segments: &[Segment], options: &CamOptions) -> Result
     let mut ordered: Vec<&Segment> = segments.iter().collect();
     ordered.sort_by(|x, y| x.piece.phi0_deg.total_cmp(&y.piece.phi0_deg));
     let curves = aimed_curves(&ordered, options)?;
+    check_arc_count(&curves)?;
     let mut fitted = Vec::with_capacity(ordered.len());
     for (s, (curve, tolerance)) in ordered.into_iter().zip(curves) {
         let in_row = |error| CamError::Segment { row: s.label(), error };
@@ -290,6 +305,16 @@ pub fn fit_cam(disc: &str, segments: &[Segment], options: &CamOptions) -> Result
         fitted.push(FittedSegment { segment: s.clone(), arcs, lower_bound });
     }
     Ok(CamFit { disc: disc.to_string(), tolerance: options.tolerance, segments: fitted, issues })
+}
+
+/// Refuses a fit that would need more than [`MAX_CAM_ARCS`] arcs, from the estimate each
+/// piece's tolerance check makes (a few dozen curve points a row), before any arc is fitted.
+fn check_arc_count(curves: &[(Piece, f64)]) -> Result<(), CamError> {
+    let arcs: f64 = curves.iter().map(|(curve, tolerance)| estimate_arcs(curve, *tolerance).max(1.0)).sum();
+    if arcs > MAX_CAM_ARCS as f64 {
+        return Err(CamError::TooManyArcs { rows: curves.len(), arcs });
+    }
+    Ok(())
 }
 
 /// The curve each segment's arcs aim at and the tolerance about it: the profile itself within
@@ -322,14 +347,17 @@ fn aimed_curves(ordered: &[&Segment], options: &CamOptions) -> Result<Vec<(Piece
     Ok(curves)
 }
 
-/// The segments grouped by disc, discs in order of first appearance.
+/// The segments grouped by disc, discs in order of first appearance; a map from name to place
+/// finds each disc, so a sheet of many discs costs its rows, not rows × discs.
 pub fn by_disc(segments: &[Segment]) -> Vec<(String, Vec<Segment>)> {
     let mut discs: Vec<(String, Vec<Segment>)> = Vec::new();
+    let mut place: HashMap<&str, usize> = HashMap::new();
     for s in segments {
-        match discs.iter_mut().find(|(d, _)| *d == s.disc) {
-            Some((_, list)) => list.push(s.clone()),
-            None => discs.push((s.disc.clone(), vec![s.clone()])),
-        }
+        let i = *place.entry(s.disc.as_str()).or_insert_with(|| {
+            discs.push((s.disc.clone(), Vec::new()));
+            discs.len() - 1
+        });
+        discs[i].1.push(s.clone());
     }
     discs
 }
