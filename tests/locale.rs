@@ -655,6 +655,36 @@ fn text_typed_in_a_semicolon_csv_is_saved_as_the_locale_reads_it_back() {
     assert_eq!(back.stdout.trim(), r#"{"Sheet1!A1": "2:30 PM", "Sheet1!B1": 1234.5, "Sheet1!C1": "2:30 PM"}"#);
 }
 
+/// Excel's delimiter directive, a first line `sep=;`, names the delimiter and is no data
+/// (Excel opens such a file with `;` between fields and the line not shown); ncsheet read it
+/// as a text row (`sep=` in A1). The detection message says where the delimiter came from;
+/// a save writes the line back, and a line in an error is named as it stands in the file.
+#[test]
+fn an_excel_sep_line_names_the_delimiter_and_is_no_data() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("s.csv"), "sep=;\r\na;0,5;x\r\n1;2;=A2+B2\r\n").unwrap();
+    let run = ok(in_dir(d, &["eval", "s.csv", "--locale", "en-US", "--format", "json"]));
+    let values =
+        r#"{"Sheet1!A1": "a", "Sheet1!B1": 0.5, "Sheet1!C1": "x", "Sheet1!A2": 1, "Sheet1!B2": 2, "Sheet1!C2": 3}"#;
+    assert_eq!(run.stdout.trim(), values);
+    assert!(
+        run.stderr.contains("read as ;-separated values (decimal commas as numbers), as its first line sep=; says"),
+        "{}",
+        run.stderr
+    );
+    ok(in_dir(d, &["set", "s.csv", "--locale", "en-US", "B2=5", "-o", "t.csv"]));
+    assert_eq!(std::fs::read_to_string(d.join("t.csv")).unwrap(), "sep=;\r\na;0,5;x\r\n1;5;=A2+B2\r\n");
+    // A directive against the text's look: `,` between fields, the `;` in a field is text.
+    std::fs::write(d.join("c.csv"), "sep=,\na;b,\"1,5\"\n").unwrap();
+    let run = ok(in_dir(d, &["eval", "c.csv", "--locale", "en-US", "--format", "json"]));
+    assert_eq!(run.stdout.trim(), r#"{"Sheet1!A1": "a;b", "Sheet1!B1": "1,5"}"#);
+    assert!(run.stderr.contains("read as ,-separated values, as its first line sep=, says"), "{}", run.stderr);
+    std::fs::write(d.join("bad.csv"), "sep=;\na;b\n\"x\n").unwrap();
+    let bad = in_dir(d, &["eval", "bad.csv", "--locale", "en-US"]);
+    assert!(bad.stderr.contains("bad.csv: line 3: unterminated quoted field"), "{}", bad.stderr);
+}
+
 /// A `;` csv with dates and times, read in the locale and written back, keeps their spelling:
 /// each gets the format a date or time typed there gets (Excel's built-in date, 14, its date
 /// and time, 22, and `h:mm`, as `set` gives them), so `export` writes `12.03.2025` where it

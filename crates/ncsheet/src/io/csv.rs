@@ -61,6 +61,9 @@ pub fn read(bytes: &[u8]) -> Result<Workbook, Malformed> {
 #[derive(Clone, Debug, Default)]
 pub struct Original {
     bom: bool,
+    /// Excel's `sep=;` first line as it stands, its line ending included (empty without
+    /// one): no data, written back before the rows.
+    directive: String,
     /// `,` or `;`, as detected on reading: untouched fields are joined with it again.
     delimiter: u8,
     rows: Vec<RawRow>,
@@ -106,7 +109,8 @@ pub fn read_original_limited(
     let wb = read_limited(bytes, delimiter, limits)?;
     let text = std::str::from_utf8(&bytes[if bom { 3 } else { 0 }..]).expect("checked by read_text");
     let delimiter = delimiter.unwrap_or_else(|| delimiter_of(text.as_bytes()));
-    Ok((wb, Original { bom, delimiter, rows: raw_rows(text, delimiter) }))
+    let (directive, body) = split_directive(text);
+    Ok((wb, Original { bom, directive: directive.to_string(), delimiter, rows: raw_rows(body, delimiter) }))
 }
 
 /// Splits csv text into rows (blank lines included) of raw fields, by the rules of
@@ -196,6 +200,7 @@ pub fn write_edited(wb: &Workbook, original: &Original, edited: &[Pos], out: &mu
         out.write_all(b"\xEF\xBB\xBF")?;
     }
     let mut buf = io::BufWriter::new(out);
+    buf.write_all(original.directive.as_bytes())?;
     for row in &rows {
         buf.write_all(row.fields.join(&char::from(original.delimiter).to_string()).as_bytes())?;
         buf.write_all(row.ending.as_bytes())?;
@@ -226,6 +231,57 @@ pub fn read_limited(bytes: &[u8], delimiter: Option<u8>, limits: ReadLimits) -> 
         Malformed { line, message: "not UTF-8 text (save the csv as UTF-8)".into() }
     })?;
     let delimiter = delimiter.unwrap_or_else(|| delimiter_of(text.as_bytes()));
+    let (directive, text) = split_directive(text);
+    // Lines are named as they stand in the file, the directive's first.
+    let after_directive = |m: Malformed| Malformed { line: m.line + u64::from(!directive.is_empty()), ..m };
+    read_body(text, delimiter, limits).map_err(after_directive)
+}
+
+/// Excel's delimiter directive, a first line `sep=;` (any one character after `sep=`): the
+/// file's delimiter, said by its writer. Excel reads it so and takes the line for no data.
+fn directive_delimiter(text: &str) -> Option<u8> {
+    let (line, _) = split_line(text);
+    match line.strip_prefix("sep=")?.as_bytes() {
+        &[b] if b != b'"' && !b.is_ascii_alphanumeric() => Some(b),
+        _ => None,
+    }
+}
+
+/// The first line of `text` and the rest, the line's ending with neither.
+fn split_line(text: &str) -> (&str, &str) {
+    let end = text.find(['\r', '\n']).unwrap_or(text.len());
+    (&text[..end], &text[end..])
+}
+
+/// `text` split into Excel's delimiter directive (with its line ending; empty without one)
+/// and the data after it.
+fn split_directive(text: &str) -> (&str, &str) {
+    if directive_delimiter(text).is_none() {
+        return ("", text);
+    }
+    let (line, rest) = split_line(text);
+    let ending = if rest.starts_with("\r\n") { 2 } else { usize::from(!rest.is_empty()) };
+    text.split_at(line.len() + ending)
+}
+
+/// What a user hears of how a csv's delimiter was found, when it was not given: a `sep=`
+/// line, or a `;` told apart from `,` by the text (with decimal commas read as numbers).
+pub fn detection_note(bytes: &[u8]) -> Option<String> {
+    let text = std::str::from_utf8(bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes)).ok()?;
+    let commas = " (decimal commas as numbers)";
+    match directive_delimiter(text) {
+        Some(d) => {
+            let commas = if d == b';' { commas } else { "" };
+            let d = char::from(d);
+            Some(format!("read as {d}-separated values{commas}, as its first line sep={d} says (that line is no data)"))
+        }
+        None if delimiter_of(text.as_bytes()) == b';' => Some(format!("read as ;-separated values{commas}")),
+        None => None,
+    }
+}
+
+/// [`read_limited`] of the file's data, its delimiter known.
+fn read_body(text: &str, delimiter: u8, limits: ReadLimits) -> Result<Workbook, Malformed> {
     let starts = record_starts(text, delimiter, limits)?;
 
     let mut wb = Workbook::new();
@@ -272,11 +328,15 @@ struct RecordStart {
 /// running to the end of the file. Follows the reader's rules: a `"` opens a quoted field
 /// only at the start of a field, `""` inside one is a quote, and `\n`, `\r\n` or `\r` ends
 /// a record.
+/// The delimiter a first line `sep=;` names (Excel's directive), else
 /// `;` when the file's first lines are `;`-separated (each holds the same number of `;`
 /// outside quotes, and not as many `,` unless every `,` stands between digits, as a decimal
 /// comma does: `a;0,5`; or each holds a `;` and every `,` is such a decimal comma, as rows
 /// of their own length do once a save added a field to some), else `,`.
 pub fn delimiter_of(bytes: &[u8]) -> u8 {
+    if let Some(d) = std::str::from_utf8(bytes).ok().and_then(directive_delimiter) {
+        return d;
+    }
     let lines: Vec<(usize, usize, bool)> = bytes
         .split(|&b| b == b'\n')
         .filter(|l| !l.iter().all(u8::is_ascii_whitespace))

@@ -313,8 +313,8 @@ pub fn open_bytes_limited(
                 csv::read_original_limited(&bytes, csv_delimiter, limits).map_err(|m| Error::new(path, m.into()))?;
             workbook.track_changes();
             let mut notes = Vec::new();
-            if csv_delimiter.is_none() && csv::delimiter_of(&bytes) == b';' {
-                notes.push("read as ;-separated values (decimal commas as numbers)".to_string());
+            if csv_delimiter.is_none() {
+                notes.extend(csv::detection_note(&bytes));
             }
             let origin = Origin::Csv(original);
             Ok(Opened { workbook, cached: Vec::new(), layout: None, written_by: None, notes, origin })
