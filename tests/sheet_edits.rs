@@ -147,33 +147,34 @@ fn deleting_cells_shifted_up_moves_only_their_columns() {
     assert_eq!(name_formula(&wb), "=Sheet1!$A$3:$A$6");
 }
 
+/// LibreOffice 7.4's probe book after rows 3:4 are inserted.
+fn after_inserting_rows_3_4() -> Vec<Want> {
+    vec![
+        (0, "C1", Some("=SUM(A1:A12)"), n(55.0)),
+        (0, "C2", Some("=A7"), n(5.0)),
+        (0, "C3", None, Value::Blank),
+        (0, "C5", Some("=$A$9"), n(7.0)),
+        (0, "C6", Some("=A5"), n(3.0)),
+        (0, "C7", Some("=SUM(A5:A6)"), n(7.0)),
+        (0, "C8", Some("=SUM(A2:A5)"), n(5.0)),
+        (0, "C9", Some("=SUM(A6:A8)"), n(15.0)),
+        (0, "C10", Some("=B5"), n(300.0)),
+        (0, "C11", Some("=SUM(A1:B12)"), n(5555.0)),
+        (0, "C12", Some("=SUM(A:A)"), n(55.0)),
+        (0, "C13", Some("=SUM(A5:A6)+A6"), n(11.0)),
+        (0, "C14", Some("=A$2+$A5"), n(5.0)),
+        (1, "A1", Some("=Sheet1!A7"), n(5.0)),
+        (1, "A2", Some("=SUM(Sheet1!A1:A12)"), n(55.0)),
+        (1, "A3", Some("=Sheet1!A5"), n(3.0)),
+        (1, "A4", Some("=SUM(MyR)"), n(26.0)),
+    ]
+}
+
 #[test]
 fn inserting_whole_rows_grows_the_ranges_they_fall_inside() {
     let mut wb = probe_book();
     wb.shift_cells(0, SheetEdit::rows(2, 2, true)).unwrap();
-    check(
-        &wb,
-        "insert rows 3:4",
-        &[
-            (0, "C1", Some("=SUM(A1:A12)"), n(55.0)),
-            (0, "C2", Some("=A7"), n(5.0)),
-            (0, "C3", None, Value::Blank),
-            (0, "C5", Some("=$A$9"), n(7.0)),
-            (0, "C6", Some("=A5"), n(3.0)),
-            (0, "C7", Some("=SUM(A5:A6)"), n(7.0)),
-            (0, "C8", Some("=SUM(A2:A5)"), n(5.0)),
-            (0, "C9", Some("=SUM(A6:A8)"), n(15.0)),
-            (0, "C10", Some("=B5"), n(300.0)),
-            (0, "C11", Some("=SUM(A1:B12)"), n(5555.0)),
-            (0, "C12", Some("=SUM(A:A)"), n(55.0)),
-            (0, "C13", Some("=SUM(A5:A6)+A6"), n(11.0)),
-            (0, "C14", Some("=A$2+$A5"), n(5.0)),
-            (1, "A1", Some("=Sheet1!A7"), n(5.0)),
-            (1, "A2", Some("=SUM(Sheet1!A1:A12)"), n(55.0)),
-            (1, "A3", Some("=Sheet1!A5"), n(3.0)),
-            (1, "A4", Some("=SUM(MyR)"), n(26.0)),
-        ],
-    );
+    check(&wb, "insert rows 3:4", &after_inserting_rows_3_4());
     assert_eq!(name_formula(&wb), "=Sheet1!$A$7:$A$10");
 }
 
@@ -590,4 +591,35 @@ fn a_refused_insert_or_delete_in_a_macro_is_error_1004() {
     let src = "Sub Main()\n    Rows(2).Delete\nEnd Sub\n";
     let e = vba::run(&mut wb, src, "edits.bas", &RunOptions::default()).unwrap_err();
     assert!(e.message.contains("1004") && e.message.contains("Sheet1!A1"), "{e}");
+}
+
+// A formula that only moves keeps its stored formula: copies filled down still share one
+// (`formula_id`), and a formula whose references changed takes the slot of the one it
+// replaces, so inserting and deleting rows over and over (a macro's loop) leaves the store
+// as large as it was, with LibreOffice 7.4's formulas and values after the last edit.
+#[test]
+fn repeated_row_edits_keep_moved_formulas_shared_and_the_store_bounded() {
+    let mut wb = probe_book();
+    for r in 1..=10 {
+        set(&mut wb, 0, &format!("D{r}"), &format!("=A{r}*2"));
+    }
+    let shared = wb.formula_id(0, at("D1")).unwrap();
+    let stored = wb.formula_counts().1;
+    for _ in 0..50 {
+        wb.shift_cells(0, SheetEdit::rows(2, 2, true)).unwrap();
+        wb.shift_cells(0, SheetEdit::rows(2, 2, false)).unwrap();
+    }
+    assert_eq!(wb.formula_counts().1, stored);
+    wb.shift_cells(0, SheetEdit::rows(2, 2, true)).unwrap();
+    check(&wb, "insert rows 3:4 after 50 inserts and deletes", &after_inserting_rows_3_4());
+    assert_eq!(name_formula(&wb), "=Sheet1!$A$7:$A$10");
+    for r in [1, 2, 5, 12] {
+        assert_eq!(wb.formula_id(0, at(&format!("D{r}"))), Some(shared), "D{r}");
+    }
+    assert_eq!(wb.formula(0, at("D12")).as_deref(), Some("=A12*2"));
+    assert_eq!(wb.value(0, at("D12")), n(20.0));
+    run(&mut wb, "    For i = 1 To 40\n        Rows(1).Insert\n    Next");
+    assert_eq!(wb.formula_counts().1, stored);
+    assert_eq!(wb.formula(0, at("C41")).as_deref(), Some("=SUM(A41:A52)"));
+    assert_eq!(wb.value(0, at("C41")), n(55.0));
 }

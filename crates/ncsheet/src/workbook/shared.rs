@@ -126,6 +126,22 @@ impl FormulaStore {
         id
     }
 
+    /// Puts each formula in its slot in place of the one there, which no cell runs any more,
+    /// and forgets the keys and shapes that named the old ones: a shift that rewrites every
+    /// copy of a formula alike reuses its slot, so the store does not grow with each edit.
+    pub fn replace(&mut self, slots: Vec<(u32, SharedFormula)>) {
+        if slots.is_empty() {
+            return;
+        }
+        let mut ids: Vec<u32> = slots.iter().map(|&(id, _)| id).collect();
+        ids.sort_unstable();
+        for (id, formula) in slots {
+            self.formulas[id as usize] = formula;
+        }
+        self.by_key.retain(|_, id| ids.binary_search(id).is_err());
+        self.by_shape.retain(|_, id| ids.binary_search(id).is_err());
+    }
+
     /// Forgets the keys (after a sheet is added, `Missing` sheet references may resolve now).
     pub fn forget_keys(&mut self) {
         // Clearing costs the maps' capacity even when empty: sheets added one after another

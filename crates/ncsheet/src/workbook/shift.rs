@@ -163,6 +163,13 @@ impl SheetEdit {
     }
 }
 
+/// A moving formula: one whose references all point where they did relative to it keeps
+/// its stored formula (shared with its copies); one whose references changed is rewritten.
+enum Rewrite {
+    Kept(u32),
+    New { old: u32, tree: Expr },
+}
+
 /// A reference after the edit: the same, rewritten, or pointing at deleted cells (`#REF!`).
 enum Followed {
     Same,
@@ -175,7 +182,8 @@ type Move = (u32, Option<Pos>, Content);
 
 /// A cell's new content, written once every moving cell has been cleared.
 enum Content {
-    Formula(Expr, Option<(u32, u32)>),
+    /// A formula (with a legacy array's rows and columns): its own, or rewritten.
+    Formula(Rewrite, Option<(u32, u32)>),
     Value(Value),
     /// Formula text that does not parse, with the value its file cached if it keeps one.
     Unparsed(String, ParseError, Option<Value>),
@@ -193,7 +201,8 @@ impl Workbook {
             return Err(WorkbookError::CannotShift("the rows or columns are off the sheet".into()));
         }
         self.check_arrays_whole(sheet, &edit)?;
-        let moves = self.moves(sheet, &edit)?;
+        let mut moves = self.moves(sheet, &edit)?;
+        let free = self.free_slots(&moves);
         for &(id, _, _) in &moves {
             let c = &self.cells[id as usize];
             let (s, p) = (c.sheet, c.pos);
@@ -205,12 +214,15 @@ impl Workbook {
                 self.changes.as_mut().map(|log| log.had_formula.remove(&id));
             }
         }
+        self.store_rewrites(&mut moves, &free);
         for (id, to, content) in moves {
             let s = self.cells[id as usize].sheet;
             let Some(to) = to else { continue };
             match content {
-                Content::Formula(tree, area) => {
-                    self.set_formula_tree_deferred(s, to, tree);
+                Content::Formula(rewrite, area) => {
+                    let Rewrite::Kept(fid) = rewrite else { unreachable!("stored by store_rewrites") };
+                    let cell = self.cleared_cell(s, to);
+                    self.install_formula(cell, fid);
                     if let Some((rows, cols)) = area {
                         let last = Pos::new(to.row + rows - 1, to.col + cols - 1);
                         self.set_array_area_deferred(s, Rect::new(to, last));
@@ -232,6 +244,73 @@ impl Workbook {
         self.names_unlinked = true;
         self.recalculate();
         Ok(())
+    }
+
+    /// The stored formulas the rewritten ones may take over: a formula every one of whose
+    /// cells is rewritten, all to one same tree (a filled-down column whose `$A$1` became
+    /// `$A$2`, a `SUM` whose range grew), will serve no cell after the edit, so the new tree
+    /// takes its slot. A macro inserting rows in a loop leaves the store as large as it was.
+    /// Read before the moving cells are cleared.
+    fn free_slots(&self, moves: &[Move]) -> Vec<u32> {
+        // Per old formula: the first rewritten tree, how many cells are rewritten, all alike.
+        let mut groups: FxMap<u32, (&Expr, usize, bool)> = FxMap::default();
+        let mut deleted: FxMap<u32, usize> = FxMap::default();
+        for (_, to, content) in moves {
+            match content {
+                Content::Formula(Rewrite::New { old, tree }, _) => {
+                    let group = groups.entry(*old).or_insert((tree, 0, true));
+                    group.1 += 1;
+                    group.2 &= group.1 == 1 || group.0 == tree;
+                }
+                Content::Formula(Rewrite::Kept(old), _) if to.is_none() => *deleted.entry(*old).or_default() += 1,
+                _ => {}
+            }
+        }
+        if groups.is_empty() {
+            return Vec::new();
+        }
+        let mut users: FxMap<u32, usize> = groups.keys().map(|&old| (old, 0)).collect();
+        for c in &self.cells {
+            if let Some(n) = users.get_mut(&c.formula) {
+                *n += 1;
+            }
+        }
+        let mut free: Vec<u32> = groups
+            .into_iter()
+            .filter(|(old, (_, count, alike))| *alike && users[old] == count + deleted.get(old).unwrap_or(&0))
+            .map(|(old, _)| old)
+            .collect();
+        free.sort_unstable();
+        free
+    }
+
+    /// Stores the rewritten trees, once the moving cells are cleared: in the slots `free`
+    /// ([`Workbook::free_slots`]) or new ones, rewrites alike of one formula sharing one.
+    /// Every `Rewrite::New` of `moves` becomes `Rewrite::Kept` of its stored formula.
+    fn store_rewrites(&mut self, moves: &mut [Move], free: &[u32]) {
+        let mut in_place = Vec::new();
+        // The stored formula the last rewrite of each old one took, to share with the next.
+        let mut last: FxMap<u32, u32> = FxMap::default();
+        for (_, _, content) in moves.iter_mut() {
+            let Content::Formula(rewrite @ Rewrite::New { .. }, _) = content else { continue };
+            let Rewrite::New { old, tree } = std::mem::replace(rewrite, Rewrite::Kept(NO_FORMULA)) else {
+                unreachable!("matched as New")
+            };
+            let fid = if free.binary_search(&old).is_ok() {
+                if !last.contains_key(&old) {
+                    in_place.push((old, SharedFormula::new(tree)));
+                }
+                old
+            } else {
+                match last.get(&old) {
+                    Some(&fid) if *self.formulas.get(fid).expr == tree => fid,
+                    _ => self.formulas.add(None, SharedFormula::new(tree)),
+                }
+            };
+            last.insert(old, fid);
+            *rewrite = Rewrite::Kept(fid);
+        }
+        self.formulas.replace(in_place);
     }
 
     /// Refuses an edit that would cut through a legacy array formula's area or a spill.
@@ -266,13 +345,18 @@ impl Workbook {
                 return Err(pushed_off(self.cell_name(sheet, c.pos)));
             }
             if c.formula != NO_FORMULA {
-                let tree = self.formula_tree(c.sheet, c.pos).expect("a formula cell has a tree");
-                let followed = follow_tree(&tree, c.sheet, c.pos, to.unwrap_or(c.pos), sheet, edit);
-                if to == Some(c.pos) && followed.is_none() {
+                let Some(dest) = to else {
+                    // Deleted: its formula is not written anywhere.
+                    moves.push((id, to, Content::Formula(Rewrite::Kept(c.formula), None)));
                     continue;
-                }
-                let tree = followed.unwrap_or_else(|| tree.into_owned());
-                moves.push((id, to, Content::Formula(tree, self.fixed_arrays.get(&id).copied())));
+                };
+                let tree = self.formula_tree(c.sheet, c.pos).expect("a formula cell has a tree");
+                let rewrite = match follow_tree(&tree, c.sheet, c.pos, dest, sheet, edit) {
+                    None if dest == c.pos => continue,
+                    None => Rewrite::Kept(c.formula),
+                    Some(tree) => Rewrite::New { old: c.formula, tree },
+                };
+                moves.push((id, to, Content::Formula(rewrite, self.fixed_arrays.get(&id).copied())));
                 continue;
             }
             if to == Some(c.pos) {
@@ -349,12 +433,11 @@ fn has_relative(r: &Reference) -> bool {
 }
 
 /// The formula `tree`, written in cell `from` of sheet `home` and moving to `to`, with its
-/// references following `edit` of sheet `edited`; `None` when nothing in it changes.
+/// references following `edit` of sheet `edited`; `None` when nothing in it changes (its
+/// references, relative ones counted from `to`, are as written).
 fn follow_tree(tree: &Expr, home: SheetId, from: Pos, to: Pos, edited: SheetId, edit: &SheetEdit) -> Option<Expr> {
-    let mut changed = from != to;
-    if !changed {
-        tree.visit_refs(&mut |r| changed |= !matches!(follow(r, home, from, to, edited, edit), Followed::Same));
-    }
+    let mut changed = false;
+    tree.visit_refs(&mut |r| changed |= !matches!(follow(r, home, from, to, edited, edit), Followed::Same));
     if !changed {
         return None;
     }
