@@ -99,7 +99,7 @@ fn dated(date_1904: bool) -> Document {
         wb.set_input(0, at(cell), input).unwrap();
     }
     let mut layout = ncsheet::io::xlsx::Layout::default();
-    layout.sheets.entry("Sheet1".into()).or_default().number_formats.insert(at("A1"), "yyyy-mm-dd".into());
+    layout.sheets.entry("Sheet1".into()).or_default().look.number_formats.insert(at("A1"), "yyyy-mm-dd".into());
     let name = Path::new("dated.xlsx");
     let origin = ncsheet::io::Origin::New;
     let bytes = ncsheet::io::encode_save(&wb, Some(&layout), &origin, name).unwrap().into_bytes();

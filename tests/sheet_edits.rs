@@ -502,8 +502,9 @@ fn a_saved_run_keeps_widths_hidden_rows_heights_and_styles_with_their_moved_cell
     set(&mut wb, 0, "C3", "x");
     set(&mut wb, 0, "A6", "end");
     wb.set_row_hidden(0, 3, Some(ncsheet::eval::RowHidden::Manually));
-    let mut sheet = SheetLayout { column_widths: vec![(2, 20.0)], ..SheetLayout::default() };
-    sheet.number_formats.insert(at("B3"), "0.000".into());
+    let mut sheet = SheetLayout::default();
+    sheet.look.column_widths = vec![(2, 20.0)];
+    sheet.look.number_formats.insert(at("B3"), "0.000".into());
     let mut layout = Layout::default();
     layout.sheets.insert("Sheet1".into(), sheet);
     let dir = tempfile::tempdir().unwrap();

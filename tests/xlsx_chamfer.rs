@@ -136,7 +136,8 @@ fn chamfer_workbook() -> (Workbook, Layout) {
     let six = "0.000000";
     for kind in &KINDS {
         let s = wb.add_sheet(kind.sheet).unwrap();
-        let mut sheet_layout = SheetLayout { column_widths: widths.to_vec(), ..SheetLayout::default() };
+        let mut sheet_layout = SheetLayout::default();
+        sheet_layout.look.column_widths = widths.to_vec();
         set(&mut wb, s, "A1", &format!("'{} — theoretical tool tip T at the chamfer ends", kind.title));
         set(&mut wb, s, "A2", &format!("'Tamul & Olt, NC lathe chamfers. {}", kind.note));
         set(&mut wb, s, "A4", "Inputs");
@@ -178,7 +179,7 @@ fn chamfer_workbook() -> (Workbook, Layout) {
             set(&mut wb, s, &format!("B{row}"), &format!("'{quantity}"));
             set(&mut wb, s, &format!("C{row}"), &text);
             set(&mut wb, s, &format!("D{row}"), &format!("'{printed}"));
-            sheet_layout.number_formats.insert(at(&format!("C{row}")), six.into());
+            sheet_layout.look.number_formats.insert(at(&format!("C{row}")), six.into());
             rows.push((quantity, row));
         }
         for (cell, text) in [("F5", "Result"), ("G5", "Value"), ("H5", "Unit")] {
@@ -189,7 +190,7 @@ fn chamfer_workbook() -> (Workbook, Layout) {
             set(&mut wb, s, &format!("F{}", 6 + i), quantity);
             set(&mut wb, s, cell, &format!("=C{row}"));
             set(&mut wb, s, &format!("H{}", 6 + i), "mm");
-            sheet_layout.number_formats.insert(at(cell), six.into());
+            sheet_layout.look.number_formats.insert(at(cell), six.into());
         }
         layout.sheets.insert(kind.sheet.into(), sheet_layout);
     }
@@ -198,7 +199,8 @@ fn chamfer_workbook() -> (Workbook, Layout) {
     for (cell, text) in [("A4", "Kind"), ("B4", "D"), ("C4", "XA"), ("D4", "ZA"), ("E4", "XB"), ("F4", "ZB")] {
         set(&mut wb, summary, cell, text);
     }
-    let mut summary_layout = SheetLayout { column_widths: vec![(0, 10.0)], ..SheetLayout::default() };
+    let mut summary_layout = SheetLayout::default();
+    summary_layout.look.column_widths = vec![(0, 10.0)];
     for (i, kind) in KINDS.iter().enumerate() {
         let row = 5 + i;
         set(&mut wb, summary, &format!("A{row}"), kind.sheet);
@@ -206,11 +208,11 @@ fn chamfer_workbook() -> (Workbook, Layout) {
         for (col, (_, cell)) in ["C", "D", "E", "F"].iter().zip(RESULTS) {
             let target = format!("{col}{row}");
             set(&mut wb, summary, &target, &format!("={}!{cell}", kind.sheet));
-            summary_layout.number_formats.insert(at(&target), six.into());
+            summary_layout.look.number_formats.insert(at(&target), six.into());
         }
     }
     for col in 1..6 {
-        summary_layout.column_widths.push((col, 12.0));
+        summary_layout.look.column_widths.push((col, 12.0));
     }
     layout.sheets.insert("Summary".into(), summary_layout);
     wb.recalculate();
@@ -279,7 +281,10 @@ fn the_committed_sheet_holds_the_papers_formulas_and_domain_values() {
     };
     assert_domain_table("the file's cached values", &cached);
     assert_domain_table("ncsheet on the file", &|sheet, cell| back.value(back.sheet_id(sheet).unwrap(), at(cell)));
-    assert_eq!(committed.layout.sheets["Outer"].number_formats.get(&at("G6")).map(String::as_str), Some("0.000000"));
+    assert_eq!(
+        committed.layout.sheets["Outer"].look.number_formats.get(&at("G6")).map(String::as_str),
+        Some("0.000000")
+    );
 }
 
 #[test]

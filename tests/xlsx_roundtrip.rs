@@ -48,8 +48,8 @@ fn sample() -> (Workbook, Layout) {
     wb.set_input(1, at("A2"), "=local+Parts!B1").unwrap();
     let mut layout = Layout::default();
     let mut sheet = SheetLayout::default();
-    sheet.column_widths.push((0, 15.0));
-    sheet.number_formats.insert(at("A1"), "0.000".into());
+    sheet.look.column_widths.push((0, 15.0));
+    sheet.look.number_formats.insert(at("A1"), "0.000".into());
     layout.sheets.insert("Parts".into(), sheet);
     (wb, layout)
 }
@@ -116,8 +116,8 @@ fn a_workbook_survives_export_and_import() {
     assert_eq!(blank_result.value, Value::text(""));
 
     let parts = &back.layout.sheets["Parts"];
-    assert_eq!(parts.number_formats.get(&at("A1")).map(String::as_str), Some("0.000"));
-    assert_eq!(parts.column_widths, vec![(0, 15.0)]);
+    assert_eq!(parts.look.number_formats.get(&at("A1")).map(String::as_str), Some("0.000"));
+    assert_eq!(parts.look.column_widths, vec![(0, 15.0)]);
 
     // On disk, the spelling Excel expects.
     let xml = sheet_xml(&bytes, "xl/worksheets/sheet1.xml");

@@ -81,7 +81,7 @@ impl Shown<'_> {
     /// A sheet's number formats by cell, from the file.
     pub fn formats<'b>(&'b self, wb: &Workbook, sheet: SheetId) -> Option<&'b HashMap<Pos, String>> {
         let name = wb.sheet_names().into_iter().nth(sheet as usize)?;
-        Some(&self.layout?.sheets.get(&name)?.number_formats)
+        Some(&self.layout?.sheets.get(&name)?.look.number_formats)
     }
 }
 

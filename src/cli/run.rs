@@ -196,17 +196,12 @@ fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
             args.dialect.name()
         )));
     }
-    let doc = ncsheet::document::Document::open_file(&args.workbook, &super::open_options(delimiter))?;
-    let mut opened = doc.into_opened();
-    let mut wb = opened.workbook;
-    let (file, source, sub, document) = macro_source(&args, opened.layout.as_ref())?;
+    let mut doc = ncsheet::document::Document::open_file(&args.workbook, &super::open_options(delimiter))?;
+    let (file, source, sub, document) = macro_source(&args, doc.layout())?;
     let file = &file;
-    let layout = opened.layout.as_ref();
-    let sheets = layout.into_iter().flat_map(|l| &l.sheets);
-    let code_names = sheets.clone().filter_map(|(name, s)| Some((s.code_name.clone()?, name.clone()))).collect();
     let options = RunOptions {
         sub,
-        args: super::locale::typed_args(&wb, &args.args)?,
+        args: super::locale::typed_args(doc.workbook(), &args.args)?,
         max_statements: args.max_statements,
         max_depth: args.max_depth,
         deadline: super::limits::deadline(),
@@ -215,9 +210,7 @@ fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
         max_output: args.max_output.unwrap_or(vba::DEFAULT_MAX_OUTPUT),
         max_memory: args.max_memory.unwrap_or(vba::DEFAULT_MAX_MEMORY),
         sink: Some(vba::Sink(std::rc::Rc::new(write_printed))),
-        code_names,
         document,
-        active_cells: sheets.filter_map(|(name, s)| Some((name.clone(), s.active_cell?))).collect(),
         sheet: args.sheet.clone(),
         dialect: Some(args.dialect),
         machine: match args.machine {
@@ -233,9 +226,9 @@ fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
             args.max_memory.unwrap_or(vba::DEFAULT_MAX_MEMORY),
         )?,
         arc_tolerance: args.arc_tol,
-        looks: sheet_looks(opened.layout.as_ref()),
+        ..RunOptions::default()
     };
-    let out = match vba::run(&mut wb, &source, &file.display().to_string(), &options) {
+    let out = match doc.run_macro(&source, &file.display().to_string(), options) {
         Ok(out) => out,
         Err(e) => {
             // What the macro printed before it stopped is still the user's.
@@ -295,8 +288,7 @@ fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
     let listed = macro_files::written(&macro_outputs);
     files.extend(macro_outputs);
     if let Some(save) = &args.save {
-        keep_looks(&mut opened.layout, std::mem::take(&mut out.looks));
-        files.push(ncsheet::io::encode_save_with(&wb, opened.layout.as_ref(), &opened.origin, save, delimiter)?);
+        files.push(doc.encode(save)?);
     }
     super::write_outputs(&files, false, args.force)?;
     for line in &listed {
@@ -314,47 +306,6 @@ fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
         None => eprintln!("ncsheet: {}: note: no NC program: the macro emitted no NC block (no move)", file.display()),
     }
     Ok(())
-}
-
-/// The look of the workbook's sheets as a macro reads it (`NumberFormat`, `ColumnWidth`).
-fn sheet_looks(layout: Option<&ncsheet::io::xlsx::Layout>) -> Vec<(String, vba::SheetLook)> {
-    let sheets = layout.into_iter().flat_map(|l| &l.sheets);
-    let look = |s: &ncsheet::io::xlsx::SheetLayout| vba::SheetLook {
-        number_formats: s.number_formats.clone(),
-        cell_styles: s.cell_styles.clone(),
-        column_widths: s.column_widths.clone(),
-        row_heights: s.row_heights.clone(),
-    };
-    sheets.map(|(name, s)| (name.clone(), look(s))).collect()
-}
-
-/// The look the macro left each sheet with, into the layout the workbook is saved with.
-fn keep_looks(layout: &mut Option<ncsheet::io::xlsx::Layout>, looks: Vec<(String, vba::SheetLook)>) {
-    if looks.is_empty() {
-        return;
-    }
-    let layout = layout.get_or_insert_with(Default::default);
-    let before: Vec<_> = sheet_looks(Some(layout)).into_iter().map(|(n, l)| (n, in_order(l))).collect();
-    let unchanged =
-        |name: &String, look: &vba::SheetLook| before.iter().any(|(n, l)| n == name && *l == in_order(look.clone()));
-    layout.looks_edited |= looks.iter().any(|(name, look)| !unchanged(name, look));
-    for (name, look) in looks {
-        let sheet = layout.sheets.entry(name).or_default();
-        sheet.number_formats = look.number_formats;
-        sheet.cell_styles = look.cell_styles;
-        sheet.column_widths = look.column_widths;
-        sheet.row_heights = look.row_heights;
-    }
-}
-
-/// A look with its widths and heights in order, one each (the last the file gave wins),
-/// to compare as the run's are.
-fn in_order(mut look: vba::SheetLook) -> vba::SheetLook {
-    let widths: std::collections::BTreeMap<u16, f64> = look.column_widths.into_iter().collect();
-    let heights: std::collections::BTreeMap<u32, f64> = look.row_heights.into_iter().collect();
-    look.column_widths = widths.into_iter().collect();
-    look.row_heights = heights.into_iter().collect();
-    look
 }
 
 /// Whether the macro emitted a program: at least one block a control acts on. Comments

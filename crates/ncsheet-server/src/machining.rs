@@ -148,7 +148,7 @@ pub fn run(bench: &mut Workbench, bas_files: &[PathBuf], request: &RunRequest) -
     options.machine = chosen;
     let label = format!("macro {}", if sub.is_empty() { file.as_str() } else { sub });
     let out =
-        bench.with_macro(&label, |wb| vba::run(wb, &text, &file, &options)).map_err(|e| refused(e.to_string()))?;
+        bench.with_macro(&label, |doc| doc.run_macro(&text, &file, options)).map_err(|e| refused(e.to_string()))?;
     let printed = out.printed.clone();
     if !out.program.blocks.iter().any(|b| !matches!(b, Block::Comment(_))) {
         return Ok(
@@ -345,12 +345,8 @@ fn macro_text(bench: &Workbench, bas_files: &[PathBuf], source: &str) -> Result<
 }
 
 fn run_options(doc: &Document, sub: &str, dialect: &'static dyn dialect::Dialect, sheet: SheetId) -> RunOptions {
-    let sheets = doc.layout().into_iter().flat_map(|l| &l.sheets);
-    let code_names = sheets.clone().filter_map(|(name, s)| Some((s.code_name.clone()?, name.clone()))).collect();
     RunOptions {
         sub: (!sub.is_empty()).then(|| sub.to_string()),
-        code_names,
-        active_cells: sheets.filter_map(|(name, s)| Some((name.clone(), s.active_cell?))).collect(),
         sheet: doc.workbook().sheet_names().into_iter().nth(sheet as usize),
         dialect: Some(dialect),
         ..RunOptions::default()

@@ -94,10 +94,10 @@ impl Workbench {
     /// Runs `f` (a macro) on the workbook and keeps the cells it wrote as one step of the
     /// history, named `label`: an undo types back every input it replaced. The writes stay
     /// and are kept for undo even when `f` fails partway.
-    pub fn with_macro<R>(&mut self, label: &str, f: impl FnOnce(&mut ncsheet::workbook::Workbook) -> R) -> R {
+    pub fn with_macro<R>(&mut self, label: &str, f: impl FnOnce(&mut Document) -> R) -> R {
+        self.doc.workbook_mut().start_journal();
+        let result = f(&mut self.doc);
         let wb = self.doc.workbook_mut();
-        wb.start_journal();
-        let result = f(wb);
         let written = wb.take_journal();
         let edits: Vec<Edit> = written
             .into_iter()
@@ -146,7 +146,7 @@ impl Workbench {
     fn widths(&self, sheet_name: &str) -> Json {
         let layout = self.doc.layout().and_then(|l| l.sheets.get(sheet_name));
         let widths: Vec<Json> =
-            layout.map_or(Vec::new(), |l| l.column_widths.iter().map(|&(c, w)| json!([c, w])).collect());
+            layout.map_or(Vec::new(), |l| l.look.column_widths.iter().map(|&(c, w)| json!([c, w])).collect());
         Json::Array(widths)
     }
 

@@ -24,12 +24,7 @@ use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::SheetId;
 use crate::io::{self, xlsx, Encoded, Format, Opened, Origin};
 use crate::vba::{self, ModuleKind, RunOptions, VbaProject};
-use crate::workbook::{Axis, Problem, ProblemKind, SheetEdit, Workbook, WorkbookError};
-
-/// What is kept by cell (a format) moved with its cell by `edit`; a deleted cell's dropped.
-fn follow_positions<T>(map: &mut std::collections::HashMap<Pos, T>, edit: &SheetEdit) {
-    *map = std::mem::take(map).into_iter().filter_map(|(p, v)| edit.moved(p).map(|to| (to, v))).collect();
-}
+use crate::workbook::{Problem, ProblemKind, SheetEdit, SheetLook, Workbook, WorkbookError};
 
 /// How to read a document's bytes.
 #[derive(Clone, Debug, Default)]
@@ -219,7 +214,7 @@ impl Document {
     fn show_as(&mut self, sheet: SheetId, pos: Pos, code: &str) {
         let Some(name) = self.opened.workbook.sheet_names().into_iter().nth(sheet as usize) else { return };
         let layout = self.opened.layout.get_or_insert_with(Default::default);
-        let formats = &mut layout.sheets.entry(name).or_default().number_formats;
+        let formats = &mut layout.sheets.entry(name).or_default().look.number_formats;
         formats.entry(pos).or_insert_with(|| code.to_string());
     }
 
@@ -232,8 +227,7 @@ impl Document {
         self.opened.workbook.shift_cells(sheet, edit)?;
         let name = self.opened.workbook.sheet_names().into_iter().nth(sheet as usize).unwrap_or_default();
         let Some(layout) = self.opened.layout.as_mut().and_then(|l| l.sheets.get_mut(&name)) else { return Ok(()) };
-        follow_positions(&mut layout.number_formats, &edit);
-        follow_positions(&mut layout.cell_styles, &edit);
+        layout.look.follow(&edit);
         layout.array_formulas = std::mem::take(&mut layout.array_formulas)
             .into_values()
             .filter_map(|a| {
@@ -242,15 +236,51 @@ impl Document {
                 Some((anchor, xlsx::ArrayFormula { anchor, area: Rect::new(first, last), ..a }))
             })
             .collect();
-        if edit.axis == Axis::Columns {
-            let widths = std::mem::take(&mut layout.column_widths).into_iter();
-            let moved = |(col, w): (u16, f64)| edit.moved_line(u32::from(col)).map(|c| (c as u16, w));
-            layout.column_widths = widths.filter_map(moved).collect();
-        } else {
-            let heights = std::mem::take(&mut layout.row_heights).into_iter();
-            layout.row_heights = heights.filter_map(|(row, h)| Some((edit.moved_line(row)?, h))).collect();
-        }
         Ok(())
+    }
+
+    /// Runs a macro (`vba::run`) on the workbook as the file's sheets stand: their code names,
+    /// active cells and look (number formats, styles, widths, heights) are the run's. The
+    /// cells it writes stay, as in Excel, and so does the look it leaves: the document keeps
+    /// it (in [`Document::layout`], not in the output's `looks`) for a save to write. A macro
+    /// that stops with an error keeps what it did before it stopped.
+    pub fn run_macro(
+        &mut self,
+        source: &str,
+        file: &str,
+        options: RunOptions,
+    ) -> Result<vba::RunOutput, vba::MacroError> {
+        let sheets = self.opened.layout.iter().flat_map(|l| &l.sheets);
+        let options = RunOptions {
+            code_names: sheets.clone().filter_map(|(name, s)| Some((s.code_name.clone()?, name.clone()))).collect(),
+            active_cells: sheets.clone().filter_map(|(name, s)| Some((name.clone(), s.active_cell?))).collect(),
+            looks: sheets.map(|(name, s)| (name.clone(), s.look.clone())).collect(),
+            ..options
+        };
+        let mut result = vba::run(&mut self.opened.workbook, source, file, &options);
+        let output = match &mut result {
+            Ok(out) => out,
+            Err(e) => &mut *e.output,
+        };
+        self.keep_looks(std::mem::take(&mut output.looks));
+        result
+    }
+
+    /// The look a macro left each sheet with, as the document's; a change from the file's
+    /// is noted for the save (`Layout::looks_edited`).
+    fn keep_looks(&mut self, looks: Vec<(String, SheetLook)>) {
+        if looks.is_empty() {
+            return;
+        }
+        let layout = self.opened.layout.get_or_insert_with(Default::default);
+        for (name, look) in looks {
+            let look = look.in_order();
+            let sheet = layout.sheets.entry(name).or_default();
+            if sheet.look.clone().in_order() != look {
+                layout.looks_edited = true;
+            }
+            sheet.look = look;
+        }
     }
 
     /// The clock and random sequence the formulas read.
@@ -272,7 +302,7 @@ impl Document {
         let crate::eval::Value::Number(n) = value else { return value.to_string() };
         let sheet_name = wb.sheet_names().into_iter().nth(sheet as usize).unwrap_or_default();
         let layout = self.layout().and_then(|l| l.sheets.get(&sheet_name));
-        let code = layout.and_then(|l| l.number_formats.get(&pos)).map(String::as_str);
+        let code = layout.and_then(|l| l.look.number_formats.get(&pos)).map(String::as_str);
         crate::eval::format::number_format::shown(n, code, wb.date_system())
     }
 
@@ -432,7 +462,7 @@ fn read_csv_fields_in_locale(opened: &mut Opened, locale: crate::eval::Locale) {
         return;
     }
     let layout = opened.layout.get_or_insert_with(Default::default);
-    let shown = &mut layout.sheets.entry(sheet).or_default().number_formats;
+    let shown = &mut layout.sheets.entry(sheet).or_default().look.number_formats;
     for (pos, code) in formats {
         shown.entry(pos).or_insert_with(|| code.to_string());
     }

@@ -542,7 +542,7 @@ pub fn encode_export_with(
         Format::Csv => {
             let style = csv::Style {
                 delimiter: options.delimiter.unwrap_or(b','),
-                formats: sheet_layout.map(|l| &l.number_formats),
+                formats: sheet_layout.map(|l| &l.look.number_formats),
                 raw: options.raw,
             };
             let mut bytes = Vec::new();
@@ -566,12 +566,14 @@ fn values_layout(wb: &Workbook, what: &Export, name: &str, source: Option<&xlsx:
     let mut layout = xlsx::Layout::default();
     let (Some(source), Some(rect)) = (source, what.range.or_else(|| wb.used_rect(what.sheet))) else { return layout };
     let formats = source
+        .look
         .number_formats
         .iter()
         .filter(|(pos, _)| rect.contains(**pos))
         .map(|(pos, code)| (crate::formula::Pos::new(pos.row - rect.first.row, pos.col - rect.first.col), code.clone()))
         .collect();
-    let sheet = xlsx::SheetLayout { number_formats: formats, ..xlsx::SheetLayout::default() };
+    let look = crate::workbook::SheetLook { number_formats: formats, ..Default::default() };
+    let sheet = xlsx::SheetLayout { look, ..xlsx::SheetLayout::default() };
     layout.sheets.insert(name.to_string(), sheet);
     layout
 }

@@ -18,24 +18,12 @@ use crate::eval::format::cell_style::{self, CellStyle};
 use crate::eval::{Ctx, Value};
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::formula::ast::{Expr, SheetId};
-use crate::workbook::{Axis, SheetEdit, Workbook};
+use crate::workbook::look::{follow_cells, follow_columns, follow_rows};
+use crate::workbook::{Axis, SheetEdit, SheetLook, Workbook};
 
 use super::ast::{Link, Span};
 use super::interp::{Interp, Run};
 use super::value::{print_text, Obj};
-
-/// A sheet's look as a run starts with it and leaves it: what an xlsx layout keeps.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct SheetLook {
-    /// Cells with a number format other than General.
-    pub number_formats: HashMap<Pos, String>,
-    /// Cells with more style than the Normal style.
-    pub cell_styles: HashMap<Pos, CellStyle>,
-    /// Column → width in characters of the Normal font's digits, as `ColumnWidth` gives it.
-    pub column_widths: Vec<(u16, f64)>,
-    /// Row → height in points.
-    pub row_heights: Vec<(u32, f64)>,
-}
 
 /// Excel's standard column width (8.43 digits of Calibri 11) and row height (15 points), the
 /// look of a column or row nobody sized.
@@ -148,22 +136,15 @@ impl SheetState {
         self.lines.push((rect, edit));
     }
 
+    /// The cells, lines, widths and heights moved as [`SheetLook::follow`] moves a file's.
     fn follow(&mut self, edit: &SheetEdit) {
-        self.formats =
-            std::mem::take(&mut self.formats).into_iter().filter_map(|(p, c)| Some((edit.moved(p)?, c))).collect();
-        self.styles =
-            std::mem::take(&mut self.styles).into_iter().filter_map(|(p, s)| Some((edit.moved(p)?, s))).collect();
+        follow_cells(&mut self.formats, edit);
+        follow_cells(&mut self.styles, edit);
         self.lines =
             std::mem::take(&mut self.lines).into_iter().filter_map(|(r, e)| Some((moved_line(r, edit)?, e))).collect();
         match edit.axis {
-            Axis::Columns => {
-                let moved = |(c, w): (u16, f64)| Some((edit.moved_line(u32::from(c))? as u16, w));
-                self.widths = std::mem::take(&mut self.widths).into_iter().filter_map(moved).collect();
-            }
-            Axis::Rows => {
-                let moved = |(r, h): (u32, f64)| Some((edit.moved_line(r)?, h));
-                self.heights = std::mem::take(&mut self.heights).into_iter().filter_map(moved).collect();
-            }
+            Axis::Columns => self.widths = follow_columns(std::mem::take(&mut self.widths), edit),
+            Axis::Rows => self.heights = follow_rows(std::mem::take(&mut self.heights), edit),
         }
     }
 

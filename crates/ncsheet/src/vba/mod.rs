@@ -249,7 +249,7 @@ use crate::workbook::Workbook;
 
 pub use ast::{Module, Span};
 pub use files::{checked_name, FileAccess};
-pub use formats::SheetLook;
+pub use crate::workbook::SheetLook;
 pub use project::{read_project, ModuleKind, ProjectError, ProjectModule, VbaProject};
 pub use udf::{install_functions, WorkbookFunctions, FUNCTION_MAX_DEPTH};
 

@@ -32,7 +32,7 @@ use std::path::{Path, PathBuf};
 use crate::eval::Value;
 use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::SheetId;
-use crate::workbook::Workbook;
+use crate::workbook::{SheetLook, Workbook};
 
 mod check;
 mod external;
@@ -165,15 +165,9 @@ impl Default for Calculation {
 
 #[derive(Clone, Debug, Default)]
 pub struct SheetLayout {
-    /// Column index → width in Excel's character units, as stored in the file.
-    pub column_widths: Vec<(u16, f64)>,
-    /// Cells with a number format other than General, with its format code.
-    pub number_formats: HashMap<Pos, String>,
-    /// Cells with a style other than Normal beyond the number format (alignment, bold, fill…),
-    /// as a macro set them; the reader does not read them back yet.
-    pub cell_styles: HashMap<Pos, crate::eval::format::cell_style::CellStyle>,
-    /// Row index → height in points, as a macro set it; the reader does not read them back yet.
-    pub row_heights: Vec<(u32, f64)>,
+    /// How the sheet looks: number formats, cell styles, widths, heights (a macro's run
+    /// starts from it and leaves its changes in it).
+    pub look: SheetLook,
     /// The sheet's VBA code name (`Sheet1`), if the file gave one.
     pub code_name: Option<String>,
     /// The sheet's active cell as the file saved it (for a macro's `ActiveCell`).

@@ -967,12 +967,12 @@ fn sheet_layout(scan: &SheetScan, formats: &[Option<String>]) -> SheetLayout {
         // `<col min="1" max="16384">` sets the width of the rest of the sheet; only ranges a
         // user sized are worth carrying.
         if last - first < 1024 {
-            layout.column_widths.extend((first..=last).map(|c| (c as u16, width)));
+            layout.look.column_widths.extend((first..=last).map(|c| (c as u16, width)));
         }
     }
     for &(pos, style) in &scan.styled {
         if let Some(Some(code)) = formats.get(style as usize) {
-            layout.number_formats.insert(pos, code.clone());
+            layout.look.number_formats.insert(pos, code.clone());
         }
     }
     layout

@@ -122,10 +122,10 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
             crate::workbook::Visibility::VeryHidden => _ = ws.set_very_hidden(true),
         }
         if let Some(l) = sheet_layout {
-            for &(col, width) in &l.column_widths {
+            for &(col, width) in &l.look.column_widths {
                 ws.set_column_width_pixels(col, (width * 7.0).round() as u32).map_err(|e| fail(Some(name), e))?;
             }
-            for &(row, height) in &l.row_heights {
+            for &(row, height) in &l.look.row_heights {
                 ws.set_row_height(row, height).map_err(|e| fail(Some(name), e))?;
             }
             if macros {
@@ -135,8 +135,8 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
             }
         }
         for (pos, value) in wb.values(sheet) {
-            let code = sheet_layout.and_then(|l| l.number_formats.get(&pos)).map(String::as_str);
-            let style = sheet_layout.and_then(|l| l.cell_styles.get(&pos)).copied().unwrap_or_default();
+            let code = sheet_layout.and_then(|l| l.look.number_formats.get(&pos)).map(String::as_str);
+            let style = sheet_layout.and_then(|l| l.look.cell_styles.get(&pos)).copied().unwrap_or_default();
             let format = (code.is_some() || !style.is_plain())
                 .then(|| &*formats.entry((code, style)).or_insert_with(|| cell_format(code, style)));
             let place = || wb.cell_name(sheet, pos);

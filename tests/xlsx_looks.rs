@@ -1,0 +1,74 @@
+//! How cells look, between a file and a macro, through the one `Document` both front ends
+//! run macros on: a macro sees the formatting a file was written with (alignment, bold,
+//! italic, wrap, a solid fill, a row's height), and what a macro formats reaches the saved
+//! file, read back by an outside reader.
+//!
+//! The books are written and read by openpyxl (`.ci/run` installs it), which spells the
+//! styles as ECMA-376 lays them out (`styles.xml` `cellXfs`, `fonts`, `fills`, `numFmts`;
+//! the sheet's `<col width>` and `<row ht customHeight>`). Expected values in the macro's
+//! terms are Microsoft's Excel VBA reference: "XlHAlign enumeration" (xlCenter -4108,
+//! xlRight -4152), "XlVAlign enumeration" (xlTop -4160), "Interior.Color property" (an RGB
+//! value, red in the low byte: RGB(255, 0, 0) is 255), "Range.RowHeight property" (points).
+
+use std::path::Path;
+use std::process::Command;
+
+use ncsheet::document::{Document, OpenOptions};
+use ncsheet::vba::RunOptions;
+
+/// Whether openpyxl can be imported; on CI (`CI` set) it must be: `.ci/run` installs it.
+fn openpyxl_available() -> bool {
+    let found = Command::new("python3").args(["-c", "import openpyxl"]).output().is_ok_and(|o| o.status.success());
+    assert!(found || std::env::var_os("CI").is_none(), "openpyxl (pip openpyxl) is missing on CI");
+    found
+}
+
+/// Runs a Python script with `args`; its standard output.
+fn python(script: &str, args: &[&Path]) -> String {
+    let out = Command::new("python3").arg("-c").arg(script).args(args).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    String::from_utf8(out.stdout).unwrap()
+}
+
+fn run(doc: &mut Document, body: &str) -> Vec<String> {
+    let src = format!("Sub Main()\n{body}\nEnd Sub\n");
+    doc.run_macro(&src, "looks.bas", RunOptions::default()).unwrap_or_else(|e| panic!("{e}")).printed
+}
+
+/// Reads back what the macro below formatted, one `name=value` a line.
+const READ_FORMATTED: &str = r#"
+import sys
+from openpyxl import load_workbook
+ws = load_workbook(sys.argv[1]).active
+a1, b2 = ws["A1"], ws["B2"]
+print("format=" + a1.number_format)
+print("bold=" + str(bool(a1.font.b)))
+print("fill=" + b2.fill.fill_type + ":" + str(b2.fill.fgColor.rgb))
+print("width=%.2f" % ws.column_dimensions["C"].width)
+print("height=%.2f" % ws.row_dimensions[4].height)
+"#;
+
+/// What the macro sets: A1 `0.000` and bold, B2 filled RGB(0, 128, 255), column C 20
+/// characters wide, row 4 30 points high.
+const FORMAT: &str = "    Range(\"A1\").Value = 1.5\n    Range(\"B2\").Value = 2\n\
+     \x20   Range(\"A1\").NumberFormat = \"0.000\"\n    Range(\"A1\").Font.Bold = True\n\
+     \x20   Range(\"B2\").Interior.Color = RGB(0, 128, 255)\n\
+     \x20   Columns(\"C\").ColumnWidth = 20\n    Rows(4).RowHeight = 30";
+
+/// RGB(0, 128, 255) as the file spells a colour: ARGB, red first.
+const EXPECTED: &[&str] = &["format=0.000", "bold=True", "fill=solid:FF0080FF", "width=20.00", "height=30.00"];
+
+#[test]
+fn a_macro_run_on_the_document_formats_the_workbook_it_saves_anew() {
+    if !openpyxl_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let mut doc = Document::open(b"x\n".to_vec(), &OpenOptions::named("plain.csv")).unwrap();
+    run(&mut doc, FORMAT);
+    let saved = dir.path().join("saved.xlsx");
+    let encoded = doc.encode(&saved).unwrap();
+    std::fs::write(&saved, encoded.bytes()).unwrap();
+    let read = python(READ_FORMATTED, &[&saved]);
+    assert_eq!(read.lines().collect::<Vec<_>>(), EXPECTED);
+}
