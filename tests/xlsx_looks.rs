@@ -30,9 +30,55 @@ fn python(script: &str, args: &[&Path]) -> String {
     String::from_utf8(out.stdout).unwrap()
 }
 
+fn open(path: &Path) -> Document {
+    Document::open_file(path, &OpenOptions::default()).unwrap_or_else(|e| panic!("{e}"))
+}
+
 fn run(doc: &mut Document, body: &str) -> Vec<String> {
     let src = format!("Sub Main()\n{body}\nEnd Sub\n");
     doc.run_macro(&src, "looks.bas", RunOptions::default()).unwrap_or_else(|e| panic!("{e}")).printed
+}
+
+/// openpyxl's book: A1 bold, B1 italic and centred, C1 filled solid red, D1 top-aligned
+/// and wrapped, E1 right-aligned; row 3 30 points high.
+const WRITE_FORMATTED: &str = r#"
+import sys
+from openpyxl import Workbook
+from openpyxl.styles import Alignment, Font, PatternFill
+wb = Workbook()
+ws = wb.active
+for col, v in zip("ABCDE", [1, 2, 3, 4, 5]):
+    ws[col + "1"] = v
+ws["A1"].font = Font(bold=True)
+ws["B1"].font = Font(italic=True)
+ws["B1"].alignment = Alignment(horizontal="center")
+ws["C1"].fill = PatternFill(fill_type="solid", fgColor="FFFF0000")
+ws["D1"].alignment = Alignment(vertical="top", wrap_text=True)
+ws["E1"].alignment = Alignment(horizontal="right")
+ws["A3"] = "tall"
+ws.row_dimensions[3].height = 30
+wb.save(sys.argv[1])
+"#;
+
+#[test]
+fn a_macro_reads_the_formatting_the_file_was_written_with() {
+    if !openpyxl_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let book = dir.path().join("formatted.xlsx");
+    python(WRITE_FORMATTED, &[&book]);
+    let mut doc = open(&book);
+    let printed = run(
+        &mut doc,
+        "    Debug.Print Range(\"A1\").Font.Bold & \"|\" & Range(\"B1\").Font.Bold & \"|\" & Range(\"B1\").Font.Italic\n\
+         \x20   Debug.Print Range(\"B1\").HorizontalAlignment & \"|\" & Range(\"E1\").HorizontalAlignment\n\
+         \x20   Debug.Print Range(\"C1\").Interior.Color & \"|\" & Range(\"A1\").Interior.Color\n\
+         \x20   Debug.Print Range(\"D1\").VerticalAlignment & \"|\" & Range(\"D1\").WrapText & \"|\" & Range(\"A1\").WrapText\n\
+         \x20   Debug.Print Rows(3).RowHeight & \"|\" & Rows(2).RowHeight",
+    );
+    // A cell without fill answers white (16777215); an unsized row Excel's standard 15.
+    assert_eq!(printed, ["True|False|True", "-4108|-4152", "255|16777215", "-4160|True|False", "30|15"]);
 }
 
 /// Reads back what the macro below formatted, one `name=value` a line.

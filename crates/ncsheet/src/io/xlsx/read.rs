@@ -20,6 +20,7 @@ use std::rc::Rc;
 
 use calamine::{Reader, Style, Xlsx};
 
+use crate::eval::format::cell_style::{self, CellStyle};
 use crate::eval::{Env, RowHidden, Value, XlError};
 use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::SheetId;
@@ -176,9 +177,9 @@ pub fn load_bytes_limited(bytes: &[u8], file: &Path, limits: ReadLimits) -> Resu
     }
     // After the sheets: calamine reads the first one up to its cells, which the pass above
     // has held to the limits.
-    let formats = number_formats(&mut calamine, &sheets, file)?;
+    let looks = style_looks(&mut calamine, &sheets, file)?;
     for (name, scan) in scans {
-        imported.layout.sheets.insert(name, sheet_layout(&scan, &formats));
+        imported.layout.sheets.insert(name, sheet_layout(&scan, &looks));
     }
     imported.layout.vba_project = package.read_optional("xl/vbaProject.bin").map_err(fail)?;
     imported.layout.workbook_code_name = package.code_name.clone();
@@ -280,18 +281,24 @@ fn reads_links(text: &str, book: &BookParts) -> bool {
     !book.links.is_empty() && text.contains('[') && matches!(external::resolve_links(text, &book.links), Cow::Owned(_))
 }
 
-/// The number format code of each style index (`None` for General), as calamine read the
-/// styles part. calamine hands styles out with a sheet's cell reader, which reads the sheet
-/// only up to its cells.
-fn number_formats(
+/// The look of each style index, as calamine read the styles part. calamine hands styles out
+/// with a sheet's cell reader, which reads the sheet only up to its cells.
+fn style_looks(
     calamine: &mut Xlsx<Cursor<&[u8]>>,
     sheets: &[SheetEntry],
     file: &Path,
-) -> Result<Vec<Option<String>>, XlsxError> {
+) -> Result<Vec<StyleLook>, XlsxError> {
     let Some(first) = sheets.iter().find(|s| s.kind == "worksheet") else { return Ok(Vec::new()) };
     let reader =
         calamine.worksheet_cells_reader(&first.name).map_err(|e| calamine_error(file, Some(&first.part), e))?;
-    Ok(style_formats(reader.styles()))
+    Ok(reader.styles().iter().map(|s| StyleLook { format: style_format(s), style: cell_style(s) }).collect())
+}
+
+/// What one style index (`<xf>` of `cellXfs`) shows: a number format code (`None` for
+/// General) and the rest of the look ncsheet keeps.
+struct StyleLook {
+    format: Option<String>,
+    style: CellStyle,
 }
 
 fn shared_strings(package: &mut Package, file: &Path) -> Result<Vec<Rc<str>>, XlsxError> {
@@ -945,18 +952,52 @@ fn define_names(
     }
 }
 
-/// The format code of each style index, `None` for General.
-fn style_formats(styles: &[Style]) -> Vec<Option<String>> {
-    styles
-        .iter()
-        .map(|s| {
-            let f = s.number_format.as_ref()?;
-            (f.format_id != Some(0) && !f.format_code.eq_ignore_ascii_case("General")).then(|| f.format_code.clone())
-        })
-        .collect()
+/// A style's format code, `None` for General.
+fn style_format(s: &Style) -> Option<String> {
+    let f = s.number_format.as_ref()?;
+    (f.format_id != Some(0) && !f.format_code.eq_ignore_ascii_case("General")).then(|| f.format_code.clone())
 }
 
-fn sheet_layout(scan: &SheetScan, formats: &[Option<String>]) -> SheetLayout {
+/// A style's alignment, bold, italic, wrap and solid fill as a macro reads them
+/// (`HorizontalAlignment`, `Font.Bold`, `Interior.Color`); the rest of it (fonts' names and
+/// sizes, borders, patterns) ncsheet does not keep.
+fn cell_style(s: &Style) -> CellStyle {
+    use calamine::{FillPattern, FontStyle, FontWeight, HorizontalAlignment as H, VerticalAlignment as V};
+    use cell_style::*;
+    let font = s.font.as_ref();
+    let alignment = s.alignment.as_ref();
+    let horizontal = alignment.and_then(|a| match a.horizontal {
+        H::Left => Some(XL_LEFT),
+        H::Center => Some(XL_CENTER),
+        H::CenterContinuous => Some(XL_CENTER_ACROSS_SELECTION),
+        H::Right => Some(XL_RIGHT),
+        H::Justify => Some(XL_JUSTIFY),
+        H::Distributed => Some(XL_DISTRIBUTED),
+        H::Fill => Some(XL_FILL),
+        _ => None,
+    });
+    let vertical = alignment.and_then(|a| match a.vertical {
+        V::Top => Some(XL_TOP),
+        V::Center => Some(XL_CENTER),
+        V::Justify => Some(XL_JUSTIFY),
+        V::Distributed => Some(XL_DISTRIBUTED),
+        _ => None,
+    });
+    // A solid fill's colour is its foreground (ECMA-376 18.8.32 patternFill); as VBA's RGB
+    // gives it, red in the low byte.
+    let solid = s.fill.as_ref().filter(|f| f.pattern == FillPattern::Solid);
+    let rgb = |c: &calamine::Color| u32::from(c.red) | u32::from(c.green) << 8 | u32::from(c.blue) << 16;
+    CellStyle {
+        horizontal,
+        vertical,
+        bold: font.is_some_and(|f| f.weight == FontWeight::Bold),
+        italic: font.is_some_and(|f| f.style == FontStyle::Italic),
+        wrap: alignment.is_some_and(|a| a.wrap_text),
+        fill: solid.and_then(|f| f.foreground_color.as_ref()).map(rgb),
+    }
+}
+
+fn sheet_layout(scan: &SheetScan, looks: &[StyleLook]) -> SheetLayout {
     let mut layout = SheetLayout {
         code_name: scan.code_name.clone(),
         active_cell: scan.active_cell,
@@ -971,10 +1012,15 @@ fn sheet_layout(scan: &SheetScan, formats: &[Option<String>]) -> SheetLayout {
         }
     }
     for &(pos, style) in &scan.styled {
-        if let Some(Some(code)) = formats.get(style as usize) {
+        let Some(look) = looks.get(style as usize) else { continue };
+        if let Some(code) = &look.format {
             layout.look.number_formats.insert(pos, code.clone());
         }
+        if !look.style.is_plain() {
+            layout.look.cell_styles.insert(pos, look.style);
+        }
     }
+    layout.look.row_heights = scan.row_heights.clone();
     layout
 }
 

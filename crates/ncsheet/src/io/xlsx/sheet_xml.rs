@@ -43,6 +43,9 @@ pub struct SheetScan {
     pub active_cell: Option<Pos>,
     /// Rows `<row hidden="1">` (0-based).
     pub hidden_rows: Vec<u32>,
+    /// Rows a user sized (`<row ht="30" customHeight="1">`): row (0-based) and height in
+    /// points. A height Excel fitted to the row's font is left out: it follows the cells.
+    pub row_heights: Vec<(u32, f64)>,
     /// The sheet's `<autoFilter ref>`, and whether it filters on a column.
     pub auto_filter: Option<(Rect, bool)>,
 }
@@ -280,6 +283,7 @@ impl SheetScanner<'_> {
                 if tag.attr("hidden").is_some_and(|h| h == b"1" || h == b"true") {
                     self.scan.hidden_rows.push(self.row);
                 }
+                self.row_height(tag);
                 self.col = 0;
             }
             b"row" => {
@@ -473,6 +477,17 @@ impl SheetScanner<'_> {
         if let (Some(min), Some(max), Some(width)) = (min, max, width) {
             if min >= 1 && min <= max && max <= MAX_COLS && width.is_finite() && width >= 0.0 {
                 self.scan.widths.push((min - 1, max - 1, width));
+            }
+        }
+    }
+
+    /// A `<row>`'s height when a user set it (`customHeight`); Excel's limit is 409 points.
+    fn row_height(&mut self, tag: &Tag) {
+        let custom = tag.attr("customHeight").is_some_and(|h| h == b"1" || h == b"true");
+        let height = tag.attr("ht").and_then(|h| std::str::from_utf8(h).ok()?.parse::<f64>().ok());
+        if let (true, Some(height)) = (custom, height) {
+            if (0.0..=409.0).contains(&height) {
+                self.scan.row_heights.push((self.row, height));
             }
         }
     }
