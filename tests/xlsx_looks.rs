@@ -118,3 +118,33 @@ fn a_macro_run_on_the_document_formats_the_workbook_it_saves_anew() {
     let read = python(READ_FORMATTED, &[&saved]);
     assert_eq!(read.lines().collect::<Vec<_>>(), EXPECTED);
 }
+
+/// Reads back A1's bold, B1's italic and C1's fill of a rewritten book.
+const READ_REWRITTEN: &str = r#"
+import sys
+from openpyxl import load_workbook
+ws = load_workbook(sys.argv[1]).active
+print("A1 bold=" + str(bool(ws["A1"].font.b)))
+print("B1 italic=" + str(bool(ws["B1"].font.i)))
+print("C1 fill=" + str(ws["C1"].fill.fgColor.rgb))
+"#;
+
+#[test]
+fn a_package_written_anew_keeps_the_files_styles_and_the_macros_and_says_only_what_it_loses() {
+    if !openpyxl_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let book = dir.path().join("formatted.xlsx");
+    python(WRITE_FORMATTED, &[&book]);
+    let mut doc = open(&book);
+    // A deleted row makes the save write the package anew (the patch keeps rows in place).
+    run(&mut doc, "    Range(\"B1\").Font.Italic = True\n    Rows(5).Delete");
+    let saved = dir.path().join("saved.xlsx");
+    let encoded = doc.encode(&saved).unwrap();
+    let anew = encoded.losses.iter().find(|l| l.contains("written anew")).expect("a rewrite");
+    assert!(!anew.contains("styles"), "{anew}");
+    std::fs::write(&saved, encoded.bytes()).unwrap();
+    let read = python(READ_REWRITTEN, &[&saved]);
+    assert_eq!(read.lines().collect::<Vec<_>>(), ["A1 bold=True", "B1 italic=True", "C1 fill=FFFF0000"]);
+}
