@@ -148,3 +148,47 @@ fn a_package_written_anew_keeps_the_files_styles_and_the_macros_and_says_only_wh
     let read = python(READ_REWRITTEN, &[&saved]);
     assert_eq!(read.lines().collect::<Vec<_>>(), ["A1 bold=True", "B1 italic=True", "C1 fill=FFFF0000"]);
 }
+
+/// A book with values, column B 12 characters wide and E5 italic: what the patched save
+/// must keep besides the macro's looks.
+const WRITE_PLAIN: &str = r#"
+import sys
+from openpyxl import Workbook
+from openpyxl.styles import Font
+wb = Workbook()
+ws = wb.active
+ws["A1"] = 1
+ws["B2"] = 2
+ws["E5"] = "keep"
+ws["E5"].font = Font(italic=True)
+ws.column_dimensions["B"].width = 12
+wb.save(sys.argv[1])
+"#;
+
+/// What the patched save kept of the file's own look.
+const READ_KEPT: &str = r#"
+import sys
+from openpyxl import load_workbook
+ws = load_workbook(sys.argv[1]).active
+print("E5 italic=" + str(bool(ws["E5"].font.i)) + " B width=%.2f" % ws.column_dimensions["B"].width)
+"#;
+
+#[test]
+fn a_save_over_the_files_own_package_writes_the_macros_formats() {
+    if !openpyxl_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let book = dir.path().join("plain.xlsx");
+    python(WRITE_PLAIN, &[&book]);
+    let mut doc = open(&book);
+    run(&mut doc, FORMAT);
+    let saved = dir.path().join("saved.xlsx");
+    let encoded = doc.encode(&saved).unwrap();
+    // Patched, not written anew, and nothing of the macro's formatting lost.
+    assert_eq!(encoded.losses, Vec::<String>::new());
+    std::fs::write(&saved, encoded.bytes()).unwrap();
+    let read = python(READ_FORMATTED, &[&saved]);
+    assert_eq!(read.lines().collect::<Vec<_>>(), EXPECTED);
+    assert_eq!(python(READ_KEPT, &[&saved]).trim(), "E5 italic=True B width=12.00");
+}

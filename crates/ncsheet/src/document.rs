@@ -266,8 +266,8 @@ impl Document {
         result
     }
 
-    /// The look a macro left each sheet with, as the document's; a change from the file's
-    /// is noted for the save (`Layout::looks_edited`).
+    /// The look a macro left each sheet with, as the document's; the file's own is kept
+    /// beside it for a save over the file (`SheetLayout::file_look`).
     fn keep_looks(&mut self, looks: Vec<(String, SheetLook)>) {
         if looks.is_empty() {
             return;
@@ -276,10 +276,11 @@ impl Document {
         for (name, look) in looks {
             let look = look.in_order();
             let sheet = layout.sheets.entry(name).or_default();
-            if sheet.look.clone().in_order() != look {
-                layout.looks_edited = true;
+            if sheet.look.clone().in_order() == look {
+                continue;
             }
-            sheet.look = look;
+            let was = std::mem::replace(&mut sheet.look, look);
+            sheet.file_look.get_or_insert(was);
         }
     }
 

@@ -401,13 +401,8 @@ pub fn encode_save_with(
         }
         (Format::Xlsx, Origin::Xlsx(source)) if source.holds_macros() == is_xlsm(path) => {
             let changes = wb.changes().unwrap_or_default();
-            match xlsx::patch(source, wb, &changes)? {
-                Ok(mut patched) => {
-                    if layout.is_some_and(|l| l.looks_edited) {
-                        patched.losses.push(LOOKS_NOT_PATCHED.to_string());
-                    }
-                    encoded(patched.bytes, patched.losses)
-                }
+            match xlsx::patch(source, wb, &changes, layout)? {
+                Ok(patched) => encoded(patched.bytes, patched.losses),
                 Err(xlsx::Unpatchable(why)) => {
                     let default = xlsx::Layout::default();
                     let bytes = xlsx::to_bytes_for(wb, layout.unwrap_or(&default), path)?;
@@ -438,12 +433,6 @@ pub fn encode_save_with(
     encoded.losses.extend(formulas_replaced(&names));
     Ok(encoded)
 }
-
-/// What a patched original loses of a macro's formatting: the patch writes values and
-/// formulas into the file's own cells and styles.
-const LOOKS_NOT_PATCHED: &str = "the number formats, cell styles, column widths and row heights the macro set are \
-     not written into the original package (it keeps its own); save to a new .xlsx from a csv, or after adding a \
-     sheet, to have them written";
 
 /// The refusal to write a file of a format ncsheet only reads.
 fn read_only(path: &Path, format: Format) -> Error {

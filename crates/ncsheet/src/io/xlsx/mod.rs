@@ -37,6 +37,7 @@ use crate::workbook::{SheetLook, Workbook};
 mod check;
 mod external;
 mod patch;
+mod patch_styles;
 mod pivot;
 mod raw;
 mod read;
@@ -107,9 +108,6 @@ pub struct Layout {
     pub external_links: usize,
     /// The link parts and the formulas that read them, to write back in a package made new.
     pub links: KeptLinks,
-    /// A macro changed how cells look (number formats, styles, widths, heights): a package
-    /// written anew keeps it; a patched original does not, and says so.
-    pub looks_edited: bool,
 }
 
 /// Links to other workbooks as the file had them: a package written anew keeps the parts,
@@ -168,6 +166,9 @@ pub struct SheetLayout {
     /// How the sheet looks: number formats, cell styles, widths, heights (a macro's run
     /// starts from it and leaves its changes in it).
     pub look: SheetLook,
+    /// The look as the file had it, kept when a macro first changed `look`: a save over the
+    /// file's own package writes what differs (new cell styles, widths, heights).
+    pub file_look: Option<SheetLook>,
     /// The sheet's VBA code name (`Sheet1`), if the file gave one.
     pub code_name: Option<String>,
     /// The sheet's active cell as the file saved it (for a macro's `ActiveCell`).

@@ -22,9 +22,10 @@ use crate::formula::address::{parse_cell, parse_rect, Pos, Rect};
 use crate::formula::ast::SheetId;
 use crate::workbook::{Changes, Workbook};
 
+use super::patch_styles::{with_height, with_widths, Restyle, StyleSheet};
 use super::raw::{zip_error, Package};
 use super::syntax;
-use super::{ErrorKind, XlsxError};
+use super::{ErrorKind, Layout, XlsxError};
 use crate::io::Source;
 
 /// The saved package and what it could not keep.
@@ -46,10 +47,18 @@ enum Change {
     Input,
     /// Only its value changed (a dependent of an edited cell): a new cached value.
     Value,
+    /// Only its look changed (a macro formatted it): a new style.
+    Style,
 }
 
-/// Patches `source` (the file the workbook was read from) with the workbook's changes.
-pub fn patch(source: &Source, wb: &Workbook, changes: &Changes) -> Result<Result<Patched, Unpatchable>, XlsxError> {
+/// Patches `source` (the file the workbook was read from) with the workbook's changes, and
+/// with the looks `layout` holds where a macro changed them (`SheetLayout::file_look`).
+pub fn patch(
+    source: &Source,
+    wb: &Workbook,
+    changes: &Changes,
+    layout: Option<&Layout>,
+) -> Result<Result<Patched, Unpatchable>, XlsxError> {
     let fail = |part: Option<&str>, kind, message: String| XlsxError::new(&source.file, part, kind, message);
     if changes.sheets {
         return Ok(Err(Unpatchable("sheets were added".into())));
@@ -77,6 +86,21 @@ pub fn patch(source: &Source, wb: &Workbook, changes: &Changes) -> Result<Result
         let cells = &mut by_part.entry(entry.part.clone()).or_insert_with(|| (sheet, BTreeMap::new())).1;
         cells.insert((pos.row, pos.col), change);
     }
+    let mut restyles: BTreeMap<String, Restyle> = BTreeMap::new();
+    for entry in &package.sheets {
+        let (Some(sheet), Some(layout)) = (wb.sheet_id(&entry.name), layout.and_then(|l| l.sheets.get(&entry.name)))
+        else {
+            continue;
+        };
+        let Some(restyle) = layout.file_look.as_ref().map(|was| Restyle::between(was, &layout.look)) else { continue };
+        if !restyle.is_empty() {
+            let cells = &mut by_part.entry(entry.part.clone()).or_insert_with(|| (sheet, BTreeMap::new())).1;
+            for &key in restyle.cells.keys() {
+                cells.entry(key).or_insert(Change::Style);
+            }
+            restyles.insert(entry.part.clone(), restyle);
+        }
+    }
     let workbook_part = package.workbook_parts.first().cloned().unwrap_or_else(|| "xl/workbook.xml".into());
     let states_changed =
         package.sheets.iter().any(|e| wb.sheet_id(&e.name).is_some_and(|id| wb.sheet_visibility(id) != e.visibility));
@@ -92,7 +116,23 @@ pub fn patch(source: &Source, wb: &Workbook, changes: &Changes) -> Result<Result
     let (wb_dir, wb_file) = workbook_part.rsplit_once('/').unwrap_or(("", &workbook_part));
     let wb_rels =
         if wb_dir.is_empty() { format!("_rels/{wb_file}.rels") } else { format!("{wb_dir}/_rels/{wb_file}.rels") };
+    let styles_part = styles_part(&package, &zip, wb_dir);
+    let mut styles = match restyles.is_empty() {
+        true => None,
+        false => {
+            let Some(part) = &styles_part else {
+                return Ok(Err(Unpatchable("the package has no styles part to add the macro's styles to".into())));
+            };
+            let mut entry = zip.by_name(part).map_err(|e| {
+                let (p, k, m) = zip_error(Some(part), e);
+                fail(p.as_deref(), k, m)
+            })?;
+            let xml = read_text(&mut entry, part, &source.file)?;
+            Some(StyleSheet::read(xml).map_err(|m| fail(Some(part), ErrorKind::Damaged, m))?)
+        }
+    };
     let mut out = zip::ZipWriter::new(Cursor::new(Vec::with_capacity(bytes.len() + 4096)));
+    let mut styles_options = None;
     for i in 0..zip.len() {
         let mut entry = zip.by_index(i).map_err(|e| {
             let (p, k, m) = zip_error(None, e);
@@ -107,9 +147,14 @@ pub fn patch(source: &Source, wb: &Workbook, changes: &Changes) -> Result<Result
             None
         } else if Some(&name) == calc_chain.as_ref() {
             continue;
+        } else if styles.is_some() && Some(&name) == styles_part.as_ref() {
+            // Written last, once the sheets have added their styles.
+            styles_options = Some(zip::write::SimpleFileOptions::default().compression_method(entry.compression()));
+            continue;
         } else if let Some((sheet, cells)) = by_part.get(&name) {
             let xml = read_text(&mut entry, &name, &source.file)?;
-            let patched = patch_sheet(&xml, wb, *sheet, cells, &mut losses)
+            let looks = restyles.get(&name).zip(styles.as_mut());
+            let patched = patch_sheet(&xml, (wb, *sheet), cells, looks, &mut losses)
                 .map_err(|m| fail(Some(&name), ErrorKind::Unwritable, m))?;
             Some(patched)
         } else if name == workbook_part {
@@ -134,8 +179,28 @@ pub fn patch(source: &Source, wb: &Workbook, changes: &Changes) -> Result<Result
             }
         }
     }
+    if let (Some(styles), Some(part), Some(options)) = (styles, &styles_part, styles_options) {
+        let zerr = |e: zip::result::ZipError| {
+            let (p, k, m) = zip_error(Some(part), e);
+            fail(p.as_deref(), k, m)
+        };
+        out.start_file(part.clone(), options.compression_level(Some(2))).map_err(zerr)?;
+        out.write_all(styles.finish().as_bytes()).map_err(|e| zerr(e.into()))?;
+    }
     let bytes = out.finish().map_err(|e| fail(None, ErrorKind::Io, e.to_string()))?.into_inner();
     Ok(Ok(Patched { bytes, losses }))
+}
+
+/// The package's styles part: the one the workbook's relationships name, else the usual.
+fn styles_part<R: Read + std::io::Seek>(package: &Package, zip: &zip::ZipArchive<R>, wb_dir: &str) -> Option<String> {
+    let named = package.workbook_parts.iter().find(|p| p.to_ascii_lowercase().ends_with("/styles.xml"));
+    let usual = format!("{wb_dir}/styles.xml");
+    named.cloned().or_else(|| {
+        (0..zip.len()).find_map(|i| {
+            let name = zip.name_for_index(i)?.ok()?;
+            name.eq_ignore_ascii_case(&usual).then(|| name.to_string())
+        })
+    })
 }
 
 fn read_text<R: Read>(entry: &mut R, name: &str, source: &Path) -> Result<String, XlsxError> {
@@ -237,7 +302,7 @@ fn with_sheet_states(xml: &str, package: &Package, wb: &Workbook) -> String {
     out
 }
 
-fn find_tag(xml: &str, name: &str, from: usize) -> Option<usize> {
+pub(super) fn find_tag(xml: &str, name: &str, from: usize) -> Option<usize> {
     let pat = format!("<{name}");
     let mut at = from;
     while let Some(i) = xml[at..].find(&pat) {
@@ -253,7 +318,7 @@ fn find_tag(xml: &str, name: &str, from: usize) -> Option<usize> {
 /// The prefix (with its colon, or "") of the part's root element. Some generators write
 /// `<x:worksheet xmlns:x="…main">` and every element of the part with that prefix; the
 /// elements the patch looks for and writes take the same one.
-fn root_prefix(xml: &str) -> &str {
+pub(super) fn root_prefix(xml: &str) -> &str {
     let mut rest = xml;
     while let Some(at) = rest.find('<') {
         rest = &rest[at + 1..];
@@ -267,7 +332,7 @@ fn root_prefix(xml: &str) -> &str {
 }
 
 /// An attribute's value in a start tag (double or single quotes).
-fn attr<'a>(tag: &'a str, name: &str) -> Option<&'a str> {
+pub(super) fn attr<'a>(tag: &'a str, name: &str) -> Option<&'a str> {
     let bytes = tag.as_bytes();
     let mut at = 0;
     while let Some(i) = tag[at..].find(name) {
@@ -290,7 +355,7 @@ fn attr<'a>(tag: &'a str, name: &str) -> Option<&'a str> {
 }
 
 /// The start tag without one attribute.
-fn remove_attr(tag: &str, name: &str) -> String {
+pub(super) fn remove_attr(tag: &str, name: &str) -> String {
     let Some(value) = attr(tag, name) else { return tag.to_string() };
     let pat_start = tag.find(&format!(" {name}")).or_else(|| tag.find(name)).unwrap_or(0);
     let value_at = tag[pat_start..].find(value).map(|i| pat_start + i).unwrap_or(pat_start);
@@ -303,16 +368,20 @@ fn remove_attr(tag: &str, name: &str) -> String {
 /// prefix (`<x:c>`); new ones are written with the same.
 fn patch_sheet(
     xml: &str,
-    wb: &Workbook,
-    sheet: SheetId,
+    (wb, sheet): (&Workbook, SheetId),
     cells: &BTreeMap<(u32, u32), Change>,
+    looks: Option<(&Restyle, &mut StyleSheet)>,
     losses: &mut Vec<String>,
 ) -> Result<String, String> {
     let ns = root_prefix(xml);
     let q = |name: &str| format!("{ns}{name}");
     let (sheet_data, row_tag, c_tag) = (q("sheetData"), q("row"), q("c"));
     let arrays = broken_arrays(xml, ns, cells)?;
+    let (restyle, styles) = looks.unzip();
     let mut p = SheetPatch {
+        heights: restyle.map(|r| r.heights.clone()).unwrap_or_default(),
+        restyle,
+        styles,
         wb,
         sheet,
         ns,
@@ -332,7 +401,11 @@ fn patch_sheet(
     }
     let start = find_tag(xml, &sheet_data, 0).ok_or_else(|| format!("no <{sheet_data}> element"))?;
     let open_end = start + xml[start..].find('>').ok_or("unterminated <sheetData>")?;
-    p.out.push_str(&with_dimension(&xml[..start], ns, cells.keys()));
+    let head = with_dimension(&xml[..start], ns, cells.keys());
+    match p.restyle {
+        Some(r) if !r.widths.is_empty() => p.out.push_str(&with_widths(&head, ns, &r.widths)),
+        _ => p.out.push_str(&head),
+    }
     if xml[..open_end].ends_with('/') {
         p.out.push_str(&format!("<{sheet_data}>"));
         p.flush_rows_before(u32::MAX);
@@ -366,6 +439,8 @@ fn patch_sheet(
             };
             col = None;
             p.flush_rows_before(row);
+            let sized = p.heights.remove(&row).map(|h| with_height(tag, h));
+            let tag = sized.as_deref().unwrap_or(tag);
             if tag.ends_with("/>") && p.has_row(row) {
                 p.out.push_str(tag[..tag.len() - 2].trim_end());
                 p.out.push('>');
@@ -474,6 +549,11 @@ struct SheetPatch<'a> {
     /// Anchors of legacy array formulas an edit fell inside: saved as single-cell formulas.
     broken_arrays: HashSet<(u32, u32)>,
     losses: &'a mut Vec<String>,
+    /// The looks a macro changed, and the styles part their new styles go to.
+    restyle: Option<&'a Restyle>,
+    styles: Option<&'a mut StyleSheet>,
+    /// Rows whose height changed, not reached yet.
+    heights: BTreeMap<u32, f64>,
 }
 
 impl SheetPatch<'_> {
@@ -481,19 +561,23 @@ impl SheetPatch<'_> {
         self.pending.range((row, 0)..=(row, u32::MAX)).next().is_some()
     }
 
-    /// New `<row>` elements for the pending cells of rows before `row`.
+    /// New `<row>` elements for the pending cells and heights of rows before `row`.
     fn flush_rows_before(&mut self, row: u32) {
-        while let Some((&(r, _), _)) = self.pending.first_key_value() {
-            if r >= row {
-                break;
-            }
+        loop {
+            let next_cell = self.pending.first_key_value().map(|(&(r, _), _)| r);
+            let next_height = self.heights.first_key_value().map(|(&r, _)| r);
+            let Some(r) = next_cell.into_iter().chain(next_height).min().filter(|&r| r < row) else { break };
+            let ns = self.ns;
+            let height = self.heights.remove(&r);
+            let tag = format!("<{ns}row r=\"{}\">", r + 1);
+            let tag = height.map_or(tag.clone(), |h| with_height(&tag, h));
             let mut cells = String::new();
             for (&(_, c), &change) in self.pending.clone().range((r, 0)..=(r, u32::MAX)) {
                 cells.push_str(&self.new_cell(None, Pos::new(r, c), change));
             }
             self.pending.retain(|&(pr, _), _| pr != r);
-            if !cells.is_empty() {
-                self.out.push_str(&format!("<{ns}row r=\"{}\">{cells}</{ns}row>", r + 1, ns = self.ns));
+            if !cells.is_empty() || height.is_some() {
+                self.out.push_str(&format!("{tag}{cells}</{ns}row>"));
             }
         }
     }
@@ -527,6 +611,15 @@ impl SheetPatch<'_> {
     }
 
     fn replace(&mut self, element: &str, tag: &str, pos: Pos, change: Change) {
+        if change == Change::Style {
+            let Some(s) = self.new_style(Some(tag), pos) else { return self.copy(element, pos) };
+            let closing = if tag.ends_with("/>") { "/>" } else { ">" };
+            let head = remove_attr(&tag[..tag.len() - closing.len()], "s");
+            let start = self.out.len();
+            self.copy(element, pos);
+            self.out.replace_range(start..start + tag.len(), &format!("{}{s}{closing}", head.trim_end()));
+            return;
+        }
         if change == Change::Input {
             if let Some((f, _)) = formula_element(element, self.ns) {
                 let area = attr(f, "ref").filter(|r| r.contains(':'));
@@ -549,6 +642,15 @@ impl SheetPatch<'_> {
         self.out.push_str(&cell);
     }
 
+    /// The ` s="…"` of a cell a macro formatted (`None`: its look did not change): the
+    /// file's style of the cell with the look the macro left.
+    fn new_style(&mut self, tag: Option<&str>, pos: Pos) -> Option<String> {
+        let (format, look) = self.restyle?.cells.get(&(pos.row, pos.col))?;
+        let old = tag.and_then(|t| attr(t, "s")).and_then(|s| s.parse().ok()).unwrap_or(0);
+        let id = self.styles.as_mut()?.style_for(old, format.as_deref(), *look);
+        Some(if id == 0 { String::new() } else { format!(" s=\"{id}\"") })
+    }
+
     /// The `<f>` element of a cell's own formula; an array formula an edit fell inside is
     /// kept as an array formula over its own cell (see `break_fixed_array` in workbook).
     fn own_formula(&self, pos: Pos) -> Option<String> {
@@ -568,12 +670,18 @@ impl SheetPatch<'_> {
     /// change, its formula element as it was).
     fn new_cell(&mut self, original: Option<(&str, &str)>, pos: Pos, change: Change) -> String {
         let ns = self.ns;
-        let style = original.and_then(|(_, tag)| attr(tag, "s")).map(|s| format!(" s=\"{s}\"")).unwrap_or_default();
+        let style = self.new_style(original.map(|(_, tag)| tag), pos);
+        let style = style.or_else(|| original.and_then(|(_, tag)| attr(tag, "s")).map(|s| format!(" s=\"{s}\"")));
+        let style = style.unwrap_or_default();
+        if change == Change::Style {
+            // A formatted cell the file did not hold: empty, with its style.
+            return format!("<{ns}c r=\"{pos}\"{style}/>");
+        }
         let value = self.wb.value(self.sheet, pos);
         let formula = match change {
             Change::Input => self.own_formula(pos),
             Change::Value if self.broken_arrays.contains(&(pos.row, pos.col)) => self.own_formula(pos),
-            Change::Value => {
+            Change::Value | Change::Style => {
                 original.and_then(|(e, _)| formula_element(e, ns)).map(|(_, r)| original.unwrap().0[r].to_string())
             }
         };

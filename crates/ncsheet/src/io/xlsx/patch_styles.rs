@@ -1,0 +1,446 @@
+//! The styles part (`xl/styles.xml`) of a package saved by patching, with the cell styles a
+//! macro gave cells appended: each new style is the cell's old one (`<xf>` of `cellXfs`:
+//! its border, protection and the rest kept) with the number format, font, fill and
+//! alignment the cell's look asks for. Fonts are the old style's font with `<b/>` and `<i/>`
+//! set as asked; fills are solid (ECMA-376 18.8.32: a solid fill's colour is its
+//! foreground). Every existing element stays where it is, so the styles other cells name
+//! keep their numbers.
+
+use std::collections::{BTreeMap, BTreeSet, HashMap};
+
+use crate::eval::format::cell_style::{self, CellStyle};
+use crate::formula::address::Pos;
+use crate::workbook::SheetLook;
+
+use super::patch::{attr, find_tag, remove_attr, root_prefix};
+
+/// The first number a format of the file's own may take (ids below are Excel's built-ins).
+const FIRST_CUSTOM_FORMAT: u32 = 164;
+
+/// Excel's built-in number formats whose code is the same in every locale (ECMA-376
+/// 18.8.30), by id.
+const BUILTIN_FORMATS: &[(u32, &str)] = &[
+    (0, "General"),
+    (1, "0"),
+    (2, "0.00"),
+    (3, "#,##0"),
+    (4, "#,##0.00"),
+    (9, "0%"),
+    (10, "0.00%"),
+    (11, "0.00E+00"),
+    (12, "# ?/?"),
+    (13, "# ??/??"),
+    (45, "mm:ss"),
+    (46, "[h]:mm:ss"),
+    (47, "mmss.0"),
+    (48, "##0.0E+0"),
+    (49, "@"),
+];
+
+/// One container of the styles part (`<fonts>`): where its children end, and them.
+struct Container {
+    /// Byte offset of `</fonts>` (or of the `/>` of an empty `<fonts/>`).
+    close: usize,
+    children: Vec<String>,
+    added: Vec<String>,
+}
+
+/// The styles part with the styles a patched save adds.
+pub(super) struct StyleSheet {
+    xml: String,
+    ns: String,
+    formats: Vec<(u32, String)>,
+    new_formats: Vec<(u32, String)>,
+    fonts: Container,
+    fills: Container,
+    xfs: Container,
+    /// Styles made already: (old style, format, look) → new style.
+    made: HashMap<(u32, Option<String>, CellStyle), u32>,
+}
+
+impl StyleSheet {
+    pub(super) fn read(xml: String) -> Result<StyleSheet, String> {
+        let ns = root_prefix(&xml).to_string();
+        let q = |name: &str| format!("{ns}{name}");
+        let formats = children(&xml, &q("numFmts"), &q("numFmt"))
+            .map(|c| {
+                c.children
+                    .iter()
+                    .filter_map(|f| Some((attr(f, "numFmtId")?.parse().ok()?, unescape(attr(f, "formatCode")?))))
+                    .collect()
+            })
+            .unwrap_or_default();
+        let fonts = children(&xml, &q("fonts"), &q("font")).ok_or("no <fonts>")?;
+        let fills = children(&xml, &q("fills"), &q("fill")).ok_or("no <fills>")?;
+        let xfs = children(&xml, &q("cellXfs"), &q("xf")).ok_or("no <cellXfs>")?;
+        Ok(StyleSheet { xml, ns, formats, new_formats: Vec::new(), fonts, fills, xfs, made: HashMap::new() })
+    }
+
+    /// The style a cell of style `old` gets to show `format` (`None`: General) and `look`.
+    pub(super) fn style_for(&mut self, old: u32, format: Option<&str>, look: CellStyle) -> u32 {
+        let key = (old, format.map(str::to_string), look);
+        if let Some(&s) = self.made.get(&key) {
+            return s;
+        }
+        let base = self.xfs.children.get(old as usize).or(self.xfs.children.first()).cloned();
+        let base = base.unwrap_or_else(|| format!("<{}xf/>", self.ns));
+        let format_id = self.format_id(format.unwrap_or("General"));
+        let font_id = self.font_for(attr(&base, "fontId").and_then(|f| f.parse().ok()).unwrap_or(0), look);
+        let fill_id = self.fill_for(look.fill);
+        let xf = self.xf(&base, format_id, font_id, fill_id, look);
+        let id = (self.xfs.children.len() + self.xfs.added.len()) as u32;
+        self.xfs.added.push(xf);
+        self.made.insert(key, id);
+        id
+    }
+
+    /// A built-in format's id, the file's own format's with the same code, or a new one.
+    fn format_id(&mut self, code: &str) -> u32 {
+        if let Some((id, _)) = BUILTIN_FORMATS.iter().find(|(_, c)| c.eq_ignore_ascii_case(code)) {
+            return *id;
+        }
+        let known = self.formats.iter().chain(&self.new_formats).find(|(_, c)| c == code);
+        if let Some((id, _)) = known {
+            return *id;
+        }
+        let highest = self.formats.iter().chain(&self.new_formats).map(|(id, _)| *id).max();
+        let id = highest.map_or(FIRST_CUSTOM_FORMAT, |h| (h + 1).max(FIRST_CUSTOM_FORMAT));
+        self.new_formats.push((id, code.to_string()));
+        id
+    }
+
+    /// The font `old` with bold and italic as `look` has them.
+    fn font_for(&mut self, old: u32, look: CellStyle) -> u32 {
+        let ns = &self.ns;
+        let base = self.fonts.children.get(old as usize).or(self.fonts.children.first());
+        let base = base.cloned().unwrap_or_else(|| format!("<{ns}font/>"));
+        let mut inner = match base.find('>') {
+            Some(gt) if !base[..gt].ends_with('/') => {
+                base[gt + 1..].trim_end().trim_end_matches(&format!("</{ns}font>")).to_string()
+            }
+            _ => String::new(),
+        };
+        for name in ["b", "i"] {
+            inner = without_element(&inner, &format!("{ns}{name}"));
+        }
+        let mut marks = String::new();
+        if look.bold {
+            marks.push_str(&format!("<{ns}b/>"));
+        }
+        if look.italic {
+            marks.push_str(&format!("<{ns}i/>"));
+        }
+        let font = format!("<{ns}font>{marks}{inner}</{ns}font>");
+        find_or_add(&mut self.fonts, font)
+    }
+
+    /// Fill 0 (the file's "none") without a colour, else a solid fill of it.
+    fn fill_for(&mut self, colour: Option<u32>) -> u32 {
+        let Some(rgb) = colour else { return 0 };
+        let ns = &self.ns;
+        let (r, g, b) = (rgb & 0xFF, (rgb >> 8) & 0xFF, (rgb >> 16) & 0xFF);
+        let fill = format!(
+            "<{ns}fill><{ns}patternFill patternType=\"solid\"><{ns}fgColor rgb=\"FF{r:02X}{g:02X}{b:02X}\"/>\
+             <{ns}bgColor indexed=\"64\"/></{ns}patternFill></{ns}fill>"
+        );
+        find_or_add(&mut self.fills, fill)
+    }
+
+    /// The `<xf>` `base` with the format, font, fill and alignment given.
+    fn xf(&self, base: &str, format_id: u32, font_id: u32, fill_id: u32, look: CellStyle) -> String {
+        let ns = &self.ns;
+        let gt = base.find('>').unwrap_or(base.len() - 1);
+        let empty = base[..gt].ends_with('/');
+        let mut tag = base[..gt].trim_end_matches('/').to_string();
+        for name in ["numFmtId", "fontId", "fillId", "applyNumberFormat", "applyFont", "applyFill", "applyAlignment"] {
+            tag = remove_attr(&tag, name);
+        }
+        let tag = format!(
+            "{} numFmtId=\"{format_id}\" fontId=\"{font_id}\" fillId=\"{fill_id}\" applyNumberFormat=\"1\" \
+             applyFont=\"1\" applyFill=\"1\" applyAlignment=\"1\">",
+            tag.trim_end()
+        );
+        let inner = if empty {
+            String::new()
+        } else {
+            base[gt + 1..].trim_end().trim_end_matches(&format!("</{ns}xf>")).to_string()
+        };
+        let inner = without_element(&inner, &format!("{ns}alignment"));
+        format!("{tag}{}{inner}</{ns}xf>", alignment(ns, look))
+    }
+
+    /// The styles part with the new formats, fonts, fills and styles appended and counted.
+    pub(super) fn finish(self) -> String {
+        let ns = &self.ns;
+        let mut inserts: Vec<(usize, String)> = Vec::new();
+        let mut counts: Vec<(String, usize)> = Vec::new();
+        for (name, c) in [("fonts", &self.fonts), ("fills", &self.fills), ("cellXfs", &self.xfs)] {
+            if !c.added.is_empty() {
+                inserts.push((c.close, c.added.concat()));
+                counts.push((format!("{ns}{name}"), c.children.len() + c.added.len()));
+            }
+        }
+        let mut xml = self.xml.clone();
+        if !self.new_formats.is_empty() {
+            let made: String = self
+                .new_formats
+                .iter()
+                .map(|(id, code)| format!("<{ns}numFmt numFmtId=\"{id}\" formatCode=\"{}\"/>", escape(code)))
+                .collect();
+            let total = self.formats.len() + self.new_formats.len();
+            match children(&xml, &format!("{ns}numFmts"), &format!("{ns}numFmt")) {
+                Some(c) => {
+                    inserts.push((c.close, made));
+                    counts.push((format!("{ns}numFmts"), total));
+                }
+                None => {
+                    // `<numFmts>` comes first in the styleSheet (ECMA-376 18.8.39).
+                    let at = find_tag(&xml, &format!("{ns}fonts"), 0).unwrap_or(self.fonts.close);
+                    inserts.push((at, format!("<{ns}numFmts count=\"{total}\">{made}</{ns}numFmts>")));
+                }
+            }
+        }
+        inserts.sort_by_key(|(at, _)| std::cmp::Reverse(*at));
+        for (at, text) in inserts {
+            xml.insert_str(at, &text);
+        }
+        for (name, count) in counts {
+            xml = with_count(&xml, &name, count);
+        }
+        xml
+    }
+}
+
+/// What a macro changed of a sheet's look, against the look the file had: cells by
+/// (row, column) with the format (`None`: General) and style they show now, columns' widths
+/// and rows' heights.
+#[derive(Default)]
+pub(super) struct Restyle {
+    pub cells: BTreeMap<(u32, u32), (Option<String>, CellStyle)>,
+    pub widths: BTreeMap<u32, f64>,
+    pub heights: BTreeMap<u32, f64>,
+}
+
+impl Restyle {
+    pub(super) fn between(was: &SheetLook, now: &SheetLook) -> Restyle {
+        let look_of = |l: &SheetLook, pos: &Pos| {
+            (l.number_formats.get(pos).cloned(), l.cell_styles.get(pos).copied().unwrap_or_default())
+        };
+        let positions: BTreeSet<Pos> =
+            [was, now].iter().flat_map(|l| l.number_formats.keys().chain(l.cell_styles.keys())).copied().collect();
+        let cells = positions
+            .into_iter()
+            .filter_map(|pos| {
+                let is = look_of(now, &pos);
+                (look_of(was, &pos) != is).then_some(((pos.row, pos.col), is))
+            })
+            .collect();
+        let changed = |was: &[(u32, f64)], now: &[(u32, f64)]| {
+            let was: BTreeMap<u32, f64> = was.iter().copied().collect();
+            let now: BTreeMap<u32, f64> = now.iter().copied().collect();
+            now.into_iter().filter(|(line, size)| was.get(line) != Some(size)).collect::<BTreeMap<u32, f64>>()
+        };
+        let widths_of = |l: &SheetLook| l.column_widths.iter().map(|&(c, w)| (u32::from(c), w)).collect::<Vec<_>>();
+        Restyle {
+            cells,
+            widths: changed(&widths_of(was), &widths_of(now)),
+            heights: changed(&was.row_heights, &now.row_heights),
+        }
+    }
+
+    pub(super) fn is_empty(&self) -> bool {
+        self.cells.is_empty() && self.widths.is_empty() && self.heights.is_empty()
+    }
+}
+
+/// A `<row>` start tag with a height a user set (`customHeight`).
+pub(super) fn with_height(tag: &str, height: f64) -> String {
+    let closing = if tag.ends_with("/>") { "/>" } else { ">" };
+    let head = remove_attr(&remove_attr(&tag[..tag.len() - closing.len()], "ht"), "customHeight");
+    format!("{} ht=\"{height}\" customHeight=\"1\"{closing}", head.trim_end())
+}
+
+/// The part before `<sheetData>` with the columns of `widths` given those widths: each
+/// `<col>` range of the file split around them (they keep its other attributes), and
+/// `<cols>` added before `<sheetData>` when the file had none.
+pub(super) fn with_widths(head: &str, ns: &str, widths: &BTreeMap<u32, f64>) -> String {
+    let (cols, col) = (format!("{ns}cols"), format!("{ns}col"));
+    let (before, ranges, after) = match children(head, &cols, &col) {
+        Some(c) => {
+            let start = find_tag(head, &cols, 0).unwrap_or(0);
+            let close_end = c.close + head[c.close..].find('>').map_or(0, |i| i + 1);
+            (&head[..start], c.children, &head[close_end..])
+        }
+        None => (head, Vec::new(), ""),
+    };
+    let mut out: Vec<(u32, String)> = Vec::new();
+    let number = |tag: &str, name: &str| attr(tag, name).and_then(|v| v.parse::<u32>().ok());
+    let sized = |from: u32, to: u32, tag: &str, width: Option<f64>| {
+        let mut t = tag.trim_end_matches("/>").trim_end_matches('>').to_string();
+        for name in ["min", "max"] {
+            t = remove_attr(&t, name);
+        }
+        if let Some(w) = width {
+            t = remove_attr(&remove_attr(&t, "width"), "customWidth");
+            t = format!("{} width=\"{w}\" customWidth=\"1\"", t.trim_end());
+        }
+        let name_end = t.find(|c: char| c.is_whitespace()).unwrap_or(t.len());
+        format!("{} min=\"{}\" max=\"{}\"{}/>", &t[..name_end], from + 1, to + 1, &t[name_end..])
+    };
+    let mut placed: BTreeSet<u32> = BTreeSet::new();
+    for tag in &ranges {
+        let (Some(min), Some(max)) = (number(tag, "min"), number(tag, "max")) else { continue };
+        let (first, last) = (min.saturating_sub(1), max.saturating_sub(1));
+        let mut from = first;
+        for (&c, &w) in widths.range(first..=last) {
+            if c > from {
+                out.push((from, sized(from, c - 1, tag, None)));
+            }
+            out.push((c, sized(c, c, tag, Some(w))));
+            placed.insert(c);
+            from = c + 1;
+        }
+        if from <= last {
+            out.push((from, sized(from, last, tag, None)));
+        }
+    }
+    let plain = format!("<{col}");
+    for (&c, &w) in widths.iter().filter(|(c, _)| !placed.contains(c)) {
+        out.push((c, sized(c, c, &plain, Some(w))));
+    }
+    out.sort_by_key(|(c, _)| *c);
+    let list: String = out.into_iter().map(|(_, t)| t).collect();
+    let new_cols = format!("<{cols}>{list}</{cols}>");
+    if ranges.is_empty() && after.is_empty() {
+        // `<cols>` comes right before `<sheetData>` (ECMA-376 18.3.1.99).
+        return format!("{before}{new_cols}");
+    }
+    format!("{before}{new_cols}{after}")
+}
+
+/// The `<alignment>` element of a look; empty for Excel's default (General, bottom, no wrap).
+fn alignment(ns: &str, look: CellStyle) -> String {
+    let horizontal = look.horizontal.and_then(|h| match h {
+        cell_style::XL_LEFT => Some("left"),
+        cell_style::XL_CENTER => Some("center"),
+        cell_style::XL_RIGHT => Some("right"),
+        cell_style::XL_FILL => Some("fill"),
+        cell_style::XL_JUSTIFY => Some("justify"),
+        cell_style::XL_CENTER_ACROSS_SELECTION => Some("centerContinuous"),
+        cell_style::XL_DISTRIBUTED => Some("distributed"),
+        _ => None,
+    });
+    let vertical = look.vertical.and_then(|v| match v {
+        cell_style::XL_TOP => Some("top"),
+        cell_style::XL_CENTER => Some("center"),
+        cell_style::XL_JUSTIFY => Some("justify"),
+        cell_style::XL_DISTRIBUTED => Some("distributed"),
+        _ => None,
+    });
+    let mut attrs = String::new();
+    if let Some(h) = horizontal {
+        attrs.push_str(&format!(" horizontal=\"{h}\""));
+    }
+    if let Some(v) = vertical {
+        attrs.push_str(&format!(" vertical=\"{v}\""));
+    }
+    if look.wrap {
+        attrs.push_str(" wrapText=\"1\"");
+    }
+    if attrs.is_empty() {
+        String::new()
+    } else {
+        format!("<{ns}alignment{attrs}/>")
+    }
+}
+
+/// The children named `child` of the first `container` element, with where it closes.
+fn children(xml: &str, container: &str, child: &str) -> Option<Container> {
+    let start = find_tag(xml, container, 0)?;
+    let open_end = start + xml[start..].find('>')?;
+    if xml[..open_end].ends_with('/') {
+        return None;
+    }
+    let close = open_end + xml[open_end..].find(&format!("</{container}"))?;
+    let inner = &xml[open_end + 1..close];
+    let mut out = Vec::new();
+    let mut at = 0;
+    let end_tag = format!("</{child}>");
+    while let Some(i) = find_tag(inner, child, at) {
+        let gt = i + inner[i..].find('>')?;
+        let end = if inner[..gt].ends_with('/') { gt + 1 } else { gt + inner[gt..].find(&end_tag)? + end_tag.len() };
+        out.push(inner[i..end].to_string());
+        at = end;
+    }
+    Some(Container { close, children: out, added: Vec::new() })
+}
+
+/// The index of `element` among the container's children, added when new.
+fn find_or_add(c: &mut Container, element: String) -> u32 {
+    if let Some(i) = c.children.iter().chain(&c.added).position(|e| *e == element) {
+        return i as u32;
+    }
+    c.added.push(element);
+    (c.children.len() + c.added.len() - 1) as u32
+}
+
+/// `xml` without the (empty or not) elements named `name`.
+fn without_element(xml: &str, name: &str) -> String {
+    let mut out = xml.to_string();
+    while let Some(i) = find_tag(&out, name, 0) {
+        let Some(gt) = out[i..].find('>').map(|g| i + g) else { break };
+        let end = if out[..gt].ends_with('/') {
+            gt + 1
+        } else {
+            let close = format!("</{name}>");
+            match out[gt..].find(&close) {
+                Some(c) => gt + c + close.len(),
+                None => gt + 1,
+            }
+        };
+        out.replace_range(i..end, "");
+    }
+    out
+}
+
+/// `xml` with the first `name` element's `count` attribute set to `count`.
+fn with_count(xml: &str, name: &str, count: usize) -> String {
+    let Some(start) = find_tag(xml, name, 0) else { return xml.to_string() };
+    let Some(gt) = xml[start..].find('>').map(|g| start + g) else { return xml.to_string() };
+    let tag = remove_attr(&xml[start..gt], "count");
+    let tag = format!("{} count=\"{count}\"", tag.trim_end_matches('/').trim_end());
+    let slash = if xml[..gt].ends_with('/') { "/" } else { "" };
+    format!("{}{tag}{slash}{}", &xml[..start], &xml[gt..])
+}
+
+fn escape(text: &str) -> String {
+    text.replace('&', "&amp;").replace('"', "&quot;").replace('<', "&lt;").replace('>', "&gt;")
+}
+
+fn unescape(text: &str) -> String {
+    text.replace("&quot;", "\"").replace("&apos;", "'").replace("&lt;", "<").replace("&gt;", ">").replace("&amp;", "&")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const STYLES: &str = r#"<styleSheet><fonts count="1"><font><sz val="11"/><name val="Calibri"/></font></fonts><fills count="2"><fill><patternFill patternType="none"/></fill><fill><patternFill patternType="gray125"/></fill></fills><cellXfs count="1"><xf numFmtId="0" fontId="0" fillId="0" borderId="0"/></cellXfs></styleSheet>"#;
+
+    #[test]
+    fn a_bold_filled_formatted_style_is_appended_with_its_parts() {
+        let mut sheet = StyleSheet::read(STYLES.to_string()).unwrap();
+        let look = CellStyle { bold: true, fill: Some(0xFF8000), ..CellStyle::default() };
+        assert_eq!(sheet.style_for(0, Some("0.000"), look), 1);
+        assert_eq!(sheet.style_for(0, Some("0.000"), look), 1);
+        let xml = sheet.finish();
+        assert!(
+            xml.contains(r#"<numFmts count="1"><numFmt numFmtId="164" formatCode="0.000"/></numFmts><fonts"#),
+            "{xml}"
+        );
+        assert!(xml.contains(r#"<font><b/><sz val="11"/><name val="Calibri"/></font></fonts>"#), "{xml}");
+        assert!(xml.contains(r#"<fgColor rgb="FF0080FF"/>"#), "{xml}");
+        assert!(xml.contains(r#"<fonts count="2">"#) && xml.contains(r#"<fills count="3">"#), "{xml}");
+        assert!(xml.contains(r#"<xf borderId="0" numFmtId="164" fontId="1" fillId="2""#), "{xml}");
+    }
+}
