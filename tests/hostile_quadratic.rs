@@ -299,8 +299,9 @@ fn many_patterns_over_many_cells_stop_at_the_scan_limit() {
 
 /// A database's criteria range of many rows: each row was tested against every record
 /// (2^17 rows × 2^17 records, 2^34 tests, hours). A row with an equality (`=x`, a
-/// number, TRUE) now tests only the records filed under its value; rows with none still
-/// test every record, and past 10^9 such tests the call stops before testing any.
+/// number, TRUE) now tests only the records filed under its value, a row with a text
+/// prefix only the texts that begin with it; other rows still test every record, and past
+/// 10^9 such tests the call stops before testing any.
 #[test]
 fn database_functions_with_many_criteria_rows_look_equalities_up() {
     let mut wb = Workbook::with_sheet();
@@ -311,6 +312,11 @@ fn database_functions_with_many_criteria_rows_look_equalities_up() {
     assert_eq!(get(&wb, "A1"), n((k * (k + 1) / 2) as f64));
     set(&mut wb, "A2", &format!("=DCOUNT({db},,VSTACK(\"n\",\"=\"&SEQUENCE({k},1,2,2)))"));
     assert_eq!(get(&wb, "A2"), n((k / 2) as f64));
+    // Text with no operator is a prefix: "p7" names p7, p70 … p79, p700 …; each record
+    // is named by its own row at least.
+    let texts = format!("VSTACK(\"n\",\"p\"&SEQUENCE({k}))");
+    set(&mut wb, "A4", &format!("=DCOUNTA({texts},1,{texts})"));
+    assert_eq!(get(&wb, "A4"), n(k as f64));
     let patterns = format!("VSTACK(\"n\",\"*\"&SEQUENCE({k}))");
     set(&mut wb, "A3", &format!("=DSUM({db},\"n\",{patterns})"));
     assert_eq!(get(&wb, "A3"), Value::Error(ncsheet::eval::XlError::Num));

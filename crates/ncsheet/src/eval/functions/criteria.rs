@@ -129,6 +129,19 @@ impl Criterion {
         self.target_keys()
     }
 
+    /// What a text criterion with a star only at its end (`"bol*"`, and in a database's
+    /// criteria plain `bol`) matches: the texts whose lower-case letters begin with these.
+    pub(crate) fn prefix(&self) -> Option<Vec<char>> {
+        let Target::Text { pattern: Some(tokens), .. } = &self.target else {
+            return None;
+        };
+        let (Token::AnyMany, letters) = tokens.split_last()? else {
+            return None;
+        };
+        let letter = |token: &Token| if let Token::Char(c) = token { Some(*c) } else { None };
+        (self.op == BinOp::Eq).then(|| letters.iter().map(letter).collect()).flatten()
+    }
+
     /// The keys of the cells a `<>` criterion does not match, each cell under its own
     /// value only: `"<>23"` matches the text "23" (which `"=23"` matches too).
     fn unequal_keys(&self) -> Option<Vec<ItemKey>> {
@@ -174,7 +187,7 @@ fn wildcard_match(pattern: &str, text: &str) -> bool {
 }
 
 /// A text's characters in lower case, as patterns are matched against them.
-fn lowered(text: &str) -> Vec<char> {
+pub(crate) fn lowered(text: &str) -> Vec<char> {
     text.chars().flat_map(char::to_lowercase).collect()
 }
 
@@ -1024,6 +1037,18 @@ mod tests {
         assert_eq!(count_each(&matcher, &criteria[0]), k);
         assert!(matcher.index_built());
         assert_eq!(matcher.work.get(), k + k);
+    }
+
+    #[test]
+    fn a_star_only_at_the_end_is_a_prefix() {
+        let prefix = |c: &str| Criterion::new(&Value::text(c), DateSystem::From1900).prefix();
+        assert_eq!(prefix("BOL*"), Some(vec!['b', 'o', 'l']));
+        assert_eq!(prefix("=ß*"), Some(vec!['ß']));
+        assert_eq!(prefix("*"), Some(vec![]));
+        assert_eq!(prefix("~**"), Some(vec!['*']));
+        for not_one in ["b?l*", "*bol", "b*l", "<>bol*", ">bol*", "bol", "bol~*"] {
+            assert_eq!(prefix(not_one), None, "{not_one}");
+        }
     }
 
     #[test]

@@ -13,7 +13,7 @@ use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
 
 use crate::eval::functions::arrays::reshape::ItemKey;
-use crate::eval::functions::criteria::{Criterion, EqualityIndex, MAX_CRITERIA_SCAN};
+use crate::eval::functions::criteria::{lowered, Criterion, EqualityIndex, MAX_CRITERIA_SCAN};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value(
@@ -219,11 +219,12 @@ fn selected(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<Value>> {
     let column = field.map(|f| field_column(&db, &f, dates)).transpose()?;
     let rows = criteria_rows(&db, &criteria, dates)?;
     let records = db.rows - 1;
-    let scanned = rows.iter().filter(|conditions| equality_of(conditions).is_none()).count();
+    let scanned = rows.iter().filter(|conditions| lookup_of(conditions).is_none()).count();
     if scanned.saturating_mul(records) > MAX_CRITERIA_SCAN {
         let why = format!(
             "the criteria would test {} records one by one, more than ncsheet's limit of {MAX_CRITERIA_SCAN:e} for \
-             one call (criteria rows with no plain equality such as =x or a number × the records)",
+             one call (criteria rows with no plain equality such as =x or a number, nor a text prefix, × the \
+             records)",
             scanned * records
         );
         return Err(ctx.explain(XlError::Num, why));
@@ -240,7 +241,8 @@ fn selected(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<Value>> {
 
 /// Whether each record (row 1 … of `db`, from 0) meets the conditions of some criteria
 /// row. A row with an equality condition (`=x`, a number, TRUE) tests only the records an
-/// index of that column files under its value, so that many criteria rows (a list of
+/// index of that column files under its value, and a row with a text prefix (`bol`) only
+/// the records whose text there begins with it, so that many criteria rows (a list of
 /// 100,000 part numbers) cost their matches, not rows × records; other rows test every
 /// record.
 fn records_meeting(db: &Array, rows: &[Vec<Condition>], dates: DateSystem) -> Vec<bool> {
@@ -249,32 +251,65 @@ fn records_meeting(db: &Array, rows: &[Vec<Condition>], dates: DateSystem) -> Ve
         return vec![true; records];
     }
     let mut meeting = vec![false; records];
-    let mut indexes: HashMap<usize, EqualityIndex> = HashMap::new();
+    let mut equal: HashMap<usize, EqualityIndex> = HashMap::new();
+    let mut texts: HashMap<usize, TextOrder> = HashMap::new();
+    let column = move |c: usize| (1..db.rows).map(move |r| db.get(r, c));
     for conditions in rows {
         let meets = |r: usize| conditions.iter().all(|(c, crit)| c.is_some_and(|c| crit.matches(db.get(r + 1, c))));
-        match equality_of(conditions) {
-            Some((column, keys)) => {
-                let index = indexes
-                    .entry(column)
-                    .or_insert_with(|| EqualityIndex::new((1..db.rows).map(|r| db.get(r, column)), dates));
-                for r in index.positions(&keys) {
-                    meeting[r] = meeting[r] || meets(r);
-                }
+        let candidates: Box<dyn Iterator<Item = usize>> = match lookup_of(conditions) {
+            Some((c, Lookup::Equal(keys))) => {
+                let index = equal.entry(c).or_insert_with(|| EqualityIndex::new(column(c), dates));
+                Box::new(index.positions(&keys).into_iter())
             }
-            None => {
-                for (r, met) in meeting.iter_mut().enumerate() {
-                    *met = *met || meets(r);
-                }
+            Some((c, Lookup::Prefix(letters))) => {
+                let order = texts.entry(c).or_insert_with(|| TextOrder::new(column(c)));
+                Box::new(order.starting_with(&letters).into_iter())
             }
+            None => Box::new(0..records),
+        };
+        for r in candidates {
+            meeting[r] = meeting[r] || meets(r);
         }
     }
     meeting
 }
 
-/// The first condition of a criteria row an index can answer: its column and the keys of
-/// the values it matches.
-fn equality_of(conditions: &[Condition]) -> Option<(usize, Vec<ItemKey>)> {
-    conditions.iter().find_map(|(column, criterion)| Some(((*column)?, criterion.keys()?)))
+/// How the records a criteria row may match are found.
+enum Lookup {
+    /// Filed under one of these keys.
+    Equal(Vec<ItemKey>),
+    /// Text beginning with these lower-case letters.
+    Prefix(Vec<char>),
+}
+
+/// The first condition of a criteria row an index can answer: its column and how.
+fn lookup_of(conditions: &[Condition]) -> Option<(usize, Lookup)> {
+    conditions.iter().find_map(|(column, criterion)| {
+        let lookup = criterion.keys().map(Lookup::Equal).or_else(|| criterion.prefix().map(Lookup::Prefix))?;
+        Some(((*column)?, lookup))
+    })
+}
+
+/// A column's texts in the order of their lower-case letters, each with its record: the
+/// texts that begin with some letters are one run of it.
+struct TextOrder {
+    sorted: Vec<(Vec<char>, usize)>,
+}
+
+impl TextOrder {
+    fn new<'v>(cells: impl Iterator<Item = &'v Value>) -> TextOrder {
+        let text = |(r, v): (usize, &Value)| if let Value::Text(t) = v { Some((lowered(t), r)) } else { None };
+        let mut sorted: Vec<(Vec<char>, usize)> = cells.enumerate().filter_map(text).collect();
+        sorted.sort_unstable();
+        TextOrder { sorted }
+    }
+
+    /// The records whose text begins with `letters` (lower case).
+    fn starting_with(&self, letters: &[char]) -> Vec<usize> {
+        let start = self.sorted.partition_point(|(t, _)| t.as_slice() < letters);
+        let run = self.sorted[start..].partition_point(|(t, _)| t.starts_with(letters));
+        self.sorted[start..start + run].iter().map(|&(_, r)| r).collect()
+    }
 }
 
 fn numbers_of(values: &[Value]) -> Vec<f64> {
