@@ -315,15 +315,16 @@ fn a_single_is_computed_and_shown_as_a_32_bit_float() {
 // give a fixed-point number with 15 digits to the left of the decimal point and 4 digits to
 // the right", -922,337,203,685,477.5808 to 922,337,203,685,477.5807; a value assigned to a
 // Currency keeps four places, halves to even (as CCur, "Type conversion functions"). Sums of
-// Currencies are exact (ten 0.1s are 1); [MS-VBAL] 5.6.9.3: a Currency with another number
-// is a Currency, its product rounded to four places; past the range Overflow (error 6).
+// Currencies are exact (ten 0.1s are 1); [MS-VBAL] 5.6.9.3: a Currency with another Currency
+// or an integral number is a Currency, its product rounded to four places; past the range
+// Overflow (error 6).
 #[test]
 fn a_currency_is_a_scaled_64_bit_integer() {
     let out = printed(
         "",
         "    Dim c As Currency, d As Currency, i As Integer, e As Currency\n\
          \x20   For i = 1 To 10: c = c + 0.1: Next\n    Debug.Print c - 1; TypeName(c + 1); TypeName(c * i)\n\
-         \x20   c = 1.5: d = 0.0001: Debug.Print c * d; 2.5 * d + 0; CStr(c * d)\n\
+         \x20   c = 1.5: d = 0.0001: Debug.Print c * d; CCur(2.5) * d + 0; CStr(c * d)\n\
          \x20   c = 0.12345678: Debug.Print c\n\
          \x20   On Error Resume Next\n    e = 922337203685477#: e = e * 10\n    Debug.Print Err.Number; e",
     );
@@ -414,4 +415,22 @@ fn a_currency_sum_far_past_its_range_is_overflow() {
          \x20   Debug.Print Err.Number\n    Err.Clear\n    v = c - 1E+300\n    Debug.Print Err.Number",
     );
     assert_eq!(out, [" 6 ", " 6 "]);
+}
+
+// [MS-VBAL] "* Operator" (5.6.9.3): a Currency times a Single, a Double or a String is a
+// Double, declared and (in a Variant) held, so the product keeps every digit: `c * 0.03125`
+// of the Currency 1 is 0.03125, where a Currency would round it to 0.0312 (halves to even);
+// a Date times a number is a Double too. A Currency times an Integer stays a Currency (the
+// standard table of 5.6.9.3). "/ operator" (Office VBA reference): the result "is usually a
+// Double", and a Currency is none of the exceptions (Byte, Integer, Single; Decimal).
+#[test]
+fn a_currency_times_a_double_is_a_double() {
+    let out = printed(
+        "",
+        "    Dim c As Currency, x As Double, v, d As Date\n    c = 1: x = 0.03125: v = c\n\
+         \x20   Debug.Print c * x; TypeName(c * x); \" \"; TypeName(x * c); \" \"; TypeName(c * \"2\")\n\
+         \x20   Debug.Print v * 0.03125; TypeName(v * 0.03125); \" \"; TypeName(c * 3); \" \"; TypeName(d * c)\n\
+         \x20   Debug.Print c / 32; TypeName(c / 32)",
+    );
+    assert_eq!(out, [" 0.03125 Double Double Double", " 0.03125 Double Currency Double", " 0.03125 Double"]);
 }

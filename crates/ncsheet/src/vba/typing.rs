@@ -181,10 +181,10 @@ impl Declared {
     }
 }
 
-/// The declared type of `+`, `-` and `*` on operands of these types ([MS-VBAL] 5.6.9.3's
-/// table): two integral types give the wider (Byte and Byte a Byte, Boolean counts as
-/// Integer), a Variant a Variant; a Currency with any other a Currency, a Single with a
-/// Single, Byte, Boolean or Integer a Single; anything else a Double.
+/// The declared type of `+`, `-` and (but for [`product_type`]'s exceptions) `*` on operands
+/// of these types ([MS-VBAL] 5.6.9.3's table): two integral types give the wider (Byte and
+/// Byte a Byte, Boolean counts as Integer), a Variant a Variant; a Currency with any other a
+/// Currency, a Single with a Single, Byte, Boolean or Integer a Single; anything else a Double.
 fn sum_type(a: Declared, b: Declared) -> Declared {
     if a == Declared::Variant || b == Declared::Variant {
         return Declared::Variant;
@@ -206,6 +206,20 @@ fn single_or_double(a: Declared, b: Declared) -> Declared {
         Declared::Single
     } else {
         Declared::Double
+    }
+}
+
+/// The declared type of `*` ([MS-VBAL] "* Operator", under 5.6.9.3): the standard table of
+/// 5.6.9.3 as for `+`, except that a Currency with a Single, a Double or a String is a Double
+/// (the product is not rounded to a Currency's four places: `c * 0.03125` of the Currency 1
+/// is 0.03125), and a Date with any number a Double.
+fn product_type(a: Declared, b: Declared) -> Declared {
+    let floating = |t: Declared| matches!(t, Declared::Single | Declared::Double | Declared::String);
+    match (a, b) {
+        (Declared::Variant, _) | (_, Declared::Variant) => Declared::Variant,
+        (Declared::Date, _) | (_, Declared::Date) => Declared::Double,
+        (Declared::Currency, other) | (other, Declared::Currency) if floating(other) => Declared::Double,
+        _ => sum_type(a, b),
     }
 }
 
@@ -237,9 +251,11 @@ fn binary_type(op: BinOp, x: Declared, y: Declared) -> Declared {
     let variant = x == Declared::Variant || y == Declared::Variant;
     match op {
         BinOp::Add | BinOp::Sub => date_sum_type(op, x, y).unwrap_or_else(|| sum_type(x, y)),
-        BinOp::Mul => sum_type(x, y),
+        BinOp::Mul => product_type(x, y),
         BinOp::IntDiv | BinOp::Mod if !variant => whole_division_type(x, y),
         // [MS-VBAL] 5.6.9.3.5: `/` of a Single keeps a Single as `*` does; `^` is a Double.
+        // A Currency's quotient is a Double ("/ operator": "usually a Double"; a Currency is
+        // none of its exceptions), not rounded to four places.
         BinOp::Div if !variant => single_or_double(x, y),
         BinOp::Pow if !variant => Declared::Double,
         _ => Declared::Variant,
