@@ -434,3 +434,21 @@ fn a_currency_times_a_double_is_a_double() {
     );
     assert_eq!(out, [" 0.03125 Double Double Double", " 0.03125 Double Currency Double", " 0.03125 Double"]);
 }
+
+// "Array function": it returns "a Variant containing an array", each item a Variant holding
+// its argument's value with its type ("Variant data type": "numeric Variant data is
+// maintained in its original data type"); [MS-VBAL] 3.3.2: the literal 1 is an Integer,
+// 40000 a Long, 2.5 a Double. So TypeName of `Array(1, 2)(0)` is "Integer" (VarType 2,
+// "VarType function"), an item plus the Integer 1 is an Integer (5.6.9.3), and a copy of the
+// array or ReDim Preserve keeps the items' types.
+#[test]
+fn an_array_function_item_keeps_its_literal_type() {
+    let out = printed(
+        "",
+        "    Dim v, w, n As Long\n    n = 7\n    v = Array(1, 40000, 2.5, \"a\", n)\n\
+         \x20   Debug.Print TypeName(v(0)); \" \"; VarType(v(0)); TypeName(v(1)); \" \"; TypeName(v(2)); \" \"; TypeName(v(3)); \" \"; TypeName(v(4))\n\
+         \x20   w = v: ReDim Preserve w(5)\n\
+         \x20   Debug.Print TypeName(v(0) + 1); \" \"; TypeName(w(0)); \" \"; TypeName(w(1))",
+    );
+    assert_eq!(out, ["Integer  2 Long Double String Long", "Integer Integer Long"]);
+}

@@ -105,7 +105,7 @@ impl Interp<'_, '_> {
                     f.code = 13;
                     return Err(f);
                 }
-                self.gave_date(a.holds_date(k));
+                self.gave.set(a.held(k));
                 match a.item(k) {
                     Var::Obj(o) => self.operand_of(o, span),
                     _ => Ok(Operand::Value(a.data.data[k].clone())),
@@ -343,7 +343,7 @@ impl Interp<'_, '_> {
                 return Err(self.fault_at(span, format!("{name} is not an array")));
             };
             let k = self.element_at(&a, &at).map_err(|m| self.subscript_error(span, name, m))?;
-            self.gave_date(a.holds_date(k));
+            self.gave.set(a.held(k));
             Ok(a.item(k))
         })
     }
@@ -437,7 +437,7 @@ impl Interp<'_, '_> {
                     f.code = 9;
                     f
                 })?;
-                self.gave_date(a.holds_date(k));
+                self.gave.set(a.held(k));
                 match a.item(k) {
                     held @ (Var::Obj(_) | Var::Array(_)) => Ok(held),
                     _ => Ok(super::value::array_var(a.data.data[k].clone(), self.module.base)),
@@ -529,7 +529,7 @@ fn link_index(link: &Link) -> Vec<Expr> {
 pub(super) fn preserve_items(old: &VArray, new: &mut VArray) {
     let data = Rc::make_mut(&mut new.data);
     let mut objects = std::collections::HashMap::new();
-    let mut dates = std::collections::HashSet::new();
+    let mut dates = std::collections::HashMap::new();
     let mut arrays = std::collections::HashMap::new();
     let mut records = new.records.take();
     for r in 0..old.data.rows.min(data.rows) {
@@ -545,8 +545,9 @@ pub(super) fn preserve_items(old: &VArray, new: &mut VArray) {
                 }
                 _ => {}
             }
-            if old.holds_date(r * old.data.cols + c) {
-                dates.insert(r * data.cols + c);
+            match old.held(r * old.data.cols + c) {
+                super::typing::Declared::Variant => {}
+                held => _ = dates.insert(r * data.cols + c, held),
             }
         }
     }

@@ -371,15 +371,20 @@ impl Build<'_> {
 /// item or none, zero-based for Split ("Split function": "a zero-based, one-dimensional
 /// array"), from Option Base for Array. `None` for any other expression.
 impl Interp<'_, '_> {
-    /// [`library_array`], with the Dates among `Array(…)`'s items marked: each item is a
-    /// Variant holding its value with its type ([MS-VBAL] 2.1.1.1, "Array function").
+    /// [`library_array`], with the types of the numbers among `Array(…)`'s items marked: each
+    /// item is a Variant holding its value with its type ([MS-VBAL] 2.1.1.1, "Array function"),
+    /// a Date as a Date and the literal 1 as an Integer (3.3.2).
     pub(super) fn array_of_call(&self, e: &Expr, v: &Value) -> Option<Var> {
         let mut var = library_array(e, v, self.module.base)?;
         if let (ExprKind::Call(id, args), Var::Array(a)) = (&e.kind, &mut var) {
             if crate::eval::functions::spec(*id).name == "VBA.ARRAY" {
                 for (k, arg) in args.iter().enumerate() {
-                    let date = a.data.data.get(k).is_some_and(|item| self.as_date(arg, item).is_some());
-                    a.mark_date(k, date);
+                    let held = match a.data.data.get(k) {
+                        Some(item) if self.as_date(arg, item).is_some() => super::typing::Declared::Date,
+                        Some(item @ Value::Number(_)) => self.value_type(arg, item),
+                        _ => super::typing::Declared::Variant,
+                    };
+                    a.mark_held(k, held);
                 }
             }
         }

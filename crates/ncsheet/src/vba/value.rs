@@ -33,10 +33,11 @@ pub struct VArray {
     /// The items that are objects (`Set a(i) = New Class1`), by their row-major position;
     /// `data` holds Empty there. Copying the array copies the references, as VBA does.
     pub objects: Option<Rc<std::collections::HashMap<usize, Obj>>>,
-    /// The items of a Variant array that hold a Date (VarType 7), by row-major position: a
-    /// Date keeps its type in the array ([MS-VBAL] 2.1.1.1). An array of declared type Date
-    /// needs none: its type says it.
-    pub dates: Option<Rc<std::collections::HashSet<usize>>>,
+    /// The items of a Variant array that hold a number of a type other than Double, with
+    /// that type, by row-major position: a Date (VarType 7), or the Integer 1 of `Array(1, 2)`
+    /// keeps its type in the array ([MS-VBAL] 2.1.1.1). An array of a declared type needs
+    /// none: its type says it.
+    pub(super) dates: Option<Rc<std::collections::HashMap<usize, Declared>>>,
     /// The items of a Variant array that hold an array, by row-major position, each with its
     /// own bounds ([MS-VBAL] 2.2: an array value carries its bounds; `a(1) = b` with
     /// `Dim b(1 To 3)` keeps 1 To 3). `data` holds the same items there, as a plain array.
@@ -74,19 +75,31 @@ impl VArray {
 
     /// Whether the item at row-major position `k` holds a Date (in a Variant array).
     pub fn holds_date(&self, k: usize) -> bool {
-        self.dates.as_ref().is_some_and(|d| d.contains(&k))
+        self.held(k) == Declared::Date
+    }
+
+    /// The type of the number the item at row-major position `k` holds, where it is not a
+    /// Double (in a Variant array); `Variant` otherwise.
+    pub(super) fn held(&self, k: usize) -> Declared {
+        self.dates.as_ref().and_then(|d| d.get(&k).copied()).unwrap_or(Declared::Variant)
     }
 
     /// Notes whether the item at `k` now holds a Date.
     pub fn mark_date(&mut self, k: usize, date: bool) {
-        match (&mut self.dates, date) {
-            (Some(dates), false) if dates.contains(&k) => {
+        self.mark_held(k, if date { Declared::Date } else { Declared::Variant });
+    }
+
+    /// Notes the type of the number the item at `k` now holds (`Variant` or `Double`: none
+    /// to note).
+    pub(super) fn mark_held(&mut self, k: usize, ty: Declared) {
+        match (&mut self.dates, ty) {
+            (Some(dates), Declared::Variant | Declared::Double) if dates.contains_key(&k) => {
                 Rc::make_mut(dates).remove(&k);
             }
-            (dates, true) => {
-                Rc::make_mut(dates.get_or_insert_with(Default::default)).insert(k);
+            (_, Declared::Variant | Declared::Double) => {}
+            (dates, ty) => {
+                Rc::make_mut(dates.get_or_insert_with(Default::default)).insert(k, ty);
             }
-            _ => {}
         }
     }
 
