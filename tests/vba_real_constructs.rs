@@ -137,3 +137,18 @@ fn functions_named_through_a_module_of_the_vba_library() {
     let shadowed = RunOptions { sub: Some("Shadowed".into()), ..RunOptions::default() };
     assert_eq!(run_with(src, &shadowed).unwrap().printed, [" 1 "]);
 }
+
+// [MS-VBAL] 5.3.1.11 "Procedure Invocation": a ByRef parameter is bound to the argument's
+// variable itself, so what the callee writes into a caller's array is in the caller's array
+// at once, also when the callee then fails and the caller goes on (On Error Resume Next);
+// an array passed on from one call to the next (`HeapSort Arr` → `Swap Arr, 1, i`) is still
+// the caller's one array.
+#[test]
+fn an_array_passed_by_reference_is_the_callers_array_even_when_the_call_fails() {
+    let src = "Sub Fill(a() As Long, v)\n    a(1) = 7: v(2) = \"w\"\n    Err.Raise 5\nEnd Sub\n\
+               Sub Swap(l() As Long, i As Long, j As Long)\n    Dim t As Long\n    t = l(i): l(i) = l(j): l(j) = t\nEnd Sub\n\
+               Sub Pass(l() As Long)\n    Swap l, 1, 2\nEnd Sub\n\
+               Sub Main()\n    Dim a(1 To 2) As Long, v(1 To 2)\n    On Error Resume Next\n    Fill a, v\n\
+               \x20   Debug.Print a(1); v(2); Err.Number\n    On Error GoTo 0\n    a(2) = 3\n    Pass a\n    Debug.Print a(1); a(2)\nEnd Sub\n";
+    assert_eq!(printed(src), [" 7 w 5 ", " 3  7 "]);
+}

@@ -154,7 +154,7 @@ impl Interp<'_, '_> {
     }
 
     fn run_event(&self, proc: usize, object: &Instance, span: Span) -> Run<()> {
-        let call = Call { me: Some(object.clone()), value: None };
+        let call = Call { me: Some(object.clone()), value: None, lent: Vec::new() };
         self.invoke_frame(proc, Vec::new(), Some(span), call).map(|_| ())
     }
 
@@ -354,7 +354,7 @@ impl Interp<'_, '_> {
         span: Span,
     ) -> Run<Var> {
         self.check_member_args(proc, args, value.is_some(), span)?;
-        let call = Call { me: Some(object.clone()), value };
+        let call = Call { me: Some(object.clone()), value, lent: Vec::new() };
         let (result, frame) = self.call_frame(ctx, proc, args, span, call)?;
         let p = &self.module.procs[proc];
         Ok(match p.kind {

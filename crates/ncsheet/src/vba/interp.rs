@@ -235,6 +235,9 @@ pub(super) struct Frame {
 pub(super) struct Call {
     pub me: Option<Instance>,
     pub value: Option<Var>,
+    /// The caller's local arrays moved into ByRef parameters (the parameter's index, the
+    /// caller's variable), given back even when the call fails ([`Interp::lend_array`]).
+    pub lent: Vec<(usize, Rc<str>)>,
 }
 
 pub struct Interp<'m, 'w> {
@@ -940,6 +943,7 @@ impl Interp<'_, '_> {
         let mut back = Vec::new();
         let mut types = Vec::new();
         let mut items_back = Vec::new();
+        let mut lent = Vec::new();
         for (i, a) in args.iter().enumerate() {
             let index = match &a.name {
                 Some(n) => p.params.iter().position(|q| q.name.eq_ignore_ascii_case(n)).expect("checked by the parser"),
@@ -949,6 +953,11 @@ impl Interp<'_, '_> {
                 continue;
             }
             if let (true, ExprKind::Name(caller_var)) = (p.params[index].by_ref, &a.value.kind) {
+                if self.lendable(caller_var, args) {
+                    // Taken once every argument is evaluated: `Sort a, LBound(a)` reads it.
+                    lent.push((index, caller_var.clone()));
+                    continue;
+                }
                 back.push((index, caller_var.clone()));
             } else if let Some(item) = self.item_reference(&a.value).filter(|_| p.params[index].by_ref) {
                 // Read at the indexes just evaluated: an index that calls a function runs once.
@@ -995,11 +1004,14 @@ impl Interp<'_, '_> {
             self.take_pending()?;
             bound.push((index, var));
         }
+        for (index, caller_var) in &lent {
+            bound.push((*index, self.lend_array(caller_var)));
+        }
         if let Some(value) = call.value {
             bound.push((p.params.len() - 1, value));
         }
         *self.arg_types.borrow_mut() = types;
-        let called = self.invoke_frame(proc, bound, Some(span), Call { me: call.me, value: None });
+        let called = self.invoke_frame(proc, bound, Some(span), Call { me: call.me, value: None, lent });
         self.arg_types.borrow_mut().clear();
         let (result, frame) = called?;
         for (index, caller_var) in back {
@@ -1024,6 +1036,54 @@ impl Interp<'_, '_> {
         Ok((result, frame))
     }
 
+    /// A local array of the calling procedure passed ByRef (`HeapSort Arr`), moved into the
+    /// parameter rather than copied: [MS-VBAL] 5.3.1.11 passes a reference to the variable,
+    /// so the callee's writes are the caller's, and a call costs the same whatever the
+    /// array's size (a copy per call made a sort that calls per item cubic). Only a local of
+    /// the running procedure, named once among the arguments, is lent: no other code can
+    /// reach it while the call runs.
+    fn lendable(&self, caller_var: &Rc<str>, args: &[Arg]) -> bool {
+        let named = |a: &Arg| matches!(&a.value.kind, ExprKind::Name(n) if n.eq_ignore_ascii_case(caller_var));
+        if args.iter().filter(|a| named(a)).count() != 1 {
+            return false;
+        }
+        let frames = self.frames.borrow();
+        let slot = frames.last().and_then(|f| f.vars.get(caller_var));
+        slot.is_some_and(|s| !s.constant && matches!(s.var(), Var::Array(_)))
+    }
+
+    /// Takes a [`Interp::lendable`] array out of the caller's variable for the call.
+    fn lend_array(&self, caller_var: &Rc<str>) -> Var {
+        self.with_slot(caller_var, |s| s.replace(Var::Value(Value::Blank))).unwrap_or(Var::Value(Value::Blank))
+    }
+
+    /// Gives the lent arrays back to the caller (whose frame is the running one again) from
+    /// the ended call's `frame`, whether the call ended well or not (VBA's caller sees what
+    /// the callee wrote before an error). An array of the caller's declared type goes back
+    /// as it is; anything else is assigned as a ByRef parameter's value is.
+    fn give_back_lent(&self, p: &Proc, frame: &mut Frame, lent: &[(usize, Rc<str>)], ended_well: bool) -> Run<()> {
+        for (index, caller_var) in lent {
+            let Some(slot) = frame.vars.get_mut(&p.params[*index].name) else { continue };
+            let (var, callee_ty) = (slot.replace(Var::Value(Value::Blank)), slot.ty.clone());
+            let given = match var {
+                Var::Array(a) => self
+                    .with_slot(caller_var, |s| {
+                        let a = match s.ty == callee_ty {
+                            true => Ok(a),
+                            false => super::arrays::typed_items(a, s.ty.as_ref(), &s.name),
+                        };
+                        a.map(|a| drop(s.replace(Var::Array(a))))
+                    })
+                    .map(|r| r.map_err(|m| self.fault(m))),
+                other => Some(self.set_var(caller_var, other, p.span)),
+            };
+            if let (true, Some(Err(fault))) = (ended_well, given) {
+                return Err(fault);
+            }
+        }
+        Ok(())
+    }
+
     fn invoke(&self, proc: usize, bound: Vec<(usize, Var)>, call_site: Option<Span>) -> Run<Value> {
         let (value, frame) = self.invoke_frame(proc, bound, call_site, Call::default())?;
         self.no_record_result(proc, &frame)?;
@@ -1040,6 +1100,11 @@ impl Interp<'_, '_> {
         let p = &self.module.procs[proc];
         // A class's procedure calling another of its own runs for the same object.
         let me = call.me.or_else(|| self.me().filter(|_| self.same_class(proc)));
+        // Read in the caller's frame, before the callee's is pushed.
+        let typed: Vec<usize> = (call.lent.iter())
+            .filter(|(i, caller_var)| self.with_slot(caller_var, |s| s.ty == p.params[*i].ty) == Some(true))
+            .map(|(i, _)| *i)
+            .collect();
         if self.frames.borrow().len() >= self.options.max_depth {
             let limit = self.options.max_depth;
             let mut f = self.fault(format!(
@@ -1047,6 +1112,10 @@ impl Interp<'_, '_> {
                 p.kind, p.name
             ));
             f.kind = ErrorKind::Limit;
+            // The lent arrays were never bound: straight back to the caller.
+            for (var, (_, caller_var)) in lent_args(bound, &call.lent) {
+                self.with_slot(&caller_var, |s| s.replace(var));
+            }
             return Err(f);
         }
         self.frames.borrow_mut().push(Frame {
@@ -1059,9 +1128,10 @@ impl Interp<'_, '_> {
             missing: Vec::new(),
             me,
         });
-        let result = self.bind_and_run(p, bound);
-        let frame = self.frames.borrow_mut().pop().expect("the frame pushed above");
+        let result = self.bind_and_run(p, bound, &typed);
+        let mut frame = self.frames.borrow_mut().pop().expect("the frame pushed above");
         self.keep_statics(&frame);
+        self.give_back_lent(p, &mut frame, &call.lent, result.is_ok())?;
         result?;
         self.release_locals(p, &frame)?;
         let value = match p.kind {
@@ -1078,7 +1148,9 @@ impl Interp<'_, '_> {
         Ok((value, frame))
     }
 
-    fn bind_and_run(&self, p: &Proc, mut bound: Vec<(usize, Var)>) -> Run<()> {
+    /// Binds the arguments and runs the body; the parameters in `typed` hold an array lent
+    /// by a caller's variable of the parameter's own type, whose items need no converting.
+    fn bind_and_run(&self, p: &Proc, mut bound: Vec<(usize, Var)>, typed: &[usize]) -> Run<()> {
         let types = std::mem::take(&mut *self.arg_types.borrow_mut());
         for (i, param) in p.params.iter().enumerate() {
             let var = match bound.iter().position(|(j, _)| *j == i) {
@@ -1094,6 +1166,7 @@ impl Interp<'_, '_> {
                 },
             };
             let var = match param.array {
+                true if typed.contains(&i) => Ok(var),
                 true => super::arrays::array_param(var, param),
                 false => convert(var, param.ty.as_ref(), &param.name),
             }
@@ -2063,4 +2136,15 @@ fn err_state(fault: &Fault) -> ErrState {
         _ => fault.message.clone(),
     };
     ErrState { number, description }
+}
+
+/// The arguments of `bound` that are lent arrays, each with its entry of `lent`.
+fn lent_args(bound: Vec<(usize, Var)>, lent: &[(usize, Rc<str>)]) -> Vec<(Var, (usize, Rc<str>))> {
+    let mut out = Vec::new();
+    for (index, var) in bound {
+        if let Some(entry) = lent.iter().find(|(i, _)| *i == index) {
+            out.push((var, entry.clone()));
+        }
+    }
+    out
 }
