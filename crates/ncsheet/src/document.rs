@@ -384,6 +384,16 @@ fn typed_date_format_in(
     if text.starts_with(['=', '\'']) || locale.read_plain_number(text).is_some() {
         return None;
     }
+    date_text_format(locale, system, text)
+}
+
+/// The format of `text`, no plain number, typed as a date or time in `locale`
+/// ([`typed_date_format_in`]).
+fn date_text_format(
+    locale: crate::eval::Locale,
+    system: crate::eval::dates::DateSystem,
+    text: &str,
+) -> Option<&'static str> {
     let read = locale.read_date_text(text, system)?;
     let seconds = text.matches(':').count() > 1;
     match (read.date, read.time) {
@@ -399,10 +409,10 @@ fn typed_date_format_in(
 /// The number format a percent or a scientific number read from a csv in a decimal-comma
 /// `locale` gets (`12,5%`, `1,5E+03`), as LibreOffice set to the locale gives it, so that it is
 /// written back as LibreOffice writes it: the locale's percent with two decimals (de-DE
-/// `12,50 %`, et-EE `12,50%`) and `0.00E+00` (`1,50E+03`).
+/// `12,50 %`, et-EE `12,50%`) and `0.00E+00` (`1,50E+03`); `text` is a plain number there.
 fn csv_number_format(locale: crate::eval::Locale, text: &str) -> Option<&'static str> {
     let text = text.trim();
-    if locale.is_canonical() || locale.read_plain_number(text).is_none() {
+    if locale.is_canonical() {
         return None;
     }
     if text.ends_with('%') {
@@ -437,9 +447,7 @@ fn read_csv_fields_in_locale(opened: &mut Opened, locale: crate::eval::Locale) {
             if value != Value::Bool(b) {
                 inputs.push((pos, if b { "TRUE" } else { "FALSE" }.to_string()));
             }
-        } else if let Some(n) = locale.read_number(&text, wb.date_system()) {
-            let code =
-                typed_date_format_in(locale, wb.date_system(), &text).or_else(|| csv_number_format(locale, &text));
+        } else if let Some((n, code)) = csv_number(locale, wb.date_system(), &text) {
             formats.extend(code.map(|code| (pos, code)));
             if value != Value::Number(n) {
                 // The shortest spelling that reads back as the same number, in the file syntax.
@@ -467,6 +475,23 @@ fn read_csv_fields_in_locale(opened: &mut Opened, locale: crate::eval::Locale) {
     for (pos, code) in formats {
         shown.entry(pos).or_insert_with(|| code.to_string());
     }
+}
+
+/// A csv field read as a number in a decimal-comma `locale`, its plain number read once, with
+/// the format it gets: a percent's or a scientific number's ([`csv_number_format`]), or a
+/// date's or a time's ([`typed_date_format_in`]).
+fn csv_number(
+    locale: crate::eval::Locale,
+    system: crate::eval::dates::DateSystem,
+    text: &str,
+) -> Option<(f64, Option<&'static str>)> {
+    if let Some(n) = locale.read_plain_number(text) {
+        return Some((n, csv_number_format(locale, text)));
+    }
+    let n = locale.read_number_beyond_plain(text, system)?;
+    let text = text.trim();
+    let code = if text.starts_with(['=', '\'']) { None } else { date_text_format(locale, system, text) };
+    Some((n, code))
 }
 
 /// A csv field's text: without the quotes around it, `""` inside it one `"`.

@@ -382,9 +382,13 @@ impl Locale {
         if self.is_canonical() {
             return super::coerce::parse_number(text, system);
         }
-        self.read_plain_number(text)
-            .or_else(|| super::coerce::parse_mixed_fraction(text))
-            .or_else(|| self.read_date(text.trim(), system))
+        self.read_plain_number(text).or_else(|| self.read_number_beyond_plain(text, system))
+    }
+
+    /// [`Locale::read_number`] of text already found to be no plain number of this
+    /// non-canonical locale: a mixed fraction, a date or a time.
+    pub fn read_number_beyond_plain(self, text: &str, system: DateSystem) -> Option<f64> {
+        super::coerce::parse_mixed_fraction(text).or_else(|| self.read_date(text.trim(), system))
     }
 
     /// [`Locale::read_number`] without dates and times.
