@@ -230,6 +230,8 @@ pub struct Scratch {
     /// The locale in force for this recalculation, found once at its start: with a fixed
     /// clock it holds the clock's year, a date conversion too many to make for every cell.
     locale: Locale,
+    /// Formulas evaluated since the workbook was made ([`Workbook::formulas_evaluated`]).
+    evaluations: u64,
 }
 
 /// Entries of the search's buffers kept between recalculations.
@@ -252,6 +254,13 @@ impl Affected {
 }
 
 impl Workbook {
+    /// How many formulas recalculation has evaluated since the workbook was made: the work an
+    /// edit costs, counted (tests bound it, so they hold on a loaded machine where a wall-clock
+    /// bound would not).
+    pub fn formulas_evaluated(&self) -> u64 {
+        self.scratch.evaluations
+    }
+
     /// Recomputes every formula (after loading a file or redefining names).
     pub fn recalculate(&mut self) {
         if std::mem::take(&mut self.names_unlinked) {
@@ -570,6 +579,7 @@ impl Workbook {
     }
 
     pub(super) fn evaluate(&mut self, id: u32, late: &mut Vec<u32>) {
+        self.scratch.evaluations += 1;
         let cell = &self.cells[id as usize];
         let formula = self.formulas.get(cell.formula);
         let mut ctx = Ctx::for_cell_of(self, (self.date_system(), self.scratch.locale), cell.sheet, cell.pos);
