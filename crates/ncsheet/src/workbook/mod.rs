@@ -36,7 +36,7 @@ use graph::{Deps, FxMap, RangeIndex};
 use links::for_each_pos;
 pub use look::SheetLook;
 pub use problems::{Problem, ProblemKind};
-use shared::{relative_key_into, shape_of, FormulaStore, SharedFormula};
+use shared::{key_offset, relative_key_into, shape_of, text_offset, FormulaStore, SharedFormula};
 use sheet::Sheet;
 pub use sheet::Visibility;
 pub use shift::{Axis, SheetEdit};
@@ -690,10 +690,17 @@ impl Workbook {
         let mut spans = std::mem::take(&mut self.literal_spans);
         let keyed = relative_key_into(text, pos, &mut key, &mut spans);
         let found = if keyed { self.formulas.find(&key) } else { None };
-        let result = match found {
-            Some(id) => Ok(id),
-            None if keyed => self.shaped_formula(text, sheet, pos, &key, &spans),
-            None => self.parse_at(text, sheet, pos).map(|expr| self.formulas.add(None, SharedFormula::new(expr))),
+        let failed = if keyed && found.is_none() { self.formulas.failure(&key) } else { None };
+        let result = match (found, failed) {
+            (Some(id), _) => Ok(id),
+            (None, Some(e)) => Err(ParseError { offset: text_offset(text, pos, e.offset), message: e.message.clone() }),
+            (None, None) if keyed => self.shaped_formula(text, sheet, pos, &key, &spans).inspect_err(|e| {
+                let at_key = ParseError { offset: key_offset(text, pos, e.offset), message: e.message.clone() };
+                self.formulas.add_failure(&key, at_key);
+            }),
+            (None, None) => {
+                self.parse_at(text, sheet, pos).map(|expr| self.formulas.add(None, SharedFormula::new(expr)))
+            }
         };
         self.key_buf = key;
         self.literal_spans = spans;

@@ -15,6 +15,7 @@ use std::rc::Rc;
 use crate::eval::functions;
 use crate::formula::address::{Pos, MAX_COLS, MAX_ROWS};
 use crate::formula::ast::{ArrayLit, Expr, ExprKind, Reference, SheetId, SheetRef};
+use crate::formula::parse::ParseError;
 
 use super::graph::FxMap;
 
@@ -105,6 +106,9 @@ pub struct FormulaStore {
     by_key: FxMap<Vec<u8>, u32>,
     /// Formulas by shape (see the module doc), for copying with other numbers.
     by_shape: FxMap<Vec<u8>, u32>,
+    /// Keys whose text does not parse, with the error at its place in the key: 100,000 copies
+    /// of one shared formula that fails would each be parsed again (a millisecond each).
+    failed: FxMap<Vec<u8>, ParseError>,
 }
 
 impl FormulaStore {
@@ -142,8 +146,21 @@ impl FormulaStore {
         self.by_shape.retain(|_, id| ids.binary_search(id).is_err());
     }
 
+    /// Why the text of this key does not parse, the offset a place in the key.
+    pub fn failure(&self, key: &[u8]) -> Option<&ParseError> {
+        self.failed.get(key)
+    }
+
+    /// Notes that the text of `key` does not parse (`error.offset` a place in the key).
+    pub fn add_failure(&mut self, key: &[u8], error: ParseError) {
+        self.failed.insert(key.to_vec(), error);
+    }
+
     /// Forgets the keys (after a sheet is added, `Missing` sheet references may resolve now).
     pub fn forget_keys(&mut self) {
+        if !self.failed.is_empty() {
+            self.failed.clear();
+        }
         // Clearing costs the maps' capacity even when empty: sheets added one after another
         // (100,000 of them in a file) must not pay it each time.
         if !self.by_key.is_empty() {
@@ -283,6 +300,72 @@ const IN_WORD: [bool; 256] = {
 /// receives where in `out` each number literal is. The key is the text's bytes with each
 /// cell address replaced, so it is UTF-8 whenever the text is.
 pub fn relative_key_into(text: &str, at: Pos, out: &mut Vec<u8>, literals: &mut Vec<(usize, usize)>) -> bool {
+    scan_key(text, at, out, literals, &mut |_, _| {})
+}
+
+/// One piece of a formula's text and what its relative key holds for it: a cell address is
+/// rewritten, anything else copied byte for byte.
+#[derive(Clone, Copy)]
+struct Piece {
+    text: (usize, usize),
+    key: (usize, usize),
+}
+
+impl Piece {
+    /// `offset` (inside `from`) moved to the same place of `to`: the same byte of a piece
+    /// copied as it is, the start of a rewritten address.
+    fn moved(offset: usize, from: (usize, usize), to: (usize, usize)) -> usize {
+        let copied = from.1 - from.0 == to.1 - to.0;
+        to.0 + if copied { offset - from.0 } else { 0 }
+    }
+}
+
+/// The pieces of `text`'s relative key, in order; `None` when the text has no key.
+fn pieces(text: &str, at: Pos) -> Option<Vec<Piece>> {
+    let mut pieces = Vec::new();
+    let mut last = (0, 0);
+    let mut mark = |t: usize, k: usize| {
+        if (t, k) != last {
+            pieces.push(Piece { text: (last.0, t), key: (last.1, k) });
+        }
+        last = (t, k);
+    };
+    let mut out = Vec::new();
+    if !scan_key(text, at, &mut out, &mut Vec::new(), &mut mark) {
+        return None;
+    }
+    mark(text.len(), out.len());
+    Some(pieces)
+}
+
+/// Where byte `offset` of `text` (typed at `at`) falls in its relative key: a parse error's
+/// place kept with the key, so that every text of that key gets it at its own place.
+pub fn key_offset(text: &str, at: Pos, offset: usize) -> usize {
+    let pieces = pieces(text, at).unwrap_or_default();
+    match pieces.iter().find(|p| offset < p.text.1) {
+        Some(p) => Piece::moved(offset, p.text, p.key),
+        None => pieces.last().map_or(offset, |p| p.key.1),
+    }
+}
+
+/// The byte of `text` (typed at `at`) at `offset` of its relative key ([`key_offset`] back).
+pub fn text_offset(text: &str, at: Pos, offset: usize) -> usize {
+    let pieces = pieces(text, at).unwrap_or_default();
+    match pieces.iter().find(|p| offset < p.key.1) {
+        Some(p) => Piece::moved(offset, p.key, p.text),
+        None => text.len(),
+    }
+}
+
+/// The scan of [`relative_key_into`], telling `mark` where each piece of the text starts in
+/// the text and in the key.
+fn scan_key(
+    text: &str,
+    at: Pos,
+    out: &mut Vec<u8>,
+    literals: &mut Vec<(usize, usize)>,
+    mark: &mut impl FnMut(usize, usize),
+) -> bool {
     out.clear();
     literals.clear();
     // Offsets are seldom longer than the addresses they replace: one reserve serves the scan.
@@ -290,6 +373,7 @@ pub fn relative_key_into(text: &str, at: Pos, out: &mut Vec<u8>, literals: &mut 
     let b = text.as_bytes();
     let mut i = 0;
     while i < b.len() {
+        mark(i, out.len());
         let class = CLASSES[b[i] as usize];
         let end = match class {
             Class::Plain | Class::Wide => run_end(b, i, class),
@@ -475,6 +559,19 @@ fn push_int(out: &mut Vec<u8>, n: i64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_place_in_one_copy_is_found_in_another_of_other_lengths() {
+        // `=B9+1+)` typed in row 9 and `=B10+1+)` in row 10 share a key; the `)` is byte 6 of
+        // the first text and byte 7 of the second; the `B` of the address byte 1 of both.
+        let (a, b) = ("=B9+1+)", "=B10+1+)");
+        let (at_a, at_b) = (Pos::new(8, 0), Pos::new(9, 0));
+        assert_eq!(relative_key(a, at_a), relative_key(b, at_b));
+        assert_eq!(text_offset(b, at_b, key_offset(a, at_a, 6)), 7);
+        assert_eq!(text_offset(b, at_b, key_offset(a, at_a, 1)), 1);
+        assert_eq!(text_offset(b, at_b, key_offset(a, at_a, a.len())), b.len());
+        assert_eq!(text_offset(a, at_a, key_offset(b, at_b, 5)), 4);
+    }
 
     #[test]
     fn copies_down_a_column_share_a_key() {

@@ -5,7 +5,7 @@
 use std::rc::Rc;
 
 use crate::eval::functions::api::{block, number, Ctx, FnSpec, MANY};
-use crate::eval::value::{Array, Closure, Value, XlError, XlResult};
+use crate::eval::value::{too_much_text_note, Array, Closure, TextBudget, Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
 
 pub const FUNCTIONS: &[FnSpec] = &[
@@ -96,6 +96,17 @@ fn as_item(v: Value) -> Value {
     }
 }
 
+/// Adds a LAMBDA's result to the array being made, its text counted against the limit every
+/// array a formula makes has (`MAP(SEQUENCE(200000),LAMBDA(x,REPT("q",32767)))` asked for
+/// 6.5 GB): `#NUM!` with the limit's note past it.
+fn push_item(ctx: &mut Ctx, data: &mut Vec<Value>, text: &mut TextBudget, item: Value) -> XlResult<()> {
+    if !text.take(&item) {
+        return Err(ctx.explain(XlError::Num, too_much_text_note()));
+    }
+    data.push(item);
+    Ok(())
+}
+
 fn array(rows: usize, cols: usize, data: Vec<Value>) -> Value {
     Value::Array(Rc::new(Array::new(rows, cols, data)))
 }
@@ -107,10 +118,12 @@ fn map(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let cols = blocks.iter().map(|b| b.cols).max().unwrap_or(1);
     with_lambda(ctx, lambda, |ctx, lambda| {
         let mut data = Vec::with_capacity(rows * cols);
+        let mut text = TextBudget::default();
         for r in 0..rows {
             for c in 0..cols {
                 let values: Vec<Value> = blocks.iter().map(|b| b.broadcast_get(r, c)).collect();
-                data.push(as_item(apply(ctx, lambda, &values)?));
+                let item = as_item(apply(ctx, lambda, &values)?);
+                push_item(ctx, &mut data, &mut text, item)?;
             }
         }
         Ok(array(rows, cols, data))
@@ -141,9 +154,10 @@ fn scan(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let (mut acc, items) = accumulation(ctx, args)?;
     with_lambda(ctx, &args[args.len() - 1], |ctx, lambda| {
         let mut data = Vec::with_capacity(items.data.len());
+        let mut text = TextBudget::default();
         for v in &items.data {
             acc = apply(ctx, lambda, &[acc.clone(), v.clone()])?;
-            data.push(as_item(acc.clone()));
+            push_item(ctx, &mut data, &mut text, as_item(acc.clone()))?;
         }
         Ok(array(items.rows, items.cols, data))
     })
@@ -154,13 +168,15 @@ fn by_line(ctx: &mut Ctx, args: &[Expr], rows: bool) -> XlResult<Value> {
     with_lambda(ctx, &args[1], |ctx, lambda| {
         let lines = if rows { a.rows } else { a.cols };
         let mut data = Vec::with_capacity(lines);
+        let mut text = TextBudget::default();
         for i in 0..lines {
             let line = if rows {
                 Array::row((0..a.cols).map(|c| a.get(i, c).clone()).collect())
             } else {
                 Array::column((0..a.rows).map(|r| a.get(r, i).clone()).collect())
             };
-            data.push(as_item(apply(ctx, lambda, &[Value::Array(Rc::new(line))])?));
+            let item = as_item(apply(ctx, lambda, &[Value::Array(Rc::new(line))])?);
+            push_item(ctx, &mut data, &mut text, item)?;
         }
         Ok(if rows { array(lines, 1, data) } else { array(1, lines, data) })
     })
@@ -185,10 +201,12 @@ fn makearray(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     ctx.room_for(rows, cols)?;
     with_lambda(ctx, &args[2], |ctx, lambda| {
         let mut data = Vec::with_capacity(rows * cols);
+        let mut text = TextBudget::default();
         for r in 0..rows {
             for c in 0..cols {
                 let at = [Value::Number((r + 1) as f64), Value::Number((c + 1) as f64)];
-                data.push(as_item(apply(ctx, lambda, &at)?));
+                let item = as_item(apply(ctx, lambda, &at)?);
+                push_item(ctx, &mut data, &mut text, item)?;
             }
         }
         Ok(array(rows, cols, data))
