@@ -227,3 +227,24 @@ fn the_cycles_main_makes_one_part_with_a_tool_per_cycle() {
     }
     assert_eq!(cycles_seen, ["L16", "L17", "L13"], "one program, three cycles");
 }
+
+// Microsoft's "Code Page Identifiers": 936 is GBK (Simplified Chinese). The VBA editor exports
+// a module in the system's ANSI code page, so a .bas from a Chinese Excel holds GBK bytes;
+// `--code-page 936` reads its text as written (in code page 1252 `个数据` was `¸öÊý¾Ý`).
+#[test]
+fn a_module_exported_in_a_chinese_code_page_reads_with_code_page() {
+    let dir = tempfile::tempdir().unwrap();
+    let book = write(dir.path(), "b.csv", "x\n");
+    let bas = dir.path().join("m.bas");
+    // `Range("A1").Value = "个数据"`, the text in GBK bytes (个 B8F6, 数 CAFD, 据 BEDD).
+    let mut bytes = b"Sub Main()\r\n    Range(\"A1\").Value = \"".to_vec();
+    bytes.extend_from_slice(&[0xB8, 0xF6, 0xCA, 0xFD, 0xBE, 0xDD]);
+    bytes.extend_from_slice(b"\"\r\nEnd Sub\r\n");
+    std::fs::write(&bas, &bytes).unwrap();
+    let saved = dir.path().join("out.csv");
+    let (bas, saved_path) = (bas.to_str().unwrap(), saved.to_str().unwrap());
+    let out = ncsheet(&["run", &book, bas, "--code-page", "936", "--save", saved_path]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = std::fs::read_to_string(&saved).unwrap();
+    assert!(text.trim_start_matches('\u{feff}').starts_with("个数据"), "{text}");
+}

@@ -44,6 +44,12 @@ pub struct RunArgs {
     /// procedures) or a .cls class module (`New Name` makes its objects)
     #[arg(long = "module", value_name = "FILE")]
     pub modules: Vec<PathBuf>,
+    /// The ANSI code page the .bas and .cls files are in when they are not UTF-8: the VBA
+    /// editor exports a module in the system's (932 Japanese, 936 Simplified Chinese, 949
+    /// Korean, 950 Traditional Chinese, 1250-1258); default the workbook's own VBA project's,
+    /// else 1252
+    #[arg(long = "code-page", value_name = "N")]
+    pub code_page: Option<u16>,
     /// The Sub to run (default: Main, or the first Sub without arguments); for the
     /// workbook's own macros also MODULE.SUB (Module1.Chamfer)
     #[arg(long, value_name = "NAME")]
@@ -356,7 +362,7 @@ fn macro_source(
     if let Some(file) = &args.macro_file {
         // The code page of the workbook's own project, if it has one that reads.
         let project = layout.and_then(|l| l.vba_project.as_deref()).and_then(|b| read_project(b).ok());
-        let code_page = project.map_or(super::macros::NEW_PROJECT_CODE_PAGE, |p| p.code_page);
+        let code_page = args.code_page.unwrap_or(project.map_or(super::macros::NEW_PROJECT_CODE_PAGE, |p| p.code_page));
         let source = super::macros::read_module_text(file, code_page)?;
         return Ok((file.clone(), source, args.sub.clone(), None));
     }
@@ -398,7 +404,7 @@ fn class_modules(args: &RunArgs) -> Result<Vec<(String, String)>> {
 fn given_modules(args: &RunArgs, kind: ModuleKind) -> Result<Vec<(String, String)>> {
     let mut out = Vec::new();
     for path in &args.modules {
-        let m = super::macros::read_module(path, super::macros::NEW_PROJECT_CODE_PAGE)?;
+        let m = super::macros::read_module(path, args.code_page.unwrap_or(super::macros::NEW_PROJECT_CODE_PAGE))?;
         if m.kind == kind {
             out.push((m.name, m.source));
         }
