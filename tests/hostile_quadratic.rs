@@ -35,6 +35,13 @@ fn shown(wb: &mut Workbook, cell: &str, formula: &str) -> Value {
     get(wb, cell)
 }
 
+/// Each formula's result shown in `column`, one row each from row 1, against its text.
+fn assert_all_shown(wb: &mut Workbook, column: char, cases: &[(String, &str)]) {
+    for (i, (formula, expected)) in cases.iter().enumerate() {
+        assert_eq!(shown(wb, &format!("{column}{}", i + 1), formula), t(expected), "{formula}");
+    }
+}
+
 fn t(s: &str) -> Value {
     Value::text(s)
 }
@@ -113,9 +120,7 @@ fn many_criteria_count_and_sum_what_each_criterion_finds() {
         // A whole column: the cells past the sheet's used area are empty too.
         (format!("COUNTIF(A:A,{criteria})"), "2,3,3,1,1048567,1048567,9,1,2,1,2,3"),
     ];
-    for (i, (formula, expected)) in cases.iter().enumerate() {
-        assert_eq!(shown(&mut wb, &format!("E{}", i + 1), formula), t(expected), "{formula}");
-    }
+    assert_all_shown(&mut wb, 'E', &cases);
     // Comparisons match values of their own kind only: ">a" the texts after "a" ("5" sorts
     // before letters), "<TRUE" no boolean here, ">#N/A" nothing; "<>5" all but the numbers 5.
     let comparisons = r##"{">4";"<4";">=5";"<=5";">a";"<b";">=TRUE";"<TRUE";">#N/A";"<>5";">=apple";"<5"}"##;
@@ -129,9 +134,7 @@ fn many_criteria_count_and_sum_what_each_criterion_finds() {
         // Numbers with fractions are added in row order, as one criterion at a time adds them.
         (format!("SUMIF(A1:A10,{comparisons},B1:B10/10+0.1)"), "9.2,9.1,9.2,18.3,10.3,15.3,4.1,0,0,46.8,10.3,9.1"),
     ];
-    for (i, (formula, expected)) in cases.iter().enumerate() {
-        assert_eq!(shown(&mut wb, &format!("F{}", i + 1), formula), t(expected), "{formula}");
-    }
+    assert_all_shown(&mut wb, 'F', &cases);
     // Two criteria arrays paired item by item (A with B): each pair names the cells where
     // both hold. The text "5" is 5 to the criterion 5; "" is the empty A5; "b*" a pattern.
     let first = r##"{"apple";"apple";5;5;"5";TRUE;"";"banana";3;"#N/A";"b*"}"##;
@@ -142,9 +145,7 @@ fn many_criteria_count_and_sum_what_each_criterion_finds() {
         (format!("SUMIFS(B1:B10,A1:A10,{first},B1:B10,{second})"), "10,60,20,70,80,40,50,0,90,100,30"),
         (format!("COUNTIFS(A:A,{first},B:B,{second})"), "1,1,1,1,1,1,1,0,1,1,1"),
     ];
-    for (i, (formula, expected)) in cases.iter().enumerate() {
-        assert_eq!(shown(&mut wb, &format!("H{}", i + 1), formula), t(expected), "{formula}");
-    }
+    assert_all_shown(&mut wb, 'H', &cases);
     // "<>" matches what "=" does not, except that "<>5" keeps the text "5" (Excel's
     // COUNTIF.xlsx in the corpus); "<>" alone counts every cell that is not empty.
     let unequal = r##"{"<>apple";"<>5";"<>TRUE";"<>";"<>#N/A";"<>3";"<>x";"<>BANANA"}"##;
@@ -154,9 +155,7 @@ fn many_criteria_count_and_sum_what_each_criterion_finds() {
         (format!("COUNTIFS(A1:A10,{unequal},B1:B10,\">50\")"), "4,4,5,5,4,4,5,5"),
         (format!("SUMIF(A1:A10,{unequal},B1:B10)"), "480,460,510,500,450,460,550,520"),
     ];
-    for (i, (formula, expected)) in cases.iter().enumerate() {
-        assert_eq!(shown(&mut wb, &format!("G{}", i + 1), formula), t(expected), "{formula}");
-    }
+    assert_all_shown(&mut wb, 'G', &cases);
 }
 
 /// Keys SEQUENCE(k) reversed over the items SEQUENCE(k): key j is found at position j, so
