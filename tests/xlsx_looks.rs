@@ -30,8 +30,13 @@ fn python(script: &str, args: &[&Path]) -> String {
     String::from_utf8(out.stdout).unwrap()
 }
 
-fn open(path: &Path) -> Document {
-    Document::open_file(path, &OpenOptions::default()).unwrap_or_else(|e| panic!("{e}"))
+/// The book `script` writes, opened: its folder (kept while the test runs) and document.
+fn book_by_openpyxl(script: &str) -> (tempfile::TempDir, Document) {
+    let dir = tempfile::tempdir().unwrap();
+    let book = dir.path().join("book.xlsx");
+    python(script, &[&book]);
+    let doc = Document::open_file(&book, &OpenOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    (dir, doc)
 }
 
 fn run(doc: &mut Document, body: &str) -> Vec<String> {
@@ -65,10 +70,7 @@ fn a_macro_reads_the_formatting_the_file_was_written_with() {
     if !openpyxl_available() {
         return;
     }
-    let dir = tempfile::tempdir().unwrap();
-    let book = dir.path().join("formatted.xlsx");
-    python(WRITE_FORMATTED, &[&book]);
-    let mut doc = open(&book);
+    let (_dir, mut doc) = book_by_openpyxl(WRITE_FORMATTED);
     let printed = run(
         &mut doc,
         "    Debug.Print Range(\"A1\").Font.Bold & \"|\" & Range(\"B1\").Font.Bold & \"|\" & Range(\"B1\").Font.Italic\n\
@@ -134,10 +136,7 @@ fn a_package_written_anew_keeps_the_files_styles_and_the_macros_and_says_only_wh
     if !openpyxl_available() {
         return;
     }
-    let dir = tempfile::tempdir().unwrap();
-    let book = dir.path().join("formatted.xlsx");
-    python(WRITE_FORMATTED, &[&book]);
-    let mut doc = open(&book);
+    let (dir, mut doc) = book_by_openpyxl(WRITE_FORMATTED);
     // A deleted row makes the save write the package anew (the patch keeps rows in place).
     run(&mut doc, "    Range(\"B1\").Font.Italic = True\n    Rows(5).Delete");
     let saved = dir.path().join("saved.xlsx");
@@ -178,10 +177,7 @@ fn a_save_over_the_files_own_package_writes_the_macros_formats() {
     if !openpyxl_available() {
         return;
     }
-    let dir = tempfile::tempdir().unwrap();
-    let book = dir.path().join("plain.xlsx");
-    python(WRITE_PLAIN, &[&book]);
-    let mut doc = open(&book);
+    let (dir, mut doc) = book_by_openpyxl(WRITE_PLAIN);
     run(&mut doc, FORMAT);
     let saved = dir.path().join("saved.xlsx");
     let encoded = doc.encode(&saved).unwrap();
