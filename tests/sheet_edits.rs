@@ -624,3 +624,23 @@ fn repeated_row_edits_keep_moved_formulas_shared_and_the_store_bounded() {
     assert_eq!(wb.formula(0, at("C41")).as_deref(), Some("=SUM(A41:A52)"));
     assert_eq!(wb.value(0, at("C41")), n(55.0));
 }
+
+// A name's absolute references follow an edit as a lone absolute range does (Walkenbach,
+// above: a name's range moves with rows inserted above it); a relative one beside them is
+// read from the cell using the name and stays as written. The name was skipped whole: its
+// `$A$5` kept pointing at row 5, which after the insert holds 3, not 5.
+#[test]
+fn a_name_with_a_relative_reference_still_moves_its_absolute_ones() {
+    let mut wb = probe_book();
+    // Its relative `A1` is the using cell's own address, on Sheet1.
+    wb.define_name("Mix", "Sheet1!$A$5*10+Sheet1!A1", None).unwrap();
+    set(&mut wb, 1, "B1", "=Mix");
+    set(&mut wb, 1, "B3", "=Mix");
+    assert_eq!(wb.value(1, at("B1")), n(150.0));
+    wb.shift_cells(0, SheetEdit::rows(2, 2, true)).unwrap();
+    let mix = wb.names().into_iter().find(|(n, _, _)| n == "Mix").unwrap().1;
+    assert_eq!(mix, "=Sheet1!$A$7*10+Sheet1!A1");
+    // Sheet2!B1 reads Sheet1!B1 (100), B3 reads Sheet1!B3 (an inserted, empty row).
+    assert_eq!(wb.value(1, at("B1")), n(150.0));
+    assert_eq!(wb.value(1, at("B3")), n(50.0));
+}

@@ -378,21 +378,17 @@ impl Workbook {
         Ok(moves)
     }
 
-    /// Defined names whose references are absolute follow the edit too; whether one did.
+    /// Defined names' absolute references follow the edit too; whether one did. A name's
+    /// relative reference is read from the cell that uses it: it moves with that cell, not
+    /// with the edit, so it stays as written beside absolute ones that follow.
     fn follow_names(&mut self, sheet: SheetId, edit: &SheetEdit) -> bool {
         let mut moved = false;
         for i in 0..self.names.len() {
             let name = &self.names[i];
-            // A name's relative reference is read from the cell that uses it: it moves with
-            // that cell, not with the edit.
-            let mut relative = false;
-            name.expr.visit_refs(&mut |r| relative |= has_relative(r));
-            if relative {
-                continue;
-            }
             let home = name.scope.unwrap_or(SheetId::MAX);
             let origin = Pos::new(0, 0);
-            if let Some(tree) = follow_tree(&name.expr, home, origin, origin, sheet, edit) {
+            let absolute = |r: &Reference| !has_relative(r);
+            if let Some(tree) = follow_refs(&name.expr, home, origin, origin, sheet, edit, &absolute) {
                 self.names[i].expr = Rc::new(tree);
                 moved = true;
             }
@@ -436,15 +432,29 @@ fn has_relative(r: &Reference) -> bool {
 /// references following `edit` of sheet `edited`; `None` when nothing in it changes (its
 /// references, relative ones counted from `to`, are as written).
 fn follow_tree(tree: &Expr, home: SheetId, from: Pos, to: Pos, edited: SheetId, edit: &SheetEdit) -> Option<Expr> {
+    follow_refs(tree, home, from, to, edited, edit, &|_| true)
+}
+
+/// [`follow_tree`] for the references `moving` picks; the others stay as written.
+fn follow_refs(
+    tree: &Expr,
+    home: SheetId,
+    from: Pos,
+    to: Pos,
+    edited: SheetId,
+    edit: &SheetEdit,
+    moving: &dyn Fn(&Reference) -> bool,
+) -> Option<Expr> {
+    let followed = |r: &Reference| if moving(r) { follow(r, home, from, to, edited, edit) } else { Followed::Same };
     let mut changed = false;
-    tree.visit_refs(&mut |r| changed |= !matches!(follow(r, home, from, to, edited, edit), Followed::Same));
+    tree.visit_refs(&mut |r| changed |= !matches!(followed(r), Followed::Same));
     if !changed {
         return None;
     }
     let mut tree = tree.clone();
     each_ref_mut(&mut tree, &mut |e| {
         let ExprKind::Ref(r) = &e.kind else { return };
-        match follow(r, home, from, to, edited, edit) {
+        match followed(r) {
             Followed::Same => {}
             Followed::To(r) => e.kind = ExprKind::Ref(r),
             Followed::Deleted => e.kind = ExprKind::Error(XlError::Ref),
