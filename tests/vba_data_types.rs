@@ -452,3 +452,19 @@ fn an_array_function_item_keeps_its_literal_type() {
     );
     assert_eq!(out, ["Integer  2 Long Double String Long", "Integer Integer Long"]);
 }
+
+// "Comparison operators" (Office VBA reference): when both expressions are Variants and "one
+// expression is numeric and the other is a string", "the numeric expression is less than the
+// string expression"; its numeric data types are "Byte, Boolean, Integer, Long, Single,
+// Double, Date, Currency, or Decimal". So a Variant holding True is less than a Variant
+// holding "abc", either way round, where a formula puts TRUE after every text.
+#[test]
+fn a_variant_boolean_is_less_than_a_variant_string() {
+    let out = printed(
+        "",
+        "    Dim v, s, n\n    v = True: s = \"abc\": n = 5\n\
+         \x20   Debug.Print v < s; v > s; v = s; s > v; s <= v\n\
+         \x20   Debug.Print n < s; s > n",
+    );
+    assert_eq!(out, ["TrueFalseFalseTrueFalse", "TrueTrue"]);
+}

@@ -119,7 +119,7 @@ impl Interp<'_, '_> {
     /// against a number ("Comparison operators" in the Office VBA reference): a declared
     /// String against a Variant number compares as texts; against a number of a numeric
     /// type the text is made a Double (Type mismatch when it is no number); two Variants
-    /// put the number first.
+    /// put the number (a Boolean too) first.
     pub(super) fn vba_comparison(
         &self,
         op: BinOp,
@@ -147,8 +147,14 @@ impl Interp<'_, '_> {
         let boolean = matches!(a, Value::Bool(_)) || matches!(b, Value::Bool(_));
         let text_variant = self.declared_type(text_expr) == Declared::Variant;
         match (text_variant, self.declared_type(number_expr) == Declared::Variant) {
-            // Two Variants: the number is less, as in a formula.
-            (true, true) => return None,
+            // Two Variants: the number is less ("Comparison operators": "one expression is
+            // numeric and the other is a string: the numeric expression is less than the
+            // string expression", the numeric types Byte, Boolean, Integer …), a Boolean too,
+            // where a formula puts TRUE after every text.
+            (true, true) => {
+                let ord = if matches!(a, Value::Text(_)) { Ordering::Greater } else { Ordering::Less };
+                return Some(Ok(Value::Bool(comparison_holds(op, ord))));
+            }
             // A String against a Variant holding a number: the number's text is compared.
             (false, true) => {
                 let shown = if boolean {
