@@ -468,3 +468,37 @@ fn a_variant_boolean_is_less_than_a_variant_string() {
     );
     assert_eq!(out, ["TrueFalseFalseTrueFalse", "TrueTrue"]);
 }
+
+// "Date data type" (Office VBA language reference): a Date holds 1 January 100 (-657,434) to
+// 31 December 9999, and "negative whole numbers represent dates before 30 December 1899";
+// [MS-VBAL] 2.1.1.1: the fraction of a negative Date is its time counted forward (-1.25 is
+// 29 December 1899, 6:00 AM). VBA's calendar is the proleptic Gregorian one on both sides of
+// 1900 (no 1900-02-29: day 2 is 1 January 1900, a Monday), unlike the sheet's YEAR, which
+// keeps Excel's 1900 system (its serial 1 is 1 January 1900). The serials and weekdays were
+// worked out with Python's datetime (date(1800, 7, 4) - date(1899, 12, 30) = -36338 days, a
+// Friday: Weekday 6 counted from Sunday, 5 from Monday).
+#[test]
+fn dates_before_1900_have_vba_years_months_days_and_weekdays() {
+    let out = printed(
+        "",
+        "    Dim d As Date, t As Date\n    d = DateSerial(100, 1, 1)\n\
+         \x20   Debug.Print CDbl(d); Year(d); Month(d); Day(d); Weekday(d); CStr(d)\n\
+         \x20   d = DateSerial(1800, 7, 4)\n\
+         \x20   Debug.Print CDbl(d); Year(d); Month(d); Day(d); Weekday(d); Weekday(d, 2); CStr(d); \" \"; Format(d, \"yyyy-mm-dd\")\n\
+         \x20   d = DateSerial(1900, 1, 1)\n\
+         \x20   Debug.Print CDbl(d); Year(d); Month(d); Day(d); Weekday(d); \" \"; Format(d, \"yyyy-mm-dd ddd\")\n\
+         \x20   t = CDate(-1.25)\n\
+         \x20   Debug.Print Year(t); Month(t); Day(t); Hour(t); \" \"; Format(t, \"yyyy-mm-dd hh:mm\"); \" \"; CStr(t)\n\
+         \x20   Debug.Print Application.WorksheetFunction.Year(1); Year(Null) & \"|\"",
+    );
+    assert_eq!(
+        out,
+        [
+            "-657434  100  1  1  6 1/1/100",
+            "-36338  1800  7  4  6  5 7/4/1800 1800-07-04",
+            " 2  1900  1  1  2  1900-01-01 Mon",
+            " 1899  12  29  6  1899-12-29 06:00 12/29/1899 6:00:00 AM",
+            " 1900 |",
+        ]
+    );
+}

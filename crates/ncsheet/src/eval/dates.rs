@@ -186,6 +186,37 @@ impl DateTime {
             total_seconds,
         }
     }
+
+    /// Splits a macro's Date ([MS-VBAL] 2.1.1.1 and "Date data type": whole days counted
+    /// from 1899-12-30 on both sides of it in the proleptic Gregorian calendar, with no
+    /// 1900-02-29, and the fraction's absolute value the time of day, so -1.25 is
+    /// 1899-12-29 6:00 AM), rounding the time as [`DateTime::from_serial`] does.
+    pub fn from_vba_date(serial: f64, sub_second_digits: usize) -> DateTime {
+        let unit = 10f64.powi(sub_second_digits as i32);
+        let mut days = serial.trunc();
+        let mut in_day = ((serial - days).abs() * DAY_SECONDS * unit).round() / unit;
+        if in_day >= DAY_SECONDS {
+            // The time rounds up to the next midnight, forward on either side of day 0.
+            in_day -= DAY_SECONDS;
+            days += 1.0;
+        }
+        let days = days as i64;
+        let secs = in_day.floor() as u32;
+        let (year, month, day) = civil_from_days(days + days_from_civil(1899, 12, 30));
+        DateTime {
+            serial: days,
+            year,
+            month,
+            day,
+            // 1899-12-30 was a Saturday.
+            weekday: (days + 6).rem_euclid(7) as u32,
+            hour: secs / 3600,
+            minute: secs / 60 % 60,
+            second: secs % 60,
+            millis: ((in_day - in_day.floor()) * 1000.0).round() as u32,
+            total_seconds: days as f64 * DAY_SECONDS + in_day,
+        }
+    }
 }
 
 /// The system's local date and time now, as a serial of `dates` (what NOW returns unless the

@@ -7,7 +7,7 @@
 //! binary double is a little below).
 
 use super::number_format::significant_digits;
-use crate::eval::dates::{DateSystem, DateTime, LAST_SERIAL};
+use crate::eval::dates::{DateSystem, DateTime, LAST_SERIAL, VBA_DATE_RANGE};
 use crate::eval::value::{XlError, XlResult};
 
 /// One piece of a format section.
@@ -111,6 +111,16 @@ impl NumberFormat {
 
     /// A number as text under this format; a date format reads it as a serial of `dates`.
     pub fn format_number(&self, n: f64, dates: DateSystem) -> XlResult<String> {
+        self.format_with_dates(n, &|section, serial| format_date(section, serial, dates))
+    }
+
+    /// A number as VBA's Format shows it: a date format reads it as a macro's Date (from
+    /// 100-01-01, a negative date's time counted forward: [`DateTime::from_vba_date`]).
+    pub fn format_vba_number(&self, n: f64) -> XlResult<String> {
+        self.format_with_dates(n, &format_vba_date)
+    }
+
+    fn format_with_dates(&self, n: f64, date: DateFormatter) -> XlResult<String> {
         if self.no_condition_holds(n) {
             // `[<10]0" Wow"` given 10: Excel shows the number in General.
             return Ok(general_text(n));
@@ -120,7 +130,7 @@ impl NumberFormat {
             return Ok(String::new());
         }
         if section.is_date() {
-            return format_date(section, value, dates);
+            return date(section, value);
         }
         format_in_section(section, value, signed)
     }
@@ -1022,27 +1032,48 @@ pub fn general_text(n: f64) -> String {
 // ---------------------------------------------------------------------------------------
 // Dates and times
 
+/// How a date section shows a serial: the sheet's calendar or a macro's.
+type DateFormatter<'a> = &'a dyn Fn(&Section, f64) -> XlResult<String>;
+
 fn format_date(section: &Section, serial: f64, dates: DateSystem) -> XlResult<String> {
     if !(0.0..(LAST_SERIAL + 1) as f64).contains(&serial) {
         return Err(XlError::Value);
     }
-    let sub_second = section.tokens.iter().find_map(|t| match t {
-        Tok::Date(DatePart::SubSecond(n)) => Some(*n),
-        _ => None,
-    });
-    // Rounded to the finest unit shown (whole seconds unless `.0`/`.00`/`.000`).
-    let dt = DateTime::from_serial(dates, serial, sub_second.unwrap_or(0));
+    Ok(write_date(section, &DateTime::from_serial(dates, serial, sub_second_digits(section))))
+}
+
+fn format_vba_date(section: &Section, serial: f64) -> XlResult<String> {
+    if !VBA_DATE_RANGE.contains(&serial) {
+        return Err(XlError::Value);
+    }
+    Ok(write_date(section, &DateTime::from_vba_date(serial, sub_second_digits(section))))
+}
+
+/// The decimals of a second the section shows: the time is rounded to the finest unit
+/// shown (whole seconds unless `.0`/`.00`/`.000`).
+fn sub_second_digits(section: &Section) -> usize {
+    section
+        .tokens
+        .iter()
+        .find_map(|t| match t {
+            Tok::Date(DatePart::SubSecond(n)) => Some(*n),
+            _ => None,
+        })
+        .unwrap_or(0)
+}
+
+fn write_date(section: &Section, dt: &DateTime) -> String {
     let twelve_hour = section.tokens.iter().any(|t| matches!(t, Tok::Date(DatePart::AmPm { .. })));
     let mut out = String::new();
     for t in &section.tokens {
         match t {
-            Tok::Date(part) => out.push_str(&date_part(*part, &dt, twelve_hour)),
+            Tok::Date(part) => out.push_str(&date_part(*part, dt, twelve_hour)),
             Tok::Lit(s) => out.push_str(s),
             Tok::Percent => out.push('%'),
             _ => {}
         }
     }
-    Ok(out)
+    out
 }
 
 const MONTHS: [&str; 12] = [

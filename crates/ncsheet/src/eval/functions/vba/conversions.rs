@@ -7,6 +7,7 @@
 use std::cell::Cell;
 
 use crate::eval::coerce::to_number;
+use crate::eval::dates::{DateTime, VBA_DATE_RANGE};
 use crate::eval::functions::api::{given, Ctx};
 use crate::eval::functions::ValueFn;
 use crate::eval::value::{Value, XlError, XlResult};
@@ -363,6 +364,72 @@ pub(super) fn cdate(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         Ok(Value::Number(serial))
     });
     raised.raise(ctx, "CDate", result)
+}
+
+/// A Date argument of `Year`, `Month`, … in its parts, read as CDate reads it (a date
+/// outside 100-01-01 to 9999-12-31 is Overflow).
+fn vba_date_time(raised: &Raised, v: &Value) -> XlResult<DateTime> {
+    let serial = match v {
+        Value::Bool(b) => -f64::from(u8::from(*b)),
+        other => to_number(other, VBA_DATES)?,
+    };
+    if !VBA_DATE_RANGE.contains(&serial) {
+        return Err(raised.set(6, "a date before 1/1/100 or after 12/31/9999"));
+    }
+    Ok(DateTime::from_vba_date(serial, 0))
+}
+
+/// One part of a Date ("Year function", "Month function", "Day function", "Hour function",
+/// …): in VBA's own calendar, so a date before 1900 has its year, unlike the sheet's YEAR.
+/// Null gives Null.
+fn date_part(ctx: &mut Ctx, args: &[Expr], name: &'static str, part: fn(&DateTime) -> i64) -> XlResult<Value> {
+    let raised = Raised::default();
+    let result = lift_vba(ctx, args, name, FIRST, &|v| Ok(Value::Number(part(&vba_date_time(&raised, &v[0])?) as f64)));
+    raised.raise(ctx, name, result)
+}
+
+pub(super) fn year(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    date_part(ctx, args, "Year", |d| d.year)
+}
+
+pub(super) fn month(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    date_part(ctx, args, "Month", |d| i64::from(d.month))
+}
+
+pub(super) fn day(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    date_part(ctx, args, "Day", |d| i64::from(d.day))
+}
+
+pub(super) fn hour(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    date_part(ctx, args, "Hour", |d| i64::from(d.hour))
+}
+
+pub(super) fn minute(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    date_part(ctx, args, "Minute", |d| i64::from(d.minute))
+}
+
+pub(super) fn second(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    date_part(ctx, args, "Second", |d| i64::from(d.second))
+}
+
+/// `Weekday(date[, firstdayofweek])` ("Weekday function"): 1 for the first day of the week,
+/// Sunday (vbSunday, 1) unless given; vbUseSystem (0) is the system's, Sunday in en-US.
+/// Null gives Null; a first day past 0–7 is error 5.
+pub(super) fn weekday(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let raised = Raised::default();
+    let result = lift_vba(ctx, args, "Weekday", FIRST, &|v| {
+        let sunday_based = i64::from(vba_date_time(&raised, &v[0])?.weekday);
+        let first = match v.get(1) {
+            None | Some(Value::Blank) => 1,
+            Some(f) => match raised.whole(f, 32767.0)? as i64 {
+                0 => 1,
+                f @ 1..=7 => f,
+                _ => return Err(raised.set(5, "the first day of the week is not 0 to 7")),
+            },
+        };
+        Ok(Value::Number(((sunday_based - (first - 1)).rem_euclid(7) + 1) as f64))
+    });
+    raised.raise(ctx, "Weekday", result)
 }
 
 /// `Date$` ("Date function": `Date$` returns a 10-character string, mm-dd-yyyy).

@@ -284,6 +284,20 @@ pub const FUNCTIONS: &[FnSpec] = &[
     .volatile()
     .reads(Outside::Clock),
     FnSpec::value("VBA.CDATE", 1, 1, conversions::cdate, "VBA.CDATE(value)", "VBA CDate: the value as a Date"),
+    FnSpec::value("VBA.YEAR", 1, 1, conversions::year, "VBA.YEAR(date)", "VBA Year: the year of a Date (100 to 9999)"),
+    FnSpec::value("VBA.MONTH", 1, 1, conversions::month, "VBA.MONTH(date)", "VBA Month: the month of a Date, 1 to 12"),
+    FnSpec::value("VBA.DAY", 1, 1, conversions::day, "VBA.DAY(date)", "VBA Day: the day of the month of a Date"),
+    FnSpec::value("VBA.HOUR", 1, 1, conversions::hour, "VBA.HOUR(date)", "VBA Hour: the hour of a Date, 0 to 23"),
+    FnSpec::value("VBA.MINUTE", 1, 1, conversions::minute, "VBA.MINUTE(date)", "VBA Minute: the minute of a Date"),
+    FnSpec::value("VBA.SECOND", 1, 1, conversions::second, "VBA.SECOND(date)", "VBA Second: the second of a Date"),
+    FnSpec::value(
+        "VBA.WEEKDAY",
+        1,
+        2,
+        conversions::weekday,
+        "VBA.WEEKDAY(date, [firstdayofweek])",
+        "VBA Weekday: the day of the week of a Date, 1 for the first (Sunday unless given)",
+    ),
     FnSpec::value(
         "VBA.MIDSTATEMENT",
         4,
@@ -944,7 +958,7 @@ pub fn format_number(n: f64, pattern: &str) -> XlResult<String> {
         "short time" => "hh:mm",
         _ => pattern,
     };
-    NumberFormat::parse_vba(named)?.format_number(n, VBA_DATES)
+    NumberFormat::parse_vba(named)?.format_vba_number(n)
 }
 
 /// `text Like pattern` ([MS-VBAL] 5.6.9.5.7, Option Compare Binary): `?` one character, `*`
