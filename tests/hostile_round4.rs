@@ -78,3 +78,29 @@ fn texts_a_lambda_helper_makes_count_against_the_array_text_limit() {
         }
     }
 }
+
+/// A macro writing 200,000 files into its --out-dir looked for each name among all the files
+/// written before it (past 30 s); names are found by a map now. Two files whose names differ
+/// only in case are one (Windows' names, as VBA's), also after a `Kill` of an earlier one.
+#[test]
+fn a_macro_writing_many_files_finds_each_by_its_name() {
+    use ncsheet::vba::{self, FileAccess, RunOptions};
+    use std::rc::Rc;
+    let files = FileAccess {
+        out_dir: Some("out".into()),
+        inputs: Vec::new(),
+        read_out_dir: Rc::new(|_| Ok(None)),
+        list_out_dir: Rc::new(|| Ok(Vec::new())),
+        modified_out_dir: Rc::new(|_| Ok(None)),
+    };
+    let options = RunOptions { files: Some(files), ..RunOptions::default() };
+    let src =
+        "Sub Main()\nFor i = 1 To 200000\nOpen \"f\" & i & \".txt\" For Output As #1\nPrint #1, i\nClose #1\nNext\n\
+               Kill \"f1.txt\"\nOpen \"F7.TXT\" For Append As #1\nPrint #1, \"more\"\nClose #1\nEnd Sub\n";
+    let out = vba::run(&mut Workbook::with_sheet(), src, "Module1.bas", &options).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.files.len(), 199_999);
+    let seventh = out.files.iter().find(|(n, _)| n == "f7.txt").expect("f7.txt");
+    assert_eq!(String::from_utf8_lossy(&seventh.1), " 7 \r\nmore\r\n");
+    let last = out.files.last().unwrap();
+    assert_eq!((last.0.as_str(), String::from_utf8_lossy(&last.1).as_ref()), ("f200000.txt", " 200000 \r\n"));
+}
