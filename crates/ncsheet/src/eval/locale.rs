@@ -1086,10 +1086,15 @@ impl Locale {
     /// decimal nor a group mark (fr-FR, et-EE), a `.` between digit placeholders with no
     /// decimal comma after it (`00.00`, `#,##0.00`; not `#.##0,00`) makes no code of the locale. Excel's reading of such a code is not
     /// documented; LibreOffice set to the locale reads it as an en-US code (`1234,50`,
-    /// `1 234,50`), and so does ncsheet.
+    /// `1 234,50`), and so does ncsheet. So it reads `#,##0`, the one code of its en-US
+    /// built-ins (`0.00`, `#,##0`, `#,##0.00`, `0.00%`, `0.00E+00`) without a `.`, as en-US
+    /// (`1 235`, not `1234,500`: LibreOffice 7.4 set to fr-FR and et-EE).
     fn reads_as_en_us(self, code: &str) -> bool {
         if self.decimal == '.' || self.group == '.' || self.group_typed.contains(&'.') {
             return false;
+        }
+        if code == "#,##0" {
+            return true;
         }
         let chars: Vec<char> = code.chars().collect();
         let placeholder = |i: usize| chars.get(i).is_some_and(|c| matches!(c, '0' | '#' | '?'));
