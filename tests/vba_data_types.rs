@@ -502,3 +502,20 @@ fn dates_before_1900_have_vba_years_months_days_and_weekdays() {
         ]
     );
 }
+
+// "Date data type": a Date holds 1 January 100 to 31 December 9999; [MS-VBAL] 5.6.9.3.3, a
+// Date plus a number is a Date, so `d + 1` of 12/31/9999 (or `d - 1` of 1/1/100) is past
+// its range: "Overflow (Error 6)", trappable, as CDate(3E6) is ("Type conversion functions":
+// a value outside the range of the type converted to is an error). Within the range the sum
+// is the next day.
+#[test]
+fn a_date_sum_past_31_december_9999_is_overflow() {
+    let out = printed(
+        "",
+        "    Dim d As Date, e As Date\n    On Error Resume Next\n    d = #12/30/9999#\n    e = d + 1\n\
+         \x20   Debug.Print Err.Number; CStr(e)\n    Err.Clear\n    e = e + 1\n    Debug.Print Err.Number; CStr(e)\n\
+         \x20   Err.Clear\n    d = DateSerial(100, 1, 1)\n    e = d - 1\n    Debug.Print Err.Number; CStr(e)\n\
+         \x20   Err.Clear\n    e = CDate(3E6)\n    Debug.Print Err.Number",
+    );
+    assert_eq!(out, [" 0 12/31/9999", " 6 12/31/9999", " 6 12/31/9999", " 6 "]);
+}

@@ -632,6 +632,21 @@ impl Interp<'_, '_> {
         fault
     }
 
+    /// Overflow (run-time error 6) of a Date sum `a op b` that gave `n` past the days a Date
+    /// holds ("Date data type": 1 January 100 to 31 December 9999; `d + 1` of 12/31/9999).
+    fn date_overflow(&self, op: BinOp, (a, b): (&Expr, &Expr), n: f64) -> Option<Fault> {
+        let held = date_sum_type(op, self.held_operand(a), self.held_operand(b));
+        if held != Some(Declared::Date) || crate::eval::dates::VBA_DATE_RANGE.contains(&n) {
+            return None;
+        }
+        let text = self.source_between(a.span.start, b.span.end).trim();
+        let shown = if text.is_empty() || text.chars().count() > 60 { "the operation" } else { text };
+        Some(self.overflow_fault(
+            self.expr_span(a),
+            format!("{shown} overflows: a Date holds 1/1/100 to 12/31/9999, not {}", general(n)),
+        ))
+    }
+
     /// Overflow (run-time error 6) of `a op b`, whose operands had `values` and which gave
     /// `result`, when its declared type is integral and the result (or, for `\` and `Mod`,
     /// an operand made whole) is past that type's range.
@@ -643,6 +658,9 @@ impl Interp<'_, '_> {
         result: &Value,
     ) -> Option<Fault> {
         let Value::Number(n) = *result else { return None };
+        if let Some(fault) = self.date_overflow(op, (a, b), n) {
+            return Some(fault);
+        }
         let (ty, checked) = match op {
             BinOp::Add | BinOp::Sub | BinOp::Mul => {
                 // Nothing fits every integral type, and a fraction is no integral result.
