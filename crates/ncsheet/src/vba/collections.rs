@@ -290,6 +290,7 @@ impl Store {
 
     /// Closes up the removed places, once: positions and places are the same again.
     fn close_up(&mut self) {
+        super::count(&super::PLACES_CLOSED_UP, self.entries.len() as u64);
         self.entries.retain(Option::is_some);
         self.gone = 0;
         let forms: Vec<(KeyForm, usize)> = (self.live().enumerate())

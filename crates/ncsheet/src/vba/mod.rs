@@ -253,6 +253,41 @@ pub use crate::workbook::SheetLook;
 pub use project::{read_project, ModuleKind, ProjectError, ProjectModule, VbaProject};
 pub use udf::{install_functions, WorkbookFunctions, FUNCTION_MAX_DEPTH};
 
+/// Work the macro engine counts where a class of input once made it quadratic, for tests to
+/// bound in proportion to the input (a count holds on a loaded machine, where a wall-clock
+/// bound would not). Counted per thread since the thread began: a run's work is the
+/// difference of two readings around it on the thread that ran it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Work {
+    /// Hash probes made to find a variable by name among a module's or a call's variables
+    /// (a scan of every variable would count each one looked at).
+    pub name_probes: u64,
+    /// Characters stepped over to find the column of a place in the source.
+    pub columns_stepped: u64,
+    /// Places of a Collection or Dictionary visited to close up removed entries.
+    pub places_closed_up: u64,
+}
+
+thread_local! {
+    pub(crate) static NAME_PROBES: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+    pub(crate) static COLUMNS_STEPPED: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+    pub(crate) static PLACES_CLOSED_UP: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+/// Adds `n` to one of the counters of [`Work`].
+pub(crate) fn count(counter: &'static std::thread::LocalKey<std::cell::Cell<u64>>, n: u64) {
+    counter.with(|c| c.set(c.get() + n));
+}
+
+/// The work counted on this thread so far ([`Work`]).
+pub fn work_done() -> Work {
+    Work {
+        name_probes: NAME_PROBES.with(|c| c.get()),
+        columns_stepped: COLUMNS_STEPPED.with(|c| c.get()),
+        places_closed_up: PLACES_CLOSED_UP.with(|c| c.get()),
+    }
+}
+
 /// How to run a macro.
 #[derive(Clone, Debug)]
 pub struct RunOptions {

@@ -43,9 +43,28 @@ impl Lines {
         let offset = offset.min(src.len());
         let line = self.starts.partition_point(|&s| s <= offset) - 1;
         let (last_offset, last) = self.last.get();
-        let from_last = last.line as usize == line + 1 && last_offset <= offset && src.is_char_boundary(last_offset);
-        let (from, col_from) = if from_last { (last_offset, last.col - 1) } else { (self.starts[line], 0) };
-        let col = src.get(from..offset).map_or(0, |s| s.chars().count()) as u32 + col_from;
+        let on_last_line = last.line as usize == line + 1 && src.is_char_boundary(last_offset);
+        // A place just before the last one (an expression's start after its end was asked
+        // for) is counted back from it, nearer than the line's start, so that asking out of
+        // order stays linear too.
+        let nearer_last = offset < last_offset && last_offset - offset < offset - self.starts[line];
+        let back = match src.get(offset..last_offset) {
+            Some(between) if on_last_line && nearer_last => Some(between.chars().count()),
+            _ => None,
+        };
+        let col = match back {
+            Some(stepped) => {
+                super::count(&super::COLUMNS_STEPPED, stepped as u64);
+                last.col - 1 - stepped as u32
+            }
+            None => {
+                let from_last = on_last_line && last_offset <= offset;
+                let (from, col_from) = if from_last { (last_offset, last.col - 1) } else { (self.starts[line], 0) };
+                let stepped = src.get(from..offset).map_or(0, |s| s.chars().count());
+                super::count(&super::COLUMNS_STEPPED, stepped as u64);
+                stepped as u32 + col_from
+            }
+        };
         let span = Span { line: line as u32 + 1, col: col + 1 };
         self.last.set((offset, span));
         span

@@ -390,9 +390,11 @@ impl Slots {
     }
 
     fn position(&self, name: &str) -> Option<usize> {
+        super::count(&super::NAME_PROBES, 1);
         if let Some(&i) = self.index.get(name) {
             return Some(i);
         }
+        super::count(&super::NAME_PROBES, 1);
         self.index.get(name.to_ascii_lowercase().as_str()).copied()
     }
 
