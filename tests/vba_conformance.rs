@@ -1251,3 +1251,27 @@ fn a_types_field_can_be_an_array() {
                    \x20   On Error Resume Next\n    p.x(101) = 1\n    Debug.Print Err.Number\nEnd Sub\n");
     assert_eq!(out.printed, ["2 2.5 7 1 100 0", "7 1.5 2 0", " 9 ", " 9 "]);
 }
+
+// [MS-VBAL]'s fixed-length String: `string-length = constant-name / INTEGER`, the constant's
+// value a whole number from 1 to 65,526; "String data type": the variable always holds that
+// many characters (padded with spaces). So `Const W = 10` … `Dim s As String * W` is a
+// String * 10, in a procedure, at module level and in a Type's field, and a Const made of
+// other constants (`Const N = W * 2 - 5`) serves too; a length past 65,526 is refused.
+#[test]
+fn a_fixed_length_string_takes_a_constant_as_its_length() {
+    let out = run(
+        "Const W = 10\nConst N = W * 2 - 5\nType TRec\n    name As String * W\nEnd Type\n\
+                   Dim g As String * N\n\
+                   Sub Main()\n    Const K = 3\n    Dim s As String * W, t As String * K, r As TRec\n\
+                   \x20   s = \"abc\": t = \"abcdef\": r.name = \"x\": g = \"y\"\n\
+                   \x20   Debug.Print \"[\" & s & \"]\" & Len(s) & \"[\" & t & \"]\" & Len(r.name) & Len(g)\nEnd Sub\n",
+    );
+    assert_eq!(out.printed, ["[abc       ]10[abc]1015"]);
+    let refused = vba::run(
+        &mut Workbook::with_sheet(),
+        "Const BIG = 70000\nSub Main()\n    Dim s As String * BIG\nEnd Sub\n",
+        "test.bas",
+        &RunOptions::default(),
+    );
+    assert!(refused.unwrap_err().message.contains("65526"));
+}

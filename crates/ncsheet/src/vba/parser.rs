@@ -297,6 +297,9 @@ pub(super) struct Build<'s> {
     pub(super) enums: Vec<(Rc<str>, Vec<Rc<str>>)>,
     /// Module-level declarations are being built: they declare globals.
     building_globals: Cell<bool>,
+    /// The values of the constants declared so far whose value is a whole number (a literal,
+    /// another such constant, or `+ - *` of them), lower case: a `String * W` reads W's.
+    whole_consts: RefCell<std::collections::HashMap<String, f64>>,
     /// The names of the module's `Declare`d DLL procedures, lower case.
     pub(super) declared: std::collections::HashSet<String>,
     /// The run has files (`files.rs`): file statements and functions are built, not refused.
@@ -378,6 +381,7 @@ impl<'s> Build<'s> {
             text_compare: Cell::new(false),
             base: Cell::new(0),
             building_globals: Cell::new(false),
+            whole_consts: RefCell::new(Default::default()),
             declared: Default::default(),
             files: false,
             types: RefCell::new(Vec::new()),
@@ -723,6 +727,9 @@ impl<'s> Build<'s> {
             let k = kids(&item);
             let name = decl_name(&k).expect("constant name");
             let value = self.expr(find(&k, Rule::vexpr).expect("constant value"))?;
+            if let Some(n) = self.whole_value(&value) {
+                self.whole_consts.borrow_mut().insert(name.to_ascii_lowercase(), n);
+            }
             find(&k, Rule::as_clause).map(|a| self.fixed_length_allowed(&a, false)).transpose()?;
             let ty = find(&k, Rule::as_clause).map(|a| self.ty_of(&a)).or_else(|| type_char_ty(&k));
             if at_module {
@@ -1355,14 +1362,49 @@ impl Build<'_> {
             None if self.enums.iter().any(|(e, _)| e.eq_ignore_ascii_case(&name)) => Ty::Whole(3),
             None => ty_named(&name.to_ascii_lowercase()),
         };
-        match (ty, fixed_length(as_clause)) {
+        match (ty, self.fixed_length(as_clause)) {
             (Ty::String, Some(n)) => Ty::FixedString(n),
             (ty, _) => ty,
         }
     }
 
+    /// The length of `String * n`, a number from 1 to 65,526 ([MS-VBAL]'s fixed-length
+    /// string: `string-length = constant-name / INTEGER`), written as digits or as the name of
+    /// a constant declared before it (`Const W = 10` … `String * W`).
+    fn fixed_length(&self, as_clause: &Pair<Rule>) -> Option<u32> {
+        let star = find(&kids(as_clause), Rule::fixed_length)?;
+        let n = match find(&kids(&star), Rule::fixed_digits) {
+            Some(digits) => digits.as_str().parse::<f64>().ok()?,
+            None => {
+                let name = find(&kids(&star), Rule::ident)?.as_str().to_ascii_lowercase();
+                *self.whole_consts.borrow().get(&name)?
+            }
+        };
+        (1.0..=65526.0).contains(&n).then_some(n as u32).filter(|_| n.fract() == 0.0)
+    }
+
+    /// The value of a constant expression of whole numbers: a literal, a constant declared
+    /// before with such a value, or `+ - *` and parentheses of them; `None` for any other.
+    fn whole_value(&self, e: &Expr) -> Option<f64> {
+        let n = match &e.kind {
+            ExprKind::Number(n) => *n,
+            ExprKind::Paren(inner) => self.whole_value(inner)?,
+            ExprKind::Name(name) => *self.whole_consts.borrow().get(&name.to_ascii_lowercase())?,
+            ExprKind::Binary(op @ (BinOp::Add | BinOp::Sub | BinOp::Mul), a, b) => {
+                let (x, y) = (self.whole_value(a)?, self.whole_value(b)?);
+                match op {
+                    BinOp::Add => x + y,
+                    BinOp::Sub => x - y,
+                    _ => x * y,
+                }
+            }
+            _ => return None,
+        };
+        (n.fract() == 0.0).then_some(n)
+    }
+
     /// Refuses `* n` where VBA has no fixed-length String: after another type, with a length
-    /// that is no number from 1 to 65526 (a constant's name is not read here), or on a
+    /// that is no number from 1 to 65526 (nor a constant declared before with one), or on a
     /// parameter, a Function or a Const (`allowed` false: only Dim and a Type's fields).
     fn fixed_length_allowed(&self, as_clause: &Pair<Rule>, allowed: bool) -> Res<()> {
         let Some(star) = find(&kids(as_clause), Rule::fixed_length) else { return Ok(()) };
@@ -1371,8 +1413,8 @@ impl Build<'_> {
             "only a String has a fixed length (String * n)"
         } else if !allowed {
             "a fixed-length String (String * n) is declared with Dim or as a Type's field, not here"
-        } else if fixed_length(as_clause).is_none() {
-            "the length of String * n is a number from 1 to 65526 here (a constant's name is not read)"
+        } else if self.fixed_length(as_clause).is_none() {
+            "the length of String * n is a number from 1 to 65526, or the name of a Const declared before it with such a value"
         } else {
             return Ok(());
         };
@@ -1428,12 +1470,6 @@ impl Build<'_> {
 }
 
 /// The `n` of `As String * n`, when it is a number from 1 to 65526 ("String data type").
-fn fixed_length(as_clause: &Pair<Rule>) -> Option<u32> {
-    let star = find(&kids(as_clause), Rule::fixed_length)?;
-    let digits = find(&kids(&star), Rule::fixed_digits)?;
-    digits.as_str().parse::<u32>().ok().filter(|n| (1..=65526).contains(n))
-}
-
 fn ty_named(name: &str) -> Ty {
     match name {
         "integer" => Ty::Whole(2),
