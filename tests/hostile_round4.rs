@@ -1,6 +1,8 @@
 //! Hostile input (issue 30), the fourth round's findings (session 16): each test is a class
 //! the round reached, with sizes the old code would take far too long over (untimed).
 
+mod common;
+
 use ncsheet::eval::{Value, XlError};
 use ncsheet::formula::address::Pos;
 use ncsheet::workbook::{ProblemKind, Workbook};
@@ -103,4 +105,33 @@ fn a_macro_writing_many_files_finds_each_by_its_name() {
     assert_eq!(String::from_utf8_lossy(&seventh.1), " 7 \r\nmore\r\n");
     let last = out.files.last().unwrap();
     assert_eq!((last.0.as_str(), String::from_utf8_lossy(&last.1).as_ref()), ("f200000.txt", " 200000 \r\n"));
+}
+
+/// A macro that stops after writing 1,000 files says so naming the first ten and counting
+/// the rest, where the note named every one (200,000 names made one line of 2.5 MB).
+#[test]
+fn the_note_of_files_not_written_names_the_first_ten() {
+    let dir = tempfile::tempdir().unwrap();
+    let book = dir.path().join("book.csv");
+    let bas = dir.path().join("macro.bas");
+    std::fs::write(&book, "1\n").unwrap();
+    std::fs::write(
+        &bas,
+        "Sub Main()\nFor i = 1 To 1000\nOpen \"f\" & i & \".txt\" For Output As #1\nClose #1\nNext\nErr.Raise 5\nEnd Sub\n",
+    )
+    .unwrap();
+    std::fs::create_dir(dir.path().join("out")).unwrap();
+    let out = dir.path().join("out");
+    let r = common::cli::ncsheet(&[
+        "run",
+        book.to_str().unwrap(),
+        bas.to_str().unwrap(),
+        "--out-dir",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(r.code, 1, "{}", r.stderr);
+    let names: Vec<String> = (1..=10).map(|i| format!("f{i}.txt")).collect();
+    let note = format!("so its files were not written: {} and 990 more\n", names.join(", "));
+    assert!(r.stderr.contains(&note), "{}", r.stderr);
+    assert!(std::fs::read_dir(&out).unwrap().next().is_none());
 }

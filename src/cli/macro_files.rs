@@ -190,6 +190,12 @@ pub(super) fn not_written(out: &RunOutput) -> Option<String> {
     if out.files.is_empty() {
         return None;
     }
-    let names: Vec<&str> = out.files.iter().map(|(n, _)| n.as_str()).collect();
-    Some(format!("note: the macro did not run to its end, so its files were not written: {}", names.join(", ")))
+    // A macro may write 200,000 files: the note names the first few and counts the rest.
+    const NAMED: usize = 10;
+    let names: Vec<&str> = out.files.iter().take(NAMED).map(|(n, _)| n.as_str()).collect();
+    let more = match out.files.len().saturating_sub(NAMED) {
+        0 => String::new(),
+        n => format!(" and {n} more"),
+    };
+    Some(format!("note: the macro did not run to its end, so its files were not written: {}{more}", names.join(", ")))
 }
