@@ -709,6 +709,31 @@ fn dates_and_times_of_a_semicolon_csv_are_written_back_as_they_were_read() {
     }
 }
 
+/// A date and a time typed with `set` into a csv are saved as the cell shows them, as Excel
+/// and LibreOffice write a date cell to csv; they were saved as their serials
+/// (`0,6041666666666666;45728`), which every reader takes for plain numbers. The values are
+/// LibreOffice's reading of the saved file in the locale (the oracle, when installed).
+#[test]
+fn a_date_and_a_time_typed_into_a_csv_are_saved_as_shown() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let soffice = common::soffice();
+    for (locale, date) in [("de-DE", "12.03.2025"), ("fr-FR", "12/03/2025"), ("et-EE", "12.03.2025")] {
+        std::fs::write(d.join("t.csv"), "a;1,5;x\n").unwrap();
+        let out = format!("t-{locale}.csv");
+        let (time, day) = ("A1=14:30".to_string(), format!("B1={date}"));
+        ok(in_dir(d, &["set", "t.csv", "--locale", locale, &time, &day, "-o", &out]));
+        assert_eq!(std::fs::read_to_string(d.join(&out)).unwrap(), format!("14:30;{date};x\n"), "{locale}");
+        let Some(soffice) = &soffice else { continue };
+        let theirs = values_by_cell(d, &libreoffice_reads_csv(soffice, d, &d.join(&out), locale), "en-US");
+        assert_eq!(theirs.get("A1").and_then(|v| v.as_f64()).map(|t| (t * 1440.0).round()), Some(870.0), "{locale}");
+        assert_eq!(theirs.get("B1").and_then(|v| v.as_f64()), Some(45728.0), "{locale}");
+    }
+    std::fs::write(d.join("u.csv"), "a,1.5,x\n").unwrap();
+    ok(in_dir(d, &["set", "u.csv", "--locale", "en-US", "B1=3/12/2025", "-o", "u2.csv"]));
+    assert_eq!(std::fs::read_to_string(d.join("u2.csv")).unwrap(), "a,3/12/2025,x\n");
+}
+
 /// Percents and scientific numbers of a `;` csv, read in the locale and written back, come
 /// back as LibreOffice set to the locale writes them (the oracle, run here when soffice is
 /// installed; its text recorded for de-DE, fr-FR and et-EE with LibreOffice 7.4): the

@@ -169,12 +169,23 @@ fn raw_rows(text: &str, delimiter: u8) -> Vec<RawRow> {
 }
 
 /// Writes the one sheet of a workbook read by [`read_original`]: the original text with
-/// only the cells listed in `edited` written anew (as typed, quoted where needed).
-pub fn write_edited(wb: &Workbook, original: &Original, edited: &[Pos], out: &mut dyn Write) -> io::Result<()> {
+/// only the cells listed in `edited` written anew (as typed, quoted where needed; a typed
+/// date or time as its cell shows it, by `formats`, the sheet's number formats).
+pub fn write_edited(
+    wb: &Workbook,
+    original: &Original,
+    edited: &[Pos],
+    formats: Option<&HashMap<Pos, String>>,
+    out: &mut dyn Write,
+) -> io::Result<()> {
+    let style = Style { delimiter: original.delimiter, formats, raw: false };
     let mut rows = original.rows.clone();
     let ending = rows.first().map_or("\n", |r| if r.ending.is_empty() { "\n" } else { r.ending.as_str() }).to_string();
     for &pos in edited {
-        let text = wb.input(0, pos).unwrap_or_default();
+        let text = match typed_date(wb, &style, pos) {
+            Some(shown) => shown,
+            None => wb.input(0, pos).unwrap_or_default(),
+        };
         let (r, c) = (pos.row as usize, pos.col as usize);
         if r >= rows.len() {
             if text.is_empty() {
@@ -193,7 +204,11 @@ pub fn write_edited(wb: &Workbook, original: &Original, edited: &[Pos], out: &mu
             }
             row.fields.resize(c + 1, String::new());
         }
-        let text = if original.delimiter == b';' { locale_input(&text, wb.settings().locale) } else { text };
+        let text = if original.delimiter == b';' && !is_date_at(&style, pos) {
+            locale_input(&text, wb.settings().locale)
+        } else {
+            text
+        };
         row.fields[c] = quoted(&text, original.delimiter);
     }
     if original.bom {
@@ -206,6 +221,21 @@ pub fn write_edited(wb: &Workbook, original: &Original, edited: &[Pos], out: &mu
         buf.write_all(row.ending.as_bytes())?;
     }
     buf.flush()
+}
+
+/// A constant number under a date or time format (`14:30`, `12.03.2025` typed), as the cell
+/// shows it: its serial would read back as a plain number, the date lost, where Excel and
+/// LibreOffice write a date cell as shown.
+fn typed_date(wb: &Workbook, style: &Style, pos: Pos) -> Option<String> {
+    if !is_date_at(style, pos) || wb.is_formula(0, pos) {
+        return None;
+    }
+    let Value::Number(n) = wb.value(0, pos) else { return None };
+    Some(style.field(&Value::Number(n), pos, wb))
+}
+
+fn is_date_at(style: &Style, pos: Pos) -> bool {
+    style.formats.and_then(|f| f.get(&pos)).is_some_and(|code| is_date_code(code))
 }
 
 /// A field as RFC 4180 writes it: quoted when it holds the delimiter, a quote or a line break.

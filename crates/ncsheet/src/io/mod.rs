@@ -392,7 +392,10 @@ pub fn encode_save_with(
         (Format::Csv, Origin::Csv(original)) => {
             let edited: Vec<_> = wb.changes().unwrap_or_default().inputs.into_iter().map(|(_, p)| p).collect();
             let mut bytes = Vec::new();
-            csv::write_edited(wb, original, &edited, &mut bytes).map_err(|e| Error::new(path, ErrorKind::Write(e)))?;
+            let sheet_name = wb.sheet_names().into_iter().next().unwrap_or_default();
+            let formats = layout.and_then(|l| l.sheets.get(&sheet_name)).map(|l| &l.look.number_formats);
+            csv::write_edited(wb, original, &edited, formats, &mut bytes)
+                .map_err(|e| Error::new(path, ErrorKind::Write(e)))?;
             encoded(bytes, Vec::new())
         }
         (Format::Csv, _) => {
