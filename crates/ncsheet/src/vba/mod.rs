@@ -247,9 +247,9 @@ use std::fmt;
 use crate::nc::{Machine, Program};
 use crate::workbook::Workbook;
 
+pub use crate::workbook::SheetLook;
 pub use ast::{Module, Span};
 pub use files::{checked_name, FileAccess};
-pub use crate::workbook::SheetLook;
 pub use project::{read_project, ModuleKind, ProjectError, ProjectModule, VbaProject};
 pub use udf::{install_functions, WorkbookFunctions, FUNCTION_MAX_DEPTH};
 
