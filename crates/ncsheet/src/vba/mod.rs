@@ -256,7 +256,9 @@ pub use udf::{install_functions, WorkbookFunctions, FUNCTION_MAX_DEPTH};
 /// Work the macro engine counts where a class of input once made it quadratic, for tests to
 /// bound in proportion to the input (a count holds on a loaded machine, where a wall-clock
 /// bound would not). Counted per thread since the thread began: a run's work is the
-/// difference of two readings around it on the thread that ran it.
+/// difference of two readings around it on the thread that ran it. Only with the `testing`
+/// feature (the tests'): the binary keeps no such state and pays nothing for it.
+#[cfg(feature = "testing")]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Work {
     /// Hash probes made to find a variable by name among a module's or a call's variables
@@ -268,6 +270,7 @@ pub struct Work {
     pub places_closed_up: u64,
 }
 
+#[cfg(feature = "testing")]
 thread_local! {
     pub(crate) static NAME_PROBES: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
     pub(crate) static COLUMNS_STEPPED: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
@@ -275,11 +278,27 @@ thread_local! {
 }
 
 /// Adds `n` to one of the counters of [`Work`].
+#[cfg(feature = "testing")]
 pub(crate) fn count(counter: &'static std::thread::LocalKey<std::cell::Cell<u64>>, n: u64) {
     counter.with(|c| c.set(c.get() + n));
 }
 
+/// Counts nothing: the counters of [`Work`] exist for the tests only.
+#[cfg(not(feature = "testing"))]
+pub(crate) fn count(_counter: &Counter, _n: u64) {}
+
+/// The counters' stand-ins without the `testing` feature.
+#[cfg(not(feature = "testing"))]
+pub(crate) type Counter = ();
+#[cfg(not(feature = "testing"))]
+pub(crate) const NAME_PROBES: Counter = ();
+#[cfg(not(feature = "testing"))]
+pub(crate) const COLUMNS_STEPPED: Counter = ();
+#[cfg(not(feature = "testing"))]
+pub(crate) const PLACES_CLOSED_UP: Counter = ();
+
 /// The work counted on this thread so far ([`Work`]).
+#[cfg(feature = "testing")]
 pub fn work_done() -> Work {
     Work {
         name_probes: NAME_PROBES.with(|c| c.get()),
