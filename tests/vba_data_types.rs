@@ -519,3 +519,17 @@ fn a_date_sum_past_31_december_9999_is_overflow() {
     );
     assert_eq!(out, [" 0 12/31/9999", " 6 12/31/9999", " 6 12/31/9999", " 6 "]);
 }
+
+// [MS-VBAL] 5.6.9.3, "* Operator": a Date times a number is a Double, not
+// a Date, and `^` is always a Double (5.6.9.3.8); only `+` and `-` of a Date and a number
+// give a Date ("Date data type"). So `Now * 86400`, the seconds of a date, is no Overflow
+// however far past 12/31/9999 (serial 2958465) the product goes.
+#[test]
+fn a_date_times_a_number_is_a_double_past_the_date_range() {
+    let out = printed(
+        "",
+        "    Dim d As Date\n    d = #12/30/9999#\n    Debug.Print CDate(1) * 1E+7; TypeName(CDate(1) * 1E+7)\n\
+         \x20   Debug.Print d * 24 * 3600; d ^ 2; TypeName(d * 24)",
+    );
+    assert_eq!(out, [" 10000000 Double", " 255611289600  8752509239296 Double"]);
+}

@@ -634,9 +634,15 @@ impl Interp<'_, '_> {
 
     /// Overflow (run-time error 6) of a Date sum `a op b` that gave `n` past the days a Date
     /// holds ("Date data type": 1 January 100 to 31 December 9999; `d + 1` of 12/31/9999).
+    /// Only `+` and `-` give a Date: a Date times, over or to the power of a number is a
+    /// Double ([MS-VBAL] "* Operator", 5.6.9.3.5), so `Now * 86400` is no Overflow. The
+    /// operator and the range are checked before the operands' types, which cost a walk of
+    /// both operands, so that `i = i + 1` pays nothing for them.
     fn date_overflow(&self, op: BinOp, (a, b): (&Expr, &Expr), n: f64) -> Option<Fault> {
-        let held = date_sum_type(op, self.held_operand(a), self.held_operand(b));
-        if held != Some(Declared::Date) || crate::eval::dates::VBA_DATE_RANGE.contains(&n) {
+        if !matches!(op, BinOp::Add | BinOp::Sub) || crate::eval::dates::VBA_DATE_RANGE.contains(&n) {
+            return None;
+        }
+        if date_sum_type(op, self.held_operand(a), self.held_operand(b)) != Some(Declared::Date) {
             return None;
         }
         let text = self.source_between(a.span.start, b.span.end).trim();
