@@ -585,6 +585,30 @@ End Sub
     assert!(out.removed.is_empty(), "only files of this run were deleted: {:?}", out.removed);
 }
 
+// "Kill statement" deletes a closed file and nothing else: the files open at the time
+// ("Open statement": a file number stays tied to its file until Close) keep taking what
+// Print # and Put # write ("Put statement": in Binary mode a variable-length String is
+// written as its characters), though a file opened before them was killed.
+#[test]
+fn killing_a_file_leaves_the_files_open_after_it_their_own() {
+    let out = run("Sub Main()
+    Dim s As String
+    Open \"x.txt\" For Output As #1: Print #1, \"X\": Close #1
+    Open \"y.txt\" For Output As #2
+    Open \"z.bin\" For Binary As #3
+    Kill \"x.txt\"
+    Print #2, \"Y\"
+    s = \"Z\"
+    Put #3, 1, s
+    Close #2, #3
+    Debug.Print \"[\" & Dir(\"x.txt\") & \"]\"; Dir(\"*.*\")
+End Sub
+");
+    assert_eq!(out.printed, ["[]y.txt"]);
+    let files: Vec<(&str, &[u8])> = out.files.iter().map(|(n, b)| (n.as_str(), b.as_slice())).collect();
+    assert_eq!(files, [("y.txt", &b"Y\r\n"[..]), ("z.bin", &b"Z"[..])]);
+}
+
 #[test]
 fn kill_removes_a_folder_file_only_when_the_macro_succeeds() {
     let dir = tempfile::tempdir().unwrap();

@@ -358,6 +358,10 @@ pub(super) struct Files {
     /// Where each name (lowercase) is in `written`: a macro writing 200,000 files looked
     /// for each name among all before it (past 30 s).
     by_name: std::collections::HashMap<String, usize>,
+    /// The places in `written` of the files `Kill` deleted. An entry never moves, because
+    /// an open channel holds its place (`Way::Write`, `Place::Written`): a killed one stays,
+    /// emptied, and is left out of the output and of `Dir`.
+    killed: std::collections::HashSet<usize>,
     numbered: BTreeMap<i64, Channel>,
     /// The files open for Binary or Random (`binary.rs`), by number.
     pub(super) records: BTreeMap<i64, super::binary::Channel>,
@@ -378,7 +382,13 @@ impl Files {
 
     /// The files written, for [`super::RunOutput::files`].
     pub(super) fn into_written(self) -> Vec<(String, Vec<u8>)> {
-        self.written
+        let killed = self.killed;
+        self.written.into_iter().enumerate().filter(|(i, _)| !killed.contains(i)).map(|(_, file)| file).collect()
+    }
+
+    /// The files written and not killed, in the order first opened.
+    fn live_written(&self) -> impl Iterator<Item = &(String, Vec<u8>)> {
+        self.written.iter().enumerate().filter(|(i, _)| !self.killed.contains(i)).map(|(_, file)| file)
     }
 
     /// The files of the output folder the macro deleted, for [`super::RunOutput::removed`].
@@ -392,7 +402,7 @@ impl Files {
 
     /// The bytes the table holds, for the memory budget.
     pub(super) fn held_bytes(&self) -> u64 {
-        let written: usize = self.written.iter().map(|(n, b)| b.len() + n.len() + STREAM_BYTES as usize).sum();
+        let written: usize = self.live_written().map(|(n, b)| b.len() + n.len() + STREAM_BYTES as usize).sum();
         let read = |c: &Channel| match &c.way {
             Way::Read { text, .. } => text.len(),
             Way::Write { .. } => 0,
@@ -412,10 +422,14 @@ impl Files {
         self.written.len() - 1
     }
 
-    /// Forgets written file `i` (`Kill`); the files after it move up one place.
+    /// Forgets written file `i` (`Kill`): its name and bytes go, its place stays (see `killed`).
     fn remove_written(&mut self, i: usize) {
-        self.written.remove(i);
-        self.by_name = self.written.iter().enumerate().map(|(k, (n, _))| (n.to_ascii_lowercase(), k)).collect();
+        let name = self.written[i].0.to_ascii_lowercase();
+        if self.by_name.get(&name) == Some(&i) {
+            self.by_name.remove(&name);
+        }
+        self.written[i].1 = Vec::new();
+        self.killed.insert(i);
     }
 
     /// Whether a channel now writes the file `name`.
@@ -1081,7 +1095,7 @@ impl Interp<'_, '_> {
         };
         let files = self.files.borrow();
         let mut names: Vec<String> = listed.into_iter().filter(|n| !files.is_removed(n)).collect();
-        for (name, _) in &files.written {
+        for (name, _) in files.live_written() {
             if !names.iter().any(|n| n.eq_ignore_ascii_case(name)) {
                 names.push(name.clone());
             }
