@@ -995,6 +995,23 @@ fn variant_arithmetic_keeps_integer_types_and_widens_past_their_range() {
     assert!(e.message.contains("Overflow (run-time error 6)"), "{e}");
 }
 
+// [MS-VBAL] 5.3.1.11: an array passed ByRef is the caller's variable itself, so an error
+// binding another parameter ("Overflow (Error 6)": 40000 to an Integer) or assigning an item
+// a value its type cannot hold ("Type mismatch (Error 13)") leaves the caller its array, with
+// its bounds and what it held, after On Error Resume Next.
+#[test]
+fn an_array_passed_by_reference_stays_the_callers_when_the_call_fails() {
+    let module = "Sub S(n As Integer, x() As Long)\n    x(1) = 7\nEnd Sub\n\
+                  Sub V(x)\n    x(2) = \"abc\"\nEnd Sub\n";
+    let out = printed_in(
+        module,
+        "    Dim a(1 To 2) As Long\n    a(1) = 5\n    On Error Resume Next\n    S 40000, a\n\
+         \x20   Debug.Print Err.Number; TypeName(a); a(1)\n    Err.Clear\n    V a\n\
+         \x20   Debug.Print Err.Number; TypeName(a); UBound(a); a(1)",
+    );
+    assert_eq!(out, [" 6 Long() 5 ", " 13 Long() 2  5 "]);
+}
+
 // [MS-VBAL] 5.3.1.11: a Variant parameter is bound to the argument's value with its value
 // type, and a ByRef one gives back what the procedure made of it; 5.3.1.2: a Function's
 // result is what its name was assigned. "Type conversion functions": CInt gives an Integer,

@@ -1066,13 +1066,20 @@ impl Interp<'_, '_> {
             let Some(slot) = frame.vars.get_mut(&p.params[*index].name) else { continue };
             let (var, callee_ty) = (slot.replace(Var::Value(Value::Blank)), slot.ty.clone());
             let given = match var {
+                // Items that do not convert to the caller's type leave the caller its array
+                // as the callee left it, and the error: never an Empty where the array was.
                 Var::Array(a) => self
                     .with_slot(caller_var, |s| {
-                        let a = match s.ty == callee_ty {
+                        let typed = match s.ty == callee_ty {
                             true => Ok(a),
-                            false => super::arrays::typed_items(a, s.ty.as_ref(), &s.name),
+                            false => super::arrays::typed_items(a.clone(), s.ty.as_ref(), &s.name).map_err(|m| (a, m)),
                         };
-                        a.map(|a| drop(s.replace(Var::Array(a))))
+                        let (back, outcome) = match typed {
+                            Ok(t) => (t, Ok(())),
+                            Err((a, m)) => (a, Err(m)),
+                        };
+                        drop(s.replace(Var::Array(back)));
+                        outcome
                     })
                     .map(|r| r.map_err(|m| self.fault(m))),
                 other => Some(self.set_var(caller_var, other, p.span)),
@@ -1128,9 +1135,15 @@ impl Interp<'_, '_> {
             missing: Vec::new(),
             me,
         });
-        let result = self.bind_and_run(p, bound, &typed);
+        let mut bound = bound;
+        let result = self.bind_and_run(p, &mut bound, &typed);
         let mut frame = self.frames.borrow_mut().pop().expect("the frame pushed above");
         self.keep_statics(&frame);
+        // A binding that failed (`S 40000, a` to `n As Integer`) left the lent arrays after
+        // it unbound: straight back to the caller, as with the depth limit above.
+        for (var, (_, caller_var)) in lent_args(bound, &call.lent) {
+            self.with_slot(&caller_var, |s| s.replace(var));
+        }
         self.give_back_lent(p, &mut frame, &call.lent, result.is_ok())?;
         result?;
         self.release_locals(p, &frame)?;
@@ -1150,7 +1163,9 @@ impl Interp<'_, '_> {
 
     /// Binds the arguments and runs the body; the parameters in `typed` hold an array lent
     /// by a caller's variable of the parameter's own type, whose items need no converting.
-    fn bind_and_run(&self, p: &Proc, mut bound: Vec<(usize, Var)>, typed: &[usize]) -> Run<()> {
+    /// The arguments not bound when a binding fails are left in `bound` (an array argument
+    /// whose items do not convert too), for a lent array to go back to its caller.
+    fn bind_and_run(&self, p: &Proc, bound: &mut Vec<(usize, Var)>, typed: &[usize]) -> Run<()> {
         let types = std::mem::take(&mut *self.arg_types.borrow_mut());
         for (i, param) in p.params.iter().enumerate() {
             let var = match bound.iter().position(|(j, _)| *j == i) {
@@ -1166,11 +1181,14 @@ impl Interp<'_, '_> {
                 },
             };
             let var = match param.array {
-                true if typed.contains(&i) => Ok(var),
-                true => super::arrays::array_param(var, param),
-                false => convert(var, param.ty.as_ref(), &param.name),
-            }
-            .map_err(|m| self.fault(m))?;
+                true if typed.contains(&i) => var,
+                // A clone shares the items until they are converted, which copies them anyway.
+                true => super::arrays::array_param(var.clone(), param).map_err(|m| {
+                    bound.push((i, var));
+                    self.fault(m)
+                })?,
+                false => convert(var, param.ty.as_ref(), &param.name).map_err(|m| self.fault(m))?,
+            };
             let mut slot = Slot::new(param.name.clone(), var, param.ty.clone());
             // A Variant parameter given a Date holds a Date, given an Integer an Integer
             // ([MS-VBAL] 5.3.1.11: the argument's value is bound as it is, its value type with it).
