@@ -1292,3 +1292,16 @@ fn a_fixed_length_string_takes_a_constant_as_its_length() {
     );
     assert!(refused.unwrap_err().message.contains("65526"));
 }
+
+// "Understanding scope and visibility": a constant declared in a procedure is visible only
+// within that procedure. So a procedure's own `Const W = 5` sizes its own `String * W`, and
+// a procedure after it reads the module's `Const W = 10` ([MS-VBAL] string-length =
+// constant-name).
+#[test]
+fn a_procedures_constant_sizes_no_string_of_a_later_procedure() {
+    let out = run(
+        "Const W = 10\nSub A()\n    Const W = 5\n    Dim s As String * W\n    Debug.Print Len(s)\nEnd Sub\n\
+         Sub Main()\n    A\n    Dim s As String * W\n    Debug.Print Len(s)\nEnd Sub\n",
+    );
+    assert_eq!(out.printed, [" 5 ", " 10 "]);
+}

@@ -480,7 +480,18 @@ impl<'s> Build<'s> {
         Ok(())
     }
 
+    /// A procedure, whose constants are its own ("Understanding scope and visibility": a
+    /// constant declared in a procedure is visible only within it): the whole constants it
+    /// declares are forgotten at its end, so a later procedure's `String * W` reads the
+    /// module's W, not another procedure's.
     fn proc(&self, pair: Pair<Rule>) -> Res<Proc> {
+        let module_consts = self.whole_consts.borrow().clone();
+        let proc = self.proc_within(pair);
+        *self.whole_consts.borrow_mut() = module_consts;
+        proc
+    }
+
+    fn proc_within(&self, pair: Pair<Rule>) -> Res<Proc> {
         let k = kids(&pair);
         let kind = proc_kind(&pair);
         let name = decl_name(&k).expect("procedure name");
@@ -727,9 +738,11 @@ impl<'s> Build<'s> {
             let k = kids(&item);
             let name = decl_name(&k).expect("constant name");
             let value = self.expr(find(&k, Rule::vexpr).expect("constant value"))?;
-            if let Some(n) = self.whole_value(&value) {
-                self.whole_consts.borrow_mut().insert(name.to_ascii_lowercase(), n);
-            }
+            // A constant that is no whole number hides one of its name declared before.
+            match self.whole_value(&value) {
+                Some(n) => self.whole_consts.borrow_mut().insert(name.to_ascii_lowercase(), n),
+                None => self.whole_consts.borrow_mut().remove(&name.to_ascii_lowercase()),
+            };
             find(&k, Rule::as_clause).map(|a| self.fixed_length_allowed(&a, false)).transpose()?;
             let ty = find(&k, Rule::as_clause).map(|a| self.ty_of(&a)).or_else(|| type_char_ty(&k));
             if at_module {
