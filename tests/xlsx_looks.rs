@@ -188,3 +188,70 @@ fn a_save_over_the_files_own_package_writes_the_macros_formats() {
     assert_eq!(read.lines().collect::<Vec<_>>(), EXPECTED);
     assert_eq!(python(READ_KEPT, &[&saved]).trim(), "E5 italic=True B width=12.00");
 }
+
+/// WRITE_PLAIN's book with its `<fills>` list taken out of `styles.xml` (ECMA-376 18.8.39
+/// makes it optional): the macro's styles cannot be added to that part, so the package is
+/// written anew, where the save failed as a damaged file.
+const WRITE_WITHOUT_FILLS: &str = r#"
+import re, sys, zipfile
+from openpyxl import Workbook
+from openpyxl.styles import Font
+wb = Workbook()
+ws = wb.active
+ws["A1"] = 1
+ws["B2"] = 2
+ws["E5"] = "keep"
+ws["E5"].font = Font(italic=True)
+ws.column_dimensions["B"].width = 12
+wb.save(sys.argv[1] + ".tmp")
+with zipfile.ZipFile(sys.argv[1] + ".tmp") as src, zipfile.ZipFile(sys.argv[1], "w") as dst:
+    for item in src.infolist():
+        data = src.read(item.filename)
+        if item.filename == "xl/styles.xml":
+            data, n = re.subn(rb"<fills[^>]*>.*?</fills>", b"", data, flags=re.S)
+            assert n == 1
+        dst.writestr(item, data)
+"#;
+
+#[test]
+fn a_style_sheet_without_fills_is_written_anew_with_the_macros_formats() {
+    if !openpyxl_available() {
+        return;
+    }
+    let (dir, mut doc) = book_by_openpyxl(WRITE_WITHOUT_FILLS);
+    run(&mut doc, FORMAT);
+    let saved = dir.path().join("saved.xlsx");
+    let encoded = doc.encode(&saved).unwrap_or_else(|e| panic!("{e}"));
+    std::fs::write(&saved, encoded.bytes()).unwrap();
+    let read = python(READ_FORMATTED, &[&saved]);
+    assert_eq!(read.lines().collect::<Vec<_>>(), EXPECTED);
+}
+
+/// A date typed with `ncsheet set` into a book read from a file gets Excel's built-in short
+/// date (14, which openpyxl names `mm-dd-yy`), as Excel gives a typed date, in the file's own
+/// package saved again; it was saved as a serial under General.
+#[test]
+fn a_date_set_into_a_book_is_saved_as_a_date() {
+    if !openpyxl_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let book = dir.path().join("book.xlsx");
+    python(WRITE_PLAIN, &[&book]);
+    let out = dir.path().join("out.xlsx");
+    let run = Command::new(env!("CARGO_BIN_EXE_ncsheet"))
+        .arg("set")
+        .arg(&book)
+        .arg("A1=3/12/2025")
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let read = python(
+        "import sys\nfrom openpyxl import load_workbook\nws = load_workbook(sys.argv[1]).active\n\
+         a1 = ws['A1']\nprint(a1.is_date, a1.number_format, a1.value.date())",
+        &[&out],
+    );
+    assert_eq!(read.trim(), "True mm-dd-yy 2025-03-12");
+}

@@ -214,8 +214,14 @@ impl Document {
     fn show_as(&mut self, sheet: SheetId, pos: Pos, code: &str) {
         let Some(name) = self.opened.workbook.sheet_names().into_iter().nth(sheet as usize) else { return };
         let layout = self.opened.layout.get_or_insert_with(Default::default);
-        let formats = &mut layout.sheets.entry(name).or_default().look.number_formats;
-        formats.entry(pos).or_insert_with(|| code.to_string());
+        let sheet = layout.sheets.entry(name).or_default();
+        if sheet.look.number_formats.contains_key(&pos) {
+            return;
+        }
+        // The file's look is kept, as a macro's change keeps it, so a save over the file's
+        // own package writes the new format.
+        sheet.file_look.get_or_insert_with(|| sheet.look.clone());
+        sheet.look.number_formats.insert(pos, code.to_string());
     }
 
     /// Inserts or deletes rows, columns or a rectangle's cells (a front end's "insert row"),

@@ -128,7 +128,10 @@ pub fn patch(
                 fail(p.as_deref(), k, m)
             })?;
             let xml = read_text(&mut entry, part, &source.file)?;
-            Some(StyleSheet::read(xml).map_err(|m| fail(Some(part), ErrorKind::Damaged, m))?)
+            match StyleSheet::read(xml) {
+                Ok(sheet) => Some(sheet),
+                Err(why) => return Ok(Err(Unpatchable(format!("{part} cannot take the macro's styles: {why}")))),
+            }
         }
     };
     let mut out = zip::ZipWriter::new(Cursor::new(Vec::with_capacity(bytes.len() + 4096)));
@@ -178,6 +181,9 @@ pub fn patch(
                 out.write_all(text.as_bytes()).map_err(|e| zerr(e.into()))?;
             }
         }
+    }
+    if let Some(why) = styles.as_ref().and_then(StyleSheet::unpatchable) {
+        return Ok(Err(Unpatchable(why.to_string())));
     }
     if let (Some(styles), Some(part), Some(options)) = (styles, &styles_part, styles_options) {
         let zerr = |e: zip::result::ZipError| {

@@ -9,16 +9,17 @@
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 use crate::eval::format::cell_style::{self, CellStyle};
-use crate::formula::address::Pos;
+use crate::formula::address::{Pos, MAX_COLS};
 use crate::workbook::SheetLook;
 
 use super::patch::{attr, find_tag, remove_attr, root_prefix};
+use super::write::builtin_date_format;
 
 /// The first number a format of the file's own may take (ids below are Excel's built-ins).
 const FIRST_CUSTOM_FORMAT: u32 = 164;
 
 /// Excel's built-in number formats whose code is the same in every locale (ECMA-376
-/// 18.8.30), by id.
+/// 18.8.30), by id; its dates are `builtin_date_format`'s.
 const BUILTIN_FORMATS: &[(u32, &str)] = &[
     (0, "General"),
     (1, "0"),
@@ -56,6 +57,8 @@ pub(super) struct StyleSheet {
     xfs: Container,
     /// Styles made already: (old style, format, look) → new style.
     made: HashMap<(u32, Option<String>, CellStyle), u32>,
+    /// Why the styles asked for cannot be added to this part (the package is then written anew).
+    unpatchable: Option<String>,
 }
 
 impl StyleSheet {
@@ -73,7 +76,17 @@ impl StyleSheet {
         let fonts = children(&xml, &q("fonts"), &q("font")).ok_or("no <fonts>")?;
         let fills = children(&xml, &q("fills"), &q("fill")).ok_or("no <fills>")?;
         let xfs = children(&xml, &q("cellXfs"), &q("xf")).ok_or("no <cellXfs>")?;
-        Ok(StyleSheet { xml, ns, formats, new_formats: Vec::new(), fonts, fills, xfs, made: HashMap::new() })
+        Ok(StyleSheet {
+            xml,
+            ns,
+            formats,
+            new_formats: Vec::new(),
+            fonts,
+            fills,
+            xfs,
+            made: HashMap::new(),
+            unpatchable: None,
+        })
     }
 
     /// The style a cell of style `old` gets to show `format` (`None`: General) and `look`.
@@ -99,14 +112,27 @@ impl StyleSheet {
         if let Some((id, _)) = BUILTIN_FORMATS.iter().find(|(_, c)| c.eq_ignore_ascii_case(code)) {
             return *id;
         }
+        if let Some(id) = builtin_date_format(code) {
+            return u32::from(id);
+        }
         let known = self.formats.iter().chain(&self.new_formats).find(|(_, c)| c == code);
         if let Some((id, _)) = known {
             return *id;
         }
         let highest = self.formats.iter().chain(&self.new_formats).map(|(id, _)| *id).max();
-        let id = highest.map_or(FIRST_CUSTOM_FORMAT, |h| (h + 1).max(FIRST_CUSTOM_FORMAT));
+        let Some(id) =
+            highest.map_or(Some(FIRST_CUSTOM_FORMAT), |h| h.checked_add(1).map(|n| n.max(FIRST_CUSTOM_FORMAT)))
+        else {
+            self.unpatchable = Some(format!("the styles part has no number format id left after {}", u32::MAX));
+            return 0;
+        };
         self.new_formats.push((id, code.to_string()));
         id
+    }
+
+    /// Why the styles asked for could not be added to this part, if they could not.
+    pub(super) fn unpatchable(&self) -> Option<&str> {
+        self.unpatchable.as_deref()
     }
 
     /// The font `old` with bold and italic as `look` has them.
@@ -172,11 +198,12 @@ impl StyleSheet {
     /// The styles part with the new formats, fonts, fills and styles appended and counted.
     pub(super) fn finish(self) -> String {
         let ns = &self.ns;
-        let mut inserts: Vec<(usize, String)> = Vec::new();
+        // (start, end, text): the text replaces the bytes start..end (none for an insertion).
+        let mut inserts: Vec<(usize, usize, String)> = Vec::new();
         let mut counts: Vec<(String, usize)> = Vec::new();
         for (name, c) in [("fonts", &self.fonts), ("fills", &self.fills), ("cellXfs", &self.xfs)] {
             if !c.added.is_empty() {
-                inserts.push((c.close, c.added.concat()));
+                inserts.push((c.close, c.close, c.added.concat()));
                 counts.push((format!("{ns}{name}"), c.children.len() + c.added.len()));
             }
         }
@@ -188,21 +215,26 @@ impl StyleSheet {
                 .map(|(id, code)| format!("<{ns}numFmt numFmtId=\"{id}\" formatCode=\"{}\"/>", escape(code)))
                 .collect();
             let total = self.formats.len() + self.new_formats.len();
+            let container = format!("<{ns}numFmts count=\"{total}\">{made}</{ns}numFmts>");
             match children(&xml, &format!("{ns}numFmts"), &format!("{ns}numFmt")) {
                 Some(c) => {
-                    inserts.push((c.close, made));
+                    inserts.push((c.close, c.close, made));
                     counts.push((format!("{ns}numFmts"), total));
                 }
-                None => {
-                    // `<numFmts>` comes first in the styleSheet (ECMA-376 18.8.39).
-                    let at = find_tag(&xml, &format!("{ns}fonts"), 0).unwrap_or(self.fonts.close);
-                    inserts.push((at, format!("<{ns}numFmts count=\"{total}\">{made}</{ns}numFmts>")));
-                }
+                None => match self_closed(&xml, &format!("{ns}numFmts")) {
+                    // An empty `<numFmts/>` becomes the container of the new formats.
+                    Some(tag) => inserts.push((tag.start, tag.end, container)),
+                    None => {
+                        // `<numFmts>` comes first in the styleSheet (ECMA-376 18.8.39).
+                        let at = find_tag(&xml, &format!("{ns}fonts"), 0).unwrap_or(self.fonts.close);
+                        inserts.push((at, at, container));
+                    }
+                },
             }
         }
-        inserts.sort_by_key(|(at, _)| std::cmp::Reverse(*at));
-        for (at, text) in inserts {
-            xml.insert_str(at, &text);
+        inserts.sort_by_key(|(at, _, _)| std::cmp::Reverse(*at));
+        for (start, end, text) in inserts {
+            xml.replace_range(start..end, &text);
         }
         for (name, count) in counts {
             xml = with_count(&xml, &name, count);
@@ -290,7 +322,12 @@ pub(super) fn with_widths(head: &str, ns: &str, widths: &BTreeMap<u32, f64>) -> 
     let mut placed: BTreeSet<u32> = BTreeSet::new();
     for tag in &ranges {
         let (Some(min), Some(max)) = (number(tag, "min"), number(tag, "max")) else { continue };
-        let (first, last) = (min.saturating_sub(1), max.saturating_sub(1));
+        if min < 1 || min > max || max > MAX_COLS {
+            // A range the reader skips too: kept as the file has it, no width applied in it.
+            out.push((min.saturating_sub(1), tag.clone()));
+            continue;
+        }
+        let (first, last) = (min - 1, max - 1);
         let mut from = first;
         for (&c, &w) in widths.range(first..=last) {
             if c > from {
@@ -375,6 +412,13 @@ fn children(xml: &str, container: &str, child: &str) -> Option<Container> {
     Some(Container { close, children: out, added: Vec::new() })
 }
 
+/// Where the first `name` element is, when it is an empty `<name/>`.
+fn self_closed(xml: &str, name: &str) -> Option<std::ops::Range<usize>> {
+    let start = find_tag(xml, name, 0)?;
+    let gt = start + xml[start..].find('>')?;
+    xml[..gt].ends_with('/').then_some(start..gt + 1)
+}
+
 /// The index of `element` among the container's children, added when new.
 fn find_or_add(c: &mut Container, element: String) -> u32 {
     if let Some(i) = c.children.iter().chain(&c.added).position(|e| *e == element) {
@@ -442,5 +486,74 @@ mod tests {
         assert!(xml.contains(r#"<fgColor rgb="FF0080FF"/>"#), "{xml}");
         assert!(xml.contains(r#"<fonts count="2">"#) && xml.contains(r#"<fills count="3">"#), "{xml}");
         assert!(xml.contains(r#"<xf borderId="0" numFmtId="164" fontId="1" fillId="2""#), "{xml}");
+    }
+
+    /// A `<col>` range the reader skips (min above max, min 0) stays as it was, and the
+    /// changed width gets its own `<col>`, where `BTreeMap::range` panicked.
+    #[test]
+    fn a_column_range_the_reader_skips_is_kept_and_not_split() {
+        let head = r#"<worksheet><cols><col min="5" max="3" width="20" customWidth="1"/><col min="0" max="2" width="9"/></cols>"#;
+        let widths = BTreeMap::from([(3, 15.0)]);
+        let out = with_widths(head, "", &widths);
+        assert_eq!(
+            out,
+            r#"<worksheet><cols><col min="0" max="2" width="9"/><col min="4" max="4" width="15" customWidth="1"/><col min="5" max="3" width="20" customWidth="1"/></cols>"#
+        );
+    }
+
+    /// A file whose highest format id is the largest u32 has none left for a new one: the
+    /// part cannot be patched (the package is written anew), where `h + 1` overflowed.
+    #[test]
+    fn no_format_id_left_makes_the_styles_unpatchable() {
+        let styles = STYLES.replace(
+            "<fonts",
+            r#"<numFmts count="1"><numFmt numFmtId="4294967295" formatCode="0.0"/></numFmts><fonts"#,
+        );
+        let mut sheet = StyleSheet::read(styles).unwrap();
+        assert_eq!(sheet.unpatchable(), None);
+        sheet.style_for(0, Some("0.000"), CellStyle::default());
+        assert!(sheet.unpatchable().is_some());
+    }
+
+    /// An empty `<numFmts/>` takes the new format, where a second `<numFmts>` was added
+    /// (ECMA-376 18.8.39 allows one).
+    #[test]
+    fn an_empty_number_format_list_takes_the_new_format() {
+        let styles = STYLES.replace("<fonts", r#"<numFmts count="0"/><fonts"#);
+        let mut sheet = StyleSheet::read(styles).unwrap();
+        sheet.style_for(0, Some("0.000"), CellStyle::default());
+        let xml = sheet.finish();
+        assert_eq!(xml.matches("<numFmts").count(), 1, "{xml}");
+        assert!(
+            xml.starts_with(
+                r#"<styleSheet><numFmts count="1"><numFmt numFmtId="164" formatCode="0.000"/></numFmts><fonts"#
+            ),
+            "{xml}"
+        );
+    }
+
+    /// A style sheet without fonts, fills or cell styles to add to cannot be read for patching.
+    #[test]
+    fn a_style_sheet_without_its_lists_is_refused() {
+        for (from, to) in [
+            (r#"<fonts count="1"><font><sz val="11"/><name val="Calibri"/></font></fonts>"#, "<fonts/>"),
+            (r#"<cellXfs count="1"><xf numFmtId="0" fontId="0" fillId="0" borderId="0"/></cellXfs>"#, ""),
+        ] {
+            assert!(StyleSheet::read(STYLES.replace(from, to)).is_err());
+        }
+    }
+
+    /// The reader gives built-in date 14 as `mm-dd-yy` (calamine): a restyled date keeps id
+    /// 14, which Excel shows as the locale's short date (ECMA-376 18.8.30), not a custom
+    /// `mm-dd-yy` format; the date and time is 22.
+    #[test]
+    fn the_built_in_date_formats_keep_their_ids() {
+        let mut sheet = StyleSheet::read(STYLES.to_string()).unwrap();
+        let bold = CellStyle { bold: true, ..CellStyle::default() };
+        sheet.style_for(0, Some("mm-dd-yy"), bold);
+        sheet.style_for(0, Some(crate::eval::locale::BUILTIN_DATE_TIME), bold);
+        let xml = sheet.finish();
+        assert!(!xml.contains("<numFmts"), "{xml}");
+        assert!(xml.contains(r#"numFmtId="14""#) && xml.contains(r#"numFmtId="22""#), "{xml}");
     }
 }

@@ -528,13 +528,22 @@ fn cell_format(code: Option<&str>, style: CellStyle) -> Format {
     format
 }
 
-/// A cell format for a number format code: the built-in date (14), which every Excel shows as
-/// its own locale's short date, and the built-in date and time (22) ncsheet gives a date typed
-/// with a time, by their index; any other code as written.
+/// A cell format for a number format code: the built-in ones of [`builtin_date_format`] by
+/// their index; any other code as written.
 fn number_format(code: &str) -> Format {
+    match builtin_date_format(code) {
+        Some(index) => Format::new().set_num_format_index(index),
+        None => Format::new().set_num_format(code),
+    }
+}
+
+/// The index of a built-in format a code stands for: the built-in date (14), which every
+/// Excel shows as its own locale's short date (the reader gives it as `mm-dd-yy`), and the
+/// built-in date and time (22) ncsheet gives a date typed with a time.
+pub(super) fn builtin_date_format(code: &str) -> Option<u8> {
     match code {
-        "m/d/yyyy" | "mm-dd-yy" => Format::new().set_num_format_index(14),
-        crate::eval::locale::BUILTIN_DATE_TIME => Format::new().set_num_format_index(22),
-        code => Format::new().set_num_format(code),
+        "m/d/yyyy" | "mm-dd-yy" => Some(14),
+        crate::eval::locale::BUILTIN_DATE_TIME => Some(22),
+        _ => None,
     }
 }
