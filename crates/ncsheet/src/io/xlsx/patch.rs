@@ -577,11 +577,14 @@ impl SheetPatch<'_> {
             let height = self.heights.remove(&r);
             let tag = format!("<{ns}row r=\"{}\">", r + 1);
             let tag = height.map_or(tag.clone(), |h| with_height(&tag, h));
+            // Row `r` is the first pending one (`r < row`, so `r + 1` fits): only its cells
+            // are taken out, not the whole map copied per row.
+            let later = self.pending.split_off(&(r + 1, 0));
+            let this_row = std::mem::replace(&mut self.pending, later);
             let mut cells = String::new();
-            for (&(_, c), &change) in self.pending.clone().range((r, 0)..=(r, u32::MAX)) {
+            for ((_, c), change) in this_row {
                 cells.push_str(&self.new_cell(None, Pos::new(r, c), change));
             }
-            self.pending.retain(|&(pr, _), _| pr != r);
             if !cells.is_empty() || height.is_some() {
                 self.out.push_str(&format!("{tag}{cells}</{ns}row>"));
             }
@@ -651,9 +654,9 @@ impl SheetPatch<'_> {
     /// The ` s="…"` of a cell a macro formatted (`None`: its look did not change): the
     /// file's style of the cell with the look the macro left.
     fn new_style(&mut self, tag: Option<&str>, pos: Pos) -> Option<String> {
-        let (format, look) = self.restyle?.cells.get(&(pos.row, pos.col))?;
+        let (format, look, was) = self.restyle?.cells.get(&(pos.row, pos.col))?;
         let old = tag.and_then(|t| attr(t, "s")).and_then(|s| s.parse().ok()).unwrap_or(0);
-        let id = self.styles.as_mut()?.style_for(old, format.as_deref(), *look);
+        let id = self.styles.as_mut()?.style_for(old, format.as_deref(), *look, *was);
         Some(if id == 0 { String::new() } else { format!(" s=\"{id}\"") })
     }
 

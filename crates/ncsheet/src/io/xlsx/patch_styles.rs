@@ -55,8 +55,8 @@ pub(super) struct StyleSheet {
     fonts: Container,
     fills: Container,
     xfs: Container,
-    /// Styles made already: (old style, format, look) → new style.
-    made: HashMap<(u32, Option<String>, CellStyle), u32>,
+    /// Styles made already: (old style, format, look, the file's look) → new style.
+    made: HashMap<(u32, Option<String>, CellStyle, CellStyle), u32>,
     /// Why the styles asked for cannot be added to this part (the package is then written anew).
     unpatchable: Option<String>,
 }
@@ -89,9 +89,11 @@ impl StyleSheet {
         })
     }
 
-    /// The style a cell of style `old` gets to show `format` (`None`: General) and `look`.
-    pub(super) fn style_for(&mut self, old: u32, format: Option<&str>, look: CellStyle) -> u32 {
-        let key = (old, format.map(str::to_string), look);
+    /// The style a cell of style `old` gets to show `format` (`None`: General) and `look`;
+    /// what `look` has as `was` (the file's look) keeps the old style's fill and alignment,
+    /// which may say more than a look does (a patterned fill, an indent).
+    pub(super) fn style_for(&mut self, old: u32, format: Option<&str>, look: CellStyle, was: CellStyle) -> u32 {
+        let key = (old, format.map(str::to_string), look, was);
         if let Some(&s) = self.made.get(&key) {
             return s;
         }
@@ -99,8 +101,12 @@ impl StyleSheet {
         let base = base.unwrap_or_else(|| format!("<{}xf/>", self.ns));
         let format_id = self.format_id(format.unwrap_or("General"));
         let font_id = self.font_for(attr(&base, "fontId").and_then(|f| f.parse().ok()).unwrap_or(0), look);
-        let fill_id = self.fill_for(look.fill);
-        let xf = self.xf(&base, format_id, font_id, fill_id, look);
+        let fill_id = match look.fill == was.fill {
+            true => attr(&base, "fillId").and_then(|f| f.parse().ok()).unwrap_or(0),
+            false => self.fill_for(look.fill),
+        };
+        let alignment = (look.horizontal, look.vertical, look.wrap) != (was.horizontal, was.vertical, was.wrap);
+        let xf = self.xf(&base, format_id, font_id, fill_id, alignment.then_some(look));
         let id = (self.xfs.children.len() + self.xfs.added.len()) as u32;
         self.xfs.added.push(xf);
         self.made.insert(key, id);
@@ -172,8 +178,9 @@ impl StyleSheet {
         find_or_add(&mut self.fills, fill)
     }
 
-    /// The `<xf>` `base` with the format, font, fill and alignment given.
-    fn xf(&self, base: &str, format_id: u32, font_id: u32, fill_id: u32, look: CellStyle) -> String {
+    /// The `<xf>` `base` with the format, font and fill given, and the alignment of `look`
+    /// (`None`: the base's own).
+    fn xf(&self, base: &str, format_id: u32, font_id: u32, fill_id: u32, look: Option<CellStyle>) -> String {
         let ns = &self.ns;
         let gt = base.find('>').unwrap_or(base.len() - 1);
         let empty = base[..gt].ends_with('/');
@@ -191,6 +198,7 @@ impl StyleSheet {
         } else {
             base[gt + 1..].trim_end().trim_end_matches(&format!("</{ns}xf>")).to_string()
         };
+        let Some(look) = look else { return format!("{tag}{inner}</{ns}xf>") };
         let inner = without_element(&inner, &format!("{ns}alignment"));
         format!("{tag}{}{inner}</{ns}xf>", alignment(ns, look))
     }
@@ -248,7 +256,8 @@ impl StyleSheet {
 /// and rows' heights.
 #[derive(Default)]
 pub(super) struct Restyle {
-    pub cells: BTreeMap<(u32, u32), (Option<String>, CellStyle)>,
+    /// (format, style, the style the file gave the cell).
+    pub cells: BTreeMap<(u32, u32), (Option<String>, CellStyle, CellStyle)>,
     pub widths: BTreeMap<u32, f64>,
     pub heights: BTreeMap<u32, f64>,
 }
@@ -263,8 +272,8 @@ impl Restyle {
         let cells = positions
             .into_iter()
             .filter_map(|pos| {
-                let is = look_of(now, &pos);
-                (look_of(was, &pos) != is).then_some(((pos.row, pos.col), is))
+                let (is, had) = (look_of(now, &pos), look_of(was, &pos));
+                (had != is).then_some(((pos.row, pos.col), (is.0, is.1, had.1)))
             })
             .collect();
         let changed = |was: &[(u32, f64)], now: &[(u32, f64)]| {
@@ -475,8 +484,8 @@ mod tests {
     fn a_bold_filled_formatted_style_is_appended_with_its_parts() {
         let mut sheet = StyleSheet::read(STYLES.to_string()).unwrap();
         let look = CellStyle { bold: true, fill: Some(0xFF8000), ..CellStyle::default() };
-        assert_eq!(sheet.style_for(0, Some("0.000"), look), 1);
-        assert_eq!(sheet.style_for(0, Some("0.000"), look), 1);
+        assert_eq!(sheet.style_for(0, Some("0.000"), look, CellStyle::default()), 1);
+        assert_eq!(sheet.style_for(0, Some("0.000"), look, CellStyle::default()), 1);
         let xml = sheet.finish();
         assert!(
             xml.contains(r#"<numFmts count="1"><numFmt numFmtId="164" formatCode="0.000"/></numFmts><fonts"#),
@@ -486,6 +495,28 @@ mod tests {
         assert!(xml.contains(r#"<fgColor rgb="FF0080FF"/>"#), "{xml}");
         assert!(xml.contains(r#"<fonts count="2">"#) && xml.contains(r#"<fills count="3">"#), "{xml}");
         assert!(xml.contains(r#"<xf borderId="0" numFmtId="164" fontId="1" fillId="2""#), "{xml}");
+    }
+
+    /// A macro that only makes a cell bold keeps its style's patterned fill (gray125, which
+    /// a look cannot hold) and its alignment's indent and rotation, where they became fill 0
+    /// and were dropped; a changed alignment replaces the old one.
+    #[test]
+    fn what_a_macro_left_alone_keeps_the_old_styles_fill_and_alignment() {
+        let styles = STYLES.replace(
+            r#"<cellXfs count="1"><xf numFmtId="0" fontId="0" fillId="0" borderId="0"/>"#,
+            r#"<cellXfs count="2"><xf numFmtId="0" fontId="0" fillId="0" borderId="0"/><xf numFmtId="0" fontId="0" fillId="1" borderId="0" applyAlignment="1"><alignment horizontal="left" indent="2" textRotation="45"/></xf>"#,
+        );
+        let mut sheet = StyleSheet::read(styles).unwrap();
+        let was = CellStyle { horizontal: Some(cell_style::XL_LEFT), ..CellStyle::default() };
+        assert_eq!(sheet.style_for(1, None, CellStyle { bold: true, ..was }, was), 2);
+        let centred = CellStyle { horizontal: Some(cell_style::XL_CENTER), ..was };
+        assert_eq!(sheet.style_for(1, None, centred, was), 3);
+        let xml = sheet.finish();
+        assert!(
+            xml.contains(r#"fillId="1" applyNumberFormat="1" applyFont="1" applyFill="1" applyAlignment="1"><alignment horizontal="left" indent="2" textRotation="45"/></xf>"#),
+            "{xml}"
+        );
+        assert!(xml.contains(r#"fontId="0" fillId="1" applyNumberFormat="1" applyFont="1" applyFill="1" applyAlignment="1"><alignment horizontal="center"/></xf>"#), "{xml}");
     }
 
     /// A `<col>` range the reader skips (min above max, min 0) stays as it was, and the
@@ -511,7 +542,7 @@ mod tests {
         );
         let mut sheet = StyleSheet::read(styles).unwrap();
         assert_eq!(sheet.unpatchable(), None);
-        sheet.style_for(0, Some("0.000"), CellStyle::default());
+        sheet.style_for(0, Some("0.000"), CellStyle::default(), CellStyle::default());
         assert!(sheet.unpatchable().is_some());
     }
 
@@ -521,7 +552,7 @@ mod tests {
     fn an_empty_number_format_list_takes_the_new_format() {
         let styles = STYLES.replace("<fonts", r#"<numFmts count="0"/><fonts"#);
         let mut sheet = StyleSheet::read(styles).unwrap();
-        sheet.style_for(0, Some("0.000"), CellStyle::default());
+        sheet.style_for(0, Some("0.000"), CellStyle::default(), CellStyle::default());
         let xml = sheet.finish();
         assert_eq!(xml.matches("<numFmts").count(), 1, "{xml}");
         assert!(
@@ -550,8 +581,8 @@ mod tests {
     fn the_built_in_date_formats_keep_their_ids() {
         let mut sheet = StyleSheet::read(STYLES.to_string()).unwrap();
         let bold = CellStyle { bold: true, ..CellStyle::default() };
-        sheet.style_for(0, Some("mm-dd-yy"), bold);
-        sheet.style_for(0, Some(crate::eval::locale::BUILTIN_DATE_TIME), bold);
+        sheet.style_for(0, Some("mm-dd-yy"), bold, CellStyle::default());
+        sheet.style_for(0, Some(crate::eval::locale::BUILTIN_DATE_TIME), bold, CellStyle::default());
         let xml = sheet.finish();
         assert!(!xml.contains("<numFmts"), "{xml}");
         assert!(xml.contains(r#"numFmtId="14""#) && xml.contains(r#"numFmtId="22""#), "{xml}");
