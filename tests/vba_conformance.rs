@@ -1299,9 +1299,7 @@ fn a_fixed_length_string_takes_a_constant_as_its_length() {
 // constant-name).
 #[test]
 fn a_procedures_constant_sizes_no_string_of_a_later_procedure() {
-    let out = run(
-        "Const W = 10\nSub A()\n    Const W = 5\n    Dim s As String * W\n    Debug.Print Len(s)\nEnd Sub\n\
-         Sub Main()\n    A\n    Dim s As String * W\n    Debug.Print Len(s)\nEnd Sub\n",
-    );
+    let out = run("Const W = 10\nSub A()\n    Const W = 5\n    Dim s As String * W\n    Debug.Print Len(s)\nEnd Sub\n\
+         Sub Main()\n    A\n    Dim s As String * W\n    Debug.Print Len(s)\nEnd Sub\n");
     assert_eq!(out.printed, [" 5 ", " 10 "]);
 }
