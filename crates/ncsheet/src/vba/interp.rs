@@ -509,6 +509,17 @@ impl Interp<'_, '_> {
         self.source.get(start as usize..end as usize).unwrap_or("")
     }
 
+    /// The source of `start..end` to quote in a message, or `instead` when there is none or
+    /// it is too long to read in one line (over 60 characters).
+    pub(super) fn quoted_source<'a>(&'a self, start: u32, end: u32, instead: &'a str) -> &'a str {
+        let text = self.source_between(start, end).trim();
+        if text.is_empty() || text.chars().count() > 60 {
+            instead
+        } else {
+            text
+        }
+    }
+
     /// Counts one statement or loop turn against the limit.
     fn tick(&self, span: Span) -> Run<()> {
         let n = self.steps.get() + 1;

@@ -68,8 +68,7 @@ impl Interp<'_, '_> {
             (_, XlError::Num) => OVERFLOW,
             _ => return None,
         };
-        let text = self.source_between(ea.span.start, eb.span.end).trim();
-        let shown = if text.is_empty() || text.chars().count() > 60 { "the operation" } else { text };
+        let shown = self.quoted_source(ea.span.start, eb.span.end, "the operation");
         let mut fault = self.fault_at(self.expr_span(ea), format!("{name} (run-time error {code}): {shown}"));
         fault.code = code;
         Some(fault)
@@ -80,8 +79,7 @@ impl Interp<'_, '_> {
     /// operand is let-coerced to a number).
     pub(super) fn negation_mismatch(&self, operand: &Expr, result: &Value) -> Option<Fault> {
         let Value::Error(_) = result else { return None };
-        let text = self.source_between(operand.span.start, operand.span.end).trim();
-        let shown = if text.is_empty() || text.chars().count() > 60 { "the operand" } else { text };
+        let shown = self.quoted_source(operand.span.start, operand.span.end, "the operand");
         let (code, name) = TYPE_MISMATCH;
         let mut fault =
             self.fault_at(self.expr_span(operand), format!("{name} (run-time error {code}): -{shown} is no number"));

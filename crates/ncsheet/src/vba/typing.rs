@@ -499,8 +499,7 @@ impl Interp<'_, '_> {
         if (low..=high).contains(&n) {
             return None;
         }
-        let text = self.source_between(operand.span.start, operand.span.end).trim();
-        let shown = if text.is_empty() || text.chars().count() > 60 { "the operand" } else { text };
+        let shown = self.quoted_source(operand.span.start, operand.span.end, "the operand");
         Some(self.overflow_fault(
             self.expr_span(operand),
             format!("-{shown} overflows: its type makes it {holds}, which cannot hold {}", general(n)),
@@ -597,8 +596,7 @@ impl Interp<'_, '_> {
             .widened_if_held(Typing::Held, a)
             .unwrap_or_else(|| binary_type(op, self.held_operand(a), self.held_operand(b)));
         let past = |holds: &str| {
-            let text = self.source_between(a.span.start, b.span.end).trim();
-            let shown = if text.is_empty() || text.chars().count() > 60 { "the operation" } else { text };
+            let shown = self.quoted_source(a.span.start, b.span.end, "the operation");
             Err(self.overflow_fault(self.expr_span(a), format!("{shown} overflows: its result is past {holds}")))
         };
         match held {
@@ -645,8 +643,7 @@ impl Interp<'_, '_> {
         if date_sum_type(op, self.held_operand(a), self.held_operand(b)) != Some(Declared::Date) {
             return None;
         }
-        let text = self.source_between(a.span.start, b.span.end).trim();
-        let shown = if text.is_empty() || text.chars().count() > 60 { "the operation" } else { text };
+        let shown = self.quoted_source(a.span.start, b.span.end, "the operation");
         Some(self.overflow_fault(
             self.expr_span(a),
             format!("{shown} overflows: a Date holds 1/1/100 to 12/31/9999, not {}", general(n)),
@@ -697,9 +694,7 @@ impl Interp<'_, '_> {
         };
         let (low, high, holds) = ty.range()?;
         let past = checked.into_iter().find(|v| !(low..=high).contains(v))?;
-        let text = self.source_between(a.span.start, b.span.end).trim();
-        let shown =
-            if text.is_empty() || text.chars().count() > 60 { "the operation".to_string() } else { text.to_string() };
+        let shown = self.quoted_source(a.span.start, b.span.end, "the operation");
         Some(self.overflow_fault(
             self.expr_span(a),
             format!("{shown} overflows: its operands' types make it {holds}, which cannot hold {}", general(past)),
