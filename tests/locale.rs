@@ -729,6 +729,9 @@ fn a_date_and_a_time_typed_into_a_csv_are_saved_as_shown() {
         assert_eq!(theirs.get("A1").and_then(|v| v.as_f64()).map(|t| (t * 1440.0).round()), Some(870.0), "{locale}");
         assert_eq!(theirs.get("B1").and_then(|v| v.as_f64()), Some(45728.0), "{locale}");
     }
+    // A formula in a cell with a date's format is a formula: written as typed in the locale.
+    ok(in_dir(d, &["set", "t.csv", "--locale", "de-DE", "A1=12.03.2025", "A1==B1+0,5", "-o", "f.csv"]));
+    assert_eq!(std::fs::read_to_string(d.join("f.csv")).unwrap(), "=B1+0,5;1,5;x\n");
     std::fs::write(d.join("u.csv"), "a,1.5,x\n").unwrap();
     ok(in_dir(d, &["set", "u.csv", "--locale", "en-US", "B1=3/12/2025", "-o", "u2.csv"]));
     assert_eq!(std::fs::read_to_string(d.join("u2.csv")).unwrap(), "a,3/12/2025,x\n");

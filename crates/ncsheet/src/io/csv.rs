@@ -182,10 +182,9 @@ pub fn write_edited(
     let mut rows = original.rows.clone();
     let ending = rows.first().map_or("\n", |r| if r.ending.is_empty() { "\n" } else { r.ending.as_str() }).to_string();
     for &pos in edited {
-        let text = match typed_date(wb, &style, pos) {
-            Some(shown) => shown,
-            None => wb.input(0, pos).unwrap_or_default(),
-        };
+        let shown_date = typed_date(wb, &style, pos);
+        let typed = shown_date.is_none();
+        let text = shown_date.unwrap_or_else(|| wb.input(0, pos).unwrap_or_default());
         let (r, c) = (pos.row as usize, pos.col as usize);
         if r >= rows.len() {
             if text.is_empty() {
@@ -204,11 +203,8 @@ pub fn write_edited(
             }
             row.fields.resize(c + 1, String::new());
         }
-        let text = if original.delimiter == b';' && !is_date_at(&style, pos) {
-            locale_input(&text, wb.settings().locale)
-        } else {
-            text
-        };
+        // A date already is as the locale shows it; anything else is written as typed there.
+        let text = if original.delimiter == b';' && typed { locale_input(&text, wb.settings().locale) } else { text };
         row.fields[c] = quoted(&text, original.delimiter);
     }
     if original.bom {
@@ -227,15 +223,12 @@ pub fn write_edited(
 /// shows it: its serial would read back as a plain number, the date lost, where Excel and
 /// LibreOffice write a date cell as shown.
 fn typed_date(wb: &Workbook, style: &Style, pos: Pos) -> Option<String> {
-    if !is_date_at(style, pos) || wb.is_formula(0, pos) {
+    let is_date = style.formats.and_then(|f| f.get(&pos)).is_some_and(|code| is_date_code(code));
+    if !is_date || wb.is_formula(0, pos) {
         return None;
     }
     let Value::Number(n) = wb.value(0, pos) else { return None };
     Some(style.field(&Value::Number(n), pos, wb))
-}
-
-fn is_date_at(style: &Style, pos: Pos) -> bool {
-    style.formats.and_then(|f| f.get(&pos)).is_some_and(|code| is_date_code(code))
 }
 
 /// A field as RFC 4180 writes it: quoted when it holds the delimiter, a quote or a line break.
