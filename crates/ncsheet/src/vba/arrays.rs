@@ -10,6 +10,7 @@ use crate::formula::ast::{Expr, ExprKind};
 
 use super::ast::{Link, Node, Param, Span, Ty};
 use super::interp::{Interp, Run};
+use super::typing::Declared;
 use super::value::{convert, default_value, Obj, VArray, Var};
 
 impl Interp<'_, '_> {
@@ -58,7 +59,7 @@ impl Interp<'_, '_> {
             lower: (lower_row, lower_col),
             dims: dims.len() as u8,
             objects: None,
-            dates: None,
+            held_types: None,
             arrays: None,
             records,
         })
@@ -226,6 +227,21 @@ impl Interp<'_, '_> {
 
     /// `a(i) = v`; `date`: `v` is a Date, which a Variant array's item keeps as one.
     pub(super) fn set_element(&self, name: &Rc<str>, index: &[Expr], v: Value, date: bool, span: Span) -> Run<()> {
+        let held = if date { Declared::Date } else { Declared::Variant };
+        self.set_element_holding(name, index, v, held, span)
+    }
+
+    /// `a(i) = v`, where `v` is a number of the type `held`: an item of a Variant array keeps
+    /// it ("Variant data type": numeric data "is maintained in its original data type"), as a
+    /// Variant variable does, so `v(0) = 5` holds the Integer 5.
+    pub(super) fn set_element_holding(
+        &self,
+        name: &Rc<str>,
+        index: &[Expr],
+        v: Value,
+        held: Declared,
+        span: Span,
+    ) -> Run<()> {
         let at = index.iter().map(|e| self.index(e, "the index")).collect::<Run<Vec<i64>>>()?;
         if let Some(Var::Obj(Obj::Range(sheet, rect))) = self.lookup(name) {
             let cell = super::objects::item(rect, &at).map_err(|m| self.fault_at(span, format!("{name}: {m}")))?;
@@ -253,7 +269,9 @@ impl Interp<'_, '_> {
             if let Some(arrays) = a.arrays.as_mut().filter(|o| o.contains_key(&k)) {
                 Rc::make_mut(arrays).remove(&k);
             }
-            a.mark_date(k, date && matches!(ty, None | Some(Ty::Variant)));
+            let number = matches!(a.data.data[k], Value::Number(_));
+            let variant = matches!(ty, None | Some(Ty::Variant));
+            a.mark_held(k, if number && variant { held } else { Declared::Variant });
             Ok(())
         });
         match result {
@@ -529,7 +547,7 @@ fn link_index(link: &Link) -> Vec<Expr> {
 pub(super) fn preserve_items(old: &VArray, new: &mut VArray) {
     let data = Rc::make_mut(&mut new.data);
     let mut objects = std::collections::HashMap::new();
-    let mut dates = std::collections::HashMap::new();
+    let mut held_types = std::collections::HashMap::new();
     let mut arrays = std::collections::HashMap::new();
     let mut records = new.records.take();
     for r in 0..old.data.rows.min(data.rows) {
@@ -547,12 +565,12 @@ pub(super) fn preserve_items(old: &VArray, new: &mut VArray) {
             }
             match old.held(r * old.data.cols + c) {
                 super::typing::Declared::Variant => {}
-                held => _ = dates.insert(r * data.cols + c, held),
+                held => _ = held_types.insert(r * data.cols + c, held),
             }
         }
     }
     new.objects = (!objects.is_empty()).then(|| Rc::new(objects));
-    new.dates = (!dates.is_empty()).then(|| Rc::new(dates));
+    new.held_types = (!held_types.is_empty()).then(|| Rc::new(held_types));
     new.arrays = (!arrays.is_empty()).then(|| Rc::new(arrays));
     new.records = records;
 }
@@ -601,7 +619,7 @@ pub(super) fn unallocated(ty: Option<&Ty>) -> Option<VArray> {
         lower: (0, 0),
         dims: 0,
         objects: None,
-        dates: None,
+        held_types: None,
         arrays: None,
         records: ty.filter(|t| matches!(t, Ty::Record(_))).map(|_| Rc::new(Vec::new())),
     })
@@ -633,7 +651,7 @@ pub(super) fn typed_items(mut a: VArray, ty: Option<&Ty>, name: &str) -> Result<
         };
         *item = v;
     }
-    a.dates = None;
+    a.held_types = None;
     Ok(a)
 }
 

@@ -197,12 +197,13 @@ impl Handle {
         }
     }
 
-    /// Which of [`Handle::each`]'s items are Dates (a Dictionary's keys are not marked).
-    pub fn each_dates(&self) -> Vec<bool> {
+    /// The type of the number each of [`Handle::each`]'s items holds (a Date, the Integer of
+    /// `c.Add 5`); a Dictionary's keys are not marked.
+    pub(super) fn each_held(&self) -> Vec<Declared> {
         let store = self.0.borrow();
         match store.class {
-            Class::Collection => store.live().map(|e| e.2 == Declared::Date).collect(),
-            Class::Dictionary => store.live().map(|_| false).collect(),
+            Class::Collection => store.live().map(|e| e.2).collect(),
+            Class::Dictionary => store.live().map(|_| Declared::Variant).collect(),
         }
     }
 

@@ -1772,8 +1772,12 @@ impl Interp<'_, '_> {
                     Ok(array) => return self.set_array_element(name, index, array, span),
                     Err(v) => v,
                 };
-                let date = self.as_date(value, &v).is_some();
-                self.set_element(name, index, v, date, span)
+                // The item keeps the type of the number it is given, as a Variant does.
+                let held = match &v {
+                    Value::Number(_) => self.value_type(value, &v),
+                    _ => Declared::Variant,
+                };
+                self.set_element_holding(name, index, v, held, span)
             }
             Target::Node(id) if self.is_nested_item(*id) => self.set_nested_item(*id, value, set, span),
             Target::Node(id) => self.assign_node(*id, value),
@@ -1968,9 +1972,10 @@ impl Interp<'_, '_> {
     }
 
     fn for_each(&self, var: &Rc<str>, group: &Expr, body: &Block, span: Span) -> Run<Flow> {
-        // Which items are Dates, so the element variable holds a Date ([MS-VBAL] 5.4.2.4:
-        // it is let-assigned each element, which keeps its Variant subtype).
-        let mut dates: Vec<bool> = Vec::new();
+        // The type of the number each item holds, which the element variable keeps (a Date,
+        // the Integer 1 of `Array(1, 2.5)`; [MS-VBAL] 5.4.2.4: it is let-assigned each
+        // element, which keeps its Variant subtype).
+        let mut held: Vec<Declared> = Vec::new();
         let items: Vec<Var> = match self.var_of(group, true)? {
             Var::Obj(Obj::Range(sheet, rect)) => {
                 let rect = self.ctx().clip_to_used(sheet, rect);
@@ -1986,16 +1991,20 @@ impl Interp<'_, '_> {
                 (0..self.wb.borrow().sheet_len()).map(|i| Var::Obj(Obj::Sheet(i as SheetId))).collect()
             }
             Var::Array(a) => {
-                let typed_date = match &group.kind {
-                    ExprKind::Name(n) => self.with_slot(n, |s| s.ty == Some(Ty::Number(DATE_VAR_TYPE))) == Some(true),
-                    _ => false,
+                // An array of a declared type: each item is of that type.
+                let typed = match &group.kind {
+                    ExprKind::Name(n) => self.with_slot(n, |s| Declared::of_ty(s.ty.as_ref())),
+                    _ => None,
                 };
-                dates = (0..a.data.data.len()).map(|k| typed_date || a.holds_date(k)).collect();
+                held = match typed.filter(|ty| *ty != Declared::Variant) {
+                    Some(ty) => vec![ty; a.data.data.len()],
+                    None => (0..a.data.data.len()).map(|k| a.held(k)).collect(),
+                };
                 a.items()
             }
             // A Collection's items, a Dictionary's keys ("For Each...Next statement").
             Var::Obj(Obj::Store(h)) => {
-                dates = h.each_dates();
+                held = h.each_held();
                 h.each()
             }
             Var::Obj(Obj::Value(Value::Array(a))) => a.data.iter().cloned().map(Var::Value).collect(),
@@ -2016,10 +2025,8 @@ impl Interp<'_, '_> {
         };
         for (k, item) in items.into_iter().enumerate() {
             self.tick(span)?;
-            self.set_var(var, item, span)?;
-            if dates.get(k) == Some(&true) {
-                self.with_slot(var, |s| s.set_holds(Declared::Date));
-            }
+            let ty = held.get(k).copied().unwrap_or(Declared::Variant);
+            self.set_var_holding(var, item, ty, span)?;
             match self.block(body)? {
                 Flow::Next => {}
                 Flow::Exit(ExitKind::For) => return Ok(Flow::Next),

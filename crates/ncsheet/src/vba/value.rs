@@ -35,9 +35,9 @@ pub struct VArray {
     pub objects: Option<Rc<std::collections::HashMap<usize, Obj>>>,
     /// The items of a Variant array that hold a number of a type other than Double, with
     /// that type, by row-major position: a Date (VarType 7), or the Integer 1 of `Array(1, 2)`
-    /// keeps its type in the array ([MS-VBAL] 2.1.1.1). An array of a declared type needs
-    /// none: its type says it.
-    pub(super) dates: Option<Rc<std::collections::HashMap<usize, Declared>>>,
+    /// and of `v(0) = 1` keeps its type in the array ([MS-VBAL] 2.1.1.1). An array of a
+    /// declared type needs none: its type says it.
+    pub(super) held_types: Option<Rc<std::collections::HashMap<usize, Declared>>>,
     /// The items of a Variant array that hold an array, by row-major position, each with its
     /// own bounds ([MS-VBAL] 2.2: an array value carries its bounds; `a(1) = b` with
     /// `Dim b(1 To 3)` keeps 1 To 3). `data` holds the same items there, as a plain array.
@@ -50,13 +50,13 @@ pub struct VArray {
 impl VArray {
     /// A one-dimensional array of `data`'s one row, from `lower`, holding plain values.
     pub fn row(data: Rc<Array>, lower: i64) -> VArray {
-        VArray { data, lower: (1, lower), dims: 1, objects: None, dates: None, arrays: None, records: None }
+        VArray { data, lower: (1, lower), dims: 1, objects: None, held_types: None, arrays: None, records: None }
     }
 
     /// A two-dimensional array of `data`'s rows and columns, from (1, 1), as VBA reads a
     /// Range's values, holding plain values.
     pub fn table(data: Rc<Array>) -> VArray {
-        VArray { data, lower: (1, 1), dims: 2, objects: None, dates: None, arrays: None, records: None }
+        VArray { data, lower: (1, 1), dims: 2, objects: None, held_types: None, arrays: None, records: None }
     }
 
     /// The item at row-major position `k` as a variable holds it: its object, or its value.
@@ -81,7 +81,7 @@ impl VArray {
     /// The type of the number the item at row-major position `k` holds, where it is not a
     /// Double (in a Variant array); `Variant` otherwise.
     pub(super) fn held(&self, k: usize) -> Declared {
-        self.dates.as_ref().and_then(|d| d.get(&k).copied()).unwrap_or(Declared::Variant)
+        self.held_types.as_ref().and_then(|d| d.get(&k).copied()).unwrap_or(Declared::Variant)
     }
 
     /// Notes whether the item at `k` now holds a Date.
@@ -92,13 +92,13 @@ impl VArray {
     /// Notes the type of the number the item at `k` now holds (`Variant` or `Double`: none
     /// to note).
     pub(super) fn mark_held(&mut self, k: usize, ty: Declared) {
-        match (&mut self.dates, ty) {
-            (Some(dates), Declared::Variant | Declared::Double) if dates.contains_key(&k) => {
-                Rc::make_mut(dates).remove(&k);
+        match (&mut self.held_types, ty) {
+            (Some(held), Declared::Variant | Declared::Double) if held.contains_key(&k) => {
+                Rc::make_mut(held).remove(&k);
             }
             (_, Declared::Variant | Declared::Double) => {}
-            (dates, ty) => {
-                Rc::make_mut(dates.get_or_insert_with(Default::default)).insert(k, ty);
+            (held, ty) => {
+                Rc::make_mut(held.get_or_insert_with(Default::default)).insert(k, ty);
             }
         }
     }
