@@ -78,6 +78,12 @@ pub trait Env {
 
     fn sheet_name(&self, sheet: SheetId) -> Option<String>;
 
+    /// Where `sheet` shows among the workbook's tabs, from 0 (SHEET): a sheet's id is fixed,
+    /// its tab can be moved. The default: tabs in id order.
+    fn tab_position(&self, sheet: SheetId) -> usize {
+        sheet as usize
+    }
+
     /// The sheet of this name, ignoring ASCII case (INDIRECT's `Sheet2!A1`). The default
     /// reads every name; an environment of many sheets answers from an index.
     fn sheet_id(&self, name: &str) -> Option<SheetId> {

@@ -71,6 +71,10 @@ impl Env for Interp<'_, '_> {
         Env::sheet_name(&**self.wb.borrow(), sheet)
     }
 
+    fn tab_position(&self, sheet: SheetId) -> usize {
+        Env::tab_position(&**self.wb.borrow(), sheet)
+    }
+
     fn sheet_id(&self, name: &str) -> Option<SheetId> {
         self.wb.borrow().sheet_id(name)
     }

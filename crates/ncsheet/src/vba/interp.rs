@@ -1987,9 +1987,7 @@ impl Interp<'_, '_> {
                 }
                 cells
             }
-            Var::Obj(Obj::Sheets) => {
-                (0..self.wb.borrow().sheet_len()).map(|i| Var::Obj(Obj::Sheet(i as SheetId))).collect()
-            }
+            Var::Obj(Obj::Sheets) => self.wb.borrow().tab_order().iter().map(|&s| Var::Obj(Obj::Sheet(s))).collect(),
             Var::Array(a) => {
                 // An array of a declared type: each item is of that type.
                 let typed = match &group.kind {

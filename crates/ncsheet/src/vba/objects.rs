@@ -341,7 +341,10 @@ impl Interp<'_, '_> {
             fault
         };
         match values.as_slice() {
-            [Value::Number(n)] if *n >= 1.0 && (*n as usize) <= wb.sheet_len() => Ok(*n as SheetId - 1),
+            // A number counts tabs, as they show now (a moved sheet keeps its id).
+            [Value::Number(n)] if *n >= 1.0 && (*n as usize) <= wb.sheet_len() => {
+                Ok(wb.sheet_at_tab(*n as usize - 1).expect("a tab of the workbook"))
+            }
             [Value::Number(n)] => {
                 Err(missing(format!("the workbook has {} sheet(s), not a sheet {n}", wb.sheet_len())))
             }
@@ -366,7 +369,10 @@ impl Interp<'_, '_> {
             "cells" => self.cells(ctx, id, Rect::cell(Pos::new(0, 0)), link),
             "rows" | "columns" => self.range_member(ctx, id, whole_sheet(), link),
             "name" => Ok(Obj::Value(Value::text(self.wb.borrow().sheet_names()[id as usize].clone()))),
-            "index" => Ok(Obj::Value(Value::Number(id as f64 + 1.0))),
+            "index" => {
+                let tab = self.wb.borrow().tab_position(id).expect("a sheet of the workbook");
+                Ok(Obj::Value(Value::Number(tab as f64 + 1.0)))
+            }
             "activate" | "select" => {
                 self.select_sheet(id, link.span)?;
                 Ok(Obj::Value(Value::Blank))
@@ -378,6 +384,7 @@ impl Interp<'_, '_> {
             }
             "evaluate" => self.evaluate(ctx, id, link),
             "copy" => self.copy_sheet(id, link),
+            "move" => self.move_sheet(id, link),
             "checkboxes" | "optionbuttons" | "dropdowns" | "listboxes" | "buttons" | "shapes" | "oleobjects"
             | "chartobjects" => Err(self.fault_at(
                 link.span,

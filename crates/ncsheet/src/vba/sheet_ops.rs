@@ -1,11 +1,11 @@
 //! What a recorded macro does with the keyboard and the clipboard: `Range.End` (Ctrl+arrow),
-//! `Range.Copy` and `PasteSpecial`, a sheet's `Visible`, and adding and renaming sheets
-//! (`Sheets.Add`, `ws.Name =`).
+//! `Range.Copy` and `PasteSpecial`, a sheet's `Visible`, and adding, copying, moving and
+//! renaming sheets (`Sheets.Add`, `ws.Copy`, `ws.Move`, `ws.Name =`).
 
 use crate::eval::{Ctx, Operand, Value};
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::formula::ast::SheetId;
-use crate::workbook::Visibility;
+use crate::workbook::{Visibility, MAX_SHEETS};
 
 use super::ast::{Link, Span};
 use super::interp::{Fault, Interp, Run};
@@ -475,86 +475,69 @@ impl Interp<'_, '_> {
         fault
     }
 
-    /// `Sheets.Add [Before], [After], [Count], [Type]` ("Sheets.Add method"): a new, empty
-    /// worksheet named as Excel names one (`Sheet` and the next free number), which becomes
-    /// the active sheet; returns it. ncsheet's sheets stay in the order they were made, so
-    /// a sheet can only be added last (`After:=Sheets(Sheets.Count)`): any other place, the
-    /// default before the active sheet included, is refused, naming where Excel puts it,
-    /// rather than a workbook in a different order.
+    /// `Sheets.Add [Before], [After], [Count], [Type]` ("Sheets.Add method"): `Count` new,
+    /// empty worksheets (one by default), each named as Excel names one (`Sheet` and the next
+    /// free number), side by side before `Before`, after `After`, or with neither before the
+    /// active sheet. The last one added becomes the active sheet and is returned (as
+    /// LibreOffice's VBA does with a Count; Microsoft's page names one new sheet).
     pub(super) fn add_sheet(&self, link: &Link) -> Run<Obj> {
-        let before = argument(link, 0, "Before").map(|e| self.sheet_argument(e, "Before")).transpose()?;
-        let after = argument(link, 1, "After").map(|e| self.sheet_argument(e, "After")).transpose()?;
-        if let Some(e) = argument(link, 2, "Count") {
-            let count =
-                self.number_of(&self.eval(e)?, "Sheets.Add's Count").map_err(|m| self.fault_at(link.span, m))?;
-            if count.round_ties_even() != 1.0 {
-                let why = "Sheets.Add adds one sheet at a time here (Count:=1): call it once for each sheet";
-                return Err(self.fault_at(link.span, why));
+        let place = self.placement(link, "Sheets.Add")?;
+        let count = match argument(link, 2, "Count") {
+            Some(e) => {
+                let count =
+                    self.number_of(&self.eval(e)?, "Sheets.Add's Count").map_err(|m| self.fault_at(link.span, m))?;
+                let count = count.round_ties_even();
+                if !(1.0..=MAX_SHEETS as f64).contains(&count) {
+                    return Err(self.error_1004(link.span, format!("Sheets.Add's Count is {count}, not 1 or more")));
+                }
+                count as usize
             }
-        }
+            None => 1,
+        };
         if let Some(e) = argument(link, 3, "Type") {
             if self.number_of(&self.eval(e)?, "Sheets.Add's Type").ok() != Some(XL_WORKSHEET) {
                 let why = "Sheets.Add: ncsheet's workbooks hold worksheets only (Type:=xlWorksheet)";
                 return Err(self.fault_at(link.span, why));
             }
         }
-        let names = self.wb.borrow().sheet_names();
-        let at = match (before, after) {
-            (Some(_), Some(_)) => {
-                return Err(self.error_1004(link.span, "Sheets.Add takes Before or After, not both".into()))
-            }
-            (Some(b), None) => b as usize,
-            (None, Some(a)) => a as usize + 1,
-            (None, None) => self.active.get() as usize,
+        let at = match place {
+            Some(at) => at,
+            None => self.wb.borrow().tab_position(self.active.get()).unwrap_or(0),
         };
-        if at < names.len() {
-            let why = format!(
-                "Sheets.Add: Excel puts the new sheet before {} (with no Before or After, before the active \
-                 sheet); ncsheet adds a sheet only after the last one: write Sheets.Add(After:=Sheets(Sheets.Count))",
-                names[at]
-            );
-            return Err(self.fault_at(link.span, why));
+        let names = self.wb.borrow().sheet_names();
+        let mut taken: std::collections::HashSet<String> = names.iter().map(|n| n.to_ascii_lowercase()).collect();
+        let mut next = names.len() + 1;
+        let mut fresh = Vec::with_capacity(count);
+        while fresh.len() < count {
+            let name = format!("Sheet{next}");
+            next += 1;
+            if taken.insert(name.to_ascii_lowercase()) {
+                fresh.push(name);
+            }
         }
-        let taken = |n: &str| names.iter().any(|s| s.eq_ignore_ascii_case(n));
-        let name = (names.len() + 1..).map(|k| format!("Sheet{k}")).find(|n| !taken(n)).expect("a free name");
-        let id = self.book_mut()?.add_sheet(&name).map_err(|e| self.fault_at(link.span, e.to_string()))?;
-        self.active.set(id);
-        Ok(Obj::Sheet(id))
+        let ids = self.book_mut()?.insert_sheets(&fresh, at).map_err(|e| self.error_1004(link.span, e.to_string()))?;
+        let last = *ids.last().expect("at least one sheet added");
+        self.active.set(last);
+        Ok(Obj::Sheet(last))
     }
 
     /// `ws.Copy Before|After` ("Worksheet.Copy method"): a new sheet holding the sheet's
     /// cells, formulas as they are (a reference to another sheet, the original included,
-    /// still points there), named as Excel names a copy (`Data (2)`), which becomes the active
-    /// sheet. As for `Sheets.Add`, only a copy placed last can be made; without Before or
-    /// After Excel makes a new workbook, which a run has not.
+    /// still points there), named as Excel names a copy (`Data (2)`), placed before `Before`
+    /// or after `After`; it becomes the active sheet. Without Before or After Excel makes a
+    /// new workbook, which a run has not: refused.
     pub(super) fn copy_sheet(&self, sheet: SheetId, link: &Link) -> Run<Obj> {
-        let before = argument(link, 0, "Before").map(|e| self.sheet_argument(e, "Before")).transpose()?;
-        let after = argument(link, 1, "After").map(|e| self.sheet_argument(e, "After")).transpose()?;
-        let names = self.wb.borrow().sheet_names();
-        let at = match (before, after) {
-            (None, None) => {
-                let why = "Worksheet.Copy without Before or After copies the sheet into a new workbook, which a \
-                           run has not: write ws.Copy After:=Sheets(Sheets.Count)";
-                return Err(self.fault_at(link.span, why));
-            }
-            (Some(_), Some(_)) => {
-                return Err(self.error_1004(link.span, "Worksheet.Copy takes Before or After, not both".into()))
-            }
-            (Some(b), None) => b as usize,
-            (None, Some(a)) => a as usize + 1,
-        };
-        if at < names.len() {
-            let why = format!(
-                "Worksheet.Copy: Excel puts the copy before {}; ncsheet adds a sheet only after the last one: \
-                 write ws.Copy After:=Sheets(Sheets.Count)",
-                names[at]
-            );
+        let Some(at) = self.placement(link, "Worksheet.Copy")? else {
+            let why = "Worksheet.Copy without Before or After copies the sheet into a new workbook, which a \
+                       run has not: write ws.Copy After:=Sheets(Sheets.Count)";
             return Err(self.fault_at(link.span, why));
-        }
+        };
+        let names = self.wb.borrow().sheet_names();
         let original = &names[sheet as usize];
         let taken = |n: &str| names.iter().any(|s| s.eq_ignore_ascii_case(n));
         let name = (2..).map(|k| format!("{original} ({k})")).find(|n| !taken(n)).expect("a free name");
-        let copy = self.book_mut()?.add_sheet(&name).map_err(|e| self.fault_at(link.span, e.to_string()))?;
+        let copy =
+            self.book_mut()?.insert_sheets(&[name], at).map_err(|e| self.error_1004(link.span, e.to_string()))?[0];
         let used = self.wb.borrow().used_rect(sheet);
         if let Some(used) = used {
             self.paste((sheet, used), copy, used, Paste::Inputs, link.span)?;
@@ -563,6 +546,38 @@ impl Interp<'_, '_> {
         self.looks.borrow_mut().copy_sheet(sheet, copy);
         self.active.set(copy);
         Ok(Obj::Value(Value::Blank))
+    }
+
+    /// `ws.Move Before|After` ("Worksheet.Move method"): the sheet's tab moves before
+    /// `Before` or after `After`; its cells, and every formula pointing at it, stay as they
+    /// are. Without Before or After Excel moves the sheet into a new workbook, which a run has
+    /// not: refused.
+    pub(super) fn move_sheet(&self, sheet: SheetId, link: &Link) -> Run<Obj> {
+        let Some(at) = self.placement(link, "Worksheet.Move")? else {
+            let why = "Worksheet.Move without Before or After moves the sheet into a new workbook, which a \
+                       run has not: write ws.Move Before:=… or After:=…";
+            return Err(self.fault_at(link.span, why));
+        };
+        // `at` counts the tabs with the sheet still in its place; without it, one less past it.
+        let from = self.wb.borrow().tab_position(sheet).expect("a sheet of the workbook");
+        let to = if at > from { at - 1 } else { at };
+        self.book_mut()?.move_sheet(sheet, to).map_err(|e| self.error_1004(link.span, e.to_string()))?;
+        Ok(Obj::Value(Value::Blank))
+    }
+
+    /// Where `Before:=` or `After:=` puts a sheet: the tab position (from 0, among the tabs as
+    /// they are) the new or moved sheet takes; `None` when neither is given.
+    fn placement(&self, link: &Link, what: &str) -> Run<Option<usize>> {
+        let before = argument(link, 0, "Before").map(|e| self.sheet_argument(e, "Before")).transpose()?;
+        let after = argument(link, 1, "After").map(|e| self.sheet_argument(e, "After")).transpose()?;
+        let wb = self.wb.borrow();
+        let tab = |s: SheetId| wb.tab_position(s).expect("a sheet of the workbook");
+        match (before, after) {
+            (Some(_), Some(_)) => Err(self.error_1004(link.span, format!("{what} takes Before or After, not both"))),
+            (Some(b), None) => Ok(Some(tab(b))),
+            (None, Some(a)) => Ok(Some(tab(a) + 1)),
+            (None, None) => Ok(None),
+        }
     }
 
     /// `ThisWorkbook.Name` ("Workbook.Name property"): the workbook's file name with its

@@ -258,6 +258,10 @@ impl Env for Probe<'_> {
         self.wb.sheet_name(sheet)
     }
 
+    fn tab_position(&self, sheet: SheetId) -> usize {
+        Env::tab_position(self.wb, sheet)
+    }
+
     fn formula_text(&self, sheet: SheetId, pos: Pos) -> Option<String> {
         self.wb.formula_text(sheet, pos)
     }

@@ -28,6 +28,7 @@ mod recalc;
 mod shared;
 mod sheet;
 mod shift;
+mod tabs;
 mod typed;
 mod udf;
 
@@ -43,6 +44,9 @@ pub use shift::{Axis, SheetEdit};
 pub use udf::UserFunctions;
 
 const NO_FORMULA: u32 = u32::MAX;
+
+/// The most sheets a workbook holds: one for each [`SheetId`].
+pub const MAX_SHEETS: usize = SheetId::MAX as usize + 1;
 
 /// One cell: its current value and, for a formula cell, which shared formula it runs.
 struct Cell {
@@ -104,6 +108,8 @@ pub enum WorkbookError {
     /// An insertion or deletion of cells that Excel refuses too, and why.
     CannotShift(String),
     BadName(String),
+    /// A sheet more than a workbook can number (its ids are 16-bit).
+    TooManySheets,
     /// A formula (of a cell or a name) that does not parse; `text` is what was typed.
     Parse {
         place: String,
@@ -119,6 +125,7 @@ impl fmt::Display for WorkbookError {
             WorkbookError::NoSuchSheet(s) => write!(f, "no sheet named '{s}'"),
             WorkbookError::BadName(s) => write!(f, "'{s}' cannot be a defined name"),
             WorkbookError::CannotShift(why) => write!(f, "cannot insert or delete cells: {why}"),
+            WorkbookError::TooManySheets => write!(f, "a workbook holds at most {} sheets", MAX_SHEETS),
             WorkbookError::Parse { place, text, error } => write!(f, "{place}: {}", error.render(text)),
         }
     }
@@ -132,6 +139,8 @@ pub struct Workbook {
     /// Sheet ids by ASCII-lowercased name: a workbook of 100,000 sheets finds one by name
     /// (adding a sheet, `Sheet7!A1`, INDIRECT) without reading every name.
     sheet_index: FxMap<String, SheetId>,
+    /// The sheets' ids in tab order (`tabs.rs`): an id is fixed, a tab can move.
+    tabs: Vec<SheetId>,
     cells: Vec<Cell>,
     formulas: FormulaStore,
     ranges: RangeIndex,
@@ -266,8 +275,12 @@ impl Workbook {
         if self.sheet_id(name).is_some() {
             return Err(WorkbookError::DuplicateSheet(name.to_string()));
         }
+        if self.sheets.len() >= MAX_SHEETS {
+            return Err(WorkbookError::TooManySheets);
+        }
         self.sheets.push(Sheet::new(name));
         self.sheet_index.insert(name.to_ascii_lowercase(), (self.sheets.len() - 1) as SheetId);
+        self.tabs.push((self.sheets.len() - 1) as SheetId);
         if let Some(log) = &mut self.changes {
             log.sheets = true;
         }
@@ -1071,6 +1084,10 @@ impl Env for Workbook {
 
     fn sheet_name(&self, sheet: SheetId) -> Option<String> {
         self.sheets.get(sheet as usize).map(|s| s.name.clone())
+    }
+
+    fn tab_position(&self, sheet: SheetId) -> usize {
+        Workbook::tab_position(self, sheet).unwrap_or(sheet as usize)
     }
 
     fn sheet_id(&self, name: &str) -> Option<SheetId> {

@@ -61,7 +61,7 @@ pub fn patch(
 ) -> Result<Result<Patched, Unpatchable>, XlsxError> {
     let fail = |part: Option<&str>, kind, message: String| XlsxError::new(&source.file, part, kind, message);
     if changes.sheets {
-        return Ok(Err(Unpatchable("sheets were added".into())));
+        return Ok(Err(Unpatchable("sheets were added, renamed or moved".into())));
     }
     if changes.shifted {
         // The original's rows, columns and cells keep their styles, widths, heights and

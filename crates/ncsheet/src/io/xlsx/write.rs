@@ -92,10 +92,13 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
     book.set_properties(&rust_xlsxwriter::DocProperties::new().set_author(super::WRITTEN_BY));
     let mut formats: HashMap<(Option<&str>, CellStyle), Format> = HashMap::new();
     let names = wb.sheet_names();
-    // Per sheet, constants rust_xlsxwriter cannot write, as written over their placeholders.
+    // Per sheet part (`sheetN.xml`, in tab order), constants rust_xlsxwriter cannot write, as
+    // written over their placeholders.
     let mut patches: Vec<Vec<(Pos, &'static str)>> = vec![Vec::new(); names.len()];
-    for (i, name) in names.iter().enumerate() {
-        let sheet = i as SheetId;
+    // The file lists its sheets in tab order, which a macro may have changed (`Sheets.Add
+    // Before:=`, `ws.Move`); a sheet's id stays what formulas hold.
+    for (i, &sheet) in wb.tab_order().iter().enumerate() {
+        let name = &names[sheet as usize];
         let sheet_layout = layout.sheets.get(name);
         let ws = book.add_worksheet();
         if let Some(why) = unsavable_sheet_name(name) {
@@ -113,7 +116,7 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
         // The file opens where it was opened (`<workbookView activeTab>`); a hidden sheet
         // cannot be the active one.
         let visible = wb.sheet_visibility(sheet) == crate::workbook::Visibility::Visible;
-        if sheet == wb.active_sheet() && sheet != 0 && visible {
+        if sheet == wb.active_sheet() && i != 0 && visible {
             ws.set_active(true);
         }
         match wb.sheet_visibility(sheet) {

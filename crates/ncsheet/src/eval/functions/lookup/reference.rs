@@ -12,7 +12,7 @@ use crate::eval::functions::api::{
 };
 use crate::eval::value::{too_many_items, too_many_items_note, Array, Value, XlError, XlResult};
 use crate::formula::address::{column_name, Pos, Rect, MAX_COLS, MAX_ROWS};
-use crate::formula::ast::{Expr, ExprKind, FnId};
+use crate::formula::ast::{Expr, ExprKind, FnId, SheetId};
 use crate::formula::print::quote_sheet_name;
 
 pub const FUNCTIONS: &[FnSpec] = &[
@@ -365,20 +365,22 @@ fn hyperlink(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     }
 }
 
+/// SHEET: the sheet's number among the tabs, counted from 1 (a moved sheet's new place).
 fn sheet(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let Some(e) = args.first().filter(|e| e.kind != ExprKind::Missing) else {
-        return Ok(Value::Number(f64::from(ctx.sheet) + 1.0));
+        return Ok(tab_number(ctx, ctx.sheet));
     };
     match ctx.reference_only(e) {
-        Operand::Ref(sheet, _) => Ok(Value::Number(f64::from(sheet) + 1.0)),
-        Operand::Value(Value::Text(name)) => (0..ctx.env.sheet_count())
-            .find(|&i| ctx.env.sheet_name(i as _).is_some_and(|n| n.eq_ignore_ascii_case(&name)))
-            .map(|i| Value::Number(i as f64 + 1.0))
-            .ok_or(XlError::NA),
+        Operand::Ref(sheet, _) => Ok(tab_number(ctx, sheet)),
+        Operand::Value(Value::Text(name)) => ctx.env.sheet_id(&name).map(|s| tab_number(ctx, s)).ok_or(XlError::NA),
         Operand::Value(Value::Error(e)) => Err(e),
         Operand::Value(_) => Err(XlError::NA),
-        Operand::Areas(areas) => Ok(Value::Number(f64::from(areas[0].0) + 1.0)),
+        Operand::Areas(areas) => Ok(tab_number(ctx, areas[0].0)),
     }
+}
+
+fn tab_number(ctx: &Ctx, sheet: SheetId) -> Value {
+    Value::Number(ctx.env.tab_position(sheet) as f64 + 1.0)
 }
 
 fn sheets(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
