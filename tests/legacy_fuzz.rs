@@ -548,3 +548,39 @@ fn the_fuzzed_files_start_readable() {
     let xls = open(vendored("excel-corpus/xls/testNames.xls"), Format::Xls).unwrap();
     assert_eq!(xls.written_by.as_deref(), Some("Microsoft Excel"));
 }
+
+/// An .xlsb or .ods package holding two entries of one name is as ambiguous as an xlsx's
+/// (ECMA-376 Part 2 [M1.12]; calamine reads the last): refused naming the entry. The second
+/// entry is written under a stand-in name of the same length, then renamed in its headers.
+#[test]
+fn xlsb_and_ods_packages_with_two_entries_of_one_name_are_refused_naming_it() {
+    let cases = [
+        (vendored("xlsb/ROUND.xlsb"), Format::Xlsb, "xl/workbook.bin", "xl/workbook.bi#"),
+        (ods_with_rows(ODS_ONE), Format::Ods, "content.xml", "content.xm#"),
+    ];
+    for (package, format, name, stand_in) in cases {
+        let mut second = None;
+        let mut written = rewrite(&package, None, &mut |entry, bytes| {
+            if entry == name {
+                second = Some(bytes.to_vec());
+            }
+            None
+        });
+        let mut zip = zip::ZipWriter::new_append(Cursor::new(&mut written)).unwrap();
+        zip.start_file(stand_in, zip::write::SimpleFileOptions::default()).unwrap();
+        zip.write_all(&second.unwrap()).unwrap();
+        zip.finish().unwrap();
+        let at: Vec<usize> = written
+            .windows(stand_in.len())
+            .enumerate()
+            .filter(|(_, w)| *w == stand_in.as_bytes())
+            .map(|(i, _)| i)
+            .collect();
+        assert_eq!(at.len(), 2, "one local and one central header");
+        for i in at {
+            written[i..i + name.len()].copy_from_slice(name.as_bytes());
+        }
+        let error = open(written, format).err().expect("refused");
+        assert!(error.contains(&format!("{name}: the package holds two entries of this name")), "{error}");
+    }
+}

@@ -262,3 +262,52 @@ fn a_cell_pointing_past_the_string_table_names_the_cell() {
     assert_eq!((e.kind, e.part.as_deref()), (ErrorKind::Damaged, Some(sheet)), "{e}");
     assert!(e.to_string().contains("cell B1: shared string '99' is not in the table"), "{e}");
 }
+
+/// `package` with a second entry `name` holding `content`, after the first. The zip writer
+/// refuses two entries of one name, so the entry is written under a stand-in name of the
+/// same length and renamed in its local and central headers.
+fn with_second_entry(package: &[u8], name: &str, content: &[u8]) -> Vec<u8> {
+    let stand_in = format!("{}#", &name[..name.len() - 1]);
+    let written = with_part(package, &stand_in, content);
+    let mut out = written.clone();
+    let mut renamed = 0;
+    for at in 0..written.len() - stand_in.len() {
+        if &written[at..at + stand_in.len()] == stand_in.as_bytes() {
+            out[at..at + name.len()].copy_from_slice(name.as_bytes());
+            renamed += 1;
+        }
+    }
+    assert_eq!(renamed, 2, "the stand-in names one local and one central header");
+    out
+}
+
+/// ECMA-376 Part 2 (Open Packaging Conventions), part names: "Packages shall not contain
+/// equivalent part names and package implementers shall neither create nor recognize packages
+/// with equivalent part names" [M1.12], equivalence being "case-insensitive ASCII"; and a
+/// segment holds a non-dot character [M1.10]. Readers disagree on which of two equal entries
+/// counts: ncsheet read the last one and a save carried both (issue 30). Each is refused
+/// naming the entry.
+#[test]
+fn a_package_with_two_entries_of_one_part_name_is_refused_naming_it() {
+    let good = good_workbook();
+    let sheet = "xl/worksheets/sheet1.xml";
+    let other = part(&good, sheet).replace("<v>2</v>", "<v>777</v>");
+    for (name, what) in [
+        (sheet, "two entries of this name"),
+        ("xl/sharedStrings.xml", "two entries of this name"),
+        ("[Content_Types].xml", "two entries of this name"),
+    ] {
+        let content = if name == sheet { other.clone().into_bytes() } else { part(&good, name).into_bytes() };
+        let e = load_err(&with_second_entry(&good, name, &content));
+        assert_eq!((e.kind, e.part.as_deref()), (ErrorKind::Damaged, Some(name)), "{e}");
+        assert!(e.to_string().contains(what), "{e}");
+    }
+    let e = load_err(&with_part(&good, "XL/Worksheets/Sheet1.xml", other.as_bytes()));
+    assert_eq!((e.kind, e.part.as_deref()), (ErrorKind::Damaged, Some("XL/Worksheets/Sheet1.xml")), "{e}");
+    assert!(e.to_string().contains(&format!("also holds '{sheet}'")), "{e}");
+    for name in ["../evil.xml", "xl/../../evil.xml", "xl/./styles2.xml"] {
+        let e = load_err(&with_part(&good, name, b"<x/>"));
+        assert_eq!((e.kind, e.part.as_deref()), (ErrorKind::Damaged, Some(name)), "{e}");
+        assert!(e.to_string().contains("'..' segment"), "{e}");
+    }
+}

@@ -11,7 +11,7 @@ use calamine::{Data, Ods, Reader};
 use crate::eval::Value;
 use crate::io::limits::ReadLimits;
 use crate::io::xlsx::xml::{self, Event, StreamError, TagKind};
-use crate::io::xlsx::Inflating;
+use crate::io::xlsx::{check_entry_names, Inflating};
 
 use super::{calamine_sheet, cells_named, quoted_sheet, value_of, Book, Name, MAX_CELLS, MAX_TEXT};
 
@@ -69,6 +69,8 @@ pub fn read(bytes: &[u8], limits: ReadLimits) -> Result<Book, String> {
 fn measure_content(bytes: &[u8], limits: ReadLimits) -> Result<(), String> {
     const PART: &str = "content.xml";
     let mut zip = zip::ZipArchive::new(Cursor::new(bytes)).map_err(|e| e.to_string())?;
+    // Two entries of one name would leave calamine and other readers to differ.
+    check_entry_names(&zip, bytes).map_err(|(entry, why)| format!("{entry}: {why}"))?;
     let Ok(entry) = zip.by_name(PART) else { return Ok(()) };
     let mut extent = Extent::default();
     xml::stream(Inflating::new(entry, limits), &mut |event| extent.take(event)).map_err(|e| match e {

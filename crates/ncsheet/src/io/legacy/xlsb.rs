@@ -26,12 +26,14 @@ use super::{cells_named, too_many_cells, Book, Cell, Name, Sheet, MAX_CELLS};
 use crate::eval::{Value, XlError};
 use crate::formula::address::{column_name, Pos, Rect};
 use crate::io::limits::ReadLimits;
-use crate::io::xlsx::Inflating;
+use crate::io::xlsx::{check_entry_names, Inflating};
 use crate::workbook::Visibility;
 
 /// Reads an .xlsb file's bytes into a [`Book`].
 pub fn read(bytes: &[u8], limits: ReadLimits) -> Result<Book, String> {
-    let mut zip = Parts { zip: zip::ZipArchive::new(Cursor::new(bytes)).map_err(|e| e.to_string())?, limits };
+    let zip = zip::ZipArchive::new(Cursor::new(bytes)).map_err(|e| e.to_string())?;
+    check_entry_names(&zip, bytes).map_err(|(entry, why)| format!("{entry}: {why}"))?;
+    let mut zip = Parts { zip, limits };
     let globals = read_globals(&mut zip)?;
     let strings = read_shared_strings(&mut zip)?;
     let application = application(&mut zip);

@@ -50,7 +50,7 @@ pub(crate) mod xml;
 
 pub use check::{compare_cached, values_agree, Difference, REL_TOLERANCE};
 pub use patch::{patch, replace_part, Patched, Unpatchable};
-pub(crate) use raw::Inflating;
+pub(crate) use raw::{check_entry_names, Inflating};
 pub use read::{load, load_bytes, load_bytes_limited};
 pub use tables::Table;
 pub use write::{save, save_with_layout, to_bytes, to_bytes_for};

@@ -80,6 +80,7 @@ impl<'a> Package<'a> {
     pub fn open_limited(bytes: &'a [u8], limits: ReadLimits) -> Result<Package<'a>, Err> {
         let zip = ZipArchive::new(Cursor::new(bytes))
             .map_err(|e| (None, ErrorKind::NotXlsx, format!("not a readable xlsx (zip) package: {e}")))?;
+        check_entry_names(&zip, bytes).map_err(|(entry, why)| (Some(entry), ErrorKind::Damaged, why))?;
         let mut package = Package {
             zip,
             sheets: Vec::new(),
@@ -381,6 +382,52 @@ fn relationship_id(tag: &str) -> String {
         rest = value;
     }
     String::new()
+}
+
+/// Checks a zip package's entry names as the Open Packaging Conventions require them
+/// (ECMA-376 Part 2, part names): no two names equal when compared as case-insensitive ASCII
+/// ([M1.12]: an implementer shall not recognize such a package) and no segment of dots only
+/// (`..`, `.`; [M1.10]). Readers disagree on which of two equal entries counts (the zip
+/// crate, calamine and so ncsheet take the last, others the first), so such a file would
+/// show different cells in different programs, and a save would carry both; an entry
+/// `../x` is how a package attacks a program that unpacks it. The error names the entry.
+pub fn check_entry_names<R: Read + std::io::Seek>(zip: &ZipArchive<R>, bytes: &[u8]) -> Result<(), (String, String)> {
+    if zip.has_duplicate_names() {
+        let entry = repeated_entry(bytes, zip.central_directory_start()).unwrap_or_default();
+        return Err((entry, "the package holds two entries of this name (a damaged or crafted file: readers differ on which one counts)".into()));
+    }
+    let mut seen = std::collections::HashMap::new();
+    for raw in zip.file_names_raw() {
+        let name = String::from_utf8_lossy(raw);
+        if name.split('/').any(|segment| !segment.is_empty() && segment.bytes().all(|b| b == b'.')) {
+            return Err((name.into_owned(), "the package has an entry whose name holds a '.' or '..' segment, which no part name has (a damaged or crafted file)".into()));
+        }
+        if let Some(other) = seen.insert(name.to_ascii_lowercase(), name.clone()) {
+            return Err((
+                name.into_owned(),
+                format!("the package also holds '{other}', the same part name in other letter case (a damaged or crafted file: readers differ on which one counts)"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The first entry name the central directory at `start` lists twice, read from its
+/// headers (the zip crate keeps only one of each name).
+fn repeated_entry(bytes: &[u8], start: u64) -> Option<String> {
+    const HEADER: &[u8] = b"PK\x01\x02";
+    let u16_at = |at: usize| bytes.get(at..at + 2).map(|b| usize::from(u16::from_le_bytes([b[0], b[1]])));
+    let mut seen = std::collections::HashSet::new();
+    let mut at = usize::try_from(start).ok()?;
+    while bytes.get(at..at + 4) == Some(HEADER) {
+        let (name_len, extra_len, comment_len) = (u16_at(at + 28)?, u16_at(at + 30)?, u16_at(at + 32)?);
+        let name = bytes.get(at + 46..at + 46 + name_len)?;
+        if !seen.insert(name) {
+            return Some(String::from_utf8_lossy(name).into_owned());
+        }
+        at += 46 + name_len + extra_len + comment_len;
+    }
+    None
 }
 
 /// Reads a shared-strings table through the checks of the one the workbook names.
