@@ -360,18 +360,51 @@ fn blanks_beyond(ranges: &[CellBlock], criteria: &[Criterion]) -> usize {
 /// The matching of one conditional aggregate over all its criteria items: with an array of
 /// many criteria for one range (`COUNTIF(r, SEQUENCE(100000))`, `SUMIFS(s, r, keys, q, "x")`),
 /// that range is indexed once by the values equality criteria name, where each criterion
-/// used to scan the whole range (100,000 criteria over 100,000 cells took minutes). Other
-/// criteria (comparisons, `<>`, patterns) are tested cell by cell as before. `work` counts
-/// the cells looked at, for the LAMBDA work budget.
+/// used to scan the whole range (100,000 criteria over 100,000 cells took minutes); its
+/// comparisons are counted and summarized over its sorted order, and its `<>` criteria
+/// from tallies per value (where that is exactly the row-by-row result). Two to
+/// [`MAX_PAIRED`] arrays paired item by item are indexed by their combined values.
+/// Patterns, and what no index answers exactly, are tested cell by cell. `work` counts the
+/// cells looked at, for the LAMBDA work budget.
 pub struct CriteriaMatcher<'a> {
     ranges: &'a [CellBlock],
     indexed: Option<IndexedRange<'a>>,
     /// Two ranges whose criteria arrays pair item by item, indexed together.
     paired: Option<PairedRanges>,
     dates: DateSystem,
-    /// The range summed, for [`CriteriaMatcher::ordered_total`].
-    target: Option<&'a CellBlock>,
+    /// The range aggregated and what is made of it, for [`CriteriaMatcher::indexed_summary`].
+    target: Option<(&'a CellBlock, Summary)>,
     pub work: Cell<usize>,
+}
+
+/// What an aggregate makes of the target's numbers where the criteria hold, when an index
+/// answers without testing the cells: their sum (SUMIF, AVERAGEIF and their *IFS) or their
+/// smallest or largest (MINIFS, MAXIFS).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Summary {
+    Total,
+    Smallest,
+    Largest,
+}
+
+impl Summary {
+    /// The extreme of two numbers (the sum for a total).
+    fn pick(self, a: f64, b: f64) -> f64 {
+        match self {
+            Summary::Total => a + b,
+            Summary::Smallest => a.min(b),
+            Summary::Largest => a.max(b),
+        }
+    }
+
+    /// What no number contributes to an extreme.
+    fn identity(self) -> f64 {
+        match self {
+            Summary::Total => 0.0,
+            Summary::Smallest => f64::INFINITY,
+            Summary::Largest => f64::NEG_INFINITY,
+        }
+    }
 }
 
 /// The most cells one conditional aggregate may test one by one over all its criteria
@@ -393,7 +426,9 @@ struct IndexedRange<'a> {
     /// The range's numbers, texts and booleans in order, for counting what a comparison
     /// (`"<5"`, `">=b"`) matches; built at the first such criterion.
     ordered: OnceCell<OrderIndex<'a>>,
-    sums: OnceCell<Option<SortedSums>>,
+    sorted_summary: OnceCell<Option<SortedSummary>>,
+    /// The target summed or weighed per value of the range, for `"<>"&keys`.
+    keyed_summary: OnceCell<Option<KeyedSummary>>,
 }
 
 impl<'a> CriteriaMatcher<'a> {
@@ -410,50 +445,92 @@ impl<'a> CriteriaMatcher<'a> {
         CriteriaMatcher { ranges, indexed, paired, dates, target: None, work: Cell::new(0) }
     }
 
-    /// The matcher of an aggregate that sums `target` (SUMIF, AVERAGEIF and their *IFS):
-    /// a comparison's matches are then summed from [`SortedSums`] where that is exact.
-    pub fn summing(self, target: &'a CellBlock) -> CriteriaMatcher<'a> {
-        CriteriaMatcher { target: Some(target), ..self }
+    /// The matcher of an aggregate of `target` (SUMIF, AVERAGEIF, MINIFS … ): what a
+    /// comparison or a `<>` matches is then summarized from an index where that is exact.
+    pub fn summarizing(self, target: &'a CellBlock, summary: Summary) -> CriteriaMatcher<'a> {
+        CriteriaMatcher { target: Some((target, summary)), ..self }
     }
 
-    /// The sum and the count of the target's numbers where every criterion holds, when the
-    /// indexed range's criterion is a comparison and the other ranges' hold everywhere
-    /// (`SUMIF(r, "<="&keys, s)`), from prefix sums: `None` where the cells must be
-    /// tested one by one.
-    pub fn ordered_total(&self, criteria: &[Criterion]) -> Option<(f64, usize)> {
+    /// The summary (sum or extreme) and the count of the target's numbers where every
+    /// criterion holds, when the indexed range's criterion is a comparison
+    /// (`SUMIF(r, "<="&keys, s)`, from prefix sums or a table of extremes over the sorted
+    /// order) or a `<>` (`MAXIFS(s, r, "<>"&keys)`, from the whole less the cells equal to
+    /// its value); an error beside a matching cell is the result (the first in row order).
+    /// `None` where the cells must be tested one by one.
+    pub fn indexed_summary(&self, criteria: &[Criterion]) -> Option<XlResult<(f64, usize)>> {
         let indexed = self.indexed.as_ref()?;
         let criterion = &criteria[indexed.which];
-        let sums = self.sorted_sums(indexed, criterion)?;
+        if is_order(criterion.op) {
+            return self.ordered_summary(indexed, criterion).map(Ok);
+        }
+        let key = single_unequal_key(criterion)?;
+        let keyed = self.keyed_summary(indexed)?;
+        self.add_work(1);
+        Some(keyed.unequal(key))
+    }
+
+    fn ordered_summary(&self, indexed: &IndexedRange<'a>, criterion: &Criterion) -> Option<(f64, usize)> {
+        let summary = self.sorted_summary(indexed, criterion)?;
         let Some(key) = comparison_key(criterion) else {
             return Some((0.0, 0));
         };
         let ordered = self.ordered(indexed);
         self.add_work(2 * ordered.query_work());
         let [kind_start, before, through, kind_end] = ordered.bounds(&key);
-        let (from, to) = match criterion.op {
-            BinOp::Lt => (kind_start, before),
-            BinOp::Le => (kind_start, through),
-            BinOp::Gt => (through, kind_end),
-            _ => (before, kind_end),
-        };
-        Some(sums.total(from, to))
+        Some(match criterion.op {
+            BinOp::Lt => summary.from_kind_start(kind_start, before),
+            BinOp::Le => summary.from_kind_start(kind_start, through),
+            BinOp::Gt => summary.to_kind_end(through, kind_end),
+            _ => summary.to_kind_end(before, kind_end),
+        })
     }
 
-    /// The prefix sums for a comparison `criterion` of the indexed range, built at the
-    /// first; `None` when the matcher sums no target, the criterion is no comparison, the
-    /// other ranges' criteria do not hold everywhere, or the sums would not be exact.
-    fn sorted_sums<'m>(&'m self, indexed: &'m IndexedRange<'a>, criterion: &Criterion) -> Option<&'m SortedSums> {
-        let target = self.target?;
-        if !is_order(criterion.op) || !self.others_hold(indexed).everywhere {
+    /// The summary over the sorted order for a comparison `criterion` of the indexed range,
+    /// built at the first; `None` when the matcher aggregates no target, the criterion is no
+    /// comparison, or the summary would not be exactly the row-by-row one.
+    fn sorted_summary<'m>(&'m self, indexed: &'m IndexedRange<'a>, criterion: &Criterion) -> Option<&'m SortedSummary> {
+        let (target, summary) = self.target?;
+        if !is_order(criterion.op) {
             return None;
         }
-        let cols = self.ranges[indexed.which].read.cols;
+        let others = self.others_hold(indexed);
         let ordered = self.ordered(indexed);
         indexed
-            .sums
+            .sorted_summary
             .get_or_init(|| {
-                self.add_work(ordered.sorted().len());
-                SortedSums::new(ordered, cols, target)
+                // `ordered` numbers the cells in the range's stored width; `others` in the
+                // width read of all ranges, which is at least as wide.
+                let cols = self.ranges[indexed.which].read.cols;
+                let beside = ordered.sorted().iter().map(|&p| {
+                    let (row, col) = (p / cols, p % cols);
+                    others.at[row * indexed.read_cols + col].then(|| target.get(row, col))
+                });
+                let kinds = [Value::Number(0.0), Value::text(""), Value::Bool(false)];
+                let kind_starts = kinds.map(|kind| ordered.bounds(&kind)[0]);
+                let built = SortedSummary::new(beside, summary, &kind_starts);
+                self.add_work(built.as_ref().map_or(ordered.sorted().len(), SortedSummary::work));
+                built
+            })
+            .as_ref()
+    }
+
+    /// The target tallied per value of the indexed range's cells, built at the first `<>`
+    /// criterion; `None` when the matcher aggregates no target or a tally would not be
+    /// exactly the row-by-row result.
+    fn keyed_summary<'m>(&'m self, indexed: &'m IndexedRange<'a>) -> Option<&'m KeyedSummary> {
+        let (target, summary) = self.target?;
+        let others = self.others_hold(indexed);
+        indexed
+            .keyed_summary
+            .get_or_init(|| {
+                let (range, cols) = (&self.ranges[indexed.which], indexed.read_cols);
+                let cells = indexed.read_rows * cols;
+                self.add_work(cells);
+                let beside = (0..cells).filter(|&p| others.at[p]).map(|p| {
+                    let (row, col) = (p / cols, p % cols);
+                    (item_key(range.get(row, col)), target.get(row, col))
+                });
+                KeyedSummary::new(beside, summary)
             })
             .as_ref()
     }
@@ -515,12 +592,14 @@ impl<'a> CriteriaMatcher<'a> {
         let (read_rows, read_cols) = read_size(self.ranges);
         let per_scan = read_rows * read_cols * self.ranges.len();
         if let Some(paired) = &self.paired {
-            let [a, b] = paired.which;
-            let (Value::Array(x), Value::Array(y)) = (&criteria[a], &criteria[b]) else {
-                return per_scan;
-            };
+            let arrays: Vec<&Array> = paired
+                .which
+                .iter()
+                .filter_map(|&i| if let Value::Array(a) = &criteria[i] { Some(&**a) } else { None })
+                .collect();
             let unkeyed = |v: &Value| Criterion::new(v, self.dates).keys().is_none();
-            let scanned = x.data.iter().zip(&y.data).filter(|(u, v)| unkeyed(u) || unkeyed(v)).count();
+            let items = arrays.first().map_or(0, |a| a.data.len());
+            let scanned = (0..items).filter(|&j| arrays.iter().any(|a| unkeyed(&a.data[j]))).count();
             return per_scan.saturating_mul(scanned);
         }
         let Some(indexed) = &self.indexed else {
@@ -540,10 +619,18 @@ impl<'a> CriteriaMatcher<'a> {
     fn scans(&self, indexed: &IndexedRange<'a>, criterion: &Criterion, counting: bool) -> bool {
         let keyed = criterion.keys().is_some();
         if !counting {
-            return !keyed && self.sorted_sums(indexed, criterion).is_none();
+            return !keyed && !self.summarizes(indexed, criterion);
         }
         let ordered = is_order(criterion.op) && self.others_hold(indexed).everywhere;
         !(keyed || ordered || criterion.unequal_keys().is_some())
+    }
+
+    /// Whether [`Self::indexed_summary`] answers the indexed range's `criterion`.
+    fn summarizes(&self, indexed: &IndexedRange<'a>, criterion: &Criterion) -> bool {
+        if is_order(criterion.op) {
+            return self.sorted_summary(indexed, criterion).is_some();
+        }
+        single_unequal_key(criterion).is_some() && self.keyed_summary(indexed).is_some()
     }
 
     fn add_work(&self, n: usize) {
@@ -616,8 +703,8 @@ impl<'a> CriteriaMatcher<'a> {
         })
     }
 
-    /// How many read cells a paired item's two equalities and the other ranges' criteria
-    /// hold in; `None` unless both of the pair are equalities.
+    /// How many read cells a paired item's equalities and the other ranges' criteria hold
+    /// in; `None` unless all of the paired criteria are equalities.
     fn paired_count(&self, paired: &PairedRanges, criteria: &[Criterion]) -> Option<usize> {
         let keys = paired.keys(criteria)?;
         let others = self.paired_others(paired);
@@ -631,8 +718,8 @@ impl<'a> CriteriaMatcher<'a> {
         Some(positions.into_iter().filter(|&p| others.at[p]).count())
     }
 
-    /// The read cells, in row order, where a paired item's two equalities and the other
-    /// ranges' criteria hold; `None` unless both of the pair are equalities.
+    /// The read cells, in row order, where a paired item's equalities and the other
+    /// ranges' criteria hold; `None` unless all of the paired criteria are equalities.
     fn paired_matches(&self, paired: &PairedRanges, criteria: &[Criterion]) -> Option<Vec<(usize, usize)>> {
         let keys = paired.keys(criteria)?;
         let others = self.paired_others(paired);
@@ -644,14 +731,14 @@ impl<'a> CriteriaMatcher<'a> {
 
     fn paired_others<'m>(&'m self, paired: &'m PairedRanges) -> &'m OthersHold {
         paired.others.get_or_init(|| {
-            self.add_work(paired.read_rows * paired.read_cols * (self.ranges.len() - 2));
+            self.add_work(paired.read_rows * paired.read_cols * (self.ranges.len() - paired.which.len()));
             OthersHold::new(self.ranges, &paired.which, &paired.fixed, paired.read_rows, paired.read_cols)
         })
     }
 
-    fn paired_index<'m>(&'m self, paired: &'m PairedRanges) -> &'m EqualityIndex<(ItemKey, ItemKey)> {
+    fn paired_index<'m>(&'m self, paired: &'m PairedRanges) -> &'m EqualityIndex<Vec<ItemKey>> {
         paired.index.get_or_init(|| {
-            self.add_work(2 * paired.read_rows * paired.read_cols);
+            self.add_work(paired.which.len() * paired.read_rows * paired.read_cols);
             paired.build_index(self.ranges, self.dates)
         })
     }
@@ -693,63 +780,92 @@ impl OthersHold {
     }
 }
 
-/// Two ranges whose criteria arguments are arrays of one shape, which `lift_values` pairs
-/// item by item (`COUNTIFS(a, keys1, b, keys2)`): their read cells are filed by the pair of
-/// values, so that a pair of equalities looks its cells up where it tested every cell.
+/// Two to [`MAX_PAIRED`] ranges whose criteria arguments are arrays of one shape, which
+/// `lift_values` pairs item by item (`COUNTIFS(a, keys1, b, keys2, c, keys3)`): their read
+/// cells are filed by the combination of their values, so that an item of equalities looks
+/// its cells up where it tested every cell.
 struct PairedRanges {
-    which: [usize; 2],
-    /// The fixed criteria, one per range (the first items stand in for the pair's).
+    which: Vec<usize>,
+    /// The fixed criteria, one per range (the first items stand in for the paired ones).
     fixed: Vec<Criterion>,
     read_rows: usize,
     read_cols: usize,
-    index: OnceCell<EqualityIndex<(ItemKey, ItemKey)>>,
+    index: OnceCell<EqualityIndex<Vec<ItemKey>>>,
     others: OnceCell<OthersHold>,
 }
 
+/// The most criteria arrays indexed together: a cell is filed under every combination of
+/// its ranges' keys, and text that reads as a number has two, so a cell may be filed up
+/// to 2^4 times. More arrays are tested cell by cell (within [`MAX_CRITERIA_SCAN`]).
+const MAX_PAIRED: usize = 4;
+
 impl PairedRanges {
-    fn worth_it(ranges: &[CellBlock], criteria: &[Value]) -> Option<[usize; 2]> {
-        let arrays: Vec<usize> = (0..criteria.len()).filter(|&i| matches!(criteria[i], Value::Array(_))).collect();
-        let &[a, b] = arrays.as_slice() else {
+    fn worth_it(ranges: &[CellBlock], criteria: &[Value]) -> Option<Vec<usize>> {
+        let which: Vec<usize> = (0..criteria.len()).filter(|&i| matches!(criteria[i], Value::Array(_))).collect();
+        if !(2..=MAX_PAIRED).contains(&which.len()) {
             return None;
+        }
+        let shape = |i: usize| match &criteria[i] {
+            Value::Array(a) if a.tail.is_none() => Some((a.rows, a.cols)),
+            _ => None,
         };
-        let (Value::Array(x), Value::Array(y)) = (&criteria[a], &criteria[b]) else {
-            return None;
-        };
-        let paired = x.tail.is_none() && y.tail.is_none() && (x.rows, x.cols) == (y.rows, y.cols);
+        let paired = which.iter().all(|&i| shape(i).is_some() && shape(i) == shape(which[0]));
         let same_shape = ranges.iter().all(|r| r.same_shape(&ranges[0]));
-        (paired && same_shape && worth_indexing(&criteria[a])).then_some([a, b])
+        (paired && same_shape && worth_indexing(&criteria[which[0]])).then_some(which)
     }
 
-    fn new(ranges: &[CellBlock], criteria: &[Value], which: [usize; 2], dates: DateSystem) -> PairedRanges {
+    fn new(ranges: &[CellBlock], criteria: &[Value], which: Vec<usize>, dates: DateSystem) -> PairedRanges {
         let (read_rows, read_cols) = read_size(ranges);
         let fixed: Vec<Criterion> = criteria.iter().map(|v| Criterion::new(v, dates)).collect();
         PairedRanges { which, fixed, read_rows, read_cols, index: OnceCell::new(), others: OnceCell::new() }
     }
 
-    /// The pairs of keys a pair of equality criteria names (one pair, or two where a `""`
-    /// names both empty cells and empty text); `None` unless both are equalities.
-    fn keys(&self, criteria: &[Criterion]) -> Option<Vec<(ItemKey, ItemKey)>> {
-        let [a, b] = self.which;
-        let (first, second) = (criteria[a].keys()?, criteria[b].keys()?);
-        Some(first.iter().flat_map(|x| second.iter().map(move |y| (x.clone(), y.clone()))).collect())
+    /// The combinations of keys the paired equality criteria name (one, or more where a
+    /// `""` names both empty cells and empty text); `None` unless all are equalities.
+    fn keys(&self, criteria: &[Criterion]) -> Option<Vec<Vec<ItemKey>>> {
+        let mut combinations = vec![(Vec::new(), true)];
+        for &i in &self.which {
+            let keys = criteria[i].keys()?;
+            combinations = extended(&combinations, keys.into_iter().map(|key| (key, true)));
+        }
+        Some(combinations.into_iter().map(|(combination, _)| combination).collect())
     }
 
-    /// Each read cell filed under every pair of the keys its two values are filed under.
-    fn build_index(&self, ranges: &[CellBlock], dates: DateSystem) -> EqualityIndex<(ItemKey, ItemKey)> {
-        let [a, b] = self.which;
+    /// Each read cell filed under every combination of the keys its values are filed
+    /// under (under its own values when every key is its value's own).
+    fn build_index(&self, ranges: &[CellBlock], dates: DateSystem) -> EqualityIndex<Vec<ItemKey>> {
         let cells = self.read_rows * self.read_cols;
         let mut index = EqualityIndex::with_capacity(cells);
         for p in 0..cells {
             let (row, col) = (p / self.read_cols, p % self.read_cols);
-            let second: Vec<(ItemKey, bool)> = cell_keys(ranges[b].get(row, col), dates).collect();
-            for (x, own_x) in cell_keys(ranges[a].get(row, col), dates) {
-                for (y, own_y) in &second {
-                    index.file((x.clone(), y.clone()), p, own_x && *own_y);
-                }
+            let mut combinations = vec![(Vec::new(), true)];
+            for &i in &self.which {
+                combinations = extended(&combinations, cell_keys(ranges[i].get(row, col), dates));
+            }
+            for (combination, own) in combinations {
+                index.file(combination, p, own);
             }
         }
         index
     }
+}
+
+/// Each combination of keys followed by each of `keys` in turn; a combination is of its
+/// values' own keys when all its keys are (not text filed under the number it reads as).
+fn extended(
+    combinations: &[(Vec<ItemKey>, bool)],
+    keys: impl Iterator<Item = (ItemKey, bool)>,
+) -> Vec<(Vec<ItemKey>, bool)> {
+    let keys: Vec<(ItemKey, bool)> = keys.collect();
+    let mut out = Vec::with_capacity(combinations.len() * keys.len());
+    for (combination, own_so_far) in combinations {
+        for (key, own) in &keys {
+            let mut longer = combination.clone();
+            longer.push(key.clone());
+            out.push((longer, *own_so_far && *own));
+        }
+    }
+    out
 }
 
 /// The keys an [`EqualityIndex`] files a cell under: its own value's, and for text that
@@ -784,7 +900,8 @@ impl IndexedRange<'_> {
             index: OnceCell::new(),
             others: OnceCell::new(),
             ordered: OnceCell::new(),
-            sums: OnceCell::new(),
+            sorted_summary: OnceCell::new(),
+            keyed_summary: OnceCell::new(),
         }
     }
 }
@@ -815,47 +932,230 @@ fn comparison_key(criterion: &Criterion) -> Option<Value> {
     }
 }
 
-/// Prefix sums of a target's numbers (and counts of them) beside the criteria range's
-/// cells in sorted order: a comparison matches a run of that order, summed by two look-ups.
-/// Built only where the sum cannot depend on the order of adding (the old row-by-row sum is
-/// exactly the same): every number there an integer (not -0), their magnitudes adding up to
-/// less than 2^53; and no error there (the result is then the first error in row order).
-struct SortedSums {
-    sums: Vec<f64>,
-    counts: Vec<usize>,
+/// The key of the one value a `<>` criterion leaves out (`"<>5"` the number 5, not the text
+/// "5"); `None` for other criteria and for `<>` patterns.
+fn single_unequal_key(criterion: &Criterion) -> Option<ItemKey> {
+    let [key] = <[ItemKey; 1]>::try_from(criterion.unequal_keys()?).ok()?;
+    Some(key)
 }
 
-impl SortedSums {
-    /// `range_cols` is the criteria range's stored width, in which `ordered` numbers its cells.
-    fn new(ordered: &OrderIndex, range_cols: usize, target: &CellBlock) -> Option<SortedSums> {
-        const EXACT: f64 = 9_007_199_254_740_992.0;
-        let n = ordered.sorted().len();
-        let (mut sums, mut counts) = (Vec::with_capacity(n + 1), Vec::with_capacity(n + 1));
-        let (mut sum, mut count, mut magnitude) = (0.0, 0, 0.0);
-        sums.push(sum);
-        counts.push(count);
-        for &p in ordered.sorted() {
-            match target.get(p / range_cols, p % range_cols) {
-                Value::Number(x) if x.fract() == 0.0 && !(*x == 0.0 && x.is_sign_negative()) => {
-                    magnitude += x.abs();
-                    if magnitude >= EXACT {
-                        return None;
-                    }
-                    sum += x;
-                    count += 1;
-                }
-                Value::Number(_) | Value::Error(_) => return None,
-                _ => {}
-            }
-            sums.push(sum);
-            counts.push(count);
-        }
-        Some(SortedSums { sums, counts })
+/// The sum of integers whose magnitudes add up to less than this is exact in any order.
+const EXACT_SUM: f64 = 9_007_199_254_740_992.0;
+
+/// Whether the numbers of a summary taken in another order than row by row give exactly
+/// the row-by-row result: a sum does when every number is an integer and their magnitudes
+/// add up to less than 2^53; an extreme does when no number is NaN or -0 (the smaller of 0
+/// and -0 depends on which comes first).
+struct ExactCheck {
+    summary: Summary,
+    magnitude: f64,
+}
+
+impl ExactCheck {
+    fn new(summary: Summary) -> ExactCheck {
+        ExactCheck { summary, magnitude: 0.0 }
     }
 
-    /// The sum and count of the numbers beside sorted cells `from` to `to` (not included).
-    fn total(&self, from: usize, to: usize) -> (f64, usize) {
-        (self.sums[to] - self.sums[from], self.counts[to] - self.counts[from])
+    fn admits(&mut self, x: f64) -> bool {
+        if x.is_nan() || (x == 0.0 && x.is_sign_negative()) {
+            return false;
+        }
+        if self.summary != Summary::Total {
+            return true;
+        }
+        self.magnitude += x.abs();
+        x.fract() == 0.0 && self.magnitude < EXACT_SUM
+    }
+}
+
+/// The target's numbers beside a range's cells in sorted order, summarized so that the run
+/// of that order a comparison matches (from the start of its kind, numbers, text or
+/// booleans, or to its end) is answered by a look-up or two: prefix sums for a total, for
+/// an extreme the extremes from each kind's start and to each kind's end. Built only where
+/// that is exactly the row-by-row result ([`ExactCheck`]) and no error lies beside a cell
+/// (the result would be the first error in row order).
+struct SortedSummary {
+    summary: Summary,
+    /// How many numbers lie beside the first i sorted cells.
+    counts: Vec<usize>,
+    /// Their running sum, for a total.
+    sums: Vec<f64>,
+    /// For an extreme: the extreme beside the sorted cells from the start of cell i's kind
+    /// through cell i, and from cell i through the end of its kind.
+    from_start: Vec<f64>,
+    to_end: Vec<f64>,
+}
+
+impl SortedSummary {
+    /// `beside`: per sorted cell, the target's value there where the other ranges'
+    /// criteria hold (`None` where they do not). `kind_starts`: where each kind starts.
+    fn new<'v>(
+        beside: impl Iterator<Item = Option<&'v Value>>,
+        summary: Summary,
+        kind_starts: &[usize],
+    ) -> Option<SortedSummary> {
+        let mut check = ExactCheck::new(summary);
+        let mut counts = vec![0];
+        let mut values = Vec::new();
+        for v in beside {
+            let x = match v {
+                Some(Value::Number(x)) if check.admits(*x) => Some(*x),
+                Some(Value::Number(_) | Value::Error(_)) => return None,
+                _ => None,
+            };
+            counts.push(counts[counts.len() - 1] + usize::from(x.is_some()));
+            values.push(x.unwrap_or(summary.identity()));
+        }
+        let mut built = SortedSummary { summary, counts, sums: Vec::new(), from_start: Vec::new(), to_end: Vec::new() };
+        if summary == Summary::Total {
+            built.sums = running(values.iter().copied(), |sum, x| sum + x, 0.0, &[]);
+            built.sums.insert(0, 0.0);
+        } else {
+            let restarts: Vec<usize> = kind_starts.iter().map(|&start| values.len().saturating_sub(start)).collect();
+            let pick = |a, b| summary.pick(a, b);
+            built.from_start = running(values.iter().copied(), pick, summary.identity(), kind_starts);
+            built.to_end = running(values.iter().rev().copied(), pick, summary.identity(), &restarts);
+            built.to_end.reverse();
+        }
+        Some(built)
+    }
+
+    /// The items built: the work of building.
+    fn work(&self) -> usize {
+        self.counts.len() + self.sums.len() + self.from_start.len() + self.to_end.len()
+    }
+
+    /// The summary and count of the numbers beside sorted cells `from` (where a kind
+    /// starts) to `to` (not included); the summary is 0 where there is none.
+    fn from_kind_start(&self, from: usize, to: usize) -> (f64, usize) {
+        self.over(from, to, |cells| self.from_start[cells.end - 1])
+    }
+
+    /// The same from sorted cell `from` to `to`, where a kind ends (not included).
+    fn to_kind_end(&self, from: usize, to: usize) -> (f64, usize) {
+        self.over(from, to, |cells| self.to_end[cells.start])
+    }
+
+    fn over(&self, from: usize, to: usize, extreme: impl Fn(std::ops::Range<usize>) -> f64) -> (f64, usize) {
+        let count = self.counts[to] - self.counts[from];
+        match (count, self.summary) {
+            (0, _) => (0.0, 0),
+            (_, Summary::Total) => (self.sums[to] - self.sums[from], count),
+            _ => (extreme(from..to), count),
+        }
+    }
+}
+
+/// The running `step` of `values` from `start`, begun again at each of `restarts`.
+fn running(
+    values: impl Iterator<Item = f64>,
+    step: impl Fn(f64, f64) -> f64,
+    start: f64,
+    restarts: &[usize],
+) -> Vec<f64> {
+    let mut out = Vec::with_capacity(values.size_hint().0);
+    let mut acc = start;
+    for (i, x) in values.enumerate() {
+        if restarts.contains(&i) {
+            acc = start;
+        }
+        acc = step(acc, x);
+        out.push(acc);
+    }
+    out
+}
+
+/// The target's numbers beside a range's cells, tallied per value of the cell, for `<>`
+/// criteria: `"<>x"` matches all but the cells whose own value is x, so its sum is the
+/// whole's less theirs, and its extreme the best of the other values' (the best value's,
+/// or the runner-up's when x is the best one). Built only where that is exactly the
+/// row-by-row result ([`ExactCheck`]).
+struct KeyedSummary {
+    summary: Summary,
+    all: Tally,
+    by_key: HashMap<Option<ItemKey>, Tally>,
+    /// The value whose cells have the extreme number beside them, and that extreme.
+    best: Option<(Option<ItemKey>, f64)>,
+    /// The extreme beside the other values' cells.
+    runner_up: f64,
+    /// The first error beside a cell in row order, with the cell's value, and the first
+    /// beside a cell of another value: the result of a `<>` that matches them.
+    first_error: Option<(Option<ItemKey>, XlError)>,
+    other_error: Option<XlError>,
+}
+
+/// The sum (or extreme) and count of some numbers.
+#[derive(Clone, Copy)]
+struct Tally {
+    summary: f64,
+    count: usize,
+}
+
+impl KeyedSummary {
+    /// `beside`: the key of each cell (where the other ranges' criteria hold), in row
+    /// order, and the target's value beside it.
+    fn new<'v>(beside: impl Iterator<Item = (Option<ItemKey>, &'v Value)>, summary: Summary) -> Option<KeyedSummary> {
+        let mut check = ExactCheck::new(summary);
+        let none = Tally { summary: summary.identity(), count: 0 };
+        let add = |tally: &mut Tally, x: f64| {
+            tally.summary = summary.pick(tally.summary, x);
+            tally.count += 1;
+        };
+        let (mut all, mut by_key) = (none, HashMap::<Option<ItemKey>, Tally>::new());
+        let (mut first_error, mut other_error) = (None, None);
+        for (key, v) in beside {
+            match v {
+                Value::Number(x) if check.admits(*x) => {
+                    add(&mut all, *x);
+                    add(by_key.entry(key).or_insert(none), *x);
+                }
+                Value::Number(_) => return None,
+                Value::Error(e) => match &first_error {
+                    None => first_error = Some((key, *e)),
+                    Some((first, _)) if other_error.is_none() && *first != key => other_error = Some(*e),
+                    _ => {}
+                },
+                _ => {}
+            }
+        }
+        let counted = || by_key.iter().filter(|(_, tally)| tally.count > 0);
+        let better = |best: f64, x: f64| summary.pick(best, x) != best;
+        let mut best: Option<(Option<ItemKey>, f64)> = None;
+        for (key, tally) in counted() {
+            if best.as_ref().map_or(true, |(_, x)| better(*x, tally.summary)) {
+                best = Some((key.clone(), tally.summary));
+            }
+        }
+        let best_key = best.as_ref().map(|(key, _)| key);
+        let runner_up = counted()
+            .filter(|(key, _)| Some(*key) != best_key)
+            .fold(summary.identity(), |x, (_, tally)| summary.pick(x, tally.summary));
+        Some(KeyedSummary { summary, all, by_key, best, runner_up, first_error, other_error })
+    }
+
+    /// The summary and count of the numbers beside the cells whose own value's key is not
+    /// `key`, or the first error beside them.
+    fn unequal(&self, key: ItemKey) -> XlResult<(f64, usize)> {
+        let key = Some(key);
+        if let Some((first, e)) = &self.first_error {
+            if *first != key {
+                return Err(*e);
+            }
+            if let Some(e) = self.other_error {
+                return Err(e);
+            }
+        }
+        let equal = self.by_key.get(&key).map_or((0.0, 0), |tally| (tally.summary, tally.count));
+        let count = self.all.count - equal.1;
+        if count == 0 {
+            return Ok((0.0, 0));
+        }
+        let summary = match (self.summary, &self.best) {
+            (Summary::Total, _) => self.all.summary - equal.0,
+            (_, Some((best, x))) if *best != key => *x,
+            _ => self.runner_up,
+        };
+        Ok((summary, count))
     }
 }
 

@@ -9,7 +9,7 @@ use crate::eval::functions::api::{
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
-use crate::eval::functions::criteria::{matching_cells, CellBlock, CriteriaMatcher, Criterion};
+use crate::eval::functions::criteria::{matching_cells, CellBlock, CriteriaMatcher, Criterion, Summary};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value(
@@ -237,8 +237,9 @@ struct Conditions {
 /// How the aggregated numbers become the result.
 type Aggregate = fn(&[f64]) -> XlResult<f64>;
 
-/// The same result made from the numbers' sum and count, where the aggregate is one.
-type OfTotal = fn(f64, usize) -> XlResult<f64>;
+/// The same result made from the numbers' [`Summary`] (their sum, or their extreme) and
+/// their count, where an index summarizes them.
+type OfSummary = fn(f64, usize) -> XlResult<f64>;
 
 impl Conditions {
     /// `COUNTIF(range, criteria)`, `SUMIF(range, criteria, [sum_range])`: the sum range
@@ -284,20 +285,26 @@ impl Conditions {
 
     /// `aggregate` of the target's numbers at the matching positions, per criteria item.
     /// Text, booleans and blanks there are skipped; an error there is the result.
-    /// `of_total`, when given, makes the result from the sum and count of those numbers
-    /// (SUMIF, AVERAGEIF): many comparison criteria then add up prefix sums.
-    fn aggregate(&self, ctx: &mut Ctx, aggregate: Aggregate, of_total: Option<OfTotal>) -> XlResult<Value> {
+    /// `of_summary` makes the same result from their `summary` and count, where the
+    /// matcher's index answers (many comparison or `<>` criteria) without testing cells.
+    fn aggregate(
+        &self,
+        ctx: &mut Ctx,
+        aggregate: Aggregate,
+        summary: Summary,
+        of_summary: OfSummary,
+    ) -> XlResult<Value> {
         let target = self.target.as_ref().expect("an aggregate has a target range");
         if !target.same_shape(&self.ranges[0]) {
             return Err(XlError::Value);
         }
-        let matcher = CriteriaMatcher::new(&self.ranges, &self.criteria, self.dates);
-        let matcher = if of_total.is_some() { matcher.summing(target) } else { matcher };
+        let matcher = CriteriaMatcher::new(&self.ranges, &self.criteria, self.dates).summarizing(target, summary);
         matcher.within_scan_limit(ctx, &self.criteria, false)?;
         let results = lift_values(&self.criteria, &|items| {
             let criteria: Vec<Criterion> = items.iter().map(|v| Criterion::new(v, self.dates)).collect();
-            if let Some((of_total, (sum, count))) = of_total.zip(matcher.ordered_total(&criteria)) {
-                return of_total(sum, count).map(number_result);
+            if let Some(summarized) = matcher.indexed_summary(&criteria) {
+                let (summary, count) = summarized?;
+                return of_summary(summary, count).map(number_result);
             }
             let m = matcher.matches(&criteria)?;
             let mut xs = Vec::with_capacity(m.cells.len());
@@ -324,6 +331,11 @@ fn sum_of(total: f64, _count: usize) -> XlResult<f64> {
     Ok(total)
 }
 
+/// MINIFS and MAXIFS of no number are 0.
+fn extreme_or_zero(extreme: f64, count: usize) -> XlResult<f64> {
+    Ok(if count == 0 { 0.0 } else { extreme })
+}
+
 fn arithmetic_mean(xs: &[f64]) -> XlResult<f64> {
     mean(xs.iter().sum(), xs.len())
 }
@@ -345,27 +357,27 @@ fn countifs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn sumif(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Conditions::single(ctx, args)?.aggregate(ctx, total, Some(sum_of))
+    Conditions::single(ctx, args)?.aggregate(ctx, total, Summary::Total, sum_of)
 }
 
 fn averageif(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Conditions::single(ctx, args)?.aggregate(ctx, arithmetic_mean, Some(mean))
+    Conditions::single(ctx, args)?.aggregate(ctx, arithmetic_mean, Summary::Total, mean)
 }
 
 fn sumifs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Conditions::pairs(ctx, args, true)?.aggregate(ctx, total, Some(sum_of))
+    Conditions::pairs(ctx, args, true)?.aggregate(ctx, total, Summary::Total, sum_of)
 }
 
 fn averageifs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Conditions::pairs(ctx, args, true)?.aggregate(ctx, arithmetic_mean, Some(mean))
+    Conditions::pairs(ctx, args, true)?.aggregate(ctx, arithmetic_mean, Summary::Total, mean)
 }
 
 fn minifs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Conditions::pairs(ctx, args, true)?.aggregate(ctx, smallest, None)
+    Conditions::pairs(ctx, args, true)?.aggregate(ctx, smallest, Summary::Smallest, extreme_or_zero)
 }
 
 fn maxifs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Conditions::pairs(ctx, args, true)?.aggregate(ctx, largest, None)
+    Conditions::pairs(ctx, args, true)?.aggregate(ctx, largest, Summary::Largest, extreme_or_zero)
 }
 
 #[cfg(test)]
@@ -474,5 +486,93 @@ mod tests {
         assert_eq!(env.eval("=MAXIFS(B1:B6,A1:A6,\"<>x\")"), n(60.0));
         assert_eq!(env.eval("=MAXIFS(B1:B6,B1:B6,\">100\")"), n(0.0));
         assert_eq!(env.eval("=SUMIFS(B1:B6,A1:A5,\">0\")"), err(XlError::Value));
+    }
+
+    /// A small linear congruential sequence: the same inputs on every run.
+    struct Lcg(u64);
+
+    impl Lcg {
+        fn pick<'p>(&mut self, pool: &'p [Value]) -> &'p Value {
+            self.0 = self.0.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            &pool[(self.0 >> 33) as usize % pool.len()]
+        }
+    }
+
+    /// The values criteria ranges hold and criteria name: numbers, the same as text, text
+    /// in other cases, booleans, empty cells and empty text, errors.
+    fn keys_pool() -> Vec<Value> {
+        let mut pool: Vec<Value> = (1..=6).map(|i| n(i as f64)).collect();
+        pool.extend(["3", "Apple", "APPLE", "apple", "banana", "", "b"].map(Value::text));
+        pool.extend([Value::Bool(true), Value::Bool(false), Value::Blank, Value::Blank, err(XlError::NA), n(2.5)]);
+        pool
+    }
+
+    /// What is aggregated: integers mostly, with text, booleans and blanks that are skipped;
+    /// `hard` adds what an index must not reorder (fractions, -0) and errors.
+    fn targets_pool(hard: bool) -> Vec<Value> {
+        let mut pool: Vec<Value> = (-20..=20).map(|i| n(f64::from(i))).collect();
+        pool.extend([Value::text("7"), Value::Bool(true), Value::Blank]);
+        if hard {
+            pool.extend([n(0.1), n(-0.0), n(1e300), err(XlError::Div0), err(XlError::NA)]);
+        }
+        pool
+    }
+
+    /// Rows 1 … `rows` of columns A, C, D drawn from the keys, B from the targets; criteria
+    /// items E1:G40 from the keys.
+    fn generated(seed: u64, rows: u32, hard: bool) -> MapEnv {
+        let (keys, targets) = (keys_pool(), targets_pool(hard));
+        let mut rng = Lcg(seed);
+        let mut env = MapEnv::default();
+        for row in 0..rows {
+            for (col, pool) in [(0, &keys), (1, &targets), (2, &keys), (3, &keys)] {
+                env.cells.insert((row, col), rng.pick(pool).clone());
+            }
+        }
+        for row in 0..40 {
+            for col in 4..7 {
+                env.cells.insert((row, col), rng.pick(&keys).clone());
+            }
+        }
+        env
+    }
+
+    /// `formula` with `#` standing for E1:E40 (and `$`, `%` for F1:F40, G1:G40): a call
+    /// given 40 criteria at once, which indexes its range, against the same call given one
+    /// criterion at a time, which tests every cell (Excel's rules as the unit tests above
+    /// check them).
+    fn assert_indexed_as_scanned(env: &MapEnv, formula: &str) {
+        let spelled = |e: &str, f: &str, g: &str| formula.replace('#', e).replace('$', f).replace('%', g);
+        let Value::Array(all) = env.eval(&spelled("E1:E40", "F1:F40", "G1:G40")) else {
+            panic!("{formula}: no array");
+        };
+        for row in 1..=40 {
+            let one = spelled(&format!("E{row}"), &format!("F{row}"), &format!("G{row}"));
+            assert_eq!(all.data[row - 1], env.eval(&one), "{one}");
+        }
+    }
+
+    #[test]
+    fn criteria_arrays_answered_by_an_index_equal_one_criterion_at_a_time() {
+        let mut formulas = Vec::new();
+        for op in ["", "=", "<>", "<", "<=", ">", ">="] {
+            formulas.push(format!("=SUMIF(A1:A150,\"{op}\"&#,B1:B150)"));
+            formulas.push(format!("=AVERAGEIF(A1:A150,\"{op}\"&#,B1:B150)"));
+            formulas.push(format!("=MINIFS(B1:B150,A1:A150,\"{op}\"&#)"));
+            formulas.push(format!("=MAXIFS(B1:B150,A1:A150,\"{op}\"&#)"));
+            formulas.push(format!("=MAXIFS(B1:B150,C1:C150,\"<>b\",A1:A150,\"{op}\"&#)"));
+            formulas.push(format!("=SUMIFS(B1:B150,A1:A150,\"{op}\"&#,D1:D150,\">2\")"));
+        }
+        // Three and four criteria arrays paired item by item, with and without a fixed one.
+        formulas.push("=COUNTIFS(A1:A150,#,C1:C150,$,D1:D150,%)".to_string());
+        formulas.push("=COUNTIFS(A1:A150,#,C1:C150,$,D1:D150,%,B1:B150,\">0\")".to_string());
+        formulas.push("=SUMIFS(B1:B150,A1:A150,#,C1:C150,$,D1:D150,%)".to_string());
+        formulas.push("=MINIFS(B1:B150,A1:A150,#,C1:C150,$,D1:D150,%,A1:A150,#)".to_string());
+        for seed in 0..6 {
+            let env = generated(seed, 150, seed % 2 == 1);
+            for formula in &formulas {
+                assert_indexed_as_scanned(&env, formula);
+            }
+        }
     }
 }
