@@ -1303,3 +1303,176 @@ fn a_procedures_constant_sizes_no_string_of_a_later_procedure() {
          Sub Main()\n    A\n    Dim s As String * W\n    Debug.Print Len(s)\nEnd Sub\n");
     assert_eq!(out.printed, [" 5 ", " 10 "]);
 }
+
+// ---- dates: DateAdd, DateDiff, DatePart and the names of days and months ---------------
+
+/// What `Debug.Print` shows of each expression, in order.
+fn shown(exprs: &[&str]) -> Vec<String> {
+    let body: Vec<String> = exprs.iter().map(|e| format!("    Debug.Print {e}")).collect();
+    printed_in("", &body.join("\n"))
+}
+
+/// The run-time error `expr` raises, by its number (0: none).
+fn error_of(expr: &str) -> String {
+    let body = format!("    Dim x\n    On Error Resume Next\n    x = {expr}\n    Debug.Print CStr(Err.Number)");
+    printed_in("", &body).concat()
+}
+
+// "DateAdd function": "DateAdd won't return an invalid date": DateAdd("m", 1, "31-Jan-95")
+// is 28-Feb-95, and from 31-Jan-96 29-Feb-96 (a leap year); "w" adds the days themselves
+// (Sunday to Saturday all count); a number that is no Long is rounded first; a date before
+// the year 100 "an error occurs" (run-time error 5). The result is a Date.
+#[test]
+fn date_add_keeps_month_ends_and_adds_every_interval() {
+    let d = "DateSerial(2024, 1, 31) + TimeSerial(10, 30, 0)";
+    assert_eq!(
+        shown(&[
+            "DateAdd(\"m\", 1, \"31-Jan-95\")",
+            "DateAdd(\"m\", 1, \"31-Jan-96\")",
+            &format!("DateAdd(\"yyyy\", 1, DateSerial(2024, 2, 29))"),
+            &format!("DateAdd(\"q\", 1, {d})"),
+            &format!("DateAdd(\"M\", -2, {d})"),
+            &format!("DateAdd(\"y\", 1, {d})"),
+            &format!("DateAdd(\"d\", 1.6, {d})"),
+            // 2024-02-02 is a Friday: one "w" later is the Saturday.
+            "DateAdd(\"w\", 1, DateSerial(2024, 2, 2))",
+            &format!("DateAdd(\"ww\", -1, {d})"),
+            &format!("DateAdd(\"h\", 14, {d})"),
+            &format!("DateAdd(\"n\", -631, {d})"),
+            &format!("DateAdd(\"s\", 90, {d})"),
+            &format!("TypeName(DateAdd(\"d\", 1, {d}))"),
+        ]),
+        [
+            "2/28/1995",
+            "2/29/1996",
+            "2/28/2025",
+            "4/30/2024 10:30:00 AM",
+            "11/30/2023 10:30:00 AM",
+            "2/1/2024 10:30:00 AM",
+            "2/2/2024 10:30:00 AM",
+            "2/3/2024",
+            "1/24/2024 10:30:00 AM",
+            "2/1/2024 12:30:00 AM",
+            "1/30/2024 11:59:00 PM",
+            "1/31/2024 10:31:30 AM",
+            "Date",
+        ]
+    );
+    assert_eq!(error_of("DateAdd(\"yyyy\", -2000, DateSerial(1999, 1, 1))"), "5");
+    assert_eq!(error_of("DateAdd(\"d\", 1, DateSerial(9999, 12, 31))"), "5");
+    assert_eq!(error_of("DateAdd(\"x\", 1, Date)"), "5", "an interval that is none of the settings");
+}
+
+// "DateDiff function": a Long; Dec 31 to the next Jan 1 is 1 "yyyy"; "w" from a Monday
+// counts the Mondays after it up to date2 (date2 counted, date1 not); "ww" counts the
+// Sundays (the first day of the week) after date1 up to and including date2; date1 later
+// than date2 gives a negative number; "y" and "d" count days.
+#[test]
+fn date_diff_counts_the_boundaries_crossed() {
+    // 2024-01-01 is a Monday, 2024-01-07 and 2024-01-14 Sundays.
+    let d = |m: u32, day: u32| format!("DateSerial(2024, {m}, {day})");
+    assert_eq!(
+        shown(&[
+            "CStr(DateDiff(\"yyyy\", DateSerial(2023, 12, 31), DateSerial(2024, 1, 1)))",
+            &format!("CStr(DateDiff(\"w\", {}, {}))", d(1, 1), d(1, 15)),
+            &format!("CStr(DateDiff(\"w\", {}, {}))", d(1, 1), d(1, 14)),
+            &format!("CStr(DateDiff(\"ww\", {}, {}))", d(1, 7), d(1, 14)),
+            &format!("CStr(DateDiff(\"ww\", {}, {}))", d(1, 6), d(1, 7)),
+            &format!("CStr(DateDiff(\"ww\", {}, {}, vbMonday))", d(1, 6), d(1, 7)),
+            &format!("CStr(DateDiff(\"ww\", {}, {}, vbMonday))", d(1, 7), d(1, 8)),
+            &format!("CStr(DateDiff(\"d\", {}, {}))", d(3, 1), d(2, 1)),
+            &format!("CStr(DateDiff(\"y\", {}, {}))", d(2, 1), d(3, 1)),
+            &format!("CStr(DateDiff(\"m\", {}, {}))", d(1, 31), d(2, 1)),
+            &format!("CStr(DateDiff(\"q\", {}, {}))", d(3, 31), d(4, 1)),
+            &format!("CStr(DateDiff(\"h\", {} + TimeSerial(23, 59, 0), {}))", d(1, 1), d(1, 2)),
+            &format!("CStr(DateDiff(\"n\", {}, {} + TimeSerial(1, 0, 0)))", d(1, 1), d(1, 1)),
+            &format!("CStr(DateDiff(\"s\", {}, {}))", d(1, 2), d(1, 1)),
+            &format!("TypeName(DateDiff(\"d\", {}, {}))", d(1, 1), d(1, 2)),
+        ]),
+        ["1", "2", "1", "1", "1", "0", "1", "-29", "29", "1", "1", "1", "60", "-86400", "Long"]
+    );
+    // Seconds from 100-01-01 to 9999-12-31 pass a Long's range: Overflow.
+    assert_eq!(error_of("DateDiff(\"s\", DateSerial(100, 1, 1), DateSerial(9999, 12, 31))"), "6");
+}
+
+// "DatePart function": an Integer; "w" is the day of the week counted from firstdayofweek;
+// "ww" the week of the year, week 1 being the week of January 1 unless firstweekofyear says
+// vbFirstFourDays (the first week with four days of the new year: ISO 8601's weeks with
+// vbMonday, which Microsoft's "Format or DatePart functions can return wrong week number for
+// last Monday in Year" quotes: 2021-01-03 is in week 53 of 2020, 2021-01-04 in week 1) or
+// vbFirstFullWeek (the first whole week).
+#[test]
+fn date_part_gives_each_part_and_the_week_of_the_year() {
+    let at = "DateSerial(2024, 8, 15) + TimeSerial(13, 45, 30)";
+    let parts: Vec<String> = ["yyyy", "q", "m", "y", "d", "w", "h", "n", "s"]
+        .iter()
+        .map(|i| format!("CStr(DatePart(\"{i}\", {at}))"))
+        .collect();
+    let parts: Vec<&str> = parts.iter().map(String::as_str).collect();
+    // 2024-08-15 is a Thursday, day 31 + 29 + 31 + 30 + 31 + 30 + 31 + 15 = 228 of a leap year.
+    assert_eq!(shown(&parts), ["2024", "3", "8", "228", "15", "5", "13", "45", "30"]);
+    assert_eq!(
+        shown(&[
+            &format!("CStr(DatePart(\"w\", {at}, vbMonday))"),
+            "CStr(DatePart(\"ww\", DateSerial(2022, 1, 1)))",
+            "CStr(DatePart(\"ww\", DateSerial(2022, 1, 2)))",
+            "CStr(DatePart(\"ww\", DateSerial(2000, 12, 31)))",
+            "CStr(DatePart(\"ww\", DateSerial(2021, 1, 3), vbMonday, vbFirstFourDays))",
+            "CStr(DatePart(\"ww\", DateSerial(2021, 1, 4), vbMonday, vbFirstFourDays))",
+            "CStr(DatePart(\"ww\", DateSerial(2020, 12, 31), vbMonday, vbFirstFourDays))",
+            "CStr(DatePart(\"ww\", DateSerial(2024, 12, 31), vbMonday, vbFirstFourDays))",
+            "CStr(DatePart(\"ww\", DateSerial(2022, 1, 1), vbSunday, vbFirstFullWeek))",
+            "CStr(DatePart(\"ww\", DateSerial(2022, 1, 2), vbSunday, vbFirstFullWeek))",
+            "TypeName(DatePart(\"d\", Date))",
+        ]),
+        ["4", "1", "2", "54", "53", "1", "53", "1", "52", "1", "Integer"]
+    );
+    assert_eq!(error_of("DatePart(\"w\", Date, 8)"), "5", "a first day of the week past 0 to 7");
+}
+
+// "Weekday function" with its firstdayofweek, "WeekdayName function" and "MonthName
+// function" (en-US names; abbreviate gives the short ones), and their constants vbSunday (1)
+// … vbSaturday (7) and vbUseSystemDayOfWeek (0: the system's, Sunday in en-US).
+#[test]
+fn weekday_and_the_names_of_days_and_months() {
+    // 2024-01-01 is a Monday.
+    assert_eq!(
+        shown(&[
+            "CStr(Weekday(DateSerial(2024, 1, 1)))",
+            "CStr(Weekday(DateSerial(2024, 1, 1), vbMonday))",
+            "CStr(Weekday(DateSerial(2024, 1, 1), vbSaturday))",
+            "CStr(Weekday(DateSerial(2024, 1, 1), vbUseSystemDayOfWeek))",
+            "WeekdayName(1)",
+            "WeekdayName(1, True, vbMonday)",
+            "WeekdayName(Weekday(DateSerial(2024, 1, 1)))",
+            "WeekdayName(7, False, vbWednesday)",
+            "MonthName(2)",
+            "MonthName(12, True)",
+            "CStr(vbSunday + vbSaturday + vbFirstJan1 + vbFirstFourDays + vbFirstFullWeek)",
+        ]),
+        ["2", "1", "3", "2", "Sunday", "Mon", "Monday", "Tuesday", "February", "Dec", "14"]
+    );
+    assert_eq!(error_of("MonthName(13)"), "5");
+    assert_eq!(error_of("WeekdayName(0)"), "5");
+}
+
+// "DateValue function" (its example: DateValue("February 12, 1969")), "TimeValue function"
+// (its example: TimeValue("4:35:17 PM")), each a Date; a Date's other part is left out.
+// "DateSerial function" outside 100-01-01 to 9999-12-31 is run-time error 5 (Microsoft KB
+// Q77393, "DateSerial function returns error 5 for year 10000").
+#[test]
+fn date_value_time_value_and_date_serial_out_of_range() {
+    assert_eq!(
+        shown(&[
+            "DateValue(\"February 12, 1969\")",
+            "TimeValue(\"4:35:17 PM\")",
+            "DateValue(DateSerial(2024, 3, 1) + TimeSerial(6, 0, 0))",
+            "TimeValue(DateSerial(2024, 3, 1) + TimeSerial(6, 0, 0))",
+            "TypeName(DateValue(\"1/2/2020\"))",
+        ]),
+        ["2/12/1969", "4:35:17 PM", "3/1/2024", "6:00:00 AM", "Date"]
+    );
+    assert_eq!(error_of("DateSerial(10000, 1, 1)"), "5");
+    assert_eq!(error_of("DateSerial(9999, 12, 32)"), "5");
+    assert_eq!(error_of("DateSerial(9999, 12, 31)"), "0");
+}

@@ -437,6 +437,54 @@ End Sub
     Out 0.1 + 0.2 = 0.3
 "#,
     },
+    // tests/vba_conformance.rs: DateAdd keeps month ends and adds each interval, DateDiff
+    // counts the boundaries crossed ("w" whole weeks, "ww" first days of the week), DatePart
+    // gives each part and the week of the year, WeekdayName and MonthName name them. Dates
+    // are shown as their serials: LibreOffice's CStr of a Date follows its own locale. Left
+    // out: DateDiff "h", "n" and "s" across a boundary less than a unit apart, which VBA counts
+    // as 1 (a boundary crossed, as "yyyy" from Dec 31 to Jan 1) and LibreOffice as 0.
+    Case {
+        name: "date_add_diff_part_and_names",
+        module: "",
+        body: r#"
+    Dim d
+    d = DateSerial(2024, 1, 31) + TimeSerial(10, 30, 0)
+    Out CDbl(DateAdd("m", 1, DateSerial(1995, 1, 31)))
+    Out CDbl(DateAdd("m", 1, DateSerial(1996, 1, 31)))
+    Out CDbl(DateAdd("yyyy", 1, DateSerial(2024, 2, 29)))
+    Out CDbl(DateAdd("q", 1, d))
+    Out CDbl(DateAdd("m", -2, d))
+    Out CDbl(DateAdd("y", 1, d))
+    Out CDbl(DateAdd("w", 1, DateSerial(2024, 2, 2)))
+    Out CDbl(DateAdd("ww", -1, d))
+    Out CDbl(DateAdd("h", 14, d))
+    Out CDbl(DateAdd("n", -631, d))
+    Out CDbl(DateAdd("s", 90, d))
+    Out DateDiff("yyyy", DateSerial(2023, 12, 31), DateSerial(2024, 1, 1))
+    Out DateDiff("w", DateSerial(2024, 1, 1), DateSerial(2024, 1, 15))
+    Out DateDiff("w", DateSerial(2024, 1, 1), DateSerial(2024, 1, 14))
+    Out DateDiff("ww", DateSerial(2024, 1, 7), DateSerial(2024, 1, 14))
+    Out DateDiff("ww", DateSerial(2024, 1, 6), DateSerial(2024, 1, 7))
+    Out DateDiff("ww", DateSerial(2024, 1, 6), DateSerial(2024, 1, 7), vbMonday)
+    Out DateDiff("d", DateSerial(2024, 3, 1), DateSerial(2024, 2, 1))
+    Out DateDiff("m", DateSerial(2024, 1, 31), DateSerial(2024, 2, 1))
+    Out DateDiff("q", DateSerial(2024, 3, 31), DateSerial(2024, 4, 1))
+    Out DateDiff("s", DateSerial(2024, 1, 2), DateSerial(2024, 1, 1))
+    Out DatePart("y", DateSerial(2024, 8, 15))
+    Out DatePart("q", DateSerial(2024, 8, 15))
+    Out DatePart("w", DateSerial(2024, 8, 15), vbMonday)
+    Out DatePart("n", DateSerial(2024, 8, 15) + TimeSerial(13, 45, 30))
+    Out DatePart("ww", DateSerial(2022, 1, 2))
+    Out DatePart("ww", DateSerial(2021, 1, 3), vbMonday, vbFirstFourDays)
+    Out DatePart("ww", DateSerial(2021, 1, 4), vbMonday, vbFirstFourDays)
+    Out DatePart("ww", DateSerial(2022, 1, 1), vbSunday, vbFirstFullWeek)
+    Out Weekday(DateSerial(2024, 1, 1), vbSaturday)
+    Out WeekdayName(1, True, vbMonday)
+    Out WeekdayName(7, False, vbWednesday)
+    Out MonthName(2)
+    Out MonthName(12, True)
+"#,
+    },
 ];
 
 /// ncsheet's lines for one case.

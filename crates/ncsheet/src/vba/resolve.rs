@@ -140,6 +140,16 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "vbbyte" => number(17.0),
         "vblonglong" => number(20.0),
         "vbarray" => number(8192.0),
+        // "DateDiff function": its firstdayofweek and firstweekofyear constants (vbUseSystem
+        // is both's 0), for DateDiff, DatePart, Weekday and WeekdayName.
+        "vbusesystem" | "vbusesystemdayofweek" => number(0.0),
+        "vbsunday" | "vbfirstjan1" => number(1.0),
+        "vbmonday" | "vbfirstfourdays" => number(2.0),
+        "vbtuesday" | "vbfirstfullweek" => number(3.0),
+        "vbwednesday" => number(4.0),
+        "vbthursday" => number(5.0),
+        "vbfriday" => number(6.0),
+        "vbsaturday" => number(7.0),
         // Excel's XlCVError values, for CVErr.
         "xlerrnull" => number(2000.0),
         "xlerrdiv0" => number(2007.0),

@@ -367,15 +367,15 @@ fn held_function_type(name: &str) -> Option<Declared> {
 /// The declared type of a VBA function's result, by its row of the function table.
 fn function_type(name: &str) -> Declared {
     match name {
-        "VBA.CINT" | "VBA.ASC" | "VBA.SGN" | "VBA.VARTYPE" => Declared::Integer,
-        "VBA.CLNG" | "VBA.LEN" | "VBA.LENB" => Declared::Long,
+        "VBA.CINT" | "VBA.ASC" | "VBA.SGN" | "VBA.VARTYPE" | "VBA.DATEPART" => Declared::Integer,
+        "VBA.CLNG" | "VBA.LEN" | "VBA.LENB" | "VBA.DATEDIFF" => Declared::Long,
         "VBA.CLNGLNG" => Declared::LongLong,
         "VBA.CBYTE" => Declared::Byte,
         "VBA.CSNG" => Declared::Single,
         "VBA.CCUR" => Declared::Currency,
         "VBA.CDBL" | "VBA.VAL" | "VBA.TIMER" | "VBA.ATN" | "VBA.COS" | "VBA.SIN" | "VBA.TAN" | "VBA.EXP"
         | "VBA.LOG" | "VBA.SQR" => Declared::Double,
-        "VBA.CSTR" => Declared::String,
+        "VBA.CSTR" | "VBA.WEEKDAYNAME" | "VBA.MONTHNAME" => Declared::String,
         "VBA.CBOOL" | "VBA.ISNUMERIC" | "VBA.ISEMPTY" | "VBA.ISERROR" | "VBA.ISARRAY" => Declared::Boolean,
         "VBA.CDATE" | "VBA.CVDATE" | "VBA.DATESERIAL" | "VBA.TIMESERIAL" | "VBA.DATEVALUE" | "VBA.TIMEVALUE"
         | "VBA.DATE" | "VBA.TIME" | "VBA.NOW" | "VBA.DATEADD" | "NOW" => Declared::Date,

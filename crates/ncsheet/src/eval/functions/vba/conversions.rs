@@ -60,7 +60,7 @@ impl Raised {
 
     /// A value Let-coerced to a whole number within `limit` (a Long's, an Integer's), its
     /// overflow noted.
-    fn whole(&self, v: &Value, limit: f64) -> XlResult<f64> {
+    pub(super) fn whole(&self, v: &Value, limit: f64) -> XlResult<f64> {
         whole_in(v, limit)?.ok_or_else(|| self.set(6, "a number past the range of its type"))
     }
 }
@@ -275,7 +275,7 @@ pub(super) fn mid_statement(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 /// Days from 1899-12-30 (VBA's day 0) to a day of the proleptic Gregorian calendar.
-fn days_from_civil(year: i64, month: i64, day: i64) -> i64 {
+pub(super) fn days_from_civil(year: i64, month: i64, day: i64) -> i64 {
     // Years counted from March, so that the leap day ends a year.
     let y = if month <= 2 { year - 1 } else { year };
     let era = y.div_euclid(400);

@@ -20,6 +20,7 @@ use crate::formula::ast::{Expr, ExprKind};
 
 use crate::eval::format::text_format::NumberFormat;
 
+mod calendar;
 mod conversions;
 mod strings;
 use conversions::Raised;
@@ -297,6 +298,62 @@ pub const FUNCTIONS: &[FnSpec] = &[
         conversions::weekday,
         "VBA.WEEKDAY(date, [firstdayofweek])",
         "VBA Weekday: the day of the week of a Date, 1 for the first (Sunday unless given)",
+    ),
+    FnSpec::value(
+        "VBA.DATEADD",
+        3,
+        3,
+        calendar::date_add,
+        "VBA.DATEADD(interval, number, date)",
+        "VBA DateAdd: the date with number intervals (yyyy q m y d w ww h n s) added, month ends kept",
+    ),
+    FnSpec::value(
+        "VBA.DATEDIFF",
+        3,
+        5,
+        calendar::date_diff,
+        "VBA.DATEDIFF(interval, date1, date2, [firstdayofweek], [firstweekofyear])",
+        "VBA DateDiff: the interval's boundaries (yyyy q m y d w ww h n s) from date1 to date2",
+    ),
+    FnSpec::value(
+        "VBA.DATEPART",
+        2,
+        4,
+        calendar::date_part,
+        "VBA.DATEPART(interval, date, [firstdayofweek], [firstweekofyear])",
+        "VBA DatePart: one part of a date (yyyy q m y d w ww h n s)",
+    ),
+    FnSpec::value(
+        "VBA.WEEKDAYNAME",
+        1,
+        3,
+        calendar::weekday_name,
+        "VBA.WEEKDAYNAME(weekday, [abbreviate], [firstdayofweek])",
+        "VBA WeekdayName: the name of a day of the week (1 for the first, Sunday unless given)",
+    ),
+    FnSpec::value(
+        "VBA.MONTHNAME",
+        1,
+        2,
+        calendar::month_name,
+        "VBA.MONTHNAME(month, [abbreviate])",
+        "VBA MonthName: the name of a month, 1 to 12",
+    ),
+    FnSpec::value(
+        "VBA.DATEVALUE",
+        1,
+        1,
+        calendar::date_value,
+        "VBA.DATEVALUE(date)",
+        "VBA DateValue: the date of a date text or Date, without its time",
+    ),
+    FnSpec::value(
+        "VBA.TIMEVALUE",
+        1,
+        1,
+        calendar::time_value,
+        "VBA.TIMEVALUE(time)",
+        "VBA TimeValue: the time of day of a time text or Date",
     ),
     FnSpec::value(
         "VBA.MIDSTATEMENT",
