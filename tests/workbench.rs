@@ -879,3 +879,18 @@ fn serve_timeout_bounds_requests_not_the_server() {
     let answer = page_answer(port, &query);
     assert!(answer.starts_with("HTTP/1.1 200"), "{answer}");
 }
+
+// "Sheets.Add method" (Excel VBA reference): Before is "the sheet before which the new sheet
+// is added". A sheet a macro adds before the first is the first tab: the summary lists the
+// sheets' numbers in tab order, the new sheet (number 1) first.
+#[test]
+fn a_sheet_a_macro_adds_before_the_first_is_the_first_tab() {
+    let bas = "Sub Main()\n    Sheets.Add Before:=Sheets(1)\n    ActiveSheet.Name = \"Notes\"\nEnd Sub\n";
+    let bench = Bench::written("book.csv", "1,2\n", &[("add.bas", bas)], Default::default());
+    let run = serde_json::json!({ "source": "file:add.bas", "sub": "Main", "dialect": "linuxcnc", "sheet": 0 });
+    let (status, out) = bench.post_json("/api/run", &run);
+    assert_eq!(status, 200, "{out}");
+    let summary = bench.get_json("/api/sheets");
+    assert_eq!(summary["sheets"][1]["name"], "Notes", "{summary}");
+    assert_eq!(summary["order"], serde_json::json!([1, 0]), "{summary}");
+}

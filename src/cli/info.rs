@@ -31,8 +31,9 @@ pub fn run(args: InfoArgs, delimiter: Option<u8>) -> Result<()> {
     writeln!(out, "sheets:")?;
     let names = wb.sheet_names();
     let width = names.iter().map(|n| n.chars().count()).max().unwrap_or(0);
-    for (id, name) in names.iter().enumerate() {
-        let id = id as u16;
+    // In tab order, as Excel shows them (a macro may have moved a sheet).
+    for &id in wb.tab_order() {
+        let name = &names[id as usize];
         let used =
             wb.used_rect(id).map_or_else(|| "empty".to_string(), |r| Rect::new(Pos::new(0, 0), r.last).to_string());
         let cells = wb.values(id);

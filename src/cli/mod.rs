@@ -715,7 +715,7 @@ pub(crate) fn locate_cell(wb: &Workbook, file: &Path, target: &Target, default: 
 
 fn sheet_named(wb: &Workbook, file: &Path, name: &str) -> Result<SheetId> {
     wb.sheet_id(name).ok_or_else(|| {
-        let names = wb.sheet_names().join(", ");
+        let names = wb.tab_names().join(", ");
         Error::User(format!("{}: no sheet named '{name}' (it has: {names})", file.display()))
     })
 }

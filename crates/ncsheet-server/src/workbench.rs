@@ -136,6 +136,8 @@ impl Workbench {
         json!({
             "file": file,
             "sheets": sheets,
+            // The sheets' numbers (their places in `sheets`) in tab order.
+            "order": wb.tab_order(),
             "active": wb.active_sheet(),
             "notes": self.doc.notes(),
             "history": self.history(),

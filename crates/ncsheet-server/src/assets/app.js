@@ -280,12 +280,15 @@ async function showSheet(index) {
   scroller.scrollTop = 0;
   scroller.scrollLeft = 0;
   sel = { r: 0, c: 0 };
-  [...$('tabs').children].forEach((b, i) => b.classList.toggle('on', i === index));
+  [...$('tabs').children].forEach(b => b.classList.toggle('on', Number(b.dataset.sheet) === index));
   render();
 }
 
+// Tabs in the workbook's tab order (a macro may have moved or added sheets anywhere); each
+// button keeps its sheet's number, which the server's requests name.
 function drawTabs() {
-  $('tabs').innerHTML = book.sheets.map((s, i) => '<button data-sheet="' + i + '">' + esc(s.name) + '</button>').join('');
+  const order = book.order || book.sheets.map((_, i) => i);
+  $('tabs').innerHTML = order.map(i => '<button data-sheet="' + i + '">' + esc(book.sheets[i].name) + '</button>').join('');
 }
 
 // ---- saving -------------------------------------------------------------------------------

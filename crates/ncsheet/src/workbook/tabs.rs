@@ -113,3 +113,60 @@ impl Workbook {
             .collect()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::eval::Value;
+    use crate::formula::address::Pos;
+
+    fn book(names: &[&str]) -> Workbook {
+        let mut wb = Workbook::new();
+        for name in names {
+            wb.add_sheet(name).unwrap();
+        }
+        wb
+    }
+
+    // Excel's SHEET: "the sheet number of the referenced sheet", the number of its tab.
+    #[test]
+    fn sheet_counts_tabs_after_a_move() {
+        let mut wb = book(&["A", "B", "C"]);
+        wb.set_input(2, Pos::new(0, 0), "=SHEET()").unwrap();
+        wb.set_input(0, Pos::new(0, 0), "=SHEET(\"C\")*10+SHEET(B!A1)").unwrap();
+        assert_eq!(wb.value(2, Pos::new(0, 0)), Value::Number(3.0));
+        assert_eq!(wb.value(0, Pos::new(0, 0)), Value::Number(32.0));
+        wb.move_sheet(2, 0).unwrap();
+        assert_eq!(wb.tab_names(), ["C", "A", "B"]);
+        assert_eq!((wb.tab_position(2), wb.sheet_at_tab(2)), (Some(0), Some(1)));
+        assert_eq!(wb.value(2, Pos::new(0, 0)), Value::Number(1.0));
+        assert_eq!(wb.value(0, Pos::new(0, 0)), Value::Number(13.0));
+    }
+
+    #[test]
+    fn sheets_inserted_side_by_side_or_not_at_all() {
+        let mut wb = book(&["A", "B"]);
+        let ids = wb.insert_sheets(&["X".into(), "Y".into()], 1).unwrap();
+        assert_eq!(ids, [2, 3]);
+        assert_eq!(wb.tab_names(), ["A", "X", "Y", "B"]);
+        // A name taken, in any case, or twice in the list: nothing is added.
+        assert!(matches!(wb.insert_sheets(&["Z".into(), "b".into()], 0), Err(WorkbookError::DuplicateSheet(_))));
+        assert!(matches!(wb.insert_sheets(&["Z".into(), "z".into()], 0), Err(WorkbookError::DuplicateSheet(_))));
+        assert_eq!(wb.sheet_len(), 4);
+        // Past the last tab means last.
+        wb.insert_sheets(&["Z".into()], 99).unwrap();
+        assert_eq!(wb.tab_names(), ["A", "X", "Y", "B", "Z"]);
+    }
+
+    #[test]
+    fn a_move_is_a_change_of_the_sheets() {
+        let mut wb = book(&["A", "B"]);
+        wb.track_changes();
+        wb.move_sheet(0, 0).unwrap();
+        assert!(!wb.changes().unwrap().sheets, "a sheet moved onto its own place has not moved");
+        wb.move_sheet(0, 5).unwrap();
+        assert!(wb.changes().unwrap().sheets);
+        assert_eq!(wb.tab_names(), ["B", "A"]);
+        assert!(matches!(wb.move_sheet(7, 0), Err(WorkbookError::NoSuchSheet(_))));
+    }
+}
