@@ -160,7 +160,7 @@ impl Interp<'_, '_> {
         for frame in self.frames.borrow().iter() {
             m.slots(frame.vars.iter());
         }
-        m.slots(self.kept.borrow().values());
+        m.slots(self.kept.borrow().values().flatten());
         // What the macro's files hold (`files.rs`): written text and text being read.
         m.bytes.saturating_add(self.files.borrow().held_bytes())
     }

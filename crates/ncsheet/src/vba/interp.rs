@@ -259,7 +259,8 @@ pub struct Interp<'m, 'w> {
     pub nc: RefCell<super::nc::NcState>,
     steps: Cell<u64>,
     /// Static variables between calls, by procedure and name in ASCII lower case.
-    pub(super) kept: RefCell<std::collections::HashMap<(usize, String), Slot>>,
+    /// `None` while a call of the procedure holds the variable (`Interp::statics`).
+    pub(super) kept: RefCell<std::collections::HashMap<(usize, String), Option<Slot>>>,
     pub(super) pending: RefCell<Option<Fault>>,
     /// An `End` statement ran: every procedure stops.
     pub(super) ended: Cell<bool>,
@@ -465,7 +466,7 @@ impl Interp<'_, '_> {
         }
         let mut statics: Vec<_> = self.kept.borrow_mut().drain().collect();
         statics.sort_by(|a, b| a.0.cmp(&b.0));
-        for (_, slot) in statics {
+        for slot in statics.iter().filter_map(|(_, slot)| slot.as_ref()) {
             self.release(slot.var())?;
         }
         Ok(())
@@ -1683,7 +1684,9 @@ impl Interp<'_, '_> {
         Ok(())
     }
 
-    /// `Static`: the variable the procedure's last call left, or a new one.
+    /// `Static`: the variable the procedure's last call left, or a new one. It is moved
+    /// into the call, not copied, so that a text the call grows (`s = s & x`, `append.rs`)
+    /// grows in place: a copy shared with the one kept made every call copy the whole text.
     fn statics(&self, vars: &[VarDecl]) -> Run<()> {
         let proc = self.frames.borrow().last().expect("Static runs in a procedure").proc;
         for d in vars {
@@ -1691,29 +1694,41 @@ impl Interp<'_, '_> {
                 continue;
             }
             let key = (proc, d.name.to_ascii_lowercase());
-            let kept = self.kept.borrow().get(&key).cloned();
-            match kept {
-                Some(slot) => self.declare(slot),
-                None => {
+            let taken = self.kept.borrow_mut().get_mut(&key).map(Option::take);
+            match taken.map(|slot| slot.or_else(|| self.outer_static(proc, &d.name))) {
+                Some(Some(slot)) => self.declare(slot),
+                _ => {
                     self.dim(std::slice::from_ref(d), false, false)?;
-                    let slot =
-                        self.frames.borrow().last().and_then(|f| f.vars.get(&d.name).cloned()).expect("declared");
-                    self.kept.borrow_mut().insert(key, slot);
+                    self.kept.borrow_mut().insert(key, None);
                 }
             }
         }
         Ok(())
     }
 
-    /// Keeps the Static variables of a frame that is being left.
+    /// The Static variable `name` as the nearest call of `proc` further out holds it: a
+    /// recursive call shares its procedure's Static variables ("Static statement": they
+    /// keep their values as long as the module runs, one for the procedure, not per call).
+    fn outer_static(&self, proc: usize, name: &str) -> Option<Slot> {
+        let frames = self.frames.borrow();
+        let outer = frames.iter().rev().skip(1).find(|f| f.proc == proc && f.vars.get(name).is_some());
+        outer.and_then(|f| f.vars.get(name).cloned())
+    }
+
+    /// Keeps the Static variables of a frame that is being left: for the call of the same
+    /// procedure further out that holds them (recursion), else for the next call.
     fn keep_statics(&self, frame: &Frame) {
         let mut kept = self.kept.borrow_mut();
         if kept.is_empty() {
             return;
         }
+        let mut frames = self.frames.borrow_mut();
         for s in frame.vars.iter() {
-            if let Some(slot) = kept.get_mut(&(frame.proc, s.name.to_ascii_lowercase())) {
-                slot.replace(s.var().clone());
+            let Some(entry) = kept.get_mut(&(frame.proc, s.name.to_ascii_lowercase())) else { continue };
+            let outer = frames.iter_mut().rev().find(|f| f.proc == frame.proc && f.vars.get(&s.name).is_some());
+            match outer.and_then(|f| f.vars.get_mut(&s.name)) {
+                Some(held) => *held = s.clone(),
+                None => *entry = Some(s.clone()),
             }
         }
     }

@@ -268,6 +268,9 @@ pub struct Work {
     pub columns_stepped: u64,
     /// Places of a Collection or Dictionary visited to close up removed entries.
     pub places_closed_up: u64,
+    /// Bytes of a variable's text copied to append to it (`s = s & x`): once when it starts
+    /// growing in place, and again whenever its buffer is shared when appended to.
+    pub text_copied: u64,
 }
 
 #[cfg(feature = "testing")]
@@ -275,6 +278,7 @@ thread_local! {
     pub(crate) static NAME_PROBES: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
     pub(crate) static COLUMNS_STEPPED: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
     pub(crate) static PLACES_CLOSED_UP: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+    pub(crate) static TEXT_COPIED: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
 }
 
 /// Adds `n` to one of the counters of [`Work`].
@@ -296,6 +300,8 @@ pub(crate) const NAME_PROBES: Counter = ();
 pub(crate) const COLUMNS_STEPPED: Counter = ();
 #[cfg(not(feature = "testing"))]
 pub(crate) const PLACES_CLOSED_UP: Counter = ();
+#[cfg(not(feature = "testing"))]
+pub(crate) const TEXT_COPIED: Counter = ();
 
 /// The work counted on this thread so far ([`Work`]).
 #[cfg(feature = "testing")]
@@ -304,6 +310,7 @@ pub fn work_done() -> Work {
         name_probes: NAME_PROBES.with(|c| c.get()),
         columns_stepped: COLUMNS_STEPPED.with(|c| c.get()),
         places_closed_up: PLACES_CLOSED_UP.with(|c| c.get()),
+        text_copied: TEXT_COPIED.with(|c| c.get()),
     }
 }
 

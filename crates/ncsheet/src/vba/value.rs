@@ -264,6 +264,7 @@ impl Slot {
     /// with [`Slot::append`]; `None` when it holds no text.
     pub(super) fn text_units(&mut self) -> Option<usize> {
         if let Held::Var(Var::Value(Value::Text(t))) = &self.held {
+            super::count(&super::TEXT_COPIED, t.len() as u64);
             let text = Rc::new(String::from(&**t));
             let (units, chars) = (text.encode_utf16().count(), text.chars().count());
             let ascii = text.is_ascii();
@@ -280,6 +281,10 @@ impl Slot {
         let Held::Growing(g) = &mut self.held else { unreachable!("text_units made the text ready") };
         self.written = next_write();
         g.shown.take();
+        if Rc::strong_count(&g.text) > 1 {
+            // Shared (a copy of the variable holds it too): made the variable's own first.
+            super::count(&super::TEXT_COPIED, g.text.len() as u64);
+        }
         Rc::make_mut(&mut g.text).push_str(piece);
         g.units += units;
         g.chars += piece.chars().count();
