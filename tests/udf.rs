@@ -416,3 +416,29 @@ fn a_module_that_does_not_parse_is_named_when_a_cell_calls_its_function() {
     assert!(run.stderr.contains("note: module Broken: 4:13: "), "{}", run.stderr);
     assert!(run.stderr.contains("(Bad …) are #NAME?"), "{}", run.stderr);
 }
+
+/// "Understanding parameter arrays": a Function with a ParamArray takes any number of
+/// arguments from a cell too, the array zero-based; a reference argument stays a Range
+/// there. Worked out by hand: "n" & (1 + 2 + 4 + 5) … = "n:0:2:12".
+#[test]
+fn a_cell_calls_a_function_with_a_param_array() {
+    let source = "Function Tally(label As String, ParamArray parts())\r\n\
+        Dim p, c, total\r\n\
+        For Each p In parts\r\n\
+            If IsObject(p) Then\r\n\
+                For Each c In p\r\n\
+                    total = total + c.Value\r\n\
+                Next\r\n\
+            Else\r\n\
+                total = total + p\r\n\
+            End If\r\n\
+        Next\r\n\
+        Tally = label & \":\" & LBound(parts) & \":\" & UBound(parts) & \":\" & total\r\n\
+    End Function\r\n";
+    let wb = book(
+        &[("Module1", STANDARD, source)],
+        &[("A1", "4"), ("A2", "5"), ("B1", "=Tally(\"n\", 1, 2, A1:A2)"), ("B2", "=Tally(\"e\")")],
+    );
+    assert_eq!(wb.value(0, at("B1")), Value::text("n:0:2:12"));
+    assert_eq!(wb.value(0, at("B2")), Value::text("e:0:-1:"));
+}

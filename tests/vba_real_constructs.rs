@@ -152,3 +152,89 @@ fn an_array_passed_by_reference_is_the_callers_array_even_when_the_call_fails() 
                \x20   Debug.Print a(1); v(2); Err.Number\n    On Error GoTo 0\n    a(2) = 3\n    Pass a\n    Debug.Print a(1); a(2)\nEnd Sub\n";
     assert_eq!(printed(src), [" 7 w 5 ", " 3  7 "]);
 }
+
+// "Understanding parameter arrays" and [MS-VBAL] 5.3.1.5: a last parameter `ParamArray
+// args()` takes every argument from its position on as one Variant array; "Option Base
+// statement": "The base of an array created with the ParamArray keyword is zero; Option Base
+// does not affect ParamArray", so a call giving none has LBound 0 and UBound -1. Each item is
+// what the argument is: the literal 2 an Integer, 2.5 a Double ("TypeName function"), a Range
+// object a Range. A Function never assigned returns Empty, which Debug.Print writes as
+// nothing ("Print # statement").
+#[test]
+fn a_param_array_takes_the_rest_of_the_arguments_from_zero() {
+    let src = "Option Base 1\n\
+               Function Shape(first, ParamArray rest() As Variant) As String\n\
+               \x20   Dim x\n\
+               \x20   Shape = first & \":\" & LBound(rest) & \":\" & UBound(rest)\n\
+               \x20   For Each x In rest\n        Shape = Shape & \":\" & TypeName(x)\n    Next\n\
+               End Function\n\
+               Function Total(ParamArray values())\n\
+               \x20   Dim i As Integer\n\
+               \x20   For i = LBound(values) To UBound(values)\n        Total = Total + values(i)\n    Next i\n\
+               End Function\n\
+               Sub Main()\n\
+               \x20   Debug.Print Shape(\"a\"); \" \"; Shape(\"b\", 2, 2.5, \"t\", Range(\"A1:B2\"))\n\
+               \x20   Debug.Print Total(); Total(1, 2, 3.5); Total(10)\n\
+               End Sub\n";
+    assert_eq!(printed(src), ["a:0:-1 b:0:3:Integer:Double:String:Range", " 6.5  10 "]);
+}
+
+// [MS-VBAL] 5.3.1.5: `param-array` comes last in a parameter list that has no `optional`
+// parameter, and its type is Variant; anything else does not compile.
+#[test]
+fn a_param_array_is_last_of_a_list_without_optional_parameters() {
+    for (params, why) in [
+        ("ParamArray a(), b", "must be the last parameter"),
+        ("Optional b = 1, ParamArray a()", "cannot have Optional parameters"),
+        ("ParamArray a() As Long", "declare it As Variant"),
+    ] {
+        let src = format!("Function F({params})\nEnd Function\nSub Main()\n    Debug.Print F(1, 2)\nEnd Sub\n");
+        let e = run_with(&src, &RunOptions::default()).unwrap_err();
+        assert!(e.to_string().contains(why), "{params}: {e}");
+    }
+}
+
+// "WorksheetFunction.Match method" and Excel's run-time error 1004 "Unable to get the Match
+// property of the WorksheetFunction class" (Microsoft TechNet wiki 3145): a worksheet
+// function called through WorksheetFunction raises its error result as error 1004, which On
+// Error traps, and the assignment does not happen; through Application (`Application.Match`)
+// the error comes back as a value (Error 2042, xlErrNA).
+#[test]
+fn a_worksheet_function_error_is_raised_through_worksheet_function_returned_through_application() {
+    let src = "Sub Main()\n\
+               \x20   Dim r\n\
+               \x20   r = Application.Match(\"z\", Array(\"a\", \"b\"), 0)\n\
+               \x20   Debug.Print IsError(r); CStr(r)\n\
+               \x20   On Error Resume Next\n\
+               \x20   r = 7\n\
+               \x20   r = WorksheetFunction.Match(\"z\", Array(\"a\", \"b\"), 0)\n\
+               \x20   Debug.Print Err.Number; r\n\
+               \x20   Err.Clear\n\
+               \x20   r = Application.WorksheetFunction.Match(\"b\", Array(\"a\", \"b\"), 0)\n\
+               \x20   Debug.Print Err.Number; r\n\
+               End Sub\n";
+    assert_eq!(printed(src), ["TrueError 2042", " 1004  7 ", " 0  2 "]);
+}
+
+// "With statement": `.Member` inside `With object` is object.Member, so in `With
+// Application.WorksheetFunction` `.Max(…)` is WorksheetFunction.Max(…), raising as it does,
+// and in `With Application` `.Max(…)` is Application.Max(…) ("Application object": the
+// worksheet functions are its members too).
+#[test]
+fn worksheet_functions_as_members_of_a_with_block() {
+    let src = "Sub Main()\n\
+               \x20   Dim r\n\
+               \x20   With Application.WorksheetFunction\n\
+               \x20       Debug.Print .Max(3, 9, 4); .Sum(1, 2)\n\
+               \x20       On Error GoTo Failed\n\
+               \x20       r = .Match(\"z\", Array(\"a\"), 0)\n\
+               \x20   End With\n\
+               \x20   Exit Sub\n\
+               Failed:\n\
+               \x20   Debug.Print Err.Number\n\
+               \x20   With Application\n\
+               \x20       Debug.Print .Min(3, 9, 4); IsError(.Match(\"z\", Array(\"a\"), 0))\n\
+               \x20   End With\n\
+               End Sub\n";
+    assert_eq!(printed(src), [" 9  3 ", " 1004 ", " 3 True"]);
+}

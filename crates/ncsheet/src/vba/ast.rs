@@ -125,6 +125,9 @@ pub struct Param {
     pub ty: Option<Ty>,
     /// `a() As Long`: the parameter is an array of the declared type, not one value of it.
     pub array: bool,
+    /// `ParamArray args()`: the last parameter, taking every argument from its position on
+    /// as one Variant array ([MS-VBAL] 5.3.1.5).
+    pub param_array: bool,
 }
 
 /// A declared type, as far as it changes what a variable holds.
@@ -417,6 +420,11 @@ pub enum Node {
     SheetArg { arg: Expr, span: Span },
     /// `New Collection`, `CreateObject("Scripting.Dictionary")`: a new object of the class.
     New { class: Made, span: Span },
+    /// `WorksheetFunction.Match(…)`: a worksheet function called through Excel's
+    /// WorksheetFunction object, whose error result is raised as run-time error 1004 ("Unable
+    /// to get the Match property of the WorksheetFunction class"), where `Application.Match(…)`
+    /// returns the error value.
+    SheetCall { call: Expr, name: Rc<str>, span: Span },
 }
 
 /// The questions [`Node::Inspect`] asks of a variable.

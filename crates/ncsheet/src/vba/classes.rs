@@ -379,7 +379,7 @@ impl Interp<'_, '_> {
             return Err(self.fault_at(span, format!("Property {} has no parameter for the value", p.name)));
         }
         let wrong = |m: String| Err(self.fault_at(span, m));
-        if args.len() > params {
+        if args.len() > params && !super::param_array::has_param_array(p) {
             return wrong(format!(
                 "{}.{} takes at most {params} arguments, not {}",
                 self.class_name(p.part),
@@ -402,7 +402,7 @@ impl Interp<'_, '_> {
             args.get(i).is_some_and(|a| a.name.is_none() && a.value.kind != ExprKind::Missing)
                 || args.iter().any(|a| a.name.as_deref().is_some_and(|n| n.eq_ignore_ascii_case(name)))
         };
-        let required = p.params[..params].iter().enumerate().filter(|(_, q)| !q.optional);
+        let required = p.params[..params].iter().enumerate().filter(|(_, q)| !q.optional && !q.param_array);
         if let Some((_, q)) = required.into_iter().find(|(i, q)| !given(*i, &q.name)) {
             return wrong(format!("{}: argument {} is not optional", p.name, q.name));
         }

@@ -351,6 +351,25 @@ impl Interp<'_, '_> {
                 }
             },
             Node::New { span, .. } => Err(self.fault_at(*span, "New makes an object: assign it with Set")),
+            Node::SheetCall { call, name, span } => match ctx.operand(call) {
+                Operand::Value(Value::Error(e)) => {
+                    let why = format!("Unable to get the {name} property of the WorksheetFunction class ({e})");
+                    Err(self.error_1004(*span, why))
+                }
+                other => Ok(other),
+            },
+        }
+    }
+
+    /// The worksheet function's call a [`Node::SheetCall`] `e` makes (what its result is read
+    /// as, `library.rs`); `e` itself for any other expression.
+    pub(super) fn sheet_call_inner<'e>(&'e self, e: &'e Expr) -> &'e Expr {
+        match &e.kind {
+            crate::formula::ast::ExprKind::Host(id) => match &self.module.nodes[*id as usize] {
+                Node::SheetCall { call, .. } => call,
+                _ => e,
+            },
+            _ => e,
         }
     }
 

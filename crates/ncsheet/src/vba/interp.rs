@@ -384,6 +384,7 @@ impl Interp<'_, '_> {
             self.exec(g)?;
         }
         let p = &self.module.procs[proc];
+        let args = super::param_array::pack_cell_args(p, args);
         if args.len() > p.params.len() {
             return Err(self.fault(format!("Function {} takes at most {} arguments", p.name, p.params.len())));
         }
@@ -956,6 +957,7 @@ impl Interp<'_, '_> {
         let mut types = Vec::new();
         let mut items_back = Vec::new();
         let mut lent = Vec::new();
+        let (args, param_array) = super::param_array::split_args(p, args);
         for (i, a) in args.iter().enumerate() {
             let index = match &a.name {
                 Some(n) => p.params.iter().position(|q| q.name.eq_ignore_ascii_case(n)).expect("checked by the parser"),
@@ -1015,6 +1017,9 @@ impl Interp<'_, '_> {
             };
             self.take_pending()?;
             bound.push((index, var));
+        }
+        if let Some(rest) = param_array {
+            bound.push((p.params.len() - 1, self.param_array_arg(ctx, rest)?));
         }
         for (index, caller_var) in &lent {
             bound.push((*index, self.lend_array(caller_var)));

@@ -375,6 +375,7 @@ impl Interp<'_, '_> {
     /// item is a Variant holding its value with its type ([MS-VBAL] 2.1.1.1, "Array function"),
     /// a Date as a Date and the literal 1 as an Integer (3.3.2).
     pub(super) fn array_of_call(&self, e: &Expr, v: &Value) -> Option<Var> {
+        let e = self.sheet_call_inner(e);
         let mut var = library_array(e, v, self.module.base)?;
         if let (ExprKind::Call(id, args), Var::Array(a)) = (&e.kind, &mut var) {
             if crate::eval::functions::spec(*id).name == "VBA.ARRAY" {

@@ -21,7 +21,8 @@
 //! # The language, for a VBA user
 //!
 //! Statements: `Sub`/`Function` with `ByVal`/`ByRef` (the default), `Optional` parameters
-//! with defaults and named arguments (`x:=1`); a Function returns by assigning its name;
+//! with defaults and named arguments (`x:=1`), a last `ParamArray args()` taking the rest of
+//! the arguments as one zero-based Variant array; a Function returns by assigning its name;
 //! `Dim`/`Static`/`ReDim [Preserve]` with `As Integer|Long|Double|String|Boolean|Variant|Range…`
 //! (typed variables convert as VBA does: an Integer rounds halves to even), one- and
 //! two-dimensional arrays (`Dim a(1 To 5)`, `UBound`, `LBound`, `Array(…)`, `Option Base`),
@@ -211,7 +212,7 @@
 //! (`Len(Null)`, `Left(Null, 1)`, `Abs(Null)`, `Hex(Null)` are Null), error 94 anywhere else
 //! (`Left$(Null, 1)`, `Chr(Null)`, `Sqr(Null)`, `CStr(Null)`).
 //!
-//! Not in the language: `ParamArray`, arrays of more than two dimensions, events and forms.
+//! Not in the language: arrays of more than two dimensions, events and forms.
 //! A member's dot touches what it follows ([MS-VBAL] 5.6.12): `Out .Y + .X` in a With block
 //! calls `Out` with `.Y + .X`.
 
@@ -233,6 +234,7 @@ mod nc;
 mod objects;
 mod operators;
 pub mod ovba;
+mod param_array;
 pub mod parser;
 pub mod project;
 pub mod project_edit;

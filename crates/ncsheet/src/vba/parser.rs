@@ -254,6 +254,8 @@ pub(super) struct Signature {
     pub(super) params: Vec<Rc<str>>,
     /// How many parameters come before the first Optional one.
     pub(super) required: usize,
+    /// The last parameter is a `ParamArray`: the call may give any number of arguments more.
+    pub(super) param_array: bool,
     /// The module of the project it is in (`Module::parts`), and whether other modules see it.
     pub(super) part: usize,
     pub(super) public: bool,
@@ -297,6 +299,9 @@ pub(super) struct Build<'s> {
     pub(super) enums: Vec<(Rc<str>, Vec<Rc<str>>)>,
     /// Module-level declarations are being built: they declare globals.
     building_globals: Cell<bool>,
+    /// The With blocks around the statement being built, innermost last: what each one's
+    /// object is, for the members the parser resolves itself (`resolve.rs`).
+    pub(super) with_subjects: RefCell<Vec<super::resolve::WithSubject>>,
     /// The values of the constants declared so far whose value is a whole number (a literal,
     /// another such constant, or `+ - *` of them), lower case: a `String * W` reads W's.
     whole_consts: RefCell<std::collections::HashMap<String, f64>>,
@@ -381,6 +386,7 @@ impl<'s> Build<'s> {
             text_compare: Cell::new(false),
             base: Cell::new(0),
             building_globals: Cell::new(false),
+            with_subjects: RefCell::new(Vec::new()),
             whole_consts: RefCell::new(Default::default()),
             declared: Default::default(),
             files: false,
@@ -412,11 +418,13 @@ impl<'s> Build<'s> {
             let params: Vec<Pair<Rule>> =
                 find(&k, Rule::param_list).map(|l| all(&kids(&l), Rule::param)).unwrap_or_default();
             let names = params.iter().map(|p| decl_name(&kids(p)).expect("param name")).collect();
+            let param_array = params.last().is_some_and(|p| find(&kids(p), Rule::k_paramarray).is_some());
             let required = params
                 .iter()
                 .filter(|p| find(&kids(p), Rule::k_optional).is_none() && find(&kids(p), Rule::vexpr).is_none())
-                .count();
-            procs.push(Signature { name, kind, params: names, required, part, public, property });
+                .count()
+                - usize::from(param_array);
+            procs.push(Signature { name, kind, params: names, required, param_array, part, public, property });
         }
         Ok(Build { procs, proc_names, ..b })
     }
@@ -504,6 +512,7 @@ impl<'s> Build<'s> {
             Some(list) => all(&kids(&list), Rule::param).into_iter().map(|p| self.param(p)).collect::<Res<Vec<_>>>()?,
             None => Vec::new(),
         };
+        self.check_param_array(&k, &params)?;
         // `As Double()` returns an array: the Function's name holds it as a Variant would.
         let returns_array = find(&k, Rule::empty_parens).is_some();
         let as_clause = find(&k, Rule::as_clause);
@@ -531,7 +540,25 @@ impl<'s> Build<'s> {
             default,
             ty: find(&k, Rule::as_clause).map(|a| self.ty_of(&a)).or_else(|| type_char_ty(&k)),
             array: find(&k, Rule::empty_parens).is_some(),
+            param_array: find(&k, Rule::k_paramarray).is_some(),
         })
+    }
+
+    /// [MS-VBAL] 5.3.1.5: a ParamArray is the last parameter, of a list with no Optional
+    /// one, and its array is of Variants.
+    fn check_param_array(&self, kids_of_proc: &[Pair<Rule>], params: &[Param]) -> Res<()> {
+        let Some(at) = params.iter().position(|p| p.param_array) else { return Ok(()) };
+        let list = find(kids_of_proc, Rule::param_list).expect("a parameter list holds the ParamArray");
+        let why = if at + 1 != params.len() {
+            "a ParamArray must be the last parameter"
+        } else if params.iter().any(|p| p.optional) {
+            "a procedure with a ParamArray cannot have Optional parameters"
+        } else if !matches!(params[at].ty, None | Some(Ty::Variant)) {
+            "a ParamArray is an array of Variants: declare it As Variant or with no type"
+        } else {
+            return Ok(());
+        };
+        Err(self.error_at(&list, format!("{}: {why}", params[at].name)))
     }
 
     /// Every GoTo must name a label of its own block or of one around it: jumping into a
@@ -647,8 +674,21 @@ impl<'s> Build<'s> {
             }
             Rule::with_block => {
                 let k = kids(&pair);
-                let object = self.expr(find(&k, Rule::vexpr).expect("With object"))?;
-                StmtKind::With { object, body: self.block(find(&k, Rule::block).expect("With body"))? }
+                let object_pair = find(&k, Rule::vexpr).expect("With object");
+                let subject = self.with_subject(object_pair.as_str());
+                let object = match subject {
+                    // Its members are worksheet functions, each resolved to its call: the
+                    // object itself has nothing to give at run time.
+                    super::resolve::WithSubject::SheetFunctions => Expr::new(
+                        ExprKind::Text(object_pair.as_str().trim().into()),
+                        ByteSpan { start: start(&object_pair) as u32, end: object_pair.as_span().end() as u32 },
+                    ),
+                    _ => self.expr(object_pair)?,
+                };
+                self.with_subjects.borrow_mut().push(subject);
+                let body = self.block(find(&k, Rule::block).expect("With body"));
+                self.with_subjects.borrow_mut().pop();
+                StmtKind::With { object, body: body? }
             }
             Rule::exit_stmt => StmtKind::Exit(self.exit(&pair)?),
             Rule::goto_stmt => {
@@ -1285,10 +1325,19 @@ impl Build<'_> {
         let k = kids(pair);
         let name = decl_name(&k).expect("procedure name");
         let kind = proc_kind(pair);
-        let params = self.procs[self.proc_index(&name).expect("signatures first")]
-            .params
-            .iter()
-            .map(|p| Param { name: p.clone(), by_ref: true, optional: true, default: None, ty: None, array: false })
+        let signature = &self.procs[self.proc_index(&name).expect("signatures first")];
+        let last = signature.params.len().saturating_sub(1);
+        let params = (signature.params.iter().enumerate())
+            .map(|(i, p)| Param {
+                name: p.clone(),
+                by_ref: true,
+                optional: true,
+                default: None,
+                ty: None,
+                array: false,
+                // Takes the arguments the parser let through for it.
+                param_array: signature.param_array && i == last,
+            })
             .collect();
         let public = find(&k, Rule::scope).is_none_or(|s| !s.as_str().eq_ignore_ascii_case("Private"));
         let failing = Stmt { kind: StmtKind::CompileError(error.message.into()), span: self.span(error.offset) };

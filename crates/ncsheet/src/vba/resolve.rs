@@ -303,9 +303,54 @@ impl Build<'_> {
         Ok(e)
     }
 
+    /// What a With block's object is (`With Application.WorksheetFunction`), as its text says.
+    pub(super) fn with_subject(&self, object: &str) -> WithSubject {
+        let words: String = object.split(|c: char| c.is_whitespace() || c == '_').collect();
+        let lower = words.to_ascii_lowercase();
+        let root = lower.split('.').next().unwrap_or_default();
+        if self.is_var(root) {
+            return WithSubject::Other;
+        }
+        match lower.as_str() {
+            "worksheetfunction" | "application.worksheetfunction" | "excel.worksheetfunction" => {
+                WithSubject::SheetFunctions
+            }
+            "application" | "excel.application" => WithSubject::Application,
+            _ => WithSubject::Other,
+        }
+    }
+
+    /// `.Match(…)` in `With Application.WorksheetFunction` (or `.Max(…)` in `With
+    /// Application`): the worksheet function's call, as the path written out in full is.
+    /// `None` (and `path` as it was) for any other member.
+    fn with_member_call(&self, pair: &Pair<Rule>, path: Path) -> Res<Result<Expr, Path>> {
+        let qualifier = match self.with_subjects.borrow().last() {
+            Some(WithSubject::SheetFunctions) => "WorksheetFunction",
+            Some(WithSubject::Application) => "Application",
+            _ => return Ok(Err(path)),
+        };
+        if path.links.len() != 1 {
+            return Ok(Err(path));
+        }
+        let span = path.span;
+        let object = Link { name: qualifier.into(), args: None, span };
+        let mut full = Path { with: false, links: std::iter::once(object).chain(path.links).collect(), span };
+        match self.qualified_call(pair, &mut full)? {
+            Some(call) => Ok(Ok(call)),
+            None => Ok(Err(Path { with: true, links: full.links.into_iter().skip(1).collect(), span })),
+        }
+    }
+
     /// Decides what a path names (see the module doc for the order).
-    pub(super) fn resolve(&self, pair: &Pair<Rule>, mut path: Path, statement: bool, end: usize) -> Res<Expr> {
+    pub(super) fn resolve(&self, pair: &Pair<Rule>, path: Path, statement: bool, end: usize) -> Res<Expr> {
         let at = start(pair);
+        let mut path = match path.with {
+            true => match self.with_member_call(pair, path)? {
+                Ok(call) => return Ok(call),
+                Err(path) => path,
+            },
+            false => path,
+        };
         if path.with {
             self.check_path(pair, &path)?;
             return Ok(self.node(Node::Path(path), at, end));
@@ -384,7 +429,14 @@ impl Build<'_> {
         if names[0] != "vba" && name.to_ascii_uppercase().starts_with(PREFIX) {
             return Err(self.error_at(pair, format!("{name} is one of VBA's functions, not a worksheet function")));
         }
+        let raising = names[..qualifier_len].iter().any(|n| n == "worksheetfunction");
         match self.function_call(pair, &name, &link)? {
+            Some(e) if raising => {
+                let (at, end) = (e.span.start as usize, e.span.end as usize);
+                let call = self.sheet_arguments(e);
+                let node = Node::SheetCall { call, name: link.name.clone(), span: self.span(at) };
+                Ok(Some(self.node(node, at, end)))
+            }
             Some(e) if names[0] != "vba" => Ok(Some(self.sheet_arguments(e))),
             Some(e) => Ok(Some(e)),
             None => Err(self.error_at(pair, format!("{} is not a function of {}", link.name, path.links[0].name))),
@@ -608,12 +660,15 @@ impl Build<'_> {
     }
 
     fn proc_call(&self, pair: &Pair<Rule>, proc: usize, args: Vec<Arg>, statement: bool, end: usize) -> Res<Expr> {
-        let Signature { name, kind, params, required, .. } = &self.procs[proc];
+        let Signature { name, kind, params, required, param_array, .. } = &self.procs[proc];
         if *kind == ProcKind::Sub && !statement {
             return Err(self.error_at(pair, format!("Sub {name} has no value; call it as a statement")));
         }
+        if *param_array {
+            self.check_param_array_args(pair, name, params.len() - 1, &args)?;
+        }
         let positional = args.iter().take_while(|a| a.name.is_none()).count();
-        if args.len() > params.len() {
+        if args.len() > params.len() && !*param_array {
             return Err(self.error_at(pair, arity_message(name, *required, params.len(), args.len())));
         }
         for a in &args[positional..] {
@@ -635,6 +690,20 @@ impl Build<'_> {
         Ok(self.node(Node::Call { proc, args, span: self.span(at) }, at, end))
     }
 
+    /// A call of a procedure with a ParamArray: its arguments by position only, none of those
+    /// the ParamArray takes left out (this interpreter has no Missing item to give it).
+    fn check_param_array_args(&self, pair: &Pair<Rule>, name: &str, fixed: usize, args: &[Arg]) -> Res<()> {
+        if args.iter().any(|a| a.name.is_some()) {
+            let why = "has a ParamArray: give its arguments by position (no name:=)";
+            return Err(self.error_at(pair, format!("{name} {why}")));
+        }
+        if args.iter().skip(fixed).any(|a| a.value.kind == ExprKind::Missing) {
+            let why = "an argument left out of its ParamArray is not supported; give each one";
+            return Err(self.error_at(pair, format!("{name}: {why}")));
+        }
+        Ok(())
+    }
+
     fn bound(&self, pair: &Pair<Rule>, link: &Link, upper: bool, end: usize) -> Res<Expr> {
         let args = link.args.as_deref().unwrap_or(&[]);
         let of = match args.first() {
@@ -645,6 +714,17 @@ impl Build<'_> {
         let at = start(pair);
         Ok(self.node(Node::Bound { upper, of, dim, span: self.span(at) }, at, end))
     }
+}
+
+/// What a With block's object is, as far as the parser resolves a `.Member` in it itself.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum WithSubject {
+    /// Excel's WorksheetFunction object: every member is a worksheet function.
+    SheetFunctions,
+    /// Application: its worksheet-function members resolve here, the others at run time.
+    Application,
+    /// Anything else: its members are found at run time.
+    Other,
 }
 
 /// `CreateObject("Scripting.Dictionary")`: the one ProgID a macro may create (a literal).

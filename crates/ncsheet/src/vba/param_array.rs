@@ -1,0 +1,111 @@
+//! `ParamArray` ([MS-VBAL] 5.3.1.5, "Understanding parameter arrays"): a procedure's last
+//! parameter `ParamArray args()` takes every argument from its position on, as one Variant
+//! array, zero-based whatever the Option Base ("Option Base statement": "The base of an array
+//! created with the ParamArray keyword is zero"), empty (LBound 0, UBound -1) when the call
+//! gives none. The parser checks the declaration and the call (`parser.rs`, `resolve.rs`);
+//! here the arguments become that array, for a call from code and from a cell.
+
+use std::collections::HashMap;
+use std::rc::Rc;
+
+use crate::eval::{Array, Ctx, Operand, Value};
+use crate::formula::ast::ExprKind;
+
+use super::ast::{Arg, Proc};
+use super::interp::{Interp, Run};
+use super::typing::Declared;
+use super::value::{array_var, Obj, VArray, Var};
+
+/// Whether `p`'s last parameter is a ParamArray.
+pub(super) fn has_param_array(p: &Proc) -> bool {
+    p.params.last().is_some_and(|q| q.param_array)
+}
+
+/// A call's arguments for `p`'s own parameters, and those its ParamArray takes (`None` when
+/// it has none).
+pub(super) fn split_args<'a>(p: &Proc, args: &'a [Arg]) -> (&'a [Arg], Option<&'a [Arg]>) {
+    if !has_param_array(p) {
+        return (args, None);
+    }
+    let fixed = (p.params.len() - 1).min(args.len());
+    (&args[..fixed], Some(&args[fixed..]))
+}
+
+/// A cell's call of `p` (`=TEXTLIKE(A1, "x*", "y*")`): the arguments from the ParamArray's
+/// position on, as its array. A call short of the parameters before it is left as it is,
+/// for the binding to refuse.
+pub(super) fn pack_cell_args(p: &Proc, mut args: Vec<Var>) -> Vec<Var> {
+    let fixed = p.params.len().saturating_sub(1);
+    if !has_param_array(p) || args.len() < fixed {
+        return args;
+    }
+    let rest = args.split_off(fixed);
+    let held = vec![Declared::Variant; rest.len()];
+    args.push(Var::Array(zero_based(rest, held)));
+    args
+}
+
+/// One-dimensional, from 0, each item as the argument gave it: a value, an object (a Range
+/// stays a Range, as VBA passes it), an array.
+fn zero_based(items: Vec<Var>, held: Vec<Declared>) -> VArray {
+    let mut data = Vec::with_capacity(items.len());
+    let mut objects = HashMap::new();
+    let mut arrays = HashMap::new();
+    for (k, item) in items.into_iter().enumerate() {
+        match item {
+            Var::Value(v) => data.push(v),
+            Var::Obj(o) => {
+                data.push(Value::Blank);
+                objects.insert(k, o);
+            }
+            Var::Array(a) => {
+                data.push(Value::Array(a.data.clone()));
+                arrays.insert(k, a);
+            }
+            // The parser lets no Type through a ParamArray (a Variant cannot hold one).
+            Var::Record(..) => data.push(Value::Blank),
+        }
+    }
+    let cols = data.len();
+    let mut array = VArray::row(Rc::new(Array { rows: 1, cols, data, tail: None }), 0);
+    array.objects = (!objects.is_empty()).then(|| Rc::new(objects));
+    array.arrays = (!arrays.is_empty()).then(|| Rc::new(arrays));
+    for (k, ty) in held.into_iter().enumerate() {
+        array.mark_held(k, ty);
+    }
+    array
+}
+
+impl Interp<'_, '_> {
+    /// The ParamArray's array of a call from code: each argument evaluated in the caller, a
+    /// number keeping its type (an Integer 1, a Date) as a Variant item does ([MS-VBAL] 2.1.1.1).
+    pub(super) fn param_array_arg(&self, ctx: &mut Ctx, args: &[Arg]) -> Run<Var> {
+        let mut items = Vec::with_capacity(args.len());
+        let mut held = Vec::with_capacity(args.len());
+        for a in args {
+            let mut ty = Declared::Variant;
+            let var = match self.object_arg(ctx, &a.value)? {
+                Some(object) => object,
+                None => match ctx.operand(&a.value) {
+                    Operand::Ref(sheet, rect) => Var::Obj(Obj::Range(sheet, rect)),
+                    Operand::Value(v) => {
+                        if self.as_date(&a.value, &v).is_some() {
+                            ty = Declared::Date;
+                        } else if matches!(v, Value::Number(_)) {
+                            ty = self.value_type(&a.value, &v);
+                        }
+                        match &a.value.kind {
+                            ExprKind::Name(n) => self.lookup(n).unwrap_or(Var::Value(v)),
+                            _ => self.array_of_call(&a.value, &v).unwrap_or_else(|| array_var(v, self.module.base)),
+                        }
+                    }
+                    areas @ Operand::Areas(_) => array_var(ctx.deref(areas), self.module.base),
+                },
+            };
+            self.take_pending()?;
+            items.push(var);
+            held.push(ty);
+        }
+        Ok(Var::Array(zero_based(items, held)))
+    }
+}
