@@ -77,3 +77,53 @@ fn for_each_over_a_collection_and_a_typed_array_keeps_the_types() {
     );
     assert_eq!(out, ["Integer", "Double", "Long", "Long", "Long"]);
 }
+
+/// A run with class modules (name, source) beside the module `src`.
+fn run_with_classes(src: &str, classes: &[(&str, &str)]) -> RunOutput {
+    let classes = classes.iter().map(|(n, s)| (n.to_string(), s.to_string())).collect();
+    let mut wb = Workbook::with_sheet();
+    vba::run(&mut wb, src, "Module1.bas", &RunOptions { classes, ..RunOptions::default() })
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
+// [MS-VBAL] 5.6.12 "Member Access Expressions" (`l-expression "." name`) and 5.6.13 "Index
+// Expressions" (`l-expression "(" argument-list ")"`): each applies to any l-expression,
+// itself an index or a member access, so a chain of them has any length. `A(2)(0)` is the
+// Collection the inner array holds: `.Count` is its items, `.Add` adds to that very
+// Collection (objects are references, "Set statement"), and `outer(1)(0)` and `d("k")(0)`
+// reach the same one through a Collection's and a Dictionary's item.
+#[test]
+fn members_of_an_indexed_item_are_read_and_called() {
+    let out = printed(
+        "Sub Main()\n    Dim A(1 To 2) As Variant, c As New Collection, inner(0)\n    c.Add 10\n\
+         \x20   Set inner(0) = c\n    A(2) = inner\n    Debug.Print A(2)(0).Count\n\
+         \x20   A(2)(0).Add 20\n    Debug.Print c.Count; A(2)(0)(2)\n\
+         \x20   Dim outer As New Collection\n    outer.Add inner\n    outer(1)(0).Add 30\n\
+         \x20   Debug.Print c.Count; outer(1)(0).Item(3)\n\
+         \x20   Dim d As Object, o As Object\n    Set d = CreateObject(\"Scripting.Dictionary\")\n\
+         \x20   d.Add \"k\", inner\n    Debug.Print d(\"k\")(0).Count\n\
+         \x20   Set o = d(\"k\")(0)\n    o.Add 40\n    Debug.Print c.Count\nEnd Sub\n",
+    );
+    assert_eq!(out, [" 1", " 2  20", " 3  30", " 3", " 4"]);
+}
+
+const PIECE_CLS: &str = "Public Items As Collection\nPublic Name As String\nPublic Parts As Variant\n\
+    Private Sub Class_Initialize()\n    Set Items = New Collection\nEnd Sub\n\
+    Public Function FirstName() As String\n    FirstName = Me.Items(1).Name\nEnd Function\n";
+
+// [MS-VBAL] 5.6.12 and 5.6.13 as above, on objects of a class module: `this.Items(1)` is the
+// Collection field indexed by its default member, Item ("Collection object"), so
+// `this.Items(1).Name` is the Name of the object added; `Me.Items(1).Name` the same inside
+// the class; `coll(1).Name = x` and `A(1)(0).Name = x` assign the member of the very object.
+#[test]
+fn members_of_items_of_class_objects() {
+    let main = "Sub Main()\n    Dim this As New Piece, other As New Piece, coll As New Collection\n\
+                \x20   other.Name = \"inner\"\n    this.Items.Add other\n\
+                \x20   Debug.Print this.Items(1).Name; \" \"; this.FirstName()\n\
+                \x20   coll.Add other\n    coll(1).Name = \"renamed\"\n    Debug.Print other.Name\n\
+                \x20   Dim A(1 To 2), inner(0)\n    Set inner(0) = other\n    A(1) = inner\n\
+                \x20   A(1)(0).Name = \"again\"\n    Debug.Print this.Items(1).Name\n\
+                \x20   this.Parts = inner\n    Debug.Print this.Parts(0).Name\nEnd Sub\n";
+    let out: Vec<String> = run_with_classes(main, &[("Piece", PIECE_CLS)]).printed;
+    assert_eq!(out, ["inner inner", "renamed", "again", "again"]);
+}

@@ -413,6 +413,10 @@ pub enum Node {
     /// `d(k)(i)`, `Split(s)(0)`, `f()(2)`: what `base` gives (an array, a Collection, a
     /// Dictionary), indexed in the same expression.
     Index { base: Expr, index: Vec<Expr>, span: Span },
+    /// `A(1)(2).Count`, `d("k")(0).Name`, `coll(1)(2).Add x`: the members of what `base`
+    /// gives (an indexed item), followed as a path follows its links after its root
+    /// ([MS-VBAL] 5.6.12 and 5.6.13: a member access or an index applies to any expression).
+    Members { base: Expr, path: Path },
     /// VBA's `Null`.
     Null,
     /// An argument of a worksheet function (`Application.Transpose(a)`): an array of arrays

@@ -239,7 +239,15 @@ impl Interp<'_, '_> {
                 }
                 let k =
                     self.element_at(&a, &at).map_err(|m| self.fault_at(link.span, format!("{}: {m}", link.name)))?;
-                Ok(Obj::Value(a.data.data[k].clone()))
+                // The item as the array holds it: an object stays one (`this.Parts(1).Name`).
+                Ok(var_obj(a.item(k)))
+            }
+            // `this.Items(1)`: a Collection or a Dictionary the object holds, indexed by its
+            // default member, Item ("Collection object", "Dictionary object").
+            (Var::Obj(Obj::Store(h)), Some(args)) => {
+                let index: Vec<Expr> = args.iter().map(|a| a.value.clone()).collect();
+                let key = self.store_key(ctx, &index, link.span)?;
+                self.store_item(&h, &key, link.span).map(var_obj)
             }
             (_, Some(_)) => {
                 Err(self.fault_at(link.span, format!("{} is a variable of the object, not an array", link.name)))

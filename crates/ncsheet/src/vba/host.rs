@@ -342,6 +342,10 @@ impl Interp<'_, '_> {
             Node::Inspect { what, arg, .. } => self.inspect(*what, arg).map(Operand::Value),
             Node::Null => Ok(Operand::Value(Value::Null)),
             Node::SheetArg { arg, span } => self.worksheet_function_argument(ctx, arg, *span),
+            Node::Members { base, path } => {
+                let obj = self.members_of(ctx, base, path)?;
+                self.operand_of(obj, path.span)
+            }
             Node::Index { base, index, span } => match self.indexed_var(base, index, *span)? {
                 Var::Obj(obj) => self.operand_of(obj, *span),
                 Var::Value(v) => Ok(Operand::Value(v)),

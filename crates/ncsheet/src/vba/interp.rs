@@ -847,6 +847,12 @@ impl Interp<'_, '_> {
                     self.take_pending()?;
                     return Ok(Var::Obj(obj?));
                 }
+                // `Set o = A(1)(2).Owner`: the object a member of an item gives.
+                if let Node::Members { base, path } = &self.module.nodes[id as usize] {
+                    let obj = self.members_of(&mut self.ctx(), base, path);
+                    self.take_pending()?;
+                    return Ok(Var::Obj(obj?));
+                }
                 self.operand_var(e, as_object)
             }
             _ => self.operand_var(e, as_object),

@@ -62,6 +62,20 @@ impl Interp<'_, '_> {
         Ok(obj)
     }
 
+    /// `A(1)(2).Count`: the members of what the indexed item `base` gives ([`Node::Members`]).
+    pub(super) fn members_of(&self, ctx: &mut Ctx, base: &Expr, path: &Path) -> Run<Obj> {
+        self.members_until(ctx, base, path, path.links.len())
+    }
+
+    /// The first `links` members of [`Interp::members_of`].
+    fn members_until(&self, ctx: &mut Ctx, base: &Expr, path: &Path, links: usize) -> Run<Obj> {
+        let mut obj = super::collections::var_obj(self.var_of(base, true)?);
+        for link in &path.links[..links] {
+            obj = self.member(ctx, obj, link)?;
+        }
+        Ok(obj)
+    }
+
     pub(super) fn no_member(&self, obj: &Obj, link: &Link) -> crate::vba::interp::Fault {
         self.fault_at(link.span, format!("{} has no member {}", obj.describe(), link.name))
     }
@@ -705,6 +719,12 @@ impl Interp<'_, '_> {
                 for link in between {
                     obj = self.member(&mut ctx, obj, link)?;
                 }
+                self.set_member(&mut ctx, obj, last, value)
+            }
+            Node::Members { base, path } => {
+                let mut ctx = self.ctx();
+                let obj = self.members_until(&mut ctx, base, path, path.links.len() - 1)?;
+                let last = path.links.last().expect("a member to set");
                 self.set_member(&mut ctx, obj, last, value)
             }
             Node::Evaluate { expr, span } => {

@@ -827,6 +827,12 @@ impl<'s> Build<'s> {
     }
 
     pub(super) fn target(&self, pair: Pair<Rule>) -> Res<Target> {
+        // `c(1)(2).Name = x`: a member of an item; `A(1).Arr(2)(3) = x` is refused below.
+        if let Some(ExprKind::Host(id)) = self.indexed_inside(&pair, false)?.map(|e| e.kind) {
+            if matches!(self.nodes.borrow()[id as usize], Node::Members { .. }) {
+                return Ok(Target::Node(id));
+            }
+        }
         if !self.path_indexed(&pair)?.1.is_empty() {
             return self.nested_target(pair);
         }
@@ -892,23 +898,37 @@ impl<'s> Build<'s> {
         let callee = find(&k, Rule::callee).expect("callee");
         let args = self.args(find(&k, Rule::call_args).expect("arguments"))?;
         let mut path = Path { with: false, links: Vec::new(), span: self.span(start(&callee)) };
+        // Each link with the index lists after it: `A(1)(2).Add x` calls a member of an item.
+        let mut parts = Vec::new();
         for part in callee.clone().into_inner() {
+            let end = part.as_span().end();
             match part.as_rule() {
                 Rule::with_dot => path.with = true,
-                Rule::link | Rule::member => path.links.push(self.link(part)?),
+                Rule::link | Rule::member => {
+                    let (link, indexes) = self.link_indexed(part)?;
+                    parts.push((link, indexes, end));
+                }
                 Rule::member_name | Rule::ident => {
-                    path.links.push(Link { name: name_of(&part), args: None, span: self.span(start(&part)) })
+                    let link = Link { name: name_of(&part), args: None, span: self.span(start(&part)) };
+                    parts.push((link, Vec::new(), end));
                 }
                 rule => unreachable!("callee part {rule:?}"),
             }
         }
-        path.links.last_mut().expect("a name").args = Some(args);
+        parts.last_mut().expect("a name").0.args = Some(args);
+        if parts.iter().any(|(_, indexes, _)| !indexes.is_empty()) {
+            return Ok(self.chain(&callee, path.with, parts, true)?.expect("an index list before the member called"));
+        }
+        path.links = parts.into_iter().map(|(link, _, _)| link).collect();
         self.resolve(&callee, path, true, pair.as_span().end())
     }
 
     /// `Foo (y)` without Call: the parentheses belong to the argument, an expression, so `y`
     /// is passed by value ([MS-VBAL] 5.4.2.2); `Foo(y)` and `Call Foo(y)` pass it by reference.
     fn spaced_call(&self, pair: Pair<Rule>) -> Res<Expr> {
+        if let Some(chain) = self.indexed_inside(&pair, true)? {
+            return Ok(chain);
+        }
         let mut path = self.path_syntax(&pair)?;
         let spaced = pair.as_str().split_once('(').is_some_and(|(name, _)| name.ends_with([' ', '\t']));
         if let ([link], true) = (path.links.as_mut_slice(), spaced) {
@@ -1161,16 +1181,8 @@ impl<'s> Build<'s> {
         Ok(out)
     }
 
-    fn link(&self, pair: Pair<Rule>) -> Res<Link> {
-        let (link, indexes) = self.link_indexed(pair.clone())?;
-        if !indexes.is_empty() {
-            return Err(self.not_indexed_here(&pair));
-        }
-        Ok(link)
-    }
-
     /// A link and the index lists after its arguments (`d(k)(i)`: `(i)`).
-    fn link_indexed(&self, pair: Pair<Rule>) -> Res<(Link, Vec<Vec<Arg>>)> {
+    pub(super) fn link_indexed(&self, pair: Pair<Rule>) -> Res<(Link, Vec<Vec<Arg>>)> {
         let span = self.span(start(&pair));
         let k = kids(&pair);
         let name = k.iter().find(|p| matches!(p.as_rule(), Rule::ident | Rule::member_name)).expect("link name");

@@ -282,6 +282,9 @@ impl Build<'_> {
     }
 
     pub(super) fn path_expr(&self, pair: Pair<Rule>, statement: bool) -> Res<Expr> {
+        if let Some(chain) = self.indexed_inside(&pair, statement)? {
+            return Ok(chain);
+        }
         let (path, indexes) = self.path_indexed(&pair)?;
         let end = pair.as_span().end();
         if indexes.is_empty() {
@@ -290,17 +293,87 @@ impl Build<'_> {
         if statement {
             return Err(self.error_at(&pair, format!("{}: a statement cannot be just a value", pair.as_str().trim())));
         }
-        // `d(k)(i)(j)`: each index list applies to what the one before gives.
-        let mut e = self.resolve(&pair, path, false, end)?;
-        let at = start(&pair);
+        let e = self.resolve(&pair, path, false, end)?;
+        self.indexed(&pair, e, indexes, end)
+    }
+
+    /// `d(k)(i)(j)`: each index list applied to what the one before gives.
+    fn indexed(&self, pair: &Pair<Rule>, mut e: Expr, indexes: Vec<Vec<Arg>>, end: usize) -> Res<Expr> {
+        let at = start(pair);
         for args in indexes {
             if args.iter().any(|a| a.name.is_some() || a.value.kind == ExprKind::Missing) {
-                return Err(self.error_at(&pair, "an index is a value: no name:= and none left out"));
+                return Err(self.error_at(pair, "an index is a value: no name:= and none left out"));
             }
             let index = args.into_iter().map(|a| a.value).collect();
             e = self.node(Node::Index { base: e, index, span: self.span(at) }, at, end);
         }
         Ok(e)
+    }
+
+    /// A path with an index list inside it, not only at its end (`A(1)(2).Count`,
+    /// `d("k")(0).Name`, `c(1)(2).Items(3)(4).Value`): the path up to the first such list
+    /// resolved as any path and indexed, then each stretch of members applied to what the
+    /// expression before gives ([`Node::Members`]) and indexed in turn. `None` for a path
+    /// with no index list before its end.
+    pub(super) fn indexed_inside(&self, pair: &Pair<Rule>, statement: bool) -> Res<Option<Expr>> {
+        let mut with = false;
+        let mut parts = Vec::new();
+        for part in pair.clone().into_inner() {
+            match part.as_rule() {
+                Rule::with_dot => with = true,
+                _ => {
+                    let end = part.as_span().end();
+                    let (link, indexes) = self.link_indexed(part)?;
+                    parts.push((link, indexes, end));
+                }
+            }
+        }
+        self.chain(pair, with, parts, statement)
+    }
+
+    /// [`Build::indexed_inside`] of a path's links, each with the index lists after it and
+    /// where it ends in the source.
+    pub(super) fn chain(
+        &self,
+        pair: &Pair<Rule>,
+        with: bool,
+        parts: Vec<(Link, Vec<Vec<Arg>>, usize)>,
+        statement: bool,
+    ) -> Res<Option<Expr>> {
+        let inside = parts.iter().position(|(_, indexes, _)| !indexes.is_empty());
+        if !inside.is_some_and(|i| i + 1 < parts.len()) {
+            return Ok(None);
+        }
+        let span = self.span(start(pair));
+        let mut e: Option<Expr> = None;
+        let mut links = Vec::new();
+        let mut ends_indexed = false;
+        for (link, indexes, end) in parts {
+            links.push(link);
+            ends_indexed = !indexes.is_empty();
+            if !ends_indexed {
+                continue;
+            }
+            let path = Path { with: with && e.is_none(), links: std::mem::take(&mut links), span };
+            let base = self.members(pair, e.take(), path, end)?;
+            e = Some(self.indexed(pair, base, indexes, end)?);
+        }
+        let end = pair.as_span().end();
+        let e = match (e, links.is_empty()) {
+            (Some(e), true) => e,
+            (base, _) => self.members(pair, base, Path { with: false, links, span }, end)?,
+        };
+        if statement && ends_indexed {
+            return Err(self.error_at(pair, format!("{}: a statement cannot be just a value", pair.as_str().trim())));
+        }
+        Ok(Some(e))
+    }
+
+    /// The members `path` of what `base` gives; with no base, the path resolved as any path.
+    fn members(&self, pair: &Pair<Rule>, base: Option<Expr>, path: Path, end: usize) -> Res<Expr> {
+        let Some(base) = base else { return self.resolve(pair, path, false, end) };
+        self.check_path(pair, &path)?;
+        Ok(self.node(Node::Members { base, path }, start(pair), end))
     }
 
     /// What a With block's object is (`With Application.WorksheetFunction`), as its text says.
