@@ -1,6 +1,6 @@
 //! Printing values: an aligned table for people, csv and JSON for programs.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashSet;
 use std::io::{self, Write};
 use std::path::Path;
 
@@ -11,7 +11,7 @@ use ncsheet::formula::address::{column_name, Pos, Rect};
 use ncsheet::formula::ast::SheetId;
 use ncsheet::io::xlsx::Layout;
 use ncsheet::io::{csv, Content, Export};
-use ncsheet::workbook::Workbook;
+use ncsheet::workbook::{LooksByCell, Workbook};
 
 use super::report::Result;
 
@@ -79,7 +79,7 @@ impl Shown<'_> {
     }
 
     /// A sheet's number formats by cell, from the file.
-    pub fn formats<'b>(&'b self, wb: &Workbook, sheet: SheetId) -> Option<&'b HashMap<Pos, String>> {
+    pub fn formats<'b>(&'b self, wb: &Workbook, sheet: SheetId) -> Option<&'b LooksByCell<String>> {
         let name = wb.sheet_names().into_iter().nth(sheet as usize)?;
         Some(&self.layout?.sheets.get(&name)?.look.number_formats)
     }

@@ -479,7 +479,9 @@ fn read_csv_fields_in_locale(opened: &mut Opened, locale: crate::eval::Locale) {
     let layout = opened.layout.get_or_insert_with(Default::default);
     let shown = &mut layout.sheets.entry(sheet).or_default().look.number_formats;
     for (pos, code) in formats {
-        shown.entry(pos).or_insert_with(|| code.to_string());
+        if !shown.contains_key(&pos) {
+            shown.insert(pos, code.to_string());
+        }
     }
 }
 

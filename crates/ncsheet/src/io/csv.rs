@@ -20,7 +20,6 @@
 //! `007`, `2024-01-10`, `"1,234"`, `50%` stay as they were), each row keeps its own number of
 //! fields and its own line ending; only edited cells are written anew.
 
-use std::collections::HashMap;
 use std::fmt;
 use std::io::{self, Write};
 
@@ -29,7 +28,7 @@ use crate::eval::format::number_format;
 use crate::eval::locale::is_date_code;
 use crate::eval::{Locale, Value};
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
-use crate::workbook::{Input, Workbook};
+use crate::workbook::{Input, LooksByCell, Workbook};
 
 use super::limits::ReadLimits;
 use super::{Content, Export};
@@ -175,7 +174,7 @@ pub fn write_edited(
     wb: &Workbook,
     original: &Original,
     edited: &[Pos],
-    formats: Option<&HashMap<Pos, String>>,
+    formats: Option<&LooksByCell<String>>,
     out: &mut dyn Write,
 ) -> io::Result<()> {
     let style = Style { delimiter: original.delimiter, formats, raw: false };
@@ -519,7 +518,7 @@ pub struct Style<'a> {
     /// written with a decimal comma (`0,8`), as such a spreadsheet reads them.
     pub delimiter: u8,
     /// The sheet's number formats by cell: values are written as the cells show them.
-    pub formats: Option<&'a HashMap<Pos, String>>,
+    pub formats: Option<&'a LooksByCell<String>>,
     /// Numbers in full precision (the shortest text that reads back as the same number).
     pub raw: bool,
 }

@@ -84,7 +84,7 @@ impl SheetState {
     fn from_look(look: &SheetLook) -> SheetState {
         SheetState {
             formats: look.number_formats.iter().map(|(p, c)| (*p, Rc::from(c.as_str()))).collect(),
-            styles: look.cell_styles.clone(),
+            styles: look.cell_styles.iter().map(|(p, s)| (*p, *s)).collect(),
             lines: Vec::new(),
             widths: look.column_widths.iter().copied().collect(),
             heights: look.row_heights.iter().copied().collect(),

@@ -4,6 +4,7 @@
 //! Nothing here changes a value.
 
 use std::collections::{BTreeMap, HashMap};
+use std::hash::Hash;
 
 use crate::eval::format::cell_style::CellStyle;
 use crate::formula::address::Pos;
@@ -14,9 +15,9 @@ use super::{Axis, SheetEdit};
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SheetLook {
     /// Cells with a number format other than General, with its format code.
-    pub number_formats: HashMap<Pos, String>,
+    pub number_formats: LooksByCell<String>,
     /// Cells with more style than the Normal style (alignment, bold, fill …).
-    pub cell_styles: HashMap<Pos, CellStyle>,
+    pub cell_styles: LooksByCell<CellStyle>,
     /// Column → width in characters of the Normal font's digits, as stored in the file and
     /// as `ColumnWidth` gives it.
     pub column_widths: Vec<(u16, f64)>,
@@ -29,8 +30,8 @@ impl SheetLook {
     /// column's width and each row's height go where their cells went (Excel moves them
     /// with the cells); a deleted one's dropped.
     pub fn follow(&mut self, edit: &SheetEdit) {
-        follow_cells(&mut self.number_formats, edit);
-        follow_cells(&mut self.cell_styles, edit);
+        self.number_formats.follow(edit);
+        self.cell_styles.follow(edit);
         match edit.axis {
             Axis::Columns => self.column_widths = follow_columns(std::mem::take(&mut self.column_widths), edit),
             Axis::Rows => self.row_heights = follow_rows(std::mem::take(&mut self.row_heights), edit),
@@ -56,6 +57,143 @@ impl SheetLook {
     }
 }
 
+/// A look (a format code, a style) by cell, each distinct look kept once and each cell
+/// holding its look's index, the cells in order: a sheet styles a million cells with a
+/// handful of looks, and a copy of the look in every cell of a hash map cost a hundred MiB.
+/// A reader gives all its cells at once (`collect`); an edit's cell goes in between others,
+/// moving those after it.
+#[derive(Clone, Debug)]
+pub struct LooksByCell<T> {
+    /// (cell, index into `distinct`), in the order of the cells.
+    cells: Vec<(Pos, u32)>,
+    distinct: Vec<T>,
+    index_of: HashMap<T, u32>,
+}
+
+impl<T> Default for LooksByCell<T> {
+    fn default() -> Self {
+        LooksByCell { cells: Vec::new(), distinct: Vec::new(), index_of: HashMap::new() }
+    }
+}
+
+impl<T: Clone + Eq + Hash> LooksByCell<T> {
+    /// `pos` gets `look` (in place of the one it had).
+    pub fn insert(&mut self, pos: Pos, look: T) {
+        let index = self.index_for(&look);
+        match self.cells.binary_search_by_key(&pos, |&(p, _)| p) {
+            Ok(at) => self.cells[at].1 = index,
+            Err(at) => self.cells.insert(at, (pos, index)),
+        }
+    }
+
+    fn index_for(&mut self, look: &T) -> u32 {
+        if let Some(&index) = self.index_of.get(look) {
+            return index;
+        }
+        // A sheet holds fewer cells than 2^32 in memory, so fewer distinct looks.
+        let index = u32::try_from(self.distinct.len()).expect("fewer distinct looks than cells");
+        self.distinct.push(look.clone());
+        self.index_of.insert(look.clone(), index);
+        index
+    }
+}
+
+impl<T> LooksByCell<T> {
+    pub fn get(&self, pos: &Pos) -> Option<&T> {
+        let at = self.cells.binary_search_by_key(pos, |&(p, _)| p).ok()?;
+        Some(&self.distinct[self.cells[at].1 as usize])
+    }
+
+    pub fn contains_key(&self, pos: &Pos) -> bool {
+        self.get(pos).is_some()
+    }
+
+    /// The cells with a look, by row and column.
+    pub fn keys(&self) -> impl Iterator<Item = &Pos> {
+        self.cells.iter().map(|(pos, _)| pos)
+    }
+
+    /// Each cell with its look, by row and column.
+    pub fn iter(&self) -> impl Iterator<Item = (&Pos, &T)> {
+        self.cells.iter().map(|(pos, index)| (pos, &self.distinct[*index as usize]))
+    }
+
+    pub fn len(&self) -> usize {
+        self.cells.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.cells.is_empty()
+    }
+
+    /// How many different looks the cells share.
+    pub fn distinct_len(&self) -> usize {
+        self.distinct.len()
+    }
+
+    /// Each look moved with its cell by `edit`; a deleted cell's dropped.
+    pub fn follow(&mut self, edit: &SheetEdit) {
+        let cells = std::mem::take(&mut self.cells).into_iter();
+        self.cells = cells.filter_map(|(pos, index)| Some((edit.moved(pos)?, index))).collect();
+        // Cells moved down a band of columns pass cells beside them.
+        self.cells.sort_unstable_by_key(|&(pos, _)| pos);
+    }
+}
+
+/// Two tables are equal when every cell has the same look, however their looks are numbered.
+impl<T: PartialEq> PartialEq for LooksByCell<T> {
+    fn eq(&self, other: &Self) -> bool {
+        self.len() == other.len() && self.iter().zip(other.iter()).all(|(a, b)| a == b)
+    }
+}
+
+impl<T> std::ops::Index<&Pos> for LooksByCell<T> {
+    type Output = T;
+
+    fn index(&self, pos: &Pos) -> &T {
+        self.get(pos).expect("the cell has a look")
+    }
+}
+
+/// The cells in any order; a cell given twice keeps its last look, as a map's would.
+impl<T: Clone + Eq + Hash> FromIterator<(Pos, T)> for LooksByCell<T> {
+    fn from_iter<I: IntoIterator<Item = (Pos, T)>>(given: I) -> Self {
+        let mut table = LooksByCell::default();
+        let cells = given.into_iter().map(|(pos, look)| (pos, table.index_for(&look))).collect();
+        table.with_cells(cells)
+    }
+}
+
+/// Borrowed looks, each copied once however many cells share it (a reader's million cells
+/// and its handful of styles).
+impl<'a, T: Clone + Eq + Hash + 'a> FromIterator<(Pos, &'a T)> for LooksByCell<T> {
+    fn from_iter<I: IntoIterator<Item = (Pos, &'a T)>>(given: I) -> Self {
+        let mut table = LooksByCell::default();
+        let cells = given.into_iter().map(|(pos, look)| (pos, table.index_for(look))).collect();
+        table.with_cells(cells)
+    }
+}
+
+impl<T> LooksByCell<T> {
+    /// The table holding `cells` (cell, index of its look), put in order; of a cell given
+    /// twice the later one is kept.
+    fn with_cells(mut self, mut cells: Vec<(Pos, u32)>) -> Self {
+        // Stable (and quick on cells already in order, as a file gives them), so that the
+        // later of a cell given twice comes last.
+        cells.sort_by_key(|&(pos, _)| pos);
+        cells.dedup_by(|later, kept| {
+            let same = later.0 == kept.0;
+            if same {
+                kept.1 = later.1;
+            }
+            same
+        });
+        cells.shrink_to_fit();
+        self.cells = cells;
+        self
+    }
+}
+
 /// What is kept by cell moved with its cell by `edit`; a deleted cell's dropped.
 pub fn follow_cells<T>(map: &mut HashMap<Pos, T>, edit: &SheetEdit) {
     *map = std::mem::take(map).into_iter().filter_map(|(p, v)| edit.moved(p).map(|to| (to, v))).collect();
@@ -73,4 +211,66 @@ pub fn follow_columns<C: FromIterator<(u16, f64)>>(
 /// Rows' heights moved by an edit of rows; a deleted row's dropped.
 pub fn follow_rows<C: FromIterator<(u32, f64)>>(heights: impl IntoIterator<Item = (u32, f64)>, edit: &SheetEdit) -> C {
     heights.into_iter().filter_map(|(row, h)| Some((edit.moved_line(row)?, h))).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn bold() -> CellStyle {
+        CellStyle { bold: true, ..CellStyle::default() }
+    }
+
+    #[test]
+    fn a_thousand_cells_sharing_one_look_keep_it_once() {
+        let mut styles = LooksByCell::default();
+        let mut formats = LooksByCell::default();
+        for row in 0..1000 {
+            styles.insert(Pos::new(row, 2), bold());
+            formats.insert(Pos::new(row, 2), "0.000".to_string());
+        }
+        assert_eq!((styles.len(), styles.distinct_len()), (1000, 1));
+        assert_eq!((formats.len(), formats.distinct_len()), (1000, 1));
+        assert_eq!(styles.get(&Pos::new(999, 2)), Some(&bold()));
+        assert_eq!(formats.get(&Pos::new(0, 2)).map(String::as_str), Some("0.000"));
+        assert_eq!(styles.get(&Pos::new(0, 3)), None);
+    }
+
+    #[test]
+    fn a_cell_given_a_new_look_shows_it_and_the_others_keep_theirs() {
+        let mut formats: LooksByCell<String> =
+            [(Pos::new(0, 0), "0.0"), (Pos::new(1, 0), "0.0")].into_iter().map(|(p, c)| (p, c.to_string())).collect();
+        formats.insert(Pos::new(1, 0), "0%".to_string());
+        assert_eq!(formats.get(&Pos::new(0, 0)).map(String::as_str), Some("0.0"));
+        assert_eq!(formats[&Pos::new(1, 0)], "0%");
+        assert_eq!((formats.len(), formats.distinct_len()), (2, 2));
+    }
+
+    #[test]
+    fn looks_move_with_their_cells_when_rows_go_in_and_out() {
+        let mut styles: LooksByCell<CellStyle> =
+            [(Pos::new(0, 0), bold()), (Pos::new(3, 0), bold())].into_iter().collect();
+        // Two rows inserted above row 2 (0-based 1): A4 goes to A6, A1 stays.
+        styles.follow(&SheetEdit::rows(1, 2, true));
+        assert_eq!(
+            styles.keys().copied().collect::<std::collections::BTreeSet<_>>(),
+            [Pos::new(0, 0), Pos::new(5, 0)].into()
+        );
+        // Row 1 deleted: its cell's look goes with it, A6 moves up to A5.
+        styles.follow(&SheetEdit::rows(0, 1, false));
+        assert_eq!(styles.iter().map(|(p, s)| (*p, *s)).collect::<Vec<_>>(), vec![(Pos::new(4, 0), bold())]);
+    }
+
+    #[test]
+    fn tables_compare_by_each_cells_look_not_by_how_looks_are_numbered() {
+        let (a, b) = (Pos::new(0, 0), Pos::new(5, 1));
+        let one: LooksByCell<String> = [(a, "0.0".to_string()), (b, "0%".to_string())].into_iter().collect();
+        let other: LooksByCell<String> = [(b, "0%".to_string()), (a, "0.0".to_string())].into_iter().collect();
+        assert_eq!(one, other);
+        let twice: LooksByCell<String> =
+            [(b, "0.0".to_string()), (a, "0.0".to_string()), (b, "0%".to_string())].into_iter().collect();
+        assert_eq!(twice, one, "the last look given a cell is kept");
+        let third: LooksByCell<String> = [(a, "0%".to_string()), (b, "0.0".to_string())].into_iter().collect();
+        assert_ne!(one, third);
+    }
 }

@@ -35,7 +35,7 @@ mod udf;
 pub use cycles::Iteration;
 use graph::{Deps, FxMap, RangeIndex};
 use links::for_each_pos;
-pub use look::SheetLook;
+pub use look::{LooksByCell, SheetLook};
 pub use problems::{Problem, ProblemKind};
 use shared::{key_offset, relative_key_into, shape_of, text_offset, FormulaStore, SharedFormula};
 use sheet::Sheet;

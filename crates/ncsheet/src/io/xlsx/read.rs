@@ -1011,15 +1011,10 @@ fn sheet_layout(scan: &SheetScan, looks: &[StyleLook]) -> SheetLayout {
             layout.look.column_widths.extend((first..=last).map(|c| (c as u16, width)));
         }
     }
-    for &(pos, style) in &scan.styled {
-        let Some(look) = looks.get(style as usize) else { continue };
-        if let Some(code) = &look.format {
-            layout.look.number_formats.insert(pos, code.clone());
-        }
-        if !look.style.is_plain() {
-            layout.look.cell_styles.insert(pos, look.style);
-        }
-    }
+    let styled = || scan.styled.iter().filter_map(|&(pos, style)| Some((pos, looks.get(style as usize)?)));
+    layout.look.number_formats = styled().filter_map(|(pos, look)| Some((pos, look.format.as_ref()?))).collect();
+    layout.look.cell_styles =
+        styled().filter(|(_, look)| !look.style.is_plain()).map(|(pos, look)| (pos, &look.style)).collect();
     layout.look.row_heights = scan.row_heights.clone();
     layout
 }
