@@ -584,3 +584,45 @@ fn xlsb_and_ods_packages_with_two_entries_of_one_name_are_refused_naming_it() {
         assert!(error.contains(&format!("{name}: the package holds two entries of this name")), "{error}");
     }
 }
+
+/// One cell holding the number 1.
+const ODS_VALUE_CELL: &str =
+    r#"<table:table-cell office:value-type="float" office:value="1"><text:p>1</text:p></table:table-cell>"#;
+
+/// A value past the sheet's edge (column 16,385 after 16,384 repeated blanks, row 1,048,577
+/// after 1,048,576 repeated rows) was dropped by calamine without a word: the file opened as
+/// an empty sheet (issue 30). LibreOffice warns that such data could not be loaded completely;
+/// ncsheet refuses the file naming the sheet and the place. The last row and column still open.
+#[test]
+fn ods_values_past_the_sheets_edge_are_refused_naming_the_place() {
+    let blank_columns = r#"<table:table-cell table:number-columns-repeated="16384"/>"#;
+    let past_columns = format!("<table:table-row>{blank_columns}{}</table:table-row>", ODS_VALUE_CELL);
+    let error = open(ods_with_rows(&past_columns), Format::Ods).err().expect("refused");
+    assert!(error.contains("content.xml: sheet 'S': a cell holding a value at row 1, column 16385"), "{error}");
+    let blank_rows = r#"<table:table-row table:number-rows-repeated="1048576"><table:table-cell/></table:table-row>"#;
+    let error = open(ods_with_rows(&format!("{blank_rows}{ODS_ONE}")), Format::Ods).err().expect("refused");
+    assert!(error.contains("sheet 'S': a cell holding a value at row 1048577, column 1"), "{error}");
+
+    let last_row = r#"<table:table-row table:number-rows-repeated="1048575"><table:table-cell/></table:table-row>"#;
+    let opened = open(ods_with_rows(&format!("{last_row}{ODS_ONE}")), Format::Ods).unwrap();
+    assert_eq!(opened.workbook.value(0, parse_cell("A1048576").unwrap()), Value::Number(1.0));
+    let last_column = format!(
+        r#"<table:table-row><table:table-cell table:number-columns-repeated="16383"/>{}</table:table-row>"#,
+        ODS_VALUE_CELL
+    );
+    let opened = open(ods_with_rows(&last_column), Format::Ods).unwrap();
+    assert_eq!(opened.workbook.value(0, parse_cell("XFD1").unwrap()), Value::Number(1.0));
+}
+
+/// Errors calamine gives naming no part ("Xml error: at 0..0: unrecognized entity `&i;`",
+/// "Parse integer error") name content.xml and what is wrong: an entity a DOCTYPE declares
+/// (a billion-laughs bomb among them) and a repeat count that is no count.
+#[test]
+fn ods_entities_and_bad_counts_are_refused_naming_the_part() {
+    let laughs = r#"<table:table-row><table:table-cell office:value-type="string"><text:p>&lol9;</text:p></table:table-cell></table:table-row>"#;
+    let error = open(ods_with_rows(laughs), Format::Ods).err().expect("refused");
+    assert!(error.contains("content.xml: the XML is not well-formed: unknown entity &lol9;"), "{error}");
+    let negative = r#"<table:table-row><table:table-cell table:number-columns-repeated="-5"/></table:table-row>"#;
+    let error = open(ods_with_rows(negative), Format::Ods).err().expect("refused");
+    assert!(error.contains(r#"content.xml: sheet 'S': number-columns-repeated="-5" is not a count"#), "{error}");
+}

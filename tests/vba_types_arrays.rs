@@ -127,3 +127,52 @@ fn members_of_items_of_class_objects() {
     let out: Vec<String> = run_with_classes(main, &[("Piece", PIECE_CLS)]).printed;
     assert_eq!(out, ["inner inner", "renamed", "again", "again"]);
 }
+
+const NESTED_TYPES: &str = "Type TInner\n    v() As Double\n    w() As Variant\n    f(1 To 3) As Long\nEnd Type\n\
+    Type TOuter\n    inner As TInner\n    n As Long\n    xs() As Long\nEnd Type\n";
+
+// "ReDim statement": ReDim sizes a dynamic array, `Preserve` keeping its items; a Type's
+// field that is a dynamic array is such an array, in a Type nested in another too
+// ([MS-VBAL] 5.4.3.3: the ReDim target is a member access of any depth naming a resizable
+// array). Assigning a Type copies it ("Type statement": a UDT is a value), so resizing the
+// copy's field leaves the original's.
+#[test]
+fn redim_sizes_an_array_field_of_a_nested_type() {
+    let src = format!(
+        "{NESTED_TYPES}Sub Main()\n    Dim o As TOuter, p As TOuter\n    ReDim o.xs(1 To 3)\n    o.xs(2) = 5\n\
+         \x20   ReDim Preserve o.xs(1 To 4)\n    Debug.Print o.xs(2); UBound(o.xs)\n\
+         \x20   ReDim o.inner.v(2)\n    o.inner.v(1) = 2.5\n    ReDim Preserve o.inner.v(5)\n\
+         \x20   Debug.Print o.inner.v(1); LBound(o.inner.v); UBound(o.inner.v)\n\
+         \x20   ReDim o.inner.v(1 To 2)\n    Debug.Print o.inner.v(1); UBound(o.inner.v)\n\
+         \x20   p = o\n    ReDim Preserve p.inner.v(1 To 3)\n    p.inner.v(3) = 7\n\
+         \x20   Debug.Print UBound(o.inner.v); UBound(p.inner.v); p.inner.v(3)\nEnd Sub\n"
+    );
+    assert_eq!(printed(&src), [" 5  4", " 2.5  0  5", " 0  2", " 2  3  7"]);
+}
+
+// "ReDim statement": a fixed-size array (`f(1 To 3) As Long`) cannot be resized, and only
+// an array can: each refusal names the field, and nothing is resized.
+#[test]
+fn redim_of_a_nested_field_that_is_no_dynamic_array_is_refused() {
+    for (target, why) in
+        [("o.inner.f(5)", "no dynamic array field"), ("o.n.v(5)", "no Type value"), ("o.inner.zz(5)", "no field zz")]
+    {
+        let src = format!("{NESTED_TYPES}Sub Main()\n    Dim o As TOuter\n    ReDim {target}\nEnd Sub\n");
+        let e = run_result(&src).unwrap_err();
+        assert!(e.message.contains(why), "{target}: {e}");
+    }
+}
+
+// "TypeName function": "If varname is an array, the returned string can be any one of the
+// possible returned strings (or Variant) with empty parentheses appended"; a Type's array
+// field is an array of its declared type: `v() As Double` is "Double()", `w() As Variant`
+// "Variant()", `f(1 To 3) As Long` "Long()".
+#[test]
+fn typename_of_a_types_array_field_names_its_item_type() {
+    let src = format!(
+        "{NESTED_TYPES}Sub Main()\n    Dim o As TOuter\n    ReDim o.inner.v(2)\n\
+         \x20   Debug.Print TypeName(o.xs); \" \"; TypeName(o.inner.v); \" \"; TypeName(o.inner.w); \" \"; \
+         TypeName(o.inner.f)\nEnd Sub\n"
+    );
+    assert_eq!(printed(&src), ["Long() Double() Variant() Long()"]);
+}

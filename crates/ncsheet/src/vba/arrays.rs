@@ -515,6 +515,19 @@ impl Interp<'_, '_> {
     /// `p.x` or `pts(i).x` where the field is an array: the array with its own bounds
     /// (`UBound(p.x)` with `x(1 To 100)`), when the path starts at a Type variable.
     fn array_field(&self, ctx: &mut Ctx, path: &super::ast::Path) -> Run<Option<Var>> {
+        Ok(self.typed_array_field(ctx, path)?.map(|(array, _)| array))
+    }
+
+    /// `TypeName(p.x)`: the array field `p.x` with its items' declared type ("Variant" for
+    /// `x() As Variant`, "Double" for `x(1 To 3) As Double`); `None` for any other path.
+    pub(super) fn array_field_items(&self, e: &Expr) -> Run<Option<(Var, Ty)>> {
+        let ExprKind::Host(id) = &e.kind else { return Ok(None) };
+        let Node::Path(path) = &self.module.nodes[*id as usize] else { return Ok(None) };
+        self.typed_array_field(&mut self.ctx(), path)
+    }
+
+    /// [`Interp::array_field`] with the field's declared item type.
+    fn typed_array_field(&self, ctx: &mut Ctx, path: &super::ast::Path) -> Run<Option<(Var, Ty)>> {
         let (Some(first), Some(last)) = (path.links.first(), path.links.last()) else { return Ok(None) };
         let at_record = match self.lookup(&first.name) {
             Some(Var::Record(..)) => true,
@@ -535,7 +548,8 @@ impl Interp<'_, '_> {
         };
         let Some(i) = self.module.types[ty].field(&last.name) else { return Ok(None) };
         at.push(i);
-        Ok(self.record_field(&var, &at).filter(|f| matches!(f, Var::Array(_))))
+        let items = self.module.types[ty].fields[i].1.clone();
+        Ok(self.record_field(&var, &at).filter(|f| matches!(f, Var::Array(_))).map(|array| (array, items)))
     }
 }
 

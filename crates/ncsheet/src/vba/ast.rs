@@ -321,7 +321,9 @@ pub struct VarDecl {
     /// `Dim c As New Collection`: the object the variable starts with.
     pub new: Option<Made>,
     pub span: Span,
-    /// `ReDim p.v(5)`: the array field of the Type variable `name` that ReDim sizes.
+    /// `ReDim p.v(5)`: the array field of the Type variable `name` that ReDim sizes; the
+    /// fields leading to it joined by dots for a field of a nested Type (`ReDim p.inner.v(5)`:
+    /// `inner.v`).
     pub field: Option<Rc<str>>,
 }
 

@@ -1666,31 +1666,50 @@ impl Interp<'_, '_> {
         Ok(())
     }
 
-    /// `ReDim [Preserve] p.v(n)`: new bounds for the dynamic array field `v` of the Type
-    /// variable `p` ("ReDim statement"; a field declared with its bounds keeps them).
+    /// `ReDim [Preserve] p.v(n)`, `ReDim p.inner.v(n)`: new bounds for the dynamic array field
+    /// `v` of the Type variable `p`, or of a Type field of it ("ReDim statement"; a field
+    /// declared with its bounds keeps them).
     fn redim_field(&self, d: &VarDecl, field: &str, preserve: bool) -> Run<()> {
-        let Some(Var::Record(t, fields)) = self.lookup(&d.name) else {
+        let Some(Var::Record(mut t, _)) = self.lookup(&d.name) else {
             return Err(self.fault_at(d.span, format!("ReDim {}.{field}: {} is not a Type variable", d.name, d.name)));
         };
+        let names: Vec<&str> = field.split('.').collect();
+        let mut path = Vec::new();
+        for (n, name) in names.iter().enumerate() {
+            let def = &self.module.types[t];
+            let no_field = || format!("ReDim {}.{field}: {} has no field {name}", d.name, def.name);
+            let i = def.field(name).ok_or_else(|| self.fault_at(d.span, no_field()))?;
+            path.push(i);
+            match &def.fields[i].1 {
+                Ty::Record(inner) if n + 1 < names.len() && def.bounds[i].is_none() => t = *inner,
+                _ if n + 1 < names.len() => {
+                    let why = format!("ReDim {}.{field}: {}.{name} is no Type value", d.name, def.name);
+                    return Err(self.fault_at(d.span, why));
+                }
+                _ => {}
+            }
+        }
         let def = &self.module.types[t];
-        let i =
-            def.field(field).filter(|&i| def.bounds[i].as_ref().is_some_and(|b| b.is_empty())).ok_or_else(|| {
-                self.fault_at(
-                    d.span,
-                    format!("ReDim {}.{field}: {field} is no dynamic array field of {}", d.name, def.name),
-                )
-            })?;
+        let i = *path.last().expect("a field");
+        if !def.bounds[i].as_ref().is_some_and(|b| b.is_empty()) {
+            let last = names.last().expect("a field");
+            let why = format!("ReDim {}.{field}: {last} is no dynamic array field of {}", d.name, def.name);
+            return Err(self.fault_at(d.span, why));
+        }
         let dims = self.array_dims(d.bounds.as_deref().unwrap_or_default(), d.span)?;
         let mut array = self.array_with(&dims, Some(&def.fields[i].1))?;
-        if let (true, Var::Array(old)) = (preserve, &fields[i]) {
-            super::arrays::preserve_items(old, &mut array);
+        if let (true, Some(Var::Array(old))) = (preserve, self.record_field(&d.name, &path)) {
+            super::arrays::preserve_items(&old, &mut array);
         }
         let array = Var::Array(array);
         self.charge(super::budget::brought(&array), d.span)?;
         self.with_slot(&d.name, |slot| {
-            if let Var::Record(_, fields) = slot.var_mut() {
-                fields[i] = array;
+            let mut var = slot.var_mut();
+            for &i in &path {
+                let Var::Record(_, fields) = var else { return };
+                var = &mut fields[i];
             }
+            *var = array;
         });
         Ok(())
     }

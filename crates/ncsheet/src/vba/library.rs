@@ -201,6 +201,10 @@ impl Interp<'_, '_> {
                 return Ok(self.type_name_of(&var, ty.as_ref()));
             }
         }
+        // A Type's array field: its items' declared type ("Double()", "Variant()").
+        if let Some((array, items)) = self.array_field_items(arg)? {
+            return Ok(self.type_name_of(&array, Some(&items)));
+        }
         let var = self.var_of(arg, true)?;
         match &var {
             // A value answers its type, a number the type it is held with (`TypeName(x + 1)`),

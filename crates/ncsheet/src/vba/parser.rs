@@ -748,7 +748,7 @@ impl<'s> Build<'s> {
                 bounds: Some(bounds),
                 new: None,
                 span: self.span(start(&redim)),
-                field: Some(name_of(&names[1])),
+                field: Some(names[1..].iter().map(|n| n.as_str().trim()).collect::<Vec<_>>().join(".").into()),
             });
         }
         Ok(out)

@@ -9,6 +9,7 @@ use std::io::Cursor;
 use calamine::{Data, Ods, Reader};
 
 use crate::eval::Value;
+use crate::formula::address::{MAX_COLS, MAX_ROWS};
 use crate::io::limits::ReadLimits;
 use crate::io::xlsx::xml::{self, Event, StreamError, TagKind};
 use crate::io::xlsx::{check_entry_names, Inflating};
@@ -107,6 +108,12 @@ const VALUE_ATTRIBUTES: [&str; 7] =
 
 impl Extent {
     fn take(&mut self, event: Event) -> Result<(), String> {
+        if let Some(name) = unknown_entity(&event) {
+            // calamine would say only "unrecognized entity", naming no part.
+            return Err(format!(
+                "the XML is not well-formed: unknown entity &{name}; (ncsheet reads no DOCTYPE's entities)"
+            ));
+        }
         let tag = match event {
             Event::Text(text) | Event::CData(text) => {
                 if let Some(cell) = &mut self.cell {
@@ -116,7 +123,14 @@ impl Extent {
             }
             Event::Tag(tag) => tag,
         };
-        let count = |key: &str| tag.parsed::<u64>(key).unwrap_or(1);
+        // A count calamine cannot parse stops it naming no place: refused here, naming it.
+        let sheet = &self.sheet;
+        let count = |key: &str| match tag.attr(key) {
+            None => Ok(1),
+            Some(raw) => tag
+                .parsed::<u64>(key)
+                .ok_or_else(|| format!("sheet '{sheet}': {key}=\"{}\" is not a count", String::from_utf8_lossy(raw))),
+        };
         match (tag.name, tag.kind) {
             (b"table", TagKind::Start) => {
                 self.sheet = tag.attr("name").map(xml::unescape).unwrap_or_default();
@@ -124,7 +138,7 @@ impl Extent {
             }
             (b"table", TagKind::End) => self.end_sheet()?,
             (b"table-row", TagKind::Start | TagKind::Empty) => {
-                (self.rows, self.col, self.row_end) = (count("number-rows-repeated"), 0, 0);
+                (self.rows, self.col, self.row_end) = (count("number-rows-repeated")?, 0, 0);
                 if tag.kind == TagKind::Empty {
                     self.row = self.row.saturating_add(self.rows);
                 }
@@ -137,15 +151,15 @@ impl Extent {
             (b"table-cell" | b"covered-table-cell", TagKind::Start | TagKind::Empty) => {
                 let used = VALUE_ATTRIBUTES.iter().any(|key| tag.attr(key).is_some());
                 let text = ["string-value", "formula"].iter().filter_map(|key| tag.attr(key)).map(|v| v.len() as u64);
-                self.cell = Some((count("number-columns-repeated"), used, text.sum()));
+                self.cell = Some((count("number-columns-repeated")?, used, text.sum()));
                 if tag.kind == TagKind::Empty {
-                    self.end_cell();
+                    self.end_cell()?;
                 }
             }
-            (b"table-cell" | b"covered-table-cell", TagKind::End) => self.end_cell(),
+            (b"table-cell" | b"covered-table-cell", TagKind::End) => self.end_cell()?,
             (b"s", TagKind::Start | TagKind::Empty) => {
                 if let Some(cell) = &mut self.cell {
-                    cell.2 = cell.2.saturating_add(count("c"));
+                    cell.2 = cell.2.saturating_add(count("c")?);
                 }
             }
             _ => {}
@@ -153,17 +167,38 @@ impl Extent {
         Ok(())
     }
 
-    fn end_cell(&mut self) {
-        let Some((repeats, used, text)) = self.cell.take() else { return };
+    /// Counts the cell just read; one holding a value past the sheet's edge is refused, as
+    /// calamine's sheet would drop it without a word.
+    fn end_cell(&mut self) -> Result<(), String> {
+        let Some((repeats, used, text)) = self.cell.take() else { return Ok(()) };
         let last_col = self.col.saturating_add(repeats.max(1) - 1);
         if used {
             let last_row = self.row.saturating_add(self.rows.max(1) - 1);
+            self.within_the_sheet(last_row, last_col)?;
             let ((r0, r1), (c0, c1)) = self.used.unwrap_or(((self.row, last_row), (self.col, last_col)));
             self.used = Some(((r0.min(self.row), r1.max(last_row)), (c0.min(self.col), c1.max(last_col))));
             self.row_end = last_col.saturating_add(1);
             self.text = self.text.saturating_add(text.saturating_mul(repeats).saturating_mul(self.rows));
         }
         self.col = last_col.saturating_add(1);
+        Ok(())
+    }
+
+    /// An error naming the first place past the sheet's edge that the cell just read fills
+    /// (LibreOffice warns that the data could not be loaded completely, and drops it).
+    fn within_the_sheet(&self, last_row: u64, last_col: u64) -> Result<(), String> {
+        let (rows, cols) = (u64::from(MAX_ROWS), u64::from(MAX_COLS));
+        if last_row < rows && last_col < cols {
+            return Ok(());
+        }
+        let (row, col) = if last_row >= rows { (self.row.max(rows), self.col) } else { (self.row, self.col.max(cols)) };
+        Err(format!(
+            "sheet '{}': a cell holding a value at row {}, column {} lies past the edge of a sheet ({MAX_ROWS} rows \
+             and {MAX_COLS} columns), where it would be lost",
+            self.sheet,
+            row.saturating_add(1),
+            col.saturating_add(1)
+        ))
     }
 
     /// The sheet's used area is held whole, each of its rows repeated as often as it says.
@@ -201,6 +236,15 @@ impl Extent {
             ));
         }
         Ok(())
+    }
+}
+
+/// An entity reference in a text or an attribute that XML does not define itself.
+fn unknown_entity(event: &Event) -> Option<String> {
+    match event {
+        Event::Text(text) => xml::unknown_entity(text),
+        Event::Tag(tag) => tag.attrs().find_map(|(_, value)| xml::unknown_entity(value)),
+        Event::CData(_) => None,
     }
 }
 
