@@ -894,3 +894,25 @@ fn a_sheet_a_macro_adds_before_the_first_is_the_first_tab() {
     assert_eq!(summary["sheets"][1]["name"], "Notes", "{summary}");
     assert_eq!(summary["order"], serde_json::json!([1, 0]), "{summary}");
 }
+
+/// A save over the opened workbook is an edit in place (issue 30): another program that saved
+/// the file after the workbench read it (here a command's `set --in-place`, as a person would
+/// run beside the page) keeps its work, the save refused with a conflict and nothing written;
+/// once the page's work is saved elsewhere, nothing is lost. A save over a file no one else
+/// touched still goes through, and a second one after it too.
+#[test]
+fn saving_over_a_workbook_another_program_saved_meanwhile_is_refused() {
+    let bench = Bench::written("book.csv", "1,=A1*2\n", &[], Default::default());
+    let file = bench.file("book.csv");
+    std::fs::write(&file, "7,=A1*2\n").unwrap();
+    let (status, answer) = bench.post_json("/api/save", &serde_json::json!({ "name": "book.csv", "over": true }));
+    assert_eq!(status, 409, "{answer}");
+    assert!(answer["error"].as_str().unwrap().contains("changed since ncsheet read it"), "{answer}");
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "7,=A1*2\n", "the other program's work is kept");
+
+    let bench = Bench::written("book.csv", "1,=A1*2\n", &[], Default::default());
+    for _ in 0..2 {
+        let (status, answer) = bench.post_json("/api/save", &serde_json::json!({ "name": "book.csv", "over": true }));
+        assert_eq!(status, 200, "{answer}");
+    }
+}

@@ -165,11 +165,13 @@ impl DocumentThread {
         let path = path.to_path_buf();
         let reading = Reading::of(open);
         let thread = std::thread::Builder::new().name("workbook".into()).stack_size(DOCUMENT_STACK).spawn(move || {
+            // Taken before the read: a change while it reads is a change a save over it sees.
+            let read = ncsheet::io::atomic::ReadState::of(&path).ok();
             let mut bench = match Document::open_file(&path, &reading.options(&path)) {
                 Ok(mut doc) => {
                     // Each edit's recalculation gets the time a command gets.
                     doc.workbook_mut().settings_mut().functions.seconds_per_recalculation = timeout;
-                    Workbench::new(doc, path)
+                    Workbench::new(doc, path, read)
                 }
                 Err(e) => return drop(opened_tx.send(Err(e.to_string()))),
             };

@@ -78,13 +78,17 @@ pub struct Workbench {
     doc: Document,
     /// The file the document was opened from: the only file saved over, and only when asked.
     path: PathBuf,
+    /// That file as it was read (taken before the read), then as the last save over it left
+    /// it: a save over it is refused when another program has saved it since.
+    read: Option<atomic::ReadState>,
     undo: Vec<Step>,
     redo: Vec<Step>,
 }
 
 impl Workbench {
-    pub fn new(doc: Document, path: PathBuf) -> Workbench {
-        Workbench { doc, path, undo: Vec::new(), redo: Vec::new() }
+    /// The workbench of `doc`, read from `path` when the file was as `read` says.
+    pub fn new(doc: Document, path: PathBuf, read: Option<atomic::ReadState>) -> Workbench {
+        Workbench { doc, path, read, undo: Vec::new(), redo: Vec::new() }
     }
 
     pub fn document(&self) -> &Document {
@@ -374,11 +378,36 @@ impl Workbench {
 
     /// Saves beside the opened file under `name` (a bare file name: the server writes nowhere
     /// else), or over the opened file when `name` is its own and `over` says so.
-    pub fn save(&self, name: &str, over: bool, sheet: SheetId) -> Result<Json, Refused> {
+    pub fn save(&mut self, name: &str, over: bool, sheet: SheetId) -> Result<Json, Refused> {
         let target = self.save_target(name, over)?;
         let encoded = self.encoded_to(&target, sheet)?;
-        encoded.write(atomic::Options::default()).map_err(|e| refused(e.to_string()))?;
+        if target == self.path {
+            self.save_over(name, &encoded)?;
+        } else {
+            encoded.write(atomic::Options::default()).map_err(|e| refused(e.to_string()))?;
+        }
         Ok(json!({ "saved": target.to_string_lossy(), "losses": encoded.losses }))
+    }
+
+    /// Saves over the opened file as `set --in-place` does: after a command's edit of it in
+    /// progress (its lock), and only when no other program has saved the file since the
+    /// workbench read it, whose work the save would otherwise replace without a word.
+    fn save_over(&mut self, name: &str, encoded: &Encoded) -> Result<(), Refused> {
+        let lock = match atomic::EditLock::acquire(&self.path) {
+            Ok(lock) => Some(lock),
+            // A file removed meanwhile holds no one's work: the save makes it again.
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
+            Err(e) => return Err(refused(format!("{name}: cannot lock it for the save: {e}"))),
+        };
+        if let (Some(lock), Some(read)) = (&lock, &self.read) {
+            lock.unchanged_since(read).map_err(|e| Refused {
+                message: format!("{name}: {e}: save under another name, or open the file again"),
+                conflict: true,
+            })?;
+        }
+        encoded.write(atomic::Options::default()).map_err(|e| refused(e.to_string()))?;
+        self.read = atomic::ReadState::of(&self.path).ok();
+        Ok(())
     }
 
     fn save_target(&self, name: &str, over: bool) -> Result<PathBuf, Refused> {

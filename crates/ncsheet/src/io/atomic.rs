@@ -251,6 +251,33 @@ impl EditLock {
     }
 }
 
+impl EditLock {
+    /// Whether the file is still as it was in `read`, taken when a program that cannot hold
+    /// the lock that long (the workbench, open for hours) read it; an error saying so if not.
+    pub fn unchanged_since(&self, read: &ReadState) -> io::Result<()> {
+        match stamp_of(&self.target) {
+            Ok(now) if now == read.0 => Ok(()),
+            _ => Err(io::Error::other(
+                "changed since ncsheet read it (another program saved it meanwhile); nothing was written, \
+                 so that program's work is kept",
+            )),
+        }
+    }
+}
+
+/// A file's state as a program read it (which file, its size, modification time and a hash of
+/// its bytes), to check under an [`EditLock`] at a later save over it that no other program
+/// saved it meanwhile.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ReadState(Stamp);
+
+impl ReadState {
+    /// The state of the file `path` names (a symbolic link's file) now.
+    pub fn of(path: &Path) -> io::Result<ReadState> {
+        stamp_of(&resolve(path)?).map(ReadState)
+    }
+}
+
 /// The file's identity and a hash of its bytes, read in blocks.
 fn stamp_of(path: &Path) -> io::Result<Stamp> {
     use std::hash::Hasher;
