@@ -194,3 +194,44 @@ fn a_saved_book_keeps_the_tab_order_and_libreoffice_recomputes_the_same_values()
     let values = openpyxl_cells(&out.join("order.xlsx"), true);
     assert_eq!(values, "Sheet1 (2)|10|None\nSheet3|2|25\nSheet1|10|None\nSheet4|21|None\nSheet2|20|None\n");
 }
+
+// A 3-D reference (`Sheet1:Sheet3!A1`) means the sheets whose tabs lie between its ends
+// (Excel help, "Create a 3-D reference to the same cell range on multiple worksheets": moving
+// or inserting a sheet between the ends takes it into the reference). ncsheet reads it as
+// the list of the sheets between them when read, so a tab moved or added into or out of the
+// span is refused (run-time error 1004, naming the span); elsewhere it is allowed.
+#[test]
+fn a_tab_may_not_move_into_or_out_of_a_3d_reference_span() {
+    if !openpyxl_available() {
+        return;
+    }
+    let script = r#"
+import sys
+from openpyxl import Workbook
+wb = Workbook()
+wb.active.title = "Sheet1"
+for name in ["Sheet2", "Sheet3", "Sheet4"]:
+    wb.create_sheet(name)
+for name, v in [("Sheet1", 1), ("Sheet2", 2), ("Sheet3", 4)]:
+    wb[name]["A1"] = v
+wb["Sheet4"]["A1"] = "=SUM(Sheet1:Sheet3!A1)"
+wb.save(sys.argv[1])
+"#;
+    let dir = tempfile::tempdir().unwrap();
+    let book = dir.path().join("span.xlsx");
+    let out = Command::new("python3").arg("-c").arg(script).arg(&book).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let mut wb = ncsheet::io::load(&book).unwrap();
+    assert_eq!(get(&wb, 3, "A1"), Value::Number(7.0));
+    for body in ["    Sheets(\"Sheet4\").Move Before:=Sheets(\"Sheet2\")", "    Sheets.Add Before:=Sheets(\"Sheet3\")"]
+    {
+        let e = fails(&mut wb, body);
+        assert!(e.contains("1004") && e.contains("3-D reference") && e.contains("Sheet1:Sheet3"), "{e}");
+    }
+    let e = fails(&mut wb, "    Sheets(\"Sheet1\").Move After:=Sheets(\"Sheet4\")");
+    assert!(e.contains("Sheet1:Sheet3"), "{e}");
+    assert_eq!(wb.tab_names(), ["Sheet1", "Sheet2", "Sheet3", "Sheet4"]);
+    run(&mut wb, "    Sheets.Add Before:=Sheets(1)\n    Sheets(\"Sheet4\").Move Before:=Sheets(1)");
+    assert_eq!(wb.tab_names(), ["Sheet4", "Sheet5", "Sheet1", "Sheet2", "Sheet3"]);
+    assert_eq!(get(&wb, 3, "A1"), Value::Number(7.0));
+}

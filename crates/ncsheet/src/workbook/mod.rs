@@ -110,6 +110,8 @@ pub enum WorkbookError {
     BadName(String),
     /// A sheet more than a workbook can number (its ids are 16-bit).
     TooManySheets,
+    /// A tab moved or added into or out of a 3-D reference's span of sheets, and why.
+    SheetSpan(String),
     /// A formula (of a cell or a name) that does not parse; `text` is what was typed.
     Parse {
         place: String,
@@ -126,6 +128,7 @@ impl fmt::Display for WorkbookError {
             WorkbookError::BadName(s) => write!(f, "'{s}' cannot be a defined name"),
             WorkbookError::CannotShift(why) => write!(f, "cannot insert or delete cells: {why}"),
             WorkbookError::TooManySheets => write!(f, "a workbook holds at most {} sheets", MAX_SHEETS),
+            WorkbookError::SheetSpan(why) => write!(f, "{why}"),
             WorkbookError::Parse { place, text, error } => write!(f, "{place}: {}", error.render(text)),
         }
     }
@@ -140,7 +143,7 @@ pub struct Workbook {
     /// (adding a sheet, `Sheet7!A1`, INDIRECT) without reading every name.
     sheet_index: FxMap<String, SheetId>,
     /// The sheets' ids in tab order (`tabs.rs`): an id is fixed, a tab can move.
-    tabs: Vec<SheetId>,
+    tabs: tabs::Tabs,
     cells: Vec<Cell>,
     formulas: FormulaStore,
     ranges: RangeIndex,
@@ -280,7 +283,7 @@ impl Workbook {
         }
         self.sheets.push(Sheet::new(name));
         self.sheet_index.insert(name.to_ascii_lowercase(), (self.sheets.len() - 1) as SheetId);
-        self.tabs.push((self.sheets.len() - 1) as SheetId);
+        self.tabs.order.push((self.sheets.len() - 1) as SheetId);
         if let Some(log) = &mut self.changes {
             log.sheets = true;
         }

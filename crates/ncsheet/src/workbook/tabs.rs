@@ -8,30 +8,51 @@ use crate::formula::ast::{ExprKind, SheetId};
 
 use super::{Workbook, WorkbookError, NO_FORMULA};
 
+/// The tab order, and what holds it in place.
+#[derive(Default)]
+pub(super) struct Tabs {
+    /// The sheets' ids in tab order.
+    pub(super) order: Vec<SheetId>,
+    /// The sheet spans (first, last) of the file's 3-D references (`Sheet1:Sheet3!A1`). Such
+    /// a reference means the sheets whose tabs lie between its ends, and was read as the list
+    /// of the sheets between them then: a tab moved or added in or out of a span would make
+    /// Excel's reference take other sheets, so it is refused.
+    spans: Vec<(SheetId, SheetId)>,
+}
+
 impl Workbook {
     /// The sheets' ids in tab order: the order Excel shows them and a saved file lists them.
     pub fn tab_order(&self) -> &[SheetId] {
-        &self.tabs
+        &self.tabs.order
     }
 
     /// The sheets' names in tab order.
     pub fn tab_names(&self) -> Vec<String> {
         let names = self.sheet_names();
-        self.tabs.iter().map(|&s| names[s as usize].clone()).collect()
+        self.tabs.order.iter().map(|&s| names[s as usize].clone()).collect()
     }
 
     /// Where `sheet` shows among the tabs, from 0; `None` for a sheet the workbook has not.
     pub fn tab_position(&self, sheet: SheetId) -> Option<usize> {
         // Sheets that were never moved sit at their own number: no search.
-        if self.tabs.get(sheet as usize) == Some(&sheet) {
+        if self.tabs.order.get(sheet as usize) == Some(&sheet) {
             return Some(sheet as usize);
         }
-        self.tabs.iter().position(|&s| s == sheet)
+        self.tabs.order.iter().position(|&s| s == sheet)
     }
 
     /// The sheet showing at tab `position` (from 0).
     pub fn sheet_at_tab(&self, position: usize) -> Option<SheetId> {
-        self.tabs.get(position).copied()
+        self.tabs.order.get(position).copied()
+    }
+
+    /// Notes that a formula of the file was read from a 3-D reference spanning the tabs from
+    /// `first` to `last` (its list of sheets): no tab may then move or be added in or out of
+    /// the span.
+    pub fn note_sheet_span(&mut self, first: SheetId, last: SheetId) {
+        if first != last && !self.tabs.spans.contains(&(first, last)) {
+            self.tabs.spans.push((first, last));
+        }
     }
 
     /// Moves `sheet`'s tab so that it shows at `position` (from 0, among all the tabs; past
@@ -41,10 +62,13 @@ impl Workbook {
         let Some(from) = self.tab_position(sheet) else {
             return Err(WorkbookError::NoSuchSheet(format!("number {}", sheet as usize + 1)));
         };
-        let to = position.min(self.tabs.len() - 1);
+        let to = position.min(self.tabs.order.len() - 1);
         if from != to {
-            self.tabs.remove(from);
-            self.tabs.insert(to, sheet);
+            let mut order = self.tabs.order.clone();
+            order.remove(from);
+            order.insert(to, sheet);
+            self.check_spans(&order)?;
+            self.tabs.order = order;
             self.tabs_moved();
         }
         Ok(())
@@ -53,7 +77,7 @@ impl Workbook {
     /// Adds empty sheets named `names`, their tabs side by side from `position` (from 0; past
     /// the last means last), and returns their ids in that order.
     pub fn insert_sheets(&mut self, names: &[String], position: usize) -> Result<Vec<SheetId>, WorkbookError> {
-        // All or nothing: every name is checked before the first sheet is added.
+        // All or nothing: every name and the place are checked before the first sheet is added.
         if self.sheets.len() + names.len() > super::MAX_SHEETS {
             return Err(WorkbookError::TooManySheets);
         }
@@ -63,17 +87,51 @@ impl Workbook {
                 return Err(WorkbookError::DuplicateSheet(name.clone()));
             }
         }
+        let at = position.min(self.tabs.order.len());
+        let new_ids = (self.sheets.len()..self.sheets.len() + names.len()).map(|id| id as SheetId);
+        let mut order = self.tabs.order.clone();
+        order.splice(at..at, new_ids);
+        self.check_spans(&order)?;
         let mut ids = Vec::with_capacity(names.len());
         for name in names {
             ids.push(self.add_sheet(name)?);
         }
-        let at = position.min(self.tabs.len() - ids.len());
-        if at + ids.len() < self.tabs.len() {
-            self.tabs.truncate(self.tabs.len() - ids.len());
-            self.tabs.splice(at..at, ids.iter().copied());
+        let moved = at < self.tabs.order.len() - ids.len();
+        self.tabs.order = order;
+        if moved {
             self.tabs_moved();
         }
         Ok(ids)
+    }
+
+    /// Refuses a tab order in which a 3-D reference of the file would span other sheets than
+    /// it was read with.
+    fn check_spans(&self, order: &[SheetId]) -> Result<(), WorkbookError> {
+        let members = |order: &[SheetId], (a, b): (SheetId, SheetId)| {
+            let at = |s| order.iter().position(|&t| t == s).unwrap_or(0);
+            let (i, j) = (at(a).min(at(b)), at(a).max(at(b)));
+            let mut sheets = order[i..=j].to_vec();
+            sheets.sort_unstable();
+            sheets
+        };
+        for &span in &self.tabs.spans {
+            let (was, would) = (members(&self.tabs.order, span), members(order, span));
+            if was != would {
+                let names = self.sheet_names();
+                let name = |s: &SheetId| names.get(*s as usize).map_or("a new sheet", String::as_str);
+                let listed = |ids: &[SheetId]| ids.iter().map(name).collect::<Vec<_>>().join(", ");
+                return Err(WorkbookError::SheetSpan(format!(
+                    "a 3-D reference of the file ({}:{}) takes the sheets between its ends, read as {}; with \
+                     this order it would take {}, and Excel's result would change: move or add the sheet \
+                     outside the span",
+                    names[span.0 as usize],
+                    names[span.1 as usize],
+                    listed(&was),
+                    listed(&would),
+                )));
+            }
+        }
+        Ok(())
     }
 
     /// After tabs moved: a file saved back has to list its sheets anew, and SHEET reads the
@@ -168,5 +226,21 @@ mod tests {
         assert!(wb.changes().unwrap().sheets);
         assert_eq!(wb.tab_names(), ["B", "A"]);
         assert!(matches!(wb.move_sheet(7, 0), Err(WorkbookError::NoSuchSheet(_))));
+    }
+
+    // A 3-D reference takes the sheets whose tabs lie between its ends.
+    #[test]
+    fn a_tab_cannot_cross_the_ends_of_a_3d_span() {
+        let mut wb = book(&["A", "B", "C", "D", "E"]);
+        wb.note_sheet_span(0, 3);
+        assert!(matches!(wb.move_sheet(4, 1), Err(WorkbookError::SheetSpan(_))));
+        assert!(matches!(wb.move_sheet(1, 4), Err(WorkbookError::SheetSpan(_))));
+        assert!(matches!(wb.insert_sheets(&["N".into()], 2), Err(WorkbookError::SheetSpan(_))));
+        assert_eq!((wb.sheet_len(), wb.tab_names()), (5, ["A", "B", "C", "D", "E"].map(String::from).to_vec()));
+        // Within the span, or at its edges, the same sheets stay between its ends.
+        wb.move_sheet(1, 2).unwrap();
+        wb.insert_sheets(&["N".into()], 0).unwrap();
+        wb.move_sheet(4, 6).unwrap();
+        assert_eq!(wb.tab_names(), ["N", "A", "C", "B", "D", "E"]);
     }
 }

@@ -8,12 +8,12 @@ use std::borrow::Cow;
 
 /// The formula text with each 3D reference spelled as the list of its sheets' references;
 /// `sheets` are the workbook's sheet names in tab order. A span whose ends are not both
-/// sheets stays as it is.
-pub fn expand_sheet_spans<'t>(text: &'t str, sheets: &[String]) -> Cow<'t, str> {
+/// sheets stays as it is. `spanned(first, last)` is told the tabs of each span expanded.
+pub fn expand_sheet_spans<'t>(text: &'t str, sheets: &[String], spanned: &mut dyn FnMut(usize, usize)) -> Cow<'t, str> {
     if sheets.len() < 2 || !text.contains(':') || !text.contains('!') {
         return Cow::Borrowed(text);
     }
-    replace_tokens(text, |at| span_at(text, at, sheets))
+    replace_tokens(text, |at| span_at(text, at, sheets, spanned))
 }
 
 /// The formula text with each token `replace` knows (given where it starts, outside text
@@ -99,7 +99,7 @@ pub fn ref_errors_without_sheet(text: &str) -> Cow<'_, str> {
 }
 
 /// `first:last!ref` starting at `at`: where it ends and its expansion.
-fn span_at(text: &str, at: usize, sheets: &[String]) -> Option<(usize, String)> {
+fn span_at(text: &str, at: usize, sheets: &[String], spanned: &mut dyn FnMut(usize, usize)) -> Option<(usize, String)> {
     let (first, after_first) = sheet_name(text, at)?;
     let (first, last, after_last) = match first.split_once(':') {
         // Excel quotes the pair as one: `'Jan 1:Mar''s'!B2` (a sheet name has no `:`).
@@ -119,6 +119,7 @@ fn span_at(text: &str, at: usize, sheets: &[String]) -> Option<(usize, String)> 
     let index = |name: &str| sheets.iter().position(|s| s.eq_ignore_ascii_case(name));
     let (a, b) = (index(&first)?, index(&last)?);
     let (a, b) = (a.min(b), a.max(b));
+    spanned(a, b);
     let list: Vec<String> = sheets[a..=b].iter().map(|s| format!("'{}'!{reference}", s.replace('\'', "''"))).collect();
     Some((after_last + 1 + ref_len, list.join(",")))
 }
@@ -170,14 +171,14 @@ mod tests {
     #[test]
     fn a_sheet_span_is_the_list_of_its_sheets_references() {
         let s = sheets();
-        assert_eq!(expand_sheet_spans("SUM(Jan:Mar!B2)", &s), "SUM('Jan'!B2,'Feb 24'!B2,'Mar'!B2)");
+        assert_eq!(expand_sheet_spans("SUM(Jan:Mar!B2)", &s, &mut |_, _| {}), "SUM('Jan'!B2,'Feb 24'!B2,'Mar'!B2)");
         assert_eq!(
-            expand_sheet_spans("COUNT('Feb 24':Mar!$A$1:$B$2)", &s),
+            expand_sheet_spans("COUNT('Feb 24':Mar!$A$1:$B$2)", &s, &mut |_, _| {}),
             "COUNT('Feb 24'!$A$1:$B$2,'Mar'!$A$1:$B$2)"
         );
-        assert_eq!(expand_sheet_spans("SUM(Mar:Jan!C1)", &s), "SUM('Jan'!C1,'Feb 24'!C1,'Mar'!C1)");
-        assert_eq!(expand_sheet_spans("SUM('Jan:Feb 24'!C1)", &s), "SUM('Jan'!C1,'Feb 24'!C1)");
-        assert_eq!(expand_sheet_spans("SUM('Feb 24:Jan'!C1)", &s), "SUM('Jan'!C1,'Feb 24'!C1)");
+        assert_eq!(expand_sheet_spans("SUM(Mar:Jan!C1)", &s, &mut |_, _| {}), "SUM('Jan'!C1,'Feb 24'!C1,'Mar'!C1)");
+        assert_eq!(expand_sheet_spans("SUM('Jan:Feb 24'!C1)", &s, &mut |_, _| {}), "SUM('Jan'!C1,'Feb 24'!C1)");
+        assert_eq!(expand_sheet_spans("SUM('Feb 24:Jan'!C1)", &s, &mut |_, _| {}), "SUM('Jan'!C1,'Feb 24'!C1)");
     }
 
     #[test]
@@ -193,7 +194,7 @@ mod tests {
     fn ranges_text_and_unknown_sheets_stay() {
         let s = sheets();
         for text in ["SUM(Jan!A1:B2)", "Jan!A1:Mar!B2", "\"Jan:Mar!A1\"", "SUM(Jan:Dec!A1)", "[1]Jan:Mar!A1"] {
-            assert_eq!(expand_sheet_spans(text, &s), text);
+            assert_eq!(expand_sheet_spans(text, &s, &mut |_, _| {}), text);
         }
     }
 }
