@@ -238,3 +238,50 @@ fn worksheet_functions_as_members_of_a_with_block() {
                End Sub\n";
     assert_eq!(printed(src), [" 9  3 ", " 1004 ", " 3 True"]);
 }
+
+/// A macro run with the project's other standard modules (name, source).
+fn printed_with_modules(main: &str, modules: &[(&str, &str)]) -> Vec<String> {
+    let project = modules.iter().map(|(n, s)| (n.to_string(), s.to_string())).collect();
+    run_with(main, &RunOptions { project, ..RunOptions::default() }).unwrap_or_else(|e| panic!("{e}")).printed
+}
+
+// "Understanding scope and visibility": a Public constant or variable of a standard module is
+// visible throughout the project, whichever module comes first, and may be qualified by its
+// module's name ([MS-VBAL] 5.6.10 "Simple Name Expressions" and 5.6.12 "Member Access
+// Expressions": `Module2.Rate` names the module's member). Under Option Explicit it is
+// declared, not an undeclared variable.
+#[test]
+fn a_public_constant_or_variable_of_a_later_module_by_name_and_qualified() {
+    let main = "Option Explicit\nSub Main()\n    Counter = Counter + 2\n\
+                \x20   Debug.Print PI * 2; Geom.PI; Geom.Counter; Twice()\nEnd Sub\n";
+    let geom = "Attribute VB_Name = \"Geom\"\nOption Explicit\nPublic Const PI As Double = 3.5\n\
+                Public Counter As Long\nFunction Twice()\n    Twice = Geom.PI + PI\nEnd Function\n";
+    assert_eq!(printed_with_modules(main, &[("Geom", geom)]), [" 7  3.5  2  7 "]);
+}
+
+// [MS-VBAL] 3.3.5.3: a FOREIGN-NAME, text in brackets, is a name whatever its text, so an
+// Enum's `[_First]` is the member `_First`, named `CURVE.[_First]` ("Enum statement": its
+// members count on from the one before).
+#[test]
+fn an_enum_member_named_in_brackets() {
+    let src = "Public Enum Curve\n    [_First] = -2\n    Ccw = -1\n    Straight\n    Cw\n    [_Last]\nEnd Enum\n\
+               Sub Main()\n    Dim i As Integer, names As String\n\
+               \x20   For i = Curve.[_First] + 1 To Curve.[_Last] - 1\n        names = names & i & \",\"\n    Next i\n\
+               \x20   Debug.Print names; Curve.[_Last]; Cw\nEnd Sub\n";
+    assert_eq!(printed(src), ["-1,0,1, 2  1 "]);
+}
+
+// "Raise method": `Err.Raise number, source, description` sets Err.Source to `source`; a
+// source not given is "the programmatic ID of the current Visual Basic project" (Excel's
+// VBAProject), as it is for the errors VBA raises itself ("Source property"); Err.Clear
+// empties it ("Clear method": all of Err's properties are reset).
+#[test]
+fn err_source_is_the_raise_source_or_the_project() {
+    let src = "Sub Main()\n    On Error Resume Next\n\
+               \x20   Err.Raise 5, \"Geom.Atn2\", \"no angle\"\n\
+               \x20   Debug.Print Err.Number; Err.Source; \"|\"; Err.Description\n\
+               \x20   Err.Clear\n    Debug.Print \"[\"; Err.Source; \"]\"\n\
+               \x20   Err.Raise 1000\n    Debug.Print Err.Source\n\
+               \x20   Err.Clear\n    Dim z\n    z = 1 / 0\n    Debug.Print Err.Number; Err.Source\nEnd Sub\n";
+    assert_eq!(printed(src), [" 5 Geom.Atn2|no angle", "[]", "VBAProject", " 11 VBAProject"]);
+}

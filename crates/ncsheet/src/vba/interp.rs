@@ -179,6 +179,8 @@ pub struct Fault {
     pub message: String,
     pub span: Option<Span>,
     pub trace: Vec<String>,
+    /// `Err.Raise n, source`: what `Err.Source` says once it is trapped (`None`: the project).
+    pub source: Option<String>,
 }
 
 pub type Run<T> = Result<T, Fault>;
@@ -212,6 +214,8 @@ enum Trap {
 pub struct ErrState {
     pub number: u32,
     pub description: String,
+    /// "Source property": what raised the error, `Err.Raise`'s source or the project's name.
+    pub source: String,
 }
 
 pub(super) struct Frame {
@@ -476,7 +480,7 @@ impl Interp<'_, '_> {
     // ---- faults ----------------------------------------------------------------------
 
     fn plain_fault(&self, kind: ErrorKind, message: String) -> Fault {
-        Fault { kind, code: 0, message, span: None, trace: Vec::new() }
+        Fault { kind, code: 0, message, span: None, trace: Vec::new(), source: None }
     }
 
     /// A runtime failure here, with the procedures now running.
@@ -494,7 +498,7 @@ impl Interp<'_, '_> {
                 })
             })
             .collect();
-        Fault { kind: ErrorKind::Runtime, code: 0, message: message.into(), span: None, trace }
+        Fault { kind: ErrorKind::Runtime, code: 0, message: message.into(), span: None, trace, source: None }
     }
 
     pub fn fault_at(&self, span: Span, message: impl Into<String>) -> Fault {
@@ -1402,6 +1406,7 @@ impl Interp<'_, '_> {
                     message,
                     span: Some(stmt.span),
                     trace: Vec::new(),
+                    source: None,
                 });
             }
         }
@@ -2214,7 +2219,10 @@ fn err_state(fault: &Fault) -> ErrState {
         Some((vba, _)) if fault.code != 0 => vba.to_string(),
         _ => fault.message.clone(),
     };
-    ErrState { number, description }
+    // "Raise method": a source not given is the programmatic ID of the project, Excel's
+    // "VBAProject", as for the errors VBA raises itself.
+    let source = fault.source.clone().unwrap_or_else(|| "VBAProject".into());
+    ErrState { number, description, source }
 }
 
 /// The arguments of `bound` that are lent arrays, each with its entry of `lent`.

@@ -292,7 +292,7 @@ impl Interp<'_, '_> {
         match lower(link).as_str() {
             "number" => Ok(Obj::Value(Value::Number(err.number as f64))),
             "description" => Ok(Obj::Value(Value::text(err.description))),
-            "source" => Ok(Obj::Value(Value::text("ncsheet"))),
+            "source" => Ok(Obj::Value(Value::text(err.source))),
             "clear" => {
                 *self.err.borrow_mut() = Default::default();
                 Ok(Obj::Value(Value::Blank))
@@ -310,6 +310,7 @@ impl Interp<'_, '_> {
                 };
                 let mut fault = self.fault_at(link.span, description);
                 fault.code = number as u32;
+                fault.source = values.get(1).filter(|v| !v.is_blank()).map(print_text);
                 Err(fault)
             }
             _ => Err(self.no_member(&Obj::Err, link)),

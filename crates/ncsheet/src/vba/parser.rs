@@ -119,6 +119,7 @@ pub fn parse_module_with_files(
     let type_names = items.iter().filter(|i| i.as_rule() == Rule::type_def);
     *b.types.borrow_mut() = type_names.map(|i| name_of(&find(&kids(i), Rule::ident).expect("type name"))).collect();
     let mut out = Module { base: 0, classes: super::classes::class_defs(parts), ..Module::default() };
+    b.declare_project_globals(&items);
     for item in items {
         match item.as_rule() {
             Rule::type_def => {
@@ -332,8 +333,21 @@ fn kids<'i>(pair: &Pair<'i, Rule>) -> Vec<Pair<'i, Rule>> {
 fn enum_names(pair: &Pair<Rule>) -> (Rc<str>, Vec<Rc<str>>) {
     let k = kids(pair);
     let members =
-        all(&k, Rule::enum_member).iter().map(|m| name_of(&find(&kids(m), Rule::ident).expect("member"))).collect();
+        all(&k, Rule::enum_member).iter().map(|m| enum_member_name(&kids(m))).collect();
     (name_of(&find(&k, Rule::ident).expect("enum name")), members)
+}
+
+/// An Enum member's name: a plain name, or the text of a `[_First]` without its brackets.
+fn enum_member_name(kids: &[Pair<Rule>]) -> Rc<str> {
+    match find(kids, Rule::ident) {
+        Some(name) => name_of(&name),
+        None => unbracketed(find(kids, Rule::foreign_name).expect("member name").as_str()).into(),
+    }
+}
+
+/// `[_First]` is the name `_First` ([MS-VBAL] 3.3.5.3).
+pub(super) fn unbracketed(name: &str) -> &str {
+    name.strip_prefix('[').and_then(|n| n.strip_suffix(']')).unwrap_or(name)
 }
 
 fn name_of(pair: &Pair<Rule>) -> Rc<str> {
@@ -427,6 +441,24 @@ impl<'s> Build<'s> {
             procs.push(Signature { name, kind, params: names, required, param_array, part, public, property });
         }
         Ok(Build { procs, proc_names, ..b })
+    }
+
+    /// The module-level variables and constants of the project's standard modules, known
+    /// before any procedure is built: a procedure of the first module uses a `Public Const PI`
+    /// of a module after it ([MS-VBAL] 5.2.3.1: a public variable's scope is the project).
+    /// Enum members are declared where their Enum is built; a class module's variables are
+    /// its objects' own.
+    fn declare_project_globals(&self, items: &[Pair<Rule>]) {
+        let declarations = items.iter().filter(|i| matches!(i.as_rule(), Rule::dim_stmt | Rule::const_stmt));
+        for item in declarations {
+            if self.parts.get(self.part_at(start(item))).is_some_and(|p| p.class) {
+                continue;
+            }
+            let names = all(&kids(item), Rule::dim_var).into_iter().chain(all(&kids(item), Rule::const_item));
+            for name in names.filter_map(|n| decl_name(&kids(&n))) {
+                self.globals.borrow_mut().insert(name.to_ascii_lowercase());
+            }
+        }
     }
 
     pub(super) fn error_at(&self, pair: &Pair<Rule>, message: impl Into<String>) -> ParseError {
@@ -1505,7 +1537,7 @@ impl Build<'_> {
         let mut next = whole(ExprKind::Number(0.0), pair);
         for member in all(&kids(pair), Rule::enum_member) {
             let k = kids(&member);
-            let name = name_of(&find(&k, Rule::ident).expect("member name"));
+            let name = enum_member_name(&k);
             let value = match find(&k, Rule::vexpr) {
                 Some(e) => self.expr(e)?,
                 None => next,

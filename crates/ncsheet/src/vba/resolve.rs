@@ -251,6 +251,16 @@ impl Build<'_> {
         own.or_else(|| same_name.iter().copied().find(|&i| self.procs[i].public && !class_part(i)))
     }
 
+    /// One of the project's standard modules is named `name` (`LibGeom` in `LibGeom.PI`).
+    fn is_standard_module(&self, name: &str) -> bool {
+        self.parts.iter().any(|p| p.name.eq_ignore_ascii_case(name) && !p.class)
+    }
+
+    /// A module-level variable or constant (an Enum member too) is named `name`.
+    fn is_global(&self, name: &str) -> bool {
+        self.globals.borrow().contains(&lower_bare(name))
+    }
+
     /// `Module2.Helper`: a procedure of the module named, if it is one of the project's
     /// and the procedure is public there (or that module is the one being built).
     fn module_proc(&self, module: &str, name: &str) -> Option<usize> {
@@ -445,6 +455,8 @@ impl Build<'_> {
         }
         if self.is_enum_member(&path) {
             let member = path.links.pop().expect("two links");
+            // `CURVE_DIR.[_FIRST]` is the member `_FIRST`.
+            let member = Link { name: super::parser::unbracketed(&member.name).into(), ..member };
             return self.single(pair, member, statement, end);
         }
         if let [module, link] = path.links.as_slice() {
@@ -453,6 +465,10 @@ impl Build<'_> {
             if let Some(proc) = self.module_proc(&module.name, &link.name).filter(|_| unshadowed) {
                 let args = path.links.pop().expect("two links").args.unwrap_or_default();
                 return self.proc_call(pair, proc, args, statement, end);
+            }
+            if unshadowed && self.is_standard_module(&module.name) && self.is_global(&link.name) {
+                let variable = path.links.pop().expect("two links");
+                return self.single(pair, variable, statement, end);
             }
         }
         self.check_path(pair, &path)?;
@@ -600,7 +616,7 @@ impl Build<'_> {
         plain
             && self.enums.iter().any(|(e, members)| {
                 e.eq_ignore_ascii_case(&enumeration.name)
-                    && members.iter().any(|m| m.eq_ignore_ascii_case(&member.name))
+                    && members.iter().any(|m| m.eq_ignore_ascii_case(super::parser::unbracketed(&member.name)))
             })
     }
 
