@@ -176,3 +176,18 @@ fn typename_of_a_types_array_field_names_its_item_type() {
     );
     assert_eq!(printed(&src), ["Long() Double() Variant() Long()"]);
 }
+
+// [MS-VBAL] 3.3.2 "Number Tokens": `integer-type-suffix = "%" / "&" / "^"`, `^` making the
+// literal a LongLong ("LongLong data type": its type-declaration character is the caret);
+// the token ends at the suffix, so `17^ Mod 5` is the LongLong 17 Mod 5 (2, a LongLong as
+// [MS-VBAL] 5.6.9.3.7 makes `Mod` of two LongLongs) and `1^ To 3^ Step 2^` bounds a loop.
+// "Type conversion functions": CLngLng rounds a half to the even number (2.5 to 2, 3.5 to 4).
+#[test]
+fn a_longlong_literal_before_an_operator_word() {
+    let out = printed(
+        "Sub Main()\n    Dim i\n    Debug.Print 17^ Mod 5; TypeName(17^ Mod 5)\n\
+         \x20   For i = 1^ To 3^ Step 2^\n        Debug.Print i; TypeName(i)\n    Next\n\
+         \x20   Debug.Print CLngLng(2.5); CLngLng(3.5); TypeName(CLngLng(1)); VarType(5^)\nEnd Sub\n",
+    );
+    assert_eq!(out, [" 2 LongLong", " 1 LongLong", " 3 LongLong", " 2  4 LongLong 20"]);
+}
