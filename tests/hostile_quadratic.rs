@@ -377,7 +377,8 @@ fn database_functions_with_many_criteria_rows_look_equalities_up() {
     let texts = format!("VSTACK(\"n\",\"p\"&SEQUENCE({k}))");
     set(&mut wb, "A4", &format!("=DCOUNTA({texts},1,{texts})"));
     assert_eq!(get(&wb, "A4"), n(k as f64));
-    let patterns = format!("VSTACK(\"n\",\"*\"&SEQUENCE({k}))");
+    // A pattern with letters at neither end tests every record.
+    let patterns = format!("VSTACK(\"n\",\"*\"&SEQUENCE({k})&\"*\")");
     set(&mut wb, "A3", &format!("=DSUM({db},\"n\",{patterns})"));
     assert_eq!(get(&wb, "A3"), Value::Error(ncsheet::eval::XlError::Num));
     let at = parse_cell("A3").unwrap();
@@ -420,4 +421,59 @@ fn database_functions_with_many_criteria_rows_look_equalities_up() {
     // below, bolts (6) too.
     set(&mut wb, "D10", "bol");
     assert_eq!(get(&wb, "G1"), t("17,4,23"));
+}
+
+/// A database's criteria rows of patterns (`=*7`, `=?7`, `p*7`): each row tested every
+/// record (2^17 rows × 2^17 records, past the 10^9 limit: `#NUM!`). A pattern now tests only
+/// the texts that begin with its first letters or those that end with its last, the fewer.
+#[test]
+fn database_patterns_test_only_the_texts_that_begin_or_end_as_they_do() {
+    let mut wb = Workbook::with_sheet();
+    let k: u64 = 1 << 17;
+    // Record j is the text "p" & j. "*j" names it (and longer texts ending in j), "?j" and
+    // "p*j" name it too: every record meets some row.
+    let texts = format!("VSTACK(\"n\",\"p\"&SEQUENCE({k}))");
+    for (cell, rows) in [("A1", "\"=*\""), ("A2", "\"=?\""), ("A3", "\"=p*\"")] {
+        set(&mut wb, cell, &format!("=DCOUNTA({texts},1,VSTACK(\"n\",{rows}&SEQUENCE({k})))"));
+        assert_eq!(get(&wb, cell), n(k as f64), "{rows}");
+    }
+    // Excel's rules on a small database: a pattern with "=" is the whole text, any case;
+    // without, a prefix (a star is added); "~*" is a star itself.
+    let cells = [
+        ("C1", "Part"),
+        ("D1", "Qty"),
+        ("C2", "bolt"),
+        ("D2", "5"),
+        ("C3", "Bolt"),
+        ("D3", "7"),
+        ("C4", "12"),
+        ("D4", "1"),
+        ("C5", "washer"),
+        ("D5", "2"),
+        ("C6", "nut"),
+        ("D6", "3"),
+        ("C7", "TRUE"),
+        ("D7", "4"),
+        ("C8", "bolts"),
+        ("D8", "6"),
+    ];
+    for (cell, input) in cells {
+        set(&mut wb, cell, input);
+    }
+    let criteria = [
+        ("\"=*olt\"", "12"),
+        ("\"=?ut\"", "3"),
+        ("\"=*t\"", "15"),
+        ("\"b?lt\"", "18"),
+        ("\"=B?LT\"", "12"),
+        ("\"=w*r\"", "2"),
+        ("\"=*s\"", "6"),
+        ("\"=~*\"", "0"),
+        ("\"=*olt\",\"=n?t\"", "15"),
+    ];
+    for (i, (rows, expected)) in criteria.iter().enumerate() {
+        let cell = format!("F{}", i + 1);
+        set(&mut wb, &cell, &format!("=TEXT(DSUM(C1:D8,\"Qty\",VSTACK(\"Part\",{rows})),\"0\")"));
+        assert_eq!(get(&wb, &cell), t(expected), "{rows}");
+    }
 }

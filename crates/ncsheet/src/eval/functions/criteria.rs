@@ -142,6 +142,20 @@ impl Criterion {
         (self.op == BinOp::Eq).then(|| letters.iter().map(letter).collect()).flatten()
     }
 
+    /// The letters a text pattern (`"*bolt"`, `"b?lt"`, `"b*t"`) begins and ends with, in
+    /// lower case: the texts it matches are among those that begin with the one and end
+    /// with the other. `None` but for an equality with a pattern.
+    pub(crate) fn literal_ends(&self) -> Option<(Vec<char>, Vec<char>)> {
+        let Target::Text { pattern: Some(tokens), .. } = &self.target else {
+            return None;
+        };
+        let letter = |token: &Token| if let Token::Char(c) = token { Some(*c) } else { None };
+        let prefix: Vec<char> = tokens.iter().map_while(letter).collect();
+        let mut suffix: Vec<char> = tokens.iter().rev().map_while(letter).collect();
+        suffix.reverse();
+        (self.op == BinOp::Eq).then_some((prefix, suffix))
+    }
+
     /// The keys of the cells a `<>` criterion does not match, each cell under its own
     /// value only: `"<>23"` matches the text "23" (which `"=23"` matches too).
     fn unequal_keys(&self) -> Option<Vec<ItemKey>> {
