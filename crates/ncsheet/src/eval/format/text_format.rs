@@ -1076,7 +1076,9 @@ fn write_date(section: &Section, dt: &DateTime) -> String {
     out
 }
 
-const MONTHS: [&str; 12] = [
+/// The en-US names of the months and of the days of the week (Sunday first), which VBA's
+/// MonthName and WeekdayName give too.
+pub(crate) const MONTHS: [&str; 12] = [
     "January",
     "February",
     "March",
@@ -1091,7 +1093,7 @@ const MONTHS: [&str; 12] = [
     "December",
 ];
 
-const WEEKDAYS: [&str; 7] = ["Sunday", "Monday", "Tuesday", "Wednesday", "Thursday", "Friday", "Saturday"];
+pub(crate) const WEEKDAYS: [&str; 7] = ["Sunday", "Monday", "Tuesday", "Wednesday", "Thursday", "Friday", "Saturday"];
 
 fn date_part(part: DatePart, dt: &DateTime, twelve_hour: bool) -> String {
     let month_name = MONTHS[dt.month as usize - 1];

@@ -6,12 +6,13 @@
 //! time of day on either side of day 0 ([MS-VBAL] 2.1.1.1, "Date data type").
 
 use crate::eval::coerce::to_number;
-use crate::eval::dates::{DateTime, VBA_DATE_RANGE};
+use crate::eval::dates::DateTime;
+use crate::eval::format::text_format::{MONTHS, WEEKDAYS};
 use crate::eval::functions::api::Ctx;
 use crate::eval::value::{Value, XlResult};
 use crate::formula::ast::Expr;
 
-use super::conversions::{days_from_civil, Raised};
+use super::conversions::{days_from_civil, vba_date_time, Raised};
 use super::{lift_vba, vba_text, FIRST, NO_NULL, VBA_DATES};
 
 const DAY_SECONDS: i64 = 86_400;
@@ -27,19 +28,12 @@ struct Moment {
 }
 
 impl Moment {
-    /// A Date argument as CDate reads it (a number, date text, True); `None` outside VBA's
-    /// dates, 100-01-01 to 9999-12-31.
-    fn of(v: &Value) -> XlResult<Option<Moment>> {
-        let serial = match v {
-            Value::Bool(b) => -f64::from(u8::from(*b)),
-            other => to_number(other, VBA_DATES)?,
-        };
-        if !VBA_DATE_RANGE.contains(&serial) {
-            return Ok(None);
-        }
-        let parts = DateTime::from_vba_date(serial, 0);
+    /// A Date argument as CDate reads it (a number, date text, True); outside VBA's dates,
+    /// 100-01-01 to 9999-12-31, Overflow (error 6) as CDate gives.
+    fn of(raised: &Raised, v: &Value) -> XlResult<Moment> {
+        let parts = vba_date_time(raised, v)?;
         let second = i64::from(parts.hour) * 3600 + i64::from(parts.minute) * 60 + i64::from(parts.second);
-        Ok(Some(Moment { day: parts.serial, second }))
+        Ok(Moment { day: parts.serial, second })
     }
 
     /// The day's year, month and day (its time is in `second`).
@@ -140,6 +134,16 @@ fn first_week_of_year(raised: &Raised, v: Option<&Value>) -> XlResult<Option<Fir
     })
 }
 
+/// The `firstdayofweek` and `firstweekofyear` arguments at `at` and after it; either past its
+/// settings is error 5.
+fn week_arguments(raised: &Raised, v: &[Value], at: usize) -> XlResult<(i64, FirstWeek)> {
+    let first = first_day_of_week(raised, v.get(at))?
+        .ok_or_else(|| raised.set(5, "the first day of the week is not 0 to 7"))?;
+    let rule = first_week_of_year(raised, v.get(at + 1))?
+        .ok_or_else(|| raised.set(5, "the first week of the year is not 0 to 3"))?;
+    Ok((first, rule))
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum FirstWeek {
     Jan1,
@@ -197,7 +201,7 @@ pub(super) fn date_add(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
             return Err(raised.set(5, OUT_OF_RANGE));
         }
         let number = number as i64;
-        let at = Moment::of(&v[2])?.ok_or_else(|| raised.set(6, "a date before 1/1/100 or after 12/31/9999"))?;
+        let at = Moment::of(&raised, &v[2])?;
         let moved = match interval {
             Interval::Year => add_months(at, number * 12),
             Interval::Quarter => add_months(at, number * 3),
@@ -236,13 +240,8 @@ pub(super) fn date_diff(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let raised = Raised::default();
     let result = lift_vba(ctx, args, "DateDiff", 0b110, &|v| {
         let interval = Interval::of(&v[0])?.ok_or_else(|| raised.set(5, BAD_INTERVAL))?;
-        let first = first_day_of_week(&raised, v.get(3))?
-            .ok_or_else(|| raised.set(5, "the first day of the week is not 0 to 7"))?;
-        first_week_of_year(&raised, v.get(4))?
-            .ok_or_else(|| raised.set(5, "the first week of the year is not 0 to 3"))?;
-        let out_of_range = || raised.set(6, "a date before 1/1/100 or after 12/31/9999");
-        let a = Moment::of(&v[1])?.ok_or_else(out_of_range)?;
-        let b = Moment::of(&v[2])?.ok_or_else(out_of_range)?;
+        let (first, _) = week_arguments(&raised, v, 3)?;
+        let (a, b) = (Moment::of(&raised, &v[1])?, Moment::of(&raised, &v[2])?);
         let (pa, pb) = (a.parts(), b.parts());
         let months = |p: &DateTime| p.year * 12 + i64::from(p.month);
         let quarters = |p: &DateTime| p.year * 4 + (i64::from(p.month) - 1) / 3;
@@ -273,11 +272,8 @@ pub(super) fn date_part(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let raised = Raised::default();
     let result = lift_vba(ctx, args, "DatePart", 0b10, &|v| {
         let interval = Interval::of(&v[0])?.ok_or_else(|| raised.set(5, BAD_INTERVAL))?;
-        let first = first_day_of_week(&raised, v.get(2))?
-            .ok_or_else(|| raised.set(5, "the first day of the week is not 0 to 7"))?;
-        let rule = first_week_of_year(&raised, v.get(3))?
-            .ok_or_else(|| raised.set(5, "the first week of the year is not 0 to 3"))?;
-        let at = Moment::of(&v[1])?.ok_or_else(|| raised.set(6, "a date before 1/1/100 or after 12/31/9999"))?;
+        let (first, rule) = week_arguments(&raised, v, 2)?;
+        let at = Moment::of(&raised, &v[1])?;
         let p = at.parts();
         let n = match interval {
             Interval::Year => p.year,
@@ -295,22 +291,6 @@ pub(super) fn date_part(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     });
     raised.raise(ctx, "DatePart", result)
 }
-
-const DAY_NAMES: [&str; 7] = ["Sunday", "Monday", "Tuesday", "Wednesday", "Thursday", "Friday", "Saturday"];
-const MONTH_NAMES: [&str; 12] = [
-    "January",
-    "February",
-    "March",
-    "April",
-    "May",
-    "June",
-    "July",
-    "August",
-    "September",
-    "October",
-    "November",
-    "December",
-];
 
 /// A name, or its first three letters when `abbreviate` (an optional Boolean) is True, as
 /// the en-US locale abbreviates day and month names.
@@ -335,7 +315,7 @@ pub(super) fn weekday_name(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         if !(1..=7).contains(&weekday) {
             return Err(raised.set(5, "the day of the week is not 1 to 7"));
         }
-        named(DAY_NAMES[(weekday - 1 + first - 1).rem_euclid(7) as usize], v.get(1))
+        named(WEEKDAYS[(weekday - 1 + first - 1).rem_euclid(7) as usize], v.get(1))
     });
     raised.raise(ctx, "WeekdayName", result)
 }
@@ -349,7 +329,7 @@ pub(super) fn month_name(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         if !(1..=12).contains(&month) {
             return Err(raised.set(5, "the month is not 1 to 12"));
         }
-        named(MONTH_NAMES[month as usize - 1], v.get(1))
+        named(MONTHS[month as usize - 1], v.get(1))
     });
     raised.raise(ctx, "MonthName", result)
 }
@@ -359,7 +339,7 @@ pub(super) fn month_name(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 pub(super) fn date_value(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let raised = Raised::default();
     let result = lift_vba(ctx, args, "DateValue", FIRST, &|v| {
-        let at = Moment::of(&v[0])?.ok_or_else(|| raised.set(6, "a date before 1/1/100 or after 12/31/9999"))?;
+        let at = Moment::of(&raised, &v[0])?;
         Ok(Value::Number(at.day as f64))
     });
     raised.raise(ctx, "DateValue", result)
@@ -370,7 +350,7 @@ pub(super) fn date_value(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 pub(super) fn time_value(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let raised = Raised::default();
     let result = lift_vba(ctx, args, "TimeValue", FIRST, &|v| {
-        let at = Moment::of(&v[0])?.ok_or_else(|| raised.set(6, "a date before 1/1/100 or after 12/31/9999"))?;
+        let at = Moment::of(&raised, &v[0])?;
         Ok(Value::Number(at.second as f64 / DAY_SECONDS as f64))
     });
     raised.raise(ctx, "TimeValue", result)

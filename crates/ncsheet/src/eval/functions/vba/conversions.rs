@@ -368,7 +368,7 @@ pub(super) fn cdate(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 /// A Date argument of `Year`, `Month`, … in its parts, read as CDate reads it (a date
 /// outside 100-01-01 to 9999-12-31 is Overflow).
-fn vba_date_time(raised: &Raised, v: &Value) -> XlResult<DateTime> {
+pub(super) fn vba_date_time(raised: &Raised, v: &Value) -> XlResult<DateTime> {
     let serial = match v {
         Value::Bool(b) => -f64::from(u8::from(*b)),
         other => to_number(other, VBA_DATES)?,
