@@ -42,7 +42,8 @@
 //! CLng CBool Val Str Len Left Mid Right UCase LCase Trim LTrim RTrim InStr InStrRev Replace
 //! Chr ChrW Asc Space IIf IsEmpty IsNull IsNumeric IsError IsObject IsArray IsMissing Array Split Join
 //! StrComp StrConv LenB FormatNumber VarType CVErr Timer Rnd String Hex Oct StrReverse
-//! DateSerial TimeSerial Date Time CLngLng CByte CSng CCur`, the `VBA.*` rows of the
+//! DateSerial TimeSerial Date Time DateAdd DateDiff DatePart WeekdayName MonthName DateValue
+//! TimeValue CLngLng CByte CSng CCur`, the `VBA.*` rows of the
 //! function table, `$` suffix allowed), an object, or a sheet function (`CHAMFER_XA`, `SUM`,
 //! `ATAN2`, …; also as `Application.WorksheetFunction.Sum` or `WorksheetFunction.Sum`).
 //!
