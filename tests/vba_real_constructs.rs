@@ -285,3 +285,25 @@ fn err_source_is_the_raise_source_or_the_project() {
                \x20   Err.Clear\n    Dim z\n    z = 1 / 0\n    Debug.Print Err.Number; Err.Source\nEnd Sub\n";
     assert_eq!(printed(src), [" 5 Geom.Atn2|no angle", "[]", "VBAProject", " 11 VBAProject"]);
 }
+
+// "On Error statement": `On Error GoTo line` enables the routine starting at the line, which
+// is any line of the procedure, here one inside the loop; "Resume statement": `Resume line`
+// goes on at the line, and a Resume where no error is being handled is run-time error 20
+// ("Resume without error"), trapped like any other: at i = 2 the handler is reached by falling
+// into it (Err.Number 0), its Resume raises 20, which the handler takes. A failing Match
+// leaves r as it was.
+#[test]
+fn an_error_handler_inside_a_loop_and_resume_without_error() {
+    let src = "Sub Main()\n    Dim i As Integer, r, found As String\n    r = 0\n\
+               \x20   For i = 1 To 3\n\
+               \x20       On Error GoTo NextOne\n\
+               \x20       r = WorksheetFunction.Match(\"b\", Array(Choose(i, \"a\", \"b\", \"c\")), 0)\n\
+               \x20       found = found & i & \",\"\n\
+               NextOne:\n\
+               \x20       found = found & Err.Number & \";\"\n\
+               \x20       Resume Continue\n\
+               Continue:\n\
+               \x20   Next i\n\
+               \x20   Debug.Print found; r\nEnd Sub\n";
+    assert_eq!(printed(src), ["1004;2,0;20;1004; 1 "]);
+}

@@ -291,7 +291,8 @@ pub enum StmtKind {
 /// What a runtime error does in the procedure from an `On Error` statement on.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum OnError {
-    /// `On Error GoTo label`: run the handler at the label (a label of the procedure's body).
+    /// `On Error GoTo label`: run the handler at the label (of the procedure's body, or of a
+    /// block around the statement: then the handler runs in place).
     GoTo(Rc<str>),
     /// `On Error Resume Next`: go on with the next statement.
     ResumeNext,

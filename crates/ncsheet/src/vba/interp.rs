@@ -226,6 +226,9 @@ pub(super) struct Frame {
     on_error: OnError,
     /// The `On Error GoTo` handler is running: an error now goes to the caller.
     handling: bool,
+    /// That handler starts at a label inside a loop or an If (`inline_handler`), reached by
+    /// a GoTo from the failing statement: its `Resume label` is a GoTo too.
+    inline_handler: bool,
     /// Optional Variant parameters without a default that the call left out (IsMissing).
     pub(super) missing: Vec<Rc<str>>,
     /// The object a class module's procedure runs for (`Me`): its variables are the
@@ -1159,6 +1162,7 @@ impl Interp<'_, '_> {
             call_site,
             on_error: OnError::Off,
             handling: false,
+            inline_handler: false,
             missing: Vec::new(),
             me,
         });
@@ -1276,6 +1280,7 @@ impl Interp<'_, '_> {
             call_site: None,
             on_error: OnError::Off,
             handling: false,
+            inline_handler: false,
             missing: Vec::new(),
             me: None,
         });
@@ -1304,6 +1309,10 @@ impl Interp<'_, '_> {
                     Trap::Retry => continue,
                     Trap::Flow(flow) => flow,
                 },
+            };
+            let flow = match flow {
+                Flow::Resume(resume) if self.frame_flag(|f| f.inline_handler) => self.leave_inline_handler(resume)?,
+                flow => flow,
             };
             match flow {
                 Flow::Next => i += 1,
@@ -1389,7 +1398,11 @@ impl Interp<'_, '_> {
             StmtKind::OnError(mode) => self.on_error(mode),
             StmtKind::Resume(kind) => {
                 if !self.frame_flag(|f| f.handling) {
-                    return Err(self.fault("Resume without an error: Resume belongs in an On Error GoTo handler"));
+                    // "Resume without error (Error 20)": trappable like any run-time error.
+                    let why = "Resume without error (run-time error 20): Resume belongs in an On Error GoTo handler";
+                    let mut f = self.fault(why);
+                    f.code = 20;
+                    return Err(f);
                 }
                 return Ok(Flow::Resume(kind.clone()));
             }
@@ -1515,7 +1528,10 @@ impl Interp<'_, '_> {
         let mut frames = self.frames.borrow_mut();
         let frame = frames.last_mut().expect("a running procedure");
         match mode {
-            OnError::Reset => frame.handling = false,
+            OnError::Reset => {
+                frame.handling = false;
+                frame.inline_handler = false;
+            }
             other => frame.on_error = other.clone(),
         }
         *self.err.borrow_mut() = ErrState::default();
@@ -1600,6 +1616,9 @@ impl Interp<'_, '_> {
         };
         *self.err.borrow_mut() = err_state(&fault);
         self.set_handling(true);
+        if !self.in_body(&label) {
+            return Ok(self.enter_inline_handler(label));
+        }
         let flow = self.run_from_label(&label)?;
         if let Flow::Resume(_) = flow {
             self.set_handling(false);
@@ -1611,6 +1630,40 @@ impl Interp<'_, '_> {
             Flow::Resume(Resume::Label(l)) => Trap::Flow(Flow::GoTo(l)),
             other => Trap::Flow(other),
         })
+    }
+
+    /// Whether `label` is one of the running procedure's body itself (not inside a loop or If).
+    fn in_body(&self, label: &str) -> bool {
+        let proc = self.frames.borrow().last().expect("a running procedure").proc;
+        self.module.procs.get(proc).is_some_and(|p| p.body.label(label).is_some())
+    }
+
+    /// `On Error GoTo NextCol` with `NextCol:` inside the loop or If around the failing
+    /// statement ("On Error statement": the label is any line of the procedure): the blocks
+    /// jump there as a GoTo does, the handler running in place.
+    fn enter_inline_handler(&self, label: Rc<str>) -> Trap {
+        if let Some(f) = self.frames.borrow_mut().last_mut() {
+            f.inline_handler = true;
+        }
+        Trap::Flow(Flow::GoTo(label))
+    }
+
+    /// `Resume label` in such a handler ends it and goes on at the label, as a GoTo. `Resume`
+    /// and `Resume Next` need the failing statement's place, which an in-place handler has
+    /// left behind: refused.
+    fn leave_inline_handler(&self, resume: Resume) -> Run<Flow> {
+        if let Some(f) = self.frames.borrow_mut().last_mut() {
+            f.inline_handler = false;
+            f.handling = false;
+        }
+        *self.err.borrow_mut() = ErrState::default();
+        match resume {
+            Resume::Label(label) => Ok(Flow::GoTo(label)),
+            _ => Err(self.fault(
+                "Resume or Resume Next in an error handler whose label is inside a loop or If is not supported: \
+                 use Resume with a label",
+            )),
+        }
     }
 
     fn set_handling(&self, on: bool) {

@@ -552,7 +552,7 @@ impl<'s> Build<'s> {
         let ty = as_clause.map(|a| self.ty_of(&a)).or_else(|| type_char_ty(&k)).filter(|_| !returns_array);
         let body = self.block(find(&k, Rule::block).expect("procedure body"))?;
         self.check_gotos(&body, &mut Vec::new())?;
-        self.check_body_labels(&body, &body)?;
+        self.check_body_labels(&body, &body, &mut Vec::new())?;
         let public = find(&k, Rule::scope).is_none_or(|s| !s.as_str().eq_ignore_ascii_case("Private"));
         let (part, property) = (self.current_part.get(), property_kind(&pair));
         Ok(Proc { name, kind, params, ty, body, span: self.span(start(&pair)), public, part, property })
@@ -615,28 +615,35 @@ impl<'s> Build<'s> {
         Ok(())
     }
 
-    /// `On Error GoTo`, `GoSub` and `Resume` name a label of the procedure's body itself:
-    /// the handler or subroutine runs from there, outside any loop or If.
-    fn check_body_labels(&self, body: &Block, block: &Block) -> Res<()> {
+    /// `GoSub` names a label of the procedure's body itself: the subroutine runs from there,
+    /// outside any loop or If. `On Error GoTo` and `Resume` name one of the body or of a
+    /// block around the statement, where a GoTo from it can go (`interp.rs` runs such a
+    /// handler in place).
+    fn check_body_labels<'b>(&self, body: &Block, block: &'b Block, outer: &mut Vec<&'b Block>) -> Res<()> {
+        outer.push(block);
         for s in &block.stmts {
+            let reachable = |l: &str| body.label(l).is_some() || outer.iter().any(|b| b.label(l).is_some());
             let label = match &s.kind {
-                StmtKind::OnError(OnError::GoTo(l)) | StmtKind::GoSub(l) | StmtKind::Resume(Resume::Label(l)) => {
-                    Some(l)
+                StmtKind::GoSub(l) => Some(l).filter(|l| body.label(l).is_none()),
+                StmtKind::OnError(OnError::GoTo(l)) | StmtKind::Resume(Resume::Label(l)) => {
+                    Some(l).filter(|l| !reachable(l))
                 }
                 _ => None,
             };
-            if let Some(label) = label.filter(|l| body.label(l).is_none()) {
+            if let Some(label) = label {
                 return Err(ParseError {
                     offset: self.offset_of(s.span),
                     message: format!(
-                        "no label {label} in the procedure's body (outside its loops and Ifs), where it must be"
+                        "no label {label} in the procedure's body (outside its loops and Ifs) or, for On \
+                         Error GoTo and Resume, in a block around the statement"
                     ),
                 });
             }
             for inner in inner_blocks(&s.kind) {
-                self.check_body_labels(body, inner)?;
+                self.check_body_labels(body, inner, outer)?;
             }
         }
+        outer.pop();
         Ok(())
     }
 
