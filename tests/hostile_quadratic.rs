@@ -42,6 +42,15 @@ fn assert_all_shown(wb: &mut Workbook, column: char, cases: &[(String, &str)]) {
     }
 }
 
+/// Each formula set in column A, one row each from row 1, against its number.
+fn assert_numbers_in_column_a(wb: &mut Workbook, cases: &[(String, f64)]) {
+    for (i, (formula, expected)) in cases.iter().enumerate() {
+        let cell = format!("A{}", i + 1);
+        set(wb, &cell, formula);
+        assert_eq!(get(wb, &cell), n(*expected), "{formula}");
+    }
+}
+
 fn t(s: &str) -> Value {
     Value::text(s)
 }
@@ -178,11 +187,7 @@ fn a_million_keys_over_a_million_items_are_found_by_index() {
         // "<=j" counts 1 … j.
         (format!("=SUM(COUNTIF(SEQUENCE({k}),\"<=\"&{keys}))"), triangle),
     ];
-    for (i, (formula, expected)) in cases.iter().enumerate() {
-        let cell = format!("A{}", i + 1);
-        set(&mut wb, &cell, formula);
-        assert_eq!(get(&wb, &cell), n(*expected), "{formula}");
-    }
+    assert_numbers_in_column_a(&mut wb, &cases);
 }
 
 /// FREQUENCY of 2^20 data in 2^20 bins (given in descending order): datum j falls in bin j,
@@ -246,11 +251,7 @@ fn many_keys_inside_a_lambda_count_the_index_not_a_scan_per_key() {
         // The mean of 2j … 2k is j + k.
         (inside(format!("AVERAGEIF(SEQUENCE({k}),\">=\"&{keys},SEQUENCE({k})*2)")), (k * (k + 1) / 2 + k * k) as f64),
     ];
-    for (i, (formula, expected)) in cases.iter().enumerate() {
-        let cell = format!("A{}", i + 1);
-        set(&mut wb, &cell, formula);
-        assert_eq!(get(&wb, &cell), n(*expected), "{formula}");
-    }
+    assert_numbers_in_column_a(&mut wb, &cases);
     // "<>j" counts the cells less those equal to j, by the index: k − 1 each.
     set(&mut wb, "B1", &inside(format!("COUNTIF(SEQUENCE({k}),\"<>\"&{keys})")));
     assert_eq!(get(&wb, "B1"), n((k * (k - 1)) as f64));
@@ -299,11 +300,7 @@ fn comparisons_unequals_and_three_paired_arrays_inside_a_lambda_are_indexed() {
         (inside(format!("COUNTIFS({cells},{keys},{cells}*2,{keys}*2,{cells}*3,{keys}*3)")), k as f64),
         (inside(format!("SUMIFS({cells},{cells},{keys},{cells}*2,{keys}*2,{cells}*3,{keys}*3)")), triangle),
     ];
-    for (i, (formula, expected)) in cases.iter().enumerate() {
-        let cell = format!("A{}", i + 1);
-        set(&mut wb, &cell, formula);
-        assert_eq!(get(&wb, &cell), n(*expected), "{formula}");
-    }
+    assert_numbers_in_column_a(&mut wb, &cases);
 }
 
 /// Excel's rules for MAXIFS/MINIFS over criteria arrays of comparisons and `<>`, worked
