@@ -191,3 +191,17 @@ fn a_longlong_literal_before_an_operator_word() {
     );
     assert_eq!(out, [" 2 LongLong", " 1 LongLong", " 3 LongLong", " 2  4 LongLong 20"]);
 }
+
+// [MS-VBAL] 5.6.9.8 "Logical Operators": a binary logical operator's declared type by its
+// operands' (two Bytes a Byte, Bytes, Booleans and Integers an Integer, a LongLong beside a
+// LongLong, any other number a Long); a Variant holds the result with that type ("Variant
+// data type"): `5 And 4` is the Integer 4, `CLng(5) Or 2` the Long 7, `2.5 Xor 1` a Long.
+#[test]
+fn logical_operators_on_numbers_give_their_declared_type() {
+    let out = printed(
+        "Sub Main()\n    Dim v\n    v = 5 And 4\n    Debug.Print v; TypeName(v)\n\
+         \x20   Debug.Print TypeName(CLng(5) Or 2); \" \"; TypeName(2.5 Xor 1); \" \"; \
+         TypeName(CByte(3) And CByte(1)); \" \"; TypeName(5^ And 1); \" \"; TypeName(True And False)\nEnd Sub\n",
+    );
+    assert_eq!(out, [" 4 Integer", "Long Long Byte LongLong Boolean"]);
+}

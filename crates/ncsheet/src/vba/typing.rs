@@ -258,7 +258,22 @@ fn binary_type(op: BinOp, x: Declared, y: Declared) -> Declared {
         // none of its exceptions), not rounded to four places.
         BinOp::Div if !variant => single_or_double(x, y),
         BinOp::Pow if !variant => Declared::Double,
+        BinOp::And | BinOp::Or | BinOp::Xor | BinOp::Eqv | BinOp::Imp if !variant => logical_type(x, y),
         _ => Declared::Variant,
+    }
+}
+
+/// The declared type of a binary logical operator, `And`, `Or`, `Xor`, `Eqv` or `Imp`
+/// ([MS-VBAL] 5.6.9.8's table): two Bytes a Byte, two Booleans a Boolean, Bytes, Booleans
+/// and Integers together an Integer, a LongLong beside a LongLong, anything else a Long.
+fn logical_type(x: Declared, y: Declared) -> Declared {
+    let small = |t: Declared| matches!(t, Declared::Byte | Declared::Boolean | Declared::Integer);
+    match (x, y) {
+        (Declared::Byte, Declared::Byte) => Declared::Byte,
+        (Declared::Boolean, Declared::Boolean) => Declared::Boolean,
+        _ if small(x) && small(y) => Declared::Integer,
+        _ if x == Declared::LongLong || y == Declared::LongLong => Declared::LongLong,
+        _ => Declared::Long,
     }
 }
 
