@@ -478,11 +478,10 @@ fn read_csv_fields_in_locale(opened: &mut Opened, locale: crate::eval::Locale) {
     }
     let layout = opened.layout.get_or_insert_with(Default::default);
     let shown = &mut layout.sheets.entry(sheet).or_default().look.number_formats;
-    for (pos, code) in formats {
-        if !shown.contains_key(&pos) {
-            shown.insert(pos, code.to_string());
-        }
-    }
+    // The file's own formats stay; the rest go in at once (one by one, each would move the
+    // cells after it).
+    let absent: Vec<_> = formats.into_iter().filter(|(pos, _)| !shown.contains_key(pos)).collect();
+    shown.extend(absent.into_iter().map(|(pos, code)| (pos, code.to_string())));
 }
 
 /// A csv field read as a number in a decimal-comma `locale`, its plain number read once, with

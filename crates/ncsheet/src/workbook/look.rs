@@ -3,6 +3,7 @@
 //! the macro's (a run starts from it and leaves its changes in it), kept by the `Document`.
 //! Nothing here changes a value.
 
+use std::borrow::Borrow;
 use std::collections::{BTreeMap, HashMap};
 use std::hash::Hash;
 
@@ -159,8 +160,8 @@ impl<T> std::ops::Index<&Pos> for LooksByCell<T> {
 impl<T: Clone + Eq + Hash> FromIterator<(Pos, T)> for LooksByCell<T> {
     fn from_iter<I: IntoIterator<Item = (Pos, T)>>(given: I) -> Self {
         let mut table = LooksByCell::default();
-        let cells = given.into_iter().map(|(pos, look)| (pos, table.index_for(&look))).collect();
-        table.with_cells(cells)
+        table.add_all(given);
+        table
     }
 }
 
@@ -169,17 +170,25 @@ impl<T: Clone + Eq + Hash> FromIterator<(Pos, T)> for LooksByCell<T> {
 impl<'a, T: Clone + Eq + Hash + 'a> FromIterator<(Pos, &'a T)> for LooksByCell<T> {
     fn from_iter<I: IntoIterator<Item = (Pos, &'a T)>>(given: I) -> Self {
         let mut table = LooksByCell::default();
-        let cells = given.into_iter().map(|(pos, look)| (pos, table.index_for(look))).collect();
-        table.with_cells(cells)
+        table.add_all(given);
+        table
     }
 }
 
-impl<T> LooksByCell<T> {
-    /// The table holding `cells` (cell, index of its look), put in order; of a cell given
-    /// twice the later one is kept.
-    fn with_cells(mut self, mut cells: Vec<(Pos, u32)>) -> Self {
-        // Stable (and quick on cells already in order, as a file gives them), so that the
-        // later of a cell given twice comes last.
+/// Many cells at once (a csv's million fields), put in order once rather than one by one;
+/// a cell given again keeps the last look given.
+impl<T: Clone + Eq + Hash> Extend<(Pos, T)> for LooksByCell<T> {
+    fn extend<I: IntoIterator<Item = (Pos, T)>>(&mut self, given: I) {
+        self.add_all(given);
+    }
+}
+
+impl<T: Clone + Eq + Hash> LooksByCell<T> {
+    fn add_all<L: Borrow<T>>(&mut self, given: impl IntoIterator<Item = (Pos, L)>) {
+        let mut cells = std::mem::take(&mut self.cells);
+        cells.extend(given.into_iter().map(|(pos, look)| (pos, self.index_for(look.borrow()))));
+        // Stable (and quick on cells already in order, as a file gives them), so that of a
+        // cell given twice the later comes last, and is kept.
         cells.sort_by_key(|&(pos, _)| pos);
         cells.dedup_by(|later, kept| {
             let same = later.0 == kept.0;
@@ -190,7 +199,6 @@ impl<T> LooksByCell<T> {
         });
         cells.shrink_to_fit();
         self.cells = cells;
-        self
     }
 }
 
@@ -270,6 +278,9 @@ mod tests {
         let twice: LooksByCell<String> =
             [(b, "0.0".to_string()), (a, "0.0".to_string()), (b, "0%".to_string())].into_iter().collect();
         assert_eq!(twice, one, "the last look given a cell is kept");
+        let mut extended: LooksByCell<String> = [(b, "0.0".to_string())].into_iter().collect();
+        extended.extend([(a, "0.0".to_string()), (b, "0%".to_string())]);
+        assert_eq!(extended, one, "extended as if inserted one by one");
         let third: LooksByCell<String> = [(a, "0%".to_string()), (b, "0.0".to_string())].into_iter().collect();
         assert_ne!(one, third);
     }
