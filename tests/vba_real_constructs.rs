@@ -274,16 +274,28 @@ fn an_enum_member_named_in_brackets() {
 // "Raise method": `Err.Raise number, source, description` sets Err.Source to `source`; a
 // source not given is "the programmatic ID of the current Visual Basic project" (Excel's
 // VBAProject), as it is for the errors VBA raises itself ("Source property"); Err.Clear
-// empties it ("Clear method": all of Err's properties are reset).
+// empties it ("Clear method": all of Err's properties are reset). A description not given is
+// the one of VBA's error of that number ("Trappable errors": 9 "Subscript out of range"), else
+// "Application-defined or object-defined error".
 #[test]
 fn err_source_is_the_raise_source_or_the_project() {
     let src = "Sub Main()\n    On Error Resume Next\n\
                \x20   Err.Raise 5, \"Geom.Atn2\", \"no angle\"\n\
                \x20   Debug.Print Err.Number; Err.Source; \"|\"; Err.Description\n\
                \x20   Err.Clear\n    Debug.Print \"[\"; Err.Source; \"]\"\n\
-               \x20   Err.Raise 1000\n    Debug.Print Err.Source\n\
+               \x20   Err.Raise 1000\n    Debug.Print Err.Source; \"|\"; Err.Description\n\
+               \x20   Err.Clear\n    Err.Raise 9\n    Debug.Print Err.Description\n\
                \x20   Err.Clear\n    Dim z\n    z = 1 / 0\n    Debug.Print Err.Number; Err.Source\nEnd Sub\n";
-    assert_eq!(printed(src), [" 5 Geom.Atn2|no angle", "[]", "VBAProject", " 11 VBAProject"]);
+    assert_eq!(
+        printed(src),
+        [
+            " 5 Geom.Atn2|no angle",
+            "[]",
+            "VBAProject|Application-defined or object-defined error",
+            "Subscript out of range",
+            " 11 VBAProject",
+        ]
+    );
 }
 
 // "On Error statement": `On Error GoTo line` enables the routine starting at the line, which

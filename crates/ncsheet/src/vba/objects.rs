@@ -304,11 +304,13 @@ impl Interp<'_, '_> {
                 if !(1.0..=65535.0).contains(&number) {
                     return Err(self.fault_at(link.span, "Err.Raise takes an error number from 1 to 65535"));
                 }
-                let description = match values.get(2) {
+                let message = match values.get(2) {
                     Some(v) if !v.is_blank() => print_text(v),
-                    _ => format!("error {number}"),
+                    // The description Err then gives, and the number, in the message of an
+                    // error nothing traps (`err_state` keeps what is before the marker).
+                    _ => format!("{} (run-time error {number}): raised by Err.Raise", raised_description(number)),
                 };
-                let mut fault = self.fault_at(link.span, description);
+                let mut fault = self.fault_at(link.span, message);
                 fault.code = number as u32;
                 fault.source = values.get(1).filter(|v| !v.is_blank()).map(print_text);
                 Err(fault)
@@ -881,4 +883,25 @@ fn lines_named(text: &str, rows: bool) -> Option<(u32, u32)> {
         None => (one(text)?, one(text)?),
     };
     Some((a.min(b), a.max(b)))
+}
+
+/// "Raise method": with no description, "the string associated with the error" when the number
+/// is one of VBA's ("Trappable errors"), else "Application-defined or object-defined error".
+fn raised_description(number: f64) -> &'static str {
+    match number as u32 {
+        5 => "Invalid procedure call or argument",
+        6 => "Overflow",
+        7 => "Out of memory",
+        9 => "Subscript out of range",
+        11 => "Division by zero",
+        13 => "Type mismatch",
+        20 => "Resume without error",
+        53 => "File not found",
+        91 => "Object variable or With block variable not set",
+        94 => "Invalid use of Null",
+        424 => "Object required",
+        438 => "Object doesn't support this property or method",
+        457 => "This key is already associated with an element of this collection",
+        _ => "Application-defined or object-defined error",
+    }
 }
