@@ -73,6 +73,12 @@ pub fn run(
     *it.out.get_mut() = RunOutput::new(&stem.to_ascii_uppercase(), options.machine);
     let result = it.start(entry);
     it.flush_line();
+    // The sheet the macro activated (Activate, Sheets.Add) is the one the saved file opens on.
+    if it.active.get() != active {
+        if let Ok(mut book) = it.book_mut() {
+            book.set_active_sheet(it.active.get());
+        }
+    }
     let looks = it.looks.borrow().finish(&it.wb.borrow());
     let mut output = it.out.into_inner();
     output.looks = looks;

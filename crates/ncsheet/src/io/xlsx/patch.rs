@@ -104,7 +104,8 @@ pub fn patch(
     let workbook_part = package.workbook_parts.first().cloned().unwrap_or_else(|| "xl/workbook.xml".into());
     let states_changed =
         package.sheets.iter().any(|e| wb.sheet_id(&e.name).is_some_and(|id| wb.sheet_visibility(id) != e.visibility));
-    let changed = !by_part.is_empty() || states_changed;
+    let active_moved = moved_active_tab(&package, wb);
+    let changed = !by_part.is_empty() || states_changed || active_moved.is_some();
     let mut zip = zip::ZipArchive::new(Cursor::new(bytes)).map_err(|e| {
         let (p, k, m) = zip_error(None, e);
         fail(p.as_deref(), k, m)
@@ -159,10 +160,17 @@ pub fn patch(
             let looks = restyles.get(&name).zip(styles.as_mut());
             let patched = patch_sheet(&xml, (wb, *sheet), cells, looks, &mut losses)
                 .map_err(|m| fail(Some(&name), ErrorKind::Unwritable, m))?;
-            Some(patched)
+            Some(with_selected_tab(patched, &name, &package, active_moved))
         } else if name == workbook_part {
             let xml = read_text(&mut entry, &name, &source.file)?;
-            Some(with_sheet_states(&full_calc_on_load(&xml), &package, wb))
+            let xml = with_sheet_states(&full_calc_on_load(&xml), &package, wb);
+            Some(match active_moved {
+                Some((_, now)) => with_active_tab(&xml, now),
+                None => xml,
+            })
+        } else if active_moved.is_some_and(|(was, now)| [was, now].iter().any(|&i| package.sheets[i].part == name)) {
+            let xml = read_text(&mut entry, &name, &source.file)?;
+            Some(with_selected_tab(xml, &name, &package, active_moved))
         } else if calc_chain.is_some() && (name == "[Content_Types].xml" || name == wb_rels) {
             let xml = read_text(&mut entry, &name, &source.file)?;
             Some(without_elements_naming(&xml, "calcChain"))
@@ -274,6 +282,65 @@ fn without_elements_naming(xml: &str, what: &str) -> String {
     out
 }
 
+/// The package's tab positions of the sheet the file opened on and of the one the run left
+/// active (a macro's `Activate`), when they differ. The file's active tab is read as the
+/// reader took it: one that is no worksheet of the workbook (a chart sheet) opened the first.
+fn moved_active_tab(package: &Package, wb: &Workbook) -> Option<(usize, usize)> {
+    let tab_of = |id: SheetId| package.sheets.iter().position(|e| wb.sheet_id(&e.name) == Some(id));
+    let was_id = package.sheets.get(package.active_tab).and_then(|e| wb.sheet_id(&e.name)).unwrap_or(0);
+    let active = wb.active_sheet();
+    // A hidden sheet cannot be the one a file opens on.
+    if wb.sheet_visibility(active) != crate::workbook::Visibility::Visible {
+        return None;
+    }
+    let (was, now) = (tab_of(was_id)?, tab_of(active)?);
+    (was != now).then_some((was, now))
+}
+
+/// The workbook part with its first `<workbookView>` (the one Excel opens with) on tab
+/// `tab`; a part without one gets a `<bookViews>` before `<sheets>`, where ECMA-376 puts it.
+fn with_active_tab(xml: &str, tab: usize) -> String {
+    let prefix = root_prefix(xml);
+    if let Some(start) = find_tag(xml, &format!("{prefix}workbookView"), 0) {
+        let end = xml[start..].find('>').map_or(xml.len(), |i| start + i);
+        return format!(
+            "{}{}{}",
+            &xml[..start],
+            with_attr(&xml[start..end], "activeTab", Some(&tab.to_string())),
+            &xml[end..]
+        );
+    }
+    let Some(sheets) = find_tag(xml, &format!("{prefix}sheets"), 0) else { return xml.to_string() };
+    let views = format!(r#"<{prefix}bookViews><{prefix}workbookView activeTab="{tab}"/></{prefix}bookViews>"#);
+    format!("{}{views}{}", &xml[..sheets], &xml[sheets..])
+}
+
+/// A worksheet part whose first `<sheetView>` is `tabSelected` when it is the newly active
+/// sheet and is not when it was the old one: two selected tabs would open as a group, where
+/// an edit changes every sheet of it. A part without a sheet view keeps Excel's default.
+fn with_selected_tab(xml: String, part: &str, package: &Package, moved: Option<(usize, usize)>) -> String {
+    let Some((was, now)) = moved else { return xml };
+    let selected = match part {
+        _ if package.sheets[now].part == part => Some("1"),
+        _ if package.sheets[was].part == part => None,
+        _ => return xml,
+    };
+    let Some(start) = find_tag(&xml, &format!("{}sheetView", root_prefix(&xml)), 0) else { return xml };
+    let end = xml[start..].find('>').map_or(xml.len(), |i| start + i);
+    format!("{}{}{}", &xml[..start], with_attr(&xml[start..end], "tabSelected", selected), &xml[end..])
+}
+
+/// A start tag (without its `>`) with attribute `name` set to `value`, or removed for `None`;
+/// an empty element keeps its closing `/`.
+fn with_attr(tag: &str, name: &str, value: Option<&str>) -> String {
+    let kept = remove_attr(tag, name);
+    let (head, close) = kept.strip_suffix('/').map_or((kept.as_str(), ""), |h| (h, "/"));
+    match value {
+        Some(v) => format!(r#"{} {name}="{v}"{close}"#, head.trim_end()),
+        None => format!("{}{close}", head.trim_end()),
+    }
+}
+
 /// The start of the next `<name` tag (followed by a space, `>` or `/`) at or after `from`.
 /// The workbook part with each `<sheet>`'s `state` as the workbook now has it (a macro's
 /// `Visible`); the tags are the package's sheet entries, in order.
@@ -291,15 +358,12 @@ fn with_sheet_states(xml: &str, package: &Package, wb: &Workbook) -> String {
         match now.filter(|v| *v != entry.visibility) {
             None => out.push_str(tag),
             Some(v) => {
-                let kept = remove_attr(tag, "state");
-                let (head, close) = kept.strip_suffix('/').map_or((kept.as_str(), ""), |h| (h, "/"));
-                out.push_str(head.trim_end());
-                match v {
-                    Visibility::Visible => {}
-                    Visibility::Hidden => out.push_str(r#" state="hidden""#),
-                    Visibility::VeryHidden => out.push_str(r#" state="veryHidden""#),
-                }
-                out.push_str(close);
+                let state = match v {
+                    Visibility::Visible => None,
+                    Visibility::Hidden => Some("hidden"),
+                    Visibility::VeryHidden => Some("veryHidden"),
+                };
+                out.push_str(&with_attr(tag, "state", state));
             }
         }
         at = end;
