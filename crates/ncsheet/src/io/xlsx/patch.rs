@@ -936,6 +936,23 @@ mod tests {
         );
     }
 
+    /// ECMA-376 §18.2.30: `activeTab` on the first `workbookView`; §18.2.27: `bookViews`
+    /// comes before `sheets` in `CT_Workbook`.
+    #[test]
+    fn the_active_tab_is_set_or_its_book_views_added_before_the_sheets() {
+        assert_eq!(
+            with_active_tab(
+                r#"<workbook><bookViews><workbookView activeTab="2" xWindow="5"/></bookViews></workbook>"#,
+                1
+            ),
+            r#"<workbook><bookViews><workbookView xWindow="5" activeTab="1"/></bookViews></workbook>"#
+        );
+        assert_eq!(
+            with_active_tab(r#"<x:workbook xmlns:x="m"><x:sheets><x:sheet/></x:sheets></x:workbook>"#, 3),
+            r#"<x:workbook xmlns:x="m"><x:bookViews><x:workbookView activeTab="3"/></x:bookViews><x:sheets><x:sheet/></x:sheets></x:workbook>"#
+        );
+    }
+
     #[test]
     fn calc_chain_entries_are_removed() {
         let xml = r#"<Types><Default Extension="xml"/><Override PartName="/xl/calcChain.xml" ContentType="x"/><Override PartName="/xl/a.xml"/></Types>"#;
