@@ -492,10 +492,10 @@ impl<'a> CriteriaMatcher<'a> {
         self.add_work(2 * ordered.query_work());
         let [kind_start, before, through, kind_end] = ordered.bounds(&key);
         Some(match criterion.op {
-            BinOp::Lt => summary.from_kind_start(kind_start, before),
-            BinOp::Le => summary.from_kind_start(kind_start, through),
-            BinOp::Gt => summary.to_kind_end(through, kind_end),
-            _ => summary.to_kind_end(before, kind_end),
+            BinOp::Lt => summary.run_from_kind_start(kind_start, before),
+            BinOp::Le => summary.run_from_kind_start(kind_start, through),
+            BinOp::Gt => summary.run_to_kind_end(through, kind_end),
+            _ => summary.run_to_kind_end(before, kind_end),
         })
     }
 
@@ -1041,12 +1041,12 @@ impl SortedSummary {
 
     /// The summary and count of the numbers beside sorted cells `from` (where a kind
     /// starts) to `to` (not included); the summary is 0 where there is none.
-    fn from_kind_start(&self, from: usize, to: usize) -> (f64, usize) {
+    fn run_from_kind_start(&self, from: usize, to: usize) -> (f64, usize) {
         self.over(from, to, |cells| self.from_start[cells.end - 1])
     }
 
     /// The same from sorted cell `from` to `to`, where a kind ends (not included).
-    fn to_kind_end(&self, from: usize, to: usize) -> (f64, usize) {
+    fn run_to_kind_end(&self, from: usize, to: usize) -> (f64, usize) {
         self.over(from, to, |cells| self.to_end[cells.start])
     }
 
@@ -1136,7 +1136,7 @@ impl KeyedSummary {
         let better = |best: f64, x: f64| summary.pick(best, x) != best;
         let mut best: Option<(Option<ItemKey>, f64)> = None;
         for (key, tally) in counted() {
-            if best.as_ref().map_or(true, |(_, x)| better(*x, tally.summary)) {
+            if best.as_ref().is_none_or(|(_, x)| better(*x, tally.summary)) {
                 best = Some((key.clone(), tally.summary));
             }
         }
