@@ -18,6 +18,7 @@ mod common;
 use std::path::Path;
 use std::process::Command;
 
+use common::openpyxl::openpyxl_available;
 use ncsheet::eval::Value;
 use ncsheet::formula::address::parse_cell;
 use ncsheet::vba::{self, RunOptions};
@@ -125,13 +126,6 @@ fn worksheet_copy_before_a_sheet_is_placed_there_and_active() {
     );
     assert_eq!(printed, ["Sheet2 (2) 1  15 ", "Sheet2 (2),Sheet1,Sheet2,"]);
     assert_eq!(wb.formula(2, parse_cell("A2").unwrap()).as_deref(), Some("=A1*5"));
-}
-
-/// Whether openpyxl can be imported; on CI (`CI` set) it must be: `.ci/run` installs it.
-fn openpyxl_available() -> bool {
-    let found = Command::new("python3").args(["-c", "import openpyxl"]).output().is_ok_and(|o| o.status.success());
-    assert!(found || std::env::var_os("CI").is_none(), "openpyxl (pip openpyxl) is missing on CI");
-    found
 }
 
 /// openpyxl's reading of `book`: each sheet in the file's order with the formula or value of

@@ -3,24 +3,11 @@
 //! shown when the workbook opens, and §18.3.1.87 (`sheetView`): `tabSelected` marks the
 //! selected tab(s). openpyxl, an outside reader, reports both (`wb.active`, `views.sheetView[0].tabSelected`).
 
-use std::path::Path;
-use std::process::Command;
+mod common;
 
+use common::openpyxl::{openpyxl_available, python};
 use ncsheet::document::{Document, OpenOptions};
 use ncsheet::vba::RunOptions;
-
-/// Whether openpyxl can be imported; on CI (`CI` set) it must be: `.ci/run` installs it.
-fn openpyxl_available() -> bool {
-    let found = Command::new("python3").args(["-c", "import openpyxl"]).output().is_ok_and(|o| o.status.success());
-    assert!(found || std::env::var_os("CI").is_none(), "openpyxl (pip openpyxl) is missing on CI");
-    found
-}
-
-fn python(script: &str, args: &[&Path]) -> String {
-    let out = Command::new("python3").arg("-c").arg(script).args(args).output().unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    String::from_utf8(out.stdout).unwrap()
-}
 
 /// Three sheets A, B, C written by openpyxl; the file opens on A.
 const WRITE_THREE: &str = r#"

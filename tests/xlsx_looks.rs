@@ -10,25 +10,13 @@
 //! xlRight -4152), "XlVAlign enumeration" (xlTop -4160), "Interior.Color property" (an RGB
 //! value, red in the low byte: RGB(255, 0, 0) is 255), "Range.RowHeight property" (points).
 
-use std::path::Path;
+mod common;
+
 use std::process::Command;
 
+use common::openpyxl::{openpyxl_available, python};
 use ncsheet::document::{Document, OpenOptions};
 use ncsheet::vba::RunOptions;
-
-/// Whether openpyxl can be imported; on CI (`CI` set) it must be: `.ci/run` installs it.
-fn openpyxl_available() -> bool {
-    let found = Command::new("python3").args(["-c", "import openpyxl"]).output().is_ok_and(|o| o.status.success());
-    assert!(found || std::env::var_os("CI").is_none(), "openpyxl (pip openpyxl) is missing on CI");
-    found
-}
-
-/// Runs a Python script with `args`; its standard output.
-fn python(script: &str, args: &[&Path]) -> String {
-    let out = Command::new("python3").arg("-c").arg(script).args(args).output().unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    String::from_utf8(out.stdout).unwrap()
-}
 
 /// The book `script` writes, opened: its folder (kept while the test runs) and document.
 fn book_by_openpyxl(script: &str) -> (tempfile::TempDir, Document) {

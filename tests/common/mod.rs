@@ -7,6 +7,7 @@ pub mod corpus;
 pub mod excel_oracle;
 pub mod fuzz;
 pub mod locale;
+pub mod openpyxl;
 pub mod rs274;
 pub mod sheet;
 pub mod vba;
