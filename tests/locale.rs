@@ -737,6 +737,133 @@ fn a_date_and_a_time_typed_into_a_csv_are_saved_as_shown() {
     assert_eq!(std::fs::read_to_string(d.join("u2.csv")).unwrap(), "a,3/12/2025,x\n");
 }
 
+/// A time typed in en-US gets the format Excel en-US gives it, as a date does (Microsoft's
+/// built-in formats: 20 `h:mm`, 22 `m/d/yyyy h:mm`, 18 `h:mm AM/PM`, 21 `h:mm:ss`, 46
+/// `[h]:mm:ss` for a day or more), so it shows and is saved to a csv as typed; it showed,
+/// and was saved as, its serial (0.604166666666667). The values are unchanged: 14:30 is 870
+/// minutes, 2025-03-12 serial 45728, and LibreOffice set to en-US reads the saved csv to them.
+#[test]
+fn a_time_typed_in_en_us_shows_as_excel_shows_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("t.csv"), "a,1.5,x,y,z\n").unwrap();
+    let typed = ["A1=14:30", "B1=3/12/2025 14:30", "C1=2:30 PM", "D1=14:30:15", "E1=25:30"];
+    for out in ["u.csv", "u.xlsx"] {
+        let mut args = vec!["set", "t.csv", "--locale", "en-US"];
+        args.extend(typed);
+        args.extend(["-o", out]);
+        ok(in_dir(d, &args));
+    }
+    let saved = std::fs::read_to_string(d.join("u.csv")).unwrap();
+    assert_eq!(saved, "14:30,3/12/2025 14:30,2:30 PM,14:30:15,25:30:00\n");
+    let shown = ok(in_dir(d, &["eval", "u.xlsx", "A1", "B1", "C1", "D1", "E1", "--locale", "en-US"])).stdout;
+    assert_eq!(shown, "A1  14:30\nB1  3/12/2025 14:30\nC1  2:30 PM\nD1  14:30:15\nE1  25:30:00\n");
+    let minutes = [870.0, 45728.0 * 1440.0 + 870.0, 870.0, 870.25, 1530.0];
+    let in_minutes = |values: &std::collections::BTreeMap<String, serde_json::Value>| -> Vec<f64> {
+        let cells = ["A1", "B1", "C1", "D1", "E1"];
+        cells.iter().map(|c| (values[*c].as_f64().expect(c) * 1440.0 * 4.0).round() / 4.0).collect()
+    };
+    assert_eq!(in_minutes(&values_by_cell(d, Path::new("u.xlsx"), "en-US")), minutes);
+    assert_eq!(in_minutes(&values_by_cell(d, Path::new("u.csv"), "en-US")), minutes);
+    let Some(soffice) = common::soffice() else { return };
+    let out = d.join("lo-read-en-US");
+    let reading = "--infilter=Text - txt - csv (StarCalc):44,34,76,1,,0,false,true";
+    libreoffice_converts(&soffice, d, "en-US", &[reading], "xlsx", &out, &d.join("u.csv"));
+    assert_eq!(in_minutes(&values_by_cell(d, &out.join("u.xlsx"), "en-US")), minutes);
+}
+
+/// Times typed with seconds, of a day or more, or with a fraction of a second are saved to a
+/// csv in the formats Excel gives them (21 `h:mm:ss`, 46 `[h]:mm:ss`, 47 `mm:ss.0`), which
+/// LibreOffice set to the locale reads back to the same values (the oracle, when installed):
+/// 14:30:15 is 52215 seconds, 25:30 is 1.0625 days, 1:30,5 is 90.5 seconds. `25:30` was
+/// saved as `1:30` (`h:mm` drops the day) and `1:30,5` as `00:01`.
+#[test]
+fn long_and_fine_times_typed_into_a_csv_read_back_as_typed() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let soffice = common::soffice();
+    for locale in ["de-DE", "fr-FR", "et-EE"] {
+        std::fs::write(d.join("t.csv"), "a;1,5;x\n").unwrap();
+        let out = format!("t-{locale}.csv");
+        ok(in_dir(d, &["set", "t.csv", "--locale", locale, "A1=14:30:15", "B1=25:30", "C1=1:30,5", "-o", &out]));
+        assert_eq!(std::fs::read_to_string(d.join(&out)).unwrap(), "14:30:15;25:30:00;01:30,5\n", "{locale}");
+        let Some(soffice) = &soffice else { continue };
+        let theirs = values_by_cell(d, &libreoffice_reads_csv(soffice, d, &d.join(&out), locale), "en-US");
+        let seconds =
+            |cell: &str| theirs.get(cell).and_then(|v| v.as_f64()).map(|t| (t * 86400.0 * 10.0).round() / 10.0);
+        assert_eq!(
+            [seconds("A1"), seconds("B1"), seconds("C1")],
+            [Some(52215.0), Some(91800.0), Some(90.5)],
+            "{locale}"
+        );
+    }
+}
+
+/// Format codes with words in brackets, and what TEXT(1234.5, code) gives with each in en-US
+/// (LibreOffice 7.4 set to en-US, recorded: Err:502 is #VALUE!), but for `[Brown]0`.
+const BRACKET_WORDS: [(&str, &str); 14] = [
+    ("[Foo]0", "#VALUE!"),
+    ("0;[Foo]-0", "#VALUE!"),
+    ("[Gray]0", "#VALUE!"),
+    ("[Orange]0", "#VALUE!"),
+    ("[Color0]0", "#VALUE!"),
+    ("[Rot]0", "#VALUE!"),
+    ("[Rouge]0", "#VALUE!"),
+    ("[Brown]0", "#VALUE!"),
+    ("[Red]0", "1235"),
+    ("[black]0.0", "1234.5"),
+    ("[Color10]0", "1235"),
+    ("[Color 10]0", "1235"),
+    ("[Blue][>1]0", "1235"),
+    ("[DBNum1]0", "1235"),
+];
+
+/// A word in a format code's brackets that is no colour of the locale, condition, currency
+/// or elapsed time (`[Foo]0`, `[Gray]0`, another locale's `[Rot]0`) makes no code: TEXT gives
+/// #VALUE! in en-US, as LibreOffice set to en-US does (the oracle, run when installed) and as
+/// Excel refuses such a code; ncsheet ignored the word (`1235`). `[Brown]`, which
+/// LibreOffice reads, is refused as Excel refuses it: Microsoft's "Review guidelines for
+/// customizing a number format" names eight colours, and Brown is none of them. A cell whose
+/// format has such a word shows its number in General, as LibreOffice shows it (`-1234.5`,
+/// where ncsheet showed `-1235`).
+#[test]
+fn an_unknown_word_in_a_format_code_makes_no_code() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let fields: Vec<String> =
+        BRACKET_WORDS.iter().map(|(code, _)| format!("\"=TEXT(1234.5,\"\"{code}\"\")\"")).collect();
+    std::fs::write(d.join("w.csv"), format!("{}\n", fields.join(","))).unwrap();
+    ok(in_dir(d, &["set", "w.csv", "--delimiter", ",", "--locale", "en-US", "A2=1", "-o", "w.xlsx"]));
+    let cells: Vec<String> = (0..BRACKET_WORDS.len()).map(|i| format!("{}1", char::from(b'A' + i as u8))).collect();
+    let mut args = vec!["eval", "w.xlsx", "--locale", "en-US"];
+    args.extend(cells.iter().map(String::as_str));
+    let ours: Vec<String> = ok(in_dir(d, &args)).stdout.lines().map(|l| l[cells[0].len() + 2..].to_string()).collect();
+    let expected: Vec<&str> = BRACKET_WORDS.iter().map(|(_, shown)| *shown).collect();
+    assert_eq!(ours, expected);
+    let shown_in = |code: &str| {
+        let path = d.join("f.xlsx");
+        let mut book = rust_xlsxwriter::Workbook::new();
+        let format = rust_xlsxwriter::Format::new().set_num_format(code);
+        book.add_worksheet().write_number_with_format(0, 0, -1234.5, &format).unwrap();
+        book.save(&path).unwrap();
+        ok(in_dir(d, &["eval", "f.xlsx", "A1", "--locale", "en-US"])).stdout
+    };
+    assert_eq!(shown_in("[Foo]0"), "-1234.5\n");
+    assert_eq!(shown_in("0;[Foo]-0"), "-1234.5\n");
+    assert_eq!(shown_in("[Red]0"), "-1235\n");
+    let Some(soffice) = common::soffice() else { return };
+    let out = d.join("lo-en-US");
+    let csv = "csv:Text - txt - csv (StarCalc):44,34,76,1,,0,false,true,true";
+    libreoffice_converts(&soffice, d, "en-US", &[], csv, &out, &d.join("w.xlsx"));
+    let theirs = std::fs::read_to_string(out.join("w.csv")).unwrap();
+    let theirs: Vec<&str> = theirs.lines().next().unwrap().split(',').map(as_excel_error).collect();
+    for (i, (code, _)) in BRACKET_WORDS.iter().enumerate() {
+        if *code != "[Brown]0" {
+            assert_eq!(ours[i], theirs[i], "{code}");
+        }
+    }
+}
+
 /// Percents and scientific numbers of a `;` csv, read in the locale and written back, come
 /// back as LibreOffice set to the locale writes them (the oracle, run here when soffice is
 /// installed; its text recorded for de-DE, fr-FR and et-EE with LibreOffice 7.4): the
@@ -1007,6 +1134,10 @@ const VALUE_PROBES: &[(&[&str], &str)] = &[
     (&["fr-FR", "et-EE"], r#"=TEXT(-5,"0;[Rot]-0")"#),
     (&["fr-FR", "et-EE"], r#"=TEXT(-5,"[Blue]0;[RED]-0;[Color10]0")"#),
     (ALL, r#"=TEXT(45728.6,"h:mm A/P")"#),
+    // A currency sign or a language tag beside the code (see CURRENCY_OR_TAG).
+    (&["fr-FR", "et-EE"], r##"=TEXT(1234.5,"$#,##0.00")"##),
+    (&["fr-FR", "et-EE"], r##"=TEXT(1234.5,"#,##0.00 [$€-407]")"##),
+    (&["de-DE"], r##"=TEXT(1234.5,"[$-409]#,##0.00")"##),
     // Typed times with the locale's words for before and after noon and not en-US's where
     // it has its own (de-DE, et-EE), an hour alone, ISO 8601's `T`, a weekday's full name
     // before a date.
@@ -1063,7 +1194,22 @@ const EXCEL_SHOWS: &[(&str, &str, &str)] = &[
     (r#"=1234567890123456&"""#, "1,23456789012346E+15", NUMBER_TEXT),
     (r#"=TEXT(45728.6,"h:mm A/P")"#, "2:24 P", A_OR_P),
     (r#"=TEXT(45728,"mmmmm yyyy")"#, "m 2025", MONTH_LETTER),
+    (r##"=TEXT(1234.5,"$#,##0.00")"##, "$1\u{a0}234,50", CURRENCY_OR_TAG),
+    (r##"=TEXT(1234.5,"#,##0.00 [$€-407]")"##, "1\u{a0}234,50 €", CURRENCY_OR_TAG),
+    (r##"=TEXT(1234.5,"[$-409]#,##0.00")"##, "1.234,50000", CURRENCY_OR_TAG),
 ];
+
+/// Why fr-FR and et-EE `TEXT(1234.5,"$#,##0.00")` is `$1 234,50`, and de-DE
+/// `[$-409]#,##0.00` is `1.234,50000`: a currency sign or a language tag beside a code does
+/// not change how its digits are read, so each is what the bare code shows (`1 234,50`,
+/// LibreOffice's own for fr-FR and et-EE `#,##0.00`, compared above; de-DE's `1.234,50000`,
+/// see EN_US_BUILT_IN) with the sign or the currency added, as Microsoft's TEXT page shows
+/// `$#,##0.00` as the `#,##0.00` amount after `$` (`$1,234.57`), and a tag like `[$-409]`
+/// picks the language of dates' names ("Number format codes"), not the marks. LibreOffice is
+/// inconsistent with itself there: the same digits read otherwise once a `$` or a tag
+/// stands beside them (fr-FR and et-EE `$1234,500.00`, `1234,500.00 €`; de-DE `1,234,50000`,
+/// where its `#,##0.00 [$€-407]` is `1.234,50000 €`, as ncsheet's).
+const CURRENCY_OR_TAG: &str = "a sign or tag beside a code leaves its digits read as the bare code's";
 
 /// Why `h:mm A/P` shows `2:24 P`: Excel's "Review guidelines for customizing a number
 /// format" page, "If the format contains an AM or PM, the hour is based on the 12-hour

@@ -372,10 +372,10 @@ fn install_functions(opened: &mut Opened, options: RunOptions) {
 }
 
 /// The number format a cell gets when `typed` is a date or time in the workbook's locale,
-/// as Excel and LibreOffice give it: a date alone (`28.11.2026` in de-DE, `11/28/2026` in
-/// en-US) the built-in date (14); in a decimal-comma locale also a date with a time
-/// (`12.03.2025 14:30`) the built-in date and time (22), and a time alone (`14:30`) `h:mm`
-/// (20, `h:mm:ss` with seconds). Under en-US a typed time keeps General, as before issue 28.
+/// as Excel gives it in every locale: a date alone (`28.11.2026` in de-DE, `11/28/2026` in
+/// en-US) the built-in date (14), a date with a time (`12.03.2025 14:30`) the built-in date
+/// and time (22), and a time alone its time format ([`typed_time_format`]). Only the format
+/// changes: the value is the same serial (en-US showed a typed `14:30` as 0.604166666666667).
 fn typed_date_format(wb: &crate::workbook::Workbook, typed: &str) -> Option<&'static str> {
     typed_date_format_in(wb.settings().locale_in_force(wb.date_system()), wb.date_system(), typed)
 }
@@ -401,14 +401,30 @@ fn date_text_format(
     text: &str,
 ) -> Option<&'static str> {
     let read = locale.read_date_text(text, system)?;
-    let seconds = text.matches(':').count() > 1;
     match (read.date, read.time) {
         (Some(_), None) => Some(crate::eval::locale::BUILTIN_DATE),
-        _ if locale.is_canonical() => None,
         (Some(_), Some(_)) => Some(crate::eval::locale::BUILTIN_DATE_TIME),
-        (None, Some(_)) if seconds => Some("h:mm:ss"),
-        (None, Some(_)) => Some("h:mm"),
+        (None, Some(time)) => Some(typed_time_format(text, time)),
         (None, None) => None,
+    }
+}
+
+/// The built-in time format Excel gives a time typed alone, `text` read as `time` (a fraction
+/// of a day): `h:mm` (20), `h:mm:ss` (21) with seconds, `h:mm AM/PM` (18) or `h:mm:ss AM/PM`
+/// (19) when typed with AM or PM, `mm:ss.0` (47) for minutes and seconds with a fraction
+/// (`1:30.5`), and `[h]:mm:ss` (46) for a day or more (`25:30`), which `h` would show
+/// without its days.
+fn typed_time_format(text: &str, time: f64) -> &'static str {
+    let upper = text.to_ascii_uppercase();
+    let meridiem = upper.ends_with("AM") || upper.ends_with("PM");
+    let seconds = text.matches(':').count() > 1;
+    match (meridiem, seconds) {
+        _ if time >= 1.0 => "[h]:mm:ss",
+        (false, false) if text.contains('.') || text.contains(',') => "mm:ss.0",
+        (true, true) => "h:mm:ss AM/PM",
+        (true, false) => "h:mm AM/PM",
+        (false, true) => "h:mm:ss",
+        (false, false) => "h:mm",
     }
 }
 

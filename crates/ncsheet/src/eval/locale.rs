@@ -58,6 +58,9 @@ pub struct LocaleData {
     pub year_less: &'static [&'static str],
     /// The short date as a canonical format code (what Excel's built-in format 14 shows).
     pub short_date: &'static str,
+    /// The time Excel's built-in date and time (22) shows after the short date, as
+    /// LibreOffice set to the locale shows it (`hh:mm`; en-US and et-EE `h:mm`).
+    pub short_time: &'static str,
     /// The months' full names, January first, between spaces.
     pub months: &'static str,
     /// The weekdays' full names, Sunday first, between spaces.
@@ -98,6 +101,11 @@ pub struct LocaleData {
 
 const SPACES: &[char] = &[' ', '\u{202F}'];
 
+/// The colour words Excel reads in a format code: the eight of Microsoft's "Review guidelines
+/// for customizing a number format" (LibreOffice set to en-US also reads `[Brown]` and
+/// `[Grey]`, which Excel refuses: en-US follows Excel).
+const EXCEL_COLOURS: &str = "Black Blue Cyan Green Magenta Red White Yellow";
+/// LibreOffice's English colour words, which it reads in fr-FR and et-EE.
 const ENGLISH_COLOURS: &str = "Black Blue Cyan Green Magenta Red White Yellow Brown Grey";
 const GERMAN_COLOURS: &str = "Schwarz Blau Cyan Grün Magenta Rot Weiss Gelb Braun Grau";
 
@@ -114,6 +122,7 @@ static EN_US: LocaleData = LocaleData {
     date_separators_typed: "/-",
     year_less: &[],
     short_date: "m/d/yyyy",
+    short_time: "h:mm",
     months: "January February March April May June July August September October November December",
     days: "Sunday Monday Tuesday Wednesday Thursday Friday Saturday",
     months_short: "Jan Feb Mar Apr May Jun Jul Aug Sep Oct Nov Dec",
@@ -123,7 +132,7 @@ static EN_US: LocaleData = LocaleData {
     booleans: ["TRUE", "FALSE"],
     general: "",
     am_pm: ["AM", "PM"],
-    colours: ENGLISH_COLOURS,
+    colours: EXCEL_COLOURS,
     colour_number: "Color",
     after_weekday: &[", ", " "],
     percent_code: "0.00%",
@@ -143,6 +152,7 @@ const DECIMAL_COMMA: LocaleData = LocaleData {
     date_separators_typed: ".",
     year_less: &["D.M"],
     short_date: "dd.mm.yyyy",
+    short_time: "hh:mm",
     months: "",
     days: "",
     months_short: "",
@@ -202,6 +212,7 @@ static LOCALES: [&LocaleData; 8] = [
         english_name: "Estonian (Estonia)",
         // The day without a leading zero (`1.01.1998`), as LibreOffice set to et-EE shows it.
         short_date: "d.mm.yyyy",
+        short_time: "h:mm",
         months: "jaanuar veebruar märts aprill mai juuni juuli august september oktoober november detsember",
         days: "pühapäev esmaspäev teisipäev kolmapäev neljapäev reede laupäev",
         months_short: "jaan veebr märts apr mai juuni juuli aug sept okt nov dets",
@@ -755,8 +766,9 @@ impl Locale {
         let code = match code {
             Some(BUILTIN_DATE | "mm-dd-yy" | "m/d/yy") => Some(self.short_date),
             // Excel's built-in date and time (22) is the short date and the time, as
-            // LibreOffice set to the locale shows it; en-US keeps the code as read.
-            Some(BUILTIN_DATE_TIME | "m/d/yy h:mm") if !self.is_canonical() => {
+            // LibreOffice set to the locale shows it; in en-US with the year's four digits
+            // (`3/12/2025 14:30`, as Excel and LibreOffice show it, not the file's `m/d/yy`).
+            Some(BUILTIN_DATE_TIME | "m/d/yy h:mm") => {
                 date_time = self.date_time_code();
                 Some(date_time.as_str())
             }
@@ -796,7 +808,7 @@ impl Locale {
 
     /// The format code of a date with a time (Excel's built-in format 22) in this locale.
     fn date_time_code(self) -> String {
-        format!("{} hh:mm", self.short_date)
+        format!("{} {}", self.short_date, self.short_time)
     }
 
     /// An amount DOLLAR shows (`digits` already in the locale's marks, without a sign): en-US
@@ -884,21 +896,12 @@ impl Locale {
 
     /// The first colour word of TEXT's `code` (`[Red]`) that names a colour in another
     /// locale's words and not in this one's: LibreOffice set to de-DE refuses `[Red]` and
-    /// `[Color10]` (Err:502) and reads `[Rot]` and `[Farbe10]`; set to fr-FR or et-EE, the
-    /// other way round. en-US reads its codes as it always has.
+    /// `[Color10]` (Err:502) and reads `[Rot]` and `[Farbe10]`; set to fr-FR, et-EE or
+    /// en-US, the other way round (en-US also refuses `[Brown]`, as Excel does).
     pub fn foreign_colour(self, code: &str) -> Option<String> {
-        if self.is_canonical() {
-            return None;
-        }
-        let in_locale = |data: &LocaleData, word: &str| {
-            let numbered =
-                word.get(..data.colour_number.len()).is_some_and(|w| w.eq_ignore_ascii_case(data.colour_number))
-                    && word[data.colour_number.len()..].parse::<u8>().is_ok_and(|n| (1..=56).contains(&n));
-            numbered || data.colours.split(' ').any(|c| c.to_lowercase() == word.to_lowercase())
-        };
         bracket_words(code)
             .into_iter()
-            .find(|word| LOCALES.iter().any(|data| in_locale(data, word)) && !in_locale(self.data, word))
+            .find(|word| names_a_colour(word) && !self.data.names_colour(word))
             .map(|word| format!("[{word}]"))
     }
 
@@ -1241,6 +1244,32 @@ impl Section {
 }
 
 /// What the `[…]` of a format code hold, outside quotes and escapes.
+/// Whether `word` (in a format code's brackets) names a colour in some locale's words, either
+/// case: `Red`, `Color10` (1 to 56, as Excel's palette; `Color 10` too, as Excel and
+/// LibreOffice read it), de-DE `Rot`, `Farbe10`.
+pub fn names_a_colour(word: &str) -> bool {
+    LOCALES.iter().any(|data| data.names_colour(word))
+}
+
+impl LocaleData {
+    /// Whether `word` names a colour in this locale's words ([`names_a_colour`]).
+    fn names_colour(&self, word: &str) -> bool {
+        let prefix = self.colour_number.len();
+        let numbered = word.get(..prefix).is_some_and(|w| w.eq_ignore_ascii_case(self.colour_number))
+            && word[prefix..].trim_start().parse::<u8>().is_ok_and(|n| (1..=56).contains(&n));
+        numbered || self.colours.split(' ').any(|c| c.to_lowercase() == word.to_lowercase())
+    }
+}
+
+/// The first word in brackets of a format `code` that makes no code in Excel's reading
+/// (`[Foo]` of `[Foo]0`), for TEXT to name.
+pub fn refused_bracket_word(code: &str) -> Option<String> {
+    bracket_words(code)
+        .into_iter()
+        .find(|word| super::format::text_format::NumberFormat::parse(&format!("[{word}]")).is_err())
+        .map(|word| format!("[{word}]"))
+}
+
 fn bracket_words(code: &str) -> Vec<&str> {
     let mut words = Vec::new();
     let (mut quoted, mut escaped) = (false, false);
@@ -1700,7 +1729,9 @@ mod tests {
         assert_eq!(de.foreign_colour("[rot]0;[Farbe10]-0;\"[Red]\""), None);
         assert_eq!(fr.foreign_colour("[Rot]0"), Some("[Rot]".to_string()));
         assert_eq!(et.foreign_colour("[RED]0;[Color3]-0;[$-407][>1]"), None);
-        assert_eq!(Locale::EN_US.foreign_colour("[Rot]0"), None);
+        assert_eq!(Locale::EN_US.foreign_colour("[Rot]0"), Some("[Rot]".to_string()));
+        assert_eq!(Locale::EN_US.foreign_colour("[Brown]0"), Some("[Brown]".to_string()));
+        assert_eq!(Locale::EN_US.foreign_colour("[red]0;[Color 56]0;[Foo]0"), None);
     }
 
     /// LibreOffice 7.4 set to each locale reading VALUE's text: its own words for before and

@@ -277,7 +277,7 @@ fn parse_section(text: &str, dialect: Dialect) -> XlResult<Section> {
                 let end = end.ok_or(XlError::Value)?;
                 let inner: String = chars[i..end].iter().collect();
                 i = end + 1;
-                match bracket(&inner, &mut section)? {
+                match bracket(&inner, &mut section, dialect)? {
                     Some(tok) => tok,
                     None => continue,
                 }
@@ -581,8 +581,9 @@ fn starts_with_ignore_case(chars: &[char], word: &str) -> bool {
 }
 
 /// `[Red]`, `[Color5]`, `[$-409]`: ignored; `[$€-407]`: the currency text;
-/// `[>=100]`: a condition; `[h]`, `[mm]`, `[ss]`: elapsed time.
-fn bracket(inner: &str, section: &mut Section) -> XlResult<Option<Tok>> {
+/// `[>=100]`: a condition; `[h]`, `[mm]`, `[ss]`: elapsed time. Any other word makes no code
+/// in Excel's reading ([`known_bracket_word`]).
+fn bracket(inner: &str, section: &mut Section, dialect: Dialect) -> XlResult<Option<Tok>> {
     if let Some(currency) = inner.strip_prefix('$') {
         let symbol = currency.split('-').next().unwrap_or("");
         return Ok((!symbol.is_empty()).then(|| Tok::Lit(symbol.to_string())));
@@ -598,7 +599,22 @@ fn bracket(inner: &str, section: &mut Section) -> XlResult<Option<Tok>> {
         }
     }
     // Colours and locale codes change nothing in text.
-    Ok(None)
+    if dialect == Dialect::Vba || known_bracket_word(&lower) {
+        return Ok(None);
+    }
+    Err(XlError::Value)
+}
+
+/// A word in brackets, lower case, that Excel reads in a format code besides conditions,
+/// currencies and elapsed times: a colour (`[Red]`, `[Color10]`, a locale's `[Rot]`) or the
+/// East Asian numerals (`[DBNum1]`). Excel and LibreOffice refuse any other (`[Foo]0`:
+/// TEXT gives #VALUE!); they read only their own locale's colour words, which TEXT checks
+/// ([`crate::eval::Locale::foreign_colour`]).
+fn known_bracket_word(lower: &str) -> bool {
+    let numerals = ["dbnum", "natnum"]
+        .iter()
+        .any(|kind| lower.strip_prefix(kind).is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit())));
+    numerals || crate::eval::locale::names_a_colour(lower)
 }
 
 fn parse_condition(inner: &str) -> Option<(Cmp, f64)> {

@@ -250,8 +250,12 @@ fn text_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
             return Err(ctx.explain(XlError::Value, why));
         }
         if NumberFormat::parse(&locale.canonical_format_code(format)).is_err() {
-            let why =
-                format!("TEXT cannot use the format \"{format}\" (digit placeholders in dates are not supported)");
+            let why = match crate::eval::locale::refused_bracket_word(format) {
+                Some(word) => format!("TEXT cannot use the format \"{format}\": {word} is no word of a format code"),
+                None => {
+                    format!("TEXT cannot use the format \"{format}\" (digit placeholders in dates are not supported)")
+                }
+            };
             return Err(ctx.explain(XlError::Value, why));
         }
     }
