@@ -332,8 +332,7 @@ fn kids<'i>(pair: &Pair<'i, Rule>) -> Vec<Pair<'i, Rule>> {
 /// An `Enum`'s name and its members' names.
 fn enum_names(pair: &Pair<Rule>) -> (Rc<str>, Vec<Rc<str>>) {
     let k = kids(pair);
-    let members =
-        all(&k, Rule::enum_member).iter().map(|m| enum_member_name(&kids(m))).collect();
+    let members = all(&k, Rule::enum_member).iter().map(|m| enum_member_name(&kids(m))).collect();
     (name_of(&find(&k, Rule::ident).expect("enum name")), members)
 }
 

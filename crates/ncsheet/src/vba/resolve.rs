@@ -351,7 +351,7 @@ impl Build<'_> {
         statement: bool,
     ) -> Res<Option<Expr>> {
         let inside = parts.iter().position(|(_, indexes, _)| !indexes.is_empty());
-        if !inside.is_some_and(|i| i + 1 < parts.len()) {
+        if inside.is_none_or(|i| i + 1 >= parts.len()) {
             return Ok(None);
         }
         let span = self.span(start(pair));
