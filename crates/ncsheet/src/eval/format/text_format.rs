@@ -78,6 +78,19 @@ impl Section {
     }
 }
 
+#[cfg(test)]
+thread_local! {
+    static CODES_PARSED: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+/// Format codes parsed on this thread so far: tests bound a call's parses by this count (a
+/// count holds on a loaded machine, where a wall-clock bound would not). Only for tests: the
+/// binary keeps no such state.
+#[cfg(test)]
+pub(crate) fn codes_parsed() -> u64 {
+    CODES_PARSED.with(|c| c.get())
+}
+
 /// A parsed format: up to four `;`-separated sections (positive; negative; zero; text).
 pub struct NumberFormat {
     sections: Vec<Section>,
@@ -104,6 +117,8 @@ impl NumberFormat {
     }
 
     fn parse_as(format: &str, dialect: Dialect) -> XlResult<NumberFormat> {
+        #[cfg(test)]
+        CODES_PARSED.with(|c| c.set(c.get() + 1));
         let sections =
             split_sections(format).iter().map(|s| parse_section(s, dialect)).collect::<XlResult<Vec<_>>>()?;
         Ok(NumberFormat { sections })

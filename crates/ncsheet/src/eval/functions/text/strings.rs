@@ -11,6 +11,7 @@ use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
 
 use crate::eval::format::text_format::{fixed_digits, NumberFormat};
+use crate::eval::locale::Locale;
 
 /// Excel's longest text; longer results are `#VALUE!`.
 const MAX_TEXT: usize = 32_767;
@@ -244,47 +245,78 @@ fn text_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     // The format code and the number text are read, and the result shown, in the locale.
     let locale = ctx.locale();
     let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
-    if let Value::Text(format) = &values[1] {
-        if let Some(colour) = locale.foreign_colour(format) {
-            let why = format!("TEXT cannot use the format \"{format}\": {colour} is no colour word in {locale}");
-            return Err(ctx.explain(XlError::Value, why));
-        }
-        if NumberFormat::parse(&locale.canonical_format_code(format)).is_err() {
-            let why = match crate::eval::locale::refused_bracket_word(format) {
-                Some(word) => format!("TEXT cannot use the format \"{format}\": {word} is no word of a format code"),
-                None => {
-                    format!("TEXT cannot use the format \"{format}\" (digit placeholders in dates are not supported)")
-                }
-            };
-            return Err(ctx.explain(XlError::Value, why));
-        }
+    // A format that is one value is read once for every item: read per item, a 30,000-character
+    // code over an array of thousands was parsed thousands of times.
+    let one_format = match &values[1] {
+        Value::Array(_) => None,
+        format => Some(to_text(format).and_then(|typed| TextFormat::read(locale, &typed))),
+    };
+    if let (Value::Text(format), Some(Err(_))) = (&values[1], &one_format) {
+        return Err(ctx.explain(XlError::Value, unusable_format(locale, format)));
     }
     lift_values(&values, &|v| {
         // The value's error wins over the format's (`TEXT(NA(),1/0)` is #N/A).
         if let Value::Error(e) = &v[0] {
             return Err(*e);
         }
-        let typed = to_text(&v[1])?;
-        if locale.foreign_colour(&typed).is_some() {
+        let read_here;
+        let format = match &one_format {
+            Some(format) => format.as_ref().map_err(|e| *e)?,
+            None => {
+                read_here = TextFormat::read(locale, &to_text(&v[1])?)?;
+                &read_here
+            }
+        };
+        format.show(&v[0], locale, dates).map(Value::from)
+    })
+}
+
+/// Why TEXT cannot use the format code `typed`.
+fn unusable_format(locale: Locale, typed: &str) -> String {
+    if let Some(colour) = locale.foreign_colour(typed) {
+        return format!("TEXT cannot use the format \"{typed}\": {colour} is no colour word in {locale}");
+    }
+    match crate::eval::locale::refused_bracket_word(typed) {
+        Some(word) => format!("TEXT cannot use the format \"{typed}\": {word} is no word of a format code"),
+        None => format!("TEXT cannot use the format \"{typed}\" (digit placeholders in dates are not supported)"),
+    }
+}
+
+/// A format code of TEXT as read in a locale: the code in Excel's en-US spelling, and parsed.
+struct TextFormat {
+    code: String,
+    format: NumberFormat,
+}
+
+impl TextFormat {
+    /// `typed` in `locale`; `#VALUE!` for another locale's colour word or no format code.
+    fn read(locale: Locale, typed: &str) -> XlResult<TextFormat> {
+        if locale.foreign_colour(typed).is_some() {
             return Err(XlError::Value);
         }
-        let code = locale.canonical_format_code(&typed);
+        let code = locale.canonical_format_code(typed);
         let format = NumberFormat::parse(&code)?;
-        let shown = match &v[0] {
+        Ok(TextFormat { code, format })
+    }
+
+    /// One value as TEXT shows it under this format, in `locale`.
+    fn show(&self, value: &Value, locale: Locale, dates: DateSystem) -> XlResult<String> {
+        let (code, format) = (&self.code, &self.format);
+        let shown = match value {
             // A boolean is text to TEXT: the text section formats it.
             Value::Bool(b) => format.format_text(if *b { "TRUE" } else { "FALSE" }),
             // Text that reads as a number is formatted as that number.
             Value::Text(s) => match locale.read_number(s, dates) {
-                Some(n) => locale.localize_formatted(&code, &format.format_number(n, dates)?),
+                Some(n) => locale.localize_formatted(code, &format.format_number(n, dates)?),
                 None => format.format_text(s),
             },
-            other => locale.localize_formatted(&code, &format.format_number(to_number(other, dates)?, dates)?),
+            other => locale.localize_formatted(code, &format.format_number(to_number(other, dates)?, dates)?),
         };
         if locale.is_canonical() {
-            return Ok(Value::from(shown));
+            return Ok(shown);
         }
-        Ok(Value::from(crate::eval::locale::literal_marks(&shown)))
-    })
+        Ok(crate::eval::locale::literal_marks(&shown))
+    }
 }
 
 fn fixed(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
@@ -822,6 +854,36 @@ mod tests {
         assert_eq!(env.eval("=TEXT(A3,\"\"\"X\"\"0.000\")"), t("X12.500"));
         assert_eq!(env.eval("=\"X\"&TEXT(-0.0004,\"0.000\")"), t("X0.000"));
         assert_eq!(env.eval("=1&TRUE"), t("1TRUE"));
+    }
+
+    #[test]
+    fn a_format_of_one_value_is_parsed_once_for_a_whole_array() {
+        use crate::eval::format::text_format::codes_parsed;
+        let env = env();
+        let before = codes_parsed();
+        let shown = env.eval("=TEXT(SEQUENCE(1000)/8,\"#,##0.000\")");
+        assert_eq!(codes_parsed() - before, 1);
+        let Value::Array(shown) = shown else { panic!("TEXT over an array gives an array: {shown:?}") };
+        // 1000/8 = 125 and 999/8 = 124.875, exactly, shown as Excel's #,##0.000 shows them.
+        assert_eq!(shown.data.len(), 1000);
+        assert_eq!(shown.data[0], t("0.125"));
+        assert_eq!(shown.data[998], t("124.875"));
+        assert_eq!(shown.data[999], t("125.000"));
+        // A format per item is still read per item.
+        assert_eq!(
+            env.eval("=TEXT(2.5,{\"0.0\",\"0%\"})"),
+            Value::Array(std::rc::Rc::new(Array::new(1, 2, vec![t("2.5"), t("250%")])))
+        );
+        // The value's error wins over the format's, and an unreadable format is #VALUE! for each item.
+        assert_eq!(
+            env.eval("=TEXT({1,\"x\"},1/0)"),
+            Value::Array(std::rc::Rc::new(Array::new(
+                1,
+                2,
+                vec![Value::Error(XlError::Div0), Value::Error(XlError::Div0)]
+            )))
+        );
+        assert_eq!(env.eval("=TEXT({1;2},\"[Foo]0\")"), Value::Error(XlError::Value));
     }
 
     #[test]
