@@ -1,7 +1,7 @@
 //! How cells look, as automation macros set it: `Range.NumberFormat` (which changes what a
 //! cell shows: `Range.Text`, and the saved file), `HorizontalAlignment`, `VerticalAlignment`,
 //! `WrapText`, `Font.Bold`/`Italic`, `Interior.Color`, `ColumnWidth`, `RowHeight` and
-//! `AutoFit`. None of them changes a value. The run starts from the look the file gave
+//! `AutoFit`, and rows and columns `Hidden`. None of them changes a value. The run starts from the look the file gave
 //! ([`RunOptions::looks`](super::RunOptions::looks)) and hands back the look it leaves
 //! ([`RunOutput::looks`](super::RunOutput::looks)) for the caller to save.
 //!
@@ -11,14 +11,14 @@
 //! filled. The file keeps it per cell (the column's own style, for cells typed later in
 //! Excel, is not written).
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::rc::Rc;
 
 use crate::eval::format::cell_style::{self, CellStyle};
-use crate::eval::{Ctx, Value};
+use crate::eval::{Ctx, RowHidden, Value};
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::formula::ast::{Expr, SheetId};
-use crate::workbook::look::{follow_cells, follow_columns, follow_rows};
+use crate::workbook::look::{follow_cells, follow_columns, follow_hidden_columns, follow_hidden_rows, follow_rows};
 use crate::workbook::{Axis, SheetEdit, SheetLook, Workbook};
 
 use super::ast::{Link, Span};
@@ -78,6 +78,8 @@ struct SheetState {
     lines: Vec<(Rect, Edit)>,
     widths: BTreeMap<u16, f64>,
     heights: BTreeMap<u32, f64>,
+    hidden_rows: BTreeSet<u32>,
+    hidden_columns: BTreeSet<u16>,
 }
 
 impl SheetState {
@@ -88,6 +90,8 @@ impl SheetState {
             lines: Vec::new(),
             widths: look.column_widths.iter().copied().collect(),
             heights: look.row_heights.iter().copied().collect(),
+            hidden_rows: look.hidden_rows.iter().copied().collect(),
+            hidden_columns: look.hidden_columns.iter().copied().collect(),
         }
     }
 
@@ -143,8 +147,14 @@ impl SheetState {
         self.lines =
             std::mem::take(&mut self.lines).into_iter().filter_map(|(r, e)| Some((moved_line(r, edit)?, e))).collect();
         match edit.axis {
-            Axis::Columns => self.widths = follow_columns(std::mem::take(&mut self.widths), edit),
-            Axis::Rows => self.heights = follow_rows(std::mem::take(&mut self.heights), edit),
+            Axis::Columns => {
+                self.widths = follow_columns(std::mem::take(&mut self.widths), edit);
+                self.hidden_columns = follow_hidden_columns(std::mem::take(&mut self.hidden_columns), edit);
+            }
+            Axis::Rows => {
+                self.heights = follow_rows(std::mem::take(&mut self.heights), edit);
+                self.hidden_rows = follow_hidden_rows(std::mem::take(&mut self.hidden_rows), edit);
+            }
         }
     }
 
@@ -169,6 +179,8 @@ impl SheetState {
             cell_styles: styles.into_iter().filter(|(_, s)| !s.is_plain()).collect(),
             column_widths: self.widths.iter().map(|(c, w)| (*c, *w)).collect(),
             row_heights: self.heights.iter().map(|(r, h)| (*r, *h)).collect(),
+            hidden_rows: self.hidden_rows.iter().copied().collect(),
+            hidden_columns: self.hidden_columns.iter().copied().collect(),
         }
     }
 }
@@ -325,6 +337,7 @@ impl Interp<'_, '_> {
                 Ok(Obj::Value(agreed(heights).map_or(Value::Null, Value::Number)))
             }
             "autofit" => self.autofit_range(ctx, sheet, rect, link.span).map(|_| Obj::Value(Value::Blank)),
+            "hidden" => self.hidden(sheet, rect, link.span).map(Obj::Value),
             _ => return None,
         })
     }
@@ -392,6 +405,7 @@ impl Interp<'_, '_> {
                     | "wraptext"
                     | "columnwidth"
                     | "rowheight"
+                    | "hidden"
             ),
             Some(_) => true,
         };
@@ -447,6 +461,7 @@ impl Interp<'_, '_> {
             (None, "wraptext") => Edit::Wrap(boolean()?),
             (None, "columnwidth") => return self.set_widths(sheet, rect, number("ColumnWidth")?, span),
             (None, "rowheight") => return self.set_heights(sheet, rect, number("RowHeight")?, span),
+            (None, "hidden") => return self.set_hidden(sheet, rect, boolean()?, span),
             (Some(LookPart::Font), "bold") => Edit::Bold(boolean()?),
             (Some(LookPart::Font), "italic") => Edit::Italic(boolean()?),
             (Some(LookPart::Interior), "color") => {
@@ -522,6 +537,63 @@ impl Interp<'_, '_> {
         let state = looks.sheet(sheet);
         for row in rect.first.row..=rect.last.row {
             state.heights.insert(row, height);
+        }
+        Ok(())
+    }
+
+    /// Which lines `Hidden` reaches: Microsoft's "Range.Hidden property" says "the
+    /// specified range must span an entire column or row"; whole rows (the whole sheet
+    /// included) are rows, whole columns columns, any other range error 1004.
+    fn hidden_lines(&self, rect: Rect, span: Span) -> Run<(Axis, u32, u32)> {
+        if rect.first.col == 0 && rect.last.col == MAX_COLS - 1 {
+            Ok((Axis::Rows, rect.first.row, rect.last.row))
+        } else if rect.first.row == 0 && rect.last.row == MAX_ROWS - 1 {
+            Ok((Axis::Columns, rect.first.col, rect.last.col))
+        } else {
+            Err(self.error_1004(
+                span,
+                "Hidden: the range must span an entire column or row (use r.EntireRow.Hidden or \
+                 r.EntireColumn.Hidden)"
+                    .into(),
+            ))
+        }
+    }
+
+    /// `r.Hidden`: True when every row (or column) of `r` is hidden, False when none is,
+    /// Null when some are (a Variant, as the other looks of a mixed range).
+    fn hidden(&self, sheet: SheetId, rect: Rect, span: Span) -> Run<Value> {
+        let (axis, first, last) = self.hidden_lines(rect, span)?;
+        let looks = self.looks.borrow();
+        let state = looks.sheets.get(&sheet);
+        let is_hidden = |line: u32| {
+            state.is_some_and(|s| match axis {
+                Axis::Rows => s.hidden_rows.contains(&line),
+                Axis::Columns => s.hidden_columns.contains(&(line as u16)),
+            })
+        };
+        Ok(agreed((first..=last).map(is_hidden)).map_or(Value::Null, Value::Bool))
+    }
+
+    /// `r.Hidden = True/False`; a row's also hides it from SUBTOTAL(101…) as Excel does.
+    fn set_hidden(&self, sheet: SheetId, rect: Rect, hide: bool, span: Span) -> Run<()> {
+        let (axis, first, last) = self.hidden_lines(rect, span)?;
+        {
+            let mut looks = self.looks.borrow_mut();
+            let state = looks.sheet(sheet);
+            for line in first..=last {
+                match (axis, hide) {
+                    (Axis::Rows, true) => _ = state.hidden_rows.insert(line),
+                    (Axis::Rows, false) => _ = state.hidden_rows.remove(&line),
+                    (Axis::Columns, true) => _ = state.hidden_columns.insert(line as u16),
+                    (Axis::Columns, false) => _ = state.hidden_columns.remove(&(line as u16)),
+                }
+            }
+        }
+        if axis == Axis::Rows {
+            let mut book = self.book_mut()?;
+            for row in first..=last {
+                book.set_row_hidden(sheet, row, hide.then_some(RowHidden::Manually));
+            }
         }
         Ok(())
     }

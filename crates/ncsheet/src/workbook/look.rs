@@ -24,6 +24,10 @@ pub struct SheetLook {
     pub column_widths: Vec<(u16, f64)>,
     /// Row → height in points.
     pub row_heights: Vec<(u32, f64)>,
+    /// Rows hidden (`<row hidden="1">`, `Rows(3).Hidden = True`), by hand or by a filter.
+    pub hidden_rows: Vec<u32>,
+    /// Columns hidden (`<col hidden="1">`, `Columns("C").Hidden = True`).
+    pub hidden_columns: Vec<u16>,
 }
 
 impl SheetLook {
@@ -34,8 +38,14 @@ impl SheetLook {
         self.number_formats.follow(edit);
         self.cell_styles.follow(edit);
         match edit.axis {
-            Axis::Columns => self.column_widths = follow_columns(std::mem::take(&mut self.column_widths), edit),
-            Axis::Rows => self.row_heights = follow_rows(std::mem::take(&mut self.row_heights), edit),
+            Axis::Columns => {
+                self.column_widths = follow_columns(std::mem::take(&mut self.column_widths), edit);
+                self.hidden_columns = follow_hidden_columns(std::mem::take(&mut self.hidden_columns), edit);
+            }
+            Axis::Rows => {
+                self.row_heights = follow_rows(std::mem::take(&mut self.row_heights), edit);
+                self.hidden_rows = follow_hidden_rows(std::mem::take(&mut self.hidden_rows), edit);
+            }
         }
     }
 
@@ -46,6 +56,10 @@ impl SheetLook {
         let heights: BTreeMap<u32, f64> = self.row_heights.into_iter().collect();
         self.column_widths = widths.into_iter().collect();
         self.row_heights = heights.into_iter().collect();
+        self.hidden_rows.sort_unstable();
+        self.hidden_rows.dedup();
+        self.hidden_columns.sort_unstable();
+        self.hidden_columns.dedup();
         self
     }
 
@@ -55,6 +69,8 @@ impl SheetLook {
             && self.cell_styles.is_empty()
             && self.column_widths.is_empty()
             && self.row_heights.is_empty()
+            && self.hidden_rows.is_empty()
+            && self.hidden_columns.is_empty()
     }
 }
 
@@ -219,6 +235,16 @@ pub fn follow_columns<C: FromIterator<(u16, f64)>>(
 /// Rows' heights moved by an edit of rows; a deleted row's dropped.
 pub fn follow_rows<C: FromIterator<(u32, f64)>>(heights: impl IntoIterator<Item = (u32, f64)>, edit: &SheetEdit) -> C {
     heights.into_iter().filter_map(|(row, h)| Some((edit.moved_line(row)?, h))).collect()
+}
+
+/// Hidden columns moved by an edit of columns; a deleted one's dropped.
+pub fn follow_hidden_columns<C: FromIterator<u16>>(columns: impl IntoIterator<Item = u16>, edit: &SheetEdit) -> C {
+    columns.into_iter().filter_map(|col| edit.moved_line(u32::from(col)).map(|c| c as u16)).collect()
+}
+
+/// Hidden rows moved by an edit of rows; a deleted one's dropped.
+pub fn follow_hidden_rows<C: FromIterator<u32>>(rows: impl IntoIterator<Item = u32>, edit: &SheetEdit) -> C {
+    rows.into_iter().filter_map(|row| edit.moved_line(row)).collect()
 }
 
 #[cfg(test)]

@@ -22,7 +22,7 @@ use crate::formula::address::{parse_cell, parse_rect, Pos, Rect};
 use crate::formula::ast::SheetId;
 use crate::workbook::{Changes, Workbook};
 
-use super::patch_styles::{with_height, with_widths, Restyle, StyleSheet};
+use super::patch_styles::{column_changes, with_height, with_hidden, with_widths, Restyle, StyleSheet};
 use super::raw::{zip_error, Package};
 use super::syntax;
 use super::{ErrorKind, Layout, XlsxError};
@@ -450,6 +450,7 @@ fn patch_sheet(
     let (restyle, styles) = looks.unzip();
     let mut p = SheetPatch {
         heights: restyle.map(|r| r.heights.clone()).unwrap_or_default(),
+        rows_hidden: restyle.map(|r| r.rows_hidden.clone()).unwrap_or_default(),
         restyle,
         styles,
         wb,
@@ -473,7 +474,9 @@ fn patch_sheet(
     let open_end = start + xml[start..].find('>').ok_or("unterminated <sheetData>")?;
     let head = with_dimension(&xml[..start], ns, cells.keys());
     match p.restyle {
-        Some(r) if !r.widths.is_empty() => p.out.push_str(&with_widths(&head, ns, &r.widths)),
+        Some(r) if !r.widths.is_empty() || !r.columns_hidden.is_empty() => {
+            p.out.push_str(&with_widths(&head, ns, &column_changes(r)))
+        }
         _ => p.out.push_str(&head),
     }
     if xml[..open_end].ends_with('/') {
@@ -511,6 +514,8 @@ fn patch_sheet(
             p.flush_rows_before(row);
             let sized = p.heights.remove(&row).map(|h| with_height(tag, h));
             let tag = sized.as_deref().unwrap_or(tag);
+            let shown = p.rows_hidden.remove(&row).map(|h| with_hidden(tag, h));
+            let tag = shown.as_deref().unwrap_or(tag);
             if tag.ends_with("/>") && p.has_row(row) {
                 p.out.push_str(tag[..tag.len() - 2].trim_end());
                 p.out.push('>');
@@ -624,6 +629,8 @@ struct SheetPatch<'a> {
     styles: Option<&'a mut StyleSheet>,
     /// Rows whose height changed, not reached yet.
     heights: BTreeMap<u32, f64>,
+    /// Rows hidden or shown again, not reached yet.
+    rows_hidden: BTreeMap<u32, bool>,
 }
 
 impl SheetPatch<'_> {
@@ -636,11 +643,16 @@ impl SheetPatch<'_> {
         loop {
             let next_cell = self.pending.first_key_value().map(|(&(r, _), _)| r);
             let next_height = self.heights.first_key_value().map(|(&r, _)| r);
-            let Some(r) = next_cell.into_iter().chain(next_height).min().filter(|&r| r < row) else { break };
+            let next_hidden = self.rows_hidden.first_key_value().map(|(&r, _)| r);
+            let next = next_cell.into_iter().chain(next_height).chain(next_hidden).min();
+            let Some(r) = next.filter(|&r| r < row) else { break };
             let ns = self.ns;
             let height = self.heights.remove(&r);
+            // A row the file did not have was not hidden: only hiding it needs a mark.
+            let hidden = self.rows_hidden.remove(&r).filter(|&h| h);
             let tag = format!("<{ns}row r=\"{}\">", r + 1);
             let tag = height.map_or(tag.clone(), |h| with_height(&tag, h));
+            let tag = hidden.map_or(tag.clone(), |h| with_hidden(&tag, h));
             // Row `r` is the first pending one (`r < row`, so `r + 1` fits): only its cells
             // are taken out, not the whole map copied per row.
             let later = self.pending.split_off(&(r + 1, 0));
@@ -649,7 +661,7 @@ impl SheetPatch<'_> {
             for ((_, c), change) in this_row {
                 cells.push_str(&self.new_cell(None, Pos::new(r, c), change));
             }
-            if !cells.is_empty() || height.is_some() {
+            if !cells.is_empty() || height.is_some() || hidden.is_some() {
                 self.out.push_str(&format!("{tag}{cells}</{ns}row>"));
             }
         }

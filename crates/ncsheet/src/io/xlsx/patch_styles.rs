@@ -260,6 +260,9 @@ pub(super) struct Restyle {
     pub cells: BTreeMap<(u32, u32), (Option<String>, CellStyle, CellStyle)>,
     pub widths: BTreeMap<u32, f64>,
     pub heights: BTreeMap<u32, f64>,
+    /// Rows and columns hidden (true) or shown again (false).
+    pub rows_hidden: BTreeMap<u32, bool>,
+    pub columns_hidden: BTreeMap<u32, bool>,
 }
 
 impl Restyle {
@@ -286,12 +289,36 @@ impl Restyle {
             cells,
             widths: changed(&widths_of(was), &widths_of(now)),
             heights: changed(&was.row_heights, &now.row_heights),
+            rows_hidden: hidden_changes(was.hidden_rows.iter().copied(), now.hidden_rows.iter().copied()),
+            columns_hidden: hidden_changes(
+                was.hidden_columns.iter().map(|&c| u32::from(c)),
+                now.hidden_columns.iter().map(|&c| u32::from(c)),
+            ),
         }
     }
 
     pub(super) fn is_empty(&self) -> bool {
-        self.cells.is_empty() && self.widths.is_empty() && self.heights.is_empty()
+        self.cells.is_empty()
+            && self.widths.is_empty()
+            && self.heights.is_empty()
+            && self.rows_hidden.is_empty()
+            && self.columns_hidden.is_empty()
     }
+}
+
+/// The lines hidden now and not before (true), and those shown again (false).
+fn hidden_changes(was: impl Iterator<Item = u32>, now: impl Iterator<Item = u32>) -> BTreeMap<u32, bool> {
+    let (was, now): (BTreeSet<u32>, BTreeSet<u32>) = (was.collect(), now.collect());
+    let hidden = now.difference(&was).map(|&l| (l, true));
+    hidden.chain(was.difference(&now).map(|&l| (l, false))).collect()
+}
+
+/// A `<row>` start tag hidden (`hidden="1"`) or shown (no `hidden`).
+pub(super) fn with_hidden(tag: &str, hidden: bool) -> String {
+    let closing = if tag.ends_with("/>") { "/>" } else { ">" };
+    let head = remove_attr(&tag[..tag.len() - closing.len()], "hidden");
+    let mark = if hidden { " hidden=\"1\"" } else { "" };
+    format!("{}{mark}{closing}", head.trim_end())
 }
 
 /// A `<row>` start tag with a height a user set (`customHeight`).
@@ -301,10 +328,29 @@ pub(super) fn with_height(tag: &str, height: f64) -> String {
     format!("{} ht=\"{height}\" customHeight=\"1\"{closing}", head.trim_end())
 }
 
-/// The part before `<sheetData>` with the columns of `widths` given those widths: each
-/// `<col>` range of the file split around them (they keep its other attributes), and
-/// `<cols>` added before `<sheetData>` when the file had none.
-pub(super) fn with_widths(head: &str, ns: &str, widths: &BTreeMap<u32, f64>) -> String {
+/// What a macro changed of one column: its width, whether it is hidden.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(super) struct ColumnChange {
+    pub width: Option<f64>,
+    pub hidden: Option<bool>,
+}
+
+/// Each changed column of `restyle` with its new width and hidden mark.
+pub(super) fn column_changes(restyle: &Restyle) -> BTreeMap<u32, ColumnChange> {
+    let mut changes: BTreeMap<u32, ColumnChange> = BTreeMap::new();
+    for (&c, &w) in &restyle.widths {
+        changes.entry(c).or_default().width = Some(w);
+    }
+    for (&c, &h) in &restyle.columns_hidden {
+        changes.entry(c).or_default().hidden = Some(h);
+    }
+    changes
+}
+
+/// The part before `<sheetData>` with the columns of `changes` given their widths and hidden
+/// marks: each `<col>` range of the file split around them (they keep its other
+/// attributes), and `<cols>` added before `<sheetData>` when the file had none.
+pub(super) fn with_widths(head: &str, ns: &str, changes: &BTreeMap<u32, ColumnChange>) -> String {
     let (cols, col) = (format!("{ns}cols"), format!("{ns}col"));
     let (before, ranges, after) = match children(head, &cols, &col) {
         Some(c) => {
@@ -316,14 +362,20 @@ pub(super) fn with_widths(head: &str, ns: &str, widths: &BTreeMap<u32, f64>) -> 
     };
     let mut out: Vec<(u32, String)> = Vec::new();
     let number = |tag: &str, name: &str| attr(tag, name).and_then(|v| v.parse::<u32>().ok());
-    let sized = |from: u32, to: u32, tag: &str, width: Option<f64>| {
+    let sized = |from: u32, to: u32, tag: &str, change: ColumnChange| {
         let mut t = tag.trim_end_matches("/>").trim_end_matches('>').to_string();
         for name in ["min", "max"] {
             t = remove_attr(&t, name);
         }
-        if let Some(w) = width {
+        if let Some(w) = change.width {
             t = remove_attr(&remove_attr(&t, "width"), "customWidth");
             t = format!("{} width=\"{w}\" customWidth=\"1\"", t.trim_end());
+        }
+        if let Some(hidden) = change.hidden {
+            t = remove_attr(&t, "hidden").trim_end().to_string();
+            if hidden {
+                t.push_str(" hidden=\"1\"");
+            }
         }
         let name_end = t.find(|c: char| c.is_whitespace()).unwrap_or(t.len());
         format!("{} min=\"{}\" max=\"{}\"{}/>", &t[..name_end], from + 1, to + 1, &t[name_end..])
@@ -338,21 +390,21 @@ pub(super) fn with_widths(head: &str, ns: &str, widths: &BTreeMap<u32, f64>) -> 
         }
         let (first, last) = (min - 1, max - 1);
         let mut from = first;
-        for (&c, &w) in widths.range(first..=last) {
+        for (&c, &change) in changes.range(first..=last) {
             if c > from {
-                out.push((from, sized(from, c - 1, tag, None)));
+                out.push((from, sized(from, c - 1, tag, ColumnChange::default())));
             }
-            out.push((c, sized(c, c, tag, Some(w))));
+            out.push((c, sized(c, c, tag, change)));
             placed.insert(c);
             from = c + 1;
         }
         if from <= last {
-            out.push((from, sized(from, last, tag, None)));
+            out.push((from, sized(from, last, tag, ColumnChange::default())));
         }
     }
     let plain = format!("<{col}");
-    for (&c, &w) in widths.iter().filter(|(c, _)| !placed.contains(c)) {
-        out.push((c, sized(c, c, &plain, Some(w))));
+    for (&c, &change) in changes.iter().filter(|(c, _)| !placed.contains(c)) {
+        out.push((c, sized(c, c, &plain, change)));
     }
     out.sort_by_key(|(c, _)| *c);
     let list: String = out.into_iter().map(|(_, t)| t).collect();
@@ -524,7 +576,7 @@ mod tests {
     #[test]
     fn a_column_range_the_reader_skips_is_kept_and_not_split() {
         let head = r#"<worksheet><cols><col min="5" max="3" width="20" customWidth="1"/><col min="0" max="2" width="9"/></cols>"#;
-        let widths = BTreeMap::from([(3, 15.0)]);
+        let widths = BTreeMap::from([(3, ColumnChange { width: Some(15.0), hidden: None })]);
         let out = with_widths(head, "", &widths);
         assert_eq!(
             out,

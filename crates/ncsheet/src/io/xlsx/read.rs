@@ -1027,6 +1027,14 @@ fn sheet_layout(scan: &SheetScan, looks: &[StyleLook]) -> SheetLayout {
     layout.look.cell_styles =
         styled().filter(|(_, look)| !look.style.is_plain()).map(|(pos, look)| (pos, &look.style)).collect();
     layout.look.row_heights = scan.row_heights.clone();
+    layout.look.hidden_rows = scan.hidden_rows.clone();
+    for &(first, last) in &scan.hidden_columns {
+        // As for widths: a range to the sheet's end is the rest of the sheet, not columns
+        // a user hid one by one.
+        if last - first < 1024 {
+            layout.look.hidden_columns.extend((first..=last).map(|c| c as u16));
+        }
+    }
     layout
 }
 

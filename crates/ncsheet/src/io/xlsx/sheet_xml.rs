@@ -43,6 +43,8 @@ pub struct SheetScan {
     pub active_cell: Option<Pos>,
     /// Rows `<row hidden="1">` (0-based).
     pub hidden_rows: Vec<u32>,
+    /// Columns `<col min max hidden="1">`: first and last column (0-based).
+    pub hidden_columns: Vec<(u32, u32)>,
     /// Rows a user sized (`<row ht="30" customHeight="1">`): row (0-based) and height in
     /// points. A height Excel fitted to the row's font is left out: it follows the cells.
     pub row_heights: Vec<(u32, f64)>,
@@ -474,6 +476,12 @@ impl SheetScanner<'_> {
         let min = tag.attr("min").and_then(parse_u32);
         let max = tag.attr("max").and_then(parse_u32);
         let width = tag.attr("width").and_then(|w| std::str::from_utf8(w).ok()?.parse::<f64>().ok());
+        let hidden = tag.attr("hidden").is_some_and(|h| h == b"1" || h == b"true");
+        if let (true, Some(min), Some(max)) = (hidden, min, max) {
+            if min >= 1 && min <= max && max <= MAX_COLS {
+                self.scan.hidden_columns.push((min - 1, max - 1));
+            }
+        }
         if let (Some(min), Some(max), Some(width)) = (min, max, width) {
             if min >= 1 && min <= max && max <= MAX_COLS && width.is_finite() && width >= 0.0 {
                 self.scan.widths.push((min - 1, max - 1, width));

@@ -131,6 +131,9 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
             for &(row, height) in &l.look.row_heights {
                 ws.set_row_height(row, height).map_err(|e| fail(Some(name), e))?;
             }
+            for &col in &l.look.hidden_columns {
+                ws.set_column_hidden(col).map_err(|e| fail(Some(name), e))?;
+            }
             if macros {
                 if let Some(code_name) = &l.code_name {
                     ws.set_vba_name(code_name).map_err(|e| fail(Some(name), e))?;
