@@ -123,3 +123,32 @@ fn a_patched_original_keeps_what_a_macro_hid_and_loses_what_it_showed() {
     assert!(printed.contains("TrueTrueFalse"), "{printed}");
     assert_eq!(hidden_by_openpyxl(&saved), "rows 2,7 columns B");
 }
+
+#[test]
+fn a_column_shown_again_inside_a_hidden_range_leaves_the_others_hidden() {
+    if !openpyxl_available() {
+        eprintln!("skipped: openpyxl is not installed");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let book = dir.path().join("original.xlsx");
+    // One `<col min="4" max="6" hidden="1">` hides D to F.
+    python(
+        "import sys, openpyxl\n\
+         wb = openpyxl.Workbook()\n\
+         ws = wb.active\n\
+         ws.append([1, 2, 3, 4, 5, 6])\n\
+         ws.column_dimensions.group('D', 'F', hidden=True)\n\
+         wb.save(sys.argv[1])",
+        &[&book],
+    );
+    let saved = dir.path().join("patched.xlsx");
+    let printed = run_and_save(
+        &book,
+        "Sub Main()\n    Debug.Print Columns(\"C\").Hidden; Columns(\"E\").Hidden; Range(\"D:F\").EntireColumn.Hidden\n\
+         \x20   Columns(\"E\").Hidden = False\n    Range(\"A1\").Value = 10\nEnd Sub\n",
+        &saved,
+    );
+    assert!(printed.contains("FalseTrueTrue"), "{printed}");
+    assert_eq!(hidden_by_openpyxl(&saved), "rows  columns D,F");
+}

@@ -1028,13 +1028,13 @@ fn sheet_layout(scan: &SheetScan, looks: &[StyleLook]) -> SheetLayout {
         styled().filter(|(_, look)| !look.style.is_plain()).map(|(pos, look)| (pos, &look.style)).collect();
     layout.look.row_heights = scan.row_heights.clone();
     layout.look.hidden_rows = scan.hidden_rows.clone();
+    // Every hidden column, those of a range to the sheet's end included (a sheet hides its
+    // unused columns so): at most 16384 a sheet.
     for &(first, last) in &scan.hidden_columns {
-        // As for widths: a range to the sheet's end is the rest of the sheet, not columns
-        // a user hid one by one.
-        if last - first < 1024 {
-            layout.look.hidden_columns.extend((first..=last).map(|c| c as u16));
-        }
+        layout.look.hidden_columns.extend((first..=last).map(|c| c as u16));
     }
+    layout.look.hidden_columns.sort_unstable();
+    layout.look.hidden_columns.dedup();
     layout
 }
 
