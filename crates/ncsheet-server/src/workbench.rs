@@ -399,7 +399,18 @@ impl Workbench {
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
             Err(e) => return Err(refused(format!("{name}: cannot lock it for the save: {e}"))),
         };
-        if let (Some(lock), Some(read)) = (&lock, &self.read) {
+        if let Some(lock) = &lock {
+            // Without the file's state as read there is nothing to tell another program's save
+            // from ours: refuse rather than risk replacing its work.
+            let Some(read) = &self.read else {
+                return Err(Refused {
+                    message: format!(
+                        "{name}: its state when the workbench read it is unknown (it could not be read then), \
+                         so another program's save since cannot be ruled out: save under another name, or open the file again"
+                    ),
+                    conflict: true,
+                });
+            };
             lock.unchanged_since(read).map_err(|e| Refused {
                 message: format!("{name}: {e}: save under another name, or open the file again"),
                 conflict: true,
@@ -532,5 +543,38 @@ impl<'a> Explainer<'a> {
             _ => "an error value",
         };
         format!("{shown}: {meaning}, here or in a cell this formula reads")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A csv file `a,1` in a folder of its own, opened, and its path.
+    fn opened(folder: &str) -> (Document, PathBuf) {
+        let dir = std::env::temp_dir().join(format!("ncsheet-workbench-{folder}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("book.csv");
+        std::fs::write(&path, "a,1\n").unwrap();
+        (Document::open_file(&path, &Default::default()).unwrap(), path)
+    }
+
+    #[test]
+    fn a_save_over_a_file_whose_read_state_is_unknown_is_refused() {
+        let (doc, path) = opened("unknown");
+        let mut bench = Workbench::new(doc, path.clone(), None);
+        let refused = bench.save("book.csv", true, 0).expect_err("no conflict check is possible");
+        assert!(refused.conflict && refused.message.starts_with("book.csv: "), "{}", refused.message);
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "a,1\n", "the file is left as it was");
+        std::fs::remove_dir_all(path.parent().unwrap()).unwrap();
+    }
+
+    #[test]
+    fn a_save_over_a_file_as_it_was_read_is_written() {
+        let (doc, path) = opened("known");
+        let read = atomic::ReadState::of(&path).ok();
+        let mut bench = Workbench::new(doc, path.clone(), read);
+        assert!(bench.save("book.csv", true, 0).is_ok());
+        std::fs::remove_dir_all(path.parent().unwrap()).unwrap();
     }
 }

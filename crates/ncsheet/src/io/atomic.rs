@@ -241,26 +241,23 @@ impl EditLock {
 
     /// Whether the file is still as it was when the lock was taken; an error saying so if not.
     pub fn unchanged(&self) -> io::Result<()> {
-        match stamp_of(&self.target) {
-            Ok(now) if now == self.stamp => Ok(()),
-            _ => Err(io::Error::other(
-                "changed since ncsheet read it (another program saved it meanwhile); nothing was written, \
-                 so that program's work is kept: run the edit again",
-            )),
-        }
+        self.still(&self.stamp, ": run the edit again")
     }
-}
 
-impl EditLock {
     /// Whether the file is still as it was in `read`, taken when a program that cannot hold
     /// the lock that long (the workbench, open for hours) read it; an error saying so if not.
     pub fn unchanged_since(&self, read: &ReadState) -> io::Result<()> {
+        self.still(&read.0, "")
+    }
+
+    /// Whether the file is still in the state `then`; an error ending in `advice` if not.
+    fn still(&self, then: &Stamp, advice: &str) -> io::Result<()> {
         match stamp_of(&self.target) {
-            Ok(now) if now == read.0 => Ok(()),
-            _ => Err(io::Error::other(
+            Ok(now) if now == *then => Ok(()),
+            _ => Err(io::Error::other(format!(
                 "changed since ncsheet read it (another program saved it meanwhile); nothing was written, \
-                 so that program's work is kept",
-            )),
+                 so that program's work is kept{advice}"
+            ))),
         }
     }
 }
