@@ -782,18 +782,22 @@ fn long_and_fine_times_typed_into_a_csv_read_back_as_typed() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let soffice = common::soffice();
-    for locale in ["de-DE", "fr-FR", "et-EE"] {
+    // An afternoon time in the locale's words: de-DE's `nachm.` has a `.` that is no fraction
+    // of a second (ncsheet wrote `30:00,0`).
+    for (locale, afternoon) in [("de-DE", "2:30 nachm."), ("fr-FR", "2:30 PM"), ("et-EE", "2:30 p.l")] {
         std::fs::write(d.join("t.csv"), "a;1,5;x\n").unwrap();
         let out = format!("t-{locale}.csv");
-        ok(in_dir(d, &["set", "t.csv", "--locale", locale, "A1=14:30:15", "B1=25:30", "C1=1:30,5", "-o", &out]));
-        assert_eq!(std::fs::read_to_string(d.join(&out)).unwrap(), "14:30:15;25:30:00;01:30,5\n", "{locale}");
+        let d1 = format!("D1={afternoon}");
+        ok(in_dir(d, &["set", "t.csv", "--locale", locale, "A1=14:30:15", "B1=25:30", "C1=1:30,5", &d1, "-o", &out]));
+        let written = std::fs::read_to_string(d.join(&out)).unwrap();
+        assert_eq!(written, format!("14:30:15;25:30:00;01:30,5;{afternoon}\n"), "{locale}");
         let Some(soffice) = &soffice else { continue };
         let theirs = values_by_cell(d, &libreoffice_reads_csv(soffice, d, &d.join(&out), locale), "en-US");
         let seconds =
             |cell: &str| theirs.get(cell).and_then(|v| v.as_f64()).map(|t| (t * 86400.0 * 10.0).round() / 10.0);
         assert_eq!(
-            [seconds("A1"), seconds("B1"), seconds("C1")],
-            [Some(52215.0), Some(91800.0), Some(90.5)],
+            [seconds("A1"), seconds("B1"), seconds("C1"), seconds("D1")],
+            [Some(52215.0), Some(91800.0), Some(90.5), Some(52200.0)],
             "{locale}"
         );
     }

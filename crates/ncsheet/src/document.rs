@@ -404,7 +404,7 @@ fn date_text_format(
     match (read.date, read.time) {
         (Some(_), None) => Some(crate::eval::locale::BUILTIN_DATE),
         (Some(_), Some(_)) => Some(crate::eval::locale::BUILTIN_DATE_TIME),
-        (None, Some(time)) => Some(typed_time_format(text, time)),
+        (None, Some(time)) => Some(typed_time_format(&locale.canonical_date_time_text(text)?, time)),
         (None, None) => None,
     }
 }
@@ -413,14 +413,17 @@ fn date_text_format(
 /// of a day): `h:mm` (20), `h:mm:ss` (21) with seconds, `h:mm AM/PM` (18) or `h:mm:ss AM/PM`
 /// (19) when typed with AM or PM, `mm:ss.0` (47) for minutes and seconds with a fraction
 /// (`1:30.5`), and `[h]:mm:ss` (46) for a day or more (`25:30`), which `h` would show
-/// without its days.
+/// without its days. `text` spells morning and afternoon in en-US's words (de-DE's
+/// `2:30 nachm.` as `2:30 PM`), so that a `.` in a locale's word is no fraction.
 fn typed_time_format(text: &str, time: f64) -> &'static str {
-    let upper = text.to_ascii_uppercase();
-    let meridiem = upper.ends_with("AM") || upper.ends_with("PM");
-    let seconds = text.matches(':').count() > 1;
+    let upper = text.trim_end().to_ascii_uppercase();
+    let clock = upper.strip_suffix("AM").or_else(|| upper.strip_suffix("PM"));
+    let meridiem = clock.is_some();
+    let clock = clock.unwrap_or(&upper);
+    let seconds = clock.matches(':').count() > 1;
     match (meridiem, seconds) {
         _ if time >= 1.0 => "[h]:mm:ss",
-        (false, false) if text.contains('.') || text.contains(',') => "mm:ss.0",
+        (false, false) if clock.contains(['.', ',']) => "mm:ss.0",
         (true, true) => "h:mm:ss AM/PM",
         (true, false) => "h:mm AM/PM",
         (false, true) => "h:mm:ss",

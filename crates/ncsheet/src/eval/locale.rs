@@ -493,7 +493,7 @@ impl Locale {
     /// readers below take: a weekday's full name before a date left out, ISO 8601's `T`
     /// between a date and a time as a space (`2025-03-12T14:30`), and the locale's words
     /// for before and after noon as en-US's ([`Locale::canonical_meridiem`]).
-    fn canonical_date_time_text(self, text: &str) -> Option<String> {
+    pub(crate) fn canonical_date_time_text(self, text: &str) -> Option<String> {
         let text = self.without_weekday(text);
         let iso_date = |head: &str| {
             let parts: Vec<&str> = head.split('-').collect();
