@@ -268,17 +268,39 @@ fn a_cell_pointing_past_the_string_table_names_the_cell() {
 /// same length and renamed in its local and central headers.
 fn with_second_entry(package: &[u8], name: &str, content: &[u8]) -> Vec<u8> {
     let stand_in = format!("{}#", &name[..name.len() - 1]);
-    let written = with_part(package, &stand_in, content);
-    let mut out = written.clone();
+    with_raw_name(&with_part(package, &stand_in, content), &stand_in, name.as_bytes())
+}
+
+/// `package` with its entry `stand_in` renamed `raw` (as many bytes) in its local and central
+/// headers, bytes the zip writer would not write (a second name, a name outside UTF-8).
+fn with_raw_name(package: &[u8], stand_in: &str, raw: &[u8]) -> Vec<u8> {
+    let mut out = package.to_vec();
     let mut renamed = 0;
-    for at in 0..written.len() - stand_in.len() {
-        if &written[at..at + stand_in.len()] == stand_in.as_bytes() {
-            out[at..at + name.len()].copy_from_slice(name.as_bytes());
+    for at in 0..package.len() - stand_in.len() {
+        if &package[at..at + stand_in.len()] == stand_in.as_bytes() {
+            out[at..at + raw.len()].copy_from_slice(raw);
             renamed += 1;
         }
     }
     assert_eq!(renamed, 2, "the stand-in names one local and one central header");
     out
+}
+
+/// A zip entry name without the UTF-8 flag (bit 11) is CP437 (APPNOTE 4.4.4, appendix D):
+/// `\x8e.png` is "Ä.png" and `\x99.png` is "Ö.png", two names that are not equal as
+/// case-insensitive ASCII ([M1.12]), so the package holds no equivalent part names. They were
+/// refused as one: both decoded lossily to "\u{fffd}.png".
+#[test]
+fn entry_names_outside_utf8_that_differ_are_not_taken_for_one() {
+    let good = good_workbook();
+    let (first, second) = ("xl/media/A.png", "xl/media/B.png");
+    let with_both = with_part(&with_part(&good, first, b"one"), second, b"two");
+    let renamed = with_raw_name(&with_raw_name(&with_both, first, b"xl/media/\x8e.png"), second, b"xl/media/\x99.png");
+    let names: Vec<Vec<u8>> =
+        zip::ZipArchive::new(Cursor::new(&renamed)).unwrap().file_names_raw().map(<[u8]>::to_vec).collect();
+    assert!(names.contains(&b"xl/media/\x8e.png".to_vec()) && names.contains(&b"xl/media/\x99.png".to_vec()));
+    let loaded = xlsx::load_bytes(&renamed, Path::new(FILE));
+    assert!(loaded.is_ok(), "{:?}", loaded.err().map(|e| e.to_string()));
 }
 
 /// ECMA-376 Part 2 (Open Packaging Conventions), part names: "Packages shall not contain

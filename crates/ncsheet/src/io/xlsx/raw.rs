@@ -408,7 +408,9 @@ pub fn check_entry_names<R: Read + std::io::Seek>(zip: &ZipArchive<R>, bytes: &[
         if name.split('/').any(|segment| !segment.is_empty() && segment.bytes().all(|b| b == b'.')) {
             return Err((name.into_owned(), "the package has an entry whose name holds a '.' or '..' segment, which no part name has (a damaged or crafted file)".into()));
         }
-        if let Some(other) = seen.insert(name.to_ascii_lowercase(), name.clone()) {
+        // Compared as bytes: a name outside UTF-8 (CP437, flag bit 11 clear) decoded lossily
+        // would make two different names one.
+        if let Some(other) = seen.insert(raw.to_ascii_lowercase(), name.clone()) {
             return Err((
                 name.into_owned(),
                 format!("the package also holds '{other}', the same part name in other letter case (a damaged or crafted file: readers differ on which one counts)"),
