@@ -319,3 +319,65 @@ fn an_error_handler_inside_a_loop_and_resume_without_error() {
                \x20   Debug.Print found; r\nEnd Sub\n";
     assert_eq!(printed(src), ["1004;2,0;20;1004; 1 "]);
 }
+
+/// The error a macro run with the project's other standard modules stops with.
+fn refused_with_modules(main: &str, modules: &[(&str, &str)]) -> String {
+    let project = modules.iter().map(|(n, s)| (n.to_string(), s.to_string())).collect();
+    match run_with(main, &RunOptions { project, ..RunOptions::default() }) {
+        Ok(out) => panic!("ran, printing {:?}", out.printed),
+        Err(e) => e.to_string(),
+    }
+}
+
+// "Understanding scope and visibility": "private variables are available only to procedures in
+// that module", and a module-level Dim is private by default; under Option Explicit another
+// module's use of one is VBA's compile error "Variable not defined".
+#[test]
+fn another_modules_private_or_dim_variable_is_not_declared_here() {
+    let other = "Attribute VB_Name = \"Other\"\nPrivate Hidden As Long\nDim Kept As Long\n";
+    for name in ["Hidden", "Kept"] {
+        let main = format!("Option Explicit\nSub Main()\n    {name} = 1\nEnd Sub\n");
+        let error = refused_with_modules(&main, &[("Other", other)]);
+        assert!(error.contains(&format!("variable {name} is not declared")), "{error}");
+    }
+}
+
+// "Enum statement": an Enum is Public unless declared Private, so a module uses the members of
+// an Enum that a module after it declares, Option Explicit or not; the members count on from the
+// one given (Cw = 2, Ccw 3).
+#[test]
+fn enum_members_of_a_later_module_are_declared_under_option_explicit() {
+    let main = "Option Explicit\nSub Main()\n    Dim x As Long\n    x = Cw\n    Debug.Print x; Ccw\nEnd Sub\n";
+    let dirs = "Attribute VB_Name = \"Dirs\"\nPublic Enum Turn\n    Cw = 2\n    Ccw\nEnd Enum\n";
+    assert_eq!(printed_with_modules(main, &[("Dirs", dirs)]), [" 2  3 "]);
+}
+
+// [MS-VBAL] 5.6.12 "Member Access Expressions": `Geom.Rate` names a member of the module Geom;
+// a Rate that only another module declares is none of Geom's (VBA: "Method or data member not
+// found"), and it is not the other module's Rate.
+#[test]
+fn a_qualified_name_must_be_declared_in_the_module_named() {
+    let main = "Option Explicit\nSub Main()\n    Debug.Print Geom.Rate\nEnd Sub\n";
+    let geom = "Attribute VB_Name = \"Geom\"\nPublic Const PI As Double = 3.5\n";
+    let lib = "Attribute VB_Name = \"Lib\"\nPublic Rate As Double\n";
+    let error = refused_with_modules(main, &[("Geom", geom), ("Lib", lib)]);
+    assert!(error.contains("Geom"), "{error}");
+}
+
+// "Understanding scope and visibility": each module's module-level variables and constants are
+// its own, so with `Private Const MODULE_NAME = "Module1"` here and `= "Other"` in Other, VBA
+// prints "Module1Other". ncsheet keeps one variable per module-level name, so it refuses the
+// project naming both modules rather than print "Module1Module1" (a silent wrong value).
+#[test]
+fn one_module_level_name_in_two_modules_is_refused_naming_both() {
+    let main =
+        "Private Const MODULE_NAME = \"Module1\"\nSub Main()\n    Debug.Print MODULE_NAME; Other.Named\nEnd Sub\n";
+    let other = "Attribute VB_Name = \"Other\"\nPrivate Const MODULE_NAME = \"Other\"\n\
+                 Function Named()\n    Named = MODULE_NAME\nEnd Function\n";
+    let error = refused_with_modules(main, &[("Other", other)]);
+    assert!(error.contains("MODULE_NAME") && error.contains("Module1") && error.contains("Other"), "{error}");
+    let public = |m: &str| format!("Attribute VB_Name = \"{m}\"\nPublic Rate As Double\n");
+    let main = "Sub Main()\n    A.Rate = 1: B.Rate = 2\n    Debug.Print A.Rate\nEnd Sub\n";
+    let error = refused_with_modules(main, &[("A", &public("A")), ("B", &public("B"))]);
+    assert!(error.contains("Rate") && error.contains("A") && error.contains("B"), "{error}");
+}

@@ -119,7 +119,7 @@ pub fn parse_module_with_files(
     let type_names = items.iter().filter(|i| i.as_rule() == Rule::type_def);
     *b.types.borrow_mut() = type_names.map(|i| name_of(&find(&kids(i), Rule::ident).expect("type name"))).collect();
     let mut out = Module { base: 0, classes: super::classes::class_defs(parts), ..Module::default() };
-    b.declare_project_globals(&items);
+    b.declare_project_globals(&items)?;
     for item in items {
         match item.as_rule() {
             Rule::type_def => {
@@ -288,7 +288,9 @@ pub(super) struct Build<'s> {
     /// whose procedure is being built.
     pub(super) parts: Vec<Part>,
     pub(super) current_part: Cell<usize>,
-    pub(super) globals: RefCell<std::collections::HashSet<String>>,
+    /// The module-level names (variables, constants, Enum members) by lower-case name, with
+    /// the modules declaring them.
+    pub(super) globals: RefCell<std::collections::HashMap<String, Vec<Owner>>>,
     pub(super) scope: RefCell<Scope>,
     nodes: RefCell<Vec<Node>>,
     pub(super) explicit: Cell<bool>,
@@ -334,6 +336,24 @@ fn enum_names(pair: &Pair<Rule>) -> (Rc<str>, Vec<Rc<str>>) {
     let k = kids(pair);
     let members = all(&k, Rule::enum_member).iter().map(|m| enum_member_name(&kids(m))).collect();
     (name_of(&find(&k, Rule::ident).expect("enum name")), members)
+}
+
+/// The module declaring a module-level name, and whether the project's other modules see it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) struct Owner {
+    pub(super) part: usize,
+    pub(super) public: bool,
+}
+
+/// A module-level declaration other modules see: `Public` or `Global` variables and
+/// constants, and Enums unless `Private` ("Understanding scope and visibility": module-level
+/// `Dim`, `Private` and plain `Const` are private to their module).
+fn declared_public(item: &Pair<Rule>) -> bool {
+    let first = item.as_str().split_whitespace().next().unwrap_or_default().to_ascii_lowercase();
+    match item.as_rule() {
+        Rule::enum_def => first != "private",
+        _ => first == "public" || first == "global",
+    }
 }
 
 /// An Enum member's name: a plain name, or the text of a `[_First]` without its brackets.
@@ -442,22 +462,58 @@ impl<'s> Build<'s> {
         Ok(Build { procs, proc_names, ..b })
     }
 
-    /// The module-level variables and constants of the project's standard modules, known
-    /// before any procedure is built: a procedure of the first module uses a `Public Const PI`
-    /// of a module after it ([MS-VBAL] 5.2.3.1: a public variable's scope is the project).
-    /// Enum members are declared where their Enum is built; a class module's variables are
-    /// its objects' own.
-    fn declare_project_globals(&self, items: &[Pair<Rule>]) {
-        let declarations = items.iter().filter(|i| matches!(i.as_rule(), Rule::dim_stmt | Rule::const_stmt));
-        for item in declarations {
-            if self.parts.get(self.part_at(start(item))).is_some_and(|p| p.class) {
-                continue;
-            }
-            let names = all(&kids(item), Rule::dim_var).into_iter().chain(all(&kids(item), Rule::const_item));
-            for name in names.filter_map(|n| decl_name(&kids(&n))) {
-                self.globals.borrow_mut().insert(name.to_ascii_lowercase());
+    /// The module-level variables, constants and Enum members of the project, each with its
+    /// module, known before any procedure is built: a procedure of the first module uses a
+    /// `Public Const PI` or an Enum member of a module after it ("Understanding scope and
+    /// visibility": a Public module-level name is available to all procedures in all modules).
+    /// A class module's variables are its objects' own, declared where the class is built.
+    fn declare_project_globals(&self, items: &[Pair<Rule>]) -> Res<()> {
+        for item in items {
+            let part = self.part_at(start(item));
+            let names: Vec<Rc<str>> = match item.as_rule() {
+                Rule::enum_def => enum_names(item).1,
+                Rule::dim_stmt | Rule::const_stmt if !self.parts.get(part).is_some_and(|p| p.class) => {
+                    let names = all(&kids(item), Rule::dim_var).into_iter().chain(all(&kids(item), Rule::const_item));
+                    names.filter_map(|n| decl_name(&kids(&n))).collect()
+                }
+                _ => continue,
+            };
+            let owner = Owner { part, public: declared_public(item) };
+            for name in names {
+                self.declare_module_name(&name, owner).map_err(|why| self.error_at(item, why))?;
             }
         }
+        Ok(())
+    }
+
+    /// Notes that module `owner.part` declares `name` at its level. The interpreter keeps one
+    /// variable per module-level name, so the same name at the level of two standard modules
+    /// is refused rather than run as one shared variable (VBA keeps one per module).
+    fn declare_module_name(&self, name: &str, owner: Owner) -> Result<(), String> {
+        let mut globals = self.globals.borrow_mut();
+        let owners = globals.entry(name.to_ascii_lowercase()).or_default();
+        if owners.iter().any(|o| o.part == owner.part) {
+            return Ok(());
+        }
+        let standard = |o: &Owner| !self.parts.get(o.part).is_some_and(|p| p.class);
+        if let Some(other) = owners.iter().find(|o| standard(o)).filter(|_| standard(&owner)) {
+            let module = |o: &Owner| self.parts.get(o.part).map_or_else(|| "the module".into(), |p| p.name.clone());
+            return Err(format!(
+                "{name} is declared at module level in both {} and {}: ncsheet keeps one variable per \
+                 module-level name for the whole project, so they would share it; rename one of them",
+                module(other),
+                module(&owner)
+            ));
+        }
+        owners.push(owner);
+        Ok(())
+    }
+
+    /// A module-level name declared in the module being built (a class module's field too).
+    fn declare_own_module_name(&self, name: &str) {
+        let owner = Owner { part: self.current_part.get(), public: false };
+        // Only a standard module's names can clash, and those were declared up front.
+        let _ = self.declare_module_name(name, owner);
     }
 
     pub(super) fn error_at(&self, pair: &Pair<Rule>, message: impl Into<String>) -> ParseError {
@@ -761,7 +817,7 @@ impl<'s> Build<'s> {
                 None => None,
             };
             if at_module {
-                self.globals.borrow_mut().insert(name.to_ascii_lowercase());
+                self.declare_own_module_name(&name);
             } else {
                 self.declare(&name);
             }
@@ -824,7 +880,7 @@ impl<'s> Build<'s> {
             find(&k, Rule::as_clause).map(|a| self.fixed_length_allowed(&a, false)).transpose()?;
             let ty = find(&k, Rule::as_clause).map(|a| self.ty_of(&a)).or_else(|| type_char_ty(&k));
             if at_module {
-                self.globals.borrow_mut().insert(name.to_ascii_lowercase());
+                self.declare_own_module_name(&name);
             } else {
                 self.declare(&name);
             }
@@ -1550,7 +1606,6 @@ impl Build<'_> {
             };
             let one = Box::new(whole(ExprKind::Number(1.0), &member));
             next = whole(ExprKind::Binary(BinOp::Add, Box::new(value.clone()), one), &member);
-            self.globals.borrow_mut().insert(name.to_ascii_lowercase());
             consts.push((name, Some(Ty::Whole(3)), value));
         }
         Ok(Stmt { kind: StmtKind::Const(consts), span: self.span(start(pair)) })

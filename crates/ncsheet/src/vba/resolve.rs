@@ -227,7 +227,14 @@ impl Build<'_> {
 
     pub(super) fn is_var(&self, name: &str) -> bool {
         let lower = name.to_ascii_lowercase();
-        self.scope.borrow().vars.contains(&lower) || self.globals.borrow().contains(&lower)
+        self.scope.borrow().vars.contains(&lower) || self.is_visible_global(&lower)
+    }
+
+    /// A module-level name the module being built sees: its own (Private, Dim, Const or
+    /// Public) or one another module declares Public ("Understanding scope and visibility").
+    fn is_visible_global(&self, lower: &str) -> bool {
+        let part = self.current_part.get();
+        self.globals.borrow().get(lower).is_some_and(|owners| owners.iter().any(|o| o.part == part || o.public))
     }
 
     pub(super) fn declare(&self, name: &str) {
@@ -251,14 +258,15 @@ impl Build<'_> {
         own.or_else(|| same_name.iter().copied().find(|&i| self.procs[i].public && !class_part(i)))
     }
 
-    /// One of the project's standard modules is named `name` (`LibGeom` in `LibGeom.PI`).
-    fn is_standard_module(&self, name: &str) -> bool {
-        self.parts.iter().any(|p| p.name.eq_ignore_ascii_case(name) && !p.class)
-    }
-
-    /// A module-level variable or constant (an Enum member too) is named `name`.
-    fn is_global(&self, name: &str) -> bool {
-        self.globals.borrow().contains(&lower_bare(name))
+    /// `Module2.Rate`: a module-level variable or constant (an Enum member too) that the
+    /// standard module named `module` declares, Public or the module being built's own.
+    fn module_global(&self, module: &str, name: &str) -> bool {
+        let Some(part) = self.parts.iter().position(|p| p.name.eq_ignore_ascii_case(module) && !p.class) else {
+            return false;
+        };
+        let own = part == self.current_part.get();
+        let globals = self.globals.borrow();
+        globals.get(&lower_bare(name)).is_some_and(|owners| owners.iter().any(|o| o.part == part && (o.public || own)))
     }
 
     /// `Module2.Helper`: a procedure of the module named, if it is one of the project's
@@ -466,7 +474,7 @@ impl Build<'_> {
                 let args = path.links.pop().expect("two links").args.unwrap_or_default();
                 return self.proc_call(pair, proc, args, statement, end);
             }
-            if unshadowed && self.is_standard_module(&module.name) && self.is_global(&link.name) {
+            if unshadowed && self.module_global(&module.name, &link.name) {
                 let variable = path.links.pop().expect("two links");
                 return self.single(pair, variable, statement, end);
             }
