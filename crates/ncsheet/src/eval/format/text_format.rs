@@ -378,7 +378,9 @@ struct DenominatorPastResolution;
 impl FractionLayout {
     /// The fraction layout of a section, `Ok(None)` when it is no fraction.
     fn of(tokens: &[Tok]) -> Result<Option<FractionLayout>, DenominatorPastResolution> {
-        let Some(slash) = tokens.iter().position(|t| *t == Tok::Lit("/".to_string())) else { return Ok(None) };
+        // Matched in place: comparing with a made `Tok::Lit("/")` allocated once per token,
+        // and a section is formatted once per item of an array.
+        let Some(slash) = tokens.iter().position(|t| matches!(t, Tok::Lit(s) if s == "/")) else { return Ok(None) };
         let numerator_at = tokens[..slash].iter().rposition(|t| !matches!(t, Tok::Digit(_))).map_or(0, |p| p + 1);
         if numerator_at == slash {
             return Ok(None);
@@ -950,25 +952,23 @@ fn render(section: &Section, layout: &Layout, shown: &Shown) -> String {
 }
 
 /// What each integer placeholder shows: digits assigned from the right, the leftmost
-/// placeholder taking all the digits left over.
-fn integer_texts(int: &str, places: &[char]) -> Vec<String> {
-    let digits: Vec<char> = int.chars().collect();
-    let mut texts = vec![String::new(); places.len()];
-    for (k, &place) in places.iter().rev().enumerate() {
-        let slot = places.len() - 1 - k;
-        texts[slot] = match digits.len().checked_sub(k + 1) {
-            Some(d) => digits[d].to_string(),
+/// placeholder taking all the digits left over. Each is a slice of `int` or a pad, not a
+/// text of its own: a code of thousands of placeholders is shown once per item of an array.
+fn integer_texts<'a>(int: &'a str, places: &[char]) -> Vec<&'a str> {
+    let starts: Vec<usize> = int.char_indices().map(|(i, _)| i).collect();
+    let end_of = |d: usize| starts.get(d + 1).copied().unwrap_or(int.len());
+    let mut texts = Vec::with_capacity(places.len());
+    for (slot, &place) in places.iter().enumerate() {
+        let to_the_right = places.len() - 1 - slot;
+        texts.push(match starts.len().checked_sub(to_the_right + 1) {
+            Some(d) if slot == 0 => &int[..end_of(d)],
+            Some(d) => &int[starts[d]..end_of(d)],
             None => match place {
-                '0' => "0".to_string(),
-                '?' => " ".to_string(),
-                _ => String::new(),
+                '0' => "0",
+                '?' => " ",
+                _ => "",
             },
-        };
-    }
-    if let Some(first) = texts.first_mut() {
-        let extra = digits.len().saturating_sub(places.len());
-        let prefix: String = digits[..extra].iter().collect();
-        first.insert_str(0, &prefix);
+        });
     }
     texts
 }
