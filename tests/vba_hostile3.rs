@@ -489,3 +489,36 @@ fn a_static_string_grown_across_calls_is_not_copied_at_each_call() {
     let work = work_of(src);
     assert!(work.text_copied < 10 * 1_000_000, "{work:?}");
 }
+
+/// A module whose `Main` uses `F(F(…F(1)…))`, `depth` calls of a user Function deep, where
+/// `place` puts it (`{}`).
+fn nested_calls(depth: usize, place: &str) -> String {
+    let nested = format!("{}1{}", "F(".repeat(depth), ")".repeat(depth));
+    format!(
+        "Function F(v)\n    F = v\nEnd Function\nSub Show(v)\n    Debug.Print v\nEnd Sub\n\
+         Sub Main()\n    Dim a(3)\n    {}\nEnd Sub\n",
+        place.replace("{}", &nested)
+    )
+}
+
+fn nodes_parsed(src: &str) -> usize {
+    vba::parse(src, "nested.bas", &Workbook::with_sheet()).unwrap_or_else(|e| panic!("{e}")).nodes.len()
+}
+
+// Each call written is one call: parsing `F(F(…))` makes one node more per level, in a
+// value, an assignment's target and a statement's arguments alike. Before, each level built
+// its arguments twice (and a target three times), 2^depth nodes: `Abs(Abs(…))` 40 deep did
+// not finish. Counted before the deep run so that a return of the doubling fails, not hangs.
+#[test]
+fn nested_calls_are_built_once_per_level() {
+    for place in ["x = {}", "a({}) = 2", "Show {}", "Call Show({})", "a(0) = Array({})(0)"] {
+        let at = |depth| nodes_parsed(&nested_calls(depth, place));
+        let per_level = at(1) - at(0);
+        assert_eq!(per_level, 1, "{place}");
+        assert_eq!(at(16) - at(0), 16 * per_level, "{place}");
+    }
+    let abs = format!("Sub Main()\n    Debug.Print {}-1{}\nEnd Sub\n", "Abs(".repeat(200), ")".repeat(200));
+    assert_eq!(on_small_stack(move || printed(&abs)), [" 1 "]);
+    let src = nested_calls(200, "Show {}");
+    assert_eq!(on_small_stack(move || printed(&src)), [" 1 "]);
+}

@@ -922,15 +922,20 @@ impl<'s> Build<'s> {
 
     pub(super) fn target(&self, pair: Pair<Rule>) -> Res<Target> {
         // `c(1)(2).Name = x`: a member of an item; `A(1).Arr(2)(3) = x` is refused below.
-        if let Some(ExprKind::Host(id)) = self.indexed_inside(&pair, false)?.map(|e| e.kind) {
-            if matches!(self.nodes.borrow()[id as usize], Node::Members { .. }) {
-                return Ok(Target::Node(id));
-            }
+        // Each reading builds the arguments once: the old second and third readings of the
+        // same target doubled the work per level of nested calls in them.
+        if let Some(inside) = self.indexed_inside(&pair, false)? {
+            return match inside.kind {
+                ExprKind::Host(id) if matches!(self.nodes.borrow()[id as usize], Node::Members { .. }) => {
+                    Ok(Target::Node(id))
+                }
+                _ => Err(self.not_indexed_here(&pair)),
+            };
         }
-        if !self.path_indexed(&pair)?.1.is_empty() {
-            return self.nested_target(pair);
+        let (path, indexes) = self.path_indexed(&pair)?;
+        if !indexes.is_empty() {
+            return self.nested_target(pair, path, indexes);
         }
-        let path = self.path_syntax(&pair)?;
         if !path.with && path.links.len() == 1 {
             let link = &path.links[0];
             let lower = lower_bare(&link.name);
@@ -964,8 +969,8 @@ impl<'s> Build<'s> {
 
     /// `a(i)(j) = v`: an item of the array an array variable's item holds, read as in an
     /// expression; other indexed results (`f(x)(i)`, `c.Item(k)(i)`) are values, not variables.
-    fn nested_target(&self, pair: Pair<Rule>) -> Res<Target> {
-        let e = self.path_expr(pair.clone(), false)?;
+    fn nested_target(&self, pair: Pair<Rule>, path: Path, indexes: Vec<Vec<Arg>>) -> Res<Target> {
+        let e = self.path_value(&pair, path, indexes, false)?;
         let mut id = match e.kind {
             ExprKind::Host(id) => id,
             _ => return Err(self.not_indexed_here(&pair)),

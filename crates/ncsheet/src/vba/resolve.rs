@@ -304,15 +304,26 @@ impl Build<'_> {
             return Ok(chain);
         }
         let (path, indexes) = self.path_indexed(&pair)?;
+        self.path_value(&pair, path, indexes, statement)
+    }
+
+    /// A path indexed at most at its end, from its parts built once by [`Build::path_indexed`].
+    pub(super) fn path_value(
+        &self,
+        pair: &Pair<Rule>,
+        path: Path,
+        indexes: Vec<Vec<Arg>>,
+        statement: bool,
+    ) -> Res<Expr> {
         let end = pair.as_span().end();
         if indexes.is_empty() {
-            return self.resolve(&pair, path, statement, end);
+            return self.resolve(pair, path, statement, end);
         }
         if statement {
-            return Err(self.error_at(&pair, format!("{}: a statement cannot be just a value", pair.as_str().trim())));
+            return Err(self.error_at(pair, format!("{}: a statement cannot be just a value", pair.as_str().trim())));
         }
-        let e = self.resolve(&pair, path, false, end)?;
-        self.indexed(&pair, e, indexes, end)
+        let e = self.resolve(pair, path, false, end)?;
+        self.indexed(pair, e, indexes, end)
     }
 
     /// `d(k)(i)(j)`: each index list applied to what the one before gives.
@@ -334,6 +345,12 @@ impl Build<'_> {
     /// expression before gives ([`Node::Members`]) and indexed in turn. `None` for a path
     /// with no index list before its end.
     pub(super) fn indexed_inside(&self, pair: &Pair<Rule>, statement: bool) -> Res<Option<Expr>> {
+        // Decided from the syntax before any argument is built: the caller builds the path
+        // again when this gives `None`, and building it twice at each level of nested calls
+        // doubled the work per level (`Abs(Abs(…))` 40 deep did not finish).
+        if !has_index_inside(pair) {
+            return Ok(None);
+        }
         let mut with = false;
         let mut parts = Vec::new();
         for part in pair.clone().into_inner() {
@@ -840,4 +857,13 @@ fn created(link: &Link) -> Option<Class> {
 /// "WorksheetFunction.Floor_Precise method"), as no function name holds an underscore.
 fn dotted(member: &str) -> String {
     member.replace('_', ".")
+}
+
+/// Whether a link before a path's last has an index list after its arguments (`d(k)(i).Name`,
+/// `A(1)(2).Count`): what [`Build::chain`] reads, told from the pest pairs alone.
+fn has_index_inside(pair: &Pair<Rule>) -> bool {
+    let links: Vec<Pair<Rule>> = pair.clone().into_inner().filter(|p| p.as_rule() != Rule::with_dot).collect();
+    links.split_last().is_some_and(|(_, before)| {
+        before.iter().any(|link| link.clone().into_inner().any(|p| p.as_rule() == Rule::index_parens))
+    })
 }
