@@ -37,6 +37,10 @@ const MAX_HEIGHT: f64 = 409.0;
 /// The most cells one formatting statement sets one by one (whole rows and columns aside).
 const MAX_FORMATTED_CELLS: u64 = 10_000_000;
 
+/// The most rows one `Hidden = True` hides: each is kept, and saved as its own `<row>`
+/// (the whole sheet, `Rows.Hidden = True`, would be a million of them).
+const MAX_HIDDEN_ROWS: u32 = 100_000;
+
 /// Interior.Color of a cell without fill: white, as Excel answers.
 const NO_FILL: u32 = 0xFF_FFFF;
 
@@ -564,34 +568,58 @@ impl Interp<'_, '_> {
     fn hidden(&self, sheet: SheetId, rect: Rect, span: Span) -> Run<Value> {
         let (axis, first, last) = self.hidden_lines(rect, span)?;
         let looks = self.looks.borrow();
-        let state = looks.sheets.get(&sheet);
-        let is_hidden = |line: u32| {
-            state.is_some_and(|s| match axis {
-                Axis::Rows => s.hidden_rows.contains(&line),
-                Axis::Columns => s.hidden_columns.contains(&(line as u16)),
-            })
-        };
-        Ok(agreed((first..=last).map(is_hidden)).map_or(Value::Null, Value::Bool))
+        // The hidden lines in the range, counted from the set (not line by line over the
+        // million rows of `Rows.Hidden`).
+        let hidden = looks.sheets.get(&sheet).map_or(0, |s| match axis {
+            Axis::Rows => s.hidden_rows.range(first..=last).count(),
+            Axis::Columns => s.hidden_columns.range(first as u16..=last as u16).count(),
+        });
+        Ok(match hidden {
+            0 => Value::Bool(false),
+            n if n as u64 == u64::from(last - first) + 1 => Value::Bool(true),
+            _ => Value::Null,
+        })
     }
 
     /// `r.Hidden = True/False`; a row's also hides it from SUBTOTAL(101…) as Excel does.
     fn set_hidden(&self, sheet: SheetId, rect: Rect, hide: bool, span: Span) -> Run<()> {
         let (axis, first, last) = self.hidden_lines(rect, span)?;
+        if hide && axis == Axis::Rows && last - first >= MAX_HIDDEN_ROWS {
+            let rows = last - first + 1;
+            return Err(self.fault_at(
+                span,
+                format!(
+                    "Hidden: hiding rows {} to {} ({rows} rows) is more than a macro may (each is kept and \
+                     saved on its own; at most {MAX_HIDDEN_ROWS}): hide the rows in use",
+                    first + 1,
+                    last + 1
+                ),
+            ));
+        }
         {
             let mut looks = self.looks.borrow_mut();
             let state = looks.sheet(sheet);
-            for line in first..=last {
-                match (axis, hide) {
-                    (Axis::Rows, true) => _ = state.hidden_rows.insert(line),
-                    (Axis::Rows, false) => _ = state.hidden_rows.remove(&line),
-                    (Axis::Columns, true) => _ = state.hidden_columns.insert(line as u16),
-                    (Axis::Columns, false) => _ = state.hidden_columns.remove(&(line as u16)),
-                }
+            let columns = first as u16..=last as u16;
+            match (axis, hide) {
+                (Axis::Rows, true) => state.hidden_rows.extend(first..=last),
+                (Axis::Rows, false) => state.hidden_rows.retain(|row| !(first..=last).contains(row)),
+                (Axis::Columns, true) => state.hidden_columns.extend(columns),
+                (Axis::Columns, false) => state.hidden_columns.retain(|col| !columns.contains(col)),
             }
         }
         if axis == Axis::Rows {
             let mut book = self.book_mut()?;
-            for row in first..=last {
+            // Showing rows visits only the hidden ones: `Rows.Hidden = False` shows all.
+            let rows: Vec<u32> = match hide {
+                true => (first..=last).collect(),
+                false => book
+                    .hidden_rows(sheet)
+                    .into_iter()
+                    .map(|(row, _)| row)
+                    .filter(|row| (first..=last).contains(row))
+                    .collect(),
+            };
+            for row in rows {
                 book.set_row_hidden(sheet, row, hide.then_some(RowHidden::Manually));
             }
         }
