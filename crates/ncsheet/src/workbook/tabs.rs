@@ -146,20 +146,25 @@ impl Workbook {
         }
     }
 
-    /// The formula cells whose value depends on the tab order: those calling SHEET.
+    /// The formula cells whose value may depend on the tab order: those calling SHEET, and
+    /// those using a defined name or calling a function by name (a LAMBDA's name), whose
+    /// formula may call SHEET in turn. Tabs rarely move: recomputing every cell that uses a
+    /// name costs less than following names through each other.
     fn cells_reading_tab_order(&self) -> Vec<u32> {
-        let calls_sheet = |formula: &super::SharedFormula| {
+        let may_call_sheet = |formula: &super::SharedFormula| {
             let mut found = false;
             formula.expr.visit(&mut |e| {
-                if let ExprKind::Call(id, _) = &e.kind {
-                    found |= functions::spec(*id).name == "SHEET";
-                }
+                found |= match &e.kind {
+                    ExprKind::Call(id, _) => functions::spec(*id).name == "SHEET",
+                    ExprKind::Name(_) | ExprKind::SheetName(..) | ExprKind::UnknownCall(..) => true,
+                    _ => false,
+                };
             });
             found
         };
         // The shared formulas are far fewer than the cells running them: most workbooks call
         // SHEET nowhere and need no look at their cells.
-        let readers: Vec<bool> = self.formulas.formulas.iter().map(calls_sheet).collect();
+        let readers: Vec<bool> = self.formulas.formulas.iter().map(may_call_sheet).collect();
         if !readers.contains(&true) {
             return Vec::new();
         }
@@ -184,6 +189,21 @@ mod tests {
             wb.add_sheet(name).unwrap();
         }
         wb
+    }
+
+    // Excel recomputes SHEET() wherever it is called from: through a name, or a LAMBDA named.
+    #[test]
+    fn sheet_through_a_name_counts_tabs_after_a_move() {
+        let mut wb = book(&["A", "B", "C"]);
+        wb.define_name("pos", "=SHEET()", None).unwrap();
+        wb.define_name("place", "=LAMBDA(x,SHEET()*x)", None).unwrap();
+        wb.set_input(2, Pos::new(0, 0), "=pos").unwrap();
+        wb.set_input(2, Pos::new(0, 1), "=place(10)").unwrap();
+        assert_eq!(wb.value(2, Pos::new(0, 0)), Value::Number(3.0));
+        assert_eq!(wb.value(2, Pos::new(0, 1)), Value::Number(30.0));
+        wb.move_sheet(2, 0).unwrap();
+        assert_eq!(wb.value(2, Pos::new(0, 0)), Value::Number(1.0));
+        assert_eq!(wb.value(2, Pos::new(0, 1)), Value::Number(10.0));
     }
 
     // Excel's SHEET: "the sheet number of the referenced sheet", the number of its tab.
