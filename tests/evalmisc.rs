@@ -326,3 +326,35 @@ fn a_named_lambda_calling_itself_twice_links_its_cells_once() {
     set(&mut wb, "A1", "2");
     assert_eq!(get(&wb, "B1"), n(16.0));
 }
+
+/// Excel's SUMIF (Microsoft's SUMIF, SUMIFS, AVERAGEIF, MINIFS pages): a blank criteria cell
+/// matches `""` and `"<>x"`, and the sum range beside it counts. With whole columns on
+/// another sheet, the rows past that sheet's used area are such blanks: Sheet1!A1 = "a"
+/// alone, Sheet2!B1:B3 = 1, 2, 3, so A2:A3 are blank beside 2 and 3 (ncsheet took only row 1,
+/// giving 1 and 0 for the first two).
+#[test]
+fn criteria_blanks_past_the_criteria_sheets_used_area_match() {
+    let mut wb = Workbook::with_sheet();
+    let other = wb.add_sheet("Sheet2").unwrap();
+    set(&mut wb, "A1", "a");
+    for (cell, input) in [("B1", "1"), ("B2", "2"), ("B3", "3")] {
+        wb.set_input(other, parse_cell(cell).unwrap(), input).unwrap();
+    }
+    let cases = [
+        ("=SUMIF(Sheet1!A:A,\"<>x\",B:B)", 6.0),
+        ("=SUMIF(Sheet1!A:A,\"\",B:B)", 5.0),
+        ("=SUMIFS(B:B,Sheet1!A:A,\"\")", 5.0),
+        ("=AVERAGEIF(Sheet1!A:A,\"\",B:B)", 2.5),
+        ("=AVERAGEIFS(B:B,Sheet1!A:A,\"<>a\")", 2.5),
+        ("=MINIFS(B:B,Sheet1!A:A,\"\")", 2.0),
+        ("=MAXIFS(B:B,Sheet1!A:A,\"<>x\")", 3.0),
+        // Each of 100 keys is unequal to "a" and to the blanks: 6 each.
+        ("=SUM(SUMIF(Sheet1!A:A,\"<>\"&SEQUENCE(100),B:B))", 600.0),
+        ("=SUM(SUMIF(Sheet1!A:A,\"<>\"&{\"a\",\"b\"},B:B))", 11.0),
+    ];
+    for (i, (formula, expected)) in cases.iter().enumerate() {
+        let at = ncsheet::formula::address::Pos::new(i as u32, 4);
+        wb.set_input(other, at, formula).unwrap();
+        assert_eq!(wb.value(other, at), n(*expected), "{formula}");
+    }
+}

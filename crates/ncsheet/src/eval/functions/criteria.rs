@@ -321,6 +321,20 @@ impl CellBlock {
         }
     }
 
+    /// The range read at least as far as `other` was (blank where this one was not read), for
+    /// criteria ranges beside an aggregate's target: a cell the target read must be tested as
+    /// a read cell, since the unread blanks beyond count only in COUNTIF (whole columns on
+    /// another sheet, where `SUMIF(Sheet1!A:A, "", B:B)` sums B beside Sheet1's unused rows).
+    pub fn read_as_far_as(&self, other: &CellBlock) -> CellBlock {
+        let rows = self.read.rows.max(other.read.rows).min(self.rows);
+        let cols = self.read.cols.max(other.read.cols).min(self.cols);
+        if rows == self.read.rows && cols == self.read.cols {
+            return self.clone();
+        }
+        let cells = (0..rows).flat_map(|r| (0..cols).map(move |c| self.get(r, c).clone())).collect();
+        CellBlock { rows: self.rows, cols: self.cols, read: Rc::new(Array::new(rows, cols, cells)) }
+    }
+
     pub fn same_shape(&self, other: &CellBlock) -> bool {
         self.rows == other.rows && self.cols == other.cols
     }

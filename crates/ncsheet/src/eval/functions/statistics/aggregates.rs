@@ -298,7 +298,8 @@ impl Conditions {
         if !target.same_shape(&self.ranges[0]) {
             return Err(XlError::Value);
         }
-        let matcher = CriteriaMatcher::new(&self.ranges, &self.criteria, self.dates).summarizing(target, summary);
+        let ranges: Vec<CellBlock> = self.ranges.iter().map(|r| r.read_as_far_as(target)).collect();
+        let matcher = CriteriaMatcher::new(&ranges, &self.criteria, self.dates).summarizing(target, summary);
         matcher.within_scan_limit(ctx, &self.criteria, false)?;
         let results = lift_values(&self.criteria, &|items| {
             let criteria: Vec<Criterion> = items.iter().map(|v| Criterion::new(v, self.dates)).collect();
