@@ -381,3 +381,14 @@ fn one_module_level_name_in_two_modules_is_refused_naming_both() {
     let error = refused_with_modules(main, &[("A", &public("A")), ("B", &public("B"))]);
     assert!(error.contains("Rate") && error.contains("A") && error.contains("B"), "{error}");
 }
+
+// The pattern of real modules (`Private Const ACCURACY = 0.000000001` in each of three flow
+// modules): constants declared alike in two modules have the one value VBA gives each, so the
+// project runs ("Understanding scope and visibility": each reads its own).
+#[test]
+fn a_constant_declared_alike_in_two_modules_runs() {
+    let main = "Private Const ACCURACY = 0.001\nSub Main()\n    Debug.Print ACCURACY; Other.Tolerance\nEnd Sub\n";
+    let other = "Attribute VB_Name = \"Other\"\nPrivate Const ACCURACY = 0.001\n\
+                 Function Tolerance()\n    Tolerance = ACCURACY * 2\nEnd Function\n";
+    assert_eq!(printed_with_modules(main, &[("Other", other)]), [" 0.001  0.002 "]);
+}

@@ -339,10 +339,12 @@ fn enum_names(pair: &Pair<Rule>) -> (Rc<str>, Vec<Rc<str>>) {
 }
 
 /// The module declaring a module-level name, and whether the project's other modules see it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub(super) struct Owner {
     pub(super) part: usize,
     pub(super) public: bool,
+    /// A constant's declaration text (`ACCURACY = 1E-9`), for a variable None.
+    pub(super) constant: Option<Rc<str>>,
 }
 
 /// A module-level declaration other modules see: `Public` or `Global` variables and
@@ -470,16 +472,19 @@ impl<'s> Build<'s> {
     fn declare_project_globals(&self, items: &[Pair<Rule>]) -> Res<()> {
         for item in items {
             let part = self.part_at(start(item));
-            let names: Vec<Rc<str>> = match item.as_rule() {
-                Rule::enum_def => enum_names(item).1,
+            let names: Vec<(Rc<str>, Option<Rc<str>>)> = match item.as_rule() {
+                Rule::enum_def => enum_names(item).1.into_iter().map(|m| (m, None)).collect(),
                 Rule::dim_stmt | Rule::const_stmt if !self.parts.get(part).is_some_and(|p| p.class) => {
-                    let names = all(&kids(item), Rule::dim_var).into_iter().chain(all(&kids(item), Rule::const_item));
-                    names.filter_map(|n| decl_name(&kids(&n))).collect()
+                    let variables = all(&kids(item), Rule::dim_var).into_iter().map(|n| (n, None));
+                    let constants = all(&kids(item), Rule::const_item).into_iter().map(|n| (n.clone(), Some(n)));
+                    let text = |c: Option<Pair<Rule>>| c.map(|c| Rc::from(c.as_str().trim()));
+                    let named = |(n, c): (Pair<Rule>, _)| decl_name(&kids(&n)).map(|name| (name, text(c)));
+                    variables.chain(constants).filter_map(named).collect()
                 }
                 _ => continue,
             };
-            let owner = Owner { part, public: declared_public(item) };
-            for name in names {
+            for (name, constant) in names {
+                let owner = Owner { part, public: declared_public(item), constant };
                 self.declare_module_name(&name, owner).map_err(|why| self.error_at(item, why))?;
             }
         }
@@ -488,7 +493,9 @@ impl<'s> Build<'s> {
 
     /// Notes that module `owner.part` declares `name` at its level. The interpreter keeps one
     /// variable per module-level name, so the same name at the level of two standard modules
-    /// is refused rather than run as one shared variable (VBA keeps one per module).
+    /// is refused rather than run as one shared variable (VBA keeps one per module), unless
+    /// both are constants declared alike (`Private Const ACCURACY = 1E-9` in each), which
+    /// one slot serves right.
     fn declare_module_name(&self, name: &str, owner: Owner) -> Result<(), String> {
         let mut globals = self.globals.borrow_mut();
         let owners = globals.entry(name.to_ascii_lowercase()).or_default();
@@ -496,7 +503,8 @@ impl<'s> Build<'s> {
             return Ok(());
         }
         let standard = |o: &Owner| !self.parts.get(o.part).is_some_and(|p| p.class);
-        if let Some(other) = owners.iter().find(|o| standard(o)).filter(|_| standard(&owner)) {
+        let alike = |o: &Owner| o.constant.is_some() && o.constant == owner.constant;
+        if let Some(other) = owners.iter().find(|o| standard(o) && !alike(o)).filter(|_| standard(&owner)) {
             let module = |o: &Owner| self.parts.get(o.part).map_or_else(|| "the module".into(), |p| p.name.clone());
             return Err(format!(
                 "{name} is declared at module level in both {} and {}: ncsheet keeps one variable per \
@@ -511,7 +519,7 @@ impl<'s> Build<'s> {
 
     /// A module-level name declared in the module being built (a class module's field too).
     fn declare_own_module_name(&self, name: &str) {
-        let owner = Owner { part: self.current_part.get(), public: false };
+        let owner = Owner { part: self.current_part.get(), public: false, constant: None };
         // Only a standard module's names can clash, and those were declared up front.
         let _ = self.declare_module_name(name, owner);
     }
