@@ -6,7 +6,7 @@ use std::rc::Rc;
 
 use crate::eval::coerce::{to_bool, to_number, to_text};
 use crate::eval::dates::DateSystem;
-use crate::eval::functions::api::{for_each_value, lift, lift_values, ArgSet, Ctx, FnSpec, MANY};
+use crate::eval::functions::api::{explain_lifted_size, for_each_value, lift, lift_values, ArgSet, Ctx, FnSpec, MANY};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
 
@@ -254,7 +254,7 @@ fn text_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     if let (Value::Text(format), Some(Err(_))) = (&values[1], &one_format) {
         return Err(ctx.explain(XlError::Value, unusable_format(locale, format)));
     }
-    lift_values(&values, &|v| {
+    let shown = lift_values(&values, &|v| {
         // The value's error wins over the format's (`TEXT(NA(),1/0)` is #N/A).
         if let Value::Error(e) = &v[0] {
             return Err(*e);
@@ -268,7 +268,10 @@ fn text_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
             }
         };
         format.show(&v[0], locale, dates).map(Value::from)
-    })
+    });
+    // A #NUM! past the array's item or text limit says which.
+    explain_lifted_size(ctx, &values, &shown);
+    shown
 }
 
 /// Why TEXT cannot use the format code `typed`.
