@@ -16,8 +16,9 @@ pub(super) struct Tabs {
     /// The sheet spans (first, last) of the file's 3-D references (`Sheet1:Sheet3!A1`). Such
     /// a reference means the sheets whose tabs lie between its ends, and was read as the list
     /// of the sheets between them then: a tab moved or added in or out of a span would make
-    /// Excel's reference take other sheets, so it is refused.
-    spans: Vec<(SheetId, SheetId)>,
+    /// Excel's reference take other sheets, so it is refused. A set: a file may hold many
+    /// 3-D references over few spans; ordered, so the first span refused is always the same.
+    spans: std::collections::BTreeSet<(SheetId, SheetId)>,
 }
 
 impl Workbook {
@@ -50,8 +51,8 @@ impl Workbook {
     /// `first` to `last` (its list of sheets): no tab may then move or be added in or out of
     /// the span.
     pub fn note_sheet_span(&mut self, first: SheetId, last: SheetId) {
-        if first != last && !self.tabs.spans.contains(&(first, last)) {
-            self.tabs.spans.push((first, last));
+        if first != last {
+            self.tabs.spans.insert((first, last));
         }
     }
 
