@@ -75,3 +75,60 @@ fn a_sheet_added_by_a_macro_is_active_in_the_file_written_anew() {
     let (read, _) = run_and_save("    Sheets.Add.Name = \"N\"");
     assert_eq!(read, ["active=N", "N selected=True", "A selected=False", "B selected=False", "C selected=False"]);
 }
+
+/// Sheets A, B and a chart sheet "Chart" of A's two numbers, written by openpyxl; the file
+/// opens on the chart sheet, the only selected tab.
+const WRITE_WITH_CHART_SHEET: &str = r#"
+import sys
+from openpyxl import Workbook
+from openpyxl.chart import BarChart, Reference
+wb = Workbook()
+ws = wb.active
+ws.title = "A"
+ws["A1"] = 1
+ws["A2"] = 2
+wb.create_sheet("B")["A1"] = 2
+cs = wb.create_chartsheet("Chart")
+chart = BarChart()
+chart.add_data(Reference(ws, min_col=1, min_row=1, max_row=2))
+cs.add_chart(chart)
+wb.active = 2
+ws.sheet_view.tabSelected = False
+cs.sheetViews.sheetView[0].tabSelected = True
+wb.save(sys.argv[1])
+"#;
+
+/// The sheet the file opens on, then each worksheet's and chart sheet's tabSelected.
+const READ_WITH_CHART_SHEET: &str = r#"
+import sys
+from openpyxl import load_workbook
+wb = load_workbook(sys.argv[1])
+print("active=" + wb.active.title)
+for ws in wb.worksheets:
+    print(ws.title + " selected=" + str(bool(ws.views.sheetView[0].tabSelected)))
+for cs in wb.chartsheets:
+    print(cs.title + " selected=" + str(bool(cs.sheetViews.sheetView[0].tabSelected)))
+"#;
+
+/// A file opening on a chart sheet, whose macro activates B: B alone is selected. The chart
+/// sheet kept its tabSelected, so two tabs opened as a group.
+#[test]
+fn a_sheet_activated_in_a_file_opening_on_a_chart_sheet_is_the_only_selected_tab() {
+    if !openpyxl_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let book = dir.path().join("book.xlsx");
+    python(WRITE_WITH_CHART_SHEET, &[&book]);
+    let mut doc = Document::open_file(&book, &OpenOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    let src = "Sub Main()\n    Sheets(\"B\").Activate\nEnd Sub\n";
+    doc.run_macro(src, "active.bas", RunOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    let saved = dir.path().join("saved.xlsx");
+    let encoded = doc.encode(&saved).unwrap_or_else(|e| panic!("{e}"));
+    std::fs::write(&saved, encoded.bytes()).unwrap();
+    let read = python(READ_WITH_CHART_SHEET, &[&saved]);
+    assert_eq!(
+        read.lines().collect::<Vec<_>>(),
+        ["active=B", "A selected=False", "B selected=True", "Chart selected=False"]
+    );
+}

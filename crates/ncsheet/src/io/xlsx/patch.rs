@@ -168,7 +168,9 @@ pub fn patch(
                 Some((_, now)) => with_active_tab(&xml, now),
                 None => xml,
             })
-        } else if active_moved.is_some_and(|(was, now)| [was, now].iter().any(|&i| package.sheets[i].part == name)) {
+        } else if active_moved.is_some_and(|(was, now)| {
+            [was, now, package.active_tab].iter().any(|&i| package.sheets.get(i).is_some_and(|e| e.part == name))
+        }) {
             let xml = read_text(&mut entry, &name, &source.file)?;
             Some(with_selected_tab(xml, &name, &package, active_moved))
         } else if calc_chain.is_some() && (name == "[Content_Types].xml" || name == wb_rels) {
@@ -317,12 +319,15 @@ fn with_active_tab(xml: &str, tab: usize) -> String {
 
 /// A worksheet part whose first `<sheetView>` is `tabSelected` when it is the newly active
 /// sheet and is not when it was the old one: two selected tabs would open as a group, where
-/// an edit changes every sheet of it. A part without a sheet view keeps Excel's default.
+/// an edit changes every sheet of it. The old one is also the file's own active tab when that
+/// is no worksheet (a chart sheet, read as opening on the first worksheet). A part without a
+/// sheet view keeps Excel's default.
 fn with_selected_tab(xml: String, part: &str, package: &Package, moved: Option<(usize, usize)>) -> String {
     let Some((was, now)) = moved else { return xml };
+    let is_part = |i: usize| package.sheets.get(i).is_some_and(|e| e.part == part);
     let selected = match part {
-        _ if package.sheets[now].part == part => Some("1"),
-        _ if package.sheets[was].part == part => None,
+        _ if is_part(now) => Some("1"),
+        _ if is_part(was) || is_part(package.active_tab) => None,
         _ => return xml,
     };
     let Some(start) = find_tag(&xml, &format!("{}sheetView", root_prefix(&xml)), 0) else { return xml };
