@@ -460,7 +460,7 @@ impl FractionLayout {
             }
             match t {
                 Tok::Digit(_) if i < self.numerator_at => {
-                    out.push_str(&int_texts[int_i]);
+                    out.push_str(int_texts[int_i]);
                     int_i += 1;
                 }
                 _ if i == self.numerator_at => out.push_str(&numerator_text),
@@ -908,7 +908,7 @@ fn render(section: &Section, layout: &Layout, shown: &Shown) -> String {
         match t {
             Tok::Digit(_) if region == 0 => {
                 if !layout.grouping {
-                    out.push_str(&int_texts[int_i]);
+                    out.push_str(int_texts[int_i]);
                 } else if int_i == 0 {
                     out.push_str(&group_thousands(&int_texts.concat()));
                 }
