@@ -87,6 +87,10 @@ impl Interp<'_, '_> {
     }
 
     pub fn element(&self, ctx: &mut Ctx, name: &str, index: &[Expr], span: Span) -> Run<Operand> {
+        // An item growing in place (`append.rs`) is read without making the array anew.
+        if let Some(read) = self.growing_element(ctx, name, index, span) {
+            return read;
+        }
         if let Some(Var::Obj(Obj::Store(h))) = self.lookup(name) {
             return self.store_operand(ctx, &h, index, span);
         }

@@ -112,7 +112,7 @@ impl Measure {
             let (buffer, var) = s.held_parts();
             self.bytes = self.bytes.saturating_add(buffer as u64);
             if let Some(var) = var {
-                self.var(var);
+                self.var(&var);
             }
         }
     }

@@ -168,6 +168,10 @@ impl Host for Interp<'_, '_> {
     fn arithmetic(&self, op: BinOp, operands: (&Expr, &Expr), values: (&Value, &Value), result: Value) -> Value {
         self.forget_widening(operands.0);
         if op == BinOp::Concat {
+            // The joined text is a copy of the left one (work counted for tests: `Work`).
+            if let (Value::Text(left), Value::Text(_)) = (values.0, &result) {
+                super::count(&super::TEXT_COPIED, left.len() as u64);
+            }
             return self
                 .concat_dates(operands, values)
                 .or_else(|| self.concat_singles(operands, values))

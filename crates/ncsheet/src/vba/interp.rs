@@ -1877,6 +1877,10 @@ impl Interp<'_, '_> {
                     let item = self.item_var(value)?;
                     return self.set_object_element(name, index, item, span);
                 }
+                // `a(i) = a(i) & …` appends to the item's text in place (`append.rs`).
+                if self.append_item_in_place(name, index, value, span)? {
+                    return Ok(());
+                }
                 let v = match self.item_given(value)? {
                     Ok(array) => return self.set_array_element(name, index, array, span),
                     Err(v) => v,

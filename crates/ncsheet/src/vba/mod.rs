@@ -271,8 +271,10 @@ pub struct Work {
     pub columns_stepped: u64,
     /// Places of a Collection or Dictionary visited to close up removed entries.
     pub places_closed_up: u64,
-    /// Bytes of a variable's text copied to append to it (`s = s & x`): once when it starts
-    /// growing in place, and again whenever its buffer is shared when appended to.
+    /// Bytes of text copied to append to it: the left side's text of every `&`, which the
+    /// joined text copies; a variable's or an array item's text once when it starts growing
+    /// in place (`s = s & x`, `a(i) = a(i) & x`), and again whenever its buffer is shared
+    /// when appended to.
     pub text_copied: u64,
 }
 

@@ -200,6 +200,7 @@ fn next_write() -> u64 {
 enum Held {
     Var(Var),
     Growing(Growing),
+    GrowingItem(GrowingItem),
 }
 
 /// A text variable that `s = s & …` appends to (`append.rs`): a value's text is an `Rc<str>`,
@@ -225,6 +226,46 @@ impl Growing {
     fn shown(&self) -> &Var {
         self.shown.get_or_init(|| Var::Value(Value::Text(Rc::from(self.text.as_str()))))
     }
+
+    /// The text of `units` UTF-16 units, made ready to grow.
+    fn of(text: &str, units: usize) -> Growing {
+        super::count(&super::TEXT_COPIED, text.len() as u64);
+        let (chars, ascii) = (text.chars().count(), text.is_ascii());
+        Growing { text: Rc::new(String::from(text)), units, chars, ascii, shown: std::cell::OnceCell::new() }
+    }
+}
+
+/// An array whose item `k` `a(i) = a(i) & …` appends to (`append.rs`): an item's text is an
+/// `Rc<str>` as a variable's is, so each append copied the whole item and a loop of them was
+/// quadratic. The item's text grows in a buffer apart from the array, whose item `k` is stale
+/// meanwhile. Reading the variable moves the array into `text.shown` with the text put back
+/// (the array is moved, not copied: one copy of the item's text); the next append moves it
+/// out again. Reading one item (`a(j)`) reads the array apart, without making either.
+#[derive(Clone, Debug)]
+struct GrowingItem {
+    /// The array while its item grows apart; `None` while `text.shown` holds it.
+    array: std::cell::RefCell<Option<VArray>>,
+    /// The row-major position of the item.
+    k: usize,
+    /// The item's text; its `shown` is the whole array, once read.
+    text: Growing,
+}
+
+impl GrowingItem {
+    fn shown(&self) -> &Var {
+        self.text.shown.get_or_init(|| {
+            let mut array = self.array.borrow_mut().take().expect("the array is apart until read");
+            Rc::make_mut(&mut array.data).data[self.k] = Value::Text(Rc::from(self.text.text.as_str()));
+            Var::Array(array)
+        })
+    }
+
+    /// The array apart from its item, moved back out of `shown` when it was read.
+    fn take_back(&mut self) {
+        if let Some(Var::Array(array)) = self.text.shown.take() {
+            *self.array.get_mut() = Some(array);
+        }
+    }
 }
 
 impl Slot {
@@ -239,19 +280,27 @@ impl Slot {
         match &self.held {
             Held::Var(var) => var,
             Held::Growing(g) => g.shown(),
+            Held::GrowingItem(g) => g.shown(),
         }
     }
 
     /// What the variable holds, to change in place (a growing text becomes a value first).
     pub fn var_mut(&mut self) -> &mut Var {
         self.written = next_write();
-        if let Held::Growing(g) = &mut self.held {
-            let var = g.shown.take().unwrap_or_else(|| Var::Value(Value::Text(Rc::from(g.text.as_str()))));
-            self.held = Held::Var(var);
+        match &mut self.held {
+            Held::Growing(g) => {
+                let var = g.shown.take().unwrap_or_else(|| Var::Value(Value::Text(Rc::from(g.text.as_str()))));
+                self.held = Held::Var(var);
+            }
+            Held::GrowingItem(g) => {
+                g.shown();
+                self.held = Held::Var(g.text.shown.take().expect("made just above"));
+            }
+            Held::Var(_) => {}
         }
         match &mut self.held {
             Held::Var(var) => var,
-            Held::Growing(_) => unreachable!("made a value above"),
+            _ => unreachable!("made a value above"),
         }
     }
 
@@ -264,23 +313,75 @@ impl Slot {
     /// with [`Slot::append`]; `None` when it holds no text.
     pub(super) fn text_units(&mut self) -> Option<usize> {
         if let Held::Var(Var::Value(Value::Text(t))) = &self.held {
-            super::count(&super::TEXT_COPIED, t.len() as u64);
-            let text = Rc::new(String::from(&**t));
-            let (units, chars) = (text.encode_utf16().count(), text.chars().count());
-            let ascii = text.is_ascii();
-            self.held = Held::Growing(Growing { text, units, chars, ascii, shown: std::cell::OnceCell::new() });
+            self.held = Held::Growing(Growing::of(t, t.encode_utf16().count()));
         }
         match &self.held {
             Held::Growing(g) => Some(g.units),
-            Held::Var(_) => None,
+            _ => None,
+        }
+    }
+
+    /// The length in UTF-16 units of the text the array's item at row-major position `k`
+    /// holds, ready to be appended to with [`Slot::append`] (another item growing goes back
+    /// into the array first); `None` when the variable holds no array or the item no text.
+    pub(super) fn item_units(&mut self, k: usize) -> Option<usize> {
+        if let Held::GrowingItem(g) = &self.held {
+            if g.k == k {
+                return Some(g.text.units);
+            }
+        }
+        let Var::Array(a) = self.var_mut() else { return None };
+        let Some(Value::Text(_)) = a.data.data.get(k) else { return None };
+        // Only this array holds its items now (a copy made of them when shared, as
+        // `a(i) = v` makes one): the item's text is taken out, not shared.
+        let item = std::mem::replace(&mut Rc::make_mut(&mut a.data).data[k], Value::Blank);
+        let Value::Text(t) = item else { unreachable!("a text, checked above") };
+        let text = Growing::of(&t, t.encode_utf16().count());
+        let units = text.units;
+        let taken = std::mem::replace(&mut self.held, Held::Var(Var::Value(Value::Blank)));
+        let Held::Var(Var::Array(array)) = taken else { unreachable!("an array, checked above") };
+        self.held = Held::GrowingItem(GrowingItem { array: std::cell::RefCell::new(Some(array)), k, text });
+        Some(units)
+    }
+
+    /// `f` of the array the variable holds, without putting a growing item's text back in
+    /// (its item is stale there: [`Slot::growing_item`] tells which); `None` when it holds
+    /// no array.
+    pub(super) fn with_array<T>(&self, f: impl FnOnce(&VArray) -> T) -> Option<T> {
+        if let Held::GrowingItem(g) = &self.held {
+            if let Some(array) = g.array.borrow().as_ref() {
+                return Some(f(array));
+            }
+        }
+        match self.var() {
+            Var::Array(a) => Some(f(a)),
+            _ => None,
+        }
+    }
+
+    /// The row-major position of the array's item growing in place, and its text (shared,
+    /// not copied, as [`Slot::growing_text`]).
+    pub(super) fn growing_item(&self) -> Option<(usize, Rc<String>)> {
+        match &self.held {
+            Held::GrowingItem(g) => Some((g.k, Rc::clone(&g.text.text))),
+            _ => None,
         }
     }
 
     /// Appends `piece` of `units` UTF-16 units to the text [`Slot::text_units`] made ready.
     pub(super) fn append(&mut self, piece: &str, units: usize) {
-        let Held::Growing(g) = &mut self.held else { unreachable!("text_units made the text ready") };
         self.written = next_write();
-        g.shown.take();
+        let g = match &mut self.held {
+            Held::Growing(g) => {
+                g.shown.take();
+                g
+            }
+            Held::GrowingItem(item) => {
+                item.take_back();
+                &mut item.text
+            }
+            Held::Var(_) => unreachable!("text_units or item_units made the text ready"),
+        };
         if Rc::strong_count(&g.text) > 1 {
             // Shared (a copy of the variable holds it too): made the variable's own first.
             super::count(&super::TEXT_COPIED, g.text.len() as u64);
@@ -317,7 +418,7 @@ impl Slot {
     pub(super) fn growing_text(&self) -> Option<Rc<String>> {
         match &self.held {
             Held::Growing(g) => Some(Rc::clone(&g.text)),
-            Held::Var(_) => None,
+            _ => None,
         }
     }
 
@@ -326,16 +427,25 @@ impl Slot {
     pub(super) fn growing_chars(&self) -> Option<usize> {
         match &self.held {
             Held::Growing(g) => Some(g.chars),
-            Held::Var(_) => None,
+            _ => None,
         }
     }
 
     /// The bytes of a growing text's buffer, and what else the variable holds to be measured
     /// (the value made from the buffer, when it was read): for the memory budget.
-    pub(super) fn held_parts(&self) -> (usize, Option<&Var>) {
+    pub(super) fn held_parts(&self) -> (usize, Option<std::borrow::Cow<'_, Var>>) {
+        use std::borrow::Cow;
         match &self.held {
-            Held::Var(var) => (0, Some(var)),
-            Held::Growing(g) => (g.text.capacity(), g.shown.get()),
+            Held::Var(var) => (0, Some(Cow::Borrowed(var))),
+            Held::Growing(g) => (g.text.capacity(), g.shown.get().map(Cow::Borrowed)),
+            // The array apart is shared for the measure, not copied (its items are `Rc`s).
+            Held::GrowingItem(g) => match g.text.shown.get() {
+                Some(array) => (g.text.text.capacity(), Some(Cow::Borrowed(array))),
+                None => {
+                    let array = g.array.borrow().clone().map(|a| Cow::Owned(Var::Array(a)));
+                    (g.text.text.capacity(), array)
+                }
+            },
         }
     }
 
