@@ -12,6 +12,9 @@
 //! Range.Delete page, for the macros: "If this argument is omitted, Microsoft Excel decides
 //! based on the shape of the range."
 
+mod common;
+
+use common::vba::run_main as run;
 use ncsheet::eval::{Value, XlError};
 use ncsheet::formula::address::{parse_cell, Pos, Rect};
 use ncsheet::vba::{self, RunOptions};
@@ -269,11 +272,6 @@ fn inserting_refuses_to_push_filled_cells_off_the_sheet() {
     let message = wb.shift_cells(0, SheetEdit::rows(0, 1, true)).unwrap_err().to_string();
     assert!(message.contains("A1048576"), "{message}");
     assert_eq!(wb.value(0, at("A1048576")), n(1.0));
-}
-
-fn run(wb: &mut Workbook, body: &str) -> Vec<String> {
-    let src = format!("Sub Main()\n{body}\nEnd Sub\n");
-    vba::run(wb, &src, "edits.bas", &RunOptions::default()).unwrap_or_else(|e| panic!("{e}")).printed
 }
 
 fn column(wb: &Workbook, sheet: u16, col: &str, rows: u32) -> Vec<String> {

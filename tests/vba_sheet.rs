@@ -1,27 +1,14 @@
 //! Macros reading and writing the workbook: writes are seen by later reads, formulas
 //! recalculate, names and other sheets are reachable as a VBA user reaches them.
 
+mod common;
+
+use common::sheet::{get_on as get, n, set_on as set};
+use common::vba::run_main as run;
 use ncsheet::eval::Value;
 use ncsheet::formula::address::parse_cell;
 use ncsheet::vba::{self, RunOptions};
 use ncsheet::workbook::Workbook;
-
-fn set(wb: &mut Workbook, sheet: u16, cell: &str, input: &str) {
-    wb.set_input(sheet, parse_cell(cell).unwrap(), input).unwrap();
-}
-
-fn get(wb: &Workbook, sheet: u16, cell: &str) -> Value {
-    wb.value(sheet, parse_cell(cell).unwrap())
-}
-
-fn run(wb: &mut Workbook, body: &str) -> Vec<String> {
-    let src = format!("Sub Main()\n{body}\nEnd Sub\n");
-    vba::run(wb, &src, "sheet.bas", &RunOptions::default()).unwrap_or_else(|e| panic!("{e}")).printed
-}
-
-fn n(x: f64) -> Value {
-    Value::Number(x)
-}
 
 #[test]
 fn a_write_is_seen_by_the_formulas_that_read_it() {

@@ -19,28 +19,11 @@ use std::path::Path;
 use std::process::Command;
 
 use common::openpyxl::openpyxl_available;
+use common::sheet::{get_on as get, set_on as set};
+use common::vba::{main_fails as fails, run_main as run};
 use ncsheet::eval::Value;
 use ncsheet::formula::address::parse_cell;
-use ncsheet::vba::{self, RunOptions};
 use ncsheet::workbook::Workbook;
-
-fn set(wb: &mut Workbook, sheet: u16, cell: &str, input: &str) {
-    wb.set_input(sheet, parse_cell(cell).unwrap(), input).unwrap();
-}
-
-fn get(wb: &Workbook, sheet: u16, cell: &str) -> Value {
-    wb.value(sheet, parse_cell(cell).unwrap())
-}
-
-fn run(wb: &mut Workbook, body: &str) -> Vec<String> {
-    let src = format!("Sub Main()\n{body}\nEnd Sub\n");
-    vba::run(wb, &src, "order.bas", &RunOptions::default()).unwrap_or_else(|e| panic!("{e}")).printed
-}
-
-fn fails(wb: &mut Workbook, body: &str) -> String {
-    let src = format!("Sub Main()\n{body}\nEnd Sub\n");
-    vba::run(wb, &src, "order.bas", &RunOptions::default()).unwrap_err().message
-}
 
 /// A workbook of sheets `Sheet1` … `SheetN`, so that Excel's name for a new sheet is
 /// `Sheet` and the next number whichever way it counts.

@@ -30,3 +30,13 @@ pub fn eval_a1(formula: &str) -> (Value, Vec<String>, std::time::Duration) {
     let problems = wb.problems().into_iter().map(|p| p.render()).collect();
     (wb.value(0, parse_cell("A1").unwrap()), problems, took)
 }
+
+/// Types `input` into `cell` of sheet `sheet`; the test fails when the edit is refused.
+pub fn set_on(wb: &mut Workbook, sheet: u16, cell: &str, input: &str) {
+    wb.set_input(sheet, parse_cell(cell).unwrap(), input).unwrap();
+}
+
+/// The value of `cell` of sheet `sheet`.
+pub fn get_on(wb: &Workbook, sheet: u16, cell: &str) -> Value {
+    wb.value(sheet, parse_cell(cell).unwrap())
+}

@@ -59,3 +59,22 @@ pub fn xlsm_with_project(source: &Path, project: &[u8], out: &Path) {
     }
     writer.finish().unwrap();
 }
+
+/// What `Sub Main()` with `body` printed, run on `wb` under the default options; the test
+/// fails naming the macro's error.
+pub fn run_main(wb: &mut ncsheet::workbook::Workbook, body: &str) -> Vec<String> {
+    let src = format!("Sub Main()\n{body}\nEnd Sub\n");
+    ncsheet::vba::run(wb, &src, "main.bas", &ncsheet::vba::RunOptions::default())
+        .unwrap_or_else(|e| panic!("{e}"))
+        .printed
+}
+
+/// The message of the error that stops `Sub Main()` with `body`; the test fails when the
+/// macro runs to its end.
+pub fn main_fails(wb: &mut ncsheet::workbook::Workbook, body: &str) -> String {
+    let src = format!("Sub Main()\n{body}\nEnd Sub\n");
+    match ncsheet::vba::run(wb, &src, "main.bas", &ncsheet::vba::RunOptions::default()) {
+        Ok(out) => panic!("the macro ran to its end, printing {:?}", out.printed),
+        Err(e) => e.message,
+    }
+}
