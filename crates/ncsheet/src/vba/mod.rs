@@ -225,6 +225,7 @@ mod budget;
 mod classes;
 mod collections;
 mod conditional;
+mod deftype;
 mod files;
 mod formats;
 mod host;

@@ -127,6 +127,10 @@ pub fn parse_module_with_files(
                 out.types.push(t);
             }
             Rule::option_stmt => b.option(item)?,
+            Rule::deftype_stmt => {
+                b.current_part.set(b.part_at(start(&item)));
+                b.deftype(&item)?;
+            }
             Rule::enum_def => out.globals.push(b.enum_def(&item)?),
             Rule::implements_stmt => {
                 let part = b.part_at(start(&item));
@@ -294,6 +298,8 @@ pub(super) struct Build<'s> {
     pub(super) scope: RefCell<Scope>,
     nodes: RefCell<Vec<Node>>,
     pub(super) explicit: Cell<bool>,
+    /// The modules' `DefLng A-Z` directives (`deftype.rs`), in order.
+    pub(super) implicit_types: RefCell<Vec<super::deftype::ImplicitType>>,
     text_compare: Cell<bool>,
     base: Cell<i64>,
     /// The names of the module's Types, by index.
@@ -418,6 +424,7 @@ impl<'s> Build<'s> {
             scope: RefCell::new(Scope::default()),
             nodes: RefCell::new(Vec::new()),
             explicit: Cell::new(false),
+            implicit_types: RefCell::new(Vec::new()),
             text_compare: Cell::new(false),
             base: Cell::new(0),
             building_globals: Cell::new(false),
@@ -612,7 +619,9 @@ impl<'s> Build<'s> {
         let returns_array = find(&k, Rule::empty_parens).is_some();
         let as_clause = find(&k, Rule::as_clause);
         as_clause.as_ref().map(|a| self.fixed_length_allowed(a, false)).transpose()?;
-        let ty = as_clause.map(|a| self.ty_of(&a)).or_else(|| type_char_ty(&k)).filter(|_| !returns_array);
+        let implicit = || Some(&name).filter(|_| kind == ProcKind::Function).and_then(|n| self.implicit_ty(n));
+        let ty =
+            as_clause.map(|a| self.ty_of(&a)).or_else(|| type_char_ty(&k)).or_else(implicit).filter(|_| !returns_array);
         let body = self.block(find(&k, Rule::block).expect("procedure body"))?;
         self.check_gotos(&body, &mut Vec::new())?;
         self.check_body_labels(&body, &body, &mut Vec::new())?;
@@ -628,12 +637,17 @@ impl<'s> Build<'s> {
         let by_ref = find(&k, Rule::pass_mode).is_none_or(|m| m.as_str().eq_ignore_ascii_case("ByRef"));
         let default = find(&k, Rule::vexpr).map(|e| self.expr(e)).transpose()?;
         find(&k, Rule::as_clause).map(|a| self.fixed_length_allowed(&a, false)).transpose()?;
+        let param_array = find(&k, Rule::k_paramarray).is_some();
+        let ty = find(&k, Rule::as_clause)
+            .map(|a| self.ty_of(&a))
+            .or_else(|| type_char_ty(&k))
+            .or_else(|| Some(&name).filter(|_| !param_array).and_then(|n| self.implicit_ty(n)));
         Ok(Param {
             name,
             by_ref,
             optional: find(&k, Rule::k_optional).is_some(),
             default,
-            ty: find(&k, Rule::as_clause).map(|a| self.ty_of(&a)).or_else(|| type_char_ty(&k)),
+            ty,
             array: find(&k, Rule::empty_parens).is_some(),
             param_array: find(&k, Rule::k_paramarray).is_some(),
         })
@@ -838,7 +852,7 @@ impl<'s> Build<'s> {
                 }
             }
             as_clause.as_ref().map(|a| self.fixed_length_allowed(a, true)).transpose()?;
-            let ty = as_clause.map(|a| self.ty_of(&a)).or_else(|| type_char_ty(&k));
+            let ty = as_clause.map(|a| self.ty_of(&a)).or_else(|| type_char_ty(&k)).or_else(|| self.implicit_ty(&name));
             out.push(VarDecl { name, ty, bounds, new, span: self.span(start(&var)), field: None });
         }
         for redim in all(&kids(pair), Rule::redim_field) {
@@ -1650,7 +1664,7 @@ impl Build<'_> {
 }
 
 /// The `n` of `As String * n`, when it is a number from 1 to 65526 ("String data type").
-fn ty_named(name: &str) -> Ty {
+pub(super) fn ty_named(name: &str) -> Ty {
     match name {
         "integer" => Ty::Whole(2),
         "long" => Ty::Whole(3),

@@ -1,0 +1,47 @@
+//! Constructs of the real public modules run in session 18 (issue 31), each cut down to a
+//! macro of our own: `DefLng A-Z` (a Russian "sum in words" module and an Office 2000 string
+//! library both begin `Option Base 1` / `DefLng A-Z`), CStr of an error value (a geodesy
+//! module's functions return `CVErr(xlErrNA)`). Expected values from Microsoft's VBA reference
+//! and [MS-VBAL], the page or section named at each test.
+
+use ncsheet::vba::{self, RunOptions};
+use ncsheet::workbook::Workbook;
+
+fn run(src: &str) -> Result<Vec<String>, String> {
+    let mut wb = Workbook::with_sheet();
+    vba::run(&mut wb, src, "Module1.bas", &RunOptions::default()).map(|out| out.printed).map_err(|e| e.message)
+}
+
+// "Deftype statements": the directive sets "the default data type for variables, arguments
+// passed to procedures, and the return type for Function … procedures whose names start with
+// the specified characters"; an `As` clause or a type character overrides it. A Long takes
+// 2.5 and 3.5 to the even whole number ("Type conversion functions": CLng rounds halves to
+// the nearest even number), so Half(5) = 2 and Half(7) = 4.
+#[test]
+fn def_statements_type_variables_parameters_and_results_by_first_letter() {
+    let src = "DefLng A-Z\nDefStr S\nFunction Half(x)\n    Half = x / 2\nEnd Function\n\
+               Sub Main()\n    Dim n, s, v As Variant, d#\n    n = 2.5: s = 7: v = 2.5: d = 2.5\n\
+               \x20   Debug.Print TypeName(n) & \" \" & n & \" \" & TypeName(s) & \" \" & s & \" \" & v & \" \" & d\n\
+               \x20   Debug.Print TypeName(Half(5)) & \" \" & Half(5) & \" \" & Half(7)\nEnd Sub\n";
+    assert_eq!(run(src).unwrap(), ["Long 2 String 7 2.5 2.5", "Long 2 4"]);
+}
+
+// [MS-VBAL] 5.2.2: a letter range covers its letters whatever their case ("The case of letters
+// in letterrange isn't significant"); names outside every range stay Variants.
+#[test]
+fn a_letter_range_covers_its_letters_in_either_case_and_no_other() {
+    let src = "DefDbl c-E\nSub Main()\n    Dim count, Delta, zeta\n    count = 1: Delta = 1: zeta = 1\n\
+               \x20   Debug.Print TypeName(count) & \" \" & TypeName(Delta) & \" \" & TypeName(zeta)\nEnd Sub\n";
+    assert_eq!(run(src).unwrap(), ["Double Double Integer"]);
+}
+
+// VBA would give an undeclared variable the directive's type too ("Deftype statements":
+// `DefStr A-Q` makes an undeclared `Message` a String); ncsheet types declared names only, so
+// it refuses the undeclared one by name rather than compute with a Variant.
+#[test]
+fn an_undeclared_variable_under_a_def_statement_is_refused_by_name() {
+    let message = run("DefInt A-Z\nSub Main()\n    k = 3\nEnd Sub\n").unwrap_err();
+    assert!(message.contains("variable k is not declared"), "{message}");
+    assert!(message.contains("Dim k"), "{message}");
+}
+
