@@ -364,24 +364,6 @@ fn a_qualified_name_must_be_declared_in_the_module_named() {
     assert!(error.contains("Geom"), "{error}");
 }
 
-// "Understanding scope and visibility": each module's module-level variables and constants are
-// its own, so with `Private Const MODULE_NAME = "Module1"` here and `= "Other"` in Other, VBA
-// prints "Module1Other". ncsheet keeps one variable per module-level name, so it refuses the
-// project naming both modules rather than print "Module1Module1" (a silent wrong value).
-#[test]
-fn one_module_level_name_in_two_modules_is_refused_naming_both() {
-    let main =
-        "Private Const MODULE_NAME = \"Module1\"\nSub Main()\n    Debug.Print MODULE_NAME; Other.Named\nEnd Sub\n";
-    let other = "Attribute VB_Name = \"Other\"\nPrivate Const MODULE_NAME = \"Other\"\n\
-                 Function Named()\n    Named = MODULE_NAME\nEnd Function\n";
-    let error = refused_with_modules(main, &[("Other", other)]);
-    assert!(error.contains("MODULE_NAME") && error.contains("Module1") && error.contains("Other"), "{error}");
-    let public = |m: &str| format!("Attribute VB_Name = \"{m}\"\nPublic Rate As Double\n");
-    let main = "Sub Main()\n    A.Rate = 1: B.Rate = 2\n    Debug.Print A.Rate\nEnd Sub\n";
-    let error = refused_with_modules(main, &[("A", &public("A")), ("B", &public("B"))]);
-    assert!(error.contains("Rate") && error.contains("A") && error.contains("B"), "{error}");
-}
-
 // The pattern of real modules (`Private Const ACCURACY = 0.000000001` in each of three flow
 // modules): constants declared alike in two modules have the one value VBA gives each, so the
 // project runs ("Understanding scope and visibility": each reads its own).

@@ -43,6 +43,11 @@ pub struct Module {
     pub parts: Vec<Part>,
     /// The project's class modules (`Made::Object(i)` is `classes[i]`).
     pub classes: Vec<ClassDef>,
+    /// The module-level names a standard module declares Public (variables, constants, Enum
+    /// members), ASCII lower case, with that module's place in `parts`: where a procedure of
+    /// another module finds one it does not declare itself ([MS-VBAL] 5.6.10). A name Public
+    /// in several modules keeps the first; the parser refuses its unqualified use elsewhere.
+    pub public_names: std::collections::HashMap<Box<str>, usize>,
 }
 
 /// A class module: what each of its objects holds and which procedures are its members.
@@ -72,6 +77,19 @@ impl Module {
     /// A Sub or Function by name (any case).
     pub fn proc(&self, name: &str) -> Option<usize> {
         self.procs.iter().position(|p| p.name.eq_ignore_ascii_case(name))
+    }
+
+    /// The module of the project (its place in `parts`) the source line belongs to.
+    pub fn part_at_line(&self, line: u32) -> usize {
+        self.parts.iter().rposition(|p| p.first_line <= line).unwrap_or(0)
+    }
+
+    /// The module declaring `name` Public at its level, if one does (any case).
+    pub fn public_part(&self, name: &str) -> Option<usize> {
+        match self.public_names.get(name) {
+            Some(&part) => Some(part),
+            None => self.public_names.get(name.to_ascii_lowercase().as_str()).copied(),
+        }
     }
 }
 

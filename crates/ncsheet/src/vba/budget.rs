@@ -156,7 +156,7 @@ impl Interp<'_, '_> {
     /// variables hold.
     fn held_bytes(&self) -> u64 {
         let mut m = Measure::default();
-        m.slots(self.globals.borrow().iter());
+        m.slots(self.globals.borrow().iter().flat_map(|g| g.iter()));
         for frame in self.frames.borrow().iter() {
             m.slots(frame.vars.iter());
         }

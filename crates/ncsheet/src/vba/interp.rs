@@ -264,7 +264,12 @@ pub struct Interp<'m, 'w> {
     pub cells: Option<&'w dyn crate::eval::Env>,
     /// The cell whose formula called the function (`Application.Caller`).
     pub caller: Option<(SheetId, Pos)>,
-    pub(super) globals: RefCell<Slots>,
+    /// The module-level variables and constants, one table per module of the project (its
+    /// place in `Module::parts`): VBA gives each module its own ("Understanding scope and
+    /// visibility"), so `Private Const NAME` in two modules are two constants.
+    pub(super) globals: RefCell<Vec<Slots>>,
+    /// The module whose module-level declarations run while no procedure does.
+    declaring: Cell<usize>,
     pub(super) frames: RefCell<Vec<Frame>>,
     pub out: RefCell<RunOutput>,
     /// A `Debug.Print` line left open by a trailing `;` or `,`.
@@ -344,7 +349,8 @@ impl<'m, 'w> Interp<'m, 'w> {
             wb: RefCell::new(wb),
             cells,
             caller: None,
-            globals: RefCell::new(Slots::default()),
+            globals: RefCell::new((0..module.parts.len().max(1)).map(|_| Slots::default()).collect()),
+            declaring: Cell::new(0),
             frames: RefCell::new(Vec::new()),
             out: RefCell::new(RunOutput::new("MACRO", options.machine)),
             line: RefCell::new(None),
@@ -393,9 +399,7 @@ impl Interp<'_, '_> {
 
     /// A Function called from a cell with its arguments: the module's declarations first.
     fn start_function(&self, proc: usize, args: Vec<Var>) -> Run<Value> {
-        for g in &self.module.globals {
-            self.exec(g)?;
-        }
+        self.declare_module_level()?;
         let p = &self.module.procs[proc];
         let args = super::param_array::pack_cell_args(p, args);
         if args.len() > p.params.len() {
@@ -430,14 +434,21 @@ impl Interp<'_, '_> {
         }
     }
 
-    fn start(&self, entry: usize) -> Run<()> {
+    /// Runs every module's module-level declarations, each into its module's own table.
+    fn declare_module_level(&self) -> Run<()> {
         for g in &self.module.globals {
             self.exec(g)?;
         }
         let proc = &self.module.procs[entry];
         let mut bound = Vec::new();
+            self.declaring.set(self.module.part_at_line(g.span.line));
         for (name, text) in &self.options.args {
             let Some(i) = proc.params.iter().position(|p| p.name.eq_ignore_ascii_case(name)) else {
+        Ok(())
+    }
+
+    fn start(&self, entry: usize) -> Run<()> {
+        self.declare_module_level()?;
                 let names: Vec<&str> = proc.params.iter().map(|p| &*p.name).collect();
                 return Err(self.plain_fault(
                     ErrorKind::Usage,
@@ -471,9 +482,12 @@ impl Interp<'_, '_> {
     /// object's Class_Terminate running as its last reference goes ("Initialize, Terminate
     /// events"). Not after `End`, which removes them without it (the same page).
     fn release_module_variables(&self) -> Run<()> {
-        let names: Vec<Rc<str>> = self.globals.borrow().iter().map(|s| s.name.clone()).collect();
-        for name in names {
-            let var = self.globals.borrow_mut().get_mut(&name).map(|s| s.replace(Var::Value(Value::Blank)));
+        let globals = self.globals.borrow();
+        let names: Vec<(usize, Rc<str>)> =
+            globals.iter().enumerate().flat_map(|(part, g)| g.iter().map(move |s| (part, s.name.clone()))).collect();
+        drop(globals);
+        for (part, name) in names {
+            let var = self.globals.borrow_mut()[part].get_mut(&name).map(|s| s.replace(Var::Value(Value::Blank)));
             if let Some(var) = var {
                 self.release(&var)?;
             }
@@ -670,6 +684,10 @@ impl Interp<'_, '_> {
         let frames = self.frames.borrow();
         let local = frames.last().and_then(|fr| fr.vars.get(name));
         if let Some(s) = local {
+    /// The slot `name` means where the running procedure is, by [MS-VBAL] 5.6.10 (simple
+    /// name expressions): its local, else its object's variable (a class module's), else
+    /// its own module's module-level one, else the one another module declares Public.
+    /// `Module2.Rate` (the parser's qualified name) is Module2's.
             return Some(f(s));
         }
         if let Some(me) = frames.last().and_then(|fr| fr.me.as_ref()) {
@@ -677,7 +695,34 @@ impl Interp<'_, '_> {
                 return Some(f(s));
             }
         }
-        self.globals.borrow().get(name).map(f)
+        let own = self.running_part(&frames);
+        drop(frames);
+        let globals = self.globals.borrow();
+        if let Some(s) = globals.get(own).and_then(|g| g.get(name)) {
+            return Some(f(s));
+        }
+        let (part, bare) = self.other_module_of(name)?;
+        globals.get(part)?.get(bare).map(f)
+    }
+
+    /// The module whose procedure is running (or whose declarations are): the first place
+    /// after the procedure's own where a name is looked for. A class's field declarations
+    /// run in a frame of no procedure: they see only Public names.
+    fn running_part(&self, frames: &[Frame]) -> usize {
+        match frames.last() {
+            Some(frame) => self.module.procs.get(frame.proc).map_or(usize::MAX, |p| p.part),
+            None => self.declaring.get(),
+        }
+    }
+
+    /// A module-level name the running module does not declare: `Module2.Rate`, qualified
+    /// by the parser, in the module named; else in the module declaring it Public.
+    fn other_module_of<'n>(&self, name: &'n str) -> Option<(usize, &'n str)> {
+        if let Some((module, bare)) = name.split_once('.') {
+            let part = self.module.parts.iter().position(|p| p.name.eq_ignore_ascii_case(module))?;
+            return Some((part, bare));
+        }
+        self.module.public_part(name).map(|part| (part, name))
     }
 
     /// Auto-instantiation ([MS-VBAL] 5.2.3.1.4, "Variable Declarations": a variable declared
@@ -708,9 +753,15 @@ impl Interp<'_, '_> {
         if let Some(me) = me {
             if let Some(s) = me.0.fields.borrow_mut().get_mut(name) {
                 return Some(f(s));
+        let own = self.running_part(&frames);
             }
         }
-        self.globals.borrow_mut().get_mut(name).map(f)
+        let mut globals = self.globals.borrow_mut();
+        if let Some(s) = globals.get_mut(own).and_then(|g| g.get_mut(name)) {
+            return Some(f(s));
+        }
+        let (part, bare) = self.other_module_of(name)?;
+        globals.get_mut(part)?.get_mut(bare).map(f)
     }
 
     /// Declares a variable in the running procedure (or the module, before any runs).
@@ -718,7 +769,7 @@ impl Interp<'_, '_> {
         let mut frames = self.frames.borrow_mut();
         match frames.last_mut() {
             Some(f) => f.vars.push(slot),
-            None => self.globals.borrow_mut().push(slot),
+            None => self.globals.borrow_mut()[self.declaring.get()].push(slot),
         }
     }
 
@@ -726,7 +777,7 @@ impl Interp<'_, '_> {
         let frames = self.frames.borrow();
         match frames.last() {
             Some(f) => f.vars.get(name).is_some(),
-            None => self.globals.borrow().get(name).is_some(),
+            None => self.globals.borrow()[self.declaring.get()].get(name).is_some(),
         }
     }
 

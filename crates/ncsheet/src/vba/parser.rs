@@ -174,6 +174,7 @@ pub fn parse_module_with_files(
         }
     }
     out.parts = b.parts.clone();
+    out.public_names = b.public_names();
     out.explicit = b.explicit.get();
     out.base = b.base.get();
     out.text_compare = b.text_compare.get();
@@ -312,8 +313,9 @@ pub(super) struct Build<'s> {
     /// object is, for the members the parser resolves itself (`resolve.rs`).
     pub(super) with_subjects: RefCell<Vec<super::resolve::WithSubject>>,
     /// The values of the constants declared so far whose value is a whole number (a literal,
-    /// another such constant, or `+ - *` of them), lower case: a `String * W` reads W's.
-    whole_consts: RefCell<std::collections::HashMap<String, f64>>,
+    /// another such constant, or `+ - *` of them), by the module declaring them (its place in
+    /// `parts`) and lower-case name: a `String * W` reads W's, its own module's first.
+    whole_consts: RefCell<std::collections::HashMap<(usize, String), f64>>,
     /// The names of the module's `Declare`d DLL procedures, lower case.
     pub(super) declared: std::collections::HashSet<String>,
     /// The run has files (`files.rs`): file statements and functions are built, not refused.
@@ -498,37 +500,36 @@ impl<'s> Build<'s> {
         Ok(())
     }
 
-    /// Notes that module `owner.part` declares `name` at its level. The interpreter keeps one
-    /// variable per module-level name, so the same name at the level of two standard modules
-    /// is refused rather than run as one shared variable (VBA keeps one per module), unless
-    /// both are constants declared alike (`Private Const ACCURACY = 1E-9` in each), which
-    /// one slot serves right.
+    /// Notes that module `owner.part` declares `name` at its level. Each module has its own
+    /// ("Understanding scope and visibility"; the interpreter keeps a table per module), so
+    /// the same name in two modules is two variables, not a clash.
     fn declare_module_name(&self, name: &str, owner: Owner) -> Result<(), String> {
         let mut globals = self.globals.borrow_mut();
         let owners = globals.entry(name.to_ascii_lowercase()).or_default();
-        if owners.iter().any(|o| o.part == owner.part) {
-            return Ok(());
+        if !owners.iter().any(|o| o.part == owner.part) {
+            owners.push(owner);
         }
-        let standard = |o: &Owner| !self.parts.get(o.part).is_some_and(|p| p.class);
-        let alike = |o: &Owner| o.constant.is_some() && o.constant == owner.constant;
-        if let Some(other) = owners.iter().find(|o| standard(o) && !alike(o)).filter(|_| standard(&owner)) {
-            let module = |o: &Owner| self.parts.get(o.part).map_or_else(|| "the module".into(), |p| p.name.clone());
-            return Err(format!(
-                "{name} is declared at module level in both {} and {}: ncsheet keeps one variable per \
-                 module-level name for the whole project, so they would share it; rename one of them",
-                module(other),
-                module(&owner)
-            ));
-        }
-        owners.push(owner);
         Ok(())
     }
 
     /// A module-level name declared in the module being built (a class module's field too).
     fn declare_own_module_name(&self, name: &str) {
         let owner = Owner { part: self.current_part.get(), public: false, constant: None };
-        // Only a standard module's names can clash, and those were declared up front.
         let _ = self.declare_module_name(name, owner);
+    }
+
+    /// The names standard modules declare Public, each with the first module declaring it,
+    /// for the interpreter's lookup from other modules ([`Module::public_names`]).
+    fn public_names(&self) -> std::collections::HashMap<Box<str>, usize> {
+        let globals = self.globals.borrow();
+        let first_public =
+            |owners: &Vec<Owner>| owners.iter().find(|o| o.public && self.standard(o.part)).map(|o| o.part);
+        globals.iter().filter_map(|(name, owners)| Some((name.as_str().into(), first_public(owners)?))).collect()
+    }
+
+    /// A standard module of the project (not a class module, whose names are its objects').
+    pub(super) fn standard(&self, part: usize) -> bool {
+        !self.parts.get(part).is_some_and(|p| p.class)
     }
 
     pub(super) fn error_at(&self, pair: &Pair<Rule>, message: impl Into<String>) -> ParseError {
@@ -896,8 +897,9 @@ impl<'s> Build<'s> {
             let value = self.expr(find(&k, Rule::vexpr).expect("constant value"))?;
             // A constant that is no whole number hides one of its name declared before.
             match self.whole_value(&value) {
-                Some(n) => self.whole_consts.borrow_mut().insert(name.to_ascii_lowercase(), n),
-                None => self.whole_consts.borrow_mut().remove(&name.to_ascii_lowercase()),
+            let key = (self.current_part.get(), name.to_ascii_lowercase());
+                Some(n) => self.whole_consts.borrow_mut().insert(key, n),
+                None => self.whole_consts.borrow_mut().remove(&key),
             };
             find(&k, Rule::as_clause).map(|a| self.fixed_length_allowed(&a, false)).transpose()?;
             let ty = find(&k, Rule::as_clause).map(|a| self.ty_of(&a)).or_else(|| type_char_ty(&k));
@@ -982,6 +984,9 @@ impl<'s> Build<'s> {
             }
         }
         self.check_path(&pair, &path)?;
+        if let Some(target) = self.qualified_target(&path) {
+            return Ok(target);
+        }
         let end = pair.as_span().end();
         match self.node(Node::Path(path), start(&pair), end).kind {
             ExprKind::Host(id) => Ok(Target::Node(id)),
@@ -1570,21 +1575,39 @@ impl Build<'_> {
         let star = find(&kids(as_clause), Rule::fixed_length)?;
         let n = match find(&kids(&star), Rule::fixed_digits) {
             Some(digits) => digits.as_str().parse::<f64>().ok()?,
-            None => {
-                let name = find(&kids(&star), Rule::ident)?.as_str().to_ascii_lowercase();
-                *self.whole_consts.borrow().get(&name)?
-            }
+            None => self.whole_const(find(&kids(&star), Rule::ident)?.as_str())?,
         };
         (1.0..=65526.0).contains(&n).then_some(n as u32).filter(|_| n.fract() == 0.0)
     }
 
     /// The value of a constant expression of whole numbers: a literal, a constant declared
+    /// The whole value of the constant `name` as the module being built sees it: its own
+    /// (the procedure's, else the module's), else the one Public in one other module
+    /// ([MS-VBAL] 5.6.10); `Module2.W`, qualified, is Module2's.
+    fn whole_const(&self, name: &str) -> Option<f64> {
+        let consts = self.whole_consts.borrow();
+        if let Some((module, bare)) = name.split_once('.') {
+            let part = self.parts.iter().position(|p| p.name.eq_ignore_ascii_case(module))?;
+            return consts.get(&(part, bare.to_ascii_lowercase())).copied();
+        }
+        let lower = name.to_ascii_lowercase();
+        let part = self.current_part.get();
+        if let Some(&n) = consts.get(&(part, lower.clone())) {
+            return Some(n);
+        }
+        let public = self.public_owners(&lower);
+        match public.as_slice() {
+            [one] => consts.get(&(*one, lower)).copied(),
+            _ => None,
+        }
+    }
+
     /// before with such a value, or `+ - *` and parentheses of them; `None` for any other.
     fn whole_value(&self, e: &Expr) -> Option<f64> {
         let n = match &e.kind {
             ExprKind::Number(n) => *n,
             ExprKind::Paren(inner) => self.whole_value(inner)?,
-            ExprKind::Name(name) => *self.whole_consts.borrow().get(&name.to_ascii_lowercase())?,
+            ExprKind::Name(name) => self.whole_const(name)?,
             ExprKind::Binary(op @ (BinOp::Add | BinOp::Sub | BinOp::Mul), a, b) => {
                 let (x, y) = (self.whole_value(a)?, self.whole_value(b)?);
                 match op {

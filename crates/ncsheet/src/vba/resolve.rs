@@ -4,6 +4,8 @@
 //! to resolve to: `Open`, `Kill`, `Shell`, `CreateObject` … are refused with a message that
 //! says so.
 
+use std::rc::Rc;
+
 use pest::iterators::Pair;
 
 use crate::eval::functions::{vba::PREFIX, Registry};
@@ -210,6 +212,12 @@ fn inspection(lower: &str) -> Option<Inspect> {
     }
 }
 
+/// `Module2.Rate` as the interpreter names a module-level variable qualified by its module:
+/// no variable's own name has a dot, so it stands for that module's variable alone.
+fn qualified_name(module: &str, variable: &Link) -> Rc<str> {
+    format!("{module}.{}", lower_bare(&variable.name)).into()
+}
+
 pub(super) fn lower_bare(name: &str) -> String {
     name.trim_end_matches('$').to_ascii_lowercase()
 }
@@ -235,6 +243,41 @@ impl Build<'_> {
     fn is_visible_global(&self, lower: &str) -> bool {
         let part = self.current_part.get();
         self.globals.borrow().get(lower).is_some_and(|owners| owners.iter().any(|o| o.part == part || o.public))
+    }
+
+    /// The other modules whose Public module-level `lower` a procedure of the module being
+    /// built reaches by the simple name: none when its procedure or its module declares the
+    /// name itself ([MS-VBAL] 5.6.10: procedure, then module, then the project's other modules).
+    pub(super) fn public_owners(&self, lower: &str) -> Vec<usize> {
+        let part = self.current_part.get();
+        if self.scope.borrow().vars.contains(lower) {
+            return Vec::new();
+        }
+        let globals = self.globals.borrow();
+        let Some(owners) = globals.get(lower) else { return Vec::new() };
+        if owners.iter().any(|o| o.part == part) {
+            return Vec::new();
+        }
+        owners.iter().filter(|o| o.public && self.standard(o.part)).map(|o| o.part).collect()
+    }
+
+    /// VBA's compile error "Ambiguous name detected" ([MS-VBAL] 5.6.10: a simple name that
+    /// matches Public variables or constants of more than one other module): refused where
+    /// it is used, naming the modules; `Module2.Rate`, qualified, is not ambiguous.
+    pub(super) fn unambiguous(&self, pair_offset: usize, name: &str) -> Res<()> {
+        let owners = self.public_owners(&lower_bare(name));
+        if owners.len() < 2 {
+            return Ok(());
+        }
+        let modules: Vec<&str> = owners.iter().filter_map(|&p| self.parts.get(p)).map(|p| &*p.name).collect();
+        Err(ParseError {
+            offset: pair_offset,
+            message: format!(
+                "Ambiguous name detected: {name} is Public in {}; qualify it ({}.{name})",
+                modules.join(" and "),
+                modules[0]
+            ),
+        })
     }
 
     pub(super) fn declare(&self, name: &str) {
@@ -269,6 +312,50 @@ impl Build<'_> {
         globals.get(&lower_bare(name)).is_some_and(|owners| owners.iter().any(|o| o.part == part && (o.public || own)))
     }
 
+    /// `Module2.Rate` (a module-level name of `module`, [`Build::module_global`]), which the
+    /// interpreter looks for in that module's table only ([MS-VBAL] 5.6.12: the member of the
+    /// module named, whatever a procedure's local or another module of that name holds;
+    /// "Ambiguous name detected": `MyModule.MyID` is the module's, not the local `MyID`).
+    fn qualified_variable(
+        &self,
+        pair: &Pair<Rule>,
+        variable: Link,
+        module: &str,
+        statement: bool,
+        end: usize,
+    ) -> Res<Expr> {
+        let name = qualified_name(module, &variable);
+        let at = start(pair);
+        if statement {
+            return Err(self.error_at(pair, format!("{}: a statement cannot be just a value", pair.as_str().trim())));
+        }
+        Ok(match variable.args {
+            Some(args) if !args.is_empty() => {
+                let index = args.iter().map(|a| a.value.clone()).collect();
+                self.node(Node::Element { var: name, index, span: self.span(at) }, at, end)
+            }
+            _ => Expr::new(ExprKind::Name(name), ByteSpan { start: at as u32, end: end as u32 }),
+        })
+    }
+
+    /// `Module2.Rate = v`, `Module2.Table(i) = v`: the variable (or its item) of the module
+    /// named, as [`Build::qualified_variable`] reads it; `None` when the path is no such name.
+    pub(super) fn qualified_target(&self, path: &Path) -> Option<Target> {
+        let [module, variable] = path.links.as_slice() else { return None };
+        let unshadowed = !path.with
+            && module.args.is_none()
+            && !self.is_var(&module.name)
+            && !self.is_object(&lower_bare(&module.name));
+        if !unshadowed || !self.module_global(&module.name, &variable.name) {
+            return None;
+        }
+        let name = qualified_name(&module.name, variable);
+        Some(match &variable.args {
+            Some(args) if !args.is_empty() => Target::Element(name, args.iter().map(|a| a.value.clone()).collect()),
+            _ => Target::Var(name),
+        })
+    }
+
     /// `Module2.Helper`: a procedure of the module named, if it is one of the project's
     /// and the procedure is public there (or that module is the one being built).
     fn module_proc(&self, module: &str, name: &str) -> Option<usize> {
@@ -282,6 +369,7 @@ impl Build<'_> {
 
     /// A variable used where none is declared: an error under Option Explicit, else declared.
     pub(super) fn implicit(&self, pair_offset: usize, name: &str) -> Res<()> {
+        self.unambiguous(pair_offset, name)?;
         if self.is_var(name) {
             return Ok(());
         }
@@ -503,8 +591,9 @@ impl Build<'_> {
                 return self.proc_call(pair, proc, args, statement, end);
             }
             if unshadowed && self.module_global(&module.name, &link.name) {
+                let module = module.name.clone();
                 let variable = path.links.pop().expect("two links");
-                return self.single(pair, variable, statement, end);
+                return self.qualified_variable(pair, variable, &module, statement, end);
             }
         }
         self.check_path(pair, &path)?;
@@ -703,6 +792,9 @@ impl Build<'_> {
             if let Some(class) = created(&link) {
                 return Ok(self.node(Node::New { class: Made::Store(class), span: self.span(at) }, at, end));
             }
+        }
+        if is_var {
+            self.unambiguous(at, &link.name)?;
         }
         if self.files && !is_var && super::files::is_file_function(&lower, &link) {
             let path = Path { with: false, links: vec![link], span: self.span(at) };
