@@ -218,6 +218,13 @@ pub trait Host {
         None
     }
 
+    /// The decimal text of `value`, the value of `e`, when a macro holds it as a LongLong past
+    /// what a double shows exactly (`9007199254740993^`: CStr, Str and Format show every digit,
+    /// "LongLong data type"); `None` for any other value. Cells have no LongLong type: `None`.
+    fn long_long_text(&self, _e: &Expr, _value: &Value) -> Option<String> {
+        None
+    }
+
     /// The result of `-operand`: a macro checks it against the operand's declared type
     /// (VBA's `-x` of the Integer -32,768 overflows); the result stays as computed by default.
     fn negation(&self, _operand: &Expr, result: Value) -> Value {
@@ -533,6 +540,11 @@ impl<'a> Ctx<'a> {
     /// ([`Host::date_text`]).
     pub fn macro_date_text(&self, e: &Expr, value: &Value) -> Option<String> {
         self.host?.date_text(e, value)
+    }
+
+    /// A macro's LongLong's decimal text ([`Host::long_long_text`]).
+    pub fn macro_long_long_text(&self, e: &Expr, value: &Value) -> Option<String> {
+        self.host?.long_long_text(e, value)
     }
 
     /// The number a macro shows for `value`, the value of `e` ([`Host::shown_number`]).

@@ -167,6 +167,7 @@ impl Host for Interp<'_, '_> {
 
     fn arithmetic(&self, op: BinOp, operands: (&Expr, &Expr), values: (&Value, &Value), result: Value) -> Value {
         self.forget_widening(operands.0);
+        self.forget_exact(operands.0);
         if op == BinOp::Concat {
             // The joined text is a copy of the left one (work counted for tests: `Work`).
             if let (Value::Text(left), Value::Text(_)) = (values.0, &result) {
@@ -175,8 +176,12 @@ impl Host for Interp<'_, '_> {
             return self
                 .concat_dates(operands, values)
                 .or_else(|| self.concat_singles(operands, values))
+                .or_else(|| self.concat_long_longs(operands, values))
                 .or_else(|| concat_booleans(values))
                 .unwrap_or(result);
+        }
+        if let Some(v) = self.long_long_comparison(op, operands, values) {
+            return v;
         }
         match self.vba_comparison(op, operands, values) {
             Some(Ok(v)) => return v,
@@ -190,6 +195,14 @@ impl Host for Interp<'_, '_> {
         // are concatenated ("36" + Chr(34) is 36"), where a formula would add "1" + "2" to 3.
         if let (BinOp::Add, (Value::Text(a), Value::Text(b))) = (op, values) {
             return Value::text(format!("{a}{b}"));
+        }
+        match self.long_long_arithmetic(op, operands, values, &result) {
+            Some(Ok(v)) => return v,
+            Some(Err(fault)) => {
+                self.park(fault);
+                return Value::Error(XlError::Num);
+            }
+            None => {}
         }
         match self.overflow(op, operands, values, &result).or_else(|| self.raised_error(op, operands, values, &result))
         {
@@ -215,8 +228,21 @@ impl Host for Interp<'_, '_> {
         self.as_date(e, value).map(super::value::date_text)
     }
 
+    fn long_long_text(&self, e: &Expr, value: &Value) -> Option<String> {
+        self.long_long_text(e, value)
+    }
+
     fn negation(&self, operand: &Expr, result: Value) -> Value {
         self.forget_widening(operand);
+        self.forget_exact(operand);
+        match self.long_long_negation(operand, &result) {
+            Some(Ok(v)) => return v,
+            Some(Err(fault)) => {
+                self.park(fault);
+                return Value::Error(XlError::Num);
+            }
+            None => {}
+        }
         match self.negation_mismatch(operand, &result).or_else(|| self.negation_overflow(operand, &result)) {
             Some(fault) => {
                 self.park(fault);

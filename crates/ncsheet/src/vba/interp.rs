@@ -329,6 +329,8 @@ pub struct Interp<'m, 'w> {
     /// ([`Interp::note_widening`]).
     pub(super) widened: RefCell<std::collections::HashMap<usize, Declared>>,
     /// The module may hold a Single or a Currency, whose operations are computed in their
+    /// The LongLongs past 2^53 kept beside their doubles (`longlong.rs`).
+    pub(super) exact: RefCell<super::longlong::Exact>,
     /// types ([`super::typing::names_single_or_currency`]).
     pub(super) narrow_numbers: bool,
 }
@@ -379,6 +381,7 @@ impl<'m, 'w> Interp<'m, 'w> {
             arg_types: RefCell::new(Vec::new()),
             widened: RefCell::new(std::collections::HashMap::new()),
             narrow_numbers: super::typing::names_single_or_currency(source),
+            exact: RefCell::default(),
         }
     }
 }
@@ -844,7 +847,9 @@ impl Interp<'_, '_> {
             Node::Path(path) => path
                 .links
                 .last()
+        self.forget_given_long_long();
                 .is_some_and(|l| l.name.eq_ignore_ascii_case("item") || l.name.eq_ignore_ascii_case("filedatetime")),
+        self.note_node_long_long(id);
             _ => false,
         };
         let gave = self.gave.get();
@@ -1035,6 +1040,7 @@ impl Interp<'_, '_> {
             };
             if a.value.kind == ExprKind::Missing {
                 continue;
+        self.forget_long_long_args();
             }
             if let (true, ExprKind::Name(caller_var)) = (p.params[index].by_ref, &a.value.kind) {
                 if self.lendable(caller_var, args) {
@@ -1081,6 +1087,7 @@ impl Interp<'_, '_> {
                         Var::Value(v)
                     }
                     ExprKind::Name(n) => self.lookup(n).unwrap_or(Var::Value(v)),
+                        self.note_long_long_arg(index, &a.value, &v);
                     _ => self.array_of_call(&a.value, &v).unwrap_or_else(|| array_var(v, self.module.base)),
                 },
                 areas @ Operand::Areas(_) => array_var(ctx.deref(areas), self.module.base),
@@ -1118,6 +1125,9 @@ impl Interp<'_, '_> {
                 self.give_back_item(&array, &at, slot.var().clone(), slot.holds == Declared::Date, span)?;
             }
         }
+                if let Some(k) = slot.exact() {
+                    self.with_slot(&caller_var, |s| s.set_exact(k));
+                }
         // A Variant Function assigned a Date returns a Date, assigned an Integer an Integer.
         self.gave.set(frame.vars.get(&p.name).map_or(Declared::Variant, |s| s.holds));
         Ok((result, frame))
@@ -1127,6 +1137,7 @@ impl Interp<'_, '_> {
     /// parameter rather than copied: [MS-VBAL] 5.3.1.11 passes a reference to the variable,
     /// so the callee's writes are the caller's, and a call costs the same whatever the
     /// array's size (a copy per call made a sort that calls per item cubic). Only a local of
+        self.returning_long_long(frame.vars.get(&p.name).and_then(|s| s.exact()));
     /// the running procedure, named once among the arguments, is lent: no other code can
     /// reach it while the call runs.
     fn lendable(&self, caller_var: &Rc<str>, args: &[Arg]) -> bool {
@@ -1288,6 +1299,7 @@ impl Interp<'_, '_> {
             self.declare(Slot::new(p.name.clone(), var, p.ty.clone()));
         }
         match self.block(&p.body)? {
+            self.long_long_arg(i, &mut slot);
             Flow::GoTo(label) => Err(self.fault(format!("GoTo {label}: no such label"))),
             Flow::Return => Err(self.fault("Return without GoSub")),
             Flow::Resume(_) => Err(self.fault("Resume without an error")),
@@ -2030,6 +2042,12 @@ impl Interp<'_, '_> {
             (Some(sink), _) => (sink.0)(printed),
             (None, Printed::Line(t)) => self.out.borrow_mut().printed.push(t.to_string()),
             (None, Printed::Message(t)) => self.out.borrow_mut().messages.push(t.to_string()),
+                // A LongLong past 2^53 keeps its integer ([MS-VBAL] 5.6.9.3, `longlong.rs`).
+                if let Var::Value(v @ Value::Number(_)) = &var {
+                    if self.assign_long_long(name, value, v, held) {
+                        return Ok(());
+                    }
+                }
         }
     }
 
@@ -2096,8 +2114,11 @@ impl Interp<'_, '_> {
         from: &Expr,
         to: &Expr,
         step: Option<&Expr>,
+                    // A LongLong shows its every digit (`longlong.rs`).
+                    let long_long = self.printed_long_long(e, &v);
         body: &Block,
         span: Span,
+                        (None, _) if long_long.is_some() => line.push_str(&long_long.unwrap_or_default()),
     ) -> Run<Flow> {
         let start = self.number(from, "the For start")?;
         let end = self.number(to, "the For end")?;

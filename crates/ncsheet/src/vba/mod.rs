@@ -241,6 +241,7 @@ pub mod parser;
 pub mod project;
 pub mod project_edit;
 mod resolve;
+mod longlong;
 mod sheet_ops;
 mod typing;
 mod udf;

@@ -1385,7 +1385,7 @@ impl HostPrimaries for Build<'_> {
             }
             Rule::radix_lit => {
                 let value = radix_literal(pair.as_str()).ok_or_else(|| {
-                    self.error_at(&pair, format!("{}: overflow (more than a Long holds)", pair.as_str()))
+                    self.error_at(&pair, format!("{}: overflow (more than its type holds)", pair.as_str()))
                 })?;
                 Ok(Expr::new(
                     ExprKind::Number(value),
@@ -1429,12 +1429,12 @@ impl Build<'_> {
         let (fits, kind) = match suffix {
             "%" => (value <= f64::from(i16::MAX) && value.fract() == 0.0, "an Integer (% : up to 32767)"),
             "&" => (value <= f64::from(i32::MAX) && value.fract() == 0.0, "a Long (& : up to 2147483647)"),
-            // 2^63 is one past a LongLong's top; numbers are doubles here, and the largest
-            // below 2^63 is 2^63 - 1024 (9223372036854775807^ itself reads as 2^63).
-            "^" => (
-                value < LONG_LONG_END && value.fract() == 0.0,
-                "a LongLong (^ : up to 9223372036854774784, the largest double below 2^63)",
-            ),
+            // Digits alone are read as the 64-bit integer they write (the interpreter keeps it
+            // exact, `longlong.rs`); the expression holds its nearest double.
+            "^" if digits.bytes().all(|b| b.is_ascii_digit()) => {
+                (digits.parse::<i64>().is_ok(), "a LongLong (^ : up to 9223372036854775807)")
+            }
+            "^" => (value < LONG_LONG_END && value.fract() == 0.0, "a LongLong (^ : a whole number below 2^63)"),
             "@" => (value.abs() < 922_337_203_685_477.6, "a Currency (@)"),
             "!" => (value <= f64::from(f32::MAX), "a Single (!)"),
             _ => (value.is_finite(), "a Double (#)"),
@@ -1725,10 +1725,10 @@ pub fn inner_blocks(kind: &StmtKind) -> Vec<&Block> {
 /// `h[:mm[:ss]]` with an optional AM or PM.
 /// `&HFFFF`, `&O777`, `&777`, `&H8000&` as [MS-VBAL] 3.3.2 types them: an Integer when the
 /// digits fit 16 bits (so `&HFFFF` is -1), else a Long when they fit 32 (`&HFFFFFFFF` is -1);
-/// a `&` suffix makes a Long (`&HFFFF&` is 65535), `%` an Integer.
+/// a `&` suffix makes a Long (`&HFFFF&` is 65535), `%` an Integer, `^` a LongLong of 64 bits.
 fn radix_literal(text: &str) -> Option<f64> {
     let body = &text[1..];
-    let (body, suffix) = match body.strip_suffix(['%', '&']) {
+    let (body, suffix) = match body.strip_suffix(['%', '&', '^']) {
         Some(b) => (b, body.chars().last()),
         None => (body, None),
     };
@@ -1747,6 +1747,10 @@ fn radix_literal(text: &str) -> Option<f64> {
         (n <= 0xFFFF).then_some(n as u16 as i16 as f64)
     } else {
         (n <= 0xFFFF_FFFF).then_some(n as u32 as i32 as f64)
+    }
+    if suffix == Some('^') {
+        // A LongLong's 64 bits, the top one its sign ([MS-VBAL] 3.3.2).
+        return Some(n as i64 as f64);
     }
 }
 

@@ -247,7 +247,7 @@ fn whole_division_type(a: Declared, b: Declared) -> Declared {
 
 /// The declared type of `x op y` for operands of the types `x` and `y` ([MS-VBAL] 5.6.9.3);
 /// `Variant` for an operator that is no arithmetic one.
-fn binary_type(op: BinOp, x: Declared, y: Declared) -> Declared {
+pub(super) fn binary_type(op: BinOp, x: Declared, y: Declared) -> Declared {
     let variant = x == Declared::Variant || y == Declared::Variant;
     match op {
         BinOp::Add | BinOp::Sub => date_sum_type(op, x, y).unwrap_or_else(|| sum_type(x, y)),
@@ -350,6 +350,7 @@ fn literal_type(text: &str, value: f64) -> Declared {
         return match radix.chars().last() {
             Some('&') => Declared::Long,
             Some('%') => Declared::Integer,
+            Some('^') => Declared::LongLong,
             _ if value.abs() <= 32767.0 => Declared::Integer,
             _ => Declared::Long,
         };
@@ -523,7 +524,7 @@ impl Interp<'_, '_> {
 
     /// The type a Variant holds the value of the operand `e` with (a number of no known
     /// type is a Double).
-    fn held_operand(&self, e: &Expr) -> Declared {
+    pub(super) fn held_operand(&self, e: &Expr) -> Declared {
         match self.typed_within(e, 1, Typing::Held) {
             Declared::Variant => Declared::Double,
             ty => ty,
@@ -532,7 +533,7 @@ impl Interp<'_, '_> {
 
     /// For the held type, the type the operation whose first operand is `first` gave its last
     /// result in, where that result widened past the type its operands' types give it.
-    fn widened_if_held(&self, typing: Typing, first: &Expr) -> Option<Declared> {
+    pub(super) fn widened_if_held(&self, typing: Typing, first: &Expr) -> Option<Declared> {
         if typing == Typing::Declared {
             return None;
         }
@@ -634,7 +635,7 @@ impl Interp<'_, '_> {
     }
 
     /// VBA's Overflow (run-time error 6), with how to avoid it.
-    fn overflow_fault(&self, span: super::ast::Span, what: String) -> Fault {
+    pub(super) fn overflow_fault(&self, span: super::ast::Span, what: String) -> Fault {
         let mut fault = self.fault_at(
             span,
             format!(

@@ -265,6 +265,9 @@ impl GrowingItem {
         if let Some(Var::Array(array)) = self.text.shown.take() {
             *self.array.get_mut() = Some(array);
         }
+    /// The LongLong the variable holds, where its double is not exact (past 2^53,
+    /// `longlong.rs`); forgotten at any other change of what it holds.
+    exact: Option<i64>,
     }
 }
 
@@ -272,7 +275,8 @@ impl Slot {
     /// A variable holding `var`: not a constant, not `As New`, no Date.
     pub fn new(name: Rc<str>, var: Var, ty: Option<Ty>) -> Slot {
         let holds = Declared::Variant;
-        Slot { name, held: Held::Var(var), ty, constant: false, new: None, holds, fixed: false, written: next_write() }
+        let written = next_write();
+        Slot { name, held: Held::Var(var), ty, constant: false, new: None, holds, fixed: false, written, exact: None }
     }
 
     /// What the variable holds.
@@ -366,6 +370,7 @@ impl Slot {
             Held::GrowingItem(g) => Some((g.k, Rc::clone(&g.text.text))),
             _ => None,
         }
+        self.exact = None;
     }
 
     /// Appends `piece` of `units` UTF-16 units to the text [`Slot::text_units`] made ready.
@@ -487,6 +492,16 @@ impl Slot {
 }
 
 /// The variables of a procedure's call or of the module, in the order declared, each found
+    /// The LongLong the variable holds exactly, where its double is not exact.
+    pub(super) fn exact(&self) -> Option<i64> {
+        self.exact
+    }
+
+    /// Notes the LongLong `k` the variable now holds as its nearest double.
+    pub(super) fn set_exact(&mut self, k: i64) {
+        self.exact = Some(k);
+    }
+
 /// by name in one step: 50,000 `Dim`s in one Sub declare in time proportional to their number.
 #[derive(Clone, Debug, Default)]
 pub struct Slots {

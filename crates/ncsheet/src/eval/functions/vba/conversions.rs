@@ -14,7 +14,7 @@ use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
 use super::strings::fold_case;
-use super::{invalid_call, invalid_use_of_null, lift_vba, vba_text, EVERY, FIRST, NO_NULL, VBA_DATES};
+use super::{invalid_call, invalid_use_of_null, lift_vba, lift_vba_values, vba_text, EVERY, FIRST, NO_NULL, VBA_DATES};
 
 /// A value Let-coerced to a whole number as VBA does ([MS-VBAL] 5.5.1.2.1): halves to even,
 /// True is -1; `None` past `limit` (VBA's Overflow).
@@ -128,10 +128,21 @@ pub(super) fn oct(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 /// `CLngLng(value)`: a LongLong, halves to even (64-bit hosts' conversion, "Type conversion
-/// functions"); past its range `#NUM!` (VBA's Overflow).
+/// functions"); past its range `#NUM!` (VBA's Overflow). A macro's LongLong, or a text of
+/// digits within the range (`"9223372036854775807"`), is that integer, whose double may be
+/// 2^63 itself (the macro keeps the integer beside it).
 pub(super) fn clnglng(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    let long_long = match (args.first(), values.first()) {
+        (Some(e), Some(v @ Value::Number(_))) => ctx.macro_long_long_text(e, v),
+        (_, Some(Value::Text(t))) => Some(t.trim().to_string()),
+        _ => None,
+    };
+    if let Some(k) = long_long.and_then(|t| t.parse::<i64>().ok()) {
+        return Ok(Value::Number(k as f64));
+    }
     let raised = Raised::default();
-    let result = lift_vba(ctx, args, "CLngLng", NO_NULL, &|v| {
+    let result = lift_vba_values(ctx, values, "CLngLng", NO_NULL, &|v| {
         let n = raised.whole(&v[0], 9.223372036854776e18)?;
         // 2^63 itself rounds into the range as a double but is one past LongLong's top.
         if n >= 9.223372036854776e18 {

@@ -467,6 +467,18 @@ fn lift_vba_values(
     f: &dyn Fn(&[Value]) -> XlResult<Value>,
 ) -> XlResult<Value> {
     if let Some(result) = null_argument(ctx, name, &values, passes) {
+/// The first argument's every digit when a macro holds it as a LongLong past what a double
+/// shows exactly and no format is given (CStr, Str, Format: "LongLong data type", a 64-bit
+/// integer), a space before it for its sign's room where `sign_room` ("Str function");
+/// `None` otherwise.
+fn long_long_shown(ctx: &Ctx, args: &[Expr], values: &[Value], sign_room: bool) -> Option<Value> {
+    if !matches!(values.get(1), None | Some(Value::Blank)) {
+        return None;
+    }
+    let text = ctx.macro_long_long_text(args.first()?, values.first()?)?;
+    Some(Value::text(if sign_room && !text.starts_with('-') { format!(" {text}") } else { text }))
+}
+
         return result;
     }
     let lifted = lift_values(&values, f);
@@ -650,8 +662,8 @@ fn shown_values(ctx: &mut Ctx, args: &[Expr]) -> Vec<Value> {
 
 fn cstr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let values = shown_values(ctx, args);
-    if let Some(date) = date_shown(ctx, args, &values) {
-        return Ok(date);
+    if let Some(shown) = date_shown(ctx, args, &values).or_else(|| long_long_shown(ctx, args, &values, true)) {
+        return Ok(shown);
     }
     lift_vba_values(ctx, values, "CStr", NO_NULL, &|v| Ok(Value::Text(vba_text(&v[0])?)))
 }
@@ -659,8 +671,8 @@ fn cstr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// `Str(number)`; a Date shows as CStr shows it, without the sign's space.
 fn str_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let values = shown_values(ctx, args);
-    if let Some(date) = date_shown(ctx, args, &values) {
-        return Ok(date);
+    if let Some(shown) = date_shown(ctx, args, &values).or_else(|| long_long_shown(ctx, args, &values, false)) {
+        return Ok(shown);
     }
     lift_vba_values(ctx, values, "Str", NO_NULL, &|v| {
         let n = to_number(&v[0], VBA_DATES)?;
@@ -962,8 +974,8 @@ fn format(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let values = if has_format { args.iter().map(|a| ctx.eval(a)).collect() } else { shown_values(ctx, args) };
     // "Format function": a Date without a format shows as General Date, the short date
     // and the long time as the system sets them.
-    if let Some(date) = date_shown(ctx, args, &values) {
-        return Ok(date);
+    if let Some(shown) = date_shown(ctx, args, &values).or_else(|| long_long_shown(ctx, args, &values, false)) {
+        return Ok(shown);
     }
     let lifted = lift_values(&values, &|v| {
         let pattern = if has_format { vba_text(&v[1])? } else { Rc::from("") };

@@ -1,0 +1,333 @@
+//! VBA's LongLong ("LongLong data type": a signed 64-bit integer, -9,223,372,036,854,775,808
+//! to 9,223,372,036,854,775,807) kept exact beside the double the one evaluator computes
+//! with. A double holds every whole number up to 2^53; past it the interpreter keeps the
+//! 64-bit integer each LongLong literal, operation, variable, argument and Function result
+//! gave, so that `+ - * \ Mod` and the comparisons are the integer's ([MS-VBAL] 5.6.9.3),
+//! a result past the type is Overflow (run-time error 6), and CStr, Str, Format, Print and
+//! `&` show its every digit. A cell given a LongLong takes its nearest double, as Excel's
+//! cells hold numbers. `/` and `^` make Doubles of their operands, and a Double beside a
+//! LongLong makes the operation a Double's: both are the evaluator's double arithmetic.
+//!
+//! Each kept integer is checked against the double the evaluator holds for the same value
+//! before it is used: one that no longer stands for that double is not that value's.
+
+use std::collections::HashMap;
+
+use crate::eval::evaluator::comparison_holds;
+use crate::eval::Value;
+use crate::formula::ast::{BinOp, Expr, ExprKind, UnaryOp};
+
+use super::ast::LONG_LONG_END;
+use super::interp::{Fault, Interp};
+use super::typing::{binary_type, Declared, Typing};
+
+/// 2^53: every whole number of a smaller size is exact in a double, and none is kept.
+const EXACT_IN_DOUBLE: f64 = 9_007_199_254_740_992.0;
+
+/// 10^15: a whole number below it shows every digit in a double's 15 significant digits; a
+/// LongLong from it up is shown from its integer.
+const SHOWN_IN_FULL: f64 = 1e15;
+
+/// The LongLongs kept beside the doubles that stand for them.
+#[derive(Debug, Default)]
+pub(super) struct Exact {
+    /// The last result of each operation, by the address of its first operand (of a
+    /// negation, its operand's), as [`Interp::widened`] notes operations.
+    ops: HashMap<usize, i64>,
+    /// The last value of each node (a Function's call), by its number.
+    nodes: HashMap<u32, i64>,
+    /// What the Function that returned last gave, until its node takes it.
+    gave: Option<i64>,
+    /// The LongLongs the call being bound passes, by parameter position.
+    args: Vec<(usize, i64)>,
+}
+
+fn key(e: &Expr) -> usize {
+    e as *const Expr as usize
+}
+
+/// Whether a double may stand for a whole number it does not hold exactly.
+fn inexact(n: f64) -> bool {
+    n.abs() >= EXACT_IN_DOUBLE
+}
+
+/// The LongLong a whole double within the type's range is.
+fn whole(n: f64) -> Option<i64> {
+    (n.fract() == 0.0 && (-LONG_LONG_END..LONG_LONG_END).contains(&n)).then_some(n as i64)
+}
+
+/// The LongLong a literal with the `^` type character writes ([MS-VBAL] 3.3.2):
+/// `9007199254740993^`, or `&H…^` and `&O…^` as their 64 bits, the top one the sign.
+fn literal(text: &str) -> Option<i64> {
+    let digits = text.trim().strip_suffix('^')?;
+    let Some(radix) = digits.strip_prefix('&') else { return digits.parse().ok() };
+    let (digits, base) = match radix.as_bytes().first() {
+        Some(b'h' | b'H') => (&radix[1..], 16),
+        Some(b'o' | b'O') => (&radix[1..], 8),
+        _ => (radix, 8),
+    };
+    u64::from_str_radix(digits, base).ok().map(|n| n as i64)
+}
+
+impl Interp<'_, '_> {
+    /// The whole number `v`, the value of `e`, stands for: the LongLong kept for it where
+    /// its double is past 2^53, else the double's own; `None` for no whole number.
+    pub(super) fn exact_whole(&self, e: &Expr, v: &Value) -> Option<i64> {
+        let Value::Number(n) = *v else { return None };
+        if !inexact(n) {
+            return whole(n);
+        }
+        let kept = match &e.kind {
+            ExprKind::Paren(inner) | ExprKind::Unary(UnaryOp::Plus, inner) => return self.exact_whole(inner, v),
+            ExprKind::Number(_) => literal(self.source_between(e.span.start, e.span.end)),
+            ExprKind::Name(name) => self.with_slot(name, |s| s.exact()).flatten(),
+            ExprKind::Binary(_, first, _) | ExprKind::Unary(UnaryOp::Neg, first) => {
+                self.exact.borrow().ops.get(&key(first)).copied()
+            }
+            ExprKind::Host(id) => self.exact.borrow().nodes.get(id).copied(),
+            ExprKind::Call(id, args) if crate::eval::functions::spec(*id).name == "VBA.CLNGLNG" => {
+                args.first().and_then(|arg| match &arg.kind {
+                    ExprKind::Text(t) => t.trim().parse().ok(),
+                    _ => self.exact_whole(arg, v),
+                })
+            }
+            _ => None,
+        };
+        kept.filter(|&k| k as f64 == n).or_else(|| whole(n))
+    }
+
+    /// The LongLong `v`, the value of `e`, is when `e` is of that type and its double is
+    /// not exact; `None` otherwise (the double is the value).
+    fn kept_long_long(&self, e: &Expr, v: &Value) -> Option<i64> {
+        match v {
+            Value::Number(n) if inexact(*n) && self.value_type(e, v) == Declared::LongLong => self.exact_whole(e, v),
+            _ => None,
+        }
+    }
+
+    /// Forgets what the operation whose first operand is `first` gave: it is being computed
+    /// again.
+    pub(super) fn forget_exact(&self, first: &Expr) {
+        if !self.exact.borrow().ops.is_empty() {
+            self.exact.borrow_mut().ops.remove(&key(first));
+        }
+    }
+
+    /// `a op b` computed on 64-bit integers when its type is LongLong ([MS-VBAL] 5.6.9.3:
+    /// two integral operands, one of them a LongLong) and a double would not hold it or an
+    /// operand exactly; Overflow (run-time error 6) past the type. `\` truncates toward zero
+    /// and `Mod`'s remainder has the dividend's sign (5.6.9.3.6, 5.6.9.3.7), their operands
+    /// rounded to whole numbers half to even first. `None` where the double is exact, the
+    /// type is another, or the operation divides by zero (error 11, raised as for any type).
+    pub(super) fn long_long_arithmetic(
+        &self,
+        op: BinOp,
+        (a, b): (&Expr, &Expr),
+        (x, y): (&Value, &Value),
+        result: &Value,
+    ) -> Option<Result<Value, Fault>> {
+        if !matches!(op, BinOp::Add | BinOp::Sub | BinOp::Mul | BinOp::IntDiv | BinOp::Mod) {
+            return None;
+        }
+        let (Value::Number(n), Value::Number(p), Value::Number(q)) = (result, x, y) else { return None };
+        if !inexact(*n) && !inexact(*p) && !inexact(*q) {
+            return None;
+        }
+        let ty = self
+            .widened_if_held(Typing::Held, a)
+            .unwrap_or_else(|| binary_type(op, self.held_operand(a), self.held_operand(b)));
+        if ty != Declared::LongLong {
+            return None;
+        }
+        let dividing = matches!(op, BinOp::IntDiv | BinOp::Mod);
+        let operand = |e: &Expr, v: &Value, d: f64| match self.exact_whole(e, v) {
+            None if dividing => whole(d.round_ties_even()),
+            exact => exact,
+        };
+        let (i, j) = (operand(a, x, *p)?, operand(b, y, *q)?);
+        let exact = match op {
+            BinOp::Add => i.checked_add(j),
+            BinOp::Sub => i.checked_sub(j),
+            BinOp::Mul => i.checked_mul(j),
+            _ if j == 0 => return None,
+            BinOp::IntDiv => i.checked_div(j),
+            _ => Some(i.wrapping_rem(j)),
+        };
+        Some(match exact {
+            Some(r) => {
+                self.exact.borrow_mut().ops.insert(key(a), r);
+                Ok(Value::Number(r as f64))
+            }
+            None => {
+                let shown = self.quoted_source(a.span.start, b.span.end, "the operation");
+                let exact = i128::from(i);
+                let past = match op {
+                    BinOp::Add => exact + i128::from(j),
+                    BinOp::Sub => exact - i128::from(j),
+                    BinOp::Mul => exact * i128::from(j),
+                    _ => -exact,
+                };
+                Err(self.overflow_fault(
+                    self.expr_span(a),
+                    format!("{shown} overflows: its operands' types make it a LongLong (-2^63 to 2^63 - 1), which cannot hold {past}"),
+                ))
+            }
+        })
+    }
+
+    /// `-operand` of a LongLong whose double is not exact, on its integer: the most negative
+    /// LongLong has no positive (Overflow, run-time error 6, [MS-VBAL] 5.6.9.3.1).
+    pub(super) fn long_long_negation(&self, operand: &Expr, result: &Value) -> Option<Result<Value, Fault>> {
+        let Value::Number(n) = *result else { return None };
+        if !inexact(n) || self.held_operand(operand) != Declared::LongLong {
+            return None;
+        }
+        let i = self.exact_whole(operand, &Value::Number(-n))?;
+        Some(match i.checked_neg() {
+            Some(r) => {
+                self.exact.borrow_mut().ops.insert(key(operand), r);
+                Ok(Value::Number(r as f64))
+            }
+            None => {
+                let shown = self.quoted_source(operand.span.start, operand.span.end, "the operand");
+                Err(self.overflow_fault(
+                    self.expr_span(operand),
+                    format!("-{shown} overflows: a LongLong holds -2^63 to 2^63 - 1, not 2^63"),
+                ))
+            }
+        })
+    }
+
+    /// `a op b` for a relational operator on two integral operands, one a LongLong past what a
+    /// double holds exactly: their integers compared ([MS-VBAL] 5.6.9.5, the comparison is
+    /// in the operands' effective value type). `None` for anything else.
+    pub(super) fn long_long_comparison(
+        &self,
+        op: BinOp,
+        (a, b): (&Expr, &Expr),
+        (x, y): (&Value, &Value),
+    ) -> Option<Value> {
+        if !matches!(op, BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge) {
+            return None;
+        }
+        let (Value::Number(p), Value::Number(q)) = (x, y) else { return None };
+        if !inexact(*p) && !inexact(*q) {
+            return None;
+        }
+        let integral = |e: &Expr| {
+            matches!(
+                self.held_operand(e),
+                Declared::Byte | Declared::Boolean | Declared::Integer | Declared::Long | Declared::LongLong
+            )
+        };
+        if !integral(a) || !integral(b) {
+            return None;
+        }
+        let (i, j) = (self.exact_whole(a, x)?, self.exact_whole(b, y)?);
+        Some(Value::Bool(comparison_holds(op, i.cmp(&j))))
+    }
+
+    /// The digits a LongLong `v`, the value of `e`, shows as a String (CStr, Str, Format,
+    /// Print, `&`, [MS-VBAL] 5.5.1.2.4: a number's decimal text): every one, where a
+    /// double's 15 significant digits would round it or show an exponent. `None` for any
+    /// other value, shown as a double.
+    pub(super) fn long_long_text(&self, e: &Expr, v: &Value) -> Option<String> {
+        match v {
+            Value::Number(n) if n.abs() >= SHOWN_IN_FULL && self.value_type(e, v) == Declared::LongLong => {
+                self.exact_whole(e, v).map(|k| k.to_string())
+            }
+            _ => None,
+        }
+    }
+
+    /// `a & b` with a LongLong operand shown in full ([`Interp::long_long_text`]).
+    pub(super) fn concat_long_longs(&self, (a, b): (&Expr, &Expr), (x, y): (&Value, &Value)) -> Option<Value> {
+        let (tx, ty) = (self.long_long_text(a, x), self.long_long_text(b, y));
+        if tx.is_none() && ty.is_none() {
+            return None;
+        }
+        let text = |kept: Option<String>, v: &Value| match (kept, v) {
+            (Some(t), _) => Some(t),
+            (None, Value::Null) => Some(String::new()),
+            (None, v) => crate::eval::functions::vba::vba_text(v).ok().map(|t| t.to_string()),
+        };
+        Some(Value::text(format!("{}{}", text(tx, x)?, text(ty, y)?)))
+    }
+
+    /// `name = value` where `value` gave the LongLong `v` past what its double holds, for a
+    /// variable declared LongLong or a Variant: the integer kept with its double, and the
+    /// variable's type noted as `held`. `false` (nothing done) for any other assignment,
+    /// which converts as usual.
+    pub(super) fn assign_long_long(&self, name: &str, value: &Expr, v: &Value, held: Declared) -> bool {
+        let Some(k) = self.kept_long_long(value, v) else { return false };
+        self.with_slot(name, |slot| {
+            let typed = matches!(Declared::of_ty(slot.ty.as_ref()), Declared::LongLong | Declared::Variant);
+            if slot.constant || !typed || !matches!(slot.var(), super::value::Var::Value(_)) {
+                return false;
+            }
+            slot.replace(super::value::Var::Value(Value::Number(k as f64)));
+            slot.set_holds(held);
+            slot.set_exact(k);
+            true
+        }) == Some(true)
+    }
+
+    /// Notes that the argument at parameter position `index`, the expression `e`, gave the
+    /// LongLong `v` past what its double holds, for the parameter it is bound to.
+    pub(super) fn note_long_long_arg(&self, index: usize, e: &Expr, v: &Value) {
+        if let Some(k) = self.kept_long_long(e, v) {
+            self.exact.borrow_mut().args.push((index, k));
+        }
+    }
+
+    /// Forgets the LongLongs noted for a call's parameters (a new call is being bound).
+    pub(super) fn forget_long_long_args(&self) {
+        if !self.exact.borrow().args.is_empty() {
+            self.exact.borrow_mut().args.clear();
+        }
+    }
+
+    /// The LongLong noted for the parameter at `index`, for its variable holding `var`
+    /// (a LongLong or a Variant parameter: any other converted it).
+    pub(super) fn long_long_arg(&self, index: usize, slot: &mut super::value::Slot) {
+        let found = self.exact.borrow().args.iter().find(|(i, _)| *i == index).map(|&(_, k)| k);
+        let Some(k) = found else { return };
+        let typed = matches!(Declared::of_ty(slot.ty.as_ref()), Declared::LongLong | Declared::Variant);
+        if typed && matches!(slot.var(), super::value::Var::Value(Value::Number(n)) if *n == k as f64) {
+            slot.set_exact(k);
+        }
+    }
+
+    /// Notes the LongLong the Function that is returning gave (its name's variable's).
+    pub(super) fn returning_long_long(&self, k: Option<i64>) {
+        self.exact.borrow_mut().gave = k;
+    }
+
+    /// Before the node `id` gives its value: what an earlier Function gave is not its.
+    pub(super) fn forget_given_long_long(&self) {
+        if self.exact.borrow().gave.is_some() {
+            self.exact.borrow_mut().gave = None;
+        }
+    }
+
+    /// After the node `id` gave its value: the LongLong a Function gave, kept for the node.
+    pub(super) fn note_node_long_long(&self, id: u32) {
+        let mut exact = self.exact.borrow_mut();
+        match exact.gave.take() {
+            Some(k) => {
+                exact.nodes.insert(id, k);
+            }
+            None if !exact.nodes.is_empty() => {
+                exact.nodes.remove(&id);
+            }
+            None => {}
+        }
+    }
+
+    /// The text Debug.Print shows for a LongLong in full, its sign's room and trailing
+    /// space as for any number ("Print # statement").
+    pub(super) fn printed_long_long(&self, e: &Expr, v: &Value) -> Option<String> {
+        let text = self.long_long_text(e, v)?;
+        Some(if text.starts_with('-') { format!("{text} ") } else { format!(" {text} ") })
+    }
+}

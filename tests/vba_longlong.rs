@@ -1,0 +1,157 @@
+//! VBA's LongLong as a 64-bit integer, exact past 2^53 where a double is not ("LongLong data
+//! type": a signed 64-bit integer, -9,223,372,036,854,775,808 to 9,223,372,036,854,775,807).
+//! Expected values are worked in Python's unbounded integers (shown beside each), and the
+//! rules are MS-VBAL's (each test cites its section), not our own output.
+
+use ncsheet::eval::Value;
+use ncsheet::formula::address::parse_cell;
+use ncsheet::vba::{self, RunOptions, RunOutput};
+use ncsheet::workbook::Workbook;
+
+fn run(src: &str) -> Result<RunOutput, vba::MacroError> {
+    vba::run(&mut Workbook::with_sheet(), src, "test.bas", &RunOptions::default())
+}
+
+/// The lines `Sub Main` with `body` prints, after the module-level `module`.
+fn printed(module: &str, body: &str) -> Vec<String> {
+    run(&format!("{module}\nSub Main()\n{body}\nEnd Sub\n")).unwrap_or_else(|e| panic!("{e}")).printed
+}
+
+// [MS-VBAL] 5.6.9.3: `+`, `-` and `*` of LongLong operands (or a LongLong beside a Long or
+// an Integer) are LongLong operations; 5.5.1.2.4, CStr of a number is its decimal text. Past
+// 2^53 a double skips odd numbers: 9007199254740993 + 2 is 9007199254740995 exactly as a
+// 64-bit integer, where doubles give 9007199254740994. Python:
+// 9007199254740993 + 2 == 9007199254740995; 3037000499 * 3037000499 == 9223372030926249001;
+// (2**62 - 1) * 2 + 1 == 2**63 - 1 == 9223372036854775807; 4503599627370497 * 2 + 1 ==
+// 9007199254740995; 9007199254740993 - 9007199254740992 == 1.
+#[test]
+fn long_long_arithmetic_is_exact_past_2_to_the_53() {
+    let out = printed(
+        "",
+        "    Dim x As LongLong, y As LongLong, z As LongLong\n    x = 9007199254740993^\n\
+         \x20   Debug.Print CStr(x + 2); \" \"; CStr(x - 9007199254740992^); \" \"; TypeName(x + 2&)\n\
+         \x20   y = 3037000499^\n    y = y * y\n    Debug.Print CStr(y)\n\
+         \x20   z = 4611686018427387903^\n    z = z * 2 + 1\n    Debug.Print CStr(z); \" \"; CStr(z - 1 - 9223372036854775806^)\n\
+         \x20   Debug.Print x + 2; Str(x + 2); \" \"; Format(x + 2); \" \"; \"n=\" & (x + 2)",
+    );
+    assert_eq!(
+        out,
+        [
+            "9007199254740995 1 LongLong",
+            "9223372030926249001",
+            "9223372036854775807 0",
+            " 9007199254740995  9007199254740995 9007199254740995 n=9007199254740995",
+        ]
+    );
+}
+
+// [MS-VBAL] 5.6.9.3.6 and 5.6.9.3.7 (`\` and `Mod`): the quotient truncated toward zero, and
+// the remainder with the dividend's sign (Office VBA reference, "Mod operator": -7 Mod 3
+// is -1), on the 64-bit integers. Python (truncating): -9007199254740993 \ 2 ==
+// -4503599627370496 (-4503599627370496.5 truncated); -9007199254740993 Mod 2 == -1;
+// 9007199254740993 Mod 10 == 3; 9007199254740993 \ -10 == -900719925474099;
+// -9007199254740993 Mod -10 == -3.
+#[test]
+fn integer_division_and_mod_of_long_longs_truncate_on_the_integers() {
+    let out = printed(
+        "",
+        "    Dim x As LongLong\n    x = -9007199254740993^\n\
+         \x20   Debug.Print CStr(x \\ 2); \" \"; x Mod 2; CStr(-x Mod 10); \" \"; CStr(-x \\ -10); \" \"; x Mod -10",
+    );
+    assert_eq!(out, ["-4503599627370496 -1 3 -900719925474099 -3 "]);
+}
+
+// [MS-VBAL] 5.6.9.5 (relational operators): two integral operands compare as the wider
+// integral type, here LongLong, so 9007199254740993 and 9007199254740992, one apart, are
+// not equal (their doubles are).
+#[test]
+fn comparisons_of_long_longs_are_on_the_integers() {
+    let out = printed(
+        "",
+        "    Dim a As LongLong, b As LongLong\n    a = 9007199254740993^\n    b = 9007199254740992^\n\
+         \x20   Debug.Print a = b; a > b; a <> b; b < a; a - 1 = b",
+    );
+    assert_eq!(out, ["FalseTrueTrueTrueTrue"]);
+}
+
+// [MS-VBAL] 3.3.2: a decimal literal with the `^` type character is a LongLong, up to
+// 9223372036854775807; a hex or octal one with `^` is its 64 bits, the top one the sign
+// (Python: int('7FFFFFFFFFFFFFFF', 16) == 2**63 - 1; 0xFFFFFFFFFFFFFFFF - 2**64 == -1;
+// 0x8000000000000000 - 2**64 == -2**63). The `^` right after the digits is the type
+// character, so `5^ + 1` is the LongLong 5 plus 1 (6), where `5 ^ 1` and `2^2` stay powers.
+#[test]
+fn long_long_literals_reach_the_type_s_top_and_bind_their_suffix() {
+    let out = printed(
+        "",
+        "    Debug.Print CStr(9223372036854775807^); \" \"; 9223372036854775807^ = &H7FFFFFFFFFFFFFFF^\n\
+         \x20   Debug.Print &HFFFFFFFFFFFFFFFF^; CStr(&H8000000000000000^); \" \"; TypeName(&H10^)\n\
+         \x20   Debug.Print 5^ + 1; TypeName(5^ + 1); 5^ - 1; 2^2; 5 ^ 1",
+    );
+    assert_eq!(out, ["9223372036854775807 True", "-1 -9223372036854775808 LongLong", " 6 LongLong 4  4  5 ",]);
+    // One past the top is no LongLong: a compile error naming its place.
+    let e = run("Sub Main()\n    x = 9223372036854775808^\nEnd Sub\n").unwrap_err();
+    assert!(e.message.contains("LongLong"), "{e}");
+    assert_eq!(e.span.unwrap().line, 2, "{e}");
+}
+
+// [MS-VBAL] 5.6.9.3 and Office VBA reference "Overflow (Error 6)": a LongLong operation
+// whose result is past -2^63 .. 2^63 - 1 is Overflow, Err.Number 6, one past the top
+// (2**63 - 1 + 1) as well as a product (2**62 * 2 == 2**63); 5.6.9.3.1, the negation of
+// -2^63 too. Doubles cannot tell 2^63 - 1 + 1 from 2^63 - 1.
+#[test]
+fn long_long_overflow_is_error_6() {
+    let out = printed(
+        "",
+        "    Dim x As LongLong, y As LongLong\n    x = 9223372036854775807^\n    On Error Resume Next\n\
+         \x20   y = x + 1\n    Debug.Print Err.Number\n    Err.Clear\n\
+         \x20   y = 4611686018427387904^ * 2\n    Debug.Print Err.Number\n    Err.Clear\n\
+         \x20   y = -x - 1\n    Debug.Print Err.Number; CStr(y)\n    Err.Clear\n\
+         \x20   y = -y\n    Debug.Print Err.Number\n    Err.Clear\n\
+         \x20   y = x - 1 + 1\n    Debug.Print Err.Number; CStr(y)",
+    );
+    assert_eq!(out, [" 6 ", " 6 ", " 0 -9223372036854775808", " 6 ", " 0 9223372036854775807"]);
+}
+
+// [MS-VBAL] 5.6.9.3: a Double beside a LongLong makes the operation a Double's, and `/`
+// and `^` give Doubles (5.6.9.3.5, 5.6.9.3.8); a Long beside a LongLong a LongLong.
+// "VarType function": vbLongLong is 20; a Variant keeps its LongLong (2.1.1.1) and its
+// value. CLngLng of a String of digits is that integer ("Type conversion functions").
+#[test]
+fn long_long_types_mix_as_vba_types_them() {
+    let out = printed(
+        "",
+        "    Dim x As LongLong, v\n    x = 9007199254740993^\n    v = x\n\
+         \x20   Debug.Print TypeName(x + 0.5); TypeName(x / 1); TypeName(x ^ 1); TypeName(x * 2&); VarType(v)\n\
+         \x20   Debug.Print CStr(v + 2); \" \"; CStr(CLngLng(\"9223372036854775807\")); \" \"; CStr(CLngLng(v) + 2)",
+    );
+    assert_eq!(out, ["DoubleDoubleDoubleLongLong 20 ", "9007199254740995 9223372036854775807 9007199254740995"]);
+}
+
+// [MS-VBAL] 5.3.1.11: a ByVal parameter is bound to the argument's value, and a ByRef one
+// gives back what the procedure made of it; 5.3.1.2, a Function's result is what its name
+// was assigned. Each carries the LongLong whole (Python: 4503599627370497 * 2 + 1 ==
+// 9007199254740995; 9007199254740995 + 2 == 9007199254740997).
+#[test]
+fn long_longs_pass_through_parameters_and_function_results() {
+    let module = "Function Twice(ByVal k As LongLong) As LongLong\n    Twice = k * 2 + 1\nEnd Function\n\
+                  Sub Bump(ByRef k As LongLong)\n    k = k + 2\nEnd Sub\n";
+    let out = printed(
+        module,
+        "    Dim x As LongLong\n    x = Twice(4503599627370497^)\n    Debug.Print CStr(x); \" \"; CStr(Twice(4503599627370497^) + 0&)\n\
+         \x20   Bump x\n    Debug.Print CStr(x)",
+    );
+    assert_eq!(out, ["9007199254740995 9007199254740995", "9007199254740997"]);
+}
+
+// Excel's cells hold doubles (IEEE 754, "Excel specifications and limits": 15 digits of
+// precision); a LongLong written to a cell is its nearest double: 9007199254740995 lies
+// between the doubles 9007199254740994 and 9007199254740996 and rounds to the even one,
+// 9007199254740996 (Python: float(9007199254740995) == 9007199254740996.0).
+#[test]
+fn a_long_long_written_to_a_cell_is_its_nearest_double() {
+    let mut wb = Workbook::with_sheet();
+    let src =
+        "Sub Main()\n    Dim x As LongLong\n    x = 9007199254740993^\n    Range(\"A1\").Value = x + 2\nEnd Sub\n";
+    vba::run(&mut wb, src, "test.bas", &RunOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(wb.value(0, parse_cell("A1").unwrap()), Value::Number(9007199254740996.0));
+}
