@@ -45,3 +45,13 @@ fn an_undeclared_variable_under_a_def_statement_is_refused_by_name() {
     assert!(message.contains("Dim k"), "{message}");
 }
 
+// [MS-VBAL] CStr's runtime semantics (the Conversion module of VBA's library): an Error value
+// gives "Error", a space and its error code ("Type conversion functions", CStr's table: "A
+// String containing the word Error followed by the error number"); CVErr's numbers are
+// Excel's ("XlCVError enumeration": xlErrNA 2042, xlErrDiv0 2007).
+#[test]
+fn cstr_of_an_error_value_is_the_word_error_and_its_number() {
+    let src = "Sub Main()\n    Dim v\n    v = CStr(CVErr(2042))\n\
+               \x20   Debug.Print TypeName(v) & \"|\" & v & \"|\" & CStr(CVErr(xlErrDiv0))\nEnd Sub\n";
+    assert_eq!(run(src).unwrap(), ["String|Error 2042|Error 2007"]);
+}

@@ -665,6 +665,9 @@ fn cstr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     if let Some(shown) = date_shown(ctx, args, &values).or_else(|| long_long_shown(ctx, args, &values, true)) {
         return Ok(shown);
     }
+    if let Some(text) = strings::error_text(&values) {
+        return Ok(text);
+    }
     lift_vba_values(ctx, values, "CStr", NO_NULL, &|v| Ok(Value::Text(vba_text(&v[0])?)))
 }
 

@@ -337,6 +337,23 @@ pub fn cv_err(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     Ok(Value::Error(error))
 }
 
+/// `CStr(value)` of an Error value: "A String containing the word Error followed by the error
+/// number" ("Type conversion functions", CStr's return table), its `xlErr…` number as CVErr
+/// made it: `CStr(CVErr(2042))` is "Error 2042", not the error itself.
+pub(super) fn error_text(values: &[Value]) -> Option<Value> {
+    let number = match values.first()? {
+        Value::Error(XlError::Null) => 2000,
+        Value::Error(XlError::Div0) => 2007,
+        Value::Error(XlError::Value) => 2015,
+        Value::Error(XlError::Ref) => 2023,
+        Value::Error(XlError::Name) => 2029,
+        Value::Error(XlError::Num) => 2036,
+        Value::Error(XlError::NA) => 2042,
+        _ => return None,
+    };
+    Some(Value::text(format!("Error {number}")))
+}
+
 /// `Timer`: seconds since midnight by the document's clock (its settings' NOW).
 pub fn timer(ctx: &mut Ctx, _args: &[Expr]) -> XlResult<Value> {
     let now = ctx.env.now();
