@@ -55,6 +55,19 @@ fn t(s: &str) -> Value {
     Value::text(s)
 }
 
+/// Types each input into its cell.
+fn set_cells(wb: &mut Workbook, cells: &[(&str, &str)]) {
+    for (cell, input) in cells {
+        set(wb, cell, input);
+    }
+}
+
+/// The notes the workbook has on `cell`.
+fn notes_at(wb: &Workbook, cell: &str) -> Vec<String> {
+    let at = parse_cell(cell).unwrap();
+    wb.problems().into_iter().filter(|p| p.pos == at).map(|p| p.message()).collect()
+}
+
 #[test]
 fn lookups_of_many_keys_find_what_one_key_at_a_time_finds() {
     let mut wb = items();
@@ -265,8 +278,7 @@ fn many_keys_inside_a_lambda_count_the_index_not_a_scan_per_key() {
     // 10,000 criteria over 10,000 cells pass the budget.
     set(&mut wb, "B4", &inside(format!("COUNTIF(SEQUENCE({k}),\"*\"&{keys})")));
     assert_eq!(get(&wb, "B4"), Value::Error(ncsheet::eval::XlError::Num));
-    let at = parse_cell("B4").unwrap();
-    let notes: Vec<String> = wb.problems().into_iter().filter(|p| p.pos == at).map(|p| p.message()).collect();
+    let notes = notes_at(&wb, "B4");
     assert!(notes.iter().any(|m| m.contains("items of work")), "{notes:?}");
 }
 
@@ -340,8 +352,7 @@ fn many_patterns_over_many_cells_stop_at_the_scan_limit() {
     ] {
         set(&mut wb, cell, &formula);
         assert_eq!(get(&wb, cell), Value::Error(ncsheet::eval::XlError::Num), "{formula}");
-        let at = parse_cell(cell).unwrap();
-        let notes: Vec<String> = wb.problems().into_iter().filter(|p| p.pos == at).map(|p| p.message()).collect();
+        let notes = notes_at(&wb, cell);
         assert!(notes.iter().any(|m| m.contains("4294967296 cells one by one")), "{notes:?}");
     }
     // Below the limit patterns match as before: "*1" the texts ending in 1, "1?" the
@@ -378,8 +389,7 @@ fn database_functions_with_many_criteria_rows_look_equalities_up() {
     let patterns = format!("VSTACK(\"n\",\"*\"&SEQUENCE({k})&\"*\")");
     set(&mut wb, "A3", &format!("=DSUM({db},\"n\",{patterns})"));
     assert_eq!(get(&wb, "A3"), Value::Error(ncsheet::eval::XlError::Num));
-    let at = parse_cell("A3").unwrap();
-    let notes: Vec<String> = wb.problems().into_iter().filter(|p| p.pos == at).map(|p| p.message()).collect();
+    let notes = notes_at(&wb, "A3");
     assert!(notes.iter().any(|m| m.contains("records one by one")), "{notes:?}");
 
     // Excel's rules on a small database (A5:B11): "=bolt" is the whole text, any case;
@@ -409,9 +419,7 @@ fn database_functions_with_many_criteria_rows_look_equalities_up() {
         ("E8", ">3"),
         ("D9", "TRUE"),
     ];
-    for (cell, input) in cells {
-        set(&mut wb, cell, input);
-    }
+    set_cells(&mut wb, &cells);
     let sums = "=TEXTJOIN(\",\",,DSUM(A5:B12,\"Qty\",D5:E9),DCOUNTA(A5:B12,1,D5:E9),DSUM(A5:B12,2,D5:E10))";
     set(&mut wb, "G1", sums);
     // Rows 6 (bolt), 7 (Bolt), 8 (12) and 11 (TRUE): 5 + 7 + 1 + 4. With the prefix "bol"
@@ -454,9 +462,7 @@ fn database_patterns_test_only_the_texts_that_begin_or_end_as_they_do() {
         ("C8", "bolts"),
         ("D8", "6"),
     ];
-    for (cell, input) in cells {
-        set(&mut wb, cell, input);
-    }
+    set_cells(&mut wb, &cells);
     let criteria = [
         ("\"=*olt\"", "12"),
         ("\"=?ut\"", "3"),
@@ -473,4 +479,64 @@ fn database_patterns_test_only_the_texts_that_begin_or_end_as_they_do() {
         set(&mut wb, &cell, &format!("=TEXT(DSUM(C1:D8,\"Qty\",VSTACK(\"Part\",{rows})),\"0\")"));
         assert_eq!(get(&wb, &cell), t(expected), "{rows}");
     }
+}
+
+/// The shapes session 17 still tested cell by cell, under a LAMBDA work budget of 2^22
+/// items (10,000 criteria over 10,000 cells scanned count 10^8: `#NUM!`): COUNTIFS with a
+/// comparison array beside a criterion that holds in some cells only, and five criteria
+/// arrays paired item by item. Sums worked by hand.
+#[test]
+fn comparisons_beside_a_partial_criterion_and_five_paired_arrays_inside_a_lambda_are_indexed() {
+    let mut wb = Workbook::with_sheet();
+    wb.settings_mut().lambda_work = Some(1 << 22);
+    let k = 10_000_u64;
+    let triangle = (k * (k + 1) / 2) as f64;
+    let keys = format!("SEQUENCE({k},1,{k},-1)");
+    let inside = |body: String| format!("=SUM(MAP({{1;2}},LAMBDA(x,SUM({body}))))/2");
+    let cells = format!("SEQUENCE({k})");
+    let paired: String = (1..=5).map(|m| format!(",{cells}*{m},{keys}*{m}")).collect();
+    let cases = [
+        // The odd numbers up to j: (j + 1) div 2; over j = 1 … 10,000 (k = 2m), m(m + 1).
+        (inside(format!("COUNTIFS({cells},\"<=\"&{keys},MOD({cells},2),1)")), (5_000 * 5_001) as f64),
+        // Above j but 5,000: k − j, less one while j < 5,000; k(k − 1)/2 − 4,999.
+        (inside(format!("COUNTIFS({cells},\">\"&{keys},{cells},\"<>5000\")")), (k * (k - 1) / 2 - 4_999) as f64),
+        // (j, 2j, 3j, 4j, 5j) names one cell.
+        (inside(format!("COUNTIFS({})", &paired[1..])), k as f64),
+        (inside(format!("SUMIFS({cells}{paired})")), triangle),
+    ];
+    assert_numbers_in_column_a(&mut wb, &cases);
+}
+
+/// A database's criteria rows of one common value each look up every record they name:
+/// those records are tested once a row, and count toward the 10^9 limit (2^15 rows of
+/// `=1` over 2^15 records of 1 are 2^30 tests; they were not counted and ran). Inside a
+/// LAMBDA they count toward its budget: 2^12 rows over 2^12 records, 2^24, pass 2^22.
+#[test]
+fn database_rows_of_a_common_value_count_the_records_they_test() {
+    let mut wb = Workbook::with_sheet();
+    let k = 1 << 15;
+    let ones = format!("VSTACK(\"n\",SEQUENCE({k},1,1,0))");
+    let texts = format!("VSTACK(\"n\",\"p\"&SEQUENCE({k}))");
+    for (cell, formula) in [
+        ("A1", format!("=DCOUNT({ones},,{ones})")),
+        ("A2", format!("=DCOUNT({ones},,VSTACK(\"n\",IF(SEQUENCE({k}),\"=1\")))")),
+        // "p" with no operator is a prefix every record begins with.
+        ("A3", format!("=DCOUNTA({texts},1,VSTACK(\"n\",IF(SEQUENCE({k}),\"p\")))")),
+    ] {
+        set(&mut wb, cell, &formula);
+        assert_eq!(get(&wb, cell), Value::Error(ncsheet::eval::XlError::Num), "{formula}");
+        let notes = notes_at(&wb, cell);
+        assert!(notes.iter().any(|m| m.contains("1073741824 records one by one")), "{notes:?}");
+    }
+    // Below the limit they count as before: each record meets some row.
+    set(&mut wb, "B1", "=DCOUNT(VSTACK(\"n\",SEQUENCE(100,1,1,0)),,VSTACK(\"n\",SEQUENCE(100,1,1,0)))");
+    assert_eq!(get(&wb, "B1"), n(100.0));
+
+    wb.settings_mut().lambda_work = Some(1 << 22);
+    let k = 1 << 12;
+    let ones = format!("VSTACK(\"n\",SEQUENCE({k},1,1,0))");
+    set(&mut wb, "C1", &format!("=SUM(MAP({{1;2}},LAMBDA(x,DCOUNT({ones},,{ones}))))"));
+    assert_eq!(get(&wb, "C1"), Value::Error(ncsheet::eval::XlError::Num));
+    let notes = notes_at(&wb, "C1");
+    assert!(notes.iter().any(|m| m.contains("items of work")), "{notes:?}");
 }

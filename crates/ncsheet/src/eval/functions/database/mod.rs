@@ -221,12 +221,13 @@ fn selected(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<Value>> {
     let rows = criteria_rows(&db, &criteria, dates)?;
     let records = db.rows - 1;
     let mut lookups = Lookups::default();
-    let tested = lookups.records_tested(&db, &rows);
+    let tested = lookups.records_tested(&db, &rows, dates);
     if tested > MAX_CRITERIA_SCAN {
         let why = format!(
             "the criteria would test {tested} records one by one, more than ncsheet's limit of \
              {MAX_CRITERIA_SCAN:e} for one call (criteria rows with no plain equality such as =x or a number, nor \
-             a text prefix, × the records; a pattern's rows × the texts that begin and end as it does)"
+             a text prefix, × the records; an equality's or a prefix's rows × the records with that value or \
+             beginning; a pattern's rows × the texts that begin or end as it does)"
         );
         return Err(ctx.explain(XlError::Num, why));
     }
@@ -258,16 +259,23 @@ enum Candidates {
 
 impl Lookups {
     /// How many records the rows test one by one: every record for a row no index
-    /// answers, and for a pattern's row the texts that begin and end with its letters.
-    fn records_tested(&mut self, db: &Array, rows: &[Vec<Condition>]) -> usize {
+    /// answers, for an equality's row the records filed under its value, for a prefix's
+    /// the texts that begin with it, and for a pattern's row the texts that begin or end
+    /// with its letters (many rows naming one common value test its records each time).
+    fn records_tested(&mut self, db: &Array, rows: &[Vec<Condition>], dates: DateSystem) -> usize {
         let records = db.rows - 1;
         rows.iter()
             .map(|conditions| match lookup_of(conditions) {
                 None => records,
+                Some((c, Lookup::Equal(keys))) => self.equal_index(db, c, dates).count_filed(&keys),
+                Some((c, Lookup::Prefix(letters))) => self.starts(db, c).run(&letters).len(),
                 Some((c, Lookup::Pattern(prefix, suffix))) => self.pattern_run(db, c, &prefix, &suffix).1.len(),
-                Some(_) => 0,
             })
             .fold(0, usize::saturating_add)
+    }
+
+    fn equal_index(&mut self, db: &Array, c: usize, dates: DateSystem) -> &EqualityIndex {
+        self.equal.entry(c).or_insert_with(|| EqualityIndex::new(column(db, c), dates))
     }
 
     /// Whether each record (row 1 … of `db`, from 0) meets the conditions of some criteria
@@ -286,10 +294,7 @@ impl Lookups {
         for conditions in rows {
             let meets = |r: usize| conditions.iter().all(|(c, crit)| c.is_some_and(|c| crit.matches(db.get(r + 1, c))));
             let candidates = match lookup_of(conditions) {
-                Some((c, Lookup::Equal(keys))) => {
-                    let index = self.equal.entry(c).or_insert_with(|| EqualityIndex::new(column(db, c), dates));
-                    Candidates::These(index.positions(&keys))
-                }
+                Some((c, Lookup::Equal(keys))) => Candidates::These(self.equal_index(db, c, dates).positions(&keys)),
                 Some((c, Lookup::Prefix(letters))) => Candidates::These(self.starts(db, c).starting_with(&letters)),
                 Some((c, Lookup::Pattern(prefix, suffix))) => {
                     let (order, run) = self.pattern_run(db, c, &prefix, &suffix);
