@@ -328,9 +328,9 @@ pub struct Interp<'m, 'w> {
     /// a Long): what an enclosing operation, or the variable it goes to, takes it as
     /// ([`Interp::note_widening`]).
     pub(super) widened: RefCell<std::collections::HashMap<usize, Declared>>,
-    /// The module may hold a Single or a Currency, whose operations are computed in their
     /// The LongLongs past 2^53 kept beside their doubles (`longlong.rs`).
     pub(super) exact: RefCell<super::longlong::Exact>,
+    /// The module may hold a Single or a Currency, whose operations are computed in their
     /// types ([`super::typing::names_single_or_currency`]).
     pub(super) narrow_numbers: bool,
 }
@@ -380,8 +380,8 @@ impl<'m, 'w> Interp<'m, 'w> {
             gave: Cell::new(Declared::Variant),
             arg_types: RefCell::new(Vec::new()),
             widened: RefCell::new(std::collections::HashMap::new()),
-            narrow_numbers: super::typing::names_single_or_currency(source),
             exact: RefCell::default(),
+            narrow_numbers: super::typing::names_single_or_currency(source),
         }
     }
 }
@@ -840,16 +840,16 @@ impl Interp<'_, '_> {
     /// ([`Interp::node_types`]).
     pub(super) fn noting_date<T>(&self, id: u32, give: impl FnOnce() -> T) -> T {
         self.gave.set(Declared::Variant);
+        self.forget_given_long_long();
         let given = give();
+        self.note_node_long_long(id);
         // The flag is the last call's or item's, which is this node's own only for these.
         let own = match &self.module.nodes[id as usize] {
             Node::Call { .. } | Node::Element { .. } | Node::Index { .. } => true,
             Node::Path(path) => path
                 .links
                 .last()
-        self.forget_given_long_long();
                 .is_some_and(|l| l.name.eq_ignore_ascii_case("item") || l.name.eq_ignore_ascii_case("filedatetime")),
-        self.note_node_long_long(id);
             _ => false,
         };
         let gave = self.gave.get();
@@ -1033,6 +1033,7 @@ impl Interp<'_, '_> {
         let mut items_back = Vec::new();
         let mut lent = Vec::new();
         let (args, param_array) = super::param_array::split_args(p, args);
+        self.forget_long_long_args();
         for (i, a) in args.iter().enumerate() {
             let index = match &a.name {
                 Some(n) => p.params.iter().position(|q| q.name.eq_ignore_ascii_case(n)).expect("checked by the parser"),
@@ -1040,7 +1041,6 @@ impl Interp<'_, '_> {
             };
             if a.value.kind == ExprKind::Missing {
                 continue;
-        self.forget_long_long_args();
             }
             if let (true, ExprKind::Name(caller_var)) = (p.params[index].by_ref, &a.value.kind) {
                 if self.lendable(caller_var, args) {
@@ -1080,6 +1080,7 @@ impl Interp<'_, '_> {
                 Operand::Value(v) => match &a.value.kind {
                     // A number keeps its type in a Variant parameter ([MS-VBAL] 5.3.1.11).
                     _ if matches!(v, Value::Number(_)) => {
+                        self.note_long_long_arg(index, &a.value, &v);
                         match self.value_type(&a.value, &v) {
                             Declared::Double => {}
                             ty => types.push((index, ty)),
@@ -1087,7 +1088,6 @@ impl Interp<'_, '_> {
                         Var::Value(v)
                     }
                     ExprKind::Name(n) => self.lookup(n).unwrap_or(Var::Value(v)),
-                        self.note_long_long_arg(index, &a.value, &v);
                     _ => self.array_of_call(&a.value, &v).unwrap_or_else(|| array_var(v, self.module.base)),
                 },
                 areas @ Operand::Areas(_) => array_var(ctx.deref(areas), self.module.base),
@@ -1118,6 +1118,9 @@ impl Interp<'_, '_> {
                 self.set_var(&caller_var, slot.var().clone(), span)?;
                 // A number given back through a ByRef Variant keeps its type (a Date, an Integer …).
                 self.with_slot(&caller_var, |s| s.set_holds(slot.holds));
+                if let Some(k) = slot.exact() {
+                    self.with_slot(&caller_var, |s| s.set_exact(k));
+                }
             }
         }
         for (index, (array, at)) in items_back {
@@ -1125,11 +1128,9 @@ impl Interp<'_, '_> {
                 self.give_back_item(&array, &at, slot.var().clone(), slot.holds == Declared::Date, span)?;
             }
         }
-                if let Some(k) = slot.exact() {
-                    self.with_slot(&caller_var, |s| s.set_exact(k));
-                }
         // A Variant Function assigned a Date returns a Date, assigned an Integer an Integer.
         self.gave.set(frame.vars.get(&p.name).map_or(Declared::Variant, |s| s.holds));
+        self.returning_long_long(frame.vars.get(&p.name).and_then(|s| s.exact()));
         Ok((result, frame))
     }
 
@@ -1137,7 +1138,6 @@ impl Interp<'_, '_> {
     /// parameter rather than copied: [MS-VBAL] 5.3.1.11 passes a reference to the variable,
     /// so the callee's writes are the caller's, and a call costs the same whatever the
     /// array's size (a copy per call made a sort that calls per item cubic). Only a local of
-        self.returning_long_long(frame.vars.get(&p.name).and_then(|s| s.exact()));
     /// the running procedure, named once among the arguments, is lent: no other code can
     /// reach it while the call runs.
     fn lendable(&self, caller_var: &Rc<str>, args: &[Arg]) -> bool {
@@ -1292,6 +1292,7 @@ impl Interp<'_, '_> {
             // A Variant parameter given a Date holds a Date, given an Integer an Integer
             // ([MS-VBAL] 5.3.1.11: the argument's value is bound as it is, its value type with it).
             slot.set_holds(types.iter().find(|(j, _)| *j == i).map_or(Declared::Variant, |&(_, ty)| ty));
+            self.long_long_arg(i, &mut slot);
             self.declare(slot);
         }
         if p.kind == ProcKind::Function {
@@ -1299,7 +1300,6 @@ impl Interp<'_, '_> {
             self.declare(Slot::new(p.name.clone(), var, p.ty.clone()));
         }
         match self.block(&p.body)? {
-            self.long_long_arg(i, &mut slot);
             Flow::GoTo(label) => Err(self.fault(format!("GoTo {label}: no such label"))),
             Flow::Return => Err(self.fault("Return without GoSub")),
             Flow::Resume(_) => Err(self.fault("Resume without an error")),
@@ -1923,6 +1923,12 @@ impl Interp<'_, '_> {
                     }
                     other => other,
                 };
+                // A LongLong past 2^53 keeps its integer ([MS-VBAL] 5.6.9.3, `longlong.rs`).
+                if let Var::Value(v @ Value::Number(_)) = &var {
+                    if self.assign_long_long(name, value, v, held) {
+                        return Ok(());
+                    }
+                }
                 self.set_var_holding(name, var, held, span)
             }
             Target::Element(name, index) => {
@@ -1988,8 +1994,11 @@ impl Interp<'_, '_> {
                     // VBA's Print leaves room for a sign before a number and a space after it;
                     // a Date is its text ("Print # statement"); a Single its seven digits.
                     let v = self.as_single(e, &v).map_or(v, Value::Number);
+                    // A LongLong shows its every digit (`longlong.rs`).
+                    let long_long = self.printed_long_long(e, &v);
                     match (self.as_date(e, &v), &v) {
                         (Some(date), _) => line.push_str(&super::value::date_text(date)),
+                        (None, _) if long_long.is_some() => line.push_str(&long_long.unwrap_or_default()),
                         (None, Value::Number(n)) if *n >= 0.0 => line.push_str(&format!(" {} ", print_text(&v))),
                         (None, Value::Number(_)) => line.push_str(&format!("{} ", print_text(&v))),
                         // An error value prints as `Print #` writes it: `Error 2042`.
@@ -2042,12 +2051,6 @@ impl Interp<'_, '_> {
             (Some(sink), _) => (sink.0)(printed),
             (None, Printed::Line(t)) => self.out.borrow_mut().printed.push(t.to_string()),
             (None, Printed::Message(t)) => self.out.borrow_mut().messages.push(t.to_string()),
-                // A LongLong past 2^53 keeps its integer ([MS-VBAL] 5.6.9.3, `longlong.rs`).
-                if let Var::Value(v @ Value::Number(_)) = &var {
-                    if self.assign_long_long(name, value, v, held) {
-                        return Ok(());
-                    }
-                }
         }
     }
 
@@ -2114,11 +2117,8 @@ impl Interp<'_, '_> {
         from: &Expr,
         to: &Expr,
         step: Option<&Expr>,
-                    // A LongLong shows its every digit (`longlong.rs`).
-                    let long_long = self.printed_long_long(e, &v);
         body: &Block,
         span: Span,
-                        (None, _) if long_long.is_some() => line.push_str(&long_long.unwrap_or_default()),
     ) -> Run<Flow> {
         let start = self.number(from, "the For start")?;
         let end = self.number(to, "the For end")?;

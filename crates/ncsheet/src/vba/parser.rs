@@ -1738,6 +1738,10 @@ fn radix_literal(text: &str) -> Option<f64> {
         _ => (body, 8),
     };
     let n = u64::from_str_radix(digits, radix).ok()?;
+    if suffix == Some('^') {
+        // A LongLong's 64 bits, the top one its sign ([MS-VBAL] 3.3.2).
+        return Some(n as i64 as f64);
+    }
     let integer = match suffix {
         Some('%') => true,
         Some(_) => false,
@@ -1747,10 +1751,6 @@ fn radix_literal(text: &str) -> Option<f64> {
         (n <= 0xFFFF).then_some(n as u16 as i16 as f64)
     } else {
         (n <= 0xFFFF_FFFF).then_some(n as u32 as i32 as f64)
-    }
-    if suffix == Some('^') {
-        // A LongLong's 64 bits, the top one its sign ([MS-VBAL] 3.3.2).
-        return Some(n as i64 as f64);
     }
 }
 

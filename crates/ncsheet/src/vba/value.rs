@@ -186,6 +186,9 @@ pub struct Slot {
     /// A number given at each change of what it holds, never given twice ([`next_write`]):
     /// `s = s & f(x)` appends in place when it is the same after `f(x)` ran (`append.rs`).
     written: u64,
+    /// The LongLong the variable holds, where its double is not exact (past 2^53,
+    /// `longlong.rs`); forgotten at any other change of what it holds.
+    exact: Option<i64>,
 }
 
 /// A number no earlier change of a variable was given.
@@ -265,9 +268,6 @@ impl GrowingItem {
         if let Some(Var::Array(array)) = self.text.shown.take() {
             *self.array.get_mut() = Some(array);
         }
-    /// The LongLong the variable holds, where its double is not exact (past 2^53,
-    /// `longlong.rs`); forgotten at any other change of what it holds.
-    exact: Option<i64>,
     }
 }
 
@@ -291,6 +291,7 @@ impl Slot {
     /// What the variable holds, to change in place (a growing text becomes a value first).
     pub fn var_mut(&mut self) -> &mut Var {
         self.written = next_write();
+        self.exact = None;
         match &mut self.held {
             Held::Growing(g) => {
                 let var = g.shown.take().unwrap_or_else(|| Var::Value(Value::Text(Rc::from(g.text.as_str()))));
@@ -370,7 +371,6 @@ impl Slot {
             Held::GrowingItem(g) => Some((g.k, Rc::clone(&g.text.text))),
             _ => None,
         }
-        self.exact = None;
     }
 
     /// Appends `piece` of `units` UTF-16 units to the text [`Slot::text_units`] made ready.
@@ -411,6 +411,16 @@ impl Slot {
         Rc::make_mut(&mut g.text).replace_range(from..from + n, &with[..n]);
         self.written = next_write();
         true
+    }
+
+    /// The LongLong the variable holds exactly, where its double is not exact.
+    pub(super) fn exact(&self) -> Option<i64> {
+        self.exact
+    }
+
+    /// Notes the LongLong `k` the variable now holds as its nearest double.
+    pub(super) fn set_exact(&mut self, k: i64) {
+        self.exact = Some(k);
     }
 
     /// The number of the last change of what the variable holds (see `written`).
@@ -492,16 +502,6 @@ impl Slot {
 }
 
 /// The variables of a procedure's call or of the module, in the order declared, each found
-    /// The LongLong the variable holds exactly, where its double is not exact.
-    pub(super) fn exact(&self) -> Option<i64> {
-        self.exact
-    }
-
-    /// Notes the LongLong `k` the variable now holds as its nearest double.
-    pub(super) fn set_exact(&mut self, k: i64) {
-        self.exact = Some(k);
-    }
-
 /// by name in one step: 50,000 `Dim`s in one Sub declare in time proportional to their number.
 #[derive(Clone, Debug, Default)]
 pub struct Slots {

@@ -458,15 +458,6 @@ fn date_shown(ctx: &Ctx, args: &[Expr], values: &[Value]) -> Option<Value> {
     Some(Value::text(text))
 }
 
-/// [`lift_vba`] on values already evaluated.
-fn lift_vba_values(
-    ctx: &mut Ctx,
-    values: Vec<Value>,
-    name: &str,
-    passes: Passes,
-    f: &dyn Fn(&[Value]) -> XlResult<Value>,
-) -> XlResult<Value> {
-    if let Some(result) = null_argument(ctx, name, &values, passes) {
 /// The first argument's every digit when a macro holds it as a LongLong past what a double
 /// shows exactly and no format is given (CStr, Str, Format: "LongLong data type", a 64-bit
 /// integer), a space before it for its sign's room where `sign_room` ("Str function");
@@ -479,6 +470,15 @@ fn long_long_shown(ctx: &Ctx, args: &[Expr], values: &[Value], sign_room: bool) 
     Some(Value::text(if sign_room && !text.starts_with('-') { format!(" {text}") } else { text }))
 }
 
+/// [`lift_vba`] on values already evaluated.
+fn lift_vba_values(
+    ctx: &mut Ctx,
+    values: Vec<Value>,
+    name: &str,
+    passes: Passes,
+    f: &dyn Fn(&[Value]) -> XlResult<Value>,
+) -> XlResult<Value> {
+    if let Some(result) = null_argument(ctx, name, &values, passes) {
         return result;
     }
     let lifted = lift_values(&values, f);
@@ -662,7 +662,7 @@ fn shown_values(ctx: &mut Ctx, args: &[Expr]) -> Vec<Value> {
 
 fn cstr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let values = shown_values(ctx, args);
-    if let Some(shown) = date_shown(ctx, args, &values).or_else(|| long_long_shown(ctx, args, &values, true)) {
+    if let Some(shown) = date_shown(ctx, args, &values).or_else(|| long_long_shown(ctx, args, &values, false)) {
         return Ok(shown);
     }
     if let Some(text) = strings::error_text(&values) {
@@ -674,7 +674,7 @@ fn cstr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// `Str(number)`; a Date shows as CStr shows it, without the sign's space.
 fn str_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let values = shown_values(ctx, args);
-    if let Some(shown) = date_shown(ctx, args, &values).or_else(|| long_long_shown(ctx, args, &values, false)) {
+    if let Some(shown) = date_shown(ctx, args, &values).or_else(|| long_long_shown(ctx, args, &values, true)) {
         return Ok(shown);
     }
     lift_vba_values(ctx, values, "Str", NO_NULL, &|v| {
