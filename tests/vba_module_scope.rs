@@ -147,3 +147,25 @@ fn a_fixed_length_reads_the_constant_of_the_module_that_sees_it() {
     let third = module("Third", "Function Width()\n    Dim t As String * W\n    Width = Len(t)\nEnd Function\n");
     assert_eq!(printed(main, &[("Second", &second), ("Third", &third)]), [" 3  5 "]);
 }
+
+// A module-level name is found in a bounded number of hash probes however many modules the
+// project has (the macro hot path): 40 modules declare a Private Rate of their own and Lib
+// the Public one Module1's loop reads ([MS-VBAL] 5.6.10: none of the 40 is in Module1's
+// tiers), so 100,000 reads cost probes in proportion to the reads, not to the modules.
+#[test]
+fn another_modules_public_name_is_found_without_a_look_at_every_module() {
+    let lib = module("Lib", "Public Rate As Double\nSub Init()\n    Rate = 0.5\nEnd Sub\n");
+    let privates: Vec<(String, String)> =
+        (0..40).map(|i| (format!("M{i}"), module(&format!("M{i}"), "Private Rate As Double\n"))).collect();
+    let mut modules: Vec<(&str, &str)> = privates.iter().map(|(n, s)| (n.as_str(), s.as_str())).collect();
+    modules.push(("Lib", &lib));
+    let main = "Sub Main()\n    Dim i As Long, s As Double\n    Lib.Init\n\
+                \x20   For i = 1 To 100000\n        s = s + Rate\n    Next i\n    Debug.Print s\nEnd Sub\n";
+    let before = vba::work_done();
+    let printed = printed(main, &modules);
+    let probes = vba::work_done().name_probes - before.name_probes;
+    assert_eq!(printed, [" 50000 "]);
+    // About 21 a pass of the loop (i, s and Rate, read and written); a look at each of the 40
+    // modules for Rate would add 40 or more.
+    assert!(probes < 30 * 100_000, "{probes} probes for 100,000 reads");
+}

@@ -192,6 +192,13 @@
 //! Class modules (the project's, and `.cls` files given with `run --module`): `Dim x As New
 //! Class1` or `Set x = New Class1` makes an object with its own module-level variables;
 //! its public Subs, Functions, `Property Get|Let|Set` and `Public` variables are its members
+//! Standard modules of one project (the workbook's, and `.bas` files given with `run
+//! --module`) each have their own module-level variables and constants, as in VBA: the same
+//! `Private Const NAME` or `Dim counter` in two modules are two. A name is, in [MS-VBAL]
+//! 5.6.10's order, the procedure's, else its module's, else the `Public` one of another
+//! module; one `Public` in two other modules is VBA's compile error "Ambiguous name
+//! detected" where it is used, and `Module2.Rate` names Module2's whatever the others hold.
+//!
 //! (`x.Area`, `x.Width = 3`, `Set x.Owner = o`), `Me` is the object inside them, and `Set`
 //! shares one object between variables, Collections and Dictionaries. `Class_Initialize` runs
 //! when an object is made, `Class_Terminate` when the last reference goes: a variable set to

@@ -119,7 +119,7 @@ pub fn parse_module_with_files(
     let type_names = items.iter().filter(|i| i.as_rule() == Rule::type_def);
     *b.types.borrow_mut() = type_names.map(|i| name_of(&find(&kids(i), Rule::ident).expect("type name"))).collect();
     let mut out = Module { base: 0, classes: super::classes::class_defs(parts), ..Module::default() };
-    b.declare_project_globals(&items)?;
+    b.declare_project_globals(&items);
     for item in items {
         match item.as_rule() {
             Rule::type_def => {
@@ -351,8 +351,6 @@ fn enum_names(pair: &Pair<Rule>) -> (Rc<str>, Vec<Rc<str>>) {
 pub(super) struct Owner {
     pub(super) part: usize,
     pub(super) public: bool,
-    /// A constant's declaration text (`ACCURACY = 1E-9`), for a variable None.
-    pub(super) constant: Option<Rc<str>>,
 }
 
 /// A module-level declaration other modules see: `Public` or `Global` variables and
@@ -478,44 +476,38 @@ impl<'s> Build<'s> {
     /// `Public Const PI` or an Enum member of a module after it ("Understanding scope and
     /// visibility": a Public module-level name is available to all procedures in all modules).
     /// A class module's variables are its objects' own, declared where the class is built.
-    fn declare_project_globals(&self, items: &[Pair<Rule>]) -> Res<()> {
+    fn declare_project_globals(&self, items: &[Pair<Rule>]) {
         for item in items {
             let part = self.part_at(start(item));
-            let names: Vec<(Rc<str>, Option<Rc<str>>)> = match item.as_rule() {
-                Rule::enum_def => enum_names(item).1.into_iter().map(|m| (m, None)).collect(),
-                Rule::dim_stmt | Rule::const_stmt if !self.parts.get(part).is_some_and(|p| p.class) => {
-                    let variables = all(&kids(item), Rule::dim_var).into_iter().map(|n| (n, None));
-                    let constants = all(&kids(item), Rule::const_item).into_iter().map(|n| (n.clone(), Some(n)));
-                    let text = |c: Option<Pair<Rule>>| c.map(|c| Rc::from(c.as_str().trim()));
-                    let named = |(n, c): (Pair<Rule>, _)| decl_name(&kids(&n)).map(|name| (name, text(c)));
-                    variables.chain(constants).filter_map(named).collect()
+            let names: Vec<Rc<str>> = match item.as_rule() {
+                Rule::enum_def => enum_names(item).1,
+                Rule::dim_stmt | Rule::const_stmt if self.standard(part) => {
+                    let variables = all(&kids(item), Rule::dim_var).into_iter();
+                    let constants = all(&kids(item), Rule::const_item).into_iter();
+                    variables.chain(constants).filter_map(|n| decl_name(&kids(&n))).collect()
                 }
                 _ => continue,
             };
-            for (name, constant) in names {
-                let owner = Owner { part, public: declared_public(item), constant };
-                self.declare_module_name(&name, owner).map_err(|why| self.error_at(item, why))?;
+            for name in names {
+                self.declare_module_name(&name, Owner { part, public: declared_public(item) });
             }
         }
-        Ok(())
     }
 
     /// Notes that module `owner.part` declares `name` at its level. Each module has its own
     /// ("Understanding scope and visibility"; the interpreter keeps a table per module), so
     /// the same name in two modules is two variables, not a clash.
-    fn declare_module_name(&self, name: &str, owner: Owner) -> Result<(), String> {
+    fn declare_module_name(&self, name: &str, owner: Owner) {
         let mut globals = self.globals.borrow_mut();
         let owners = globals.entry(name.to_ascii_lowercase()).or_default();
         if !owners.iter().any(|o| o.part == owner.part) {
             owners.push(owner);
         }
-        Ok(())
     }
 
     /// A module-level name declared in the module being built (a class module's field too).
     fn declare_own_module_name(&self, name: &str) {
-        let owner = Owner { part: self.current_part.get(), public: false, constant: None };
-        let _ = self.declare_module_name(name, owner);
+        self.declare_module_name(name, Owner { part: self.current_part.get(), public: false });
     }
 
     /// The names standard modules declare Public, each with the first module declaring it,
