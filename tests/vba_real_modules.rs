@@ -55,3 +55,15 @@ fn cstr_of_an_error_value_is_the_word_error_and_its_number() {
                \x20   Debug.Print TypeName(v) & \"|\" & v & \"|\" & CStr(CVErr(xlErrDiv0))\nEnd Sub\n";
     assert_eq!(run(src).unwrap(), ["String|Error 2042|Error 2007"]);
 }
+
+// "StrConv function": vbFromUnicode (128) converts "from Unicode to the default code page of the
+// system", Windows-1252 for a Western Excel (é is byte 233 there, as Python's
+// 'é'.encode('cp1252') gives; € is 128), into a Byte array from 0; vbUnicode (64) converts such
+// bytes back. A module's StrToBytes reads a text's digits byte by byte through it.
+#[test]
+fn strconv_from_unicode_gives_the_ansi_bytes_from_zero_and_unicode_reads_them_back() {
+    let src = "Option Base 1\nSub Main()\n    Dim b() As Byte\n    b = StrConv(\"Aé€\", vbFromUnicode)\n\
+               \x20   Debug.Print LBound(b); UBound(b); b(0); b(1); b(2)\n\
+               \x20   Debug.Print StrConv(b, vbUnicode) = \"Aé€\"\nEnd Sub\n";
+    assert_eq!(run(src).unwrap(), [" 0  2  65  233  128 ", "True"]);
+}

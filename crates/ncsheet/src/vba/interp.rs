@@ -440,18 +440,18 @@ impl Interp<'_, '_> {
     /// Runs every module's module-level declarations, each into its module's own table.
     fn declare_module_level(&self) -> Run<()> {
         for g in &self.module.globals {
+            self.declaring.set(self.module.part_at_line(g.span.line));
             self.exec(g)?;
         }
-        let proc = &self.module.procs[entry];
-        let mut bound = Vec::new();
-            self.declaring.set(self.module.part_at_line(g.span.line));
-        for (name, text) in &self.options.args {
-            let Some(i) = proc.params.iter().position(|p| p.name.eq_ignore_ascii_case(name)) else {
         Ok(())
     }
 
     fn start(&self, entry: usize) -> Run<()> {
         self.declare_module_level()?;
+        let proc = &self.module.procs[entry];
+        let mut bound = Vec::new();
+        for (name, text) in &self.options.args {
+            let Some(i) = proc.params.iter().position(|p| p.name.eq_ignore_ascii_case(name)) else {
                 let names: Vec<&str> = proc.params.iter().map(|p| &*p.name).collect();
                 return Err(self.plain_fault(
                     ErrorKind::Usage,
@@ -683,14 +683,14 @@ impl Interp<'_, '_> {
         }
     }
 
-    fn lookup_slot<T>(&self, name: &str, f: impl FnOnce(&Slot) -> T) -> Option<T> {
-        let frames = self.frames.borrow();
-        let local = frames.last().and_then(|fr| fr.vars.get(name));
-        if let Some(s) = local {
     /// The slot `name` means where the running procedure is, by [MS-VBAL] 5.6.10 (simple
     /// name expressions): its local, else its object's variable (a class module's), else
     /// its own module's module-level one, else the one another module declares Public.
     /// `Module2.Rate` (the parser's qualified name) is Module2's.
+    fn lookup_slot<T>(&self, name: &str, f: impl FnOnce(&Slot) -> T) -> Option<T> {
+        let frames = self.frames.borrow();
+        let local = frames.last().and_then(|fr| fr.vars.get(name));
+        if let Some(s) = local {
             return Some(f(s));
         }
         if let Some(me) = frames.last().and_then(|fr| fr.me.as_ref()) {
@@ -752,11 +752,11 @@ impl Interp<'_, '_> {
             return Some(f(s));
         }
         let me = frames.last().and_then(|fr| fr.me.clone());
+        let own = self.running_part(&frames);
         drop(frames);
         if let Some(me) = me {
             if let Some(s) = me.0.fields.borrow_mut().get_mut(name) {
                 return Some(f(s));
-        let own = self.running_part(&frames);
             }
         }
         let mut globals = self.globals.borrow_mut();

@@ -401,7 +401,8 @@ pub(super) fn library_array(e: &Expr, v: &Value, base: i64) -> Option<Var> {
     let ExprKind::Call(id, _) = &e.kind else { return None };
     let Value::Array(data) = v else { return None };
     let lower = match crate::eval::functions::spec(*id).name {
-        "VBA.SPLIT" => 0,
+        // "StrConv function": vbFromUnicode's Byte array starts at 0 as a String's bytes do.
+        "VBA.SPLIT" | "VBA.STRCONV" => 0,
         "VBA.ARRAY" => base,
         name if name.starts_with("VBA.") => return None,
         // A worksheet function's one-row result (`Application.Transpose(column)`) comes to

@@ -50,8 +50,9 @@
 //! As VBA's reference has them: `Split` gives a zero-based array (none for `""`), `InStr`,
 //! `InStrRev`, `StrComp` and `Split` take a compare argument (`vbTextCompare` ignores case;
 //! left out or `vbUseCompareOption`, the module's Option Compare),
-//! `StrConv` converts with `vbUpperCase`, `vbLowerCase` and `vbProperCase` (not the byte and
-//! East Asian conversions), `FormatNumber` uses English (United States) defaults (two
+//! `StrConv` converts with `vbUpperCase`, `vbLowerCase`, `vbProperCase`, and `vbFromUnicode` /
+//! `vbUnicode` to and from a Byte array in Windows-1252 (not the East Asian conversions),
+//! `FormatNumber` uses English (United States) defaults (two
 //! decimals, `1,234.50`), `VarType` answers a typed variable's declared type (`vbInteger` 2,
 //! `vbLong` 3 …; 8192 + the items' type for an array), `IsMissing` is True for a left-out
 //! `Optional` Variant without a default, `CVErr` takes Excel's `xlErr…` numbers (the values a
@@ -189,9 +190,6 @@
 //! "Range", "Nothing"), `IsObject` is True for objects and Nothing, `VarType` of an object is
 //! 9 (`vbObject`). `New Collection` is an expression: an argument too (`Fill New Collection`).
 //!
-//! Class modules (the project's, and `.cls` files given with `run --module`): `Dim x As New
-//! Class1` or `Set x = New Class1` makes an object with its own module-level variables;
-//! its public Subs, Functions, `Property Get|Let|Set` and `Public` variables are its members
 //! Standard modules of one project (the workbook's, and `.bas` files given with `run
 //! --module`) each have their own module-level variables and constants, as in VBA: the same
 //! `Private Const NAME` or `Dim counter` in two modules are two. A name is, in [MS-VBAL]
@@ -199,6 +197,9 @@
 //! module; one `Public` in two other modules is VBA's compile error "Ambiguous name
 //! detected" where it is used, and `Module2.Rate` names Module2's whatever the others hold.
 //!
+//! Class modules (the project's, and `.cls` files given with `run --module`): `Dim x As New
+//! Class1` or `Set x = New Class1` makes an object with its own module-level variables;
+//! its public Subs, Functions, `Property Get|Let|Set` and `Public` variables are its members
 //! (`x.Area`, `x.Width = 3`, `Set x.Owner = o`), `Me` is the object inside them, and `Set`
 //! shares one object between variables, Collections and Dictionaries. `Class_Initialize` runs
 //! when an object is made, `Class_Terminate` when the last reference goes: a variable set to

@@ -888,8 +888,8 @@ impl<'s> Build<'s> {
             let name = decl_name(&k).expect("constant name");
             let value = self.expr(find(&k, Rule::vexpr).expect("constant value"))?;
             // A constant that is no whole number hides one of its name declared before.
-            match self.whole_value(&value) {
             let key = (self.current_part.get(), name.to_ascii_lowercase());
+            match self.whole_value(&value) {
                 Some(n) => self.whole_consts.borrow_mut().insert(key, n),
                 None => self.whole_consts.borrow_mut().remove(&key),
             };
@@ -975,10 +975,10 @@ impl<'s> Build<'s> {
                 Some(_) => {}
             }
         }
-        self.check_path(&pair, &path)?;
         if let Some(target) = self.qualified_target(&path) {
             return Ok(target);
         }
+        self.check_path(&pair, &path)?;
         let end = pair.as_span().end();
         match self.node(Node::Path(path), start(&pair), end).kind {
             ExprKind::Host(id) => Ok(Target::Node(id)),
@@ -1572,7 +1572,6 @@ impl Build<'_> {
         (1.0..=65526.0).contains(&n).then_some(n as u32).filter(|_| n.fract() == 0.0)
     }
 
-    /// The value of a constant expression of whole numbers: a literal, a constant declared
     /// The whole value of the constant `name` as the module being built sees it: its own
     /// (the procedure's, else the module's), else the one Public in one other module
     /// ([MS-VBAL] 5.6.10); `Module2.W`, qualified, is Module2's.
@@ -1594,6 +1593,7 @@ impl Build<'_> {
         }
     }
 
+    /// The value of a constant expression of whole numbers: a literal, a constant declared
     /// before with such a value, or `+ - *` and parentheses of them; `None` for any other.
     fn whole_value(&self, e: &Expr) -> Option<f64> {
         let n = match &e.kind {

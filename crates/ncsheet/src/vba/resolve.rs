@@ -123,6 +123,8 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "vbuppercase" => number(1.0),
         "vblowercase" => number(2.0),
         "vbpropercase" => number(3.0),
+        "vbunicode" => number(64.0),
+        "vbfromunicode" => number(128.0),
         "vbtrue" => number(-1.0),
         "vbfalse" => number(0.0),
         "vbusedefault" => number(-2.0),
@@ -788,13 +790,13 @@ impl Build<'_> {
         let span = ByteSpan { start: at as u32, end: end as u32 };
         let lower = lower_bare(&link.name);
         let is_var = self.is_var(&link.name);
+        if is_var {
+            self.unambiguous(at, &link.name)?;
+        }
         if lower == "createobject" && !is_var {
             if let Some(class) = created(&link) {
                 return Ok(self.node(Node::New { class: Made::Store(class), span: self.span(at) }, at, end));
             }
-        }
-        if is_var {
-            self.unambiguous(at, &link.name)?;
         }
         if self.files && !is_var && super::files::is_file_function(&lower, &link) {
             let path = Path { with: false, links: vec![link], span: self.span(at) };

@@ -202,7 +202,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         2,
         strings::str_conv,
         "VBA.STRCONV(text, conversion)",
-        "VBA StrConv: vbUpperCase (1), vbLowerCase (2), vbProperCase (3)",
+        "VBA StrConv: vbUpperCase (1), vbLowerCase (2), vbProperCase (3), vbUnicode (64), vbFromUnicode (128)",
     ),
     FnSpec::value("VBA.TAN", 1, 1, tan, "VBA.TAN(angle)", "VBA Tan: tangent of an angle in radians"),
     FnSpec::value(

@@ -197,11 +197,19 @@ pub fn join(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 /// `StrConv(string, conversion)`: vbUpperCase (1), vbLowerCase (2), vbProperCase (3: the
-/// first letter of every word a capital, the rest small). The byte and East Asian
-/// conversions (4 and up) have no meaning for ncsheet's Unicode text: `#VALUE!`.
+/// first letter of every word a capital, the rest small), vbFromUnicode (128: the text's bytes
+/// in the system's code page, Windows-1252 for a Western Excel, as a Byte array from 0) and
+/// vbUnicode (64: such bytes back to text). The East Asian conversions have no meaning for
+/// ncsheet's Unicode text: `#VALUE!`.
 pub fn str_conv(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    let text = text_arg(ctx, "StrConv", args, 0)?;
     let conversion = whole_arg(ctx, "StrConv", args, 1, 0.0)?;
+    if conversion == VB_UNICODE {
+        return text_of_ansi_bytes(ctx, args);
+    }
+    let text = text_arg(ctx, "StrConv", args, 0)?;
+    if conversion == VB_FROM_UNICODE {
+        return Ok(Value::from(Array::row(text.chars().map(|c| Value::Number(f64::from(ansi_byte(c)))).collect())));
+    }
     Ok(Value::text(match conversion {
         1.0 => text.to_uppercase(),
         2.0 => text.to_lowercase(),
@@ -212,6 +220,42 @@ pub fn str_conv(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
             )
         }
     }))
+}
+
+/// StrConv's vbUnicode and vbFromUnicode ("StrConv function": 64 and 128).
+const VB_UNICODE: f64 = 64.0;
+const VB_FROM_UNICODE: f64 = 128.0;
+
+/// A character's byte in Windows-1252, "?" (63) for one it has not, as Windows converts it
+/// (Asc reads the same code page).
+fn ansi_byte(c: char) -> u8 {
+    let mut unit = [0u8; 4];
+    let (bytes, _, unmappable) = encoding_rs::WINDOWS_1252.encode(c.encode_utf8(&mut unit));
+    if unmappable {
+        b'?'
+    } else {
+        bytes[0]
+    }
+}
+
+/// `StrConv(bytes, vbUnicode)`: a Byte array (0 to 255 each) read as Windows-1252 text.
+fn text_of_ansi_bytes(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
+    let bytes = match ctx.eval(&args[0]) {
+        Value::Array(a) => a.data.iter().map(|v| to_number(v, dates)).collect::<XlResult<Vec<f64>>>()?,
+        _ => {
+            return Err(ctx
+                .explain(XlError::Value, "StrConv(…, vbUnicode) converts a Byte array (StrConv(s, vbFromUnicode)'s)"))
+        }
+    };
+    if bytes.iter().any(|b| !(0.0..=255.0).contains(b) || b.fract() != 0.0) {
+        return Err(
+            ctx.explain(XlError::Value, "StrConv(…, vbUnicode): the array holds a number that is no byte (0 to 255)")
+        );
+    }
+    let bytes: Vec<u8> = bytes.iter().map(|&b| b as u8).collect();
+    let (text, _) = encoding_rs::WINDOWS_1252.decode_without_bom_handling(&bytes);
+    Ok(Value::text(text.into_owned()))
 }
 
 fn proper_case(text: &str) -> String {
