@@ -278,6 +278,26 @@ static LOCALES: [&LocaleData; 8] = [
 
 /// A locale: a handle on static data, cheap to copy, with the year of the workbook's clock
 /// when its settings fix one ([`Locale::at_year`]), which a date typed without a year falls in.
+/// What localizing a number shown under a format code needs to know of the code
+/// ([`Locale::reading_of`]).
+#[derive(Default)]
+pub struct CodeReading {
+    /// `None` for a number's code, or in the canonical locale (nothing to change but marks).
+    date: Option<DateReading>,
+}
+
+/// A date or time code's parts that are shown in words or marks of a locale.
+struct DateReading {
+    /// Whose month and weekday names: the locale's, or the one the code's `[$-LCID]` names.
+    names: Locale,
+    /// The code's longest month is `mmm` (English `May` is then the short name).
+    short_may: bool,
+    /// `AM/PM` in either case.
+    meridiem: bool,
+    /// Fractions of a second (`ss.0`).
+    fraction_of_seconds: bool,
+}
+
 #[derive(Clone, Copy)]
 pub struct Locale {
     data: &'static LocaleData,
@@ -835,26 +855,7 @@ impl Locale {
     pub fn localize_names_for(self, code: &str, shown: &str) -> String {
         // A code tagged with a language (`[$-409]mmmm d, yyyy`) names months in that one.
         let names = tagged_language(code).unwrap_or(self);
-        if names.data == &EN_US || !shown.chars().any(char::is_alphabetic) {
-            return shown.to_string();
-        }
-        let words = |names: &'static str| names.split(' ').collect::<Vec<_>>();
-        let short_may = longest_run(code, 'm') == 3;
-        let (months, days) = (words(names.months), words(names.days));
-        let (months_short, days_short) = (words(names.months_short), words(names.days_short));
-        let own = |english: &str| -> Option<&'static str> {
-            let at = |list: &str| words_position(list, english);
-            if english == "May" && short_may {
-                return months_short.get(4).copied();
-            }
-            at(EN_US.months)
-                .and_then(|i| months.get(i))
-                .or_else(|| at(EN_US.days).and_then(|i| days.get(i)))
-                .or_else(|| at(EN_US.months_short).and_then(|i| months_short.get(i)))
-                .or_else(|| at(EN_US.days_short).and_then(|i| days_short.get(i)))
-                .copied()
-        };
-        replace_words(shown, own)
+        names_in(names, longest_run(code, 'm') == 3, shown)
     }
 
     /// A format code with this locale's date letters (de-DE `TT.MM.JJJJ`) in the canonical
@@ -908,21 +909,46 @@ impl Locale {
     /// What a canonical format `code` showed (`shown`) with this locale's marks: numbers
     /// localized, dates left as their code spells them.
     pub fn localize_formatted(self, code: &str, shown: &str) -> String {
+        self.localize_read(&self.reading_of(code), shown)
+    }
+
+    /// What [`Locale::localize_read`] needs to know of the code `code`, read once for all the
+    /// numbers shown under it (TEXT over an array): read per number, the code was scanned
+    /// again for every item.
+    pub fn reading_of(self, code: &str) -> CodeReading {
+        if self.is_canonical() || !is_date_code(code) {
+            return CodeReading::default();
+        }
+        let lower = code.to_ascii_lowercase();
+        CodeReading {
+            date: Some(DateReading {
+                names: tagged_language(code).unwrap_or(self),
+                short_may: longest_run(code, 'm') == 3,
+                meridiem: lower.contains("am/pm"),
+                fraction_of_seconds: lower.contains("s.0"),
+            }),
+        }
+    }
+
+    /// What a canonical format code, read by [`Locale::reading_of`], showed (`shown`) with
+    /// this locale's marks: numbers localized, dates left as their code spells them.
+    pub fn localize_read(self, reading: &CodeReading, shown: &str) -> String {
         if self.is_canonical() {
             return shown.to_string();
         }
-        if is_date_code(code) {
-            let named = month_letters(&self.localize_names_for(code, shown));
-            let named = self.localize_meridiem(code, &named);
-            return literal_marks(&self.localize_fraction_of_seconds(code, &named));
+        if let Some(date) = &reading.date {
+            let named = month_letters(&names_in(date.names, date.short_may, shown));
+            let named = if date.meridiem { self.localize_meridiem(&named) } else { named };
+            let named = if date.fraction_of_seconds { self.localize_fraction_of_seconds(&named) } else { named };
+            return literal_marks(&named);
         }
         literal_marks(&self.localize_shown(shown))
     }
 
-    /// A time that `AM/PM` in `code` showed (`02:24 PM`) with this locale's words for before
+    /// A time that `AM/PM` in its code showed (`02:24 PM`) with this locale's words for before
     /// and after noon (de-DE `02:24 nachm.`), either case in the code.
-    fn localize_meridiem(self, code: &str, shown: &str) -> String {
-        if !code.to_ascii_uppercase().contains("AM/PM") || self.am_pm == EN_US.am_pm {
+    fn localize_meridiem(self, shown: &str) -> String {
+        if self.am_pm == EN_US.am_pm {
             return shown.to_string();
         }
         replace_words(shown, |word| match word.to_ascii_uppercase().as_str() {
@@ -935,11 +961,7 @@ impl Locale {
     /// A time shown with fractions of a second (`ss.000`: `14:30:27.500`) with the locale's
     /// decimal mark (`14:30:27,500`), as LibreOffice set to the locale shows it: the first
     /// `.` between digits after the time's `:`.
-    fn localize_fraction_of_seconds(self, code: &str, shown: &str) -> String {
-        let lower = code.to_ascii_lowercase();
-        if !lower.contains("s.0") {
-            return shown.to_string();
-        }
+    fn localize_fraction_of_seconds(self, shown: &str) -> String {
         let chars: Vec<char> = shown.chars().collect();
         let digit = |i: usize| chars.get(i).is_some_and(char::is_ascii_digit);
         let Some(colon) = chars.iter().position(|&c| c == ':') else { return shown.to_string() };
@@ -1356,6 +1378,30 @@ fn rewrite_code_letters(code: &str, mut rewrite: impl FnMut(&[char], usize, &mut
 }
 
 /// What [`month_letter_code`]'s code showed, each marked month name as its first letter.
+/// `shown` with its English month and weekday names in the words of `names` (see
+/// [`Locale::localize_names_for`]); `short_may`: the code's longest month is `mmm`.
+fn names_in(names: Locale, short_may: bool, shown: &str) -> String {
+    if names.data == &EN_US || !shown.chars().any(char::is_alphabetic) {
+        return shown.to_string();
+    }
+    let words = |names: &'static str| names.split(' ').collect::<Vec<_>>();
+    let (months, days) = (words(names.months), words(names.days));
+    let (months_short, days_short) = (words(names.months_short), words(names.days_short));
+    let own = |english: &str| -> Option<&'static str> {
+        let at = |list: &str| words_position(list, english);
+        if english == "May" && short_may {
+            return months_short.get(4).copied();
+        }
+        at(EN_US.months)
+            .and_then(|i| months.get(i))
+            .or_else(|| at(EN_US.days).and_then(|i| days.get(i)))
+            .or_else(|| at(EN_US.months_short).and_then(|i| months_short.get(i)))
+            .or_else(|| at(EN_US.days_short).and_then(|i| days_short.get(i)))
+            .copied()
+    };
+    replace_words(shown, own)
+}
+
 fn month_letters(shown: &str) -> String {
     if !shown.contains(MONTH_LETTER_OPEN) {
         return shown.to_string();
@@ -1472,6 +1518,8 @@ fn longest_run(code: &str, letter: char) -> usize {
 
 /// Whether a format code shows a date or time (a d, m, y, h or s outside quotes and `[…]`).
 pub fn is_date_code(code: &str) -> bool {
+    #[cfg(test)]
+    DATE_CODE_SCANS.with(|c| c.set(c.get() + 1));
     let mut quoted = false;
     let mut bracket = false;
     let mut escaped = false;
@@ -1487,6 +1535,18 @@ pub fn is_date_code(code: &str) -> bool {
         }
     }
     false
+}
+
+#[cfg(test)]
+thread_local! {
+    static DATE_CODE_SCANS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+/// Format codes scanned for date letters on this thread so far ([`is_date_code`]): counted
+/// for tests, which bound a call's scans by it.
+#[cfg(test)]
+pub(crate) fn date_code_scans() -> u64 {
+    DATE_CODE_SCANS.with(|c| c.get())
 }
 
 #[cfg(test)]

@@ -66,6 +66,11 @@ impl Env for MapEnv {
         self.settings.next_random()
     }
 
+    /// The locale its settings give (en-US unless a test sets another).
+    fn locale(&self) -> super::Locale {
+        self.settings.locale
+    }
+
     fn value(&self, _: SheetId, pos: Pos) -> Value {
         self.cells.get(&(pos.row, pos.col)).cloned().unwrap_or_default()
     }

@@ -66,6 +66,45 @@ enum Cmp {
 struct Section {
     tokens: Vec<Tok>,
     condition: Option<(Cmp, f64)>,
+    /// How a number section shows its digits, worked out once when the code is read: worked
+    /// out per number, TEXT of a code of thousands of placeholders over an array scanned and
+    /// copied the code's placeholders again for every item. `None` for a date section.
+    shape: Option<Shape>,
+}
+
+/// What a number section is, and where its digits go.
+#[derive(Clone, Debug)]
+enum Shape {
+    /// `General`, with literals around it.
+    General,
+    /// No digit placeholder: literals, `@` or `%` alone.
+    Literal,
+    Fraction(FractionLayout),
+    /// A fraction whose fixed denominator is past [`MAX_FIXED_DENOMINATOR`].
+    FractionPastResolution,
+    Digits {
+        layout: Layout,
+        scientific: bool,
+    },
+}
+
+impl Shape {
+    fn of(tokens: &[Tok]) -> Shape {
+        if tokens.contains(&Tok::General) {
+            return Shape::General;
+        }
+        if !tokens.iter().any(|t| matches!(t, Tok::Digit(_))) {
+            return Shape::Literal;
+        }
+        match FractionLayout::of(tokens) {
+            Ok(Some(fraction)) => Shape::Fraction(fraction),
+            Err(DenominatorPastResolution) => Shape::FractionPastResolution,
+            Ok(None) => {
+                let scientific = tokens.iter().any(|t| matches!(t, Tok::Exp { .. }));
+                Shape::Digits { layout: layout(tokens), scientific }
+            }
+        }
+    }
 }
 
 impl Section {
@@ -81,6 +120,14 @@ impl Section {
 #[cfg(test)]
 thread_local! {
     static CODES_PARSED: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+    static SECTIONS_LAID_OUT: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+/// Number sections laid out on this thread so far (where a fraction's parts are, or the
+/// integer, decimal and exponent placeholders): counted for tests, as [`codes_parsed`].
+#[cfg(test)]
+pub(crate) fn sections_laid_out() -> u64 {
+    SECTIONS_LAID_OUT.with(|c| c.get())
 }
 
 /// Format codes parsed on this thread so far: tests bound a call's parses by this count (a
@@ -340,6 +387,8 @@ fn parse_section(text: &str, dialect: Dialect) -> XlResult<Section> {
     }
     if section.is_date() {
         settle_date_tokens(&mut section)?;
+    } else {
+        section.shape = Some(Shape::of(&section.tokens));
     }
     Ok(section)
 }
@@ -347,6 +396,7 @@ fn parse_section(text: &str, dialect: Dialect) -> XlResult<Section> {
 /// A fraction section (`# ?/?`, `# ??/??`, `?/8`, `0 ??/16`): where its parts are among
 /// the tokens. Without integer placeholders before the numerator the fraction is improper
 /// (`?/?` shows 1.25 as 5/4).
+#[derive(Clone, Debug)]
 struct FractionLayout {
     /// The integer part's placeholders, in order (empty: an improper fraction).
     int_places: Vec<char>,
@@ -359,6 +409,7 @@ struct FractionLayout {
     denominator: Denominator,
 }
 
+#[derive(Clone, Debug)]
 enum Denominator {
     /// At most this many digits (`??`: up to 99), the closest fraction chosen.
     Digits(Vec<char>),
@@ -378,6 +429,8 @@ struct DenominatorPastResolution;
 impl FractionLayout {
     /// The fraction layout of a section, `Ok(None)` when it is no fraction.
     fn of(tokens: &[Tok]) -> Result<Option<FractionLayout>, DenominatorPastResolution> {
+        #[cfg(test)]
+        SECTIONS_LAID_OUT.with(|c| c.set(c.get() + 1));
         // Matched in place: comparing with a made `Tok::Lit("/")` allocated once per token,
         // and a section is formatted once per item of an array.
         let Some(slash) = tokens.iter().position(|t| matches!(t, Tok::Lit(s) if s == "/")) else { return Ok(None) };
@@ -746,6 +799,7 @@ fn increment(digits: &mut [u8]) -> bool {
 }
 
 /// How a number section lays out its digits.
+#[derive(Clone, Debug)]
 struct Layout {
     int_places: Vec<char>,
     frac_places: Vec<char>,
@@ -757,6 +811,8 @@ struct Layout {
 }
 
 fn layout(tokens: &[Tok]) -> Layout {
+    #[cfg(test)]
+    SECTIONS_LAID_OUT.with(|c| c.set(c.get() + 1));
     let exp_at = tokens.iter().position(|t| matches!(t, Tok::Exp { .. })).unwrap_or(tokens.len());
     let point_at = tokens[..exp_at].iter().position(|t| *t == Tok::Point).unwrap_or(exp_at);
     let digits = |range: &[Tok]| -> Vec<char> {
@@ -841,40 +897,40 @@ fn shown_digits(value: f64, layout: &Layout, scientific: bool) -> XlResult<Shown
 }
 
 fn format_in_section(section: &Section, value: f64, signed: bool) -> XlResult<String> {
-    if section.has(&Tok::General) {
-        let body = general_in_section(section, value.abs());
-        return Ok(with_sign(body, signed && value < 0.0));
-    }
-    let has_digits = section.tokens.iter().any(|t| matches!(t, Tok::Digit(_)));
-    if !has_digits {
-        // Literal-only sections (`"zero"`), or `@` showing the number as text.
-        let mut out = String::new();
-        for t in &section.tokens {
-            match t {
-                Tok::Lit(s) => out.push_str(s),
-                Tok::TextAt => out.push_str(&crate::eval::format::number_format::general(value.abs())),
-                Tok::Percent => out.push('%'),
-                _ => {}
+    let worked_out;
+    let shape = match &section.shape {
+        Some(shape) => shape,
+        None => {
+            worked_out = Shape::of(&section.tokens);
+            &worked_out
+        }
+    };
+    let negative = signed && value < 0.0;
+    match shape {
+        Shape::General => Ok(with_sign(general_in_section(section, value.abs()), negative)),
+        Shape::Literal => {
+            // Literal-only sections (`"zero"`), or `@` showing the number as text.
+            let mut out = String::new();
+            for t in &section.tokens {
+                match t {
+                    Tok::Lit(s) => out.push_str(s),
+                    Tok::TextAt => out.push_str(&crate::eval::format::number_format::general(value.abs())),
+                    Tok::Percent => out.push('%'),
+                    _ => {}
+                }
             }
+            Ok(with_sign(out, negative))
         }
-        return Ok(with_sign(out, signed && value < 0.0));
-    }
-    match FractionLayout::of(&section.tokens) {
-        Ok(Some(fraction)) => {
-            let body = fraction.render(&section.tokens, value.abs());
-            return Ok(with_sign(body, signed && value < 0.0));
+        Shape::Fraction(fraction) => Ok(with_sign(fraction.render(&section.tokens, value.abs()), negative)),
+        Shape::FractionPastResolution => {
+            Ok(with_sign(crate::eval::format::number_format::general(value.abs()), negative))
         }
-        Ok(None) => {}
-        Err(DenominatorPastResolution) => {
-            let body = crate::eval::format::number_format::general(value.abs());
-            return Ok(with_sign(body, signed && value < 0.0));
+        Shape::Digits { layout, scientific } => {
+            let shown = shown_digits(value.abs(), layout, *scientific)?;
+            let body = render(section, layout, &shown);
+            Ok(with_sign(body, negative && !shown.is_zero()))
         }
     }
-    let layout = layout(&section.tokens);
-    let scientific = section.tokens.iter().any(|t| matches!(t, Tok::Exp { .. }));
-    let shown = shown_digits(value.abs(), &layout, scientific)?;
-    let body = render(section, &layout, &shown);
-    Ok(with_sign(body, signed && value < 0.0 && !shown.is_zero()))
 }
 
 fn with_sign(body: String, negative: bool) -> String {
