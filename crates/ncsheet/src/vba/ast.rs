@@ -207,11 +207,28 @@ pub struct Block {
     /// Label names in ASCII lower case: found in one step, so that neither a module of many
     /// labels nor a loop of `GoTo`s costs time in proportion to their number.
     labels: std::collections::HashMap<Box<str>, usize>,
+    /// The labels inside the statements' own blocks (an If's arms, a loop's body …, at any
+    /// depth), each with the index of the statement holding it: where a GoTo, an On Error
+    /// GoTo or a Resume from outside that statement goes in ("GoTo statement": any line
+    /// label of the procedure).
+    nested: std::collections::HashMap<Box<str>, usize>,
 }
 
 impl Block {
     pub fn label(&self, name: &str) -> Option<usize> {
         self.labels.get(name.to_ascii_lowercase().as_str()).copied()
+    }
+
+    /// The statement holding label `name` in one of its own blocks, at any depth.
+    pub fn nested_label(&self, name: &str) -> Option<usize> {
+        self.nested.get(name.to_ascii_lowercase().as_str()).copied()
+    }
+
+    /// Notes that statement `at` holds `inner`, with its labels and those nested in it.
+    pub fn note_nested(&mut self, at: usize, inner: &Block) {
+        for name in inner.labels.keys().chain(inner.nested.keys()) {
+            self.nested.entry(name.clone()).or_insert(at);
+        }
     }
 
     /// Adds a label pointing at the next statement; false when the block has it already.

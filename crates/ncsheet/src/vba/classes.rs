@@ -11,6 +11,7 @@ use std::cell::RefCell;
 use std::fmt;
 use std::rc::Rc;
 
+use crate::eval::functions::vba::errors;
 use crate::eval::{Ctx, Value};
 use crate::formula::ast::{Expr, ExprKind};
 
@@ -23,8 +24,8 @@ use super::value::{array_var, convert, range_var, Obj, Slots, Var};
 pub(super) const OBJECT_BYTES: u64 = 64;
 
 /// "Trappable errors": VBA's numbers and texts for objects.
-const NOT_SET: (u32, &str) = (91, "Object variable or With block variable not set");
-const NO_MEMBER: (u32, &str) = (438, "Object doesn't support this property or method");
+const NOT_SET: (u32, &str) = (91, errors::description(91));
+const NO_MEMBER: (u32, &str) = (438, errors::description(438));
 
 /// An object of a class module, shared by every variable set to it.
 #[derive(Clone)]

@@ -9,7 +9,7 @@ use std::cell::RefCell;
 use std::collections::HashMap;
 use std::rc::Rc;
 
-use crate::eval::functions::vba::vba_text;
+use crate::eval::functions::vba::{errors, vba_text};
 use crate::eval::{Array, Ctx, Operand, Value};
 
 use crate::formula::ast::{Expr, ExprKind};
@@ -21,9 +21,9 @@ use super::typing::Declared;
 use super::value::{Obj, Var};
 
 /// "Trappable errors": the numbers and texts VBA raises for these objects.
-const DUPLICATE_KEY: (u32, &str) = (457, "This key is already associated with an element of this collection");
-const INVALID_CALL: (u32, &str) = (5, "Invalid procedure call or argument");
-const OUT_OF_RANGE: (u32, &str) = (9, "Subscript out of range");
+const DUPLICATE_KEY: (u32, &str) = (457, errors::description(457));
+const INVALID_CALL: (u32, &str) = (5, errors::description(5));
+const OUT_OF_RANGE: (u32, &str) = (9, errors::description(9));
 const NO_SUCH_KEY: (u32, &str) = (32811, "Method 'Remove' of object 'IDictionary' failed: the key is not there");
 const NO_KEY_TO_CHANGE: (u32, &str) = (32811, "Method 'Key' of object 'IDictionary' failed: the key is not there");
 

@@ -27,7 +27,7 @@ use std::rc::Rc;
 
 use pest::iterators::Pair;
 
-use crate::eval::functions::vba::wildcard_matches;
+use crate::eval::functions::vba::{errors, wildcard_matches};
 use crate::eval::{Ctx, Value, XlError};
 use crate::formula::ast::Expr;
 use crate::formula::parse::Rule;
@@ -79,15 +79,15 @@ impl fmt::Debug for FileAccess {
 pub(super) const REFUSED: u32 = u32::MAX - 1;
 
 /// VBA's trappable file errors ("Trappable errors" in the VBA reference).
-const BAD_NUMBER: (u32, &str) = (52, "Bad file name or number");
-const NOT_FOUND: (u32, &str) = (53, "File not found");
-const BAD_MODE: (u32, &str) = (54, "Bad file mode");
-const ALREADY_OPEN: (u32, &str) = (55, "File already open");
-const EXISTS: (u32, &str) = (58, "File already exists");
-const PAST_END: (u32, &str) = (62, "Input past end of file");
-const TOO_MANY: (u32, &str) = (67, "Too many files");
-const ACCESS: (u32, &str) = (75, "Path/File access error");
-const INVALID_CALL: (u32, &str) = (5, "Invalid procedure call or argument");
+const BAD_NUMBER: (u32, &str) = (52, errors::description(52));
+const NOT_FOUND: (u32, &str) = (53, errors::description(53));
+const BAD_MODE: (u32, &str) = (54, errors::description(54));
+const ALREADY_OPEN: (u32, &str) = (55, errors::description(55));
+const EXISTS: (u32, &str) = (58, errors::description(58));
+const PAST_END: (u32, &str) = (62, errors::description(62));
+const TOO_MANY: (u32, &str) = (67, errors::description(67));
+const ACCESS: (u32, &str) = (75, errors::description(75));
+const INVALID_CALL: (u32, &str) = (5, errors::description(5));
 
 /// What one TextStream or written file costs the memory budget besides its text.
 const STREAM_BYTES: u64 = 64;
@@ -1220,11 +1220,7 @@ impl Interp<'_, '_> {
                 let unicode = matches!(args.get(3), Some(Value::Number(n)) if *n == -1.0);
                 if mode != 1.0 && mode != 2.0 && mode != 8.0 {
                     let why = "IOMode is ForReading (1), ForWriting (2) or ForAppending (8)";
-                    return Err(self.file_error(
-                        span,
-                        (5, "Invalid procedure call or argument"),
-                        format!("OpenTextFile: {why}"),
-                    ));
+                    return Err(self.file_error(span, (5, errors::description(5)), format!("OpenTextFile: {why}")));
                 }
                 if !create && !self.exists(&name, span)? {
                     return Err(self.not_found("OpenTextFile", &name, span));

@@ -15,6 +15,7 @@ use std::rc::Rc;
 use crate::eval::coerce::{compare, to_bool, to_number};
 use crate::eval::dates::DateSystem;
 use crate::eval::evaluator::binary;
+use crate::eval::functions::vba::errors;
 use crate::eval::{Ctx, Operand, Value, XlError};
 use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::{Expr, ExprKind, SheetId};
@@ -1301,8 +1302,8 @@ impl Interp<'_, '_> {
         }
         match self.block(&p.body)? {
             Flow::GoTo(label) => Err(self.fault(format!("GoTo {label}: no such label"))),
-            Flow::Return => Err(self.fault("Return without GoSub")),
-            Flow::Resume(_) => Err(self.fault("Resume without an error")),
+            Flow::Return => Err(self.vba_fault(3, "Return belongs in a subroutine a GoSub runs")),
+            Flow::Resume(_) => Err(self.vba_fault(20, "Resume belongs in an On Error GoTo handler")),
             Flow::End => {
                 self.ended.set(true);
                 Ok(())
@@ -1366,9 +1367,19 @@ impl Interp<'_, '_> {
     }
 
     fn block_from(&self, block: &Block, start: usize) -> Run<Flow> {
+        self.block_entering(block, start, None)
+    }
+
+    /// Runs `block` from statement `start`, going into that statement at label `entering`
+    /// when a GoTo names a label inside it.
+    fn block_entering(&self, block: &Block, start: usize, mut entering: Option<Rc<str>>) -> Run<Flow> {
         let mut i = start;
         while i < block.stmts.len() {
-            let flow = match self.exec(&block.stmts[i]) {
+            let run = match entering.take() {
+                Some(label) => self.enter_at(&block.stmts[i], &label),
+                None => self.exec(&block.stmts[i]),
+            };
+            let flow = match run {
                 Ok(flow) => flow,
                 Err(fault) => match self.trap(fault)? {
                     Trap::Next => {
@@ -1385,14 +1396,75 @@ impl Interp<'_, '_> {
             };
             match flow {
                 Flow::Next => i += 1,
-                Flow::GoTo(label) => match block.label(&label) {
-                    Some(target) => i = target,
-                    None => return Ok(Flow::GoTo(label)),
+                Flow::GoTo(label) => match (block.label(&label), block.nested_label(&label)) {
+                    (Some(target), _) => i = target,
+                    (None, Some(holder)) => {
+                        i = holder;
+                        entering = Some(label);
+                    }
+                    (None, None) => return Ok(Flow::GoTo(label)),
                 },
                 other => return Ok(other),
             }
         }
         Ok(Flow::Next)
+    }
+
+    /// A GoTo into `stmt` at `label`, a label of one of its blocks ("GoTo statement": any
+    /// line label of the procedure): that block runs from the label, then the statement goes
+    /// on as from the block's end: an If or Select Case is done, a Do loop tests its
+    /// condition and goes round, a For loop has no counter to step: VBA's error 92, "For loop
+    /// not initialized" ("For loop not initialized (Error 92)": "You jumped into the middle
+    /// of a For...Next loop"). Inside a With, no With object is set.
+    fn enter_at(&self, stmt: &Stmt, label: &Rc<str>) -> Run<Flow> {
+        self.tick(stmt.span)?;
+        let flow = match &stmt.kind {
+            StmtKind::Do { test, at_end, body } => match self.run_into(&[body], label)? {
+                Flow::Next => {
+                    let ended = match test.as_ref().filter(|_| *at_end) {
+                        Some(t) => self.truth(&t.cond, "the loop condition")? == t.until,
+                        None => false,
+                    };
+                    if ended {
+                        Flow::Next
+                    } else {
+                        self.do_loop(test.as_ref(), *at_end, body, stmt.span)?
+                    }
+                }
+                Flow::Exit(ExitKind::Do) => Flow::Next,
+                other => other,
+            },
+            StmtKind::For { body, .. } | StmtKind::ForEach { body, .. } => match self.run_into(&[body], label)? {
+                Flow::Exit(ExitKind::For) => Flow::Next,
+                Flow::Next => {
+                    let why = "a GoTo went into the For loop, whose Next has no counter to step";
+                    return Err(self.at_stmt(self.vba_fault(92, why), stmt));
+                }
+                other => other,
+            },
+            kind => self.run_into(&super::parser::inner_blocks(kind), label)?,
+        };
+        Ok(if self.ended.get() { Flow::End } else { flow })
+    }
+
+    /// Runs the one of `blocks` that holds `label`, from the label.
+    fn run_into(&self, blocks: &[&Block], label: &Rc<str>) -> Run<Flow> {
+        for block in blocks {
+            if let Some(at) = block.label(label) {
+                return self.block_from(block, at);
+            }
+            if let Some(holder) = block.nested_label(label) {
+                return self.block_entering(block, holder, Some(label.clone()));
+            }
+        }
+        // The block that noted the label holds it: not reached.
+        Ok(Flow::GoTo(label.clone()))
+    }
+
+    /// `fault` placed at `stmt` when the failing part did not know its place.
+    fn at_stmt(&self, mut fault: Fault, stmt: &Stmt) -> Fault {
+        fault.span.get_or_insert(stmt.span);
+        fault
     }
 
     fn exec(&self, stmt: &Stmt) -> Run<Flow> {
@@ -1468,10 +1540,7 @@ impl Interp<'_, '_> {
             StmtKind::Resume(kind) => {
                 if !self.frame_flag(|f| f.handling) {
                     // "Resume without error (Error 20)": trappable like any run-time error.
-                    let why = "Resume without error (run-time error 20): Resume belongs in an On Error GoTo handler";
-                    let mut f = self.fault(why);
-                    f.code = 20;
-                    return Err(f);
+                    return Err(self.vba_fault(20, "Resume belongs in an On Error GoTo handler"));
                 }
                 return Ok(Flow::Resume(kind.clone()));
             }
@@ -1622,9 +1691,7 @@ impl Interp<'_, '_> {
             } else {
                 String::new()
             };
-            let mut f = self.fault(format!(
-                "Out of stack space (run-time error 28): GoSubs nest {depth} deep without a Return{why}"
-            ));
+            let mut f = self.fault(errors::message(28, format_args!("GoSubs nest {depth} deep without a Return{why}")));
             f.code = 28;
             return Err(f);
         }
@@ -1661,6 +1728,13 @@ impl Interp<'_, '_> {
             Flow::Next => Flow::Leave,
             other => other,
         })
+    }
+
+    /// VBA's run-time error `number` (its message from the one table), raised here.
+    fn vba_fault(&self, number: u32, why: &str) -> Fault {
+        let mut f = self.fault(errors::message(number, why));
+        f.code = number;
+        f
     }
 
     /// An error under `On Error`: what the failing block does next; the fault itself when
@@ -2348,16 +2422,33 @@ fn err_state(fault: &Fault) -> ErrState {
         0 => 5,
         n => n,
     };
-    // Excel's own errors carry VBA's description before our explanation.
-    let marker = format!(" (run-time error {number}): ");
-    let description = match m.split_once(&marker) {
-        Some((vba, _)) if fault.code != 0 => vba.to_string(),
-        _ => fault.message.clone(),
-    };
+    let description = err_description(fault, number);
     // "Raise method": a source not given is the programmatic ID of the project, Excel's
     // "VBAProject", as for the errors VBA raises itself.
     let source = fault.source.clone().unwrap_or_else(|| "VBAProject".into());
     ErrState { number, description, source }
+}
+
+/// `Err.Description` of a trapped fault numbered `number`: the description before the number
+/// (VBA's errors and Excel's own, as "Cannot run the macro"); VBA's message for the number
+/// ("Trappable errors") when the message only ends with it or the number was read from the
+/// kind of failure; the message itself for `Err.Raise`'s description and ncsheet's own
+/// failures (numbered 5).
+fn err_description(fault: &Fault, number: u32) -> String {
+    let m = fault.message.as_str();
+    let marker = format!(" (run-time error {number}): ");
+    match m.split_once(&marker) {
+        Some((vba, _)) if fault.code != 0 => return vba.to_string(),
+        _ => {}
+    }
+    let defined = errors::description(number) != errors::APPLICATION_DEFINED;
+    let numbered_at_end = fault.code != 0 && m.ends_with(&format!("(run-time error {number})"));
+    let inferred = fault.code == 0 && number != 5;
+    if defined && (numbered_at_end || inferred) {
+        errors::description(number).to_string()
+    } else {
+        fault.message.clone()
+    }
 }
 
 /// The arguments of `bound` that are lent arrays, each with its entry of `lent`.

@@ -123,13 +123,14 @@ impl Interp<'_, '_> {
         let given = &args[1..];
         let required = p.params.iter().filter(|q| !q.optional).count();
         let wrong = if given.len() > p.params.len() {
-            Some((450, "Wrong number of arguments or invalid property assignment"))
+            Some(450)
         } else if given.len() < required {
-            Some((449, "Argument not optional"))
+            Some(449)
         } else {
             None
         };
-        if let Some((code, what)) = wrong {
+        if let Some(code) = wrong {
+            let what = crate::eval::functions::vba::errors::description(code);
             let mut fault = self.fault_at(
                 link.span,
                 format!("Application.Run \"{named}\": {what} (run-time error {code}): {} takes {required} to {} arguments, given {}", p.name, p.params.len(), given.len()),

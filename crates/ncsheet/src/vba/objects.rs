@@ -3,7 +3,7 @@
 
 use crate::eval::coerce::{parse_plain_number, to_bool, to_number, to_text};
 use crate::eval::dates::DateSystem;
-use crate::eval::functions::vba::vba_text;
+use crate::eval::functions::vba::{errors, vba_text};
 use crate::eval::functions::Registry;
 use crate::eval::{Ctx, Operand, Value};
 use crate::formula::address::{column_index, Pos, Rect, MAX_COLS, MAX_ROWS};
@@ -308,7 +308,9 @@ impl Interp<'_, '_> {
                     Some(v) if !v.is_blank() => print_text(v),
                     // The description Err then gives, and the number, in the message of an
                     // error nothing traps (`err_state` keeps what is before the marker).
-                    _ => format!("{} (run-time error {number}): raised by Err.Raise", raised_description(number)),
+                    // "Raise method": with no description, "the string associated with the error"
+                    // when VBA defines the number, else "Application-defined or object-defined error".
+                    _ => errors::message(number as u32, "raised by Err.Raise"),
                 };
                 let mut fault = self.fault_at(link.span, message);
                 fault.code = number as u32;
@@ -341,8 +343,7 @@ impl Interp<'_, '_> {
         };
         let at = args.iter().map(|arg| self.index(&arg.value, "the index")).collect::<Run<Vec<i64>>>()?;
         self.element_at(&a, &at).map_err(|m| {
-            let mut f =
-                self.fault_at(link.span, format!("Subscript out of range (run-time error 9): {}: {m}", link.name));
+            let mut f = self.fault_at(link.span, errors::message(9, format!("{}: {m}", link.name)));
             f.code = 9;
             f
         })
@@ -353,7 +354,7 @@ impl Interp<'_, '_> {
         let wb = self.wb.borrow();
         // Excel's run-time error 9 for a sheet the workbook has not.
         let missing = |what: String| {
-            let mut fault = self.fault_at(link.span, format!("{SUBSCRIPT_OUT_OF_RANGE} (run-time error 9): {what}"));
+            let mut fault = self.fault_at(link.span, errors::message(9, what));
             fault.code = 9;
             fault
         };
@@ -864,9 +865,6 @@ const MAX_FORMULA_WRITE: u64 = 10_000_000;
 
 use crate::eval::Env;
 
-/// VBA's description of run-time error 9.
-const SUBSCRIPT_OUT_OF_RANGE: &str = "Subscript out of range";
-
 /// `"A:C"` (columns) or `"2:5"` (rows), one or two ends in either order, as 0-based indexes
 /// (first, last).
 fn lines_named(text: &str, rows: bool) -> Option<(u32, u32)> {
@@ -883,25 +881,4 @@ fn lines_named(text: &str, rows: bool) -> Option<(u32, u32)> {
         None => (one(text)?, one(text)?),
     };
     Some((a.min(b), a.max(b)))
-}
-
-/// "Raise method": with no description, "the string associated with the error" when the number
-/// is one of VBA's ("Trappable errors"), else "Application-defined or object-defined error".
-fn raised_description(number: f64) -> &'static str {
-    match number as u32 {
-        5 => "Invalid procedure call or argument",
-        6 => "Overflow",
-        7 => "Out of memory",
-        9 => "Subscript out of range",
-        11 => "Division by zero",
-        13 => "Type mismatch",
-        20 => "Resume without error",
-        53 => "File not found",
-        91 => "Object variable or With block variable not set",
-        94 => "Invalid use of Null",
-        424 => "Object required",
-        438 => "Object doesn't support this property or method",
-        457 => "This key is already associated with an element of this collection",
-        _ => "Application-defined or object-defined error",
-    }
 }

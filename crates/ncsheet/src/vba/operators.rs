@@ -11,7 +11,7 @@ use std::cmp::Ordering;
 use crate::eval::coerce::to_number;
 use crate::eval::dates::DateSystem;
 use crate::eval::evaluator::comparison_holds;
-use crate::eval::functions::vba::{like, vba_text};
+use crate::eval::functions::vba::{errors, like, vba_text};
 use crate::eval::{Value, XlError};
 use crate::formula::ast::{BinOp, Expr};
 
@@ -19,11 +19,11 @@ use super::interp::{Fault, Interp};
 use super::typing::Declared;
 
 /// VBA's "Type mismatch" ("Trappable errors").
-pub(super) const TYPE_MISMATCH: (u32, &str) = (13, "Type mismatch");
+pub(super) const TYPE_MISMATCH: (u32, &str) = (13, errors::description(13));
 
 /// VBA's "Division by zero" and "Overflow" ("Trappable errors").
-const DIVISION_BY_ZERO: (u32, &str) = (11, "Division by zero");
-const OVERFLOW: (u32, &str) = (6, "Overflow");
+const DIVISION_BY_ZERO: (u32, &str) = (11, errors::description(11));
+const OVERFLOW: (u32, &str) = (6, errors::description(6));
 
 /// Whether `op` is one of the relational operators `= <> < > <= >=`.
 fn relational(op: BinOp) -> bool {

@@ -616,8 +616,8 @@ impl<'s> Build<'s> {
         let ty =
             as_clause.map(|a| self.ty_of(&a)).or_else(|| type_char_ty(&k)).or_else(implicit).filter(|_| !returns_array);
         let body = self.block(find(&k, Rule::block).expect("procedure body"))?;
-        self.check_gotos(&body, &mut Vec::new())?;
-        self.check_body_labels(&body, &body, &mut Vec::new())?;
+        self.check_gotos(&body, &body)?;
+        self.check_body_labels(&body, &body)?;
         let public = find(&k, Rule::scope).is_none_or(|s| !s.as_str().eq_ignore_ascii_case("Private"));
         let (part, property) = (self.current_part.get(), property_kind(&pair));
         Ok(Proc { name, kind, params, ty, body, span: self.span(start(&pair)), public, part, property })
@@ -663,57 +663,53 @@ impl<'s> Build<'s> {
         Err(self.error_at(&list, format!("{}: {why}", params[at].name)))
     }
 
-    /// Every GoTo must name a label of its own block or of one around it: jumping into a
-    /// loop or an If from outside has no meaning the interpreter could give it.
-    fn check_gotos<'b>(&self, block: &'b Block, outer: &mut Vec<&'b Block>) -> Res<()> {
-        outer.push(block);
+    /// Every GoTo names a label of the procedure ("GoTo statement": "any line label … within
+    /// the procedure"), of its own block, one around it, or one inside another statement (an
+    /// If's arm, a loop's body), where the interpreter goes in.
+    fn check_gotos(&self, body: &Block, block: &Block) -> Res<()> {
         for s in &block.stmts {
             match &s.kind {
-                StmtKind::GoTo(label) if !outer.iter().any(|b| b.label(label).is_some()) => {
+                StmtKind::GoTo(label) if !has_label(body, label) => {
                     return Err(ParseError {
                         offset: self.offset_of(s.span),
-                        message: format!("GoTo {label}: no label {label} in this block or a block around it"),
+                        message: format!("GoTo {label}: no label {label} in the procedure"),
                     });
                 }
                 _ => {}
             }
             for inner in inner_blocks(&s.kind) {
-                self.check_gotos(inner, outer)?;
+                self.check_gotos(body, inner)?;
             }
         }
-        outer.pop();
         Ok(())
     }
 
     /// `GoSub` names a label of the procedure's body itself: the subroutine runs from there,
-    /// outside any loop or If. `On Error GoTo` and `Resume` name one of the body or of a
-    /// block around the statement, where a GoTo from it can go (`interp.rs` runs such a
-    /// handler in place).
-    fn check_body_labels<'b>(&self, body: &Block, block: &'b Block, outer: &mut Vec<&'b Block>) -> Res<()> {
-        outer.push(block);
+    /// outside any loop or If. `On Error GoTo` and `Resume` name any label of the procedure
+    /// ("On Error statement": "any line label"), which a GoTo from the failing statement
+    /// reaches (`interp.rs` runs a handler inside a block in place).
+    fn check_body_labels(&self, body: &Block, block: &Block) -> Res<()> {
         for s in &block.stmts {
-            let reachable = |l: &str| body.label(l).is_some() || outer.iter().any(|b| b.label(l).is_some());
             let label = match &s.kind {
                 StmtKind::GoSub(l) => Some(l).filter(|l| body.label(l).is_none()),
                 StmtKind::OnError(OnError::GoTo(l)) | StmtKind::Resume(Resume::Label(l)) => {
-                    Some(l).filter(|l| !reachable(l))
+                    Some(l).filter(|l| !has_label(body, l))
                 }
                 _ => None,
             };
             if let Some(label) = label {
-                return Err(ParseError {
-                    offset: self.offset_of(s.span),
-                    message: format!(
-                        "no label {label} in the procedure's body (outside its loops and Ifs) or, for On \
-                         Error GoTo and Resume, in a block around the statement"
-                    ),
-                });
+                let message = match &s.kind {
+                    StmtKind::GoSub(_) => {
+                        format!("no label {label} in the procedure's body (outside its loops and Ifs)")
+                    }
+                    _ => format!("no label {label} in the procedure"),
+                };
+                return Err(ParseError { offset: self.offset_of(s.span), message });
             }
             for inner in inner_blocks(&s.kind) {
-                self.check_body_labels(body, inner, outer)?;
+                self.check_body_labels(body, inner)?;
             }
         }
-        outer.pop();
         Ok(())
     }
 
@@ -736,6 +732,9 @@ impl<'s> Build<'s> {
                 }
                 _ => {
                     if let Some(s) = self.statement(item)? {
+                        for inner in inner_blocks(&s.kind) {
+                            out.note_nested(out.stmts.len(), inner);
+                        }
                         out.stmts.push(s);
                     }
                 }
@@ -1699,6 +1698,11 @@ pub(super) fn ty_named(name: &str) -> Ty {
 }
 
 /// The blocks nested directly in a statement.
+/// Whether the procedure whose body is `body` has label `name`, at any depth.
+fn has_label(body: &Block, name: &str) -> bool {
+    body.label(name).is_some() || body.nested_label(name).is_some()
+}
+
 pub fn inner_blocks(kind: &StmtKind) -> Vec<&Block> {
     match kind {
         StmtKind::If { arms, otherwise } => arms.iter().map(|(_, b)| b).chain(otherwise).collect(),

@@ -638,8 +638,9 @@ impl Interp<'_, '_> {
     pub(super) fn overflow_fault(&self, span: super::ast::Span, what: String) -> Fault {
         let mut fault = self.fault_at(
             span,
-            format!(
-                "Overflow (run-time error 6): {what} ([MS-VBAL] 5.6.9.3); make an operand wider, as CLng(x) or CDbl(x)"
+            crate::eval::functions::vba::errors::message(
+                6,
+                format_args!("{what} ([MS-VBAL] 5.6.9.3); make an operand wider, as CLng(x) or CDbl(x)"),
             ),
         );
         fault.code = 6;

@@ -51,7 +51,7 @@ impl Raised {
     pub(super) fn raise(&self, ctx: &mut Ctx, name: &str, result: XlResult<Value>) -> XlResult<Value> {
         match self.0.get() {
             Some((6, why)) => {
-                Err(ctx.raise_vba(XlError::Num, 6, format!("Overflow (run-time error 6): {name}: {why}")))
+                Err(ctx.raise_vba(XlError::Num, 6, super::errors::message(6, format_args!("{name}: {why}"))))
             }
             Some((_, why)) => Err(invalid_call(ctx, name, why)),
             None => result,

@@ -22,6 +22,7 @@ use crate::eval::format::text_format::NumberFormat;
 
 mod calendar;
 mod conversions;
+pub mod errors;
 mod strings;
 use conversions::Raised;
 pub use strings::var_type_of;
@@ -60,6 +61,14 @@ pub const FUNCTIONS: &[FnSpec] = &[
         strings::cv_err,
         "VBA.CVERR(number)",
         "VBA CVErr: Excel's error value of an xlErr number (2042: #N/A)",
+    ),
+    FnSpec::value(
+        "VBA.ERROR",
+        1,
+        1,
+        errors::error_fn,
+        "VBA.ERROR(number)",
+        "VBA Error: the message of a run-time error number (11: Division by zero)",
     ),
     FnSpec::value("VBA.EXP", 1, 1, exp, "VBA.EXP(number)", "VBA Exp: e raised to number"),
     FnSpec::value("VBA.FIX", 1, 1, fix, "VBA.FIX(number)", "VBA Fix: drops the fraction (toward zero)"),
@@ -422,13 +431,13 @@ fn null_argument(ctx: &mut Ctx, name: &str, values: &[Value], passes: Passes) ->
 
 /// Run-time error 94 for a Null where `name` needs a value (`#VALUE!` in a cell).
 pub(crate) fn invalid_use_of_null(ctx: &mut Ctx, name: &str) -> XlError {
-    ctx.raise_vba(XlError::Value, 94, format!("Invalid use of Null (run-time error 94): {name} was given Null"))
+    ctx.raise_vba(XlError::Value, 94, errors::message(94, format_args!("{name} was given Null")))
 }
 
 /// Run-time error 5, "Invalid procedure call or argument", for an argument out of its range
 /// (`#VALUE!` in a cell).
 pub(crate) fn invalid_call(ctx: &mut Ctx, name: &str, why: &str) -> XlError {
-    ctx.raise_vba(XlError::Value, 5, format!("Invalid procedure call or argument (run-time error 5): {name}: {why}"))
+    ctx.raise_vba(XlError::Value, 5, errors::message(5, format_args!("{name}: {why}")))
 }
 
 /// `lift` for VBA's functions: the arguments' Nulls as [`null_argument`] says, then `f` on

@@ -1,0 +1,160 @@
+//! Issue 31, VBA's run-time errors as VBA raises and describes them: the messages of
+//! Microsoft's "Trappable errors" table (Office VBA language reference) through `Error(n)`,
+//! `Err.Raise n` and `Err.Description`; and a GoTo, On Error GoTo or Resume to a label inside
+//! a block the failing statement is not in ("GoTo statement", "On Error statement": any line
+//! label of the procedure).
+
+use ncsheet::vba::{self, MacroError, RunOptions, RunOutput};
+use ncsheet::workbook::Workbook;
+
+fn run(src: &str) -> Result<RunOutput, MacroError> {
+    vba::run(&mut Workbook::with_sheet(), src, "Module1.bas", &RunOptions::default())
+}
+
+/// What a Sub body prints with Debug.Print, line by line.
+fn printed(body: &str) -> Vec<String> {
+    run(&format!("Sub Main()\n{body}\nEnd Sub\n")).unwrap_or_else(|e| panic!("{e}")).printed
+}
+
+// "Trappable errors": each number's message, read back through the Error function ("Error
+// function": "Returns the error message that corresponds to a given error number"), the `$`
+// form alike. 5 and 449 are the messages of their own pages, "Invalid procedure call or
+// argument (Error 5)" and "Argument not optional (Error 449)".
+#[test]
+fn error_gives_the_message_of_microsofts_table() {
+    let cases = [
+        (3, "Return without GoSub"),
+        (5, "Invalid procedure call or argument"),
+        (10, "This array is fixed or temporarily locked"),
+        (14, "Out of string space"),
+        (52, "Bad file name or number"),
+        (61, "Disk full"),
+        (62, "Input past end of file"),
+        (76, "Path not found"),
+        (92, "For loop not initialized"),
+        (93, "Invalid pattern string"),
+        (424, "Object required"),
+        (449, "Argument not optional"),
+        (450, "Wrong number of arguments or invalid property assignment"),
+        (457, "This key is already associated with an element of this collection"),
+        (746, "Replacements too long"),
+    ];
+    for (n, message) in cases {
+        assert_eq!(printed(&format!("    Debug.Print Error({n})")), [message], "Error({n})");
+        assert_eq!(printed(&format!("    Debug.Print Error$({n})")), [message], "Error$({n})");
+    }
+}
+
+// "Error function": "If errornumber is a valid error number, but is not defined, Error returns
+// the string "Application-defined or object-defined error."" (the page's own example loops
+// over such numbers); "If … errornumber is 0, Error returns a zero-length string"; "If
+// errornumber is not valid, an error occurs" (an error number is 0 to 65535, "Raise method").
+#[test]
+fn error_of_an_undefined_number_zero_and_a_number_that_is_none() {
+    let out = printed("    Debug.Print Error(1); Error(1000); Error(65535)\n    Debug.Print \"[\" & Error(0) & \"]\"");
+    let undefined = "Application-defined or object-defined error";
+    assert_eq!(out, [format!("{undefined}{undefined}{undefined}"), "[]".into()]);
+    let out = printed(
+        "    On Error Resume Next\n    Dim s\n    s = Error(-1)\n    Debug.Print Err.Number\n\
+                       \x20   Err.Clear\n    s = Error(65536)\n    Debug.Print Err.Number",
+    );
+    assert_eq!(out, [" 5 ", " 5 "]);
+}
+
+// "Raise method": "If Description isn't specified, … if the error code corresponds to a Visual
+// Basic run-time error, the string associated with the error is used" — any number of the
+// table, not only the ones the runtime raises itself.
+#[test]
+fn err_raise_without_a_description_takes_the_tables_message() {
+    let out = printed(
+        "    On Error Resume Next\n    Err.Raise 10\n    Debug.Print Err.Number; Err.Description\n\
+         \x20   Err.Raise 62\n    Debug.Print Err.Number; Err.Description\n\
+         \x20   Err.Raise 92\n    Debug.Print Err.Number; Err.Description\n\
+         \x20   Err.Raise 450\n    Debug.Print Err.Number; Err.Description",
+    );
+    assert_eq!(
+        out,
+        [
+            " 10 This array is fixed or temporarily locked",
+            " 62 Input past end of file",
+            " 92 For loop not initialized",
+            " 450 Wrong number of arguments or invalid property assignment",
+        ]
+    );
+}
+
+// `Err.Description` of an error the runtime raises is VBA's message for its number, nothing
+// more ("Description property": "the error message associated with Number"): "Overflow" for
+// an Integer given 40000 ("Integer data type": -32,768 to 32,767), and the Collection's
+// "This key is already associated with an element of this collection" for a key added twice
+// ("Add method (Visual Basic for Applications)", error 457).
+#[test]
+fn err_description_of_a_runtime_error_is_the_tables_message() {
+    let out = printed(
+        "    Dim i As Integer, c As New Collection\n    On Error Resume Next\n    i = 40000\n\
+         \x20   Debug.Print Err.Number; Err.Description\n    Err.Clear\n\
+         \x20   c.Add 1, \"k\"\n    c.Add 2, \"k\"\n    Debug.Print Err.Number; Err.Description",
+    );
+    assert_eq!(out, [" 6 Overflow", " 457 This key is already associated with an element of this collection"]);
+}
+
+// "Return without GoSub (Error 3)": a Return that no GoSub ran is error 3, which the caller's
+// handler traps (the procedure has none) with that number and message.
+#[test]
+fn return_without_gosub_is_error_3() {
+    let src = "Sub Inner()\n    Return\nEnd Sub\nSub Main()\n    On Error Resume Next\n    Inner\n\
+               \x20   Debug.Print Err.Number; Err.Description\nEnd Sub\n";
+    assert_eq!(run(src).unwrap_or_else(|e| panic!("{e}")).printed, [" 3 Return without GoSub"]);
+}
+
+// "On Error statement": `On Error GoTo line` "enables the error-handling routine that starts
+// at line … The line argument is any line label or line number" of the procedure; "GoTo
+// statement": "GoTo can branch only to lines within the procedure where it appears". So the
+// handler may sit inside an If the failing statement is not in.
+#[test]
+fn an_error_handler_inside_an_if_the_error_is_outside_of() {
+    let out = printed(
+        "    Dim x\n    On Error GoTo Fail\n    x = 1 / 0\n    Debug.Print \"not here\"\n    If False Then\n\
+         Fail:\n        Debug.Print \"handled\"; Err.Number\n    End If\n    Debug.Print \"after\"",
+    );
+    // A number prints with a space before and after it ("Print # statement").
+    assert_eq!(out, ["handled 11 ", "after"]);
+}
+
+// A label is a place in the statements, not a statement: entering a Do loop's body at a
+// label runs the rest of the body, then the loop goes on from its Loop line ("Do...Loop
+// statement"), passing the label again on later rounds.
+#[test]
+fn a_handler_inside_a_loop_body_goes_on_with_the_loop() {
+    let out = printed(
+        "    Dim n, x\n    On Error GoTo H\n    x = 1 / 0\n    Do While n < 3\n        n = n + 1\n\
+         \x20       Debug.Print \"loop\"; n\n        If n = 1 Then\nH:\n            Debug.Print \"at H\"\n\
+         \x20       End If\n    Loop",
+    );
+    assert_eq!(out, ["at H", "loop 1 ", "at H", "loop 2 ", "loop 3 "]);
+}
+
+// "For loop not initialized (Error 92)": "You jumped into the middle of a For...Next loop":
+// the GoTo is allowed, reaching Next is error 92, which On Error traps.
+#[test]
+fn a_goto_into_a_for_loop_is_error_92_at_its_next() {
+    let out = printed(
+        "    Dim i\n    On Error Resume Next\n    GoTo Inside\n    For i = 1 To 2\nInside:\n\
+         \x20       Debug.Print \"in\"\n    Next\n    Debug.Print Err.Number; Err.Description",
+    );
+    assert_eq!(out, ["in", " 92 For loop not initialized"]);
+}
+
+// A GoTo into an If's Else arm and a `Resume label` into a Select Case's arm: each runs from
+// the label to the end of its block, then after the statement.
+#[test]
+fn goto_and_resume_into_if_and_select_arms() {
+    let out = printed(
+        "    Dim k\n    GoTo Other\n    If True Then\n        Debug.Print \"then\"\n    Else\n\
+         \x20       Debug.Print \"skipped\"\nOther:\n        Debug.Print \"else\"\n    End If\n\
+         \x20   On Error GoTo H\n    Err.Raise 7\n    Exit Sub\nH:\n    Resume Arm\n\
+         \x20   Select Case k\n    Case 1\nArm:\n        Debug.Print \"arm\"; Err.Number\n    End Select\n\
+         \x20   Debug.Print \"end\"",
+    );
+    assert_eq!(out, ["else", "arm 0 ", "end"]);
+}
