@@ -1,5 +1,6 @@
-//! Array variables: `Dim a(1 To 5)`, `ReDim Preserve`, `a(i)`, `a(i, j)`, `UBound`, `LBound`.
-//! Items sit row-major in an [`Array`] with the lower bound of each dimension beside it; a
+//! Array variables: `Dim a(1 To 5)`, `ReDim Preserve`, `a(i)`, `a(i, j, k)`, `UBound`, `LBound`,
+//! up to VBA's 60 dimensions. Items sit row-major in an [`Array`] with the lower bound of each
+//! dimension beside it (past two, [`VArray::shape`]); a
 //! Range held in a variable answers `r(i)` and `r(i, j)` with its cells, as in VBA.
 
 use std::rc::Rc;
@@ -16,8 +17,13 @@ use super::value::{convert, default_value, Obj, VArray, Var};
 impl Interp<'_, '_> {
     /// The (lower bound, length) of each dimension `bounds` give, within the item limit.
     pub(super) fn array_dims(&self, bounds: &[(Option<Expr>, Expr)], span: Span) -> Run<Vec<(i64, usize)>> {
-        if bounds.len() > 2 {
-            return Err(self.fault_at(span, "arrays have one or two dimensions here"));
+        if bounds.len() > MAX_DIMENSIONS {
+            // VBA's own limit ("Dim statement": "up to 60 dimensions"); VBA refuses more when
+            // it compiles ("Too many dimensions").
+            let n = bounds.len();
+            return Err(
+                self.fault_at(span, format!("Too many dimensions: {n} (an array has at most {MAX_DIMENSIONS})"))
+            );
         }
         let mut dims = Vec::new();
         for (lower, upper) in bounds {
@@ -44,9 +50,14 @@ impl Interp<'_, '_> {
         Ok(dims)
     }
 
-    /// An array of `dims`, each item the default of `ty`.
+    /// An array of `dims`, each item the default of `ty`; past two dimensions, `data`'s rows
+    /// are every dimension but the last ([`VArray::shape`]).
     pub(super) fn array_with(&self, dims: &[(i64, usize)], ty: Option<&Ty>) -> Run<VArray> {
-        let (rows, lower_row) = if dims.len() == 2 { (dims[0].1, dims[0].0) } else { (1, 1) };
+        let (rows, lower_row) = match dims {
+            [_] => (1, 1),
+            [first, .., _] => (dims[..dims.len() - 1].iter().map(|d| d.1).product(), first.0),
+            [] => unreachable!("one dimension at least"),
+        };
         let (lower_col, cols) = *dims.last().expect("one dimension at least");
         let data = Rc::new(Array::filled(rows, cols, default_value(ty)));
         // An array of a Type: each item a record of the Type's defaults.
@@ -62,6 +73,7 @@ impl Interp<'_, '_> {
             held_types: None,
             arrays: None,
             records,
+            shape: (dims.len() > 2).then(|| Rc::from(dims)),
         })
     }
 
@@ -71,6 +83,10 @@ impl Interp<'_, '_> {
             (0, _) => return Err("the array has no bounds yet (ReDim gives them)".into()),
             (1, [i]) => (0, i - a.lower.1),
             (2, [i, j]) => (i - a.lower.0, j - a.lower.1),
+            (d, _) if d > 2 && index.len() == d as usize => {
+                let shape = a.shape.as_deref().expect("an array of three dimensions or more has its shape");
+                return position_in(shape, index).ok_or_else(|| outside_bounds(index));
+            }
             (d, _) => {
                 return Err(format!(
                     "the array has {d} dimension{}, not {}",
@@ -80,8 +96,7 @@ impl Interp<'_, '_> {
             }
         };
         if row < 0 || col < 0 || row as usize >= a.data.rows || col as usize >= a.data.cols {
-            let shown: Vec<String> = index.iter().map(|i| i.to_string()).collect();
-            return Err(format!("index ({}) is outside the array's bounds", shown.join(", ")));
+            return Err(outside_bounds(index));
         }
         Ok(row as usize * a.data.cols + col as usize)
     }
@@ -103,7 +118,7 @@ impl Interp<'_, '_> {
         }
         match self.lookup(name) {
             Some(Var::Array(a)) => {
-                let k = self.element_at(&a, &at).map_err(|m| self.fault_at(span, format!("{name}: {m}")))?;
+                let k = self.element_at(&a, &at).map_err(|m| self.subscript_error(span, name, m))?;
                 if a.records.is_some() {
                     let why = "is a Type value: read its fields (pts(i).x) or assign it to a variable of the Type";
                     let mut f = self.fault_at(span, format!("Type mismatch (run-time error 13): {name}(…) {why}"));
@@ -142,6 +157,8 @@ impl Interp<'_, '_> {
             return Err(self.fault_at(span, format!("{name} is not an array")));
         };
         let k = self.element_at(&a, &at).map_err(|m| self.subscript_error(span, name, m))?;
+        // A number keeps its type beside objects too (`TypeName(Array(c, 7)(1))`: Integer).
+        self.gave.set(a.held(k));
         Ok(a.item(k))
     }
 
@@ -189,8 +206,31 @@ impl Interp<'_, '_> {
         }
     }
 
+    /// The value a Range is given (`r.Value = value`): a sheet holds rows and columns, so an
+    /// array variable of three dimensions or more is refused as a type mismatch, error 13,
+    /// rather than written flattened.
+    pub(super) fn sheet_value(&self, value: &Expr) -> Run<Value> {
+        if let ExprKind::Name(n) = &value.kind {
+            if let Some(Var::Array(a)) = self.lookup(n).filter(|v| matches!(v, Var::Array(a) if a.dims > 2)) {
+                let why = format!(
+                    "Type mismatch (run-time error 13): {n} has {} dimensions; a range's values have rows and columns only",
+                    a.dims
+                );
+                let mut f = self.fault_at(self.expr_span(value), why);
+                f.code = 13;
+                return Err(f);
+            }
+        }
+        self.eval(value)
+    }
+
     /// VBA's "Subscript out of range (Error 9)".
     fn subscript_error(&self, span: Span, name: &str, m: String) -> super::interp::Fault {
+        self.subscript_fault(span, name, m)
+    }
+
+    /// VBA's "Subscript out of range (Error 9)" about `name`, for why `m`.
+    pub(super) fn subscript_fault(&self, span: Span, name: &str, m: String) -> super::interp::Fault {
         let mut f = self.fault_at(span, format!("Subscript out of range (run-time error 9): {name}: {m}"));
         f.code = 9;
         f
@@ -290,7 +330,8 @@ impl Interp<'_, '_> {
         let gives_array = match &value.kind {
             ExprKind::Name(n) => matches!(self.lookup(n), Some(Var::Array(_))),
             ExprKind::Host(id) => {
-                matches!(self.module.nodes[*id as usize], Node::Call { .. }) || self.array_object(*id).is_some()
+                matches!(self.module.nodes[*id as usize], Node::Call { .. } | Node::ZeroBasedArray { .. })
+                    || self.array_object(*id).is_some()
             }
             // `a(i) = Array(3)`, `a(i) = Split(s)`: an array of one item is still an array.
             ExprKind::Call(id, _) => matches!(crate::eval::functions::spec(*id).name, "VBA.ARRAY" | "VBA.SPLIT"),
@@ -426,13 +467,16 @@ impl Interp<'_, '_> {
         let Some(Var::Array(a)) = array else {
             return Err(self.fault_at(span, format!("{name} is not an array")));
         };
-        let (lower, len) = match (a.dims, d) {
+        if a.dims == 0 {
             // A dynamic array before its first ReDim has no bounds ("UBound function": error 9).
-            (0, _) => return Err(self.subscript_error(span, name, "it has no bounds yet (ReDim gives them)".into())),
-            (1, 1) => (a.lower.1, a.data.cols),
-            (2, 1) => (a.lower.0, a.data.rows),
-            (2, 2) => (a.lower.1, a.data.cols),
-            _ => return Err(self.fault_at(span, format!("{name} has no dimension {d}"))),
+            return Err(self.subscript_error(span, name, "it has no bounds yet (ReDim gives them)".into()));
+        }
+        // "LBound function": a dimension past the array's is "Subscript out of range" too.
+        let bounds = a.bounds();
+        let Some(&(lower, len)) = usize::try_from(d).ok().and_then(|d| d.checked_sub(1)).and_then(|d| bounds.get(d))
+        else {
+            let why = format!("it has no dimension {d} (it has {})", bounds.len());
+            return Err(self.subscript_error(span, name, why));
         };
         Ok(Value::Number(if upper { lower + len as i64 - 1 } else { lower } as f64))
     }
@@ -640,7 +684,48 @@ pub(super) fn unallocated(ty: Option<&Ty>) -> Option<VArray> {
         held_types: None,
         arrays: None,
         records: ty.filter(|t| matches!(t, Ty::Record(_))).map(|_| Rc::new(Vec::new())),
+        shape: None,
     })
+}
+
+/// VBA's limit on an array's dimensions ("Dim statement": "up to 60 dimensions").
+pub(super) const MAX_DIMENSIONS: usize = 60;
+
+/// The row-major position of `index` in an array of `shape` ((lower bound, length) per
+/// dimension), or `None` when an index is outside its dimension.
+fn position_in(shape: &[(i64, usize)], index: &[i64]) -> Option<usize> {
+    let mut at = 0usize;
+    for (&(lower, len), &i) in shape.iter().zip(index) {
+        let offset = usize::try_from(i.checked_sub(lower)?).ok().filter(|&o| o < len)?;
+        at = at * len + offset;
+    }
+    Some(at)
+}
+
+fn outside_bounds(index: &[i64]) -> String {
+    let shown: Vec<String> = index.iter().map(|i| i.to_string()).collect();
+    format!("index ({}) is outside the array's bounds", shown.join(", "))
+}
+
+/// Why `ReDim Preserve` cannot give `old` the bounds `dims`, if it cannot ("ReDim
+/// statement": with Preserve "you can resize only the last array dimension and you can't
+/// change the number of dimensions at all", and "changing the lower bound causes an
+/// error"). A dynamic array with no bounds yet takes any.
+pub(super) fn preserve_refusal(old: &VArray, dims: &[(i64, usize)]) -> Option<String> {
+    let before = old.bounds();
+    let (last, others) = before.split_last()?;
+    if before.len() != dims.len() {
+        return Some(format!(
+            "ReDim Preserve cannot change the number of dimensions ({} to {})",
+            before.len(),
+            dims.len()
+        ));
+    }
+    let (new_last, new_others) = dims.split_last().expect("as many dimensions");
+    if others != new_others {
+        return Some("ReDim Preserve may change only the last dimension".into());
+    }
+    (last.0 != new_last.0).then(|| "ReDim Preserve may change only the upper bound of the last dimension".into())
 }
 
 /// What a parameter declared with `()` (`Sub S(a() As Long)`) holds: the caller's whole
@@ -707,6 +792,16 @@ impl Interp<'_, '_> {
     /// is evaluated first, then the indexes left to right, as for `a(i) = v`.
     pub(super) fn set_nested_item(&self, id: u32, value: &Expr, set: bool, span: Span) -> Run<()> {
         let (name, chain) = self.nested_item(id).expect("a nested item");
+        let (item, date) = self.nested_value(value, set, span)?;
+        let mut at = Vec::new();
+        for index in &chain {
+            at.push(index.iter().map(|e| self.index(e, "the index")).collect::<Run<Vec<i64>>>()?);
+        }
+        self.put_nested_in(&name, at, item, date, span)
+    }
+
+    /// What `….(i)(j) = value` (or `Set … = value`) puts in the item, and whether it is a Date.
+    fn nested_value(&self, value: &Expr, set: bool, span: Span) -> Run<(Var, bool)> {
         let item = match set {
             true => self.item_var(value)?,
             false => match self.item_given(value)? {
@@ -723,10 +818,12 @@ impl Interp<'_, '_> {
             Var::Record(..) => return Err(self.fault_at(span, "a Type value cannot be an item of a Variant's array")),
             other => other,
         };
-        let mut at = Vec::new();
-        for index in &chain {
-            at.push(index.iter().map(|e| self.index(e, "the index")).collect::<Run<Vec<i64>>>()?);
-        }
+        Ok((item, date))
+    }
+
+    /// [`Interp::set_nested_item`] once the value and the indexes are evaluated.
+    fn put_nested_in(&self, name: &Rc<str>, at: Vec<Vec<i64>>, item: Var, date: bool, span: Span) -> Run<()> {
+        let name = name.clone();
         match self.lookup(&name) {
             Some(Var::Array(_)) => {}
             Some(Var::Obj(Obj::Store(_))) => {
@@ -813,6 +910,96 @@ impl Interp<'_, '_> {
 
 /// The object an item held before, or the run-time error number and message.
 type NestedPut = Result<Option<Obj>, (u32, String)>;
+
+/// Writing through a Type's array field: `A(1).Arr(2)(3) = x`.
+impl Interp<'_, '_> {
+    /// The path `A(1).Arr(2)` (an array field of a Type variable or of an item of an array of
+    /// a Type, indexed) and the index lists after it, outermost first, when node `id` is
+    /// `A(1).Arr(2)(3)…`.
+    fn field_nested_item(&self, id: u32) -> Option<(&super::ast::Path, Vec<&[Expr]>)> {
+        let mut chain = Vec::new();
+        let mut node = &self.module.nodes[id as usize];
+        loop {
+            match node {
+                Node::Index { base, index, .. } => {
+                    chain.push(index.as_slice());
+                    let ExprKind::Host(inner) = base.kind else { return None };
+                    node = &self.module.nodes[inner as usize];
+                }
+                Node::Path(path) if !chain.is_empty() && !path.with && path.links.len() > 1 => {
+                    path.links.last()?.args.as_ref()?;
+                    chain.reverse();
+                    return Some((path, chain));
+                }
+                _ => return None,
+            }
+        }
+    }
+
+    pub(super) fn is_field_nested_item(&self, id: u32) -> bool {
+        self.field_nested_item(id).is_some_and(|(path, _)| match self.lookup(&path.links[0].name) {
+            Some(Var::Record(..)) => true,
+            Some(Var::Array(a)) => a.records.is_some(),
+            _ => false,
+        })
+    }
+
+    /// `A(1).Arr(2)(3) = v`: the item of the array that item 2 of the array field `Arr` of
+    /// `A(1)` holds, a part of `A` ([MS-VBAL] 5.6.13.1: an index expression on a variable's
+    /// array names its element as a variable; 5.6.12: a member of a UDT value names its field).
+    /// The value first, then the indexes left to right, as for `a(i)(j) = v`.
+    pub(super) fn set_field_nested_item(&self, id: u32, value: &Expr, set: bool, span: Span) -> Run<()> {
+        let (path, chain) = self.field_nested_item(id).expect("an item through a field");
+        let (item, date) = self.nested_value(value, set, span)?;
+        let field = path.links.last().expect("a field");
+        let owner = self.path_until(&mut self.ctx(), path, path.links.len() - 1);
+        self.take_pending()?;
+        let not_field = || self.fault_at(span, format!("{} is no array field of a Type value", field.name));
+        let Obj::Record(var, mut at) = owner? else { return Err(not_field()) };
+        let Some(Var::Record(ty, _)) = self.record_field(&var, &at) else { return Err(not_field()) };
+        at.push(self.module.types[ty].field(&field.name).ok_or_else(not_field)?);
+        let mut lists =
+            vec![link_index(field).iter().map(|e| self.index(e, "the index")).collect::<Run<Vec<i64>>>()?];
+        for index in &chain {
+            lists.push(index.iter().map(|e| self.index(e, "the index")).collect::<Run<Vec<i64>>>()?);
+        }
+        let bytes = match &item {
+            Var::Value(v) => super::budget::value_bytes(v),
+            Var::Array(a) => super::budget::value_bytes(&Value::Array(a.data.clone())),
+            _ => 0,
+        };
+        self.charge(bytes, span)?;
+        let result = self.with_slot(&var, |slot| {
+            let own: Rc<str> = format!("{}.{}", slot.name, field.name).into();
+            let mut target = slot.var_mut();
+            for &i in &at {
+                target = match target {
+                    Var::Record(_, fields) => &mut fields[i],
+                    Var::Array(VArray { records: Some(records), .. }) => &mut Rc::make_mut(records)[i],
+                    _ => {
+                        return Err((
+                            13,
+                            format!("Type mismatch (run-time error 13): {own} is not a Type value's field"),
+                        ))
+                    }
+                };
+            }
+            let Var::Array(a) = target else {
+                return Err((13, format!("Type mismatch (run-time error 13): {own} is not an array")));
+            };
+            self.put_nested(a, &own, &lists, item, date)
+        });
+        match result {
+            Some(Ok(old)) => old.map_or(Ok(()), |o| self.release(&Var::Obj(o))),
+            Some(Err((code, m))) => {
+                let mut f = self.fault_at(span, m);
+                f.code = code;
+                Err(f)
+            }
+            None => Err(self.fault_at(span, format!("{var} is not a variable"))),
+        }
+    }
+}
 
 /// An argument of a worksheet function: a one-dimensional array whose items are
 /// one-dimensional arrays of one length reads as a two-dimensional array, row i the i-th

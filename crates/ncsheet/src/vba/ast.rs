@@ -361,6 +361,9 @@ pub struct VarDecl {
     /// fields leading to it joined by dots for a field of a nested Type (`ReDim p.inner.v(5)`:
     /// `inner.v`).
     pub field: Option<Rc<str>>,
+    /// `ReDim pts(i).v(5)`: the indexes of the item of the array of a Type `name` whose field
+    /// ReDim sizes.
+    pub item: Option<Vec<Expr>>,
 }
 
 /// The classes a macro can make objects of (`New Collection`, `CreateObject("Scripting.Dictionary")`).
@@ -467,6 +470,10 @@ pub enum Node {
     /// to get the Match property of the WorksheetFunction class"), where `Application.Match(…)`
     /// returns the error value.
     SheetCall { call: Expr, name: Rc<str>, span: Span },
+    /// `VBA.Array(…)`: Array qualified by its type library, an array from 0 whatever the
+    /// Option Base ("Array function": the lower bound is Option Base's "unless Array is
+    /// qualified with the name of the type library (for example VBA.Array)").
+    ZeroBasedArray { call: Expr },
 }
 
 /// The questions [`Node::Inspect`] asks of a variable.

@@ -388,8 +388,7 @@ impl Interp<'_, '_> {
 /// out with its first index varying fastest (column-major: `a(1, 1), a(2, 1), …, a(1, 2)`),
 /// which is why `ReDim Preserve` may change only the last dimension ("ReDim statement").
 fn file_order(a: &super::value::VArray) -> impl Iterator<Item = usize> {
-    let (rows, cols) = (a.data.rows, a.data.cols);
-    (0..cols).flat_map(move |c| (0..rows).map(move |r| r * cols + c))
+    a.memory_order().into_iter()
 }
 
 /// Whether Put and Get take array `a` whole: in a Binary file, no objects.

@@ -392,6 +392,7 @@ impl Interp<'_, '_> {
                 }
                 other => Ok(other),
             },
+            Node::ZeroBasedArray { call } => Ok(ctx.operand(call)),
         }
     }
 
@@ -400,7 +401,7 @@ impl Interp<'_, '_> {
     pub(super) fn sheet_call_inner<'e>(&'e self, e: &'e Expr) -> &'e Expr {
         match &e.kind {
             crate::formula::ast::ExprKind::Host(id) => match &self.module.nodes[*id as usize] {
-                Node::SheetCall { call, .. } => call,
+                Node::SheetCall { call, .. } | Node::ZeroBasedArray { call } => call,
                 _ => e,
             },
             _ => e,

@@ -832,8 +832,14 @@ impl Interp<'_, '_> {
                 Some(var) => Ok(var),
                 None => Ok(Var::Value(Value::Blank)),
             },
-            ExprKind::Host(id) => self.noting_date(*id, || self.host_var(e, *id, as_object)),
-            _ => self.operand_var(e, as_object),
+            ExprKind::Host(id) => match self.array_with_objects(e) {
+                Some(array) => array,
+                None => self.noting_date(*id, || self.host_var(e, *id, as_object)),
+            },
+            _ => match self.array_with_objects(e) {
+                Some(array) => array,
+                None => self.operand_var(e, as_object),
+            },
         }
     }
 
@@ -1640,8 +1646,21 @@ impl Interp<'_, '_> {
                     // `p.x(3) = 2`: the item of a field that is an array of values, as it holds them.
                     Var::Array(a) if n + 1 == path.len() => {
                         let (field, field_ty) = ty.expect("an array field");
-                        let Var::Value(v) = convert(value, Some(field_ty), field)? else {
-                            return Err(format!("{field}(…) holds a value, not an object or an array"));
+                        let v = match convert(value, Some(field_ty), field)? {
+                            Var::Value(v) => {
+                                if let Some(arrays) = a.arrays.as_mut().filter(|held| held.contains_key(&i)) {
+                                    Rc::make_mut(arrays).remove(&i);
+                                }
+                                v
+                            }
+                            // `A(1).Arr(2) = Array(1, 2)`: an item of a Variant array holds an
+                            // array with its bounds ([MS-VBAL] 2.2).
+                            Var::Array(inner) if matches!(field_ty, Ty::Variant) => {
+                                let items = Value::Array(inner.data.clone());
+                                Rc::make_mut(a.arrays.get_or_insert_with(Default::default)).insert(i, inner);
+                                items
+                            }
+                            _ => return Err(format!("{field}(…) holds a value, not an object or an array")),
                         };
                         Rc::make_mut(&mut a.data).data[i] = v;
                         return Ok(());
@@ -1831,6 +1850,15 @@ impl Interp<'_, '_> {
                     let declared = || self.with_slot(&d.name, |s| s.ty.clone()).flatten();
                     let ty = d.ty.clone().or_else(|| redim.then(declared).flatten());
                     let dims = self.array_dims(bounds, d.span)?;
+                    if preserve {
+                        let refusal = |slot: &mut Slot| match slot.var() {
+                            Var::Array(old) => super::arrays::preserve_refusal(old, &dims),
+                            _ => None,
+                        };
+                        if let Some(why) = self.with_slot(&d.name, refusal).flatten() {
+                            return Err(self.subscript_fault(d.span, &d.name, why));
+                        }
+                    }
                     if preserve && self.grown_in_place(&d.name, &dims, ty.as_ref(), d.span)? {
                         continue;
                     }
@@ -1871,11 +1899,8 @@ impl Interp<'_, '_> {
     /// `v` of the Type variable `p`, or of a Type field of it ("ReDim statement"; a field
     /// declared with its bounds keeps them).
     fn redim_field(&self, d: &VarDecl, field: &str, preserve: bool) -> Run<()> {
-        let Some(Var::Record(mut t, _)) = self.lookup(&d.name) else {
-            return Err(self.fault_at(d.span, format!("ReDim {}.{field}: {} is not a Type variable", d.name, d.name)));
-        };
+        let (mut t, mut path) = self.redim_field_owner(d, field)?;
         let names: Vec<&str> = field.split('.').collect();
-        let mut path = Vec::new();
         for (n, name) in names.iter().enumerate() {
             let def = &self.module.types[t];
             let no_field = || format!("ReDim {}.{field}: {} has no field {name}", d.name, def.name);
@@ -1900,6 +1925,9 @@ impl Interp<'_, '_> {
         let dims = self.array_dims(d.bounds.as_deref().unwrap_or_default(), d.span)?;
         let mut array = self.array_with(&dims, Some(&def.fields[i].1))?;
         if let (true, Some(Var::Array(old))) = (preserve, self.record_field(&d.name, &path)) {
+            if let Some(why) = super::arrays::preserve_refusal(&old, &dims) {
+                return Err(self.subscript_fault(d.span, &format!("{}.{field}", d.name), why));
+            }
             super::arrays::preserve_items(&old, &mut array);
         }
         let array = Var::Array(array);
@@ -1907,12 +1935,34 @@ impl Interp<'_, '_> {
         self.with_slot(&d.name, |slot| {
             let mut var = slot.var_mut();
             for &i in &path {
-                let Var::Record(_, fields) = var else { return };
-                var = &mut fields[i];
+                var = match var {
+                    Var::Record(_, fields) => &mut fields[i],
+                    // `ReDim pts(i).v(n)`: the item of the array of a Type, by its position.
+                    Var::Array(super::value::VArray { records: Some(records), .. }) => &mut Rc::make_mut(records)[i],
+                    _ => return,
+                };
             }
             *var = array;
         });
         Ok(())
+    }
+
+    /// The Type whose field `ReDim d.field(…)` sizes and the path to that Type's value: the
+    /// variable itself (`ReDim p.v(n)`), or an item of an array of the Type, by its
+    /// row-major position (`ReDim pts(i).v(n)`, "ReDim statement": any dynamic array).
+    fn redim_field_owner(&self, d: &VarDecl, field: &str) -> Run<(usize, Vec<usize>)> {
+        let not_type = || self.fault_at(d.span, format!("ReDim {}.{field}: {} is not a Type variable", d.name, d.name));
+        match (&d.item, self.lookup(&d.name)) {
+            (None, Some(Var::Record(t, _))) => Ok((t, Vec::new())),
+            (Some(index), Some(Var::Array(_))) => {
+                let Some(Some(Ty::Record(t))) = self.with_slot(&d.name, |s| s.ty.clone()) else {
+                    return Err(not_type());
+                };
+                let k = self.record_item(&d.name, index, d.span)?.ok_or_else(not_type)?;
+                Ok((t, vec![k]))
+            }
+            _ => Err(not_type()),
+        }
     }
 
     /// `Static`: the variable the procedure's last call left, or a new one. It is moved
@@ -2036,6 +2086,7 @@ impl Interp<'_, '_> {
                 self.set_element_holding(name, index, v, held, span)
             }
             Target::Node(id) if self.is_nested_item(*id) => self.set_nested_item(*id, value, set, span),
+            Target::Node(id) if self.is_field_nested_item(*id) => self.set_field_nested_item(*id, value, set, span),
             Target::Node(id) => self.assign_node(*id, value),
         }
     }
@@ -2255,7 +2306,7 @@ impl Interp<'_, '_> {
                 };
                 held = match typed.filter(|ty| *ty != Declared::Variant) {
                     Some(ty) => vec![ty; a.data.data.len()],
-                    None => (0..a.data.data.len()).map(|k| a.held(k)).collect(),
+                    None => a.memory_order().into_iter().map(|k| a.held(k)).collect(),
                 };
                 a.items()
             }

@@ -13,7 +13,7 @@ use crate::eval::{Array, Env, Value};
 use crate::formula::ast::{Expr, ExprKind};
 use crate::formula::parse::{FunctionTable, Rule};
 
-use super::ast::{Class, Inspect, Link, Span, StmtKind, Target, Ty};
+use super::ast::{Class, Inspect, Link, Node, Span, StmtKind, Target, Ty};
 use super::interp::{Fault, Interp, Run};
 use super::parser::{Build, Res};
 use super::resolve::lower_bare;
@@ -380,8 +380,9 @@ impl Interp<'_, '_> {
     /// item is a Variant holding its value with its type ([MS-VBAL] 2.1.1.1, "Array function"),
     /// a Date as a Date and the literal 1 as an Integer (3.3.2).
     pub(super) fn array_of_call(&self, e: &Expr, v: &Value) -> Option<Var> {
+        let base = if self.is_zero_based_array(e) { 0 } else { self.module.base };
         let e = self.sheet_call_inner(e);
-        let mut var = library_array(e, v, self.module.base)?;
+        let mut var = library_array(e, v, base)?;
         if let (ExprKind::Call(id, args), Var::Array(a)) = (&e.kind, &mut var) {
             if crate::eval::functions::spec(*id).name == "VBA.ARRAY" {
                 for (k, arg) in args.iter().enumerate() {
@@ -395,6 +396,24 @@ impl Interp<'_, '_> {
             }
         }
         Some(var)
+    }
+}
+
+impl Interp<'_, '_> {
+    /// Whether `e` is `VBA.Array(…)`, zero-based whatever the Option Base.
+    fn is_zero_based_array(&self, e: &Expr) -> bool {
+        matches!(&e.kind, ExprKind::Host(id) if matches!(self.module.nodes[*id as usize], Node::ZeroBasedArray { .. }))
+    }
+
+    /// `Array(…)` or `VBA.Array(…)` with an object among its arguments, as a Variant array
+    /// holding the objects (`param_array.rs`); `None` for any other expression.
+    pub(super) fn array_with_objects(&self, e: &Expr) -> Option<Run<Var>> {
+        let lower = if self.is_zero_based_array(e) { 0 } else { self.module.base };
+        let ExprKind::Call(id, args) = &self.sheet_call_inner(e).kind else { return None };
+        if crate::eval::functions::spec(*id).name != "VBA.ARRAY" {
+            return None;
+        }
+        self.array_of_objects(args, lower)
     }
 }
 

@@ -24,8 +24,10 @@
 //! with defaults and named arguments (`x:=1`), a last `ParamArray args()` taking the rest of
 //! the arguments as one zero-based Variant array; a Function returns by assigning its name;
 //! `Dim`/`Static`/`ReDim [Preserve]` with `As Integer|Long|Double|String|Boolean|Variant|Range…`
-//! (typed variables convert as VBA does: an Integer rounds halves to even), one- and
-//! two-dimensional arrays (`Dim a(1 To 5)`, `UBound`, `LBound`, `Array(…)`, `Option Base`),
+//! (typed variables convert as VBA does: an Integer rounds halves to even), arrays of one to
+//! VBA's 60 dimensions (`Dim a(1 To 5)`, `Dim c(1 To 3, 1 To 4, 0 To 2)`, `UBound(c, 3)`,
+//! `LBound`, `Array(…)`, `Option Base`; For Each goes first index fastest, as VBA lays arrays
+//! out; a range is not given an array of three dimensions or more: error 13),
 //! `Const`, `Set`, `If … Then … ElseIf … Else … End If` and the one-line `If`, `Select Case`
 //! (values, `a To b`, `Is >= x`, `Case Else`), `For … To … Step … Next`, `For Each`
 //! (cells of a range, items of an array, `Worksheets`), `Do [While|Until] … Loop
@@ -221,7 +223,7 @@
 //! (`Len(Null)`, `Left(Null, 1)`, `Abs(Null)`, `Hex(Null)` are Null), error 94 anywhere else
 //! (`Left$(Null, 1)`, `Chr(Null)`, `Sqr(Null)`, `CStr(Null)`).
 //!
-//! Not in the language: arrays of more than two dimensions, events and forms.
+//! Not in the language: events and forms.
 //! A member's dot touches what it follows ([MS-VBAL] 5.6.12): `Out .Y + .X` in a With block
 //! calls `Out` with `.Y + .X`.
 

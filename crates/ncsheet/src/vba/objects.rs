@@ -711,7 +711,7 @@ impl Interp<'_, '_> {
                 let mut ctx = self.ctx();
                 if !path.with && path.links.len() == 1 {
                     let obj = self.root(&mut ctx, &path.links[0])?;
-                    let v = self.eval(value)?;
+                    let v = self.sheet_value(value)?;
                     return self.write_default(obj, &v, path.span);
                 }
                 let (mut obj, members) = if path.with {
@@ -734,7 +734,7 @@ impl Interp<'_, '_> {
             Node::Evaluate { expr, span } => {
                 match Ctx::new(self, self.unqualified_sheet(), Pos::new(0, 0)).operand(expr) {
                     Operand::Ref(sheet, rect) => {
-                        let v = self.eval(value)?;
+                        let v = self.sheet_value(value)?;
                         self.write_range(sheet, rect, &v)
                     }
                     Operand::Value(_) | Operand::Areas(_) => {
@@ -767,7 +767,7 @@ impl Interp<'_, '_> {
                 Ok(())
             }
             (Obj::Range(sheet, rect), "value" | "value2") => {
-                let v = self.eval(value)?;
+                let v = self.sheet_value(value)?;
                 self.write_range(*sheet, *rect, &v)
             }
             (Obj::Range(sheet, rect), "formula" | "formulalocal" | "formular1c1" | "formular1c1local") => {
@@ -821,7 +821,7 @@ impl Interp<'_, '_> {
             // `ws.Range("A1") = v`, `r.Offset(1, 0) = v`: the member is a range; write its values.
             _ => match self.member(ctx, obj.clone(), link)? {
                 target @ Obj::Range(..) => {
-                    let v = self.eval(value)?;
+                    let v = self.sheet_value(value)?;
                     self.write_default(target, &v, link.span)
                 }
                 _ => Err(self.fault_at(link.span, format!("cannot assign to {} of {}", link.name, obj.describe()))),

@@ -9,7 +9,7 @@ use std::collections::HashMap;
 use std::rc::Rc;
 
 use crate::eval::{Array, Ctx, Operand, Value};
-use crate::formula::ast::ExprKind;
+use crate::formula::ast::{Expr, ExprKind};
 
 use super::ast::{Arg, Proc};
 use super::interp::{Interp, Run};
@@ -80,23 +80,30 @@ impl Interp<'_, '_> {
     /// The ParamArray's array of a call from code: each argument evaluated in the caller, a
     /// number keeping its type (an Integer 1, a Date) as a Variant item does ([MS-VBAL] 2.1.1.1).
     pub(super) fn param_array_arg(&self, ctx: &mut Ctx, args: &[Arg]) -> Run<Var> {
-        let mut items = Vec::with_capacity(args.len());
-        let mut held = Vec::with_capacity(args.len());
-        for a in args {
+        let values: Vec<&Expr> = args.iter().map(|a| &a.value).collect();
+        self.variant_items(ctx, &values).map(Var::Array)
+    }
+
+    /// One-dimensional Variant items from 0, one per expression, each as a Variant holds it:
+    /// an object as the reference, a number with its type, an array with its bounds.
+    fn variant_items(&self, ctx: &mut Ctx, values: &[&Expr]) -> Run<VArray> {
+        let mut items = Vec::with_capacity(values.len());
+        let mut held = Vec::with_capacity(values.len());
+        for value in values {
             let mut ty = Declared::Variant;
-            let var = match self.object_arg(ctx, &a.value)? {
+            let var = match self.object_arg(ctx, value)? {
                 Some(object) => object,
-                None => match ctx.operand(&a.value) {
+                None => match ctx.operand(value) {
                     Operand::Ref(sheet, rect) => Var::Obj(Obj::Range(sheet, rect)),
                     Operand::Value(v) => {
-                        if self.as_date(&a.value, &v).is_some() {
+                        if self.as_date(value, &v).is_some() {
                             ty = Declared::Date;
                         } else if matches!(v, Value::Number(_)) {
-                            ty = self.value_type(&a.value, &v);
+                            ty = self.value_type(value, &v);
                         }
-                        match &a.value.kind {
+                        match &value.kind {
                             ExprKind::Name(n) => self.lookup(n).unwrap_or(Var::Value(v)),
-                            _ => self.array_of_call(&a.value, &v).unwrap_or_else(|| array_var(v, self.module.base)),
+                            _ => self.array_of_call(value, &v).unwrap_or_else(|| array_var(v, self.module.base)),
                         }
                     }
                     areas @ Operand::Areas(_) => array_var(ctx.deref(areas), self.module.base),
@@ -106,6 +113,29 @@ impl Interp<'_, '_> {
             items.push(var);
             held.push(ty);
         }
-        Ok(Var::Array(zero_based(items, held)))
+        Ok(zero_based(items, held))
+    }
+
+    /// `Array(c, 2)` where an argument is a variable holding an object (a Collection, an
+    /// object of a class, a Worksheet) or `New …`: a Variant array whose item holds the object
+    /// reference, as a Variant does ("Array function": "a Variant containing an array";
+    /// [MS-VBAL] 2.2), from `lower`. `None` when no argument is an object: the evaluator's
+    /// Array builds that one.
+    pub(super) fn array_of_objects(&self, args: &[Expr], lower: i64) -> Option<Run<Var>> {
+        let is_object = |e: &Expr| match &e.kind {
+            ExprKind::Name(n) => {
+                matches!(self.lookup(n), Some(Var::Obj(o)) if !matches!(o, Obj::Range(..) | Obj::Value(_)))
+            }
+            ExprKind::Host(id) => matches!(self.module.nodes[*id as usize], super::ast::Node::New { .. }),
+            _ => false,
+        };
+        if !args.iter().any(is_object) {
+            return None;
+        }
+        let values: Vec<&Expr> = args.iter().collect();
+        Some(self.variant_items(&mut self.ctx(), &values).map(|mut array| {
+            array.lower.1 = lower;
+            Var::Array(array)
+        }))
     }
 }

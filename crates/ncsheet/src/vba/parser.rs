@@ -845,12 +845,16 @@ impl<'s> Build<'s> {
             }
             as_clause.as_ref().map(|a| self.fixed_length_allowed(a, true)).transpose()?;
             let ty = as_clause.map(|a| self.ty_of(&a)).or_else(|| type_char_ty(&k)).or_else(|| self.implicit_ty(&name));
-            out.push(VarDecl { name, ty, bounds, new, span: self.span(start(&var)), field: None });
+            out.push(VarDecl { name, ty, bounds, new, span: self.span(start(&var)), field: None, item: None });
         }
         for redim in all(&kids(pair), Rule::redim_field) {
             let names = all(&kids(&redim), Rule::ident);
             let bounds = self.bounds(find(&kids(&redim), Rule::dim_bounds).expect("ReDim's bounds"))?;
+            let item = find(&kids(&redim), Rule::redim_item)
+                .map(|i| all(&kids(&i), Rule::vexpr).into_iter().map(|e| self.expr(e)).collect::<Res<Vec<Expr>>>())
+                .transpose()?;
             out.push(VarDecl {
+                item,
                 name: name_of(&names[0]),
                 ty: None,
                 bounds: Some(bounds),
@@ -998,6 +1002,10 @@ impl<'s> Build<'s> {
             match &self.nodes.borrow()[id as usize] {
                 Node::Index { base: Expr { kind: ExprKind::Host(inner), .. }, .. } => id = *inner,
                 Node::Element { .. } => return Ok(Target::Node(target)),
+                // `A(1).Arr(2)(3) = x`: through a variable's Type field (checked when run).
+                Node::Path(p) if id != target && p.links.len() > 1 && !p.with && self.is_var(&p.links[0].name) => {
+                    return Ok(Target::Node(target))
+                }
                 _ => return Err(self.not_indexed_here(&pair)),
             }
         }

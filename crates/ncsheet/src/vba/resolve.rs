@@ -654,6 +654,11 @@ impl Build<'_> {
                 Ok(Some(self.node(node, at, end)))
             }
             Some(e) if names[0] != "vba" => Ok(Some(self.sheet_arguments(e))),
+            // `VBA.Array(…)` is zero-based whatever the Option Base ([`Node::ZeroBasedArray`]).
+            Some(e) if lower_bare(&link.name) == "array" => {
+                let (at, end) = (e.span.start as usize, e.span.end as usize);
+                Ok(Some(self.node(Node::ZeroBasedArray { call: e }, at, end)))
+            }
             Some(e) => Ok(Some(e)),
             None => Err(self.error_at(pair, format!("{} is not a function of {}", link.name, path.links[0].name))),
         }

@@ -45,18 +45,43 @@ pub struct VArray {
     /// An array of a `Type` (`Dim pts(1 To 10) As TPoint`): each item's record, row-major
     /// (`data` holds Empty there). Copying the array copies the records: Types are values.
     pub records: Option<Rc<Vec<Var>>>,
+    /// An array of three dimensions or more (`Dim a(1 To 3, 1 To 4, 0 To 2)`): the (lower
+    /// bound, length) of every dimension, first to last. `data`'s rows are then every
+    /// dimension but the last, row-major, and its columns the last dimension, so that
+    /// `ReDim Preserve` of the last dimension keeps items as it does for two. `None` for one
+    /// or two dimensions, which `lower` and `data` describe alone (the common case, kept
+    /// as fast as before).
+    pub shape: Option<Rc<[(i64, usize)]>>,
 }
 
 impl VArray {
     /// A one-dimensional array of `data`'s one row, from `lower`, holding plain values.
     pub fn row(data: Rc<Array>, lower: i64) -> VArray {
-        VArray { data, lower: (1, lower), dims: 1, objects: None, held_types: None, arrays: None, records: None }
+        VArray {
+            data,
+            lower: (1, lower),
+            dims: 1,
+            objects: None,
+            held_types: None,
+            arrays: None,
+            records: None,
+            shape: None,
+        }
     }
 
     /// A two-dimensional array of `data`'s rows and columns, from (1, 1), as VBA reads a
     /// Range's values, holding plain values.
     pub fn table(data: Rc<Array>) -> VArray {
-        VArray { data, lower: (1, 1), dims: 2, objects: None, held_types: None, arrays: None, records: None }
+        VArray {
+            data,
+            lower: (1, 1),
+            dims: 2,
+            objects: None,
+            held_types: None,
+            arrays: None,
+            records: None,
+            shape: None,
+        }
     }
 
     /// The item at row-major position `k` as a variable holds it: its object, or its value.
@@ -103,9 +128,63 @@ impl VArray {
         }
     }
 
-    /// Every item, in row-major order (For Each).
+    /// The (lower bound, length) of each dimension, first to last; none before the first
+    /// ReDim of a dynamic array.
+    pub fn bounds(&self) -> Vec<(i64, usize)> {
+        match (self.dims, &self.shape) {
+            (0, _) => Vec::new(),
+            (1, _) => vec![(self.lower.1, self.data.cols)],
+            (2, _) => vec![(self.lower.0, self.data.rows), (self.lower.1, self.data.cols)],
+            (_, Some(shape)) => shape.to_vec(),
+            (_, None) => unreachable!("an array of three dimensions or more has its shape"),
+        }
+    }
+
+    /// The row-major positions of the items in VBA's memory order, the first index varying
+    /// fastest (`a(1, 1), a(2, 1), …, a(1, 2)`): the order For Each goes through an array in
+    /// and a file holds it in (VBA's arrays are laid out column-major, which is why
+    /// `ReDim Preserve` may change only the last dimension: "ReDim statement").
+    pub fn memory_order(&self) -> Vec<usize> {
+        let lengths: Vec<usize> = self.bounds().iter().map(|&(_, len)| len).collect();
+        let items = self.data.data.len();
+        // One dimension, or a range's values whose blank tail is no items (`whole`): as held.
+        if lengths.len() < 2 || lengths.iter().product::<usize>() != items {
+            return (0..items).collect();
+        }
+        if lengths.contains(&0) {
+            return Vec::new();
+        }
+        // The step in `data` of each dimension's index: the last dimension's is 1.
+        let mut steps = vec![1usize; lengths.len()];
+        for d in (0..lengths.len() - 1).rev() {
+            steps[d] = steps[d + 1] * lengths[d + 1];
+        }
+        let mut order = Vec::with_capacity(items);
+        let mut index = vec![0usize; lengths.len()];
+        let mut at = 0usize;
+        loop {
+            order.push(at);
+            // Counts up like an odometer whose first wheel turns fastest.
+            let mut d = 0;
+            loop {
+                if d == lengths.len() {
+                    return order;
+                }
+                index[d] += 1;
+                at += steps[d];
+                if index[d] < lengths[d] {
+                    break;
+                }
+                at -= steps[d] * lengths[d];
+                index[d] = 0;
+                d += 1;
+            }
+        }
+    }
+
+    /// Every item, in VBA's memory order (For Each, [`VArray::memory_order`]).
     pub fn items(&self) -> Vec<Var> {
-        (0..self.data.data.len()).map(|k| self.item(k)).collect()
+        self.memory_order().into_iter().map(|k| self.item(k)).collect()
     }
 }
 
