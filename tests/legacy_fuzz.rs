@@ -614,6 +614,32 @@ fn ods_values_past_the_sheets_edge_are_refused_naming_the_place() {
     assert_eq!(opened.workbook.value(0, parse_cell("XFD1").unwrap()), Value::Number(1.0));
 }
 
+/// A repeat count past the sheet's edge by far (2^64 - 1, the largest count a reader takes)
+/// carried the place counted after it to the end of a u64: the error named "column
+/// 18446744073709551615" (issue 30). The place is now the repeat the file holds: its count
+/// and the row or column it starts at (here column 2 after a value in A1, and row 1).
+#[test]
+fn ods_repeats_far_past_the_edge_name_the_repeat_not_a_place_counted_past_it() {
+    let past_columns = format!(
+        r#"<table:table-row>{ODS_VALUE_CELL}<table:table-cell table:number-columns-repeated="18446744073709551615"/>{ODS_VALUE_CELL}</table:table-row>"#
+    );
+    let error = open(ods_with_rows(&past_columns), Format::Ods).err().expect("refused");
+    assert!(
+        error.contains("sheet 'S': a cell holding a value in row 1 lies past the last column of a sheet (16384)")
+            && error.contains(r#"number-columns-repeated="18446744073709551615" from column 2"#),
+        "{error}"
+    );
+    let past_rows = format!(
+        r#"<table:table-row table:number-rows-repeated="18446744073709551615"><table:table-cell/></table:table-row>{ODS_ONE}"#
+    );
+    let error = open(ods_with_rows(&past_rows), Format::Ods).err().expect("refused");
+    assert!(
+        error.contains("sheet 'S': a cell holding a value lies past the last row of a sheet (1048576)")
+            && error.contains(r#"number-rows-repeated="18446744073709551615" from row 1"#),
+        "{error}"
+    );
+}
+
 /// Errors calamine gives naming no part ("Xml error: at 0..0: unrecognized entity `&i;`",
 /// "Parse integer error") name content.xml and what is wrong: an entity a DOCTYPE declares
 /// (a billion-laughs bomb among them) and a repeat count that is no count.

@@ -100,6 +100,12 @@ struct Extent {
     slots: u64,
     row_slots: u64,
     text: u64,
+    /// The repeat that carried the sheet's rows past its last one, and the row it starts
+    /// at; the one that carried the current row's cells past its last column, and the column
+    /// it starts at. A cell beyond them is named by them, not by a place counted past the
+    /// edge (a count of 2^64 - 1 columns made "column 18446744073709551615").
+    rows_crossed: Option<(u64, u64)>,
+    cols_crossed: Option<(u64, u64)>,
 }
 
 /// The attributes that give a cell a value (calamine keeps a cell without any as empty).
@@ -134,11 +140,15 @@ impl Extent {
         match (tag.name, tag.kind) {
             (b"table", TagKind::Start) => {
                 self.sheet = tag.attr("name").map(xml::unescape).unwrap_or_default();
-                (self.row, self.used) = (0, None);
+                (self.row, self.used, self.rows_crossed) = (0, None, None);
             }
             (b"table", TagKind::End) => self.end_sheet()?,
             (b"table-row", TagKind::Start | TagKind::Empty) => {
                 (self.rows, self.col, self.row_end) = (count("number-rows-repeated")?, 0, 0);
+                self.cols_crossed = None;
+                if self.rows_crossed.is_none() && crosses(self.row, self.rows, u64::from(MAX_ROWS)) {
+                    self.rows_crossed = Some((self.rows, self.row));
+                }
                 if tag.kind == TagKind::Empty {
                     self.row = self.row.saturating_add(self.rows);
                 }
@@ -180,6 +190,9 @@ impl Extent {
             self.row_end = last_col.saturating_add(1);
             self.text = self.text.saturating_add(text.saturating_mul(repeats).saturating_mul(self.rows));
         }
+        if self.cols_crossed.is_none() && crosses(self.col, repeats.max(1), u64::from(MAX_COLS)) {
+            self.cols_crossed = Some((repeats, self.col));
+        }
         self.col = last_col.saturating_add(1);
         Ok(())
     }
@@ -190,6 +203,24 @@ impl Extent {
         let (rows, cols) = (u64::from(MAX_ROWS), u64::from(MAX_COLS));
         if last_row < rows && last_col < cols {
             return Ok(());
+        }
+        let sheet = &self.sheet;
+        // Past the first row or column beyond the edge: the repeat that went past is named.
+        if let (true, Some((count, from))) = (self.row > rows, self.rows_crossed) {
+            return Err(format!(
+                "sheet '{sheet}': a cell holding a value lies past the last row of a sheet ({MAX_ROWS}), where it would \
+                 be lost: the rows before it repeat past it (number-rows-repeated=\"{count}\" from row {})",
+                from + 1
+            ));
+        }
+        if let (true, Some((count, from))) = (self.col > cols, self.cols_crossed) {
+            return Err(format!(
+                "sheet '{sheet}': a cell holding a value in row {} lies past the last column of a sheet ({MAX_COLS}), \
+                 where it would be lost: the cells before it repeat past it (number-columns-repeated=\"{count}\" \
+                 from column {})",
+                self.row + 1,
+                from + 1
+            ));
         }
         let (row, col) = if last_row >= rows { (self.row.max(rows), self.col) } else { (self.row, self.col.max(cols)) };
         Err(format!(
@@ -237,6 +268,11 @@ impl Extent {
         }
         Ok(())
     }
+}
+
+/// Whether `count` places from `start` reach at or past `edge` from before it.
+fn crosses(start: u64, count: u64, edge: u64) -> bool {
+    start < edge && start.saturating_add(count) >= edge
 }
 
 /// An entity reference in a text or an attribute that XML does not define itself.
