@@ -158,3 +158,27 @@ fn goto_and_resume_into_if_and_select_arms() {
     );
     assert_eq!(out, ["else", "arm 0 ", "end"]);
 }
+
+// DatePart's known bug, kept as VBA has it: "Format or DatePart functions can return wrong
+// week number for last Monday in Year" (Microsoft's troubleshooting article the DatePart page
+// warns of): with vbMonday and vbFirstFourDays, 12/29/2003 is week 53, the days around it as
+// ISO 8601 says (its Test1: Sun 52, Mon 53, Tue 1, Wed 1); its Test2 lists such Mondays from
+// 1850 on, 12/31/1855 one of them, 12/30/1850 and 12/29/1856 not (week 1, as ISO 8601 says).
+#[test]
+fn datepart_gives_week_53_for_the_mondays_microsoft_lists() {
+    let week = |date: &str| {
+        printed(&format!("    Debug.Print DatePart(\"ww\", #{date}#, vbMonday, vbFirstFourDays)"))[0].clone()
+    };
+    let cases = [
+        ("12/28/2003", " 52 "),
+        ("12/29/2003", " 53 "),
+        ("12/30/2003", " 1 "),
+        ("12/31/2003", " 1 "),
+        ("12/31/1855", " 53 "),
+        ("12/30/1850", " 1 "),
+        ("12/29/1856", " 1 "),
+    ];
+    for (date, want) in cases {
+        assert_eq!(week(date), want, "{date}");
+    }
+}

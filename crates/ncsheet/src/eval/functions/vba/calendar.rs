@@ -187,6 +187,25 @@ fn week_of_year(day: i64, year: i64, first: i64, rule: FirstWeek) -> i64 {
     (day - start).div_euclid(7) + 1
 }
 
+/// DatePart's "ww" as VBA gives it, bug for bug: [`week_of_year`], except that with vbMonday
+/// and vbFirstFourDays a Monday on December 29, 30 or 31 before a leap year is week 53, where
+/// ISO 8601 has it in week 1 of the next year. Microsoft's article "Format or DatePart
+/// functions can return wrong week number for last Monday in Year" (the DatePart page's
+/// warning) puts it down to Oleaut32 and lists the dates from 1850 on: 12/29/1851,
+/// 12/31/1855, 12/30/1867, 12/29/1879, 12/31/1883, 12/30/1895 …, each such Monday before a
+/// leap year and no other (1850-12-30 and 1856-12-29, Mondays before common years, are not
+/// in it); its example, 12/29/2003, is one too.
+fn vba_week_of_year(day: i64, year: i64, first: i64, rule: FirstWeek) -> i64 {
+    const MONDAY: i64 = 2;
+    let last_monday_before_leap_year = weekday_from(day, MONDAY) == 1
+        && day >= days_from_civil(year, 12, 29)
+        && days_from_civil(year + 2, 1, 1) - days_from_civil(year + 1, 1, 1) == 366;
+    if first == MONDAY && rule == FirstWeek::FourDays && last_monday_before_leap_year {
+        return 53;
+    }
+    week_of_year(day, year, first, rule)
+}
+
 /// `DateAdd(interval, number, date)` ("DateAdd function"): `number` intervals added (rounded
 /// to a whole number first); months, quarters and years keep the day of the month unless the
 /// month is shorter (Jan 31 + 1 month is Feb 28 or 29); a result outside 100-01-01 to
@@ -282,7 +301,7 @@ pub(super) fn date_part(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
             Interval::DayOfYear => at.day - days_from_civil(p.year, 1, 1) + 1,
             Interval::Day => i64::from(p.day),
             Interval::Weekday => weekday_from(at.day, first),
-            Interval::Week => week_of_year(at.day, p.year, first, rule),
+            Interval::Week => vba_week_of_year(at.day, p.year, first, rule),
             Interval::Hour => at.second / 3600,
             Interval::Minute => at.second / 60 % 60,
             Interval::Second => at.second % 60,
