@@ -155,3 +155,16 @@ fn a_long_long_written_to_a_cell_is_its_nearest_double() {
     vba::run(&mut wb, src, "test.bas", &RunOptions::default()).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(wb.value(0, parse_cell("A1").unwrap()), Value::Number(9007199254740996.0));
 }
+
+// [MS-VBAL] 5.2.3.2 (constant declarations): a constant's value is its expression's, here
+// a LongLong, kept whole as a variable keeps it (Python: 9007199254740993 + 2 ==
+// 9007199254740995; 9223372036854774001 - 1 == 9223372036854774000, whose nearest double
+// is 9223372036854773760), at module level and in a procedure.
+#[test]
+fn a_long_long_constant_keeps_its_integer() {
+    let out = printed(
+        "Const TOP As LongLong = 9223372036854774001^",
+        "    Const BIG As LongLong = 9007199254740993^\n    Debug.Print CStr(BIG + 2); \" \"; CStr(TOP - 1)",
+    );
+    assert_eq!(out, ["9007199254740995 9223372036854774000"]);
+}

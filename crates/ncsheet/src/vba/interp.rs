@@ -1493,6 +1493,7 @@ impl Interp<'_, '_> {
                     if !self.has_local(name) {
                         let var = self.constant_value(name, ty.as_ref(), e)?;
                         let mut slot = Slot::new(name.clone(), var, ty.clone());
+                        self.constant_long_long(&mut slot, e);
                         slot.constant = true;
                         self.declare(slot);
                     }

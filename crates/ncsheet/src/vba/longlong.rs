@@ -298,6 +298,17 @@ impl Interp<'_, '_> {
         }
     }
 
+    /// `Const name As LongLong = e` (or a Variant constant): the LongLong `e` gave kept with
+    /// the constant's double, where that is not exact.
+    pub(super) fn constant_long_long(&self, slot: &mut super::value::Slot, e: &Expr) {
+        let super::value::Var::Value(v) = slot.var() else { return };
+        let Some(k) = self.kept_long_long(e, v) else { return };
+        let typed = matches!(Declared::of_ty(slot.ty.as_ref()), Declared::LongLong | Declared::Variant);
+        if typed && matches!(v, Value::Number(n) if *n == k as f64) {
+            slot.set_exact(k);
+        }
+    }
+
     /// Notes the LongLong the Function that is returning gave (its name's variable's).
     pub(super) fn returning_long_long(&self, k: Option<i64>) {
         self.exact.borrow_mut().gave = k;
