@@ -1634,6 +1634,10 @@ impl Interp<'_, '_> {
     /// Writes a field of a Type variable, converted to the field's type.
     pub fn set_record_field(&self, name: &str, path: &[usize], value: Var, span: Span) -> Run<()> {
         let module = self.module;
+        // The items of a field's array copied because the array was shared (each record of
+        // `Dim t(1 To n) As T` starts with the one default array): charged to the memory
+        // budget, which a loop writing into each record's array passed unseen until it aborted.
+        let mut copied = 0;
         let result = self.with_slot(name, |slot| {
             let mut var = slot.var_mut();
             let mut ty = None;
@@ -1663,6 +1667,9 @@ impl Interp<'_, '_> {
                             }
                             _ => return Err(format!("{field}(…) holds a value, not an object or an array")),
                         };
+                        if Rc::strong_count(&a.data) > 1 {
+                            copied = super::budget::value_bytes(&Value::Array(a.data.clone()));
+                        }
                         Rc::make_mut(&mut a.data).data[i] = v;
                         return Ok(());
                     }
@@ -1673,7 +1680,8 @@ impl Interp<'_, '_> {
             *var = convert(value, Some(field_ty), field)?;
             Ok(())
         });
-        result.expect("a record variable").map_err(|m| self.fault_at(span, m))
+        result.expect("a record variable").map_err(|m| self.fault_at(span, m))?;
+        self.charge(copied, span)
     }
 
     // ---- errors and GoSub ---------------------------------------------------------------

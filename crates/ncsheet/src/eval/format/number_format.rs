@@ -57,8 +57,15 @@ pub fn round15(n: f64) -> f64 {
 
 /// The 15 significant digits by printing and parsing back: the definition, used outside the
 /// range [`round15_in_integers`] covers.
+///
+/// The doubles above 1.797693134862315E+308 round up to 1.79769313486232E+308, past the
+/// largest double: they are kept as they are, the nearest double to their 15 digits, where
+/// the infinity the text parses to made ROUNDDOWN and TRUNC of them return them unrounded.
 fn round15_by_text(n: f64) -> f64 {
-    format!("{n:.14e}").parse().unwrap_or(n)
+    match format!("{n:.14e}").parse::<f64>() {
+        Ok(r) if r.is_finite() => r,
+        _ => n,
+    }
 }
 
 /// Powers of ten that are exact doubles (10^22 is the last).

@@ -246,7 +246,8 @@ impl<'a> Package<'a> {
                 calculation.iterate = tag.attr("iterate").is_some_and(xml_true);
                 calculation.iterate_count =
                     number("iterateCount").map_or(calculation.iterate_count, excel_iteration_count);
-                calculation.iterate_delta = number("iterateDelta").unwrap_or(calculation.iterate_delta);
+                calculation.iterate_delta =
+                    number("iterateDelta").map_or(calculation.iterate_delta, excel_iteration_delta);
                 calculation.full_calc_on_load = tag.attr("fullCalcOnLoad").is_some_and(xml_true);
             }
             b"sheet" => {
@@ -545,6 +546,17 @@ fn iteration_of(calculation: &Calculation) -> Option<Iteration> {
     let max_change =
         Some(calculation.iterate_delta).filter(|d| d.is_finite() && *d >= 0.0).unwrap_or(default.max_change);
     Some(Iteration { count: calculation.iterate_count, max_change })
+}
+
+/// Excel's "Maximum Change" of an iteration: a finite number ≥ 0; NaN, an infinity or a
+/// negative one is its default, 0.001, read so once, so that `info` shows the change `eval`
+/// iterates to (it showed `NaN` and `-1` while `eval` used 0.001).
+fn excel_iteration_delta(delta: f64) -> f64 {
+    if delta.is_finite() && delta >= 0.0 {
+        delta
+    } else {
+        Iteration::default().max_change
+    }
 }
 
 /// Excel's most iterations (File > Options > Formulas, "Maximum Iterations" 1 to 32,767): a

@@ -200,9 +200,14 @@ fn sample_var(xs: &[f64]) -> f64 {
     sum_sq_dev(xs) / (xs.len() as f64 - 1.0)
 }
 
+/// A denominator: `#DIV/0!` when it is 0 (the data do not vary), `#NUM!` when its sum of
+/// squares overflowed (`CORREL({1E+308,1},{1,1E+308})`), as LibreOffice says, where
+/// `#DIV/0!` blamed data that vary.
 fn nonzero(x: f64) -> XlResult<f64> {
-    if x == 0.0 || !x.is_finite() {
+    if x == 0.0 {
         Err(XlError::Div0)
+    } else if !x.is_finite() {
+        Err(XlError::Num)
     } else {
         Ok(x)
     }
@@ -383,7 +388,10 @@ fn steyx(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         return Err(XlError::Div0);
     }
     let residual = m.syy - m.sxy * m.sxy / nonzero(m.sxx)?;
-    Ok(number_result((residual.max(0.0) / (m.n - 2.0)).sqrt()))
+    // A residual below 0 is rounding, read as 0; one that is NaN (sums of squares past the
+    // largest double) stays NaN and is #NUM!: `f64::max` would have made it 0.
+    let residual = if residual < 0.0 { 0.0 } else { residual };
+    Ok(number_result((residual / (m.n - 2.0)).sqrt()))
 }
 
 fn forecast(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
