@@ -540,3 +540,24 @@ fn database_rows_of_a_common_value_count_the_records_they_test() {
     let notes = notes_at(&wb, "C1");
     assert!(notes.iter().any(|m| m.contains("items of work")), "{notes:?}");
 }
+
+/// Paired criteria arrays whose item mixes an equality with a comparison were tested cell
+/// by cell (10,000 items over 10,000 cells, past a LAMBDA budget of 2^22); the cells the
+/// equality names are now the only ones tested. Key j (mod 1,000) names the ten cells
+/// i ≡ j; those up to j are j, j − 1,000, … above 0: ⌈j/1,000⌉ of them, 1,000 × (1 + … +
+/// 10) = 55,000 over all j, and their sum 192,527,500 (worked in Python by enumeration).
+#[test]
+fn paired_items_of_an_equality_and_a_comparison_inside_a_lambda_test_the_cells_it_names() {
+    let mut wb = Workbook::with_sheet();
+    wb.settings_mut().lambda_work = Some(1 << 22);
+    let k = 10_000_u64;
+    let keys = format!("SEQUENCE({k},1,{k},-1)");
+    let inside = |body: String| format!("=SUM(MAP({{1;2}},LAMBDA(x,SUM({body}))))/2");
+    let cells = format!("SEQUENCE({k})");
+    let criteria = format!("MOD({cells},1000),MOD({keys},1000),{cells},\"<=\"&{keys}");
+    let cases = [
+        (inside(format!("COUNTIFS({criteria})")), 55_000.0),
+        (inside(format!("SUMIFS({cells},{criteria})")), 192_527_500.0),
+    ];
+    assert_numbers_in_column_a(&mut wb, &cases);
+}

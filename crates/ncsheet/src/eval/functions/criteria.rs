@@ -578,8 +578,13 @@ impl<'a> CriteriaMatcher<'a> {
     /// How many cells meet every criterion: a comparison of the indexed range's criterion
     /// counts by binary search when the other ranges' criteria hold everywhere (COUNTIF).
     pub fn count(&self, criteria: &[Criterion]) -> XlResult<usize> {
-        if let Some(n) = self.paired.as_ref().and_then(|paired| self.paired_count(paired, criteria)) {
-            return Ok(n + blanks_beyond(self.ranges, criteria));
+        if let Some(paired) = &self.paired {
+            if let Some(n) = self.paired_count(paired, criteria) {
+                return Ok(n + blanks_beyond(self.ranges, criteria));
+            }
+            if let Some(cells) = self.paired_walk(paired, criteria) {
+                return Ok(cells.len() + blanks_beyond(self.ranges, criteria));
+            }
         }
         if let Some(indexed) = &self.indexed {
             let criterion = &criteria[indexed.which];
@@ -665,7 +670,11 @@ impl<'a> CriteriaMatcher<'a> {
         let (read_rows, read_cols) = read_size(self.ranges);
         let per_scan = read_rows * read_cols * self.ranges.len();
         if let Some(paired) = &self.paired {
-            return per_scan.saturating_mul(paired.items_scanned(criteria, self.dates));
+            let item_work = |item: Vec<Criterion>| match paired.keys_per_range(&item) {
+                Some(_) => 0,
+                None => self.paired_candidates(paired, &item).map_or(per_scan, |(_, _, n)| n * self.ranges.len()),
+            };
+            return paired.items(criteria, self.dates).map(item_work).fold(0, usize::saturating_add);
         }
         let Some(indexed) = &self.indexed else {
             let size = |v: &Value| if let Value::Array(a) = v { (a.rows, a.cols) } else { (1, 1) };
@@ -703,8 +712,11 @@ impl<'a> CriteriaMatcher<'a> {
 
     /// The cells where every range meets its criterion ([`matching_cells`]).
     pub fn matches(&self, criteria: &[Criterion]) -> XlResult<Matches> {
-        if let Some(cells) = self.paired.as_ref().and_then(|paired| self.paired_matches(paired, criteria)) {
-            return Ok(Matches { cells, blanks_beyond: blanks_beyond(self.ranges, criteria) });
+        if let Some(paired) = &self.paired {
+            let cells = self.paired_matches(paired, criteria).or_else(|| self.paired_walk(paired, criteria));
+            if let Some(cells) = cells {
+                return Ok(Matches { cells, blanks_beyond: blanks_beyond(self.ranges, criteria) });
+            }
         }
         let add = |n: usize| self.add_work(n);
         let keyed = self.indexed.as_ref().and_then(|indexed| Some((indexed, criteria[indexed.which].keys()?)));
@@ -793,6 +805,51 @@ impl<'a> CriteriaMatcher<'a> {
         Some(positions.into_iter().filter(|&p| others.at[p]).map(|p| (p / cols, p % cols)).collect())
     }
 
+    /// For a paired item with some equalities among other criteria (`COUNTIFS(a, keys, b,
+    /// ">="&starts)`): the read cells, in row order, where every criterion holds, testing
+    /// only the cells the most selective equality names; `None` for an item with none.
+    fn paired_walk(&self, paired: &PairedRanges, criteria: &[Criterion]) -> Option<Vec<(usize, usize)>> {
+        let (index, keys, _) = self.paired_candidates(paired, criteria)?;
+        let positions = index.positions(&keys);
+        self.add_work(positions.len() * self.ranges.len());
+        let cols = paired.read_cols;
+        let holds =
+            |&(row, col): &(usize, usize)| self.ranges.iter().zip(criteria).all(|(r, c)| c.matches(r.get(row, col)));
+        Some(positions.into_iter().map(|p| (p / cols, p % cols)).filter(holds).collect())
+    }
+
+    /// A paired item's most selective equality: its range's index, its keys and how many
+    /// cells they name; `None` for an item with no equality.
+    fn paired_candidates<'m>(
+        &'m self,
+        paired: &'m PairedRanges,
+        criteria: &[Criterion],
+    ) -> Option<(&'m EqualityIndex, Vec<ItemKey>, usize)> {
+        let mut fewest: Option<(&EqualityIndex, Vec<ItemKey>, usize)> = None;
+        for (slot, &i) in paired.which.iter().enumerate() {
+            let Some(keys) = criteria[i].keys() else {
+                continue;
+            };
+            let index = self.single_index(paired, slot);
+            let n = index.count_filed(&keys);
+            if fewest.as_ref().is_none_or(|(_, _, m)| n < *m) {
+                fewest = Some((index, keys, n));
+            }
+        }
+        fewest
+    }
+
+    /// The paired range in `slot` indexed alone, built at its first use (one filing per
+    /// read cell, two for text that reads as a number).
+    fn single_index<'m>(&'m self, paired: &'m PairedRanges, slot: usize) -> &'m EqualityIndex {
+        paired.singles[slot].get_or_init(|| {
+            self.add_work(paired.read_rows * paired.read_cols);
+            let (range, cols) = (&self.ranges[paired.which[slot]], paired.read_cols);
+            let cells = (0..paired.read_rows * cols).map(|p| range.get(p / cols, p % cols));
+            EqualityIndex::new(cells, self.dates)
+        })
+    }
+
     fn paired_others<'m>(&'m self, paired: &'m PairedRanges) -> &'m OthersHold {
         paired.others.get_or_init(|| {
             self.add_work(paired.read_rows * paired.read_cols * (self.ranges.len() - paired.which.len()));
@@ -856,6 +913,9 @@ struct PairedRanges {
     read_cols: usize,
     index: OnceCell<EqualityIndex<Vec<ItemKey>>>,
     others: OnceCell<OthersHold>,
+    /// Each paired range alone, indexed at the first item with an equality for it among
+    /// criteria that are not all equalities.
+    singles: Vec<OnceCell<EqualityIndex>>,
 }
 
 /// The most combinations of keys one paired item may look up: each `""` among its
@@ -881,7 +941,8 @@ impl PairedRanges {
     fn new(ranges: &[CellBlock], criteria: &[Value], which: Vec<usize>, dates: DateSystem) -> PairedRanges {
         let (read_rows, read_cols) = read_size(ranges);
         let fixed: Vec<Criterion> = criteria.iter().map(|v| Criterion::new(v, dates)).collect();
-        PairedRanges { which, fixed, read_rows, read_cols, index: OnceCell::new(), others: OnceCell::new() }
+        let singles = which.iter().map(|_| OnceCell::new()).collect();
+        PairedRanges { which, fixed, read_rows, read_cols, index: OnceCell::new(), others: OnceCell::new(), singles }
     }
 
     /// The combinations of keys the paired equality criteria name (one, or more where a
@@ -909,21 +970,18 @@ impl PairedRanges {
         (combinations <= MAX_KEY_COMBINATIONS).then_some(per_range)
     }
 
-    /// How many items of the paired arrays are tested cell by cell, not looked up.
-    fn items_scanned(&self, criteria: &[Value], dates: DateSystem) -> usize {
-        let Value::Array(first) = &criteria[self.which[0]] else {
-            return 0;
-        };
-        let mut item = self.fixed.clone();
-        let mut scanned = |j: usize| {
+    /// The criteria of each item of the paired arrays, in turn.
+    fn items<'c>(&'c self, criteria: &'c [Value], dates: DateSystem) -> impl Iterator<Item = Vec<Criterion>> + 'c {
+        let items = if let Value::Array(first) = &criteria[self.which[0]] { first.data.len() } else { 0 };
+        (0..items).map(move |j| {
+            let mut item = self.fixed.clone();
             for &i in &self.which {
                 if let Value::Array(a) = &criteria[i] {
                     item[i] = Criterion::new(&a.data[j], dates);
                 }
             }
-            self.keys_per_range(&item).is_none()
-        };
-        (0..first.data.len()).filter(|&j| scanned(j)).count()
+            item
+        })
     }
 
     /// Each read cell filed once, under the combination of the keys an equality criterion
