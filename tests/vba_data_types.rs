@@ -354,6 +354,25 @@ fn arithmetic_on_an_error_value_or_a_text_that_is_no_number_is_a_type_mismatch()
     assert_eq!(e.span.unwrap().line, 3, "{e}");
 }
 
+// [MS-VBAL] 5.6.9.4 "& Operator": each operand is let-coerced to String, and 5.5.1.2
+// ("Let-coercion from Error"): an Error let-coerced to any type but Variant is run-time error
+// 13, Type mismatch. So `"x" & CVErr(2042)` raises 13 (trappable, the variable left as it
+// was) where a formula's `&` would give #N/A and print "Error 2042" without the "x".
+#[test]
+fn joining_an_error_value_is_a_type_mismatch() {
+    let out = printed(
+        "",
+        "    Dim x, e\n    e = CVErr(2042)\n    On Error Resume Next\n\
+         \x20   x = \"x\" & CVErr(2042): Debug.Print Err.Number; IsEmpty(x): Err.Clear\n\
+         \x20   x = e & \"y\": Debug.Print Err.Number; IsEmpty(x): Err.Clear\n\
+         \x20   x = \"a\" & \"b\": Debug.Print Err.Number; x",
+    );
+    assert_eq!(out, [" 13 True", " 13 True", " 0 ab"]);
+    let e = run("Sub Main()\n    Dim s\n    s = \"x\" & CVErr(2042)\nEnd Sub\n").unwrap_err();
+    assert!(e.message.contains("Type mismatch (run-time error 13)"), "{e}");
+    assert_eq!(e.span.unwrap().line, 3, "{e}");
+}
+
 // [MS-VBAL] 5.6.9.5 "Relational Operators": numeric operands compare as their values in the
 // operation's type, a Double exactly: 0.1 + 0.2 is 0.30000000000000004, not 0.3, where a
 // cell compares to 15 digits. A Boolean is the number it converts to ([MS-VBAL] 5.5.1.2.1,

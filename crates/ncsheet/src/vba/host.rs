@@ -169,6 +169,10 @@ impl Host for Interp<'_, '_> {
         self.forget_widening(operands.0);
         self.forget_exact(operands.0);
         if op == BinOp::Concat {
+            if let Some(fault) = self.concat_error(operands, values) {
+                self.park(fault);
+                return Value::Error(XlError::Value);
+            }
             // The joined text is a copy of the left one (work counted for tests: `Work`).
             if let (Value::Text(left), Value::Text(_)) = (values.0, &result) {
                 super::count(&super::TEXT_COPIED, left.len() as u64);

@@ -74,6 +74,23 @@ impl Interp<'_, '_> {
         Some(fault)
     }
 
+    /// Type mismatch (run-time error 13) of `a & b` with an error value (`CVErr`, an error
+    /// cell's value) as an operand: `&` let-coerces each operand to String ([MS-VBAL] 5.6.9.4)
+    /// and an Error let-coerced to any type but Variant is run-time error 13 ([MS-VBAL]
+    /// 5.5.1.2, "Let-coercion from Error"), where a formula's `&` would give the error value.
+    pub(super) fn concat_error(&self, (ea, eb): (&Expr, &Expr), (a, b): (&Value, &Value)) -> Option<Fault> {
+        let error = |v: &Value| matches!(v, Value::Error(_));
+        if !error(a) && !error(b) {
+            return None;
+        }
+        let shown = self.quoted_source(ea.span.start, eb.span.end, "the operation");
+        let (code, name) = TYPE_MISMATCH;
+        let mut fault =
+            self.fault_at(self.expr_span(ea), format!("{name} (run-time error {code}): {shown} joins an error value"));
+        fault.code = code;
+        Some(fault)
+    }
+
     /// Type mismatch (run-time error 13) of `-operand`, which gave the error value `result`:
     /// the operand was a text that is no number or an error value ([MS-VBAL] 5.6.9.3.1, the
     /// operand is let-coerced to a number).
