@@ -182,3 +182,29 @@ fn datepart_gives_week_53_for_the_mondays_microsoft_lists() {
         assert_eq!(week(date), want, "{date}");
     }
 }
+
+// "Format function (Visual Basic for Applications)": Format(expression[, format[,
+// firstdayofweek[, firstweekofyear]]]), its date symbols `w` ("the day of the week as a
+// number (1 for Sunday through 7 for Saturday)") and `ww` ("the week of the year as a number
+// (1 - 54)"); the troubleshooting article "Format or DatePart functions can return wrong week
+// number for last Monday in Year" gives Format the same week 53 as DatePart for 12/29/2003
+// with vbMonday and vbFirstFourDays. By hand: 2021-01-01 was a Friday, so with the defaults
+// (Sunday weeks, week 1 holding January 1) Sunday 2021-01-03 starts week 2, and Monday
+// 2021-01-04 is day 2 of its week.
+#[test]
+fn format_numbers_weeks_by_its_week_arguments() {
+    let shown = |call: &str| printed(&format!("    Debug.Print {call}"))[0].clone();
+    let cases = [
+        ("Format(#12/28/2003#, \"ww\", vbMonday, vbFirstFourDays)", "52"),
+        ("Format(#12/29/2003#, \"ww\", vbMonday, vbFirstFourDays)", "53"),
+        ("Format(#12/30/2003#, \"ww\", vbMonday, vbFirstFourDays)", "1"),
+        ("Format(#12/29/2003#, \"yyyy-ww\", vbMonday, vbFirstFourDays)", "2003-53"),
+        ("Format(#1/2/2021#, \"ww\")", "1"),
+        ("Format(#1/3/2021#, \"ww\")", "2"),
+        ("Format(#1/4/2021#, \"w\")", "2"),
+        ("Format(#1/3/2021#, \"w ww\")", "1 2"),
+    ];
+    for (call, want) in cases {
+        assert_eq!(shown(call), want, "{call}");
+    }
+}

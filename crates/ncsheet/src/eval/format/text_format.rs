@@ -45,6 +45,10 @@ enum DatePart {
     Elapsed(char, usize),
     /// `.0`, `.00`, `.000` after seconds.
     SubSecond(usize),
+    /// VBA's `w`: the day of the week, 1 for the first day of the week.
+    Weekday,
+    /// VBA's `ww`: the week of the year.
+    Week,
     /// `AM/PM` or `A/P`, with the case as written.
     AmPm {
         short: bool,
@@ -177,9 +181,10 @@ impl NumberFormat {
     }
 
     /// A number as VBA's Format shows it: a date format reads it as a macro's Date (from
-    /// 100-01-01, a negative date's time counted forward: [`DateTime::from_vba_date`]).
-    pub fn format_vba_number(&self, n: f64) -> XlResult<String> {
-        self.format_with_dates(n, &format_vba_date)
+    /// 100-01-01, a negative date's time counted forward: [`DateTime::from_vba_date`]), its
+    /// `w` and `ww` numbered by `weeks`.
+    pub fn format_vba_number(&self, n: f64, weeks: WeekNumbers) -> XlResult<String> {
+        self.format_with_dates(n, &|section, serial| format_vba_date(section, serial, weeks))
     }
 
     fn format_with_dates(&self, n: f64, date: DateFormatter) -> XlResult<String> {
@@ -369,6 +374,12 @@ fn parse_section(text: &str, dialect: Dialect) -> XlResult<Section> {
             'a' if starts_with_ignore_case(&chars[i - 1..], "a/p") => {
                 i += 2;
                 Tok::Date(DatePart::AmPm { short: true, lower: c == 'a' })
+            }
+            'w' if dialect == Dialect::Vba => {
+                // "Format function": `w` the day of the week, `ww` the week of the year.
+                let week = chars.get(i).is_some_and(|x| x.eq_ignore_ascii_case(&'w'));
+                i += usize::from(week);
+                Tok::Date(if week { DatePart::Week } else { DatePart::Weekday })
             }
             'y' | 'm' | 'd' | 'h' | 's' => {
                 let run = 1 + chars[i..].iter().take_while(|x| x.to_ascii_lowercase() == lower).count();
@@ -1122,18 +1133,24 @@ pub fn general_text(n: f64) -> String {
 /// How a date section shows a serial: the sheet's calendar or a macro's.
 type DateFormatter<'a> = &'a dyn Fn(&Section, f64) -> XlResult<String>;
 
+/// A day's number in its week and its week's in the year, as VBA's Format numbers them for
+/// `w` and `ww` by its `firstdayofweek` and `firstweekofyear` (the calendar's rules, which
+/// DatePart shares, live beside DatePart).
+pub type WeekNumbers<'a> = &'a dyn Fn(&DateTime) -> (i64, i64);
+
 fn format_date(section: &Section, serial: f64, dates: DateSystem) -> XlResult<String> {
     if !(0.0..(LAST_SERIAL + 1) as f64).contains(&serial) {
         return Err(XlError::Value);
     }
-    Ok(write_date(section, &DateTime::from_serial(dates, serial, sub_second_digits(section))))
+    // Excel's codes have no `w`, so no week is ever asked for.
+    Ok(write_date(section, &DateTime::from_serial(dates, serial, sub_second_digits(section)), &|_| (0, 0)))
 }
 
-fn format_vba_date(section: &Section, serial: f64) -> XlResult<String> {
+fn format_vba_date(section: &Section, serial: f64, weeks: WeekNumbers) -> XlResult<String> {
     if !VBA_DATE_RANGE.contains(&serial) {
         return Err(XlError::Value);
     }
-    Ok(write_date(section, &DateTime::from_vba_date(serial, sub_second_digits(section))))
+    Ok(write_date(section, &DateTime::from_vba_date(serial, sub_second_digits(section)), weeks))
 }
 
 /// The decimals of a second the section shows: the time is rounded to the finest unit
@@ -1149,11 +1166,13 @@ fn sub_second_digits(section: &Section) -> usize {
         .unwrap_or(0)
 }
 
-fn write_date(section: &Section, dt: &DateTime) -> String {
+fn write_date(section: &Section, dt: &DateTime, weeks: WeekNumbers) -> String {
     let twelve_hour = section.tokens.iter().any(|t| matches!(t, Tok::Date(DatePart::AmPm { .. })));
     let mut out = String::new();
     for t in &section.tokens {
         match t {
+            Tok::Date(DatePart::Weekday) => out.push_str(&weeks(dt).0.to_string()),
+            Tok::Date(DatePart::Week) => out.push_str(&weeks(dt).1.to_string()),
             Tok::Date(part) => out.push_str(&date_part(*part, dt, twelve_hour)),
             Tok::Lit(s) => out.push_str(s),
             Tok::Percent => out.push('%'),
@@ -1215,6 +1234,8 @@ fn date_part(part: DatePart, dt: &DateTime, twelve_hour: bool) -> String {
             };
             zero_padded((dt.total_seconds / per).floor() as i64, n)
         }
+        // Numbered in `write_date`, by the Format call's week rules.
+        DatePart::Weekday | DatePart::Week => String::new(),
         DatePart::AmPm { short, lower } => {
             let pm = dt.hour >= 12;
             let text = match (short, pm) {

@@ -136,7 +136,7 @@ fn first_week_of_year(raised: &Raised, v: Option<&Value>) -> XlResult<Option<Fir
 
 /// The `firstdayofweek` and `firstweekofyear` arguments at `at` and after it; either past its
 /// settings is error 5.
-fn week_arguments(raised: &Raised, v: &[Value], at: usize) -> XlResult<(i64, FirstWeek)> {
+pub(super) fn week_arguments(raised: &Raised, v: &[Value], at: usize) -> XlResult<(i64, FirstWeek)> {
     let first = first_day_of_week(raised, v.get(at))?
         .ok_or_else(|| raised.set(5, "the first day of the week is not 0 to 7"))?;
     let rule = first_week_of_year(raised, v.get(at + 1))?
@@ -145,7 +145,7 @@ fn week_arguments(raised: &Raised, v: &[Value], at: usize) -> XlResult<(i64, Fir
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum FirstWeek {
+pub(super) enum FirstWeek {
     Jan1,
     FourDays,
     FullWeek,
@@ -204,6 +204,17 @@ fn vba_week_of_year(day: i64, year: i64, first: i64, rule: FirstWeek) -> i64 {
         return 53;
     }
     week_of_year(day, year, first, rule)
+}
+
+/// Format's `w` and `ww` for a day: DatePart's "w" and "ww" by the same rules, so that the
+/// week-53 bug Microsoft's article gives for both functions is in both.
+pub(super) fn week_numbers(first: i64, rule: FirstWeek) -> impl Fn(&DateTime) -> (i64, i64) {
+    move |dt: &DateTime| (weekday_from(dt.serial, first), vba_week_of_year(dt.serial, dt.year, first, rule))
+}
+
+/// Format's weeks when its call leaves them out: Sunday first, week 1 the week of January 1.
+pub(super) fn default_week_numbers() -> impl Fn(&DateTime) -> (i64, i64) {
+    week_numbers(1, FirstWeek::Jan1)
 }
 
 /// `DateAdd(interval, number, date)` ("DateAdd function"): `number` intervals added (rounded

@@ -18,7 +18,7 @@ use crate::eval::functions::api::{
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
 
-use crate::eval::format::text_format::NumberFormat;
+use crate::eval::format::text_format::{NumberFormat, WeekNumbers};
 
 mod calendar;
 mod conversions;
@@ -75,9 +75,9 @@ pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value(
         "VBA.FORMAT",
         1,
-        2,
+        4,
         format,
-        "VBA.FORMAT(value, [format])",
+        "VBA.FORMAT(value, [format], [firstdayofweek], [firstweekofyear])",
         "VBA Format: number as text in an Excel/VBA number format (\"0.000\", \"#,##0.0\", \"0.00E+00\")",
     ),
     FnSpec::value(
@@ -981,7 +981,15 @@ fn case_format(pattern: &str) -> Option<fn(&str) -> String> {
     }
 }
 
+/// `Format(expression[, format[, firstdayofweek[, firstweekofyear]]])` ("Format function"):
+/// the week arguments number a date format's `w` and `ww` as DatePart's do.
 fn format(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let raised = Raised::default();
+    let result = format_by_weeks(ctx, args, &raised);
+    raised.raise(ctx, "Format", result)
+}
+
+fn format_by_weeks(ctx: &mut Ctx, args: &[Expr], raised: &Raised) -> XlResult<Value> {
     let has_format = args.get(1).is_some_and(|e| e.kind != ExprKind::Missing);
     let values = if has_format { args.iter().map(|a| ctx.eval(a)).collect() } else { shown_values(ctx, args) };
     // "Format function": a Date without a format shows as General Date, the short date
@@ -1003,7 +1011,8 @@ fn format(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
                 _ => return Ok(Value::Text(vba_text(other)?)),
             },
         };
-        Ok(Value::text(format_number(number, &pattern)?))
+        let (first, rule) = calendar::week_arguments(raised, v, 2)?;
+        Ok(Value::text(format_number_by_weeks(number, &pattern, &calendar::week_numbers(first, rule))?))
     });
     explain_lifted_size(ctx, &values, &lifted);
     lifted
@@ -1014,6 +1023,11 @@ fn format(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// `General Date`, `Long Date` … `Short Time`) or any pattern Excel's TEXT reads — the one
 /// number-format engine of `text_format.rs`.
 pub fn format_number(n: f64, pattern: &str) -> XlResult<String> {
+    format_number_by_weeks(n, pattern, &calendar::default_week_numbers())
+}
+
+/// [`format_number`] with a date format's `w` and `ww` numbered by `weeks`.
+fn format_number_by_weeks(n: f64, pattern: &str, weeks: WeekNumbers) -> XlResult<String> {
     let named = match pattern.to_ascii_lowercase().as_str() {
         "" | "general number" | "general" => return Ok(general(n)),
         "fixed" => "0.00",
@@ -1039,7 +1053,7 @@ pub fn format_number(n: f64, pattern: &str) -> XlResult<String> {
         "short time" => "hh:mm",
         _ => pattern,
     };
-    NumberFormat::parse_vba(named)?.format_vba_number(n)
+    NumberFormat::parse_vba(named)?.format_vba_number(n, weeks)
 }
 
 /// `text Like pattern` ([MS-VBAL] 5.6.9.5.7, Option Compare Binary): `?` one character, `*`
