@@ -640,6 +640,34 @@ fn ods_repeats_far_past_the_edge_name_the_repeat_not_a_place_counted_past_it() {
     );
 }
 
+/// A cell or row without a repeat attribute that reached the last column or row was recorded
+/// as the repeat that crossed the edge: a value beyond it was reported as lying past
+/// `number-columns-repeated="1" from column 16384`, an attribute the file does not have.
+/// Counted by hand: 16,383 repeated blanks fill columns 1-16,383, two single blanks columns
+/// 16,384 and 16,385, so the value is column 16,386; 1,048,575 repeated rows, two single rows,
+/// and the value's row is 1,048,578. No repeat crossed the edge, so the place alone is named.
+#[test]
+fn ods_single_cells_and_rows_past_the_edge_name_the_place_not_a_repeat_the_file_lacks() {
+    let past_columns = format!(
+        r#"<table:table-row><table:table-cell table:number-columns-repeated="16383"/><table:table-cell/><table:table-cell/>{ODS_VALUE_CELL}</table:table-row>"#
+    );
+    let error = open(ods_with_rows(&past_columns), Format::Ods).err().expect("refused");
+    assert!(
+        error.contains("sheet 'S': a cell holding a value at row 1, column 16386 lies past the edge of a sheet")
+            && !error.contains("repeated"),
+        "{error}"
+    );
+    let past_rows = format!(
+        r#"<table:table-row table:number-rows-repeated="1048575"><table:table-cell/></table:table-row><table:table-row><table:table-cell/></table:table-row><table:table-row><table:table-cell/></table:table-row>{ODS_ONE}"#
+    );
+    let error = open(ods_with_rows(&past_rows), Format::Ods).err().expect("refused");
+    assert!(
+        error.contains("sheet 'S': a cell holding a value at row 1048578, column 1 lies past the edge of a sheet")
+            && !error.contains("repeated"),
+        "{error}"
+    );
+}
+
 /// Errors calamine gives naming no part ("Xml error: at 0..0: unrecognized entity `&i;`",
 /// "Parse integer error") name content.xml and what is wrong: an entity a DOCTYPE declares
 /// (a billion-laughs bomb among them) and a repeat count that is no count.

@@ -146,7 +146,7 @@ impl Extent {
             (b"table-row", TagKind::Start | TagKind::Empty) => {
                 (self.rows, self.col, self.row_end) = (count("number-rows-repeated")?, 0, 0);
                 self.cols_crossed = None;
-                if self.rows_crossed.is_none() && crosses(self.row, self.rows, u64::from(MAX_ROWS)) {
+                if self.rows_crossed.is_none() && repeat_crosses(self.row, self.rows, u64::from(MAX_ROWS)) {
                     self.rows_crossed = Some((self.rows, self.row));
                 }
                 if tag.kind == TagKind::Empty {
@@ -190,7 +190,7 @@ impl Extent {
             self.row_end = last_col.saturating_add(1);
             self.text = self.text.saturating_add(text.saturating_mul(repeats).saturating_mul(self.rows));
         }
-        if self.cols_crossed.is_none() && crosses(self.col, repeats.max(1), u64::from(MAX_COLS)) {
+        if self.cols_crossed.is_none() && repeat_crosses(self.col, repeats, u64::from(MAX_COLS)) {
             self.cols_crossed = Some((repeats, self.col));
         }
         self.col = last_col.saturating_add(1);
@@ -270,9 +270,11 @@ impl Extent {
     }
 }
 
-/// Whether `count` places from `start` reach at or past `edge` from before it.
-fn crosses(start: u64, count: u64, edge: u64) -> bool {
-    start < edge && start.saturating_add(count) >= edge
+/// Whether a repeat of `count` places from `start` reaches at or past `edge` from before it.
+/// A single place (no repeat attribute, or a count of 1) is no repeat: naming it as one in
+/// the error would cite an attribute the file does not have.
+fn repeat_crosses(start: u64, count: u64, edge: u64) -> bool {
+    count > 1 && start < edge && start.saturating_add(count) >= edge
 }
 
 /// An entity reference in a text or an attribute that XML does not define itself.
