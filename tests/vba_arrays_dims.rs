@@ -140,6 +140,31 @@ fn erase_empties_a_three_dimensional_array_and_keeps_its_bounds() {
     assert_eq!(out, ["0,3,1,True"]);
 }
 
+// "Erase statement": "Erase frees the memory used by dynamic arrays. Before your program can
+// refer to the dynamic array again, it must redeclare the array variable's dimensions by using
+// a ReDim statement." A freed array has no bounds, so UBound and an item of it are "Subscript
+// out of range (Error 9)" until ReDim gives new ones; a fixed-size array beside it keeps its
+// bounds. Holds for a typed (Long), a Variant and a Type dynamic array alike.
+#[test]
+fn erase_frees_a_dynamic_array_until_redim_gives_it_bounds_again() {
+    let out = printed(
+        "Type TPoint\n    x As Double\nEnd Type\n\
+         Sub Main()\n    Dim a() As Long, v(), p() As TPoint, f(1 To 4) As Long\n\
+         \x20   ReDim a(5): ReDim v(1 To 3): ReDim p(2)\n    a(2) = 7: v(2) = \"x\": p(1).x = 1.5: f(4) = 3\n\
+         \x20   Erase a, v, p, f\n    On Error Resume Next\n\
+         \x20   Debug.Print UBound(a): Debug.Print Err.Number: Err.Clear\n\
+         \x20   Debug.Print a(2): Debug.Print Err.Number: Err.Clear\n\
+         \x20   Debug.Print UBound(v): Debug.Print Err.Number: Err.Clear\n\
+         \x20   Debug.Print UBound(p): Debug.Print Err.Number: Err.Clear\n\
+         \x20   On Error GoTo 0\n\
+         \x20   Debug.Print UBound(f) & \",\" & f(4)\n\
+         \x20   ReDim a(2): ReDim v(0): ReDim p(1)\n\
+         \x20   Debug.Print a(2) & \",\" & UBound(a) & \",\" & IsEmpty(v(0)) & \",\" & p(1).x\nEnd Sub\n",
+    );
+    // With Resume Next, a failing Debug.Print prints nothing: only Err.Number shows.
+    assert_eq!(out, ["9", "9", "9", "9", "4,0", "0,2,True,0"]);
+}
+
 // A worksheet's range holds rows and columns: Excel's "Range.Value property" takes a value or
 // a two-dimensional array. A three-dimensional array has no such layout, so writing one is a
 // type mismatch (error 13, "Type mismatch (Error 13)": "the variable or property isn't of the

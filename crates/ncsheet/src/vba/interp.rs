@@ -226,7 +226,7 @@ pub struct ErrState {
 }
 
 pub(super) struct Frame {
-    proc: usize,
+    pub(super) proc: usize,
     pub(super) vars: Slots,
     with: Vec<Obj>,
     call_site: Option<Span>,

@@ -69,10 +69,15 @@ impl Interp<'_, '_> {
         Ok(())
     }
 
-    /// `Erase a, b`: every item of each array back to its type's default (0, "", False,
-    /// Empty); the bounds stay, as for VBA's fixed-size arrays.
+    /// `Erase a, b`: every item of a fixed-size array back to its type's default (0, "",
+    /// False, Empty), its bounds kept; a dynamic array freed ("Erase statement": "Erase frees
+    /// the memory used by dynamic arrays. Before your program can refer to the dynamic array
+    /// again, it must redeclare the array variable's dimensions by using a ReDim statement").
     pub(super) fn erase(&self, names: &[Rc<str>], span: Span) -> Run<()> {
         for name in names {
+            if self.free_dynamic_array(name)? {
+                continue;
+            }
             let ty = self.with_slot(name, |slot| slot.ty.clone()).flatten();
             let record = match ty {
                 Some(Ty::Record(_)) => Some(self.default_var(ty.as_ref())?),
@@ -99,6 +104,36 @@ impl Interp<'_, '_> {
             }
         }
         Ok(())
+    }
+
+    /// Frees `name` when it is a dynamic array (`Dim a() As Long` … `ReDim a(5)`): it goes
+    /// back to an array without bounds, as its declaration left it, so that `UBound(a)` and
+    /// `a(1)` are error 9 until the next ReDim. False for anything else, which Erase resets
+    /// item by item. An array parameter is reset, not freed: the caller's array may be a
+    /// fixed-size one, whose bounds VBA keeps.
+    fn free_dynamic_array(&self, name: &str) -> Run<bool> {
+        if self.is_parameter(name) {
+            return Ok(false);
+        }
+        let freed = self.with_slot(name, |slot| {
+            if slot.fixed || !matches!(slot.var(), Var::Array(a) if a.dims > 0) {
+                return None;
+            }
+            let empty = super::arrays::unallocated(slot.ty.as_ref())
+                .unwrap_or_else(|| VArray { dims: 0, ..VArray::row(Rc::new(Array::filled(0, 0, Value::Blank)), 0) });
+            Some(slot.replace(Var::Array(empty)))
+        });
+        match freed.flatten() {
+            // The objects only the freed items held are terminated, as at ReDim.
+            Some(old) => self.release(&old).map(|_| true),
+            None => Ok(false),
+        }
+    }
+
+    /// Whether `name` is a parameter of the running procedure.
+    fn is_parameter(&self, name: &str) -> bool {
+        let Some(proc) = self.frames.borrow().last().map(|f| f.proc) else { return false };
+        self.module.procs.get(proc).is_some_and(|p| p.params.iter().any(|q| q.name.eq_ignore_ascii_case(name)))
     }
 
     /// `Application.Run "Proc", args…` ("Application.Run method (Excel)"): runs the project's

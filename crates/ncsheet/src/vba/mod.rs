@@ -66,8 +66,9 @@
 //! document's random sequence (the workbook's settings, as NOW and RAND do in cells):
 //! `Randomize seed` restarts it (`Randomize` alone from the clock), `Rnd(-n)` repeats for
 //! each n, `Rnd(0)` draws the next number (no "last number" is kept). `Erase a` sets every
-//! item back to its default and keeps the bounds (VBA's fixed-size arrays; a dynamic array
-//! is not freed). `Stop` stops the macro with "Stop statement at line N" (there is no
+//! item of a fixed-size array back to its default and keeps the bounds; a dynamic array
+//! (`Dim a()`, then ReDim) is freed and needs ReDim again (an array parameter is reset).
+//! `Stop` stops the macro with "Stop statement at line N" (there is no
 //! debugger to pause in; On Error does not trap it). An `Integer`, `Long` or `Byte`
 //! variable refuses a value past its range with run-time error 6, Overflow; so does
 //! arithmetic whose declared type is one of them ([MS-VBAL] 5.6.9.3): `+ - * \ Mod` on two
