@@ -1397,7 +1397,9 @@ impl Interp<'_, '_> {
                 },
             };
             let flow = match flow {
-                Flow::Resume(resume) if self.frame_flag(|f| f.inline_handler) => self.leave_inline_handler(resume)?,
+                Flow::Resume(resume) if self.frame_flag(|f| f.inline_handler) => {
+                    self.leave_inline_handler(resume, block.stmts[i].span)?
+                }
                 flow => flow,
             };
             match flow {
@@ -1821,20 +1823,25 @@ impl Interp<'_, '_> {
 
     /// `Resume label` in such a handler ends it and goes on at the label, as a GoTo. `Resume`
     /// and `Resume Next` need the failing statement's place, which an in-place handler has
-    /// left behind: refused.
-    fn leave_inline_handler(&self, resume: Resume) -> Run<Flow> {
+    /// left behind: refused, and the refusal stops the macro. Were it an ordinary run-time
+    /// error, the `On Error GoTo` still in force would trap it and run the handler again,
+    /// round and round until the statement limit.
+    fn leave_inline_handler(&self, resume: Resume, span: Span) -> Run<Flow> {
+        let Resume::Label(label) = resume else {
+            let mut fault = self.fault_at(
+                span,
+                "Resume or Resume Next in an error handler whose label is inside a loop or If is not supported: \
+                 use Resume with a label",
+            );
+            fault.kind = ErrorKind::Syntax;
+            return Err(fault);
+        };
         if let Some(f) = self.frames.borrow_mut().last_mut() {
             f.inline_handler = false;
             f.handling = false;
         }
         *self.err.borrow_mut() = ErrState::default();
-        match resume {
-            Resume::Label(label) => Ok(Flow::GoTo(label)),
-            _ => Err(self.fault(
-                "Resume or Resume Next in an error handler whose label is inside a loop or If is not supported: \
-                 use Resume with a label",
-            )),
-        }
+        Ok(Flow::GoTo(label))
     }
 
     fn set_handling(&self, on: bool) {
