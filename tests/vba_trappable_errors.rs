@@ -224,3 +224,14 @@ fn format_numbers_weeks_by_its_week_arguments() {
         assert_eq!(shown(call), want, "{call}");
     }
 }
+
+// "Error function": "If errornumber is omitted, the message corresponding to the most recent
+// run-time error is returned. If no run-time error has occurred, or errornumber is 0, Error
+// returns a zero-length string"; 11's message is "Division by zero" ("Trappable errors").
+#[test]
+fn error_without_a_number_is_the_current_errors_message() {
+    let out = printed(
+        "    Debug.Print \"[\" & Error & \"]\"\n    On Error Resume Next\n    x = 1 / 0\n    Debug.Print Error\n    Debug.Print Error$\n    Err.Clear\n    Debug.Print \"[\" & Error & \"]\"",
+    );
+    assert_eq!(out, ["[]", "Division by zero", "Division by zero", "[]"]);
+}

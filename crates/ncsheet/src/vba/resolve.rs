@@ -220,6 +220,15 @@ fn qualified_name(module: &str, variable: &Link) -> Rc<str> {
     format!("{module}.{}", lower_bare(&variable.name)).into()
 }
 
+/// `Error` without an argument, read as `Err.Description`: "Error function", "If errornumber
+/// is omitted, the message corresponding to the most recent run-time error is returned" ("" when
+/// there is none, as Err.Description is).
+fn current_error_message(error: Link) -> Path {
+    let span = error.span;
+    let link = |name: &str| Link { name: Rc::from(name), args: None, span };
+    Path { with: false, links: vec![link("Err"), link("Description")], span }
+}
+
 pub(super) fn lower_bare(name: &str) -> String {
     name.trim_end_matches('$').to_ascii_lowercase()
 }
@@ -836,6 +845,9 @@ impl Build<'_> {
             }
             if statement {
                 return Err(self.error_at(pair, format!("no Sub named {}", link.name)));
+            }
+            if lower == "error" {
+                return Ok(self.node(Node::Path(current_error_message(link)), at, end));
             }
             if let Some(call) = self.bare_function(pair, &link)? {
                 return Ok(call);
