@@ -365,6 +365,29 @@ fn many_patterns_over_many_cells_stop_at_the_scan_limit() {
     assert_eq!(get(&wb, "B1"), t("2,10,0,20,9,2,2,9"));
 }
 
+/// A D-function inside MAP's LAMBDA counted the records it tested against the LAMBDA work
+/// budget only after testing them: one call tested as many as its own limit (10^9) allows,
+/// past the budget, and gave its value. Under a budget of 2^22 items, 3,000 pattern rows
+/// over 3,000 records (9 million tests) now stop before testing with `#NUM!` and the
+/// budget's note; 1,000 over 1,000 (a million) fit, and each record "pj" is met by its own
+/// row "*j*": DCOUNTA counts all 1,000.
+#[test]
+fn database_functions_inside_a_lambda_weigh_their_tests_against_the_budget_first() {
+    let mut wb = Workbook::with_sheet();
+    wb.settings_mut().lambda_work = Some(1 << 22);
+    let call = |k: u64| {
+        let texts = format!("VSTACK(\"n\",\"p\"&SEQUENCE({k}))");
+        let patterns = format!("VSTACK(\"n\",\"*\"&SEQUENCE({k})&\"*\")");
+        format!("=SUM(MAP({{1}},LAMBDA(x,DCOUNTA({texts},1,{patterns}))))")
+    };
+    set(&mut wb, "A1", &call(1_000));
+    assert_eq!(get(&wb, "A1"), n(1_000.0));
+    set(&mut wb, "A2", &call(3_000));
+    assert_eq!(get(&wb, "A2"), Value::Error(ncsheet::eval::XlError::Num));
+    let notes = notes_at(&wb, "A2");
+    assert!(notes.iter().any(|m| m.contains("items of work")), "{notes:?}");
+}
+
 /// A database's criteria range of many rows: each row was tested against every record
 /// (2^17 rows × 2^17 records, 2^34 tests, hours). A row with an equality (`=x`, a
 /// number, TRUE) now tests only the records filed under its value, a row with a text

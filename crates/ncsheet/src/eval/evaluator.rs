@@ -437,6 +437,16 @@ pub const MAX_LAMBDA_CALLS: u32 = 2_000_000;
 /// in 10,000 rows.
 pub const MAX_LAMBDA_WORK: u64 = 1 << 28;
 
+/// The note of `#NUM!` when the LAMBDAs of one formula pass their work budget `limit`.
+fn lambda_work_note(limit: u64) -> String {
+    format!(
+        "the LAMBDAs of MAP, REDUCE, SCAN, BYROW, BYCOL or MAKEARRAY did more than {limit} items of \
+         work in one formula (ncsheet's limit: each call, and every array item made or read, cell read, 16 \
+         bytes of text made or read and step of a regression or matrix product inside them; an array \
+         grown item by item is copied at every step)"
+    )
+}
+
 /// The work [`Ctx::charge`] counts for a value made: its array's stored items, or its
 /// text's bytes by 16 (about the cost of copying one item).
 fn work_of(v: &Value) -> usize {
@@ -979,13 +989,21 @@ impl<'a> Ctx<'a> {
         self.lambda_work.set(work);
         let limit = self.env.lambda_work_limit();
         if work > limit {
-            let why = format!(
-                "the LAMBDAs of MAP, REDUCE, SCAN, BYROW, BYCOL or MAKEARRAY did more than {limit} items of \
-                 work in one formula (ncsheet's limit: each call, and every array item made or read, cell read, 16 \
-                 bytes of text made or read and step of a regression or matrix product inside them; an array \
-                 grown item by item is copied at every step)"
-            );
-            return Err(self.explain_once(XlError::Num, why));
+            return Err(self.explain_once(XlError::Num, lambda_work_note(limit)));
+        }
+        Ok(())
+    }
+
+    /// Whether `work` more items, known before they are done (the records a D-function would
+    /// test), fit in what is left of [`MAX_LAMBDA_WORK`] when a LAMBDA of MAP, REDUCE, … is
+    /// running: past it, `#NUM!` with the limit's note before the work, not after it.
+    pub fn within_lambda_budget(&mut self, work: usize) -> XlResult<()> {
+        if self.iterating == 0 {
+            return Ok(());
+        }
+        let limit = self.env.lambda_work_limit();
+        if self.lambda_work.get().saturating_add(work as u64) > limit {
+            return Err(self.explain_once(XlError::Num, lambda_work_note(limit)));
         }
         Ok(())
     }

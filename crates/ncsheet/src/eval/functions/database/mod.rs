@@ -231,6 +231,9 @@ fn selected(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<Value>> {
         );
         return Err(ctx.explain(XlError::Num, why));
     }
+    // Inside MAP's LAMBDA the records are weighed against what is left of the budget before
+    // they are tested: counted only afterwards, one call could test far past it.
+    ctx.within_lambda_budget(db.rows.saturating_add(tested))?;
     let meeting = lookups.records_meeting(&db, &rows, dates);
     ctx.charge(db.rows.saturating_add(tested));
     let mut out = Vec::new();
