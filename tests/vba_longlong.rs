@@ -168,3 +168,22 @@ fn a_long_long_constant_keeps_its_integer() {
     );
     assert_eq!(out, ["9007199254740995 9223372036854774000"]);
 }
+
+// "LongLong data type": a signed 64-bit integer, every whole number to 9,223,372,036,854,775,807
+// exact, as an item of an array of LongLong ("Dim statement": an array's items are of its
+// type) and of a Variant array (a Variant holds a LongLong as itself, "Variant data type").
+// 9007199254740993 = 2^53 + 1 has no double; the sums are worked with Python's int:
+// 9007199254740993 + 2 = 9007199254740995, 2^53 + 1 - 1 = 9007199254740992. An item given
+// another value afterwards is that value: a(1) = 9007199254740992^ (2^53, the double that
+// 2^53 + 1 rounds to) shows 9007199254740992, not the integer kept before.
+#[test]
+fn an_array_item_keeps_its_long_long_past_two_to_the_53() {
+    let out = printed(
+        "",
+        "    Dim a(3) As LongLong, v(1 To 2)\n\
+         \x20   a(1) = 9007199254740993^: v(2) = 9007199254740993^\n\
+         \x20   Debug.Print CStr(a(1) + 2)\n    Debug.Print CStr(v(2) - 1)\n    Debug.Print a(1) = v(2) + 0\n\
+         \x20   a(1) = 9007199254740992^\n    Debug.Print CStr(a(1)); \" \"; a(1) = v(2)",
+    );
+    assert_eq!(out, ["9007199254740995", "9007199254740992", "True", "9007199254740992 False"]);
+}

@@ -74,6 +74,7 @@ impl Interp<'_, '_> {
             arrays: None,
             records,
             shape: (dims.len() > 2).then(|| Rc::from(dims)),
+            exact: None,
         })
     }
 
@@ -126,6 +127,10 @@ impl Interp<'_, '_> {
                     return Err(f);
                 }
                 self.gave.set(a.held(k));
+                // Its LongLong past 2^53 is the node's (`longlong.rs`).
+                if let Some(long_long) = a.exact_item(k) {
+                    self.returning_long_long(Some(long_long));
+                }
                 match a.item(k) {
                     Var::Obj(o) => self.operand_of(o, span),
                     _ => Ok(Operand::Value(a.data.data[k].clone())),
@@ -286,6 +291,8 @@ impl Interp<'_, '_> {
         held: Declared,
         span: Span,
     ) -> Run<()> {
+        // The LongLong past 2^53 the assignment gave, if any (`longlong.rs`).
+        let long_long = self.take_item_long_long();
         let at = index.iter().map(|e| self.index(e, "the index")).collect::<Run<Vec<i64>>>()?;
         if let Some(Var::Obj(Obj::Range(sheet, rect))) = self.lookup(name) {
             let cell = super::objects::item(rect, &at).map_err(|m| self.fault_at(span, format!("{name}: {m}")))?;
@@ -316,6 +323,8 @@ impl Interp<'_, '_> {
             let number = matches!(a.data.data[k], Value::Number(_));
             let variant = matches!(ty, None | Some(Ty::Variant));
             a.mark_held(k, if number && variant { held } else { Declared::Variant });
+            let typed = matches!(Declared::of_ty(ty.as_ref()), Declared::LongLong | Declared::Variant);
+            a.keep_exact_item(k, long_long.filter(|&n| typed && a.data.data[k] == Value::Number(n as f64)));
             Ok(())
         });
         match result {
@@ -685,6 +694,7 @@ pub(super) fn unallocated(ty: Option<&Ty>) -> Option<VArray> {
         arrays: None,
         records: ty.filter(|t| matches!(t, Ty::Record(_))).map(|_| Rc::new(Vec::new())),
         shape: None,
+        exact: None,
     })
 }
 

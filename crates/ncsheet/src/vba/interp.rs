@@ -2099,6 +2099,8 @@ impl Interp<'_, '_> {
                     Value::Number(_) => self.value_type(value, &v),
                     _ => Declared::Variant,
                 };
+                // A LongLong past 2^53 keeps its integer in the array (`longlong.rs`).
+                self.note_item_long_long(value, &v);
                 self.set_element_holding(name, index, v, held, span)
             }
             Target::Node(id) if self.is_nested_item(*id) => self.set_nested_item(*id, value, set, span),

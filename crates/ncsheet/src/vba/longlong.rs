@@ -40,6 +40,8 @@ pub(super) struct Exact {
     gave: Option<i64>,
     /// The LongLongs the call being bound passes, by parameter position.
     args: Vec<(usize, i64)>,
+    /// What the value assigned to an array item (`a(i) = value`) gave, until the item takes it.
+    item: Option<i64>,
 }
 
 fn key(e: &Expr) -> usize {
@@ -270,6 +272,24 @@ impl Interp<'_, '_> {
             slot.set_exact(k);
             true
         }) == Some(true)
+    }
+
+    /// Notes the LongLong past 2^53 that `value`, assigned to an array item, gave as `v`.
+    pub(super) fn note_item_long_long(&self, value: &Expr, v: &Value) {
+        let k = self.kept_long_long(value, v);
+        if k.is_some() || self.exact.borrow().item.is_some() {
+            self.exact.borrow_mut().item = k;
+        }
+    }
+
+    /// The LongLong noted for the array item being assigned, forgotten for any later one.
+    pub(super) fn take_item_long_long(&self) -> Option<i64> {
+        let noted = self.exact.borrow().item.is_some();
+        if noted {
+            self.exact.borrow_mut().item.take()
+        } else {
+            None
+        }
     }
 
     /// Notes that the argument at parameter position `index`, the expression `e`, gave the

@@ -52,6 +52,10 @@ pub struct VArray {
     /// or two dimensions, which `lower` and `data` describe alone (the common case, kept
     /// as fast as before).
     pub shape: Option<Rc<[(i64, usize)]>>,
+    /// The items of a LongLong or Variant array that hold a LongLong past 2^53, where their
+    /// double is not exact: the integer, by row-major position (`longlong.rs`). Each is used
+    /// only while it still stands for its item's double; `None` for almost every array.
+    pub(super) exact: Option<Rc<std::collections::HashMap<usize, i64>>>,
 }
 
 impl VArray {
@@ -66,6 +70,7 @@ impl VArray {
             arrays: None,
             records: None,
             shape: None,
+            exact: None,
         }
     }
 
@@ -81,6 +86,7 @@ impl VArray {
             arrays: None,
             records: None,
             shape: None,
+            exact: None,
         }
     }
 
@@ -125,6 +131,20 @@ impl VArray {
             (held, ty) => {
                 Rc::make_mut(held.get_or_insert_with(Default::default)).insert(k, ty);
             }
+        }
+    }
+
+    /// The LongLong the item at `k` holds past 2^53, if one is kept for it.
+    pub(super) fn exact_item(&self, k: usize) -> Option<i64> {
+        self.exact.as_ref().and_then(|e| e.get(&k).copied())
+    }
+
+    /// Keeps `k`'s LongLong (`Some`) or forgets it (`None`: the item changed to anything else).
+    pub(super) fn keep_exact_item(&mut self, k: usize, long_long: Option<i64>) {
+        match (&mut self.exact, long_long) {
+            (Some(kept), None) if kept.contains_key(&k) => _ = Rc::make_mut(kept).remove(&k),
+            (_, None) => {}
+            (kept, Some(n)) => _ = Rc::make_mut(kept.get_or_insert_with(Default::default)).insert(k, n),
         }
     }
 
