@@ -169,6 +169,56 @@ fn a_long_long_constant_keeps_its_integer() {
     assert_eq!(out, ["9007199254740995 9223372036854774000"]);
 }
 
+// [MS-VBAL] 5.4.2.10 (Select Case): each Case compares the subject as `=`, `<=`, `>=` and
+// the relational operator of `Case Is` do, here on two LongLongs' integers (5.6.9.5).
+// 9007199254740993 and 9007199254740992 are one double (Python:
+// float(9007199254740993) == 9007199254740992.0) but different LongLongs
+// (9007199254740993 > 9007199254740992), so only the Cases naming ...993 hold.
+#[test]
+fn select_case_compares_long_longs_on_their_integers() {
+    let out = printed(
+        "",
+        "    Dim x As LongLong\n    x = 9007199254740993^\n\
+         \x20   Select Case x\n        Case 9007199254740992^: Debug.Print \"992\"\n\
+         \x20       Case 9007199254740993^: Debug.Print \"993\"\n    End Select\n\
+         \x20   Select Case x\n        Case Is <= 9007199254740992^: Debug.Print \"<=992\"\n\
+         \x20       Case Is > 9007199254740992^: Debug.Print \">992\"\n    End Select\n\
+         \x20   Select Case x\n        Case 9007199254740990^ To 9007199254740992^: Debug.Print \"to 992\"\n\
+         \x20       Case 9007199254740993^ To 9007199254740995^: Debug.Print \"from 993\"\n    End Select",
+    );
+    assert_eq!(out, ["993", ">992", "from 993"]);
+}
+
+// [MS-VBAL] 5.4.2.3 (For statement): the counter is assigned the start, then its value plus
+// the step each time round, until it passes the end; for a LongLong counter that addition is
+// a LongLong's (5.6.9.3), so past 2^53 it moves by exactly the step where a double's + 1
+// would leave 9007199254740992 where it is. Python:
+// list(range(9007199254740993, 9007199254740998, 2)) == [..993, ..995, ..997], the counter
+// then 9007199254740999; list(range(9007199254740995, 9007199254740992, -1)) == [..995,
+// ..994, ..993].
+#[test]
+fn a_long_long_for_counter_steps_on_its_integer_past_2_to_the_53() {
+    let out = printed(
+        "",
+        "    Dim i As LongLong, n As Long, v\n\
+         \x20   For i = 9007199254740993^ To 9007199254740997^ Step 2\n        n = n + 1: Debug.Print CStr(i)\n    Next\n\
+         \x20   Debug.Print CStr(n); \" \"; CStr(i)\n\
+         \x20   For v = 9007199254740995^ To 9007199254740993^ Step -1\n        Debug.Print CStr(v)\n    Next",
+    );
+    assert_eq!(
+        out,
+        [
+            "9007199254740993",
+            "9007199254740995",
+            "9007199254740997",
+            "3 9007199254740999",
+            "9007199254740995",
+            "9007199254740994",
+            "9007199254740993",
+        ]
+    );
+}
+
 // "LongLong data type": a signed 64-bit integer, every whole number to 9,223,372,036,854,775,807
 // exact, as an item of an array of LongLong ("Dim statement": an array's items are of its
 // type) and of a Variant array (a Variant holds a LongLong as itself, "Variant data type").

@@ -2222,7 +2222,7 @@ impl Interp<'_, '_> {
         }
         for case in cases {
             for test in &case.tests {
-                if self.case_matches(&s, test)? {
+                if self.case_matches((subject, &s), test)? {
                     return self.block(&case.body);
                 }
             }
@@ -2233,11 +2233,13 @@ impl Interp<'_, '_> {
         }
     }
 
-    fn case_matches(&self, s: &Value, test: &CaseTest) -> Run<bool> {
+    fn case_matches(&self, (subject, s): (&Expr, &Value), test: &CaseTest) -> Run<bool> {
+        // Texts under Option Compare, LongLongs on their integers ([MS-VBAL] 5.4.2.10 compares
+        // as `=` and `<=` do).
+        let order = |e: &Expr, v: &Value| self.long_long_order((subject, e), (s, v)).or_else(|| self.vba_order(s, v));
         let cmp = |e: &Expr| -> Run<std::cmp::Ordering> {
             let v = self.eval(e)?;
-            // Texts under Option Compare ([MS-VBAL] 5.4.2.10 compares as `=` and `<=` do).
-            self.vba_order(s, &v)
+            order(e, &v)
                 .map_or_else(|| compare(s, &v), Ok)
                 .map_err(|err| self.fault_at(self.expr_span(e), self.describe_error("the Case value", &v, err)))
         };
@@ -2246,7 +2248,7 @@ impl Interp<'_, '_> {
             CaseTest::Range(lo, hi) => cmp(lo)?.is_ge() && cmp(hi)?.is_le(),
             CaseTest::Is(op, e) => {
                 let v = self.eval(e)?;
-                match self.vba_order(s, &v) {
+                match order(e, &v) {
                     Some(ord) => crate::eval::evaluator::comparison_holds(*op, ord),
                     None => to_bool(&binary(*op, s, &v, DateSystem::From1900)).unwrap_or(false),
                 }
@@ -2265,13 +2267,17 @@ impl Interp<'_, '_> {
     ) -> Run<Flow> {
         let start = self.number(from, "the For start")?;
         let end = self.number(to, "the For end")?;
-        let (step, step_ty) = match step {
+        let (step_value, step_ty) = match step {
             Some(e) => {
                 let step = self.number(e, "the For step")?;
                 (step, self.value_type(e, &Value::Number(step)))
             }
             None => (1.0, Declared::Integer),
         };
+        let steps = step.map(|e| (e, step_value));
+        if let Some(bounds) = self.long_long_for_bounds(var, (from, start), (to, end), steps) {
+            return self.long_long_for_loop(var, bounds, body, span);
+        }
         // A Variant counter holds the start's type, then that of counter + step ([MS-VBAL]
         // 5.4.2.3: it is Let-assigned the start value, then its value plus the step).
         let mut held = self.value_type(from, &Value::Number(start));
@@ -2281,7 +2287,7 @@ impl Interp<'_, '_> {
                 Some(Var::Value(v)) => self.number_of(&v, var).map_err(|m| self.fault_at(span, m))?,
                 _ => return Err(self.fault_at(span, format!("the For variable {var} no longer holds a number"))),
             };
-            if (step >= 0.0 && v > end) || (step < 0.0 && v < end) {
+            if (step_value >= 0.0 && v > end) || (step_value < 0.0 && v < end) {
                 return Ok(Flow::Next);
             }
             self.tick(span)?;
@@ -2294,8 +2300,44 @@ impl Interp<'_, '_> {
                 Some(Var::Value(v)) => to_number(&v, DateSystem::From1900).unwrap_or(f64::NAN),
                 _ => f64::NAN,
             };
-            held = super::typing::sum_held(held, step_ty, v + step);
-            self.set_var_holding(var, Var::Value(Value::Number(v + step)), held, span)?;
+            held = super::typing::sum_held(held, step_ty, v + step_value);
+            self.set_var_holding(var, Var::Value(Value::Number(v + step_value)), held, span)?;
+        }
+    }
+
+    /// A For loop whose LongLong counter is past what a double holds exactly, counted on its
+    /// integer from `first` to `last` by `step`; Overflow (error 6) where the counter would
+    /// pass the type.
+    fn long_long_for_loop(
+        &self,
+        var: &Rc<str>,
+        (first, last, step): (i64, i64, i64),
+        body: &Block,
+        span: Span,
+    ) -> Run<Flow> {
+        self.set_long_long_counter(var, first);
+        loop {
+            let Some(i) = self.long_long_counter(var) else {
+                return Err(self.fault_at(span, format!("the For variable {var} no longer holds a whole number")));
+            };
+            if (step >= 0 && i > last) || (step < 0 && i < last) {
+                return Ok(Flow::Next);
+            }
+            self.tick(span)?;
+            match self.block(body)? {
+                Flow::Next => {}
+                Flow::Exit(ExitKind::For) => return Ok(Flow::Next),
+                other => return Ok(other),
+            }
+            let Some(next) = self.long_long_counter(var).and_then(|i| i.checked_add(step)) else {
+                return Err(self.overflow_fault(
+                    span,
+                    format!(
+                        "the For variable {var} plus its step {step} passes a LongLong's range (-2^63 to 2^63 - 1)"
+                    ),
+                ));
+            };
+            self.set_long_long_counter(var, next);
         }
     }
 

@@ -212,6 +212,19 @@ impl Interp<'_, '_> {
         if !matches!(op, BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge) {
             return None;
         }
+        let order = self.long_long_order((a, b), (x, y))?;
+        Some(Value::Bool(comparison_holds(op, order)))
+    }
+
+    /// How `a`'s value `x` orders against `b`'s `y` when both are integral, one a LongLong past
+    /// what a double holds exactly: on their integers. `None` for anything else (the doubles'
+    /// order is the value's). Select Case compares with it as `=`, `<=` and `>=` do
+    /// ([MS-VBAL] 5.4.2.10).
+    pub(super) fn long_long_order(
+        &self,
+        (a, b): (&Expr, &Expr),
+        (x, y): (&Value, &Value),
+    ) -> Option<std::cmp::Ordering> {
         let (Value::Number(p), Value::Number(q)) = (x, y) else { return None };
         if !inexact(*p) && !inexact(*q) {
             return None;
@@ -226,7 +239,59 @@ impl Interp<'_, '_> {
             return None;
         }
         let (i, j) = (self.exact_whole(a, x)?, self.exact_whole(b, y)?);
-        Some(Value::Bool(comparison_holds(op, i.cmp(&j))))
+        Some(i.cmp(&j))
+    }
+
+    /// The start, end and step of `For var = from To to Step step` as integers, where the
+    /// counter is a LongLong and the start or the end is past what a double holds exactly:
+    /// the counter then steps on its integer ([MS-VBAL] 5.4.2.3: it is assigned its value plus
+    /// the step, a LongLong addition), where a double's `+ 1` would leave it where it was.
+    /// `None` for any other loop, which counts in doubles.
+    pub(super) fn long_long_for_bounds(
+        &self,
+        var: &str,
+        (from, start): (&Expr, f64),
+        (to, end): (&Expr, f64),
+        step: Option<(&Expr, f64)>,
+    ) -> Option<(i64, i64, i64)> {
+        if !inexact(start) && !inexact(end) {
+            return None;
+        }
+        let declared = self.with_slot(var, |s| Declared::of_ty(s.ty.as_ref()))?;
+        let counter = match declared {
+            Declared::Variant => self.value_type(from, &Value::Number(start)),
+            other => other,
+        };
+        if counter != Declared::LongLong {
+            return None;
+        }
+        let first = self.exact_whole(from, &Value::Number(start))?;
+        let last = self.exact_whole(to, &Value::Number(end))?;
+        let step = match step {
+            Some((e, n)) => self.exact_whole(e, &Value::Number(n))?,
+            None => 1,
+        };
+        Some((first, last, step))
+    }
+
+    /// The whole number the For counter `var` holds, its LongLong where it keeps one.
+    pub(super) fn long_long_counter(&self, var: &str) -> Option<i64> {
+        self.with_slot(var, |slot| match slot.var() {
+            super::value::Var::Value(Value::Number(n)) => {
+                slot.exact().filter(|&k| k as f64 == *n).or_else(|| whole(*n))
+            }
+            _ => None,
+        })
+        .flatten()
+    }
+
+    /// Sets the LongLong For counter `var` to `k`, its integer kept beside its double.
+    pub(super) fn set_long_long_counter(&self, var: &str, k: i64) {
+        self.with_slot(var, |slot| {
+            slot.replace(super::value::Var::Value(Value::Number(k as f64)));
+            slot.set_holds(Declared::LongLong);
+            slot.set_exact(k);
+        });
     }
 
     /// The digits a LongLong `v`, the value of `e`, shows as a String (CStr, Str, Format,
