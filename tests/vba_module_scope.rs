@@ -169,3 +169,22 @@ fn another_modules_public_name_is_found_without_a_look_at_every_module() {
     // modules for Rate would add 40 or more.
     assert!(probes < 30 * 100_000, "{probes} probes for 100,000 reads");
 }
+
+// [MS-VBAL] 5.2.1.2 "Option Base Directive" and 5.2.1.4 "Option Compare Directive" are module
+// directives: each applies to the module it is in. So a module with `Option Base 1` and
+// `Option Compare Text` dimensions `Dim b(3)` from 1, makes `Array(1, 2)` from 1 ("Array
+// function": the lower bound is set by Option Base of the module where Array is called) and
+// compares "a" = "A" True, while Module1, which has neither, keeps 0-based arrays and the
+// Binary compare ("a" = "A" False).
+#[test]
+fn option_base_and_option_compare_apply_to_their_own_module() {
+    let main = "Sub Main()\n    Dim a(3)\n    Debug.Print LBound(a); LBound(Array(1, 2)); UBound(Array(1, 2)); (\"a\" = \"A\")\n\
+                \x20   Show\n    Debug.Print LBound(a); (\"a\" = \"A\")\nEnd Sub\n";
+    let other = module(
+        "Other",
+        "Option Base 1\nOption Compare Text\nPublic Sub Show()\n    Dim b(3)\n\
+         \x20   Debug.Print LBound(b); LBound(Array(1, 2)); UBound(Array(1, 2)); (\"a\" = \"A\")\nEnd Sub\n",
+    );
+    let out = printed(main, &[("Other", &other)]);
+    assert_eq!(out, [" 0  0  1 False", " 1  1  2 True", " 0 False"]);
+}

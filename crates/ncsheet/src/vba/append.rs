@@ -120,7 +120,7 @@ impl Interp<'_, '_> {
             let start = before.map_or(Value::Blank, |text| Value::text(text.as_str()));
             let v = join(&mut ctx, start);
             self.take_pending()?;
-            return self.set_var(name, array_var(v, self.module.base), span).map(|()| true);
+            return self.set_var(name, array_var(v, self.option_base()), span).map(|()| true);
         };
         // The buffer is shared no more: the append below writes to it in place.
         drop(before);

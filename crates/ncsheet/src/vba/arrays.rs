@@ -29,7 +29,7 @@ impl Interp<'_, '_> {
         for (lower, upper) in bounds {
             let lo = match lower {
                 Some(e) => self.index(e, "the lower bound")?,
-                None => self.module.base,
+                None => self.option_base(),
             };
             let hi = self.index(upper, "the upper bound")?;
             if hi < lo {
@@ -427,7 +427,7 @@ impl Interp<'_, '_> {
         let Node::Call { proc, args, span } = &self.module.nodes[id as usize] else { return None };
         let var = self.noting_date(id, || self.call_record(*proc, args, *span));
         Some(var.map(|var| match var {
-            Var::Value(v @ Value::Array(_)) => super::value::array_var(v, self.module.base),
+            Var::Value(v @ Value::Array(_)) => super::value::array_var(v, self.option_base()),
             other => other,
         }))
     }
@@ -469,7 +469,7 @@ impl Interp<'_, '_> {
         let (name, array): (&str, Option<Var>) = match &of.kind {
             ExprKind::Name(n) => (n, self.lookup(n)),
             _ => match self.indexed_base(of)? {
-                Var::Value(v @ Value::Array(_)) => ("the value", Some(super::value::array_var(v, self.module.base))),
+                Var::Value(v @ Value::Array(_)) => ("the value", Some(super::value::array_var(v, self.option_base()))),
                 other => ("the value", Some(other)),
             },
         };
@@ -497,7 +497,7 @@ impl Interp<'_, '_> {
     pub(super) fn indexed_var(&self, base: &Expr, index: &[Expr], span: Span) -> Run<Var> {
         let whole = match self.indexed_base(base)? {
             // An item added from a Range's values or a sheet function holds a plain array.
-            Var::Value(v @ Value::Array(_)) => super::value::array_var(v, self.module.base),
+            Var::Value(v @ Value::Array(_)) => super::value::array_var(v, self.option_base()),
             other => other,
         };
         match whole {
@@ -515,7 +515,7 @@ impl Interp<'_, '_> {
                 self.gave.set(a.held(k));
                 match a.item(k) {
                     held @ (Var::Obj(_) | Var::Array(_)) => Ok(held),
-                    _ => Ok(super::value::array_var(a.data.data[k].clone(), self.module.base)),
+                    _ => Ok(super::value::array_var(a.data.data[k].clone(), self.option_base())),
                 }
             }
             Var::Obj(Obj::Range(..)) => Err(self
@@ -559,7 +559,7 @@ impl Interp<'_, '_> {
                     o @ (Obj::Store(_) | Obj::Range(..)) => Ok(Var::Obj(o)),
                     // `d.Keys()(0)`: Keys and Items are zero-based.
                     Obj::Value(Value::Array(a)) if self.is_keys_member(base) => Ok(Var::Array(VArray::row(a, 0))),
-                    Obj::Value(v) => Ok(super::value::array_var(v, self.module.base)),
+                    Obj::Value(v) => Ok(super::value::array_var(v, self.option_base())),
                     other => Ok(Var::Obj(other)),
                 }
             }
@@ -881,7 +881,7 @@ impl Interp<'_, '_> {
         if at.len() > 1 {
             let held = a.arrays.as_mut().and_then(|arrays| Rc::make_mut(arrays).remove(&k));
             let taken = std::mem::take(&mut Rc::make_mut(&mut a.data).data[k]);
-            let mut inner = match (held, super::value::array_var(taken.clone(), self.module.base)) {
+            let mut inner = match (held, super::value::array_var(taken.clone(), self.option_base())) {
                 (Some(inner), _) => inner,
                 (None, Var::Array(inner)) => inner,
                 (None, _) => {

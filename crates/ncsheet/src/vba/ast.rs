@@ -26,11 +26,16 @@ impl fmt::Display for Span {
 pub struct Module {
     /// `Option Explicit`: every variable must be declared (checked by the parser).
     pub explicit: bool,
-    /// `Option Base 1`: the lower bound of arrays dimensioned without one.
+    /// `Option Base 1`: the lower bound of arrays dimensioned without one (the module run
+    /// first's; each module's own is in `options`).
     pub base: i64,
     /// `Option Compare Text`: text compares without case ([MS-VBAL] 5.2.1.4; Binary, the
-    /// default, by code units).
+    /// default, by code units). The module run first's; each module's own is in `options`.
     pub text_compare: bool,
+    /// Each module's `Option Base` and `Option Compare`, by its place in `parts`: a module
+    /// directive applies to its own module only ([MS-VBAL] 5.2.1), so a project's modules
+    /// may differ. Missing past the end: the defaults (Base 0, Compare Binary).
+    pub options: Vec<ModuleOptions>,
     /// Module-level `Dim`/`Private`/`Public` variables and `Const`s, in order.
     pub globals: Vec<Stmt>,
     pub procs: Vec<Proc>,
@@ -48,6 +53,15 @@ pub struct Module {
     /// another module finds one it does not declare itself ([MS-VBAL] 5.6.10). A name Public
     /// in several modules keeps the first; the parser refuses its unqualified use elsewhere.
     pub public_names: std::collections::HashMap<Box<str>, usize>,
+}
+
+/// One module's `Option Base` and `Option Compare` directives ([MS-VBAL] 5.2.1.2, 5.2.1.4).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ModuleOptions {
+    /// `Option Base 1`: the lower bound of arrays dimensioned without one.
+    pub base: i64,
+    /// `Option Compare Text`: text compares without case.
+    pub text_compare: bool,
 }
 
 /// A class module: what each of its objects holds and which procedures are its members.
@@ -74,6 +88,18 @@ pub struct Part {
 }
 
 impl Module {
+    /// The `Option Base`/`Option Compare` of the module at `part` (its place in `parts`).
+    pub fn options_of(&self, part: usize) -> ModuleOptions {
+        self.options.get(part).copied().unwrap_or_default()
+    }
+
+    /// The `Option Base`/`Option Compare` of the module declaring procedure `proc`.
+    pub fn options_of_proc(&self, proc: usize) -> ModuleOptions {
+        self.procs
+            .get(proc)
+            .map_or(ModuleOptions { base: self.base, text_compare: self.text_compare }, |p| self.options_of(p.part))
+    }
+
     /// A Sub or Function by name (any case).
     pub fn proc(&self, name: &str) -> Option<usize> {
         self.procs.iter().position(|p| p.name.eq_ignore_ascii_case(name))

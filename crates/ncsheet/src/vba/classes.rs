@@ -447,7 +447,7 @@ impl Interp<'_, '_> {
                         }
                         other => match self.operand_of(other, path.span)? {
                             crate::eval::Operand::Ref(sheet, rect) => Var::Obj(Obj::Range(sheet, rect)),
-                            operand => array_var(ctx.deref(operand), self.module.base),
+                            operand => array_var(ctx.deref(operand), self.option_base()),
                         },
                     }))
                 }

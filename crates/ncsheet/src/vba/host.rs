@@ -257,7 +257,7 @@ impl Host for Interp<'_, '_> {
     }
 
     fn option_compare_text(&self) -> bool {
-        self.module.text_compare
+        self.text_compare()
     }
 
     fn text_length(&self, name: &str) -> Option<usize> {

@@ -719,6 +719,15 @@ impl Interp<'_, '_> {
         }
     }
 
+    /// The `Option Base`/`Option Compare` of the module whose code runs. While the frames are
+    /// being changed (never while an expression is computed) the first module's.
+    pub(super) fn running_options(&self) -> super::ast::ModuleOptions {
+        match self.frames.try_borrow() {
+            Ok(frames) => self.module.options_of(self.running_part(&frames)),
+            Err(_) => self.module.options_of(0),
+        }
+    }
+
     /// A module-level name the running module does not declare: `Module2.Rate`, qualified
     /// by the parser, in the module named; else in the module declaring it Public.
     fn other_module_of<'n>(&self, name: &'n str) -> Option<(usize, &'n str)> {
@@ -914,7 +923,7 @@ impl Interp<'_, '_> {
                     return Ok(array.clone());
                 }
                 self.no_record_result(*proc, &frame)?;
-                Ok(array_var(value, self.module.base))
+                Ok(array_var(value, self.option_base()))
             }
             ExprKind::Host(_) if as_object => {
                 if let Node::Path(path) = &self.module.nodes[id as usize] {
@@ -990,10 +999,10 @@ impl Interp<'_, '_> {
             Operand::Value(Value::Array(a)) if self.is_keys_member(e) => Var::Array(super::value::VArray::row(a, 0)),
             Operand::Value(v) => match self.array_of_call(e, &v).or_else(|| self.method_result(&v)) {
                 Some(var) => var,
-                None => array_var(v, self.module.base),
+                None => array_var(v, self.option_base()),
             },
             // Several areas are no one range: the #VALUE! a cell shows.
-            areas @ Operand::Areas(_) => array_var(ctx.deref(areas), self.module.base),
+            areas @ Operand::Areas(_) => array_var(ctx.deref(areas), self.option_base()),
         })
     }
 
@@ -1095,9 +1104,9 @@ impl Interp<'_, '_> {
                         Var::Value(v)
                     }
                     ExprKind::Name(n) => self.lookup(n).unwrap_or(Var::Value(v)),
-                    _ => self.array_of_call(&a.value, &v).unwrap_or_else(|| array_var(v, self.module.base)),
+                    _ => self.array_of_call(&a.value, &v).unwrap_or_else(|| array_var(v, self.option_base())),
                 },
-                areas @ Operand::Areas(_) => array_var(ctx.deref(areas), self.module.base),
+                areas @ Operand::Areas(_) => array_var(ctx.deref(areas), self.option_base()),
             };
             self.take_pending()?;
             bound.push((index, var));

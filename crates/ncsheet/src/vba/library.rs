@@ -415,7 +415,7 @@ impl Interp<'_, '_> {
     /// item is a Variant holding its value with its type ([MS-VBAL] 2.1.1.1, "Array function"),
     /// a Date as a Date and the literal 1 as an Integer (3.3.2).
     pub(super) fn array_of_call(&self, e: &Expr, v: &Value) -> Option<Var> {
-        let base = if self.is_zero_based_array(e) { 0 } else { self.module.base };
+        let base = if self.is_zero_based_array(e) { 0 } else { self.option_base() };
         let e = self.sheet_call_inner(e);
         let mut var = library_array(e, v, base)?;
         if let (ExprKind::Call(id, args), Var::Array(a)) = (&e.kind, &mut var) {
@@ -443,7 +443,7 @@ impl Interp<'_, '_> {
     /// `Array(…)` or `VBA.Array(…)` with an object among its arguments, as a Variant array
     /// holding the objects (`param_array.rs`); `None` for any other expression.
     pub(super) fn array_with_objects(&self, e: &Expr) -> Option<Run<Var>> {
-        let lower = if self.is_zero_based_array(e) { 0 } else { self.module.base };
+        let lower = if self.is_zero_based_array(e) { 0 } else { self.option_base() };
         let ExprKind::Call(id, args) = &self.sheet_call_inner(e).kind else { return None };
         if crate::eval::functions::spec(*id).name != "VBA.ARRAY" {
             return None;

@@ -633,9 +633,10 @@ fn parse_with(source: &str, file_name: &str, workbook: &Workbook, options: &RunO
 }
 
 /// `source` with the code of the project's other modules after it, its class modules last
-/// (those the language's grammar takes), their `Attribute` and `Option` lines left blank
-/// (the first module's options hold), and where each module starts; `None` and no parts
-/// when there are no others.
+/// (those the language's grammar takes), their `Attribute` and `Option Explicit`/`Option
+/// Private Module` lines left blank (the first module's hold), and where each module starts;
+/// `None` and no parts when there are no others. Their `Option Base`/`Option Compare` lines
+/// stay: the parser keeps each module's own ([MS-VBAL] 5.2.1).
 fn join_project(
     own_name: &str,
     source: &str,
@@ -656,14 +657,24 @@ fn join_project(
         let first_line = out.matches('\n').count() as u32 + 1;
         parts.push(ast::Part { name: name.as_str().into(), first_line, class });
         for line in other.lines() {
-            let word = line.split_whitespace().next().unwrap_or("").to_ascii_lowercase();
-            if word != "attribute" && word != "option" {
+            if !left_out_of_joined_module(line) {
                 out.push_str(line);
             }
             out.push_str("\r\n");
         }
     }
     (Some(out), parts)
+}
+
+/// A line of a module joined after the first left blank: an `Attribute` line, or an `Option`
+/// other than `Option Base`/`Option Compare` (which apply to their own module).
+fn left_out_of_joined_module(line: &str) -> bool {
+    let mut words = line.split_whitespace().map(str::to_ascii_lowercase);
+    match words.next().as_deref() {
+        Some("attribute") => true,
+        Some("option") => !matches!(words.next().as_deref(), Some("base" | "compare")),
+        _ => false,
+    }
 }
 
 /// An error in another module of a joined project: named by that module and its own line.

@@ -104,9 +104,16 @@ impl Interp<'_, '_> {
         Some(fault)
     }
 
-    /// `Option Compare Text` is in force.
+    /// `Option Compare Text` is in force in the module whose code is running ([MS-VBAL]
+    /// 5.2.1.4: the directive applies to its own module).
     pub(super) fn text_compare(&self) -> bool {
-        self.module.text_compare
+        self.running_options().text_compare
+    }
+
+    /// The lower bound of an array dimensioned without one in the module whose code is
+    /// running: its `Option Base` ([MS-VBAL] 5.2.1.2), not another module's.
+    pub(super) fn option_base(&self) -> i64 {
+        self.running_options().base
     }
 
     /// The order of two values where VBA's differs from a formula's ([MS-VBAL] 5.6.9.5):

@@ -103,10 +103,10 @@ impl Interp<'_, '_> {
                         }
                         match &value.kind {
                             ExprKind::Name(n) => self.lookup(n).unwrap_or(Var::Value(v)),
-                            _ => self.array_of_call(value, &v).unwrap_or_else(|| array_var(v, self.module.base)),
+                            _ => self.array_of_call(value, &v).unwrap_or_else(|| array_var(v, self.option_base())),
                         }
                     }
-                    areas @ Operand::Areas(_) => array_var(ctx.deref(areas), self.module.base),
+                    areas @ Operand::Areas(_) => array_var(ctx.deref(areas), self.option_base()),
                 },
             };
             self.take_pending()?;

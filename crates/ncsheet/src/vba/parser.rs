@@ -176,8 +176,10 @@ pub fn parse_module_with_files(
     out.parts = b.parts.clone();
     out.public_names = b.public_names();
     out.explicit = b.explicit.get();
-    out.base = b.base.get();
-    out.text_compare = b.text_compare.get();
+    out.options = b.options.take();
+    let first = out.options.first().copied().unwrap_or_default();
+    out.base = first.base;
+    out.text_compare = first.text_compare;
     out.nodes = b.nodes.into_inner();
     Ok(out)
 }
@@ -301,8 +303,8 @@ pub(super) struct Build<'s> {
     pub(super) explicit: Cell<bool>,
     /// The modules' `DefLng A-Z` directives (`deftype.rs`), in order.
     pub(super) implicit_types: RefCell<Vec<super::deftype::ImplicitType>>,
-    text_compare: Cell<bool>,
-    base: Cell<i64>,
+    /// Each module's `Option Base`/`Option Compare`, by its place in `parts`.
+    options: RefCell<Vec<super::ast::ModuleOptions>>,
     /// The names of the module's Types, by index.
     types: RefCell<Vec<Rc<str>>>,
     /// The project's Enums: each one's name and its members' names.
@@ -425,8 +427,7 @@ impl<'s> Build<'s> {
             nodes: RefCell::new(Vec::new()),
             explicit: Cell::new(false),
             implicit_types: RefCell::new(Vec::new()),
-            text_compare: Cell::new(false),
-            base: Cell::new(0),
+            options: RefCell::new(Vec::new()),
             building_globals: Cell::new(false),
             with_subjects: RefCell::new(Vec::new()),
             whole_consts: RefCell::new(Default::default()),
@@ -554,6 +555,17 @@ impl<'s> Build<'s> {
 
     // ---- module ----------------------------------------------------------------------
 
+    /// Sets a directive of the module the `Option` statement `pair` is in: it applies to
+    /// that module alone ([MS-VBAL] 5.2.1).
+    fn set_option(&self, pair: &Pair<Rule>, set: impl FnOnce(&mut super::ast::ModuleOptions)) {
+        let part = self.part_at(start(pair));
+        let mut options = self.options.borrow_mut();
+        if options.len() <= part {
+            options.resize(part + 1, super::ast::ModuleOptions::default());
+        }
+        set(&mut options[part]);
+    }
+
     fn option(&self, pair: Pair<Rule>) -> Res<()> {
         let k = kids(&pair);
         let words: Vec<String> = all(&k, Rule::option_word).iter().map(|w| w.as_str().to_ascii_lowercase()).collect();
@@ -562,14 +574,14 @@ impl<'s> Build<'s> {
             Some("base") => {
                 let n = find(&k, Rule::number).map(|n| n.as_str().to_string()).unwrap_or_default();
                 match n.as_str() {
-                    "0" | "1" => self.base.set(n.parse().expect("0 or 1")),
+                    "0" | "1" => self.set_option(&pair, |o| o.base = n.parse().expect("0 or 1")),
                     _ => return Err(self.error_at(&pair, "Option Base is 0 or 1")),
                 }
             }
             // [MS-VBAL] 5.2.1.4: Binary (the default) or Text; Database is Microsoft Access's.
             Some("compare") => match words.get(1).map(String::as_str) {
-                Some("binary") => self.text_compare.set(false),
-                Some("text") => self.text_compare.set(true),
+                Some("binary") => self.set_option(&pair, |o| o.text_compare = false),
+                Some("text") => self.set_option(&pair, |o| o.text_compare = true),
                 _ => {
                     return Err(
                         self.error_at(&pair, "Option Compare is Binary or Text (Database is Microsoft Access's)")

@@ -157,7 +157,7 @@ impl UserFunctions for WorkbookFunctions {
             .iter()
             .map(|a| match a {
                 Operand::Ref(s, r) => Var::Obj(Obj::Range(*s, *r)),
-                Operand::Value(v) => array_var(v.clone(), m.module.base),
+                Operand::Value(v) => array_var(v.clone(), m.module.options_of_proc(proc).base),
                 // A union of areas has no Range here: its first area stands for it.
                 Operand::Areas(areas) => Var::Obj(Obj::Range(areas[0].0, areas[0].1)),
             })
