@@ -233,3 +233,14 @@ fn a_write_to_a_whole_sheet_is_refused_not_attempted() {
     let e = fail(&main_body("    Range(\"A1:XFD1048576\").Value = 1"));
     assert_eq!(e.message, "writing 17179869184 cells at once is more than a macro may (10000000)");
 }
+
+#[test]
+fn vb_object_error_is_the_base_of_an_objects_own_error_numbers() {
+    // Microsoft's "Raise method": "For user-defined errors, add your error number to the
+    // vbObjectError constant" -- vbObjectError is &H80040000 (-2147221504), so 513 is
+    // -2147220991, as Err.Number reads it back.
+    let src = "Option Explicit\nSub Main()\n    On Error Resume Next\n    Err.Raise vbObjectError + 513\n    Debug.Print Err.Number; Hex(vbObjectError)\nEnd Sub\n";
+    let mut wb = Workbook::with_sheet();
+    let out = vba::run(&mut wb, src, "t.bas", &RunOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.printed, vec!["-2147220991 80040000".to_string()]);
+}

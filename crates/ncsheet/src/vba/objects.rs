@@ -279,10 +279,10 @@ impl Interp<'_, '_> {
     /// Long takes it, so `Err = 0.3` clears it): sets the number without raising it.
     fn set_err_number(&self, v: &Value, span: Span) -> Run<()> {
         let n = self.number_of(v, "Err.Number").map_err(|m| self.fault_at(span, m))?.round_ties_even();
-        if !(0.0..=f64::from(u32::MAX)).contains(&n) {
-            return Err(self.fault_at(span, "Err.Number takes an error number from 0 to 65535"));
+        if !LONG.contains(&n) {
+            return Err(self.fault_at(span, "Err.Number takes a Long (-2147483648 to 2147483647)"));
         }
-        self.err.borrow_mut().number = n as u32;
+        self.err.borrow_mut().number = long_bits(n);
         Ok(())
     }
 
@@ -290,7 +290,7 @@ impl Interp<'_, '_> {
     fn err_member(&self, ctx: &mut Ctx, link: &Link) -> Run<Obj> {
         let err = self.err.borrow().clone();
         match lower(link).as_str() {
-            "number" => Ok(Obj::Value(Value::Number(err.number as f64))),
+            "number" => Ok(Obj::Value(Value::Number(f64::from(err.number as i32)))),
             "description" => Ok(Obj::Value(Value::text(err.description))),
             "source" => Ok(Obj::Value(Value::text(err.source))),
             "clear" => {
@@ -301,8 +301,8 @@ impl Interp<'_, '_> {
                 let values = self.values(ctx, link)?;
                 let number = values.first().map(|v| self.number_of(v, "Err.Raise's number")).transpose();
                 let number = number.map_err(|m| self.fault_at(link.span, m))?.unwrap_or(0.0);
-                if !(1.0..=65535.0).contains(&number) {
-                    return Err(self.fault_at(link.span, "Err.Raise takes an error number from 1 to 65535"));
+                if number == 0.0 || !LONG.contains(&number) {
+                    return Err(self.fault_at(link.span, "Err.Raise takes an error number, a Long other than 0"));
                 }
                 let message = match values.get(2) {
                     Some(v) if !v.is_blank() => print_text(v),
@@ -313,7 +313,7 @@ impl Interp<'_, '_> {
                     _ => errors::message(number as u32, "raised by Err.Raise"),
                 };
                 let mut fault = self.fault_at(link.span, message);
-                fault.code = number as u32;
+                fault.code = long_bits(number);
                 fault.source = values.get(1).filter(|v| !v.is_blank()).map(print_text);
                 Err(fault)
             }
@@ -881,4 +881,14 @@ fn lines_named(text: &str, rows: bool) -> Option<(u32, u32)> {
         None => (one(text)?, one(text)?),
     };
     Some((a.min(b), a.max(b)))
+}
+
+/// The values of a Long, the type of `Err.Number` ("Number property"; an object's own errors
+/// are numbered from vbObjectError, -2147221504, so they are negative).
+const LONG: std::ops::RangeInclusive<f64> = -2147483648.0..=2147483647.0;
+
+/// A Long error number as the runtime carries it: its 32 bits, read back as a Long by
+/// `Err.Number` (VBA's own errors, 1 to 65535, are the same either way).
+fn long_bits(n: f64) -> u32 {
+    n as i32 as u32
 }

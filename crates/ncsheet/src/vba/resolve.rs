@@ -105,6 +105,8 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "vbcr" => text("\r"),
         "vbtab" => text("\t"),
         "vbnullstring" => text(""),
+        // "Raise method": an object's own errors are numbered from vbObjectError (&H80040000).
+        "vbobjecterror" => number(-2147221504.0),
         "empty" | "nothing" => Some(ExprKind::Missing),
         "vbokonly" => number(0.0),
         "vbok" => number(1.0),
