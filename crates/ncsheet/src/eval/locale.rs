@@ -276,8 +276,6 @@ static LOCALES: [&LocaleData; 8] = [
     },
 ];
 
-/// A locale: a handle on static data, cheap to copy, with the year of the workbook's clock
-/// when its settings fix one ([`Locale::at_year`]), which a date typed without a year falls in.
 /// What localizing a number shown under a format code needs to know of the code
 /// ([`Locale::reading_of`]).
 #[derive(Default)]
@@ -298,6 +296,8 @@ struct DateReading {
     fraction_of_seconds: bool,
 }
 
+/// A locale: a handle on static data, cheap to copy, with the year of the workbook's clock
+/// when its settings fix one ([`Locale::at_year`]), which a date typed without a year falls in.
 #[derive(Clone, Copy)]
 pub struct Locale {
     data: &'static LocaleData,
@@ -1377,7 +1377,6 @@ fn rewrite_code_letters(code: &str, mut rewrite: impl FnMut(&[char], usize, &mut
     out
 }
 
-/// What [`month_letter_code`]'s code showed, each marked month name as its first letter.
 /// `shown` with its English month and weekday names in the words of `names` (see
 /// [`Locale::localize_names_for`]); `short_may`: the code's longest month is `mmm`.
 fn names_in(names: Locale, short_may: bool, shown: &str) -> String {
@@ -1402,6 +1401,7 @@ fn names_in(names: Locale, short_may: bool, shown: &str) -> String {
     replace_words(shown, own)
 }
 
+/// What [`month_letter_code`]'s code showed, each marked month name as its first letter.
 fn month_letters(shown: &str) -> String {
     if !shown.contains(MONTH_LETTER_OPEN) {
         return shown.to_string();

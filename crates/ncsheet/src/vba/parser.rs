@@ -1697,7 +1697,8 @@ impl Build<'_> {
     }
 }
 
-/// The `n` of `As String * n`, when it is a number from 1 to 65526 ("String data type").
+/// The type a declared type's name (lower case) stands for; an unknown name is an object
+/// (a class module's, or one of Excel's: Range, Worksheet, Collection …).
 pub(super) fn ty_named(name: &str) -> Ty {
     match name {
         "integer" => Ty::Whole(2),
@@ -1717,12 +1718,12 @@ pub(super) fn ty_named(name: &str) -> Ty {
     }
 }
 
-/// The blocks nested directly in a statement.
 /// Whether the procedure whose body is `body` has label `name`, at any depth.
 fn has_label(body: &Block, name: &str) -> bool {
     body.label(name).is_some() || body.nested_label(name).is_some()
 }
 
+/// The blocks nested directly in a statement.
 pub fn inner_blocks(kind: &StmtKind) -> Vec<&Block> {
     match kind {
         StmtKind::If { arms, otherwise } => arms.iter().map(|(_, b)| b).chain(otherwise).collect(),
@@ -1735,10 +1736,6 @@ pub fn inner_blocks(kind: &StmtKind) -> Vec<&Block> {
     }
 }
 
-/// A date literal's serial number, as VBA stores a Date: days since 1899-12-30 and the time
-/// of day as a fraction ([MS-VBAL] 3.3.3). The date is month/day/year, or year-month-day when
-/// the first number has more than two digits; a two-digit year is 1930–2029; the time is
-/// `h[:mm[:ss]]` with an optional AM or PM.
 /// `&HFFFF`, `&O777`, `&777`, `&H8000&` as [MS-VBAL] 3.3.2 types them: an Integer when the
 /// digits fit 16 bits (so `&HFFFF` is -1), else a Long when they fit 32 (`&HFFFFFFFF` is -1);
 /// a `&` suffix makes a Long (`&HFFFF&` is 65535), `%` an Integer, `^` a LongLong of 64 bits.
@@ -1770,6 +1767,10 @@ fn radix_literal(text: &str) -> Option<f64> {
     }
 }
 
+/// A date literal's serial number, as VBA stores a Date: days since 1899-12-30 and the time
+/// of day as a fraction ([MS-VBAL] 3.3.3). The date is month/day/year, or year-month-day when
+/// the first number has more than two digits; a two-digit year is 1930–2029; the time is
+/// `h[:mm[:ss]]` with an optional AM or PM.
 fn date_literal(text: &str) -> Option<f64> {
     let words: Vec<&str> = text.split_whitespace().collect();
     let (date_words, time_words): (Vec<&str>, Vec<&str>) =

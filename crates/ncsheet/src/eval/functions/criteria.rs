@@ -397,7 +397,7 @@ fn blanks_beyond(ranges: &[CellBlock], criteria: &[Criterion]) -> usize {
 pub struct CriteriaMatcher<'a> {
     ranges: &'a [CellBlock],
     indexed: Option<IndexedRange<'a>>,
-    /// Two ranges whose criteria arrays pair item by item, indexed together.
+    /// Two or more ranges whose criteria arrays pair item by item, indexed together.
     paired: Option<PairedRanges>,
     dates: DateSystem,
     /// The range aggregated and what is made of it, for [`CriteriaMatcher::indexed_summary`].
@@ -575,8 +575,10 @@ impl<'a> CriteriaMatcher<'a> {
         })
     }
 
-    /// How many cells meet every criterion: a comparison of the indexed range's criterion
-    /// counts by binary search when the other ranges' criteria hold everywhere (COUNTIF).
+    /// How many cells meet every criterion: paired items walk the cells their equalities
+    /// name; a comparison of the indexed range's criterion counts by binary search when the
+    /// other ranges' criteria hold everywhere (COUNTIF), else from running counts along the
+    /// sorted order.
     pub fn count(&self, criteria: &[Criterion]) -> XlResult<usize> {
         if let Some(paired) = &self.paired {
             if let Some(n) = self.paired_count(paired, criteria) {

@@ -285,7 +285,8 @@ fn unusable_format(locale: Locale, typed: &str) -> String {
     }
 }
 
-/// A format code of TEXT as read in a locale: the code in Excel's en-US spelling, and parsed.
+/// A format code of TEXT as read in a locale: parsed, with what showing a number in the
+/// locale needs of it.
 struct TextFormat {
     format: NumberFormat,
     /// What showing a number in the locale needs of the code, read once with it.
