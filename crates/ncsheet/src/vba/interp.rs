@@ -1211,6 +1211,37 @@ impl Interp<'_, '_> {
         Ok(value)
     }
 
+    /// Why a call of `p` cannot start here: `--max-depth` procedures already running, or
+    /// less than [`STACK_RESERVE`] of the native stack left. Each level of `--max-depth` is
+    /// given 64 KiB of stack, but one procedure's body may take far more (255 nested blocks
+    /// around a call nested in 120 function calls took 600 KiB a level and overflowed the
+    /// stack at 10,000 levels): past the reserve it is VBA's error 28, "Out of stack space",
+    /// trappable as VBA's is.
+    fn call_refused(&self, p: &Proc) -> Option<Fault> {
+        let depth = self.frames.borrow().len();
+        if depth >= self.options.max_depth {
+            let limit = self.options.max_depth;
+            let mut f = self.fault(format!(
+                "calls nest deeper than the limit ({limit}) calling {} {}: endless recursion? (raise the limit with --max-depth)",
+                p.kind, p.name
+            ));
+            f.kind = ErrorKind::Limit;
+            return Some(f);
+        }
+        if self.stack_left().is_some_and(|left| left < STACK_RESERVE) {
+            let why = format_args!(
+                "calls nest {depth} deep calling {} {}, less than {} KiB of the thread's stack left",
+                p.kind,
+                p.name,
+                STACK_RESERVE >> 10
+            );
+            let mut f = self.fault(errors::message(28, why));
+            f.code = 28;
+            return Some(f);
+        }
+        None
+    }
+
     pub(super) fn invoke_frame(
         &self,
         proc: usize,
@@ -1226,13 +1257,7 @@ impl Interp<'_, '_> {
             .filter(|(i, caller_var)| self.with_slot(caller_var, |s| s.ty == p.params[*i].ty) == Some(true))
             .map(|(i, _)| *i)
             .collect();
-        if self.frames.borrow().len() >= self.options.max_depth {
-            let limit = self.options.max_depth;
-            let mut f = self.fault(format!(
-                "calls nest deeper than the limit ({limit}) calling {} {}: endless recursion? (raise the limit with --max-depth)",
-                p.kind, p.name
-            ));
-            f.kind = ErrorKind::Limit;
+        if let Some(f) = self.call_refused(p) {
             // The lent arrays were never bound: straight back to the caller.
             for (var, (_, caller_var)) in lent_args(bound, &call.lent) {
                 self.with_slot(&caller_var, |s| s.replace(var));
