@@ -119,17 +119,21 @@ impl Interp<'_, '_> {
     /// `Array(c, 2)` where an argument is a variable holding an object (a Collection, an
     /// object of a class, a Worksheet) or `New …`: a Variant array whose item holds the object
     /// reference, as a Variant does ("Array function": "a Variant containing an array";
-    /// [MS-VBAL] 2.2), from `lower`. `None` when no argument is an object: the evaluator's
-    /// Array builds that one.
+    /// [MS-VBAL] 2.2), from `lower`. Likewise `Array(m, p)` where a variable holds an array:
+    /// the item keeps that array's bounds (`Dim p(1 To 3)` stays 1 To 3, [MS-VBAL] 2.2: an
+    /// array value carries its bounds), which the evaluator's Array, holding plain values,
+    /// would lose. `None` when no argument is either: the evaluator's Array builds that one.
     pub(super) fn array_of_objects(&self, args: &[Expr], lower: i64) -> Option<Run<Var>> {
-        let is_object = |e: &Expr| match &e.kind {
-            ExprKind::Name(n) => {
-                matches!(self.lookup(n), Some(Var::Obj(o)) if !matches!(o, Obj::Range(..) | Obj::Value(_)))
-            }
+        let keeps_itself = |e: &Expr| match &e.kind {
+            ExprKind::Name(n) => match self.lookup(n) {
+                Some(Var::Obj(o)) => !matches!(o, Obj::Range(..) | Obj::Value(_)),
+                Some(Var::Array(_)) => true,
+                _ => false,
+            },
             ExprKind::Host(id) => matches!(self.module.nodes[*id as usize], super::ast::Node::New { .. }),
             _ => false,
         };
-        if !args.iter().any(is_object) {
+        if !args.iter().any(keeps_itself) {
             return None;
         }
         let values: Vec<&Expr> = args.iter().collect();

@@ -1,0 +1,43 @@
+//! Constructs that stopped real public engineering modules (issue 31, session 19's sample:
+//! steam tables, friction factors, matrix routines, interpolation UDFs), each in a small macro
+//! of our own with the result Microsoft's VBA language reference or [MS-VBAL] (the page or
+//! section named at each test) gives.
+
+use ncsheet::vba::{self, RunOptions};
+use ncsheet::workbook::Workbook;
+
+/// What the macro's `Debug.Print`s wrote, line by line.
+fn printed(src: &str) -> Vec<String> {
+    let mut wb = Workbook::with_sheet();
+    vba::run(&mut wb, src, "Module1.bas", &RunOptions::default()).unwrap_or_else(|e| panic!("{e}")).printed
+}
+
+// [MS-VBAL] 3.3.5.2 "Reserved Identifiers and IDENTIFIER": Step is none of the reserved
+// identifiers (statement keywords, marker keywords, operators, …); only the For statement's
+// step clause (5.4.2.3) reads the word. So a variable or parameter may be named `step`, and
+// named in a call as `step:=` ([MS-VBAL] 5.6.16.8), while `For … Step` still steps.
+#[test]
+fn step_is_a_name_outside_a_for_statement() {
+    let src = "Function Seq(start As Variant, n As Integer, Optional step = 1) As Variant\n\
+               \x20   Dim a(), i As Integer\n    ReDim a(1 To n)\n\
+               \x20   For i = 1 To n Step 1\n        a(i) = start + (i - 1) * step\n    Next i\n    Seq = a\nEnd Function\n\
+               Sub Main()\n    Dim step As Double, k As Integer, s As String\n    step = 0.5\n\
+               \x20   For k = 6 To 1 Step -2\n        s = s & k\n    Next k\n\
+               \x20   Debug.Print Join(Seq( _\n        start:=5, _\n        n:=3, _\n        step:=2), \",\"); step; s\nEnd Sub\n";
+    assert_eq!(printed(src), ["5,7,9 0.5 642"]);
+}
+
+// "Array function": Array returns "a Variant containing an array" of its arguments, and a
+// Variant holding an array holds the whole array with its bounds ([MS-VBAL] 2.2 "Entities and
+// Declared Types": an array's value includes its dimensions' bounds). So a routine returning
+// `Array(lu, p, sign)` (an LU decomposition) keeps `p`'s 1 To 3, and `r(1)(3)` is its last
+// item.
+#[test]
+fn an_array_inside_array_keeps_its_bounds() {
+    let src = "Function Decompose() As Variant\n    Dim p() As Variant, sign As Variant\n\
+               \x20   ReDim p(1 To 3)\n    p(1) = 10: p(2) = 20: p(3) = 30: sign = -1\n\
+               \x20   Decompose = Array(0, p, sign)\nEnd Function\n\
+               Sub Main()\n    Dim r As Variant\n    r = Decompose()\n\
+               \x20   Debug.Print LBound(r(1)); UBound(r(1)); r(1)(3); r(2)\nEnd Sub\n";
+    assert_eq!(printed(src), [" 1  3  30 -1 "]);
+}
