@@ -41,3 +41,25 @@ fn an_array_inside_array_keeps_its_bounds() {
                \x20   Debug.Print LBound(r(1)); UBound(r(1)); r(1)(3); r(2)\nEnd Sub\n";
     assert_eq!(printed(src), [" 1  3  30 -1 "]);
 }
+
+/// A macro run with the project's other standard modules (name, source).
+fn printed_with_modules(main: &str, modules: &[(&str, &str)]) -> Vec<String> {
+    let project = modules.iter().map(|(n, s)| (n.to_string(), s.to_string())).collect();
+    let mut wb = Workbook::with_sheet();
+    let options = RunOptions { project, ..RunOptions::default() };
+    vba::run(&mut wb, main, "Module1.bas", &options).unwrap_or_else(|e| panic!("{e}")).printed
+}
+
+// [MS-VBAL] 5.6.10 "Simple Name Expressions": a simple name is looked up in the enclosing
+// procedure first, then its module, then the project's other modules. So a local `Dim pinv`
+// is the variable `pinv` in its procedure, assigned and read, although another module has a
+// Function pinv (a matrix inverse's permutation, as a real module names both).
+#[test]
+fn a_local_variable_hides_a_procedure_of_another_module() {
+    let main = "Option Explicit\nFunction Inverse() As Variant\n    Dim pinv As Variant\n\
+                \x20   pinv = Array(2, 0, 1)\n    Inverse = pinv(0) + pinv(2)\nEnd Function\n\
+                Sub Main()\n    Debug.Print Inverse(); pinv(5)\nEnd Sub\n";
+    let perm = "Attribute VB_Name = \"Perm\"\nOption Explicit\nFunction pinv(n As Variant) As Variant\n\
+                \x20   pinv = n * 10\nEnd Function\n";
+    assert_eq!(printed_with_modules(main, &[("Perm", perm)]), [" 3  50 "]);
+}

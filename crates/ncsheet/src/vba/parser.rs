@@ -976,7 +976,12 @@ impl<'s> Build<'s> {
             match &link.args {
                 // `rows = 3` without a Dim is a variable: the sheet's Rows cannot be assigned.
                 None if self.is_object(&lower) && !matches!(lower.as_str(), "rows" | "columns") => {}
-                None if self.proc_index(&link.name).is_some() && !self.is_own_function(&link.name) => {
+                // A variable the procedure or its module declares hides a procedure of that
+                // name ([MS-VBAL] 5.6.10: procedure scope first, then module, then project).
+                None if self.proc_index(&link.name).is_some()
+                    && !self.is_own_function(&link.name)
+                    && !self.is_var(&link.name) =>
+                {
                     return Err(self.error_at(&pair, format!("{} is a procedure, not a variable", link.name)))
                 }
                 None => {
