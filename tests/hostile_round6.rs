@@ -40,3 +40,48 @@ fn recursion_whose_levels_outgrow_their_share_of_the_stack_is_error_28() {
     assert_eq!(run.code, 0, "{}", run.stderr);
     assert!(run.stderr.contains("error 28"), "{}", run.stderr);
 }
+
+fn number(formula: &str) -> f64 {
+    match common::sheet::eval_a1(&format!("={formula}")).0 {
+        ncsheet::eval::Value::Number(n) => n,
+        other => panic!("{formula}: {other:?}"),
+    }
+}
+
+fn close(formula: &str, want: f64) {
+    let got = number(formula);
+    assert!((got - want).abs() <= 1e-13 * want.abs(), "{formula}: {got}, not {want}");
+}
+
+/// With one degree of freedom Student's t is Cauchy's distribution, whose two tails beyond t
+/// hold 1 - 2·atan(t)/π, so T.INV.2T(p, 1) = cot(πp/2) (mpmath, 30 digits:
+/// 6.36619772367581343E+299 for p = 1E-300; 12.7062047361747 for 0.05, the tables' 12.706).
+/// Past 1.34E+154, where t² overflows, the tail read 0 and the search stopped at that edge:
+/// T.INV.2T(1E-300, 1) and T.INV(1E-200, 1) were ±1.34078079299426E+154.
+#[test]
+fn t_quantiles_past_where_t_squared_overflows_are_cauchys() {
+    close("T.INV.2T(1E-300,1)", 6.366_197_723_675_813e299);
+    close("T.INV(1E-200,1)", -3.183_098_861_837_907e199);
+    close("T.INV.2T(0.05,1)", 12.706_204_736_174_705);
+}
+
+/// A sum of binomial terms that cannot be computed (ln Γ of a count past 1E+307 is infinite,
+/// the term NaN) was turned into 1 by `f64::min`: BINOM.DIST.RANGE(1E308,0.5,0,0), whose
+/// value 0.5^1E308 is 0, was 1. It is #NUM!, as BINOM.DIST of such a count is.
+#[test]
+fn binomial_sums_that_cannot_be_computed_are_num_not_one() {
+    for formula in ["=BINOM.DIST.RANGE(1E308,0.5,0,0)", "=BINOM.DIST.RANGE(1E307,0.5,0)"] {
+        let value = common::sheet::eval_a1(formula).0;
+        assert_eq!(value, ncsheet::eval::Value::Error(ncsheet::eval::XlError::Num), "{formula}");
+    }
+}
+
+/// GAMMA.INV(0.999999, 1E-300, 1E+300): for a shape a near 0, P(X ≤ x) ≈ (x/β)^a, so the
+/// quantile is β·0.999999^(1/a) = β·exp(-1E+294), below every double: 0. Searching x itself,
+/// x/β underflowed first and the search settled at β × the smallest double, 2.47E-24.
+#[test]
+fn a_gamma_quantile_below_every_double_is_zero_whatever_the_scale() {
+    assert_eq!(number("GAMMA.INV(0.999999,1E-300,1E+300)"), 0.0);
+    // An ordinary one keeps its value: GAMMA.INV(0.5, 1, 2) is the exponential's median 2·ln 2.
+    close("GAMMA.INV(0.5,1,2)", 2.0 * std::f64::consts::LN_2);
+}

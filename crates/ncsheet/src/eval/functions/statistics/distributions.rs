@@ -559,7 +559,11 @@ numeric_fns! {
         if p == 0.0 {
             return Ok(0.0);
         }
-        invert(p, 0.0, alpha * beta, |x| gamma_p(alpha, x / beta))
+        // Solved for the standard variable x/β: searching x itself, x/β underflowed first
+        // and the search settled where it did (β × the smallest double, 2.47E-24 for β = 1E+300),
+        // where the quantile is below every double.
+        let standard = invert(p, 0.0, alpha, |y| gamma_p(alpha, y))?;
+        Ok(if standard < f64::MIN_POSITIVE { 0.0 } else { standard * beta })
     };
     chisq_dist => |a| {
         let (x, df) = (a[0], a[1].trunc());
@@ -762,7 +766,13 @@ fn binomial_sum(lo: f64, hi: f64, n: f64, p: f64) -> f64 {
         return below_hi - below_lo;
     }
     let sum: f64 = whole_numbers(lo, hi).map(|k| binomial_pmf(k, n, p)).sum();
-    sum.min(1.0)
+    // Rounding may carry the sum a hair past 1; a term that could not be computed (NaN,
+    // ln Γ of a count past 1E+307) stays NaN, for #NUM!, where `f64::min` made it 1.
+    if sum > 1.0 {
+        1.0
+    } else {
+        sum
+    }
 }
 
 fn binomial_range(a: &[f64]) -> XlResult<f64> {
@@ -890,7 +900,18 @@ fn t_upper_quantile(p: f64, df: f64) -> XlResult<f64> {
     if p >= 1.0 {
         return Ok(0.0);
     }
-    invert(-p, 0.0, 1.0, |t| -2.0 * t_tail(t, df))
+    // One degree of freedom is Cauchy's distribution, whose two tails beyond t hold
+    // 1 - 2·atan(t)/π: t = cot(πp/2), exact where the search below cannot go (its t² overflows
+    // past 1.34E+154, where p is below about 1E-154).
+    if df == 1.0 {
+        return Ok(1.0 / (std::f64::consts::FRAC_PI_2 * p).tan());
+    }
+    let t = invert(-p, 0.0, 1.0, |t| -2.0 * t_tail(t, df))?;
+    // Where t² overflows the tail reads 0: a t found there is that edge, not the quantile.
+    if (t * t).is_infinite() {
+        return Err(XlError::Num);
+    }
+    Ok(t)
 }
 
 fn f_cdf(x: f64, d1: f64, d2: f64) -> f64 {
