@@ -38,6 +38,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("VBA.ABS", 1, 1, abs, "VBA.ABS(number)", "VBA Abs: absolute value"),
     FnSpec::value("VBA.ARRAY", 0, MANY, array, "VBA.ARRAY(item1, ...)", "VBA Array: the items as a one-row array"),
     FnSpec::value("VBA.ASC", 1, 1, asc, "VBA.ASC(text)", "VBA Asc: code of the first character"),
+    FnSpec::value("VBA.ASCW", 1, 1, ascw, "VBA.ASCW(text)", "VBA AscW: UTF-16 code of the first character"),
     FnSpec::value("VBA.ATN", 1, 1, atn, "VBA.ATN(number)", "VBA Atn: arctangent in radians"),
     FnSpec::value("VBA.CBOOL", 1, 1, cbool, "VBA.CBOOL(value)", "VBA CBool: value as True or False"),
     FnSpec::value("VBA.CDBL", 1, 1, cdbl, "VBA.CDBL(value)", "VBA CDbl: value as a number; #VALUE! for other text"),
@@ -869,6 +870,19 @@ fn asc(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         Ok(Value::Number(f64::from(code)))
     });
     raised.raise(ctx, "Asc", result)
+}
+
+/// AscW ("Asc function": "The AscW function returns the Unicode character code"): the UTF-16
+/// code of the first character, ChrW's inverse, as the Integer Asc returns: a unit past 32767
+/// reads as a negative Integer (U+FFFF is -1), and a character past U+FFFF gives its first
+/// (high surrogate) unit; empty text is error 5, as for Asc.
+fn ascw(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let raised = Raised::default();
+    let result = text_fn(ctx, args, "AscW", NO_NULL, &|s, _| {
+        let unit = s.encode_utf16().next().ok_or_else(|| raised.set(5, "the text is empty"))?;
+        Ok(Value::Number(f64::from(unit as i16)))
+    });
+    raised.raise(ctx, "AscW", result)
 }
 
 fn space(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
