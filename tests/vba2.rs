@@ -190,7 +190,8 @@ fn ansi_module(name: &str) -> Vec<u8> {
 const ANSI_TEXT: &str =
     "Sub Label()\r\n    ' Fase 45° – café\r\n    Range(\"A1\").Value = \"Ø 40 – café\"\r\nEnd Sub\r\n";
 
-/// An ANSI .bas is imported into an Excel project (code page 1252) and into a new one, and
+/// An ANSI .bas is imported into an Excel project (code page 1252, which its CODEPAGE record
+/// says) and into a new one (with --code-page 1252: the file does not say its code page), and
 /// olevba reads the module back as the characters the bytes stand for; `run` reads the same
 /// file and writes its text into A1.
 #[test]
@@ -202,7 +203,7 @@ fn a_module_exported_in_the_ansi_code_page_is_imported_and_run() {
     let chamfer_xlsx = Path::new(env!("CARGO_MANIFEST_DIR")).join("sheets/chamfer.xlsx");
     for (n, book) in [corpus(SIMPLE), chamfer_xlsx].iter().enumerate() {
         let out = dir.path().join(format!("out{n}.xlsm"));
-        let done = ncsheet(&["macros", path(book), "--import", path(&bas), "-o", path(&out)]);
+        let done = ncsheet(&["macros", path(book), "--import", path(&bas), "--code-page", "1252", "-o", path(&out)]);
         assert_eq!(done.code, 0, "{}: {}", book.display(), done.stderr);
         let project = read_project(&vba_bytes(&out)).unwrap();
         assert_eq!(project.code_page, 1252);
@@ -215,7 +216,7 @@ fn a_module_exported_in_the_ansi_code_page_is_imported_and_run() {
     let csv = dir.path().join("book.csv");
     std::fs::write(&csv, "x\n").unwrap();
     let saved = dir.path().join("after.csv");
-    let ran = ncsheet(&["run", path(&csv), path(&bas), "--sub", "Label", "--save", path(&saved)]);
+    let ran = ncsheet(&["run", path(&csv), path(&bas), "--code-page", "1252", "--sub", "Label", "--save", path(&saved)]);
     assert_eq!(ran.code, 0, "{}", ran.stderr);
     assert_eq!(std::fs::read_to_string(&saved).unwrap().lines().next(), Some("Ø 40 – café"));
 }

@@ -6,8 +6,8 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use ncsheet::vba::project::{
-    build_project, decode_module_file, module_from_export, read_project, ModuleKind, NewModule, ProjectModule,
-    VbaProject,
+    build_project_in, decode_module_file, is_readable_code_page, module_from_export, read_project, ModuleKind,
+    NewModule, ProjectModule, VbaProject, READABLE_CODE_PAGES, UNKNOWN_CODE_PAGE,
 };
 use ncsheet::vba::project_edit::{add_modules, OnExisting, OnProtected};
 
@@ -30,6 +30,14 @@ pub struct MacrosArgs {
     /// file name); give it once per module
     #[arg(long, value_name = "FILE.bas", requires = "output")]
     pub import: Vec<PathBuf>,
+    /// With --import, the ANSI code page the module files are in when they are not UTF-8 (1252
+    /// Western, 1251 Cyrillic, 932 Japanese, 936 Simplified Chinese, 949 Korean, 950 Traditional
+    /// Chinese; readable: 874, 932, 936, 949, 950, 1250-1258, 10000, 20866, 28591-28599, 65001).
+    /// A new project is written in it. Default: the workbook's own VBA project's; without one, a
+    /// file with bytes past ASCII that is not UTF-8 is refused at the first
+    #[arg(long = "code-page", visible_alias = "codepage", value_name = "N", requires = "import",
+          value_parser = parse_code_page)]
+    pub code_page: Option<u16>,
     /// With --import, replace a standard module of the same name instead of refusing it
     #[arg(long, requires = "import")]
     pub replace: bool,
@@ -53,7 +61,8 @@ pub fn run(args: MacrosArgs) -> Result<()> {
     if let Some(out) = &args.output {
         let on_existing = if args.replace { OnExisting::Replace } else { OnExisting::Refuse };
         let on_protected = if args.unprotect { OnProtected::Unprotect } else { OnProtected::Refuse };
-        return import(&args.file, &args.import, out, (on_existing, on_protected), args.force);
+        let policy = (on_existing, on_protected);
+        return import(&args.file, &args.import, args.code_page, out, policy, args.force);
     }
     let project = open_project(&args.file)?;
     match &args.export {
@@ -80,6 +89,7 @@ const WORKSHEET_CLASS: &str = "00020820-0000-0000-C000-000000000046";
 fn import(
     file: &Path,
     modules: &[PathBuf],
+    code_page: Option<u16>,
     out: &Path,
     (on_existing, on_protected): (OnExisting, OnProtected),
     force: bool,
@@ -96,8 +106,10 @@ fn import(
     let opened = ncsheet::document::Document::open_file(file, &super::open_options(None))?.into_opened();
     let mut layout = opened.layout.unwrap_or_default();
     if let Some(old) = &layout.vba_project {
-        // A project that does not read is refused below, naming its stream.
-        let code_page = read_project(old).map_or(NEW_PROJECT_CODE_PAGE, |p| p.code_page);
+        // The files are read as the VBA editor imports into this project: in its code page,
+        // unless the user names theirs. A project that does not read is refused below, naming
+        // its stream.
+        let code_page = code_page.or_else(|| read_project(old).ok().map(|p| p.code_page));
         let new = modules.iter().map(|m| read_module(m, code_page)).collect::<Result<Vec<_>>>()?;
         let bytes = add_modules(old, &new, on_existing, on_protected)
             .map_err(|e| Error::User(format!("{}: xl/vbaProject.bin: {e}", file.display())))?;
@@ -117,9 +129,13 @@ fn import(
         project.push(document_module(&code_name, WORKSHEET_CLASS));
     }
     for path in modules {
-        project.push(read_module(path, NEW_PROJECT_CODE_PAGE)?);
+        project.push(read_module(path, code_page)?);
     }
-    let bytes = build_project(&project, 0x4E).map_err(|e| Error::User(format!("{}: {e}", out.display())))?;
+    let project_code_page = code_page.unwrap_or(NEW_PROJECT_CODE_PAGE);
+    let bytes = build_project_in(&project, 0x4E, project_code_page).map_err(|e| {
+        let hint = if code_page.is_none() { " (--code-page N writes the project in another)" } else { "" };
+        Error::User(format!("{}: {e}{hint}", out.display()))
+    })?;
     layout.vba_project = Some(bytes);
     let encoded = ncsheet::io::encode_save(&opened.workbook, Some(&layout), &ncsheet::io::Origin::New, out)?;
     super::write_outputs(&[encoded], false, force)?;
@@ -127,19 +143,38 @@ fn import(
     Ok(())
 }
 
-/// The code page of the projects ncsheet makes (`build_project` writes Windows-1252).
-pub const NEW_PROJECT_CODE_PAGE: u16 = 1252;
+/// The code page of the projects ncsheet makes when the user names none (Windows-1252).
+const NEW_PROJECT_CODE_PAGE: u16 = 1252;
+
+/// `--code-page N`: a Windows code page ncsheet reads, or a usage error listing them.
+pub fn parse_code_page(text: &str) -> std::result::Result<u16, String> {
+    let refused = || format!("'{text}' is no code page ncsheet reads ({READABLE_CODE_PAGES})");
+    let code_page: u16 = text.trim().parse().map_err(|_| refused())?;
+    if is_readable_code_page(code_page) {
+        Ok(code_page)
+    } else {
+        Err(refused())
+    }
+}
 
 /// A module file's text: in the ANSI code page `code_page`, as the VBA editor exports it, or
-/// Unicode (a byte-order mark, or valid UTF-8); bytes of neither are an error at their place.
-pub fn read_module_text(path: &Path, code_page: u16) -> Result<String> {
+/// Unicode (a byte-order mark, or valid UTF-8); bytes of neither are an error at their place,
+/// and so is a byte past ASCII when no code page is known, with the option that names one.
+pub fn read_module_text(path: &Path, code_page: Option<u16>) -> Result<String> {
     let bytes = std::fs::read(path).map_err(|e| Error::User(format!("{}: cannot read: {e}", path.display())))?;
-    decode_module_file(&bytes, code_page)
-        .map_err(|e| Error::User(format!("{}:{}:{}: {}", path.display(), e.line, e.column, e.message)))
+    decode_module_file(&bytes, code_page).map_err(|e| {
+        let hint = if e.message.starts_with(UNKNOWN_CODE_PAGE) {
+            format!(": the VBA editor saves a module in the system's ANSI code page; name it with --code-page N \
+                     (1252 Western, 1251 Cyrillic, 932 Japanese …; readable: {READABLE_CODE_PAGES}) or save the file as UTF-8")
+        } else {
+            String::new()
+        };
+        Error::User(format!("{}:{}:{}: {}{hint}", path.display(), e.line, e.column, e.message))
+    })
 }
 
 /// A .bas or .cls file as a module: named by its `Attribute VB_Name` line, else by the file name.
-pub(super) fn read_module(path: &Path, code_page: u16) -> Result<NewModule> {
+pub(super) fn read_module(path: &Path, code_page: Option<u16>) -> Result<NewModule> {
     let text = read_module_text(path, code_page)?;
     let is_cls = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("cls"));
     let (kind, source) =

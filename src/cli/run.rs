@@ -45,10 +45,12 @@ pub struct RunArgs {
     #[arg(long = "module", value_name = "FILE")]
     pub modules: Vec<PathBuf>,
     /// The ANSI code page the .bas and .cls files are in when they are not UTF-8: the VBA
-    /// editor exports a module in the system's (932 Japanese, 936 Simplified Chinese, 949
-    /// Korean, 950 Traditional Chinese, 1250-1258); default the workbook's own VBA project's,
-    /// else 1252
-    #[arg(long = "code-page", value_name = "N")]
+    /// editor exports a module in the system's (1252 Western, 1251 Cyrillic, 932 Japanese, 936
+    /// Simplified Chinese, 949 Korean, 950 Traditional Chinese; readable: 874, 932, 936, 949, 950,
+    /// 1250-1258, 10000, 20866, 28591-28599, 65001). Default: the workbook's own VBA project's;
+    /// without one, a file with bytes past ASCII that is not UTF-8 is refused at the first
+    #[arg(long = "code-page", visible_alias = "codepage", value_name = "N",
+          value_parser = super::macros::parse_code_page)]
     pub code_page: Option<u16>,
     /// The Sub to run (default: Main, or the first Sub without arguments); for the
     /// workbook's own macros also MODULE.SUB (Module1.Chamfer)
@@ -203,7 +205,8 @@ fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
         )));
     }
     let mut doc = ncsheet::document::Document::open_file(&args.workbook, &super::open_options(delimiter))?;
-    let (file, source, sub, document) = macro_source(&args, doc.layout())?;
+    let code_page = module_code_page(&args, doc.layout());
+    let (file, source, sub, document) = macro_source(&args, doc.layout(), code_page)?;
     let file = &file;
     let options = RunOptions {
         sub,
@@ -223,8 +226,8 @@ fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
             MachineKind::Lathe => Machine::Lathe,
             MachineKind::Mill => Machine::Mill,
         },
-        project: other_modules(&args, file)?,
-        classes: class_modules(&args)?,
+        project: other_modules(&args, file, code_page)?,
+        classes: class_modules(&args, code_page)?,
         workbook_name: args.workbook.file_name().and_then(|n| n.to_str()).map(str::to_string),
         files: macro_files::access(
             args.out_dir.as_deref(),
@@ -353,16 +356,22 @@ pub(super) fn program_summary(program: &Program, text: &str, dialect: &str, writ
     format!("wrote {written_to}: {dialect}, {lines} lines, {moves} moves, {tools}, {time}")
 }
 
+/// The code page the .bas and .cls files given are read in: --code-page, else the workbook's
+/// own VBA project's (its PROJECTCODEPAGE record, as the VBA editor imports into it), else none,
+/// and a file past ASCII that is not UTF-8 is refused at its first such byte.
+fn module_code_page(args: &RunArgs, layout: Option<&Layout>) -> Option<u16> {
+    let project = || layout.and_then(|l| l.vba_project.as_deref()).and_then(|b| read_project(b).ok());
+    args.code_page.or_else(|| project().map(|p| p.code_page))
+}
+
 /// The macro's place (for messages), its source, the Sub to call and the document its module
 /// belongs to: the .bas file given, or a module of the workbook's own VBA project.
 fn macro_source(
     args: &RunArgs,
     layout: Option<&Layout>,
+    code_page: Option<u16>,
 ) -> Result<(PathBuf, String, Option<String>, Option<Document>)> {
     if let Some(file) = &args.macro_file {
-        // The code page of the workbook's own project, if it has one that reads.
-        let project = layout.and_then(|l| l.vba_project.as_deref()).and_then(|b| read_project(b).ok());
-        let code_page = args.code_page.unwrap_or(project.map_or(super::macros::NEW_PROJECT_CODE_PAGE, |p| p.code_page));
         let source = super::macros::read_module_text(file, code_page)?;
         return Ok((file.clone(), source, args.sub.clone(), None));
     }
@@ -375,8 +384,8 @@ fn macro_source(
 
 /// The project's other standard modules, whose public code the module run sees as VBA
 /// compiles a project as one program (none for a .bas file given on its own).
-fn other_modules(args: &RunArgs, running: &std::path::Path) -> Result<Vec<(String, String)>> {
-    let mut modules = given_modules(args, ModuleKind::Standard)?;
+fn other_modules(args: &RunArgs, running: &std::path::Path, code_page: Option<u16>) -> Result<Vec<(String, String)>> {
+    let mut modules = given_modules(args, ModuleKind::Standard, code_page)?;
     if args.macro_file.is_some() {
         return Ok(modules);
     }
@@ -389,8 +398,8 @@ fn other_modules(args: &RunArgs, running: &std::path::Path) -> Result<Vec<(Strin
 
 /// The project's class modules: the workbook's own (none for a .bas file given on its own)
 /// and the .cls files given with --module.
-fn class_modules(args: &RunArgs) -> Result<Vec<(String, String)>> {
-    let mut classes = given_modules(args, ModuleKind::Class)?;
+fn class_modules(args: &RunArgs, code_page: Option<u16>) -> Result<Vec<(String, String)>> {
+    let mut classes = given_modules(args, ModuleKind::Class, code_page)?;
     if args.macro_file.is_none() {
         let project = super::macros::open_project(&args.workbook)?;
         let own = project.modules.iter().filter(|m| m.kind == ModuleKind::Class);
@@ -401,10 +410,10 @@ fn class_modules(args: &RunArgs) -> Result<Vec<(String, String)>> {
 
 /// The --module files of one kind (a .cls file with a class header or named .cls is a class
 /// module), by their `Attribute VB_Name` or file name.
-fn given_modules(args: &RunArgs, kind: ModuleKind) -> Result<Vec<(String, String)>> {
+fn given_modules(args: &RunArgs, kind: ModuleKind, code_page: Option<u16>) -> Result<Vec<(String, String)>> {
     let mut out = Vec::new();
     for path in &args.modules {
-        let m = super::macros::read_module(path, args.code_page.unwrap_or(super::macros::NEW_PROJECT_CODE_PAGE))?;
+        let m = super::macros::read_module(path, code_page)?;
         if m.kind == kind {
             out.push((m.name, m.source));
         }

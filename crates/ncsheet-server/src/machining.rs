@@ -17,10 +17,6 @@ use ncsheet::nc::{dialect, read, Block, Machine, Program};
 use ncsheet::vba::project::{decode_module_file, procedures};
 use ncsheet::vba::{self, ModuleKind, RunOptions};
 
-/// The code page of a .bas file beside a workbook without a VBA project (the VBA editor's
-/// export in Western Europe).
-const BAS_CODE_PAGE: u16 = 1252;
-
 /// A run from the page stops after this long unless `--timeout` says otherwise: the page
 /// waits for it.
 pub const RUN_SECONDS: f64 = 20.0;
@@ -113,7 +109,9 @@ fn sub_names(source: &str) -> Vec<String> {
 
 fn read_bas(path: &Path) -> Result<String, Refused> {
     let bytes = ncsheet::io::read_file(path).map_err(|e| refused(e.to_string()))?;
-    decode_module_file(&bytes, BAS_CODE_PAGE)
+    // The file does not say which ANSI code page it is in: ASCII and UTF-8 read, any other
+    // byte is refused at its place (`ncsheet run --code-page N` reads it).
+    decode_module_file(&bytes, None)
         .map_err(|e| refused(format!("{}:{}:{}: {}", path.display(), e.line, e.column, e.message)))
 }
 

@@ -478,6 +478,14 @@ fn encoding_for(code_page: u16) -> Option<&'static encoding_rs::Encoding> {
     encoding_rs::Encoding::for_label(label.as_bytes())
 }
 
+/// The code pages `encoding_for` reads, as a user names them (`--code-page N`).
+pub const READABLE_CODE_PAGES: &str = "874, 932, 936, 949, 950, 1250-1258, 10000, 20866, 28591-28599, 65001";
+
+/// Whether ncsheet can read (and write) text in `code_page`.
+pub fn is_readable_code_page(code_page: u16) -> bool {
+    encoding_for(code_page).is_some()
+}
+
 /// Where a module file's bytes are no text of the encoding they are read in.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SourceTextError {
@@ -487,16 +495,23 @@ pub struct SourceTextError {
 }
 
 /// The text of a module file (.bas, .cls) as the VBA editor exports it, in the ANSI code page
-/// `code_page` (the project's PROJECTCODEPAGE; 1252 for a new one). A UTF-8 or UTF-16 byte-order
+/// `code_page` (the user's, or the project's PROJECTCODEPAGE). A UTF-8 or UTF-16 byte-order
 /// mark, or bytes that are all valid UTF-8, say the file was saved as Unicode by another
 /// editor. Bytes the code page has no character for are an error at their line and column.
-pub fn decode_module_file(bytes: &[u8], code_page: u16) -> Result<String, SourceTextError> {
+/// Without a code page, a byte past ASCII in a file that is not UTF-8 is an error at its place
+/// (`UNKNOWN_CODE_PAGE`): the editor wrote it in the system's ANSI code page, which the file
+/// does not say, and every byte is some character of 1252, so guessing would garble the text
+/// of a Cyrillic or Greek module without a word.
+pub fn decode_module_file(bytes: &[u8], code_page: Option<u16>) -> Result<String, SourceTextError> {
     if let Some((encoding, bom)) = encoding_rs::Encoding::for_bom(bytes) {
         return decode_strictly(&bytes[bom..], encoding, &format!("{} (its byte-order mark)", encoding.name()));
     }
     if let Ok(text) = std::str::from_utf8(bytes) {
         return Ok(text.to_string());
     }
+    let Some(code_page) = code_page else {
+        return Err(first_byte_past_ascii(bytes));
+    };
     let Some(encoding) = encoding_for(code_page) else {
         return Err(SourceTextError {
             line: 1,
@@ -505,6 +520,22 @@ pub fn decode_module_file(bytes: &[u8], code_page: u16) -> Result<String, Source
         });
     };
     decode_strictly(bytes, encoding, &format!("code page {code_page}"))
+}
+
+/// What a module file without a code page says of itself: the message is `UNKNOWN_CODE_PAGE`.
+pub const UNKNOWN_CODE_PAGE: &str = "a byte past ASCII in a file that is not UTF-8, and no code page to read it in";
+
+/// The place of the first byte past ASCII (the file is not UTF-8, so there is one), its column
+/// counted in bytes: what character it starts is what is not known.
+fn first_byte_past_ascii(bytes: &[u8]) -> SourceTextError {
+    let at = bytes.iter().position(|b| !b.is_ascii()).unwrap_or(0);
+    let line_start = bytes[..at].iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+    let line = bytes[..at].iter().filter(|&&b| b == b'\n').count() + 1;
+    SourceTextError {
+        line,
+        column: at - line_start + 1,
+        message: format!("{UNKNOWN_CODE_PAGE} (0x{:02X})", bytes.get(at).copied().unwrap_or(0)),
+    }
 }
 
 /// Decodes line by line (no code page VBA uses has a newline byte inside a character), so a
@@ -598,7 +629,15 @@ const PROJECT_ID: &str = "{5A6E4353-4845-4554-0000-4E4353484545}";
 /// it opens the workbook. Text is written in code page 1252; `seed` makes the obfuscated
 /// protection fields of the PROJECT stream reproducible.
 pub fn build_project(modules: &[NewModule], seed: u8) -> Result<Vec<u8>, ProjectError> {
-    let windows_1252 = encoding_rs::WINDOWS_1252;
+    build_project_in(modules, seed, 1252)
+}
+
+/// `build_project` with the modules' text in `code_page`, which its PROJECTCODEPAGE record
+/// declares (a Cyrillic module in 1251, as a Russian Excel writes it).
+pub fn build_project_in(modules: &[NewModule], seed: u8, code_page: u16) -> Result<Vec<u8>, ProjectError> {
+    let Some(encoding) = encoding_for(code_page) else {
+        return Err(error("VBA/dir", format!("code page {code_page} is not one ncsheet can write")));
+    };
     let mut cfb = cfb::CompoundFile::create(Cursor::new(Vec::new())).map_err(|e| error("vbaProject.bin", e))?;
     cfb.create_storage("/VBA").map_err(|e| error("VBA", e))?;
     let mut put = |path: &str, data: &[u8]| -> Result<(), ProjectError> {
@@ -608,9 +647,9 @@ pub fn build_project(modules: &[NewModule], seed: u8) -> Result<Vec<u8>, Project
     let mut encoded = Vec::with_capacity(modules.len());
     for m in modules {
         let source = with_name_attribute(&m.source, &m.name);
-        let (bytes, _, unmappable) = windows_1252.encode(&source);
+        let (bytes, _, unmappable) = encoding.encode(&source);
         if unmappable {
-            return Err(error(&m.name, "holds characters code page 1252 cannot write"));
+            return Err(error(&m.name, format!("holds characters code page {code_page} cannot write")));
         }
         encoded.push(bytes.into_owned());
     }
@@ -618,7 +657,7 @@ pub fn build_project(modules: &[NewModule], seed: u8) -> Result<Vec<u8>, Project
     put("/PROJECTwm", &name_map(modules))?;
     // Reserved1 0x61CC, Version 0xFFFF (no compiled cache), Reserved2, Reserved3.
     put("/VBA/_VBA_PROJECT", &[0xCC, 0x61, 0xFF, 0xFF, 0x00, 0x00, 0x00])?;
-    put("/VBA/dir", &ovba::compress(&dir_stream(modules)).map_err(|e| error("VBA/dir", e))?)?;
+    put("/VBA/dir", &ovba::compress(&dir_stream(modules, code_page)).map_err(|e| error("VBA/dir", e))?)?;
     for (m, source) in modules.iter().zip(&encoded) {
         let path = format!("/VBA/{}", m.name);
         put(&path, &ovba::compress(source).map_err(|e| error(&path, e))?)?;
@@ -730,13 +769,13 @@ pub(super) fn push_module_records(d: &mut Vec<u8>, name: &str, mbcs: &[u8], kind
 }
 
 /// The dir stream (2.3.4.2), uncompressed.
-fn dir_stream(modules: &[NewModule]) -> Vec<u8> {
+fn dir_stream(modules: &[NewModule], code_page: u16) -> Vec<u8> {
     let mut d = Vec::new();
     let rec = |id: u16, data: &[u8], d: &mut Vec<u8>| push_record(d, id, data);
     rec(0x0001, &1u32.to_le_bytes(), &mut d); // PROJECTSYSKIND: 32-bit Windows
     rec(0x0002, &0x0409u32.to_le_bytes(), &mut d); // PROJECTLCID
     rec(0x0014, &0x0409u32.to_le_bytes(), &mut d); // PROJECTLCIDINVOKE
-    rec(id::PROJECT_CODE_PAGE, &1252u16.to_le_bytes(), &mut d);
+    rec(id::PROJECT_CODE_PAGE, &code_page.to_le_bytes(), &mut d);
     rec(0x0004, b"VBAProject", &mut d); // PROJECTNAME
     rec(0x0005, b"", &mut d); // PROJECTDOCSTRING
     rec(0x0040, b"", &mut d);
@@ -816,16 +855,41 @@ mod tests {
     /// Windows-1252 as its code chart gives it: 0xE9 é, 0x80 €, 0x96 en dash; 0x81 undefined.
     #[test]
     fn module_files_decode_by_the_code_page() {
-        assert_eq!(decode_module_file(b"' caf\xE9 \x80 \x96\r\n", 1252).unwrap(), "' café € –\r\n");
-        assert_eq!(decode_module_file("' café\r\n".as_bytes(), 1252).unwrap(), "' café\r\n");
-        assert_eq!(decode_module_file(b"\xEF\xBB\xBF' x\r\n", 1252).unwrap(), "' x\r\n");
-        let e = decode_module_file(b"Sub A()\r\n  x = \"a\x81\"\r\n", 1252).unwrap_err();
+        assert_eq!(decode_module_file(b"' caf\xE9 \x80 \x96\r\n", Some(1252)).unwrap(), "' café € –\r\n");
+        assert_eq!(decode_module_file("' café\r\n".as_bytes(), Some(1252)).unwrap(), "' café\r\n");
+        assert_eq!(decode_module_file(b"\xEF\xBB\xBF' x\r\n", Some(1252)).unwrap(), "' x\r\n");
+        let e = decode_module_file(b"Sub A()\r\n  x = \"a\x81\"\r\n", Some(1252)).unwrap_err();
         assert_eq!((e.line, e.column), (2, 9));
-        let e = decode_module_file(b"\xEF\xBB\xBF' \xE9\r\n", 1252).unwrap_err();
+        let e = decode_module_file(b"\xEF\xBB\xBF' \xE9\r\n", Some(1252)).unwrap_err();
         assert_eq!((e.line, e.column), (1, 3));
         // Shift_JIS: 0x93 0xFA is 日; 0x93 alone before a newline is cut short.
-        assert_eq!(decode_module_file(b"' \x93\xFA\r\n", 932).unwrap(), "' 日\r\n");
-        assert_eq!(decode_module_file(b"'\r\n' \x93\r\n", 932).unwrap_err().line, 2);
+        assert_eq!(decode_module_file(b"' \x93\xFA\r\n", Some(932)).unwrap(), "' 日\r\n");
+        assert_eq!(decode_module_file(b"'\r\n' \x93\r\n", Some(932)).unwrap_err().line, 2);
+    }
+
+    /// A Windows-1251 module: "Сумма прописью" is D1 F3 EC EC E0 20 EF F0 EE EF E8 F1 FC FE
+    /// (Python's `'Сумма прописью'.encode('cp1251')`). In 1251 it reads as written; with no
+    /// code page it is refused at its first such byte, where 1252 would have read "Ñóììà".
+    #[test]
+    fn a_module_past_ascii_needs_its_code_page() {
+        let bytes = b"Sub A()\r\n  s = \"\xD1\xF3\xEC\xEC\xE0 \xEF\xF0\xEE\xEF\xE8\xF1\xFC\xFE\"\r\n";
+        assert_eq!(decode_module_file(bytes, Some(1251)).unwrap(), "Sub A()\r\n  s = \"Сумма прописью\"\r\n");
+        let e = decode_module_file(bytes, None).unwrap_err();
+        assert_eq!((e.line, e.column), (2, 8));
+        assert!(e.message.starts_with(UNKNOWN_CODE_PAGE) && e.message.ends_with("(0xD1)"), "{}", e.message);
+        // ASCII and UTF-8 need none.
+        assert_eq!(decode_module_file("' Сумма\r\n".as_bytes(), None).unwrap(), "' Сумма\r\n");
+    }
+
+    /// Every code page the list names reads, and the list's ends are its neighbours' limits.
+    #[test]
+    fn the_readable_code_pages_are_the_ones_listed() {
+        for part in READABLE_CODE_PAGES.split(", ") {
+            let (lo, hi) = part.split_once('-').unwrap_or((part, part));
+            let (lo, hi): (u16, u16) = (lo.parse().unwrap(), hi.parse().unwrap());
+            assert!((lo..=hi).all(is_readable_code_page), "{part}");
+        }
+        assert!(!is_readable_code_page(1249) && !is_readable_code_page(1259) && !is_readable_code_page(437));
     }
 
     #[test]

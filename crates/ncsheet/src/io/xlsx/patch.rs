@@ -914,9 +914,13 @@ pub fn replace_part(source: &Source, part: &str, data: &[u8]) -> Result<Vec<u8>,
             continue;
         }
         found = true;
+        // A stored part (as ncsheet writes vbaProject.bin) takes no compression level: the
+        // zip writer refuses one ("Unsupported compression level").
+        let method = entry.compression();
+        let level = (method != zip::CompressionMethod::Stored).then_some(2);
         let options = zip::write::SimpleFileOptions::default()
-            .compression_method(entry.compression())
-            .compression_level(Some(2))
+            .compression_method(method)
+            .compression_level(level)
             .large_file(data.len() > u32::MAX as usize / 2);
         drop(entry);
         out.start_file(name.as_str(), options).map_err(|e| zerr(Some(&name), e))?;
