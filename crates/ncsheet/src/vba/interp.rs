@@ -2375,6 +2375,19 @@ impl Interp<'_, '_> {
         }
     }
 
+    /// The items `For Each` takes from `r.Rows` or `r.Columns`: each row (or column) of the
+    /// range as a range as wide (tall) as it ("Range.Rows property": the collection of the rows
+    /// of the range). Whole columns stop at the last used row, as a range's cells do.
+    fn lines_of(&self, sheet: SheetId, rect: Rect, rows: bool) -> Vec<Var> {
+        let used = self.ctx().clip_to_used(sheet, rect);
+        let line = |i: u32| match rows {
+            true => Rect { first: Pos::new(i, rect.first.col), last: Pos::new(i, rect.last.col) },
+            false => Rect { first: Pos::new(rect.first.row, i), last: Pos::new(rect.last.row, i) },
+        };
+        let span = if rows { used.first.row..=used.last.row } else { used.first.col..=used.last.col };
+        span.map(|i| Var::Obj(Obj::Range(sheet, line(i)))).collect()
+    }
+
     fn for_each(&self, var: &Rc<str>, group: &Expr, body: &Block, span: Span) -> Run<Flow> {
         // The type of the number each item holds, which the element variable keeps (a Date,
         // the Integer 1 of `Array(1, 2.5)`; [MS-VBAL] 5.4.2.4: it is let-assigned each
@@ -2392,6 +2405,7 @@ impl Interp<'_, '_> {
                 cells
             }
             Var::Obj(Obj::Sheets) => self.wb.borrow().tab_order().iter().map(|&s| Var::Obj(Obj::Sheet(s))).collect(),
+            Var::Obj(Obj::Lines(sheet, rect, rows)) => self.lines_of(sheet, rect, rows),
             Var::Array(a) => {
                 // An array of a declared type: each item is of that type.
                 let typed = match &group.kind {
