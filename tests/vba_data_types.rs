@@ -3,17 +3,9 @@
 //! a String; LongLong is VBA7's 64-bit integer. Expected values are MS-VBAL's and the Office
 //! VBA language reference's (each test cites its sections), not our own output.
 
-use ncsheet::vba::{self, RunOptions, RunOutput};
-use ncsheet::workbook::Workbook;
+mod common;
 
-fn run(src: &str) -> Result<RunOutput, vba::MacroError> {
-    vba::run(&mut Workbook::with_sheet(), src, "test.bas", &RunOptions::default())
-}
-
-/// The lines `Sub Main` with `body` prints, after the module-level `module`.
-fn printed(module: &str, body: &str) -> Vec<String> {
-    run(&format!("{module}\nSub Main()\n{body}\nEnd Sub\n")).unwrap_or_else(|e| panic!("{e}")).printed
-}
+use common::vba::{printed_after as printed, run_module as run};
 
 // "Type conversion functions", CStr: "Date: A String containing a date in the short date
 // format of your system" (en-US: m/d/yyyy, the time as h:mm:ss AM/PM, only the part that is

@@ -3,19 +3,13 @@
 //! Expected values are worked in Python's unbounded integers (shown beside each), and the
 //! rules are MS-VBAL's (each test cites its section), not our own output.
 
+mod common;
+
+use common::vba::{printed_after as printed, run_module as run};
 use ncsheet::eval::Value;
 use ncsheet::formula::address::parse_cell;
-use ncsheet::vba::{self, RunOptions, RunOutput};
+use ncsheet::vba::{self, RunOptions};
 use ncsheet::workbook::Workbook;
-
-fn run(src: &str) -> Result<RunOutput, vba::MacroError> {
-    vba::run(&mut Workbook::with_sheet(), src, "test.bas", &RunOptions::default())
-}
-
-/// The lines `Sub Main` with `body` prints, after the module-level `module`.
-fn printed(module: &str, body: &str) -> Vec<String> {
-    run(&format!("{module}\nSub Main()\n{body}\nEnd Sub\n")).unwrap_or_else(|e| panic!("{e}")).printed
-}
 
 // [MS-VBAL] 5.6.9.3: `+`, `-` and `*` of LongLong operands (or a LongLong beside a Long or
 // an Integer) are LongLong operations; 5.5.1.2.4, CStr of a number is its decimal text. Past
@@ -236,4 +230,123 @@ fn an_array_item_keeps_its_long_long_past_two_to_the_53() {
          \x20   a(1) = 9007199254740992^\n    Debug.Print CStr(a(1)); \" \"; a(1) = v(2)",
     );
     assert_eq!(out, ["9007199254740995", "9007199254740992", "True", "9007199254740992 False"]);
+}
+
+// "Abs function": the absolute value, "of the same type as that passed to it"; "Int, Fix
+// functions": the integer portion, a whole number being its own, of the argument's type;
+// "Sgn function": -1 below zero. On LongLongs that no double holds (Python:
+// abs(-9223372036854775807) == 9223372036854775807; -9007199254740993 // 1 ==
+// -9007199254740993; abs(-9007199254740993) + 2 == 9007199254740995; float(9007199254740993)
+// == 9007199254740992.0, one off).
+#[test]
+fn abs_int_fix_and_sgn_keep_a_long_long_s_integer() {
+    let out = printed(
+        "",
+        "    Dim x As LongLong\n    x = -9007199254740993^\n\
+         \x20   Debug.Print CStr(Abs(-9223372036854775807^)); \" \"; TypeName(Abs(x))\n\
+         \x20   Debug.Print CStr(Int(x)); \" \"; CStr(Fix(x)); \" \"; CStr(Abs(x) + 2); Sgn(x)",
+    );
+    assert_eq!(out, ["9223372036854775807 LongLong", "-9007199254740993 -9007199254740993 9007199254740995-1 "]);
+}
+
+// "IIf function": it returns one of two parts, a Variant holding that part's value (both are
+// evaluated). 9007199254740993 and 9007199254740992 are one double (Python:
+// float(9007199254740993) == float(9007199254740992)), so only the branch chosen tells which
+// LongLong it gave; 9007199254740993 + 2 == 9007199254740995.
+#[test]
+fn iif_gives_the_long_long_of_the_branch_it_chose() {
+    let out = printed(
+        "",
+        "    Dim big As LongLong, c As Boolean\n    big = 9007199254740993^\n\
+         \x20   Debug.Print CStr(IIf(True, big, 0)); \" \"; TypeName(IIf(True, big, 0)); \" \"; CStr(IIf(False, 0, big) + 2)\n\
+         \x20   c = False\n    Debug.Print CStr(IIf(c, big, 9007199254740992^)); \" \"; CStr(IIf(Not c, big, 9007199254740992^))",
+    );
+    assert_eq!(out, ["9007199254740993 LongLong 9007199254740995", "9007199254740992 9007199254740993"]);
+}
+
+// "Format function", user-defined number formats: `0` is a digit or a zero, `#` a digit or
+// nothing, `,` between digit placeholders separates the thousands. The LongLong's every digit
+// is laid out (Python: f"{9007199254740993:,}" == "9,007,199,254,740,993";
+// "-" + str(9007199254740993).zfill(20) == "-00009007199254740993").
+#[test]
+fn format_with_a_code_lays_out_every_digit_of_a_long_long() {
+    let out = printed(
+        "",
+        "    Dim x As LongLong\n    x = 9007199254740993^\n\
+         \x20   Debug.Print Format(x, \"0\"); \" \"; Format(x, \"#,##0\"); \" \"; Format(-x, \"00000000000000000000\")",
+    );
+    assert_eq!(out, ["9007199254740993 9,007,199,254,740,993 -00009007199254740993"]);
+    // A code that would lay out the nearest double's digits instead is refused.
+    let e = run("Sub Main()\n    Debug.Print Format(9007199254740993^, \"0.00\")\nEnd Sub\n").unwrap_err();
+    assert!(e.message.contains("run-time error 6"), "{}", e.message);
+}
+
+// "LongLong data type": every whole number to 9,223,372,036,854,775,807 is a LongLong, and a
+// LongLong argument binds to a LongLong parameter as it is ([MS-VBAL] 5.3.1.11). The top 512
+// of them share the double 2^63 (Python: float(2**63 - 512) == float(2**63 - 1) == 2.0**63),
+// one past the type, yet are in it: 9223372036854775807 - 1 == 9223372036854775806,
+// 2**63 - 512 == 9223372036854775296, minus 1 == 9223372036854775295.
+#[test]
+fn long_long_arguments_reach_the_top_of_the_type() {
+    let module = "Function Less(ByVal k As LongLong) As LongLong\n    Less = k - 1\nEnd Function\n";
+    let out =
+        printed(module, "    Debug.Print CStr(Less(9223372036854775807^)); \" \"; CStr(Less(9223372036854775296^))");
+    assert_eq!(out, ["9223372036854775806 9223372036854775295"]);
+}
+
+// [MS-VBAL] 5.3.1.11: each call binds its own arguments. An argument that calls a Function
+// binds that Function's parameters in between, whose LongLong must not reach the outer call:
+// Bump(Less(9007199254740993^)) is (9007199254740993 - 1) + 2 == 9007199254740994 (Python),
+// where the inner argument, 9007199254740993, shares the double of 9007199254740992.
+#[test]
+fn a_call_in_an_argument_binds_its_own_long_longs() {
+    let module = "Function Less(ByVal k As LongLong) As LongLong\n    Less = k - 1\nEnd Function\n\
+                  Function Bump(ByVal k As LongLong) As LongLong\n    Bump = k + 2\nEnd Function\n";
+    let out = printed(module, "    Debug.Print CStr(Bump(Less(9007199254740993^)))");
+    assert_eq!(out, ["9007199254740994"]);
+}
+
+// A Type's field, a Collection's or a Dictionary's item and an item reached through another
+// item keep a double alone in ncsheet (docs/limits.md); 9007199254740993 has none (Python:
+// int(float(9007199254740993)) == 9007199254740992), so it is refused there, Overflow
+// (run-time error 6), never kept as the other number.
+#[test]
+fn a_long_long_no_double_holds_is_refused_where_only_a_double_is_kept() {
+    let types = "Type T\n    n As LongLong\n    arr(3) As LongLong\nEnd Type\n";
+    for body in [
+        "    Dim t As T\n    t.n = 9007199254740993^",
+        "    Dim t As T\n    t.arr(2) = 9007199254740993^",
+        "    Dim a(2) As T\n    a(1).n = 9007199254740993^",
+        "    Dim c As New Collection\n    c.Add 9007199254740993^",
+        "    Dim d\n    Set d = CreateObject(\"Scripting.Dictionary\")\n    d(\"k\") = 9007199254740993^",
+        "    Dim v(1), w(1)\n    v(1) = w\n    v(1)(0) = 9007199254740993^",
+    ] {
+        let e = run(&format!("{types}Sub Main()\n{body}\nEnd Sub\n")).unwrap_err();
+        assert!(
+            e.message.contains("run-time error 6") && e.message.contains("9007199254740993"),
+            "{body}: {}",
+            e.message
+        );
+    }
+    // A LongLong whose double is exact is kept there as any number (Python: float(2**53) == 2**53).
+    let out = printed(
+        types,
+        "    Dim c As New Collection\n    c.Add 9007199254740992^\n    Debug.Print c(1) = 9007199254740992^",
+    );
+    assert_eq!(out, ["True"]);
+}
+
+// "ReDim statement": Preserve keeps the items of the array, of two dimensions too (only the
+// last one's upper bound changes). An item that holds a LongLong keeps it whole, in an array
+// of LongLong and of Variant (Python: 9007199254740993 + 2 == 9007199254740995).
+#[test]
+fn redim_preserve_keeps_a_long_long_item() {
+    let out = printed(
+        "",
+        "    Dim a() As LongLong, v()\n    ReDim a(1, 1): ReDim v(1 To 2, 1 To 2)\n\
+         \x20   a(1, 1) = 9007199254740993^: v(2, 2) = 9007199254740993^\n\
+         \x20   ReDim Preserve a(1, 3): ReDim Preserve v(1 To 2, 1 To 5)\n\
+         \x20   Debug.Print CStr(a(1, 1) + 2); \" \"; CStr(v(2, 2) + 2)",
+    );
+    assert_eq!(out, ["9007199254740995 9007199254740995"]);
 }

@@ -78,3 +78,20 @@ pub fn main_fails(wb: &mut ncsheet::workbook::Workbook, body: &str) -> String {
         Err(e) => e.message,
     }
 }
+
+/// `src`, a whole module, run from its `Sub Main` on a new one-sheet workbook under the
+/// default options.
+pub fn run_module(src: &str) -> Result<ncsheet::vba::RunOutput, ncsheet::vba::MacroError> {
+    ncsheet::vba::run(
+        &mut ncsheet::workbook::Workbook::with_sheet(),
+        src,
+        "test.bas",
+        &ncsheet::vba::RunOptions::default(),
+    )
+}
+
+/// What `Sub Main()` with `body` printed after the module-level lines `module` (Types,
+/// Functions, constants), on a new one-sheet workbook; the test fails naming the macro's error.
+pub fn printed_after(module: &str, body: &str) -> Vec<String> {
+    run_module(&format!("{module}\nSub Main()\n{body}\nEnd Sub\n")).unwrap_or_else(|e| panic!("{e}")).printed
+}

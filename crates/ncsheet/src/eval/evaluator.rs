@@ -225,6 +225,10 @@ pub trait Host {
         None
     }
 
+    /// Which of VBA's IIf's branches (`index` into the call's `args`) gave its `value`: a
+    /// macro's LongLong past 2^53 is that branch's integer. Nothing for a cell.
+    fn chose(&self, _args: &[Expr], _index: usize, _value: &Value) {}
+
     /// The result of `-operand`: a macro checks it against the operand's declared type
     /// (VBA's `-x` of the Integer -32,768 overflows); the result stays as computed by default.
     fn negation(&self, _operand: &Expr, result: Value) -> Value {
@@ -550,6 +554,13 @@ impl<'a> Ctx<'a> {
     /// ([`Host::date_text`]).
     pub fn macro_date_text(&self, e: &Expr, value: &Value) -> Option<String> {
         self.host?.date_text(e, value)
+    }
+
+    /// Tells a macro which branch of IIf gave its value ([`Host::chose`]).
+    pub fn macro_chose(&self, args: &[Expr], index: usize, value: &Value) {
+        if let Some(host) = self.host {
+            host.chose(args, index, value);
+        }
     }
 
     /// A macro's LongLong's decimal text ([`Host::long_long_text`]).

@@ -124,12 +124,7 @@ impl Interp<'_, '_> {
         };
         // The buffer is shared no more: the append below writes to it in place.
         drop(before);
-        let piece_units = piece.encode_utf16().count();
-        if units.saturating_add(piece_units) > ctx.text_limit() {
-            ctx.text_over_limit();
-        }
-        self.take_pending()?;
-        self.charge(piece.len() as u64, span)?;
+        let piece_units = self.admit_piece(&mut ctx, &piece, units, span)?;
         self.with_slot(name, |s| {
             s.append(&piece, piece_units);
             s.holds = super::typing::Declared::Variant;
@@ -201,14 +196,22 @@ impl Interp<'_, '_> {
             return self.set_element_holding(name, index, v, super::typing::Declared::Variant, span).map(|()| true);
         };
         drop(before);
+        let piece_units = self.admit_piece(&mut ctx, &piece, units, span)?;
+        self.with_slot(name, |s| s.append(&piece, piece_units));
+        Ok(true)
+    }
+
+    /// The UTF-16 units of `piece`, about to be appended to a text of `units`: past the
+    /// text limit the run stops (at the pending error taken here), and its bytes are
+    /// charged to the memory budget.
+    fn admit_piece(&self, ctx: &mut crate::eval::Ctx, piece: &str, units: usize, span: Span) -> Run<usize> {
         let piece_units = piece.encode_utf16().count();
         if units.saturating_add(piece_units) > ctx.text_limit() {
             ctx.text_over_limit();
         }
         self.take_pending()?;
         self.charge(piece.len() as u64, span)?;
-        self.with_slot(name, |s| s.append(&piece, piece_units));
-        Ok(true)
+        Ok(piece_units)
     }
 
     /// The indexes and operands of `value` when it is `name(…) & x & …`.

@@ -66,15 +66,9 @@ impl Interp<'_, '_> {
             None => None,
         };
         Ok(VArray {
-            data,
-            lower: (lower_row, lower_col),
-            dims: dims.len() as u8,
-            objects: None,
-            held_types: None,
-            arrays: None,
             records,
             shape: (dims.len() > 2).then(|| Rc::from(dims)),
-            exact: None,
+            ..VArray::plain(data, (lower_row, lower_col), dims.len() as u8)
         })
     }
 
@@ -620,10 +614,15 @@ pub(super) fn preserve_items(old: &VArray, new: &mut VArray) {
     let mut objects = std::collections::HashMap::new();
     let mut held_types = std::collections::HashMap::new();
     let mut arrays = std::collections::HashMap::new();
+    let mut exact = std::collections::HashMap::new();
     let mut records = new.records.take();
     for r in 0..old.data.rows.min(data.rows) {
         for c in 0..old.data.cols.min(data.cols) {
             data.data[r * data.cols + c] = old.data.get(r, c).clone();
+            // A LongLong past 2^53 moves with its item (`longlong.rs`).
+            if let Some(k) = old.exact_item(r * old.data.cols + c) {
+                exact.insert(r * data.cols + c, k);
+            }
             match old.item(r * old.data.cols + c) {
                 Var::Obj(o) => _ = objects.insert(r * data.cols + c, o),
                 Var::Array(a) => _ = arrays.insert(r * data.cols + c, a),
@@ -643,6 +642,7 @@ pub(super) fn preserve_items(old: &VArray, new: &mut VArray) {
     new.objects = (!objects.is_empty()).then(|| Rc::new(objects));
     new.held_types = (!held_types.is_empty()).then(|| Rc::new(held_types));
     new.arrays = (!arrays.is_empty()).then(|| Rc::new(arrays));
+    new.exact = (!exact.is_empty()).then(|| Rc::new(exact));
     new.records = records;
 }
 
@@ -686,15 +686,8 @@ fn holds_values(ty: &Ty) -> bool {
 /// array). `UBound` and an item of it are run-time error 9, as in VBA.
 pub(super) fn unallocated(ty: Option<&Ty>) -> Option<VArray> {
     ty.filter(|t| holds_values(t) || matches!(t, Ty::Record(_))).map(|_| VArray {
-        data: Rc::new(Array::filled(0, 0, Value::Blank)),
-        lower: (0, 0),
-        dims: 0,
-        objects: None,
-        held_types: None,
-        arrays: None,
         records: ty.filter(|t| matches!(t, Ty::Record(_))).map(|_| Rc::new(Vec::new())),
-        shape: None,
-        exact: None,
+        ..VArray::plain(Rc::new(Array::filled(0, 0, Value::Blank)), (0, 0), 0)
     })
 }
 
@@ -819,6 +812,7 @@ impl Interp<'_, '_> {
                 Err(v) => Var::Value(v),
             },
         };
+        self.refuse_long_long_past_double(value, &item, "an item reached through another item")?;
         let date = matches!(&item, Var::Value(v) if !set && self.as_date(value, v).is_some());
         let item = match item {
             Var::Obj(Obj::Value(Value::Blank)) | Var::Value(Value::Blank) if set => Var::Obj(Obj::Value(Value::Blank)),
@@ -847,12 +841,7 @@ impl Interp<'_, '_> {
             }
             _ => return Err(self.fault_at(span, format!("{name} is not an array (Dim {name}(…) first)"))),
         }
-        let bytes = match &item {
-            Var::Value(v) => super::budget::value_bytes(v),
-            Var::Array(a) => super::budget::value_bytes(&Value::Array(a.data.clone())),
-            _ => 0,
-        };
-        self.charge(bytes, span)?;
+        self.charge_nested_item(&item, span)?;
         let result = self.with_slot(&name, |slot| {
             if matches!(slot.ty, Some(ref t) if !matches!(t, Ty::Variant)) {
                 let why = "holds a value, not an array";
@@ -862,6 +851,23 @@ impl Interp<'_, '_> {
             let Var::Array(a) = slot.var_mut() else { return Err((13, format!("{own} is not an array"))) };
             self.put_nested(a, &own, &at, item, date)
         });
+        self.nested_put_done(result, span, || format!("{name} is not an array (Dim {name}(…) first)"))
+    }
+
+    /// What an item put into a nested array brings, charged to the memory budget.
+    fn charge_nested_item(&self, item: &Var, span: Span) -> Run<()> {
+        let bytes = match item {
+            Var::Value(v) => super::budget::value_bytes(v),
+            Var::Array(a) => super::budget::value_bytes(&Value::Array(a.data.clone())),
+            _ => 0,
+        };
+        self.charge(bytes, span)
+    }
+
+    /// The end of a put into a nested array ([`Interp::put_nested`]) in the variable's slot:
+    /// the object it replaced released, its error a fault at `span` with its number, and
+    /// `missing`'s message where there was no such variable.
+    fn nested_put_done(&self, result: Option<NestedPut>, span: Span, missing: impl FnOnce() -> String) -> Run<()> {
         match result {
             Some(Ok(old)) => old.map_or(Ok(()), |o| self.release(&Var::Obj(o))),
             Some(Err((code, m))) => {
@@ -869,7 +875,7 @@ impl Interp<'_, '_> {
                 f.code = code;
                 Err(f)
             }
-            None => Err(self.fault_at(span, format!("{name} is not an array (Dim {name}(…) first)"))),
+            None => Err(self.fault_at(span, missing())),
         }
     }
 
@@ -973,12 +979,7 @@ impl Interp<'_, '_> {
         for index in &chain {
             lists.push(index.iter().map(|e| self.index(e, "the index")).collect::<Run<Vec<i64>>>()?);
         }
-        let bytes = match &item {
-            Var::Value(v) => super::budget::value_bytes(v),
-            Var::Array(a) => super::budget::value_bytes(&Value::Array(a.data.clone())),
-            _ => 0,
-        };
-        self.charge(bytes, span)?;
+        self.charge_nested_item(&item, span)?;
         let result = self.with_slot(&var, |slot| {
             let own: Rc<str> = format!("{}.{}", slot.name, field.name).into();
             let mut target = slot.var_mut();
@@ -999,15 +1000,7 @@ impl Interp<'_, '_> {
             };
             self.put_nested(a, &own, &lists, item, date)
         });
-        match result {
-            Some(Ok(old)) => old.map_or(Ok(()), |o| self.release(&Var::Obj(o))),
-            Some(Err((code, m))) => {
-                let mut f = self.fault_at(span, m);
-                f.code = code;
-                Err(f)
-            }
-            None => Err(self.fault_at(span, format!("{var} is not a variable"))),
-        }
+        self.nested_put_done(result, span, || format!("{var} is not a variable"))
     }
 }
 

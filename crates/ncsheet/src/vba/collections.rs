@@ -20,6 +20,9 @@ use super::objects::lower;
 use super::typing::Declared;
 use super::value::{Obj, Var};
 
+/// Where a Collection's, a Dictionary's or an object's item goes, as a refusal names it.
+pub(super) const STORE_ITEM: &str = "an item of a Collection, a Dictionary or an object";
+
 /// "Trappable errors": the numbers and texts VBA raises for these objects.
 const DUPLICATE_KEY: (u32, &str) = (457, errors::description(457));
 const INVALID_CALL: (u32, &str) = (5, errors::description(5));
@@ -409,12 +412,15 @@ impl Interp<'_, '_> {
         Ok(out)
     }
 
-    /// What an item argument holds: a value, an array or an object (a Range stays a Range).
+    /// What an item argument holds: a value, an array or an object (a Range stays a Range);
+    /// a LongLong no double holds refused ([`Interp::refuse_long_long_past_double`]).
     pub(super) fn item_var(&self, e: &Expr) -> Run<Var> {
-        Ok(match self.var_of(e, true)? {
+        let var = match self.var_of(e, true)? {
             Var::Obj(Obj::Value(v)) => Var::Value(v),
             other => other,
-        })
+        };
+        self.refuse_long_long_past_double(e, &var, STORE_ITEM)?;
+        Ok(var)
     }
 
     fn required<'e>(&self, arg: Option<&'e Expr>, link: &Link, what: &str) -> Run<&'e Expr> {

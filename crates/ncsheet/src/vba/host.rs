@@ -167,7 +167,7 @@ impl Host for Interp<'_, '_> {
 
     fn arithmetic(&self, op: BinOp, operands: (&Expr, &Expr), values: (&Value, &Value), result: Value) -> Value {
         self.forget_widening(operands.0);
-        self.forget_exact(operands.0);
+        self.forget_exact(operands.0, [values.0, values.1, &result]);
         if op == BinOp::Concat {
             if let Some(fault) = self.concat_error(operands, values) {
                 self.park(fault);
@@ -236,9 +236,13 @@ impl Host for Interp<'_, '_> {
         self.long_long_text(e, value)
     }
 
+    fn chose(&self, args: &[Expr], index: usize, value: &Value) {
+        self.note_iif_branch(args, index, value);
+    }
+
     fn negation(&self, operand: &Expr, result: Value) -> Value {
         self.forget_widening(operand);
-        self.forget_exact(operand);
+        self.forget_exact(operand, [&result; 3]);
         match self.long_long_negation(operand, &result) {
             Some(Ok(v)) => return v,
             Some(Err(fault)) => {

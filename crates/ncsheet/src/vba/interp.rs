@@ -1049,7 +1049,7 @@ impl Interp<'_, '_> {
         let mut items_back = Vec::new();
         let mut lent = Vec::new();
         let (args, param_array) = super::param_array::split_args(p, args);
-        self.forget_long_long_args();
+        let mut long_longs = Vec::new();
         for (i, a) in args.iter().enumerate() {
             let index = match &a.name {
                 Some(n) => p.params.iter().position(|q| q.name.eq_ignore_ascii_case(n)).expect("checked by the parser"),
@@ -1096,7 +1096,7 @@ impl Interp<'_, '_> {
                 Operand::Value(v) => match &a.value.kind {
                     // A number keeps its type in a Variant parameter ([MS-VBAL] 5.3.1.11).
                     _ if matches!(v, Value::Number(_)) => {
-                        self.note_long_long_arg(index, &a.value, &v);
+                        self.note_long_long_arg(&mut long_longs, index, &a.value, &v);
                         match self.value_type(&a.value, &v) {
                             Declared::Double => {}
                             ty => types.push((index, ty)),
@@ -1121,6 +1121,7 @@ impl Interp<'_, '_> {
             bound.push((p.params.len() - 1, value));
         }
         *self.arg_types.borrow_mut() = types;
+        self.pass_long_long_args(long_longs);
         let called = self.invoke_frame(proc, bound, Some(span), Call { me: call.me, value: None, lent });
         self.arg_types.borrow_mut().clear();
         let (result, frame) = called?;
@@ -1307,6 +1308,7 @@ impl Interp<'_, '_> {
     /// whose items do not convert too), for a lent array to go back to its caller.
     fn bind_and_run(&self, p: &Proc, bound: &mut Vec<(usize, Var)>, typed: &[usize]) -> Run<()> {
         let types = std::mem::take(&mut *self.arg_types.borrow_mut());
+        let long_longs = self.take_long_long_args();
         for (i, param) in p.params.iter().enumerate() {
             let var = match bound.iter().position(|(j, _)| *j == i) {
                 Some(k) => bound.swap_remove(k).1,
@@ -1327,13 +1329,16 @@ impl Interp<'_, '_> {
                     bound.push((i, var));
                     self.fault(m)
                 })?,
-                false => convert(var, param.ty.as_ref(), &param.name).map_err(|m| self.fault(m))?,
+                false => match super::longlong::long_long_param(&long_longs, i, param.ty.as_ref()) {
+                    Some(whole) => whole,
+                    None => convert(var, param.ty.as_ref(), &param.name).map_err(|m| self.fault(m))?,
+                },
             };
             let mut slot = Slot::new(param.name.clone(), var, param.ty.clone());
             // A Variant parameter given a Date holds a Date, given an Integer an Integer
             // ([MS-VBAL] 5.3.1.11: the argument's value is bound as it is, its value type with it).
             slot.set_holds(types.iter().find(|(j, _)| *j == i).map_or(Declared::Variant, |&(_, ty)| ty));
-            self.long_long_arg(i, &mut slot);
+            self.long_long_arg(&long_longs, i, &mut slot);
             self.declare(slot);
         }
         if p.kind == ProcKind::Function {
@@ -2109,6 +2114,7 @@ impl Interp<'_, '_> {
                 if let Some(Var::Obj(Obj::Store(h))) = self.lookup(name) {
                     let key = self.store_key(&mut self.ctx(), index, span)?;
                     let item = if set { self.item_var(value)? } else { self.var_of(value, false)? };
+                    self.refuse_long_long_past_double(value, &item, super::collections::STORE_ITEM)?;
                     let date = matches!(&item, Var::Value(v) if !set && self.as_date(value, v).is_some());
                     self.set_store_item(&h, &key, item, span)?;
                     return self.mark_store_date(&h, Some(&key), date, span);
@@ -2309,19 +2315,22 @@ impl Interp<'_, '_> {
             None => (1.0, Declared::Integer),
         };
         let steps = step.map(|e| (e, step_value));
-        if let Some(bounds) = self.long_long_for_bounds(var, (from, start), (to, end), steps) {
-            return self.long_long_for_loop(var, bounds, body, span);
-        }
-        // A Variant counter holds the start's type, then that of counter + step ([MS-VBAL]
-        // 5.4.2.3: it is Let-assigned the start value, then its value plus the step).
-        let mut held = self.value_type(from, &Value::Number(start));
-        self.set_var_holding(var, Var::Value(Value::Number(start)), held, span)?;
+        let mut counting = match self.long_long_for_bounds(var, (from, start), (to, end), steps) {
+            Some((first, last, step)) => {
+                self.set_long_long_counter(var, first);
+                Counting::LongLong { last, step }
+            }
+            None => {
+                // A Variant counter holds the start's type, then that of counter + step
+                // ([MS-VBAL] 5.4.2.3: it is Let-assigned the start value, then its value plus
+                // the step).
+                let held = self.value_type(from, &Value::Number(start));
+                self.set_var_holding(var, Var::Value(Value::Number(start)), held, span)?;
+                Counting::Double { end, step: step_value, step_ty, held }
+            }
+        };
         loop {
-            let v = match self.lookup(var) {
-                Some(Var::Value(v)) => self.number_of(&v, var).map_err(|m| self.fault_at(span, m))?,
-                _ => return Err(self.fault_at(span, format!("the For variable {var} no longer holds a number"))),
-            };
-            if (step_value >= 0.0 && v > end) || (step_value < 0.0 && v < end) {
+            if self.counter_past_end(var, &counting, span)? {
                 return Ok(Flow::Next);
             }
             self.tick(span)?;
@@ -2330,48 +2339,52 @@ impl Interp<'_, '_> {
                 Flow::Exit(ExitKind::For) => return Ok(Flow::Next),
                 other => return Ok(other),
             }
-            let v = match self.lookup(var) {
-                Some(Var::Value(v)) => to_number(&v, DateSystem::From1900).unwrap_or(f64::NAN),
-                _ => f64::NAN,
-            };
-            held = super::typing::sum_held(held, step_ty, v + step_value);
-            self.set_var_holding(var, Var::Value(Value::Number(v + step_value)), held, span)?;
+            self.step_counter(var, &mut counting, span)?;
         }
     }
 
-    /// A For loop whose LongLong counter is past what a double holds exactly, counted on its
-    /// integer from `first` to `last` by `step`; Overflow (error 6) where the counter would
-    /// pass the type.
-    fn long_long_for_loop(
-        &self,
-        var: &Rc<str>,
-        (first, last, step): (i64, i64, i64),
-        body: &Block,
-        span: Span,
-    ) -> Run<Flow> {
-        self.set_long_long_counter(var, first);
-        loop {
-            let Some(i) = self.long_long_counter(var) else {
-                return Err(self.fault_at(span, format!("the For variable {var} no longer holds a whole number")));
-            };
-            if (step >= 0 && i > last) || (step < 0 && i < last) {
-                return Ok(Flow::Next);
+    /// Whether the For counter `var` has passed the loop's end.
+    fn counter_past_end(&self, var: &Rc<str>, counting: &Counting, span: Span) -> Run<bool> {
+        match *counting {
+            Counting::Double { end, step, .. } => {
+                let v = match self.lookup(var) {
+                    Some(Var::Value(v)) => self.number_of(&v, var).map_err(|m| self.fault_at(span, m))?,
+                    _ => return Err(self.fault_at(span, format!("the For variable {var} no longer holds a number"))),
+                };
+                Ok((step >= 0.0 && v > end) || (step < 0.0 && v < end))
             }
-            self.tick(span)?;
-            match self.block(body)? {
-                Flow::Next => {}
-                Flow::Exit(ExitKind::For) => return Ok(Flow::Next),
-                other => return Ok(other),
+            Counting::LongLong { last, step } => {
+                let Some(i) = self.long_long_counter(var) else {
+                    return Err(self.fault_at(span, format!("the For variable {var} no longer holds a whole number")));
+                };
+                Ok((step >= 0 && i > last) || (step < 0 && i < last))
             }
-            let Some(next) = self.long_long_counter(var).and_then(|i| i.checked_add(step)) else {
-                return Err(self.overflow_fault(
-                    span,
-                    format!(
-                        "the For variable {var} plus its step {step} passes a LongLong's range (-2^63 to 2^63 - 1)"
-                    ),
-                ));
-            };
-            self.set_long_long_counter(var, next);
+        }
+    }
+
+    /// The For counter `var` plus its step, as the loop's next value.
+    fn step_counter(&self, var: &Rc<str>, counting: &mut Counting, span: Span) -> Run<()> {
+        match counting {
+            Counting::Double { step, step_ty, held, .. } => {
+                let v = match self.lookup(var) {
+                    Some(Var::Value(v)) => to_number(&v, DateSystem::From1900).unwrap_or(f64::NAN),
+                    _ => f64::NAN,
+                };
+                *held = super::typing::sum_held(*held, *step_ty, v + *step);
+                self.set_var_holding(var, Var::Value(Value::Number(v + *step)), *held, span)
+            }
+            Counting::LongLong { step, .. } => {
+                let Some(next) = self.long_long_counter(var).and_then(|i| i.checked_add(*step)) else {
+                    return Err(self.overflow_fault(
+                        span,
+                        format!(
+                            "the For variable {var} plus its step {step} passes a LongLong's range (-2^63 to 2^63 - 1)"
+                        ),
+                    ));
+                };
+                self.set_long_long_counter(var, next);
+                Ok(())
+            }
         }
     }
 
@@ -2619,4 +2632,13 @@ fn lent_args(bound: Vec<(usize, Var)>, lent: &[(usize, Rc<str>)]) -> Vec<(Var, (
         }
     }
     out
+}
+
+/// How a For loop's counter moves to its end ([MS-VBAL] 5.4.2.3): on doubles, the type the
+/// counter holds following counter + step; or, for a LongLong counter whose start or end no
+/// double holds exactly, on its integer (`longlong.rs`), where a double's `+ 1` past 2^53
+/// would leave it where it is.
+enum Counting {
+    Double { end: f64, step: f64, step_ty: Declared, held: Declared },
+    LongLong { last: i64, step: i64 },
 }

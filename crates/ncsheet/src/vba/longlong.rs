@@ -20,6 +20,7 @@ use crate::formula::ast::{BinOp, Expr, ExprKind, UnaryOp};
 use super::ast::LONG_LONG_END;
 use super::interp::{Fault, Interp};
 use super::typing::{binary_type, Declared, Typing};
+use super::value::Var;
 
 /// 2^53: every whole number of a smaller size is exact in a double, and none is kept.
 const EXACT_IN_DOUBLE: f64 = 9_007_199_254_740_992.0;
@@ -34,12 +35,16 @@ pub(super) struct Exact {
     /// The last result of each operation, by the address of its first operand (of a
     /// negation, its operand's), as [`Interp::widened`] notes operations.
     ops: HashMap<usize, i64>,
-    /// The last value of each node (a Function's call), by its number.
-    nodes: HashMap<u32, i64>,
+    /// The last value of each node (a Function's call), by its number: indexed, so that
+    /// forgetting one, at every evaluation of a node once any kept one, costs no hashing.
+    nodes: Vec<Option<i64>>,
     /// What the Function that returned last gave, until its node takes it.
     gave: Option<i64>,
     /// The LongLongs the call being bound passes, by parameter position.
     args: Vec<(usize, i64)>,
+    /// The branch each IIf call chose, by the address of its condition, with the double it
+    /// gave: noted only past 2^53 ([`Interp::note_iif_branch`]).
+    iif: HashMap<usize, (usize, f64)>,
     /// What the value assigned to an array item (`a(i) = value`) gave, until the item takes it.
     item: Option<i64>,
 }
@@ -56,6 +61,22 @@ fn inexact(n: f64) -> bool {
 /// The LongLong a whole double within the type's range is.
 fn whole(n: f64) -> Option<i64> {
     (n.fract() == 0.0 && (-LONG_LONG_END..LONG_LONG_END).contains(&n)).then_some(n as i64)
+}
+
+/// The LongLong noted for the argument at parameter position `index`.
+fn noted_for(noted: &[(usize, i64)], index: usize) -> Option<i64> {
+    noted.iter().find(|(i, _)| *i == index).map(|&(_, k)| k)
+}
+
+/// The argument at parameter position `index` as a LongLong parameter of type `ty` takes
+/// it, where a LongLong was noted for it: already of the type and in its range, though its
+/// nearest double may not be (2^63 - 512 and up round to 2^63, one past the top). `None` for
+/// any other parameter or argument, which converts as usual.
+pub(super) fn long_long_param(noted: &[(usize, i64)], index: usize, ty: Option<&super::ast::Ty>) -> Option<Var> {
+    if Declared::of_ty(ty) != Declared::LongLong {
+        return None;
+    }
+    noted_for(noted, index).map(|k| Var::Value(Value::Number(k as f64)))
 }
 
 /// The LongLong a literal with the `^` type character writes ([MS-VBAL] 3.3.2):
@@ -86,16 +107,100 @@ impl Interp<'_, '_> {
             ExprKind::Binary(_, first, _) | ExprKind::Unary(UnaryOp::Neg, first) => {
                 self.exact.borrow().ops.get(&key(first)).copied()
             }
-            ExprKind::Host(id) => self.exact.borrow().nodes.get(id).copied(),
-            ExprKind::Call(id, args) if crate::eval::functions::spec(*id).name == "VBA.CLNGLNG" => {
-                args.first().and_then(|arg| match &arg.kind {
-                    ExprKind::Text(t) => t.trim().parse().ok(),
-                    _ => self.exact_whole(arg, v),
-                })
-            }
+            ExprKind::Host(id) => self.exact.borrow().nodes.get(*id as usize).copied().flatten(),
+            ExprKind::Call(id, args) => self.exact_call(crate::eval::functions::spec(*id).name, args, n),
             _ => None,
         };
         kept.filter(|&k| k as f64 == n).or_else(|| whole(n))
+    }
+
+    /// The LongLong kept for `e`'s value `n` past 2^53, `None` where none is: the value is
+    /// then its double's.
+    fn kept_whole(&self, e: &Expr, n: f64) -> Option<i64> {
+        self.exact_whole(e, &Value::Number(n)).filter(|&k| whole(n) != Some(k))
+    }
+
+    /// The LongLong a call of a VBA function gave as `n`, from its LongLong argument's
+    /// integer: CLngLng's ("Type conversion functions"), Int's and Fix's (a whole number is
+    /// its own, "Int, Fix functions"), Abs's ("Abs function": the same type), and the branch
+    /// IIf chose ("IIf function": a Variant holding that branch's value). `None` for any
+    /// other function, whose result is its double.
+    fn exact_call(&self, name: &str, args: &[Expr], n: f64) -> Option<i64> {
+        let arg = args.first()?;
+        match name {
+            "VBA.CLNGLNG" => match &arg.kind {
+                ExprKind::Text(t) => t.trim().parse().ok(),
+                _ => self.exact_whole(arg, &Value::Number(n)),
+            },
+            "VBA.INT" | "VBA.FIX" => self.exact_whole(arg, &Value::Number(n)),
+            // The argument was `-n` or `n`; only the integer kept for the one it was is kept.
+            "VBA.ABS" => self.kept_whole(arg, -n).or_else(|| self.kept_whole(arg, n)).and_then(i64::checked_abs),
+            "VBA.IIF" => {
+                let branch = self.iif_branch(args, n)?;
+                self.exact_whole(branch, &Value::Number(n))
+            }
+            _ => None,
+        }
+    }
+
+    /// The branch of the IIf call with arguments `args` that gave the value `n`, where it is
+    /// past 2^53 and the call told which ([`Interp::note_iif_branch`]).
+    fn iif_branch<'e>(&self, args: &'e [Expr], n: f64) -> Option<&'e Expr> {
+        let (index, given) = *self.exact.borrow().iif.get(&key(args.first()?))?;
+        (given.to_bits() == n.to_bits()).then(|| args.get(index)).flatten()
+    }
+
+    /// The branch the IIf call with arguments `args` chose last, where its value was past
+    /// 2^53: its type is the call's (a Variant holding that branch's value). `None` for a
+    /// call whose last value was below 2^53, or when no IIf gave one past it (one check).
+    pub(super) fn iif_chosen<'e>(&self, args: &'e [Expr]) -> Option<&'e Expr> {
+        let exact = self.exact.borrow();
+        if exact.iif.is_empty() {
+            return None;
+        }
+        let &(index, _) = exact.iif.get(&key(args.first()?))?;
+        args.get(index)
+    }
+
+    /// Notes which branch (`index` into `args`) an IIf call chose, where its value is past
+    /// 2^53 (its LongLong and type are that branch's), and forgets it when the call gives a
+    /// smaller value. Costs nothing until an IIf gives a value past 2^53.
+    pub(super) fn note_iif_branch(&self, args: &[Expr], index: usize, v: &Value) {
+        let Some(first) = args.first() else { return };
+        match v {
+            Value::Number(n) if inexact(*n) => {
+                self.exact.borrow_mut().iif.insert(key(first), (index, *n));
+            }
+            _ if !self.exact.borrow().iif.is_empty() => {
+                self.exact.borrow_mut().iif.remove(&key(first));
+            }
+            _ => {}
+        }
+    }
+
+    /// Refuses the LongLong `v`, the value of `e`, given to `place` (a Type's field, a
+    /// Collection's or a Dictionary's item, an item reached through another item), where no
+    /// double is its integer: such a place holds a double alone, and the nearest one is
+    /// another number. Overflow (run-time error 6) naming the number, never the double in
+    /// its stead; nothing to check below 2^53 or for a LongLong whose double is exact.
+    pub(super) fn refuse_long_long_past_double(&self, e: &Expr, var: &Var, place: &str) -> Result<(), Fault> {
+        let Var::Value(v @ Value::Number(n)) = var else { return Ok(()) };
+        let n = *n;
+        if !inexact(n) {
+            return Ok(());
+        }
+        let Some(k) = self.kept_long_long(e, v) else { return Ok(()) };
+        if i128::from(k) == n as i128 {
+            return Ok(());
+        }
+        let why = format!(
+            "{place} cannot hold the LongLong {k} exactly: it keeps a double, and the nearest is {n:.0}; \
+             ncsheet keeps a LongLong past 2^53 whole in a variable, an array item, a parameter, a constant \
+             or a Function's result"
+        );
+        let mut fault = self.fault_at(self.expr_span(e), crate::eval::functions::vba::errors::message(6, why));
+        fault.code = 6;
+        Err(fault)
     }
 
     /// The LongLong `v`, the value of `e`, is when `e` is of that type and its double is
@@ -108,9 +213,12 @@ impl Interp<'_, '_> {
     }
 
     /// Forgets what the operation whose first operand is `first` gave: it is being computed
-    /// again.
-    pub(super) fn forget_exact(&self, first: &Expr) {
-        if !self.exact.borrow().ops.is_empty() {
+    /// again, on `numbers` (its operands and the evaluator's result). Only where one of them
+    /// is past 2^53: a kept integer is read for a double past it alone, so a macro whose
+    /// numbers stay below it (or came back below it) pays no table look-up per operation.
+    pub(super) fn forget_exact(&self, first: &Expr, numbers: [&Value; 3]) {
+        let past = numbers.iter().any(|v| matches!(v, Value::Number(n) if inexact(*n)));
+        if past && !self.exact.borrow().ops.is_empty() {
             self.exact.borrow_mut().ops.remove(&key(first));
         }
     }
@@ -357,28 +465,37 @@ impl Interp<'_, '_> {
         }
     }
 
-    /// Notes that the argument at parameter position `index`, the expression `e`, gave the
-    /// LongLong `v` past what its double holds, for the parameter it is bound to.
-    pub(super) fn note_long_long_arg(&self, index: usize, e: &Expr, v: &Value) {
+    /// Notes in `noted` that the argument at parameter position `index`, the expression `e`,
+    /// gave the LongLong `v` past what its double holds, for the parameter it is bound to.
+    /// The call keeps its own list until it is bound: an argument that calls a Function
+    /// (`F(G(x), y)`) binds G's in between.
+    pub(super) fn note_long_long_arg(&self, noted: &mut Vec<(usize, i64)>, index: usize, e: &Expr, v: &Value) {
         if let Some(k) = self.kept_long_long(e, v) {
-            self.exact.borrow_mut().args.push((index, k));
+            noted.push((index, k));
         }
     }
 
-    /// Forgets the LongLongs noted for a call's parameters (a new call is being bound).
-    pub(super) fn forget_long_long_args(&self) {
-        if !self.exact.borrow().args.is_empty() {
-            self.exact.borrow_mut().args.clear();
+    /// Hands the LongLongs a call's arguments gave to the binding of its parameters.
+    pub(super) fn pass_long_long_args(&self, noted: Vec<(usize, i64)>) {
+        if !noted.is_empty() || !self.exact.borrow().args.is_empty() {
+            self.exact.borrow_mut().args = noted;
         }
+    }
+
+    /// The LongLongs handed to the parameters being bound, taken: no later call reads them.
+    pub(super) fn take_long_long_args(&self) -> Vec<(usize, i64)> {
+        if self.exact.borrow().args.is_empty() {
+            return Vec::new();
+        }
+        std::mem::take(&mut self.exact.borrow_mut().args)
     }
 
     /// The LongLong noted for the parameter at `index`, for its variable holding `var`
     /// (a LongLong or a Variant parameter: any other converted it).
-    pub(super) fn long_long_arg(&self, index: usize, slot: &mut super::value::Slot) {
-        let found = self.exact.borrow().args.iter().find(|(i, _)| *i == index).map(|&(_, k)| k);
-        let Some(k) = found else { return };
+    pub(super) fn long_long_arg(&self, noted: &[(usize, i64)], index: usize, slot: &mut super::value::Slot) {
+        let Some(k) = noted_for(noted, index) else { return };
         let typed = matches!(Declared::of_ty(slot.ty.as_ref()), Declared::LongLong | Declared::Variant);
-        if typed && matches!(slot.var(), super::value::Var::Value(Value::Number(n)) if *n == k as f64) {
+        if typed && matches!(slot.var(), Var::Value(Value::Number(n)) if *n == k as f64) {
             slot.set_exact(k);
         }
     }
@@ -409,14 +526,19 @@ impl Interp<'_, '_> {
     /// After the node `id` gave its value: the LongLong a Function gave, kept for the node.
     pub(super) fn note_node_long_long(&self, id: u32) {
         let mut exact = self.exact.borrow_mut();
+        let id = id as usize;
         match exact.gave.take() {
             Some(k) => {
-                exact.nodes.insert(id, k);
+                if exact.nodes.len() <= id {
+                    exact.nodes.resize(id + 1, None);
+                }
+                exact.nodes[id] = Some(k);
             }
-            None if !exact.nodes.is_empty() => {
-                exact.nodes.remove(&id);
+            None => {
+                if let Some(kept) = exact.nodes.get_mut(id) {
+                    *kept = None;
+                }
             }
-            None => {}
         }
     }
 

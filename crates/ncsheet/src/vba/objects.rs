@@ -797,6 +797,7 @@ impl Interp<'_, '_> {
                     path.push(self.field_item(var, &path, args, link)?);
                 }
                 let v = self.var_of(value, false)?;
+                self.refuse_long_long_past_double(value, &v, "a Type's field")?;
                 self.set_record_field(var, &path, v, link.span)
             }
             (Obj::App, "cutcopymode") => {

@@ -451,6 +451,11 @@ impl Interp<'_, '_> {
                     Declared::String | Declared::Boolean => Declared::Double,
                     ty => ty,
                 },
+                // "IIf function": a Variant holding the chosen branch's value, as the
+                // interpreter noted it past 2^53 (`longlong.rs`).
+                ("VBA.IIF", _) if typing == Typing::Held => {
+                    self.iif_chosen(args).map_or(Declared::Variant, |b| self.typed_within(b, depth + 1, typing))
+                }
                 (name, _) if typing == Typing::Held => held_function_type(name).unwrap_or_else(|| function_type(name)),
                 (name, _) => function_type(name),
             },

@@ -59,12 +59,14 @@ pub struct VArray {
 }
 
 impl VArray {
-    /// A one-dimensional array of `data`'s one row, from `lower`, holding plain values.
-    pub fn row(data: Rc<Array>, lower: i64) -> VArray {
+    /// An array of `dims` dimensions over `data` from the bounds `lower`, holding plain
+    /// values: none of the side tables (objects, held types, arrays, records, shape,
+    /// LongLongs) that the few arrays needing them add.
+    pub(super) fn plain(data: Rc<Array>, lower: (i64, i64), dims: u8) -> VArray {
         VArray {
             data,
-            lower: (1, lower),
-            dims: 1,
+            lower,
+            dims,
             objects: None,
             held_types: None,
             arrays: None,
@@ -74,20 +76,15 @@ impl VArray {
         }
     }
 
+    /// A one-dimensional array of `data`'s one row, from `lower`, holding plain values.
+    pub fn row(data: Rc<Array>, lower: i64) -> VArray {
+        VArray::plain(data, (1, lower), 1)
+    }
+
     /// A two-dimensional array of `data`'s rows and columns, from (1, 1), as VBA reads a
     /// Range's values, holding plain values.
     pub fn table(data: Rc<Array>) -> VArray {
-        VArray {
-            data,
-            lower: (1, 1),
-            dims: 2,
-            objects: None,
-            held_types: None,
-            arrays: None,
-            records: None,
-            shape: None,
-            exact: None,
-        }
+        VArray::plain(data, (1, 1), 2)
     }
 
     /// The item at row-major position `k` as a variable holds it: its object, or its value.

@@ -480,6 +480,48 @@ fn long_long_shown(ctx: &Ctx, args: &[Expr], values: &[Value], sign_room: bool) 
     Some(Value::text(if sign_room && !text.starts_with('-') { format!(" {text}") } else { text }))
 }
 
+/// `Format(x, code)` of a macro's LongLong that no double holds (past 2^53): its every digit
+/// laid out by a code of digit placeholders and thousand separators ("Format function":
+/// `0` a digit or a zero, `#` a digit or nothing, `,` between them groups the thousands).
+/// Any other code would lay out the nearest double's digits: Overflow (run-time error 6)
+/// instead of another number. `None` for any other value, formatted as usual.
+fn long_long_formatted(ctx: &Ctx, args: &[Expr], values: &[Value], raised: &Raised) -> Option<XlResult<Value>> {
+    let Some(Value::Text(code)) = values.get(1) else { return None };
+    let digits = ctx.macro_long_long_text(args.first()?, values.first()?)?;
+    let k: i64 = digits.parse().ok()?;
+    if i128::from(k) == k as f64 as i128 {
+        return None;
+    }
+    Some(match integer_layout(&digits, code) {
+        Some(shown) => Ok(Value::text(shown)),
+        None => Err(raised.set(6, "a LongLong past 2^53 is formatted with a code of 0, # and , alone")),
+    })
+}
+
+/// The whole number `digits` (a sign, then its digits) laid out by `code` when the code is
+/// digit placeholders (`0`, `#`) with thousand separators (`,`) between them; `None` for
+/// any other code (a trailing `,` scales by a thousand; sections, decimals, literals).
+fn integer_layout(digits: &str, code: &str) -> Option<String> {
+    let placeholders = code.chars().filter(|c| matches!(c, '0' | '#')).count();
+    if placeholders == 0 || code.ends_with(',') || !code.chars().all(|c| matches!(c, '0' | '#' | ',')) {
+        return None;
+    }
+    let (sign, digits) = digits.strip_prefix('-').map_or(("", digits), |d| ("-", d));
+    let zeros = code.chars().filter(|&c| c == '0').count();
+    let padded = format!("{digits:0>zeros$}");
+    if !code.contains(',') {
+        return Some(format!("{sign}{padded}"));
+    }
+    let mut grouped = String::with_capacity(padded.len() + padded.len() / 3 + 1);
+    for (i, digit) in padded.chars().enumerate() {
+        if i > 0 && (padded.len() - i) % 3 == 0 {
+            grouped.push(',');
+        }
+        grouped.push(digit);
+    }
+    Some(format!("{sign}{grouped}"))
+}
+
 /// [`lift_vba`] on values already evaluated.
 fn lift_vba_values(
     ctx: &mut Ctx,
@@ -699,7 +741,9 @@ fn iif(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let condition = to_bool(&ctx.eval(&args[0]))?;
     let then = ctx.eval(&args[1]);
     let otherwise = ctx.eval(&args[2]);
-    Ok(if condition { then } else { otherwise })
+    let (index, chosen) = if condition { (1, then) } else { (2, otherwise) };
+    ctx.macro_chose(args, index, &chosen);
+    Ok(chosen)
 }
 
 /// Applies a text function to the text of each argument (lifted over arrays), after VBA's
@@ -1010,6 +1054,9 @@ fn format_by_weeks(ctx: &mut Ctx, args: &[Expr], raised: &Raised) -> XlResult<Va
     // and the long time as the system sets them.
     if let Some(shown) = date_shown(ctx, args, &values).or_else(|| long_long_shown(ctx, args, &values, false)) {
         return Ok(shown);
+    }
+    if let Some(shown) = long_long_formatted(ctx, args, &values, raised) {
+        return shown;
     }
     let lifted = lift_values(&values, &|v| {
         let pattern = if has_format { vba_text(&v[1])? } else { Rc::from("") };
