@@ -63,3 +63,18 @@ fn a_local_variable_hides_a_procedure_of_another_module() {
                 \x20   pinv = n * 10\nEnd Function\n";
     assert_eq!(printed_with_modules(main, &[("Perm", perm)]), [" 3  50 "]);
 }
+
+// [MS-VBAL] 5.6.16.8 "Argument Lists" and "Understanding named arguments and optional
+// arguments": an argument may be given by its parameter's name, in any order after the
+// positional ones. The names are those of the "InStr function" (Start, String1, String2,
+// Compare) and "Replace function" (Expression, Find, Replace, Start, Count, Compare) pages:
+// InStr(Start:=3, String1:="abcabc", String2:="B", Compare:=vbTextCompare) finds the second
+// "b" at 5; InStr(String2:="c", String1:="abc") leaves Start out (3); Replace with Count:=1
+// replaces the first match only.
+#[test]
+fn a_library_function_takes_arguments_by_vba_s_parameter_names() {
+    let src = "Sub Main()\n\
+               \x20   Debug.Print VBA.Strings.InStr(Start:=3, String1:=\"abcabc\", String2:=\"B\", Compare:=vbTextCompare); \
+               InStr(String2:=\"c\", String1:=\"abc\"); Replace(\"a-a-a\", \"a\", Count:=1, Replace:=\"b\")\nEnd Sub\n";
+    assert_eq!(printed(src), [" 5  3 b-a-a"]);
+}

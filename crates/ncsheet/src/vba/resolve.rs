@@ -767,17 +767,69 @@ impl Build<'_> {
     fn function_call(&self, pair: &Pair<Rule>, name: &str, link: &Link) -> Res<Option<Expr>> {
         let Some(info) = Registry.lookup(strip_future_prefix(name)) else { return Ok(None) };
         let args = link.args.as_deref().unwrap_or(&[]);
-        if args.iter().any(|a| a.name.is_some()) {
-            return Err(
-                self.error_at(pair, format!("{}: named arguments (x:=) are for the macro's own procedures", link.name))
-            );
-        }
-        if args.len() < info.min_args || args.len() > info.max_args {
-            return Err(self.error_at(pair, arity_message(&link.name, info.min_args, info.max_args, args.len())));
-        }
-        let exprs = args.iter().map(|a| a.value.clone()).collect();
         let span = ByteSpan { start: start(pair) as u32, end: pair.as_span().end() as u32 };
+        let exprs: Vec<Expr> = if args.iter().any(|a| a.name.is_some()) {
+            self.named_library_args(pair, crate::eval::functions::spec(info.id).vba_params, &link.name, args, span)?
+        } else {
+            args.iter().map(|a| a.value.clone()).collect()
+        };
+        if exprs.len() < info.min_args || exprs.len() > info.max_args {
+            return Err(self.error_at(pair, arity_message(&link.name, info.min_args, info.max_args, exprs.len())));
+        }
         Ok(Some(Expr::new(ExprKind::Call(info.id, exprs), span)))
+    }
+
+    /// A VBA function's arguments in its parameters' order when some are named
+    /// (`InStr(Start:=1, String1:=s, String2:="x")`, [MS-VBAL] 5.6.16.8; the names are
+    /// `params`, VBA's reference's): the positional ones first, then each named one at its
+    /// parameter's place; an optional parameter left out before the last one given is
+    /// Missing, as `InStr(, s, "x")` leaves it. Refused, naming the call: a function whose
+    /// parameters' names ncsheet does not know, an unknown or repeated name, a positional
+    /// argument after a named one, a required parameter left out.
+    fn named_library_args(
+        &self,
+        pair: &Pair<Rule>,
+        params: &[&str],
+        shown: &str,
+        args: &[Arg],
+        span: ByteSpan,
+    ) -> Res<Vec<Expr>> {
+        let refuse = |message: String| Err(self.error_at(pair, message));
+        if params.is_empty() {
+            return refuse(format!("{shown}: named arguments (x:=) are for the macro's own procedures"));
+        }
+        let bare = |p: &str| p.trim_start_matches('[').trim_end_matches(']').to_string();
+        let mut placed: Vec<Option<Expr>> = vec![None; params.len()];
+        let mut named_seen = false;
+        for (i, arg) in args.iter().enumerate() {
+            let at = match &arg.name {
+                None if named_seen => return refuse(format!("{shown}: a positional argument after a named one")),
+                None => i,
+                Some(name) => {
+                    named_seen = true;
+                    match params.iter().position(|p| bare(p).eq_ignore_ascii_case(name)) {
+                        Some(at) => at,
+                        None => {
+                            let known: Vec<String> = params.iter().map(|p| bare(p)).collect();
+                            return refuse(format!(
+                                "{shown} has no parameter {name} (its parameters: {})",
+                                known.join(", ")
+                            ));
+                        }
+                    }
+                }
+            };
+            match placed.get_mut(at) {
+                Some(slot @ None) => *slot = Some(arg.value.clone()),
+                Some(Some(_)) => return refuse(format!("{shown}: {} is given twice", bare(params[at]))),
+                None => return refuse(format!("{shown} takes at most {} arguments", params.len())),
+            }
+        }
+        if let Some(left_out) = params.iter().zip(&placed).find(|(p, e)| e.is_none() && !p.starts_with('[')) {
+            return refuse(format!("{shown}: argument {} is not optional", bare(left_out.0)));
+        }
+        let given = placed.iter().rposition(Option::is_some).map_or(0, |i| i + 1);
+        Ok(placed.into_iter().take(given).map(|e| e.unwrap_or_else(|| Expr::new(ExprKind::Missing, span))).collect())
     }
 
     /// VBA's functions that are called without parentheses (`Debug.Print Now`): the bare

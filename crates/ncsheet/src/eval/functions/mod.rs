@@ -101,6 +101,10 @@ pub struct FnSpec {
     /// Its place in the .xls format's function table (MS-XLS 2.5.198.17 `Ftab`), for the
     /// functions Excel 97 had: the .xls reader knows a function by it.
     pub biff: Option<Biff>,
+    /// A VBA function's parameters as Microsoft's VBA reference names them, in order, an
+    /// optional one in brackets (`[Start]`): a macro may give arguments by these names
+    /// (`InStr(Start:=1, String1:=s, String2:="x")`). Empty where no call names them.
+    pub vba_params: &'static [&'static str],
 }
 
 /// A function's place in the .xls format's function table.
@@ -227,6 +231,7 @@ impl FnSpec {
             reads: Outside::Nothing,
             position_arg: false,
             biff: None,
+            vba_params: &[],
         }
     }
 
@@ -287,6 +292,12 @@ impl FnSpec {
     pub const fn biff(self, number: u16) -> FnSpec {
         let fixed_args = if self.min_args == self.max_args { Some(self.min_args as u8) } else { None };
         FnSpec { biff: Some(Biff { number, fixed_args }), ..self }
+    }
+
+    /// The same function, its parameters named as VBA's reference names them (see
+    /// [`FnSpec::vba_params`]).
+    pub const fn vba_params(self, names: &'static [&'static str]) -> FnSpec {
+        FnSpec { vba_params: names, ..self }
     }
 
     /// [`FnSpec::biff`] for a function whose .xls calls always store `args` arguments although

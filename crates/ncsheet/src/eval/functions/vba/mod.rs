@@ -97,7 +97,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         strings::instr,
         "VBA.INSTR([start], text, find, [compare])",
         "VBA InStr: 1-based position of find in text, 0 when absent (compare 1: ignoring case)",
-    ),
+    )
+    .vba_params(&["[Start]", "String1", "String2", "[Compare]"]),
     FnSpec::value(
         "VBA.INSTRREV",
         2,
@@ -105,7 +106,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         strings::instr_rev,
         "VBA.INSTRREV(text, find, [start], [compare])",
         "VBA InStrRev: position of the last find ending at or before start",
-    ),
+    )
+    .vba_params(&["StringCheck", "StringMatch", "[Start]", "[Compare]"]),
     FnSpec::value("VBA.ISARRAY", 1, 1, strings::is_array, "VBA.ISARRAY(value)", "VBA IsArray: True for an array"),
     FnSpec::value(
         "VBA.JOIN",
@@ -114,7 +116,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         strings::join,
         "VBA.JOIN(array, [delimiter])",
         "VBA Join: the array's items as one text, delimiter (a space) between",
-    ),
+    )
+    .vba_params(&["SourceArray", "[Delimiter]"]),
     FnSpec::value(
         "VBA.LENB",
         1,
@@ -155,7 +158,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("VBA.LEN", 1, 1, len, "VBA.LEN(text)", "VBA Len: number of characters"),
     FnSpec::value("VBA.LOG", 1, 1, log, "VBA.LOG(number)", "VBA Log: natural logarithm (Excel's LN)"),
     FnSpec::value("VBA.LTRIM", 1, 1, ltrim, "VBA.LTRIM(text)", "VBA LTrim: text without leading spaces"),
-    FnSpec::value("VBA.MID", 2, 3, mid, "VBA.MID(text, start, [length])", "VBA Mid: characters from start (1-based)"),
+    FnSpec::value("VBA.MID", 2, 3, mid, "VBA.MID(text, start, [length])", "VBA Mid: characters from start (1-based)")
+        .vba_params(&["String", "Start", "[Length]"]),
     FnSpec::value(
         "VBA.REPLACE",
         3,
@@ -163,7 +167,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         conversions::replace,
         "VBA.REPLACE(text, find, with, [start], [count], [compare])",
         "VBA Replace: the text from start with count finds (all: -1) replaced",
-    ),
+    )
+    .vba_params(&["Expression", "Find", "Replace", "[Start]", "[Count]", "[Compare]"]),
     FnSpec::value("VBA.RGB", 3, 3, rgb, "VBA.RGB(red, green, blue)", "VBA RGB: a colour, red + green*256 + blue*65536"),
     FnSpec::value("VBA.RIGHT", 2, 2, right, "VBA.RIGHT(text, length)", "VBA Right: the last length characters"),
     FnSpec::value(
@@ -183,7 +188,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         round,
         "VBA.ROUND(number, [digits])",
         "VBA Round: to digits decimals, halves to even (Round(2.5) is 2)",
-    ),
+    )
+    .vba_params(&["Expression", "[NumDecimalPlaces]"]),
     FnSpec::value("VBA.RTRIM", 1, 1, rtrim, "VBA.RTRIM(text)", "VBA RTrim: text without trailing spaces"),
     FnSpec::value("VBA.SGN", 1, 1, sgn, "VBA.SGN(number)", "VBA Sgn: -1, 0 or 1"),
     FnSpec::value("VBA.SIN", 1, 1, sin, "VBA.SIN(angle)", "VBA Sin: sine of an angle in radians"),
@@ -196,7 +202,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         strings::split,
         "VBA.SPLIT(text, [delimiter], [limit], [compare])",
         "VBA Split: the pieces between delimiters (a space) as a zero-based array",
-    ),
+    )
+    .vba_params(&["Expression", "[Delimiter]", "[Limit]", "[Compare]"]),
     FnSpec::value("VBA.STR", 1, 1, str_fn, "VBA.STR(number)", "VBA Str: number as text, a space before a positive one"),
     FnSpec::value(
         "VBA.STRCOMP",
@@ -205,7 +212,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
         strings::str_comp,
         "VBA.STRCOMP(text1, text2, [compare])",
         "VBA StrComp: -1, 0 or 1 (compare 1: ignoring case)",
-    ),
+    )
+    .vba_params(&["String1", "String2", "[Compare]"]),
     FnSpec::value(
         "VBA.STRCONV",
         2,
