@@ -158,11 +158,14 @@ impl Workbench {
 
     /// The sheet named by index, or a refusal naming it.
     pub fn sheet(&self, index: u64) -> Result<SheetId, Refused> {
-        let len = self.doc.workbook().sheet_len() as u64;
-        if index < len {
+        let wb = self.doc.workbook();
+        let len = wb.sheet_len() as u64;
+        if index < len && !wb.sheet_deleted(index as SheetId) {
             Ok(index as SheetId)
+        } else if index < len {
+            Err(refused(format!("no sheet {index}: it was deleted")))
         } else {
-            Err(refused(format!("no sheet {index}: the workbook has {len}")))
+            Err(refused(format!("no sheet {index}: the workbook has {}", wb.sheet_count())))
         }
     }
 
@@ -371,7 +374,7 @@ impl Workbench {
         let mut encoded = io::encode_export_with(wb, target, &what, &options).map_err(|e| refused(e.to_string()))?;
         encoded.losses.push(format!(
             "a csv holds one sheet: {sheet_name}'s values as shown, without its formulas, formats and the workbook's other {} sheet(s)",
-            wb.sheet_len() - 1
+            wb.sheet_count() - 1
         ));
         Ok(encoded)
     }

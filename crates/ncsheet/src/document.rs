@@ -263,13 +263,38 @@ impl Document {
             looks: sheets.map(|(name, s)| (name.clone(), s.look.clone())).collect(),
             ..options
         };
+        let live: Vec<SheetId> = self.opened.workbook.tab_order().to_vec();
         let mut result = vba::run(&mut self.opened.workbook, source, file, &options);
+        for sheet in live {
+            self.forget_if_deleted(sheet);
+        }
         let output = match &mut result {
             Ok(out) => out,
             Err(e) => &mut *e.output,
         };
         self.keep_looks(std::mem::take(&mut output.looks));
         result
+    }
+
+    /// Deletes `sheet` as [`Workbook::delete_sheet`] does (references to it become `#REF!`),
+    /// with what the file kept of it (look, code name, array formulas), which a sheet given
+    /// its name later must not take over.
+    pub fn delete_sheet(&mut self, sheet: SheetId) -> Result<(), WorkbookError> {
+        self.opened.workbook.delete_sheet(sheet)?;
+        self.forget_if_deleted(sheet);
+        Ok(())
+    }
+
+    /// Drops the layout of `sheet` (by its name) when the sheet was deleted.
+    fn forget_if_deleted(&mut self, sheet: SheetId) {
+        let wb = &self.opened.workbook;
+        if !wb.sheet_deleted(sheet) {
+            return;
+        }
+        let name = &wb.sheet_names()[sheet as usize];
+        if let Some(layout) = self.opened.layout.as_mut() {
+            layout.sheets.remove(name);
+        }
     }
 
     /// The look a macro left each sheet with, as the document's; the file's own is kept

@@ -74,8 +74,11 @@ pub trait Env {
     /// The cells a dynamic array anchored at `pos` spilled into, for `A1#`.
     fn spill_rect(&self, sheet: SheetId, pos: Pos) -> Option<Rect>;
 
+    /// How many sheets the workbook has (SHEETS). A workbook whose sheets were deleted keeps
+    /// their ids unused, so ids may run past it: find a sheet by name with `sheet_id`.
     fn sheet_count(&self) -> usize;
 
+    /// The name of sheet `sheet`; `None` for an id that names no sheet (a deleted one).
     fn sheet_name(&self, sheet: SheetId) -> Option<String>;
 
     /// Where `sheet` shows among the workbook's tabs, from 0 (SHEET): a sheet's id is fixed,

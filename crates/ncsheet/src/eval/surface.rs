@@ -384,9 +384,7 @@ pub fn surface_argument(ctx: &mut Ctx, e: &Expr) -> Result<(FormulaSurface, Home
         _ => (err, format!("the surface is {err}")),
     })?;
     let env = ctx.env;
-    let sheet = |name: &str| {
-        (0..env.sheet_count() as SheetId).find(|&i| env.sheet_name(i).is_some_and(|n| n.eq_ignore_ascii_case(name)))
-    };
+    let sheet = |name: &str| env.sheet_id(name);
     let parse_ctx = ParseContext { at: ctx.at, functions: &Registry, sheet: &sheet };
     Ok((definition(FormulaSurface::parse(&text, &parse_ctx))?, Home::Here))
 }

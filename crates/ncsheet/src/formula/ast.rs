@@ -256,4 +256,24 @@ impl Expr {
             _ => {}
         }
     }
+
+    /// Calls `f` for every node of the tree, parents before children, letting it rewrite
+    /// them (a node `f` replaced is walked as replaced). An array constant's items are
+    /// constants, never references, and are not walked.
+    pub fn visit_mut(&mut self, f: &mut dyn FnMut(&mut Expr)) {
+        f(self);
+        match &mut self.kind {
+            ExprKind::Unary(_, e) | ExprKind::Paren(e) => e.visit_mut(f),
+            ExprKind::Binary(_, a, b) => {
+                a.visit_mut(f);
+                b.visit_mut(f);
+            }
+            ExprKind::Call(_, args) | ExprKind::UnknownCall(_, args) => args.iter_mut().for_each(|a| a.visit_mut(f)),
+            ExprKind::Invoke(callee, args) => {
+                callee.visit_mut(f);
+                args.iter_mut().for_each(|a| a.visit_mut(f));
+            }
+            _ => {}
+        }
+    }
 }

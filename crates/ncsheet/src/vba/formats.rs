@@ -209,6 +209,8 @@ impl Looks {
         let mut out: Vec<_> = self
             .sheets
             .iter()
+            // A deleted sheet's look goes with it (a new sheet may have taken its name).
+            .filter(|(id, _)| !wb.sheet_deleted(**id))
             .filter_map(|(id, state)| Some((names.get(*id as usize)?.clone(), state.finish(wb, *id))))
             .collect();
         out.sort_by(|a, b| a.0.cmp(&b.0));

@@ -134,7 +134,8 @@ impl Interp<'_, '_> {
                 return Err(self.fault_at(link.span, format!("{} is a variable, not an array of objects", link.name)));
             }
             return Ok(match var {
-                Var::Obj(o) => o,
+                // A Worksheet (or Range) variable set before its sheet was deleted.
+                Var::Obj(o) => self.alive(o, link.span)?,
                 Var::Value(v) => Obj::Value(v),
                 Var::Array(a) => Obj::Value(Value::Array(a.data)),
                 Var::Record(..) => Obj::Record(link.name.clone(), Vec::new()),
@@ -144,7 +145,7 @@ impl Interp<'_, '_> {
         let here = self.unqualified_sheet();
         let name = lower(link);
         if let Some((_, sheet)) = self.code_sheets.iter().find(|(code, _)| *code == name) {
-            return Ok(Obj::Sheet(*sheet));
+            return self.alive(Obj::Sheet(*sheet), link.span);
         }
         match name.as_str() {
             "application" => Ok(Obj::App),
@@ -180,6 +181,7 @@ impl Interp<'_, '_> {
     }
 
     fn member(&self, ctx: &mut Ctx, obj: Obj, link: &Link) -> Run<Obj> {
+        let obj = self.alive(obj, link.span)?;
         let name = lower(link);
         match obj {
             Obj::App => match name.as_str() {
@@ -216,7 +218,7 @@ impl Interp<'_, '_> {
                 _ => Err(self.no_member(&Obj::Workbook, link)),
             },
             Obj::Sheets => match name.as_str() {
-                "count" => Ok(Obj::Value(Value::Number(self.wb.borrow().sheet_len() as f64))),
+                "count" => Ok(Obj::Value(Value::Number(self.wb.borrow().sheet_count() as f64))),
                 "add" => self.add_sheet(link),
                 "item" => self.sheet_by(ctx, link).map(Obj::Sheet),
                 _ => Err(self.no_member(&Obj::Sheets, link)),
@@ -360,11 +362,11 @@ impl Interp<'_, '_> {
         };
         match values.as_slice() {
             // A number counts tabs, as they show now (a moved sheet keeps its id).
-            [Value::Number(n)] if *n >= 1.0 && (*n as usize) <= wb.sheet_len() => {
+            [Value::Number(n)] if *n >= 1.0 && (*n as usize) <= wb.sheet_count() => {
                 Ok(wb.sheet_at_tab(*n as usize - 1).expect("a tab of the workbook"))
             }
             [Value::Number(n)] => {
-                Err(missing(format!("the workbook has {} sheet(s), not a sheet {n}", wb.sheet_len())))
+                Err(missing(format!("the workbook has {} sheet(s), not a sheet {n}", wb.sheet_count())))
             }
             [Value::Text(name)] => {
                 wb.sheet_id(name).ok_or_else(|| missing(format!("the workbook has no sheet named {name}")))
@@ -402,6 +404,7 @@ impl Interp<'_, '_> {
             }
             "evaluate" => self.evaluate(ctx, id, link),
             "copy" => self.copy_sheet(id, link),
+            "delete" => self.delete_sheet(id, link.span),
             "move" => self.move_sheet(id, link),
             "checkboxes" | "optionbuttons" | "dropdowns" | "listboxes" | "buttons" | "shapes" | "oleobjects"
             | "chartobjects" => Err(self.fault_at(

@@ -132,8 +132,7 @@ impl Interp<'_, '_> {
             );
         };
         let mut wb = self.book_mut()?;
-        let others_shown =
-            (0..wb.sheet_len() as SheetId).any(|s| s != sheet && wb.sheet_visibility(s) == Visibility::Visible);
+        let others_shown = wb.tab_order().iter().any(|&s| s != sheet && wb.sheet_visibility(s) == Visibility::Visible);
         if visibility != Visibility::Visible && !others_shown {
             return Err(self.fault_at(span, "Visible: a workbook keeps at least one sheet visible"));
         }
@@ -156,6 +155,44 @@ impl Interp<'_, '_> {
             ),
         );
         fault.code = 1004;
+        Err(fault)
+    }
+
+    /// `ws.Delete` ("Worksheet.Delete method"): the sheet goes, references to it become
+    /// `#REF!` (`workbook/delete_sheet.rs`). No dialog asks (a run has no user, as with
+    /// `DisplayAlerts = False`), so it returns True, the page's value for "the user chose
+    /// Delete". The last visible sheet is run-time error 1004, as in Excel. When the sheet
+    /// was the active one, the visible sheet to its right (else left) becomes active.
+    pub(super) fn delete_sheet(&self, sheet: SheetId, span: Span) -> Run<Obj> {
+        let mut wb = self.book_mut()?;
+        // The run's active sheet, not the file's, is the one Excel would move away from.
+        let file_active = wb.active_sheet();
+        wb.set_active_sheet(self.active.get());
+        let deleted = wb.delete_sheet(sheet);
+        self.active.set(wb.active_sheet());
+        if file_active != sheet {
+            wb.set_active_sheet(file_active);
+        }
+        drop(wb);
+        deleted.map_err(|e| self.error_1004(span, format!("Delete method of Worksheet class failed: {e}")))?;
+        Ok(Obj::Value(Value::Bool(true)))
+    }
+
+    /// `obj` itself, unless it is a sheet, or cells of a sheet, that was deleted: Excel's
+    /// object is gone then, and using it is an error (ids are never reused, so it could
+    /// not reach another sheet's cells; this says why nothing is there).
+    pub(super) fn alive(&self, obj: Obj, span: Span) -> Run<Obj> {
+        let sheet = match &obj {
+            Obj::Sheet(s) | Obj::Range(s, _) | Obj::Lines(s, ..) | Obj::Look(s, ..) => *s,
+            _ => return Ok(obj),
+        };
+        let wb = self.wb.borrow();
+        if !wb.sheet_deleted(sheet) {
+            return Ok(obj);
+        }
+        let why = format!("{} of sheet '{}', which was deleted", obj.describe(), wb.sheet_names()[sheet as usize]);
+        let mut fault = self.fault_at(span, crate::eval::functions::vba::errors::message(424, why));
+        fault.code = 424;
         Err(fault)
     }
 

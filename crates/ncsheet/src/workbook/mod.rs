@@ -19,6 +19,7 @@ use crate::formula::parse::{parse_formula, parse_name_formula, ParseContext, Par
 use crate::formula::print::{print_formula, quote_sheet_name};
 
 mod cycles;
+mod delete_sheet;
 mod graph;
 mod inspect;
 mod links;
@@ -112,6 +113,8 @@ pub enum WorkbookError {
     TooManySheets,
     /// A tab moved or added into or out of a 3-D reference's span of sheets, and why.
     SheetSpan(String),
+    /// Deleting the named sheet would leave no visible sheet.
+    LastVisibleSheet(String),
     /// A formula (of a cell or a name) that does not parse; `text` is what was typed.
     Parse {
         place: String,
@@ -129,6 +132,9 @@ impl fmt::Display for WorkbookError {
             WorkbookError::CannotShift(why) => write!(f, "cannot insert or delete cells: {why}"),
             WorkbookError::TooManySheets => write!(f, "a workbook holds at most {} sheets", MAX_SHEETS),
             WorkbookError::SheetSpan(why) => write!(f, "{why}"),
+            WorkbookError::LastVisibleSheet(s) => {
+                write!(f, "sheet '{s}' is the last visible one, and a workbook must contain at least one visible sheet")
+            }
             WorkbookError::Parse { place, text, error } => write!(f, "{place}: {}", error.render(text)),
         }
     }
@@ -435,6 +441,8 @@ impl Workbook {
         self.sheets.iter().map(|s| s.name.clone()).collect()
     }
 
+    /// How many sheet ids the workbook has given: ids run from 0 to this, a deleted sheet's
+    /// among them ([`Workbook::sheet_deleted`]); [`Workbook::sheet_count`] counts the sheets.
     pub fn sheet_len(&self) -> usize {
         self.sheets.len()
     }
@@ -1082,11 +1090,11 @@ impl Env for Workbook {
     }
 
     fn sheet_count(&self) -> usize {
-        self.sheets.len()
+        Workbook::sheet_count(self)
     }
 
     fn sheet_name(&self, sheet: SheetId) -> Option<String> {
-        self.sheets.get(sheet as usize).map(|s| s.name.clone())
+        self.sheets.get(sheet as usize).filter(|s| !s.deleted).map(|s| s.name.clone())
     }
 
     fn tab_position(&self, sheet: SheetId) -> usize {

@@ -23,6 +23,8 @@ pub struct Sheet {
     default_width: Option<f64>,
     /// Whether the sheet's tab shows (`<sheet state=…>`; a macro's `Visible`).
     pub visibility: Visibility,
+    /// The sheet was deleted (`delete_sheet.rs`): its id stays taken, its grid empty.
+    pub deleted: bool,
 }
 
 /// Excel's `XlSheetVisibility`: a sheet shown, hidden, or hidden so that only a macro can
@@ -45,6 +47,7 @@ impl Sheet {
             widths: Vec::new(),
             default_width: None,
             visibility: Visibility::Visible,
+            deleted: false,
         }
     }
 

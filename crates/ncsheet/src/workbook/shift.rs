@@ -465,20 +465,11 @@ fn follow_refs(
 
 /// Calls `f` on every reference node of the tree.
 fn each_ref_mut(e: &mut Expr, f: &mut dyn FnMut(&mut Expr)) {
-    match &mut e.kind {
-        ExprKind::Ref(_) => f(e),
-        ExprKind::Unary(_, x) | ExprKind::Paren(x) => each_ref_mut(x, f),
-        ExprKind::Binary(_, a, b) => {
-            each_ref_mut(a, f);
-            each_ref_mut(b, f);
+    e.visit_mut(&mut |node| {
+        if matches!(node.kind, ExprKind::Ref(_)) {
+            f(node)
         }
-        ExprKind::Call(_, args) | ExprKind::UnknownCall(_, args) => args.iter_mut().for_each(|a| each_ref_mut(a, f)),
-        ExprKind::Invoke(callee, args) => {
-            each_ref_mut(callee, f);
-            args.iter_mut().for_each(|a| each_ref_mut(a, f));
-        }
-        _ => {}
-    }
+    });
 }
 
 /// Reference `r` of a formula in `from` on sheet `home` (moving to `to`) after `edit` of

@@ -105,6 +105,30 @@ impl Workbook {
         Ok(ids)
     }
 
+    /// Takes the tab of `sheet` (being deleted) out of the order. Refused when a 3-D
+    /// reference of the file takes that sheet: the file's `Sheet1:Sheet3!A1` was read as the
+    /// list of its sheets, and Excel, deleting a sheet of the span, drops it from the span
+    /// (the end moving inward when it is an end), where a list holding it would become
+    /// `#REF!`; a list typed so cannot be told from one read from a span.
+    pub(super) fn remove_tab(&mut self, sheet: SheetId) -> Result<(), WorkbookError> {
+        let at = |s: SheetId| self.tabs.order.iter().position(|&t| t == s);
+        let here = at(sheet).ok_or_else(|| WorkbookError::NoSuchSheet(format!("number {}", sheet as usize + 1)))?;
+        for &(first, last) in &self.tabs.spans {
+            let (Some(a), Some(b)) = (at(first), at(last)) else { continue };
+            if (a.min(b)..=a.max(b)).contains(&here) {
+                let names = self.sheet_names();
+                return Err(WorkbookError::SheetSpan(format!(
+                    "sheet '{}' is one of the sheets of a 3-D reference of the file ({}:{}), which ncsheet holds \
+                     as the list of those sheets: Excel would take the sheet out of the reference, ncsheet \
+                     cannot, so the sheet is not deleted",
+                    names[sheet as usize], names[first as usize], names[last as usize],
+                )));
+            }
+        }
+        self.tabs.order.remove(here);
+        Ok(())
+    }
+
     /// Refuses a tab order in which a 3-D reference of the file would span other sheets than
     /// it was read with.
     fn check_spans(&self, order: &[SheetId]) -> Result<(), WorkbookError> {

@@ -1,0 +1,183 @@
+//! Deleting a sheet, as Excel's `Worksheet.Delete` does: the sheet leaves the tabs (and
+//! `Worksheets`, `SHEETS()`, a saved file), its cells go, every reference to it elsewhere
+//! becomes `#REF!` (a cell's formula, a defined name's) and what depends on them recomputes;
+//! the names scoped to it go with it.
+//!
+//! The sheet's id is not given back: formula trees, name scopes, a macro's Worksheet and
+//! Range objects and the front ends hold ids, and an id reused for a later sheet would show
+//! them that sheet's cells. The slot in `Workbook::sheets` stays, marked deleted, its grid
+//! empty ([`Workbook::sheet_deleted`]); only the tab order and the name index forget it.
+//! A workbook numbers at most [`MAX_SHEETS`] sheets over its life, deleted ones counted.
+
+use super::*;
+use crate::formula::ast::{ExprKind, SheetRef};
+
+impl Workbook {
+    /// Whether `sheet` was deleted ([`Workbook::delete_sheet`]): its id names no sheet any more.
+    pub fn sheet_deleted(&self, sheet: SheetId) -> bool {
+        self.sheets.get(sheet as usize).is_some_and(|s| s.deleted)
+    }
+
+    /// How many sheets the workbook has (their tabs), hidden ones counted, deleted ones not:
+    /// Excel's `Worksheets.Count` and `SHEETS()`. Ids run to [`Workbook::sheet_len`].
+    pub fn sheet_count(&self) -> usize {
+        self.tabs.order.len()
+    }
+
+    /// Deletes `sheet` and recalculates. Refused, with nothing changed, for the last visible
+    /// sheet (Excel: "A workbook must contain at least one visible worksheet") and for a sheet
+    /// a 3-D reference of the file takes (`tabs.rs`). The active sheet, if it was this one,
+    /// becomes the visible sheet to its right, or to its left when it was the last.
+    pub fn delete_sheet(&mut self, sheet: SheetId) -> Result<(), WorkbookError> {
+        let Some(place) = self.tab_position(sheet).filter(|_| !self.sheet_deleted(sheet)) else {
+            return Err(WorkbookError::NoSuchSheet(format!("number {}", sheet as usize + 1)));
+        };
+        let visible = |wb: &Workbook, s: SheetId| s != sheet && wb.sheet_visibility(s) == Visibility::Visible;
+        if !self.tabs.order.iter().any(|&s| visible(self, s)) {
+            return Err(WorkbookError::LastVisibleSheet(self.sheets[sheet as usize].name.clone()));
+        }
+        let successor = self.tabs.order[place + 1..]
+            .iter()
+            .chain(self.tabs.order[..place].iter().rev())
+            .copied()
+            .find(|&s| visible(self, s));
+        self.remove_tab(sheet)?;
+        self.empty_sheet(sheet);
+        self.strike_formulas_reading(sheet);
+        let names_changed = self.strike_names_of(sheet);
+        let name = std::mem::take(&mut self.sheets[sheet as usize].name);
+        self.sheet_index.remove(&name.to_ascii_lowercase());
+        self.sheets[sheet as usize] = Sheet::new(&name);
+        self.sheets[sheet as usize].deleted = true;
+        if self.active_sheet == sheet {
+            self.active_sheet = successor.expect("a visible sheet is left");
+        }
+        if let Some(log) = &mut self.changes {
+            log.sheets = true;
+            log.names |= names_changed;
+        }
+        // Formula texts parsed while the name was taken read anew (a new sheet may take it).
+        self.formulas.forget_keys();
+        self.names_unlinked = true;
+        self.recalculate();
+        Ok(())
+    }
+
+    /// Clears every cell of `sheet`: formulas (and their spills) first, then values.
+    fn empty_sheet(&mut self, sheet: SheetId) {
+        let ids: Vec<u32> = (0..self.cells.len() as u32).filter(|&id| self.cells[id as usize].sheet == sheet).collect();
+        for &id in &ids {
+            self.clear_formula(id);
+        }
+        for &id in &ids {
+            self.take_spilled_cell(id);
+            self.store_value(id, Value::Blank);
+        }
+    }
+
+    /// Every stored formula reading `sheet` with that reference struck to `#REF!`; the cells
+    /// running one are noted as edited (their formula text changes, as in Excel). The graph
+    /// is rebuilt by the recalculation that follows.
+    fn strike_formulas_reading(&mut self, sheet: SheetId) {
+        let mut struck = Vec::new();
+        for (fid, formula) in self.formulas.formulas.iter().enumerate() {
+            // Which sheets a tree reads does not depend on the numbers a copy holds.
+            if reads_any(&formula.expr, sheet) {
+                let mut tree = formula.own_tree();
+                strike(&mut tree, sheet);
+                struck.push((fid as u32, SharedFormula::new(tree)));
+            }
+        }
+        if struck.is_empty() {
+            return;
+        }
+        let fids: std::collections::HashSet<u32> = struck.iter().map(|&(fid, _)| fid).collect();
+        for id in 0..self.cells.len() as u32 {
+            if fids.contains(&self.cells[id as usize].formula) {
+                self.note_input(id);
+            }
+        }
+        self.formulas.replace(struck);
+    }
+
+    /// Removes the names scoped to `sheet` and strikes references to it in the others;
+    /// whether any name changed.
+    fn strike_names_of(&mut self, sheet: SheetId) -> bool {
+        let before = self.names.len();
+        self.names.retain(|n| n.scope != Some(sheet));
+        let mut changed = self.names.len() != before;
+        for name in &mut self.names {
+            if let Some(tree) = struck_tree(&name.expr, sheet) {
+                name.expr = Rc::new(tree);
+                changed = true;
+            }
+        }
+        changed
+    }
+}
+
+/// `tree` with each reference to `sheet` (`Merged!A1`, a name as `Merged` sees it,
+/// `Merged!Rate`) replaced by `#REF!`; `None` when it has none.
+fn struck_tree(tree: &Expr, sheet: SheetId) -> Option<Expr> {
+    if !reads_any(tree, sheet) {
+        return None;
+    }
+    let mut tree = tree.clone();
+    strike(&mut tree, sheet);
+    Some(tree)
+}
+
+/// Whether a node of `tree` reads `sheet`.
+fn reads_any(tree: &Expr, sheet: SheetId) -> bool {
+    let mut found = false;
+    tree.visit(&mut |e| found |= reads_sheet(e, sheet));
+    found
+}
+
+fn reads_sheet(e: &Expr, sheet: SheetId) -> bool {
+    let on = |r: &SheetRef| *r == SheetRef::Id(sheet);
+    match &e.kind {
+        ExprKind::Ref(r) => on(&r.sheet),
+        ExprKind::SheetName(r, _) => on(r),
+        _ => false,
+    }
+}
+
+/// Replaces in place each node of `e` that reads `sheet` by `#REF!`.
+fn strike(e: &mut Expr, sheet: SheetId) {
+    e.visit_mut(&mut |node| {
+        if reads_sheet(node, sheet) {
+            node.kind = ExprKind::Error(XlError::Ref);
+        }
+    });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // A spill on the deleted sheet and a legacy array formula reading it go quietly: the
+    // spill's cells with the sheet, the reader to `#REF!` (Excel's value for a reference
+    // whose sheet is gone); SUM over the other sheet's spill still reads it.
+    #[test]
+    fn spills_and_arrays_follow_a_deleted_sheet() {
+        let mut wb = Workbook::new();
+        for name in ["Keep", "Gone"] {
+            wb.add_sheet(name).unwrap();
+        }
+        let at = |r, c| Pos::new(r, c);
+        wb.set_input(1, at(0, 1), "=SEQUENCE(3)").unwrap();
+        wb.set_input(0, at(0, 0), "=SEQUENCE(2)*10").unwrap();
+        wb.set_input(0, at(0, 1), "=SUM(Gone!B1#)").unwrap();
+        wb.set_input(0, at(0, 2), "=SUM(A1#)").unwrap();
+        assert_eq!(wb.value(0, at(0, 1)), Value::Number(6.0));
+        wb.delete_sheet(1).unwrap();
+        assert_eq!(wb.value(0, at(0, 1)), Value::Error(XlError::Ref));
+        assert_eq!(wb.value(0, at(0, 2)), Value::Number(30.0));
+        assert_eq!(wb.value(1, at(1, 1)), Value::Blank);
+        assert!(wb.sheet_deleted(1) && wb.sheet_count() == 1 && wb.sheet_len() == 2);
+        // A second delete of the same id, and a delete of the last sheet, are refused.
+        assert!(matches!(wb.delete_sheet(1), Err(WorkbookError::NoSuchSheet(_))));
+        assert!(matches!(wb.delete_sheet(0), Err(WorkbookError::LastVisibleSheet(_))));
+    }
+}
