@@ -340,6 +340,8 @@ pub enum StmtKind {
     Stop,
     /// `Randomize [seed]`: restarts the document's random sequence (from the clock without a seed).
     Randomize(Option<Expr>),
+    /// `Error n`: raises run-time error n ([MS-VBAL] 5.4.4.3; "Error statement").
+    Error(Expr),
     /// `Erase a, b`: every item of each array back to its type's default.
     Erase(Vec<Rc<str>>),
     /// `Open`, `Print #`, `Write #`, `Input #`, `Line Input #`, `Close` (`files.rs`).

@@ -205,6 +205,10 @@ enum Flow {
     Resume(Resume),
     /// Out of the procedure: a handler or GoSub ran to its end.
     Leave,
+    /// An error handler whose label is inside a block that was running when the error came
+    /// (the loop, If or With around the failing statement) ran to that block's end: the
+    /// block, further up, goes on as from its end (a loop steps and goes round).
+    BlockEnd(*const Block),
 }
 
 /// What a trapped error makes the failing block do.
@@ -228,14 +232,15 @@ pub struct ErrState {
 pub(super) struct Frame {
     pub(super) proc: usize,
     pub(super) vars: Slots,
-    with: Vec<Obj>,
+    /// The running With blocks' objects, by their body: `None` where a GoTo or an error
+    /// handler went into the With without running its With statement.
+    with: Vec<(*const Block, Option<Obj>)>,
+    /// The blocks running now, outermost first (for an error handler inside one of them).
+    running: Vec<*const Block>,
     call_site: Option<Span>,
     on_error: OnError,
     /// The `On Error GoTo` handler is running: an error now goes to the caller.
     handling: bool,
-    /// That handler starts at a label inside a loop or an If (`inline_handler`), reached by
-    /// a GoTo from the failing statement: its `Resume label` is a GoTo too.
-    inline_handler: bool,
     /// Optional Variant parameters without a default that the call left out (IsMissing).
     pub(super) missing: Vec<Rc<str>>,
     /// The object a class module's procedure runs for (`Me`): its variables are the
@@ -667,12 +672,21 @@ impl Interp<'_, '_> {
 
     // ---- variables -------------------------------------------------------------------
 
+    /// The object `.X` means: the innermost With's. A With a GoTo or an error handler went
+    /// into has none: error 91 ("Object variable or With block variable not set (Error 91)":
+    /// "The target of a GoTo statement is inside a With block"), not an outer With's object.
     pub fn with_object(&self, span: Span) -> Run<Obj> {
-        let frames = self.frames.borrow();
-        frames
-            .last()
-            .and_then(|f| f.with.last().cloned())
-            .ok_or_else(|| self.fault_at(span, "a name starting with . needs a With block around it"))
+        let innermost = self.frames.borrow().last().and_then(|f| f.with.last().map(|(_, o)| o.clone()));
+        match innermost {
+            Some(Some(object)) => Ok(object),
+            Some(None) => {
+                let why = "a GoTo or an error handler went into the With block without running its With statement";
+                let mut fault = self.vba_fault(91, why);
+                fault.span = Some(span);
+                Err(fault)
+            }
+            None => Err(self.fault_at(span, "a name starting with . needs a With block around it")),
+        }
     }
 
     /// A copy of what the variable `name` holds (current procedure first, then module); a
@@ -1269,10 +1283,10 @@ impl Interp<'_, '_> {
             proc,
             vars: Slots::default(),
             with: Vec::new(),
+            running: Vec::new(),
             call_site,
             on_error: OnError::Off,
             handling: false,
-            inline_handler: false,
             missing: Vec::new(),
             me,
         });
@@ -1392,10 +1406,10 @@ impl Interp<'_, '_> {
             proc: usize::MAX,
             vars: Slots::default(),
             with: Vec::new(),
+            running: Vec::new(),
             call_site: None,
             on_error: OnError::Off,
             handling: false,
-            inline_handler: false,
             missing: Vec::new(),
             me: None,
         });
@@ -1416,8 +1430,19 @@ impl Interp<'_, '_> {
     }
 
     /// Runs `block` from statement `start`, going into that statement at label `entering`
-    /// when a GoTo names a label inside it.
-    fn block_entering(&self, block: &Block, start: usize, mut entering: Option<Rc<str>>) -> Run<Flow> {
+    /// when a GoTo names a label inside it; noted as running meanwhile, for an error handler
+    /// that runs to its end ([`Flow::BlockEnd`]).
+    fn block_entering(&self, block: &Block, start: usize, entering: Option<Rc<str>>) -> Run<Flow> {
+        self.frame_mut(|f| f.running.push(block));
+        let flow = self.block_steps(block, start, entering);
+        self.frame_mut(|f| f.running.pop());
+        match flow {
+            Ok(Flow::BlockEnd(end)) if std::ptr::eq(end, block) => Ok(Flow::Next),
+            other => other,
+        }
+    }
+
+    fn block_steps(&self, block: &Block, start: usize, mut entering: Option<Rc<str>>) -> Run<Flow> {
         let mut i = start;
         while i < block.stmts.len() {
             let run = match entering.take() {
@@ -1434,12 +1459,6 @@ impl Interp<'_, '_> {
                     Trap::Retry => continue,
                     Trap::Flow(flow) => flow,
                 },
-            };
-            let flow = match flow {
-                Flow::Resume(resume) if self.frame_flag(|f| f.inline_handler) => {
-                    self.leave_inline_handler(resume, block.stmts[i].span)?
-                }
-                flow => flow,
             };
             match flow {
                 Flow::Next => i += 1,
@@ -1462,7 +1481,11 @@ impl Interp<'_, '_> {
     /// on as from the block's end: an If or Select Case is done, a Do loop tests its
     /// condition and goes round, a For loop has no counter to step: VBA's error 92, "For loop
     /// not initialized" ("For loop not initialized (Error 92)": "You jumped into the middle
-    /// of a For...Next loop"). Inside a With, no With object is set.
+    /// of a For...Next loop"). Inside a With no With object is set: `.X` there is error 91
+    /// ("Object variable or With block variable not set (Error 91)": "The target of a GoTo
+    /// statement is inside a With block"). A block running further up (an error handler's
+    /// label inside the loop, If or With around the failing statement) is that block itself:
+    /// its With object, and at its end it goes on up there ([`Flow::BlockEnd`]).
     fn enter_at(&self, stmt: &Stmt, label: &Rc<str>) -> Run<Flow> {
         self.tick(stmt.span)?;
         let flow = match &stmt.kind {
@@ -1489,6 +1512,13 @@ impl Interp<'_, '_> {
                 }
                 other => other,
             },
+            StmtKind::With { body, .. } => {
+                let object = self.running_with(body);
+                self.frame_mut(|f| f.with.push((body, object)));
+                let flow = self.run_into(&[body], label);
+                self.frame_mut(|f| f.with.pop());
+                flow?
+            }
             kind => self.run_into(&super::parser::inner_blocks(kind), label)?,
         };
         Ok(if self.ended.get() { Flow::End } else { flow })
@@ -1496,13 +1526,19 @@ impl Interp<'_, '_> {
 
     /// Runs the one of `blocks` that holds `label`, from the label.
     fn run_into(&self, blocks: &[&Block], label: &Rc<str>) -> Run<Flow> {
-        for block in blocks {
-            if let Some(at) = block.label(label) {
-                return self.block_from(block, at);
-            }
-            if let Some(holder) = block.nested_label(label) {
-                return self.block_entering(block, holder, Some(label.clone()));
-            }
+        for &block in blocks {
+            let flow = if let Some(at) = block.label(label) {
+                self.block_from(block, at)?
+            } else if let Some(holder) = block.nested_label(label) {
+                self.block_entering(block, holder, Some(label.clone()))?
+            } else {
+                continue;
+            };
+            let running = self.frame_flag(|f| f.running.contains(&(block as *const Block)));
+            return Ok(match flow {
+                Flow::Next if running => Flow::BlockEnd(block),
+                other => other,
+            });
         }
         // The block that noted the label holds it: not reached.
         Ok(Flow::GoTo(label.clone()))
@@ -1575,9 +1611,9 @@ impl Interp<'_, '_> {
                         _ => return Err(self.fault_at(self.expr_span(object), "With needs the Type variable itself")),
                     },
                 };
-                self.frames.borrow_mut().last_mut().expect("a running procedure").with.push(obj);
+                self.frame_mut(|f| f.with.push((body, Some(obj))));
                 let flow = self.block(body);
-                self.frames.borrow_mut().last_mut().expect("a running procedure").with.pop();
+                self.frame_mut(|f| f.with.pop());
                 return flow;
             }
             StmtKind::Exit(kind) => return Ok(Flow::Exit(*kind)),
@@ -1594,6 +1630,7 @@ impl Interp<'_, '_> {
             }
             StmtKind::End => return Ok(Flow::End),
             StmtKind::Stop => return Err(self.stop(stmt.span)),
+            StmtKind::Error(number) => return Err(self.error_statement(number)),
             StmtKind::Randomize(seed) => self.randomize(seed.as_ref())?,
             StmtKind::Erase(names) => self.erase(names, stmt.span)?,
             StmtKind::File(f) => self.file_stmt(f, stmt.span)?,
@@ -1731,14 +1768,24 @@ impl Interp<'_, '_> {
         self.frames.borrow().last().is_some_and(f)
     }
 
+    fn frame_mut<T>(&self, f: impl FnOnce(&mut Frame) -> T) {
+        if let Some(frame) = self.frames.borrow_mut().last_mut() {
+            f(frame);
+        }
+    }
+
+    /// The object of the With whose body is `body`, when that With is running.
+    fn running_with(&self, body: &Block) -> Option<Obj> {
+        let frames = self.frames.borrow();
+        let with = &frames.last()?.with;
+        with.iter().rev().find(|(b, _)| std::ptr::eq(*b, body)).and_then(|(_, o)| o.clone())
+    }
+
     fn on_error(&self, mode: &OnError) {
         let mut frames = self.frames.borrow_mut();
         let frame = frames.last_mut().expect("a running procedure");
         match mode {
-            OnError::Reset => {
-                frame.handling = false;
-                frame.inline_handler = false;
-            }
+            OnError::Reset => frame.handling = false,
             other => frame.on_error = other.clone(),
         }
         *self.err.borrow_mut() = ErrState::default();
@@ -1788,12 +1835,21 @@ impl Interp<'_, '_> {
     }
 
     /// Runs the procedure's body from a label: a GoSub's subroutine or an error handler.
-    /// Running off the end of the body leaves the procedure.
+    /// Running off the end of the body leaves the procedure. A handler's label may be inside
+    /// a loop, If, Select or With ("On Error statement": any line label of the procedure):
+    /// the blocks around it are entered as a GoTo enters them, while the failing statement
+    /// waits below for the handler's `Resume` or `Resume Next` ([MS-VBAL] 5.4.4.2).
     fn run_from_label(&self, label: &str) -> Run<Flow> {
         let proc = self.frames.borrow().last().expect("a running procedure").proc;
         let body = &self.module.procs[proc].body;
-        let start = body.label(label).expect("the parser checked the label");
-        Ok(match self.block_from(body, start)? {
+        let flow = match body.label(label) {
+            Some(start) => self.block_from(body, start)?,
+            None => {
+                let holder = body.nested_label(label).expect("the parser checked the label");
+                self.block_entering(body, holder, Some(label.into()))?
+            }
+        };
+        Ok(match flow {
             Flow::Next => Flow::Leave,
             other => other,
         })
@@ -1828,9 +1884,7 @@ impl Interp<'_, '_> {
         };
         *self.err.borrow_mut() = err_state(&fault);
         self.set_handling(true);
-        if !self.in_body(&label) {
-            return Ok(self.enter_inline_handler(label));
-        }
+        self.handler_stack_check(fault.span)?;
         let flow = self.run_from_label(&label)?;
         if let Flow::Resume(_) = flow {
             self.set_handling(false);
@@ -1844,43 +1898,18 @@ impl Interp<'_, '_> {
         })
     }
 
-    /// Whether `label` is one of the running procedure's body itself (not inside a loop or If).
-    fn in_body(&self, label: &str) -> bool {
-        let proc = self.frames.borrow().last().expect("a running procedure").proc;
-        self.module.procs.get(proc).is_some_and(|p| p.body.label(label).is_some())
-    }
-
-    /// `On Error GoTo NextCol` with `NextCol:` inside the loop or If around the failing
-    /// statement ("On Error statement": the label is any line of the procedure): the blocks
-    /// jump there as a GoTo does, the handler running in place.
-    fn enter_inline_handler(&self, label: Rc<str>) -> Trap {
-        if let Some(f) = self.frames.borrow_mut().last_mut() {
-            f.inline_handler = true;
+    /// A handler runs nested in the failing statement, and `On Error GoTo -1` lets the next
+    /// error run it again, deeper: refused as VBA's error 28, "Out of stack space", with
+    /// less than [`STACK_RESERVE`] of the native stack left, before it runs out; at the
+    /// failing statement's place.
+    fn handler_stack_check(&self, failing: Option<Span>) -> Run<()> {
+        if self.stack_left().is_none_or(|left| left >= STACK_RESERVE) {
+            return Ok(());
         }
-        Trap::Flow(Flow::GoTo(label))
-    }
-
-    /// `Resume label` in such a handler ends it and goes on at the label, as a GoTo. `Resume`
-    /// and `Resume Next` need the failing statement's place, which an in-place handler has
-    /// left behind: refused, and the refusal stops the macro. Were it an ordinary run-time
-    /// error, the `On Error GoTo` still in force would trap it and run the handler again,
-    /// round and round until the statement limit.
-    fn leave_inline_handler(&self, resume: Resume, span: Span) -> Run<Flow> {
-        let Resume::Label(label) = resume else {
-            let mut fault = self.fault_at(
-                span,
-                "Resume or Resume Next in an error handler whose label is inside a loop or If is not supported: \
-                 use Resume with a label",
-            );
-            fault.kind = ErrorKind::Syntax;
-            return Err(fault);
-        };
-        if let Some(f) = self.frames.borrow_mut().last_mut() {
-            f.inline_handler = false;
-            f.handling = false;
-        }
-        *self.err.borrow_mut() = ErrState::default();
-        Ok(Flow::GoTo(label))
+        let why = format!("error handlers nest with less than {} KiB of the thread's stack left", STACK_RESERVE >> 10);
+        let mut fault = self.vba_fault(28, &why);
+        fault.span = failing;
+        Err(fault)
     }
 
     fn set_handling(&self, on: bool) {

@@ -1,11 +1,11 @@
 //! VBA library statements and functions that need the interpreter, not only values:
-//! `Stop`, `Randomize`, `Erase`, and `VarType` / `IsMissing`, which read a variable's
+//! `Stop`, `Randomize`, `Erase`, `Error n`, and `VarType` / `IsMissing`, which read a variable's
 //! declaration ("VarType function", "IsMissing function", "Erase statement", "Randomize
 //! statement", "Stop statement" in the Office VBA language reference).
 
 use std::rc::Rc;
 
-use crate::eval::functions::vba::var_type_of;
+use crate::eval::functions::vba::{errors, var_type_of};
 use pest::iterators::Pair;
 
 use crate::eval::functions::Registry;
@@ -67,6 +67,24 @@ impl Interp<'_, '_> {
         let seed = number.to_bits().max(1);
         self.wb.borrow().settings().seed_random(seed);
         Ok(())
+    }
+
+    /// `Error n` ([MS-VBAL] 5.4.4.3; "Error statement"): run-time error n, raised as VBA
+    /// raises it: Err.Number n, Err.Description the Error function's message for n. n is
+    /// passed as a Long, rounded half to even ([MS-VBAL] 5.5.1.2.1); one outside 1 to 65535
+    /// is no error number ("Raise method"): error 5, Invalid procedure call or argument.
+    pub(super) fn error_statement(&self, e: &Expr) -> Fault {
+        let n = match self.number(e, "the Error statement's number") {
+            Ok(n) => n.round_ties_even(),
+            Err(fault) => return fault,
+        };
+        let (number, why) = match n {
+            1.0..=65535.0 => (n as u32, "raised by the Error statement".to_string()),
+            _ => (5, format!("Error {n}: an error number is from 1 to 65535")),
+        };
+        let mut fault = self.fault_at(self.expr_span(e), errors::message(number, why));
+        fault.code = number;
+        fault
     }
 
     /// `Erase a, b`: every item of a fixed-size array back to its type's default (0, "",

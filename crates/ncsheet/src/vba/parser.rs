@@ -279,6 +279,9 @@ pub(super) struct Scope {
     pub(super) vars: std::collections::HashSet<String>,
     /// `Static Function`, `Static Sub`: every `Dim` of the body is `Static` ([MS-VBAL] 5.3.1.2).
     pub(super) all_static: bool,
+    /// The body's labels so far, lower case, in any of its blocks: one name labels one line
+    /// of the procedure ([MS-VBAL] 5.4.1.1; VBA's compile error "Duplicate label").
+    pub(super) labels: std::collections::HashSet<String>,
 }
 
 pub(super) struct Build<'s> {
@@ -614,6 +617,7 @@ impl<'s> Build<'s> {
             all_static: find(&k, Rule::k_static).is_some(),
             function: (kind == ProcKind::Function).then(|| name.clone()),
             vars: if kind == ProcKind::Function { [name.to_ascii_lowercase()].into() } else { Default::default() },
+            labels: Default::default(),
         };
         let params = match find(&k, Rule::param_list) {
             Some(list) => all(&kids(&list), Rule::param).into_iter().map(|p| self.param(p)).collect::<Res<Vec<_>>>()?,
@@ -738,8 +742,9 @@ impl<'s> Build<'s> {
             match item.as_rule() {
                 Rule::label => {
                     let text = item.as_str().trim_end_matches(':');
-                    if !out.add_label(text) {
-                        return Err(self.error_at(&item, format!("label {text} is defined twice")));
+                    let new_in_procedure = self.scope.borrow_mut().labels.insert(text.to_ascii_lowercase());
+                    if !new_in_procedure || !out.add_label(text) {
+                        return Err(self.error_at(&item, format!("label {text} is defined twice (Duplicate label)")));
                     }
                 }
                 _ => {
@@ -1259,14 +1264,16 @@ impl<'s> Build<'s> {
         Ok(self.node(Node::Evaluate { expr, span: self.span(at) }, at, end))
     }
 
-    /// `Stop`, `Randomize [seed]` and `Erase a, b`: statements of VBA's library that look
-    /// like calls, unless the macro has a variable or procedure of that name.
+    /// `Stop`, `Randomize [seed]`, `Erase a, b` and `Error n`: statements of VBA's library that
+    /// look like calls, unless the macro has a variable or procedure of that name. `Error 13`
+    /// is the Error statement, which raises the error ([MS-VBAL] 5.4.4.3), not a call of the
+    /// Error function, which only names it.
     fn library_statement(&self, pair: &Pair<Rule>) -> Res<Option<StmtKind>> {
         let k = kids(pair);
         let word: String =
             pair.as_str().trim_start().chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
         let lower = word.to_ascii_lowercase();
-        let library = matches!(lower.as_str(), "stop" | "randomize" | "erase");
+        let library = matches!(lower.as_str(), "stop" | "randomize" | "erase" | "error");
         if !library || find(&k, Rule::k_call).is_some() || self.is_var(&word) || self.proc_index(&word).is_some() {
             return Ok(None);
         }
@@ -1285,6 +1292,7 @@ impl<'s> Build<'s> {
             ("stop", []) => StmtKind::Stop,
             ("randomize", []) => StmtKind::Randomize(None),
             ("randomize", [_]) => StmtKind::Randomize(values.into_iter().next()),
+            ("error", [_]) => StmtKind::Error(values.into_iter().next().expect("one argument")),
             ("erase", [_, ..]) => {
                 let mut names = Vec::new();
                 for v in &values {
@@ -1296,9 +1304,10 @@ impl<'s> Build<'s> {
                 StmtKind::Erase(names)
             }
             _ => {
-                return Err(
-                    self.error_at(pair, format!("{word}: wrong arguments (Stop; Randomize [seed]; Erase array, …)"))
-                )
+                return Err(self.error_at(
+                    pair,
+                    format!("{word}: wrong arguments (Stop; Randomize [seed]; Erase array, …; Error number)"),
+                ))
             }
         }))
     }
