@@ -22,6 +22,7 @@ use crate::formula::parse::{
 
 use super::ast::*;
 use super::collections::new_class;
+use super::const_order::ModuleConst;
 use super::resolve::{lower_bare, refusal, FORBIDDEN};
 
 /// Where byte offsets of the source fall in lines and columns.
@@ -120,6 +121,7 @@ pub fn parse_module_with_files(
     *b.types.borrow_mut() = type_names.map(|i| name_of(&find(&kids(i), Rule::ident).expect("type name"))).collect();
     let mut out = Module { base: 0, classes: super::classes::class_defs(parts), ..Module::default() };
     b.declare_project_globals(&items);
+    out.globals = b.module_constants(&items)?;
     for item in items {
         match item.as_rule() {
             Rule::type_def => {
@@ -131,7 +133,9 @@ pub fn parse_module_with_files(
                 b.current_part.set(b.part_at(start(&item)));
                 b.deftype(&item)?;
             }
-            Rule::enum_def => out.globals.push(b.enum_def(&item)?),
+            // Built with the constants, in the order of what they read (`module_constants`).
+            Rule::enum_def => {}
+            Rule::const_stmt if b.standard(b.part_at(start(&item))) => {}
             Rule::implements_stmt => {
                 let part = b.part_at(start(&item));
                 let interface = name_of(&find(&kids(&item), Rule::ident).expect("interface name"));
@@ -496,6 +500,49 @@ impl<'s> Build<'s> {
                 self.declare_module_name(&name, Owner { part, public: declared_public(item) });
             }
         }
+    }
+
+    /// The standard modules' module-level constants and every Enum's members, one statement
+    /// a constant, each after the constants its value reads (`const_order.rs`): a module's
+    /// variables are declared after them at a run, and `String * W` reads W's whole value
+    /// wherever W is declared. A constant computed from itself is refused here.
+    fn module_constants(&self, items: &[Pair<Rule>]) -> Res<Vec<Stmt>> {
+        let mut consts = Vec::new();
+        for item in items {
+            let part = self.part_at(start(item));
+            self.current_part.set(part);
+            let stmt = match item.as_rule() {
+                Rule::enum_def => self.enum_def(item)?,
+                Rule::const_stmt if self.standard(part) => {
+                    self.building_globals.set(true);
+                    let built = self.statement(item.clone());
+                    self.building_globals.set(false);
+                    built?.expect("a declaration")
+                }
+                _ => continue,
+            };
+            let StmtKind::Const(items) = stmt.kind else { unreachable!("constants are Const statements") };
+            consts.extend(items.into_iter().map(|(name, ty, value)| ModuleConst { part, name, ty, value }));
+        }
+        let deps = self.const_dependencies(&consts);
+        let order = super::const_order::dependency_order(&deps).map_err(|cycle| ParseError {
+            offset: consts[cycle[0]].value.span.start as usize,
+            message: self.circular_constants(&consts, &cycle),
+        })?;
+        let mut slots: Vec<Option<ModuleConst>> = consts.into_iter().map(Some).collect();
+        let mut stmts = Vec::with_capacity(slots.len());
+        for i in order {
+            let c = slots[i].take().expect("each constant once");
+            self.current_part.set(c.part);
+            let key = (c.part, c.name.to_ascii_lowercase());
+            match self.whole_value(&c.value) {
+                Some(n) => self.whole_consts.borrow_mut().insert(key, n),
+                None => self.whole_consts.borrow_mut().remove(&key),
+            };
+            let span = self.span(c.value.span.start as usize);
+            stmts.push(Stmt { kind: StmtKind::Const(vec![(c.name, c.ty, c.value)]), span });
+        }
+        Ok(stmts)
     }
 
     /// Notes that module `owner.part` declares `name` at its level. Each module has its own
