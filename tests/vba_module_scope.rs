@@ -188,3 +188,31 @@ fn option_base_and_option_compare_apply_to_their_own_module() {
     let out = printed(main, &[("Other", &other)]);
     assert_eq!(out, [" 0  0  1 False", " 1  1  2 True", " 0 False"]);
 }
+
+// [MS-VBAL] 5.2.3.2 "Const Declarations": a module constant's value is a constant expression
+// whose names are found as any simple name (5.6.10), so Module1's `2 * PI` reads Module2's
+// Public PI whatever the order of the modules; a module variable's bounds and `String * W`
+// are constant expressions too ("Dim statement"). VBA compiles the declarations by what they
+// read, not by their place: 2 × 3.14159 = 6.28318 by hand, UBound 4 for `1 To N` and `(N)`,
+// Len 7 for a String * 7 ("Len function": a fixed-length String's declared length).
+#[test]
+fn module_declarations_read_the_constants_of_a_later_module() {
+    let main = "Private Const TWO_PI = 2 * PI\nDim arr(1 To N) As Double\nPrivate buf(N) As Double\n\
+                Dim s As String * W\nSub Main()\n    Debug.Print TWO_PI; UBound(arr); UBound(buf); Len(s)\nEnd Sub\n";
+    let later = module("Module2", "Public Const PI = 3.14159\nPublic Const N = 4\nPublic Const W = 7\n");
+    assert_eq!(printed(main, &[("Module2", &later)]), [" 6.28318  4  4  7 "]);
+}
+
+// "Circular dependencies between modules" (VBA's compile error; [MS-VBAL] 5.2.4's static
+// semantics: no circular reference through Const declarations): A reads B, which reads A, is
+// refused naming both constants and their modules, where it computed a number before.
+#[test]
+fn constants_computed_from_each_other_are_refused_naming_them() {
+    let main = "Public Const A = B + 1\nSub Main()\n    Debug.Print A\nEnd Sub\n";
+    let other = module("Module2", "Public Const B = A + 1\n");
+    let error = refused(main, &[("Module2", &other)]);
+    assert!(error.contains("Circular dependencies"), "{error}");
+    assert!(error.contains("A (Module1)") && error.contains("B (Module2)"), "{error}");
+    let itself = refused("Const C = 2 * C\nSub Main()\n    Debug.Print C\nEnd Sub\n", &[]);
+    assert!(itself.contains("the constant C needs itself"), "{itself}");
+}

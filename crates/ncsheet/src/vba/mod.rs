@@ -242,6 +242,7 @@ mod budget;
 mod classes;
 mod collections;
 mod conditional;
+mod const_order;
 mod deftype;
 mod files;
 mod formats;
