@@ -35,16 +35,6 @@ fn a_letter_range_covers_its_letters_in_either_case_and_no_other() {
     assert_eq!(run(src).unwrap(), ["Double Double Integer"]);
 }
 
-// VBA would give an undeclared variable the directive's type too ("Deftype statements":
-// `DefStr A-Q` makes an undeclared `Message` a String); ncsheet types declared names only, so
-// it refuses the undeclared one by name rather than compute with a Variant.
-#[test]
-fn an_undeclared_variable_under_a_def_statement_is_refused_by_name() {
-    let message = run("DefInt A-Z\nSub Main()\n    k = 3\nEnd Sub\n").unwrap_err();
-    assert!(message.contains("variable k is not declared"), "{message}");
-    assert!(message.contains("Dim k"), "{message}");
-}
-
 // [MS-VBAL] CStr's runtime semantics (the Conversion module of VBA's library): an Error value
 // gives "Error", a space and its error code ("Type conversion functions", CStr's table: "A
 // String containing the word Error followed by the error number"); CVErr's numbers are

@@ -257,6 +257,14 @@ impl Block {
         }
     }
 
+    /// Puts `stmt` first, every label still pointing at the statement it pointed at.
+    pub fn prepend(&mut self, stmt: Stmt) {
+        self.stmts.insert(0, stmt);
+        for at in self.labels.values_mut().chain(self.nested.values_mut()) {
+            *at += 1;
+        }
+    }
+
     /// Adds a label pointing at the next statement; false when the block has it already.
     pub fn add_label(&mut self, name: &str) -> bool {
         let at = self.stmts.len();

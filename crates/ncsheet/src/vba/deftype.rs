@@ -1,13 +1,14 @@
 //! `DefLng A-Z`, `DefStr S`: a module's implicit declared types ([MS-VBAL] 5.2.2 "Implicit
 //! Definition Directives"; "Deftype statements"). A name declared without `As` and without a
-//! type character (a variable, a parameter, a Function's or Property Get's result) takes the
-//! type its module's directive gives its first letter; with none it is a Variant.
+//! type character (a variable, a parameter, a Function's or Property Get's result, and a
+//! variable used without any declaration) takes the type its module's directive gives its
+//! first letter; with none it is a Variant.
 
 use pest::iterators::Pair;
 
 use crate::formula::parse::{ParseError, Rule};
 
-use super::ast::Ty;
+use super::ast::{Block, Stmt, StmtKind, Ty, VarDecl};
 use super::parser::{start, ty_named, Build, Res};
 
 /// One letter spec of a module's directive and the type it gives.
@@ -85,6 +86,27 @@ impl Build<'_> {
         // A later directive of the module overrides an earlier one for its letters.
         let types = self.implicit_types.borrow();
         types.iter().rev().find(covers).map(|d| d.ty.clone()).filter(|ty| *ty != Ty::Variant)
+    }
+
+    /// Notes the procedure's variable `name`, used at `offset` without a declaration, as one
+    /// of the type `ty` its module's directive gives it ([MS-VBAL] 5.2.2: an implicitly
+    /// declared variable's declared type is the one the directive gives its first letter).
+    pub(super) fn declare_implicit_var(&self, offset: usize, name: &str, ty: Ty) {
+        let span = self.span(offset);
+        let decl = VarDecl { name: name.into(), ty: Some(ty), bounds: None, new: None, span, field: None, item: None };
+        self.implicit_vars.borrow_mut().push(decl);
+    }
+
+    /// Declares the procedure's implicitly typed variables at its start, so each has its
+    /// type's value and range from the first statement: `i` under `DefInt I-N` is an Integer
+    /// 0, and `i = 40000` overflows (error 6) as a declared Integer does.
+    pub(super) fn declare_implicit_vars(&self, body: &mut Block) {
+        let vars = std::mem::take(&mut *self.implicit_vars.borrow_mut());
+        let Some(first) = vars.first() else { return };
+        let span = first.span;
+        // In a Static Sub every local keeps its value, the implicit ones too ([MS-VBAL] 5.3.1.2).
+        let kind = if self.scope.borrow().all_static { StmtKind::Static(vars) } else { StmtKind::Dim(vars) };
+        body.prepend(Stmt { kind, span });
     }
 }
 

@@ -310,6 +310,8 @@ pub(super) struct Build<'s> {
     pub(super) explicit: Cell<bool>,
     /// The modules' `DefLng A-Z` directives (`deftype.rs`), in order.
     pub(super) implicit_types: RefCell<Vec<super::deftype::ImplicitType>>,
+    /// The procedure's variables declared by their first use with a Def type (`deftype.rs`).
+    pub(super) implicit_vars: RefCell<Vec<VarDecl>>,
     /// Each module's `Option Base`/`Option Compare`, by its place in `parts`.
     options: RefCell<Vec<super::ast::ModuleOptions>>,
     /// The names of the module's Types, by index.
@@ -434,6 +436,7 @@ impl<'s> Build<'s> {
             nodes: RefCell::new(Vec::new()),
             explicit: Cell::new(false),
             implicit_types: RefCell::new(Vec::new()),
+            implicit_vars: RefCell::new(Vec::new()),
             options: RefCell::new(Vec::new()),
             building_globals: Cell::new(false),
             with_subjects: RefCell::new(Vec::new()),
@@ -678,7 +681,9 @@ impl<'s> Build<'s> {
         let implicit = || Some(&name).filter(|_| kind == ProcKind::Function).and_then(|n| self.implicit_ty(n));
         let ty =
             as_clause.map(|a| self.ty_of(&a)).or_else(|| type_char_ty(&k)).or_else(implicit).filter(|_| !returns_array);
-        let body = self.block(find(&k, Rule::block).expect("procedure body"))?;
+        self.implicit_vars.borrow_mut().clear();
+        let mut body = self.block(find(&k, Rule::block).expect("procedure body"))?;
+        self.declare_implicit_vars(&mut body);
         self.check_gotos(&body, &body)?;
         self.check_body_labels(&body, &body)?;
         let public = find(&k, Rule::scope).is_none_or(|s| !s.as_str().eq_ignore_ascii_case("Private"));

@@ -392,16 +392,9 @@ impl Build<'_> {
                 message: format!("variable {name} is not declared (Option Explicit): add Dim {name}"),
             });
         }
-        // VBA gives an undeclared variable its module's Def type; ncsheet makes it a Variant
-        // when first assigned, so it refuses rather than compute with another type.
-        if self.implicit_ty(name).is_some() {
-            return Err(ParseError {
-                offset: pair_offset,
-                message: format!(
-                    "variable {name} is not declared, and the module's Def statement gives it a type that \
-                     ncsheet gives only declared variables: add Dim {name}"
-                ),
-            });
+        // VBA gives an undeclared variable its module's Def type (`deftype.rs`).
+        if let Some(ty) = self.implicit_ty(name) {
+            self.declare_implicit_var(pair_offset, name, ty);
         }
         self.declare(name);
         Ok(())
