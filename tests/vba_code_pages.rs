@@ -7,7 +7,7 @@
 
 mod common;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use common::cli::ncsheet;
 use ncsheet::vba::project::read_project;
@@ -18,13 +18,22 @@ const CP1251_TEXT: &[u8] = b"\xD1\xF3\xEC\xEC\xE0 \xEF\xF0\xEE\xEF\xE8\xF1\xFC\x
 const TEXT: &str = "Сумма прописью";
 
 /// A module whose fourth line holds the Cyrillic text at column 10.
-fn cyrillic_module(dir: &Path) -> std::path::PathBuf {
+fn cyrillic_module(dir: &Path) -> PathBuf {
     let mut bas = b"Attribute VB_Name = \"Rus\"\r\nSub Main()\r\n    Dim s As String\r\n    s = \"".to_vec();
     bas.extend_from_slice(CP1251_TEXT);
     bas.extend_from_slice(b"\"\r\n    Debug.Print s; Len(s); AscW(s)\r\nEnd Sub\r\n");
     let path = dir.join("rus.bas");
     std::fs::write(&path, bas).unwrap();
     path
+}
+
+/// A folder with the Cyrillic module and a one-cell workbook (book.csv) to run it on.
+fn setup() -> (tempfile::TempDir, PathBuf, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let bas = cyrillic_module(dir.path());
+    let book = dir.path().join("book.csv");
+    std::fs::write(&book, "x\n").unwrap();
+    (dir, bas, book)
 }
 
 fn text(p: &Path) -> &str {
@@ -39,10 +48,7 @@ fn printed_line() -> String {
 
 #[test]
 fn a_new_project_refuses_a_module_past_ascii_without_its_code_page() {
-    let dir = tempfile::tempdir().unwrap();
-    let bas = cyrillic_module(dir.path());
-    let book = dir.path().join("book.csv");
-    std::fs::write(&book, "x\n").unwrap();
+    let (dir, bas, book) = setup();
     let out = dir.path().join("out.xlsm");
     let refused = ncsheet(&["macros", text(&book), "--import", text(&bas), "-o", text(&out)]);
     assert!(refused.code != 0, "{}", refused.stderr);
@@ -55,10 +61,7 @@ fn a_new_project_refuses_a_module_past_ascii_without_its_code_page() {
 
 #[test]
 fn a_module_in_the_code_page_named_imports_into_a_project_of_that_code_page_and_runs() {
-    let dir = tempfile::tempdir().unwrap();
-    let bas = cyrillic_module(dir.path());
-    let book = dir.path().join("book.csv");
-    std::fs::write(&book, "x\n").unwrap();
+    let (dir, bas, book) = setup();
     let out = dir.path().join("out.xlsm");
     let done = ncsheet(&["macros", text(&book), "--import", text(&bas), "--code-page", "1251", "-o", text(&out)]);
     assert_eq!(done.code, 0, "{}", done.stderr);
@@ -82,10 +85,7 @@ fn a_module_in_the_code_page_named_imports_into_a_project_of_that_code_page_and_
 /// refused, "Unsupported compression level".)
 #[test]
 fn the_projects_code_page_reads_a_module_given_beside_it() {
-    let dir = tempfile::tempdir().unwrap();
-    let bas = cyrillic_module(dir.path());
-    let book = dir.path().join("book.csv");
-    std::fs::write(&book, "x\n").unwrap();
+    let (dir, bas, book) = setup();
     let russian = dir.path().join("ru.xlsm");
     let done = ncsheet(&["macros", text(&book), "--import", text(&bas), "--code-page", "1251", "-o", text(&russian)]);
     assert_eq!(done.code, 0, "{}", done.stderr);
@@ -100,10 +100,7 @@ fn the_projects_code_page_reads_a_module_given_beside_it() {
 
 #[test]
 fn a_code_page_ncsheet_cannot_read_is_a_usage_error_listing_those_it_can() {
-    let dir = tempfile::tempdir().unwrap();
-    let bas = cyrillic_module(dir.path());
-    let book = dir.path().join("book.csv");
-    std::fs::write(&book, "x\n").unwrap();
+    let (_dir, bas, book) = setup();
     let ran = ncsheet(&["run", text(&book), text(&bas), "--code-page", "437"]);
     assert!(
         ran.code != 0 && ran.stderr.contains("'437' is no code page") && ran.stderr.contains("932"),
