@@ -85,3 +85,31 @@ fn a_gamma_quantile_below_every_double_is_zero_whatever_the_scale() {
     // An ordinary one keeps its value: GAMMA.INV(0.5, 1, 2) is the exponential's median 2·ln 2.
     close("GAMMA.INV(0.5,1,2)", 2.0 * std::f64::consts::LN_2);
 }
+
+/// A chain A1 = A5000 + 1, Ai = A(i-1) + 1: each round of the iteration adds 1 to every cell
+/// in order, so after r rounds A5000 holds 5000·r (worked by hand). Excel's largest count,
+/// 32,767 rounds, is 164 million evaluations (minutes with INDEX or INDIRECT in the cells):
+/// the budget of 10,000,000 evaluations a cycle gives this one 2,000 rounds, A5000 = 10,000,000,
+/// and its first cell says where it stopped. A two-cell cycle keeps all 32,767 rounds.
+#[test]
+fn iteration_of_a_large_cycle_stops_at_the_work_budget_and_says_so() {
+    use ncsheet::workbook::{Iteration, ProblemKind, Workbook};
+    let mut wb = Workbook::with_sheet();
+    wb.set_iteration(Some(Iteration { count: 32_767, max_change: 0.0 }));
+    common::sheet::set(&mut wb, "A1", "=A5000+1");
+    for row in 2..=5000 {
+        common::sheet::set(&mut wb, &format!("A{row}"), &format!("=A{}+1", row - 1));
+    }
+    assert_eq!(common::sheet::get(&wb, "A5000"), common::sheet::n(10_000_000.0));
+    let cut = wb.problems().into_iter().find(|p| matches!(p.kind, ProblemKind::IterationCut { .. }));
+    let cut = cut.expect("the cut is reported");
+    assert_eq!(cut.kind, ProblemKind::IterationCut { cells: 5000, rounds: 2000, asked: 32_767 });
+    assert!(cut.message().contains("stopped after 2000 of its 32767 rounds"), "{}", cut.message());
+
+    let mut small = Workbook::with_sheet();
+    small.set_iteration(Some(Iteration { count: 32_767, max_change: 0.0 }));
+    common::sheet::set(&mut small, "A1", "=B1+1");
+    common::sheet::set(&mut small, "B1", "=A1+1");
+    assert_eq!(common::sheet::get(&small, "B1"), common::sheet::n(65_534.0));
+    assert!(small.problems().is_empty());
+}

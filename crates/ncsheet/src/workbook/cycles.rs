@@ -38,6 +38,26 @@ impl Default for Iteration {
     }
 }
 
+/// Cell evaluations one cycle's iteration may spend, rounds × its cells: Excel's largest
+/// count, 32,767 rounds, of a 5,000-cell cycle is 164 million evaluations, which ran for
+/// minutes with INDEX or INDIRECT in each cell. A cycle of up to 305 cells has all 32,767
+/// rounds; a larger one stops earlier, its first cell saying so ([`IterationCut`]).
+pub const MAX_ITERATION_EVALUATIONS: u64 = 10_000_000;
+
+/// A cycle whose iteration [`MAX_ITERATION_EVALUATIONS`] stopped before it settled or ran
+/// the rounds the workbook asks for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IterationCut {
+    pub cells: usize,
+    pub rounds: u32,
+    pub asked: u32,
+}
+
+/// The rounds a cycle of `cells` cells may run of the `asked` ones, at least one.
+fn rounds_allowed(asked: u32, cells: usize) -> u32 {
+    (MAX_ITERATION_EVALUATIONS / cells.max(1) as u64).clamp(1, u64::from(asked)) as u32
+}
+
 /// A component larger than this is not probed cell by cell (each probe of a range looks
 /// through the waiting cells): all its cells are circular, as the graph says.
 const PROBED_COMPONENT: usize = 4096;
@@ -112,7 +132,10 @@ impl Workbook {
     /// already and stay as they were: a workbook Excel saved shows its iterated values.
     fn iterate_component(&mut self, cells: &[u32], iteration: Iteration, late: &mut Vec<u32>) {
         let start: Vec<Value> = cells.iter().map(|&id| self.cells[id as usize].value.clone()).collect();
-        for round in 0..iteration.count.max(1) {
+        let asked = iteration.count.max(1);
+        let rounds = rounds_allowed(asked, cells.len());
+        self.iteration_cuts.remove(&cells[0]);
+        for round in 0..rounds {
             let mut largest = 0.0f64;
             for &id in cells {
                 let before = self.cells[id as usize].value.clone();
@@ -127,6 +150,9 @@ impl Workbook {
                 }
                 return;
             }
+        }
+        if rounds < asked {
+            self.iteration_cuts.insert(cells[0], IterationCut { cells: cells.len(), rounds, asked });
         }
     }
 

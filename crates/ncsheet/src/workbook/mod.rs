@@ -192,6 +192,8 @@ pub struct Workbook {
     journal: Option<Box<Journal>>,
     /// Iterative calculation (`cycles.rs`): cycles iterate instead of keeping their values.
     iteration: Option<Iteration>,
+    /// Cycles whose iteration the work budget stopped early, by their first cell (`cycles.rs`).
+    iteration_cuts: FxMap<u32, cycles::IterationCut>,
     /// Names were (re)defined without relinking the graph: the next full recalculation does.
     names_unlinked: bool,
     /// The workbook's own functions (its VBA Functions), once installed (`udf.rs`).

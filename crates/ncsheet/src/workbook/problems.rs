@@ -35,6 +35,13 @@ pub enum ProblemKind {
     MissingSheet(String),
     /// The cells of a circular reference, as `Sheet1!A1` names, starting with this one.
     Cycle(Vec<String>),
+    /// The cycle starting at this cell stopped iterating at ncsheet's work budget after
+    /// `rounds` of the `asked` rounds (`cycles::MAX_ITERATION_EVALUATIONS`).
+    IterationCut {
+        cells: usize,
+        rounds: u32,
+        asked: u32,
+    },
     /// Why a function returned this error value.
     Note {
         error: XlError,
@@ -52,6 +59,12 @@ impl Problem {
             ProblemKind::MissingSheet(name) => format!("no sheet named '{name}'"),
             ProblemKind::Cycle(cells) => format!("circular reference: {}", cycle_path(cells)),
             ProblemKind::Note { error, message } => format!("{error}: {message}"),
+            ProblemKind::IterationCut { cells, rounds, asked } => format!(
+                "the iteration of this cycle of {cells} cells stopped after {rounds} of its {asked} rounds: \
+                 ncsheet's limit of {} cell evaluations for one cycle (rounds × cells) was reached before \
+                 no value moved by more than the maximum change; the values are those of round {rounds}",
+                super::cycles::MAX_ITERATION_EVALUATIONS
+            ),
         }
     }
 
@@ -110,6 +123,11 @@ impl Workbook {
         }
         for cycle in self.cycles.iter() {
             out.push(self.cycle_problem(cycle));
+        }
+        for (&id, cut) in &self.iteration_cuts {
+            let (sheet, pos) = (self.cells[id as usize].sheet, self.cells[id as usize].pos);
+            let kind = ProblemKind::IterationCut { cells: cut.cells, rounds: cut.rounds, asked: cut.asked };
+            out.push(Problem { sheet, pos, kind, text: String::new(), span: None });
         }
         for &id in self.notes.keys() {
             out.extend(self.note_problems(id));

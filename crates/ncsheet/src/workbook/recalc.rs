@@ -267,6 +267,7 @@ impl Workbook {
             self.rebuild_graph();
         }
         self.cycles.clear();
+        self.iteration_cuts.clear();
         let sources: Vec<u32> =
             (0..self.cells.len() as u32).filter(|&id| self.cells[id as usize].formula != NO_FORMULA).collect();
         self.run_passes(sources);
