@@ -341,6 +341,7 @@ fn eval(args: EvalArgs, delimiter: Option<u8>) -> Result<()> {
         raw: args.raw,
         formulas: args.formulas,
         width: args.width.or_else(output::terminal_width),
+        parsed: Default::default(),
     };
     refuse_huge_prints(wb, sheet, &selections)?;
     let mut out = BufWriter::new(io::stdout().lock());

@@ -1,11 +1,12 @@
 //! Printing values: an aligned table for people, csv and JSON for programs.
 
+use std::cell::RefCell;
 use std::collections::HashSet;
 use std::io::{self, Write};
 use std::path::Path;
 
 use clap::ValueEnum;
-use ncsheet::eval::format::number_format::round15;
+use ncsheet::eval::format::number_format::{round15, ShownFormats};
 use ncsheet::eval::Value;
 use ncsheet::formula::address::{column_name, Pos, Rect};
 use ncsheet::formula::ast::SheetId;
@@ -44,11 +45,13 @@ pub struct Shown<'a> {
     pub raw: bool,
     pub formulas: bool,
     pub width: Option<usize>,
+    /// The number formats shown so far, each parsed once for all the cells that have it.
+    pub parsed: RefCell<ShownFormats>,
 }
 
 impl Default for Shown<'_> {
     fn default() -> Self {
-        Shown { layout: None, raw: false, formulas: false, width: terminal_width() }
+        Shown { layout: None, raw: false, formulas: false, width: terminal_width(), parsed: RefCell::default() }
     }
 }
 
@@ -67,7 +70,10 @@ impl Shown<'_> {
             Value::Number(n) if self.raw => locale.localize_shown(&format!("{n}")),
             // Excel's built-in date (14, `mm-dd-yy` as the file's reader names it) is the
             // locale's short date, en-US's `m/d/yyyy` included.
-            Value::Number(n) => locale.shown_number(n, self.format_code(wb, sheet, pos), wb.date_system()),
+            Value::Number(n) => {
+                let code = self.format_code(wb, sheet, pos);
+                locale.shown_number_with(&mut self.parsed.borrow_mut(), n, code, wb.date_system())
+            }
             // Booleans in the locale's words (de-DE `WAHR`), as its Excel shows them.
             v => locale.shown_value(&v),
         }

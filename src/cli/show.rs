@@ -139,7 +139,8 @@ pub fn describe(wb: &Workbook, shown: &Shown, sheet: SheetId, pos: Pos, label: O
         lines.push(("input", if number { locale.localize_shown(&input) } else { input }));
     }
     let value = wb.value(sheet, pos);
-    let full = Shown { layout: shown.layout, raw: true, formulas: false, width: shown.width };
+    let full =
+        Shown { layout: shown.layout, raw: true, formulas: false, width: shown.width, parsed: Default::default() };
     lines.push(("value", if value.is_blank() { "(blank)".into() } else { full.text(wb, sheet, pos) }));
     if let Some(code) = shown.format_code(wb, sheet, pos) {
         lines.push(("format", code.to_string()));

@@ -14,7 +14,7 @@ use std::fmt;
 
 use super::coerce::parse_plain_number;
 use super::dates::{self, DateSystem};
-use super::format::number_format::general;
+use super::format::number_format::{general, ShownFormats};
 use super::value::{Array, Value, XlError};
 
 /// The order of day, month and year in a short date.
@@ -782,6 +782,17 @@ impl Locale {
     /// and the short date for Excel's built-in date format (format 14, which follows the
     /// system's short date).
     pub fn shown_number(self, n: f64, code: Option<&str>, system: DateSystem) -> String {
+        self.shown_number_with(&mut ShownFormats::default(), n, code, system)
+    }
+
+    /// [`Locale::shown_number`] for one of many cells, each code parsed once in `formats`.
+    pub fn shown_number_with(
+        self,
+        formats: &mut ShownFormats,
+        n: f64,
+        code: Option<&str>,
+        system: DateSystem,
+    ) -> String {
         let date_time;
         let code = match code {
             Some(BUILTIN_DATE | "mm-dd-yy" | "m/d/yy") => Some(self.short_date),
@@ -799,7 +810,7 @@ impl Locale {
             }
             code => code,
         };
-        let shown = super::format::number_format::shown(n, code, system);
+        let shown = formats.shown(n, code, system);
         self.localize_formatted(code.unwrap_or(""), &shown)
     }
 
