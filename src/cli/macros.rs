@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use ncsheet::vba::project::{
-    build_project_in, decode_module_file, is_readable_code_page, module_from_export, read_project, ModuleKind,
+    build_project_in, decode_module_file, guessed_code_page, is_readable_code_page, module_from_export, read_project, ModuleKind,
     NewModule, ProjectModule, VbaProject, READABLE_CODE_PAGES, UNKNOWN_CODE_PAGE,
 };
 use ncsheet::vba::project_edit::{add_modules, OnExisting, OnProtected};
@@ -131,7 +131,7 @@ fn import(
     for path in modules {
         project.push(read_module(path, code_page)?);
     }
-    let project_code_page = code_page.unwrap_or(NEW_PROJECT_CODE_PAGE);
+    let project_code_page = code_page.or_else(|| first_guessed_code_page(modules)).unwrap_or(NEW_PROJECT_CODE_PAGE);
     let bytes = build_project_in(&project, 0x4E, project_code_page).map_err(|e| {
         let hint = if code_page.is_none() { " (--code-page N writes the project in another)" } else { "" };
         Error::User(format!("{}: {e}{hint}", out.display()))
@@ -143,8 +143,15 @@ fn import(
     Ok(())
 }
 
-/// The code page of the projects ncsheet makes when the user names none (Windows-1252).
+/// The code page of the projects ncsheet makes when the user names none and no module file
+/// says one by its text (Windows-1252).
 const NEW_PROJECT_CODE_PAGE: u16 = 1252;
+
+/// The code page the first module file in an ANSI code page is guessed to be in: a new project
+/// is written in it, so a Cyrillic module is stored as a Russian Excel stores it.
+fn first_guessed_code_page(modules: &[PathBuf]) -> Option<u16> {
+    modules.iter().find_map(|m| std::fs::read(m).ok().and_then(|bytes| guessed_code_page(&bytes)))
+}
 
 /// `--code-page N`: a Windows code page ncsheet reads, or a usage error listing them.
 pub fn parse_code_page(text: &str) -> std::result::Result<u16, String> {
@@ -162,7 +169,14 @@ pub fn parse_code_page(text: &str) -> std::result::Result<u16, String> {
 /// and so is a byte past ASCII when no code page is known, with the option that names one.
 pub fn read_module_text(path: &Path, code_page: Option<u16>) -> Result<String> {
     let bytes = std::fs::read(path).map_err(|e| Error::User(format!("{}: cannot read: {e}", path.display())))?;
-    decode_module_file(&bytes, code_page).map_err(|e| {
+    let guessed = if code_page.is_none() { guessed_code_page(&bytes) } else { None };
+    if let Some(guess) = guessed {
+        eprintln!(
+            "ncsheet: {}: read in code page {guess}, guessed from its text (--code-page N names another)",
+            path.display()
+        );
+    }
+    decode_module_file(&bytes, code_page.or(guessed)).map_err(|e| {
         let hint = if e.message.starts_with(UNKNOWN_CODE_PAGE) {
             format!(": the VBA editor saves a module in the system's ANSI code page; name it with --code-page N \
                      (1252 Western, 1251 Cyrillic, 932 Japanese …; readable: {READABLE_CODE_PAGES}) or save the file as UTF-8")

@@ -14,7 +14,7 @@ use ncsheet::formula::ast::SheetId;
 use ncsheet::geometry::chamfer::{chamfer as chamfer_geometry, ChamferGeometry, ChamferKind, ChamferSpec};
 use ncsheet::nc::backplot::{self, Extras, Plane, Toolpath};
 use ncsheet::nc::{dialect, read, Block, Machine, Program};
-use ncsheet::vba::project::{decode_module_file, procedures};
+use ncsheet::vba::project::{decode_module_file, guessed_code_page, procedures};
 use ncsheet::vba::{self, ModuleKind, RunOptions};
 
 /// A run from the page stops after this long unless `--timeout` says otherwise: the page
@@ -109,9 +109,10 @@ fn sub_names(source: &str) -> Vec<String> {
 
 fn read_bas(path: &Path) -> Result<String, Refused> {
     let bytes = ncsheet::io::read_file(path).map_err(|e| refused(e.to_string()))?;
-    // The file does not say which ANSI code page it is in: ASCII and UTF-8 read, any other
-    // byte is refused at its place (`ncsheet run --code-page N` reads it).
-    decode_module_file(&bytes, None)
+    // The file does not say which ANSI code page it is in: ASCII and UTF-8 read as they are,
+    // other text in the code page its bytes are guessed to be in, else refused at its place
+    // (`ncsheet run --code-page N` reads it).
+    decode_module_file(&bytes, guessed_code_page(&bytes))
         .map_err(|e| refused(format!("{}:{}:{}: {}", path.display(), e.line, e.column, e.message)))
 }
 

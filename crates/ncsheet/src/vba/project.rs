@@ -486,6 +486,26 @@ pub fn is_readable_code_page(code_page: u16) -> bool {
     encoding_for(code_page).is_some()
 }
 
+/// The ANSI code pages the VBA editor writes module files in, Western first: the guesses
+/// [`guessed_code_page`] may give.
+const ANSI_CODE_PAGES: [u16; 14] = [1252, 1250, 1251, 1253, 1254, 1255, 1256, 1257, 1258, 874, 932, 936, 949, 950];
+
+/// The ANSI code page a module file's text is in, guessed from its bytes when nobody names one,
+/// or `None` when the file needs none (a byte-order mark, ASCII, valid UTF-8) or the guess is
+/// no code page the VBA editor writes in. The file does not record its code page, and every
+/// byte is some character of Windows-1252, so reading 1252 by default garbles a Cyrillic or
+/// Japanese module without a word; chardetng (the detector Firefox uses for legacy text)
+/// tells a Western module with a "°" from a Cyrillic, Greek, Shift_JIS, GBK or Big5 one.
+pub fn guessed_code_page(bytes: &[u8]) -> Option<u16> {
+    if encoding_rs::Encoding::for_bom(bytes).is_some() || std::str::from_utf8(bytes).is_ok() {
+        return None;
+    }
+    let mut detector = chardetng::EncodingDetector::new(chardetng::Iso2022JpDetection::Deny);
+    detector.feed(bytes, true);
+    let guess = detector.guess(None, chardetng::Utf8Detection::Deny);
+    ANSI_CODE_PAGES.into_iter().find(|&code_page| encoding_for(code_page) == Some(guess))
+}
+
 /// Where a module file's bytes are no text of the encoding they are read in.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SourceTextError {
@@ -879,6 +899,31 @@ mod tests {
         assert!(e.message.starts_with(UNKNOWN_CODE_PAGE) && e.message.ends_with("(0xD1)"), "{}", e.message);
         // ASCII and UTF-8 need none.
         assert_eq!(decode_module_file("' Сумма\r\n".as_bytes(), None).unwrap(), "' Сумма\r\n");
+    }
+
+    /// Module text in each ANSI code page, encoded by Python (`str.encode(cp)`), is guessed as
+    /// that code page; Unicode files need no guess.
+    #[test]
+    fn a_module_files_code_page_is_guessed_from_its_text() {
+        let cases: [(&[u8], u16); 6] = [
+            // "' Winkel in Grad (°), Größe" in cp1252.
+            (b"' Winkel in Grad (\xB0), Gr\xF6\xDFe\r\nSub A()\r\nEnd Sub\r\n", 1252),
+            // "' Сумма прописью" in cp1251.
+            (b"' \xD1\xF3\xEC\xEC\xE0 \xEF\xF0\xEE\xEF\xE8\xF1\xFC\xFE\r\nSub A()\r\nEnd Sub\r\n", 1251),
+            // "' 近似式を求める" in cp932.
+            (b"' \x8B\xDF\x8E\x97\x8E\xAE\x82\xF0\x8B\x81\x82\xDF\x82\xE9\r\nSub A()\r\nEnd Sub\r\n", 932),
+            // "' 计算坐标点" in GBK (cp936).
+            (b"' \xBC\xC6\xCB\xE3\xD7\xF8\xB1\xEA\xB5\xE3\r\nSub A()\r\nEnd Sub\r\n", 936),
+            // "' 計算座標點" in Big5 (cp950).
+            (b"' \xAD\x70\xBA\xE2\xAE\x79\xBC\xD0\xC2\x49\r\nSub A()\r\nEnd Sub\r\n", 950),
+            // "' Επιφάνεια" in cp1253.
+            (b"' \xC5\xF0\xE9\xF6\xDC\xED\xE5\xE9\xE1\r\nSub A()\r\nEnd Sub\r\n", 1253),
+        ];
+        for (bytes, code_page) in cases {
+            assert_eq!(guessed_code_page(bytes), Some(code_page), "{bytes:?}");
+        }
+        assert_eq!(guessed_code_page("' Сумма\r\n".as_bytes()), None);
+        assert_eq!(guessed_code_page(b"Sub A()\r\nEnd Sub\r\n"), None);
     }
 
     /// Every code page the list names reads, and the list's ends are its neighbours' limits.
