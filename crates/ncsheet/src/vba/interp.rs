@@ -314,8 +314,9 @@ pub struct Interp<'m, 'w> {
     pub err: RefCell<ErrState>,
     /// GoSubs now running without their Return, across the running procedures.
     gosubs: Cell<usize>,
-    /// The lowest address of this thread's stack, read at the first GoSub ([`stack_low`]).
-    stack_low: Cell<Option<usize>>,
+    /// The lowest address of this thread's stack and its size, read at the first check
+    /// ([`stack_bounds`]).
+    stack_low: Cell<Option<(usize, usize)>>,
     /// The files the macro wrote and those it has open (`files.rs`).
     pub(super) files: RefCell<super::files::Files>,
     /// The nodes (calls, items of arrays, Collections and Dictionaries) whose last value was
@@ -1227,7 +1228,7 @@ impl Interp<'_, '_> {
     }
 
     /// Why a call of `p` cannot start here: `--max-depth` procedures already running, or
-    /// less than [`STACK_RESERVE`] of the native stack left. Each level of `--max-depth` is
+    /// less than [`Interp::stack_reserve`] of the native stack left. Each level of `--max-depth` is
     /// given 64 KiB of stack, but one procedure's body may take far more (255 nested blocks
     /// around a call nested in 120 function calls took 600 KiB a level and overflowed the
     /// stack at 10,000 levels): past the reserve it is VBA's error 28, "Out of stack space",
@@ -1243,12 +1244,12 @@ impl Interp<'_, '_> {
             f.kind = ErrorKind::Limit;
             return Some(f);
         }
-        if self.stack_left().is_some_and(|left| left < STACK_RESERVE) {
+        if self.stack_short() {
             let why = format_args!(
                 "calls nest {depth} deep calling {} {}, less than {} KiB of the thread's stack left",
                 p.kind,
                 p.name,
-                STACK_RESERVE >> 10
+                self.stack_reserve() >> 10
             );
             let mut f = self.fault(errors::message(28, why));
             f.code = 28;
@@ -1796,14 +1797,14 @@ impl Interp<'_, '_> {
     /// VBA's error 28, "Out of stack space" (VBA's reference, "Out of stack space (Error
     /// 28)"), before the native stack runs out. The blocks between two GoSubs (`If`, `For`,
     /// `With` … around the inner one) nest native frames too, so the stack left is measured
-    /// as well: a GoSub is refused with less than [`STACK_RESERVE`] of it (800 GoSubs each
+    /// as well: a GoSub is refused with less than [`Interp::stack_reserve`] of it (800 GoSubs each
     /// inside an `If` overflowed an 8 MiB stack before the count was reached).
     fn gosub(&self, label: &str) -> Run<Flow> {
         let depth = self.gosubs.get();
-        let short = self.stack_left().is_some_and(|left| left < STACK_RESERVE);
+        let short = self.stack_short();
         if depth >= GOSUB_MAX_DEPTH || short {
             let why = if short {
-                format!(", less than {} KiB of the thread's stack left", STACK_RESERVE >> 10)
+                format!(", less than {} KiB of the thread's stack left", self.stack_reserve() >> 10)
             } else {
                 String::new()
             };
@@ -1823,15 +1824,27 @@ impl Interp<'_, '_> {
     /// The native stack left below this frame, where the system says where the thread's
     /// stack ends (read once: a macro runs on one thread).
     fn stack_left(&self) -> Option<usize> {
-        let low = match self.stack_low.get() {
-            Some(low) => low,
+        let (low, _) = match self.stack_low.get() {
+            Some(bounds) => bounds,
             None => {
-                let low = stack_low()?;
-                self.stack_low.set(Some(low));
-                low
+                let bounds = stack_bounds()?;
+                self.stack_low.set(Some(bounds));
+                bounds
             }
         };
         Some(stack_address().saturating_sub(low))
+    }
+
+    /// The stack a call, GoSub or handler must leave for what runs inside it: [`STACK_RESERVE`],
+    /// or a quarter of a smaller thread's stack (a library caller's 2 MiB thread keeps room
+    /// for its default 100 levels of recursion, as before the reserve was checked at calls).
+    fn stack_reserve(&self) -> usize {
+        self.stack_low.get().map_or(STACK_RESERVE, |(_, size)| STACK_RESERVE.min(size / 4))
+    }
+
+    /// Whether less than [`Interp::stack_reserve`] of the native stack is left.
+    fn stack_short(&self) -> bool {
+        self.stack_left().is_some_and(|left| left < self.stack_reserve())
     }
 
     /// Runs the procedure's body from a label: a GoSub's subroutine or an error handler.
@@ -1900,13 +1913,14 @@ impl Interp<'_, '_> {
 
     /// A handler runs nested in the failing statement, and `On Error GoTo -1` lets the next
     /// error run it again, deeper: refused as VBA's error 28, "Out of stack space", with
-    /// less than [`STACK_RESERVE`] of the native stack left, before it runs out; at the
+    /// less than [`Interp::stack_reserve`] of the native stack left, before it runs out; at the
     /// failing statement's place.
     fn handler_stack_check(&self, failing: Option<Span>) -> Run<()> {
-        if self.stack_left().is_none_or(|left| left >= STACK_RESERVE) {
+        if !self.stack_short() {
             return Ok(());
         }
-        let why = format!("error handlers nest with less than {} KiB of the thread's stack left", STACK_RESERVE >> 10);
+        let why =
+            format!("error handlers nest with less than {} KiB of the thread's stack left", self.stack_reserve() >> 10);
         let mut fault = self.vba_fault(28, &why);
         fault.span = failing;
         Err(fault)
@@ -2572,9 +2586,9 @@ pub const GOSUB_MAX_DEPTH: usize = 1000;
 /// their nesting limits fit in it (docs/limits.md: both formula limits hold on 2 MiB).
 const STACK_RESERVE: usize = 1 << 20;
 
-/// The lowest address of the running thread's stack (glibc's `pthread_getattr_np`, which
+/// The lowest address of the running thread's stack and its size (glibc's `pthread_getattr_np`, which
 /// knows the main thread's too), or `None` where the system does not say.
-fn stack_low() -> Option<usize> {
+fn stack_bounds() -> Option<(usize, usize)> {
     // SAFETY: `attr` is initialised by pthread_getattr_np before it is read, and destroyed
     // once; the out-pointers are valid locals.
     unsafe {
@@ -2586,7 +2600,7 @@ fn stack_low() -> Option<usize> {
         let mut size: libc::size_t = 0;
         let read = libc::pthread_attr_getstack(&attr, &mut addr, &mut size) == 0;
         libc::pthread_attr_destroy(&mut attr);
-        (read && !addr.is_null()).then_some(addr as usize)
+        (read && !addr.is_null()).then_some((addr as usize, size))
     }
 }
 
