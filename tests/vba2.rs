@@ -216,7 +216,8 @@ fn a_module_exported_in_the_ansi_code_page_is_imported_and_run() {
     let csv = dir.path().join("book.csv");
     std::fs::write(&csv, "x\n").unwrap();
     let saved = dir.path().join("after.csv");
-    let ran = ncsheet(&["run", path(&csv), path(&bas), "--code-page", "1252", "--sub", "Label", "--save", path(&saved)]);
+    let ran =
+        ncsheet(&["run", path(&csv), path(&bas), "--code-page", "1252", "--sub", "Label", "--save", path(&saved)]);
     assert_eq!(ran.code, 0, "{}", ran.stderr);
     assert_eq!(std::fs::read_to_string(&saved).unwrap().lines().next(), Some("Ø 40 – café"));
 }

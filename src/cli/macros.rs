@@ -6,8 +6,8 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use ncsheet::vba::project::{
-    build_project_in, decode_module_file, guessed_code_page, is_readable_code_page, module_from_export, read_project, ModuleKind,
-    NewModule, ProjectModule, VbaProject, READABLE_CODE_PAGES, UNKNOWN_CODE_PAGE,
+    build_project_in, decode_module_file, guessed_code_page, is_readable_code_page, module_from_export, read_project,
+    ModuleKind, NewModule, ProjectModule, VbaProject, READABLE_CODE_PAGES, UNKNOWN_CODE_PAGE,
 };
 use ncsheet::vba::project_edit::{add_modules, OnExisting, OnProtected};
 
