@@ -247,6 +247,74 @@ fn format_takes_the_predefined_formats() {
     );
 }
 
+// "Format function" (Office VBA language reference), its example (MyTime = #17:04:23#,
+// MyDate = #January 27, 1993#, English/U.S. assumed) and its tables of user-defined
+// date/time and string formats. The date/time codes on December 7, 1958, 8:50:35 PM (a
+// Sunday), the date of Microsoft's "User-Defined Date/Time Formats Example" (VBA 6
+// reference: "hh:mm AM/PM" 08:50 PM, "h:mm:ss a/p" 8:50:35 p, "m/d/yy h:mm" 12/7/58 20:50);
+// the rest worked by hand from the tables: `y` the day of the year (334 days in January to
+// November + 7 = 341), `q` the quarter (4), `w` the day of the week (Sunday 1), `ww` the week
+// of the year from the week of January 1 (a Wednesday in 1958: week 2 starts January 5, and
+// December 7 is 48 weeks later, week 50), `n`/`nn` the minute, `ttttt` the system's long
+// time, `ddddd`/`dddddd` its short and long date and `c` both (English/U.S.: m/d/yyyy,
+// "dddd, mmmm d, yyyy", h:mm:ss AM/PM, as the Short Date, Long Date and Long Time of
+// tests above), `AMPM` the system's designator. LibreOffice's VBA mode agrees on `y`, `w`,
+// `ww`, `ttttt` and `dddddd`, and differs where its Format lacks the code (`n`, `q` as "Q4",
+// `AMPM`, `am/pm` in capitals, `@` padding), so it is not the oracle for those.
+#[test]
+fn format_reads_vba_date_and_time_codes() {
+    let out = printed(
+        "    t = TimeSerial(17, 4, 23)
+    Debug.Print Format(t, \"h:m:s\"); \"|\"; Format(t, \"hh:mm:ss am/pm\"); \"|\"; Format(t, \"hh:mm:ss AM/PM\")
+    Debug.Print Format(DateSerial(1993, 1, 27), \"dddd, mmm d yyyy\")
+    d = DateSerial(1958, 12, 7) + TimeSerial(20, 50, 35)
+    Debug.Print Format(d, \"hh:mm AM/PM\"); \"|\"; Format(d, \"h:mm:ss a/p\"); \"|\"; Format(d, \"m/d/yy h:mm\")
+    Debug.Print Format(d, \"y\"); \"|\"; Format(d, \"q\"); \"|\"; Format(d, \"w\"); \"|\"; Format(d, \"ww\")
+    Debug.Print Format(d, \"h:n:s\"); \"|\"; Format(d, \"hh:nn\"); \"|\"; Format(d, \"ttttt\"); \"|\"; Format(d, \"h:mm AMPM\")
+    Debug.Print Format(d, \"c\"); \"|\"; Format(Int(d), \"c\"); \"|\"; Format(d - Int(d), \"c\")
+    Debug.Print Format(d, \"ddddd\"); \"|\"; Format(d, \"dddddd\"); \"|\"; Format(DateSerial(2024, 3, 1), \"y\")",
+    );
+    assert_eq!(
+        out,
+        [
+            "17:4:23|05:04:23 pm|05:04:23 PM",
+            "Wednesday, Jan 27 1993",
+            "08:50 PM|8:50:35 p|12/7/58 20:50",
+            "341|4|1|50",
+            "20:50:35|20:50|8:50:35 PM|8:50 PM",
+            "12/7/1958 8:50:35 PM|12/7/1958|8:50:35 PM",
+            "12/7/1958|Sunday, December 7, 1958|61",
+        ]
+    );
+}
+
+// A date letter after a number's digit placeholder is written as it is: VBA reads the
+// section as a number format from its first placeholder (LibreOffice's VBA mode:
+// Format(5, "0 w") is "5 w"); it was read as a date code and the number refused.
+#[test]
+fn a_date_letter_after_a_digit_placeholder_is_text() {
+    assert_eq!(shown("Format(5, \"0 w\")"), "5 w");
+    assert_eq!(shown("Format(2.5, \"0.0 h\")"), "2.5 h");
+}
+
+// "Format function", "User-defined string formats": `@` a character or a space, `&` a
+// character or nothing, filled from right to left unless `!`; `<` small letters, `>`
+// capitals (its example: Format("HELLO", "<") is "hello", Format("This is it", ">") "THIS
+// IS IT"); a second section is for zero-length strings.
+#[test]
+fn format_applies_vba_string_formats() {
+    assert_eq!(shown("Format(\"HELLO\", \"<\")"), "hello");
+    assert_eq!(shown("Format(\"This is it\", \">\")"), "THIS IS IT");
+    assert_eq!(shown("\"[\" & Format(\"abc\", \"@@@@@\") & \"]\""), "[  abc]");
+    assert_eq!(shown("\"[\" & Format(\"abc\", \"&&&&&\") & \"]\""), "[abc]");
+    assert_eq!(shown("\"[\" & Format(\"abc\", \"!@@@@@\") & \"]\""), "[abc  ]");
+    assert_eq!(shown("Format(\"5551234567\", \"(@@@) @@@-@@@@\")"), "(555) 123-4567");
+    assert_eq!(shown("Format(\"abc\", \">@@@\")"), "ABC");
+    assert_eq!(shown("\"[\" & Format(5, \"@@@\") & \"]\""), "[  5]");
+    assert_eq!(shown("Format(\"\", \"@;\"\"none\"\"\")"), "none");
+    assert_eq!(shown("Format(\"x\", \"@;\"\"none\"\"\")"), "x");
+}
+
 // "InStr function": "If string1 is Null / string2 is Null: Null"; "StrComp function": "If
 // string1 or string2 is Null: Null"; "Len function" covers LenB. A Null start is error 94.
 #[test]

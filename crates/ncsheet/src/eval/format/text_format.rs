@@ -6,7 +6,7 @@
 //! decimal, half away from zero, as Excel displays them (2.675 shows as 2.68 although the
 //! binary double is a little below).
 
-use super::number_format::significant_digits;
+use super::number_format::{round15, significant_digits};
 use crate::eval::dates::{DateSystem, DateTime, LAST_SERIAL, VBA_DATE_RANGE};
 use crate::eval::value::{XlError, XlResult};
 
@@ -49,6 +49,12 @@ enum DatePart {
     Weekday,
     /// VBA's `ww`: the week of the year.
     Week,
+    /// VBA's `y`: the day of the year (1-366).
+    DayOfYear,
+    /// VBA's `q`: the quarter of the year (1-4).
+    Quarter,
+    /// VBA's `c`: the General Date, the date and the time as the value has them.
+    GeneralDate,
     /// `AM/PM` or `A/P`, with the case as written.
     AmPm {
         short: bool,
@@ -312,6 +318,7 @@ fn split_sections(format: &str) -> Vec<String> {
 fn parse_section(text: &str, dialect: Dialect) -> XlResult<Section> {
     let chars: Vec<char> = text.chars().collect();
     let mut section = Section::default();
+    let mut seen_digit = false;
     let mut i = 0;
     while i < chars.len() {
         let c = chars[i];
@@ -369,11 +376,53 @@ fn parse_section(text: &str, dialect: Dialect) -> XlResult<Section> {
             }
             'a' if starts_with_ignore_case(&chars[i - 1..], "am/pm") => {
                 i += 4;
-                Tok::Date(DatePart::AmPm { short: false, lower: c == 'a' })
+                // Excel writes capitals however `am/pm` is typed; VBA's Format keeps the case
+                // ("Format function": "hh:mm:ss am/pm" returns "05:04:23 pm").
+                Tok::Date(DatePart::AmPm { short: false, lower: c == 'a' && dialect == Dialect::Vba })
+            }
+            'a' if dialect == Dialect::Vba && starts_with_ignore_case(&chars[i - 1..], "ampm") => {
+                // The system's designators, AM and PM in English (United States).
+                i += 3;
+                Tok::Date(DatePart::AmPm { short: false, lower: false })
             }
             'a' if starts_with_ignore_case(&chars[i - 1..], "a/p") => {
                 i += 2;
                 Tok::Date(DatePart::AmPm { short: true, lower: c == 'a' })
+            }
+            // VBA reads a section as a number once a digit placeholder came: a date letter
+            // after one is written as it is (LibreOffice's VBA mode: Format(5, "0 w") is "5 w").
+            'c' | 'd' | 'h' | 'm' | 'n' | 'q' | 's' | 't' | 'w' | 'y' if dialect == Dialect::Vba && seen_digit => {
+                Tok::Lit(c.to_string())
+            }
+            'n' | 'q' | 'c' if dialect == Dialect::Vba => {
+                // "Format function": `n`/`nn` the minute, `q` the quarter, `c` the date as
+                // `ddddd` and the time as `ttttt`.
+                let run =
+                    if lower == 'n' && chars.get(i).is_some_and(|x| x.eq_ignore_ascii_case(&'n')) { 2 } else { 1 };
+                i += run - 1;
+                Tok::Date(match lower {
+                    'n' => DatePart::Minute(run),
+                    'q' => DatePart::Quarter,
+                    _ => DatePart::GeneralDate,
+                })
+            }
+            't' if dialect == Dialect::Vba && starts_with_ignore_case(&chars[i - 1..], "ttttt") => {
+                // The system's long time, `h:mm:ss AM/PM` in English (United States).
+                i += 4;
+                section.tokens.extend(vba_expansion(VBA_LONG_TIME));
+                continue;
+            }
+            'y' if dialect == Dialect::Vba && !chars.get(i).is_some_and(|x| x.eq_ignore_ascii_case(&'y')) => {
+                Tok::Date(DatePart::DayOfYear)
+            }
+            'd' if dialect == Dialect::Vba
+                && chars[i - 1..].iter().take_while(|x| x.eq_ignore_ascii_case(&'d')).count() >= 5 =>
+            {
+                // `ddddd` the system's short date, `dddddd` its long date.
+                let run = chars[i - 1..].iter().take(6).take_while(|x| x.eq_ignore_ascii_case(&'d')).count();
+                i += run - 1;
+                section.tokens.extend(vba_expansion(if run == 5 { VBA_SHORT_DATE } else { VBA_LONG_DATE }));
+                continue;
             }
             'w' if dialect == Dialect::Vba => {
                 // "Format function": `w` the day of the week, `ww` the week of the year.
@@ -394,6 +443,7 @@ fn parse_section(text: &str, dialect: Dialect) -> XlResult<Section> {
             }
             _ => Tok::Lit(c.to_string()),
         };
+        seen_digit |= matches!(tok, Tok::Digit(_));
         section.tokens.push(tok);
     }
     if section.is_date() {
@@ -402,6 +452,18 @@ fn parse_section(text: &str, dialect: Dialect) -> XlResult<Section> {
         section.shape = Some(Shape::of(&section.tokens));
     }
     Ok(section)
+}
+
+/// The system's short date, long date and long time in English (United States), which VBA's
+/// `ddddd`, `dddddd` and `ttttt` show, as its named formats Short Date, Long Date and Long
+/// Time do.
+pub(crate) const VBA_SHORT_DATE: &str = "m/d/yyyy";
+pub(crate) const VBA_LONG_DATE: &str = "dddd, mmmm d, yyyy";
+pub(crate) const VBA_LONG_TIME: &str = "h:mm:ss AM/PM";
+
+/// The tokens of one of the system formats above, for the VBA code that stands for it.
+fn vba_expansion(code: &str) -> Vec<Tok> {
+    parse_section(code, Dialect::Excel).map(|s| s.tokens).unwrap_or_default()
 }
 
 /// A fraction section (`# ?/?`, `# ??/??`, `?/8`, `0 ??/16`): where its parts are among
@@ -480,36 +542,53 @@ impl FractionLayout {
         }))
     }
 
-    /// Integer part, numerator and denominator shown for `x` (not negative).
-    fn parts(&self, x: f64) -> (f64, u64, u64) {
+    /// Integer part, numerator and denominator shown for `x` (not negative), from its 15
+    /// significant digits as every number format shows a number: 1234567890123456.5 is
+    /// 1234567890123460 with no fraction left.
+    /// The numerator is a whole number held as a double: an improper fraction of 1E+20 has
+    /// one past a u64, which saturated to 18446744073709551615.
+    fn parts(&self, x: f64) -> (f64, f64, u64) {
+        let x = round15(x);
         let mixed = !self.int_places.is_empty();
         let (mut whole, frac) = if mixed { (x.floor(), x - x.floor()) } else { (0.0, x) };
         let (mut numerator, denominator) = match &self.denominator {
-            Denominator::Fixed(d) => ((frac * *d as f64).round_ties_even() as u64, *d),
-            Denominator::Digits(places) => closest_fraction(frac, 10u64.pow(places.len().min(6) as u32) - 1),
+            Denominator::Fixed(d) => ((frac * *d as f64).round_ties_even(), *d),
+            // From 2^52 up a double is whole: the number over 1.
+            Denominator::Digits(_) if frac >= 4_503_599_627_370_496.0 => (frac, 1),
+            Denominator::Digits(places) => {
+                let (n, d) = closest_fraction(frac, 10u64.pow(places.len().min(6) as u32) - 1);
+                (n as f64, d)
+            }
         };
-        if mixed && numerator == denominator {
+        if mixed && numerator == denominator as f64 {
             whole += 1.0;
-            numerator = 0;
+            numerator = 0.0;
         }
         (whole, numerator, denominator)
     }
 
-    fn render(&self, tokens: &[Tok], x: f64) -> String {
+    /// The section's text for `x`; `None` when the numerator passes the largest double
+    /// (`?/8` of 1E+308), which is shown as General.
+    fn render(&self, tokens: &[Tok], x: f64) -> Option<String> {
         let (whole, numerator, denominator) = self.parts(x);
+        if !numerator.is_finite() {
+            return None;
+        }
         let mixed = !self.int_places.is_empty();
         let int_text = match (whole, numerator) {
-            (w, _) if w > 0.0 => format!("{w:.0}"),
-            (_, 0) => "0".to_string(),
+            // Its 15 digits and zeros after them: every digit of the double 1E+308 was
+            // shown (10000000000000000109790636294404554174049230967731184633681068290315…).
+            (w, _) if w > 0.0 => whole_digits(w),
+            (_, 0.0) => "0".to_string(),
             _ => String::new(),
         };
         // Excel blanks a zero fraction of a mixed number, and the space before an empty
         // integer part: as spaces when the numerator pads with `?`, else not at all.
         let pads = self.numerator_places.contains(&'?');
-        let blank_fraction = mixed && numerator == 0;
+        let blank_fraction = mixed && numerator == 0.0;
         let blank_gap = mixed && int_text.is_empty();
         let int_texts = integer_texts(&int_text, &self.int_places);
-        let numerator_text = padded_left(&numerator.to_string(), &self.numerator_places);
+        let numerator_text = padded_left(&whole_digits(numerator), &self.numerator_places);
         let mut out = String::new();
         let mut int_i = 0;
         let last_int = tokens[..self.numerator_at].iter().rposition(|t| matches!(t, Tok::Digit(_)));
@@ -542,7 +621,17 @@ impl FractionLayout {
                 _ => {}
             }
         }
-        out
+        Some(out)
+    }
+}
+
+/// A whole number's digits: exact below 2^53 (a fixed denominator's numerator may have 16),
+/// its 15 significant digits and zeros from there up.
+fn whole_digits(v: f64) -> String {
+    if v < 9_007_199_254_740_992.0 {
+        (v as u64).to_string()
+    } else {
+        fixed_digits(v, 0).0
     }
 }
 
@@ -932,7 +1021,10 @@ fn format_in_section(section: &Section, value: f64, signed: bool) -> XlResult<St
             }
             Ok(with_sign(out, negative))
         }
-        Shape::Fraction(fraction) => Ok(with_sign(fraction.render(&section.tokens, value.abs()), negative)),
+        Shape::Fraction(fraction) => {
+            let text = fraction.render(&section.tokens, value.abs());
+            Ok(with_sign(text.unwrap_or_else(|| crate::eval::format::number_format::general(value.abs())), negative))
+        }
         Shape::FractionPastResolution => {
             Ok(with_sign(crate::eval::format::number_format::general(value.abs()), negative))
         }
@@ -1236,6 +1328,12 @@ fn date_part(part: DatePart, dt: &DateTime, twelve_hour: bool) -> String {
         }
         // Numbered in `write_date`, by the Format call's week rules.
         DatePart::Weekday | DatePart::Week => String::new(),
+        DatePart::DayOfYear => {
+            let before: u32 = (1..dt.month).map(|m| crate::eval::dates::days_in_month(dt.year, m)).sum();
+            (before + dt.day).to_string()
+        }
+        DatePart::Quarter => ((dt.month - 1) / 3 + 1).to_string(),
+        DatePart::GeneralDate => vba_general_date(dt),
         DatePart::AmPm { short, lower } => {
             let pm = dt.hour >= 12;
             let text = match (short, pm) {
@@ -1244,14 +1342,30 @@ fn date_part(part: DatePart, dt: &DateTime, twelve_hour: bool) -> String {
                 (false, false) => "AM",
                 (false, true) => "PM",
             };
-            // Excel writes AM and PM in capitals however `am/pm` is typed; `a/p` keeps its case.
-            if lower && short {
+            // Excel writes AM and PM in capitals however `am/pm` is typed (the tokenizer gives
+            // it `lower` only in VBA's Format, which keeps the case typed); `a/p` keeps its case.
+            if lower {
                 text.to_ascii_lowercase()
             } else {
                 text.to_string()
             }
         }
     }
+}
+
+/// VBA's General Date (`c`): the short date when the value has a day (or no time), the long
+/// time when it has a time, both with a space between.
+fn vba_general_date(dt: &DateTime) -> String {
+    let has_time = dt.hour != 0 || dt.minute != 0 || dt.second != 0;
+    // Day 0 of VBA's dates is 1899-12-30: a time alone.
+    let has_day = !(dt.year == 1899 && dt.month == 12 && dt.day == 30 && has_time);
+    let code = match (has_day, has_time) {
+        (true, true) => format!("{VBA_SHORT_DATE} {VBA_LONG_TIME}"),
+        (true, false) => VBA_SHORT_DATE.to_string(),
+        _ => VBA_LONG_TIME.to_string(),
+    };
+    let section = parse_section(&code, Dialect::Excel).unwrap_or_default();
+    write_date(&section, dt, &|_| (0, 0))
 }
 
 fn padded(v: u32, width: usize) -> String {
@@ -1295,6 +1409,44 @@ mod tests {
         assert_eq!(fmt(3.25, "# ?/16"), "3 4/16");
         assert_eq!(fmt(3.25, "# ?/1048576"), "3 262144/1048576");
         assert_eq!(fmt(3.25, "# ?/9007199254740992"), "3 2251799813685248/9007199254740992");
+    }
+
+    /// Every number format shows a number's 15 significant digits and zeros after them:
+    /// "Excel therefore stores only 15 significant digits in a number, and changes digits
+    /// after the fifteenth place to zeros" (Microsoft, KB 269370, "Last digits are changed to
+    /// zeros when you type long numbers in cells of Excel", whose example is
+    /// 1111222233334444 under `####-####-####-####` shown as 1111-2222-3333-4440). A
+    /// fraction printed every digit of the double (TEXT(1E308, "# ?/?")) and split a 16-digit
+    /// number's last digits into a fraction. LibreOffice 7.4 agrees with the 15-digit rule
+    /// for `0`, `#,##0`, `0.00`, `0%`, `0,` and literals (the values below), not for
+    /// fractions, where it prints the double's digits (`-123456789012345683968`), so for
+    /// fractions Microsoft's rule is the oracle; the blanks after a whole number are its
+    /// (`-100000000000000000000    ` for -1E+20 under `# ?/?`).
+    #[test]
+    fn numbers_past_fifteen_digits_show_fifteen_digits_then_zeros_in_every_format() {
+        assert_eq!(fmt(1111222233334444.0, "####-####-####-####"), "1111-2222-3333-4440");
+        let e308 = format!("1{}", "0".repeat(308));
+        assert_eq!(fmt(1e308, "# ?/?"), format!("{e308}    "));
+        assert_eq!(fmt(1e308, "0"), e308);
+        assert_eq!(fmt(-1e20, "# ?/?"), "-100000000000000000000    ");
+        assert_eq!(fmt(-1e20, "# ??/??"), "-100000000000000000000      ");
+        assert_eq!(fmt(-1e20, "# ?/8"), "-100000000000000000000   ");
+        assert_eq!(fmt(-1.2345678901234568e20, "# ?/?"), "-123456789012346000000    ");
+        assert_eq!(fmt(1234567890123456.5, "# ?/?"), "1234567890123460    ");
+        assert_eq!(fmt(1234567890123456.5, "?/?"), "1234567890123460/1");
+        assert_eq!(fmt(-1234567890123.25, "# ?/4"), "-1234567890123 1/4");
+        // An improper fraction's numerator past a u64 (it saturated to 18446744073709551615),
+        // and past the largest double (shown as General).
+        assert_eq!(fmt(1e20, "?/?"), "100000000000000000000/1");
+        assert_eq!(fmt(1e308, "?/8"), "1E+308");
+        // LibreOffice 7.4's values for the other kinds.
+        assert_eq!(fmt(1.2345678901234568e20, "0"), "123456789012346000000");
+        assert_eq!(fmt(1.2345678901234568e20, "#,##0"), "123,456,789,012,346,000,000");
+        assert_eq!(fmt(1234567890123456.5, "0.00"), "1234567890123460.00");
+        assert_eq!(fmt(1.2345678901234568e20, "0%"), "12345678901234600000000%");
+        assert_eq!(fmt(9.87654321098765e16, "\"x\"0"), "x98765432109876500");
+        assert_eq!(fmt(1234567890123456.5, "0,"), "1234567890123");
+        assert_eq!(fmt(-1e20, "0.00E+00"), "-1.00E+20");
     }
 
     #[test]

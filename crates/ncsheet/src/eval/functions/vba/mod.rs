@@ -1037,14 +1037,10 @@ fn radix_val(s: &str) -> Option<f64> {
     })
 }
 
-/// Format's text conversions: `>` writes the value in capitals, `<` in small letters.
-fn case_format(pattern: &str) -> Option<fn(&str) -> String> {
-    let rest = pattern.trim_matches('@');
-    match rest {
-        ">" => Some(str::to_uppercase),
-        "<" => Some(str::to_lowercase),
-        _ => None,
-    }
+/// Format's user-defined string formats (`@`, `&`, `<`, `>`, `!`: [`strings::format_string`]),
+/// which show any value as its text: `Format(5, "@@@")` is "  5".
+fn case_format(pattern: &str) -> Option<impl Fn(&str) -> String + '_> {
+    strings::is_string_format(pattern).then_some(move |text: &str| strings::format_string(text, pattern))
 }
 
 /// `Format(expression[, format[, firstdayofweek[, firstweekofyear]]])` ("Format function"):

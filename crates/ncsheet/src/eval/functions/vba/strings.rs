@@ -331,6 +331,110 @@ pub fn format_number_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     Ok(Value::text(if text.is_empty() || text == "-" { "0".to_string() } else { text }))
 }
 
+/// Whether `pattern` is one of Format's user-defined string formats: its first code
+/// character (outside quotes and `\` escapes) is `@`, `&`, `<`, `>` or `!`, where a number
+/// or date code starts with a digit placeholder, a separator or a date letter.
+pub fn is_string_format(pattern: &str) -> bool {
+    let mut chars = pattern.chars();
+    while let Some(c) = chars.next() {
+        match c.to_ascii_lowercase() {
+            '"' => {
+                chars.by_ref().find(|&q| q == '"');
+            }
+            '\\' => {
+                chars.next();
+            }
+            '@' | '&' | '<' | '>' | '!' => return true,
+            '0' | '#' | '.' | ',' | '%' | 'e' | '/' | ':' | 'a' | 'c' | 'd' | 'h' | 'm' | 'n' | 'q' | 's' | 't'
+            | 'w' | 'y' | 'g' | '[' => return false,
+            _ => {}
+        }
+    }
+    false
+}
+
+/// A piece of a string format's section.
+enum StringCode {
+    /// `@` (a character or a space) or `&` (a character or nothing).
+    Place(char),
+    Literal(String),
+}
+
+/// `text` under one of Format's user-defined string formats ("Format function",
+/// "User-defined string formats"): `@` shows a character or a space, `&` a character or
+/// nothing, the placeholders filled from right to left unless `!` asks for left to right;
+/// `<` writes the text in small letters, `>` in capitals; anything else, quoted or after
+/// `\`, as it is. A second section formats the zero-length string. Characters beyond the
+/// placeholders are kept, before them (or after them, filled from the left).
+pub fn format_string(text: &str, pattern: &str) -> String {
+    let (first, second) = split_string_sections(pattern);
+    let section = match second {
+        Some(second) if text.is_empty() => second,
+        _ => first,
+    };
+    let mut codes = Vec::new();
+    let mut left_to_right = false;
+    let mut case: Option<fn(&str) -> String> = None;
+    let mut chars = section.chars();
+    while let Some(c) = chars.next() {
+        match c {
+            '@' | '&' => codes.push(StringCode::Place(c)),
+            '!' => left_to_right = true,
+            '<' => case = Some(str::to_lowercase),
+            '>' => case = Some(str::to_uppercase),
+            '"' => codes.push(StringCode::Literal(chars.by_ref().take_while(|&q| q != '"').collect())),
+            '\\' => codes.push(StringCode::Literal(chars.next().map(String::from).unwrap_or_default())),
+            c => codes.push(StringCode::Literal(c.to_string())),
+        }
+    }
+    let text: Vec<char> = case.map_or_else(|| text.to_string(), |convert| convert(text)).chars().collect();
+    let places = codes.iter().filter(|c| matches!(c, StringCode::Place(_))).count();
+    // The text's index of each placeholder's character, and the characters beyond them.
+    let extra = text.len().saturating_sub(places);
+    let start = if left_to_right { 0 } else { text.len() as isize - places as isize };
+    let mut out = String::new();
+    let mut k = 0;
+    for code in &codes {
+        match code {
+            StringCode::Literal(s) => out.push_str(s),
+            StringCode::Place(p) => {
+                if k == 0 && !left_to_right {
+                    out.extend(&text[..extra]);
+                }
+                match usize::try_from(start + k as isize).ok().and_then(|i| text.get(i)) {
+                    Some(&ch) => out.push(ch),
+                    None if *p == '@' => out.push(' '),
+                    None => {}
+                }
+                k += 1;
+                if k == places && left_to_right {
+                    out.extend(&text[places.min(text.len())..]);
+                }
+            }
+        }
+    }
+    if places == 0 {
+        out.extend(&text);
+    }
+    out
+}
+
+/// A string format's sections: the text's, and the zero-length string's when there is one.
+fn split_string_sections(pattern: &str) -> (&str, Option<&str>) {
+    let mut quoted = false;
+    let mut escaped = false;
+    for (i, c) in pattern.char_indices() {
+        match c {
+            _ if escaped => escaped = false,
+            '\\' if !quoted => escaped = true,
+            '"' => quoted = !quoted,
+            ';' if !quoted => return (&pattern[..i], Some(&pattern[i + 1..])),
+            _ => {}
+        }
+    }
+    (pattern, None)
+}
+
 /// `VarType(varname)` of a value: vbEmpty 0, vbDouble 5, vbString 8, vbError 10, vbBoolean
 /// 11, vbArray + vbVariant 8204. (A variable declared `As Integer`, `Long`, … answers its
 /// declared type: the macro interpreter asks before it comes here.)
