@@ -44,3 +44,21 @@ fn for_each_row_of_whole_rows_is_a_whole_row() {
         run(&mut wb, "    Dim r\n    For Each r In Rows(\"2:3\").Rows\n        Debug.Print r.Address\n    Next");
     assert_eq!(printed, ["$2:$2", "$3:$3"]);
 }
+
+// "Range.HasFormula property" (Excel): "True if all cells in the range contain formulas; False
+// if none of the cells in the range contains a formula; null otherwise." A find-and-replace
+// module walks the used range asking `cl.HasFormula()` before it rewrites `cl.Formula`.
+#[test]
+fn has_formula_is_true_for_all_false_for_none_and_null_for_some() {
+    let mut wb = Workbook::with_sheet();
+    for (cell, v) in [("A1", "1"), ("A2", "=A1*2"), ("B1", "=A1"), ("B2", "=A2+1")] {
+        set(&mut wb, 0, cell, v);
+    }
+    let printed = run(
+        &mut wb,
+        "    Debug.Print Range(\"A1\").HasFormula & \" \" & Range(\"A2\").HasFormula & \" \" & Cells(2, 1).HasFormula()\n\
+         \x20   Debug.Print IsNull(Range(\"A1:A2\").HasFormula) & \" \" & Range(\"B1:B2\").HasFormula & \" \" & Range(\"C1:C9\").HasFormula\n\
+         \x20   Debug.Print IsNull(Range(\"A1:B3\").HasFormula) & \" \" & IsNull(Columns(2).HasFormula) & \" \" & IsNull(Cells.HasFormula)",
+    );
+    assert_eq!(printed, ["False True True", "True True False", "True True True"]);
+}

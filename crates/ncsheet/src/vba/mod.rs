@@ -95,7 +95,8 @@
 //! defined name), `Range(Cells(1, 1), Cells(2, 3))`, `Cells(r, c)` (c may be letters),
 //! `Worksheets("Name")` / `Worksheets(1)` / `Sheets` / `ActiveSheet`, `[B3]` and `[SUM(A1:A3)]`
 //! (formula text evaluated as in a cell), `Evaluate("…")`. Range members: `Value` (the
-//! default), `Value2`, `Formula`, `Text`, `Row`, `Column`, `Count`, `Rows`, `Columns`,
+//! default), `Value2`, `Formula`, `HasFormula` (True, False or Null), `Text`, `Row`,
+//! `Column`, `Count`, `Rows`, `Columns`,
 //! `Address`, `Offset`, `Resize`, `Cells`, `Item`, `ClearContents`, `Worksheet`, `Activate`,
 //! `Select`, `FormulaR1C1` (read and written in R1C1 notation: `=R[-1]C*2`), `End(xlUp)`
 //! (and `xlDown`, `xlToLeft`, `xlToRight`: Ctrl+arrow), `Copy` (with a destination: pasted at

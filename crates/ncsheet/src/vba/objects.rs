@@ -519,6 +519,7 @@ impl Interp<'_, '_> {
             // A whole column is all its 1,048,576 rows, not the used part (`whole_array`).
             "value" | "value2" => value(super::value::whole_array(ctx.rect_value(sheet, rect)).unwrap_single()),
             "formula" => value(self.formulas(sheet, rect, false)),
+            "hasformula" => value(self.has_formula(sheet, rect)),
             "formulalocal" => value(self.formulas_local(sheet, rect)),
             "formular1c1" | "formular1c1local" => value(self.formulas(sheet, rect, true)),
             "text" => value(Value::text(self.shown_text(ctx, sheet, rect.first))),
@@ -631,6 +632,17 @@ impl Interp<'_, '_> {
             }
         }
         Value::from(crate::eval::Array::new(rect.rows() as usize, rect.cols() as usize, items))
+    }
+
+    /// `.HasFormula` ("Range.HasFormula property"): True when every cell of the range holds a
+    /// formula, False when none does, Null when some do.
+    fn has_formula(&self, sheet: SheetId, rect: Rect) -> Value {
+        let formulas = self.wb.borrow().formula_cells_in(sheet, rect);
+        match formulas {
+            0 => Value::Bool(false),
+            n if n == u64::from(rect.rows()) * u64::from(rect.cols()) => Value::Bool(true),
+            _ => Value::Null,
+        }
     }
 
     /// `.FormulaLocal`: the formulas as the workbook's locale spells them (`;` between

@@ -910,6 +910,16 @@ impl Workbook {
         self.sheets[sheet as usize].get(pos).is_some_and(|id| self.cells[id as usize].formula != NO_FORMULA)
     }
 
+    /// How many cells of `rect` hold a formula (the cells stored, not each position: a whole
+    /// sheet is counted at the cost of its used cells).
+    pub fn formula_cells_in(&self, sheet: SheetId, rect: Rect) -> u64 {
+        let mut count = 0;
+        if let Some(s) = self.sheets.get(sheet as usize) {
+            s.for_each_in(rect, &mut |_, id| count += u64::from(self.cells[id as usize].formula != NO_FORMULA));
+        }
+        count
+    }
+
     /// A1 to the last row and column holding a value (`None` for an empty sheet).
     pub fn used_rect(&self, sheet: SheetId) -> Option<Rect> {
         Env::used_rect(self, sheet)
