@@ -118,6 +118,12 @@ pub trait Env {
     /// The next number 0 ≤ x < 1 of the workbook's random sequence (its `Settings`).
     fn next_random(&self) -> f64;
 
+    /// VBA's `Rnd(n)` from the workbook's own VBA generator (`Settings::vba_rnd`); an
+    /// environment without a workbook draws from its random sequence.
+    fn vba_rnd(&self, _n: f64) -> f64 {
+        self.next_random()
+    }
+
     /// The user's locale, which text-to-number conversions follow (the workbook's `Settings`).
     fn locale(&self) -> crate::eval::Locale {
         crate::eval::Locale::EN_US

@@ -17,12 +17,69 @@ pub struct Settings {
     pub locale: super::Locale,
     /// The state of the random sequence: 0 seeds it from the system clock at the next draw.
     random: Cell<u64>,
+    /// VBA's own generator, which the macros' `Rnd` and `Randomize` use (not RAND's).
+    pub vba_rnd: VbaRnd,
     /// How much the workbook's own VBA Functions may run when its cells call them.
     pub functions: FunctionLimits,
     /// The work the LAMBDAs of MAP, REDUCE, SCAN, BYROW, BYCOL and MAKEARRAY may do in one
     /// formula; `None`: ncsheet's limit, `MAX_LAMBDA_WORK` (docs/limits.md). A smaller budget
     /// lets a test show what is charged without doing 2^28 items of work.
     pub lambda_work: Option<u64>,
+}
+
+/// VBA's `Rnd` generator, as Microsoft's KB 231847 gives it: x1 = (x0 × 1140671485 +
+/// 12820163) mod 2^24, Rnd = x1 / 2^24, from x0 = 327680 when the session starts; so a macro
+/// that draws without `Randomize` gets the numbers Excel's VBA gives in a fresh session
+/// (0.7055475, 0.533424, 0.5795186, …). The state is the workbook's, as Excel keeps one per
+/// session: a second macro run on the same document goes on with the sequence.
+#[derive(Clone, Debug)]
+pub struct VbaRnd(Cell<u32>);
+
+/// x0 of a new session (KB 231847).
+const VBA_RND_START: u32 = 327_680;
+const VBA_RND_MODULUS: u32 = 1 << 24;
+
+impl Default for VbaRnd {
+    fn default() -> VbaRnd {
+        VbaRnd(Cell::new(VBA_RND_START))
+    }
+}
+
+impl VbaRnd {
+    /// `Rnd(n)` ("Rnd function"): the next number for n > 0 (or none given), the last one
+    /// again for n = 0, and for n < 0 the same number every time for that n (its Single's bits
+    /// become the state before the step).
+    pub fn draw(&self, n: f64) -> f64 {
+        let mut x = self.0.get();
+        if n < 0.0 {
+            let bits = (n as f32).to_bits();
+            x = bits.wrapping_add(bits >> 24) % VBA_RND_MODULUS;
+        }
+        if n != 0.0 {
+            x = ((u64::from(x) * 1_140_671_485 + 12_820_163) % u64::from(VBA_RND_MODULUS)) as u32;
+        }
+        self.0.set(x);
+        f64::from(x) / f64::from(VBA_RND_MODULUS)
+    }
+
+    /// `Randomize n`: the Double's high bytes, folded, become the middle bytes of the state;
+    /// its low byte stays ("Randomize statement": the same number does not repeat a sequence
+    /// by itself; `Rnd(-1)` just before it does).
+    pub fn randomize(&self, n: f64) {
+        let b = n.to_le_bytes();
+        self.mix(b[4] ^ b[6], b[5] ^ b[7]);
+    }
+
+    /// `Randomize` alone: the same from `Timer`'s seconds as a Single.
+    pub fn randomize_from_timer(&self, seconds: f32) {
+        let b = seconds.to_le_bytes();
+        self.mix(b[0] ^ b[2], b[1] ^ b[3]);
+    }
+
+    fn mix(&self, middle: u8, high: u8) {
+        let x = self.0.get();
+        self.0.set((u32::from(high) << 16) | (u32::from(middle) << 8) | (x & 0xFF));
+    }
 }
 
 /// The limits of the workbook's VBA Functions called from its cells: each call's, and all the
@@ -113,5 +170,45 @@ mod tests {
             assert!((0.0..1.0).contains(&x));
             assert_eq!(x, b.next_random());
         }
+    }
+}
+
+#[cfg(test)]
+mod vba_rnd_tests {
+    use super::VbaRnd;
+
+    /// KB 231847's generator worked in Python's integers from x0 = 327680:
+    /// (x * 1140671485 + 12820163) % 2**24 / 2**24 gives 0.7055475115776062,
+    /// 0.5334240198135376, 0.5795186161994934, the first three Rnd values the VBA of a fresh
+    /// Excel session prints (microsoft.public.excel.worksheet.functions, "How to get repeatable
+    /// Excel RAND sequence?", 2010: 0.705547511577606, 0.533424019813537, 0.579518616199493).
+    /// Rnd(-1) is 0.2240070104598999 (the widely quoted 0.224007), every time, and Rnd(0)
+    /// repeats the last number.
+    #[test]
+    fn rnd_follows_vbas_generator() {
+        let rnd = VbaRnd::default();
+        assert_eq!(rnd.draw(1.0), 0.7055475115776062);
+        assert_eq!(rnd.draw(1.0), 0.5334240198135376);
+        assert_eq!(rnd.draw(0.0), 0.5334240198135376);
+        assert_eq!(rnd.draw(1.0), 0.5795186161994934);
+        assert_eq!(rnd.draw(-1.0), 0.2240070104598999);
+        assert_eq!(rnd.draw(-1.0), 0.2240070104598999);
+    }
+
+    /// "Randomize statement": "To repeat sequences of random numbers, call Rnd with a negative
+    /// argument immediately before using Randomize with a numeric argument." After Rnd(-1),
+    /// Randomize 42 makes the state ((b4^b6) << 8 | (b5^b7) << 16 | its low byte) of 42.0's
+    /// bytes; Python gives the next Rnd as 0.907809317111969.
+    #[test]
+    fn rnd_minus_one_then_randomize_repeats_a_sequence() {
+        let rnd = VbaRnd::default();
+        let mut runs = Vec::new();
+        for _ in 0..2 {
+            rnd.draw(-1.0);
+            rnd.randomize(42.0);
+            runs.push((rnd.draw(1.0), rnd.draw(1.0)));
+        }
+        assert_eq!(runs[0], runs[1]);
+        assert_eq!(runs[0].0, 0.907809317111969);
     }
 }

@@ -109,6 +109,13 @@ impl Env for Interp<'_, '_> {
         }
     }
 
+    fn vba_rnd(&self, n: f64) -> f64 {
+        match self.cells {
+            Some(cells) => cells.vba_rnd(n),
+            None => self.wb.borrow().settings().vba_rnd.draw(n),
+        }
+    }
+
     // `Evaluate` and WorksheetFunction have the workbook's LAMBDA budget, as its cells do.
     fn lambda_work_limit(&self) -> u64 {
         match self.cells {

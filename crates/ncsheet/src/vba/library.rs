@@ -52,20 +52,22 @@ impl Interp<'_, '_> {
         }
     }
 
-    /// `Randomize [seed]`: restarts the document's random sequence from the seed, or from
-    /// the document's clock without one (VBA seeds from its system timer).
+    /// `Randomize [seed]` ("Randomize statement"): reseeds VBA's generator, the workbook's
+    /// (`Settings::vba_rnd`), from the number, or from `Timer` without one.
     pub(super) fn randomize(&self, seed: Option<&Expr>) -> Run<()> {
-        let number = match seed {
+        match seed {
             Some(e) => {
                 let v = self.eval(e)?;
-                crate::eval::coerce::to_number(&v, self.date_system())
-                    .map_err(|err| self.fault_at(self.expr_span(e), format!("Randomize needs a number, not {err}")))?
+                let number = crate::eval::coerce::to_number(&v, self.date_system())
+                    .map_err(|err| self.fault_at(self.expr_span(e), format!("Randomize needs a number, not {err}")))?;
+                self.wb.borrow().settings().vba_rnd.randomize(number);
             }
-            None => self.now(),
-        };
-        // Zero would mean "from the system clock at the next draw": a seed never is.
-        let seed = number.to_bits().max(1);
-        self.wb.borrow().settings().seed_random(seed);
+            None => {
+                let now = self.now();
+                let timer = ((now - now.floor()) * 86400.0) as f32;
+                self.wb.borrow().settings().vba_rnd.randomize_from_timer(timer);
+            }
+        }
         Ok(())
     }
 

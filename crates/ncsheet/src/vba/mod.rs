@@ -62,10 +62,10 @@
 //! `Replace` takes its start, count and compare (the text from start is returned); the Mid
 //! statement (`Mid(s, 5, 3) = "fox"`) replaces characters of a variable; `Application.Run
 //! "Proc", args` runs a procedure of the project by its name.
-//! `Timer` is the seconds since midnight of the document's clock and `Rnd` draws from the
-//! document's random sequence (the workbook's settings, as NOW and RAND do in cells):
-//! `Randomize seed` restarts it (`Randomize` alone from the clock), `Rnd(-n)` repeats for
-//! each n, `Rnd(0)` draws the next number (no "last number" is kept). `Erase a` sets every
+//! `Timer` is the seconds since midnight of the document's clock, and `Rnd` is VBA's own
+//! generator (KB 231847; its state is the workbook's settings', so a fresh document gives a
+//! fresh Excel session's numbers, 0.7055475 first): `Randomize n` reseeds it (`Randomize`
+//! alone from Timer), `Rnd(-n)` gives the same number for each n, `Rnd(0)` the last one. `Erase a` sets every
 //! item of a fixed-size array back to its default and keeps the bounds; a dynamic array
 //! (`Dim a()`, then ReDim) is freed and needs ReDim again (an array parameter is reset).
 //! `Stop` stops the macro with "Stop statement at line N" (there is no

@@ -308,6 +308,10 @@ impl Env for Probe<'_> {
         self.wb.settings.next_random()
     }
 
+    fn vba_rnd(&self, n: f64) -> f64 {
+        self.wb.settings.vba_rnd.draw(n)
+    }
+
     fn lambda_work_limit(&self) -> u64 {
         self.wb.settings.lambda_work_limit()
     }

@@ -1148,6 +1148,10 @@ impl Env for Workbook {
         self.settings.next_random()
     }
 
+    fn vba_rnd(&self, n: f64) -> f64 {
+        self.settings.vba_rnd.draw(n)
+    }
+
     fn lambda_work_limit(&self) -> u64 {
         self.settings.lambda_work_limit()
     }

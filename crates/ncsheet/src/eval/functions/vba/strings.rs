@@ -508,15 +508,12 @@ pub fn timer(ctx: &mut Ctx, _args: &[Expr]) -> XlResult<Value> {
     Ok(Value::Number((now - now.floor()) * 86400.0))
 }
 
-/// `Rnd[(number)]`: the next number 0 ≤ x < 1 of the document's random sequence (`Randomize`
-/// restarts it). A negative number gives the same result every time for that number, as
-/// VBA's does; zero draws the next number too (ncsheet keeps no "last number").
+/// `Rnd[(number)]` ("Rnd function"): VBA's generator, the workbook's (`Settings::vba_rnd`):
+/// the next number for a positive number or none, the last one for zero, the same one every
+/// time for a negative number.
 pub fn rnd(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let n = whole_or_fraction(ctx, args)?;
-    if n < 0.0 {
-        return Ok(Value::Number(repeatable(n)));
-    }
-    Ok(Value::Number(ctx.env.next_random()))
+    Ok(Value::Number(ctx.env.vba_rnd(n)))
 }
 
 fn whole_or_fraction(ctx: &mut Ctx, args: &[Expr]) -> XlResult<f64> {
@@ -527,15 +524,6 @@ fn whole_or_fraction(ctx: &mut Ctx, args: &[Expr]) -> XlResult<f64> {
     }
 }
 
-/// A number 0 ≤ x < 1 that depends only on `seed` (splitmix64 of its bits).
-fn repeatable(seed: f64) -> f64 {
-    let mut z = seed.to_bits().wrapping_add(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^= z >> 31;
-    (z >> 11) as f64 / (1u64 << 53) as f64
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -544,12 +532,5 @@ mod tests {
     fn proper_case_capitalises_each_word() {
         // "StrConv function": vbProperCase, first letter of every word uppercase.
         assert_eq!(proper_case("hELLO wORLD\tnc"), "Hello World\tNc");
-    }
-
-    #[test]
-    fn a_negative_seed_repeats() {
-        assert_eq!(repeatable(-1.0), repeatable(-1.0));
-        assert_ne!(repeatable(-1.0), repeatable(-2.0));
-        assert!((0.0..1.0).contains(&repeatable(-3.5)));
     }
 }
