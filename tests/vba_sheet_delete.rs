@@ -14,9 +14,8 @@
 mod common;
 
 use std::path::Path;
-use std::process::Command;
 
-use common::openpyxl::openpyxl_available;
+use common::openpyxl::{openpyxl_available, python};
 use common::sheet::{get_on as get, set_on as set};
 use common::vba::{main_fails as fails, run_main as run};
 use ncsheet::eval::{Value, XlError};
@@ -192,15 +191,7 @@ rels = z.read("xl/_rels/workbook.xml.rels").decode().count("relationships/worksh
 types = z.read("[Content_Types].xml").decode().count("spreadsheetml.worksheet+xml")
 print(len(parts), rels, types, sep="|")
 "#;
-    let out = Command::new("python3")
-        .arg("-c")
-        .arg(script)
-        .arg(book)
-        .arg(if data_only { "1" } else { "0" })
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    String::from_utf8(out.stdout).unwrap()
+    python(script, &[book, Path::new(if data_only { "1" } else { "0" })])
 }
 
 // After a delete, the saved xlsx has no part for the sheet, and its workbook.xml,
@@ -260,7 +251,7 @@ wb.save(sys.argv[1])
 "#;
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("span.xlsx");
-    common::openpyxl::python(script, &[&file]);
+    python(script, &[&file]);
     let mut wb = ncsheet::io::load(&file).unwrap();
     for sheet in ["Sheet2", "Sheet3", "Sheet1"] {
         let e = fails(&mut wb, &format!("    Sheets(\"{sheet}\").Delete"));
@@ -370,7 +361,7 @@ wb.save(sys.argv[1])
 "#;
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("book.xlsx");
-    common::openpyxl::python(script, &[&file]);
+    python(script, &[&file]);
     let remake = "Sub Main()\n    Application.DisplayAlerts = False\n    Worksheets(\"Merged\").Delete\n\
                   \x20   Worksheets.Add(After:=Sheets(1)).Name = \"Merged\"\n    Sheets(\"Merged\").Range(\"B1\").Value = 1\nEnd Sub\n";
     let mut doc = ncsheet::Document::open_file(&file, &ncsheet::document::OpenOptions::default()).unwrap();
