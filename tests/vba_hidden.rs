@@ -152,3 +152,27 @@ fn a_column_shown_again_inside_a_hidden_range_leaves_the_others_hidden() {
     assert!(printed.contains("FalseTrueTrue"), "{printed}");
     assert_eq!(hidden_by_openpyxl(&saved), "rows  columns D,F");
 }
+
+// Microsoft's "Change the column width or row height in Excel" gives the sizes' range as
+// "0 (hidden)" to 409 points for a row and to 255 characters for a column: a hidden row's
+// RowHeight and a hidden column's ColumnWidth read 0, and the height or width set before
+// comes back when the line is shown again; a range of hidden and shown rows is Null
+// ("Range.RowHeight": "Null if the rows in the specified range aren't all the same height").
+#[test]
+fn a_hidden_row_is_0_high_and_a_hidden_column_0_wide() {
+    let mut wb = Workbook::with_sheet();
+    let src = "Sub Main()\n\
+               Rows(3).RowHeight = 30\n\
+               Columns(\"C\").ColumnWidth = 20\n\
+               Rows(3).Hidden = True\n\
+               Rows(4).Hidden = True\n\
+               Columns(\"C\").Hidden = True\n\
+               Debug.Print Rows(3).RowHeight; Rows(4).RowHeight; Rows(5).RowHeight; Columns(\"C\").ColumnWidth\n\
+               Debug.Print Rows(\"3:4\").RowHeight; IsNull(Rows(\"4:5\").RowHeight)\n\
+               Rows(\"3:4\").Hidden = False\n\
+               Columns(\"C\").Hidden = False\n\
+               Debug.Print Rows(3).RowHeight; Rows(4).RowHeight; Columns(\"C\").ColumnWidth\n\
+               End Sub\n";
+    let out = vba::run(&mut wb, src, "hide.bas", &RunOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.printed, [" 0  0  15  0 ", " 0 True", " 30  15  20 "]);
+}

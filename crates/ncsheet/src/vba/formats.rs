@@ -486,6 +486,9 @@ impl Interp<'_, '_> {
     }
 
     fn edit_look(&self, sheet: SheetId, rect: Rect, edit: Edit, span: Span) -> Run<()> {
+        // A function called from a cell shares the macro's look but, as in Excel, cannot
+        // change it any more than it can change a cell.
+        drop(self.book_mut()?);
         let cells = rect.rows() as u64 * rect.cols() as u64;
         let mut looks = self.looks.borrow_mut();
         let state = looks.sheet(sheet);
@@ -504,15 +507,27 @@ impl Interp<'_, '_> {
         Ok(())
     }
 
-    /// A column's width: as the macro or the file set it, else the standard width.
+    /// A column's width: 0 while it is hidden (Excel's smallest width, "0 (hidden)"), else
+    /// as the macro or the file set it, else the standard width. The width set stays kept
+    /// for when the column is shown again.
     fn width(&self, sheet: SheetId, col: u32) -> f64 {
-        let own = self.looks.borrow().sheets.get(&sheet).and_then(|s| s.widths.get(&(col as u16)).copied());
+        let looks = self.looks.borrow();
+        let state = looks.sheets.get(&sheet);
+        if state.is_some_and(|s| s.hidden_columns.contains(&(col as u16))) {
+            return 0.0;
+        }
+        let own = state.and_then(|s| s.widths.get(&(col as u16)).copied());
         own.or_else(|| crate::eval::Env::column_width(&**self.wb.borrow(), sheet, col)).unwrap_or(STANDARD_WIDTH)
     }
 
+    /// A row's height: 0 while it is hidden, as a column's width.
     fn height(&self, sheet: SheetId, row: u32) -> f64 {
-        let own = self.looks.borrow().sheets.get(&sheet).and_then(|s| s.heights.get(&row).copied());
-        own.unwrap_or(STANDARD_HEIGHT)
+        let looks = self.looks.borrow();
+        let state = looks.sheets.get(&sheet);
+        if state.is_some_and(|s| s.hidden_rows.contains(&row)) {
+            return 0.0;
+        }
+        state.and_then(|s| s.heights.get(&row).copied()).unwrap_or(STANDARD_HEIGHT)
     }
 
     /// `ColumnWidth = w` for every column of `rect`; CELL("width") sees it too.
