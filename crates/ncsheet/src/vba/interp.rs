@@ -64,9 +64,12 @@ pub fn run(
         .collect();
     let entry = entry(module, options).map_err(|m| usage(file, m))?;
     let stem = std::path::Path::new(file).file_stem().and_then(|s| s.to_str()).unwrap_or("MACRO");
-    let looks = super::formats::Looks::new(wb, &options.looks);
+    // The workbook's own functions, called from cells while the macro runs, see the look
+    // it gives the cells (`Range.Text` in a function shows the format the macro set).
+    let looks = Rc::new(RefCell::new(super::formats::Looks::new(wb, &options.looks)));
+    super::udf::share_looks(wb, &looks);
     let mut it = Interp::new(module, options, source, Book::Mut(wb), None);
-    *it.looks.get_mut() = looks;
+    it.looks = looks;
     it.active.set(active);
     it.home = home;
     it.code_sheets = code_sheets;
@@ -103,8 +106,10 @@ pub fn call_function(
     options: &RunOptions,
     (proc, caller): (usize, (SheetId, Pos)),
     args: Vec<Var>,
+    looks: Rc<RefCell<super::formats::Looks>>,
 ) -> (Result<Value, MacroError>, u64) {
     let mut it = Interp::new(module, options, source, Book::Read(wb), Some(cells));
+    it.looks = looks;
     it.active.set(caller.0);
     it.caller = Some(caller);
     let result = it.start_function(proc, args);
@@ -141,6 +146,11 @@ fn it_error(source: &str, file: &str, fault: Fault, output: RunOutput) -> MacroE
         trace: fault.trace,
         output: Box::new(output),
     }
+}
+
+/// A compile error found as the statement runs: it stops the run, and no handler traps it.
+fn compile_error(message: String, span: Span) -> Fault {
+    Fault { kind: ErrorKind::Syntax, code: 0, message, span: Some(span), trace: Vec::new(), source: None }
 }
 
 fn usage(file: &str, message: String) -> MacroError {
@@ -303,8 +313,9 @@ pub struct Interp<'m, 'w> {
     pub(super) clipboard: RefCell<Option<(SheetId, Rect)>>,
     /// The array a class's Function last returned, with its bounds (`classes.rs`).
     pub(super) method_array: RefCell<Option<super::value::VArray>>,
-    /// How the sheets' cells look (number formats, styles, widths), `formats.rs`.
-    pub(super) looks: RefCell<super::formats::Looks>,
+    /// How the sheets' cells look (number formats, styles, widths), `formats.rs`: shared by a
+    /// macro with the workbook's functions its writes recompute.
+    pub(super) looks: Rc<RefCell<super::formats::Looks>>,
     /// Explanations the last evaluation left (why a value is an error).
     notes: RefCell<Vec<String>>,
     /// Bytes of `Debug.Print` and `MsgBox` output so far, against [`RunOptions::max_output`].
@@ -375,7 +386,7 @@ impl<'m, 'w> Interp<'m, 'w> {
             cursors: RefCell::new(std::collections::HashMap::new()),
             clipboard: RefCell::new(None),
             method_array: RefCell::new(None),
-            looks: RefCell::new(super::formats::Looks::default()),
+            looks: Rc::new(RefCell::new(super::formats::Looks::default())),
             notes: RefCell::new(Vec::new()),
             output_bytes: Cell::new(0),
             charged: Cell::new(0),
@@ -1635,17 +1646,7 @@ impl Interp<'_, '_> {
             StmtKind::Randomize(seed) => self.randomize(seed.as_ref())?,
             StmtKind::Erase(names) => self.erase(names, stmt.span)?,
             StmtKind::File(f) => self.file_stmt(f, stmt.span)?,
-            StmtKind::CompileError(message) => {
-                let message = message.to_string();
-                return Err(Fault {
-                    kind: ErrorKind::Syntax,
-                    code: 0,
-                    message,
-                    span: Some(stmt.span),
-                    trace: Vec::new(),
-                    source: None,
-                });
-            }
+            StmtKind::CompileError(message) => return Err(compile_error(message.to_string(), stmt.span)),
         }
         Ok(Flow::Next)
     }
@@ -2445,6 +2446,16 @@ impl Interp<'_, '_> {
     }
 
     fn for_each(&self, var: &Rc<str>, group: &Expr, body: &Block, span: Span) -> Run<Flow> {
+        // VBA goes through an array or a collection with a Variant (or an object) only: an
+        // Integer `m` would round each item ("For Each control variable must be Variant or
+        // Object", a compile error in VBA, which no handler traps).
+        let ty = self.with_slot(var, |s| s.ty.clone()).flatten();
+        if ty.is_some_and(|t| !matches!(t, Ty::Variant | Ty::Object)) {
+            let message = format!(
+                "For Each control variable must be Variant or Object: {var} is declared otherwise (Dim {var} As Variant)"
+            );
+            return Err(compile_error(message, span));
+        }
         // The type of the number each item holds, which the element variable keeps (a Date,
         // the Integer 1 of `Array(1, 2.5)`; [MS-VBAL] 5.4.2.4: it is let-assigned each
         // element, which keeps its Variant subtype).

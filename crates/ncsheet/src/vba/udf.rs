@@ -6,7 +6,7 @@
 
 use std::rc::Rc;
 
-use std::cell::Cell;
+use std::cell::{Cell, RefCell};
 use std::time::{Duration, Instant};
 
 use crate::eval::settings::FunctionLimits;
@@ -14,6 +14,7 @@ use crate::eval::{Env, Note, Operand, UserCall, Value, XlError};
 use crate::workbook::{UserFunctions, Workbook};
 
 use super::ast::{Module, ProcKind};
+use super::formats::Looks;
 use super::project::{ModuleKind, VbaProject};
 use super::value::{array_var, Obj, Var};
 use super::{interp, parse_with, Deadline, MacroError, RunOptions};
@@ -44,6 +45,19 @@ pub struct WorkbookFunctions {
     spent: Cell<u64>,
     /// When the current recalculation began, for `FunctionLimits::seconds_per_recalculation`.
     began: Cell<Instant>,
+    /// How the cells look (`Range.Text`, `NumberFormat`): the file's, then the look of the
+    /// macro running or last run on the workbook, which its calls share ([`share_looks`]).
+    looks: RefCell<Rc<RefCell<Looks>>>,
+}
+
+/// Gives the workbook's own functions, when `wb` has them, the look `looks` of a macro that
+/// starts: the cells they recompute while it runs show the formats it sets, as in Excel,
+/// and so do later calls, the document keeping that look.
+pub(super) fn share_looks(wb: &Workbook, looks: &Rc<RefCell<Looks>>) {
+    let ours = wb.user_functions().and_then(|f| f.as_any().downcast_ref::<WorkbookFunctions>());
+    if let Some(functions) = ours {
+        *functions.looks.borrow_mut() = Rc::clone(looks);
+    }
 }
 
 /// Installs the functions of `project` into `wb` (recomputing the cells that call them), each
@@ -85,7 +99,8 @@ impl WorkbookFunctions {
                 Err(e) => errors.push(e),
             }
         }
-        (WorkbookFunctions { modules, options, spent: Cell::new(0), began: Cell::new(Instant::now()) }, errors)
+        let looks = RefCell::new(Rc::new(RefCell::new(Looks::new(wb, &options.looks))));
+        (WorkbookFunctions { modules, options, spent: Cell::new(0), began: Cell::new(Instant::now()), looks }, errors)
     }
 
     /// The module and procedure a cell's call of `name` means, with its volatility.
@@ -125,6 +140,10 @@ impl UserFunctions for WorkbookFunctions {
         self.began.set(Instant::now());
     }
 
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+
     fn call(&self, wb: &Workbook, cells: &dyn Env, call: &UserCall) -> Result<Value, Note> {
         let Some((m, proc, _)) = self.find(call.name) else { return Ok(Value::Error(XlError::Name)) };
         let limits = wb.settings().functions;
@@ -162,8 +181,9 @@ impl UserFunctions for WorkbookFunctions {
                 Operand::Areas(areas) => Var::Obj(Obj::Range(areas[0].0, areas[0].1)),
             })
             .collect();
+        let looks = Rc::clone(&self.looks.borrow());
         let (result, steps) =
-            interp::call_function(&m.module, wb, cells, &m.source, &m.name, &options, (proc, caller), args);
+            interp::call_function(&m.module, wb, cells, &m.source, &m.name, &options, (proc, caller), args, looks);
         // A call stopped at its limit counted the statement it stopped at too.
         self.spent.set(self.spent.get().saturating_add(steps.min(options.max_statements)));
         match result {

@@ -24,9 +24,18 @@ pub trait UserFunctions {
 
     /// A recalculation starts: the budget all its calls share is full again.
     fn begin_recalculation(&self) {}
+
+    /// The provider as itself, for the macro layer that made it to reach its own state (a
+    /// running macro shares the cells' look with the functions it recomputes).
+    fn as_any(&self) -> &dyn std::any::Any;
 }
 
 impl Workbook {
+    /// The workbook's own functions, once installed.
+    pub fn user_functions(&self) -> Option<&Rc<dyn UserFunctions>> {
+        self.user_functions.as_ref()
+    }
+
     /// Installs the workbook's own functions and recomputes the cells that call them (and
     /// what reads those): before, such a call was `#NAME?`.
     pub fn set_user_functions(&mut self, functions: Rc<dyn UserFunctions>) {
