@@ -214,6 +214,34 @@ fn cells_without_references_stop_at_the_sheets_edge() {
     assert!(took < Duration::from_secs(30), "{took:?}");
 }
 
+/// A sheet's `<col>` elements repeated (issue 30, seventh round): each column is kept once
+/// however many elements name it. 200,000 `<col min="3" max="16384" hidden="1"/>` (a 750 KB
+/// file) hid 3.3 billion columns one by one and 1,000,000 `<col min="1" max="1024"
+/// width="3"/>` asked for a billion widths: both aborted at the cap. ECMA-376 Part 1,
+/// 18.3.1.13 (`col`): min and max are the first and last column, 1-based, the element sets
+/// their width and `hidden`; a later element wins where two overlap, as before the fix, so
+/// column B keeps the width of the last element naming it (VBA reference, "Range.ColumnWidth")
+/// and C and XFD are hidden (`Debug.Print` writes no space between two Booleans).
+#[test]
+fn repeated_column_ranges_cost_their_columns_not_their_count() {
+    let dir = tempfile::tempdir().unwrap();
+    // Each element differs (`style`), or the part would be refused as a zip bomb first.
+    let hidden: String =
+        (0..200_000).map(|i| format!(r#"<col min="3" max="16384" hidden="1" style="{i}"/>"#)).collect();
+    let sized: String = (0..1_000_000).map(|i| format!(r#"<col min="1" max="1024" width="3" style="{i}"/>"#)).collect();
+    let last = r#"<col min="2" max="2" width="12.5"/>"#;
+    let sheet = format!(
+        "<worksheet><cols>{hidden}{sized}{last}</cols><sheetData><row r=\"1\"><c r=\"A1\"><v>1</v></c></row></sheetData></worksheet>"
+    );
+    workbook_with(dir.path(), "cols.xlsx", small("xl/worksheets/sheet1.xml", &sheet));
+    let (code, out, err, _) = ncsheet(dir.path(), &["eval", "cols.xlsx", "A1"]);
+    assert_eq!((code, out.trim()), (0, "1"), "{err}");
+    let bas = "Sub Main()\n    Debug.Print Columns(\"B\").ColumnWidth; Columns(\"C\").Hidden; Columns(\"XFD\").Hidden\nEnd Sub\n";
+    std::fs::write(dir.path().join("cols.bas"), bas).unwrap();
+    let (code, _, err, _) = ncsheet(dir.path(), &["run", "cols.xlsx", "cols.bas"]);
+    assert_eq!((code, printed(&err)), (0, "12.5 TrueTrue"), "{err}");
+}
+
 // ---------------------------------------------------------------------------------------
 // csv
 

@@ -22,7 +22,7 @@ use calamine::{Reader, Style, Xlsx};
 
 use crate::eval::format::cell_style::{self, CellStyle};
 use crate::eval::{Env, RowHidden, Value, XlError};
-use crate::formula::address::{Pos, Rect};
+use crate::formula::address::{Pos, Rect, MAX_COLS};
 use crate::formula::ast::SheetId;
 use crate::formula::parse::ParseError;
 use crate::workbook::{Workbook, WorkbookError};
@@ -1015,27 +1015,54 @@ fn sheet_layout(scan: &SheetScan, looks: &[StyleLook]) -> SheetLayout {
         array_formulas: scan.arrays.iter().map(|a| (a.anchor, *a)).collect(),
         ..SheetLayout::default()
     };
-    for &(first, last, width) in &scan.widths {
-        // `<col min="1" max="16384">` sets the width of the rest of the sheet; only ranges a
-        // user sized are worth carrying.
-        if last - first < 1024 {
-            layout.look.column_widths.extend((first..=last).map(|c| (c as u16, width)));
-        }
-    }
+    layout.look.column_widths = column_widths(&scan.widths);
     let styled = || scan.styled.iter().filter_map(|&(pos, style)| Some((pos, looks.get(style as usize)?)));
     layout.look.number_formats = styled().filter_map(|(pos, look)| Some((pos, look.format.as_ref()?))).collect();
     layout.look.cell_styles =
         styled().filter(|(_, look)| !look.style.is_plain()).map(|(pos, look)| (pos, &look.style)).collect();
     layout.look.row_heights = scan.row_heights.clone();
     layout.look.hidden_rows = scan.hidden_rows.clone();
-    // Every hidden column, those of a range to the sheet's end included (a sheet hides its
-    // unused columns so): at most 16384 a sheet.
-    for &(first, last) in &scan.hidden_columns {
-        layout.look.hidden_columns.extend((first..=last).map(|c| c as u16));
-    }
-    layout.look.hidden_columns.sort_unstable();
-    layout.look.hidden_columns.dedup();
+    layout.look.hidden_columns = hidden_columns(&scan.hidden_columns);
     layout
+}
+
+/// The width of each column the `<col>` elements size, a later element winning where two
+/// overlap. Each column is set once however often the file repeats it: 1,000,000 elements
+/// `<col min="1" max="1024">` (a 3.8 MB file) asked for a billion entries and aborted.
+fn column_widths(cols: &[(u32, u32, f64)]) -> Vec<(u16, f64)> {
+    if cols.is_empty() {
+        return Vec::new();
+    }
+    let mut unset: std::collections::BTreeSet<u32> = (0..MAX_COLS).collect();
+    let mut widths = Vec::new();
+    for &(first, last, width) in cols.iter().rev() {
+        // `<col min="1" max="16384">` sets the width of the rest of the sheet; only ranges a
+        // user sized are worth carrying.
+        if last - first >= 1024 {
+            continue;
+        }
+        let sized: Vec<u32> = unset.range(first..=last).copied().collect();
+        for col in sized {
+            unset.remove(&col);
+            widths.push((col as u16, width));
+        }
+    }
+    widths.sort_unstable_by_key(|&(col, _)| col);
+    widths
+}
+
+/// Every hidden column, those of a range to the sheet's end included (a sheet hides its unused
+/// columns so), once: the ranges are merged first, so 200,000 elements
+/// `<col min="1" max="16384" hidden="1">` cost their number, not 3 billion columns.
+fn hidden_columns(ranges: &[(u32, u32)]) -> Vec<u16> {
+    let mut ranges = ranges.to_vec();
+    ranges.sort_unstable();
+    let mut hidden: Vec<u16> = Vec::new();
+    for (first, last) in ranges {
+        let from = hidden.last().map_or(first, |&seen| first.max(u32::from(seen) + 1));
+        hidden.extend((from..=last).map(|c| c as u16));
+    }
+    hidden
 }
 
 /// The package as calamine is given it: as read, or, when the workbook lists a sheet whose
