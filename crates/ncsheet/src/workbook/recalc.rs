@@ -225,8 +225,11 @@ pub struct Scratch {
     order: Vec<u32>,
     /// The values cells held before this recalculation evaluated them and found new
     /// references made at run time (OFFSET, INDEX, INDIRECT): one of them that turns out
-    /// circular keeps that value, as a cell whose formula names its cycle does.
-    before_relink: FxMap<u32, Value>,
+    /// circular keeps that value, as a cell whose formula names its cycle does. With
+    /// iterative calculation on, every evaluated cell's: a cycle those references reveal
+    /// only in a later pass iterates from the values it had before, not from the first
+    /// pass's, which read cells not yet computed (`Workbook::iteration_start`).
+    pub(super) before_relink: FxMap<u32, Value>,
     /// The locale in force for this recalculation, found once at its start: with a fixed
     /// clock it holds the clock's year, a date conversion too many to make for every cell.
     locale: Locale,
@@ -593,6 +596,7 @@ impl Workbook {
             && dynamic_refs.capacity() == 0
             && self.notes.is_empty()
             && self.dynamic_refs.is_empty()
+            && self.iteration.is_none()
         {
             std::mem::forget(notes);
             std::mem::forget(dynamic_refs);
@@ -622,8 +626,15 @@ impl Workbook {
             self.notes.insert(id, notes);
             self.fresh_notes.push(id);
         }
-        // Only a cell making references at run time may find itself in a cycle after the fact.
-        let before = (!dynamic_refs.is_empty()).then(|| self.cells[id as usize].value.clone());
+        // Only a cell making references at run time may find itself in a cycle after the fact;
+        // an iterating cycle found so starts from every one of its cells' earlier values.
+        let iterating = self.iteration.is_some();
+        let before = (!dynamic_refs.is_empty() || iterating).then(|| self.cells[id as usize].value.clone());
+        if iterating {
+            if let Some(before) = &before {
+                self.scratch.before_relink.entry(id).or_insert_with(|| before.clone());
+            }
+        }
         self.set_result(id, value, late);
         if (!dynamic_refs.is_empty() || !self.dynamic_refs.is_empty()) && self.relink_dynamic(id, dynamic_refs) {
             if let Some(before) = before {
