@@ -343,6 +343,54 @@ fn rows_and_entire_row_delete_and_insert() {
     assert_eq!(wb.value(0, at("B3")), n(115.0));
 }
 
+// A Range object is a reference to its cells, as a formula's is: Excel's `Set r =
+// Range("B5")` then `Rows(2).Insert` leaves r on B6 with B5's value, a range cut by a delete
+// shrinks, one inserted into grows, whole columns stay whole; one whose cells were all
+// deleted is gone, and using it is run-time error 424 ("Object required", Microsoft's
+// "Trappable errors"). Held anywhere: a variable, a Collection's item, a With block, a
+// Static. Addresses worked by hand from the rows and columns moved; Debug.Print's commas
+// go to the next 14-column print zone, a number printed with a space for its sign and one
+// after it.
+#[test]
+fn range_variables_follow_their_cells_through_insert_and_delete() {
+    let mut wb = Workbook::with_sheet();
+    wb.add_sheet("Other").unwrap();
+    let printed = run(
+        &mut wb,
+        "    Dim r As Range, tall As Range, far As Range, cols As Range, there As Range, c As New Collection
+    Static kept As Range
+    Set r = Range(\"B5\")
+    Set tall = Range(\"B3:B7\")
+    Set far = Range(\"C9\")
+    Set cols = Range(\"D:E\")
+    Set there = Worksheets(\"Other\").Range(\"B5\")
+    Set kept = Range(\"A1\")
+    c.Add Range(\"D4\")
+    r.Value = 7
+    Rows(2).Insert
+    Debug.Print r.Address, r.Value, tall.Address, c(1).Address, cols.Address, there.Address, kept.Address
+    Rows(6).Delete
+    Debug.Print tall.Address, far.Address
+    With tall
+        Columns(\"A\").Insert
+        Debug.Print .Address, far.Address, cols.Address
+    End With
+    Dim a As String
+    On Error Resume Next
+    a = r.Address
+    Debug.Print Err.Number, a = \"\"",
+    );
+    assert_eq!(
+        printed,
+        [
+            "$B$6           7            $B$4:$B$8     $D$5          $D:$E         $B$5          $A$1",
+            "$B$4:$B$7     $C$9",
+            "$C$4:$C$7     $D$9          $E:$F",
+            " 424          True",
+        ]
+    );
+}
+
 #[test]
 fn columns_and_entire_column_delete_and_insert() {
     let mut wb = Workbook::with_sheet();

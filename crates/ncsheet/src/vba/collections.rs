@@ -229,6 +229,11 @@ fn key_bytes(key: Option<&Value>) -> u64 {
 }
 
 impl Store {
+    /// The items, to change in place (a macro's Range objects following an insert or delete).
+    pub(super) fn items_mut(&mut self) -> impl Iterator<Item = &mut Var> {
+        self.entries.iter_mut().flatten().map(|(_, item, _)| item)
+    }
+
     fn form(&self, key: &Value) -> Result<KeyForm, String> {
         let ignore_case = self.text_compare || self.class == Class::Collection;
         Ok(match key {

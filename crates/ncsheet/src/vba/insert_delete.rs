@@ -2,6 +2,9 @@
 //! `Columns("B").Delete`): the workbook's shift-cells edit (`workbook/shift.rs`), with every
 //! formula's references following the cells, as Excel's do.
 
+use std::collections::HashSet;
+use std::rc::Rc;
+
 use crate::eval::{Ctx, Value};
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::formula::ast::SheetId;
@@ -10,7 +13,7 @@ use crate::workbook::{Axis, SheetEdit};
 use super::ast::Link;
 use super::interp::{one_line, Interp, Run};
 use super::sheet_ops::argument;
-use super::value::Obj;
+use super::value::{Obj, Slot, Var};
 
 /// `XlDeleteShiftDirection` and `XlInsertShiftDirection`: `xlShiftUp` (-4162) and
 /// `xlShiftToLeft` (-4159) for Delete, `xlShiftDown` (-4121) and `xlShiftToRight` (-4161)
@@ -72,6 +75,109 @@ impl Interp<'_, '_> {
             self.error_1004(link.span, format!("{member} method of Range class failed: {}", one_line(&e)))
         })?;
         self.looks.borrow_mut().follow(sheet, &edit);
+        self.follow_range_objects(sheet, &edit);
         Ok(Obj::Value(Value::Blank))
+    }
+
+    /// Every Range object the macro holds on `sheet` (in its variables, Static ones, With
+    /// blocks, arrays, Types, Collections, Dictionaries and class objects) moved with its
+    /// cells, as Excel's do: `Set r = Range("B5")`, then `Rows(2).Insert`, and `r` is B6; one
+    /// whose cells were all deleted is gone (error 424 when used).
+    fn follow_range_objects(&self, sheet: SheetId, edit: &SheetEdit) {
+        let mut follow = Follow { sheet, edit, seen: HashSet::new(), shared: Vec::new() };
+        for slots in self.globals.borrow_mut().iter_mut() {
+            slots.iter_mut().for_each(|slot| follow.slot(slot));
+        }
+        for frame in self.frames.borrow_mut().iter_mut() {
+            frame.vars.iter_mut().for_each(|slot| follow.slot(slot));
+            frame.with_objects().for_each(|obj| follow.obj(obj));
+            if let Some(me) = &frame.me {
+                follow.obj(&mut Obj::Instance(me.clone()));
+            }
+        }
+        for slot in self.kept.borrow_mut().values_mut().flatten() {
+            follow.slot(slot);
+        }
+        follow.shared_objects();
+    }
+}
+
+/// A walk over what the macro holds, moving Range objects through one edit of `sheet`.
+struct Follow<'e> {
+    sheet: SheetId,
+    edit: &'e SheetEdit,
+    /// The Collections, Dictionaries and class objects met, by address: each is walked once,
+    /// however many variables hold it.
+    seen: HashSet<*const ()>,
+    /// Those met and not walked yet: walked one after another, not inside the one holding
+    /// them, so a long chain of them does not take the native stack.
+    shared: Vec<Obj>,
+}
+
+impl Follow<'_> {
+    fn slot(&mut self, slot: &mut Slot) {
+        let may_hold_objects = match slot.var() {
+            Var::Value(_) => false,
+            Var::Array(a) => a.objects.is_some() || a.records.is_some() || a.arrays.is_some(),
+            Var::Obj(_) | Var::Record(..) => true,
+        };
+        if may_hold_objects {
+            self.var_tree(slot.var_mut());
+        }
+    }
+
+    /// `var` and what it holds: arrays' items, Types' fields (an explicit stack: no recursion).
+    fn var_tree(&mut self, var: &mut Var) {
+        let mut pending = vec![var];
+        while let Some(var) = pending.pop() {
+            match var {
+                Var::Value(_) => {}
+                Var::Obj(obj) => self.obj(obj),
+                Var::Record(_, fields) => pending.extend(fields.iter_mut()),
+                Var::Array(a) => {
+                    if let Some(objects) = &mut a.objects {
+                        Rc::make_mut(objects).values_mut().for_each(|obj| self.obj(obj));
+                    }
+                    if let Some(records) = &mut a.records {
+                        pending.extend(Rc::make_mut(records).iter_mut());
+                    }
+                    if let Some(arrays) = &mut a.arrays {
+                        for inner in Rc::make_mut(arrays).values_mut() {
+                            if let Some(objects) = &mut inner.objects {
+                                Rc::make_mut(objects).values_mut().for_each(|obj| self.obj(obj));
+                            }
+                            if let Some(records) = &mut inner.records {
+                                pending.extend(Rc::make_mut(records).iter_mut());
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    fn obj(&mut self, obj: &mut Obj) {
+        match obj {
+            Obj::Range(s, rect) | Obj::Lines(s, rect, _) | Obj::Look(s, rect, _) if *s == self.sheet => {
+                match self.edit.moved_rect(*rect) {
+                    Some(moved) => *rect = moved,
+                    None => *obj = Obj::DeletedRange(self.sheet),
+                }
+            }
+            Obj::Store(h) if self.seen.insert(Rc::as_ptr(&h.0) as *const ()) => self.shared.push(obj.clone()),
+            Obj::Instance(o) if self.seen.insert(Rc::as_ptr(&o.0) as *const ()) => self.shared.push(obj.clone()),
+            _ => {}
+        }
+    }
+
+    /// The Collections, Dictionaries and class objects met, and those they hold in turn.
+    fn shared_objects(&mut self) {
+        while let Some(obj) = self.shared.pop() {
+            match obj {
+                Obj::Store(h) => h.0.borrow_mut().items_mut().for_each(|item| self.var_tree(item)),
+                Obj::Instance(o) => o.0.fields.borrow_mut().iter_mut().for_each(|slot| self.slot(slot)),
+                _ => {}
+            }
+        }
     }
 }

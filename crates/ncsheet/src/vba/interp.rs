@@ -258,6 +258,13 @@ pub(super) struct Frame {
     pub(super) me: Option<Instance>,
 }
 
+impl Frame {
+    /// The running With blocks' objects, to change in place (a Range following an insert).
+    pub(super) fn with_objects(&mut self) -> impl Iterator<Item = &mut Obj> {
+        self.with.iter_mut().filter_map(|(_, obj)| obj.as_mut())
+    }
+}
+
 /// What a call of a class module's procedure brings besides its arguments: the object it
 /// runs for, and the value a Property Let or Set assigns (its last parameter).
 #[derive(Default)]

@@ -225,6 +225,7 @@ impl Interp<'_, '_> {
             },
             Obj::Sheet(id) => self.sheet_member(ctx, id, link),
             Obj::Range(sheet, rect) => self.range_member(ctx, sheet, rect, link),
+            Obj::DeletedRange(_) => unreachable!("alive refuses a Range whose cells were deleted"),
             Obj::Lines(sheet, rect, rows) => match name.as_str() {
                 "count" => Ok(Obj::Value(Value::Number(if rows { rect.rows() } else { rect.cols() } as f64))),
                 "item" => self.line(ctx, sheet, rect, rows, link),

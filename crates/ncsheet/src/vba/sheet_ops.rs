@@ -183,14 +183,19 @@ impl Interp<'_, '_> {
     /// not reach another sheet's cells; this says why nothing is there).
     pub(super) fn alive(&self, obj: Obj, span: Span) -> Run<Obj> {
         let sheet = match &obj {
-            Obj::Sheet(s) | Obj::Range(s, _) | Obj::Lines(s, ..) | Obj::Look(s, ..) => *s,
+            Obj::Sheet(s) | Obj::Range(s, _) | Obj::Lines(s, ..) | Obj::Look(s, ..) | Obj::DeletedRange(s) => *s,
             _ => return Ok(obj),
         };
         let wb = self.wb.borrow();
-        if !wb.sheet_deleted(sheet) {
+        let cells_deleted = matches!(obj, Obj::DeletedRange(_));
+        if !cells_deleted && !wb.sheet_deleted(sheet) {
             return Ok(obj);
         }
-        let why = format!("{} of sheet '{}', which was deleted", obj.describe(), wb.sheet_names()[sheet as usize]);
+        let why = match cells_deleted {
+            // Insert/Delete moved every other Range the macro holds (`insert_delete.rs`).
+            true => format!("{} on sheet '{}' (Delete took them)", obj.describe(), wb.sheet_names()[sheet as usize]),
+            false => format!("{} of sheet '{}', which was deleted", obj.describe(), wb.sheet_names()[sheet as usize]),
+        };
         let mut fault = self.fault_at(span, crate::eval::functions::vba::errors::message(424, why));
         fault.code = 424;
         Err(fault)

@@ -210,6 +210,9 @@ impl VArray {
 pub enum Obj {
     Value(Value),
     Range(SheetId, Rect),
+    /// A Range, Rows or Columns, Font or Interior whose cells were all deleted (`Rows(5).Delete`
+    /// with `r` set to B5): Excel's object is gone, and using it is run-time error 424.
+    DeletedRange(SheetId),
     /// `r.Rows` / `r.Columns` without an index: for `.Count` and `(i)`.
     Lines(SheetId, Rect, bool),
     /// `r.Font` or `r.Interior` (`formats.rs`).
@@ -238,6 +241,7 @@ impl Obj {
         match self {
             Obj::Value(_) => "a value",
             Obj::Range(..) => "a Range",
+            Obj::DeletedRange(..) => "a Range whose cells were deleted",
             Obj::Lines(..) => "a Rows or Columns collection",
             Obj::Look(_, _, super::formats::LookPart::Font) => "a Font",
             Obj::Look(_, _, super::formats::LookPart::Interior) => "an Interior",
@@ -637,6 +641,10 @@ impl Slots {
 
     pub fn iter(&self) -> std::slice::Iter<'_, Slot> {
         self.slots.iter()
+    }
+
+    pub fn iter_mut(&mut self) -> std::slice::IterMut<'_, Slot> {
+        self.slots.iter_mut()
     }
 }
 

@@ -137,6 +137,23 @@ impl SheetEdit {
         self.index(along).map(|a| self.join(a, across))
     }
 
+    /// Where the cells of `rect` go, as a macro's Range object follows them: `None` when they
+    /// are all deleted; cut through, shrunk to what is left; an insertion inside, grown.
+    /// Whole columns stay whole when rows come or go (and whole rows when columns do).
+    pub fn moved_rect(&self, rect: Rect) -> Option<Rect> {
+        let whole_across = match self.axis {
+            Axis::Rows => rect.rows() == MAX_ROWS,
+            Axis::Columns => rect.cols() == MAX_COLS,
+        };
+        let (a1, c1) = self.split(rect.first);
+        let (a2, c2) = self.split(rect.last);
+        if whole_across || !self.covers((c1, c2)) {
+            return Some(rect);
+        }
+        let (b1, b2) = self.span((a1, a2))?;
+        Some(Rect::new(self.join(b1, c1), self.join(b2, c2)))
+    }
+
     /// Where row (for `Axis::Rows`; else column) `index` goes, with what is kept by row
     /// (a height, hiddenness) or column (a width): only whole rows (columns) move them.
     pub fn moved_line(&self, index: u32) -> Option<u32> {
