@@ -485,6 +485,21 @@ End Sub
     Out MonthName(12, True)
 "#,
     },
+    // tests/vba_semantics.rs: a String in hexadecimal or octal, or with a D exponent, is a
+    // number to IsNumeric and the conversions (issue 31).
+    Case {
+        name: "number_text_as_vba_reads_it",
+        module: "",
+        body: r#"
+    Out IsNumeric("&H10")
+    Out IsNumeric("&O17")
+    Out IsNumeric("1d2")
+    Out IsNumeric(" 12 ")
+    Out IsNumeric("1,000")
+    Out CDbl("1d2")
+    Out CLng("&H10")
+"#,
+    },
 ];
 
 /// ncsheet's lines for one case.

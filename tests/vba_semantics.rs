@@ -69,3 +69,21 @@ fn for_each_with_an_integer_control_variable_is_refused() {
     );
     assert_eq!(printed, ["1.5", "2.5"]);
 }
+
+// ---- item 3: number text as VBA reads it ----------------------------------------------
+
+/// "IsNumeric function": True when the whole expression is recognized as a number; VBA
+/// recognizes the literals of [MS-VBAL] 3.3.2 in text: `&H10` (16), `&O17` (15) and a Double
+/// with a D exponent (`1d2`, 100), as CDbl, CLng and a String assigned to a Double do
+/// (LibreOffice's VBA mode agrees: tests/vba_libreoffice.rs number_text_as_vba_reads_it).
+#[test]
+fn hexadecimal_octal_and_d_exponent_text_are_numbers() {
+    let printed = run_main(
+        &mut Workbook::with_sheet(),
+        "    Debug.Print IsNumeric(\"&H10\"); IsNumeric(\"&O17\"); IsNumeric(\"1d2\"); IsNumeric(\"1D-2\")\n\
+         \x20   Debug.Print IsNumeric(\"&H\"); IsNumeric(\"&HG1\"); IsNumeric(\"1d\"); IsNumeric(\"d2\")\n\
+         \x20   Debug.Print CStr(CDbl(\"1d2\")); \"|\"; CStr(CLng(\"&H10\")); \"|\"; CStr(CInt(\" &O17 \"))\n\
+         \x20   Dim d As Double\n    d = \"2.5D1\"\n    Debug.Print CStr(d)",
+    );
+    assert_eq!(printed, ["TrueTrueTrueTrue", "FalseFalseFalseFalse", "100|16|15", "25"]);
+}

@@ -3,8 +3,8 @@
 
 use std::rc::Rc;
 
-use crate::eval::coerce::{to_bool, to_number};
-use crate::eval::dates::DateSystem;
+use crate::eval::coerce::to_bool;
+use crate::eval::functions::vba::vba_number;
 use crate::eval::functions::vba::vba_text;
 use crate::eval::{Array, Value, XlError};
 use crate::formula::address::Rect;
@@ -731,12 +731,13 @@ pub(super) fn convert(var: Var, ty: Option<&Ty>, name: &str) -> Result<Var, Stri
     let text_mismatch = |v: &Value| format!("{name} cannot hold \"{}\" (type mismatch)", print_text(v));
     Ok(Var::Value(match ty {
         // A VBA Date counts days as the 1900 system does, whatever the workbook's.
-        Ty::Whole(code) => match (&v, to_number(&v, DateSystem::From1900)) {
+        // A String read as VBA reads it (`"&H10"` is 16, `"1d2"` 100).
+        Ty::Whole(code) => match (&v, vba_number(&v)) {
             (_, Ok(n)) => Value::Number(in_range(n.round_ties_even(), *code, name)?),
             (Value::Text(_), Err(_)) => return Err(text_mismatch(&v)),
             (_, Err(e)) => return Err(mismatch(e)),
         },
-        Ty::Number(code) => match (&v, to_number(&v, DateSystem::From1900)) {
+        Ty::Number(code) => match (&v, vba_number(&v)) {
             (_, Ok(n)) => Value::Number(in_number_type(n, *code, name)?),
             (Value::Text(_), Err(_)) => return Err(text_mismatch(&v)),
             (_, Err(e)) => return Err(mismatch(e)),

@@ -6,7 +6,6 @@
 
 use std::cell::Cell;
 
-use crate::eval::coerce::to_number;
 use crate::eval::dates::{DateTime, VBA_DATE_RANGE};
 use crate::eval::functions::api::{given, Ctx};
 use crate::eval::functions::ValueFn;
@@ -14,7 +13,7 @@ use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
 use super::strings::fold_case;
-use super::{invalid_call, invalid_use_of_null, lift_vba, lift_vba_values, vba_text, EVERY, FIRST, NO_NULL, VBA_DATES};
+use super::{invalid_call, invalid_use_of_null, lift_vba, lift_vba_values, vba_text, EVERY, FIRST, NO_NULL};
 
 /// A value Let-coerced to a whole number as VBA does ([MS-VBAL] 5.5.1.2.1): halves to even,
 /// True is -1; `None` past `limit` (VBA's Overflow).
@@ -22,7 +21,7 @@ fn whole_in(v: &Value, limit: f64) -> XlResult<Option<f64>> {
     let n = match v {
         Value::Bool(b) => -f64::from(u8::from(*b)),
         Value::Blank => 0.0,
-        other => to_number(other, VBA_DATES)?.round_ties_even(),
+        other => super::vba_number(other)?.round_ties_even(),
     };
     Ok((-limit - 1.0..=limit).contains(&n).then_some(n))
 }
@@ -95,7 +94,7 @@ fn converted(ctx: &mut Ctx, args: &[Expr], name: &str, fit: &dyn Fn(f64) -> Opti
         let n = match &v[0] {
             Value::Bool(b) => -f64::from(u8::from(*b)),
             Value::Blank => 0.0,
-            other => to_number(other, VBA_DATES)?,
+            other => super::vba_number(other)?,
         };
         fit(n).map(Value::Number).ok_or_else(|| raised.set(6, "a number past the range of its type"))
     });
@@ -366,7 +365,7 @@ pub(super) fn cdate(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let result = lift_vba(ctx, args, "CDate", NO_NULL, &|v| {
         let serial = match &v[0] {
             Value::Bool(b) => -f64::from(u8::from(*b)),
-            other => to_number(other, VBA_DATES)?,
+            other => super::vba_number(other)?,
         };
         // "Date data type": January 1, 100 to December 31, 9999; past it Overflow.
         if !crate::eval::dates::VBA_DATE_RANGE.contains(&serial) {
@@ -382,7 +381,7 @@ pub(super) fn cdate(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 pub(super) fn vba_date_time(raised: &Raised, v: &Value) -> XlResult<DateTime> {
     let serial = match v {
         Value::Bool(b) => -f64::from(u8::from(*b)),
-        other => to_number(other, VBA_DATES)?,
+        other => super::vba_number(other)?,
     };
     if !VBA_DATE_RANGE.contains(&serial) {
         return Err(raised.set(6, "a date before 1/1/100 or after 12/31/9999"));

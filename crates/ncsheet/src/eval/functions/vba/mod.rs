@@ -652,10 +652,10 @@ fn array(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 fn round(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let raised = Raised::default();
     let result = lift_vba(ctx, args, "Round", FIRST, &|v| {
-        let x = to_number(&v[0], VBA_DATES)?;
+        let x = vba_number(&v[0])?;
         let digits = match v.get(1) {
             None | Some(Value::Blank) => 0.0,
-            Some(d) => to_number(d, VBA_DATES)?,
+            Some(d) => vba_number(d)?,
         };
         if digits.trunc() < 0.0 {
             return Err(raised.set(5, "the number of decimal places is below zero"));
@@ -675,7 +675,7 @@ fn round(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 fn whole(ctx: &mut Ctx, args: &[Expr], name: &str, limit: f64) -> XlResult<Value> {
     let raised = Raised::default();
     let result = lift_vba(ctx, args, name, NO_NULL, &|v| {
-        let r = to_number(&v[0], VBA_DATES)?.round_ties_even();
+        let r = vba_number(&v[0])?.round_ties_even();
         if r < -limit - 1.0 || r > limit {
             return Err(raised.set(6, "the number is past the range of its type"));
         }
@@ -693,7 +693,7 @@ fn clng(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn cdbl(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_vba(ctx, args, "CDbl", NO_NULL, &|v| Ok(number_result(to_number(&v[0], VBA_DATES)?)))
+    lift_vba(ctx, args, "CDbl", NO_NULL, &|v| Ok(number_result(vba_number(&v[0])?)))
 }
 
 fn cbool(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
@@ -738,7 +738,7 @@ fn str_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         return Ok(shown);
     }
     lift_vba_values(ctx, values, "Str", NO_NULL, &|v| {
-        let n = to_number(&v[0], VBA_DATES)?;
+        let n = vba_number(&v[0])?;
         let text = general(n);
         Ok(Value::text(if n >= 0.0 { format!(" {text}") } else { text }))
     })
@@ -781,7 +781,7 @@ fn text_fn(
 /// A count argument (lengths, positions): a whole number; below zero run-time error 5 (the
 /// pages of Left, Right, Mid and Space: "Invalid procedure call or argument"), `#VALUE!` in a cell.
 fn count(raised: &Raised, v: &Value) -> XlResult<usize> {
-    let n = to_number(v, VBA_DATES)?.trunc();
+    let n = vba_number(v)?.trunc();
     if n < 0.0 {
         return Err(raised.set(5, "a length below zero"));
     }
@@ -898,7 +898,7 @@ fn rtrim(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 fn chr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let raised = Raised::default();
     let result = lift_vba(ctx, args, "Chr", NO_NULL, &|v| {
-        let code = to_number(&v[0], VBA_DATES)?.trunc();
+        let code = vba_number(&v[0])?.trunc();
         if !(0.0..=255.0).contains(&code) {
             return Err(raised.set(5, "the character code is outside 0 to 255 (ChrW takes Unicode codes)"));
         }
@@ -975,7 +975,7 @@ fn is_object(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 fn is_numeric(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     Ok(Value::Bool(match ctx.eval(&args[0]).unwrap_single() {
         Value::Number(_) | Value::Bool(_) | Value::Blank => true,
-        Value::Text(t) => parse_plain_number(&t).is_some(),
+        Value::Text(t) => vba_number_text(&t).is_some(),
         _ => false,
     }))
 }
@@ -1017,6 +1017,47 @@ pub fn vba_val(text: &str) -> f64 {
     }
     let piece = s[..i].replace(['d', 'D'], "e");
     piece.parse().or_else(|_| s[..mantissa_end].parse()).unwrap_or(0.0)
+}
+
+/// A value as VBA reads it as a number (the C… conversions, IsNumeric, a String assigned to
+/// a numeric variable): a String is read as `VarR8FromStr` reads it under en-US ("Type
+/// conversion functions": "CDbl … recognize … different decimal separators, thousands
+/// separators and currency options"), with what VBA adds to the sheet's reading: an exponent
+/// written with D (`"1d2"`, 100, as a Double literal may be: [MS-VBAL] 3.3.2) and a whole
+/// text in hexadecimal or octal (`"&H10"`, 16; `"&O17"`, 15: the literals of [MS-VBAL]
+/// 3.3.2). Dates in text stay numbers of days, as CDbl reads them.
+pub fn vba_number(v: &Value) -> XlResult<f64> {
+    match v {
+        Value::Text(t) => vba_number_text(t).map_or_else(|| to_number(v, VBA_DATES), Ok),
+        other => to_number(other, VBA_DATES),
+    }
+}
+
+/// A String that VBA reads as a number without being a date: [`vba_number`]'s reading, and
+/// what IsNumeric accepts.
+pub fn vba_number_text(text: &str) -> Option<f64> {
+    let t = text.trim();
+    if t.starts_with('&') {
+        return whole_radix_literal(t);
+    }
+    parse_plain_number(t).or_else(|| parse_plain_number(&d_exponent_as_e(t)?))
+}
+
+/// `&H…`/`&O…` when the whole text is one such literal (`Val` reads a leading one only).
+fn whole_radix_literal(t: &str) -> Option<f64> {
+    let digits = t.strip_prefix('&')?;
+    let digits = digits.get(1..).filter(|_| digits.starts_with(['h', 'H', 'o', 'O'])).unwrap_or(digits);
+    let radix = if t[1..].starts_with(['h', 'H']) { 16 } else { 8 };
+    (!digits.is_empty() && digits.chars().all(|c| c.is_digit(radix))).then(|| radix_val(t)).flatten()
+}
+
+/// `1d2` as `1E2`: the one D of a number's exponent, between its mantissa and exponent digits.
+fn d_exponent_as_e(t: &str) -> Option<String> {
+    let at = t.find(['d', 'D'])?;
+    let before = t[..at].chars().last()?;
+    let after = t[at + 1..].chars().next()?;
+    let fits = (before.is_ascii_digit() || before == '.') && (after.is_ascii_digit() || matches!(after, '+' | '-'));
+    fits.then(|| format!("{}E{}", &t[..at], &t[at + 1..]))
 }
 
 /// Val of `&HFF` (hexadecimal) or `&O17` / `&17` (octal): the digits that follow, read as an
@@ -1071,7 +1112,7 @@ fn format_by_weeks(ctx: &mut Ctx, args: &[Expr], raised: &Raised) -> XlResult<Va
             Value::Number(n) => *n,
             Value::Blank => return Ok(Value::text("")),
             Value::Error(e) => return Err(*e),
-            other => match to_number(other, VBA_DATES) {
+            other => match vba_number(other) {
                 Ok(n) if !matches!(other, Value::Bool(_)) => n,
                 _ => return Ok(Value::Text(vba_text(other)?)),
             },
