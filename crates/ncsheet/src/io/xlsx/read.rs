@@ -222,8 +222,12 @@ fn keep_cached_cycles(imported: &mut Imported) {
     for c in &imported.cached {
         if c.anchor == c.pos && cells.contains(&(c.sheet, c.pos)) {
             let value = match imported.workbook.array_area(c.sheet, c.pos) {
-                Some(area) => cached_area(&imported.cached, c.sheet, area),
-                None => c.value.clone(),
+                // An area past the array limit (a file's `{=…}` over a whole sheet) holds one
+                // value beyond its result: it starts from the anchor's, as a scalar fills it.
+                Some(area) if !crate::eval::too_many_items(area.rows() as usize, area.cols() as usize) => {
+                    cached_area(&imported.cached, c.sheet, area)
+                }
+                _ => c.value.clone(),
             };
             imported.workbook.set_starting_value_deferred(c.sheet, c.pos, value);
         }
@@ -232,17 +236,19 @@ fn keep_cached_cycles(imported: &mut Imported) {
 }
 
 /// The values the file cached over an array formula's area, as one array: what the formula
-/// showed in each of its cells.
+/// showed in each of its cells. Only the block up to the last cached cell is stored, the rest
+/// of the area blank (the array's tail), so the cost is the cells the file holds.
 fn cached_area(cached: &[super::CachedValue], sheet: SheetId, area: Rect) -> Value {
-    let (rows, cols) = (area.rows() as usize, area.cols() as usize);
+    let of_area = || cached.iter().filter(move |c| c.sheet == sheet && c.anchor == area.first && area.contains(c.pos));
+    let offset = |pos: Pos| ((pos.row - area.first.row) as usize, (pos.col - area.first.col) as usize);
+    let (rows, cols) = of_area().map(|c| offset(c.pos)).fold((1, 1), |(r, k), (cr, ck)| (r.max(cr + 1), k.max(ck + 1)));
     let mut data = vec![Value::Blank; rows * cols];
-    for c in cached.iter().filter(|c| c.sheet == sheet && c.anchor == area.first) {
-        if area.contains(c.pos) {
-            let (r, k) = ((c.pos.row - area.first.row) as usize, (c.pos.col - area.first.col) as usize);
-            data[r * cols + k] = c.value.clone();
-        }
+    for c in of_area() {
+        let (r, k) = offset(c.pos);
+        data[r * cols + k] = c.value.clone();
     }
-    Value::from(crate::eval::Array::new(rows, cols, data))
+    let block = crate::eval::Array::new(rows, cols, data);
+    Value::from(block.with_tail(area.rows() as usize, area.cols() as usize, Value::Blank))
 }
 
 /// Each external-link part with its relationships part (which names the linked file), in
