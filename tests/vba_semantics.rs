@@ -87,3 +87,22 @@ fn hexadecimal_octal_and_d_exponent_text_are_numbers() {
     );
     assert_eq!(printed, ["TrueTrueTrueTrue", "FalseFalseFalseFalse", "100|16|15", "25"]);
 }
+
+// ---- item 2: `^` without a real value is Invalid procedure call --------------------------
+
+/// VBA reference, "^ operator": "A number can be negative only if exponent is an integer
+/// value"; breaking it is run-time error 5, "Invalid procedure call or argument" ("Trappable
+/// errors"), and so is 0 raised to a negative power, which has no value either. A result past
+/// a Double's range stays Overflow (6); `(-8) ^ 3` is -512 by hand.
+#[test]
+fn a_power_without_a_real_value_is_invalid_procedure_call() {
+    let printed = run_main(
+        &mut Workbook::with_sheet(),
+        "    Dim x\n    On Error Resume Next\n\
+         \x20   x = (-8) ^ (1 / 3)\n    Debug.Print Err.Number\n    Err.Clear\n\
+         \x20   x = 0 ^ -1\n    Debug.Print Err.Number\n    Err.Clear\n\
+         \x20   x = 10 ^ 400\n    Debug.Print Err.Number\n    Err.Clear\n\
+         \x20   x = (-8) ^ 3\n    Debug.Print Err.Number; CStr(x)",
+    );
+    assert_eq!(printed, [" 5 ", " 5 ", " 6 ", " 0 -512"]);
+}

@@ -24,6 +24,7 @@ pub(super) const TYPE_MISMATCH: (u32, &str) = (13, errors::description(13));
 /// VBA's "Division by zero" and "Overflow" ("Trappable errors").
 const DIVISION_BY_ZERO: (u32, &str) = (11, errors::description(11));
 const OVERFLOW: (u32, &str) = (6, errors::description(6));
+const INVALID_CALL: (u32, &str) = (5, errors::description(5));
 
 /// Whether `op` is one of the relational operators `= <> < > <= >=`.
 fn relational(op: BinOp) -> bool {
@@ -38,6 +39,11 @@ pub(super) fn text_order(x: &str, y: &str, text_compare: bool) -> Ordering {
     } else {
         x.encode_utf16().cmp(y.encode_utf16())
     }
+}
+
+/// A number below zero, or a text read as one (the base of a `^` with no real value).
+fn is_negative(v: &Value) -> bool {
+    crate::eval::functions::vba::vba_number(v).is_ok_and(|n| n < 0.0)
 }
 
 impl Interp<'_, '_> {
@@ -64,6 +70,11 @@ impl Interp<'_, '_> {
         let (code, name) = match (op, err) {
             _ if error_operand => TYPE_MISMATCH,
             (BinOp::Div | BinOp::IntDiv | BinOp::Mod, XlError::Div0) => DIVISION_BY_ZERO,
+            // "^ operator": "a number can be negative only if exponent is an integer value";
+            // VBA raises Invalid procedure call for `(-8) ^ (1 / 3)`, and for `0 ^ -1`, which
+            // has no value either, where the sheet gives #NUM! and #DIV/0!.
+            (BinOp::Pow, XlError::Div0) => INVALID_CALL,
+            (BinOp::Pow, XlError::Num) if is_negative(a) => INVALID_CALL,
             (_, XlError::Value) => TYPE_MISMATCH,
             (_, XlError::Num) => OVERFLOW,
             _ => return None,
