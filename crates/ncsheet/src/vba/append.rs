@@ -160,7 +160,7 @@ impl Interp<'_, '_> {
             Some(_) => Some(0),
             None => s.with_array(|a| match Rc::strong_count(&a.data) {
                 1 => 0,
-                _ => super::budget::value_bytes(&Value::Array(a.data.clone())),
+                _ => super::budget::copy_bytes(&a.data),
             }),
         };
         let copied = self.with_slot(name, shared).flatten().unwrap_or(0);

@@ -223,6 +223,16 @@ impl Interp<'_, '_> {
         self.eval(value)
     }
 
+    /// What `name(i) = …` copies first when the array's items are shared with another
+    /// variable (`b = a`): the items, charged to the memory budget (copy on write).
+    fn copy_if_shared(&self, name: &str) -> u64 {
+        match self.lookup(name) {
+            // Two holders are the variable and the copy `lookup` gave.
+            Some(Var::Array(a)) if Rc::strong_count(&a.data) > 2 => super::budget::copy_bytes(&a.data),
+            _ => 0,
+        }
+    }
+
     /// VBA's "Subscript out of range (Error 9)".
     fn subscript_error(&self, span: Span, name: &str, m: String) -> super::interp::Fault {
         self.subscript_fault(span, name, m)
@@ -247,6 +257,7 @@ impl Interp<'_, '_> {
             }
             Var::Obj(o) => Some(o),
         };
+        self.charge(self.copy_if_shared(name), span)?;
         let result = self.with_slot(name, |slot| {
             if matches!(slot.ty, Some(ref t) if !matches!(t, Ty::Variant | Ty::Object)) {
                 return Err(format!("{}: an array of values cannot hold an object (type mismatch)", slot.name));
@@ -292,12 +303,8 @@ impl Interp<'_, '_> {
             let cell = super::objects::item(rect, &at).map_err(|m| self.fault_at(span, format!("{name}: {m}")))?;
             return self.write_range(sheet, Rect::cell(cell), &v);
         }
-        // The item's text, and the whole array when it is shared and so copied first.
-        let shared = match self.lookup(name) {
-            Some(Var::Array(a)) if Rc::strong_count(&a.data) > 2 => super::budget::value_bytes(&Value::Array(a.data)),
-            _ => 0,
-        };
-        self.charge(shared + super::budget::value_bytes(&v), span)?;
+        // The item's text, and the array's items when it is shared and so copied first.
+        self.charge(self.copy_if_shared(name) + super::budget::value_bytes(&v), span)?;
         let result = self.with_slot(name, |slot| {
             let ty = slot.ty.clone();
             let own = slot.name.clone();
@@ -355,13 +362,9 @@ impl Interp<'_, '_> {
     /// Variants (an array of a declared value type cannot hold an array: type mismatch).
     pub(super) fn set_array_element(&self, name: &Rc<str>, index: &[Expr], item: VArray, span: Span) -> Run<()> {
         let at = index.iter().map(|e| self.index(e, "the index")).collect::<Run<Vec<i64>>>()?;
-        let shared = match self.lookup(name) {
-            Some(Var::Array(a)) if Rc::strong_count(&a.data) > 2 => super::budget::value_bytes(&Value::Array(a.data)),
-            _ => 0,
-        };
         // The item's own array too: one a call made (`Array(Space(1E6), …)`) was counted nowhere.
-        let brought = super::budget::value_bytes(&Value::Array(item.data.clone()));
-        self.charge(shared + brought, span)?;
+        let brought = super::budget::array_brought(&item.data);
+        self.charge(self.copy_if_shared(name) + brought, span)?;
         let result = self.with_slot(name, |slot| {
             let own = slot.name.clone();
             if matches!(slot.ty, Some(ref t) if !matches!(t, Ty::Variant)) {
@@ -666,11 +669,13 @@ impl Interp<'_, '_> {
         let taken = self.with_slot(name, |slot| grows(slot.var()).then(|| slot.replace(Var::Value(Value::Blank))));
         let Some(Some(Var::Array(mut a))) = taken else { return Ok(false) };
         let added = len - a.data.cols;
+        // Shared with a copy taken before (`b = a`), the items are copied first.
+        let copied = if Rc::strong_count(&a.data) > 1 { super::budget::copy_bytes(&a.data) } else { 0 };
         let items = Rc::make_mut(&mut a.data);
         items.data.resize(len, default_value(ty));
         items.cols = len;
         self.with_slot(name, |slot| slot.replace(Var::Array(a)));
-        self.charge((added * std::mem::size_of::<Value>()) as u64, span)?;
+        self.charge(copied + (added * std::mem::size_of::<Value>()) as u64, span)?;
         Ok(true)
     }
 }
@@ -851,14 +856,16 @@ impl Interp<'_, '_> {
             let Var::Array(a) = slot.var_mut() else { return Err((13, format!("{own} is not an array"))) };
             self.put_nested(a, &own, &at, item, date)
         });
-        self.nested_put_done(result, span, || format!("{name} is not an array (Dim {name}(…) first)"))
+        self.nested_put_done(result, span, || format!("{name} is not an array (Dim {name}(…) first)"))?;
+        // The copies of shared levels the put made.
+        self.charge(0, span)
     }
 
     /// What an item put into a nested array brings, charged to the memory budget.
     fn charge_nested_item(&self, item: &Var, span: Span) -> Run<()> {
         let bytes = match item {
             Var::Value(v) => super::budget::value_bytes(v),
-            Var::Array(a) => super::budget::value_bytes(&Value::Array(a.data.clone())),
+            Var::Array(a) => super::budget::array_brought(&a.data),
             _ => 0,
         };
         self.charge(bytes, span)
@@ -884,6 +891,10 @@ impl Interp<'_, '_> {
     pub(super) fn put_nested(&self, a: &mut VArray, own: &str, at: &[Vec<i64>], item: Var, date: bool) -> NestedPut {
         let out_of_range = |m| (9, format!("Subscript out of range (run-time error 9): {own}: {m}"));
         let k = self.element_at(a, &at[0]).map_err(out_of_range)?;
+        // Shared (`outer(1) = big` then `outer(1)(2) = 0`), this level's items are copied.
+        if Rc::strong_count(&a.data) > 1 {
+            self.owe(super::budget::copy_bytes(&a.data));
+        }
         if at.len() > 1 {
             let held = a.arrays.as_mut().and_then(|arrays| Rc::make_mut(arrays).remove(&k));
             let taken = std::mem::take(&mut Rc::make_mut(&mut a.data).data[k]);
@@ -1000,7 +1011,8 @@ impl Interp<'_, '_> {
             };
             self.put_nested(a, &own, &lists, item, date)
         });
-        self.nested_put_done(result, span, || format!("{var} is not a variable"))
+        self.nested_put_done(result, span, || format!("{var} is not a variable"))?;
+        self.charge(0, span)
     }
 }
 

@@ -2,12 +2,17 @@
 //! together, not only each one (`--max-string`, `--max-array-items` bound those), so that a
 //! loop filling an array with long strings ends with a clear error instead of an abort.
 //!
-//! Stores charge what they bring (a string's bytes, an array's items); once the charges pass
-//! a sixteenth of the budget (at most 64 MiB), every variable is measured, values shared
-//! between variables once, and the run stops if they hold more than the budget. The
+//! Stores charge the memory they bring (a new string's bytes, a new array's items); once the
+//! charges pass a sixteenth of the budget (at most 64 MiB), every variable is measured, values
+//! shared between variables once, and the run stops if they hold more than the budget. The
 //! measurement costs what the variables hold, and comes at most once per sixteenth of the
 //! budget stored, so the memory held stays under the budget plus one sixteenth plus one
 //! statement's values.
+//!
+//! An array another variable (or item) already holds brings nothing when stored (`b = a`,
+//! `c.Add a`): its items are shared, not copied, and were charged when they were made, so the
+//! store costs the same whatever the array's size. The copy comes when one holder changes an
+//! item (copy on write), and that is charged where it happens ([`copy_bytes`]).
 
 use std::collections::HashSet;
 use std::rc::Rc;
@@ -20,19 +25,37 @@ use super::value::{Obj, Slot, Var};
 use super::ErrorKind;
 
 /// What storing `var` may add: its text's bytes, its array's items, and those of its
-/// records' fields, each shared text or array once.
+/// records' fields, each shared text or array once; an array something else holds too
+/// brings nothing (its items are shared).
 pub(super) fn brought(var: &Var) -> u64 {
-    let mut m = Measure::default();
+    let mut m = Measure::new_only();
     m.brought(var);
     m.bytes
 }
 
-/// The heap bytes of a value's text or array, with the texts and arrays its array holds,
-/// however deep (an array stored into each item of another is counted), each shared one once.
+/// What storing the value `v` may add: its text, or its array's items with the texts and
+/// arrays they hold however deep (an array stored into each item of another is counted),
+/// each once; an array something else holds too brings nothing (its items are shared).
 pub(super) fn value_bytes(v: &Value) -> u64 {
-    let mut m = Measure::default();
+    let mut m = Measure::new_only();
     m.value(v);
     m.bytes
+}
+
+/// What storing the array `a` may add ([`value_bytes`] of its items), taking the `Rc` as the
+/// holder has it: a clone made to call [`value_bytes`] would make every array look shared.
+pub(super) fn array_brought(a: &Rc<Array>) -> u64 {
+    let mut m = Measure::new_only();
+    if m.counts_array(a) {
+        m.array(a);
+    }
+    m.bytes
+}
+
+/// What making a shared array's items one's own copies (`b = a` then `b(1) = 0`): the items
+/// themselves; the texts and arrays they hold stay shared. Costs nothing to work out.
+pub(super) fn copy_bytes(a: &Array) -> u64 {
+    array_bytes(a)
 }
 
 fn array_bytes(a: &Array) -> u64 {
@@ -44,24 +67,44 @@ fn array_bytes(a: &Array) -> u64 {
 struct Measure {
     seen: HashSet<usize>,
     bytes: u64,
+    /// Counting what a store brings: an array held elsewhere too is not new memory.
+    new_only: bool,
 }
 
 impl Measure {
+    fn new_only() -> Measure {
+        Measure { new_only: true, ..Measure::default() }
+    }
+
     fn first_time<T: ?Sized>(&mut self, rc: &Rc<T>) -> bool {
         self.seen.insert(Rc::as_ptr(rc) as *const u8 as usize)
+    }
+
+    /// Whether an array's items are counted: the first time it is met, and, for what a store
+    /// brings, only when nothing else holds it.
+    fn counts_array(&mut self, a: &Rc<Array>) -> bool {
+        !(self.new_only && Rc::strong_count(a) > 1) && self.first_time(a)
+    }
+
+    /// An array's own items, and the texts and arrays they hold (queued on `pending`).
+    fn array_items<'v>(&mut self, a: &'v Array, pending: &mut Vec<&'v Value>) {
+        super::count(&super::ITEMS_MEASURED, a.data.len() as u64);
+        self.bytes = self.bytes.saturating_add(array_bytes(a));
+        pending.extend(a.data.iter().filter(|i| matches!(i, Value::Text(_) | Value::Array(_))));
     }
 
     /// A value's texts and arrays, and those its arrays hold however deep (an explicit
     /// stack: arrays nested a million deep do not take the native stack with them).
     fn value(&mut self, v: &Value) {
-        let mut pending = vec![v];
+        self.values(vec![v]);
+    }
+
+    /// The values `pending` holds and those they reach, each text and array once.
+    fn values(&mut self, mut pending: Vec<&Value>) {
         while let Some(v) = pending.pop() {
             match v {
                 Value::Text(t) if self.first_time(t) => self.bytes = self.bytes.saturating_add(t.len() as u64),
-                Value::Array(a) if self.first_time(a) => {
-                    self.bytes = self.bytes.saturating_add(array_bytes(a));
-                    pending.extend(a.data.iter().filter(|i| matches!(i, Value::Text(_) | Value::Array(_))));
-                }
+                Value::Array(a) if self.counts_array(a) => self.array_items(a, &mut pending),
                 _ => {}
             }
         }
@@ -77,8 +120,12 @@ impl Measure {
             match var {
                 Var::Value(v) => self.value(v),
                 Var::Array(a) => {
-                    self.value(&Value::Array(a.data.clone()));
-                    pending.extend(a.records.iter().flat_map(|r| r.iter()));
+                    // Counted before anything clones the `Rc`, which would make it look shared.
+                    if self.counts_array(&a.data) {
+                        self.array(&a.data);
+                    }
+                    let records = a.records.as_ref().filter(|r| !(self.new_only && Rc::strong_count(r) > 1));
+                    pending.extend(records.iter().flat_map(|r| r.iter()));
                 }
                 Var::Record(_, fields) => pending.extend(fields.iter()),
                 Var::Obj(_) => {}
@@ -88,10 +135,9 @@ impl Measure {
 
     /// An array variable's items (the array itself already counted once).
     fn array(&mut self, a: &Array) {
-        self.bytes = self.bytes.saturating_add(array_bytes(a));
-        for item in &a.data {
-            self.value(item);
-        }
+        let mut pending = Vec::new();
+        self.array_items(a, &mut pending);
+        self.values(pending);
     }
 
     /// A variable's values, and those of the Collections and Dictionaries it reaches however
@@ -138,6 +184,12 @@ fn measure_every(budget: u64) -> u64 {
 }
 
 impl Interp<'_, '_> {
+    /// Counts the copy of a shared array's items made where the budget cannot be checked
+    /// (while a variable is borrowed to change it); the next [`Interp::charge`] checks it.
+    pub(super) fn owe(&self, bytes: u64) {
+        self.charged.set(self.charged.get().saturating_add(bytes));
+    }
+
     /// Counts what a store at `span` brought; past the charges allowed between measurements,
     /// measures every variable and stops the run when they hold more than the budget.
     pub(super) fn charge(&self, bytes: u64, span: Span) -> Run<()> {

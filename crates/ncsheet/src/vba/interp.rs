@@ -842,7 +842,12 @@ impl Interp<'_, '_> {
             let new = match (&var, slot.var()) {
                 // An array variable takes a whole array, its items converted to its type.
                 (Var::Array(a), Var::Array(_)) => {
-                    Var::Array(super::arrays::typed_items(a.clone(), slot.ty.as_ref(), &slot.name)?)
+                    let typed = super::arrays::typed_items(a.clone(), slot.ty.as_ref(), &slot.name)?;
+                    // Converted to the variable's type, the items are a copy.
+                    if !Rc::ptr_eq(&typed.data, &a.data) {
+                        self.owe(super::budget::copy_bytes(&typed.data));
+                    }
+                    Var::Array(typed)
                 }
                 _ => convert(var.clone(), slot.ty.as_ref(), &slot.name)?,
             };
@@ -1755,7 +1760,7 @@ impl Interp<'_, '_> {
                             _ => return Err(format!("{field}(…) holds a value, not an object or an array")),
                         };
                         if Rc::strong_count(&a.data) > 1 {
-                            copied = super::budget::value_bytes(&Value::Array(a.data.clone()));
+                            copied = super::budget::copy_bytes(&a.data);
                         }
                         Rc::make_mut(&mut a.data).data[i] = v;
                         return Ok(());

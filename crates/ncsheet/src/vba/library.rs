@@ -107,6 +107,10 @@ impl Interp<'_, '_> {
                 let fill = default_value(slot.ty.as_ref());
                 match slot.var_mut() {
                     Var::Array(a) => {
+                        // Shared (`b = a`), the old items stay and the new ones are more memory.
+                        if Rc::strong_count(&a.data) > 1 {
+                            self.owe(super::budget::copy_bytes(&a.data));
+                        }
                         a.data = Rc::new(Array::filled(a.data.rows, a.data.cols, fill));
                         // An array of objects holds Nothing again ("Erase statement"), an
                         // array of a Type the Type's defaults.
@@ -122,6 +126,7 @@ impl Interp<'_, '_> {
             if erased != Some(true) {
                 return Err(self.fault_at(span, format!("Erase {name}: {name} is not an array (type mismatch)")));
             }
+            self.charge(0, span)?;
         }
         Ok(())
     }

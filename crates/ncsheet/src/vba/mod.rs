@@ -297,6 +297,25 @@ pub struct Work {
     /// in place (`s = s & x`, `a(i) = a(i) & x`), and again whenever its buffer is shared
     /// when appended to.
     pub text_copied: u64,
+    /// Items of arrays the memory budget looked at: to count what a store brings, or to
+    /// measure what the variables hold.
+    pub items_measured: u64,
+}
+
+/// The work done between two readings of [`work_done`].
+#[cfg(feature = "testing")]
+impl std::ops::Sub for Work {
+    type Output = Work;
+
+    fn sub(self, before: Work) -> Work {
+        Work {
+            name_probes: self.name_probes - before.name_probes,
+            columns_stepped: self.columns_stepped - before.columns_stepped,
+            places_closed_up: self.places_closed_up - before.places_closed_up,
+            text_copied: self.text_copied - before.text_copied,
+            items_measured: self.items_measured - before.items_measured,
+        }
+    }
 }
 
 #[cfg(feature = "testing")]
@@ -305,6 +324,7 @@ thread_local! {
     pub(crate) static COLUMNS_STEPPED: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
     pub(crate) static PLACES_CLOSED_UP: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
     pub(crate) static TEXT_COPIED: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+    pub(crate) static ITEMS_MEASURED: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
 }
 
 /// Adds `n` to one of the counters of [`Work`].
@@ -328,6 +348,8 @@ pub(crate) const COLUMNS_STEPPED: Counter = ();
 pub(crate) const PLACES_CLOSED_UP: Counter = ();
 #[cfg(not(feature = "testing"))]
 pub(crate) const TEXT_COPIED: Counter = ();
+#[cfg(not(feature = "testing"))]
+pub(crate) const ITEMS_MEASURED: Counter = ();
 
 /// The work counted on this thread so far ([`Work`]).
 #[cfg(feature = "testing")]
@@ -337,6 +359,7 @@ pub fn work_done() -> Work {
         columns_stepped: COLUMNS_STEPPED.with(|c| c.get()),
         places_closed_up: PLACES_CLOSED_UP.with(|c| c.get()),
         text_copied: TEXT_COPIED.with(|c| c.get()),
+        items_measured: ITEMS_MEASURED.with(|c| c.get()),
     }
 }
 
