@@ -377,11 +377,25 @@ fn mmult(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     to_value(&(a * b))
 }
 
+/// The most work one LU decomposition (MINVERSE, MDETERM) may take: n³ steps, 10^9 (a
+/// 1,000 × 1,000 matrix, under a second). The array limit allows 4,096 × 4,096, and 3,000 × 3,000
+/// ran past 30 s.
+const MAX_LU_WORK: usize = 1_000_000_000;
+
 fn square(ctx: &mut Ctx, e: &Expr) -> XlResult<DMatrix<f64>> {
     let m = matrix(ctx, e)?;
     check(m.is_square(), XlError::Value)?;
+    let n = m.nrows();
+    let work = n.saturating_mul(n).saturating_mul(n);
+    if work > MAX_LU_WORK {
+        let note = format!(
+            "a {n} × {n} matrix is more work than ncsheet's limit of {:e} for MINVERSE and MDETERM (n³ steps)",
+            MAX_LU_WORK as f64
+        );
+        return Err(ctx.explain(XlError::Num, note));
+    }
     // MINVERSE's and MDETERM's LU decomposition, about n^3 steps, inside MAP's LAMBDA.
-    ctx.charge(m.nrows().saturating_mul(m.nrows()).saturating_mul(m.nrows()));
+    ctx.charge(work);
     Ok(m)
 }
 
