@@ -114,11 +114,9 @@ const VALUE_ATTRIBUTES: [&str; 7] =
 
 impl Extent {
     fn take(&mut self, event: Event) -> Result<(), String> {
-        if let Some(name) = unknown_entity(&event) {
+        if let Some(bad) = xml::bad_reference_in(&event) {
             // calamine would say only "unrecognized entity", naming no part.
-            return Err(format!(
-                "the XML is not well-formed: unknown entity &{name}; (ncsheet reads no DOCTYPE's entities)"
-            ));
+            return Err(format!("the XML is not well-formed: {bad}"));
         }
         let tag = match event {
             Event::Text(text) | Event::CData(text) => {
@@ -275,15 +273,6 @@ impl Extent {
 /// the error would cite an attribute the file does not have.
 fn repeat_crosses(start: u64, count: u64, edge: u64) -> bool {
     count > 1 && start < edge && start.saturating_add(count) >= edge
-}
-
-/// An entity reference in a text or an attribute that XML does not define itself.
-fn unknown_entity(event: &Event) -> Option<String> {
-    match event {
-        Event::Text(text) => xml::unknown_entity(text),
-        Event::Tag(tag) => tag.attrs().find_map(|(_, value)| xml::unknown_entity(value)),
-        Event::CData(_) => None,
-    }
 }
 
 /// A stored value; dates and times (ISO 8601 text in the file) as Excel's serial numbers.

@@ -120,16 +120,30 @@ impl<'a> Package<'a> {
         Ok(Some((workbook, without_sheets_where(&text, |id| !known(id)))))
     }
 
-    /// Reads a whole (small) part as text; a missing part is an error.
+    /// Reads a whole (small) XML part as text, its references checked; a missing part is an
+    /// error.
     pub fn read_part(&mut self, part: &str) -> Result<String, Err> {
         let mut entry = self.entry(part)?.held_whole();
         let mut bytes = Vec::new();
         entry.read_to_end(&mut bytes).map_err(|e| zip_error(Some(part), ZipError::Io(e)))?;
+        check_xml(part, &bytes)?;
         String::from_utf8(bytes).map_err(|_| (Some(part.to_string()), ErrorKind::Damaged, "not UTF-8 text".into()))
     }
 
-    /// A part's raw bytes if the package has it.
+    /// A part's raw bytes if the package has it; an XML part (`.xml`, `.rels`) only when its
+    /// references are XML's (the readers of small parts forgive, so they are checked here).
     pub fn read_optional(&mut self, part: &str) -> Result<Option<Vec<u8>>, Err> {
+        let bytes = self.read_optional_bytes(part)?;
+        if let Some(bytes) = &bytes {
+            let lower = part.to_ascii_lowercase();
+            if lower.ends_with(".xml") || lower.ends_with(".rels") {
+                check_xml(part, bytes)?;
+            }
+        }
+        Ok(bytes)
+    }
+
+    fn read_optional_bytes(&mut self, part: &str) -> Result<Option<Vec<u8>>, Err> {
         let Some(index) = index_of(&self.zip, part) else { return Ok(None) };
         let mut entry = match self.zip.by_index(index) {
             Ok(e) => Inflating::new(e, self.limits).held_whole(),
@@ -165,10 +179,39 @@ impl<'a> Package<'a> {
                 && tag.attr("Type").is_some_and(|t| t.ends_with(b"/officeDocument"))
                 && main.is_none()
             {
-                main = tag.attr("Target").map(|t| resolve("", &unescape(t)));
+                main = Some(
+                    internal_target(tag, "").map_err(|why| (Some("_rels/.rels".to_string()), ErrorKind::Damaged, why)),
+                );
             }
         });
-        Ok(main.unwrap_or_else(|| "xl/workbook.xml".to_string()))
+        main.unwrap_or_else(|| Ok("xl/workbook.xml".to_string()))
+    }
+
+    /// A relationships part rewritten with absolute targets for calamine, which joins a
+    /// target to the workbook's folder as written and so misses `../xl/./sheet1.xml` (it
+    /// said "Worksheet not found"): `part`'s relationships part and its new text, `None`
+    /// when every internal target is already spelled as calamine reads it.
+    pub fn relationships_for_calamine(&mut self, part: &str) -> Result<Option<(String, String)>, Err> {
+        let dir = part.rsplit_once('/').map_or("", |(dir, _)| dir);
+        let rels_part = relationships_part(part);
+        let Some(bytes) = self.read_optional(&rels_part)? else { return Ok(None) };
+        let (mut entries, mut plain) = (Vec::new(), true);
+        for_each_tag(&bytes, &mut |tag, _| {
+            if tag.name != b"Relationship" || is_external(tag) {
+                return;
+            }
+            let written = tag.attr("Target").map(unescape).unwrap_or_default();
+            let Ok(target) = internal_target(tag, dir) else { return };
+            let as_calamine_joins = match written.strip_prefix('/') {
+                Some(absolute) => absolute.to_string(),
+                None if dir.is_empty() => written,
+                None => format!("{dir}/{written}"),
+            };
+            plain &= as_calamine_joins == target;
+            let id = tag.attr("Id").map(unescape).unwrap_or_default();
+            entries.push((id, tag.attr("Type").map(unescape).unwrap_or_default(), target));
+        });
+        Ok((!plain).then(|| (rels_part, super::opc::absolute_relationships(&entries))))
     }
 
     /// The table parts a worksheet's relationships name.
@@ -190,25 +233,26 @@ impl<'a> Package<'a> {
         let rels_part = relationships_part(part);
         let Some(bytes) = self.read_optional(&rels_part)? else { return Ok(Vec::new()) };
         let mut out = Vec::new();
-        let mut unknown_entity = None;
+        let mut refused = None;
         for_each_tag(&bytes, &mut |tag, _| {
             if tag.name == b"Relationship" {
-                // `Target="&q;"` would be looked for as a part of that name.
-                unknown_entity =
-                    unknown_entity.take().or_else(|| tag.attrs().find_map(|(_, v)| super::xml::unknown_entity(v)));
                 let id = tag.attr("Id").map(unescape).unwrap_or_default();
-                let target = tag.attr("Target").map(|v| resolve(dir, &unescape(v))).unwrap_or_default();
+                // An external resource (a hyperlink, a linked workbook's path) is no part.
+                let target = match is_external(tag) {
+                    true => Ok(String::new()),
+                    false => internal_target(tag, dir),
+                };
+                let target = target.unwrap_or_else(|why| {
+                    refused.get_or_insert(format!("relationship {id}: {why}"));
+                    String::new()
+                });
                 let kind = tag.attr("Type").map(unescape).unwrap_or_default();
                 let kind = kind.rsplit('/').next().unwrap_or("").to_string();
                 out.push((id, target, kind));
             }
         });
-        match unknown_entity {
-            Some(name) => Err((
-                Some(rels_part),
-                ErrorKind::Damaged,
-                format!("the XML is not well-formed: unknown entity &{name};"),
-            )),
+        match refused {
+            Some(why) => Err((Some(rels_part), ErrorKind::Damaged, why)),
             None => Ok(out),
         }
     }
@@ -319,17 +363,33 @@ impl<'a> Package<'a> {
             .filter(|name| wanted.contains(&name.replace('\\', "/").to_ascii_lowercase()))
             .collect();
         for name in names {
-            let mut entry = self.entry(&name)?;
+            let entry = self.entry(&name)?;
             if name.replace('\\', "/").to_ascii_lowercase() == wanted[1] {
                 // A table no relationship names is still opened by calamine, which trusts
                 // its uniqueCount: it is read here as the workbook's own would be.
                 check_shared_strings(&name, entry)?;
                 continue;
             }
-            std::io::copy(&mut entry, &mut std::io::sink()).map_err(|e| zip_error(Some(&name), ZipError::Io(e)))?;
+            super::xml::check_references(entry).map_err(|e| xml_error(&name, e))?;
         }
         Ok(())
     }
+}
+
+/// A small XML part whose markup or references are not XML's (a DTD, `&bogus;`, `&#1;`):
+/// refused naming the part and the byte, before a forgiving reader (ours, or calamine, whose
+/// message names no part) shows it as text.
+fn check_xml(part: &str, bytes: &[u8]) -> Result<(), Err> {
+    super::xml::check_references(bytes).map_err(|e| xml_error(part, e))
+}
+
+fn xml_error(part: &str, e: StreamError<super::xml::BadReference>) -> Err {
+    let message = match e {
+        StreamError::Io(e) => return zip_error(Some(part), ZipError::Io(e)),
+        StreamError::Xml { offset, message } => format!("the XML is not well-formed at byte {offset}: {message}"),
+        StreamError::Handler(bad) => format!("the XML is not well-formed: {bad}"),
+    };
+    (Some(part.to_string()), ErrorKind::Damaged, message)
 }
 
 /// The part holding `part`'s relationships (`xl/_rels/workbook.xml.rels`).
@@ -577,22 +637,16 @@ fn xml_true(value: &[u8]) -> bool {
     matches!(value, b"1" | b"true")
 }
 
-/// Resolves a relationship target against the folder of its source part.
-fn resolve(dir: &str, target: &str) -> String {
-    if let Some(abs) = target.strip_prefix('/') {
-        return abs.to_string();
-    }
-    let mut parts: Vec<&str> = dir.split('/').filter(|s| !s.is_empty()).collect();
-    for seg in target.split('/') {
-        match seg {
-            ".." => {
-                parts.pop();
-            }
-            "." | "" => {}
-            s => parts.push(s),
-        }
-    }
-    parts.join("/")
+/// `TargetMode="External"`: the target is a resource outside the package.
+fn is_external(tag: &super::xml::Tag) -> bool {
+    tag.attr("TargetMode").is_some_and(|mode| mode == b"External")
+}
+
+/// The part an internal relationship's target names, resolved against the folder `dir` of
+/// its source part (see `opc.rs`); the error quotes the target and says why it names none.
+fn internal_target(tag: &super::xml::Tag, dir: &str) -> Result<String, String> {
+    let written = tag.attr("Target").map(unescape).unwrap_or_default();
+    super::opc::resolve_target(dir, &written).map_err(|why| format!("the target '{written}' {why}"))
 }
 
 /// For each `<bk>` of `<valueMetadata>`, the rich value it points at (through the
@@ -666,13 +720,6 @@ mod tests {
         assert_eq!(kept, r#"<workbook><sheets><sheet name="A" sheetId="1" r:id="rId1"/></sheets></workbook>"#);
         assert_eq!(relationship_id(r#"<sheet sheetId="2" r:id="">"#), "");
         assert_eq!(relationship_id(r#"<sheet sheetId="2" r:id='rId&amp;3'/>"#), "rId&3");
-    }
-
-    #[test]
-    fn relationship_targets_resolve_against_their_folder() {
-        assert_eq!(resolve("xl", "worksheets/sheet1.xml"), "xl/worksheets/sheet1.xml");
-        assert_eq!(resolve("xl", "/xl/worksheets/sheet1.xml"), "xl/worksheets/sheet1.xml");
-        assert_eq!(resolve("xl/worksheets", "../drawings/d.xml"), "xl/drawings/d.xml");
     }
 
     /// The parts as Excel 365 writes them for a `#CALC!` and a `#SPILL!` kept as values

@@ -363,13 +363,8 @@ fn part_calamine_opened(package: &Package, e: &calamine::XlsxError) -> Option<St
 /// A text event's and an attribute value's entities are XML's own: `&bogus;` is not
 /// well-formed, as Excel and calamine (whose message names no part) hold too.
 fn defined_entities_only(event: Event) -> Result<(), ScanError> {
-    let unknown = match event {
-        Event::Text(text) => super::xml::unknown_entity(text),
-        Event::Tag(tag) => tag.attrs().find_map(|(_, value)| super::xml::unknown_entity(value)),
-        Event::CData(_) => None,
-    };
-    match unknown {
-        Some(name) => Err((ErrorKind::Damaged, format!("the XML is not well-formed: unknown entity &{name};"))),
+    match super::xml::bad_reference_in(&event) {
+        Some(bad) => Err((ErrorKind::Damaged, format!("the XML is not well-formed: {bad}"))),
         None => Ok(()),
     }
 }
@@ -1073,17 +1068,25 @@ fn hidden_columns(ranges: &[(u32, u32)]) -> Vec<u16> {
 
 /// The package as calamine is given it: as read, or, when the workbook lists a sheet whose
 /// relationship names no part (which calamine refuses), with that sheet left out of the
-/// workbook part. The sheet is left out of the workbook as well, with a note (its kind says
-/// it has no part).
+/// workbook part, and with the package's and the workbook's relationships written with
+/// absolute targets when calamine would not find their parts as they are spelled. The sheet
+/// is left out of the workbook as well, with a note (its kind says it has no part).
 fn calamine_view<'b>(package: &mut Package, bytes: &'b [u8], file: &Path) -> Result<Cow<'b, [u8]>, XlsxError> {
     let fail = |(part, kind, message): (Option<String>, ErrorKind, String)| {
         XlsxError::new(file, part.as_deref(), kind, message)
     };
-    let Some((part, text)) = package.workbook_without_partless_sheets().map_err(fail)? else {
-        return Ok(Cow::Borrowed(bytes));
-    };
-    let source = crate::io::Source { file: file.to_path_buf(), bytes: bytes.into() };
-    Ok(Cow::Owned(super::replace_part(&source, &part, text.as_bytes())?))
+    let workbook = package.workbook_parts.first().cloned().unwrap_or_default();
+    let replaced = [
+        package.workbook_without_partless_sheets().map_err(fail)?,
+        package.relationships_for_calamine("").map_err(fail)?,
+        package.relationships_for_calamine(&workbook).map_err(fail)?,
+    ];
+    let mut view = Cow::Borrowed(bytes);
+    for (part, text) in replaced.into_iter().flatten() {
+        let source = crate::io::Source { file: file.to_path_buf(), bytes: view.into_owned().into() };
+        view = Cow::Owned(super::replace_part(&source, &part, text.as_bytes())?);
+    }
+    Ok(view)
 }
 
 /// Recognizes what is not an xlsx package before a zip reader says something obscure.

@@ -250,8 +250,8 @@ impl SheetScanner<'_> {
             Event::Tag(tag) => self.tag(&tag, on_cell),
             Event::Text(raw) if self.capture != Capture::Nothing => {
                 let text = std::str::from_utf8(raw).map_err(|_| self.damaged("holds text that is not UTF-8"))?;
-                xml::unescape_into(text, self.capture_buffer());
-                Ok(())
+                xml::unescape_into(text, self.capture_buffer())
+                    .map_err(|bad| self.damaged(&format!("holds XML that is not well-formed: {bad}")))
             }
             Event::CData(raw) if self.capture != Capture::Nothing => {
                 let text = std::str::from_utf8(raw).map_err(|_| self.damaged("holds text that is not UTF-8"))?;
@@ -636,7 +636,9 @@ pub fn read_shared_strings(part: impl Read) -> Result<Vec<Rc<str>>, xml::StreamE
             Event::Text(raw) if in_text => {
                 let text = std::str::from_utf8(raw)
                     .map_err(|_| (ErrorKind::Damaged, format!("string {} is not UTF-8 text", strings.len())))?;
-                xml::unescape_into(text, current.as_mut().expect("text inside <si>"));
+                xml::unescape_into(text, current.as_mut().expect("text inside <si>")).map_err(|bad| {
+                    (ErrorKind::Damaged, format!("string {} holds XML that is not well-formed: {bad}", strings.len()))
+                })?;
             }
             Event::CData(raw) if in_text => {
                 let text = String::from_utf8_lossy(raw);

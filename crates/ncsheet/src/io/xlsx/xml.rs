@@ -83,6 +83,8 @@ enum Markup<'a> {
     CData(&'a [u8]),
     /// Comments, processing instructions, declarations.
     Other,
+    /// `<!DOCTYPE …`: a DTD, which may declare entities.
+    Doctype,
 }
 
 /// Where the markup starting at `buf[lt] == b'<'` ends (index of its `>`), `None` when the
@@ -124,6 +126,7 @@ fn parse_markup(markup: &[u8]) -> Markup<'_> {
     let inner = &markup[1..markup.len() - 1];
     let (kind, inner) = match inner.first() {
         Some(b'/') => (TagKind::End, &inner[1..]),
+        Some(b'!') if inner.starts_with(b"!DOCTYPE") => return Markup::Doctype,
         Some(b'!' | b'?') | None => return Markup::Other,
         _ => match inner.strip_suffix(b"/") {
             Some(body) => (TagKind::Empty, body),
@@ -170,6 +173,12 @@ pub enum StreamError<E> {
     Handler(E),
 }
 
+/// Why a part with a DTD is refused. The entities it declares would change the text (and can
+/// expand without bound); Office Open XML forbids a DTD in a part and tells readers to treat
+/// one as an error (ECMA-376 Part 2, §8.1.4, [M1.18]), as Excel does.
+const DOCTYPE: &str = "the part declares a DTD (<!DOCTYPE …>), which an Office Open XML part may not have \
+                       (ECMA-376 Part 2, [M1.18]); ncsheet reads no DTD and none of its entities";
+
 /// Bytes read from the part at a time.
 const CHUNK: usize = 1 << 17;
 /// The longest tag or run of text held at once. Real sheets stay far below; a part that
@@ -203,6 +212,7 @@ pub fn stream<E>(reader: impl Read, handler: &mut dyn FnMut(Event) -> Result<(),
                     }
                     Markup::CData(data) => Event::CData(data),
                     Markup::Other => continue,
+                    Markup::Doctype => return Err(StreamError::Xml { offset, message: DOCTYPE.into() }),
                 };
                 handler(event).map_err(StreamError::Handler)?;
                 continue;
@@ -321,19 +331,51 @@ fn lossy(name: &[u8]) -> String {
 }
 
 /// XML text with its entities replaced (invalid UTF-8 replaced too: for names and
-/// attributes of the small parts).
+/// attributes of the small parts, each checked whole by [`check_references`] before it is
+/// read; a reference that is not well-formed is kept as written).
 pub fn unescape(raw: &[u8]) -> String {
+    let text = String::from_utf8_lossy(raw);
     let mut out = String::new();
-    unescape_into(&String::from_utf8_lossy(raw), &mut out);
+    if unescape_into(&text, &mut out).is_err() {
+        return text.into_owned();
+    }
     out
 }
 
+/// A reference in character data or an attribute value that XML 1.0 does not allow: an
+/// entity it does not define (`&bogus;`, or one a DOCTYPE would declare: ncsheet reads no
+/// DTD), a character reference to a character outside XML's `Char` production (`&#1;`,
+/// `&#0;`, `&#xD800;`, `&#99999999;`: §2.2 and §4.1, well-formedness constraint "Legal
+/// Character"), or a bare `&`. Excel refuses a part holding one.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct BadReference {
+    /// The reference as written, from its `&` (cut at 32 characters).
+    pub written: String,
+}
+
+impl std::fmt::Display for BadReference {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let written = &self.written;
+        if !written.ends_with(';') {
+            write!(f, "'{written}…': an & that begins no entity or character reference (XML writes it &amp;)")
+        } else if written.starts_with("&#") {
+            write!(f, "the character reference {written} names no character XML 1.0 allows")
+        } else {
+            write!(f, "unknown entity {written} (XML defines five; ncsheet reads no DOCTYPE's entities)")
+        }
+    }
+}
+
+/// The longest reference looked for: `&#x0010FFFF;` and XML's entity names are far shorter.
+const MAX_REFERENCE: usize = 32;
+
 /// Appends `text` to `out` with XML's entities replaced and line ends normalised to `\n`,
-/// as an XML parser reports character data. An unknown entity is kept as written.
-pub fn unescape_into(text: &str, out: &mut String) {
+/// as an XML parser reports character data. A reference XML does not allow is an error (a
+/// cell must not show it as text, nor drop it).
+pub fn unescape_into(text: &str, out: &mut String) -> Result<(), BadReference> {
     if memchr::memchr2(b'&', b'\r', text.as_bytes()).is_none() {
         out.push_str(text);
-        return;
+        return Ok(());
     }
     let mut rest = text;
     while let Some(at) = rest.find(['&', '\r']) {
@@ -344,36 +386,59 @@ pub fn unescape_into(text: &str, out: &mut String) {
             rest = after.strip_prefix('\n').unwrap_or(after);
             continue;
         }
-        match rest.find(';').and_then(|semi| Some((entity(&rest[1..semi])?, semi))) {
-            Some((c, semi)) => {
-                out.push(c);
-                rest = &rest[semi + 1..];
-            }
-            None => {
-                out.push('&');
-                rest = &rest[1..];
-            }
-        }
+        let (c, len) = reference(rest)?;
+        out.push(c);
+        rest = &rest[len..];
     }
     out.push_str(rest);
+    Ok(())
 }
 
-/// The first entity in escaped character data that XML does not define (`&bogus;`): a
-/// well-formedness error, which [`unescape_into`] passes over but a reader must report.
-pub fn unknown_entity(text: &[u8]) -> Option<String> {
+/// The character the reference at the start of `text` (at its `&`) stands for, and the
+/// reference's length.
+fn reference(text: &str) -> Result<(char, usize), BadReference> {
+    let semi = text.as_bytes().iter().take(MAX_REFERENCE).position(|&b| b == b';');
+    match semi.and_then(|semi| Some((entity(&text[1..semi])?, semi + 1))) {
+        Some(found) => Ok(found),
+        None => {
+            let end = semi.map_or_else(|| text.char_indices().nth(16).map_or(text.len(), |(i, _)| i), |s| s + 1);
+            Err(BadReference { written: text[..end].to_string() })
+        }
+    }
+}
+
+/// The first reference in escaped character data or an attribute value that XML does not
+/// allow (see [`BadReference`]): a well-formedness error a reader must report.
+pub fn bad_reference(text: &[u8]) -> Option<BadReference> {
     let text = String::from_utf8_lossy(text);
     let mut rest = text.as_ref();
     while let Some(at) = rest.find('&') {
-        rest = &rest[at + 1..];
-        let name = match rest.find(';') {
-            Some(semi) if semi <= 32 => &rest[..semi],
-            _ => return Some(rest.chars().take(16).collect()),
-        };
-        if entity(name).is_none() {
-            return Some(name.to_string());
+        rest = &rest[at..];
+        match reference(rest) {
+            Ok((_, len)) => rest = &rest[len..],
+            Err(bad) => return Some(bad),
         }
     }
     None
+}
+
+/// The first reference XML does not allow in an event's text or attribute values.
+pub fn bad_reference_in(event: &Event) -> Option<BadReference> {
+    match event {
+        Event::Text(text) => bad_reference(text),
+        Event::Tag(tag) => tag.attrs().find_map(|(_, value)| bad_reference(value)),
+        Event::CData(_) => None,
+    }
+}
+
+/// Checks a whole part as [`stream`] does (nesting, no DTD) and every reference in its text
+/// and attribute values: the small parts read with [`for_each_tag`], which forgives, are
+/// checked so first.
+pub fn check_references(part: impl Read) -> Result<(), StreamError<BadReference>> {
+    stream(part, &mut |event| match bad_reference_in(&event) {
+        Some(bad) => Err(bad),
+        None => Ok(()),
+    })
 }
 
 fn entity(name: &str) -> Option<char> {
@@ -384,13 +449,21 @@ fn entity(name: &str) -> Option<char> {
         "quot" => Some('"'),
         "apos" => Some('\''),
         _ => {
-            let code = match name.strip_prefix("#x").or_else(|| name.strip_prefix("#X")) {
-                Some(hex) => u32::from_str_radix(hex, 16).ok(),
-                None => name.strip_prefix('#')?.parse().ok(),
+            // Digits only: Rust's parsers would take a sign (`&#+65;`), which XML does not.
+            let code = match name.strip_prefix("#x") {
+                Some(hex) if hex.bytes().all(|b| b.is_ascii_hexdigit()) => u32::from_str_radix(hex, 16).ok(),
+                Some(_) => None,
+                None => name.strip_prefix('#').filter(|d| d.bytes().all(|b| b.is_ascii_digit()))?.parse().ok(),
             };
-            code.and_then(char::from_u32)
+            code.and_then(char::from_u32).filter(|&c| is_xml_char(c))
         }
     }
+}
+
+/// XML 1.0's `Char` production (§2.2): tab, line feed, carriage return and every character
+/// from U+0020 but the surrogates (which `char` cannot hold) and U+FFFE, U+FFFF.
+fn is_xml_char(c: char) -> bool {
+    matches!(c, '\t' | '\n' | '\r' | '\u{20}'..='\u{FFFD}' | '\u{10000}'..)
 }
 
 /// Replaces Excel's `_xHHHH_` escapes in string values (how it stores characters XML cannot
@@ -489,6 +562,23 @@ mod tests {
         assert_eq!(seen[3..], ["End b", "Empty c", "cdata <&>", "End a"].map(String::from));
     }
 
+    /// XML 1.0 §2.2 `Char` and §4.1 "Legal Character": the characters a reference may name.
+    #[test]
+    fn references_to_characters_xml_does_not_allow_are_errors() {
+        for written in ["&#0;", "&#1;", "&#x1F;", "&#xD800;", "&#xFFFE;", "&#x110000;", "&#99999999;", "&#+65;", "&#x;"]
+        {
+            let mut out = String::new();
+            assert_eq!(unescape_into(&format!("a{written}b"), &mut out), Err(BadReference { written: written.into() }));
+        }
+        assert_eq!(bad_reference(b"R&D").map(|b| b.written), Some("&D".into()));
+    }
+
+    #[test]
+    fn a_stream_refuses_a_dtd() {
+        let xml = b"<?xml version=\"1.0\"?><!DOCTYPE sst [<!ENTITY e \"x\">]><sst><t>&e;</t></sst>";
+        assert!(events(xml).unwrap_err().starts_with("21: the part declares a DTD"));
+    }
+
     #[test]
     fn a_stream_names_where_the_markup_goes_wrong() {
         assert_eq!(events(b"<a><b></a>").unwrap_err(), "6: </a> where </b> was due");
@@ -501,10 +591,12 @@ mod tests {
     #[test]
     fn text_unescapes_entities_line_ends_and_excel_escapes() {
         let mut out = String::new();
-        assert_eq!(unknown_entity(b"a&amp;b&#x41;&lt;&bogus;"), Some("bogus".to_string()));
-        assert_eq!(unknown_entity(b"a&amp;b&#x41;&lt;&#8364;"), None);
-        unescape_into("a&amp;b&#x41;&lt;\r\nc\rd&bogus;", &mut out);
-        assert_eq!(out, "a&bA<\nc\nd&bogus;");
+        let bad = |written: &str| Some(BadReference { written: written.into() });
+        assert_eq!(bad_reference(b"a&amp;b&#x41;&lt;&bogus;"), bad("&bogus;"));
+        assert_eq!(bad_reference(b"a&amp;b&#x41;&lt;&#8364;&#x10FFFF;&#9;"), None);
+        unescape_into("a&amp;b&#x41;&lt;\r\nc\rd", &mut out).unwrap();
+        assert_eq!(out, "a&bA<\nc\nd");
+        assert_eq!(unescape(b"kept &bogus; as written"), "kept &bogus; as written");
         assert_eq!(unescape_excel("a_x000D_b_x005F_x000D_"), "a\rb_x000D_");
         assert_eq!(unescape_excel("_xD83D__xDE00_!_xD83D_"), "😀!\u{FFFD}");
         assert_eq!(unescape_excel("_x00ZZ_ _x12"), "_x00ZZ_ _x12");

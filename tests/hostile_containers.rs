@@ -1,0 +1,128 @@
+//! Hostile containers (issue 30), seventh round (session 20): the readers' classes the
+//! earlier rounds did not reach. What each test expects comes from outside our code: XML 1.0
+//! (W3C, fifth edition), ECMA-376 Part 2 (Open Packaging Conventions), RFC 3986.
+
+mod common;
+
+use std::path::Path;
+
+use ncsheet::formula::address::parse_cell;
+use ncsheet::io::xlsx::{self, ErrorKind, Layout, XlsxError};
+use ncsheet::workbook::Workbook;
+
+const FILE: &str = "hostile.xlsx";
+
+/// A workbook of our writer's: Sheet1 with a number, a text (shared string) and a formula.
+fn good_workbook() -> Vec<u8> {
+    let mut wb = Workbook::with_sheet();
+    for (cell, input) in [("A1", "2"), ("B1", "text"), ("C1", "=A1*3")] {
+        wb.set_input(0, parse_cell(cell).unwrap(), input).unwrap();
+    }
+    xlsx::to_bytes(&wb, &Layout::default()).unwrap()
+}
+
+/// `package` with the first `from` of `part` replaced by `to`.
+fn spoiled(package: &[u8], part: &str, from: &str, to: &str) -> Vec<u8> {
+    let options = zip::write::SimpleFileOptions::default();
+    let mut change = |name: &str, data: Vec<u8>| {
+        if name != part {
+            return data;
+        }
+        let text = String::from_utf8(data).unwrap();
+        assert!(text.contains(from), "{part} holds no {from}: {text}");
+        text.replacen(from, to, 1).into_bytes()
+    };
+    common::xlsx::rewrite_package(package, options, &mut change).finish().unwrap().into_inner()
+}
+
+fn load(bytes: &[u8]) -> Result<xlsx::Imported, XlsxError> {
+    xlsx::load_bytes(bytes, Path::new(FILE))
+}
+
+const DECLARATION: &str = r#"<?xml version="1.0" encoding="UTF-8" standalone="yes"?>"#;
+const SHEET: &str = "xl/worksheets/sheet1.xml";
+const STRINGS: &str = "xl/sharedStrings.xml";
+
+/// XML 1.0 allows a reference only to a character of its `Char` production (§2.2: tab, line
+/// feed, carriage return, U+0020–U+D7FF, U+E000–U+FFFD, U+10000–U+10FFFF; §4.1, constraint
+/// "Legal Character") and only to an entity it declares (§4.1, "Entity Declared": the five
+/// predefined ones, as an Office Open XML part may have no DTD, ECMA-376 Part 2 §8.1.4
+/// [M1.18], which also tells readers to treat a DTD as an error). Each of these was shown as
+/// text in its cell (`x&foo;y`, `x\u{1}y`), `&#0;` dropped or read as a space, and a DTD's
+/// entity expanded by calamine: now the part is refused, naming it and the cell or string.
+#[test]
+fn references_xml_does_not_allow_refuse_the_part_naming_the_cell() {
+    let good = good_workbook();
+    let inline = |text: &str| format!(r#"<c r="D1" t="inlineStr"><is><t>{text}</t></is></c></row>"#);
+    let in_sheet = ["x&foo;y", "x&#1;y", "x&#0;y", "x&#xD800;y", "x&#99999999;y", "x&#xFFFE;y", "R&D"];
+    for text in in_sheet {
+        let bytes = spoiled(&good, SHEET, "</row>", &inline(text));
+        let e = load(&bytes).err().unwrap_or_else(|| panic!("{text} was read"));
+        assert_eq!((e.kind, e.part.as_deref()), (ErrorKind::Damaged, Some(SHEET)), "{e}");
+        assert!(e.message.starts_with("cell D1 holds XML that is not well-formed: "), "{text}: {e}");
+    }
+    // A formula's text and a shared string are character data too.
+    let e = load(&spoiled(&good, SHEET, "<f>A1*3</f>", "<f>A1*3&amp;&#2;</f>")).err().unwrap();
+    assert!(e.message.contains("cell C1 ") && e.message.contains("&#2;"), "{e}");
+    let e = load(&spoiled(&good, STRINGS, "<t>text</t>", "<t>te&#x1F;xt</t>")).err().unwrap();
+    assert_eq!(e.part.as_deref(), Some(STRINGS), "{e}");
+    assert!(e.message.contains("&#x1F;"), "{e}");
+    // The sheet's name in the workbook part (read by the forgiving reader of small parts).
+    let e = load(&spoiled(&good, "xl/workbook.xml", r#"name="Sheet1""#, r#"name="Sheet&#0;""#)).err().unwrap();
+    assert_eq!(e.part.as_deref(), Some("xl/workbook.xml"), "{e}");
+    assert!(e.message.contains("&#0;"), "{e}");
+
+    // A DTD in any part, declaring the entity the text uses or not.
+    let dtd = format!("{DECLARATION}<!DOCTYPE x [<!ENTITY foo \"bar\">]>");
+    let used = spoiled(&spoiled(&good, STRINGS, DECLARATION, &dtd), STRINGS, "<t>text</t>", "<t>&foo;</t>");
+    for (part, bytes) in [
+        (STRINGS, used),
+        (SHEET, spoiled(&good, SHEET, DECLARATION, &dtd)),
+        ("xl/styles.xml", spoiled(&good, "xl/styles.xml", DECLARATION, &dtd)),
+        ("xl/workbook.xml", spoiled(&good, "xl/workbook.xml", DECLARATION, &dtd)),
+    ] {
+        let e = load(&bytes).err().unwrap_or_else(|| panic!("{part} with a DTD was read"));
+        assert_eq!((e.kind, e.part.as_deref()), (ErrorKind::Damaged, Some(part)), "{e}");
+        assert!(e.message.contains("declares a DTD") && e.message.contains("[M1.18]"), "{e}");
+    }
+
+    // What XML allows still reads: the predefined entities, references to characters in
+    // range (tab, é, an emoji past U+FFFF).
+    let text = "a&amp;b&lt;&#9;&#xE9;&#x1F600;";
+    let wb = load(&spoiled(&good, SHEET, "</row>", &inline(text))).unwrap().workbook;
+    let shown = wb.value(0, parse_cell("D1").unwrap());
+    assert_eq!(shown, ncsheet::eval::Value::Text("a&b<\té\u{1F600}".into()));
+}
+
+/// A relationship's target is a URI reference resolved against its source part's folder
+/// (ECMA-376 Part 2, §9.3; RFC 3986 §5.2: `.` and `..` segments removed, `/` from the root)
+/// whose percent-encoded octets stand for their characters (RFC 3986 §2.1). Each spelling
+/// below names xl/worksheets/sheet1.xml; calamine joined the target to `xl/` as written and
+/// said "Worksheet not found". A target that leaves the package is refused, naming the
+/// relationship.
+#[test]
+fn relationship_targets_resolve_as_pack_uris_do() {
+    let good = good_workbook();
+    let rels = "xl/_rels/workbook.xml.rels";
+    let written = r#"Target="worksheets/sheet1.xml""#;
+    for target in [
+        "../xl/worksheets/./sheet1.xml",
+        "/xl/worksheets/sheet1.xml",
+        "worksheets/../worksheets/sheet1.xml",
+        "worksheets/sheet%31.xml",
+        "./worksheets//sheet1.xml",
+    ] {
+        let bytes = spoiled(&good, rels, written, &format!(r#"Target="{target}""#));
+        let wb = load(&bytes).unwrap_or_else(|e| panic!("{target}: {e}")).workbook;
+        assert_eq!(wb.value(0, parse_cell("C1").unwrap()), ncsheet::eval::Value::Number(6.0), "{target}");
+    }
+    let main = spoiled(&good, "_rels/.rels", r#"Target="xl/workbook.xml""#, r#"Target="./xl/../xl/workbook.xml""#);
+    assert!(load(&main).is_ok());
+
+    for target in ["../../etc/passwd", "file:///etc/passwd", "//server/share/sheet1.xml", "sheet%2F1.xml"] {
+        let bytes = spoiled(&good, rels, written, &format!(r#"Target="{target}""#));
+        let e = load(&bytes).err().unwrap_or_else(|| panic!("{target} was read"));
+        assert_eq!((e.kind, e.part.as_deref()), (ErrorKind::Damaged, Some(rels)), "{e}");
+        assert!(e.message.starts_with("relationship rId1: the target '"), "{target}: {e}");
+    }
+}
