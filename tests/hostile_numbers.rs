@@ -43,3 +43,68 @@ fn a_cycle_through_index_offset_or_indirect_iterates_as_the_plain_chain() {
         assert_eq!((at("A1"), at("A50")), (Value::Number(451.0), Value::Number(500.0)), "{name}");
     }
 }
+
+// ---------------------------------------------------------------------------------------
+// Every function at the edges of doubles
+
+/// Arguments at the edges of doubles: the largest and smallest, the smallest normal and
+/// subnormal, zero, an array of the largest, and an array of no items (VBA's `Array()`, the
+/// one function that makes one).
+const EDGES: [&str; 7] =
+    ["1E+308", "-1E+308", "2.2250738585072014E-308", "5E-324", "0", "{1E+308,1E+308,1E+308}", "VBA.ARRAY()"];
+
+/// The calls of `name` taking `arity` arguments with an edge value in each place in turn
+/// (the others 1), and in every place at once.
+fn edge_calls(name: &str, arity: usize) -> Vec<String> {
+    let call = |args: Vec<&str>| format!("={name}({})", args.join(","));
+    let mut calls = Vec::new();
+    for edge in EDGES {
+        calls.push(call(vec![edge; arity]));
+        for place in 0..arity {
+            let mut args = vec!["1"; arity];
+            args[place] = edge;
+            calls.push(call(args));
+        }
+    }
+    calls
+}
+
+/// What is wrong with the values `formula` leaves in A1:D4 (its spill included), if anything.
+fn edge_fault(formula: &str) -> Option<String> {
+    let run = std::panic::catch_unwind(|| {
+        let mut wb = Workbook::with_sheet();
+        let _ = wb.set_input_deferred(0, parse_cell("A1").unwrap(), formula);
+        wb.recalculate();
+        let mut shown = Vec::new();
+        for row in 0..4 {
+            for col in 0..4 {
+                shown.push(wb.value(0, ncsheet::formula::Pos::new(row, col)));
+            }
+        }
+        shown
+    });
+    let Ok(values) = run else { return Some(format!("{formula}: panicked")) };
+    values.iter().find_map(|v| match v {
+        Value::Number(n) if !n.is_finite() => Some(format!("{formula}: {n}")),
+        Value::Number(n) if *n != 0.0 && n.abs() < f64::MIN_POSITIVE => Some(format!("{formula}: subnormal {n:e}")),
+        Value::Number(n) if v.to_string() == "-0" => Some(format!("{formula}: shown as -0 ({n})")),
+        _ => None,
+    })
+}
+
+#[test]
+fn no_function_at_the_edges_of_doubles_panics_or_leaks_inf_nan_or_minus_zero() {
+    // Excel keeps no infinity, NaN, subnormal or negative zero in a cell: a result past the
+    // doubles is #NUM! (MS-XLSX stores only finite numbers; Excel's "Floating-point
+    // arithmetic may give inaccurate results" names 1E+308 its largest number).
+    let mut formulas = std::collections::BTreeSet::new();
+    for spec in ncsheet::eval::functions::REGISTRY.iter() {
+        // Functions that read the clock, chance or the host are swept like the rest.
+        for arity in spec.min_args..=spec.max_args.min(spec.min_args + 1).min(4) {
+            formulas.extend(edge_calls(spec.name, arity));
+        }
+    }
+    assert!(formulas.len() > 10_000, "{} calls: the registry was not read", formulas.len());
+    let faults: Vec<String> = formulas.iter().filter_map(|f| edge_fault(f)).collect();
+    assert!(faults.is_empty(), "{} faults:\n{}", faults.len(), faults.join("\n"));
+}

@@ -698,6 +698,9 @@ impl Workbook {
         }
         let value = match value {
             Value::Array(a) if a.rows == 1 && a.cols == 1 => a.data[0].clone(),
+            // An array of no items (VBA's `Array()`) spills nowhere: Excel's #CALC!, its
+            // error for an empty array ("How to correct a #CALC! error").
+            Value::Array(a) if a.whole_size().0 == 0 || a.whole_size().1 == 0 => Value::Error(XlError::Calc),
             Value::Array(a) => return self.spill_array(id, &a, late),
             v => v,
         };

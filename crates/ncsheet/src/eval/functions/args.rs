@@ -328,7 +328,15 @@ pub fn numbers_a(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<f64>> {
 /// An argument read as a 2-D block of values: a range (all cells, blanks included) or an
 /// array; a scalar is a 1×1 block.
 pub fn block(ctx: &mut Ctx, e: &Expr) -> XlResult<Rc<Array>> {
-    match ctx.eval(e) {
+    as_block(ctx.eval(e))
+}
+
+/// A value as [`block`] reads it. An array of no items (VBA's `Array()` or `Split("")`) is
+/// `#CALC!`, Excel's error for an empty array: the functions reading blocks take their
+/// first row and column as given, and CHOOSEROWS, SORTBY, VLOOKUP and LOOKUP panicked.
+pub fn as_block(v: Value) -> XlResult<Rc<Array>> {
+    match v {
+        Value::Array(a) if a.rows == 0 || a.cols == 0 => Err(XlError::Calc),
         Value::Array(a) => Ok(a),
         Value::Error(err) => Err(err),
         v => Ok(Rc::new(Array::new(1, 1, vec![v]))),

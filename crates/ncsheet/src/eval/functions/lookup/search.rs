@@ -7,7 +7,7 @@ use std::rc::Rc;
 
 use crate::eval::coerce::{compare, compare_text, to_bool, to_number, to_text};
 use crate::eval::dates::DateSystem;
-use crate::eval::functions::api::{lift_values, number_or, ArgSet, Ctx, FnSpec, Operand};
+use crate::eval::functions::api::{as_block, lift_values, number_or, ArgSet, Ctx, FnSpec, Operand};
 use crate::eval::functions::lookup::key_index::{worth_indexing, ExactIndex, OrderIndex};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::address::{Pos, Rect};
@@ -261,11 +261,7 @@ fn sub_array(grid: &Array, rows: Span, cols: Span) -> Value {
 /// An operand's values as a block: a reference's cells (blanks included) or an array; a
 /// scalar is 1×1.
 fn grid_of(ctx: &mut Ctx, operand: Operand) -> XlResult<Rc<Array>> {
-    match ctx.deref(operand) {
-        Value::Array(a) => Ok(a),
-        Value::Error(e) => Err(e),
-        v => Ok(Rc::new(Array::new(1, 1, vec![v]))),
-    }
+    as_block(ctx.deref(operand))
 }
 
 // ---------------------------------------------------------------------------------------
