@@ -493,10 +493,35 @@ impl Interp<'_, '_> {
                 }
             }
             Node::Bound { .. } => Declared::Long,
+            Node::Path(path) => self.field_type(path).unwrap_or(Declared::Variant),
             Node::Inspect { what: Inspect::VarType, .. } => Declared::Integer,
             Node::Is { .. } | Node::TypeOf { .. } | Node::Inspect { what: Inspect::IsMissing, .. } => Declared::Boolean,
             _ => Declared::Variant,
         }
+    }
+
+    /// The declared type of a field of a variable of a user-defined Type (`p.n`, `a(1).pos.x`):
+    /// the field's own ([MS-VBAL] 5.2.3.3, a Type's element keeps its declared type), so
+    /// `TypeName(p.n)` of an Integer field is "Integer". `None` for any other path.
+    fn field_type(&self, path: &super::ast::Path) -> Option<Declared> {
+        let (first, fields) = path.links.split_first().filter(|_| !path.with)?;
+        let Some(Ty::Record(mut record)) = self.with_slot(&first.name, |s| s.ty.clone()).flatten() else {
+            return None;
+        };
+        let mut ty = Ty::Record(record);
+        for link in fields {
+            let def = &self.module.types[record];
+            let at = def.field(&link.name)?;
+            // A field's array needs its index, a plain field none.
+            if link.args.is_some() != def.bounds[at].is_some() {
+                return None;
+            }
+            ty = def.fields[at].1.clone();
+            if let Ty::Record(inner) = ty {
+                record = inner;
+            }
+        }
+        (!matches!(ty, Ty::Record(_)) && !fields.is_empty()).then(|| Declared::of_ty(Some(&ty)))
     }
 
     /// Overflow (run-time error 6) of `-operand`, which gave `result`: the negation has the
