@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::vba::{main_fails, run_main};
+use common::vba::{main_fails, printed_after, run_main};
 use ncsheet::formula::address::parse_cell;
 use ncsheet::vba::project::{ModuleKind, ProjectModule, VbaProject};
 use ncsheet::vba::RunOptions;
@@ -105,4 +105,23 @@ fn a_power_without_a_real_value_is_invalid_procedure_call() {
          \x20   x = (-8) ^ 3\n    Debug.Print Err.Number; CStr(x)",
     );
     assert_eq!(printed, [" 5 ", " 5 ", " 6 ", " 0 -512"]);
+}
+
+// ---- item 6: a Type's field keeps its declared type -------------------------------------
+
+/// [MS-VBAL] 5.2.3.3 (a Type's elements are declared with their types) and "TypeName
+/// function" / "VarType function": an Integer field answers "Integer" (2), a Single field
+/// "Single" (4), a Currency field "Currency" (6); and Integer arithmetic on the field
+/// overflows as an Integer's does ("Overflow (Error 6)": 300 * 200 is past 32,767).
+#[test]
+fn a_type_field_answers_its_declared_type() {
+    let printed = printed_after(
+        "Type Inner\n    l As Long\nEnd Type\n\
+         Type Pt\n    n As Integer\n    s As Single\n    c As Currency\n    inner As Inner\nEnd Type",
+        "    Dim p As Pt, a(1) As Pt\n    p.n = 300: p.s = 1.5: p.c = 2.5: p.inner.l = 7: a(1).n = 1\n\
+         \x20   Debug.Print TypeName(p.n); \" \"; TypeName(p.s); \" \"; TypeName(p.c); \" \"; TypeName(p.inner.l); \" \"; TypeName(a(1).n)\n\
+         \x20   Debug.Print VarType(p.n); VarType(p.s); VarType(p.c)\n\
+         \x20   On Error Resume Next\n    Dim x\n    x = p.n * 200\n    Debug.Print Err.Number",
+    );
+    assert_eq!(printed, ["Integer Single Currency Long Integer", " 2  4  6 ", " 6 "]);
 }
