@@ -216,3 +216,27 @@ fn constants_computed_from_each_other_are_refused_naming_them() {
     let itself = refused("Const C = 2 * C\nSub Main()\n    Debug.Print C\nEnd Sub\n", &[]);
     assert!(itself.contains("the constant C needs itself"), "{itself}");
 }
+
+// [MS-VBAL] 5.2.1.3 "Option Explicit Directive": it sets "the variable declaration mode" of
+// "the containing module"; a module without it is in implicit-mode ("Option Explicit
+// statement": "used at the module level to force explicit declaration of all variables in that
+// module"). So Module1's Option Explicit does not stop Other's undeclared `n` (3 * 2 = 6,
+// printed as " 6 ": "Print method", a number has a leading and a trailing space), and Other's Option Explicit does not stop Module1's undeclared
+// `k`, while Other's own undeclared `m` is still a compile error that names it.
+#[test]
+fn option_explicit_applies_to_its_own_module() {
+    let main = "Option Explicit\nSub Main()\n    Show\nEnd Sub\n";
+    let other = module("Other", "Public Sub Show()\n    n = 3\n    Debug.Print n * 2\nEnd Sub\n");
+    assert_eq!(printed(main, &[("Other", &other)]), [" 6 "]);
+
+    let main = "Sub Main()\n    k = 4\n    Debug.Print k + Twice(1)\nEnd Sub\n";
+    let other = module(
+        "Other",
+        "Option Explicit\nPublic Function Twice(x)\n    Twice = 2 * x\nEnd Function\n\
+         Public Sub Careless()\n    m = 1\nEnd Sub\n",
+    );
+    assert_eq!(printed(main, &[("Other", &other)]), [" 6 "]);
+    let main = "Sub Main()\n    Careless\nEnd Sub\n";
+    let error = refused(main, &[("Other", &other)]);
+    assert!(error.contains("variable m is not declared"), "{error}");
+}

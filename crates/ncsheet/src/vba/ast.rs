@@ -24,7 +24,7 @@ impl fmt::Display for Span {
 /// A parsed `.bas` module.
 #[derive(Debug, Default)]
 pub struct Module {
-    /// `Option Explicit`: every variable must be declared (checked by the parser).
+    /// `Option Explicit` of the module run first; each module's own is in `options`.
     pub explicit: bool,
     /// `Option Base 1`: the lower bound of arrays dimensioned without one (the module run
     /// first's; each module's own is in `options`).
@@ -55,13 +55,17 @@ pub struct Module {
     pub public_names: std::collections::HashMap<Box<str>, usize>,
 }
 
-/// One module's `Option Base` and `Option Compare` directives ([MS-VBAL] 5.2.1.2, 5.2.1.4).
+/// One module's `Option Base`, `Option Compare` and `Option Explicit` directives ([MS-VBAL]
+/// 5.2.1.2, 5.2.1.4, 5.2.1.3).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ModuleOptions {
     /// `Option Base 1`: the lower bound of arrays dimensioned without one.
     pub base: i64,
     /// `Option Compare Text`: text compares without case.
     pub text_compare: bool,
+    /// `Option Explicit`: every variable the module uses must be declared (checked by the
+    /// parser); another module of the project without it may still use undeclared ones.
+    pub explicit: bool,
 }
 
 /// A class module: what each of its objects holds and which procedures are its members.
@@ -97,7 +101,9 @@ impl Module {
     pub fn options_of_proc(&self, proc: usize) -> ModuleOptions {
         self.procs
             .get(proc)
-            .map_or(ModuleOptions { base: self.base, text_compare: self.text_compare }, |p| self.options_of(p.part))
+            .map_or(ModuleOptions { base: self.base, text_compare: self.text_compare, explicit: self.explicit }, |p| {
+                self.options_of(p.part)
+            })
     }
 
     /// A Sub or Function by name (any case).

@@ -664,10 +664,10 @@ fn parse_with(source: &str, file_name: &str, workbook: &Workbook, options: &RunO
 }
 
 /// `source` with the code of the project's other modules after it, its class modules last
-/// (those the language's grammar takes), their `Attribute` and `Option Explicit`/`Option
-/// Private Module` lines left blank (the first module's hold), and where each module starts;
-/// `None` and no parts when there are no others. Their `Option Base`/`Option Compare` lines
-/// stay: the parser keeps each module's own ([MS-VBAL] 5.2.1).
+/// (those the language's grammar takes), their `Attribute` and `Option Private Module` lines
+/// left blank, and where each module starts; `None` and no parts when there are no others.
+/// Their `Option Base`/`Option Compare`/`Option Explicit` lines stay: the parser keeps each
+/// module's own ([MS-VBAL] 5.2.1).
 fn join_project(
     own_name: &str,
     source: &str,
@@ -698,12 +698,12 @@ fn join_project(
 }
 
 /// A line of a module joined after the first left blank: an `Attribute` line, or an `Option`
-/// other than `Option Base`/`Option Compare` (which apply to their own module).
+/// other than `Option Base`/`Option Compare`/`Option Explicit` (which apply to their own module).
 fn left_out_of_joined_module(line: &str) -> bool {
     let mut words = line.split_whitespace().map(str::to_ascii_lowercase);
     match words.next().as_deref() {
         Some("attribute") => true,
-        Some("option") => !matches!(words.next().as_deref(), Some("base" | "compare")),
+        Some("option") => !matches!(words.next().as_deref(), Some("base" | "compare" | "explicit")),
         _ => false,
     }
 }

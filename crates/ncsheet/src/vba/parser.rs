@@ -179,9 +179,9 @@ pub fn parse_module_with_files(
     }
     out.parts = b.parts.clone();
     out.public_names = b.public_names();
-    out.explicit = b.explicit.get();
     out.options = b.options.take();
     let first = out.options.first().copied().unwrap_or_default();
+    out.explicit = first.explicit;
     out.base = first.base;
     out.text_compare = first.text_compare;
     out.nodes = b.nodes.into_inner();
@@ -197,7 +197,33 @@ pub(super) fn in_grammar(src: &str) -> bool {
 }
 
 fn from_pest(err: pest::error::Error<Rule>) -> ParseError {
-    from_pest_with(err, expected)
+    let stray = stray_closer(&err);
+    let mut error = from_pest_with(err, expected);
+    if let Some(message) = stray {
+        error.message = message.to_string();
+    }
+    error
+}
+
+/// VBA's compile error for a block's closing keyword where no such block is open (`End If`
+/// after a one-line `If`): the VBA reference's "End If without block If", "Next without
+/// For" …, rather than the closer some other open block wants.
+fn stray_closer(err: &pest::error::Error<Rule>) -> Option<&'static str> {
+    let pest::error::ErrorVariant::ParsingError { positives, .. } = &err.variant else { return None };
+    let (pest::error::LineColLocation::Pos((_, col)) | pest::error::LineColLocation::Span((_, col), _)) =
+        err.line_col;
+    let rest: String = err.line().chars().skip(col.saturating_sub(1)).collect::<String>().to_ascii_lowercase();
+    let words: Vec<&str> = rest.split(|c: char| !c.is_ascii_alphanumeric() && c != '_').collect();
+    let (closer, message) = match words.as_slice() {
+        ["end", "if", ..] => (Rule::k_end_if, "End If without block If"),
+        ["end", "select", ..] => (Rule::k_end_select, "End Select without Select Case"),
+        ["end", "with", ..] => (Rule::k_end_with, "End With without With"),
+        ["next", ..] => (Rule::k_next, "Next without For"),
+        ["loop", ..] => (Rule::k_loop, "Loop without Do"),
+        ["wend", ..] => (Rule::k_wend, "Wend without While"),
+        _ => return None,
+    };
+    (!positives.contains(&closer)).then_some(message)
 }
 
 /// What the parser wanted, in the words of the language: the closing keyword when one is
@@ -307,12 +333,11 @@ pub(super) struct Build<'s> {
     pub(super) globals: RefCell<std::collections::HashMap<String, Vec<Owner>>>,
     pub(super) scope: RefCell<Scope>,
     nodes: RefCell<Vec<Node>>,
-    pub(super) explicit: Cell<bool>,
     /// The modules' `DefLng A-Z` directives (`deftype.rs`), in order.
     pub(super) implicit_types: RefCell<Vec<super::deftype::ImplicitType>>,
     /// The procedure's variables declared by their first use with a Def type (`deftype.rs`).
     pub(super) implicit_vars: RefCell<Vec<VarDecl>>,
-    /// Each module's `Option Base`/`Option Compare`, by its place in `parts`.
+    /// Each module's `Option Base`/`Option Compare`/`Option Explicit`, by its place in `parts`.
     options: RefCell<Vec<super::ast::ModuleOptions>>,
     /// The names of the module's Types, by index.
     types: RefCell<Vec<Rc<str>>>,
@@ -434,7 +459,6 @@ impl<'s> Build<'s> {
             globals: RefCell::new(Default::default()),
             scope: RefCell::new(Scope::default()),
             nodes: RefCell::new(Vec::new()),
-            explicit: Cell::new(false),
             implicit_types: RefCell::new(Vec::new()),
             implicit_vars: RefCell::new(Vec::new()),
             options: RefCell::new(Vec::new()),

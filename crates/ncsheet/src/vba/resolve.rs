@@ -386,7 +386,7 @@ impl Build<'_> {
         if self.is_var(name) {
             return Ok(());
         }
-        if self.explicit.get() {
+        if self.explicit() {
             return Err(ParseError {
                 offset: pair_offset,
                 message: format!("variable {name} is not declared (Option Explicit): add Dim {name}"),
