@@ -588,6 +588,55 @@ fn a_macros_writes_are_one_step_of_undo() {
     assert!((changed(&redone, 5, 6)["num"].as_f64().unwrap() - 42.3259818304895).abs() < 1e-12);
 }
 
+/// A cell of `sheet` from the API: its input and the number it shows (`None`: not a number).
+fn api_cell(bench: &Bench, sheet: u64, row: u64, col: u64) -> (String, Option<f64>) {
+    let window = bench.get_json(&format!("/api/cells?sheet={sheet}&r0={row}&r1={row}&c0={col}&c1={col}"));
+    let cell = &window["cells"][0];
+    (cell["input"].as_str().unwrap_or_default().to_string(), cell["num"].as_f64())
+}
+
+// A macro deleting a sheet is one step of the history, as its writes are: undo brings the
+// sheet back with its cells, and the formulas and names that pointed to it read it again;
+// redo deletes it again. Values by hand: Gone!A2 = 5*2, Keep!A1 = 10+1, Keep!B1 = Total = 5.
+#[test]
+fn undo_brings_back_a_sheet_a_macro_deleted() {
+    let folder = tempfile::tempdir().unwrap();
+    let book = folder.path().join("two.xlsx");
+    let mut wb = ncsheet::workbook::Workbook::new();
+    wb.add_sheet("Keep").unwrap();
+    wb.add_sheet("Gone").unwrap();
+    let at = |cell: &str| ncsheet::formula::address::parse_cell(cell).unwrap();
+    wb.define_name("Total", "=Gone!$A$1", None).unwrap();
+    for (sheet, cell, input) in [(1, "A1", "5"), (1, "A2", "=A1*2"), (0, "A1", "=Gone!A2+1"), (0, "B1", "=Total")] {
+        wb.set_input(sheet, at(cell), input).unwrap();
+    }
+    ncsheet::io::save(&wb, &book).unwrap();
+    let bas = folder.path().join("gone.bas");
+    std::fs::write(&bas, "Sub Main()\r\n    Worksheets(\"Gone\").Delete\r\nEnd Sub\r\n").unwrap();
+    let server = Server::open(&book, &Options { port: 0, macro_files: vec![bas], ..Options::default() }).unwrap();
+    let bench = Bench { port: server.port(), token: server.token().to_string(), folder };
+    std::thread::spawn(move || server.run());
+
+    let run = serde_json::json!({ "source": "file:gone.bas", "sub": "Main", "dialect": "linuxcnc", "machine": "lathe", "sheet": 0 });
+    let (status, out) = bench.post_json("/api/run", &run);
+    assert_eq!(status, 200, "{out}");
+    assert_eq!(bench.get_json("/api/sheets")["order"], serde_json::json!([0]));
+    assert_eq!(api_cell(&bench, 0, 0, 0).1, None, "Keep!A1 is #REF! once Gone is deleted");
+
+    let window = serde_json::json!({ "sheet": 0, "r0": 0, "r1": 5, "c0": 0, "c1": 5 });
+    let (status, undone) = bench.post_json("/api/undo", &serde_json::json!({ "window": window }));
+    assert_eq!(status, 200, "{undone}");
+    assert_eq!(bench.get_json("/api/sheets")["order"], serde_json::json!([0, 1]));
+    assert_eq!(api_cell(&bench, 1, 1, 0), ("=A1*2".to_string(), Some(10.0)));
+    assert_eq!(api_cell(&bench, 0, 0, 0), ("=Gone!A2+1".to_string(), Some(11.0)));
+    assert_eq!(api_cell(&bench, 0, 0, 1), ("=Total".to_string(), Some(5.0)));
+
+    let (status, redone) = bench.post_json("/api/redo", &serde_json::json!({ "window": window }));
+    assert_eq!(status, 200, "{redone}");
+    assert_eq!(bench.get_json("/api/sheets")["order"], serde_json::json!([0]));
+    assert_eq!(api_cell(&bench, 0, 0, 0).1, None);
+}
+
 /// The number a cell of Outer holds, from the API.
 fn api_number(bench: &Bench, row: u64, col: u64) -> f64 {
     let window = bench.get_json(&format!("/api/cells?sheet={OUTER}&r0={row}&r1={row}&c0={col}&c1={col}"));

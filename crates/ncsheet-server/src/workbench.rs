@@ -12,7 +12,7 @@ use ncsheet::eval::Value;
 use ncsheet::formula::address::{column_name, Pos, Rect};
 use ncsheet::formula::ast::SheetId;
 use ncsheet::io::{self, atomic, Content, Encoded, Export, ExportOptions};
-use ncsheet::workbook::Problem;
+use ncsheet::workbook::{DeletedSheet, Problem};
 
 /// The most cells one window may ask for: a screen of a large monitor, several times over.
 const MAX_WINDOW_ROWS: u32 = 1000;
@@ -46,6 +46,9 @@ struct Edit {
 #[derive(Clone, Debug)]
 struct Step {
     edits: Vec<Edit>,
+    /// The sheets the step deleted, in order: an undo brings them back before typing the
+    /// inputs back (formulas that pointed to them among those), a redo deletes them again.
+    deleted: Vec<DeletedSheet>,
     /// What the step was, for the status line: the cell's name, or the macro's.
     label: String,
 }
@@ -102,6 +105,7 @@ impl Workbench {
         self.doc.workbook_mut().start_journal();
         let result = f(&mut self.doc);
         let wb = self.doc.workbook_mut();
+        let deleted = wb.take_deleted_sheets();
         let written = wb.take_journal();
         let edits: Vec<Edit> = written
             .into_iter()
@@ -111,8 +115,8 @@ impl Workbench {
             })
             .filter(|e| e.before != e.after)
             .collect();
-        if !edits.is_empty() {
-            self.undo.push(Step { edits, label: label.to_string() });
+        if !edits.is_empty() || !deleted.is_empty() {
+            self.undo.push(Step { edits, deleted, label: label.to_string() });
             self.redo.clear();
         }
         result
@@ -233,7 +237,7 @@ impl Workbench {
     pub fn set(&mut self, sheet: SheetId, pos: Pos, input: &str, window: Window) -> Result<Json, Refused> {
         let before = self.doc.workbook().input(sheet, pos).unwrap_or_default();
         let edit = Edit { sheet, pos, before, after: input.to_string() };
-        let step = Step { label: self.doc.workbook().cell_name(sheet, pos), edits: vec![edit] };
+        let step = Step { label: self.doc.workbook().cell_name(sheet, pos), edits: vec![edit], deleted: Vec::new() };
         let changed = self.apply(&step, Replay::Redo, window)?;
         self.undo.push(step);
         self.redo.clear();
@@ -277,6 +281,9 @@ impl Workbench {
         let ordered: Vec<&Edit> =
             if way == Replay::Undo { step.edits.iter().rev().collect() } else { step.edits.iter().collect() };
         let typed = |e: &Edit, way: Replay| if way == Replay::Undo { e.before.clone() } else { e.after.clone() };
+        if way == Replay::Undo {
+            self.restore_sheets(&step.deleted)?;
+        }
         let mut problems = Vec::new();
         for (done, edit) in ordered.iter().enumerate() {
             match self.doc.set(edit.sheet, edit.pos, &typed(edit, way)) {
@@ -289,6 +296,11 @@ impl Workbench {
                     }
                     return Err(refused(message));
                 }
+            }
+        }
+        if way == Replay::Redo {
+            for sheet in &step.deleted {
+                self.doc.delete_sheet(sheet.id()).map_err(|e| refused(format!("redo: {e}")))?;
             }
         }
         let after = self.shown_window(window);
@@ -305,6 +317,19 @@ impl Workbench {
         }
         let problems: Vec<String> = problems.iter().map(|p| self.place(p)).collect();
         Ok(json!({ "sheet": window.sheet, "cell": step.label, "changed": changed, "problems": problems }))
+    }
+
+    /// Brings back the sheets a step deleted, last deleted first; all or none.
+    fn restore_sheets(&mut self, deleted: &[DeletedSheet]) -> Result<(), Refused> {
+        for (done, sheet) in deleted.iter().rev().enumerate() {
+            if let Err(e) = self.doc.workbook_mut().restore_sheet(sheet) {
+                for back in deleted.iter().rev().take(done).rev() {
+                    let _ = self.doc.delete_sheet(back.id());
+                }
+                return Err(refused(format!("undo: the deleted sheet cannot come back: {e}")));
+            }
+        }
+        Ok(())
     }
 
     /// An edit's answer with the history's depth after it, for the page's buttons.

@@ -41,7 +41,11 @@ impl Workbook {
             .chain(self.tabs.order[..place].iter().rev())
             .copied()
             .find(|&s| visible(self, s));
+        let record = self.journal.is_some().then(|| self.deleted_record(sheet, place));
         self.remove_tab(sheet)?;
+        if let (Some(record), Some(journal)) = (record, &mut self.journal) {
+            journal.deleted.push(record);
+        }
         self.empty_sheet(sheet);
         self.strike_formulas_reading(sheet);
         let names_changed = self.strike_names_of(sheet);
@@ -59,6 +63,66 @@ impl Workbook {
         // Formula texts parsed while the name was taken read anew (a new sheet may take it).
         self.formulas.forget_keys();
         self.names_unlinked = true;
+        self.recalculate();
+        Ok(())
+    }
+
+    /// What deleting `sheet` (at tab `place`) takes that an undo must give back: the cells
+    /// other sheets' formulas lose to `#REF!` are in the journal already (`note_input`).
+    fn deleted_record(&self, sheet: SheetId, place: usize) -> DeletedSheet {
+        let inputs = (0..self.cells.len() as u32)
+            .filter(|&id| self.cells[id as usize].sheet == sheet)
+            .filter_map(|id| {
+                let pos = self.cells[id as usize].pos;
+                self.input(sheet, pos).map(|input| (pos, input))
+            })
+            .collect();
+        DeletedSheet {
+            id: sheet,
+            name: self.sheets[sheet as usize].name.clone(),
+            tab: place,
+            visibility: self.sheets[sheet as usize].visibility,
+            inputs,
+            names: self.names.clone(),
+            active: self.active_sheet,
+        }
+    }
+
+    /// The sheets deleted since [`Workbook::start_journal`], in the order deleted, each with
+    /// what [`Workbook::restore_sheet`] needs; the journal goes on.
+    pub fn take_deleted_sheets(&mut self) -> Vec<DeletedSheet> {
+        self.journal.as_mut().map_or(Vec::new(), |j| std::mem::take(&mut j.deleted))
+    }
+
+    /// Brings a deleted sheet back under its id (what held the id reaches it again), with
+    /// its name, tab, cells and the workbook's defined names as they were when it was
+    /// deleted, then recalculates. The inputs of other cells its deletion struck to `#REF!`
+    /// are the journal's to type back, after this. Refused when the id is not a deleted
+    /// sheet's or another sheet took the name since.
+    pub fn restore_sheet(&mut self, record: &DeletedSheet) -> Result<(), WorkbookError> {
+        if !self.sheet_deleted(record.id) {
+            return Err(WorkbookError::NoSuchSheet(format!("number {}, not deleted", record.id as usize + 1)));
+        }
+        if self.sheet_id(&record.name).is_some() {
+            return Err(WorkbookError::DuplicateSheet(record.name.clone()));
+        }
+        let mut sheet = Sheet::new(&record.name);
+        sheet.visibility = record.visibility;
+        self.sheets[record.id as usize] = sheet;
+        self.sheet_index.insert(record.name.to_ascii_lowercase(), record.id);
+        let at = record.tab.min(self.tabs.order.len());
+        self.tabs.order.insert(at, record.id);
+        self.names = record.names.clone();
+        self.formulas.forget_keys();
+        self.names_unlinked = true;
+        if let Some(log) = &mut self.changes {
+            log.sheets = true;
+            log.names = true;
+        }
+        for (pos, input) in &record.inputs {
+            self.set_input_deferred(record.id, *pos, input)?;
+        }
+        self.active_sheet = record.active;
         self.recalculate();
         Ok(())
     }
@@ -113,6 +177,31 @@ impl Workbook {
             }
         }
         changed
+    }
+}
+
+/// A sheet [`Workbook::delete_sheet`] took, as an undo brings it back
+/// ([`Workbook::restore_sheet`]).
+#[derive(Clone, Debug)]
+pub struct DeletedSheet {
+    id: SheetId,
+    name: String,
+    /// Its place among the tabs.
+    tab: usize,
+    visibility: Visibility,
+    /// What a user would type to make each of its cells again.
+    inputs: Vec<(Pos, String)>,
+    /// The workbook's defined names before the delete: those scoped to the sheet went, and
+    /// references to it in the others became `#REF!`.
+    names: Vec<DefinedName>,
+    /// The active sheet before the delete.
+    active: SheetId,
+}
+
+impl DeletedSheet {
+    /// The id the sheet had, and has again once restored.
+    pub fn id(&self) -> SheetId {
+        self.id
     }
 }
 

@@ -34,6 +34,7 @@ mod typed;
 mod udf;
 
 pub use cycles::Iteration;
+pub use delete_sheet::DeletedSheet;
 use graph::{Deps, FxMap, RangeIndex};
 use links::for_each_pos;
 pub use look::{LooksByCell, SheetLook};
@@ -95,6 +96,7 @@ impl Input {
 }
 
 /// A defined name: a formula (usually a reference) evaluated on its sheet.
+#[derive(Clone, Debug)]
 struct DefinedName {
     name: String,
     expr: Rc<Expr>,
@@ -229,6 +231,8 @@ struct ChangeLog {
 struct Journal {
     seen: std::collections::HashSet<u32>,
     before: Vec<(SheetId, Pos, String)>,
+    /// The sheets deleted, with what an undo needs to bring each back (`delete_sheet.rs`).
+    deleted: Vec<delete_sheet::DeletedSheet>,
 }
 
 /// A set of cell ids, a bit each.
