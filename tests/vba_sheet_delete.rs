@@ -391,3 +391,31 @@ print(wb.sheetnames, "A" in wb["Merged"].column_dimensions, wb["Sheet1"]["A1"].v
     let listed = common::cli::ncsheet(&["info", out.to_str().unwrap()]);
     assert!(listed.stdout.contains("Merged") && listed.stdout.contains("Sheet1"), "{}", listed.stdout);
 }
+
+// A csv holds one sheet: a macro that adds a sheet and deletes one leaves one, and the csv
+// saves. Left with its own sheet, the file keeps its text with the cells edited written anew
+// (what was written on the sheet deleted goes with it); left with the sheet added, it is that
+// sheet's cells, formulas as typed. Contents by hand from the macros' writes.
+#[test]
+fn a_csv_left_with_one_sheet_after_add_and_delete_saves() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("book.csv");
+    std::fs::write(&file, "1,2\n3,=A2*2\n").unwrap();
+    let saved_after = |body: &str| -> String {
+        let mut doc = ncsheet::Document::open_file(&file, &ncsheet::document::OpenOptions::default()).unwrap();
+        let src = format!("Sub Main()\n    Application.DisplayAlerts = False\n{body}\nEnd Sub\n");
+        doc.run_macro(&src, "m.bas", ncsheet::vba::RunOptions::default()).unwrap();
+        let encoded = doc.encode(&dir.path().join("saved.csv")).unwrap_or_else(|e| panic!("{e}"));
+        String::from_utf8(encoded.bytes().to_vec()).unwrap()
+    };
+    let own = saved_after(
+        "    Worksheets(\"Sheet1\").Range(\"A1\").Value = 7\n    Sheets.Add\n    ActiveSheet.Range(\"C5\").Value = 9\n\
+         \x20   ActiveSheet.Delete",
+    );
+    assert_eq!(own, "7,2\n3,=A2*2\n");
+    let added = saved_after(
+        "    Sheets.Add\n    ActiveSheet.Range(\"A1\").Value = 5\n    ActiveSheet.Range(\"A2\").Formula = \"=A1+1\"\n\
+         \x20   Worksheets(\"Sheet1\").Delete",
+    );
+    assert_eq!(added, "5\n=A1+1\n");
+}

@@ -386,11 +386,14 @@ pub fn encode_save_with(
     let encoded = |bytes, losses| Ok(Encoded { path: path.to_path_buf(), bytes, losses });
     let kept: Result<Encoded, Error> = match (Format::of(path)?, origin) {
         (format @ (Format::Xls | Format::Xlsb | Format::Ods), _) => Err(read_only(path, format)),
-        (Format::Csv, _) if wb.sheet_len() != 1 => {
-            Err(Error::new(path, ErrorKind::OneSheetOnly { sheets: wb.sheet_len() }))
+        // Sheets deleted do not count: a macro may add a sheet and delete one.
+        (Format::Csv, _) if wb.sheet_count() != 1 => {
+            Err(Error::new(path, ErrorKind::OneSheetOnly { sheets: wb.sheet_count() }))
         }
-        (Format::Csv, Origin::Csv(original)) => {
-            let edited: Vec<_> = wb.changes().unwrap_or_default().inputs.into_iter().map(|(_, p)| p).collect();
+        // The csv's own sheet left: its text kept, the cells edited on it written anew.
+        (Format::Csv, Origin::Csv(original)) if wb.tab_order() == [0] => {
+            let inputs = wb.changes().unwrap_or_default().inputs;
+            let edited: Vec<_> = inputs.into_iter().filter(|&(sheet, _)| sheet == 0).map(|(_, p)| p).collect();
             let mut bytes = Vec::new();
             let sheet_name = wb.sheet_names().into_iter().next().unwrap_or_default();
             let formats = layout.and_then(|l| l.sheets.get(&sheet_name)).map(|l| &l.look.number_formats);
@@ -399,7 +402,7 @@ pub fn encode_save_with(
             encoded(bytes, Vec::new())
         }
         (Format::Csv, _) => {
-            let whole = Export { sheet: 0, range: None, content: Content::Formulas };
+            let whole = Export { sheet: wb.tab_order()[0], range: None, content: Content::Formulas };
             encode_export_with(wb, path, &whole, &ExportOptions { delimiter, ..ExportOptions::default() })
         }
         (Format::Xlsx, Origin::Xlsx(source)) if source.holds_macros() == is_xlsm(path) => {
