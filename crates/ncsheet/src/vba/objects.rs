@@ -11,7 +11,7 @@ use crate::formula::ast::{Expr, SheetId};
 use crate::formula::parse::{parse_formula, parse_formula_r1c1, ParseContext};
 use crate::formula::print::{print_spelled, R1C1};
 
-use super::ast::{Link, Node, Path, Span};
+use super::ast::{Link, Node, Path, Span, Ty};
 use super::interp::{Interp, Run, XL_A1, XL_R1C1};
 use super::sheet_ops::{visibility_value, Direction};
 use super::value::{print_text, Obj, Var};
@@ -333,7 +333,10 @@ impl Interp<'_, '_> {
         let i = ty
             .field(&link.name)
             .ok_or_else(|| self.fault_at(link.span, format!("Type {} has no field {}", ty.name, link.name)))?;
-        if link.args.is_some() && ty.bounds[i].is_none() {
+        // A Variant field may hold an array (`Arr As Variant` given `Array(1, 2)`): `t.Arr(0)`
+        // indexes what it holds, as a Variant variable's `v(0)` does ([MS-VBAL] 5.6.13.1).
+        let may_hold_array = ty.bounds[i].is_some() || ty.fields[i].1 == Ty::Variant;
+        if link.args.is_some() && !may_hold_array {
             return Err(self.fault_at(link.span, format!("{}.{} is a field, not an array", ty.name, link.name)));
         }
         Ok(i)

@@ -643,11 +643,18 @@ impl<'s> Build<'s> {
         set(&mut options[part]);
     }
 
+    /// Whether the module being built declares `Option Explicit`: a directive of its own
+    /// module only ([MS-VBAL] 5.2.1.3), so a module without it may use undeclared variables
+    /// though another module of the project has it.
+    pub(super) fn explicit(&self) -> bool {
+        self.options.borrow().get(self.current_part.get()).is_some_and(|o| o.explicit)
+    }
+
     fn option(&self, pair: Pair<Rule>) -> Res<()> {
         let k = kids(&pair);
         let words: Vec<String> = all(&k, Rule::option_word).iter().map(|w| w.as_str().to_ascii_lowercase()).collect();
         match words.first().map(String::as_str) {
-            Some("explicit") => self.explicit.set(true),
+            Some("explicit") => self.set_option(&pair, |o| o.explicit = true),
             Some("base") => {
                 let n = find(&k, Rule::number).map(|n| n.as_str().to_string()).unwrap_or_default();
                 match n.as_str() {
@@ -1558,13 +1565,23 @@ fn declared_name(line: &str) -> Option<String> {
 }
 
 impl Build<'_> {
+    /// The signature of this very procedure: its module's, and for a property procedure the
+    /// one of its kind, since `Property Get W()` and `Property Let W(v)` share a name but not
+    /// their parameters.
+    fn signature_of(&self, name: &str, part: usize, property: Option<PropertyKind>) -> &Signature {
+        let same_name = self.proc_names.get(&name.to_ascii_lowercase()).expect("signatures first");
+        let own = same_name.iter().map(|&i| &self.procs[i]).find(|s| s.part == part && s.property == property);
+        own.expect("signatures first")
+    }
+
     /// A procedure whose body does not compile: its signature, and one statement that stops
     /// the run with the compile error where it is, when the procedure is called.
     fn failed_proc(&self, pair: &Pair<Rule>, error: ParseError) -> Proc {
         let k = kids(pair);
         let name = decl_name(&k).expect("procedure name");
         let kind = proc_kind(pair);
-        let signature = &self.procs[self.proc_index(&name).expect("signatures first")];
+        let (part, property) = (self.current_part.get(), property_kind(pair));
+        let signature = self.signature_of(&name, part, property);
         let last = signature.params.len().saturating_sub(1);
         let params = (signature.params.iter().enumerate())
             .map(|(i, p)| Param {
@@ -1582,7 +1599,6 @@ impl Build<'_> {
         let failing = Stmt { kind: StmtKind::CompileError(error.message.into()), span: self.span(error.offset) };
         let mut body = Block::default();
         body.stmts.push(failing);
-        let (part, property) = (self.current_part.get(), property_kind(pair));
         Proc { name, kind, params, ty: None, body, span: self.span(start(pair)), public, part, property }
     }
 }
