@@ -258,6 +258,18 @@ fn a_circular_array_formula_over_a_whole_sheet_starts_from_its_cached_values() {
     assert!(err.contains("circular reference"), "{err}");
 }
 
+/// UNIQUE of millions of rows (issue 30, seventh round): each row was copied into a vector of
+/// its own with a vector of keys beside it, a few hundred bytes a row: 8,388,608 distinct
+/// numbers (within the 2^24-item limit) aborted at the 2 GiB cap, 16,000,000 at 4 GB. The
+/// numbers 1 to 8,388,608 are all distinct (by hand), so UNIQUE keeps every row.
+#[test]
+fn unique_of_millions_of_rows_stays_within_memory() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("u.csv"), "\"=ROWS(UNIQUE(TOCOL(SEQUENCE(1048576,8))))\"\n").unwrap();
+    let (code, out, err, _) = ncsheet(dir.path(), &["eval", "u.csv", "A1"]);
+    assert_eq!((code, out.trim()), (0, "8388608"), "{err}");
+}
+
 // ---------------------------------------------------------------------------------------
 // csv
 
