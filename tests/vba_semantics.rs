@@ -125,3 +125,22 @@ fn a_type_field_answers_its_declared_type() {
     );
     assert_eq!(printed, ["Integer Single Currency Long Integer", " 2  4  6 ", " 6 "]);
 }
+
+// ---- item 8: a block's closer with no such block open ------------------------------------
+
+/// The VBA reference's compile errors "End If without block If" (an `End If` after a
+/// one-line If, which has none), "Next without For", "Loop without Do", "Wend without While".
+#[test]
+fn a_closer_without_its_block_says_so_as_vba_does() {
+    let cases = [
+        ("    Dim i\n    For i = 1 To 2\n    If i = 0 Then i = 1\n    End If\n    Next", "End If without block If"),
+        ("    Dim x\n    If x = 0 Then x = 1\n    End If", "End If without block If"),
+        ("    Dim x\n    x = 1\n    Next", "Next without For"),
+        ("    Dim x\n    x = 1\n    Loop", "Loop without Do"),
+        ("    Dim x\n    x = 1\n    Wend", "Wend without While"),
+    ];
+    for (body, message) in cases {
+        let got = main_fails(&mut Workbook::with_sheet(), body);
+        assert!(got.contains(message), "{body}: {got}");
+    }
+}

@@ -210,8 +210,7 @@ fn from_pest(err: pest::error::Error<Rule>) -> ParseError {
 /// For" …, rather than the closer some other open block wants.
 fn stray_closer(err: &pest::error::Error<Rule>) -> Option<&'static str> {
     let pest::error::ErrorVariant::ParsingError { positives, .. } = &err.variant else { return None };
-    let (pest::error::LineColLocation::Pos((_, col)) | pest::error::LineColLocation::Span((_, col), _)) =
-        err.line_col;
+    let (pest::error::LineColLocation::Pos((_, col)) | pest::error::LineColLocation::Span((_, col), _)) = err.line_col;
     let rest: String = err.line().chars().skip(col.saturating_sub(1)).collect::<String>().to_ascii_lowercase();
     let words: Vec<&str> = rest.split(|c: char| !c.is_ascii_alphanumeric() && c != '_').collect();
     let (closer, message) = match words.as_slice() {
