@@ -353,6 +353,8 @@ pub struct Interp<'m, 'w> {
     /// a Long): what an enclosing operation, or the variable it goes to, takes it as
     /// ([`Interp::note_widening`]).
     pub(super) widened: RefCell<std::collections::HashMap<usize, Declared>>,
+    /// The types of the running statement's operations, each worked out once (`typing.rs`).
+    pub(super) types_known: super::typing::TypesKnown,
     /// The LongLongs past 2^53 kept beside their doubles (`longlong.rs`).
     pub(super) exact: RefCell<super::longlong::Exact>,
     /// The module may hold a Single or a Currency, whose operations are computed in their
@@ -405,6 +407,7 @@ impl<'m, 'w> Interp<'m, 'w> {
             gave: Cell::new(Declared::Variant),
             arg_types: RefCell::new(Vec::new()),
             widened: RefCell::new(std::collections::HashMap::new()),
+            types_known: Default::default(),
             exact: RefCell::default(),
             narrow_numbers: super::typing::names_single_or_currency(source),
         }
@@ -575,6 +578,11 @@ impl Interp<'_, '_> {
         } else {
             text
         }
+    }
+
+    /// The statements and loop turns run so far.
+    pub(super) fn steps_run(&self) -> u64 {
+        self.steps.get()
     }
 
     /// Counts one statement or loop turn against the limit.

@@ -300,6 +300,8 @@ pub struct Work {
     /// Items of arrays the memory budget looked at: to count what a store brings, or to
     /// measure what the variables hold.
     pub items_measured: u64,
+    /// Parts of expressions looked at to work out their types (`typing.rs`).
+    pub nodes_typed: u64,
 }
 
 /// The work done between two readings of [`work_done`].
@@ -314,6 +316,7 @@ impl std::ops::Sub for Work {
             places_closed_up: self.places_closed_up - before.places_closed_up,
             text_copied: self.text_copied - before.text_copied,
             items_measured: self.items_measured - before.items_measured,
+            nodes_typed: self.nodes_typed - before.nodes_typed,
         }
     }
 }
@@ -325,6 +328,7 @@ thread_local! {
     pub(crate) static PLACES_CLOSED_UP: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
     pub(crate) static TEXT_COPIED: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
     pub(crate) static ITEMS_MEASURED: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+    pub(crate) static NODES_TYPED: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
 }
 
 /// Adds `n` to one of the counters of [`Work`].
@@ -350,6 +354,8 @@ pub(crate) const PLACES_CLOSED_UP: Counter = ();
 pub(crate) const TEXT_COPIED: Counter = ();
 #[cfg(not(feature = "testing"))]
 pub(crate) const ITEMS_MEASURED: Counter = ();
+#[cfg(not(feature = "testing"))]
+pub(crate) const NODES_TYPED: Counter = ();
 
 /// The work counted on this thread so far ([`Work`]).
 #[cfg(feature = "testing")]
@@ -360,6 +366,7 @@ pub fn work_done() -> Work {
         places_closed_up: PLACES_CLOSED_UP.with(|c| c.get()),
         text_copied: TEXT_COPIED.with(|c| c.get()),
         items_measured: ITEMS_MEASURED.with(|c| c.get()),
+        nodes_typed: NODES_TYPED.with(|c| c.get()),
     }
 }
 

@@ -37,15 +37,31 @@ pub(super) enum Declared {
 /// Which type [`Interp::typed_within`] follows: the declared (static) type, where a Variant
 /// is a Variant and its operations are checked for no overflow, or the type the value is held
 /// with, where a Variant counts as the type of what it holds.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub(super) enum Typing {
     Declared,
     Held,
 }
 
-/// How deep into an expression its type is followed; deeper parts count as Variants (no
-/// check), so that a long chain of operators costs no more than a bounded walk per operator.
-const MAX_DEPTH: u32 = 24;
+/// How deep into an expression its type is followed: as deep as the parser lets a formula or
+/// a macro's expression nest, so every operation of a long chain is typed (and checked for
+/// overflow); each is typed once a statement ([`TypesKnown`]), the chain's cost linear. The
+/// bound keeps the walk off the native stack's end should a deeper tree come by another road.
+const MAX_DEPTH: u32 = crate::formula::limits::MAX_TREE_DEPTH;
+
+/// The types [`Interp::typed_within`] worked out for the operations of the statement running.
+/// Each operation's type is asked by the one enclosing it (for its overflow check, its held
+/// type), and working it out walks the operands below: asked afresh each time, a chain
+/// `1 + 1 + … + 1` of n terms walked n²/2 nodes (10,000 runs of a 1,400-term chain took
+/// 24 s). Kept for one statement, so that each operation is typed once: a statement a call
+/// runs in between starts afresh, since what it assigns may change a Variant's held type.
+#[derive(Default)]
+pub(super) struct TypesKnown {
+    /// The statement ([`Interp::steps_run`]) the types are of.
+    step: std::cell::Cell<u64>,
+    /// By the operation's address and span, and the typing followed.
+    types: std::cell::RefCell<std::collections::HashMap<(usize, u32, u32, Typing), Declared>>,
+}
 
 impl Declared {
     /// The declared type of a variable, an array's items or a Function's result.
@@ -423,6 +439,7 @@ impl Interp<'_, '_> {
         if depth > MAX_DEPTH {
             return Declared::Variant;
         }
+        super::count(&super::NODES_TYPED, 1);
         let operand = |e: &Expr| match (self.typed_within(e, depth + 1, typing), typing) {
             // An operand of no known type holding a number: a Double (a cell's value).
             (Declared::Variant, Typing::Held) => Declared::Double,
@@ -432,19 +449,23 @@ impl Interp<'_, '_> {
             ExprKind::Number(n) => literal_type(self.source_between(e.span.start, e.span.end), *n),
             ExprKind::Text(_) => Declared::String,
             ExprKind::Bool(_) => Declared::Boolean,
-            ExprKind::Paren(e) => self.typed_within(e, depth + 1, typing),
+            ExprKind::Paren(inner) => self.known_type(e, typing, || self.typed_within(inner, depth + 1, typing)),
             ExprKind::Name(name) => self.with_slot(name, |s| s.typed(typing)).unwrap_or(Declared::Variant),
-            ExprKind::Unary(op @ (UnaryOp::Neg | UnaryOp::Plus), e) => match (op, self.widened_if_held(typing, e)) {
-                (UnaryOp::Neg, Some(ty)) => ty,
-                _ => match operand(e) {
-                    Declared::Boolean => Declared::Integer,
-                    other => other,
-                },
-            },
-            ExprKind::Binary(BinOp::Concat, ..) => Declared::String,
-            ExprKind::Binary(op, a, b) => {
-                self.widened_if_held(typing, a).unwrap_or_else(|| binary_type(*op, operand(a), operand(b)))
+            ExprKind::Unary(op @ (UnaryOp::Neg | UnaryOp::Plus), inner) => {
+                match (op, self.widened_if_held(typing, inner)) {
+                    (UnaryOp::Neg, Some(ty)) => ty,
+                    _ => self.known_type(e, typing, || match operand(inner) {
+                        Declared::Boolean => Declared::Integer,
+                        other => other,
+                    }),
+                }
             }
+            ExprKind::Binary(BinOp::Concat, ..) => Declared::String,
+            // The widening an operation's last result noted comes first: it is noted after
+            // the operation's type is known, within the statement.
+            ExprKind::Binary(op, a, b) => self
+                .widened_if_held(typing, a)
+                .unwrap_or_else(|| self.known_type(e, typing, || binary_type(*op, operand(a), operand(b)))),
             ExprKind::Call(id, args) => match (crate::eval::functions::spec(*id).name, args.first()) {
                 // "Abs function", "Int, Fix functions": the result has the argument's type.
                 ("VBA.ABS" | "VBA.INT" | "VBA.FIX", Some(arg)) if typing == Typing::Held => match operand(arg) {
@@ -464,6 +485,30 @@ impl Interp<'_, '_> {
             ExprKind::Missing if typing == Typing::Held => Declared::Integer,
             _ => Declared::Variant,
         }
+    }
+
+    /// The type of the operation `e` ([`TypesKnown`]): the one worked out before in this
+    /// statement, or `work_out`'s, kept.
+    fn known_type(&self, e: &Expr, typing: Typing, work_out: impl FnOnce() -> Declared) -> Declared {
+        let known = &self.types_known;
+        let step = self.steps_run();
+        if known.step.get() != step {
+            known.step.set(step);
+            known.types.borrow_mut().clear();
+        }
+        // The span too: an expression cloned for a moment (an index list) may be dropped and
+        // another put at its address in the same statement, never with the same span.
+        let key = (e as *const Expr as usize, e.span.start, e.span.end, typing);
+        if let Some(&ty) = known.types.borrow().get(&key) {
+            return ty;
+        }
+        let ty = work_out();
+        // `work_out` may have run a statement (it does not today, but a step changed means
+        // the types kept are of another statement): keep it only for this one.
+        if known.step.get() == step {
+            known.types.borrow_mut().insert(key, ty);
+        }
+        ty
     }
 
     /// The day count of `v` when `e`, which gave it, is of the declared type Date: what
