@@ -35,6 +35,14 @@ fn spoiled(package: &[u8], part: &str, from: &str, to: &str) -> Vec<u8> {
     common::xlsx::rewrite_package(package, options, &mut change).finish().unwrap().into_inner()
 }
 
+fn part_text(package: &[u8], part: &str) -> String {
+    use std::io::Read;
+    let mut zip = zip::ZipArchive::new(std::io::Cursor::new(package)).unwrap();
+    let mut text = String::new();
+    zip.by_name(part).unwrap().read_to_string(&mut text).unwrap();
+    text
+}
+
 fn load(bytes: &[u8]) -> Result<xlsx::Imported, XlsxError> {
     xlsx::load_bytes(bytes, Path::new(FILE))
 }
@@ -125,4 +133,24 @@ fn relationship_targets_resolve_as_pack_uris_do() {
         assert_eq!((e.kind, e.part.as_deref()), (ErrorKind::Damaged, Some(rels)), "{e}");
         assert!(e.message.starts_with("relationship rId1: the target '"), "{target}: {e}");
     }
+}
+
+/// A `<sheet>` whose relationship names a part that is no sheet (the theme), or a kind
+/// calamine does not read (an Excel 4 macro sheet): calamine refused the whole workbook with
+/// "Unrecognized sheet:type: xl/theme/theme1.xml", naming no part of the package. Such a
+/// sheet is left out with a note naming it and its kind, the other sheets read.
+#[test]
+fn a_sheet_whose_relationship_is_no_worksheet_is_left_out_with_a_note() {
+    let good = good_workbook();
+    let rels = part_text(&good, "xl/_rels/workbook.xml.rels");
+    let theme = rels.split("<Relationship ").find(|r| r.contains("/theme\"")).unwrap();
+    let id = theme.split("Id=\"").nth(1).unwrap().split('"').next().unwrap();
+    let extra = format!(r#"<sheets><sheet name="Two" sheetId="2" r:id="{id}"/>"#);
+    let imported = load(&spoiled(&good, "xl/workbook.xml", "<sheets>", &extra)).unwrap();
+    assert!(
+        imported.notes.iter().any(|n| n.contains("sheet 'Two' is a theme and was left out")),
+        "{:?}",
+        imported.notes
+    );
+    assert_eq!(imported.workbook.value(0, parse_cell("C1").unwrap()), ncsheet::eval::Value::Number(6.0));
 }

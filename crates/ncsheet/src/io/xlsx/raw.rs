@@ -106,18 +106,25 @@ impl<'a> Package<'a> {
     }
 
     /// The workbook part and its text without the `<sheet>` elements whose relationship id
-    /// names no part (Excel saves a very hidden Excel 4 macro sheet so, with `r:id=""`), or
-    /// `None` when every sheet has its part. Excel and LibreOffice open such a workbook
-    /// without those sheets; calamine refuses it, so it is given this text instead.
+    /// names no part (Excel saves a very hidden Excel 4 macro sheet so, with `r:id=""`) or a
+    /// part of a kind calamine does not read as a sheet (a macro sheet, or a theme, on which
+    /// calamine said only "Unrecognized sheet:type", naming no part), or `None` when every
+    /// sheet is one calamine reads. Excel and LibreOffice open such a workbook without those
+    /// sheets; calamine refuses it, so it is given this text instead (the import notes each
+    /// sheet left out, with its kind).
     pub fn workbook_without_partless_sheets(&mut self) -> Result<Option<(String, String)>, Err> {
-        if self.sheets.iter().all(|s| !s.part.is_empty()) {
+        if self.sheets.iter().all(|s| !s.part.is_empty() && CALAMINE_SHEETS.contains(&s.kind.as_str())) {
             return Ok(None);
         }
         let Some(workbook) = self.workbook_parts.first().cloned() else { return Ok(None) };
         let rels = self.relationships(&workbook)?;
         let text = self.read_part(&workbook)?;
-        let known = |id: &str| rels.iter().any(|(rid, ..)| rid == id);
-        Ok(Some((workbook, without_sheets_where(&text, |id| !known(id)))))
+        let read = |id: &str| {
+            rels.iter()
+                .find(|(rid, ..)| rid == id)
+                .is_some_and(|(_, part, kind)| !part.is_empty() && CALAMINE_SHEETS.contains(&kind.as_str()))
+        };
+        Ok(Some((workbook, without_sheets_where(&text, |id| !read(id)))))
     }
 
     /// Reads a whole (small) XML part as text, its references checked; a missing part is an
@@ -391,6 +398,10 @@ fn xml_error(part: &str, e: StreamError<super::xml::BadReference>) -> Err {
     };
     (Some(part.to_string()), ErrorKind::Damaged, message)
 }
+
+/// The relationship types (last segment) calamine reads as sheets: it refuses a workbook
+/// listing any other.
+const CALAMINE_SHEETS: [&str; 3] = ["worksheet", "chartsheet", "dialogsheet"];
 
 /// The part holding `part`'s relationships (`xl/_rels/workbook.xml.rels`).
 pub fn relationships_part(part: &str) -> String {
