@@ -108,3 +108,43 @@ fn no_function_at_the_edges_of_doubles_panics_or_leaks_inf_nan_or_minus_zero() {
     let faults: Vec<String> = formulas.iter().filter_map(|f| edge_fault(f)).collect();
     assert!(faults.is_empty(), "{} faults:\n{}", faults.len(), faults.join("\n"));
 }
+
+// ---------------------------------------------------------------------------------------
+// Dispersion near the largest double
+
+fn a1(formula: &str) -> Value {
+    common::sheet::eval_a1(formula).0
+}
+
+/// Whether `v` is a number within 1E-14 of `want`, relatively.
+fn near(v: &Value, want: f64) -> bool {
+    matches!(v, Value::Number(n) if (n - want).abs() <= want.abs() * 1e-14)
+}
+
+#[test]
+fn deviations_near_the_largest_double_are_finite_where_the_result_is() {
+    // Exact arithmetic: 1E+308 and -1E+308 have mean 0 and squared deviations 2E+616, past
+    // the doubles; the sample deviation is √2·1E+308 and the population one 1E+308. The
+    // sums of squares overflowed and each was #NUM!.
+    let root2 = std::f64::consts::SQRT_2 * 1e308;
+    assert!(near(&a1("=STDEV(1E+308,-1E+308)"), root2), "{:?}", a1("=STDEV(1E+308,-1E+308)"));
+    assert!(near(&a1("=STDEV.S(1E+308,-1E+308)"), root2));
+    assert!(near(&a1("=STDEVA(1E+308,-1E+308)"), root2));
+    assert!(near(&a1("=STDEV.P(1E+308,-1E+308)"), 1e308));
+    // Equal values deviate by nothing: 0, however large they are.
+    for f in ["=STDEV(1E+308,1E+308)", "=VAR(1E+308,1E+308)", "=VAR.P(-1E+308,-1E+308)", "=DEVSQ(1E+308,1E+308,1E+308)"]
+    {
+        assert_eq!(a1(f), Value::Number(0.0), "{f}");
+    }
+    // The variance itself past the doubles stays #NUM! (2E+616).
+    assert_eq!(a1("=VAR(1E+308,-1E+308)"), Value::Error(ncsheet::eval::XlError::Num));
+    // The database functions compute it the same way.
+    let mut wb = Workbook::with_sheet();
+    for (cell, input) in
+        [("A1", "x"), ("A2", "1E+308"), ("A3", "-1E+308"), ("C1", "x"), ("E1", "=DSTDEV(A1:A3,1,C1:C2)")]
+    {
+        wb.set_input(0, parse_cell(cell).unwrap(), input).unwrap();
+    }
+    let dstdev = wb.value(0, parse_cell("E1").unwrap());
+    assert!(near(&dstdev, root2), "{dstdev:?}");
+}

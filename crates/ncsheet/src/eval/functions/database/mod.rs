@@ -15,6 +15,7 @@ use crate::formula::ast::{Expr, ExprKind};
 
 use crate::eval::functions::arrays::reshape::ItemKey;
 use crate::eval::functions::criteria::{lowered, Criterion, EqualityIndex, MAX_CRITERIA_SCAN};
+use crate::eval::functions::statistics::dispersion::{deviation, scaled_squared_deviations, unscaled};
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value(
@@ -459,32 +460,33 @@ fn dproduct(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     Ok(number_result(xs.iter().product()))
 }
 
-/// The variance of the selected numbers, over n − 1 (`sample`) or n.
-fn variance(ctx: &mut Ctx, args: &[Expr], sample: bool) -> XlResult<f64> {
+/// The variance of the selected numbers, over n − 1 (`sample`) or n, at the scale VAR
+/// computes it (`scaled_squared_deviations`: finite wherever the result is).
+fn variance(ctx: &mut Ctx, args: &[Expr], sample: bool) -> XlResult<(f64, f64)> {
     let xs = selected_numbers(ctx, args)?;
     let n = xs.len() as f64;
     let divisor = if sample { n - 1.0 } else { n };
     if divisor <= 0.0 {
         return Err(XlError::Div0);
     }
-    let mean = xs.iter().sum::<f64>() / n;
-    Ok(xs.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / divisor)
+    let (squares, scale) = scaled_squared_deviations(&xs);
+    Ok((squares / divisor, scale))
 }
 
 fn dvar(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Ok(number_result(variance(ctx, args, true)?))
+    Ok(unscaled(variance(ctx, args, true)?))
 }
 
 fn dvarp(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Ok(number_result(variance(ctx, args, false)?))
+    Ok(unscaled(variance(ctx, args, false)?))
 }
 
 fn dstdev(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Ok(number_result(variance(ctx, args, true)?.sqrt()))
+    Ok(deviation(variance(ctx, args, true)?))
 }
 
 fn dstdevp(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Ok(number_result(variance(ctx, args, false)?.sqrt()))
+    Ok(deviation(variance(ctx, args, false)?))
 }
 
 #[cfg(test)]

@@ -170,17 +170,34 @@ fn mean(xs: &[f64]) -> f64 {
     xs.iter().sum::<f64>() / xs.len() as f64
 }
 
-/// Σ(x - mean)², by the corrected two-pass algorithm: the deviations from the computed mean,
-/// less the square of their own sum over n, which removes the rounding error of the mean.
-/// Accurate where the one-pass Σx² - (Σx)²/n cancels (values near 1e9 that differ by 0.1).
-fn squared_deviations(xs: &[f64]) -> f64 {
-    let m = mean(xs);
-    let (squares, sum) = xs.iter().fold((0.0, 0.0), |(sq, s), &x| (sq + (x - m) * (x - m), s + (x - m)));
-    squares - sum * sum / xs.len() as f64
+/// A power of two at the largest magnitude among `xs` (1 for none or zeros): dividing by it
+/// is exact, so sums and squares at that scale round as they would unscaled, yet stay
+/// finite where the result is (the standard deviation of 1E+308 and -1E+308 is 1.41E+308).
+fn scale_of(xs: &[f64]) -> f64 {
+    let largest = xs.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if largest.is_normal() {
+        2f64.powi(largest.log2().floor() as i32)
+    } else {
+        1.0
+    }
 }
 
-/// The variance of the arguments; `#DIV/0!` without enough values (two for a sample).
-fn variance(ctx: &mut Ctx, args: &[Expr], reading: Reading, of: Of) -> XlResult<f64> {
+/// Σ(x - mean)² as (its value at the scale, the scale): the true sum is the first times the
+/// square of the second, which may overflow where its square root does not.
+/// By the corrected two-pass algorithm: the deviations from the computed mean, less the
+/// square of their own sum over n, which removes the rounding error of the mean. Accurate
+/// where the one-pass Σx² - (Σx)²/n cancels (values near 1e9 that differ by 0.1).
+pub(crate) fn scaled_squared_deviations(xs: &[f64]) -> (f64, f64) {
+    let scale = scale_of(xs);
+    let ys: Vec<f64> = xs.iter().map(|x| x / scale).collect();
+    let m = ys.iter().sum::<f64>() / ys.len() as f64;
+    let (squares, sum) = ys.iter().fold((0.0, 0.0), |(sq, s), &y| (sq + (y - m) * (y - m), s + (y - m)));
+    (squares - sum * sum / ys.len() as f64, scale)
+}
+
+/// The variance of the arguments as (its value at the scale, the scale) of
+/// [`scaled_squared_deviations`]; `#DIV/0!` without enough values (two for a sample).
+fn variance(ctx: &mut Ctx, args: &[Expr], reading: Reading, of: Of) -> XlResult<(f64, f64)> {
     let xs = values(ctx, args, reading)?;
     let divisor = match of {
         Of::Sample => xs.len().saturating_sub(1),
@@ -189,39 +206,52 @@ fn variance(ctx: &mut Ctx, args: &[Expr], reading: Reading, of: Of) -> XlResult<
     if divisor == 0 {
         return Err(XlError::Div0);
     }
-    Ok(squared_deviations(&xs) / divisor as f64)
+    let (squares, scale) = scaled_squared_deviations(&xs);
+    Ok((squares / divisor as f64, scale))
+}
+
+/// A variance at its scale as a value: `#NUM!` only where the true variance is past the
+/// largest double.
+pub(crate) fn unscaled((v, scale): (f64, f64)) -> Value {
+    number_result(v * scale * scale)
+}
+
+/// The standard deviation of a variance at its scale: its square root scaled back, finite
+/// wherever the deviation is, though the variance may not be.
+pub(crate) fn deviation((v, scale): (f64, f64)) -> Value {
+    number_result(v.sqrt() * scale)
 }
 
 fn var_s(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    variance(ctx, args, Reading::Numbers, Of::Sample).map(number_result)
+    variance(ctx, args, Reading::Numbers, Of::Sample).map(unscaled)
 }
 
 fn var_p(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    variance(ctx, args, Reading::Numbers, Of::Population).map(number_result)
+    variance(ctx, args, Reading::Numbers, Of::Population).map(unscaled)
 }
 
 fn var_a(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    variance(ctx, args, Reading::All, Of::Sample).map(number_result)
+    variance(ctx, args, Reading::All, Of::Sample).map(unscaled)
 }
 
 fn var_pa(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    variance(ctx, args, Reading::All, Of::Population).map(number_result)
+    variance(ctx, args, Reading::All, Of::Population).map(unscaled)
 }
 
 fn stdev_s(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    variance(ctx, args, Reading::Numbers, Of::Sample).map(|v| number_result(v.sqrt()))
+    variance(ctx, args, Reading::Numbers, Of::Sample).map(deviation)
 }
 
 fn stdev_p(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    variance(ctx, args, Reading::Numbers, Of::Population).map(|v| number_result(v.sqrt()))
+    variance(ctx, args, Reading::Numbers, Of::Population).map(deviation)
 }
 
 fn stdev_a(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    variance(ctx, args, Reading::All, Of::Sample).map(|v| number_result(v.sqrt()))
+    variance(ctx, args, Reading::All, Of::Sample).map(deviation)
 }
 
 fn stdev_pa(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    variance(ctx, args, Reading::All, Of::Population).map(|v| number_result(v.sqrt()))
+    variance(ctx, args, Reading::All, Of::Population).map(deviation)
 }
 
 /// The numbers, `#NUM!` when there are none (DEVSQ, AVEDEV).
@@ -235,7 +265,7 @@ fn some_numbers(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Vec<f64>> {
 }
 
 fn devsq(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Ok(number_result(squared_deviations(&some_numbers(ctx, args)?)))
+    Ok(unscaled(scaled_squared_deviations(&some_numbers(ctx, args)?)))
 }
 
 fn avedev(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
