@@ -1,11 +1,13 @@
-//! Constructs found by real public automation and G-code-writing modules (issue 31, session
-//! 19's sample: inventory summaries, sheet sorters, report and G-code writers), each in a small
-//! macro of our own with the result Microsoft's Excel VBA reference or [MS-VBAL] gives (the page
-//! or section named at each test).
+//! Constructs found by real public automation and G-code-writing modules (issue 31, sessions
+//! 19's and 20's samples: inventory summaries, sheet sorters, de-duplicators, subtotals, report
+//! and G-code writers), each in a small macro of our own with the result Microsoft's Excel VBA
+//! reference or [MS-VBAL] gives (the page or section named at each test).
 
 mod common;
 
+use common::cli::ncsheet;
 use common::sheet::{get_on as get, n, set_on as set};
+use common::vba::printed_after as printed;
 use common::vba::run_main as run;
 use ncsheet::workbook::Workbook;
 
@@ -61,4 +63,146 @@ fn has_formula_is_true_for_all_false_for_none_and_null_for_some() {
          \x20   Debug.Print IsNull(Range(\"A1:B3\").HasFormula) & \" \" & IsNull(Columns(2).HasFormula) & \" \" & IsNull(Cells.HasFormula)",
     );
     assert_eq!(printed, ["False True True", "True True False", "True True True"]);
+}
+
+// [MS-VBAL] 5.3.1.11 (argument lists): an argument is left out only when its place is empty;
+// `Nothing` and `Empty` written in its place are arguments. "Nothing" (Set statement): "the
+// object variable no longer refers to any object"; "TypeName function": "Nothing" for an
+// object variable that doesn't refer to an object, "Empty" for an uninitialized value;
+// "IsObject function": True for a variable set to Nothing. A real laser G-code exporter calls
+// `ExportCurveShape Nothing, …`; a real de-duplicating macro does `dict.Add key, Nothing`.
+#[test]
+fn nothing_and_empty_are_arguments_not_left_out() {
+    let out = printed(
+        "Sub Shape(s As Object, ByVal feed As Double)\n\
+         \x20   Debug.Print TypeName(s); \"|\"; (s Is Nothing); \"|\"; feed\n\
+         End Sub\n\
+         Sub Value(v As Variant)\n\
+         \x20   Debug.Print TypeName(v); \"|\"; IsEmpty(v)\n\
+         End Sub",
+        "    Shape Nothing, 1500\n\
+         \x20   Value Empty\n\
+         \x20   Dim d As Object: Set d = CreateObject(\"Scripting.Dictionary\")\n\
+         \x20   d.Add \"k\", Nothing\n\
+         \x20   d.Add \"e\", Empty\n\
+         \x20   Debug.Print d.Count; TypeName(d(\"k\")); \"|\"; IsObject(d(\"k\")); \"|\"; TypeName(d(\"e\"))",
+    );
+    assert_eq!(out, ["Nothing|True| 1500 ", "Empty|True", " 2 Nothing|True|Empty"]);
+}
+
+// "Range.Value property" (Excel): an empty cell's Value is Empty, so "TypeName function"
+// answers "Empty" for it (an object member never set answers "Nothing"; a cell's value is no
+// object). Real de-duplicating macros print TypeName of the cells they wrote.
+#[test]
+fn an_empty_cells_value_is_empty_not_nothing() {
+    let out = printed(
+        "",
+        "    Debug.Print TypeName(Cells(6, 1).Value); \"|\"; TypeName(Sheets(1).Range(\"B2\").Value2); \"|\"; \
+         IsEmpty(Cells(6, 1).Value)",
+    );
+    assert_eq!(out, ["Empty|Empty|True"]);
+}
+
+// Excel's sort order ("Sort data in a range or table", Microsoft Support: in an ascending
+// sort numbers come first, smallest to largest, then text not telling case apart, then FALSE
+// before TRUE, then errors; "Blank cells are always placed last", in a descending sort too);
+// rows that tie keep their order; "Range.Sort method": Key1/Order1/Key2/Order2 and Header
+// (xlYes: the first row stays). A moved formula's relative references follow its row, as a
+// paste moves them. Real subtotal and BOM macros sort this way before they group rows.
+#[test]
+fn range_sort_orders_rows_as_excel_does() {
+    let out = printed(
+        "",
+        "    Range(\"A1:C1\").Value = Array(\"Part\", \"Qty\", \"Twice\")\n\
+         \x20   Range(\"A2\").Value = \"nut\": Range(\"B2\").Value = \"b\"\n\
+         \x20   Range(\"A3\").Value = \"bolt\": Range(\"B3\").Value = 12\n\
+         \x20   Range(\"A4\").Value = \"pin\": Range(\"B4\").Value = True\n\
+         \x20   Range(\"A5\").Value = \"cap\"\n\
+         \x20   Range(\"A6\").Value = \"rod\": Range(\"B6\").Value = 3\n\
+         \x20   Range(\"A7\").Value = \"key\": Range(\"B7\").Value = \"A\"\n\
+         \x20   Range(\"A8\").Value = \"gib\": Range(\"B8\").Value = 3\n\
+         \x20   Range(\"C2:C8\").Formula = \"=A2&B2\"\n\
+         \x20   Range(\"A1:C8\").Sort Key1:=Range(\"B1\"), Order1:=xlAscending, Key2:=Range(\"A1\"), _\n\
+         \x20       Order2:=xlDescending, Header:=xlYes\n\
+         \x20   Dim r As Long\n\
+         \x20   For r = 1 To 8: Debug.Print Cells(r, 1).Value; \"|\"; Cells(r, 2).Value; \"|\"; Cells(r, 3).Formula; \"|\"; Cells(r, 3).Value: Next r\n\
+         \x20   Range(\"A2:C8\").Sort Key1:=Range(\"B2\"), Order1:=xlDescending\n\
+         \x20   For r = 2 To 8: Debug.Print Cells(r, 1).Value; : Next r\n\
+         \x20   Debug.Print",
+    );
+    assert_eq!(
+        out,
+        [
+            "Part|Qty|Twice|Twice",
+            "rod| 3 |=A2&B2|rod3",
+            "gib| 3 |=A3&B3|gib3",
+            "bolt| 12 |=A4&B4|bolt12",
+            "key|A|=A5&B5|keyA",
+            "nut|b|=A6&B6|nutb",
+            "pin|True|=A7&B7|pinTRUE",
+            "cap||=A8&B8|cap",
+            "pinnutkeyboltrodgibcap",
+        ]
+    );
+}
+
+// The macro recorder's sort ("Worksheet.Sort property", "SortFields.Add method", "Sort.SetRange
+// method", "Sort.Apply method"): the fields are kept until cleared, Header xlYes keeps the
+// first row of the range in place.
+#[test]
+fn worksheet_sort_object_applies_its_fields() {
+    let out = printed(
+        "",
+        "    Range(\"A1:B1\").Value = Array(\"Name\", \"Hrs\")\n\
+         \x20   Range(\"A2:A5\").Value = Application.Transpose(Array(\"b\", \"a\", \"c\", \"a\"))\n\
+         \x20   Range(\"B2:B5\").Value = Application.Transpose(Array(1, 2, 3, 4))\n\
+         \x20   ActiveSheet.Sort.SortFields.Clear\n\
+         \x20   ActiveSheet.Sort.SortFields.Add Key:=Range(\"A2:A5\"), SortOn:=xlSortOnValues, Order:=xlAscending\n\
+         \x20   ActiveSheet.Sort.SortFields.Add Key:=Range(\"B2:B5\"), Order:=xlDescending\n\
+         \x20   With ActiveSheet.Sort\n\
+         \x20       .SetRange Range(\"A1:B5\")\n\
+         \x20       .Header = xlYes\n\
+         \x20       .MatchCase = False\n\
+         \x20       .Orientation = xlTopToBottom\n\
+         \x20       .SortMethod = xlPinYin\n\
+         \x20       .Apply\n\
+         \x20   End With\n\
+         \x20   Dim r As Long\n\
+         \x20   For r = 1 To 5: Debug.Print Cells(r, 1).Value; Cells(r, 2).Value; : Next r\n\
+         \x20   Debug.Print\n\
+         \x20   Debug.Print ActiveSheet.Sort.SortFields.Count; TypeName(ActiveSheet.Sort)",
+    );
+    assert_eq!(out, ["NameHrsa 4 a 2 b 1 c 3 ", " 2 Sort"]);
+}
+
+// [MS-VBAL] 3.3.5 "Identifier Tokens": besides the Latin-identifier, an implementation may take
+// a codepage-identifier, letters of the project's code page. Excel in Portuguese names a new
+// module `Módulo1` (ó is 0xF3 in Windows-1252); a real de-duplicating module exported from it
+// starts `Attribute VB_Name = "Módulo1"`, which was refused as "not a VBA module name". The
+// project names it in its code page (PROJECT's Module= line, the dir stream's MODULENAME,
+// [MS-OVBA] 2.3.1.7 and 2.3.4.2.3.2.1) and in UTF-16 (MODULENAMEUNICODE).
+#[test]
+fn a_module_named_in_its_code_pages_letters_imports_and_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let bas = dir.path().join("modulo.bas");
+    std::fs::write(
+        &bas,
+        b"Attribute VB_Name = \"M\xF3dulo1\"\r\nSub Main()\r\n    Debug.Print \"ol\xE1\"; 1\r\nEnd Sub\r\n",
+    )
+    .unwrap();
+    let book = dir.path().join("book.csv");
+    std::fs::write(&book, "x\n").unwrap();
+    let out = dir.path().join("out.xlsm");
+    let path = |p: &std::path::Path| p.to_str().unwrap().to_string();
+    let done = ncsheet(&["macros", &path(&book), "--import", &path(&bas), "--code-page", "1252", "-o", &path(&out)]);
+    assert_eq!(done.code, 0, "{}", done.stderr);
+    let bytes = ncsheet::io::open(&out).unwrap().layout.unwrap().vba_project.unwrap();
+    let project = ncsheet::vba::project::read_project(&bytes).unwrap();
+    assert!(
+        project.modules.iter().any(|m| m.name == "Módulo1"),
+        "{:?}",
+        project.modules.iter().map(|m| &m.name).collect::<Vec<_>>()
+    );
+    let ran = ncsheet(&["run", &path(&out), "--sub", "Módulo1.Main"]);
+    assert!(ran.code == 0 && ran.stderr.lines().any(|l| l == "olá 1 "), "{}", ran.stderr);
 }

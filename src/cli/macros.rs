@@ -198,10 +198,7 @@ pub(super) fn read_module(path: &Path, code_page: Option<u16>) -> Result<NewModu
         .lines()
         .find_map(|l| l.trim().strip_prefix("Attribute VB_Name = ").map(|n| n.trim_matches('"').to_string()))
         .unwrap_or(stem);
-    let valid = name.chars().next().is_some_and(|c| c.is_ascii_alphabetic())
-        && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
-        && name.len() <= 31;
-    if !valid {
+    if !ncsheet::vba::project_edit::is_module_name(&name) {
         return Err(Error::User(format!(
             "{}: '{name}' is not a VBA module name (a letter, then letters, digits or _, at most 31)",
             path.display()

@@ -502,6 +502,12 @@ pub enum Node {
     Members { base: Expr, path: Path },
     /// VBA's `Null`.
     Null,
+    /// The constant `Empty`: a given argument, not a left-out one (`f Empty`), which the
+    /// formula tree's `Missing` would be.
+    Empty,
+    /// The constant `Nothing`: an object reference to no object, given as an argument
+    /// (`dict.Add k, Nothing`, `Export Nothing`) or assigned with Set.
+    Nothing,
     /// An argument of a worksheet function (`Application.Transpose(a)`): an array of arrays
     /// reads as a two-dimensional array, one row per inner array, as Excel reads one.
     SheetArg { arg: Expr, span: Span },

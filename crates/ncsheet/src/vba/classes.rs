@@ -434,6 +434,8 @@ impl Interp<'_, '_> {
             }
             ExprKind::Host(id) => match &self.module.nodes[*id as usize] {
                 Node::New { class, span } => self.new_object(*class, *span).map(Some),
+                // An object parameter given Nothing holds no object (TypeName "Nothing").
+                Node::Nothing => Ok(Some(Var::Obj(Obj::Value(Value::Blank)))),
                 Node::Element { var, index, span } if self.array_object(*id).is_some() => {
                     // An item that is an array passes with its bounds ([MS-VBAL] 2.2).
                     Ok(Some(self.array_item(var, index, *span)?).filter(|v| matches!(v, Var::Obj(_) | Var::Array(_))))

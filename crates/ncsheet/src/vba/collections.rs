@@ -14,7 +14,7 @@ use crate::eval::{Array, Ctx, Operand, Value};
 
 use crate::formula::ast::{Expr, ExprKind};
 
-use super::ast::{Arg, Class, Link, Span};
+use super::ast::{Arg, Class, Link, Node, Span};
 use super::interp::{Fault, Interp, Run};
 use super::objects::lower;
 use super::typing::Declared;
@@ -420,8 +420,9 @@ impl Interp<'_, '_> {
     /// What an item argument holds: a value, an array or an object (a Range stays a Range);
     /// a LongLong no double holds refused ([`Interp::refuse_long_long_past_double`]).
     pub(super) fn item_var(&self, e: &Expr) -> Run<Var> {
+        let nothing = matches!(e.kind, ExprKind::Host(id) if matches!(self.module.nodes[id as usize], Node::Nothing));
         let var = match self.var_of(e, true)? {
-            Var::Obj(Obj::Value(v)) => Var::Value(v),
+            Var::Obj(Obj::Value(v)) if !nothing => Var::Value(v),
             other => other,
         };
         self.refuse_long_long_past_double(e, &var, STORE_ITEM)?;

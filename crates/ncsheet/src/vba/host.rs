@@ -386,6 +386,7 @@ impl Interp<'_, '_> {
             }
             Node::Inspect { what, arg, .. } => self.inspect(*what, arg).map(Operand::Value),
             Node::Null => Ok(Operand::Value(Value::Null)),
+            Node::Empty | Node::Nothing => Ok(Operand::Value(Value::Blank)),
             Node::SheetArg { arg, span } => self.worksheet_function_argument(ctx, arg, *span),
             Node::Members { base, path } => {
                 let obj = self.members_of(ctx, base, path)?;

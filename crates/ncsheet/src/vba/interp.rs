@@ -318,6 +318,8 @@ pub struct Interp<'m, 'w> {
     pub cursors: RefCell<std::collections::HashMap<SheetId, (Rect, Pos)>>,
     /// The range the last `Copy` without a destination took, for `PasteSpecial`.
     pub(super) clipboard: RefCell<Option<(SheetId, Rect)>>,
+    /// Each worksheet's `Sort` object: its fields, range and header until `Apply` (`sort.rs`).
+    pub(super) sorts: RefCell<std::collections::HashMap<SheetId, super::sort::SheetSort>>,
     /// The array a class's Function last returned, with its bounds (`classes.rs`).
     pub(super) method_array: RefCell<Option<super::value::VArray>>,
     /// How the sheets' cells look (number formats, styles, widths), `formats.rs`: shared by a
@@ -394,6 +396,7 @@ impl<'m, 'w> Interp<'m, 'w> {
             code_sheets: Vec::new(),
             cursors: RefCell::new(std::collections::HashMap::new()),
             clipboard: RefCell::new(None),
+            sorts: RefCell::new(std::collections::HashMap::new()),
             method_array: RefCell::new(None),
             looks: Rc::new(RefCell::new(super::formats::Looks::default())),
             notes: RefCell::new(Vec::new()),
@@ -939,6 +942,11 @@ impl Interp<'_, '_> {
             ExprKind::Host(_) if matches!(self.module.nodes[id as usize], Node::New { .. }) => {
                 let Node::New { class, span } = &self.module.nodes[id as usize] else { unreachable!() };
                 self.new_object(*class, *span)
+            }
+            // `Nothing` is an object reference to no object wherever it goes: a Dictionary's
+            // item, an argument, a Variant (TypeName "Nothing", IsObject True).
+            ExprKind::Host(_) if matches!(self.module.nodes[id as usize], Node::Nothing) => {
+                Ok(Var::Obj(Obj::Value(Value::Blank)))
             }
             // `Set x = a(1)`, `a(1) Is Nothing`, `With a(1)`: an array's item that is an object.
             ExprKind::Host(_) if self.array_object(id).is_some() => {

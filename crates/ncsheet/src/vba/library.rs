@@ -241,10 +241,15 @@ impl Interp<'_, '_> {
         }
     }
 
-    /// `Nothing` and `Empty` are both the empty expression; their text tells them apart.
+    /// The constant `Nothing` as written (`TypeName(Nothing)`).
     fn is_nothing_literal(&self, arg: &Expr) -> bool {
+        matches!(arg.kind, ExprKind::Host(id) if matches!(self.module.nodes[id as usize], Node::Nothing))
+    }
+
+    /// The constant `Empty` as written, or an argument left out: no value.
+    fn is_empty_literal(&self, arg: &Expr) -> bool {
         arg.kind == ExprKind::Missing
-            && self.source_between(arg.span.start, arg.span.end).trim().eq_ignore_ascii_case("nothing")
+            || matches!(arg.kind, ExprKind::Host(id) if matches!(self.module.nodes[id as usize], Node::Empty))
     }
 
     /// `TypeName(x)` ("TypeName function"): a typed variable's declared type, a Variant's
@@ -252,8 +257,11 @@ impl Interp<'_, '_> {
     /// Nothing), an object's class ("Range", "Collection", "Dictionary" …), an array's item
     /// type followed by "()"; an expression of a declared type answers it ("Integer" for 5).
     fn type_name(&self, arg: &Expr) -> Run<String> {
-        if arg.kind == ExprKind::Missing {
-            return Ok(if self.is_nothing_literal(arg) { "Nothing" } else { "Empty" }.into());
+        if self.is_nothing_literal(arg) {
+            return Ok("Nothing".into());
+        }
+        if self.is_empty_literal(arg) {
+            return Ok("Empty".into());
         }
         if let ExprKind::Name(name) = &arg.kind {
             // Using a variable declared `As New` makes its object first (auto-instantiation).
@@ -270,14 +278,26 @@ impl Interp<'_, '_> {
         match &var {
             // A value answers its type, a number the type it is held with (`TypeName(x + 1)`),
             // a member's value too (`TypeName(c.Item(1))`; an object path's Empty is Nothing).
-            Var::Value(v) | Var::Obj(Obj::Value(v)) if matches!(var, Var::Value(_)) || !v.is_blank() => {
+            Var::Value(v) | Var::Obj(Obj::Value(v))
+                if matches!(var, Var::Value(_)) || !v.is_blank() || self.reads_cell_value(arg) =>
+            {
                 match self.value_type(arg, v) {
-                    Declared::Variant => Ok(self.type_name_of(&var, None)),
+                    Declared::Variant => Ok(self.type_name_of(&Var::Value(v.clone()), None)),
                     held => Ok(held.name().into()),
                 }
             }
             _ => Ok(self.type_name_of(&var, None)),
         }
+    }
+
+    /// `Cells(r, c).Value`, `.Value2`: an empty cell's value is Empty ("Value property":
+    /// an empty cell returns Empty), never the Nothing of an object member left unset.
+    fn reads_cell_value(&self, arg: &Expr) -> bool {
+        let ExprKind::Host(id) = arg.kind else { return false };
+        let Node::Path(path) = &self.module.nodes[id as usize] else { return false };
+        path.links.last().is_some_and(|l| {
+            l.args.is_none() && (l.name.eq_ignore_ascii_case("value") || l.name.eq_ignore_ascii_case("value2"))
+        })
     }
 
     fn type_name_of(&self, var: &Var, ty: Option<&Ty>) -> String {
@@ -321,7 +341,7 @@ impl Interp<'_, '_> {
 
     /// `IsObject(x)` ("IsObject function"): True for an object, Nothing included.
     fn is_object(&self, arg: &Expr) -> Run<bool> {
-        if arg.kind == ExprKind::Missing {
+        if self.is_nothing_literal(arg) || self.is_empty_literal(arg) {
             return Ok(self.is_nothing_literal(arg));
         }
         let var = match &arg.kind {
@@ -540,6 +560,8 @@ fn object_type_name(obj: &Obj) -> &'static str {
             #[allow(unreachable_patterns)]
             _ => "Object",
         },
+        Obj::SheetSort(_) => "Sort",
+        Obj::SortFields(_) => "SortFields",
         #[allow(unreachable_patterns)]
         _ => "Object",
     }

@@ -262,6 +262,7 @@ pub mod project;
 pub mod project_edit;
 mod resolve;
 mod sheet_ops;
+mod sort;
 mod typing;
 mod udf;
 mod value;

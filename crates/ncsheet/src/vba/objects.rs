@@ -252,6 +252,8 @@ impl Interp<'_, '_> {
             Obj::Store(h) => self.store_member(ctx, h, link),
             Obj::Files(f) => self.file_member(ctx, f, link),
             Obj::Instance(object) => self.instance_member(ctx, &object, link),
+            Obj::SheetSort(sheet) => self.sheet_sort_member(ctx, sheet, link),
+            Obj::SortFields(sheet) => self.sort_fields_member(ctx, sheet, link),
             Obj::Record(var, path) => {
                 let i = self.field_index(&var, &path, link)?;
                 let mut path = path.clone();
@@ -410,6 +412,7 @@ impl Interp<'_, '_> {
             "copy" => self.copy_sheet(id, link),
             "delete" => self.delete_sheet(id, link.span),
             "move" => self.move_sheet(id, link),
+            "sort" => Ok(Obj::SheetSort(id)),
             "checkboxes" | "optionbuttons" | "dropdowns" | "listboxes" | "buttons" | "shapes" | "oleobjects"
             | "chartobjects" => Err(self.fault_at(
                 link.span,
@@ -580,6 +583,10 @@ impl Interp<'_, '_> {
             }
             "copy" => {
                 self.copy(ctx, sheet, rect, link)?;
+                value(Value::Blank)
+            }
+            "sort" => {
+                self.sort_range(ctx, sheet, rect, link)?;
                 value(Value::Blank)
             }
             "pastespecial" => {
@@ -801,6 +808,7 @@ impl Interp<'_, '_> {
             (Obj::Nc, _) => self.set_nc(&name, value, link.span),
             (Obj::Store(h), _) => self.set_store_member(h, link, value),
             (Obj::Instance(object), _) => self.set_instance_member(ctx, object, link, value),
+            (Obj::SheetSort(sheet), _) => self.set_sheet_sort(ctx, *sheet, link, value),
             (Obj::Sheet(sheet), "visible") => {
                 let v = self.eval(value)?;
                 self.set_visible(*sheet, &v, link.span)

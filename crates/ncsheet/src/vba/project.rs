@@ -673,11 +673,14 @@ pub fn build_project_in(modules: &[NewModule], seed: u8, code_page: u16) -> Resu
         }
         encoded.push(bytes.into_owned());
     }
-    put("/PROJECT", project_stream(modules, seed).as_bytes())?;
-    put("/PROJECTwm", &name_map(modules))?;
+    // The names in the code page too (a module `Módulo1` in 1252); the rest of the text is
+    // ASCII, the same bytes in every code page ncsheet writes.
+    put("/PROJECT", &encoding.encode(&project_stream(modules, seed)).0)?;
+    put("/PROJECTwm", &name_map(modules, encoding))?;
     // Reserved1 0x61CC, Version 0xFFFF (no compiled cache), Reserved2, Reserved3.
     put("/VBA/_VBA_PROJECT", &[0xCC, 0x61, 0xFF, 0xFF, 0x00, 0x00, 0x00])?;
-    put("/VBA/dir", &ovba::compress(&dir_stream(modules, code_page)).map_err(|e| error("VBA/dir", e))?)?;
+    let dir = dir_stream(modules, code_page, encoding);
+    put("/VBA/dir", &ovba::compress(&dir).map_err(|e| error("VBA/dir", e))?)?;
     for (m, source) in modules.iter().zip(&encoded) {
         let path = format!("/VBA/{}", m.name);
         put(&path, &ovba::compress(source).map_err(|e| error(&path, e))?)?;
@@ -748,10 +751,10 @@ fn encrypt(data: &[u8], seed: u8, project_id: &[u8]) -> String {
 }
 
 /// PROJECTwm (2.3.3): each module's name in MBCS and in UTF-16.
-fn name_map(modules: &[NewModule]) -> Vec<u8> {
+fn name_map(modules: &[NewModule], encoding: &'static encoding_rs::Encoding) -> Vec<u8> {
     let mut out = Vec::new();
     for m in modules {
-        out.extend(m.name.bytes());
+        out.extend(encoding.encode(&m.name).0.iter());
         out.push(0);
         out.extend(m.name.encode_utf16().flat_map(u16::to_le_bytes));
         out.extend([0, 0]);
@@ -789,7 +792,7 @@ pub(super) fn push_module_records(d: &mut Vec<u8>, name: &str, mbcs: &[u8], kind
 }
 
 /// The dir stream (2.3.4.2), uncompressed.
-fn dir_stream(modules: &[NewModule], code_page: u16) -> Vec<u8> {
+fn dir_stream(modules: &[NewModule], code_page: u16, encoding: &'static encoding_rs::Encoding) -> Vec<u8> {
     let mut d = Vec::new();
     let rec = |id: u16, data: &[u8], d: &mut Vec<u8>| push_record(d, id, data);
     rec(0x0001, &1u32.to_le_bytes(), &mut d); // PROJECTSYSKIND: 32-bit Windows
@@ -813,7 +816,7 @@ fn dir_stream(modules: &[NewModule], code_page: u16) -> Vec<u8> {
     rec(id::PROJECT_MODULES, &(modules.len() as u16).to_le_bytes(), &mut d); // PROJECTMODULES
     rec(id::PROJECT_COOKIE, &0xFFFFu16.to_le_bytes(), &mut d); // PROJECTCOOKIE
     for m in modules {
-        push_module_records(&mut d, &m.name, m.name.as_bytes(), m.kind);
+        push_module_records(&mut d, &m.name, &encoding.encode(&m.name).0, m.kind);
     }
     rec(id::DIR_TERMINATOR, b"", &mut d);
     d

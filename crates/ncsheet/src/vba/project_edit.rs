@@ -85,7 +85,9 @@ pub fn add_modules(
                 let path = format!("{}/{}", parts.storage, new.name);
                 let packed = compress(&path, &text)?;
                 created.push((path, packed));
-                let mbcs = encode(&new.name, encoding).expect("an ASCII name");
+                let mbcs = encode(&new.name, encoding).ok_or_else(|| {
+                    error(&new.name, format!("is a name code page {} cannot write", parts.listing.code_page))
+                })?;
                 added.push(Added { module: new, mbcs });
             }
         }
@@ -149,6 +151,17 @@ fn encode(text: &str, encoding: &'static encoding_rs::Encoding) -> Option<Vec<u8
     (!unmappable).then(|| bytes.into_owned())
 }
 
+/// A module's name as VBA takes one: a letter, then letters, digits or `_`, at most 31. A
+/// letter of any script, as the VBA editor allows in the project's code page: Excel in
+/// Portuguese and Spanish names its first module `Módulo1` ([MS-VBAL] 3.3.5: besides the
+/// Latin-identifier, a codepage-identifier of the code page's letters). The code page is
+/// checked when the module's text, which names it, is written.
+pub fn is_module_name(name: &str) -> bool {
+    name.chars().next().is_some_and(char::is_alphabetic)
+        && name.chars().all(|c| c.is_alphanumeric() || c == '_')
+        && name.chars().count() <= 31
+}
+
 /// The module of that name (VBA names ignore case).
 fn existing<'m>(modules: &'m [DirModule], name: &str) -> Option<&'m DirModule> {
     modules.iter().find(|m| m.name.eq_ignore_ascii_case(name))
@@ -159,10 +172,7 @@ fn existing<'m>(modules: &'m [DirModule], name: &str) -> Option<&'m DirModule> {
 /// storage (`dir`).
 fn check_name(parts: &Parts, new: &NewModule, added: &[Added], on_existing: OnExisting) -> Result<(), ProjectError> {
     let name = &new.name;
-    let valid = name.chars().next().is_some_and(|c| c.is_ascii_alphabetic())
-        && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
-        && name.len() <= 31;
-    if !valid {
+    if !is_module_name(name) {
         return Err(error(name, "is not a VBA module name (a letter, then letters, digits or _, at most 31)"));
     }
     if added.iter().any(|a| a.module.name.eq_ignore_ascii_case(name)) {

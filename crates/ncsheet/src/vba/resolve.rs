@@ -107,7 +107,6 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "vbnullstring" => text(""),
         // "Raise method": an object's own errors are numbered from vbObjectError (&H80040000).
         "vbobjecterror" => number(-2147221504.0),
-        "empty" | "nothing" => Some(ExprKind::Missing),
         "vbokonly" => number(0.0),
         "vbok" => number(1.0),
         "vbcancel" => number(2.0),
@@ -165,6 +164,22 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "xlerrnum" => number(2036.0),
         "xlerrna" => number(2042.0),
         // Excel's XlDirection, XlPasteType, XlSheetVisibility and XlReferenceStyle values.
+        // "XlSortOrder", "XlYesNoGuess", "XlSortOrientation", "XlSortOn", "XlSortDataOption"
+        // and "XlSortMethod" enumerations (`sort.rs`).
+        "xlascending" => number(1.0),
+        "xldescending" => number(2.0),
+        "xlguess" => number(0.0),
+        "xlyes" => number(1.0),
+        "xlno" => number(2.0),
+        "xltoptobottom" | "xlsortcolumns" => number(1.0),
+        "xllefttoright" | "xlsortrows" => number(2.0),
+        "xlsortonvalues" | "xlsortnormal" => number(0.0),
+        "xlsorttextasnumbers" | "xlpinyin" => number(1.0),
+        "xlstroke" => number(2.0),
+        // "XlCalculation" (Application.Calculation, which a macro without a window ignores).
+        "xlcalculationmanual" => number(-4135.0),
+        "xlcalculationautomatic" => number(-4105.0),
+        "xlcalculationsemiautomatic" => number(2.0),
         "xlup" => number(-4162.0),
         "xldown" => number(-4121.0),
         "xltoleft" => number(-4159.0),
@@ -876,6 +891,14 @@ impl Build<'_> {
             }
             if lower == "null" && !is_var {
                 return Ok(self.node(Node::Null, at, end));
+            }
+            // Nodes of their own, never the tree's Missing: a call given `Empty` or `Nothing`
+            // gave that argument ([MS-VBAL] 5.3.1.11), it did not leave it out.
+            if lower == "empty" && !is_var {
+                return Ok(self.node(Node::Empty, at, end));
+            }
+            if lower == "nothing" && !is_var {
+                return Ok(self.node(Node::Nothing, at, end));
             }
             if is_var {
                 if statement {

@@ -539,6 +539,8 @@ impl Interp<'_, '_> {
             }
             Node::Bound { .. } => Declared::Long,
             Node::Path(path) => self.field_type(path).unwrap_or(Declared::Variant),
+            // `Empty` in arithmetic is an Integer 0 ([MS-VBAL] 5.6.9.3's effective value type).
+            Node::Empty if typing == Typing::Held => Declared::Integer,
             Node::Inspect { what: Inspect::VarType, .. } => Declared::Integer,
             Node::Is { .. } | Node::TypeOf { .. } | Node::Inspect { what: Inspect::IsMissing, .. } => Declared::Boolean,
             _ => Declared::Variant,

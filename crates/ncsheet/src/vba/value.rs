@@ -234,6 +234,9 @@ pub enum Obj {
     Files(super::files::FileObj),
     /// An object of a class module, shared by every variable set to it.
     Instance(super::classes::Instance),
+    /// A worksheet's `Sort` object and its `SortFields` (`sort.rs`).
+    SheetSort(SheetId),
+    SortFields(SheetId),
 }
 
 impl Obj {
@@ -260,6 +263,8 @@ impl Obj {
                 super::ast::Class::Dictionary => "a Dictionary",
             },
             Obj::Instance(_) => "an object of a class module",
+            Obj::SheetSort(_) => "a Sort",
+            Obj::SortFields(_) => "a SortFields collection",
         }
     }
 }
