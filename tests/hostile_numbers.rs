@@ -148,3 +148,15 @@ fn deviations_near_the_largest_double_are_finite_where_the_result_is() {
     let dstdev = wb.value(0, parse_cell("E1").unwrap());
     assert!(near(&dstdev, root2), "{dstdev:?}");
 }
+
+// ---------------------------------------------------------------------------------------
+// Limits reached say so
+
+#[test]
+fn munit_past_the_array_limit_names_it() {
+    // docs/limits.md: an array past 2^24 items is #NUM! with a note naming its size and the
+    // limit; MUNIT(5000) (25,000,000 items) was #NUM! without one.
+    let (value, notes, _) = common::sheet::eval_a1("=MUNIT(5000)");
+    assert_eq!(value, Value::Error(ncsheet::eval::XlError::Num));
+    assert!(notes.iter().any(|n| n.contains("5000") && n.contains("16777216")), "{notes:?}");
+}

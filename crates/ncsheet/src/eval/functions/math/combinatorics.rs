@@ -412,12 +412,22 @@ fn mdeterm(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn munit(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
+    // The lifted body cannot reach `ctx`: a size past the array limit is kept, and the note
+    // docs/limits.md promises is given through `Ctx::room_for` after it.
+    let too_large = std::cell::Cell::new(None);
+    let unit = scalar(ctx, args, &|a| {
         let n = a.num(0)?.trunc();
         check((1.0..=1_048_576.0).contains(&n), XlError::Value)?;
-        check(n * n <= MAX_ARRAY_ITEMS as f64, XlError::Num)?;
+        if n * n > MAX_ARRAY_ITEMS as f64 {
+            too_large.set(Some(n as usize));
+            return Err(XlError::Num);
+        }
         to_value(&DMatrix::identity(n as usize, n as usize))
-    })
+    });
+    if let Some(n) = too_large.get() {
+        ctx.room_for(n, n)?;
+    }
+    unit
 }
 
 /// Rows become columns; a tail (the rest of a whole row or column, one value) turns with
