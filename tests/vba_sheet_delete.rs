@@ -419,3 +419,14 @@ fn a_csv_left_with_one_sheet_after_add_and_delete_saves() {
     );
     assert_eq!(added, "5\n=A1+1\n");
 }
+
+// Excel's `Sheets(Array("A", "B")).Delete` deletes a group of sheets at once ("Sheets
+// object": "Use Sheets(array) to specify more than one sheet"); ncsheet has no such group,
+// and says so naming the way that works, deleting none, rather than "picks a sheet".
+#[test]
+fn a_group_of_sheets_is_refused_naming_the_one_by_one_way() {
+    let mut wb = book(&["A", "B", "C"]);
+    let message = fails(&mut wb, "    Sheets(Array(\"A\", \"B\")).Delete");
+    assert!(message.contains("Sheets(Array(…))") && message.contains("one by one"), "{message}");
+    assert_eq!(wb.tab_names(), ["A", "B", "C"]);
+}

@@ -377,6 +377,15 @@ impl Interp<'_, '_> {
             [Value::Text(name)] => {
                 wb.sheet_id(name).ok_or_else(|| missing(format!("the workbook has no sheet named {name}")))
             }
+            // `Sheets(Array("A", "B"))`: Excel's group of sheets, which ncsheet has not.
+            [Value::Array(a)] if a.data.len() > 1 => Err(self.fault_at(
+                link.span,
+                format!(
+                    "{}(Array(…)): ncsheet has no group of several sheets to Delete, Move or Copy at once; \
+                     go through the names one by one (For Each n In Array(…): {}(n).Delete: Next)",
+                    link.name, link.name
+                ),
+            )),
             _ => Err(self.fault_at(link.span, format!("{}(name or number) picks a sheet", link.name))),
         }
     }
