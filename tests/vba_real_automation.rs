@@ -206,3 +206,15 @@ fn a_module_named_in_its_code_pages_letters_imports_and_runs() {
     let ran = ncsheet(&["run", &path(&out), "--sub", "Módulo1.Main"]);
     assert!(ran.code == 0 && ran.stderr.lines().any(|l| l == "olá 1 "), "{}", ran.stderr);
 }
+
+// Excel's "Constants enumeration": xlNone -4142, xlAutomatic -4105; "XlCalculation
+// enumeration": xlCalculationManual -4135, xlCalculationAutomatic -4105. A real subtotal
+// macro sets `.Interior.ColorIndex = xlNone` and `Application.Calculation =
+// xlCalculationManual` under Option Explicit, which refused them as undeclared variables.
+#[test]
+fn excel_constants_of_colors_and_calculation() {
+    let out = printed("", "    Debug.Print xlNone; xlAutomatic; xlCalculationManual; xlCalculationAutomatic");
+    // "Print # statement": a number is followed by a space, and a negative one has no space
+    // before its sign.
+    assert_eq!(out, ["-4142 -4105 -4135 -4105 "]);
+}

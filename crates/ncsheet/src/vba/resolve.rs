@@ -180,6 +180,9 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "xlcalculationmanual" => number(-4135.0),
         "xlcalculationautomatic" => number(-4105.0),
         "xlcalculationsemiautomatic" => number(2.0),
+        // "Constants enumeration": no color, Excel's automatic color (ColorIndex).
+        "xlnone" => number(-4142.0),
+        "xlautomatic" => number(-4105.0),
         "xlup" => number(-4162.0),
         "xldown" => number(-4121.0),
         "xltoleft" => number(-4159.0),
