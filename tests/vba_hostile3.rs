@@ -137,6 +137,26 @@ fn a_long_chain_of_operators_is_typed_once_and_to_its_end() {
     assert!(e.message.contains("Overflow") && e.message.contains("error 6"), "{e}");
 }
 
+// A 2-D `ReDim Preserve` in a loop copies every item each time, as VBA's does ("ReDim
+// statement": only the last dimension may change, and the array is made anew), so a hostile
+// one is quadratic. It is left so, and stopped: by the memory budget once the array outgrows
+// it, and by --timeout with the limit's message, never run on past either.
+#[test]
+fn a_two_dimensional_redim_preserve_in_a_loop_is_stopped_by_the_budget_and_the_timeout() {
+    let src = "Sub Main()\n    Dim a(), i As Long\n    ReDim a(1 To 2, 1 To 1)\n    For i = 2 To 10000000\n\
+               \x20       ReDim Preserve a(1 To 2, 1 To i)\n    Next\nEnd Sub\n";
+    // 256 KiB hold 8,192 columns of two: 67 million items copied on the way (4 MiB took
+    // 17 billion, six minutes in a debug build: the budget stops it, the quadratic cost stays).
+    let options = RunOptions { max_memory: 256 << 10, ..RunOptions::default() };
+    let e = run_with(src, &options).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::Limit, "{e}");
+    assert!(e.message.contains("--max-memory"), "{e}");
+    let options = RunOptions { deadline: Some(vba::Deadline::after(0.5)), ..RunOptions::default() };
+    let e = run_with(src, &options).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::Limit, "{e}");
+    assert!(e.message.contains("--timeout"), "{e}");
+}
+
 /// Runs the macro and gives the work the engine counted for it ([`Work`]): tests bound it in
 /// proportion to the input, where the quadratic code did work in proportion to its square.
 fn work_of(src: &str) -> Work {
