@@ -31,7 +31,8 @@ fn a_cycle_through_index_offset_or_indirect_iterates_as_the_plain_chain() {
     // (iteration on, 10 steps) gives the INDEX form the values of the plain one too.
     // The cycle of the last three forms is found only once their evaluation links it; the
     // iteration started from what that first evaluation left and ended 2 above.
-    let forms: [(&str, fn(u32) -> String); 4] = [
+    type CellAbove = fn(u32) -> String;
+    let forms: [(&str, CellAbove); 4] = [
         ("plain", |row| format!("A{}", row - 1)),
         ("INDEX", |row| format!("INDEX(A:A,{})", row - 1)),
         ("OFFSET", |row| format!("OFFSET(A{row},-1,0)")),
