@@ -442,3 +442,35 @@ fn a_cell_calls_a_function_with_a_param_array() {
     assert_eq!(wb.value(0, at("B1")), Value::text("n:0:2:12"));
     assert_eq!(wb.value(0, at("B2")), Value::text("e:0:-1:"));
 }
+
+/// "Range.Text property" (Microsoft's Excel VBA reference): the text of the cell as it is
+/// shown, so a function in a cell reading `.Text` of a cell the file formats `0.00` gets
+/// "1.50" for 1.5, and "2.50" after an edit to 2.5. openpyxl writes the format, so the
+/// look comes from outside our writer; the function's own cell is text.
+#[test]
+fn a_function_in_a_cell_reads_text_in_the_number_format_the_file_gives() {
+    if !common::openpyxl::openpyxl_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let d = |name: &str| dir.path().join(name).to_string_lossy().into_owned();
+    std::fs::write(
+        d("shown.bas"),
+        "Public Function Shown(r As Range) As String\r\n    Shown = r.Text\r\nEnd Function\r\n",
+    )
+    .unwrap();
+    common::openpyxl::python(
+        "import sys, openpyxl\nwb = openpyxl.Workbook()\nws = wb.active\nws['A1'] = 1.5\n\
+         ws['A1'].number_format = '0.00'\nws['B1'] = '=Shown(A1)'\nwb.save(sys.argv[1])\n",
+        &[&dir.path().join("base.xlsx")],
+    );
+    let imported =
+        common::cli::ncsheet(&["macros", &d("base.xlsx"), "--import", &d("shown.bas"), "-o", &d("book.xlsm")]);
+    assert_eq!(imported.code, 0, "{}", imported.stderr);
+    let shown = common::cli::ncsheet(&["eval", &d("book.xlsm"), "B1", "--format", "json"]);
+    assert_eq!((shown.code, shown.stdout.trim()), (0, r#"{"Sheet!B1": "1.50"}"#), "{}", shown.stderr);
+    let edited = common::cli::ncsheet(&["set", &d("book.xlsm"), "A1=2.5", "-o", &d("edited.xlsm")]);
+    assert_eq!(edited.code, 0, "{}", edited.stderr);
+    let shown = common::cli::ncsheet(&["eval", &d("edited.xlsm"), "B1", "--format", "json"]);
+    assert_eq!((shown.code, shown.stdout.trim()), (0, r#"{"Sheet!B1": "2.50"}"#), "{}", shown.stderr);
+}

@@ -376,7 +376,9 @@ fn install_functions(opened: &mut Opened, options: RunOptions) {
         Err(e) => return opened.notes.push(format!("xl/vbaProject.bin: {e}: its functions are not callable")),
     };
     let code_names = layout.sheets.iter().filter_map(|(name, s)| Some((s.code_name.clone()?, name.clone()))).collect();
-    let errors = vba::install_functions(&mut opened.workbook, &project, RunOptions { code_names, ..options });
+    // The file's number formats, for a function reading `Range.Text` as Excel shows the cell.
+    let looks = layout.sheets.iter().map(|(name, s)| (name.clone(), s.look.clone())).collect();
+    let errors = vba::install_functions(&mut opened.workbook, &project, RunOptions { code_names, looks, ..options });
     if errors.is_empty() {
         return;
     }

@@ -73,6 +73,9 @@ pub fn install_functions(wb: &mut Workbook, project: &VbaProject, options: RunOp
 
 impl WorkbookFunctions {
     pub fn new(project: &VbaProject, wb: &Workbook, options: RunOptions) -> (WorkbookFunctions, Vec<MacroError>) {
+        // The look is built once here; the options each module keeps need not carry it.
+        let looks = RefCell::new(Rc::new(RefCell::new(Looks::new(wb, &options.looks))));
+        let options = RunOptions { looks: Vec::new(), ..options };
         let mut modules = Vec::new();
         let mut errors = Vec::new();
         let standard: Vec<_> = project.modules.iter().filter(|m| m.kind == ModuleKind::Standard).collect();
@@ -99,7 +102,6 @@ impl WorkbookFunctions {
                 Err(e) => errors.push(e),
             }
         }
-        let looks = RefCell::new(Rc::new(RefCell::new(Looks::new(wb, &options.looks))));
         (WorkbookFunctions { modules, options, spent: Cell::new(0), began: Cell::new(Instant::now()), looks }, errors)
     }
 
