@@ -34,9 +34,9 @@ fn a_cycle_through_index_offset_or_indirect_iterates_as_the_plain_chain() {
     type CellAbove = fn(u32) -> String;
     let forms: [(&str, CellAbove); 4] = [
         ("plain", |row| format!("A{}", row - 1)),
-        ("INDEX", |row| format!("INDEX(A:A,{})", row - 1)),
-        ("OFFSET", |row| format!("OFFSET(A{row},-1,0)")),
-        ("INDIRECT", |row| format!("INDIRECT(\"A{}\")", row - 1)),
+        ("by INDEX", |row| format!("INDEX(A:A,{})", row - 1)),
+        ("by OFFSET", |row| format!("OFFSET(A{row},-1,0)")),
+        ("by INDIRECT", |row| format!("INDIRECT(\"A{}\")", row - 1)),
     ];
     for (name, above) in forms {
         let wb = iterated_chain(50, 10, above);

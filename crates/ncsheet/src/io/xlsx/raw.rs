@@ -370,14 +370,19 @@ impl<'a> Package<'a> {
             .filter(|name| wanted.contains(&name.replace('\\', "/").to_ascii_lowercase()))
             .collect();
         for name in names {
-            let entry = self.entry(&name)?;
+            let mut entry = self.entry(&name)?;
             if name.replace('\\', "/").to_ascii_lowercase() == wanted[1] {
                 // A table no relationship names is still opened by calamine, which trusts
                 // its uniqueCount: it is read here as the workbook's own would be.
                 check_shared_strings(&name, entry)?;
                 continue;
             }
-            super::xml::check_references(entry).map_err(|e| xml_error(&name, e))?;
+            if let Err(e) = super::xml::check_references(&mut entry) {
+                // A part past the size or ratio limit is refused for that, naming the option
+                // that raises it, even where its XML went wrong first (a 16 MiB run of text).
+                std::io::copy(&mut entry, &mut std::io::sink()).map_err(|e| zip_error(Some(&name), ZipError::Io(e)))?;
+                return Err(xml_error(&name, e));
+            }
         }
         Ok(())
     }
