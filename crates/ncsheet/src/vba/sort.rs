@@ -10,6 +10,7 @@
 
 use std::cmp::Ordering;
 
+use crate::eval::functions::sort_cmp;
 use crate::eval::{Ctx, Value};
 use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::{Expr, SheetId};
@@ -45,30 +46,13 @@ pub(super) struct SheetSort {
     match_case: bool,
 }
 
-/// Excel's rank of a value's kind in an ascending sort; blanks are apart (always last).
-fn kind_rank(v: &Value) -> u8 {
-    match v {
-        Value::Number(_) => 0,
-        Value::Text(_) => 1,
-        Value::Bool(_) => 2,
-        _ => 3,
-    }
-}
-
-/// The ascending order of two non-blank values of a sort key.
+/// The ascending order of two non-blank values of a sort key: SORT's order (numbers, text
+/// ignoring case, booleans, errors); with MatchCase, lowercase sorts before uppercase among
+/// texts equal but for case.
 fn ascending(a: &Value, b: &Value, match_case: bool) -> Ordering {
-    match (a, b) {
-        (Value::Number(x), Value::Number(y)) => x.total_cmp(y),
-        (Value::Text(x), Value::Text(y)) => {
-            let folded = x.to_lowercase().cmp(&y.to_lowercase());
-            // With MatchCase, lowercase sorts before uppercase among texts equal but for case.
-            match (folded, match_case) {
-                (Ordering::Equal, true) => y.cmp(x),
-                (order, _) => order,
-            }
-        }
-        (Value::Bool(x), Value::Bool(y)) => x.cmp(y),
-        _ => kind_rank(a).cmp(&kind_rank(b)),
+    match (sort_cmp(a, b), a, b) {
+        (Ordering::Equal, Value::Text(x), Value::Text(y)) if match_case => y.cmp(x),
+        (order, ..) => order,
     }
 }
 

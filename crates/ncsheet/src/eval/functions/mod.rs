@@ -24,6 +24,7 @@ use super::value::{Value, XlResult};
 pub(crate) mod api;
 pub(crate) mod args;
 mod arrays;
+pub(crate) use arrays::reshape::sort_cmp;
 mod criteria;
 mod database;
 mod date;

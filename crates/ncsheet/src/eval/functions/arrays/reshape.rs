@@ -219,8 +219,9 @@ fn by_rows_or_cols(
 
 // ---- sorting --------------------------------------------------------------------------------
 
-/// SORT's order across kinds: numbers, text, booleans, errors, then blanks.
-fn sort_cmp(a: &Value, b: &Value) -> Ordering {
+/// SORT's order across kinds: numbers, text, booleans, errors, then blanks (also the order
+/// of a macro's `Range.Sort`).
+pub(crate) fn sort_cmp(a: &Value, b: &Value) -> Ordering {
     fn rank(v: &Value) -> u8 {
         match v {
             Value::Number(_) => 0,
