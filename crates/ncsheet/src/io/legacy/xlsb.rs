@@ -274,7 +274,8 @@ fn bundle(body: &[u8], targets: &HashMap<&str, &str>) -> Result<Bundle, String> 
             let target = targets.get(rel.as_str()).ok_or_else(|| {
                 format!("'{name}' names the relationship '{rel}', which xl/_rels/workbook.bin.rels does not hold")
             })?;
-            Some(target.strip_prefix('/').map_or_else(|| format!("xl/{target}"), str::to_string))
+            let part = crate::io::xlsx::opc::resolve_target("xl", target);
+            Some(part.map_err(|why| format!("'{name}': relationship '{rel}' {why}"))?)
         }
     };
     let folder = part.as_deref().and_then(|p| p.rsplit('/').nth(1));

@@ -36,7 +36,7 @@ use crate::workbook::{SheetLook, Workbook};
 
 mod check;
 mod external;
-mod opc;
+pub(crate) mod opc;
 mod patch;
 mod patch_styles;
 mod pivot;
