@@ -264,6 +264,53 @@ fn lookups_inside_the_lambdas_count_the_items_they_look_at() {
     }
 }
 
+/// Work known before it is done is checked against the LAMBDAs' budget before it is done
+/// (issue 30): criteria tested cell by cell (COUNTIF/SUMIFS with an array of patterns ran its
+/// whole scan, up to 10^9 tests, and was charged after it, so a LAMBDA called once ended with a
+/// number past the budget), and the copies of the lines BYROW and BYCOL hand their LAMBDA.
+/// Each case is one call of the outer LAMBDA, whose work no later call's check would catch.
+/// The counts are hand arithmetic: 2,000 patterns × 1,000 cells = 2·10^6 tests; 100 rows of
+/// 16,000 items copied = 1.6·10^6; both past 2^20.
+#[test]
+fn work_known_before_it_is_done_is_checked_against_the_lambda_budget_first() {
+    let mut wb = with_small_lambda_budget();
+    for r in 1..=1000 {
+        set(&mut wb, &format!("B{r}"), "x");
+    }
+    let patterns = "\"*\"&SEQUENCE(2000)&\"*\"";
+    let cases = [
+        format!("=SUM(MAP(1,LAMBDA(x,SUM(COUNTIF(B1:B1000,{patterns})))))"),
+        format!("=SUM(MAP(1,LAMBDA(x,SUM(COUNTIFS(B1:B1000,{patterns})))))"),
+        format!("=SUM(MAP(1,LAMBDA(x,SUM(SUMIFS(B1:B1000,B1:B1000,{patterns})))))"),
+        // The arrays are bound outside the LAMBDA: made there, they are not charged.
+        "=LET(a,SEQUENCE(100,16000),SUM(MAP(1,LAMBDA(x,ROWS(BYROW(a,LAMBDA(r,1)))))))".to_string(),
+        "=LET(a,SEQUENCE(16000,100),SUM(MAP(1,LAMBDA(x,COLUMNS(BYCOL(a,LAMBDA(c,1)))))))".to_string(),
+    ];
+    for (i, formula) in cases.iter().enumerate() {
+        past_the_limit_of(&mut wb, &format!("A{}", i + 1), formula, SMALL_BUDGET);
+    }
+    // Within the budget: 200 patterns × 1,000 cells, each matching no "x"; 10 rows of 16,000.
+    set(&mut wb, "C1", "=SUM(MAP(1,LAMBDA(x,SUM(COUNTIF(B1:B1000,\"*\"&SEQUENCE(200)&\"*\")))))");
+    set(&mut wb, "C2", "=LET(a,SEQUENCE(10,16000),SUM(MAP(1,LAMBDA(x,ROWS(BYROW(a,LAMBDA(r,1)))))))");
+    assert_eq!(get(&wb, "C1"), n(0.0), "{:?}", problems_at(&wb, "C1"));
+    assert_eq!(get(&wb, "C2"), n(10.0), "{:?}", problems_at(&wb, "C2"));
+}
+
+/// MAP broadcasts a column and a row to their product, and that product is held to the
+/// array limit (2^24 items) before anything is made: a million rows by 16,000 columns asked
+/// for 16·10^9 items up front and aborted the process (issue 30).
+#[test]
+fn a_map_broadcast_past_the_array_limit_is_num_before_it_is_made() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, "A1", "=ROWS(MAP(SEQUENCE(1000000),SEQUENCE(1,16000),LAMBDA(a,b,1)))");
+    assert_eq!(get(&wb, "A1"), Value::Error(XlError::Num));
+    let problems = problems_at(&wb, "A1");
+    assert!(mentions(&problems, &["#NUM!"]), "{problems:?}");
+    // The same broadcast within the limit: 1,000 × 16 items, each a + b.
+    set(&mut wb, "A2", "=SUM(MAP(SEQUENCE(1000),SEQUENCE(1,16),LAMBDA(a,b,a+b)))");
+    assert_eq!(get(&wb, "A2"), n((16 * 500_500 + 1000 * 136) as f64));
+}
+
 /// Evaluates the surface `formula` (`=x+…`, the rest 0) at 300 points through one evaluation
 /// context, as BALLPATH and `ballpath --surface` do, and checks each point's height is its x.
 fn surface_heights_are_x_at_300_points(formula: &str) {

@@ -653,9 +653,12 @@ impl<'a> CriteriaMatcher<'a> {
 
     /// `#NUM!`, with a note, when the criteria items (the argument values given to
     /// [`CriteriaMatcher::new`]) would test more than [`MAX_CRITERIA_SCAN`] cells one by
-    /// one: known before any is tested, so that such a call stops at once.
+    /// one, or, inside a LAMBDA of MAP, REDUCE, …, more than the LAMBDAs' work budget has
+    /// left: known before any is tested, so that such a call stops at once (charged after
+    /// the scan, a single call could run 10^9 tests past the budget).
     pub fn within_scan_limit(&self, ctx: &mut Ctx, criteria: &[Value], counting: bool) -> XlResult<()> {
         let work = self.scan_work(criteria, counting);
+        ctx.within_lambda_budget(work)?;
         if work > MAX_CRITERIA_SCAN {
             let why = format!(
                 "the criteria would test {work} cells one by one, more than ncsheet's limit of \

@@ -86,6 +86,14 @@ fn apply(ctx: &mut Ctx, lambda: &Rc<Closure>, values: &[Value]) -> XlResult<Valu
     ctx.apply_closure(lambda, values)
 }
 
+/// `#NUM!` with the budget's note before the first call when `work` (the calls, at one item
+/// of work each, and what they are given) is already more than is left of the LAMBDAs'
+/// budget, inside another LAMBDA of MAP, REDUCE, …: a nested MAP of a million items stops
+/// at once, not after its calls have run up to the budget.
+fn within_calls(ctx: &mut Ctx, work: usize) -> XlResult<()> {
+    ctx.within_lambda_budget(work)
+}
+
 /// A LAMBDA's result as one item of a result array: an array result is `#CALC!`, as in
 /// Excel, and a blank reads as 0.
 fn as_item(v: Value) -> Value {
@@ -116,6 +124,10 @@ fn map(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let blocks: Vec<Rc<Array>> = arrays.iter().map(|e| block(ctx, e)).collect::<XlResult<_>>()?;
     let rows = blocks.iter().map(|b| b.rows).max().unwrap_or(1);
     let cols = blocks.iter().map(|b| b.cols).max().unwrap_or(1);
+    // A column and a row broadcast to their product (a million rows by 16,000 columns asked
+    // for 512 GB up front): the result's size is checked first, as every array's is.
+    ctx.room_for(rows, cols)?;
+    within_calls(ctx, rows * cols)?;
     with_lambda(ctx, lambda, |ctx, lambda| {
         let mut data = Vec::with_capacity(rows * cols);
         let mut text = TextBudget::default();
@@ -142,6 +154,7 @@ fn accumulation(ctx: &mut Ctx, args: &[Expr]) -> XlResult<(Value, Rc<Array>)> {
 
 fn reduce(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let (mut acc, items) = accumulation(ctx, args)?;
+    within_calls(ctx, items.data.len())?;
     with_lambda(ctx, &args[args.len() - 1], |ctx, lambda| {
         for v in &items.data {
             acc = apply(ctx, lambda, &[acc.clone(), v.clone()])?;
@@ -152,6 +165,7 @@ fn reduce(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 fn scan(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let (mut acc, items) = accumulation(ctx, args)?;
+    within_calls(ctx, items.data.len())?;
     with_lambda(ctx, &args[args.len() - 1], |ctx, lambda| {
         let mut data = Vec::with_capacity(items.data.len());
         let mut text = TextBudget::default();
@@ -165,11 +179,14 @@ fn scan(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 fn by_line(ctx: &mut Ctx, args: &[Expr], rows: bool) -> XlResult<Value> {
     let a = block(ctx, &args[0])?;
+    let (lines, line_len) = if rows { (a.rows, a.cols) } else { (a.cols, a.rows) };
+    // Each call gets its line as a copy: the calls and the copies are known before the first.
+    within_calls(ctx, lines.saturating_mul(line_len.saturating_add(1)))?;
     with_lambda(ctx, &args[1], |ctx, lambda| {
-        let lines = if rows { a.rows } else { a.cols };
         let mut data = Vec::with_capacity(lines);
         let mut text = TextBudget::default();
         for i in 0..lines {
+            ctx.charge(line_len);
             let line = if rows {
                 Array::row((0..a.cols).map(|c| a.get(i, c).clone()).collect())
             } else {
@@ -199,6 +216,7 @@ fn makearray(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     // Past 2^24 items it is #NUM! with the limit's note, as every array (docs/limits.md).
     let (rows, cols) = (rows.min(1e15) as usize, cols.min(1e15) as usize);
     ctx.room_for(rows, cols)?;
+    within_calls(ctx, rows * cols)?;
     with_lambda(ctx, &args[2], |ctx, lambda| {
         let mut data = Vec::with_capacity(rows * cols);
         let mut text = TextBudget::default();
