@@ -143,6 +143,24 @@ fn a_sequence_past_the_sheets_rows_or_columns_is_value_naming_the_limit() {
     assert_eq!(v, Value::Number(1_048_576.0));
 }
 
+/// RANDARRAY builds from a size as SEQUENCE does and shares its check: past a sheet's
+/// 1,048,576 rows or 16,384 columns (Excel's specifications and limits) it is #VALUE! with
+/// the same note (issue 30: `RANDARRAY(16000000)` was accepted, 16 million numbers made).
+#[test]
+fn a_randarray_past_the_sheets_rows_or_columns_is_value_as_sequence() {
+    for formula in ["=ROWS(RANDARRAY(16000000))", "=ROWS(RANDARRAY(1,16385))", "=ROWS(RANDARRAY(1048577,1))"] {
+        let (v, notes, _) = common::sheet::eval_a1(formula);
+        assert_eq!(v, Value::Error(XlError::Value), "{formula}");
+        assert!(
+            notes.iter().any(|n| n.contains("RANDARRAY has more than the 1048576 rows or 16384 columns")),
+            "{formula}: {notes:?}"
+        );
+    }
+    // A sheet's full width and a whole column within the item limit still build.
+    assert_eq!(common::sheet::eval_a1("=COLUMNS(RANDARRAY(1,16384))").0, Value::Number(16_384.0));
+    assert_eq!(common::sheet::eval_a1("=ROWS(RANDARRAY(1048576))").0, Value::Number(1_048_576.0));
+}
+
 #[test]
 fn offset_by_counts_past_the_sheet_is_ref() {
     // 1E+300 rows down, or a height of 1E+300 from row 5: far off the sheet (the count was

@@ -36,6 +36,22 @@ pub fn number_or(ctx: &mut Ctx, args: &[Expr], i: usize, default: f64) -> XlResu
     given(args, i).map_or(Ok(default), |e| number(ctx, e))
 }
 
+/// The rows and columns of an array a function builds from a size it is given (SEQUENCE,
+/// RANDARRAY), already truncated and at least 0: at most a sheet's 1,048,576 rows and 16,384
+/// columns (`#VALUE!`, Excel's rule for SEQUENCE), then within the array limit of
+/// [`Ctx::room_for`] (`#NUM!`), each with its note, before anything is allocated.
+pub fn sheet_sized(ctx: &mut Ctx, function: &str, rows: f64, cols: f64) -> XlResult<(usize, usize)> {
+    use crate::formula::address::{MAX_COLS, MAX_ROWS};
+    if rows > f64::from(MAX_ROWS) || cols > f64::from(MAX_COLS) {
+        let why =
+            format!("{function} has more than the {MAX_ROWS} rows or {MAX_COLS} columns of a sheet (Excel's limit)");
+        return Err(ctx.explain(XlError::Value, why));
+    }
+    let (rows, cols) = (rows as usize, cols as usize);
+    ctx.room_for(rows, cols)?;
+    Ok((rows, cols))
+}
+
 pub fn boolean(ctx: &mut Ctx, e: &Expr) -> XlResult<bool> {
     to_bool(&ctx.eval(e))
 }

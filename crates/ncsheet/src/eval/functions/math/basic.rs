@@ -6,11 +6,10 @@ use crate::eval::coerce::to_number;
 use crate::eval::dates::DateSystem;
 use crate::eval::format::number_format::round15;
 use crate::eval::functions::api::{
-    block, for_each_number, given, lift, lift_number1, lift_number2, number_or, number_result, power, ArgSet, Ctx,
-    FnSpec, MANY,
+    block, for_each_number, given, lift, lift_number1, lift_number2, number_or, number_result, power, sheet_sized,
+    ArgSet, Ctx, FnSpec, MANY,
 };
 use crate::eval::value::{Array, Value, XlError, XlResult};
-use crate::formula::address::{MAX_COLS, MAX_ROWS};
 use crate::formula::ast::{Expr, ExprKind};
 
 pub const FUNCTIONS: &[FnSpec] = &[
@@ -724,10 +723,6 @@ fn sumproduct_term<'v>(items: impl Iterator<Item = &'v Value>) -> XlResult<f64> 
 
 // ---- arrays -------------------------------------------------------------------------------
 
-/// More items than this is refused (#NUM!) rather than allocated: a sheet-sized SEQUENCE
-/// would need tens of gigabytes.
-const MAX_SEQUENCE_ITEMS: f64 = 16_777_216.0;
-
 fn sequence(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let rows = number_or(ctx, args, 0, 1.0)?.trunc();
     let cols = number_or(ctx, args, 1, 1.0)?.trunc();
@@ -736,19 +731,11 @@ fn sequence(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     if rows < 0.0 || cols < 0.0 {
         return Err(XlError::Value);
     }
-    if rows > f64::from(MAX_ROWS) || cols > f64::from(MAX_COLS) {
-        let why =
-            format!("SEQUENCE has more than the {MAX_ROWS} rows or {MAX_COLS} columns of a sheet (Excel's limit)");
-        return Err(ctx.explain(XlError::Value, why));
-    }
+    let (rows, cols) = sheet_sized(ctx, "SEQUENCE", rows, cols)?;
     // No row or no column (`SEQUENCE(0.3)`) is an empty array: #CALC!, as Excel 365 stores it.
-    if rows == 0.0 || cols == 0.0 {
+    if rows == 0 || cols == 0 {
         return Err(XlError::Calc);
     }
-    if rows * cols > MAX_SEQUENCE_ITEMS {
-        return Err(ctx.explain(XlError::Num, "SEQUENCE is too large"));
-    }
-    let (rows, cols) = (rows as usize, cols as usize);
     let data = (0..rows * cols).map(|i| number_result(start + step * i as f64)).collect();
     Ok(Value::Array(Rc::new(Array::new(rows, cols, data))))
 }

@@ -5,7 +5,7 @@
 
 use std::rc::Rc;
 
-use crate::eval::functions::api::{check, given, number_or, scalar, Ctx, Env, FnSpec, Outside};
+use crate::eval::functions::api::{check, given, number_or, scalar, sheet_sized, Ctx, Env, FnSpec, Outside};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
@@ -37,9 +37,6 @@ pub const FUNCTIONS: &[FnSpec] = &[
     .future()
     .dynamic(),
 ];
-
-/// The most items RANDARRAY makes (as SEQUENCE).
-const MAX_ITEMS: f64 = 16_777_216.0;
 
 /// A whole number from `low` to `high` (both whole, low ≤ high), each equally likely.
 fn whole_between(env: &dyn Env, low: f64, high: f64) -> f64 {
@@ -89,13 +86,11 @@ fn randarray(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     };
     check(rows >= 1.0 && cols >= 1.0 && min <= max, XlError::Value)?;
     check(!whole || min.fract() == 0.0 && max.fract() == 0.0, XlError::Value)?;
-    if rows * cols > MAX_ITEMS {
-        return Err(ctx.explain(XlError::Num, "RANDARRAY is too large"));
-    }
+    let (rows, cols) = sheet_sized(ctx, "RANDARRAY", rows, cols)?;
     let env = ctx.env;
     let draw = || if whole { whole_between(env, min, max) } else { between(min, max, env.next_random()) };
-    let data = (0..(rows * cols) as usize).map(|_| Value::Number(draw())).collect();
-    Ok(Value::Array(Rc::new(Array::new(rows as usize, cols as usize, data))))
+    let data = (0..rows * cols).map(|_| Value::Number(draw())).collect();
+    Ok(Value::Array(Rc::new(Array::new(rows, cols, data))))
 }
 
 #[cfg(test)]
