@@ -169,7 +169,7 @@ pub fn load_bytes_limited(bytes: &[u8], file: &Path, limits: ReadLimits) -> Resu
     let mut legacy_ranges = Vec::new();
     for (entry, id) in sheets.iter().zip(&ids) {
         let Some(sheet) = *id else { continue };
-        let mut sheet_import = SheetImport::new(sheet, &mut legacy_ranges, &book);
+        let mut sheet_import = SheetImport::new(sheet, &entry.part, &mut legacy_ranges, &book);
         let part = package.entry(&entry.part).map_err(fail)?;
         let scan = sheet_xml::read_sheet_ahead(part, lookups, &mut grid_slots, &mut |cell| {
             sheet_import.cell(&mut imported, &strings, cell);
@@ -624,6 +624,8 @@ struct BookParts {
 /// One worksheet on its way in.
 struct SheetImport<'a> {
     sheet: SheetId,
+    /// The sheet's part (`xl/worksheets/sheet1.xml`), which a note about its cells names.
+    part: &'a str,
     book: &'a BookParts,
     /// Plain (not array) formulas with a range in them: candidates for implicit intersection.
     legacy_ranges: &'a mut Vec<(SheetId, Pos)>,
@@ -645,9 +647,15 @@ struct SheetImport<'a> {
 }
 
 impl<'a> SheetImport<'a> {
-    fn new(sheet: SheetId, legacy_ranges: &'a mut Vec<(SheetId, Pos)>, book: &'a BookParts) -> SheetImport<'a> {
+    fn new(
+        sheet: SheetId,
+        part: &'a str,
+        legacy_ranges: &'a mut Vec<(SheetId, Pos)>,
+        book: &'a BookParts,
+    ) -> SheetImport<'a> {
         SheetImport {
             sheet,
+            part,
             book,
             legacy_ranges,
             spilled: HashMap::new(),
@@ -673,10 +681,18 @@ impl<'a> SheetImport<'a> {
                     imported.workbook.set_array_area_deferred(self.sheet, array.area);
                 }
             }
-            Some(FormulaXml::SharedText { index, text }) => {
-                self.shared.insert(index, (pos, text.to_string()));
-                self.formula(imported, pos, text, value, true);
             }
+            Some(FormulaXml::SharedText { index, text }) => match self.shared.get(&index).cloned() {
+                // The first text of an index is its master (ECMA-376 Part 1, §18.3.1.40: "the
+                // first formula in a group of shared formulas is saved in the f element");
+                // a later cell of the group holding a text of its own is a copy of that
+                // master, as LibreOffice reads it, and the master stays for the cells after.
+                Some((holder, master)) => {
+                    self.note_second_text(imported, index, (holder, &master), pos, text);
+                    self.shared_copy(imported, index, (holder, &master), pos, value);
+                None => {
+                    self.shared.insert(index, (pos, text.to_string()));
+                    self.formula(imported, pos, text, value, true);
             Some(FormulaXml::SharedCopy { index }) => match self.shared.get(&index).cloned() {
                 // Relative to the cell that holds the text, which need not be the top left
                 // of the shared range.
@@ -694,7 +710,9 @@ impl<'a> SheetImport<'a> {
                 Some((holder, text)) => self.shared_copy(imported, index, (holder, &text), pos, value),
                 None => {
                     imported.notes.push(format!(
-                        "{}: the shared formula it belongs to is missing; its value is kept as a constant",
+                        "{}: cell {}: no cell holds the text of the shared formula si=\"{index}\" it belongs to; \
+                         its value is kept as a constant",
+                        self.part,
                         imported.workbook.cell_name(self.sheet, pos)
                     ));
                     self.constant(imported, pos, value);
@@ -711,6 +729,25 @@ impl<'a> SheetImport<'a> {
         }
     }
 
+    /// The note on a cell of shared formula `index` that holds a text of its own after the
+    /// master at `holder`, when that text is not the master's moved there: the cell computes
+    /// the master's, and says so rather than dropping its text unseen.
+    fn note_second_text(
+        &self,
+        imported: &mut Imported,
+        index: u32,
+        (holder, master): (Pos, &str),
+        pos: Pos,
+        own: &str,
+    ) {
+        if shared_text(master, holder, pos) == own {
+            return;
+        imported.notes.push(format!(
+            "{}: cell {}: holds a text of its own for the shared formula si=\"{index}\" whose master is {}; \
+             it is read as a copy of the master (the first text of a shared formula, ECMA-376 §18.3.1.40)",
+            self.part,
+            imported.workbook.cell_name(self.sheet, pos),
+            imported.workbook.cell_name(self.sheet, holder),
     /// A copy at `pos` of shared formula `index`, whose text is held at `holder`: the text
     /// moved there, or, where a relative reference of it would fall off the sheet (A1048576
     /// one row down), the holder's tree, which reads `#REF!` there as Excel's copy does (the
