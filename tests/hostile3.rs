@@ -375,6 +375,42 @@ fn a_shared_formula_moved_past_the_sheets_edge_reads_ref() {
     assert_eq!(wb.value(0, parse_cell("C2").unwrap()), Value::Number(10.0));
 }
 
+/// A second text for one `si` does not replace the first: the first is the master
+/// (ECMA-376 Part 1 §18.3.1.40, "the first formula in a group of shared formulas is saved in
+/// the f element"). LibreOffice 7 reads this sheet as B1 =A1+1, B2 =A2+1, B3 =A3+1, values
+/// 2, 3, 4 (`soffice --convert-to csv`; its fods shows the three formulas): the second text
+/// (`A2*100`) made B3 =A3*100, 300.
+#[test]
+fn a_second_text_for_one_shared_index_does_not_replace_its_master() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = book_with_cells(
+        dir.path(),
+        r#"<row r="1"><c r="A1"><v>1</v></c><c r="B1"><f t="shared" ref="B1:B3" si="0">A1+1</f><v>0</v></c></row><row r="2"><c r="A2"><v>2</v></c><c r="B2"><f t="shared" ref="B2:B3" si="0">A2*100</f><v>0</v></c></row><row r="3"><c r="A3"><v>3</v></c><c r="B3"><f t="shared" si="0"/><v>0</v></c></row>"#,
+    );
+    let imported = ncsheet::io::xlsx::load(&file).unwrap();
+    let wb = &imported.workbook;
+    for (cell, libreoffice) in [("B1", 2.0), ("B2", 3.0), ("B3", 4.0)] {
+        assert_eq!(wb.value(0, parse_cell(cell).unwrap()), Value::Number(libreoffice), "{cell}");
+    }
+    let said = imported.notes.join("\n");
+    assert!(said.contains("xl/worksheets/sheet1.xml: cell Sheet1!B2") && said.contains("si=\"0\""), "{said}");
+}
+
+/// A copy whose master is nowhere in the sheet keeps its cached value, and the note names
+/// the part, the cell and the index, so that the damaged group can be found in the file.
+#[test]
+fn a_shared_copy_without_its_master_names_the_part_cell_and_index() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = book_with_cells(
+        dir.path(),
+        r#"<row r="1"><c r="A1"><v>1</v></c><c r="B1"><f t="shared" si="7"/><v>5</v></c></row>"#,
+    );
+    let imported = ncsheet::io::xlsx::load(&file).unwrap();
+    assert_eq!(imported.workbook.value(0, parse_cell("B1").unwrap()), Value::Number(5.0));
+    let said = imported.notes.join("\n");
+    assert!(said.contains("xl/worksheets/sheet1.xml: cell Sheet1!B1: ") && said.contains("si=\"7\""), "{said}");
+}
+
 #[test]
 fn numbers_past_the_largest_double_and_indexes_past_u32_are_named() {
     let dir = tempfile::tempdir().unwrap();
