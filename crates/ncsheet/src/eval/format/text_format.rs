@@ -611,7 +611,7 @@ impl FractionLayout {
                 _ if i == self.slash => {
                     out.push('/');
                     out.push_str(&match &self.denominator {
-                        Denominator::Digits(places) => padded_right(&denominator.to_string(), places),
+                        Denominator::Digits(places) => denominator_text(&denominator.to_string(), places),
                         Denominator::Fixed(d) => d.to_string(),
                     });
                 }
@@ -731,10 +731,13 @@ fn padded_left(digits: &str, places: &[char]) -> String {
     format!("{pad}{digits}")
 }
 
-/// Digits left-aligned under placeholders (a denominator).
-fn padded_right(digits: &str, places: &[char]) -> String {
-    let pad: String = places.iter().skip(digits.len()).filter_map(|&p| pad_of(p)).collect();
-    format!("{digits}{pad}")
+/// A denominator's digits under its placeholders: each place the digits leave empty is a
+/// zero before them for a `0` (LibreOffice shows 1.5 in `# ?/000` as "1 1/002") and a space
+/// after them for a `?`, so that `??` aligns the fraction bar ("1 1/2 ").
+fn denominator_text(digits: &str, places: &[char]) -> String {
+    let empty = &places[..places.len().saturating_sub(digits.len())];
+    let count = |place: char| empty.iter().filter(|&&p| p == place).count();
+    format!("{}{digits}{}", "0".repeat(count('0')), " ".repeat(count('?')))
 }
 
 fn pad_of(place: char) -> Option<char> {
@@ -1409,6 +1412,28 @@ mod tests {
         assert_eq!(fmt(3.25, "# ?/16"), "3 4/16");
         assert_eq!(fmt(3.25, "# ?/1048576"), "3 262144/1048576");
         assert_eq!(fmt(3.25, "# ?/9007199254740992"), "3 2251799813685248/9007199254740992");
+    }
+
+    /// Zeros in a denominator pad it on the left, as LibreOffice 7 shows these
+    /// (`=TEXT(x, code)` recalculated by `soffice --convert-to csv`); Microsoft's "Number
+    /// format codes" page documents `?` in fractions only. Issue 30: `# ?/000` showed 1.5 as
+    /// "1 1/200", the padding after the digits.
+    #[test]
+    fn zeros_in_a_denominator_pad_it_on_the_left_as_libreoffice() {
+        for (x, code, libreoffice) in [
+            (1.5, "# ?/000", "1 1/002"),
+            (0.25, "# ?/000", " 1/004"),
+            (3.14159, "# ?/000", "3 16/113"),
+            (0.123, "# ?/000", " 100/813"),
+            (1.5, "# ??/00", "1  1/02"),
+            (0.3, "0/00", "3/10"),
+            (2.7182818, "# ???/000", "2 385/536"),
+            (0.333, "?/00#", "332/997"),
+            (0.333, "?/0#", "1/03"),
+            (5.25, "# ?/00", "5 1/04"),
+        ] {
+            assert_eq!(fmt(x, code), libreoffice, "{x} in {code}");
+        }
     }
 
     /// Every number format shows a number's 15 significant digits and zeros after them:
