@@ -1419,6 +1419,7 @@ mod tests {
     /// format codes" page documents `?` in fractions only. Issue 30: `# ?/000` showed 1.5 as
     /// "1 1/200", the padding after the digits.
     #[test]
+    #[allow(clippy::approx_constant)] // 3.14159 and 2.7182818 as typed into LibreOffice
     fn zeros_in_a_denominator_pad_it_on_the_left_as_libreoffice() {
         for (x, code, libreoffice) in [
             (1.5, "# ?/000", "1 1/002"),
