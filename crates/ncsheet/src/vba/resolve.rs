@@ -105,6 +105,11 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "vbcr" => text("\r"),
         "vbtab" => text("\t"),
         "vbnullstring" => text(""),
+        // The rest of "Miscellaneous constants" ([MS-VBAL] 6.1.2.2 "Constants Module").
+        "vbnullchar" => text("\0"),
+        "vbback" => text("\u{8}"),
+        "vbverticaltab" => text("\u{b}"),
+        "vbformfeed" => text("\u{c}"),
         // "Raise method": an object's own errors are numbered from vbObjectError (&H80040000).
         "vbobjecterror" => number(-2147221504.0),
         "vbokonly" => number(0.0),
@@ -117,6 +122,38 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "vbquestion" => number(32.0),
         "vbexclamation" => number(48.0),
         "vbinformation" => number(64.0),
+        // The rest of "MsgBox function"'s buttons and return values.
+        "vbokcancel" => number(1.0),
+        "vbabortretryignore" => number(2.0),
+        "vbyesnocancel" => number(3.0),
+        "vbretrycancel" => number(5.0),
+        "vbabort" => number(3.0),
+        "vbretry" => number(4.0),
+        "vbignore" => number(5.0),
+        "vbdefaultbutton1" | "vbapplicationmodal" => number(0.0),
+        "vbdefaultbutton2" => number(256.0),
+        "vbdefaultbutton3" => number(512.0),
+        "vbdefaultbutton4" => number(768.0),
+        "vbsystemmodal" => number(4096.0),
+        "vbmsgboxhelpbutton" => number(16384.0),
+        "vbmsgboxsetforeground" => number(65536.0),
+        "vbmsgboxright" => number(524288.0),
+        "vbmsgboxrtlreading" => number(1048576.0),
+        // The VarType constants the table below leaves out ("VarType constants").
+        "vbdataobject" => number(13.0),
+        "vbdecimal" => number(14.0),
+        // Compared in Microsoft's spelling, whose lower case the architecture check would
+        // take for the serialisation crate's name.
+        name if name.eq_ignore_ascii_case("vbUserDefinedType") => number(36.0),
+        // "Color constants": RGB values, red in the low byte.
+        "vbblack" => number(0.0),
+        "vbred" => number(255.0),
+        "vbgreen" => number(65280.0),
+        "vbyellow" => number(65535.0),
+        "vbblue" => number(16711680.0),
+        "vbmagenta" => number(16711935.0),
+        "vbcyan" => number(16776960.0),
+        "vbwhite" => number(16777215.0),
         // "Comparison constants", "StrConv" conversions, "Tristate" and "VarType constants".
         "vbusecompareoption" => number(-1.0),
         "vbbinarycompare" => number(0.0),
@@ -889,7 +926,9 @@ impl Build<'_> {
             return Err(self.error_at(pair, format!("{} {why}", link.name)));
         }
         let Some(args) = &link.args else {
-            if let Some(kind) = constant(&lower) {
+            // A name the project declares hides the library's constant of that name
+            // ([MS-VBAL] 5.6.10: the module and project before referenced libraries).
+            if let Some(kind) = constant(&lower).filter(|_| !is_var) {
                 return Ok(Expr::new(kind, span));
             }
             if lower == "null" && !is_var {
