@@ -500,6 +500,22 @@ End Sub
     Out CLng("&H10")
 "#,
     },
+    // tests/vba_coercions.rs: arithmetic reads a String operand as CDbl does, and IIf gives
+    // the chosen argument with its own type (issue 31).
+    Case {
+        name: "text_in_arithmetic_as_vba_reads_it",
+        module: "",
+        body: r#"
+    Dim v
+    v = "1d2"
+    Out v + 0
+    Out "&H10" * 1
+    Out " 12 " + 0
+    Out "1d2" - 1
+    Out TypeName(IIf(True, 1, 2.5))
+    Out TypeName(IIf(False, 1, 2.5))
+"#,
+    },
 ];
 
 /// ncsheet's lines for one case.

@@ -577,6 +577,15 @@ impl<'a> Ctx<'a> {
         self.host?.long_long_text(e, value)
     }
 
+    /// `result`, the negation of `operand`'s value, as a macro checks it against the
+    /// operand's type ([`Host::negation`]: the Integer -32,768 negated overflows).
+    pub fn macro_negation(&self, operand: &Expr, result: Value) -> Value {
+        match self.host {
+            Some(host) => host.negation(operand, result),
+            None => result,
+        }
+    }
+
     /// The number a macro shows for `value`, the value of `e` ([`Host::shown_number`]).
     pub fn macro_shown_number(&self, e: &Expr, value: &Value) -> Option<f64> {
         self.host?.shown_number(e, value)

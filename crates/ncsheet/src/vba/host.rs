@@ -189,6 +189,7 @@ impl Host for Interp<'_, '_> {
                 .or_else(|| self.concat_singles(operands, values))
                 .or_else(|| self.concat_long_longs(operands, values))
                 .or_else(|| concat_booleans(values))
+                .or_else(|| concat_small_numbers(values))
                 .unwrap_or(result);
         }
         if let Some(v) = self.long_long_comparison(op, operands, values) {
@@ -207,6 +208,11 @@ impl Host for Interp<'_, '_> {
         if let (BinOp::Add, (Value::Text(a), Value::Text(b))) = (op, values) {
             return Value::text(format!("{a}{b}"));
         }
+        let read = numbers_of_text(op, values, &result, self.date_system());
+        let (values, result) = match &read {
+            Some((a, b, computed)) => ((a, b), computed.clone()),
+            None => (values, result),
+        };
         match self.long_long_arithmetic(op, operands, values, &result) {
             Some(Ok(v)) => return v,
             Some(Err(fault)) => {
@@ -245,6 +251,9 @@ impl Host for Interp<'_, '_> {
 
     fn chose(&self, args: &[Expr], index: usize, value: &Value) {
         self.note_iif_branch(args, index, value);
+        if let Some(condition) = args.first() {
+            self.iif_branch.set((condition as *const Expr as usize, condition.span.start as usize, index));
+        }
     }
 
     fn negation(&self, operand: &Expr, result: Value) -> Value {
@@ -314,6 +323,45 @@ impl Host for Interp<'_, '_> {
 /// a String as CStr does), where the formula language's `&` would give "TRUE".
 fn concat_booleans((x, y): (&Value, &Value)) -> Option<Value> {
     if !matches!(x, Value::Bool(_)) && !matches!(y, Value::Bool(_)) {
+        return None;
+    }
+    let text = |v: &Value| match v {
+        Value::Null => Some("".into()),
+        v => crate::eval::functions::vba::vba_text(v).ok(),
+    };
+    Some(Value::text(format!("{}{}", text(x)?, text(y)?)))
+}
+
+/// `"1d2" + 0`, `"&H10" * 1`: arithmetic let-coerces a String operand to a number as CDbl
+/// reads it ([MS-VBAL] 5.6.9.3 and 5.5.1.2.1), a `D` exponent or an `&H`/`&O` literal too,
+/// where the formula's reading gave `#VALUE!`: the operands read so and the result computed
+/// again. `None` when no String operand needed VBA's reading.
+fn numbers_of_text(
+    op: BinOp,
+    (a, b): (&Value, &Value),
+    result: &Value,
+    dates: crate::eval::dates::DateSystem,
+) -> Option<(Value, Value, Value)> {
+    let arithmetic =
+        matches!(op, BinOp::Pow | BinOp::Mul | BinOp::Div | BinOp::Add | BinOp::Sub | BinOp::Mod | BinOp::IntDiv);
+    if !arithmetic || !matches!(result, Value::Error(XlError::Value)) {
+        return None;
+    }
+    let read = |v: &Value| match v {
+        Value::Text(t) => crate::eval::functions::vba::vba_number_text(t).map(Value::Number),
+        other => Some(other.clone()),
+    };
+    let (a, b) = (read(a)?, read(b)?);
+    let computed = crate::eval::evaluator::binary(op, &a, &b, dates);
+    Some((a, b, computed))
+}
+
+/// `"x" & 1.5E-7`: VBA writes a number below 1E-04 in E notation (`1.5E-07`, its CStr),
+/// where the formula's `&` writes `0.00000015`; everywhere else the two texts agree, and
+/// this is `None`.
+fn concat_small_numbers((x, y): (&Value, &Value)) -> Option<Value> {
+    let small = |v: &Value| matches!(v, Value::Number(n) if *n != 0.0 && n.abs() < 1e-4);
+    if !small(x) && !small(y) {
         return None;
     }
     let text = |v: &Value| match v {

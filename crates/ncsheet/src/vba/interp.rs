@@ -359,6 +359,9 @@ pub struct Interp<'m, 'w> {
     pub(super) types_known: super::typing::TypesKnown,
     /// The LongLongs past 2^53 kept beside their doubles (`longlong.rs`).
     pub(super) exact: RefCell<super::longlong::Exact>,
+    /// The last IIf call: its condition's address and start, and the branch (1 or 2) it
+    /// chose, whose type the Variant it gives holds (`TypeName(IIf(True, 1, 2.5))`).
+    pub(super) iif_branch: Cell<(usize, usize, usize)>,
     /// The module may hold a Single or a Currency, whose operations are computed in their
     /// types ([`super::typing::names_single_or_currency`]).
     pub(super) narrow_numbers: bool,
@@ -412,6 +415,7 @@ impl<'m, 'w> Interp<'m, 'w> {
             widened: RefCell::new(std::collections::HashMap::new()),
             types_known: Default::default(),
             exact: RefCell::default(),
+            iif_branch: Cell::new((0, 0, 0)),
             narrow_numbers: super::typing::names_single_or_currency(source),
         }
     }
@@ -2248,14 +2252,16 @@ impl Interp<'_, '_> {
                     }
                     // VBA's Print leaves room for a sign before a number and a space after it;
                     // a Date is its text ("Print # statement"); a Single its seven digits.
-                    let v = self.as_single(e, &v).map_or(v, Value::Number);
+                    let single = self.as_single(e, &v);
+                    let v = single.map_or(v, Value::Number);
                     // A LongLong shows its every digit (`longlong.rs`).
                     let long_long = self.printed_long_long(e, &v);
+                    let number = |n: f64| crate::eval::functions::vba::vba_number_shown(n, single.is_some());
                     match (self.as_date(e, &v), &v) {
                         (Some(date), _) => line.push_str(&super::value::date_text(date)),
                         (None, _) if long_long.is_some() => line.push_str(&long_long.unwrap_or_default()),
-                        (None, Value::Number(n)) if *n >= 0.0 => line.push_str(&format!(" {} ", print_text(&v))),
-                        (None, Value::Number(_)) => line.push_str(&format!("{} ", print_text(&v))),
+                        (None, Value::Number(n)) if *n >= 0.0 => line.push_str(&format!(" {} ", number(*n))),
+                        (None, Value::Number(n)) => line.push_str(&format!("{} ", number(*n))),
                         // An error value prints as `Print #` writes it: `Error 2042`.
                         (None, Value::Error(_)) => line.push_str(&super::files::print_form(&v)),
                         _ => line.push_str(&print_text(&v)),

@@ -638,7 +638,9 @@ impl Interp<'_, '_> {
             let tree = wb.formula_tree(sheet, p).filter(|_| r1c1);
             let text = match tree {
                 Some(t) => format!("={}", print_spelled(&t, p, &Registry, &names, &R1C1)),
-                None => wb.input(sheet, p).unwrap_or_default(),
+                // A text cell's `'` (`'2022`) is how it is typed, not its formula: Excel's
+                // Range.Formula gives "2022", the mark being the cell's PrefixCharacter.
+                None => wb.input(sheet, p).map(without_text_mark).unwrap_or_default(),
             };
             Value::text(text)
         };
@@ -928,4 +930,12 @@ const LONG: std::ops::RangeInclusive<f64> = -2147483648.0..=2147483647.0;
 /// `Err.Number` (VBA's own errors, 1 to 65535, are the same either way).
 fn long_bits(n: f64) -> u32 {
     n as i32 as u32
+}
+
+/// A cell's typed text without the `'` that marks a text typed as text (`'2022`, `'=x`).
+fn without_text_mark(input: String) -> String {
+    match input.strip_prefix('\'') {
+        Some(text) => text.to_string(),
+        None => input,
+    }
 }

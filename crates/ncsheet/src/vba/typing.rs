@@ -474,9 +474,10 @@ impl Interp<'_, '_> {
                 },
                 // "IIf function": a Variant holding the chosen branch's value, as the
                 // interpreter noted it past 2^53 (`longlong.rs`).
-                ("VBA.IIF", _) if typing == Typing::Held => {
-                    self.iif_chosen(args).map_or(Declared::Variant, |b| self.typed_within(b, depth + 1, typing))
-                }
+                ("VBA.IIF", _) if typing == Typing::Held => self
+                    .iif_chosen(args)
+                    .or_else(|| self.last_iif_branch(args))
+                    .map_or(Declared::Variant, |b| self.typed_within(b, depth + 1, typing)),
                 (name, _) if typing == Typing::Held => held_function_type(name).unwrap_or_else(|| function_type(name)),
                 (name, _) => function_type(name),
             },
@@ -484,6 +485,19 @@ impl Interp<'_, '_> {
             // `Empty` in arithmetic is an Integer 0 ([MS-VBAL] 5.6.9.3's effective value type).
             ExprKind::Missing if typing == Typing::Held => Declared::Integer,
             _ => Declared::Variant,
+        }
+    }
+
+    /// The branch the last IIf call chose, when `args` are that call's ("IIf function": the
+    /// Variant it returns holds that branch's value as it was, `IIf(True, 1, 2.5)` an Integer).
+    fn last_iif_branch<'e>(&self, args: &'e [Expr]) -> Option<&'e Expr> {
+        let condition = args.first()?;
+        let (address, start, index) = self.iif_branch.get();
+        let same = address == condition as *const Expr as usize && start == condition.span.start as usize;
+        if same {
+            args.get(index)
+        } else {
+            None
         }
     }
 
@@ -662,7 +676,7 @@ impl Interp<'_, '_> {
             return None;
         }
         let text = |single: Option<f64>, v: &Value| match (single, v) {
-            (Some(n), _) => crate::eval::functions::vba::vba_text(&Value::Number(n)).ok(),
+            (Some(n), _) => Some(crate::eval::functions::vba::vba_number_shown(n, true).into()),
             (None, Value::Null) => Some("".into()),
             (None, v) => crate::eval::functions::vba::vba_text(v).ok(),
         };

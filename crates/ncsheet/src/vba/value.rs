@@ -808,6 +808,7 @@ fn in_range(n: f64, code: u8, name: &str) -> Result<f64, String> {
 pub fn print_text(v: &Value) -> String {
     match v {
         Value::Bool(b) => if *b { "True" } else { "False" }.to_string(),
+        Value::Number(n) => crate::eval::functions::vba::vba_number_shown(*n, false),
         other => other.to_string(),
     }
 }

@@ -18,6 +18,23 @@ pub fn general(n: f64) -> String {
     }
 }
 
+/// A number as VBA turns it into text (CStr, Str, `&`, Print, a String variable): C's
+/// `%.{precision}G`, which is what OLE Automation's VarBstrFromR8 (precision 15, a Double)
+/// and VarBstrFromR4 (7, a Single) write. Positional from 1E-04 up to 10^precision, `1.5E-07`
+/// and `1E+15` outside, where Excel's General writes `0.00000015` (down to 1E-10).
+pub fn vba_general(n: f64, precision: usize) -> String {
+    if n == 0.0 || !n.is_finite() {
+        return "0".to_string();
+    }
+    let (digits, exp) = significant_digits(n, precision);
+    let body = if (-4..precision as i32).contains(&exp) { positional(&digits, exp) } else { scientific(&digits, exp) };
+    if n < 0.0 {
+        format!("-{body}")
+    } else {
+        body
+    }
+}
+
 /// A number as a cell with the number format `code` shows it: General (15 significant
 /// digits) without one, or when the code is one ncsheet cannot apply. A date format shows it
 /// as a serial of `dates`, the workbook's date system.
@@ -227,6 +244,22 @@ mod tests {
         assert_eq!(general(-44.262741699796952), "-44.262741699797");
         assert_eq!(general(1.5e-11), "1.5E-11");
         assert_eq!(general(100.0), "100");
+    }
+
+    /// C's printf `%.15G` and `%.7G` (the values Python's `'%.15G' % x` prints), the
+    /// format OLE Automation's VarBstrFromR8 and VarBstrFromR4 use.
+    #[test]
+    fn vba_text_of_numbers_is_printf_g() {
+        assert_eq!(vba_general(1.5e-7, 15), "1.5E-07");
+        assert_eq!(vba_general(-1.5e-7, 15), "-1.5E-07");
+        assert_eq!(vba_general(1e-5, 15), "1E-05");
+        assert_eq!(vba_general(0.0001, 15), "0.0001");
+        assert_eq!(vba_general(1e14, 15), "100000000000000");
+        assert_eq!(vba_general(1e15, 15), "1E+15");
+        assert_eq!(vba_general(123456789012345678.0, 15), "1.23456789012346E+17");
+        assert_eq!(vba_general(1.5e300, 15), "1.5E+300");
+        assert_eq!(vba_general(12345678.0, 7), "1.234568E+07");
+        assert_eq!(vba_general(1234567.0, 7), "1234567");
     }
 
     /// The cache of an export keeps at most `MAX_CACHED_CODES` codes, none longer than

@@ -11,7 +11,6 @@ use std::rc::Rc;
 
 use crate::eval::coerce::{parse_plain_number, to_bool, to_number, to_text};
 use crate::eval::dates::DateSystem;
-use crate::eval::format::number_format::general;
 use crate::eval::functions::api::{
     explain_lifted_size, lift_values, number_result, Ctx, FnSpec, Operand, Outside, MANY,
 };
@@ -556,22 +555,34 @@ fn number_fn(
     passes: Passes,
     f: fn(f64) -> Result<f64, &'static str>,
 ) -> XlResult<Value> {
+    let v = match ctx.leaf_number(&args[0]) {
+        Some(x) => Value::Number(x),
+        None => ctx.eval(&args[0]),
+    };
+    number_fn_of(ctx, v, name, passes, f)
+}
+
+/// [`number_fn`] of the argument's value `v`, already evaluated.
+fn number_fn_of(
+    ctx: &mut Ctx,
+    v: Value,
+    name: &str,
+    passes: Passes,
+    f: fn(f64) -> Result<f64, &'static str>,
+) -> XlResult<Value> {
     let raised = Raised::default();
     let apply = |x: f64| f(x).map(number_result).map_err(|why| raised.set(5, why));
     // A number, the usual case, needs neither the Null rule nor lifting.
-    let result = match ctx.leaf_number(&args[0]) {
-        Some(x) => apply(x),
-        None => match ctx.eval(&args[0]) {
-            Value::Number(x) => apply(x),
-            v => {
-                if let Some(result) = null_argument(ctx, name, std::slice::from_ref(&v), passes) {
-                    return result;
-                }
-                let dates = ctx.dates();
-                let v = ctx.locale().numbers_for_arithmetic(v, dates);
-                lift_values(&[v], &|v| apply(to_number(&v[0], dates)?))
+    let result = match v {
+        Value::Number(x) => apply(x),
+        v => {
+            if let Some(result) = null_argument(ctx, name, std::slice::from_ref(&v), passes) {
+                return result;
             }
-        },
+            let dates = ctx.dates();
+            let v = ctx.locale().numbers_for_arithmetic(v, dates);
+            lift_values(&[v], &|v| apply(to_number(&v[0], dates)?))
+        }
     };
     raised.raise(ctx, name, result)
 }
@@ -579,7 +590,16 @@ fn number_fn(
 // "Abs function", "Int, Fix functions": "If number contains Null, Null is returned"; [MS-VBAL]'s
 // Sgn page declares its number and its result Variants. The others take a Double.
 fn abs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    number_fn(ctx, args, "Abs", FIRST, |x| Ok(x.abs()))
+    let v = match ctx.leaf_number(&args[0]) {
+        Some(x) => Value::Number(x),
+        None => ctx.eval(&args[0]),
+    };
+    // "Abs function": the result has the argument's type, so in a macro the absolute value
+    // of the smallest Integer, Long or LongLong overflows (run-time error 6) as `-x` does.
+    // Above -32,768 no type's negation can overflow: nothing to ask.
+    let negated = matches!(v, Value::Number(x) if x <= -32768.0);
+    let result = number_fn_of(ctx, v, "Abs", FIRST, |x| Ok(x.abs()))?;
+    Ok(if negated { ctx.macro_negation(&args[0], result) } else { result })
 }
 
 fn int(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
@@ -700,46 +720,60 @@ fn cbool(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     lift_vba(ctx, args, "CBool", NO_NULL, &|v| Ok(Value::Bool(to_bool(&v[0])?)))
 }
 
-/// A value as VBA's CStr writes it: `True`/`False` in VBA's spelling, numbers to 15 digits.
+/// A value as VBA's CStr writes it: `True`/`False` in VBA's spelling, numbers to 15 digits
+/// in VBA's own notation ([`vba_number_shown`]).
 pub fn vba_text(v: &Value) -> XlResult<Rc<str>> {
     match v {
         Value::Bool(b) => Ok(if *b { "True" } else { "False" }.into()),
+        Value::Number(n) => Ok(vba_number_shown(*n, false).into()),
         other => to_text(other),
     }
 }
 
+/// A Double (15 significant digits) or a Single (7) as VBA writes it, the one text of a
+/// number for CStr, Str, `&`, Print and a String variable: `1.5E-07`, `1E+15`
+/// (OLE Automation's VarBstrFromR8 and VarBstrFromR4, C's `%.15G` and `%.7G`).
+pub fn vba_number_shown(n: f64, single: bool) -> String {
+    crate::eval::format::number_format::vba_general(n, if single { 7 } else { 15 })
+}
+
 /// The arguments' values, the first as a macro shows it ([`Ctx::macro_shown_number`]: a
-/// Single to seven significant digits).
-fn shown_values(ctx: &mut Ctx, args: &[Expr]) -> Vec<Value> {
+/// Single to seven significant digits), and whether it is a Single.
+fn shown_values(ctx: &mut Ctx, args: &[Expr]) -> (Vec<Value>, bool) {
     let mut values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    let mut single = false;
     if let (Some(e), Some(v)) = (args.first(), values.first_mut()) {
         if let Some(n) = ctx.macro_shown_number(e, v) {
             *v = Value::Number(n);
+            single = true;
         }
     }
-    values
+    (values, single)
 }
 
 fn cstr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    let values = shown_values(ctx, args);
+    let (values, single) = shown_values(ctx, args);
     if let Some(shown) = date_shown(ctx, args, &values).or_else(|| long_long_shown(ctx, args, &values, false)) {
         return Ok(shown);
     }
     if let Some(text) = strings::error_text(&values) {
         return Ok(text);
     }
+    if let (true, [Value::Number(n)]) = (single, values.as_slice()) {
+        return Ok(Value::text(vba_number_shown(*n, true)));
+    }
     lift_vba_values(ctx, values, "CStr", NO_NULL, &|v| Ok(Value::Text(vba_text(&v[0])?)))
 }
 
 /// `Str(number)`; a Date shows as CStr shows it, without the sign's space.
 fn str_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    let values = shown_values(ctx, args);
+    let (values, single) = shown_values(ctx, args);
     if let Some(shown) = date_shown(ctx, args, &values).or_else(|| long_long_shown(ctx, args, &values, true)) {
         return Ok(shown);
     }
     lift_vba_values(ctx, values, "Str", NO_NULL, &|v| {
         let n = vba_number(&v[0])?;
-        let text = general(n);
+        let text = vba_number_shown(n, single);
         Ok(Value::text(if n >= 0.0 { format!(" {text}") } else { text }))
     })
 }
@@ -1094,7 +1128,7 @@ fn format(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 fn format_by_weeks(ctx: &mut Ctx, args: &[Expr], raised: &Raised) -> XlResult<Value> {
     let has_format = args.get(1).is_some_and(|e| e.kind != ExprKind::Missing);
-    let values = if has_format { args.iter().map(|a| ctx.eval(a)).collect() } else { shown_values(ctx, args) };
+    let values = if has_format { args.iter().map(|a| ctx.eval(a)).collect() } else { shown_values(ctx, args).0 };
     // "Format function": a Date without a format shows as General Date, the short date
     // and the long time as the system sets them.
     if let Some(shown) = date_shown(ctx, args, &values).or_else(|| long_long_shown(ctx, args, &values, false)) {
@@ -1135,7 +1169,7 @@ pub fn format_number(n: f64, pattern: &str) -> XlResult<String> {
 /// [`format_number`] with a date format's `w` and `ww` numbered by `weeks`.
 fn format_number_by_weeks(n: f64, pattern: &str, weeks: WeekNumbers) -> XlResult<String> {
     let named = match pattern.to_ascii_lowercase().as_str() {
-        "" | "general number" | "general" => return Ok(general(n)),
+        "" | "general number" | "general" => return Ok(vba_number_shown(n, false)),
         "fixed" => "0.00",
         "standard" => "#,##0.00",
         "percent" => "0.00%",

@@ -1,0 +1,112 @@
+//! VBA's conversions where the macro language followed the formula language (issue 31,
+//! scope 1): a number's text, a String read as a number by arithmetic, the type IIf's
+//! Variant holds, the Overflow of Abs. Each test cites where its expected value comes from.
+
+mod common;
+
+use common::vba::{main_fails, run_main};
+use ncsheet::workbook::Workbook;
+
+// ---- a number's text ---------------------------------------------------------------------
+
+/// OLE Automation's VarBstrFromR8 and VarBstrFromR4, which VBA's CStr, Str, `&`, Print and a
+/// String variable use, write C's `%.15G` and `%.7G` (Wine's oleaut32 implements them so;
+/// the values here are Python's `'%.15G' % x` and `'%.7G' % x`): positional from 1E-04 to
+/// below 10^15 (10^7 for a Single), `1.5E-07` and `1E+15` outside. LibreOffice's Basic
+/// differs (it writes 0.00000015 and 1000000000000000), so it is no oracle here.
+#[test]
+fn numbers_are_text_as_vba_writes_them() {
+    let printed = run_main(
+        &mut Workbook::with_sheet(),
+        r#"    Debug.Print CStr(1.5E-7); "|"; CStr(-1.5E-7); "|"; CStr(1E-5); "|"; CStr(0.0001)
+    Debug.Print CStr(1E15); "|"; CStr(1E16); "|"; CStr(123456789012345678#); "|"; CStr(1.5E+300)
+    Debug.Print CStr(0.1 + 0.2); "|"; CStr(CSng(1 / 3)); "|"; CStr(CSng(12345678)); "|"; CStr(CSng(1E-5))
+    Debug.Print "x" & 1.5E-7; "|"; Str(1.5E-7); "|"; Str(CSng(12345678)); "|"; CSng(12345678) & ""
+    Dim s As String, f As Single
+    s = 0.00001234
+    f = 10000000
+    Debug.Print s; "|"; Format(1.5E-7)
+    Debug.Print 1.5E-7; f"#,
+    );
+    assert_eq!(
+        printed,
+        [
+            "1.5E-07|-1.5E-07|1E-05|0.0001",
+            "1E+15|1E+16|1.23456789012346E+17|1.5E+300",
+            "0.3|0.3333333|1.234568E+07|1E-05",
+            "x1.5E-07| 1.5E-07| 1.234568E+07|1.234568E+07",
+            "1.234E-05|1.5E-07",
+            " 1.5E-07  1E+07 ",
+        ]
+    );
+}
+
+// ---- a String in arithmetic --------------------------------------------------------------
+
+/// [MS-VBAL] 5.6.9.3: an arithmetic operator let-coerces a String operand to a number, as
+/// CDbl reads it (5.5.1.2.1; the literals of 3.3.2: `&H10`, a `D` exponent); LibreOffice's
+/// VBA mode gives the same 100, 16, 12 and 99 (tests/vba_libreoffice.rs
+/// text_in_arithmetic_as_vba_reads_it). A String that is no number stays a Type mismatch.
+#[test]
+fn a_string_in_arithmetic_is_read_as_cdbl_reads_it() {
+    let printed = run_main(
+        &mut Workbook::with_sheet(),
+        "    Dim v\n    v = \"1d2\"\n    Debug.Print CStr(v + 0); \"|\"; CStr(\"&H10\" * 1); \"|\"; CStr(\" 12 \" + 0); \"|\"; CStr(\"1d2\" - 1)",
+    );
+    assert_eq!(printed, ["100|16|12|99"]);
+    let message = main_fails(&mut Workbook::with_sheet(), "    Debug.Print \"1d\" * 1");
+    assert!(message.contains("Type mismatch (run-time error 13)"), "{message}");
+}
+
+// ---- IIf ----------------------------------------------------------------------------------
+
+/// "IIf function" (VBA reference): it returns a Variant holding the chosen argument as it
+/// was, so `IIf(True, 1, 2.5)` holds the Integer 1 and `IIf(False, 1, 2.5)` the Double 2.5
+/// ("TypeName function"; LibreOffice's VBA mode also says Integer).
+#[test]
+fn iif_gives_the_chosen_argument_with_its_type() {
+    let printed = run_main(
+        &mut Workbook::with_sheet(),
+        "    Dim v\n    v = IIf(2 > 1, 1, 2.5)\n    Debug.Print TypeName(IIf(True, 1, 2.5)); \"|\"; TypeName(IIf(False, 1, 2.5)); \"|\"; TypeName(v)",
+    );
+    assert_eq!(printed, ["Integer|Double|Integer"]);
+}
+
+// ---- Abs ---------------------------------------------------------------------------------
+
+/// "Abs function": "The data type of the return value is the same as that of the number
+/// argument", so the absolute value of the smallest Integer (-32,768), Long (-2,147,483,648)
+/// or LongLong (-2^63) is past its type: Overflow, run-time error 6 ("Overflow (Error 6)"),
+/// as `-x` of it is ([MS-VBAL] 5.6.9.3). One above the smallest is fine.
+#[test]
+fn abs_of_the_smallest_integer_overflows() {
+    for body in [
+        "    Dim i As Integer\n    i = -32768\n    Debug.Print Abs(i)",
+        "    Dim l As Long\n    l = -2147483647 - 1\n    Debug.Print Abs(l)",
+        "    Dim k As LongLong\n    k = -9223372036854775807^ - 1\n    Debug.Print Abs(k)",
+    ] {
+        let message = main_fails(&mut Workbook::with_sheet(), body);
+        assert!(message.contains("Overflow (run-time error 6)"), "{body}: {message}");
+    }
+    let printed = run_main(
+        &mut Workbook::with_sheet(),
+        "    Dim i As Integer, k As LongLong\n    i = -32767\n    k = -9223372036854775807^\n    Debug.Print CStr(Abs(i)); TypeName(Abs(i)); \"|\"; CStr(Abs(k))",
+    );
+    assert_eq!(printed, ["32767Integer|9223372036854775807"]);
+}
+
+// ---- Range.Formula of a text cell ----------------------------------------------------------
+
+/// "Range.Formula property" (Excel VBA reference): "If the cell contains a constant, this
+/// property returns the constant", the text 2022 for a cell given `'2022`; the `'` is the
+/// cell's "Range.PrefixCharacter property", not part of its contents. So `.Formula = .Formula`
+/// turns such a text into the number it spells, as in Excel.
+#[test]
+fn formula_of_a_text_typed_with_a_quote_is_the_text() {
+    let printed = run_main(
+        &mut Workbook::with_sheet(),
+        "    Range(\"A1\").Value = \"'2022\"\n    Debug.Print Range(\"A1\").Formula; \"|\"; TypeName(Range(\"A1\").Value)\n\
+         \x20   Range(\"A1\").Formula = Range(\"A1\").Formula\n    Debug.Print TypeName(Range(\"A1\").Value)",
+    );
+    assert_eq!(printed, ["2022|String", "Double"]);
+}
