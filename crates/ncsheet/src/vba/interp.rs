@@ -265,6 +265,13 @@ impl Frame {
     }
 }
 
+/// The key of the Static variables of a procedure running for `me`: the object's address,
+/// 0 for a standard module's procedure ("Static statement": "In class modules, variables
+/// declared with the Static statement retain their value in each class instance").
+fn static_owner(me: Option<&Instance>) -> usize {
+    me.map_or(0, |m| Rc::as_ptr(&m.0) as usize)
+}
+
 /// What a call of a class module's procedure brings besides its arguments: the object it
 /// runs for, and the value a Property Let or Set assigns (its last parameter).
 #[derive(Default)]
@@ -299,9 +306,13 @@ pub struct Interp<'m, 'w> {
     line: RefCell<Option<String>>,
     pub nc: RefCell<super::nc::NcState>,
     steps: Cell<u64>,
-    /// Static variables between calls, by procedure and name in ASCII lower case.
-    /// `None` while a call of the procedure holds the variable (`Interp::statics`).
-    pub(super) kept: RefCell<std::collections::HashMap<(usize, String), Option<Slot>>>,
+    /// Static variables between calls, by procedure, the object a class module's procedure
+    /// runs for ([`static_owner`], 0 for none) and name in ASCII lower case. `None` while a
+    /// call of the procedure holds the variable (`Interp::statics`).
+    pub(super) kept: RefCell<std::collections::HashMap<(usize, usize, String), Option<Slot>>>,
+    /// The objects whose Static variables `kept` holds, by address: an object made later at
+    /// the address of one that is gone starts with none of them.
+    static_owners: RefCell<std::collections::HashMap<usize, std::rc::Weak<super::classes::Object>>>,
     pub(super) pending: RefCell<Option<Fault>>,
     /// An `End` statement ran: every procedure stops.
     pub(super) ended: Cell<bool>,
@@ -391,6 +402,7 @@ impl<'m, 'w> Interp<'m, 'w> {
             nc: RefCell::new(super::nc::NcState::default()),
             steps: Cell::new(0),
             kept: RefCell::new(std::collections::HashMap::new()),
+            static_owners: RefCell::new(std::collections::HashMap::new()),
             pending: RefCell::new(None),
             ended: Cell::new(false),
             active: Cell::new(0),
@@ -2100,14 +2112,19 @@ impl Interp<'_, '_> {
     /// into the call, not copied, so that a text the call grows (`s = s & x`, `append.rs`)
     /// grows in place: a copy shared with the one kept made every call copy the whole text.
     fn statics(&self, vars: &[VarDecl]) -> Run<()> {
-        let proc = self.frames.borrow().last().expect("Static runs in a procedure").proc;
+        let (proc, me) = {
+            let frames = self.frames.borrow();
+            let frame = frames.last().expect("Static runs in a procedure");
+            (frame.proc, frame.me.clone())
+        };
+        let owner = self.claim_static_owner(me.as_ref())?;
         for d in vars {
             if self.has_local(&d.name) {
                 continue;
             }
-            let key = (proc, d.name.to_ascii_lowercase());
+            let key = (proc, owner, d.name.to_ascii_lowercase());
             let taken = self.kept.borrow_mut().get_mut(&key).map(Option::take);
-            match taken.map(|slot| slot.or_else(|| self.outer_static(proc, &d.name))) {
+            match taken.map(|slot| slot.or_else(|| self.outer_static(proc, owner, &d.name))) {
                 Some(Some(slot)) => self.declare(slot),
                 _ => {
                     self.dim(std::slice::from_ref(d), false, false)?;
@@ -2118,13 +2135,36 @@ impl Interp<'_, '_> {
         Ok(())
     }
 
-    /// The Static variable `name` as the nearest call of `proc` further out holds it: a
-    /// recursive call shares its procedure's Static variables ("Static statement": they
-    /// keep their values as long as the module runs, one for the procedure, not per call).
-    fn outer_static(&self, proc: usize, name: &str) -> Option<Slot> {
+    /// The Static variable `name` as the nearest call of `proc` for the same object further
+    /// out holds it: a recursive call shares its procedure's Static variables ("Static
+    /// statement": they keep their values as long as the module runs, one for the procedure,
+    /// not per call; in a class module one for each object).
+    fn outer_static(&self, proc: usize, owner: usize, name: &str) -> Option<Slot> {
         let frames = self.frames.borrow();
-        let outer = frames.iter().rev().skip(1).find(|f| f.proc == proc && f.vars.get(name).is_some());
+        let same = |f: &&Frame| f.proc == proc && static_owner(f.me.as_ref()) == owner && f.vars.get(name).is_some();
+        let outer = frames.iter().rev().skip(1).find(same);
         outer.and_then(|f| f.vars.get(name).cloned())
+    }
+
+    /// [`static_owner`] of `me`, the Static variables kept for an object that is gone and
+    /// whose address `me` has now let go first.
+    fn claim_static_owner(&self, me: Option<&Instance>) -> Run<usize> {
+        let Some(me) = me else { return Ok(0) };
+        let owner = static_owner(Some(me));
+        let known = self.static_owners.borrow().get(&owner).and_then(std::rc::Weak::upgrade);
+        if known.is_some_and(|o| Rc::ptr_eq(&o, &me.0)) {
+            return Ok(owner);
+        }
+        self.static_owners.borrow_mut().insert(owner, Rc::downgrade(&me.0));
+        let stale: Vec<Option<Slot>> = {
+            let mut kept = self.kept.borrow_mut();
+            let keys: Vec<_> = kept.keys().filter(|k| k.1 == owner).cloned().collect();
+            keys.iter().filter_map(|k| kept.remove(k)).collect()
+        };
+        for slot in stale.iter().flatten() {
+            self.release(slot.var())?;
+        }
+        Ok(owner)
     }
 
     /// Keeps the Static variables of a frame that is being left: for the call of the same
@@ -2135,9 +2175,12 @@ impl Interp<'_, '_> {
             return;
         }
         let mut frames = self.frames.borrow_mut();
+        let owner = static_owner(frame.me.as_ref());
         for s in frame.vars.iter() {
-            let Some(entry) = kept.get_mut(&(frame.proc, s.name.to_ascii_lowercase())) else { continue };
-            let outer = frames.iter_mut().rev().find(|f| f.proc == frame.proc && f.vars.get(&s.name).is_some());
+            let Some(entry) = kept.get_mut(&(frame.proc, owner, s.name.to_ascii_lowercase())) else { continue };
+            let outer = frames.iter_mut().rev().find(|f| {
+                f.proc == frame.proc && static_owner(f.me.as_ref()) == owner && f.vars.get(&s.name).is_some()
+            });
             match outer.and_then(|f| f.vars.get_mut(&s.name)) {
                 Some(held) => *held = s.clone(),
                 None => *entry = Some(s.clone()),
