@@ -142,7 +142,11 @@ fn names_keep_their_scope_and_built_in_names_are_noted() {
     );
     assert_eq!(wb.value(0, at("B1")), num(6.0));
     assert_eq!(wb.value(1, at("B1")), num(20.0));
-    assert_eq!(imported.notes, vec!["the print area of 'Sheet1' (Sheet1!$A$1:$B$1) is not kept".to_string()]);
+    assert_eq!(
+        imported.notes,
+        vec!["the print area of 'Sheet1' (Sheet1!$A$1:$B$1) is not used by ncsheet; saving the file's edits keeps it"
+            .to_string()]
+    );
 }
 
 #[test]

@@ -1056,3 +1056,25 @@ fn a_newer_error_kept_as_value_metadata_is_read_and_dropped_when_the_value_chang
     let e1 = sheet.split("<c ").find(|c| c.starts_with("r=\"E1\"")).expect("E1 saved");
     assert!(e1.contains("cm=\"1\"") && !e1.contains("vm=") && e1.contains("<v>20</v>"), "{e1}");
 }
+
+/// `set --in-place` keeps a workbook's print titles and print area (the package is patched,
+/// its definedNames untouched), so what it says about them must not be "not kept" (issue 30:
+/// it said so while keeping them). openpyxl, the outside reader, reads both back.
+#[test]
+fn set_in_place_keeps_print_titles_and_says_so() {
+    if !common::openpyxl::openpyxl_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("titles.xlsx");
+    let make = "import sys, openpyxl\nwb = openpyxl.Workbook(); ws = wb.active; ws.title = 'Sheet1'\n\
+                ws['A1'] = 1; ws['B1'] = '=A1*2'\nws.print_title_rows = '1:1'; ws.print_area = 'A1:B10'\nwb.save(sys.argv[1])";
+    common::openpyxl::python(make, &[&file]);
+    let run = common::cli::ncsheet(&["set", file.to_str().unwrap(), "A1=5", "--in-place"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(!run.stderr.contains("not kept"), "{}", run.stderr);
+    assert!(run.stderr.contains("print titles of 'Sheet1'") && run.stderr.contains("keeps it"), "{}", run.stderr);
+    let read = "import sys, openpyxl\nws = openpyxl.load_workbook(sys.argv[1]).active\n\
+                print(ws.print_title_rows, ws.print_area, ws['A1'].value)";
+    assert_eq!(common::openpyxl::python(read, &[&file]).trim(), "$1:$1 'Sheet1'!$A$1:$B$10 5");
+}

@@ -971,7 +971,13 @@ fn define_names(
             let place =
                 n.local_sheet.and_then(|i| sheets.get(i)).map_or(String::new(), |s| format!(" of '{}'", s.name));
             let what = builtin.replace('_', " ");
-            imported.notes.push(format!("the {}{place} ({}) is not kept", what.trim(), n.formula));
+            // The name stays in the package: an edit saved over the file (the package patched)
+            // keeps it, and a workbook written anew says at its save that it drops it.
+            imported.notes.push(format!(
+                "the {}{place} ({}) is not used by ncsheet; saving the file's edits keeps it",
+                what.trim(),
+                n.formula
+            ));
             continue;
         }
         let scope = match n.local_sheet {
