@@ -226,14 +226,17 @@ fn a_saved_book_has_no_part_for_a_deleted_sheet() {
     assert!(values.starts_with("Sheet1|#REF!|4\nSheet3|5|-1\n"), "{values}");
 }
 
-// A 3-D reference of the file (`Sheet1:Sheet3!A1`) takes the sheets between its ends; Excel,
-// deleting one of them or an end, takes it out of the reference ("Create a 3-D reference":
-// "If you delete Sheet2 or Sheet6, Excel adjusts the calculation to accommodate the range of
-// sheets between them"). ncsheet reads such a reference as the list of its sheets and cannot
-// tell which list came from a span, so the delete is refused (error 1004, naming the span)
-// rather than computing #REF! where Excel computes a sum; a sheet outside the span goes.
+// A 3-D reference of the file (`Sheet1:Sheet4!A1`) takes the sheets between its ends; Excel,
+// deleting one of them, takes it out of the reference ("Create a 3-D reference to the same
+// cell range on multiple worksheets": "Delete: if you delete sheets between Sheet2 and
+// Sheet6, Excel removes their values from the calculation"; "Delete an endpoint: if you
+// delete Sheet2 or Sheet6, Excel adjusts the calculation to accommodate the range of sheets
+// between them"). Sums by hand over 1, 2, 4, 8: 15; Sheet2 gone: 13 (the reference as it
+// was); the end Sheet4 gone: 1+4 = 5 (`Sheet1:Sheet3`); Sheet1 gone: 4 (`Sheet3`, one sheet
+// left); Sheet3 gone, no sheet left: #REF!. LibreOffice, opening the file saved after the
+// second delete, finds 5 in it.
 #[test]
-fn a_sheet_of_a_3d_reference_is_not_deleted() {
+fn a_sheet_deleted_from_a_3d_reference_leaves_it() {
     if !openpyxl_available() {
         return;
     }
@@ -244,22 +247,37 @@ wb = Workbook()
 wb.active.title = "Sheet1"
 for name in ["Sheet2", "Sheet3", "Sheet4", "Sheet5"]:
     wb.create_sheet(name)
-for name, v in [("Sheet1", 1), ("Sheet2", 2), ("Sheet3", 4)]:
+for name, v in [("Sheet1", 1), ("Sheet2", 2), ("Sheet3", 4), ("Sheet4", 8)]:
     wb[name]["A1"] = v
-wb["Sheet4"]["A1"] = "=SUM(Sheet1:Sheet3!A1)"
+wb["Sheet5"]["A1"] = "=SUM(Sheet1:Sheet4!A1)"
 wb.save(sys.argv[1])
 "#;
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("span.xlsx");
     python(script, &[&file]);
     let mut wb = ncsheet::io::load(&file).unwrap();
-    for sheet in ["Sheet2", "Sheet3", "Sheet1"] {
-        let e = fails(&mut wb, &format!("    Sheets(\"{sheet}\").Delete"));
-        assert!(e.contains("1004") && e.contains("3-D reference") && e.contains("Sheet1:Sheet3"), "{e}");
+    let at = parse_cell("A1").unwrap();
+    assert_eq!(get(&wb, 4, "A1"), Value::Number(15.0));
+    let steps: [(&str, Value, &str); 2] = [
+        ("Sheet2", Value::Number(13.0), "=SUM(Sheet1:Sheet4!A1)"),
+        ("Sheet4", Value::Number(5.0), "=SUM(Sheet1:Sheet3!A1)"),
+    ];
+    for (sheet, value, formula) in steps {
+        run(&mut wb, &format!("    Sheets(\"{sheet}\").Delete"));
+        assert_eq!((get(&wb, 4, "A1"), wb.formula(4, at).as_deref()), (value, Some(formula)), "{sheet} deleted");
     }
-    run(&mut wb, "    Sheets(\"Sheet5\").Delete");
-    assert_eq!(wb.tab_names(), ["Sheet1", "Sheet2", "Sheet3", "Sheet4"]);
-    assert_eq!(get(&wb, 3, "A1"), Value::Number(7.0));
+    let saved = dir.path().join("shrunk.xlsx");
+    ncsheet::io::save(&wb, &saved).unwrap();
+    run(&mut wb, "    Sheets(\"Sheet1\").Delete");
+    assert_eq!((get(&wb, 4, "A1"), wb.formula(4, at).as_deref()), (Value::Number(4.0), Some("=SUM(Sheet3!A1)")));
+    run(&mut wb, "    Sheets(\"Sheet3\").Delete");
+    assert_eq!(get(&wb, 4, "A1"), Value::Error(XlError::Ref));
+    let Some(soffice) = common::soffice() else { return };
+    let profile = common::recalculating_profile(&dir.path().join("profile"));
+    let lo = dir.path().join("lo");
+    common::libreoffice_convert(&soffice, &profile, std::slice::from_ref(&saved), &lo);
+    let values = openpyxl_view(&lo.join("shrunk.xlsx"), true);
+    assert!(values.contains("Sheet5|5"), "{values}");
 }
 
 /// A BOM-merge module as automation writes it: the old output sheet deleted (alerts off,

@@ -173,12 +173,16 @@ fn a_saved_book_keeps_the_tab_order_and_libreoffice_recomputes_the_same_values()
 }
 
 // A 3-D reference (`Sheet1:Sheet3!A1`) means the sheets whose tabs lie between its ends
-// (Excel help, "Create a 3-D reference to the same cell range on multiple worksheets": moving
-// or inserting a sheet between the ends takes it into the reference). ncsheet reads it as
-// the list of the sheets between them when read, so a tab moved or added into or out of the
-// span is refused (run-time error 1004, naming the span); elsewhere it is allowed.
+// (Excel help, "Create a 3-D reference to the same cell range on multiple worksheets":
+// "Insert or copy: if you insert or copy sheets between Sheet2 and Sheet6 […], Excel includes
+// all values in cells A2 through A5 from the added sheets in the calculations"; "Move: if you
+// move sheets from between Sheet2 and Sheet6 to a location outside the referenced sheet
+// range, Excel removes their values from the calculation"). Sums by hand: 1+2+4 = 7; a sheet
+// added between the ends holding 16: 23; Sheet2 moved past the end: 1+16+4 = 21. The saved
+// file keeps the reference as written, and LibreOffice, recomputing it with the saved tab
+// order, finds 21 too.
 #[test]
-fn a_tab_may_not_move_into_or_out_of_a_3d_reference_span() {
+fn a_tab_moved_or_added_between_the_ends_of_a_3d_reference_joins_it() {
     if !openpyxl_available() {
         return;
     }
@@ -200,15 +204,19 @@ wb.save(sys.argv[1])
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let mut wb = ncsheet::io::load(&book).unwrap();
     assert_eq!(get(&wb, 3, "A1"), Value::Number(7.0));
-    for body in ["    Sheets(\"Sheet4\").Move Before:=Sheets(\"Sheet2\")", "    Sheets.Add Before:=Sheets(\"Sheet3\")"]
-    {
-        let e = fails(&mut wb, body);
-        assert!(e.contains("1004") && e.contains("3-D reference") && e.contains("Sheet1:Sheet3"), "{e}");
-    }
-    let e = fails(&mut wb, "    Sheets(\"Sheet1\").Move After:=Sheets(\"Sheet4\")");
-    assert!(e.contains("Sheet1:Sheet3"), "{e}");
-    assert_eq!(wb.tab_names(), ["Sheet1", "Sheet2", "Sheet3", "Sheet4"]);
-    run(&mut wb, "    Sheets.Add Before:=Sheets(1)\n    Sheets(\"Sheet4\").Move Before:=Sheets(1)");
-    assert_eq!(wb.tab_names(), ["Sheet4", "Sheet5", "Sheet1", "Sheet2", "Sheet3"]);
-    assert_eq!(get(&wb, 3, "A1"), Value::Number(7.0));
+    run(&mut wb, "    Sheets.Add Before:=Sheets(\"Sheet3\")\n    ActiveSheet.Range(\"A1\").Value = 16");
+    assert_eq!(wb.tab_names(), ["Sheet1", "Sheet2", "Sheet5", "Sheet3", "Sheet4"]);
+    assert_eq!(get(&wb, 3, "A1"), Value::Number(23.0));
+    run(&mut wb, "    Sheets(\"Sheet2\").Move After:=Sheets(\"Sheet4\")");
+    assert_eq!(get(&wb, 3, "A1"), Value::Number(21.0));
+    let saved = dir.path().join("moved.xlsx");
+    ncsheet::io::save(&wb, &saved).unwrap();
+    let formulas = openpyxl_cells(&saved, false);
+    assert!(formulas.contains("Sheet4|=SUM(Sheet1:Sheet3!A1)|"), "{formulas}");
+    let Some(soffice) = common::soffice() else { return };
+    let profile = common::recalculating_profile(&dir.path().join("profile"));
+    let lo = dir.path().join("lo");
+    common::libreoffice_convert(&soffice, &profile, std::slice::from_ref(&saved), &lo);
+    let values = openpyxl_cells(&lo.join("moved.xlsx"), true);
+    assert_eq!(values, "Sheet1|1|None\nSheet5|16|None\nSheet3|4|None\nSheet4|21|None\nSheet2|2|None\n");
 }

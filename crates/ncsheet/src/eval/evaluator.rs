@@ -87,6 +87,16 @@ pub trait Env {
         sheet as usize
     }
 
+    /// The sheets a 3-D reference from `first` to `last` takes (`Sheet1:Sheet3!A1`): those
+    /// whose tabs lie between the two, ends included, in tab order; none when either end is
+    /// no sheet. The default: tabs in id order.
+    fn sheets_spanned(&self, first: SheetId, last: SheetId) -> Vec<SheetId> {
+        if self.sheet_name(first).is_none() || self.sheet_name(last).is_none() {
+            return Vec::new();
+        }
+        (first.min(last)..=first.max(last)).collect()
+    }
+
     /// The sheet of this name, ignoring ASCII case (INDIRECT's `Sheet2!A1`). The default
     /// reads every name; an environment of many sheets answers from an index.
     fn sheet_id(&self, name: &str) -> Option<SheetId> {
@@ -720,6 +730,10 @@ impl<'a> Ctx<'a> {
                     None => Value::Error(XlError::Ref),
                 }
             }
+            ExprKind::Ref(Reference { sheet: SheetRef::Span(..), .. }) => {
+                let operand = self.operand(e);
+                self.deref(operand)
+            }
             ExprKind::Ref(r) => match self.resolve(r) {
                 Ok((sheet, rect)) => self.rect_value(sheet, rect),
                 Err(err) => Value::Error(err),
@@ -839,6 +853,9 @@ impl<'a> Ctx<'a> {
     /// Evaluates keeping references as references (for SUM over ranges, ROW, INDEX, …).
     pub fn operand(&mut self, e: &Expr) -> Operand {
         match &e.kind {
+            ExprKind::Ref(Reference { sheet: SheetRef::Span(first, last), shape }) => {
+                self.sheet_span_operand(*first, *last, *shape)
+            }
             ExprKind::Ref(r) => match self.resolve(r) {
                 Ok((sheet, rect)) => Operand::Ref(sheet, rect),
                 Err(err) => Operand::Value(Value::Error(err)),
@@ -848,7 +865,8 @@ impl<'a> Ctx<'a> {
             ExprKind::SheetName(sheet, name) => match sheet {
                 SheetRef::Id(id) => self.defined_name_operand(name, *id),
                 SheetRef::Current => self.defined_name_operand(name, self.sheet),
-                SheetRef::Missing(_) => Operand::Value(Value::Error(XlError::Ref)),
+                // `Sheet1:Sheet3!Rate`: a name is seen from one sheet, not from several.
+                SheetRef::Missing(_) | SheetRef::Span(..) => Operand::Value(Value::Error(XlError::Ref)),
             },
             ExprKind::Host(id) => match self.host {
                 Some(host) => host.node(self, *id),
@@ -874,6 +892,20 @@ impl<'a> Ctx<'a> {
             // `=(A1,B1)`: several areas are no one value (Excel's #VALUE!).
             Operand::Areas(_) => Value::Error(XlError::Value),
         }
+    }
+
+    /// A 3-D reference (`Sheet1:Sheet3!A1:B2`): the same cells on each sheet whose tab lies
+    /// between its ends now, one area a sheet in tab order, which the functions taking
+    /// several references read as their list; `#REF!` when an end is no sheet any more.
+    fn sheet_span_operand(&mut self, first: SheetId, last: SheetId, shape: RefShape) -> Operand {
+        let mut areas = Vec::new();
+        for sheet in self.env.sheets_spanned(first, last) {
+            match self.resolve(&Reference { sheet: SheetRef::Id(sheet), shape }) {
+                Ok(area) => areas.push(area),
+                Err(err) => return Operand::Value(Value::Error(err)),
+            }
+        }
+        areas_operand(areas).unwrap_or(Operand::Value(Value::Error(XlError::Ref)))
     }
 
     /// The absolute sheet and rectangle a reference points at from this cell.

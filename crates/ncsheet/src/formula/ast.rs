@@ -82,6 +82,12 @@ pub enum SheetRef {
     Id(SheetId),
     /// A sheet name the workbook does not have: evaluates to `#REF!`.
     Missing(Rc<str>),
+    /// A 3-D reference's sheets (`Sheet1:Sheet3!A1`): its two end sheets as written. It
+    /// means every sheet whose tab lies between them when it is read, so a sheet moved or
+    /// added between the ends joins it (Excel's "Create a 3-D reference to the same cell
+    /// range on multiple worksheets"); it is no one sheet, so [`Reference::resolve`] gives
+    /// `None` and the evaluator reads it as the areas of each sheet.
+    Span(SheetId, SheetId),
 }
 
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -113,7 +119,7 @@ impl Reference {
         let sheet = match &self.sheet {
             SheetRef::Current => sheet,
             SheetRef::Id(id) => *id,
-            SheetRef::Missing(_) => return None,
+            SheetRef::Missing(_) | SheetRef::Span(..) => return None,
         };
         let row = |c: Coord| coord(c, at.row, MAX_ROWS);
         let col = |c: Coord| coord(c, at.col, MAX_COLS);

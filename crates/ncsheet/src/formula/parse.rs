@@ -176,6 +176,14 @@ pub struct ParseContext<'a> {
     pub sheet: &'a dyn Fn(&str) -> Option<SheetId>,
 }
 
+/// A sheet name as written, bare (`Sheet2`) or quoted (`'Jan''s'`).
+fn unquoted_sheet_name(raw: &str) -> String {
+    match raw.strip_prefix('\'').and_then(|s| s.strip_suffix('\'')) {
+        Some(quoted) => quoted.replace("''", "'"),
+        None => raw.to_string(),
+    }
+}
+
 /// `depth` when within [`MAX_TREE_DEPTH`], else the error at the operator `op`.
 fn deeper(depth: u32, op: &Pair<Rule>) -> Result<u32, ParseError> {
     if depth > MAX_TREE_DEPTH {
@@ -732,15 +740,31 @@ impl Builder<'_, '_> {
         })
     }
 
+    /// The sheet of `Sheet2!`, or the sheets of a 3-D reference's `Sheet1:Sheet3!` (also
+    /// quoted as one, `'Jan 1:Mar 1'!`, as Excel writes it: a sheet name has no `:`).
     fn sheet(&self, pair: Pair<Rule>) -> SheetRef {
-        let raw = pair.into_inner().next().expect("sheet name").as_str();
-        let name = match raw.strip_prefix('\'').and_then(|s| s.strip_suffix('\'')) {
-            Some(quoted) => quoted.replace("''", "'"),
-            None => raw.to_string(),
-        };
-        match (self.ctx.sheet)(&name) {
-            Some(id) => SheetRef::Id(id),
-            None => SheetRef::Missing(name.into()),
+        let mut names = Vec::with_capacity(2);
+        for part in pair.into_inner() {
+            let part = match part.as_rule() {
+                Rule::sheet_span_start => part.into_inner().next().expect("first sheet name"),
+                _ => part,
+            };
+            names.push(unquoted_sheet_name(part.as_str()));
+        }
+        if let [one] = names.as_slice() {
+            if let Some((a, b)) = one.split_once(':') {
+                names = vec![a.to_string(), b.to_string()];
+            }
+        }
+        let id = |name: &str| (self.ctx.sheet)(name);
+        match names.as_slice() {
+            [name] => id(name).map_or_else(|| SheetRef::Missing(name.as_str().into()), SheetRef::Id),
+            [first, last] => match (id(first), id(last)) {
+                (Some(a), Some(b)) if a == b => SheetRef::Id(a),
+                (Some(a), Some(b)) => SheetRef::Span(a, b),
+                _ => SheetRef::Missing(format!("{first}:{last}").into()),
+            },
+            _ => unreachable!("a sheet prefix names one or two sheets"),
         }
     }
 

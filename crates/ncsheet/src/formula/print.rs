@@ -403,6 +403,16 @@ fn write_sheet_prefix(out: &mut String, sheet: &SheetRef, sheets: SheetNames) {
         SheetRef::Missing(name) => {
             let _ = write!(out, "{}!", quote_sheet_name(name));
         }
+        // Excel quotes a 3-D reference's ends as one when either needs it: `'Jan 1:Mar'!`.
+        SheetRef::Span(first, last) => {
+            let (first, last) = (sheets(*first), sheets(*last));
+            let pair = format!("{first}:{last}");
+            if quote_sheet_name(&first) == first && quote_sheet_name(&last) == last {
+                let _ = write!(out, "{pair}!");
+            } else {
+                let _ = write!(out, "'{}'!", pair.replace('\'', "''"));
+            }
+        }
     }
 }
 

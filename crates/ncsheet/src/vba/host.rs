@@ -75,6 +75,10 @@ impl Env for Interp<'_, '_> {
         Env::tab_position(&**self.wb.borrow(), sheet)
     }
 
+    fn sheets_spanned(&self, first: SheetId, last: SheetId) -> Vec<SheetId> {
+        Env::sheets_spanned(&**self.wb.borrow(), first, last)
+    }
+
     fn sheet_id(&self, name: &str) -> Option<SheetId> {
         self.wb.borrow().sheet_id(name)
     }

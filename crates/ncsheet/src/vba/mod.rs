@@ -113,9 +113,9 @@
 //! `After:=`, `Count:=`), `ws.Name =`, `ws.Copy`/`ws.Move` with `Before:=` or `After:=`, and
 //! `ws.Delete` (`Worksheets("Merged").Delete`, `Sheets(i).Delete`, `ActiveSheet.Delete`; no
 //! dialog asks, as with `DisplayAlerts = False`): references to the sheet become `#REF!`, the
-//! names scoped to it go, the sheet to its right (else left) becomes active; the last visible
-//! sheet and a sheet of a file's 3-D reference (`Sheet1:Sheet3!A1`) are error 1004, and a
-//! Worksheet or Range variable of a deleted sheet is error 424 ("Object required"). `ActiveCell` and
+//! names scoped to it go, a 3-D reference (`Sheet1:Sheet3!A1`) leaves it out (an end moving
+//! one tab inward), the sheet to its right (else left) becomes active; the last visible
+//! sheet is error 1004, and a Worksheet or Range variable of a deleted sheet is error 424 ("Object required"). `ActiveCell` and
 //! `Selection` start at the sheet's active cell as the file saved it ([`RunOptions::active_cells`])
 //! and follow `Select`/`Activate`. In a sheet's module ([`Document::Sheet`]) `Range`, `Cells`
 //! and `[B3]` mean that sheet and `Me` is it; sheets' code names (`Sheet1`) are objects.

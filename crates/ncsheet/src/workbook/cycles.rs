@@ -307,6 +307,10 @@ impl Env for Probe<'_> {
         Env::tab_position(self.wb, sheet)
     }
 
+    fn sheets_spanned(&self, first: SheetId, last: SheetId) -> Vec<SheetId> {
+        Env::sheets_spanned(self.wb, first, last)
+    }
+
     fn formula_text(&self, sheet: SheetId, pos: Pos) -> Option<String> {
         self.wb.formula_text(sheet, pos)
     }

@@ -1,7 +1,7 @@
 //! Deleting a sheet, as Excel's `Worksheet.Delete` does: the sheet leaves the tabs (and
 //! `Worksheets`, `SHEETS()`, a saved file), its cells go, every reference to it elsewhere
-//! becomes `#REF!` (a cell's formula, a defined name's) and what depends on them recomputes;
-//! the names scoped to it go with it.
+//! becomes `#REF!` (a cell's formula, a defined name's), a 3-D reference ending at it ends
+//! one tab inward, and what depends on them recomputes; the names scoped to it go with it.
 //!
 //! The sheet's id is not given back: formula trees, name scopes, a macro's Worksheet and
 //! Range objects and the front ends hold ids, and an id reused for a later sheet would show
@@ -25,8 +25,7 @@ impl Workbook {
     }
 
     /// Deletes `sheet` and recalculates. Refused, with nothing changed, for the last visible
-    /// sheet (Excel: "A workbook must contain at least one visible worksheet") and for a sheet
-    /// a 3-D reference of the file takes (`tabs.rs`). The active sheet, if it was this one,
+    /// sheet (Excel: "A workbook must contain at least one visible worksheet"). The active sheet, if it was this one,
     /// becomes the visible sheet to its right, or to its left when it was the last.
     pub fn delete_sheet(&mut self, sheet: SheetId) -> Result<(), WorkbookError> {
         let Some(place) = self.tab_position(sheet).filter(|_| !self.sheet_deleted(sheet)) else {
@@ -42,13 +41,14 @@ impl Workbook {
             .copied()
             .find(|&s| visible(self, s));
         let record = self.journal.is_some().then(|| self.deleted_record(sheet, place));
+        let order = self.tabs.order.clone();
         self.remove_tab(sheet)?;
         if let (Some(record), Some(journal)) = (record, &mut self.journal) {
             journal.deleted.push(record);
         }
         self.empty_sheet(sheet);
-        self.strike_formulas_reading(sheet);
-        let names_changed = self.strike_names_of(sheet);
+        self.strike_formulas_reading(sheet, &order);
+        let names_changed = self.strike_names_of(sheet, &order);
         let name = std::mem::take(&mut self.sheets[sheet as usize].name);
         self.sheet_index.remove(&name.to_ascii_lowercase());
         self.sheets[sheet as usize] = Sheet::new(&name);
@@ -113,6 +113,7 @@ impl Workbook {
         let at = record.tab.min(self.tabs.order.len());
         self.tabs.order.insert(at, record.id);
         self.names = record.names.clone();
+        self.forget_name_index();
         self.formulas.forget_keys();
         self.names_unlinked = true;
         if let Some(log) = &mut self.changes {
@@ -142,13 +143,13 @@ impl Workbook {
     /// Every stored formula reading `sheet` with that reference struck to `#REF!`; the cells
     /// running one are noted as edited (their formula text changes, as in Excel). The graph
     /// is rebuilt by the recalculation that follows.
-    fn strike_formulas_reading(&mut self, sheet: SheetId) {
+    fn strike_formulas_reading(&mut self, sheet: SheetId, order: &[SheetId]) {
         let mut struck = Vec::new();
         for (fid, formula) in self.formulas.formulas.iter().enumerate() {
             // Which sheets a tree reads does not depend on the numbers a copy holds.
             if reads_any(&formula.expr, sheet) {
                 let mut tree = formula.own_tree();
-                strike(&mut tree, sheet);
+                strike(&mut tree, sheet, order);
                 struck.push((fid as u32, SharedFormula::new(tree)));
             }
         }
@@ -166,12 +167,13 @@ impl Workbook {
 
     /// Removes the names scoped to `sheet` and strikes references to it in the others;
     /// whether any name changed.
-    fn strike_names_of(&mut self, sheet: SheetId) -> bool {
+    fn strike_names_of(&mut self, sheet: SheetId, order: &[SheetId]) -> bool {
         let before = self.names.len();
         self.names.retain(|n| n.scope != Some(sheet));
+        self.forget_name_index();
         let mut changed = self.names.len() != before;
         for name in &mut self.names {
-            if let Some(tree) = struck_tree(&name.expr, sheet) {
+            if let Some(tree) = struck_tree(&name.expr, sheet, order) {
                 name.expr = Rc::new(tree);
                 changed = true;
             }
@@ -206,17 +208,19 @@ impl DeletedSheet {
 }
 
 /// `tree` with each reference to `sheet` (`Merged!A1`, a name as `Merged` sees it,
-/// `Merged!Rate`) replaced by `#REF!`; `None` when it has none.
-fn struck_tree(tree: &Expr, sheet: SheetId) -> Option<Expr> {
+/// `Merged!Rate`) replaced by `#REF!`, and each 3-D reference ending at it shrunk; `None`
+/// when it has none. `order`: the tabs before the delete.
+fn struck_tree(tree: &Expr, sheet: SheetId, order: &[SheetId]) -> Option<Expr> {
     if !reads_any(tree, sheet) {
         return None;
     }
     let mut tree = tree.clone();
-    strike(&mut tree, sheet);
+    strike(&mut tree, sheet, order);
     Some(tree)
 }
 
-/// Whether a node of `tree` reads `sheet`.
+/// Whether a node of `tree` reads `sheet` by name: a sheet in the middle of a 3-D reference
+/// is not named, and leaves it by leaving the tabs.
 fn reads_any(tree: &Expr, sheet: SheetId) -> bool {
     let mut found = false;
     tree.visit(&mut |e| found |= reads_sheet(e, sheet));
@@ -224,7 +228,11 @@ fn reads_any(tree: &Expr, sheet: SheetId) -> bool {
 }
 
 fn reads_sheet(e: &Expr, sheet: SheetId) -> bool {
-    let on = |r: &SheetRef| *r == SheetRef::Id(sheet);
+    let on = |r: &SheetRef| match *r {
+        SheetRef::Id(id) => id == sheet,
+        SheetRef::Span(first, last) => first == sheet || last == sheet,
+        SheetRef::Current | SheetRef::Missing(_) => false,
+    };
     match &e.kind {
         ExprKind::Ref(r) => on(&r.sheet),
         ExprKind::SheetName(r, _) => on(r),
@@ -232,13 +240,36 @@ fn reads_sheet(e: &Expr, sheet: SheetId) -> bool {
     }
 }
 
-/// Replaces in place each node of `e` that reads `sheet` by `#REF!`.
-fn strike(e: &mut Expr, sheet: SheetId) {
+/// Replaces in place each node of `e` that reads `sheet` by `#REF!`, and moves the end of a
+/// 3-D reference that is `sheet` one tab inward, as Excel does ("Create a 3-D reference to
+/// the same cell range on multiple worksheets": deleting an endpoint, the calculation
+/// adjusts to the sheets left between the ends).
+fn strike(e: &mut Expr, sheet: SheetId, order: &[SheetId]) {
     e.visit_mut(&mut |node| {
-        if reads_sheet(node, sheet) {
-            node.kind = ExprKind::Error(XlError::Ref);
+        if !reads_sheet(node, sheet) {
+            return;
+        }
+        match &mut node.kind {
+            ExprKind::Ref(r) if matches!(r.sheet, SheetRef::Span(..)) => r.sheet = span_without(&r.sheet, sheet, order),
+            _ => node.kind = ExprKind::Error(XlError::Ref),
         }
     });
+}
+
+/// 3-D reference `span`, one of whose ends is `sheet` (being deleted), with that end moved one
+/// tab toward the other (`order`: the tabs before the delete); one sheet left, that sheet.
+fn span_without(span: &SheetRef, sheet: SheetId, order: &[SheetId]) -> SheetRef {
+    let SheetRef::Span(first, last) = *span else { return span.clone() };
+    let at = |s: SheetId| order.iter().position(|&t| t == s);
+    let (Some(here), Some(other_at)) = (at(sheet), at(if first == sheet { last } else { first })) else {
+        return SheetRef::Missing("#REF".into());
+    };
+    let inward = if other_at > here { order[here + 1] } else { order[here - 1] };
+    match (first == sheet, inward == order[other_at]) {
+        (_, true) => SheetRef::Id(inward),
+        (true, false) => SheetRef::Span(inward, last),
+        (false, false) => SheetRef::Span(first, inward),
+    }
 }
 
 #[cfg(test)]

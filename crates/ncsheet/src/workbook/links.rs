@@ -3,6 +3,7 @@
 //! when a name changes meaning, and moved when INDIRECT or OFFSET reach somewhere new.
 
 use super::*;
+use crate::formula::ast::{Reference, SheetRef};
 
 /// A range of at most this many cells is linked cell by cell rather than through a range
 /// node: cheaper to build, to walk and to store (`MAX(B3:G3)` is six edges).
@@ -16,6 +17,8 @@ impl Workbook {
         for r in formula.refs.iter() {
             if let Some((sheet, rect)) = resolve_static(r, cell.sheet, cell.pos) {
                 f(sheet, rect);
+            } else if let SheetRef::Span(first, last) = r.sheet {
+                self.span_precedents(r, (first, last), cell.pos, Reference::resolve, f);
             }
         }
         let mut seen = Vec::new();
@@ -46,6 +49,8 @@ impl Workbook {
                 // A name's relative references wrap at the sheet's edges, as the evaluator reads them.
                 if let Some((s, rect)) = r.resolve_wrapping(name_sheet, at) {
                     f(s, rect);
+                } else if let SheetRef::Span(first, last) = r.sheet {
+                    self.span_precedents(r, (first, last), at, Reference::resolve_wrapping, f);
                 }
             }
             crate::formula::ast::ExprKind::Name(inner) | crate::formula::ast::ExprKind::UnknownCall(inner, _) => {
@@ -56,6 +61,24 @@ impl Workbook {
             }
             _ => {}
         });
+    }
+
+    /// The cells 3-D reference `r` from sheet `first` to `last` reads from cell `at`: its
+    /// cells on each sheet whose tab lies between them now (the tabs moving, the graph is
+    /// rebuilt: `tabs.rs`).
+    fn span_precedents(
+        &self,
+        r: &Reference,
+        (first, last): (SheetId, SheetId),
+        at: Pos,
+        resolve: fn(&Reference, SheetId, Pos) -> Option<(SheetId, Rect)>,
+        f: &mut dyn FnMut(SheetId, Rect),
+    ) {
+        for &sheet in self.sheets_spanned(first, last) {
+            if let Some((s, rect)) = resolve(&Reference { sheet: SheetRef::Id(sheet), shape: r.shape }, sheet, at) {
+                f(s, rect);
+            }
+        }
     }
 
     /// Adds the graph edges of a formula cell.

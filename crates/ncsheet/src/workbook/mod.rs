@@ -113,8 +113,6 @@ pub enum WorkbookError {
     BadName(String),
     /// A sheet more than a workbook can number (its ids are 16-bit).
     TooManySheets,
-    /// A tab moved or added into or out of a 3-D reference's span of sheets, and why.
-    SheetSpan(String),
     /// Deleting the named sheet would leave no visible sheet.
     LastVisibleSheet(String),
     /// A formula (of a cell or a name) that does not parse; `text` is what was typed.
@@ -133,7 +131,6 @@ impl fmt::Display for WorkbookError {
             WorkbookError::BadName(s) => write!(f, "'{s}' cannot be a defined name"),
             WorkbookError::CannotShift(why) => write!(f, "cannot insert or delete cells: {why}"),
             WorkbookError::TooManySheets => write!(f, "a workbook holds at most {} sheets", MAX_SHEETS),
-            WorkbookError::SheetSpan(why) => write!(f, "{why}"),
             WorkbookError::LastVisibleSheet(s) => {
                 write!(f, "sheet '{s}' is the last visible one, and a workbook must contain at least one visible sheet")
             }
@@ -1115,6 +1112,10 @@ impl Env for Workbook {
 
     fn tab_position(&self, sheet: SheetId) -> usize {
         Workbook::tab_position(self, sheet).unwrap_or(sheet as usize)
+    }
+
+    fn sheets_spanned(&self, first: SheetId, last: SheetId) -> Vec<SheetId> {
+        Workbook::sheets_spanned(self, first, last).to_vec()
     }
 
     fn sheet_id(&self, name: &str) -> Option<SheetId> {

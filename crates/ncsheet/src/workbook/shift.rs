@@ -495,7 +495,10 @@ fn follow(r: &Reference, home: SheetId, from: Pos, to: Pos, edited: SheetId, edi
     let target = match &r.sheet {
         SheetRef::Current => home,
         SheetRef::Id(id) => *id,
-        SheetRef::Missing(_) => return Followed::Same,
+        // A 3-D reference names the same cells on several sheets: rows or columns inserted
+        // on one of them leave it as it is (Excel moves it only when every sheet of the span
+        // is edited at once, sheets grouped, which no edit here does).
+        SheetRef::Missing(_) | SheetRef::Span(..) => return Followed::Same,
     };
     let Some((_, rect)) = r.resolve(home, from) else { return Followed::Same };
     let rect = if target == edited { follow_rect(rect, &r.shape, edit) } else { Some(rect) };

@@ -4,21 +4,15 @@
 //! `Sheets.Add Before:=`, `ws.Copy`/`ws.Move` change without touching any id.
 
 use crate::eval::functions;
-use crate::formula::ast::{ExprKind, SheetId};
+use crate::formula::ast::{Expr, ExprKind, SheetId, SheetRef};
 
 use super::{Workbook, WorkbookError, NO_FORMULA};
 
-/// The tab order, and what holds it in place.
+/// The tab order.
 #[derive(Default)]
 pub(super) struct Tabs {
     /// The sheets' ids in tab order.
     pub(super) order: Vec<SheetId>,
-    /// The sheet spans (first, last) of the file's 3-D references (`Sheet1:Sheet3!A1`). Such
-    /// a reference means the sheets whose tabs lie between its ends, and was read as the list
-    /// of the sheets between them then: a tab moved or added in or out of a span would make
-    /// Excel's reference take other sheets, so it is refused. A set: a file may hold many
-    /// 3-D references over few spans; ordered, so the first span refused is always the same.
-    spans: std::collections::BTreeSet<(SheetId, SheetId)>,
 }
 
 impl Workbook {
@@ -47,13 +41,12 @@ impl Workbook {
         self.tabs.order.get(position).copied()
     }
 
-    /// Notes that a formula of the file was read from a 3-D reference spanning the tabs from
-    /// `first` to `last` (its list of sheets): no tab may then move or be added in or out of
-    /// the span.
-    pub fn note_sheet_span(&mut self, first: SheetId, last: SheetId) {
-        if first != last {
-            self.tabs.spans.insert((first, last));
-        }
+    /// The sheets a 3-D reference from `first` to `last` (`Sheet1:Sheet3!A1`) takes: those
+    /// whose tabs lie between the two, ends included, in tab order, whichever end comes
+    /// first; none when either is not a sheet of the workbook.
+    pub fn sheets_spanned(&self, first: SheetId, last: SheetId) -> &[SheetId] {
+        let (Some(a), Some(b)) = (self.tab_position(first), self.tab_position(last)) else { return &[] };
+        &self.tabs.order[a.min(b)..=a.max(b)]
     }
 
     /// Moves `sheet`'s tab so that it shows at `position` (from 0, among all the tabs; past
@@ -68,7 +61,6 @@ impl Workbook {
             let mut order = self.tabs.order.clone();
             order.remove(from);
             order.insert(to, sheet);
-            self.check_spans(&order)?;
             self.tabs.order = order;
             self.tabs_moved();
         }
@@ -92,7 +84,6 @@ impl Workbook {
         let new_ids = (self.sheets.len()..self.sheets.len() + names.len()).map(|id| id as SheetId);
         let mut order = self.tabs.order.clone();
         order.splice(at..at, new_ids);
-        self.check_spans(&order)?;
         let mut ids = Vec::with_capacity(names.len());
         for name in names {
             ids.push(self.add_sheet(name)?);
@@ -105,74 +96,34 @@ impl Workbook {
         Ok(ids)
     }
 
-    /// Takes the tab of `sheet` (being deleted) out of the order. Refused when a 3-D
-    /// reference of the file takes that sheet: the file's `Sheet1:Sheet3!A1` was read as the
-    /// list of its sheets, and Excel, deleting a sheet of the span, drops it from the span
-    /// (the end moving inward when it is an end), where a list holding it would become
-    /// `#REF!`; a list typed so cannot be told from one read from a span.
+    /// Takes the tab of `sheet` (being deleted) out of the order.
     pub(super) fn remove_tab(&mut self, sheet: SheetId) -> Result<(), WorkbookError> {
-        let at = |s: SheetId| self.tabs.order.iter().position(|&t| t == s);
-        let here = at(sheet).ok_or_else(|| WorkbookError::NoSuchSheet(format!("number {}", sheet as usize + 1)))?;
-        for &(first, last) in &self.tabs.spans {
-            let (Some(a), Some(b)) = (at(first), at(last)) else { continue };
-            if (a.min(b)..=a.max(b)).contains(&here) {
-                let names = self.sheet_names();
-                return Err(WorkbookError::SheetSpan(format!(
-                    "sheet '{}' is one of the sheets of a 3-D reference of the file ({}:{}), which ncsheet holds \
-                     as the list of those sheets: Excel would take the sheet out of the reference, ncsheet \
-                     cannot, so the sheet is not deleted",
-                    names[sheet as usize], names[first as usize], names[last as usize],
-                )));
-            }
-        }
+        let here = self.tabs.order.iter().position(|&t| t == sheet);
+        let here = here.ok_or_else(|| WorkbookError::NoSuchSheet(format!("number {}", sheet as usize + 1)))?;
         self.tabs.order.remove(here);
         Ok(())
     }
 
-    /// Refuses a tab order in which a 3-D reference of the file would span other sheets than
-    /// it was read with.
-    fn check_spans(&self, order: &[SheetId]) -> Result<(), WorkbookError> {
-        let members = |order: &[SheetId], (a, b): (SheetId, SheetId)| {
-            let at = |s| order.iter().position(|&t| t == s).unwrap_or(0);
-            let (i, j) = (at(a).min(at(b)), at(a).max(at(b)));
-            let mut sheets = order[i..=j].to_vec();
-            sheets.sort_unstable();
-            sheets
-        };
-        for &span in &self.tabs.spans {
-            let (was, would) = (members(&self.tabs.order, span), members(order, span));
-            if was != would {
-                let names = self.sheet_names();
-                let name = |s: &SheetId| names.get(*s as usize).map_or("a new sheet", String::as_str);
-                let listed = |ids: &[SheetId]| ids.iter().map(name).collect::<Vec<_>>().join(", ");
-                return Err(WorkbookError::SheetSpan(format!(
-                    "a 3-D reference of the file ({}:{}) takes the sheets between its ends, read as {}; with \
-                     this order it would take {}, and Excel's result would change: move or add the sheet \
-                     outside the span",
-                    names[span.0 as usize],
-                    names[span.1 as usize],
-                    listed(&was),
-                    listed(&would),
-                )));
-            }
-        }
-        Ok(())
-    }
-
-    /// After tabs moved: a file saved back has to list its sheets anew, and SHEET reads the
-    /// new places.
+    /// After tabs moved: a file saved back has to list its sheets anew, SHEET reads the new
+    /// places, and a 3-D reference takes the sheets now between its ends (its graph edges
+    /// made anew: an edge is removed as it was added, by the tab order of the time).
     fn tabs_moved(&mut self) {
         if let Some(log) = &mut self.changes {
             log.sheets = true;
         }
         let readers = self.cells_reading_tab_order();
         if !readers.is_empty() {
+            let spans_in = |e: &Expr| holds_sheet_span(e);
+            if self.formulas.formulas.iter().any(|f| spans_in(&f.expr)) || self.names.iter().any(|n| spans_in(&n.expr))
+            {
+                self.rebuild_graph();
+            }
             self.recalculate_from(readers);
         }
     }
 
-    /// The formula cells whose value may depend on the tab order: those calling SHEET, and
-    /// those using a defined name or calling a function by name (a LAMBDA's name), whose
+    /// The formula cells whose value may depend on the tab order: those calling SHEET or
+    /// holding a 3-D reference, and those using a defined name or calling a function by name (a LAMBDA's name), whose
     /// formula may call SHEET in turn. Tabs rarely move: recomputing every cell that uses a
     /// name costs less than following names through each other.
     fn cells_reading_tab_order(&self) -> Vec<u32> {
@@ -182,6 +133,7 @@ impl Workbook {
                 found |= match &e.kind {
                     ExprKind::Call(id, _) => functions::spec(*id).name == "SHEET",
                     ExprKind::Name(_) | ExprKind::SheetName(..) | ExprKind::UnknownCall(..) => true,
+                    ExprKind::Ref(r) => matches!(r.sheet, SheetRef::Span(..)),
                     _ => false,
                 };
             });
@@ -200,6 +152,13 @@ impl Workbook {
             })
             .collect()
     }
+}
+
+/// Whether `e` holds a 3-D reference (`Sheet1:Sheet3!A1`).
+fn holds_sheet_span(e: &Expr) -> bool {
+    let mut found = false;
+    e.visit_refs(&mut |r| found |= matches!(r.sheet, SheetRef::Span(..)));
+    found
 }
 
 #[cfg(test)]
@@ -273,19 +232,38 @@ mod tests {
         assert!(matches!(wb.move_sheet(7, 0), Err(WorkbookError::NoSuchSheet(_))));
     }
 
-    // A 3-D reference takes the sheets whose tabs lie between its ends.
+    // A 3-D reference takes the sheets whose tabs lie between its ends, as they lie when it
+    // is read ("Create a 3-D reference to the same cell range on multiple worksheets": a sheet
+    // inserted or moved between the ends is added to it, one moved out is removed).
     #[test]
-    fn a_tab_cannot_cross_the_ends_of_a_3d_span() {
-        let mut wb = book(&["A", "B", "C", "D", "E"]);
-        wb.note_sheet_span(0, 3);
-        assert!(matches!(wb.move_sheet(4, 1), Err(WorkbookError::SheetSpan(_))));
-        assert!(matches!(wb.move_sheet(1, 4), Err(WorkbookError::SheetSpan(_))));
-        assert!(matches!(wb.insert_sheets(&["N".into()], 2), Err(WorkbookError::SheetSpan(_))));
-        assert_eq!((wb.sheet_len(), wb.tab_names()), (5, ["A", "B", "C", "D", "E"].map(String::from).to_vec()));
-        // Within the span, or at its edges, the same sheets stay between its ends.
-        wb.move_sheet(1, 2).unwrap();
-        wb.insert_sheets(&["N".into()], 0).unwrap();
-        wb.move_sheet(4, 6).unwrap();
-        assert_eq!(wb.tab_names(), ["N", "A", "C", "B", "D", "E"]);
+    fn a_3d_reference_takes_the_tabs_between_its_ends() {
+        let mut wb = book(&["Jan", "Feb", "Mar", "Apr", "Sum"]);
+        for (sheet, v) in [(0, "1"), (1, "2"), (2, "4"), (3, "8")] {
+            wb.set_input(sheet, Pos::new(0, 0), v).unwrap();
+        }
+        wb.set_input(4, Pos::new(0, 0), "=SUM(Jan:Mar!A1)").unwrap();
+        let sum = |wb: &Workbook| wb.value(4, Pos::new(0, 0));
+        assert_eq!(sum(&wb), Value::Number(7.0));
+        wb.move_sheet(3, 1).unwrap();
+        assert_eq!(sum(&wb), Value::Number(15.0), "Apr moved between the ends: 1+8+2+4");
+        let new = wb.insert_sheets(&["New".into()], 2).unwrap()[0];
+        wb.set_input(new, Pos::new(0, 0), "100").unwrap();
+        assert_eq!(sum(&wb), Value::Number(115.0), "a sheet inserted between the ends is read, and followed");
+        wb.move_sheet(1, 9).unwrap();
+        assert_eq!(wb.tab_names(), ["Jan", "Apr", "New", "Mar", "Sum", "Feb"]);
+        assert_eq!(sum(&wb), Value::Number(113.0), "Feb moved past the end leaves: 1+8+100+4");
+        wb.set_input(1, Pos::new(0, 0), "1000").unwrap();
+        assert_eq!(sum(&wb), Value::Number(113.0));
+        // Excel quotes the two ends as one when either needs quotes; a cell's name before the
+        // colon is a range to another sheet's cell, no span; alone, a span is no one value.
+        wb.rename_sheet(2, "Mar 24").unwrap();
+        assert_eq!(wb.formula(4, Pos::new(0, 0)).as_deref(), Some("=SUM('Jan:Mar 24'!A1)"));
+        for typed in ["=A1:Jan!B1", "=SUM('Jan:Mar 24'!A1:B2)*2"] {
+            wb.set_input(4, Pos::new(1, 0), typed).unwrap();
+            assert_eq!(wb.formula(4, Pos::new(1, 0)).as_deref(), Some(typed));
+        }
+        assert_eq!(wb.value(4, Pos::new(1, 0)), Value::Number(226.0));
+        wb.set_input(4, Pos::new(1, 0), "=Jan:Apr!A1").unwrap();
+        assert_eq!(wb.value(4, Pos::new(1, 0)), Value::Error(crate::eval::XlError::Value));
     }
 }

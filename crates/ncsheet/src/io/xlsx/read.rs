@@ -152,13 +152,8 @@ pub fn load_bytes_limited(bytes: &[u8], file: &Path, limits: ReadLimits) -> Resu
     if imported.layout.external_links > 0 {
         imported.layout.links.parts = link_parts(&mut package);
     }
-    let mut book = BookParts {
-        tables,
-        sheet_names: imported.workbook.sheet_names(),
-        links,
-        range_names: HashSet::new(),
-        sheet_spans: Default::default(),
-    };
+    let mut book =
+        BookParts { tables, sheet_names: imported.workbook.sheet_names(), links, range_names: HashSet::new() };
     define_names(&mut imported, &package, &sheets, &ids, &book);
     book.range_names = range_names(&imported.workbook);
 
@@ -179,9 +174,6 @@ pub fn load_bytes_limited(bytes: &[u8], file: &Path, limits: ReadLimits) -> Resu
         hide_rows(&mut imported.workbook, &mut package, entry, sheet, &scan);
         set_widths(&mut imported.workbook, sheet, &scan);
         scans.push((entry.name.clone(), scan));
-    }
-    for (first, last) in book.sheet_spans.take() {
-        imported.workbook.note_sheet_span(first as SheetId, last as SheetId);
     }
     // After the sheets: calamine reads the first one up to its cells, which the pass above
     // has held to the limits.
@@ -601,11 +593,8 @@ fn typed_formula<'t>(text: &'t str, book: &BookParts, sheet: SheetId, pos: Pos) 
 /// [`typed_formula`] of a formula that reads only this workbook.
 fn local_formula<'t>(text: &'t str, book: &BookParts, sheet: SheetId, pos: Pos) -> Cow<'t, str> {
     let name = |s: SheetId| book.sheet_names.get(s as usize).cloned().unwrap_or_default();
-    let spanned = &mut |a: usize, b: usize| _ = book.sheet_spans.borrow_mut().insert((a, b));
-    match tables::resolve_structured(text, &book.tables, sheet, pos, &name) {
-        Cow::Borrowed(text) => sheet_span::expand_sheet_spans(text, &book.sheet_names, spanned),
-        Cow::Owned(text) => Cow::Owned(sheet_span::expand_sheet_spans(&text, &book.sheet_names, spanned).into_owned()),
-    }
+    // A 3-D reference (`Sheet1:Sheet3!A1`) stays as written: the formula language reads it.
+    tables::resolve_structured(text, &book.tables, sheet, pos, &name)
 }
 
 /// What formulas of the file may name besides cells: tables, sheets (by tab order), and
@@ -617,8 +606,6 @@ struct BookParts {
     /// Defined names (lowercase) that name ranges: formulas using them are candidates for
     /// implicit intersection like those with a range in their text.
     range_names: HashSet<String>,
-    /// The (first, last) sheets of the 3-D references read, which hold those tabs in place.
-    sheet_spans: std::cell::RefCell<HashSet<(usize, usize)>>,
 }
 
 /// One worksheet on its way in.
