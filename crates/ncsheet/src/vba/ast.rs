@@ -89,6 +89,9 @@ pub struct Part {
     pub first_line: u32,
     /// A class module: its procedures are members of its objects, not names of the project.
     pub class: bool,
+    /// A class module with `Attribute VB_PredeclaredId = True` (as exported .cls files and
+    /// UserForms carry): it has a default instance named after the class (`classes.rs`).
+    pub predeclared: bool,
 }
 
 impl Module {

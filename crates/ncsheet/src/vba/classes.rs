@@ -15,7 +15,7 @@ use crate::eval::functions::vba::errors;
 use crate::eval::{Ctx, Value};
 use crate::formula::ast::{Expr, ExprKind};
 
-use super::ast::{Arg, ClassDef, Link, Made, Node, Part, ProcKind, PropertyKind, Span, Ty};
+use super::ast::{Arg, ClassDef, Link, Made, Node, Part, ProcKind, PropertyKind, Span, Stmt, StmtKind, Ty, VarDecl};
 use super::collections::{var_obj, Handle};
 use super::interp::{Call, Fault, Interp, Run};
 use super::value::{array_var, convert, range_var, Obj, Slots, Var};
@@ -98,6 +98,48 @@ pub(super) fn class_defs(parts: &[Part]) -> Vec<ClassDef> {
             implements: Vec::new(),
         })
         .collect()
+}
+
+/// Whether a class module's source gives it a default instance: `Attribute VB_PredeclaredId
+/// = True`, which the VBA editor keeps in the module's stored source and in an exported .cls
+/// (a UserForm's is always True; a class's is False unless the file was edited).
+pub(super) fn has_predeclared_id(source: &str) -> bool {
+    source.lines().any(|line| {
+        let words = line.trim().to_ascii_lowercase();
+        let Some(rest) = words.strip_prefix("attribute ") else { return false };
+        let Some((name, value)) = rest.split_once('=') else { return false };
+        name.trim() == "vb_predeclaredid" && matches!(value.trim(), "true" | "-1")
+    })
+}
+
+/// The default instances of the project's predeclared classes (by name and class): each a
+/// Public variable of the module run first, declared `As New` its class, so that `Point.Create`
+/// makes the object at its first use and every module reaches the one object for the whole
+/// run ([MS-VBAL] 5.2.4.1.2, "Default Instance Variables": a variable "with module extent as
+/// if declared in a <module-variable-declaration> containing an <as-autoobject>", named
+/// after the class).
+pub(super) fn default_instances(parts: &[Part]) -> Vec<(Rc<str>, Made)> {
+    let classes = parts.iter().filter(|p| p.class).enumerate();
+    classes.filter(|(_, p)| p.predeclared).map(|(i, p)| (p.name.clone(), Made::Object(i))).collect()
+}
+
+/// [`default_instances`] as module-level declarations of the first module (line 1 is in it).
+pub(super) fn default_instance_declarations(parts: &[Part]) -> Vec<Stmt> {
+    let span = Span { line: 1, col: 1 };
+    let declare = |(name, made): (Rc<str>, Made)| VarDecl {
+        name,
+        ty: Some(Ty::Object),
+        bounds: None,
+        new: Some(made),
+        span,
+        field: None,
+        item: None,
+    };
+    let vars: Vec<VarDecl> = default_instances(parts).into_iter().map(declare).collect();
+    if vars.is_empty() {
+        return Vec::new();
+    }
+    vec![Stmt { kind: StmtKind::Dim(vars), span }]
 }
 
 impl Interp<'_, '_> {

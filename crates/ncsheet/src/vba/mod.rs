@@ -117,7 +117,10 @@
 //! one tab inward), the sheet to its right (else left) becomes active; the last visible
 //! sheet is error 1004, and a Worksheet or Range variable of a deleted sheet is error 424 ("Object required"). `ActiveCell` and
 //! `Selection` start at the sheet's active cell as the file saved it ([`RunOptions::active_cells`])
-//! and follow `Select`/`Activate`. In a sheet's module ([`Document::Sheet`]) `Range`, `Cells`
+//! and follow `Select`/`Activate`. `Intersect(r1, r2, …)` (Nothing when they share no cell)
+//! and `Union(r1, r2, …)` (one rectangle; a union of separate areas is refused), also as
+//! `Application.` members; `Parent` (a Range's Worksheet, a Worksheet's Workbook) and
+//! `Application` of every Excel object. In a sheet's module ([`Document::Sheet`]) `Range`, `Cells`
 //! and `[B3]` mean that sheet and `Me` is it; sheets' code names (`Sheet1`) are objects.
 //! A write is typed into the cell (text starting with `=` is a formula, as in VBA) and
 //! recalculates what depends on it before the next statement.
@@ -218,6 +221,10 @@
 //! let go (not at the end of the run for module-level variables). A member of Nothing is
 //! VBA's error 91, a member the class has not error 438. `Dim x As New Class1` makes the
 //! object at its first use, and again at a use after `Set x = Nothing` (auto-instantiation).
+//! A class whose file says `Attribute VB_PredeclaredId = True` (an exported .cls, or the
+//! project's stored source) has a default instance named after it, made at its first use and
+//! kept for the run: `Set p = Point.Create(1, 2)`, `Point.Scale = 2`. `CallByName(obj, "Name",
+//! VbGet)` (VbMethod, VbLet, VbSet) runs the member a text names, of any object the macro holds.
 //! Arrays hold objects (`Set a(i) = New Class1`). A class that `Implements IShape` answers
 //! `s.Area` with its `IShape_Area`, whatever `s` is declared as (`TypeOf` is not there). Not
 //! there: events (`WithEvents`, `RaiseEvent`), default members; a class module the grammar
@@ -253,6 +260,7 @@ mod interp;
 mod library;
 mod longlong;
 mod nc;
+mod object_model;
 mod objects;
 mod operators;
 pub mod ovba;
@@ -686,7 +694,7 @@ fn join_project(
         return (None, Vec::new());
     }
     let mut out = source.to_string();
-    let mut parts = vec![ast::Part { name: own_name.into(), first_line: 1, class: false }];
+    let mut parts = vec![ast::Part { name: own_name.into(), first_line: 1, class: false, predeclared: false }];
     let classes = classes.iter().filter(|(_, source)| parser::in_grammar(source));
     let modules = others.iter().map(|m| (m, false)).chain(classes.map(|c| (c, true)));
     for ((name, other), class) in modules {
@@ -694,7 +702,8 @@ fn join_project(
             out.push_str("\r\n");
         }
         let first_line = out.matches('\n').count() as u32 + 1;
-        parts.push(ast::Part { name: name.as_str().into(), first_line, class });
+        let predeclared = class && classes::has_predeclared_id(other);
+        parts.push(ast::Part { name: name.as_str().into(), first_line, class, predeclared });
         for line in other.lines() {
             if !left_out_of_joined_module(line) {
                 out.push_str(line);

@@ -13,6 +13,7 @@ use crate::formula::print::{print_spelled, R1C1};
 
 use super::ast::{Link, Node, Path, Span, Ty};
 use super::interp::{Interp, Run, XL_A1, XL_R1C1};
+use super::object_model::RangeSet;
 use super::sheet_ops::{visibility_value, Direction};
 use super::value::{print_text, Obj, Var};
 
@@ -169,6 +170,9 @@ impl Interp<'_, '_> {
             "debug" => Ok(Obj::Debug),
             "msgbox" => self.msgbox(ctx, link),
             "evaluate" => self.evaluate(ctx, here, link),
+            "callbyname" => self.call_by_name(ctx, link),
+            "intersect" => self.range_set(link, RangeSet::Intersect),
+            "union" => self.range_set(link, RangeSet::Union),
             // Resolved so only when the run has files (`files.rs`).
             "freefile" | "eof" | "lof" | "loc" | "seek" | "createobject" | "kill" | "dir" | "filelen"
             | "filedatetime" | "filecopy" | "mkdir" | "rmdir" => self.file_root(ctx, link),
@@ -180,8 +184,11 @@ impl Interp<'_, '_> {
         }
     }
 
-    fn member(&self, ctx: &mut Ctx, obj: Obj, link: &Link) -> Run<Obj> {
+    pub(super) fn member(&self, ctx: &mut Ctx, obj: Obj, link: &Link) -> Run<Obj> {
         let obj = self.alive(obj, link.span)?;
+        if let Some(family) = self.family_member(&obj, link) {
+            return Ok(family);
+        }
         let name = lower(link);
         match obj {
             Obj::App => match name.as_str() {
@@ -200,6 +207,8 @@ impl Interp<'_, '_> {
                 // Windows Excel's: a macro joins its paths with it (`files.rs` reads both).
                 "pathseparator" => Ok(Obj::Value(Value::text("\\"))),
                 "run" => self.application_run(link),
+                "intersect" => self.range_set(link, RangeSet::Intersect),
+                "union" => self.range_set(link, RangeSet::Union),
                 // File dialogs: no user answers them, and the sandbox names the folder.
                 "getsaveasfilename" | "getopenfilename" | "filedialog" => Err(self.fault_at(
                     link.span,
@@ -792,7 +801,7 @@ impl Interp<'_, '_> {
         }
     }
 
-    fn set_member(&self, ctx: &mut Ctx, obj: Obj, link: &Link, value: &Expr) -> Run<()> {
+    pub(super) fn set_member(&self, ctx: &mut Ctx, obj: Obj, link: &Link, value: &Expr) -> Run<()> {
         if let Some(done) = self.set_look(&obj, link, value) {
             return done;
         }

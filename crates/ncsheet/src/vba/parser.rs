@@ -177,6 +177,7 @@ pub fn parse_module_with_files(
             _ => {}
         }
     }
+    out.globals.extend(super::classes::default_instance_declarations(&b.parts));
     out.parts = b.parts.clone();
     out.public_names = b.public_names();
     out.options = b.options.take();
@@ -525,6 +526,9 @@ impl<'s> Build<'s> {
             for name in names {
                 self.declare_module_name(&name, Owner { part, public: declared_public(item) });
             }
+        }
+        for (name, _) in super::classes::default_instances(&self.parts) {
+            self.declare_module_name(&name, Owner { part: 0, public: true });
         }
     }
 

@@ -19,7 +19,6 @@ use super::parser::{arity_message, start, Build, Res, Signature};
 /// them; the parser says so instead of "not defined".
 pub(super) const FORBIDDEN: &[&str] = &[
     "appactivate",
-    "callbyname",
     "chdir",
     "chdrive",
     "close",
@@ -71,12 +70,14 @@ const OBJECTS: &[&str] = &[
     "activesheet",
     "activeworkbook",
     "application",
+    "callbyname",
     "cells",
     "columns",
     "debug",
     "err",
     "evaluate",
     "inputbox",
+    "intersect",
     "msgbox",
     "nc",
     "range",
@@ -84,6 +85,7 @@ const OBJECTS: &[&str] = &[
     "selection",
     "sheets",
     "thisworkbook",
+    "union",
     "worksheetfunction",
     "worksheets",
 ];
@@ -182,6 +184,11 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "vbbyte" => number(17.0),
         "vblonglong" => number(20.0),
         "vbarray" => number(8192.0),
+        // "CallByName function": VbCallType.
+        "vbmethod" => number(1.0),
+        "vbget" => number(2.0),
+        "vblet" => number(4.0),
+        "vbset" => number(8.0),
         // "DateDiff function": its firstdayofweek and firstweekofyear constants (vbUseSystem
         // is both's 0), for DateDiff, DatePart, Weekday and WeekdayName.
         "vbusesystem" | "vbusesystemdayofweek" => number(0.0),
@@ -660,9 +667,22 @@ impl Build<'_> {
         self.check_path(pair, &path)?;
         let root = &path.links[0];
         if !self.is_var(&root.name) && !self.is_object(&lower_bare(&root.name)) {
-            return Err(self.error_at(pair, format!("{} is not an object or a variable", root.name)));
+            return Err(self.error_at(pair, self.not_an_object(&root.name)));
         }
         Ok(self.node(Node::Path(path), at, end))
+    }
+
+    /// Why a path's first name is refused; a class module's name says what would make it an
+    /// object ([MS-VBAL] 5.2.4.1.2: only a class with `VB_PredeclaredId = True` has an object
+    /// named after it).
+    fn not_an_object(&self, name: &str) -> String {
+        if !self.parts.iter().any(|p| p.class && p.name.eq_ignore_ascii_case(name)) {
+            return format!("{name} is not an object or a variable");
+        }
+        format!(
+            "{name} is a class module without a default instance (its file does not say Attribute \
+             VB_PredeclaredId = True): make an object with New {name}"
+        )
     }
 
     /// Refuses paths that reach files (`Workbooks.Open`, `ThisWorkbook.SaveAs`).

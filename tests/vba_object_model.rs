@@ -1,0 +1,149 @@
+//! Members of VBA's and Excel's object model that real modules use (issue 31): a class
+//! module's default instance (`Attribute VB_PredeclaredId = True`), `CallByName`, the
+//! `Parent` and `Application` of Excel's objects, `Intersect` and `Union`. Each expected
+//! value is worked by hand from the page of Microsoft's reference named at the test, or from
+//! [MS-VBAL] (the VBA language specification), never from our own earlier output.
+
+use ncsheet::vba::{self, MacroError, RunOptions, RunOutput};
+use ncsheet::workbook::Workbook;
+
+/// Runs `main` on a one-sheet workbook named Book1.xlsm with the project's class modules
+/// (name, source as the VBA project stores it, `Attribute` lines included).
+fn run_with_classes(main: &str, classes: &[(&str, &str)]) -> Result<RunOutput, MacroError> {
+    let mut wb = Workbook::with_sheet();
+    let classes = classes.iter().map(|(n, s)| (n.to_string(), s.to_string())).collect();
+    let options = RunOptions { classes, workbook_name: Some("Book1.xlsm".into()), ..RunOptions::default() };
+    vba::run(&mut wb, main, "Module1.bas", &options)
+}
+
+fn printed(main: &str, classes: &[(&str, &str)]) -> Vec<String> {
+    run_with_classes(main, classes).unwrap_or_else(|e| panic!("{e}")).printed
+}
+
+/// A class as the VBA editor stores it, `predeclared` its VB_PredeclaredId; each object it
+/// makes counts itself in the standard module's `Made`.
+fn point_class(predeclared: bool) -> String {
+    let flag = if predeclared { "True" } else { "False" };
+    format!(
+        "Attribute VB_Name = \"Point\"\r\nAttribute VB_GlobalNameSpace = False\r\nAttribute VB_Creatable = False\r\n\
+         Attribute VB_PredeclaredId = {flag}\r\nAttribute VB_Exposed = False\r\n\
+         Public X As Double\r\nPublic Y As Double\r\n\
+         Private Sub Class_Initialize()\r\n    Made = Made + 1\r\nEnd Sub\r\n\
+         Public Function Create(a As Double, b As Double) As Point\r\n    Dim p As New Point\r\n    p.X = a\r\n    \
+         p.Y = b\r\n    Set Create = p\r\nEnd Function\r\n"
+    )
+}
+
+const FACTORY_MAIN: &str = "Public Made As Long\r\n\
+    Sub Main()\r\n    Debug.Print CStr(Made)\r\n    Dim q As Point\r\n    Set q = Point.Create(1, 2)\r\n    \
+    Debug.Print CStr(q.X + q.Y)\r\n    Point.X = 5\r\n    Remember\r\n    Debug.Print CStr(q Is Point) & \" \" & CStr(Made)\r\n\
+    End Sub\r\nSub Remember()\r\n    Debug.Print CStr(Point.X)\r\nEnd Sub\r\n";
+
+// [MS-VBAL] 5.2.4.1.2 "Default Instance Variables Static Semantics": a class module whose
+// VB_PredeclaredId is "True" has a default instance variable named after the class, "with
+// module extent as if declared in a <module-variable-declaration> containing an
+// <as-autoobject>": made at its first use (5.2.3.1.4 auto-instantiation), one object for
+// the whole run. So: no object before the first use (Made 0); `Point.Create` makes the
+// default instance (1) and the new one inside (2); `Point.X = 5` is seen by another
+// procedure; the object Create returned is not the default one.
+#[test]
+fn a_predeclared_class_has_one_default_instance_named_after_it() {
+    let out = printed(FACTORY_MAIN, &[("Point", &point_class(true))]);
+    assert_eq!(out, ["0", "3", "5", "False 2"]);
+}
+
+// Without the attribute (VB_PredeclaredId False, the default of a class module) `Point` names
+// no object: VBA requires `New Point` ("Object required", error 424, at run time without
+// Option Explicit). ncsheet refuses the module, naming the class and the attribute.
+#[test]
+fn a_class_without_the_attribute_has_no_default_instance() {
+    let error = run_with_classes(FACTORY_MAIN, &[("Point", &point_class(false))]).expect_err("refused");
+    assert!(error.message.contains("Point") && error.message.contains("VB_PredeclaredId"), "{error}");
+}
+
+// The same class exported by the VBA editor as Point.cls (its VERSION 1.0 CLASS header and
+// BEGIN … END block, then the Attribute lines) and given with `run --module`.
+#[test]
+fn an_exported_cls_file_keeps_its_default_instance() {
+    let dir = tempfile::tempdir().unwrap();
+    let cls = format!("VERSION 1.0 CLASS\r\nBEGIN\r\n  MultiUse = -1  'True\r\nEND\r\n{}", point_class(true));
+    std::fs::write(dir.path().join("Point.cls"), cls).unwrap();
+    std::fs::write(dir.path().join("Module1.bas"), FACTORY_MAIN).unwrap();
+    std::fs::write(dir.path().join("book.csv"), "1\n").unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_ncsheet"))
+        .current_dir(dir.path())
+        .args(["run", "book.csv", "Module1.bas", "--module", "Point.cls"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    // Debug.Print goes to standard error, before the note that no program was written.
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let lines: Vec<&str> = stderr.lines().filter(|l| !l.starts_with("ncsheet:")).map(str::trim).collect();
+    assert_eq!(lines, ["0", "3", "5", "False 2"]);
+}
+
+const RECT: &str = "Attribute VB_Name = \"Rect\"\r\nPrivate mW As Double\r\n\
+    Public Property Get W() As Double\r\n    W = mW\r\nEnd Property\r\n\
+    Public Property Let W(v As Double)\r\n    mW = v\r\nEnd Property\r\n\
+    Public Function Area(h As Double) As Double\r\n    Area = mW * h\r\nEnd Function\r\n";
+
+// "CallByName function" (Office VBA reference): `CallByName(object, procname, calltype,
+// [args()])` "executes a method of an object, or sets or returns a property"; calltype is
+// vbMethod 1, vbGet 2, vbLet 4, vbSet 8 ("VbCallType" constants). Rect.W set to 4 through
+// vbLet reads back 4 through vbGet; Area(3) is 4 * 3 = 12; a Collection's Add and Count,
+// and a Range's Value, are members as well.
+#[test]
+fn call_by_name_runs_the_member_its_text_names() {
+    let main = "Sub Main()\r\n    Dim r As New Rect\r\n    CallByName r, \"W\", VbLet, 4\r\n\
+        Debug.Print CStr(CallByName(r, \"W\", VbGet))\r\n    Debug.Print CStr(CallByName(r, \"Area\", VbMethod, 3))\r\n\
+        Dim c As New Collection\r\n    c.Add \"a\"\r\n    CallByName c, \"Add\", vbMethod, \"b\"\r\n\
+        Debug.Print CStr(CallByName(c, \"Count\", VbGet)) & c(2)\r\n\
+        CallByName Range(\"A1\"), \"Value\", VbLet, 7\r\n    Debug.Print CStr(Range(\"A1\").Value + 1)\r\n\
+        Debug.Print CStr(CallByName(Range(\"A1\"), \"Value\", 2))\r\nEnd Sub\r\n";
+    assert_eq!(printed(main, &[("Rect", RECT)]), ["4", "12", "2b", "8", "7"]);
+}
+
+// A member the object has not is VBA's run-time error 438, "Object doesn't support this
+// property or method" ("Trappable errors"), which On Error traps as Err.Number.
+#[test]
+fn call_by_name_of_a_member_the_class_has_not_is_error_438() {
+    let main = "Sub Main()\r\n    Dim r As New Rect\r\n    On Error Resume Next\r\n\
+        Debug.Print CallByName(r, \"Height\", VbGet)\r\n    Debug.Print CStr(Err.Number)\r\nEnd Sub\r\n";
+    assert_eq!(printed(main, &[("Rect", RECT)]), ["438"]);
+}
+
+// "Range.Parent property": a Range's parent is its Worksheet; "Worksheet.Parent property"
+// the Workbook; every object's `Application` property is the Application, whose ActiveSheet
+// and Worksheets are the workbook's. The sheet is Sheet1 and the workbook Book1.xlsm.
+#[test]
+fn parent_and_application_chains_reach_the_sheet_and_the_workbook() {
+    let main = "Sub Main()\r\n    Debug.Print Range(\"B2\").Parent.Name\r\n    Debug.Print ActiveSheet.Parent.Name\r\n\
+        Debug.Print Range(\"B2\").Parent.Parent.Name\r\n    Debug.Print ThisWorkbook.Application.ActiveSheet.Name\r\n\
+        Debug.Print CStr(Range(\"A1\").Application.Worksheets.Count)\r\n\
+        Debug.Print ActiveSheet.Application.ActiveSheet.Range(\"C3\").Address\r\nEnd Sub\r\n";
+    assert_eq!(printed(main, &[]), ["Sheet1", "Book1.xlsm", "Book1.xlsm", "Sheet1", "1", "$C$3"]);
+}
+
+// "Application.Intersect method": "Returns a Range object that represents the rectangular
+// intersection of two or more ranges" — A1:C3 and B2:D4 share B2:C3; ranges that share no
+// cell give Nothing (the page's example tests `If isect Is Nothing`). "Application.Union
+// method": "the union of two or more ranges" — A1:A2 and A3:A5 are A1:A5. Both are members
+// of Application and are called unqualified too.
+#[test]
+fn intersect_and_union_of_ranges() {
+    let main = "Sub Main()\r\n    Debug.Print Intersect(Range(\"A1:C3\"), Range(\"B2:D4\")).Address\r\n\
+        Debug.Print CStr(Application.Intersect(Range(\"A1\"), Range(\"C3\")) Is Nothing)\r\n\
+        Dim isect As Range\r\n    Set isect = Application.Intersect(Range(\"A1:B9\"), Range(\"B5:Z5\"), Range(\"A5:B5\"))\r\n\
+        Debug.Print isect.Address\r\n    Debug.Print Union(Range(\"A1:A2\"), Range(\"A3:A5\")).Address\r\n\
+        Debug.Print Application.Union(Range(\"B2\"), Range(\"A1:C3\")).Address\r\nEnd Sub\r\n";
+    assert_eq!(printed(main, &[]), ["$B$2:$C$3", "True", "$B$5", "$A$1:$A$5", "$A$1:$C$3"]);
+}
+
+// A union of two areas (A1 and C3) is one Range of two areas in Excel ("Areas property"),
+// which a Range here cannot hold: refused naming Union, not answered with a wrong rectangle.
+#[test]
+fn a_union_of_separate_areas_is_refused_by_name() {
+    let main = "Sub Main()\r\n    Debug.Print Union(Range(\"A1\"), Range(\"C3\")).Address\r\nEnd Sub\r\n";
+    let error = run_with_classes(main, &[]).expect_err("refused");
+    assert!(error.message.contains("Union") && error.message.contains("areas"), "{error}");
+}
