@@ -668,7 +668,6 @@ impl<'a> SheetImport<'a> {
                     imported.workbook.set_array_area_deferred(self.sheet, array.area);
                 }
             }
-            }
             Some(FormulaXml::SharedText { index, text }) => match self.shared.get(&index).cloned() {
                 // The first text of an index is its master (ECMA-376 Part 1, §18.3.1.40: "the
                 // first formula in a group of shared formulas is saved in the f element");
@@ -677,9 +676,12 @@ impl<'a> SheetImport<'a> {
                 Some((holder, master)) => {
                     self.note_second_text(imported, index, (holder, &master), pos, text);
                     self.shared_copy(imported, index, (holder, &master), pos, value);
+                }
                 None => {
                     self.shared.insert(index, (pos, text.to_string()));
                     self.formula(imported, pos, text, value, true);
+                }
+            },
             Some(FormulaXml::SharedCopy { index }) => match self.shared.get(&index).cloned() {
                 // Relative to the cell that holds the text, which need not be the top left
                 // of the shared range.
@@ -729,12 +731,16 @@ impl<'a> SheetImport<'a> {
     ) {
         if shared_text(master, holder, pos) == own {
             return;
+        }
         imported.notes.push(format!(
             "{}: cell {}: holds a text of its own for the shared formula si=\"{index}\" whose master is {}; \
              it is read as a copy of the master (the first text of a shared formula, ECMA-376 §18.3.1.40)",
             self.part,
             imported.workbook.cell_name(self.sheet, pos),
             imported.workbook.cell_name(self.sheet, holder),
+        ));
+    }
+
     /// A copy at `pos` of shared formula `index`, whose text is held at `holder`: the text
     /// moved there, or, where a relative reference of it would fall off the sheet (A1048576
     /// one row down), the holder's tree, which reads `#REF!` there as Excel's copy does (the
