@@ -199,7 +199,9 @@ fn create_temp_in(dir: &Path, target: &Path) -> io::Result<(PathBuf, File)> {
 /// the last rename are lost. Dropping it releases the lock.
 pub struct EditLock {
     _file: File,
-    target: PathBuf,
+    /// The name the edit saves to: a symbolic link is followed again at the save, so the
+    /// check reads the file the name leads to then, not only the one locked.
+    path: PathBuf,
     stamp: Stamp,
 }
 
@@ -234,7 +236,7 @@ impl EditLock {
             let named = fs::metadata(&target)?;
             if held.dev() == named.dev() && held.ino() == named.ino() {
                 let stamp = stamp_of(&target)?;
-                return Ok(EditLock { _file: file, target, stamp });
+                return Ok(EditLock { _file: file, path: path.to_path_buf(), stamp });
             }
         }
     }
@@ -250,12 +252,14 @@ impl EditLock {
         self.still(&read.0, "")
     }
 
-    /// Whether the file is still in the state `then`; an error ending in `advice` if not.
+    /// Whether the file the name leads to now is still in the state `then`; an error ending
+    /// in `advice` if not. A link pointed at another file meanwhile is a change: the save would
+    /// replace that other file, a workbook this edit never read.
     fn still(&self, then: &Stamp, advice: &str) -> io::Result<()> {
-        match stamp_of(&self.target) {
+        match resolve(&self.path).and_then(|target| stamp_of(&target)) {
             Ok(now) if now == *then => Ok(()),
             _ => Err(io::Error::other(format!(
-                "changed since ncsheet read it (another program saved it meanwhile); nothing was written, \
+                "changed since ncsheet read it (another program saved it, or pointed its link elsewhere, meanwhile); nothing was written, \
                  so that program's work is kept{advice}"
             ))),
         }
@@ -434,6 +438,30 @@ mod tests {
         // Or renames a new file over it (an editor's save): another file now.
         let lock = EditLock::acquire(&path).unwrap();
         write_bytes(&path, Options::default(), b"3,4\n").unwrap();
+        assert!(lock.unchanged().is_err());
+    }
+
+    #[test]
+    fn an_edit_lock_notices_a_link_pointed_at_another_file_since_it_was_read() {
+        // `ln -sfn other.csv link.csv` while `set link.csv --in-place` computes: the save
+        // follows the link again and would replace other.csv, unread, with book.csv's cells.
+        let dir = tempfile::tempdir().unwrap();
+        let (book, other, link) =
+            (dir.path().join("book.csv"), dir.path().join("other.csv"), dir.path().join("link.csv"));
+        put(&book, "1,2\n").unwrap();
+        put(&other, "3,4\n").unwrap();
+        symlink(&book, &link).unwrap();
+        let lock = EditLock::acquire(&link).unwrap();
+        assert!(lock.unchanged().is_ok());
+        fs::remove_file(&link).unwrap();
+        symlink(&other, &link).unwrap();
+        let e = lock.unchanged().unwrap_err();
+        assert!(e.to_string().contains("changed since ncsheet read it"), "{e}");
+        drop(lock);
+        // A plain file replaced by a link to another file is the same change.
+        let lock = EditLock::acquire(&book).unwrap();
+        fs::remove_file(&book).unwrap();
+        symlink(&other, &book).unwrap();
         assert!(lock.unchanged().is_err());
     }
 
