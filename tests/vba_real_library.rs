@@ -62,3 +62,45 @@ fn a_name_the_project_declares_hides_the_library_constant() {
     let body = "    Dim vbTab As String\n    vbTab = \"x\"\n    Debug.Print vbRed; vbTab";
     assert_eq!(printed_after(module, body), [" 7 x"]);
 }
+
+// [MS-VBAL] 5.4.1 "Statement Blocks": a line-number label starts a line, whatever statement
+// the line holds, so a module numbered line by line (as line-numbering tools write it for
+// `Erl`) numbers the lines that close blocks too: `90 End If`, `70 Else`, `100 Next i`,
+// `130 Loop`. A GoTo to such a number goes to the end of the block it closes (5.4.2.6:
+// control passes to the statement at the label).
+#[test]
+fn line_numbers_before_the_keywords_that_close_blocks() {
+    let module = "Function Evens() As String\n\
+                  10    Dim i As Long, s As String\n\
+                  20    For i = 1 To 6\n\
+                  30      If i Mod 2 = 1 Then GoTo 50\n\
+                  40      s = s & i\n\
+                  50    Next i\n\
+                  60    Evens = s\n\
+                  End Function\n";
+    let body = "10    Dim i As Long, s As String\n\
+                20    For i = 1 To 3\n\
+                30      If i = 2 Then\n\
+                40        s = s & \"two \"\n\
+                50      ElseIf i = 3 Then\n\
+                60        s = s & \"three \"\n\
+                70      Else\n\
+                80        s = s & \"one \"\n\
+                90      End If\n\
+                100   Next i\n\
+                110   Do While Len(s) < 20\n\
+                120     s = s & \".\"\n\
+                130   Loop\n\
+                140   While Len(s) < 22\n\
+                150     s = s & \"+\"\n\
+                160   Wend\n\
+                170   Select Case Len(s)\n\
+                      Case 22\n\
+                180       s = s & \"!\"\n\
+                190   End Select\n\
+                200   With Application\n\
+                210     s = s & \"|\"\n\
+                220   End With\n\
+                230   Debug.Print s; \" \"; Evens()";
+    assert_eq!(printed_after(module, body), ["one two three ......++!| 246"]);
+}
