@@ -6,7 +6,7 @@
 //! field on no axis of the table, an item hidden or absent, or a combination without records
 //! is `#REF!`.
 
-use crate::eval::dates::{serial_from_ymd, DateSystem};
+use crate::eval::dates::DateSystem;
 use crate::eval::Value;
 use crate::formula::address::{parse_rect, Pos, Rect};
 use crate::formula::ast::SheetId;
@@ -155,16 +155,9 @@ fn item_value(kind: &[u8], v: Option<&[u8]>, date_1904: bool) -> Value {
     }
 }
 
-/// `2024-01-31T06:00:00` as a date serial.
+/// `2024-01-31T06:00:00` as a date serial, read as a date cell's text is.
 fn date_serial(text: &str, date_1904: bool) -> Option<f64> {
-    let number = |range: std::ops::Range<usize>| text.get(range)?.parse::<i64>().ok();
-    let system = if date_1904 { DateSystem::From1904 } else { DateSystem::From1900 };
-    let day = serial_from_ymd(system, number(0..4)?, number(5..7)?, number(8..10)?) as f64;
-    let seconds = match (number(11..13), number(14..16), number(17..19)) {
-        (Some(h), Some(m), Some(s)) => (h * 3600 + m * 60 + s) as f64,
-        _ => 0.0,
-    };
-    Some(day + seconds / 86_400.0)
+    super::sheet_xml::iso_date_serial(text.trim(), DateSystem::from_1904_flag(date_1904))
 }
 
 impl Pivot {

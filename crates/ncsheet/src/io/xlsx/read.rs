@@ -158,7 +158,11 @@ pub fn load_bytes_limited(bytes: &[u8], file: &Path, limits: ReadLimits) -> Resu
     book.range_names = range_names(&imported.workbook);
 
     let rich_errors = package.rich_errors().map_err(fail)?;
-    let lookups = sheet_xml::CellLookups { string_count: strings.len(), rich_errors: &rich_errors };
+    let lookups = sheet_xml::CellLookups {
+        string_count: strings.len(),
+        rich_errors: &rich_errors,
+        dates: imported.workbook.date_system(),
+    };
     let mut grid_slots = 0u64;
     let mut scans = Vec::new();
     let mut legacy_ranges = Vec::new();

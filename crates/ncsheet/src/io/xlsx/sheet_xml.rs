@@ -12,6 +12,7 @@
 use std::io::Read;
 use std::rc::Rc;
 
+use crate::eval::dates::{days_in_month, serial_from_ymd, DateSystem};
 use crate::eval::{Value, XlError};
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 
@@ -117,6 +118,8 @@ pub struct CellLookups<'t> {
     /// The error each value-metadata entry stands for (`vm="n"`: entry n-1), see
     /// [`super::raw::Package::rich_errors`].
     pub rich_errors: &'t [Option<XlError>],
+    /// The workbook's date system, in which a date cell's (`t="d"`) text is a serial.
+    pub dates: DateSystem,
 }
 
 /// Streams a worksheet part: calls `on_cell` for each cell in file order and returns what
@@ -460,7 +463,11 @@ impl SheetScanner<'_> {
                 Err(()) => return Err(format!("'{raw}' is not an Excel error value")),
             },
             CellType::Str => Stored::Text(xml::unescape_excel(raw).into_owned()),
-            CellType::IsoDate => Stored::Text(raw.to_string()),
+            CellType::IsoDate if trimmed.is_empty() => return Ok(None),
+            CellType::IsoDate => match iso_date_serial(trimmed, self.lookups.dates) {
+                Some(serial) => Stored::Number(serial),
+                None => return Err(not_an_iso_date(raw)),
+            },
             CellType::InlineString => unreachable!("handled above"),
         }))
     }
@@ -545,6 +552,75 @@ fn cell_type(value: &[u8]) -> Result<CellType, ScanError> {
             return Err((ErrorKind::Damaged, format!("a cell has the unknown type t=\"{text}\"")));
         }
     })
+}
+
+/// The serial of a date cell's text (`t="d"`: ECMA-376 Part 1 §18.18.11, "a date in the ISO
+/// 8601 format", which Excel writes with its option "Save date and time values using ISO 8601
+/// date format"): `2024-01-15`, `2024-01-15T12:30:00` (fractions of a second and a final `Z`
+/// allowed) or a time alone, `12:30:00`. `None` for any other text and for a day before the
+/// workbook's first serial; kept as text, the date would silently count as no number.
+pub(super) fn iso_date_serial(text: &str, dates: DateSystem) -> Option<f64> {
+    let text = text.strip_suffix('Z').unwrap_or(text);
+    let (day, time) = match text.split_once('T') {
+        Some((day, time)) => (iso_day(day, dates)?, Some(time)),
+        None if text.contains(':') => (0, Some(text)),
+        None => (iso_day(text, dates)?, None),
+    };
+    let fraction = match time {
+        Some(time) => iso_time_of_day(time)?,
+        None => 0.0,
+    };
+    Some(day as f64 + fraction)
+}
+
+/// `YYYY-MM-DD` as the serial of that day, if it is a real day from the date system's first.
+fn iso_day(text: &str, dates: DateSystem) -> Option<i64> {
+    let mut fields = text.split('-');
+    let year = digits(fields.next()?, 4)?;
+    let month = digits(fields.next()?, 2)?;
+    let day = digits(fields.next()?, 2)?;
+    if fields.next().is_some()
+        || !(1..=12).contains(&month)
+        || day < 1
+        || day > i64::from(days_in_month(year, month as u32))
+    {
+        return None;
+    }
+    Some(serial_from_ymd(dates, year, month, day)).filter(|&serial| serial >= 0)
+}
+
+/// `hh:mm`, `hh:mm:ss` or `hh:mm:ss.fff` as a fraction of a day.
+fn iso_time_of_day(text: &str) -> Option<f64> {
+    let mut fields = text.split(':');
+    let hours = digits(fields.next()?, 2)?;
+    let minutes = digits(fields.next()?, 2)?;
+    let seconds = match fields.next() {
+        None => 0.0,
+        Some(s) => {
+            let (whole, fraction) = s.split_once('.').unwrap_or((s, ""));
+            let whole = digits(whole, 2)?;
+            if !fraction.bytes().all(|b| b.is_ascii_digit()) || (s.contains('.') && fraction.is_empty()) {
+                return None;
+            }
+            whole as f64 + format!("0.{fraction}").parse::<f64>().ok()?
+        }
+    };
+    if fields.next().is_some() || hours > 23 || minutes > 59 || seconds >= 60.0 {
+        return None;
+    }
+    Some((hours as f64 * 3600.0 + minutes as f64 * 60.0 + seconds) / 86_400.0)
+}
+
+/// A field of exactly `width` decimal digits.
+fn digits(text: &str, width: usize) -> Option<i64> {
+    (text.len() == width && text.bytes().all(|b| b.is_ascii_digit())).then(|| text.parse().ok())?
+}
+
+fn not_an_iso_date(raw: &str) -> String {
+    format!(
+        "'{raw}' is not a date as a cell of type d holds: ISO 8601 text of a day from the workbook's first \
+         date on (2024-01-15), a time (12:30:00) or both (2024-01-15T12:30:00)"
+    )
 }
 
 /// A stored number that reads as one but past the largest double (`1e400`): Excel writes
@@ -783,7 +859,8 @@ mod tests {
         let strings = strings();
         let mut out = Vec::new();
         let mut slots = 0;
-        let lookups = CellLookups { string_count: strings.len(), rich_errors: &[Some(XlError::Calc)] };
+        let lookups =
+            CellLookups { string_count: strings.len(), rich_errors: &[Some(XlError::Calc)], ..Default::default() };
         let scan = read_sheet_ahead(xml.as_bytes(), lookups, &mut slots, &mut |c| {
             out.push((cell_name(c.pos), c.value.map(|v| v.into_value(&strings)), format!("{:?}", c.formula)));
         });
@@ -819,9 +896,47 @@ mod tests {
                 Some(Value::text("a\rb")),
                 Some(Value::text("x y")),
                 Some(Value::text("n/a")),
-                Some(Value::text("2024-01-02T00:00:00")),
+                // A date cell is its serial: 2024-01-02 is 45293 days after 1899-12-30
+                // (Python: (date(2024,1,2) - date(1899,12,30)).days), as LibreOffice reads it.
+                Some(Value::Number(45293.0)),
             ]
         );
+    }
+
+    #[test]
+    fn a_date_cell_is_the_serial_of_its_iso_8601_text() {
+        // ECMA-376 Part 1 §18.18.11: t="d" holds "a date in the ISO 8601 format". Serials worked
+        // in Python, days from 1899-12-30 (1900 system, from March 1900 on) or 1904-01-01:
+        // (date(2024,1,15) - date(1899,12,30)).days = 45306, from 1904: 43844; 2024-02-29: 45351;
+        // 12:30:15.25 = (12*3600 + 30*60 + 15.25) / 86400 = 0.521009837962963.
+        let serial = |text| iso_date_serial(text, DateSystem::From1900);
+        assert_eq!(serial("2024-01-15"), Some(45306.0));
+        assert_eq!(serial("2024-01-15T06:00:00"), Some(45306.25));
+        assert_eq!(serial("2024-01-15T06:00:00Z"), Some(45306.25));
+        assert_eq!(serial("2024-02-29T00:00"), Some(45351.0));
+        assert_eq!(serial("12:30:15.25"), Some((12.0 * 3600.0 + 30.0 * 60.0 + 15.25) / 86400.0));
+        assert_eq!(iso_date_serial("2024-01-15", DateSystem::From1904), Some(43844.0));
+        for bad in [
+            "2024-13-01",
+            "2023-02-29",
+            "2024-01-15T24:00:00",
+            "2024-1-5",
+            "12:60",
+            "1899-12-30",
+            "inf",
+            "2024-01-15T06:00:00+02:00",
+            "12:30:15.",
+        ] {
+            assert_eq!(serial(bad), None, "{bad}");
+        }
+        assert_eq!(iso_date_serial("1903-12-31", DateSystem::From1904), None);
+    }
+
+    #[test]
+    fn a_date_cell_that_is_no_date_is_refused_naming_it() {
+        let xml = r#"<worksheet><sheetData><row r="1"><c r="A1" t="d"><v>2024-01-15T12:00:00</v></c><c r="B1" t="d"><v>2024-13-45</v></c></row></sheetData></worksheet>"#;
+        let e = cells(xml).unwrap_err();
+        assert!(e.contains("B1") && e.contains("'2024-13-45' is not a date as a cell of type d holds"), "{e}");
     }
 
     #[test]
