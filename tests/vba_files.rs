@@ -885,3 +885,20 @@ fn put_and_get_write_a_fixed_length_string_field_as_its_characters() {
     let file = out.files.iter().find(|(n, _)| n == "T.DAT").map(|(_, b)| b.clone()).unwrap();
     assert_eq!(file, [b'A', b'B', b' ', b' ', 1, 0]);
 }
+
+// "Put statement": "If the variable being written is a Variant of a numeric type, Put writes
+// 2 bytes identifying the VarType of the Variant and then writes the variable"; `v = 5` holds
+// an Integer (a literal's type, "TypeName function" answers Integer), so its bytes are
+// VarType 2 (vbInteger) and the 2-byte 5, and `w = 70000` a Long (3, then 4 bytes); in a
+// Binary file an array's items alone ("No descriptor is written").
+#[test]
+fn a_variant_number_is_written_with_the_type_it_holds() {
+    let out = run(
+        "Sub Main()\n    Dim a() As Integer, v, w, v2, w2\n    ReDim a(1)\n    a(0) = 1: a(1) = 2\n\
+         \x20   v = 5: w = 70000\n    Open \"V.BIN\" For Binary As #1\n    Put #1, , a\n    Put #1, , v\n    Put #1, , w\n\
+         \x20   Get #1, 5, v2\n    Get #1, , w2\n    Debug.Print TypeName(v2); v2; TypeName(w2); w2\n    Close #1\nEnd Sub\n",
+    );
+    assert_eq!(out.printed, ["Integer 5 Long 70000 "]);
+    let bytes = out.files.iter().find(|(n, _)| n == "V.BIN").map(|(_, b)| b.clone()).unwrap();
+    assert_eq!(bytes, [1, 0, 2, 0, 2, 0, 5, 0, 3, 0, 0x70, 0x11, 0x01, 0x00]);
+}

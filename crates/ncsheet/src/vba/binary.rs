@@ -136,7 +136,10 @@ impl Interp<'_, '_> {
                 // A fixed-length String is its characters alone, in a Random file too.
                 let fixed = matches!(&data.kind, ExprKind::Name(name)
                     if matches!(self.with_slot(name, |s| s.ty.clone()).flatten(), Some(Ty::FixedString(_))));
-                put_bytes(declared, &value, date, random && !fixed)
+                match self.variant_number_type(declared, data, &value) {
+                    Some(held) => held_variant_bytes(held, &value),
+                    None => put_bytes(declared, &value, date, random && !fixed),
+                }
             }
             whole @ (Var::Array(_) | Var::Record(..)) => {
                 let (ty, fixed) = match &data.kind {
@@ -170,6 +173,25 @@ impl Interp<'_, '_> {
         c.at = start + if c.random { c.record } else { bytes.len() };
         c.last = if c.random { start / c.record + 1 } else { start + bytes.len() };
         Ok(())
+    }
+
+    /// The type a Variant's number is held as, where it is not a Double or a Date (`v = 5`
+    /// holds an Integer): Put writes that type's VarType and bytes ("Put statement": "a
+    /// Variant of a numeric type" is 2 bytes of its VarType, then the variable). `None` for
+    /// any other value or declared type.
+    fn variant_number_type(&self, declared: Declared, data: &Expr, value: &Value) -> Option<Declared> {
+        if declared != Declared::Variant || !matches!(value, Value::Number(_)) {
+            return None;
+        }
+        match self.value_type(data, value) {
+            held @ (Declared::Byte
+            | Declared::Integer
+            | Declared::Long
+            | Declared::LongLong
+            | Declared::Single
+            | Declared::Currency) => Some(held),
+            _ => None,
+        }
     }
 
     /// `Get #n, [record], var`: reads what the variable's declared type says (a Variant
@@ -206,12 +228,34 @@ impl Interp<'_, '_> {
         match index {
             None => {
                 self.set_var(name, Var::Value(value), span)?;
-                self.with_slot(name, |s| s.set_holds(if date { Declared::Date } else { Declared::Variant }));
+                let holds = match (date, declared) {
+                    (true, _) => Declared::Date,
+                    (false, Declared::Variant) => self.variant_number_type_at(n, start),
+                    _ => Declared::Variant,
+                };
+                self.with_slot(name, |s| s.set_holds(holds));
             }
             Some(index) => self.set_element(name, index, value, date, span)?,
         }
         self.moved_past(n, start, read);
         Ok(())
+    }
+
+    /// The type of the number a Variant read at `start` of file `n` holds, by the VarType Put
+    /// wrote first (`Variant` where it is a Double or no number).
+    fn variant_number_type_at(&self, n: i64, start: usize) -> Declared {
+        let code = self.read_at(n, start, |reader, _| Ok(u16::from_le_bytes(reader.take()))).map_or(0, |(c, _)| c);
+        match var_type_declared(code) {
+            Some(
+                held @ (Declared::Byte
+                | Declared::Integer
+                | Declared::Long
+                | Declared::LongLong
+                | Declared::Single
+                | Declared::Currency),
+            ) => held,
+            _ => Declared::Variant,
+        }
     }
 
     /// Reads with `read` (given the reader and whether the file is Random) from file `n`'s
@@ -434,6 +478,13 @@ fn put_bytes(declared: Declared, v: &Value, date: bool, random: bool) -> Result<
     })
 }
 
+/// A Variant holding a number of the type `held`: its VarType in 2 bytes, then the number
+/// as that type's bytes.
+fn held_variant_bytes(held: Declared, v: &Value) -> Result<Vec<u8>, String> {
+    let var_type = held.var_type().expect("a numeric type has a VarType") as u16;
+    Ok([var_type.to_le_bytes().to_vec(), put_bytes(held, v, false, false)?].concat())
+}
+
 /// A String's bytes in Windows-1252: in a Random file (or a Variant) after its 2-byte length.
 fn string_bytes(v: &Value, counted: bool) -> Result<Vec<u8>, String> {
     let text = vba_text(v).map_err(|e| format!("{e} is not a text (type mismatch)"))?;
@@ -526,18 +577,27 @@ impl Reader<'_> {
         let declared = match var_type {
             0 => return Ok((Value::Blank, false)),
             1 => return Ok((Value::Null, false)),
-            2 => Declared::Integer,
-            3 => Declared::Long,
-            4 => Declared::Single,
-            5 => Declared::Double,
-            6 => Declared::Currency,
-            7 => Declared::Date,
-            8 => Declared::String,
-            11 => Declared::Boolean,
-            17 => Declared::Byte,
-            20 => Declared::LongLong,
-            other => return Err(format!("Get #: a Variant of VarType {other} is not read here")),
+            other => var_type_declared(other)
+                .ok_or_else(|| format!("Get #: a Variant of VarType {other} is not read here"))?,
         };
         self.item(declared, true, 0)
     }
+}
+
+/// The type of a Variant's value by its VarType ("VarType function": vbInteger 2 …
+/// vbLongLong 20), for the types a file holds; `None` for the rest.
+fn var_type_declared(var_type: u16) -> Option<Declared> {
+    Some(match var_type {
+        2 => Declared::Integer,
+        3 => Declared::Long,
+        4 => Declared::Single,
+        5 => Declared::Double,
+        6 => Declared::Currency,
+        7 => Declared::Date,
+        8 => Declared::String,
+        11 => Declared::Boolean,
+        17 => Declared::Byte,
+        20 => Declared::LongLong,
+        _ => return None,
+    })
 }
