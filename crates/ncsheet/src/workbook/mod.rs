@@ -153,6 +153,11 @@ pub struct Workbook {
     formulas: FormulaStore,
     ranges: RangeIndex,
     names: Vec<DefinedName>,
+    /// Where each defined name is in `names`, by its key ([`name_key`]), once there are more
+    /// than [`FEW_NAMES`]: 20,000 names took 49 s to read, each definition and each lookup
+    /// reading them all. Built on first need; [`Workbook::define_name_tree_deferred`] keeps
+    /// it, and every other change to `names` drops it ([`Workbook::forget_name_index`]).
+    name_index: std::cell::RefCell<Option<FxMap<NameKey, usize>>>,
     /// Formula text that did not parse, by cell id, with the error.
     bad_inputs: FxMap<u32, (String, ParseError)>,
     /// Of `bad_inputs`, the cells that show the value their file cached instead of `#NAME?`
@@ -815,8 +820,15 @@ impl Workbook {
         scope: Option<SheetId>,
     ) -> Result<(), WorkbookError> {
         check_name(name)?;
-        self.names.retain(|n| !(same_name(&n.name, name) && n.scope == scope));
+        if let Some(at) = self.name_position(name, scope) {
+            // Defined again: the name moves to the end, and those after it move up.
+            self.names.remove(at);
+            self.forget_name_index();
+        }
         self.names.push(DefinedName { name: name.to_string(), expr: Rc::new(expr), scope });
+        if let Some(index) = self.name_index.get_mut() {
+            index.insert(name_key(name, scope), self.names.len() - 1);
+        }
         if let Some(log) = &mut self.changes {
             log.names = true;
         }
@@ -824,6 +836,24 @@ impl Workbook {
         // any cell (the xlsx importer) has none.
         self.names_unlinked |= !self.cells.is_empty();
         Ok(())
+    }
+
+    /// Where the name `name` of `scope` is in `names`: read one by one when there are few,
+    /// else looked up in the index, built on first need.
+    fn name_position(&self, name: &str, scope: Option<SheetId>) -> Option<usize> {
+        if self.names.len() <= FEW_NAMES {
+            return self.names.iter().position(|n| n.scope == scope && same_name(&n.name, name));
+        }
+        let mut index = self.name_index.borrow_mut();
+        let index = index.get_or_insert_with(|| {
+            self.names.iter().enumerate().map(|(at, n)| (name_key(&n.name, n.scope), at)).collect()
+        });
+        index.get(&name_key(name, scope)).copied()
+    }
+
+    /// Drops the index of the defined names, after a change to `names` that does not keep it.
+    fn forget_name_index(&mut self) {
+        *self.name_index.get_mut() = None;
     }
 
     /// Defined names as trees (read as from A1 of their sheet): (name, formula, scope sheet).
@@ -1091,9 +1121,8 @@ impl Env for Workbook {
     }
 
     fn defined_name(&self, name: &str, sheet: SheetId) -> Option<(Rc<Expr>, SheetId)> {
-        let matching =
-            |scope: Option<SheetId>| self.names.iter().find(|n| n.scope == scope && same_name(&n.name, name));
-        let n = matching(Some(sheet)).or_else(|| matching(None))?;
+        let at = self.name_position(name, Some(sheet)).or_else(|| self.name_position(name, None))?;
+        let n = &self.names[at];
         Some((n.expr.clone(), n.scope.unwrap_or(sheet)))
     }
 
@@ -1246,6 +1275,17 @@ impl Workbook {
         let Some(id) = self.sheets.get(sheet as usize).and_then(|s| s.get(pos)) else { return Vec::new() };
         self.notes.get(&id).map(|ns| ns.iter().map(|n| n.message.clone()).collect()).unwrap_or_default()
     }
+}
+
+/// Up to this many defined names are looked up one by one, without the index.
+const FEW_NAMES: usize = 16;
+
+/// What identifies a defined name in the index: the name as [`same_name`] compares it
+/// (lowercased, in every script), and its scope.
+type NameKey = (String, Option<SheetId>);
+
+fn name_key(name: &str, scope: Option<SheetId>) -> NameKey {
+    (name.to_lowercase(), scope)
 }
 
 /// Whether two defined names are the same name: Excel ignores case, in every script
