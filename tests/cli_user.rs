@@ -734,6 +734,51 @@ fn show_follows_what_a_cell_reads_as_deep_as_asked() {
     assert_eq!(one_step.stdout, shallow.stdout);
 }
 
+#[test]
+fn show_holds_all_its_ranges_together_to_its_cell_limit() {
+    // Each of two ranges is 100,000 cells, the most `show` describes at once (docs/limits.md);
+    // together they are 200,000, which one range of that size is refused for.
+    let dir = tempfile::tempdir().unwrap();
+    let book = write(dir.path(), "two.csv", "1,2\n3,4\n");
+    let run = ncsheet(&["show", &book, "A1:J10000", "A1:J10000"]);
+    assert_eq!(run.code, 1, "{}", run.stderr);
+    assert!(run.stdout.is_empty(), "nothing is described before the refusal");
+    assert!(run.stderr.contains("the ranges are 200000 cells in all, more than the 100000"), "{}", run.stderr);
+}
+
+#[test]
+fn show_names_the_first_hundred_cells_a_cell_is_read_by_and_counts_the_rest() {
+    // A1 read by B1:B150 (each =$A$1): 150 readers, of which the first 100 are named.
+    let dir = tempfile::tempdir().unwrap();
+    let book = write(dir.path(), "readers.csv", &format!("1,=$A$1\n{}", ",=$A$1\n".repeat(149)));
+    let run = ncsheet(&["show", &book, "A1"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let read_by = run.stdout.lines().find(|l| l.trim_start().starts_with("read by")).expect(&run.stdout);
+    assert!(read_by.contains("B1, B2,") && read_by.contains(", B100, … (50 more, 150 in all)"), "{read_by}");
+    assert!(!read_by.contains("B101"), "{read_by}");
+}
+
+#[test]
+fn show_finds_the_names_of_a_place_once_in_a_workbook_of_many_names() {
+    // 100,000 names, each of one cell of column C; A1 is named by nm_0 only. Reading every
+    // name for each place took minutes a cell at 20,000 names.
+    let dir = tempfile::tempdir().unwrap();
+    let mut wb = Workbook::with_sheet();
+    wb.set_input(0, Pos::new(0, 0), "7").unwrap();
+    wb.set_input(0, Pos::new(0, 1), "=A1*2").unwrap();
+    wb.define_name("nm_0", "=Sheet1!$A$1", None).unwrap();
+    for i in 1..100_000 {
+        wb.define_name_deferred(&format!("nm_{i}"), &format!("=Sheet1!$C${i}"), None).unwrap();
+    }
+    wb.recalculate();
+    let path = dir.path().join("names.xlsx");
+    ncsheet::io::save(&wb, &path).unwrap();
+    let run = ncsheet(&["show", path.to_str().unwrap(), "A1:B1"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(run.stdout.contains("Sheet1!A1 (nm_0)") || run.stdout.contains("A1 (nm_0)"), "{}", run.stdout);
+    assert!(run.stdout.contains("reads    A1 (nm_0)"), "{}", run.stdout);
+}
+
 // ---------------------------------------------------------------------------------------
 // 9. the help as a user meets it (issue 26)
 
