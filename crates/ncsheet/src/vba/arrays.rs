@@ -97,12 +97,15 @@ impl Interp<'_, '_> {
     }
 
     pub fn element(&self, ctx: &mut Ctx, name: &str, index: &[Expr], span: Span) -> Run<Operand> {
+        let plain = self.peek(name, |held| matches!(held, Var::Array(_))) == Some(true);
         // An item growing in place (`append.rs`) is read without making the array anew.
         if let Some(read) = self.growing_element(ctx, name, index, span) {
             return read;
         }
-        if let Some(Var::Obj(Obj::Store(h))) = self.lookup(name) {
-            return self.store_operand(ctx, &h, index, span);
+        if !plain {
+            if let Some(h) = self.store_named(name) {
+                return self.store_operand(ctx, &h, index, span);
+            }
         }
         let mut at = Vec::new();
         for e in index {
@@ -110,6 +113,19 @@ impl Interp<'_, '_> {
             self.take_pending()?;
             let n = self.number_of(&v, "the index").map_err(|m| self.fault_at(self.expr_span(e), m))?;
             at.push(n.round_ties_even() as i64);
+        }
+        // The usual item, a plain value, is read in place without copying the array's
+        // description (the index may have changed the variable: it is looked at again).
+        let read = self.peek(name, |held| match held {
+            Var::Array(a) if a.records.is_none() && a.exact.is_none() && a.objects.is_none() => {
+                Some(self.element_at(a, &at).map(|k| (a.data.data[k].clone(), a.held(k))))
+            }
+            _ => None,
+        });
+        if let Some(Some(read)) = read {
+            let (value, held) = read.map_err(|m| self.subscript_error(span, name, m))?;
+            self.gave.set(held);
+            return Ok(Operand::Value(value));
         }
         match self.lookup(name) {
             Some(Var::Array(a)) => {
@@ -141,12 +157,8 @@ impl Interp<'_, '_> {
     /// The node is `a(i)` of a variable holding an array with objects or arrays among its items.
     pub(super) fn array_object(&self, id: u32) -> Option<(Rc<str>, &[Expr], Span)> {
         let Node::Element { var, index, span } = &self.module.nodes[id as usize] else { return None };
-        match self.lookup(var) {
-            Some(Var::Array(a)) if a.objects.is_some() || a.arrays.is_some() || a.records.is_some() => {
-                Some((var.clone(), index, *span))
-            }
-            _ => None,
-        }
+        let special = |held: &Var| matches!(held, Var::Array(a) if a.objects.is_some() || a.arrays.is_some() || a.records.is_some());
+        (self.peek(var, special) == Some(true)).then(|| (var.clone(), index.as_slice(), *span))
     }
 
     /// `a(i)` as a variable holds it: its object, or its value.
@@ -174,7 +186,7 @@ impl Interp<'_, '_> {
 
     /// Whether `name` holds an array of a Type.
     pub(super) fn holds_records(&self, name: &str) -> bool {
-        matches!(self.lookup(name), Some(Var::Array(a)) if a.records.is_some())
+        self.peek(name, |held| matches!(held, Var::Array(a) if a.records.is_some())) == Some(true)
     }
 
     /// `pts(i) = q`, `pts(i) = MakePoint(…)` ([MS-VBAL] 5.4.3.8: a Let of a UDT copies it): the
@@ -226,11 +238,11 @@ impl Interp<'_, '_> {
     /// What `name(i) = …` copies first when the array's items are shared with another
     /// variable (`b = a`): the items, charged to the memory budget (copy on write).
     fn copy_if_shared(&self, name: &str) -> u64 {
-        match self.lookup(name) {
-            // Two holders are the variable and the copy `lookup` gave.
-            Some(Var::Array(a)) if Rc::strong_count(&a.data) > 2 => super::budget::copy_bytes(&a.data),
+        let shared = |held: &Var| match held {
+            Var::Array(a) if Rc::strong_count(&a.data) > 1 => super::budget::copy_bytes(&a.data),
             _ => 0,
-        }
+        };
+        self.peek(name, shared).unwrap_or(0)
     }
 
     /// VBA's "Subscript out of range (Error 9)".

@@ -744,6 +744,23 @@ impl Interp<'_, '_> {
         }
     }
 
+    /// `f` of what the variable `name` holds, without copying it (`lookup` copies an array's
+    /// description, seven references, at every read of an item): `f` runs while the
+    /// variables are borrowed, so it must only look. A variable declared `As New` holding
+    /// Nothing gets its object first, as [`Interp::lookup`] does.
+    pub(super) fn peek<T>(&self, name: &str, f: impl FnOnce(&Var) -> T) -> Option<T> {
+        let mut f = Some(f);
+        let seen = self.lookup_slot(name, |s| match s.new {
+            Some(_) if is_nothing(s.var()) => None,
+            _ => f.take().map(|f| f(s.var())),
+        })?;
+        match (seen, f) {
+            (Some(t), _) => Some(t),
+            (None, Some(f)) => self.lookup(name).map(|var| f(&var)),
+            (None, None) => None,
+        }
+    }
+
     /// The slot `name` means where the running procedure is, by [MS-VBAL] 5.6.10 (simple
     /// name expressions): its local, else its object's variable (a class module's), else
     /// its own module's module-level one, else the one another module declares Public.
@@ -1024,13 +1041,19 @@ impl Interp<'_, '_> {
             })
     }
 
+    /// The Collection or Dictionary the variable `name` holds, if it holds one.
+    pub(super) fn store_named(&self, name: &str) -> Option<Handle> {
+        let store = self.peek(name, |held| match held {
+            Var::Obj(Obj::Store(h)) => Some(h.clone()),
+            _ => None,
+        });
+        store.flatten()
+    }
+
     /// The node is `c(i)` of a variable holding a Collection or a Dictionary.
     fn store_element(&self, id: u32) -> Option<(Handle, &[Expr], Span)> {
         let Node::Element { var, index, span } = &self.module.nodes[id as usize] else { return None };
-        match self.lookup(var) {
-            Some(Var::Obj(Obj::Store(h))) => Some((h, index, *span)),
-            _ => None,
-        }
+        self.store_named(var).map(|h| (h, index.as_slice(), *span))
     }
 
     /// `….Keys` or `….Items` (a Dictionary's: no other object has them).
@@ -2230,7 +2253,7 @@ impl Interp<'_, '_> {
                 self.set_var_holding(name, var, held, span)
             }
             Target::Element(name, index) => {
-                if let Some(Var::Obj(Obj::Store(h))) = self.lookup(name) {
+                if let Some(h) = self.store_named(name) {
                     let key = self.store_key(&mut self.ctx(), index, span)?;
                     let item = if set { self.item_var(value)? } else { self.var_of(value, false)? };
                     self.refuse_long_long_past_double(value, &item, super::collections::STORE_ITEM)?;
@@ -2468,9 +2491,9 @@ impl Interp<'_, '_> {
     fn counter_past_end(&self, var: &Rc<str>, counting: &Counting, span: Span) -> Run<bool> {
         match *counting {
             Counting::Double { end, step, .. } => {
-                let v = match self.lookup(var) {
-                    Some(Var::Value(v)) => self.number_of(&v, var).map_err(|m| self.fault_at(span, m))?,
-                    _ => return Err(self.fault_at(span, format!("the For variable {var} no longer holds a number"))),
+                let v = match self.peek(var, |held| self.counter_number(var, held)).flatten() {
+                    Some(read) => read.map_err(|m| self.fault_at(span, m))?,
+                    None => return Err(self.fault_at(span, format!("the For variable {var} no longer holds a number"))),
                 };
                 Ok((step >= 0.0 && v > end) || (step < 0.0 && v < end))
             }
@@ -2483,14 +2506,23 @@ impl Interp<'_, '_> {
         }
     }
 
+    /// The number a For counter holds (`None` when it holds no value).
+    fn counter_number(&self, var: &str, held: &Var) -> Option<Result<f64, String>> {
+        match held {
+            Var::Value(v) => Some(self.number_of(v, var)),
+            _ => None,
+        }
+    }
+
     /// The For counter `var` plus its step, as the loop's next value.
     fn step_counter(&self, var: &Rc<str>, counting: &mut Counting, span: Span) -> Run<()> {
         match counting {
             Counting::Double { step, step_ty, held, .. } => {
-                let v = match self.lookup(var) {
-                    Some(Var::Value(v)) => to_number(&v, DateSystem::From1900).unwrap_or(f64::NAN),
+                let v = self.peek(var, |held| match held {
+                    Var::Value(v) => to_number(v, DateSystem::From1900).unwrap_or(f64::NAN),
                     _ => f64::NAN,
-                };
+                });
+                let v = v.unwrap_or(f64::NAN);
                 *held = super::typing::sum_held(*held, *step_ty, v + *step);
                 self.set_var_holding(var, Var::Value(Value::Number(v + *step)), *held, span)
             }
