@@ -110,3 +110,31 @@ fn formula_of_a_text_typed_with_a_quote_is_the_text() {
     );
     assert_eq!(printed, ["2022|String", "Double"]);
 }
+
+// ---- conversions and results past a Double --------------------------------------------------
+
+/// "Exp function": "If the value of number exceeds 709.782712893384, an error occurs" — VBA's
+/// Overflow, run-time error 6 ("Overflow (Error 6)": "the result of a calculation … is too large
+/// for the data type"), not a value left in the variable.
+#[test]
+fn exp_past_a_doubles_range_is_overflow() {
+    let printed = run_main(
+        &mut Workbook::with_sheet(),
+        "    On Error Resume Next\n    Dim d As Double\n    d = Exp(710)\n    Debug.Print Err.Number; d",
+    );
+    assert_eq!(printed, vec![" 6  0 "]);
+}
+
+/// "Type conversion functions": CVar returns a Variant of what it is given, so TypeName sees the
+/// argument's own type (an Integer literal stays Integer, a Double Double), and CVar(Null) is
+/// Null. CDec's Decimal (28 digits) is refused with its reason, not computed as a Double.
+#[test]
+fn cvar_keeps_the_type_and_cdec_is_refused_by_name() {
+    let printed = run_main(
+        &mut Workbook::with_sheet(),
+        "    Debug.Print TypeName(CVar(5)); \" \"; TypeName(CVar(2.5)); \" \"; CVar(\"a\"); \" \"; IsNull(CVar(Null))",
+    );
+    assert_eq!(printed, vec!["Integer Double a True"]);
+    let message = main_fails(&mut Workbook::with_sheet(), "    Dim v As Variant\n    v = CDec(1)");
+    assert!(message.contains("CDec") && message.contains("Decimal"), "{message}");
+}

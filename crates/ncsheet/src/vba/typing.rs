@@ -474,6 +474,8 @@ impl Interp<'_, '_> {
                 },
                 // "IIf function": a Variant holding the chosen branch's value, as the
                 // interpreter noted it past 2^53 (`longlong.rs`).
+                // "Type conversion functions": CVar's Variant holds its argument as it was.
+                ("VBA.CVAR", Some(arg)) if typing == Typing::Held => self.typed_within(arg, depth + 1, typing),
                 ("VBA.IIF", _) if typing == Typing::Held => self
                     .iif_chosen(args)
                     .or_else(|| self.last_iif_branch(args))

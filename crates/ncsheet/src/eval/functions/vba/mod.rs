@@ -256,6 +256,8 @@ pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("VBA.CBYTE", 1, 1, conversions::cbyte, "VBA.CBYTE(value)", "VBA CByte: whole number 0 to 255"),
     FnSpec::value("VBA.CSNG", 1, 1, conversions::csng, "VBA.CSNG(value)", "VBA CSng: number as a Single"),
     FnSpec::value("VBA.CCUR", 1, 1, conversions::ccur, "VBA.CCUR(value)", "VBA CCur: number to 4 decimal places"),
+    FnSpec::value("VBA.CVAR", 1, 1, conversions::cvar, "VBA.CVAR(value)", "VBA CVar: the value as a Variant, as it is"),
+    FnSpec::value("VBA.CDEC", 1, 1, conversions::cdec, "VBA.CDEC(value)", "VBA CDec: refused (no Decimal type)"),
     FnSpec::value(
         "VBA.STRING",
         2,
@@ -571,7 +573,12 @@ fn number_fn_of(
     f: fn(f64) -> Result<f64, &'static str>,
 ) -> XlResult<Value> {
     let raised = Raised::default();
-    let apply = |x: f64| f(x).map(number_result).map_err(|why| raised.set(5, why));
+    // A result past a Double's range is VBA's Overflow (error 6), as `Exp(710)` is.
+    let apply = |x: f64| match f(x) {
+        Ok(y) if !y.is_finite() => Err(raised.set(6, "the result is past a Double's range")),
+        Ok(y) => Ok(number_result(y)),
+        Err(why) => Err(raised.set(5, why)),
+    };
     // A number, the usual case, needs neither the Null rule nor lifting.
     let result = match v {
         Value::Number(x) => apply(x),
