@@ -680,3 +680,150 @@ fn ods_entities_and_bad_counts_are_refused_naming_the_part() {
     let error = open(ods_with_rows(negative), Format::Ods).err().expect("refused");
     assert!(error.contains(r#"content.xml: sheet 'S': number-columns-repeated="-5" is not a count"#), "{error}");
 }
+
+/// The Workbook stream of the vendored .xls, its records changed by `change`.
+fn xls_with_records(change: impl Fn(&mut Vec<(u16, Vec<u8>)>)) -> Vec<u8> {
+    let good = vendored("excel-corpus/xls/testNames.xls");
+    common::vba::with_stream(&good, "/Workbook", |old| {
+        let mut list = biff_records(old);
+        change(&mut list);
+        biff_encode(&list)
+    })
+}
+
+/// A BIFF8 record is a type, a length and that many bytes ([MS-XLS] 2.1.4), and a substream
+/// runs from its BOF to its EOF (2.1.5); a sheet's BoundSheet8 gives the stream offset of
+/// that sheet's BOF (2.4.28, lbPlyPos). A record whose length ran past the stream ended the
+/// sheet there (its last cell dropped), a stream cut short lost the cells after the cut, and
+/// a BoundSheet8 pointing anywhere else read no records or other ones: each opened without a
+/// word. Each is refused naming the sheet, the record or offset, and the stream.
+#[test]
+fn xls_records_past_the_stream_and_sheets_pointing_nowhere_are_refused() {
+    let refusal = |bytes: Vec<u8>| open(bytes, Format::Xls).err().expect("refused");
+    let good = vendored("excel-corpus/xls/testNames.xls");
+    let past_end = common::vba::with_stream(&good, "/Workbook", |old| {
+        let list = biff_records(old);
+        let last = list.iter().rposition(|(kind, _)| *kind == 0x0006).expect("a Formula record");
+        let mut stream = biff_encode(&list[..last]);
+        let at = stream.len();
+        stream.extend_from_slice(&biff_encode(&list[last..]));
+        stream[at + 2..at + 4].copy_from_slice(&0xFFFFu16.to_le_bytes());
+        stream
+    });
+    let error = refusal(past_end);
+    assert!(
+        error.contains("hostile.xls")
+            && error.contains("sheet 'Sheet1': record Formula (0x0006) at byte ")
+            && error.contains("says it holds 65535 bytes, past the stream's end"),
+        "{error}"
+    );
+    let cut = common::vba::with_stream(&good, "/Workbook", |old| old[..old.len() - 40].to_vec());
+    assert!(refusal(cut).contains("sheet 'Sheet1': "), "a stream cut inside the sheet's records");
+
+    const BOUND_SHEET: u16 = 0x0085;
+    for offset in [u32::MAX, 0, 3, 10_000_000] {
+        let bytes = xls_with_records(|list| {
+            let (_, body) = list.iter_mut().find(|(kind, _)| *kind == BOUND_SHEET).unwrap();
+            body[..4].copy_from_slice(&offset.to_le_bytes());
+        });
+        let error = refusal(bytes);
+        assert!(
+            error.contains(&format!(
+                "sheet 'Sheet1': its BoundSheet8 record gives byte {offset} of the Workbook stream"
+            )) && error.contains("no worksheet's BOF record starts there"),
+            "{error}"
+        );
+    }
+}
+
+/// A cell whose `PtgExp` names no shared formula's first cell is looked for in every shared
+/// formula's area: 16,000 such cells beside 16,000 one-cell shared formulas (a 700 KB file)
+/// took 512 million area comparisons, and ten times as many a hundred times longer. Past
+/// `MAX_SHARED_SEARCH` comparisons for a sheet the file is refused naming the sheet.
+#[test]
+fn xls_cells_searching_every_shared_formula_are_refused_past_the_limit() {
+    let bytes = xls_with_records(|list| {
+        let eof = list.iter().rposition(|(kind, _)| *kind == 0x000A).unwrap();
+        let mut extra = Vec::new();
+        for k in 0..16_000u16 {
+            let (row, col) = (100 + k / 200, k % 200);
+            // ShrFmla ([MS-XLS] 2.4.260): RefU of one cell, reserved, cUse, cce, PtgInt 1.
+            let mut shared = [row.to_le_bytes(), row.to_le_bytes()].concat();
+            shared.extend_from_slice(&[col as u8, col as u8, 0, 1, 3, 0, 0x1E, 1, 0]);
+            extra.push((0x04BC, shared));
+            // Formula (2.4.127) 300 rows below: PtgExp naming its own cell, no shared formula's.
+            let below = row + 300;
+            let mut formula = [below.to_le_bytes(), col.to_le_bytes(), 15u16.to_le_bytes()].concat();
+            formula.extend_from_slice(&[0; 14]);
+            formula.extend_from_slice(&5u16.to_le_bytes());
+            formula.push(0x01);
+            formula.extend_from_slice(&[below.to_le_bytes(), col.to_le_bytes()].concat());
+            extra.push((0x0006, formula));
+        }
+        list.splice(eof..eof, extra);
+    });
+    let started = std::time::Instant::now();
+    let error = open(bytes, Format::Xls).err().expect("refused");
+    assert!(error.contains("sheet 'Sheet1': more than 134217728 comparisons of shared formulas' areas"), "{error}");
+    assert!(started.elapsed().as_secs() < 10, "{:?}", started.elapsed());
+}
+
+/// [MS-XLSB] 2.1.4: a record's type is at most 2 bytes and its size at most 4, 7 bits each,
+/// the high bit saying another byte follows; the size counts the bytes that follow. A record
+/// the part ended inside of was read short (a number cell at the end of a sheet part kept
+/// the 16 bytes there were), a type or size whose last byte still had its high bit set was
+/// read as another record, and a part cut at a record's edge lost the cells after it: each
+/// opened without a word. A shared or array formula's area (RfX) past the sheet's edge
+/// (rows and columns to 2^32 - 1) panicked while its reference was written. Each is refused
+/// naming the part and the record or the byte.
+#[test]
+fn xlsb_records_cut_short_or_past_the_sheet_are_refused_naming_the_part() {
+    let good = vendored("xlsb/IS_INFORMATION.xlsb");
+    let sheet = "xl/worksheets/sheet1.bin";
+    let refusal = |bytes: Vec<u8>| open(bytes, Format::Xlsb).err().expect("refused");
+    let tail = |tail: &'static [u8]| {
+        rewrite(&good, None, &mut |name, bytes| {
+            (name == sheet).then(|| {
+                let mut list = records(bytes);
+                let end = list.iter().position(|(kind, _)| *kind == BRT_END_SHEET_DATA).unwrap();
+                list.truncate(end);
+                let mut part = encode(&list);
+                part.extend_from_slice(tail);
+                part
+            })
+        })
+    };
+    // A BrtCellReal of A1 whose size says 127 bytes, 16 following.
+    let mut short = vec![BRT_CELL_REAL as u8, 0x7F];
+    short.extend(cell_real(0, 7.5));
+    let error = refusal(tail(short.leak()));
+    assert!(error.contains(sheet) && error.contains("is cut short: the part ends before the 127 bytes"), "{error}");
+    let error = refusal(tail(&[BRT_CELL_REAL as u8, 0xFF, 0xFF, 0xFF, 0xFF, 0x0F, 0, 0]));
+    assert!(error.contains(sheet) && error.contains("has a size of more than 4 bytes"), "{error}");
+    let error = refusal(tail(&[0xFF, 0xFF, 0x7F, 0x00]));
+    assert!(error.contains(sheet) && error.contains("has a type of more than 2 bytes"), "{error}");
+    let error = refusal(tail(&[]));
+    assert!(error.contains(sheet) && error.contains("no record BrtEndSheetData"), "{error}");
+
+    // A formula cell at B6 (its PtgExp naming row 6), then a shared or array formula over
+    // rows 6 to 2^32 and columns B to 2^32.
+    for (kind, name) in [(0x01AAu16, "BrtArrFmla"), (0x01AB, "BrtShrFmla")] {
+        let mut formula = 1u32.to_le_bytes().to_vec();
+        formula.extend_from_slice(&[0; 4]);
+        formula.extend_from_slice(&1.0f64.to_le_bytes());
+        formula.extend_from_slice(&[0, 0, 5, 0, 0, 0, 0x01, 5, 0, 0, 0, 4, 0, 0, 0, 1, 0, 0, 0]);
+        let mut block: Vec<u8> = [5u32, u32::MAX, 1, u32::MAX].iter().flat_map(|n| n.to_le_bytes()).collect();
+        if kind == 0x01AA {
+            block.push(0);
+        }
+        block.extend_from_slice(&[3, 0, 0, 0, 0x1E, 1, 0, 0, 0, 0, 0]);
+        let row = (BRT_ROW_HDR, [5u32.to_le_bytes(), [0; 4]].concat());
+        let error = refusal(with_cells(&good, vec![row, (0x0009, formula), (kind, block)]));
+        assert!(
+            error.contains(sheet)
+                && error.contains(&format!("the area of a formula (record {name}) at row 6, column 2 runs past"))
+                && error.contains("rows 6-4294967296, columns 2-4294967296"),
+            "{error}"
+        );
+    }
+}

@@ -47,20 +47,36 @@ const BOF: u16 = 0x0809;
 
 /// The records of a substream from `start`, up to its EOF, those of nested substreams
 /// (a chart on a sheet) left out.
-fn records(stream: &[u8], start: usize) -> Vec<Record<'_>> {
-    substream(stream, start).0
+fn records(stream: &[u8], start: usize) -> Result<Vec<Record<'_>>, String> {
+    Ok(substream(stream, start)?.0)
 }
 
-/// [`records`], and the offset where they end.
-fn substream(stream: &[u8], start: usize) -> (Vec<Record<'_>>, usize) {
+/// [`records`], and the offset where they end. A record whose length runs past the stream,
+/// or a stream that ends before the substream's EOF, is refused: the records after the
+/// break were dropped without a word (a file cut short, a damaged length).
+fn substream(stream: &[u8], start: usize) -> Result<(Vec<Record<'_>>, usize), String> {
     let mut out: Vec<Record> = Vec::new();
     let mut at = start;
     let mut depth = 0usize;
     let mut first = true;
-    while at + 4 <= stream.len() {
-        let kind = u16::from_le_bytes([stream[at], stream[at + 1]]);
-        let len = u16::from_le_bytes([stream[at + 2], stream[at + 3]]) as usize;
-        let Some(data) = stream.get(at + 4..at + 4 + len) else { break };
+    loop {
+        let Some(header) = stream.get(at..at + 4) else {
+            return Err(format!(
+                "the Workbook stream ends at byte {} inside the records that start at byte {start}, before their EOF \
+                 record: a file cut short",
+                stream.len()
+            ));
+        };
+        let kind = u16::from_le_bytes([header[0], header[1]]);
+        let len = u16::from_le_bytes([header[2], header[3]]) as usize;
+        let Some(data) = stream.get(at + 4..at + 4 + len) else {
+            return Err(format!(
+                "record {} (0x{kind:04X}) at byte {at} of the Workbook stream says it holds {len} bytes, past the \
+                 stream's end (byte {}): a damaged file",
+                record_name(kind),
+                stream.len()
+            ));
+        };
         let header = at;
         at += 4 + len;
         match kind {
@@ -82,11 +98,10 @@ fn substream(stream: &[u8], start: usize) -> (Vec<Record<'_>>, usize) {
             continue;
         }
         if kind == EOF {
-            break;
+            return Ok((out, at));
         }
         out.push(Record { kind, parts: vec![data], at: header });
     }
-    (out, at)
 }
 
 /// MS-XLS's name of a record type the reader reads, for errors.
@@ -206,7 +221,7 @@ pub fn read(bytes: &[u8]) -> Result<Book, String> {
         }
         let sheet_index = index_in_book.len();
         index_in_book.push(Some(book.sheets.len()));
-        let (records, end) = substream(&stream, *offset);
+        let (records, end) = sheet_substream(&stream, *offset, name)?;
         spanned += end.saturating_sub(*offset);
         if spanned > stream.len() {
             return Err(format!(
@@ -291,9 +306,25 @@ fn application(bytes: &[u8]) -> Option<String> {
     Some(text.trim_end_matches('\0').to_string()).filter(|t| !t.is_empty())
 }
 
+/// The records of the sheet whose BoundSheet8 gives `offset`: a worksheet's BOF must start
+/// there ([MS-XLS] 2.4.28, lbPlyPos). An offset anywhere else read other records, or none,
+/// as the sheet's: the sheet opened empty or with the workbook's own records as its cells.
+fn sheet_substream<'s>(stream: &'s [u8], offset: usize, name: &str) -> Result<(Vec<Record<'s>>, usize), String> {
+    const WORKSHEET: u16 = 0x0010;
+    let bof = stream.get(offset..offset + 8).filter(|h| u16_at(h, 0) == BOF);
+    if bof.is_none_or(|h| u16_at(h, 6) != WORKSHEET) {
+        return Err(format!(
+            "sheet '{name}': its BoundSheet8 record gives byte {offset} of the Workbook stream ({} bytes) as where \
+             its records start, and no worksheet's BOF record starts there: a damaged file",
+            stream.len()
+        ));
+    }
+    substream(stream, offset).map_err(|e| format!("sheet '{name}': {e}"))
+}
+
 fn read_globals(stream: &[u8]) -> Result<Globals, String> {
     let mut g = Globals::default();
-    let records = records(stream, 0);
+    let records = records(stream, 0)?;
     let Some(bof) = records.first().filter(|r| r.kind == BOF) else {
         return Err("the Workbook stream does not start with a BOF record".into());
     };
@@ -612,13 +643,17 @@ fn read_sheet(
         }
     }
     let mut unread: Vec<(Unreadable, Vec<(u32, u32)>)> = Vec::new();
+    let mut search_left = MAX_SHARED_SEARCH;
     for f in formulas {
         let format = format_of(globals, f.xf);
         let exp = (f.rgce.first() == Some(&0x01) && f.rgce.len() >= 5)
             .then(|| (u16_at(&f.rgce, 1) as u32, u16_at(&f.rgce, 3) as u32));
         let decoded = match exp {
             None => biff::decode(&f.rgce, &f.extra, ctx, f.pos, Some(sheet_index)).map(|t| (t, None)),
-            Some(anchor) => match (shared_formula(&shared, anchor, f.pos), arrays.get(&anchor)) {
+            Some(anchor) => match (
+                shared_formula(&shared, anchor, f.pos, &mut search_left).map_err(|e| format!("{whose}: {e}"))?,
+                arrays.get(&anchor),
+            ) {
                 (Some((_, rgce, extra)), _) => {
                     biff::decode(rgce, extra, ctx, f.pos, Some(sheet_index)).map(|t| (t, None))
                 }
@@ -678,18 +713,37 @@ fn least_cell_record(kind: u16) -> usize {
     }
 }
 
+/// The area comparisons one sheet may spend looking for the shared formula of a cell whose
+/// `PtgExp` names no area's first cell (each such cell looks through every area, about a
+/// second at the limit): 100,000 such cells and as many areas, a 5 MB file, took minutes.
+/// Past it the file is refused naming the sheet (docs/limits.md).
+pub const MAX_SHARED_SEARCH: usize = 1 << 27;
+
 /// The shared formula a cell's `PtgExp` points to: the one whose area starts at `anchor`,
 /// as a rule, else one whose area holds the anchor or the cell (files written by other
-/// programs point elsewhere in the area).
-fn shared_formula(
-    shared: &HashMap<(u32, u32), AreaFormula>,
+/// programs point elsewhere in the area), that search counted against `search_left`.
+fn shared_formula<'a>(
+    shared: &'a HashMap<(u32, u32), AreaFormula>,
     anchor: (u32, u32),
     cell: (u32, u32),
-) -> Option<&(Rect, Vec<u8>, Vec<u8>)> {
-    shared.get(&anchor).or_else(|| {
-        let holds = |p: (u32, u32)| shared.values().find(|(area, ..)| area.contains(Pos::new(p.0, p.1)));
-        holds(anchor).or_else(|| holds(cell))
-    })
+    search_left: &mut usize,
+) -> Result<Option<&'a AreaFormula>, String> {
+    if let Some(found) = shared.get(&anchor) {
+        return Ok(Some(found));
+    }
+    let mut holds = |p: (u32, u32)| -> Result<Option<&'a AreaFormula>, String> {
+        *search_left = search_left.checked_sub(shared.len()).ok_or_else(|| {
+            format!(
+                "more than {MAX_SHARED_SEARCH} comparisons of shared formulas' areas finding the records of cells that \
+                 point into them, ncsheet's limit for a sheet: a damaged or hostile file"
+            )
+        })?;
+        Ok(shared.values().find(|(area, ..)| area.contains(Pos::new(p.0, p.1))))
+    };
+    match holds(anchor)? {
+        Some(found) => Ok(Some(found)),
+        None => holds(cell),
+    }
 }
 
 /// A `FORMULA` record: its cell, style, cached result (a string one follows in a `STRING`

@@ -106,7 +106,7 @@ impl<R: Read + Seek> Parts<R> {
             }
         };
         let entry = self.zip.by_name(&name).map_err(|e| format!("{part}: {e}"))?;
-        Ok(Some(Records(BufReader::new(Inflating::new(entry, self.limits)))))
+        Ok(Some(Records(BufReader::new(Inflating::new(entry, self.limits)), 0)))
     }
 }
 
@@ -334,7 +334,7 @@ struct BlockFormula {
 struct SheetPart {
     values: BTreeMap<(u32, u32), Value>,
     formulas: Vec<FormulaCell>,
-    blocks: HashMap<(u32, u32), BlockFormula>,
+    blocks: BTreeMap<(u32, u32), BlockFormula>,
 }
 
 /// Records of a sheet part ([MS-XLSB] 2.4): a row's header, then its cells, each a Cell
@@ -354,6 +354,7 @@ const BRT_FMLA_BOOL: u16 = 0x000A;
 const BRT_FMLA_ERROR: u16 = 0x000B;
 const BRT_ARR_FMLA: u16 = 0x01AA;
 const BRT_SHR_FMLA: u16 = 0x01AB;
+const BRT_END_SHEET_DATA: u16 = 0x0092;
 
 /// A sheet part's cells; `cells_left` counts down the cells the file may still hold (read
 /// as they inflate, before the book's cells are counted as a whole).
@@ -364,9 +365,10 @@ fn read_sheet_part<R: Read + Seek>(
     cells_left: &mut usize,
 ) -> Result<SheetPart, String> {
     let mut records = zip.records(part)?.ok_or_else(|| format!("{part}: the sheet's part is missing from the file"))?;
-    let (mut row, mut sheet) = (0u32, SheetPart::default());
+    let (mut row, mut sheet, mut ended) = (0u32, SheetPart::default(), false);
     while let Some((kind, body)) = records.next_head(RECORD_LIMIT).map_err(|e| format!("{part}: {e}"))? {
         match kind {
+            BRT_END_SHEET_DATA => ended = true,
             BRT_ROW_HDR => {
                 row = body.get(..4).map(|_| u32_at(&body, 0)).filter(|r| *r <= LAST_ROW).ok_or_else(|| {
                     format!("{part}: a row (record BrtRowHdr) is cut short or past the sheet's last row")
@@ -406,17 +408,39 @@ fn read_sheet_part<R: Read + Seek>(
                 else {
                     continue;
                 };
-                let area = Rect::new(
-                    Pos::new(u32_at(&body, 0), u32_at(&body, 8)),
-                    Pos::new(u32_at(&body, 4), u32_at(&body, 12)),
-                );
+                let area = block_area(&body).ok_or_else(|| {
+                    let name = if array { "BrtArrFmla" } else { "BrtShrFmla" };
+                    format!(
+                        "{part}: the area of a formula (record {name}) at row {}, column {} runs past the sheet's \
+                         edge or backwards (rows {}-{}, columns {}-{}): a damaged file",
+                        first.pos.0 + 1,
+                        first.pos.1 + 1,
+                        u64::from(u32_at(&body, 0)) + 1,
+                        u64::from(u32_at(&body, 4)) + 1,
+                        u64::from(u32_at(&body, 8)) + 1,
+                        u64::from(u32_at(&body, 12)) + 1
+                    )
+                })?;
                 let block = BlockFormula { area, rgce: rgce.to_vec(), extra: extra.to_vec(), array };
                 sheet.blocks.insert(first.pos, block);
             }
             _ => {}
         }
     }
+    if !ended {
+        // Cut at a record's edge, the part read whole but its last cells were gone.
+        return Err(format!("{part}: the part ends before its cells do (no record BrtEndSheetData): a file cut short"));
+    }
     Ok(sheet)
+}
+
+/// The cells of a shared or array formula (its RfX: first and last row, first and last
+/// column), `None` when they run past the sheet's edge or backwards: such an area was
+/// written into the workbook as is (a column past u32 panicked naming it).
+fn block_area(body: &[u8]) -> Option<Rect> {
+    let (rows, cols) = ((u32_at(body, 0), u32_at(body, 4)), (u32_at(body, 8), u32_at(body, 12)));
+    let within = rows.0 <= rows.1 && rows.1 <= LAST_ROW && cols.0 <= cols.1 && cols.1 <= LAST_COL;
+    within.then(|| Rect::new(Pos::new(rows.0, cols.0), Pos::new(rows.1, cols.1)))
 }
 
 /// A cell record's column and value (`None`: blank), or why it cannot be read.
@@ -490,7 +514,7 @@ fn read_shared_strings<R: Read + Seek>(zip: &mut Parts<R>) -> Result<Vec<Rc<str>
 /// cell itself.
 fn formula_text(
     cell: &FormulaCell,
-    blocks: &HashMap<(u32, u32), BlockFormula>,
+    blocks: &BTreeMap<(u32, u32), BlockFormula>,
     ctx: &Context,
     sheet: Option<usize>,
 ) -> Result<Option<(String, Option<Rect>)>, Unreadable> {
@@ -499,10 +523,13 @@ fn formula_text(
     }
     let row = cell.rgce.get(1..5).map(|r| u32_at(r, 0)).ok_or_else(biff::damaged)?;
     let named = cell.extra.get(..4).map(|c| (row, u32_at(c, 0)));
-    // Without its PtgExtraCol, the block on that row holding the cell.
+    // Without its PtgExtraCol, the block on that row holding the cell: the last to start at
+    // or before its column (blocks do not overlap). Looking through every block for each
+    // such cell was quadratic.
     let block = named.and_then(|first| blocks.get(&first)).or_else(|| {
         let here = Pos::new(cell.pos.0, cell.pos.1);
-        blocks.iter().find(|(first, b)| first.0 == row && b.area.contains(here)).map(|(_, b)| b)
+        let (_, nearest) = blocks.range((row, 0)..=(row, cell.pos.1)).next_back()?;
+        nearest.area.contains(here).then_some(nearest)
     });
     let block = block.ok_or_else(|| Unreadable::Token("a shared or array formula without its record".into()))?;
     if !block.array {
@@ -723,37 +750,55 @@ fn u32_at(bytes: &[u8], at: usize) -> u32 {
     u32::from_le_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]])
 }
 
-/// The records of a part ([MS-XLSB] 2.1.4), read as a stream.
-struct Records<R: Read>(R);
+/// The records of a part ([MS-XLSB] 2.1.4), read as a stream, and the byte the next one
+/// starts at (for errors).
+struct Records<R: Read>(R, u64);
 
 impl<R: Read> Records<R> {
     /// The next record's type and the first `keep` bytes of its body (the rest is skipped);
-    /// `None` at the part's end.
+    /// `None` at the part's end. A record the part ends inside, or whose type or size goes on
+    /// past its last byte, is an error naming its byte: it was read short, or as other records.
     fn next_head(&mut self, keep: u64) -> std::io::Result<Option<(u16, Vec<u8>)>> {
-        let Some(kind) = self.varint(2)? else { return Ok(None) };
-        let size = self.varint(4)?.ok_or_else(|| std::io::Error::other("a record cut short"))?;
+        let start = self.1;
+        let Some(kind) = self.varint(2, "type")? else { return Ok(None) };
+        let size = self.varint(4, "size")?.ok_or_else(|| cut_short(start, "its size"))?;
         let mut head = Vec::new();
         (&mut self.0).take(size.min(keep)).read_to_end(&mut head)?;
-        std::io::copy(&mut (&mut self.0).take(size.saturating_sub(keep)), &mut std::io::sink())?;
+        let skipped = std::io::copy(&mut (&mut self.0).take(size.saturating_sub(keep)), &mut std::io::sink())?;
+        if head.len() as u64 + skipped < size {
+            let what = format!("the {size} bytes its size gives (record 0x{kind:04X})");
+            return Err(cut_short(start, &what));
+        }
+        self.1 += size;
         Ok(Some((kind as u16, head)))
     }
 
     /// A little-endian number of at most `bytes` bytes, 7 bits each, the high bit saying
     /// another follows; `None` at the end of the stream.
-    fn varint(&mut self, bytes: u32) -> std::io::Result<Option<u64>> {
+    fn varint(&mut self, bytes: u32, what: &str) -> std::io::Result<Option<u64>> {
+        let start = self.1;
         let mut value = 0u64;
         for i in 0..bytes {
             let mut byte = [0u8];
             if self.0.read(&mut byte)? == 0 {
-                return if i == 0 { Ok(None) } else { Err(std::io::Error::other("a record cut short")) };
+                return if i == 0 { Ok(None) } else { Err(cut_short(start, &format!("its {what}"))) };
             }
+            self.1 += 1;
             value |= u64::from(byte[0] & 0x7F) << (7 * i);
             if byte[0] & 0x80 == 0 {
-                break;
+                return Ok(Some(value));
             }
         }
-        Ok(Some(value))
+        Err(std::io::Error::other(format!(
+            "the record at byte {start} has a {what} of more than {bytes} bytes (the high bit of its last byte is set; \
+             [MS-XLSB] 2.1.4 allows {bytes}): a damaged file"
+        )))
     }
+}
+
+/// The error of a record at byte `start` that the part ends inside of, before `what`.
+fn cut_short(start: u64, what: &str) -> std::io::Error {
+    std::io::Error::other(format!("the record at byte {start} is cut short: the part ends before {what}"))
 }
 
 #[cfg(test)]
