@@ -147,3 +147,28 @@ fn a_union_of_separate_areas_is_refused_by_name() {
     let error = run_with_classes(main, &[]).expect_err("refused");
     assert!(error.message.contains("Union") && error.message.contains("areas"), "{error}");
 }
+
+// Excel's selection is a reference to cells and moves with them as every Range does
+// ("Range.Insert method": the cells "shift"; d1b5432 moved the macro's Range variables the
+// same way): B1 selected, a column inserted at A, C1 is selected and active. B2:C3 with C3
+// active ("Range.Activate": a cell inside the selection becomes active, the selection
+// stays), row 1 deleted: B1:C2 with C2 active.
+#[test]
+fn selection_and_active_cell_move_with_inserted_and_deleted_cells() {
+    let main = "Sub Main()\r\n    Range(\"B1\").Select\r\n    Columns(\"A\").Insert\r\n\
+        Debug.Print Selection.Address & \" \" & ActiveCell.Address\r\n\
+        Range(\"B2:C3\").Select\r\n    Range(\"C3\").Activate\r\n    Rows(1).Delete\r\n\
+        Debug.Print Selection.Address & \" \" & ActiveCell.Address\r\nEnd Sub\r\n";
+    assert_eq!(printed(main, &[]), ["$C$1 $C$1", "$B$1:$C$2 $C$2"]);
+}
+
+// Sorting macros borrow .NET's System.Collections.ArrayList through CreateObject, which only
+// exists where the .NET Framework is installed; ncsheet has no .NET, so the call is refused
+// naming the ProgID and what to use instead, not as a program the macro tried to run.
+#[test]
+fn a_dotnet_array_list_is_refused_by_its_name() {
+    let main = "Sub Main()\r\n    Dim a As Object\r\n    Set a = CreateObject(\"System.Collections.ArrayList\")\r\n\
+        a.Add 3\r\nEnd Sub\r\n";
+    let error = run_with_classes(main, &[]).expect_err("refused");
+    assert!(error.message.contains("System.Collections.ArrayList") && error.message.contains("Collection,"), "{error}");
+}

@@ -76,7 +76,18 @@ impl Interp<'_, '_> {
         })?;
         self.looks.borrow_mut().follow(sheet, &edit);
         self.follow_range_objects(sheet, &edit);
+        self.follow_selection(sheet, &edit);
         Ok(Obj::Value(Value::Blank))
+    }
+
+    /// The sheet's `Selection` and `ActiveCell` moved with their cells, as Excel's selection
+    /// is: select B1, insert column A, and C1 is selected. Cells the edit deleted leave the
+    /// selection where it was (what moved into the place is selected).
+    fn follow_selection(&self, sheet: SheetId, edit: &SheetEdit) {
+        let (selection, active) = self.cursor(sheet);
+        let moved = |rect: Rect| edit.moved_rect(rect).unwrap_or(rect);
+        let cursor = (moved(selection), moved(Rect::cell(active)).first);
+        self.cursors.borrow_mut().insert(sheet, cursor);
     }
 
     /// Every Range object the macro holds on `sheet` (in its variables, Static ones, With

@@ -117,7 +117,7 @@
 //! one tab inward), the sheet to its right (else left) becomes active; the last visible
 //! sheet is error 1004, and a Worksheet or Range variable of a deleted sheet is error 424 ("Object required"). `ActiveCell` and
 //! `Selection` start at the sheet's active cell as the file saved it ([`RunOptions::active_cells`])
-//! and follow `Select`/`Activate`. `Intersect(r1, r2, …)` (Nothing when they share no cell)
+//! and follow `Select`/`Activate`, and move with their cells on `Insert`/`Delete`. `Intersect(r1, r2, …)` (Nothing when they share no cell)
 //! and `Union(r1, r2, …)` (one rectangle; a union of separate areas is refused), also as
 //! `Application.` members; `Parent` (a Range's Worksheet, a Worksheet's Workbook) and
 //! `Application` of every Excel object. In a sheet's module ([`Document::Sheet`]) `Range`, `Cells`
@@ -183,7 +183,8 @@
 //!
 //! `Collection` (`Dim c As New Collection`, `Set c = New Collection`) and Scripting's
 //! `Dictionary` (`CreateObject("Scripting.Dictionary")`, `New Dictionary`; no other ProgID:
-//! `CreateObject` stays refused for everything else) are objects shared by `Set`, as in VBA.
+//! `CreateObject` stays refused for everything else, .NET's `System.Collections.ArrayList` by
+//! its name) are objects shared by `Set`, as in VBA.
 //! A Collection: `Add item, [key], [before], [after]` (named arguments too), `Item` (the
 //! default member: `c(1)`, `c("k")`; keys ignore case), `Count`, `Remove index|key`, `For
 //! Each` over the items. A Dictionary: `Add key, item`, `Exists`, `Item` (the default, read

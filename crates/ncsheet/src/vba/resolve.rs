@@ -938,6 +938,9 @@ impl Build<'_> {
             let path = Path { with: false, links: vec![link], span: self.span(at) };
             return Ok(self.node(Node::Path(path), at, end));
         }
+        if let Some(prog_id) = dotnet_collection(&link).filter(|_| lower == "createobject" && !is_var) {
+            return Err(self.error_at(pair, dotnet_refusal(&prog_id)));
+        }
         if FORBIDDEN.contains(&lower.as_str()) && !is_var {
             return Err(self.error_at(pair, refusal(&link.name)));
         }
@@ -1104,6 +1107,21 @@ fn created(link: &Link) -> Option<Class> {
         },
         _ => None,
     }
+}
+
+/// `CreateObject("System.Collections.ArrayList")` (or another of .NET's collections, which
+/// sorting macros borrow through COM): the ProgID, refused by name rather than as a program.
+fn dotnet_collection(link: &Link) -> Option<String> {
+    let [Arg { name: None, value }] = link.args.as_deref()? else { return None };
+    let ExprKind::Text(id) = &value.kind else { return None };
+    id.to_ascii_lowercase().starts_with("system.collections.").then(|| id.to_string())
+}
+
+fn dotnet_refusal(prog_id: &str) -> String {
+    format!(
+        "CreateObject(\"{prog_id}\"): .NET's collections are not in ncsheet (a macro loads no .NET \
+         library); keep the items in a Collection, a Scripting.Dictionary or an array"
+    )
 }
 
 /// A worksheet function's name as a member of WorksheetFunction or Application spells it:
