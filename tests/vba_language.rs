@@ -691,3 +691,17 @@ fn an_array_passed_with_empty_parentheses_is_the_whole_array() {
                    \x20   Debug.Print a(0); a(1); a(2); Total(a())\nEnd Sub\n");
     assert_eq!(out.printed, [" 1  2  3  6 "]);
 }
+
+/// [MS-VBAL] 3.3.5.3 (type characters): a name may be used with the type character it was
+/// declared with, and names the same variable (`Dim living%` … `living% = True`, `Loop While
+/// living%`), as line-numbered and older modules write it. `a&b` still joins and `x^2` is still a
+/// power ([MS-VBAL] 5.6.9.5, 5.6.9.3.7): a type character is read only where no operand follows.
+#[test]
+fn a_name_used_with_its_type_character_is_the_same_variable() {
+    let out = printed(
+        "    Dim living%, n&, total#, a, b, x\n    living% = True\n    n& = 0\n    Do\n        n& = n& + 1\n        If n >= 3 Then living% = False\n    Loop While living%\n    total# = n& / 2\n    a = \"p\": b = \"q\": x = 3\n    Debug.Print n; living; total; a&b; x^2",
+    );
+    // An Integer holds True as -1 and False as 0 ("Boolean data type": "When other numeric types
+    // are converted to Boolean values, 0 becomes False … True is stored as -1").
+    assert_eq!(out, vec![" 3  0  1.5 pq 9 "]);
+}
