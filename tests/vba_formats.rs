@@ -181,6 +181,55 @@ fn a_copied_sheet_keeps_its_formats() {
     assert_eq!(format_of(look(&out, "Sheet1 (2)"), "A1"), Some("0.0"));
 }
 
+// Excel's Sort moves whole cells: a row's number formats and fonts go with its values
+// ("Range.Sort method" sorts the range; Excel's "Sort data in a range or table": the rows are
+// rearranged, each cell with its formatting). Rows (3,30) (1,10 shown 0.00) (2 bold,20)
+// sorted by column A: (1,10 shown 0.00) (2 bold,20) (3,30).
+#[test]
+fn a_sort_moves_each_cells_format_with_its_value() {
+    let mut wb = Workbook::with_sheet();
+    let out = run(
+        &mut wb,
+        "    Range(\"A1\").Value = 3: Range(\"B1\").Value = 30\n\
+         \x20   Range(\"A2\").Value = 1: Range(\"B2\").Value = 10\n\
+         \x20   Range(\"A3\").Value = 2: Range(\"B3\").Value = 20\n\
+         \x20   Range(\"B2\").NumberFormat = \"0.00\"\n    Range(\"A3\").Font.Bold = True\n\
+         \x20   Range(\"A1:B3\").Sort Key1:=Range(\"A1\"), Order1:=xlAscending, Header:=xlNo\n\
+         \x20   Debug.Print Range(\"B1\").Text & \"|\" & Range(\"B2\").Text & \"|\" & Range(\"A2\").Font.Bold & \"|\" & Range(\"A3\").Font.Bold",
+    );
+    assert_eq!(out.printed, ["10.00|20|True|False"]);
+    let sheet = look(&out, "Sheet1");
+    assert_eq!((format_of(sheet, "B1"), format_of(sheet, "B2")), (Some("0.00"), None));
+    let bold = |cell: &str| sheet.cell_styles.get(&parse_cell(cell).unwrap()).is_some_and(|s| s.bold);
+    assert_eq!((bold("A2"), bold("A3")), (true, false));
+}
+
+// Copy with a Destination, and PasteSpecial xlPasteAll, paste whole cells, formats
+// included; xlPasteValues pastes the values alone ("Range.Copy method": "Copies the range to
+// the specified range or to the Clipboard"; "XlPasteType enumeration": xlPasteAll
+// "Everything will be pasted", xlPasteValues "Values are pasted"). 0.5 shown 0% is 50%.
+#[test]
+fn a_copy_with_a_destination_brings_the_formats() {
+    let mut wb = Workbook::with_sheet();
+    wb.add_sheet("Sheet2").unwrap();
+    let out = run(
+        &mut wb,
+        "    Range(\"A1\").Value = 0.5: Range(\"A1\").NumberFormat = \"0%\"\n\
+         \x20   Range(\"B1\").Value = 2: Range(\"B1\").Font.Bold = True\n\
+         \x20   Rows(1).Copy Destination:=Rows(3)\n\
+         \x20   Range(\"A1:B1\").Copy Destination:=Worksheets(\"Sheet2\").Range(\"C2\")\n\
+         \x20   Range(\"A1\").Copy\n    Range(\"E1\").PasteSpecial Paste:=xlPasteValues\n\
+         \x20   Range(\"F1\").PasteSpecial Paste:=xlPasteAll\n\
+         \x20   Debug.Print Range(\"A3\").Text & \"|\" & Range(\"B3\").Font.Bold & \"|\" & \
+         Worksheets(\"Sheet2\").Range(\"C2\").Text & \"|\" & Range(\"E1\").Text & \"|\" & Range(\"F1\").Text",
+    );
+    assert_eq!(out.printed, ["50%|True|50%|0.5|50%"]);
+    let (one, two) = (look(&out, "Sheet1"), look(&out, "Sheet2"));
+    assert_eq!((format_of(one, "A3"), format_of(two, "C2"), format_of(one, "E1")), (Some("0%"), Some("0%"), None));
+    let bold = |look: &SheetLook, cell: &str| look.cell_styles.get(&parse_cell(cell).unwrap()).is_some_and(|s| s.bold);
+    assert_eq!((bold(one, "B3"), bold(two, "D2")), (true, true));
+}
+
 // ---- a macro of the BOM kind, run and saved as a user runs it ----------------------------
 
 /// A bill of materials with a part repeated and the part numbers as text with leading zeros.

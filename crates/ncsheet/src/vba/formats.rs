@@ -131,6 +131,28 @@ impl SheetState {
         }
     }
 
+    /// Gives each cell its look (a format and a style taken from another cell): a look left
+    /// plain clears the cell's own entry.
+    fn put_cells(&mut self, looks: Vec<(Pos, Option<Rc<str>>, CellStyle)>) {
+        for (to, format, style) in looks {
+            match format {
+                Some(code) => _ = self.formats.insert(to, code),
+                None => {
+                    self.formats.remove(&to);
+                    // A General cell pasted into a formatted column stays General.
+                    if self.format(to).is_some() {
+                        self.formats.insert(to, Rc::from("General"));
+                    }
+                }
+            }
+            if style.is_plain() {
+                self.styles.remove(&to);
+            } else {
+                self.styles.insert(to, style);
+            }
+        }
+    }
+
     /// A whole row or column: its cells' own entries change, the rest follow the line.
     fn edit_lines(&mut self, rect: Rect, edit: Edit) {
         match &edit {
@@ -483,6 +505,19 @@ impl Interp<'_, '_> {
             _ => unreachable!("set_look checked the member"),
         };
         self.edit_look(sheet, rect, edit, span)
+    }
+
+    /// Gives each cell of `to` the look (format and style, its own or a line's) of the cell
+    /// of `from` it is paired with, all read before any is written: a sort's rows, a paste's
+    /// cells. Excel moves the whole cell, its format with its value.
+    pub(super) fn copy_looks(&self, from: SheetId, to: SheetId, cells: &[(Pos, Pos)]) {
+        let mut looks = self.looks.borrow_mut();
+        let source = looks.sheets.get(&from);
+        let taken = cells
+            .iter()
+            .map(|&(f, t)| (t, source.and_then(|s| s.format(f)), source.map(|s| s.style(f)).unwrap_or_default()))
+            .collect();
+        looks.sheet(to).put_cells(taken);
     }
 
     fn edit_look(&self, sheet: SheetId, rect: Rect, edit: Edit, span: Span) -> Run<()> {

@@ -251,7 +251,7 @@ impl Interp<'_, '_> {
         let dest = ctx.operand(expr);
         self.take_pending()?;
         match dest {
-            Operand::Ref(to, area) => self.paste((sheet, rect), to, area, Paste::Inputs, link.span),
+            Operand::Ref(to, area) => self.paste((sheet, rect), (to, area), Paste::Inputs, true, link.span),
             _ => Err(self.fault_at(link.span, "Copy: the destination is not a range")),
         }
     }
@@ -273,13 +273,16 @@ impl Interp<'_, '_> {
         let how = match code as i64 {
             -4163 => Paste::Values,
             -4104 | -4123 => Paste::Inputs,
-            _ => return Err(self.fault_at(
-                link.span,
-                "PasteSpecial: only xlPasteValues, xlPasteFormulas and xlPasteAll (a workbook here holds no formats, \
+            _ => {
+                return Err(self.fault_at(
+                    link.span,
+                    "PasteSpecial: only xlPasteValues, xlPasteFormulas and xlPasteAll (a workbook here holds no \
                      comments or validation)",
-            )),
+                ))
+            }
         };
-        self.paste(source, sheet, rect, how, link.span)
+        // xlPasteAll brings the cells' formats too; xlPasteFormulas and xlPasteValues do not.
+        self.paste(source, (sheet, rect), how, code as i64 == -4104, link.span)
     }
 
     /// The part of a paste that changes anything: where the source has cells, or the
@@ -308,7 +311,14 @@ impl Interp<'_, '_> {
         Some((Rect::new(back(work.first), back(work.last)), work))
     }
 
-    fn paste(&self, (from, source): (SheetId, Rect), to: SheetId, dest: Rect, how: Paste, span: Span) -> Run<()> {
+    fn paste(
+        &self,
+        (from, source): (SheetId, Rect),
+        (to, dest): (SheetId, Rect),
+        how: Paste,
+        looks: bool,
+        span: Span,
+    ) -> Run<()> {
         let Some(area) = paste_area(source, dest) else {
             return Err(self.fault_at(span, "the pasted range would be off the sheet"));
         };
@@ -321,11 +331,15 @@ impl Interp<'_, '_> {
         }
         // Everything is read before anything is written: the areas may overlap.
         let mut items = Vec::with_capacity(cells as usize);
+        let mut look_pairs = Vec::with_capacity(if looks { cells as usize } else { 0 });
         {
             let wb = self.wb.borrow();
             for row in 0..area.rows() {
                 for col in 0..area.cols() {
                     let p = Pos::new(source.first.row + row % source.rows(), source.first.col + col % source.cols());
+                    if looks {
+                        look_pairs.push((p, Pos::new(area.first.row + row, area.first.col + col)));
+                    }
                     let tree = (how == Paste::Inputs).then(|| wb.formula_tree(from, p)).flatten();
                     items.push(match tree {
                         Some(t) => Err(t.into_owned()),
@@ -347,6 +361,8 @@ impl Interp<'_, '_> {
             }
         }
         wb.recalculate_rect(to, area);
+        drop(wb);
+        self.copy_looks(from, to, &look_pairs);
         Ok(())
     }
 }
@@ -582,7 +598,7 @@ impl Interp<'_, '_> {
             self.book_mut()?.insert_sheets(&[name], at).map_err(|e| self.error_1004(link.span, e.to_string()))?[0];
         let used = self.wb.borrow().used_rect(sheet);
         if let Some(used) = used {
-            self.paste((sheet, used), copy, used, Paste::Inputs, link.span)?;
+            self.paste((sheet, used), (copy, used), Paste::Inputs, false, link.span)?;
         }
         // The copy looks as the original does (number formats, styles, widths).
         self.looks.borrow_mut().copy_sheet(sheet, copy);

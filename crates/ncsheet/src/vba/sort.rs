@@ -321,6 +321,12 @@ impl Interp<'_, '_> {
             return Ok(());
         }
         let mut rows: Vec<Option<Vec<Content>>> = rows.into_iter().map(Some).collect();
+        let moved_cells: Vec<(Pos, Pos)> = (order.iter().enumerate())
+            .filter(|(to, from)| to != *from)
+            .flat_map(|(to, &from)| {
+                (left..=right).map(move |c| (Pos::new(first + from as u32, c), Pos::new(first + to as u32, c)))
+            })
+            .collect();
         let mut wb = self.book_mut()?;
         for (to, &from) in order.iter().enumerate() {
             if to == from {
@@ -339,6 +345,8 @@ impl Interp<'_, '_> {
             }
         }
         wb.recalculate_rect(sheet, Rect::new(Pos::new(first, left), Pos::new(last, right)));
+        drop(wb);
+        self.copy_looks(sheet, sheet, &moved_cells);
         Ok(())
     }
 }
