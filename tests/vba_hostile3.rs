@@ -199,6 +199,30 @@ fn a_sorts_inner_loop_finds_its_variables_without_hashing_each_name() {
     assert!(work.name_probes < 44_850, "{work:?}");
 }
 
+// Issue 30: `ReDim Preserve` of a two-dimensional array copies every item (only a
+// one-dimensional array grows in place), so a loop growing one ran for minutes inside the
+// memory budget while counting one statement a turn. The copies count against the statement
+// limit, a statement per 64 items: growing a(1 To 2, 1 To i) for i up to 5,000 copies
+// 2 · (1 + … + 4,999) = 24,995,000 items, about 390,000 statements' worth, past a limit of 100,000
+// that the loop's 10,000 statements alone stay far below. The same loop to 100 copies 9,900
+// items (154 statements' worth) and ends normally with the items it kept.
+#[test]
+fn redim_preserve_copies_count_against_the_statement_limit() {
+    let grow = |last: u32| {
+        format!(
+            "Sub Main()\n    Dim a() As Double, i As Long\n    ReDim a(1 To 2, 1 To 1)\n    a(2, 1) = 7\n\
+             \x20   For i = 2 To {last}\n        ReDim Preserve a(1 To 2, 1 To i)\n    Next i\n\
+             \x20   Debug.Print a(2, 1); UBound(a, 2)\nEnd Sub\n"
+        )
+    };
+    let options = RunOptions { max_statements: 100_000, ..RunOptions::default() };
+    let e = run_with(&grow(5000), &options).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::Limit, "{e}");
+    assert!(e.to_string().contains("each 64 items copied count as a statement"), "{e}");
+    let out = run_with(&grow(100), &options).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.printed, [" 7  100 "]);
+}
+
 #[test]
 fn fifty_thousand_dims_in_one_sub_run_fast() {
     let mut src = String::from("Sub Main()\n");

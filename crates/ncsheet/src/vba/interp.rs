@@ -30,6 +30,10 @@ use super::typing::Declared;
 use super::value::{array_var, convert, default_value, input_text, print_text, range_var, Obj, Slot, Slots, Var};
 use super::{ErrorKind, MacroError, Printed, RunOptions, RunOutput};
 
+/// The array items a copy moves for the price of one statement ([`Interp::count_copy`]): a
+/// statement costs about what copying a hundred items does.
+pub(super) const ITEMS_PER_STATEMENT: u64 = 64;
+
 /// Runs the entry procedure that `options` chooses.
 pub fn run(
     module: &Module,
@@ -630,6 +634,27 @@ impl Interp<'_, '_> {
             return Err(f);
         }
         Ok(())
+    }
+
+    /// Counts the copy of `items` array items against the statement limit, a statement per
+    /// [`ITEMS_PER_STATEMENT`]: a copy that grows with the array (`ReDim Preserve` of a
+    /// two-dimensional array, which cannot grow in place; an array given back converted to its
+    /// caller's type) costs its size each time, and a loop of them ran for minutes within the
+    /// memory budget while counting one statement a turn.
+    pub(super) fn count_copy(&self, items: usize, span: Span) -> Run<()> {
+        let n = self.steps.get().saturating_add(items as u64 / ITEMS_PER_STATEMENT);
+        self.steps.set(n);
+        if n <= self.options.max_statements {
+            return Ok(());
+        }
+        let limit = self.options.max_statements;
+        let message = format!(
+            "the statement limit ({limit}) is reached: arrays copied {items} items here, and each \
+             {ITEMS_PER_STATEMENT} items copied count as a statement (raise the limit with --max-statements)"
+        );
+        let mut f = self.fault_at(span, message);
+        f.kind = ErrorKind::Limit;
+        Err(f)
     }
 
     // ---- evaluation ------------------------------------------------------------------
@@ -1273,11 +1298,13 @@ impl Interp<'_, '_> {
         for (index, caller_var) in lent {
             let Some(slot) = frame.vars.get_mut(&p.params[*index].name) else { continue };
             let (var, callee_ty) = (slot.replace(Var::Value(Value::Blank)), slot.ty.clone());
+            let mut copied = 0;
             let given = match var {
                 // Items that do not convert to the caller's type leave the caller its array
                 // as the callee left it, and the error: never an Empty where the array was.
                 Var::Array(a) => self
                     .with_slot(caller_var, |s| {
+                        let lent_items = Rc::as_ptr(&a.data);
                         let typed = match s.ty == callee_ty {
                             true => Ok(a),
                             false => super::arrays::typed_items(a.clone(), s.ty.as_ref(), &s.name).map_err(|m| (a, m)),
@@ -1286,12 +1313,21 @@ impl Interp<'_, '_> {
                             Ok(t) => (t, Ok(())),
                             Err((a, m)) => (a, Err(m)),
                         };
+                        // Converted to the caller's type, the items are a copy.
+                        if !std::ptr::eq(Rc::as_ptr(&back.data), lent_items) {
+                            copied = back.data.data.len();
+                        }
                         drop(s.replace(Var::Array(back)));
                         outcome
                     })
                     .map(|r| r.map_err(|m| self.fault(m))),
                 other => Some(self.set_var(caller_var, other, p.span)),
             };
+            // The copy is charged as any other: its memory, and its work as ReDim Preserve's.
+            if copied > 0 {
+                self.owe((copied * std::mem::size_of::<Value>()) as u64);
+                self.count_copy(copied, p.span)?;
+            }
             if let (true, Some(Err(fault))) = (ended_well, given) {
                 return Err(fault);
             }
@@ -2031,6 +2067,7 @@ impl Interp<'_, '_> {
                     let mut array = self.array_with(&dims, ty.as_ref())?;
                     if preserve {
                         if let Some(Var::Array(old)) = self.lookup(&d.name) {
+                            self.count_copy(old.data.data.len(), d.span)?;
                             super::arrays::preserve_items(&old, &mut array);
                         }
                     }
