@@ -486,6 +486,18 @@ string_forms! {
     string_s = string, "String$";
 }
 
+/// `CVar(value)`: the value as a Variant, holding what it held ("Type conversion functions":
+/// CVar's result is a Variant; `TypeName(CVar(5))` is Integer, `CVar(Null)` is Null).
+pub(super) fn cvar(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    Ok(ctx.eval(&args[0]).unwrap_single())
+}
+
+/// `CDec(value)`: a Decimal (28 significant digits) is a type ncsheet does not compute;
+/// a Double in its place would be a silently different number, so the call is refused.
+pub(super) fn cdec(ctx: &mut Ctx, _args: &[Expr]) -> XlResult<Value> {
+    Err(invalid_call(ctx, "CDec", "the Decimal type (28 digits) is not computed by ncsheet; use CDbl or CCur"))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -500,16 +512,4 @@ mod tests {
         assert_eq!(days_from_civil(100, 1, 1), -657434);
         assert_eq!(days_from_civil(9999, 12, 31), 2958465);
     }
-}
-
-/// `CVar(value)`: the value as a Variant, holding what it held ("Type conversion functions":
-/// CVar's result is a Variant; `TypeName(CVar(5))` is Integer, `CVar(Null)` is Null).
-pub(super) fn cvar(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Ok(ctx.eval(&args[0]).unwrap_single())
-}
-
-/// `CDec(value)`: a Decimal (28 significant digits) is a type ncsheet does not compute;
-/// a Double in its place would be a silently different number, so the call is refused.
-pub(super) fn cdec(ctx: &mut Ctx, _args: &[Expr]) -> XlResult<Value> {
-    Err(invalid_call(ctx, "CDec", "the Decimal type (28 digits) is not computed by ncsheet; use CDbl or CCur"))
 }
