@@ -272,11 +272,8 @@ wb.save(sys.argv[1])
     assert_eq!((get(&wb, 4, "A1"), wb.formula(4, at).as_deref()), (Value::Number(4.0), Some("=SUM(Sheet3!A1)")));
     run(&mut wb, "    Sheets(\"Sheet3\").Delete");
     assert_eq!(get(&wb, 4, "A1"), Value::Error(XlError::Ref));
-    let Some(soffice) = common::soffice() else { return };
-    let profile = common::recalculating_profile(&dir.path().join("profile"));
-    let lo = dir.path().join("lo");
-    common::libreoffice_convert(&soffice, &profile, std::slice::from_ref(&saved), &lo);
-    let values = openpyxl_view(&lo.join("shrunk.xlsx"), true);
+    let Some(recalculated) = common::libreoffice_recalculated(&saved, dir.path()) else { return };
+    let values = openpyxl_view(&recalculated, true);
     assert!(values.contains("Sheet5|5"), "{values}");
 }
 

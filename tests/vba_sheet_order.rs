@@ -213,10 +213,7 @@ wb.save(sys.argv[1])
     ncsheet::io::save(&wb, &saved).unwrap();
     let formulas = openpyxl_cells(&saved, false);
     assert!(formulas.contains("Sheet4|=SUM(Sheet1:Sheet3!A1)|"), "{formulas}");
-    let Some(soffice) = common::soffice() else { return };
-    let profile = common::recalculating_profile(&dir.path().join("profile"));
-    let lo = dir.path().join("lo");
-    common::libreoffice_convert(&soffice, &profile, std::slice::from_ref(&saved), &lo);
-    let values = openpyxl_cells(&lo.join("moved.xlsx"), true);
+    let Some(recalculated) = common::libreoffice_recalculated(&saved, dir.path()) else { return };
+    let values = openpyxl_cells(&recalculated, true);
     assert_eq!(values, "Sheet1|1|None\nSheet5|16|None\nSheet3|4|None\nSheet4|21|None\nSheet2|2|None\n");
 }

@@ -375,6 +375,16 @@ pub fn recalculating_profile(dir: &Path) -> String {
     format!("-env:UserInstallation=file://{}", dir.display())
 }
 
+/// `file` as LibreOffice saves it after opening and recalculating it (in `dir/lo`, a profile
+/// in `dir/profile`); `None` on a machine without LibreOffice (never on CI: [`soffice`]).
+pub fn libreoffice_recalculated(file: &Path, dir: &Path) -> Option<PathBuf> {
+    let soffice = soffice()?;
+    let profile = recalculating_profile(&dir.join("profile"));
+    let out = dir.join("lo");
+    libreoffice_convert(&soffice, &profile, &[file.to_path_buf()], &out);
+    Some(out.join(file.file_name().expect("file name")).with_extension("xlsx"))
+}
+
 /// Converts `inputs` to xlsx in `out` with LibreOffice: in batches (one process each), and
 /// once more for the files a batch left out (LibreOffice sometimes dies under load).
 pub fn libreoffice_convert(soffice: &Path, profile: &str, inputs: &[PathBuf], out: &Path) {
