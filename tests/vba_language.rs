@@ -705,3 +705,15 @@ fn a_name_used_with_its_type_character_is_the_same_variable() {
     // are converted to Boolean values, 0 becomes False … True is stored as -1").
     assert_eq!(out, vec![" 3  0  1.5 pq 9 "]);
 }
+
+/// `Erl`: the line number of the line the error was raised on, 0 where the procedure has none
+/// (Microsoft's "Erl Property (Err Object)": `10 On Error Resume Next` / `20 Err.Raise(60000)`
+/// "Returns 20"; "If Visual Basic encounters no line numbers, it returns 0"). Line-numbered
+/// modules print it in their error handlers; it was an undeclared Empty.
+#[test]
+fn erl_is_the_line_number_the_error_was_raised_on() {
+    let src = "Sub Main()\n10  On Error Resume Next\n20  Err.Raise 60000\n30  Debug.Print Erl\n    Handled\n    Plain\nEnd Sub\n\
+               Sub Handled()\n10  On Error GoTo bad\n20  Dim x\n30  x = 1 / 0\n40  Exit Sub\nbad:\n50  Debug.Print Err.Number; Erl\nEnd Sub\n\
+               Sub Plain()\n    On Error Resume Next\n    Err.Raise 5\n    Debug.Print Erl\nEnd Sub\n";
+    assert_eq!(run(src).printed, vec![" 20 ", " 11  30 ", " 0 "]);
+}

@@ -158,6 +158,9 @@ pub struct Proc {
     pub part: usize,
     /// `Property Get|Let|Set`: a Get is a Function, a Let or Set a Sub taking the value last.
     pub property: Option<PropertyKind>,
+    /// The body's line numbers (`30  x = 1 / 0`), each with the source line it labels, in
+    /// source order: what `Erl` reads after an error.
+    pub line_numbers: Box<[(u32, u32)]>,
 }
 
 /// The three kinds of property procedure ([MS-VBAL] 5.3.1.4).

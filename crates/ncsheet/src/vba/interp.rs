@@ -241,6 +241,9 @@ pub struct ErrState {
     pub description: String,
     /// "Source property": what raised the error, `Err.Raise`'s source or the project's name.
     pub source: String,
+    /// `Erl`: the line number of the last numbered line at or before the error in its
+    /// procedure, 0 where none is ("Erl function" of the VBA reference; [MS-VBAL] 6.1.2.3.1.x).
+    pub line: u32,
 }
 
 pub(super) struct Frame {
@@ -1979,6 +1982,14 @@ impl Interp<'_, '_> {
         f
     }
 
+    /// `Err` after `fault` trapped in the running procedure, with the line number before it.
+    fn err_state_here(&self, fault: &Fault) -> ErrState {
+        let proc = self.frames.borrow().last().map(|f| f.proc);
+        let numbers = proc.map_or(&[][..], |p| &self.module.procs[p].line_numbers[..]);
+        let line = fault.span.map_or(0, |s| numbers.iter().take_while(|(l, _)| *l <= s.line).last().map_or(0, |n| n.1));
+        ErrState { line, ..err_state(fault) }
+    }
+
     /// An error under `On Error`: what the failing block does next; the fault itself when
     /// nothing traps it (no handler, the handler already running, or a limit that stops the
     /// macro whatever it says).
@@ -1993,13 +2004,13 @@ impl Interp<'_, '_> {
         }
         let label = match mode {
             OnError::ResumeNext => {
-                *self.err.borrow_mut() = err_state(&fault);
+                *self.err.borrow_mut() = self.err_state_here(&fault);
                 return Ok(Trap::Next);
             }
             OnError::GoTo(label) if !handling => label,
             _ => return Err(fault),
         };
-        *self.err.borrow_mut() = err_state(&fault);
+        *self.err.borrow_mut() = self.err_state_here(&fault);
         self.set_handling(true);
         self.handler_stack_check(fault.span)?;
         let flow = self.run_from_label(&label)?;
@@ -2798,7 +2809,7 @@ fn err_state(fault: &Fault) -> ErrState {
     // "Raise method": a source not given is the programmatic ID of the project, Excel's
     // "VBAProject", as for the errors VBA raises itself.
     let source = fault.source.clone().unwrap_or_else(|| "VBAProject".into());
-    ErrState { number, description, source }
+    ErrState { number, description, source, line: 0 }
 }
 
 /// `Err.Description` of a trapped fault numbered `number`: the description before the number

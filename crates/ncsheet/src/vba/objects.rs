@@ -167,6 +167,7 @@ impl Interp<'_, '_> {
             "rows" | "columns" => self.range_member(ctx, here, whole_sheet(), link),
             "nc" => Ok(Obj::Nc),
             "err" => Ok(Obj::Err),
+            "erl" => Ok(Obj::Value(Value::Number(f64::from(self.err.borrow().line)))),
             "debug" => Ok(Obj::Debug),
             "msgbox" => self.msgbox(ctx, link),
             "evaluate" => self.evaluate(ctx, here, link),

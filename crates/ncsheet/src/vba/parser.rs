@@ -312,6 +312,8 @@ pub(super) struct Scope {
     /// The body's labels so far, lower case, in any of its blocks: one name labels one line
     /// of the procedure ([MS-VBAL] 5.4.1.1; VBA's compile error "Duplicate label").
     pub(super) labels: std::collections::HashSet<String>,
+    /// The body's line-number labels so far: (source line, number).
+    pub(super) line_numbers: Vec<(u32, u32)>,
 }
 
 pub(super) struct Build<'s> {
@@ -702,6 +704,7 @@ impl<'s> Build<'s> {
             function: (kind == ProcKind::Function).then(|| name.clone()),
             vars: if kind == ProcKind::Function { [name.to_ascii_lowercase()].into() } else { Default::default() },
             labels: Default::default(),
+            line_numbers: Vec::new(),
         };
         let params = match find(&k, Rule::param_list) {
             Some(list) => all(&kids(&list), Rule::param).into_iter().map(|p| self.param(p)).collect::<Res<Vec<_>>>()?,
@@ -722,7 +725,10 @@ impl<'s> Build<'s> {
         self.check_body_labels(&body, &body)?;
         let public = find(&k, Rule::scope).is_none_or(|s| !s.as_str().eq_ignore_ascii_case("Private"));
         let (part, property) = (self.current_part.get(), property_kind(&pair));
-        Ok(Proc { name, kind, params, ty, body, span: self.span(start(&pair)), public, part, property })
+        let mut line_numbers = std::mem::take(&mut self.scope.borrow_mut().line_numbers);
+        line_numbers.sort_unstable();
+        let line_numbers = line_numbers.into();
+        Ok(Proc { name, kind, params, ty, body, span: self.span(start(&pair)), public, part, property, line_numbers })
     }
 
     fn param(&self, pair: Pair<Rule>) -> Res<Param> {
@@ -828,6 +834,10 @@ impl<'s> Build<'s> {
             match item.as_rule() {
                 Rule::label => {
                     let text = item.as_str().trim_end_matches(':');
+                    if let Ok(number) = text.parse::<u32>() {
+                        let line = self.span(start(&item)).line;
+                        self.scope.borrow_mut().line_numbers.push((line, number));
+                    }
                     let new_in_procedure = self.scope.borrow_mut().labels.insert(text.to_ascii_lowercase());
                     if !new_in_procedure || !out.add_label(text) {
                         return Err(self.error_at(&item, format!("label {text} is defined twice (Duplicate label)")));
@@ -1602,7 +1612,8 @@ impl Build<'_> {
         let failing = Stmt { kind: StmtKind::CompileError(error.message.into()), span: self.span(error.offset) };
         let mut body = Block::default();
         body.stmts.push(failing);
-        Proc { name, kind, params, ty: None, body, span: self.span(start(pair)), public, part, property }
+        let line_numbers = Box::default();
+        Proc { name, kind, params, ty: None, body, span: self.span(start(pair)), public, part, property, line_numbers }
     }
 }
 

@@ -74,6 +74,7 @@ const OBJECTS: &[&str] = &[
     "cells",
     "columns",
     "debug",
+    "erl",
     "err",
     "evaluate",
     "inputbox",
