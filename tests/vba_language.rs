@@ -717,3 +717,25 @@ fn erl_is_the_line_number_the_error_was_raised_on() {
                Sub Plain()\n    On Error Resume Next\n    Err.Raise 5\n    Debug.Print Erl\nEnd Sub\n";
     assert_eq!(run(src).printed, vec![" 20 ", " 11  30 ", " 0 "]);
 }
+
+/// "IsDate function": "Returns True if the expression is a date or is recognizable as a valid
+/// date or time; otherwise, it returns False" — a Date literal or variable, `Now`, and text
+/// such as "2024-01-15", "12:30" or "January 5, 2020"; not a number, nor number text, nor Empty.
+#[test]
+fn is_date_answers_dates_and_text_that_reads_as_one() {
+    let out = printed(
+        "    Dim d As Date\n    d = #1/2/2020#\n    Debug.Print IsDate(\"2024-01-15\"); IsDate(\"abc\"); IsDate(#1/2/2020#); IsDate(5); \
+         IsDate(\"5\"); IsDate(d); IsDate(Now); IsDate(\"12:30\"); IsDate(\"January 5, 2020\"); IsDate(Empty)",
+    );
+    assert_eq!(out, vec!["TrueFalseTrueFalseFalseTrueTrueTrueTrueFalse"]);
+}
+
+/// "Workbook.Application property": the Application object, so
+/// `ThisWorkbook.Application.WorksheetFunction.Max(…)` is Application's own worksheet function.
+#[test]
+fn a_workbooks_application_reaches_the_worksheet_functions() {
+    let out = printed(
+        "    Debug.Print ThisWorkbook.Application.WorksheetFunction.Max(3, 7, 5); ThisWorkbook.Application.Min(4, 2)",
+    );
+    assert_eq!(out, vec![" 7  2 "]);
+}

@@ -539,6 +539,8 @@ pub enum Inspect {
     TypeName,
     /// `IsObject(x)`: an object (a Range, a Collection, Nothing …), not a value.
     IsObject,
+    /// `IsDate(x)`: a Date, or text that reads as a date or time.
+    IsDate,
 }
 
 #[derive(Debug)]

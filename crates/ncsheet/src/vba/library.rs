@@ -238,7 +238,25 @@ impl Interp<'_, '_> {
             Inspect::IsMissing => Ok(Value::Bool(self.is_missing(arg))),
             Inspect::TypeName => self.type_name(arg).map(Value::text),
             Inspect::IsObject => self.is_object(arg).map(Value::Bool),
+            Inspect::IsDate => self.is_date(arg).map(Value::Bool),
         }
+    }
+
+    /// `IsDate(x)` ("IsDate function": "True if the expression is a date or is recognizable
+    /// as a valid date or time"): a value held as a Date (a Date variable, `Now`, a cell
+    /// formatted as a date), or text that reads as a date or time but not as a plain number
+    /// (`IsDate("5")` is False, as `IsDate(5)` is).
+    fn is_date(&self, arg: &Expr) -> Run<bool> {
+        if self.type_name(arg)? == "Date" {
+            return Ok(true);
+        }
+        Ok(match self.eval(arg)? {
+            Value::Text(t) => {
+                use crate::eval::functions::vba::{vba_number, vba_number_text};
+                vba_number_text(&t).is_none() && vba_number(&Value::Text(t)).is_ok()
+            }
+            _ => false,
+        })
     }
 
     /// The constant `Nothing` as written (`TypeName(Nothing)`).

@@ -275,6 +275,7 @@ fn inspection(lower: &str) -> Option<Inspect> {
         "ismissing" => Some(Inspect::IsMissing),
         "typename" => Some(Inspect::TypeName),
         "isobject" => Some(Inspect::IsObject),
+        "isdate" => Some(Inspect::IsDate),
         _ => None,
     }
 }
@@ -704,16 +705,24 @@ impl Build<'_> {
     /// rows of the function table, checked here like any call.
     fn qualified_call(&self, pair: &Pair<Rule>, path: &mut Path) -> Res<Option<Expr>> {
         let names: Vec<String> = path.links.iter().map(|l| lower_bare(&l.name)).collect();
-        let qualifier_len = match names.iter().map(String::as_str).collect::<Vec<_>>().as_slice() {
-            ["vba", _] => 1,
-            ["worksheetfunction", _] => 1,
-            ["application", "worksheetfunction", _] => 2,
-            // `Application.Max(…)`, `Application.Transpose(…)`: every worksheet function is
-            // a member of Application too; its other members (Caller, Volatile …) are not
-            // rows of the function table and stay members.
-            ["application", f] if Registry.lookup(strip_future_prefix(&dotted(f))).is_some() => 1,
-            _ => return Ok(None),
-        };
+        // `ThisWorkbook.Application.WorksheetFunction.Atan2(…)`: a workbook's Application is
+        // the one Application ("Workbook.Application property").
+        let through_workbook = names.len() > 2
+            && matches!(names[0].as_str(), "thisworkbook" | "activeworkbook")
+            && names[1] == "application"
+            && path.links[0].args.is_none();
+        let skip = usize::from(through_workbook);
+        let qualifier_len = skip
+            + match names[skip..].iter().map(String::as_str).collect::<Vec<_>>().as_slice() {
+                ["vba", _] => 1,
+                ["worksheetfunction", _] => 1,
+                ["application", "worksheetfunction", _] => 2,
+                // `Application.Max(…)`, `Application.Transpose(…)`: every worksheet function is
+                // a member of Application too; its other members (Caller, Volatile …) are not
+                // rows of the function table and stay members.
+                ["application", f] if Registry.lookup(strip_future_prefix(&dotted(f))).is_some() => 1,
+                _ => return Ok(None),
+            };
         if path.links[..qualifier_len].iter().any(|l| l.args.is_some()) {
             return Ok(None);
         }
