@@ -172,3 +172,18 @@ fn a_dotnet_array_list_is_refused_by_its_name() {
     let error = run_with_classes(main, &[]).expect_err("refused");
     assert!(error.message.contains("System.Collections.ArrayList") && error.message.contains("Collection,"), "{error}");
 }
+
+/// A class module's Public Enum is a type of the project: its members are seen from every
+/// module, plainly or through the Enum's name ("Enum statement": Public, the default, makes the
+/// Enum "visible to all procedures in all modules"; [MS-VBAL] 5.2.3.4). They read as Empty from
+/// a standard module before: `BadDim` gave "" where VBA gives vbObjectError + 200.
+#[test]
+fn a_class_modules_public_enum_is_seen_from_every_module() {
+    let class = "Attribute VB_Name = \"Shape\"\r\nAttribute VB_PredeclaredId = False\r\nOption Explicit\r\n\
+                 Public Enum ShapeError\r\n    BadDim = vbObjectError + 200\r\n    Other = 7\r\nEnd Enum\r\n\
+                 Private Enum Hidden\r\n    Secret = 3\r\nEnd Enum\r\n\
+                 Public Function Code() As Long\r\n    Code = BadDim + Secret\r\nEnd Function\r\n";
+    let main = "Sub Main()\r\n    Dim s As New Shape\r\n    Debug.Print BadDim; ShapeError.Other; s.Code; IsEmpty(Secret)\r\nEnd Sub\r\n";
+    // vbObjectError is -2147221504 ("Raise method"); the Private Enum stays inside its class.
+    assert_eq!(printed(main, &[("Shape", class)]), vec!["-2147221304  7 -2147221301 True"]);
+}

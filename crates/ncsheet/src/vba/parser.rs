@@ -593,13 +593,23 @@ impl<'s> Build<'s> {
         self.declare_module_name(name, Owner { part: self.current_part.get(), public: false });
     }
 
-    /// The names standard modules declare Public, each with the first module declaring it,
-    /// for the interpreter's lookup from other modules ([`Module::public_names`]).
+    /// The names standard modules declare Public, and the members of a class module's Public
+    /// Enum (an Enum is a type of the project, not a field of the class's objects: "Enum
+    /// statement", Public "visible to all procedures in all modules"), each with the first
+    /// module declaring it, for the interpreter's lookup from other modules
+    /// ([`Module::public_names`]).
     fn public_names(&self) -> std::collections::HashMap<Box<str>, usize> {
         let globals = self.globals.borrow();
+        let seen_from_outside =
+            |name: &str, o: &Owner| o.public && (self.standard(o.part) || self.names_enum_member(name));
         let first_public =
-            |owners: &Vec<Owner>| owners.iter().find(|o| o.public && self.standard(o.part)).map(|o| o.part);
-        globals.iter().filter_map(|(name, owners)| Some((name.as_str().into(), first_public(owners)?))).collect()
+            |name: &str, owners: &Vec<Owner>| owners.iter().find(|o| seen_from_outside(name, o)).map(|o| o.part);
+        globals.iter().filter_map(|(name, owners)| Some((name.as_str().into(), first_public(name, owners)?))).collect()
+    }
+
+    /// `name` (lower case) is a member of one of the project's Enums.
+    fn names_enum_member(&self, name: &str) -> bool {
+        self.enums.iter().any(|(_, members)| members.iter().any(|m| m.eq_ignore_ascii_case(name)))
     }
 
     /// A standard module of the project (not a class module, whose names are its objects').
