@@ -293,3 +293,18 @@ fn worksheet_copy_after_the_last_sheet_copies_cells_and_formulas() {
         vba::run(&mut wb, "Sub Main()\n    Sheets(1).Copy\nEnd Sub\n", "m.bas", &RunOptions::default()).unwrap_err();
     assert!(e.message.contains("new workbook"), "{e}");
 }
+
+/// Deleting the last used column or row takes it out of `UsedRange` ("Worksheet.UsedRange
+/// property": the used range of the sheet; the deleted cells are gone, and the cells left
+/// lie in A1:B2, then A1:B1). The range only grew before, so a macro walking
+/// `UsedRange.Columns.Count` after a delete indexed past its array (a real subtotals module).
+#[test]
+fn used_range_shrinks_when_its_last_column_or_row_is_deleted() {
+    let printed = run(
+        &mut Workbook::with_sheet(),
+        "    Range(\"A1:C2\").Value = 1\n    Debug.Print ActiveSheet.UsedRange.Address\n    Columns(\"C\").Delete\n    \
+         Debug.Print ActiveSheet.UsedRange.Address\n    Rows(2).Delete\n    Debug.Print ActiveSheet.UsedRange.Address; \
+         ActiveSheet.UsedRange.Columns.Count",
+    );
+    assert_eq!(printed, vec!["$A$1:$C$2", "$A$1:$B$2", "$A$1:$B$1 2 "]);
+}

@@ -95,6 +95,16 @@ impl Sheet {
         e.col = e.col.max(p.col);
     }
 
+    /// The extent after whole rows (`rows`) or columns were inserted or deleted: its last line
+    /// goes where `to` sends it, as the cells do; so a sheet's used range shrinks when its
+    /// last column is deleted (Excel's UsedRange), where the extent only grew.
+    pub fn move_extent(&mut self, rows: bool, to: impl Fn(u32) -> u32) {
+        if let Some(e) = self.extent.as_mut() {
+            let line = if rows { &mut e.row } else { &mut e.col };
+            *line = to(*line);
+        }
+    }
+
     /// A1 to the extent, or `None` when nothing was ever stored.
     pub fn extent(&self) -> Option<Rect> {
         self.extent.map(|e| Rect::new(Pos::new(0, 0), e))
