@@ -395,3 +395,19 @@ fn a_patched_original_keeps_the_macros_formats() {
     let cells = ncsheet(&["eval", saved.to_str().unwrap(), "C2:C3", "--format", "csv"]);
     assert_eq!(String::from_utf8(cells.stdout).unwrap().lines().collect::<Vec<_>>(), ["2.0", "4.0"]);
 }
+
+/// "Interior.ColorIndex property": set to xlColorIndexNone (xlNone, -4142, the XlColorIndex
+/// enumeration) for no fill, which is what an unfilled cell answers; Interior.Color then reads
+/// white, 16777215, as for any cell without fill. A palette index (1–56) is refused by name,
+/// not kept as some other colour.
+#[test]
+fn interior_color_index_none_clears_the_fill() {
+    let out = run(
+        &mut Workbook::with_sheet(),
+        "    Range(\"A1\").Interior.Color = RGB(255, 0, 0)\n    Debug.Print Range(\"A1\").Interior.Color; Range(\"B1\").Interior.ColorIndex\n    \
+         Range(\"A1\").Interior.ColorIndex = xlNone\n    Debug.Print Range(\"A1\").Interior.Color; Range(\"A1\").Interior.ColorIndex",
+    );
+    assert_eq!(out.printed, vec![" 255 -4142 ", " 16777215 -4142 "]);
+    let refused = fails(&mut Workbook::with_sheet(), "    Range(\"A1\").Interior.ColorIndex = 3");
+    assert!(refused.contains("ColorIndex"), "{refused}");
+}

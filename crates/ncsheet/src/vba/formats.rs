@@ -41,6 +41,10 @@ const MAX_FORMATTED_CELLS: u64 = 10_000_000;
 /// (the whole sheet, `Rows.Hidden = True`, would be a million of them).
 const MAX_HIDDEN_ROWS: u32 = 100_000;
 
+/// Excel's XlColorIndex: no colour, and the automatic one.
+const XL_COLOR_INDEX_NONE: f64 = -4142.0;
+const XL_COLOR_INDEX_AUTOMATIC: f64 = -4105.0;
+
 /// Interior.Color of a cell without fill: white, as Excel answers.
 const NO_FILL: u32 = 0xFF_FFFF;
 
@@ -386,6 +390,17 @@ impl Interp<'_, '_> {
             (LookPart::Interior, "color") => {
                 Ok(self.style_answer(ctx, sheet, rect, |s| Value::Number(f64::from(s.fill.unwrap_or(NO_FILL)))))
             }
+            // A cell without fill answers xlColorIndexNone; a filled one's palette index is not kept.
+            (LookPart::Interior, "colorindex") => {
+                let answer = self.style_answer(ctx, sheet, rect, |s| match s.fill {
+                    None => Value::Number(XL_COLOR_INDEX_NONE),
+                    Some(_) => Value::Null,
+                });
+                match answer {
+                    Obj::Value(Value::Null) => Err(self.look_part_refused(part, link)),
+                    other => Ok(other),
+                }
+            }
             _ => Err(self.look_part_refused(part, link)),
         }
     }
@@ -501,6 +516,12 @@ impl Interp<'_, '_> {
                 }
                 Edit::Fill(Some(c as u32))
             }
+            // "Interior.ColorIndex property": xlColorIndexNone (xlNone, -4142) is no fill; so is
+            // xlColorIndexAutomatic (-4105) for an interior. A palette index is not kept.
+            (Some(LookPart::Interior), "colorindex") => match number("Interior.ColorIndex")? {
+                XL_COLOR_INDEX_NONE | XL_COLOR_INDEX_AUTOMATIC => Edit::Fill(None),
+                _ => return Err(self.look_part_refused(LookPart::Interior, link)),
+            },
             (Some(p), _) => return Err(self.look_part_refused(p, link)),
             _ => unreachable!("set_look checked the member"),
         };
