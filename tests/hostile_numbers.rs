@@ -161,3 +161,27 @@ fn munit_past_the_array_limit_names_it() {
     assert_eq!(value, Value::Error(ncsheet::eval::XlError::Num));
     assert!(notes.iter().any(|n| n.contains("5000") && n.contains("16777216")), "{notes:?}");
 }
+
+// ---------------------------------------------------------------------------------------
+// Rates of cash flows near the largest double
+
+#[test]
+fn irr_and_xirr_of_flows_near_the_largest_double_find_the_rate() {
+    // -F + F/(1+r) + F/(1+r)^2 = 0 for any F: with x = 1/(1+r), x^2 + x - 1 = 0, so
+    // x = (sqrt(5) - 1)/2 and r = (1 + sqrt(5))/2 - 1 = 0.6180339887498949 (worked by hand;
+    // the rate of {-1,1,1} is the same). At F = 1E308 the slope at the guess overflows to
+    // -inf, and IRR and XIRR gave the guess 0.1 back as their answer (issue 30).
+    let want = (1.0 + 5f64.sqrt()) / 2.0 - 1.0;
+    for f in [
+        "=IRR({-1E+308,1E+308,1E+308})",
+        "=IRR({-1E+308,1E+308,1E+308},0.5)",
+        // Whole years of 365 days apart: the same equation (XIRR's exponent is days/365).
+        "=XIRR({-1E+308,1E+308,1E+308},{1,366,731})",
+    ] {
+        let (value, _, _) = common::sheet::eval_a1(f);
+        match value {
+            Value::Number(r) => assert!((r - want).abs() <= 1e-12, "{f}: {r}, want {want}"),
+            other => panic!("{f}: {other:?}"),
+        }
+    }
+}

@@ -408,11 +408,16 @@ fn solve_rate(f: impl Fn(f64) -> f64, slope: impl Fn(f64) -> f64, guess: f64) ->
 fn newton_exact(f: &impl Fn(f64) -> f64, slope: &impl Fn(f64) -> f64, guess: f64) -> Option<f64> {
     let mut x = guess;
     for _ in 0..100 {
-        let y = f(x);
+        let (y, dy) = (f(x), slope(x));
         if y == 0.0 {
             return Some(x);
         }
-        let step = y / slope(x);
+        // An overflowed value or slope (flows near 1E308) makes the step 0 or NaN, which
+        // would pass for convergence at the guess: the grid search takes over instead.
+        if !(y.is_finite() && dy.is_finite()) {
+            return None;
+        }
+        let step = y / dy;
         if !step.is_finite() {
             return None;
         }
