@@ -199,6 +199,31 @@ fn a_sorts_inner_loop_finds_its_variables_without_hashing_each_name() {
     assert!(work.name_probes < 44_850, "{work:?}");
 }
 
+// Issue 31 (and issue 30's budgets): a real module's bubble sort of 3,000 items over a Variant
+// array, swapping through a Sub (BubbleSort2 of a public sorting module, whose Flag ends it
+// early once a pass swaps nothing), runs about 22.5 million statements, past the old default
+// limit of 10 million: VBA has no limit, so the default must let it finish (with default
+// options, as the real-module check runs). The items are (i·7919) mod 3001: 3001 is prime and
+// does not divide 7919, so they are 1 … 3000 once each, and Python's sorted() of them is
+// 1 … 3000: a(k) = k, and the check sum Σ k·a(k) = Σ k² = 3000·3001·6001/6 = 9,004,500,500.
+#[test]
+fn a_real_bubble_sort_of_three_thousand_items_finishes_under_the_default_limit() {
+    let src = "Sub Main()\n    Dim a(1 To 3000), i As Long, check As Double, inOrder As Boolean\n\
+               \x20   For i = 1 To 3000\n        a(i) = (i * 7919) Mod 3001\n    Next i\n    BubbleSort2 a\n\
+               \x20   inOrder = True\n    For i = 1 To 3000\n        check = check + i * a(i)\n\
+               \x20       If a(i) <> i Then inOrder = False\n    Next i\n\
+               \x20   Debug.Print \"check=\" & check & \" first=\" & a(1) & \" last=\" & a(3000) & \" inOrder=\" & inOrder\n\
+               End Sub\n\
+               Sub BubbleSort2(l())\n    Dim i As Long, j As Long\n    Dim Flag As Boolean\n\
+               \x20   For i = 1 To UBound(l)\n        Flag = False\n        For j = UBound(l) - 1 To i Step -1\n\
+               \x20           If l(j) > l(j + 1) Then\n                Call Swap(l, j, j + 1)\n                Flag = True\n\
+               \x20           End If\n        Next j\n        If Not Flag Then Exit For\n    Next i\nEnd Sub\n\
+               Sub Swap(l(), ByVal i As Long, ByVal j As Long)\n    Dim t As Variant\n    t = l(i): l(i) = l(j): l(j) = t\nEnd Sub\n";
+    let out = run_with(src, &RunOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.printed, ["check=9004500500 first=1 last=3000 inOrder=True"]);
+    assert!(out.statements > 10_000_000, "the sort ran {} statements", out.statements);
+}
+
 // Issue 30: `ReDim Preserve` of a two-dimensional array copies every item (only a
 // one-dimensional array grows in place), so a loop growing one ran for minutes inside the
 // memory budget while counting one statement a turn. The copies count against the statement

@@ -99,7 +99,7 @@ pub struct RunArgs {
     #[arg(long = "in-file", value_name = "PATH")]
     pub in_files: Vec<PathBuf>,
     /// Stop the macro after this many statements (an endless loop, usually)
-    #[arg(long, default_value_t = 10_000_000)]
+    #[arg(long, default_value_t = vba::DEFAULT_MAX_STATEMENTS)]
     pub max_statements: u64,
     /// The longest string the macro may make, in characters (VBA's "Out of string space")
     #[arg(long, value_name = "CHARS", default_value_t = vba::DEFAULT_MAX_STRING, value_parser = parse_max_string)]

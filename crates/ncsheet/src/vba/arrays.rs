@@ -311,7 +311,13 @@ impl Interp<'_, '_> {
         // The LongLong past 2^53 the assignment gave, if any (`longlong.rs`).
         let long_long = self.take_item_long_long();
         let at = index.iter().map(|e| self.index(e, "the index")).collect::<Run<Vec<i64>>>()?;
-        if let Some(Var::Obj(Obj::Range(sheet, rect))) = self.lookup(name) {
+        // Looked at in place: a copy of an array variable's description, to see that it is
+        // not a Range, cost each write of an item seven reference counts.
+        let range = |held: &Var| match held {
+            Var::Obj(Obj::Range(sheet, rect)) => Some((*sheet, *rect)),
+            _ => None,
+        };
+        if let Some((sheet, rect)) = self.peek(name, range).flatten() {
             let cell = super::objects::item(rect, &at).map_err(|m| self.fault_at(span, format!("{name}: {m}")))?;
             return self.write_range(sheet, Rect::cell(cell), &v);
         }

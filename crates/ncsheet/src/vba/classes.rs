@@ -213,6 +213,10 @@ impl Interp<'_, '_> {
 
     /// Lets go of vars that nothing else will hold (taken out of their holder).
     pub(super) fn release_all(&self, pending: Vec<Var>) -> Run<()> {
+        // The usual case, a value replaced by a value: nothing to let go.
+        if pending.is_empty() {
+            return Ok(());
+        }
         // In the order held: the first item of a Collection goes first.
         let mut pending: Vec<Var> = pending.into_iter().rev().collect();
         while let Some(var) = pending.pop() {

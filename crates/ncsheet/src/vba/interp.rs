@@ -91,6 +91,7 @@ pub fn run(
     let mut output = it.out.into_inner();
     output.looks = looks;
     output.removed = it.files.borrow().removed();
+    output.statements = it.steps.get();
     output.files = it.files.into_inner().into_written();
     match result {
         Ok(()) => Ok(output),
@@ -361,7 +362,7 @@ pub struct Interp<'m, 'w> {
     /// a number of a type a Variant keeps (a Date, a Variant Function's Integer …): a Variant
     /// keeps its type through them ([MS-VBAL] 2.1.1.1), which the static typing of
     /// `typing.rs` cannot see.
-    pub(super) node_types: RefCell<std::collections::HashMap<u32, Declared>>,
+    pub(super) node_types: RefCell<crate::workbook::FxMap<u32, Declared>>,
     /// The type of the number the last call, item or element gave (for `node_types`);
     /// `Variant` when it gave none of a kept type.
     pub(super) gave: Cell<Declared>,
@@ -372,7 +373,7 @@ pub struct Interp<'m, 'w> {
     /// Variant, widened past the type their operands gave it (`x * x` of the Integer 200 is
     /// a Long): what an enclosing operation, or the variable it goes to, takes it as
     /// ([`Interp::note_widening`]).
-    pub(super) widened: RefCell<std::collections::HashMap<usize, Declared>>,
+    pub(super) widened: RefCell<crate::workbook::FxMap<usize, Declared>>,
     /// The types of the running statement's operations, each worked out once (`typing.rs`).
     pub(super) types_known: super::typing::TypesKnown,
     /// The LongLongs past 2^53 kept beside their doubles (`longlong.rs`).
@@ -428,10 +429,10 @@ impl<'m, 'w> Interp<'m, 'w> {
             gosubs: Cell::new(0),
             stack_low: Cell::new(None),
             files: RefCell::new(super::files::Files::default()),
-            node_types: RefCell::new(std::collections::HashMap::new()),
+            node_types: RefCell::default(),
             gave: Cell::new(Declared::Variant),
             arg_types: RefCell::new(Vec::new()),
-            widened: RefCell::new(std::collections::HashMap::new()),
+            widened: RefCell::default(),
             types_known: Default::default(),
             exact: RefCell::default(),
             iif_branch: Cell::new((0, 0, 0)),

@@ -615,10 +615,16 @@ impl Slot {
 /// length, answers those without hashing the whole name with the map's keyed hash (that hash
 /// and its fallback to lower case were a third of a sort's time). A hit is checked against
 /// the slot's own name, so the table can only speed a lookup, never change its answer.
+///
+/// A call's few parameters and locals (a `Swap(l, i, j)` with one `Dim t`, called millions
+/// of times from a sort) are searched one by one: the map is built only once a table holds
+/// more than [`SCANNED_SLOTS`], so a call does not allocate and hash a lower-case key for
+/// each of its variables (a tenth of a bubble sort's time).
 #[derive(Clone, Debug, Default)]
 pub struct Slots {
     slots: Vec<Slot>,
-    /// Each slot's index by its name in ASCII lower case.
+    /// Each slot's index by its name in ASCII lower case, once there are more than
+    /// [`SCANNED_SLOTS`] (empty before).
     index: std::collections::HashMap<Box<str>, usize>,
     /// The slot index of a name found lately, at the name's [`recent_place`].
     recent: [Cell<usize>; RECENT_NAMES],
@@ -626,6 +632,9 @@ pub struct Slots {
 
 /// The names [`Slots`] remembers: a procedure's inner loop names a handful.
 const RECENT_NAMES: usize = 16;
+
+/// The slots [`Slots`] searches by comparing names, without its map.
+const SCANNED_SLOTS: usize = 8;
 
 /// Where [`Slots`] remembers `name`: from its first and last letters in lower case and its
 /// length, which tell a loop's few names apart (`i`, `j`, `a`, `t`, `total`) in a few steps.
@@ -656,6 +665,12 @@ impl Slots {
     }
 
     fn hashed_position(&self, name: &str) -> Option<usize> {
+        if self.index.is_empty() {
+            let found = self.slots.iter().position(|s| s.name.eq_ignore_ascii_case(name));
+            // Each slot looked at counts as a probe ([`super::Work::name_probes`]).
+            super::count(&super::NAME_PROBES, found.map_or(self.slots.len(), |i| i + 1) as u64);
+            return found;
+        }
         super::count(&super::NAME_PROBES, 1);
         if let Some(&i) = self.index.get(name) {
             return Some(i);
@@ -672,9 +687,19 @@ impl Slots {
         match self.position(&slot.name) {
             Some(i) => self.slots[i] = slot,
             None => {
-                self.index.insert(slot.name.to_ascii_lowercase().into(), self.slots.len());
                 self.slots.push(slot);
+                if self.slots.len() > SCANNED_SLOTS {
+                    self.index_new_slots();
+                }
             }
+        }
+    }
+
+    /// Puts in the map the slots it does not hold yet: all of them when the table first
+    /// passes [`SCANNED_SLOTS`], then the one just pushed.
+    fn index_new_slots(&mut self) {
+        for at in self.index.len()..self.slots.len() {
+            self.index.insert(self.slots[at].name.to_ascii_lowercase().into(), at);
         }
     }
 

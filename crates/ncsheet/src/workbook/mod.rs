@@ -35,9 +35,11 @@ mod udf;
 
 pub use cycles::Iteration;
 pub use delete_sheet::DeletedSheet;
-use graph::{Deps, FxMap, RangeIndex};
+/// The fast hasher's map, for integer keys of our own making (the macro interpreter's notes).
+pub(crate) use graph::FxMap;
+use graph::{Deps, RangeIndex};
 use links::for_each_pos;
-pub use look::{LooksByCell, SheetLook};
+pub use look::{Hyperlink, LooksByCell, SheetLook};
 pub use problems::{Problem, ProblemKind};
 use shared::{key_offset, relative_key_into, shape_of, text_offset, FormulaStore, SharedFormula};
 use sheet::Sheet;
