@@ -7,6 +7,9 @@
 //!
 //! Each case is checked: a wrong value stops the bench.
 
+#[path = "sizes_and_runs.rs"]
+mod sizes_and_runs;
+
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -342,41 +345,12 @@ fn check(case: &Case, wb: &Workbook) -> Result<(), String> {
     Ok(())
 }
 
-struct Args {
-    sizes: Vec<String>,
-    runs: usize,
-}
-
-fn parse_args() -> Result<Args, String> {
-    let mut args = Args { sizes: DEFAULT_SIZES.iter().map(|s| s.to_string()).collect(), runs: 3 };
-    let mut it = std::env::args().skip(1);
-    while let Some(a) = it.next() {
-        match a.as_str() {
-            "--sizes" => {
-                let list = it.next().ok_or("--sizes needs a list")?;
-                args.sizes = list.split(',').map(str::to_string).collect();
-            }
-            "--runs" => {
-                args.runs = it.next().and_then(|v| v.parse().ok()).filter(|&r| r >= 1).ok_or("--runs needs N >= 1")?;
-            }
-            _ => return Err(format!("unknown argument {a:?} (--sizes LIST, --runs N)")),
-        }
-    }
-    Ok(args)
-}
-
 fn main() -> ExitCode {
-    match run() {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("ncsheet-bench-scaling: {e}");
-            ExitCode::FAILURE
-        }
-    }
+    sizes_and_runs::exit("ncsheet-bench-scaling", run())
 }
 
 fn run() -> Result<(), String> {
-    let args = parse_args()?;
+    let args = sizes_and_runs::parse_args(DEFAULT_SIZES)?;
     let cases: Vec<Case> = args.sizes.iter().map(|s| Case::parse(s)).collect::<Result<_, _>>()?;
     println!("| case | size | best of {} | per item |", args.runs);
     println!("|---|---|---|---|");

@@ -8,6 +8,9 @@
 //! Each macro prints what it computed; the bench works the same out in Rust and stops at a
 //! wrong value.
 
+#[path = "sizes_and_runs.rs"]
+mod sizes_and_runs;
+
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -119,42 +122,18 @@ fn run_once(case: &Case) -> Result<(f64, u64), String> {
     Ok((seconds, out.statements))
 }
 
-struct Args {
-    sizes: Vec<String>,
-    runs: usize,
-}
-
-fn parse_args() -> Result<Args, String> {
-    let mut args = Args { sizes: DEFAULT_SIZES.iter().map(|s| s.to_string()).collect(), runs: 3 };
-    let mut it = std::env::args().skip(1);
-    while let Some(a) = it.next() {
-        match a.as_str() {
-            "--sizes" => args.sizes = it.next().ok_or("--sizes needs a list")?.split(',').map(str::to_string).collect(),
-            "--runs" => args.runs = it.next().and_then(|n| n.parse().ok()).ok_or("--runs needs a number")?,
-            other => return Err(format!("unknown argument {other:?} (--sizes LIST, --runs N)")),
-        }
-    }
-    Ok(args)
-}
-
 fn main() -> ExitCode {
-    match run() {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("ncsheet-bench-vba: {e}");
-            ExitCode::FAILURE
-        }
-    }
+    sizes_and_runs::exit("ncsheet-bench-vba", run())
 }
 
 fn run() -> Result<(), String> {
-    let args = parse_args()?;
+    let args = sizes_and_runs::parse_args(DEFAULT_SIZES)?;
     let cases: Vec<Case> = args.sizes.iter().map(|s| Case::parse(s)).collect::<Result<_, _>>()?;
     println!("| case | statements | best of {} | statements/s |", args.runs);
     println!("|---|---|---|---|");
     for case in &cases {
         let mut best = (f64::MAX, 0);
-        for _ in 0..args.runs.max(1) {
+        for _ in 0..args.runs {
             let (seconds, statements) = run_once(case)?;
             if seconds < best.0 {
                 best = (seconds, statements);
