@@ -161,6 +161,23 @@ fn application_run_calls_a_procedure_by_name() {
     assert_eq!(out.printed, ["hello N10", " 42 ", " 8 ", " 1004 "]);
 }
 
+// "Application.Run method (Excel)": each argument "should be passed to the function" as its
+// value; an item of an array (`v(1)`, a Type member's `.Arr(0)` in a With block) is the item,
+// so a Function with `ByVal a As Double` gets 4 and returns 5 * 4 = 20 (it stopped with "a is
+// declared with a type and cannot hold an object or an array").
+#[test]
+fn application_run_passes_an_array_item_as_its_value() {
+    let out = run_src(
+        "Private Type Saved\n    Arr As Variant\nEnd Type\nPrivate This As Saved\n\
+         Function Times(ByVal x As Double, ByVal a As Double) As Double\n    Times = x * a\nEnd Function\n\
+         Sub Main()\n    Dim r As Double\n    This.Arr = Array(4, 7)\n    r = Application.Run(\"Times\", 5, This.Arr(0))\n\
+         \x20   Debug.Print r\n    With This\n        r = Application.Run(\"Times\", 2, .Arr(1))\n    End With\n\
+         \x20   Debug.Print r\nEnd Sub\n",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.printed, [" 20 ", " 14 "]);
+}
+
 // Null given to library functions: "If string contains Null, Null is returned" (Left,
 // Right, Mid, Len, LTrim/RTrim/Trim, UCase/LCase); "If number contains Null, Null is
 // returned" (Abs, Int, Fix); [MS-VBAL] section 6: Left$ and the other `$` forms return a String

@@ -201,16 +201,26 @@ impl Interp<'_, '_> {
         let mut bound = Vec::new();
         for (i, a) in given.iter().enumerate() {
             if a.value.kind != ExprKind::Missing {
-                bound.push((i, self.var_of(&a.value, true)?));
+                bound.push((i, self.run_argument(&a.value)?));
             }
         }
         let (value, _) = self.invoke_frame(proc, bound, Some(link.span), Default::default())?;
         Ok(Obj::Value(value))
     }
 
+    /// One argument of `Application.Run`, by value: an object as the object, anything else as
+    /// what it reads (`.Arr(0)` the item, not the array holding it), as an ordinary call's
+    /// ByVal argument.
+    fn run_argument(&self, e: &Expr) -> Run<Var> {
+        match self.object_arg(&mut self.ctx(), e)? {
+            Some(object) => Ok(object),
+            None => self.var_of(e, false),
+        }
+    }
+
     /// The procedure `Application.Run` names: by its name, after a workbook (`Book!`) and a
     /// module (`Module1.`) if given; never a class module's.
-    fn run_target(&self, named: &str) -> Option<usize> {
+    pub(super) fn run_target(&self, named: &str) -> Option<usize> {
         let name = named.rsplit('!').next().unwrap_or(named).trim();
         let (module, name) = match name.rsplit_once('.') {
             Some((module, name)) => (Some(module), name),
