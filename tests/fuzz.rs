@@ -395,3 +395,208 @@ fn the_fuzzed_inputs_start_from_readable_ones() {
     // Rate = A1 * 2 = 4, A2 = 8, Twice(A2) = 16.
     assert_eq!(imported.workbook.value(0, parse_cell("A3").unwrap()), ncsheet::eval::Value::Number(16.0));
 }
+
+// ---------------------------------------------------------------------------------------
+// Issue 30, third pass: the compound file's own structures ([MS-CFB] 2.2–2.6). An .xls and a
+// vbaProject.bin are both compound files; random bytes rarely land on the few fields that
+// steer a reader (sector shift, FAT and DIFAT counts and starts, the directory's sibling
+// and child ids, a stream's start and size, the mini-FAT), so these mutations aim at them.
+
+const MAX_REGULAR_SECTOR: u32 = 0xFFFF_FFFA;
+
+fn u32_at(bytes: &[u8], at: usize) -> u32 {
+    u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap())
+}
+
+/// Where a good compound file keeps its structures, to aim the mutations at them: the byte
+/// offsets of its FAT sectors, directory entries and mini-FAT sectors.
+struct CfbLayout {
+    fat: Vec<usize>,
+    entries: Vec<usize>,
+    minifat: Vec<usize>,
+    sector_len: usize,
+}
+
+impl CfbLayout {
+    /// The layout of a well-formed file (its FAT listed in the header's DIFAT alone).
+    fn of(bytes: &[u8]) -> CfbLayout {
+        let sector_len = 1usize << u16::from_le_bytes([bytes[30], bytes[31]]);
+        let offset = |sector: u32| (sector as usize + 1) * sector_len;
+        let fat: Vec<usize> = (0..u32_at(bytes, 44) as usize).map(|i| offset(u32_at(bytes, 76 + 4 * i))).collect();
+        let per_sector = sector_len / 4;
+        let next = |sector: u32| u32_at(bytes, fat[sector as usize / per_sector] + 4 * (sector as usize % per_sector));
+        let chain = |mut sector: u32| {
+            let mut out = Vec::new();
+            while sector <= MAX_REGULAR_SECTOR {
+                out.push(offset(sector));
+                sector = next(sector);
+            }
+            out
+        };
+        let entries: Vec<usize> = chain(u32_at(bytes, 48))
+            .into_iter()
+            .flat_map(|at| (0..sector_len / 128).map(move |i| at + 128 * i))
+            .collect();
+        let minifat = chain(u32_at(bytes, 60));
+        CfbLayout { fat, entries, minifat, sector_len }
+    }
+}
+
+/// One field of a compound file given another value.
+#[derive(Clone, Debug)]
+enum CfbChange {
+    /// A header field (offset, width): versions, shifts, counts, first sectors, the cutoff,
+    /// the header's DIFAT.
+    Header(prop::sample::Index, CfbValue),
+    /// An entry of the FAT: a sector's next sector.
+    Fat(prop::sample::Index, CfbValue),
+    /// A directory entry's field: name length, type, color, siblings, child, start, size.
+    Entry(prop::sample::Index, prop::sample::Index, CfbValue),
+    /// An entry of the mini-FAT.
+    MiniFat(prop::sample::Index, CfbValue),
+}
+
+/// A value for a field: one of the special sector ids and edges, the field's own index (a
+/// chain or tree that loops onto itself), or any number.
+#[derive(Clone, Debug)]
+enum CfbValue {
+    Special(u32),
+    Itself,
+    Before,
+    Any(u32),
+}
+
+fn cfb_value() -> impl Strategy<Value = CfbValue> {
+    let special = [0, 1, 2, 3, 6, 9, 12, 16, 0xFF, 0x1000, 0xFFFF, 0x1_0000, 0x7FFF_FFFF, MAX_REGULAR_SECTOR]
+        .into_iter()
+        .chain([0xFFFF_FFFB, 0xFFFF_FFFC, 0xFFFF_FFFD, 0xFFFF_FFFE, 0xFFFF_FFFF])
+        .collect::<Vec<u32>>();
+    prop_oneof![
+        4 => prop::sample::select(special).prop_map(CfbValue::Special),
+        2 => Just(CfbValue::Itself),
+        1 => Just(CfbValue::Before),
+        1 => any::<u32>().prop_map(CfbValue::Any),
+    ]
+}
+
+fn cfb_change() -> impl Strategy<Value = CfbChange> {
+    let index = any::<prop::sample::Index>;
+    prop_oneof![
+        3 => (index(), cfb_value()).prop_map(|(i, v)| CfbChange::Header(i, v)),
+        2 => (index(), cfb_value()).prop_map(|(i, v)| CfbChange::Fat(i, v)),
+        4 => (index(), index(), cfb_value()).prop_map(|(e, f, v)| CfbChange::Entry(e, f, v)),
+        1 => (index(), cfb_value()).prop_map(|(i, v)| CfbChange::MiniFat(i, v)),
+    ]
+}
+
+/// The header's fields as (offset, width) ([MS-CFB] 2.2), the DIFAT's first entries last.
+const CFB_HEADER_FIELDS: [(usize, usize); 15] = [
+    (26, 2),
+    (30, 2),
+    (32, 2),
+    (40, 4),
+    (44, 4),
+    (48, 4),
+    (56, 4),
+    (60, 4),
+    (64, 4),
+    (68, 4),
+    (72, 4),
+    (76, 4),
+    (80, 4),
+    (84, 4),
+    (28, 2),
+];
+
+/// A directory entry's fields as (offset, width) ([MS-CFB] 2.6.1).
+const CFB_ENTRY_FIELDS: [(usize, usize); 11] =
+    [(0, 2), (64, 2), (66, 1), (67, 1), (68, 4), (72, 4), (76, 4), (116, 4), (120, 4), (124, 4), (120, 8)];
+
+/// `bytes` with the fields `changes` name set, each value written little-endian in its width.
+fn cfb_mutated(mut bytes: Vec<u8>, changes: &[CfbChange]) -> Vec<u8> {
+    let layout = CfbLayout::of(&bytes);
+    let per_sector = layout.sector_len / 4;
+    for change in changes {
+        // (byte offset, width, the field's own index for Itself/Before)
+        let (at, width, own, value) = match change {
+            CfbChange::Header(i, v) => {
+                let (at, width) = CFB_HEADER_FIELDS[i.index(CFB_HEADER_FIELDS.len())];
+                (at, width, 0, v)
+            }
+            CfbChange::Fat(i, v) => {
+                let n = i.index(layout.fat.len() * per_sector);
+                (layout.fat[n / per_sector] + 4 * (n % per_sector), 4, n, v)
+            }
+            CfbChange::Entry(e, f, v) => {
+                let n = e.index(layout.entries.len());
+                let (at, width) = CFB_ENTRY_FIELDS[f.index(CFB_ENTRY_FIELDS.len())];
+                (layout.entries[n] + at, width, n, v)
+            }
+            CfbChange::MiniFat(_, _) if layout.minifat.is_empty() => continue,
+            CfbChange::MiniFat(i, v) => {
+                let n = i.index(layout.minifat.len() * per_sector);
+                (layout.minifat[n / per_sector] + 4 * (n % per_sector), 4, n, v)
+            }
+        };
+        let value = match value {
+            CfbValue::Special(v) | CfbValue::Any(v) => u64::from(*v),
+            CfbValue::Itself => own as u64,
+            CfbValue::Before => own.saturating_sub(1) as u64,
+        };
+        // An 8-byte size is made huge whole: past what any file holds.
+        let value = if width == 8 { value << 32 | value } else { value };
+        bytes[at..at + width].copy_from_slice(&value.to_le_bytes()[..width]);
+    }
+    bytes
+}
+
+fn good_xls() -> Vec<u8> {
+    std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/excel-corpus/xls/testNames.xls")).unwrap()
+}
+
+proptest! {
+    #![proptest_config(config(400))]
+
+    #[test]
+    fn vba_projects_with_mutated_compound_file_structures_never_panic(
+        changes in prop::collection::vec(cfb_change(), 1..4),
+    ) {
+        let bytes = cfb_mutated(good_vba_project().to_vec(), &changes);
+        match vba::read_project(&bytes) {
+            Ok(project) => {
+                let wb = Workbook::with_sheet();
+                for m in &project.modules {
+                    let _ = vba::parse(&m.source, &m.name, &wb);
+                }
+            }
+            Err(e) => prop_assert!(!e.stream.is_empty() && !e.message.is_empty(), "{e:?}"),
+        }
+    }
+
+    #[test]
+    fn xls_files_with_mutated_compound_file_structures_never_panic(
+        changes in prop::collection::vec(cfb_change(), 1..4),
+    ) {
+        let bytes = cfb_mutated(good_xls(), &changes);
+        let _ = ncsheet::io::Format::detect(&bytes, Path::new("hostile.xls"));
+        match ncsheet::io::open_bytes(bytes, Path::new("hostile.xls"), ncsheet::io::Format::Xls, None) {
+            Ok(opened) => {
+                let _ = opened.workbook.problems();
+                let _ = opened.workbook.value(0, parse_cell("A1").unwrap());
+            }
+            Err(e) => prop_assert!(e.to_string().starts_with("hostile.xls"), "{e}"),
+        }
+    }
+}
+
+/// The compound-file mutations reach the structures they aim at in both good files.
+#[test]
+fn the_compound_files_mutated_have_each_structure() {
+    for bytes in [good_vba_project().to_vec(), good_xls()] {
+        let layout = CfbLayout::of(&bytes);
+        assert_eq!(layout.sector_len, 512);
+        assert!(!layout.fat.is_empty() && layout.entries.len() >= 4 && !layout.minifat.is_empty());
+        // The root entry is the first, of type 5 ([MS-CFB] 2.6.1).
+        assert_eq!(bytes[layout.entries[0] + 66], 5);
+    }
+}

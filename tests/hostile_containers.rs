@@ -154,3 +154,68 @@ fn a_sheet_whose_relationship_is_no_worksheet_is_left_out_with_a_note() {
     );
     assert_eq!(imported.workbook.value(0, parse_cell("C1").unwrap()), ncsheet::eval::Value::Number(6.0));
 }
+
+/// `[Content_Types].xml` and the document properties (`docProps/app.xml`, `core.xml`) are
+/// XML parts like any other: a DTD in one is an error a reader must report (ECMA-376 Part 2
+/// §8.1.4, [M1.18]), as is an entity XML does not declare (XML 1.0 §4.1, "Entity Declared")
+/// or an element left open (§3, "Element Type Match"). No reader of cells reads them, so each
+/// was passed over in silence (the program that wrote the file read as unknown) and a save
+/// copied it on; now the package is refused naming the part.
+#[test]
+fn package_metadata_parts_that_are_not_well_formed_are_refused_naming_the_part() {
+    let good = good_workbook();
+    let dtd = format!("{DECLARATION}<!DOCTYPE Types [<!ENTITY x \"y\">]>");
+    let types = "[Content_Types].xml";
+    let app = part_text(&good, "docProps/app.xml");
+    let application = app.split("<Application>").nth(1).unwrap().split('<').next().unwrap().to_string();
+    let cases = [
+        (types, spoiled(&good, types, DECLARATION, &dtd), "declares a DTD"),
+        ("docProps/app.xml", spoiled(&good, "docProps/app.xml", DECLARATION, &dtd), "declares a DTD"),
+        (
+            "docProps/app.xml",
+            spoiled(&good, "docProps/app.xml", &application, &format!("{application}&bogus;")),
+            "unknown entity &bogus;",
+        ),
+        ("docProps/core.xml", spoiled(&good, "docProps/core.xml", "</cp:coreProperties>", ""), "cut short"),
+    ];
+    for (part, bytes, why) in cases {
+        let e = load(&bytes).err().unwrap_or_else(|| panic!("{part} ({why}) was read"));
+        assert_eq!((e.kind, e.part.as_deref()), (ErrorKind::Damaged, Some(part)), "{e}");
+        assert!(e.message.contains(why), "{part}: {e}");
+    }
+    // The good parts still read, and say who wrote the file.
+    assert!(load(&good).unwrap().written_by.is_some());
+}
+
+/// XML 1.0 allows no control character but tab, line feed and carriage return in a document
+/// (§2.2, the `Char` production: U+0001–U+0008, U+000B, U+000C, U+000E–U+001F are outside
+/// it), raw or as a reference (`&#1;`, refused before). Raw, each was read: into a cell's
+/// text, a shared string, a sheet's name. Now the part is refused naming it and the
+/// character; a raw tab, line feed and carriage return (read as a line feed, §2.11) still
+/// read.
+#[test]
+fn raw_control_characters_xml_does_not_allow_refuse_the_part() {
+    let good = good_workbook();
+    let inline = |text: &str| format!(r#"<c r="D1" t="inlineStr"><is><t>{text}</t></is></c></row>"#);
+    let cases = [
+        (SHEET, spoiled(&good, SHEET, "</row>", &inline("x\u{1}y")), "U+0001"),
+        (SHEET, spoiled(&good, SHEET, "</row>", &inline("x\u{8}y")), "U+0008"),
+        (SHEET, spoiled(&good, SHEET, "</row>", &inline("x\u{B}y")), "U+000B"),
+        (SHEET, spoiled(&good, SHEET, "</row>", &inline("x\u{C}y")), "U+000C"),
+        (SHEET, spoiled(&good, SHEET, "<f>A1*3</f>", "<f>A1*3\u{E}</f>"), "U+000E"),
+        (STRINGS, spoiled(&good, STRINGS, "<t>text</t>", "<t>te\u{1F}xt</t>"), "U+001F"),
+        ("xl/workbook.xml", spoiled(&good, "xl/workbook.xml", r#"name="Sheet1""#, "name=\"Sheet\u{2}1\""), "U+0002"),
+        (
+            "docProps/core.xml",
+            spoiled(&good, "docProps/core.xml", "</cp:coreProperties>", "\u{1B}</cp:coreProperties>"),
+            "U+001B",
+        ),
+    ];
+    for (part, bytes, character) in cases {
+        let e = load(&bytes).err().unwrap_or_else(|| panic!("{part} with {character} was read"));
+        assert_eq!((e.kind, e.part.as_deref()), (ErrorKind::Damaged, Some(part)), "{e}");
+        assert!(e.message.contains(character) && e.message.contains("XML 1.0"), "{part}: {e}");
+    }
+    let wb = load(&spoiled(&good, SHEET, "</row>", &inline("a\tb\nc\r\nd"))).unwrap().workbook;
+    assert_eq!(wb.value(0, parse_cell("D1").unwrap()), ncsheet::eval::Value::Text("a\tb\nc\nd".into()));
+}

@@ -668,6 +668,31 @@ fn ods_single_cells_and_rows_past_the_edge_name_the_place_not_a_repeat_the_file_
     );
 }
 
+/// ODF lets a cell's text hold a table of its own (`table:table` among a cell's text
+/// content, ODF 1.2 part 1 §9.1.4); calamine reads the inner table's rows as the sheet's and
+/// ends the sheet at the inner table's end, so the sheet's later rows were lost without a word
+/// (row 2's value 2 here), and the measuring of repeats restarted inside it. Such a file is
+/// refused naming the sheet and the cell, also when the inner table repeats without bound.
+#[test]
+fn ods_tables_nested_in_a_sheet_are_refused_naming_the_cell_not_read_short() {
+    let inner = |repeats: &str| {
+        format!(
+            r#"<table:table table:name="Inner"><table:table-row table:number-rows-repeated="{repeats}"><table:table-cell table:number-columns-repeated="{repeats}" office:value-type="float" office:value="9"/></table:table-row></table:table>"#
+        )
+    };
+    for repeats in ["1", "4294967295"] {
+        let rows = format!(
+            r#"<table:table-row><table:table-cell office:value-type="string"><text:p>outer</text:p>{}</table:table-cell></table:table-row><table:table-row><table:table-cell office:value-type="float" office:value="2"/></table:table-row>"#,
+            inner(repeats)
+        );
+        let error = open(ods_with_rows(&rows), Format::Ods).err().expect("refused");
+        assert!(
+            error.contains("hostile.ods") && error.contains("sheet 'S': the cell at row 1, column 1 holds a table"),
+            "{error}"
+        );
+    }
+}
+
 /// Errors calamine gives naming no part ("Xml error: at 0..0: unrecognized entity `&i;`",
 /// "Parse integer error") name content.xml and what is wrong: an entity a DOCTYPE declares
 /// (a billion-laughs bomb among them) and a repeat count that is no count.

@@ -70,7 +70,9 @@ impl fmt::Display for Rect {
 
 /// `0 -> "A"`, `25 -> "Z"`, `26 -> "AA"`.
 pub fn column_name(col: u32) -> String {
-    let mut n = col + 1;
+    // Counted in u64: the bijective base-26 number is col + 1, which is past u32 for the
+    // last u32 (a file's index is read as it stands, whatever it holds).
+    let mut n = u64::from(col) + 1;
     let mut out = Vec::new();
     while n > 0 {
         let rem = (n - 1) % 26;
@@ -125,6 +127,14 @@ mod tests {
             assert_eq!(column_index(s), Some(i));
         }
         assert_eq!(column_index("XFE"), None);
+    }
+
+    #[test]
+    fn column_names_are_total_up_to_the_last_u32() {
+        // Bijective base 26 of 2^32, worked in Python apart from this code:
+        // n = 2**32; s = ''; while n: n -= 1; s = chr(65 + n % 26) + s; n //= 26
+        assert_eq!(column_name(u32::MAX), "MWLQKWV");
+        assert_eq!(column_name(u32::MAX - 1), "MWLQKWU");
     }
 
     #[test]

@@ -106,6 +106,8 @@ struct Extent {
     /// edge (a count of 2^64 - 1 columns made "column 18446744073709551615").
     rows_crossed: Option<(u64, u64)>,
     cols_crossed: Option<(u64, u64)>,
+    /// Whether a `table:table` is open: a sheet.
+    in_table: bool,
 }
 
 /// The attributes that give a cell a value (calamine keeps a cell without any as empty).
@@ -136,11 +138,15 @@ impl Extent {
                 .ok_or_else(|| format!("sheet '{sheet}': {key}=\"{}\" is not a count", String::from_utf8_lossy(raw))),
         };
         match (tag.name, tag.kind) {
+            (b"table", TagKind::Start) if self.in_table => return Err(self.nested_table()),
             (b"table", TagKind::Start) => {
                 self.sheet = tag.attr("name").map(xml::unescape).unwrap_or_default();
-                (self.row, self.used, self.rows_crossed) = (0, None, None);
+                (self.row, self.used, self.rows_crossed, self.in_table) = (0, None, None, true);
             }
-            (b"table", TagKind::End) => self.end_sheet()?,
+            (b"table", TagKind::End) => {
+                self.in_table = false;
+                self.end_sheet()?
+            }
             (b"table-row", TagKind::Start | TagKind::Empty) => {
                 (self.rows, self.col, self.row_end) = (count("number-rows-repeated")?, 0, 0);
                 self.cols_crossed = None;
@@ -173,6 +179,21 @@ impl Extent {
             _ => {}
         }
         Ok(())
+    }
+
+    /// Why a table inside a sheet (in a cell, or a shape's text box: ODF lets text hold a
+    /// table) is refused: calamine reads its rows as the sheet's own and stops the sheet at
+    /// its end, so the sheet's later rows would be lost without a word.
+    fn nested_table(&self) -> String {
+        let place = match self.cell {
+            Some(_) => format!("the cell at row {}, column {}", self.row.saturating_add(1), self.col.saturating_add(1)),
+            None => format!("the sheet near row {}", self.row.saturating_add(1)),
+        };
+        format!(
+            "sheet '{}': {place} holds a table of its own (a table:table inside the sheet's), which ncsheet does not \
+             read: the sheet's cells after it would be lost; move its cells onto the sheet in LibreOffice and save again",
+            self.sheet
+        )
     }
 
     /// Counts the cell just read; one holding a value past the sheet's edge is refused, as

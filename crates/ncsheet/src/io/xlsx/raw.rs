@@ -94,6 +94,7 @@ impl<'a> Package<'a> {
             active_tab: 0,
             limits,
         };
+        package.check_metadata_parts()?;
         let workbook = package.main_part()?;
         let rels = package.relationships(&workbook)?;
         let text = package.read_part(&workbook)?;
@@ -103,6 +104,24 @@ impl<'a> Package<'a> {
             .chain(rels.iter().filter(|(_, target, _)| target.ends_with(".xml")).map(|(_, target, _)| target.clone()))
             .collect();
         Ok(package)
+    }
+
+    /// The parts that describe the package rather than the workbook, `[Content_Types].xml`
+    /// and the document properties (`docProps/*.xml`), checked as every XML part ncsheet
+    /// reads is (no DTD, XML's references only, elements closed): no reader of cells reads
+    /// them, but Excel refuses a package where one is not well-formed or declares a DTD, and
+    /// a save copies them as they are. The error names the part.
+    fn check_metadata_parts(&mut self) -> Result<(), Err> {
+        let parts: Vec<String> = self
+            .zip
+            .file_names()
+            .filter_map(|name| Some(name.ok()?.into_owned()))
+            .filter(|name| is_metadata_part(name))
+            .collect();
+        for part in parts {
+            self.read_optional(&part)?;
+        }
+        Ok(())
     }
 
     /// The workbook part and its text without the `<sheet>` elements whose relationship id
@@ -402,6 +421,12 @@ fn xml_error(part: &str, e: StreamError<super::xml::BadReference>) -> Err {
         StreamError::Handler(bad) => format!("the XML is not well-formed: {bad}"),
     };
     (Some(part.to_string()), ErrorKind::Damaged, message)
+}
+
+/// Whether a package entry is `[Content_Types].xml` or a document-properties part.
+fn is_metadata_part(name: &str) -> bool {
+    let name = name.replace('\\', "/").to_ascii_lowercase();
+    name == "[content_types].xml" || (name.starts_with("docprops/") && name.ends_with(".xml"))
 }
 
 /// The relationship types (last segment) calamine reads as sheets: it refuses a workbook

@@ -50,22 +50,28 @@ pub fn load(path: &Path) -> Result<Imported, XlsxError> {
 /// app.xml (LibreOffice reads a package whose Application is not Excel's with its own
 /// reference syntax), so it names itself as core.xml's last author, which Excel and
 /// LibreOffice replace when they save the file again.
-fn written_by(package: &mut Package) -> Option<String> {
-    let application = element_text(package, "docProps/app.xml", "Application");
-    let last_author = element_text(package, "docProps/core.xml", "lastModifiedBy");
-    match (application, last_author) {
+/// A part that is not well-formed is an error naming it (as Excel refuses it), not a
+/// program left unnamed.
+fn written_by(package: &mut Package) -> Result<Option<String>, raw::Err> {
+    let application = element_text(package, "docProps/app.xml", "Application")?;
+    let last_author = element_text(package, "docProps/core.xml", "lastModifiedBy")?;
+    Ok(match (application, last_author) {
         (Some(app), Some(author)) if app == NEW_WORKBOOK_APPLICATION && author == WRITTEN_BY => {
             Some(WRITTEN_BY.to_string())
         }
         (application, _) => application,
-    }
+    })
 }
 
 /// The text of the first element named `local` (with any namespace prefix) of a part.
-fn element_text(package: &mut Package, part: &str, local: &str) -> Option<String> {
-    let bytes = package.read_optional(part).ok()??;
-    let text = String::from_utf8(bytes).ok()?;
-    let mut rest = text.as_str();
+fn element_text(package: &mut Package, part: &str, local: &str) -> Result<Option<String>, raw::Err> {
+    let Some(bytes) = package.read_optional(part)? else { return Ok(None) };
+    Ok(first_element_text(&bytes, local))
+}
+
+fn first_element_text(bytes: &[u8], local: &str) -> Option<String> {
+    let text = std::str::from_utf8(bytes).ok()?;
+    let mut rest = text;
     while let Some(at) = rest.find('<') {
         rest = &rest[at + 1..];
         let tag = &rest[..rest.find('>')?];
@@ -103,7 +109,7 @@ pub fn load_bytes_limited(bytes: &[u8], file: &Path, limits: ReadLimits) -> Resu
             );
         }
     };
-    let written_by = written_by(&mut package);
+    let written_by = written_by(&mut package).map_err(fail)?;
     let mut imported = Imported {
         workbook: Workbook::new(),
         cached: Vec::new(),

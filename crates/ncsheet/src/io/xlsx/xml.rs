@@ -198,6 +198,7 @@ pub fn stream<E>(reader: impl Read, handler: &mut dyn FnMut(Event) -> Result<(),
             .to_string();
         return Err(StreamError::Xml { offset: 0, message });
     }
+    window.check_characters(0)?;
     loop {
         let offset = window.offset();
         let rest = &window.buf[window.pos..];
@@ -232,7 +233,9 @@ pub fn stream<E>(reader: impl Read, handler: &mut dyn FnMut(Event) -> Result<(),
         if window.eof {
             return open.finish(&window.buf[window.pos..]).map_err(|message| StreamError::Xml { offset, message });
         }
+        let unread = window.buf.len() - window.pos;
         window.refill().map_err(StreamError::Io)?;
+        window.check_characters(unread)?;
         if window.buf.len() - window.pos > MAX_PIECE {
             let message = format!("a tag or text longer than {} MiB", MAX_PIECE >> 20);
             return Err(StreamError::Xml { offset, message });
@@ -276,6 +279,41 @@ impl<R: Read> Window<R> {
         self.eof = n == 0;
         Ok(())
     }
+}
+
+impl<R> Window<R> {
+    /// Refuses a control character XML 1.0 does not allow among the window's bytes from
+    /// `from` (those just read): see [`control_character`].
+    fn check_characters<E>(&self, from: usize) -> Result<(), StreamError<E>> {
+        let Some(at) = control_character(&self.buf[self.pos + from..]) else { return Ok(()) };
+        let at = self.pos + from + at;
+        Err(StreamError::Xml {
+            offset: self.consumed + at as u64,
+            message: format!(
+                "the control character U+{:04X}, which XML 1.0 does not allow in a document (§2.2, Char; Excel \
+                 writes one in a cell's text as _x{:04X}_)",
+                self.buf[at], self.buf[at]
+            ),
+        })
+    }
+}
+
+/// Where the first control character XML 1.0 does not allow lies in `bytes`: of U+0000 to
+/// U+001F only tab, line feed and carriage return are characters of a document (§2.2, the
+/// `Char` production; the same rule `&#1;` breaks), raw in text, an attribute or markup.
+/// Excel refuses a part holding one. Every byte of every part passes here, so each block is
+/// tested whole, without a branch per byte, which the compiler turns into vector compares.
+fn control_character(bytes: &[u8]) -> Option<usize> {
+    const BLOCK: usize = 64;
+    let forbidden = |b: u8| (b < 0x20) & (b != b'\t') & (b != b'\n') & (b != b'\r');
+    let mut start = 0;
+    for block in bytes.chunks(BLOCK) {
+        if block.iter().fold(false, |any, &b| any | forbidden(b)) {
+            return block.iter().position(|&b| forbidden(b)).map(|i| start + i);
+        }
+        start += block.len();
+    }
+    None
 }
 
 /// The names of the elements open at this point of the document.
