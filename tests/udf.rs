@@ -443,6 +443,25 @@ fn a_cell_calls_a_function_with_a_param_array() {
     assert_eq!(wb.value(0, at("B2")), Value::text("e:0:-1:"));
 }
 
+/// An array constant a cell gives a Function arrives as Excel hands it: a one-row `{7,8,9}` a
+/// one-dimensional array from 1 (1 To 3), a column `{7;8;9}` a table from (1, 1), whatever the
+/// module's Option Base (0 here). The oracle is real code written against Excel: EPEC's `Terp`
+/// (S. J. Wilson, 1996) reads a row constant's first value as `xValues(1)` after `UBound(xValues)`
+/// on a "1-D row array"; Range.Value's one-row arrays are from 1 as well. It arrived from 0.
+#[test]
+fn an_array_constant_reaches_a_function_from_one_whatever_the_option_base() {
+    let source = "Option Base 0\r\n\
+        Function Bounds(v)\r\n\
+            Bounds = LBound(v) & \":\" & UBound(v) & \":\" & v(1)\r\n\
+        End Function\r\n\
+        Function Corner(v)\r\n\
+            Corner = LBound(v, 1) & \":\" & LBound(v, 2) & \":\" & v(1, 1)\r\n\
+        End Function\r\n";
+    let wb = book(&[("Module1", STANDARD, source)], &[("B1", "=Bounds({7,8,9})"), ("B2", "=Corner({7;8;9})")]);
+    assert_eq!(wb.value(0, at("B1")), Value::text("1:3:7"));
+    assert_eq!(wb.value(0, at("B2")), Value::text("1:1:7"));
+}
+
 /// "Range.Text property" (Microsoft's Excel VBA reference): the text of the cell as it is
 /// shown, so a function in a cell reading `.Text` of a cell the file formats `0.00` gets
 /// "1.50" for 1.5, and "2.50" after an edit to 2.5. openpyxl writes the format, so the

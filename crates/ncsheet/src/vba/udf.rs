@@ -178,7 +178,9 @@ impl UserFunctions for WorkbookFunctions {
             .iter()
             .map(|a| match a {
                 Operand::Ref(s, r) => Var::Obj(Obj::Range(*s, *r)),
-                Operand::Value(v) => array_var(v.clone(), m.module.options_of_proc(proc).base),
+                // A cell hands VBA its arrays from 1 as a range's are (`=Terp(3, {1,2,4})`: the
+                // module's Option Base governs only the arrays VBA itself makes).
+                Operand::Value(v) => array_var(v.clone(), 1),
                 // A union of areas has no Range here: its first area stands for it.
                 Operand::Areas(areas) => Var::Obj(Obj::Range(areas[0].0, areas[0].1)),
             })
