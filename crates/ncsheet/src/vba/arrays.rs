@@ -361,8 +361,10 @@ impl Interp<'_, '_> {
                 matches!(self.module.nodes[*id as usize], Node::Call { .. } | Node::ZeroBasedArray { .. })
                     || self.array_object(*id).is_some()
             }
-            // `a(i) = Array(3)`, `a(i) = Split(s)`: an array of one item is still an array.
-            ExprKind::Call(id, _) => matches!(crate::eval::functions::spec(*id).name, "VBA.ARRAY" | "VBA.SPLIT"),
+            // `a(i) = Array(3)`, `Split(s)`, `Filter(…)`: an array of one item is still an array.
+            ExprKind::Call(id, _) => {
+                matches!(crate::eval::functions::spec(*id).name, "VBA.ARRAY" | "VBA.SPLIT" | "VBA.FILTER")
+            }
             _ => false,
         };
         if gives_array {

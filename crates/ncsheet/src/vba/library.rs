@@ -530,7 +530,7 @@ pub(super) fn library_array(e: &Expr, v: &Value, base: i64) -> Option<Var> {
     let Value::Array(data) = v else { return None };
     let lower = match crate::eval::functions::spec(*id).name {
         // "StrConv function": vbFromUnicode's Byte array starts at 0 as a String's bytes do.
-        "VBA.SPLIT" | "VBA.STRCONV" => 0,
+        "VBA.SPLIT" | "VBA.FILTER" | "VBA.STRCONV" => 0,
         "VBA.ARRAY" => base,
         name if name.starts_with("VBA.") => return None,
         // A worksheet function's one-row result (`Application.Transpose(column)`) comes to

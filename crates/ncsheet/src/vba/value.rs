@@ -4,7 +4,6 @@
 use std::cell::Cell;
 use std::rc::Rc;
 
-use crate::eval::coerce::to_bool;
 use crate::eval::functions::vba::vba_number;
 use crate::eval::functions::vba::vba_text;
 use crate::eval::{Array, Value, XlError};
@@ -808,7 +807,11 @@ pub(super) fn convert(var: Var, ty: Option<&Ty>, name: &str) -> Result<Var, Stri
         },
         Ty::String => Value::Text(vba_text(&v).map_err(mismatch)?),
         Ty::FixedString(n) => Value::text(fixed_length(&vba_text(&v).map_err(mismatch)?, *n as usize)),
-        Ty::Boolean => Value::Bool(to_bool(&v).map_err(mismatch)?),
+        Ty::Boolean => match (&v, crate::eval::functions::vba::vba_bool(&v)) {
+            (_, Ok(b)) => Value::Bool(b),
+            (Value::Text(_), Err(_)) => return Err(text_mismatch(&v)),
+            (_, Err(e)) => return Err(mismatch(e)),
+        },
         Ty::Variant | Ty::Object | Ty::Record(_) => v,
     }))
 }

@@ -17,11 +17,11 @@ use super::{invalid_call, invalid_use_of_null, lift_vba, lift_vba_values, vba_te
 
 /// A value Let-coerced to a whole number as VBA does ([MS-VBAL] 5.5.1.2.1): halves to even,
 /// True is -1; `None` past `limit` (VBA's Overflow).
-fn whole_in(v: &Value, limit: f64) -> XlResult<Option<f64>> {
+fn whole_in(raised: &Raised, v: &Value, limit: f64) -> XlResult<Option<f64>> {
     let n = match v {
         Value::Bool(b) => -f64::from(u8::from(*b)),
         Value::Blank => 0.0,
-        other => super::vba_number(other)?.round_ties_even(),
+        other => raised.number(other)?.round_ties_even(),
     };
     Ok((-limit - 1.0..=limit).contains(&n).then_some(n))
 }
@@ -29,7 +29,8 @@ fn whole_in(v: &Value, limit: f64) -> XlResult<Option<f64>> {
 const LONG_MAX: f64 = 2147483647.0;
 
 /// The first VBA run-time error the items of a lifted call met (its number and why), raised
-/// once the call is done: 5 (Invalid procedure call or argument) or 6 (Overflow).
+/// once the call is done: 5 (Invalid procedure call or argument), 6 (Overflow) or 13 (Type
+/// mismatch).
 #[derive(Default)]
 pub(super) struct Raised(Cell<Option<(u32, &'static str)>>);
 
@@ -52,15 +53,29 @@ impl Raised {
             Some((6, why)) => {
                 Err(ctx.raise_vba(XlError::Num, 6, super::errors::message(6, format_args!("{name}: {why}"))))
             }
+            Some((13, why)) => {
+                Err(ctx.raise_vba(XlError::Value, 13, super::errors::message(13, format_args!("{name}: {why}"))))
+            }
             Some((_, why)) => Err(invalid_call(ctx, name, why)),
             None => result,
         }
     }
 
+    /// A value as a number the way VBA's conversions read it ([`super::vba_number`]); a String
+    /// that reads as no number is noted as Type mismatch, error 13 ("Type conversion
+    /// functions": "If expression lies outside the acceptable range … an error occurs";
+    /// [MS-VBAL] 5.5.1.2.1.1: a String not a number is error 13), where it was an error value.
+    pub(super) fn number(&self, v: &Value) -> XlResult<f64> {
+        super::vba_number(v).map_err(|e| match v {
+            Value::Text(_) => self.set(13, "a String that reads as no number"),
+            _ => e,
+        })
+    }
+
     /// A value Let-coerced to a whole number within `limit` (a Long's, an Integer's), its
     /// overflow noted.
     pub(super) fn whole(&self, v: &Value, limit: f64) -> XlResult<f64> {
-        whole_in(v, limit)?.ok_or_else(|| self.set(6, "a number past the range of its type"))
+        whole_in(self, v, limit)?.ok_or_else(|| self.set(6, "a number past the range of its type"))
     }
 }
 
@@ -94,7 +109,7 @@ fn converted(ctx: &mut Ctx, args: &[Expr], name: &str, fit: &dyn Fn(f64) -> Opti
         let n = match &v[0] {
             Value::Bool(b) => -f64::from(u8::from(*b)),
             Value::Blank => 0.0,
-            other => super::vba_number(other)?,
+            other => raised.number(other)?,
         };
         fit(n).map(Value::Number).ok_or_else(|| raised.set(6, "a number past the range of its type"))
     });
@@ -365,7 +380,7 @@ pub(super) fn cdate(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let result = lift_vba(ctx, args, "CDate", NO_NULL, &|v| {
         let serial = match &v[0] {
             Value::Bool(b) => -f64::from(u8::from(*b)),
-            other => super::vba_number(other)?,
+            other => raised.number(other)?,
         };
         // "Date data type": January 1, 100 to December 31, 9999; past it Overflow.
         if !crate::eval::dates::VBA_DATE_RANGE.contains(&serial) {
@@ -381,7 +396,7 @@ pub(super) fn cdate(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 pub(super) fn vba_date_time(raised: &Raised, v: &Value) -> XlResult<DateTime> {
     let serial = match v {
         Value::Bool(b) => -f64::from(u8::from(*b)),
-        other => super::vba_number(other)?,
+        other => raised.number(other)?,
     };
     if !VBA_DATE_RANGE.contains(&serial) {
         return Err(raised.set(6, "a date before 1/1/100 or after 12/31/9999"));

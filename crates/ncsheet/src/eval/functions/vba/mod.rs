@@ -71,6 +71,15 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "VBA Error: the message of a run-time error number (11: Division by zero)",
     ),
     FnSpec::value("VBA.EXP", 1, 1, exp, "VBA.EXP(number)", "VBA Exp: e raised to number"),
+    FnSpec::value(
+        "VBA.FILTER",
+        2,
+        4,
+        strings::filter,
+        "VBA.FILTER(array, match, [include], [compare])",
+        "VBA Filter: the array's items that contain match (or, include False, that do not)",
+    )
+    .vba_params(&["SourceArray", "Match", "[Include]", "[Compare]"]),
     FnSpec::value("VBA.FIX", 1, 1, fix, "VBA.FIX(number)", "VBA Fix: drops the fraction (toward zero)"),
     FnSpec::value(
         "VBA.FORMAT",
@@ -702,7 +711,7 @@ fn round(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 fn whole(ctx: &mut Ctx, args: &[Expr], name: &str, limit: f64) -> XlResult<Value> {
     let raised = Raised::default();
     let result = lift_vba(ctx, args, name, NO_NULL, &|v| {
-        let r = vba_number(&v[0])?.round_ties_even();
+        let r = raised.number(&v[0])?.round_ties_even();
         if r < -limit - 1.0 || r > limit {
             return Err(raised.set(6, "the number is past the range of its type"));
         }
@@ -720,11 +729,30 @@ fn clng(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn cdbl(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_vba(ctx, args, "CDbl", NO_NULL, &|v| Ok(number_result(vba_number(&v[0])?)))
+    let raised = Raised::default();
+    let result = lift_vba(ctx, args, "CDbl", NO_NULL, &|v| Ok(number_result(raised.number(&v[0])?)));
+    raised.raise(ctx, "CDbl", result)
 }
 
+/// `CBool(value)` ("Type conversion functions"): [`vba_bool`], a String that is neither
+/// "True"/"False" nor a number being Type mismatch, error 13.
 fn cbool(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_vba(ctx, args, "CBool", NO_NULL, &|v| Ok(Value::Bool(to_bool(&v[0])?)))
+    let raised = Raised::default();
+    let result = lift_vba(ctx, args, "CBool", NO_NULL, &|v| match (&v[0], vba_bool(&v[0])) {
+        (Value::Text(_), Err(_)) => Err(raised.set(13, "a String that is neither True, False nor a number")),
+        (_, b) => Ok(Value::Bool(b?)),
+    });
+    raised.raise(ctx, "CBool", result)
+}
+
+/// A value Let-coerced to Boolean ([MS-VBAL] 5.5.1.2.2): a String is "True" or "False" or
+/// a number, True when not 0 (`CBool("1")` is True, `CBool("0")` False), where the formula
+/// language's TRUE/FALSE text alone was read.
+pub fn vba_bool(v: &Value) -> XlResult<bool> {
+    match v {
+        Value::Text(t) => to_bool(v).or_else(|e| vba_number_text(t).map(|n| n != 0.0).ok_or(e)),
+        other => to_bool(other),
+    }
 }
 
 /// A value as VBA's CStr writes it: `True`/`False` in VBA's spelling, numbers to 15 digits

@@ -177,6 +177,32 @@ pub fn split(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     Ok(Value::from(Array::row(items)))
 }
 
+/// `Filter(sourcearray, match[, include[, compare]])` ("Filter function"): a zero-based array
+/// of the items of `sourcearray` that contain `match` (`include` True, the default) or that do
+/// not (False), compared as `compare` says (as InStr: the module's Option Compare when left
+/// out); no item kept gives an array with no items. Excel's worksheet FILTER, a different
+/// function, answered the bare name in a macro before.
+pub fn filter(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let Value::Array(items) = ctx.eval(&args[0]) else { return Err(XlError::Value) };
+    let wanted = text_arg(ctx, "Filter", args, 1)?;
+    let include = match given(args, 2).map(|e| ctx.eval(e).unwrap_single()) {
+        Some(v) => super::vba_bool(&v)?,
+        None => true,
+    };
+    let ignore_case = text_compare(ctx, "Filter", args, 3)?;
+    let needle = chars_for(&wanted, ignore_case);
+    let mut kept = Vec::new();
+    for item in items.data.iter() {
+        let text = vba_text(item)?;
+        let hay = chars_for(&text, ignore_case);
+        let found = (0..=hay.len()).any(|at| starts_at(&hay, &needle, at));
+        if found == include {
+            kept.push(Value::Text(text));
+        }
+    }
+    Ok(Value::from(Array::row(kept)))
+}
+
 /// `Join(sourcearray[, delimiter])`: the items' texts with the delimiter (a space when
 /// omitted) between them; a value that is no array is a type mismatch.
 pub fn join(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
