@@ -115,8 +115,9 @@ fn formatting_values_excel_refuses_are_error_1004() {
     // "Range.AutoFit method": the range must be whole rows or whole columns.
     let e = fails(&mut wb, "    Range(\"A1:B2\").AutoFit");
     assert!(e.contains("whole rows or whole columns") && e.contains("1004"), "{e}");
-    let e = fails(&mut wb, "    Range(\"A1\").Font.Size = 14");
-    assert!(e.contains("Font.Size") && e.contains("Bold"), "{e}");
+    // A font member ncsheet does not keep is refused by name, saying what it keeps.
+    let e = fails(&mut wb, "    Range(\"A1\").Font.Strikethrough = True");
+    assert!(e.contains("Font.Strikethrough") && e.contains("Bold"), "{e}");
 }
 
 #[test]
@@ -398,16 +399,55 @@ fn a_patched_original_keeps_the_macros_formats() {
 
 /// "Interior.ColorIndex property": set to xlColorIndexNone (xlNone, -4142, the XlColorIndex
 /// enumeration) for no fill, which is what an unfilled cell answers; Interior.Color then reads
-/// white, 16777215, as for any cell without fill. A palette index (1–56) is refused by name,
-/// not kept as some other colour.
+/// white, 16777215, as for any cell without fill. A palette index takes the default palette's
+/// colour ("ColorIndex property": 3 is red, RGB(255, 0, 0) = 255; 6 yellow, 65535); past 56
+/// it is error 1004.
 #[test]
-fn interior_color_index_none_clears_the_fill() {
+fn interior_color_index_none_clears_the_fill_and_a_palette_index_fills() {
     let out = run(
         &mut Workbook::with_sheet(),
         "    Range(\"A1\").Interior.Color = RGB(255, 0, 0)\n    Debug.Print Range(\"A1\").Interior.Color; Range(\"B1\").Interior.ColorIndex\n    \
-         Range(\"A1\").Interior.ColorIndex = xlNone\n    Debug.Print Range(\"A1\").Interior.Color; Range(\"A1\").Interior.ColorIndex",
+         Range(\"A1\").Interior.ColorIndex = xlNone\n    Debug.Print Range(\"A1\").Interior.Color; Range(\"A1\").Interior.ColorIndex\n    \
+         Range(\"A2\").Interior.ColorIndex = 3\n    Range(\"A3\").Interior.ColorIndex = 6\n    \
+         Debug.Print Range(\"A2\").Interior.Color; Range(\"A2\").Interior.ColorIndex; Range(\"A3\").Interior.Color; Range(\"A3\").Interior.ColorIndex",
     );
-    assert_eq!(out.printed, vec![" 255 -4142 ", " 16777215 -4142 "]);
-    let refused = fails(&mut Workbook::with_sheet(), "    Range(\"A1\").Interior.ColorIndex = 3");
-    assert!(refused.contains("ColorIndex"), "{refused}");
+    assert_eq!(out.printed, vec![" 255 -4142 ", " 16777215 -4142 ", " 255  3  65535  6 "]);
+    let refused = fails(&mut Workbook::with_sheet(), "    Range(\"A1\").Interior.ColorIndex = 57");
+    assert!(refused.contains("1004") && refused.contains("ColorIndex"), "{refused}");
+}
+
+/// The font's colour, size and underline, set and read back in Excel's terms: "Font.Color
+/// property" (RGB: RGB(0, 0, 255) = 16711680), "Font.ColorIndex property" (the default
+/// palette: 5 is blue, 3 red (255), 10 green RGB(0, 128, 0) = 32768; xlColorIndexAutomatic
+/// -4105 for an automatic colour, whose Color is black, 0), "Font.Size property" (points; 11
+/// for the Normal style's Calibri), "XlUnderlineStyle enumeration" (xlUnderlineStyleNone
+/// -4142, Single 2, Double -4119). A range whose cells differ reads Null, as
+/// "Range.NumberFormat" says of a mixed range.
+#[test]
+fn font_colour_size_and_underline_set_and_read_as_excel_gives_them() {
+    let out = run(
+        &mut Workbook::with_sheet(),
+        "    With Range(\"A1\").Font\n        .Color = RGB(0, 0, 255)\n        .Size = 14.5\n        .Underline = xlUnderlineStyleDouble\n    End With\n    \
+         Debug.Print Range(\"A1\").Font.Color; Range(\"A1\").Font.ColorIndex; Range(\"A1\").Font.Size; Range(\"A1\").Font.Underline\n    \
+         Debug.Print Range(\"B1\").Font.Color; Range(\"B1\").Font.ColorIndex; Range(\"B1\").Font.Size; Range(\"B1\").Font.Underline\n    \
+         Range(\"B1\").Font.ColorIndex = 3\n    Range(\"C1\").Font.ColorIndex = 10\n    Range(\"D1\").Font.Underline = True\n    \
+         Debug.Print Range(\"B1\").Font.Color; Range(\"C1\").Font.Color; Range(\"C1\").Font.ColorIndex; Range(\"D1\").Font.Underline\n    \
+         Range(\"B1\").Font.ColorIndex = xlAutomatic\n    Debug.Print Range(\"B1\").Font.ColorIndex; Range(\"B1\").Font.Color\n    \
+         Debug.Print IsNull(Range(\"A1:B1\").Font.Color) & \" \" & IsNull(Range(\"A1:B1\").Font.Size) & \" \" & \
+         IsNull(Range(\"B1:B2\").Font.Size) & \" \" & IsNull(Range(\"A1:C1\").Font.Underline)",
+    );
+    assert_eq!(
+        out.printed,
+        vec![
+            " 16711680  5  14.5 -4119 ",
+            " 0 -4105  11 -4142 ",
+            " 255  32768  10  2 ",
+            "-4105  0 ",
+            "True True False True",
+        ]
+    );
+    let refused = fails(&mut Workbook::with_sheet(), "    Range(\"A1\").Font.Size = 500");
+    assert!(refused.contains("1004") && refused.contains("Font.Size"), "{refused}");
+    let refused = fails(&mut Workbook::with_sheet(), "    Range(\"A1\").Font.Underline = 7");
+    assert!(refused.contains("1004") && refused.contains("Underline"), "{refused}");
 }

@@ -308,3 +308,21 @@ fn used_range_shrinks_when_its_last_column_or_row_is_deleted() {
     );
     assert_eq!(printed, vec!["$A$1:$C$2", "$A$1:$B$2", "$A$1:$B$1 2 "]);
 }
+
+/// `UsedRange` starts at the first used cell, not at A1: Microsoft's "Worksheet.UsedRange
+/// property" returns the range used on the sheet, so data only in C3:E9 is "$C$3:$E$9", whose
+/// `Row` is 3 and `Rows.Count` 7. A cell given a format or a font of its own is used as
+/// well (Excel's used range takes in formatted cells: G12, then B2).
+#[test]
+fn used_range_starts_at_the_first_used_cell_and_takes_in_formatted_cells() {
+    let printed = run(
+        &mut Workbook::with_sheet(),
+        "    Range(\"C3\").Value = 1\n    Range(\"E9\").Value = 2\n    With ActiveSheet.UsedRange\n        \
+         Debug.Print .Address; .Row; .Column; .Rows.Count; .Columns.Count\n    End With\n    \
+         Range(\"G12\").NumberFormat = \"0.00\"\n    Debug.Print ActiveSheet.UsedRange.Address\n    \
+         Range(\"B2\").Font.Bold = True\n    Debug.Print ActiveSheet.UsedRange.Address\n    \
+         Rows(\"1:2\").Delete\n    Debug.Print ActiveSheet.UsedRange.Address",
+    );
+    // After the delete the values are in C1:E7 and the format in G10 (B2's row is gone).
+    assert_eq!(printed, vec!["$C$3:$E$9 3  3  7  3 ", "$C$3:$G$12", "$B$2:$G$12", "$C$1:$G$10"]);
+}

@@ -238,3 +238,76 @@ fn a_date_set_into_a_book_is_saved_as_a_date() {
     );
     assert_eq!(read.trim(), "True mm-dd-yy 2025-03-12");
 }
+
+/// openpyxl's book of fonts: A1 red (FFFF0000), B1 14 points, C1 double-underlined, D1
+/// plain; E1 a green font (FF008000) a macro makes automatic again.
+const WRITE_FONTS: &str = r#"
+import sys
+from openpyxl import Workbook
+from openpyxl.styles import Font
+wb = Workbook()
+ws = wb.active
+for col in "ABCDE":
+    ws[col + "1"] = col
+ws["A1"].font = Font(color="FFFF0000")
+ws["B1"].font = Font(sz=14)
+ws["C1"].font = Font(u="double")
+ws["E1"].font = Font(color="FF008000")
+wb.save(sys.argv[1])
+"#;
+
+/// What a macro gave the fonts of row 2 and E1, as openpyxl reads them back.
+const READ_FONTS: &str = r#"
+import sys
+from openpyxl import load_workbook
+ws = load_workbook(sys.argv[1]).active
+def colour(c):
+    # Automatic: `auto`, or the theme's dark text (theme 1) a new file's Normal font names.
+    col = ws[c].font.color
+    if col is None:
+        return "none"
+    return "auto" if col.type == "auto" or (col.type == "theme" and col.theme == 1) else str(col.rgb)
+print("A2 " + colour("A2") + " B2 " + colour("B2") + " E1 " + colour("E1"))
+print("C2 sz=%s u=%s" % (ws["C2"].font.sz, ws["C2"].font.u))
+print("A1 " + colour("A1") + " B1 sz=%s C1 u=%s" % (ws["B1"].font.sz, ws["C1"].font.u))
+"#;
+
+/// The macro: A2 blue by RGB, B2 red by palette index 3, C2 16 points and single-underlined,
+/// E1 back to the automatic colour.
+const SET_FONTS: &str = "    Range(\"A2:C2\").Value = 1\n    Range(\"A2\").Font.Color = RGB(0, 0, 255)\n\
+     \x20   Range(\"B2\").Font.ColorIndex = 3\n    Range(\"C2\").Font.Size = 16\n\
+     \x20   Range(\"C2\").Font.Underline = xlUnderlineStyleSingle\n    Range(\"E1\").Font.ColorIndex = xlAutomatic";
+
+/// A font's colour, size and underline go from a file to a macro and from a macro to the
+/// saved file, patched over the file's own package or written anew. Expected values:
+/// "Font.Color property" (RGB, red in the low byte: FFFF0000 is 255), "Font.ColorIndex
+/// property" (palette index 3 is red), "Font.Size property" (points), "XlUnderlineStyle
+/// enumeration" (double -4119, single 2); the file's spelling ECMA-376 18.8.22 (`<font>`'s
+/// `color rgb`, `sz val`, `u val`), read by openpyxl.
+#[test]
+fn font_colour_size_and_underline_go_from_the_file_to_the_macro_and_back() {
+    if !openpyxl_available() {
+        return;
+    }
+    let (dir, mut doc) = book_by_openpyxl(WRITE_FONTS);
+    let printed = run(
+        &mut doc,
+        "    Debug.Print Range(\"A1\").Font.Color & \"|\" & Range(\"A1\").Font.ColorIndex & \"|\" & Range(\"D1\").Font.ColorIndex\n\
+         \x20   Debug.Print Range(\"B1\").Font.Size & \"|\" & Range(\"D1\").Font.Size & \"|\" & Range(\"C1\").Font.Underline & \"|\" & Range(\"D1\").Font.Underline",
+    );
+    assert_eq!(printed, ["255|3|-4105", "14|11|-4119|-4142"]);
+    run(&mut doc, SET_FONTS);
+    let expected = ["A2 FF0000FF B2 FFFF0000 E1 auto", "C2 sz=16.0 u=single", "A1 FFFF0000 B1 sz=14.0 C1 u=double"];
+    let patched = dir.path().join("patched.xlsx");
+    let encoded = doc.encode(&patched).unwrap();
+    assert_eq!(encoded.losses, Vec::<String>::new());
+    std::fs::write(&patched, encoded.bytes()).unwrap();
+    assert_eq!(python(READ_FONTS, &[&patched]).lines().collect::<Vec<_>>(), expected);
+    // A deleted row makes the save write the package anew (the patch keeps rows in place).
+    run(&mut doc, "    Rows(5).Delete");
+    let anew = dir.path().join("anew.xlsx");
+    let encoded = doc.encode(&anew).unwrap();
+    assert!(encoded.losses.iter().any(|l| l.contains("written anew")), "{:?}", encoded.losses);
+    std::fs::write(&anew, encoded.bytes()).unwrap();
+    assert_eq!(python(READ_FONTS, &[&anew]).lines().collect::<Vec<_>>(), expected);
+}

@@ -48,6 +48,14 @@ const XL_COLOR_INDEX_AUTOMATIC: f64 = -4105.0;
 /// Interior.Color of a cell without fill: white, as Excel answers.
 const NO_FILL: u32 = 0xFF_FFFF;
 
+/// Font.Size of a cell whose size was not set: the Normal style's Calibri 11.
+const STANDARD_FONT_SIZE: f64 = 11.0;
+
+/// The palette index (a ColorIndex answer) nearest an RGB colour.
+fn palette_index(color: u32) -> f64 {
+    f64::from(cell_style::nearest_palette_index(color))
+}
+
 /// One formatting statement's change to a cell.
 #[derive(Clone, Debug, PartialEq)]
 enum Edit {
@@ -58,6 +66,9 @@ enum Edit {
     Italic(bool),
     Wrap(bool),
     Fill(Option<u32>),
+    FontColor(Option<u32>),
+    FontSize(Option<u16>),
+    Underline(Option<i32>),
 }
 
 impl Edit {
@@ -70,6 +81,9 @@ impl Edit {
             Edit::Italic(i) => style.italic = *i,
             Edit::Wrap(w) => style.wrap = *w,
             Edit::Fill(f) => style.fill = *f,
+            Edit::FontColor(c) => style.font_color = *c,
+            Edit::FontSize(s) => style.font_size = *s,
+            Edit::Underline(u) => style.underline = *u,
         }
     }
 }
@@ -284,6 +298,12 @@ fn moved_line(rect: Rect, edit: &SheetEdit) -> Option<Rect> {
     Some(Rect::new(edit.moved(rect.first)?, edit.moved(rect.last)?))
 }
 
+/// `rect` grown to take in `p`.
+fn reaching(rect: Rect, p: Pos) -> Rect {
+    let first = Pos::new(rect.first.row.min(p.row), rect.first.col.min(p.col));
+    Rect::new(first, Pos::new(rect.last.row.max(p.row), rect.last.col.max(p.col)))
+}
+
 /// A rectangle reaching the sheet's last row (whole columns) or last column (whole rows).
 fn is_whole_lines(rect: Rect) -> bool {
     rect.last.row == MAX_ROWS - 1 || rect.last.col == MAX_COLS - 1
@@ -308,6 +328,17 @@ impl Interp<'_, '_> {
             }
         }
         cells
+    }
+
+    /// `Worksheet.UsedRange`: from the first to the last cell holding a value or a look of its
+    /// own (Excel counts formatted cells as used), A1 on an empty sheet.
+    pub(super) fn used_range(&self, sheet: SheetId) -> Rect {
+        let values = self.wb.borrow().used_area(sheet);
+        let looks = self.looks.borrow();
+        let styled = looks.sheets.get(&sheet).map(|s| s.formats.keys().chain(s.styles.keys())).into_iter().flatten();
+        styled
+            .fold(values, |used, &p| Some(used.map_or(Rect::cell(p), |u| reaching(u, p))))
+            .unwrap_or(Rect::cell(Pos::new(0, 0)))
     }
 
     /// The number format code a cell shows its number in ("General" without one).
@@ -387,28 +418,33 @@ impl Interp<'_, '_> {
         match (part, name.as_str()) {
             (LookPart::Font, "bold") => Ok(self.style_answer(ctx, sheet, rect, |s| Value::Bool(s.bold))),
             (LookPart::Font, "italic") => Ok(self.style_answer(ctx, sheet, rect, |s| Value::Bool(s.italic))),
+            // An automatic font colour is black ("Font.Color": RGB).
+            (LookPart::Font, "color") => {
+                Ok(self.style_answer(ctx, sheet, rect, |s| Value::Number(f64::from(s.font_color.unwrap_or(0)))))
+            }
+            (LookPart::Font, "colorindex") => Ok(self.style_answer(ctx, sheet, rect, |s| {
+                Value::Number(s.font_color.map_or(XL_COLOR_INDEX_AUTOMATIC, palette_index))
+            })),
+            (LookPart::Font, "size") => Ok(self.style_answer(ctx, sheet, rect, |s| {
+                Value::Number(s.font_size.map_or(STANDARD_FONT_SIZE, |t| f64::from(t) / 20.0))
+            })),
+            (LookPart::Font, "underline") => Ok(self.style_answer(ctx, sheet, rect, |s| {
+                Value::Number(f64::from(s.underline.unwrap_or(cell_style::XL_UNDERLINE_NONE)))
+            })),
             (LookPart::Interior, "color") => {
                 Ok(self.style_answer(ctx, sheet, rect, |s| Value::Number(f64::from(s.fill.unwrap_or(NO_FILL)))))
             }
-            // A cell without fill answers xlColorIndexNone; a filled one's palette index is not kept.
-            (LookPart::Interior, "colorindex") => {
-                let answer = self.style_answer(ctx, sheet, rect, |s| match s.fill {
-                    None => Value::Number(XL_COLOR_INDEX_NONE),
-                    Some(_) => Value::Null,
-                });
-                match answer {
-                    Obj::Value(Value::Null) => Err(self.look_part_refused(part, link)),
-                    other => Ok(other),
-                }
-            }
+            // A cell without fill answers xlColorIndexNone; a filled one the palette's index nearest its colour.
+            (LookPart::Interior, "colorindex") => Ok(self
+                .style_answer(ctx, sheet, rect, |s| Value::Number(s.fill.map_or(XL_COLOR_INDEX_NONE, palette_index)))),
             _ => Err(self.look_part_refused(part, link)),
         }
     }
 
     fn look_part_refused(&self, part: LookPart, link: &Link) -> super::interp::Fault {
         let kept = match part {
-            LookPart::Font => "Font.Bold and Font.Italic",
-            LookPart::Interior => "Interior.Color",
+            LookPart::Font => "Font's Bold, Italic, Color, ColorIndex, Size and Underline",
+            LookPart::Interior => "Interior's Color and ColorIndex",
         };
         let what = if part == LookPart::Font { "Font" } else { "Interior" };
         self.fault_at(link.span, format!("{what}.{}: of this, ncsheet keeps {kept} only", link.name))
@@ -507,25 +543,82 @@ impl Interp<'_, '_> {
             (None, "hidden") => return self.set_hidden(sheet, rect, boolean()?, span),
             (Some(LookPart::Font), "bold") => Edit::Bold(boolean()?),
             (Some(LookPart::Font), "italic") => Edit::Italic(boolean()?),
+            (Some(LookPart::Font), "color") => {
+                Edit::FontColor(Some(self.rgb_of(number("Font.Color")?, "Font", span)?))
+            }
+            // "Font.ColorIndex property": a palette index, or xlColorIndexAutomatic or
+            // xlColorIndexNone, both the automatic colour of a font.
+            (Some(LookPart::Font), "colorindex") => {
+                Edit::FontColor(self.palette_of(number("Font.ColorIndex")?, "Font", span)?)
+            }
+            (Some(LookPart::Font), "size") => Edit::FontSize(Some(self.font_size(number("Font.Size")?, span)?)),
+            (Some(LookPart::Font), "underline") => Edit::Underline(self.underline_of(&v, span)?),
             (Some(LookPart::Interior), "color") => {
-                let c = number("Interior.Color")?.round();
-                if !(0.0..=f64::from(NO_FILL)).contains(&c) {
-                    return Err(
-                        self.error_1004(span, "Interior.Color takes a colour from RGB(…), 0 to 16777215".into())
-                    );
-                }
-                Edit::Fill(Some(c as u32))
+                Edit::Fill(Some(self.rgb_of(number("Interior.Color")?, "Interior", span)?))
             }
             // "Interior.ColorIndex property": xlColorIndexNone (xlNone, -4142) is no fill; so is
-            // xlColorIndexAutomatic (-4105) for an interior. A palette index is not kept.
-            (Some(LookPart::Interior), "colorindex") => match number("Interior.ColorIndex")? {
-                XL_COLOR_INDEX_NONE | XL_COLOR_INDEX_AUTOMATIC => Edit::Fill(None),
-                _ => return Err(self.look_part_refused(LookPart::Interior, link)),
-            },
+            // xlColorIndexAutomatic (-4105) for an interior; else a palette index.
+            (Some(LookPart::Interior), "colorindex") => {
+                Edit::Fill(self.palette_of(number("Interior.ColorIndex")?, "Interior", span)?)
+            }
             (Some(p), _) => return Err(self.look_part_refused(p, link)),
             _ => unreachable!("set_look checked the member"),
         };
         self.edit_look(sheet, rect, edit, span)
+    }
+
+    /// A `Color` set: an RGB colour, 0 to 16777215 (else error 1004, as Excel's).
+    fn rgb_of(&self, n: f64, what: &str, span: Span) -> Run<u32> {
+        let c = n.round();
+        if !(0.0..=f64::from(NO_FILL)).contains(&c) {
+            return Err(
+                self.error_1004(span, format!("{what}.Color takes a colour from RGB(…), 0 to 16777215, not {n}"))
+            );
+        }
+        Ok(c as u32)
+    }
+
+    /// A `ColorIndex` set: 1 to 56, the default palette's colour; xlColorIndexNone or
+    /// xlColorIndexAutomatic, none (`None`); else error 1004.
+    fn palette_of(&self, n: f64, what: &str, span: Span) -> Run<Option<u32>> {
+        if n == XL_COLOR_INDEX_NONE || n == XL_COLOR_INDEX_AUTOMATIC {
+            return Ok(None);
+        }
+        match cell_style::palette_color(n.round() as u32) {
+            Some(c) if n.round() >= 1.0 => Ok(Some(c)),
+            _ => Err(self.error_1004(
+                span,
+                format!(
+                    "{what}.ColorIndex takes 1 to 56 (the palette), xlColorIndexNone or xlColorIndexAutomatic, not {n}"
+                ),
+            )),
+        }
+    }
+
+    /// `Font.Size`: 1 to 409 points (Excel's font sizes), kept in twentieths of a point.
+    fn font_size(&self, points: f64, span: Span) -> Run<u16> {
+        if !(1.0..=MAX_HEIGHT).contains(&points) {
+            return Err(self.error_1004(span, format!("Font.Size is 1 to 409 points, not {points}")));
+        }
+        Ok((points * 20.0).round() as u16)
+    }
+
+    /// `Font.Underline`: an XlUnderlineStyle value; True is a single underline and False
+    /// none, as Excel takes them.
+    fn underline_of(&self, v: &Value, span: Span) -> Run<Option<i32>> {
+        let style = match v {
+            Value::Bool(true) => return Ok(Some(cell_style::XL_UNDERLINE_SINGLE)),
+            Value::Bool(false) => return Ok(None),
+            v => self.number_of(v, "Font.Underline").map_err(|m| self.fault_at(span, m))?.round() as i32,
+        };
+        match style {
+            cell_style::XL_UNDERLINE_NONE => Ok(None),
+            s if cell_style::is_underline(s) => Ok(Some(s)),
+            s => Err(self.error_1004(
+                span,
+                format!("Font.Underline takes an XlUnderlineStyle value (xlUnderlineStyleSingle …), not {s}"),
+            )),
+        }
     }
 
     /// Gives each cell of `to` the look (format and style, its own or a line's) of the cell

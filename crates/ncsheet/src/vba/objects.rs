@@ -423,10 +423,7 @@ impl Interp<'_, '_> {
                 Ok(Obj::Value(Value::Blank))
             }
             "visible" => Ok(Obj::Value(visibility_value(self.wb.borrow().sheet_visibility(id)))),
-            "usedrange" => {
-                let used = self.wb.borrow().used_rect(id).unwrap_or(Rect::cell(Pos::new(0, 0)));
-                Ok(Obj::Range(id, used))
-            }
+            "usedrange" => Ok(Obj::Range(id, self.used_range(id))),
             "evaluate" => self.evaluate(ctx, id, link),
             "copy" => self.copy_sheet(id, link),
             "delete" => self.delete_sheet(id, link.span),

@@ -226,8 +226,14 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "xlcalculationautomatic" => number(-4105.0),
         "xlcalculationsemiautomatic" => number(2.0),
         // "Constants enumeration": no color, Excel's automatic color (ColorIndex).
-        "xlnone" => number(-4142.0),
-        "xlautomatic" => number(-4105.0),
+        "xlnone" | "xlcolorindexnone" => number(-4142.0),
+        "xlautomatic" | "xlcolorindexautomatic" => number(-4105.0),
+        // "XlUnderlineStyle enumeration", for Font.Underline.
+        "xlunderlinestylenone" => number(-4142.0),
+        "xlunderlinestylesingle" | "xlsingle" => number(2.0),
+        "xlunderlinestyledouble" | "xldouble" => number(-4119.0),
+        "xlunderlinestylesingleaccounting" | "xlsingleaccounting" => number(4.0),
+        "xlunderlinestyledoubleaccounting" | "xldoubleaccounting" => number(5.0),
         "xlup" => number(-4162.0),
         "xldown" => number(-4121.0),
         "xltoleft" => number(-4159.0),
@@ -1108,7 +1114,8 @@ pub(super) enum WithSubject {
     Other,
 }
 
-/// `CreateObject("Scripting.Dictionary")`: the one ProgID a macro may create (a literal).
+/// `CreateObject("Scripting.Dictionary")`, `CreateObject("System.Collections.ArrayList")`: the
+/// ProgIDs a macro may create (a literal).
 fn created(link: &Link) -> Option<Class> {
     match link.args.as_deref() {
         Some([Arg { name: None, value }]) => match &value.kind {
@@ -1119,8 +1126,9 @@ fn created(link: &Link) -> Option<Class> {
     }
 }
 
-/// `CreateObject("System.Collections.ArrayList")` (or another of .NET's collections, which
-/// sorting macros borrow through COM): the ProgID, refused by name rather than as a program.
+/// `CreateObject("System.Collections.SortedList")` (another of .NET's collections than the
+/// ArrayList ncsheet makes, which macros borrow through COM): the ProgID, refused by name
+/// rather than as a program.
 fn dotnet_collection(link: &Link) -> Option<String> {
     let [Arg { name: None, value }] = link.args.as_deref()? else { return None };
     let ExprKind::Text(id) = &value.kind else { return None };

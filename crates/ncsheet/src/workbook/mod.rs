@@ -958,6 +958,12 @@ impl Workbook {
         Env::used_rect(self, sheet)
     }
 
+    /// The cells of `sheet` from the first to the last row and column that ever held a
+    /// value (Excel's UsedRange of its values), where `used_rect` starts at A1.
+    pub fn used_area(&self, sheet: SheetId) -> Option<Rect> {
+        self.sheets.get(sheet as usize)?.used_area()
+    }
+
     /// The cells of each circular reference, as `Sheet1!A1` names.
     pub fn cycles(&self) -> Vec<Vec<String>> {
         let mut cycles: Vec<&Vec<u32>> = self.cycles.iter().collect();

@@ -15,6 +15,9 @@ pub struct Sheet {
     /// The last row and column that ever held a value (grows only; blank cells that exist
     /// because a formula points at them do not count).
     extent: Option<Pos>,
+    /// The first row and column that ever held a value, as `extent` the last: Excel's
+    /// UsedRange starts there, not at A1.
+    origin: Option<Pos>,
     /// Hidden rows (0-based), as the file hid them.
     hidden_rows: BTreeMap<u32, RowHidden>,
     /// Column widths in characters as Excel shows them: spans (first, last column, width),
@@ -43,6 +46,7 @@ impl Sheet {
             name: name.to_string(),
             columns: Vec::new(),
             extent: None,
+            origin: None,
             hidden_rows: BTreeMap::new(),
             widths: Vec::new(),
             default_width: None,
@@ -93,16 +97,40 @@ impl Sheet {
         let e = self.extent.get_or_insert(p);
         e.row = e.row.max(p.row);
         e.col = e.col.max(p.col);
+        let o = self.origin.get_or_insert(p);
+        o.row = o.row.min(p.row);
+        o.col = o.col.min(p.col);
     }
 
     /// The extent after whole rows (`rows`) or columns were inserted or deleted: its last line
     /// goes where `to` sends it, as the cells do; so a sheet's used range shrinks when its
     /// last column is deleted (Excel's UsedRange), where the extent only grew.
-    pub fn move_extent(&mut self, rows: bool, to: impl Fn(u32) -> u32) {
-        if let Some(e) = self.extent.as_mut() {
-            let line = if rows { &mut e.row } else { &mut e.col };
-            *line = to(*line);
+    /// The origin's first line goes where `first_to` sends it.
+    pub fn move_extent(&mut self, rows: bool, to: impl Fn(u32) -> u32, first_to: impl Fn(u32) -> u32) {
+        fn line(p: &mut Pos, rows: bool) -> &mut u32 {
+            if rows {
+                &mut p.row
+            } else {
+                &mut p.col
+            }
         }
+        if let Some(e) = self.extent.as_mut() {
+            let last = line(e, rows);
+            *last = to(*last);
+        }
+        if let Some(o) = self.origin.as_mut() {
+            let first = line(o, rows);
+            *first = first_to(*first);
+        }
+    }
+
+    /// The rectangle from the first to the last row and column that ever held a value
+    /// (Excel's UsedRange of the cells), or `None` when nothing was ever stored.
+    pub fn used_area(&self) -> Option<Rect> {
+        let last = self.extent?;
+        let first = self.origin.unwrap_or(last);
+        // Deleting every used line leaves the origin past the extent: the area is its last cell.
+        Some(Rect::new(Pos::new(first.row.min(last.row), first.col.min(last.col)), last))
     }
 
     /// A1 to the extent, or `None` when nothing was ever stored.

@@ -420,8 +420,12 @@ impl Workbook {
         }
         let s = &mut self.sheets[sheet as usize];
         // A deleted last line leaves the line before the deleted ones last: every cell left
-        // there lies before them.
-        s.move_extent(edit.axis == Axis::Rows, |line| edit.index(line).unwrap_or(edit.at.saturating_sub(1)));
+        // there lies before them; a deleted first line leaves the line after them first.
+        s.move_extent(
+            edit.axis == Axis::Rows,
+            |line| edit.index(line).unwrap_or(edit.at.saturating_sub(1)),
+            |line| edit.index(line).unwrap_or(edit.at),
+        );
         match edit.axis {
             Axis::Rows => {
                 let hidden: Vec<(u32, RowHidden)> = s.hidden_rows().collect();

@@ -100,7 +100,7 @@ impl StyleSheet {
         let base = self.xfs.children.get(old as usize).or(self.xfs.children.first()).cloned();
         let base = base.unwrap_or_else(|| format!("<{}xf/>", self.ns));
         let format_id = self.format_id(format.unwrap_or("General"));
-        let font_id = self.font_for(attr(&base, "fontId").and_then(|f| f.parse().ok()).unwrap_or(0), look);
+        let font_id = self.font_for(attr(&base, "fontId").and_then(|f| f.parse().ok()).unwrap_or(0), look, was);
         let fill_id = match look.fill == was.fill {
             true => attr(&base, "fillId").and_then(|f| f.parse().ok()).unwrap_or(0),
             false => self.fill_for(look.fill),
@@ -141,8 +141,10 @@ impl StyleSheet {
         self.unpatchable.as_deref()
     }
 
-    /// The font `old` with bold and italic as `look` has them.
-    fn font_for(&mut self, old: u32, look: CellStyle) -> u32 {
+    /// The font `old` with bold and italic as `look` has them, and its colour, size and
+    /// underline where `look` changed them from the file's look `was` (the old font may say
+    /// more: a theme colour with a tint).
+    fn font_for(&mut self, old: u32, look: CellStyle, was: CellStyle) -> u32 {
         let ns = &self.ns;
         let base = self.fonts.children.get(old as usize).or(self.fonts.children.first());
         let base = base.cloned().unwrap_or_else(|| format!("<{ns}font/>"));
@@ -152,15 +154,33 @@ impl StyleSheet {
             }
             _ => String::new(),
         };
-        for name in ["b", "i"] {
-            inner = without_element(&inner, &format!("{ns}{name}"));
-        }
+        let mut changed = vec!["b", "i"];
         let mut marks = String::new();
         if look.bold {
             marks.push_str(&format!("<{ns}b/>"));
         }
         if look.italic {
             marks.push_str(&format!("<{ns}i/>"));
+        }
+        if look.underline != was.underline {
+            changed.push("u");
+            marks.push_str(&underline_element(ns, look.underline));
+        }
+        if look.font_size != was.font_size {
+            changed.push("sz");
+            // 11 points, Excel's Normal size, is what a look without a size shows.
+            let twentieths = look.font_size.unwrap_or(220);
+            marks.push_str(&format!("<{ns}sz val=\"{}\"/>", f64::from(twentieths) / 20.0));
+        }
+        if look.font_color != was.font_color {
+            changed.push("color");
+            marks.push_str(&match look.font_color {
+                Some(bgr) => format!("<{ns}color rgb=\"FF{:06X}\"/>", cell_style::swap_red_blue(bgr)),
+                None => format!("<{ns}color auto=\"1\"/>"),
+            });
+        }
+        for name in changed {
+            inner = without_element(&inner, &format!("{ns}{name}"));
         }
         let font = format!("<{ns}font>{marks}{inner}</{ns}font>");
         find_or_add(&mut self.fonts, font)
@@ -506,6 +526,19 @@ fn without_element(xml: &str, name: &str) -> String {
         out.replace_range(i..end, "");
     }
     out
+}
+
+/// A font's `<u>` for an XlUnderlineStyle (ECMA-376 18.4.13 ST_UnderlineValues), none for
+/// no underline.
+fn underline_element(ns: &str, underline: Option<i32>) -> String {
+    let val = match underline {
+        None => return String::new(),
+        Some(cell_style::XL_UNDERLINE_DOUBLE) => "double",
+        Some(cell_style::XL_UNDERLINE_SINGLE_ACCOUNTING) => "singleAccounting",
+        Some(cell_style::XL_UNDERLINE_DOUBLE_ACCOUNTING) => "doubleAccounting",
+        Some(_) => "single",
+    };
+    format!("<{ns}u val=\"{val}\"/>")
 }
 
 /// `xml` with the first `name` element's `count` attribute set to `count`.

@@ -1016,11 +1016,14 @@ fn style_format(s: &Style) -> Option<String> {
     (f.format_id != Some(0) && !f.format_code.eq_ignore_ascii_case("General")).then(|| f.format_code.clone())
 }
 
-/// A style's alignment, bold, italic, wrap and solid fill as a macro reads them
-/// (`HorizontalAlignment`, `Font.Bold`, `Interior.Color`); the rest of it (fonts' names and
-/// sizes, borders, patterns) ncsheet does not keep.
+/// A style's alignment, bold, italic, wrap, solid fill and font colour, size and underline as a
+/// macro reads them (`HorizontalAlignment`, `Font.Bold`, `Interior.Color`, `Font.Color`); the
+/// rest of it (fonts' names, borders, patterns) ncsheet does not keep. Black and 11 points
+/// are what a cell without them answers, so they are not kept per cell.
 fn cell_style(s: &Style) -> CellStyle {
-    use calamine::{FillPattern, FontStyle, FontWeight, HorizontalAlignment as H, VerticalAlignment as V};
+    use calamine::{
+        FillPattern, FontStyle, FontWeight, HorizontalAlignment as H, UnderlineStyle as U, VerticalAlignment as V,
+    };
     use cell_style::*;
     let font = s.font.as_ref();
     let alignment = s.alignment.as_ref();
@@ -1052,6 +1055,21 @@ fn cell_style(s: &Style) -> CellStyle {
         italic: font.is_some_and(|f| f.style == FontStyle::Italic),
         wrap: alignment.is_some_and(|a| a.wrap_text),
         fill: solid.and_then(|f| f.foreground_color.as_ref()).map(rgb),
+        // Black is the automatic colour's look; any other is the cell's own.
+        font_color: font.and_then(|f| f.color.as_ref()).map(rgb).filter(|&c| c != 0),
+        font_size: font
+            .and_then(|f| f.size)
+            .filter(|&size| size != 11.0)
+            .map(|points| (points * 20.0).round().clamp(1.0, f64::from(u16::MAX)) as u16),
+        underline: font.and_then(|f| match f.underline {
+            U::None => None,
+            U::Single => Some(XL_UNDERLINE_SINGLE),
+            U::Double => Some(XL_UNDERLINE_DOUBLE),
+            U::SingleAccounting => Some(XL_UNDERLINE_SINGLE_ACCOUNTING),
+            U::DoubleAccounting => Some(XL_UNDERLINE_DOUBLE_ACCOUNTING),
+            // A kind calamine may add later is still an underline.
+            _ => Some(XL_UNDERLINE_SINGLE),
+        }),
     }
 }
 

@@ -528,10 +528,32 @@ fn cell_format(code: Option<&str>, style: CellStyle) -> Format {
     }
     if let Some(bgr) = style.fill {
         // VBA's RGB puts red in the low byte; the file's colour is RRGGBB.
-        let rgb = ((bgr & 0xFF) << 16) | (bgr & 0xFF00) | ((bgr >> 16) & 0xFF);
-        format = format.set_background_color(Color::RGB(rgb));
+        format = format.set_background_color(Color::RGB(xl::swap_red_blue(bgr)));
     }
-    format
+    font_look(format, style)
+}
+
+/// The font's colour, size and underline of `style` added to `format`.
+fn font_look(mut format: Format, style: CellStyle) -> Format {
+    use crate::eval::format::cell_style as xl;
+    use rust_xlsxwriter::{Color, FormatUnderline as U};
+    if let Some(bgr) = style.font_color {
+        format = format.set_font_color(Color::RGB(xl::swap_red_blue(bgr)));
+    }
+    if let Some(twentieths) = style.font_size {
+        format = format.set_font_size(f64::from(twentieths) / 20.0);
+    }
+    let underline = match style.underline {
+        Some(xl::XL_UNDERLINE_SINGLE) => Some(U::Single),
+        Some(xl::XL_UNDERLINE_DOUBLE) => Some(U::Double),
+        Some(xl::XL_UNDERLINE_SINGLE_ACCOUNTING) => Some(U::SingleAccounting),
+        Some(xl::XL_UNDERLINE_DOUBLE_ACCOUNTING) => Some(U::DoubleAccounting),
+        _ => None,
+    };
+    match underline {
+        Some(u) => format.set_underline(u),
+        None => format,
+    }
 }
 
 /// A cell format for a number format code: the built-in ones of [`builtin_date_format`] by
