@@ -4,7 +4,9 @@
 use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
-use ncsheet::nc::post::{part_name, post_ab_head, AbHead, PostOptions, DEFAULT_MAX_SWING, DEFAULT_SINGULAR_MARGIN};
+use ncsheet::nc::post::{
+    part_name, post_ab_head_traced, AbHead, PostOptions, DEFAULT_MAX_SWING, DEFAULT_SINGULAR_MARGIN,
+};
 use ncsheet::nc::{apt, dialect, Machine};
 
 use super::output::emit;
@@ -116,8 +118,14 @@ pub fn run(args: PostArgs) -> Result<()> {
     let in_file = |m: String| Error::User(format!("{}: {m}", file.display()));
     let records = apt::read(&text).map_err(|e| in_file(e.to_string()))?;
     let name = program_name(&args, part_name(&records));
-    let program = post_ab_head(&records, &name, &options(&args)).map_err(|e| in_file(e.to_string()))?;
-    let nc = dialect.render(&program).map_err(|e| in_file(e.to_string()))?;
+    let (program, sources) =
+        post_ab_head_traced(&records, &name, &options(&args)).map_err(|e| in_file(e.to_string()))?;
+    // A block the dialect cannot write is named by the CL line it came from, which the user
+    // can find; the block's place in the program is not in any file they have.
+    let nc = dialect.render(&program).map_err(|e| match e.block.and_then(|b| sources.record_of(b)) {
+        Some((line, word)) => in_file(format!("line {line} ({word}): the {} dialect: {}", e.dialect, e.message)),
+        None => in_file(e.to_string()),
+    })?;
     emit(&nc, args.output.as_deref(), args.force)
 }
 

@@ -348,6 +348,7 @@ fn run_options(doc: &Document, sub: &str, dialect: &'static dyn dialect::Dialect
         sub: (!sub.is_empty()).then(|| sub.to_string()),
         sheet: doc.workbook().sheet_names().into_iter().nth(sheet as usize),
         dialect: Some(dialect),
+        limits_from: vba::LimitsFrom::Workbench,
         ..RunOptions::default()
     }
 }

@@ -115,12 +115,46 @@ const SAME_ANGLE: f64 = 1e-6;
 
 /// The program for an (A,B) head that cuts what `records` describe.
 pub fn post_ab_head(records: &[ClRecord], name: &str, o: &PostOptions) -> Result<Program, PostError> {
+    post_ab_head_traced(records, name, o).map(|(program, _)| program)
+}
+
+/// Which record of the CL file each block of a posted program came from, so that a block a
+/// dialect cannot write is reported at the line the user wrote (`line 8 (GOTO)`), not by
+/// its place in the program.
+#[derive(Clone, Debug, Default)]
+pub struct BlockSources {
+    /// (the 0-based index of the first block a record made, its line, its word), in order.
+    starts: Vec<(usize, usize, &'static str)>,
+}
+
+impl BlockSources {
+    /// The line and word of the record that made block `block` (1-based, as
+    /// [`crate::nc::dialect::NcError`] counts); `None` for the blocks the post writes itself
+    /// before the first record's.
+    pub fn record_of(&self, block: usize) -> Option<(usize, &'static str)> {
+        let index = block.checked_sub(1)?;
+        let after = self.starts.partition_point(|s| s.0 <= index);
+        after.checked_sub(1).map(|i| (self.starts[i].1, self.starts[i].2))
+    }
+}
+
+/// [`post_ab_head`], with the record each block came from.
+pub fn post_ab_head_traced(
+    records: &[ClRecord],
+    name: &str,
+    o: &PostOptions,
+) -> Result<(Program, BlockSources), PostError> {
     check_head(&o.head)?;
     let clearance = clearance(records, o.clearance)?;
     let mut post = Post::new(name, o, clearance);
     post.start(records)?;
+    let mut sources = BlockSources::default();
     for r in records {
+        let first = post.program.blocks.len();
         post.record(r)?;
+        if post.program.blocks.len() > first {
+            sources.starts.push((first, r.line, r.word()));
+        }
     }
     if let Some((line, ..)) = post.circle {
         return Err(PostError {
@@ -128,7 +162,7 @@ pub fn post_ab_head(records: &[ClRecord], name: &str, o: &PostOptions) -> Result
             message: "a CIRCLE without the GOTO that ends it".into(),
         });
     }
-    Ok(post.program)
+    Ok((post.program, sources))
 }
 
 fn check_head(h: &AbHead) -> Result<(), PostError> {

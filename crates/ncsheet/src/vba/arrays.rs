@@ -42,7 +42,10 @@ impl Interp<'_, '_> {
         if items > limit {
             let mut f = self.fault_at(
                 span,
-                format!("an array of {items} items passes the limit of {limit} (ncsheet's limit; raise it with --max-array-items)"),
+                format!(
+                    "an array of {items} items passes the limit of {limit} (ncsheet's limit; {})",
+                    self.options.raise_hint("raise it with --max-array-items")
+                ),
             );
             f.kind = super::ErrorKind::Limit;
             return Err(f);

@@ -209,9 +209,10 @@ impl Interp<'_, '_> {
             span,
             format!(
                 "the macro's strings and arrays hold {:.1} MiB, more than the {:.1} MiB allowed \
-                 (ncsheet's memory limit for a macro run; raise it with --max-memory)",
+                 (ncsheet's memory limit for a macro run; {})",
                 mib(held),
-                mib(budget)
+                mib(budget),
+                self.options.raise_hint("raise it with --max-memory")
             ),
         );
         f.kind = ErrorKind::Limit;

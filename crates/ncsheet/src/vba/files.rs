@@ -1291,7 +1291,10 @@ impl Interp<'_, '_> {
             let limit = self.options.max_string;
             let mut f = self.fault_at(
                 span,
-                format!("{what}: {n} times is past the longest string a macro may make ({limit}; --max-string)"),
+                format!(
+                    "{what}: {n} times is past the longest string a macro may make ({limit}; {})",
+                    self.options.raise_hint("raise it with --max-string")
+                ),
             );
             f.kind = super::ErrorKind::Limit;
             return Err(f);

@@ -4,7 +4,7 @@
 use std::rc::Rc;
 
 use crate::eval::evaluator::Host;
-use crate::eval::{Ctx, Env, Operand, Value, XlError};
+use crate::eval::{Ctx, Env, Note, Operand, UserCall, Value, XlError};
 use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::{BinOp, Expr, SheetId};
 
@@ -14,6 +14,18 @@ use super::value::{Obj, Var};
 use super::ErrorKind;
 
 impl Env for Interp<'_, '_> {
+    /// A function a formula of the macro calls (`Evaluate("Twice(2)")`, `[Twice(2)]`): a
+    /// public Function of the macro's own code, as Excel's Evaluate calls the project's, else
+    /// the workbook's (it was `#NAME?`, Error 2029, with no word why). A failed call is
+    /// `#VALUE!` with its reason, as in a cell.
+    fn call_user_function(&self, cells: &dyn Env, call: &UserCall) -> Option<Result<Value, Note>> {
+        let Some(proc) = self.formula_function(call.name) else {
+            return self.wb.borrow().call_user_function(cells, call);
+        };
+        let args = call.args.iter().map(formula_argument).collect();
+        Some(self.call_from_formula(proc, args).map_err(|f| Note { error: XlError::Value, message: f.message }))
+    }
+
     fn value(&self, sheet: SheetId, pos: Pos) -> Value {
         match self.cells {
             Some(cells) => cells.value(sheet, pos),
@@ -310,9 +322,9 @@ impl Host for Interp<'_, '_> {
     }
 
     fn text_too_long(&self, limit: usize) {
-        let mut f = self.fault(format!(
-            "a string longer than {limit} characters (ncsheet's limit for macro strings; raise it with --max-string)"
-        ));
+        let hint = self.options.raise_hint("raise it with --max-string");
+        let mut f =
+            self.fault(format!("a string longer than {limit} characters (ncsheet's limit for macro strings; {hint})"));
         f.kind = ErrorKind::Limit;
         self.park(f);
     }
@@ -324,9 +336,9 @@ impl Host for Interp<'_, '_> {
     /// The same error as `Dim` and `ReDim` past the limit give (`Split` of a long text).
     fn array_too_large(&self, items: usize, limit: usize) {
         let why = if limit < self.options.max_array_items {
-            "ncsheet's limit for an array a function makes"
+            "ncsheet's limit for an array a function makes".to_string()
         } else {
-            "ncsheet's limit; raise it with --max-array-items"
+            format!("ncsheet's limit; {}", self.options.raise_hint("raise it with --max-array-items"))
         };
         let mut f = self.fault(format!("an array of {items} items passes the limit of {limit} ({why})"));
         f.kind = ErrorKind::Limit;
@@ -495,5 +507,26 @@ impl Interp<'_, '_> {
             Obj::Err => Ok(Operand::Value(Value::Number(self.err.borrow().number as f64))),
             other => Err(self.fault_at(span, format!("{} is not a value", other.describe()))),
         }
+    }
+}
+
+/// A formula's argument as a VBA Function receives it: a reference as its Range, an array
+/// from 1 as a range's (the module's Option Base governs only the arrays VBA makes), a union
+/// of areas as its first area.
+fn formula_argument(arg: &Operand) -> Var {
+    match arg {
+        Operand::Ref(sheet, rect) => Var::Obj(Obj::Range(*sheet, *rect)),
+        Operand::Value(v) => super::value::array_var(v.clone(), 1),
+        Operand::Areas(areas) => Var::Obj(Obj::Range(areas[0].0, areas[0].1)),
+    }
+}
+
+impl Interp<'_, '_> {
+    /// The public Function of the macro's code that a formula's call of `name` means
+    /// (`Twice`, `Module1.Twice`), as `Application.Run` finds a procedure.
+    fn formula_function(&self, name: &str) -> Option<usize> {
+        let proc = self.run_target(name)?;
+        let p = &self.module.procs[proc];
+        (p.kind == super::ast::ProcKind::Function && p.public).then_some(proc)
     }
 }

@@ -458,6 +458,12 @@ impl Interp<'_, '_> {
     /// A Function called from a cell with its arguments: the module's declarations first.
     fn start_function(&self, proc: usize, args: Vec<Var>) -> Run<Value> {
         self.declare_module_level()?;
+        self.call_from_formula(proc, args)
+    }
+
+    /// Calls Function `proc` with the arguments a formula gave it (a cell's call, or
+    /// `Evaluate("F(2)")`): a ParamArray packed, too many or too few refused by name.
+    pub(super) fn call_from_formula(&self, proc: usize, args: Vec<Var>) -> Run<Value> {
         let p = &self.module.procs[proc];
         let args = super::param_array::pack_cell_args(p, args);
         if args.len() > p.params.len() {
@@ -618,10 +624,9 @@ impl Interp<'_, '_> {
         self.steps.set(n);
         if n > self.options.max_statements {
             let limit = self.options.max_statements;
-            let mut f = self.fault_at(
-                span,
-                format!("the statement limit ({limit}) is reached: an endless loop? (raise the limit with --max-statements)"),
-            );
+            let hint = self.options.raise_hint("raise the limit with --max-statements");
+            let mut f =
+                self.fault_at(span, format!("the statement limit ({limit}) is reached: an endless loop? ({hint})"));
             f.kind = ErrorKind::Limit;
             return Err(f);
         }
@@ -652,9 +657,10 @@ impl Interp<'_, '_> {
             return Ok(());
         }
         let limit = self.options.max_statements;
+        let hint = self.options.raise_hint("raise the limit with --max-statements");
         let message = format!(
             "the statement limit ({limit}) is reached: arrays copied {items} items here, and each \
-             {ITEMS_PER_STATEMENT} items copied count as a statement (raise the limit with --max-statements)"
+             {ITEMS_PER_STATEMENT} items copied count as a statement ({hint})"
         );
         let mut f = self.fault_at(span, message);
         f.kind = ErrorKind::Limit;
@@ -1355,8 +1361,9 @@ impl Interp<'_, '_> {
         let depth = self.frames.borrow().len();
         if depth >= self.options.max_depth {
             let limit = self.options.max_depth;
+            let hint = self.options.raise_hint("raise the limit with --max-depth");
             let mut f = self.fault(format!(
-                "calls nest deeper than the limit ({limit}) calling {} {}: endless recursion? (raise the limit with --max-depth)",
+                "calls nest deeper than the limit ({limit}) calling {} {}: endless recursion? ({hint})",
                 p.kind, p.name
             ));
             f.kind = ErrorKind::Limit;
@@ -2410,8 +2417,9 @@ impl Interp<'_, '_> {
     pub fn within_output_limit(&self, more: usize) -> Run<()> {
         let limit = self.options.max_output;
         if self.output_bytes.get().saturating_add(more as u64) > limit {
+            let hint = self.options.raise_hint("raise it with --max-output");
             let mut f = self.fault(format!(
-                "the macro's output (Debug.Print and MsgBox) passes the limit of {limit} bytes (raise it with --max-output)"
+                "the macro's output (Debug.Print and MsgBox) passes the limit of {limit} bytes ({hint})"
             ));
             f.kind = ErrorKind::Limit;
             return Err(f);

@@ -443,6 +443,36 @@ pub struct RunOptions {
     /// styles, column widths, row heights): what `NumberFormat`, `Text` and `ColumnWidth`
     /// read; the run's changes come back in [`RunOutput::looks`].
     pub looks: Vec<(String, SheetLook)>,
+    /// Who sets the limits above, so that a message about one names what the user can do.
+    pub limits_from: LimitsFrom,
+}
+
+/// Who sets a run's limits (statements, depth, strings, arrays, output, memory): a message
+/// about a limit names the option that raises it only where the command in use has it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LimitsFrom {
+    /// The `run` command's options (`--max-statements`, `--max-depth`, …).
+    #[default]
+    RunOptions,
+    /// Fixed for a workbook's VBA Function called from a cell, under any command
+    /// (docs/limits.md): `eval`, `set` and the others have no option to raise them.
+    CellFunction,
+    /// Fixed for a macro the workbench (`serve`) runs: only `ncsheet run` raises them.
+    Workbench,
+}
+
+impl RunOptions {
+    /// The end of a message about a limit that an option of `run` sets: `raise`, which says
+    /// how (`raise it with --max-string`), where the command in use has the option.
+    pub(crate) fn raise_hint(&self, raise: &str) -> String {
+        match self.limits_from {
+            LimitsFrom::RunOptions => raise.to_string(),
+            LimitsFrom::CellFunction => "ncsheet's limit for a VBA function a cell calls, docs/limits.md".into(),
+            LimitsFrom::Workbench => {
+                format!("ncsheet's limit for a macro the workbench runs; with `ncsheet run`, {raise}")
+            }
+        }
+    }
 }
 
 /// A document module: the code behind a sheet or the workbook (a worksheet button's macro
@@ -535,6 +565,7 @@ impl Default for RunOptions {
             files: None,
             arc_tolerance: None,
             looks: Vec::new(),
+            limits_from: LimitsFrom::RunOptions,
         }
     }
 }

@@ -75,7 +75,8 @@ impl WorkbookFunctions {
     pub fn new(project: &VbaProject, wb: &Workbook, options: RunOptions) -> (WorkbookFunctions, Vec<MacroError>) {
         // The look is built once here; the options each module keeps need not carry it.
         let looks = RefCell::new(Rc::new(RefCell::new(Looks::new(wb, &options.looks))));
-        let options = RunOptions { looks: Vec::new(), ..options };
+        // A cell's call has no command options to raise its limits: its messages say so.
+        let options = RunOptions { looks: Vec::new(), limits_from: super::LimitsFrom::CellFunction, ..options };
         let mut modules = Vec::new();
         let mut errors = Vec::new();
         let standard: Vec<_> = project.modules.iter().filter(|m| m.kind == ModuleKind::Standard).collect();

@@ -204,26 +204,26 @@ fn explained(ctx: &mut Ctx, over: &Cell<bool>, result: XlResult<Value>) -> XlRes
 fn textjoin(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let delimiters = items_of(ctx.eval(&args[0])).iter().map(to_text).collect::<XlResult<Vec<_>>>()?;
     let ignore_empty = to_bool(&ctx.eval(&args[1]))?;
-    let mut texts = Vec::new();
+    let (mut out, over, mut joined) = (String::new(), Cell::new(false), 0usize);
     for e in &args[2..] {
         if e.kind == ExprKind::Missing {
             continue;
         }
         for v in items_of(ctx.eval(e)) {
             let text = to_text(&v)?;
-            if !(ignore_empty && text.is_empty()) {
-                texts.push(text);
+            if ignore_empty && text.is_empty() {
+                continue;
             }
-        }
-    }
-    let (mut out, over) = (String::new(), Cell::new(false));
-    for (i, text) in texts.iter().enumerate() {
-        if i > 0 && !delimiters.is_empty() {
-            out.push_str(&delimiters[(i - 1) % delimiters.len()]);
-        }
-        out.push_str(text);
-        if let Err(e) = limit(&out, &over) {
-            return explained(ctx, &over, Err(e));
+            if joined > 0 && !delimiters.is_empty() {
+                out.push_str(&delimiters[(joined - 1) % delimiters.len()]);
+            }
+            out.push_str(&text);
+            joined += 1;
+            // Stopped at the limit as it is passed: converting all of a 4096 × 4096 array to
+            // text first took 20 s before the result was refused.
+            if let Err(e) = limit(&out, &over) {
+                return explained(ctx, &over, Err(e));
+            }
         }
     }
     Ok(Value::from(out))
