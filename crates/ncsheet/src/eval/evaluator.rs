@@ -89,12 +89,20 @@ pub trait Env {
 
     /// The sheets a 3-D reference from `first` to `last` takes (`Sheet1:Sheet3!A1`): those
     /// whose tabs lie between the two, ends included, in tab order; none when either end is
-    /// no sheet. The default: tabs in id order.
+    /// no sheet. The default asks [`Env::tab_position`] of every sheet, so that an environment
+    /// whose tabs are not in id order spans them as it shows them (a workbook answers from
+    /// its own list of tabs).
     fn sheets_spanned(&self, first: SheetId, last: SheetId) -> Vec<SheetId> {
         if self.sheet_name(first).is_none() || self.sheet_name(last).is_none() {
             return Vec::new();
         }
-        (first.min(last)..=first.max(last)).collect()
+        let (from, to) = (self.tab_position(first), self.tab_position(last));
+        let tabs = from.min(to)..=from.max(to);
+        let ids = 0..self.sheet_count().max(first.max(last) as usize + 1) as SheetId;
+        let mut spanned: Vec<SheetId> =
+            ids.filter(|&s| self.sheet_name(s).is_some() && tabs.contains(&self.tab_position(s))).collect();
+        spanned.sort_by_key(|&s| self.tab_position(s));
+        spanned
     }
 
     /// The sheet of this name, ignoring ASCII case (INDIRECT's `Sheet2!A1`). The default

@@ -143,4 +143,74 @@ mod tests {
         assert_eq!(env.eval("=B7"), Value::Blank);
         assert_eq!(env.eval("=B7=\"\""), Value::Bool(true));
     }
+
+    const MOVED_TABS: [&str; 3] = ["First", "Middle", "Last"];
+
+    /// Three sheets, First, Middle and Last by id, whose tabs were moved: Last's tab shows
+    /// second, Middle's last. Each sheet's cells hold 10 to the power of its id, so a sum
+    /// tells which sheets it took.
+    struct MovedTabs;
+
+    impl Env for MovedTabs {
+        fn now(&self) -> f64 {
+            EmptyEnv::default().now()
+        }
+
+        fn next_random(&self) -> f64 {
+            EmptyEnv::default().next_random()
+        }
+
+        fn value(&self, sheet: SheetId, _: Pos) -> Value {
+            n(10f64.powi(sheet.into()))
+        }
+
+        fn for_each_value(&self, sheet: SheetId, rect: Rect, f: &mut dyn FnMut(Pos, &Value)) {
+            for row in rect.first.row..=rect.last.row {
+                for col in rect.first.col..=rect.last.col {
+                    f(Pos::new(row, col), &self.value(sheet, Pos::new(row, col)));
+                }
+            }
+        }
+
+        fn used_rect(&self, _: SheetId) -> Option<Rect> {
+            Some(Rect::new(Pos::new(0, 0), Pos::new(0, 0)))
+        }
+
+        fn defined_name(&self, _: &str, _: SheetId) -> Option<(Rc<Expr>, SheetId)> {
+            None
+        }
+
+        fn spill_rect(&self, _: SheetId, _: Pos) -> Option<Rect> {
+            None
+        }
+
+        fn sheet_count(&self) -> usize {
+            3
+        }
+
+        fn sheet_name(&self, sheet: SheetId) -> Option<String> {
+            MOVED_TABS.get(usize::from(sheet)).map(|s| s.to_string())
+        }
+
+        fn tab_position(&self, sheet: SheetId) -> usize {
+            [0, 2, 1][usize::from(sheet)]
+        }
+    }
+
+    /// Excel's 3-D references take the sheets whose tabs lie between the two named, as the
+    /// tabs stand ("Create a 3-D reference to the same cell range on multiple worksheets":
+    /// moving a sheet outside the end points removes it from the reference). The default
+    /// span took ids in order, so an environment with its own tab order but no span of its
+    /// own summed Middle, whose tab is outside First:Last.
+    #[test]
+    fn a_3d_reference_spans_the_sheets_between_its_tabs_in_tab_order() {
+        assert_eq!(MovedTabs.sheets_spanned(0, 2), vec![0, 2]);
+        assert_eq!(MovedTabs.sheets_spanned(1, 0), vec![0, 2, 1]);
+        let sheet = |name: &str| MOVED_TABS.iter().position(|s| s.eq_ignore_ascii_case(name)).map(|i| i as SheetId);
+        let at = Pos::new(9, 9);
+        let sum =
+            parse_formula("=SUM(First:Last!A1)", &ParseContext { at, functions: &Registry, sheet: &sheet }).unwrap();
+        let value = crate::eval::evaluator::no_lambda(Ctx::new(&MovedTabs, 0, at).eval(&sum)).unwrap_single();
+        assert_eq!(value, n(101.0));
+    }
 }

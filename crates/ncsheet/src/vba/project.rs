@@ -371,10 +371,22 @@ pub(super) fn vba_storage<F: Read + std::io::Seek>(cfb: &cfb::CompoundFile<F>) -
         .find(|p| p.rsplit('/').next().is_some_and(|n| n.eq_ignore_ascii_case("VBA")))
 }
 
+thread_local! {
+    static STREAMS_READ: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+/// How many streams of compound files this thread has read whole so far: lets a test see
+/// that a stream named by thousands of modules is read once, by count rather than by a clock.
+#[doc(hidden)]
+pub fn streams_read_on_this_thread() -> u64 {
+    STREAMS_READ.with(std::cell::Cell::get)
+}
+
 pub(super) fn read_stream<F: Read + std::io::Seek>(
     cfb: &mut cfb::CompoundFile<F>,
     path: &str,
 ) -> Result<Vec<u8>, ProjectError> {
+    STREAMS_READ.with(|n| n.set(n.get() + 1));
     let mut stream = cfb.open_stream(path).map_err(|e| error(path, format!("cannot open the stream: {e}")))?;
     let mut data = Vec::new();
     stream.read_to_end(&mut data).map_err(|e| error(path, format!("cannot read the stream: {e}")))?;

@@ -185,36 +185,26 @@ fn rows_of(a: &Array) -> Vec<Vec<Value>> {
     a.data.chunks(a.cols.max(1)).map(<[Value]>::to_vec).collect()
 }
 
-fn from_rows(rows: Vec<Vec<Value>>) -> XlResult<Value> {
-    let cols = rows.first().map_or(0, Vec::len);
-    if rows.is_empty() || cols == 0 {
-        return Err(XlError::Calc);
-    }
-    let n = rows.len();
-    Ok(array(n, cols, rows.into_iter().flatten().collect()))
-}
-
 fn transpose(a: &Array) -> Array {
     let data = (0..a.cols).flat_map(|c| (0..a.rows).map(move |r| (r, c))).map(|(r, c)| a.get(r, c).clone()).collect();
     Array::new(a.cols, a.rows, data)
 }
 
-/// Applies a function of rows to the columns instead, when `by_col`.
-fn by_rows_or_cols(
-    a: &Array,
-    by_col: bool,
-    f: impl FnOnce(Vec<Vec<Value>>) -> XlResult<Vec<Vec<Value>>>,
-) -> XlResult<Value> {
-    if by_col {
-        let t = transpose(a);
-        let out = from_rows(f(rows_of(&t))?)?;
-        match out {
-            Value::Array(o) => Ok(Value::Array(Rc::new(transpose(&o)))),
-            v => Ok(v),
-        }
-    } else {
-        from_rows(f(rows_of(a))?)
+/// The rows (or, `by_col`, the columns) of a block at the given indexes, in that order, each
+/// item passed through `item`. Built in one pass over the result, without a vector per row:
+/// SORT of 16,000,000 rows spent most of its time making and dropping them. No rows or no
+/// columns is `#CALC!`, as Excel's empty results are.
+fn picked(a: &Array, picks: &[usize], by_col: bool, item: impl Fn(&Value) -> Value) -> XlResult<Value> {
+    let (rows, cols) = if by_col { (a.rows, picks.len()) } else { (picks.len(), a.cols) };
+    if rows == 0 || cols == 0 {
+        return Err(XlError::Calc);
     }
+    let data = if by_col {
+        (0..rows).flat_map(|r| picks.iter().map(move |&c| a.get(r, c))).map(item).collect()
+    } else {
+        picks.iter().flat_map(|&r| &a.data[r * cols..(r + 1) * cols]).map(item).collect()
+    };
+    Ok(array(rows, cols, data))
 }
 
 // ---- sorting --------------------------------------------------------------------------------
@@ -250,17 +240,6 @@ fn sort_order(x: f64) -> XlResult<bool> {
     }
 }
 
-/// A sorted result with its blank cells shown as 0, as Excel's SORT shows them.
-fn blanks_as_zero(v: Value) -> Value {
-    match v {
-        Value::Array(a) if a.data.iter().any(Value::is_blank) => {
-            let data = a.data.iter().map(|v| v.clone().blank_as_zero()).collect();
-            Value::Array(Rc::new(Array::new(a.rows, a.cols, data)))
-        }
-        v => v,
-    }
-}
-
 /// SORT's comparison in either direction: blanks go last both ways.
 fn directed(a: &Value, b: &Value, descending: bool) -> Ordering {
     match (a.is_blank(), b.is_blank()) {
@@ -272,6 +251,63 @@ fn directed(a: &Value, b: &Value, descending: bool) -> Ordering {
     }
 }
 
+/// A sorted result's item: blank cells are shown as 0, as Excel's SORT shows them.
+fn sorted_item(v: &Value) -> Value {
+    v.clone().blank_as_zero()
+}
+
+/// One index being sorted, with its first key in line when that key is a number: most
+/// comparisons of a numeric sort then read only the vector being sorted. Reading each key
+/// from the array instead jumps to a random place in it at every comparison, a cache miss
+/// each: 16,000,000 random numbers took 42 s that way, against 3 s for numbers in order.
+#[derive(Clone, Copy)]
+struct Sorting {
+    number: f64,
+    is_number: bool,
+    index: usize,
+}
+
+#[cfg(test)]
+thread_local! {
+    /// Keys [`sorted_order`] has read from the array being sorted: counted for a test, which
+    /// bounds the reads of a sort by this count rather than by a clock.
+    static KEYS_READ: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+/// The indexes `0..n` in sorted order, each compared by its keys in turn (`key(k, i)` is key
+/// `k`'s value at index `i`). The sort is stable, as Excel's is: equal keys keep their order.
+fn sorted_order<'a>(n: usize, descending: &[bool], key: impl Fn(usize, usize) -> &'a Value) -> Vec<usize> {
+    let Some(&first_descending) = descending.first() else {
+        return (0..n).collect();
+    };
+    let key = |k: usize, i: usize| {
+        #[cfg(test)]
+        KEYS_READ.with(|c| c.set(c.get() + 1));
+        key(k, i)
+    };
+    let mut sorting: Vec<Sorting> = (0..n)
+        .map(|index| match key(0, index) {
+            Value::Number(x) => Sorting { number: *x, is_number: true, index },
+            _ => Sorting { number: 0.0, is_number: false, index },
+        })
+        .collect();
+    let first = |x: &Sorting, y: &Sorting| match (x.is_number, y.is_number) {
+        // What `directed` answers for two numbers, without reading them from the array.
+        (true, true) if first_descending => y.number.total_cmp(&x.number),
+        (true, true) => x.number.total_cmp(&y.number),
+        _ => directed(key(0, x.index), key(0, y.index), first_descending),
+    };
+    sorting.sort_by(|x, y| {
+        first(x, y).then_with(|| {
+            (1..descending.len())
+                .map(|k| directed(key(k, x.index), key(k, y.index), descending[k]))
+                .find(|o| o.is_ne())
+                .unwrap_or(Ordering::Equal)
+        })
+    });
+    sorting.into_iter().map(|s| s.index).collect()
+}
+
 fn sort(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let a = block(ctx, &args[0])?;
     let index = number_or(ctx, args, 1, 1.0)?.trunc();
@@ -280,20 +316,19 @@ fn sort(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let width = if by_col { a.rows } else { a.cols };
     require(index >= 1.0 && index <= width as f64)?;
     let key = index as usize - 1;
-    by_rows_or_cols(&a, by_col, |mut rows| {
-        rows.sort_by(|x, y| directed(&x[key], &y[key], descending));
-        Ok(rows)
-    })
-    .map(blanks_as_zero)
+    let (n, a_ref) = (if by_col { a.cols } else { a.rows }, &*a);
+    let order = sorted_order(n, &[descending], |_, i| if by_col { a_ref.get(key, i) } else { a_ref.get(i, key) });
+    picked(&a, &order, by_col, sorted_item)
 }
 
 fn sortby(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let a = block(ctx, &args[0])?;
-    let mut keys: Vec<(Rc<Array>, bool)> = Vec::new();
+    let mut keys: Vec<Rc<Array>> = Vec::new();
+    let mut descending = Vec::new();
     let mut by_col = None;
     for pair in args[1..].chunks(2) {
         let by = block(ctx, &pair[0])?;
-        let descending = match pair.get(1) {
+        let desc = match pair.get(1) {
             Some(e) if e.kind != ExprKind::Missing => sort_order(number(ctx, e)?)?,
             _ => false,
         };
@@ -308,18 +343,13 @@ fn sortby(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         if *by_col.get_or_insert(this_by_col) != this_by_col {
             return Err(XlError::Value);
         }
-        keys.push((by, descending));
+        keys.push(by);
+        descending.push(desc);
     }
     let by_col = by_col.unwrap_or(false);
     let n = if by_col { a.cols } else { a.rows };
-    let mut order: Vec<usize> = (0..n).collect();
-    order.sort_by(|&i, &j| {
-        keys.iter()
-            .map(|(k, desc)| directed(&k.data[i], &k.data[j], *desc))
-            .find(|o| o.is_ne())
-            .unwrap_or(Ordering::Equal)
-    });
-    by_rows_or_cols(&a, by_col, |rows| Ok(order.iter().map(|&i| rows[i].clone()).collect())).map(blanks_as_zero)
+    let order = sorted_order(n, &descending, |k, i| &keys[k].data[i]);
+    picked(&a, &order, by_col, sorted_item)
 }
 
 // ---- selecting ------------------------------------------------------------------------------
@@ -349,7 +379,8 @@ fn filter(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
             None => Err(XlError::Calc),
         };
     }
-    by_rows_or_cols(&a, by_col, |rows| Ok(rows.into_iter().zip(&keep).filter(|(_, k)| **k).map(|(r, _)| r).collect()))
+    let kept: Vec<usize> = keep.iter().enumerate().filter(|(_, &k)| k).map(|(i, _)| i).collect();
+    picked(&a, &kept, by_col, Value::clone)
 }
 
 /// Rows equal item by item as `=` compares (text without regard to case).
@@ -495,13 +526,13 @@ fn chosen(ctx: &mut Ctx, args: &[Expr], n: usize, width: usize, rows: bool) -> X
 fn chooserows(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let a = block(ctx, &args[0])?;
     let picks = chosen(ctx, &args[1..], a.rows, a.cols, true)?;
-    by_rows_or_cols(&a, false, |rows| Ok(picks.iter().map(|&i| rows[i].clone()).collect()))
+    picked(&a, &picks, false, Value::clone)
 }
 
 fn choosecols(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let a = block(ctx, &args[0])?;
     let picks = chosen(ctx, &args[1..], a.cols, a.rows, false)?;
-    by_rows_or_cols(&a, true, |cols| Ok(picks.iter().map(|&i| cols[i].clone()).collect()))
+    picked(&a, &picks, true, Value::clone)
 }
 
 /// TAKE's and DROP's count for one dimension: `None` when omitted.
@@ -716,4 +747,38 @@ fn arraytotext(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         _ => return Err(XlError::Value),
     };
     Ok(Value::text(text))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::eval::testing::MapEnv;
+
+    fn numbers(v: Value) -> Vec<f64> {
+        let Value::Array(a) = v else { panic!("not an array: {v:?}") };
+        a.data.iter().map(|v| if let Value::Number(x) = v { *x } else { panic!("not a number: {v:?}") }).collect()
+    }
+
+    /// A sort reads each key from the array once, to put numbers beside the indexes being
+    /// sorted; the comparisons read only those. The comparator read both keys from the array
+    /// at every comparison (about n·log2 n = 130,000 comparisons here), at a random place in
+    /// it each time: 16,000,000 random numbers took 42 s.
+    #[test]
+    fn a_numeric_sort_reads_each_key_from_the_array_once() {
+        let env = MapEnv::default();
+        // k·7919 mod 10007 for k = 1..10000: 10,000 different numbers (10007 is prime and
+        // 7919 not a multiple of it), out of order; sorted, they are strictly monotonic.
+        let keys = "MOD(SEQUENCE(10000)*7919,10007)";
+        let reads = || KEYS_READ.with(std::cell::Cell::get);
+        let before = reads();
+        let down = numbers(env.eval(&format!("=SORT({keys},1,-1)")));
+        assert_eq!(reads() - before, 10_000);
+        assert_eq!(down.len(), 10_000);
+        assert!(down.windows(2).all(|w| w[0] > w[1]));
+        // SORTBY's second key is read only where the first ties: never, here.
+        let before = reads();
+        let up = numbers(env.eval(&format!("=SORTBY({keys},{keys},1,SEQUENCE(10000),-1)")));
+        assert_eq!(reads() - before, 10_000);
+        assert!(up.windows(2).all(|w| w[0] < w[1]));
+    }
 }
