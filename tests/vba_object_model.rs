@@ -162,15 +162,74 @@ fn selection_and_active_cell_move_with_inserted_and_deleted_cells() {
     assert_eq!(printed(main, &[]), ["$C$1 $C$1", "$B$1:$C$2 $C$2"]);
 }
 
-// Sorting macros borrow .NET's System.Collections.ArrayList through CreateObject, which only
-// exists where the .NET Framework is installed; ncsheet has no .NET, so the call is refused
-// naming the ProgID and what to use instead, not as a program the macro tried to run.
+/// `New ArrayList` through CreateObject, as sorting and array-rebasing macros use it.
+const MAKE_LIST: &str = "    Dim a As Object\r\n    Set a = CreateObject(\"System.Collections.ArrayList\")\r\n";
+
+fn printed_with_list(body: &str) -> Vec<String> {
+    printed(&format!("Sub Main()\r\n{MAKE_LIST}{body}End Sub\r\n"), &[])
+}
+
+/// The words of Microsoft's ArrayList examples ("ArrayList.Sort Method", "ArrayList.Reverse
+/// Method"), added in order.
+const QUICK_FOX: &str = "    Dim w As Variant, s As String, x As Variant\r\n    For Each w In Split(\"The quick brown fox jumps over the lazy dog\")\r\n\
+    a.Add w\r\n    Next\r\n";
+
+fn joined_items() -> &'static str {
+    "    s = \"\"\r\n    For Each x In a\r\n        s = s & \" \" & x\r\n    Next\r\n    \
+     Debug.Print Mid(s, 2)\r\n"
+}
+
+// .NET's System.Collections.ArrayList reached through COM ("ArrayList Class", Microsoft's .NET
+// reference): Add returns the index the item got (0-based), Item is the default member,
+// Count and Capacity as the class example prints them after three Adds (Count 3, Capacity 4),
+// Contains and IndexOf by the items' Equals (-1 for none), Insert, Remove (the first equal
+// item; an item not there is no error), RemoveAt, Clear (Capacity stays), ToArray a zero-based
+// array, For Each over the items. It was refused by name before.
 #[test]
-fn a_dotnet_array_list_is_refused_by_its_name() {
-    let main = "Sub Main()\r\n    Dim a As Object\r\n    Set a = CreateObject(\"System.Collections.ArrayList\")\r\n\
-        a.Add 3\r\nEnd Sub\r\n";
-    let error = run_with_classes(main, &[]).expect_err("refused");
-    assert!(error.message.contains("System.Collections.ArrayList") && error.message.contains("Collection,"), "{error}");
+fn a_dotnet_array_list_keeps_items_by_zero_based_index() {
+    let body = "    Debug.Print a.Capacity & \" \" & a.Add(\"Hello\") & a.Add(\"World\") & a.Add(\"!\")\r\n\
+        Debug.Print a.Count & \" \" & a.Capacity & \" \" & a(1) & \" \" & a.Item(0)\r\n\
+        Debug.Print a.Contains(\"World\") & \" \" & a.Contains(\"world\") & \" \" & a.IndexOf(\"!\", 0) & \" \" & a.IndexOf(\"?\", 0)\r\n\
+        a.Insert 1, \"big\"\r\n    a(0) = \"Hi\"\r\n    a.Remove \"nothing\"\r\n    a.Remove \"!\"\r\n\
+        Dim v As Variant\r\n    v = a.ToArray()\r\n    Debug.Print LBound(v) & \" \" & UBound(v) & \" \" & Join(v, \"-\")\r\n\
+        a.RemoveAt 0\r\n    a.Add 5\r\n    a.Add 6\r\n    a.Add 7\r\n\
+        Debug.Print a.Count & \" \" & a.Capacity\r\n    a.Clear\r\n    Debug.Print a.Count & \" \" & a.Capacity & \" \" & TypeName(a)\r\n";
+    assert_eq!(
+        printed_with_list(body),
+        ["0 012", "3 4 World Hello", "True False 2 -1", "0 2 Hi-big-World", "5 8", "0 8 ArrayList"]
+    );
+}
+
+// "ArrayList.Sort Method" and "ArrayList.Reverse Method": Microsoft's examples sort "The quick
+// brown fox jumps over the lazy dog" into "brown dog fox jumps lazy over quick the The" (the
+// culture's order: case ignored, then lowercase first) and reverse it into "dog lazy the over
+// jumps fox brown quick The". Numbers sort by value.
+#[test]
+fn a_dotnet_array_list_sorts_and_reverses_as_the_reference_shows() {
+    let body = format!(
+        "{QUICK_FOX}    a.Reverse\r\n{joined}    a.Sort\r\n{joined}    a.Clear\r\n\
+        a.Add 10#\r\n    a.Add 2.5\r\n    a.Add -1#\r\n    a.Sort\r\n{joined}",
+        joined = joined_items()
+    );
+    assert_eq!(
+        printed_with_list(&body),
+        ["dog lazy the over jumps fox brown quick The", "brown dog fox jumps lazy over quick the The", "-1 2.5 10"]
+    );
+}
+
+// Through COM the .NET exceptions reach VBA as their HRESULTs, which Err.Number reads as a
+// Long: ArgumentOutOfRangeException 0x80131502 (-2146233086) for an index past the items
+// ("ArrayList.Item[Int32]": "index is equal to or greater than Count"), InvalidOperationException
+// 0x80131509 (-2146233079) for Sort of items that cannot be compared ("ArrayList.Sort":
+// "InvalidOperationException: An error occurred while comparing two elements"; a String's
+// CompareTo refuses a number).
+#[test]
+fn a_dotnet_array_list_raises_dotnet_errors() {
+    let body =
+        "    a.Add \"x\"\r\n    On Error Resume Next\r\n    Debug.Print a(1)\r\n    Debug.Print CStr(Err.Number)\r\n\
+        Err.Clear\r\n    a.RemoveAt -1\r\n    Debug.Print CStr(Err.Number)\r\n    Err.Clear\r\n\
+        a.Add 1#\r\n    a.Sort\r\n    Debug.Print Err.Number & \" \" & a(0)\r\n";
+    assert_eq!(printed_with_list(body), ["-2146233086", "-2146233086", "-2146233079 x"]);
 }
 
 /// A class module's Public Enum is a type of the project: its members are seen from every

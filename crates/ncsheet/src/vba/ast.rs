@@ -419,6 +419,8 @@ pub struct VarDecl {
 pub enum Class {
     Collection,
     Dictionary,
+    /// .NET's `System.Collections.ArrayList` as VBA reaches it through COM (`array_list.rs`).
+    ArrayList,
 }
 
 /// What `New` makes: a Collection or a Dictionary, or an object of a class module of the

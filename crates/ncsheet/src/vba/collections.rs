@@ -45,7 +45,7 @@ enum KeyForm {
 /// One entry: its key (a Collection's item may have none), its item, and the type the item's
 /// number has, which a Variant item keeps ([MS-VBAL] 2.1.1.1: a Date, VarType 7; an Integer
 /// 5, VarType 2); `Variant` for any other item.
-type Entry = (Option<Value>, Var, Declared);
+pub(super) type Entry = (Option<Value>, Var, Declared);
 
 /// The entries of a Collection or a Dictionary, in the order added.
 #[derive(Debug)]
@@ -64,6 +64,8 @@ pub struct Store {
     /// Which places hold an entry, counted so that a Collection's 1-based position and a
     /// place convert into each other in logarithmic time.
     live: LiveCounts,
+    /// An ArrayList's Capacity: the items its .NET array has room for (`array_list.rs`).
+    pub(super) capacity: usize,
 }
 
 /// Objects held in items are let go one after another, not each inside the one holding it:
@@ -183,6 +185,7 @@ impl Handle {
             gone: 0,
             index: HashMap::new(),
             live: LiveCounts::default(),
+            capacity: 0,
         };
         Handle(Rc::new(RefCell::new(store)))
     }
@@ -195,7 +198,7 @@ impl Handle {
     pub fn each(&self) -> Vec<Var> {
         let store = self.0.borrow();
         match store.class {
-            Class::Collection => store.live().map(|(_, item, _)| item.clone()).collect(),
+            Class::Collection | Class::ArrayList => store.live().map(|(_, item, _)| item.clone()).collect(),
             Class::Dictionary => store.live().map(|(k, _, _)| Var::Value(k.clone().unwrap_or(Value::Blank))).collect(),
         }
     }
@@ -205,7 +208,7 @@ impl Handle {
     pub(super) fn each_held(&self) -> Vec<Declared> {
         let store = self.0.borrow();
         match store.class {
-            Class::Collection => store.live().map(|e| e.2).collect(),
+            Class::Collection | Class::ArrayList => store.live().map(|e| e.2).collect(),
             Class::Dictionary => store.live().map(|_| Declared::Variant).collect(),
         }
     }
@@ -247,12 +250,12 @@ impl Store {
     }
 
     /// The entries there are, in order.
-    fn live(&self) -> impl Iterator<Item = &Entry> {
+    pub(super) fn live(&self) -> impl Iterator<Item = &Entry> {
         self.entries.iter().flatten()
     }
 
     /// How many entries there are (`Count`).
-    fn len(&self) -> usize {
+    pub(super) fn len(&self) -> usize {
         self.entries.len() - self.gone
     }
 
@@ -269,7 +272,7 @@ impl Store {
     }
 
     /// The place of the entry at 0-based position `n` (`n < len()`).
-    fn place_of(&self, n: usize) -> usize {
+    pub(super) fn place_of(&self, n: usize) -> usize {
         self.live.nth(n)
     }
 
@@ -278,22 +281,22 @@ impl Store {
         self.live.before(at)
     }
 
-    fn item(&self, at: usize) -> &Var {
+    pub(super) fn item(&self, at: usize) -> &Var {
         &self.entries[at].as_ref().expect("a place holding an entry").1
     }
 
     /// The type of the number the item at place `at` holds.
-    fn held(&self, at: usize) -> Declared {
+    pub(super) fn held(&self, at: usize) -> Declared {
         self.entries[at].as_ref().map_or(Declared::Variant, |e| e.2)
     }
 
-    fn set_held(&mut self, at: usize, held: Declared) {
+    pub(super) fn set_held(&mut self, at: usize, held: Declared) {
         if let Some(entry) = self.entries[at].as_mut() {
             entry.2 = held;
         }
     }
 
-    fn item_mut(&mut self, at: usize) -> &mut Var {
+    pub(super) fn item_mut(&mut self, at: usize) -> &mut Var {
         &mut self.entries[at].as_mut().expect("a place holding an entry").1
     }
 
@@ -310,7 +313,7 @@ impl Store {
     }
 
     /// Adds an entry after the last.
-    fn push(&mut self, key: Option<Value>, item: Var) {
+    pub(super) fn push(&mut self, key: Option<Value>, item: Var) {
         if let Some(form) = key.as_ref().and_then(|k| self.form(k).ok()) {
             self.index.insert(form, self.entries.len());
         }
@@ -320,7 +323,7 @@ impl Store {
 
     /// Adds an entry at 0-based position `n`: at the end in constant time, elsewhere moving
     /// the later entries (a Collection's Add with Before or After).
-    fn insert(&mut self, n: usize, key: Option<Value>, item: Var) {
+    pub(super) fn insert(&mut self, n: usize, key: Option<Value>, item: Var) {
         if n >= self.len() {
             return self.push(key, item);
         }
@@ -335,7 +338,7 @@ impl Store {
     /// Removes the entry at place `at`: its place is kept (no later entry moves) until half
     /// the places are such, then all are closed up at once, so that a removal costs the same
     /// on average however many entries there are.
-    fn remove(&mut self, at: usize) -> Option<Var> {
+    pub(super) fn remove(&mut self, at: usize) -> Option<Var> {
         let (key, item, _) = self.entries[at].take()?;
         if let Some(form) = key.as_ref().and_then(|k| self.form(k).ok()) {
             self.index.remove(&form);
@@ -350,9 +353,14 @@ impl Store {
 
     /// Empties it, giving back the items it held (for their objects' Class_Terminate).
     pub(super) fn take_items(&mut self) -> Vec<Var> {
-        let items = self.entries.drain(..).flatten().map(|(_, item, _)| item).collect();
+        self.take_entries().into_iter().map(|(_, item, _)| item).collect()
+    }
+
+    /// Empties it, giving back its entries in order.
+    pub(super) fn take_entries(&mut self) -> Vec<Entry> {
+        let entries = self.entries.drain(..).flatten().collect();
         self.clear();
-        items
+        entries
     }
 
     /// `d.Key(old) = new`: the entry at place `at` takes the key `new` and keeps its place.
@@ -390,14 +398,14 @@ pub(super) fn var_obj(var: Var) -> Obj {
 }
 
 impl Interp<'_, '_> {
-    fn vba_error(&self, span: Span, (code, text): (u32, &str), what: &str) -> Fault {
+    pub(super) fn vba_error(&self, span: Span, (code, text): (u32, &str), what: &str) -> Fault {
         let mut fault = self.fault_at(span, format!("{what}: {text} (run-time error {code})"));
         fault.code = code;
         fault
     }
 
     /// The arguments of a member by position or by name (`Key:="a"`), `None` when left out.
-    fn member_args<'e>(&self, link: &'e Link, names: &[&str]) -> Run<Vec<Option<&'e Expr>>> {
+    pub(super) fn member_args<'e>(&self, link: &'e Link, names: &[&str]) -> Run<Vec<Option<&'e Expr>>> {
         let mut out = vec![None; names.len()];
         for (i, Arg { name, value }) in link.args.as_deref().unwrap_or(&[]).iter().enumerate() {
             let at = match name {
@@ -429,7 +437,7 @@ impl Interp<'_, '_> {
         Ok(var)
     }
 
-    fn required<'e>(&self, arg: Option<&'e Expr>, link: &Link, what: &str) -> Run<&'e Expr> {
+    pub(super) fn required<'e>(&self, arg: Option<&'e Expr>, link: &Link, what: &str) -> Run<&'e Expr> {
         arg.ok_or_else(|| self.fault_at(link.span, format!("{}: argument {what} is not optional", link.name)))
     }
 
@@ -439,6 +447,7 @@ impl Interp<'_, '_> {
         let class = h.class();
         let blank = Ok(Obj::Value(Value::Blank));
         match (class, name.as_str()) {
+            (Class::ArrayList, _) => self.array_list_member(&h, link),
             (_, "count") => Ok(Obj::Value(Value::Number(h.0.borrow().len() as f64))),
             (Class::Collection, "add") => {
                 let args = self.member_args(link, &["Item", "Key", "Before", "After"])?;
@@ -467,7 +476,7 @@ impl Interp<'_, '_> {
                 let args = self.member_args(link, &["Key"])?;
                 let key = self.store_key_value(self.required(args[0], link, "Key")?)?;
                 let at = match class {
-                    Class::Collection => self.collection_place(&h, &key, link.span)?,
+                    Class::Collection | Class::ArrayList => self.collection_place(&h, &key, link.span)?,
                     Class::Dictionary => self
                         .find(&h, &key, link.span)?
                         .ok_or_else(|| self.vba_error(link.span, NO_SUCH_KEY, "Remove"))?,
@@ -587,6 +596,7 @@ impl Interp<'_, '_> {
     pub(super) fn store_item(&self, h: &Handle, key: &Value, span: Span) -> Run<Var> {
         let at = match h.class() {
             Class::Collection => self.collection_place(h, key, span)?,
+            Class::ArrayList => self.array_list_place(h, key, span)?,
             Class::Dictionary => match self.find(h, key, span)? {
                 Some(at) => at,
                 None => {
@@ -620,7 +630,7 @@ impl Interp<'_, '_> {
 
     /// The type of the number the item expression `e`, which gave `item`, holds (a Date, an
     /// Integer …); `Variant` for an item that is no number.
-    fn item_held(&self, e: &Expr, item: &Var) -> Declared {
+    pub(super) fn item_held(&self, e: &Expr, item: &Var) -> Declared {
         match item {
             Var::Value(v @ Value::Number(_)) if self.as_date(e, v).is_some() => Declared::Date,
             Var::Value(v @ Value::Number(_)) => self.value_type(e, v),
@@ -633,14 +643,21 @@ impl Interp<'_, '_> {
         if h.class() == Class::Collection {
             return Err(self.fault_at(span, "a Collection's items cannot be assigned: Remove and Add the item"));
         }
+        if h.class() == Class::ArrayList {
+            let at = self.array_list_place(h, key, span)?;
+            return self.replace_item(h, at, item, span);
+        }
         match self.find(h, key, span)? {
-            Some(at) => {
-                self.charge(super::budget::brought(&item), span)?;
-                let old = std::mem::replace(h.0.borrow_mut().item_mut(at), item);
-                self.release(&old)
-            }
+            Some(at) => self.replace_item(h, at, item, span),
             None => self.put(h, key.clone(), item, span),
         }
+    }
+
+    /// The item at place `at` becomes `item`; the one it was is let go.
+    fn replace_item(&self, h: &Handle, at: usize, item: Var, span: Span) -> Run<()> {
+        self.charge(super::budget::brought(&item), span)?;
+        let old = std::mem::replace(h.0.borrow_mut().item_mut(at), item);
+        self.release(&old)
     }
 
     /// `d.Key(old) = new` ("Key property"): the entry keeps its place and its item under the
@@ -730,14 +747,20 @@ impl Interp<'_, '_> {
                 h.0.borrow_mut().text_compare = mode >= 1.0;
                 Ok(())
             }
+            "capacity" if h.class() == Class::ArrayList => self.set_capacity(h, link, value),
             _ => Err(self.no_member(&Obj::Store(h.clone()), link)),
         }
     }
 }
 
-/// The ProgID `CreateObject` may name: Scripting's Dictionary, and nothing else.
+/// The ProgIDs `CreateObject` may name: Scripting's Dictionary and .NET's ArrayList, which
+/// ncsheet makes itself; nothing else.
 pub fn created_class(prog_id: &str) -> Option<Class> {
-    prog_id.eq_ignore_ascii_case("Scripting.Dictionary").then_some(Class::Dictionary)
+    match prog_id.to_ascii_lowercase().as_str() {
+        "scripting.dictionary" => Some(Class::Dictionary),
+        "system.collections.arraylist" => Some(Class::ArrayList),
+        _ => None,
+    }
 }
 
 /// The class `New` names: `Collection`, `Dictionary`, `Scripting.Dictionary`.

@@ -585,8 +585,7 @@ fn object_type_name(obj: &Obj) -> &'static str {
         Obj::Store(h) => match h.class() {
             Class::Collection => "Collection",
             Class::Dictionary => "Dictionary",
-            #[allow(unreachable_patterns)]
-            _ => "Object",
+            Class::ArrayList => "ArrayList",
         },
         Obj::SheetSort(_) => "Sort",
         Obj::SortFields(_) => "SortFields",

@@ -182,9 +182,17 @@
 //! `Foo (y)` without `Call` passes `y` by value, as in VBA.
 //!
 //! `Collection` (`Dim c As New Collection`, `Set c = New Collection`) and Scripting's
-//! `Dictionary` (`CreateObject("Scripting.Dictionary")`, `New Dictionary`; no other ProgID:
-//! `CreateObject` stays refused for everything else, .NET's `System.Collections.ArrayList` by
-//! its name) are objects shared by `Set`, as in VBA.
+//! `Dictionary` (`CreateObject("Scripting.Dictionary")`, `New Dictionary`), and .NET's
+//! `CreateObject("System.Collections.ArrayList")` (made by ncsheet, no .NET loaded; no other
+//! ProgID: `CreateObject` stays refused for everything else, .NET's other collections by
+//! their names) are objects shared by `Set`, as in VBA.
+//! An ArrayList: `Add` (returns the 0-based index), `Item` (the default, read and assigned:
+//! `a(0)`), `Count`, `Capacity` (0, then 4, doubling), `Contains`, `IndexOf value[, start[,
+//! count]]` (-1 for none), `Insert`, `Remove`, `RemoveAt`, `Clear`, `Sort` (numbers by value,
+//! texts case ignored then lowercase first; items of different types, an Integer and a Double
+//! too, fail as .NET's Sort does), `Reverse`, `ToArray` (a zero-based Variant array),
+//! `TrimToSize`, `For Each`; .NET's exceptions come as their HRESULTs, `Err.Number`
+//! -2146233086 for an index out of range, -2146233079 for items Sort cannot compare.
 //! A Collection: `Add item, [key], [before], [after]` (named arguments too), `Item` (the
 //! default member: `c(1)`, `c("k")`; keys ignore case), `Count`, `Remove index|key`, `For
 //! Each` over the items. A Dictionary: `Add key, item`, `Exists`, `Item` (the default, read
@@ -244,6 +252,7 @@
 //! calls `Out` with `.Y + .X`.
 
 mod append;
+mod array_list;
 mod arrays;
 pub mod ast;
 mod binary;

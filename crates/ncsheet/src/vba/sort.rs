@@ -49,7 +49,7 @@ pub(super) struct SheetSort {
 /// The ascending order of two non-blank values of a sort key: SORT's order (numbers, text
 /// ignoring case, booleans, errors); with MatchCase, lowercase sorts before uppercase among
 /// texts equal but for case.
-fn ascending(a: &Value, b: &Value, match_case: bool) -> Ordering {
+pub(super) fn ascending(a: &Value, b: &Value, match_case: bool) -> Ordering {
     match (sort_cmp(a, b), a, b) {
         (Ordering::Equal, Value::Text(x), Value::Text(y)) if match_case => y.cmp(x),
         (order, ..) => order,

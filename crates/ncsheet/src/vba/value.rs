@@ -261,6 +261,7 @@ impl Obj {
             Obj::Store(h) => match h.class() {
                 super::ast::Class::Collection => "a Collection",
                 super::ast::Class::Dictionary => "a Dictionary",
+                super::ast::Class::ArrayList => "an ArrayList",
             },
             Obj::Instance(_) => "an object of a class module",
             Obj::SheetSort(_) => "a Sort",
