@@ -476,10 +476,11 @@ fn each_control_cancels_the_length_or_refuses_the_post() {
     let tool_line = run.stdout.lines().find(|l| l.contains(" T1")).unwrap();
     assert!(tool_line.ends_with("T1 M6 D0"), "{}", run.stdout);
     // Heidenhain's TOOL CALL always applies the table's length (TNC user's manual, "Tool length
-    // compensation": cancelled only by TOOL CALL 0): the post is refused, naming the block.
+    // compensation": cancelled only by TOOL CALL 0): the post is refused, naming the CL line
+    // of the tool change (issue 30: a block's place in an unwritten program helps nobody).
     let run = post(dir.path(), &sphere_cl(), &["--pivot", "400", "--dialect", "heidenhain"]);
     assert_eq!(run.code, 1, "{}", run.stdout);
-    assert!(run.stderr.contains("block") && run.stderr.contains("TCPM"), "{}", run.stderr);
+    assert!(run.stderr.contains("(LOADTL)") && run.stderr.contains("TCPM"), "{}", run.stderr);
     assert!(run.stdout.is_empty());
 }
 
