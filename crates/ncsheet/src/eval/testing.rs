@@ -176,16 +176,17 @@ mod tests {
             Some(Rect::new(Pos::new(0, 0), Pos::new(0, 0)))
         }
 
-        fn defined_name(&self, _: &str, _: SheetId) -> Option<(Rc<Expr>, SheetId)> {
-            None
+        // No names, no spills: as a surface typed on its own.
+        fn defined_name(&self, name: &str, sheet: SheetId) -> Option<(Rc<Expr>, SheetId)> {
+            EmptyEnv::default().defined_name(name, sheet)
         }
 
-        fn spill_rect(&self, _: SheetId, _: Pos) -> Option<Rect> {
-            None
+        fn spill_rect(&self, sheet: SheetId, pos: Pos) -> Option<Rect> {
+            EmptyEnv::default().spill_rect(sheet, pos)
         }
 
         fn sheet_count(&self) -> usize {
-            3
+            MOVED_TABS.len()
         }
 
         fn sheet_name(&self, sheet: SheetId) -> Option<String> {
