@@ -23,7 +23,7 @@ fn each(lines: &[&str]) -> Vec<String> {
 // of the data type being converted to, an error occurs"; [MS-VBAL] 5.5.1.2.1.1 (Let-coercion
 // from String to a numeric type): a String that is no number is run-time error 13, Type
 // mismatch. The conversions returned an Excel error value (#VALUE!) into the variable instead.
-// LibreOffice's VBA mode raises 13 on each as well.
+// LibreOffice's VBA mode raises 13 on each as well, except CBool(""), which is False there.
 #[test]
 fn a_conversion_of_text_that_is_no_number_is_type_mismatch() {
     let got = each(&[
@@ -68,4 +68,50 @@ fn filter_keeps_the_items_that_contain_the_match() {
         "    Dim a, b, c\n    a = Filter(Array(\"ab\", \"cd\", \"abc\"), \"b\")\n    Debug.Print LBound(a) & \" \" & UBound(a) & \" \" & Join(a, \"|\")\n    b = Filter(Array(\"ab\", \"cd\", \"abc\"), \"b\", False)\n    Debug.Print Join(b, \"|\")\n    c = Filter(Array(\"Ab\", \"ab\", \"x\"), \"A\", True, vbTextCompare)\n    Debug.Print Join(c, \"|\")\n    Debug.Print CStr(UBound(Filter(Array(\"x\"), \"y\")))\n",
     );
     assert_eq!(printed, ["0 1 ab|abc", "cd", "Ab|ab", "-1"]);
+}
+
+// "FormatPercent function", "FormatCurrency function" and "FormatDateTime function" take
+// FormatNumber's arguments (the last its NamedFormat), with the regional settings of English
+// (United States); they were no functions at all ("no Function, Sub or sheet function named
+// FormatPercent": the procedure did not compile). FormatCurrency(.20,,0) is "$.20" and
+// FormatCurrency(20000,5) "$20,000.00000" as the VBScript reference's examples show them.
+// FormatDateTime: vbGeneralDate shows a date part as a short date and a time part as a long
+// time, vbShortTime "by using the 24-hour format (hh:mm)".
+#[test]
+fn format_percent_currency_and_date_time_as_the_reference_describes() {
+    let got = each(&[
+        "FormatPercent(0.256)",
+        "FormatPercent(12.345, 1)",
+        "FormatPercent(-0.5, 0, , vbTrue)",
+        "FormatCurrency(1234.5)",
+        "FormatCurrency(.20, , 0)",
+        "FormatCurrency(20000, 5)",
+        "FormatCurrency(-5, , , vbFalse)",
+        "FormatCurrency(-5, , , vbTrue)",
+        "FormatDateTime(#1/2/2020 13:05:09#)",
+        "FormatDateTime(#1/2/2020#)",
+        "FormatDateTime(#1/2/2020 13:05:09#, vbLongDate)",
+        "FormatDateTime(#1/2/2020 13:05:09#, vbShortDate)",
+        "FormatDateTime(#1/2/2020 13:05:09#, vbLongTime)",
+        "FormatDateTime(#1/2/2020 13:05:09#, vbShortTime)",
+        "FormatDateTime(#1/2/2020#, 7)",
+    ]);
+    let want = [
+        "String 25.60%",
+        "String 1,234.5%",
+        "String (50%)",
+        "String $1,234.50",
+        "String $.20",
+        "String $20,000.00000",
+        "String -$5.00",
+        "String ($5.00)",
+        "String 1/2/2020 1:05:09 PM",
+        "String 1/2/2020",
+        "String Thursday, January 2, 2020",
+        "String 1/2/2020",
+        "String 1:05:09 PM",
+        "String 13:05",
+        "Err 5",
+    ];
+    assert_eq!(got, want);
 }

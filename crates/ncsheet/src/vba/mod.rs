@@ -43,7 +43,7 @@
 //! VBA's functions (`Sqr Atn Tan Sin Cos Exp Log Abs Sgn Int Fix Round Format CStr CDbl CInt
 //! CLng CBool Val Str Len Left Mid Right UCase LCase Trim LTrim RTrim InStr InStrRev Replace
 //! Chr ChrW Asc Space IIf IsEmpty IsNull IsNumeric IsError IsObject IsArray IsMissing Array Split Join
-//! StrComp StrConv LenB FormatNumber VarType CVErr Timer Rnd String Hex Oct StrReverse
+//! StrComp StrConv LenB FormatNumber FormatPercent FormatCurrency FormatDateTime VarType CVErr Timer Rnd String Hex Oct StrReverse
 //! DateSerial TimeSerial Date Time DateAdd DateDiff DatePart WeekdayName MonthName DateValue
 //! TimeValue CLngLng CByte CSng CCur`, the `VBA.*` rows of the
 //! function table, `$` suffix allowed), an object, or a sheet function (`CHAMFER_XA`, `SUM`,
@@ -54,8 +54,8 @@
 //! left out or `vbUseCompareOption`, the module's Option Compare),
 //! `StrConv` converts with `vbUpperCase`, `vbLowerCase`, `vbProperCase`, and `vbFromUnicode` /
 //! `vbUnicode` to and from a Byte array in Windows-1252 (not the East Asian conversions),
-//! `FormatNumber` uses English (United States) defaults (two
-//! decimals, `1,234.50`), `VarType` answers a typed variable's declared type (`vbInteger` 2,
+//! `FormatNumber`, `FormatPercent` and `FormatCurrency` use English (United States) defaults (two
+//! decimals, `1,234.50`, `25.60%`, `$1,234.50`), `VarType` answers a typed variable's declared type (`vbInteger` 2,
 //! `vbLong` 3 …; 8192 + the items' type for an array), `IsMissing` is True for a left-out
 //! `Optional` Variant without a default, `CVErr` takes Excel's `xlErr…` numbers (the values a
 //! cell can hold), `Val` reads `&HFF` and `&O17`, `Format(x, ">")` / `"<"` changes case.

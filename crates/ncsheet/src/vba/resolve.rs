@@ -169,6 +169,12 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "vbtrue" => number(-1.0),
         "vbfalse" => number(0.0),
         "vbusedefault" => number(-2.0),
+        // "Date format constants" (FormatDateTime's NamedFormat).
+        "vbgeneraldate" => number(0.0),
+        "vblongdate" => number(1.0),
+        "vbshortdate" => number(2.0),
+        "vblongtime" => number(3.0),
+        "vbshorttime" => number(4.0),
         "vbempty" => number(0.0),
         "vbnull" => number(1.0),
         "vbinteger" => number(2.0),

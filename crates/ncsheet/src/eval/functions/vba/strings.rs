@@ -319,9 +319,10 @@ pub fn len_b(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     Ok(Value::Number((text.encode_utf16().count() * 2) as f64))
 }
 
-/// A Tristate argument of FormatNumber: vbTrue (-1), vbFalse (0), vbUseDefault (-2).
-fn tristate(ctx: &mut Ctx, args: &[Expr], i: usize, default: bool) -> XlResult<bool> {
-    match whole_arg(ctx, "FormatNumber", args, i, -2.0)? {
+/// A Tristate argument of FormatNumber, FormatPercent or FormatCurrency: vbTrue (-1),
+/// vbFalse (0), vbUseDefault (-2).
+fn tristate(ctx: &mut Ctx, name: &str, args: &[Expr], i: usize, default: bool) -> XlResult<bool> {
+    match whole_arg(ctx, name, args, i, -2.0)? {
         -2.0 => Ok(default),
         0.0 => Ok(false),
         // A Boolean True is -1; any other non-zero number counts as True too.
@@ -329,20 +330,43 @@ fn tristate(ctx: &mut Ctx, args: &[Expr], i: usize, default: bool) -> XlResult<b
     }
 }
 
-/// `FormatNumber(expression[, digits[, leading digit[, parentheses[, group digits]]]])`
-/// with the English (United States) regional defaults: two decimals, a leading zero, a
-/// minus sign, thousands grouped with commas.
-pub fn format_number_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+/// Which of the three functions that share FormatNumber's arguments.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum NumberStyle {
+    Number,
+    /// The number times 100 with a percent sign ("FormatPercent function").
+    Percent,
+    /// The currency symbol before the number ("FormatCurrency function"); English (United
+    /// States) shows a negative amount in parentheses.
+    Currency,
+}
+
+impl NumberStyle {
+    fn name(self) -> &'static str {
+        match self {
+            NumberStyle::Number => "FormatNumber",
+            NumberStyle::Percent => "FormatPercent",
+            NumberStyle::Currency => "FormatCurrency",
+        }
+    }
+}
+
+/// `FormatNumber`, `FormatPercent` or `FormatCurrency(expression[, digits[, leading digit[,
+/// parentheses[, group digits]]]])` with the English (United States) regional defaults: two
+/// decimals, a leading zero, thousands grouped with commas, a minus sign (parentheses for a
+/// currency).
+fn format_in_style(ctx: &mut Ctx, args: &[Expr], style: NumberStyle) -> XlResult<Value> {
+    let name = style.name();
     let dates = ctx.dates();
     let n = to_number(&ctx.eval(&args[0]).unwrap_single(), dates)?;
-    let digits = whole_arg(ctx, "FormatNumber", args, 1, -1.0)?;
+    let digits = whole_arg(ctx, name, args, 1, -1.0)?;
     let digits = if digits == -1.0 { 2.0 } else { digits };
     if !(0.0..=99.0).contains(&digits) {
         return Err(XlError::Value);
     }
-    let leading = tristate(ctx, args, 2, true)?;
-    let parens = tristate(ctx, args, 3, false)?;
-    let group = tristate(ctx, args, 4, true)?;
+    let leading = tristate(ctx, name, args, 2, true)?;
+    let parens = tristate(ctx, name, args, 3, style == NumberStyle::Currency)?;
+    let group = tristate(ctx, name, args, 4, true)?;
     let whole = match (group, leading) {
         (true, true) => "#,##0",
         (true, false) => "#,###",
@@ -350,11 +374,58 @@ pub fn format_number_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         (false, false) => "#",
     };
     let decimals = "0".repeat(digits as usize);
-    let positive = if decimals.is_empty() { whole.to_string() } else { format!("{whole}.{decimals}") };
+    let number = if decimals.is_empty() { whole.to_string() } else { format!("{whole}.{decimals}") };
+    let positive = match style {
+        NumberStyle::Number => number,
+        NumberStyle::Percent => format!("{number}%"),
+        NumberStyle::Currency => format!("${number}"),
+    };
     let pattern = if parens { format!("{positive};({positive})") } else { positive };
     let text = format_number(n, &pattern)?;
     // A zero without its leading digit and without decimals would be nothing: VBA writes 0.
     Ok(Value::text(if text.is_empty() || text == "-" { "0".to_string() } else { text }))
+}
+
+/// `FormatNumber(expression[, digits[, leading digit[, parentheses[, group digits]]]])`.
+pub fn format_number_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    format_in_style(ctx, args, NumberStyle::Number)
+}
+
+/// `FormatPercent(expression[, …])`: `FormatPercent(0.256)` is "25.60%".
+pub fn format_percent_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    format_in_style(ctx, args, NumberStyle::Percent)
+}
+
+/// `FormatCurrency(expression[, …])`: `FormatCurrency(-1234.5)` is "($1,234.50)".
+pub fn format_currency_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    format_in_style(ctx, args, NumberStyle::Currency)
+}
+
+/// `FormatDateTime(date[, NamedFormat])` ("FormatDateTime function"): vbGeneralDate (0, the
+/// default), vbLongDate (1), vbShortDate (2), vbLongTime (3) or vbShortTime (4, 24-hour
+/// hh:mm), as Format's named formats of the same names show them.
+pub fn format_date_time_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let dates = ctx.dates();
+    let Some(date) = text_or_number_or_null(ctx, args)? else { return Ok(Value::Null) };
+    let date = to_number(&date, dates)?;
+    let named = match whole_arg(ctx, "FormatDateTime", args, 1, 0.0)? {
+        0.0 => "general date",
+        1.0 => "long date",
+        2.0 => "short date",
+        3.0 => "long time",
+        4.0 => "short time",
+        _ => return Err(invalid_call(ctx, "FormatDateTime", "NamedFormat is 0 to 4 (vbGeneralDate … vbShortTime)")),
+    };
+    Ok(Value::text(format_number(date, named)?))
+}
+
+/// The first argument, `None` for Null (which the date functions pass through).
+fn text_or_number_or_null(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Option<Value>> {
+    match ctx.eval(&args[0]).unwrap_single() {
+        Value::Null => Ok(None),
+        Value::Error(e) => Err(e),
+        v => Ok(Some(v)),
+    }
 }
 
 /// Whether `pattern` is one of Format's user-defined string formats: its first code
