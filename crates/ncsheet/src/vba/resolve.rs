@@ -960,8 +960,8 @@ impl Build<'_> {
             let path = Path { with: false, links: vec![link], span: self.span(at) };
             return Ok(self.node(Node::Path(path), at, end));
         }
-        if let Some(prog_id) = dotnet_collection(&link).filter(|_| lower == "createobject" && !is_var) {
-            return Err(self.error_at(pair, dotnet_refusal(&prog_id)));
+        if let Some(why) = library_object_refusal(&link).filter(|_| lower == "createobject" && !is_var) {
+            return Err(self.error_at(pair, why));
         }
         if FORBIDDEN.contains(&lower.as_str()) && !is_var {
             return Err(self.error_at(pair, refusal(&link.name)));
@@ -1132,20 +1132,25 @@ fn created(link: &Link) -> Option<Class> {
     }
 }
 
-/// `CreateObject("System.Collections.SortedList")` (another of .NET's collections than the
-/// ArrayList ncsheet makes, which macros borrow through COM): the ProgID, refused by name
-/// rather than as a program.
-fn dotnet_collection(link: &Link) -> Option<String> {
+/// Why `CreateObject(progID)` of a library object ncsheet does not make is refused, by the
+/// object's name rather than as a program: another of .NET's collections than the ArrayList
+/// (`System.Collections.SortedList`, which macros borrow through COM), or VBScript's RegExp.
+fn library_object_refusal(link: &Link) -> Option<String> {
     let [Arg { name: None, value }] = link.args.as_deref()? else { return None };
-    let ExprKind::Text(id) = &value.kind else { return None };
-    id.to_ascii_lowercase().starts_with("system.collections.").then(|| id.to_string())
-}
-
-fn dotnet_refusal(prog_id: &str) -> String {
-    format!(
-        "CreateObject(\"{prog_id}\"): .NET's collections are not in ncsheet (a macro loads no .NET \
-         library); keep the items in a Collection, a Scripting.Dictionary or an array"
-    )
+    let ExprKind::Text(prog_id) = &value.kind else { return None };
+    let lower = prog_id.to_ascii_lowercase();
+    if lower.starts_with("system.collections.") {
+        return Some(format!(
+            "CreateObject(\"{prog_id}\"): .NET's collections are not in ncsheet (a macro loads no .NET \
+             library); keep the items in a Collection, a Scripting.Dictionary or an array"
+        ));
+    }
+    lower.starts_with("vbscript.regexp").then(|| {
+        format!(
+            "CreateObject(\"{prog_id}\"): VBScript's regular expressions are not in ncsheet yet; match \
+             text with Like, InStr, Mid and Split"
+        )
+    })
 }
 
 /// A worksheet function's name as a member of WorksheetFunction or Application spells it:
