@@ -115,3 +115,14 @@ fn format_percent_currency_and_date_time_as_the_reference_describes() {
     ];
     assert_eq!(got, want);
 }
+
+// [MS-VBAL] 3.3.2 (number tokens): a hex or octal literal without a type character whose
+// digits fit 16 bits is an Integer read as two's complement (so `&HFFFF` is -1), one that
+// needs more bits a Long; `&` makes it a Long read from 32 bits. `&H8000` had the Integer's
+// value, -32768, but was typed Long.
+#[test]
+fn hex_literals_of_sixteen_bits_are_integers() {
+    let got = each(&["&H8000", "&HFFFF", "&H7FFF", "&O177777", "&H10000", "&H8000&", "&HFFFFFFFF"]);
+    let want = ["Integer -32768", "Integer -1", "Integer 32767", "Integer -1", "Long 65536", "Long 32768", "Long -1"];
+    assert_eq!(got, want);
+}

@@ -368,7 +368,10 @@ fn literal_type(text: &str, value: f64) -> Declared {
             Some('&') => Declared::Long,
             Some('%') => Declared::Integer,
             Some('^') => Declared::LongLong,
-            _ if value.abs() <= 32767.0 => Declared::Integer,
+            // A hex or octal literal of up to 16 bits is an Integer read as two's complement
+            // ([MS-VBAL] 3.3.2, number tokens): `&HFFFF` is -1 and `&H8000` the Integer
+            // -32768 (its value was right, its type a Long by the value's magnitude).
+            _ if radix_digits_fit_16_bits(radix) => Declared::Integer,
             _ => Declared::Long,
         };
     }
@@ -383,6 +386,17 @@ fn literal_type(text: &str, value: f64) -> Declared {
         _ if !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()) => whole(value),
         _ => Declared::Double,
     }
+}
+
+/// Whether the digits of a hex or octal literal (`HFFFF`, `o177777`, after its `&`) make an
+/// unsigned number of at most 16 bits, whatever leading zeros they have.
+fn radix_digits_fit_16_bits(radix: &str) -> bool {
+    let (base, digits) = match radix.chars().next() {
+        Some('h' | 'H') => (16, &radix[1..]),
+        Some('o' | 'O') => (8, &radix[1..]),
+        _ => (8, radix),
+    };
+    u64::from_str_radix(digits, base).is_ok_and(|n| n <= 0xFFFF)
 }
 
 /// The type of the number a VBA function gives in a Variant, where the language reference
