@@ -287,7 +287,9 @@ fn sorted_order<'a>(n: usize, descending: &[bool], key: impl Fn(usize, usize) ->
     };
     let mut sorting: Vec<Sorting> = (0..n)
         .map(|index| match key(0, index) {
-            Value::Number(x) => Sorting { number: *x, is_number: true, index },
+            // `+ 0.0` makes -0 a 0: total_cmp would put -0 first, where the two are one
+            // number to Excel and a stable sort keeps their order.
+            Value::Number(x) => Sorting { number: *x + 0.0, is_number: true, index },
             _ => Sorting { number: 0.0, is_number: false, index },
         })
         .collect();
@@ -763,6 +765,15 @@ mod tests {
     /// sorted; the comparisons read only those. The comparator read both keys from the array
     /// at every comparison (about n·log2 n = 130,000 comparisons here), at a random place in
     /// it each time: 16,000,000 random numbers took 42 s.
+    /// Excel has one zero: a 0 and a -0 (what IEEE arithmetic can leave, `-1*0`) are equal
+    /// keys, which the stable sort leaves in their order, ascending or descending.
+    #[test]
+    fn a_negative_zero_sorts_as_the_zero_it_equals() {
+        let keys = [Value::Number(0.0), Value::Number(-0.0), Value::Number(-1.0)];
+        assert_eq!(sorted_order(3, &[false], |_, i| &keys[i]), [2, 0, 1]);
+        assert_eq!(sorted_order(3, &[true], |_, i| &keys[i]), [0, 1, 2]);
+    }
+
     #[test]
     fn a_numeric_sort_reads_each_key_from_the_array_once() {
         let env = MapEnv::default();
