@@ -218,3 +218,18 @@ fn excel_constants_of_colors_and_calculation() {
     // before its sign.
     assert_eq!(out, ["-4142 -4105 -4135 -4105 "]);
 }
+
+// [MS-VBAL] 3.2.2 "Line-Continuation": " _" and a line break are whitespace between two tokens,
+// and a named argument is a name, then the token `:=`, then its value (5.6.16.8 "Argument
+// Lists"). The macro recorder breaks its long PasteSpecial lines right there: `SkipBlanks _` /
+// `        :=False`; spaces around `:=` are whitespace between tokens too.
+#[test]
+fn a_line_may_be_continued_between_a_named_arguments_name_and_its_colon_equals() {
+    let module =
+        "Function Box(Optional L As Double = 1, Optional W As Double = 1, Optional H As Double = 1) As Double\n\
+                  \x20   Box = L * W * H\n\
+                  End Function";
+    let out =
+        printed(module, "    Debug.Print \"B=\" & Box(L:=2, H _\n        :=5)\n    Debug.Print \"B=\" & Box(W := 3)");
+    assert_eq!(out, ["B=10", "B=3"]);
+}

@@ -1422,7 +1422,7 @@ impl<'s> Build<'s> {
         let mut out = Vec::new();
         for a in all(&kids(&pair), Rule::varg) {
             let k = kids(&a);
-            let name = find(&k, Rule::varg_name).map(|n| n.as_str().trim_end_matches(":=").trim().into());
+            let name = find(&k, Rule::varg_name).and_then(|n| n.into_inner().next()).map(|ident| ident.as_str().into());
             let value = match find(&k, Rule::vexpr) {
                 Some(e) => self.expr(e)?,
                 None => Expr::new(ExprKind::Missing, ByteSpan { start: start(&a) as u32, end: start(&a) as u32 }),
