@@ -309,6 +309,23 @@ fn used_range_shrinks_when_its_last_column_or_row_is_deleted() {
     assert_eq!(printed, vec!["$A$1:$C$2", "$A$1:$B$2", "$A$1:$B$1 2 "]);
 }
 
+/// Inserting a row inside the used cells moves those below it down by one ("Range.Insert
+/// method"), so data in A1:H9 lies in A1:H10 and `UsedRange` is "$A$1:$H$10"; a row inserted
+/// below the data moves no cell and leaves it as it was. The extent was moved once by the
+/// cells written at their new rows and once more by the insert, so a real subtotals module
+/// that inserted three rows saw $A$1:$H$13 where Excel gives $A$1:$H$12.
+#[test]
+fn used_range_grows_by_the_rows_inserted_inside_it_only() {
+    let printed = run(
+        &mut Workbook::with_sheet(),
+        "    Range(\"A1:H9\").Value = 1\n    Rows(3).Insert Shift:=xlDown\n    \
+         Debug.Print ActiveSheet.UsedRange.Address\n    Rows(30).Insert\n    \
+         Debug.Print ActiveSheet.UsedRange.Address\n    Columns(\"B\").Insert\n    \
+         Debug.Print ActiveSheet.UsedRange.Address",
+    );
+    assert_eq!(printed, vec!["$A$1:$H$10", "$A$1:$H$10", "$A$1:$I$10"]);
+}
+
 /// `UsedRange` starts at the first used cell, not at A1: Microsoft's "Worksheet.UsedRange
 /// property" returns the range used on the sheet, so data only in C3:E9 is "$C$3:$E$9", whose
 /// `Row` is 3 and `Rows.Count` 7. A cell given a format or a font of its own is used as

@@ -232,6 +232,9 @@ impl Workbook {
             }
         }
         self.store_rewrites(&mut moves, &free);
+        // Before the moved cells are written: each grows the extent to where it went, and
+        // moving the extent after that would move its last line twice.
+        self.move_extent(sheet, &edit);
         for (id, to, content) in moves {
             let s = self.cells[id as usize].sheet;
             let Some(to) = to else { continue };
@@ -413,19 +416,26 @@ impl Workbook {
         moved
     }
 
+    /// The sheet's used extent moves with whole rows and columns.
+    fn move_extent(&mut self, sheet: SheetId, edit: &SheetEdit) {
+        if edit.band.is_some() {
+            return;
+        }
+        // A deleted last line leaves the line before the deleted ones last: every cell left
+        // there lies before them; a deleted first line leaves the line after them first.
+        self.sheets[sheet as usize].move_extent(
+            edit.axis == Axis::Rows,
+            |line| edit.index(line).unwrap_or(edit.at.saturating_sub(1)),
+            |line| edit.index(line).unwrap_or(edit.at),
+        );
+    }
+
     /// Hidden rows and column widths move with whole rows and columns.
     fn shift_lines(&mut self, sheet: SheetId, edit: &SheetEdit) {
         if edit.band.is_some() {
             return;
         }
         let s = &mut self.sheets[sheet as usize];
-        // A deleted last line leaves the line before the deleted ones last: every cell left
-        // there lies before them; a deleted first line leaves the line after them first.
-        s.move_extent(
-            edit.axis == Axis::Rows,
-            |line| edit.index(line).unwrap_or(edit.at.saturating_sub(1)),
-            |line| edit.index(line).unwrap_or(edit.at),
-        );
         match edit.axis {
             Axis::Rows => {
                 let hidden: Vec<(u32, RowHidden)> = s.hidden_rows().collect();
