@@ -233,3 +233,51 @@ fn a_line_may_be_continued_between_a_named_arguments_name_and_its_colon_equals()
         printed(module, "    Debug.Print \"B=\" & Box(L:=2, H _\n        :=5)\n    Debug.Print \"B=\" & Box(W := 3)");
     assert_eq!(out, ["B=10", "B=3"]);
 }
+
+// "Worksheet.Unprotect method": on a sheet that is not protected it does nothing. "Worksheet.Protect
+// method": UserInterfaceOnly:=True "protects the user interface, but not macros"; omitted,
+// "protection applies both to macros and to the user interface", so a macro's write into the
+// (locked) cells is then run-time error 1004, as is Unprotect with a wrong password (passwords
+// are case-sensitive). "Worksheet.ProtectContents property" tells whether the cells are guarded.
+#[test]
+fn a_sheet_is_protected_and_unprotected_by_its_password() {
+    let mut wb = Workbook::with_sheet();
+    let out = run(
+        &mut wb,
+        "    ActiveSheet.Unprotect\n\
+         \x20   Range(\"A1\").Value = 1\n\
+         \x20   ActiveSheet.Protect Password:=\"Pw\", UserInterfaceOnly:=True\n\
+         \x20   Range(\"A2\").Value = 2\n\
+         \x20   Debug.Print \"P=\" & ActiveSheet.ProtectContents\n\
+         \x20   ActiveSheet.Unprotect \"Pw\"\n\
+         \x20   ActiveSheet.Protect \"Pw\"\n\
+         \x20   On Error Resume Next\n\
+         \x20   Range(\"A3\").Value = 3\n\
+         \x20   Debug.Print \"W=\" & Err.Number\n\
+         \x20   Err.Clear\n\
+         \x20   ActiveSheet.Unprotect \"pw\"\n\
+         \x20   Debug.Print \"U=\" & Err.Number\n\
+         \x20   Err.Clear\n\
+         \x20   ActiveSheet.Unprotect \"Pw\"\n\
+         \x20   Range(\"A4\").Value = 4\n\
+         \x20   Debug.Print \"P=\" & ActiveSheet.ProtectContents & \" E=\" & Err.Number",
+    );
+    assert_eq!(out, ["P=True", "W=1004", "U=1004", "P=False E=0"]);
+    assert_eq!([get(&wb, 0, "A1"), get(&wb, 0, "A2"), get(&wb, 0, "A4")], [n(1.0), n(2.0), n(4.0)]);
+    assert_eq!(get(&wb, 0, "A3"), get(&wb, 0, "Z99"), "the protected cell stays empty");
+}
+
+// "Application.CutCopyMode property": False when Excel is in neither Cut nor Copy mode, xlCopy
+// (1) in Copy mode; setting it to False ends the mode.
+#[test]
+fn cut_copy_mode_tells_whether_a_copy_waits_for_its_paste() {
+    let out = printed(
+        "",
+        "    Debug.Print \"M=\" & Application.CutCopyMode\n\
+         \x20   Range(\"A1\").Copy\n\
+         \x20   Debug.Print \"M=\" & Application.CutCopyMode\n\
+         \x20   Application.CutCopyMode = False\n\
+         \x20   Debug.Print \"M=\" & Application.CutCopyMode",
+    );
+    assert_eq!(out, ["M=False", "M=1", "M=False"]);
+}

@@ -337,6 +337,8 @@ pub struct Interp<'m, 'w> {
     pub cursors: RefCell<std::collections::HashMap<SheetId, (Rect, Pos)>>,
     /// The range the last `Copy` without a destination took, for `PasteSpecial`.
     pub(super) clipboard: RefCell<Option<(SheetId, Rect)>>,
+    /// The sheets `ws.Protect` protected in this run (`sheet_ops.rs`).
+    pub(super) protections: RefCell<std::collections::HashMap<SheetId, super::sheet_ops::SheetProtection>>,
     /// Each worksheet's `Sort` object: its fields, range and header until `Apply` (`sort.rs`).
     pub(super) sorts: RefCell<std::collections::HashMap<SheetId, super::sort::SheetSort>>,
     /// The array a class's Function last returned, with its bounds (`classes.rs`).
@@ -419,6 +421,7 @@ impl<'m, 'w> Interp<'m, 'w> {
             code_sheets: Vec::new(),
             cursors: RefCell::new(std::collections::HashMap::new()),
             clipboard: RefCell::new(None),
+            protections: RefCell::new(std::collections::HashMap::new()),
             sorts: RefCell::new(std::collections::HashMap::new()),
             method_array: RefCell::new(None),
             looks: Rc::new(RefCell::new(super::formats::Looks::default())),
@@ -2737,6 +2740,7 @@ impl Interp<'_, '_> {
         if cells > MAX_WRITE {
             return Err(self.fault(format!("writing {cells} cells at once is more than a macro may ({MAX_WRITE})")));
         }
+        self.refuse_protected(sheet)?;
         let mut wb = self.book_mut()?;
         for row in rect.first.row..=rect.last.row {
             for col in rect.first.col..=rect.last.col {

@@ -196,6 +196,11 @@ impl Interp<'_, '_> {
                 "worksheets" | "sheets" | "range" | "cells" | "activesheet" | "activeworkbook" | "thisworkbook"
                 | "activecell" | "selection" | "evaluate" | "inputbox" | "msgbox" => self.root(ctx, link),
                 "screenupdating" | "displayalerts" | "enableevents" => Ok(Obj::Value(Value::Bool(true))),
+                // "Application.CutCopyMode property": False, or xlCopy (1) while a Copy waits.
+                "cutcopymode" => Ok(Obj::Value(match self.clipboard.borrow().is_some() {
+                    true => Value::Number(1.0),
+                    false => Value::Bool(false),
+                })),
                 // Read when the workbook's functions are installed (`udf.rs`): a call marks
                 // nothing at run time.
                 "calculate" | "volatile" => Ok(Obj::Value(Value::Blank)),
@@ -429,6 +434,9 @@ impl Interp<'_, '_> {
             "delete" => self.delete_sheet(id, link.span),
             "move" => self.move_sheet(id, link),
             "sort" => Ok(Obj::SheetSort(id)),
+            "protect" => self.protect_sheet(id, link),
+            "unprotect" => self.unprotect_sheet(id, link),
+            "protectcontents" => Ok(Obj::Value(Value::Bool(self.protects_contents(id)))),
             "checkboxes" | "optionbuttons" | "dropdowns" | "listboxes" | "buttons" | "shapes" | "oleobjects"
             | "chartobjects" => Err(self.fault_at(
                 link.span,
@@ -887,6 +895,7 @@ impl Interp<'_, '_> {
         if cells > MAX_FORMULA_WRITE {
             return Err(self.fault(format!("writing {cells} formulas at once is more than a macro may")));
         }
+        self.refuse_protected(sheet)?;
         let mut wb = self.book_mut()?;
         let parsed = {
             let sheets = |name: &str| wb.sheet_id(name);

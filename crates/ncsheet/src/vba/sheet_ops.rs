@@ -1,6 +1,7 @@
 //! What a recorded macro does with the keyboard and the clipboard: `Range.End` (Ctrl+arrow),
 //! `Range.Copy` and `PasteSpecial`, a sheet's `Visible`, and adding, copying, moving and
-//! renaming sheets (`Sheets.Add`, `ws.Copy`, `ws.Move`, `ws.Name =`).
+//! renaming sheets (`Sheets.Add`, `ws.Copy`, `ws.Move`, `ws.Name =`), and protecting them
+//! (`ws.Protect`, `ws.Unprotect`).
 
 use crate::eval::{Ctx, Operand, Value};
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
@@ -668,5 +669,81 @@ impl Interp<'_, '_> {
             return Err(self.error_1004(span, why));
         }
         self.book_mut()?.rename_sheet(sheet, &name).map_err(|e| self.fault_at(span, e.to_string()))
+    }
+}
+
+/// What `ws.Protect` set on a sheet in this run ("Worksheet.Protect method"): its password
+/// (empty for none), and whether a macro may still change its cells (`UserInterfaceOnly:=True`
+/// protects only the user interface; `Contents:=False` leaves the cells unprotected).
+#[derive(Clone, Debug)]
+pub(super) struct SheetProtection {
+    password: String,
+    macros_may_write: bool,
+}
+
+impl Interp<'_, '_> {
+    /// `ws.Protect [Password], [DrawingObjects], [Contents], [Scenarios], [UserInterfaceOnly], …`
+    /// ("Worksheet.Protect method"). The Allow… arguments are about the user's window, which a
+    /// run has not.
+    pub(super) fn protect_sheet(&self, sheet: SheetId, link: &Link) -> Run<Obj> {
+        let password = self.text_argument(link, 0, "Password")?.unwrap_or_default();
+        let contents = self.flag_argument(link, 2, "Contents")?.unwrap_or(true);
+        let interface_only = self.flag_argument(link, 4, "UserInterfaceOnly")?.unwrap_or(false);
+        let protection = SheetProtection { password, macros_may_write: interface_only || !contents };
+        self.protections.borrow_mut().insert(sheet, protection);
+        Ok(Obj::Value(Value::Blank))
+    }
+
+    /// `ws.Unprotect [Password]` ("Worksheet.Unprotect method"): a sheet that is not protected
+    /// stays as it is, whatever the password; a password-protected one needs its password,
+    /// case and all, else run-time error 1004. Without one Excel would ask the user, whom a run
+    /// has not.
+    pub(super) fn unprotect_sheet(&self, sheet: SheetId, link: &Link) -> Run<Obj> {
+        let given = self.text_argument(link, 0, "Password")?;
+        let mut protections = self.protections.borrow_mut();
+        let Some(protection) = protections.get(&sheet) else { return Ok(Obj::Value(Value::Blank)) };
+        match given {
+            _ if protection.password.is_empty() => {}
+            Some(password) if password == protection.password => {}
+            Some(_) => return Err(self.error_1004(link.span, "The password you supplied is not correct".into())),
+            None => {
+                let why = "the sheet is protected with a password and Unprotect gave none (Excel would ask the \
+                           user, whom a run has not): ws.Unprotect \"password\"";
+                return Err(self.error_1004(link.span, why.into()));
+            }
+        }
+        protections.remove(&sheet);
+        Ok(Obj::Value(Value::Blank))
+    }
+
+    /// `ws.ProtectContents` ("Worksheet.ProtectContents property"): True while `Protect` guards
+    /// the sheet's cells.
+    pub(super) fn protects_contents(&self, sheet: SheetId) -> bool {
+        self.protections.borrow().contains_key(&sheet)
+    }
+
+    /// A macro's write into the cells of a sheet it protected (without UserInterfaceOnly) is
+    /// run-time error 1004 in Excel, as every cell is locked until unlocked.
+    pub(super) fn refuse_protected(&self, sheet: SheetId) -> Run<()> {
+        let protections = self.protections.borrow();
+        if protections.get(&sheet).is_none_or(|p| p.macros_may_write) {
+            return Ok(());
+        }
+        let name = self.wb.borrow().sheet_names()[sheet as usize].clone();
+        let why = format!(
+            "the cell you are trying to change is on the protected sheet {name} (ws.Protect without \
+             UserInterfaceOnly:=True); ws.Unprotect it first (run-time error 1004)"
+        );
+        let mut fault = self.fault(why);
+        fault.code = 1004;
+        Err(fault)
+    }
+
+    fn text_argument(&self, link: &Link, position: usize, name: &str) -> Run<Option<String>> {
+        argument(link, position, name).map(|e| self.eval(e).map(|v| print_text(&v))).transpose()
+    }
+
+    fn flag_argument(&self, link: &Link, position: usize, name: &str) -> Run<Option<bool>> {
+        argument(link, position, name).map(|e| self.truth(e, name)).transpose()
     }
 }
