@@ -282,8 +282,9 @@ fn ppmt(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     })
 }
 
-/// The most periods a function sums one by one (DB, VDB, CUMIPMT, CUMPRINC): beyond it #NUM!
-/// rather than a sheet that stops responding (no loan or asset has a million periods).
+/// The most periods a function sums one by one. CUMIPMT, CUMPRINC and DB sum longer spans
+/// as geometric series (below it they step as Excel does, to its last digit); VDB, whose
+/// switch to straight line has no closed form, is #NUM! past it with a note (docs/limits.md).
 const MAX_PERIODS: f64 = 1e6;
 
 /// CUMIPMT and CUMPRINC: Excel reads the periods as whole ones (the start rounded up, the
@@ -295,12 +296,20 @@ fn cumulative(ctx: &mut Ctx, args: &[Expr], principal: bool) -> XlResult<Value> 
         let (start, end, kind) = (number(3)?.ceil(), number(4)?.trunc(), number(5)?);
         check(rate > 0.0 && nper > 0.0 && pv > 0.0, XlError::Num)?;
         check(start >= 1.0 && end >= start && end <= nper && (kind == 0.0 || kind == 1.0), XlError::Num)?;
-        check(end - start <= MAX_PERIODS, XlError::Num)?;
+        let stepped = end - start <= MAX_PERIODS;
+        let repaid = if stepped {
+            principal_paid(rate, nper, pv, start, end, kind)
+        } else {
+            principal_paid_in_closed_form(rate, nper, pv, start, end, kind)
+        };
         if principal {
-            return finite(principal_paid(rate, nper, pv, start, end, kind));
+            return finite(repaid);
         }
-        let sum: f64 = whole_numbers(start, end).map(|per| ipmt_of(rate, per, nper, pv, 0.0, kind)).sum();
-        finite(sum)
+        if stepped {
+            return finite(whole_numbers(start, end).map(|per| ipmt_of(rate, per, nper, pv, 0.0, kind)).sum());
+        }
+        // Every payment is interest and principal: the interest is what the principal leaves.
+        finite((end - start + 1.0) * pmt_of(rate, nper, pv, 0.0, kind) - repaid)
     })
 }
 
@@ -319,6 +328,26 @@ fn principal_paid(rate: f64, nper: f64, pv: f64, start: f64, end: f64, kind: f64
         };
     }
     sum
+}
+
+/// [`principal_paid`] as the sum of its geometric series, for spans too long to step
+/// through: with g = 1 + rate, a = start − 1 − kind and c payments,
+/// −pv·rate/(gⁿ − 1) · gᵃ(gᶜ − 1)/rate = −pv · (g^(a+c−n) − g^(a−n)) / (1 − g⁻ⁿ),
+/// written with powers of at most 1 (a + c ≤ n), which neither overflow nor cancel.
+fn principal_paid_in_closed_form(rate: f64, nper: f64, pv: f64, start: f64, end: f64, kind: f64) -> f64 {
+    let (mut sum, mut start) = (0.0, start);
+    if kind == 1.0 && start == 1.0 {
+        sum = pmt_of(rate, nper, pv, 0.0, 1.0);
+        start = 2.0;
+    }
+    let (ln_g, a, c) = (rate.ln_1p(), start - 1.0 - kind, end - start + 1.0);
+    let powers = if c * ln_g < 1.0 {
+        // A short or slow series: its two powers are close, and expm1 keeps their difference.
+        ((a - nper) * ln_g).exp() * (c * ln_g).exp_m1()
+    } else {
+        ((a + c - nper) * ln_g).exp() - ((a - nper) * ln_g).exp()
+    };
+    sum - pv * powers / -(-nper * ln_g).exp_m1()
 }
 
 fn cumipmt(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
@@ -564,25 +593,29 @@ fn db(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         let month = a.num_or(4, 12.0)?.trunc();
         check(cost >= 0.0 && salvage >= 0.0 && life > 0.0 && period > 0.0, XlError::Num)?;
         check((1.0..=12.0).contains(&month) && period <= life + 1.0, XlError::Num)?;
-        check((month < 12.0 || period <= life) && period <= MAX_PERIODS, XlError::Num)?;
+        check(month < 12.0 || period <= life, XlError::Num)?;
         if cost == 0.0 {
             return Ok(Value::Number(0.0));
         }
         // Excel rounds the rate to three decimals.
         let rate = ((1.0 - (salvage / cost).powf(1.0 / life)) * 1000.0).round() / 1000.0;
-        let mut total = cost * rate * month / 12.0;
+        let first = cost * rate * month / 12.0;
         if period == 1.0 {
-            return finite(total);
+            return finite(first);
         }
-        let mut depreciation = total;
-        let mut p = 2.0;
-        while p <= period {
-            depreciation =
-                if p == life + 1.0 { (cost - total) * rate * (12.0 - month) / 12.0 } else { (cost - total) * rate };
-            total += depreciation;
-            p += 1.0;
-        }
-        finite(depreciation)
+        // What is left of the cost before `period`: stepped as Excel does, or past
+        // MAX_PERIODS as the geometric series it is (each period takes `rate` of what is left).
+        let left = if period <= MAX_PERIODS {
+            let mut total = first;
+            for _ in whole_numbers(2.0, period - 1.0) {
+                total += (cost - total) * rate;
+            }
+            cost - total
+        } else {
+            (cost - first) * (1.0 - rate).powf(period - 2.0)
+        };
+        // The period after the life holds the months the first one lacked.
+        finite(if period == life + 1.0 { left * rate * (12.0 - month) / 12.0 } else { left * rate })
     })
 }
 
@@ -627,13 +660,21 @@ fn worth_after(cost: f64, rate: f64, periods: f64) -> f64 {
 /// prorated), switching to straight line on what is left once that is larger unless
 /// `no_switch`.
 fn vdb(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar_numbers(ctx, args, &|a| {
+    let over = std::cell::Cell::new(false);
+    let result = scalar_numbers(ctx, args, &|a| {
         let (cost, salvage, life, start, end) = (a.num(0)?, a.num(1)?, a.num(2)?, a.num(3)?, a.num(4)?);
         let factor = a.num_or(5, 2.0)?;
         let no_switch = if a.given(6) { crate::eval::coerce::to_bool(a.value(6))? } else { false };
         check(start >= 0.0 && end >= start && end <= life && cost >= 0.0 && salvage <= cost, XlError::Num)?;
-        check(factor > 0.0 && life > 0.0 && life <= MAX_PERIODS, XlError::Num)?;
+        check(factor > 0.0 && life > 0.0, XlError::Num)?;
         let (first, last) = (start.floor(), end.ceil());
+        // The work is the periods stepped, not the life: VDB(1000,0,1E7,0,10) is ten periods
+        // (it was #NUM! for its life of 1E+7, which Excel computes).
+        let stepped = if no_switch { last - first } else { last };
+        if stepped > MAX_PERIODS {
+            over.set(true);
+            return Err(XlError::Num);
+        }
         if no_switch {
             let mut total = 0.0;
             let mut period = first + 1.0;
@@ -661,7 +702,12 @@ fn vdb(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         }
         let value = cost - switching_ddb(cost, salvage, life, life, first, factor);
         finite(switching_ddb(value, salvage, life, life - first, last - first, factor) - outside)
-    })
+    });
+    if over.get() {
+        let note = format!("VDB steps through the periods up to its end one by one: more than ncsheet's limit of {MAX_PERIODS} periods");
+        ctx.explain(XlError::Num, note);
+    }
+    result
 }
 
 /// The depreciation over the first `periods` periods of an asset worth `cost` with

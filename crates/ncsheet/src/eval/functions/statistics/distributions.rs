@@ -4,6 +4,8 @@
 //! Every argument is lifted over arrays; Excel's checks give `#NUM!` for a parameter out of
 //! its domain. The numerics are in `special.rs`.
 
+use std::cell::Cell;
+
 use crate::eval::coerce::{to_bool, to_number};
 use crate::eval::dates::DateSystem;
 use crate::eval::functions::api::{lift, number_result, Ctx, FnSpec};
@@ -19,6 +21,11 @@ type Body = fn(&[f64]) -> XlResult<f64>;
 
 /// Evaluates the arguments, lifts over arrays and calls `f` with them as numbers.
 fn numeric(ctx: &mut Ctx, args: &[Expr], f: Body) -> XlResult<Value> {
+    numeric_with(ctx, args, &f)
+}
+
+/// [`numeric`] for a body that captures (a flag for the note a limit leaves).
+fn numeric_with(ctx: &mut Ctx, args: &[Expr], f: &dyn Fn(&[f64]) -> XlResult<f64>) -> XlResult<Value> {
     let dates = ctx.dates();
     lift(ctx, args, &|v| {
         let x: Vec<f64> = v.iter().map(|x| number_or_flag(x, dates)).collect::<XlResult<_>>()?;
@@ -676,8 +683,7 @@ numeric_fns! {
         }
         invert(-p, 0.0, 1.0, |x| -f_right_tail(x, d1, d2))
     };
-    hypgeom_dist => |a| hypergeometric(a, a[4] != 0.0);
-    hypgeomdist => |a| hypergeometric(a, false);
+    hypgeomdist => |a| hypergeometric(a, false, &Cell::new(false));
     negbinom_dist => |a| negative_binomial(a[0].trunc(), a[1].trunc(), a[2], a[3] != 0.0);
     negbinomdist => |a| negative_binomial(a[0].trunc(), a[1].trunc(), a[2], false);
     weibull_dist => |a| {
@@ -932,7 +938,21 @@ fn f_density(x: f64, d1: f64, d2: f64) -> f64 {
     ln.exp()
 }
 
-fn hypergeometric(a: &[f64], cumulative: bool) -> XlResult<f64> {
+fn hypgeom_dist(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let over = Cell::new(false);
+    let result = numeric_with(ctx, args, &|a| hypergeometric(a, a[4] != 0.0, &over));
+    if over.get() {
+        let note = format!(
+            "HYPGEOM.DIST sums the probabilities that count one by one: more than ncsheet's limit of {MAX_STEPS} terms"
+        );
+        ctx.explain(XlError::Num, note);
+    }
+    result
+}
+
+/// The hypergeometric law; `over` is set when the cumulative sum needs more than MAX_STEPS
+/// terms that count.
+fn hypergeometric(a: &[f64], cumulative: bool, over: &Cell<bool>) -> XlResult<f64> {
     let (k, n, big_k, big_n) = (a[0].trunc(), a[1].trunc(), a[2].trunc(), a[3].trunc());
     domain(k >= 0.0 && n > 0.0 && big_k > 0.0 && big_n > 0.0)?;
     domain(n <= big_n && big_k <= big_n && k <= n && k <= big_k && n - k <= big_n - big_k)?;
@@ -953,15 +973,56 @@ fn hypergeometric(a: &[f64], cumulative: bool) -> XlResult<f64> {
     } else if above <= MAX_STEPS {
         1.0 - whole_numbers(k + 1.0, last).map(pmf).sum::<f64>()
     } else {
-        return Err(XlError::Num);
+        // Both sides too long to step through: only the terms near the mode count, and the
+        // side of k away from it is summed until what is left cannot change the result
+        // (HYPGEOM.DIST(2E7,1E8,1E8,1E9,TRUE), 3,500 deviations above the mean, is 1).
+        let mode = ((n + 1.0) * (big_k + 1.0) / (big_n + 2.0)).floor();
+        let tail = if k < mode {
+            falling_sum(k, -1.0, first, &pmf, true)
+        } else {
+            falling_sum(k + 1.0, 1.0, last, &pmf, false).map(|above| 1.0 - above)
+        };
+        let Some(sum) = tail else {
+            over.set(true);
+            return Err(XlError::Num);
+        };
+        sum
     };
     Ok(sum.clamp(0.0, 1.0))
+}
+
+/// Σ pmf(j) for j = from, from + step, … up to `bound`, where the terms fall from the first on
+/// (a log-concave law away from its mode: each ratio to the term before is no larger than the
+/// last one, so what is left is at most term · r / (1 − r)). Stops once that is below 2^-56
+/// of the sum (`relative`) or of 1; `None` past [`MAX_STEPS`] terms.
+fn falling_sum(from: f64, step: f64, bound: f64, pmf: &dyn Fn(f64) -> f64, relative: bool) -> Option<f64> {
+    let (mut sum, mut before, mut j) = (0.0, f64::NAN, from);
+    for _ in 0..MAX_STEPS as u64 {
+        if (step > 0.0 && j > bound) || (step < 0.0 && j < bound) {
+            return Some(sum);
+        }
+        let term = pmf(j);
+        sum += term;
+        let ratio = term / before;
+        let left = term * ratio / (1.0 - ratio);
+        let scale = if relative { sum } else { 1.0 };
+        if term == 0.0 || term.is_nan() || (ratio < 1.0 && left <= scale * 2f64.powi(-56)) {
+            return Some(sum);
+        }
+        before = term;
+        j += step;
+    }
+    None
 }
 
 fn negative_binomial(f: f64, s: f64, p: f64, cumulative: bool) -> XlResult<f64> {
     domain(f >= 0.0 && s >= 1.0 && p > 0.0 && p < 1.0)?;
     if cumulative {
-        return Ok(beta_i(p, s, f + 1.0));
+        // At least s successes in f + s trials: where the beta function cannot resolve it
+        // (f and s past about 10^8), the binomial law's normal form (NEGBINOM.DIST(1E8,1E8,
+        // 0.5,TRUE) was #NUM!; Excel gives 0.50003).
+        let exact = beta_i(p, s, f + 1.0);
+        return Ok(if exact.is_nan() { 1.0 - binomial_cdf_edgeworth(s - 1.0, f + s, p) } else { exact });
     }
     Ok(choose(f + s - 1.0, s - 1.0) * p.powf(s) * (1.0 - p).powf(f))
 }

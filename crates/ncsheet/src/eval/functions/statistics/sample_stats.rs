@@ -268,7 +268,53 @@ fn harmean(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 fn geomean(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let xs = positive_numbers(ctx, args)?;
-    Ok(number_result((xs.iter().map(|x| x.ln()).sum::<f64>() / xs.len() as f64).exp()))
+    Ok(number_result(geometric_mean(&xs)))
+}
+
+/// The n-th root of the product of `xs` (all positive), the product kept as a mantissa in
+/// [0.5, 1) times a whole power of two so it neither overflows nor underflows. The root of
+/// the power is split into a whole power of two and a root of what is left, which is near 1:
+/// through logarithms, exp(709.19…) lost the last digits and GEOMEAN(1E308,1E308) was
+/// 1.00000000000001E+308 where Excel shows 1E+308.
+fn geometric_mean(xs: &[f64]) -> f64 {
+    let (mut mantissa, mut exponent) = (1.0, 0i64);
+    for &x in xs {
+        let (m, e) = binary_parts(x);
+        let (product, carry) = binary_parts(mantissa * m);
+        mantissa = product;
+        exponent += e + carry;
+    }
+    let n = xs.len() as i64;
+    let (whole, rest) = (exponent.div_euclid(n), exponent.rem_euclid(n));
+    let root = if rest < 1000 {
+        // mantissa × 2^rest is exact and finite: one rounding in the root.
+        times_power_of_two(mantissa, rest).powf(1.0 / n as f64)
+    } else {
+        ((mantissa.ln() + rest as f64 * std::f64::consts::LN_2) / n as f64).exp()
+    };
+    times_power_of_two(root, whole)
+}
+
+/// `x` (positive, finite) as (m, e) with x = m × 2^e and m in [0.5, 1).
+fn binary_parts(x: f64) -> (f64, i64) {
+    if x < f64::MIN_POSITIVE {
+        // A subnormal has no implicit leading bit: scaled into the normal range first.
+        let (m, e) = binary_parts(x * 2f64.powi(54));
+        return (m, e - 54);
+    }
+    let bits = x.to_bits();
+    let biased = ((bits >> 52) & 0x7ff) as i64;
+    (f64::from_bits((bits & !(0x7ff << 52)) | (1022 << 52)), biased - 1022)
+}
+
+/// x × 2^e, in steps a double can hold (2^-1074 and 2^1023 are not both powers `powi` reaches).
+fn times_power_of_two(mut x: f64, mut e: i64) -> f64 {
+    while e != 0 {
+        let step = e.clamp(-1000, 1000);
+        x *= 2f64.powi(step as i32);
+        e -= step;
+    }
+    x
 }
 
 fn trimmean(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
