@@ -219,3 +219,29 @@ fn raw_control_characters_xml_does_not_allow_refuse_the_part() {
     let wb = load(&spoiled(&good, SHEET, "</row>", &inline("a\tb\nc\r\nd"))).unwrap().workbook;
     assert_eq!(wb.value(0, parse_cell("D1").unwrap()), ncsheet::eval::Value::Text("a\tb\nc\nd".into()));
 }
+
+/// A part in UTF-8 (XML 1.0 §4.3.3: without an encoding declaration, or declaring UTF-8)
+/// holding bytes that are no UTF-8 is not well-formed; calamine refused the styles, the
+/// shared strings and the relationships with "Xml error: cannot decode input using UTF-8",
+/// naming no part. Now the message names it.
+#[test]
+fn bytes_that_are_not_utf8_refuse_the_part_naming_it() {
+    let good = good_workbook();
+    let with_bad_byte = |part: &str| {
+        let options = zip::write::SimpleFileOptions::default();
+        let mut change = |name: &str, mut data: Vec<u8>| {
+            if name == part {
+                // 0xFF begins no UTF-8 sequence: after the root's start tag, as text.
+                let at = data.windows(2).position(|w| w == b"><").unwrap_or_else(|| panic!("{part}: no tag")) + 1;
+                data.insert(at, 0xFF);
+            }
+            data
+        };
+        common::xlsx::rewrite_package(&good, options, &mut change).finish().unwrap().into_inner()
+    };
+    for part in ["xl/styles.xml", STRINGS, "_rels/.rels", "xl/_rels/workbook.xml.rels"] {
+        let e = load(&with_bad_byte(part)).err().unwrap_or_else(|| panic!("{part} was read"));
+        assert_eq!((e.kind, e.part.as_deref()), (ErrorKind::Damaged, Some(part)), "{e}");
+        assert!(e.message.contains("UTF-8"), "{part}: {e}");
+    }
+}

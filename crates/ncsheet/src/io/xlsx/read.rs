@@ -363,8 +363,12 @@ fn part_calamine_opened(package: &Package, e: &calamine::XlsxError) -> Option<St
 }
 
 /// A text event's and an attribute value's entities are XML's own: `&bogus;` is not
-/// well-formed, as Excel and calamine (whose message names no part) hold too.
+/// well-formed, as Excel and calamine (whose message names no part) hold too. Its bytes are
+/// UTF-8: calamine's "cannot decode input using UTF-8" named no part either.
 fn defined_entities_only(event: Event) -> Result<(), ScanError> {
+    if super::xml::not_utf8(&event) {
+        return Err((ErrorKind::Damaged, "the XML is not well-formed: bytes that are not UTF-8 text".into()));
+    }
     match super::xml::bad_reference_in(&event) {
         Some(bad) => Err((ErrorKind::Damaged, format!("the XML is not well-formed: {bad}"))),
         None => Ok(()),

@@ -469,6 +469,17 @@ pub fn bad_reference_in(event: &Event) -> Option<BadReference> {
     }
 }
 
+/// Whether an event's bytes (a tag's name and attributes, text, CDATA) are not UTF-8: a
+/// document in no other encoding than UTF-8 with such bytes is not well-formed (XML 1.0
+/// §4.3.3). A text event ends at `<` or the end, so no character is split between two.
+pub fn not_utf8(event: &Event) -> bool {
+    let bad = |bytes: &[u8]| std::str::from_utf8(bytes).is_err();
+    match event {
+        Event::Tag(tag) => bad(tag.name) || bad(tag.attrs),
+        Event::Text(text) | Event::CData(text) => bad(text),
+    }
+}
+
 /// Checks a whole part as [`stream`] does (nesting, no DTD) and every reference in its text
 /// and attribute values: the small parts read with [`for_each_tag`], which forgives, are
 /// checked so first.
