@@ -126,3 +126,134 @@ fn hex_literals_of_sixteen_bits_are_integers() {
     let want = ["Integer -32768", "Integer -1", "Integer 32767", "Integer -1", "Long 65536", "Long 32768", "Long -1"];
     assert_eq!(got, want);
 }
+
+// [MS-VBAL] 5.6.9.8.1 (Not Operator): the result's type is the operand's for a Byte, Boolean,
+// Integer, Long or LongLong; any other operand (a Double, a String) is let-coerced to a Long
+// first (5.5.1.2.1: 5.5 rounds half to even to 6, `Not 6` is -7). A Byte's Not flips its eight
+// bits: 255 - 5 = 250. The "Not operator" page's example: `Not A` of A = 10 "Returns -11".
+// Every Not was a Double, and `Not CByte(5)` -6. (LibreOffice types `Not CByte(5)` a Long -6:
+// it disagrees with the specification.)
+#[test]
+fn not_keeps_its_operands_integral_type() {
+    let got = each(&["Not CByte(5)", "Not CByte(0)", "Not 10", "Not CLng(5)", "Not True", "Not 5.5", "Not \"3\""]);
+    let want = ["Byte 250", "Byte 255", "Integer -11", "Long -6", "Boolean False", "Long -7", "Long -4"];
+    assert_eq!(got, want);
+}
+
+// Each function's page: Weekday, Year, Month, Day, Hour, Minute and Second each "Returns a
+// Variant (Integer)"; "Asc function": AscW returns the Unicode code as Asc its Integer (so
+// U+9C40, 40000, is 40000 - 65536 = -25536); "Len function": "Returns a Long"; "InStr
+// function": "Variant (Long)". They were Doubles. A Variant's Integer past its range is
+// promoted to a Long ("Variant data type"), so `Year(d) * 100` is the Long 202000, no
+// Overflow. LibreOffice agrees on Weekday and Year (Integer).
+#[test]
+fn date_parts_and_character_codes_are_integers() {
+    let got = each(&[
+        "Weekday(#1/2/2020#)",
+        "Year(#1/2/2020#)",
+        "Month(#1/2/2020#)",
+        "Day(#1/2/2020#)",
+        "Hour(#1/2/2020 13:05:09#)",
+        "Minute(#1/2/2020 13:05:09#)",
+        "Second(#1/2/2020 13:05:09#)",
+        "AscW(\"A\")",
+        "AscW(ChrW(40000))",
+        "Len(\"abc\")",
+        "InStr(\"abc\", \"b\")",
+        "Year(#1/2/2020#) * 100",
+    ]);
+    let want = [
+        "Integer 5",
+        "Integer 2020",
+        "Integer 1",
+        "Integer 2",
+        "Integer 13",
+        "Integer 5",
+        "Integer 9",
+        "Integer 65",
+        "Integer -25536",
+        "Long 3",
+        "Long 2",
+        "Long 202000",
+    ];
+    assert_eq!(got, want);
+}
+
+// Round's result has its argument's type ("VB & VBA in a Nutshell", Round: "Return Value:
+// The same data type as expression"; Microsoft's "Round function" page names none, and Abs,
+// Int and Fix, whose pages say so, behave alike): the Round of a Currency is a Currency, of a
+// Single a Single, of an Integer an Integer; a String is read as a Double. Every Round was a
+// Double. (LibreOffice gives a Double for the Currency and the Single.)
+#[test]
+fn round_keeps_its_arguments_type() {
+    let got = each(&[
+        "Round(CCur(2.3456), 2)",
+        "Round(CSng(2.5))",
+        "Round(CInt(7))",
+        "Round(CLng(3))",
+        "Round(2.5)",
+        "Round(\"2.5\")",
+    ]);
+    let want = ["Currency 2.35", "Single 2", "Integer 7", "Long 3", "Double 2", "Double 2"];
+    assert_eq!(got, want);
+}
+
+// "IsNumeric function": "IsNumeric returns False if expression is a date expression", True
+// when "the entire expression is recognized as a number" (its examples: "53" and "459.95"
+// True, "45 Help" False). A Date was True. LibreOffice agrees on the texts and Empty.
+#[test]
+fn is_numeric_is_false_for_a_date() {
+    let got = each(&[
+        "IsNumeric(#1/2/2020#)",
+        "IsNumeric(CDate(\"1/2/2020\"))",
+        "IsNumeric(DateSerial(2020, 1, 2))",
+        "IsNumeric(\"1/2/2020\")",
+        "IsNumeric(\"53\")",
+        "IsNumeric(\"459.95\")",
+        "IsNumeric(\"45 Help\")",
+        "IsNumeric(\" 1 \")",
+        "IsNumeric(\"\")",
+        "IsNumeric(Empty)",
+    ]);
+    let want = [
+        "Boolean False",
+        "Boolean False",
+        "Boolean False",
+        "Boolean False",
+        "Boolean True",
+        "Boolean True",
+        "Boolean False",
+        "Boolean True",
+        "Boolean False",
+        "Boolean True",
+    ];
+    assert_eq!(got, want);
+}
+
+// "Returning strings from functions": the Variant forms "allow Null to be propagated through
+// an expression", the `$` forms (Format$ among them) return a String, so Format$(Null) is
+// "Invalid use of Null" (error 94); FormatNumber of a String that is no number cannot
+// let-coerce it to a Double ([MS-VBAL] 5.5.1.2.1.1): Type mismatch, error 13. Both Format
+// calls gave the error value Error 2015 into the variable, and FormatNumber too.
+// LibreOffice agrees on FormatNumber.
+#[test]
+fn format_passes_null_and_format_number_refuses_text() {
+    let got = each(&[
+        "Format(Null)",
+        "Format(Null, \"0.00\")",
+        "Format$(Null)",
+        "FormatNumber(\"abc\")",
+        "FormatNumber(\"1.5\")",
+    ]);
+    assert_eq!(got, ["Null ", "Null ", "Err 94", "Err 13", "String 1.50"]);
+}
+
+// "^ operator": VBA computes `0 ^ 0` as IEEE 754's pow does, 1 (the page names no exception
+// for it, and LibreOffice's VBA mode gives 1), where the sheet's `^` is #NUM!; it raised
+// Overflow (error 6). `0 / 0` stays Division by zero (error 11): Microsoft's VBA reference
+// says nothing of it ("Division by zero (Error 11)") and LibreOffice's 11 is no oracle there.
+#[test]
+fn zero_to_the_zero_is_one() {
+    let got = each(&["0 ^ 0", "0# ^ 0", "CInt(0) ^ CLng(0)"]);
+    assert_eq!(got, ["Double 1", "Double 1", "Double 1"]);
+}

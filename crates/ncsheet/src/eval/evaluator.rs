@@ -262,6 +262,12 @@ pub trait Host {
         result
     }
 
+    /// The result of `Not operand`: a macro gives it the operand's type ([MS-VBAL] 5.6.9.8.1:
+    /// `Not` of a Byte is a Byte, so `Not CByte(5)` is 250, not -6); as computed by default.
+    fn logical_not(&self, _operand: &Expr, result: Value) -> Value {
+        result
+    }
+
     /// The length in characters of the text variable `name` holds while it grows in place
     /// (`s = s & …`), known without making its value; `None` for anything else.
     fn text_length(&self, _name: &str) -> Option<usize> {
@@ -1393,7 +1399,10 @@ impl<'a> Ctx<'a> {
                 if let (Some(host), Value::Error(_), false) = (self.host, &result, matches!(v, Value::Array(_))) {
                     host.raise(13, "Type mismatch (run-time error 13): Not of a value that is no number");
                 }
-                result
+                match self.host {
+                    Some(host) => host.logical_not(inner, result),
+                    None => result,
+                }
             }
         }
     }

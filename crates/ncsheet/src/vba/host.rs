@@ -240,6 +240,7 @@ impl Host for Interp<'_, '_> {
             Some((a, b, computed)) => ((a, b), computed.clone()),
             None => (values, result),
         };
+        let result = super::operators::zero_to_the_zero(op, values).unwrap_or(result);
         match self.long_long_arithmetic(op, operands, values, &result) {
             Some(Ok(v)) => return v,
             Some(Err(fault)) => {
@@ -301,6 +302,10 @@ impl Host for Interp<'_, '_> {
             }
             None => result,
         }
+    }
+
+    fn logical_not(&self, operand: &Expr, result: Value) -> Value {
+        self.not_in_its_type(operand, result)
     }
 
     fn option_compare_text(&self) -> bool {

@@ -41,6 +41,14 @@ pub(super) fn text_order(x: &str, y: &str, text_compare: bool) -> Ordering {
     }
 }
 
+/// `0 ^ 0`, which the sheet's `^` makes #NUM!, where VBA's is 1: the "^ operator" page names
+/// no exception for it, and 1 is what IEEE 754's pow and LibreOffice's VBA mode give; `None`
+/// for any other operation.
+pub(super) fn zero_to_the_zero(op: BinOp, (a, b): (&Value, &Value)) -> Option<Value> {
+    let zero = |v: &Value| crate::eval::functions::vba::vba_number(v).is_ok_and(|n| n == 0.0);
+    (op == BinOp::Pow && zero(a) && zero(b)).then_some(Value::Number(1.0))
+}
+
 /// A number below zero, or a text read as one (the base of a `^` with no real value).
 fn is_negative(v: &Value) -> bool {
     crate::eval::functions::vba::vba_number(v).is_ok_and(|n| n < 0.0)

@@ -294,6 +294,22 @@ fn logical_type(x: Declared, y: Declared) -> Declared {
     }
 }
 
+/// The declared type of `Not x` for an operand of the type `x` ([MS-VBAL] 5.6.9.8.1, "Not
+/// Operator"): a Byte, Boolean, Integer, Long or LongLong keeps its type (`Not CByte(5)` is
+/// the Byte 250), a Variant stays a Variant, and anything else (a Single, Double, Currency,
+/// Date or String) is let-coerced to a Long first, so its `Not` is a Long.
+fn not_type(x: Declared) -> Declared {
+    match x {
+        Declared::Byte
+        | Declared::Boolean
+        | Declared::Integer
+        | Declared::Long
+        | Declared::LongLong
+        | Declared::Variant => x,
+        _ => Declared::Long,
+    }
+}
+
 /// The type a Variant holds the number `n` with that an expression of type `ty` gave: a
 /// whole-number type widened past its range, a number of no numeric type a Double.
 fn held_number(ty: Declared, n: f64) -> Declared {
@@ -406,6 +422,11 @@ fn held_function_type(name: &str) -> Option<Declared> {
     match name {
         "VBA.INSTR" | "VBA.INSTRREV" => Some(Declared::Long),
         "VBA.STRCOMP" => Some(Declared::Integer),
+        // "Weekday function", "Year function", "Month function", "Day function", "Hour
+        // function", "Minute function", "Second function": each "Returns a Variant (Integer)".
+        "VBA.WEEKDAY" | "VBA.YEAR" | "VBA.MONTH" | "VBA.DAY" | "VBA.HOUR" | "VBA.MINUTE" | "VBA.SECOND" => {
+            Some(Declared::Integer)
+        }
         "VBA.RND" => Some(Declared::Single),
         _ => None,
     }
@@ -414,7 +435,7 @@ fn held_function_type(name: &str) -> Option<Declared> {
 /// The declared type of a VBA function's result, by its row of the function table.
 fn function_type(name: &str) -> Declared {
     match name {
-        "VBA.CINT" | "VBA.ASC" | "VBA.SGN" | "VBA.VARTYPE" | "VBA.DATEPART" => Declared::Integer,
+        "VBA.CINT" | "VBA.ASC" | "VBA.ASCW" | "VBA.SGN" | "VBA.VARTYPE" | "VBA.DATEPART" => Declared::Integer,
         "VBA.CLNG" | "VBA.LEN" | "VBA.LENB" | "VBA.DATEDIFF" => Declared::Long,
         "VBA.CLNGLNG" => Declared::LongLong,
         "VBA.CBYTE" => Declared::Byte,
@@ -475,6 +496,7 @@ impl Interp<'_, '_> {
                     }),
                 }
             }
+            ExprKind::Unary(UnaryOp::Not, inner) => self.known_type(e, typing, || not_type(operand(inner))),
             ExprKind::Binary(BinOp::Concat, ..) => Declared::String,
             // The widening an operation's last result noted comes first: it is noted after
             // the operation's type is known, within the statement.
@@ -482,11 +504,15 @@ impl Interp<'_, '_> {
                 .widened_if_held(typing, a)
                 .unwrap_or_else(|| self.known_type(e, typing, || binary_type(*op, operand(a), operand(b)))),
             ExprKind::Call(id, args) => match (crate::eval::functions::spec(*id).name, args.first()) {
-                // "Abs function", "Int, Fix functions": the result has the argument's type.
-                ("VBA.ABS" | "VBA.INT" | "VBA.FIX", Some(arg)) if typing == Typing::Held => match operand(arg) {
-                    Declared::String | Declared::Boolean => Declared::Double,
-                    ty => ty,
-                },
+                // "Abs function", "Int, Fix functions": the result has the argument's type;
+                // Round's too ("VB & VBA in a Nutshell", Round: "Return Value: The same data
+                // type as expression"), so the Round of a Currency is a Currency.
+                ("VBA.ABS" | "VBA.INT" | "VBA.FIX" | "VBA.ROUND", Some(arg)) if typing == Typing::Held => {
+                    match operand(arg) {
+                        Declared::String | Declared::Boolean => Declared::Double,
+                        ty => ty,
+                    }
+                }
                 // "IIf function": a Variant holding the chosen branch's value, as the
                 // interpreter noted it past 2^53 (`longlong.rs`).
                 // "Type conversion functions": CVar's Variant holds its argument as it was.
@@ -630,6 +656,18 @@ impl Interp<'_, '_> {
             self.expr_span(operand),
             format!("-{shown} overflows: its type makes it {holds}, which cannot hold {}", general(n)),
         ))
+    }
+
+    /// `Not operand`, which gave `result`, in the operand's type: a Byte's `Not` flips its
+    /// eight bits ([MS-VBAL] 5.6.9.8.1: `Not` of a Byte is a Byte, so `Not CByte(5)` is 250,
+    /// where the Long the evaluator computes in gives -6).
+    pub(super) fn not_in_its_type(&self, operand: &Expr, result: Value) -> Value {
+        match result {
+            Value::Number(n) if self.held_operand(operand) == Declared::Byte => {
+                Value::Number(f64::from(n as i64 as u8))
+            }
+            other => other,
+        }
     }
 
     /// The type a Variant holds the value of the operand `e` with (a number of no known

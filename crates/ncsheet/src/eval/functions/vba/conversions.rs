@@ -498,6 +498,7 @@ string_forms! {
     lcase_s = super::lcase, "LCase$";
     hex_s = hex, "Hex$";
     oct_s = oct, "Oct$";
+    format_s = super::format, "Format$";
     string_s = string, "String$";
 }
 

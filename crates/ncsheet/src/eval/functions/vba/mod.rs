@@ -440,6 +440,14 @@ pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("VBA.HEX$", 1, 1, conversions::hex_s, "VBA.HEX$(number)", "VBA Hex$: Hex as a String"),
     FnSpec::value("VBA.OCT$", 1, 1, conversions::oct_s, "VBA.OCT$(number)", "VBA Oct$: Oct as a String"),
     FnSpec::value(
+        "VBA.FORMAT$",
+        1,
+        4,
+        conversions::format_s,
+        "VBA.FORMAT$(value, [format], [firstdayofweek], [firstweekofyear])",
+        "VBA Format$: Format as a String",
+    ),
+    FnSpec::value(
         "VBA.STRING$",
         2,
         2,
@@ -1067,7 +1075,9 @@ fn is_object(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// VBA's IsNumeric: numbers and number text; date text is not numeric there (IsDate's).
 fn is_numeric(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     Ok(Value::Bool(match ctx.eval(&args[0]).unwrap_single() {
-        Value::Number(_) | Value::Bool(_) | Value::Blank => true,
+        // "IsNumeric function": "IsNumeric returns False if expression is a date expression".
+        v @ Value::Number(_) => ctx.macro_date_text(&args[0], &v).is_none(),
+        Value::Bool(_) | Value::Blank => true,
         Value::Text(t) => vba_number_text(&t).is_some(),
         _ => false,
     }))
@@ -1197,6 +1207,11 @@ fn format_by_weeks(ctx: &mut Ctx, args: &[Expr], raised: &Raised) -> XlResult<Va
         return shown;
     }
     let lifted = lift_values(&values, &|v| {
+        // "Returning strings from functions": the Variant Format lets Null propagate through
+        // it, where Format$, which returns a String, raises error 94.
+        if v[0] == Value::Null {
+            return Ok(Value::Null);
+        }
         let pattern = if has_format { vba_text(&v[1])? } else { Rc::from("") };
         if let Some(convert) = case_format(&pattern) {
             return Ok(Value::text(convert(&vba_text(&v[0])?)));

@@ -357,8 +357,8 @@ impl NumberStyle {
 /// currency).
 fn format_in_style(ctx: &mut Ctx, args: &[Expr], style: NumberStyle) -> XlResult<Value> {
     let name = style.name();
-    let dates = ctx.dates();
-    let n = to_number(&ctx.eval(&args[0]).unwrap_single(), dates)?;
+    let value = ctx.eval(&args[0]).unwrap_single();
+    let n = number_to_format(ctx, name, value)?;
     let digits = whole_arg(ctx, name, args, 1, -1.0)?;
     let digits = if digits == -1.0 { 2.0 } else { digits };
     if !(0.0..=99.0).contains(&digits) {
@@ -384,6 +384,20 @@ fn format_in_style(ctx: &mut Ctx, args: &[Expr], style: NumberStyle) -> XlResult
     let text = format_number(n, &pattern)?;
     // A zero without its leading digit and without decimals would be nothing: VBA writes 0.
     Ok(Value::text(if text.is_empty() || text == "-" { "0".to_string() } else { text }))
+}
+
+/// The number FormatNumber, FormatPercent or FormatCurrency formats: a String that is no
+/// number is VBA's Type mismatch, run-time error 13 ([MS-VBAL] 5.5.1.2.1.1, Let-coercion from
+/// String to Double), not an error value the macro would carry on with.
+fn number_to_format(ctx: &mut Ctx, name: &str, value: Value) -> XlResult<f64> {
+    match (to_number(&value, ctx.dates()), &value) {
+        (Err(XlError::Value), Value::Text(text)) => Err(ctx.raise_vba(
+            XlError::Value,
+            13,
+            super::errors::message(13, format_args!("{name}: \"{text}\" is no number")),
+        )),
+        (n, _) => n,
+    }
 }
 
 /// `FormatNumber(expression[, digits[, leading digit[, parentheses[, group digits]]]])`.
