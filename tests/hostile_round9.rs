@@ -95,3 +95,15 @@ fn hypergeometric_tails_past_the_step_limit_are_computed() {
     assert_eq!(number("=HYPGEOM.DIST(2E7,1E8,1E8,1E9,TRUE)"), 1.0);
     assert_eq!(number("=HYPGEOM.DIST(1E6,1E8,1E8,1E9,TRUE)"), 0.0);
 }
+
+#[test]
+fn a_number_too_large_is_quoted_by_its_start_and_length() {
+    // A literal past the largest double (1.797…E+308) is refused; its message quoted it
+    // whole: a macro's literal of 1,000,000 digits made a 1 MB line.
+    let digits = "9".repeat(400);
+    let mut wb = ncsheet::workbook::Workbook::with_sheet();
+    let at = ncsheet::formula::address::parse_cell("A1").unwrap();
+    let e = wb.set_input(0, at, &format!("={digits}")).unwrap_err().to_string();
+    assert!(e.contains("is too large") && e.contains("400 characters"), "{e}");
+    assert!(e.len() < 300, "{} bytes: {e}", e.len());
+}

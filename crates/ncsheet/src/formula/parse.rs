@@ -862,8 +862,21 @@ fn arity_message(name: &str, info: FnInfo, got: usize) -> String {
 fn number(pair: &Pair<Rule>) -> Result<f64, ParseError> {
     match pair.as_str().parse::<f64>() {
         Ok(v) if v.is_finite() => Ok(v),
-        _ => Err(ParseError::at(pair.as_span().start(), format!("number {} is too large", pair.as_str()))),
+        _ => {
+            Err(ParseError::at(pair.as_span().start(), format!("number {} is too large", shown_number(pair.as_str()))))
+        }
     }
+}
+
+/// A number literal as a message quotes it: its start and its length past 40 characters. A
+/// macro's literal of a million digits was quoted whole, a 1 MB line of message.
+fn shown_number(text: &str) -> String {
+    let length = text.chars().count();
+    if length <= 40 {
+        return text.to_string();
+    }
+    let start = text.char_indices().nth(30).map_or(text, |(at, _)| &text[..at]);
+    format!("{start}… ({length} characters)")
 }
 
 fn unescape(pair: &Pair<Rule>) -> String {
