@@ -109,6 +109,13 @@ impl Interp<'_, '_> {
             if let Some(h) = self.store_named(name) {
                 return self.store_operand(ctx, &h, index, span);
             }
+            if let Some(r) = self.regex_named(name) {
+                return match self.regex_element_item(&r, index, span)? {
+                    Var::Obj(o) => self.operand_of(o, span),
+                    Var::Value(v) => Ok(Operand::Value(v)),
+                    _ => unreachable!("a MatchCollection or SubMatches holds objects and values"),
+                };
+            }
         }
         let mut at = Vec::new();
         for e in index {
@@ -525,6 +532,7 @@ impl Interp<'_, '_> {
                 let key = self.store_key(&mut self.ctx(), index, span)?;
                 self.store_item(&h, &key, span)
             }
+            Var::Obj(Obj::Regex(r)) => self.regex_element_item(&r, index, span),
             Var::Array(a) => {
                 let at = index.iter().map(|e| self.index(e, "the index")).collect::<Run<Vec<i64>>>()?;
                 let k = self.element_at(&a, &at).map_err(|m| {

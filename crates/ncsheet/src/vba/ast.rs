@@ -429,6 +429,8 @@ pub enum Class {
 pub enum Made {
     Store(Class),
     Object(usize),
+    /// VBScript's RegExp (`regexp.rs`).
+    RegExp,
 }
 
 #[derive(Debug)]

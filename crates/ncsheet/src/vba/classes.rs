@@ -160,6 +160,10 @@ impl Interp<'_, '_> {
         let class = match made {
             Made::Store(class) => return Ok(Var::Obj(Obj::Store(Handle::new(class)))),
             Made::Object(class) => class,
+            Made::RegExp => {
+                self.charge(OBJECT_BYTES, span)?;
+                return Ok(Var::Obj(Obj::Regex(super::regexp::RegexObj::new_regexp())));
+            }
         };
         self.charge(OBJECT_BYTES, span)?;
         let object = Instance(Rc::new(Object { class, fields: RefCell::new(Slots::default()) }));

@@ -170,6 +170,10 @@ impl Host for Interp<'_, '_> {
             Some(Var::Array(a)) => Operand::Value(Value::Array(a.data)),
             Some(Var::Obj(Obj::Range(sheet, rect))) => Operand::Ref(sheet, rect),
             Some(Var::Obj(Obj::Value(v))) => Operand::Value(v),
+            // A Match reads as its Value, its default property ("Match Object").
+            Some(Var::Obj(Obj::Regex(r))) if r.default_value().is_some() => {
+                Operand::Value(r.default_value().unwrap_or_default())
+            }
             Some(Var::Record(..)) => {
                 self.park(self.fault(format!("{name} is a Type value: use its fields ({name}.Field)")));
                 Operand::Value(Value::Error(XlError::Value))
@@ -510,6 +514,8 @@ impl Interp<'_, '_> {
             Obj::Range(sheet, rect) => Ok(Operand::Ref(sheet, rect)),
             // `If Err Then`: Err's default member is its Number.
             Obj::Err => Ok(Operand::Value(Value::Number(self.err.borrow().number as f64))),
+            // A Match reads as its default member, Value ("Match Object").
+            Obj::Regex(r) if r.default_value().is_some() => Ok(Operand::Value(r.default_value().unwrap_or_default())),
             other => Err(self.fault_at(span, format!("{} is not a value", other.describe()))),
         }
     }

@@ -1033,6 +1033,11 @@ impl Interp<'_, '_> {
                 let key = self.store_key(&mut self.ctx(), index, span)?;
                 self.store_item(&h, &key, span)
             }
+            // `Set m = matches(0)`: a MatchCollection's default member (`regexp.rs`).
+            ExprKind::Host(_) if self.regex_element(id).is_some() => {
+                let (r, index, span) = self.regex_element(id).expect("a MatchCollection's item");
+                self.regex_element_item(&r, index, span)
+            }
             // `p = MakePoint(1, 2)`, `Set o = MakeObject()`: what the Function's name holds.
             ExprKind::Host(_) if self.returns_record(id) || (as_object && self.is_call(id)) => {
                 let Node::Call { proc, args, span } = &self.module.nodes[id as usize] else { unreachable!() };
@@ -2660,6 +2665,7 @@ impl Interp<'_, '_> {
                 h.each()
             }
             Var::Obj(Obj::Value(Value::Array(a))) => a.data.iter().cloned().map(Var::Value).collect(),
+            Var::Obj(Obj::Regex(r)) if r.each().is_some() => r.each().unwrap_or_default(),
             Var::Obj(other) => {
                 return Err(
                     self.fault_at(self.expr_span(group), format!("For Each cannot go through {}", other.describe()))

@@ -589,6 +589,7 @@ fn object_type_name(obj: &Obj) -> &'static str {
         },
         Obj::SheetSort(_) => "Sort",
         Obj::SortFields(_) => "SortFields",
+        Obj::Regex(r) => r.type_name(),
         #[allow(unreachable_patterns)]
         _ => "Object",
     }

@@ -208,6 +208,14 @@
 //! there: objects as Dictionary keys (refused with the reason: keys are values). Removing
 //! entries one at a time (`c.Remove 1` in a loop) costs the same per entry however many
 //! there are. Their entries count against the run's memory limit (`--max-memory`) as arrays do.
+//! VBScript's RegExp (`CreateObject("VBScript.RegExp")`, `New RegExp`,
+//! `New VBScript_RegExp_55.RegExp`): `Pattern`, `Global`, `IgnoreCase`, `MultiLine`, `Test`,
+//! `Execute` (a MatchCollection: `Count`, `Item` the default, 0-based, `For Each`; each Match:
+//! `Value` the default, `FirstIndex` 0-based in UTF-16 units, `Length`, `SubMatches` with an
+//! unmatched group Empty) and `Replace` (`$1`…`$99`, `$&`, `` $` ``, `$'`, `$$`). Patterns are
+//! JScript's: `\d`, `\w`, `\s` and `\b` are ASCII, `.` is any character but a line feed.
+//! Lookahead (`(?=`, `(?!`) and backreferences (`\1`) are refused by name; a bad pattern raises
+//! VBScript's error (5017 "Syntax error in regular expression", 5018-5021).
 //! `TypeName` names a variable's type or an object's class ("Collection", "Dictionary",
 //! "Range", "Nothing"), `IsObject` is True for objects and Nothing, `VarType` of an object is
 //! 9 (`vbObject`). `New Collection` is an expression: an argument too (`Fill New Collection`).
@@ -278,6 +286,7 @@ mod param_array;
 pub mod parser;
 pub mod project;
 pub mod project_edit;
+mod regexp;
 mod resolve;
 mod sheet_ops;
 mod sort;

@@ -127,6 +127,11 @@ impl Interp<'_, '_> {
                 }
                 return Ok(super::collections::var_obj(self.array_item(&link.name, &index, link.span)?));
             }
+            if let (Var::Obj(Obj::Regex(r)), Some(args)) = (&var, &link.args) {
+                // `matches(0)`, `m.SubMatches(1)`: the default member, Item.
+                let index = self.regex_index(args, link.span)?;
+                return self.regex_item(r, &index, link.span).map(super::collections::var_obj);
+            }
             if let (Var::Obj(Obj::Range(sheet, rect)), Some(_)) = (&var, &link.args) {
                 // `r(1).Value = x`: a Range's default member is Item, a cell counted from its top-left.
                 return self.cells(ctx, *sheet, *rect, link);
@@ -269,6 +274,7 @@ impl Interp<'_, '_> {
             Obj::Instance(object) => self.instance_member(ctx, &object, link),
             Obj::SheetSort(sheet) => self.sheet_sort_member(ctx, sheet, link),
             Obj::SortFields(sheet) => self.sort_fields_member(ctx, sheet, link),
+            Obj::Regex(r) => self.regex_member(r, link),
             Obj::Record(var, path) => {
                 let i = self.field_index(&var, &path, link)?;
                 let mut path = path.clone();
@@ -834,6 +840,7 @@ impl Interp<'_, '_> {
             (Obj::Nc, _) => self.set_nc(&name, value, link.span),
             (Obj::Store(h), _) => self.set_store_member(h, link, value),
             (Obj::Instance(object), _) => self.set_instance_member(ctx, object, link, value),
+            (Obj::Regex(r), _) => self.set_regex_member(r, link, value),
             (Obj::SheetSort(sheet), _) => self.set_sheet_sort(ctx, *sheet, link, value),
             (Obj::Sheet(sheet), "visible") => {
                 let v = self.eval(value)?;

@@ -1675,12 +1675,17 @@ fn comparison(rule: Rule) -> Option<BinOp> {
 }
 
 impl Build<'_> {
-    /// The class `New` names: a Collection, a Dictionary or a class module of the project.
+    /// The class `New` names: a Collection, a Dictionary, a class module of the project, or
+    /// VBScript's RegExp (after the project's classes: a class module named RegExp is the
+    /// project's own, [MS-VBAL] 5.6.10).
     fn class_named(&self, name: &str) -> Option<Made> {
-        new_class(name).map(Made::Store).or_else(|| {
-            let mut classes = self.parts.iter().filter(|p| p.class);
-            classes.position(|p| p.name.eq_ignore_ascii_case(name)).map(Made::Object)
-        })
+        new_class(name)
+            .map(Made::Store)
+            .or_else(|| {
+                let mut classes = self.parts.iter().filter(|p| p.class);
+                classes.position(|p| p.name.eq_ignore_ascii_case(name)).map(Made::Object)
+            })
+            .or_else(|| super::regexp::new_class(name))
     }
 
     /// `Dim c As New Class9`, `Set c = New Class9` of a class the project has not: refused.

@@ -953,7 +953,7 @@ impl Build<'_> {
         }
         if lower == "createobject" && !is_var {
             if let Some(class) = created(&link) {
-                return Ok(self.node(Node::New { class: Made::Store(class), span: self.span(at) }, at, end));
+                return Ok(self.node(Node::New { class, span: self.span(at) }, at, end));
             }
         }
         if self.files && !is_var && super::files::is_file_function(&lower, &link) {
@@ -1120,12 +1120,14 @@ pub(super) enum WithSubject {
     Other,
 }
 
-/// `CreateObject("Scripting.Dictionary")`, `CreateObject("System.Collections.ArrayList")`: the
-/// ProgIDs a macro may create (a literal).
-fn created(link: &Link) -> Option<Class> {
+/// `CreateObject("Scripting.Dictionary")`, `CreateObject("System.Collections.ArrayList")`,
+/// `CreateObject("VBScript.RegExp")`: the ProgIDs a macro may create (a literal).
+fn created(link: &Link) -> Option<Made> {
     match link.args.as_deref() {
         Some([Arg { name: None, value }]) => match &value.kind {
-            ExprKind::Text(id) => super::collections::created_class(id),
+            ExprKind::Text(id) => {
+                super::collections::created_class(id).map(Made::Store).or_else(|| super::regexp::created(id))
+            }
             _ => None,
         },
         _ => None,
@@ -1134,21 +1136,14 @@ fn created(link: &Link) -> Option<Class> {
 
 /// Why `CreateObject(progID)` of a library object ncsheet does not make is refused, by the
 /// object's name rather than as a program: another of .NET's collections than the ArrayList
-/// (`System.Collections.SortedList`, which macros borrow through COM), or VBScript's RegExp.
+/// (`System.Collections.SortedList`, which macros borrow through COM).
 fn library_object_refusal(link: &Link) -> Option<String> {
     let [Arg { name: None, value }] = link.args.as_deref()? else { return None };
     let ExprKind::Text(prog_id) = &value.kind else { return None };
-    let lower = prog_id.to_ascii_lowercase();
-    if lower.starts_with("system.collections.") {
-        return Some(format!(
+    prog_id.to_ascii_lowercase().starts_with("system.collections.").then(|| {
+        format!(
             "CreateObject(\"{prog_id}\"): .NET's collections are not in ncsheet (a macro loads no .NET \
              library); keep the items in a Collection, a Scripting.Dictionary or an array"
-        ));
-    }
-    lower.starts_with("vbscript.regexp").then(|| {
-        format!(
-            "CreateObject(\"{prog_id}\"): VBScript's regular expressions are not in ncsheet yet; match \
-             text with Like, InStr, Mid and Split"
         )
     })
 }

@@ -237,6 +237,8 @@ pub enum Obj {
     /// A worksheet's `Sort` object and its `SortFields` (`sort.rs`).
     SheetSort(SheetId),
     SortFields(SheetId),
+    /// VBScript's RegExp, MatchCollection, Match or SubMatches (`regexp.rs`).
+    Regex(super::regexp::RegexObj),
 }
 
 impl Obj {
@@ -266,6 +268,7 @@ impl Obj {
             Obj::Instance(_) => "an object of a class module",
             Obj::SheetSort(_) => "a Sort",
             Obj::SortFields(_) => "a SortFields collection",
+            Obj::Regex(r) => r.describe(),
         }
     }
 }
