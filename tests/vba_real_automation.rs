@@ -9,6 +9,7 @@ use common::cli::ncsheet;
 use common::sheet::{get_on as get, n, set_on as set};
 use common::vba::printed_after as printed;
 use common::vba::run_main as run;
+use ncsheet::eval::Value;
 use ncsheet::workbook::Workbook;
 
 // "For Each...Next statement": the group is a collection; "Range.Rows property" (Excel):
@@ -280,4 +281,34 @@ fn cut_copy_mode_tells_whether_a_copy_waits_for_its_paste() {
          \x20   Debug.Print \"M=\" & Application.CutCopyMode",
     );
     assert_eq!(out, ["M=False", "M=1", "M=False"]);
+}
+
+// "Range.Replace method": in the range's cells the text What becomes Replacement, matching
+// part of a cell (LookAt:=xlPart, the default) or the whole of it (xlWhole), case ignored unless
+// MatchCase:=True; it returns True. Formulas are searched as written ("Find and replace"
+// searches formulas), and a changed cell is entered anew, so "1,5" made "1.5" is a number.
+// Excel's "Find or replace text and numbers on a worksheet": `?` any one character, `*` any
+// number of characters, `~` before `?`, `*` or `~` the character itself.
+#[test]
+fn range_replace_changes_matching_cells_as_if_typed_anew() {
+    let mut wb = Workbook::with_sheet();
+    let inputs = [("A1", "1,5"), ("A2", "Total,Sum"), ("A3", "abc"), ("A4", "=\"ab\"&\"AB\""), ("A5", "a*b")];
+    for (cell, v) in inputs.into_iter().chain([("A6", "x"), ("A7", "Done"), ("A8", "'007")]) {
+        set(&mut wb, 0, cell, v);
+    }
+    let out = run(
+        &mut wb,
+        "    Debug.Print \"R=\" & Range(\"A1:A8\").Replace(What:=\",\", Replacement:=\".\")\n\
+         \x20   Range(\"A3:A4\").Replace \"ab\", \"Q\", xlPart\n\
+         \x20   Range(\"A2\").Replace What:=\"t*.\", Replacement:=\"\"\n\
+         \x20   Range(\"A5\").Replace \"~*\", \"+\"\n\
+         \x20   Range(\"A6\").Replace \"X\", \"y\", LookAt:=xlWhole, MatchCase:=True\n\
+         \x20   Range(\"A7:A8\").Replace \"done\", \"ok\", LookAt:=xlWhole\n\
+         \x20   Debug.Print TypeName(Range(\"A1\").Value) & \" \" & Range(\"A4\").Formula",
+    );
+    assert_eq!(out, ["R=True", "Double =\"Q\"&\"Q\""]);
+    let cells = ["A1", "A2", "A3", "A4", "A5", "A6", "A7", "A8"].map(|c| get(&wb, 0, c));
+    let texts = ["Sum", "Qc", "QQ", "a+b", "x", "ok", "007"].map(Value::text);
+    assert_eq!(cells[0], n(1.5));
+    assert_eq!(cells[1..], texts);
 }

@@ -287,6 +287,7 @@ pub mod parser;
 pub mod project;
 pub mod project_edit;
 mod regexp;
+mod replace;
 mod resolve;
 mod sheet_ops;
 mod sort;

@@ -619,6 +619,7 @@ impl Interp<'_, '_> {
                 self.sort_range(ctx, sheet, rect, link)?;
                 value(Value::Blank)
             }
+            "replace" => self.replace_in_range(ctx, sheet, rect, link),
             "pastespecial" => {
                 self.paste_special(ctx, sheet, rect, link)?;
                 value(Value::Blank)
@@ -652,7 +653,7 @@ impl Interp<'_, '_> {
 
     /// `.Formula`: what was typed into each cell (its formula, or its constant);
     /// `.FormulaR1C1` (`r1c1`) with the formulas' references in R1C1 style.
-    fn formulas(&self, sheet: SheetId, rect: Rect, r1c1: bool) -> Value {
+    pub(super) fn formulas(&self, sheet: SheetId, rect: Rect, r1c1: bool) -> Value {
         let wb = self.wb.borrow();
         let names = |id: SheetId| Env::sheet_name(&**wb, id).unwrap_or_default();
         let text = |p: Pos| {

@@ -276,6 +276,17 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "xlcenteracrossselection" | "xlhaligncenteracrossselection" => number(7.0),
         "xltop" | "xlvaligntop" => number(-4160.0),
         "xlbottom" | "xlvalignbottom" => number(-4107.0),
+        // Find and Replace's "XlLookAt", "XlSearchOrder", "XlSearchDirection", "XlFindLookIn"
+        // enumerations and Replace's FormulaVersion ("XlReplaceFormula2"), `replace.rs`.
+        "xlwhole" => number(1.0),
+        "xlpart" => number(2.0),
+        "xlbyrows" | "xlnext" => number(1.0),
+        "xlbycolumns" | "xlprevious" => number(2.0),
+        "xlformulas" => number(-4123.0),
+        "xlvalues" => number(-4163.0),
+        "xlcomments" => number(-4144.0),
+        "xlreplaceformula" => number(0.0),
+        "xlreplaceformula2" => number(1.0),
         _ => None,
     }
 }

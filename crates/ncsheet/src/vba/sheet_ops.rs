@@ -739,11 +739,11 @@ impl Interp<'_, '_> {
         Err(fault)
     }
 
-    fn text_argument(&self, link: &Link, position: usize, name: &str) -> Run<Option<String>> {
+    pub(super) fn text_argument(&self, link: &Link, position: usize, name: &str) -> Run<Option<String>> {
         argument(link, position, name).map(|e| self.eval(e).map(|v| print_text(&v))).transpose()
     }
 
-    fn flag_argument(&self, link: &Link, position: usize, name: &str) -> Run<Option<bool>> {
+    pub(super) fn flag_argument(&self, link: &Link, position: usize, name: &str) -> Run<Option<bool>> {
         argument(link, position, name).map(|e| self.truth(e, name)).transpose()
     }
 }
