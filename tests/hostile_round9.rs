@@ -107,3 +107,23 @@ fn a_number_too_large_is_quoted_by_its_start_and_length() {
     assert!(e.contains("is too large") && e.contains("400 characters"), "{e}");
     assert!(e.len() < 300, "{} bytes: {e}", e.len());
 }
+
+#[test]
+fn a_cells_control_characters_do_not_reach_the_terminal() {
+    // ECMA-48: ESC starts a control sequence (OSC `ESC ] 0 ; title BEL` sets a terminal's
+    // title, CSI `ESC [ 31 m` colours what follows) and a carriage return moves to the line's
+    // start, over what was shown. A csv cell's text printed raw by `eval` and `show`, and a
+    // formula quoted raw in a message, drove the terminal; they are shown as pictures.
+    let dir = std::env::temp_dir().join(format!("ncsheet-h4-escapes-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("escapes.csv");
+    std::fs::write(&file, "\"\u{1b}]0;title\u{7}x\",\u{1b}[31mred\r\n\"=SUM(\u{1b}[2J\"\n").unwrap();
+    let path = file.to_str().unwrap();
+    for args in [vec!["eval", path], vec!["show", path, "A1:B2"]] {
+        let run = common::cli::ncsheet(&args);
+        let out = format!("{}{}", run.stdout, run.stderr);
+        assert!(!out.contains(['\u{1b}', '\u{7}']), "{args:?}: {out:?}");
+        assert!(out.contains("\u{241b}]0;title\u{2407}x") && out.contains("\u{241b}[31mred"), "{args:?}: {out}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -296,12 +296,13 @@ fn fit_text(text: &str, width: usize) -> String {
     cut
 }
 
-/// Line breaks inside a cell would break the table's rows apart.
+/// Line breaks inside a cell would break the table's rows apart; other control characters
+/// would reach the terminal (see [`super::report::printable`]).
 fn one_line(text: &str) -> String {
     if text.contains(['\n', '\r']) {
-        text.replace("\r\n", "⏎").replace(['\n', '\r'], "⏎")
+        super::report::printable(&text.replace("\r\n", "⏎").replace(['\n', '\r'], "⏎")).into_owned()
     } else {
-        text.to_string()
+        super::report::printable(text).into_owned()
     }
 }
 

@@ -69,9 +69,33 @@ pub fn prepend(context: &str, message: &str) -> String {
             out.push('\n');
             out.push_str(&indent);
         }
-        out.push_str(line);
+        // A message quotes cells' texts and formulas, which a file may fill with escapes.
+        out.push_str(&printable(line));
     }
     out
+}
+
+/// `text` with the control characters a terminal acts on shown as pictures: C0 but tab and
+/// line feed as U+2400 + code (`␛` for ESC, `␍` for a carriage return, which rewrites the
+/// line), DEL as `␡`, C1 as U+FFFD. A cell's text `\x1b]0;…\x07` printed raw by `eval` set
+/// the terminal's title; other sequences move the cursor or rewrite what was shown.
+pub fn printable(text: &str) -> std::borrow::Cow<'_, str> {
+    if !text.chars().any(acted_on) {
+        return std::borrow::Cow::Borrowed(text);
+    }
+    text.chars()
+        .map(|c| match c {
+            c if !acted_on(c) => c,
+            '\u{7f}' => '\u{2421}',
+            c if c < ' ' => char::from_u32(0x2400 + c as u32).unwrap_or('\u{fffd}'),
+            _ => '\u{fffd}',
+        })
+        .collect()
+}
+
+/// A control character a terminal acts on (tab and line feed only lay text out).
+fn acted_on(c: char) -> bool {
+    (c < ' ' && c != '\t' && c != '\n') || ('\u{7f}'..='\u{9f}').contains(&c)
 }
 
 /// One problem of a cell for a user: `Sheet1!B2: =1+*2` with a caret line.

@@ -13,7 +13,7 @@ use ncsheet::formula::ast::SheetId;
 use ncsheet::workbook::Workbook;
 
 use super::output::Shown;
-use super::report::Result;
+use super::report::{printable, Result};
 use super::target::{parse_target, Target};
 
 /// Show cells inside: formula as typed, value, number format, the cells each reads and the
@@ -51,9 +51,12 @@ pub fn run(args: ShowArgs, delimiter: Option<u8>) -> Result<()> {
         if i > 0 {
             writeln!(out)?;
         }
-        out.write_all(describe_rect(wb, &shown, &named, s.sheet, s.rect, s.label.as_deref()).as_bytes())?;
+        // Printed as the terminal should show it: a cell's text may hold escapes.
+        let described = describe_rect(wb, &shown, &named, s.sheet, s.rect, s.label.as_deref());
+        out.write_all(printable(&described).as_bytes())?;
         if args.depth > 1 && s.rect.is_cell() {
-            out.write_all(precedent_tree(wb, &shown, &named, s.sheet, s.rect.first, args.depth).as_bytes())?;
+            let tree = precedent_tree(wb, &shown, &named, s.sheet, s.rect.first, args.depth);
+            out.write_all(printable(&tree).as_bytes())?;
         }
     }
     out.flush()?;
