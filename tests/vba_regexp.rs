@@ -222,3 +222,19 @@ fn patterns_past_the_limits_are_refused() {
     let big = fails("Dim re: Set re = New RegExp\n re.Pattern = \"(a{1000}){1000}\"\n Debug.Print re.Test(\"a\")");
     assert!(big.contains("8 MiB"), "{big}");
 }
+
+/// `v = m` without Set assigns the Match's Value, its default property ("Match Object";
+/// [MS-VBAL]'s object Let-coercion: "the simple data value of the object"): a String.
+#[test]
+fn let_assigning_a_match_gives_its_value() {
+    let body = r#"
+    Dim re: Set re = New RegExp
+    re.Pattern = "\d+"
+    re.Global = True
+    Dim mc: Set mc = re.Execute("a12b345")
+    Dim v, w
+    v = mc(1)
+    w = mc.Item(0)
+    Debug.Print TypeName(v); v; TypeName(w); w"#;
+    assert_eq!(printed(body), ["String345String12"]);
+}

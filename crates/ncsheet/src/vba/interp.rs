@@ -2282,7 +2282,7 @@ impl Interp<'_, '_> {
             // `Mid(s, i, 1) = x` replaces characters in place (`append.rs`).
             Target::Var(name) if !set && self.mid_in_place(name, value)? => Ok(()),
             Target::Var(name) => {
-                let var = self.var_of(value, set)?;
+                let var = super::regexp::let_value(self.var_of(value, set)?, set);
                 // A Variant keeps the type of the number it is given ([MS-VBAL] 2.1.1.1: an
                 // Integer for `x = 5`, a Date for a Date); known once evaluated (an item's, a
                 // Variant Function's).

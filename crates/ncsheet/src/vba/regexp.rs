@@ -157,6 +157,18 @@ impl RegexObj {
     }
 }
 
+/// What `v = m` assigns without Set: a Match's Value, its default property ([MS-VBAL]'s
+/// object Let-coercion: "the simple data value of the object", its default member's);
+/// anything else as it is.
+pub(super) fn let_value(var: Var, set: bool) -> Var {
+    match var {
+        Var::Obj(Obj::Regex(r)) if !set && r.default_value().is_some() => {
+            Var::Value(r.default_value().unwrap_or_default())
+        }
+        other => other,
+    }
+}
+
 /// A group's text as SubMatches gives it: Empty for a group that took no part.
 fn group_var(group: &Option<Rc<str>>) -> Var {
     Var::Value(group.as_ref().map_or(Value::Blank, |t| Value::Text(t.clone())))
