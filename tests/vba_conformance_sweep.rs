@@ -257,3 +257,48 @@ fn zero_to_the_zero_is_one() {
     let got = each(&["0 ^ 0", "0# ^ 0", "CInt(0) ^ CLng(0)"]);
     assert_eq!(got, ["Double 1", "Double 1", "Double 1"]);
 }
+
+// "Boolean data type": "When Boolean values are converted to other data types, False becomes
+// 0 and True becomes -1" ([MS-VBAL] 5.5.1.2.1 alike); Boolean with Boolean or Integer adds as
+// an Integer (5.6.9.3). Arithmetic and the conversions took the sheet's TRUE, 1: `True + True`
+// was 2, `CInt(True)` 1, `-True` -1. LibreOffice agrees on the values.
+#[test]
+fn true_is_minus_one_in_arithmetic() {
+    let got = each(&[
+        "True + True",
+        "True * 3",
+        "-True",
+        "True + 1",
+        "False - 1",
+        "CInt(True)",
+        "CDbl(True)",
+        "True + \"1\"",
+        "Abs(True)",
+    ]);
+    let want = [
+        "Integer -2",
+        "Integer -3",
+        "Integer 1",
+        "Integer 0",
+        "Integer -1",
+        "Integer -1",
+        "Double -1",
+        "Double 0",
+        "Double 1",
+    ];
+    assert_eq!(got, want);
+    let printed =
+        printed_after("", "    Dim b As Boolean, n As Long\n    b = True\n    n = b + 10\n    Debug.Print CStr(n)\n");
+    assert_eq!(printed, ["9"]);
+}
+
+// "+ operator": "One expression is an Empty Variant: Return the remaining expression unchanged
+// as result", so an Empty plus a String is that String; it was read as a number (`Empty + "1"`
+// the Double 1, `Empty + "a"` a Type mismatch). LibreOffice agrees.
+#[test]
+fn empty_plus_a_string_is_the_string() {
+    let got = each(&["Empty + \"1\"", "\"a\" + Empty", "Empty + \"a\"", "Empty + 1"]);
+    assert_eq!(got, ["String 1", "String a", "String a", "Integer 1"]);
+    let printed = printed_after("", "    Dim v, w\n    w = \"7\"\n    Debug.Print TypeName(v + w) & \" \" & (v + w)\n");
+    assert_eq!(printed, ["String 7"]);
+}

@@ -1369,6 +1369,8 @@ impl<'a> Ctx<'a> {
                 match v {
                     // VBA's Null propagates through negation too.
                     Value::Null => Value::Null,
+                    // A macro's True is -1 ([MS-VBAL] 5.5.1.2.1), so `-True` is 1.
+                    Value::Bool(b) if self.host.is_some() => Value::Number(if b { 1.0 } else { 0.0 }),
                     v => {
                         let negated = map_number(&v, |x| Ok(-x), self.dates);
                         match self.host {

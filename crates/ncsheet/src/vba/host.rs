@@ -239,7 +239,12 @@ impl Host for Interp<'_, '_> {
         if let (BinOp::Add, (Value::Text(a), Value::Text(b))) = (op, values) {
             return Value::text(format!("{a}{b}"));
         }
-        let read = numbers_of_text(op, values, &result, self.date_system());
+        // "+ operator": "One expression is an Empty Variant: Return the remaining expression
+        // unchanged as result", so `Empty + "1"` is the String "1", not the number 1.
+        if let (BinOp::Add, (Value::Blank, Value::Text(t)) | (Value::Text(t), Value::Blank)) = (op, values) {
+            return Value::Text(t.clone());
+        }
+        let read = vba_operands(op, values, &result, self.date_system());
         let (values, result) = match &read {
             Some((a, b, computed)) => ((a, b), computed.clone()),
             None => (values, result),
@@ -368,11 +373,12 @@ fn concat_booleans((x, y): (&Value, &Value)) -> Option<Value> {
     Some(Value::text(format!("{}{}", text(x)?, text(y)?)))
 }
 
-/// `"1d2" + 0`, `"&H10" * 1`: arithmetic let-coerces a String operand to a number as CDbl
-/// reads it ([MS-VBAL] 5.6.9.3 and 5.5.1.2.1), a `D` exponent or an `&H`/`&O` literal too,
-/// where the formula's reading gave `#VALUE!`: the operands read so and the result computed
-/// again. `None` when no String operand needed VBA's reading.
-fn numbers_of_text(
+/// `"1d2" + 0`, `"&H10" * 1`, `True + 1`: arithmetic let-coerces a String operand to a number
+/// as CDbl reads it ([MS-VBAL] 5.6.9.3 and 5.5.1.2.1), a `D` exponent or an `&H`/`&O` literal
+/// too, where the formula's reading gave `#VALUE!`, and a Boolean to -1 or 0 (5.5.1.2.1: True
+/// is -1), where the formula's TRUE is 1: the operands read so and the result computed again.
+/// `None` when no operand needed VBA's reading.
+fn vba_operands(
     op: BinOp,
     (a, b): (&Value, &Value),
     result: &Value,
@@ -380,11 +386,13 @@ fn numbers_of_text(
 ) -> Option<(Value, Value, Value)> {
     let arithmetic =
         matches!(op, BinOp::Pow | BinOp::Mul | BinOp::Div | BinOp::Add | BinOp::Sub | BinOp::Mod | BinOp::IntDiv);
-    if !arithmetic || !matches!(result, Value::Error(XlError::Value)) {
+    let boolean = matches!(a, Value::Bool(_)) || matches!(b, Value::Bool(_));
+    if !arithmetic || !(boolean || matches!(result, Value::Error(XlError::Value))) {
         return None;
     }
     let read = |v: &Value| match v {
         Value::Text(t) => crate::eval::functions::vba::vba_number_text(t).map(Value::Number),
+        Value::Bool(b) => Some(Value::Number(if *b { -1.0 } else { 0.0 })),
         other => Some(other.clone()),
     };
     let (a, b) = (read(a)?, read(b)?);

@@ -1132,6 +1132,8 @@ pub fn vba_val(text: &str) -> f64 {
 pub fn vba_number(v: &Value) -> XlResult<f64> {
     match v {
         Value::Text(t) => vba_number_text(t).map_or_else(|| to_number(v, VBA_DATES), Ok),
+        // [MS-VBAL] 5.5.1.2.1: True let-coerced to a number is -1 (the sheet's TRUE is 1).
+        Value::Bool(b) => Ok(if *b { -1.0 } else { 0.0 }),
         other => to_number(other, VBA_DATES),
     }
 }
