@@ -127,3 +127,19 @@ fn a_cells_control_characters_do_not_reach_the_terminal() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn an_nc_word_with_a_number_past_the_doubles_says_so_briefly() {
+    // 400 nines are a number (past the largest double, 1.797…E+308), not "no number"; the
+    // message quoted the whole word however long it was.
+    let dir = std::env::temp_dir().join(format!("ncsheet-h4-ncword-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("huge.nc");
+    std::fs::write(&file, format!("G90 G21\nG01 X{} F100\n", "9".repeat(400))).unwrap();
+    let run = common::cli::ncsheet(&["nc", "check", file.to_str().unwrap()]);
+    assert_ne!(run.code, 0);
+    let said = run.stderr.lines().find(|l| l.contains("line 2")).unwrap_or_else(|| panic!("{}", run.stderr));
+    assert!(said.contains("too large") && said.contains("400 characters"), "{said}");
+    assert!(said.len() < 300, "{} bytes: {said}", said.len());
+    let _ = std::fs::remove_dir_all(&dir);
+}

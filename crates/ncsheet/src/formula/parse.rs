@@ -870,7 +870,7 @@ fn number(pair: &Pair<Rule>) -> Result<f64, ParseError> {
 
 /// A number literal as a message quotes it: its start and its length past 40 characters. A
 /// macro's literal of a million digits was quoted whole, a 1 MB line of message.
-fn shown_number(text: &str) -> String {
+pub fn shown_number(text: &str) -> String {
     let length = text.chars().count();
     if length <= 40 {
         return text.to_string();

@@ -356,7 +356,7 @@ fn tokens(raw: &str, family: Family) -> Result<Line, Fail> {
                 return Err((start + 1, "R is an arithmetic parameter on Sinumerik (an arc's radius is CR=)".into()));
             }
             let number: String = chars[i..next].iter().collect();
-            let value = value.ok_or((start + 1, format!("the word {letter} has no number after it (`{number}`)")))?;
+            let value = value.ok_or_else(|| (start + 1, no_value(&format!("the word {letter}"), &number)))?;
             line.words.push(Word { letter, value, column: start + 1, decimals });
             i = next;
         } else {
@@ -364,6 +364,18 @@ fn tokens(raw: &str, family: Family) -> Result<Line, Fail> {
         }
     }
     Ok(line)
+}
+
+/// Why the `text` after `what` (a word) gives no value: a number past the largest double
+/// (`X999…9`, which was said to have "no number after it" and quoted whole however long), or
+/// no number at all.
+pub(crate) fn no_value(what: &str, text: &str) -> String {
+    let shown = crate::formula::parse::shown_number(text);
+    if text.parse::<f64>().is_ok_and(f64::is_infinite) {
+        format!("{what} has a number too large for any control (`{shown}`)")
+    } else {
+        format!("{what} has no number after it (`{shown}`)")
+    }
 }
 
 /// The number starting at `from`: its value (if it is one), digits after the point, and

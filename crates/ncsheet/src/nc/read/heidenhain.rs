@@ -143,7 +143,7 @@ fn tokens(raw: &str) -> (Vec<Token>, Option<String>) {
 /// A number as written (`+10.0000`, `-2.5`, `3000`), with its digits after the point.
 fn number(text: &str, column: usize, what: &str) -> Result<(f64, usize), Fail> {
     let value = text.parse::<f64>().ok().filter(|v| v.is_finite());
-    let value = value.ok_or((column, format!("{what} has no number after it (`{text}`)")))?;
+    let value = value.ok_or_else(|| (column, super::no_value(what, text)))?;
     Ok((value, text.split_once('.').map_or(0, |(_, f)| f.len())))
 }
 
