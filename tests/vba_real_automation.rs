@@ -312,3 +312,22 @@ fn range_replace_changes_matching_cells_as_if_typed_anew() {
     assert_eq!(cells[0], n(1.5));
     assert_eq!(cells[1..], texts);
 }
+
+// "Range.CurrentRegion property": "a range bounded by any combination of blank rows and blank
+// columns" (Ctrl+*: a cell touching the block at a corner belongs to it). "Range.SpecialCells
+// method", xlCellTypeLastCell (11): "The last cell in the used range" (Ctrl+End); the other
+// types are ranges of several areas, which ncsheet refuses by name.
+#[test]
+fn current_region_and_the_last_cell_of_the_used_range() {
+    let mut wb = Workbook::with_sheet();
+    for (cell, v) in [("A1", "h1"), ("B1", "h2"), ("A2", "1"), ("B2", "2"), ("C3", "3"), ("E5", "x"), ("G1", "=\"\"")] {
+        set(&mut wb, 0, cell, v);
+    }
+    let out = run(
+        &mut wb,
+        "    Debug.Print Range(\"A1\").CurrentRegion.Address; \" \"; Range(\"B2\").CurrentRegion.Rows.Count\n\
+         \x20   Debug.Print Range(\"E5\").CurrentRegion.Address; \" \"; Range(\"D8\").CurrentRegion.Address\n\
+         \x20   Debug.Print Cells.SpecialCells(xlCellTypeLastCell).Address; \" \"; Range(\"A1:B2\").SpecialCells(11).Row",
+    );
+    assert_eq!(out, ["$A$1:$C$3  3 ", "$E$5 $D$8", "$G$5  5 "]);
+}

@@ -620,6 +620,8 @@ impl Interp<'_, '_> {
                 value(Value::Blank)
             }
             "replace" => self.replace_in_range(ctx, sheet, rect, link),
+            "currentregion" => Ok(Obj::Range(sheet, self.current_region(sheet, rect))),
+            "specialcells" => self.special_cells(sheet, link),
             "pastespecial" => {
                 self.paste_special(ctx, sheet, rect, link)?;
                 value(Value::Blank)

@@ -287,6 +287,13 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "xlcomments" => number(-4144.0),
         "xlreplaceformula" => number(0.0),
         "xlreplaceformula2" => number(1.0),
+        // "XlCellType enumeration", for Range.SpecialCells.
+        "xlcelltypelastcell" => number(11.0),
+        "xlcelltypeconstants" => number(2.0),
+        "xlcelltypeformulas" => number(-4123.0),
+        "xlcelltypeblanks" => number(4.0),
+        "xlcelltypevisible" => number(12.0),
+        "xlcelltypecomments" => number(-4144.0),
         _ => None,
     }
 }

@@ -747,3 +747,61 @@ impl Interp<'_, '_> {
         argument(link, position, name).map(|e| self.truth(e, name)).transpose()
     }
 }
+
+impl Interp<'_, '_> {
+    /// `rng.CurrentRegion` ("Range.CurrentRegion property", Ctrl+*): the range grown until a
+    /// blank row and a blank column (or the sheet's edge) bound it on every side, corners
+    /// included; an empty cell with empty neighbours is its own region.
+    pub(super) fn current_region(&self, sheet: SheetId, rect: Rect) -> Rect {
+        let wb = self.wb.borrow();
+        let Some(used) = wb.used_rect(sheet) else { return rect };
+        let filled = |p: Pos| {
+            used.contains(p)
+                && (wb.formula_id(sheet, p).is_some() || !matches!(wb.value(sheet, p), crate::eval::Value::Blank))
+        };
+        // A line of cells just outside `r`, reaching one further at both ends for the corners.
+        let any_filled = |rows: (u32, u32), cols: (u32, u32)| {
+            (rows.0..=rows.1).any(|row| (cols.0..=cols.1).any(|col| filled(Pos::new(row, col))))
+        };
+        let mut r = rect;
+        loop {
+            let (top, bottom) = (r.first.row.saturating_sub(1), (r.last.row + 1).min(MAX_ROWS - 1));
+            let (left, right) = (r.first.col.saturating_sub(1), (r.last.col + 1).min(MAX_COLS - 1));
+            let mut grown = r;
+            if r.first.row > 0 && any_filled((top, top), (left, right)) {
+                grown.first.row = top;
+            }
+            if r.last.row < MAX_ROWS - 1 && any_filled((bottom, bottom), (left, right)) {
+                grown.last.row = bottom;
+            }
+            if r.first.col > 0 && any_filled((top, bottom), (left, left)) {
+                grown.first.col = left;
+            }
+            if r.last.col < MAX_COLS - 1 && any_filled((top, bottom), (right, right)) {
+                grown.last.col = right;
+            }
+            if grown == r {
+                return r;
+            }
+            r = grown;
+        }
+    }
+
+    /// `rng.SpecialCells(xlCellTypeLastCell)` ("Range.SpecialCells method", Ctrl+End): the
+    /// last cell of the sheet's used range. The other types give ranges of several areas,
+    /// which ncsheet's Range is not: refused by name.
+    pub(super) fn special_cells(&self, sheet: SheetId, link: &Link) -> Run<Obj> {
+        const XL_CELL_TYPE_LAST_CELL: f64 = 11.0;
+        let kind = argument(link, 0, "Type").map(|e| self.eval(e)).transpose()?;
+        match kind {
+            Some(Value::Number(n)) if n == XL_CELL_TYPE_LAST_CELL => {
+                Ok(Obj::Range(sheet, Rect::cell(self.used_range(sheet).last)))
+            }
+            _ => Err(self.fault_at(
+                link.span,
+                "SpecialCells: ncsheet gives xlCellTypeLastCell only; the other types are ranges of several \
+                 areas, which its Range is not (loop over the cells and test each)",
+            )),
+        }
+    }
+}
