@@ -1695,7 +1695,7 @@ impl Build<'_> {
             pair,
             format!(
                 "New {class}: no class module of the project has that name (New makes a Collection, a \
-                 Dictionary or an object of one of the project's class modules)"
+                 Dictionary, VBScript's RegExp or an object of one of the project's class modules)"
             ),
         )
     }

@@ -580,25 +580,22 @@ fn utf16_len(text: &str) -> usize {
     text.chars().map(char::len_utf16).sum()
 }
 
-/// The matches of `compiled` in `text`: the first, or with `global` every one, as
-/// JScript's global search finds them (after an empty match the search goes on from the
-/// next character, so `a*` finds "", "aaa" and "" in "baaa").
-fn find(compiled: &Compiled, text: &str, global: bool) -> Vec<Hit> {
+/// Each match of `compiled` in `text` with its groups' texts (`None` for a group that took
+/// no part): the first, or with `global` every one, as JScript's global search finds them
+/// (after an empty match the search goes on from the next character, so `a*` finds "",
+/// "aaa" and "" in "baaa").
+fn each_match(
+    compiled: &Compiled,
+    text: &str,
+    global: bool,
+    mut found: impl FnMut(regex::Match, Vec<Option<Rc<str>>>),
+) {
     let regex = &compiled.regex;
     let mut locations = regex.capture_locations();
-    let mut hits = Vec::new();
-    let (mut at, mut counted_to, mut units) = (0, 0, 0);
+    let mut at = 0;
     while at <= text.len() {
         let Some(whole) = regex.captures_read_at(&mut locations, text, at) else { break };
-        units += utf16_len(&text[counted_to..whole.start()]);
-        counted_to = whole.start();
-        let groups = (1..locations.len()).map(|g| locations.get(g).map(|(s, e)| Rc::from(&text[s..e]))).collect();
-        hits.push(Hit {
-            value: Rc::from(whole.as_str()),
-            first_index: units,
-            length: utf16_len(whole.as_str()),
-            groups,
-        });
+        found(whole, (1..locations.len()).map(|g| locations.get(g).map(|(s, e)| Rc::from(&text[s..e]))).collect());
         if !global {
             break;
         }
@@ -607,6 +604,22 @@ fn find(compiled: &Compiled, text: &str, global: bool) -> Vec<Hit> {
             false => whole.end() + text[whole.end()..].chars().next().map_or(1, char::len_utf8),
         };
     }
+}
+
+/// The matches `Execute` gives, their places counted in UTF-16 units.
+fn find(compiled: &Compiled, text: &str, global: bool) -> Vec<Hit> {
+    let mut hits = Vec::new();
+    let (mut counted_to, mut units) = (0, 0);
+    each_match(compiled, text, global, |whole, groups| {
+        units += utf16_len(&text[counted_to..whole.start()]);
+        counted_to = whole.start();
+        hits.push(Hit {
+            value: Rc::from(whole.as_str()),
+            first_index: units,
+            length: utf16_len(whole.as_str()),
+            groups,
+        });
+    });
     hits
 }
 
@@ -657,25 +670,13 @@ fn expand(replacement: &str, text: &str, hit_at: (usize, usize), groups: &[Optio
 
 /// `Replace`: the text with the first match, or with `global` every match, replaced.
 fn replace(compiled: &Compiled, text: &str, replacement: &str, global: bool) -> String {
-    let regex = &compiled.regex;
-    let mut locations = regex.capture_locations();
     let mut out = String::with_capacity(text.len());
-    let (mut at, mut copied) = (0, 0);
-    while at <= text.len() {
-        let Some(whole) = regex.captures_read_at(&mut locations, text, at) else { break };
-        let groups: Vec<Option<Rc<str>>> =
-            (1..locations.len()).map(|g| locations.get(g).map(|(s, e)| Rc::from(&text[s..e]))).collect();
+    let mut copied = 0;
+    each_match(compiled, text, global, |whole, groups| {
         out.push_str(&text[copied..whole.start()]);
         out.push_str(&expand(replacement, text, (whole.start(), whole.end()), &groups));
         copied = whole.end();
-        if !global {
-            break;
-        }
-        at = match whole.end() > whole.start() {
-            true => whole.end(),
-            false => whole.end() + text[whole.end()..].chars().next().map_or(1, char::len_utf8),
-        };
-    }
+    });
     out.push_str(&text[copied..]);
     out
 }
