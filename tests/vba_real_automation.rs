@@ -331,3 +331,18 @@ fn current_region_and_the_last_cell_of_the_used_range() {
     );
     assert_eq!(out, ["$A$1:$C$3  3 ", "$E$5 $D$8", "$G$5  5 "]);
 }
+
+// "Range.Style property" with Excel's built-in number styles, which include the number format
+// alone: Percent is built-in format 9, "0%", and Comma format 43 (ECMA-376 Part 1, 18.8.30
+// "numFmt", the built-in formats). A real stock summary sets `Cells(l, 11).Style = "Percent"`.
+#[test]
+fn a_built_in_number_style_sets_the_number_format() {
+    let out = printed(
+        "",
+        "    Range(\"A1:A2\").Style = \"Percent\"\n\
+         \x20   Range(\"B1\").Style = \"Comma\"\n\
+         \x20   Range(\"A1\").Value = 0.25\n\
+         \x20   Debug.Print Range(\"A2\").NumberFormat & \"|\" & Range(\"A1\").Text & \"|\" & Range(\"B1\").NumberFormat",
+    );
+    assert_eq!(out, ["0%|25%|_(* #,##0.00_);_(* \\(#,##0.00\\);_(* \"-\"??_);_(@_)"]);
+}

@@ -485,6 +485,7 @@ impl Interp<'_, '_> {
                     | "columnwidth"
                     | "rowheight"
                     | "hidden"
+                    | "style"
             ),
             Some(_) => true,
         };
@@ -516,6 +517,17 @@ impl Interp<'_, '_> {
                 let code =
                     crate::eval::coerce::to_text(&v).map_err(|e| self.fault_at(span, format!("the format is {e}")))?;
                 Edit::Format(Rc::from(&*code))
+            }
+            (None, "style") => {
+                let style = crate::eval::coerce::to_text(&v).unwrap_or_default();
+                let Some(code) = built_in_style_format(&style) else {
+                    let why = format!(
+                        "Style = \"{style}\": ncsheet applies Excel's number styles Percent, Comma, Comma [0], \
+                         Currency and Currency [0] only"
+                    );
+                    return Err(self.fault_at(span, why));
+                };
+                Edit::Format(Rc::from(code))
             }
             (None, "horizontalalignment") => {
                 let a = number("HorizontalAlignment")?.round() as i32;
@@ -843,5 +855,19 @@ impl Interp<'_, '_> {
             }
         }
         Ok(())
+    }
+}
+
+/// The number format of Excel's built-in number styles, which apply their number format and
+/// nothing else (their "Style Includes" is Number alone): ECMA-376 Part 1, 18.8.30's built-in
+/// formats 9 (Percent), 43 (Comma), 41 (Comma [0]), 44 (Currency) and 42 (Currency [0]).
+fn built_in_style_format(style: &str) -> Option<&'static str> {
+    match style.to_ascii_lowercase().as_str() {
+        "percent" => Some("0%"),
+        "comma" => Some(r#"_(* #,##0.00_);_(* \(#,##0.00\);_(* "-"??_);_(@_)"#),
+        "comma [0]" => Some(r#"_(* #,##0_);_(* \(#,##0\);_(* "-"_);_(@_)"#),
+        "currency" => Some(r#"_("$"* #,##0.00_);_("$"* \(#,##0.00\);_("$"* "-"??_);_(@_)"#),
+        "currency [0]" => Some(r#"_("$"* #,##0_);_("$"* \(#,##0\);_("$"* "-"_);_(@_)"#),
+        _ => None,
     }
 }
