@@ -238,3 +238,42 @@ fn let_assigning_a_match_gives_its_value() {
     Debug.Print TypeName(v); v; TypeName(w); w"#;
     assert_eq!(printed(body), ["String345String12"]);
 }
+
+/// The message of the error that stops `body` run under a memory limit of `max_memory` bytes.
+fn fails_within(body: &str, max_memory: u64) -> String {
+    let src = format!("Sub Main()\n{body}\nEnd Sub\n");
+    let options = ncsheet::vba::RunOptions { max_memory, ..ncsheet::vba::RunOptions::default() };
+    match ncsheet::vba::run(&mut Workbook::with_sheet(), &src, "main.bas", &options) {
+        Ok(out) => panic!("the macro ran to its end, printing {:?}", out.printed),
+        Err(e) => e.message,
+    }
+}
+
+/// docs/limits.md: Replace stops at the longest string a macro may make (16,777,216
+/// characters by default) instead of building more: "$'" after each of 100,000 empty matches
+/// would make about 5·10^9 characters (the sum of the suffixes, n(n+1)/2).
+#[test]
+fn a_replacement_past_the_longest_string_is_refused() {
+    let message = fails(
+        "Dim re: Set re = New RegExp\n re.Global = True\n Debug.Print Len(re.Replace(String(100000, \"a\"), \"$'\"))",
+    );
+    assert!(message.contains("Replace") && message.contains("16777216 characters"), "{message}");
+}
+
+/// Execute's matches count against the macro's memory limit as they are found, and the
+/// MatchCollections a macro keeps are measured with its variables: 100,000 one-character
+/// matches, or 200 collections of 1,000 kept in a Collection, pass a 4 MiB limit.
+#[test]
+fn matches_count_against_the_memory_limit() {
+    let many = fails_within(
+        "Dim re: Set re = New RegExp\n re.Global = True\n re.Pattern = \"a\"\n Debug.Print re.Execute(String(100000, \"a\")).Count",
+        4 << 20,
+    );
+    assert!(many.contains("Execute") && many.contains("--max-memory"), "{many}");
+    let kept = fails_within(
+        "Dim re: Set re = New RegExp\n re.Global = True\n re.Pattern = \"a\"\n Dim c As New Collection, i\n \
+         For i = 1 To 2000\n c.Add re.Execute(String(1000, \"a\"))\n Next\n Debug.Print c.Count",
+        4 << 20,
+    );
+    assert!(kept.contains("--max-memory"), "{kept}");
+}

@@ -159,6 +159,10 @@ impl Measure {
                     self.bytes = self.bytes.saturating_add(super::classes::OBJECT_BYTES);
                     pending.extend(o.field_vars());
                 }
+                // A MatchCollection, or a Match or SubMatches of one, holds all its matches.
+                Var::Obj(Obj::Regex(r)) if r.hits().is_some_and(|h| self.first_time(h)) => {
+                    self.bytes = self.bytes.saturating_add(r.hits().map_or(0, |h| super::regexp::hits_bytes(h)));
+                }
                 Var::Array(_) | Var::Obj(_) => {}
                 Var::Record(_, fields) => pending.extend(fields.iter().cloned()),
             }

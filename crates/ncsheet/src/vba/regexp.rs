@@ -42,6 +42,8 @@ const EXPECTED_BRACKET: u32 = 5019;
 const EXPECTED_PAREN: u32 = 5020;
 const INVALID_RANGE: u32 = 5021;
 const INVALID_CALL: u32 = 5;
+/// What one match costs the memory budget besides its texts.
+const HIT_BYTES: usize = 64;
 
 fn vbscript_text(code: u32) -> &'static str {
     match code {
@@ -124,6 +126,14 @@ impl RegexObj {
             RegexObj::Matches(_) => "a MatchCollection",
             RegexObj::Match(..) => "a Match",
             RegexObj::SubMatches(..) => "a SubMatches collection",
+        }
+    }
+
+    /// The matches a MatchCollection, a Match or a SubMatches shares.
+    pub fn hits(&self) -> Option<&Rc<Vec<Hit>>> {
+        match self {
+            RegexObj::RegExp(_) => None,
+            RegexObj::Matches(hits) | RegexObj::Match(hits, _) | RegexObj::SubMatches(hits, _) => Some(hits),
         }
     }
 
@@ -575,6 +585,17 @@ pub(super) fn compile(pattern: &str, ignore_case: bool, multiline: bool) -> Resu
     Ok(Compiled { regex, line_anchors })
 }
 
+/// What one match holds, as the memory budget counts it: its text, its groups' texts and
+/// their share of the collection.
+fn hit_bytes(value: &str, groups: &[Option<Rc<str>>]) -> u64 {
+    (HIT_BYTES + value.len() + groups.iter().map(|g| 16 + g.as_ref().map_or(0, |t| t.len())).sum::<usize>()) as u64
+}
+
+/// What a MatchCollection's matches hold together.
+pub fn hits_bytes(hits: &[Hit]) -> u64 {
+    hits.iter().map(|h| hit_bytes(&h.value, &h.groups)).sum()
+}
+
 /// UTF-16 units in `text` (VBScript's string positions).
 fn utf16_len(text: &str) -> usize {
     text.chars().map(char::len_utf16).sum()
@@ -588,15 +609,15 @@ fn each_match(
     compiled: &Compiled,
     text: &str,
     global: bool,
-    mut found: impl FnMut(regex::Match, Vec<Option<Rc<str>>>),
+    mut found: impl FnMut(regex::Match, Vec<Option<Rc<str>>>) -> bool,
 ) {
     let regex = &compiled.regex;
     let mut locations = regex.capture_locations();
     let mut at = 0;
     while at <= text.len() {
         let Some(whole) = regex.captures_read_at(&mut locations, text, at) else { break };
-        found(whole, (1..locations.len()).map(|g| locations.get(g).map(|(s, e)| Rc::from(&text[s..e]))).collect());
-        if !global {
+        let groups = (1..locations.len()).map(|g| locations.get(g).map(|(s, e)| Rc::from(&text[s..e]))).collect();
+        if !found(whole, groups) || !global {
             break;
         }
         at = match whole.end() > whole.start() {
@@ -606,21 +627,23 @@ fn each_match(
     }
 }
 
-/// The matches `Execute` gives, their places counted in UTF-16 units.
-fn find(compiled: &Compiled, text: &str, global: bool) -> Vec<Hit> {
+/// The matches `Execute` gives, their places counted in UTF-16 units; `Err` with the bytes
+/// they came to once those pass `budget` (the run's memory limit), when the search stops.
+fn find(compiled: &Compiled, text: &str, global: bool, budget: u64) -> Result<Vec<Hit>, u64> {
     let mut hits = Vec::new();
-    let (mut counted_to, mut units) = (0, 0);
+    let (mut counted_to, mut units, mut bytes) = (0, 0, 0u64);
     each_match(compiled, text, global, |whole, groups| {
         units += utf16_len(&text[counted_to..whole.start()]);
         counted_to = whole.start();
-        hits.push(Hit {
-            value: Rc::from(whole.as_str()),
-            first_index: units,
-            length: utf16_len(whole.as_str()),
-            groups,
-        });
+        bytes = bytes.saturating_add(hit_bytes(whole.as_str(), &groups));
+        let value = Rc::from(whole.as_str());
+        hits.push(Hit { value, first_index: units, length: utf16_len(whole.as_str()), groups });
+        bytes <= budget
     });
-    hits
+    if bytes > budget {
+        return Err(bytes);
+    }
+    Ok(hits)
 }
 
 /// The replacement text of one match: `$&` the match, `` $` `` the text before it, `$'` the
@@ -668,17 +691,23 @@ fn expand(replacement: &str, text: &str, hit_at: (usize, usize), groups: &[Optio
     out
 }
 
-/// `Replace`: the text with the first match, or with `global` every match, replaced.
-fn replace(compiled: &Compiled, text: &str, replacement: &str, global: bool) -> String {
+/// `Replace`: the text with the first match, or with `global` every match, replaced; `None`
+/// once it passes `limit` characters (the longest string a macro may make), when it stops.
+fn replace(compiled: &Compiled, text: &str, replacement: &str, global: bool, limit: usize) -> Option<String> {
     let mut out = String::with_capacity(text.len());
-    let mut copied = 0;
+    let (mut copied, mut chars) = (0, 0usize);
     each_match(compiled, text, global, |whole, groups| {
-        out.push_str(&text[copied..whole.start()]);
-        out.push_str(&expand(replacement, text, (whole.start(), whole.end()), &groups));
+        let before = &text[copied..whole.start()];
+        let expanded = expand(replacement, text, (whole.start(), whole.end()), &groups);
+        chars = chars.saturating_add(before.chars().count() + expanded.chars().count());
+        out.push_str(before);
+        out.push_str(&expanded);
         copied = whole.end();
+        chars <= limit
     });
+    chars = chars.saturating_add(text[copied..].chars().count());
     out.push_str(&text[copied..]);
-    out
+    (chars <= limit).then_some(out)
 }
 
 // ---- the objects' members ---------------------------------------------------------------
@@ -738,6 +767,32 @@ impl Interp<'_, '_> {
             ));
         }
         Ok(())
+    }
+
+    /// Execute's matches past the run's memory limit: stopped before they take more.
+    fn too_many_matches(&self, bytes: u64, span: Span) -> Fault {
+        let mib = |b: u64| b as f64 / (1u64 << 20) as f64;
+        let why = format!(
+            "Execute: the matches hold more than {:.1} MiB, the macro's memory limit ({:.1} MiB reached; {})",
+            mib(self.options.max_memory),
+            mib(bytes),
+            self.options.raise_hint("raise it with --max-memory")
+        );
+        let mut f = self.fault_at(span, why);
+        f.kind = super::ErrorKind::Limit;
+        f
+    }
+
+    /// Replace's text past the longest string a macro may make: stopped as it passes it.
+    fn replaced_too_long(&self, span: Span) -> Fault {
+        let why = format!(
+            "Replace: the text would be longer than {} characters (ncsheet's limit for macro strings; {})",
+            self.options.max_string,
+            self.options.raise_hint("raise it with --max-string")
+        );
+        let mut f = self.fault_at(span, why);
+        f.kind = super::ErrorKind::Limit;
+        f
     }
 
     /// A member of a RegExp, a MatchCollection, a Match or a SubMatches collection.
@@ -851,9 +906,10 @@ impl Interp<'_, '_> {
             "execute" => {
                 let compiled = self.compiled(settings, link.span, "Execute")?;
                 let text = self.searched(&compiled, link)?;
-                let hits = find(&compiled, &text, settings.borrow().global);
-                let bytes: usize = hits.iter().map(|h| 64 + h.value.len() + 16 * h.groups.len()).sum();
-                self.charge(bytes as u64, link.span)?;
+                let budget = self.options.max_memory;
+                let hits = find(&compiled, &text, settings.borrow().global, budget)
+                    .map_err(|bytes| self.too_many_matches(bytes, link.span))?;
+                self.charge(hits_bytes(&hits), link.span)?;
                 Ok(Obj::Regex(RegexObj::Matches(Rc::new(hits))))
             }
             "replace" => {
@@ -862,7 +918,9 @@ impl Interp<'_, '_> {
                 let text = self.regex_text(args[0], link, "sourceString")?;
                 self.refuse_crlf_lines(&compiled, &text, link)?;
                 let replacement = self.regex_text(args[1], link, "replaceString")?;
-                let replaced = replace(&compiled, &text, &replacement, settings.borrow().global);
+                let limit = self.options.max_string;
+                let replaced = replace(&compiled, &text, &replacement, settings.borrow().global, limit)
+                    .ok_or_else(|| self.replaced_too_long(link.span))?;
                 self.charge(replaced.len() as u64, link.span)?;
                 Ok(Obj::Value(Value::Text(replaced.into())))
             }
@@ -907,7 +965,11 @@ mod tests {
 
     fn all(pattern: &str, text: &str) -> Vec<(usize, String)> {
         let compiled = compile(pattern, false, false).unwrap();
-        find(&compiled, text, true).into_iter().map(|h| (h.first_index, h.value.to_string())).collect()
+        find(&compiled, text, true, u64::MAX)
+            .unwrap()
+            .into_iter()
+            .map(|h| (h.first_index, h.value.to_string()))
+            .collect()
     }
 
     /// JavaScript's `"baaa".match(/a*/g)` is ["", "aaa", ""] (ECMA-262 3rd ed. 15.5.4.10: an
