@@ -302,3 +302,20 @@ fn empty_plus_a_string_is_the_string() {
     let printed = printed_after("", "    Dim v, w\n    w = \"7\"\n    Debug.Print TypeName(v + w) & \" \" & (v + w)\n");
     assert_eq!(printed, ["String 7"]);
 }
+
+// "Hex function" / "Oct function": a negative number's digits are its two's complement, "up to
+// eight hexadecimal characters"; Microsoft's pages do not say in how many bits, and
+// LibreOffice's VBA mode (the oracle where Microsoft is silent) writes a Long's in 32 bits and
+// an Integer's in 16, whatever the value: `Hex(CLng(-1))` is "FFFFFFFF", `Hex(CInt(-32768))`
+// "8000". The width came from the value alone (a Long -1 was "FFFF", an Integer -32768
+// "FFFF8000").
+#[test]
+fn hex_and_oct_write_a_negative_in_its_types_bits() {
+    let got = each(&["Hex(CLng(-1))", "Oct(CLng(-1))", "Hex(CInt(-32768))", "Oct(CInt(-32768))", "Hex(-1)"]);
+    assert_eq!(got, ["String FFFFFFFF", "String 37777777777", "String 8000", "String 100000", "String FFFF"]);
+    let printed = printed_after(
+        "",
+        "    Dim x As Long, v\n    x = -1\n    v = CLng(-256)\n    Debug.Print Hex(x) & \" \" & Hex(v)\n",
+    );
+    assert_eq!(printed, ["FFFFFFFF FFFFFF00"]);
+}

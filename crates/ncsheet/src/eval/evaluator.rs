@@ -262,6 +262,13 @@ pub trait Host {
         result
     }
 
+    /// The bits of the whole-number type a macro holds `value`, the value of `e`, with: 16 for
+    /// a Byte, Boolean or Integer, 32 for a Long (Hex and Oct write a negative one's two's
+    /// complement in as many bits); `None` for any other value, and for a cell.
+    fn integer_bits(&self, _e: &Expr, _value: &Value) -> Option<u32> {
+        None
+    }
+
     /// The result of `Not operand`: a macro gives it the operand's type ([MS-VBAL] 5.6.9.8.1:
     /// `Not` of a Byte is a Byte, so `Not CByte(5)` is 250, not -6); as computed by default.
     fn logical_not(&self, _operand: &Expr, result: Value) -> Value {
@@ -611,6 +618,10 @@ impl<'a> Ctx<'a> {
     }
 
     /// The number a macro shows for `value`, the value of `e` ([`Host::shown_number`]).
+    pub fn macro_integer_bits(&self, e: &Expr, value: &Value) -> Option<u32> {
+        self.host?.integer_bits(e, value)
+    }
+
     pub fn macro_shown_number(&self, e: &Expr, value: &Value) -> Option<f64> {
         self.host?.shown_number(e, value)
     }

@@ -313,6 +313,10 @@ impl Host for Interp<'_, '_> {
         }
     }
 
+    fn integer_bits(&self, e: &Expr, value: &Value) -> Option<u32> {
+        self.integer_bits(e, value)
+    }
+
     fn logical_not(&self, operand: &Expr, result: Value) -> Value {
         self.not_in_its_type(operand, result)
     }

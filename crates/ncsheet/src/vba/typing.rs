@@ -658,6 +658,16 @@ impl Interp<'_, '_> {
         ))
     }
 
+    /// The bits of the whole-number type the value `v` of `e` is held with: 16 for a Byte,
+    /// Boolean or Integer, 32 for a Long; `None` for any other type.
+    pub(super) fn integer_bits(&self, e: &Expr, v: &Value) -> Option<u32> {
+        match self.value_type(e, v) {
+            Declared::Byte | Declared::Boolean | Declared::Integer => Some(16),
+            Declared::Long => Some(32),
+            _ => None,
+        }
+    }
+
     /// `Not operand`, which gave `result`, in the operand's type: a Byte's `Not` flips its
     /// eight bits ([MS-VBAL] 5.6.9.8.1: `Not` of a Byte is a Byte, so `Not CByte(5)` is 250,
     /// where the Long the evaluator computes in gives -6).

@@ -117,20 +117,32 @@ fn converted(ctx: &mut Ctx, args: &[Expr], name: &str, fit: &dyn Fn(f64) -> Opti
 }
 
 /// `Hex(number)` and `Oct(number)` ([MS-VBAL] section 6, its pages "Hex" and "Oct"): Null gives
-/// Null, Empty "0"; a positive Long its digits, -32,767 to -1 the 16-bit two's complement, a
-/// Long below that the 32-bit one (`Hex(-1)` is "FFFF").
+/// Null, Empty "0"; a positive number its digits, a negative one its two's complement in the
+/// bits of the type a macro holds it with (`Hex(-1)` of the Integer is "FFFF", `Hex(-1&)` of
+/// the Long "FFFFFFFF"); a number of no whole-number type (a cell's) in 16 bits from -32,767
+/// to -1, else in 32.
 fn radix(ctx: &mut Ctx, args: &[Expr], name: &str, base: u32) -> XlResult<Value> {
+    let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    let width = match (args.first(), values.first()) {
+        (Some(e), Some(v)) => ctx.macro_integer_bits(e, v),
+        _ => None,
+    };
     let raised = Raised::default();
-    let result = lift_vba(ctx, args, name, FIRST, &|v| {
-        let n = raised.whole(&v[0], LONG_MAX)? as i64;
-        let bits = match n {
-            0.. => n as u64,
-            -32767..=-1 => u64::from(n as i16 as u16),
-            _ => u64::from(n as i32 as u32),
-        };
+    let result = lift_vba_values(ctx, values, name, FIRST, &|v| {
+        let bits = twos_complement(raised.whole(&v[0], LONG_MAX)? as i64, width);
         Ok(Value::text(if base == 16 { format!("{bits:X}") } else { format!("{bits:o}") }))
     });
     raised.raise(ctx, name, result)
+}
+
+/// `n` as the unsigned bits Hex and Oct write: itself when not negative, else its two's
+/// complement in `width` bits (16 or 32; with none known, 16 from -32,767 to -1).
+fn twos_complement(n: i64, width: Option<u32>) -> u64 {
+    match (n, width) {
+        (0.., _) => n as u64,
+        (_, Some(16)) | (-32767..=-1, None) => u64::from(n as i16 as u16),
+        _ => u64::from(n as i32 as u32),
+    }
 }
 
 pub(super) fn hex(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
