@@ -18,7 +18,9 @@ use crate::eval::format::cell_style::{self, CellStyle};
 use crate::eval::{Ctx, RowHidden, Value};
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::formula::ast::{Expr, SheetId};
-use crate::workbook::look::{follow_cells, follow_columns, follow_hidden_columns, follow_hidden_rows, follow_rows};
+use crate::workbook::look::{
+    follow_cells, follow_columns, follow_hidden_columns, follow_hidden_rows, follow_hyperlink, follow_rows, Hyperlink,
+};
 use crate::workbook::{Axis, SheetEdit, SheetLook, Workbook};
 
 use super::ast::{Link, Span};
@@ -90,7 +92,7 @@ impl Edit {
 
 /// One sheet's look during a run.
 #[derive(Clone, Debug, Default)]
-struct SheetState {
+pub(super) struct SheetState {
     /// Cells' own number formats ("General" included: it hides a line format).
     formats: HashMap<Pos, Rc<str>>,
     /// Cells' own styles.
@@ -102,6 +104,11 @@ struct SheetState {
     heights: BTreeMap<u32, f64>,
     hidden_rows: BTreeSet<u32>,
     hidden_columns: BTreeSet<u16>,
+    /// The sheet's hyperlinks in the order made, each with the id its Hyperlink objects
+    /// name it by (`hyperlinks.rs`).
+    pub(super) hyperlinks: Vec<(u32, Hyperlink)>,
+    /// The id the next hyperlink made gets.
+    next_link: u32,
 }
 
 impl SheetState {
@@ -114,7 +121,15 @@ impl SheetState {
             heights: look.row_heights.iter().copied().collect(),
             hidden_rows: look.hidden_rows.iter().copied().collect(),
             hidden_columns: look.hidden_columns.iter().copied().collect(),
+            hyperlinks: (0..).zip(look.hyperlinks.iter().cloned()).collect(),
+            next_link: look.hyperlinks.len() as u32,
         }
+    }
+
+    /// A new hyperlink's id.
+    pub(super) fn next_link_id(&mut self) -> u32 {
+        self.next_link += 1;
+        self.next_link - 1
     }
 
     fn format(&self, pos: Pos) -> Option<Rc<str>> {
@@ -200,6 +215,7 @@ impl SheetState {
                 self.hidden_rows = follow_hidden_rows(std::mem::take(&mut self.hidden_rows), edit);
             }
         }
+        self.hyperlinks.retain_mut(|(_, link)| follow_hyperlink(link, edit));
     }
 
     /// The look to save: every written cell a line reaches gets its format and style.
@@ -225,6 +241,7 @@ impl SheetState {
             row_heights: self.heights.iter().map(|(r, h)| (*r, *h)).collect(),
             hidden_rows: self.hidden_rows.iter().copied().collect(),
             hidden_columns: self.hidden_columns.iter().copied().collect(),
+            hyperlinks: self.hyperlinks.iter().map(|(_, link)| link.clone()).collect(),
         }
     }
 }
@@ -257,7 +274,7 @@ impl Looks {
         out
     }
 
-    fn sheet(&mut self, sheet: SheetId) -> &mut SheetState {
+    pub(super) fn sheet(&mut self, sheet: SheetId) -> &mut SheetState {
         self.sheets.entry(sheet).or_default()
     }
 

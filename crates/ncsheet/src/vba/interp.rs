@@ -2647,6 +2647,7 @@ impl Interp<'_, '_> {
             }
             Var::Obj(Obj::Sheets) => self.wb.borrow().tab_order().iter().map(|&s| Var::Obj(Obj::Sheet(s))).collect(),
             Var::Obj(Obj::Lines(sheet, rect, rows)) => self.lines_of(sheet, rect, rows),
+            Var::Obj(Obj::Hyperlinks(sheet, within)) => self.hyperlinks_each(sheet, within),
             Var::Array(a) => {
                 // An array of a declared type: each item is of that type.
                 let typed = match &group.kind {

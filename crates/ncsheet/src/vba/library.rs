@@ -578,6 +578,8 @@ fn object_type_name(obj: &Obj) -> &'static str {
         Obj::Look(_, _, super::formats::LookPart::Font) => "Font",
         Obj::Look(_, _, super::formats::LookPart::Interior) => "Interior",
         Obj::Sheet(_) => "Worksheet",
+        Obj::Hyperlinks(..) => "Hyperlinks",
+        Obj::Hyperlink(..) => "Hyperlink",
         Obj::Sheets => "Sheets",
         Obj::Workbook => "Workbook",
         Obj::App => "Application",

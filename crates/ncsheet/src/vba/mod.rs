@@ -273,6 +273,7 @@ mod deftype;
 mod files;
 mod formats;
 mod host;
+mod hyperlinks;
 mod insert_delete;
 mod interp;
 mod library;

@@ -257,6 +257,8 @@ impl Interp<'_, '_> {
                 },
             },
             Obj::Look(sheet, rect, part) => self.look_part_member(ctx, sheet, rect, part, link),
+            Obj::Hyperlinks(sheet, within) => self.hyperlinks_member(ctx, sheet, within, link),
+            Obj::Hyperlink(sheet, id) => self.hyperlink_member(ctx, sheet, id, link),
             Obj::Nc => self.nc_member(ctx, link),
             Obj::Debug => match name.as_str() {
                 "assert" => {
@@ -424,6 +426,14 @@ impl Interp<'_, '_> {
             "range" => self.range(ctx, id, link),
             "cells" => self.cells(ctx, id, Rect::cell(Pos::new(0, 0)), link),
             "rows" | "columns" => self.range_member(ctx, id, whole_sheet(), link),
+            "hyperlinks" => self.hyperlinks(ctx, id, whole_sheet(), link),
+            // Pages are what a printer driver lays out from the paper, margins, scaling, breaks
+            // and the fonts' metrics: ncsheet lays out none, so it refuses to guess a count.
+            "pagesetup" => Err(self.fault_at(
+                link.span,
+                "PageSetup: ncsheet prints nothing and lays out no pages (paper, margins, scaling, page \
+                 breaks, fonts), so it has no page count or print settings to give",
+            )),
             "name" => Ok(Obj::Value(Value::text(self.wb.borrow().sheet_names()[id as usize].clone()))),
             "index" => {
                 let tab = self.wb.borrow().tab_position(id).expect("a sheet of the workbook");
@@ -635,6 +645,9 @@ impl Interp<'_, '_> {
             "delete" | "insert" => self.insert_or_delete(ctx, sheet, rect, name == "insert", link),
             "entirerow" => Ok(Obj::Range(sheet, super::insert_delete::entire_rows(rect))),
             "entirecolumn" => Ok(Obj::Range(sheet, super::insert_delete::entire_columns(rect))),
+            "hyperlinks" => self.hyperlinks(ctx, sheet, rect, link),
+            // "Range.ClearHyperlinks method": the links go, the cells keep their values.
+            "clearhyperlinks" => Ok(self.delete_hyperlinks(sheet, rect)),
             _ => match self.look_member(ctx, sheet, rect, link) {
                 Some(look) => look,
                 None => Err(self.no_member(&Obj::Range(sheet, rect), link)),
@@ -853,6 +866,7 @@ impl Interp<'_, '_> {
                 let v = self.eval(value)?;
                 self.rename_sheet(*sheet, &v, link.span)
             }
+            (Obj::Hyperlink(sheet, id), _) => self.set_hyperlink_member(*sheet, *id, link, value),
             (Obj::Record(var, path), _) => {
                 let mut path = path.clone();
                 path.push(self.field_index(var, &path, link)?);

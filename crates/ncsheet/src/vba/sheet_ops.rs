@@ -368,7 +368,7 @@ impl Interp<'_, '_> {
     }
 }
 
-fn intersect(a: Rect, b: Rect) -> Option<Rect> {
+pub(super) fn intersect(a: Rect, b: Rect) -> Option<Rect> {
     let first = Pos::new(a.first.row.max(b.first.row), a.first.col.max(b.first.col));
     let last = Pos::new(a.last.row.min(b.last.row), a.last.col.min(b.last.col));
     (first.row <= last.row && first.col <= last.col).then(|| Rect::new(first, last))

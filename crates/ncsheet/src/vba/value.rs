@@ -217,6 +217,10 @@ pub enum Obj {
     Lines(SheetId, Rect, bool),
     /// `r.Font` or `r.Interior` (`formats.rs`).
     Look(SheetId, Rect, super::formats::LookPart),
+    /// A sheet's hyperlinks on the cells of a rectangle (the whole sheet for `ws.Hyperlinks`),
+    /// and one hyperlink of a sheet by its id (`hyperlinks.rs`).
+    Hyperlinks(SheetId, Rect),
+    Hyperlink(SheetId, u32),
     Sheet(SheetId),
     Sheets,
     Workbook,
@@ -250,6 +254,8 @@ impl Obj {
             Obj::Lines(..) => "a Rows or Columns collection",
             Obj::Look(_, _, super::formats::LookPart::Font) => "a Font",
             Obj::Look(_, _, super::formats::LookPart::Interior) => "an Interior",
+            Obj::Hyperlinks(..) => "a Hyperlinks collection",
+            Obj::Hyperlink(..) => "a Hyperlink",
             Obj::Sheet(_) => "a Worksheet",
             Obj::Sheets => "the Worksheets collection",
             Obj::Workbook => "the Workbook",

@@ -8,7 +8,7 @@ use std::collections::{BTreeMap, HashMap};
 use std::hash::Hash;
 
 use crate::eval::format::cell_style::CellStyle;
-use crate::formula::address::Pos;
+use crate::formula::address::{Pos, Rect};
 
 use super::{Axis, SheetEdit};
 
@@ -28,6 +28,25 @@ pub struct SheetLook {
     pub hidden_rows: Vec<u32>,
     /// Columns hidden (`<col hidden="1">`, `Columns("C").Hidden = True`).
     pub hidden_columns: Vec<u16>,
+    /// The sheet's hyperlinks in the order they were made (`<hyperlinks>`, `Hyperlinks.Add`).
+    pub hyperlinks: Vec<Hyperlink>,
+}
+
+/// A hyperlink on cells (Excel's Hyperlink object): where it leads, a file or web address
+/// (`Address`) and/or a place in the workbook (`SubAddress`, `'Sheet 2'!A1`), and the text
+/// and tip it shows.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct Hyperlink {
+    /// The cells it is on (`ref`, `Anchor`).
+    pub anchor: Rect,
+    /// An address outside the workbook (a relationship's target in the file), "" for none.
+    pub address: String,
+    /// A place in the workbook (`location` in the file), "" for none.
+    pub sub_address: String,
+    /// `display`, `TextToDisplay`.
+    pub text: Option<String>,
+    /// `tooltip`, `ScreenTip`.
+    pub tip: Option<String>,
 }
 
 impl SheetLook {
@@ -47,6 +66,7 @@ impl SheetLook {
                 self.hidden_rows = follow_hidden_rows(std::mem::take(&mut self.hidden_rows), edit);
             }
         }
+        self.hyperlinks.retain_mut(|link| follow_hyperlink(link, edit));
     }
 
     /// The same look with its widths and heights in order, one each (the last given wins),
@@ -71,6 +91,7 @@ impl SheetLook {
             && self.row_heights.is_empty()
             && self.hidden_rows.is_empty()
             && self.hidden_columns.is_empty()
+            && self.hyperlinks.is_empty()
     }
 }
 
@@ -245,6 +266,18 @@ pub fn follow_hidden_columns<C: FromIterator<u16>>(columns: impl IntoIterator<It
 /// Hidden rows moved by an edit of rows; a deleted one's dropped.
 pub fn follow_hidden_rows<C: FromIterator<u32>>(rows: impl IntoIterator<Item = u32>, edit: &SheetEdit) -> C {
     rows.into_iter().filter_map(|row| edit.moved_line(row)).collect()
+}
+
+/// A hyperlink goes with its cells (Excel moves a hyperlink with its anchor); one whose cells
+/// were all deleted is gone (false).
+pub fn follow_hyperlink(link: &mut Hyperlink, edit: &SheetEdit) -> bool {
+    match edit.moved_rect(link.anchor) {
+        Some(anchor) => {
+            link.anchor = anchor;
+            true
+        }
+        None => false,
+    }
 }
 
 #[cfg(test)]

@@ -39,7 +39,7 @@ pub use delete_sheet::DeletedSheet;
 pub(crate) use graph::FxMap;
 use graph::{Deps, RangeIndex};
 use links::for_each_pos;
-pub use look::{LooksByCell, SheetLook};
+pub use look::{Hyperlink, LooksByCell, SheetLook};
 pub use problems::{Problem, ProblemKind};
 use shared::{key_offset, relative_key_into, shape_of, text_offset, FormulaStore, SharedFormula};
 use sheet::Sheet;

@@ -92,6 +92,12 @@ pub fn patch(
         else {
             continue;
         };
+        if layout.file_look.as_ref().is_some_and(|was| was.hyperlinks != layout.look.hyperlinks) {
+            // A new link outside the package needs its relationship, which the patch does
+            // not write; a package written anew has them all.
+            let why = format!("the hyperlinks of sheet '{}' changed", entry.name);
+            return Ok(Err(Unpatchable(why)));
+        }
         let Some(restyle) = layout.file_look.as_ref().map(|was| Restyle::between(was, &layout.look)) else { continue };
         if !restyle.is_empty() {
             let cells = &mut by_part.entry(entry.part.clone()).or_insert_with(|| (sheet, BTreeMap::new())).1;

@@ -2,6 +2,7 @@
 //! the sheet list with each sheet's part, defined names with their `localSheetId`, the
 //! shared-string part and the workbook's VBA code name.
 
+use std::collections::HashMap;
 use std::io::{Cursor, Read};
 
 use zip::result::ZipError;
@@ -251,6 +252,21 @@ impl<'a> Package<'a> {
     pub fn related_parts(&mut self, part: &str, kinds: &[&str]) -> Result<Vec<(String, String)>, Err> {
         let rels = self.relationships(part)?;
         Ok(rels.into_iter().filter(|(_, _, k)| kinds.contains(&k.as_str())).map(|(_, target, k)| (k, target)).collect())
+    }
+
+    /// The targets outside the package (`TargetMode="External"`) of `part`'s relationships
+    /// of the type `kind` (a type's last segment: `hyperlink`), as written, by id.
+    pub fn external_targets(&mut self, part: &str, kind: &str) -> Result<HashMap<String, String>, Err> {
+        let Some(bytes) = self.read_optional(&relationships_part(part))? else { return Ok(HashMap::new()) };
+        let mut out = HashMap::new();
+        for_each_tag(&bytes, &mut |tag, _| {
+            let of_kind = tag.attr("Type").is_some_and(|t| t.rsplit(|&b| b == b'/').next() == Some(kind.as_bytes()));
+            if tag.name == b"Relationship" && of_kind && is_external(tag) {
+                let id = tag.attr("Id").map(unescape).unwrap_or_default();
+                out.entry(id).or_insert_with(|| tag.attr("Target").map(unescape).unwrap_or_default());
+            }
+        });
+        Ok(out)
     }
 
     /// The relationships of a part: id → (target part, type's last segment).

@@ -25,7 +25,7 @@ use crate::eval::{Env, RowHidden, Value, XlError};
 use crate::formula::address::{Pos, Rect, MAX_COLS};
 use crate::formula::ast::SheetId;
 use crate::formula::parse::ParseError;
-use crate::workbook::{Workbook, WorkbookError};
+use crate::workbook::{Hyperlink, Workbook, WorkbookError};
 
 use super::external::{self, ExternalBook};
 use super::pivot;
@@ -183,13 +183,16 @@ pub fn load_bytes_limited(bytes: &[u8], file: &Path, limits: ReadLimits) -> Resu
         sheet_import.finish(&mut imported);
         hide_rows(&mut imported.workbook, &mut package, entry, sheet, &scan);
         set_widths(&mut imported.workbook, sheet, &scan);
-        scans.push((entry.name.clone(), scan));
+        let hyperlinks = hyperlinks(&mut package, &entry.part, &scan).map_err(fail)?;
+        scans.push((entry.name.clone(), scan, hyperlinks));
     }
     // After the sheets: calamine reads the first one up to its cells, which the pass above
     // has held to the limits.
     let looks = style_looks(&mut calamine, &sheets, file)?;
-    for (name, scan) in scans {
-        imported.layout.sheets.insert(name, sheet_layout(&scan, &looks));
+    for (name, scan, hyperlinks) in scans {
+        let mut layout = sheet_layout(&scan, &looks);
+        layout.look.hyperlinks = hyperlinks;
+        imported.layout.sheets.insert(name, layout);
     }
     imported.layout.vba_project = package.read_optional("xl/vbaProject.bin").map_err(fail)?;
     imported.layout.workbook_code_name = package.code_name.clone();
@@ -1075,6 +1078,27 @@ fn cell_style(s: &Style) -> CellStyle {
             _ => Some(XL_UNDERLINE_SINGLE),
         }),
     }
+}
+
+/// A sheet's hyperlinks: a place in the workbook from its `location`, an address outside it
+/// from its relationship's target.
+fn hyperlinks(package: &mut Package, part: &str, scan: &SheetScan) -> Result<Vec<Hyperlink>, raw::Err> {
+    if scan.hyperlinks.is_empty() {
+        return Ok(Vec::new());
+    }
+    let targets = package.external_targets(part, "hyperlink")?;
+    let address = |id: &Option<String>| id.as_ref().and_then(|id| targets.get(id)).cloned().unwrap_or_default();
+    Ok(scan
+        .hyperlinks
+        .iter()
+        .map(|link| Hyperlink {
+            anchor: link.anchor,
+            address: address(&link.relationship),
+            sub_address: link.location.clone(),
+            text: link.display.clone(),
+            tip: link.tooltip.clone(),
+        })
+        .collect())
 }
 
 fn sheet_layout(scan: &SheetScan, looks: &[StyleLook]) -> SheetLayout {

@@ -51,6 +51,19 @@ pub struct SheetScan {
     pub row_heights: Vec<(u32, f64)>,
     /// The sheet's `<autoFilter ref>`, and whether it filters on a column.
     pub auto_filter: Option<(Rect, bool)>,
+    /// `<hyperlink>`s, in file order.
+    pub hyperlinks: Vec<FileHyperlink>,
+}
+
+/// A `<hyperlink>` as the sheet part has it: an address outside the package is behind a
+/// relationship (`r:id`), a place in the workbook is its `location`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FileHyperlink {
+    pub anchor: Rect,
+    pub relationship: Option<String>,
+    pub location: String,
+    pub display: Option<String>,
+    pub tooltip: Option<String>,
 }
 
 /// One cell as the file holds it.
@@ -304,6 +317,7 @@ impl SheetScanner<'_> {
             b"autoFilter" if opens => {
                 self.scan.auto_filter = tag.attr("ref").and_then(parse_rect).map(|r| (r, false));
             }
+            b"hyperlink" if opens => self.hyperlink(tag),
             b"filterColumn" => {
                 if let Some((_, filtering)) = &mut self.scan.auto_filter {
                     *filtering = true;
@@ -470,6 +484,19 @@ impl SheetScanner<'_> {
             },
             CellType::InlineString => unreachable!("handled above"),
         }))
+    }
+
+    /// A `<hyperlink ref>`; one without a cell reference Excel could read is left out.
+    fn hyperlink(&mut self, tag: &Tag) {
+        let Some(anchor) = tag.attr("ref").and_then(parse_rect) else { return };
+        let text = |name: &str| tag.attr(name).map(xml::unescape);
+        self.scan.hyperlinks.push(FileHyperlink {
+            anchor,
+            relationship: text("id"),
+            location: text("location").unwrap_or_default(),
+            display: text("display"),
+            tooltip: text("tooltip"),
+        });
     }
 
     fn default_width(&mut self, tag: &Tag) {

@@ -134,6 +134,13 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
             for &col in &l.look.hidden_columns {
                 ws.set_column_hidden(col).map_err(|e| fail(Some(name), e))?;
             }
+            // Before the cells: rust_xlsxwriter writes a link's text into its cell, which the
+            // cell's own value then replaces.
+            for hyperlink in &l.look.hyperlinks {
+                let blank = wb.value(sheet, hyperlink.anchor.first).is_blank();
+                write_hyperlink(ws, hyperlink, blank)
+                    .map_err(|e| fail(Some(&wb.cell_name(sheet, hyperlink.anchor.first)), e))?;
+            }
             if macros {
                 if let Some(code_name) = &l.code_name {
                     ws.set_vba_name(code_name).map_err(|e| fail(Some(name), e))?;
@@ -477,6 +484,43 @@ fn write_value(
         (Value::Bool(b), None) => ws.write_boolean(row, col, *b).map(|_| ()),
         (Value::Error(_), _) => unreachable!("error constants are written as placeholders"),
     }
+}
+
+/// A hyperlink on its anchor's first cell (rust_xlsxwriter links one cell): a place in the
+/// workbook as an `internal:` link (a `location` in the file), anything else as an address
+/// outside it (a relationship with TargetMode="External"), its place after a `#`. A link on a
+/// blank cell leaves the cell blank.
+fn write_hyperlink(
+    ws: &mut Worksheet,
+    link: &crate::workbook::Hyperlink,
+    blank: bool,
+) -> Result<(), rust_xlsxwriter::XlsxError> {
+    let target = match (link.address.as_str(), link.sub_address.as_str()) {
+        ("", place) => format!("internal:{place}"),
+        (address, place) => {
+            let known = ["http://", "https://", "ftp://", "mailto:", "file://"].iter().any(|s| address.starts_with(s));
+            // A file's path, relative or not (rust_xlsxwriter reads it after `file:///`).
+            let address = if known { address.to_string() } else { format!("file:///{address}") };
+            if place.is_empty() {
+                address
+            } else {
+                format!("{address}#{place}")
+            }
+        }
+    };
+    let mut url = rust_xlsxwriter::Url::new(target);
+    if let Some(text) = &link.text {
+        url = url.set_text(text);
+    }
+    if let Some(tip) = &link.tip {
+        url = url.set_tip(tip);
+    }
+    let (row, col) = (link.anchor.first.row, link.anchor.first.col as u16);
+    ws.write_url(row, col, url)?;
+    if blank {
+        ws.write_blank(row, col, &Format::new())?;
+    }
+    Ok(())
 }
 
 /// A formula's value as the cached result text rust_xlsxwriter types by its spelling.
