@@ -143,3 +143,14 @@ fn an_nc_word_with_a_number_past_the_doubles_says_so_briefly() {
     assert!(said.len() < 300, "{} bytes: {said}", said.len());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn interest_of_a_long_loan_keeps_its_digits() {
+    // mpmath at 120 digits: the interest of payment 1E6 of 3E6 at 1E-4 on 1000 is -0.1 (the
+    // balance is still about 1000), and payments 1 to 10 pay -1.0 in all; payments 1 to 1E6
+    // pay 1E6 times the payment, -0.1·gⁿ/(gⁿ − 1) with gⁿ = e^300: -100000. FV's form of the
+    // balance cancelled numbers near 1E+46: IPMT was 0 and the CUMIPMT of 1E6 periods 1.5E+29.
+    near("=IPMT(1E-4,1E6,3E6,1000)", -0.1, 1e-9);
+    near("=CUMIPMT(1E-4,3E6,1000,1,10,0)", -1.0, 1e-12);
+    near("=CUMIPMT(1E-4,3E6,1000,1,1E6,0)", -100_000.0, 1e-9);
+}

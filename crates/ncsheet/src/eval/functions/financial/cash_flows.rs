@@ -256,12 +256,39 @@ fn ipmt_of(rate: f64, per: f64, nper: f64, pv: f64, fv: f64, kind: f64) -> f64 {
         } else {
             -pv
         }
-    } else if kind == 1.0 {
-        fv_of(rate, per - 2.0, pmt, pv, 1.0) - pmt
     } else {
-        fv_of(rate, per - 1.0, pmt, pv, 0.0)
+        // Paid in advance, the balance before `per` is one payment less than after per − 2.
+        let periods = if kind == 1.0 { per - 2.0 } else { per - 1.0 };
+        let after = balance_after(rate, periods, nper, pv, fv).unwrap_or_else(|| fv_of(rate, periods, pmt, pv, kind));
+        if kind == 1.0 {
+            after - pmt
+        } else {
+            after
+        }
     };
     balance * rate
+}
+
+/// What is owed after `m` of the `n` payments of a loan of `pv` leaving `fv`, with the sign
+/// FV gives it: −pv·(gⁿ − gᵐ)/(gⁿ − 1) + fv·(gᵐ − 1)/(gⁿ − 1), g = 1 + rate, each ratio
+/// written with exponents of at most 0 through expm1. FV's own form, pv·gᵐ + pmt·(gᵐ − 1)/rate,
+/// subtracts two numbers near pv·gᵐ: at 1E-4 over 3E6 periods they pass 1E+46 and the
+/// interest of payment 1E6 (−0.1) came out 0. `None` where the forms do not hold (a rate of 0
+/// or at most −1) or overflow, for FV's form.
+fn balance_after(rate: f64, m: f64, n: f64, pv: f64, fv: f64) -> Option<f64> {
+    if rate == 0.0 || rate <= -1.0 {
+        return None;
+    }
+    let ln_g = rate.ln_1p();
+    let left = ((m - n) * ln_g).exp_m1() / (-n * ln_g).exp_m1();
+    let grown = if fv == 0.0 {
+        0.0
+    } else if n * ln_g > 1.0 {
+        ((m - n) * ln_g).exp() * (-m * ln_g).exp_m1() / (-n * ln_g).exp_m1()
+    } else {
+        (m * ln_g).exp_m1() / (n * ln_g).exp_m1()
+    };
+    Some(-pv * left + fv * grown).filter(|b| b.is_finite())
 }
 
 fn ipmt(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
