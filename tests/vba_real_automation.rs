@@ -346,3 +346,29 @@ fn a_built_in_number_style_sets_the_number_format() {
     );
     assert_eq!(out, ["0%|25%|_(* #,##0.00_);_(* \\(#,##0.00\\);_(* \"-\"??_);_(@_)"]);
 }
+
+// "Range.Find method": searching starts after the After cell (the range's first cell when
+// omitted) and comes round, After itself last; SearchOrder xlByRows or xlByColumns,
+// SearchDirection xlNext or xlPrevious; LookAt xlPart (default) or xlWhole; case is ignored
+// unless MatchCase; "*" matches any filled cell; Nothing when no cell matches. The last-row
+// idiom `Cells.Find("*", SearchOrder:=xlByRows, SearchDirection:=xlPrevious).Row`.
+#[test]
+fn range_find_searches_after_a_cell_in_either_order_and_direction() {
+    let mut wb = Workbook::with_sheet();
+    for (cell, v) in
+        [("A1", "key"), ("A2", "AAA"), ("A3", "BBB"), ("A4", "AAA"), ("C2", "aaab"), ("B6", "x"), ("D3", "=1+1")]
+    {
+        set(&mut wb, 0, cell, v);
+    }
+    let out = run(
+        &mut wb,
+        "    Debug.Print Range(\"A:A\").Find(What:=\"AAA\", After:=Range(\"A1\")).Address\n\
+         \x20   Debug.Print Range(\"A:A\").Find(\"aaa\", After:=Range(\"A1\"), SearchDirection:=xlPrevious).Address\n\
+         \x20   Debug.Print Cells.Find(\"*\", SearchOrder:=xlByRows, SearchDirection:=xlPrevious).Row\n\
+         \x20   Debug.Print Cells.Find(\"*\", SearchOrder:=xlByColumns, SearchDirection:=xlPrevious).Column\n\
+         \x20   Debug.Print Range(\"A1:D4\").Find(\"aaa\", LookAt:=xlWhole, SearchOrder:=xlByColumns).Address\n\
+         \x20   Debug.Print Range(\"A1:D4\").Find(\"AAAB\", MatchCase:=True) Is Nothing\n\
+         \x20   Debug.Print Range(\"A1:D4\").Find(\"2\", LookIn:=xlValues).Address; Range(\"A1:D4\").Find(\"2\") Is Nothing",
+    );
+    assert_eq!(out, ["$A$2", "$A$4", " 6 ", " 4 ", "$A$2", "True", "$D$3True"]);
+}

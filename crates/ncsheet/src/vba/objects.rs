@@ -630,6 +630,7 @@ impl Interp<'_, '_> {
                 value(Value::Blank)
             }
             "replace" => self.replace_in_range(ctx, sheet, rect, link),
+            "find" => self.find_in_range(ctx, sheet, rect, link),
             "currentregion" => Ok(Obj::Range(sheet, self.current_region(sheet, rect))),
             "specialcells" => self.special_cells(sheet, link),
             "pastespecial" => {

@@ -1,5 +1,7 @@
-//! `Range.Replace` ("Range.Replace method"): Excel's Find and Replace over a range's cells, as a
-//! recorded macro runs it (`Columns("B:B").Replace What:=",", Replacement:=".", LookAt:=xlPart`).
+//! `Range.Replace` ("Range.Replace method") and `Range.Find` ("Range.Find method"): Excel's Find
+//! and Replace over a range's cells, as a recorded macro runs it (`Columns("B:B").Replace
+//! What:=",", Replacement:=".", LookAt:=xlPart`, `Cells.Find("*", SearchOrder:=xlByRows,
+//! SearchDirection:=xlPrevious).Row`).
 
 use regex::{NoExpand, Regex};
 
@@ -10,11 +12,19 @@ use crate::formula::ast::SheetId;
 use super::ast::Link;
 use super::interp::{Interp, Run};
 use super::sheet_ops::argument;
-use super::value::Obj;
+use super::value::{Obj, Var};
 
 /// `XlLookAt`: the whole cell must match (`xlWhole`, 1) or a part of it (`xlPart`, 2).
 const XL_WHOLE: f64 = 1.0;
 const XL_PART: f64 = 2.0;
+/// `XlFindLookIn`: formulas as written (`xlFormulas`) or values as shown (`xlValues`).
+const XL_FORMULAS: f64 = -4123.0;
+const XL_VALUES: f64 = -4163.0;
+/// `XlSearchOrder` and `XlSearchDirection`.
+const XL_BY_ROWS: f64 = 1.0;
+const XL_BY_COLUMNS: f64 = 2.0;
+const XL_NEXT: f64 = 1.0;
+const XL_PREVIOUS: f64 = 2.0;
 
 impl Interp<'_, '_> {
     /// `rng.Replace What, Replacement, [LookAt], [SearchOrder], [MatchCase], [MatchByte],
@@ -54,6 +64,78 @@ impl Interp<'_, '_> {
             }
         }
         Ok(Obj::Value(Value::Bool(true)))
+    }
+
+    /// `rng.Find What, [After], [LookIn], [LookAt], [SearchOrder], [SearchDirection],
+    /// [MatchCase]`: the first cell after `After` (the range's first cell when omitted), by rows
+    /// or by columns (xlByRows, the default, or xlByColumns), forward (xlNext) or backward
+    /// (xlPrevious), coming round from the range's other end, `After` itself searched last,
+    /// whose formula or typed constant (LookIn:=xlFormulas, the default) or shown text
+    /// (xlValues) holds `What` as Replace matches it; Nothing when no cell does. Empty cells
+    /// never match.
+    pub(super) fn find_in_range(&self, ctx: &mut Ctx, sheet: SheetId, rect: Rect, link: &Link) -> Run<Obj> {
+        let what =
+            self.text_argument(link, 0, "What")?.ok_or_else(|| self.fault_at(link.span, "Range.Find needs What:="))?;
+        let after = match argument(link, 1, "After").map(|e| self.var_of(e, true)).transpose()? {
+            Some(Var::Obj(Obj::Range(_, r))) => r.first,
+            None => rect.first,
+            Some(_) => return Err(self.fault_at(link.span, "Range.Find After:= takes one cell of the range")),
+        };
+        let number = |position, name, default: f64| -> Run<f64> {
+            match argument(link, position, name).map(|e| self.eval(e)).transpose()? {
+                None => Ok(default),
+                Some(Value::Number(n)) => Ok(n),
+                Some(_) => Err(self.fault_at(link.span, format!("Range.Find {name}:= takes an Xl constant"))),
+            }
+        };
+        let by_values = number(2, "LookIn", XL_FORMULAS)? == XL_VALUES;
+        let whole = number(3, "LookAt", XL_PART)? == XL_WHOLE;
+        let by_columns = number(4, "SearchOrder", XL_BY_ROWS)? == XL_BY_COLUMNS;
+        let backward = number(5, "SearchDirection", XL_NEXT)? == XL_PREVIOUS;
+        let match_case = self.flag_argument(link, 6, "MatchCase")?.unwrap_or(false);
+        let pattern = wildcard_pattern(&what, whole, match_case);
+        let pattern =
+            Regex::new(&pattern).map_err(|e| self.fault_at(link.span, format!("Range.Find What:={what}: {e}")))?;
+        let key = |p: Pos| if by_columns { (p.col, p.row) } else { (p.row, p.col) };
+        let used = ctx.clip_to_used(sheet, rect);
+        let mut found: Option<Pos> = None;
+        let better = |candidate: Pos, best: Option<Pos>| {
+            // Ahead of `after` in the search's direction, the nearest first; else, coming round,
+            // the farthest; `after` itself last of all.
+            let rank = |p: Pos| {
+                let (k, a) = (key(p), key(after));
+                let ahead = if backward { k < a } else { k > a };
+                let lap = if ahead {
+                    0
+                } else if p == after {
+                    2
+                } else {
+                    1
+                };
+                (lap, if backward { (u32::MAX - k.0, u32::MAX - k.1) } else { k })
+            };
+            best.is_none_or(|b| rank(candidate) < rank(b))
+        };
+        for row in used.first.row..=used.last.row {
+            for col in used.first.col..=used.last.col {
+                let p = Pos::new(row, col);
+                let text = match by_values {
+                    true if self.wb.borrow().value(sheet, p) == Value::Blank => continue,
+                    true => self.shown_text(ctx, sheet, p),
+                    false => match self.formulas(sheet, Rect::cell(p), false) {
+                        Value::Text(t) if !t.is_empty() => t.to_string(),
+                        _ => continue,
+                    },
+                };
+                if !text.is_empty() && pattern.is_match(&text) && better(p, found) {
+                    found = Some(p);
+                }
+            }
+        }
+        Ok(match found {
+            Some(p) => Obj::Range(sheet, Rect::cell(p)),
+            None => Obj::Value(Value::Blank),
+        })
     }
 
     /// LookAt:=xlPart (2, the default) or xlWhole (1).
