@@ -319,3 +319,20 @@ fn hex_and_oct_write_a_negative_in_its_types_bits() {
     );
     assert_eq!(printed, ["FFFFFFFF FFFFFF00"]);
 }
+
+// "LSet statement": "If string is shorter than stringvar, LSet left-aligns string in stringvar.
+// LSet replaces any leftover characters in stringvar with spaces. If string is longer than
+// stringvar, LSet places only the leftmost characters, up to the length of the stringvar";
+// "RSet statement": right-aligns, "replaces any leftover characters in stringvar with spaces,
+// back to its beginning". Both were no statements at all ("no Function, Sub or sheet function
+// named LSet": the procedure did not compile). LibreOffice agrees on each.
+#[test]
+fn lset_and_rset_align_in_the_variables_length() {
+    let body = "    Dim s As String, t As String, u As String, w As String * 4\n\
+                \x20   s = \"abcde\": LSet s = \"xy\"\n\
+                \x20   t = \"abcde\": RSet t = \"xy\"\n\
+                \x20   u = \"ab\": RSet u = \"xyz\"\n\
+                \x20   RSet w = 12\n\
+                \x20   Debug.Print \"[\" & s & \"][\" & t & \"][\" & u & \"][\" & w & \"]\"\n";
+    assert_eq!(printed_after("", body), ["[xy   ][   xy][xy][  12]"]);
+}

@@ -10,7 +10,7 @@ use pest::iterators::Pair;
 
 use crate::eval::functions::Registry;
 use crate::eval::{Array, Env, Value};
-use crate::formula::ast::{Expr, ExprKind};
+use crate::formula::ast::{BinOp, Expr, ExprKind};
 use crate::formula::parse::{FunctionTable, Rule};
 
 use super::ast::{Class, Inspect, Link, Node, Span, StmtKind, Target, Ty};
@@ -440,6 +440,25 @@ impl Interp<'_, '_> {
 }
 
 impl Build<'_> {
+    /// `LSet stringvar = string` and `RSet stringvar = string` ("LSet statement", "RSet
+    /// statement"), read by the grammar as a call of LSet with the comparison `stringvar =
+    /// string`: the assignment `stringvar = VBA.LSETSTATEMENT(stringvar, string)`; anything
+    /// else after LSet is refused with the statement's form.
+    pub(super) fn aligned_assignment(&self, pair: &Pair<Rule>, word: &str, statement: &Expr) -> Res<StmtKind> {
+        let shown = if word == "lset" { "LSet" } else { "RSet" };
+        let refused =
+            || self.error_at(pair, format!("{shown}: {shown} stringvar = string, where stringvar is a variable"));
+        let ExprKind::Binary(BinOp::Eq, target, value) = &statement.kind else { return Err(refused()) };
+        let ExprKind::Name(var) = &target.kind else { return Err(refused()) };
+        let name = if word == "lset" { "VBA.LSETSTATEMENT" } else { "VBA.RSETSTATEMENT" };
+        if !self.is_var(var) {
+            return Err(refused());
+        }
+        let info = Registry.lookup(name).ok_or_else(refused)?;
+        let call = Expr::new(ExprKind::Call(info.id, vec![(**target).clone(), (**value).clone()]), statement.span);
+        Ok(StmtKind::Assign { target: Target::Var(var.clone()), value: call, set: false })
+    }
+
     /// `Mid(stringvar, start[, length]) = string` ("Mid statement"): the assignment
     /// `stringvar = <its text with the characters replaced>`, through the function table's
     /// `VBA.MIDSTATEMENT`; `None` for any other assignment.

@@ -1379,7 +1379,7 @@ impl<'s> Build<'s> {
         let word: String =
             pair.as_str().trim_start().chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
         let lower = word.to_ascii_lowercase();
-        let library = matches!(lower.as_str(), "stop" | "randomize" | "erase" | "error");
+        let library = matches!(lower.as_str(), "stop" | "randomize" | "erase" | "error" | "lset" | "rset");
         if !library || find(&k, Rule::k_call).is_some() || self.is_var(&word) || self.proc_index(&word).is_some() {
             return Ok(None);
         }
@@ -1399,6 +1399,7 @@ impl<'s> Build<'s> {
             ("randomize", []) => StmtKind::Randomize(None),
             ("randomize", [_]) => StmtKind::Randomize(values.into_iter().next()),
             ("error", [_]) => StmtKind::Error(values.into_iter().next().expect("one argument")),
+            ("lset" | "rset", [statement]) => self.aligned_assignment(pair, &lower, statement)?,
             ("erase", [_, ..]) => {
                 let mut names = Vec::new();
                 for v in &values {

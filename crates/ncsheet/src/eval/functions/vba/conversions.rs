@@ -311,6 +311,26 @@ pub(super) fn mid_statement(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     raised.raise(ctx, "Mid statement", result)
 }
 
+/// The LSet and RSet statements (`LSet stringvar = string`, "LSet statement", "RSet
+/// statement"): `string` in the variable's length, left-aligned (LSet) or right-aligned
+/// (RSet), padded with spaces; a longer `string` keeps its leftmost characters either way.
+fn aligned_in_place(ctx: &mut Ctx, args: &[Expr], name: &str, right: bool) -> XlResult<Value> {
+    lift_vba(ctx, args, name, NO_NULL, &|v| {
+        let width = vba_text(&v[0])?.chars().count();
+        let text: String = vba_text(&v[1])?.chars().take(width).collect();
+        let pad = " ".repeat(width - text.chars().count());
+        Ok(Value::text(if right { format!("{pad}{text}") } else { format!("{text}{pad}") }))
+    })
+}
+
+pub(super) fn lset_statement(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    aligned_in_place(ctx, args, "LSet", false)
+}
+
+pub(super) fn rset_statement(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    aligned_in_place(ctx, args, "RSet", true)
+}
+
 /// Days from 1899-12-30 (VBA's day 0) to a day of the proleptic Gregorian calendar.
 pub(super) fn days_from_civil(year: i64, month: i64, day: i64) -> i64 {
     // Years counted from March, so that the leap day ends a year.

@@ -415,6 +415,22 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "VBA.MIDSTATEMENT(text, start, [length], replacement)",
         "VBA's Mid statement (Mid(s, start, length) = replacement): the text with characters replaced",
     ),
+    FnSpec::value(
+        "VBA.LSETSTATEMENT",
+        2,
+        2,
+        conversions::lset_statement,
+        "VBA.LSETSTATEMENT(stringvar, string)",
+        "VBA's LSet statement (LSet s = string): the string left-aligned in the variable's length",
+    ),
+    FnSpec::value(
+        "VBA.RSETSTATEMENT",
+        2,
+        2,
+        conversions::rset_statement,
+        "VBA.RSETSTATEMENT(stringvar, string)",
+        "VBA's RSet statement (RSet s = string): the string right-aligned in the variable's length",
+    ),
     FnSpec::value("VBA.DATE$", 0, 0, conversions::date_s, "VBA.DATE$()", "VBA Date$: today as mm-dd-yyyy")
         .volatile()
         .reads(Outside::Clock),
