@@ -372,3 +372,23 @@ fn range_find_searches_after_a_cell_in_either_order_and_direction() {
     );
     assert_eq!(out, ["$A$2", "$A$4", " 6 ", " 4 ", "$A$2", "True", "$D$3True"]);
 }
+
+// "Range.Clear method": "Clears the entire object" (values and formats); "Range.ClearFormats
+// method": "Clears the formatting of the object" (values stay); "Range.ClearContents method"
+// clears the values and keeps the formats.
+#[test]
+fn clear_takes_the_formats_too_and_clear_formats_only_them() {
+    let out = printed(
+        "",
+        "    Range(\"A1:C1\").Value = 0.5\n\
+         \x20   Range(\"A1:C1\").NumberFormat = \"0.00\"\n\
+         \x20   Range(\"A1:C1\").Font.Bold = True\n\
+         \x20   Range(\"A1\").Clear\n\
+         \x20   Range(\"B1\").ClearFormats\n\
+         \x20   Range(\"C1\").ClearContents\n\
+         \x20   Debug.Print IsEmpty(Range(\"A1\")) & \"|\" & Range(\"A1\").NumberFormat & \"|\" & Range(\"A1\").Font.Bold\n\
+         \x20   Debug.Print Range(\"B1\").Value & \"|\" & Range(\"B1\").NumberFormat & \"|\" & Range(\"B1\").Font.Bold\n\
+         \x20   Debug.Print IsEmpty(Range(\"C1\")) & \"|\" & Range(\"C1\").NumberFormat & \"|\" & Range(\"C1\").Font.Bold",
+    );
+    assert_eq!(out, ["True|General|False", "0.5|General|False", "True|0.00|True"]);
+}

@@ -663,6 +663,33 @@ impl Interp<'_, '_> {
         looks.sheet(to).put_cells(taken);
     }
 
+    /// `rng.Clear` and `rng.ClearFormats` ("Range.Clear method" clears "the entire object",
+    /// formats included): the cells go back to General and the plain style, also under a
+    /// formatted whole row or column.
+    pub(super) fn clear_looks(&self, sheet: SheetId, rect: Rect) -> Run<()> {
+        drop(self.book_mut()?);
+        let mut looks = self.looks.borrow_mut();
+        let state = looks.sheet(sheet);
+        let overlaps = |a: &Rect| {
+            a.first.row <= rect.last.row
+                && rect.first.row <= a.last.row
+                && a.first.col <= rect.last.col
+                && rect.first.col <= a.last.col
+        };
+        let under_lines = state.lines.iter().any(|(line, _)| overlaps(line));
+        let mut cells: Vec<Pos> =
+            state.formats.keys().chain(state.styles.keys()).filter(|p| rect.contains(**p)).copied().collect();
+        if under_lines {
+            let all = (rect.first.row..=rect.last.row)
+                .flat_map(|row| (rect.first.col..=rect.last.col).map(move |col| Pos::new(row, col)));
+            cells.extend(all);
+        }
+        cells.sort_unstable_by_key(|p| (p.row, p.col));
+        cells.dedup();
+        state.put_cells(cells.into_iter().map(|p| (p, None, CellStyle::default())).collect());
+        Ok(())
+    }
+
     fn edit_look(&self, sheet: SheetId, rect: Rect, edit: Edit, span: Span) -> Run<()> {
         // A function called from a cell shares the macro's look but, as in Excel, cannot
         // change it any more than it can change a cell.

@@ -619,6 +619,14 @@ impl Interp<'_, '_> {
             "clearcontents" | "clear" => {
                 let used = ctx.clip_to_used(sheet, rect);
                 self.write_range(sheet, used, &Value::Blank)?;
+                if name == "clear" {
+                    self.clear_looks(sheet, used)?;
+                }
+                value(Value::Blank)
+            }
+            // "Range.ClearFormats method": the cells keep their values, lose their looks.
+            "clearformats" => {
+                self.clear_looks(sheet, ctx.clip_to_used(sheet, rect))?;
                 value(Value::Blank)
             }
             "copy" => {
