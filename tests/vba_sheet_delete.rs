@@ -435,13 +435,21 @@ fn a_csv_left_with_one_sheet_after_add_and_delete_saves() {
     assert_eq!(added, "5\n=A1+1\n");
 }
 
-// Excel's `Sheets(Array("A", "B")).Delete` deletes a group of sheets at once ("Sheets
-// object": "Use Sheets(array) to specify more than one sheet"); ncsheet has no such group,
-// and says so naming the way that works, deleting none, rather than "picks a sheet".
+/// `Sheets(Array(…))` is Excel's group of sheets ("Sheets object": "Use Sheets(array) to
+/// specify more than one sheet"), by names or tab numbers: `Count`, `Move`/`Copy` keeping the
+/// group's order (as dragging selected tabs does: B and C after D give A D B C; copies of A
+/// and D before the first tab give "A (2)" "D (2)" in front, "Worksheet.Copy method" naming
+/// each copy, the first active), `Delete` of every sheet in it. It was refused.
 #[test]
-fn a_group_of_sheets_is_refused_naming_the_one_by_one_way() {
-    let mut wb = book(&["A", "B", "C"]);
-    let message = fails(&mut wb, "    Sheets(Array(\"A\", \"B\")).Delete");
-    assert!(message.contains("Sheets(Array(…))") && message.contains("one by one"), "{message}");
-    assert_eq!(wb.tab_names(), ["A", "B", "C"]);
+fn a_group_of_sheets_counts_moves_copies_and_deletes_its_sheets() {
+    let mut wb = book(&["A", "B", "C", "D"]);
+    let printed = run(
+        &mut wb,
+        "    Debug.Print Sheets(Array(\"A\", \"C\")).Count\n    Sheets(Array(\"B\", \"C\")).Move After:=Sheets(\"D\")\n    \
+         Sheets(Array(\"A\", \"D\")).Copy Before:=Sheets(1)\n    Debug.Print ActiveSheet.Name",
+    );
+    assert_eq!(printed, [" 2 ", "A (2)"]);
+    assert_eq!(wb.tab_names(), ["A (2)", "D (2)", "A", "D", "B", "C"]);
+    run(&mut wb, "    Worksheets(Array(1, 2)).Delete");
+    assert_eq!(wb.tab_names(), ["A", "D", "B", "C"]);
 }

@@ -165,7 +165,7 @@ impl Interp<'_, '_> {
             "selection" => Ok(Obj::Range(active, self.cursor(active).0)),
             "worksheets" | "sheets" => match link.args {
                 None => Ok(Obj::Sheets),
-                Some(_) => self.sheet_by(ctx, link).map(Obj::Sheet),
+                Some(_) => self.sheet_or_group(ctx, link),
             },
             "range" => self.range(ctx, here, link),
             "cells" => self.cells(ctx, here, Rect::cell(Pos::new(0, 0)), link),
@@ -240,10 +240,11 @@ impl Interp<'_, '_> {
             Obj::Sheets => match name.as_str() {
                 "count" => Ok(Obj::Value(Value::Number(self.wb.borrow().sheet_count() as f64))),
                 "add" => self.add_sheet(link),
-                "item" => self.sheet_by(ctx, link).map(Obj::Sheet),
+                "item" => self.sheet_or_group(ctx, link),
                 _ => Err(self.no_member(&Obj::Sheets, link)),
             },
             Obj::Sheet(id) => self.sheet_member(ctx, id, link),
+            Obj::SheetGroup(ids) => self.sheet_group_member(ctx, &ids, link),
             Obj::Range(sheet, rect) => self.range_member(ctx, sheet, rect, link),
             Obj::DeletedRange(_) => unreachable!("alive refuses a Range whose cells were deleted"),
             Obj::Lines(sheet, rect, rows) => match name.as_str() {
@@ -380,8 +381,22 @@ impl Interp<'_, '_> {
         })
     }
 
-    fn sheet_by(&self, ctx: &mut Ctx, link: &Link) -> Run<SheetId> {
+    /// `Sheets(name or number)`, or `Sheets(Array(…))`: Excel's group of the sheets named
+    /// ("Sheets object": "Use Sheets(array) to specify more than one sheet").
+    fn sheet_or_group(&self, ctx: &mut Ctx, link: &Link) -> Run<Obj> {
         let values = self.values(ctx, link)?;
+        match values.as_slice() {
+            [Value::Array(a)] if a.data.len() > 1 => {
+                let ids: Run<Vec<SheetId>> =
+                    a.data.iter().map(|v| self.sheet_by(std::slice::from_ref(v), link)).collect();
+                Ok(Obj::SheetGroup(ids?.into()))
+            }
+            [Value::Array(a)] if a.data.len() == 1 => self.sheet_by(&a.data[..1], link).map(Obj::Sheet),
+            _ => self.sheet_by(&values, link).map(Obj::Sheet),
+        }
+    }
+
+    fn sheet_by(&self, values: &[Value], link: &Link) -> Run<SheetId> {
         let wb = self.wb.borrow();
         // Excel's run-time error 9 for a sheet the workbook has not.
         let missing = |what: String| {
@@ -389,7 +404,7 @@ impl Interp<'_, '_> {
             fault.code = 9;
             fault
         };
-        match values.as_slice() {
+        match values {
             // A number counts tabs, as they show now (a moved sheet keeps its id).
             [Value::Number(n)] if *n >= 1.0 && (*n as usize) <= wb.sheet_count() => {
                 Ok(wb.sheet_at_tab(*n as usize - 1).expect("a tab of the workbook"))
@@ -400,15 +415,6 @@ impl Interp<'_, '_> {
             [Value::Text(name)] => {
                 wb.sheet_id(name).ok_or_else(|| missing(format!("the workbook has no sheet named {name}")))
             }
-            // `Sheets(Array("A", "B"))`: Excel's group of sheets, which ncsheet has not.
-            [Value::Array(a)] if a.data.len() > 1 => Err(self.fault_at(
-                link.span,
-                format!(
-                    "{}(Array(…)): ncsheet has no group of several sheets to Delete, Move or Copy at once; \
-                     go through the names one by one (For Each n In Array(…): {}(n).Delete: Next)",
-                    link.name, link.name
-                ),
-            )),
             _ => Err(self.fault_at(link.span, format!("{}(name or number) picks a sheet", link.name))),
         }
     }

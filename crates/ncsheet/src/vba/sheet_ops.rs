@@ -3,6 +3,8 @@
 //! renaming sheets (`Sheets.Add`, `ws.Copy`, `ws.Move`, `ws.Name =`), and protecting them
 //! (`ws.Protect`, `ws.Unprotect`).
 
+use std::rc::Rc;
+
 use crate::eval::{Ctx, Operand, Value};
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::formula::ast::SheetId;
@@ -560,7 +562,7 @@ impl Interp<'_, '_> {
             }
         }
         let at = match place {
-            Some(at) => at,
+            Some(place) => self.tab_at(place),
             None => self.wb.borrow().tab_position(self.active.get()).unwrap_or(0),
         };
         let names = self.wb.borrow().sheet_names();
@@ -586,11 +588,21 @@ impl Interp<'_, '_> {
     /// or after `After`; it becomes the active sheet. Without Before or After Excel makes a
     /// new workbook, which a run has not: refused.
     pub(super) fn copy_sheet(&self, sheet: SheetId, link: &Link) -> Run<Obj> {
-        let Some(at) = self.placement(link, "Worksheet.Copy")? else {
+        let place = self.copy_place(link)?;
+        self.copy_sheet_to(sheet, place, link)
+    }
+
+    fn copy_place(&self, link: &Link) -> Run<(SheetId, bool)> {
+        self.placement(link, "Worksheet.Copy")?.ok_or_else(|| {
             let why = "Worksheet.Copy without Before or After copies the sheet into a new workbook, which a \
                        run has not: write ws.Copy After:=Sheets(Sheets.Count)";
-            return Err(self.fault_at(link.span, why));
-        };
+            self.fault_at(link.span, why)
+        })
+    }
+
+    /// A copy of `sheet` before (after, `place.1`) the sheet `place.0`.
+    fn copy_sheet_to(&self, sheet: SheetId, place: (SheetId, bool), link: &Link) -> Run<Obj> {
+        let at = self.tab_at(place);
         let names = self.wb.borrow().sheet_names();
         let original = &names[sheet as usize];
         let taken = |n: &str| names.iter().any(|s| s.eq_ignore_ascii_case(n));
@@ -612,11 +624,21 @@ impl Interp<'_, '_> {
     /// are. Without Before or After Excel moves the sheet into a new workbook, which a run has
     /// not: refused.
     pub(super) fn move_sheet(&self, sheet: SheetId, link: &Link) -> Run<Obj> {
-        let Some(at) = self.placement(link, "Worksheet.Move")? else {
+        let place = self.move_place(link)?;
+        self.move_sheet_to(sheet, place, link)
+    }
+
+    fn move_place(&self, link: &Link) -> Run<(SheetId, bool)> {
+        self.placement(link, "Worksheet.Move")?.ok_or_else(|| {
             let why = "Worksheet.Move without Before or After moves the sheet into a new workbook, which a \
                        run has not: write ws.Move Before:=… or After:=…";
-            return Err(self.fault_at(link.span, why));
-        };
+            self.fault_at(link.span, why)
+        })
+    }
+
+    /// `sheet`'s tab moved before (after, `place.1`) the sheet `place.0`.
+    fn move_sheet_to(&self, sheet: SheetId, place: (SheetId, bool), link: &Link) -> Run<Obj> {
+        let at = self.tab_at(place);
         // `at` counts the tabs with the sheet still in its place; without it, one less past it.
         let from = self.wb.borrow().tab_position(sheet).expect("a sheet of the workbook");
         let to = if at > from { at - 1 } else { at };
@@ -624,19 +646,69 @@ impl Interp<'_, '_> {
         Ok(Obj::Value(Value::Blank))
     }
 
-    /// Where `Before:=` or `After:=` puts a sheet: the tab position (from 0, among the tabs as
-    /// they are) the new or moved sheet takes; `None` when neither is given.
-    fn placement(&self, link: &Link, what: &str) -> Run<Option<usize>> {
+    /// The members of `Sheets(Array(…))`: `Count`, `Item(i)`, `Select` (the first sheet
+    /// becomes the active one), `Delete` (each), and `Copy`/`Move Before|After`, which keep the
+    /// group's order: before a sheet each goes in turn, after one the last goes first.
+    pub(super) fn sheet_group_member(&self, ctx: &mut Ctx, ids: &Rc<[SheetId]>, link: &Link) -> Run<Obj> {
+        let done = Ok(Obj::Value(Value::Blank));
+        match link.name.to_ascii_lowercase().as_str() {
+            "count" => Ok(Obj::Value(Value::Number(ids.len() as f64))),
+            "item" => match self.numbers(ctx, link)?.as_slice() {
+                [i] if *i >= 1.0 && (*i as usize) <= ids.len() => Ok(Obj::Sheet(ids[*i as usize - 1])),
+                _ => Err(self.fault_at(link.span, format!("the group has {} sheets: Item(1 to that)", ids.len()))),
+            },
+            "select" | "activate" => {
+                self.select_sheet(ids[0], link.span)?;
+                done
+            }
+            "delete" => {
+                for &id in ids.iter() {
+                    self.delete_sheet(id, link.span)?;
+                }
+                done
+            }
+            "copy" | "move" => {
+                let copy = link.name.eq_ignore_ascii_case("copy");
+                // The place is read once: `Before:=Sheets(1)` is the sheet first before the copies.
+                let place = if copy { self.copy_place(link)? } else { self.move_place(link)? };
+                let order: Vec<SheetId> = if place.1 { ids.iter().rev().copied().collect() } else { ids.to_vec() };
+                let mut first_copy = None;
+                for id in order {
+                    if copy {
+                        self.copy_sheet_to(id, place, link)?;
+                        first_copy = first_copy.or(Some(self.active.get()));
+                    } else {
+                        self.move_sheet_to(id, place, link)?;
+                    }
+                }
+                // The copies stand in the group's order, and the first of them is active.
+                if let (Some(first), false) = (first_copy, place.1) {
+                    self.active.set(first);
+                }
+                done
+            }
+            _ => Err(self.no_member(&Obj::SheetGroup(ids.clone()), link)),
+        }
+    }
+
+    /// The sheet `Before:=` or `After:=` names, and whether it is After; `None` when neither
+    /// is given.
+    fn placement(&self, link: &Link, what: &str) -> Run<Option<(SheetId, bool)>> {
         let before = argument(link, 0, "Before").map(|e| self.sheet_argument(e, "Before")).transpose()?;
         let after = argument(link, 1, "After").map(|e| self.sheet_argument(e, "After")).transpose()?;
-        let wb = self.wb.borrow();
-        let tab = |s: SheetId| wb.tab_position(s).expect("a sheet of the workbook");
         match (before, after) {
             (Some(_), Some(_)) => Err(self.error_1004(link.span, format!("{what} takes Before or After, not both"))),
-            (Some(b), None) => Ok(Some(tab(b))),
-            (None, Some(a)) => Ok(Some(tab(a) + 1)),
+            (Some(b), None) => Ok(Some((b, false))),
+            (None, Some(a)) => Ok(Some((a, true))),
             (None, None) => Ok(None),
         }
+    }
+
+    /// The tab position (from 0, among the tabs as they are) a sheet put before (after) the
+    /// sheet of `place` takes.
+    fn tab_at(&self, (sheet, after): (SheetId, bool)) -> usize {
+        let tab = self.wb.borrow().tab_position(sheet).expect("a sheet of the workbook");
+        tab + usize::from(after)
     }
 
     /// `ThisWorkbook.Name` ("Workbook.Name property"): the workbook's file name with its

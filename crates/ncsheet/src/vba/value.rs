@@ -222,6 +222,8 @@ pub enum Obj {
     Hyperlinks(SheetId, Rect),
     Hyperlink(SheetId, u32),
     Sheet(SheetId),
+    /// `Sheets(Array("A", "B"))`: several sheets at once, in the order named.
+    SheetGroup(Rc<[SheetId]>),
     Sheets,
     Workbook,
     App,
@@ -257,6 +259,7 @@ impl Obj {
             Obj::Hyperlinks(..) => "a Hyperlinks collection",
             Obj::Hyperlink(..) => "a Hyperlink",
             Obj::Sheet(_) => "a Worksheet",
+            Obj::SheetGroup(_) => "a group of sheets",
             Obj::Sheets => "the Worksheets collection",
             Obj::Workbook => "the Workbook",
             Obj::App => "Application",
