@@ -370,11 +370,21 @@ fn tokens(raw: &str, family: Family) -> Result<Line, Fail> {
 /// (`X999…9`, which was said to have "no number after it" and quoted whole however long), or
 /// no number at all.
 pub(crate) fn no_value(what: &str, text: &str) -> String {
-    let shown = crate::formula::parse::shown_number(text);
+    let shown = quoted_briefly(text);
     if text.parse::<f64>().is_ok_and(f64::is_infinite) {
         format!("{what} has a number too large for any control (`{shown}`)")
     } else {
         format!("{what} has no number after it (`{shown}`)")
+    }
+}
+
+/// `text` whole up to 40 characters, else its first 30 and its length: a word of a million
+/// digits must not become a megabyte of error message. (nc stands below the formula parser,
+/// which quotes its own literals the same way.)
+fn quoted_briefly(text: &str) -> String {
+    match text.chars().count() {
+        n if n <= 40 => text.to_string(),
+        n => format!("{}… ({n} characters)", text.chars().take(30).collect::<String>()),
     }
 }
 
