@@ -1035,7 +1035,14 @@ fn negative_binomial(f: f64, s: f64, p: f64, cumulative: bool) -> XlResult<f64> 
         // (f and s past about 10^8), the binomial law's normal form (NEGBINOM.DIST(1E8,1E8,
         // 0.5,TRUE) was #NUM!; Excel gives 0.50003).
         let exact = beta_i(p, s, f + 1.0);
-        return Ok(if exact.is_nan() { 1.0 - binomial_cdf_edgeworth(s - 1.0, f + s, p) } else { exact });
+        if exact.is_nan() {
+            // Past 2^53 trials `s - 1` and `f + s` are no longer whole numbers a double holds:
+            // the law shifted by one success (NEGBINOM.DIST(1E16,1E16,0.5,TRUE) came out below
+            // ½) would be noise, so it is #NUM!, as before the normal form.
+            domain(f + s <= 2f64.powi(53))?;
+            return Ok(1.0 - binomial_cdf_edgeworth(s - 1.0, f + s, p));
+        }
+        return Ok(exact);
     }
     Ok(choose(f + s - 1.0, s - 1.0) * p.powf(s) * (1.0 - p).powf(f))
 }
