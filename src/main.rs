@@ -2,6 +2,7 @@
 //! (`ncsheet: parts.csv: Sheet1!B3: …`). Exit codes: 0 success, 1 bad input (a file, a cell,
 //! a formula), 2 bad usage (clap's code for its own errors too).
 
+use std::io::Write as _;
 use std::process::ExitCode;
 
 mod cli;
@@ -25,7 +26,9 @@ fn main() -> ExitCode {
         // `ncsheet eval big.csv | head`: the reader has all it wanted.
         Err(e) if e.is_broken_pipe() => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("{}", cli::report::prepend("ncsheet: ", &e.to_string()));
+            // A standard error closed too (`… 2>&1 | head`) leaves the exit code to say it:
+            // `eprintln!` would panic there.
+            let _ = writeln!(std::io::stderr(), "{}", cli::report::prepend("ncsheet: ", &e.to_string()));
             ExitCode::from(e.exit_code())
         }
     }

@@ -587,9 +587,19 @@ pub fn write_with(wb: &Workbook, what: &Export, style: &Style, out: &mut dyn Wri
                 Content::Formulas => style.typed(&wb.input(what.sheet, pos).unwrap_or_default()),
             });
         }
-        writer.write_record(&fields)?;
+        writer.write_record(&fields).map_err(io_error)?;
     }
     writer.flush()
+}
+
+/// A csv writer's failure as the io error it is: the csv crate wraps a write's error in one
+/// of kind `Other`, so a reader closing the pipe (`ncsheet eval … --format csv | head`) was
+/// reported as a failure, where the other formats stop quietly at a broken pipe.
+fn io_error(e: ::csv::Error) -> io::Error {
+    match e.into_kind() {
+        ::csv::ErrorKind::Io(e) => e,
+        other => io::Error::other(format!("{other:?}")),
+    }
 }
 
 /// The most fields written as a full table; past it (one far cell, XFD1048576, makes a table
@@ -623,7 +633,7 @@ fn write_sparse(wb: &Workbook, what: &Export, style: &Style, rect: Rect, out: &m
             next.next();
         }
         let mut writer = ::csv::WriterBuilder::new().delimiter(style.delimiter).from_writer(&mut out);
-        writer.write_record(&fields)?;
+        writer.write_record(&fields).map_err(io_error)?;
         writer.flush()?;
         drop(writer);
         row += 1;

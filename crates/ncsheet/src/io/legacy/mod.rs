@@ -102,6 +102,7 @@ pub fn load(bytes: &[u8], path: &Path, kind: Kind, limits: ReadLimits) -> Result
         Kind::Ods => ods::read(bytes, limits),
     }
     .and_then(|book| within_limits(&book).map(|()| book))
+    .and_then(|book| finite_numbers(&book).map(|()| book))
     .map_err(|m| fail(format!("{} that cannot be read: {m}", kind.describe())))?;
     let package = to_package(&book).map_err(|e| fail(format!("cannot convert {}: {e}", kind.describe())))?;
     let mut imported = xlsx::load_bytes(&package, path)?;
@@ -143,6 +144,28 @@ fn within_limits(book: &Book) -> Result<(), String> {
                 "its cells hold more than {} MiB of text, ncsheet's limit on the text of a file it converts",
                 MAX_TEXT >> 20
             ));
+        }
+    }
+    Ok(())
+}
+
+/// Refuses a book with a number no cell holds: an infinity or a NaN, which a binary file
+/// can store in a number's bits and an .ods file in its text (`office:value="1e400"`), is
+/// named with its cell, as the xlsx reader names `<v>1e400</v>`, where it was written out
+/// as 0 and computed on as a number the file never held.
+fn finite_numbers(book: &Book) -> Result<(), String> {
+    for sheet in &book.sheets {
+        for (&(row, col), cell) in &sheet.cells {
+            let Some(Value::Number(n)) = &cell.value else { continue };
+            if !n.is_finite() {
+                return Err(format!(
+                    "sheet '{}': cell {}{} stores {n}, which is no number a cell holds (Excel's numbers are finite, \
+                     up to 1.79769313486232E+308): a damaged or hostile file",
+                    sheet.name,
+                    column_name(col),
+                    row + 1
+                ));
+            }
         }
     }
     Ok(())

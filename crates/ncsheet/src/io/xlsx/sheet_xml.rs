@@ -439,7 +439,7 @@ impl SheetScanner<'_> {
         Ok(Some(match cell.kind {
             CellType::Untyped | CellType::Number if trimmed.is_empty() => return Ok(None),
             CellType::Untyped => match trimmed.parse::<f64>() {
-                Ok(n) if n.is_finite() => Stored::Number(n),
+                Ok(n) if n.is_finite() => Stored::Number(normal_or_zero(n)),
                 Ok(_)
                     if !trimmed.to_ascii_lowercase().contains("inf")
                         && !trimmed.to_ascii_lowercase().contains("nan") =>
@@ -449,7 +449,7 @@ impl SheetScanner<'_> {
                 _ => Stored::Text(raw.to_string()),
             },
             CellType::Number => match trimmed.parse::<f64>() {
-                Ok(n) if n.is_finite() => Stored::Number(n),
+                Ok(n) if n.is_finite() => Stored::Number(normal_or_zero(n)),
                 Ok(n) if !n.is_nan() && !trimmed.to_ascii_lowercase().contains("inf") => {
                     return Err(past_largest_number(raw))
                 }
@@ -652,6 +652,16 @@ fn not_an_iso_date(raw: &str) -> String {
 
 /// A stored number that reads as one but past the largest double (`1e400`): Excel writes
 /// none, and read as text it would compute silently wrong.
+/// A stored number as a cell holds it: below the smallest normal double it is 0, as a typed
+/// one is (`-1E-320<0` is FALSE either way), since Excel keeps no subnormal number.
+fn normal_or_zero(n: f64) -> f64 {
+    if n.abs() < f64::MIN_POSITIVE {
+        0.0
+    } else {
+        n
+    }
+}
+
 fn past_largest_number(raw: &str) -> String {
     format!("'{raw}' is past the largest number a cell holds (1.79769313486232E+308)")
 }

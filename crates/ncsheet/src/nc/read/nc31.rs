@@ -24,6 +24,10 @@ use super::ReadError;
 const MAX_DEPTH: usize = 8;
 /// Jumps taken before a program is refused as one that never ends.
 const MAX_JUMPS: usize = 1_000_000;
+/// Blocks run beyond those written before a program is refused: calls within calls
+/// multiply (twelve calls a level, seven levels deep, are 35 million blocks from 100 lines)
+/// where the jump and depth limits see nothing amiss.
+const MAX_BLOCKS_RUN: usize = 1_000_000;
 /// Decimals a parameter's value is written with in a word: the NC31's 0.001 mm step.
 const WORD_DECIMALS: usize = 3;
 
@@ -45,7 +49,9 @@ type Body = Vec<Source>;
 /// control runs them.
 pub(crate) fn expand(text: &str) -> Result<Vec<(String, usize)>, ReadError> {
     let (main, subprograms) = split(text)?;
-    let mut run = Run { subprograms: &subprograms, parameters: HashMap::new(), out: Vec::new(), jumps: 0 };
+    let written = main.len() + subprograms.values().map(|s| s.body.len()).sum::<usize>();
+    let budget = written.saturating_add(MAX_BLOCKS_RUN);
+    let mut run = Run { subprograms: &subprograms, parameters: HashMap::new(), out: Vec::new(), jumps: 0, budget };
     run.body(&main, None, 0)?;
     Ok(run.out)
 }
@@ -271,6 +277,8 @@ struct Run<'a> {
     parameters: HashMap<u32, f64>,
     out: Vec<(String, usize)>,
     jumps: usize,
+    /// The blocks still to be run before the program is refused ([`MAX_BLOCKS_RUN`]).
+    budget: usize,
 }
 
 impl Run<'_> {
@@ -280,6 +288,15 @@ impl Run<'_> {
         while let Some(source) = body.get(pc) {
             pc += 1;
             let at = |column: usize, m: String| error(source.line, column, m);
+            self.budget = self.budget.checked_sub(1).ok_or_else(|| {
+                at(
+                    source.column,
+                    format!(
+                        "the program runs more than {MAX_BLOCKS_RUN} blocks beyond the ones written (each call and \
+                         jump repeating its blocks): calls within calls or a loop that never ends in practice"
+                    ),
+                )
+            })?;
             let (code, column) = match conditional(&source.code).map_err(|m| at(source.column, m))? {
                 Some((condition, rest, offset)) => {
                     if !self.holds(condition).map_err(|m| at(source.column, m))? {
@@ -652,5 +669,23 @@ mod tests {
         assert!(e("N001 M02\nN003 L03 XR1 WR1\nN004 M17\n").message.contains("R1 is bound to both X and W"));
         assert!(e("N001 L03 X1 X2\nN002 M02\n").message.contains("X is given twice"));
         assert!(e("N001 L03 X\nN002 M02\n").message.contains("without its value"));
+    }
+
+    #[test]
+    fn calls_within_calls_stop_at_the_block_limit() {
+        // Ten calls a level, seven levels: 10^7 blocks run from 87 lines, each call within
+        // the depth limit and no jump taken.
+        let mut text = String::from("N001 R1=0\nN002 L01\nN003 M02\n");
+        for level in 1..=7 {
+            text.push_str(&format!("L{level:02}\n"));
+            let inner = if level < 7 { format!("L{:02}\n", level + 1) } else { "R1=R1+1\n".to_string() };
+            text.push_str(&inner.repeat(10));
+            text.push_str("M17\n");
+        }
+        let e = expand(&text).unwrap_err();
+        assert!(e.message.contains("more than 1000000 blocks"), "{}", e.message);
+        // A program of that many blocks written out is read whole: only repeats count.
+        let long = "N001 W-0.001\n".repeat(MAX_BLOCKS_RUN + 10) + "N002 M02\n";
+        assert_eq!(expand(&long).unwrap().len(), MAX_BLOCKS_RUN + 11);
     }
 }

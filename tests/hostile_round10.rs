@@ -1,0 +1,142 @@
+//! Hostile input (issue 30), session 24: variants of the issue's classes in containers,
+//! commands and readers the earlier rounds did not reach. What each test expects comes from
+//! outside our code: IEEE 754 (the bits of an infinity and a NaN), Excel's rule that a cell
+//! holds only finite numbers and no subnormal one (docs/limits.md, "numbers", the rule the
+//! issue states for typed numbers), and POSIX's pipes.
+
+mod common;
+
+use std::path::Path;
+
+use ncsheet::eval::Value;
+use ncsheet::formula::address::parse_cell;
+use ncsheet::io::{self, Format};
+use ncsheet::workbook::Workbook;
+
+/// The corpus's 53433.xls, whose first NUMBER record (BIFF8 record 0x0203, 14 bytes: row,
+/// column, format, then the IEEE 754 double) holds 12.234 in D5.
+fn xls_with_d5(value: f64) -> Vec<u8> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/excel-corpus/xls/53433.xls");
+    let mut bytes = std::fs::read(&path).unwrap();
+    let header = [0x03, 0x02, 0x0E, 0x00];
+    let at = bytes.windows(4).position(|w| w == header).expect("a NUMBER record");
+    assert_eq!(&bytes[at + 4..at + 8], &[4, 0, 3, 0], "the record is D5's (row 4, column 3, 0-based)");
+    assert_eq!(f64::from_le_bytes(bytes[at + 10..at + 18].try_into().unwrap()), 12.234);
+    bytes[at + 10..at + 18].copy_from_slice(&value.to_le_bytes());
+    bytes
+}
+
+#[test]
+fn an_xls_number_that_is_infinite_or_nan_is_refused_naming_the_cell() {
+    // The cell was written out as 0 and computed on: a value the file never held.
+    let good = io::open_bytes(xls_with_d5(12.234), Path::new("hostile.xls"), Format::Xls, None).unwrap();
+    let d5 = parse_cell("D5").unwrap();
+    assert_eq!(good.workbook.value(0, d5), Value::Number(12.234));
+    for (value, shown) in [(f64::INFINITY, "inf"), (f64::NEG_INFINITY, "-inf"), (f64::NAN, "NaN")] {
+        let refused = io::open_bytes(xls_with_d5(value), Path::new("hostile.xls"), Format::Xls, None);
+        let message = refused.err().unwrap_or_else(|| panic!("{shown} was read")).to_string();
+        assert!(message.contains("hostile.xls") && message.contains("cell D5 stores"), "{message}");
+        assert!(message.contains(shown), "{message}");
+    }
+}
+
+/// An OpenDocument spreadsheet (tests/data/ods) whose first `office:value="1"` is `value`.
+fn ods_with(value: &str) -> Vec<u8> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/ods/defined_names.ods");
+    let package = std::fs::read(path).unwrap();
+    let options = zip::write::SimpleFileOptions::default();
+    let mut change = |name: &str, data: Vec<u8>| {
+        if name != "content.xml" {
+            return data;
+        }
+        let text = String::from_utf8(data).unwrap();
+        assert!(text.contains(r#"office:value="1""#));
+        text.replacen(r#"office:value="1""#, &format!(r#"office:value="{value}""#), 1).into_bytes()
+    };
+    common::xlsx::rewrite_package(&package, options, &mut change).finish().unwrap().into_inner()
+}
+
+#[test]
+fn an_ods_number_past_the_largest_double_or_nan_is_refused_naming_the_cell() {
+    assert!(io::open_bytes(ods_with("2"), Path::new("hostile.ods"), Format::Ods, None).is_ok());
+    for value in ["1e400", "-1E999", "NaN", "inf"] {
+        let refused = io::open_bytes(ods_with(value), Path::new("hostile.ods"), Format::Ods, None);
+        let message = refused.err().unwrap_or_else(|| panic!("{value} was read")).to_string();
+        assert!(message.contains("hostile.ods") && message.contains("stores"), "{value}: {message}");
+        assert!(message.contains("no number a cell holds"), "{value}: {message}");
+    }
+}
+
+#[test]
+fn a_stored_subnormal_number_is_zero_as_a_typed_one_is() {
+    // `-1E-320<0` is FALSE when typed (Excel keeps no subnormal); a file's `<v>-1e-320</v>`
+    // made it TRUE. Written by our writer, then its stored 2 replaced.
+    let mut wb = Workbook::with_sheet();
+    for (cell, input) in [("A1", "2"), ("B1", "=A1<0"), ("C1", "=A1>0")] {
+        wb.set_input(0, parse_cell(cell).unwrap(), input).unwrap();
+    }
+    let package = ncsheet::io::xlsx::to_bytes(&wb, &ncsheet::io::xlsx::Layout::default()).unwrap();
+    let options = zip::write::SimpleFileOptions::default();
+    for stored in ["-1e-320", "1E-310", "4.9e-324"] {
+        let mut change = |name: &str, data: Vec<u8>| {
+            if name != "xl/worksheets/sheet1.xml" {
+                return data;
+            }
+            let text = String::from_utf8(data).unwrap();
+            assert!(text.contains("<v>2</v>"), "{text}");
+            text.replacen("<v>2</v>", &format!("<v>{stored}</v>"), 1).into_bytes()
+        };
+        let bytes = common::xlsx::rewrite_package(&package, options, &mut change).finish().unwrap().into_inner();
+        let opened = io::open_bytes(bytes, Path::new("tiny.xlsx"), Format::Xlsx, None).unwrap();
+        let get = |cell: &str| opened.workbook.value(0, parse_cell(cell).unwrap());
+        assert_eq!(get("A1"), Value::Number(0.0), "{stored}");
+        assert_eq!((get("B1"), get("C1")), (Value::Bool(false), Value::Bool(false)), "{stored}");
+    }
+}
+
+/// Runs `script` in bash in a folder holding `two.csv`, with `$NCSHEET` the binary; its
+/// exit code and the file `errors.txt` the script may write.
+fn in_bash(script: &str) -> (i32, String) {
+    let dir = std::env::temp_dir().join(format!("ncsheet-pipe-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("two.csv"), "a,b\n1,2\n").unwrap();
+    let _ = std::fs::remove_file(dir.join("errors.txt"));
+    let status = std::process::Command::new("bash")
+        .arg("-c")
+        .arg(script)
+        .env("NCSHEET", env!("CARGO_BIN_EXE_ncsheet"))
+        .current_dir(&dir)
+        .status()
+        .unwrap();
+    (status.code().unwrap_or(-1), std::fs::read_to_string(dir.join("errors.txt")).unwrap_or_default())
+}
+
+/// `ncsheet ARGS` with its standard output, and its standard error too when `errors_too`,
+/// going to a reader that stops after 10 bytes; the exit code and what the command wrote to
+/// standard error otherwise.
+fn into_closed_pipe(args: &str, errors_too: bool) -> (i32, String) {
+    let redirect = if errors_too { "2>&1" } else { "2>errors.txt" };
+    in_bash(&format!("\"$NCSHEET\" {args} {redirect} | head -c 10 >/dev/null; exit ${{PIPESTATUS[0]}}"))
+}
+
+#[test]
+fn csv_output_to_a_reader_that_stops_ends_quietly_as_the_table_does() {
+    // A reader closing the pipe (`| head`) has all it wanted: the table and json formats end
+    // with exit code 0 and say nothing. Through the csv writer the broken pipe was an error
+    // (exit 1, "cannot write the output"), and with standard error on the same pipe the
+    // report of it panicked (exit 101).
+    for errors_too in [false, true] {
+        let (code, said) = into_closed_pipe("eval two.csv A1:J200000 --format csv", errors_too);
+        assert_eq!((code, said.as_str()), (0, ""), "standard error on the pipe: {errors_too}");
+    }
+    assert_eq!(into_closed_pipe("eval two.csv A1:J200000", true).0, 0);
+}
+
+#[test]
+fn an_error_reported_to_a_closed_pipe_keeps_its_exit_code() {
+    // The reader is gone before the command writes (POSIX: a write to a pipe with no reader
+    // fails with EPIPE): the report of a missing file could not be written and panicked
+    // (exit 101, as for a crash); the exit code still says what happened.
+    let (code, _) = in_bash("(sleep 0.3; \"$NCSHEET\" eval missing.csv) 2>&1 | true; exit ${PIPESTATUS[0]}");
+    assert_eq!(code, 1);
+}
