@@ -1280,7 +1280,7 @@ impl Interp<'_, '_> {
                 }
                 blank
             }
-            (obj, _) => Err(self.no_member(&Obj::Files(obj), link)),
+            (obj, _) => self.unmodelled(&Obj::Files(obj), link),
         }
     }
 

@@ -454,7 +454,8 @@ impl Interp<'_, '_> {
             // A cell without fill answers xlColorIndexNone; a filled one the palette's index nearest its colour.
             (LookPart::Interior, "colorindex") => Ok(self
                 .style_answer(ctx, sheet, rect, |s| Value::Number(s.fill.map_or(XL_COLOR_INDEX_NONE, palette_index)))),
-            _ => Err(self.look_part_refused(part, link)),
+            // `Interior.Pattern`: harmless, as the table says; `Font.Name`: refused.
+            _ => self.unmodelled(&Obj::Look(sheet, rect, part), link).map_err(|_| self.look_part_refused(part, link)),
         }
     }
 
@@ -464,7 +465,16 @@ impl Interp<'_, '_> {
             LookPart::Interior => "Interior's Color and ColorIndex",
         };
         let what = if part == LookPart::Font { "Font" } else { "Interior" };
-        self.fault_at(link.span, format!("{what}.{}: of this, ncsheet keeps {kept} only", link.name))
+        let mut fault = self.fault_at(
+            link.span,
+            format!(
+                "{what}.{} is not modelled by ncsheet: of this, it keeps {kept} only, so the run stops here \
+                 (On Error does not skip it)",
+                link.name
+            ),
+        );
+        fault.code = super::unmodelled::NOT_MODELLED;
+        fault
     }
 
     /// `NumberFormatLocal` is the code in the workbook's locale: the same text where the
@@ -590,6 +600,8 @@ impl Interp<'_, '_> {
             (Some(LookPart::Interior), "colorindex") => {
                 Edit::Fill(self.palette_of(number("Interior.ColorIndex")?, "Interior", span)?)
             }
+            // `Interior.Pattern = xlSolid`: a look ncsheet does not keep, harmless to skip.
+            (Some(p), _) if super::unmodelled::harmless_setting(&Obj::Look(sheet, rect, p), link) => return Ok(()),
             (Some(p), _) => return Err(self.look_part_refused(p, link)),
             _ => unreachable!("set_look checked the member"),
         };

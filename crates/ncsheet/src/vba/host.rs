@@ -528,6 +528,7 @@ impl Interp<'_, '_> {
             Obj::Err => Ok(Operand::Value(Value::Number(self.err.borrow().number as f64))),
             // A Match reads as its default member, Value ("Match Object").
             Obj::Regex(r) if r.default_value().is_some() => Ok(Operand::Value(r.default_value().unwrap_or_default())),
+            Obj::Unkept(what) => Err(self.unkept_read(&what, span)),
             other => Err(self.fault_at(span, format!("{} is not a value", other.describe()))),
         }
     }

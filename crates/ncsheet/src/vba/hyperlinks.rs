@@ -77,7 +77,7 @@ impl Interp<'_, '_> {
             "item" => self.hyperlink_item(ctx, sheet, within, link),
             "add" => self.add_hyperlink(ctx, link),
             "delete" => Ok(self.delete_hyperlinks(sheet, within)),
-            _ => Err(self.no_member(&Obj::Hyperlinks(sheet, within), link)),
+            _ => self.unmodelled(&Obj::Hyperlinks(sheet, within), link),
         }
     }
 
@@ -158,7 +158,7 @@ impl Interp<'_, '_> {
                 link.span,
                 "Hyperlink.Follow: a macro runs without a browser or a window, so no link is opened",
             )),
-            _ => Err(self.no_member(&Obj::Hyperlink(sheet, id), link)),
+            _ => self.unmodelled(&Obj::Hyperlink(sheet, id), link),
         }
     }
 

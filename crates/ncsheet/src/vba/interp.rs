@@ -328,6 +328,9 @@ pub struct Interp<'m, 'w> {
     /// `Application.ReferenceStyle` (`xlA1` 1, `xlR1C1` -4150): how Excel's window shows
     /// formulas. `.Formula` stays A1 and `.FormulaR1C1` R1C1 whatever it is, as in Excel.
     pub(super) reference_style: Cell<i32>,
+    /// The harmless settings the macro wrote (`Application.StatusBar = "…"`), by object and
+    /// member: a read gives them back, as Excel's does (`unmodelled.rs`).
+    pub(super) harmless_settings: RefCell<std::collections::HashMap<String, Value>>,
     /// The sheet of the document module the code is in: what unqualified `Range`, `Cells`
     /// and `[B3]` mean there, and `Me`.
     pub home: Option<SheetId>,
@@ -417,6 +420,7 @@ impl<'m, 'w> Interp<'m, 'w> {
             ended: Cell::new(false),
             active: Cell::new(0),
             reference_style: Cell::new(XL_A1),
+            harmless_settings: RefCell::new(std::collections::HashMap::new()),
             home: None,
             code_sheets: Vec::new(),
             cursors: RefCell::new(std::collections::HashMap::new()),
@@ -2014,7 +2018,7 @@ impl Interp<'_, '_> {
             Some(f) => (f.on_error.clone(), f.handling),
             None => return Err(fault),
         };
-        let untrappable = [super::library::STOP, super::files::REFUSED];
+        let untrappable = [super::library::STOP, super::files::REFUSED, super::unmodelled::NOT_MODELLED];
         if fault.kind != ErrorKind::Runtime || untrappable.contains(&fault.code) || self.ended.get() {
             return Err(fault);
         }

@@ -294,6 +294,7 @@ mod sheet_ops;
 mod sort;
 mod typing;
 mod udf;
+mod unmodelled;
 mod value;
 
 use std::fmt;

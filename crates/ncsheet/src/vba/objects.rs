@@ -186,7 +186,9 @@ impl Interp<'_, '_> {
                 link.span,
                 "InputBox: a macro runs without a user; pass values with --arg NAME=VALUE or read them from cells",
             )),
-            _ => Err(self.fault_at(link.span, format!("{} is not an object", link.name))),
+            // `ActiveWindow.Zoom = 80`: Excel's window, harmless to set (`unmodelled.rs`).
+            other => super::unmodelled::window_root(other)
+                .ok_or_else(|| self.fault_at(link.span, format!("{} is not an object", link.name))),
         }
     }
 
@@ -200,7 +202,6 @@ impl Interp<'_, '_> {
             Obj::App => match name.as_str() {
                 "worksheets" | "sheets" | "range" | "cells" | "activesheet" | "activeworkbook" | "thisworkbook"
                 | "activecell" | "selection" | "evaluate" | "inputbox" | "msgbox" => self.root(ctx, link),
-                "screenupdating" | "displayalerts" | "enableevents" => Ok(Obj::Value(Value::Bool(true))),
                 // "Application.CutCopyMode property": False, or xlCopy (1) while a Copy waits.
                 "cutcopymode" => Ok(Obj::Value(match self.clipboard.borrow().is_some() {
                     true => Value::Number(1.0),
@@ -229,19 +230,19 @@ impl Interp<'_, '_> {
                         link.name
                     ),
                 )),
-                _ => Err(self.no_member(&Obj::App, link)),
+                _ => self.unmodelled(&Obj::App, link),
             },
             Obj::Workbook => match name.as_str() {
                 "worksheets" | "sheets" | "activesheet" => self.root(ctx, link),
                 "path" => self.workbook_path(link),
                 "name" => self.workbook_name(link),
-                _ => Err(self.no_member(&Obj::Workbook, link)),
+                _ => self.unmodelled(&Obj::Workbook, link),
             },
             Obj::Sheets => match name.as_str() {
                 "count" => Ok(Obj::Value(Value::Number(self.wb.borrow().sheet_count() as f64))),
                 "add" => self.add_sheet(link),
                 "item" => self.sheet_or_group(ctx, link),
-                _ => Err(self.no_member(&Obj::Sheets, link)),
+                _ => self.unmodelled(&Obj::Sheets, link),
             },
             Obj::Sheet(id) => self.sheet_member(ctx, id, link),
             Obj::SheetGroup(ids) => self.sheet_group_member(ctx, &ids, link),
@@ -254,7 +255,7 @@ impl Interp<'_, '_> {
                 // `Columns("A").NumberFormat`: the columns are the range's cells.
                 _ => match self.look_member(ctx, sheet, rect, link) {
                     Some(look) => look,
-                    None => Err(self.no_member(&obj, link)),
+                    None => self.unmodelled(&obj, link),
                 },
             },
             Obj::Look(sheet, rect, part) => self.look_part_member(ctx, sheet, rect, part, link),
@@ -278,6 +279,8 @@ impl Interp<'_, '_> {
             Obj::SheetSort(sheet) => self.sheet_sort_member(ctx, sheet, link),
             Obj::SortFields(sheet) => self.sort_fields_member(ctx, sheet, link),
             Obj::Regex(r) => self.regex_member(r, link),
+            // `ActiveWindow.Panes(1)`: a harmless object's members are harmless too.
+            Obj::Unkept(what) => Ok(Obj::Unkept(what)),
             Obj::Record(var, path) => {
                 let i = self.field_index(&var, &path, link)?;
                 let mut path = path.clone();
@@ -468,7 +471,7 @@ impl Interp<'_, '_> {
                     link.name
                 ),
             )),
-            _ => Err(self.no_member(&Obj::Sheet(id), link)),
+            _ => self.unmodelled(&Obj::Sheet(id), link),
         }
     }
 
@@ -665,7 +668,7 @@ impl Interp<'_, '_> {
             "clearhyperlinks" => Ok(self.delete_hyperlinks(sheet, rect)),
             _ => match self.look_member(ctx, sheet, rect, link) {
                 Some(look) => look,
-                None => Err(self.no_member(&Obj::Range(sheet, rect), link)),
+                None => self.unmodelled(&Obj::Range(sheet, rect), link),
             },
         }
     }
@@ -907,10 +910,9 @@ impl Interp<'_, '_> {
                 self.reference_style.set(style as i32);
                 Ok(())
             }
-            (Obj::App, "screenupdating" | "displayalerts" | "enableevents" | "calculation" | "statusbar") => {
-                // Settings of Excel's window: nothing to do without one.
-                self.eval(value).map(|_| ())
-            }
+            // `Application.ScreenUpdating = False`, `ActiveWindow.Zoom = 80`: nothing to keep.
+            // The value is still computed, for its errors.
+            _ if super::unmodelled::harmless_setting(&obj, link) => self.set_harmless(&obj, link, value),
             // `ws.Range("A1") = v`, `r.Offset(1, 0) = v`: the member is a range; write its values.
             _ => match self.member(ctx, obj.clone(), link)? {
                 target @ Obj::Range(..) => {

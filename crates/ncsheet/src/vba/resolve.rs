@@ -68,6 +68,7 @@ pub(super) fn refusal(name: &str) -> String {
 const OBJECTS: &[&str] = &[
     "activecell",
     "activesheet",
+    "activewindow",
     "activeworkbook",
     "application",
     "callbyname",
@@ -87,6 +88,7 @@ const OBJECTS: &[&str] = &[
     "sheets",
     "thisworkbook",
     "union",
+    "windows",
     "worksheetfunction",
     "worksheets",
 ];
@@ -294,6 +296,27 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "xlcelltypeblanks" => number(4.0),
         "xlcelltypevisible" => number(12.0),
         "xlcelltypecomments" => number(-4144.0),
+        // "XlBordersIndex", "XlLineStyle", "XlBorderWeight" and "XlPattern" enumerations: what
+        // recorded macros pass to Borders, harmless members ncsheet does not keep
+        // (`unmodelled.rs`).
+        "xldiagonaldown" => number(5.0),
+        "xldiagonalup" => number(6.0),
+        "xledgeleft" => number(7.0),
+        "xledgetop" => number(8.0),
+        "xledgebottom" => number(9.0),
+        "xledgeright" => number(10.0),
+        "xlinsidevertical" => number(11.0),
+        "xlinsidehorizontal" => number(12.0),
+        "xlcontinuous" | "xlhairline" | "xlsolid" | "xlpatternsolid" => number(1.0),
+        "xldash" => number(-4115.0),
+        "xldashdot" => number(4.0),
+        "xldashdotdot" => number(5.0),
+        "xldot" => number(-4118.0),
+        "xlslantdashdot" => number(13.0),
+        "xllinestylenone" | "xlpatternnone" => number(-4142.0),
+        "xlthin" => number(2.0),
+        "xlmedium" => number(-4138.0),
+        "xlthick" => number(4.0),
         _ => None,
     }
 }

@@ -687,7 +687,7 @@ impl Interp<'_, '_> {
                 }
                 done
             }
-            _ => Err(self.no_member(&Obj::SheetGroup(ids.clone()), link)),
+            _ => self.unmodelled(&Obj::SheetGroup(ids.clone()), link),
         }
     }
 

@@ -136,7 +136,7 @@ impl Interp<'_, '_> {
             "matchcase" => Ok(Obj::Value(Value::Bool(self.sorts.borrow().get(&sheet).is_some_and(|s| s.match_case)))),
             "orientation" => Ok(Obj::Value(Value::Number(1.0))),
             "sortmethod" => Ok(Obj::Value(Value::Number(1.0))),
-            _ => Err(self.no_member(&Obj::SheetSort(sheet), link)),
+            _ => self.unmodelled(&Obj::SheetSort(sheet), link),
         }
     }
 
@@ -202,7 +202,7 @@ impl Interp<'_, '_> {
                 let n = self.sorts.borrow().get(&sheet).map_or(0, |s| s.fields.len());
                 Ok(Obj::Value(Value::Number(n as f64)))
             }
-            _ => Err(self.no_member(&Obj::SortFields(sheet), link)),
+            _ => self.unmodelled(&Obj::SortFields(sheet), link),
         }
     }
 

@@ -245,6 +245,10 @@ pub enum Obj {
     SortFields(SheetId),
     /// VBScript's RegExp, MatchCollection, Match or SubMatches (`regexp.rs`).
     Regex(super::regexp::RegexObj),
+    /// A harmless object or member ncsheet keeps nothing of (`ActiveWindow`, `Borders`,
+    /// `Interior.Pattern`), by the name a message gives it: set and called as no-ops
+    /// (`unmodelled.rs`).
+    Unkept(Rc<str>),
 }
 
 impl Obj {
@@ -278,6 +282,7 @@ impl Obj {
             Obj::SheetSort(_) => "a Sort",
             Obj::SortFields(_) => "a SortFields collection",
             Obj::Regex(r) => r.describe(),
+            Obj::Unkept(_) => "a setting ncsheet does not keep",
         }
     }
 }

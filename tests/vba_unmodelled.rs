@@ -1,0 +1,106 @@
+//! Members of Excel's object model that ncsheet does not model (issue 31: "where ncsheet
+//! deliberately differs, it refuses with the reason instead of computing something else").
+//!
+//! In Excel, a member a macro uses has its effect; ncsheet without the member's code cannot
+//! have it. A trappable error there (438, "Object doesn't support this property or method")
+//! would let `On Error Resume Next` skip the member and the macro go on computing without its
+//! effect, so such a member stops the run by name, whatever `On Error` says. The members that
+//! only touch Excel's window or a look ncsheet does not keep run as no-ops; what the ones that
+//! are read give is from Microsoft's Excel VBA reference, named at each test.
+
+mod common;
+
+use common::vba::{main_fails, run_main};
+use ncsheet::vba::{self, RunOptions};
+use ncsheet::workbook::Workbook;
+
+/// The error that stops `Sub Main()` with `body` (line 2 is the body's first line).
+fn stop_of(body: &str) -> vba::MacroError {
+    let src = format!("Sub Main()\n{body}\nEnd Sub\n");
+    match vba::run(&mut Workbook::with_sheet(), &src, "main.bas", &RunOptions::default()) {
+        Ok(out) => panic!("the macro ran to its end, printing {:?}", out.printed),
+        Err(e) => e,
+    }
+}
+
+#[test]
+fn on_error_resume_next_does_not_skip_a_member_ncsheet_does_not_model() {
+    // Range.DataSeries fills A1:A5 with 1, 2, 3, 4, 5 in Excel ("Range.DataSeries method");
+    // skipped, the sum below would be 1 where Excel gives 15.
+    let e = stop_of(
+        "    On Error Resume Next\n    Range(\"A1\").Value = 1\n    Range(\"A1:A5\").DataSeries\n    \
+         Debug.Print Application.WorksheetFunction.Sum(Range(\"A1:A5\"))",
+    );
+    assert!(e.message.contains("Range.DataSeries is not modelled by ncsheet"), "{}", e.message);
+    assert_eq!(e.span.map(|s| s.line), Some(4), "{e}");
+    assert!(e.output.printed.is_empty(), "{:?}", e.output.printed);
+}
+
+#[test]
+fn an_error_handler_does_not_catch_a_member_ncsheet_does_not_model() {
+    // "Workbook.RefreshAll method" refreshes the workbook's queries and pivot tables, which
+    // changes cells; a handler running instead would compute without it.
+    let e = stop_of(
+        "    On Error GoTo Handler\n    ThisWorkbook.RefreshAll\n    Exit Sub\nHandler:\n    \
+         Debug.Print \"handled\"",
+    );
+    assert!(e.message.contains("Workbook.RefreshAll is not modelled by ncsheet"), "{}", e.message);
+    assert_eq!(e.span.map(|s| s.line), Some(3), "{e}");
+    assert!(e.output.printed.is_empty(), "{:?}", e.output.printed);
+}
+
+#[test]
+fn a_font_name_is_refused_under_on_error_naming_what_is_kept() {
+    // The fonts' names are not in ncsheet's cell styles (eval/format/cell_style.rs), so
+    // neither the write nor the read can be kept or answered.
+    for body in [
+        "    On Error Resume Next\n    Range(\"A1\").Font.Name = \"Arial\"",
+        "    On Error Resume Next\n    Debug.Print Range(\"A1\").Font.Name",
+    ] {
+        let m = main_fails(&mut Workbook::with_sheet(), body);
+        assert!(m.contains("Font.Name is not modelled by ncsheet"), "{m}");
+        assert!(m.contains("Bold, Italic, Color, ColorIndex, Size and Underline"), "{m}");
+    }
+}
+
+#[test]
+fn the_window_and_looks_ncsheet_does_not_keep_are_no_ops() {
+    // As the macro recorder writes them: none changes a value or a file ncsheet writes.
+    let printed = run_main(
+        &mut Workbook::with_sheet(),
+        "    Application.ScreenUpdating = False\n    Application.DisplayAlerts = False\n    \
+         ActiveWindow.Zoom = 80\n    ActiveWindow.FreezePanes = True\n    \
+         With Range(\"A1:B2\").Borders(xlEdgeBottom)\n        .LineStyle = xlContinuous\n        \
+         .Weight = xlThin\n    End With\n    Range(\"A1:B2\").BorderAround xlContinuous, xlMedium\n    \
+         Range(\"A1\").Interior.Pattern = xlSolid\n    \
+         Range(\"A1\").Font.Strikethrough = True\n    ActiveSheet.Calculate\n    Range(\"A1\").Value = 7\n    \
+         Debug.Print CStr(Range(\"A1\").Value)",
+    );
+    assert_eq!(printed, ["7"]);
+}
+
+#[test]
+fn a_harmless_setting_reads_back_what_the_macro_set_else_excels_default() {
+    // "Application.StatusBar property": False while Excel controls the status bar, else the
+    // text set. "Application.Calculation property": xlCalculationAutomatic (-4105) by default,
+    // xlCalculationManual is -4135. ScreenUpdating is True until set.
+    let printed = run_main(
+        &mut Workbook::with_sheet(),
+        "    Debug.Print CStr(Application.StatusBar) & \" \" & CStr(Application.Calculation) & \" \" & \
+         CStr(Application.ScreenUpdating)\n    Application.StatusBar = \"Working\"\n    \
+         Application.Calculation = xlCalculationManual\n    Application.ScreenUpdating = False\n    \
+         Debug.Print Application.StatusBar & \" \" & CStr(Application.Calculation) & \" \" & \
+         CStr(Application.ScreenUpdating)",
+    );
+    assert_eq!(printed, ["False -4105 True", "Working -4135 False"]);
+}
+
+#[test]
+fn reading_a_look_ncsheet_does_not_keep_is_refused_under_on_error() {
+    // Setting ActiveWindow.Zoom does nothing here, so there is no zoom to read back.
+    let m = main_fails(
+        &mut Workbook::with_sheet(),
+        "    On Error Resume Next\n    Dim z\n    z = ActiveWindow.Zoom\n    Debug.Print z",
+    );
+    assert!(m.contains("ActiveWindow") && m.contains("no value to read"), "{m}");
+}
