@@ -159,6 +159,7 @@ impl Host for Interp<'_, '_> {
             Var::Value(v) | Var::Obj(Obj::Value(v)) => Some(Operand::Value(v.clone())),
             Var::Array(a) => Some(Operand::Value(Value::Array(a.data.clone()))),
             Var::Obj(Obj::Range(sheet, rect)) => Some(Operand::Ref(*sheet, *rect)),
+            Var::Obj(Obj::Areas(sheet, areas)) => Some(super::areas::areas_operand(*sheet, areas)),
             _ => None,
         });
         if let Some(Some(operand)) = plain {
@@ -524,6 +525,7 @@ impl Interp<'_, '_> {
         match obj {
             Obj::Value(v) => Ok(Operand::Value(v)),
             Obj::Range(sheet, rect) => Ok(Operand::Ref(sheet, rect)),
+            Obj::Areas(sheet, areas) => Ok(super::areas::areas_operand(sheet, &areas)),
             // `If Err Then`: Err's default member is its Number.
             Obj::Err => Ok(Operand::Value(Value::Number(self.err.borrow().number as f64))),
             // A Match reads as its default member, Value ("Match Object").
@@ -536,12 +538,14 @@ impl Interp<'_, '_> {
 
 /// A formula's argument as a VBA Function receives it: a reference as its Range, an array
 /// from 1 as a range's (the module's Option Base governs only the arrays VBA makes), a union
-/// of areas as its first area.
+/// of areas on one sheet as a Range of those areas.
 fn formula_argument(arg: &Operand) -> Var {
     match arg {
         Operand::Ref(sheet, rect) => Var::Obj(Obj::Range(*sheet, *rect)),
         Operand::Value(v) => super::value::array_var(v.clone(), 1),
-        Operand::Areas(areas) => Var::Obj(Obj::Range(areas[0].0, areas[0].1)),
+        Operand::Areas(areas) => {
+            Var::Obj(super::areas::areas_object(areas).unwrap_or(Obj::Range(areas[0].0, areas[0].1)))
+        }
     }
 }
 

@@ -175,6 +175,14 @@ impl Follow<'_> {
                     None => *obj = Obj::DeletedRange(self.sheet),
                 }
             }
+            Obj::Areas(s, areas) if *s == self.sheet => {
+                // Each area moves with its cells; an area whose cells were deleted is gone.
+                let moved: Vec<Rect> = areas.iter().filter_map(|a| self.edit.moved_rect(*a)).collect();
+                *obj = match moved.is_empty() {
+                    true => Obj::DeletedRange(self.sheet),
+                    false => super::areas::range_of(self.sheet, moved),
+                };
+            }
             Obj::Store(h) if self.seen.insert(Rc::as_ptr(&h.0) as *const ()) => self.shared.push(obj.clone()),
             Obj::Instance(o) if self.seen.insert(Rc::as_ptr(&o.0) as *const ()) => self.shared.push(obj.clone()),
             _ => {}

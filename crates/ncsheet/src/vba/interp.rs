@@ -1141,8 +1141,14 @@ impl Interp<'_, '_> {
                 Some(var) => var,
                 None => array_var(v, self.option_base()),
             },
-            // Several areas are no one range: the #VALUE! a cell shows.
-            areas @ Operand::Areas(_) => array_var(ctx.deref(areas), self.option_base()),
+            // A Range of several areas (`Set u = Union(a, b)`), an object; its value is its
+            // first area's, as Excel reads a multiple selection's Value.
+            Operand::Areas(areas) => match super::areas::areas_object(&areas) {
+                Some(Obj::Areas(sheet, rects)) if !as_object => range_var(ctx.rect_value(sheet, rects[0])),
+                Some(obj) => Var::Obj(obj),
+                // Areas of several sheets are no one range: the #VALUE! a cell shows.
+                None => array_var(ctx.deref(Operand::Areas(areas)), self.option_base()),
+            },
         })
     }
 
@@ -1246,7 +1252,10 @@ impl Interp<'_, '_> {
                     ExprKind::Name(n) => self.lookup(n).unwrap_or(Var::Value(v)),
                     _ => self.array_of_call(&a.value, &v).unwrap_or_else(|| array_var(v, self.option_base())),
                 },
-                areas @ Operand::Areas(_) => array_var(ctx.deref(areas), self.option_base()),
+                Operand::Areas(areas) => match super::areas::areas_object(&areas) {
+                    Some(obj) => Var::Obj(obj),
+                    None => array_var(ctx.deref(Operand::Areas(areas)), self.option_base()),
+                },
             };
             self.take_pending()?;
             bound.push((index, var));
@@ -2649,6 +2658,8 @@ impl Interp<'_, '_> {
                 }
                 cells
             }
+            Var::Obj(Obj::Areas(sheet, areas)) => self.area_cells(sheet, &areas),
+            Var::Obj(Obj::AreaList(sheet, areas)) => areas.iter().map(|a| Var::Obj(Obj::Range(sheet, *a))).collect(),
             Var::Obj(Obj::Sheets) => self.wb.borrow().tab_order().iter().map(|&s| Var::Obj(Obj::Sheet(s))).collect(),
             Var::Obj(Obj::Lines(sheet, rect, rows)) => self.lines_of(sheet, rect, rows),
             Var::Obj(Obj::Hyperlinks(sheet, within)) => self.hyperlinks_each(sheet, within),

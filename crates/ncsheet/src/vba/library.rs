@@ -593,7 +593,8 @@ fn object_type_name(obj: &Obj) -> &'static str {
     match obj {
         Obj::Value(Value::Blank) => "Nothing",
         Obj::Value(v) => value_type_name(v),
-        Obj::Range(..) | Obj::Lines(..) => "Range",
+        Obj::Range(..) | Obj::Areas(..) | Obj::Lines(..) => "Range",
+        Obj::AreaList(..) => "Areas",
         Obj::Look(_, _, super::formats::LookPart::Font) => "Font",
         Obj::Look(_, _, super::formats::LookPart::Interior) => "Interior",
         Obj::Sheet(_) => "Worksheet",

@@ -118,8 +118,10 @@
 //! sheet is error 1004, and a Worksheet or Range variable of a deleted sheet is error 424 ("Object required"). `ActiveCell` and
 //! `Selection` start at the sheet's active cell as the file saved it ([`RunOptions::active_cells`])
 //! and follow `Select`/`Activate`, and move with their cells on `Insert`/`Delete`. `Intersect(r1, r2, …)` (Nothing when they share no cell)
-//! and `Union(r1, r2, …)` (one rectangle; a union of separate areas is refused), also as
-//! `Application.` members; `Parent` (a Range's Worksheet, a Worksheet's Workbook) and
+//! and `Union(r1, r2, …)`, also as `Application.` members, and `Range("C5:D9,G9:H16")`, give
+//! a Range of several areas: `Areas`, `Count`, `Address`, `For Each`, `Value =`,
+//! `ClearContents`, `EntireRow.Delete` take every area, `Value`, `Rows`, `Columns` the first
+//! (`areas.rs`); `Range.RemoveDuplicates` removes repeated rows inside the range; `Parent` (a Range's Worksheet, a Worksheet's Workbook) and
 //! `Application` of every Excel object. In a sheet's module ([`Document::Sheet`]) `Range`, `Cells`
 //! and `[B3]` mean that sheet and `Me` is it; sheets' code names (`Sheet1`) are objects.
 //! A write is typed into the cell (text starting with `=` is a formula, as in VBA) and
@@ -260,6 +262,7 @@
 //! calls `Out` with `.Y + .X`.
 
 mod append;
+mod areas;
 mod array_list;
 mod arrays;
 pub mod ast;
@@ -288,6 +291,7 @@ pub mod parser;
 pub mod project;
 pub mod project_edit;
 mod regexp;
+mod remove_duplicates;
 mod replace;
 mod resolve;
 mod sheet_ops;

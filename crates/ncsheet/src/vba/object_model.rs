@@ -6,7 +6,7 @@ use crate::eval::coerce::to_number;
 use crate::eval::dates::DateSystem;
 use crate::eval::functions::vba::errors;
 use crate::eval::{Ctx, Value};
-use crate::formula::address::{Pos, Rect};
+use crate::formula::address::Rect;
 use crate::formula::ast::{ExprKind, SheetId};
 
 use super::ast::{Arg, Link};
@@ -52,25 +52,6 @@ impl RangeSet {
             RangeSet::Union => "Union",
         }
     }
-}
-
-/// The cells two rectangles share, if any.
-fn overlap(a: Rect, b: Rect) -> Option<Rect> {
-    let first = Pos::new(a.first.row.max(b.first.row), a.first.col.max(b.first.col));
-    let last = Pos::new(a.last.row.min(b.last.row), a.last.col.min(b.last.col));
-    (first.row <= last.row && first.col <= last.col).then(|| Rect::new(first, last))
-}
-
-/// The union of two rectangles when it is itself one (one holds the other, or they are
-/// side by side with the same rows or the same columns): what one Range object holds.
-fn joined(a: Rect, b: Rect) -> Option<Rect> {
-    let hull = Rect::new(
-        Pos::new(a.first.row.min(b.first.row), a.first.col.min(b.first.col)),
-        Pos::new(a.last.row.max(b.last.row), a.last.col.max(b.last.col)),
-    );
-    let cells = |r: Rect| u64::from(r.rows()) * u64::from(r.cols());
-    let shared = overlap(a, b).map_or(0, cells);
-    (cells(a) + cells(b) - shared == cells(hull)).then_some(hull)
 }
 
 impl Interp<'_, '_> {
@@ -126,18 +107,19 @@ impl Interp<'_, '_> {
 
     /// `Intersect(r1, r2, …)` and `Union(r1, r2, …)` ("Application.Intersect method",
     /// "Application.Union method", two to thirty ranges): the cells all the ranges share
-    /// (Nothing when none, so `Intersect(…) Is Nothing` tests it), or the cells of any.
-    /// Ranges of different sheets are Excel's run-time error 1004. A union that is not one
-    /// rectangle (two areas) is refused: a Range here holds one area.
+    /// (Nothing when none, so `Intersect(…) Is Nothing` tests it), or the cells of any, as
+    /// one Range of one or several areas (`areas.rs`). Ranges of different sheets are
+    /// Excel's run-time error 1004.
     pub(super) fn range_set(&self, link: &Link, op: RangeSet) -> Run<Obj> {
         let args = link.args.as_deref().unwrap_or(&[]);
         if args.len() < 2 || args.len() > 30 {
             return Err(self.coded_fault(link, 449, &format!(": {} takes 2 to 30 ranges", op.name())));
         }
-        let mut ranges: Vec<(SheetId, Rect)> = Vec::with_capacity(args.len());
+        let mut ranges: Vec<(SheetId, Vec<Rect>)> = Vec::with_capacity(args.len());
         for a in args {
             match self.var_of(&a.value, true)? {
-                Var::Obj(Obj::Range(sheet, rect)) => ranges.push((sheet, rect)),
+                Var::Obj(Obj::Range(sheet, rect)) => ranges.push((sheet, vec![rect])),
+                Var::Obj(Obj::Areas(sheet, areas)) => ranges.push((sheet, areas.to_vec())),
                 // Nothing too: `Union(Nothing, c)` is error 5, which is why macros test
                 // `If u Is Nothing Then Set u = c Else Set u = Union(u, c)`.
                 _ => return Err(self.coded_fault(link, 5, &format!(": {} takes ranges", op.name()))),
@@ -149,21 +131,28 @@ impl Interp<'_, '_> {
                 format!(": Method '{}' of object '_Application' failed: the ranges are on different sheets", op.name());
             return Err(self.coded_fault(link, 1004, &why));
         }
-        let mut whole = Some(ranges[0].1);
-        for &(_, rect) in &ranges[1..] {
-            whole = match op {
-                RangeSet::Intersect => whole.and_then(|w| overlap(w, rect)),
-                RangeSet::Union => match whole.and_then(|w| joined(w, rect)) {
-                    Some(u) => Some(u),
-                    None => {
-                        let why = "the union of these ranges has several areas, which a Range here cannot hold: \
-                                   work on each range in turn";
-                        return Err(self.fault_at(link.span, format!("Union: {why}")));
-                    }
-                },
-            };
-        }
-        Ok(whole.map_or(Obj::Value(Value::Blank), |rect| Obj::Range(sheet, rect)))
+        let whole = match op {
+            RangeSet::Intersect => {
+                let mut lists = ranges.into_iter().map(|(_, areas)| areas);
+                let first = lists.next().expect("two ranges or more");
+                lists.fold(first, |whole, areas| super::areas::intersection(&whole, &areas))
+            }
+            RangeSet::Union => {
+                // The first range's areas as they are: `Set u = Union(u, c)` in a loop adds
+                // one area to those already joined, without joining them all again.
+                let mut lists = ranges.into_iter().map(|(_, areas)| areas);
+                let mut whole = lists.next().expect("two ranges or more");
+                for rect in lists.flatten() {
+                    super::areas::add_area(&mut whole, rect)
+                        .map_err(|why| self.fault_at(link.span, format!("Union: {why}")))?;
+                }
+                whole
+            }
+        };
+        Ok(match whole.is_empty() {
+            true => Obj::Value(Value::Blank),
+            false => super::areas::range_of(sheet, whole),
+        })
     }
 
     /// `x.Application` and `x.Parent` of Excel's objects ("Range.Parent property" is the
@@ -172,7 +161,14 @@ impl Interp<'_, '_> {
     pub(super) fn family_member(&self, obj: &Obj, link: &Link) -> Option<Obj> {
         let excel = matches!(
             obj,
-            Obj::Range(..) | Obj::Lines(..) | Obj::Look(..) | Obj::Sheet(_) | Obj::Sheets | Obj::Workbook | Obj::App
+            Obj::Range(..)
+                | Obj::Areas(..)
+                | Obj::Lines(..)
+                | Obj::Look(..)
+                | Obj::Sheet(_)
+                | Obj::Sheets
+                | Obj::Workbook
+                | Obj::App
         );
         if !excel || link.args.is_some() {
             return None;
@@ -185,24 +181,5 @@ impl Interp<'_, '_> {
             ("parent", Obj::Look(sheet, rect, _)) => Some(Obj::Range(*sheet, *rect)),
             _ => None,
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn rect(a: (u32, u32), b: (u32, u32)) -> Rect {
-        Rect::new(Pos::new(a.0, a.1), Pos::new(b.0, b.1))
-    }
-
-    #[test]
-    fn a_union_is_one_rectangle_only_when_the_cells_fill_it() {
-        // A1:B2 and A3:B4 stack into A1:B4; A1 and C3 leave B2 out.
-        assert_eq!(joined(rect((0, 0), (1, 1)), rect((2, 0), (3, 1))), Some(rect((0, 0), (3, 1))));
-        assert_eq!(joined(rect((0, 0), (0, 0)), rect((2, 2), (2, 2))), None);
-        assert_eq!(joined(rect((0, 0), (3, 3)), rect((1, 1), (2, 2))), Some(rect((0, 0), (3, 3))));
-        // Overlapping side by side: A1:B2 and B1:C2 fill A1:C2.
-        assert_eq!(joined(rect((0, 0), (1, 1)), rect((0, 1), (1, 2))), Some(rect((0, 0), (1, 2))));
     }
 }

@@ -1,6 +1,8 @@
 //! The objects a macro reaches through member paths, as a VBA user knows them: `Range`,
 //! `Cells`, `Worksheets`, `Application`, `Evaluate`, `MsgBox`; the `Nc` object is in `nc.rs`.
 
+use std::rc::Rc;
+
 use crate::eval::coerce::{parse_plain_number, to_bool, to_number, to_text};
 use crate::eval::dates::DateSystem;
 use crate::eval::functions::vba::{errors, vba_text};
@@ -136,6 +138,10 @@ impl Interp<'_, '_> {
                 // `r(1).Value = x`: a Range's default member is Item, a cell counted from its top-left.
                 return self.cells(ctx, *sheet, *rect, link);
             }
+            if let (Var::Obj(Obj::Areas(sheet, areas)), Some(_)) = (&var, &link.args) {
+                // Of several areas, Item counts from the first area's top-left.
+                return self.cells(ctx, *sheet, areas[0], link);
+            }
             if link.args.is_some() {
                 return Err(self.fault_at(link.span, format!("{} is a variable, not an array of objects", link.name)));
             }
@@ -247,6 +253,8 @@ impl Interp<'_, '_> {
             Obj::Sheet(id) => self.sheet_member(ctx, id, link),
             Obj::SheetGroup(ids) => self.sheet_group_member(ctx, &ids, link),
             Obj::Range(sheet, rect) => self.range_member(ctx, sheet, rect, link),
+            Obj::Areas(sheet, areas) => self.areas_member(ctx, sheet, &areas, link),
+            Obj::AreaList(sheet, areas) => self.area_collection_member(ctx, sheet, &areas, link),
             Obj::DeletedRange(_) => unreachable!("alive refuses a Range whose cells were deleted"),
             Obj::Lines(sheet, rect, rows) => match name.as_str() {
                 "count" => Ok(Obj::Value(Value::Number(if rows { rect.rows() } else { rect.cols() } as f64))),
@@ -479,17 +487,30 @@ impl Interp<'_, '_> {
     /// `Range(Cells(1, 1), Cells(3, 2))`.
     fn range(&self, ctx: &mut Ctx, sheet: SheetId, link: &Link) -> Run<Obj> {
         let operands = self.operands(ctx, link)?;
+        match operands.as_slice() {
+            // "Range property": `Range("A1:B2,D4")`, a list of areas, is one Range of them all.
+            [Operand::Value(Value::Text(t))] if t.contains(',') => return self.range_list(sheet, t, link.span),
+            [Operand::Areas(areas)] => {
+                return super::areas::areas_object(areas)
+                    .ok_or_else(|| self.error_1004(link.span, "Range: the areas of one Range are on one sheet".into()))
+            }
+            _ => {}
+        }
         let mut corners = Vec::new();
         for op in operands {
             corners.push(match op {
                 Operand::Ref(s, r) => (s, r),
+                Operand::Value(Value::Text(t)) if t.contains(',') => {
+                    let why = format!("Range(\"{t}\", …): a corner is one cell or one area, not a list of areas");
+                    return Err(self.fault_at(link.span, why));
+                }
                 Operand::Value(Value::Text(t)) => self.resolve(sheet, &t, link.span)?,
                 Operand::Value(v) => {
                     let shown = print_text(&v);
                     return Err(self.fault_at(link.span, format!("Range needs an address or a name, not {shown}")));
                 }
                 Operand::Areas(_) => {
-                    return Err(self.fault_at(link.span, "Range of several areas is not supported"));
+                    return Err(self.fault_at(link.span, "Range(cell1, cell2): a corner is one area, not several"));
                 }
             });
         }
@@ -505,7 +526,7 @@ impl Interp<'_, '_> {
     }
 
     /// Address text or a defined name, read as a formula on `sheet` would read it.
-    fn resolve(&self, sheet: SheetId, text: &str, span: Span) -> Run<(SheetId, Rect)> {
+    pub(super) fn resolve(&self, sheet: SheetId, text: &str, span: Span) -> Run<(SheetId, Rect)> {
         let parsed = self.wb.borrow().parse_at(text, sheet, Pos::new(0, 0));
         let bad = || self.fault_at(span, format!("Range(\"{text}\"): not a cell address or a defined name of cells"));
         let expr = parsed.map_err(|_| bad())?;
@@ -568,7 +589,7 @@ impl Interp<'_, '_> {
         Ok(Obj::Range(sheet, r))
     }
 
-    fn range_member(&self, ctx: &mut Ctx, sheet: SheetId, rect: Rect, link: &Link) -> Run<Obj> {
+    pub(super) fn range_member(&self, ctx: &mut Ctx, sheet: SheetId, rect: Rect, link: &Link) -> Run<Obj> {
         let value = |v: Value| Ok(Obj::Value(v));
         let name = lower(link);
         match name.as_str() {
@@ -647,6 +668,7 @@ impl Interp<'_, '_> {
                 value(Value::Blank)
             }
             "replace" => self.replace_in_range(ctx, sheet, rect, link),
+            "removeduplicates" => self.remove_duplicates(ctx, sheet, rect, link),
             "find" => self.find_in_range(ctx, sheet, rect, link),
             "currentregion" => Ok(Obj::Range(sheet, self.current_region(sheet, rect))),
             "specialcells" => self.special_cells(sheet, link),
@@ -664,6 +686,8 @@ impl Interp<'_, '_> {
             "entirerow" => Ok(Obj::Range(sheet, super::insert_delete::entire_rows(rect))),
             "entirecolumn" => Ok(Obj::Range(sheet, super::insert_delete::entire_columns(rect))),
             "hyperlinks" => self.hyperlinks(ctx, sheet, rect, link),
+            // "Range.Areas property": for a single area, a collection of the range itself.
+            "areas" => self.area_list_member(ctx, sheet, &Rc::from([rect]), link),
             // "Range.ClearHyperlinks method": the links go, the cells keep their values.
             "clearhyperlinks" => Ok(self.delete_hyperlinks(sheet, rect)),
             _ => match self.look_member(ctx, sheet, rect, link) {
@@ -841,6 +865,7 @@ impl Interp<'_, '_> {
     fn write_default(&self, obj: Obj, v: &Value, span: Span) -> Run<()> {
         match obj {
             Obj::Range(sheet, rect) => self.write_range(sheet, rect, v),
+            Obj::Areas(sheet, areas) => self.write_areas(sheet, &areas, v),
             // `Err = n`: Err's default member is its Number ("Err object").
             Obj::Err => self.set_err_number(v, span),
             other => Err(self.fault_at(span, format!("cannot assign to {}", other.describe()))),
@@ -850,6 +875,14 @@ impl Interp<'_, '_> {
     pub(super) fn set_member(&self, ctx: &mut Ctx, obj: Obj, link: &Link, value: &Expr) -> Run<()> {
         if let Some(done) = self.set_look(&obj, link, value) {
             return done;
+        }
+        if let Obj::Areas(sheet, areas) = &obj {
+            // `Range("B1,B3").NumberFormat = …`: each area's look, as Excel formats a
+            // multiple selection (the value is read once per area).
+            let each = areas.iter().map(|a| self.set_look(&Obj::Range(*sheet, *a), link, value));
+            if let Some(done) = each.collect::<Option<Run<Vec<()>>>>() {
+                return done.map(|_| ());
+            }
         }
         let name = lower(link);
         match (&obj, name.as_str()) {
@@ -861,6 +894,13 @@ impl Interp<'_, '_> {
             (Obj::Range(sheet, rect), "value" | "value2") => {
                 let v = self.sheet_value(value)?;
                 self.write_range(*sheet, *rect, &v)
+            }
+            (Obj::Areas(sheet, areas), "value" | "value2") => {
+                let v = self.sheet_value(value)?;
+                self.write_areas(*sheet, areas, &v)
+            }
+            (Obj::Areas(sheet, areas), "formula" | "formular1c1") => {
+                self.write_formula_areas(*sheet, areas, value, link)
             }
             (Obj::Range(sheet, rect), "formula" | "formulalocal" | "formular1c1" | "formular1c1local") => {
                 let v = self.eval(value)?;
@@ -915,7 +955,7 @@ impl Interp<'_, '_> {
             _ if super::unmodelled::harmless_setting(&obj, link) => self.set_harmless(&obj, link, value),
             // `ws.Range("A1") = v`, `r.Offset(1, 0) = v`: the member is a range; write its values.
             _ => match self.member(ctx, obj.clone(), link)? {
-                target @ Obj::Range(..) => {
+                target @ (Obj::Range(..) | Obj::Areas(..)) => {
                     let v = self.sheet_value(value)?;
                     self.write_default(target, &v, link.span)
                 }
@@ -928,7 +968,7 @@ impl Interp<'_, '_> {
     /// "=R[-1]C*2"` into every cell of `rect`: the one tree in each, its relative references
     /// moving along as a fill moves them (VBA does the same). Text not starting with `=` is
     /// typed as a constant.
-    fn write_formula(&self, sheet: SheetId, rect: Rect, text: &str, r1c1: bool, span: Span) -> Run<()> {
+    pub(super) fn write_formula(&self, sheet: SheetId, rect: Rect, text: &str, r1c1: bool, span: Span) -> Run<()> {
         if !text.starts_with('=') {
             return self.write_range(sheet, rect, &Value::text(text));
         }

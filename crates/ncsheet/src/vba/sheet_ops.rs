@@ -186,7 +186,13 @@ impl Interp<'_, '_> {
     /// not reach another sheet's cells; this says why nothing is there).
     pub(super) fn alive(&self, obj: Obj, span: Span) -> Run<Obj> {
         let sheet = match &obj {
-            Obj::Sheet(s) | Obj::Range(s, _) | Obj::Lines(s, ..) | Obj::Look(s, ..) | Obj::DeletedRange(s) => *s,
+            Obj::Sheet(s)
+            | Obj::Range(s, _)
+            | Obj::Areas(s, _)
+            | Obj::AreaList(s, _)
+            | Obj::Lines(s, ..)
+            | Obj::Look(s, ..)
+            | Obj::DeletedRange(s) => *s,
             _ => return Ok(obj),
         };
         let wb = self.wb.borrow();

@@ -252,7 +252,7 @@ impl Interp<'_, '_> {
 
     /// xlGuess: the first row is a header when its key cell is text and the row below's is
     /// not (a column of texts under a text heading is taken as data, as Excel does not know).
-    fn guess_header(&self, sheet: SheetId, rect: Rect, col: u32) -> bool {
+    pub(super) fn guess_header(&self, sheet: SheetId, rect: Rect, col: u32) -> bool {
         if rect.rows() < 2 {
             return false;
         }
@@ -289,7 +289,7 @@ impl Interp<'_, '_> {
                 false => Ok(()),
             };
         }
-        let (order, rows) = {
+        let order = {
             let wb = self.wb.borrow();
             let key_values: Vec<Vec<Value>> =
                 (first..=last).map(|r| keys.iter().map(|k| wb.value(sheet, Pos::new(r, k.col))).collect()).collect();
@@ -302,7 +302,30 @@ impl Interp<'_, '_> {
                     .find(|o| *o != Ordering::Equal)
                     .unwrap_or(Ordering::Equal)
             });
-            let rows: Vec<Vec<Content>> = (first..=last)
+            order
+        };
+        let order: Vec<Option<usize>> = order.into_iter().map(Some).collect();
+        self.rearrange_rows(sheet, first, (left, right), &order, link)
+    }
+
+    /// Rearranges the rows of the block from row `first`, columns `left..=right`: row
+    /// `first + to` takes what row `first + order[to]` held, or is emptied where `order[to]`
+    /// is `None`. Every cell of a row moves with it, formulas as a paste moves them, looks too.
+    pub(super) fn rearrange_rows(
+        &self,
+        sheet: SheetId,
+        first: u32,
+        (left, right): (u32, u32),
+        order: &[Option<usize>],
+        link: &Link,
+    ) -> Run<()> {
+        if order.iter().enumerate().all(|(i, &o)| o == Some(i)) || order.is_empty() {
+            return Ok(());
+        }
+        let last = first + order.len() as u32 - 1;
+        let rows: Vec<Vec<Content>> = {
+            let wb = self.wb.borrow();
+            (first..=last)
                 .map(|r| {
                     (left..=right)
                         .map(|c| {
@@ -314,25 +337,25 @@ impl Interp<'_, '_> {
                         })
                         .collect()
                 })
-                .collect();
-            (order, rows)
+                .collect()
         };
-        if order.iter().enumerate().all(|(i, &o)| i == o) {
-            return Ok(());
-        }
         let mut rows: Vec<Option<Vec<Content>>> = rows.into_iter().map(Some).collect();
         let moved_cells: Vec<(Pos, Pos)> = (order.iter().enumerate())
-            .filter(|(to, from)| to != *from)
-            .flat_map(|(to, &from)| {
+            .filter_map(|(to, from)| from.filter(|&f| f != to).map(|f| (to, f)))
+            .flat_map(|(to, from)| {
                 (left..=right).map(move |c| (Pos::new(first + from as u32, c), Pos::new(first + to as u32, c)))
             })
             .collect();
+        let width = (right - left + 1) as usize;
         let mut wb = self.book_mut()?;
         for (to, &from) in order.iter().enumerate() {
-            if to == from {
+            if from == Some(to) {
                 continue;
             }
-            let row = rows[from].take().expect("each row moves once");
+            let row = match from {
+                Some(from) => rows[from].take().expect("each row moves once"),
+                None => (0..width).map(|_| Content::Value(Value::Blank)).collect(),
+            };
             for (i, content) in row.into_iter().enumerate() {
                 let p = Pos::new(first + to as u32, left + i as u32);
                 match content {

@@ -182,8 +182,10 @@ impl UserFunctions for WorkbookFunctions {
                 // A cell hands VBA its arrays from 1 as a range's are (`=Terp(3, {1,2,4})`: the
                 // module's Option Base governs only the arrays VBA itself makes).
                 Operand::Value(v) => array_var(v.clone(), 1),
-                // A union of areas has no Range here: its first area stands for it.
-                Operand::Areas(areas) => Var::Obj(Obj::Range(areas[0].0, areas[0].1)),
+                // A union of areas (`=Total((A1:A3,C1:C3))`) is one Range of those areas.
+                Operand::Areas(areas) => {
+                    Var::Obj(super::areas::areas_object(areas).unwrap_or(Obj::Range(areas[0].0, areas[0].1)))
+                }
             })
             .collect();
         let looks = Rc::clone(&self.looks.borrow());

@@ -210,6 +210,11 @@ impl VArray {
 pub enum Obj {
     Value(Value),
     Range(SheetId, Rect),
+    /// A Range of two or more areas on one sheet (`Range("A1:B2,D4")`, `Union` of separate
+    /// ranges), in the order given (`areas.rs`).
+    Areas(SheetId, Rc<[Rect]>),
+    /// `r.Areas`: the areas of a range, one for a range of one area ("Range.Areas property").
+    AreaList(SheetId, Rc<[Rect]>),
     /// A Range, Rows or Columns, Font or Interior whose cells were all deleted (`Rows(5).Delete`
     /// with `r` set to B5): Excel's object is gone, and using it is run-time error 424.
     DeletedRange(SheetId),
@@ -256,6 +261,8 @@ impl Obj {
         match self {
             Obj::Value(_) => "a value",
             Obj::Range(..) => "a Range",
+            Obj::Areas(..) => "a Range of several areas",
+            Obj::AreaList(..) => "an Areas collection",
             Obj::DeletedRange(..) => "a Range whose cells were deleted",
             Obj::Lines(..) => "a Rows or Columns collection",
             Obj::Look(_, _, super::formats::LookPart::Font) => "a Font",
