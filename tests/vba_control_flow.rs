@@ -160,3 +160,26 @@ fn handlers_that_nest_without_end_stop_with_error_28() {
     assert!(err.message.contains("Out of stack space (run-time error 28)"), "{err}");
     assert_eq!(err.span.map(|s| s.line), Some(6), "{err}");
 }
+
+// [MS-VBAL] 5.4.2.9 "Single-line If Statement": the statements after `Then` (and after `Else`)
+// are a list-or-label, `[":"] same-line-statement *(":" [same-line-statement])`: they may start
+// with a colon (`If n = 0 Then: GoTo Done`, written by real modules), a statement may be left
+// out between colons or after the last one, and "if-with-empty-then" (`If x Then Else y = 1`)
+// has no statement before Else. 5.4.2.8 "If Statement": `Then` is followed by EOS, any run of
+// colons and line ends, so `If x Then:` at a line's end opens a block closed by End If.
+#[test]
+fn a_single_line_if_takes_the_colons_its_grammar_allows() {
+    let out = printed(
+        "    Dim a As Long, b As Long\n\
+         \x20   If a = 0 Then: a = 5\n    Debug.Print a\n\
+         \x20   If a = 0 Then Else b = 7\n    Debug.Print b\n\
+         \x20   If a = 5 Then a = 6: : b = 8\n    Debug.Print a; b\n\
+         \x20   If a = 6 Then a = 1: Else: a = 2\n    Debug.Print a\n\
+         \x20   If a = 9 Then a = 3 Else: a = 4\n    Debug.Print a\n\
+         \x20   If a = 4 Then a = 10:\n    Debug.Print a\n\
+         \x20   If a = 10 Then:\n        a = 11\n    End If\n    Debug.Print a\n\
+         \x20   If a = 0 Then: GoTo Done\n    Debug.Print \"on\"\n\
+         Done:",
+    );
+    assert_eq!(out, [" 5 ", " 7 ", " 6  8 ", " 1 ", " 4 ", " 10 ", " 11 ", "on"]);
+}

@@ -1230,13 +1230,18 @@ impl<'s> Build<'s> {
     fn if_line(&self, pair: &Pair<Rule>) -> Res<StmtKind> {
         let k = kids(pair);
         let cond = self.expr(find(&k, Rule::vexpr).expect("If condition"))?;
-        let mut bodies = all(&k, Rule::line_body).into_iter();
-        let then = self.line_body(bodies.next().expect("Then part"))?;
-        let otherwise = match (find(&k, Rule::k_else), bodies.next()) {
-            (Some(_), Some(b)) => Some(self.line_body(b)?),
-            (Some(_), None) => Some(Block::default()),
-            _ => None,
-        };
+        // The part before `Else` is the Then part, the part after it the Else part; either may
+        // be missing (`If x Then Else y = 1`, `If x Then y = 1 Else`).
+        let mut then = Block::default();
+        let mut otherwise = None;
+        for kid in k {
+            match kid.as_rule() {
+                Rule::k_else => otherwise = Some(Block::default()),
+                Rule::line_body if otherwise.is_some() => otherwise = Some(self.line_body(kid)?),
+                Rule::line_body => then = self.line_body(kid)?,
+                _ => {}
+            }
+        }
         Ok(StmtKind::If { arms: vec![(cond, then)], otherwise })
     }
 
