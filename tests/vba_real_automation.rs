@@ -392,3 +392,77 @@ fn clear_takes_the_formats_too_and_clear_formats_only_them() {
     );
     assert_eq!(out, ["True|General|False", "0.5|General|False", "True|0.00|True"]);
 }
+
+// "Range.Rows property" / "Range.Columns property" (Excel): each "Returns a Range object that
+// represents the rows (columns) in the specified range", the same cells, so its default
+// member is their Value: `tgt.Rows = Application.Transpose(arr)` (a real FFT module's way to
+// fill a column) writes the cells, `v = r.Rows` and `r.Rows.Value` read them, as `r.Value`
+// would. A 1-D array assigned to a column fills each row with its first item (the array is a
+// row, repeated down: "Range.Value property").
+#[test]
+fn rows_and_columns_of_a_range_take_and_give_its_values() {
+    let mut wb = Workbook::with_sheet();
+    let out = run(
+        &mut wb,
+        "    Dim v\n\
+         \x20   Range(\"A1:A3\").Rows = Application.Transpose(Array(1, 2, 3))\n\
+         \x20   v = Range(\"A1:A3\").Rows\n    Debug.Print v(2, 1)\n\
+         \x20   v = Range(\"A1:A3\").Rows.Value\n    Debug.Print v(3, 1)\n\
+         \x20   Range(\"C1:E1\").Columns = Array(7, 8, 9)\n\
+         \x20   Range(\"C2:E2\").Columns.Value = Array(4, 5, 6)\n\
+         \x20   Range(\"F1:F2\").Rows = Array(3, 4)",
+    );
+    assert_eq!(out, [" 2 ", " 3 "]);
+    assert_eq!((get(&wb, 0, "A2"), get(&wb, 0, "D1"), get(&wb, 0, "E2")), (n(2.0), n(8.0), n(6.0)));
+    assert_eq!((get(&wb, 0, "F1"), get(&wb, 0, "F2")), (n(3.0), n(3.0)));
+}
+
+// "Worksheet.Paste method" (Excel): "Pastes the contents of the Clipboard onto the sheet";
+// Destination "specifies where the Clipboard contents should be pasted. If this argument is
+// omitted, the current selection is used." A recorded report macro copies with
+// `Selection.Copy`, selects the target cell and calls `ActiveSheet.Paste`: the copy lands
+// there whole, a formula's relative references moved by the offset ("Range.Copy method":
+// Copy then Paste is Excel's ordinary paste, formulas and constants). With nothing copied
+// there is nothing to paste.
+#[test]
+fn worksheet_paste_pastes_the_copy_at_the_selection_or_destination() {
+    let mut wb = Workbook::with_sheet();
+    for (cell, v) in [("A1", "East"), ("B1", "10"), ("A2", "West"), ("B2", "=B1*2")] {
+        set(&mut wb, 0, cell, v);
+    }
+    run(
+        &mut wb,
+        "    Range(\"A1:B2\").Select\n    Selection.Copy\n    Range(\"D5\").Select\n    ActiveSheet.Paste\n\
+         \x20   ActiveSheet.Paste Destination:=Range(\"G1\")",
+    );
+    assert_eq!(
+        (get(&wb, 0, "D5"), get(&wb, 0, "E5"), get(&wb, 0, "D6")),
+        (Value::text("East"), n(10.0), Value::text("West"))
+    );
+    assert_eq!((get(&wb, 0, "E6"), get(&wb, 0, "H2")), (n(20.0), n(20.0)));
+    let text = wb.input(0, ncsheet::formula::address::Pos::new(5, 4));
+    assert_eq!(text.as_deref(), Some("=E5*2"));
+    let why = common::vba::main_fails(&mut Workbook::with_sheet(), "    ActiveSheet.Paste");
+    assert!(why.contains("nothing was copied"), "{why}");
+}
+
+// [MS-VBAL] 5.4.3.8 "Let Statement": when the variable's declared type is an object type, a
+// Let (no Set) assigns the object's default member, "Range.Value" for a Range: `Dim r As
+// Range: Set r = Range("G1"): r = 12` writes 12 into G1 and r still holds G1 (TypeName
+// "Range"). A real FFT module zero-fills cells this way (`fillRange = arr`). An object
+// variable holding Nothing has no default member: run-time error 91 ("Object variable or With
+// block variable not set").
+#[test]
+fn a_let_to_an_object_variable_assigns_its_default_member() {
+    let mut wb = Workbook::with_sheet();
+    let out = run(
+        &mut wb,
+        "    Dim r As Range, o As Object, arr(0 To 1) As Integer\n\
+         \x20   Set r = Range(\"G1\")\n    r = 12\n    Debug.Print TypeName(r); r.Address\n\
+         \x20   Set o = Range(\"H1:H2\")\n    arr(0) = 3: arr(1) = 4\n    o = arr\n    Debug.Print TypeName(o)",
+    );
+    assert_eq!(out, ["Range$G$1", "Range"]);
+    assert_eq!((get(&wb, 0, "G1"), get(&wb, 0, "H1"), get(&wb, 0, "H2")), (n(12.0), n(3.0), n(3.0)));
+    let why = common::vba::main_fails(&mut Workbook::with_sheet(), "    Dim r As Range\n    r = 5");
+    assert!(why.contains("91"), "{why}");
+}

@@ -525,6 +525,8 @@ impl Interp<'_, '_> {
         match obj {
             Obj::Value(v) => Ok(Operand::Value(v)),
             Obj::Range(sheet, rect) => Ok(Operand::Ref(sheet, rect)),
+            // "Range.Rows property": a Range of the same cells, so `v = r.Rows` reads r's values.
+            Obj::Lines(sheet, rect, _) => Ok(Operand::Ref(sheet, rect)),
             Obj::Areas(sheet, areas) => Ok(super::areas::areas_operand(sheet, &areas)),
             // `If Err Then`: Err's default member is its Number.
             Obj::Err => Ok(Operand::Value(Value::Number(self.err.borrow().number as f64))),

@@ -862,9 +862,10 @@ impl Interp<'_, '_> {
         }
     }
 
-    fn write_default(&self, obj: Obj, v: &Value, span: Span) -> Run<()> {
+    pub(super) fn write_default(&self, obj: Obj, v: &Value, span: Span) -> Run<()> {
         match obj {
-            Obj::Range(sheet, rect) => self.write_range(sheet, rect, v),
+            // `r.Rows = v`: Rows and Columns are Ranges of r's cells ("Range.Rows property").
+            Obj::Range(sheet, rect) | Obj::Lines(sheet, rect, _) => self.write_range(sheet, rect, v),
             Obj::Areas(sheet, areas) => self.write_areas(sheet, &areas, v),
             // `Err = n`: Err's default member is its Number ("Err object").
             Obj::Err => self.set_err_number(v, span),
@@ -891,7 +892,7 @@ impl Interp<'_, '_> {
                 self.err.borrow_mut().description = print_text(&self.eval(value)?);
                 Ok(())
             }
-            (Obj::Range(sheet, rect), "value" | "value2") => {
+            (Obj::Range(sheet, rect) | Obj::Lines(sheet, rect, _), "value" | "value2") => {
                 let v = self.sheet_value(value)?;
                 self.write_range(*sheet, *rect, &v)
             }
