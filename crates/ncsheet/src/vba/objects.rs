@@ -260,6 +260,8 @@ impl Interp<'_, '_> {
                 "count" => Ok(Obj::Value(Value::Number(if rows { rect.rows() } else { rect.cols() } as f64))),
                 "item" => self.line(ctx, sheet, rect, rows, link),
                 "autofit" => self.autofit(ctx, sheet, rect, rows).map(|_| Obj::Value(Value::Blank)),
+                // The collection is a Range of the same cells: its Value is theirs.
+                "value" | "value2" => self.range_member(ctx, sheet, rect, link),
                 // `Columns("A").NumberFormat`: the columns are the range's cells.
                 _ => match self.look_member(ctx, sheet, rect, link) {
                     Some(look) => look,
@@ -464,6 +466,7 @@ impl Interp<'_, '_> {
             "usedrange" => Ok(Obj::Range(id, self.used_range(id))),
             "evaluate" => self.evaluate(ctx, id, link),
             "copy" => self.copy_sheet(id, link),
+            "paste" => self.paste_on_sheet(ctx, id, link).map(|_| Obj::Value(Value::Blank)),
             "delete" => self.delete_sheet(id, link.span),
             "move" => self.move_sheet(id, link),
             "sort" => Ok(Obj::SheetSort(id)),
@@ -956,7 +959,7 @@ impl Interp<'_, '_> {
             _ if super::unmodelled::harmless_setting(&obj, link) => self.set_harmless(&obj, link, value),
             // `ws.Range("A1") = v`, `r.Offset(1, 0) = v`: the member is a range; write its values.
             _ => match self.member(ctx, obj.clone(), link)? {
-                target @ (Obj::Range(..) | Obj::Areas(..)) => {
+                target @ (Obj::Range(..) | Obj::Areas(..) | Obj::Lines(..)) => {
                     let v = self.sheet_value(value)?;
                     self.write_default(target, &v, link.span)
                 }

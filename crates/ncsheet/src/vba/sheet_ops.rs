@@ -294,6 +294,36 @@ impl Interp<'_, '_> {
         self.paste(source, (sheet, rect), how, code as i64 == -4104, link.span)
     }
 
+    /// `ws.Paste` or `ws.Paste Destination:=r` ("Worksheet.Paste method"): what the last
+    /// `Copy` put on the clipboard, pasted as Excel pastes it (formulas, constants and formats)
+    /// at Destination, or else at the sheet's selection ("If this argument is omitted, the
+    /// current selection is used"). `Link:=True`, a paste of links to the copied cells, is refused.
+    pub(super) fn paste_on_sheet(&self, ctx: &mut Ctx, sheet: SheetId, link: &Link) -> Run<()> {
+        let Some(source) = *self.clipboard.borrow() else {
+            return Err(self.fault_at(link.span, "Paste: nothing was copied (Copy a range first)"));
+        };
+        if let Some(expr) = argument(link, 1, "link") {
+            let wants_links = ctx.eval(expr).unwrap_single();
+            self.take_pending()?;
+            if crate::eval::coerce::to_bool(&wants_links).map_err(|e| self.fault_at(link.span, e.to_string()))? {
+                return Err(self.fault_at(link.span, "Paste Link:=True: ncsheet pastes no links to copied cells"));
+            }
+        }
+        let dest = match argument(link, 0, "destination") {
+            None => (sheet, self.cursor(sheet).0),
+            Some(expr) => match ctx.operand(expr) {
+                Operand::Ref(to, area) if to == sheet => (to, area),
+                Operand::Ref(..) => {
+                    let why = "Paste method of Worksheet class failed: the destination is on another sheet";
+                    return Err(self.error_1004(link.span, why.into()));
+                }
+                _ => return Err(self.fault_at(link.span, "Paste: the destination is not a range")),
+            },
+        };
+        self.take_pending()?;
+        self.paste(source, dest, Paste::Inputs, true, link.span)
+    }
+
     /// The part of a paste that changes anything: where the source has cells, or the
     /// destination has cells to blank. Whole columns or rows (`Columns("A:C").Copy`) hold a
     /// million cells each, nearly all empty on both sides. A source pasted several times over
