@@ -65,7 +65,11 @@ impl Interp<'_, '_> {
         let data = Rc::new(Array::filled(rows, cols, default_value(ty)));
         // An array of a Type: each item a record of the Type's defaults.
         let records = match ty.filter(|t| matches!(t, Ty::Record(_))) {
-            Some(t) => Some(Rc::new(vec![self.default_var(Some(t))?; rows * cols])),
+            Some(t) => {
+                let record = self.default_var(Some(t))?;
+                self.records_within_limit(rows * cols, &record)?;
+                Some(Rc::new(vec![record; rows * cols]))
+            }
             None => None,
         };
         Ok(VArray {
@@ -73,6 +77,26 @@ impl Interp<'_, '_> {
             shape: (dims.len() > 2).then(|| Rc::from(dims)),
             ..VArray::plain(data, (lower_row, lower_col), dims.len() as u8)
         })
+    }
+
+    /// Refuses `count` copies of `record` past the item limit, counting each of its fields
+    /// (those of a Type within it too; an array field is shared until written, and counts
+    /// one): `Dim a(1 To 100000) As Big` of a Type of 1,000 Doubles is 10^8 values, which
+    /// the limit on its 100,000 items let through to abort at the memory cap.
+    fn records_within_limit(&self, count: usize, record: &Var) -> Run<()> {
+        let fields = values_in(record);
+        let items = count.saturating_mul(fields);
+        let limit = self.options.max_array_items;
+        if items <= limit {
+            return Ok(());
+        }
+        let mut f = self.fault(format!(
+            "an array of {count} records of {fields} fields each, {items} values, passes the limit of {limit} \
+             items (ncsheet's limit; {})",
+            self.options.raise_hint("raise it with --max-array-items")
+        ));
+        f.kind = super::ErrorKind::Limit;
+        Err(f)
     }
 
     /// The row-major position of an element, or why there is none.
@@ -713,6 +737,15 @@ impl Interp<'_, '_> {
 
 /// Whether items of type `ty` are plain values a conversion gives (a number, a String, a
 /// Boolean): not a Variant, an object or a `Type`.
+/// The values a record holds, its records' fields counted one by one; any other variable is
+/// one.
+fn values_in(var: &Var) -> usize {
+    match var {
+        Var::Record(_, fields) => fields.iter().map(values_in).fold(0usize, usize::saturating_add).max(1),
+        _ => 1,
+    }
+}
+
 fn holds_values(ty: &Ty) -> bool {
     matches!(ty, Ty::Whole(_) | Ty::Number(_) | Ty::String | Ty::FixedString(_) | Ty::Boolean)
 }
