@@ -154,3 +154,24 @@ fn interest_of_a_long_loan_keeps_its_digits() {
     near("=CUMIPMT(1E-4,3E6,1000,1,10,0)", -1.0, 1e-12);
     near("=CUMIPMT(1E-4,3E6,1000,1,1E6,0)", -100_000.0, 1e-9);
 }
+
+#[test]
+fn principal_of_a_long_loan_keeps_its_digits() {
+    // mpmath at 4,000 digits, PPMT as its definition (PMT − IPMT, each from FV's balance,
+    // Microsoft's PPMT/IPMT reference) in exact arithmetic: the digits cancel past 1E+130,
+    // where PMT − IPMT in doubles was 0 for the first two and −219902325.66 for the third.
+    // Beside them the neighbours: in advance (type 1), a future value, a negative rate, a
+    // tiny one, and CUMPRINC of a payment where (1 + rate)^nper overflows (it was #NUM!).
+    for (formula, want) in [
+        ("=PPMT(1E-4,1E6,3E6,1000)", -1.397_664_219_835_894_5e-88),
+        ("=PPMT(1E-4,1E6,3E6,1000,0,1)", -1.397_524_467_389_155_6e-88),
+        ("=PPMT(1E-4,3E6,3E6,1000)", -0.099_990_000_999_900_02),
+        ("=PPMT(1E-4,3E6,3E6,1000,500,1)", -0.149_970_004_499_400_07),
+        ("=PPMT(-0.01,10,3000,1000)", -9.135_172_474_837_145),
+        ("=PPMT(-0.01,2,3000,1000,0,1)", -10.000_000_000_000_805),
+        ("=PPMT(1E-300,5,10,1000)", -100.0),
+        ("=CUMPRINC(0.001,2E6,1000,2E6,2E6,0)", -0.999_000_999_000_999),
+    ] {
+        near(formula, want, 1e-12);
+    }
+}

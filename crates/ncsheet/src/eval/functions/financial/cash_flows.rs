@@ -305,8 +305,30 @@ fn ppmt(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         let (rate, per, nper, pv) = (a.num(0)?, a.num(1)?, a.num(2)?, a.num(3)?);
         let (fv, kind) = (a.num_or(4, 0.0)?, payment_type(a, 5)?);
         check(per >= 1.0 && per < nper + 1.0, XlError::Num)?;
-        finite(pmt_of(rate, nper, pv, fv, kind) - ipmt_of(rate, per, nper, pv, fv, kind))
+        finite(ppmt_of(rate, per, nper, pv, fv, kind))
     })
+}
+
+/// The principal part of payment `per` (1-based), PMT − IPMT worked out by hand: with
+/// g = 1 + rate, −rate·(pv + fv)·g^(per−1−kind)/(gⁿ − 1), the first payment in advance being
+/// all principal. Taken as that difference it lost every digit on a long loan:
+/// PPMT(1E-4,1E6,3E6,1000) was 0 (about −1.4E-88) and PPMT(1E-4,3E6,3E6,1000) −219902325.66
+/// (about −0.1). The power and gⁿ − 1 go through exp and expm1 with exponents of at most 0,
+/// so neither overflows nor cancels; rate is divided first, so a tiny rate does not overflow.
+fn ppmt_of(rate: f64, per: f64, nper: f64, pv: f64, fv: f64, kind: f64) -> f64 {
+    if kind == 1.0 && per == 1.0 {
+        return pmt_of(rate, nper, pv, fv, kind);
+    }
+    if rate == 0.0 || rate <= -1.0 {
+        return pmt_of(rate, nper, pv, fv, kind) - ipmt_of(rate, per, nper, pv, fv, kind);
+    }
+    let (ln_g, k) = (rate.ln_1p(), per - 1.0 - kind);
+    let share = if nper * ln_g > 0.0 {
+        rate / -(-nper * ln_g).exp_m1() * ((k - nper) * ln_g).exp()
+    } else {
+        rate / (nper * ln_g).exp_m1() * (k * ln_g).exp()
+    };
+    -(pv + fv) * share
 }
 
 /// The most periods a function sums one by one. CUMIPMT, CUMPRINC and DB sum longer spans
@@ -340,21 +362,12 @@ fn cumulative(ctx: &mut Ctx, args: &[Expr], principal: bool) -> XlResult<Value> 
     })
 }
 
-/// The principal repaid by payments `start` to `end` of a loan of `pv` (no future value).
-/// Payment k repays pv·rate / ((1+rate)^nper − 1) · (1+rate)^(k−1) (one period less when
-/// paid in advance, whose first payment is all principal): summed in this form, not as
-/// payment minus interest, whose difference loses every digit when the rate is high.
+/// The principal repaid by payments `start` to `end` of a loan of `pv` (no future value),
+/// each payment's share as PPMT's [`ppmt_of`] (not payment minus interest, whose difference
+/// loses every digit when the rate is high). Its powers stay finite where (1+rate)^nper
+/// overflows: CUMPRINC(0.001,2E6,1000,2E6,2E6,0) was #NUM! (about −0.999).
 fn principal_paid(rate: f64, nper: f64, pv: f64, start: f64, end: f64, kind: f64) -> f64 {
-    let first = -pv * rate / ((1.0 + rate).powf(nper) - 1.0);
-    let mut sum = 0.0;
-    for per in whole_numbers(start, end) {
-        sum += if kind == 1.0 && per == 1.0 {
-            pmt_of(rate, nper, pv, 0.0, 1.0)
-        } else {
-            first * (1.0 + rate).powf(per - 1.0 - kind)
-        };
-    }
-    sum
+    whole_numbers(start, end).map(|per| ppmt_of(rate, per, nper, pv, 0.0, kind)).sum()
 }
 
 /// [`principal_paid`] as the sum of its geometric series, for spans too long to step
