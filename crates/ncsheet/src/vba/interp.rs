@@ -2294,7 +2294,7 @@ impl Interp<'_, '_> {
             Target::Var(name) if !set && self.append_in_place(name, value, span)? => Ok(()),
             // `Mid(s, i, 1) = x` replaces characters in place (`append.rs`).
             Target::Var(name) if !set && self.mid_in_place(name, value)? => Ok(()),
-            Target::Var(name) if !set && self.declared_object(name) => self.let_through_object(name, value, span),
+            Target::Var(name) if !set && self.object_cells(name).is_some() => self.let_into_cells(name, value, span),
             Target::Var(name) => {
                 let var = super::regexp::let_value(self.var_of(value, set)?, set);
                 // A Variant keeps the type of the number it is given ([MS-VBAL] 2.1.1.1: an
@@ -2369,33 +2369,26 @@ impl Interp<'_, '_> {
         }
     }
 
-    /// Whether `name` is declared as an object (`As Range`, `As Object`, a class …).
-    fn declared_object(&self, name: &str) -> bool {
-        self.with_slot(name, |s| matches!(s.ty, Some(Ty::Object))) == Some(true)
+    /// The cells `name` holds when it is declared as an object (`As Range`, `As Object`) and
+    /// holds a Range. Only then does a Let go through it: a library's enum (`As VbCompareMethod`)
+    /// is declared here as an object type is, and a Let to it must keep replacing its value.
+    fn object_cells(&self, name: &str) -> Option<Obj> {
+        if self.with_slot(name, |s| matches!(s.ty, Some(Ty::Object))) != Some(true) {
+            return None;
+        }
+        match self.lookup(name) {
+            Some(Var::Obj(cells @ (Obj::Range(..) | Obj::Lines(..)))) => Some(cells),
+            _ => None,
+        }
     }
 
-    /// `r = v` without Set, `r` declared as an object: [MS-VBAL] 5.4.3.8 (Let statement) lets
-    /// the object's default member take the value, so `Dim r As Range: Set r = Range("A1"):
-    /// r = 5` writes 5 into A1 and `r` still holds A1. An object variable holding Nothing has
-    /// no member to take it: run-time error 91.
-    fn let_through_object(&self, name: &Rc<str>, value: &Expr, span: Span) -> Run<()> {
-        match self.lookup(name) {
-            Some(Var::Obj(target @ (Obj::Range(..) | Obj::Lines(..)))) => {
-                let v = self.sheet_value(value)?;
-                self.write_default(target, &v, span)
-            }
-            Some(Var::Obj(Obj::Value(Value::Blank))) => {
-                let why =
-                    format!("{name} holds no object: its default member cannot take a value (use Set to give it one)");
-                let mut fault = self.vba_fault(91, &why);
-                fault.span = Some(span);
-                Err(fault)
-            }
-            _ => {
-                let why = format!("{name} = …: only a Range's default member (Value) takes a value here; use Set to replace the object");
-                Err(self.fault_at(span, why))
-            }
-        }
+    /// `r = v` without Set, `r` declared as an object holding a Range: [MS-VBAL] 5.4.3.8 (Let
+    /// statement) lets the object's default member take the value, so `Dim r As Range: Set r =
+    /// Range("A1"): r = 5` writes 5 into A1 and `r` still holds A1.
+    fn let_into_cells(&self, name: &str, value: &Expr, span: Span) -> Run<()> {
+        let cells = self.object_cells(name).expect("a variable holding cells");
+        let v = self.sheet_value(value)?;
+        self.write_default(cells, &v, span)
     }
 
     fn print(&self, items: &[PrintItem]) -> Run<()> {
