@@ -176,3 +176,20 @@ fn many_types_and_a_type_of_many_fields_are_declared_in_linear_time() {
     assert_eq!(out.printed, [" 12 "]);
     assert!(started.elapsed() < std::time::Duration::from_secs(20), "{:?}", started.elapsed());
 }
+
+#[test]
+fn val_of_a_number_past_a_doubles_range_is_overflow() {
+    // Microsoft's Val function reference, "Exceptions": OverflowException, error number 6,
+    // when InputStr is too large. It was `#NUM!` handed on as a value: written into a cell,
+    // or "d cannot hold #NUM! (type mismatch)" at an assignment.
+    let mut wb = Workbook::with_sheet();
+    let message = common::vba::main_fails(&mut wb, "    Dim d As Double\n    d = Val(\"1e400\")");
+    assert!(message.contains("Overflow") && message.contains("run-time error 6"), "{message}");
+    let printed = common::vba::run_main(
+        &mut wb,
+        "    On Error Resume Next\n    Range(\"A1\").Value = Val(\"-1E+999\")\n    Debug.Print Err.Number\n    \
+         Debug.Print Val(\"1.5e308\") / 1E+308; Val(\"1e-400\")",
+    );
+    assert_eq!(printed, [" 6 ", " 1.5  0 "]);
+    assert_eq!(wb.value(0, parse_cell("A1").unwrap()), Value::Blank);
+}

@@ -1099,8 +1099,16 @@ fn is_numeric(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     }))
 }
 
+/// A number past a Double's range (`Val("1e400")`) is Overflow, run-time error 6 (the Val
+/// function's reference, "Exceptions": OverflowException, error number 6, "InputStr is too
+/// large"), where it was `#NUM!` handed on as a value.
 fn val(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    text_fn(ctx, args, "Val", NO_NULL, &|s, _| Ok(Value::Number(vba_val(s))))
+    let raised = Raised::default();
+    let result = text_fn(ctx, args, "Val", NO_NULL, &|s, _| match vba_val(s) {
+        n if n.is_finite() => Ok(Value::Number(n)),
+        _ => Err(raised.set(6, "the number is past a Double's range")),
+    });
+    raised.raise(ctx, "Val", result)
 }
 
 /// VBA's Val: spaces anywhere are ignored, and the longest leading piece that reads as a
