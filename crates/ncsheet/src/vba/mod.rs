@@ -296,6 +296,7 @@ mod replace;
 mod resolve;
 mod sheet_ops;
 mod sort;
+mod text_to_columns;
 mod typing;
 mod udf;
 mod unmodelled;

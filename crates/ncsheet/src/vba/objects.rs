@@ -672,6 +672,7 @@ impl Interp<'_, '_> {
             }
             "replace" => self.replace_in_range(ctx, sheet, rect, link),
             "removeduplicates" => self.remove_duplicates(ctx, sheet, rect, link),
+            "texttocolumns" => self.text_to_columns(ctx, sheet, rect, link),
             "find" => self.find_in_range(ctx, sheet, rect, link),
             "currentregion" => Ok(Obj::Range(sheet, self.current_region(sheet, rect))),
             "specialcells" => self.special_cells(sheet, link),
