@@ -245,3 +245,66 @@ fn bytes_that_are_not_utf8_refuse_the_part_naming_it() {
         assert!(e.message.contains("UTF-8"), "{part}: {e}");
     }
 }
+
+/// XML 1.0 §3.1, well-formedness constraint "Unique Att Spec": an attribute name appears at
+/// most once in a tag. `<c r="A1" r="B1">` was read silently (the first `r` taken, a guess);
+/// now every part our readers or calamine read is refused, naming the part and the element.
+#[test]
+fn an_attribute_given_twice_refuses_the_part_naming_it() {
+    let good = good_workbook();
+    let cases = [
+        (SHEET, r#"<c r="A1""#, r#"<c r="A1" r="B1""#, "<c>"),
+        ("xl/styles.xml", r#"<xf numFmtId="0""#, r#"<xf numFmtId="0" numFmtId="14""#, "<xf>"),
+        (STRINGS, r#" uniqueCount=""#, r#" count="7" uniqueCount=""#, "<sst>"),
+        ("xl/workbook.xml", r#"<sheet name="Sheet1""#, r#"<sheet name="Sheet1" name="Other""#, "<sheet>"),
+        ("xl/theme/theme1.xml", r#"name="Office Theme""#, r#"name="A" name="Office Theme""#, "<theme>"),
+        ("_rels/.rels", r#"Id="rId1""#, r#"Id="rId1" Id="rId9""#, "<Relationship>"),
+        ("xl/_rels/workbook.xml.rels", r#"Id="rId1""#, r#"Id="rId1" Id="rId9""#, "<Relationship>"),
+    ];
+    for (part, from, to, element) in cases {
+        let e = load(&spoiled(&good, part, from, to)).err().unwrap_or_else(|| panic!("{part} was read"));
+        assert_eq!((e.kind, e.part.as_deref()), (ErrorKind::Damaged, Some(part)), "{e}");
+        assert!(e.message.contains(&format!("{element} gives the attribute")), "{part}: {e}");
+        assert!(e.message.contains("twice"), "{part}: {e}");
+    }
+}
+
+/// A part beside the cells (a table, a pivot table and its cache, a link to another workbook
+/// and its relationships) whose XML is not well-formed (here: an element after the end of
+/// the document, XML 1.0 §2.1 production `document`) was dropped silently: the table, the
+/// pivot table or the linked values were missing with no word of why (the records of a
+/// pivot cache even read as none, so GETPIVOTDATA summarised nothing). Now a note names the
+/// part, why, and what was left out; a save over the file keeps the part byte for byte.
+#[test]
+fn a_part_beside_the_cells_that_cannot_be_read_is_noted_and_kept() {
+    let Some(public) = common::corpus::public_root() else { return };
+    let poi = public.join("poi");
+    let cases = [
+        ("test-data_spreadsheet_63934.xlsx", "xl/tables/table1.xml", "the table was left out"),
+        ("test-data_spreadsheet_63934.xlsx", "xl/externalLinks/externalLink1.xml", "linked workbook show #NAME?"),
+        ("test-data_spreadsheet_63934.xlsx", "xl/externalLinks/_rels/externalLink1.xml.rels", "file name is unknown"),
+        ("test-data_spreadsheet_54436.xlsx", "xl/pivotTables/pivotTable1.xml", "pivot table was left out"),
+        ("test-data_spreadsheet_54436.xlsx", "xl/pivotCache/pivotCacheDefinition1.xml", "pivot table was left out"),
+        ("test-data_spreadsheet_54436.xlsx", "xl/pivotCache/pivotCacheRecords1.xml", "pivot table was left out"),
+    ];
+    let dir = std::env::temp_dir().join(format!("ncsheet-unreadable-part-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for (file, part, left_out) in cases {
+        let good = std::fs::read(poi.join(file)).unwrap();
+        let text = part_text(&good, part);
+        let bad = spoiled(&good, part, text.trim_end(), &format!("{}<x/>", text.trim_end()));
+        let imported = load(&bad).unwrap_or_else(|e| panic!("{part}: {e}"));
+        let note = imported.notes.iter().find(|n| n.starts_with(&format!("{part}: the XML is not well-formed")));
+        let note = note.unwrap_or_else(|| panic!("{part}: no note among {:?}", imported.notes));
+        assert!(note.contains("<x> after the end of the document") && note.contains(left_out), "{note}");
+
+        let (input, output) = (dir.join("in.xlsx"), dir.join("out.xlsx"));
+        std::fs::write(&input, &bad).unwrap();
+        let run = common::cli::ncsheet(&["set", input.to_str().unwrap(), "Z99=1", "-o", output.to_str().unwrap()]);
+        assert_eq!(run.code, 0, "{part}: {}", run.stderr);
+        assert!(run.stderr.contains(part), "{part}: the save said nothing of it: {}", run.stderr);
+        let saved = std::fs::read(&output).unwrap();
+        assert_eq!(part_text(&saved, part), part_text(&bad, part), "{part} changed on save");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

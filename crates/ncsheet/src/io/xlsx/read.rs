@@ -156,7 +156,7 @@ pub fn load_bytes_limited(bytes: &[u8], file: &Path, limits: ReadLimits) -> Resu
     let links = read_links(&mut package, &mut imported.notes);
     imported.layout.external_links = links.iter().flatten().count();
     if imported.layout.external_links > 0 {
-        imported.layout.links.parts = link_parts(&mut package);
+        imported.layout.links.parts = link_parts(&mut package, &mut imported.notes);
     }
     let mut book =
         BookParts { tables, sheet_names: imported.workbook.sheet_names(), links, range_names: HashSet::new() };
@@ -257,17 +257,34 @@ fn cached_area(cached: &[super::CachedValue], sheet: SheetId, area: Rect) -> Val
 }
 
 /// Each external-link part with its relationships part (which names the linked file), in
-/// the file's numbering; none when one is missing, as `[n]` could then not keep its number.
-fn link_parts(package: &mut Package) -> Vec<(Vec<u8>, Option<Vec<u8>>)> {
+/// the file's numbering; none when one is missing, as `[n]` could then not keep its number
+/// (`read_links` noted an unreadable link part; an unreadable relationships part is noted here).
+fn link_parts(package: &mut Package, notes: &mut Vec<String>) -> Vec<(Vec<u8>, Option<Vec<u8>>)> {
     let mut parts = Vec::new();
     for part in package.external_links.clone() {
         let Some(part) = part else { return Vec::new() };
         let Ok(Some(xml)) = package.read_optional(&part) else { return Vec::new() };
         let (dir, file) = part.rsplit_once('/').unwrap_or(("", part.as_str()));
         let rels = format!("{dir}/_rels/{file}.rels");
-        parts.push((xml, package.read_optional(rels.trim_start_matches('/')).ok().flatten()));
+        let rels = match read_or_why(package, rels.trim_start_matches('/')) {
+            Ok(rels) => rels,
+            Err(why) => {
+                notes.push(format!("{why}; the linked workbook's file name is unknown"));
+                None
+            }
+        };
+        parts.push((xml, rels));
     }
     parts
+}
+
+/// A part a feature needs beside the cells (a table, a pivot table, a link to another
+/// workbook): its bytes, or `None` when the package lacks it. One that cannot be read (its
+/// XML is not well-formed, it is past a limit) is an error naming the part and why, for the
+/// caller's note: never dropped silently. A save over the source still copies such a part
+/// byte for byte, as every part it does not rewrite.
+fn read_or_why(package: &mut Package, part: &str) -> Result<Option<Vec<u8>>, String> {
+    package.read_optional(part).map_err(|(_, _, why)| format!("{part}: {why}"))
 }
 
 /// Notes, for each formula and name that read linked workbooks, how ncsheet writes what it
@@ -495,11 +512,13 @@ fn read_tables(
     notes: &mut Vec<String>,
 ) -> Vec<Table> {
     let mut tables = Vec::new();
+    const LEFT_OUT: &str = "the table was left out (its structured references show #NAME?)";
     for (sheet, parts) in related {
         for part in of_kind(parts, "table") {
-            match package.read_optional(part).ok().flatten().and_then(|xml| tables::parse_table(&xml, *sheet)) {
-                Some(table) => tables.push(table),
-                None => notes.push(format!("{part}: the table could not be read and was left out")),
+            match read_or_why(package, part).map(|xml| tables::parse_table(&xml?, *sheet)) {
+                Ok(Some(table)) => tables.push(table),
+                Ok(None) => notes.push(format!("{part}: the table could not be read and was left out")),
+                Err(why) => notes.push(format!("{why}; {LEFT_OUT}")),
             }
         }
     }
@@ -518,8 +537,11 @@ fn read_pivots(
     for (sheet, parts) in related {
         for part in of_kind(parts, "pivotTable") {
             match read_pivot(package, part, *sheet, date_1904) {
-                Some(p) => pivots.push(p),
-                None => notes.push(format!("{part}: the pivot table could not be read; GETPIVOTDATA on it is #REF!")),
+                Ok(Some(p)) => pivots.push(p),
+                Ok(None) => {
+                    notes.push(format!("{part}: the pivot table could not be read; GETPIVOTDATA on it is #REF!"))
+                }
+                Err(why) => notes.push(format!("{why}; the pivot table was left out (GETPIVOTDATA on it is #REF!)")),
             }
         }
     }
@@ -527,35 +549,53 @@ fn read_pivots(
 }
 
 /// One pivot table part with its cache's definition and records (records may be missing:
-/// a cache saved without them summarises nothing).
-fn read_pivot(package: &mut Package, part: &str, sheet: SheetId, date_1904: bool) -> Option<pivot::Pivot> {
-    let mut first =
-        |part: &str, kind: &str| package.related_parts(part, &[kind]).ok()?.into_iter().next().map(|(_, p)| p);
-    let definition_part = first(part, "pivotCacheDefinition")?;
+/// a cache saved without them summarises nothing; records that cannot be read are an
+/// error, or the pivot table would summarise nothing silently). `Ok(None)` when its parts
+/// do not make a pivot table; `Err` names a part that cannot be read and why.
+fn read_pivot(
+    package: &mut Package,
+    part: &str,
+    sheet: SheetId,
+    date_1904: bool,
+) -> Result<Option<pivot::Pivot>, String> {
+    let mut first = |part: &str, kind: &str| {
+        package.related_parts(part, &[kind]).ok().and_then(|parts| parts.into_iter().next()).map(|(_, p)| p)
+    };
+    let Some(definition_part) = first(part, "pivotCacheDefinition") else { return Ok(None) };
     let records_part = first(&definition_part, "pivotCacheRecords");
-    let table = package.read_optional(part).ok()??;
-    let definition = package.read_optional(&definition_part).ok()??;
+    let (Some(table), Some(definition)) = (read_or_why(package, part)?, read_or_why(package, &definition_part)?) else {
+        return Ok(None);
+    };
     let records = match records_part {
-        Some(records) => package.read_optional(&records).ok().flatten().unwrap_or_default(),
+        Some(records) => read_or_why(package, &records)?.unwrap_or_default(),
         None => Vec::new(),
     };
-    pivot::parse_pivot(&pivot::PivotParts {
+    Ok(pivot::parse_pivot(&pivot::PivotParts {
         sheet,
         table: &table,
         definition: &definition,
         records: &records,
         date_1904,
-    })
+    }))
 }
 
 /// The workbooks the file links to, numbered as its formulas number them (a part that
-/// cannot be read is `None`: references into it show #NAME?).
+/// cannot be read is `None` with a note: references into it show #NAME?).
 fn read_links(package: &mut Package, notes: &mut Vec<String>) -> Vec<Option<ExternalBook>> {
     let links: Vec<Option<ExternalBook>> = package
         .external_links
         .clone()
         .iter()
-        .map(|part| package.read_optional(part.as_deref()?).ok().flatten().and_then(|xml| external::parse_link(&xml)))
+        .map(|part| {
+            let part = part.as_deref()?;
+            match read_or_why(package, part) {
+                Ok(xml) => external::parse_link(&xml?),
+                Err(why) => {
+                    notes.push(format!("{why}; references into this linked workbook show #NAME?"));
+                    None
+                }
+            }
+        })
         .collect();
     if links.iter().any(Option::is_some) {
         notes.push("references to other workbooks read the values Excel cached for them (not refreshed)".into());

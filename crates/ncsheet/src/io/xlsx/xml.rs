@@ -48,6 +48,14 @@ impl<'a> Iterator for Attrs<'a> {
     type Item = (&'a [u8], &'a [u8]);
 
     fn next(&mut self) -> Option<Self::Item> {
+        self.next_qualified().map(|(name, value)| (local_name(name), value))
+    }
+}
+
+impl<'a> Attrs<'a> {
+    /// The next attribute's name as written (with its prefix: `r:id` and `id` are two
+    /// attributes) and its raw value.
+    fn next_qualified(&mut self) -> Option<(&'a [u8], &'a [u8])> {
         let b = self.rest;
         let mut i = b.iter().position(|c| !c.is_ascii_whitespace())?;
         let name_start = i;
@@ -65,8 +73,47 @@ impl<'a> Iterator for Attrs<'a> {
         let value_start = i + 1;
         let value_end = value_start + memchr::memchr(quote, &b[value_start..])?;
         self.rest = &b[value_end + 1..];
-        Some((local_name(name), &b[value_start..value_end]))
+        Some((name, &b[value_start..value_end]))
     }
+}
+
+/// The first attribute name a tag gives twice (`<c r="A1" r="B1">`): XML 1.0 §3.1,
+/// well-formedness constraint "Unique Att Spec", forbids it, and which of the two a reader
+/// took would be a guess. Every tag of every part passes here: one too short for two
+/// attributes (` a="" b=""`) or with fewer than two `=` (most: `<v>`, `<c r="B2">`) is
+/// passed at once; the others hold a few, see [`repeated_among`].
+#[inline]
+fn repeated_attribute<'a>(tag: &Tag<'a>) -> Option<&'a [u8]> {
+    let attrs = tag.attrs;
+    if attrs.len() < r#" a="" b="""#.len() {
+        return None;
+    }
+    memchr::memchr(b'=', attrs).and_then(|first| memchr::memchr(b'=', &attrs[first + 1..]))?;
+    repeated_among(tag.attrs())
+}
+
+/// The first attribute name given twice among `attrs`: compared pairwise in a small array,
+/// in a set only past it (a tag of thousands of attributes costs their number).
+fn repeated_among<'a>(mut attrs: Attrs<'a>) -> Option<&'a [u8]> {
+    let mut few: [&[u8]; 8] = [&[]; 8];
+    for i in 0..few.len() {
+        let (name, _) = attrs.next_qualified()?;
+        if few[..i].contains(&name) {
+            return Some(name);
+        }
+        few[i] = name;
+    }
+    let mut many: std::collections::HashSet<&[u8]> = few.into_iter().collect();
+    std::iter::from_fn(|| attrs.next_qualified()).map(|(name, _)| name).find(|name| !many.insert(name))
+}
+
+/// The error of a tag that gives an attribute twice.
+fn repeated_attribute_message(tag: &Tag, name: &[u8]) -> String {
+    format!(
+        "<{}> gives the attribute {} twice, which XML 1.0 does not allow (§3.1, \"Unique Att Spec\")",
+        lossy(tag.name),
+        lossy(name)
+    )
 }
 
 fn local_name(name: &[u8]) -> &[u8] {
@@ -209,6 +256,10 @@ pub fn stream<E>(reader: impl Read, handler: &mut dyn FnMut(Event) -> Result<(),
                 let event = match markup {
                     Markup::Tag(tag) => {
                         open.check(&tag).map_err(|message| StreamError::Xml { offset, message })?;
+                        if let Some(name) = repeated_attribute(&tag) {
+                            let message = repeated_attribute_message(&tag, name);
+                            return Err(StreamError::Xml { offset, message });
+                        }
                         Event::Tag(tag)
                     }
                     Markup::CData(data) => Event::CData(data),
@@ -635,6 +686,20 @@ mod tests {
         assert_eq!(events(b"<a><b x=\"1").unwrap_err(), "3: the part ends inside a tag");
         assert_eq!(events(b"<a/><b/>").unwrap_err(), "4: <b> after the end of the document");
         assert_eq!(events(b"").unwrap_err(), "0: the part holds no XML element");
+    }
+
+    /// XML 1.0 §3.1, constraint "Unique Att Spec": no attribute name may appear more than
+    /// once in the same tag. Names compare as written: `r:id` and `id` are two.
+    #[test]
+    fn a_stream_refuses_an_attribute_given_twice() {
+        let twice = "<c> gives the attribute r twice, which XML 1.0 does not allow (§3.1, \"Unique Att Spec\")";
+        assert_eq!(events(br#"<a><c r="A1" r="B1"/></a>"#).unwrap_err(), format!("3: {twice}"));
+        assert_eq!(events(br#"<a><c r="A1" s="1" r='A1'></c></a>"#).unwrap_err(), format!("3: {twice}"));
+        let many: String = (0..40).map(|i| format!(" k{i}=\"{i}\"")).collect();
+        let err = events(format!("<a{many} k39=\"x\"/>").as_bytes()).unwrap_err();
+        assert!(err.starts_with("0: <a> gives the attribute k39 twice"), "{err}");
+        assert!(events(format!("<a{many}/>").as_bytes()).is_ok());
+        assert!(events(br#"<a xmlns:r="u" r:id="1" id="2" rid="3"/>"#).is_ok());
     }
 
     #[test]
